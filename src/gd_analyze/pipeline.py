@@ -1,0 +1,137 @@
+"""The main job as a function: robot and trajectory in, verified analysis out.
+
+robot model -> kinematics -> G-D terms -> verification -> ranking -> simplified model -> dataset.
+The command line calls :func:`analyze` and then writes the files; nothing here prints or exits.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+from .dalembert import gd_terms
+from .ranking import DEFAULT_DOMINANCE, DEFAULT_NEGLIGIBLE, rank_dominance
+from .simplified import SimplifiedModel, simplified_torque, torque_error
+
+__all__ = ["Analysis", "analyze", "verify", "VERIFY_TOLERANCE", "VERIFY_MAX_SETPOINTS"]
+
+#: Largest relative disagreement with Pinocchio accepted by :func:`verify`.
+VERIFY_TOLERANCE = 1e-9
+#: Set points checked against Pinocchio at most (evenly spread over the trajectory).
+VERIFY_MAX_SETPOINTS = 2000
+
+
+@dataclass(frozen=True, eq=False)
+class Analysis:
+    """The result of :func:`analyze`.
+
+    Attributes
+    ----------
+    dataset : xarray.Dataset
+        Everything to store (see :mod:`gd_analyze.storage`).
+    model : SimplifiedModel
+        The simplified model with its validation along the trajectory.
+    verification : dict
+        Largest relative disagreement with Pinocchio per term, the set points checked, and
+        ``passed`` (bool).
+    """
+
+    dataset: object
+    model: SimplifiedModel
+    verification: dict
+
+
+def verify(robot, q, qd, terms, max_setpoints=VERIFY_MAX_SETPOINTS):
+    """Check G-D terms against Pinocchio's crba, nonLinearEffects and generalized gravity.
+
+    Parameters
+    ----------
+    robot : Robot
+        The arm, with n joints.
+    q, qd : ndarray, shape (N, n)
+        Joint positions [rad] and velocities [rad/s].
+    terms : GDTerms
+        The G-D terms at those states.
+    max_setpoints : int, optional
+        At most this many set points, evenly spread, are checked.
+
+    Returns
+    -------
+    dict
+        ``max_rel_error_<term>`` for D_tran, D_rot, h_tran, h_rot, D, h and c (each the largest
+        absolute difference over the largest magnitude of Pinocchio's value), ``setpoints``
+        checked, ``tolerance`` and ``passed`` (1 if all are within tolerance, else 0).
+
+    Notes
+    -----
+    The split parts are checked against the half-models with zero rotational inertia and with
+    zero mass (see :mod:`gd_analyze.reference`).
+    """
+    from .reference import reference_terms, relative_error
+
+    N = q.shape[0]
+    idx = np.unique(np.linspace(0, N - 1, min(N, max_setpoints)).round().astype(int))
+    ref = reference_terms(robot, q[idx], qd[idx])
+    out = {}
+    for name in ("D_tran", "D_rot", "h_tran", "h_rot", "D", "h", "c"):
+        out[f"max_rel_error_{name}"] = relative_error(getattr(terms, name)[idx],
+                                                      getattr(ref, name))
+    worst = max(out.values())
+    out.update(setpoints=int(idx.size), tolerance=VERIFY_TOLERANCE,
+               engine="pinocchio", passed=int(worst <= VERIFY_TOLERANCE))
+    return out
+
+
+def analyze(robot, trajectory, dominance=DEFAULT_DOMINANCE, negligible=DEFAULT_NEGLIGIBLE,
+            check=True, settings=None):
+    """Compute, verify, rank and simplify the G-D terms along a trajectory.
+
+    Parameters
+    ----------
+    robot : Robot
+        The arm, with n joints.
+    trajectory : Trajectory
+        q, qd, qdd of shape (N, n) [rad, rad/s, rad/s^2].
+    dominance : float, optional
+        s, the dominance threshold of the ranking.
+    negligible : float, optional
+        e, the negligibility threshold.
+    check : bool, optional
+        Verify against Pinocchio (:func:`verify`).
+    settings : dict, optional
+        Extra provenance for the dataset's global attributes and the model.
+
+    Returns
+    -------
+    Analysis
+
+    Raises
+    ------
+    ValueError
+        If the trajectory does not fit the robot or the thresholds are out of range.
+
+    Notes
+    -----
+    Source: Sec. 3.4.1 of Fu, Gonzalez & Lee (1987); terms from Eqs. (3.4-24) to (3.4-28).
+    """
+    from . import __version__
+    from .storage import build_dataset
+
+    terms = gd_terms(robot, trajectory.q, trajectory.qd)
+    tau = terms.tau(trajectory.qdd)
+    ranking = rank_dominance(terms.D_tran, terms.D_rot, terms.h_tran, terms.h_rot, tau,
+                             dominance=dominance, negligible=negligible)
+    choices = ranking.choices()
+    tau_s = simplified_torque(terms, choices, trajectory.qdd)
+    error = torque_error(tau_s, tau)
+    verification = verify(robot, trajectory.q, trajectory.qd, terms) if check else {}
+    provenance = {"gd_analyze_version": __version__, "trajectory_file": trajectory.source,
+                  "derivatives": trajectory.derivatives, **(settings or {})}
+    model = SimplifiedModel(robot=robot, choices=choices, dominance_threshold=float(dominance),
+                            negligible_threshold=float(negligible),
+                            trajectory_sha256=trajectory.sha256, validation=error,
+                            provenance=provenance)
+    ds = build_dataset(robot, trajectory, terms, ranking, tau, tau_s, choices, error,
+                       verification=verification, settings=settings)
+    return Analysis(dataset=ds, model=model, verification=verification)
