@@ -1,0 +1,354 @@
+"""The command line: ``gd-analyze ROBOT TRAJECTORY.csv`` and its sub-commands.
+
+Exit status: 0 on success; 1 if the verification against Pinocchio fails; 2 on bad input (one
+line on stderr naming the file, row and column, no traceback, no partial output); 3 when
+``evaluate --max-error`` is exceeded.
+
+Nothing in the package imports this module.
+"""
+
+from __future__ import annotations
+
+import argparse
+import math
+import os
+import sys
+import warnings
+from pathlib import Path
+
+from .errors import InputError
+
+__all__ = ["main"]
+
+PROG = "gd-analyze"
+COMMANDS = ("analyze", "plan", "evaluate", "compare")
+EXIT_OK, EXIT_VERIFY, EXIT_INPUT, EXIT_TOLERANCE = 0, 1, 2, 3
+
+
+class _Parser(argparse.ArgumentParser):
+    """argparse that reports usage errors as one line with exit status 2."""
+
+    def error(self, message):
+        raise InputError(f"{self.prog}: {message}")
+
+
+def _fraction(lo, hi, name, lo_open=True):
+    def parse(text):
+        try:
+            v = float(text)
+        except ValueError:
+            raise argparse.ArgumentTypeError(f"{name} must be a number, got {text!r}") from None
+        ok = (lo < v if lo_open else lo <= v) and v <= hi and math.isfinite(v)
+        if not ok:
+            bracket = "(" if lo_open else "["
+            raise argparse.ArgumentTypeError(f"{name} must be in {bracket}{lo}, {hi}], got {v}")
+        return v
+    return parse
+
+
+def _angles(text):
+    try:
+        vals = [float(v) for v in text.split(",")]
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"expected comma-separated numbers, got {text!r}") \
+            from None
+    if not all(math.isfinite(v) for v in vals):
+        raise argparse.ArgumentTypeError(f"expected finite numbers, got {text!r}")
+    return vals
+
+
+def _analyze_parser():
+    from .ranking import DEFAULT_DOMINANCE, DEFAULT_NEGLIGIBLE
+
+    p = _Parser(
+        prog=PROG,
+        description="Rank the translational and rotational parts of a robot arm's inertia "
+                    "matrix D and Coriolis/centrifugal vector h along a trajectory (generalized "
+                    "d'Alembert equations, Fu, Gonzalez & Lee 1987, Sec. 3.4), verify them "
+                    "against Pinocchio, and write results.h5, simplified_model.json, "
+                    "report.html and report.pdf.",
+        epilog="other commands: 'gd-analyze plan ROBOT -o FILE' writes a planned trajectory; "
+               "'gd-analyze evaluate MODEL.json TRAJECTORY.csv' checks a simplified model on "
+               "another trajectory; 'gd-analyze compare ROBOT TRAJECTORY.csv' compares the "
+               "L-E, N-E and G-D formulations. 'gd-analyze COMMAND --help' for details. "
+               "Exit status: 0 ok, 1 verification failed, 2 bad input, 3 error above "
+               "--max-error.",
+    )
+    p.add_argument("robot", metavar="ROBOT", help="built-in robot (puma560, two-link) or a "
+                   "TOML robot file")
+    p.add_argument("trajectory", metavar="TRAJECTORY.csv",
+                   help="CSV with header t,q1..qn[,qd1..qdn,qdd1..qddn] [s, rad, rad/s, rad/s^2]")
+    p.add_argument("-o", "--outdir", metavar="OUTDIR",
+                   help="output folder (default: reports/<robot>-<csv stem>/)")
+    p.add_argument("--dominance", metavar="S", type=_fraction(0.5, 1.0, "--dominance"),
+                   default=DEFAULT_DOMINANCE,
+                   help=f"share at which one part dominates, in (0.5, 1] (default "
+                        f"{DEFAULT_DOMINANCE})")
+    p.add_argument("--negligible", metavar="E", type=_fraction(0.0, 1.0, "--negligible", False),
+                   default=DEFAULT_NEGLIGIBLE,
+                   help=f"an element below E times its scale is negligible (default "
+                        f"{DEFAULT_NEGLIGIBLE})")
+    p.add_argument("--no-report", action="store_true", help="skip report.html and report.pdf")
+    p.add_argument("--no-verify", action="store_true",
+                   help="skip the verification against Pinocchio")
+    p.add_argument("-q", "--quiet", action="store_true", help="print nothing but errors")
+    p.add_argument("--version", action="version", version=f"%(prog)s {_version()}")
+    return p
+
+
+def _version():
+    from ._version import __version__
+
+    return __version__
+
+
+def _plan_parser():
+    from .trajectory import DEFAULT_GOAL_DEG, DEFAULT_SETPOINTS, DEFAULT_START_DEG
+
+    p = _Parser(prog=f"{PROG} plan",
+                description="Write a quintic rest-to-rest joint trajectory at the shortest "
+                            "duration within the robot's velocity and acceleration limits.")
+    p.add_argument("robot", metavar="ROBOT")
+    p.add_argument("-o", "--output", metavar="FILE", required=True,
+                   help="CSV file to write ('-' for standard output)")
+    p.add_argument("--start", metavar="DEG,...", type=_angles,
+                   help="start positions [deg] (default for puma560: "
+                        f"{','.join(f'{v:g}' for v in DEFAULT_START_DEG)})")
+    p.add_argument("--goal", metavar="DEG,...", type=_angles,
+                   help="goal positions [deg] (default for puma560: "
+                        f"{','.join(f'{v:g}' for v in DEFAULT_GOAL_DEG)})")
+    p.add_argument("--setpoints", metavar="N", type=int, default=DEFAULT_SETPOINTS,
+                   help=f"number of set points, both ends included (default {DEFAULT_SETPOINTS})")
+    p.add_argument("--duration", metavar="T", type=float,
+                   help="duration [s] (default: the shortest within the limits)")
+    return p
+
+
+def _evaluate_parser():
+    p = _Parser(prog=f"{PROG} evaluate",
+                description="Report a simplified model's torque error on another trajectory.")
+    p.add_argument("model", metavar="MODEL.json")
+    p.add_argument("trajectory", metavar="TRAJECTORY.csv")
+    p.add_argument("--max-error", metavar="REL", type=_fraction(0.0, math.inf, "--max-error",
+                                                                False),
+                   help="exit with status 3 if the peak relative torque error of any joint "
+                        "exceeds REL")
+    p.add_argument("--json", action="store_true", help="print one JSON object")
+    return p
+
+
+def _compare_parser():
+    p = _Parser(prog=f"{PROG} compare",
+                description="Run Lagrange-Euler, Newton-Euler, G-D and Pinocchio on every set "
+                            "point and print their largest relative disagreements and the "
+                            "operation counts per set point.")
+    p.add_argument("robot", metavar="ROBOT")
+    p.add_argument("trajectory", metavar="TRAJECTORY.csv")
+    p.add_argument("--json", action="store_true", help="print one JSON object")
+    return p
+
+
+def _load(robot_arg, csv_arg):
+    from .robot import load_robot
+    from .trajectory import read_trajectory
+
+    robot = load_robot(robot_arg)
+    return robot, read_trajectory(csv_arg, n_joints=robot.n)
+
+
+def _warn_limits(robot, trajectory, quiet):
+    from .trajectory import JointLimitWarning, check_joint_limits
+
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", JointLimitWarning)
+        messages = check_joint_limits(robot, trajectory)
+    for msg in messages:
+        print(f"{PROG}: warning: {msg}", file=sys.stderr)
+
+
+def _format_summary(ds):
+    lines = [f"{ds.attrs['robot']} along {ds.attrs['input_file']}: "
+             f"{ds.sizes['setpoint']} set points, s = {ds.attrs['dominance_threshold']:g}, "
+             f"e = {ds.attrs['negligible_threshold']:g}", "",
+             f"{'element':<8}{'share_tran':>11}  {'class':<14}{'peak_total':>12}  units"]
+    for lab, share, cls, peak, unit in zip(ds.element.values, ds.share_tran.values,
+                                           ds.dominance.values, ds.peak_total.values,
+                                           ds.element_units.values):
+        lines.append(f"{lab:<8}{share:>11.4f}  {cls:<14}{peak:>12.4g}  {unit}")
+    lines += ["", "simplified model torque error per joint:",
+              f"{'joint':<6}{'peak [N m]':>12}{'rms [N m]':>12}{'peak |tau|':>12}"
+              f"{'rel peak':>10}{'rel rms':>10}"]
+    for j in range(ds.sizes["joint"]):
+        lines.append(f"{j + 1:<6}{ds.tau_error_peak.values[j]:>12.4g}"
+                     f"{ds.tau_error_rms.values[j]:>12.4g}{ds.tau_peak.values[j]:>12.4g}"
+                     f"{ds.tau_error_relative_peak.values[j]:>10.2e}"
+                     f"{ds.tau_error_relative_rms.values[j]:>10.2e}")
+    if "verification_passed" in ds.attrs:
+        worst = max(v for k, v in ds.attrs.items() if k.startswith("verification_max_rel"))
+        lines += ["", f"verified against Pinocchio on {ds.attrs['verification_setpoints']} set "
+                      f"points: largest relative difference {worst:.2e}"]
+    return "\n".join(lines)
+
+
+def _cmd_analyze(args):
+    import hashlib
+
+    from .pipeline import analyze
+    from .storage import write_dataset
+
+    robot, trajectory = _load(args.robot, args.trajectory)
+    _warn_limits(robot, trajectory, args.quiet)
+    outdir = Path(args.outdir) if args.outdir else \
+        Path("reports") / f"{robot.name}-{Path(args.trajectory).stem}"
+    if outdir.exists() and not outdir.is_dir():
+        raise InputError("exists and is not a folder", outdir)
+    settings = {"command": " ".join([PROG] + sys.argv[1:]) if sys.argv else PROG}
+    analysis = analyze(robot, trajectory, dominance=args.dominance, negligible=args.negligible,
+                       check=not args.no_verify, settings=settings)
+    outdir.mkdir(parents=True, exist_ok=True)
+    results = outdir / "results.h5"
+    write_dataset(analysis.dataset, results)
+    analysis.model.save(outdir / "simplified_model.json")
+    written = [results, outdir / "simplified_model.json"]
+    if not args.no_report:
+        from .report import write_report
+
+        written += write_report(results, outdir)
+    if not args.quiet:
+        print(_format_summary(analysis.dataset))
+        print()
+        print("wrote " + ", ".join(str(p) for p in written))
+    if analysis.verification and not analysis.verification["passed"]:
+        print(f"{PROG}: error: the G-D terms disagree with Pinocchio beyond "
+              f"{analysis.verification['tolerance']:g} (see results.h5 attributes)",
+              file=sys.stderr)
+        return EXIT_VERIFY
+    return EXIT_OK
+
+
+def _cmd_plan(args):
+    import numpy as np
+
+    from .robot import load_robot
+    from .trajectory import (DEFAULT_GOAL_DEG, DEFAULT_START_DEG, plan_quintic,
+                             write_trajectory)
+
+    robot = load_robot(args.robot)
+    start, goal = args.start, args.goal
+    if start is None or goal is None:
+        if robot.n != len(DEFAULT_START_DEG):
+            raise InputError(f"{robot.name} has {robot.n} joints: give --start and --goal")
+        start = DEFAULT_START_DEG if start is None else start
+        goal = DEFAULT_GOAL_DEG if goal is None else goal
+    for name, vals in (("--start", start), ("--goal", goal)):
+        if len(vals) != robot.n:
+            raise InputError(f"{name}: {len(vals)} values for {robot.n} joints")
+    if args.setpoints < 2:
+        raise InputError("--setpoints: a trajectory needs at least 2 set points")
+    if args.duration is not None and not args.duration > 0:
+        raise InputError("--duration must be positive")
+    try:
+        traj = plan_quintic(robot, np.radians(start), np.radians(goal), args.setpoints,
+                            args.duration)
+    except ValueError as exc:
+        raise InputError(str(exc)) from None
+    write_trajectory(traj, args.output)
+    if args.output != "-":
+        print(f"wrote {args.output}: {traj.n_setpoints} set points over {traj.t[-1]:.4f} s "
+              f"({traj.source})", file=sys.stderr)
+    return EXIT_OK
+
+
+def _cmd_evaluate(args):
+    import json
+
+    import numpy as np
+
+    from .dalembert import gd_terms
+    from .simplified import SimplifiedModel, simplified_torque, torque_error
+    from .trajectory import read_trajectory
+
+    model = SimplifiedModel.load(args.model)
+    traj = read_trajectory(args.trajectory, n_joints=model.robot.n)
+    terms = gd_terms(model.robot, traj.q, traj.qd)
+    tau = terms.tau(traj.qdd)
+    err = torque_error(simplified_torque(terms, model.choices, traj.qdd), tau)
+    rel = np.array([np.nan if v is None else v for v in err["relative_peak_error"]], float)
+    worst = float(np.nanmax(rel)) if np.isfinite(rel).any() else 0.0
+    exceeded = args.max_error is not None and worst > args.max_error
+    if args.json:
+        out = {"model": args.model, "trajectory": args.trajectory,
+               "trajectory_sha256": traj.sha256, "robot": model.robot.name,
+               "setpoints": traj.n_setpoints, "max_relative_peak_error": worst,
+               "max_error": args.max_error, "exceeded": exceeded, **err}
+        print(json.dumps(out, allow_nan=False, default=str).replace("NaN", "null"))
+    else:
+        print(f"{model.robot.name} simplified model on {args.trajectory} "
+              f"({traj.n_setpoints} set points)")
+        print(f"{'joint':<6}{'peak [N m]':>12}{'rms [N m]':>12}{'peak |tau|':>12}"
+              f"{'rel peak':>10}{'rel rms':>10}")
+        for j in range(model.robot.n):
+            print(f"{j + 1:<6}{err['peak_abs_error'][j]:>12.4g}{err['rms_error'][j]:>12.4g}"
+                  f"{err['peak_tau'][j]:>12.4g}{err['relative_peak_error'][j]:>10.2e}"
+                  f"{err['relative_rms_error'][j]:>10.2e}")
+        print(f"largest relative peak error: {worst:.3e}")
+    if exceeded:
+        print(f"{PROG}: relative torque error {worst:.3e} exceeds --max-error "
+              f"{args.max_error:g}", file=sys.stderr)
+        return EXIT_TOLERANCE
+    return EXIT_OK
+
+
+def _cmd_compare(args):
+    import json
+
+    from .formulations import compare_report, format_compare
+
+    robot, traj = _load(args.robot, args.trajectory)
+    report = compare_report(robot, traj.q, traj.qd, traj.qdd)
+    if args.json:
+        print(json.dumps(report))
+    else:
+        print(format_compare(report))
+    return EXIT_OK
+
+
+def main(argv=None):
+    """Run the command line.
+
+    Parameters
+    ----------
+    argv : list of str, optional
+        Arguments without the program name (default ``sys.argv[1:]``).
+
+    Returns
+    -------
+    int
+        The exit status: 0 ok, 1 verification failed, 2 bad input, 3 error above --max-error.
+    """
+    argv = list(sys.argv[1:] if argv is None else argv)
+    command = argv[0] if argv and argv[0] in COMMANDS else "analyze"
+    if argv and argv[0] == command:
+        argv = argv[1:]
+    parsers = {"analyze": (_analyze_parser, _cmd_analyze), "plan": (_plan_parser, _cmd_plan),
+               "evaluate": (_evaluate_parser, _cmd_evaluate),
+               "compare": (_compare_parser, _cmd_compare)}
+    make_parser, run = parsers[command]
+    try:
+        args = make_parser().parse_args(argv)
+        return run(args)
+    except InputError as exc:
+        print(f"{PROG}: error: {exc}", file=sys.stderr)
+        return EXIT_INPUT
+    except BrokenPipeError:
+        # The reader of stdout went away (e.g. `| head`): not an error of ours.
+        devnull = os.open(os.devnull, os.O_WRONLY)
+        os.dup2(devnull, sys.stdout.fileno())
+        return EXIT_OK
+    except KeyboardInterrupt:
+        print(f"{PROG}: interrupted", file=sys.stderr)
+        return 130
+
+
+if __name__ == "__main__":  # pragma: no cover
+    sys.exit(main())

@@ -1,0 +1,151 @@
+import json
+import os
+import subprocess
+import sys
+from pathlib import Path
+
+import numpy as np
+import pytest
+import xarray as xr
+
+from conftest import SHIPPED
+from gd_analyze.cli import main
+
+GOOD_HEADER = "t," + ",".join(f"q{i}" for i in range(1, 7))
+
+
+def _run(args, capsys):
+    code = main([str(a) for a in args])
+    out, err = capsys.readouterr()
+    return code, out, err
+
+
+def test_main_job_without_report(tmp_path, capsys):
+    out_dir = tmp_path / "out"
+    code, out, err = _run(["puma560", SHIPPED, "-o", out_dir, "--no-report"], capsys)
+    assert code == 0, err
+    assert sorted(p.name for p in out_dir.iterdir()) == ["results.h5", "simplified_model.json"]
+    assert "D11" in out and "h6" in out and "torque error" in out
+    with xr.open_dataset(out_dir / "results.h5", engine="h5netcdf") as ds:
+        assert ds.attrs["dominance_threshold"] == 0.9
+        # the printed table is the stored ranking
+        for lab, cls in zip(ds.element.values, ds.dominance.values):
+            assert any(line.split()[:1] == [lab] and cls in line for line in out.splitlines())
+
+
+def test_thresholds_reach_the_outputs(tmp_path, capsys):
+    out_dir = tmp_path / "o"
+    code, _, err = _run(["puma560", SHIPPED, "-o", out_dir, "--no-report", "--dominance",
+                         "0.8", "--negligible", "0.001", "--quiet"], capsys)
+    assert code == 0, err
+    spec = json.loads((out_dir / "simplified_model.json").read_text())
+    assert spec["dominance_threshold"] == 0.8 and spec["negligible_threshold"] == 0.001
+
+
+def test_default_outdir(tmp_path, capsys, monkeypatch):
+    monkeypatch.chdir(tmp_path)
+    code, _, err = _run(["two-link", _two_link_csv(tmp_path), "--no-report", "-q"], capsys)
+    assert code == 0, err
+    assert (tmp_path / "reports" / "two-link-arm" / "results.h5").is_file()
+
+
+def _two_link_csv(tmp_path):
+    t = np.linspace(0, 1, 11)
+    path = tmp_path / "arm.csv"
+    rows = ["t,q1,q2"] + [f"{v},{np.sin(v)},{np.cos(v)}" for v in t]
+    path.write_text("\n".join(rows) + "\n")
+    return path
+
+
+BAD = {
+    "empty": "",
+    "no_header": "0,1,2,3,4,5,6\n1,1,2,3,4,5,6\n",
+    "missing_column": "t,q1,q2,q3,q4,q5,qd1\n0,1,2,3,4,5,6\n1,1,2,3,4,5,6\n",
+    "extra_column": GOOD_HEADER + ",q7x\n0,1,2,3,4,5,6,7\n1,1,2,3,4,5,6,7\n",
+    "ragged": GOOD_HEADER + "\n0,1,2,3,4,5,6\n1,1,2,3,4,5\n",
+    "not_a_number": GOOD_HEADER + "\n0,1,2,3,4,5,6\n1,1,2,x,4,5,6\n",
+    "nan": GOOD_HEADER + "\n0,1,2,3,4,5,6\n1,1,2,NaN,4,5,6\n",
+    "inf": GOOD_HEADER + "\n0,1,2,3,4,5,6\n1,1,2,3,-inf,5,6\n",
+    "time_not_increasing": GOOD_HEADER + "\n0,1,2,3,4,5,6\n0,1,2,3,4,5,6\n",
+    "one_setpoint": GOOD_HEADER + "\n0,1,2,3,4,5,6\n",
+    "joint_count": "t,q1,q2\n0,1,2\n1,2,3\n",
+}
+WHERE = {"ragged": "row 3", "not_a_number": "row 3, column q3", "nan": "row 3, column q3",
+         "inf": "row 3, column q4", "time_not_increasing": "row 3, column t",
+         "missing_column": "row 1", "extra_column": "row 1", "no_header": "row 1",
+         "joint_count": "row 1"}
+
+
+@pytest.mark.parametrize("case", sorted(BAD))
+def test_bad_trajectory_exits_2_with_one_line_and_no_output(tmp_path, capsys, case):
+    path = tmp_path / f"{case}.csv"
+    path.write_text(BAD[case])
+    out_dir = tmp_path / "out"
+    code, out, err = _run(["puma560", path, "-o", out_dir], capsys)
+    assert code == 2
+    assert err.count("\n") == 1 and "Traceback" not in err
+    assert str(path) in err
+    if case in WHERE:
+        assert WHERE[case] in err
+    assert not out_dir.exists()
+
+
+@pytest.mark.parametrize("args, expect", [
+    (["no-such-robot", SHIPPED], "unknown robot"),
+    (["puma560", "missing.csv"], "missing.csv: no such file"),
+    (["puma560", SHIPPED, "--dominance", "0.3"], "--dominance"),
+    (["puma560", SHIPPED, "--negligible", "abc"], "--negligible"),
+    (["puma560"], "required"),
+])
+def test_bad_arguments_exit_2(tmp_path, capsys, args, expect):
+    code, _, err = _run(args + ["-o", tmp_path / "o"], capsys)
+    assert code == 2 and expect in err and err.count("\n") == 1
+    assert not (tmp_path / "o").exists()
+
+
+def test_positions_outside_limits_warn_but_run(tmp_path, capsys):
+    path = tmp_path / "wide.csv"
+    path.write_text(GOOD_HEADER + "\n0,0,0,0,0,0,0\n1,3.0,0,0,0,0,0\n2,0,0,0,0,0,0\n")
+    code, _, err = _run(["puma560", path, "-o", tmp_path / "o", "--no-report", "-q"], capsys)
+    assert code == 0
+    assert "warning" in err and "column q1" in err and "outside its limits" in err
+
+
+def test_plan_writes_the_shipped_trajectory(tmp_path, capsys):
+    out = tmp_path / "plan.csv"
+    code, _, err = _run(["plan", "puma560", "-o", out], capsys)
+    assert code == 0, err
+    a = np.loadtxt(out, delimiter=",", skiprows=1)
+    b = np.loadtxt(SHIPPED, delimiter=",", skiprows=1)
+    np.testing.assert_allclose(a, b, rtol=0, atol=1e-14)
+    code, _, err = _run(["plan", "two-link", "-o", out], capsys)
+    assert code == 2 and "--start" in err
+
+
+def test_evaluate_and_max_error_gate(tmp_path, capsys):
+    out_dir = tmp_path / "o"
+    assert _run(["puma560", SHIPPED, "-o", out_dir, "--no-report", "-q"], capsys)[0] == 0
+    model = out_dir / "simplified_model.json"
+    other = tmp_path / "other.csv"
+    assert _run(["plan", "puma560", "-o", other, "--start", "0,45,-90,0,30,0", "--goal",
+                 "90,100,-30,45,-30,90"], capsys)[0] == 0
+    code, out, _ = _run(["evaluate", model, other, "--json"], capsys)
+    assert code == 0
+    report = json.loads(out)
+    assert report["setpoints"] == 31 and len(report["peak_abs_error"]) == 6
+    worst = report["max_relative_peak_error"]
+    assert worst > 0
+    assert _run(["evaluate", model, other, "--max-error", str(worst * 2)], capsys)[0] == 0
+    assert _run(["evaluate", model, other, "--max-error", str(worst / 2)], capsys)[0] == 3
+
+
+def test_real_process_no_traceback(tmp_path):
+    """The installed entry point: exit status 2 and one line, no traceback."""
+    bad = tmp_path / "bad.csv"
+    bad.write_text(BAD["nan"])
+    proc = subprocess.run([sys.executable, "-m", "gd_analyze.cli", "puma560", str(bad)],
+                          capture_output=True, text=True, cwd=tmp_path)
+    assert proc.returncode == 2
+    assert proc.stderr.strip().count("\n") == 0 and "Traceback" not in proc.stderr
+    assert "row 3, column q3" in proc.stderr
+    assert not (tmp_path / "reports").exists()
