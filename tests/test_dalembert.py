@@ -13,8 +13,11 @@ TOL = 1e-10
 PARTS = ("D_tran", "D_rot", "h_tran", "h_rot", "c")
 
 
-def _check_against_pinocchio(robot, q, qd):
-    terms = gd_terms(robot, q, qd)
+ENGINES = ("numpy", "compiled")
+
+
+def _check_against_pinocchio(robot, q, qd, engine):
+    terms = gd_terms(robot, q, qd, engine=engine)
     ref = reference_terms(robot, q, qd)
     for name in PARTS:
         assert relative_error(getattr(terms, name), getattr(ref, name)) < TOL, name
@@ -27,16 +30,52 @@ def _check_against_pinocchio(robot, q, qd):
     return terms
 
 
+@pytest.mark.parametrize("engine", ENGINES)
 @pytest.mark.parametrize("name, seed", [("puma560", 11), ("two-link", 12)])
-def test_split_matches_pinocchio_half_models_on_random_states(name, seed):
+def test_split_matches_pinocchio_half_models_on_random_states(name, seed, engine):
     robot = load_robot(name)
     q, qd, _ = random_states(robot, 250, seed)
-    _check_against_pinocchio(robot, q, qd)
+    _check_against_pinocchio(robot, q, qd, engine)
 
 
-def test_split_matches_pinocchio_on_shipped_trajectory(puma):
+@pytest.mark.parametrize("engine", ENGINES)
+def test_split_matches_pinocchio_on_shipped_trajectory(puma, engine):
     traj = read_trajectory(SHIPPED, puma.n)
-    _check_against_pinocchio(puma, traj.q, traj.qd)
+    _check_against_pinocchio(puma, traj.q, traj.qd, engine)
+
+
+def test_engines_agree_on_a_robot_with_products_of_inertia_and_offsets(puma):
+    """A chain unlike the built-ins: full inertia tensors, joint offsets, odd twists."""
+    from gd_analyze.robot import robot_from_dict
+
+    spec = puma.to_dict()
+    rng = np.random.default_rng(31)
+    for i, link in enumerate(spec["link"]):
+        A = rng.normal(size=(3, 3))
+        I = A @ A.T * 0.05
+        link["inertia"] = [I[0, 0], I[1, 1], I[2, 2], I[0, 1], I[0, 2], I[1, 2]]
+        link["offset_deg"] = float(rng.uniform(-90, 90))
+        link["alpha_deg"] = float(rng.uniform(-180, 180))
+        link["mass"] = float(rng.uniform(0.1, 5))
+        link["com"] = rng.uniform(-0.2, 0.2, 3).tolist()
+    spec["gravity"] = [1.0, -2.0, -9.0]
+    robot = robot_from_dict(spec)
+    q, qd, _ = random_states(robot, 200, 32)
+    for engine in ENGINES:
+        _check_against_pinocchio(robot, q, qd, engine)
+
+
+def test_auto_engine_switches_on_length(puma):
+    from gd_analyze.dalembert import COMPILED_MIN_SETPOINTS
+
+    q, qd, _ = random_states(puma, COMPILED_MIN_SETPOINTS, 33)
+    auto = gd_terms(puma, q, qd)
+    for name in PARTS:
+        np.testing.assert_allclose(getattr(auto, name),
+                                   getattr(gd_terms(puma, q, qd, engine="numpy"), name),
+                                   rtol=0, atol=1e-12)
+    with pytest.raises(ValueError, match="engine"):
+        gd_terms(puma, q, qd, engine="fortran")
 
 
 def test_each_set_point_is_independent_of_the_batch(puma):
