@@ -91,7 +91,8 @@ def _analyze_parser():
     p.add_argument("--no-report", action="store_true", help="skip report.html and report.pdf")
     p.add_argument("--no-verify", action="store_true",
                    help="skip the verification against Pinocchio")
-    p.add_argument("-q", "--quiet", action="store_true", help="print nothing but errors")
+    p.add_argument("-q", "--quiet", action="store_true",
+                   help="print nothing but warnings and errors (no summary, no progress bar)")
     p.add_argument("--version", action="version", version=f"%(prog)s {_version()}")
     return p
 
@@ -168,7 +169,7 @@ def _warn_limits(robot, trajectory, quiet):
 
 def _format_summary(ds):
     lines = [f"{ds.attrs['robot']} along {ds.attrs['input_file']}: "
-             f"{ds.sizes['setpoint']} set points, s = {ds.attrs['dominance_threshold']:g}, "
+             f"{ds.attrs['setpoints']} set points, s = {ds.attrs['dominance_threshold']:g}, "
              f"e = {ds.attrs['negligible_threshold']:g}", "",
              f"{'element':<8}{'share_tran':>11}  {'class':<14}{'peak_total':>12}  units"]
     for lab, share, cls, peak, unit in zip(ds.element.values, ds.share_tran.values,
@@ -193,8 +194,7 @@ def _format_summary(ds):
 def _cmd_analyze(args):
     import hashlib
 
-    from .pipeline import analyze
-    from .storage import write_dataset
+    from .pipeline import analyze_to_file
 
     robot, trajectory = _load(args.robot, args.trajectory)
     _warn_limits(robot, trajectory, args.quiet)
@@ -203,11 +203,11 @@ def _cmd_analyze(args):
     if outdir.exists() and not outdir.is_dir():
         raise InputError("exists and is not a folder", outdir)
     settings = {"command": " ".join([PROG] + sys.argv[1:]) if sys.argv else PROG}
-    analysis = analyze(robot, trajectory, dominance=args.dominance, negligible=args.negligible,
-                       check=not args.no_verify, settings=settings)
     outdir.mkdir(parents=True, exist_ok=True)
     results = outdir / "results.h5"
-    write_dataset(analysis.dataset, results)
+    analysis = analyze_to_file(robot, trajectory, results, dominance=args.dominance,
+                               negligible=args.negligible, check=not args.no_verify,
+                               settings=settings, progress=not args.quiet and sys.stderr.isatty())
     analysis.model.save(outdir / "simplified_model.json")
     written = [results, outdir / "simplified_model.json"]
     if not args.no_report:

@@ -14,12 +14,15 @@ from .dalembert import gd_terms
 from .ranking import DEFAULT_DOMINANCE, DEFAULT_NEGLIGIBLE, rank_dominance
 from .simplified import SimplifiedModel, simplified_torque, torque_error
 
-__all__ = ["Analysis", "analyze", "verify", "VERIFY_TOLERANCE", "VERIFY_MAX_SETPOINTS"]
+__all__ = ["Analysis", "analyze", "analyze_to_file", "verify", "VERIFY_TOLERANCE",
+           "VERIFY_MAX_SETPOINTS", "STREAM_CHUNK"]
 
 #: Largest relative disagreement with Pinocchio accepted by :func:`verify`.
 VERIFY_TOLERANCE = 1e-9
 #: Set points checked against Pinocchio at most (evenly spread over the trajectory).
 VERIFY_MAX_SETPOINTS = 2000
+#: Set points per chunk when streaming to a file.
+STREAM_CHUNK = 65536
 
 
 @dataclass(frozen=True, eq=False)
@@ -42,7 +45,11 @@ class Analysis:
     verification: dict
 
 
-def verify(robot, q, qd, terms, max_setpoints=VERIFY_MAX_SETPOINTS):
+def _subsample(N, max_setpoints):
+    return np.unique(np.linspace(0, N - 1, min(N, max_setpoints)).round().astype(int))
+
+
+def verify(robot, q, qd, terms=None, max_setpoints=VERIFY_MAX_SETPOINTS):
     """Check G-D terms against Pinocchio's crba, nonLinearEffects and generalized gravity.
 
     Parameters
@@ -51,8 +58,8 @@ def verify(robot, q, qd, terms, max_setpoints=VERIFY_MAX_SETPOINTS):
         The arm, with n joints.
     q, qd : ndarray, shape (N, n)
         Joint positions [rad] and velocities [rad/s].
-    terms : GDTerms
-        The G-D terms at those states.
+    terms : GDTerms, optional
+        The G-D terms at those states; computed at the checked set points if not given.
     max_setpoints : int, optional
         At most this many set points, evenly spread, are checked.
 
@@ -70,13 +77,13 @@ def verify(robot, q, qd, terms, max_setpoints=VERIFY_MAX_SETPOINTS):
     """
     from .reference import reference_terms, relative_error
 
-    N = q.shape[0]
-    idx = np.unique(np.linspace(0, N - 1, min(N, max_setpoints)).round().astype(int))
+    idx = _subsample(q.shape[0], max_setpoints)
     ref = reference_terms(robot, q[idx], qd[idx])
+    ours = gd_terms(robot, q[idx], qd[idx]) if terms is None else None
     out = {}
     for name in ("D_tran", "D_rot", "h_tran", "h_rot", "D", "h", "c"):
-        out[f"max_rel_error_{name}"] = relative_error(getattr(terms, name)[idx],
-                                                      getattr(ref, name))
+        value = getattr(ours, name) if terms is None else getattr(terms, name)[idx]
+        out[f"max_rel_error_{name}"] = relative_error(value, getattr(ref, name))
     worst = max(out.values())
     out.update(setpoints=int(idx.size), tolerance=VERIFY_TOLERANCE,
                engine="pinocchio", passed=int(worst <= VERIFY_TOLERANCE))
@@ -134,4 +141,94 @@ def analyze(robot, trajectory, dominance=DEFAULT_DOMINANCE, negligible=DEFAULT_N
                             provenance=provenance)
     ds = build_dataset(robot, trajectory, terms, ranking, tau, tau_s, choices, error,
                        verification=verification, settings=settings)
+    return Analysis(dataset=ds, model=model, verification=verification)
+
+
+def analyze_to_file(robot, trajectory, path, dominance=DEFAULT_DOMINANCE,
+                    negligible=DEFAULT_NEGLIGIBLE, check=True, settings=None,
+                    chunk=STREAM_CHUNK, progress=False):
+    """:func:`analyze`, streamed into a results file in chunks of bounded memory.
+
+    Two passes over the trajectory: the first computes the G-D terms chunk by chunk, writes
+    them and accumulates the ranking; the second, once the simplified model is known,
+    recomputes the terms and writes tau_simplified. Memory stays a few chunks whatever N is.
+
+    Parameters
+    ----------
+    robot : Robot
+        The arm, with n joints.
+    trajectory : Trajectory
+        q, qd, qdd of shape (N, n) [rad, rad/s, rad/s^2].
+    path : str or os.PathLike
+        The results file (netCDF4/HDF5), written under a temporary name and renamed.
+    dominance, negligible : float, optional
+        s and e of the ranking.
+    check : bool, optional
+        Verify against Pinocchio on at most :data:`VERIFY_MAX_SETPOINTS` set points.
+    settings : dict, optional
+        Extra provenance.
+    chunk : int, optional
+        Set points per chunk.
+    progress : bool, optional
+        Show a tqdm progress bar on stderr (set points done and rate).
+
+    Returns
+    -------
+    Analysis
+        Its dataset is the summary (:func:`gd_analyze.storage.summary_dataset`); the file holds
+        the per-set-point variables as well.
+
+    Raises
+    ------
+    ValueError
+        If the trajectory does not fit the robot or the thresholds are out of range.
+    OSError
+        If the file cannot be written.
+    """
+    from tqdm.auto import tqdm
+
+    from . import __version__
+    from .ranking import RankingAccumulator
+    from .simplified import TorqueErrorAccumulator
+    from .storage import SetpointWriter, atomic_path, summary_dataset
+
+    N, n = trajectory.q.shape
+    chunk = max(1, int(chunk))
+    ranges = [(a, min(a + chunk, N)) for a in range(0, N, chunk)]
+    ranker = RankingAccumulator(n)
+    errors = TorqueErrorAccumulator(n)
+    bar = tqdm(total=2 * N, unit="setpoint", unit_scale=True, disable=not progress,
+               desc="G-D terms", delay=1.0, leave=False)
+    with atomic_path(path) as tmp:
+        with SetpointWriter(tmp, N, n, chunk=min(chunk, 8192)) as out:
+            out.write(0, {"t": trajectory.t, "q": trajectory.q, "qd": trajectory.qd,
+                          "qdd": trajectory.qdd})
+            for a, b in ranges:
+                terms = gd_terms(robot, trajectory.q[a:b], trajectory.qd[a:b])
+                tau = terms.tau(trajectory.qdd[a:b])
+                ranker.update(terms.D_tran, terms.D_rot, terms.h_tran, terms.h_rot, tau)
+                out.write(a, {"D_tran": terms.D_tran, "D_rot": terms.D_rot, "D": terms.D,
+                              "h_tran": terms.h_tran, "h_rot": terms.h_rot, "h": terms.h,
+                              "c": terms.c, "tau": tau})
+                bar.update(b - a)
+            ranking = ranker.result(dominance=dominance, negligible=negligible)
+            choices = ranking.choices()
+            bar.set_description("simplified model")
+            for a, b in ranges:
+                terms = gd_terms(robot, trajectory.q[a:b], trajectory.qd[a:b])
+                tau_s = simplified_torque(terms, choices, trajectory.qdd[a:b])
+                errors.update(tau_s, terms.tau(trajectory.qdd[a:b]))
+                out.write(a, {"tau_simplified": tau_s})
+                bar.update(b - a)
+        bar.close()
+        error = errors.result()
+        verification = verify(robot, trajectory.q, trajectory.qd) if check else {}
+        ds = summary_dataset(robot, trajectory, ranking, choices, error, verification, settings)
+        ds.to_netcdf(tmp, mode="a", engine="h5netcdf")
+    provenance = {"gd_analyze_version": __version__, "trajectory_file": trajectory.source,
+                  "derivatives": trajectory.derivatives, **(settings or {})}
+    model = SimplifiedModel(robot=robot, choices=choices, dominance_threshold=float(dominance),
+                            negligible_threshold=float(negligible),
+                            trajectory_sha256=trajectory.sha256, validation=error,
+                            provenance=provenance)
     return Analysis(dataset=ds, model=model, verification=verification)

@@ -151,6 +151,128 @@ def element_series(D_tran, D_rot, h_tran, h_rot):
 __all__.append("element_series")
 
 
+class RankingAccumulator:
+    """Accumulate the ranking's sums and peaks chunk by chunk, then classify.
+
+    Feeding a trajectory in chunks gives exactly the ranking of the whole: the share uses sums
+    of |tran| and |rot|, the classes use peaks, both of which combine across chunks.
+
+    Parameters
+    ----------
+    n : int
+        Number of joints.
+
+    Examples
+    --------
+    >>> acc = RankingAccumulator(n)                                     # doctest: +SKIP
+    >>> for chunk in chunks:                                            # doctest: +SKIP
+    ...     acc.update(D_tran, D_rot, h_tran, h_rot, tau)
+    >>> ranking = acc.result(dominance=0.9, negligible=0.01)            # doctest: +SKIP
+    """
+
+    def __init__(self, n):
+        m = n * (n + 1) // 2 + n
+        self.n = int(n)
+        self.sum_tran = np.zeros(m)
+        self.sum_rot = np.zeros(m)
+        self.peak_tran = np.zeros(m)
+        self.peak_rot = np.zeros(m)
+        self.peak_total = np.zeros(m)
+        self.peak_diag = np.zeros(n)
+        self.scale_D = np.zeros(n * (n + 1) // 2)
+        self.peak_tau = np.zeros(n)
+        self.count = 0
+
+    def update(self, D_tran, D_rot, h_tran, h_rot, tau):
+        """Add a chunk of set points.
+
+        Parameters
+        ----------
+        D_tran, D_rot : ndarray, shape (N, n, n)
+            Inertia matrix parts [kg m^2].
+        h_tran, h_rot : ndarray, shape (N, n)
+            Coriolis and centrifugal parts [N m].
+        tau : ndarray, shape (N, n)
+            Joint torques of the full model [N m].
+
+        Raises
+        ------
+        ValueError
+            If the shapes disagree with n or with each other.
+        """
+        n = self.n
+        D_tran, D_rot = np.asarray(D_tran, float), np.asarray(D_rot, float)
+        h_tran, h_rot = np.asarray(h_tran, float), np.asarray(h_rot, float)
+        tau = np.asarray(tau, float)
+        N = h_tran.shape[0]
+        if D_tran.shape != (N, n, n) or D_rot.shape != (N, n, n) or h_rot.shape != (N, n) \
+                or h_tran.shape != (N, n) or tau.shape != (N, n):
+            raise ValueError(f"D parts must be (N, {n}, {n}) and h parts and tau (N, {n})")
+        if N == 0:
+            return
+        tran, rot = element_series(D_tran, D_rot, h_tran, h_rot)
+        at, ar = np.abs(tran), np.abs(rot)
+        self.sum_tran += at.sum(axis=0)
+        self.sum_rot += ar.sum(axis=0)
+        np.maximum(self.peak_tran, at.max(axis=0), out=self.peak_tran)
+        np.maximum(self.peak_rot, ar.max(axis=0), out=self.peak_rot)
+        np.maximum(self.peak_total, np.abs(tran + rot).max(axis=0), out=self.peak_total)
+        diag = np.clip(np.diagonal(D_tran + D_rot, axis1=1, axis2=2), 0.0, None)
+        iu = np.triu_indices(n)
+        np.maximum(self.scale_D, np.sqrt(diag[:, iu[0]] * diag[:, iu[1]]).max(axis=0),
+                   out=self.scale_D)
+        np.maximum(self.peak_tau, np.abs(tau).max(axis=0), out=self.peak_tau)
+        self.count += N
+
+    def result(self, dominance=DEFAULT_DOMINANCE, negligible=DEFAULT_NEGLIGIBLE):
+        """Classify the elements from what was accumulated.
+
+        Parameters
+        ----------
+        dominance : float, optional
+            s, in (0.5, 1].
+        negligible : float, optional
+            e, >= 0.
+
+        Returns
+        -------
+        Ranking
+
+        Raises
+        ------
+        ValueError
+            If s or e is out of range, or nothing was accumulated.
+        """
+        if not 0.5 < dominance <= 1.0:
+            raise ValueError(f"the dominance threshold s must be in (0.5, 1], got {dominance}")
+        if not negligible >= 0.0:
+            raise ValueError(f"the negligibility threshold e must be >= 0, got {negligible}")
+        if self.count == 0:
+            raise ValueError("no set points were accumulated")
+        total = self.sum_tran + self.sum_rot
+        with np.errstate(invalid="ignore", divide="ignore"):
+            share = np.where(total > 0, self.sum_tran / np.where(total > 0, total, 1.0), np.nan)
+        scale = np.concatenate([self.scale_D, self.peak_tau])
+        classes = []
+        for k in range(share.size):
+            if self.peak_total[k] < negligible * scale[k] or not np.isfinite(share[k]):
+                classes.append("negligible")
+            elif share[k] >= dominance:
+                classes.append("translational")
+            elif share[k] <= 1.0 - dominance:
+                classes.append("rotational")
+            else:
+                classes.append("both")
+        return Ranking(labels=tuple(element_labels(self.n)), share_tran=share,
+                       dominance=tuple(classes), peak_tran=self.peak_tran.copy(),
+                       peak_rot=self.peak_rot.copy(), peak_total=self.peak_total.copy(),
+                       scale=scale, dominance_threshold=float(dominance),
+                       negligible_threshold=float(negligible))
+
+
+__all__.append("RankingAccumulator")
+
+
 def rank_dominance(D_tran, D_rot, h_tran, h_rot, tau, dominance=DEFAULT_DOMINANCE,
                    negligible=DEFAULT_NEGLIGIBLE):
     """Rank which part, translational or rotational, dominates each element of D and h.
@@ -180,43 +302,10 @@ def rank_dominance(D_tran, D_rot, h_tran, h_rot, tau, dominance=DEFAULT_DOMINANC
     Notes
     -----
     Source: the empirical method of Sec. 3.4.1 (Figs. 3.10 and 3.11), with the share and the
-    thresholds defined in the module docstring.
+    thresholds defined in the module docstring. For long trajectories feed a
+    :class:`RankingAccumulator` chunk by chunk instead.
     """
-    if not 0.5 < dominance <= 1.0:
-        raise ValueError(f"the dominance threshold s must be in (0.5, 1], got {dominance}")
-    if not negligible >= 0.0:
-        raise ValueError(f"the negligibility threshold e must be >= 0, got {negligible}")
-    D_tran, D_rot = np.asarray(D_tran, float), np.asarray(D_rot, float)
-    h_tran, h_rot = np.asarray(h_tran, float), np.asarray(h_rot, float)
-    tau = np.asarray(tau, float)
-    N, n = h_tran.shape
-    if D_tran.shape != (N, n, n) or D_rot.shape != (N, n, n) or h_rot.shape != (N, n) \
-            or tau.shape != (N, n):
-        raise ValueError("D parts must be (N, n, n) and h parts and tau (N, n)")
-    tran, rot = element_series(D_tran, D_rot, h_tran, h_rot)
-    sum_tran = np.abs(tran).sum(axis=0)
-    sum_rot = np.abs(rot).sum(axis=0)
-    total = sum_tran + sum_rot
-    with np.errstate(invalid="ignore", divide="ignore"):
-        share = np.where(total > 0, sum_tran / np.where(total > 0, total, 1.0), np.nan)
-    peak_total = np.abs(tran + rot).max(axis=0)
-    D = D_tran + D_rot
-    diag = np.clip(np.diagonal(D, axis1=1, axis2=2), 0.0, None)   # (N, n)
-    iu = np.triu_indices(n)
-    scale_D = np.sqrt(diag[:, iu[0]] * diag[:, iu[1]]).max(axis=0)
-    scale_h = np.abs(tau).max(axis=0)
-    scale = np.concatenate([scale_D, scale_h])
-    classes = []
-    for k in range(share.size):
-        if peak_total[k] < negligible * scale[k] or not np.isfinite(share[k]):
-            classes.append("negligible")
-        elif share[k] >= dominance:
-            classes.append("translational")
-        elif share[k] <= 1.0 - dominance:
-            classes.append("rotational")
-        else:
-            classes.append("both")
-    return Ranking(labels=tuple(element_labels(n)), share_tran=share, dominance=tuple(classes),
-                   peak_tran=np.abs(tran).max(axis=0), peak_rot=np.abs(rot).max(axis=0),
-                   peak_total=peak_total, scale=scale, dominance_threshold=float(dominance),
-                   negligible_threshold=float(negligible))
+    h_tran = np.asarray(h_tran, float)
+    acc = RankingAccumulator(h_tran.shape[-1] if h_tran.ndim == 2 else 0)
+    acc.update(D_tran, D_rot, h_tran, h_rot, tau)
+    return acc.result(dominance=dominance, negligible=negligible)

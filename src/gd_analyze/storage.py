@@ -20,7 +20,8 @@ from pathlib import Path
 
 import numpy as np
 
-__all__ = ["atomic_path", "build_dataset", "write_dataset", "open_results", "CONVENTIONS"]
+__all__ = ["atomic_path", "build_dataset", "summary_dataset", "setpoint_arrays",
+           "SetpointWriter", "SETPOINT_VARIABLES", "write_dataset", "open_results", "CONVENTIONS"]
 
 CONVENTIONS = "CF-1.10"
 
@@ -60,26 +61,69 @@ def atomic_path(path):
         raise
 
 
+#: Per-set-point variables: name -> (dims, units, long_name). Used by both writers.
+SETPOINT_VARIABLES = {
+    "t": (("setpoint",), "s", "time"),
+    "q": (("setpoint", "joint"), "rad", "joint position"),
+    "qd": (("setpoint", "joint"), "rad s-1", "joint velocity"),
+    "qdd": (("setpoint", "joint"), "rad s-2", "joint acceleration"),
+    "D_tran": (("setpoint", "joint", "joint_k"), "kg m2",
+               "inertia matrix, translational part (Eq. 3.4-25)"),
+    "D_rot": (("setpoint", "joint", "joint_k"), "kg m2",
+              "inertia matrix, rotational part (Eq. 3.4-25)"),
+    "D": (("setpoint", "joint", "joint_k"), "kg m2", "inertia matrix D = D_tran + D_rot"),
+    "h_tran": (("setpoint", "joint"), "N m",
+               "Coriolis and centrifugal torque, translational part (Eq. 3.4-26)"),
+    "h_rot": (("setpoint", "joint"), "N m",
+              "Coriolis and centrifugal torque, rotational part (Eq. 3.4-27)"),
+    "h": (("setpoint", "joint"), "N m", "Coriolis and centrifugal torque h = h_tran + h_rot"),
+    "c": (("setpoint", "joint"), "N m", "gravity loading (Eq. 3.4-28)"),
+    "tau": (("setpoint", "joint"), "N m",
+            "joint torque of the full model, D qdd + h + c (Eq. 3.4-24)"),
+    "tau_simplified": (("setpoint", "joint"), "N m",
+                       "joint torque of the simplified model, D_s qdd + h_s + c"),
+}
+
+
 def _var(dims, data, units, long_name, **attrs):
     return (dims, data, {"units": units, "long_name": long_name, **attrs})
 
 
-def build_dataset(robot, trajectory, terms, ranking, tau, tau_simplified, choices, error,
-                  verification=None, settings=None):
-    """Assemble the analysis into one xarray Dataset.
+def setpoint_arrays(trajectory, terms, tau, tau_simplified):
+    """The per-set-point arrays, keyed as :data:`SETPOINT_VARIABLES`.
+
+    Parameters
+    ----------
+    trajectory : Trajectory
+        t (N,) [s]; q, qd, qdd (N, n).
+    terms : GDTerms
+        The G-D terms at the same set points.
+    tau, tau_simplified : ndarray, shape (N, n)
+        Torques of the full and the simplified model [N m].
+
+    Returns
+    -------
+    dict
+        name -> ndarray.
+    """
+    return {"t": trajectory.t, "q": trajectory.q, "qd": trajectory.qd, "qdd": trajectory.qdd,
+            "D_tran": terms.D_tran, "D_rot": terms.D_rot, "D": terms.D, "h_tran": terms.h_tran,
+            "h_rot": terms.h_rot, "h": terms.h, "c": terms.c, "tau": tau,
+            "tau_simplified": tau_simplified}
+
+
+def summary_dataset(robot, trajectory, ranking, choices, error, verification=None,
+                    settings=None):
+    """Everything but the per-set-point variables: ranking, model, robot, provenance.
 
     Parameters
     ----------
     robot : Robot
         The arm, with n joints.
     trajectory : Trajectory
-        t (N,) [s]; q, qd, qdd (N, n) [rad, rad/s, rad/s^2].
-    terms : GDTerms
-        D_tran, D_rot (N, n, n) [kg m^2]; h_tran, h_rot, c (N, n) [N m].
+        Its source, SHA-256 and how derivatives were obtained go into the attributes.
     ranking : Ranking
         The dominance of each of the M elements.
-    tau, tau_simplified : ndarray, shape (N, n)
-        Torques of the full and the simplified model [N m].
     choices : dict
         Element label -> kept part (``"tran"``, ``"rot"``, ``"both"``, ``"none"``).
     error : dict
@@ -92,6 +136,7 @@ def build_dataset(robot, trajectory, terms, ranking, tau, tau_simplified, choice
     Returns
     -------
     xarray.Dataset
+        Dims ``element``, ``joint``, ``xyz``, ``xyz_k``; CF-style global attributes.
     """
     import xarray as xr
 
@@ -99,28 +144,10 @@ def build_dataset(robot, trajectory, terms, ranking, tau, tau_simplified, choice
     from .ranking import CHAPTER_DOMINANCE
 
     n = robot.n
-    N = trajectory.t.shape[0]
-    sj, sjk = ("setpoint", "joint"), ("setpoint", "joint", "joint_k")
     labels = list(ranking.labels)
     el_units = ["kg m2" if lab.startswith("D") else "N m" for lab in labels]
+    mixed = "kg m2 (D) or N m (h)"
     data_vars = {
-        "t": _var(("setpoint",), trajectory.t, "s", "time"),
-        "q": _var(sj, trajectory.q, "rad", "joint position"),
-        "qd": _var(sj, trajectory.qd, "rad s-1", "joint velocity"),
-        "qdd": _var(sj, trajectory.qdd, "rad s-2", "joint acceleration"),
-        "D_tran": _var(sjk, terms.D_tran, "kg m2",
-                       "inertia matrix, translational part (Eq. 3.4-25)"),
-        "D_rot": _var(sjk, terms.D_rot, "kg m2", "inertia matrix, rotational part (Eq. 3.4-25)"),
-        "D": _var(sjk, terms.D, "kg m2", "inertia matrix D = D_tran + D_rot"),
-        "h_tran": _var(sj, terms.h_tran, "N m",
-                       "Coriolis and centrifugal torque, translational part (Eq. 3.4-26)"),
-        "h_rot": _var(sj, terms.h_rot, "N m",
-                      "Coriolis and centrifugal torque, rotational part (Eq. 3.4-27)"),
-        "h": _var(sj, terms.h, "N m", "Coriolis and centrifugal torque h = h_tran + h_rot"),
-        "c": _var(sj, terms.c, "N m", "gravity loading (Eq. 3.4-28)"),
-        "tau": _var(sj, tau, "N m", "joint torque of the full model, D qdd + h + c (Eq. 3.4-24)"),
-        "tau_simplified": _var(sj, tau_simplified, "N m",
-                               "joint torque of the simplified model, D_s qdd + h_s + c"),
         "share_tran": _var(("element",), ranking.share_tran, "1",
                            "translational share sum|tran| / (sum|tran| + sum|rot|)"),
         "dominance": _var(("element",), np.array(ranking.dominance, dtype=str), "1",
@@ -131,13 +158,13 @@ def build_dataset(robot, trajectory, terms, ranking, tau, tau_simplified, choice
                                   "dominance reported in Sec. 3.4.1 for the chapter's PUMA 560"),
         "choice": _var(("element",), np.array([choices[lab] for lab in labels], dtype=str), "1",
                        "part kept by the simplified model (tran, rot, both, none)"),
-        "peak_tran": _var(("element",), ranking.peak_tran, "kg m2 (D) or N m (h)",
+        "peak_tran": _var(("element",), ranking.peak_tran, mixed,
                           "peak |translational part| along the trajectory"),
-        "peak_rot": _var(("element",), ranking.peak_rot, "kg m2 (D) or N m (h)",
+        "peak_rot": _var(("element",), ranking.peak_rot, mixed,
                          "peak |rotational part| along the trajectory"),
-        "peak_total": _var(("element",), ranking.peak_total, "kg m2 (D) or N m (h)",
+        "peak_total": _var(("element",), ranking.peak_total, mixed,
                            "peak |translational + rotational| along the trajectory"),
-        "element_scale": _var(("element",), ranking.scale, "kg m2 (D) or N m (h)",
+        "element_scale": _var(("element",), ranking.scale, mixed,
                               "scale of the negligibility test: peak sqrt(D_ii D_jj) or |tau_i|"),
         "tau_error_peak": _var(("joint",), np.array(error["peak_abs_error"]), "N m",
                                "peak |tau_simplified - tau|"),
@@ -162,10 +189,7 @@ def build_dataset(robot, trajectory, terms, ranking, tau, tau_simplified, choice
         "qdd_max": _var(("joint",), robot.qdd_max, "rad s-2", "joint acceleration limit"),
     }
     coords = {
-        "setpoint": ("setpoint", np.arange(N), {"long_name": "set point index", "units": "1"}),
         "joint": ("joint", np.arange(1, n + 1), {"long_name": "joint (row of D)", "units": "1"}),
-        "joint_k": ("joint_k", np.arange(1, n + 1),
-                    {"long_name": "joint (column of D)", "units": "1"}),
         "element": ("element", np.array(labels, dtype=str),
                     {"long_name": "ranked element of D (i <= j) or h", "units": "1"}),
         "element_units": ("element", np.array(el_units, dtype=str),
@@ -194,11 +218,137 @@ def build_dataset(robot, trajectory, terms, ranking, tau, tau_simplified, choice
         "input_path": str(trajectory.source),
         "input_sha256": trajectory.sha256,
         "derivatives": trajectory.derivatives,
+        "setpoints": int(trajectory.t.shape[0]),
     }
     for key, value in (verification or {}).items():
         attrs[f"verification_{key}"] = value
     attrs.update(settings or {})
     return xr.Dataset(data_vars, coords=coords, attrs=attrs)
+
+
+def build_dataset(robot, trajectory, terms, ranking, tau, tau_simplified, choices, error,
+                  verification=None, settings=None):
+    """Assemble the analysis into one xarray Dataset, in memory.
+
+    Parameters
+    ----------
+    robot : Robot
+        The arm, with n joints.
+    trajectory : Trajectory
+        t (N,) [s]; q, qd, qdd (N, n) [rad, rad/s, rad/s^2].
+    terms : GDTerms
+        D_tran, D_rot (N, n, n) [kg m^2]; h_tran, h_rot, c (N, n) [N m].
+    ranking : Ranking
+        The dominance of each of the M elements.
+    tau, tau_simplified : ndarray, shape (N, n)
+        Torques of the full and the simplified model [N m].
+    choices : dict
+        Element label -> kept part.
+    error : dict
+        Torque error per joint.
+    verification : dict, optional
+        Result of the check against Pinocchio.
+    settings : dict, optional
+        Extra global attributes.
+
+    Returns
+    -------
+    xarray.Dataset
+        The per-set-point variables of :data:`SETPOINT_VARIABLES` and the
+        :func:`summary_dataset`.
+    """
+    ds = summary_dataset(robot, trajectory, ranking, choices, error, verification, settings)
+    arrays = setpoint_arrays(trajectory, terms, tau, tau_simplified)
+    for name, (dims, units, long_name) in SETPOINT_VARIABLES.items():
+        ds[name] = _var(dims, arrays[name], units, long_name)
+    N, n = trajectory.q.shape
+    ds = ds.assign_coords(
+        setpoint=("setpoint", np.arange(N), {"long_name": "set point index", "units": "1"}),
+        joint_k=("joint_k", np.arange(1, n + 1), {"long_name": "joint (column of D)",
+                                                  "units": "1"}))
+    return ds
+
+
+class SetpointWriter:
+    """Stream the per-set-point variables into a new netCDF4/HDF5 file, chunk by chunk.
+
+    The file gets dims ``setpoint`` (N), ``joint`` and ``joint_k`` (n), their coordinate
+    variables, and every variable of :data:`SETPOINT_VARIABLES` with ``units`` and
+    ``long_name``. Add the summary afterwards with
+    ``summary.to_netcdf(path, mode="a", engine="h5netcdf")``.
+
+    Parameters
+    ----------
+    path : str or os.PathLike
+        The file to create (write it under a temporary name: see :func:`atomic_path`).
+    N : int
+        Number of set points.
+    n : int
+        Number of joints.
+    chunk : int, optional
+        Set points per HDF5 chunk.
+    """
+
+    def __init__(self, path, N, n, chunk=8192):
+        import h5netcdf
+
+        self._file = h5netcdf.File(path, "w")
+        f = self._file
+        f.dimensions = {"setpoint": N, "joint": n, "joint_k": n}
+        rows = max(1, min(int(chunk), N))
+        for name, dims, values, long_name in (
+                ("setpoint", ("setpoint",), np.arange(N), "set point index"),
+                ("joint", ("joint",), np.arange(1, n + 1), "joint (row of D)"),
+                ("joint_k", ("joint_k",), np.arange(1, n + 1), "joint (column of D)")):
+            v = f.create_variable(name, dims, "i8")
+            v[:] = values
+            v.attrs.update(units="1", long_name=long_name)
+        self.variables = {}
+        for name, (dims, units, long_name) in SETPOINT_VARIABLES.items():
+            shape = tuple({"setpoint": rows, "joint": n, "joint_k": n}[d] for d in dims)
+            v = f.create_variable(name, dims, "f8", chunks=shape, compression="gzip",
+                                  compression_opts=1, shuffle=True)
+            v.attrs.update(units=units, long_name=long_name)
+            self.variables[name] = v
+
+    def write(self, start, arrays):
+        """Write a block of set points.
+
+        Parameters
+        ----------
+        start : int
+            Index of the block's first set point.
+        arrays : dict
+            name -> ndarray whose first axis is the block's set points.
+        """
+        for name, values in arrays.items():
+            self.variables[name][start:start + len(values)] = values
+
+    def read(self, name, start, stop):
+        """Read back set points [start, stop) of a variable.
+
+        Parameters
+        ----------
+        name : str
+            A name of :data:`SETPOINT_VARIABLES`.
+        start, stop : int
+            Set-point range.
+
+        Returns
+        -------
+        ndarray
+        """
+        return self.variables[name][start:stop]
+
+    def close(self):
+        """Close the file."""
+        self._file.close()
+
+    def __enter__(self):
+        return self
+
+    def __exit__(self, *exc):
+        self.close()
 
 
 def write_dataset(ds, path):
