@@ -117,3 +117,38 @@ def test_joint_limit_warning(tmp_path, two_link):
     with pytest.warns(JointLimitWarning, match="column q1"):
         msgs = check_joint_limits(two_link, traj)
     assert len(msgs) == 1
+
+
+@pytest.mark.parametrize("defect, row, column", [
+    (None, None, None), ("nan", 5002, "q3"), ("ragged", 7002, None), ("text", 9002, "qd2"),
+    ("time", 3002, "t")])
+def test_large_files_parse_fast_and_errors_stay_exact(tmp_path, puma, defect, row, column):
+    """Files above FAST_PARSE_BYTES go through pandas; a fault is still located exactly."""
+    from gd_analyze.trajectory import FAST_PARSE_BYTES
+
+    plan = _default_plan(puma, n=12001)
+    path = tmp_path / "big.csv"
+    write_trajectory(plan, path)
+    lines = path.read_text().splitlines()
+    cells = {r: lines[r - 1].split(",") for r in (3002, 5002, 7002, 9002)}
+    if defect == "nan":
+        cells[5002][3] = "nan"
+    elif defect == "ragged":
+        cells[7002] = cells[7002][:-1]
+    elif defect == "text":
+        cells[9002][8] = "1.0x"
+    elif defect == "time":
+        cells[3002][0] = "0"
+    for r, c in cells.items():
+        lines[r - 1] = ",".join(c)
+    path.write_text("\n".join(lines) + "\n")
+    assert path.stat().st_size > FAST_PARSE_BYTES
+    if defect is None:
+        back = read_trajectory(path, 6)
+        np.testing.assert_array_equal(back.q, plan.q)      # round-trip float parsing
+        return
+    with pytest.raises(InputError) as err:
+        read_trajectory(path, 6)
+    assert err.value.row == row
+    if column:
+        assert err.value.column == column
