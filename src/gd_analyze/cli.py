@@ -89,6 +89,9 @@ def _analyze_parser():
                    help=f"an element below E times its scale is negligible (default "
                         f"{DEFAULT_NEGLIGIBLE})")
     p.add_argument("--no-report", action="store_true", help="skip report.html and report.pdf")
+    p.add_argument("--compress", metavar="LEVEL", type=int, choices=range(10), default=0,
+                   help="gzip level 0-9 for the per-set-point variables of results.h5 "
+                        "(default 0: uncompressed, fastest)")
     p.add_argument("--no-verify", action="store_true",
                    help="skip the verification against Pinocchio")
     p.add_argument("-q", "--quiet", action="store_true",
@@ -207,7 +210,8 @@ def _cmd_analyze(args):
     results = outdir / "results.h5"
     analysis = analyze_to_file(robot, trajectory, results, dominance=args.dominance,
                                negligible=args.negligible, check=not args.no_verify,
-                               settings=settings, progress=not args.quiet and sys.stderr.isatty())
+                               settings=settings, compress=args.compress,
+                               progress=not args.quiet and sys.stderr.isatty())
     analysis.model.save(outdir / "simplified_model.json")
     written = [results, outdir / "simplified_model.json"]
     if not args.no_report:

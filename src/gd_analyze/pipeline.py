@@ -146,7 +146,7 @@ def analyze(robot, trajectory, dominance=DEFAULT_DOMINANCE, negligible=DEFAULT_N
 
 def analyze_to_file(robot, trajectory, path, dominance=DEFAULT_DOMINANCE,
                     negligible=DEFAULT_NEGLIGIBLE, check=True, settings=None,
-                    chunk=STREAM_CHUNK, progress=False):
+                    chunk=STREAM_CHUNK, progress=False, compress=0):
     """:func:`analyze`, streamed into a results file in chunks of bounded memory.
 
     Two passes over the trajectory: the first computes the G-D terms chunk by chunk, writes
@@ -171,6 +171,8 @@ def analyze_to_file(robot, trajectory, path, dominance=DEFAULT_DOMINANCE,
         Set points per chunk.
     progress : bool, optional
         Show a tqdm progress bar on stderr (set points done and rate).
+    compress : int, optional
+        gzip level (0-9) of the per-set-point variables; 0 stores them uncompressed.
 
     Returns
     -------
@@ -200,7 +202,7 @@ def analyze_to_file(robot, trajectory, path, dominance=DEFAULT_DOMINANCE,
     bar = tqdm(total=2 * N, unit="setpoint", unit_scale=True, disable=not progress,
                desc="G-D terms", delay=1.0, leave=False)
     with atomic_path(path) as tmp:
-        with SetpointWriter(tmp, N, n, chunk=min(chunk, 8192)) as out:
+        with SetpointWriter(tmp, N, n, chunk=min(chunk, 8192), compress=compress) as out:
             out.write(0, {"t": trajectory.t, "q": trajectory.q, "qd": trajectory.qd,
                           "qdd": trajectory.qdd})
             for a, b in ranges:

@@ -287,9 +287,12 @@ class SetpointWriter:
         Number of joints.
     chunk : int, optional
         Set points per HDF5 chunk.
+    compress : int, optional
+        gzip level 1-9 for the per-set-point variables; 0 (default) stores them uncompressed,
+        about ten times faster to write and 1.5 to 2 times larger.
     """
 
-    def __init__(self, path, N, n, chunk=8192):
+    def __init__(self, path, N, n, chunk=8192, compress=0):
         import h5netcdf
 
         self._file = h5netcdf.File(path, "w")
@@ -306,8 +309,8 @@ class SetpointWriter:
         self.variables = {}
         for name, (dims, units, long_name) in SETPOINT_VARIABLES.items():
             shape = tuple({"setpoint": rows, "joint": n, "joint_k": n}[d] for d in dims)
-            v = f.create_variable(name, dims, "f8", chunks=shape, compression="gzip",
-                                  compression_opts=1, shuffle=True)
+            opts = {"compression": "gzip", "compression_opts": int(compress)} if compress else {}
+            v = f.create_variable(name, dims, "f8", chunks=shape, **opts)
             v.attrs.update(units=units, long_name=long_name)
             self.variables[name] = v
 

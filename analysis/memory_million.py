@@ -1,0 +1,67 @@
+"""Peak memory for 1,000,000 set points: gd_terms alone, and the CLI with --no-report.
+
+    python analysis/memory_million.py [--setpoints N]
+
+Each measurement runs in a fresh Python process that prints its own peak resident set size
+(ru_maxrss), so the figures do not mix. The trajectory is the default PUMA 560 motion planned
+with N set points, written to a temporary CSV. Prints one JSON line.
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+import subprocess
+import sys
+import tempfile
+import time
+from pathlib import Path
+
+PEAK = "import resource; print(resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024)"
+
+
+def run(code):
+    """Run Python code in a fresh process; its last stdout line is the peak RSS [MiB]."""
+    t0 = time.perf_counter()
+    out = subprocess.run([sys.executable, "-c", code], check=True, capture_output=True,
+                         text=True).stdout
+    return float(out.strip().splitlines()[-1]), time.perf_counter() - t0
+
+
+def main(argv=None):
+    """Measure and print one JSON line.
+
+    Parameters
+    ----------
+    argv : list of str, optional
+        Command-line arguments.
+    """
+    p = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
+    p.add_argument("--setpoints", type=int, default=1_000_000)
+    args = p.parse_args(argv)
+    N = args.setpoints
+    with tempfile.TemporaryDirectory() as tmp:
+        csv = Path(tmp) / "million.csv"
+        plan = (f"import numpy as np; from gd_analyze import load_robot; "
+                f"from gd_analyze.trajectory import *; r = load_robot('puma560'); "
+                f"tr = plan_quintic(r, np.radians(DEFAULT_START_DEG), "
+                f"np.radians(DEFAULT_GOAL_DEG), {N});")
+        _, t_write = run(plan + f"write_trajectory(tr, {str(csv)!r}); " + PEAK)
+        rss_terms, t_terms = run(plan + "from gd_analyze import gd_terms; "
+                                 "t = gd_terms(r, tr.q, tr.qd); " + PEAK)
+        rss_cli, t_cli = run(
+            f"from gd_analyze.cli import main; "
+            f"rc = main(['puma560', {str(csv)!r}, '-o', {str(Path(tmp) / 'out')!r}, "
+            f"'--no-report', '-q']); assert rc == 0; " + PEAK)
+        size = (Path(tmp) / "out" / "results.h5").stat().st_size
+        csv_size = csv.stat().st_size
+    print(json.dumps({"setpoints": N, "gd_terms_peak_rss_mib": rss_terms,
+                      "gd_terms_process_s": t_terms, "cli_no_report_peak_rss_mib": rss_cli,
+                      "cli_no_report_s": t_cli, "csv_mib": csv_size / 2**20,
+                      "results_h5_mib": size / 2**20, "limit_mib": 2048,
+                      "within_limit": max(rss_terms, rss_cli) <= 2048}))
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())
