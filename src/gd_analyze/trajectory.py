@@ -200,7 +200,7 @@ def _fast_values(path, n_joints):
         return None, None, None
     try:
         frame = pd.read_csv(path, dtype=float, skip_blank_lines=True, engine="c",
-                            float_precision="round_trip", skipinitialspace=True)
+                            skipinitialspace=True)
     except (ValueError, pd.errors.ParserError, UnicodeDecodeError):
         return None, None, None
     values = frame.to_numpy()
