@@ -149,3 +149,20 @@ def test_real_process_no_traceback(tmp_path):
     assert proc.stderr.strip().count("\n") == 0 and "Traceback" not in proc.stderr
     assert "row 3, column q3" in proc.stderr
     assert not (tmp_path / "reports").exists()
+
+
+def test_compare_json(capsys):
+    code, out, err = _run(["compare", "puma560", SHIPPED, "--json"], capsys)
+    assert code == 0, err
+    report = json.loads(out)
+    assert report["n"] == 6 and report["set_points"] == 31
+    assert report["max_disagreement"] < 1e-10
+    for quantity in ("D", "h", "c", "tau"):
+        assert len(report["agreement"][quantity]) == 6          # every pair of the four
+    counts = report["operation_counts"]
+    assert {"lagrange-euler", "newton-euler", "gd"} <= set(counts)
+    # Table 3.5's N-E row at n = 6: 132 n multiplications, 111 n - 4 additions
+    assert counts["newton-euler"]["multiplications_table_3_5"] == 132 * 6
+    assert counts["newton-euler"]["additions_table_3_5"] == 111 * 6 - 4
+    code, out, _ = _run(["compare", "puma560", SHIPPED], capsys)
+    assert code == 0 and "gd vs pinocchio" in out

@@ -31,7 +31,7 @@ try:  # Python >= 3.11
 except ModuleNotFoundError:  # pragma: no cover - Python 3.10
     import tomli as tomllib
 
-__all__ = ["Robot", "load_robot", "builtin_robots", "robot_from_dict"]
+__all__ = ["Robot", "load_robot", "builtin_robots", "robot_from_dict", "with_payload"]
 
 _BUILTIN = {"puma560": "puma560.toml", "two-link": "two-link.toml"}
 _LINK_KEYS = {
@@ -181,6 +181,71 @@ class Robot:
             com=self.com if com is None else com,
             inertia=self.inertia if inertia is None else inertia,
         )
+
+
+def with_payload(robot, mass, com=(0.0, 0.0, 0.0), inertia=(0.0, 0.0, 0.0)):
+    """The robot carrying a rigid load fixed to its last link.
+
+    The load's mass, centre of mass and inertia are merged into link n: the combined centre of
+    mass is the mass-weighted mean, and both inertia tensors are carried to it with the
+    parallel-axis theorem, I_c = sum_b [I_b + m_b (|d_b|^2 E - d_b d_b^T)], d_b = r_b - r_c.
+
+    Parameters
+    ----------
+    robot : Robot
+        The arm, with n joints.
+    mass : float
+        Load mass [kg], >= 0.
+    com : array_like, shape (3,), optional
+        Load centre of mass in link frame n [m].
+    inertia : array_like, shape (3,) or (3, 3), optional
+        Load inertia about its centre of mass, axes parallel to link frame n: principal moments
+        (Ixx, Iyy, Izz) or a full symmetric tensor [kg m^2].
+
+    Returns
+    -------
+    Robot
+        A copy whose last link includes the load; its ``name`` gets a ``+payload`` suffix and
+        its ``description`` states the load.
+
+    Raises
+    ------
+    InputError
+        If the mass is negative or not finite, or the inertia is not symmetric positive
+        semi-definite.
+
+    Notes
+    -----
+    Torques depend on the load the arm carries (Fu, Gonzalez & Lee 1987, Sec. 3.1); the load
+    enters the G-D terms through link n's mass, centre of mass and inertia tensor.
+    """
+    mass = float(mass)
+    if not math.isfinite(mass) or mass < 0:
+        raise InputError(f"payload mass must be a finite number >= 0, got {mass}",
+                         column="--payload")
+    com_p = np.asarray(com, dtype=float).reshape(3)
+    I_p = np.asarray(inertia, dtype=float)
+    I_p = np.diag(I_p) if I_p.shape == (3,) else I_p.reshape(3, 3)
+    if not np.isfinite(I_p).all() or not np.allclose(I_p, I_p.T) \
+            or np.linalg.eigvalsh(I_p).min() < -1e-12:
+        raise InputError("payload inertia must be symmetric positive semi-definite",
+                         column="--payload-inertia")
+    if mass == 0.0 and not I_p.any():
+        return robot
+    m_l, r_l, I_l = float(robot.mass[-1]), np.array(robot.com[-1]), np.array(robot.inertia[-1])
+    m_c = m_l + mass
+    r_c = (m_l * r_l + mass * com_p) / m_c if m_c > 0 else r_l
+
+    def shift(m, dvec):
+        return m * (dvec @ dvec * np.eye(3) - np.outer(dvec, dvec))
+
+    I_c = I_l + shift(m_l, r_l - r_c) + I_p + shift(mass, com_p - r_c)
+    masses, coms, inertias = np.array(robot.mass), np.array(robot.com), np.array(robot.inertia)
+    masses[-1], coms[-1], inertias[-1] = m_c, r_c, I_c
+    return dataclasses.replace(
+        robot, name=f"{robot.name}+payload", mass=masses, com=coms, inertia=inertias,
+        description=(f"{robot.description}; payload {mass:g} kg at {com_p.tolist()} m, "
+                     f"inertia diag {np.diag(I_p).tolist()} kg m^2").lstrip("; "))
 
 
 def builtin_robots():
