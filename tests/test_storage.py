@@ -69,3 +69,24 @@ def test_atomic_path_leaves_nothing_on_failure(tmp_path):
             raise RuntimeError("boom")
     assert target.read_text() == "old"
     assert [p.name for p in tmp_path.iterdir()] == ["out.txt"]
+
+
+def test_main_job_stores_the_formulations(tmp_path, puma):
+    from gd_analyze.opcount import book_counts
+    from gd_analyze.pipeline import analyze_to_file
+
+    traj = read_trajectory(SHIPPED, 6)
+    path = tmp_path / "results.h5"
+    analyze_to_file(puma, traj, path, check=False)
+    with xr.open_dataset(path, engine="h5netcdf") as ds:
+        assert ds.sizes["formulation_pair"] == 6 and ds.sizes["dof"] == 10
+        assert float(ds.formulation_disagreement.max()) < 1e-10
+        book = book_counts(6)
+        for method in ("lagrange-euler", "newton-euler", "gd"):
+            stored = ds.op_multiplications_table_3_5.sel(dof=6, formulation=method).item()
+            assert stored == pytest.approx(book[method]["multiplications"])
+        # N-E cost grows linearly in n, L-E as n^4: the measured counts show it
+        ne = ds.op_multiplications.sel(formulation="newton-euler").values
+        assert np.allclose(np.diff(ne, 2), 0)
+        le = ds.op_multiplications.sel(formulation="lagrange-euler").values
+        assert le[9] / le[4] > 8

@@ -319,3 +319,92 @@ def format_compare(report):
         lines.append(f"{m:<15} {c['multiplications']:>8} {c['additions']:>8} "
                      f"{c['multiplications_table_3_5']:>10.0f} {c['additions_table_3_5']:>10.0f}")
     return "\n".join(lines)
+
+
+#: Set points at most used by :func:`formulations_dataset` (evenly spread).
+FORMULATIONS_MAX_SETPOINTS = 200
+
+
+def formulations_dataset(robot, q, qd, qdd, n_max=10, max_setpoints=FORMULATIONS_MAX_SETPOINTS):
+    """The formulations' agreement along a trajectory and their costs, as a Dataset to store.
+
+    Parameters
+    ----------
+    robot : Robot
+        The arm, with n revolute joints.
+    q, qd, qdd : array_like, shape (N, n)
+        Joint positions [rad], velocities [rad/s] and accelerations [rad/s^2]; at most
+        ``max_setpoints`` of them, evenly spread, are compared.
+    n_max : int, optional
+        Operation counts are tabulated for generated chains of n = 1..n_max joints.
+    max_setpoints : int, optional
+        Bound on the set points compared (L-E and N-E probing are slow per set point).
+
+    Returns
+    -------
+    xarray.Dataset
+        ``formulation_disagreement`` (pair, quantity): largest relative disagreement of each
+        pair of L-E, N-E, G-D and Pinocchio for D, h, c and tau; ``op_multiplications`` and
+        ``op_additions`` (dof, formulation): counts per set point as implemented;
+        ``op_multiplications_table_3_5`` and ``op_additions_table_3_5`` (dof, formulation):
+        the formulas of Table 3.5. Attributes ``formulations_setpoints`` and
+        ``formulations_n``.
+
+    Raises
+    ------
+    ValueError
+        If an array does not have shape (N, n).
+
+    Notes
+    -----
+    Source: Table 3.5 of Fu, Gonzalez & Lee (1987); counting rule in :mod:`gd_analyze.opcount`.
+    """
+    import xarray as xr
+
+    q, qd, qdd = as_states(robot, q, qd, qdd)
+    N = q.shape[0]
+    idx = np.unique(np.linspace(0, N - 1, min(N, max_setpoints)).round().astype(int))
+    agreement = compare(robot, q[idx], qd[idx], qdd[idx])
+    pairs = list(next(iter(agreement.values())))
+    disagreement = np.array([[agreement[k][p] for k in _QUANTITIES] for p in pairs])
+    methods = list(operation_counts(1))
+    dofs = np.arange(1, n_max + 1)
+    got = [operation_counts(int(n)) for n in dofs]
+    book = [book_counts(int(n)) for n in dofs]
+
+    def grid(source, op):
+        return np.array([[float(s[m][op]) for m in methods] for s in source])
+
+    def var(dims, data, long_name):
+        return (dims, data, {"units": "1", "long_name": long_name})
+
+    return xr.Dataset(
+        {
+            "formulation_disagreement": var(
+                ("formulation_pair", "quantity"), disagreement,
+                "largest |a - b| over the larger of max|a|, max|b|, per pair of formulations"),
+            "op_multiplications": var(("dof", "formulation"), grid(got, "multiplications"),
+                                      "multiplications per set point, as implemented"),
+            "op_additions": var(("dof", "formulation"), grid(got, "additions"),
+                                "additions per set point, as implemented"),
+            "op_multiplications_table_3_5": var(("dof", "formulation"),
+                                                grid(book, "multiplications"),
+                                                "multiplications per set point, Table 3.5"),
+            "op_additions_table_3_5": var(("dof", "formulation"), grid(book, "additions"),
+                                          "additions per set point, Table 3.5"),
+        },
+        coords={
+            "formulation_pair": ("formulation_pair", np.array(pairs, dtype=str),
+                                 {"units": "1", "long_name": "pair of formulations"}),
+            "quantity": ("quantity", np.array(_QUANTITIES, dtype=str),
+                         {"units": "1", "long_name": "compared quantity"}),
+            "dof": ("dof", dofs, {"units": "1", "long_name": "number of joints n"}),
+            "formulation": ("formulation", np.array(methods, dtype=str),
+                            {"units": "1", "long_name": "formulation (gd: compiled G-D engine, "
+                                                        "gd-numpy: array G-D engine)"}),
+        },
+        attrs={"formulations_setpoints": int(idx.size), "formulations_n": robot.n},
+    )
+
+
+__all__.append("formulations_dataset")

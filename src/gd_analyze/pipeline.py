@@ -146,7 +146,7 @@ def analyze(robot, trajectory, dominance=DEFAULT_DOMINANCE, negligible=DEFAULT_N
 
 def analyze_to_file(robot, trajectory, path, dominance=DEFAULT_DOMINANCE,
                     negligible=DEFAULT_NEGLIGIBLE, check=True, settings=None,
-                    chunk=STREAM_CHUNK, progress=False, compress=0):
+                    chunk=STREAM_CHUNK, progress=False, compress=0, formulations=True):
     """:func:`analyze`, streamed into a results file in chunks of bounded memory.
 
     Two passes over the trajectory: the first computes the G-D terms chunk by chunk, writes
@@ -173,6 +173,10 @@ def analyze_to_file(robot, trajectory, path, dominance=DEFAULT_DOMINANCE,
         Show a tqdm progress bar on stderr (set points done and rate).
     compress : int, optional
         gzip level (0-9) of the per-set-point variables; 0 stores them uncompressed.
+    formulations : bool, optional
+        Also store the agreement of L-E, N-E, G-D and Pinocchio on (a sample of) the
+        trajectory and their operation counts
+        (:func:`gd_analyze.formulations.formulations_dataset`).
 
     Returns
     -------
@@ -226,6 +230,12 @@ def analyze_to_file(robot, trajectory, path, dominance=DEFAULT_DOMINANCE,
         error = errors.result()
         verification = verify(robot, trajectory.q, trajectory.qd) if check else {}
         ds = summary_dataset(robot, trajectory, ranking, choices, error, verification, settings)
+        if formulations:
+            from .formulations import formulations_dataset
+
+            extra = formulations_dataset(robot, trajectory.q, trajectory.qd, trajectory.qdd)
+            ds = ds.assign(extra.data_vars)
+            ds.attrs.update(extra.attrs)
         ds.to_netcdf(tmp, mode="a", engine="h5netcdf")
     provenance = {"gd_analyze_version": __version__, "trajectory_file": trajectory.source,
                   "derivatives": trajectory.derivatives, **(settings or {})}
