@@ -166,3 +166,23 @@ def test_compare_json(capsys):
     assert counts["newton-euler"]["additions_table_3_5"] == 111 * 6 - 4
     code, out, _ = _run(["compare", "puma560", SHIPPED], capsys)
     assert code == 0 and "gd vs pinocchio" in out
+
+
+def test_payload_changes_the_torques_and_is_recorded(tmp_path, capsys):
+    plain, loaded = tmp_path / "plain", tmp_path / "loaded"
+    assert _run(["puma560", SHIPPED, "-o", plain, "--no-report", "-q"], capsys)[0] == 0
+    code, _, err = _run(["puma560", SHIPPED, "-o", loaded, "--no-report", "-q", "--payload",
+                         "2.5", "--payload-com", "0,0,0.05", "--payload-inertia",
+                         "0.002,0.002,0.001"], capsys)
+    assert code == 0, err
+    with xr.open_dataset(plain / "results.h5", engine="h5netcdf") as a, \
+            xr.open_dataset(loaded / "results.h5", engine="h5netcdf") as b:
+        assert b.attrs["payload_mass"] == 2.5
+        assert b.link_mass.values[-1] == pytest.approx(0.09 + 2.5)
+        # the load hangs from the wrist: it adds gravity torque at joint 2
+        assert b.tau_peak.values[1] > a.tau_peak.values[1] + 1.0
+    code, _, err = _run(["puma560", SHIPPED, "-o", tmp_path / "x", "--payload", "-1"], capsys)
+    assert code == 2 and "--payload" in err
+    code, _, err = _run(["puma560", SHIPPED, "-o", tmp_path / "x", "--payload-com", "1,2"],
+                        capsys)
+    assert code == 2 and "3 comma-separated" in err

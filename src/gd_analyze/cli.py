@@ -57,6 +57,37 @@ def _angles(text):
     return vals
 
 
+def _vector3(name):
+    def parse(text):
+        vals = _angles(text)
+        if len(vals) != 3:
+            raise argparse.ArgumentTypeError(f"{name} needs 3 comma-separated numbers, got "
+                                             f"{text!r}")
+        return vals
+    return parse
+
+
+def _add_payload_arguments(p):
+    g = p.add_argument_group("payload (a rigid load fixed to the last link)")
+    g.add_argument("--payload", metavar="MASS", type=_fraction(0.0, math.inf, "--payload", False),
+                   help="load mass [kg] (the PUMA 560's rated load is 2.5 kg)")
+    g.add_argument("--payload-com", metavar="X,Y,Z", type=_vector3("--payload-com"),
+                   default=[0.0, 0.0, 0.0], help="load centre of mass in the last link frame [m]")
+    g.add_argument("--payload-inertia", metavar="IXX,IYY,IZZ",
+                   type=_vector3("--payload-inertia"), default=[0.0, 0.0, 0.0],
+                   help="load principal moments about its centre of mass [kg m^2]")
+
+
+def _apply_payload(robot, args):
+    from .robot import with_payload
+
+    if args.payload is None:
+        if any(args.payload_com) or any(args.payload_inertia):
+            raise InputError("--payload-com and --payload-inertia need --payload MASS")
+        return robot
+    return with_payload(robot, args.payload, args.payload_com, args.payload_inertia)
+
+
 def _analyze_parser():
     from .ranking import DEFAULT_DOMINANCE, DEFAULT_NEGLIGIBLE
 
@@ -97,6 +128,7 @@ def _analyze_parser():
     p.add_argument("-q", "--quiet", action="store_true",
                    help="print nothing but warnings and errors (no summary, no progress bar)")
     p.add_argument("--version", action="version", version=f"%(prog)s {_version()}")
+    _add_payload_arguments(p)
     return p
 
 
@@ -203,9 +235,13 @@ def _cmd_analyze(args):
     _warn_limits(robot, trajectory, args.quiet)
     outdir = Path(args.outdir) if args.outdir else \
         Path("reports") / f"{robot.name}-{Path(args.trajectory).stem}"
+    robot = _apply_payload(robot, args)
     if outdir.exists() and not outdir.is_dir():
         raise InputError("exists and is not a folder", outdir)
-    settings = {"command": " ".join([PROG] + sys.argv[1:]) if sys.argv else PROG}
+    settings = {"command": " ".join([PROG] + sys.argv[1:]) if sys.argv else PROG,
+                "payload_mass": float(args.payload or 0.0),
+                "payload_com": [float(v) for v in args.payload_com],
+                "payload_inertia": [float(v) for v in args.payload_inertia]}
     outdir.mkdir(parents=True, exist_ok=True)
     results = outdir / "results.h5"
     analysis = analyze_to_file(robot, trajectory, results, dominance=args.dominance,
