@@ -153,9 +153,10 @@ def summary_dataset(robot, trajectory, ranking, choices, error, verification=Non
         "dominance": _var(("element",), np.array(ranking.dominance, dtype=str), "1",
                           "dominance class (translational, rotational, both, negligible)"),
         "chapter_dominance": _var(("element",),
-                                  np.array([CHAPTER_DOMINANCE.get(lab, "") for lab in labels],
-                                           dtype=str), "1",
-                                  "dominance reported in Sec. 3.4.1 for the chapter's PUMA 560"),
+                                  np.array([CHAPTER_DOMINANCE.get(lab, "") if n == 6 else ""
+                                            for lab in labels], dtype=str), "1",
+                                  "dominance reported in Sec. 3.4.1 for the chapter's PUMA 560 "
+                                  "(empty unless the robot has 6 joints)"),
         "choice": _var(("element",), np.array([choices[lab] for lab in labels], dtype=str), "1",
                        "part kept by the simplified model (tran, rot, both, none)"),
         "peak_tran": _var(("element",), ranking.peak_tran, mixed,
