@@ -54,3 +54,17 @@ def test_verify_flags_a_wrong_term(puma):
     bad = replace(t, h_rot=t.h_rot * (1 + 1e-6))
     result = verify(puma, traj.q, traj.qd, bad)
     assert result["passed"] == 0 and result["max_rel_error_h_rot"] > 1e-7
+
+
+def test_progress_bar_on_request_and_silent_otherwise(tmp_path, puma, capsys, monkeypatch):
+    import gd_analyze.pipeline as pipeline
+
+    traj = read_trajectory(SHIPPED, 6)
+    monkeypatch.setattr(pipeline, "PROGRESS_DELAY", 0.0)
+    analyze_to_file(puma, traj, tmp_path / "a.h5", check=False, formulations=False,
+                    progress=True, chunk=8)
+    err = capsys.readouterr().err
+    assert "setpoint/s" in err and "/62" in err       # rate; two passes over 31 set points
+    analyze_to_file(puma, traj, tmp_path / "b.h5", check=False, formulations=False,
+                    progress=False, chunk=8)
+    assert capsys.readouterr().err == ""

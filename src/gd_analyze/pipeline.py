@@ -23,6 +23,8 @@ VERIFY_TOLERANCE = 1e-9
 VERIFY_MAX_SETPOINTS = 2000
 #: Set points per chunk when streaming to a file.
 STREAM_CHUNK = 65536
+#: Seconds a run must last before its progress bar appears.
+PROGRESS_DELAY = 1.0
 
 
 @dataclass(frozen=True, eq=False)
@@ -204,7 +206,7 @@ def analyze_to_file(robot, trajectory, path, dominance=DEFAULT_DOMINANCE,
     ranker = RankingAccumulator(n)
     errors = TorqueErrorAccumulator(n)
     bar = tqdm(total=2 * N, unit="setpoint", unit_scale=True, disable=not progress,
-               desc="G-D terms", delay=1.0, leave=False)
+               desc="G-D terms", delay=PROGRESS_DELAY, leave=False)
     with atomic_path(path) as tmp:
         with SetpointWriter(tmp, N, n, chunk=min(chunk, 8192), compress=compress) as out:
             out.write(0, {"t": trajectory.t, "q": trajectory.q, "qd": trajectory.qd,
