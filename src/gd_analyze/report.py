@@ -29,6 +29,7 @@ from __future__ import annotations
 import contextlib
 import datetime
 import io
+import os
 import math
 import re
 import textwrap
@@ -1182,15 +1183,33 @@ def write_report(results_path, outdir, formats=REPORT_FORMATS):
     outdir = Path(outdir)
     outdir.mkdir(parents=True, exist_ok=True)
     figures = make_figures(ds)
-    written = []
-    for fmt in dict.fromkeys(formats):
-        path = outdir / f"report.{fmt}"
-        with atomic_path(path) as tmp:
+    formats = list(dict.fromkeys(formats))
+    paths = {fmt: outdir / f"report.{fmt}" for fmt in formats}
+    with contextlib.ExitStack() as stack:
+        tmp = {fmt: stack.enter_context(atomic_path(paths[fmt])) for fmt in formats}
+        child = _start_pdf_process(ctx, figures, tmp["pdf"]) if len(formats) == 2 else None
+        for fmt in formats:
             if fmt == "html":
                 text = _html(ctx, figures)
-                with open(tmp, "w", encoding="utf-8") as fh:
+                with open(tmp["html"], "w", encoding="utf-8") as fh:
                     fh.write(text)
-            else:
-                _pdf(ctx, figures, tmp)
-        written.append(path)
-    return written
+            elif child is None:
+                _pdf(ctx, figures, tmp["pdf"])
+        if child is not None:
+            child.join()
+            if child.exitcode != 0:
+                raise OSError(f"rendering {paths['pdf']} failed (exit code {child.exitcode})")
+    return [paths[fmt] for fmt in formats]
+
+
+def _start_pdf_process(ctx, figures, path):
+    """Render the PDF in a forked process while the caller writes the HTML; None if the
+    platform cannot fork or there is a single core (then the caller renders it itself)."""
+    import multiprocessing as mp
+
+    if (os.cpu_count() or 1) < 2 or "fork" not in mp.get_all_start_methods():
+        return None
+    # With fork, the arguments are inherited, not pickled: the figures cost nothing to pass.
+    child = mp.get_context("fork").Process(target=_pdf, args=(ctx, figures, path), daemon=True)
+    child.start()
+    return child
