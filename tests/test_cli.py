@@ -186,3 +186,22 @@ def test_payload_changes_the_torques_and_is_recorded(tmp_path, capsys):
     code, _, err = _run(["puma560", SHIPPED, "-o", tmp_path / "x", "--payload-com", "1,2"],
                         capsys)
     assert code == 2 and "3 comma-separated" in err
+
+
+def test_control_command(tmp_path, capsys):
+    out_dir = tmp_path / "o"
+    assert _run(["puma560", SHIPPED, "-o", out_dir, "--no-report", "-q"], capsys)[0] == 0
+    model = out_dir / "simplified_model.json"
+    code, out, err = _run(["control", model, SHIPPED, "-o", tmp_path / "c", "--no-report",
+                           "--json"], capsys)
+    assert code == 0, err
+    summary = json.loads(out)
+    peak = {c: max(f["peak_grid"]) for c, f in summary["tracking"].items()}
+    assert peak["full"] < 1e-6                      # exact model: integrator error only
+    assert peak["full"] < peak["simplified"] < peak["pd_gravity"]
+    with xr.open_dataset(tmp_path / "c" / "control.h5", engine="h5netcdf") as ds:
+        assert ds.attrs["robot"] == "puma560"
+    code, _, err = _run(["control", model, SHIPPED, "--wn", "-3"], capsys)
+    assert code == 2 and "--wn" in err
+    code, _, err = _run(["control", tmp_path / "none.json", SHIPPED], capsys)
+    assert code == 2 and "no such file" in err

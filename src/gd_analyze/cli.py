@@ -21,7 +21,7 @@ from .errors import InputError
 __all__ = ["main"]
 
 PROG = "gd-analyze"
-COMMANDS = ("analyze", "plan", "evaluate", "compare")
+COMMANDS = ("analyze", "plan", "evaluate", "compare", "control")
 EXIT_OK, EXIT_VERIFY, EXIT_INPUT, EXIT_TOLERANCE = 0, 1, 2, 3
 
 
@@ -101,7 +101,9 @@ def _analyze_parser():
         epilog="other commands: 'gd-analyze plan ROBOT -o FILE' writes a planned trajectory; "
                "'gd-analyze evaluate MODEL.json TRAJECTORY.csv' checks a simplified model on "
                "another trajectory; 'gd-analyze compare ROBOT TRAJECTORY.csv' compares the "
-               "L-E, N-E and G-D formulations. 'gd-analyze COMMAND --help' for details. "
+               "L-E, N-E and G-D formulations; 'gd-analyze control MODEL.json TRAJECTORY.csv' "
+               "checks a simplified model in closed loop; 'gd-analyze sweep ROBOT ...' analyses "
+               "many trajectories on dask. 'gd-analyze COMMAND --help' for details. "
                "Exit status: 0 ok, 1 verification failed, 2 bad input, 3 error above "
                "--max-error.",
     )
@@ -181,6 +183,32 @@ def _compare_parser():
     p.add_argument("robot", metavar="ROBOT")
     p.add_argument("trajectory", metavar="TRAJECTORY.csv")
     p.add_argument("--json", action="store_true", help="print one JSON object")
+    return p
+
+
+def _control_parser():
+    from .control import DEFAULT_WN, DEFAULT_ZETA
+
+    p = _Parser(prog=f"{PROG} control",
+                description="Simulate computed-torque control of the full-model arm along a "
+                            "trajectory with three controllers: one built on the full G-D "
+                            "model, one on the simplified model, and PD with gravity "
+                            "compensation; write control.h5 and control_report.html/.pdf.")
+    p.add_argument("model", metavar="MODEL.json")
+    p.add_argument("trajectory", metavar="TRAJECTORY.csv")
+    p.add_argument("-o", "--outdir", metavar="OUTDIR",
+                   help="output folder (default: reports/<robot>-<csv stem>-control/)")
+    p.add_argument("--wn", metavar="RAD/S", type=_fraction(0.0, math.inf, "--wn"),
+                   default=DEFAULT_WN,
+                   help=f"natural frequency of the error dynamics [rad/s] (default {DEFAULT_WN:g}); "
+                        "Kp = wn^2, Kv = 2 zeta wn")
+    p.add_argument("--zeta", metavar="Z", type=_fraction(0.0, math.inf, "--zeta"),
+                   default=DEFAULT_ZETA, help=f"damping ratio (default {DEFAULT_ZETA:g})")
+    p.add_argument("--offset", metavar="RAD", type=float, default=0.0,
+                   help="initial position error on every joint [rad] (default 0)")
+    p.add_argument("--no-report", action="store_true", help="skip the HTML and PDF report")
+    p.add_argument("--json", action="store_true", help="print the figures as one JSON object")
+    p.add_argument("-q", "--quiet", action="store_true", help="print nothing but errors")
     return p
 
 
@@ -353,6 +381,52 @@ def _cmd_compare(args):
     return EXIT_OK
 
 
+def _cmd_control(args):
+    import json
+
+    from .control import CONTROL_FILE, run_control, write_control_dataset
+    from .simplified import SimplifiedModel
+    from .trajectory import read_trajectory
+
+    model = SimplifiedModel.load(args.model)
+    traj = read_trajectory(args.trajectory, n_joints=model.robot.n)
+    if not math.isfinite(args.offset):
+        raise InputError("--offset must be a finite number")
+    outdir = Path(args.outdir) if args.outdir else \
+        Path("reports") / f"{model.robot.name}-{Path(args.trajectory).stem}-control"
+    if outdir.exists() and not outdir.is_dir():
+        raise InputError("exists and is not a folder", outdir)
+    try:
+        result = run_control(model, traj, wn=args.wn, zeta=args.zeta, q0_offset=args.offset)
+    except ValueError as exc:
+        raise InputError(str(exc)) from None
+    outdir.mkdir(parents=True, exist_ok=True)
+    path = outdir / CONTROL_FILE
+    write_control_dataset(result, path)
+    written = [path]
+    if not args.no_report:
+        from .control_report import write_control_report
+
+        written += list(write_control_report(path, outdir))
+    summary = result.summary()
+    if args.json:
+        print(json.dumps(summary, default=float))
+    elif not args.quiet:
+        print(f"computed-torque control of {model.robot.name} along {args.trajectory}: "
+              f"wn = {args.wn:g} rad/s, zeta = {args.zeta:g}")
+        print(f"{'controller':<12}" + "".join(f"{'joint ' + str(j + 1):>11}"
+                                               for j in range(model.robot.n)))
+        for name, fig in summary["tracking"].items():
+            print(f"{name:<12}" + "".join(f"{v:>11.3e}" for v in fig["peak_grid"])
+                  + "   peak |e| [rad]")
+        if summary["tau_difference"]:
+            print(f"{'tau diff':<12}" + "".join(f"{v:>11.3e}"
+                                               for v in summary["tau_difference"]["peak"])
+                  + "   peak |tau_simplified - tau_full| [N m]")
+        print("wrote " + ", ".join(str(p) for p in written))
+    return EXIT_OK
+
+
 def main(argv=None):
     """Run the command line.
 
@@ -372,7 +446,8 @@ def main(argv=None):
         argv = argv[1:]
     parsers = {"analyze": (_analyze_parser, _cmd_analyze), "plan": (_plan_parser, _cmd_plan),
                "evaluate": (_evaluate_parser, _cmd_evaluate),
-               "compare": (_compare_parser, _cmd_compare)}
+               "compare": (_compare_parser, _cmd_compare),
+               "control": (_control_parser, _cmd_control)}
     make_parser, run = parsers[command]
     try:
         args = make_parser().parse_args(argv)
