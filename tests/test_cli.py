@@ -205,3 +205,16 @@ def test_control_command(tmp_path, capsys):
     assert code == 2 and "--wn" in err
     code, _, err = _run(["control", tmp_path / "none.json", SHIPPED], capsys)
     assert code == 2 and "no such file" in err
+
+
+def test_evaluate_under_a_payload(tmp_path, capsys):
+    out_dir = tmp_path / "o"
+    assert _run(["puma560", SHIPPED, "-o", out_dir, "--no-report", "-q"], capsys)[0] == 0
+    model = out_dir / "simplified_model.json"
+    code, out, _ = _run(["evaluate", model, SHIPPED, "--json"], capsys)
+    bare = json.loads(out)
+    code, out, _ = _run(["evaluate", model, SHIPPED, "--json", "--payload", "2.5"], capsys)
+    loaded = json.loads(out)
+    assert code == 0 and loaded["payload_mass"] == 2.5
+    # the model knows nothing of the load: its error grows, most at the shoulder and elbow
+    assert loaded["peak_abs_error"][1] > 100 * bare["peak_abs_error"][1]
