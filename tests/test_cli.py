@@ -218,3 +218,41 @@ def test_evaluate_under_a_payload(tmp_path, capsys):
     assert code == 0 and loaded["payload_mass"] == 2.5
     # the model knows nothing of the load: its error grows, most at the shoulder and elbow
     assert loaded["peak_abs_error"][1] > 100 * bare["peak_abs_error"][1]
+
+
+def test_sweep_command_on_csv_files(tmp_path, capsys):
+    other = tmp_path / "other.csv"
+    assert _run(["plan", "puma560", "-o", other, "--start", "0,45,-90,0,30,0", "--goal",
+                 "90,100,-30,45,-30,90"], capsys)[0] == 0
+    out_dir = tmp_path / "sw"
+    code, out, err = _run(["sweep", "puma560", SHIPPED, other, "-o", out_dir, "--workers", "1",
+                           "--no-report", "--payload-sweep", "0:1:1"], capsys)
+    assert code == 0, err
+    assert "2 trajectories" in out
+    with xr.open_dataset(out_dir / "sweep.h5", engine="h5netcdf") as ds:
+        assert ds.sizes["trajectory"] == 2
+        # the shipped trajectory's row is its own ranking, as the main job gives it
+        from gd_analyze import load_robot
+        from gd_analyze.pipeline import analyze
+        from gd_analyze.trajectory import read_trajectory
+
+        single = analyze(load_robot("puma560"), read_trajectory(SHIPPED, 6), check=False).dataset
+        np.testing.assert_allclose(ds.share_tran.values[0], single.share_tran.values,
+                                   rtol=1e-12)
+    with xr.open_dataset(out_dir / "payload_sweep.h5", engine="h5netcdf") as p:
+        assert list(p.payload.values) == [0.0, 1.0]
+        assert p.class_fraction.dims == ("payload", "element", "class")
+    spec = json.loads((out_dir / "merged_model.json").read_text())
+    assert set(spec["choices"]) == set(single.element.values)
+
+
+@pytest.mark.parametrize("args, expect", [
+    (["sweep", "puma560"], "either --random K or trajectory CSV files"),
+    (["sweep", "puma560", "--random", "3", str(SHIPPED)], "either --random K"),
+    (["sweep", "puma560", "--random", "0"], "K must be >= 1"),
+    (["sweep", "puma560", "--random", "2", "--payload-sweep", "1:0:0.5"], "--payload-sweep"),
+])
+def test_sweep_bad_arguments(tmp_path, capsys, args, expect):
+    code, _, err = _run(args + ["-o", tmp_path / "o"], capsys)
+    assert code == 2 and expect in err and err.count("\n") == 1
+    assert not (tmp_path / "o").exists()

@@ -21,7 +21,7 @@ from .errors import InputError
 __all__ = ["main"]
 
 PROG = "gd-analyze"
-COMMANDS = ("analyze", "plan", "evaluate", "compare", "control")
+COMMANDS = ("analyze", "plan", "evaluate", "compare", "control", "sweep")
 EXIT_OK, EXIT_VERIFY, EXIT_INPUT, EXIT_TOLERANCE = 0, 1, 2, 3
 
 
@@ -76,6 +76,14 @@ def _add_payload_arguments(p):
     g.add_argument("--payload-inertia", metavar="IXX,IYY,IZZ",
                    type=_vector3("--payload-inertia"), default=[0.0, 0.0, 0.0],
                    help="load principal moments about its centre of mass [kg m^2]")
+    return g
+
+
+def _add_payload_sweep_argument(group):
+    group.add_argument("--payload-sweep", metavar="START:STOP:STEP",
+                       help="also rank the elements for each load mass in this range [kg], "
+                            "stop included, e.g. 0:2.5:0.5; uses --payload-com and "
+                            "--payload-inertia for the load's shape (stored with dim 'payload')")
 
 
 def _apply_payload(robot, args):
@@ -130,7 +138,7 @@ def _analyze_parser():
     p.add_argument("-q", "--quiet", action="store_true",
                    help="print nothing but warnings and errors (no summary, no progress bar)")
     p.add_argument("--version", action="version", version=f"%(prog)s {_version()}")
-    _add_payload_arguments(p)
+    _add_payload_sweep_argument(_add_payload_arguments(p))
     return p
 
 
@@ -216,6 +224,38 @@ def _control_parser():
     return p
 
 
+def _sweep_parser():
+    from .ranking import DEFAULT_DOMINANCE, DEFAULT_NEGLIGIBLE
+
+    p = _Parser(prog=f"{PROG} sweep",
+                description="Rank the G-D elements over many trajectories on dask, give the "
+                            "envelope of the ranking per element and one simplified model valid "
+                            "over them all (an element is dropped or reduced only where that "
+                            "holds in every trajectory); write sweep.h5, merged_model.json and "
+                            "sweep_report.html/.pdf.")
+    p.add_argument("robot", metavar="ROBOT")
+    p.add_argument("csv", metavar="CSV", nargs="*", help="trajectory files (or use --random)")
+    p.add_argument("--random", metavar="K", type=int,
+                   help="plan K random quintic trajectories (start and goal uniform in the "
+                        "joint limits, shortest duration within the limits, 31 set points)")
+    p.add_argument("--seed", metavar="S", type=int, default=0, help="seed for --random")
+    p.add_argument("-o", "--outdir", metavar="OUTDIR",
+                   help="output folder (default: reports/<robot>-sweep/)")
+    p.add_argument("--scheduler", metavar="ADDRESS",
+                   help="address of a running dask scheduler (default: start a LocalCluster)")
+    p.add_argument("--workers", metavar="N", type=int,
+                   help="workers of the LocalCluster (default: one per core)")
+    p.add_argument("--dominance", metavar="S", type=_fraction(0.5, 1.0, "--dominance"),
+                   default=DEFAULT_DOMINANCE, help=f"default {DEFAULT_DOMINANCE}")
+    p.add_argument("--negligible", metavar="E",
+                   type=_fraction(0.0, 1.0, "--negligible", False),
+                   default=DEFAULT_NEGLIGIBLE, help=f"default {DEFAULT_NEGLIGIBLE}")
+    p.add_argument("--no-report", action="store_true", help="skip the HTML and PDF report")
+    p.add_argument("-q", "--quiet", action="store_true", help="print nothing but errors")
+    _add_payload_sweep_argument(_add_payload_arguments(p))
+    return p
+
+
 def _load(robot_arg, csv_arg):
     from .robot import load_robot
     from .trajectory import read_trajectory
@@ -258,15 +298,36 @@ def _format_summary(ds):
     return "\n".join(lines)
 
 
-def _cmd_analyze(args):
-    import hashlib
+def _payload_masses(args):
+    if args.payload_sweep is None:
+        return None
+    from .sweep import parse_range
 
+    return parse_range(args.payload_sweep)
+
+
+def _payload_sweep_dataset(robot, trajectory, args):
+    """The ranking per load mass, as variables ``payload_*`` with dim ``payload``; or None."""
+    masses = _payload_masses(args)
+    if masses is None:
+        return None
+    from .sweep import payload_sweep
+
+    ds = payload_sweep(robot, trajectory, masses, com=args.payload_com,
+                       inertia=args.payload_inertia, dominance=args.dominance,
+                       negligible=args.negligible)
+    renamed = ds.rename({v: f"payload_{v}" for v in ds.data_vars})
+    return renamed.drop_vars([c for c in ("element_units",) if c in renamed.coords])
+
+
+def _cmd_analyze(args):
     from .pipeline import analyze_to_file
 
     robot, trajectory = _load(args.robot, args.trajectory)
     _warn_limits(robot, trajectory, args.quiet)
     outdir = Path(args.outdir) if args.outdir else \
         Path("reports") / f"{robot.name}-{Path(args.trajectory).stem}"
+    base_robot = robot
     robot = _apply_payload(robot, args)
     if outdir.exists() and not outdir.is_dir():
         raise InputError("exists and is not a folder", outdir)
@@ -274,12 +335,13 @@ def _cmd_analyze(args):
                 "payload_mass": float(args.payload or 0.0),
                 "payload_com": [float(v) for v in args.payload_com],
                 "payload_inertia": [float(v) for v in args.payload_inertia]}
+    extra = _payload_sweep_dataset(base_robot, trajectory, args)   # bad range: before any output
     outdir.mkdir(parents=True, exist_ok=True)
     results = outdir / "results.h5"
     analysis = analyze_to_file(robot, trajectory, results, dominance=args.dominance,
                                negligible=args.negligible, check=not args.no_verify,
                                settings=settings, compress=args.compress,
-                               progress=not args.quiet and sys.stderr.isatty())
+                               progress=not args.quiet and sys.stderr.isatty(), extra=extra)
     analysis.model.save(outdir / "simplified_model.json")
     written = [results, outdir / "simplified_model.json"]
     if not args.no_report:
@@ -433,6 +495,68 @@ def _cmd_control(args):
     return EXIT_OK
 
 
+def _cmd_sweep(args):
+    from .robot import load_robot
+    from .sweep import (dask_client, merged_model, random_trajectories, run_sweep,
+                        sweep_payloads, write_sweep)
+    from .trajectory import read_trajectory
+
+    robot = load_robot(args.robot)
+    if (args.random is None) == (not args.csv):
+        raise InputError("give either --random K or trajectory CSV files")
+    if args.random is not None and args.random < 1:
+        raise InputError("--random: K must be >= 1")
+    if args.workers is not None and args.workers < 1:
+        raise InputError("--workers must be >= 1")
+    if args.csv:
+        trajectories = [read_trajectory(path, n_joints=robot.n) for path in args.csv]
+    else:
+        trajectories = random_trajectories(robot, args.random, seed=args.seed)
+    masses = _payload_masses(args)
+    loaded = _apply_payload(robot, args)
+    outdir = Path(args.outdir) if args.outdir else Path("reports") / f"{robot.name}-sweep"
+    if outdir.exists() and not outdir.is_dir():
+        raise InputError("exists and is not a folder", outdir)
+    settings = {"command": " ".join([PROG] + sys.argv[1:]) if sys.argv else PROG,
+                "payload_mass": float(args.payload or 0.0)}
+    if args.random is not None:
+        settings["seed"] = args.seed
+    try:
+        with dask_client(args.scheduler, args.workers) as (client, _):
+            ds = run_sweep(loaded, trajectories, args.dominance, args.negligible, client=client,
+                           settings=settings, progress=not args.quiet and sys.stderr.isatty())
+            payload = None if masses is None else sweep_payloads(
+                robot, trajectories, masses, args.payload_com, args.payload_inertia,
+                args.dominance, args.negligible, client=client)
+    except OSError as exc:
+        raise InputError(f"cannot reach the dask scheduler: {exc}", args.scheduler) from None
+    outdir.mkdir(parents=True, exist_ok=True)
+    written = [outdir / "sweep.h5", outdir / "merged_model.json"]
+    write_sweep(ds, written[0])
+    merged_model(loaded, ds).save(written[1])
+    if payload is not None:
+        written.append(outdir / "payload_sweep.h5")
+        write_sweep(payload, written[-1])
+    if not args.no_report:
+        from .sweep_report import write_sweep_report
+
+        written += list(write_sweep_report(written[0], outdir, payload=payload))
+    if not args.quiet:
+        print(f"{robot.name}: {ds.sizes['trajectory']} trajectories in "
+              f"{ds.attrs['elapsed_s']:.1f} s on {ds.attrs['n_workers']} dask workers "
+              f"({ds.attrs['scheduler_address']})")
+        classes = [str(c) for c in ds["class"].values]
+        print(f"{'element':<8}" + "".join(f"{c[:5]:>7}" for c in classes)
+              + f"{'min':>8}{'median':>8}{'max':>8}  merged")
+        for k, lab in enumerate(str(v) for v in ds.element.values):
+            frac = ds.class_fraction.values[k]
+            print(f"{lab:<8}" + "".join(f"{v:>7.3f}" for v in frac)
+                  + f"{ds.share_tran_min.values[k]:>8.3f}{ds.share_tran_median.values[k]:>8.3f}"
+                  + f"{ds.share_tran_max.values[k]:>8.3f}  {ds.merged_choice.values[k]}")
+        print("wrote " + ", ".join(str(p) for p in written))
+    return EXIT_OK
+
+
 def main(argv=None):
     """Run the command line.
 
@@ -453,10 +577,11 @@ def main(argv=None):
     parsers = {"analyze": (_analyze_parser, _cmd_analyze), "plan": (_plan_parser, _cmd_plan),
                "evaluate": (_evaluate_parser, _cmd_evaluate),
                "compare": (_compare_parser, _cmd_compare),
-               "control": (_control_parser, _cmd_control)}
+               "control": (_control_parser, _cmd_control),
+               "sweep": (_sweep_parser, _cmd_sweep)}
     make_parser, run = parsers[command]
     try:
-        args = make_parser().parse_args(argv)
+        args = make_parser().parse_intermixed_args(argv)
         return run(args)
     except InputError as exc:
         print(f"{PROG}: error: {exc}", file=sys.stderr)

@@ -22,7 +22,7 @@ class InputError(ValueError):
     row : int, optional
         The row of the file, counted from 1 with the header as row 1 (as a spreadsheet shows it).
     column : str, optional
-        The column's name (or the key, for a robot file).
+        The column's name (or the key, for a robot file; or the option, e.g. "--payload").
 
     Notes
     -----
@@ -45,7 +45,9 @@ class InputError(ValueError):
         if self.row is not None:
             loc.append(f"row {self.row}")
         if self.column is not None:
-            loc.append(f"column {self.column}")
+            # a command-line option names itself; anything else is a column (or key) of a file
+            opt = str(self.column).startswith("--")
+            loc.append(str(self.column) if opt else f"column {self.column}")
         if loc:
             where.append(", ".join(loc))
         return ": ".join(where + [self.message])

@@ -148,7 +148,8 @@ def analyze(robot, trajectory, dominance=DEFAULT_DOMINANCE, negligible=DEFAULT_N
 
 def analyze_to_file(robot, trajectory, path, dominance=DEFAULT_DOMINANCE,
                     negligible=DEFAULT_NEGLIGIBLE, check=True, settings=None,
-                    chunk=STREAM_CHUNK, progress=False, compress=0, formulations=True):
+                    chunk=STREAM_CHUNK, progress=False, compress=0, formulations=True,
+                    extra=None):
     """:func:`analyze`, streamed into a results file in chunks of bounded memory.
 
     Two passes over the trajectory: the first computes the G-D terms chunk by chunk, writes
@@ -179,6 +180,8 @@ def analyze_to_file(robot, trajectory, path, dominance=DEFAULT_DOMINANCE,
         Also store the agreement of L-E, N-E, G-D and Pinocchio on (a sample of) the
         trajectory and their operation counts
         (:func:`gd_analyze.formulations.formulations_dataset`).
+    extra : xarray.Dataset, optional
+        More variables to store with the summary (e.g. a payload sweep, dim ``payload``).
 
     Returns
     -------
@@ -235,9 +238,11 @@ def analyze_to_file(robot, trajectory, path, dominance=DEFAULT_DOMINANCE,
         if formulations:
             from .formulations import formulations_dataset
 
-            extra = formulations_dataset(robot, trajectory.q, trajectory.qd, trajectory.qdd)
+            costs = formulations_dataset(robot, trajectory.q, trajectory.qd, trajectory.qdd)
+            ds = ds.assign(costs.data_vars)
+            ds.attrs.update(costs.attrs)
+        if extra is not None:
             ds = ds.assign(extra.data_vars)
-            ds.attrs.update(extra.attrs)
         ds.to_netcdf(tmp, mode="a", engine="h5netcdf")
     provenance = {"gd_analyze_version": __version__, "trajectory_file": trajectory.source,
                   "derivatives": trajectory.derivatives, **(settings or {})}

@@ -257,6 +257,8 @@ def make_figures(ds):
         empty, translational ('o'), rotational ('x') and combined ('^') effect over the set
         points (analogue of Fig. 3.10); ``"h"``: the same for h_i (analogue of Fig. 3.11);
         ``"torque"``: tau and tau_simplified vs t [N m], one panel per joint;
+        ``"payload"`` (if the dataset holds a payload sweep): share_tran and class per element
+        against the load mass, and peak |tau| per joint;
         ``"formulations"`` (if the dataset holds the operation counts): multiplications and
         additions per set point against n, log-log, for L-E, N-E and G-D as implemented, with
         the formulas of Table 3.5 beside them.
@@ -277,6 +279,10 @@ def make_figures(ds):
                    "torque": _fig_torque(ds)}
         if "op_multiplications" in ds.variables:
             figures["formulations"] = _fig_formulations(ds)
+        if "payload_share_tran" in ds.variables:
+            from .sweep_report import payload_figure
+
+            figures["payload"] = payload_figure(_payload_part(ds))
         return figures
 
 
@@ -775,6 +781,7 @@ def _report_context(ds):
         prov.append((key, _attr(ds, key)))
 
     formulations = _formulations_context(ds)
+    payload = _payload_context(ds)
     title = f"G-D dominance analysis: {robot_name} along {_attr(ds, 'input_file')}"
     summary = (f"{n} joints, {N} set points over {_fmt(t[-1] - t[0], 4)} s. "
                f"{len(labels)} elements ranked (s = {s:g}, e = {e:g}): "
@@ -790,7 +797,7 @@ def _report_context(ds):
         "compare": {"applicable": applicable, "note": note, "table": compare,
                     "n_agree": n_agree, "n_compared": n_compared},
         "provenance": _kv(prov), "enveloped": N > ENVELOPE_THRESHOLD,
-        "formulations": formulations,
+        "formulations": formulations, "payload": payload,
         "envelope_note": (f"The trajectory has {N} set points: curves are drawn as their "
                           f"min/max envelope per column of {1 / _PRINT_DPI:.4g} in "
                           f"({_PRINT_DPI} dpi, at most {ENVELOPE_COLUMNS} columns per panel), "
@@ -801,6 +808,31 @@ def _report_context(ds):
                      f"robot sha256 {_attr(ds, 'robot_sha256')}; s={s:g}; e={e:g}; "
                      f"verification {verified}"),
     }
+
+
+def _payload_part(ds):
+    """The payload sweep stored as ``payload_*`` variables, under its own names."""
+    names = [v for v in ds.data_vars if v.startswith("payload_") and "payload" in ds[v].dims]
+    return ds[names].rename({v: v[len("payload_"):] for v in names})
+
+
+def _payload_context(ds):
+    if "payload_share_tran" not in ds.variables:
+        return {"applicable": False, "table": None, "note": ""}
+    part = _payload_part(ds)
+    masses = [float(m) for m in part["payload"].values]
+    labels = _strings(part["element"].values)
+    dom = np.array(_strings(part["dominance"].values.ravel())).reshape(part["dominance"].shape)
+    rows = [[lab] + [dom[k, j] for k in range(len(masses))]
+            for j, lab in enumerate(labels) if len(set(dom[:, j])) > 1]
+    table = _table(["element"] + [f"{m:g} kg" for m in masses], rows,
+                   colour_cols=list(range(1, len(masses) + 1)))
+    note = (f"The ranking was repeated with a rigid load of {masses[0]:g} to {masses[-1]:g} kg "
+            f"fixed to the last link (centre of mass {_attr(ds, 'payload_com')} m in link "
+            f"frame n). {len(rows)} of {len(labels)} elements change class with the load; "
+            "they are listed below. The load is merged into link n, so its parallel-axis "
+            "terms about the combined centre of mass count as rotational.")
+    return {"applicable": True, "table": table, "note": note}
 
 
 def _formulations_context(ds):
@@ -1108,6 +1140,12 @@ def _pdf(ctx, figures, path):
                           f"{ctx['compare']['n_compared']} elements.", size=9,
                           fontweight="bold")
             doc.table(ctx["compare"]["table"])
+        if ctx["payload"]["applicable"]:
+            doc.heading("6.1 Dominance against the payload")
+            doc.paragraph(ctx["payload"]["note"], size=8.5)
+            if ctx["payload"]["table"]["rows"]:
+                doc.table(ctx["payload"]["table"])
+            doc.figure(figures["payload"])
         doc.heading("7. Formulations: Lagrange-Euler, Newton-Euler, G-D")
         doc.paragraph(ctx["formulations"]["note"], size=8.5)
         if ctx["formulations"]["applicable"]:
