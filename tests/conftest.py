@@ -27,3 +27,10 @@ def random_states(robot, count, seed):
     n = robot.n
     return (rng.uniform(-np.pi, np.pi, (count, n)), rng.uniform(-3, 3, (count, n)),
             rng.uniform(-3, 3, (count, n)))
+
+
+def pytest_configure(config):
+    """Tests always count operations afresh (no on-disk cache of the counts)."""
+    import os
+
+    os.environ["GD_ANALYZE_NO_CACHE"] = "1"

@@ -134,3 +134,28 @@ def test_table():
         table(0)
     with pytest.raises(TypeError):
         operation_counts("puma560")
+
+
+def test_disk_cache_is_keyed_by_the_counted_source(tmp_path, monkeypatch):
+    import json
+
+    from gd_analyze import opcount
+
+    monkeypatch.delenv("GD_ANALYZE_NO_CACHE", raising=False)
+    monkeypatch.setenv("XDG_CACHE_HOME", str(tmp_path))
+    opcount._counts_for_n.cache_clear()
+    fresh = opcount._counts_for_n(3)
+    path = opcount._cache_file()
+    assert path.parent == tmp_path / "gd-analyze" and path.is_file()
+    assert json.loads(path.read_text())["3"] == {m: list(v) for m, v in fresh.items()}
+    # a planted value is read back: the cache is really used ...
+    planted = {m: [1, 2] for m in fresh}
+    path.write_text(json.dumps({"3": planted}))
+    opcount._counts_for_n.cache_clear()
+    assert opcount._counts_for_n(3)["gd"] == (1, 2)
+    # ... but only under the key of the current source: other code, other file
+    monkeypatch.setattr(opcount, "_COUNTED_MODULES", opcount._COUNTED_MODULES[:-1])
+    assert opcount._cache_file() != path
+    opcount._counts_for_n.cache_clear()
+    assert opcount._counts_for_n(3) == fresh
+    opcount._counts_for_n.cache_clear()

@@ -507,10 +507,59 @@ def count_operations(robot, method, q=None, qd=None, qdd=None):
                    np.array([_value(t) for t in tau]))
 
 
+#: Modules whose code the counts depend on: the cache key is the hash of their source.
+_COUNTED_MODULES = ("opcount", "lagrange_euler", "newton_euler", "_gd_kernel", "dalembert",
+                    "kinematics", "robot")
+
+
+def _cache_file():
+    """The on-disk cache of the counts, or None when disabled (GD_ANALYZE_NO_CACHE=1).
+
+    The counts are a pure function of the counted code, so the file name carries the SHA-256
+    of that code's source: any change to it gives a new file, and a stale count cannot be read.
+    """
+    import hashlib
+    import os
+    from importlib import resources
+    from pathlib import Path
+
+    if os.environ.get("GD_ANALYZE_NO_CACHE"):
+        return None
+    digest = hashlib.sha256()
+    for name in _COUNTED_MODULES:
+        digest.update(resources.files("gd_analyze").joinpath(f"{name}.py").read_bytes())
+    base = os.environ.get("XDG_CACHE_HOME") or os.path.join(os.path.expanduser("~"), ".cache")
+    return Path(base) / "gd-analyze" / f"opcounts-{digest.hexdigest()[:32]}.json"
+
+
 @lru_cache(maxsize=None)
 def _counts_for_n(n):
+    import json
+
+    path = _cache_file()
+    cached = {}
+    if path is not None:
+        try:
+            cached = json.loads(path.read_text())
+        except (OSError, ValueError):
+            cached = {}
+    key = str(n)
+    if key in cached:
+        return {m: tuple(v) for m, v in cached[key].items()}
     robot = random_chain(n)
-    return {m: count_operations(robot, m)[:2] for m in METHODS}
+    counts = {m: tuple(int(x) for x in count_operations(robot, m)[:2]) for m in METHODS}
+    if path is not None:
+        try:
+            from .storage import atomic_path
+
+            path.parent.mkdir(parents=True, exist_ok=True)
+            cached[key] = counts
+            with atomic_path(path) as tmp:
+                with open(tmp, "w") as fh:
+                    json.dump(cached, fh)
+        except OSError:
+            pass        # a read-only home: count again next time
+    return counts
 
 
 def operation_counts(robot_or_n):
