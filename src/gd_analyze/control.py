@@ -63,6 +63,7 @@ import numpy as np
 from .dalembert import gd_terms
 from .kinematics import as_states
 from .simplified import SimplifiedModel, choice_masks
+from .storage import file_sha256
 from .simplified_eval import (COST_SETPOINTS, evaluation_cost, evaluation_plan,
                               simplified_tau)
 
@@ -550,14 +551,6 @@ class ControlResult:
                 "tau_difference": td, "cost": self.cost}
 
 
-def _sha256_file(path):
-    h = hashlib.sha256()
-    with open(path, "rb") as fh:
-        for block in iter(lambda: fh.read(1 << 20), b""):
-            h.update(block)
-    return h.hexdigest()
-
-
 def _sample_times(t_set, grid_points):
     """Set-point times and an even grid, merged; grid points within 1e-9 T of a set point go."""
     t_set = np.asarray(t_set, dtype=float)
@@ -628,7 +621,7 @@ def run_control(model, trajectory, wn=DEFAULT_WN, zeta=DEFAULT_ZETA, q0_offset=0
     else:
         model_file = str(model)
         model = SimplifiedModel.load(model_file)
-        model_sha = _sha256_file(model_file)
+        model_sha = file_sha256(model_file)
     robot = model.robot
     if not isinstance(trajectory, Trajectory):
         trajectory = read_trajectory(trajectory, n_joints=robot.n)

@@ -20,10 +20,37 @@ from pathlib import Path
 
 import numpy as np
 
-__all__ = ["atomic_path", "build_dataset", "summary_dataset", "setpoint_arrays",
+__all__ = ["atomic_path", "file_sha256", "build_dataset", "summary_dataset", "setpoint_arrays",
            "SetpointWriter", "SETPOINT_VARIABLES", "write_dataset", "open_results", "CONVENTIONS"]
 
 CONVENTIONS = "CF-1.10"
+
+
+def file_sha256(path):
+    """SHA-256 of a file's bytes, read in blocks.
+
+    Parameters
+    ----------
+    path : str or os.PathLike
+        The file.
+
+    Returns
+    -------
+    str
+        64 hexadecimal digits.
+
+    Raises
+    ------
+    OSError
+        If the file cannot be read.
+    """
+    import hashlib
+
+    digest = hashlib.sha256()
+    with open(path, "rb") as fh:
+        for block in iter(lambda: fh.read(1 << 20), b""):
+            digest.update(block)
+    return digest.hexdigest()
 
 
 @contextlib.contextmanager

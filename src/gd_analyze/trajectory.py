@@ -21,6 +21,7 @@ from pathlib import Path
 import numpy as np
 
 from .errors import InputError
+from .storage import file_sha256
 
 __all__ = [
     "Trajectory", "read_trajectory", "write_trajectory", "trajectory_columns",
@@ -101,14 +102,6 @@ def trajectory_columns(n, derivatives=True):
     return cols
 
 
-def _sha256(path):
-    h = hashlib.sha256()
-    with open(path, "rb") as fh:
-        for block in iter(lambda: fh.read(1 << 20), b""):
-            h.update(block)
-    return h.hexdigest()
-
-
 def _parse_header(header, path):
     names = [c.strip() for c in header]
     if not names or names[0] != "t":
@@ -181,7 +174,7 @@ def read_trajectory(path, n_joints=None):
         qd, qdd = spline(t, 1), spline(t, 2)
         how = "cubic-spline"
     return Trajectory(t=t, q=q, qd=qd, qdd=qdd, derivatives=how, source=path,
-                      sha256=_sha256(path))
+                      sha256=file_sha256(path))
 
 
 def _fast_values(path, n_joints):
