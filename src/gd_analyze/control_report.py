@@ -16,14 +16,15 @@ written atomically (:func:`gd_analyze.storage.atomic_path`).
 
 from __future__ import annotations
 
-import datetime
-import io
+import functools
 import math
-import re
-from importlib import resources
 from pathlib import Path
 
 import numpy as np
+
+from ._reporting import A4 as _A4, BASE_RC
+from ._reporting import strings as _strings, style as _style, table as _table
+from ._reporting import attr, fmt, grid_shape, inline_svgs, render_template, utc_now
 
 __all__ = ["CONTROL_REPORT_FILES", "REQUIRED_VARIABLES", "make_control_figures",
            "render_control_html", "render_control_pdf", "write_control_report"]
@@ -40,52 +41,13 @@ _COLOURS = {"full": "#000000", "simplified": "#009E73", "pd_gravity": "#D55E00"}
 _STYLES = {"full": "-", "simplified": "--", "pd_gravity": "-."}
 _LABELS = {"full": "computed torque, full model", "simplified": "computed torque, simplified "
            "model", "pd_gravity": "PD + gravity"}
-_A4 = (8.27, 11.69)
 _MAX_LINE_POINTS = 600
-_RC = {"font.size": 8.0, "axes.titlesize": 8.5, "axes.labelsize": 8.0, "xtick.labelsize": 7.0,
-       "ytick.labelsize": 7.0, "legend.fontsize": 7.5, "axes.grid": True, "grid.color": "0.88",
-       "grid.linewidth": 0.5, "lines.linewidth": 1.0, "lines.markersize": 3.0,
-       "svg.fonttype": "none", "pdf.fonttype": 42, "path.simplify": True}
-
-
-def _style():
-    import matplotlib
-
-    return matplotlib.rc_context(_RC)
-
-
-def _strings(values):
-    return [v.decode() if isinstance(v, bytes) else str(v) for v in np.asarray(values).ravel()]
-
-
-def _fmt(value, digits=3):
-    try:
-        v = float(value)
-    except (TypeError, ValueError):
-        return str(value)
-    if not math.isfinite(v):
-        return "n/a"
-    if v == 0:
-        return "0"
-    return f"{v:.{digits}g}" if 1e-3 <= abs(v) < 1e5 else f"{v:.{digits - 1}e}"
-
-
-def _attr(ds, key, default="\u2014"):
-    value = ds.attrs.get(key, None)
-    if value is None:
-        return default
-    if isinstance(value, bytes):
-        value = value.decode()
-    if isinstance(value, np.ndarray):
-        return ", ".join(_fmt(v, 6) for v in value.ravel())
-    if isinstance(value, (np.generic, float, int)):
-        return _fmt(value, 6)
-    return str(value) or default
-
-
-def _table(header, rows, align=None):
-    return {"header": list(header), "rows": [[str(c) for c in row] for row in rows],
-            "align": list(align or ["left"] + ["right"] * (len(header) - 1))}
+_RC = {**BASE_RC, "legend.fontsize": 7.5, "lines.markersize": 3.0}
+# Numbers in e-notation outside [1e-3, 1e5), 3 significant digits unless told; attributes
+# with 6 digits, arrays without parentheses, booleans as 0/1.
+_SCI = (1e-3, 1e5)
+_fmt = functools.partial(fmt, digits=3, sci_outside=_SCI)
+_attr = functools.partial(attr, parens=False, bools=True, sci_outside=_SCI)
 
 
 def _check(ds, path):
@@ -101,11 +63,6 @@ def _check(ds, path):
 # Figures
 # --------------------------------------------------------------------------------------------
 
-def _grid(n):
-    cols = 2 if n > 1 else 1
-    return int(math.ceil(n / cols)), cols
-
-
 def _stride(m):
     return max(1, int(math.ceil(m / _MAX_LINE_POINTS)))
 
@@ -117,7 +74,7 @@ def _joint_panels(ds, values, ylabel, title, log=False, controllers=None):
     t = np.asarray(ds["time"].values, dtype=float)
     is_set = np.asarray(ds["is_setpoint"].values).astype(bool)
     n = int(ds.sizes["joint"])
-    rows, cols = _grid(n)
+    rows, cols = grid_shape(n, 2)
     height = 1.9 * rows + 1.0
     fig = Figure(figsize=(8.0, height))
     # fixed margins [in] instead of a layout engine: drawing stays fast
@@ -187,7 +144,7 @@ def make_control_figures(ds):
     """
     _check(ds, "<dataset>")
     names = _strings(ds["controller"].values)
-    with _style():
+    with _style(_RC):
         figs = {"error": _joint_panels(
             ds, {c: ds["error"].sel(controller=c).values for c in names},
             "|q_d - q| [rad]", "Tracking error per joint", log=True)}
@@ -198,20 +155,6 @@ def make_control_figures(ds):
         figs["tau"] = _joint_panels(ds, {c: ds["tau"].sel(controller=c).values for c in names},
                                     "tau [N m]", "Applied joint torques")
     return figs
-
-
-def _svg(fig, prefix):
-    """The figure as an inline <svg> element with prefixed ids (no XML declaration, no DTD)."""
-    buf = io.StringIO()
-    with _style():
-        fig.savefig(buf, format="svg",
-                    metadata={"Date": None, "Creator": None, "Format": None, "Type": None})
-    text = buf.getvalue()
-    start = text.find("<svg")
-    text = text[start:] if start >= 0 else text
-    text = re.sub(r'\bid="', f'id="{prefix}-', text)
-    text = re.sub(r'\bhref="#', f'href="#{prefix}-', text)
-    return re.sub(r"url\(#", f"url(#{prefix}-", text)
 
 
 # --------------------------------------------------------------------------------------------
@@ -252,9 +195,9 @@ def _context(ds):
     ], align=["left", "left"])
     gains = _table(["joint", "wn [rad/s]", "zeta", "Kp [1/s\u00b2]", "Kv [1/s]",
                     "D_ii(q_d(0)) [kg m\u00b2]", "Kp_pd [N m/rad]", "Kv_pd [N m s/rad]"],
-                   [[joints[j]] + [_fmt(ds[v].values[j], 4) for v in
+                   [[joints[j]] + [_fmt(ds[v].values[j], digits=4) for v in
                                    ("wn", "zeta", "Kp", "Kv", "inertia_scale", "Kp_pd", "Kv_pd")]
-                    for j in range(n)])
+                    for j in range(n)], align="right")
     err_rows = []
     for c in names:
         for key, where in (("setpoints", "set points"), ("grid", "fine grid")):
@@ -264,7 +207,7 @@ def _context(ds):
             err_rows.append([c, where, "RMS"] + [_fmt(v) for v in rm])
     errors = _table(["controller", "sampled at", "figure"] + [f"{j} [rad]" for j in joints],
                     err_rows, align=["left", "left", "left"] + ["right"] * n)
-    tau_diff = _table(["figure"] + [f"{j} [N m]" for j in joints], [], align=None)
+    tau_diff = _table(["figure"] + [f"{j} [N m]" for j in joints], [], align="right")
 
     def fmt_all(name, **sel):
         return [_fmt(v) for v in ds[name].sel(**sel).values]
@@ -295,7 +238,7 @@ def _context(ds):
                        "mul vs full", "time vs full"],
                       [[what.get(e, e), str(int(mul[k])), str(int(add[k])), _fmt(tm[k]),
                         f"{mul[k] / mul[ref]:.3f}", f"{tm[k] / tm[ref]:.3f}"]
-                       for k, e in enumerate(ev)])
+                       for k, e in enumerate(ev)], align="right")
     cost_note = ("Operations per set point are counted on the project's counting scalar "
                  "(gd_analyze.opcount rule: sines and cosines are inputs, parameter-only "
                  "operations are free). Times are batched wall-clock times per set point, best "
@@ -319,7 +262,7 @@ def _context(ds):
     floor = ("A curve at the bottom of a panel is at the rounding / integrator-tolerance level.")
     return {
         "version": __version__,
-        "created": datetime.datetime.now(datetime.timezone.utc).replace(microsecond=0).isoformat(),
+        "created": utc_now().isoformat(),
         "title": f"Computed-torque control with the simplified G-D model: {_attr(ds, 'robot')}",
         "summary": summary,
         "intro": ("The arm, simulated with its full generalized d'Alembert dynamics (Fu, Gonzalez "
@@ -374,20 +317,15 @@ def render_control_html(ds, figures=None):
     InputError
         If the dataset lacks a variable of a control dataset.
     """
-    import jinja2
     from markupsafe import Markup
 
     _check(ds, "<dataset>")
     ctx = _context(ds)
     if figures is None:
         figures = make_control_figures(ds)
-    svgs = {name: Markup(_svg(fig, f"fig-{name}")) for name, fig in figures.items()}
+    svgs = inline_svgs(figures, _RC)
     svgs.setdefault("tau_difference", Markup("<p>No torque difference stored.</p>"))
-    source = resources.files("gd_analyze").joinpath("templates/control_report.html.j2") \
-        .read_text(encoding="utf-8")
-    env = jinja2.Environment(autoescape=True, undefined=jinja2.StrictUndefined,
-                             trim_blocks=True, lstrip_blocks=True, keep_trailing_newline=True)
-    return env.from_string(source).render(**ctx, figures=svgs)
+    return render_template("control_report.html.j2", {**ctx, "figures": svgs})
 
 
 class _Pages:
@@ -519,7 +457,7 @@ def render_control_pdf(ds, path, figures=None):
                 "Subject": "Computed-torque control with the simplified G-D model (Fu, Gonzalez "
                            "& Lee 1987, Sec. 3.4.1 and Ch. 5)",
                 "Keywords": ctx["keywords"], "Creator": f"gd-analyze {ctx['version']}"}
-    with _style(), PdfPages(path, metadata=metadata) as pdf:
+    with _style(_RC), PdfPages(path, metadata=metadata) as pdf:
         doc = _Pages(pdf, f"gd-analyze {ctx['version']}: control report")
         doc.heading(ctx["title"], size=13)
         doc.text(ctx["summary"])

@@ -28,15 +28,20 @@ from __future__ import annotations
 
 import contextlib
 import datetime
-import io
 import os
 import math
-import re
 import textwrap
-from importlib import resources
 from pathlib import Path
 
 import numpy as np
+
+from ._reporting import A4 as _A4, A4_LANDSCAPE as _A4_LANDSCAPE
+from ._reporting import CLASS_COLOURS as _CLASS_COLOURS, SUPTITLE_RC
+from ._reporting import attr as _attr, check as _check, fmt as _fmt, pct as _pct
+from ._reporting import gridspec as _gridspec, strings as _strings, style as _style
+from ._reporting import table as _table, thresholds as _thresholds
+from ._reporting import check_formats, grid_shape, inline_svgs, joint_colours, render_template
+from ._reporting import utc_now
 
 __all__ = [
     "REPORT_FORMATS", "ENVELOPE_THRESHOLD", "ENVELOPE_COLUMNS", "envelope", "make_figures",
@@ -65,35 +70,11 @@ _PART = {
     "total": {"color": "#000000", "marker": "^", "linestyle": ":",
               "label": "combined effect", "mfc": "none"},
 }
-_CLASS_COLOURS = {"translational": "#0072B2", "rotational": "#D55E00", "both": "#6A3D9A",
-                  "negligible": "#777777"}
 _AGREE_COLOURS = {"yes": "#007A4D", "no": "#B00020"}
 _FULL_COLOUR, _SIMPLIFIED_COLOUR = "#000000", "#009E73"
 
-_A4 = (8.27, 11.69)          # portrait [in]
-_A4_LANDSCAPE = (11.69, 8.27)
-
-_RC = {
-    "font.size": 8.0,
-    "axes.titlesize": 8.5,
-    "axes.labelsize": 8.0,
-    "xtick.labelsize": 7.0,
-    "ytick.labelsize": 7.0,
-    "legend.fontsize": 8.0,
-    "figure.titlesize": 11.0,
-    "figure.titleweight": "bold",
-    "axes.grid": True,
-    "grid.color": "0.88",
-    "grid.linewidth": 0.5,
-    "axes.linewidth": 0.6,
-    "lines.linewidth": 1.0,
-    "lines.markersize": 3.5,
-    "axes.titley": 1.0,          # a fixed title position: no per-draw placement
-    "axes.titlepad": 2.5,
-    "svg.fonttype": "none",      # text stays text in the SVG: searchable and small
-    "pdf.fonttype": 42,          # embed TrueType fonts in the PDF
-    "path.simplify": True,
-}
+# matplotlib settings of every figure; a fixed title position: no per-draw placement.
+_RC = {**SUPTITLE_RC, "lines.markersize": 3.5, "axes.titley": 1.0, "axes.titlepad": 2.5}
 
 _REQUIRED = ("t", "q", "qd", "qdd", "D_tran", "D_rot", "D", "h_tran", "h_rot", "h", "tau",
              "tau_simplified", "share_tran", "dominance", "chapter_dominance", "choice",
@@ -216,25 +197,6 @@ def _part_kwargs(part):
     return kw
 
 
-@contextlib.contextmanager
-def _style():
-    import matplotlib
-
-    with matplotlib.rc_context(_RC):
-        yield
-
-
-def _joint_colours(n):
-    from matplotlib import colormaps
-
-    cmap = colormaps["tab10"]
-    return [cmap(k % 10) for k in range(n)]
-
-
-def _strings(values):
-    return [v.decode() if isinstance(v, bytes) else str(v) for v in np.asarray(values).ravel()]
-
-
 # --------------------------------------------------------------------------------------------
 # Figures
 # --------------------------------------------------------------------------------------------
@@ -274,7 +236,7 @@ def make_figures(ds):
     Source: Sec. 3.4.1 and Figs. 3.10-3.11 of Fu, Gonzalez & Lee (1987). Series of more than
     :data:`ENVELOPE_THRESHOLD` points are drawn as their min/max envelope (:func:`envelope`).
     """
-    with _style():
+    with _style(_RC):
         figures = {"joints": _fig_joints(ds), "D": _fig_D(ds), "h": _fig_h(ds),
                    "torque": _fig_torque(ds)}
         if "op_multiplications" in ds.variables:
@@ -354,21 +316,12 @@ def _labels(ax, xlabel=None, ylabel=None, xoff=0.27, yoff=0.5):
         ax.set_ylabel(ylabel)
 
 
-def _gridspec(fig, rows, cols, left, right, top, bottom, wgap, hgap):
-    """A gridspec with margins and gaps in inches (a fixed layout: no layout engine)."""
-    W, H = fig.get_size_inches()
-    aw = (W - left - right - (cols - 1) * wgap) / cols
-    ah = (H - top - bottom - (rows - 1) * hgap) / rows
-    return fig.add_gridspec(rows, cols, left=left / W, right=1 - right / W, bottom=bottom / H,
-                            top=1 - top / H, wspace=wgap / aw, hspace=hgap / ah)
-
-
 def _fig_joints(ds):
     from matplotlib.figure import Figure
 
     t = ds["t"].values
     n = ds.sizes["joint"]
-    colours = _joint_colours(n)
+    colours = joint_colours(n)
     fig = Figure(figsize=(_A4[0], 8.0))
     gs = _gridspec(fig, 3, 1, left=0.9, right=0.25, top=0.95, bottom=0.55, wgap=0, hgap=0.22)
     spec = (("q", "joint position q [deg]"), ("qd", "joint velocity q\u0307 [deg/s]"),
@@ -434,17 +387,11 @@ def _fig_D(ds):
 
 
 def _D_key(ds):
-    s = float(ds.attrs.get("dominance_threshold", np.nan))
-    e = float(ds.attrs.get("negligible_threshold", np.nan))
+    s, e = _thresholds(ds)
     return textwrap.fill(
         "D_ij = D_ij(tran) + D_ij(rot). Panel D_ij: row i, column j (i \u2264 j). Title: "
         f"element and its dominance class (s = {s:g}, e = {e:g}). x: set point index; "
         "y: kg m\u00b2, own scale per panel.", 55)
-
-
-def _grid_shape(n, max_cols):
-    cols = min(max_cols, n)
-    return math.ceil(n / cols), cols
 
 
 def _fig_h(ds):
@@ -454,7 +401,7 @@ def _fig_h(ds):
     x = ds["setpoint"].values
     dom = _dominance_of(ds)
     h_tran, h_rot, h = ds["h_tran"].values, ds["h_rot"].values, ds["h"].values
-    rows, cols = _grid_shape(n, 3)
+    rows, cols = grid_shape(n, 3)
     W, H = _A4_LANDSCAPE[0], min(_A4_LANDSCAPE[1], 1.6 + 3.0 * rows)
     fig = Figure(figsize=(W, H))
     gs = _gridspec(fig, rows, cols, left=0.85, right=0.2, top=0.6, bottom=0.95, wgap=0.85,
@@ -487,7 +434,7 @@ def _fig_torque(ds):
     tau, tau_s = ds["tau"].values, ds["tau_simplified"].values
     rel = ds["tau_error_relative_peak"].values
     peak = ds["tau_error_peak"].values
-    rows, cols = _grid_shape(n, 2)
+    rows, cols = grid_shape(n, 2)
     W, H = _A4[0], min(_A4[1] - 0.5, 1.6 + 2.6 * rows)
     fig = Figure(figsize=(W, H))
     gs = _gridspec(fig, rows, cols, left=0.85, right=0.2, top=0.6, bottom=0.9, wgap=0.85,
@@ -553,72 +500,13 @@ def _sub(k):
                                                        "\u2085\u2086\u2087\u2088\u2089"))
 
 
-def _svg(fig, prefix):
-    """The figure as an inline <svg> element.
-
-    No XML declaration and no DOCTYPE (whose DTD is an external resource); every id is
-    prefixed, and the references to it with it, so that several figures can share one HTML
-    document without clashing ids.
-    """
-    buf = io.StringIO()
-    fig.savefig(buf, format="svg",
-                metadata={"Date": None, "Creator": None, "Format": None, "Type": None})
-    text = buf.getvalue()
-    start = text.find("<svg")
-    text = text[start:] if start >= 0 else text
-    text = re.sub(r'\bid="', f'id="{prefix}-', text)
-    text = re.sub(r'\bhref="#', f'href="#{prefix}-', text)
-    return re.sub(r"url\(#", f"url(#{prefix}-", text)
-
-
 # --------------------------------------------------------------------------------------------
 # Content shared by the HTML and the PDF
 # --------------------------------------------------------------------------------------------
 
-def _fmt(value, digits=4):
-    try:
-        v = float(value)
-    except (TypeError, ValueError):
-        return str(value)
-    if not np.isfinite(v):
-        return "n/a"
-    if v == 0:
-        return "0"
-    return f"{v:.{digits}g}"
-
-
-def _pct(value):
-    v = 100.0 * float(value)
-    if not np.isfinite(v):
-        return "n/a"
-    if v == 0 or abs(v) >= 0.01:
-        return f"{v:.2f} %"
-    return f"{v:.1e} %"
-
-
 def _units(text):
     return str(text).replace("m2", "m\u00b2").replace("s-2", "s\u207b\u00b2") \
         .replace("s-1", "s\u207b\u00b9")
-
-
-def _attr(ds, key, default="\u2014"):
-    value = ds.attrs.get(key, None)
-    if value is None:
-        return default
-    if isinstance(value, bytes):
-        value = value.decode()
-    if isinstance(value, np.ndarray):
-        return "(" + ", ".join(_fmt(v, 6) for v in value.ravel()) + ")"
-    if isinstance(value, (np.generic, float, int)) and not isinstance(value, (bool, np.bool_)):
-        return _fmt(value, 6)
-    text = str(value)
-    return text if text else default
-
-
-def _table(header, rows, align=None, widths=None, colour_cols=()):
-    return {"header": list(header), "rows": [[str(c) for c in row] for row in rows],
-            "align": list(align or ["left"] * len(header)),
-            "widths": list(widths or [1] * len(header)), "colour_cols": list(colour_cols)}
 
 
 def _kv(rows):
@@ -629,12 +517,7 @@ def _report_context(ds):
     """Everything both reports print, as strings and tables (no figures)."""
     from . import __version__
 
-    missing = [v for v in _REQUIRED if v not in ds.variables]
-    if missing:
-        from .errors import InputError
-
-        raise InputError("not a gd-analyze results dataset: missing variable(s) "
-                         + ", ".join(missing))
+    _check(ds, _REQUIRED, "results")
     n = ds.sizes["joint"]
     t = ds["t"].values
     N = t.size
@@ -644,10 +527,9 @@ def _report_context(ds):
     choice = _strings(ds["choice"].values)
     el_units = (_strings(ds["element_units"].values) if "element_units" in ds.variables
                 else ["kg m2" if lab.startswith("D") else "N m" for lab in labels])
-    s = float(ds.attrs.get("dominance_threshold", np.nan))
-    e = float(ds.attrs.get("negligible_threshold", np.nan))
+    s, e = _thresholds(ds)
     robot_name = _attr(ds, "robot", "robot")
-    now = datetime.datetime.now(datetime.timezone.utc).replace(microsecond=0)
+    now = utc_now()
 
     # 1. robot and trajectory
     robot_kv = _kv([
@@ -906,17 +788,9 @@ def render_html(ds, figures=None):
 
 
 def _html(ctx, figures):
-    import jinja2
-    from markupsafe import Markup
-
-    with _style():
-        svgs = {name: Markup(_svg(fig, f"fig-{name}")) for name, fig in figures.items()}
-    source = resources.files("gd_analyze").joinpath("templates/report.html.j2") \
-        .read_text(encoding="utf-8")
-    env = jinja2.Environment(autoescape=True, undefined=jinja2.StrictUndefined,
-                             trim_blocks=True, lstrip_blocks=True, keep_trailing_newline=True)
-    env.globals["class_colours"] = _CLASS_COLOURS
-    return env.from_string(source).render(**ctx, figures=svgs)
+    svgs = inline_svgs(figures, _RC)
+    return render_template("report.html.j2", {**ctx, "figures": svgs},
+                           {"class_colours": _CLASS_COLOURS})
 
 
 # --------------------------------------------------------------------------------------------
@@ -1102,7 +976,7 @@ def _pdf(ctx, figures, path):
         "Creator": f"gd-analyze {ctx['version']}",
         "CreationDate": datetime.datetime.fromisoformat(ctx["created"]),
     }
-    with _style(), PdfPages(path, metadata=metadata) as pdf:
+    with _style(_RC), PdfPages(path, metadata=metadata) as pdf:
         doc = _TextPages(pdf, f"gd-analyze {ctx['version']}: {ctx['title']}")
         doc.heading(ctx["title"], size=14)
         doc.paragraph(ctx["summary"])
@@ -1210,18 +1084,12 @@ def write_report(results_path, outdir, formats=REPORT_FORMATS):
     """
     from .storage import atomic_path, open_results
 
-    if isinstance(formats, str):
-        formats = (formats,)
-    formats = [str(f).lower() for f in formats]
-    unknown = [f for f in formats if f not in REPORT_FORMATS]
-    if unknown or not formats:
-        raise ValueError(f"report formats must be among {REPORT_FORMATS}, got {formats}")
+    formats = check_formats(formats, REPORT_FORMATS)
     ds = open_results(results_path)
     ctx = _report_context(ds)            # fails early on a dataset that is not ours
     outdir = Path(outdir)
     outdir.mkdir(parents=True, exist_ok=True)
     figures = make_figures(ds)
-    formats = list(dict.fromkeys(formats))
     paths = {fmt: outdir / f"report.{fmt}" for fmt in formats}
     with contextlib.ExitStack() as stack:
         tmp = {fmt: stack.enter_context(atomic_path(paths[fmt])) for fmt in formats}

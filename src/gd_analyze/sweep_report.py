@@ -22,17 +22,19 @@ matplotlib's PdfPages. Both are written atomically (:func:`gd_analyze.storage.at
 
 from __future__ import annotations
 
-import contextlib
 import datetime
-import io
-import math
 import textwrap
-from importlib import resources
 from pathlib import Path
 
 import numpy as np
 
-from .errors import InputError
+from ._reporting import A4 as _A4, A4_LANDSCAPE as _A4_LANDSCAPE
+from ._reporting import CLASS_COLOURS as _CLASS_COLOURS, SUPTITLE_RC as _RC
+from ._reporting import attr as _attr, check as _check, fmt as _fmt, pct as _pct
+from ._reporting import gridspec as _gridspec, strings as _strings, style as _style
+from ._reporting import table as _table, thresholds as _thresholds
+from ._reporting import check_formats, grid_shape, inline_svgs, joint_colours, render_template
+from ._reporting import utc_now
 from .ranking import CLASSES
 
 __all__ = ["SWEEP_REPORT_FORMATS", "make_sweep_figures", "payload_figure", "render_sweep_html",
@@ -41,24 +43,13 @@ __all__ = ["SWEEP_REPORT_FORMATS", "make_sweep_figures", "payload_figure", "rend
 #: The formats :func:`write_sweep_report` can write.
 SWEEP_REPORT_FORMATS = ("html", "pdf")
 
-# Colour-blind-safe colours (Okabe & Ito), as in gd_analyze.report.
-_CLASS_COLOURS = {"translational": "#0072B2", "rotational": "#D55E00", "both": "#6A3D9A",
-                  "negligible": "#777777"}
+# The choices of the merged model in the colours of their classes.
 _CHOICE_COLOURS = {"tran": _CLASS_COLOURS["translational"], "rot": _CLASS_COLOURS["rotational"],
                    "both": _CLASS_COLOURS["both"], "none": _CLASS_COLOURS["negligible"]}
 _CHOICE_CLASS = {"tran": "translational", "rot": "rotational", "both": "both",
                  "none": "negligible"}
 _LETTER = {"translational": "T", "rotational": "R", "both": "B", "negligible": "N"}
 _OWN_COLOUR, _MERGED_COLOUR = "#009E73", "#000000"
-_A4 = (8.27, 11.69)
-_A4_LANDSCAPE = (11.69, 8.27)
-_RC = {
-    "font.size": 8.0, "axes.titlesize": 8.5, "axes.labelsize": 8.0, "xtick.labelsize": 7.0,
-    "ytick.labelsize": 7.0, "legend.fontsize": 8.0, "figure.titlesize": 11.0,
-    "figure.titleweight": "bold", "axes.grid": True, "grid.color": "0.88",
-    "grid.linewidth": 0.5, "axes.linewidth": 0.6, "lines.linewidth": 1.0,
-    "svg.fonttype": "none", "pdf.fonttype": 42, "path.simplify": True,
-}
 _REQUIRED = ("share_tran", "dominance", "choice", "source", "duration", "tau_peak",
              "tau_error_relative_peak", "class_fraction", "share_tran_min", "share_tran_median",
              "share_tran_max", "merged_choice", "merged_tau_error_relative_peak",
@@ -67,72 +58,6 @@ _REQUIRED = ("share_tran", "dominance", "choice", "source", "duration", "tau_pea
 _PAYLOAD_REQUIRED = ("share_tran", "dominance", "choice", "tau_peak")
 #: Floor of the logarithmic torque-error axis (errors below it are drawn at it).
 _ERROR_FLOOR = 1e-16
-
-
-@contextlib.contextmanager
-def _style():
-    import matplotlib
-
-    with matplotlib.rc_context(_RC):
-        yield
-
-
-def _strings(values):
-    return [v.decode() if isinstance(v, bytes) else str(v) for v in np.asarray(values).ravel()]
-
-
-def _fmt(value, digits=4):
-    try:
-        v = float(value)
-    except (TypeError, ValueError):
-        return str(value)
-    if not np.isfinite(v):
-        return "n/a"
-    return "0" if v == 0 else f"{v:.{digits}g}"
-
-
-def _pct(value):
-    v = 100.0 * float(value)
-    if not np.isfinite(v):
-        return "n/a"
-    if v == 0 or abs(v) >= 0.01:
-        return f"{v:.2f} %"
-    return f"{v:.1e} %"
-
-
-def _attr(ds, key, default="\u2014"):
-    value = ds.attrs.get(key, None)
-    if value is None:
-        return default
-    if isinstance(value, bytes):
-        value = value.decode()
-    if isinstance(value, np.ndarray):
-        return "(" + ", ".join(_fmt(v, 6) for v in value.ravel()) + ")"
-    if isinstance(value, (np.generic, float, int)) and not isinstance(value, (bool, np.bool_)):
-        return _fmt(value, 6)
-    text = str(value)
-    return text if text else default
-
-
-def _thresholds(ds):
-    return (float(ds.attrs.get("dominance_threshold", np.nan)),
-            float(ds.attrs.get("negligible_threshold", np.nan)))
-
-
-def _check(ds, required, what):
-    missing = [v for v in required if v not in ds.variables]
-    if missing:
-        raise InputError(f"not a gd-analyze {what} dataset: missing variable(s) "
-                         + ", ".join(missing))
-
-
-def _gridspec(fig, rows, cols, left, right, top, bottom, wgap, hgap):
-    """A gridspec with margins and gaps in inches (fixed layout)."""
-    W, H = fig.get_size_inches()
-    aw = (W - left - right - (cols - 1) * wgap) / cols
-    ah = (H - top - bottom - (rows - 1) * hgap) / max(rows, 1)
-    return fig.add_gridspec(rows, cols, left=left / W, right=1 - right / W, bottom=bottom / H,
-                            top=1 - top / H, wspace=wgap / aw, hspace=hgap / ah)
 
 
 # --------------------------------------------------------------------------------------------
@@ -230,8 +155,7 @@ def _fig_h(ds):
     merged = dict(zip(labels, _strings(ds["merged_choice"].values)))
     frac = ds["class_fraction"].values
     s, _ = _thresholds(ds)
-    cols = min(3, n)
-    rows = math.ceil(n / cols)
+    rows, cols = grid_shape(n, 3)
     W, H = _A4_LANDSCAPE[0], min(_A4_LANDSCAPE[1], 2.0 + 2.6 * rows)
     fig = Figure(figsize=(W, H))
     gs = _gridspec(fig, rows, cols, left=0.8, right=0.2, top=0.6, bottom=1.3, wgap=0.7,
@@ -357,7 +281,7 @@ def payload_figure(ds):
     from matplotlib.patches import Rectangle
 
     _check(ds, _PAYLOAD_REQUIRED, "payload sweep")
-    with _style():
+    with _style(_RC):
         masses = ds["payload"].values
         labels = _strings(ds["element"].values)
         share = ds["share_tran"].values
@@ -391,12 +315,10 @@ def payload_figure(ds):
         cb = fig.colorbar(im, cax=cax)
         cb.set_label("share_tran [1]")
         bx = fig.add_axes((0.9 / W, 0.6 / H, (W - 2.0) / W, 2.6 / H))
-        from matplotlib import colormaps
-
-        tab = colormaps["tab10"]
+        colours = joint_colours(n)
         tau = ds["tau_peak"].values
         for j in range(n):
-            bx.plot(masses, tau[:, j], marker="o", ms=3, color=tab(j % 10),
+            bx.plot(masses, tau[:, j], marker="o", ms=3, color=colours[j],
                     label=f"joint {j + 1}")
         bx.set_xlabel("payload [kg]")
         bx.set_ylabel("peak |\u03c4| [N m]")
@@ -433,7 +355,7 @@ def make_sweep_figures(ds, payload=None):
         If a variable the figures need is missing.
     """
     _check(ds, _REQUIRED, "sweep")
-    with _style():
+    with _style(_RC):
         figs = {"D": _fig_D(ds), "h": _fig_h(ds), "classes": _fig_classes(ds),
                 "error": _fig_error(ds)}
     if payload is not None:
@@ -441,24 +363,9 @@ def make_sweep_figures(ds, payload=None):
     return figs
 
 
-def _svg(fig):
-    buf = io.StringIO()
-    with _style():
-        fig.savefig(buf, format="svg",
-                    metadata={"Date": None, "Creator": None, "Format": None, "Type": None})
-    text = buf.getvalue()
-    start = text.find("<svg")
-    return text[start:] if start >= 0 else text
-
-
 # --------------------------------------------------------------------------------------------
 # Content shared by the HTML and the PDF
 # --------------------------------------------------------------------------------------------
-
-def _table(header, rows, align=None, colour_cols=()):
-    return {"header": list(header), "rows": [[str(c) for c in row] for row in rows],
-            "align": list(align or ["left"] * len(header)), "colour_cols": list(colour_cols)}
-
 
 def _context(ds, payload=None):
     from . import __version__
@@ -540,8 +447,7 @@ def _context(ds, payload=None):
            "summary": summary, "settings": _table(["item", "value"], settings),
            "envelope": envelope, "error": err, "counts": counts, "s": f"{s:g}", "e": f"{e:g}",
            "K": K,
-           "created": datetime.datetime.now(datetime.timezone.utc).replace(microsecond=0)
-           .isoformat(),
+           "created": utc_now().isoformat(),
            "payload": None}
     if payload is not None:
         _check(payload, _PAYLOAD_REQUIRED, "payload sweep")
@@ -604,16 +510,9 @@ def render_sweep_html(ds, payload=None, figures=None):
 
 
 def _html(ctx, figures):
-    import jinja2
-    from markupsafe import Markup
-
-    svgs = {name: Markup(_svg(fig)) for name, fig in figures.items()}
-    source = resources.files("gd_analyze").joinpath("templates/sweep_report.html.j2") \
-        .read_text(encoding="utf-8")
-    env = jinja2.Environment(autoescape=True, undefined=jinja2.StrictUndefined,
-                             trim_blocks=True, lstrip_blocks=True, keep_trailing_newline=True)
-    env.globals["class_colours"] = _CLASS_COLOURS
-    return env.from_string(source).render(**ctx, figures=svgs)
+    svgs = inline_svgs(figures, _RC, prefix_ids=False)
+    return render_template("sweep_report.html.j2", {**ctx, "figures": svgs},
+                           {"class_colours": _CLASS_COLOURS})
 
 
 def _text_table(table, width=110):
@@ -702,7 +601,7 @@ def _pdf(ctx, figures, path):
                 "Creator": f"gd-analyze {ctx['version']}",
                 "CreationDate": datetime.datetime.fromisoformat(ctx["created"])}
     footer = f"gd-analyze {ctx['version']}: {ctx['title']}"
-    with _style(), PdfPages(path, metadata=metadata) as pdf:
+    with _style(_RC), PdfPages(path, metadata=metadata) as pdf:
         _text_pages(pdf, ctx["title"], [
             textwrap.wrap(ctx["summary"], 110),
             ["1. Settings and provenance", ""] + _text_table(ctx["settings"]),
@@ -774,11 +673,7 @@ def write_sweep_report(sweep_path, outdir, payload=None, formats=SWEEP_REPORT_FO
     from .storage import atomic_path
     from .sweep import open_sweep
 
-    if isinstance(formats, str):
-        formats = (formats,)
-    formats = [str(f).lower() for f in formats]
-    if not formats or any(f not in SWEEP_REPORT_FORMATS for f in formats):
-        raise ValueError(f"report formats must be among {SWEEP_REPORT_FORMATS}, got {formats}")
+    formats = check_formats(formats, SWEEP_REPORT_FORMATS)
     ds = open_sweep(sweep_path, "sweep")
     if payload is not None and not hasattr(payload, "data_vars"):
         payload = open_sweep(payload, "payload")
@@ -787,7 +682,7 @@ def write_sweep_report(sweep_path, outdir, payload=None, formats=SWEEP_REPORT_FO
     outdir = Path(outdir)
     outdir.mkdir(parents=True, exist_ok=True)
     written = []
-    for fmt in dict.fromkeys(formats):
+    for fmt in formats:
         path = outdir / f"sweep_report.{fmt}"
         with atomic_path(path) as tmp:
             if fmt == "html":
