@@ -96,6 +96,11 @@ def _apply_payload(robot, args):
     return with_payload(robot, args.payload, args.payload_com, args.payload_inertia)
 
 
+def _add_paper_argument(p):
+    p.add_argument("--paper", choices=("a4", "letter"), default="a4",
+                   help="page size of the PDF report (default a4)")
+
+
 def _analyze_parser():
     from .ranking import DEFAULT_DOMINANCE, DEFAULT_NEGLIGIBLE
 
@@ -130,6 +135,7 @@ def _analyze_parser():
                    help=f"an element below E times its scale is negligible (default "
                         f"{DEFAULT_NEGLIGIBLE})")
     p.add_argument("--no-report", action="store_true", help="skip report.html and report.pdf")
+    _add_paper_argument(p)
     p.add_argument("--compress", metavar="LEVEL", type=int, choices=range(10), default=0,
                    help="gzip level 0-9 for the per-set-point variables of results.h5 "
                         "(default 0: uncompressed, fastest)")
@@ -219,6 +225,7 @@ def _control_parser():
     p.add_argument("--offset", metavar="RAD", type=float, default=0.0,
                    help="initial position error on every joint [rad] (default 0)")
     p.add_argument("--no-report", action="store_true", help="skip the HTML and PDF report")
+    _add_paper_argument(p)
     p.add_argument("--json", action="store_true", help="print the figures as one JSON object")
     p.add_argument("-q", "--quiet", action="store_true", help="print nothing but errors")
     return p
@@ -251,6 +258,7 @@ def _sweep_parser():
                    type=_fraction(0.0, 1.0, "--negligible", False),
                    default=DEFAULT_NEGLIGIBLE, help=f"default {DEFAULT_NEGLIGIBLE}")
     p.add_argument("--no-report", action="store_true", help="skip the HTML and PDF report")
+    _add_paper_argument(p)
     p.add_argument("-q", "--quiet", action="store_true", help="print nothing but errors")
     _add_payload_sweep_argument(_add_payload_arguments(p))
     return p
@@ -321,9 +329,14 @@ def _payload_sweep_dataset(robot, trajectory, args):
 
 
 def _cmd_analyze(args):
-    from .pipeline import analyze_to_file
+    from .pipeline import analyze_to_file, progress_bar
+    from .storage import skip_dask
 
+    skip_dask()                         # the main job makes no dask arrays: skip its import
+    bar = progress_bar(not args.quiet and sys.stderr.isatty())
     robot, trajectory = _load(args.robot, args.trajectory)
+    bar.reset(total=trajectory.n_setpoints)
+    bar.update(trajectory.n_setpoints)
     _warn_limits(robot, trajectory, args.quiet)
     outdir = Path(args.outdir) if args.outdir else \
         Path("reports") / f"{robot.name}-{Path(args.trajectory).stem}"
@@ -341,13 +354,16 @@ def _cmd_analyze(args):
     analysis = analyze_to_file(robot, trajectory, results, dominance=args.dominance,
                                negligible=args.negligible, check=not args.no_verify,
                                settings=settings, compress=args.compress,
-                               progress=not args.quiet and sys.stderr.isatty(), extra=extra)
+                               progress=bar, extra=extra)
     analysis.model.save(outdir / "simplified_model.json")
     written = [results, outdir / "simplified_model.json"]
     if not args.no_report:
         from .report import write_report
 
-        written += write_report(results, outdir)
+        bar.reset(total=trajectory.n_setpoints)
+        bar.set_description("report")
+        written += write_report(results, outdir, paper=args.paper, progress=bar.update)
+    bar.close()
     if not args.quiet:
         print(_format_summary(analysis.dataset))
         print()
@@ -465,7 +481,9 @@ def _cmd_control(args):
     if outdir.exists() and not outdir.is_dir():
         raise InputError("exists and is not a folder", outdir)
     try:
-        result = run_control(model, traj, wn=args.wn, zeta=args.zeta, q0_offset=args.offset)
+        # the file, not the loaded model: the dataset records its path and SHA-256
+        result = run_control(args.model, traj, wn=args.wn, zeta=args.zeta,
+                             q0_offset=args.offset)
     except ValueError as exc:
         raise InputError(str(exc)) from None
     outdir.mkdir(parents=True, exist_ok=True)
@@ -475,7 +493,7 @@ def _cmd_control(args):
     if not args.no_report:
         from .control_report import write_control_report
 
-        written += list(write_control_report(path, outdir))
+        written += list(write_control_report(path, outdir, paper=args.paper))
     summary = result.summary()
     if args.json:
         print(json.dumps(summary, default=float))
@@ -540,7 +558,8 @@ def _cmd_sweep(args):
     if not args.no_report:
         from .sweep_report import write_sweep_report
 
-        written += list(write_sweep_report(written[0], outdir, payload=payload))
+        written += list(write_sweep_report(written[0], outdir, payload=payload,
+                                           paper=args.paper))
     if not args.quiet:
         print(f"{robot.name}: {ds.sizes['trajectory']} trajectories in "
               f"{ds.attrs['elapsed_s']:.1f} s on {ds.attrs['n_workers']} dask workers "

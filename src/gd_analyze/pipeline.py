@@ -14,7 +14,7 @@ from .dalembert import gd_terms
 from .ranking import DEFAULT_DOMINANCE, DEFAULT_NEGLIGIBLE, rank_dominance
 from .simplified import SimplifiedModel, simplified_torque, torque_error
 
-__all__ = ["Analysis", "analyze", "analyze_to_file", "verify", "VERIFY_TOLERANCE",
+__all__ = ["Analysis", "analyze", "analyze_to_file", "verify", "progress_bar", "VERIFY_TOLERANCE",
            "VERIFY_MAX_SETPOINTS", "STREAM_CHUNK"]
 
 #: Largest relative disagreement with Pinocchio accepted by :func:`verify`.
@@ -45,6 +45,28 @@ class Analysis:
     dataset: object
     model: SimplifiedModel
     verification: dict
+
+
+def progress_bar(enabled=True, desc="reading"):
+    """A tqdm progress bar on stderr that counts set points.
+
+    Parameters
+    ----------
+    enabled : bool, optional
+        False: a bar that shows nothing.
+    desc : str, optional
+        The first phase's name.
+
+    Returns
+    -------
+    tqdm.tqdm
+        Appears after :data:`PROGRESS_DELAY` seconds; each phase calls ``reset(total=N)`` and
+        ``set_description``.
+    """
+    from tqdm import tqdm
+
+    return tqdm(total=None, unit=" set points", unit_scale=True, disable=not enabled,
+                desc=desc, delay=PROGRESS_DELAY, leave=False)
 
 
 def _subsample(N, max_setpoints):
@@ -172,8 +194,10 @@ def analyze_to_file(robot, trajectory, path, dominance=DEFAULT_DOMINANCE,
         Extra provenance.
     chunk : int, optional
         Set points per chunk.
-    progress : bool, optional
-        Show a tqdm progress bar on stderr (set points done and rate).
+    progress : bool or tqdm.tqdm, optional
+        Show a tqdm progress bar on stderr, or use the one given (the command line's, which
+        also covers reading and the report). It counts set points: it restarts at 0 of N for
+        each pass, named "G-D terms" and "simplified model".
     compress : int, optional
         gzip level (0-9) of the per-set-point variables; 0 stores them uncompressed.
     formulations : bool, optional
@@ -196,20 +220,20 @@ def analyze_to_file(robot, trajectory, path, dominance=DEFAULT_DOMINANCE,
     OSError
         If the file cannot be written.
     """
-    from tqdm.auto import tqdm
-
     from . import __version__
     from .ranking import RankingAccumulator
     from .simplified import TorqueErrorAccumulator
-    from .storage import SetpointWriter, atomic_path, summary_dataset
+    from .storage import SetpointWriter, append_dataset, atomic_path, summary_dataset
 
     N, n = trajectory.q.shape
     chunk = max(1, int(chunk))
     ranges = [(a, min(a + chunk, N)) for a in range(0, N, chunk)]
     ranker = RankingAccumulator(n)
     errors = TorqueErrorAccumulator(n)
-    bar = tqdm(total=2 * N, unit="setpoint", unit_scale=True, disable=not progress,
-               desc="G-D terms", delay=PROGRESS_DELAY, leave=False)
+    own = not hasattr(progress, "update")
+    bar = progress_bar(bool(progress)) if own else progress
+    bar.reset(total=N)
+    bar.set_description("G-D terms")
     with atomic_path(path) as tmp:
         with SetpointWriter(tmp, N, n, chunk=min(chunk, 8192), compress=compress) as out:
             out.write(0, {"t": trajectory.t, "q": trajectory.q, "qd": trajectory.qd,
@@ -224,6 +248,7 @@ def analyze_to_file(robot, trajectory, path, dominance=DEFAULT_DOMINANCE,
                 bar.update(b - a)
             ranking = ranker.result(dominance=dominance, negligible=negligible)
             choices = ranking.choices()
+            bar.reset(total=N)
             bar.set_description("simplified model")
             for a, b in ranges:
                 terms = gd_terms(robot, trajectory.q[a:b], trajectory.qd[a:b])
@@ -231,7 +256,8 @@ def analyze_to_file(robot, trajectory, path, dominance=DEFAULT_DOMINANCE,
                 errors.update(tau_s, terms.tau(trajectory.qdd[a:b]))
                 out.write(a, {"tau_simplified": tau_s})
                 bar.update(b - a)
-        bar.close()
+        if own:
+            bar.close()
         error = errors.result()
         verification = verify(robot, trajectory.q, trajectory.qd) if check else {}
         ds = summary_dataset(robot, trajectory, ranking, choices, error, verification, settings)
@@ -243,7 +269,7 @@ def analyze_to_file(robot, trajectory, path, dominance=DEFAULT_DOMINANCE,
             ds.attrs.update(costs.attrs)
         if extra is not None:
             ds = ds.assign(extra.data_vars)
-        ds.to_netcdf(tmp, mode="a", engine="h5netcdf")
+        append_dataset(ds, tmp)
     provenance = {"gd_analyze_version": __version__, "trajectory_file": trajectory.source,
                   "derivatives": trajectory.derivatives, **(settings or {})}
     model = SimplifiedModel(robot=robot, choices=choices, dominance_threshold=float(dominance),

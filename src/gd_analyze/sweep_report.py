@@ -22,7 +22,7 @@ matplotlib's PdfPages. Both are written atomically (:func:`gd_analyze.storage.at
 
 from __future__ import annotations
 
-import datetime
+import contextlib
 import textwrap
 from pathlib import Path
 
@@ -36,6 +36,7 @@ from ._reporting import table as _table, thresholds as _thresholds
 from ._reporting import check_formats, grid_shape, inline_svgs, joint_colours, render_template
 from ._reporting import utc_now
 from .ranking import CLASSES
+from .reports.pages import PAPER, Document, draw_figures, figure_svg, write_figure_files
 
 __all__ = ["SWEEP_REPORT_FORMATS", "make_sweep_figures", "payload_figure", "render_sweep_html",
            "render_sweep_pdf", "write_sweep_report"]
@@ -437,6 +438,7 @@ def _context(ds, payload=None):
     counts = {c: sum(_CHOICE_CLASS[m] == c for m in merged) for c in CLASSES}
     kept = sum(m != "none" for m in merged)
     single = sum(m in ("tran", "rot") for m in merged)
+    worst = _worst_cases(ds, labels)
     summary = (f"{robot}: share_tran of the {len(labels)} ranked elements of D and h over "
                f"{inputs}, s = {s:g}, e = {e:g}. The conservative merged model keeps both parts "
                f"of {counts['both']} elements, one part of {single}, and drops "
@@ -445,6 +447,8 @@ def _context(ds, payload=None):
                f"(joint {int(np.nanargmax(ds['merged_error_relative_peak'].values)) + 1}).")
     ctx = {"version": __version__, "title": f"G-D dominance sweep: {robot}, {K} trajectories",
            "summary": summary, "settings": _table(["item", "value"], settings),
+           "worst": worst,
+           "intro": _INTRO.format(K=K, created=utc_now().isoformat(), version=__version__),
            "envelope": envelope, "error": err, "counts": counts, "s": f"{s:g}", "e": f"{e:g}",
            "K": K,
            "created": utc_now().isoformat(),
@@ -470,6 +474,38 @@ def _context(ds, payload=None):
             "changed": ", ".join(changed) if changed else "none",
         }
     return ctx
+
+
+def _worst_cases(ds, labels):
+    """The sweep's worst cases, first: trajectories with the largest merged-model error, and
+    the elements whose share_tran varies most over the trajectories."""
+    rel = ds["merged_tau_error_relative_peak"].values          # (K, n)
+    sources = _strings(ds["source"].values)
+    per_traj = np.where(np.isfinite(rel), rel, -np.inf).max(axis=1)
+    order = [k for k in np.argsort(per_traj)[::-1][:3] if np.isfinite(per_traj[k])]
+    parts = []
+    for k in order:
+        j = int(np.nanargmax(rel[k]))
+        parts.append(f"{sources[k]} ({_pct(rel[k, j])} of peak |\u03c4| at joint {j + 1})")
+    spread = ds["share_tran_max"].values - ds["share_tran_min"].values
+    top = [k for k in np.argsort(np.nan_to_num(spread, nan=-1.0))[::-1][:3]
+           if np.isfinite(spread[k])]
+    elems = [f"{labels[k]} ({_fmt(ds['share_tran_min'].values[k], 3)}\u2013"
+             f"{_fmt(ds['share_tran_max'].values[k], 3)})" for k in top]
+    text = "Worst cases: "
+    text += ("the merged model's largest torque errors are on " + "; ".join(parts) + ". "
+             if parts else "no torque error is defined. ")
+    text += ("The classes vary most for " + ", ".join(elems) + " (share_tran range over the "
+             "trajectories)." if elems else "")
+    return text
+
+
+_INTRO = ("The generalized d'Alembert (G-D) equations of motion split the inertia matrix D and "
+          "the Coriolis and centrifugal vector h into a translational and a rotational part (Fu, "
+          "Gonzalez & Lee 1987, Robotics, Sec. 3.4). Sec. 3.4.1 ranks which part dominates each "
+          "element along one trajectory and notes that the simplification depends on the "
+          "trajectory; this report repeats the ranking over {K} trajectories. Report created "
+          "{created} by gd-analyze {version} from the stored sweep; nothing was recomputed.")
 
 
 # --------------------------------------------------------------------------------------------
@@ -506,62 +542,45 @@ def render_sweep_html(ds, payload=None, figures=None):
     ctx = _context(ds, payload)
     if figures is None:
         figures = make_sweep_figures(ds, payload)
-    return _html(ctx, figures)
+    return _html(ctx, {k: (figure_svg(f, _RC), None, None) for k, f in figures.items()})
 
 
 def _html(ctx, figures):
-    svgs = inline_svgs(figures, _RC, prefix_ids=False)
-    return render_template("sweep_report.html.j2", {**ctx, "figures": svgs},
+    from markupsafe import Markup
+
+    svgs = {k: Markup(svg) for k, (svg, _, _) in figures.items()}
+    return render_template("sweep_report.html.j2", {**ctx, "figures": svgs,
+                                                    "captions": _numbered(figures)},
                            {"class_colours": _CLASS_COLOURS})
 
 
-def _text_table(table, width=110):
-    """A table as fixed-width text lines."""
-    cells = [table["header"]] + table["rows"]
-    ncol = len(table["header"])
-    widths = [max(len(r[k]) for r in cells) for k in range(ncol)]
-    if ncol == 2:      # key-value: wrap the value
-        widths[0] = min(widths[0], 34)
-        vw = max(20, width - widths[0] - 2)
-        out = []
-        for key, value in cells:
-            parts = textwrap.wrap(value, vw) or [""]
-            out.append(f"{key:<{widths[0]}}  {parts[0]}")
-            out += [" " * (widths[0] + 2) + p for p in parts[1:]]
-        out.insert(1, "-" * min(width, widths[0] + 2 + vw))
-        return out
-    lines = []
-    for m, row in enumerate(cells):
-        lines.append("  ".join(c.rjust(w) if table["align"][k] == "right" else c.ljust(w)
-                               for k, (c, w) in enumerate(zip(row, widths))).rstrip())
-        if m == 0:
-            lines.append("-" * len(lines[0]))
-    return lines
+#: Captions of the sweep report's figures (the same in the HTML and the PDF).
+_CAPTIONS = {
+    "D": "Distribution of share_tran of the elements of D over the sweep (layout of Fig. 3.10): "
+         "box of the quartiles, whiskers at the minimum and maximum, coloured bar at the median, "
+         "thresholds s and 1 \u2212 s dashed. Panel title: element and the merged model's "
+         "choice; bottom line: fraction of trajectories per class.",
+    "h": "Distribution of share_tran of the Coriolis and centrifugal elements h_i over the "
+         "sweep (layout of Fig. 3.11); same conventions as for D.",
+    "classes": "Fraction of the trajectories in each class, per element; the merged model's "
+               "choice on the right.",
+    "error": "Relative peak torque error per joint: of each trajectory's own simplified model "
+             "(green) and of the merged model (black), per trajectory; diamond: merged model over "
+             "all trajectories.",
+    "payload": "share_tran of every element against the payload mass on the last link, with "
+               "the class of each cell (T, R, B, N); below, peak |\u03c4| per joint.",
+}
+_FIGURE_FILES = {"D": "fig_sweep_share_D", "h": "fig_sweep_share_h",
+                 "classes": "fig_sweep_class_fractions", "error": "fig_sweep_torque_error",
+                 "payload": "fig_payload_dominance"}
 
 
-def _text_pages(pdf, title, blocks, footer):
-    """Write blocks of text lines on A4 pages in a monospaced font."""
-    from matplotlib.figure import Figure
-
-    per_page, lh = 88, 0.118
-    lines = []
-    for block in blocks:
-        lines += block + [""]
-    pages = [lines[k:k + per_page] for k in range(0, len(lines), per_page)] or [[]]
-    for p, chunk in enumerate(pages):
-        fig = Figure(figsize=_A4)
-        fig.text(0.6 / _A4[0], 1 - 0.5 / _A4[1], title, fontsize=11, fontweight="bold",
-                 va="top")
-        for m, line in enumerate(chunk):
-            fig.text(0.6 / _A4[0], 1 - (0.85 + m * lh) / _A4[1], line, family="DejaVu Sans Mono",
-                     fontsize=6.6, va="top")
-        fig.text(0.6 / _A4[0], 0.35 / _A4[1], f"{footer} \u2014 page {p + 1}/{len(pages)}",
-                 fontsize=6.5, color="0.45")
-        pdf.savefig(fig)
+def _numbered(figures):
+    return {k: f"Figure {m + 1}. {_CAPTIONS[k]}" for m, k in enumerate(figures)}
 
 
-def render_sweep_pdf(ds, path, payload=None, figures=None):
-    """Write the sweep report as a PDF with matplotlib's PdfPages.
+def render_sweep_pdf(ds, path, payload=None, figures=None, paper="a4"):
+    """Write the sweep report as a PDF document.
 
     Parameters
     ----------
@@ -573,6 +592,8 @@ def render_sweep_pdf(ds, path, payload=None, figures=None):
         A payload sweep.
     figures : dict of str to matplotlib.figure.Figure, optional
         From :func:`make_sweep_figures`; made here if not given.
+    paper : {"a4", "letter"}, optional
+        The size of every page.
 
     Returns
     -------
@@ -589,52 +610,72 @@ def render_sweep_pdf(ds, path, payload=None, figures=None):
     ctx = _context(ds, payload)
     if figures is None:
         figures = make_sweep_figures(ds, payload)
-    return _pdf(ctx, figures, path)
+    return _pdf(ctx, draw_figures(figures, _RC), path, paper)
 
 
-def _pdf(ctx, figures, path):
-    from matplotlib.backends.backend_pdf import PdfPages
-
-    metadata = {"Title": ctx["title"], "Author": f"gd-analyze {ctx['version']}",
+def _pdf(ctx, drawn, path, paper="a4"):
+    metadata = {"Author": f"gd-analyze {ctx['version']}",
                 "Subject": "Dominance of the translational and rotational G-D terms over a "
                            "sweep of trajectories (Fu, Gonzalez & Lee 1987, Sec. 3.4.1)",
-                "Creator": f"gd-analyze {ctx['version']}",
-                "CreationDate": datetime.datetime.fromisoformat(ctx["created"])}
-    footer = f"gd-analyze {ctx['version']}: {ctx['title']}"
-    with _style(_RC), PdfPages(path, metadata=metadata) as pdf:
-        _text_pages(pdf, ctx["title"], [
-            textwrap.wrap(ctx["summary"], 110),
-            ["1. Settings and provenance", ""] + _text_table(ctx["settings"]),
-        ], footer)
-        for name in ("D", "h", "classes"):
-            pdf.savefig(figures[name])
-        _text_pages(pdf, "4. Envelope per element", [
-            textwrap.wrap("Fraction of the trajectories in which each class holds, and the "
-                          "min/median/max of share_tran over the trajectories. Merged choice: "
-                          "a part is dropped only where every trajectory's own model drops "
-                          "it.", 110),
-            _text_table(ctx["envelope"]),
-            ["5. Merged model: torque error over all trajectories", ""]
-            + textwrap.wrap(_ERROR_TEXT, 110) + [""] + _text_table(ctx["error"]),
-        ], footer)
-        pdf.savefig(figures["error"])
-        if ctx["payload"] is not None and "payload" in figures:
-            _text_pages(pdf, "6. Payload sweep", [
-                _text_table(ctx["payload"]["settings"]),
-                [f"Elements whose class changes with the payload: {ctx['payload']['changed']}",
-                 ""] + _text_table(ctx["payload"]["table"], width=130)], footer)
-            pdf.savefig(figures["payload"])
-        pages = pdf.get_pagecount()
-    return pages
+                "Creator": f"gd-analyze {ctx['version']}"}
+    doc = Document(ctx["title"], paper=paper, metadata=metadata,
+                   footer=f"gd-analyze {ctx['version']}: {ctx['title']}")
+
+    def fig(key):
+        if key in drawn:
+            doc.figure(drawn[key][1], drawn[key][2], _CAPTIONS[key])
+
+    doc.heading(ctx["title"], level=0)
+    doc.paragraph(ctx["worst"], size=9.5, bold=True)
+    doc.paragraph(ctx["summary"], size=9.5)
+    doc.paragraph(ctx["intro"], size=8.5, colour="0.25")
+    doc.heading("1. Settings and provenance")
+    doc.table(ctx["settings"], size=7)
+    doc.heading("2. Translational share of the elements of D (layout of Fig. 3.10)")
+    doc.paragraph(_SHARE_TEXT.format(s=ctx["s"], e=ctx["e"]), size=8.5)
+    fig("D")
+    doc.heading("3. Translational share of the elements of h (layout of Fig. 3.11)")
+    fig("h")
+    doc.heading("4. Envelope per element")
+    doc.paragraph("Fraction of the trajectories in which each class holds, and the smallest, "
+                  "median and largest share_tran over the trajectories.", size=8.5)
+    fig("classes")
+    doc.table(ctx["envelope"])
+    doc.heading("5. Conservative merged model and its torque error")
+    doc.paragraph(_MERGED_TEXT, size=8.5)
+    doc.paragraph("   ".join(f"{c}: {k}" for c, k in ctx["counts"].items()), size=8.5,
+                  bold=True)
+    doc.heading("5.1 Torque error over all trajectories", level=2)
+    doc.paragraph(_ERROR_TEXT, size=8.5)
+    doc.table(ctx["error"])
+    fig("error")
+    if ctx["payload"] is not None:
+        doc.heading("6. Payload sweep")
+        doc.table(ctx["payload"]["settings"])
+        doc.paragraph(f"Elements whose class changes with the payload: "
+                      f"{ctx['payload']['changed']}.", size=9, bold=True)
+        fig("payload")
+        doc.table(ctx["payload"]["table"])
+    return doc.write(path)
 
 
+_SHARE_TEXT = ("For each trajectory and element, share_tran = \u03a3|tran| / (\u03a3|tran| + "
+               "\u03a3|rot|) over its set points. A share above s = {s} is translational, below "
+               "1 \u2212 s rotational, in between both, unless the element is negligible (peak "
+               "below e = {e} times its scale).")
+_MERGED_TEXT = ("Each trajectory has its own simplified model (keep the dominant part of each "
+                "element, both if neither dominates, nothing if negligible). The merged model is "
+                "valid for the whole sweep: a part of an element is dropped only where every "
+                "trajectory's model drops it. Gravity c is kept whole: "
+                "\u03c4\u209b = D\u209b q\u0308 + h\u209b + c.")
 _ERROR_TEXT = ("Per joint, over all set points of all trajectories: peak and RMS of "
-               "|tau_merged - tau| [N m], and both relative to the peak |tau| over all "
-               "trajectories. Last column: the largest relative peak error of any trajectory's "
-               "own simplified model along that trajectory.")
+               "|\u03c4_merged \u2212 \u03c4| [N m], and both relative to the peak |\u03c4| "
+               "over all trajectories. Last column: the largest relative peak error of any "
+               "trajectory's own simplified model along that trajectory.")
 
 
-def write_sweep_report(sweep_path, outdir, payload=None, formats=SWEEP_REPORT_FORMATS):
+def write_sweep_report(sweep_path, outdir, payload=None, formats=SWEEP_REPORT_FORMATS,
+                       paper="a4"):
     """Write sweep_report.html and sweep_report.pdf for a stored sweep.
 
     Parameters
@@ -649,11 +690,14 @@ def write_sweep_report(sweep_path, outdir, payload=None, formats=SWEEP_REPORT_FO
         of :func:`gd_analyze.sweep.payload_sweep`); adds its section and :func:`payload_figure`.
     formats : sequence of str, optional
         Any of ``"html"`` and ``"pdf"``.
+    paper : {"a4", "letter"}, optional
+        Page size of the PDF.
 
     Returns
     -------
     list of pathlib.Path
-        The files written (``outdir/sweep_report.html``, ``outdir/sweep_report.pdf``).
+        The files written (``outdir/sweep_report.html``, ``outdir/sweep_report.pdf``), then
+        every figure as ``outdir/figures/fig_sweep_*.pdf`` and ``.svg``.
 
     Raises
     ------
@@ -674,21 +718,26 @@ def write_sweep_report(sweep_path, outdir, payload=None, formats=SWEEP_REPORT_FO
     from .sweep import open_sweep
 
     formats = check_formats(formats, SWEEP_REPORT_FORMATS)
+    if paper not in PAPER:
+        raise ValueError(f"paper must be one of {sorted(PAPER)}, got {paper!r}")
     ds = open_sweep(sweep_path, "sweep")
     if payload is not None and not hasattr(payload, "data_vars"):
         payload = open_sweep(payload, "payload")
     ctx = _context(ds, payload)
     figures = make_sweep_figures(ds, payload)
+    drawn = draw_figures(figures, _RC)
     outdir = Path(outdir)
-    outdir.mkdir(parents=True, exist_ok=True)
-    written = []
-    for fmt in formats:
-        path = outdir / f"sweep_report.{fmt}"
-        with atomic_path(path) as tmp:
+    (outdir / "figures").mkdir(parents=True, exist_ok=True)
+    written, files = [], []
+    with contextlib.ExitStack() as stack:
+        files = write_figure_files(stack, drawn, outdir / "figures", _FIGURE_FILES)
+        for fmt in formats:
+            path = outdir / f"sweep_report.{fmt}"
+            tmp = stack.enter_context(atomic_path(path))
             if fmt == "html":
                 with open(tmp, "w", encoding="utf-8") as fh:
-                    fh.write(_html(ctx, figures))
+                    fh.write(_html(ctx, drawn))
             else:
-                _pdf(ctx, figures, tmp)
-        written.append(path)
-    return written
+                _pdf(ctx, drawn, tmp, paper)
+            written.append(path)
+    return written + files

@@ -28,6 +28,18 @@ def _exact(texts, values, tol):
     return all(abs(float(t) - v) <= tol for t, v in zip(texts, values))
 
 
+def _fewest(values, tol, fmt):
+    for digits in range(0, 16):
+        texts = [fmt(x, digits) for x in values]
+        if _exact(texts, values, tol):
+            return texts
+    return None
+
+
+def _width(texts):
+    return max(len(t) for t in texts)
+
+
 def _sci(x, digits):
     mant, exp = f"{x:.{digits}e}".split("e")
     return f"{mant}e{int(exp)}"
@@ -44,10 +56,12 @@ def tick_labels(values):
     Returns
     -------
     list of str
-        One label per tick: ``"0"`` for zero (never "−0"); fixed notation if the largest |tick|
-        is in [1e-3, 1e5), else ``1.5e−5`` style. All labels of a set get the same number of
-        decimals (or mantissa digits): the fewest with which every label, read back, equals its
-        tick within 1e-9 of the tick spacing. A minus sign is U+2212.
+        One label per tick: ``"0"`` for zero (never "−0"). All labels of a set get the same
+        number of decimals (or mantissa digits): the fewest with which every label, read back,
+        equals its tick within 1e-9 of the tick spacing. Fixed notation if the largest |tick|
+        is in [1e-3, 1e5) and its widest label is at most one character wider than in
+        ``1.5e−5`` style, else that style (narrow labels for narrow panels). A minus sign is
+        U+2212.
 
     Examples
     --------
@@ -57,6 +71,8 @@ def tick_labels(values):
     ['0', '1.5e−5', '3.0e−5']
     >>> tick_labels([0, 200, 400])
     ['0', '200', '400']
+    >>> tick_labels([-0.001, -0.0005, 0])
+    ['−1e−3', '−5e−4', '0']
     """
     v = np.asarray(values, dtype=float).ravel()
     if v.size == 0:
@@ -68,18 +84,15 @@ def tick_labels(values):
     u = np.unique(finite)
     step = float(np.min(np.diff(u))) if u.size > 1 else big
     tol = _REL * min(big, step)
-    fixed = _FIXED[0] <= big < _FIXED[1]
-    texts = None
-    for digits in range(0, 16):
-        if fixed:
-            cand = [f"{x:.{digits}f}" for x in finite]
-        else:
-            cand = [_sci(x, digits) for x in finite]
-        if _exact(cand, finite, tol):
-            texts = cand
-            break
-    if texts is None:                       # not representable in 15 digits: full precision
+    fixed = _fewest(finite, tol, lambda x, d: f"{x:.{d}f}")
+    sci = _fewest(finite, tol, _sci)
+    if fixed is None and sci is None:       # not representable in 15 digits: full precision
         texts = [repr(float(x)) for x in finite]
+    elif sci is None or (fixed is not None and _FIXED[0] <= big < _FIXED[1]
+                         and _width(fixed) <= _width(sci) + 1):
+        texts = fixed
+    else:
+        texts = sci
     it = iter(texts)
     out = []
     for x in v:

@@ -1,0 +1,461 @@
+"""The page engine of the three PDF reports: one page size, flowing text, one table style,
+numbered figures with captions, bookmarks and "page k of K" footers.
+
+A :class:`Document` is filled with headings, paragraphs, tables and figures, then
+:meth:`Document.write` lays them out on pages of one size (A4 or US letter): text and tables
+flow from page to page (a heading stays with what follows it, a long table repeats its header),
+a figure goes where it fits, or on the next page if it does not. The text pages are drawn
+with matplotlib; each figure is drawn once, as its own PDF (the file the report also writes in
+``figures/``), and placed unscaled on its page with pypdf, which also writes the bookmarks
+(one per heading) and the document information.
+"""
+
+from __future__ import annotations
+
+import io
+import textwrap
+from dataclasses import dataclass, field
+
+import numpy as np
+
+__all__ = ["PAPER", "PAGE_RC", "Document", "figure_pdf", "figure_svg", "draw_figures",
+           "write_figure_files", "TABLE_COLOURS"]
+
+#: Page sizes [in].
+PAPER = {"a4": (8.27, 11.69), "letter": (8.5, 11.0)}
+#: Colours of the class and yes/no cells of every table.
+TABLE_COLOURS = {"translational": "#0072B2", "rotational": "#D55E00", "both": "#6A3D9A",
+                 "negligible": "#555555", "yes": "#007A4D", "no": "#B00020",
+                 "passed": "#007A4D", "FAILED": "#B00020"}
+
+#: matplotlib settings of the text pages: Type 3 fonts (embedded without a font subsetter: about
+#: ten times faster to write than TrueType subsets).
+PAGE_RC = {"pdf.fonttype": 3, "font.family": "DejaVu Sans", "path.simplify": True}
+
+_MARGIN_X, _MARGIN_TOP, _MARGIN_BOTTOM = 0.53, 0.6, 0.75
+_CHAR = 0.55            # mean character width of DejaVu Sans [em]
+_HEADING = {1: 13.0, 2: 10.5, 0: 15.0}
+
+
+def _save(fig, fmt, rc, metadata):
+    import matplotlib
+
+    buf = io.BytesIO()
+    with matplotlib.rc_context(rc or {}):
+        fig.savefig(buf, format=fmt, metadata=metadata)
+    return buf.getvalue()
+
+
+def figure_pdf(fig, rc=None):
+    """A figure as the bytes of a one-page PDF, without date metadata.
+
+    Parameters
+    ----------
+    fig : matplotlib.figure.Figure
+        The figure.
+    rc : dict, optional
+        rcParams to draw with.
+
+    Returns
+    -------
+    bytes
+    """
+    return _save(fig, "pdf", rc, {"CreationDate": None, "Creator": None, "Producer": None})
+
+
+def figure_svg(fig, rc=None):
+    """A figure as SVG text, without XML declaration, DOCTYPE or date metadata.
+
+    Parameters
+    ----------
+    fig : matplotlib.figure.Figure
+        The figure.
+    rc : dict, optional
+        rcParams to draw with.
+
+    Returns
+    -------
+    str
+        Starts with ``<svg``: fit to be a file of its own and to be inlined in HTML.
+    """
+    text = _save(fig, "svg", rc, {"Date": None, "Creator": None, "Format": None,
+                                  "Type": None}).decode("utf-8")
+    start = text.find("<svg")
+    return text[start:] if start >= 0 else text
+
+
+def draw_figures(figures, rc, svg=True, pdf=True):
+    """Draw each figure once per format.
+
+    Parameters
+    ----------
+    figures : dict of str to matplotlib.figure.Figure
+        The figures by key.
+    rc : dict
+        rcParams to draw with (the PDF adds :data:`PAGE_RC`: Type 3 fonts).
+    svg, pdf : bool, optional
+        Which formats to draw.
+
+    Returns
+    -------
+    dict of str to (str or None, bytes or None, (float, float))
+        SVG text, PDF bytes and size [in] of each figure.
+    """
+    return {k: (figure_svg(f, rc) if svg else None,
+                figure_pdf(f, {**rc, **PAGE_RC}) if pdf else None,
+                tuple(float(v) for v in f.get_size_inches())) for k, f in figures.items()}
+
+
+def write_figure_files(stack, drawn, folder, names):
+    """Write every drawn figure as ``folder/<name>.pdf`` and ``.svg``, staged.
+
+    Parameters
+    ----------
+    stack : contextlib.ExitStack
+        The files are renamed into place when it closes without an exception
+        (:func:`gd_analyze.storage.atomic_path`).
+    drawn : dict
+        From :func:`draw_figures`.
+    folder : pathlib.Path
+        The figures' folder (made if missing).
+    names : dict of str to str
+        File name without extension, by figure key.
+
+    Returns
+    -------
+    list of pathlib.Path
+        The files, PDF then SVG of each figure in turn.
+    """
+    from ..storage import atomic_path
+
+    folder.mkdir(parents=True, exist_ok=True)
+    files = []
+    for key, (svg_text, pdf_bytes, _) in drawn.items():
+        for ext, data in (("pdf", pdf_bytes), ("svg", svg_text.encode("utf-8"))):
+            dest = folder / f"{names[key]}.{ext}"
+            with open(stack.enter_context(atomic_path(dest)), "wb") as fh:
+                fh.write(data)
+            files.append(dest)
+    return files
+
+
+def _place(writer, target, pdf_bytes, name, x, y, scale):
+    """Put page 1 of ``pdf_bytes`` on ``target`` as a form XObject at (x, y) [pt], scaled.
+
+    The figure's content stream is reused as it is (still compressed), not parsed: placing is
+    as cheap as copying bytes.
+    """
+    from pypdf import PdfReader
+    from pypdf.generic import (ArrayObject, DecodedStreamObject, DictionaryObject, NameObject)
+
+    src = PdfReader(io.BytesIO(pdf_bytes)).pages[0]
+    contents = src["/Contents"].get_object()
+    form = contents.clone(writer)
+    form[NameObject("/Type")] = NameObject("/XObject")
+    form[NameObject("/Subtype")] = NameObject("/Form")
+    form[NameObject("/BBox")] = ArrayObject(src.mediabox).clone(writer)
+    form[NameObject("/Resources")] = src["/Resources"].get_object().clone(writer)
+    ref = writer._add_object(form)
+    resources = target["/Resources"].get_object()
+    if "/XObject" not in resources:
+        resources[NameObject("/XObject")] = DictionaryObject()
+    resources["/XObject"].get_object()[NameObject(name)] = ref
+    op = DecodedStreamObject()
+    op.set_data(f"q {scale:.6f} 0 0 {scale:.6f} {x:.3f} {y:.3f} cm {name} Do Q\n".encode())
+    op_ref = writer._add_object(op)
+    old = target["/Contents"]
+    if isinstance(old.get_object(), ArrayObject):
+        old.get_object().append(op_ref)
+    else:
+        target[NameObject("/Contents")] = ArrayObject([old, op_ref])
+
+
+@dataclass
+class _Page:
+    ops: list = field(default_factory=list)          # (kind, payload) drawn in order
+    figures: list = field(default_factory=list)      # (pdf bytes, x, y_top, w, h) [in]
+    used: float = 0.0
+
+
+class Document:
+    """A report as a flow of blocks, written as one PDF of one page size.
+
+    Parameters
+    ----------
+    title : str
+        Document title (metadata, first heading's bookmark root and the footer).
+    paper : {"a4", "letter"}, optional
+        The page size of every page.
+    metadata : dict, optional
+        PDF document information: ``Author``, ``Subject``, ``Keywords``, ``Creator`` ...
+    footer : str, optional
+        Text at the foot of every page, before "page k of K".
+
+    Raises
+    ------
+    ValueError
+        If ``paper`` is not a key of :data:`PAPER`.
+    """
+
+    def __init__(self, title, paper="a4", metadata=None, footer=None):
+        if paper not in PAPER:
+            raise ValueError(f"paper must be one of {sorted(PAPER)}, got {paper!r}")
+        self.title = title
+        self.paper = paper
+        self.W, self.H = PAPER[paper]
+        self.metadata = dict(metadata or {})
+        self.footer = footer or title
+        self.blocks = []
+        self.n_figures = 0
+
+    @property
+    def width(self):
+        """Width of the text [in]."""
+        return self.W - 2 * _MARGIN_X
+
+    @property
+    def body(self):
+        """Height of the text area of a page [in]."""
+        return self.H - _MARGIN_TOP - _MARGIN_BOTTOM
+
+    # ---- blocks ------------------------------------------------------------------------
+    def heading(self, text, level=1):
+        """A heading; levels 1 and 2 get a bookmark (level 2 under the last level 1)."""
+        self.blocks.append(("heading", (text, level)))
+
+    def paragraph(self, text, size=9.0, bold=False, colour="black"):
+        """A paragraph of wrapped text [pt]."""
+        self.blocks.append(("paragraph", (text, size, bold, colour)))
+
+    def table(self, table, size=7.5):
+        """A table as :func:`gd_analyze._reporting.table` makes it; rows may split pages."""
+        self.blocks.append(("table", (table, size)))
+
+    def figure(self, pdf_bytes, size, caption):
+        """A figure (one-page PDF of ``size`` (w, h) [in]) with "Figure k." and its caption.
+
+        Returns
+        -------
+        int
+            The figure's number k.
+        """
+        self.n_figures += 1
+        self.blocks.append(("figure", (pdf_bytes, size, f"Figure {self.n_figures}. {caption}")))
+        return self.n_figures
+
+    # ---- layout ------------------------------------------------------------------------
+    def _wrap(self, text, size, width=None):
+        chars = max(10, int((width or self.width) / (size * _CHAR / 72)))
+        return textwrap.wrap(text, chars) or [""]
+
+    def _layout(self):
+        pages = [_Page()]
+        bookmarks = []
+        body = self.body
+
+        def room():
+            return body - pages[-1].used
+
+        def new_page():
+            pages.append(_Page())
+
+        def text_height(lines, size):
+            return len(lines) * size * 1.38 / 72
+
+        blocks = self.blocks
+        for k, (kind, payload) in enumerate(blocks):
+            page = pages[-1]
+            if kind == "heading":
+                text, level = payload
+                size = _HEADING.get(level, 10.0)
+                h = size * 1.6 / 72 + (0.12 if page.used > 0 else 0.0)
+                follow = self._first_height(blocks[k + 1:]) if k + 1 < len(blocks) else 0.0
+                if h + follow > room() and page.used > 0:
+                    new_page()
+                    page = pages[-1]
+                    h = size * 1.6 / 72
+                page.ops.append(("text", (page.used + h - size * 1.6 / 72, text, size, True,
+                                          "black")))
+                page.used += h
+                if level in (1, 2):
+                    bookmarks.append((text, level, len(pages) - 1))
+            elif kind == "paragraph":
+                text, size, bold, colour = payload
+                lh = size * 1.38 / 72
+                for line in self._wrap(text, size):
+                    if lh > room():
+                        new_page()
+                        page = pages[-1]
+                    page.ops.append(("text", (page.used, line, size, bold, colour)))
+                    page.used += lh
+                page.used += 0.07
+            elif kind == "table":
+                self._layout_table(payload, pages, new_page)
+            elif kind == "figure":
+                pdf_bytes, (w, h), caption = payload
+                lines = self._wrap(caption, 8.0)
+                ch = text_height(lines, 8.0) + 0.08
+                scale = min(1.0, self.width / w, (body - ch - 0.1) / h)
+                need = h * scale + ch + 0.15
+                if need > room() and page.used > 0:
+                    new_page()
+                    page = pages[-1]
+                x = _MARGIN_X + (self.width - w * scale) / 2
+                page.figures.append((pdf_bytes, x, page.used + 0.05, w, h, scale))
+                page.used += h * scale + 0.1
+                for line in lines:
+                    page.ops.append(("text", (page.used, line, 8.0, False, "0.15")))
+                    page.used += 8.0 * 1.38 / 72
+                page.used += 0.15
+        return pages, bookmarks
+
+    def _first_height(self, rest):
+        """Height of the start of the next block (what a heading must stay with) [in]."""
+        kind, payload = rest[0]
+        if kind == "paragraph":
+            return min(3, len(self._wrap(payload[0], payload[1]))) * payload[1] * 1.38 / 72
+        if kind == "table":
+            return 3 * payload[1] * 1.6 / 72 + 0.1
+        if kind == "figure":
+            w, h = payload[1]
+            return h * min(1.0, self.width / w) + 0.3
+        if kind == "heading":
+            return _HEADING.get(payload[1], 10.0) * 1.6 / 72 + self._first_height(rest[1:]) \
+                if len(rest) > 1 else 0.3
+        return 0.3
+
+    def _layout_table(self, payload, pages, new_page):
+        table, size = payload
+        widths = np.asarray(table["widths"], float)
+        widths = widths / widths.sum() * self.width
+        lh, pad = size * 1.3 / 72, 0.035
+        charw = size * 0.56 / 72
+
+        def wrap(row):
+            cells = [textwrap.wrap(str(c), max(3, int((w - 2 * pad) / charw))) or [""]
+                     for c, w in zip(row, widths)]
+            return cells, max(len(c) for c in cells) * lh + 2 * pad
+
+        header = wrap(table["header"])
+        rows = [wrap(r) for r in table["rows"]]
+        total = header[1] + sum(h for _, h in rows)
+        first = header[1] + (rows[0][1] if rows else 0.0)
+        page = pages[-1]
+        room = self.body - page.used
+        # a short table stays on one page; a long one starts where at least 3 rows fit
+        keep = total if total <= 0.35 * self.body else first + sum(h for _, h in rows[:2])
+        if keep > room and page.used > 0:
+            new_page()
+            page = pages[-1]
+        spec = {"widths": widths, "align": table["align"], "colour": set(table["colour_cols"]),
+                "size": size, "lh": lh, "pad": pad}
+        page.ops.append(("rule", (page.used, 0.8)))
+        page.ops.append(("row", (page.used, header[0], True, False, spec)))
+        page.used += header[1]
+        page.ops.append(("rule", (page.used, 0.5)))
+        for k, (cells, h) in enumerate(rows):
+            if page.used + h > self.body:
+                page.ops.append(("rule", (page.used, 0.8)))
+                new_page()
+                page = pages[-1]
+                page.ops.append(("rule", (page.used, 0.8)))
+                page.ops.append(("row", (page.used, header[0], True, False, spec)))
+                page.used += header[1]
+                page.ops.append(("rule", (page.used, 0.5)))
+            page.ops.append(("row", (page.used, cells, False, k % 2 == 1, spec)))
+            page.used += h
+        page.ops.append(("rule", (page.used, 0.8)))
+        page.used += 0.16
+
+    # ---- drawing -----------------------------------------------------------------------
+    def _draw(self, page, number, total):
+        from matplotlib.figure import Figure
+        from matplotlib.lines import Line2D
+        from matplotlib.patches import Rectangle
+
+        W, H = self.W, self.H
+        fig = Figure(figsize=(W, H))
+
+        def text(x, y, s, **kw):
+            fig.text(x / W, 1 - (_MARGIN_TOP + y) / H, s, va="top", **kw)
+
+        for kind, p in page.ops:
+            if kind == "text":
+                y, s, size, bold, colour = p
+                text(_MARGIN_X, y, s, fontsize=size, color=colour,
+                     fontweight="bold" if bold else "normal")
+            elif kind == "rule":
+                y, lw = p
+                yy = 1 - (_MARGIN_TOP + y) / H
+                fig.add_artist(Line2D([_MARGIN_X / W, 1 - _MARGIN_X / W], [yy, yy],
+                                      transform=fig.transFigure, color="black", linewidth=lw))
+            elif kind == "row":
+                y, cells, bold, shade, spec = p
+                widths, pad, lh = spec["widths"], spec["pad"], spec["lh"]
+                height = max(len(c) for c in cells) * lh + 2 * pad
+                if shade:
+                    fig.add_artist(Rectangle(
+                        (_MARGIN_X / W, 1 - (_MARGIN_TOP + y + height) / H), self.width / W,
+                        height / H, transform=fig.transFigure, facecolor="0.94",
+                        edgecolor="none", zorder=0))
+                x = _MARGIN_X
+                for k, (lines, w) in enumerate(zip(cells, widths)):
+                    right = spec["align"][k] == "right"
+                    colour = "black"
+                    if k in spec["colour"] and not bold:
+                        colour = TABLE_COLOURS.get(lines[0], "black")
+                    for m, line in enumerate(lines):
+                        text(x + (w - pad if right else pad), y + pad + m * lh, line,
+                             fontsize=spec["size"], ha="right" if right else "left",
+                             color=colour, fontweight="bold" if bold else "normal")
+                    x += w
+        fig.text(_MARGIN_X / W, 0.4 / H, self.footer, fontsize=7, color="0.4", va="bottom")
+        fig.text(1 - _MARGIN_X / W, 0.4 / H, f"page {number} of {total}", fontsize=7,
+                 color="0.4", va="bottom", ha="right")
+        return fig
+
+    def write(self, path):
+        """Lay out, draw and write the document.
+
+        Parameters
+        ----------
+        path : str or os.PathLike
+            The PDF file (written as given: the caller stages it).
+
+        Returns
+        -------
+        int
+            The number of pages.
+        """
+        import matplotlib
+        from matplotlib.backends.backend_pdf import PdfPages
+        from pypdf import PdfReader, PdfWriter
+
+        pages, bookmarks = self._layout()
+        K = len(pages)
+        buf = io.BytesIO()
+        with matplotlib.rc_context(PAGE_RC), \
+                PdfPages(buf, metadata={"CreationDate": None}) as pdf:
+            for k, page in enumerate(pages):
+                pdf.savefig(self._draw(page, k + 1, K))
+        writer = PdfWriter(clone_from=PdfReader(io.BytesIO(buf.getvalue())))
+        count = 0
+        for k, page in enumerate(pages):
+            for pdf_bytes, x, y, w, h, scale in page.figures:
+                count += 1
+                bottom = self.H - (_MARGIN_TOP + y + h * scale)
+                _place(writer, writer.pages[k], pdf_bytes, f"/GdFigure{count}",
+                       72 * x, 72 * bottom, scale)
+        parents = {}
+        for text, level, page_index in bookmarks:
+            parent = parents.get(1) if level == 2 else None
+            item = writer.add_outline_item(title=text, page_number=page_index, parent=parent)
+            if level == 1:
+                parents[1] = item
+        writer.page_mode = "/UseOutlines"
+        info = {"/Title": self.title}
+        info.update({f"/{k}": str(v) for k, v in self.metadata.items() if v is not None})
+        writer.add_metadata(info)
+        with open(path, "wb") as fh:
+            writer.write(fh)
+        return K
