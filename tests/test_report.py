@@ -545,3 +545,33 @@ def test_formulations_section_from_the_stored_counts(tmp_path, puma):
 def test_report_without_formulations_says_so(puma_report):
     html = report.render_html(puma_report["ds"])     # made by analyze(): no formulations
     assert "holds no comparison of the formulations" in html
+
+
+@pytest.mark.parametrize("n", [1, 2, 7, 10])
+def test_fig_3_10_analogue_grows_to_n_by_n(n):
+    """Any n: n(n+1)/2 panels D_ij, labels with a comma once an index has two digits."""
+    import matplotlib
+
+    from gd_analyze.reports.main_figures import RC, PlotData, element_label, fig_D, fig_h
+
+    rng = np.random.default_rng(n)
+    M = 21
+    D = rng.standard_normal((M, n, n))
+    h = rng.standard_normal((M, n))
+    data = PlotData(x=np.linspace(0.0, 2.0, M), enveloped=False, N=M,
+                    series={"D_tran": D, "D_rot": 0.5 * D, "D": 1.5 * D, "h_tran": h,
+                            "h_rot": h, "h": 2 * h})
+    labels = [element_label("D", i + 1, j + 1) for i in range(n) for j in range(i, n)]
+    with matplotlib.rc_context(RC):
+        fig = fig_D(data, {lab: "both" for lab in labels}, {}, 0.9, 0.01)
+        figh = fig_h(data, {}, {})
+    titles = [ax.get_title() for ax in fig.axes]
+    assert len(titles) == n * (n + 1) // 2
+    assert titles == [f"{lab}: both" for lab in labels]
+    if n >= 10:
+        assert "D1,10: both" in titles and "D10,10: both" in titles
+    assert len(figh.axes) == n
+    sizes = {tuple(np.round(ax.get_position().size * f.get_size_inches(), 3))
+             for f in (fig, figh) for ax in f.axes}
+    assert len(sizes) == 1                          # one panel size for D and h
+    assert fig.get_size_inches()[0] >= 7.2 - 1e-9

@@ -369,7 +369,7 @@ def _report_context(ds):
                 "meaningful and none is made.")
     compare = _table(["element", "our class", "chapter's class", "agree", "share_tran", "cause"],
                      compare_rows, align=["left"] * 4 + ["right", "left"],
-                     widths=[0.7, 1.1, 1.1, 0.5, 0.7, 4.2], colour_cols=[1, 2, 3])
+                     widths=[0.6, 1.05, 1.05, 0.45, 0.85, 4.0], colour_cols=[1, 2, 3])
 
     # 7. provenance
     prov = [

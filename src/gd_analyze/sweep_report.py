@@ -28,7 +28,6 @@ from pathlib import Path
 
 import numpy as np
 
-from ._reporting import A4 as _A4, A4_LANDSCAPE as _A4_LANDSCAPE
 from ._reporting import CLASS_COLOURS as _CLASS_COLOURS, SUPTITLE_RC as _RC
 from ._reporting import attr as _attr, check as _check, fmt as _fmt, pct as _pct
 from ._reporting import gridspec as _gridspec, strings as _strings, style as _style
@@ -51,6 +50,8 @@ _CHOICE_CLASS = {"tran": "translational", "rot": "rotational", "both": "both",
                  "none": "negligible"}
 _LETTER = {"translational": "T", "rotational": "R", "both": "B", "negligible": "N"}
 _OWN_COLOUR, _MERGED_COLOUR = "#009E73", "#000000"
+#: Width of every figure: the text of a page [in].
+_PAGE_WIDTH = 7.2
 _REQUIRED = ("share_tran", "dominance", "choice", "source", "duration", "tau_peak",
              "tau_error_relative_peak", "class_fraction", "share_tran_min", "share_tran_median",
              "share_tran_max", "merged_choice", "merged_tau_error_relative_peak",
@@ -100,7 +101,7 @@ def _share_panel(ax, values, label, merged, fractions, s, small):
     ax.yaxis.set_major_formatter("{x:.2g}")
     ax.tick_params(length=2.0, pad=1.5)
     ax.set_title(f"{label} \u2192 {merged}", color=_CHOICE_COLOURS.get(merged, "black"), pad=2.5)
-    ax.set_xlabel(_fraction_text(fractions), fontsize=5.8 if small else 7.0, labelpad=1.5,
+    ax.set_xlabel(_fraction_text(fractions), fontsize=7.0, labelpad=1.5,
                   color="0.15")
 
 
@@ -113,7 +114,7 @@ def _key_text(ds, K):
         f"rotational. Title: element \u2192 choice of the merged model. Bottom: fraction of "
         f"trajectories per class (T translational, R rotational, B both, N negligible, "
         f"e = {e:g}); the share of a negligible element may compare round-off-level "
-        f"values.", 60)
+        f"values.", 52)
 
 
 def _fig_D(ds):
@@ -125,9 +126,10 @@ def _fig_D(ds):
     merged = dict(zip(labels, _strings(ds["merged_choice"].values)))
     frac = ds["class_fraction"].values
     s, _ = _thresholds(ds)
-    W, H = _A4_LANDSCAPE
+    W = _PAGE_WIDTH
+    H = 0.75 + n * 0.72 + (n - 1) * 0.42
     fig = Figure(figsize=(W, H))
-    gs = _gridspec(fig, n, n, left=0.7, right=0.2, top=0.6, bottom=0.3, wgap=0.45, hgap=0.32)
+    gs = _gridspec(fig, n, n, left=0.5, right=0.08, top=0.45, bottom=0.3, wgap=0.28, hgap=0.42)
     for i in range(n):
         for j in range(i, n):
             label = f"D{i + 1}{j + 1}"
@@ -140,8 +142,8 @@ def _fig_D(ds):
         lax = fig.add_subplot(gs[k:, :k])
         lax.axis("off")
         lax.text(0.0, 0.9, _key_text(ds, ds.sizes["trajectory"]), transform=lax.transAxes,
-                 va="top", ha="left", fontsize=8, linespacing=1.4)
-    fig.supylabel("share_tran [1]", x=0.12 / W, ha="left")
+                 va="top", ha="left", fontsize=7.5, linespacing=1.35)
+    fig.supylabel("share_tran [1]", x=0.05 / W, ha="left")
     fig.suptitle("Translational share of the elements of D over the sweep "
                  "(layout of Fig. 3.10)", y=1 - 0.15 / H, va="top")
     return fig
@@ -157,18 +159,18 @@ def _fig_h(ds):
     frac = ds["class_fraction"].values
     s, _ = _thresholds(ds)
     rows, cols = grid_shape(n, 3)
-    W, H = _A4_LANDSCAPE[0], min(_A4_LANDSCAPE[1], 2.0 + 2.6 * rows)
+    W, H = _PAGE_WIDTH, 1.9 + 1.9 * rows
     fig = Figure(figsize=(W, H))
-    gs = _gridspec(fig, rows, cols, left=0.8, right=0.2, top=0.6, bottom=1.3, wgap=0.7,
-                   hgap=0.55)
+    gs = _gridspec(fig, rows, cols, left=0.65, right=0.1, top=0.5, bottom=1.2, wgap=0.6,
+                   hgap=0.5)
     for i in range(n):
         label = f"h{i + 1}"
         k = labels.index(label)
         ax = fig.add_subplot(gs[i // cols, i % cols])
         _share_panel(ax, share[:, k], label, merged[label], frac[k], s, small=False)
         ax.set_ylabel("share_tran [1]")
-    key = textwrap.fill(_key_text(ds, ds.sizes["trajectory"]).replace("\n", " "), 165)
-    fig.text(0.8 / W, 0.1 / H, key, ha="left", va="bottom", fontsize=7.5, linespacing=1.3)
+    key = textwrap.fill(_key_text(ds, ds.sizes["trajectory"]).replace("\n", " "), 120)
+    fig.text(0.3 / W, 0.1 / H, key, ha="left", va="bottom", fontsize=7.0, linespacing=1.3)
     fig.suptitle("Translational share of the elements of h over the sweep "
                  "(layout of Fig. 3.11)", y=1 - 0.15 / H, va="top")
     return fig
@@ -182,7 +184,7 @@ def _fig_classes(ds):
     frac = ds["class_fraction"].values
     merged = _strings(ds["merged_choice"].values)
     M = len(labels)
-    W, H = _A4[0], 1.5 + 0.2 * M
+    W, H = _PAGE_WIDTH, 1.5 + 0.17 * M
     fig = Figure(figsize=(W, H))
     ax = fig.add_axes((1.0 / W, 0.8 / H, (W - 2.6) / W, (H - 1.4) / H))
     y = np.arange(M)
@@ -214,7 +216,7 @@ def _fig_error(ds):
     own = ds["tau_error_relative_peak"].values
     merged = ds["merged_tau_error_relative_peak"].values
     overall = ds["merged_error_relative_peak"].values
-    W, H = _A4[0], 4.2
+    W, H = _PAGE_WIDTH, 3.6
     fig = Figure(figsize=(W, H))
     ax = fig.add_axes((0.9 / W, 0.9 / H, (W - 1.2) / W, (H - 1.6) / H))
     for j in range(n):
@@ -243,9 +245,9 @@ def _fig_error(ds):
                               label="merged model, over all trajectories")],
               loc="upper center", bbox_to_anchor=(0.5, -0.08), ncol=3, frameon=False,
               fontsize=7)
-    fig.suptitle("Relative peak torque error per joint (box: quartiles, whiskers: min/max; "
-                 f"values below {_ERROR_FLOOR:g} drawn at it)", y=1 - 0.12 / H, va="top",
-                 fontsize=9)
+    fig.suptitle("Relative peak torque error per joint (box: quartiles, whiskers: min/max;\n"
+                 f"values below {_ERROR_FLOOR:g} drawn at it)", y=1 - 0.08 / H, va="top",
+                 fontsize=8.5)
     return fig
 
 
@@ -289,7 +291,7 @@ def payload_figure(ds):
         dom = np.array(_strings(ds["dominance"].values)).reshape(share.shape)
         P, M = share.shape
         n = ds.sizes["joint"]
-        W = _A4_LANDSCAPE[0]
+        W = _PAGE_WIDTH
         heat_h = max(1.4, 0.3 * P)
         H = heat_h + 4.6
         fig = Figure(figsize=(W, H))
@@ -304,11 +306,11 @@ def payload_figure(ds):
                 v = share[p, k]
                 dark = np.isfinite(v) and abs(v - 0.5) > 0.33
                 ax.text(k, p, _LETTER.get(dom[p, k], "?"), ha="center", va="center",
-                        fontsize=6.5, color="white" if dark else "black")
+                        fontsize=7, color="white" if dark else "black")
                 if dom[p, k] != dom[0, k]:
                     ax.add_patch(Rectangle((k - 0.5, p - 0.5), 1, 1, fill=False, lw=1.4,
                                            ec="black"))
-        ax.set_xticks(np.arange(M), labels, rotation=90, fontsize=6.5)
+        ax.set_xticks(np.arange(M), labels, rotation=90, fontsize=7)
         ax.set_yticks(np.arange(P), [f"{m:g}" for m in masses], fontsize=7)
         ax.set_ylabel("payload [kg]")
         ax.grid(False)
@@ -325,9 +327,9 @@ def payload_figure(ds):
         bx.set_ylabel("peak |\u03c4| [N m]")
         bx.legend(loc="center left", bbox_to_anchor=(1.01, 0.5), frameon=False, fontsize=7)
         s, e = _thresholds(ds)
-        fig.suptitle(f"Dominance vs payload on the last link (s = {s:g}, e = {e:g}; "
+        fig.suptitle(f"Dominance against the payload on the last link (s = {s:g}, e = {e:g})\n"
                      "T/R/B/N = translational/rotational/both/negligible; framed: class "
-                     "differs from the first payload)", y=1 - 0.12 / H, va="top", fontsize=9)
+                     "differs from the first payload", y=1 - 0.08 / H, va="top", fontsize=8.5)
         return fig
 
 

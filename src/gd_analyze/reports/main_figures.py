@@ -459,7 +459,8 @@ def fig_torque(data, peak_error, rel_error):
     data : PlotData
         With ``tau`` and ``tau_simplified`` (M, n) [N m].
     peak_error, rel_error : ndarray, shape (n,)
-        Peak |tau_s - tau| [N m] and the same over peak |tau| [1], for the titles.
+        Peak |tau_s - tau| [N m] and the same over peak |tau| [1]; the titles give the
+        latter (the table of the report gives both).
 
     Returns
     -------
@@ -489,7 +490,7 @@ def fig_torque(data, peak_error, rel_error):
         ax.set_xlabel("t [s]", labelpad=1.0)
         ax.set_ylabel(f"\u03c4{i + 1} [N m]", labelpad=1.0)
         rel = f"{100 * rel_error[i]:.2g} %" if np.isfinite(rel_error[i]) else "n/a"
-        ax.set_title(f"joint {i + 1}: peak error {peak_error[i]:.3g} N m ({rel})")
+        ax.set_title(f"joint {i + 1}: peak error {rel}")
     fig.legend(*fig.axes[0].get_legend_handles_labels(), loc="lower center", ncol=2,
                frameon=False, handlelength=2.6, bbox_to_anchor=(0.5, 0.0))
     return fig

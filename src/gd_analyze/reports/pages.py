@@ -33,7 +33,10 @@ TABLE_COLOURS = {"translational": "#0072B2", "rotational": "#D55E00", "both": "#
 PAGE_RC = {"pdf.fonttype": 3, "font.family": "DejaVu Sans", "path.simplify": True}
 
 _MARGIN_X, _MARGIN_TOP, _MARGIN_BOTTOM = 0.53, 0.6, 0.75
-_CHAR = 0.55            # mean character width of DejaVu Sans [em]
+_CHAR = 0.55
+#: Headings and a lead-in at the top of a page [in]: a figure below them shrinks to fit
+#: rather than leave them alone on the page.
+_TOP_GROUP = 1.0            # mean character width of DejaVu Sans [em]
 _HEADING = {1: 13.0, 2: 10.5, 0: 15.0}
 
 
@@ -139,8 +142,9 @@ def write_figure_files(stack, drawn, folder, names):
     return files
 
 
-def _place(writer, target, pdf_bytes, name, x, y, scale):
-    """Put page 1 of ``pdf_bytes`` on ``target`` as a form XObject at (x, y) [pt], scaled.
+def _place(writer, target, pdf_bytes, name, x, y, scale, turned_width=None):
+    """Put page 1 of ``pdf_bytes`` on ``target`` as a form XObject at (x, y) [pt], scaled,
+    and turned a quarter anticlockwise if ``turned_width`` (its width on the page [pt]).
 
     The figure's content stream is reused as it is (still compressed), not parsed: placing is
     as cheap as copying bytes.
@@ -161,7 +165,11 @@ def _place(writer, target, pdf_bytes, name, x, y, scale):
         resources[NameObject("/XObject")] = DictionaryObject()
     resources["/XObject"].get_object()[NameObject(name)] = ref
     op = DecodedStreamObject()
-    op.set_data(f"q {scale:.6f} 0 0 {scale:.6f} {x:.3f} {y:.3f} cm {name} Do Q\n".encode())
+    if turned_width is None:
+        matrix = f"{scale:.6f} 0 0 {scale:.6f} {x:.3f} {y:.3f}"
+    else:
+        matrix = f"0 {scale:.6f} {-scale:.6f} 0 {x + turned_width:.3f} {y:.3f}"
+    op.set_data(f"q {matrix} cm {name} Do Q\n".encode())
     op_ref = writer._add_object(op)
     old = target["/Contents"]
     if isinstance(old.get_object(), ArrayObject):
@@ -268,15 +276,20 @@ class Document:
             if kind == "heading":
                 text, level = payload
                 size = _HEADING.get(level, 10.0)
-                h = size * 1.6 / 72 + (0.12 if page.used > 0 else 0.0)
+                lines = self._wrap(text, size / 0.92)          # bold type is wider
+                lead = 0.12 if page.used > 0 else 0.0
+                h = len(lines) * size * 1.45 / 72 + 0.05
                 follow = self._first_height(blocks[k + 1:]) if k + 1 < len(blocks) else 0.0
-                if h + follow > room() and page.used > 0:
+                follow = min(follow, body - _TOP_GROUP)    # a page-high figure shrinks
+                if lead + h + follow > room() and page.used > 0:
                     new_page()
                     page = pages[-1]
-                    h = size * 1.6 / 72
-                page.ops.append(("text", (page.used + h - size * 1.6 / 72, text, size, True,
-                                          "black")))
-                page.used += h
+                    lead = 0.0
+                page.used += lead
+                for line in lines:
+                    page.ops.append(("text", (page.used, line, size, True, "black")))
+                    page.used += size * 1.45 / 72
+                page.used += 0.05
                 if level in (1, 2):
                     bookmarks.append((text, level, len(pages) - 1))
             elif kind == "paragraph":
@@ -294,31 +307,49 @@ class Document:
             elif kind == "figure":
                 pdf_bytes, (w, h), caption = payload
                 lines = self._wrap(caption, 8.0)
-                ch = text_height(lines, 8.0) + 0.08
-                scale = min(1.0, self.width / w, (body - ch - 0.1) / h)
-                need = h * scale + ch + 0.15
-                if need > room() and page.used > 0:
+                pw, ph, scale, rotate, need = self._figure_box(w, h, caption)
+                if need > room() and page.used > _TOP_GROUP:
                     new_page()
                     page = pages[-1]
-                x = _MARGIN_X + (self.width - w * scale) / 2
-                page.figures.append((pdf_bytes, x, page.used + 0.05, w, h, scale))
-                page.used += h * scale + 0.1
+                if need > room():            # under its heading at the top: shrink to fit
+                    pw, ph, scale, rotate, need = self._figure_box(w, h, caption, room())
+                x = _MARGIN_X + (self.width - pw * scale) / 2
+                page.figures.append((pdf_bytes, x, page.used + 0.05, pw, ph, scale, rotate))
+                page.used += ph * scale + 0.1
                 for line in lines:
                     page.ops.append(("text", (page.used, line, 8.0, False, "0.15")))
                     page.used += 8.0 * 1.38 / 72
                 page.used += 0.15
         return pages, bookmarks
 
+    def _figure_box(self, w, h, caption, room=None):
+        """Size on the page of a w x h figure [in]: (width, height, scale, turned, height with
+        its caption). A figure wider than the text is turned a quarter if it then needs less
+        shrinking."""
+        ch = len(self._wrap(caption, 8.0)) * 8.0 * 1.38 / 72 + 0.08
+        room = (self.body if room is None else room) - ch - 0.15
+        scale = min(1.0, self.width / w, room / h)
+        turned = min(1.0, self.width / h, room / w)
+        rotate = w > self.width and turned > scale
+        scale = turned if rotate else scale
+        pw, ph = (h, w) if rotate else (w, h)
+        return pw, ph, scale, rotate, ph * scale + ch + 0.15
+
     def _first_height(self, rest):
-        """Height of the start of the next block (what a heading must stay with) [in]."""
+        """Height of the start of the next block (what a heading must stay with) [in]: a
+        short paragraph whole, with the start of what follows it (a section's lead-in stays
+        with its figure)."""
         kind, payload = rest[0]
         if kind == "paragraph":
-            return min(3, len(self._wrap(payload[0], payload[1]))) * payload[1] * 1.38 / 72
+            lines = len(self._wrap(payload[0], payload[1]))
+            own = min(3, lines) * payload[1] * 1.38 / 72
+            if lines <= 4 and len(rest) > 1 and rest[1][0] in ("figure", "table"):
+                return lines * payload[1] * 1.38 / 72 + 0.07 + self._first_height(rest[1:])
+            return own
         if kind == "table":
             return 3 * payload[1] * 1.6 / 72 + 0.1
         if kind == "figure":
-            w, h = payload[1]
-            return h * min(1.0, self.width / w) + 0.3
+            return self._figure_box(*payload[1], payload[2])[4]
         if kind == "heading":
             return _HEADING.get(payload[1], 10.0) * 1.6 / 72 + self._first_height(rest[1:]) \
                 if len(rest) > 1 else 0.3
@@ -329,7 +360,7 @@ class Document:
         widths = np.asarray(table["widths"], float)
         widths = widths / widths.sum() * self.width
         lh, pad = size * 1.3 / 72, 0.035
-        charw = size * 0.56 / 72
+        charw = size * 0.6 / 72
 
         def wrap(row):
             cells = [textwrap.wrap(str(c), max(3, int((w - 2 * pad) / charw))) or [""]
@@ -441,11 +472,11 @@ class Document:
         writer = PdfWriter(clone_from=PdfReader(io.BytesIO(buf.getvalue())))
         count = 0
         for k, page in enumerate(pages):
-            for pdf_bytes, x, y, w, h, scale in page.figures:
+            for pdf_bytes, x, y, w, h, scale, rotate in page.figures:
                 count += 1
                 bottom = self.H - (_MARGIN_TOP + y + h * scale)
                 _place(writer, writer.pages[k], pdf_bytes, f"/GdFigure{count}",
-                       72 * x, 72 * bottom, scale)
+                       72 * x, 72 * bottom, scale, 72 * w * scale if rotate else None)
         parents = {}
         for text, level, page_index in bookmarks:
             parent = parents.get(1) if level == 2 else None
