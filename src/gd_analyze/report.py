@@ -747,14 +747,19 @@ def write_report(results_path, outdir, formats=REPORT_FORMATS, paper="a4", progr
     temporary name beside its destination and renamed (:func:`gd_analyze.storage.atomic_path`).
     Source: Sec. 3.4.1 and Figs. 3.10-3.11 of Fu, Gonzalez & Lee (1987).
     """
-    from .storage import atomic_path, open_results
+    from .storage import open_results
 
     formats = check_formats(formats, REPORT_FORMATS)
     if paper not in PAPER:
         raise ValueError(f"paper must be one of {sorted(PAPER)}, got {paper!r}")
-    ds = open_results(results_path)
+    with open_results(results_path, lazy=True) as ds:   # long series are read in chunks
+        return _write(ds, Path(outdir), formats, paper, progress)
+
+
+def _write(ds, outdir, formats, paper, progress):
+    from .storage import atomic_path
+
     ctx = _report_context(ds)            # fails early on a dataset that is not ours
-    outdir = Path(outdir)
     (outdir / "figures").mkdir(parents=True, exist_ok=True)
     figures = make_figures(ds, plot_data(ds, progress=progress))
     drawn = _drawn(figures)

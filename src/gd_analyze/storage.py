@@ -497,18 +497,21 @@ def write_dataset(ds, path):
         ds.to_netcdf(tmp, engine="h5netcdf", encoding=encoding, invalid_netcdf=False)
 
 
-def open_results(path):
+def open_results(path, lazy=False):
     """Open a results file written by :func:`write_dataset`.
 
     Parameters
     ----------
     path : str or os.PathLike
         The ``results.h5`` file.
+    lazy : bool, optional
+        Leave the variables on disk, to be read in slices (the report of a long trajectory);
+        the caller closes the dataset.
 
     Returns
     -------
     xarray.Dataset
-        Loaded into memory; the file is closed.
+        Loaded into memory and the file closed; or, if ``lazy``, open and read on access.
 
     Raises
     ------
@@ -522,6 +525,8 @@ def open_results(path):
     if not os.path.isfile(path):
         raise InputError("no such file", path)
     try:
+        if lazy:
+            return xr.open_dataset(path, engine="h5netcdf")
         with xr.open_dataset(path, engine="h5netcdf") as ds:
             return ds.load()
     except (OSError, ValueError) as exc:
