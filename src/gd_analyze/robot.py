@@ -54,7 +54,7 @@ except ModuleNotFoundError:  # pragma: no cover - Python 3.10
     import tomli as tomllib
 
 __all__ = ["Robot", "load_robot", "builtin_robots", "robot_from_dict", "robot_from_chain",
-           "with_payload", "CONVENTIONS", "JOINT_TYPES"]
+           "with_payload", "dh_placements", "rot_x", "rot_z", "CONVENTIONS", "JOINT_TYPES"]
 
 _BUILTIN = {"puma560": "puma560.toml", "two-link": "two-link.toml",
             "stanford": "stanford.toml"}
@@ -71,13 +71,33 @@ def _readonly(x, dtype=float):
 
 
 def rot_x(angle):
-    """Rotation matrix about x by ``angle`` [rad], shape (3, 3)."""
+    """Rotation matrix about x.
+
+    Parameters
+    ----------
+    angle : float
+        Angle [rad].
+
+    Returns
+    -------
+    ndarray, shape (3, 3)
+    """
     c, s = math.cos(angle), math.sin(angle)
     return np.array([[1.0, 0.0, 0.0], [0.0, c, -s], [0.0, s, c]])
 
 
 def rot_z(angle):
-    """Rotation matrix about z by ``angle`` [rad], shape (3, 3)."""
+    """Rotation matrix about z.
+
+    Parameters
+    ----------
+    angle : float
+        Angle [rad].
+
+    Returns
+    -------
+    ndarray, shape (3, 3)
+    """
     c, s = math.cos(angle), math.sin(angle)
     return np.array([[c, -s, 0.0], [s, c, 0.0], [0.0, 0.0, 1.0]])
 
