@@ -158,11 +158,13 @@ def _plan_parser():
     p.add_argument("-o", "--output", metavar="FILE", required=True,
                    help="CSV file to write ('-' for standard output)")
     p.add_argument("--start", metavar="DEG,...", type=_angles,
-                   help="start positions [deg] (default for puma560: "
-                        f"{','.join(f'{v:g}' for v in DEFAULT_START_DEG)})")
+                   help="start positions [deg; m for a prismatic joint] (default for puma560: "
+                        f"{','.join(f'{v:g}' for v in DEFAULT_START_DEG)}; for other robots "
+                        "a quarter of each joint's range)")
     p.add_argument("--goal", metavar="DEG,...", type=_angles,
-                   help="goal positions [deg] (default for puma560: "
-                        f"{','.join(f'{v:g}' for v in DEFAULT_GOAL_DEG)})")
+                   help="goal positions [deg; m for a prismatic joint] (default for puma560: "
+                        f"{','.join(f'{v:g}' for v in DEFAULT_GOAL_DEG)}; for other robots "
+                        "three quarters of each joint's range)")
     p.add_argument("--setpoints", metavar="N", type=int, default=DEFAULT_SETPOINTS,
                    help=f"number of set points, both ends included (default {DEFAULT_SETPOINTS})")
     p.add_argument("--duration", metavar="T", type=float,
@@ -361,29 +363,22 @@ def _cmd_analyze(args):
 
 
 def _cmd_plan(args):
-    import numpy as np
-
     from .robot import load_robot
-    from .trajectory import (DEFAULT_GOAL_DEG, DEFAULT_START_DEG, plan_quintic,
-                             write_trajectory)
+    from .trajectory import default_motion, plan_quintic, user_positions, write_trajectory
 
     robot = load_robot(args.robot)
-    start, goal = args.start, args.goal
-    if start is None or goal is None:
-        if robot.n != len(DEFAULT_START_DEG):
-            raise InputError(f"{robot.name} has {robot.n} joints: give --start and --goal")
-        start = DEFAULT_START_DEG if start is None else start
-        goal = DEFAULT_GOAL_DEG if goal is None else goal
-    for name, vals in (("--start", start), ("--goal", goal)):
-        if len(vals) != robot.n:
+    start, goal = default_motion(robot)
+    for name, vals in (("--start", args.start), ("--goal", args.goal)):
+        if vals is not None and len(vals) != robot.n:
             raise InputError(f"{name}: {len(vals)} values for {robot.n} joints")
+    start = start if args.start is None else user_positions(robot, args.start)
+    goal = goal if args.goal is None else user_positions(robot, args.goal)
     if args.setpoints < 2:
         raise InputError("--setpoints: a trajectory needs at least 2 set points")
     if args.duration is not None and not args.duration > 0:
         raise InputError("--duration must be positive")
     try:
-        traj = plan_quintic(robot, np.radians(start), np.radians(goal), args.setpoints,
-                            args.duration)
+        traj = plan_quintic(robot, start, goal, args.setpoints, args.duration)
     except ValueError as exc:
         raise InputError(str(exc)) from None
     write_trajectory(traj, args.output)
