@@ -31,7 +31,91 @@ from __future__ import annotations
 import numpy as np
 from numba import njit
 
-__all__ = ["gd_kernel"]
+__all__ = ["gd_kernel", "body_frames_at", "plucker_axes"]
+
+
+@njit(cache=True, fastmath=False, nogil=True)
+def body_frames_at(q, k, Rp, tp, pris, com, M, R, o, rbar):  # pragma: no cover - compiled
+    """Body frames and centres of mass at set point k, into R (n, 3, 3), o, rbar (n, 3).
+
+    Parameters
+    ----------
+    q : ndarray, shape (N, n)
+        Joint positions [rad or m].
+    k : int
+        The set point.
+    Rp, tp, pris : ndarray
+        Placements (n, 3, 3), (n, 3) [m] and prismatic flags (n,) of the joint model.
+    com : ndarray, shape (n, 3)
+        Centres of mass in the body frames [m].
+    M : ndarray, shape (3, 3)
+        Scratch.
+    R, o, rbar : ndarray
+        Outputs: ^0R of body frame i, its origin o_i [m] and the centre of mass of link i [m].
+    """
+    n = q.shape[1]
+    # forward kinematics of the body frames: R_i = R_{i-1} P_i Motion(q_i)
+    for i in range(n):
+        for r in range(3):
+            for u in range(3):
+                if i == 0:
+                    M[r, u] = Rp[i, r, u]
+                else:
+                    M[r, u] = (R[i - 1, r, 0] * Rp[i, 0, u] + R[i - 1, r, 1] * Rp[i, 1, u]
+                               + R[i - 1, r, 2] * Rp[i, 2, u])
+        for r in range(3):
+            if i == 0:
+                v = tp[i, r]
+            else:
+                v = o[i - 1, r] + (R[i - 1, r, 0] * tp[i, 0] + R[i - 1, r, 1] * tp[i, 1]
+                                   + R[i - 1, r, 2] * tp[i, 2])
+            if pris[i] != 0:
+                o[i, r] = v + q[k, i] * M[r, 2]
+                R[i, r, 0] = M[r, 0]
+                R[i, r, 1] = M[r, 1]
+            else:
+                o[i, r] = v
+        if pris[i] == 0:
+            ct = np.cos(q[k, i])
+            st = np.sin(q[k, i])
+            for r in range(3):
+                R[i, r, 0] = ct * M[r, 0] + st * M[r, 1]
+                R[i, r, 1] = ct * M[r, 1] - st * M[r, 0]
+        for r in range(3):
+            R[i, r, 2] = M[r, 2]
+    for s in range(n):
+        for r in range(3):
+            rbar[s, r] = o[s, r] + (R[s, r, 0] * com[s, 0] + R[s, r, 1] * com[s, 1]
+                                    + R[s, r, 2] * com[s, 2])
+
+
+@njit(cache=True, fastmath=False, nogil=True)
+def plucker_axes(R, o, pris, A, B):  # pragma: no cover - compiled
+    """Joint axes in Plücker coordinates: A[j] = z_j, B[j] = o_j x z_j (revolute) or A[j] = 0,
+    B[j] = z_j (prismatic), so that Jv_s[:, j] = B[j] - rbar_s x A[j] and Jw_s[:, j] = A[j].
+
+    Parameters
+    ----------
+    R, o : ndarray, shape (n, 3, 3), (n, 3)
+        Body frames from :func:`body_frames_at`.
+    pris : ndarray of int, shape (n,)
+        1 for a prismatic joint.
+    A, B : ndarray, shape (n, 3)
+        Outputs.
+    """
+    n = o.shape[0]
+    # joint j's axis in Plücker coordinates: Jv_s[:, j] = b_j - rbar_s x a_j, Jw_s[:, j] = a_j
+    for j in range(n):
+        zx, zy, zz = R[j, 0, 2], R[j, 1, 2], R[j, 2, 2]
+        if pris[j] != 0:
+            A[j, 0], A[j, 1], A[j, 2] = 0.0, 0.0, 0.0
+            B[j, 0], B[j, 1], B[j, 2] = zx, zy, zz
+        else:
+            ox, oy, oz = o[j, 0], o[j, 1], o[j, 2]
+            A[j, 0], A[j, 1], A[j, 2] = zx, zy, zz
+            B[j, 0] = oy * zz - oz * zy
+            B[j, 1] = oz * zx - ox * zz
+            B[j, 2] = ox * zy - oy * zx
 
 
 @njit(cache=True, fastmath=False, nogil=True)
@@ -75,40 +159,9 @@ def gd_kernel(q, qd, Rp, tp, pris, mass, com, inertia, gravity,
     M = np.empty((3, 3))
     tmp = np.empty((3, 3))
     for k in range(N):
-        # forward kinematics of the body frames: R_i = R_{i-1} P_i Motion(q_i)
-        for i in range(n):
-            for r in range(3):
-                for u in range(3):
-                    if i == 0:
-                        M[r, u] = Rp[i, r, u]
-                    else:
-                        M[r, u] = (R[i - 1, r, 0] * Rp[i, 0, u] + R[i - 1, r, 1] * Rp[i, 1, u]
-                                   + R[i - 1, r, 2] * Rp[i, 2, u])
-            for r in range(3):
-                if i == 0:
-                    v = tp[i, r]
-                else:
-                    v = o[i - 1, r] + (R[i - 1, r, 0] * tp[i, 0] + R[i - 1, r, 1] * tp[i, 1]
-                                       + R[i - 1, r, 2] * tp[i, 2])
-                if pris[i] != 0:
-                    o[i, r] = v + q[k, i] * M[r, 2]
-                    R[i, r, 0] = M[r, 0]
-                    R[i, r, 1] = M[r, 1]
-                else:
-                    o[i, r] = v
-            if pris[i] == 0:
-                ct = np.cos(q[k, i])
-                st = np.sin(q[k, i])
-                for r in range(3):
-                    R[i, r, 0] = ct * M[r, 0] + st * M[r, 1]
-                    R[i, r, 1] = ct * M[r, 1] - st * M[r, 0]
-            for r in range(3):
-                R[i, r, 2] = M[r, 2]
-        # centres of mass and base-frame inertia tensors Ib = R I R^T
+        body_frames_at(q, k, Rp, tp, pris, com, M, R, o, rbar)
+        # base-frame inertia tensors Ib = R I R^T
         for s in range(n):
-            for r in range(3):
-                rbar[s, r] = o[s, r] + (R[s, r, 0] * com[s, 0] + R[s, r, 1] * com[s, 1]
-                                        + R[s, r, 2] * com[s, 2])
             for r in range(3):
                 for u in range(3):
                     tmp[r, u] = (R[s, r, 0] * inertia[s, 0, u] + R[s, r, 1] * inertia[s, 1, u]
@@ -163,18 +216,7 @@ def gd_kernel(q, qd, Rp, tp, pris, mass, com, inertia, gravity,
             f[s, 0] = Ib[s, 0, 0] * ex + Ib[s, 0, 1] * ey + Ib[s, 0, 2] * ez + wy * Iwz - wz * Iwy
             f[s, 1] = Ib[s, 1, 0] * ex + Ib[s, 1, 1] * ey + Ib[s, 1, 2] * ez + wz * Iwx - wx * Iwz
             f[s, 2] = Ib[s, 2, 0] * ex + Ib[s, 2, 1] * ey + Ib[s, 2, 2] * ez + wx * Iwy - wy * Iwx
-        # joint j's axis in Plücker coordinates: Jv_s[:, j] = b_j - rbar_s x a_j, Jw_s[:, j] = a_j
-        for j in range(n):
-            zx, zy, zz = R[j, 0, 2], R[j, 1, 2], R[j, 2, 2]
-            if pris[j] != 0:
-                A[j, 0], A[j, 1], A[j, 2] = 0.0, 0.0, 0.0
-                B[j, 0], B[j, 1], B[j, 2] = zx, zy, zz
-            else:
-                ox, oy, oz = o[j, 0], o[j, 1], o[j, 2]
-                A[j, 0], A[j, 1], A[j, 2] = zx, zy, zz
-                B[j, 0] = oy * zz - oz * zy
-                B[j, 1] = oz * zx - ox * zz
-                B[j, 2] = ox * zy - oy * zx
+        plucker_axes(R, o, pris, A, B)
         # inward suffix sums over s >= j
         Mx = My = Mz = Sx = Sy = Sz = 0.0
         Gx = Gy = Gz = Tx = Ty = Tz = 0.0

@@ -73,7 +73,7 @@ from .newton_euler import _cross, _ne_core, link_constants
 from ..core.robot import Robot, robot_from_dict
 
 __all__ = ["Counted", "OpLedger", "OpCount", "METHODS", "TABLE_3_5", "random_chain",
-           "count_operations", "operation_counts", "book_counts", "table"]
+           "count_operations", "operation_counts", "book_counts", "table", "counting_clone"]
 
 #: The implementations counted, in table order ("gd" is the compiled G-D engine).
 METHODS = ("lagrange-euler", "newton-euler", "gd", "gd-numpy")
@@ -422,6 +422,30 @@ class _CountingNumPy:
         return _elementwise(math.sin, x)
 
 
+def counting_clone(fn):
+    """The Python source of a numba kernel, bound to counting NumPy functions.
+
+    Parameters
+    ----------
+    fn : numba dispatcher or function
+        The kernel; the compiled helpers it calls (any global with a ``py_func``) are cloned
+        the same way.
+
+    Returns
+    -------
+    function
+        Runs on object arrays of :class:`Counted` scalars; ``np.empty``, ``np.cos`` and
+        ``np.sin`` are :class:`_CountingNumPy`'s.
+    """
+    py = getattr(fn, "py_func", fn)
+    env = {**py.__globals__, "np": _CountingNumPy}
+    for name in py.__code__.co_names:
+        obj = env.get(name)
+        if hasattr(obj, "py_func"):
+            env[name] = counting_clone(obj)
+    return types.FunctionType(py.__code__, env, py.__name__, py.__defaults__, py.__closure__)
+
+
 def _gd_kernel_counted(robot, led, q, qd):
     """Run the compiled G-D engine's Python source on one set point of counting scalars.
 
@@ -429,9 +453,7 @@ def _gd_kernel_counted(robot, led, q, qd):
     """
     from ..core.kernels import gd_kernel
 
-    py = gd_kernel.py_func
-    kernel = types.FunctionType(py.__code__, {**py.__globals__, "np": _CountingNumPy},
-                                py.__name__, py.__defaults__, py.__closure__)
+    kernel = counting_clone(gd_kernel)
     n = robot.n
     out = [np.zeros((1, n, n), dtype=object), np.zeros((1, n, n), dtype=object)]
     out += [np.zeros((1, n), dtype=object) for _ in range(3)]

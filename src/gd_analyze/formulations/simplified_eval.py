@@ -35,11 +35,11 @@ counts cannot drift from the code that is timed.
 from __future__ import annotations
 
 import time
-import types
 
 import numpy as np
 from numba import njit
 
+from ..core.kernels import body_frames_at, plucker_axes
 from ..core.kinematics import as_states
 from ..core.simplified import choice_masks
 
@@ -115,40 +115,7 @@ def simplified_kernel(q, qd, qdd, Rp, tp, pris, mass, com, inertia, gravity,
     cg = np.empty(n)
     need_vel = jt0 < n or jr0 < n
     for k in range(N):
-        # forward kinematics of the body frames (as gd_analyze.core.kernels)
-        for i in range(n):
-            for r in range(3):
-                for u in range(3):
-                    if i == 0:
-                        M[r, u] = Rp[i, r, u]
-                    else:
-                        M[r, u] = (R[i - 1, r, 0] * Rp[i, 0, u] + R[i - 1, r, 1] * Rp[i, 1, u]
-                                   + R[i - 1, r, 2] * Rp[i, 2, u])
-            for r in range(3):
-                if i == 0:
-                    v = tp[i, r]
-                else:
-                    v = o[i - 1, r] + (R[i - 1, r, 0] * tp[i, 0] + R[i - 1, r, 1] * tp[i, 1]
-                                       + R[i - 1, r, 2] * tp[i, 2])
-                if pris[i] != 0:
-                    o[i, r] = v + q[k, i] * M[r, 2]
-                    R[i, r, 0] = M[r, 0]
-                    R[i, r, 1] = M[r, 1]
-                else:
-                    o[i, r] = v
-            if pris[i] == 0:
-                ct = np.cos(q[k, i])
-                st = np.sin(q[k, i])
-                for r in range(3):
-                    R[i, r, 0] = ct * M[r, 0] + st * M[r, 1]
-                    R[i, r, 1] = ct * M[r, 1] - st * M[r, 0]
-            for r in range(3):
-                R[i, r, 2] = M[r, 2]
-        # centres of mass (always: gravity c needs them)
-        for s in range(n):
-            for r in range(3):
-                rbar[s, r] = o[s, r] + (R[s, r, 0] * com[s, 0] + R[s, r, 1] * com[s, 1]
-                                        + R[s, r, 2] * com[s, 2])
+        body_frames_at(q, k, Rp, tp, pris, com, M, R, o, rbar)
         # base-frame inertia tensors, only for the links a kept rotational part needs
         for s in range(s_rot0, n):
             for r in range(3):
@@ -211,18 +178,7 @@ def simplified_kernel(q, qd, qdd, Rp, tp, pris, mass, com, inertia, gravity,
                                + wz * Iwx - wx * Iwz)
                     f[s, 2] = (Ib[s, 2, 0] * ex + Ib[s, 2, 1] * ey + Ib[s, 2, 2] * ez
                                + wx * Iwy - wy * Iwx)
-        # joint axes in Plücker coordinates: a_j = z_j or 0, b_j = o_j x z_j or z_j
-        for j in range(n):
-            zx, zy, zz = R[j, 0, 2], R[j, 1, 2], R[j, 2, 2]
-            if pris[j] != 0:
-                A[j, 0], A[j, 1], A[j, 2] = 0.0, 0.0, 0.0
-                B[j, 0], B[j, 1], B[j, 2] = zx, zy, zz
-            else:
-                ox, oy, oz = o[j, 0], o[j, 1], o[j, 2]
-                A[j, 0], A[j, 1], A[j, 2] = zx, zy, zz
-                B[j, 0] = oy * zz - oz * zy
-                B[j, 1] = oz * zx - ox * zz
-                B[j, 2] = ox * zy - oy * zx
+        plucker_axes(R, o, pris, A, B)
         # inward suffix sums: gravity (all joints), kept h parts, the column sums kept D uses
         Mx = My = Mz = Sx = Sy = Sz = 0.0
         Gx = Gy = Gz = Tx = Ty = Tz = 0.0
@@ -460,16 +416,14 @@ def count_simplified_operations(robot, choices, q=None, qd=None, qdd=None):
     free. The Python source of :func:`simplified_kernel` runs on counting scalars, as
     ``count_operations(robot, "gd")`` runs the compiled G-D engine's.
     """
-    from .opcount import OpCount, OpLedger, _consts, _CountingNumPy, _value, _vars
+    from .opcount import OpCount, OpLedger, _consts, _value, _vars, counting_clone
 
     n = robot.n
     rng = np.random.default_rng(1)
     q, qd, qdd = (rng.uniform(-1, 1, n) if x is None else x for x in (q, qd, qdd))
     q, qd, qdd = (x[0] for x in as_states(robot, q, qd, qdd))
     plan = evaluation_plan(choices, n)
-    py = simplified_kernel.py_func
-    kernel = types.FunctionType(py.__code__, {**py.__globals__, "np": _CountingNumPy},
-                                py.__name__, py.__defaults__, py.__closure__)
+    kernel = counting_clone(simplified_kernel)
     led = OpLedger()
     tau = np.zeros((1, n), dtype=object)
     # q is the input: cos q and sin q are not counted (the rule)
