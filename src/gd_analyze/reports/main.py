@@ -1,6 +1,7 @@
 """Report: the stored analysis as one self-contained HTML file and a PDF.
 
-The report reads a results file written by :func:`gd_analyze.io.datasets.write_dataset` and never
+The report reads a results file written by the main job
+(:func:`gd_analyze.workflows.analyze.analyze_to_file`) and never
 recomputes the dynamics: every number and curve comes from the dataset's variables and global
 attributes. It has seven parts:
 
@@ -515,7 +516,7 @@ def _kv(rows):
 
 def _report_context(ds):
     """Everything both reports print, as strings and tables (no figures)."""
-    from .. import __version__
+    from .._version import __version__
 
     _check(ds, _REQUIRED, "results")
     n = ds.sizes["joint"]
@@ -1053,7 +1054,7 @@ def write_report(results_path, outdir, formats=REPORT_FORMATS):
     Parameters
     ----------
     results_path : str or os.PathLike
-        A results file written by :func:`gd_analyze.io.datasets.write_dataset`. Only read: the
+        A results file written by :func:`gd_analyze.workflows.analyze.analyze_to_file`. Only read: the
         dynamics are never recomputed.
     outdir : str or os.PathLike
         Output folder; made if missing.

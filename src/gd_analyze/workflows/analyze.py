@@ -124,7 +124,7 @@ def analyze(robot, trajectory, dominance=DEFAULT_DOMINANCE, negligible=DEFAULT_N
     -----
     Source: Sec. 3.4.1 of Fu, Gonzalez & Lee (1987); terms from Eqs. (3.4-24) to (3.4-28).
     """
-    from .. import __version__
+    from .._version import __version__
     from ..io.datasets import build_dataset
 
     terms = gd_terms(robot, trajectory.q, trajectory.qd)
@@ -198,7 +198,7 @@ def analyze_to_file(robot, trajectory, path, dominance=DEFAULT_DOMINANCE,
     """
     from tqdm.auto import tqdm
 
-    from .. import __version__
+    from .._version import __version__
     from ..core.ranking import RankingAccumulator
     from ..core.simplified import TorqueErrorAccumulator
     from ..files import atomic_path
