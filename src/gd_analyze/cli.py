@@ -361,13 +361,13 @@ def _payload_sweep_dataset(robot, trajectory, args):
     masses = _payload_masses(args)
     if masses is None:
         return None
+    from .io.sweep_datasets import embed_payload
     from .workflows.payload import payload_sweep
 
     ds = payload_sweep(robot, trajectory, masses, com=args.payload_com,
                        inertia=args.payload_inertia, dominance=args.dominance,
                        negligible=args.negligible)
-    renamed = ds.rename({v: f"payload_{v}" for v in ds.data_vars})
-    return renamed.drop_vars([c for c in ("element_units",) if c in renamed.coords])
+    return embed_payload(ds)
 
 
 def _cmd_analyze(args):

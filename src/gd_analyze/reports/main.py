@@ -43,6 +43,7 @@ from .common import gridspec as _gridspec, strings as _strings, style as _style
 from .common import table as _table, thresholds as _thresholds
 from .common import check_formats, grid_shape, inline_svgs, joint_colours, render_template
 from .common import utc_now
+from ..io.sweep_datasets import payload_part
 
 __all__ = [
     "REPORT_FORMATS", "ENVELOPE_THRESHOLD", "ENVELOPE_COLUMNS", "envelope", "make_figures",
@@ -245,7 +246,7 @@ def make_figures(ds):
         if "payload_share_tran" in ds.variables:
             from .figures import payload_figure
 
-            figures["payload"] = payload_figure(_payload_part(ds))
+            figures["payload"] = payload_figure(payload_part(ds))
         return figures
 
 
@@ -693,16 +694,10 @@ def _report_context(ds):
     }
 
 
-def _payload_part(ds):
-    """The payload sweep stored as ``payload_*`` variables, under its own names."""
-    names = [v for v in ds.data_vars if v.startswith("payload_") and "payload" in ds[v].dims]
-    return ds[names].rename({v: v[len("payload_"):] for v in names})
-
-
 def _payload_context(ds):
     if "payload_share_tran" not in ds.variables:
         return {"applicable": False, "table": None, "note": ""}
-    part = _payload_part(ds)
+    part = payload_part(ds)
     masses = [float(m) for m in part["payload"].values]
     labels = _strings(part["element"].values)
     dom = np.array(_strings(part["dominance"].values.ravel())).reshape(part["dominance"].shape)
