@@ -19,7 +19,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from .._version import __version__
-from ..core.dalembert import GDTerms, gd_terms
+from ..core.dalembert import GDTerms, allocate_terms, gd_terms
 from ..core.ranking import DEFAULT_DOMINANCE, DEFAULT_NEGLIGIBLE
 from ..core.simplified import SimplifiedModel, simplified_torque
 from ..formulations.compare import FORMULATIONS_MAX_SETPOINTS
@@ -213,8 +213,11 @@ def analysis_pass(robot, trajectory, dominance=DEFAULT_DOMINANCE, negligible=DEF
     bar = tqdm(total=2 * N, unit="setpoint", unit_scale=True, disable=not progress,
                desc="G-D terms", delay=PROGRESS_DELAY, leave=False)
     given = terms
+    # streamed chunks (not held) reuse one set of output buffers: no fresh pages per chunk
+    buf = None if hold or given is not None else allocate_terms(min(chunk, N), n)
     for a, b in ranges:
-        terms = gd_terms(robot, q[a:b], qd[a:b]) if given is None else _take(given, slice(a, b))
+        terms = (gd_terms(robot, q[a:b], qd[a:b], out=buf) if given is None
+                 else _take(given, slice(a, b)))
         tau = terms.tau(qdd[a:b])
         ranker.update(terms.D_tran, terms.D_rot, terms.h_tran, terms.h_rot, tau)
         rows = sample_idx[(sample_idx >= a) & (sample_idx < b)] - a
