@@ -10,6 +10,7 @@ Nothing in the package imports this module.
 from __future__ import annotations
 
 import argparse
+import decimal
 import math
 import os
 import sys
@@ -31,6 +32,56 @@ class _Parser(argparse.ArgumentParser):
     def error(self, message):
         raise InputError(f"{self.prog}: {message}")
 
+
+
+def parse_range(text, name="--payload-sweep"):
+    """Parse ``"start:stop:step"`` into the values start, start + step, ..., stop (inclusive).
+
+    Parameters
+    ----------
+    text : str
+        E.g. ``"0:2.5:0.5"``; step > 0, stop >= start. The values are computed in decimal
+        arithmetic from the strings, so ``"0:0.3:0.1"`` gives exactly [0.0, 0.1, 0.2, 0.3].
+        stop is included when it lies on the grid; otherwise the last value is the largest
+        grid value below it.
+    name : str, optional
+        The option or column named in error messages.
+
+    Returns
+    -------
+    list of float
+        At least one value.
+
+    Raises
+    ------
+    InputError
+        If the text is not three numbers separated by ``:``, a number is not finite, step is
+        not positive, stop < start, or the range has more than 10,000 values.
+
+    Examples
+    --------
+    >>> parse_range("0:2.5:0.5")
+    [0.0, 0.5, 1.0, 1.5, 2.0, 2.5]
+    """
+    parts = str(text).split(":")
+    if len(parts) != 3:
+        raise InputError(f"expected START:STOP:STEP (e.g. 0:2.5:0.5), got {text!r}",
+                         column=name)
+    try:
+        start, stop, step = (decimal.Decimal(p.strip()) for p in parts)
+    except decimal.InvalidOperation:
+        raise InputError(f"expected three numbers START:STOP:STEP, got {text!r}",
+                         column=name) from None
+    if not all(v.is_finite() for v in (start, stop, step)):
+        raise InputError(f"START, STOP and STEP must be finite, got {text!r}", column=name)
+    if step <= 0:
+        raise InputError(f"STEP must be positive, got {text!r}", column=name)
+    if stop < start:
+        raise InputError(f"STOP must not be below START, got {text!r}", column=name)
+    count = int((stop - start) // step) + 1
+    if count > 10_000:
+        raise InputError(f"the range {text!r} has {count} values (at most 10000)", column=name)
+    return [float(start + k * step) for k in range(count)]
 
 def _fraction(lo, hi, name, lo_open=True):
     def parse(text):
@@ -87,7 +138,7 @@ def _add_payload_sweep_argument(group):
 
 
 def _apply_payload(robot, args):
-    from .robot import with_payload
+    from .core.robot import with_payload
 
     if args.payload is None:
         if any(args.payload_com) or any(args.payload_inertia):
@@ -102,7 +153,7 @@ def _add_paper_argument(p):
 
 
 def _analyze_parser():
-    from .ranking import DEFAULT_DOMINANCE, DEFAULT_NEGLIGIBLE
+    from .core.ranking import DEFAULT_DOMINANCE, DEFAULT_NEGLIGIBLE
 
     p = _Parser(
         prog=PROG,
@@ -155,7 +206,7 @@ def _version():
 
 
 def _plan_parser():
-    from .trajectory import DEFAULT_GOAL_DEG, DEFAULT_SETPOINTS, DEFAULT_START_DEG
+    from .io.trajectory import DEFAULT_GOAL_DEG, DEFAULT_SETPOINTS, DEFAULT_START_DEG
 
     p = _Parser(prog=f"{PROG} plan",
                 description="Write a quintic rest-to-rest joint trajectory at the shortest "
@@ -164,11 +215,13 @@ def _plan_parser():
     p.add_argument("-o", "--output", metavar="FILE", required=True,
                    help="CSV file to write ('-' for standard output)")
     p.add_argument("--start", metavar="DEG,...", type=_angles,
-                   help="start positions [deg] (default for puma560: "
-                        f"{','.join(f'{v:g}' for v in DEFAULT_START_DEG)})")
+                   help="start positions [deg; m for a prismatic joint] (default for puma560: "
+                        f"{','.join(f'{v:g}' for v in DEFAULT_START_DEG)}; for other robots "
+                        "a quarter of each joint's range)")
     p.add_argument("--goal", metavar="DEG,...", type=_angles,
-                   help="goal positions [deg] (default for puma560: "
-                        f"{','.join(f'{v:g}' for v in DEFAULT_GOAL_DEG)})")
+                   help="goal positions [deg; m for a prismatic joint] (default for puma560: "
+                        f"{','.join(f'{v:g}' for v in DEFAULT_GOAL_DEG)}; for other robots "
+                        "three quarters of each joint's range)")
     p.add_argument("--setpoints", metavar="N", type=int, default=DEFAULT_SETPOINTS,
                    help=f"number of set points, both ends included (default {DEFAULT_SETPOINTS})")
     p.add_argument("--duration", metavar="T", type=float,
@@ -205,7 +258,7 @@ def _compare_parser():
 
 
 def _control_parser():
-    from .control import DEFAULT_WN, DEFAULT_ZETA
+    from .workflows.control import DEFAULT_WN, DEFAULT_ZETA
 
     p = _Parser(prog=f"{PROG} control",
                 description="Simulate computed-torque control of the full-model arm along a "
@@ -232,7 +285,7 @@ def _control_parser():
 
 
 def _sweep_parser():
-    from .ranking import DEFAULT_DOMINANCE, DEFAULT_NEGLIGIBLE
+    from .core.ranking import DEFAULT_DOMINANCE, DEFAULT_NEGLIGIBLE
 
     p = _Parser(prog=f"{PROG} sweep",
                 description="Rank the G-D elements over many trajectories on dask, give the "
@@ -265,15 +318,15 @@ def _sweep_parser():
 
 
 def _load(robot_arg, csv_arg):
-    from .robot import load_robot
-    from .trajectory import read_trajectory
+    from .core.robot import load_robot
+    from .io.trajectory import read_trajectory
 
     robot = load_robot(robot_arg)
     return robot, read_trajectory(csv_arg, n_joints=robot.n)
 
 
 def _warn_limits(robot, trajectory, quiet):
-    from .trajectory import JointLimitWarning, check_joint_limits
+    from .io.trajectory import JointLimitWarning, check_joint_limits
 
     with warnings.catch_warnings():
         warnings.simplefilter("ignore", JointLimitWarning)
@@ -309,7 +362,6 @@ def _format_summary(ds):
 def _payload_masses(args):
     if args.payload_sweep is None:
         return None
-    from .sweep import parse_range
 
     return parse_range(args.payload_sweep)
 
@@ -319,18 +371,18 @@ def _payload_sweep_dataset(robot, trajectory, args):
     masses = _payload_masses(args)
     if masses is None:
         return None
-    from .sweep import payload_sweep
+    from .io.sweep_datasets import embed_payload
+    from .workflows.payload import payload_sweep
 
     ds = payload_sweep(robot, trajectory, masses, com=args.payload_com,
                        inertia=args.payload_inertia, dominance=args.dominance,
                        negligible=args.negligible)
-    renamed = ds.rename({v: f"payload_{v}" for v in ds.data_vars})
-    return renamed.drop_vars([c for c in ("element_units",) if c in renamed.coords])
+    return embed_payload(ds)
 
 
 def _cmd_analyze(args):
-    from .pipeline import analyze_to_file, progress_bar
-    from .storage import skip_dask
+    from .io.datasets import skip_dask
+    from .workflows.analyze import analyze_to_file, progress_bar
 
     skip_dask()                         # the main job makes no dask arrays: skip its import
     bar = progress_bar(not args.quiet and sys.stderr.isatty())
@@ -358,7 +410,7 @@ def _cmd_analyze(args):
     analysis.model.save(outdir / "simplified_model.json")
     written = [results, outdir / "simplified_model.json"]
     if not args.no_report:
-        from .report import write_report
+        from .reports.main import write_report
 
         bar.reset(total=trajectory.n_setpoints)
         bar.set_description("report")
@@ -377,29 +429,22 @@ def _cmd_analyze(args):
 
 
 def _cmd_plan(args):
-    import numpy as np
-
-    from .robot import load_robot
-    from .trajectory import (DEFAULT_GOAL_DEG, DEFAULT_START_DEG, plan_quintic,
-                             write_trajectory)
+    from .core.robot import load_robot
+    from .io.trajectory import default_motion, plan_quintic, user_positions, write_trajectory
 
     robot = load_robot(args.robot)
-    start, goal = args.start, args.goal
-    if start is None or goal is None:
-        if robot.n != len(DEFAULT_START_DEG):
-            raise InputError(f"{robot.name} has {robot.n} joints: give --start and --goal")
-        start = DEFAULT_START_DEG if start is None else start
-        goal = DEFAULT_GOAL_DEG if goal is None else goal
-    for name, vals in (("--start", start), ("--goal", goal)):
-        if len(vals) != robot.n:
+    start, goal = default_motion(robot)
+    for name, vals in (("--start", args.start), ("--goal", args.goal)):
+        if vals is not None and len(vals) != robot.n:
             raise InputError(f"{name}: {len(vals)} values for {robot.n} joints")
+    start = start if args.start is None else user_positions(robot, args.start)
+    goal = goal if args.goal is None else user_positions(robot, args.goal)
     if args.setpoints < 2:
         raise InputError("--setpoints: a trajectory needs at least 2 set points")
     if args.duration is not None and not args.duration > 0:
         raise InputError("--duration must be positive")
     try:
-        traj = plan_quintic(robot, np.radians(start), np.radians(goal), args.setpoints,
-                            args.duration)
+        traj = plan_quintic(robot, start, goal, args.setpoints, args.duration)
     except ValueError as exc:
         raise InputError(str(exc)) from None
     write_trajectory(traj, args.output)
@@ -412,20 +457,14 @@ def _cmd_plan(args):
 def _cmd_evaluate(args):
     import json
 
-    import numpy as np
-
-    from .dalembert import gd_terms
-    from .simplified import SimplifiedModel, simplified_torque, torque_error
-    from .trajectory import read_trajectory
+    from .core.simplified import SimplifiedModel
+    from .io.trajectory import read_trajectory
+    from .workflows.evaluate import evaluate
 
     model = SimplifiedModel.load(args.model)
     traj = read_trajectory(args.trajectory, n_joints=model.robot.n)
-    terms = gd_terms(model.robot, traj.q, traj.qd)
-    plant = _apply_payload(model.robot, args)
-    tau = (terms if plant is model.robot else gd_terms(plant, traj.q, traj.qd)).tau(traj.qdd)
-    err = torque_error(simplified_torque(terms, model.choices, traj.qdd), tau)
-    rel = np.array([np.nan if v is None else v for v in err["relative_peak_error"]], float)
-    worst = float(np.nanmax(rel)) if np.isfinite(rel).any() else 0.0
+    err = evaluate(model, traj, plant=_apply_payload(model.robot, args))
+    worst = err.pop("max_relative_peak_error")
     exceeded = args.max_error is not None and worst > args.max_error
     if args.json:
         out = {"model": args.model, "trajectory": args.trajectory,
@@ -454,7 +493,7 @@ def _cmd_evaluate(args):
 def _cmd_compare(args):
     import json
 
-    from .formulations import compare_report, format_compare
+    from .formulations.compare import compare_report, format_compare
 
     robot, traj = _load(args.robot, args.trajectory)
     report = compare_report(robot, traj.q, traj.qd, traj.qdd)
@@ -468,9 +507,11 @@ def _cmd_compare(args):
 def _cmd_control(args):
     import json
 
-    from .control import CONTROL_FILE, run_control, write_control_dataset
-    from .simplified import SimplifiedModel
-    from .trajectory import read_trajectory
+    from .core.simplified import SimplifiedModel
+    from .files import file_sha256
+    from .io.control_dataset import write_control_dataset
+    from .workflows.control import CONTROL_FILE, run_control
+    from .io.trajectory import read_trajectory
 
     model = SimplifiedModel.load(args.model)
     traj = read_trajectory(args.trajectory, n_joints=model.robot.n)
@@ -481,9 +522,8 @@ def _cmd_control(args):
     if outdir.exists() and not outdir.is_dir():
         raise InputError("exists and is not a folder", outdir)
     try:
-        # the file, not the loaded model: the dataset records its path and SHA-256
-        result = run_control(args.model, traj, wn=args.wn, zeta=args.zeta,
-                             q0_offset=args.offset)
+        result = run_control(model, traj, wn=args.wn, zeta=args.zeta, q0_offset=args.offset,
+                             model_path=args.model, model_sha256=file_sha256(args.model))
     except ValueError as exc:
         raise InputError(str(exc)) from None
     outdir.mkdir(parents=True, exist_ok=True)
@@ -491,7 +531,7 @@ def _cmd_control(args):
     write_control_dataset(result, path)
     written = [path]
     if not args.no_report:
-        from .control_report import write_control_report
+        from .reports.control import write_control_report
 
         written += list(write_control_report(path, outdir, paper=args.paper))
     summary = result.summary()
@@ -514,10 +554,12 @@ def _cmd_control(args):
 
 
 def _cmd_sweep(args):
-    from .robot import load_robot
-    from .sweep import (dask_client, merged_model, random_trajectories, run_sweep,
-                        sweep_payloads, write_sweep)
-    from .trajectory import read_trajectory
+    from .core.robot import load_robot
+    from .io.datasets import write_dataset
+    from .io.trajectory import random_trajectories
+    from .workflows.payload import sweep_payloads
+    from .workflows.sweep import dask_client, merged_model, run_sweep
+    from .io.trajectory import read_trajectory
 
     robot = load_robot(args.robot)
     if (args.random is None) == (not args.csv):
@@ -550,13 +592,13 @@ def _cmd_sweep(args):
         raise InputError(f"cannot reach the dask scheduler: {exc}", args.scheduler) from None
     outdir.mkdir(parents=True, exist_ok=True)
     written = [outdir / "sweep.h5", outdir / "merged_model.json"]
-    write_sweep(ds, written[0])
+    write_dataset(ds, written[0])
     merged_model(loaded, ds).save(written[1])
     if payload is not None:
         written.append(outdir / "payload_sweep.h5")
-        write_sweep(payload, written[-1])
+        write_dataset(payload, written[-1])
     if not args.no_report:
-        from .sweep_report import write_sweep_report
+        from .reports.sweep import write_sweep_report
 
         written += list(write_sweep_report(written[0], outdir, payload=payload,
                                            paper=args.paper))

@@ -116,7 +116,7 @@ def write_figure_files(stack, drawn, folder, names):
     ----------
     stack : contextlib.ExitStack
         The files are renamed into place when it closes without an exception
-        (:func:`gd_analyze.storage.atomic_path`).
+        (:func:`gd_analyze.files.atomic_path`).
     drawn : dict
         From :func:`draw_figures`.
     folder : pathlib.Path
@@ -129,7 +129,7 @@ def write_figure_files(stack, drawn, folder, names):
     list of pathlib.Path
         The files, PDF then SVG of each figure in turn.
     """
-    from ..storage import atomic_path
+    from ..files import atomic_path
 
     folder.mkdir(parents=True, exist_ok=True)
     files = []
@@ -228,19 +228,60 @@ class Document:
 
     # ---- blocks ------------------------------------------------------------------------
     def heading(self, text, level=1):
-        """A heading; levels 1 and 2 get a bookmark (level 2 under the last level 1)."""
+        """A heading, kept on a page with the start of what follows it.
+
+        Parameters
+        ----------
+        text : str
+            The heading, wrapped if long.
+        level : {0, 1, 2}, optional
+            0: the document's title (15 pt, no bookmark); 1: a section (13 pt, a bookmark);
+            2: a subsection (10.5 pt, a bookmark under the last section's).
+        """
         self.blocks.append(("heading", (text, level)))
 
     def paragraph(self, text, size=9.0, bold=False, colour="black"):
-        """A paragraph of wrapped text [pt]."""
+        """A paragraph of wrapped text; it may continue on the next page.
+
+        Parameters
+        ----------
+        text : str
+            The text.
+        size : float, optional
+            Type size [pt].
+        bold : bool, optional
+            Bold type.
+        colour : str, optional
+            A matplotlib colour.
+        """
         self.blocks.append(("paragraph", (text, size, bold, colour)))
 
     def table(self, table, size=7.5):
-        """A table as :func:`gd_analyze._reporting.table` makes it; rows may split pages."""
+        """A table in the one table style of the reports: rules above and below the header and
+        at the end, shaded every other row, cells wrapped to their column.
+
+        Parameters
+        ----------
+        table : dict
+            As :func:`gd_analyze.reports.common.table` makes it (header, rows, align, widths,
+            colour_cols: class and yes/no cells drawn in their colour).
+        size : float, optional
+            Type size [pt]. A short table stays on one page; a long one repeats its header on
+            each page.
+        """
         self.blocks.append(("table", (table, size)))
 
     def figure(self, pdf_bytes, size, caption):
-        """A figure (one-page PDF of ``size`` (w, h) [in]) with "Figure k." and its caption.
+        """A figure with "Figure k." and its caption below it.
+
+        Parameters
+        ----------
+        pdf_bytes : bytes
+            The figure as a one-page PDF (:func:`figure_pdf`), placed unscaled if it fits.
+        size : (float, float)
+            Its width and height [in].
+        caption : str
+            What the figure shows.
 
         Returns
         -------

@@ -1,0 +1,772 @@
+"""Report: the stored analysis as one self-contained HTML file and a PDF.
+
+The report reads a results file written by :func:`gd_analyze.workflows.analyze.analyze_to_file` and never
+recomputes the dynamics: every number and curve comes from the dataset's variables and global
+attributes. It has seven parts:
+
+1. the robot (DH table, link inertial parameters) and the trajectory, with joint plots;
+2. the acceleration-related elements of D, translational, rotational and combined, one panel per
+   element with i <= j (the analogue of Fig. 3.10 of Fu, Gonzalez & Lee 1987, Sec. 3.4.1);
+3. the Coriolis and centrifugal elements of h (the analogue of Fig. 3.11);
+4. the dominance ranking;
+5. the simplified model and its torque error;
+6. a comparison with the dominance the chapter reports for its PUMA 560 trajectory;
+7. the provenance.
+
+``report.html`` is one file with no external resources: the figures are inline SVG and the style
+sheet is inline. ``report.pdf`` is written with matplotlib's PdfPages; its text pages are
+matplotlib figures too. Both are written atomically (:func:`gd_analyze.files.atomic_path`).
+
+Long trajectories are drawn through one helper that reduces a series of more than
+:data:`ENVELOPE_THRESHOLD` points to its min/max envelope (:func:`envelope`), one pair per pixel
+column of the panel at 300 dpi and at most :data:`ENVELOPE_COLUMNS` columns, without markers, so
+the figures, and the HTML, stay small whatever the number of set points (about 0.7 MB of HTML
+for 100,000 set points of a 6-joint arm).
+"""
+
+from __future__ import annotations
+
+import contextlib
+import re
+from pathlib import Path
+
+import numpy as np
+
+from .common import CLASS_COLOURS as _CLASS_COLOURS
+from .common import attr as _attr, check as _check, fmt as _fmt, pct as _pct
+from .common import strings as _strings, table as _table, thresholds as _thresholds
+from .common import check_formats, render_template, utc_now
+from .main_figures import RC as FIG_RC, PAGE_WIDTH, identically_zero, plot_data
+from .main_figures import fig_D, fig_h, fig_joints, fig_torque
+from .main_text import captions, conclusion, disagreement_cause, element_scale
+from .pages import PAPER, Document, draw_figures, write_figure_files
+from ..io.sweep_datasets import payload_part
+
+__all__ = [
+    "REPORT_FORMATS", "ENVELOPE_THRESHOLD", "ENVELOPE_COLUMNS", "FIGURE_FILES", "envelope",
+    "make_figures", "render_html", "render_pdf", "write_report",
+]
+
+#: The formats :func:`write_report` can write.
+REPORT_FORMATS = ("html", "pdf")
+#: Series longer than this are drawn as a min/max envelope, without markers.
+ENVELOPE_THRESHOLD = 2000
+#: Columns of the min/max envelope (at most two points each).
+ENVELOPE_COLUMNS = 1000
+_REQUIRED = ("t", "q", "qd", "qdd", "D_tran", "D_rot", "D", "h_tran", "h_rot", "h", "tau",
+             "tau_simplified", "share_tran", "dominance", "chapter_dominance", "choice",
+             "peak_tran", "peak_rot", "peak_total", "tau_error_peak", "tau_error_rms",
+             "tau_peak", "tau_error_relative_peak", "tau_error_relative_rms", "dh_d", "dh_a",
+             "dh_alpha", "dh_offset", "link_mass", "link_com", "link_inertia")
+
+_DERIVATIVES = {
+    "file": "read from the file (columns qd1..qdn, qdd1..qddn)",
+    "cubic-spline": "derived from q by a not-a-knot cubic spline",
+    "quintic": "analytic derivatives of a planned quintic motion",
+}
+_CHOICE_TEXT = {"tran": "translational part only", "rot": "rotational part only",
+                "both": "translational + rotational", "none": "dropped (negligible)"}
+
+
+# --------------------------------------------------------------------------------------------
+# Plotting helpers
+# --------------------------------------------------------------------------------------------
+
+def envelope(x, y, columns=ENVELOPE_COLUMNS):
+    """Reduce a series to its min/max envelope over equal-width columns of x.
+
+    Parameters
+    ----------
+    x : array_like, shape (N,)
+        Abscissae, e.g. time [s] or set point index; sorted here if they are not.
+    y : array_like, shape (N,)
+        Ordinates, any units; NaN values are ignored.
+    columns : int, optional
+        Number of columns (think of pixel columns) the range of x is cut into.
+
+    Returns
+    -------
+    xe, ye : ndarray, shape (M,)
+        The points of the series that are the minimum or the maximum of their column, plus the
+        first and the last point, in order of x; M <= 2 * columns + 2. The global minimum and
+        maximum of y are kept exactly. If N <= 2 * columns the series is returned unchanged
+        (as float copies).
+
+    Raises
+    ------
+    ValueError
+        If x and y are not 1-D of the same length, or columns < 1.
+
+    Notes
+    -----
+    Plotting the envelope instead of every point keeps figures of long trajectories small and
+    fast while drawing the same band a full plot would show at print resolution. Used for the
+    panels of the analogues of Figs. 3.10 and 3.11 (Sec. 3.4.1).
+    """
+    x = np.asarray(x, dtype=float)
+    y = np.asarray(y, dtype=float)
+    if x.ndim != 1 or x.shape != y.shape:
+        raise ValueError(f"x and y must be 1-D of the same length, got {x.shape} and {y.shape}")
+    columns = int(columns)
+    if columns < 1:
+        raise ValueError(f"columns must be >= 1, got {columns}")
+    N = x.size
+    if N <= 2 * columns:
+        return x.copy(), y.copy()
+    if np.any(np.diff(x) < 0):
+        order = np.argsort(x, kind="stable")
+        x, y = x[order], y[order]
+    x0, x1 = x[0], x[-1]
+    if np.isfinite(x0) and np.isfinite(x1) and x1 > x0:
+        col = np.minimum(((x - x0) * (columns / (x1 - x0))).astype(np.intp), columns - 1)
+    else:                                   # degenerate or non-finite x: equal counts
+        col = (np.arange(N) * columns) // N
+    starts = np.flatnonzero(np.r_[True, col[1:] != col[:-1]])
+    seg = np.repeat(np.arange(starts.size), np.diff(np.r_[starts, N]))
+    with np.errstate(invalid="ignore"):
+        ymin = np.fmin.reduceat(y, starts)
+        ymax = np.fmax.reduceat(y, starts)
+
+    def first_hit(target):
+        hit = np.flatnonzero(y == target[seg])          # NaN never matches
+        found, first = np.unique(seg[hit], return_index=True)
+        idx = starts.copy()                             # an all-NaN column: its first point
+        idx[found] = hit[first]
+        return idx
+
+    idx = np.unique(np.concatenate([first_hit(ymin), first_hit(ymax), [0, N - 1]]))
+    return x[idx], y[idx]
+
+
+# --------------------------------------------------------------------------------------------
+# Figures
+# --------------------------------------------------------------------------------------------
+
+#: File names (without extension) of the figures in ``OUTDIR/figures/``, by figure key.
+FIGURE_FILES = {"joints": "fig_joints_q_qd_qdd", "D": "fig_3_10_D", "h": "fig_3_11_h",
+                "torque": "fig_torque_full_vs_simplified", "payload": "fig_payload_dominance",
+                "formulations": "fig_table_3_5_operation_counts"}
+_FIGURE_ORDER = ("joints", "D", "h", "torque", "payload", "formulations")
+
+
+def _zero_mask(ds):
+    labels = _strings(ds["element"].values)
+    scale = element_scale(labels, ds["peak_total"].values, ds["tau_peak"].values)
+    return labels, identically_zero(ds["peak_tran"].values, ds["peak_rot"].values,
+                                    ds["peak_total"].values, scale)
+
+
+def make_figures(ds, data=None):
+    """Make the report's figures from a stored analysis.
+
+    Parameters
+    ----------
+    ds : xarray.Dataset
+        A dataset as :func:`gd_analyze.io.datasets.build_dataset` makes it (N set points, n joints):
+        t (N,) [s]; q, qd, qdd (N, n) [rad, rad/s, rad/s^2]; D_tran, D_rot, D (N, n, n)
+        [kg m^2]; h_tran, h_rot, h, tau, tau_simplified (N, n) [N m]; the ranking (M,).
+    data : PlotData, optional
+        The series to draw (:func:`gd_analyze.reports.main_figures.plot_data`); read from
+        ``ds`` if not given.
+
+    Returns
+    -------
+    dict of str to matplotlib.figure.Figure
+        ``"joints"``, ``"D"`` (analogue of Fig. 3.10: the n x n upper triangle of D_ij),
+        ``"h"`` (Fig. 3.11), ``"torque"``, and ``"payload"`` and ``"formulations"`` if the
+        dataset holds them; sized for print (7.2 in wide, type >= 7 pt), time [s] on x.
+
+    Raises
+    ------
+    KeyError
+        If a variable the figures need is missing from ``ds``.
+
+    Notes
+    -----
+    Source: Sec. 3.4.1 and Figs. 3.10-3.11 of Fu, Gonzalez & Lee (1987).
+    """
+    import matplotlib
+
+    if data is None:
+        data = plot_data(ds)
+    labels, zero = _zero_mask(ds)
+    zero = dict(zip(labels, zero))
+    dom = dict(zip(labels, _strings(ds["dominance"].values)))
+    s, e = _thresholds(ds)
+    with matplotlib.rc_context(FIG_RC):
+        figures = {"joints": fig_joints(data), "D": fig_D(data, dom, zero, s, e),
+                   "h": fig_h(data, dom, zero),
+                   "torque": fig_torque(data, ds["tau_error_peak"].values,
+                                        ds["tau_error_relative_peak"].values)}
+        if "payload_share_tran" in ds.variables:
+            from .figures import payload_figure
+
+            figures["payload"] = payload_figure(payload_part(ds))
+        if "op_multiplications" in ds.variables:
+            figures["formulations"] = _fig_formulations(ds)
+    return {k: figures[k] for k in _FIGURE_ORDER if k in figures}
+
+
+_FORMULATION_STYLE = {"lagrange-euler": ("L-E", "#0072B2", "o", "-"),
+                      "newton-euler": ("N-E", "#D55E00", "s", "-"),
+                      "gd": ("G-D", "#6A3D9A", "^", "-")}
+
+
+def _fig_formulations(ds):
+    from matplotlib.figure import Figure
+
+    n = ds["dof"].values
+    names = _strings(ds["formulation"].values)
+    W, H = PAGE_WIDTH, 2.9
+    fig = Figure(figsize=(W, H))
+    for k, op in enumerate(("multiplications", "additions")):
+        ax = fig.add_axes(((0.65 + k * 3.55) / W, 0.75 / H, 2.85 / W, (H - 1.0) / H))
+        for name, (short, colour, marker, ls) in _FORMULATION_STYLE.items():
+            if name not in names:
+                continue
+            j = names.index(name)
+            ax.loglog(n, ds[f"op_{op}"].values[:, j], color=colour, marker=marker,
+                      markersize=3.5, linestyle=ls, linewidth=1.0,
+                      label=f"{short} as implemented")
+            ax.loglog(n, ds[f"op_{op}_table_3_5"].values[:, j], color=colour,
+                      linestyle="--", linewidth=0.9, label=f"{short} Table 3.5")
+        ax.set_title(f"{op} per set point")
+        ax.set_xlabel("number of joints n", labelpad=1.0)
+        ax.set_ylabel(op, labelpad=1.0)
+        ax.grid(True, which="major", linewidth=0.3)
+    fig.legend(*fig.axes[0].get_legend_handles_labels(), loc="lower center", ncol=3,
+               frameon=False, bbox_to_anchor=(0.5, 0.0))
+    return fig
+
+
+# --------------------------------------------------------------------------------------------
+# Content shared by the HTML and the PDF
+# --------------------------------------------------------------------------------------------
+
+def _units(text):
+    return str(text).replace("m2", "m\u00b2").replace("s-2", "s\u207b\u00b2") \
+        .replace("s-1", "s\u207b\u00b9")
+
+
+def _kv(rows):
+    return _table(["item", "value"], rows, widths=[1.2, 3.4])
+
+
+def _report_context(ds):
+    """Everything both reports print, as strings and tables (no figures)."""
+    from .._version import __version__
+
+    _check(ds, _REQUIRED, "results")
+    n = ds.sizes["joint"]
+    t = ds["t"].values
+    N = t.size
+    labels = _strings(ds["element"].values)
+    dominance = _strings(ds["dominance"].values)
+    chapter = _strings(ds["chapter_dominance"].values)
+    choice = _strings(ds["choice"].values)
+    el_units = (_strings(ds["element_units"].values) if "element_units" in ds.variables
+                else ["kg m2" if lab.startswith("D") else "N m" for lab in labels])
+    s, e = _thresholds(ds)
+    robot_name = _attr(ds, "robot", "robot")
+    now = utc_now()
+
+    # 1. robot and trajectory
+    robot_kv = _kv([
+        ("name", robot_name), ("description", _attr(ds, "robot_description")),
+        ("reference", _attr(ds, "robot_reference")), ("robot file", _attr(ds, "robot_source")),
+        ("robot file SHA-256", _attr(ds, "robot_sha256")), ("joints n", str(n)),
+        ("gravity g [m/s\u00b2]", _attr(ds, "gravity")),
+    ])
+    com = ds["link_com"].values
+    inertia = ds["link_inertia"].values
+    dh = _table(
+        ["joint", "d [m]", "a [m]", "\u03b1 [deg]", "offset [deg]"],
+        [[str(k + 1), _fmt(ds["dh_d"].values[k]), _fmt(ds["dh_a"].values[k]),
+          _fmt(np.degrees(ds["dh_alpha"].values[k])),
+          _fmt(np.degrees(ds["dh_offset"].values[k]))] for k in range(n)],
+        align=["left"] + ["right"] * 4, widths=[0.8, 1, 1, 1, 1])
+    link = _table(
+        ["joint", "mass [kg]", "com x [m]", "com y [m]", "com z [m]", "Ixx [kg m\u00b2]",
+         "Iyy [kg m\u00b2]", "Izz [kg m\u00b2]"],
+        [[str(k + 1), _fmt(ds["link_mass"].values[k]), _fmt(com[k, 0]), _fmt(com[k, 1]),
+          _fmt(com[k, 2]), _fmt(inertia[k, 0, 0]), _fmt(inertia[k, 1, 1]),
+          _fmt(inertia[k, 2, 2])] for k in range(n)],
+        align=["left"] + ["right"] * 7, widths=[0.7] + [1] * 7)
+    derivatives = str(ds.attrs.get("derivatives", ""))
+    sha_in = _attr(ds, "input_sha256", "")
+    traj_kv = _kv([
+        ("source file", _attr(ds, "input_file")), ("path", _attr(ds, "input_path")),
+        ("SHA-256", sha_in or "\u2014 (not read from a file)"),
+        ("set points N", str(N)),
+        ("duration [s]",
+         f"{_fmt(t[-1] - t[0], 6)}  (t = {_fmt(t[0], 6)} \u2026 {_fmt(t[-1], 6)})"),
+        ("derivatives", f"{derivatives}: {_DERIVATIVES.get(derivatives, 'as recorded')}"
+         if derivatives else "\u2014"),
+    ])
+    q, qd, qdd = (np.degrees(ds[v].values) for v in ("q", "qd", "qdd"))
+    joints = _table(
+        ["joint", "q min [deg]", "q max [deg]", "peak |q\u0307| [deg/s]",
+         "peak |q\u0308| [deg/s\u00b2]"],
+        [[str(k + 1), _fmt(q[:, k].min()), _fmt(q[:, k].max()), _fmt(np.abs(qd[:, k]).max()),
+          _fmt(np.abs(qdd[:, k]).max())] for k in range(n)],
+        align=["left"] + ["right"] * 4, widths=[0.6, 1, 1, 1.2, 1.2])
+
+    # 4. ranking
+    share = ds["share_tran"].values
+    zero = _zero_mask(ds)[1]
+    pt, pr, ptot = ds["peak_tran"].values, ds["peak_rot"].values, ds["peak_total"].values
+    ranking = _table(
+        ["element", "share_tran", "class", "peak_tran", "peak_rot", "peak_total", "units"],
+        [[lab, "\u2261 0" if zero[k] else (_fmt(share[k], 3) if np.isfinite(share[k])
+                                             else "n/a"), dominance[k],
+          _fmt(pt[k]), _fmt(pr[k]), _fmt(ptot[k]), _units(el_units[k])]
+         for k, lab in enumerate(labels)],
+        align=["left", "right", "left", "right", "right", "right", "left"],
+        widths=[0.8, 0.9, 1.2, 1, 1, 1, 0.8], colour_cols=[2])
+    counts = {c: dominance.count(c) for c in _CLASS_COLOURS}
+
+    # 5. simplified model and torque error
+    choices = _table(
+        ["element", "class", "kept part", "meaning"],
+        [[lab, dominance[k], choice[k], _CHOICE_TEXT.get(choice[k], "")]
+         for k, lab in enumerate(labels)],
+        widths=[0.8, 1.2, 0.8, 2.2], colour_cols=[1])
+    err = _table(
+        ["joint", "peak |\u03c4\u209b\u2212\u03c4| [N m]", "RMS |\u03c4\u209b\u2212\u03c4| [N m]",
+         "peak |\u03c4| [N m]", "peak error / peak |\u03c4|", "RMS error / peak |\u03c4|"],
+        [[str(k + 1), _fmt(ds["tau_error_peak"].values[k]), _fmt(ds["tau_error_rms"].values[k]),
+          _fmt(ds["tau_peak"].values[k]), _pct(ds["tau_error_relative_peak"].values[k]),
+          _pct(ds["tau_error_relative_rms"].values[k])] for k in range(n)],
+        align=["left"] + ["right"] * 5, widths=[0.6, 1.2, 1.2, 1, 1.2, 1.2])
+    rel_peak = ds["tau_error_relative_peak"].values
+    worst = int(np.nanargmax(rel_peak)) if np.any(np.isfinite(rel_peak)) else None
+
+    # 6. comparison with the chapter
+    applicable = n == 6
+    compare_rows, n_agree, n_compared = [], 0, 0
+    for k, (lab, ours, theirs) in enumerate(zip(labels, dominance, chapter)):
+        shown = "\u2261 0" if zero[k] else _fmt(share[k], 3)
+        if theirs:
+            n_compared += 1
+            agree = ours == theirs
+            n_agree += agree
+            compare_rows.append([lab, ours, theirs, "yes" if agree else "no", shown,
+                                 disagreement_cause(lab, ours, theirs, share[k], zero[k], s,
+                                                    robot_name)])
+        else:
+            compare_rows.append([lab, ours, "\u2014", "\u2014", shown, ""])
+    if applicable:
+        note = ("The chapter reads these classes by eye off Figs. 3.10 and 3.11 for its own "
+                "PUMA 560 trajectory of 31 set points; it notes that the simplification depends "
+                "on the trajectory, so disagreements are expected for another trajectory. The "
+                "chapter has no 'negligible' class: an element classed negligible here counts "
+                "as a disagreement.")
+        if robot_name.lower() not in ("puma560", "puma 560", "puma-560"):
+            note += (f" This robot ({robot_name}) is not the chapter's PUMA 560: the comparison "
+                     "is indicative only.")
+    else:
+        note = (f"The chapter reports dominance only for the 6-joint PUMA 560 (Sec. 3.4.1); "
+                f"this robot has {n} joint{'s' if n != 1 else ''}, so a comparison is not "
+                "meaningful and none is made.")
+    compare = _table(["element", "our class", "chapter's class", "agree", "share_tran", "cause"],
+                     compare_rows, align=["left"] * 4 + ["right", "left"],
+                     widths=[0.6, 1.05, 1.05, 0.45, 0.85, 4.0], colour_cols=[1, 2, 3])
+
+    # 7. provenance
+    prov = [
+        ("report made by", f"gd-analyze {__version__}"),
+        ("analysis made by", f"gd-analyze {_attr(ds, 'gd_analyze_version')}"),
+        ("dataset history", _attr(ds, "history")),
+        ("report created", now.isoformat()),
+        ("input file", _attr(ds, "input_path")),
+        ("input SHA-256", sha_in or "\u2014 (not read from a file)"),
+        ("robot file", _attr(ds, "robot_source")),
+        ("robot file SHA-256", _attr(ds, "robot_sha256")),
+        ("dominance threshold s", _fmt(s, 6)),
+        ("negligibility threshold e", _fmt(e, 6)),
+    ]
+    ver_keys = sorted(k for k in ds.attrs if k.startswith("verification_max_rel_error_"))
+    if "verification_passed" in ds.attrs:
+        passed = bool(int(ds.attrs["verification_passed"]))
+        prov.append(("verification against " + _attr(ds, "verification_engine", "Pinocchio"),
+                     ("passed" if passed else "FAILED")
+                     + f" (tolerance {_attr(ds, 'verification_tolerance')}, "
+                     f"{_attr(ds, 'verification_setpoints')} set points checked)"))
+        verified = "passed" if passed else "FAILED"
+    else:
+        prov.append(("verification against Pinocchio", "not run (analysis without check)"))
+        verified = "not run"
+    for key in ver_keys:
+        prov.append((f"max relative error {key[len('verification_max_rel_error_'):]}",
+                     _fmt(ds.attrs[key], 3)))
+    shown = {"robot", "robot_description", "robot_reference", "robot_source", "robot_sha256",
+             "gravity", "gravity_units", "input_file", "input_path", "input_sha256",
+             "derivatives", "dominance_threshold", "negligible_threshold", "history",
+             "gd_analyze_version", "verification_passed", "verification_engine",
+             "verification_tolerance", "verification_setpoints", *ver_keys}
+    for key in sorted(k for k in ds.attrs if k not in shown):
+        prov.append((key, _attr(ds, key)))
+
+    formulations = _formulations_context(ds)
+    payload = _payload_context(ds)
+    title = f"G-D dominance analysis: {robot_name} along {_attr(ds, 'input_file')}"
+    summary = conclusion(labels, dominance, zero, choice, rel_peak,
+                         ds["tau_error_peak"].values, ds["tau_peak"].values)
+    facts = (f"{robot_name}, {n} joints, {N} set points over {_fmt(t[-1] - t[0], 4)} s; "
+             f"{len(labels)} elements ranked with s = {s:g}, e = {e:g}: "
+             + ", ".join(f"{counts[c]} {c}" for c in _CLASS_COLOURS)
+             + f". Verification against Pinocchio: {verified}.")
+    enveloped = N > ENVELOPE_THRESHOLD
+    return {
+        "version": __version__, "title": title, "summary": summary, "robot_name": robot_name,
+        "facts": facts, "intro": _INTRO.format(created=now.isoformat(), version=__version__),
+        "captions": captions(enveloped, N, f"{s:g}", f"{e:g}"),
+        "D_text": _D_TEXT.format(s=f"{s:g}", e=f"{e:g}"),
+        "n": n, "N": N, "s": f"{s:g}", "e": f"{e:g}", "created": now.isoformat(),
+        "robot_kv": robot_kv, "dh": dh, "link": link, "traj_kv": traj_kv, "joints": joints,
+        "ranking": ranking, "counts": counts, "choices": choices, "error": err,
+        "compare": {"applicable": applicable, "note": note, "table": compare,
+                    "n_agree": n_agree, "n_compared": n_compared},
+        "provenance": _kv(prov), "enveloped": enveloped,
+        "formulations": formulations, "payload": payload,
+        "envelope_note": (f"The trajectory has {N} set points: curves are drawn as their "
+                          "min/max envelope over about 400 equal time columns per panel, "
+                          "without markers (the report reads the stored series in chunks)."
+                          if enveloped else ""),
+        "keywords": (f"generalized d'Alembert; G-D dynamics; dominance; {robot_name}; "
+                     f"input {_attr(ds, 'input_file')} sha256 {sha_in or '-'}; "
+                     f"robot sha256 {_attr(ds, 'robot_sha256')}; s={s:g}; e={e:g}; "
+                     f"verification {verified}"),
+    }
+
+
+_INTRO = ("Generalized d'Alembert (G-D) equations of motion split the inertia matrix D and the "
+          "Coriolis and centrifugal vector h of \u03c4 = D(q) q\u0308 + h(q, q\u0307) + c(q) into "
+          "a translational and a rotational part (Fu, Gonzalez & Lee 1987, Robotics, Sec. 3.4, "
+          "Eqs. 3.4-24 to 3.4-28). This report ranks which part dominates each element along "
+          "the trajectory (Sec. 3.4.1, Figs. 3.10 and 3.11). Report created {created} by "
+          "gd-analyze {version} from the stored results; nothing was recomputed.")
+_D_TEXT = ("One panel per element D_ij with i \u2264 j (row i, column j): translational part "
+           "(\u25cb, blue), rotational part (\u00d7, orange) and combined D_ij (\u25b3, black) "
+           "against time [kg m\u00b2]. The title gives the element and its dominance class "
+           "(s = {s}, e = {e}).")
+
+
+def _payload_context(ds):
+    if "payload_share_tran" not in ds.variables:
+        return {"applicable": False, "table": None, "note": ""}
+    part = payload_part(ds)
+    masses = [float(m) for m in part["payload"].values]
+    labels = _strings(part["element"].values)
+    dom = np.array(_strings(part["dominance"].values.ravel())).reshape(part["dominance"].shape)
+    rows = [[lab] + [dom[k, j] for k in range(len(masses))]
+            for j, lab in enumerate(labels) if len(set(dom[:, j])) > 1]
+    table = _table(["element"] + [f"{m:g} kg" for m in masses], rows,
+                   colour_cols=list(range(1, len(masses) + 1)))
+    note = (f"The ranking was repeated with a rigid load of {masses[0]:g} to {masses[-1]:g} kg "
+            f"fixed to the last link (centre of mass {_attr(ds, 'payload_com')} m in link "
+            f"frame n). {len(rows)} of {len(labels)} elements change class with the load; "
+            "they are listed below. The load is merged into link n, so its parallel-axis "
+            "terms about the combined centre of mass count as rotational.")
+    return {"applicable": True, "table": table, "note": note}
+
+
+def _formulations_context(ds):
+    """Agreement and cost tables of L-E, N-E, G-D and Pinocchio, if the dataset has them."""
+    if "formulation_disagreement" not in ds.variables:
+        return {"applicable": False, "note": "The dataset holds no comparison of the "
+                "formulations (made by `gd-analyze ROBOT TRAJECTORY.csv`).",
+                "agreement": None, "costs": None}
+    quantities = _strings(ds["quantity"].values)
+    pairs = _strings(ds["formulation_pair"].values)
+    dis = ds["formulation_disagreement"].values
+    agreement = _table(["pair"] + [f"{q}" for q in quantities],
+                       [[p] + [f"{v:.2e}" for v in dis[i]] for i, p in enumerate(pairs)],
+                       align=["left"] + ["right"] * len(quantities))
+    n = int(ds.attrs.get("formulations_n", ds.sizes["joint"]))
+    names = _strings(ds["formulation"].values)
+    dof = list(ds["dof"].values)
+    rows = []
+    if n in dof:
+        k = dof.index(n)
+        for j, name in enumerate(names):
+            mul, add = ds["op_multiplications"].values[k, j], ds["op_additions"].values[k, j]
+            bm = ds["op_multiplications_table_3_5"].values[k, j]
+            ba = ds["op_additions_table_3_5"].values[k, j]
+            rows.append([name, f"{mul:.0f}", f"{add:.0f}", f"{bm:.0f}", f"{ba:.0f}"])
+    costs = _table(["formulation", "multiplications", "additions", "mult. Table 3.5",
+                    "add. Table 3.5"], rows, align=["left"] + ["right"] * 4)
+    worst = float(np.max(dis)) if dis.size else float("nan")
+    note = (f"Lagrange-Euler (Sec. 3.2), recursive Newton-Euler (Sec. 3.3; D, h and c by "
+            f"probing), the G-D equations (Sec. 3.4) and Pinocchio (crba, rnea) were run on "
+            f"{ds.attrs.get('formulations_setpoints', '?')} set points of the trajectory; the "
+            f"largest relative disagreement of any pair is {worst:.1e}. Operation counts are "
+            f"per set point, counted on the code as implemented (gd: compiled G-D engine, "
+            f"gd-numpy: array engine), beside the formulas of Table 3.5, for n = {n}.")
+    return {"applicable": True, "note": note, "agreement": agreement, "costs": costs}
+
+
+# --------------------------------------------------------------------------------------------
+# Drawing once, HTML and PDF
+# --------------------------------------------------------------------------------------------
+
+def _numbered(ctx, figures):
+    """Figure number and caption ("Figure k. ...") of each figure, in document order."""
+    return {key: f"Figure {k + 1}. {ctx['captions'][key]}" for k, key in enumerate(figures)}
+
+
+def _drawn(figures, pdf=True):
+    """Each figure drawn once as SVG and (if asked) once as PDF: {key: (svg, pdf, size)}."""
+    return draw_figures(figures, FIG_RC, pdf=pdf)
+
+
+def _inline(svg_text, prefix):
+    text = re.sub(r'\bid="', f'id="{prefix}-', svg_text)
+    text = re.sub(r'\bhref="#', f'href="#{prefix}-', text)
+    return re.sub(r"url\(#", f"url(#{prefix}-", text)
+
+
+def render_html(ds, figures=None):
+    """Render the report as one self-contained HTML document.
+
+    Parameters
+    ----------
+    ds : xarray.Dataset
+        A stored analysis (see :func:`make_figures` for the variables used).
+    figures : dict of str to matplotlib.figure.Figure, optional
+        The figures of :func:`make_figures`; made here if not given.
+
+    Returns
+    -------
+    str
+        The HTML document: inline CSS, figures as inline SVG, no external resources. Built
+        with the Jinja2 template ``templates/report.html.j2`` (autoescape on).
+
+    Raises
+    ------
+    InputError
+        If ``ds`` lacks a variable of a gd-analyze results dataset.
+
+    Notes
+    -----
+    Source: Sec. 3.4.1 and Figs. 3.10-3.11 of Fu, Gonzalez & Lee (1987).
+    """
+    ctx = _report_context(ds)
+    if figures is None:
+        figures = make_figures(ds)
+    return _html(ctx, _drawn(figures, pdf=False))
+
+
+def _html(ctx, drawn):
+    from markupsafe import Markup
+
+    svgs = {k: Markup(_inline(svg, f"fig-{k}")) for k, (svg, _, _) in drawn.items()}
+    return render_template("report.html.j2", {**ctx, "figures": svgs,
+                                              "captions": _numbered(ctx, drawn)},
+                           {"class_colours": _CLASS_COLOURS})
+
+
+def render_pdf(ds, path, figures=None, paper="a4"):
+    """Write the report as a PDF document.
+
+    Parameters
+    ----------
+    ds : xarray.Dataset
+        A stored analysis (see :func:`make_figures` for the variables used).
+    path : str or os.PathLike
+        The PDF file to write (not atomically: :func:`write_report` passes a temporary name).
+    figures : dict of str to matplotlib.figure.Figure, optional
+        The figures of :func:`make_figures`; made here if not given.
+    paper : {"a4", "letter"}, optional
+        The size of every page.
+
+    Returns
+    -------
+    int
+        The number of pages written.
+
+    Raises
+    ------
+    InputError
+        If ``ds`` lacks a variable of a gd-analyze results dataset.
+    OSError
+        If the file cannot be written.
+
+    Notes
+    -----
+    The same sections and numbers as the HTML, numbered figures with captions, a bookmark per
+    section (:class:`gd_analyze.reports.pages.Document`). Source: Sec. 3.4.1 and Figs.
+    3.10-3.11 of Fu, Gonzalez & Lee (1987).
+    """
+    ctx = _report_context(ds)
+    if figures is None:
+        figures = make_figures(ds)
+    return _pdf(ctx, _drawn(figures), path, paper)
+
+
+def _pdf(ctx, drawn, path, paper="a4"):
+    caps = {k: c.split(". ", 1)[1] for k, c in _numbered(ctx, drawn).items()}
+    metadata = {
+        "Author": f"gd-analyze {ctx['version']}",
+        "Subject": "Translational and rotational dominance of the generalized d'Alembert "
+                   "dynamics (Fu, Gonzalez & Lee 1987, Sec. 3.4.1, Figs. 3.10-3.11)",
+        "Keywords": ctx["keywords"], "Creator": f"gd-analyze {ctx['version']}",
+        "CreationDate": "D:" + ctx["created"].replace("-", "").replace(":", "")
+                               .replace("T", "")[:14] + "Z",
+    }
+    doc = Document(ctx["title"], paper=paper, metadata=metadata,
+                   footer=f"gd-analyze {ctx['version']}: {ctx['robot_name']}, {ctx['N']} set "
+                          "points")
+
+    def fig(key):
+        if key in drawn:
+            doc.figure(drawn[key][1], drawn[key][2], caps[key])
+
+    doc.heading(ctx["title"], level=0)
+    doc.paragraph(ctx["summary"], size=9.5)
+    doc.paragraph(ctx["facts"], size=9)
+    doc.paragraph(ctx["intro"], size=8.5, colour="0.25")
+    doc.heading("1. Robot and trajectory")
+    doc.heading("1.1 Robot", level=2)
+    doc.table(ctx["robot_kv"])
+    doc.paragraph(_DH_TEXT, size=8.5)
+    doc.table(ctx["dh"])
+    doc.paragraph(_LINK_TEXT, size=8.5)
+    doc.table(ctx["link"])
+    doc.heading("1.2 Trajectory", level=2)
+    doc.table(ctx["traj_kv"])
+    doc.table(ctx["joints"])
+    if ctx["envelope_note"]:
+        doc.paragraph(ctx["envelope_note"], size=8.5)
+    fig("joints")
+    doc.heading("2. Acceleration-related elements of D (analogue of Fig. 3.10)")
+    doc.paragraph(ctx["D_text"], size=8.5)
+    fig("D")
+    doc.heading("3. Coriolis and centrifugal elements of h (analogue of Fig. 3.11)")
+    fig("h")
+    doc.heading("4. Dominance ranking")
+    doc.paragraph(_RANKING_TEXT.format(s=ctx["s"], e=ctx["e"]), size=8.5)
+    doc.paragraph("   ".join(f"{c}: {k}" for c, k in ctx["counts"].items()), size=8.5,
+                  bold=True)
+    doc.table(ctx["ranking"])
+    doc.heading("5. Simplified model and torque error")
+    doc.paragraph(_SIMPLIFIED_TEXT, size=8.5)
+    doc.heading("5.1 Torque error along the trajectory", level=2)
+    doc.table(ctx["error"])
+    fig("torque")
+    doc.heading("5.2 Choice per element", level=2)
+    doc.table(ctx["choices"])
+    doc.heading("6. Comparison with the chapter's PUMA 560")
+    doc.paragraph(ctx["compare"]["note"], size=8.5)
+    if ctx["compare"]["applicable"]:
+        doc.paragraph(f"Agreement: {ctx['compare']['n_agree']} of "
+                      f"{ctx['compare']['n_compared']} elements.", size=9, bold=True)
+        doc.table(ctx["compare"]["table"])
+    if ctx["payload"]["applicable"]:
+        doc.heading("6.1 Dominance against the payload")
+        doc.paragraph(ctx["payload"]["note"], size=8.5)
+        if ctx["payload"]["table"]["rows"]:
+            doc.table(ctx["payload"]["table"])
+        fig("payload")
+    doc.heading("7. Formulations: Lagrange-Euler, Newton-Euler, G-D")
+    doc.paragraph(ctx["formulations"]["note"], size=8.5)
+    if ctx["formulations"]["applicable"]:
+        doc.heading("7.1 Largest relative disagreement per pair", level=2)
+        doc.table(ctx["formulations"]["agreement"])
+        doc.heading("7.2 Operations per set point", level=2)
+        doc.table(ctx["formulations"]["costs"])
+        fig("formulations")
+    doc.heading("8. Provenance")
+    doc.table(ctx["provenance"], size=7)
+    return doc.write(path)
+
+
+_DH_TEXT = "Denavit-Hartenberg parameters (standard form, \u03b8 = q + offset):"
+_LINK_TEXT = ("Link inertial parameters: centre of mass (com) in link frame i, diagonal of the "
+              "inertia tensor about the centre of mass:")
+_RANKING_TEXT = ("For each element, share_tran = \u03a3|tran| / (\u03a3|tran| + \u03a3|rot|) "
+                 "over the set points. An element is negligible if its peak |tran + rot| is "
+                 "below e = {e} times its scale (peak \u221a(D_ii D_jj) for D_ij, peak |\u03c4_i| "
+                 "for h_i); otherwise translational if share_tran \u2265 s = {s}, rotational if "
+                 "share_tran \u2264 1 \u2212 s, and both in between. \u2261 0: zero in every "
+                 "part (below 1e-12 of its scale), so share_tran is rounding noise and is not "
+                 "shown.")
+_SIMPLIFIED_TEXT = ("The simplified model keeps, for each element of D (mirrored to the lower "
+                    "triangle) and of h, only its dominant part \u2014 both parts if neither "
+                    "dominates, nothing if it is negligible; gravity c is kept whole: "
+                    "\u03c4\u209b = D\u209b q\u0308 + h\u209b + c.")
+
+
+# --------------------------------------------------------------------------------------------
+# Entry point
+# --------------------------------------------------------------------------------------------
+
+def write_report(results_path, outdir, formats=REPORT_FORMATS, paper="a4", progress=None):
+    """Write report.html and/or report.pdf, and every figure as PDF and SVG, for an analysis.
+
+    Parameters
+    ----------
+    results_path : str or os.PathLike
+        A results file written by :func:`gd_analyze.workflows.analyze.analyze_to_file`. Only read (long
+        series in chunks): the dynamics are never recomputed.
+    outdir : str or os.PathLike
+        Output folder; made if missing.
+    formats : sequence of str, optional
+        Any of ``"html"`` and ``"pdf"``.
+    paper : {"a4", "letter"}, optional
+        Page size of the PDF.
+    progress : callable, optional
+        Called with a number of set points read (for a progress bar).
+
+    Returns
+    -------
+    list of pathlib.Path
+        The files written: ``outdir/report.html``, ``outdir/report.pdf`` (in the order of
+        ``formats``), then ``outdir/figures/<name>.pdf`` and ``.svg`` per figure
+        (:data:`FIGURE_FILES`).
+
+    Raises
+    ------
+    InputError
+        If the results file is missing, unreadable or not a gd-analyze dataset.
+    ValueError
+        If a format is not one of :data:`REPORT_FORMATS`, none is given, or the paper is
+        unknown.
+    OSError
+        If a file cannot be written.
+
+    Notes
+    -----
+    Each figure is drawn once as SVG (inlined in the HTML and written to ``figures/``) and
+    once as PDF (written to ``figures/`` and placed in the report). Every file is written to a
+    temporary name beside its destination and renamed (:func:`gd_analyze.files.atomic_path`).
+    Source: Sec. 3.4.1 and Figs. 3.10-3.11 of Fu, Gonzalez & Lee (1987).
+    """
+    from ..io.datasets import open_results
+
+    formats = check_formats(formats, REPORT_FORMATS)
+    if paper not in PAPER:
+        raise ValueError(f"paper must be one of {sorted(PAPER)}, got {paper!r}")
+    with open_results(results_path, lazy=True) as ds:   # long series are read in chunks
+        return _write(ds, Path(outdir), formats, paper, progress)
+
+
+def _write(ds, outdir, formats, paper, progress):
+    from ..files import atomic_path
+
+    ctx = _report_context(ds)            # fails early on a dataset that is not ours
+    (outdir / "figures").mkdir(parents=True, exist_ok=True)
+    figures = make_figures(ds, plot_data(ds, progress=progress))
+    drawn = _drawn(figures)
+    for fig in figures.values():
+        fig.clear()
+    paths = {fmt: outdir / f"report.{fmt}" for fmt in formats}
+    with contextlib.ExitStack() as stack:
+        files = write_figure_files(stack, drawn, outdir / "figures", FIGURE_FILES)
+        tmp = {fmt: stack.enter_context(atomic_path(paths[fmt])) for fmt in formats}
+        if "html" in tmp:
+            with open(tmp["html"], "w", encoding="utf-8") as fh:
+                fh.write(_html(ctx, drawn))
+        if "pdf" in tmp:
+            _pdf(ctx, drawn, tmp["pdf"], paper)
+    return [paths[fmt] for fmt in formats] + files

@@ -1,0 +1,435 @@
+"""The main job as a function: robot and trajectory in, verified analysis out.
+
+robot model -> kinematics -> G-D terms -> verification -> ranking -> simplified model -> dataset.
+The command line calls :func:`analyze_to_file` (or :func:`analyze`, in memory) and then writes
+the remaining files; nothing here prints or exits.
+
+There is one per-trajectory path (:func:`analysis_pass`): it computes the G-D terms once per
+set point, chunk by chunk, and hands each chunk to the ranking, to the file, and to the samples
+that the verification against Pinocchio and the comparison of the formulations read. The
+simplified model's torque error needs the ranking of the whole trajectory first, so it is a
+second pass over the same terms: held in memory when there is one chunk (or no file), read
+back from the file otherwise. Nothing is computed twice.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+from .._version import __version__
+from ..core.dalembert import GDTerms, allocate_terms, gd_terms
+from ..core.ranking import DEFAULT_DOMINANCE, DEFAULT_NEGLIGIBLE
+from ..core.simplified import SimplifiedModel, simplified_torque
+from ..formulations.compare import FORMULATIONS_MAX_SETPOINTS
+
+__all__ = ["Analysis", "AnalysisPass", "analysis_pass", "analyze", "analyze_to_file", "verify",
+           "VERIFY_TOLERANCE",
+           "VERIFY_MAX_SETPOINTS", "STREAM_CHUNK", "progress_bar"]
+
+#: Largest relative disagreement with Pinocchio accepted by :func:`verify`.
+VERIFY_TOLERANCE = 1e-9
+#: Set points checked against Pinocchio at most (evenly spread over the trajectory).
+VERIFY_MAX_SETPOINTS = 2000
+#: Set points per chunk when streaming to a file.
+STREAM_CHUNK = 65536
+#: Seconds a run must last before its progress bar appears.
+PROGRESS_DELAY = 1.0
+
+
+@dataclass(frozen=True, eq=False)
+class Analysis:
+    """The result of :func:`analyze`.
+
+    Attributes
+    ----------
+    dataset : xarray.Dataset
+        Everything to store (see :mod:`gd_analyze.io.datasets`).
+    model : SimplifiedModel
+        The simplified model with its validation along the trajectory.
+    verification : dict
+        Largest relative disagreement with Pinocchio per term, the set points checked, and
+        ``passed`` (bool).
+    """
+
+    dataset: object
+    model: SimplifiedModel
+    verification: dict
+
+
+def progress_bar(enabled=True, desc="reading"):
+    """A tqdm progress bar on stderr that counts set points.
+
+    Parameters
+    ----------
+    enabled : bool, optional
+        False: a bar that shows nothing.
+    desc : str, optional
+        The first phase's name.
+
+    Returns
+    -------
+    tqdm.tqdm
+        Appears after :data:`PROGRESS_DELAY` seconds; each phase calls ``reset(total=N)`` and
+        ``set_description``.
+    """
+    from tqdm import tqdm
+
+    return tqdm(total=None, unit=" set points", disable=not enabled,
+                desc=desc, delay=PROGRESS_DELAY, leave=False)
+
+
+def _subsample(N, max_setpoints):
+    return np.unique(np.linspace(0, N - 1, min(N, max_setpoints)).round().astype(int))
+
+
+def _take(terms, rows):
+    return GDTerms(terms.D_tran[rows], terms.D_rot[rows], terms.h_tran[rows], terms.h_rot[rows],
+                   terms.c[rows])
+
+
+def _concat(parts):
+    return GDTerms(*(np.concatenate([getattr(t, f) for t in parts]) if parts else None
+                     for f in ("D_tran", "D_rot", "h_tran", "h_rot", "c")))
+
+
+def _verify_sample(robot, q, qd, terms):
+    """The verification of :func:`verify` on given set points and their G-D terms."""
+    from ..formulations.pinocchio import reference_terms, relative_error
+
+    ref = reference_terms(robot, q, qd)
+    out = {f"max_rel_error_{name}": relative_error(getattr(terms, name), getattr(ref, name))
+           for name in ("D_tran", "D_rot", "h_tran", "h_rot", "D", "h", "c")}
+    worst = max(out.values())
+    out.update(setpoints=int(q.shape[0]), tolerance=VERIFY_TOLERANCE,
+               engine="pinocchio", passed=int(worst <= VERIFY_TOLERANCE))
+    return out
+
+
+def verify(robot, q, qd, terms=None, max_setpoints=VERIFY_MAX_SETPOINTS):
+    """Check G-D terms against Pinocchio's crba, nonLinearEffects and generalized gravity.
+
+    Parameters
+    ----------
+    robot : Robot
+        The arm, with n joints.
+    q, qd : ndarray, shape (N, n)
+        Joint positions [rad] and velocities [rad/s].
+    terms : GDTerms, optional
+        The G-D terms at those N states; computed at the checked set points if not given.
+    max_setpoints : int, optional
+        At most this many set points, evenly spread, are checked.
+
+    Returns
+    -------
+    dict
+        ``max_rel_error_<term>`` for D_tran, D_rot, h_tran, h_rot, D, h and c (each the largest
+        absolute difference over the largest magnitude of Pinocchio's value), ``setpoints``
+        checked, ``tolerance`` and ``passed`` (1 if all are within tolerance, else 0).
+
+    Notes
+    -----
+    The split parts are checked against the half-models with zero rotational inertia and with
+    zero mass (see :mod:`gd_analyze.formulations.pinocchio`).
+    """
+    idx = _subsample(q.shape[0], max_setpoints)
+    sample = gd_terms(robot, q[idx], qd[idx]) if terms is None else _take(terms, idx)
+    return _verify_sample(robot, q[idx], qd[idx], sample)
+
+
+@dataclass(frozen=True, eq=False)
+class AnalysisPass:
+    """What :func:`analysis_pass` produced for one trajectory.
+
+    Attributes
+    ----------
+    ranking : Ranking
+        The dominance of each of the M = n (n + 1) / 2 + n elements.
+    choices : dict
+        Element label -> the part the simplified model keeps.
+    error : dict
+        The simplified model's torque error per joint
+        (:func:`gd_analyze.core.simplified.torque_error`).
+    verification : dict
+        As :func:`verify` returns it; empty if not checked.
+    costs : xarray.Dataset or None
+        :func:`gd_analyze.formulations.compare.formulations_dataset`, if asked for.
+    terms : GDTerms or None
+        The G-D terms at all N set points, held when there is no file to read them back from.
+    tau, tau_simplified : ndarray, shape (N, n) or None
+        Full and simplified torques [N m], held likewise.
+    """
+
+    ranking: object
+    choices: dict
+    error: dict
+    verification: dict
+    costs: object
+    terms: object
+    tau: object
+    tau_simplified: object
+
+
+def analysis_pass(robot, trajectory, dominance=DEFAULT_DOMINANCE, negligible=DEFAULT_NEGLIGIBLE,
+                  check=True, formulations=False, chunk=STREAM_CHUNK, writer=None,
+                  progress=False, terms=None):
+    """The one per-trajectory analysis: the G-D terms once per set point, then everything else.
+
+    Pass 1 computes the terms chunk by chunk and feeds the ranking, the writer and the samples
+    for the verification and the formulations; pass 2 feeds the simplified model's torque
+    error with the same terms (held in memory, or read back from the writer's file).
+
+    Parameters
+    ----------
+    robot : Robot
+        The arm, with n joints.
+    trajectory : Trajectory
+        q, qd, qdd of shape (N, n) [rad, rad/s, rad/s^2].
+    dominance, negligible : float, optional
+        s and e of the ranking.
+    check : bool, optional
+        Verify against Pinocchio on at most :data:`VERIFY_MAX_SETPOINTS` set points.
+    formulations : bool, optional
+        Compare L-E, N-E, G-D and Pinocchio on at most
+        :data:`gd_analyze.formulations.compare.FORMULATIONS_MAX_SETPOINTS` set points.
+    chunk : int, optional
+        Set points per chunk.
+    writer : SetpointWriter, optional
+        Receives the per-set-point variables; with more than one chunk, pass 2 reads the terms
+        back from it instead of holding them.
+    progress : bool or tqdm.tqdm, optional
+        Show a tqdm progress bar on stderr, or use the one given (the command line's, which
+        also covers reading and the report). It counts set points: it restarts at 0 of N for
+        each pass, named "G-D terms" and "simplified model".
+    terms : GDTerms, optional
+        The trajectory's G-D terms, if the caller computed them (a sweep computes many short
+        trajectories in one call); then none are computed here.
+
+    Returns
+    -------
+    AnalysisPass
+
+    Raises
+    ------
+    ValueError
+        If the trajectory does not fit the robot or the thresholds are out of range.
+
+    Notes
+    -----
+    Source: Sec. 3.4.1 of Fu, Gonzalez & Lee (1987); terms from Eqs. (3.4-24) to (3.4-28).
+    """
+    from ..core.ranking import RankingAccumulator
+    from ..core.simplified import TorqueErrorAccumulator
+
+    q, qd, qdd = trajectory.q, trajectory.qd, trajectory.qdd
+    N, n = q.shape
+    chunk = max(1, int(chunk))
+    ranges = [(a, min(a + chunk, N)) for a in range(0, N, chunk)]
+    hold = writer is None or len(ranges) == 1
+    idx_verify = _subsample(N, VERIFY_MAX_SETPOINTS) if check else np.zeros(0, int)
+    idx_form = _subsample(N, FORMULATIONS_MAX_SETPOINTS) if formulations else np.zeros(0, int)
+    sample_idx = np.union1d(idx_verify, idx_form).astype(int)
+    samples, held, held_tau = [], [], []
+    ranker = RankingAccumulator(n)
+    own = not hasattr(progress, "update")
+    bar = progress_bar(bool(progress)) if own else progress
+    bar.reset(total=N)
+    bar.set_description("G-D terms")
+    given = terms
+    # streamed chunks (not held) reuse one set of output buffers: no fresh pages per chunk
+    buf = None if hold or given is not None else allocate_terms(min(chunk, N), n)
+    for a, b in ranges:
+        terms = (gd_terms(robot, q[a:b], qd[a:b], out=buf) if given is None
+                 else _take(given, slice(a, b)))
+        tau = terms.tau(qdd[a:b])
+        ranker.update(terms.D_tran, terms.D_rot, terms.h_tran, terms.h_rot, tau)
+        rows = sample_idx[(sample_idx >= a) & (sample_idx < b)] - a
+        if rows.size:
+            samples.append(_take(terms, rows))
+        if writer is not None:
+            writer.write(a, {"D_tran": terms.D_tran, "D_rot": terms.D_rot, "D": terms.D,
+                             "h_tran": terms.h_tran, "h_rot": terms.h_rot, "h": terms.h,
+                             "c": terms.c, "tau": tau})
+        if hold:
+            held.append(terms)
+            held_tau.append(tau)
+        bar.update(b - a)
+    ranking = ranker.result(dominance=dominance, negligible=negligible)
+    choices = ranking.choices()
+    bar.reset(total=N)
+    bar.set_description("simplified model")
+    errors = TorqueErrorAccumulator(n)
+    tau_s_all = []
+    for k, (a, b) in enumerate(ranges):
+        if hold:
+            terms, tau = held[k], held_tau[k]
+        else:
+            terms = GDTerms(*(writer.read(name, a, b)
+                              for name in ("D_tran", "D_rot", "h_tran", "h_rot", "c")))
+            tau = writer.read("tau", a, b)
+        tau_s = simplified_torque(terms, choices, qdd[a:b])
+        errors.update(tau_s, tau)
+        if writer is not None:
+            writer.write(a, {"tau_simplified": tau_s})
+        else:
+            tau_s_all.append(tau_s)
+        bar.update(b - a)
+    if own:
+        bar.close()
+    sample = _concat(samples)
+    at = {i: k for k, i in enumerate(sample_idx)}
+    verification = {}
+    if check:
+        verification = _verify_sample(robot, q[idx_verify], qd[idx_verify],
+                                      _take(sample, [at[i] for i in idx_verify]))
+    costs = None
+    if formulations:
+        from ..formulations.compare import formulations_dataset
+
+        costs = formulations_dataset(robot, q[idx_form], qd[idx_form], qdd[idx_form],
+                                     gd=_take(sample, [at[i] for i in idx_form]))
+    return AnalysisPass(ranking=ranking, choices=choices, error=errors.result(),
+                 verification=verification, costs=costs,
+                 terms=_concat(held) if writer is None else None,
+                 tau=np.concatenate(held_tau) if writer is None else None,
+                 tau_simplified=np.concatenate(tau_s_all) if writer is None else None)
+
+
+def _model(robot, trajectory, result, dominance, negligible, settings):
+    provenance = {"gd_analyze_version": __version__, "trajectory_file": trajectory.source,
+                  "derivatives": trajectory.derivatives, **(settings or {})}
+    return SimplifiedModel(robot=robot, choices=result.choices,
+                           dominance_threshold=float(dominance),
+                           negligible_threshold=float(negligible),
+                           trajectory_sha256=trajectory.sha256, validation=result.error,
+                           provenance=provenance)
+
+
+def _with_costs(ds, costs):
+    if costs is not None:
+        ds = ds.assign(costs.data_vars)
+        ds.attrs.update(costs.attrs)
+    return ds
+
+
+def analyze(robot, trajectory, dominance=DEFAULT_DOMINANCE, negligible=DEFAULT_NEGLIGIBLE,
+            check=True, settings=None, formulations=False):
+    """Compute, verify, rank and simplify the G-D terms along a trajectory, in memory.
+
+    Parameters
+    ----------
+    robot : Robot
+        The arm, with n joints.
+    trajectory : Trajectory
+        q, qd, qdd of shape (N, n) [rad, rad/s, rad/s^2].
+    dominance : float, optional
+        s, the dominance threshold of the ranking.
+    negligible : float, optional
+        e, the negligibility threshold.
+    check : bool, optional
+        Verify against Pinocchio (:func:`verify`).
+    settings : dict, optional
+        Extra provenance for the dataset's global attributes and the model.
+    formulations : bool, optional
+        Also store the formulations' agreement and operation counts (as
+        :func:`analyze_to_file` does).
+
+    Returns
+    -------
+    Analysis
+        Its dataset holds the per-set-point variables as well as the summary.
+
+    Raises
+    ------
+    ValueError
+        If the trajectory does not fit the robot or the thresholds are out of range.
+
+    Notes
+    -----
+    Source: Sec. 3.4.1 of Fu, Gonzalez & Lee (1987); terms from Eqs. (3.4-24) to (3.4-28).
+    """
+    from ..io.datasets import build_dataset
+
+    N = trajectory.q.shape[0]
+    result = analysis_pass(robot, trajectory, dominance, negligible, check, formulations,
+                           chunk=max(N, 1))
+    ds = build_dataset(robot, trajectory, result.terms, result.ranking, result.tau,
+                       result.tau_simplified, result.choices, result.error,
+                       verification=result.verification, settings=settings)
+    return Analysis(dataset=_with_costs(ds, result.costs),
+                    model=_model(robot, trajectory, result, dominance, negligible, settings),
+                    verification=result.verification)
+
+
+def analyze_to_file(robot, trajectory, path, dominance=DEFAULT_DOMINANCE,
+                    negligible=DEFAULT_NEGLIGIBLE, check=True, settings=None,
+                    chunk=STREAM_CHUNK, progress=False, compress=0, formulations=True,
+                    extra=None):
+    """:func:`analyze`, streamed into a results file in chunks of bounded memory.
+
+    The G-D terms are computed once per set point, chunk by chunk, and written; the simplified
+    model's torque (which needs the ranking of the whole trajectory) is computed in a second
+    pass from the same terms, held in memory when there is one chunk and read back from the
+    file otherwise. Memory stays a few chunks whatever N is.
+
+    Parameters
+    ----------
+    robot : Robot
+        The arm, with n joints.
+    trajectory : Trajectory
+        q, qd, qdd of shape (N, n) [rad, rad/s, rad/s^2].
+    path : str or os.PathLike
+        The results file (netCDF4/HDF5), written under a temporary name and renamed.
+    dominance, negligible : float, optional
+        s and e of the ranking.
+    check : bool, optional
+        Verify against Pinocchio on at most :data:`VERIFY_MAX_SETPOINTS` set points.
+    settings : dict, optional
+        Extra provenance.
+    chunk : int, optional
+        Set points per chunk.
+    progress : bool or tqdm.tqdm, optional
+        As for :func:`analysis_pass`.
+    compress : int, optional
+        gzip level (0-9) of the per-set-point variables; 0 stores them uncompressed.
+    formulations : bool, optional
+        Also store the agreement of L-E, N-E, G-D and Pinocchio on (a sample of) the
+        trajectory and their operation counts
+        (:func:`gd_analyze.formulations.compare.formulations_dataset`).
+    extra : xarray.Dataset, optional
+        More variables to store with the summary (e.g. a payload sweep, dim ``payload``).
+
+    Returns
+    -------
+    Analysis
+        Its dataset is the summary (:func:`gd_analyze.io.datasets.summary_dataset`); the file holds
+        the per-set-point variables as well.
+
+    Raises
+    ------
+    ValueError
+        If the trajectory does not fit the robot or the thresholds are out of range.
+    OSError
+        If the file cannot be written.
+    """
+    from ..files import atomic_path
+    from ..io.datasets import SetpointWriter, append_dataset, summary_dataset
+
+    N, n = trajectory.q.shape
+    with atomic_path(path) as tmp:
+        with SetpointWriter(tmp, N, n, chunk=min(max(1, int(chunk)), 8192),
+                            compress=compress) as out:
+            out.write(0, {"t": trajectory.t, "q": trajectory.q, "qd": trajectory.qd,
+                          "qdd": trajectory.qdd})
+            result = analysis_pass(robot, trajectory, dominance, negligible, check,
+                                   formulations, chunk, writer=out, progress=progress)
+        ds = summary_dataset(robot, trajectory, result.ranking, result.choices, result.error,
+                             result.verification, settings)
+        ds = _with_costs(ds, result.costs)
+        if extra is not None:
+            ds = ds.assign(extra.data_vars)
+        append_dataset(ds, tmp)          # not to_netcdf: it would import dask
+    return Analysis(dataset=ds,
+                    model=_model(robot, trajectory, result, dominance, negligible, settings),
+                    verification=result.verification)

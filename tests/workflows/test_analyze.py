@@ -1,0 +1,126 @@
+import numpy as np
+import xarray as xr
+
+from conftest import SHIPPED
+from gd_analyze.workflows.analyze import analyze, analyze_to_file, verify
+from gd_analyze.core.ranking import RankingAccumulator, rank_dominance
+from gd_analyze.io.trajectory import plan_quintic, read_trajectory
+
+
+def test_streamed_file_equals_the_in_memory_analysis(tmp_path, puma):
+    traj = plan_quintic(puma, np.radians([-60, 20, -150, -80, -60, -120]),
+                        np.radians([60, 110, -60, 80, 60, 120]), n_setpoints=1001)
+    whole = analyze(puma, traj, check=False).dataset
+    path = tmp_path / "results.h5"
+    streamed = analyze_to_file(puma, traj, path, check=True, chunk=97)   # 11 uneven chunks
+    assert streamed.verification["passed"] == 1
+    with xr.open_dataset(path, engine="h5netcdf") as ds:
+        for name in ("t", "q", "D_tran", "D_rot", "D", "h_tran", "h_rot", "h", "c", "tau",
+                     "tau_simplified", "share_tran", "peak_total", "tau_error_rms"):
+            np.testing.assert_allclose(ds[name].values, whole[name].values, rtol=1e-12,
+                                       atol=1e-15, err_msg=name)
+            assert ds[name].attrs["units"] == whole[name].attrs["units"]
+        assert list(ds.dominance.values) == list(whole.dominance.values)
+        assert list(ds.choice.values) == list(whole.choice.values)
+        assert ds.sizes["setpoint"] == 1001
+    assert [p.name for p in tmp_path.iterdir()] == ["results.h5"]
+
+
+def test_ranking_accumulated_in_chunks_equals_the_whole(puma):
+    from gd_analyze import gd_terms
+
+    traj = read_trajectory(SHIPPED, 6)
+    t = gd_terms(puma, traj.q, traj.qd)
+    tau = t.tau(traj.qdd)
+    whole = rank_dominance(t.D_tran, t.D_rot, t.h_tran, t.h_rot, tau)
+    acc = RankingAccumulator(6)
+    for a in range(0, 31, 4):
+        s = slice(a, a + 4)
+        acc.update(t.D_tran[s], t.D_rot[s], t.h_tran[s], t.h_rot[s], tau[s])
+    parts = acc.result()
+    np.testing.assert_allclose(parts.share_tran, whole.share_tran, rtol=1e-13)
+    assert parts.dominance == whole.dominance
+
+
+def test_verify_flags_a_wrong_term(puma):
+    """The check can fail: perturb one term and it no longer passes."""
+    from dataclasses import replace
+
+    from gd_analyze import gd_terms
+
+    traj = read_trajectory(SHIPPED, 6)
+    t = gd_terms(puma, traj.q, traj.qd)
+    assert verify(puma, traj.q, traj.qd, t)["passed"] == 1
+    bad = replace(t, h_rot=t.h_rot * (1 + 1e-6))
+    result = verify(puma, traj.q, traj.qd, bad)
+    assert result["passed"] == 0 and result["max_rel_error_h_rot"] > 1e-7
+
+
+def test_progress_bar_on_request_and_silent_otherwise(tmp_path, puma, capsys, monkeypatch):
+    import gd_analyze.workflows.analyze as pipeline
+
+    traj = read_trajectory(SHIPPED, 6)
+    monkeypatch.setattr(pipeline, "PROGRESS_DELAY", 0.0)
+    analyze_to_file(puma, traj, tmp_path / "a.h5", check=False, formulations=False,
+                    progress=True, chunk=8)
+    err = capsys.readouterr().err
+    # it counts set points, not passes: each pass restarts at 0 of the 31 set points
+    assert "set points/s" in err and "/31" in err and "/62" not in err
+    assert "G-D terms" in err and "simplified model" in err
+    analyze_to_file(puma, traj, tmp_path / "b.h5", check=False, formulations=False,
+                    progress=False, chunk=8)
+    assert capsys.readouterr().err == ""
+
+
+class _CountingEngine:
+    """Wraps a G-D engine (numpy chunk function or compiled kernel) and counts the set points
+    it is asked for; attribute access (e.g. the kernel's ``py_func``) passes through."""
+
+    def __init__(self, fn, q_arg):
+        self.fn, self.q_arg, self.setpoints = fn, q_arg, 0
+
+    def __call__(self, *args, **kwargs):
+        self.setpoints += np.shape(args[self.q_arg])[0]
+        return self.fn(*args, **kwargs)
+
+    def __getattr__(self, name):
+        return getattr(self.fn, name)
+
+
+def _count_gd(monkeypatch):
+    from gd_analyze.core import dalembert, kernels
+
+    numpy_engine = _CountingEngine(dalembert._gd_chunk, 1)      # _gd_chunk(robot, q, qd)
+    compiled = _CountingEngine(kernels.gd_kernel, 0)            # gd_kernel(q, qd, ...)
+    monkeypatch.setattr(dalembert, "_gd_chunk", numpy_engine)
+    monkeypatch.setattr(kernels, "gd_kernel", compiled)
+    return lambda: numpy_engine.setpoints + compiled.setpoints
+
+
+def test_the_main_job_computes_the_terms_once_per_setpoint(tmp_path, monkeypatch, capsys):
+    """Issue 10: ranking, verification, simplified-model error and the formulations' agreement
+    all read the one set of G-D terms; the command computes each set point's terms once."""
+    from gd_analyze.cli import main
+
+    counted = _count_gd(monkeypatch)
+    assert main(["puma560", str(SHIPPED), "-o", str(tmp_path / "out"), "--no-report",
+                 "-q"]) == 0
+    assert counted() == read_trajectory(SHIPPED, n_joints=6).q.shape[0] == 31
+
+
+def test_streaming_in_chunks_still_computes_the_terms_once(tmp_path, monkeypatch, puma):
+    traj = read_trajectory(SHIPPED, n_joints=6)
+    counted = _count_gd(monkeypatch)
+    result = analyze_to_file(puma, traj, tmp_path / "r.h5", chunk=7)     # 5 chunks
+    assert result.verification["passed"] == 1
+    assert counted() == 31
+    counted_mem = _count_gd(monkeypatch)
+    analyze(puma, traj, formulations=True)
+    assert counted_mem() == 31
+
+
+def test_the_count_can_fail(monkeypatch, puma):
+    traj = read_trajectory(SHIPPED, n_joints=6)
+    counted = _count_gd(monkeypatch)
+    verify(puma, traj.q, traj.qd)            # without terms, verify computes its own
+    assert counted() == 31
