@@ -378,6 +378,8 @@ def summary_dataset(robot, trajectory, ranking, choices, error, verification=Non
                                         "peak |tau_simplified - tau| / peak |tau|"),
         "tau_error_relative_rms": var(("joint",), np.array(error["relative_rms_error"]), "1",
                                        "RMS |tau_simplified - tau| / peak |tau|"),
+        "joint_type": var(("joint",), np.array(robot.joint_types, dtype=str), "1",
+                          "joint type: revolute (q in rad) or prismatic (q in m)"),
         "dh_d": var(("joint",), robot.d, "m", "DH link offset d"),
         "dh_a": var(("joint",), robot.a, "m", "DH link length a"),
         "dh_alpha": var(("joint",), robot.alpha, "rad", "DH twist angle alpha"),

@@ -149,9 +149,30 @@ FIGURE_FILES = {"joints": "fig_joints_q_qd_qdd", "D": "fig_3_10_D", "h": "fig_3_
 _FIGURE_ORDER = ("joints", "D", "h", "torque", "payload", "formulations")
 
 
+def prismatic_joints(ds):
+    """Which joints are prismatic (q in m), from the stored ``joint_type`` (all revolute in a
+    dataset without it).
+
+    Parameters
+    ----------
+    ds : xarray.Dataset
+        A stored analysis.
+
+    Returns
+    -------
+    ndarray of bool, shape (n,)
+    """
+    if "joint_type" not in ds.variables:
+        return np.zeros(ds.sizes["joint"], dtype=bool)
+    return np.array([t == "prismatic" for t in _strings(ds["joint_type"].values)])
+
+
 def _zero_mask(ds):
     labels = _strings(ds["element"].values)
-    scale = element_scale(labels, ds["peak_total"].values, ds["tau_peak"].values)
+    if "element_scale" in ds.variables:              # the ranking's own scale, as stored
+        scale = np.asarray(ds["element_scale"].values, dtype=float)
+    else:
+        scale = element_scale(labels, ds["peak_total"].values, ds["tau_peak"].values)
     return labels, identically_zero(ds["peak_tran"].values, ds["peak_rot"].values,
                                     ds["peak_total"].values, scale)
 
@@ -194,7 +215,8 @@ def make_figures(ds, data=None):
     dom = dict(zip(labels, _strings(ds["dominance"].values)))
     s, e = _thresholds(ds)
     with matplotlib.rc_context(FIG_RC):
-        figures = {"joints": fig_joints(data), "D": fig_D(data, dom, zero, s, e),
+        figures = {"joints": fig_joints(data, prismatic_joints(ds)),
+                   "D": fig_D(data, dom, zero, s, e),
                    "h": fig_h(data, dom, zero),
                    "torque": fig_torque(data, ds["tau_error_peak"].values,
                                         ds["tau_error_relative_peak"].values)}
@@ -303,13 +325,16 @@ def _report_context(ds):
         ("derivatives", f"{derivatives}: {_DERIVATIVES.get(derivatives, 'as recorded')}"
          if derivatives else "\u2014"),
     ])
-    q, qd, qdd = (np.degrees(ds[v].values) for v in ("q", "qd", "qdd"))
+    prismatic = prismatic_joints(ds)
+    scale = np.where(prismatic, 1.0, np.degrees(1.0))
+    q, qd, qdd = (ds[v].values * scale for v in ("q", "qd", "qdd"))
     joints = _table(
-        ["joint", "q min [deg]", "q max [deg]", "peak |q\u0307| [deg/s]",
-         "peak |q\u0308| [deg/s\u00b2]"],
-        [[str(k + 1), _fmt(q[:, k].min()), _fmt(q[:, k].max()), _fmt(np.abs(qd[:, k]).max()),
-          _fmt(np.abs(qdd[:, k]).max())] for k in range(n)],
-        align=["left"] + ["right"] * 4, widths=[0.6, 1, 1, 1.2, 1.2])
+        ["joint", "type", "q min", "q max", "peak |q\u0307|", "peak |q\u0308|", "units"],
+        [[str(k + 1), "prismatic" if prismatic[k] else "revolute", _fmt(q[:, k].min()),
+          _fmt(q[:, k].max()), _fmt(np.abs(qd[:, k]).max()), _fmt(np.abs(qdd[:, k]).max()),
+          "m, m/s, m/s\u00b2" if prismatic[k] else "deg, deg/s, deg/s\u00b2"]
+         for k in range(n)],
+        align=["left", "left"] + ["right"] * 4 + ["left"], widths=[0.6, 0.9, 1, 1, 1, 1, 1.5])
 
     # 4. ranking
     share = ds["share_tran"].values

@@ -73,7 +73,7 @@ _ALL_MARKERS, _FEW_MARKERS = 100, 40
 
 # Panel geometry of D and h [in].
 _LEFT, _RIGHT, _WGAP, _HGAP, _TOP, _BOTTOM = 0.5, 0.06, 0.46, 0.3, 0.2, 0.36
-_MIN_PANEL_W = 0.62
+_MIN_PANEL_W = 0.55
 
 
 @dataclass(frozen=True)
@@ -277,13 +277,13 @@ def _zero_panel(ax, x, title):
     ax.grid(False)
 
 
-def _element_panel(ax, x, parts, title, cls, enveloped):
+def _element_panel(ax, x, parts, title, cls, enveloped, nbins=3):
     for part, y in zip(("tran", "rot", "total"), parts):
         _plot(ax, x, y, part, enveloped)
     lo, hi = _limits(*parts)
     ax.set_ylim(lo, hi)
     pad = (hi - lo) / 1.2 * 0.1
-    set_ticks(ax.yaxis, lo + pad, hi - pad, 3)
+    set_ticks(ax.yaxis, lo + pad, hi - pad, nbins)
     ax.set_title(f"{title}: {SHORT_CLASS.get(cls, cls)}", color=_CLASS_COLOURS.get(cls, "black"))
 
 
@@ -313,7 +313,7 @@ def fig_D(data, dominance, zero, s, e):
     Returns
     -------
     matplotlib.figure.Figure
-        7.2 in wide for n <= 7 (wider for n >= 8, with panels of at least 0.62 in); panels of
+        7.2 in wide for n <= 7 (wider for n >= 8, with panels of at least 0.55 in); panels of
         the same size as those of :func:`fig_h`; the legend and key in the empty lower left.
     """
     Dt, Dr, D = (data.series[k] for k in ("D_tran", "D_rot", "D"))
@@ -333,7 +333,7 @@ def fig_D(data, dominance, zero, s, e):
                 _zero_panel(ax, x, label)
             else:
                 _element_panel(ax, x, (Dt[:, i, j], Dr[:, i, j], D[:, i, j]), label,
-                               dominance.get(label, ""), data.enveloped)
+                               dominance.get(label, ""), data.enveloped, 2 if h < 0.6 else 3)
                 first = first or ax
             _time_axis(ax, x, labels=i == j)
             if i == j:
@@ -383,7 +383,7 @@ def fig_h(data, dominance, zero):
     n = hh.shape[1]
     w = _panel_width(n)
     h = _panel_height(w)
-    cols = min(n, max(1, int((PAGE_WIDTH - _LEFT - _RIGHT + _WGAP) // (w + _WGAP))))
+    cols = min(n, max(1, int((PAGE_WIDTH - _LEFT - _RIGHT + _WGAP) / (w + _WGAP) + 1e-6)))
     rows = math.ceil(n / cols)
     W = max(PAGE_WIDTH, _LEFT + _RIGHT + cols * w + (cols - 1) * _WGAP)
     hgap = _HGAP + 0.28
@@ -398,7 +398,7 @@ def fig_h(data, dominance, zero):
             _zero_panel(ax, data.x, label)
         else:
             _element_panel(ax, data.x, (ht[:, i], hr[:, i], hh[:, i]), label,
-                           dominance.get(label, ""), data.enveloped)
+                           dominance.get(label, ""), data.enveloped, 2 if h < 0.6 else 3)
             first = first or ax
         _time_axis(ax, data.x, labels=True)
         ax.set_xlabel("t [s]", labelpad=1.0)
@@ -410,13 +410,16 @@ def fig_h(data, dominance, zero):
     return fig
 
 
-def fig_joints(data):
+def fig_joints(data, prismatic=None):
     """q, qd and qdd of every joint against time, side by side [deg, deg/s, deg/s^2].
 
     Parameters
     ----------
     data : PlotData
-        With ``q``, ``qd``, ``qdd`` (M, n) [rad, rad/s, rad/s^2] and time x [s].
+        With ``q``, ``qd``, ``qdd`` (M, n) [rad, rad/s, rad/s^2; m, m/s, m/s^2 for a prismatic
+        joint] and time x [s].
+    prismatic : ndarray of bool, shape (n,), optional
+        Prismatic joints, drawn in mm (mm/s, mm/s^2) and named in the axis label.
 
     Returns
     -------
@@ -432,10 +435,15 @@ def fig_joints(data):
     from matplotlib import colormaps
 
     cmap = colormaps["tab10"]
-    spec = (("q", "q [deg]"), ("qd", "q\u0307 [deg/s]"), ("qdd", "q\u0308 [deg/s\u00b2]"))
+    prismatic = np.zeros(n, bool) if prismatic is None else np.asarray(prismatic, bool)
+    scale = np.where(prismatic, 1000.0, np.degrees(1.0))
+    lin = ", ".join(str(k + 1) for k in np.flatnonzero(prismatic))
+    extra = f"; joint {lin}: mm" if lin else ""
+    spec = (("q", f"q [deg{extra}]"), ("qd", f"q\u0307 [deg/s{extra}/s]"),
+            ("qdd", f"q\u0308 [deg/s\u00b2{extra}/s\u00b2]"))
     for k, (name, ylabel) in enumerate(spec):
         ax = _axes(fig, left + k * (w + gap), 0.55, w, H - 0.55 - 0.45)
-        y = np.degrees(data.series[name])
+        y = data.series[name] * scale
         for jn in range(n):
             ax.plot(data.x, y[:, jn], color=cmap(jn % 10), linestyle=styles[jn % 4],
                     linewidth=0.9, label=f"joint {jn + 1}")

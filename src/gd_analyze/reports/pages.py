@@ -365,13 +365,13 @@ class Document:
 
     def _figure_box(self, w, h, caption, room=None):
         """Size on the page of a w x h figure [in]: (width, height, scale, turned, height with
-        its caption). A figure wider than the text is turned a quarter if it then needs less
-        shrinking."""
+        its caption). A figure much wider than the text (shrunk below 85 %) is turned a quarter
+        if it then needs less shrinking."""
         ch = len(self._wrap(caption, 8.0)) * 8.0 * 1.38 / 72 + 0.08
         room = (self.body if room is None else room) - ch - 0.15
         scale = min(1.0, self.width / w, room / h)
         turned = min(1.0, self.width / h, room / w)
-        rotate = w > self.width and turned > scale
+        rotate = w > self.width and scale < 0.85 and turned > scale
         scale = turned if rotate else scale
         pw, ph = (h, w) if rotate else (w, h)
         return pw, ph, scale, rotate, ph * scale + ch + 0.15
