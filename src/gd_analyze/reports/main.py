@@ -39,7 +39,7 @@ from .common import check_formats, render_template, utc_now
 from .main_figures import RC as FIG_RC, PAGE_WIDTH, identically_zero, plot_data
 from .main_figures import fig_D, fig_h, fig_joints, fig_torque
 from .main_text import captions, conclusion, disagreement_cause, element_scale
-from .pages import PAPER, Document, draw_figures, write_figure_files
+from .pages import PAPER, Document, draw_figures, no_gc, write_figure_files
 from ..io.sweep_datasets import payload_part
 
 __all__ = [
@@ -236,6 +236,9 @@ _FORMULATION_STYLE = {"lagrange-euler": ("L-E", "#0072B2", "o", "-"),
 
 def _fig_formulations(ds):
     from matplotlib.figure import Figure
+    from matplotlib.ticker import NullFormatter
+
+    from .ticks import formatter as tick_formatter
 
     n = ds["dof"].values
     names = _strings(ds["formulation"].values)
@@ -252,6 +255,9 @@ def _fig_formulations(ds):
                       label=f"{short} as implemented")
             ax.loglog(n, ds[f"op_{op}_table_3_5"].values[:, j], color=colour,
                       linestyle="--", linewidth=0.9, label=f"{short} Table 3.5")
+        for axis in (ax.xaxis, ax.yaxis):       # plain labels: no mathtext to parse
+            axis.set_major_formatter(tick_formatter())
+            axis.set_minor_formatter(NullFormatter())
         ax.set_title(f"{op} per set point")
         ax.set_xlabel("number of joints n", labelpad=1.0)
         ax.set_ylabel(op, labelpad=1.0)
@@ -772,7 +778,7 @@ def write_report(results_path, outdir, formats=REPORT_FORMATS, paper="a4", progr
     formats = check_formats(formats, REPORT_FORMATS)
     if paper not in PAPER:
         raise ValueError(f"paper must be one of {sorted(PAPER)}, got {paper!r}")
-    with open_results(results_path, lazy=True) as ds:   # long series are read in chunks
+    with open_results(results_path, lazy=True) as ds, no_gc():   # long series: in chunks
         return _write(ds, Path(outdir), formats, paper, progress)
 
 

@@ -12,13 +12,14 @@ with matplotlib; each figure is drawn once, as its own PDF (the file the report 
 
 from __future__ import annotations
 
+import contextlib
 import io
 import textwrap
 from dataclasses import dataclass, field
 
 import numpy as np
 
-__all__ = ["PAPER", "PAGE_RC", "Document", "figure_pdf", "figure_svg", "draw_figures",
+__all__ = ["PAPER", "PAGE_RC", "no_gc", "Document", "figure_pdf", "figure_svg", "draw_figures",
            "write_figure_files", "TABLE_COLOURS"]
 
 #: Page sizes [in].
@@ -38,6 +39,30 @@ _CHAR = 0.55
 #: rather than leave them alone on the page.
 _TOP_GROUP = 1.0            # mean character width of DejaVu Sans [em]
 _HEADING = {1: 13.0, 2: 10.5, 0: 15.0}
+
+
+@contextlib.contextmanager
+def no_gc():
+    """Pause the cyclic garbage collector while a report is drawn.
+
+    matplotlib makes tens of thousands of small objects per figure; with a large heap (numba,
+    Pinocchio, pandas loaded) each automatic collection rescans it, about a fifth of the
+    drawing time. The garbage of a report is bounded (its figures and pages), so it is left
+    to the collection after the block.
+
+    Yields
+    ------
+    None
+    """
+    import gc
+
+    was = gc.isenabled()
+    gc.disable()
+    try:
+        yield
+    finally:
+        if was:
+            gc.enable()
 
 
 def _save(fig, fmt, rc, metadata):
@@ -88,7 +113,7 @@ def figure_svg(fig, rc=None):
 
 
 def draw_figures(figures, rc, svg=True, pdf=True):
-    """Draw each figure once per format.
+    """Draw each figure once, into SVG and PDF at the same time.
 
     Parameters
     ----------
@@ -97,16 +122,126 @@ def draw_figures(figures, rc, svg=True, pdf=True):
     rc : dict
         rcParams to draw with (the PDF adds :data:`PAGE_RC`: Type 3 fonts).
     svg, pdf : bool, optional
-        Which formats to draw.
+        Which formats to make.
 
     Returns
     -------
     dict of str to (str or None, bytes or None, (float, float))
         SVG text, PDF bytes and size [in] of each figure.
+
+    Notes
+    -----
+    With both formats, one traversal of the figure (layout, ticks, transforms, text metrics)
+    feeds an SVG and a PDF renderer together (:func:`_draw_both`); only the writing of the two
+    files is done twice. Should that fail on some matplotlib version, each format is drawn on
+    its own as :meth:`matplotlib.figure.Figure.savefig` does.
     """
-    return {k: (figure_svg(f, rc) if svg else None,
-                figure_pdf(f, {**rc, **PAGE_RC}) if pdf else None,
-                tuple(float(v) for v in f.get_size_inches())) for k, f in figures.items()}
+    out = {}
+    for k, f in figures.items():
+        size = tuple(float(v) for v in f.get_size_inches())
+        if svg and pdf:
+            try:
+                out[k] = (*_draw_both(f, {**rc, **PAGE_RC}), size)
+                continue
+            except Exception:           # noqa: BLE001 - any failure: the two-pass way below
+                pass
+        out[k] = (figure_svg(f, rc) if svg else None,
+                  figure_pdf(f, {**rc, **PAGE_RC}) if pdf else None, size)
+    return out
+
+
+class _TeeGC:
+    """A graphics context that sets its properties on the SVG and the PDF renderer's own."""
+
+    def __init__(self, a, b):
+        self._pair = (a, b)
+
+    def __getattr__(self, name):
+        a, b = self._pair
+        first = getattr(a, name)
+        if not callable(first):
+            return first
+        second = getattr(b, name)
+
+        def both(*args, **kwargs):
+            result = first(*_side(args, 0), **_side_kw(kwargs, 0))
+            second(*_side(args, 1), **_side_kw(kwargs, 1))
+            return result
+        return both
+
+
+def _side(args, k):
+    return [a._pair[k] if isinstance(a, _TeeGC) else a for a in args]
+
+
+def _side_kw(kwargs, k):
+    return {n: (v._pair[k] if isinstance(v, _TeeGC) else v) for n, v in kwargs.items()}
+
+
+class _TeeRenderer:
+    """Forwards every drawing call to two renderers; answers queries from the first."""
+
+    _QUERIES = {"get_text_width_height_descent", "points_to_pixels", "get_canvas_width_height",
+                "flipy", "option_image_nocomposite", "option_scale_image",
+                "get_image_magnification", "get_texmanager"}
+
+    def __init__(self, a, b):
+        self._pair = (a, b)
+
+    def new_gc(self):
+        return _TeeGC(self._pair[0].new_gc(), self._pair[1].new_gc())
+
+    def draw_text(self, gc, x, y, s, prop, angle, ismath=False, mtext=None):
+        a, b = self._pair
+        a.draw_text(gc._pair[0], x, y, s, prop, angle, ismath=ismath, mtext=mtext)
+        if a.flipy() != b.flipy():          # Text placed y for the first renderer's origin
+            y = b.get_canvas_width_height()[1] - y
+        b.draw_text(gc._pair[1], x, y, s, prop, angle, ismath=ismath, mtext=mtext)
+
+    def __getattr__(self, name):
+        a, b = self._pair
+        first = getattr(a, name)
+        if not callable(first) or name in self._QUERIES:
+            return first
+        second = getattr(b, name)
+
+        def both(*args, **kwargs):
+            result = first(*_side(args, 0), **_side_kw(kwargs, 0))
+            second(*_side(args, 1), **_side_kw(kwargs, 1))
+            return result
+        return both
+
+
+def _draw_both(fig, rc):
+    """One traversal of ``fig`` into a PDF renderer and an SVG renderer: (svg text, pdf
+    bytes), as :meth:`~matplotlib.figure.Figure.savefig` writes them (points, 72 per in)."""
+    import matplotlib
+    from matplotlib import cbook
+    from matplotlib.backends.backend_pdf import PdfFile, RendererPdf
+    from matplotlib.backends.backend_svg import RendererSVG
+
+    pdf_buf, svg_buf = io.BytesIO(), io.StringIO()
+    with matplotlib.rc_context(rc):
+        dpi = fig.dpi
+        with cbook._setattr_cm(fig, dpi=72):
+            w, h = fig.get_size_inches()
+            pdf_file = PdfFile(pdf_buf, metadata={"CreationDate": None, "Creator": None,
+                                                  "Producer": None})
+            try:
+                pdf_file.newPage(w, h)
+                r_pdf = RendererPdf(pdf_file, dpi, h, w)
+                r_svg = RendererSVG(w * 72, h * 72, svg_buf, image_dpi=dpi,
+                                    metadata={"Date": None, "Creator": None, "Format": None,
+                                              "Type": None})
+                fig.draw(_TeeRenderer(r_pdf, r_svg))
+                r_pdf.finalize()
+                r_svg.finalize()
+                pdf_file.finalize()
+            finally:
+                pdf_file.close()
+    text = svg_buf.getvalue()
+    start = text.find("<svg")
+    return (text[start:] if start >= 0 else text), pdf_buf.getvalue()
 
 
 def write_figure_files(stack, drawn, folder, names):
@@ -176,6 +311,58 @@ def _place(writer, target, pdf_bytes, name, x, y, scale, turned_width=None):
         old.get_object().append(op_ref)
     else:
         target[NameObject("/Contents")] = ArrayObject([old, op_ref])
+
+
+def _strings_artist():
+    from matplotlib.artist import Artist
+
+    class Strings(Artist):
+        """Many one-line strings of a text page drawn straight onto the renderer: no Text
+        artist (its layout and bounding boxes) per string. Positions are the tops of the lines
+        [in from the page's top left]; a right-aligned string ends at its x."""
+
+        def __init__(self, page_height):
+            super().__init__()
+            self.set_zorder(5)                  # over the shading of table rows
+            self.H = page_height
+            self.items = []
+
+        def add(self, x, y, s, size, colour, weight, ha):
+            self.items.append((x, y, s, size, colour, weight, ha))
+
+        def draw(self, renderer):
+            from matplotlib.colors import to_rgba
+            from matplotlib.font_manager import FontProperties
+
+            dpi = self.figure.dpi
+            props = {}
+            gc = renderer.new_gc()
+            for x, y, s, size, colour, weight, ha in self.items:
+                if not s:
+                    continue
+                prop = props.get((size, weight))
+                if prop is None:
+                    prop = props[(size, weight)] = FontProperties(
+                        family="DejaVu Sans", size=size, weight=weight)
+                px = x * dpi
+                if ha == "right":
+                    px -= renderer.get_text_width_height_descent(s, prop, ismath=False)[0]
+                baseline = (self.H - y) * dpi - 0.93 * size * dpi / 72     # ascent of DejaVu
+                gc.set_foreground(to_rgba(colour))
+                renderer.draw_text(gc, px, baseline, s, prop, 0.0, ismath=False)
+            gc.restore()
+
+    return Strings
+
+
+def _Strings(page_height):
+    global _STRINGS
+    if _STRINGS is None:
+        _STRINGS = _strings_artist()
+    return _STRINGS(page_height)
+
+
+_STRINGS = None
 
 
 @dataclass
@@ -447,9 +634,11 @@ class Document:
 
         W, H = self.W, self.H
         fig = Figure(figsize=(W, H))
+        strings = _Strings(H)
+        fig.add_artist(strings)
 
-        def text(x, y, s, **kw):
-            fig.text(x / W, 1 - (_MARGIN_TOP + y) / H, s, va="top", **kw)
+        def text(x, y, s, fontsize, color="black", fontweight="normal", ha="left"):
+            strings.add(x, _MARGIN_TOP + y, s, fontsize, color, fontweight, ha)
 
         for kind, p in page.ops:
             if kind == "text":
@@ -481,9 +670,10 @@ class Document:
                              fontsize=spec["size"], ha="right" if right else "left",
                              color=colour, fontweight="bold" if bold else "normal")
                     x += w
-        fig.text(_MARGIN_X / W, 0.4 / H, self.footer, fontsize=7, color="0.4", va="bottom")
-        fig.text(1 - _MARGIN_X / W, 0.4 / H, f"page {number} of {total}", fontsize=7,
-                 color="0.4", va="bottom", ha="right")
+        foot = H - 0.4 - 7 * 1.2 / 72 - _MARGIN_TOP
+        text(_MARGIN_X, foot, self.footer, fontsize=7, color="0.4")
+        text(W - _MARGIN_X, foot, f"page {number} of {total}", fontsize=7, color="0.4",
+             ha="right")
         return fig
 
     def write(self, path):

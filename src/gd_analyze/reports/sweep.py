@@ -36,7 +36,7 @@ from .common import check_formats, grid_shape, render_template
 from .common import utc_now
 from .figures import CLASS_LETTER as _LETTER, PAYLOAD_REQUIRED as _PAYLOAD_REQUIRED
 from .figures import payload_figure
-from .pages import PAPER, Document, draw_figures, figure_svg, write_figure_files
+from .pages import PAPER, Document, draw_figures, figure_svg, no_gc, write_figure_files
 from ..core.ranking import CLASSES
 
 __all__ = ["SWEEP_REPORT_FORMATS", "make_sweep_figures", "render_sweep_html",
@@ -644,8 +644,8 @@ def write_sweep_report(sweep_path, outdir, payload=None, formats=SWEEP_REPORT_FO
     if payload is not None and not hasattr(payload, "data_vars"):
         payload = open_sweep(payload, "payload")
     ctx = _context(ds, payload)
-    figures = make_sweep_figures(ds, payload)
-    drawn = draw_figures(figures, _RC)
+    with no_gc():
+        drawn = draw_figures(make_sweep_figures(ds, payload), _RC)
     outdir = Path(outdir)
     (outdir / "figures").mkdir(parents=True, exist_ok=True)
     written, files = [], []
