@@ -392,3 +392,105 @@ def plan_quintic(robot, q_start, q_goal, n_setpoints=DEFAULT_SETPOINTS, duration
     return Trajectory(t=t, q=q_start + s * dq, qd=sd * dq, qdd=sdd * dq, derivatives="quintic",
                       source=f"quintic {np.degrees(q_start).round(6).tolist()} -> "
                              f"{np.degrees(q_goal).round(6).tolist()} deg, T = {T:.6g} s")
+
+
+#: Where a robot gives no acceleration limit (a URDF has none), ``plan`` takes
+#: qdd_max_i = DEFAULT_QDD_PER_QD * qd_max_i [1/s]: full speed in 0.5 s. (The Panda's published
+#: limits give ratios of 2.9 to 7.7 s^-1, so the default is on the cautious side.)
+DEFAULT_QDD_PER_QD = 2.0
+
+
+def acceleration_limits(robot, qdd_max=None):
+    """The acceleration limits a plan uses, and where they come from.
+
+    Parameters
+    ----------
+    robot : Robot
+        The arm: velocity limits qd_max and acceleration limits qdd_max (NaN where unknown),
+        shape (n,) [rad/s, rad/s^2; m/s, m/s^2 for a prismatic joint].
+    qdd_max : array_like, shape (n,), optional
+        Limits given by the user, in SI units [rad/s^2 or m/s^2]; they replace the robot's.
+
+    Returns
+    -------
+    qdd_max : ndarray, shape (n,)
+        The limits [rad/s^2 or m/s^2].
+    source : str
+        ``"robot"``, ``"--qdd-max"``, or the default's rule and the joints it applies to.
+
+    Raises
+    ------
+    ValueError
+        If given limits do not have n entries or are not finite and positive, or a joint with
+        no acceleration limit has no finite velocity limit either.
+    """
+    n = robot.n
+    if qdd_max is not None:
+        qdd = np.asarray(qdd_max, dtype=float).reshape(-1)
+        if qdd.shape != (n,):
+            raise ValueError(f"{qdd.size} acceleration limits for {n} joints")
+        if not (np.isfinite(qdd).all() and (qdd > 0).all()):
+            raise ValueError("acceleration limits must be finite and positive")
+        return qdd, "--qdd-max"
+    qdd = np.array(robot.qdd_max, dtype=float)
+    missing = ~np.isfinite(qdd)
+    if not missing.any():
+        return qdd, "robot"
+    qd = np.asarray(robot.qd_max, dtype=float)
+    bad = missing & ~(np.isfinite(qd) & (qd > 0))
+    if bad.any():
+        raise ValueError(f"joint {int(np.argmax(bad)) + 1} has neither an acceleration nor a "
+                         "finite velocity limit")
+    qdd[missing] = DEFAULT_QDD_PER_QD * qd[missing]
+    joints = ", ".join(str(j + 1) for j in np.flatnonzero(missing))
+    return qdd, (f"default {DEFAULT_QDD_PER_QD:g} s^-1 x qd_max for joints {joints} (the robot "
+                 "gives no acceleration limits)")
+
+
+def provenance_path(csv_path):
+    """The provenance file written beside a planned trajectory: ``<stem>.provenance.json``.
+
+    Parameters
+    ----------
+    csv_path : str or os.PathLike
+
+    Returns
+    -------
+    pathlib.Path
+
+    Examples
+    --------
+    >>> provenance_path("data/panda_trajectory.csv").name
+    'panda_trajectory.provenance.json'
+    """
+    p = Path(csv_path)
+    return p.with_name(p.stem + ".provenance.json")
+
+
+def write_provenance(csv_path, record):
+    """Write a planned trajectory's provenance beside it, atomically, as JSON.
+
+    Parameters
+    ----------
+    csv_path : str or os.PathLike
+        The trajectory CSV (already written: its SHA-256 is recorded).
+    record : dict
+        Tool, command, robot and settings (JSON-serialisable).
+
+    Returns
+    -------
+    pathlib.Path
+        The file written (:func:`provenance_path`).
+    """
+    import json
+
+    from .storage import atomic_path
+
+    out = provenance_path(csv_path)
+    doc = {**record, "output": Path(csv_path).name, "output_sha256": file_sha256(csv_path)}
+    with atomic_path(out) as tmp:
+        Path(tmp).write_text(json.dumps(doc, indent=2, allow_nan=False) + "\n")
+    return out
+
+
+__all__ += ["DEFAULT_QDD_PER_QD", "acceleration_limits", "provenance_path", "write_provenance"]
