@@ -7,10 +7,11 @@ alone with ``computeGeneralizedGravity``. Dynamics are linear in the link inerti
 whose rotational inertias are all zero gives the translational G-D parts, and one whose masses
 are all zero (rotational inertias kept) gives the rotational parts.
 
-Each Pinocchio joint i is a revolute joint about the z axis of DH frame i-1. Its placement in
-joint i-1 is the rest of link i-1's transform, Trans(0,0,d) Trans(a,0,0) Rot(x, alpha), then the
-offset Rot(z, offset_i); link i's inertia sits in joint i's frame at the same remaining
-transform Trans(0,0,d_i) Trans(a_i,0,0) Rot(x, alpha_i).
+The model is built from the robot's joint model (:mod:`gd_analyze.robot`), whatever its source
+(standard or modified DH, URDF): Pinocchio joint i is a ``JointModelRZ`` (revolute) or
+``JointModelPZ`` (prismatic) whose placement in joint i-1's frame is the SE3 (P_i, t_i), and
+link i's inertia is appended in joint i's frame (the body frame) at its body-frame centre of
+mass with its body-frame inertia tensor.
 """
 
 from __future__ import annotations
@@ -45,7 +46,7 @@ def pinocchio_model(robot, part="full"):
     Returns
     -------
     pinocchio.Model
-        n revolute joints; ``model.gravity`` is the robot's gravity [m/s^2].
+        n revolute (``JointModelRZ``) or prismatic (``JointModelPZ``) joints; ``model.gravity`` is the robot's gravity [m/s^2].
 
     Raises
     ------
@@ -58,29 +59,17 @@ def pinocchio_model(robot, part="full"):
     model = pin.Model()
     model.name = robot.name
     parent = 0
-    placement = pin.SE3.Identity()
+    com, inertia = robot.body_com, robot.body_inertia
     for i in range(robot.n):
-        rest = (pin.SE3(np.eye(3), np.array([robot.a[i], 0.0, robot.d[i]]))
-                * pin.SE3(_rot_x(robot.alpha[i]), np.zeros(3)))
-        joint_placement = placement * pin.SE3(_rot_z(robot.offset[i]), np.zeros(3))
-        jid = model.addJoint(parent, pin.JointModelRZ(), joint_placement, f"joint{i + 1}")
+        placement = pin.SE3(np.array(robot.rotation[i]), np.array(robot.translation[i]))
+        joint = pin.JointModelPZ() if robot.prismatic[i] else pin.JointModelRZ()
+        jid = model.addJoint(parent, joint, placement, f"joint{i + 1}")
         mass = 0.0 if part == "rot" else float(robot.mass[i])
-        inertia = np.zeros((3, 3)) if part == "tran" else np.array(robot.inertia[i])
-        body = pin.Inertia(mass, np.array(robot.com[i]), inertia)
-        model.appendBodyToJoint(jid, rest.act(body), pin.SE3.Identity())
-        parent, placement = jid, rest
+        I = np.zeros((3, 3)) if part == "tran" else np.array(inertia[i])
+        model.appendBodyToJoint(jid, pin.Inertia(mass, np.array(com[i]), I), pin.SE3.Identity())
+        parent = jid
     model.gravity = pin.Motion(np.array(robot.gravity, dtype=float), np.zeros(3))
     return model
-
-
-def _rot_x(angle):
-    c, s = np.cos(angle), np.sin(angle)
-    return np.array([[1.0, 0.0, 0.0], [0.0, c, -s], [0.0, s, c]])
-
-
-def _rot_z(angle):
-    c, s = np.cos(angle), np.sin(angle)
-    return np.array([[c, -s, 0.0], [s, c, 0.0], [0.0, 0.0, 1.0]])
 
 
 @dataclass(frozen=True, eq=False)
