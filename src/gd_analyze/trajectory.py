@@ -390,8 +390,18 @@ def plan_quintic(robot, q_start, q_goal, n_setpoints=DEFAULT_SETPOINTS, duration
     sdd = 60 * u * (1 - u) * (1 - 2 * u) / T**2
     dq = q_goal - q_start
     return Trajectory(t=t, q=q_start + s * dq, qd=sd * dq, qdd=sdd * dq, derivatives="quintic",
-                      source=f"quintic {np.degrees(q_start).round(6).tolist()} -> "
-                             f"{np.degrees(q_goal).round(6).tolist()} deg, T = {T:.6g} s")
+                      source=f"quintic {_display(robot, q_start)} -> {_display(robot, q_goal)} "
+                             f"{'deg' if not _prismatic(robot).any() else 'deg or m'}, "
+                             f"T = {T:.6g} s")
+
+
+def _prismatic(robot):
+    return np.asarray(getattr(robot, "prismatic", np.zeros(robot.n, bool)), bool)
+
+
+def _display(robot, q):
+    """Positions for a message: degrees for revolute joints, metres for prismatic ones."""
+    return np.where(_prismatic(robot), q, np.degrees(q)).round(6).tolist()
 
 
 #: Where a robot gives no acceleration limit (a URDF has none), ``plan`` takes

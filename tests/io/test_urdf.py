@@ -87,7 +87,7 @@ def test_toy_chain_continuous_prismatic_unaligned_axes_side_branch(toy):
     assert chain.joint_names == ("j1", "j2", "j3") and chain.locked == ("jb",)
     assert chain.joints[0]["q_min"] == -math.inf and chain.joints[0]["q_max"] == math.inf
     assert (chain.joints[1]["q_min"], chain.joints[1]["q_max"]) == (-0.1, 0.3)
-    assert chain.joints[1]["qd_max"] == 0.5 and chain.joints[0]["qd_max"] == math.inf
+    assert chain.joints[1]["qd_max"] == 0.5 and chain.joints[0]["qd_max"] == 2.0
     assert all(j["qdd_max"] is None for j in chain.joints)
     assert chain.joints[2]["mass"] == pytest.approx(0.8)       # l3 with the fixed tool
     _check_against_urdf(toy, chain, seed=3)
@@ -140,3 +140,10 @@ def test_axis_rotation(axis):
     assert A @ [0, 0, 1] == pytest.approx(a, abs=1e-15)
     assert A.T @ A == pytest.approx(np.eye(3), abs=1e-15)
     assert np.linalg.det(A) == pytest.approx(1.0, abs=1e-15)
+
+
+def test_missing_velocity_limit_refused(tmp_path):
+    path = tmp_path / "nolimit.urdf"
+    path.write_text(TOY_URDF.replace('<limit velocity="2.0" effort="5"/>', ""))
+    with pytest.raises(InputError, match="joint 'j1' has no velocity limit"):
+        read_urdf_chain(path, tip="tool")

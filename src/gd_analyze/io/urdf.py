@@ -79,7 +79,7 @@ class UrdfChain:
         placement from the previous body frame; ``mass`` [kg]; ``com`` (shape (3,) [m]) and
         ``inertia`` (shape (3, 3) [kg m^2], about the centre of mass), both in this joint's
         body frame; ``q_min``, ``q_max`` [rad or m] (infinite for a continuous joint);
-        ``qd_max`` [rad/s or m/s] (inf where the URDF gives none); ``qdd_max`` None.
+        ``qd_max`` [rad/s or m/s]; ``qdd_max`` None (URDF has no acceleration limits).
     gravity : ndarray, shape (3,)
         Gravity in the base link's frame [m/s^2].
     joint_names, link_names : tuple of str
@@ -89,8 +89,9 @@ class UrdfChain:
     locked : tuple of str
         Moving URDF joints off the chain, locked at q = 0 and merged.
     metadata : dict
-        ``description``, ``reference``, ``source`` and ``sha256`` (of the file's bytes), for
-        :func:`gd_analyze.robot.robot_from_chain`.
+        ``description``, ``reference``, ``source`` and ``sha256`` (of the file's bytes), and
+        ``base_link``, ``tip_link``, ``urdf_joints`` (the chain's joint names) and
+        ``locked_joints``, for :func:`gd_analyze.robot.robot_from_chain`.
     """
 
     name: str
@@ -271,8 +272,9 @@ def read_urdf_chain(path, base=None, tip=None, name=None, description=None, refe
     ------
     InputError
         If the file is missing or not a valid URDF; a link is unknown; the tip is not beyond
-        the base; there are several chains and no tip (the message names the candidate tips); or
-        a chain joint is neither revolute, continuous nor prismatic (floating, planar, ...).
+        the base; there are several chains and no tip (the message names the candidate tips); a
+        chain joint is neither revolute, continuous nor prismatic (floating, planar, ...); or a
+        chain joint has no velocity limit.
 
     Notes
     -----
@@ -306,6 +308,9 @@ def read_urdf_chain(path, base=None, tip=None, name=None, description=None, refe
         lo, hi = ((-math.inf, math.inf) if continuous else
                   (float(model.lowerPositionLimit[iq]), float(model.upperPositionLimit[iq])))
         vmax = float(model.velocityLimit[iv])
+        if not (math.isfinite(vmax) and vmax > 0):
+            raise InputError(f"joint {model.names[j]!r} has no velocity limit: gd-analyze needs "
+                             "one (<limit velocity=\"...\"/>)", path)
         joints.append({
             "type": kind,
             "rotation": np.array(placement.rotation),
@@ -314,7 +319,7 @@ def read_urdf_chain(path, base=None, tip=None, name=None, description=None, refe
             "com": R.T @ np.array(inertia.lever),
             "inertia": R.T @ np.array(inertia.inertia) @ R,
             "q_min": lo, "q_max": hi,
-            "qd_max": vmax if vmax > 0 else math.inf,
+            "qd_max": vmax,
             "qdd_max": None,
         })
         prev = A
@@ -334,7 +339,8 @@ def read_urdf_chain(path, base=None, tip=None, name=None, description=None, refe
                      f"(Pinocchio {pin.__version__})")
     metadata = {"description": description, "reference": reference,
                 "source": str(source if source is not None else path),
-                "sha256": hashlib.sha256(raw).hexdigest()}
+                "sha256": hashlib.sha256(raw).hexdigest(), "base_link": base, "tip_link": tip,
+                "urdf_joints": list(joint_names), "locked_joints": list(locked_names)}
     return UrdfChain(name=robot_name, joints=tuple(joints), gravity=gravity,
                      joint_names=joint_names, link_names=link_names, base=base, tip=tip,
                      locked=locked_names, metadata=metadata)

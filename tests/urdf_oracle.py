@@ -12,7 +12,8 @@ TOY_URDF = """<?xml version="1.0"?>
   <link name="base"><inertial><mass value="2"/>
     <inertia ixx="1" iyy="1" izz="1" ixy="0" ixz="0" iyz="0"/></inertial></link>
   <joint name="j1" type="continuous"><parent link="base"/><child link="l1"/>
-    <origin xyz="0 0 0.3" rpy="0 0.2 0"/><axis xyz="1 1 0"/></joint>
+    <origin xyz="0 0 0.3" rpy="0 0.2 0"/><axis xyz="1 1 0"/>
+    <limit velocity="2.0" effort="5"/></joint>
   <link name="l1"><inertial><origin xyz="0.1 0.02 0.03" rpy="0.1 0.2 0.3"/><mass value="1.5"/>
     <inertia ixx="0.02" iyy="0.03" izz="0.04" ixy="0.001" ixz="0.002" iyz="0.003"/></inertial></link>
   <joint name="j2" type="prismatic"><parent link="l1"/><child link="l2"/>
