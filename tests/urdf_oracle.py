@@ -3,6 +3,11 @@ the URDF's own Pinocchio model evaluated at the chain's joints (the others at q 
 
 import numpy as np
 import pinocchio as pin
+import pytest
+
+#: Tolerance and number of random states of the comparisons with the URDF's own model.
+TOL = 1e-10
+STATES = 200
 
 TOY_URDF = """<?xml version="1.0"?>
 <robot name="toy">
@@ -122,3 +127,12 @@ def worst_relative(values, refs, kind, scale=None):
         scale = np.abs(refs).max(axis=0)
     assert (scale > 0).all(), "a zero scale: the test states do not excite every element"
     return float((np.abs(values - refs) / scale).max())
+
+
+@pytest.fixture(scope="module")
+def toy(tmp_path_factory):
+    """TOY_URDF written to a file: a continuous, a prismatic (-z) and a revolute (y) joint on
+    the chain to 'tool', and a side branch 'side'."""
+    path = tmp_path_factory.mktemp("urdf") / "toy.urdf"
+    path.write_text(TOY_URDF)
+    return path

@@ -9,17 +9,8 @@ from gd_analyze import gd_terms
 from gd_analyze.errors import InputError
 from gd_analyze.io.robots import builtin_robots, is_urdf, load_robot
 from gd_analyze.io.urdf import URDF_BUILTIN, builtin_urdf_path
-from urdf_oracle import TOY_URDF, UrdfOracle, random_chain_states, worst_relative
-
-TOL = 1e-10
-STATES = 200
-
-
-@pytest.fixture(scope="module")
-def toy(tmp_path_factory):
-    path = tmp_path_factory.mktemp("urdf") / "toy.urdf"
-    path.write_text(TOY_URDF)
-    return path
+from urdf_oracle import (STATES, TOL, UrdfOracle, random_chain_states, toy,  # noqa: F401
+                         worst_relative)
 
 
 def test_builtins_and_dispatch():

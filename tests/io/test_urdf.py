@@ -9,18 +9,8 @@ import pytest
 from gd_analyze.errors import InputError
 from gd_analyze.io.urdf import (URDF_BUILTIN, axis_rotation, builtin_urdf_path,
                                 read_urdf_chain)
-from urdf_oracle import (TOY_URDF, UrdfOracle, chain_model, random_chain_states,
-                         worst_relative)
-
-TOL = 1e-10
-STATES = 200
-
-
-@pytest.fixture(scope="module")
-def toy(tmp_path_factory):
-    path = tmp_path_factory.mktemp("urdf") / "toy.urdf"
-    path.write_text(TOY_URDF)
-    return path
+from urdf_oracle import (STATES, TOL, TOY_URDF, UrdfOracle, chain_model,
+                         random_chain_states, toy, worst_relative)  # noqa: F401 (toy)
 
 
 def _check_against_urdf(path, chain, seed):
