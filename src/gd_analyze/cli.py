@@ -186,11 +186,13 @@ def _plan_parser():
     p.add_argument("-o", "--output", metavar="FILE", required=True,
                    help="CSV file to write ('-' for standard output)")
     p.add_argument("--start", metavar="DEG,...", type=_angles,
-                   help="start positions [deg] (default for puma560: "
-                        f"{','.join(f'{v:g}' for v in DEFAULT_START_DEG)})")
+                   help="start positions [deg; m for a prismatic joint] (default for puma560: "
+                        f"{','.join(f'{v:g}' for v in DEFAULT_START_DEG)}; for other robots "
+                        "a quarter of each joint's range)")
     p.add_argument("--goal", metavar="DEG,...", type=_angles,
-                   help="goal positions [deg] (default for puma560: "
-                        f"{','.join(f'{v:g}' for v in DEFAULT_GOAL_DEG)})")
+                   help="goal positions [deg; m for a prismatic joint] (default for puma560: "
+                        f"{','.join(f'{v:g}' for v in DEFAULT_GOAL_DEG)}; for other robots "
+                        "three quarters of each joint's range)")
     p.add_argument("--setpoints", metavar="N", type=int, default=DEFAULT_SETPOINTS,
                    help=f"number of set points, both ends included (default {DEFAULT_SETPOINTS})")
     p.add_argument("--duration", metavar="T", type=float,
@@ -397,32 +399,18 @@ def _cmd_analyze(args):
     return EXIT_OK
 
 
-def _si(robot, values):
-    """Degrees to radians for the revolute joints; prismatic joints' values stay in m."""
-    import numpy as np
-
-    prismatic = np.asarray(getattr(robot, "prismatic", np.zeros(robot.n, bool)), bool)
-    values = np.asarray(values, dtype=float)
-    return np.where(prismatic, values, np.radians(values))
-
-
 def _cmd_plan(args):
-    import numpy as np
-
     from ._version import __version__
-    from .trajectory import (DEFAULT_GOAL_DEG, DEFAULT_START_DEG, acceleration_limits,
-                             plan_quintic, write_provenance, write_trajectory)
+    from .trajectory import (acceleration_limits, default_motion, plan_quintic,
+                             user_positions, write_provenance, write_trajectory)
 
     robot = _load_robot(args)
-    start, goal = args.start, args.goal
-    if start is None or goal is None:
-        if robot.n != len(DEFAULT_START_DEG):
-            raise InputError(f"{robot.name} has {robot.n} joints: give --start and --goal")
-        start = DEFAULT_START_DEG if start is None else start
-        goal = DEFAULT_GOAL_DEG if goal is None else goal
-    for name, vals in (("--start", start), ("--goal", goal)):
-        if len(vals) != robot.n:
+    start, goal = default_motion(robot)
+    for name, vals in (("--start", args.start), ("--goal", args.goal)):
+        if vals is not None and len(vals) != robot.n:
             raise InputError(f"{name}: {len(vals)} values for {robot.n} joints")
+    start = start if args.start is None else user_positions(robot, args.start)
+    goal = goal if args.goal is None else user_positions(robot, args.goal)
     if args.setpoints < 2:
         raise InputError("--setpoints: a trajectory needs at least 2 set points")
     if args.duration is not None and not args.duration > 0:
@@ -434,14 +422,13 @@ def _cmd_plan(args):
         raise InputError(f"{len(qdd_arg)} values for {robot.n} joints", column="--qdd-max")
     try:
         qdd_max, qdd_source = acceleration_limits(
-            robot, None if qdd_arg is None else _si(robot, qdd_arg))
+            robot, None if qdd_arg is None else user_positions(robot, qdd_arg))
     except ValueError as exc:
         raise InputError(str(exc), column="--qdd-max" if qdd_arg is not None else None) \
             from None
     planning = _replace_limits(robot, qdd_max)
     try:
-        traj = plan_quintic(planning, _si(robot, start), _si(robot, goal), args.setpoints,
-                            args.duration)
+        traj = plan_quintic(planning, start, goal, args.setpoints, args.duration)
     except ValueError as exc:
         raise InputError(str(exc)) from None
     write_trajectory(traj, args.output)
@@ -453,7 +440,7 @@ def _cmd_plan(args):
         "robot": robot.name, "robot_source": robot.source, "robot_sha256": robot.sha256,
         **_chain_settings(args),
         "start": [float(v) for v in start], "goal": [float(v) for v in goal],
-        "start_goal_units": "deg (m for a prismatic joint)",
+        "start_goal_units": "rad (m for a prismatic joint)",
         "setpoints": traj.n_setpoints, "duration_s": float(traj.t[-1]),
         "duration_from": "--duration" if args.duration is not None else "limits",
         "qd_max": [float(v) for v in robot.qd_max],

@@ -26,7 +26,7 @@ from .storage import file_sha256
 __all__ = [
     "Trajectory", "read_trajectory", "write_trajectory", "trajectory_columns",
     "quintic_duration", "plan_quintic", "JointLimitWarning", "DEFAULT_START_DEG",
-    "DEFAULT_GOAL_DEG", "DEFAULT_SETPOINTS",
+    "DEFAULT_GOAL_DEG", "DEFAULT_SETPOINTS", "default_motion", "user_positions",
 ]
 
 #: Start of the default planned PUMA 560 motion [deg].
@@ -277,10 +277,15 @@ def check_joint_limits(robot, trajectory):
         out = np.nonzero((q[:, j] < robot.q_min[j]) | (q[:, j] > robot.q_max[j]))[0]
         if out.size:
             k = int(out[0])
+            if getattr(robot, "prismatic", np.zeros(robot.n, bool))[j]:
+                where = (f"{q[k, j]:.4f} m is outside its limits "
+                         f"[{robot.q_min[j]:.4f}, {robot.q_max[j]:.4f}] m")
+            else:
+                where = (f"{math.degrees(q[k, j]):.1f} deg is outside its limits "
+                         f"[{math.degrees(robot.q_min[j]):.0f}, "
+                         f"{math.degrees(robot.q_max[j]):.0f}] deg")
             msg = (f"{trajectory.source}: row {k + 2}, column q{j + 1}: joint {j + 1} at "
-                   f"{math.degrees(q[k, j]):.1f} deg is outside its limits "
-                   f"[{math.degrees(robot.q_min[j]):.0f}, {math.degrees(robot.q_max[j]):.0f}] "
-                   f"deg ({out.size} set points)")
+                   f"{where} ({out.size} set points)")
             warnings.warn(msg, JointLimitWarning, stacklevel=2)
             messages.append(msg)
     return messages
@@ -348,6 +353,51 @@ def quintic_duration(robot, q_start, q_goal):
     return float(max(t_vel.max(), t_acc.max()))
 
 
+def default_motion(robot):
+    """The default start and goal of ``gd-analyze plan`` for a robot.
+
+    Parameters
+    ----------
+    robot : Robot
+        The arm, with n joints and position limits q_min, q_max [rad or m].
+
+    Returns
+    -------
+    q_start, q_goal : ndarray, shape (n,)
+        [rad or m]. The PUMA 560 gets :data:`DEFAULT_START_DEG` -> :data:`DEFAULT_GOAL_DEG`;
+        any other robot moves every joint from a quarter to three quarters of its range, or,
+        where a limit is infinite, from -60 to 60 deg (revolute) or from 0 to 0.2 m
+        (prismatic).
+    """
+    if robot.name == "puma560" and robot.n == len(DEFAULT_START_DEG):
+        return np.radians(DEFAULT_START_DEG), np.radians(DEFAULT_GOAL_DEG)
+    lo, hi = np.asarray(robot.q_min, float), np.asarray(robot.q_max, float)
+    finite = np.isfinite(lo) & np.isfinite(hi)
+    pris = np.asarray(robot.prismatic, bool)
+    start = np.where(finite, lo + 0.25 * (hi - lo), np.where(pris, 0.0, -math.pi / 3))
+    goal = np.where(finite, lo + 0.75 * (hi - lo), np.where(pris, 0.2, math.pi / 3))
+    return start, goal
+
+
+def user_positions(robot, values):
+    """Joint positions given by a user in degrees (revolute) and metres (prismatic), in SI.
+
+    Parameters
+    ----------
+    robot : Robot
+        The arm, with n joints.
+    values : sequence of float, length n
+        [deg] for a revolute joint, [m] for a prismatic one.
+
+    Returns
+    -------
+    ndarray, shape (n,)
+        [rad or m].
+    """
+    values = np.asarray(values, dtype=float)
+    return np.where(np.asarray(robot.prismatic, bool), values, np.radians(values))
+
+
 def plan_quintic(robot, q_start, q_goal, n_setpoints=DEFAULT_SETPOINTS, duration=None):
     """Quintic joint-interpolated rest-to-rest motion at the shortest admissible duration.
 
@@ -389,19 +439,18 @@ def plan_quintic(robot, q_start, q_goal, n_setpoints=DEFAULT_SETPOINTS, duration
     sd = 30 * u**2 * (1 - u) ** 2 / T
     sdd = 60 * u * (1 - u) * (1 - 2 * u) / T**2
     dq = q_goal - q_start
+    pris = np.asarray(getattr(robot, "prismatic", np.zeros(robot.n, bool)), bool)
+    if pris.any():          # degrees for revolute joints, metres for prismatic ones
+        def show(x):
+            return np.where(pris, x, np.degrees(x)).round(6).tolist()
+        units = "deg or m"
+    else:
+        def show(x):
+            return np.degrees(x).round(6).tolist()
+        units = "deg"
     return Trajectory(t=t, q=q_start + s * dq, qd=sd * dq, qdd=sdd * dq, derivatives="quintic",
-                      source=f"quintic {_display(robot, q_start)} -> {_display(robot, q_goal)} "
-                             f"{'deg' if not _prismatic(robot).any() else 'deg or m'}, "
+                      source=f"quintic {show(q_start)} -> {show(q_goal)} {units}, "
                              f"T = {T:.6g} s")
-
-
-def _prismatic(robot):
-    return np.asarray(getattr(robot, "prismatic", np.zeros(robot.n, bool)), bool)
-
-
-def _display(robot, q):
-    """Positions for a message: degrees for revolute joints, metres for prismatic ones."""
-    return np.where(_prismatic(robot), q, np.degrees(q)).round(6).tolist()
 
 
 #: Where a robot gives no acceleration limit (a URDF has none), ``plan`` takes
