@@ -589,7 +589,13 @@ def _cmd_sweep(args):
     settings = {"command": " ".join([PROG] + sys.argv[1:]) if sys.argv else PROG,
                 "payload_mass": float(args.payload or 0.0), **_chain_settings(args)}
     if args.random is not None:
+        from .trajectory import acceleration_limits
+
         settings["seed"] = args.seed
+        try:
+            settings["random_qdd_max_source"] = acceleration_limits(robot)[1]
+        except ValueError as exc:
+            raise InputError(str(exc), robot.source) from None
     try:
         with dask_client(args.scheduler, args.workers) as (client, _):
             ds = run_sweep(loaded, trajectories, args.dominance, args.negligible, client=client,

@@ -331,7 +331,9 @@ def quintic_duration(robot, q_start, q_goal):
     Parameters
     ----------
     robot : Robot
-        The arm, with limits qd_max [rad/s] and qdd_max [rad/s^2], shape (n,).
+        The arm, with limits qd_max [rad/s] and qdd_max [rad/s^2], shape (n,); where qdd_max
+        is NaN (a URDF robot), :func:`acceleration_limits` supplies the default
+        ``DEFAULT_QDD_PER_QD * qd_max``.
     q_start, q_goal : array_like, shape (n,)
         Start and goal positions [rad].
 
@@ -339,6 +341,11 @@ def quintic_duration(robot, q_start, q_goal):
     -------
     float
         Duration T [s]; 0 if start and goal coincide.
+
+    Raises
+    ------
+    ValueError
+        If a joint has neither an acceleration nor a finite velocity limit.
 
     Notes
     -----
@@ -349,7 +356,7 @@ def quintic_duration(robot, q_start, q_goal):
     """
     dq = np.abs(np.asarray(q_goal, float) - np.asarray(q_start, float))
     t_vel = 15.0 * dq / (8.0 * robot.qd_max)
-    t_acc = np.sqrt(10.0 * dq / (math.sqrt(3.0) * robot.qdd_max))
+    t_acc = np.sqrt(10.0 * dq / (math.sqrt(3.0) * acceleration_limits(robot)[0]))
     return float(max(t_vel.max(), t_acc.max()))
 
 

@@ -77,3 +77,13 @@ def test_plan_bad_qdd_max(tmp_path, capsys, value, message):
     err = capsys.readouterr().err
     assert message in err and err.count("\n") == 1
     assert not out.exists() and not provenance_path(out).exists()
+
+
+def test_quintic_duration_uses_the_default_where_no_limit(no_qdd):
+    q0, q1 = np.zeros(6), np.full(6, 1.0)
+    filled = dataclasses.replace(no_qdd, qdd_max=acceleration_limits(no_qdd)[0])
+    T = quintic_duration(no_qdd, q0, q1)
+    assert np.isfinite(T) and T == quintic_duration(filled, q0, q1)
+    slow = dataclasses.replace(no_qdd, qd_max=np.full(6, 100.0))   # acceleration-bound
+    fast = dataclasses.replace(slow, qdd_max=np.array(slow.qdd_max) * 0 + 1e6)
+    assert quintic_duration(slow, q0, q1) > quintic_duration(fast, q0, q1)
