@@ -10,6 +10,7 @@ Nothing in the package imports this module.
 from __future__ import annotations
 
 import argparse
+import decimal
 import math
 import os
 import sys
@@ -31,6 +32,56 @@ class _Parser(argparse.ArgumentParser):
     def error(self, message):
         raise InputError(f"{self.prog}: {message}")
 
+
+
+def parse_range(text, name="--payload-sweep"):
+    """Parse ``"start:stop:step"`` into the values start, start + step, ..., stop (inclusive).
+
+    Parameters
+    ----------
+    text : str
+        E.g. ``"0:2.5:0.5"``; step > 0, stop >= start. The values are computed in decimal
+        arithmetic from the strings, so ``"0:0.3:0.1"`` gives exactly [0.0, 0.1, 0.2, 0.3].
+        stop is included when it lies on the grid; otherwise the last value is the largest
+        grid value below it.
+    name : str, optional
+        The option or column named in error messages.
+
+    Returns
+    -------
+    list of float
+        At least one value.
+
+    Raises
+    ------
+    InputError
+        If the text is not three numbers separated by ``:``, a number is not finite, step is
+        not positive, stop < start, or the range has more than 10,000 values.
+
+    Examples
+    --------
+    >>> parse_range("0:2.5:0.5")
+    [0.0, 0.5, 1.0, 1.5, 2.0, 2.5]
+    """
+    parts = str(text).split(":")
+    if len(parts) != 3:
+        raise InputError(f"expected START:STOP:STEP (e.g. 0:2.5:0.5), got {text!r}",
+                         column=name)
+    try:
+        start, stop, step = (decimal.Decimal(p.strip()) for p in parts)
+    except decimal.InvalidOperation:
+        raise InputError(f"expected three numbers START:STOP:STEP, got {text!r}",
+                         column=name) from None
+    if not all(v.is_finite() for v in (start, stop, step)):
+        raise InputError(f"START, STOP and STEP must be finite, got {text!r}", column=name)
+    if step <= 0:
+        raise InputError(f"STEP must be positive, got {text!r}", column=name)
+    if stop < start:
+        raise InputError(f"STOP must not be below START, got {text!r}", column=name)
+    count = int((stop - start) // step) + 1
+    if count > 10_000:
+        raise InputError(f"the range {text!r} has {count} values (at most 10000)", column=name)
+    return [float(start + k * step) for k in range(count)]
 
 def _fraction(lo, hi, name, lo_open=True):
     def parse(text):
@@ -112,7 +163,7 @@ def _add_payload_sweep_argument(group):
 
 
 def _apply_payload(robot, args):
-    from .robot import with_payload
+    from .core.robot import with_payload
 
     if args.payload is None:
         if any(args.payload_com) or any(args.payload_inertia):
@@ -122,7 +173,7 @@ def _apply_payload(robot, args):
 
 
 def _analyze_parser():
-    from .ranking import DEFAULT_DOMINANCE, DEFAULT_NEGLIGIBLE
+    from .core.ranking import DEFAULT_DOMINANCE, DEFAULT_NEGLIGIBLE
 
     p = _Parser(
         prog=PROG,
@@ -174,9 +225,8 @@ def _version():
 
 
 def _plan_parser():
-    from .trajectory import DEFAULT_GOAL_DEG, DEFAULT_SETPOINTS, DEFAULT_START_DEG
-
-    from .trajectory import DEFAULT_QDD_PER_QD
+    from .io.trajectory import (DEFAULT_GOAL_DEG, DEFAULT_QDD_PER_QD, DEFAULT_SETPOINTS,
+                                DEFAULT_START_DEG)
 
     p = _Parser(prog=f"{PROG} plan",
                 description="Write a quintic rest-to-rest joint trajectory at the shortest "
@@ -237,7 +287,7 @@ def _compare_parser():
 
 
 def _control_parser():
-    from .control import DEFAULT_WN, DEFAULT_ZETA
+    from .workflows.control import DEFAULT_WN, DEFAULT_ZETA
 
     p = _Parser(prog=f"{PROG} control",
                 description="Simulate computed-torque control of the full-model arm along a "
@@ -263,7 +313,7 @@ def _control_parser():
 
 
 def _sweep_parser():
-    from .ranking import DEFAULT_DOMINANCE, DEFAULT_NEGLIGIBLE
+    from .core.ranking import DEFAULT_DOMINANCE, DEFAULT_NEGLIGIBLE
 
     p = _Parser(prog=f"{PROG} sweep",
                 description="Rank the G-D elements over many trajectories on dask, give the "
@@ -296,14 +346,14 @@ def _sweep_parser():
 
 
 def _load(args, csv_arg):
-    from .trajectory import read_trajectory
+    from .io.trajectory import read_trajectory
 
     robot = _load_robot(args)
     return robot, read_trajectory(csv_arg, n_joints=robot.n)
 
 
 def _warn_limits(robot, trajectory, quiet):
-    from .trajectory import JointLimitWarning, check_joint_limits
+    from .io.trajectory import JointLimitWarning, check_joint_limits
 
     with warnings.catch_warnings():
         warnings.simplefilter("ignore", JointLimitWarning)
@@ -339,7 +389,6 @@ def _format_summary(ds):
 def _payload_masses(args):
     if args.payload_sweep is None:
         return None
-    from .sweep import parse_range
 
     return parse_range(args.payload_sweep)
 
@@ -349,7 +398,7 @@ def _payload_sweep_dataset(robot, trajectory, args):
     masses = _payload_masses(args)
     if masses is None:
         return None
-    from .sweep import payload_sweep
+    from .workflows.payload import payload_sweep
 
     ds = payload_sweep(robot, trajectory, masses, com=args.payload_com,
                        inertia=args.payload_inertia, dominance=args.dominance,
@@ -359,7 +408,7 @@ def _payload_sweep_dataset(robot, trajectory, args):
 
 
 def _cmd_analyze(args):
-    from .pipeline import analyze_to_file
+    from .workflows.analyze import analyze_to_file
 
     robot, trajectory = _load(args, args.trajectory)
     _warn_limits(robot, trajectory, args.quiet)
@@ -384,7 +433,7 @@ def _cmd_analyze(args):
     analysis.model.save(outdir / "simplified_model.json")
     written = [results, outdir / "simplified_model.json"]
     if not args.no_report:
-        from .report import write_report
+        from .reports.main import write_report
 
         written += write_report(results, outdir)
     if not args.quiet:
@@ -401,8 +450,8 @@ def _cmd_analyze(args):
 
 def _cmd_plan(args):
     from ._version import __version__
-    from .trajectory import (acceleration_limits, default_motion, plan_quintic,
-                             user_positions, write_provenance, write_trajectory)
+    from .io.trajectory import (acceleration_limits, default_motion, plan_quintic,
+                                user_positions, write_provenance, write_trajectory)
 
     robot = _load_robot(args)
     start, goal = default_motion(robot)
@@ -468,9 +517,9 @@ def _cmd_evaluate(args):
 
     import numpy as np
 
-    from .dalembert import gd_terms
-    from .simplified import SimplifiedModel, simplified_torque, torque_error
-    from .trajectory import read_trajectory
+    from .core.dalembert import gd_terms
+    from .core.simplified import SimplifiedModel, simplified_torque, torque_error
+    from .io.trajectory import read_trajectory
 
     model = SimplifiedModel.load(args.model)
     traj = read_trajectory(args.trajectory, n_joints=model.robot.n)
@@ -508,7 +557,7 @@ def _cmd_evaluate(args):
 def _cmd_compare(args):
     import json
 
-    from .formulations import compare_report, format_compare
+    from .formulations.compare import compare_report, format_compare
 
     robot, traj = _load(args, args.trajectory)
     report = compare_report(robot, traj.q, traj.qd, traj.qdd)
@@ -522,9 +571,11 @@ def _cmd_compare(args):
 def _cmd_control(args):
     import json
 
-    from .control import CONTROL_FILE, run_control, write_control_dataset
-    from .simplified import SimplifiedModel
-    from .trajectory import read_trajectory
+    from .core.simplified import SimplifiedModel
+    from .files import file_sha256
+    from .io.control_dataset import write_control_dataset
+    from .workflows.control import CONTROL_FILE, run_control
+    from .io.trajectory import read_trajectory
 
     model = SimplifiedModel.load(args.model)
     traj = read_trajectory(args.trajectory, n_joints=model.robot.n)
@@ -535,7 +586,8 @@ def _cmd_control(args):
     if outdir.exists() and not outdir.is_dir():
         raise InputError("exists and is not a folder", outdir)
     try:
-        result = run_control(model, traj, wn=args.wn, zeta=args.zeta, q0_offset=args.offset)
+        result = run_control(model, traj, wn=args.wn, zeta=args.zeta, q0_offset=args.offset,
+                             model_path=args.model, model_sha256=file_sha256(args.model))
     except ValueError as exc:
         raise InputError(str(exc)) from None
     outdir.mkdir(parents=True, exist_ok=True)
@@ -543,7 +595,7 @@ def _cmd_control(args):
     write_control_dataset(result, path)
     written = [path]
     if not args.no_report:
-        from .control_report import write_control_report
+        from .reports.control import write_control_report
 
         written += list(write_control_report(path, outdir))
     summary = result.summary()
@@ -566,9 +618,10 @@ def _cmd_control(args):
 
 
 def _cmd_sweep(args):
-    from .sweep import (dask_client, merged_model, random_trajectories, run_sweep,
-                        sweep_payloads, write_sweep)
-    from .trajectory import read_trajectory
+    from .io.datasets import write_dataset
+    from .io.trajectory import random_trajectories, read_trajectory
+    from .workflows.payload import sweep_payloads
+    from .workflows.sweep import dask_client, merged_model, run_sweep
 
     robot = _load_robot(args)
     if (args.random is None) == (not args.csv):
@@ -589,7 +642,7 @@ def _cmd_sweep(args):
     settings = {"command": " ".join([PROG] + sys.argv[1:]) if sys.argv else PROG,
                 "payload_mass": float(args.payload or 0.0), **_chain_settings(args)}
     if args.random is not None:
-        from .trajectory import acceleration_limits
+        from .io.trajectory import acceleration_limits
 
         settings["seed"] = args.seed
         try:
@@ -607,13 +660,13 @@ def _cmd_sweep(args):
         raise InputError(f"cannot reach the dask scheduler: {exc}", args.scheduler) from None
     outdir.mkdir(parents=True, exist_ok=True)
     written = [outdir / "sweep.h5", outdir / "merged_model.json"]
-    write_sweep(ds, written[0])
+    write_dataset(ds, written[0])
     merged_model(loaded, ds).save(written[1])
     if payload is not None:
         written.append(outdir / "payload_sweep.h5")
-        write_sweep(payload, written[-1])
+        write_dataset(payload, written[-1])
     if not args.no_report:
-        from .sweep_report import write_sweep_report
+        from .reports.sweep import write_sweep_report
 
         written += list(write_sweep_report(written[0], outdir, payload=payload))
     if not args.quiet:

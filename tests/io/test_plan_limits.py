@@ -9,7 +9,7 @@ import pytest
 
 from gd_analyze import load_robot
 from gd_analyze.cli import main
-from gd_analyze.trajectory import (DEFAULT_QDD_PER_QD, acceleration_limits, provenance_path,
+from gd_analyze.io.trajectory import (DEFAULT_QDD_PER_QD, acceleration_limits, provenance_path,
                                    quintic_duration, read_trajectory)
 
 

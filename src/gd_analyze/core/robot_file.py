@@ -14,7 +14,7 @@ import math
 import numpy as np
 
 from ..errors import InputError
-from ..robot import CONVENTIONS, JOINT_TYPES, Robot
+from .robot import CONVENTIONS, JOINT_TYPES, Robot
 
 __all__ = ["robot_from_dict"]
 

@@ -1,6 +1,6 @@
 """Loading a robot from any source: a built-in name, a TOML robot file or a URDF file.
 
-TOML robot files and the TOML built-ins are read by :func:`gd_analyze.robot.load_robot`; URDF
+TOML robot files and the TOML built-ins are read by :func:`gd_analyze.core.robot.load_robot`; URDF
 files (suffix ``.urdf``) and the URDF built-ins (``panda``, ``ur5``) by
 :func:`gd_analyze.io.urdf.load_urdf`, which needs Pinocchio's parser and therefore lives above
 the core.
@@ -11,8 +11,8 @@ from __future__ import annotations
 from pathlib import Path
 
 from ..errors import InputError
-from ..robot import builtin_robots as _toml_builtins
-from ..robot import load_robot as _load_toml
+from ..core.robot import builtin_robots as _toml_builtins
+from ..core.robot import load_robot as _load_toml
 from .urdf import URDF_BUILTIN, load_urdf
 
 __all__ = ["load_robot", "builtin_robots", "is_urdf"]
@@ -68,7 +68,7 @@ def load_robot(name_or_path, base=None, tip=None):
     Raises
     ------
     InputError
-        If the robot cannot be read (see :func:`gd_analyze.robot.load_robot` and
+        If the robot cannot be read (see :func:`gd_analyze.core.robot.load_robot` and
         :func:`gd_analyze.io.urdf.read_urdf_chain`), or base or tip is given for a robot that is
         not a URDF.
     """

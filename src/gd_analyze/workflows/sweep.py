@@ -1,0 +1,518 @@
+"""Sweeps: the dominance analysis of Sec. 3.4.1 over many trajectories, on dask.distributed.
+
+The chapter ranks the translational and rotational parts of D and h along one preplanned
+trajectory and notes that "the above simplification depends on the specific trajectory being
+considered" (Fu, Gonzalez & Lee 1987, Sec. 3.4.1). A sweep repeats the ranking over K
+trajectories and reports, per ranked element (``"D11"`` .. ``"Dnn"``, ``"h1"`` .. ``"hn"``):
+
+- the distribution of share_tran = sum|tran| / (sum|tran| + sum|rot|) over the trajectories
+  (min, median, max);
+- the fraction of trajectories in which each class (translational, rotational, both,
+  negligible) holds;
+- the choice of a *conservative merged* simplified model, valid for every trajectory of the
+  sweep: a part of an element is dropped only where every trajectory's own simplified model
+  drops it (:func:`gd_analyze.core.simplified.merge_choices`).
+
+The per-trajectory work (:func:`analyze_one`) is a pure function of small arguments, run in
+batches on a dask.distributed cluster by :func:`run_sweep`. The dataset's schema is in
+:mod:`gd_analyze.io.sweep_datasets`; random trajectories come from
+:func:`gd_analyze.io.trajectory.random_trajectories`; payload sweeps are in
+:mod:`gd_analyze.workflows.payload`.
+"""
+
+from __future__ import annotations
+
+import contextlib
+import datetime
+import math
+import os
+import time
+
+import numpy as np
+
+from ..core.dalembert import COMPILED_MIN_SETPOINTS, DEFAULT_CHUNK, GDTerms, gd_terms
+from ..core.ranking import DEFAULT_DOMINANCE, DEFAULT_NEGLIGIBLE, element_labels, rank_dominance
+from ..core.simplified import (TorqueErrorAccumulator, choice_masks, merge_choices,
+                               simplified_torque, torque_error)
+from ..errors import InputError
+from ..io.datasets import attribute_value, strings
+from ..io.sweep_datasets import sweep_dataset
+
+__all__ = ["DEFAULT_BATCH_MAX", "dask_client", "analyze_one", "run_sweep", "merged_model",
+           "check_thresholds", "check_trajectory"]
+
+#: Largest number of trajectories per dask task chosen automatically by :func:`run_sweep`.
+DEFAULT_BATCH_MAX = 50
+#: Tasks per worker aimed at by the automatic batch size (load balance vs. task overhead).
+_TASKS_PER_WORKER = 4
+#: Set points of consecutive trajectories whose G-D terms are computed in one call.
+_GROUP_SETPOINTS = 4096
+#: Scheduler options of the local cluster: no dashboard, and its small HTTP server (health
+#: checks) on a free loopback port rather than the shared default 8787.
+_NO_DASHBOARD = {"dashboard": False, "dashboard_address": "127.0.0.1:0"}
+
+
+def check_thresholds(dominance, negligible):
+    """Check the ranking's thresholds.
+
+    Parameters
+    ----------
+    dominance : float
+        s, must be in (0.5, 1].
+    negligible : float
+        e, must be >= 0.
+
+    Raises
+    ------
+    ValueError
+        If either is out of range (or NaN).
+    """
+    if not 0.5 < float(dominance) <= 1.0:
+        raise ValueError(f"the dominance threshold s must be in (0.5, 1], got {dominance}")
+    if not float(negligible) >= 0.0:
+        raise ValueError(f"the negligibility threshold e must be >= 0, got {negligible}")
+
+
+def check_trajectory(robot, trajectory):
+    """Check that a trajectory fits a robot.
+
+    Parameters
+    ----------
+    robot : Robot
+        The arm, with n joints.
+    trajectory : Trajectory
+        t (N,) [s]; q, qd, qdd must have shape (N, n).
+
+    Raises
+    ------
+    ValueError
+        If a shape does not match, or there are fewer than 2 set points.
+    """
+    q = np.asarray(trajectory.q)
+    N = np.asarray(trajectory.t).shape[0]
+    for name in ("q", "qd", "qdd"):
+        shape = np.shape(getattr(trajectory, name))
+        if shape != (N, robot.n):
+            raise ValueError(f"{trajectory.source or 'trajectory'}: {name} has shape {shape}, "
+                             f"expected ({N}, {robot.n}) for {robot.name}")
+    if q.shape[0] < 2:
+        raise ValueError(f"{trajectory.source or 'trajectory'}: fewer than 2 set points")
+
+
+# --------------------------------------------------------------------------------------------
+# Trajectories
+# --------------------------------------------------------------------------------------------
+
+
+# --------------------------------------------------------------------------------------------
+# One trajectory
+# --------------------------------------------------------------------------------------------
+
+def analyze_one(robot, trajectory, dominance=DEFAULT_DOMINANCE, negligible=DEFAULT_NEGLIGIBLE):
+    """Rank one trajectory and validate its own simplified model: the unit of work of a sweep.
+
+    Parameters
+    ----------
+    robot : Robot
+        The arm, with n joints.
+    trajectory : Trajectory
+        t (N,) [s]; q, qd, qdd (N, n) [rad, rad/s, rad/s^2].
+    dominance : float, optional
+        s, in (0.5, 1]: the dominance threshold.
+    negligible : float, optional
+        e, >= 0: the negligibility threshold.
+
+    Returns
+    -------
+    dict
+        Small and picklable (numpy arrays, strings, dicts), M = n (n + 1) / 2 + n elements:
+
+        - ``share_tran`` : ndarray, shape (M,), the translational share in [0, 1] (NaN where
+          both parts vanish);
+        - ``classes`` : tuple of str, length M, each one of :data:`gd_analyze.core.ranking.CLASSES`;
+        - ``choices`` : dict, element label -> ``"tran"``, ``"rot"``, ``"both"`` or ``"none"``;
+        - ``peaks`` : dict of ndarray, shape (M,): ``peak_tran``, ``peak_rot``, ``peak_total``
+          and ``scale`` [kg m^2] for D, [N m] for h;
+        - ``summary`` : dict: ``source`` (str), ``sha256`` (str), ``duration`` [s],
+          ``setpoints`` N, ``q_start`` and ``q_goal`` (n,) [rad], ``tau_peak`` (n,) = peak
+          |tau| [N m], and ``error``: the torque error of the trajectory's own simplified
+          model as :func:`gd_analyze.core.simplified.torque_error` gives it.
+
+    Raises
+    ------
+    ValueError
+        If the trajectory does not fit the robot or the thresholds are out of range.
+
+    Notes
+    -----
+    The same computation as :func:`gd_analyze.workflows.analyze.analyze` without the verification and
+    the per-set-point dataset. Source: Sec. 3.4.1 of Fu, Gonzalez & Lee (1987); terms from
+    Eqs. (3.4-24) to (3.4-28).
+    """
+    check_thresholds(dominance, negligible)
+    check_trajectory(robot, trajectory)
+    return _rank_with_terms(trajectory, gd_terms(robot, trajectory.q, trajectory.qd),
+                            dominance, negligible)
+
+
+def _rank_with_terms(trajectory, terms, dominance, negligible):
+    """The body of :func:`analyze_one`, given the trajectory's G-D terms."""
+    tau = terms.tau(trajectory.qdd)
+    ranking = rank_dominance(terms.D_tran, terms.D_rot, terms.h_tran, terms.h_rot, tau,
+                             dominance=dominance, negligible=negligible)
+    choices = ranking.choices()
+    tau_s = simplified_torque(terms, choices, trajectory.qdd)
+    t = np.asarray(trajectory.t, float)
+    q = np.asarray(trajectory.q, float)
+    return {
+        "share_tran": np.asarray(ranking.share_tran, float),
+        "classes": tuple(ranking.dominance),
+        "choices": choices,
+        "peaks": {"peak_tran": ranking.peak_tran, "peak_rot": ranking.peak_rot,
+                  "peak_total": ranking.peak_total, "scale": ranking.scale},
+        "summary": {
+            "source": str(trajectory.source), "sha256": str(trajectory.sha256),
+            "duration": float(t[-1] - t[0]), "setpoints": int(t.shape[0]),
+            "q_start": q[0].copy(), "q_goal": q[-1].copy(),
+            "tau_peak": np.abs(tau).max(axis=0), "error": torque_error(tau_s, tau),
+        },
+    }
+
+
+def _error_stats(trajectory, terms, choices):
+    """Accumulated torque error of a simplified model along one trajectory."""
+    acc = TorqueErrorAccumulator(terms.c.shape[1])
+    acc.update(simplified_torque(terms, choices, trajectory.qdd), terms.tau(trajectory.qdd))
+    return {"peak": acc.peak.copy(), "sum_sq": acc.sum_sq.copy(), "count": acc.count,
+            "peak_tau": acc.peak_tau.copy()}
+
+
+def _batch_terms(robot, trajectories, max_setpoints=_GROUP_SETPOINTS):
+    """Yield (trajectory, GDTerms) for each trajectory, in order.
+
+    The terms of consecutive short trajectories are computed in one call of the numpy engine
+    (at most max_setpoints set points at a time): for 31-set-point trajectories the per-call
+    overhead of the array code dominates. Short means below COMPILED_MIN_SETPOINTS, i.e. the
+    trajectories that gd_terms(engine="auto") alone would also give to the numpy engine, so
+    the terms, to the last bit, and the shares of round-off-level elements are those of
+    :func:`analyze_one`. Longer trajectories are computed one by one as analyze_one does."""
+    group, size = [], 0
+
+    def flush():
+        if not group:
+            return []
+        q = np.concatenate([np.asarray(tr.q, float) for tr in group])
+        qd = np.concatenate([np.asarray(tr.qd, float) for tr in group])
+        terms = gd_terms(robot, q, qd, chunk=max(DEFAULT_CHUNK, q.shape[0]), engine="numpy")
+        out, a = [], 0
+        for tr in group:
+            b = a + tr.q.shape[0]
+            out.append((tr, GDTerms(terms.D_tran[a:b], terms.D_rot[a:b], terms.h_tran[a:b],
+                                    terms.h_rot[a:b], terms.c[a:b])))
+            a = b
+        return out
+
+    for tr in trajectories:
+        N = np.shape(tr.q)[0]
+        if N >= COMPILED_MIN_SETPOINTS:
+            yield from flush()
+            group, size = [], 0
+            yield tr, gd_terms(robot, tr.q, tr.qd)
+            continue
+        if group and size + N > max_setpoints:
+            yield from flush()
+            group, size = [], 0
+        group.append(tr)
+        size += N
+    yield from flush()
+
+
+def _analyze_batch(robot, trajectories, dominance, negligible):
+    return [_rank_with_terms(tr, terms, dominance, negligible)
+            for tr, terms in _batch_terms(robot, trajectories)]
+
+
+def _error_batch(robot, trajectories, choices):
+    return [_error_stats(tr, terms, choices) for tr, terms in _batch_terms(robot, trajectories)]
+
+
+# --------------------------------------------------------------------------------------------
+# Merging
+# --------------------------------------------------------------------------------------------
+
+
+# --------------------------------------------------------------------------------------------
+# The sweep on dask.distributed
+# --------------------------------------------------------------------------------------------
+
+def _auto_batch(k, n_workers):
+    per_task = math.ceil(k / (_TASKS_PER_WORKER * max(1, n_workers)))
+    return int(min(DEFAULT_BATCH_MAX, max(1, per_task)))
+
+
+@contextlib.contextmanager
+def dask_client(scheduler=None, n_workers=None):
+    """A dask.distributed client: connected to ``scheduler``, or on a new LocalCluster.
+
+    Parameters
+    ----------
+    scheduler : str, optional
+        Address of a running scheduler, e.g. ``"tcp://10.0.0.5:8786"``.
+    n_workers : int, optional
+        Workers of the LocalCluster started when no scheduler is given (one process and one
+        thread each); default ``os.cpu_count() or 2``.
+
+    Yields
+    ------
+    (distributed.Client, str)
+        The client and a description of the cluster; both are closed on exit.
+
+    Raises
+    ------
+    ImportError
+        If dask.distributed is missing from the environment (it is a dependency).
+    OSError
+        If the scheduler cannot be reached.
+    """
+    try:
+        from distributed import Client, LocalCluster
+    except ImportError as exc:  # pragma: no cover - the extra is installed for the tests
+        raise ImportError("sweeps need dask.distributed (a dependency of gd-analyze): "
+                          "pip install 'dask[distributed]'") from exc
+    cluster = None
+    if scheduler is not None:
+        client, how = Client(scheduler), "connected by address"
+    else:
+        import dask
+
+        workers = int(n_workers) if n_workers else (os.cpu_count() or 2)
+        # The workers' statistical profiler samples every thread's stack every 10 ms while
+        # holding the GIL; for these many short numpy calls it costs about 40 % of the time,
+        # so the cluster started here runs without it.
+        with dask.config.set({"distributed.worker.profile.enabled": False}):
+            cluster = LocalCluster(n_workers=workers, threads_per_worker=1, processes=True,
+                                   dashboard_address=None, scheduler_kwargs=_NO_DASHBOARD)
+        client, how = Client(cluster), "LocalCluster started by gd-analyze"
+    try:
+        yield client, how
+    finally:
+        client.close()
+        if cluster is not None:
+            cluster.close()
+
+
+def run_sweep(robot, trajectories, dominance=DEFAULT_DOMINANCE, negligible=DEFAULT_NEGLIGIBLE,
+              client=None, scheduler=None, batch=None, n_workers=None, settings=None,
+              progress=False):
+    """Rank K trajectories on a dask.distributed cluster and merge their simplified models.
+
+    Parameters
+    ----------
+    robot : Robot
+        The arm, with n joints (may carry a payload, see
+        :func:`gd_analyze.core.robot.with_payload`).
+    trajectories : sequence of Trajectory
+        K >= 1 trajectories, each t (N_k,) [s] and q, qd, qdd (N_k, n) [rad, rad/s, rad/s^2].
+    dominance : float, optional
+        s, in (0.5, 1]: the dominance threshold.
+    negligible : float, optional
+        e, >= 0: the negligibility threshold.
+    client : distributed.Client, optional
+        Run on this client's cluster (left open).
+    scheduler : str, optional
+        Address of a running scheduler, e.g. ``"tcp://10.0.0.5:8786"``; a client is connected
+        to it and closed at the end. Ignored if ``client`` is given.
+    batch : int, optional
+        Trajectories per task. By default about K / (4 workers), at most
+        :data:`DEFAULT_BATCH_MAX`, so that 1,000 trajectories make tens of tasks, not 1,000.
+    n_workers : int, optional
+        Workers of the local cluster started when neither ``client`` nor ``scheduler`` is
+        given (one process and one thread each); default ``os.cpu_count() or 2``.
+    settings : dict, optional
+        Extra global attributes (strings or numbers), e.g. the command line.
+    progress : bool, optional
+        Show a tqdm progress bar of the tasks on stderr.
+
+    Returns
+    -------
+    xarray.Dataset
+        The sweep dataset. Dims ``trajectory`` (K), ``element`` (M = n (n + 1) / 2 + n),
+        ``joint`` (n), ``class`` (4). Per trajectory: ``share_tran``, ``dominance``,
+        ``choice`` and ``peak_total`` (trajectory, element); ``source``, ``input_sha256``,
+        ``duration`` [s], ``setpoints`` (trajectory); ``q_start``, ``q_goal`` [rad],
+        ``tau_peak`` [N m], the own simplified model's ``tau_error_peak``, ``tau_error_rms``
+        [N m], ``tau_error_relative_peak``, ``tau_error_relative_rms`` and the merged model's
+        ``merged_tau_error_peak`` [N m] and ``merged_tau_error_relative_peak``
+        (trajectory, joint). Envelope: ``class_fraction`` (element, class),
+        ``share_tran_min``, ``share_tran_median``, ``share_tran_max`` (element). Merged model:
+        ``merged_choice`` (element); its error over all trajectories ``merged_error_peak``,
+        ``merged_error_rms``, ``merged_error_tau_peak`` [N m], ``merged_error_relative_peak``,
+        ``merged_error_relative_rms`` (joint). Every variable has ``units`` and ``long_name``;
+        the global attributes carry the provenance (CF-1.10, tool version, robot and its
+        SHA-256, gravity, s, e, seed or input files and a SHA-256 of all inputs, elapsed time,
+        workers, scheduler address, batch size).
+
+    Raises
+    ------
+    ValueError
+        If there are no trajectories, one does not fit the robot, a threshold is out of range,
+        or batch < 1.
+    RuntimeError
+        If no worker joins the cluster within 60 s.
+    ImportError
+        If dask.distributed is missing from the environment (it is a dependency).
+
+    Notes
+    -----
+    Two passes of tasks over the same scattered batches (the robot is scattered once to every
+    worker): the first runs :func:`analyze_one` per trajectory; once all choices are known and
+    merged (:func:`merge_choices`), the second computes the merged model's torque error along
+    every trajectory. Source: Sec. 3.4.1 of Fu, Gonzalez & Lee (1987).
+    """
+    t0 = time.perf_counter()
+    trajectories = list(trajectories)
+    if not trajectories:
+        raise ValueError("a sweep needs at least one trajectory")
+    check_thresholds(dominance, negligible)
+    for tr in trajectories:
+        check_trajectory(robot, tr)
+    if batch is not None and int(batch) < 1:
+        raise ValueError(f"batch must be >= 1, got {batch}")
+    from distributed import as_completed
+    from tqdm.auto import tqdm
+
+    started = datetime.datetime.now(datetime.timezone.utc).replace(microsecond=0)
+    own = contextlib.ExitStack()
+    if client is None:
+        client, how = own.enter_context(dask_client(scheduler, n_workers))
+    else:
+        how = "client given by the caller"
+    try:
+        try:
+            client.wait_for_workers(1, timeout=60)
+        except Exception as exc:  # distributed raises TimeoutError (type varies by version)
+            raise RuntimeError(f"no dask worker joined the scheduler at "
+                               f"{client.scheduler.address} within 60 s") from exc
+        address = str(client.scheduler.address)
+        n_w = len(client.scheduler_info().get("workers", {}))
+        size = int(batch) if batch is not None else _auto_batch(len(trajectories), n_w)
+        batches = [trajectories[a:a + size] for a in range(0, len(trajectories), size)]
+        t_compute = time.perf_counter()
+        robot_f = client.scatter(robot, broadcast=True, hash=False)
+        batch_f = client.scatter(batches, hash=False)
+        bar = tqdm(total=2 * len(batches), unit="task", disable=not progress,
+                   desc="sweep: ranking", leave=False)
+
+        def run(fn, *args):
+            futures = {client.submit(fn, robot_f, b, *args, pure=False): k
+                       for k, b in enumerate(batch_f)}
+            out = [None] * len(futures)
+            for fut in as_completed(list(futures)):
+                out[futures[fut]] = fut.result()
+                bar.update(1)
+            return [item for part in out for item in part]
+
+        results = run(_analyze_batch, float(dominance), float(negligible))
+        merged = merge_choices([r["choices"] for r in results])
+        bar.set_description("sweep: merged model")
+        merged_stats = run(_error_batch, merged)
+        bar.close()
+        compute_s = time.perf_counter() - t_compute
+        del robot_f, batch_f
+    finally:
+        own.close()
+    ds = sweep_dataset(robot, trajectories, results, merged, merged_stats, dominance,
+                        negligible)
+    ds.attrs.update({
+        "scheduler_address": address, "n_workers": n_w, "batch_size": size,
+        "n_tasks": 2 * len(batches),
+        "cluster": how,
+        "compute_s": round(compute_s, 4), "started": started.isoformat(),
+    })
+    for key, value in (settings or {}).items():
+        ds.attrs[key] = attribute_value(value)
+    ds.attrs["elapsed_s"] = round(time.perf_counter() - t0, 4)
+    return ds
+
+
+def merged_model(robot, sweep_ds):
+    """The sweep's conservative merged simplified model.
+
+    Parameters
+    ----------
+    robot : Robot
+        The arm the sweep was run on (checked against the dataset's ``robot_sha256`` and
+        number of elements).
+    sweep_ds : xarray.Dataset
+        A sweep dataset from :func:`run_sweep` (or read back with :func:`open_sweep`).
+
+    Returns
+    -------
+    SimplifiedModel
+        ``choices`` = the dataset's ``merged_choice``; ``validation`` = its torque error over
+        all the sweep's trajectories, per joint: ``peak_abs_error``, ``rms_error``,
+        ``peak_tau`` [N m] and ``relative_peak_error``, ``relative_rms_error`` (relative to
+        the peak |tau| over all trajectories), plus ``trajectories`` (K) and ``setpoints``
+        (total); ``trajectory_sha256`` = the digest of all inputs (``inputs_sha256``).
+
+    Raises
+    ------
+    InputError
+        If the dataset is not a sweep dataset, or was computed for another robot.
+
+    Notes
+    -----
+    The validation is computed by :func:`run_sweep` along every trajectory and stored in the
+    dataset; nothing is recomputed here. Source: Sec. 3.4.1 of Fu, Gonzalez & Lee (1987).
+    """
+    from .._version import __version__
+    from ..core.simplified import SimplifiedModel
+
+    needed = ("merged_choice", "merged_error_peak", "merged_error_rms", "merged_error_tau_peak",
+              "merged_error_relative_peak", "merged_error_relative_rms")
+    missing = [v for v in needed if v not in sweep_ds.variables]
+    if missing:
+        raise InputError("not a gd-analyze sweep dataset: missing " + ", ".join(missing))
+    sha = sweep_ds.attrs.get("robot_sha256", "")
+    if sha and robot.sha256 and sha != robot.sha256:
+        raise InputError(f"the sweep was computed for robot {sweep_ds.attrs.get('robot')!r} "
+                         f"(sha256 {sha[:12]}...), not for {robot.name!r} "
+                         f"(sha256 {robot.sha256[:12]}...)")
+    labels = strings(sweep_ds["element"].values)
+    if labels != element_labels(robot.n):
+        raise InputError(f"the sweep's elements do not match a {robot.n}-joint robot")
+    choices = dict(zip(labels, strings(sweep_ds["merged_choice"].values)))
+    choice_masks(choices, robot.n)
+    validation = {
+        "peak_abs_error": sweep_ds["merged_error_peak"].values.tolist(),
+        "rms_error": sweep_ds["merged_error_rms"].values.tolist(),
+        "peak_tau": sweep_ds["merged_error_tau_peak"].values.tolist(),
+        "relative_peak_error": sweep_ds["merged_error_relative_peak"].values.tolist(),
+        "relative_rms_error": sweep_ds["merged_error_relative_rms"].values.tolist(),
+        "trajectories": int(sweep_ds.sizes.get("trajectory", 0)),
+        "setpoints": int(sweep_ds.attrs.get("setpoints_total", 0)),
+    }
+    provenance = {"gd_analyze_version": __version__, "kind": "merged model of a sweep",
+                  "sweep_version": str(sweep_ds.attrs.get("gd_analyze_version", "")),
+                  "merge_rule": str(sweep_ds.attrs.get("merge_rule", "")),
+                  "input_kind": str(sweep_ds.attrs.get("input_kind", ""))}
+    if "seed" in sweep_ds.attrs:
+        provenance["seed"] = int(sweep_ds.attrs["seed"])
+    return SimplifiedModel(
+        robot=robot, choices=choices,
+        dominance_threshold=float(sweep_ds.attrs.get("dominance_threshold", DEFAULT_DOMINANCE)),
+        negligible_threshold=float(sweep_ds.attrs.get("negligible_threshold",
+                                                      DEFAULT_NEGLIGIBLE)),
+        trajectory_sha256=str(sweep_ds.attrs.get("inputs_sha256", "")),
+        validation=validation, provenance=provenance)
+
+
+# --------------------------------------------------------------------------------------------
+# Payload sweep
+# --------------------------------------------------------------------------------------------
+
+
+# --------------------------------------------------------------------------------------------
+# Files
+# --------------------------------------------------------------------------------------------
+
