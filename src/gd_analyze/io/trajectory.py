@@ -383,6 +383,7 @@ def default_motion(robot):
     lo, hi = np.asarray(robot.q_min, float), np.asarray(robot.q_max, float)
     finite = np.isfinite(lo) & np.isfinite(hi)
     pris = np.asarray(robot.prismatic, bool)
+    lo, hi = np.where(finite, lo, 0.0), np.where(finite, hi, 0.0)   # no inf - inf below
     start = np.where(finite, lo + 0.25 * (hi - lo), np.where(pris, 0.0, -math.pi / 3))
     goal = np.where(finite, lo + 0.75 * (hi - lo), np.where(pris, 0.2, math.pi / 3))
     return start, goal
