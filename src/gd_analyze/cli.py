@@ -398,13 +398,13 @@ def _payload_sweep_dataset(robot, trajectory, args):
     masses = _payload_masses(args)
     if masses is None:
         return None
+    from .io.sweep_datasets import embed_payload
     from .workflows.payload import payload_sweep
 
     ds = payload_sweep(robot, trajectory, masses, com=args.payload_com,
                        inertia=args.payload_inertia, dominance=args.dominance,
                        negligible=args.negligible)
-    renamed = ds.rename({v: f"payload_{v}" for v in ds.data_vars})
-    return renamed.drop_vars([c for c in ("element_units",) if c in renamed.coords])
+    return embed_payload(ds)
 
 
 def _cmd_analyze(args):
@@ -515,20 +515,14 @@ def _replace_limits(robot, qdd_max):
 def _cmd_evaluate(args):
     import json
 
-    import numpy as np
-
-    from .core.dalembert import gd_terms
-    from .core.simplified import SimplifiedModel, simplified_torque, torque_error
+    from .core.simplified import SimplifiedModel
     from .io.trajectory import read_trajectory
+    from .workflows.evaluate import evaluate
 
     model = SimplifiedModel.load(args.model)
     traj = read_trajectory(args.trajectory, n_joints=model.robot.n)
-    terms = gd_terms(model.robot, traj.q, traj.qd)
-    plant = _apply_payload(model.robot, args)
-    tau = (terms if plant is model.robot else gd_terms(plant, traj.q, traj.qd)).tau(traj.qdd)
-    err = torque_error(simplified_torque(terms, model.choices, traj.qdd), tau)
-    rel = np.array([np.nan if v is None else v for v in err["relative_peak_error"]], float)
-    worst = float(np.nanmax(rel)) if np.isfinite(rel).any() else 0.0
+    err = evaluate(model, traj, plant=_apply_payload(model.robot, args))
+    worst = err.pop("max_relative_peak_error")
     exceeded = args.max_error is not None and worst > args.max_error
     if args.json:
         out = {"model": args.model, "trajectory": args.trajectory,

@@ -34,7 +34,7 @@ from numba import njit
 __all__ = ["gd_kernel", "body_frames_at", "plucker_axes"]
 
 
-@njit(cache=True, fastmath=False, nogil=True)
+@njit(cache=True, fastmath=False, nogil=True, inline="always")
 def body_frames_at(q, k, Rp, tp, pris, com, M, R, o, rbar):  # pragma: no cover - compiled
     """Body frames and centres of mass at set point k, into R (n, 3, 3), o, rbar (n, 3).
 
@@ -89,7 +89,7 @@ def body_frames_at(q, k, Rp, tp, pris, com, M, R, o, rbar):  # pragma: no cover 
                                     + R[s, r, 2] * com[s, 2])
 
 
-@njit(cache=True, fastmath=False, nogil=True)
+@njit(cache=True, fastmath=False, nogil=True, inline="always")
 def plucker_axes(R, o, pris, A, B):  # pragma: no cover - compiled
     """Joint axes in Plücker coordinates: A[j] = z_j, B[j] = o_j x z_j (revolute) or A[j] = 0,
     B[j] = z_j (prismatic), so that Jv_s[:, j] = B[j] - rbar_s x A[j] and Jw_s[:, j] = A[j].

@@ -192,7 +192,8 @@ class Robot:
     prismatic : ndarray of bool, shape (n,)
         True for a prismatic joint (q [m]), False for a revolute one (q [rad]).
     rotation : ndarray, shape (n, 3, 3)
-        P_i: rotation of joint i's placement in body frame i-1 (derived for DH robots).
+        P_i: rotation of joint i's placement in body frame i-1 (for a DH robot always derived
+        from d, a, alpha and offset, so that ``dataclasses.replace`` cannot leave it stale).
     translation : ndarray, shape (n, 3)
         t_i: translation of joint i's placement in body frame i-1 [m].
     link_rotation : ndarray, shape (n, 3, 3)
@@ -243,7 +244,7 @@ class Robot:
         set_(self, "prismatic", _readonly(np.zeros(n, bool) if self.prismatic is None
                                           else self.prismatic, bool))
         set_(self, "metadata", types.MappingProxyType(dict(self.metadata or {})))
-        if self.convention != "chain" and (self.rotation is None or self.translation is None):
+        if self.convention != "chain":      # always from the DH rows: never stale
             P, t, LR, Lt = dh_placements(self.convention, self.d, self.a, self.alpha,
                                          self.offset)
             set_(self, "rotation", P)

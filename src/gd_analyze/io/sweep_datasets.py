@@ -18,7 +18,8 @@ import numpy as np
 from ..core.ranking import CLASSES, element_labels
 from .datasets import MIXED_UNITS, element_coords, global_attributes, var
 
-__all__ = ["inputs_attributes", "sweep_dataset", "payload_dataset", "sweep_payloads_dataset"]
+__all__ = ["inputs_attributes", "sweep_dataset", "payload_dataset", "sweep_payloads_dataset",
+           "embed_payload", "payload_part"]
 
 #: At most this many input files are listed by name in the global attributes (all are in the
 #: per-trajectory variables ``source`` and ``input_sha256``); HDF5 attributes stay small.
@@ -339,3 +340,45 @@ def sweep_payloads_dataset(robot, n_trajectories, masses, com, inertia, parts, d
                "payload_com_units": "m",
                "payload_inertia": np.asarray(inertia, dtype=float).reshape(-1),
                "payload_inertia_units": "kg m2 (principal moments)"})
+
+
+def embed_payload(payload):
+    """A payload sweep as variables ``payload_<name>`` to store beside the main analysis.
+
+    ``results.h5`` holds the main job's ranking over dim ``element``; a ``--payload-sweep``
+    adds its own ranking over (``payload``, ``element``) under prefixed names so the two do not
+    collide. :func:`payload_part` undoes it.
+
+    Parameters
+    ----------
+    payload : xarray.Dataset
+        From :func:`payload_dataset`.
+
+    Returns
+    -------
+    xarray.Dataset
+        The same variables, each prefixed ``payload_``; the ``element_units`` coordinate (already
+        in the main analysis) dropped.
+    """
+    renamed = payload.rename({v: f"payload_{v}" for v in payload.data_vars})
+    return renamed.drop_vars([c for c in ("element_units",) if c in renamed.coords])
+
+
+def payload_part(results):
+    """The payload sweep stored in a results dataset by :func:`embed_payload`, under its own names.
+
+    Parameters
+    ----------
+    results : xarray.Dataset
+        A ``results.h5`` read back (:func:`gd_analyze.io.datasets.open_results`).
+
+    Returns
+    -------
+    xarray.Dataset
+        The ``payload_*`` variables over dim ``payload``, without the prefix (empty if the run
+        had no payload sweep).
+    """
+    names = [v for v in results.data_vars
+             if v.startswith("payload_") and "payload" in results[v].dims]
+    return results[names].rename({v: v[len("payload_"):] for v in names})
+

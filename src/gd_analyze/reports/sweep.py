@@ -286,7 +286,7 @@ def make_sweep_figures(ds, payload=None):
 # --------------------------------------------------------------------------------------------
 
 def _context(ds, payload=None):
-    from .. import __version__
+    from .._version import __version__
 
     _check(ds, _REQUIRED, "sweep")
     K = ds.sizes["trajectory"]

@@ -31,12 +31,12 @@ import time
 import numpy as np
 
 from ..core.dalembert import COMPILED_MIN_SETPOINTS, DEFAULT_CHUNK, GDTerms, gd_terms
-from ..core.ranking import DEFAULT_DOMINANCE, DEFAULT_NEGLIGIBLE, element_labels, rank_dominance
-from ..core.simplified import (TorqueErrorAccumulator, choice_masks, merge_choices,
-                               simplified_torque, torque_error)
+from ..core.ranking import DEFAULT_DOMINANCE, DEFAULT_NEGLIGIBLE, element_labels
+from ..core.simplified import TorqueErrorAccumulator, choice_masks, merge_choices, simplified_torque
 from ..errors import InputError
 from ..io.datasets import attribute_value, strings
 from ..io.sweep_datasets import sweep_dataset
+from .analyze import analysis_pass
 
 __all__ = ["DEFAULT_BATCH_MAX", "dask_client", "analyze_one", "run_sweep", "merged_model",
            "check_thresholds", "check_trajectory"]
@@ -145,36 +145,32 @@ def analyze_one(robot, trajectory, dominance=DEFAULT_DOMINANCE, negligible=DEFAU
 
     Notes
     -----
-    The same computation as :func:`gd_analyze.workflows.analyze.analyze` without the verification and
-    the per-set-point dataset. Source: Sec. 3.4.1 of Fu, Gonzalez & Lee (1987); terms from
+    The per-trajectory analysis of the main job, :func:`gd_analyze.workflows.analyze.analysis_pass`,
+    without the verification and the per-set-point dataset. Source: Sec. 3.4.1 of Fu, Gonzalez & Lee (1987); terms from
     Eqs. (3.4-24) to (3.4-28).
     """
     check_thresholds(dominance, negligible)
     check_trajectory(robot, trajectory)
-    return _rank_with_terms(trajectory, gd_terms(robot, trajectory.q, trajectory.qd),
-                            dominance, negligible)
+    return _summary(trajectory, analysis_pass(robot, trajectory, dominance, negligible,
+                                              check=False, chunk=trajectory.q.shape[0]))
 
 
-def _rank_with_terms(trajectory, terms, dominance, negligible):
-    """The body of :func:`analyze_one`, given the trajectory's G-D terms."""
-    tau = terms.tau(trajectory.qdd)
-    ranking = rank_dominance(terms.D_tran, terms.D_rot, terms.h_tran, terms.h_rot, tau,
-                             dominance=dominance, negligible=negligible)
-    choices = ranking.choices()
-    tau_s = simplified_torque(terms, choices, trajectory.qdd)
+def _summary(trajectory, result):
+    """The small, picklable result of :func:`analyze_one` from the trajectory's analysis."""
+    ranking = result.ranking
     t = np.asarray(trajectory.t, float)
     q = np.asarray(trajectory.q, float)
     return {
         "share_tran": np.asarray(ranking.share_tran, float),
         "classes": tuple(ranking.dominance),
-        "choices": choices,
+        "choices": result.choices,
         "peaks": {"peak_tran": ranking.peak_tran, "peak_rot": ranking.peak_rot,
                   "peak_total": ranking.peak_total, "scale": ranking.scale},
         "summary": {
             "source": str(trajectory.source), "sha256": str(trajectory.sha256),
             "duration": float(t[-1] - t[0]), "setpoints": int(t.shape[0]),
             "q_start": q[0].copy(), "q_goal": q[-1].copy(),
-            "tau_peak": np.abs(tau).max(axis=0), "error": torque_error(tau_s, tau),
+            "tau_peak": np.abs(result.tau).max(axis=0), "error": result.error,
         },
     }
 
@@ -228,7 +224,8 @@ def _batch_terms(robot, trajectories, max_setpoints=_GROUP_SETPOINTS):
 
 
 def _analyze_batch(robot, trajectories, dominance, negligible):
-    return [_rank_with_terms(tr, terms, dominance, negligible)
+    return [_summary(tr, analysis_pass(robot, tr, dominance, negligible, check=False,
+                                       chunk=tr.q.shape[0], terms=terms))
             for tr, terms in _batch_terms(robot, trajectories)]
 
 
