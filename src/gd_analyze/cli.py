@@ -130,6 +130,31 @@ def _add_payload_arguments(p):
     return g
 
 
+def _add_chain_arguments(p):
+    g = p.add_argument_group("URDF chain (a ROBOT given as a .urdf file, or panda, ur5)")
+    g.add_argument("--base", metavar="LINK",
+                   help="the chain's base link (default: the URDF's root link)")
+    g.add_argument("--tip", metavar="LINK",
+                   help="the chain's tip link (default: the end of the only chain); moving "
+                        "joints off the chain are locked at q = 0 and carried by their link")
+    return g
+
+
+_ROBOT_HELP = ("built-in robot (puma560, two-link, panda, ur5, ...), a TOML robot file or a URDF "
+               "file (*.urdf, see --base and --tip)")
+
+
+def _load_robot(args):
+    from .io.robots import load_robot
+
+    return load_robot(args.robot, args.base, args.tip)
+
+
+def _chain_settings(args):
+    """The URDF chain options, for the provenance of a run's outputs."""
+    return {k: v for k, v in (("robot_base", args.base), ("robot_tip", args.tip)) if v}
+
+
 def _add_payload_sweep_argument(group):
     group.add_argument("--payload-sweep", metavar="START:STOP:STEP",
                        help="also rank the elements for each load mass in this range [kg], "
@@ -171,8 +196,7 @@ def _analyze_parser():
                "Exit status: 0 ok, 1 verification failed, 2 bad input, 3 error above "
                "--max-error.",
     )
-    p.add_argument("robot", metavar="ROBOT", help="built-in robot (puma560, two-link) or a "
-                   "TOML robot file")
+    p.add_argument("robot", metavar="ROBOT", help=_ROBOT_HELP)
     p.add_argument("trajectory", metavar="TRAJECTORY.csv",
                    help="CSV with header t,q1..qn[,qd1..qdn,qdd1..qddn] [s, rad, rad/s, rad/s^2]")
     p.add_argument("-o", "--outdir", metavar="OUTDIR",
@@ -195,6 +219,7 @@ def _analyze_parser():
     p.add_argument("-q", "--quiet", action="store_true",
                    help="print nothing but warnings and errors (no summary, no progress bar)")
     p.add_argument("--version", action="version", version=f"%(prog)s {_version()}")
+    _add_chain_arguments(p)
     _add_payload_sweep_argument(_add_payload_arguments(p))
     return p
 
@@ -206,12 +231,14 @@ def _version():
 
 
 def _plan_parser():
-    from .io.trajectory import DEFAULT_GOAL_DEG, DEFAULT_SETPOINTS, DEFAULT_START_DEG
+    from .io.trajectory import (DEFAULT_GOAL_DEG, DEFAULT_QDD_PER_QD, DEFAULT_SETPOINTS,
+                                DEFAULT_START_DEG)
 
     p = _Parser(prog=f"{PROG} plan",
                 description="Write a quintic rest-to-rest joint trajectory at the shortest "
-                            "duration within the robot's velocity and acceleration limits.")
-    p.add_argument("robot", metavar="ROBOT")
+                            "duration within the robot's velocity and acceleration limits, and "
+                            "its provenance beside it (FILE's stem + .provenance.json).")
+    p.add_argument("robot", metavar="ROBOT", help=_ROBOT_HELP)
     p.add_argument("-o", "--output", metavar="FILE", required=True,
                    help="CSV file to write ('-' for standard output)")
     p.add_argument("--start", metavar="DEG,...", type=_angles,
@@ -226,6 +253,13 @@ def _plan_parser():
                    help=f"number of set points, both ends included (default {DEFAULT_SETPOINTS})")
     p.add_argument("--duration", metavar="T", type=float,
                    help="duration [s] (default: the shortest within the limits)")
+    p.add_argument("--qdd-max", metavar="A[,...]", type=_angles,
+                   help="acceleration limits [deg/s^2; m/s^2 for a prismatic joint], one for "
+                        "all joints or one per joint (default: the robot's; where it has none, "
+                        f"as in a URDF, {DEFAULT_QDD_PER_QD:g} s^-1 times the velocity limit, "
+                        "i.e. full speed in 1/{0:g} s; the provenance says which)".format(
+                            DEFAULT_QDD_PER_QD))
+    _add_chain_arguments(p)
     return p
 
 
@@ -251,9 +285,10 @@ def _compare_parser():
                 description="Run Lagrange-Euler, Newton-Euler, G-D and Pinocchio on every set "
                             "point and print their largest relative disagreements and the "
                             "operation counts per set point.")
-    p.add_argument("robot", metavar="ROBOT")
+    p.add_argument("robot", metavar="ROBOT", help=_ROBOT_HELP)
     p.add_argument("trajectory", metavar="TRAJECTORY.csv")
     p.add_argument("--json", action="store_true", help="print one JSON object")
+    _add_chain_arguments(p)
     return p
 
 
@@ -293,7 +328,7 @@ def _sweep_parser():
                             "over them all (an element is dropped or reduced only where that "
                             "holds in every trajectory); write sweep.h5, merged_model.json and "
                             "sweep_report.html/.pdf.")
-    p.add_argument("robot", metavar="ROBOT")
+    p.add_argument("robot", metavar="ROBOT", help=_ROBOT_HELP)
     p.add_argument("csv", metavar="CSV", nargs="*", help="trajectory files (or use --random)")
     p.add_argument("--random", metavar="K", type=int,
                    help="plan K random quintic trajectories (start and goal uniform in the "
@@ -313,15 +348,15 @@ def _sweep_parser():
     p.add_argument("--no-report", action="store_true", help="skip the HTML and PDF report")
     _add_paper_argument(p)
     p.add_argument("-q", "--quiet", action="store_true", help="print nothing but errors")
+    _add_chain_arguments(p)
     _add_payload_sweep_argument(_add_payload_arguments(p))
     return p
 
 
-def _load(robot_arg, csv_arg):
-    from .core.robot import load_robot
+def _load(args, csv_arg):
     from .io.trajectory import read_trajectory
 
-    robot = load_robot(robot_arg)
+    robot = _load_robot(args)
     return robot, read_trajectory(csv_arg, n_joints=robot.n)
 
 
@@ -386,7 +421,7 @@ def _cmd_analyze(args):
 
     skip_dask()                         # the main job makes no dask arrays: skip its import
     bar = progress_bar(not args.quiet and sys.stderr.isatty())
-    robot, trajectory = _load(args.robot, args.trajectory)
+    robot, trajectory = _load(args, args.trajectory)
     bar.reset(total=trajectory.n_setpoints)
     bar.update(trajectory.n_setpoints)
     _warn_limits(robot, trajectory, args.quiet)
@@ -399,7 +434,8 @@ def _cmd_analyze(args):
     settings = {"command": " ".join([PROG] + sys.argv[1:]) if sys.argv else PROG,
                 "payload_mass": float(args.payload or 0.0),
                 "payload_com": [float(v) for v in args.payload_com],
-                "payload_inertia": [float(v) for v in args.payload_inertia]}
+                "payload_inertia": [float(v) for v in args.payload_inertia],
+                **_chain_settings(args)}
     extra = _payload_sweep_dataset(base_robot, trajectory, args)   # bad range: before any output
     outdir.mkdir(parents=True, exist_ok=True)
     results = outdir / "results.h5"
@@ -429,10 +465,11 @@ def _cmd_analyze(args):
 
 
 def _cmd_plan(args):
-    from .core.robot import load_robot
-    from .io.trajectory import default_motion, plan_quintic, user_positions, write_trajectory
+    from ._version import __version__
+    from .io.trajectory import (acceleration_limits, default_motion, plan_quintic,
+                                user_positions, write_provenance, write_trajectory)
 
-    robot = load_robot(args.robot)
+    robot = _load_robot(args)
     start, goal = default_motion(robot)
     for name, vals in (("--start", args.start), ("--goal", args.goal)):
         if vals is not None and len(vals) != robot.n:
@@ -443,15 +480,52 @@ def _cmd_plan(args):
         raise InputError("--setpoints: a trajectory needs at least 2 set points")
     if args.duration is not None and not args.duration > 0:
         raise InputError("--duration must be positive")
+    qdd_arg = args.qdd_max
+    if qdd_arg is not None and len(qdd_arg) == 1:
+        qdd_arg = qdd_arg * robot.n
+    if qdd_arg is not None and len(qdd_arg) != robot.n:
+        raise InputError(f"{len(qdd_arg)} values for {robot.n} joints", column="--qdd-max")
     try:
-        traj = plan_quintic(robot, start, goal, args.setpoints, args.duration)
+        qdd_max, qdd_source = acceleration_limits(
+            robot, None if qdd_arg is None else user_positions(robot, qdd_arg))
+    except ValueError as exc:
+        raise InputError(str(exc), column="--qdd-max" if qdd_arg is not None else None) \
+            from None
+    planning = _replace_limits(robot, qdd_max)
+    try:
+        traj = plan_quintic(planning, start, goal, args.setpoints, args.duration)
     except ValueError as exc:
         raise InputError(str(exc)) from None
     write_trajectory(traj, args.output)
-    if args.output != "-":
-        print(f"wrote {args.output}: {traj.n_setpoints} set points over {traj.t[-1]:.4f} s "
-              f"({traj.source})", file=sys.stderr)
+    if args.output == "-":
+        return EXIT_OK
+    record = {
+        "tool": "gd-analyze", "version": __version__,
+        "command": " ".join([PROG] + sys.argv[1:]) if sys.argv else PROG,
+        "robot": robot.name, "robot_source": robot.source, "robot_sha256": robot.sha256,
+        **_chain_settings(args),
+        "start": [float(v) for v in start], "goal": [float(v) for v in goal],
+        "start_goal_units": "rad (m for a prismatic joint)",
+        "setpoints": traj.n_setpoints, "duration_s": float(traj.t[-1]),
+        "duration_from": "--duration" if args.duration is not None else "limits",
+        "qd_max": [float(v) for v in robot.qd_max],
+        "qdd_max": [float(v) for v in qdd_max],
+        "limits_units": "rad/s, rad/s^2 (m/s, m/s^2 for a prismatic joint)",
+        "qdd_max_source": qdd_source,
+        "trajectory": traj.source,
+    }
+    side = write_provenance(args.output, record)
+    print(f"wrote {args.output}: {traj.n_setpoints} set points over {traj.t[-1]:.4f} s "
+          f"({traj.source}); acceleration limits: {qdd_source}; provenance in {side}",
+          file=sys.stderr)
     return EXIT_OK
+
+
+def _replace_limits(robot, qdd_max):
+    """The robot with other acceleration limits, for planning only."""
+    import dataclasses
+
+    return dataclasses.replace(robot, qdd_max=qdd_max)
 
 
 def _cmd_evaluate(args):
@@ -495,7 +569,7 @@ def _cmd_compare(args):
 
     from .formulations.compare import compare_report, format_compare
 
-    robot, traj = _load(args.robot, args.trajectory)
+    robot, traj = _load(args, args.trajectory)
     report = compare_report(robot, traj.q, traj.qd, traj.qdd)
     if args.json:
         print(json.dumps(report))
@@ -554,14 +628,12 @@ def _cmd_control(args):
 
 
 def _cmd_sweep(args):
-    from .core.robot import load_robot
     from .io.datasets import write_dataset
-    from .io.trajectory import random_trajectories
+    from .io.trajectory import random_trajectories, read_trajectory
     from .workflows.payload import sweep_payloads
     from .workflows.sweep import dask_client, merged_model, run_sweep
-    from .io.trajectory import read_trajectory
 
-    robot = load_robot(args.robot)
+    robot = _load_robot(args)
     if (args.random is None) == (not args.csv):
         raise InputError("give either --random K or trajectory CSV files")
     if args.random is not None and args.random < 1:
@@ -578,9 +650,15 @@ def _cmd_sweep(args):
     if outdir.exists() and not outdir.is_dir():
         raise InputError("exists and is not a folder", outdir)
     settings = {"command": " ".join([PROG] + sys.argv[1:]) if sys.argv else PROG,
-                "payload_mass": float(args.payload or 0.0)}
+                "payload_mass": float(args.payload or 0.0), **_chain_settings(args)}
     if args.random is not None:
+        from .io.trajectory import acceleration_limits
+
         settings["seed"] = args.seed
+        try:
+            settings["random_qdd_max_source"] = acceleration_limits(robot)[1]
+        except ValueError as exc:
+            raise InputError(str(exc), robot.source) from None
     try:
         with dask_client(args.scheduler, args.workers) as (client, _):
             ds = run_sweep(loaded, trajectories, args.dominance, args.negligible, client=client,

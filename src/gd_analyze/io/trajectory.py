@@ -333,7 +333,9 @@ def quintic_duration(robot, q_start, q_goal):
     Parameters
     ----------
     robot : Robot
-        The arm, with limits qd_max [rad/s] and qdd_max [rad/s^2], shape (n,).
+        The arm, with limits qd_max [rad/s] and qdd_max [rad/s^2], shape (n,); where qdd_max
+        is NaN (a URDF robot), :func:`acceleration_limits` supplies the default
+        ``DEFAULT_QDD_PER_QD * qd_max``.
     q_start, q_goal : array_like, shape (n,)
         Start and goal positions [rad].
 
@@ -341,6 +343,11 @@ def quintic_duration(robot, q_start, q_goal):
     -------
     float
         Duration T [s]; 0 if start and goal coincide.
+
+    Raises
+    ------
+    ValueError
+        If a joint has neither an acceleration nor a finite velocity limit.
 
     Notes
     -----
@@ -351,7 +358,7 @@ def quintic_duration(robot, q_start, q_goal):
     """
     dq = np.abs(np.asarray(q_goal, float) - np.asarray(q_start, float))
     t_vel = 15.0 * dq / (8.0 * robot.qd_max)
-    t_acc = np.sqrt(10.0 * dq / (math.sqrt(3.0) * robot.qdd_max))
+    t_acc = np.sqrt(10.0 * dq / (math.sqrt(3.0) * acceleration_limits(robot)[0]))
     return float(max(t_vel.max(), t_acc.max()))
 
 
@@ -376,6 +383,7 @@ def default_motion(robot):
     lo, hi = np.asarray(robot.q_min, float), np.asarray(robot.q_max, float)
     finite = np.isfinite(lo) & np.isfinite(hi)
     pris = np.asarray(robot.prismatic, bool)
+    lo, hi = np.where(finite, lo, 0.0), np.where(finite, hi, 0.0)   # no inf - inf below
     start = np.where(finite, lo + 0.25 * (hi - lo), np.where(pris, 0.0, -math.pi / 3))
     goal = np.where(finite, lo + 0.75 * (hi - lo), np.where(pris, 0.2, math.pi / 3))
     return start, goal
@@ -456,6 +464,27 @@ def plan_quintic(robot, q_start, q_goal, n_setpoints=DEFAULT_SETPOINTS, duration
 
 
 
+def default_motion_range(robot):
+    """Position range for drawing random motions: the limits, or a stand-in where infinite.
+
+    Parameters
+    ----------
+    robot : Robot
+        The arm, with limits q_min, q_max [rad or m] (may be infinite) and ``prismatic``.
+
+    Returns
+    -------
+    lo, hi : ndarray, shape (n,)
+        The limits where finite; -pi, pi for a revolute and 0, 0.2 m for a prismatic joint
+        where not.
+    """
+    lo, hi = np.asarray(robot.q_min, float), np.asarray(robot.q_max, float)
+    pris = np.asarray(getattr(robot, "prismatic", np.zeros(robot.n, bool)), bool)
+    lo = np.where(np.isfinite(lo), lo, np.where(pris, 0.0, -math.pi))
+    hi = np.where(np.isfinite(hi), hi, np.where(pris, 0.2, math.pi))
+    return lo, hi
+
+
 def random_trajectories(robot, k, seed=0, n_setpoints=31):
     """K random rest-to-rest quintic trajectories inside the joint limits.
 
@@ -487,6 +516,8 @@ def random_trajectories(robot, k, seed=0, n_setpoints=31):
 
     Notes
     -----
+    Where a position limit is infinite (a continuous joint), the draw is within -+180 deg
+    (revolute) or 0 to 0.2 m (prismatic).
     The quintic's peak speed and acceleration are reached between set points in general, so
     the sampled |qd| and |qdd| stay within the limits. Source: Sec. 3.4.1 of Fu, Gonzalez &
     Lee (1987) ranks one preplanned PUMA 560 trajectory of 31 set points; a sweep repeats that
@@ -501,7 +532,7 @@ def random_trajectories(robot, k, seed=0, n_setpoints=31):
         raise ValueError(f"the seed must be a non-negative integer, got {seed!r}")
     seed = int(seed)
     rng = np.random.default_rng(seed)
-    lo, hi = np.asarray(robot.q_min, float), np.asarray(robot.q_max, float)
+    lo, hi = default_motion_range(robot)
     out = []
     for i in range(k):
         q_start = rng.uniform(lo, hi)
@@ -509,3 +540,106 @@ def random_trajectories(robot, k, seed=0, n_setpoints=31):
         traj = plan_quintic(robot, q_start, q_goal, n_setpoints=int(n_setpoints))
         out.append(dataclasses.replace(traj, source=f"random-{seed}-{i}", sha256=""))
     return out
+
+
+#: Where a robot gives no acceleration limit (a URDF has none), ``plan`` takes
+#: qdd_max_i = DEFAULT_QDD_PER_QD * qd_max_i [1/s]: full speed in 0.5 s. (The Panda's published
+#: limits give ratios of 2.9 to 7.7 s^-1, so the default is on the cautious side.)
+DEFAULT_QDD_PER_QD = 2.0
+
+
+def acceleration_limits(robot, qdd_max=None):
+    """The acceleration limits a plan uses, and where they come from.
+
+    Parameters
+    ----------
+    robot : Robot
+        The arm: velocity limits qd_max and acceleration limits qdd_max (NaN where unknown),
+        shape (n,) [rad/s, rad/s^2; m/s, m/s^2 for a prismatic joint].
+    qdd_max : array_like, shape (n,), optional
+        Limits given by the user, in SI units [rad/s^2 or m/s^2]; they replace the robot's.
+
+    Returns
+    -------
+    qdd_max : ndarray, shape (n,)
+        The limits [rad/s^2 or m/s^2].
+    source : str
+        ``"robot"``, ``"--qdd-max"``, or the default's rule and the joints it applies to.
+
+    Raises
+    ------
+    ValueError
+        If given limits do not have n entries or are not finite and positive, or a joint with
+        no acceleration limit has no finite velocity limit either.
+    """
+    n = robot.n
+    if qdd_max is not None:
+        qdd = np.asarray(qdd_max, dtype=float).reshape(-1)
+        if qdd.shape != (n,):
+            raise ValueError(f"{qdd.size} acceleration limits for {n} joints")
+        if not (np.isfinite(qdd).all() and (qdd > 0).all()):
+            raise ValueError("acceleration limits must be finite and positive")
+        return qdd, "--qdd-max"
+    qdd = np.array(robot.qdd_max, dtype=float)
+    missing = ~np.isfinite(qdd)
+    if not missing.any():
+        return qdd, "robot"
+    qd = np.asarray(robot.qd_max, dtype=float)
+    bad = missing & ~(np.isfinite(qd) & (qd > 0))
+    if bad.any():
+        raise ValueError(f"joint {int(np.argmax(bad)) + 1} has neither an acceleration nor a "
+                         "finite velocity limit")
+    qdd[missing] = DEFAULT_QDD_PER_QD * qd[missing]
+    joints = ", ".join(str(j + 1) for j in np.flatnonzero(missing))
+    return qdd, (f"default {DEFAULT_QDD_PER_QD:g} s^-1 x qd_max for joints {joints} (the robot "
+                 "gives no acceleration limits)")
+
+
+def provenance_path(csv_path):
+    """The provenance file written beside a planned trajectory: ``<stem>.provenance.json``.
+
+    Parameters
+    ----------
+    csv_path : str or os.PathLike
+
+    Returns
+    -------
+    pathlib.Path
+
+    Examples
+    --------
+    >>> provenance_path("data/panda_trajectory.csv").name
+    'panda_trajectory.provenance.json'
+    """
+    p = Path(csv_path)
+    return p.with_name(p.stem + ".provenance.json")
+
+
+def write_provenance(csv_path, record):
+    """Write a planned trajectory's provenance beside it, atomically, as JSON.
+
+    Parameters
+    ----------
+    csv_path : str or os.PathLike
+        The trajectory CSV (already written: its SHA-256 is recorded).
+    record : dict
+        Tool, command, robot and settings (JSON-serialisable).
+
+    Returns
+    -------
+    pathlib.Path
+        The file written (:func:`provenance_path`).
+    """
+    import json
+
+    from ..files import atomic_path
+
+    out = provenance_path(csv_path)
+    doc = {**record, "output": Path(csv_path).name, "output_sha256": file_sha256(csv_path)}
+    with atomic_path(out) as tmp:
+        Path(tmp).write_text(json.dumps(doc, indent=2, allow_nan=False) + "\n")
+    return out
+
+
+__all__ += ["DEFAULT_QDD_PER_QD", "acceleration_limits", "provenance_path", "write_provenance",
+            "default_motion_range"]
