@@ -261,11 +261,11 @@ def _plot(ax, x, y, part, enveloped):
     return ax.plot(x, y, **kw)
 
 
-def _time_axis(ax, x, labels):
+def _time_axis(ax, x, labels, nbins=3):
     t0, t1 = float(x[0]), float(x[-1])
     pad = 0.03 * (t1 - t0) if t1 > t0 else 0.5
     ax.set_xlim(t0 - pad, t1 + pad)
-    set_ticks(ax.xaxis, t0, t1, 3, labels)
+    set_ticks(ax.xaxis, t0, t1, nbins, labels)
 
 
 def _zero_panel(ax, x, title):
@@ -335,13 +335,13 @@ def fig_D(data, dominance, zero, s, e):
                 _element_panel(ax, x, (Dt[:, i, j], Dr[:, i, j], D[:, i, j]), label,
                                dominance.get(label, ""), data.enveloped, 2 if h < 0.6 else 3)
                 first = first or ax
-            _time_axis(ax, x, labels=i == j)
+            _time_axis(ax, x, labels=i == j, nbins=2 if w < 0.7 else 3)
             if i == j:
                 ax.set_xlabel("t [s]", labelpad=1.0)
     _key(fig, first, n, w, h, W, H,
          f"D_ij [kg m\u00b2] against time t [s]; panel D_ij in row i, column j. Title: "
          f"element and its class: tran(slational), rot(ational), both, negl(igible) "
-         f"(s = {s:g}, e = {e:g}); \u2261 0: zero in every part.")
+         f"(s = {s:g}, e = {e:g}); \u2261\u00a00: zero in every part.")
     return fig
 
 
@@ -400,7 +400,7 @@ def fig_h(data, dominance, zero):
             _element_panel(ax, data.x, (ht[:, i], hr[:, i], hh[:, i]), label,
                            dominance.get(label, ""), data.enveloped, 2 if h < 0.6 else 3)
             first = first or ax
-        _time_axis(ax, data.x, labels=True)
+        _time_axis(ax, data.x, labels=True, nbins=2 if w < 0.7 else 3)
         ax.set_xlabel("t [s]", labelpad=1.0)
     if first is not None:
         fig.legend(*first.get_legend_handles_labels(), loc="lower center", ncol=3,
