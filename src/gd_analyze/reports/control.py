@@ -26,6 +26,7 @@ import numpy as np
 from .common import BASE_RC
 from .common import strings as _strings, style as _style, table as _table
 from .common import attr, fmt, grid_shape, render_template, utc_now
+from .main_figures import element_label
 from .pages import PAPER, Document, draw_figures, figure_svg, no_gc, write_figure_files
 
 __all__ = ["CONTROL_REPORT_FILES", "REQUIRED_VARIABLES", "make_control_figures",
@@ -251,7 +252,7 @@ def _context(ds):
                  "translational/rotational parts of D and h.")
     labels = _strings(ds["element"].values)
     choice = dict(zip(labels, _strings(ds["choice"].values)))
-    rows = [[f"D, row {i + 1}"] + [choice.get(f"D{i + 1}{j + 1}", "") if j >= i else ""
+    rows = [[f"D, row {i + 1}"] + [choice.get(element_label("D", i + 1, j + 1), "") if j >= i else ""
                               for j in range(n)] for i in range(n)]
     rows.append(["h"] + [choice.get(f"h{j + 1}", "") for j in range(n)])
     choices = _table(["element"] + [f"column {j + 1}" for j in range(n)], rows,

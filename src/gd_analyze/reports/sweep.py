@@ -36,6 +36,7 @@ from .common import check_formats, grid_shape, render_template
 from .common import utc_now
 from .figures import CLASS_LETTER as _LETTER, PAYLOAD_REQUIRED as _PAYLOAD_REQUIRED
 from .figures import payload_figure
+from .main_figures import element_label
 from .pages import PAPER, Document, draw_figures, figure_svg, no_gc, write_figure_files
 from ..core.ranking import CLASSES
 
@@ -132,7 +133,7 @@ def _fig_D(ds):
     gs = _gridspec(fig, n, n, left=0.5, right=0.08, top=0.45, bottom=0.3, wgap=0.28, hgap=0.42)
     for i in range(n):
         for j in range(i, n):
-            label = f"D{i + 1}{j + 1}"
+            label = element_label("D", i + 1, j + 1)
             k = labels.index(label)
             ax = fig.add_subplot(gs[i, j])
             _share_panel(ax, share[:, k], label, merged[label], frac[k], s, small=True)
