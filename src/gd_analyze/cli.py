@@ -1,8 +1,9 @@
 """The command line: ``gd-analyze ROBOT TRAJECTORY.csv`` and its sub-commands.
 
-Exit status: 0 on success; 1 if the verification against Pinocchio fails; 2 on bad input (one
-line on stderr naming the file, row and column, no traceback, no partial output); 3 when
-``evaluate --max-error`` is exceeded.
+Exit status: 0 on success; 1 if the verification against Pinocchio fails; 2 on bad input or an
+unusable output location (one line on stderr naming the file, row and column, no traceback, no
+partial output); 3 when ``evaluate --max-error`` is exceeded; 4 on an internal error (a bug: one
+line, the traceback only with ``--debug``).
 
 Nothing in the package imports this module.
 """
@@ -16,20 +17,24 @@ import sys
 import warnings
 from pathlib import Path
 
-from .errors import InputError
+from .errors import InputError, InputNote, InputWarning
 
 __all__ = ["main"]
 
 PROG = "gd-analyze"
 COMMANDS = ("analyze", "plan", "evaluate", "compare", "control", "sweep")
-EXIT_OK, EXIT_VERIFY, EXIT_INPUT, EXIT_TOLERANCE = 0, 1, 2, 3
+EXIT_OK, EXIT_VERIFY, EXIT_INPUT, EXIT_TOLERANCE, EXIT_INTERNAL = 0, 1, 2, 3, 4
+EXIT_STATUS_HELP = ("Exit status: 0 ok, 1 verification failed, 2 bad input or unusable output "
+                    "location, 3 error above --max-error, 4 internal error (--debug shows the "
+                    "traceback).")
 
 
 class _Parser(argparse.ArgumentParser):
     """argparse that reports usage errors as one line with exit status 2."""
 
     def error(self, message):
-        raise InputError(f"{self.prog}: {message}")
+        sub = self.prog[len(PROG):].strip()
+        raise InputError(f"{sub}: {message}" if sub else message)
 
 
 def _fraction(lo, hi, name, lo_open=True):
@@ -112,8 +117,7 @@ def _analyze_parser():
                "L-E, N-E and G-D formulations; 'gd-analyze control MODEL.json TRAJECTORY.csv' "
                "checks a simplified model in closed loop; 'gd-analyze sweep ROBOT ...' analyses "
                "many trajectories on dask. 'gd-analyze COMMAND --help' for details. "
-               "Exit status: 0 ok, 1 verification failed, 2 bad input, 3 error above "
-               "--max-error.",
+               + EXIT_STATUS_HELP,
     )
     p.add_argument("robot", metavar="ROBOT", help="built-in robot (puma560, two-link) or a "
                    "TOML robot file")
@@ -167,6 +171,9 @@ def _plan_parser():
                    help=f"number of set points, both ends included (default {DEFAULT_SETPOINTS})")
     p.add_argument("--duration", metavar="T", type=float,
                    help="duration [s] (default: the shortest within the limits)")
+    p.add_argument("--ignore-limits", action="store_true",
+                   help="plan even if the duration, start or goal breaks the robot's joint "
+                        "position, velocity or acceleration limits")
     return p
 
 
@@ -216,8 +223,10 @@ def _control_parser():
                         "Kp = wn^2, Kv = 2 zeta wn")
     p.add_argument("--zeta", metavar="Z", type=_fraction(0.0, math.inf, "--zeta"),
                    default=DEFAULT_ZETA, help=f"damping ratio (default {DEFAULT_ZETA:g})")
-    p.add_argument("--offset", metavar="RAD", type=float, default=0.0,
-                   help="initial position error on every joint [rad] (default 0)")
+    p.add_argument("--offset", metavar="RAD", type=_fraction(-2 * math.pi, 2 * math.pi,
+                                                             "--offset", False),
+                   default=0.0, help="initial position error on every joint [rad], within "
+                                     "[-2 pi, 2 pi] (default 0)")
     p.add_argument("--no-report", action="store_true", help="skip the HTML and PDF report")
     p.add_argument("--json", action="store_true", help="print the figures as one JSON object")
     p.add_argument("-q", "--quiet", action="store_true", help="print nothing but errors")
@@ -238,7 +247,8 @@ def _sweep_parser():
     p.add_argument("--random", metavar="K", type=int,
                    help="plan K random quintic trajectories (start and goal uniform in the "
                         "joint limits, shortest duration within the limits, 31 set points)")
-    p.add_argument("--seed", metavar="S", type=int, default=0, help="seed for --random")
+    p.add_argument("--seed", metavar="S", type=_seed, default=0,
+                   help="seed for --random, an integer in [0, 2^63)")
     p.add_argument("-o", "--outdir", metavar="OUTDIR",
                    help="output folder (default: reports/<robot>-sweep/)")
     p.add_argument("--scheduler", metavar="ADDRESS",
@@ -254,6 +264,30 @@ def _sweep_parser():
     p.add_argument("-q", "--quiet", action="store_true", help="print nothing but errors")
     _add_payload_sweep_argument(_add_payload_arguments(p))
     return p
+
+
+def _seed(text):
+    try:
+        v = int(text)
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"--seed must be an integer, got {text!r}") from None
+    if not 0 <= v < 2**63:
+        raise argparse.ArgumentTypeError(f"--seed must be in [0, 2^63), got {text}")
+    return v
+
+
+def _outdir(args_outdir, *parts):
+    """The output folder: -o as given, or reports/<sanitised parts joined by '-'>."""
+    from .io.files import safe_name
+
+    if args_outdir:
+        return Path(args_outdir)
+    return Path("reports") / "-".join(safe_name(p) for p in parts)
+
+
+def _results_size(N, n):
+    """Bytes of the per-set-point variables of results.h5 (uncompressed)."""
+    return 8 * N * (1 + 9 * n + 3 * n * n) + (1 << 20)
 
 
 def _load(robot_arg, csv_arg):
@@ -292,7 +326,10 @@ def _format_summary(ds):
                      f"{ds.tau_error_relative_peak.values[j]:>10.2e}"
                      f"{ds.tau_error_relative_rms.values[j]:>10.2e}")
     if "verification_passed" in ds.attrs:
-        worst = max(v for k, v in ds.attrs.items() if k.startswith("verification_max_rel"))
+        import numpy as np
+
+        worst = float(np.max([v for k, v in ds.attrs.items()
+                              if k.startswith("verification_max_rel")]))
         lines += ["", f"verified against Pinocchio on {ds.attrs['verification_setpoints']} set "
                       f"points: largest relative difference {worst:.2e}"]
     return "\n".join(lines)
@@ -320,13 +357,16 @@ def _payload_sweep_dataset(robot, trajectory, args):
     return renamed.drop_vars([c for c in ("element_units",) if c in renamed.coords])
 
 
+ANALYZE_OUTPUTS = ("results.h5", "simplified_model.json", "report.html", "report.pdf")
+
+
 def _cmd_analyze(args):
+    from .io.files import check_free_space, staged_output
     from .pipeline import analyze_to_file
 
     robot, trajectory = _load(args.robot, args.trajectory)
     _warn_limits(robot, trajectory, args.quiet)
-    outdir = Path(args.outdir) if args.outdir else \
-        Path("reports") / f"{robot.name}-{Path(args.trajectory).stem}"
+    outdir = _outdir(args.outdir, robot.name, Path(args.trajectory).stem)
     base_robot = robot
     robot = _apply_payload(robot, args)
     if outdir.exists() and not outdir.is_dir():
@@ -336,18 +376,20 @@ def _cmd_analyze(args):
                 "payload_com": [float(v) for v in args.payload_com],
                 "payload_inertia": [float(v) for v in args.payload_inertia]}
     extra = _payload_sweep_dataset(base_robot, trajectory, args)   # bad range: before any output
-    outdir.mkdir(parents=True, exist_ok=True)
-    results = outdir / "results.h5"
-    analysis = analyze_to_file(robot, trajectory, results, dominance=args.dominance,
-                               negligible=args.negligible, check=not args.no_verify,
-                               settings=settings, compress=args.compress,
-                               progress=not args.quiet and sys.stderr.isatty(), extra=extra)
-    analysis.model.save(outdir / "simplified_model.json")
-    written = [results, outdir / "simplified_model.json"]
-    if not args.no_report:
-        from .report import write_report
+    with staged_output(outdir, ANALYZE_OUTPUTS) as stage:
+        check_free_space(stage, _results_size(trajectory.n_setpoints, robot.n), "results.h5")
+        results = stage / "results.h5"
+        analysis = analyze_to_file(robot, trajectory, results, dominance=args.dominance,
+                                   negligible=args.negligible, check=not args.no_verify,
+                                   settings=settings, compress=args.compress,
+                                   progress=not args.quiet and sys.stderr.isatty(), extra=extra)
+        analysis.model.save(stage / "simplified_model.json")
+        written = [results, stage / "simplified_model.json"]
+        if not args.no_report:
+            from .report import write_report
 
-        written += write_report(results, outdir)
+            written += write_report(results, stage)
+    written = [outdir / Path(p).name for p in written]
     if not args.quiet:
         print(_format_summary(analysis.dataset))
         print()
@@ -358,6 +400,33 @@ def _cmd_analyze(args):
               file=sys.stderr)
         return EXIT_VERIFY
     return EXIT_OK
+
+
+def _check_plan(robot, start, goal, duration):
+    """Refuse a plan that breaks the robot's limits: InputError naming the joint and limit."""
+    import numpy as np
+
+    from .trajectory import quintic_min_durations
+
+    for name, vals in (("--start", start), ("--goal", goal)):
+        for j, v in enumerate(np.radians(vals)):
+            if not robot.q_min[j] <= v <= robot.q_max[j]:
+                raise InputError(f"joint {j + 1} at {vals[j]:g} deg is outside its position "
+                                 f"limits [{math.degrees(robot.q_min[j]):g}, "
+                                 f"{math.degrees(robot.q_max[j]):g}] deg (--ignore-limits to "
+                                 f"plan anyway)", column=name)
+    if duration is None:
+        return
+    t_vel, t_acc = quintic_min_durations(robot, np.radians(start), np.radians(goal))
+    for j in range(robot.n):
+        for t_lim, what, lim in ((t_vel[j], "velocity",
+                                  f"{math.degrees(robot.qd_max[j]):g} deg/s"),
+                                 (t_acc[j], "acceleration",
+                                  f"{math.degrees(robot.qdd_max[j]):g} deg/s^2")):
+            if duration < t_lim * (1 - 1e-12):
+                raise InputError(f"{duration:g} s is too short: joint {j + 1} would exceed its "
+                                 f"{what} limit {lim} (at least {t_lim:.6g} s; "
+                                 f"--ignore-limits to plan anyway)", column="--duration")
 
 
 def _cmd_plan(args):
@@ -377,16 +446,33 @@ def _cmd_plan(args):
     for name, vals in (("--start", start), ("--goal", goal)):
         if len(vals) != robot.n:
             raise InputError(f"{name}: {len(vals)} values for {robot.n} joints")
-    if args.setpoints < 2:
-        raise InputError("--setpoints: a trajectory needs at least 2 set points")
-    if args.duration is not None and not args.duration > 0:
-        raise InputError("--duration must be positive")
+    from .core.limits import LIMITS, first_beyond
+
+    if not 2 <= args.setpoints <= 10**8:
+        raise InputError("--setpoints: a trajectory needs 2 to 10^8 set points")
+    if args.duration is not None and not (LIMITS["min_duration"] <= args.duration
+                                          <= LIMITS["duration"]):
+        raise InputError(f"must be a number of seconds in [{LIMITS['min_duration']:g}, "
+                         f"{LIMITS['duration']:g}], got {args.duration:g}", column="--duration")
+    if not args.ignore_limits:
+        _check_plan(robot, start, goal, args.duration)
+    if args.output != "-":
+        from .io.files import check_output_file
+
+        check_output_file(args.output)
     try:
         traj = plan_quintic(robot, np.radians(start), np.radians(goal), args.setpoints,
                             args.duration)
     except ValueError as exc:
         raise InputError(str(exc)) from None
-    write_trajectory(traj, args.output)
+    for name in ("q", "qd", "qdd"):
+        if first_beyond(getattr(traj, name), LIMITS[name]) is not None:
+            raise InputError(f"the planned {name} exceeds the supported magnitude "
+                             f"{LIMITS[name]:g}: choose a longer --duration", column="--duration")
+    try:
+        write_trajectory(traj, args.output)
+    except OSError as exc:
+        raise InputError(f"cannot write: {exc.strerror or exc}", args.output) from None
     if args.output != "-":
         print(f"wrote {args.output}: {traj.n_setpoints} set points over {traj.t[-1]:.4f} s "
               f"({traj.source})", file=sys.stderr)
@@ -456,26 +542,27 @@ def _cmd_control(args):
     from .simplified import SimplifiedModel
     from .trajectory import read_trajectory
 
+    from .control_report import CONTROL_REPORT_FILES
+    from .io.files import staged_output
+
     model = SimplifiedModel.load(args.model)
     traj = read_trajectory(args.trajectory, n_joints=model.robot.n)
-    if not math.isfinite(args.offset):
-        raise InputError("--offset must be a finite number")
-    outdir = Path(args.outdir) if args.outdir else \
-        Path("reports") / f"{model.robot.name}-{Path(args.trajectory).stem}-control"
+    outdir = _outdir(args.outdir, model.robot.name, Path(args.trajectory).stem, "control")
     if outdir.exists() and not outdir.is_dir():
         raise InputError("exists and is not a folder", outdir)
     try:
         result = run_control(model, traj, wn=args.wn, zeta=args.zeta, q0_offset=args.offset)
     except ValueError as exc:
         raise InputError(str(exc)) from None
-    outdir.mkdir(parents=True, exist_ok=True)
-    path = outdir / CONTROL_FILE
-    write_control_dataset(result, path)
-    written = [path]
-    if not args.no_report:
-        from .control_report import write_control_report
+    with staged_output(outdir, (CONTROL_FILE, *CONTROL_REPORT_FILES)) as stage:
+        path = stage / CONTROL_FILE
+        write_control_dataset(result, path)
+        written = [path]
+        if not args.no_report:
+            from .control_report import write_control_report
 
-        written += list(write_control_report(path, outdir))
+            written += list(write_control_report(path, stage))
+    written = [outdir / Path(p).name for p in written]
     summary = result.summary()
     if args.json:
         print(json.dumps(summary, default=float))
@@ -495,6 +582,10 @@ def _cmd_control(args):
     return EXIT_OK
 
 
+SWEEP_OUTPUTS = ("sweep.h5", "merged_model.json", "payload_sweep.h5", "sweep_report.html",
+                 "sweep_report.pdf")
+
+
 def _cmd_sweep(args):
     from .robot import load_robot
     from .sweep import (dask_client, merged_model, random_trajectories, run_sweep,
@@ -504,8 +595,14 @@ def _cmd_sweep(args):
     robot = load_robot(args.robot)
     if (args.random is None) == (not args.csv):
         raise InputError("give either --random K or trajectory CSV files")
-    if args.random is not None and args.random < 1:
-        raise InputError("--random: K must be >= 1")
+    if args.random is not None and not 1 <= args.random <= 10**6:
+        raise InputError("--random: K must be in [1, 10^6]")
+    if args.scheduler is not None:
+        import re
+
+        if not re.fullmatch(r"([a-z][a-z0-9+.-]*://)?[^\s/:]+(:[0-9]{1,5})?/?", args.scheduler):
+            raise InputError("not a dask scheduler address (e.g. tcp://10.0.0.5:8786)",
+                             column="--scheduler")
     if args.workers is not None and args.workers < 1:
         raise InputError("--workers must be >= 1")
     if args.csv:
@@ -514,7 +611,7 @@ def _cmd_sweep(args):
         trajectories = random_trajectories(robot, args.random, seed=args.seed)
     masses = _payload_masses(args)
     loaded = _apply_payload(robot, args)
-    outdir = Path(args.outdir) if args.outdir else Path("reports") / f"{robot.name}-sweep"
+    outdir = _outdir(args.outdir, robot.name, "sweep")
     if outdir.exists() and not outdir.is_dir():
         raise InputError("exists and is not a folder", outdir)
     settings = {"command": " ".join([PROG] + sys.argv[1:]) if sys.argv else PROG,
@@ -528,19 +625,22 @@ def _cmd_sweep(args):
             payload = None if masses is None else sweep_payloads(
                 robot, trajectories, masses, args.payload_com, args.payload_inertia,
                 args.dominance, args.negligible, client=client)
-    except OSError as exc:
+    except (OSError, ValueError, TypeError) as exc:
         raise InputError(f"cannot reach the dask scheduler: {exc}", args.scheduler) from None
-    outdir.mkdir(parents=True, exist_ok=True)
-    written = [outdir / "sweep.h5", outdir / "merged_model.json"]
-    write_sweep(ds, written[0])
-    merged_model(loaded, ds).save(written[1])
-    if payload is not None:
-        written.append(outdir / "payload_sweep.h5")
-        write_sweep(payload, written[-1])
-    if not args.no_report:
-        from .sweep_report import write_sweep_report
+    from .io.files import staged_output
 
-        written += list(write_sweep_report(written[0], outdir, payload=payload))
+    with staged_output(outdir, SWEEP_OUTPUTS) as stage:
+        written = [stage / "sweep.h5", stage / "merged_model.json"]
+        write_sweep(ds, written[0])
+        merged_model(loaded, ds).save(written[1])
+        if payload is not None:
+            written.append(stage / "payload_sweep.h5")
+            write_sweep(payload, written[-1])
+        if not args.no_report:
+            from .sweep_report import write_sweep_report
+
+            written += list(write_sweep_report(written[0], stage, payload=payload))
+    written = [outdir / Path(p).name for p in written]
     if not args.quiet:
         print(f"{robot.name}: {ds.sizes['trajectory']} trajectories in "
               f"{ds.attrs['elapsed_s']:.1f} s on {ds.attrs['n_workers']} dask workers "
@@ -557,20 +657,47 @@ def _cmd_sweep(args):
     return EXIT_OK
 
 
+def _show_warning(message, category, filename, lineno, file=None, line=None):
+    kind = "note" if issubclass(category, InputNote) else "warning"
+    print(f"{PROG}: {kind}: {message}", file=sys.stderr)
+
+
+def _mistyped_command(word):
+    """A 'did you mean' error for a first word that is close to a command and is neither a
+    built-in robot nor a file; None otherwise."""
+    import difflib
+
+    from .robot import builtin_robots
+
+    if word.startswith("-") or word in builtin_robots() or os.path.exists(word):
+        return None
+    close = difflib.get_close_matches(word, COMMANDS, n=1, cutoff=0.6)
+    if not close:
+        return None
+    return InputError(f"unknown command {word!r}: did you mean '{close[0]}'? (commands: "
+                      f"{', '.join(COMMANDS)}; or a robot for the main job)")
+
+
 def main(argv=None):
     """Run the command line.
 
     Parameters
     ----------
     argv : list of str, optional
-        Arguments without the program name (default ``sys.argv[1:]``).
+        Arguments without the program name (default ``sys.argv[1:]``). ``--debug`` anywhere
+        shows the traceback of an internal error.
 
     Returns
     -------
     int
-        The exit status: 0 ok, 1 verification failed, 2 bad input, 3 error above --max-error.
+        The exit status: 0 ok, 1 verification failed, 2 bad input or unusable output location,
+        3 error above --max-error, 4 internal error.
     """
+    from .io.files import Terminated, install_signal_handlers
+
     argv = list(sys.argv[1:] if argv is None else argv)
+    debug = "--debug" in argv
+    argv = [a for a in argv if a != "--debug"]
     command = argv[0] if argv and argv[0] in COMMANDS else "analyze"
     if argv and argv[0] == command:
         argv = argv[1:]
@@ -581,8 +708,19 @@ def main(argv=None):
                "sweep": (_sweep_parser, _cmd_sweep)}
     make_parser, run = parsers[command]
     try:
-        args = make_parser().parse_intermixed_args(argv)
-        return run(args)
+        import threading
+
+        if threading.current_thread() is threading.main_thread():
+            install_signal_handlers()
+        with warnings.catch_warnings():
+            warnings.simplefilter("always", InputWarning)
+            warnings.showwarning = _show_warning
+            if command == "analyze" and argv:
+                mistyped = _mistyped_command(argv[0])
+                if mistyped is not None:
+                    raise mistyped
+            args = make_parser().parse_intermixed_args(argv)
+            return run(args)
     except InputError as exc:
         print(f"{PROG}: error: {exc}", file=sys.stderr)
         return EXIT_INPUT
@@ -594,6 +732,19 @@ def main(argv=None):
     except KeyboardInterrupt:
         print(f"{PROG}: interrupted", file=sys.stderr)
         return 130
+    except Terminated as exc:
+        print(f"{PROG}: terminated", file=sys.stderr)
+        return 128 + int(exc.args[0]) if exc.args else 143
+    except Exception as exc:  # noqa: BLE001 - the last line of defence: exit 4, one line
+        if debug:
+            import traceback
+
+            traceback.print_exc()
+        text = " ".join(str(exc).split())[:300]
+        print(f"{PROG}: internal error: {type(exc).__name__}: {text} (a bug in gd-analyze; "
+              f"{'see the traceback above' if debug else 'rerun with --debug for the traceback'})",
+              file=sys.stderr)
+        return EXIT_INTERNAL
 
 
 if __name__ == "__main__":  # pragma: no cover

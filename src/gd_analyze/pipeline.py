@@ -47,11 +47,20 @@ class Analysis:
     verification: dict
 
 
+def _check_finite(terms, tau, start=0):
+    """Every computed array must be finite (inputs within LIMITS guarantee it)."""
+    from .core.limits import check_finite
+
+    for name in ("D_tran", "D_rot", "h_tran", "h_rot", "c"):
+        check_finite(name, getattr(terms, name))
+    check_finite("tau", tau)
+
+
 def _subsample(N, max_setpoints):
     return np.unique(np.linspace(0, N - 1, min(N, max_setpoints)).round().astype(int))
 
 
-def verify(robot, q, qd, terms=None, max_setpoints=VERIFY_MAX_SETPOINTS):
+def verify(robot, q, qd, terms=None, max_setpoints=VERIFY_MAX_SETPOINTS, qdd=None):
     """Check G-D terms against Pinocchio's crba, nonLinearEffects and generalized gravity.
 
     Parameters
@@ -64,31 +73,39 @@ def verify(robot, q, qd, terms=None, max_setpoints=VERIFY_MAX_SETPOINTS):
         The G-D terms at those states; computed at the checked set points if not given.
     max_setpoints : int, optional
         At most this many set points, evenly spread, are checked.
+    qdd : ndarray, shape (N, n), optional
+        Joint accelerations [rad/s^2], for the torque scale (zero if not given).
 
     Returns
     -------
     dict
-        ``max_rel_error_<term>`` for D_tran, D_rot, h_tran, h_rot, D, h and c (each the largest
-        absolute difference over the largest magnitude of Pinocchio's value), ``setpoints``
-        checked, ``tolerance`` and ``passed`` (1 if all are within tolerance, else 0).
+        ``max_rel_error_<term>`` for D_tran, D_rot, h_tran, h_rot, D, h and c: the largest
+        difference from Pinocchio relative to the element's natural scale over the checked set
+        points (:func:`gd_analyze.reference.natural_relative_error`): sqrt(D_ii D_jj) for D_ij,
+        peak |tau_i| for h_i and c_i, with an absolute floor of a few machine epsilons times
+        the overall scale; ``setpoints`` checked, ``tolerance`` and ``passed`` (1 if all are
+        within tolerance, else 0; a NaN anywhere fails).
 
     Notes
     -----
     The split parts are checked against the half-models with zero rotational inertia and with
     zero mass (see :mod:`gd_analyze.reference`).
     """
-    from .reference import reference_terms, relative_error
+    from .reference import natural_relative_error, natural_scales, reference_terms
 
     idx = _subsample(q.shape[0], max_setpoints)
     ref = reference_terms(robot, q[idx], qd[idx])
     ours = gd_terms(robot, q[idx], qd[idx]) if terms is None else None
+    scales = natural_scales(robot, ref, qd[idx], None if qdd is None else qdd[idx])
     out = {}
     for name in ("D_tran", "D_rot", "h_tran", "h_rot", "D", "h", "c"):
         value = getattr(ours, name) if terms is None else getattr(terms, name)[idx]
-        out[f"max_rel_error_{name}"] = relative_error(value, getattr(ref, name))
-    worst = max(out.values())
+        kind = "D" if name.startswith("D") else "tau"
+        out[f"max_rel_error_{name}"] = natural_relative_error(
+            value, getattr(ref, name), scales[kind], scales[f"floor_{kind}"])
+    worst = np.max(np.array(list(out.values())))         # NaN propagates: a NaN fails
     out.update(setpoints=int(idx.size), tolerance=VERIFY_TOLERANCE,
-               engine="pinocchio", passed=int(worst <= VERIFY_TOLERANCE))
+               engine="pinocchio", passed=int(bool(worst <= VERIFY_TOLERANCE)))
     return out
 
 
@@ -129,12 +146,14 @@ def analyze(robot, trajectory, dominance=DEFAULT_DOMINANCE, negligible=DEFAULT_N
 
     terms = gd_terms(robot, trajectory.q, trajectory.qd)
     tau = terms.tau(trajectory.qdd)
+    _check_finite(terms, tau)
     ranking = rank_dominance(terms.D_tran, terms.D_rot, terms.h_tran, terms.h_rot, tau,
                              dominance=dominance, negligible=negligible)
     choices = ranking.choices()
     tau_s = simplified_torque(terms, choices, trajectory.qdd)
     error = torque_error(tau_s, tau)
-    verification = verify(robot, trajectory.q, trajectory.qd, terms) if check else {}
+    verification = (verify(robot, trajectory.q, trajectory.qd, terms, qdd=trajectory.qdd)
+                    if check else {})
     provenance = {"gd_analyze_version": __version__, "trajectory_file": trajectory.source,
                   "derivatives": trajectory.derivatives, **(settings or {})}
     model = SimplifiedModel(robot=robot, choices=choices, dominance_threshold=float(dominance),
@@ -217,6 +236,7 @@ def analyze_to_file(robot, trajectory, path, dominance=DEFAULT_DOMINANCE,
             for a, b in ranges:
                 terms = gd_terms(robot, trajectory.q[a:b], trajectory.qd[a:b])
                 tau = terms.tau(trajectory.qdd[a:b])
+                _check_finite(terms, tau, a)
                 ranker.update(terms.D_tran, terms.D_rot, terms.h_tran, terms.h_rot, tau)
                 out.write(a, {"D_tran": terms.D_tran, "D_rot": terms.D_rot, "D": terms.D,
                               "h_tran": terms.h_tran, "h_rot": terms.h_rot, "h": terms.h,
@@ -233,7 +253,8 @@ def analyze_to_file(robot, trajectory, path, dominance=DEFAULT_DOMINANCE,
                 bar.update(b - a)
         bar.close()
         error = errors.result()
-        verification = verify(robot, trajectory.q, trajectory.qd) if check else {}
+        verification = (verify(robot, trajectory.q, trajectory.qd, qdd=trajectory.qdd)
+                        if check else {})
         ds = summary_dataset(robot, trajectory, ranking, choices, error, verification, settings)
         if formulations:
             from .formulations import formulations_dataset

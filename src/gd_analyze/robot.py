@@ -24,7 +24,8 @@ from pathlib import Path
 
 import numpy as np
 
-from .errors import InputError
+from .core.limits import LIMITS
+from .errors import InputError, InputWarning
 
 try:  # Python >= 3.11
     import tomllib
@@ -34,6 +35,8 @@ except ModuleNotFoundError:  # pragma: no cover - Python 3.10
 __all__ = ["Robot", "load_robot", "builtin_robots", "robot_from_dict", "with_payload"]
 
 _BUILTIN = {"puma560": "puma560.toml", "two-link": "two-link.toml"}
+#: Top-level keys of a robot file; others are ignored with an InputWarning.
+_TOP_KEYS = {"name", "description", "reference", "gravity", "link"}
 _LINK_KEYS = {
     "d", "a", "alpha_deg", "offset_deg", "mass", "com", "inertia",
     "q_limits_deg", "qd_max_deg", "qdd_max_deg",
@@ -220,11 +223,16 @@ def with_payload(robot, mass, com=(0.0, 0.0, 0.0), inertia=(0.0, 0.0, 0.0)):
     enters the G-D terms through link n's mass, centre of mass and inertia tensor.
     """
     mass = float(mass)
-    if not math.isfinite(mass) or mass < 0:
-        raise InputError(f"payload mass must be a finite number >= 0, got {mass}",
-                         column="--payload")
+    if not math.isfinite(mass) or mass < 0 or mass > LIMITS["mass"]:
+        raise InputError(f"payload mass must be a number in [0, {LIMITS['mass']:g}] kg, got "
+                         f"{mass:g}", column="--payload")
     com_p = np.asarray(com, dtype=float).reshape(3)
     I_p = np.asarray(inertia, dtype=float)
+    for opt, vals, lim in (("--payload-com", com_p, "length"),
+                           ("--payload-inertia", I_p, "inertia")):
+        if not (np.abs(vals) <= LIMITS[lim]).all():
+            raise InputError(f"values beyond the supported magnitude {LIMITS[lim]:g}",
+                             column=opt)
     I_p = np.diag(I_p) if I_p.shape == (3,) else I_p.reshape(3, 3)
     if not np.isfinite(I_p).all() or not np.allclose(I_p, I_p.T) \
             or np.linalg.eigvalsh(I_p).min() < -1e-12:
@@ -259,18 +267,50 @@ def builtin_robots():
     return sorted(_BUILTIN)
 
 
-def _number(value, path, column):
+def _number(value, path, column, limit=None):
     if isinstance(value, bool) or not isinstance(value, (int, float)):
-        raise InputError(f"expected a number, got {value!r}", path, column=column)
-    if not math.isfinite(value):
+        raise InputError(f"expected a number, got {_short(value)}", path, column=column)
+    try:
+        v = float(value)
+    except OverflowError:
+        raise InputError("number too large for a float", path, column=column) from None
+    if not math.isfinite(v):
         raise InputError(f"expected a finite number, got {value!r}", path, column=column)
-    return float(value)
+    if limit is not None and abs(v) > LIMITS[limit]:
+        raise InputError(f"{v:g} is beyond the supported magnitude {LIMITS[limit]:g} (see the "
+                         f"README, Limits)", path, column=column)
+    return v
 
 
-def _vector(value, length, path, column):
+def _short(value):
+    text = repr(value)
+    return text if len(text) <= 60 else text[:57] + "..."
+
+
+def _vector(value, length, path, column, limit=None):
     if not isinstance(value, (list, tuple)) or len(value) != length:
-        raise InputError(f"expected a list of {length} numbers, got {value!r}", path, column=column)
-    return [_number(v, path, column) for v in value]
+        raise InputError(f"expected a list of {length} numbers, got {_short(value)}", path,
+                         column=column)
+    return [_number(v, path, column, limit) for v in value]
+
+
+def _text(spec, key, path, required=False):
+    """A one-line printable string of at most 200 characters."""
+    value = spec.get(key, "")
+    if not isinstance(value, str) or (required and not value):
+        raise InputError(f"expected a {'non-empty ' if required else ''}string, got "
+                         f"{_short(value)}", path, column=key)
+    if len(value) > 200 or not value.isprintable():
+        raise InputError("expected at most 200 printable characters (no control characters "
+                         "such as NUL or newline)", path, column=key)
+    return value
+
+
+def _looks_like_radians(deg):
+    """True for a nonzero angle in degrees within 1e-3 of a multiple of pi/2 but not an
+    integer: 1.5708 typed for 90."""
+    k = round(deg / (math.pi / 2))
+    return k != 0 and abs(deg - k * math.pi / 2) < 1e-3 and deg != round(deg)
 
 
 def robot_from_dict(spec, source="<dict>", sha256=None):
@@ -310,12 +350,18 @@ def robot_from_dict(spec, source="<dict>", sha256=None):
     path = source
     if not isinstance(spec, dict):
         raise InputError("a robot file must be a table", path)
-    name = spec.get("name")
-    if not isinstance(name, str) or not name:
+    if "name" not in spec:
         raise InputError("missing robot name", path, column="name")
+    name = _text(spec, "name", path, required=True)
+    description, reference = _text(spec, "description", path), _text(spec, "reference", path)
+    for key in sorted(set(spec) - _TOP_KEYS):
+        import warnings
+
+        warnings.warn(f"{path}: unknown key {key!r} ignored (known: "
+                      f"{', '.join(sorted(_TOP_KEYS))})", InputWarning, stacklevel=2)
     if "gravity" not in spec:
         raise InputError("missing gravity vector", path, column="gravity")
-    gravity = _vector(spec["gravity"], 3, path, "gravity")
+    gravity = _vector(spec["gravity"], 3, path, "gravity", "gravity")
     links = spec.get("link")
     if not isinstance(links, list) or not links:
         raise InputError("no [[link]] tables", path, column="link")
@@ -331,19 +377,25 @@ def robot_from_dict(spec, source="<dict>", sha256=None):
         for key in _LINK_KEYS - {"offset_deg"}:
             if key not in link:
                 raise InputError("missing key", path, column=f"{where}.{key}")
-        cols["d"].append(_number(link["d"], path, f"{where}.d"))
-        cols["a"].append(_number(link["a"], path, f"{where}.a"))
-        cols["alpha"].append(math.radians(_number(link["alpha_deg"], path, f"{where}.alpha_deg")))
-        cols["offset"].append(math.radians(_number(link.get("offset_deg", 0.0), path,
-                                                   f"{where}.offset_deg")))
-        m = _number(link["mass"], path, f"{where}.mass")
+        cols["d"].append(_number(link["d"], path, f"{where}.d", "length"))
+        cols["a"].append(_number(link["a"], path, f"{where}.a", "length"))
+        for key in ("alpha_deg", "offset_deg"):
+            deg = _number(link.get(key, 0.0), path, f"{where}.{key}", "angle_deg")
+            if _looks_like_radians(deg):
+                import warnings
+
+                warnings.warn(f"{path}: key {where}.{key}: {deg:g} looks like radians "
+                              f"({deg / (math.pi / 2):.0f} pi/2); the value is read in degrees",
+                              InputWarning, stacklevel=2)
+            cols["alpha" if key == "alpha_deg" else "offset"].append(math.radians(deg))
+        m = _number(link["mass"], path, f"{where}.mass", "mass")
         if m < 0:
             raise InputError(f"negative mass {m}", path, column=f"{where}.mass")
         cols["mass"].append(m)
-        cols["com"].append(_vector(link["com"], 3, path, f"{where}.com"))
+        cols["com"].append(_vector(link["com"], 3, path, f"{where}.com", "length"))
         raw = link["inertia"]
         n_in = len(raw) if isinstance(raw, (list, tuple)) else 0
-        vals = _vector(raw, 6 if n_in == 6 else 3, path, f"{where}.inertia")
+        vals = _vector(raw, 6 if n_in == 6 else 3, path, f"{where}.inertia", "inertia")
         ixx, iyy, izz = vals[:3]
         ixy, ixz, iyz = vals[3:] if len(vals) == 6 else (0.0, 0.0, 0.0)
         I = np.array([[ixx, ixy, ixz], [ixy, iyy, iyz], [ixz, iyz, izz]])
@@ -353,19 +405,19 @@ def robot_from_dict(spec, source="<dict>", sha256=None):
             raise InputError("inertia tensor is not positive semi-definite", path,
                              column=f"{where}.inertia")
         cols["inertia"].append(I)
-        lim = _vector(link["q_limits_deg"], 2, path, f"{where}.q_limits_deg")
+        lim = _vector(link["q_limits_deg"], 2, path, f"{where}.q_limits_deg", "angle_deg")
         if lim[0] >= lim[1]:
             raise InputError("lower limit not below upper limit", path,
                              column=f"{where}.q_limits_deg")
         cols["q_min"].append(math.radians(lim[0]))
         cols["q_max"].append(math.radians(lim[1]))
         for key, col in (("qd_max_deg", "qd_max"), ("qdd_max_deg", "qdd_max")):
-            v = _number(link[key], path, f"{where}.{key}")
+            v = _number(link[key], path, f"{where}.{key}", "angle_deg")
             if v <= 0:
                 raise InputError("limit must be positive", path, column=f"{where}.{key}")
             cols[col].append(math.radians(v))
-    return Robot(name=name, gravity=gravity, description=str(spec.get("description", "")),
-                 reference=str(spec.get("reference", "")), source=str(source), sha256=sha256,
+    return Robot(name=name, gravity=gravity, description=description,
+                 reference=reference, source=str(source), sha256=sha256,
                  **cols)
 
 
@@ -413,4 +465,6 @@ def load_robot(name_or_path):
         spec = tomllib.loads(raw.decode("utf-8"))
     except (tomllib.TOMLDecodeError, UnicodeDecodeError) as exc:
         raise InputError(f"not a valid TOML robot file: {exc}", source) from None
+    except RecursionError:
+        raise InputError("not a robot file: nested too deeply", source) from None
     return robot_from_dict(spec, source=source, sha256=hashlib.sha256(raw).hexdigest())

@@ -939,9 +939,13 @@ def parse_range(text, name="--payload-sweep"):
         raise InputError(f"STEP must be positive, got {text!r}", column=name)
     if stop < start:
         raise InputError(f"STOP must not be below START, got {text!r}", column=name)
-    count = int((stop - start) // step) + 1
+    try:
+        count = int((stop - start) // step) + 1
+    except decimal.DecimalException:                  # e.g. 0:1:1e-30: beyond the precision
+        count = math.inf
     if count > 10_000:
-        raise InputError(f"the range {text!r} has {count} values (at most 10000)", column=name)
+        raise InputError(f"the range {text!r} has {count:.3g} values (at most 10000)",
+                         column=name)
     return [float(start + k * step) for k in range(count)]
 
 
