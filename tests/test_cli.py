@@ -233,8 +233,8 @@ def test_sweep_command_on_csv_files(tmp_path, capsys):
         assert ds.sizes["trajectory"] == 2
         # the shipped trajectory's row is its own ranking, as the main job gives it
         from gd_analyze import load_robot
-        from gd_analyze.pipeline import analyze
-        from gd_analyze.trajectory import read_trajectory
+        from gd_analyze.workflows.analyze import analyze
+        from gd_analyze.io.trajectory import read_trajectory
 
         single = analyze(load_robot("puma560"), read_trajectory(SHIPPED, 6), check=False).dataset
         np.testing.assert_allclose(ds.share_tran.values[0], single.share_tran.values,

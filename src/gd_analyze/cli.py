@@ -92,7 +92,7 @@ def _add_payload_sweep_argument(group):
 
 
 def _apply_payload(robot, args):
-    from .robot import with_payload
+    from .core.robot import with_payload
 
     if args.payload is None:
         if any(args.payload_com) or any(args.payload_inertia):
@@ -102,7 +102,7 @@ def _apply_payload(robot, args):
 
 
 def _analyze_parser():
-    from .ranking import DEFAULT_DOMINANCE, DEFAULT_NEGLIGIBLE
+    from .core.ranking import DEFAULT_DOMINANCE, DEFAULT_NEGLIGIBLE
 
     p = _Parser(
         prog=PROG,
@@ -153,7 +153,7 @@ def _version():
 
 
 def _plan_parser():
-    from .trajectory import DEFAULT_GOAL_DEG, DEFAULT_SETPOINTS, DEFAULT_START_DEG
+    from .io.trajectory import DEFAULT_GOAL_DEG, DEFAULT_SETPOINTS, DEFAULT_START_DEG
 
     p = _Parser(prog=f"{PROG} plan",
                 description="Write a quintic rest-to-rest joint trajectory at the shortest "
@@ -206,7 +206,7 @@ def _compare_parser():
 
 
 def _control_parser():
-    from .control import DEFAULT_WN, DEFAULT_ZETA
+    from .workflows.control import DEFAULT_WN, DEFAULT_ZETA
 
     p = _Parser(prog=f"{PROG} control",
                 description="Simulate computed-torque control of the full-model arm along a "
@@ -234,7 +234,7 @@ def _control_parser():
 
 
 def _sweep_parser():
-    from .ranking import DEFAULT_DOMINANCE, DEFAULT_NEGLIGIBLE
+    from .core.ranking import DEFAULT_DOMINANCE, DEFAULT_NEGLIGIBLE
 
     p = _Parser(prog=f"{PROG} sweep",
                 description="Rank the G-D elements over many trajectories on dask, give the "
@@ -278,7 +278,7 @@ def _seed(text):
 
 def _outdir(args_outdir, *parts):
     """The output folder: -o as given, or reports/<sanitised parts joined by '-'>."""
-    from .io.files import safe_name
+    from .io.staging import safe_name
 
     if args_outdir:
         return Path(args_outdir)
@@ -291,15 +291,15 @@ def _results_size(N, n):
 
 
 def _load(robot_arg, csv_arg):
-    from .robot import load_robot
-    from .trajectory import read_trajectory
+    from .core.robot import load_robot
+    from .io.trajectory import read_trajectory
 
     robot = load_robot(robot_arg)
     return robot, read_trajectory(csv_arg, n_joints=robot.n)
 
 
 def _warn_limits(robot, trajectory, quiet):
-    from .trajectory import JointLimitWarning, check_joint_limits
+    from .io.trajectory import JointLimitWarning, check_joint_limits
 
     with warnings.catch_warnings():
         warnings.simplefilter("ignore", JointLimitWarning)
@@ -338,7 +338,7 @@ def _format_summary(ds):
 def _payload_masses(args):
     if args.payload_sweep is None:
         return None
-    from .sweep import parse_range
+    from .workflows.sweep import parse_range
 
     return parse_range(args.payload_sweep)
 
@@ -348,7 +348,7 @@ def _payload_sweep_dataset(robot, trajectory, args):
     masses = _payload_masses(args)
     if masses is None:
         return None
-    from .sweep import payload_sweep
+    from .workflows.sweep import payload_sweep
 
     ds = payload_sweep(robot, trajectory, masses, com=args.payload_com,
                        inertia=args.payload_inertia, dominance=args.dominance,
@@ -361,8 +361,8 @@ ANALYZE_OUTPUTS = ("results.h5", "simplified_model.json", "report.html", "report
 
 
 def _cmd_analyze(args):
-    from .io.files import check_free_space, staged_output
-    from .pipeline import analyze_to_file
+    from .io.staging import check_free_space, staged_output
+    from .workflows.analyze import analyze_to_file
 
     robot, trajectory = _load(args.robot, args.trajectory)
     _warn_limits(robot, trajectory, args.quiet)
@@ -386,7 +386,7 @@ def _cmd_analyze(args):
         analysis.model.save(stage / "simplified_model.json")
         written = [results, stage / "simplified_model.json"]
         if not args.no_report:
-            from .report import write_report
+            from .reports.main import write_report
 
             written += write_report(results, stage)
     written = [outdir / Path(p).name for p in written]
@@ -406,7 +406,7 @@ def _check_plan(robot, start, goal, duration):
     """Refuse a plan that breaks the robot's limits: InputError naming the joint and limit."""
     import numpy as np
 
-    from .trajectory import quintic_min_durations
+    from .io.trajectory import quintic_min_durations
 
     for name, vals in (("--start", start), ("--goal", goal)):
         for j, v in enumerate(np.radians(vals)):
@@ -432,8 +432,8 @@ def _check_plan(robot, start, goal, duration):
 def _cmd_plan(args):
     import numpy as np
 
-    from .robot import load_robot
-    from .trajectory import (DEFAULT_GOAL_DEG, DEFAULT_START_DEG, plan_quintic,
+    from .core.robot import load_robot
+    from .io.trajectory import (DEFAULT_GOAL_DEG, DEFAULT_START_DEG, plan_quintic,
                              write_trajectory)
 
     robot = load_robot(args.robot)
@@ -457,7 +457,7 @@ def _cmd_plan(args):
     if not args.ignore_limits:
         _check_plan(robot, start, goal, args.duration)
     if args.output != "-":
-        from .io.files import check_output_file
+        from .io.staging import check_output_file
 
         check_output_file(args.output)
     try:
@@ -484,9 +484,9 @@ def _cmd_evaluate(args):
 
     import numpy as np
 
-    from .dalembert import gd_terms
-    from .simplified import SimplifiedModel, simplified_torque, torque_error
-    from .trajectory import read_trajectory
+    from .core.dalembert import gd_terms
+    from .core.simplified import SimplifiedModel, simplified_torque, torque_error
+    from .io.trajectory import read_trajectory
 
     model = SimplifiedModel.load(args.model)
     traj = read_trajectory(args.trajectory, n_joints=model.robot.n)
@@ -524,7 +524,7 @@ def _cmd_evaluate(args):
 def _cmd_compare(args):
     import json
 
-    from .formulations import compare_report, format_compare
+    from .formulations.compare import compare_report, format_compare
 
     robot, traj = _load(args.robot, args.trajectory)
     report = compare_report(robot, traj.q, traj.qd, traj.qdd)
@@ -538,12 +538,12 @@ def _cmd_compare(args):
 def _cmd_control(args):
     import json
 
-    from .control import CONTROL_FILE, run_control, write_control_dataset
-    from .simplified import SimplifiedModel
-    from .trajectory import read_trajectory
+    from .workflows.control import CONTROL_FILE, run_control, write_control_dataset
+    from .core.simplified import SimplifiedModel
+    from .io.trajectory import read_trajectory
 
-    from .control_report import CONTROL_REPORT_FILES
-    from .io.files import staged_output
+    from .reports.control import CONTROL_REPORT_FILES
+    from .io.staging import staged_output
 
     model = SimplifiedModel.load(args.model)
     traj = read_trajectory(args.trajectory, n_joints=model.robot.n)
@@ -559,7 +559,7 @@ def _cmd_control(args):
         write_control_dataset(result, path)
         written = [path]
         if not args.no_report:
-            from .control_report import write_control_report
+            from .reports.control import write_control_report
 
             written += list(write_control_report(path, stage))
     written = [outdir / Path(p).name for p in written]
@@ -587,10 +587,10 @@ SWEEP_OUTPUTS = ("sweep.h5", "merged_model.json", "payload_sweep.h5", "sweep_rep
 
 
 def _cmd_sweep(args):
-    from .robot import load_robot
-    from .sweep import (dask_client, merged_model, random_trajectories, run_sweep,
+    from .core.robot import load_robot
+    from .workflows.sweep import (dask_client, merged_model, random_trajectories, run_sweep,
                         sweep_payloads, write_sweep)
-    from .trajectory import read_trajectory
+    from .io.trajectory import read_trajectory
 
     robot = load_robot(args.robot)
     if (args.random is None) == (not args.csv):
@@ -627,7 +627,7 @@ def _cmd_sweep(args):
                 args.dominance, args.negligible, client=client)
     except (OSError, ValueError, TypeError) as exc:
         raise InputError(f"cannot reach the dask scheduler: {exc}", args.scheduler) from None
-    from .io.files import staged_output
+    from .io.staging import staged_output
 
     with staged_output(outdir, SWEEP_OUTPUTS) as stage:
         written = [stage / "sweep.h5", stage / "merged_model.json"]
@@ -637,7 +637,7 @@ def _cmd_sweep(args):
             written.append(stage / "payload_sweep.h5")
             write_sweep(payload, written[-1])
         if not args.no_report:
-            from .sweep_report import write_sweep_report
+            from .reports.sweep import write_sweep_report
 
             written += list(write_sweep_report(written[0], stage, payload=payload))
     written = [outdir / Path(p).name for p in written]
@@ -667,7 +667,7 @@ def _mistyped_command(word):
     built-in robot nor a file; None otherwise."""
     import difflib
 
-    from .robot import builtin_robots
+    from .core.robot import builtin_robots
 
     if word.startswith("-") or word in builtin_robots() or os.path.exists(word):
         return None
@@ -693,7 +693,7 @@ def main(argv=None):
         The exit status: 0 ok, 1 verification failed, 2 bad input or unusable output location,
         3 error above --max-error, 4 internal error.
     """
-    from .io.files import Terminated, install_signal_handlers
+    from .io.staging import Terminated, install_signal_handlers
 
     argv = list(sys.argv[1:] if argv is None else argv)
     debug = "--debug" in argv

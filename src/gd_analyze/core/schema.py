@@ -34,8 +34,26 @@ def _kind(value):
 class _Node:
     expected = "a value"
 
-    def check(self, value, path, where):
-        """Raise an InputError at the first fault of ``value`` (``where``: its key path)."""
+    def check(self, value, path, where=""):
+        """Validate a value against this schema.
+
+        Parameters
+        ----------
+        value : object
+            The parsed JSON value.
+        path : str
+            The file, for the message.
+        where : str, optional
+            The value's key path in the document (e.g. ``"robot.parameters"``).
+
+        Raises
+        ------
+        InputError
+            At the first fault, one line naming the key.
+        """
+        self._check(value, path, where)
+
+    def _check(self, value, path, where):
         raise NotImplementedError
 
     def fail(self, message, path, where):
@@ -48,31 +66,45 @@ class _Node:
 class AnyJSON(_Node):
     """Any JSON value (already free of NaN, duplicates and deep nesting by :func:`load_json`)."""
 
-    def check(self, value, path, where):
+    def _check(self, value, path, where):
         pass
 
 
 class Const(_Node):
-    """Exactly this value (and type: ``true`` is not ``1``)."""
+    """Exactly this value (and type: ``true`` is not ``1``).
+
+    Parameters
+    ----------
+    value : object
+        The only value accepted.
+    """
 
     def __init__(self, value):
         self.value = value
         self.expected = repr(value)
 
-    def check(self, value, path, where):
+    def _check(self, value, path, where):
         if type(value) is not type(self.value) or value != self.value:
             self.fail(f"expected {self.value!r}, got {value!r}"[:120], path, where)
 
 
 class Num(_Node):
-    """A finite number (an integer counts) in [lo, hi] (lo excluded if ``lo_open``)."""
+    """A finite number (an integer counts) in [lo, hi].
+
+    Parameters
+    ----------
+    lo, hi : float, optional
+        The accepted range (default: any finite number).
+    lo_open : bool, optional
+        Exclude lo.
+    """
 
     expected = "a number"
 
     def __init__(self, lo=-math.inf, hi=math.inf, lo_open=False):
         self.lo, self.hi, self.lo_open = lo, hi, lo_open
 
-    def check(self, value, path, where):
+    def _check(self, value, path, where):
         if isinstance(value, bool) or not isinstance(value, (int, float)):
             self.expect(value, path, where)
         try:
@@ -88,11 +120,11 @@ class Num(_Node):
 
 
 class Int(Num):
-    """An integer in [lo, hi]."""
+    """An integer in [lo, hi] (parameters as :class:`Num`)."""
 
     expected = "an integer"
 
-    def check(self, value, path, where):
+    def _check(self, value, path, where):
         if isinstance(value, bool) or not isinstance(value, int):
             self.expect(value, path, where)
         if not self.lo <= value <= self.hi:
@@ -100,7 +132,17 @@ class Int(Num):
 
 
 class Str(_Node):
-    """A string, optionally one of ``choices`` or matching ``pattern`` (fully)."""
+    """A string.
+
+    Parameters
+    ----------
+    choices : sequence of str, optional
+        The accepted values.
+    pattern : str, optional
+        A regular expression the whole string must match.
+    max_len : int, optional
+        Longest accepted string [characters].
+    """
 
     expected = "a string"
 
@@ -108,7 +150,7 @@ class Str(_Node):
         self.choices, self.max_len = choices, max_len
         self.pattern = None if pattern is None else re.compile(pattern)
 
-    def check(self, value, path, where):
+    def _check(self, value, path, where):
         if not isinstance(value, str):
             self.expect(value, path, where)
         if len(value) > self.max_len:
@@ -121,46 +163,76 @@ class Str(_Node):
 
 
 class ListOf(_Node):
-    """A list of items of one schema."""
+    """A list of items of one schema.
+
+    Parameters
+    ----------
+    item : schema node
+        The schema of every item.
+    max_len : int, optional
+        Most items accepted.
+    """
 
     expected = "a list"
 
     def __init__(self, item, max_len=1_000_000):
         self.item, self.max_len = item, max_len
 
-    def check(self, value, path, where):
+    def _check(self, value, path, where):
         if not isinstance(value, list):
             self.expect(value, path, where)
         if len(value) > self.max_len:
             self.fail(f"more than {self.max_len} items", path, where)
         for k, v in enumerate(value):
-            self.item.check(v, path, f"{where}[{k}]")
+            self.item._check(v, path, f"{where}[{k}]")
 
 
 class MapOf(_Node):
-    """An object whose keys are data (e.g. element labels), all values of one schema."""
+    """An object whose keys are data (e.g. element labels), all values of one schema.
+
+    Parameters
+    ----------
+    value : schema node
+        The schema of every value.
+    """
 
     expected = "an object"
 
     def __init__(self, value):
         self.value = value
 
-    def check(self, value, path, where):
+    def _check(self, value, path, where):
         if not isinstance(value, dict):
             self.expect(value, path, where)
         for k, v in value.items():
-            self.value.check(v, path, f"{where}.{k}" if where else k)
+            self.value._check(v, path, f"{where}.{k}" if where else k)
 
 
 class Field:
-    """A field of an :class:`Obj`: its schema and whether it must be present."""
+    """A field of an :class:`Obj`.
+
+    Parameters
+    ----------
+    schema : schema node
+        The field's schema.
+    required : bool, optional
+        Whether the key must be present (default True).
+    """
 
     def __init__(self, schema, required=True):
         self.schema, self.required = schema, required
 
 
 class Obj(_Node):
-    """An object with named fields; unknown keys are refused unless ``open_keys``."""
+    """An object with named fields.
+
+    Parameters
+    ----------
+    fields : dict
+        Key -> :class:`Field`, or a schema node (a required field).
+    open_keys : bool, optional
+        Accept (and do not check) keys not in ``fields``; by default they are refused.
+    """
 
     expected = "an object"
 
@@ -168,13 +240,13 @@ class Obj(_Node):
         self.fields = {k: f if isinstance(f, Field) else Field(f) for k, f in fields.items()}
         self.open_keys = open_keys
 
-    def check(self, value, path, where):
+    def _check(self, value, path, where):
         if not isinstance(value, dict):
             self.expect(value, path, where)
         for key, f in self.fields.items():
             sub = f"{where}.{key}" if where else key
             if key in value:
-                f.schema.check(value[key], path, sub)
+                f.schema._check(value[key], path, sub)
             elif f.required:
                 self.fail("missing key", path, sub)
         unknown = sorted(set(value) - set(self.fields))
