@@ -80,8 +80,8 @@ def safe_name(name, fallback="robot"):
     >>> safe_name("puma560+payload")
     'puma560+payload'
     """
-    text = re.sub(r"[^A-Za-z0-9._+-]+", "_", str(name))
-    text = re.sub(r"\.{2,}", ".", text).lstrip("._-")[:80].rstrip(".")
+    text = re.sub(r"\.{2,}", "", str(name))
+    text = re.sub(r"[^A-Za-z0-9._+-]+", "_", text).lstrip("._-")[:80].rstrip(".")
     return text or fallback
 
 
