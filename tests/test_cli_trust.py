@@ -194,6 +194,7 @@ def test_case8_full_disk_before_hdf5(cwd, capsys, monkeypatch):
 
 @pytest.mark.parametrize("args, match", [
     (["--payload-sweep", "0:1:1e-30"], "--payload-sweep"),
+    (["--payload-sweep", "0:1e300:1e299"], "load masses up to"),
 ])
 def test_case8_payload_sweep(cwd, capsys, args, match):
     traj = _plan(cwd, capsys)

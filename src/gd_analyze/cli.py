@@ -338,9 +338,14 @@ def _format_summary(ds):
 def _payload_masses(args):
     if args.payload_sweep is None:
         return None
+    from .core.limits import LIMITS
     from .workflows.sweep import parse_range
 
-    return parse_range(args.payload_sweep)
+    masses = parse_range(args.payload_sweep)
+    if masses[-1] > LIMITS["mass"]:
+        raise InputError(f"load masses up to {LIMITS['mass']:g} kg, got {masses[-1]:g}",
+                         column="--payload-sweep")
+    return masses
 
 
 def _payload_sweep_dataset(robot, trajectory, args):

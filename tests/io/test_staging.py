@@ -108,10 +108,12 @@ def test_case8_a_killed_run_is_cleaned_by_the_next(tmp_path):
     proc.wait(timeout=20)
     assert any(TMP_MARK in n for n in _leftovers(tmp_path))
     (target).mkdir()
-    (target / ".results.h5.abc.tmp").write_bytes(b"half")      # an atomic_path leftover
+    (target / ".big.bin.abc.tmp").write_bytes(b"half")        # an atomic_path leftover
+    (target / ".user.tmp").write_bytes(b"not ours")
     with staged_output(target, ("big.bin",)) as stage:        # the lock is free again
         (stage / "big.bin").write_text("ok")
-    assert _leftovers(tmp_path) == [] and os.listdir(target) == ["big.bin"]
+    assert _leftovers(tmp_path) == []
+    assert sorted(os.listdir(target)) == [".user.tmp", "big.bin"]
 
 
 @pytest.mark.parametrize("where", ["proc", "under_file", "file"])

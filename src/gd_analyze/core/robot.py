@@ -453,6 +453,8 @@ def load_robot(name_or_path):
         source = key
     else:
         path = Path(key)
+        if path.is_dir():
+            raise InputError("is a folder, not a robot file", key)
         if not path.is_file():
             raise InputError(
                 f"unknown robot (built-in: {', '.join(builtin_robots())}) and no such file", key)

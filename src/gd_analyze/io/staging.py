@@ -139,16 +139,18 @@ def _oserror(exc, path):
     return InputError(f"cannot write the output folder: {reason}", path)
 
 
-def _remove_stale(parent, name, target):
-    """Remove the temporary folders beside, and temporary files inside, ``target``.
+def _remove_stale(parent, name, target, outputs):
+    """Remove the temporary folders beside ``target``, and the temporary files of its outputs
+    inside it (``.<output>.*.tmp``, as :func:`gd_analyze.files.atomic_path` names them).
 
     Called with the lock held: no live run owns them."""
     for p in parent.glob(f".{glob_escape(name)}{TMP_MARK}*"):
         shutil.rmtree(p, ignore_errors=True)
     if target.is_dir():
-        for p in target.glob(".*.tmp"):                    # atomic_path leftovers
-            with contextlib.suppress(OSError):
-                p.unlink()
+        for out in outputs:
+            for p in target.glob(f".{glob_escape(out)}.*.tmp"):
+                with contextlib.suppress(OSError):
+                    p.unlink()
 
 
 def glob_escape(text):
@@ -248,7 +250,7 @@ def staged_output(target, outputs=()):
 def _staged(parent, name, target, outputs):
     owner = os.getpid()
     with _lock(parent / f".{name}{LOCK_SUFFIX}", target):
-        _remove_stale(parent, name, target)
+        _remove_stale(parent, name, target, outputs)
         try:
             stage = Path(tempfile.mkdtemp(prefix=f".{name}{TMP_MARK}", dir=parent))
         except OSError as exc:
