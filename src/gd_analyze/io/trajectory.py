@@ -11,6 +11,7 @@ Rows are counted as a spreadsheet counts them: the header is row 1, the first se
 from __future__ import annotations
 
 import csv
+import functools
 import hashlib
 import math
 import os
@@ -237,6 +238,15 @@ def _check_magnitudes(values, names, path, row_of):
                              row=row_of(bad[0]), column=names[j])
 
 
+@functools.lru_cache(maxsize=1)
+def _exact_floats():
+    """read_csv options for correctly rounded floats, as Python's float() gives them: pandas
+    before 3.0 parses with its own, not always correctly rounded, routine by default."""
+    import pandas as pd
+
+    return {} if int(pd.__version__.split(".")[0]) >= 3 else {"float_precision": "round_trip"}
+
+
 def _fast_values(raw, path, n_joints):
     """Parse a large, regular file with pandas; None if anything is off (then the cell-by-cell
     parser gives the answer, or the exact error)."""
@@ -245,7 +255,7 @@ def _fast_values(raw, path, n_joints):
     import pandas as pd
 
     head_end = raw.find(b"\n")
-    if head_end < 0 or b'"' in raw or b"\r" in raw.replace(b"\r\n", b"\n"):
+    if head_end < 0 or b'"' in raw or raw.count(b"\r") != raw.count(b"\r\n"):
         return None
     try:
         header = raw[:head_end].decode("utf-8").rstrip("\r").split(",")
@@ -254,25 +264,26 @@ def _fast_values(raw, path, n_joints):
         return None
     if n_joints is not None and n != n_joints:
         return None
-    body = raw[head_end + 1:]
-    if body.translate(None, _PLAIN_BYTES):
-        return None
-    if not body.endswith(b"\n"):
-        body += b"\n"
-    # every line (blank lines included) must hold exactly the header's number of commas
-    buf = np.frombuffer(body, np.uint8)
-    newlines = np.flatnonzero(buf == 10)
-    commas = np.flatnonzero(buf == 44)
-    per_line = np.diff(np.searchsorted(commas, newlines), prepend=0)
-    if newlines.size < 2 or (per_line != len(names) - 1).any():
+    header_bytes = raw[:head_end + 1]
+    if raw.translate(None, _PLAIN_BYTES) != header_bytes.translate(None, _PLAIN_BYTES):
+        return None                               # the body holds more than plain numbers
+    # The field count of every line is checked: the commas must total the header's count per
+    # line; pandas then refuses a line with more fields than the first, the shape check a first
+    # line with more fields than the header, and the finite check (NaN fill) a line with fewer,
+    # which any surplus elsewhere implies.
+    lines = raw.count(b"\n") - 1 + (not raw.endswith(b"\n"))
+    if lines < 2 or raw.count(b",") - header_bytes.count(b",") != (len(names) - 1) * lines:
         return None
     try:
-        frame = pd.read_csv(io.BytesIO(body), header=None, dtype=float, engine="c",
-                            skipinitialspace=True, skip_blank_lines=False, index_col=False)
+        with warnings.catch_warnings():
+            warnings.simplefilter("ignore")
+            frame = pd.read_csv(io.BytesIO(raw), header=0, dtype=float, engine="c",
+                                skipinitialspace=True, skip_blank_lines=False, index_col=False,
+                                **_exact_floats())
     except (ValueError, pd.errors.ParserError):
         return None
     values = frame.to_numpy()
-    if (values.shape != (newlines.size, len(names)) or not np.isfinite(values).all()
+    if (values.shape != (lines, len(names)) or not np.isfinite(values).all()
             or not (np.diff(values[:, 0]) > 0).all()):
         return None
     _check_magnitudes(values, names, path, lambda k: k + 2)
