@@ -498,7 +498,9 @@ def _cmd_evaluate(args):
     terms = gd_terms(model.robot, traj.q, traj.qd)
     plant = _apply_payload(model.robot, args)
     tau = (terms if plant is model.robot else gd_terms(plant, traj.q, traj.qd)).tau(traj.qdd)
-    err = torque_error(simplified_torque(terms, model.choices, traj.qdd), tau)
+    from .core.limits import check_finite
+
+    err = torque_error(simplified_torque(terms, model.choices, traj.qdd), check_finite("tau", tau))
     rel = np.array([np.nan if v is None else v for v in err["relative_peak_error"]], float)
     worst = float(np.nanmax(rel)) if np.isfinite(rel).any() else 0.0
     exceeded = args.max_error is not None and worst > args.max_error

@@ -201,7 +201,9 @@ def analyze_one(robot, trajectory, dominance=DEFAULT_DOMINANCE, negligible=DEFAU
 
 def _rank_with_terms(trajectory, terms, dominance, negligible):
     """The body of :func:`analyze_one`, given the trajectory's G-D terms."""
-    tau = terms.tau(trajectory.qdd)
+    from ..core.limits import check_finite
+
+    tau = check_finite("tau", terms.tau(trajectory.qdd))   # NaN anywhere in the terms shows here
     ranking = rank_dominance(terms.D_tran, terms.D_rot, terms.h_tran, terms.h_rot, tau,
                              dominance=dominance, negligible=negligible)
     choices = ranking.choices()
