@@ -11,6 +11,7 @@ Nothing in the package imports this module.
 from __future__ import annotations
 
 import argparse
+import decimal
 import math
 import os
 import sys
@@ -36,6 +37,60 @@ class _Parser(argparse.ArgumentParser):
         sub = self.prog[len(PROG):].strip()
         raise InputError(f"{sub}: {message}" if sub else message)
 
+
+
+def parse_range(text, name="--payload-sweep"):
+    """Parse ``"start:stop:step"`` into the values start, start + step, ..., stop (inclusive).
+
+    Parameters
+    ----------
+    text : str
+        E.g. ``"0:2.5:0.5"``; step > 0, stop >= start. The values are computed in decimal
+        arithmetic from the strings, so ``"0:0.3:0.1"`` gives exactly [0.0, 0.1, 0.2, 0.3].
+        stop is included when it lies on the grid; otherwise the last value is the largest
+        grid value below it.
+    name : str, optional
+        The option or column named in error messages.
+
+    Returns
+    -------
+    list of float
+        At least one value.
+
+    Raises
+    ------
+    InputError
+        If the text is not three numbers separated by ``:``, a number is not finite, step is
+        not positive, stop < start, or the range has more than 10,000 values.
+
+    Examples
+    --------
+    >>> parse_range("0:2.5:0.5")
+    [0.0, 0.5, 1.0, 1.5, 2.0, 2.5]
+    """
+    parts = str(text).split(":")
+    if len(parts) != 3:
+        raise InputError(f"expected START:STOP:STEP (e.g. 0:2.5:0.5), got {text!r}",
+                         column=name)
+    try:
+        start, stop, step = (decimal.Decimal(p.strip()) for p in parts)
+    except decimal.InvalidOperation:
+        raise InputError(f"expected three numbers START:STOP:STEP, got {text!r}",
+                         column=name) from None
+    if not all(v.is_finite() for v in (start, stop, step)):
+        raise InputError(f"START, STOP and STEP must be finite, got {text!r}", column=name)
+    if step <= 0:
+        raise InputError(f"STEP must be positive, got {text!r}", column=name)
+    if stop < start:
+        raise InputError(f"STOP must not be below START, got {text!r}", column=name)
+    try:
+        count = int((stop - start) // step) + 1
+    except decimal.DecimalException:                  # e.g. 0:1:1e-30: beyond the precision
+        count = math.inf
+    if count > 10_000:
+        raise InputError(f"the range {text!r} has {count:.3g} values (at most 10000)",
+                         column=name)
+    return [float(start + k * step) for k in range(count)]
 
 def _fraction(lo, hi, name, lo_open=True):
     def parse(text):
@@ -84,6 +139,31 @@ def _add_payload_arguments(p):
     return g
 
 
+def _add_chain_arguments(p):
+    g = p.add_argument_group("URDF chain (a ROBOT given as a .urdf file, or panda, ur5)")
+    g.add_argument("--base", metavar="LINK",
+                   help="the chain's base link (default: the URDF's root link)")
+    g.add_argument("--tip", metavar="LINK",
+                   help="the chain's tip link (default: the end of the only chain); moving "
+                        "joints off the chain are locked at q = 0 and carried by their link")
+    return g
+
+
+_ROBOT_HELP = ("built-in robot (puma560, two-link, panda, ur5, ...), a TOML robot file or a URDF "
+               "file (*.urdf, see --base and --tip)")
+
+
+def _load_robot(args):
+    from .io.robots import load_robot
+
+    return load_robot(args.robot, args.base, args.tip)
+
+
+def _chain_settings(args):
+    """The URDF chain options, for the provenance of a run's outputs."""
+    return {k: v for k, v in (("robot_base", args.base), ("robot_tip", args.tip)) if v}
+
+
 def _add_payload_sweep_argument(group):
     group.add_argument("--payload-sweep", metavar="START:STOP:STEP",
                        help="also rank the elements for each load mass in this range [kg], "
@@ -119,8 +199,7 @@ def _analyze_parser():
                "many trajectories on dask. 'gd-analyze COMMAND --help' for details. "
                + EXIT_STATUS_HELP,
     )
-    p.add_argument("robot", metavar="ROBOT", help="built-in robot (puma560, two-link) or a "
-                   "TOML robot file")
+    p.add_argument("robot", metavar="ROBOT", help=_ROBOT_HELP)
     p.add_argument("trajectory", metavar="TRAJECTORY.csv",
                    help="CSV with header t,q1..qn[,qd1..qdn,qdd1..qddn] [s, rad, rad/s, rad/s^2]")
     p.add_argument("-o", "--outdir", metavar="OUTDIR",
@@ -142,6 +221,7 @@ def _analyze_parser():
     p.add_argument("-q", "--quiet", action="store_true",
                    help="print nothing but warnings and errors (no summary, no progress bar)")
     p.add_argument("--version", action="version", version=f"%(prog)s {_version()}")
+    _add_chain_arguments(p)
     _add_payload_sweep_argument(_add_payload_arguments(p))
     return p
 
@@ -153,20 +233,24 @@ def _version():
 
 
 def _plan_parser():
-    from .io.trajectory import DEFAULT_GOAL_DEG, DEFAULT_SETPOINTS, DEFAULT_START_DEG
+    from .io.trajectory import (DEFAULT_GOAL_DEG, DEFAULT_QDD_PER_QD, DEFAULT_SETPOINTS,
+                                DEFAULT_START_DEG)
 
     p = _Parser(prog=f"{PROG} plan",
                 description="Write a quintic rest-to-rest joint trajectory at the shortest "
-                            "duration within the robot's velocity and acceleration limits.")
-    p.add_argument("robot", metavar="ROBOT")
+                            "duration within the robot's velocity and acceleration limits, and "
+                            "its provenance beside it (FILE's stem + .provenance.json).")
+    p.add_argument("robot", metavar="ROBOT", help=_ROBOT_HELP)
     p.add_argument("-o", "--output", metavar="FILE", required=True,
                    help="CSV file to write ('-' for standard output)")
     p.add_argument("--start", metavar="DEG,...", type=_angles,
-                   help="start positions [deg] (default for puma560: "
-                        f"{','.join(f'{v:g}' for v in DEFAULT_START_DEG)})")
+                   help="start positions [deg; m for a prismatic joint] (default for puma560: "
+                        f"{','.join(f'{v:g}' for v in DEFAULT_START_DEG)}; for other robots "
+                        "a quarter of each joint's range)")
     p.add_argument("--goal", metavar="DEG,...", type=_angles,
-                   help="goal positions [deg] (default for puma560: "
-                        f"{','.join(f'{v:g}' for v in DEFAULT_GOAL_DEG)})")
+                   help="goal positions [deg; m for a prismatic joint] (default for puma560: "
+                        f"{','.join(f'{v:g}' for v in DEFAULT_GOAL_DEG)}; for other robots "
+                        "three quarters of each joint's range)")
     p.add_argument("--setpoints", metavar="N", type=int, default=DEFAULT_SETPOINTS,
                    help=f"number of set points, both ends included (default {DEFAULT_SETPOINTS})")
     p.add_argument("--duration", metavar="T", type=float,
@@ -174,6 +258,13 @@ def _plan_parser():
     p.add_argument("--ignore-limits", action="store_true",
                    help="plan even if the duration, start or goal breaks the robot's joint "
                         "position, velocity or acceleration limits")
+    p.add_argument("--qdd-max", metavar="A[,...]", type=_angles,
+                   help="acceleration limits [deg/s^2; m/s^2 for a prismatic joint], one for "
+                        "all joints or one per joint (default: the robot's; where it has none, "
+                        f"as in a URDF, {DEFAULT_QDD_PER_QD:g} s^-1 times the velocity limit, "
+                        "i.e. full speed in 1/{0:g} s; the provenance says which)".format(
+                            DEFAULT_QDD_PER_QD))
+    _add_chain_arguments(p)
     return p
 
 
@@ -199,9 +290,10 @@ def _compare_parser():
                 description="Run Lagrange-Euler, Newton-Euler, G-D and Pinocchio on every set "
                             "point and print their largest relative disagreements and the "
                             "operation counts per set point.")
-    p.add_argument("robot", metavar="ROBOT")
+    p.add_argument("robot", metavar="ROBOT", help=_ROBOT_HELP)
     p.add_argument("trajectory", metavar="TRAJECTORY.csv")
     p.add_argument("--json", action="store_true", help="print one JSON object")
+    _add_chain_arguments(p)
     return p
 
 
@@ -242,7 +334,7 @@ def _sweep_parser():
                             "over them all (an element is dropped or reduced only where that "
                             "holds in every trajectory); write sweep.h5, merged_model.json and "
                             "sweep_report.html/.pdf.")
-    p.add_argument("robot", metavar="ROBOT")
+    p.add_argument("robot", metavar="ROBOT", help=_ROBOT_HELP)
     p.add_argument("csv", metavar="CSV", nargs="*", help="trajectory files (or use --random)")
     p.add_argument("--random", metavar="K", type=int,
                    help="plan K random quintic trajectories (start and goal uniform in the "
@@ -262,6 +354,7 @@ def _sweep_parser():
                    default=DEFAULT_NEGLIGIBLE, help=f"default {DEFAULT_NEGLIGIBLE}")
     p.add_argument("--no-report", action="store_true", help="skip the HTML and PDF report")
     p.add_argument("-q", "--quiet", action="store_true", help="print nothing but errors")
+    _add_chain_arguments(p)
     _add_payload_sweep_argument(_add_payload_arguments(p))
     return p
 
@@ -290,11 +383,10 @@ def _results_size(N, n):
     return 8 * N * (1 + 9 * n + 3 * n * n) + (1 << 20)
 
 
-def _load(robot_arg, csv_arg):
-    from .core.robot import load_robot
+def _load(args, csv_arg):
     from .io.trajectory import read_trajectory
 
-    robot = load_robot(robot_arg)
+    robot = _load_robot(args)
     return robot, read_trajectory(csv_arg, n_joints=robot.n)
 
 
@@ -339,7 +431,6 @@ def _payload_masses(args):
     if args.payload_sweep is None:
         return None
     from .core.limits import LIMITS
-    from .workflows.sweep import parse_range
 
     masses = parse_range(args.payload_sweep)
     if masses[-1] > LIMITS["mass"]:
@@ -353,13 +444,13 @@ def _payload_sweep_dataset(robot, trajectory, args):
     masses = _payload_masses(args)
     if masses is None:
         return None
-    from .workflows.sweep import payload_sweep
+    from .io.sweep_datasets import embed_payload
+    from .workflows.payload import payload_sweep
 
     ds = payload_sweep(robot, trajectory, masses, com=args.payload_com,
                        inertia=args.payload_inertia, dominance=args.dominance,
                        negligible=args.negligible)
-    renamed = ds.rename({v: f"payload_{v}" for v in ds.data_vars})
-    return renamed.drop_vars([c for c in ("element_units",) if c in renamed.coords])
+    return embed_payload(ds)
 
 
 ANALYZE_OUTPUTS = ("results.h5", "simplified_model.json", "report.html", "report.pdf")
@@ -369,7 +460,7 @@ def _cmd_analyze(args):
     from .io.staging import check_free_space, staged_output
     from .workflows.analyze import analyze_to_file
 
-    robot, trajectory = _load(args.robot, args.trajectory)
+    robot, trajectory = _load(args, args.trajectory)
     _warn_limits(robot, trajectory, args.quiet)
     outdir = _outdir(args.outdir, robot.name, Path(args.trajectory).stem)
     base_robot = robot
@@ -379,7 +470,8 @@ def _cmd_analyze(args):
     settings = {"command": " ".join([PROG] + sys.argv[1:]) if sys.argv else PROG,
                 "payload_mass": float(args.payload or 0.0),
                 "payload_com": [float(v) for v in args.payload_com],
-                "payload_inertia": [float(v) for v in args.payload_inertia]}
+                "payload_inertia": [float(v) for v in args.payload_inertia],
+                **_chain_settings(args)}
     extra = _payload_sweep_dataset(base_robot, trajectory, args)   # bad range: before any output
     with staged_output(outdir, ANALYZE_OUTPUTS) as stage:
         check_free_space(stage, _results_size(trajectory.n_setpoints, robot.n), "results.h5")
@@ -408,26 +500,31 @@ def _cmd_analyze(args):
 
 
 def _check_plan(robot, start, goal, duration):
-    """Refuse a plan that breaks the robot's limits: InputError naming the joint and limit."""
+    """Refuse a plan that breaks the robot's limits: InputError naming the joint and limit.
+
+    start, goal in SI (rad, m for a prismatic joint); robot with the limits the plan uses."""
     import numpy as np
 
     from .io.trajectory import quintic_min_durations
 
+    prismatic = np.asarray(getattr(robot, "prismatic", np.zeros(robot.n, bool)), bool)
+
+    def show(j, v, unit=""):
+        return f"{v:g} m{unit}" if prismatic[j] else f"{math.degrees(v):g} deg{unit}"
+
     for name, vals in (("--start", start), ("--goal", goal)):
-        for j, v in enumerate(np.radians(vals)):
+        for j, v in enumerate(vals):
             if not robot.q_min[j] <= v <= robot.q_max[j]:
-                raise InputError(f"joint {j + 1} at {vals[j]:g} deg is outside its position "
-                                 f"limits [{math.degrees(robot.q_min[j]):g}, "
-                                 f"{math.degrees(robot.q_max[j]):g}] deg (--ignore-limits to "
-                                 f"plan anyway)", column=name)
+                raise InputError(f"joint {j + 1} at {show(j, v)} is outside its position "
+                                 f"limits [{show(j, robot.q_min[j])}, {show(j, robot.q_max[j])}]"
+                                 f" (--ignore-limits to plan anyway)", column=name)
     if duration is None:
         return
-    t_vel, t_acc = quintic_min_durations(robot, np.radians(start), np.radians(goal))
+    t_vel, t_acc = quintic_min_durations(robot, start, goal)
     for j in range(robot.n):
-        for t_lim, what, lim in ((t_vel[j], "velocity",
-                                  f"{math.degrees(robot.qd_max[j]):g} deg/s"),
+        for t_lim, what, lim in ((t_vel[j], "velocity", show(j, robot.qd_max[j], "/s")),
                                  (t_acc[j], "acceleration",
-                                  f"{math.degrees(robot.qdd_max[j]):g} deg/s^2")):
+                                  show(j, robot.qdd_max[j], "/s^2"))):
             if duration < t_lim * (1 - 1e-12):
                 raise InputError(f"{duration:g} s is too short: joint {j + 1} would exceed its "
                                  f"{what} limit {lim} (at least {t_lim:.6g} s; "
@@ -435,22 +532,17 @@ def _check_plan(robot, start, goal, duration):
 
 
 def _cmd_plan(args):
-    import numpy as np
+    from ._version import __version__
+    from .io.trajectory import (acceleration_limits, default_motion, plan_quintic,
+                                user_positions, write_provenance, write_trajectory)
 
-    from .core.robot import load_robot
-    from .io.trajectory import (DEFAULT_GOAL_DEG, DEFAULT_START_DEG, plan_quintic,
-                             write_trajectory)
-
-    robot = load_robot(args.robot)
-    start, goal = args.start, args.goal
-    if start is None or goal is None:
-        if robot.n != len(DEFAULT_START_DEG):
-            raise InputError(f"{robot.name} has {robot.n} joints: give --start and --goal")
-        start = DEFAULT_START_DEG if start is None else start
-        goal = DEFAULT_GOAL_DEG if goal is None else goal
-    for name, vals in (("--start", start), ("--goal", goal)):
-        if len(vals) != robot.n:
+    robot = _load_robot(args)
+    start, goal = default_motion(robot)
+    for name, vals in (("--start", args.start), ("--goal", args.goal)):
+        if vals is not None and len(vals) != robot.n:
             raise InputError(f"{name}: {len(vals)} values for {robot.n} joints")
+    start = start if args.start is None else user_positions(robot, args.start)
+    goal = goal if args.goal is None else user_positions(robot, args.goal)
     from .core.limits import LIMITS, first_beyond
 
     if not 2 <= args.setpoints <= 10**8:
@@ -459,15 +551,26 @@ def _cmd_plan(args):
                                           <= LIMITS["duration"]):
         raise InputError(f"must be a number of seconds in [{LIMITS['min_duration']:g}, "
                          f"{LIMITS['duration']:g}], got {args.duration:g}", column="--duration")
-    if not args.ignore_limits:
-        _check_plan(robot, start, goal, args.duration)
     if args.output != "-":
         from .io.staging import check_output_file
 
         check_output_file(args.output)
+    qdd_arg = args.qdd_max
+    if qdd_arg is not None and len(qdd_arg) == 1:
+        qdd_arg = qdd_arg * robot.n
+    if qdd_arg is not None and len(qdd_arg) != robot.n:
+        raise InputError(f"{len(qdd_arg)} values for {robot.n} joints", column="--qdd-max")
     try:
-        traj = plan_quintic(robot, np.radians(start), np.radians(goal), args.setpoints,
-                            args.duration)
+        qdd_max, qdd_source = acceleration_limits(
+            robot, None if qdd_arg is None else user_positions(robot, qdd_arg))
+    except ValueError as exc:
+        raise InputError(str(exc), column="--qdd-max" if qdd_arg is not None else None) \
+            from None
+    planning = _replace_limits(robot, qdd_max)
+    if not args.ignore_limits:
+        _check_plan(planning, start, goal, args.duration)
+    try:
+        traj = plan_quintic(planning, start, goal, args.setpoints, args.duration)
     except ValueError as exc:
         raise InputError(str(exc)) from None
     for name in ("q", "qd", "qdd"):
@@ -478,31 +581,52 @@ def _cmd_plan(args):
         write_trajectory(traj, args.output)
     except OSError as exc:
         raise InputError(f"cannot write: {exc.strerror or exc}", args.output) from None
-    if args.output != "-":
-        print(f"wrote {args.output}: {traj.n_setpoints} set points over {traj.t[-1]:.4f} s "
-              f"({traj.source})", file=sys.stderr)
+    if args.output == "-":
+        return EXIT_OK
+    record = {
+        "tool": "gd-analyze", "version": __version__,
+        "command": " ".join([PROG] + sys.argv[1:]) if sys.argv else PROG,
+        "robot": robot.name, "robot_source": robot.source, "robot_sha256": robot.sha256,
+        **_chain_settings(args),
+        "start": [float(v) for v in start], "goal": [float(v) for v in goal],
+        "start_goal_units": "rad (m for a prismatic joint)",
+        "setpoints": traj.n_setpoints, "duration_s": float(traj.t[-1]),
+        "duration_from": "--duration" if args.duration is not None else "limits",
+        "qd_max": [float(v) for v in robot.qd_max],
+        "qdd_max": [float(v) for v in qdd_max],
+        "limits_units": "rad/s, rad/s^2 (m/s, m/s^2 for a prismatic joint)",
+        "qdd_max_source": qdd_source,
+        "trajectory": traj.source,
+    }
+    try:
+        side = write_provenance(args.output, record)
+    except OSError as exc:
+        raise InputError(f"cannot write its provenance: {exc.strerror or exc}",
+                         args.output) from None
+    print(f"wrote {args.output}: {traj.n_setpoints} set points over {traj.t[-1]:.4f} s "
+          f"({traj.source}); acceleration limits: {qdd_source}; provenance in {side}",
+          file=sys.stderr)
     return EXIT_OK
+
+
+def _replace_limits(robot, qdd_max):
+    """The robot with other acceleration limits, for planning only."""
+    import dataclasses
+
+    return dataclasses.replace(robot, qdd_max=qdd_max)
 
 
 def _cmd_evaluate(args):
     import json
 
-    import numpy as np
-
-    from .core.dalembert import gd_terms
-    from .core.simplified import SimplifiedModel, simplified_torque, torque_error
+    from .core.simplified import SimplifiedModel
     from .io.trajectory import read_trajectory
+    from .workflows.evaluate import evaluate
 
     model = SimplifiedModel.load(args.model)
     traj = read_trajectory(args.trajectory, n_joints=model.robot.n)
-    terms = gd_terms(model.robot, traj.q, traj.qd)
-    plant = _apply_payload(model.robot, args)
-    tau = (terms if plant is model.robot else gd_terms(plant, traj.q, traj.qd)).tau(traj.qdd)
-    from .core.limits import check_finite
-
-    err = torque_error(simplified_torque(terms, model.choices, traj.qdd), check_finite("tau", tau))
-    rel = np.array([np.nan if v is None else v for v in err["relative_peak_error"]], float)
-    worst = float(np.nanmax(rel)) if np.isfinite(rel).any() else 0.0
+    err = evaluate(model, traj, plant=_apply_payload(model.robot, args))
+    worst = err.pop("max_relative_peak_error")
     exceeded = args.max_error is not None and worst > args.max_error
     if args.json:
         out = {"model": args.model, "trajectory": args.trajectory,
@@ -533,7 +657,7 @@ def _cmd_compare(args):
 
     from .formulations.compare import compare_report, format_compare
 
-    robot, traj = _load(args.robot, args.trajectory)
+    robot, traj = _load(args, args.trajectory)
     report = compare_report(robot, traj.q, traj.qd, traj.qdd)
     if args.json:
         print(json.dumps(report))
@@ -545,8 +669,10 @@ def _cmd_compare(args):
 def _cmd_control(args):
     import json
 
-    from .workflows.control import CONTROL_FILE, run_control, write_control_dataset
     from .core.simplified import SimplifiedModel
+    from .files import file_sha256
+    from .io.control_dataset import write_control_dataset
+    from .workflows.control import CONTROL_FILE, run_control
     from .io.trajectory import read_trajectory
 
     from .reports.control import CONTROL_REPORT_FILES
@@ -558,7 +684,8 @@ def _cmd_control(args):
     if outdir.exists() and not outdir.is_dir():
         raise InputError("exists and is not a folder", outdir)
     try:
-        result = run_control(model, traj, wn=args.wn, zeta=args.zeta, q0_offset=args.offset)
+        result = run_control(model, traj, wn=args.wn, zeta=args.zeta, q0_offset=args.offset,
+                             model_path=args.model, model_sha256=file_sha256(args.model))
     except ValueError as exc:
         raise InputError(str(exc)) from None
     with staged_output(outdir, (CONTROL_FILE, *CONTROL_REPORT_FILES)) as stage:
@@ -594,12 +721,12 @@ SWEEP_OUTPUTS = ("sweep.h5", "merged_model.json", "payload_sweep.h5", "sweep_rep
 
 
 def _cmd_sweep(args):
-    from .core.robot import load_robot
-    from .workflows.sweep import (dask_client, merged_model, random_trajectories, run_sweep,
-                        sweep_payloads, write_sweep)
-    from .io.trajectory import read_trajectory
+    from .io.datasets import write_dataset
+    from .io.trajectory import random_trajectories, read_trajectory
+    from .workflows.payload import sweep_payloads
+    from .workflows.sweep import dask_client, merged_model, run_sweep
 
-    robot = load_robot(args.robot)
+    robot = _load_robot(args)
     if (args.random is None) == (not args.csv):
         raise InputError("give either --random K or trajectory CSV files")
     if args.random is not None and not 1 <= args.random <= 10**6:
@@ -622,9 +749,15 @@ def _cmd_sweep(args):
     if outdir.exists() and not outdir.is_dir():
         raise InputError("exists and is not a folder", outdir)
     settings = {"command": " ".join([PROG] + sys.argv[1:]) if sys.argv else PROG,
-                "payload_mass": float(args.payload or 0.0)}
+                "payload_mass": float(args.payload or 0.0), **_chain_settings(args)}
     if args.random is not None:
+        from .io.trajectory import acceleration_limits
+
         settings["seed"] = args.seed
+        try:
+            settings["random_qdd_max_source"] = acceleration_limits(robot)[1]
+        except ValueError as exc:
+            raise InputError(str(exc), robot.source) from None
     try:
         with dask_client(args.scheduler, args.workers) as (client, _):
             ds = run_sweep(loaded, trajectories, args.dominance, args.negligible, client=client,
@@ -638,11 +771,11 @@ def _cmd_sweep(args):
 
     with staged_output(outdir, SWEEP_OUTPUTS) as stage:
         written = [stage / "sweep.h5", stage / "merged_model.json"]
-        write_sweep(ds, written[0])
+        write_dataset(ds, written[0])
         merged_model(loaded, ds).save(written[1])
         if payload is not None:
             written.append(stage / "payload_sweep.h5")
-            write_sweep(payload, written[-1])
+            write_dataset(payload, written[-1])
         if not args.no_report:
             from .reports.sweep import write_sweep_report
 

@@ -54,6 +54,14 @@ def reference_parse(raw):
     kinds = ["t"] + ["q"] * n + (["qd"] * n + ["qdd"] * n if len(names) > n + 1 else [])
     if any(np.abs(values[:, j]).max() > LIMITS[k] for j, k in enumerate(kinds)):
         return None
+    if len(names) == n + 1:           # positions only: the spline's qd and qdd within limits
+        from scipy.interpolate import CubicSpline
+
+        spline = CubicSpline(values[:, 0], values[:, 1:], axis=0)
+        t = values[:, 0]
+        if np.abs(spline(t, 1)).max() > LIMITS["qd"] or np.abs(spline(t, 2)).max() > \
+                LIMITS["qdd"]:
+            return None
     return values
 
 

@@ -7,10 +7,11 @@ alone with ``computeGeneralizedGravity``. Dynamics are linear in the link inerti
 whose rotational inertias are all zero gives the translational G-D parts, and one whose masses
 are all zero (rotational inertias kept) gives the rotational parts.
 
-Each Pinocchio joint i is a revolute joint about the z axis of DH frame i-1. Its placement in
-joint i-1 is the rest of link i-1's transform, Trans(0,0,d) Trans(a,0,0) Rot(x, alpha), then the
-offset Rot(z, offset_i); link i's inertia sits in joint i's frame at the same remaining
-transform Trans(0,0,d_i) Trans(a_i,0,0) Rot(x, alpha_i).
+The model is built from the robot's joint model (:mod:`gd_analyze.robot`), whatever its source
+(standard or modified DH, URDF): Pinocchio joint i is a ``JointModelRZ`` (revolute) or
+``JointModelPZ`` (prismatic) whose placement in joint i-1's frame is the SE3 (P_i, t_i), and
+link i's inertia is appended in joint i's frame (the body frame) at its body-frame centre of
+mass with its body-frame inertia tensor.
 """
 
 from __future__ import annotations
@@ -46,7 +47,7 @@ def pinocchio_model(robot, part="full"):
     Returns
     -------
     pinocchio.Model
-        n revolute joints; ``model.gravity`` is the robot's gravity [m/s^2].
+        n revolute (``JointModelRZ``) or prismatic (``JointModelPZ``) joints; ``model.gravity`` is the robot's gravity [m/s^2].
 
     Raises
     ------
@@ -59,29 +60,17 @@ def pinocchio_model(robot, part="full"):
     model = pin.Model()
     model.name = robot.name
     parent = 0
-    placement = pin.SE3.Identity()
+    com, inertia = robot.body_com, robot.body_inertia
     for i in range(robot.n):
-        rest = (pin.SE3(np.eye(3), np.array([robot.a[i], 0.0, robot.d[i]]))
-                * pin.SE3(_rot_x(robot.alpha[i]), np.zeros(3)))
-        joint_placement = placement * pin.SE3(_rot_z(robot.offset[i]), np.zeros(3))
-        jid = model.addJoint(parent, pin.JointModelRZ(), joint_placement, f"joint{i + 1}")
+        placement = pin.SE3(np.array(robot.rotation[i]), np.array(robot.translation[i]))
+        joint = pin.JointModelPZ() if robot.prismatic[i] else pin.JointModelRZ()
+        jid = model.addJoint(parent, joint, placement, f"joint{i + 1}")
         mass = 0.0 if part == "rot" else float(robot.mass[i])
-        inertia = np.zeros((3, 3)) if part == "tran" else np.array(robot.inertia[i])
-        body = pin.Inertia(mass, np.array(robot.com[i]), inertia)
-        model.appendBodyToJoint(jid, rest.act(body), pin.SE3.Identity())
-        parent, placement = jid, rest
+        I = np.zeros((3, 3)) if part == "tran" else np.array(inertia[i])
+        model.appendBodyToJoint(jid, pin.Inertia(mass, np.array(com[i]), I), pin.SE3.Identity())
+        parent = jid
     model.gravity = pin.Motion(np.array(robot.gravity, dtype=float), np.zeros(3))
     return model
-
-
-def _rot_x(angle):
-    c, s = np.cos(angle), np.sin(angle)
-    return np.array([[1.0, 0.0, 0.0], [0.0, c, -s], [0.0, s, c]])
-
-
-def _rot_z(angle):
-    c, s = np.cos(angle), np.sin(angle)
-    return np.array([[c, -s, 0.0], [s, c, 0.0], [0.0, 0.0, 1.0]])
 
 
 @dataclass(frozen=True, eq=False)
@@ -210,7 +199,8 @@ def natural_scales(robot, ref, qd, qdd=None):
         |tau_i| with tau = D qdd + h + c [N m]; ``"floor_D"``, ``"floor_tau"``: the absolute
         floors FLOOR_EPS * eps times the overall scale: the largest D scale, and the largest of
         the torque scales, of D's scale times the largest qd^2, and of gravity's torque
-        |g| sum_i m_i (sum_i (|a_i| + |d_i|) + max |r_i|).
+        |g| sum_i m_i (reach + max |r_i|), the reach being sum_i (|a_i| + |d_i|) (or the sum
+        of the placements' translations for a general chain).
 
     Notes
     -----
@@ -225,7 +215,12 @@ def natural_scales(robot, ref, qd, qdd=None):
     tau = np.einsum("kij,kj->ki", D, qdd) + ref.h + ref.c
     s_tau = np.max(np.abs(tau), axis=0)
     qd2 = np.max(np.asarray(qd, dtype=float) ** 2)
-    reach = float(np.sum(np.abs(robot.a)) + np.sum(np.abs(robot.d)) + np.max(np.abs(robot.com)))
+    # the arm's reach: DH lengths, or the placements' translations of a general chain (whose
+    # DH columns are NaN)
+    placements = getattr(robot, "translation", None)
+    reach = float(np.nansum(np.abs(robot.a)) + np.nansum(np.abs(robot.d))
+                  + (np.nansum(np.abs(placements)) if placements is not None else 0.0)
+                  + np.max(np.abs(robot.com)))
     s_g = float(np.linalg.norm(robot.gravity)) * float(np.sum(robot.mass)) * reach
     eps = np.finfo(float).eps
     big_D = np.max(s_D)

@@ -10,6 +10,8 @@ Rows are counted as a spreadsheet counts them: the header is row 1, the first se
 
 from __future__ import annotations
 
+import dataclasses
+
 import csv
 import functools
 import hashlib
@@ -24,11 +26,13 @@ import numpy as np
 
 from ..core.limits import LIMITS, first_beyond
 from ..errors import InputError, InputNote
+from ..files import file_sha256
 
 __all__ = [
-    "Trajectory", "read_trajectory", "write_trajectory", "trajectory_columns",
-    "quintic_duration", "quintic_min_durations", "plan_quintic", "JointLimitWarning", "DEFAULT_START_DEG",
-    "DEFAULT_GOAL_DEG", "DEFAULT_SETPOINTS",
+    "Trajectory", "random_trajectories", "read_trajectory", "write_trajectory",
+    "trajectory_columns", "quintic_duration", "quintic_min_durations", "plan_quintic",
+    "JointLimitWarning", "DEFAULT_START_DEG", "DEFAULT_GOAL_DEG", "DEFAULT_SETPOINTS",
+    "default_motion", "user_positions",
 ]
 
 #: Start of the default planned PUMA 560 motion [deg].
@@ -379,10 +383,15 @@ def check_joint_limits(robot, trajectory):
         out = np.nonzero((q[:, j] < robot.q_min[j]) | (q[:, j] > robot.q_max[j]))[0]
         if out.size:
             k = int(out[0])
+            if getattr(robot, "prismatic", np.zeros(robot.n, bool))[j]:
+                where = (f"{q[k, j]:.4f} m is outside its limits "
+                         f"[{robot.q_min[j]:.4f}, {robot.q_max[j]:.4f}] m")
+            else:
+                where = (f"{math.degrees(q[k, j]):.1f} deg is outside its limits "
+                         f"[{math.degrees(robot.q_min[j]):.0f}, "
+                         f"{math.degrees(robot.q_max[j]):.0f}] deg")
             msg = (f"{trajectory.source}: row {k + 2}, column q{j + 1}: joint {j + 1} at "
-                   f"{math.degrees(q[k, j]):.1f} deg is outside its limits "
-                   f"[{math.degrees(robot.q_min[j]):.0f}, {math.degrees(robot.q_max[j]):.0f}] "
-                   f"deg ({out.size} set points)")
+                   f"{where} ({out.size} set points)")
             warnings.warn(msg, JointLimitWarning, stacklevel=2)
             messages.append(msg)
     return messages
@@ -428,7 +437,9 @@ def quintic_duration(robot, q_start, q_goal):
     Parameters
     ----------
     robot : Robot
-        The arm, with limits qd_max [rad/s] and qdd_max [rad/s^2], shape (n,).
+        The arm, with limits qd_max [rad/s] and qdd_max [rad/s^2], shape (n,); where qdd_max
+        is NaN (a URDF robot), :func:`acceleration_limits` supplies the default
+        ``DEFAULT_QDD_PER_QD * qd_max``.
     q_start, q_goal : array_like, shape (n,)
         Start and goal positions [rad].
 
@@ -436,6 +447,11 @@ def quintic_duration(robot, q_start, q_goal):
     -------
     float
         Duration T [s]; 0 if start and goal coincide.
+
+    Raises
+    ------
+    ValueError
+        If a joint has neither an acceleration nor a finite velocity limit.
 
     Notes
     -----
@@ -465,8 +481,54 @@ def quintic_min_durations(robot, q_start, q_goal):
     """
     dq = np.abs(np.asarray(q_goal, float) - np.asarray(q_start, float))
     t_vel = 15.0 * dq / (8.0 * robot.qd_max)
-    t_acc = np.sqrt(10.0 * dq / (math.sqrt(3.0) * robot.qdd_max))
+    t_acc = np.sqrt(10.0 * dq / (math.sqrt(3.0) * acceleration_limits(robot)[0]))
     return t_vel, t_acc
+
+
+def default_motion(robot):
+    """The default start and goal of ``gd-analyze plan`` for a robot.
+
+    Parameters
+    ----------
+    robot : Robot
+        The arm, with n joints and position limits q_min, q_max [rad or m].
+
+    Returns
+    -------
+    q_start, q_goal : ndarray, shape (n,)
+        [rad or m]. The PUMA 560 gets :data:`DEFAULT_START_DEG` -> :data:`DEFAULT_GOAL_DEG`;
+        any other robot moves every joint from a quarter to three quarters of its range, or,
+        where a limit is infinite, from -60 to 60 deg (revolute) or from 0 to 0.2 m
+        (prismatic).
+    """
+    if robot.name == "puma560" and robot.n == len(DEFAULT_START_DEG):
+        return np.radians(DEFAULT_START_DEG), np.radians(DEFAULT_GOAL_DEG)
+    lo, hi = np.asarray(robot.q_min, float), np.asarray(robot.q_max, float)
+    finite = np.isfinite(lo) & np.isfinite(hi)
+    pris = np.asarray(robot.prismatic, bool)
+    lo, hi = np.where(finite, lo, 0.0), np.where(finite, hi, 0.0)   # no inf - inf below
+    start = np.where(finite, lo + 0.25 * (hi - lo), np.where(pris, 0.0, -math.pi / 3))
+    goal = np.where(finite, lo + 0.75 * (hi - lo), np.where(pris, 0.2, math.pi / 3))
+    return start, goal
+
+
+def user_positions(robot, values):
+    """Joint positions given by a user in degrees (revolute) and metres (prismatic), in SI.
+
+    Parameters
+    ----------
+    robot : Robot
+        The arm, with n joints.
+    values : sequence of float, length n
+        [deg] for a revolute joint, [m] for a prismatic one.
+
+    Returns
+    -------
+    ndarray, shape (n,)
+        [rad or m].
+    """
+    values = np.asarray(values, dtype=float)
+    return np.where(np.asarray(robot.prismatic, bool), values, np.radians(values))
 
 
 def plan_quintic(robot, q_start, q_goal, n_setpoints=DEFAULT_SETPOINTS, duration=None):
@@ -510,6 +572,197 @@ def plan_quintic(robot, q_start, q_goal, n_setpoints=DEFAULT_SETPOINTS, duration
     sd = 30 * u**2 * (1 - u) ** 2 / T
     sdd = 60 * u * (1 - u) * (1 - 2 * u) / T**2
     dq = q_goal - q_start
+    pris = np.asarray(getattr(robot, "prismatic", np.zeros(robot.n, bool)), bool)
+    if pris.any():          # degrees for revolute joints, metres for prismatic ones
+        def show(x):
+            return np.where(pris, x, np.degrees(x)).round(6).tolist()
+        units = "deg or m"
+    else:
+        def show(x):
+            return np.degrees(x).round(6).tolist()
+        units = "deg"
     return Trajectory(t=t, q=q_start + s * dq, qd=sd * dq, qdd=sdd * dq, derivatives="quintic",
-                      source=f"quintic {np.degrees(q_start).round(6).tolist()} -> "
-                             f"{np.degrees(q_goal).round(6).tolist()} deg, T = {T:.6g} s")
+                      source=f"quintic {show(q_start)} -> {show(q_goal)} {units}, "
+                             f"T = {T:.6g} s")
+
+
+
+def default_motion_range(robot):
+    """Position range for drawing random motions: the limits, or a stand-in where infinite.
+
+    Parameters
+    ----------
+    robot : Robot
+        The arm, with limits q_min, q_max [rad or m] (may be infinite) and ``prismatic``.
+
+    Returns
+    -------
+    lo, hi : ndarray, shape (n,)
+        The limits where finite; -pi, pi for a revolute and 0, 0.2 m for a prismatic joint
+        where not.
+    """
+    lo, hi = np.asarray(robot.q_min, float), np.asarray(robot.q_max, float)
+    pris = np.asarray(getattr(robot, "prismatic", np.zeros(robot.n, bool)), bool)
+    lo = np.where(np.isfinite(lo), lo, np.where(pris, 0.0, -math.pi))
+    hi = np.where(np.isfinite(hi), hi, np.where(pris, 0.2, math.pi))
+    return lo, hi
+
+
+def random_trajectories(robot, k, seed=0, n_setpoints=31):
+    """K random rest-to-rest quintic trajectories inside the joint limits.
+
+    Parameters
+    ----------
+    robot : Robot
+        The arm, with n joints, position limits q_min, q_max [rad] and velocity and
+        acceleration limits qd_max [rad/s], qdd_max [rad/s^2].
+    k : int
+        Number of trajectories K, >= 1.
+    seed : int, optional
+        Seed of the :class:`numpy.random.Generator` (``numpy.random.default_rng(seed)``).
+    n_setpoints : int, optional
+        Set points N per trajectory, >= 2 (31, as in Sec. 3.4.1).
+
+    Returns
+    -------
+    list of Trajectory
+        Trajectory i goes from a start to a goal drawn uniformly inside [q_min, q_max] (start
+        and goal of every trajectory drawn in turn, shape (n,) each) in the shortest time
+        within the velocity and acceleration limits
+        (:func:`gd_analyze.io.trajectory.plan_quintic`); t (N,) [s], q, qd, qdd (N, n) [rad,
+        rad/s, rad/s^2]; its ``source`` is ``"random-<seed>-<i>"`` and its ``sha256`` is "".
+
+    Raises
+    ------
+    ValueError
+        If k < 1, n_setpoints < 2, or the seed is not a non-negative integer.
+
+    Notes
+    -----
+    Where a position limit is infinite (a continuous joint), the draw is within -+180 deg
+    (revolute) or 0 to 0.2 m (prismatic).
+    The quintic's peak speed and acceleration are reached between set points in general, so
+    the sampled |qd| and |qdd| stay within the limits. Source: Sec. 3.4.1 of Fu, Gonzalez &
+    Lee (1987) ranks one preplanned PUMA 560 trajectory of 31 set points; a sweep repeats that
+    over many.
+    """
+    k = int(k)
+    if k < 1:
+        raise ValueError(f"the number of trajectories must be >= 1, got {k}")
+    if int(n_setpoints) < 2:
+        raise ValueError("a trajectory needs at least 2 set points")
+    if isinstance(seed, bool) or int(seed) != seed or int(seed) < 0:
+        raise ValueError(f"the seed must be a non-negative integer, got {seed!r}")
+    seed = int(seed)
+    rng = np.random.default_rng(seed)
+    lo, hi = default_motion_range(robot)
+    out = []
+    for i in range(k):
+        q_start = rng.uniform(lo, hi)
+        q_goal = rng.uniform(lo, hi)
+        traj = plan_quintic(robot, q_start, q_goal, n_setpoints=int(n_setpoints))
+        out.append(dataclasses.replace(traj, source=f"random-{seed}-{i}", sha256=""))
+    return out
+
+
+#: Where a robot gives no acceleration limit (a URDF has none), ``plan`` takes
+#: qdd_max_i = DEFAULT_QDD_PER_QD * qd_max_i [1/s]: full speed in 0.5 s. (The Panda's published
+#: limits give ratios of 2.9 to 7.7 s^-1, so the default is on the cautious side.)
+DEFAULT_QDD_PER_QD = 2.0
+
+
+def acceleration_limits(robot, qdd_max=None):
+    """The acceleration limits a plan uses, and where they come from.
+
+    Parameters
+    ----------
+    robot : Robot
+        The arm: velocity limits qd_max and acceleration limits qdd_max (NaN where unknown),
+        shape (n,) [rad/s, rad/s^2; m/s, m/s^2 for a prismatic joint].
+    qdd_max : array_like, shape (n,), optional
+        Limits given by the user, in SI units [rad/s^2 or m/s^2]; they replace the robot's.
+
+    Returns
+    -------
+    qdd_max : ndarray, shape (n,)
+        The limits [rad/s^2 or m/s^2].
+    source : str
+        ``"robot"``, ``"--qdd-max"``, or the default's rule and the joints it applies to.
+
+    Raises
+    ------
+    ValueError
+        If given limits do not have n entries or are not finite and positive, or a joint with
+        no acceleration limit has no finite velocity limit either.
+    """
+    n = robot.n
+    if qdd_max is not None:
+        qdd = np.asarray(qdd_max, dtype=float).reshape(-1)
+        if qdd.shape != (n,):
+            raise ValueError(f"{qdd.size} acceleration limits for {n} joints")
+        if not (np.isfinite(qdd).all() and (qdd > 0).all()):
+            raise ValueError("acceleration limits must be finite and positive")
+        return qdd, "--qdd-max"
+    qdd = np.array(robot.qdd_max, dtype=float)
+    missing = ~np.isfinite(qdd)
+    if not missing.any():
+        return qdd, "robot"
+    qd = np.asarray(robot.qd_max, dtype=float)
+    bad = missing & ~(np.isfinite(qd) & (qd > 0))
+    if bad.any():
+        raise ValueError(f"joint {int(np.argmax(bad)) + 1} has neither an acceleration nor a "
+                         "finite velocity limit")
+    qdd[missing] = DEFAULT_QDD_PER_QD * qd[missing]
+    joints = ", ".join(str(j + 1) for j in np.flatnonzero(missing))
+    return qdd, (f"default {DEFAULT_QDD_PER_QD:g} s^-1 x qd_max for joints {joints} (the robot "
+                 "gives no acceleration limits)")
+
+
+def provenance_path(csv_path):
+    """The provenance file written beside a planned trajectory: ``<stem>.provenance.json``.
+
+    Parameters
+    ----------
+    csv_path : str or os.PathLike
+
+    Returns
+    -------
+    pathlib.Path
+
+    Examples
+    --------
+    >>> provenance_path("data/panda_trajectory.csv").name
+    'panda_trajectory.provenance.json'
+    """
+    p = Path(csv_path)
+    return p.with_name(p.stem + ".provenance.json")
+
+
+def write_provenance(csv_path, record):
+    """Write a planned trajectory's provenance beside it, atomically, as JSON.
+
+    Parameters
+    ----------
+    csv_path : str or os.PathLike
+        The trajectory CSV (already written: its SHA-256 is recorded).
+    record : dict
+        Tool, command, robot and settings (JSON-serialisable).
+
+    Returns
+    -------
+    pathlib.Path
+        The file written (:func:`provenance_path`).
+    """
+    import json
+
+    from ..files import atomic_path
+
+    out = provenance_path(csv_path)
+    doc = {**record, "output": Path(csv_path).name, "output_sha256": file_sha256(csv_path)}
+    with atomic_path(out) as tmp:
+        Path(tmp).write_text(json.dumps(doc, indent=2, allow_nan=False) + "\n")
+    return out
+
+
+__all__ += ["DEFAULT_QDD_PER_QD", "acceleration_limits", "provenance_path", "write_provenance",
+            "default_motion_range"]

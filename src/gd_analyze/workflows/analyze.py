@@ -1,7 +1,15 @@
 """The main job as a function: robot and trajectory in, verified analysis out.
 
 robot model -> kinematics -> G-D terms -> verification -> ranking -> simplified model -> dataset.
-The command line calls :func:`analyze` and then writes the files; nothing here prints or exits.
+The command line calls :func:`analyze_to_file` (or :func:`analyze`, in memory) and then writes
+the remaining files; nothing here prints or exits.
+
+There is one per-trajectory path (:func:`analysis_pass`): it computes the G-D terms once per
+set point, chunk by chunk, and hands each chunk to the ranking, to the file, and to the samples
+that the verification against Pinocchio and the comparison of the formulations read. The
+simplified model's torque error needs the ranking of the whole trajectory first, so it is a
+second pass over the same terms: held in memory when there is one chunk (or no file), read
+back from the file otherwise. Nothing is computed twice.
 """
 
 from __future__ import annotations
@@ -10,11 +18,14 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ..core.dalembert import gd_terms
-from ..core.ranking import DEFAULT_DOMINANCE, DEFAULT_NEGLIGIBLE, rank_dominance
-from ..core.simplified import SimplifiedModel, simplified_torque, torque_error
+from .._version import __version__
+from ..core.dalembert import GDTerms, allocate_terms, gd_terms
+from ..core.ranking import DEFAULT_DOMINANCE, DEFAULT_NEGLIGIBLE
+from ..core.simplified import SimplifiedModel, simplified_torque
+from ..formulations.compare import FORMULATIONS_MAX_SETPOINTS
 
-__all__ = ["Analysis", "analyze", "analyze_to_file", "verify", "VERIFY_TOLERANCE",
+__all__ = ["Analysis", "AnalysisPass", "analysis_pass", "analyze", "analyze_to_file", "verify",
+           "VERIFY_TOLERANCE",
            "VERIFY_MAX_SETPOINTS", "STREAM_CHUNK"]
 
 #: Largest relative disagreement with Pinocchio accepted by :func:`verify`.
@@ -47,7 +58,7 @@ class Analysis:
     verification: dict
 
 
-def _check_finite(terms, tau, start=0):
+def _check_finite(terms, tau):
     """Every computed array must be finite (inputs within LIMITS guarantee it)."""
     from ..core.limits import check_finite
 
@@ -60,6 +71,34 @@ def _subsample(N, max_setpoints):
     return np.unique(np.linspace(0, N - 1, min(N, max_setpoints)).round().astype(int))
 
 
+def _take(terms, rows):
+    return GDTerms(terms.D_tran[rows], terms.D_rot[rows], terms.h_tran[rows], terms.h_rot[rows],
+                   terms.c[rows])
+
+
+def _concat(parts):
+    return GDTerms(*(np.concatenate([getattr(t, f) for t in parts]) if parts else None
+                     for f in ("D_tran", "D_rot", "h_tran", "h_rot", "c")))
+
+
+def _verify_sample(robot, q, qd, terms, qdd=None):
+    """The verification of :func:`verify` on given set points and their G-D terms."""
+    from ..formulations.pinocchio import (natural_relative_error, natural_scales,
+                                          reference_terms)
+
+    ref = reference_terms(robot, q, qd)
+    scales = natural_scales(robot, ref, qd, qdd)
+    out = {}
+    for name in ("D_tran", "D_rot", "h_tran", "h_rot", "D", "h", "c"):
+        kind = "D" if name.startswith("D") else "tau"
+        out[f"max_rel_error_{name}"] = natural_relative_error(
+            getattr(terms, name), getattr(ref, name), scales[kind], scales[f"floor_{kind}"])
+    worst = np.max(np.array(list(out.values())))         # NaN propagates: a NaN fails
+    out.update(setpoints=int(q.shape[0]), tolerance=VERIFY_TOLERANCE,
+               engine="pinocchio", passed=int(bool(worst <= VERIFY_TOLERANCE)))
+    return out
+
+
 def verify(robot, q, qd, terms=None, max_setpoints=VERIFY_MAX_SETPOINTS, qdd=None):
     """Check G-D terms against Pinocchio's crba, nonLinearEffects and generalized gravity.
 
@@ -70,7 +109,7 @@ def verify(robot, q, qd, terms=None, max_setpoints=VERIFY_MAX_SETPOINTS, qdd=Non
     q, qd : ndarray, shape (N, n)
         Joint positions [rad] and velocities [rad/s].
     terms : GDTerms, optional
-        The G-D terms at those states; computed at the checked set points if not given.
+        The G-D terms at those N states; computed at the checked set points if not given.
     max_setpoints : int, optional
         At most this many set points, evenly spread, are checked.
     qdd : ndarray, shape (N, n), optional
@@ -91,28 +130,187 @@ def verify(robot, q, qd, terms=None, max_setpoints=VERIFY_MAX_SETPOINTS, qdd=Non
     The split parts are checked against the half-models with zero rotational inertia and with
     zero mass (see :mod:`gd_analyze.formulations.pinocchio`).
     """
-    from ..formulations.pinocchio import (natural_relative_error, natural_scales,
-                                          reference_terms)
-
     idx = _subsample(q.shape[0], max_setpoints)
-    ref = reference_terms(robot, q[idx], qd[idx])
-    ours = gd_terms(robot, q[idx], qd[idx]) if terms is None else None
-    scales = natural_scales(robot, ref, qd[idx], None if qdd is None else qdd[idx])
-    out = {}
-    for name in ("D_tran", "D_rot", "h_tran", "h_rot", "D", "h", "c"):
-        value = getattr(ours, name) if terms is None else getattr(terms, name)[idx]
-        kind = "D" if name.startswith("D") else "tau"
-        out[f"max_rel_error_{name}"] = natural_relative_error(
-            value, getattr(ref, name), scales[kind], scales[f"floor_{kind}"])
-    worst = np.max(np.array(list(out.values())))         # NaN propagates: a NaN fails
-    out.update(setpoints=int(idx.size), tolerance=VERIFY_TOLERANCE,
-               engine="pinocchio", passed=int(bool(worst <= VERIFY_TOLERANCE)))
-    return out
+    sample = gd_terms(robot, q[idx], qd[idx]) if terms is None else _take(terms, idx)
+    return _verify_sample(robot, q[idx], qd[idx], sample, None if qdd is None else qdd[idx])
+
+
+@dataclass(frozen=True, eq=False)
+class AnalysisPass:
+    """What :func:`analysis_pass` produced for one trajectory.
+
+    Attributes
+    ----------
+    ranking : Ranking
+        The dominance of each of the M = n (n + 1) / 2 + n elements.
+    choices : dict
+        Element label -> the part the simplified model keeps.
+    error : dict
+        The simplified model's torque error per joint
+        (:func:`gd_analyze.core.simplified.torque_error`).
+    verification : dict
+        As :func:`verify` returns it; empty if not checked.
+    costs : xarray.Dataset or None
+        :func:`gd_analyze.formulations.compare.formulations_dataset`, if asked for.
+    terms : GDTerms or None
+        The G-D terms at all N set points, held when there is no file to read them back from.
+    tau, tau_simplified : ndarray, shape (N, n) or None
+        Full and simplified torques [N m], held likewise.
+    """
+
+    ranking: object
+    choices: dict
+    error: dict
+    verification: dict
+    costs: object
+    terms: object
+    tau: object
+    tau_simplified: object
+
+
+def analysis_pass(robot, trajectory, dominance=DEFAULT_DOMINANCE, negligible=DEFAULT_NEGLIGIBLE,
+                  check=True, formulations=False, chunk=STREAM_CHUNK, writer=None,
+                  progress=False, terms=None):
+    """The one per-trajectory analysis: the G-D terms once per set point, then everything else.
+
+    Pass 1 computes the terms chunk by chunk and feeds the ranking, the writer and the samples
+    for the verification and the formulations; pass 2 feeds the simplified model's torque
+    error with the same terms (held in memory, or read back from the writer's file).
+
+    Parameters
+    ----------
+    robot : Robot
+        The arm, with n joints.
+    trajectory : Trajectory
+        q, qd, qdd of shape (N, n) [rad, rad/s, rad/s^2].
+    dominance, negligible : float, optional
+        s and e of the ranking.
+    check : bool, optional
+        Verify against Pinocchio on at most :data:`VERIFY_MAX_SETPOINTS` set points.
+    formulations : bool, optional
+        Compare L-E, N-E, G-D and Pinocchio on at most
+        :data:`gd_analyze.formulations.compare.FORMULATIONS_MAX_SETPOINTS` set points.
+    chunk : int, optional
+        Set points per chunk.
+    writer : SetpointWriter, optional
+        Receives the per-set-point variables; with more than one chunk, pass 2 reads the terms
+        back from it instead of holding them.
+    progress : bool, optional
+        Show a tqdm progress bar on stderr.
+    terms : GDTerms, optional
+        The trajectory's G-D terms, if the caller computed them (a sweep computes many short
+        trajectories in one call); then none are computed here.
+
+    Returns
+    -------
+    AnalysisPass
+
+    Raises
+    ------
+    ValueError
+        If the trajectory does not fit the robot or the thresholds are out of range.
+
+    Notes
+    -----
+    Source: Sec. 3.4.1 of Fu, Gonzalez & Lee (1987); terms from Eqs. (3.4-24) to (3.4-28).
+    """
+    from tqdm.auto import tqdm
+
+    from ..core.ranking import RankingAccumulator
+    from ..core.simplified import TorqueErrorAccumulator
+
+    q, qd, qdd = trajectory.q, trajectory.qd, trajectory.qdd
+    N, n = q.shape
+    chunk = max(1, int(chunk))
+    ranges = [(a, min(a + chunk, N)) for a in range(0, N, chunk)]
+    hold = writer is None or len(ranges) == 1
+    idx_verify = _subsample(N, VERIFY_MAX_SETPOINTS) if check else np.zeros(0, int)
+    idx_form = _subsample(N, FORMULATIONS_MAX_SETPOINTS) if formulations else np.zeros(0, int)
+    sample_idx = np.union1d(idx_verify, idx_form).astype(int)
+    samples, held, held_tau = [], [], []
+    ranker = RankingAccumulator(n)
+    bar = tqdm(total=2 * N, unit="setpoint", unit_scale=True, disable=not progress,
+               desc="G-D terms", delay=PROGRESS_DELAY, leave=False)
+    given = terms
+    # streamed chunks (not held) reuse one set of output buffers: no fresh pages per chunk
+    buf = None if hold or given is not None else allocate_terms(min(chunk, N), n)
+    for a, b in ranges:
+        terms = (gd_terms(robot, q[a:b], qd[a:b], out=buf) if given is None
+                 else _take(given, slice(a, b)))
+        tau = terms.tau(qdd[a:b])
+        _check_finite(terms, tau)
+        ranker.update(terms.D_tran, terms.D_rot, terms.h_tran, terms.h_rot, tau)
+        rows = sample_idx[(sample_idx >= a) & (sample_idx < b)] - a
+        if rows.size:
+            samples.append(_take(terms, rows))
+        if writer is not None:
+            writer.write(a, {"D_tran": terms.D_tran, "D_rot": terms.D_rot, "D": terms.D,
+                             "h_tran": terms.h_tran, "h_rot": terms.h_rot, "h": terms.h,
+                             "c": terms.c, "tau": tau})
+        if hold:
+            held.append(terms)
+            held_tau.append(tau)
+        bar.update(b - a)
+    ranking = ranker.result(dominance=dominance, negligible=negligible)
+    choices = ranking.choices()
+    bar.set_description("simplified model")
+    errors = TorqueErrorAccumulator(n)
+    tau_s_all = []
+    for k, (a, b) in enumerate(ranges):
+        if hold:
+            terms, tau = held[k], held_tau[k]
+        else:
+            terms = GDTerms(*(writer.read(name, a, b)
+                              for name in ("D_tran", "D_rot", "h_tran", "h_rot", "c")))
+            tau = writer.read("tau", a, b)
+        tau_s = simplified_torque(terms, choices, qdd[a:b])
+        errors.update(tau_s, tau)
+        if writer is not None:
+            writer.write(a, {"tau_simplified": tau_s})
+        else:
+            tau_s_all.append(tau_s)
+        bar.update(b - a)
+    bar.close()
+    sample = _concat(samples)
+    at = {i: k for k, i in enumerate(sample_idx)}
+    verification = {}
+    if check:
+        verification = _verify_sample(robot, q[idx_verify], qd[idx_verify],
+                                      _take(sample, [at[i] for i in idx_verify]),
+                                      qdd[idx_verify])
+    costs = None
+    if formulations:
+        from ..formulations.compare import formulations_dataset
+
+        costs = formulations_dataset(robot, q[idx_form], qd[idx_form], qdd[idx_form],
+                                     gd=_take(sample, [at[i] for i in idx_form]))
+    return AnalysisPass(ranking=ranking, choices=choices, error=errors.result(),
+                 verification=verification, costs=costs,
+                 terms=_concat(held) if writer is None else None,
+                 tau=np.concatenate(held_tau) if writer is None else None,
+                 tau_simplified=np.concatenate(tau_s_all) if writer is None else None)
+
+
+def _model(robot, trajectory, result, dominance, negligible, settings):
+    provenance = {"gd_analyze_version": __version__, "trajectory_file": trajectory.source,
+                  "derivatives": trajectory.derivatives, **(settings or {})}
+    return SimplifiedModel(robot=robot, choices=result.choices,
+                           dominance_threshold=float(dominance),
+                           negligible_threshold=float(negligible),
+                           trajectory_sha256=trajectory.sha256, validation=result.error,
+                           provenance=provenance)
+
+
+def _with_costs(ds, costs):
+    if costs is not None:
+        ds = ds.assign(costs.data_vars)
+        ds.attrs.update(costs.attrs)
+    return ds
 
 
 def analyze(robot, trajectory, dominance=DEFAULT_DOMINANCE, negligible=DEFAULT_NEGLIGIBLE,
-            check=True, settings=None):
-    """Compute, verify, rank and simplify the G-D terms along a trajectory.
+            check=True, settings=None, formulations=False):
+    """Compute, verify, rank and simplify the G-D terms along a trajectory, in memory.
 
     Parameters
     ----------
@@ -128,10 +326,14 @@ def analyze(robot, trajectory, dominance=DEFAULT_DOMINANCE, negligible=DEFAULT_N
         Verify against Pinocchio (:func:`verify`).
     settings : dict, optional
         Extra provenance for the dataset's global attributes and the model.
+    formulations : bool, optional
+        Also store the formulations' agreement and operation counts (as
+        :func:`analyze_to_file` does).
 
     Returns
     -------
     Analysis
+        Its dataset holds the per-set-point variables as well as the summary.
 
     Raises
     ------
@@ -142,28 +344,17 @@ def analyze(robot, trajectory, dominance=DEFAULT_DOMINANCE, negligible=DEFAULT_N
     -----
     Source: Sec. 3.4.1 of Fu, Gonzalez & Lee (1987); terms from Eqs. (3.4-24) to (3.4-28).
     """
-    from .. import __version__
     from ..io.datasets import build_dataset
 
-    terms = gd_terms(robot, trajectory.q, trajectory.qd)
-    tau = terms.tau(trajectory.qdd)
-    _check_finite(terms, tau)
-    ranking = rank_dominance(terms.D_tran, terms.D_rot, terms.h_tran, terms.h_rot, tau,
-                             dominance=dominance, negligible=negligible)
-    choices = ranking.choices()
-    tau_s = simplified_torque(terms, choices, trajectory.qdd)
-    error = torque_error(tau_s, tau)
-    verification = (verify(robot, trajectory.q, trajectory.qd, terms, qdd=trajectory.qdd)
-                    if check else {})
-    provenance = {"gd_analyze_version": __version__, "trajectory_file": trajectory.source,
-                  "derivatives": trajectory.derivatives, **(settings or {})}
-    model = SimplifiedModel(robot=robot, choices=choices, dominance_threshold=float(dominance),
-                            negligible_threshold=float(negligible),
-                            trajectory_sha256=trajectory.sha256, validation=error,
-                            provenance=provenance)
-    ds = build_dataset(robot, trajectory, terms, ranking, tau, tau_s, choices, error,
-                       verification=verification, settings=settings)
-    return Analysis(dataset=ds, model=model, verification=verification)
+    N = trajectory.q.shape[0]
+    result = analysis_pass(robot, trajectory, dominance, negligible, check, formulations,
+                           chunk=max(N, 1))
+    ds = build_dataset(robot, trajectory, result.terms, result.ranking, result.tau,
+                       result.tau_simplified, result.choices, result.error,
+                       verification=result.verification, settings=settings)
+    return Analysis(dataset=_with_costs(ds, result.costs),
+                    model=_model(robot, trajectory, result, dominance, negligible, settings),
+                    verification=result.verification)
 
 
 def analyze_to_file(robot, trajectory, path, dominance=DEFAULT_DOMINANCE,
@@ -172,9 +363,10 @@ def analyze_to_file(robot, trajectory, path, dominance=DEFAULT_DOMINANCE,
                     extra=None):
     """:func:`analyze`, streamed into a results file in chunks of bounded memory.
 
-    Two passes over the trajectory: the first computes the G-D terms chunk by chunk, writes
-    them and accumulates the ranking; the second, once the simplified model is known,
-    recomputes the terms and writes tau_simplified. Memory stays a few chunks whatever N is.
+    The G-D terms are computed once per set point, chunk by chunk, and written; the simplified
+    model's torque (which needs the ranking of the whole trajectory) is computed in a second
+    pass from the same terms, held in memory when there is one chunk and read back from the
+    file otherwise. Memory stays a few chunks whatever N is.
 
     Parameters
     ----------
@@ -216,61 +408,23 @@ def analyze_to_file(robot, trajectory, path, dominance=DEFAULT_DOMINANCE,
     OSError
         If the file cannot be written.
     """
-    from tqdm.auto import tqdm
-
-    from .. import __version__
-    from ..core.ranking import RankingAccumulator
-    from ..core.simplified import TorqueErrorAccumulator
     from ..files import atomic_path
     from ..io.datasets import SetpointWriter, summary_dataset
 
     N, n = trajectory.q.shape
-    chunk = max(1, int(chunk))
-    ranges = [(a, min(a + chunk, N)) for a in range(0, N, chunk)]
-    ranker = RankingAccumulator(n)
-    errors = TorqueErrorAccumulator(n)
-    bar = tqdm(total=2 * N, unit="setpoint", unit_scale=True, disable=not progress,
-               desc="G-D terms", delay=PROGRESS_DELAY, leave=False)
     with atomic_path(path) as tmp:
-        with SetpointWriter(tmp, N, n, chunk=min(chunk, 8192), compress=compress) as out:
+        with SetpointWriter(tmp, N, n, chunk=min(max(1, int(chunk)), 8192),
+                            compress=compress) as out:
             out.write(0, {"t": trajectory.t, "q": trajectory.q, "qd": trajectory.qd,
                           "qdd": trajectory.qdd})
-            for a, b in ranges:
-                terms = gd_terms(robot, trajectory.q[a:b], trajectory.qd[a:b])
-                tau = terms.tau(trajectory.qdd[a:b])
-                _check_finite(terms, tau, a)
-                ranker.update(terms.D_tran, terms.D_rot, terms.h_tran, terms.h_rot, tau)
-                out.write(a, {"D_tran": terms.D_tran, "D_rot": terms.D_rot, "D": terms.D,
-                              "h_tran": terms.h_tran, "h_rot": terms.h_rot, "h": terms.h,
-                              "c": terms.c, "tau": tau})
-                bar.update(b - a)
-            ranking = ranker.result(dominance=dominance, negligible=negligible)
-            choices = ranking.choices()
-            bar.set_description("simplified model")
-            for a, b in ranges:
-                terms = gd_terms(robot, trajectory.q[a:b], trajectory.qd[a:b])
-                tau_s = simplified_torque(terms, choices, trajectory.qdd[a:b])
-                errors.update(tau_s, terms.tau(trajectory.qdd[a:b]))
-                out.write(a, {"tau_simplified": tau_s})
-                bar.update(b - a)
-        bar.close()
-        error = errors.result()
-        verification = (verify(robot, trajectory.q, trajectory.qd, qdd=trajectory.qdd)
-                        if check else {})
-        ds = summary_dataset(robot, trajectory, ranking, choices, error, verification, settings)
-        if formulations:
-            from ..formulations.compare import formulations_dataset
-
-            costs = formulations_dataset(robot, trajectory.q, trajectory.qd, trajectory.qdd)
-            ds = ds.assign(costs.data_vars)
-            ds.attrs.update(costs.attrs)
+            result = analysis_pass(robot, trajectory, dominance, negligible, check,
+                                   formulations, chunk, writer=out, progress=progress)
+        ds = summary_dataset(robot, trajectory, result.ranking, result.choices, result.error,
+                             result.verification, settings)
+        ds = _with_costs(ds, result.costs)
         if extra is not None:
             ds = ds.assign(extra.data_vars)
         ds.to_netcdf(tmp, mode="a", engine="h5netcdf")
-    provenance = {"gd_analyze_version": __version__, "trajectory_file": trajectory.source,
-                  "derivatives": trajectory.derivatives, **(settings or {})}
-    model = SimplifiedModel(robot=robot, choices=choices, dominance_threshold=float(dominance),
-                            negligible_threshold=float(negligible),
-                            trajectory_sha256=trajectory.sha256, validation=error,
-                            provenance=provenance)
-    return Analysis(dataset=ds, model=model, verification=verification)
+    return Analysis(dataset=ds,
+                    model=_model(robot, trajectory, result, dominance, negligible, settings),
+                    verification=result.verification)
