@@ -22,7 +22,7 @@ import re
 from ..errors import InputError
 
 __all__ = ["Obj", "MapOf", "ListOf", "Num", "Int", "Str", "Const", "AnyJSON", "Field",
-           "load_json", "MODEL_SCHEMA", "COST_SCHEMA"]
+           "load_json", "MODEL_SCHEMA", "COST_SCHEMA", "MAX_DEPTH"]
 
 
 def _kind(value):
@@ -275,6 +275,20 @@ def _finite_float(text):
     return v
 
 
+#: Deepest nesting of objects and lists :func:`load_json` accepts.
+MAX_DEPTH = 64
+
+
+def _depth(text):
+    """The deepest nesting of [ and { outside strings (an upper bound if the text is not JSON)."""
+    import numpy as np
+
+    bare = re.sub(r'"(?:[^"\\]|\\.)*"', '""', text).encode("utf-8", "replace")
+    codes = np.frombuffer(bare, np.uint8)
+    steps = np.isin(codes, (91, 123)).astype(np.int64) - np.isin(codes, (93, 125))
+    return int(np.cumsum(steps).max()) if steps.size else 0
+
+
 def load_json(path, what="JSON"):
     """Read a JSON file strictly.
 
@@ -294,8 +308,8 @@ def load_json(path, what="JSON"):
     ------
     InputError
         If the file is missing, a folder, unreadable, not UTF-8, not JSON, has a duplicate
-        key, NaN or Infinity, a number beyond a float, or nesting deeper than Python's
-        recursion limit. One line.
+        key, NaN or Infinity, a number beyond a float, or nesting deeper than
+        :data:`MAX_DEPTH`. One line.
     """
     import os
 
@@ -307,6 +321,8 @@ def load_json(path, what="JSON"):
     try:
         with open(path, encoding="utf-8") as fh:
             text = fh.read()
+        if _depth(text) > MAX_DEPTH:
+            raise RecursionError
         return json.loads(text, object_pairs_hook=_no_duplicates,
                           parse_constant=_refuse_constant, parse_float=_finite_float)
     except RecursionError:
