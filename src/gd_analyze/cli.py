@@ -1,8 +1,9 @@
 """The command line: ``gd-analyze ROBOT TRAJECTORY.csv`` and its sub-commands.
 
-Exit status: 0 on success; 1 if the verification against Pinocchio fails; 2 on bad input (one
-line on stderr naming the file, row and column, no traceback, no partial output); 3 when
-``evaluate --max-error`` is exceeded.
+Exit status: 0 on success; 1 if the verification against Pinocchio fails; 2 on bad input or an
+unusable output location (one line on stderr naming the file, row and column, no traceback, no
+partial output); 3 when ``evaluate --max-error`` is exceeded; 4 on an internal error (a bug: one
+line, the traceback only with ``--debug``).
 
 Nothing in the package imports this module.
 """
@@ -17,20 +18,24 @@ import sys
 import warnings
 from pathlib import Path
 
-from .errors import InputError
+from .errors import InputError, InputNote, InputWarning
 
 __all__ = ["main"]
 
 PROG = "gd-analyze"
 COMMANDS = ("analyze", "plan", "evaluate", "compare", "control", "sweep")
-EXIT_OK, EXIT_VERIFY, EXIT_INPUT, EXIT_TOLERANCE = 0, 1, 2, 3
+EXIT_OK, EXIT_VERIFY, EXIT_INPUT, EXIT_TOLERANCE, EXIT_INTERNAL = 0, 1, 2, 3, 4
+EXIT_STATUS_HELP = ("Exit status: 0 ok, 1 verification failed, 2 bad input or unusable output "
+                    "location, 3 error above --max-error, 4 internal error (--debug shows the "
+                    "traceback).")
 
 
 class _Parser(argparse.ArgumentParser):
     """argparse that reports usage errors as one line with exit status 2."""
 
     def error(self, message):
-        raise InputError(f"{self.prog}: {message}")
+        sub = self.prog[len(PROG):].strip()
+        raise InputError(f"{sub}: {message}" if sub else message)
 
 
 
@@ -78,9 +83,13 @@ def parse_range(text, name="--payload-sweep"):
         raise InputError(f"STEP must be positive, got {text!r}", column=name)
     if stop < start:
         raise InputError(f"STOP must not be below START, got {text!r}", column=name)
-    count = int((stop - start) // step) + 1
+    try:
+        count = int((stop - start) // step) + 1
+    except decimal.DecimalException:                  # e.g. 0:1:1e-30: beyond the precision
+        count = math.inf
     if count > 10_000:
-        raise InputError(f"the range {text!r} has {count} values (at most 10000)", column=name)
+        raise InputError(f"the range {text!r} has {count:.3g} values (at most 10000)",
+                         column=name)
     return [float(start + k * step) for k in range(count)]
 
 def _fraction(lo, hi, name, lo_open=True):
@@ -193,8 +202,7 @@ def _analyze_parser():
                "L-E, N-E and G-D formulations; 'gd-analyze control MODEL.json TRAJECTORY.csv' "
                "checks a simplified model in closed loop; 'gd-analyze sweep ROBOT ...' analyses "
                "many trajectories on dask. 'gd-analyze COMMAND --help' for details. "
-               "Exit status: 0 ok, 1 verification failed, 2 bad input, 3 error above "
-               "--max-error.",
+               + EXIT_STATUS_HELP,
     )
     p.add_argument("robot", metavar="ROBOT", help=_ROBOT_HELP)
     p.add_argument("trajectory", metavar="TRAJECTORY.csv",
@@ -253,6 +261,9 @@ def _plan_parser():
                    help=f"number of set points, both ends included (default {DEFAULT_SETPOINTS})")
     p.add_argument("--duration", metavar="T", type=float,
                    help="duration [s] (default: the shortest within the limits)")
+    p.add_argument("--ignore-limits", action="store_true",
+                   help="plan even if the duration, start or goal breaks the robot's joint "
+                        "position, velocity or acceleration limits")
     p.add_argument("--qdd-max", metavar="A[,...]", type=_angles,
                    help="acceleration limits [deg/s^2; m/s^2 for a prismatic joint], one for "
                         "all joints or one per joint (default: the robot's; where it has none, "
@@ -310,8 +321,10 @@ def _control_parser():
                         "Kp = wn^2, Kv = 2 zeta wn")
     p.add_argument("--zeta", metavar="Z", type=_fraction(0.0, math.inf, "--zeta"),
                    default=DEFAULT_ZETA, help=f"damping ratio (default {DEFAULT_ZETA:g})")
-    p.add_argument("--offset", metavar="RAD", type=float, default=0.0,
-                   help="initial position error on every joint [rad] (default 0)")
+    p.add_argument("--offset", metavar="RAD", type=_fraction(-2 * math.pi, 2 * math.pi,
+                                                             "--offset", False),
+                   default=0.0, help="initial position error on every joint [rad], within "
+                                     "[-2 pi, 2 pi] (default 0)")
     p.add_argument("--no-report", action="store_true", help="skip the HTML and PDF report")
     _add_paper_argument(p)
     p.add_argument("--json", action="store_true", help="print the figures as one JSON object")
@@ -333,7 +346,8 @@ def _sweep_parser():
     p.add_argument("--random", metavar="K", type=int,
                    help="plan K random quintic trajectories (start and goal uniform in the "
                         "joint limits, shortest duration within the limits, 31 set points)")
-    p.add_argument("--seed", metavar="S", type=int, default=0, help="seed for --random")
+    p.add_argument("--seed", metavar="S", type=_seed, default=0,
+                   help="seed for --random, an integer in [0, 2^63)")
     p.add_argument("-o", "--outdir", metavar="OUTDIR",
                    help="output folder (default: reports/<robot>-sweep/)")
     p.add_argument("--scheduler", metavar="ADDRESS",
@@ -353,6 +367,30 @@ def _sweep_parser():
     return p
 
 
+def _seed(text):
+    try:
+        v = int(text)
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"--seed must be an integer, got {text!r}") from None
+    if not 0 <= v < 2**63:
+        raise argparse.ArgumentTypeError(f"--seed must be in [0, 2^63), got {text}")
+    return v
+
+
+def _outdir(args_outdir, *parts):
+    """The output folder: -o as given, or reports/<sanitised parts joined by '-'>."""
+    from .io.staging import safe_name
+
+    if args_outdir:
+        return Path(args_outdir)
+    return Path("reports") / "-".join(safe_name(p) for p in parts)
+
+
+def _results_size(N, n):
+    """Bytes of the per-set-point variables of results.h5 (uncompressed)."""
+    return 8 * N * (1 + 9 * n + 3 * n * n) + (1 << 20)
+
+
 def _load(args, csv_arg):
     from .io.trajectory import read_trajectory
 
@@ -370,15 +408,25 @@ def _warn_limits(robot, trajectory, quiet):
         print(f"{PROG}: warning: {msg}", file=sys.stderr)
 
 
+#: Printed instead of share_tran for an element that is zero in every part.
+ZERO_MARK = "\u2261 0"
+
+
 def _format_summary(ds):
     lines = [f"{ds.attrs['robot']} along {ds.attrs['input_file']}: "
              f"{ds.attrs['setpoints']} set points, s = {ds.attrs['dominance_threshold']:g}, "
              f"e = {ds.attrs['negligible_threshold']:g}", "",
              f"{'element':<8}{'share_tran':>11}  {'class':<14}{'peak_total':>12}  units"]
-    for lab, share, cls, peak, unit in zip(ds.element.values, ds.share_tran.values,
-                                           ds.dominance.values, ds.peak_total.values,
-                                           ds.element_units.values):
-        lines.append(f"{lab:<8}{share:>11.4f}  {cls:<14}{peak:>12.4g}  {unit}")
+    from .reports.main_figures import identically_zero
+
+    zero = (identically_zero(ds.peak_tran.values, ds.peak_rot.values, ds.peak_total.values,
+                             ds.element_scale.values) if "element_scale" in ds.variables
+            else [False] * ds.sizes["element"])
+    for lab, share, cls, peak, unit, z in zip(ds.element.values, ds.share_tran.values,
+                                              ds.dominance.values, ds.peak_total.values,
+                                              ds.element_units.values, zero):
+        shown = ZERO_MARK.rjust(11) if z else f"{share:>11.4f}"       # rounding noise: no share
+        lines.append(f"{lab:<8}{shown}  {cls:<14}{peak:>12.4g}  {unit}")
     lines += ["", "simplified model torque error per joint:",
               f"{'joint':<6}{'peak [N m]':>12}{'rms [N m]':>12}{'peak |tau|':>12}"
               f"{'rel peak':>10}{'rel rms':>10}"]
@@ -388,7 +436,10 @@ def _format_summary(ds):
                      f"{ds.tau_error_relative_peak.values[j]:>10.2e}"
                      f"{ds.tau_error_relative_rms.values[j]:>10.2e}")
     if "verification_passed" in ds.attrs:
-        worst = max(v for k, v in ds.attrs.items() if k.startswith("verification_max_rel"))
+        import numpy as np
+
+        worst = float(np.max([v for k, v in ds.attrs.items()
+                              if k.startswith("verification_max_rel")]))
         lines += ["", f"verified against Pinocchio on {ds.attrs['verification_setpoints']} set "
                       f"points: largest relative difference {worst:.2e}"]
     return "\n".join(lines)
@@ -397,8 +448,13 @@ def _format_summary(ds):
 def _payload_masses(args):
     if args.payload_sweep is None:
         return None
+    from .core.limits import LIMITS
 
-    return parse_range(args.payload_sweep)
+    masses = parse_range(args.payload_sweep)
+    if masses[-1] > LIMITS["mass"]:
+        raise InputError(f"load masses up to {LIMITS['mass']:g} kg, got {masses[-1]:g}",
+                         column="--payload-sweep")
+    return masses
 
 
 def _payload_sweep_dataset(robot, trajectory, args):
@@ -415,8 +471,13 @@ def _payload_sweep_dataset(robot, trajectory, args):
     return embed_payload(ds)
 
 
+ANALYZE_OUTPUTS = ("results.h5", "simplified_model.json", "report.html", "report.pdf",
+                   "figures")
+
+
 def _cmd_analyze(args):
     from .io.datasets import skip_dask
+    from .io.staging import check_free_space, staged_output
     from .workflows.analyze import analyze_to_file, progress_bar
 
     skip_dask()                         # the main job makes no dask arrays: skip its import
@@ -425,8 +486,7 @@ def _cmd_analyze(args):
     bar.reset(total=trajectory.n_setpoints)
     bar.update(trajectory.n_setpoints)
     _warn_limits(robot, trajectory, args.quiet)
-    outdir = Path(args.outdir) if args.outdir else \
-        Path("reports") / f"{robot.name}-{Path(args.trajectory).stem}"
+    outdir = _outdir(args.outdir, robot.name, Path(args.trajectory).stem)
     base_robot = robot
     robot = _apply_payload(robot, args)
     if outdir.exists() and not outdir.is_dir():
@@ -437,21 +497,23 @@ def _cmd_analyze(args):
                 "payload_inertia": [float(v) for v in args.payload_inertia],
                 **_chain_settings(args)}
     extra = _payload_sweep_dataset(base_robot, trajectory, args)   # bad range: before any output
-    outdir.mkdir(parents=True, exist_ok=True)
-    results = outdir / "results.h5"
-    analysis = analyze_to_file(robot, trajectory, results, dominance=args.dominance,
-                               negligible=args.negligible, check=not args.no_verify,
-                               settings=settings, compress=args.compress,
-                               progress=bar, extra=extra)
-    analysis.model.save(outdir / "simplified_model.json")
-    written = [results, outdir / "simplified_model.json"]
-    if not args.no_report:
-        from .reports.main import write_report
+    with staged_output(outdir, ANALYZE_OUTPUTS) as stage:
+        check_free_space(stage, _results_size(trajectory.n_setpoints, robot.n), "results.h5")
+        results = stage / "results.h5"
+        analysis = analyze_to_file(robot, trajectory, results, dominance=args.dominance,
+                                   negligible=args.negligible, check=not args.no_verify,
+                                   settings=settings, compress=args.compress,
+                                   progress=bar, extra=extra)
+        analysis.model.save(stage / "simplified_model.json")
+        written = [results, stage / "simplified_model.json"]
+        if not args.no_report:
+            from .reports.main import write_report
 
-        bar.reset(total=trajectory.n_setpoints)
-        bar.set_description("report")
-        written += write_report(results, outdir, paper=args.paper, progress=bar.update)
-    bar.close()
+            bar.reset(total=trajectory.n_setpoints)
+            bar.set_description("report")
+            written += write_report(results, stage, paper=args.paper, progress=bar.update)
+        bar.close()
+    written = [outdir / Path(p).relative_to(stage) for p in written]
     if not args.quiet:
         print(_format_summary(analysis.dataset))
         print()
@@ -462,6 +524,38 @@ def _cmd_analyze(args):
               file=sys.stderr)
         return EXIT_VERIFY
     return EXIT_OK
+
+
+def _check_plan(robot, start, goal, duration):
+    """Refuse a plan that breaks the robot's limits: InputError naming the joint and limit.
+
+    start, goal in SI (rad, m for a prismatic joint); robot with the limits the plan uses."""
+    import numpy as np
+
+    from .io.trajectory import quintic_min_durations
+
+    prismatic = np.asarray(getattr(robot, "prismatic", np.zeros(robot.n, bool)), bool)
+
+    def show(j, v, unit=""):
+        return f"{v:g} m{unit}" if prismatic[j] else f"{math.degrees(v):g} deg{unit}"
+
+    for name, vals in (("--start", start), ("--goal", goal)):
+        for j, v in enumerate(vals):
+            if not robot.q_min[j] <= v <= robot.q_max[j]:
+                raise InputError(f"joint {j + 1} at {show(j, v)} is outside its position "
+                                 f"limits [{show(j, robot.q_min[j])}, {show(j, robot.q_max[j])}]"
+                                 f" (--ignore-limits to plan anyway)", column=name)
+    if duration is None:
+        return
+    t_vel, t_acc = quintic_min_durations(robot, start, goal)
+    for j in range(robot.n):
+        for t_lim, what, lim in ((t_vel[j], "velocity", show(j, robot.qd_max[j], "/s")),
+                                 (t_acc[j], "acceleration",
+                                  show(j, robot.qdd_max[j], "/s^2"))):
+            if duration < t_lim * (1 - 1e-12):
+                raise InputError(f"{duration:g} s is too short: joint {j + 1} would exceed its "
+                                 f"{what} limit {lim} (at least {t_lim:.6g} s; "
+                                 f"--ignore-limits to plan anyway)", column="--duration")
 
 
 def _cmd_plan(args):
@@ -476,10 +570,18 @@ def _cmd_plan(args):
             raise InputError(f"{name}: {len(vals)} values for {robot.n} joints")
     start = start if args.start is None else user_positions(robot, args.start)
     goal = goal if args.goal is None else user_positions(robot, args.goal)
-    if args.setpoints < 2:
-        raise InputError("--setpoints: a trajectory needs at least 2 set points")
-    if args.duration is not None and not args.duration > 0:
-        raise InputError("--duration must be positive")
+    from .core.limits import LIMITS, first_beyond
+
+    if not 2 <= args.setpoints <= 10**8:
+        raise InputError("--setpoints: a trajectory needs 2 to 10^8 set points")
+    if args.duration is not None and not (LIMITS["min_duration"] <= args.duration
+                                          <= LIMITS["duration"]):
+        raise InputError(f"must be a number of seconds in [{LIMITS['min_duration']:g}, "
+                         f"{LIMITS['duration']:g}], got {args.duration:g}", column="--duration")
+    if args.output != "-":
+        from .io.staging import check_output_file
+
+        check_output_file(args.output)
     qdd_arg = args.qdd_max
     if qdd_arg is not None and len(qdd_arg) == 1:
         qdd_arg = qdd_arg * robot.n
@@ -492,11 +594,20 @@ def _cmd_plan(args):
         raise InputError(str(exc), column="--qdd-max" if qdd_arg is not None else None) \
             from None
     planning = _replace_limits(robot, qdd_max)
+    if not args.ignore_limits:
+        _check_plan(planning, start, goal, args.duration)
     try:
         traj = plan_quintic(planning, start, goal, args.setpoints, args.duration)
     except ValueError as exc:
         raise InputError(str(exc)) from None
-    write_trajectory(traj, args.output)
+    for name in ("q", "qd", "qdd"):
+        if first_beyond(getattr(traj, name), LIMITS[name]) is not None:
+            raise InputError(f"the planned {name} exceeds the supported magnitude "
+                             f"{LIMITS[name]:g}: choose a longer --duration", column="--duration")
+    try:
+        write_trajectory(traj, args.output)
+    except OSError as exc:
+        raise InputError(f"cannot write: {exc.strerror or exc}", args.output) from None
     if args.output == "-":
         return EXIT_OK
     record = {
@@ -514,7 +625,11 @@ def _cmd_plan(args):
         "qdd_max_source": qdd_source,
         "trajectory": traj.source,
     }
-    side = write_provenance(args.output, record)
+    try:
+        side = write_provenance(args.output, record)
+    except OSError as exc:
+        raise InputError(f"cannot write its provenance: {exc.strerror or exc}",
+                         args.output) from None
     print(f"wrote {args.output}: {traj.n_setpoints} set points over {traj.t[-1]:.4f} s "
           f"({traj.source}); acceleration limits: {qdd_source}; provenance in {side}",
           file=sys.stderr)
@@ -587,12 +702,12 @@ def _cmd_control(args):
     from .workflows.control import CONTROL_FILE, run_control
     from .io.trajectory import read_trajectory
 
+    from .reports.control import CONTROL_REPORT_FILES
+    from .io.staging import staged_output
+
     model = SimplifiedModel.load(args.model)
     traj = read_trajectory(args.trajectory, n_joints=model.robot.n)
-    if not math.isfinite(args.offset):
-        raise InputError("--offset must be a finite number")
-    outdir = Path(args.outdir) if args.outdir else \
-        Path("reports") / f"{model.robot.name}-{Path(args.trajectory).stem}-control"
+    outdir = _outdir(args.outdir, model.robot.name, Path(args.trajectory).stem, "control")
     if outdir.exists() and not outdir.is_dir():
         raise InputError("exists and is not a folder", outdir)
     try:
@@ -600,14 +715,15 @@ def _cmd_control(args):
                              model_path=args.model, model_sha256=file_sha256(args.model))
     except ValueError as exc:
         raise InputError(str(exc)) from None
-    outdir.mkdir(parents=True, exist_ok=True)
-    path = outdir / CONTROL_FILE
-    write_control_dataset(result, path)
-    written = [path]
-    if not args.no_report:
-        from .reports.control import write_control_report
+    with staged_output(outdir, (CONTROL_FILE, *CONTROL_REPORT_FILES, "figures")) as stage:
+        path = stage / CONTROL_FILE
+        write_control_dataset(result, path)
+        written = [path]
+        if not args.no_report:
+            from .reports.control import write_control_report
 
-        written += list(write_control_report(path, outdir, paper=args.paper))
+            written += list(write_control_report(path, stage, paper=args.paper))
+    written = [outdir / Path(p).relative_to(stage) for p in written]
     summary = result.summary()
     if args.json:
         print(json.dumps(summary, default=float))
@@ -627,6 +743,10 @@ def _cmd_control(args):
     return EXIT_OK
 
 
+SWEEP_OUTPUTS = ("sweep.h5", "merged_model.json", "payload_sweep.h5", "sweep_report.html",
+                 "sweep_report.pdf", "figures")
+
+
 def _cmd_sweep(args):
     from .io.datasets import write_dataset
     from .io.trajectory import random_trajectories, read_trajectory
@@ -636,8 +756,14 @@ def _cmd_sweep(args):
     robot = _load_robot(args)
     if (args.random is None) == (not args.csv):
         raise InputError("give either --random K or trajectory CSV files")
-    if args.random is not None and args.random < 1:
-        raise InputError("--random: K must be >= 1")
+    if args.random is not None and not 1 <= args.random <= 10**6:
+        raise InputError("--random: K must be in [1, 10^6]")
+    if args.scheduler is not None:
+        import re
+
+        if not re.fullmatch(r"([a-z][a-z0-9+.-]*://)?[^\s/:]+(:[0-9]{1,5})?/?", args.scheduler):
+            raise InputError("not a dask scheduler address (e.g. tcp://10.0.0.5:8786)",
+                             column="--scheduler")
     if args.workers is not None and args.workers < 1:
         raise InputError("--workers must be >= 1")
     if args.csv:
@@ -646,7 +772,7 @@ def _cmd_sweep(args):
         trajectories = random_trajectories(robot, args.random, seed=args.seed)
     masses = _payload_masses(args)
     loaded = _apply_payload(robot, args)
-    outdir = Path(args.outdir) if args.outdir else Path("reports") / f"{robot.name}-sweep"
+    outdir = _outdir(args.outdir, robot.name, "sweep")
     if outdir.exists() and not outdir.is_dir():
         raise InputError("exists and is not a folder", outdir)
     settings = {"command": " ".join([PROG] + sys.argv[1:]) if sys.argv else PROG,
@@ -666,20 +792,23 @@ def _cmd_sweep(args):
             payload = None if masses is None else sweep_payloads(
                 robot, trajectories, masses, args.payload_com, args.payload_inertia,
                 args.dominance, args.negligible, client=client)
-    except OSError as exc:
+    except (OSError, ValueError, TypeError) as exc:
         raise InputError(f"cannot reach the dask scheduler: {exc}", args.scheduler) from None
-    outdir.mkdir(parents=True, exist_ok=True)
-    written = [outdir / "sweep.h5", outdir / "merged_model.json"]
-    write_dataset(ds, written[0])
-    merged_model(loaded, ds).save(written[1])
-    if payload is not None:
-        written.append(outdir / "payload_sweep.h5")
-        write_dataset(payload, written[-1])
-    if not args.no_report:
-        from .reports.sweep import write_sweep_report
+    from .io.staging import staged_output
 
-        written += list(write_sweep_report(written[0], outdir, payload=payload,
-                                           paper=args.paper))
+    with staged_output(outdir, SWEEP_OUTPUTS) as stage:
+        written = [stage / "sweep.h5", stage / "merged_model.json"]
+        write_dataset(ds, written[0])
+        merged_model(loaded, ds).save(written[1])
+        if payload is not None:
+            written.append(stage / "payload_sweep.h5")
+            write_dataset(payload, written[-1])
+        if not args.no_report:
+            from .reports.sweep import write_sweep_report
+
+            written += list(write_sweep_report(written[0], stage, payload=payload,
+                                               paper=args.paper))
+    written = [outdir / Path(p).relative_to(stage) for p in written]
     if not args.quiet:
         print(f"{robot.name}: {ds.sizes['trajectory']} trajectories in "
               f"{ds.attrs['elapsed_s']:.1f} s on {ds.attrs['n_workers']} dask workers "
@@ -696,20 +825,47 @@ def _cmd_sweep(args):
     return EXIT_OK
 
 
+def _show_warning(message, category, filename, lineno, file=None, line=None):
+    kind = "note" if issubclass(category, InputNote) else "warning"
+    print(f"{PROG}: {kind}: {message}", file=sys.stderr)
+
+
+def _mistyped_command(word):
+    """A 'did you mean' error for a first word that is close to a command and is neither a
+    built-in robot nor a file; None otherwise."""
+    import difflib
+
+    from .core.robot import builtin_robots
+
+    if word.startswith("-") or word in builtin_robots() or os.path.exists(word):
+        return None
+    close = difflib.get_close_matches(word, COMMANDS, n=1, cutoff=0.6)
+    if not close:
+        return None
+    return InputError(f"unknown command {word!r}: did you mean '{close[0]}'? (commands: "
+                      f"{', '.join(COMMANDS)}; or a robot for the main job)")
+
+
 def main(argv=None):
     """Run the command line.
 
     Parameters
     ----------
     argv : list of str, optional
-        Arguments without the program name (default ``sys.argv[1:]``).
+        Arguments without the program name (default ``sys.argv[1:]``). ``--debug`` anywhere
+        shows the traceback of an internal error.
 
     Returns
     -------
     int
-        The exit status: 0 ok, 1 verification failed, 2 bad input, 3 error above --max-error.
+        The exit status: 0 ok, 1 verification failed, 2 bad input or unusable output location,
+        3 error above --max-error, 4 internal error.
     """
+    from .io.staging import Terminated, install_signal_handlers
+
     argv = list(sys.argv[1:] if argv is None else argv)
+    debug = "--debug" in argv
+    argv = [a for a in argv if a != "--debug"]
     command = argv[0] if argv and argv[0] in COMMANDS else "analyze"
     if argv and argv[0] == command:
         argv = argv[1:]
@@ -720,8 +876,19 @@ def main(argv=None):
                "sweep": (_sweep_parser, _cmd_sweep)}
     make_parser, run = parsers[command]
     try:
-        args = make_parser().parse_intermixed_args(argv)
-        return run(args)
+        import threading
+
+        if threading.current_thread() is threading.main_thread():
+            install_signal_handlers()
+        with warnings.catch_warnings():
+            warnings.simplefilter("always", InputWarning)
+            warnings.showwarning = _show_warning
+            if command == "analyze" and argv:
+                mistyped = _mistyped_command(argv[0])
+                if mistyped is not None:
+                    raise mistyped
+            args = make_parser().parse_intermixed_args(argv)
+            return run(args)
     except InputError as exc:
         print(f"{PROG}: error: {exc}", file=sys.stderr)
         return EXIT_INPUT
@@ -733,6 +900,19 @@ def main(argv=None):
     except KeyboardInterrupt:
         print(f"{PROG}: interrupted", file=sys.stderr)
         return 130
+    except Terminated as exc:
+        print(f"{PROG}: terminated", file=sys.stderr)
+        return 128 + int(exc.args[0]) if exc.args else 143
+    except Exception as exc:  # noqa: BLE001 - the last line of defence: exit 4, one line
+        if debug:
+            import traceback
+
+            traceback.print_exc()
+        text = " ".join(str(exc).split())[:300]
+        print(f"{PROG}: internal error: {type(exc).__name__}: {text} (a bug in gd-analyze; "
+              f"{'see the traceback above' if debug else 'rerun with --debug for the traceback'})",
+              file=sys.stderr)
+        return EXIT_INTERNAL
 
 
 if __name__ == "__main__":  # pragma: no cover

@@ -298,7 +298,7 @@ def test_robot_file_errors_name_the_link_and_key(mutate, column, words):
     with pytest.raises(InputError) as err:
         robot_from_dict(spec, source="arm.toml")
     assert err.value.column == column
-    assert str(err.value).startswith(f"arm.toml: column {column}: ")
+    assert str(err.value).startswith(f"arm.toml: key {column}: ")
     assert words in str(err.value)
 
 

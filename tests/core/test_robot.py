@@ -70,7 +70,7 @@ def test_validation_names_the_key(two_link, mutate, column):
     with pytest.raises(InputError) as err:
         robot_from_dict(spec, source="arm.toml")
     assert err.value.column == column
-    assert str(err.value).startswith("arm.toml: column " + column)
+    assert str(err.value).startswith("arm.toml: key " + column)
 
 
 def test_unknown_robot_and_bad_toml(tmp_path):

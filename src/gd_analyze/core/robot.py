@@ -47,6 +47,7 @@ from pathlib import Path
 import numpy as np
 
 from ..errors import InputError
+from .limits import LIMITS
 
 try:  # Python >= 3.11
     import tomllib
@@ -399,11 +400,16 @@ def with_payload(robot, mass, com=(0.0, 0.0, 0.0), inertia=(0.0, 0.0, 0.0)):
     enters the G-D terms through link n's mass, centre of mass and inertia tensor.
     """
     mass = float(mass)
-    if not math.isfinite(mass) or mass < 0:
-        raise InputError(f"payload mass must be a finite number >= 0, got {mass}",
-                         column="--payload")
+    if not math.isfinite(mass) or mass < 0 or mass > LIMITS["mass"]:
+        raise InputError(f"payload mass must be a number in [0, {LIMITS['mass']:g}] kg, got "
+                         f"{mass:g}", column="--payload")
     com_p = np.asarray(com, dtype=float).reshape(3)
     I_p = np.asarray(inertia, dtype=float)
+    for opt, vals, lim in (("--payload-com", com_p, "length"),
+                           ("--payload-inertia", I_p, "inertia")):
+        if not (np.abs(vals) <= LIMITS[lim]).all():
+            raise InputError(f"values beyond the supported magnitude {LIMITS[lim]:g}",
+                             column=opt)
     I_p = np.diag(I_p) if I_p.shape == (3,) else I_p.reshape(3, 3)
     if not np.isfinite(I_p).all() or not np.allclose(I_p, I_p.T) \
             or np.linalg.eigvalsh(I_p).min() < -1e-12:
@@ -551,6 +557,8 @@ def load_robot(name_or_path):
         source = key
     else:
         path = Path(key)
+        if path.is_dir():
+            raise InputError("is a folder, not a robot file", key)
         if not path.is_file():
             raise InputError(
                 f"unknown robot (built-in: {', '.join(builtin_robots())}) and no such file", key)
@@ -563,6 +571,8 @@ def load_robot(name_or_path):
         spec = tomllib.loads(raw.decode("utf-8"))
     except (tomllib.TOMLDecodeError, UnicodeDecodeError) as exc:
         raise InputError(f"not a valid TOML robot file: {exc}", source) from None
+    except RecursionError:
+        raise InputError("not a robot file: nested too deeply", source) from None
     return robot_from_dict(spec, source=source, sha256=hashlib.sha256(raw).hexdigest())
 
 

@@ -10,42 +10,89 @@ from __future__ import annotations
 
 import hashlib
 import math
+import warnings
 
 import numpy as np
 
-from ..errors import InputError
+from ..errors import InputError, InputWarning
+from .limits import LIMITS
 from .robot import CONVENTIONS, JOINT_TYPES, Robot
 
 __all__ = ["robot_from_dict"]
 
 
-def _number(value, path, column, finite=True):
+#: Top-level keys of a robot file; others are ignored with an InputWarning.
+_TOP_KEYS = {"name", "description", "reference", "gravity", "convention", "link"}
+
+
+def _number(value, path, column, finite=True, limit=None):
+    """A float; ``limit`` names the entry of LIMITS its magnitude may not exceed (when finite)."""
     if isinstance(value, bool) or not isinstance(value, (int, float)):
-        raise InputError(f"expected a number, got {value!r}", path, column=column)
-    if finite and not math.isfinite(value):
+        raise InputError(f"expected a number, got {_short(value)}", path, column=column)
+    try:
+        v = float(value)
+    except OverflowError:
+        raise InputError("number too large for a float", path, column=column) from None
+    if finite and not math.isfinite(v):
         raise InputError(f"expected a finite number, got {value!r}", path, column=column)
-    return float(value)
+    if limit is not None and math.isfinite(v) and abs(v) > LIMITS[limit]:
+        raise InputError(f"{v:g} is beyond the supported magnitude {LIMITS[limit]:g} (see the "
+                         f"README, Limits)", path, column=column)
+    return v
 
 
-def _vector(value, length, path, column):
+def _short(value):
+    text = repr(value)
+    return text if len(text) <= 60 else text[:57] + "..."
+
+
+def _vector(value, length, path, column, limit=None):
     if isinstance(value, np.ndarray):
         value = value.tolist()
     if not isinstance(value, (list, tuple)) or len(value) != length:
-        raise InputError(f"expected a list of {length} numbers, got {value!r}", path, column=column)
-    return [_number(v, path, column) for v in value]
+        raise InputError(f"expected a list of {length} numbers, got {_short(value)}", path,
+                         column=column)
+    return [_number(v, path, column, limit=limit) for v in value]
+
+
+def _text(spec, key, path, required=False):
+    """A string: the name one line of at most 200 printable characters; a description or
+    reference at most 100,000 characters without NUL (HDF5 attributes cannot hold one)."""
+    value = spec.get(key, "")
+    if not isinstance(value, str) or (required and not value):
+        raise InputError(f"expected a {'non-empty ' if required else ''}string, got "
+                         f"{_short(value)}", path, column=key)
+    if required and (len(value) > 200 or not value.isprintable()):
+        raise InputError("expected at most 200 printable characters (no control characters "
+                         "such as NUL or newline)", path, column=key)
+    if len(value) > 100_000 or "\x00" in value:
+        raise InputError("expected at most 100000 characters and no NUL", path, column=key)
+    return value
+
+
+def _degrees(link, key, path, where, default=None):
+    """An angle in degrees [deg] -> [rad]; warns when the value looks like radians (1.5708
+    typed for 90: within 1e-3 of a nonzero multiple of pi/2, and not an integer)."""
+    deg = _number(link.get(key, default) if default is not None else link[key], path,
+                  f"{where}.{key}", limit="angle_deg")
+    k = round(deg / (math.pi / 2))
+    if k != 0 and abs(deg - k * math.pi / 2) < 1e-3 and deg != round(deg):
+        warnings.warn(f"{path}: key {where}.{key}: {deg:g} looks like radians ({k} pi/2); "
+                      f"the value is read in degrees", InputWarning, stacklevel=3)
+    return math.radians(deg)
 
 
 def _inertia_tensor(raw, path, column):
     """A symmetric positive semi-definite tensor from 3 or 6 numbers or a 3x3 array."""
     arr = np.asarray(raw, dtype=object) if not isinstance(raw, (int, float)) else None
     if arr is not None and arr.shape == (3, 3):
-        I = np.array(_vector(arr.ravel().tolist(), 9, path, column)).reshape(3, 3)
+        I = np.array(_vector(arr.ravel().tolist(), 9, path, column, "inertia")).reshape(3, 3)
         if not np.allclose(I, I.T, rtol=0, atol=1e-12 * max(1.0, np.abs(I).max())):
             raise InputError("inertia tensor is not symmetric", path, column=column)
         I = 0.5 * (I + I.T)
     else:
         n_in = len(raw) if isinstance(raw, (list, tuple)) else 0
-        vals = _vector(raw, 6 if n_in == 6 else 3, path, column)
+        vals = _vector(raw, 6 if n_in == 6 else 3, path, column, "inertia")
         ixx, iyy, izz = vals[:3]
         ixy, ixz, iyz = vals[3:] if len(vals) == 6 else (0.0, 0.0, 0.0)
         I = np.array([[ixx, ixy, ixz], [ixy, iyy, iyz], [ixz, iyz, izz]])
@@ -57,10 +104,10 @@ def _inertia_tensor(raw, path, column):
 
 def _inertial(link, path, where):
     """mass, com, inertia of one link table (or joint dict), validated."""
-    m = _number(link["mass"], path, f"{where}.mass")
+    m = _number(link["mass"], path, f"{where}.mass", limit="mass")
     if m < 0:
         raise InputError(f"negative mass {m}", path, column=f"{where}.mass")
-    com = _vector(link["com"], 3, path, f"{where}.com")
+    com = _vector(link["com"], 3, path, f"{where}.com", "length")
     return m, com, _inertia_tensor(link["inertia"], path, f"{where}.inertia")
 
 
@@ -73,10 +120,11 @@ def _limits(lo_hi, qd, qdd, path, where, keys, scale=1.0, qdd_optional=False):
     if not isinstance(lim, (list, tuple)) or len(lim) != 2:
         raise InputError(f"expected a list of 2 numbers, got {lim!r}", path,
                          column=f"{where}.{klim}")
-    lo, hi = (_number(v, path, f"{where}.{klim}", finite=False) for v in lim)
+    lo, hi = (_number(v, path, f"{where}.{klim}", finite=False, limit="angle_deg")
+              for v in lim)
     if math.isnan(lo) or math.isnan(hi) or lo >= hi:
         raise InputError("lower limit not below upper limit", path, column=f"{where}.{klim}")
-    v = _number(qd, path, f"{where}.{kqd}")
+    v = _number(qd, path, f"{where}.{kqd}", limit="angle_deg")
     if v <= 0:
         raise InputError("limit must be positive", path, column=f"{where}.{kqd}")
     if qdd is None and qdd_optional:
@@ -189,12 +237,16 @@ def robot_from_dict(spec, source="<dict>", sha256=None):
     path = source
     if not isinstance(spec, dict):
         raise InputError("a robot file must be a table", path)
-    name = spec.get("name")
-    if not isinstance(name, str) or not name:
+    if "name" not in spec:
         raise InputError("missing robot name", path, column="name")
+    name = _text(spec, "name", path, required=True)
+    description, reference = _text(spec, "description", path), _text(spec, "reference", path)
+    for key in sorted(set(spec) - _TOP_KEYS):
+        warnings.warn(f"{path}: unknown key {key!r} ignored (known: "
+                      f"{', '.join(sorted(_TOP_KEYS))})", InputWarning, stacklevel=2)
     if "gravity" not in spec:
         raise InputError("missing gravity vector", path, column="gravity")
-    gravity = _vector(spec["gravity"], 3, path, "gravity")
+    gravity = _vector(spec["gravity"], 3, path, "gravity", "gravity")
     convention = spec.get("convention", "standard")
     if convention not in CONVENTIONS:
         raise InputError(f"convention must be 'standard' or 'modified' (or 'chain'), got "
@@ -219,27 +271,24 @@ def robot_from_dict(spec, source="<dict>", sha256=None):
         if convention == "chain":
             cols["rotation"].append(_rotation(link["rotation"], path, f"{where}.rotation"))
             cols["translation"].append(_vector(link["translation"], 3, path,
-                                               f"{where}.translation"))
+                                               f"{where}.translation", "length"))
             for key in ("d", "a", "alpha", "offset"):
                 cols[key].append(math.nan)
             lims = _limits(link["q_limits"], link["qd_max"], link.get("qdd_max"), path, where,
                            ("q_limits", "qd_max", "qdd_max"), qdd_optional=True)
         elif pris:
-            cols["d"].append(_number(link.get("offset", 0.0), path, f"{where}.offset"))
-            cols["a"].append(_number(link["a"], path, f"{where}.a"))
-            cols["alpha"].append(math.radians(_number(link["alpha_deg"], path,
-                                                      f"{where}.alpha_deg")))
-            cols["offset"].append(math.radians(_number(link.get("theta_deg", 0.0), path,
-                                                       f"{where}.theta_deg")))
+            cols["d"].append(_number(link.get("offset", 0.0), path, f"{where}.offset",
+                                     limit="length"))
+            cols["a"].append(_number(link["a"], path, f"{where}.a", limit="length"))
+            cols["alpha"].append(_degrees(link, "alpha_deg", path, where))
+            cols["offset"].append(_degrees(link, "theta_deg", path, where, 0.0))
             lims = _limits(link["q_limits"], link["qd_max"], link["qdd_max"], path, where,
                            ("q_limits", "qd_max", "qdd_max"))
         else:
-            cols["d"].append(_number(link["d"], path, f"{where}.d"))
-            cols["a"].append(_number(link["a"], path, f"{where}.a"))
-            cols["alpha"].append(math.radians(_number(link["alpha_deg"], path,
-                                                      f"{where}.alpha_deg")))
-            cols["offset"].append(math.radians(_number(link.get("offset_deg", 0.0), path,
-                                                       f"{where}.offset_deg")))
+            cols["d"].append(_number(link["d"], path, f"{where}.d", limit="length"))
+            cols["a"].append(_number(link["a"], path, f"{where}.a", limit="length"))
+            cols["alpha"].append(_degrees(link, "alpha_deg", path, where))
+            cols["offset"].append(_degrees(link, "offset_deg", path, where, 0.0))
             lims = _limits(link["q_limits_deg"], link["qd_max_deg"], link["qdd_max_deg"], path,
                            where, ("q_limits_deg", "qd_max_deg", "qdd_max_deg"),
                            scale=math.pi / 180)
@@ -251,6 +300,6 @@ def robot_from_dict(spec, source="<dict>", sha256=None):
             cols[key].append(v)
     if convention != "chain":
         del cols["rotation"], cols["translation"]
-    return Robot(name=name, gravity=gravity, description=str(spec.get("description", "")),
-                 reference=str(spec.get("reference", "")), source=str(source), sha256=sha256,
+    return Robot(name=name, gravity=gravity, description=description,
+                 reference=reference, source=str(source), sha256=sha256,
                  convention=convention, **cols)

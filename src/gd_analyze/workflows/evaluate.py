@@ -11,6 +11,7 @@ from __future__ import annotations
 import numpy as np
 
 from ..core.dalembert import gd_terms
+from ..core.limits import check_finite
 from ..core.simplified import simplified_torque, torque_error
 
 __all__ = ["evaluate"]
@@ -41,13 +42,15 @@ def evaluate(model, trajectory, plant=None):
     ------
     ValueError
         If the trajectory does not have n columns.
+    InputError
+        If the torques are not finite (inputs beyond :data:`gd_analyze.core.limits.LIMITS`).
     """
     robot = model.robot
     terms = gd_terms(robot, trajectory.q, trajectory.qd)
     plant = robot if plant is None else plant
     full = terms if plant is robot else gd_terms(plant, trajectory.q, trajectory.qd)
     err = torque_error(simplified_torque(terms, model.choices, trajectory.qdd),
-                       full.tau(trajectory.qdd))
+                       check_finite("tau", full.tau(trajectory.qdd)))
     rel = np.array([np.nan if v is None else v for v in err["relative_peak_error"]], float)
     err["max_relative_peak_error"] = float(np.nanmax(rel)) if np.isfinite(rel).any() else 0.0
     return err
