@@ -49,7 +49,7 @@ def main(argv=None):
                 f"tr = plan_quintic(r, np.radians(DEFAULT_START_DEG), "
                 f"np.radians(DEFAULT_GOAL_DEG), {N});")
         _, t_write = run(plan + f"write_trajectory(tr, {str(csv)!r}); " + PEAK)
-        rss_terms, t_terms = (float("nan"), float("nan")) if args.no_terms else run(
+        rss_terms, t_terms = (None, None) if args.no_terms else run(
             plan + "from gd_analyze import gd_terms; t = gd_terms(r, tr.q, tr.qd); " + PEAK)
         rss_cli, t_cli = run(
             f"from gd_analyze.cli import main; "
@@ -67,7 +67,7 @@ def main(argv=None):
                       "cli_with_report_s": t_report, "csv_mib": csv_size / 2**20,
                       "results_h5_mib": size / 2**20, "limit_mib": 1024,
                       "within_limit": max(v for v in (rss_terms, rss_cli, rss_report)
-                                          if v == v) <= 1024}))
+                                          if v is not None) <= 1024}))
     return 0
 
 
