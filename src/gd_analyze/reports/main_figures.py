@@ -51,6 +51,8 @@ RC = {
     "ytick.major.size": 2.5, "xtick.major.pad": 1.5, "ytick.major.pad": 1.5,
     "axes.titlepad": 2.5, "axes.titley": 1.0, "svg.fonttype": "none", "pdf.fonttype": 3,
     "path.simplify": True, "svg.hashsalt": "gd-analyze", "axes.xmargin": 0.0,
+    # every line is given its colour: a one-colour cycle makes each new axes cheaper
+    "axes.prop_cycle": __import__("cycler").cycler(color=["#000000"]),
 }
 
 #: Colour (Okabe & Ito), marker and line of each part: told apart in greyscale by marker and
