@@ -16,7 +16,7 @@ trajectories and reports, per ranked element (``"D11"`` .. ``"Dnn"``, ``"h1"`` .
 The per-trajectory work (:func:`analyze_one`) is a pure function of small arguments, run in
 batches on a dask.distributed cluster by :func:`run_sweep`. The dataset's schema is in
 :mod:`gd_analyze.io.sweep_datasets`; random trajectories come from
-:func:`gd_analyze.io.trajectory.random_trajectories`; payload sweeps are in
+:func:`gd_analyze.io.planning.random_trajectories`; payload sweeps are in
 :mod:`gd_analyze.workflows.payload`.
 """
 
