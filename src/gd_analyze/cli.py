@@ -475,7 +475,7 @@ ANALYZE_OUTPUTS = ("results.h5", "simplified_model.json", "report.html", "report
 
 
 def _cmd_analyze(args):
-    from .io.datasets import skip_dask
+    from .io.schema import skip_dask
     from .io.staging import check_free_space, staged_output
     from .workflows.analyze import analyze_to_file, progress_bar
 
@@ -747,7 +747,7 @@ SWEEP_OUTPUTS = ("sweep.h5", "merged_model.json", "payload_sweep.h5", "sweep_rep
 
 
 def _cmd_sweep(args):
-    from .io.datasets import write_dataset
+    from .io.schema import write_dataset
     from .io.trajectory import read_trajectory
     from .io.planning import random_trajectories
     from .workflows.payload import sweep_payloads

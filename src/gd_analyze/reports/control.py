@@ -497,7 +497,7 @@ def write_control_report(control_path, outdir, paper="a4"):
     (simplified model) and Ch. 5 (computed-torque control).
     """
     from ..files import atomic_path
-    from ..io.datasets import open_results
+    from ..io.schema import open_results
 
     if paper not in PAPER:
         raise ValueError(f"paper must be one of {sorted(PAPER)}, got {paper!r}")

@@ -773,7 +773,7 @@ def write_report(results_path, outdir, formats=REPORT_FORMATS, paper="a4", progr
     temporary name beside its destination and renamed (:func:`gd_analyze.files.atomic_path`).
     Source: Sec. 3.4.1 and Figs. 3.10-3.11 of Fu, Gonzalez & Lee (1987).
     """
-    from ..io.datasets import open_results
+    from ..io.schema import open_results
 
     formats = check_formats(formats, REPORT_FORMATS)
     if paper not in PAPER:

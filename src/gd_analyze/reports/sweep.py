@@ -1,6 +1,6 @@
 """Sweep report: a stored sweep as one self-contained HTML file and a PDF.
 
-:func:`write_sweep_report` reads a ``sweep.h5`` written by :func:`gd_analyze.io.datasets.write_dataset`
+:func:`write_sweep_report` reads a ``sweep.h5`` written by :func:`gd_analyze.io.schema.write_dataset`
 and never recomputes the dynamics: every number comes from the dataset's variables and global
 attributes. The report has these parts:
 
@@ -602,12 +602,12 @@ def write_sweep_report(sweep_path, outdir, payload=None, formats=SWEEP_REPORT_FO
     Parameters
     ----------
     sweep_path : str or os.PathLike
-        A ``sweep.h5`` written by :func:`gd_analyze.io.datasets.write_dataset`. Only read: nothing is
+        A ``sweep.h5`` written by :func:`gd_analyze.io.schema.write_dataset`. Only read: nothing is
         recomputed.
     outdir : str or os.PathLike
         Output folder; made if missing.
     payload : str or os.PathLike or xarray.Dataset, optional
-        A payload sweep (file written by :func:`gd_analyze.io.datasets.write_dataset`, or the dataset
+        A payload sweep (file written by :func:`gd_analyze.io.schema.write_dataset`, or the dataset
         of :func:`gd_analyze.workflows.payload.payload_sweep`); adds its section and :func:`payload_figure`.
     formats : sequence of str, optional
         Any of ``"html"`` and ``"pdf"``.
@@ -636,7 +636,7 @@ def write_sweep_report(sweep_path, outdir, payload=None, formats=SWEEP_REPORT_FO
     Gonzalez & Lee (1987).
     """
     from ..files import atomic_path
-    from ..io.datasets import open_sweep
+    from ..io.schema import open_sweep
 
     formats = check_formats(formats, SWEEP_REPORT_FORMATS)
     if paper not in PAPER:

@@ -34,7 +34,7 @@ from ..core.dalembert import COMPILED_MIN_SETPOINTS, DEFAULT_CHUNK, GDTerms, gd_
 from ..core.ranking import DEFAULT_DOMINANCE, DEFAULT_NEGLIGIBLE, element_labels
 from ..core.simplified import TorqueErrorAccumulator, choice_masks, merge_choices, simplified_torque
 from ..errors import InputError
-from ..io.datasets import attribute_value, strings
+from ..io.schema import attribute_value, strings
 from ..io.sweep_datasets import sweep_dataset
 from .analyze import analysis_pass
 
