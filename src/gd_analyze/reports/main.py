@@ -39,7 +39,8 @@ from .common import check_formats, render_template, utc_now
 from .main_figures import RC as FIG_RC, PAGE_WIDTH, identically_zero, plot_data
 from .main_figures import fig_D, fig_h, fig_joints, fig_torque
 from .main_text import captions, conclusion, disagreement_cause, element_scale
-from .pages import PAPER, Document, draw_figures, no_gc, write_figure_files
+from .pages import PAPER, Document
+from .drawing import draw_figures, no_gc, write_figure_files
 from ..io.sweep_datasets import payload_part
 
 __all__ = [
