@@ -92,8 +92,31 @@ def verify(robot, q, qd, terms=None, max_setpoints=VERIFY_MAX_SETPOINTS):
     return out
 
 
+def _simplify(robot, trajectory, ranking, part_peaks, tolerance, rule, torque_floor,
+               provenance):
+    """The explicit simplified model by the rule, the other rule's model, ladder, costs."""
+    from .workflows.simplify import (build_model, collect_peaks, cost_rows, ladder,
+                                     simplified_dataset, validate)
+    from .io.explicit_cache import explicit_terms
+
+    terms, _ = explicit_terms(robot)
+    q, qd, qdd = trajectory.q, trajectory.qd, trajectory.qdd
+    peaks = collect_peaks(robot, terms, q, qd, qdd, gd=part_peaks)
+    common = dict(torque_floor=torque_floor, chapter_choices=ranking.choices(),
+                  ranking=ranking, trajectory_sha256=trajectory.sha256, provenance=provenance)
+    model, sel = build_model(robot, terms, peaks, tolerance=tolerance, rule=rule, **common)
+    other_rule = "chapter" if rule == "budget" else "budget"
+    other, _ = build_model(robot, terms, peaks, tolerance=tolerance, rule=other_rule, **common)
+    other_error = validate(other, [(q, qd, qdd)])
+    rows = ladder(robot, terms, peaks, [(q, qd, qdd)], torque_floor=torque_floor)
+    table = cost_rows(robot.n, model, other=other, ladder_rows=rows)
+    extra = simplified_dataset(model, sel, other=other, ladder_rows=rows, cost_table=table,
+                               other_error=other_error)
+    return model, extra
+
+
 def analyze(robot, trajectory, dominance=DEFAULT_DOMINANCE, negligible=DEFAULT_NEGLIGIBLE,
-            check=True, settings=None):
+            check=True, settings=None, tolerance=0.01, rule="budget", torque_floor=0.0):
     """Compute, verify, rank and simplify the G-D terms along a trajectory.
 
     Parameters
@@ -110,6 +133,12 @@ def analyze(robot, trajectory, dominance=DEFAULT_DOMINANCE, negligible=DEFAULT_N
         Verify against Pinocchio (:func:`verify`).
     settings : dict, optional
         Extra provenance for the dataset's global attributes and the model.
+    tolerance : float, optional
+        EPS of the error budget (rule ``"budget"``).
+    rule : {"budget", "chapter"}, optional
+        How the simplified model is chosen (:mod:`gd_analyze.core.budget`).
+    torque_floor : float, optional
+        TAU [N m], the least scale of a joint torque.
 
     Returns
     -------
@@ -127,29 +156,34 @@ def analyze(robot, trajectory, dominance=DEFAULT_DOMINANCE, negligible=DEFAULT_N
     from . import __version__
     from .storage import build_dataset
 
+    from .core.budget import PartPeaks
+
     terms = gd_terms(robot, trajectory.q, trajectory.qd)
     tau = terms.tau(trajectory.qdd)
     ranking = rank_dominance(terms.D_tran, terms.D_rot, terms.h_tran, terms.h_rot, tau,
                              dominance=dominance, negligible=negligible)
-    choices = ranking.choices()
-    tau_s = simplified_torque(terms, choices, trajectory.qdd)
-    error = torque_error(tau_s, tau)
-    verification = verify(robot, trajectory.q, trajectory.qd, terms) if check else {}
+    parts = PartPeaks(robot.n)
+    parts.update(terms.D_tran, terms.D_rot, terms.h_tran, terms.h_rot, trajectory.qdd, tau)
     provenance = {"gd_analyze_version": __version__, "trajectory_file": trajectory.source,
                   "derivatives": trajectory.derivatives, **(settings or {})}
-    model = SimplifiedModel(robot=robot, choices=choices, dominance_threshold=float(dominance),
-                            negligible_threshold=float(negligible),
-                            trajectory_sha256=trajectory.sha256, validation=error,
-                            provenance=provenance)
+    model, extra = _simplify(robot, trajectory, ranking, parts, tolerance, rule, torque_floor,
+                             provenance)
+    choices = model.choices
+    tau_s = model.torque(trajectory.q, trajectory.qd, trajectory.qdd)
+    error = torque_error(tau_s, tau)
+    object.__setattr__(model, "validation", error)
+    verification = verify(robot, trajectory.q, trajectory.qd, terms) if check else {}
     ds = build_dataset(robot, trajectory, terms, ranking, tau, tau_s, choices, error,
                        verification=verification, settings=settings)
+    ds = ds.assign(extra.data_vars)
+    ds.attrs.update(extra.attrs)
     return Analysis(dataset=ds, model=model, verification=verification)
 
 
 def analyze_to_file(robot, trajectory, path, dominance=DEFAULT_DOMINANCE,
                     negligible=DEFAULT_NEGLIGIBLE, check=True, settings=None,
                     chunk=STREAM_CHUNK, progress=False, compress=0, formulations=True,
-                    extra=None):
+                    extra=None, tolerance=0.01, rule="budget", torque_floor=0.0):
     """:func:`analyze`, streamed into a results file in chunks of bounded memory.
 
     Two passes over the trajectory: the first computes the G-D terms chunk by chunk, writes
@@ -182,6 +216,8 @@ def analyze_to_file(robot, trajectory, path, dominance=DEFAULT_DOMINANCE,
         (:func:`gd_analyze.formulations.formulations_dataset`).
     extra : xarray.Dataset, optional
         More variables to store with the summary (e.g. a payload sweep, dim ``payload``).
+    tolerance, rule, torque_floor : optional
+        As :func:`analyze`.
 
     Returns
     -------
@@ -206,7 +242,10 @@ def analyze_to_file(robot, trajectory, path, dominance=DEFAULT_DOMINANCE,
     N, n = trajectory.q.shape
     chunk = max(1, int(chunk))
     ranges = [(a, min(a + chunk, N)) for a in range(0, N, chunk)]
+    from .core.budget import PartPeaks
+
     ranker = RankingAccumulator(n)
+    parts = PartPeaks(n)
     errors = TorqueErrorAccumulator(n)
     bar = tqdm(total=2 * N, unit="setpoint", unit_scale=True, disable=not progress,
                desc="G-D terms", delay=PROGRESS_DELAY, leave=False)
@@ -218,16 +257,24 @@ def analyze_to_file(robot, trajectory, path, dominance=DEFAULT_DOMINANCE,
                 terms = gd_terms(robot, trajectory.q[a:b], trajectory.qd[a:b])
                 tau = terms.tau(trajectory.qdd[a:b])
                 ranker.update(terms.D_tran, terms.D_rot, terms.h_tran, terms.h_rot, tau)
+                parts.update(terms.D_tran, terms.D_rot, terms.h_tran, terms.h_rot,
+                             trajectory.qdd[a:b], tau)
                 out.write(a, {"D_tran": terms.D_tran, "D_rot": terms.D_rot, "D": terms.D,
                               "h_tran": terms.h_tran, "h_rot": terms.h_rot, "h": terms.h,
                               "c": terms.c, "tau": tau})
                 bar.update(b - a)
             ranking = ranker.result(dominance=dominance, negligible=negligible)
-            choices = ranking.choices()
+            provenance = {"gd_analyze_version": __version__,
+                          "trajectory_file": trajectory.source,
+                          "derivatives": trajectory.derivatives, **(settings or {})}
+            model, simp = _simplify(robot, trajectory, ranking, parts, tolerance, rule,
+                                    torque_floor, provenance)
+            choices = model.choices
             bar.set_description("simplified model")
             for a, b in ranges:
                 terms = gd_terms(robot, trajectory.q[a:b], trajectory.qd[a:b])
-                tau_s = simplified_torque(terms, choices, trajectory.qdd[a:b])
+                tau_s = model.torque(trajectory.q[a:b], trajectory.qd[a:b],
+                                     trajectory.qdd[a:b])
                 errors.update(tau_s, terms.tau(trajectory.qdd[a:b]))
                 out.write(a, {"tau_simplified": tau_s})
                 bar.update(b - a)
@@ -243,11 +290,8 @@ def analyze_to_file(robot, trajectory, path, dominance=DEFAULT_DOMINANCE,
             ds.attrs.update(costs.attrs)
         if extra is not None:
             ds = ds.assign(extra.data_vars)
+        ds = ds.assign(simp.data_vars)
+        ds.attrs.update(simp.attrs)
         ds.to_netcdf(tmp, mode="a", engine="h5netcdf")
-    provenance = {"gd_analyze_version": __version__, "trajectory_file": trajectory.source,
-                  "derivatives": trajectory.derivatives, **(settings or {})}
-    model = SimplifiedModel(robot=robot, choices=choices, dominance_threshold=float(dominance),
-                            negligible_threshold=float(negligible),
-                            trajectory_sha256=trajectory.sha256, validation=error,
-                            provenance=provenance)
+    object.__setattr__(model, "validation", error)
     return Analysis(dataset=ds, model=model, verification=verification)

@@ -6,9 +6,12 @@ translational part, the rotational part, both, or nothing (negligible). Gravity 
     tau_s = D_s qdd + h_s + c,   D_s = M_tran * D_tran + M_rot * D_rot,
                                  h_s = m_tran * h_tran + m_rot * h_rot
 
-with 0/1 masks M and m from the choices. The model is written as JSON (``simplified_model.json``)
-that carries its robot's parameters, so ``SimplifiedModel.load(path).torque(q, qd, qdd)`` works
-on any machine.
+with 0/1 masks M and m from the choices. Since issue 8 the model is evaluated in its explicit
+form (:mod:`gd_analyze.core.explicit`): the kept terms, pruned by the error budget
+(:mod:`gd_analyze.core.budget`), compiled to straight-line code (:mod:`gd_analyze.core.codegen`),
+so it costs less than the full model. The model is written as JSON (``simplified_model.json``)
+that carries its robot's parameters and its kept terms, so
+``SimplifiedModel.load(path).torque(q, qd, qdd)`` works on any machine.
 """
 
 from __future__ import annotations
@@ -26,8 +29,11 @@ from .robot import robot_from_dict
 __all__ = ["SCHEMA_VERSION", "SimplifiedModel", "choice_masks", "simplified_torque",
            "torque_error", "TorqueErrorAccumulator"]
 
-#: Version of the simplified_model.json layout.
-SCHEMA_VERSION = 1
+#: Version of the simplified_model.json layout (2: explicit terms, rule, tolerance, cost).
+SCHEMA_VERSION = 2
+#: Older layouts still read (their model is rebuilt from the choices, without pruning).
+READABLE_SCHEMAS = (1, 2)
+_TERM_FIELDS = ("kind", "part", "i", "j", "k", "K", "S", "C")
 _CHOICES = ("tran", "rot", "both", "none")
 
 
@@ -206,9 +212,85 @@ class SimplifiedModel:
     trajectory_sha256: str = ""
     validation: dict = field(default_factory=dict)
     provenance: dict = field(default_factory=dict)
+    rule: str = "chapter"
+    tolerance: float = float("nan")
+    torque_floor: float = 0.0
+    terms: object = None
+    cost: dict = field(default_factory=dict)
+    full_cost: dict = field(default_factory=dict)
+    bound: list = field(default_factory=list)
+
+    def explicit_terms(self):
+        """The kept terms of the explicit model (:class:`~gd_analyze.core.explicit.Term`).
+
+        A model read from a layout without terms gets the terms of its kept parts, unpruned.
+        """
+        if self.terms is None:
+            from .core.explicit import derive, model_terms
+
+            all_terms = model_terms(derive(self.robot))
+            keep = {"tran": ("tran", "both"), "rot": ("rot", "both")}
+            mask = np.array([
+                kd == "c" or self.choices[f"D{i + 1}{j + 1}" if kd == "D" else f"h{i + 1}"]
+                in keep[pt] for kd, pt, i, j in zip(all_terms.kind, all_terms.part,
+                                                     all_terms.i, all_terms.j)], bool)
+            object.__setattr__(self, "terms", all_terms.subset(mask))
+        return self.terms
+
+    def program(self):
+        """The straight-line program of the explicit model (:class:`~gd_analyze.core.codegen.Program`)."""
+        cached = self.__dict__.get("_program")
+        if cached is None:
+            from .core.codegen import build_program
+
+            cached = build_program(self.explicit_terms(), self.robot.n, self.robot.offset)
+            object.__setattr__(self, "_program", cached)
+        return cached
+
+    def header(self):
+        """The header of the emitted files: robot, SHA-256s, rule, tolerance, counts, version.
+
+        Returns
+        -------
+        dict
+        """
+        cost = self.cost or self.program().cost()
+        return {
+            "gd-analyze simplified model": "tau = D_s qdd + h_s + c (Fu, Gonzalez & Lee 1987, "
+                                           "Eq. 3.4-24), explicit form",
+            "robot": f"{self.robot.name} (sha256 {self.robot.sha256})",
+            "rule": self.rule, "tolerance": f"{self.tolerance:g}",
+            "torque floor [N m]": f"{self.torque_floor:g}",
+            "trajectory sha256": self.trajectory_sha256,
+            "operations": f"{cost['multiplications']} multiplications, {cost['additions']} "
+                          f"additions, {cost['sin']} sin, {cost['cos']} cos",
+            "gd-analyze version": self.provenance.get("gd_analyze_version", ""),
+            "units": "q [rad], qd [rad/s], qdd [rad/s^2], tau [N m]",
+        }
+
+    def c_source(self):
+        """C99 source of the model (``void gd_simplified_tau(q, qd, qdd, tau)``)."""
+        from .core.codegen import emit_c
+
+        return emit_c(self.program(), self.header())
+
+    def python_source(self):
+        """numpy source of the model (``tau(q, qd, qdd)``, vectorised over set points)."""
+        from .core.codegen import emit_python
+
+        return emit_python(self.program(), self.header())
+
+    def _python_tau(self):
+        fn = self.__dict__.get("_tau_fn")
+        if fn is None:
+            ns = {}
+            exec(compile(self.python_source(), "<simplified_model.py>", "exec"), ns)
+            fn = ns["tau"]
+            object.__setattr__(self, "_tau_fn", fn)
+        return fn
 
     def torque(self, q, qd, qdd):
-        """Torques of the simplified model, tau_s = D_s qdd + h_s + c.
+        """Torques of the simplified model, tau_s = D_s qdd + h_s + c, in explicit form.
 
         Parameters
         ----------
@@ -229,8 +311,10 @@ class SimplifiedModel:
         ValueError
             If the arrays do not have n columns or disagree on N.
         """
-        terms = gd_terms(self.robot, q, qd)
-        return simplified_torque(terms, self.choices, np.asarray(qdd, float).reshape(terms.c.shape))
+        from .kinematics import as_states
+
+        q, qd, qdd = as_states(self.robot, q, qd, qdd)
+        return self._python_tau()(q, qd, qdd)
 
     def to_dict(self):
         """The model in the layout of simplified_model.json.
@@ -247,6 +331,13 @@ class SimplifiedModel:
             "dominance_threshold": self.dominance_threshold,
             "negligible_threshold": self.negligible_threshold,
             "choices": dict(self.choices),
+            "rule": self.rule,
+            "tolerance": self.tolerance,
+            "torque_floor": self.torque_floor,
+            "cost": dict(self.cost or self.program().cost()),
+            "full_explicit_cost": dict(self.full_cost),
+            "bound": list(self.bound),
+            "explicit_terms": _terms_to_json(self.explicit_terms()),
             "trajectory_sha256": self.trajectory_sha256,
             "validation": self.validation,
             "provenance": self.provenance,
@@ -299,7 +390,7 @@ class SimplifiedModel:
             raise InputError("no such file", path) from None
         except (OSError, UnicodeDecodeError, json.JSONDecodeError) as exc:
             raise InputError(f"not a simplified-model JSON file: {exc}", path) from None
-        if not isinstance(spec, dict) or spec.get("schema_version") != SCHEMA_VERSION:
+        if not isinstance(spec, dict) or spec.get("schema_version") not in READABLE_SCHEMAS:
             raise InputError(f"expected schema_version {SCHEMA_VERSION}", path,
                              column="schema_version")
         try:
@@ -311,13 +402,51 @@ class SimplifiedModel:
                         negligible_threshold=float(spec["negligible_threshold"]),
                         trajectory_sha256=str(spec.get("trajectory_sha256", "")),
                         validation=spec.get("validation", {}),
-                        provenance=spec.get("provenance", {}))
+                        provenance=spec.get("provenance", {}),
+                        rule=str(spec.get("rule", "chapter")),
+                        tolerance=float(spec.get("tolerance") if spec.get("tolerance")
+                                        is not None else float("nan")),
+                        torque_floor=float(spec.get("torque_floor", 0.0) or 0.0),
+                        terms=_terms_from_json(spec.get("explicit_terms"), robot.n),
+                        cost=dict(spec.get("cost") or {}),
+                        full_cost=dict(spec.get("full_explicit_cost") or {}),
+                        bound=list(spec.get("bound") or []))
             choice_masks(model.choices, robot.n)
         except InputError:
             raise
         except (KeyError, TypeError, ValueError) as exc:
             raise InputError(f"invalid simplified model: {exc}", path) from None
         return model
+
+
+def _terms_to_json(terms):
+    return {"kind": [str(v) for v in terms.kind], "part": [str(v) for v in terms.part],
+            "i": terms.i.tolist(), "j": terms.j.tolist(), "k": terms.k.tolist(),
+            "K": terms.K.tolist(), "sin": terms.S.tolist(), "coef": terms.C.tolist()}
+
+
+def _terms_from_json(spec, n):
+    """The kept terms from JSON, or None (older layouts)."""
+    if spec is None:
+        return None
+    from .core.explicit import Term
+
+    size = len(spec["coef"])
+    K = np.array(spec["K"], dtype=np.int64).reshape(size, n)
+    out = Term(np.array(spec["kind"], dtype=str), np.array(spec["part"], dtype=str),
+               np.array(spec["i"], int), np.array(spec["j"], int), np.array(spec["k"], int),
+               K, np.array(spec["sin"], bool), np.array(spec["coef"], float))
+    for f in ("kind", "part", "i", "j", "k", "S", "C"):
+        if getattr(out, f).shape != (size,):
+            raise ValueError(f"explicit_terms.{f}: expected {size} values")
+    if not np.isfinite(out.C).all():
+        raise ValueError("explicit_terms.coef: not finite")
+    if size and (out.i.min() < 0 or out.i.max() >= n or out.j.max() >= n or out.k.max() >= n):
+        raise ValueError("explicit_terms: joint index out of range")
+    bad = set(out.kind.tolist()) - {"D", "h", "c"}
+    if bad:
+        raise ValueError(f"explicit_terms.kind: unknown {sorted(bad)[0]!r}")
+    return out
 
 
 def _json_safe(obj):

@@ -1,0 +1,249 @@
+"""Significance by torque contribution: the error budget of the simplified model (issue 8).
+
+Each part p in {tran, rot} of each element contributes to the joint torques along a
+trajectory: D_ij^p qdd_j to tau_i and, for i != j, D_ij^p qdd_i to tau_j; h_i^p to tau_i.
+Joint i's scale is its peak |tau_i| along the trajectory, raised to a torque floor TAU [N m].
+With the budget rule, parts are dropped in order of increasing peak contribution while, for
+every joint, the sum of the dropped parts' peak contributions stays within EPS x scale_i; the
+explicit model's single terms are then pruned with what is left of the budget
+(:func:`gd_analyze.core.explicit.prune`). By the triangle inequality the simplified model's
+error on the trajectory is within EPS x scale_i for every joint.
+
+The chapter's rule (``"chapter"``) keeps the share-based classes of
+:mod:`gd_analyze.ranking` and prunes no single term: there is no bound.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+from .explicit import budget_drop, prune
+
+__all__ = ["RULES", "DEFAULT_TOLERANCE", "PartPeaks", "part_index", "budget_choices",
+           "Selection", "select_terms"]
+
+#: The rules that build a simplified model.
+RULES = ("budget", "chapter")
+#: Default EPS of --tolerance.
+DEFAULT_TOLERANCE = 0.01
+
+
+def part_index(n):
+    """The parts, in order: (label, part, kind, i, j) for every element and part.
+
+    Parameters
+    ----------
+    n : int
+        Number of joints.
+
+    Returns
+    -------
+    list of tuple
+        ``("D12", "tran", "D", 0, 1)`` ...; D elements row by row (i <= j), then h, each with
+        ``"tran"`` then ``"rot"``.
+    """
+    out = []
+    for i in range(n):
+        for j in range(i, n):
+            out += [(f"D{i + 1}{j + 1}", p, "D", i, j) for p in ("tran", "rot")]
+    for i in range(n):
+        out += [(f"h{i + 1}", p, "h", i, -1) for p in ("tran", "rot")]
+    return out
+
+
+class PartPeaks:
+    """Peak contribution of every part to every joint torque, and the peak |tau|, by chunks.
+
+    Parameters
+    ----------
+    n : int
+        Number of joints.
+
+    Attributes
+    ----------
+    peaks : ndarray, shape (P, n)
+        Peak |contribution| [N m] of the parts of :func:`part_index` to each joint torque.
+    tau_peak : ndarray, shape (n,)
+        Peak |tau_i| [N m].
+    """
+
+    def __init__(self, n):
+        self.n = int(n)
+        self.index = part_index(n)
+        self.peaks = np.zeros((len(self.index), n))
+        self.tau_peak = np.zeros(n)
+
+    def update(self, D_tran, D_rot, h_tran, h_rot, qdd, tau):
+        """Add a chunk of set points.
+
+        Parameters
+        ----------
+        D_tran, D_rot : ndarray, shape (N, n, n)
+            [kg m^2].
+        h_tran, h_rot : ndarray, shape (N, n)
+            [N m].
+        qdd : ndarray, shape (N, n)
+            [rad/s^2].
+        tau : ndarray, shape (N, n)
+            Full-model torques [N m].
+        """
+        qdd = np.asarray(qdd, float)
+        if qdd.shape[0] == 0:
+            return
+        parts = {"tran": (D_tran, h_tran), "rot": (D_rot, h_rot)}
+        for r, (_, p, kind, i, j) in enumerate(self.index):
+            D, h = parts[p]
+            if kind == "D":
+                self.peaks[r, i] = max(self.peaks[r, i], np.abs(D[:, i, j] * qdd[:, j]).max())
+                if i != j:
+                    self.peaks[r, j] = max(self.peaks[r, j],
+                                           np.abs(D[:, i, j] * qdd[:, i]).max())
+            else:
+                self.peaks[r, i] = max(self.peaks[r, i], np.abs(h[:, i]).max())
+        np.maximum(self.tau_peak, np.abs(tau).max(axis=0), out=self.tau_peak)
+
+    def merge(self, other):
+        """Combine with the peaks of other set points (another chunk or trajectory)."""
+        np.maximum(self.peaks, other.peaks, out=self.peaks)
+        np.maximum(self.tau_peak, other.tau_peak, out=self.tau_peak)
+        return self
+
+
+def budget_choices(peaks, scale, tolerance):
+    """Element choices of the budget rule: drop whole parts within EPS x scale_i.
+
+    Parameters
+    ----------
+    peaks : ndarray, shape (P, n)
+        :attr:`PartPeaks.peaks` [N m].
+    scale : ndarray, shape (n,)
+        scale_i = max(peak |tau_i|, TAU) [N m].
+    tolerance : float
+        EPS >= 0.
+
+    Returns
+    -------
+    choices : dict
+        Element label -> ``"tran"``, ``"rot"``, ``"both"`` or ``"none"``.
+    used : ndarray, shape (n,)
+        The budget the dropped parts use [N m].
+
+    Raises
+    ------
+    ValueError
+        If EPS is negative or not finite.
+    """
+    if not (np.isfinite(tolerance) and tolerance >= 0):
+        raise ValueError(f"the tolerance must be a finite number >= 0, got {tolerance}")
+    n = len(scale)
+    index = part_index(n)
+    drop, used = budget_drop(peaks, tolerance * np.asarray(scale, float))
+    kept = {}
+    for (label, p, *_), d in zip(index, drop):
+        kept.setdefault(label, set())
+        if not d:
+            kept[label].add(p)
+    code = {frozenset(): "none", frozenset({"tran"}): "tran", frozenset({"rot"}): "rot",
+            frozenset({"tran", "rot"}): "both"}
+    return {label: code[frozenset(s)] for label, s in kept.items()}, used
+
+
+@dataclass(frozen=True, eq=False)
+class Selection:
+    """The simplified explicit model chosen by a rule.
+
+    Attributes
+    ----------
+    rule : str
+        ``"budget"`` or ``"chapter"``.
+    tolerance : float
+        EPS.
+    choices : dict
+        Element label -> kept parts.
+    kept : Term
+        The explicit model's kept terms.
+    scale : ndarray, shape (n,)
+        scale_i [N m].
+    bound : ndarray, shape (n,)
+        Guaranteed bound on |tau_s - tau| per joint on the trajectories the peaks came from
+        [N m] (sum of the dropped peaks; NaN for the chapter rule, which has none).
+    dropped_parts : ndarray, shape (n,)
+        Of the bound, what the dropped whole parts account for [N m].
+    dropped_terms : ndarray, shape (n,)
+        Of the bound, what the pruned single terms account for [N m].
+    """
+
+    rule: str
+    tolerance: float
+    choices: dict
+    kept: object
+    scale: np.ndarray
+    bound: np.ndarray
+    dropped_parts: np.ndarray
+    dropped_terms: np.ndarray
+
+
+def select_terms(terms, term_peaks, part_peaks, tau_peak, tolerance=DEFAULT_TOLERANCE,
+                 rule="budget", torque_floor=0.0, chapter_choices=None):
+    """Choose the parts and terms of the simplified explicit model.
+
+    Parameters
+    ----------
+    terms : Term
+        All terms of the explicit model (:func:`gd_analyze.core.explicit.model_terms`).
+    term_peaks : ndarray, shape (U, n)
+        Their peak contributions (:func:`gd_analyze.core.explicit.term_peaks`) [N m].
+    part_peaks : ndarray, shape (P, n)
+        Peak contributions of the parts (:class:`PartPeaks`) [N m].
+    tau_peak : ndarray, shape (n,)
+        Peak |tau_i| [N m].
+    tolerance : float, optional
+        EPS >= 0.
+    rule : {"budget", "chapter"}, optional
+    torque_floor : float, optional
+        TAU >= 0 [N m]: scale_i = max(peak |tau_i|, TAU).
+    chapter_choices : dict, optional
+        The share-based choices (:meth:`gd_analyze.ranking.Ranking.choices`); required for
+        ``rule="chapter"``.
+
+    Returns
+    -------
+    Selection
+
+    Raises
+    ------
+    ValueError
+        On an unknown rule, a negative tolerance or floor, or missing chapter choices.
+    """
+    if rule not in RULES:
+        raise ValueError(f"rule must be one of {RULES}, got {rule!r}")
+    if not (np.isfinite(torque_floor) and torque_floor >= 0):
+        raise ValueError(f"the torque floor must be a finite number >= 0, got {torque_floor}")
+    scale = np.maximum(np.asarray(tau_peak, float), float(torque_floor))
+    n = scale.size
+    if rule == "chapter":
+        if chapter_choices is None:
+            raise ValueError("the chapter rule needs the ranking's choices")
+        choices = dict(chapter_choices)
+        used_parts = np.full(n, np.nan)
+    else:
+        choices, used_parts = budget_choices(part_peaks, scale, tolerance)
+    keep = {"tran": ("tran", "both"), "rot": ("rot", "both")}
+
+    def dropped(kind, part, i, j):
+        if kind == "c":
+            return False
+        label = f"D{i + 1}{j + 1}" if kind == "D" else f"h{i + 1}"
+        return choices[label] not in keep[part]
+
+    if rule == "chapter":
+        kept, used_terms = prune(terms, term_peaks, None, drop_parts=dropped)
+        used_terms = np.full(n, np.nan)
+    else:
+        kept, used_terms = prune(terms, term_peaks, tolerance * scale - used_parts,
+                                 drop_parts=dropped)
+    return Selection(rule=rule, tolerance=float(tolerance), choices=choices, kept=kept,
+                     scale=scale, bound=used_parts + used_terms, dropped_parts=used_parts,
+                     dropped_terms=used_terms)

@@ -1,0 +1,439 @@
+"""The explicit (closed-form) G-D model of a robot, and its pruning term by term.
+
+Derivation (:func:`derive`), from the robot's DH parameters and link inertial parameters, in
+the canonical Fourier form of :class:`~gd_analyze.core.trigpoly.TrigPoly` (sums of numeric
+coefficients times cos or sin of integer combinations of the joint angles theta = q + offset):
+
+- D_tran, Eq. (3.4-25) 2nd term: D_tran(i, j) = sum_{s >= j} m_s Jv_s[:, i] . Jv_s[:, j]
+  (i <= j). The Jacobian columns are the derivatives of the centre of mass of link s expressed
+  in frame i-1 turned by theta_i (the dot product does not depend on the frame), so D(i, j)
+  never carries theta_1 .. theta_i and no cancellation is left to chance.
+- D_rot, Eq. (3.4-25) 1st term: D_rot(i, j) = sum_{s >= j} u_si^T I_s u_sj with u_si the axis
+  z_{i-1} expressed in link frame s.
+- h_tran, h_rot, Eqs. (3.4-26), (3.4-27): each part is the inertial force of its own kinetic
+  energy (1/2 qd^T D_tran qd, resp. 1/2 qd^T D_rot qd), so it is given by the Christoffel
+  symbols of that part: h_i = sum_{j <= k} C_ijk qd_j qd_k with
+  C_ijk = Gamma_ijk + Gamma_ikj (j < k), C_ijj = Gamma_ijj,
+  Gamma_ijk = d D_ij / d theta_k - 1/2 d D_jk / d theta_i.
+- c, Eq. (3.4-28): c = dV/dq with V = -sum_s m_s g . rbar_s.
+
+Pruning (:func:`prune`): every term (a coefficient times a cos or sin, times qdd_j, qd_j qd_k or
+nothing) contributes to the joint torques along a trajectory; with the error budget of the
+issue-8 rule the dropped contributions' peaks sum to at most EPS x scale_i for every joint i, so
+by the triangle inequality the pruned model's error on that trajectory is within EPS x scale_i.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from .trigpoly import TrigPoly
+
+__all__ = ["ExplicitModel", "derive", "Term", "model_terms", "term_peaks", "budget_drop",
+           "prune", "PART_KINDS"]
+
+#: The parts of a model's terms: the two G-D parts of D and h, and gravity.
+PART_KINDS = ("tran", "rot", "grav")
+
+
+def _snap(x):
+    """cos/sin of a DH twist: exact 0 and +-1 where rounding left 6e-17 and 0.9999999999999999."""
+    for v in (0.0, 1.0, -1.0):
+        if abs(x - v) < 1e-12:
+            return v
+    return float(x)
+
+
+@dataclass(frozen=True, eq=False)
+class ExplicitModel:
+    """The closed-form G-D terms of a robot, Eqs. (3.4-24) to (3.4-28).
+
+    Attributes
+    ----------
+    n : int
+        Number of joints.
+    offset : ndarray, shape (n,)
+        Joint offsets; the polynomials are in theta = q + offset [rad].
+    D_tran, D_rot : dict
+        (i, j) with i <= j (0-based) -> TrigPoly [kg m^2].
+    h_tran, h_rot : dict
+        (i, j, k) with j <= k -> TrigPoly: the coefficient of qd_j qd_k in h_i [kg m^2].
+    c : dict
+        i -> TrigPoly [N m].
+
+    Notes
+    -----
+    Source: Fu, Gonzalez & Lee (1987), Eqs. (3.4-24) to (3.4-28), in Jacobian and Christoffel
+    form (module docstring).
+    """
+
+    n: int
+    offset: np.ndarray
+    D_tran: dict
+    D_rot: dict
+    h_tran: dict
+    h_rot: dict
+    c: dict
+
+    def theta(self, q):
+        """theta = q + offset, shape (N, n) [rad]."""
+        return np.atleast_2d(np.asarray(q, float)) + self.offset
+
+    def terms(self, q, qd):
+        """Evaluate D_tran, D_rot (N, n, n), h_tran, h_rot, c (N, n) at set points.
+
+        Parameters
+        ----------
+        q, qd : ndarray, shape (N, n)
+            Joint positions [rad] and velocities [rad/s].
+
+        Returns
+        -------
+        tuple of ndarray
+            D_tran, D_rot [kg m^2], h_tran, h_rot, c [N m].
+        """
+        th = self.theta(q)
+        qd = np.atleast_2d(np.asarray(qd, float))
+        N, n = th.shape
+        out = []
+        for Dp in (self.D_tran, self.D_rot):
+            D = np.zeros((N, n, n))
+            for (i, j), p in Dp.items():
+                D[:, i, j] = D[:, j, i] = p(th)
+            out.append(D)
+        for hp in (self.h_tran, self.h_rot):
+            h = np.zeros((N, n))
+            for (i, j, k), p in hp.items():
+                h[:, i] += p(th) * qd[:, j] * qd[:, k]
+            out.append(h)
+        c = np.zeros((N, n))
+        for i, p in self.c.items():
+            c[:, i] = p(th)
+        out.append(c)
+        return tuple(out)
+
+
+def _vec(n, values):
+    return [v if isinstance(v, TrigPoly) else TrigPoly.const(n, v) for v in values]
+
+
+def _dot(u, v):
+    return u[0] * v[0] + u[1] * v[1] + u[2] * v[2]
+
+
+def _matvec(M, v):
+    """M (3x3 list of TrigPoly or float) times v (3 TrigPoly)."""
+    return [sum((M[r][c] * v[c] for c in range(3) if not (isinstance(M[r][c], float)
+                                                          and M[r][c] == 0.0)),
+                TrigPoly.zero(v[0].n)) for r in range(3)]
+
+
+def _rot_T_vec(R, v):
+    """R^T v."""
+    return _matvec([[R[c][r] for c in range(3)] for r in range(3)], v)
+
+
+def derive(robot):
+    """Derive the explicit G-D model of a robot.
+
+    Parameters
+    ----------
+    robot : Robot
+        The arm: DH parameters d, a, alpha, offset; mass, com, inertia; gravity.
+
+    Returns
+    -------
+    ExplicitModel
+
+    Notes
+    -----
+    Source: Eqs. (3.2-5) (link transforms) and (3.4-24) to (3.4-28) of Fu, Gonzalez & Lee
+    (1987), in the forms given in the module docstring. The revolute joint model of the robot
+    file is assumed (theta_i = q_i + offset_i).
+
+    Examples
+    --------
+    >>> from gd_analyze.core.robot import load_robot  # doctest: +SKIP
+    """
+    n = robot.n
+    ca = [_snap(math.cos(x)) for x in robot.alpha]
+    sa = [_snap(math.sin(x)) for x in robot.alpha]
+    C = [TrigPoly.cos(n, i) for i in range(n)]
+    S = [TrigPoly.sin(n, i) for i in range(n)]
+    # ^{i-1}R_i and ^{i-1}p_i, Eq. (3.2-5), 0-based i
+    R = [[[C[i], -ca[i] * S[i], sa[i] * S[i]],
+          [S[i], ca[i] * C[i], -sa[i] * C[i]],
+          [0.0, sa[i], ca[i]]] for i in range(n)]
+    P = [[float(robot.a[i]) * C[i], float(robot.a[i]) * S[i], TrigPoly.const(n, robot.d[i])]
+         for i in range(n)]
+
+    def apply(i, v):                      # ^{i-1}A_i applied to a point v of frame i
+        rv = [sum((R[i][r][c] * v[c] for c in range(3)), TrigPoly.zero(n)) for r in range(3)]
+        return [rv[r] + P[i][r] for r in range(3)]
+
+    # r[i][s]: centre of mass of link s in frame i (i = -1 .. s-1 stored at index i+1)
+    pos = {}
+    for s in range(n):
+        v = _vec(n, [float(x) for x in robot.com[s]])
+        pos[(s, s)] = v                   # in frame s (0-based: link s's own frame)
+        for i in range(s, -1, -1):
+            v = apply(i, v)
+            pos[(i - 1, s)] = v           # in frame i-1
+    D_tran, D_rot = {}, {}
+    for i in range(n):
+        # frame i-1 turned by theta_i about z: Rot_x(alpha_i) r^(i) + (a_i, 0, d_i)
+        Rx = [[1.0, 0.0, 0.0], [0.0, ca[i], -sa[i]], [0.0, sa[i], ca[i]]]
+        for j in range(i, n):
+            acc = TrigPoly.zero(n)
+            for s in range(j, n):
+                if robot.mass[s] == 0:
+                    continue
+                r_i = pos[(i, s)]
+                rp = [sum((TrigPoly.const(n, Rx[a][b]) * r_i[b] for b in range(3)),
+                          TrigPoly.zero(n)) for a in range(3)]
+                rp = [rp[0] + float(robot.a[i]), rp[1], rp[2] + float(robot.d[i])]
+                Ji = [-rp[1], rp[0], TrigPoly.zero(n)]          # z x r'
+                Jj = Ji if j == i else [x.diff(j) for x in rp]
+                acc = acc + float(robot.mass[s]) * _dot(Ji, Jj)
+            D_tran[(i, j)] = acc
+    # u[(s, i)]: z_{i-1} in frame s (s >= i)
+    u = {}
+    for i in range(n):
+        v = _vec(n, [0.0, sa[i], ca[i]])
+        u[(i, i)] = v
+        for s in range(i + 1, n):
+            v = _rot_T_vec(R[s], v)
+            u[(s, i)] = v
+    for i in range(n):
+        for j in range(i, n):
+            acc = TrigPoly.zero(n)
+            for s in range(j, n):
+                I = robot.inertia[s]
+                Iu = [sum((u[(s, j)][b] * float(I[a, b]) for b in range(3) if I[a, b] != 0),
+                          TrigPoly.zero(n)) for a in range(3)]
+                acc = acc + _dot(u[(s, i)], Iu)
+            D_rot[(i, j)] = acc
+
+    def christoffel(D):
+        def Dij(i, j):
+            return D[(min(i, j), max(i, j))]
+
+        h = {}
+        for i in range(n):
+            for j in range(n):
+                for k in range(j, n):
+                    g = Dij(i, j).diff(k) - 0.5 * Dij(j, k).diff(i)
+                    if k != j:
+                        g = g + Dij(i, k).diff(j) - 0.5 * Dij(k, j).diff(i)
+                    if len(g):
+                        h[(i, j, k)] = g
+        return h
+
+    g = [float(x) for x in robot.gravity]
+    V = TrigPoly.zero(n)
+    for s in range(n):
+        if robot.mass[s]:
+            V = V - float(robot.mass[s]) * _dot(_vec(n, g), pos[(-1, s)])
+    c = {i: V.diff(i) for i in range(n)}
+    return ExplicitModel(n=n, offset=np.array(robot.offset, float), D_tran=D_tran,
+                         D_rot=D_rot, h_tran=christoffel(D_tran), h_rot=christoffel(D_rot),
+                         c=c)
+
+
+@dataclass(frozen=True, eq=False)
+class Term:
+    """The terms of an explicit model as flat arrays (one row per term).
+
+    Attributes
+    ----------
+    kind : ndarray of str, shape (U,)
+        ``"D"`` (a term of D_ij, i <= j), ``"h"`` (of the coefficient of qd_j qd_k in h_i) or
+        ``"c"`` (of c_i).
+    part : ndarray of str, shape (U,)
+        ``"tran"``, ``"rot"`` or ``"grav"``.
+    i, j, k : ndarray of int, shape (U,)
+        Indices (0-based; -1 where unused).
+    K : ndarray of int, shape (U, n)
+        Harmonic vectors.
+    S : ndarray of bool, shape (U,)
+        sin (True) or cos (False).
+    C : ndarray, shape (U,)
+        Coefficients [kg m^2] for D and h, [N m] for c.
+    """
+
+    kind: np.ndarray
+    part: np.ndarray
+    i: np.ndarray
+    j: np.ndarray
+    k: np.ndarray
+    K: np.ndarray
+    S: np.ndarray
+    C: np.ndarray
+
+    def __len__(self):
+        return int(self.C.size)
+
+    def subset(self, mask):
+        """The terms where ``mask`` is True."""
+        mask = np.asarray(mask, bool)
+        return Term(*(getattr(self, f)[mask] for f in
+                      ("kind", "part", "i", "j", "k", "K", "S", "C")))
+
+
+def model_terms(model):
+    """Flatten an :class:`ExplicitModel` into :class:`Term` rows.
+
+    Parameters
+    ----------
+    model : ExplicitModel
+
+    Returns
+    -------
+    Term
+        D terms (tran then rot), h terms (tran then rot), then c terms.
+    """
+    rows = []
+    for part, Dp in (("tran", model.D_tran), ("rot", model.D_rot)):
+        for (i, j), p in Dp.items():
+            rows += [("D", part, i, j, -1, kv, s, cf) for kv, s, cf in p.rows()]
+    for part, hp in (("tran", model.h_tran), ("rot", model.h_rot)):
+        for (i, j, k), p in hp.items():
+            rows += [("h", part, i, j, k, kv, s, cf) for kv, s, cf in p.rows()]
+    for i, p in model.c.items():
+        rows += [("c", "grav", i, -1, -1, kv, s, cf) for kv, s, cf in p.rows()]
+    n = model.n
+    if not rows:
+        return Term(np.zeros(0, "<U1"), np.zeros(0, "<U4"), *(np.zeros(0, int),) * 3,
+                    np.zeros((0, n), int), np.zeros(0, bool), np.zeros(0))
+    kind, part, i, j, k, K, S, C = zip(*rows)
+    return Term(np.array(kind), np.array(part), np.array(i), np.array(j), np.array(k),
+                np.array(K, dtype=np.int64).reshape(-1, n), np.array(S, bool),
+                np.array(C, float))
+
+
+def _contributions(terms, theta, qd, qdd):
+    """|contribution| of every term to every joint torque, shape (N, U, n)."""
+    N, n = theta.shape
+    ang = theta @ terms.K.T                                    # (N, U)
+    val = np.where(terms.S, np.sin(ang), np.cos(ang)) * terms.C
+    isD, ish = terms.kind == "D", terms.kind == "h"
+    out = np.zeros((N, len(terms), n))
+    U = np.arange(len(terms))
+    jj, kk, ii = np.maximum(terms.j, 0), np.maximum(terms.k, 0), terms.i
+    # D_ij qdd_j -> tau_i ; D_ij qdd_i -> tau_j (i != j)
+    vel = np.where(isD, qdd[:, jj], np.where(ish, qd[:, jj] * qd[:, kk], 1.0))
+    out[:, U, ii] = np.abs(val * vel)
+    off = isD & (terms.i != terms.j)
+    out[:, U[off], jj[off]] = np.abs(val[:, off] * qdd[:, ii[off]])
+    return out
+
+
+def term_peaks(model_or_terms, offset, q, qd, qdd, chunk=2048):
+    """Peak |contribution| of every term to every joint torque along a trajectory.
+
+    Parameters
+    ----------
+    model_or_terms : Term
+        The terms (:func:`model_terms`).
+    offset : ndarray, shape (n,)
+        Joint offsets [rad].
+    q, qd, qdd : ndarray, shape (N, n)
+        Joint positions [rad], velocities [rad/s] and accelerations [rad/s^2].
+    chunk : int, optional
+        Set points at once (bounds memory).
+
+    Returns
+    -------
+    ndarray, shape (U, n)
+        Peaks [N m]; they combine over trajectories and chunks by taking the maximum.
+    """
+    terms = model_or_terms
+    q, qd, qdd = (np.atleast_2d(np.asarray(x, float)) for x in (q, qd, qdd))
+    n = q.shape[1]
+    peaks = np.zeros((len(terms), n))
+    for a in range(0, q.shape[0], chunk):
+        sl = slice(a, a + chunk)
+        np.maximum(peaks, _contributions(terms, q[sl] + offset, qd[sl], qdd[sl]).max(axis=0),
+                   out=peaks)
+    return peaks
+
+
+def budget_drop(peaks, budget, fixed=None):
+    """Greedy selection under the error budget: which units to drop.
+
+    Units are visited in order of increasing peak contribution (relative to the budget of the
+    joints they touch); a unit is dropped if, for every joint i, the peaks already dropped plus
+    its own stay within ``budget[i]``, and kept otherwise (the walk goes on).
+
+    Parameters
+    ----------
+    peaks : ndarray, shape (U, n)
+        Peak |contribution| of each unit to each joint torque [N m].
+    budget : ndarray, shape (n,)
+        EPS x scale_i [N m], >= 0.
+    fixed : ndarray of bool, shape (U,), optional
+        Units that may not be dropped.
+
+    Returns
+    -------
+    drop : ndarray of bool, shape (U,)
+    used : ndarray, shape (n,)
+        Sum of the dropped units' peaks per joint; used <= budget, so by the triangle
+        inequality the error of the model without them is at most ``used`` at every set point
+        where the peaks were taken.
+    """
+    peaks = np.asarray(peaks, float)
+    budget = np.asarray(budget, float)
+    U, n = peaks.shape
+    with np.errstate(divide="ignore", invalid="ignore"):
+        rel = np.where(peaks > 0, peaks / np.where(budget > 0, budget, 0.0)[None, :], 0.0)
+    rel = np.nan_to_num(rel, nan=np.inf, posinf=np.inf)
+    key = rel.max(axis=1) if n else np.zeros(U)
+    drop = np.zeros(U, bool)
+    used = np.zeros(n)
+    for u in np.argsort(key, kind="stable"):
+        if fixed is not None and fixed[u]:
+            continue
+        if not np.isfinite(key[u]):
+            break
+        new = used + peaks[u]
+        if np.all(new <= budget):
+            drop[u], used = True, new
+    return drop, used
+
+
+def prune(terms, peaks, budget, drop_parts=None):
+    """Prune the terms of an explicit model within what is left of the budget.
+
+    Parameters
+    ----------
+    terms : Term
+        All terms of the model.
+    peaks : ndarray, shape (U, n)
+        Their peak contributions (:func:`term_peaks`) [N m].
+    budget : ndarray, shape (n,) or None
+        The budget left per joint [N m] (EPS x scale_i minus what dropped parts used); None
+        prunes no single term.
+    drop_parts : callable, optional
+        ``drop_parts(kind, part, i, j) -> bool``: terms of these whole parts go first,
+        regardless of the budget (their cost was already counted by the caller).
+
+    Returns
+    -------
+    kept : Term
+        The terms of the pruned model.
+    used : ndarray, shape (n,)
+        The budget the pruned terms used [N m].
+    """
+    pre = np.zeros(len(terms), bool)
+    if drop_parts is not None:
+        pre = np.array([bool(drop_parts(kd, pt, int(i), int(j))) for kd, pt, i, j in
+                        zip(terms.kind, terms.part, terms.i, terms.j)], bool)
+    rest = terms.subset(~pre)
+    if budget is None:
+        return rest, np.zeros(peaks.shape[1])
+    drop, used = budget_drop(peaks[~pre], np.maximum(budget, 0.0))
+    return rest.subset(~drop), used
