@@ -96,6 +96,35 @@ def _apply_payload(robot, args):
     return with_payload(robot, args.payload, args.payload_com, args.payload_inertia)
 
 
+def _add_budget_arguments(p, rule=True):
+    g = p.add_argument_group("simplified model (error budget, issue 8)")
+    g.add_argument("--tolerance", metavar="EPS", type=_fraction(0.0, math.inf, "--tolerance",
+                                                                False), default=0.01,
+                   help="error budget: every joint's simplified torque stays within EPS times "
+                        "its scale on the analysed trajectory (default 0.01)")
+    g.add_argument("--torque-floor", metavar="TAU", type=_fraction(0.0, math.inf,
+                                                                   "--torque-floor", False),
+                   default=0.0, help="least scale of a joint torque [N m] (default 0)")
+    if rule:
+        g.add_argument("--rule", choices=("budget", "chapter"), default="budget",
+                       help="budget: by torque contribution within EPS (default); chapter: "
+                            "the share-based classes of Sec. 3.4.1 (no bound)")
+
+
+def _write_sources(model, outdir):
+    """simplified_model.c and simplified_model.py next to the JSON."""
+    from .storage import atomic_path
+
+    written = []
+    for name, text in (("simplified_model.c", model.c_source()),
+                       ("simplified_model.py", model.python_source())):
+        path = outdir / name
+        with atomic_path(path) as tmp:
+            Path(tmp).write_text(text, encoding="utf-8")
+        written.append(path)
+    return written
+
+
 def _analyze_parser():
     from .ranking import DEFAULT_DOMINANCE, DEFAULT_NEGLIGIBLE
 
@@ -129,6 +158,7 @@ def _analyze_parser():
                    default=DEFAULT_NEGLIGIBLE,
                    help=f"an element below E times its scale is negligible (default "
                         f"{DEFAULT_NEGLIGIBLE})")
+    _add_budget_arguments(p)
     p.add_argument("--no-report", action="store_true", help="skip report.html and report.pdf")
     p.add_argument("--compress", metavar="LEVEL", type=int, choices=range(10), default=0,
                    help="gzip level 0-9 for the per-set-point variables of results.h5 "
@@ -333,6 +363,8 @@ def _cmd_analyze(args):
         raise InputError("exists and is not a folder", outdir)
     settings = {"command": " ".join([PROG] + sys.argv[1:]) if sys.argv else PROG,
                 "payload_mass": float(args.payload or 0.0),
+                "tolerance": float(args.tolerance), "rule": args.rule,
+                "torque_floor": float(args.torque_floor),
                 "payload_com": [float(v) for v in args.payload_com],
                 "payload_inertia": [float(v) for v in args.payload_inertia]}
     extra = _payload_sweep_dataset(base_robot, trajectory, args)   # bad range: before any output
@@ -341,9 +373,12 @@ def _cmd_analyze(args):
     analysis = analyze_to_file(robot, trajectory, results, dominance=args.dominance,
                                negligible=args.negligible, check=not args.no_verify,
                                settings=settings, compress=args.compress,
-                               progress=not args.quiet and sys.stderr.isatty(), extra=extra)
+                               progress=not args.quiet and sys.stderr.isatty(), extra=extra,
+                               tolerance=args.tolerance, rule=args.rule,
+                               torque_floor=args.torque_floor)
     analysis.model.save(outdir / "simplified_model.json")
     written = [results, outdir / "simplified_model.json"]
+    written += _write_sources(analysis.model, outdir)
     if not args.no_report:
         from .report import write_report
 
@@ -399,15 +434,14 @@ def _cmd_evaluate(args):
     import numpy as np
 
     from .dalembert import gd_terms
-    from .simplified import SimplifiedModel, simplified_torque, torque_error
+    from .simplified import SimplifiedModel, torque_error
     from .trajectory import read_trajectory
 
     model = SimplifiedModel.load(args.model)
     traj = read_trajectory(args.trajectory, n_joints=model.robot.n)
-    terms = gd_terms(model.robot, traj.q, traj.qd)
     plant = _apply_payload(model.robot, args)
-    tau = (terms if plant is model.robot else gd_terms(plant, traj.q, traj.qd)).tau(traj.qdd)
-    err = torque_error(simplified_torque(terms, model.choices, traj.qdd), tau)
+    tau = gd_terms(plant, traj.q, traj.qd).tau(traj.qdd)
+    err = torque_error(model.torque(traj.q, traj.qd, traj.qdd), tau)
     rel = np.array([np.nan if v is None else v for v in err["relative_peak_error"]], float)
     worst = float(np.nanmax(rel)) if np.isfinite(rel).any() else 0.0
     exceeded = args.max_error is not None and worst > args.max_error
