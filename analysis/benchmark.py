@@ -47,7 +47,7 @@ def best_of(fn, repeat):
 def pinocchio_loop(robot, q, qd):
     import pinocchio as pin
 
-    from gd_analyze.reference import pinocchio_model
+    from gd_analyze.formulations.pinocchio import pinocchio_model
 
     model = pinocchio_model(robot)
     data = model.createData()
@@ -67,7 +67,7 @@ def pinocchio_calls_only(robot, q, qd):
     """(b) without keeping the results: the fastest a Python loop over Pinocchio can be."""
     import pinocchio as pin
 
-    from gd_analyze.reference import pinocchio_model
+    from gd_analyze.formulations.pinocchio import pinocchio_model
 
     model = pinocchio_model(robot)
     data = model.createData()
@@ -84,7 +84,7 @@ def pinocchio_calls_only(robot, q, qd):
 def pinocchio_split(robot, q, qd):
     import pinocchio as pin
 
-    from gd_analyze.reference import pinocchio_model
+    from gd_analyze.formulations.pinocchio import pinocchio_model
 
     models = []
     for part in ("tran", "rot"):
@@ -138,7 +138,7 @@ def main(argv=None):
     args = parser.parse_args(argv)
 
     from gd_analyze import gd_terms, load_robot
-    from gd_analyze.reference import relative_error
+    from gd_analyze.formulations.pinocchio import relative_error
 
     robot = load_robot("puma560")
     N = args.setpoints

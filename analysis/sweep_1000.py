@@ -50,10 +50,10 @@ def main(argv=None):
     args = parser.parse_args(argv)
 
     from gd_analyze import load_robot
-    from gd_analyze.ranking import CHAPTER_DOMINANCE, CLASSES
-    from gd_analyze.sweep import (merged_model, parse_range, payload_sweep,
+    from gd_analyze.core.ranking import CHAPTER_DOMINANCE, CLASSES
+    from gd_analyze.workflows.sweep import (merged_model, parse_range, payload_sweep,
                                   random_trajectories, run_sweep, write_sweep)
-    from gd_analyze.sweep_report import write_sweep_report
+    from gd_analyze.reports.sweep import write_sweep_report
 
     t_start = time.perf_counter()
     outdir = Path(args.outdir) if args.outdir else Path(tempfile.mkdtemp(prefix="gd-sweep-"))
@@ -76,7 +76,7 @@ def main(argv=None):
     model.save(outdir / "merged_model.json")
     payload_path = None
     if args.payload_sweep:
-        from gd_analyze.trajectory import read_trajectory
+        from gd_analyze.io.trajectory import read_trajectory
 
         shipped = read_trajectory(ROOT / "data" / "puma560_trajectory.csv", robot.n)
         payload_path = outdir / "payload_sweep.h5"

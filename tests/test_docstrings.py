@@ -10,8 +10,10 @@ import pytest
 
 import gd_analyze
 
-MODULES = sorted(m.name for m in pkgutil.iter_modules(gd_analyze.__path__)
-                 if not m.name.startswith("_") and m.name != "cli")
+MODULES = sorted(m.name[len("gd_analyze."):]
+                 for m in pkgutil.walk_packages(gd_analyze.__path__, "gd_analyze.")
+                 if not m.ispkg and not m.name.rsplit(".", 1)[-1].startswith("_")
+                 and m.name != "gd_analyze.cli")
 
 
 def _public(module):

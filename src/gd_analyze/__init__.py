@@ -7,9 +7,9 @@ against Pinocchio, ranks which part dominates each element, and writes a simplif
 """
 
 from ._version import __version__
-from .dalembert import GDTerms, gd_terms
+from .core.dalembert import GDTerms, gd_terms
 from .errors import InputError
-from .robot import Robot, load_robot
+from .core.robot import Robot, load_robot
 
 __all__ = ["__version__", "GDTerms", "gd_terms", "InputError", "Robot", "load_robot",
            "SimplifiedModel"]
@@ -18,7 +18,7 @@ __all__ = ["__version__", "GDTerms", "gd_terms", "InputError", "Robot", "load_ro
 def __getattr__(name):
     # SimplifiedModel pulls in JSON/IO code that the core does not need: import it on use.
     if name == "SimplifiedModel":
-        from .simplified import SimplifiedModel
+        from .core.simplified import SimplifiedModel
 
         return SimplifiedModel
     raise AttributeError(f"module 'gd_analyze' has no attribute {name!r}")

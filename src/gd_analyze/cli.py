@@ -87,7 +87,7 @@ def _add_payload_sweep_argument(group):
 
 
 def _apply_payload(robot, args):
-    from .robot import with_payload
+    from .core.robot import with_payload
 
     if args.payload is None:
         if any(args.payload_com) or any(args.payload_inertia):
@@ -113,7 +113,7 @@ def _add_budget_arguments(p, rule=True):
 
 def _write_sources(model, outdir):
     """simplified_model.c and simplified_model.py next to the JSON."""
-    from .storage import atomic_path
+    from .files import atomic_path
 
     written = []
     for name, text in (("simplified_model.c", model.c_source()),
@@ -126,7 +126,7 @@ def _write_sources(model, outdir):
 
 
 def _analyze_parser():
-    from .ranking import DEFAULT_DOMINANCE, DEFAULT_NEGLIGIBLE
+    from .core.ranking import DEFAULT_DOMINANCE, DEFAULT_NEGLIGIBLE
 
     p = _Parser(
         prog=PROG,
@@ -179,7 +179,7 @@ def _version():
 
 
 def _plan_parser():
-    from .trajectory import DEFAULT_GOAL_DEG, DEFAULT_SETPOINTS, DEFAULT_START_DEG
+    from .io.trajectory import DEFAULT_GOAL_DEG, DEFAULT_SETPOINTS, DEFAULT_START_DEG
 
     p = _Parser(prog=f"{PROG} plan",
                 description="Write a quintic rest-to-rest joint trajectory at the shortest "
@@ -229,7 +229,7 @@ def _compare_parser():
 
 
 def _control_parser():
-    from .control import DEFAULT_WN, DEFAULT_ZETA
+    from .workflows.control import DEFAULT_WN, DEFAULT_ZETA
 
     p = _Parser(prog=f"{PROG} control",
                 description="Simulate computed-torque control of the full-model arm along a "
@@ -255,7 +255,7 @@ def _control_parser():
 
 
 def _sweep_parser():
-    from .ranking import DEFAULT_DOMINANCE, DEFAULT_NEGLIGIBLE
+    from .core.ranking import DEFAULT_DOMINANCE, DEFAULT_NEGLIGIBLE
 
     p = _Parser(prog=f"{PROG} sweep",
                 description="Rank the G-D elements over many trajectories on dask, give the "
@@ -287,15 +287,15 @@ def _sweep_parser():
 
 
 def _load(robot_arg, csv_arg):
-    from .robot import load_robot
-    from .trajectory import read_trajectory
+    from .core.robot import load_robot
+    from .io.trajectory import read_trajectory
 
     robot = load_robot(robot_arg)
     return robot, read_trajectory(csv_arg, n_joints=robot.n)
 
 
 def _warn_limits(robot, trajectory, quiet):
-    from .trajectory import JointLimitWarning, check_joint_limits
+    from .io.trajectory import JointLimitWarning, check_joint_limits
 
     with warnings.catch_warnings():
         warnings.simplefilter("ignore", JointLimitWarning)
@@ -331,7 +331,7 @@ def _format_summary(ds):
 def _payload_masses(args):
     if args.payload_sweep is None:
         return None
-    from .sweep import parse_range
+    from .workflows.sweep import parse_range
 
     return parse_range(args.payload_sweep)
 
@@ -341,7 +341,7 @@ def _payload_sweep_dataset(robot, trajectory, args):
     masses = _payload_masses(args)
     if masses is None:
         return None
-    from .sweep import payload_sweep
+    from .workflows.sweep import payload_sweep
 
     ds = payload_sweep(robot, trajectory, masses, com=args.payload_com,
                        inertia=args.payload_inertia, dominance=args.dominance,
@@ -351,7 +351,7 @@ def _payload_sweep_dataset(robot, trajectory, args):
 
 
 def _cmd_analyze(args):
-    from .pipeline import analyze_to_file
+    from .workflows.analyze import analyze_to_file
 
     robot, trajectory = _load(args.robot, args.trajectory)
     _warn_limits(robot, trajectory, args.quiet)
@@ -380,7 +380,7 @@ def _cmd_analyze(args):
     written = [results, outdir / "simplified_model.json"]
     written += _write_sources(analysis.model, outdir)
     if not args.no_report:
-        from .report import write_report
+        from .reports.main import write_report
 
         written += write_report(results, outdir)
     if not args.quiet:
@@ -398,8 +398,8 @@ def _cmd_analyze(args):
 def _cmd_plan(args):
     import numpy as np
 
-    from .robot import load_robot
-    from .trajectory import (DEFAULT_GOAL_DEG, DEFAULT_START_DEG, plan_quintic,
+    from .core.robot import load_robot
+    from .io.trajectory import (DEFAULT_GOAL_DEG, DEFAULT_START_DEG, plan_quintic,
                              write_trajectory)
 
     robot = load_robot(args.robot)
@@ -433,9 +433,9 @@ def _cmd_evaluate(args):
 
     import numpy as np
 
-    from .dalembert import gd_terms
-    from .simplified import SimplifiedModel, torque_error
-    from .trajectory import read_trajectory
+    from .core.dalembert import gd_terms
+    from .core.simplified import SimplifiedModel, torque_error
+    from .io.trajectory import read_trajectory
 
     model = SimplifiedModel.load(args.model)
     traj = read_trajectory(args.trajectory, n_joints=model.robot.n)
@@ -472,7 +472,7 @@ def _cmd_evaluate(args):
 def _cmd_compare(args):
     import json
 
-    from .formulations import compare_report, format_compare
+    from .formulations.compare import compare_report, format_compare
 
     robot, traj = _load(args.robot, args.trajectory)
     report = compare_report(robot, traj.q, traj.qd, traj.qdd)
@@ -486,9 +486,9 @@ def _cmd_compare(args):
 def _cmd_control(args):
     import json
 
-    from .control import CONTROL_FILE, run_control, write_control_dataset
-    from .simplified import SimplifiedModel
-    from .trajectory import read_trajectory
+    from .workflows.control import CONTROL_FILE, run_control, write_control_dataset
+    from .core.simplified import SimplifiedModel
+    from .io.trajectory import read_trajectory
 
     model = SimplifiedModel.load(args.model)
     traj = read_trajectory(args.trajectory, n_joints=model.robot.n)
@@ -507,7 +507,7 @@ def _cmd_control(args):
     write_control_dataset(result, path)
     written = [path]
     if not args.no_report:
-        from .control_report import write_control_report
+        from .reports.control import write_control_report
 
         written += list(write_control_report(path, outdir))
     summary = result.summary()
@@ -530,10 +530,10 @@ def _cmd_control(args):
 
 
 def _cmd_sweep(args):
-    from .robot import load_robot
-    from .sweep import (dask_client, merged_model, random_trajectories, run_sweep,
+    from .core.robot import load_robot
+    from .workflows.sweep import (dask_client, merged_model, random_trajectories, run_sweep,
                         sweep_payloads, write_sweep)
-    from .trajectory import read_trajectory
+    from .io.trajectory import read_trajectory
 
     robot = load_robot(args.robot)
     if (args.random is None) == (not args.csv):
@@ -572,7 +572,7 @@ def _cmd_sweep(args):
         written.append(outdir / "payload_sweep.h5")
         write_sweep(payload, written[-1])
     if not args.no_report:
-        from .sweep_report import write_sweep_report
+        from .reports.sweep import write_sweep_report
 
         written += list(write_sweep_report(written[0], outdir, payload=payload))
     if not args.quiet:

@@ -14,9 +14,9 @@ import numpy as np
 from ..core.budget import DEFAULT_TOLERANCE, PartPeaks, select_terms
 from ..core.codegen import build_program
 from ..core.explicit import term_peaks
-from ..dalembert import gd_terms
+from ..core.dalembert import gd_terms
 from ..io.explicit_cache import explicit_terms
-from ..simplified import SimplifiedModel, TorqueErrorAccumulator
+from ..core.simplified import SimplifiedModel, TorqueErrorAccumulator
 
 __all__ = ["Peaks", "collect_peaks", "build_model", "LADDER", "ladder", "cost_rows",
            "AKB_COSTS", "simplified_dataset"]
@@ -214,7 +214,7 @@ def cost_rows(n, model, other=None, ladder_rows=None, formulation_counts=None):
     -------
     dict
     """
-    from ..opcount import book_counts
+    from ..formulations.opcount import book_counts
 
     def row(c):
         return (float(c["multiplications"]), float(c["additions"]),
@@ -228,7 +228,7 @@ def cost_rows(n, model, other=None, ladder_rows=None, formulation_counts=None):
             eps = "" if m.rule == "chapter" else f" EPS={m.tolerance:g}"
             rows[f"explicit, {m.rule}{eps} (this model)" if m is model else
                  f"explicit, {m.rule}{eps}"] = row(m.cost)
-    from ..opcount import operation_counts
+    from ..formulations.opcount import operation_counts
 
     counts = operation_counts(n) if formulation_counts is None else formulation_counts
     for method, label in (("gd", "G-D"), ("newton-euler", "N-E"), ("lagrange-euler", "L-E")):

@@ -1,0 +1,323 @@
+"""Dominance ranking of the G-D terms along a trajectory, Sec. 3.4.1.
+
+The elements ranked are the upper triangle of D (i <= j; 21 for n = 6), labelled ``"D11"`` ..
+``"D66"``, and the n elements of h, labelled ``"h1"`` .. ``"hn"``. For each element, with k
+running over the set points::
+
+    share_tran = sum_k |tran_k| / (sum_k |tran_k| + sum_k |rot_k|)
+
+and the element's class is
+
+- ``"negligible"`` if its peak |tran + rot| along the trajectory is below e times its scale:
+  the peak of sqrt(D_ii D_jj) for D_ij, the peak |tau_i| for h_i;
+- else ``"translational"`` if share_tran >= s, ``"rotational"`` if share_tran <= 1 - s,
+  ``"both"`` otherwise.
+
+The chapter reads the same classes off its Figs. 3.10 and 3.11 by eye; s (default 0.9) and e
+(default 0.01) make the reading reproducible.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+__all__ = [
+    "CLASSES", "DEFAULT_DOMINANCE", "DEFAULT_NEGLIGIBLE", "Ranking", "element_labels",
+    "element_index", "rank_dominance", "CHAPTER_DOMINANCE",
+]
+
+#: The dominance classes, in the order used for codes in files.
+CLASSES = ("translational", "rotational", "both", "negligible")
+#: Default dominance threshold s.
+DEFAULT_DOMINANCE = 0.9
+#: Default negligibility threshold e.
+DEFAULT_NEGLIGIBLE = 0.01
+
+#: The dominance the chapter reports for its PUMA 560 trajectory (Sec. 3.4.1, Figs. 3.10-3.11).
+CHAPTER_DOMINANCE = {
+    **{k: "translational" for k in ("D11", "D12", "D13", "D22", "D23", "D33")},
+    **{k: "rotational" for k in ("D44", "D46", "D55", "D66")},
+    **{k: "both" for k in ("D14", "D15", "D16", "D24", "D25", "D26", "D34", "D35", "D36",
+                           "D45", "D56")},
+    "h1": "translational", "h2": "translational", "h3": "translational",
+    "h4": "rotational", "h5": "both", "h6": "both",
+}
+
+
+def element_index(n):
+    """Index pairs of the ranked elements.
+
+    Parameters
+    ----------
+    n : int
+        Number of joints.
+
+    Returns
+    -------
+    list of tuple
+        ``("D", i, j)`` for 0 <= i <= j < n (row by row), then ``("h", i, None)`` for 0 <= i < n.
+    """
+    return ([("D", i, j) for i in range(n) for j in range(i, n)]
+            + [("h", i, None) for i in range(n)])
+
+
+def element_labels(n):
+    """Labels of the ranked elements.
+
+    Parameters
+    ----------
+    n : int
+        Number of joints (at most 9, so that labels like "D12" stay unambiguous).
+
+    Returns
+    -------
+    list of str
+        ``["D11", "D12", ..., "Dnn", "h1", ..., "hn"]``; n (n + 1) / 2 + n labels.
+    """
+    return [f"D{i + 1}{j + 1}" if kind == "D" else f"h{i + 1}"
+            for kind, i, j in element_index(n)]
+
+
+@dataclass(frozen=True, eq=False)
+class Ranking:
+    """Dominance of the translational and rotational parts, per element.
+
+    Attributes
+    ----------
+    labels : tuple of str, length M
+        Element labels, M = n (n + 1) / 2 + n.
+    share_tran : ndarray, shape (M,)
+        Translational share along the trajectory, in [0, 1]; NaN where both parts are zero.
+    dominance : tuple of str, length M
+        The class of each element: one of :data:`CLASSES`.
+    peak_tran, peak_rot, peak_total : ndarray, shape (M,)
+        Peak |tran|, |rot| and |tran + rot| along the trajectory [kg m^2] for D, [N m] for h.
+    scale : ndarray, shape (M,)
+        The element's scale for the negligibility test: peak sqrt(D_ii D_jj) [kg m^2] or peak
+        |tau_i| [N m].
+    dominance_threshold : float
+        s.
+    negligible_threshold : float
+        e.
+    """
+
+    labels: tuple
+    share_tran: np.ndarray
+    dominance: tuple
+    peak_tran: np.ndarray
+    peak_rot: np.ndarray
+    peak_total: np.ndarray
+    scale: np.ndarray
+    dominance_threshold: float
+    negligible_threshold: float
+
+    def choices(self):
+        """The simplified model's choice per element.
+
+        Returns
+        -------
+        dict
+            label -> ``"tran"``, ``"rot"``, ``"both"`` or ``"none"`` (negligible).
+        """
+        code = {"translational": "tran", "rotational": "rot", "both": "both",
+                "negligible": "none"}
+        return {lab: code[c] for lab, c in zip(self.labels, self.dominance)}
+
+
+def element_series(D_tran, D_rot, h_tran, h_rot):
+    """Gather the ranked elements' translational and rotational values.
+
+    Parameters
+    ----------
+    D_tran, D_rot : ndarray, shape (N, n, n)
+        Inertia matrix parts [kg m^2].
+    h_tran, h_rot : ndarray, shape (N, n)
+        Coriolis and centrifugal parts [N m].
+
+    Returns
+    -------
+    tran, rot : ndarray, shape (N, M)
+        Per set point and element, in the order of :func:`element_labels`.
+    """
+    n = D_tran.shape[-1]
+    iu = np.triu_indices(n)
+    tran = np.concatenate([D_tran[:, iu[0], iu[1]], h_tran], axis=1)
+    rot = np.concatenate([D_rot[:, iu[0], iu[1]], h_rot], axis=1)
+    return tran, rot
+
+
+__all__.append("element_series")
+
+
+class RankingAccumulator:
+    """Accumulate the ranking's sums and peaks chunk by chunk, then classify.
+
+    Feeding a trajectory in chunks gives exactly the ranking of the whole: the share uses sums
+    of |tran| and |rot|, the classes use peaks, both of which combine across chunks.
+
+    Parameters
+    ----------
+    n : int
+        Number of joints.
+
+    Examples
+    --------
+    Fed in two chunks, it ranks as :func:`rank_dominance` ranks the whole (up to round-off):
+
+    >>> import numpy as np
+    >>> from gd_analyze import gd_terms, load_robot
+    >>> robot = load_robot("two-link")
+    >>> q = np.linspace(0.0, 1.0, 20)[:, None] * np.array([1.0, -0.5])
+    >>> terms = gd_terms(robot, q, np.ones_like(q))
+    >>> tau = terms.tau(np.zeros_like(q))
+    >>> acc = RankingAccumulator(robot.n)
+    >>> for s in (slice(0, 7), slice(7, 20)):
+    ...     acc.update(terms.D_tran[s], terms.D_rot[s], terms.h_tran[s], terms.h_rot[s], tau[s])
+    >>> whole = rank_dominance(terms.D_tran, terms.D_rot, terms.h_tran, terms.h_rot, tau)
+    >>> bool(np.allclose(acc.result().share_tran, whole.share_tran, rtol=1e-12, atol=0.0))
+    True
+    >>> acc.result().dominance == whole.dominance
+    True
+    """
+
+    def __init__(self, n):
+        m = n * (n + 1) // 2 + n
+        self.n = int(n)
+        self.sum_tran = np.zeros(m)
+        self.sum_rot = np.zeros(m)
+        self.peak_tran = np.zeros(m)
+        self.peak_rot = np.zeros(m)
+        self.peak_total = np.zeros(m)
+        self.peak_diag = np.zeros(n)
+        self.scale_D = np.zeros(n * (n + 1) // 2)
+        self.peak_tau = np.zeros(n)
+        self.count = 0
+
+    def update(self, D_tran, D_rot, h_tran, h_rot, tau):
+        """Add a chunk of set points.
+
+        Parameters
+        ----------
+        D_tran, D_rot : ndarray, shape (N, n, n)
+            Inertia matrix parts [kg m^2].
+        h_tran, h_rot : ndarray, shape (N, n)
+            Coriolis and centrifugal parts [N m].
+        tau : ndarray, shape (N, n)
+            Joint torques of the full model [N m].
+
+        Raises
+        ------
+        ValueError
+            If the shapes disagree with n or with each other.
+        """
+        n = self.n
+        D_tran, D_rot = np.asarray(D_tran, float), np.asarray(D_rot, float)
+        h_tran, h_rot = np.asarray(h_tran, float), np.asarray(h_rot, float)
+        tau = np.asarray(tau, float)
+        N = h_tran.shape[0]
+        if D_tran.shape != (N, n, n) or D_rot.shape != (N, n, n) or h_rot.shape != (N, n) \
+                or h_tran.shape != (N, n) or tau.shape != (N, n):
+            raise ValueError(f"D parts must be (N, {n}, {n}) and h parts and tau (N, {n})")
+        if N == 0:
+            return
+        tran, rot = element_series(D_tran, D_rot, h_tran, h_rot)
+        at, ar = np.abs(tran), np.abs(rot)
+        self.sum_tran += at.sum(axis=0)
+        self.sum_rot += ar.sum(axis=0)
+        np.maximum(self.peak_tran, at.max(axis=0), out=self.peak_tran)
+        np.maximum(self.peak_rot, ar.max(axis=0), out=self.peak_rot)
+        np.maximum(self.peak_total, np.abs(tran + rot).max(axis=0), out=self.peak_total)
+        diag = np.clip(np.diagonal(D_tran + D_rot, axis1=1, axis2=2), 0.0, None)
+        iu = np.triu_indices(n)
+        np.maximum(self.scale_D, np.sqrt(diag[:, iu[0]] * diag[:, iu[1]]).max(axis=0),
+                   out=self.scale_D)
+        np.maximum(self.peak_tau, np.abs(tau).max(axis=0), out=self.peak_tau)
+        self.count += N
+
+    def result(self, dominance=DEFAULT_DOMINANCE, negligible=DEFAULT_NEGLIGIBLE):
+        """Classify the elements from what was accumulated.
+
+        Parameters
+        ----------
+        dominance : float, optional
+            s, in (0.5, 1].
+        negligible : float, optional
+            e, >= 0.
+
+        Returns
+        -------
+        Ranking
+
+        Raises
+        ------
+        ValueError
+            If s or e is out of range, or nothing was accumulated.
+        """
+        if not 0.5 < dominance <= 1.0:
+            raise ValueError(f"the dominance threshold s must be in (0.5, 1], got {dominance}")
+        if not negligible >= 0.0:
+            raise ValueError(f"the negligibility threshold e must be >= 0, got {negligible}")
+        if self.count == 0:
+            raise ValueError("no set points were accumulated")
+        total = self.sum_tran + self.sum_rot
+        with np.errstate(invalid="ignore", divide="ignore"):
+            share = np.where(total > 0, self.sum_tran / np.where(total > 0, total, 1.0), np.nan)
+        scale = np.concatenate([self.scale_D, self.peak_tau])
+        classes = []
+        for k in range(share.size):
+            if self.peak_total[k] < negligible * scale[k] or not np.isfinite(share[k]):
+                classes.append("negligible")
+            elif share[k] >= dominance:
+                classes.append("translational")
+            elif share[k] <= 1.0 - dominance:
+                classes.append("rotational")
+            else:
+                classes.append("both")
+        return Ranking(labels=tuple(element_labels(self.n)), share_tran=share,
+                       dominance=tuple(classes), peak_tran=self.peak_tran.copy(),
+                       peak_rot=self.peak_rot.copy(), peak_total=self.peak_total.copy(),
+                       scale=scale, dominance_threshold=float(dominance),
+                       negligible_threshold=float(negligible))
+
+
+__all__.append("RankingAccumulator")
+
+
+def rank_dominance(D_tran, D_rot, h_tran, h_rot, tau, dominance=DEFAULT_DOMINANCE,
+                   negligible=DEFAULT_NEGLIGIBLE):
+    """Rank which part, translational or rotational, dominates each element of D and h.
+
+    Parameters
+    ----------
+    D_tran, D_rot : ndarray, shape (N, n, n)
+        Inertia matrix parts along the trajectory [kg m^2].
+    h_tran, h_rot : ndarray, shape (N, n)
+        Coriolis and centrifugal parts [N m].
+    tau : ndarray, shape (N, n)
+        Joint torques of the full model [N m]; their peaks scale the h elements.
+    dominance : float, optional
+        s, in (0.5, 1]: the share above which one part dominates.
+    negligible : float, optional
+        e, >= 0: an element whose peak is below e times its scale is negligible.
+
+    Returns
+    -------
+    Ranking
+
+    Raises
+    ------
+    ValueError
+        If s is not in (0.5, 1], e is negative, or the shapes disagree.
+
+    Notes
+    -----
+    Source: the empirical method of Sec. 3.4.1 (Figs. 3.10 and 3.11), with the share and the
+    thresholds defined in the module docstring. For long trajectories feed a
+    :class:`RankingAccumulator` chunk by chunk instead.
+    """
+    h_tran = np.asarray(h_tran, float)
+    acc = RankingAccumulator(h_tran.shape[-1] if h_tran.ndim == 2 else 0)
+    acc.update(D_tran, D_rot, h_tran, h_rot, tau)
+    return acc.result(dominance=dominance, negligible=negligible)

@@ -1,0 +1,462 @@
+"""The simplified dynamic model of Sec. 3.4.1: keep only the dominant part of each element.
+
+For each ranked element of D (upper triangle, mirrored to the lower) and h, the model keeps the
+translational part, the rotational part, both, or nothing (negligible). Gravity c stays whole::
+
+    tau_s = D_s qdd + h_s + c,   D_s = M_tran * D_tran + M_rot * D_rot,
+                                 h_s = m_tran * h_tran + m_rot * h_rot
+
+with 0/1 masks M and m from the choices. Since issue 8 the model is evaluated in its explicit
+form (:mod:`gd_analyze.core.explicit`): the kept terms, pruned by the error budget
+(:mod:`gd_analyze.core.budget`), compiled to straight-line code (:mod:`gd_analyze.core.codegen`),
+so it costs less than the full model. The model is written as JSON (``simplified_model.json``)
+that carries its robot's parameters and its kept terms, so
+``SimplifiedModel.load(path).torque(q, qd, qdd)`` works on any machine.
+"""
+
+from __future__ import annotations
+
+import json
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from .dalembert import gd_terms
+from ..errors import InputError
+from .ranking import element_index, element_labels
+from .robot import robot_from_dict
+
+__all__ = ["SCHEMA_VERSION", "SimplifiedModel", "choice_masks", "simplified_torque",
+           "torque_error", "TorqueErrorAccumulator"]
+
+#: Version of the simplified_model.json layout (2: explicit terms, rule, tolerance, cost).
+SCHEMA_VERSION = 2
+#: Older layouts still read (their model is rebuilt from the choices, without pruning).
+READABLE_SCHEMAS = (1, 2)
+_TERM_FIELDS = ("kind", "part", "i", "j", "k", "K", "S", "C")
+_CHOICES = ("tran", "rot", "both", "none")
+
+
+def choice_masks(choices, n):
+    """0/1 masks that select the kept parts.
+
+    Parameters
+    ----------
+    choices : dict
+        Element label (``"D11"`` .. ``"Dnn"`` with i <= j, ``"h1"`` .. ``"hn"``) -> ``"tran"``,
+        ``"rot"``, ``"both"`` or ``"none"``.
+    n : int
+        Number of joints.
+
+    Returns
+    -------
+    D_tran_mask, D_rot_mask : ndarray, shape (n, n)
+        Symmetric masks for D_tran and D_rot.
+    h_tran_mask, h_rot_mask : ndarray, shape (n,)
+        Masks for h_tran and h_rot.
+
+    Raises
+    ------
+    ValueError
+        If an element is missing or a choice is not one of the four.
+    """
+    Mt, Mr = np.zeros((n, n)), np.zeros((n, n))
+    mt, mr = np.zeros(n), np.zeros(n)
+    for label, (kind, i, j) in zip(element_labels(n), element_index(n)):
+        if label not in choices:
+            raise ValueError(f"no choice for element {label}")
+        ch = choices[label]
+        if ch not in _CHOICES:
+            raise ValueError(f"element {label}: choice must be one of {_CHOICES}, got {ch!r}")
+        keep_t, keep_r = ch in ("tran", "both"), ch in ("rot", "both")
+        if kind == "D":
+            Mt[i, j] = Mt[j, i] = keep_t
+            Mr[i, j] = Mr[j, i] = keep_r
+        else:
+            mt[i], mr[i] = keep_t, keep_r
+    return Mt, Mr, mt, mr
+
+
+def simplified_torque(terms, choices, qdd):
+    """Torques of the simplified model from already computed G-D terms.
+
+    Parameters
+    ----------
+    terms : GDTerms
+        D_tran, D_rot (N, n, n) [kg m^2]; h_tran, h_rot, c (N, n) [N m].
+    choices : dict
+        Element label -> ``"tran"``, ``"rot"``, ``"both"`` or ``"none"``.
+    qdd : array_like, shape (N, n)
+        Joint accelerations [rad/s^2].
+
+    Returns
+    -------
+    ndarray, shape (N, n)
+        tau_s = D_s qdd + h_s + c [N m].
+
+    Raises
+    ------
+    ValueError
+        As :func:`choice_masks`.
+    """
+    n = terms.c.shape[1]
+    Mt, Mr, mt, mr = choice_masks(choices, n)
+    D_s = Mt * terms.D_tran + Mr * terms.D_rot
+    h_s = mt * terms.h_tran + mr * terms.h_rot
+    qdd = np.asarray(qdd, dtype=float).reshape(terms.c.shape)
+    return np.einsum("kij,kj->ki", D_s, qdd) + h_s + terms.c
+
+
+class TorqueErrorAccumulator:
+    """Accumulate a simplified model's per-joint torque error chunk by chunk.
+
+    Parameters
+    ----------
+    n : int
+        Number of joints.
+    """
+
+    def __init__(self, n):
+        self.peak = np.zeros(n)
+        self.sum_sq = np.zeros(n)
+        self.peak_tau = np.zeros(n)
+        self.count = 0
+
+    def update(self, tau_simplified, tau_full):
+        """Add a chunk of set points.
+
+        Parameters
+        ----------
+        tau_simplified, tau_full : ndarray, shape (N, n)
+            Torques of the simplified and the full model [N m].
+        """
+        err = np.abs(np.asarray(tau_simplified, float) - np.asarray(tau_full, float))
+        if err.shape[0] == 0:
+            return
+        np.maximum(self.peak, err.max(axis=0), out=self.peak)
+        self.sum_sq += (err**2).sum(axis=0)
+        np.maximum(self.peak_tau, np.abs(tau_full).max(axis=0), out=self.peak_tau)
+        self.count += err.shape[0]
+
+    def result(self):
+        """The error figures.
+
+        Returns
+        -------
+        dict
+            Lists of n floats: ``peak_abs_error`` and ``rms_error`` of |tau_s - tau| [N m],
+            ``peak_tau`` = peak |tau| [N m], and ``relative_peak_error`` and
+            ``relative_rms_error`` (the errors divided by peak |tau|; NaN for a joint whose
+            torque is zero throughout).
+        """
+        rms = np.sqrt(self.sum_sq / max(self.count, 1))
+        pt = self.peak_tau
+        with np.errstate(invalid="ignore", divide="ignore"):
+            rel_peak = np.where(pt > 0, self.peak / np.where(pt > 0, pt, 1), np.nan)
+            rel_rms = np.where(pt > 0, rms / np.where(pt > 0, pt, 1), np.nan)
+        return {"peak_abs_error": self.peak.tolist(), "rms_error": rms.tolist(),
+                "peak_tau": pt.tolist(), "relative_peak_error": rel_peak.tolist(),
+                "relative_rms_error": rel_rms.tolist()}
+
+
+def torque_error(tau_simplified, tau_full):
+    """Per-joint torque error of a simplified model along a trajectory.
+
+    Parameters
+    ----------
+    tau_simplified, tau_full : ndarray, shape (N, n)
+        Torques [N m].
+
+    Returns
+    -------
+    dict
+        As :meth:`TorqueErrorAccumulator.result`.
+    """
+    tau_full = np.asarray(tau_full, float)
+    acc = TorqueErrorAccumulator(tau_full.shape[1])
+    acc.update(tau_simplified, tau_full)
+    return acc.result()
+
+
+@dataclass(frozen=True, eq=False)
+class SimplifiedModel:
+    """A simplified G-D model: a robot and a choice per element of D and h.
+
+    Attributes
+    ----------
+    robot : Robot
+        The arm, with n joints.
+    choices : dict
+        Element label -> ``"tran"``, ``"rot"``, ``"both"`` or ``"none"``.
+    dominance_threshold : float
+        s used for the ranking.
+    negligible_threshold : float
+        e used for the ranking.
+    trajectory_sha256 : str
+        SHA-256 of the trajectory file the model was derived on.
+    validation : dict
+        The torque error along that trajectory, as :func:`torque_error` gives it.
+    provenance : dict
+        Tool version, input file names, settings.
+
+    Notes
+    -----
+    Source: Sec. 3.4.1 of Fu, Gonzalez & Lee (1987): "The less dominant terms or elements can
+    be neglected in calculating the dynamic equations of motion of the manipulator."
+    """
+
+    robot: object
+    choices: dict
+    dominance_threshold: float
+    negligible_threshold: float
+    trajectory_sha256: str = ""
+    validation: dict = field(default_factory=dict)
+    provenance: dict = field(default_factory=dict)
+    rule: str = "chapter"
+    tolerance: float = float("nan")
+    torque_floor: float = 0.0
+    terms: object = None
+    cost: dict = field(default_factory=dict)
+    full_cost: dict = field(default_factory=dict)
+    bound: list = field(default_factory=list)
+
+    def explicit_terms(self):
+        """The kept terms of the explicit model (:class:`~gd_analyze.core.explicit.Term`).
+
+        A model read from a layout without terms gets the terms of its kept parts, unpruned.
+        """
+        if self.terms is None:
+            from .explicit import derive, model_terms
+
+            all_terms = model_terms(derive(self.robot))
+            keep = {"tran": ("tran", "both"), "rot": ("rot", "both")}
+            mask = np.array([
+                kd == "c" or self.choices[f"D{i + 1}{j + 1}" if kd == "D" else f"h{i + 1}"]
+                in keep[pt] for kd, pt, i, j in zip(all_terms.kind, all_terms.part,
+                                                     all_terms.i, all_terms.j)], bool)
+            object.__setattr__(self, "terms", all_terms.subset(mask))
+        return self.terms
+
+    def program(self):
+        """The straight-line program of the explicit model (:class:`~gd_analyze.core.codegen.Program`)."""
+        cached = self.__dict__.get("_program")
+        if cached is None:
+            from .codegen import build_program
+
+            cached = build_program(self.explicit_terms(), self.robot.n, self.robot.offset)
+            object.__setattr__(self, "_program", cached)
+        return cached
+
+    def header(self):
+        """The header of the emitted files: robot, SHA-256s, rule, tolerance, counts, version.
+
+        Returns
+        -------
+        dict
+        """
+        cost = self.cost or self.program().cost()
+        return {
+            "gd-analyze simplified model": "tau = D_s qdd + h_s + c (Fu, Gonzalez & Lee 1987, "
+                                           "Eq. 3.4-24), explicit form",
+            "robot": f"{self.robot.name} (sha256 {self.robot.sha256})",
+            "rule": self.rule, "tolerance": f"{self.tolerance:g}",
+            "torque floor [N m]": f"{self.torque_floor:g}",
+            "trajectory sha256": self.trajectory_sha256,
+            "operations": f"{cost['multiplications']} multiplications, {cost['additions']} "
+                          f"additions, {cost['sin']} sin, {cost['cos']} cos",
+            "gd-analyze version": self.provenance.get("gd_analyze_version", ""),
+            "units": "q [rad], qd [rad/s], qdd [rad/s^2], tau [N m]",
+        }
+
+    def c_source(self):
+        """C99 source of the model (``void gd_simplified_tau(q, qd, qdd, tau)``)."""
+        from .codegen import emit_c
+
+        return emit_c(self.program(), self.header())
+
+    def python_source(self):
+        """numpy source of the model (``tau(q, qd, qdd)``, vectorised over set points)."""
+        from .codegen import emit_python
+
+        return emit_python(self.program(), self.header())
+
+    def _python_tau(self):
+        fn = self.__dict__.get("_tau_fn")
+        if fn is None:
+            ns = {}
+            exec(compile(self.python_source(), "<simplified_model.py>", "exec"), ns)
+            fn = ns["tau"]
+            object.__setattr__(self, "_tau_fn", fn)
+        return fn
+
+    def torque(self, q, qd, qdd):
+        """Torques of the simplified model, tau_s = D_s qdd + h_s + c, in explicit form.
+
+        Parameters
+        ----------
+        q : array_like, shape (N, n) or (n,)
+            Joint positions [rad].
+        qd : array_like, shape (N, n) or (n,)
+            Joint velocities [rad/s].
+        qdd : array_like, shape (N, n) or (n,)
+            Joint accelerations [rad/s^2].
+
+        Returns
+        -------
+        ndarray, shape (N, n)
+            Joint torques [N m].
+
+        Raises
+        ------
+        ValueError
+            If the arrays do not have n columns or disagree on N.
+        """
+        from .kinematics import as_states
+
+        q, qd, qdd = as_states(self.robot, q, qd, qdd)
+        return self._python_tau()(q, qd, qdd)
+
+    def to_dict(self):
+        """The model in the layout of simplified_model.json.
+
+        Returns
+        -------
+        dict
+        """
+        return {
+            "schema_version": SCHEMA_VERSION,
+            "kind": "gd-analyze simplified model",
+            "robot": {"name": self.robot.name, "sha256": self.robot.sha256,
+                      "source": self.robot.source, "parameters": self.robot.to_dict()},
+            "dominance_threshold": self.dominance_threshold,
+            "negligible_threshold": self.negligible_threshold,
+            "choices": dict(self.choices),
+            "rule": self.rule,
+            "tolerance": self.tolerance,
+            "torque_floor": self.torque_floor,
+            "cost": dict(self.cost or self.program().cost()),
+            "full_explicit_cost": dict(self.full_cost),
+            "bound": list(self.bound),
+            "explicit_terms": _terms_to_json(self.explicit_terms()),
+            "trajectory_sha256": self.trajectory_sha256,
+            "validation": self.validation,
+            "provenance": self.provenance,
+        }
+
+    def save(self, path):
+        """Write the model as JSON, atomically.
+
+        Parameters
+        ----------
+        path : str or os.PathLike
+            Destination file.
+
+        Raises
+        ------
+        OSError
+            If the file cannot be written.
+        """
+        from ..files import atomic_path
+
+        with atomic_path(path) as tmp:
+            with open(tmp, "w", encoding="utf-8") as fh:
+                json.dump(_json_safe(self.to_dict()), fh, indent=2)
+                fh.write("\n")
+
+    @classmethod
+    def load(cls, path):
+        """Read a simplified_model.json.
+
+        Parameters
+        ----------
+        path : str or os.PathLike
+            The file written by :meth:`save` or by ``gd-analyze``.
+
+        Returns
+        -------
+        SimplifiedModel
+
+        Raises
+        ------
+        InputError
+            If the file is missing, not JSON, of another schema version, or its robot or
+            choices are invalid.
+        """
+        path = str(path)
+        try:
+            with open(path, encoding="utf-8") as fh:
+                spec = json.load(fh)
+        except FileNotFoundError:
+            raise InputError("no such file", path) from None
+        except (OSError, UnicodeDecodeError, json.JSONDecodeError) as exc:
+            raise InputError(f"not a simplified-model JSON file: {exc}", path) from None
+        if not isinstance(spec, dict) or spec.get("schema_version") not in READABLE_SCHEMAS:
+            raise InputError(f"expected schema_version {SCHEMA_VERSION}", path,
+                             column="schema_version")
+        try:
+            rob = spec["robot"]
+            robot = robot_from_dict(rob["parameters"], source=f"{path}#robot",
+                                    sha256=rob.get("sha256"))
+            model = cls(robot=robot, choices=dict(spec["choices"]),
+                        dominance_threshold=float(spec["dominance_threshold"]),
+                        negligible_threshold=float(spec["negligible_threshold"]),
+                        trajectory_sha256=str(spec.get("trajectory_sha256", "")),
+                        validation=spec.get("validation", {}),
+                        provenance=spec.get("provenance", {}),
+                        rule=str(spec.get("rule", "chapter")),
+                        tolerance=float(spec.get("tolerance") if spec.get("tolerance")
+                                        is not None else float("nan")),
+                        torque_floor=float(spec.get("torque_floor", 0.0) or 0.0),
+                        terms=_terms_from_json(spec.get("explicit_terms"), robot.n),
+                        cost=dict(spec.get("cost") or {}),
+                        full_cost=dict(spec.get("full_explicit_cost") or {}),
+                        bound=list(spec.get("bound") or []))
+            choice_masks(model.choices, robot.n)
+        except InputError:
+            raise
+        except (KeyError, TypeError, ValueError) as exc:
+            raise InputError(f"invalid simplified model: {exc}", path) from None
+        return model
+
+
+def _terms_to_json(terms):
+    return {"kind": [str(v) for v in terms.kind], "part": [str(v) for v in terms.part],
+            "i": terms.i.tolist(), "j": terms.j.tolist(), "k": terms.k.tolist(),
+            "K": terms.K.tolist(), "sin": terms.S.tolist(), "coef": terms.C.tolist()}
+
+
+def _terms_from_json(spec, n):
+    """The kept terms from JSON, or None (older layouts)."""
+    if spec is None:
+        return None
+    from .explicit import Term
+
+    size = len(spec["coef"])
+    K = np.array(spec["K"], dtype=np.int64).reshape(size, n)
+    out = Term(np.array(spec["kind"], dtype=str), np.array(spec["part"], dtype=str),
+               np.array(spec["i"], int), np.array(spec["j"], int), np.array(spec["k"], int),
+               K, np.array(spec["sin"], bool), np.array(spec["coef"], float))
+    for f in ("kind", "part", "i", "j", "k", "S", "C"):
+        if getattr(out, f).shape != (size,):
+            raise ValueError(f"explicit_terms.{f}: expected {size} values")
+    if not np.isfinite(out.C).all():
+        raise ValueError("explicit_terms.coef: not finite")
+    if size and (out.i.min() < 0 or out.i.max() >= n or out.j.max() >= n or out.k.max() >= n):
+        raise ValueError("explicit_terms: joint index out of range")
+    bad = set(out.kind.tolist()) - {"D", "h", "c"}
+    if bad:
+        raise ValueError(f"explicit_terms.kind: unknown {sorted(bad)[0]!r}")
+    return out
+
+
+def _json_safe(obj):
+    """Replace NaN/inf (not valid JSON) by None, recursively."""
+    if isinstance(obj, dict):
+        return {k: _json_safe(v) for k, v in obj.items()}
+    if isinstance(obj, (list, tuple)):
+        return [_json_safe(v) for v in obj]
+    if isinstance(obj, float) and not np.isfinite(obj):
+        return None
+    if isinstance(obj, np.generic):
+        return _json_safe(obj.item())
+    return obj

@@ -1,0 +1,77 @@
+"""File utilities shared by every layer: atomic writes and content hashes.
+
+A leaf module like :mod:`gd_analyze.errors`: it imports nothing from the package, so the core
+(a simplified model's JSON), the formulations (the cache of operation counts), io, workflows and
+reports can all write files atomically and record their SHA-256 for provenance.
+"""
+
+from __future__ import annotations
+
+import contextlib
+import os
+import tempfile
+from pathlib import Path
+
+__all__ = ["atomic_path", "file_sha256"]
+
+
+def file_sha256(path):
+    """SHA-256 of a file's bytes, read in blocks.
+
+    Parameters
+    ----------
+    path : str or os.PathLike
+        The file.
+
+    Returns
+    -------
+    str
+        64 hexadecimal digits.
+
+    Raises
+    ------
+    OSError
+        If the file cannot be read.
+    """
+    import hashlib
+
+    digest = hashlib.sha256()
+    with open(path, "rb") as fh:
+        for block in iter(lambda: fh.read(1 << 20), b""):
+            digest.update(block)
+    return digest.hexdigest()
+
+
+@contextlib.contextmanager
+def atomic_path(path):
+    """Yield a temporary file name beside ``path``; rename it to ``path`` on success.
+
+    Parameters
+    ----------
+    path : str or os.PathLike
+        The final destination. Its folder must exist.
+
+    Yields
+    ------
+    str
+        The temporary name to write to. On an exception it is removed and ``path`` is left as
+        it was.
+
+    Raises
+    ------
+    OSError
+        If the temporary file cannot be created or renamed.
+    """
+    path = Path(path)
+    fd, tmp = tempfile.mkstemp(prefix=f".{path.name}.", suffix=".tmp", dir=path.parent or ".")
+    os.close(fd)
+    umask = os.umask(0)
+    os.umask(umask)
+    try:
+        yield tmp
+        os.chmod(tmp, 0o666 & ~umask)   # mkstemp makes 0600; give the file the usual mode
+        os.replace(tmp, path)
+    except BaseException:
+        with contextlib.suppress(OSError):
+            os.remove(tmp)
+        raise

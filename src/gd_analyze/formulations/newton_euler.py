@@ -1,0 +1,234 @@
+"""The recursive Newton-Euler (N-E) equations of motion in link coordinates, Sec. 3.3.
+
+Every vector of link i is expressed in link frame i (the book's ^iR_0 w_i etc.), as in
+Table 3.3 and Algorithm 3.1 (Luh, Walker & Paul 1980). With R_i = ^{i-1}R_i the rotation part
+of the link matrix ^{i-1}A_i, Eq. (3.3-48), z0 = (0, 0, 1), p*_i = (a_i, d_i sin alpha_i,
+d_i cos alpha_i) the origin of frame i seen from frame i-1 in frame i, Eq. (3.3-59), sbar_i the
+centre of mass of link i and I_i its inertia tensor about it, both in frame i:
+
+Forward recursion, i = 1..n (w_0 = wd_0 = 0, vd_0 = -g to include gravity, Eq. (3.3-46))::
+
+    w_i    = R_i^T (w_{i-1} + z0 qd_i)                                             (3.3-50)
+    wd_i   = R_i^T (wd_{i-1} + z0 qdd_i + w_{i-1} x z0 qd_i)                       (3.3-51)
+    vd_i   = wd_i x p*_i + w_i x (w_i x p*_i) + R_i^T vd_{i-1}                     (3.3-52)
+    abar_i = wd_i x sbar_i + w_i x (w_i x sbar_i) + vd_i                           (3.3-53)
+
+Backward recursion, i = n..1 (f_{n+1}, n_{n+1}: force and moment the hand exerts on a load,
+in frame n, with R_{n+1} = identity)::
+
+    F_i = m_i abar_i,   N_i = I_i wd_i + w_i x (I_i w_i)                   (3.3-54), (3.3-55)
+    f_i = R_{i+1} f_{i+1} + F_i                                                    (3.3-56)
+    n_i = R_{i+1} n_{i+1} + p*_i x (R_{i+1} f_{i+1}) + (p*_i + sbar_i) x F_i + N_i (3.3-57)
+    tau_i = n_i . (R_i^T z0) + b_i qd_i                                            (3.3-58)
+
+Eq. (3.3-57) writes the second term as R_{i+1} [(R_{i+1}^T p*_i) x f_{i+1}]; rotating a cross
+product is rotating its factors, so the form above is the same quantity with one rotation
+fewer per link (it is the form whose cost Table 3.4 lists: 21n - 15 multiplications).
+
+The recursion core (:func:`_ne_core`) uses only indexing, ``@``, ``+``, ``-`` and ``*``, so it
+runs unchanged on object arrays of counting scalars (:mod:`gd_analyze.formulations.opcount`).
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from ..core.kinematics import as_states, link_matrices
+
+__all__ = ["ne_tau", "ne_terms", "link_constants"]
+
+
+def _cross(a, b):
+    """a x b along the last axis (broadcasting), for float and object arrays."""
+    return np.stack([a[..., 1] * b[..., 2] - a[..., 2] * b[..., 1],
+                     a[..., 2] * b[..., 0] - a[..., 0] * b[..., 2],
+                     a[..., 0] * b[..., 1] - a[..., 1] * b[..., 0]], axis=-1)
+
+
+def _mv(M, v):
+    """M v along the last axes: M (..., 3, 3), v (..., 3)."""
+    return (M @ v[..., None])[..., 0]
+
+
+def link_constants(robot):
+    """The per-link constants of the recursion in link coordinates.
+
+    Parameters
+    ----------
+    robot : Robot
+        The arm, with n revolute joints.
+
+    Returns
+    -------
+    dict
+        ``pstar`` (n, 3): p*_i in frame i, Eq. (3.3-59) [m]; ``sbar`` (n, 3): centre of mass in
+        frame i [m]; ``psum`` (n, 3): p*_i + sbar_i [m]; ``mass`` (n,) [kg]; ``inertia``
+        (n, 3, 3): I_i about the centre of mass, frame-i axes [kg m^2]; ``vd0`` (3,): -g, the
+        base acceleration that stands for gravity, Eq. (3.3-46) [m/s^2].
+
+    Raises
+    ------
+    AttributeError
+        If ``robot`` lacks the attributes of :class:`~gd_analyze.core.robot.Robot`.
+    """
+    pstar = np.stack([robot.a, robot.d * np.sin(robot.alpha), robot.d * np.cos(robot.alpha)],
+                     axis=1)
+    sbar = np.array(robot.com, dtype=float)
+    return {"pstar": pstar, "sbar": sbar, "psum": pstar + sbar,
+            "mass": np.array(robot.mass, dtype=float),
+            "inertia": np.array(robot.inertia, dtype=float),
+            "vd0": -np.asarray(robot.gravity, dtype=float)}
+
+
+def _ne_core(R, qd, qdd, k, f_end=None, n_end=None, b=None):
+    """Table 3.3 for rotations R (N, n, 3, 3) = ^{i-1}R_i; qd, qdd (N, n); constants k.
+
+    Returns tau (N, n). Works on float and on object arrays alike.
+    """
+    N, n = qd.shape
+    dt = R.dtype
+    z0 = np.zeros(3, dtype=dt)
+    z0[2] = 1
+    w = np.zeros((N, 3), dtype=dt)
+    wd = np.zeros((N, 3), dtype=dt)
+    vd = k["vd0"]
+    F, NN = [], []                                               # F_i, N_i
+    for i in range(n):                                           # forward, i = 1..n
+        Rt = np.swapaxes(R[:, i], -1, -2)                        # ^iR_{i-1}
+        zq = z0 * qd[:, i, None]
+        wd = _mv(Rt, wd + z0 * qdd[:, i, None] + _cross(w, zq))  # Eq. (3.3-51)
+        w = _mv(Rt, w + zq)                                      # Eq. (3.3-50)
+        p, s = k["pstar"][i], k["sbar"][i]
+        vd = _cross(wd, p) + _cross(w, _cross(w, p)) + _mv(Rt, vd)       # Eq. (3.3-52)
+        abar = _cross(wd, s) + _cross(w, _cross(w, s)) + vd              # Eq. (3.3-53)
+        I = k["inertia"][i]
+        F.append(k["mass"][i] * abar)                                    # Eq. (3.3-54)
+        NN.append(_mv(I, wd) + _cross(w, _mv(I, w)))                     # Eq. (3.3-55)
+    f = np.zeros((N, 3), dtype=dt) if f_end is None else f_end
+    nm = np.zeros((N, 3), dtype=dt) if n_end is None else n_end
+    tau = [None] * n
+    for i in range(n - 1, -1, -1):                               # backward, i = n..1
+        if i < n - 1:                                            # R_{n+1} is the identity
+            f, nm = _mv(R[:, i + 1], f), _mv(R[:, i + 1], nm)
+        nm = nm + _cross(k["pstar"][i], f) + _cross(k["psum"][i], F[i]) + NN[i]   # Eq. (3.3-57)
+        f = f + F[i]                                                              # Eq. (3.3-56)
+        t = (nm * R[:, i, 2, :]).sum(axis=-1)                   # n_i . (^iR_{i-1} z0)
+        tau[i] = t if b is None else t + b[i] * qd[:, i]         # Eq. (3.3-58)
+    return np.stack(tau, axis=-1)
+
+
+def _load(x, N, name):
+    if x is None:
+        return None
+    x = np.asarray(x, dtype=float)
+    if x.shape == (3,):
+        x = np.broadcast_to(x, (N, 3))
+    if x.shape != (N, 3):
+        raise ValueError(f"{name} must have shape (3,) or ({N}, 3), got {x.shape}")
+    return x
+
+
+def ne_tau(robot, q, qd, qdd, b=None, f_load=None, n_load=None):
+    """Joint torques by the recursive N-E equations, Table 3.3 / Algorithm 3.1.
+
+    Parameters
+    ----------
+    robot : Robot
+        The arm, with n revolute joints.
+    q : array_like, shape (N, n) or (n,)
+        Joint positions [rad].
+    qd : array_like, shape (N, n) or (n,)
+        Joint velocities [rad/s].
+    qdd : array_like, shape (N, n) or (n,)
+        Joint accelerations [rad/s^2].
+    b : array_like, shape (n,), optional
+        Viscous damping coefficients b_i; adds b_i qd_i to tau_i, Eq. (3.3-58) [N m s/rad].
+    f_load : array_like, shape (3,) or (N, 3), optional
+        f_{n+1}: the force the hand exerts on a load, in frame n [N] (step N4).
+    n_load : array_like, shape (3,) or (N, 3), optional
+        n_{n+1}: the moment the hand exerts on the load about the origin of frame n, in frame
+        n [N m].
+
+    Returns
+    -------
+    tau : ndarray, shape (N, n)
+        Joint torques [N m].
+
+    Raises
+    ------
+    ValueError
+        If q, qd or qdd does not have shape (N, n) or they disagree on N, if b does not have
+        shape (n,), or if a load vector has the wrong shape.
+
+    Notes
+    -----
+    Source: Fu, Gonzalez & Lee (1987), Eqs. (3.3-50) to (3.3-59), Table 3.3, Algorithm 3.1.
+    Vectorised over set points; the loops run over links only. With no load and no damping
+    tau = D qdd + h + c of Eq. (3.2-26).
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from gd_analyze import load_robot
+    >>> from gd_analyze.formulations.newton_euler import ne_tau
+    >>> tau = ne_tau(load_robot("two-link"), np.zeros(2), np.zeros(2), np.zeros(2))
+    >>> round(float(tau[0, 1]), 4)          # c2 = m2 g l / 2
+    4.9031
+    """
+    q, qd, qdd = as_states(robot, q, qd, qdd)
+    N = q.shape[0]
+    if b is not None:
+        b = np.asarray(b, dtype=float)
+        if b.shape != (robot.n,):
+            raise ValueError(f"b must have shape ({robot.n},), got {b.shape}")
+    R = link_matrices(robot, q)[..., :3, :3]
+    return _ne_core(R, qd, qdd, link_constants(robot), _load(f_load, N, "f_load"),
+                    _load(n_load, N, "n_load"), b)
+
+
+def ne_terms(robot, q, qd):
+    """D, h and c of Eq. (3.2-26) by probing the N-E recursion (Problems 3.11 and 3.12).
+
+    c = NE(q, 0, 0); h = NE(q, qd, 0) - c; column j of D = NE(q, 0, e_j) - c, where NE is the
+    recursion of :func:`ne_tau` without load or damping.
+
+    Parameters
+    ----------
+    robot : Robot
+        The arm, with n revolute joints.
+    q : array_like, shape (N, n) or (n,)
+        Joint positions [rad].
+    qd : array_like, shape (N, n) or (n,)
+        Joint velocities [rad/s].
+
+    Returns
+    -------
+    D : ndarray, shape (N, n, n)
+        Inertia matrix [kg m^2].
+    h : ndarray, shape (N, n)
+        Coriolis and centrifugal torques [N m].
+    c : ndarray, shape (N, n)
+        Gravity loading [N m].
+
+    Raises
+    ------
+    ValueError
+        If q or qd does not have shape (N, n), or they disagree on N.
+
+    Notes
+    -----
+    n + 2 batched recursions; the rotation matrices are computed once.
+    """
+    q, qd = as_states(robot, q, qd)
+    N, n = q.shape
+    R = link_matrices(robot, q)[..., :3, :3]
+    k = link_constants(robot)
+    zero = np.zeros((N, n))
+    c = _ne_core(R, zero, zero, k)
+    h = _ne_core(R, qd, zero, k) - c
+    D = np.empty((N, n, n))
+    for j in range(n):
+        e = np.zeros((N, n))
+        e[:, j] = 1.0
+        D[:, :, j] = _ne_core(R, zero, e, k) - c
+    return D, h, c

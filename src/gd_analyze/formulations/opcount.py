@@ -1,0 +1,672 @@
+"""Operation counts per set point of the L-E, N-E and G-D formulations, as implemented.
+
+The counts are measured, not derived: the algorithms run on one set point whose values are
+:class:`Counted` scalars, which count every multiplication and addition they take part in.
+
+- L-E and N-E: the counted run calls the very cores that :func:`~gd_analyze.formulations.lagrange_euler.le_terms`
+  and :func:`~gd_analyze.formulations.newton_euler.ne_tau` run on float arrays (``_le_core``, ``_ne_core``),
+  on object arrays with a set-point axis of length 1. The counts cannot drift from that code.
+- G-D, ``"gd"``: :func:`~gd_analyze.core.dalembert.gd_terms` has two engines. Its compiled engine
+  (``gd_analyze.core.kernels``, one pass per set point, used for long trajectories) is counted by
+  running the Python source of the very kernel numba compiles (``gd_kernel.py_func``) with
+  ``np.empty``, ``np.cos`` and ``np.sin`` bound to counting versions.
+- G-D, ``"gd-numpy"``: the array engine (``dalembert._gd_chunk``) is float-only, so
+  :func:`_gd_mirror` transcribes its steps one for one (including the work it does on entries
+  it then masks: the Jacobian columns j > s and the products Ic_s z_j for all s, j); the tests
+  check that the transcription reproduces ``gd_terms(engine="numpy")``.
+
+Counting rule
+-------------
+- Inputs of a set point are C_i = cos(theta_i), S_i = sin(theta_i), qd_i and qdd_i; sines and
+  cosines and theta_i = q_i + offset_i are not counted.
+- Robot parameters (DH constants, cos/sin alpha_i, masses, centres of mass, inertias,
+  pseudo-inertias, gravity) are general numbers: an operation on parameters only is done once
+  per robot and not counted; an operation with at least one set-point-dependent operand is.
+  Parameters that happen to be 0 or 1 are counted like any other value, so the counts depend on
+  n only, not on the robot.
+- Structural constants of the algorithm (the 0 and 1 entries of Q, z0, identity matrices, the
+  last row of homogeneous matrices, zero initial conditions w_0 = wd_0 = 0, p_0 = 0) are exact
+  0 and 1: multiplying by 0 or +-1 and adding 0 cost nothing. A negation costs nothing; a
+  subtraction is an addition.
+- tau = D qdd + h + c is included for L-E and G-D (Eqs. (3.2-26), (3.4-24)); N-E computes tau
+  directly with no load and no damping.
+
+Book formulas
+-------------
+Table 3.5 of Fu, Gonzalez & Lee (1987), "Comparison of robot arm dynamics computational
+complexities" (its footnote: "No effort is spent here to optimize the computation"). The OCR of
+the table is garbled; the formulas below are the published ones:
+
+- L-E: 128/3 n^4 + 512/3 n^3 + 739/3 n^2 + 160/3 n multiplications,
+  98/3 n^4 + 781/6 n^3 + 559/3 n^2 + 245/6 n additions;
+- N-E: 132 n multiplications, 111 n - 4 additions;
+- G-D: 13/6 n^3 + 105/2 n^2 + 268/3 n + 69 multiplications,
+  4/3 n^3 + 44 n^2 + 146/3 n + 45 additions.
+
+What the OCR confirms: in Table 3.5, N-E "132n" and "111n - 4" and G-D "+ 69", "44n^2" and
+"+ 45" are legible; the L-E entries and the other G-D terms are not. Table 3.1 (L-E) totals read
+128/3 n^4 + 512/3 n^3 + 844/3 n^2 + 76/3 n multiplications and 98/3 n^4 + 781/6 n^3 + 637/3 n^2 +
+107/6 n additions: its n^4 and n^3 terms confirm Table 3.5's, its n^2 and n terms differ from
+them. Table 3.4 (N-E in link coordinates, for a PUMA) totals 117 n - 24 multiplications and
+103 n - 21 additions, not Table 3.5's 132 n and 111 n - 4; its partly garbled rows read, in a way
+consistent with those totals, w 9n/7n, wd 9n/9n, vd 27n/22n, abar 15n/14n, F 3n/0,
+f 9(n-1)/9n-6, N 24n/18n, n 21n-15/24n-15.
+"""
+
+from __future__ import annotations
+
+import math
+import numbers
+import types
+from collections import namedtuple
+from fractions import Fraction as Fr
+from functools import lru_cache
+
+import numpy as np
+
+from ..core.kinematics import as_states
+from .lagrange_euler import _constants as _le_constants
+from .lagrange_euler import _le_core, _tau
+from .newton_euler import _cross, _ne_core, link_constants
+from ..core.robot import Robot, robot_from_dict
+
+__all__ = ["Counted", "OpLedger", "OpCount", "METHODS", "TABLE_3_5", "random_chain",
+           "count_operations", "operation_counts", "book_counts", "table"]
+
+#: The implementations counted, in table order ("gd" is the compiled G-D engine).
+METHODS = ("lagrange-euler", "newton-euler", "gd", "gd-numpy")
+
+#: Table 3.5 of Fu, Gonzalez & Lee (1987): polynomial coefficients in n, highest power first.
+TABLE_3_5 = {
+    "lagrange-euler": {
+        "multiplications": (Fr(128, 3), Fr(512, 3), Fr(739, 3), Fr(160, 3), Fr(0)),
+        "additions": (Fr(98, 3), Fr(781, 6), Fr(559, 3), Fr(245, 6), Fr(0)),
+    },
+    "newton-euler": {"multiplications": (Fr(132), Fr(0)), "additions": (Fr(111), Fr(-4))},
+    "gd": {
+        "multiplications": (Fr(13, 6), Fr(105, 2), Fr(268, 3), Fr(69)),
+        "additions": (Fr(4, 3), Fr(44), Fr(146, 3), Fr(45)),
+    },
+}
+
+
+class OpLedger:
+    """Tally of the operations done by the :class:`Counted` scalars that share it.
+
+    Attributes
+    ----------
+    multiplications : int
+        Multiplications counted so far.
+    additions : int
+        Additions and subtractions counted so far.
+    """
+
+    def __init__(self):
+        self.multiplications = 0
+        self.additions = 0
+
+    def var(self, value):
+        """A set-point-dependent scalar (its operations are counted).
+
+        Parameters
+        ----------
+        value : float
+            Its numerical value.
+
+        Returns
+        -------
+        Counted
+
+        Raises
+        ------
+        TypeError
+            If value is not a real number.
+        """
+        return Counted(float(value), self, True)
+
+    def const(self, value):
+        """A robot parameter (operations between parameters only are not counted).
+
+        Parameters
+        ----------
+        value : float
+            Its numerical value.
+
+        Returns
+        -------
+        Counted
+
+        Raises
+        ------
+        TypeError
+            If value is not a real number.
+        """
+        return Counted(float(value), self, False)
+
+
+class Counted:
+    """A real scalar that counts the multiplications and additions it takes part in.
+
+    Parameters
+    ----------
+    value : float
+        The numerical value carried along.
+    ledger : OpLedger
+        Where the operations are tallied.
+    var : bool
+        True if the value depends on the set point; False for a robot parameter.
+
+    Raises
+    ------
+    TypeError
+        From an arithmetic operation with an operand that is neither a Counted nor a real
+        number, or on conversion to float.
+
+    Notes
+    -----
+    An operation is counted when at least one operand is set-point dependent. Plain Python or
+    NumPy numbers are structural constants: x * 0 gives the plain 0, x * 1 gives x, x * -1 gives
+    -x and x + 0 gives x, all without a count. Negation is free; subtraction counts as an
+    addition. There is no ``__float__``, so a Counted cannot slip silently into a float array.
+
+    Examples
+    --------
+    >>> led = OpLedger()
+    >>> x, y, a = led.var(2.0), led.var(3.0), led.const(5.0)
+    >>> z = a * x + y * y - 0 * x
+    >>> (led.multiplications, led.additions, z.value)
+    (2, 1, 19.0)
+    """
+
+    __slots__ = ("value", "ledger", "var")
+
+    def __init__(self, value, ledger, var=True):
+        self.value = value
+        self.ledger = ledger
+        self.var = var
+
+    def __repr__(self):
+        return f"Counted({self.value!r}, var={self.var})"
+
+    def __neg__(self):
+        return Counted(-self.value, self.ledger, self.var)
+
+    def __pos__(self):
+        return self
+
+    def __mul__(self, other):
+        if isinstance(other, Counted):
+            var = self.var or other.var
+            self.ledger.multiplications += var
+            return Counted(self.value * other.value, self.ledger, var)
+        if not isinstance(other, numbers.Real):
+            return NotImplemented
+        if other == 0:
+            return 0
+        if other == 1:
+            return self
+        if other == -1:
+            return -self
+        self.ledger.multiplications += self.var
+        return Counted(self.value * float(other), self.ledger, self.var)
+
+    __rmul__ = __mul__
+
+    def __add__(self, other):
+        if isinstance(other, Counted):
+            var = self.var or other.var
+            self.ledger.additions += var
+            return Counted(self.value + other.value, self.ledger, var)
+        if not isinstance(other, numbers.Real):
+            return NotImplemented
+        if other == 0:
+            return self
+        self.ledger.additions += self.var
+        return Counted(self.value + float(other), self.ledger, self.var)
+
+    __radd__ = __add__
+
+    def __sub__(self, other):
+        return self + (-other)
+
+    def __rsub__(self, other):
+        return (-self) + other
+
+
+OpCount = namedtuple("OpCount", ["multiplications", "additions", "tau"])
+OpCount.__doc__ = """Result of :func:`count_operations`.
+
+Attributes
+----------
+multiplications : int
+    Multiplications per set point.
+additions : int
+    Additions and subtractions per set point.
+tau : ndarray, shape (n,)
+    The joint torques the counted run computed [N m].
+"""
+
+
+def random_chain(n, seed=0):
+    """A random n-joint revolute chain with general parameters (none 0 or 1).
+
+    Parameters
+    ----------
+    n : int
+        Number of joints, >= 1.
+    seed : int, optional
+        Seed of :func:`numpy.random.default_rng`.
+
+    Returns
+    -------
+    Robot
+        Link lengths and offsets in [0.1, 0.5] m, twists +-[10, 170] deg, masses in [0.5, 5] kg,
+        centres of mass within 0.2 m of the frame origin, physically valid inertia tensors with
+        products of inertia, gravity (0, 0, -9.8062) m/s^2.
+
+    Raises
+    ------
+    ValueError
+        If n < 1.
+    """
+    if n < 1:
+        raise ValueError(f"n must be >= 1, got {n}")
+    rng = np.random.default_rng(seed)
+    links = []
+    for _ in range(n):
+        B = rng.normal(size=(3, 3)) * 0.1
+        S = B @ B.T                                # second moment about the centre of mass
+        I = np.trace(S) * np.eye(3) - S            # always satisfies the triangle inequality
+        links.append({
+            "d": float(rng.uniform(0.1, 0.5)), "a": float(rng.uniform(0.1, 0.5)),
+            "alpha_deg": float(rng.choice([-1, 1]) * rng.uniform(10, 170)),
+            "offset_deg": float(rng.uniform(-30, 30)), "mass": float(rng.uniform(0.5, 5.0)),
+            "com": [float(v) for v in rng.uniform(-0.2, 0.2, 3)],
+            "inertia": [float(I[0, 0]), float(I[1, 1]), float(I[2, 2]),
+                        float(I[0, 1]), float(I[0, 2]), float(I[1, 2])],
+            "q_limits_deg": [-170.0, 170.0], "qd_max_deg": 180.0, "qdd_max_deg": 360.0,
+        })
+    return robot_from_dict({"name": f"random-{n}", "gravity": [0.0, 0.0, -9.8062],
+                            "link": links}, source=f"<random_chain({n}, {seed})>")
+
+
+def _consts(led, x):
+    """Object array of parameter scalars with the shape of x."""
+    x = np.asarray(x, dtype=float)
+    return np.array([led.const(v) for v in x.ravel()], dtype=object).reshape(x.shape)
+
+
+def _vars(led, x):
+    x = np.asarray(x, dtype=float)
+    return np.array([led.var(v) for v in x.ravel()], dtype=object).reshape(x.shape)
+
+
+def _counted_link_matrices(robot, led, q, rotation_only=False):
+    """^{i-1}A_i, shape (1, n, 4, 4) (or ^{i-1}R_i, (1, n, 3, 3)), as kinematics.link_matrices."""
+    n = robot.n
+    theta = q + robot.offset
+    ct, st = _vars(led, np.cos(theta)), _vars(led, np.sin(theta))
+    ca, sa = _consts(led, np.cos(robot.alpha)), _consts(led, np.sin(robot.alpha))
+    a, d = _consts(led, robot.a), _consts(led, robot.d)
+    A = np.zeros((1, n, 4, 4), dtype=object)
+    A[0, :, 0, 0] = ct
+    A[0, :, 0, 1] = -ca * st
+    A[0, :, 0, 2] = sa * st
+    A[0, :, 1, 0] = st
+    A[0, :, 1, 1] = ca * ct
+    A[0, :, 1, 2] = -sa * ct
+    A[0, :, 2, 1] = sa
+    A[0, :, 2, 2] = ca
+    if rotation_only:
+        return A[:, :, :3, :3]
+    A[0, :, 0, 3] = a * ct
+    A[0, :, 1, 3] = a * st
+    A[0, :, 2, 3] = d
+    A[0, :, 3, 3] = 1
+    return A
+
+
+def _gd_mirror(A, m, com, inertia, gravity, qd, qdd):
+    """dalembert._gd_chunk and GDTerms.tau, step for step, for one set point.
+
+    A (n, 4, 4); m (n,); com (n, 3); inertia (n, 3, 3); gravity (3,); qd, qdd (n,). Float or
+    object arrays. Returns (tau, D_tran, D_rot, h_tran, h_rot, c).
+    """
+    n = len(m)
+    dt = A.dtype
+    eye = np.zeros((3, 3), dtype=dt)
+    eye[[0, 1, 2], [0, 1, 2]] = 1
+    R, p = [eye], [np.zeros(3, dtype=dt)]
+    for i in range(n):                                        # kinematics.frames
+        R.append(R[i] @ A[i, :3, :3])
+        p.append(p[i] + R[i] @ A[i, :3, 3])
+    z = [R[j][:, 2] for j in range(n)]
+    rbar = [p[s + 1] + R[s + 1] @ com[s] for s in range(n)]   # kinematics.centres_of_mass
+    Ib = [(R[s + 1] @ inertia[s]) @ R[s + 1].T for s in range(n)]
+
+    def suffix(x):                                            # _suffix_sum
+        out = list(x)
+        for s in range(n - 2, -1, -1):
+            out[s] = out[s + 1] + x[s]
+        return out
+
+    def cumsum(x):
+        out = list(x)
+        for s in range(1, n):
+            out[s] = out[s - 1] + x[s]
+        return out
+
+    # D_tran: all n^2 Jacobian columns, then the mask j <= s, then einsum with m first
+    Jv = np.zeros((n, n, 3), dtype=dt)
+    for s in range(n):
+        for j in range(n):
+            col = _cross(z[j], rbar[s] - p[j])
+            if j <= s:
+                Jv[s, j] = col
+    mJv = np.stack([m[s] * Jv[s] for s in range(n)])
+    D_tran = np.einsum("sia,sja->ij", mJv, Jv)
+    # D_rot: Ic_s z_j for all s, j, then z_i . Iz[max(i, j), j]
+    Ic = suffix(Ib)
+    Iz = [[Ic[s] @ z[j] for j in range(n)] for s in range(n)]
+    D_rot = np.array([[z[i] @ Iz[max(i, j)][j] for j in range(n)] for i in range(n)])
+    # velocities and velocity-product accelerations
+    wz = [qd[j] * z[j] for j in range(n)]
+    w = cumsum(wz)
+    w_prev = [np.zeros(3, dtype=dt)] + w[:-1]
+    wd = cumsum([_cross(w_prev[s], wz[s]) for s in range(n)])
+    dp = [p[s + 1] - p[s] for s in range(n)]
+    ap = cumsum([_cross(wd[s], dp[s]) + _cross(w[s], _cross(w[s], dp[s])) for s in range(n)])
+    rc = [rbar[s] - p[s + 1] for s in range(n)]
+    abar = [ap[s] + _cross(wd[s], rc[s]) + _cross(w[s], _cross(w[s], rc[s])) for s in range(n)]
+
+    def moment_about_axes(F):
+        M = suffix([_cross(rbar[s], F[s]) for s in range(n)])
+        S = suffix(F)
+        return np.array([z[j] @ (M[j] - _cross(p[j], S[j])) for j in range(n)])
+
+    h_tran = moment_about_axes([m[s] * abar[s] for s in range(n)])
+    c = -moment_about_axes([m[s] * gravity for s in range(n)])
+    Iw = [Ib[s] @ w[s] for s in range(n)]
+    f = [Ib[s] @ wd[s] + _cross(w[s], Iw[s]) for s in range(n)]
+    fs = suffix(f)
+    h_rot = np.array([z[j] @ fs[j] for j in range(n)])
+    D = D_tran + D_rot                                        # GDTerms.D, .h, .tau
+    h = h_tran + h_rot
+    tau = np.einsum("ij,j->i", D, qdd) + h + c
+    return tau, D_tran, D_rot, h_tran, h_rot, c
+
+
+def _elementwise(fn, x):
+    """fn of a Counted (uncounted, keeps its kind), a plain number or an object array."""
+    if isinstance(x, np.ndarray):
+        return np.array([_elementwise(fn, e) for e in x.ravel()], dtype=object).reshape(x.shape)
+    if isinstance(x, Counted):
+        return Counted(fn(x.value), x.ledger, x.var)
+    return fn(float(x))
+
+
+class _CountingNumPy:
+    """The NumPy functions that ``_gd_kernel.gd_kernel`` calls, for counting scalars."""
+
+    @staticmethod
+    def empty(shape):
+        return np.zeros(shape, dtype=object)
+
+    @staticmethod
+    def cos(x):
+        return _elementwise(math.cos, x)
+
+    @staticmethod
+    def sin(x):
+        return _elementwise(math.sin, x)
+
+
+def _gd_kernel_counted(robot, led, theta, qd):
+    """Run the compiled G-D engine's Python source on one set point of counting scalars.
+
+    Returns (D_tran, D_rot, h_tran, h_rot, c) as object arrays of shapes (n, n) and (n,).
+    """
+    from ..core.kernels import gd_kernel
+
+    py = gd_kernel.py_func
+    kernel = types.FunctionType(py.__code__, {**py.__globals__, "np": _CountingNumPy},
+                                py.__name__, py.__defaults__, py.__closure__)
+    n = robot.n
+    out = [np.zeros((1, n, n), dtype=object), np.zeros((1, n, n), dtype=object)]
+    out += [np.zeros((1, n), dtype=object) for _ in range(3)]
+    # theta is the input and offsets are exact zeros, so q + offset costs nothing (the rule)
+    kernel(_vars(led, theta)[None], qd, _consts(led, robot.d), _consts(led, robot.a),
+           _consts(led, robot.alpha), np.zeros(n, dtype=object), _consts(led, robot.mass),
+           _consts(led, robot.com), _consts(led, robot.inertia), _consts(led, robot.gravity),
+           *out)
+    return tuple(x[0] for x in out)
+
+
+def _value(x):
+    return x.value if isinstance(x, Counted) else float(x)
+
+
+def count_operations(robot, method, q=None, qd=None, qdd=None):
+    """Run one formulation on one set point of counting scalars.
+
+    Parameters
+    ----------
+    robot : Robot
+        The arm, with n revolute joints.
+    method : {"lagrange-euler", "newton-euler", "gd", "gd-numpy"}
+        The implementation: ``"gd"`` is the compiled G-D engine, ``"gd-numpy"`` the array one.
+    q, qd, qdd : array_like, shape (n,), optional
+        The set point [rad], [rad/s], [rad/s^2]; random if omitted (the counts do not depend on
+        it).
+
+    Returns
+    -------
+    OpCount
+        ``multiplications`` and ``additions`` (int) for one set point, and ``tau`` (ndarray,
+        shape (n,)) [N m], the torques the counted run computed.
+
+    Raises
+    ------
+    ValueError
+        If method is unknown or a state does not have shape (n,).
+
+    Notes
+    -----
+    The counting rule is in the module docstring. L-E computes tau by Eqs. (3.2-26) to
+    (3.2-34), N-E by Table 3.3 (Eqs. (3.3-50) to (3.3-58)), G-D by Eqs. (3.4-24) to (3.4-28) as
+    :func:`~gd_analyze.core.dalembert.gd_terms` evaluates them.
+    """
+    if method not in METHODS:
+        raise ValueError(f"method must be one of {METHODS}, got {method!r}")
+    n = robot.n
+    rng = np.random.default_rng(1)
+    q, qd, qdd = (rng.uniform(-1, 1, n) if x is None else x for x in (q, qd, qdd))
+    q, qd, qdd = (x[0] for x in as_states(robot, q, qd, qdd))
+    led = OpLedger()
+    qd_c, qdd_c = _vars(led, qd)[None], _vars(led, qdd)[None]
+    if method == "lagrange-euler":
+        J, gm, rbar = _le_constants(robot)
+        gm = np.concatenate([_consts(led, gm[:, :3]), np.zeros((n, 1), dtype=object)], axis=1)
+        rbar = np.concatenate([_consts(led, rbar[:, :3]), np.ones((n, 1), dtype=object)], axis=1)
+        A = _counted_link_matrices(robot, led, q)
+        D, _, h, c = _le_core(A, _consts(led, J), gm, rbar, qd_c)
+        tau = _tau(D, h, c, qdd_c)[0]
+    elif method == "newton-euler":
+        k = {key: _consts(led, val) for key, val in link_constants(robot).items()}
+        R = _counted_link_matrices(robot, led, q, rotation_only=True)
+        tau = _ne_core(R, qd_c, qdd_c, k)[0]
+    elif method == "gd":
+        D_tran, D_rot, h_tran, h_rot, c = _gd_kernel_counted(robot, led, q + robot.offset, qd_c)
+        tau = _tau(D_tran + D_rot, h_tran + h_rot, c, qdd_c[0])   # GDTerms.D, .h and .tau
+    else:
+        A = _counted_link_matrices(robot, led, q)[0]
+        tau = _gd_mirror(A, _consts(led, robot.mass), _consts(led, robot.com),
+                         _consts(led, robot.inertia), _consts(led, robot.gravity),
+                         qd_c[0], qdd_c[0])[0]
+    return OpCount(int(led.multiplications), int(led.additions),
+                   np.array([_value(t) for t in tau]))
+
+
+#: Modules whose code the counts depend on: the cache key is the hash of their source.
+_COUNTED_MODULES = ("formulations/opcount", "formulations/lagrange_euler",
+                    "formulations/newton_euler", "core/kernels", "core/dalembert", "core/kinematics",
+                    "core/robot")
+
+
+def _cache_file():
+    """The on-disk cache of the counts, or None when disabled (GD_ANALYZE_NO_CACHE=1).
+
+    The counts are a pure function of the counted code, so the file name carries the SHA-256
+    of that code's source: any change to it gives a new file, and a stale count cannot be read.
+    """
+    import hashlib
+    import os
+    from importlib import resources
+    from pathlib import Path
+
+    if os.environ.get("GD_ANALYZE_NO_CACHE"):
+        return None
+    digest = hashlib.sha256()
+    for name in _COUNTED_MODULES:
+        digest.update(resources.files("gd_analyze").joinpath(f"{name}.py").read_bytes())
+    base = os.environ.get("XDG_CACHE_HOME") or os.path.join(os.path.expanduser("~"), ".cache")
+    return Path(base) / "gd-analyze" / f"opcounts-{digest.hexdigest()[:32]}.json"
+
+
+@lru_cache(maxsize=None)
+def _counts_for_n(n):
+    import json
+
+    path = _cache_file()
+    cached = {}
+    if path is not None:
+        try:
+            cached = json.loads(path.read_text())
+        except (OSError, ValueError):
+            cached = {}
+    key = str(n)
+    if key in cached:
+        return {m: tuple(v) for m, v in cached[key].items()}
+    robot = random_chain(n)
+    counts = {m: tuple(int(x) for x in count_operations(robot, m)[:2]) for m in METHODS}
+    if path is not None:
+        try:
+            from ..files import atomic_path
+
+            path.parent.mkdir(parents=True, exist_ok=True)
+            cached[key] = counts
+            with atomic_path(path) as tmp:
+                with open(tmp, "w") as fh:
+                    json.dump(cached, fh)
+        except OSError:
+            pass        # a read-only home: count again next time
+    return counts
+
+
+def operation_counts(robot_or_n):
+    """Multiplications and additions per set point of each formulation, as implemented.
+
+    Parameters
+    ----------
+    robot_or_n : Robot or int
+        The arm, or its number of joints n (a :func:`random_chain` is counted; the counts
+        depend on n only).
+
+    Returns
+    -------
+    dict
+        ``{method: {"multiplications": int, "additions": int}}`` for the methods in
+        :data:`METHODS`.
+
+    Raises
+    ------
+    ValueError
+        If n < 1.
+    TypeError
+        If robot_or_n is neither a Robot nor an int.
+
+    Notes
+    -----
+    Counting rule in the module docstring; :func:`book_counts` gives Table 3.5's figures of
+    Fu, Gonzalez & Lee (1987) for comparison.
+    """
+    if isinstance(robot_or_n, Robot):
+        counts = {m: count_operations(robot_or_n, m)[:2] for m in METHODS}
+    elif isinstance(robot_or_n, numbers.Integral):
+        if robot_or_n < 1:
+            raise ValueError(f"n must be >= 1, got {robot_or_n}")
+        counts = _counts_for_n(int(robot_or_n))
+    else:
+        raise TypeError(f"expected a Robot or an int, got {type(robot_or_n).__name__}")
+    return {m: {"multiplications": mu, "additions": ad} for m, (mu, ad) in counts.items()}
+
+
+def _poly(coeffs, n):
+    value = sum(c * Fr(n) ** (len(coeffs) - 1 - p) for p, c in enumerate(coeffs))
+    return int(value) if value.denominator == 1 else float(value)
+
+
+def book_counts(n):
+    """The operation counts of Table 3.5 (Fu, Gonzalez & Lee 1987) for an n-joint arm.
+
+    Parameters
+    ----------
+    n : int
+        Number of joints, >= 1.
+
+    Returns
+    -------
+    dict
+        ``{method: {"multiplications": number, "additions": number}}`` for the methods in
+        :data:`METHODS` (int where the formula gives a whole number; both G-D engines get the
+        G-D formulas).
+
+    Raises
+    ------
+    ValueError
+        If n < 1.
+    """
+    if n < 1:
+        raise ValueError(f"n must be >= 1, got {n}")
+    out = {m: {op: _poly(c, n) for op, c in ops.items()} for m, ops in TABLE_3_5.items()}
+    out["gd-numpy"] = dict(out["gd"])
+    return out
+
+
+def table(n_max=10):
+    """Measured operation counts beside Table 3.5, for n = 1..n_max.
+
+    Parameters
+    ----------
+    n_max : int, optional
+        Largest number of joints, >= 1.
+
+    Returns
+    -------
+    pandas.DataFrame
+        Index ``n``; for each of L-E, N-E and G-D (compiled engine) the columns
+        ``"<abbr> mul"``, ``"<abbr> mul T3.5"``, ``"<abbr> add"`` and ``"<abbr> add T3.5"``
+        (measured counts as implemented, and Table 3.5's formulas), then ``"G-D np mul"`` and
+        ``"G-D np add"`` for the numpy G-D engine.
+
+    Raises
+    ------
+    ValueError
+        If n_max < 1.
+    """
+    import pandas as pd
+
+    if n_max < 1:
+        raise ValueError(f"n_max must be >= 1, got {n_max}")
+    abbr = {"lagrange-euler": "L-E", "newton-euler": "N-E", "gd": "G-D", "gd-numpy": "G-D np"}
+    rows = []
+    for n in range(1, n_max + 1):
+        got, book = operation_counts(n), book_counts(n)
+        row = {"n": n}
+        for m in METHODS:
+            for op, short in (("multiplications", "mul"), ("additions", "add")):
+                row[f"{abbr[m]} {short}"] = got[m][op]
+                if m != "gd-numpy":
+                    row[f"{abbr[m]} {short} T3.5"] = book[m][op]
+        rows.append(row)
+    return pd.DataFrame(rows).set_index("n")

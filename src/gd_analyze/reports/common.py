@@ -1,0 +1,426 @@
+"""Helpers shared by the three reports (:mod:`gd_analyze.reports.main`, :mod:`gd_analyze.reports.sweep`
+and :mod:`gd_analyze.reports.control`).
+
+Number and attribute formatting, the table dictionaries the Jinja2 templates and the PDF writers
+read, matplotlib style contexts, fixed-layout grids, inline SVG figures and the rendering of a
+report's template. Private: the reports' output is the interface, not these functions.
+"""
+
+from __future__ import annotations
+
+import contextlib
+import datetime
+import io
+import math
+import re
+from importlib import resources
+
+import numpy as np
+
+#: A4 portrait and landscape [in].
+A4 = (8.27, 11.69)
+A4_LANDSCAPE = (11.69, 8.27)
+
+#: Colour-blind-safe colours (Okabe & Ito) of the dominance classes, the same in every report.
+__all__ = ["CLASS_COLOURS", "BASE_RC", "SUPTITLE_RC", "A4", "A4_LANDSCAPE", "style", "utc_now",
+           "strings", "fmt", "pct", "attr", "thresholds", "check", "table", "grid_shape",
+           "joint_colours", "gridspec", "svg", "inline_svgs", "render_template", "check_formats"]
+
+CLASS_COLOURS = {"translational": "#0072B2", "rotational": "#D55E00", "both": "#6A3D9A",
+                 "negligible": "#777777"}
+
+#: matplotlib settings every report uses; each adds its own to them (see :func:`style`).
+BASE_RC = {
+    "font.size": 8.0,
+    "axes.titlesize": 8.5,
+    "axes.labelsize": 8.0,
+    "xtick.labelsize": 7.0,
+    "ytick.labelsize": 7.0,
+    "axes.grid": True,
+    "grid.color": "0.88",
+    "grid.linewidth": 0.5,
+    "lines.linewidth": 1.0,
+    "svg.fonttype": "none",      # text stays text in the SVG: searchable and small
+    "pdf.fonttype": 42,          # embed TrueType fonts in the PDF
+    "path.simplify": True,
+}
+#: :data:`BASE_RC` with bold 11 pt figure titles, 8 pt legends and thin axes lines (the
+#: analysis and the sweep report).
+SUPTITLE_RC = {**BASE_RC, "legend.fontsize": 8.0, "figure.titlesize": 11.0,
+               "figure.titleweight": "bold", "axes.linewidth": 0.6}
+
+
+def style(rc):
+    """A context in which matplotlib draws with the settings ``rc``.
+
+    Parameters
+    ----------
+    rc : dict
+        rcParams to set, e.g. :data:`SUPTITLE_RC`; the others keep their current values.
+
+    Returns
+    -------
+    contextlib.AbstractContextManager
+        :func:`matplotlib.rc_context` of ``rc``.
+    """
+    import matplotlib
+
+    return matplotlib.rc_context(rc)
+
+
+def utc_now():
+    """The current UTC time, to the second.
+
+    Returns
+    -------
+    datetime.datetime
+        Time-zone aware, microseconds zero.
+    """
+    return datetime.datetime.now(datetime.timezone.utc).replace(microsecond=0)
+
+
+def strings(values):
+    """Values of a dataset variable as a flat list of str (bytes decoded).
+
+    Parameters
+    ----------
+    values : array_like
+        Strings or bytes, any shape.
+
+    Returns
+    -------
+    list of str
+    """
+    return [v.decode() if isinstance(v, bytes) else str(v) for v in np.asarray(values).ravel()]
+
+
+def fmt(value, digits=4, sci_outside=None):
+    """A number as short text.
+
+    Parameters
+    ----------
+    value : float or object
+        A number; anything ``float()`` rejects is returned as ``str(value)``.
+    digits : int, optional
+        Significant digits.
+    sci_outside : (float, float), optional
+        If given, magnitudes outside ``[lo, hi)`` are written as ``d.dde+XX`` with
+        ``digits - 1`` decimals; else ``'g'`` format decides.
+
+    Returns
+    -------
+    str
+        ``"n/a"`` for NaN and infinities, ``"0"`` for zero.
+    """
+    try:
+        v = float(value)
+    except (TypeError, ValueError):
+        return str(value)
+    if not math.isfinite(v):
+        return "n/a"
+    if v == 0:
+        return "0"
+    if sci_outside is not None and not sci_outside[0] <= abs(v) < sci_outside[1]:
+        return f"{v:.{digits - 1}e}"
+    return f"{v:.{digits}g}"
+
+
+def pct(value):
+    """A fraction as a percentage, e.g. ``0.0123`` as ``"1.23 %"``.
+
+    Parameters
+    ----------
+    value : float
+        The fraction [1].
+
+    Returns
+    -------
+    str
+        Two decimals, or ``1.2e-03 %`` style below 0.01 %; ``"n/a"`` if not finite.
+    """
+    v = 100.0 * float(value)
+    if not math.isfinite(v):
+        return "n/a"
+    if v == 0 or abs(v) >= 0.01:
+        return f"{v:.2f} %"
+    return f"{v:.1e} %"
+
+
+def attr(ds, key, default="\u2014", *, parens=True, bools=False, sci_outside=None):
+    """A global attribute of a dataset as text.
+
+    Parameters
+    ----------
+    ds : xarray.Dataset
+        The dataset.
+    key : str
+        The attribute's name.
+    default : str, optional
+        Returned if the attribute is missing or empty.
+    parens : bool, optional
+        Put an array's values, joined by ", ", in parentheses.
+    bools : bool, optional
+        Format booleans as numbers (``1``) rather than as ``True``.
+    sci_outside : (float, float), optional
+        Passed to :func:`fmt` (numbers are written with 6 digits).
+
+    Returns
+    -------
+    str
+    """
+    value = ds.attrs.get(key, None)
+    if value is None:
+        return default
+    if isinstance(value, bytes):
+        value = value.decode()
+    if isinstance(value, np.ndarray):
+        text = ", ".join(fmt(v, 6, sci_outside) for v in value.ravel())
+        return f"({text})" if parens else text
+    if isinstance(value, (np.generic, float, int)) and (
+            bools or not isinstance(value, (bool, np.bool_))):
+        return fmt(value, 6, sci_outside)
+    text = str(value)
+    return text if text else default
+
+
+def thresholds(ds):
+    """The dominance threshold s and the negligibility threshold e stored in a dataset.
+
+    Parameters
+    ----------
+    ds : xarray.Dataset
+        With attributes ``dominance_threshold`` and ``negligible_threshold``.
+
+    Returns
+    -------
+    s, e : float
+        NaN where an attribute is missing.
+    """
+    return (float(ds.attrs.get("dominance_threshold", np.nan)),
+            float(ds.attrs.get("negligible_threshold", np.nan)))
+
+
+def check(ds, required, what):
+    """Raise if a dataset lacks a variable a report needs.
+
+    Parameters
+    ----------
+    ds : xarray.Dataset
+        The dataset.
+    required : sequence of str
+        Names of the variables needed.
+    what : str
+        The kind of dataset, for the message ("results", "sweep", ...).
+
+    Raises
+    ------
+    InputError
+        Naming the missing variables.
+    """
+    missing = [v for v in required if v not in ds.variables]
+    if missing:
+        from ..errors import InputError
+
+        raise InputError(f"not a gd-analyze {what} dataset: missing variable(s) "
+                         + ", ".join(missing))
+
+
+def table(header, rows, align=None, widths=None, colour_cols=()):
+    """A table as the templates and the PDF writers read it.
+
+    Parameters
+    ----------
+    header : sequence of str
+        Column headings.
+    rows : sequence of sequence
+        The cells, converted with ``str``.
+    align : sequence of str or {"right"}, optional
+        ``"left"`` or ``"right"`` per column; ``"right"``: the first column left, the others
+        right. Default: all left.
+    widths : sequence of float, optional
+        Relative column widths (PDF of the analysis report); default all 1.
+    colour_cols : sequence of int, optional
+        Columns whose cells are dominance classes, drawn in their colour.
+
+    Returns
+    -------
+    dict
+        Keys ``header``, ``rows``, ``align``, ``widths`` and ``colour_cols``.
+    """
+    if isinstance(align, str):
+        align = ["left"] + [align] * (len(header) - 1)
+    return {"header": list(header), "rows": [[str(c) for c in row] for row in rows],
+            "align": list(align or ["left"] * len(header)),
+            "widths": list(widths or [1] * len(header)), "colour_cols": list(colour_cols)}
+
+
+def grid_shape(n, max_cols):
+    """Rows and columns of a grid of n panels, at most ``max_cols`` a row.
+
+    Parameters
+    ----------
+    n : int
+        Number of panels.
+    max_cols : int
+        Most columns.
+
+    Returns
+    -------
+    rows, cols : int
+    """
+    cols = max(1, min(max_cols, n))
+    return math.ceil(n / cols), cols
+
+
+def joint_colours(n):
+    """One colour per joint from the tab10 colour map.
+
+    Parameters
+    ----------
+    n : int
+        How many colours.
+
+    Returns
+    -------
+    list of tuple
+        RGBA, the ten of tab10 in turn.
+    """
+    from matplotlib import colormaps
+
+    cmap = colormaps["tab10"]
+    return [cmap(k % 10) for k in range(n)]
+
+
+def gridspec(fig, rows, cols, left, right, top, bottom, wgap, hgap):
+    """A gridspec with margins and gaps in inches (a fixed layout: no layout engine).
+
+    Parameters
+    ----------
+    fig : matplotlib.figure.Figure
+        The figure.
+    rows, cols : int
+        Grid shape.
+    left, right, top, bottom : float
+        Margins [in].
+    wgap, hgap : float
+        Gaps between columns and between rows [in].
+
+    Returns
+    -------
+    matplotlib.gridspec.GridSpec
+    """
+    W, H = fig.get_size_inches()
+    aw = (W - left - right - (cols - 1) * wgap) / cols
+    ah = (H - top - bottom - (rows - 1) * hgap) / max(rows, 1)
+    return fig.add_gridspec(rows, cols, left=left / W, right=1 - right / W, bottom=bottom / H,
+                            top=1 - top / H, wspace=wgap / aw, hspace=hgap / ah)
+
+
+def svg(fig, prefix=None, rc=None):
+    """A figure as an inline ``<svg>`` element.
+
+    Parameters
+    ----------
+    fig : matplotlib.figure.Figure
+        The figure.
+    prefix : str, optional
+        Put before every id, and the references to it, so that several figures can share one
+        HTML document without clashing ids.
+    rc : dict, optional
+        rcParams to draw with (:func:`style`).
+
+    Returns
+    -------
+    str
+        The SVG without XML declaration and DOCTYPE (whose DTD is an external resource) and
+        without date or creator metadata.
+    """
+    buf = io.StringIO()
+    with style(rc) if rc is not None else contextlib.nullcontext():
+        fig.savefig(buf, format="svg",
+                    metadata={"Date": None, "Creator": None, "Format": None, "Type": None})
+    text = buf.getvalue()
+    start = text.find("<svg")
+    text = text[start:] if start >= 0 else text
+    if prefix is None:
+        return text
+    text = re.sub(r'\bid="', f'id="{prefix}-', text)
+    text = re.sub(r'\bhref="#', f'href="#{prefix}-', text)
+    return re.sub(r"url\(#", f"url(#{prefix}-", text)
+
+
+def inline_svgs(figures, rc, prefix_ids=True):
+    """Figures as inline SVG markup for a template.
+
+    Parameters
+    ----------
+    figures : dict of str to matplotlib.figure.Figure
+        The figures by name.
+    rc : dict
+        rcParams to draw with.
+    prefix_ids : bool, optional
+        Prefix the ids of each figure with ``fig-<name>`` (:func:`svg`).
+
+    Returns
+    -------
+    dict of str to markupsafe.Markup
+    """
+    from markupsafe import Markup
+
+    return {name: Markup(svg(fig, f"fig-{name}" if prefix_ids else None, rc))
+            for name, fig in figures.items()}
+
+
+def render_template(name, context, env_globals=None):
+    """Render one of the package's Jinja2 templates (autoescape on, strict undefined).
+
+    Parameters
+    ----------
+    name : str
+        File name under ``gd_analyze/reports/templates``.
+    context : dict
+        The template's variables.
+    env_globals : dict, optional
+        Globals of the environment (e.g. ``class_colours``).
+
+    Returns
+    -------
+    str
+        The rendered document.
+    """
+    import jinja2
+
+    source = resources.files("gd_analyze.reports").joinpath(f"templates/{name}") \
+        .read_text(encoding="utf-8")
+    env = jinja2.Environment(autoescape=True, undefined=jinja2.StrictUndefined,
+                             trim_blocks=True, lstrip_blocks=True, keep_trailing_newline=True)
+    env.globals.update(env_globals or {})
+    return env.from_string(source).render(**context)
+
+
+def check_formats(formats, allowed):
+    """The report formats asked for, checked, lower case and without repeats.
+
+    Parameters
+    ----------
+    formats : str or sequence of str
+        One format or several.
+    allowed : tuple of str
+        The formats the report can write.
+
+    Returns
+    -------
+    list of str
+        In the order first given.
+
+    Raises
+    ------
+    ValueError
+        If a format is not allowed, or none is given.
+    """
+    if isinstance(formats, str):
+        formats = (formats,)
+    formats = [str(f).lower() for f in formats]
+    if not formats or any(f not in allowed for f in formats):
+        raise ValueError(f"report formats must be among {allowed}, got {formats}")
+    return list(dict.fromkeys(formats))

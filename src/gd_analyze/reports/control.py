@@ -1,0 +1,535 @@
+"""Control report: the stored closed-loop comparison as one self-contained HTML file and a PDF.
+
+:func:`write_control_report` reads a control dataset written by
+:func:`gd_analyze.workflows.control.write_control_dataset` (``control.h5``) and never recomputes anything:
+every number and curve comes from the dataset's variables and global attributes. The report
+holds the set-up and gains, the tracking error per joint of the three controllers (figure and
+peak/RMS table), the torque difference between the simplified-model and the full-model
+computed-torque controllers, the applied torques, the evaluation cost of the simplified model
+against the full one, the model's choices and the provenance.
+
+``control_report.html`` has no external resources (inline CSS, inline SVG figures, Jinja2
+template ``templates/control_report.html.j2``); ``control_report.pdf`` is written with
+matplotlib's PdfPages from :class:`matplotlib.figure.Figure` objects (no pyplot). Both are
+written atomically (:func:`gd_analyze.files.atomic_path`).
+"""
+
+from __future__ import annotations
+
+import functools
+import math
+from pathlib import Path
+
+import numpy as np
+
+from .common import A4 as _A4, BASE_RC
+from .common import strings as _strings, style as _style, table as _table
+from .common import attr, fmt, grid_shape, inline_svgs, render_template, utc_now
+
+__all__ = ["CONTROL_REPORT_FILES", "REQUIRED_VARIABLES", "make_control_figures",
+           "render_control_html", "render_control_pdf", "write_control_report"]
+
+#: Names of the files written into the output folder.
+CONTROL_REPORT_FILES = ("control_report.html", "control_report.pdf")
+#: Variables a control dataset must have.
+REQUIRED_VARIABLES = ("is_setpoint", "q_d", "error", "tau", "error_peak_setpoints",
+                      "error_rms_setpoints", "error_peak_grid", "error_rms_grid", "Kp", "Kv",
+                      "Kp_pd", "Kv_pd", "wn", "zeta", "inertia_scale", "choice", "nfev")
+
+# Okabe & Ito colours, the same in every figure.
+_COLOURS = {"full": "#000000", "simplified": "#009E73", "pd_gravity": "#D55E00"}
+_STYLES = {"full": "-", "simplified": "--", "pd_gravity": "-."}
+_LABELS = {"full": "computed torque, full model", "simplified": "computed torque, simplified "
+           "model", "pd_gravity": "PD + gravity"}
+_MAX_LINE_POINTS = 600
+_RC = {**BASE_RC, "legend.fontsize": 7.5, "lines.markersize": 3.0}
+# Numbers in e-notation outside [1e-3, 1e5), 3 significant digits unless told; attributes
+# with 6 digits, arrays without parentheses, booleans as 0/1.
+_SCI = (1e-3, 1e5)
+_fmt = functools.partial(fmt, digits=3, sci_outside=_SCI)
+_attr = functools.partial(attr, parens=False, bools=True, sci_outside=_SCI)
+
+
+def _check(ds, path):
+    from ..errors import InputError
+
+    missing = [v for v in REQUIRED_VARIABLES if v not in ds.variables]
+    if missing or "controller" not in ds.dims or "time" not in ds.dims:
+        raise InputError(f"not a gd-analyze control dataset (missing {missing[:3] or 'dims'})",
+                         str(path))
+
+
+# --------------------------------------------------------------------------------------------
+# Figures
+# --------------------------------------------------------------------------------------------
+
+def _stride(m):
+    return max(1, int(math.ceil(m / _MAX_LINE_POINTS)))
+
+
+def _joint_panels(ds, values, ylabel, title, log=False, controllers=None):
+    """A figure with one panel per joint; values: name -> (M, n) array along ds.time."""
+    from matplotlib.figure import Figure
+
+    t = np.asarray(ds["time"].values, dtype=float)
+    is_set = np.asarray(ds["is_setpoint"].values).astype(bool)
+    n = int(ds.sizes["joint"])
+    rows, cols = grid_shape(n, 2)
+    height = 1.9 * rows + 1.0
+    fig = Figure(figsize=(8.0, height))
+    # fixed margins [in] instead of a layout engine: drawing stays fast
+    fig.subplots_adjust(left=0.75 / 8.0, right=1 - 0.2 / 8.0, top=1 - 0.5 / height,
+                        bottom=0.85 / height, wspace=0.25, hspace=0.35)
+    axes = fig.subplots(rows, cols, squeeze=False, sharex=True)
+    k = _stride(t.size)
+    keep = np.zeros(t.size, dtype=bool)
+    keep[::k] = True
+    keep |= is_set
+    floor = None
+    for j in range(rows * cols):
+        ax = axes[j // cols, j % cols]
+        if j >= n:
+            ax.set_visible(False)
+            continue
+        for name, y in values.items():
+            yj = np.asarray(y[:, j], dtype=float)
+            if log:
+                pos = np.abs(yj)[np.isfinite(yj) & (yj != 0)]
+                floor = min(floor or np.inf, float(pos.min()) if pos.size else 1e-16)
+                yj = np.abs(yj)
+            kw = {"color": _COLOURS.get(name, "#0072B2"), "linestyle": _STYLES.get(name, "-"),
+                  "label": _LABELS.get(name, name)}
+            ax.plot(t[keep], yj[keep], **kw)
+            ax.plot(t[is_set], yj[is_set], linestyle="none", marker="o", markersize=2.5,
+                    color=kw["color"], mfc="none")
+        if log:
+            ax.set_yscale("log")
+        ax.set_title(f"joint {j + 1}")
+        if j // cols == rows - 1 or j + cols >= n:
+            ax.set_xlabel("time t [s]")
+        if j % cols == 0:
+            ax.set_ylabel(ylabel)
+    if log and floor is not None and np.isfinite(floor):
+        for ax in axes.ravel():
+            if ax.get_visible():
+                ax.set_ylim(bottom=max(floor * 0.5, 1e-18))
+    handles, labels = axes[0, 0].get_legend_handles_labels()
+    pairs = [(h, lab) for h, lab in zip(handles, labels) if not lab.startswith("_")]
+    if pairs:
+        fig.legend([p[0] for p in pairs], [p[1] for p in pairs], loc="lower center",
+                   ncols=min(3, len(pairs)), frameon=False, bbox_to_anchor=(0.5, 0.0))
+    fig.suptitle(title, fontsize=10, fontweight="bold", y=1 - 0.12 / height, va="top")
+    return fig
+
+
+def make_control_figures(ds):
+    """The report's figures, drawn from a stored control dataset.
+
+    Parameters
+    ----------
+    ds : xarray.Dataset
+        A control dataset (:func:`gd_analyze.workflows.control.control_dataset`).
+
+    Returns
+    -------
+    dict of str to matplotlib.figure.Figure
+        ``"error"`` (|q_d - q| per joint, log scale [rad]), ``"tau_difference"`` (tau of the
+        simplified-model controller minus the full-model one [N m]; absent if not stored) and
+        ``"tau"`` (applied torques [N m]).
+
+    Raises
+    ------
+    InputError
+        If the dataset lacks a variable of a control dataset.
+    """
+    _check(ds, "<dataset>")
+    names = _strings(ds["controller"].values)
+    with _style(_RC):
+        figs = {"error": _joint_panels(
+            ds, {c: ds["error"].sel(controller=c).values for c in names},
+            "|q_d - q| [rad]", "Tracking error per joint", log=True)}
+        if "tau_difference" in ds:
+            figs["tau_difference"] = _joint_panels(
+                ds, {"simplified": ds["tau_difference"].values}, "tau_s - tau_f [N m]",
+                "Torque difference: simplified-model minus full-model computed torque")
+        figs["tau"] = _joint_panels(ds, {c: ds["tau"].sel(controller=c).values for c in names},
+                                    "tau [N m]", "Applied joint torques")
+    return figs
+
+
+# --------------------------------------------------------------------------------------------
+# Content shared by the HTML and the PDF
+# --------------------------------------------------------------------------------------------
+
+def _context(ds):
+    from .. import __version__
+
+    names = _strings(ds["controller"].values)
+    n = int(ds.sizes["joint"])
+    joints = [f"J{j + 1}" for j in range(n)]
+    desc = (_strings(ds["controller_description"].values) if "controller_description" in ds
+            else names)
+    peak_grid = ds["error_peak_grid"]
+    worst = {c: float(np.nanmax(peak_grid.sel(controller=c).values)) for c in names}
+    summary = "; ".join(f"{_LABELS.get(c, c)}: peak |e| {_fmt(worst[c])} rad" for c in names)
+    summary = (f"{_attr(ds, 'robot')} along {_attr(ds, 'trajectory_file')}, "
+               f"wn = {_attr(ds, 'wn')} rad/s, zeta = {_attr(ds, 'zeta')}. {summary}.")
+    if "tau_difference_peak" in ds:
+        summary += (" Largest |tau_simplified - tau_full|: "
+                    f"{_fmt(float(ds['tau_difference_peak'].max()))} N m.")
+    setup = _table(["item", "value"], [
+        ["robot", f"{_attr(ds, 'robot')} (SHA-256 {_attr(ds, 'robot_sha256')})"],
+        ["trajectory", f"{_attr(ds, 'trajectory_file')} (SHA-256 "
+                       f"{_attr(ds, 'trajectory_sha256')})"],
+        ["simplified model", f"{_attr(ds, 'model_file')} (SHA-256 {_attr(ds, 'model_sha256')})"],
+        ["plant", _attr(ds, "plant")],
+        ["controllers", "; ".join(f"{c}: {d}" for c, d in zip(names, desc))],
+        ["control laws", _attr(ds, "control_laws")],
+        ["desired motion", _attr(ds, "interpolation")],
+        ["integrator", f"{_attr(ds, 'integrator')}, rtol = {_attr(ds, 'rtol')}, "
+                       f"atol = {_attr(ds, 'atol')}"],
+        ["samples", f"{_attr(ds, 'samples')} ({_attr(ds, 'setpoints')} set points + fine grid "
+                    f"of {_attr(ds, 'grid_points')})"],
+        ["initial offset q(0) - q_d(0) [rad]",
+         ", ".join(_fmt(v) for v in ds["q0_offset"].values) if "q0_offset" in ds else "0"],
+    ], align=["left", "left"])
+    gains = _table(["joint", "wn [rad/s]", "zeta", "Kp [1/s\u00b2]", "Kv [1/s]",
+                    "D_ii(q_d(0)) [kg m\u00b2]", "Kp_pd [N m/rad]", "Kv_pd [N m s/rad]"],
+                   [[joints[j]] + [_fmt(ds[v].values[j], digits=4) for v in
+                                   ("wn", "zeta", "Kp", "Kv", "inertia_scale", "Kp_pd", "Kv_pd")]
+                    for j in range(n)], align="right")
+    err_rows = []
+    for c in names:
+        for key, where in (("setpoints", "set points"), ("grid", "fine grid")):
+            pk = ds[f"error_peak_{key}"].sel(controller=c).values
+            rm = ds[f"error_rms_{key}"].sel(controller=c).values
+            err_rows.append([c, where, "peak"] + [_fmt(v) for v in pk])
+            err_rows.append([c, where, "RMS"] + [_fmt(v) for v in rm])
+    errors = _table(["controller", "sampled at", "figure"] + [f"{j} [rad]" for j in joints],
+                    err_rows, align=["left", "left", "left"] + ["right"] * n)
+    tau_diff = _table(["figure"] + [f"{j} [N m]" for j in joints], [], align="right")
+
+    def fmt_all(name, **sel):
+        return [_fmt(v) for v in ds[name].sel(**sel).values]
+
+    if "tau_difference_peak" in ds:
+        tau_diff["rows"] = [["peak, fine grid"] + fmt_all("tau_difference_peak"),
+                            ["RMS, fine grid"] + fmt_all("tau_difference_rms")]
+        if "tau_difference_peak_setpoints" in ds:
+            tau_diff["rows"] += [["peak, set points"] + fmt_all("tau_difference_peak_setpoints"),
+                                 ["RMS, set points"] + fmt_all("tau_difference_rms_setpoints")]
+    tau_rows = []
+    for c in names:
+        if "tau_peak" in ds:
+            tau_rows.append([c, "peak |tau|"] + fmt_all("tau_peak", controller=c))
+            tau_rows.append([c, "RMS tau"] + fmt_all("tau_rms", controller=c))
+    tau_table = _table(["controller", "figure"] + [f"{j} [N m]" for j in joints], tau_rows,
+                       align=["left", "left"] + ["right"] * n)
+    cost = None
+    if "evaluator" in ds.dims:
+        ev = _strings(ds["evaluator"].values)
+        mul, add = ds["multiplications"].values, ds["additions"].values
+        tm = ds["time_per_setpoint"].values
+        ref = ev.index("full_gd_terms") if "full_gd_terms" in ev else 0
+        what = {"full_gd_terms": "full model: gd_terms (compiled) + tau",
+                "full_fused": "full model in the fused evaluator (every part kept)",
+                "simplified": "simplified model in the fused evaluator (kept parts only)"}
+        cost = _table(["evaluator", "multiplications", "additions", "time per set point [\u00b5s]",
+                       "mul vs full", "time vs full"],
+                      [[what.get(e, e), str(int(mul[k])), str(int(add[k])), _fmt(tm[k]),
+                        f"{mul[k] / mul[ref]:.3f}", f"{tm[k] / tm[ref]:.3f}"]
+                       for k, e in enumerate(ev)], align="right")
+    cost_note = ("Operations per set point are counted on the project's counting scalar "
+                 "(gd_analyze.formulations.opcount rule: sines and cosines are inputs, parameter-only "
+                 "operations are free). Times are batched wall-clock times per set point, best "
+                 f"of {_attr(ds, 'cost_repeat')} calls over {_attr(ds, 'cost_setpoints')} random "
+                 "set points, on the machine that wrote the dataset. The simplified model drops "
+                 f"{_attr(ds, 'cost_dropped_parts')} of {_attr(ds, 'cost_parts')} "
+                 "translational/rotational parts of D and h.")
+    labels = _strings(ds["element"].values)
+    choice = dict(zip(labels, _strings(ds["choice"].values)))
+    rows = [[f"D, row {i + 1}"] + [choice.get(f"D{i + 1}{j + 1}", "") if j >= i else ""
+                              for j in range(n)] for i in range(n)]
+    rows.append(["h"] + [choice.get(f"h{j + 1}", "") for j in range(n)])
+    choices = _table(["element"] + [f"column {j + 1}" for j in range(n)], rows,
+                     align=["left"] * (n + 1))
+    prov = _table(["attribute", "value"], [[k, _attr(ds, k)] for k in (
+        "gd_analyze_version", "history", "robot", "robot_source", "robot_sha256",
+        "trajectory_file", "trajectory_path", "trajectory_sha256", "trajectory_derivatives",
+        "model_file", "model_path", "model_sha256", "model_trajectory_sha256",
+        "trajectory_is_models", "gains", "references", "Conventions")],
+        align=["left", "left"])
+    floor = ("A curve at the bottom of a panel is at the rounding / integrator-tolerance level.")
+    return {
+        "version": __version__,
+        "created": utc_now().isoformat(),
+        "title": f"Computed-torque control with the simplified G-D model: {_attr(ds, 'robot')}",
+        "summary": summary,
+        "intro": ("The arm, simulated with its full generalized d'Alembert dynamics (Fu, Gonzalez "
+                  "& Lee 1987, Eq. 3.4-24), tracks the trajectory under computed-torque control "
+                  "(Ch. 5) with the full model, with the simplified model of Sec. 3.4.1, and "
+                  "under PD control with gravity compensation."),
+        "setup": setup, "gains": gains,
+        "gains_note": ("Computed torque: v = qdd_d + Kv (qd_d - qd) + Kp (q_d - q), "
+                       "Kp = wn\u00b2, Kv = 2 zeta wn, so the full-model closed loop is "
+                       "e'' + Kv e' + Kp e = 0. PD + gravity: tau = Kp_pd e + Kv_pd ed + c, "
+                       "gains scaled by the diagonal of D at the start of the motion."),
+        "errors": errors,
+        "error_note": ("Tracking error e = q_d - q per joint, peak |e| and RMS, at the set "
+                       "points of the trajectory and on the fine grid (set points included)."),
+        "floor_note": floor,
+        "tau_diff": tau_diff,
+        "diff_note": ("Torque of the simplified-model computed-torque controller minus that of "
+                      "the full-model one, each along its own closed-loop run, at the same "
+                      "times."),
+        "tau_table": tau_table,
+        "cost": cost, "cost_note": cost_note,
+        "choices": choices, "provenance": prov,
+        "keywords": (f"robot {_attr(ds, 'robot')} sha256 {_attr(ds, 'robot_sha256')}; "
+                     f"trajectory {_attr(ds, 'trajectory_file')} sha256 "
+                     f"{_attr(ds, 'trajectory_sha256')}; model {_attr(ds, 'model_file')} sha256 "
+                     f"{_attr(ds, 'model_sha256')}"),
+    }
+
+
+# --------------------------------------------------------------------------------------------
+# HTML and PDF
+# --------------------------------------------------------------------------------------------
+
+def render_control_html(ds, figures=None):
+    """Render the control report as one self-contained HTML document.
+
+    Parameters
+    ----------
+    ds : xarray.Dataset
+        A stored control dataset.
+    figures : dict of str to matplotlib.figure.Figure, optional
+        :func:`make_control_figures` of it; made here if not given.
+
+    Returns
+    -------
+    str
+        The HTML: inline CSS, figures as inline SVG, no external resources (Jinja2 template
+        ``templates/control_report.html.j2``, autoescape on).
+
+    Raises
+    ------
+    InputError
+        If the dataset lacks a variable of a control dataset.
+    """
+    from markupsafe import Markup
+
+    _check(ds, "<dataset>")
+    ctx = _context(ds)
+    if figures is None:
+        figures = make_control_figures(ds)
+    svgs = inline_svgs(figures, _RC)
+    svgs.setdefault("tau_difference", Markup("<p>No torque difference stored.</p>"))
+    return render_template("control_report.html.j2", {**ctx, "figures": svgs})
+
+
+class _Pages:
+    """Headings, paragraphs and tables flowed onto A4 matplotlib figures."""
+
+    W, H = _A4
+    LEFT, TOP, BOTTOM = 0.6, 0.6, 0.7
+
+    def __init__(self, pdf, footer):
+        self.pdf, self.footer, self.fig, self.y, self.page = pdf, footer, None, 0.0, 0
+
+    def _new(self):
+        from matplotlib.figure import Figure
+
+        self.flush()
+        self.fig = Figure(figsize=_A4)
+        self.page += 1
+        self.y = self.TOP
+        self.fig.text(0.5, 0.3 / self.H, f"{self.footer} \u2014 page {self.page}",
+                      ha="center", va="bottom", fontsize=6.5, color="0.4")
+
+    def _room(self, height):
+        if self.fig is None or self.y + height > self.H - self.BOTTOM:
+            self._new()
+
+    def flush(self):
+        if self.fig is not None:
+            self.pdf.savefig(self.fig)
+            self.fig = None
+
+    def text(self, s, size=9.0, width=110, **kw):
+        import textwrap
+
+        lines = textwrap.wrap(str(s), width=width) or [""]
+        h = len(lines) * size * 1.45 / 72 + 0.08
+        self._room(h)
+        self.fig.text(self.LEFT / self.W, 1 - self.y / self.H, "\n".join(lines), fontsize=size,
+                      va="top", ha="left", linespacing=1.35, **kw)
+        self.y += h
+
+    def heading(self, s, size=12.0):
+        self._room(0.6)
+        self.y += 0.1
+        self.text(s, size=size, fontweight="bold")
+
+    def table(self, t, size=6.5, col_widths=None):
+        import textwrap
+
+        ncol = len(t["header"])
+        width = self.W - 2 * self.LEFT
+        fracs = np.asarray(col_widths if col_widths else [1.0] * ncol, dtype=float)
+        fracs = fracs / fracs.sum()
+        chars = [max(6, int(f * width * 72 / (0.6 * size)) - 2) for f in fracs]
+        rows = [[textwrap.fill(c, chars[m]) for m, c in enumerate(r)] for r in t["rows"]]
+        rows_all = [[textwrap.fill(h, chars[m]) for m, h in enumerate(t["header"])]] + rows
+        heights = [max(c.count("\n") + 1 for c in r) * size * 1.5 / 72 + 0.04 for r in rows_all]
+        k = 0
+        while k < len(rows) or k == 0:
+            self._room(heights[0] + (heights[k + 1] if k < len(rows) else 0))
+            avail = self.H - self.BOTTOM - self.y - heights[0]
+            chunk, used = [], 0.0
+            while k < len(rows) and used + heights[k + 1] <= avail:
+                chunk.append(rows[k])
+                used += heights[k + 1]
+                k += 1
+            h = heights[0] + used
+            ax = self.fig.add_axes([self.LEFT / self.W, 1 - (self.y + h) / self.H,
+                                    width / self.W, h / self.H])
+            ax.axis("off")
+            if chunk:
+                tab = ax.table(cellText=chunk, colLabels=rows_all[0], loc="upper left",
+                               cellLoc="left", colLoc="left", bbox=[0, 0, 1, 1],
+                               colWidths=col_widths)
+            else:
+                tab = ax.table(cellText=[["\u2014"] * ncol], colLabels=rows_all[0],
+                               loc="upper left", cellLoc="left", bbox=[0, 0, 1, 1])
+            tab.auto_set_font_size(False)
+            tab.set_fontsize(size)
+            row_h = [heights[0]] + [heights[k - len(chunk) + m + 1] for m in range(len(chunk))]
+            for (r, _c), cell in tab.get_celld().items():
+                if chunk:     # rows of unequal height: the bbox scales them in proportion
+                    cell.set_height(row_h[r])
+                cell.set_linewidth(0.3)
+                if r == 0:
+                    cell.set_facecolor("#eeeeee")
+                    cell.set_text_props(fontweight="bold")
+            self.y += h + 0.15
+            if not rows:
+                break
+
+    def figure(self, fig):
+        self.flush()
+        self.pdf.savefig(fig)
+        self.page += 1
+
+
+def render_control_pdf(ds, path, figures=None):
+    """Write the control report as a PDF with matplotlib's PdfPages.
+
+    Parameters
+    ----------
+    ds : xarray.Dataset
+        A stored control dataset.
+    path : str or os.PathLike
+        The PDF to write (not atomically; :func:`write_control_report` passes a temporary
+        name).
+    figures : dict of str to matplotlib.figure.Figure, optional
+        :func:`make_control_figures` of it; made here if not given.
+
+    Returns
+    -------
+    int
+        Number of pages written.
+
+    Raises
+    ------
+    InputError
+        If the dataset lacks a variable of a control dataset.
+    OSError
+        If the file cannot be written.
+    """
+    from matplotlib.backends.backend_pdf import PdfPages
+
+    _check(ds, "<dataset>")
+    ctx = _context(ds)
+    if figures is None:
+        figures = make_control_figures(ds)
+    metadata = {"Title": ctx["title"], "Author": f"gd-analyze {ctx['version']}",
+                "Subject": "Computed-torque control with the simplified G-D model (Fu, Gonzalez "
+                           "& Lee 1987, Sec. 3.4.1 and Ch. 5)",
+                "Keywords": ctx["keywords"], "Creator": f"gd-analyze {ctx['version']}"}
+    with _style(_RC), PdfPages(path, metadata=metadata) as pdf:
+        doc = _Pages(pdf, f"gd-analyze {ctx['version']}: control report")
+        doc.heading(ctx["title"], size=13)
+        doc.text(ctx["summary"])
+        doc.text(ctx["intro"] + f" Created {ctx['created']} from the stored dataset.", size=8,
+                 color="0.3")
+        doc.heading("1. Set-up and gains")
+        doc.table(ctx["setup"], col_widths=[0.25, 0.75])
+        doc.text(ctx["gains_note"], size=8)
+        doc.table(ctx["gains"])
+        doc.heading("2. Tracking error")
+        doc.text(ctx["error_note"], size=8)
+        doc.table(ctx["errors"], size=6)
+        doc.heading("3. Torques")
+        doc.text(ctx["diff_note"], size=8)
+        doc.table(ctx["tau_diff"])
+        doc.table(ctx["tau_table"], size=6)
+        doc.heading("4. Evaluation cost of the model")
+        doc.text(ctx["cost_note"], size=8)
+        if ctx["cost"]:
+            doc.table(ctx["cost"])
+        doc.heading("5. Simplified model")
+        doc.table(ctx["choices"])
+        doc.heading("6. Provenance")
+        doc.table(ctx["provenance"], col_widths=[0.25, 0.75])
+        doc.flush()
+        for name in ("error", "tau_difference", "tau"):
+            if name in figures:
+                doc.figure(figures[name])
+        return doc.page
+
+
+def write_control_report(control_path, outdir):
+    """Write control_report.html and control_report.pdf for a stored control dataset.
+
+    Parameters
+    ----------
+    control_path : str or os.PathLike
+        A control dataset written by :func:`gd_analyze.workflows.control.write_control_dataset`
+        (``control.h5``). Only read: nothing is recomputed.
+    outdir : str or os.PathLike
+        Output folder; made if missing.
+
+    Returns
+    -------
+    list of pathlib.Path
+        ``outdir/control_report.html`` and ``outdir/control_report.pdf``.
+
+    Raises
+    ------
+    InputError
+        If the file is missing, unreadable or not a control dataset.
+    OSError
+        If a file cannot be written.
+
+    Notes
+    -----
+    Each file is written under a temporary name beside its destination and renamed
+    (:func:`gd_analyze.files.atomic_path`). Sources: Fu, Gonzalez & Lee (1987), Sec. 3.4.1
+    (simplified model) and Ch. 5 (computed-torque control).
+    """
+    from ..files import atomic_path
+    from ..io.datasets import open_results
+
+    ds = open_results(str(control_path))
+    _check(ds, control_path)
+    outdir = Path(outdir)
+    outdir.mkdir(parents=True, exist_ok=True)
+    figures = make_control_figures(ds)
+    html_path, pdf_path = (outdir / name for name in CONTROL_REPORT_FILES)
+    html = render_control_html(ds, figures)
+    with atomic_path(html_path) as tmp:
+        Path(tmp).write_text(html, encoding="utf-8")
+    with atomic_path(pdf_path) as tmp:
+        render_control_pdf(ds, tmp, figures)
+    return [html_path, pdf_path]

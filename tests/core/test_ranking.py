@@ -1,0 +1,83 @@
+import numpy as np
+import pytest
+
+from conftest import SHIPPED
+from gd_analyze import gd_terms
+from gd_analyze.core.ranking import (CHAPTER_DOMINANCE, element_labels, element_series,
+                                rank_dominance)
+from gd_analyze.io.trajectory import read_trajectory
+
+
+def test_labels():
+    labels = element_labels(6)
+    assert len(labels) == 27 and labels[:3] == ["D11", "D12", "D13"] and labels[-1] == "h6"
+    assert set(CHAPTER_DOMINANCE) == set(labels)
+
+
+def _synthetic(tran_D, rot_D, tran_h, rot_h, tau):
+    """Constant-in-time 2-joint terms from per-element values."""
+    N = 4
+    Dt = np.broadcast_to(np.array(tran_D, float), (N, 2, 2)).copy()
+    Dr = np.broadcast_to(np.array(rot_D, float), (N, 2, 2)).copy()
+    return (Dt, Dr, np.tile(tran_h, (N, 1)).astype(float), np.tile(rot_h, (N, 1)).astype(float),
+            np.tile(tau, (N, 1)).astype(float))
+
+
+def test_classes_follow_the_definitions():
+    # D11: 95 % tran -> translational; D12: 50/50 -> both; D22: 5 % tran -> rotational
+    # h1: tiny against |tau1| = 100 -> negligible; h2: 0.92 share -> translational
+    args = _synthetic([[9.5, 0.5], [0.5, 0.1]], [[0.5, 0.5], [0.5, 1.9]],
+                      [0.5, 9.2], [0.4, -0.8], [100.0, 50.0])
+    r = rank_dominance(*args, dominance=0.9, negligible=0.01)
+    got = dict(zip(r.labels, r.dominance))
+    assert got == {"D11": "translational", "D12": "both", "D22": "rotational",
+                   "h1": "negligible", "h2": "translational"}
+    np.testing.assert_allclose(r.share_tran, [0.95, 0.5, 0.05, 0.5 / 0.9, 9.2 / 10.0])
+    # scale of D12 is sqrt(D11 D22) = sqrt(10 * 2)
+    np.testing.assert_allclose(r.scale[1], np.sqrt(20.0))
+    assert r.choices() == {"D11": "tran", "D12": "both", "D22": "rot", "h1": "none",
+                           "h2": "tran"}
+
+
+def test_thresholds_move_the_boundaries():
+    args = _synthetic([[9.5, 0.5], [0.5, 0.1]], [[0.5, 0.5], [0.5, 1.9]],
+                      [0.5, 9.2], [0.4, -0.8], [100.0, 50.0])
+    strict = dict(zip(*(lambda r: (r.labels, r.dominance))(rank_dominance(*args, dominance=0.96))))
+    assert strict["D11"] == "both" and strict["h2"] == "both"
+    loose = dict(zip(*(lambda r: (r.labels, r.dominance))(rank_dominance(*args, negligible=0.0))))
+    assert loose["h1"] == "both"
+
+
+def test_share_is_summed_over_set_points():
+    N = 3
+    Dt = np.zeros((N, 1, 1)); Dr = np.zeros((N, 1, 1))
+    Dt[:, 0, 0] = [1.0, -2.0, 0.0]
+    Dr[:, 0, 0] = [0.0, 1.0, 3.0]
+    r = rank_dominance(Dt, Dr, np.zeros((N, 1)), np.zeros((N, 1)), np.ones((N, 1)))
+    assert r.share_tran[0] == pytest.approx(3.0 / 7.0)
+    assert r.peak_total[0] == pytest.approx(3.0) and r.peak_tran[0] == 2.0
+
+
+@pytest.mark.parametrize("s, e", [(0.5, 0.01), (1.2, 0.01), (0.9, -0.1)])
+def test_bad_thresholds(s, e):
+    args = _synthetic(np.eye(2), np.eye(2), [1, 1], [1, 1], [1, 1])
+    with pytest.raises(ValueError):
+        rank_dominance(*args, dominance=s, negligible=e)
+
+
+def test_ranking_on_the_shipped_trajectory_is_self_consistent(puma):
+    traj = read_trajectory(SHIPPED, 6)
+    t = gd_terms(puma, traj.q, traj.qd)
+    tau = t.tau(traj.qdd)
+    r = rank_dominance(t.D_tran, t.D_rot, t.h_tran, t.h_rot, tau)
+    tran, rot = element_series(t.D_tran, t.D_rot, t.h_tran, t.h_rot)
+    for k, cls in enumerate(r.dominance):
+        if cls == "translational":
+            assert np.abs(tran[:, k]).sum() >= 9 * np.abs(rot[:, k]).sum()
+        elif cls == "rotational":
+            assert np.abs(rot[:, k]).sum() >= 9 * np.abs(tran[:, k]).sum()
+    # D22 of the PUMA is dominated by the masses of links 2 and 3 moving: never rotational
+    assert dict(zip(r.labels, r.dominance))["D22"] in ("translational", "both")
+    # D66 of the PUMA has no translational part at all: the wrist's last link spins on its axis
+    # with its centre of mass on that axis.
+    assert dict(zip(r.labels, r.dominance))["D66"] == "rotational"

@@ -1,0 +1,105 @@
+import json
+
+import numpy as np
+import pytest
+
+from conftest import SHIPPED, random_states
+from gd_analyze import InputError, SimplifiedModel, gd_terms
+from gd_analyze.workflows.analyze import analyze
+from gd_analyze.core.ranking import element_labels
+from gd_analyze.formulations.pinocchio import pinocchio_model
+from gd_analyze.core.simplified import choice_masks, simplified_torque, torque_error
+from gd_analyze.io.trajectory import read_trajectory
+
+
+def _model(robot, choice):
+    return SimplifiedModel(robot=robot, choices={lab: choice for lab in element_labels(robot.n)},
+                           dominance_threshold=0.9, negligible_threshold=0.01)
+
+
+def test_keeping_both_everywhere_is_the_full_model_rnea(puma):
+    import pinocchio as pin
+
+    q, qd, qdd = random_states(puma, 30, 21)
+    tau = _model(puma, "both").torque(q, qd, qdd)
+    model = pinocchio_model(puma)
+    data = model.createData()
+    ref = np.array([pin.rnea(model, data, a, b, c) for a, b, c in zip(q, qd, qdd)])
+    np.testing.assert_allclose(tau, ref, rtol=0, atol=1e-10 * np.abs(ref).max())
+
+
+def test_keeping_only_one_part_is_the_half_model(puma):
+    """'tran' everywhere: tau = D_tran qdd + h_tran + c, which is Pinocchio's rnea on the
+    zero-rotational-inertia model (gravity acts on the masses only)."""
+    import pinocchio as pin
+
+    q, qd, qdd = random_states(puma, 20, 22)
+    tau = _model(puma, "tran").torque(q, qd, qdd)
+    model = pinocchio_model(puma, "tran")
+    data = model.createData()
+    ref = np.array([pin.rnea(model, data, a, b, c) for a, b, c in zip(q, qd, qdd)])
+    np.testing.assert_allclose(tau, ref, rtol=0, atol=1e-10 * np.abs(ref).max())
+    # 'none' everywhere leaves gravity alone
+    c = gd_terms(puma, q, qd).c
+    np.testing.assert_allclose(_model(puma, "none").torque(q, qd, qdd), c, rtol=0, atol=1e-13)
+
+
+def test_masks_are_symmetric_and_complete():
+    choices = {lab: "none" for lab in element_labels(3)}
+    choices.update(D13="tran", D23="rot", h2="both")
+    Mt, Mr, mt, mr = choice_masks(choices, 3)
+    assert Mt[0, 2] == Mt[2, 0] == 1 and Mr[0, 2] == 0
+    assert Mr[1, 2] == Mr[2, 1] == 1 and Mt.sum() == 2 and Mr.sum() == 2
+    assert list(mt) == [0, 1, 0] and list(mr) == [0, 1, 0]
+    del choices["h3"]
+    with pytest.raises(ValueError, match="h3"):
+        choice_masks(choices, 3)
+
+
+def test_torque_error():
+    tau = np.array([[1.0, -4.0], [-2.0, 0.0]])
+    err = torque_error(tau + np.array([[0.1, 0.0], [-0.3, 0.0]]), tau)
+    np.testing.assert_allclose(err["peak_abs_error"], [0.3, 0.0])
+    np.testing.assert_allclose(err["rms_error"], [np.sqrt((0.01 + 0.09) / 2), 0.0])
+    np.testing.assert_allclose(err["relative_peak_error"], [0.15, 0.0])
+
+
+def test_save_load_and_reuse_on_new_states(tmp_path, puma):
+    traj = read_trajectory(SHIPPED, 6)
+    analysis = analyze(puma, traj, check=False)
+    path = tmp_path / "simplified_model.json"
+    analysis.model.save(path)
+    spec = json.loads(path.read_text())
+    assert spec["schema_version"] == 2 and spec["robot"]["name"] == "puma560"
+    assert spec["rule"] == "budget" and spec["tolerance"] == 0.01
+    assert set(spec["cost"]) >= {"multiplications", "additions"}
+    assert set(spec["full_explicit_cost"]) >= {"multiplications", "additions"}
+    assert spec["robot"]["sha256"] == puma.sha256 and spec["trajectory_sha256"] == traj.sha256
+    assert spec["dominance_threshold"] == 0.9 and spec["negligible_threshold"] == 0.01
+    assert len(spec["validation"]["peak_abs_error"]) == 6
+    loaded = SimplifiedModel.load(path)
+    assert loaded.choices == analysis.model.choices
+    q, qd, qdd = random_states(puma, 10, 4)
+    terms = gd_terms(puma, q, qd)
+    np.testing.assert_allclose(loaded.torque(q, qd, qdd), analysis.model.torque(q, qd, qdd),
+                               rtol=1e-12, atol=1e-12)
+    # a schema-1 file (no explicit terms) still loads: its kept parts, unpruned
+    old = {k: v for k, v in spec.items() if k not in ("rule", "tolerance", "cost", "bound",
+                                                      "full_explicit_cost", "explicit_terms")}
+    old["schema_version"] = 1
+    path.write_text(json.dumps(old))
+    np.testing.assert_allclose(SimplifiedModel.load(path).torque(q, qd, qdd),
+                               simplified_torque(terms, analysis.model.choices, qdd),
+                               rtol=1e-10, atol=1e-10)
+
+
+def test_load_errors(tmp_path):
+    bad = tmp_path / "m.json"
+    bad.write_text("{not json")
+    with pytest.raises(InputError, match="not a simplified-model JSON"):
+        SimplifiedModel.load(bad)
+    bad.write_text(json.dumps({"schema_version": 99}))
+    with pytest.raises(InputError, match="schema_version"):
+        SimplifiedModel.load(bad)
+    with pytest.raises(InputError, match="no such file"):
+        SimplifiedModel.load(tmp_path / "none.json")

@@ -1,0 +1,161 @@
+"""Operation counts: the counting scalar, the counted runs, growth in n, Table 3.5."""
+
+import numpy as np
+import pytest
+
+from gd_analyze import gd_terms, load_robot
+from gd_analyze.core.kinematics import link_matrices
+from gd_analyze.formulations.lagrange_euler import le_terms
+from gd_analyze.formulations.newton_euler import _cross, ne_tau
+from gd_analyze.formulations.opcount import (METHODS, OpLedger, _gd_mirror, book_counts,
+                                count_operations, operation_counts, random_chain, table)
+
+
+def _counts(method, op, ns):
+    return np.array([operation_counts(n)[method][op] for n in ns])
+
+
+def test_counted_scalar_counts_a_known_expression():
+    led = OpLedger()
+    x, y, a, b = led.var(2.0), led.var(3.0), led.const(5.0), led.const(7.0)
+    z = a * x + y * y - x                           # 2 multiplications, 2 additions
+    assert (led.multiplications, led.additions, z.value) == (2, 2, 17.0)
+    ab = a * b + a                                  # parameters only: done once per robot
+    assert (led.multiplications, led.additions, ab.value) == (2, 2, 40.0)
+    assert 0 * x == 0 and (x * 1) is x and (x + 0) is x and (-1 * x).value == -2.0
+    assert (led.multiplications, led.additions) == (2, 2)
+    w = 2.5 * x - 1.0                               # a non-trivial constant is counted
+    assert (led.multiplications, led.additions, w.value) == (3, 3, 4.0)
+
+
+def test_counted_scalar_in_numpy_object_arrays():
+    led = OpLedger()
+    M = np.array([[led.var(v) for v in row] for row in np.arange(9.0).reshape(3, 3)], dtype=object)
+    v = np.array([led.var(1.0), led.var(2.0), led.var(3.0)], dtype=object)
+    Mv = M @ v                                      # 3x3 matrix-vector: 9 mul, 6 add
+    assert (led.multiplications, led.additions) == (9, 6)
+    assert [e.value for e in Mv] == [8.0, 26.0, 44.0]
+    _cross(v, Mv)                                   # cross product: 6 mul, 3 add
+    assert (led.multiplications, led.additions) == (15, 9)
+    e3 = np.array([0, 0, 1], dtype=object)          # structural zeros and ones are free
+    M @ e3
+    assert (led.multiplications, led.additions) == (15, 9)
+    with pytest.raises(TypeError):
+        np.array([led.var(1.0)], dtype=float)       # no silent conversion to float
+
+
+@pytest.mark.parametrize("method", METHODS)
+def test_counted_run_computes_the_real_torques(method):
+    robot = load_robot("puma560")
+    rng = np.random.default_rng(0)
+    q, qd, qdd = rng.uniform(-2, 2, (3, 6))
+    expected = {
+        "lagrange-euler": lambda: le_terms(robot, q, qd).tau(qdd[None])[0],
+        "newton-euler": lambda: ne_tau(robot, q, qd, qdd)[0],
+        "gd": lambda: gd_terms(robot, q, qd, engine="compiled").tau(qdd[None])[0],
+        "gd-numpy": lambda: gd_terms(robot, q, qd, engine="numpy").tau(qdd[None])[0],
+    }[method]()
+    got = count_operations(robot, method, q, qd, qdd)
+    np.testing.assert_allclose(got.tau, expected, rtol=1e-12, atol=1e-12)
+    assert got.multiplications > 0 and got.additions > 0
+
+
+def test_gd_mirror_reproduces_gd_terms():
+    robot = random_chain(5, seed=2)
+    rng = np.random.default_rng(1)
+    for _ in range(5):
+        q, qd, qdd = rng.uniform(-2, 2, (3, 5))
+        terms = gd_terms(robot, q, qd, engine="numpy")
+        tau, D_tran, D_rot, h_tran, h_rot, c = _gd_mirror(
+            link_matrices(robot, q)[0], robot.mass, robot.com, robot.inertia, robot.gravity,
+            qd, qdd)
+        for got, want in ((D_tran, terms.D_tran[0]), (D_rot, terms.D_rot[0]),
+                          (h_tran, terms.h_tran[0]), (h_rot, terms.h_rot[0]), (c, terms.c[0]),
+                          (tau, terms.tau(qdd[None])[0])):
+            np.testing.assert_allclose(got, want, rtol=1e-12, atol=1e-12)
+
+
+def test_counts_depend_on_n_only():
+    puma = operation_counts(load_robot("puma560"))   # zero parameters counted like any other
+    assert puma == operation_counts(6) == operation_counts(random_chain(6, seed=9))
+    assert operation_counts(load_robot("two-link")) == operation_counts(2)
+
+
+def test_newton_euler_is_linear_in_n():
+    ns = range(2, 11)                                 # link 1's zero initial conditions aside
+    for op in ("multiplications", "additions"):
+        v = _counts("newton-euler", op, ns)
+        assert np.all(np.diff(v, 2) == 0)
+        assert np.diff(v)[0] > 0
+
+
+def test_gd_is_cubic_and_lagrange_euler_quartic_in_n():
+    ns = range(3, 11)
+    for op in ("multiplications", "additions"):
+        for engine in ("gd", "gd-numpy"):
+            gd = _counts(engine, op, ns)
+            assert np.all(np.diff(gd, 4) == 0) and np.all(np.diff(gd, 3) > 0)
+        le = _counts("lagrange-euler", op, range(2, 11))
+        assert np.all(np.diff(le, 5) == 0) and np.all(np.diff(le, 4) > 0)
+
+
+def test_ordering_and_book_bounds():
+    for n in range(1, 11):
+        got, book = operation_counts(n), book_counts(n)
+        for op in ("multiplications", "additions"):
+            for gd in ("gd", "gd-numpy"):
+                assert got[gd][op] < got["lagrange-euler"][op]
+                if n > 1:                # one link: the compiled G-D saves a few additions
+                    assert got["newton-euler"][op] < got[gd][op]
+            # the compiled engine skips the masked work of the array engine
+            assert got["gd"][op] < got["gd-numpy"][op]
+            # no effort was spent on Table 3.5's counts; ours are never above them
+            for m in METHODS:
+                assert got[m][op] <= book[m][op]
+
+
+def test_book_formulas():
+    b = book_counts(6)
+    assert b["newton-euler"] == {"multiplications": 792, "additions": 662}
+    # 128/3 n^4 + 512/3 n^3 + 739/3 n^2 + 160/3 n at n = 1
+    assert book_counts(1)["lagrange-euler"]["multiplications"] == (128 + 512 + 739 + 160) // 3
+    with pytest.raises(ValueError):
+        book_counts(0)
+
+
+def test_table():
+    df = table(4)
+    assert list(df.index) == [1, 2, 3, 4]
+    assert df.loc[3, "N-E mul"] == operation_counts(3)["newton-euler"]["multiplications"]
+    assert df.loc[4, "G-D add T3.5"] == book_counts(4)["gd"]["additions"]
+    assert len(df.columns) == 14
+    assert df.loc[2, "G-D np mul"] == operation_counts(2)["gd-numpy"]["multiplications"]
+    with pytest.raises(ValueError):
+        table(0)
+    with pytest.raises(TypeError):
+        operation_counts("puma560")
+
+
+def test_disk_cache_is_keyed_by_the_counted_source(tmp_path, monkeypatch):
+    import json
+
+    from gd_analyze.formulations import opcount
+
+    monkeypatch.delenv("GD_ANALYZE_NO_CACHE", raising=False)
+    monkeypatch.setenv("XDG_CACHE_HOME", str(tmp_path))
+    opcount._counts_for_n.cache_clear()
+    fresh = opcount._counts_for_n(3)
+    path = opcount._cache_file()
+    assert path.parent == tmp_path / "gd-analyze" and path.is_file()
+    assert json.loads(path.read_text())["3"] == {m: list(v) for m, v in fresh.items()}
+    # a planted value is read back: the cache is really used ...
+    planted = {m: [1, 2] for m in fresh}
+    path.write_text(json.dumps({"3": planted}))
+    opcount._counts_for_n.cache_clear()
+    assert opcount._counts_for_n(3)["gd"] == (1, 2)
+    # ... but only under the key of the current source: other code, other file
+    monkeypatch.setattr(opcount, "_COUNTED_MODULES", opcount._COUNTED_MODULES[:-1])
+    assert opcount._cache_file() != path
+    opcount._counts_for_n.cache_clear()
+    assert opcount._counts_for_n(3) == fresh
+    opcount._counts_for_n.cache_clear()

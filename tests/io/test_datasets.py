@@ -1,0 +1,94 @@
+import h5py
+import numpy as np
+import pytest
+import xarray as xr
+
+from conftest import SHIPPED
+from gd_analyze.workflows.analyze import analyze
+from gd_analyze.files import atomic_path
+from gd_analyze.io.datasets import write_dataset
+from gd_analyze.io.trajectory import read_trajectory
+
+
+@pytest.fixture(scope="module")
+def written(tmp_path_factory, puma):
+    traj = read_trajectory(SHIPPED, 6)
+    analysis = analyze(puma, traj)
+    path = tmp_path_factory.mktemp("store") / "results.h5"
+    write_dataset(analysis.dataset, path)
+    return path, analysis, traj
+
+
+REQUIRED = ["t", "q", "qd", "qdd", "D_tran", "D_rot", "D", "h_tran", "h_rot", "h", "c", "tau",
+            "tau_simplified", "share_tran", "dominance", "peak_tran", "peak_rot", "peak_total"]
+
+
+def test_reads_back_with_xarray(written, puma):
+    path, analysis, traj = written
+    with xr.open_dataset(path, engine="h5netcdf") as ds:
+        assert set(REQUIRED) <= set(ds.data_vars)
+        assert ds.sizes == {"setpoint": 31, "joint": 6, "joint_k": 6, "element": 27, "xyz": 3,
+                            "xyz_k": 3}
+        assert ds.D_tran.dims == ("setpoint", "joint", "joint_k")
+        assert ds.element.values[0] == "D11" and ds.element.values[-1] == "h6"
+        for name, var in ds.variables.items():
+            assert "units" in var.attrs and "long_name" in var.attrs, name
+        np.testing.assert_array_equal(ds.q.values, traj.q)
+        np.testing.assert_allclose(ds.D.values, ds.D_tran.values + ds.D_rot.values)
+        np.testing.assert_allclose(
+            ds.tau.values,
+            np.einsum("kij,kj->ki", ds.D.values, ds.qdd.values) + ds.h.values + ds.c.values)
+        a = ds.attrs
+        assert a["Conventions"].startswith("CF-")
+        assert a["robot"] == "puma560" and a["robot_sha256"] == puma.sha256
+        np.testing.assert_allclose(a["gravity"], [0, 0, -9.8062])
+        assert a["dominance_threshold"] == 0.9 and a["negligible_threshold"] == 0.01
+        assert a["input_file"] == "puma560_trajectory.csv" and a["input_sha256"] == traj.sha256
+        assert a["gd_analyze_version"]
+        assert a["verification_passed"] == 1
+        assert list(ds.dominance.values) == list(analysis.dataset.dominance.values)
+
+
+def test_reads_back_with_plain_h5py(written):
+    path, _, traj = written
+    with h5py.File(path, "r") as f:
+        np.testing.assert_array_equal(f["q"][()], traj.q)
+        assert f["D_rot"].shape == (31, 6, 6)
+        assert f["D_rot"].attrs["units"] in (b"kg m2", "kg m2")
+        labels = [v.decode() if isinstance(v, bytes) else v for v in f["element"][()]]
+        assert labels[:2] == ["D11", "D12"]
+        assert f.attrs["robot"] in (b"puma560", "puma560")
+
+
+def test_atomic_path_leaves_nothing_on_failure(tmp_path):
+    target = tmp_path / "out.txt"
+    target.write_text("old")
+    with pytest.raises(RuntimeError):
+        with atomic_path(target) as tmp:
+            with open(tmp, "w") as fh:
+                fh.write("half")
+            raise RuntimeError("boom")
+    assert target.read_text() == "old"
+    assert [p.name for p in tmp_path.iterdir()] == ["out.txt"]
+
+
+def test_main_job_stores_the_formulations(tmp_path, puma):
+    from gd_analyze.formulations.opcount import book_counts
+    from gd_analyze.workflows.analyze import analyze_to_file
+
+    traj = read_trajectory(SHIPPED, 6)
+    path = tmp_path / "results.h5"
+    analyze_to_file(puma, traj, path, check=False)
+    with xr.open_dataset(path, engine="h5netcdf") as ds:
+        assert ds.sizes["formulation_pair"] == 6 and ds.sizes["dof"] == 10
+        assert float(ds.formulation_disagreement.max()) < 1e-10
+        book = book_counts(6)
+        for method in ("lagrange-euler", "newton-euler", "gd"):
+            stored = ds.op_multiplications_table_3_5.sel(dof=6, formulation=method).item()
+            assert stored == pytest.approx(book[method]["multiplications"])
+        # N-E cost grows linearly in n, L-E as n^4: the measured counts show it (n = 1 has
+        # no inner links, so the line starts at n = 2)
+        ne = ds.op_multiplications.sel(formulation="newton-euler").values
+        assert np.allclose(np.diff(ne[1:], 2), 0)     # linear for n >= 2
+        le = ds.op_multiplications.sel(formulation="lagrange-euler").values
+        assert le[9] / le[4] > 8

@@ -1,0 +1,154 @@
+import math
+
+import numpy as np
+import pytest
+
+from conftest import SHIPPED
+from gd_analyze import InputError
+from gd_analyze.io.trajectory import (DEFAULT_GOAL_DEG, DEFAULT_START_DEG, JointLimitWarning,
+                                   check_joint_limits, plan_quintic, quintic_duration,
+                                   read_trajectory, trajectory_columns, write_trajectory)
+
+
+def _default_plan(puma, n=31):
+    return plan_quintic(puma, np.radians(DEFAULT_START_DEG), np.radians(DEFAULT_GOAL_DEG), n)
+
+
+def test_plan_respects_limits_and_one_is_active(puma):
+    traj = _default_plan(puma, n=20001)      # dense, to find the peaks
+    assert traj.t.shape == (20001,)
+    peak_v = np.abs(traj.qd).max(axis=0) / puma.qd_max
+    peak_a = np.abs(traj.qdd).max(axis=0) / puma.qdd_max
+    assert peak_v.max() <= 1 + 1e-9 and peak_a.max() <= 1 + 1e-9
+    assert max(peak_v.max(), peak_a.max()) > 1 - 1e-6      # shortest duration: a limit binds
+    np.testing.assert_allclose(traj.q[0], np.radians(DEFAULT_START_DEG))
+    np.testing.assert_allclose(traj.q[-1], np.radians(DEFAULT_GOAL_DEG))
+    np.testing.assert_allclose(traj.qd[[0, -1]], 0, atol=1e-15)
+    np.testing.assert_allclose(traj.qdd[[0, -1]], 0, atol=1e-12)
+
+
+def test_plan_derivatives_are_consistent(puma):
+    traj = _default_plan(puma, n=4001)
+    dt = traj.t[1] - traj.t[0]
+    np.testing.assert_allclose(np.gradient(traj.q, dt, axis=0)[1:-1], traj.qd[1:-1], atol=1e-5)
+    np.testing.assert_allclose(np.gradient(traj.qd, dt, axis=0)[1:-1], traj.qdd[1:-1], atol=1e-5)
+
+
+def test_duration_formula_binding_joint(puma):
+    # Joint 6 moves 240 deg with qdd_max 80 deg/s^2: T = sqrt(10 * 240 / (sqrt(3) * 80)) s
+    T = quintic_duration(puma, np.radians(DEFAULT_START_DEG), np.radians(DEFAULT_GOAL_DEG))
+    assert math.isclose(T, math.sqrt(10 * 240 / (math.sqrt(3) * 80)), rel_tol=1e-12)
+
+
+def test_shipped_trajectory_is_the_default_plan(puma):
+    shipped = read_trajectory(SHIPPED, 6)
+    plan = _default_plan(puma)
+    assert shipped.derivatives == "file" and shipped.t.shape == (31,)
+    for name in ("t", "q", "qd", "qdd"):
+        np.testing.assert_allclose(getattr(shipped, name), getattr(plan, name), rtol=0,
+                                   atol=1e-14)
+
+
+def test_write_read_round_trip(tmp_path, puma):
+    plan = _default_plan(puma)
+    path = tmp_path / "traj.csv"
+    write_trajectory(plan, path)
+    back = read_trajectory(path, 6)
+    np.testing.assert_array_equal(back.q, plan.q)
+    assert len(back.sha256) == 64
+    assert list(tmp_path.iterdir()) == [path]          # no temporary left behind
+
+
+def test_positions_only_uses_a_cubic_spline(tmp_path, puma):
+    plan = _default_plan(puma, n=201)
+    path = tmp_path / "pos.csv"
+    cols = trajectory_columns(6, derivatives=False)
+    rows = [",".join(cols)] + [",".join(f"{v:.17g}" for v in [t, *q])
+                               for t, q in zip(plan.t, plan.q)]
+    path.write_text("\n".join(rows) + "\n")
+    traj = read_trajectory(path, 6)
+    assert traj.derivatives == "cubic-spline"
+    scale_v, scale_a = np.abs(plan.qd).max(), np.abs(plan.qdd).max()
+    assert np.abs(traj.qd - plan.qd).max() < 1e-3 * scale_v
+    assert np.abs(traj.qdd[5:-5] - plan.qdd[5:-5]).max() < 1e-2 * scale_a
+
+
+HEADER = "t,q1,q2"
+
+
+@pytest.mark.parametrize("text, row, column, match", [
+    ("", None, None, "empty file"),
+    ("0,1,2\n1,2,3\n", 1, None, "no header"),
+    ("t,q1\n0,1\n1,2\n", 1, None, "has 1 joints, the robot has 2"),
+    ("t,q1,q2,q3\n0,1,2,3\n1,2,3,4\n", 1, None, "has 3 joints, the robot has 2"),
+    ("t,q1,q2,qd1,qd2\n0,1,2,3,4\n1,2,3,4,5\n", 1, "qdd1", "missing column"),
+    ("t,q1,q2,qd1,qd2,qdd1,qdd2,x\n" + "0,1,2,3,4,5,6,7\n" * 2, 1, "x", "extra column"),
+    ("t,q1,q2\n0,1,2\n1,2\n", 3, None, "ragged row"),
+    ("t,q1,q2\n0,1,2\n1,2,3,4\n", 3, None, "ragged row"),
+    ("t,q1,q2\n0,1,2\n1,abc,3\n", 3, "q1", "not a number"),
+    ("t,q1,q2\n0,1,2\n1,nan,3\n", 3, "q1", "not a finite number"),
+    ("t,q1,q2\n0,1,inf\n1,2,3\n", 2, "q2", "not a finite number"),
+    ("t,q1,q2\n0,1,2\n0,2,3\n", 3, "t", "not strictly increasing"),
+    ("t,q1,q2\n1,1,2\n0.5,2,3\n", 3, "t", "not strictly increasing"),
+    ("t,q1,q2\n0,1,2\n", None, None, "fewer than 2 set points"),
+    ("x,q1,q2\n0,1,2\n1,2,3\n", 1, "x", "must start with 't'"),
+])
+def test_bad_input_names_file_row_and_column(tmp_path, text, row, column, match):
+    path = tmp_path / "bad.csv"
+    path.write_text(text)
+    with pytest.raises(InputError, match=match) as err:
+        read_trajectory(path, n_joints=2)
+    e = err.value
+    assert e.path == str(path) and e.row == row
+    if column is not None:
+        assert column in str(e.column)
+    assert "\n" not in str(e) and str(e).startswith(str(path))
+
+
+def test_missing_file(tmp_path):
+    with pytest.raises(InputError, match="no such file"):
+        read_trajectory(tmp_path / "nope.csv")
+
+
+def test_joint_limit_warning(tmp_path, two_link):
+    path = tmp_path / "wide.csv"
+    path.write_text("t,q1,q2\n0,0,0\n1,4,0\n2,0,0\n")      # 4 rad > 180 deg on joint 1
+    traj = read_trajectory(path, 2)
+    with pytest.warns(JointLimitWarning, match="column q1"):
+        msgs = check_joint_limits(two_link, traj)
+    assert len(msgs) == 1
+
+
+@pytest.mark.parametrize("defect, row, column", [
+    (None, None, None), ("nan", 5002, "q3"), ("ragged", 7002, None), ("text", 9002, "qd2"),
+    ("time", 3002, "t")])
+def test_large_files_parse_fast_and_errors_stay_exact(tmp_path, puma, defect, row, column):
+    """Files above FAST_PARSE_BYTES go through pandas; a fault is still located exactly."""
+    from gd_analyze.io.trajectory import FAST_PARSE_BYTES
+
+    plan = _default_plan(puma, n=12001)
+    path = tmp_path / "big.csv"
+    write_trajectory(plan, path)
+    lines = path.read_text().splitlines()
+    cells = {r: lines[r - 1].split(",") for r in (3002, 5002, 7002, 9002)}
+    if defect == "nan":
+        cells[5002][3] = "nan"
+    elif defect == "ragged":
+        cells[7002] = cells[7002][:-1]
+    elif defect == "text":
+        cells[9002][8] = "1.0x"
+    elif defect == "time":
+        cells[3002][0] = "0"
+    for r, c in cells.items():
+        lines[r - 1] = ",".join(c)
+    path.write_text("\n".join(lines) + "\n")
+    assert path.stat().st_size > FAST_PARSE_BYTES
+    if defect is None:
+        back = read_trajectory(path, 6)
+        np.testing.assert_array_equal(back.q, plan.q)      # round-trip float parsing
+        return
+    with pytest.raises(InputError) as err:
+        read_trajectory(path, 6)
+    assert err.value.row == row
+    if column:
+        assert err.value.column == column

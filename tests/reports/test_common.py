@@ -1,0 +1,79 @@
+"""The helpers the three reports share (gd_analyze.reports.common), in each report's variant."""
+
+import numpy as np
+import pytest
+import xarray as xr
+
+from gd_analyze.reports import common as rp
+from gd_analyze.reports.control import _attr as control_attr, _fmt as control_fmt
+from gd_analyze.errors import InputError
+
+
+def test_fmt_plain_and_scientific():
+    assert rp.fmt(1234.5678) == "1235"
+    assert rp.fmt(1.5e-7) == "1.5e-07"
+    assert rp.fmt(0.0) == "0" and rp.fmt(np.nan) == "n/a" and rp.fmt("abc") == "abc"
+    # the control report: 3 digits, e-notation outside [1e-3, 1e5)
+    assert control_fmt(1234.5678) == "1.23e+03"
+    assert control_fmt(12.3456) == "12.3"
+    assert control_fmt(1.5e-7) == "1.50e-07"
+    assert control_fmt(123456.0) == "1.23e+05"
+    assert control_fmt(12.3456, digits=4) == "12.35"
+
+
+def test_pct():
+    assert rp.pct(0.0123) == "1.23 %"
+    assert rp.pct(1e-6) == "1.0e-04 %"
+    assert rp.pct(0) == "0.00 %" and rp.pct(np.inf) == "n/a"
+
+
+def test_attr_variants():
+    ds = xr.Dataset(attrs={"arr": np.array([1.0, 2.5]), "flag": np.bool_(True), "empty": "",
+                           "tiny": 1.5e-7, "name": b"puma"})
+    assert rp.attr(ds, "arr") == "(1, 2.5)"
+    assert control_attr(ds, "arr") == "1, 2.5"
+    assert rp.attr(ds, "flag") == "True"
+    assert control_attr(ds, "flag") == "1"
+    assert rp.attr(ds, "tiny") == "1.5e-07"
+    assert control_attr(ds, "tiny") == "1.50000e-07"
+    assert rp.attr(ds, "empty") == rp.attr(ds, "missing") == "\u2014"
+    assert rp.attr(ds, "missing", "x") == "x" and rp.attr(ds, "name") == "puma"
+
+
+def test_table_alignment():
+    t = rp.table(["a", "b", "c"], [[1, 2.5, "x"]])
+    assert t["rows"] == [["1", "2.5", "x"]]
+    assert t["align"] == ["left"] * 3 and t["widths"] == [1, 1, 1] and t["colour_cols"] == []
+    assert rp.table(["a", "b", "c"], [], align="right")["align"] == ["left", "right", "right"]
+    assert rp.table(["a", "b"], [], align=["right", "left"])["align"] == ["right", "left"]
+
+
+def test_check_and_formats():
+    ds = xr.Dataset({"x": ("i", [1.0])})
+    rp.check(ds, ["x"], "results")
+    with pytest.raises(InputError, match="not a gd-analyze sweep dataset: missing variable"
+                                         r"\(s\) y, z"):
+        rp.check(ds, ["x", "y", "z"], "sweep")
+    assert rp.check_formats(("HTML", "pdf", "html"), ("html", "pdf")) == ["html", "pdf"]
+    assert rp.check_formats("pdf", ("html", "pdf")) == ["pdf"]
+    for bad in ([], ["xml"]):
+        with pytest.raises(ValueError, match="report formats must be among"):
+            rp.check_formats(bad, ("html", "pdf"))
+
+
+def test_grid_shape():
+    assert rp.grid_shape(1, 2) == (1, 1)
+    assert rp.grid_shape(6, 2) == (3, 2)
+    assert rp.grid_shape(5, 3) == (2, 3)
+
+
+def test_svg_with_and_without_prefix():
+    from matplotlib.figure import Figure
+
+    fig = Figure(figsize=(2, 1))
+    fig.add_subplot().plot([0, 1], [0, 1])
+    plain = rp.svg(fig, rc=rp.BASE_RC)
+    prefixed = rp.svg(fig, "fig-a", rc=rp.BASE_RC)
+    assert plain.startswith("<svg") and prefixed.startswith("<svg")
+    assert 'id="fig-a-' in prefixed and 'id="fig-a-' not in plain
+    assert "url(#fig-a-" in prefixed or 'href="#fig-a-' in prefixed

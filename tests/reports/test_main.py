@@ -1,0 +1,442 @@
+"""Tests of the HTML and PDF report (gd_analyze.reports.main)."""
+
+import ast
+import re
+from html.parser import HTMLParser
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+import gd_analyze
+from gd_analyze.reports import main as report
+from gd_analyze.errors import InputError
+from gd_analyze.workflows.analyze import analyze
+from gd_analyze.io.datasets import open_results, write_dataset
+from gd_analyze.io.trajectory import plan_quintic, read_trajectory
+
+from conftest import SHIPPED
+
+PAGE = re.compile(rb"/Type\s*/Page(?![a-zA-Z])")
+
+
+# ------------------------------------------------------------------------------------------
+# Helpers
+# ------------------------------------------------------------------------------------------
+
+class _Tables(HTMLParser):
+    """Collect every <table> of an HTML document as a list of rows of cell texts."""
+
+    def __init__(self):
+        super().__init__()
+        self.tables, self._row, self._cell, self._depth = [], None, None, 0
+
+    def handle_starttag(self, tag, attrs):
+        if tag == "table":
+            self.tables.append([])
+        elif tag == "tr":
+            self._row = []
+        elif tag in ("td", "th"):
+            self._cell = []
+
+    def handle_endtag(self, tag):
+        if tag in ("td", "th") and self._cell is not None:
+            self._row.append("".join(self._cell).strip())
+            self._cell = None
+        elif tag == "tr" and self._row is not None:
+            self.tables[-1].append(self._row)
+            self._row = None
+
+    def handle_data(self, data):
+        if self._cell is not None:
+            self._cell.append(data)
+
+
+def tables_of(html):
+    parser = _Tables()
+    parser.feed(html)
+    return parser.tables
+
+
+def table_with_header(html, first_cells):
+    for table in tables_of(html):
+        if table and table[0][:len(first_cells)] == list(first_cells):
+            return table
+    return None
+
+
+def strings(values):
+    return [str(v) for v in np.asarray(values).ravel()]
+
+
+def make_results(robot, trajectory, folder, check=True):
+    folder.mkdir(parents=True, exist_ok=True)
+    analysis = analyze(robot, trajectory, check=check)
+    path = folder / "results.h5"
+    write_dataset(analysis.dataset, path)
+    return path
+
+
+# ------------------------------------------------------------------------------------------
+# Fixtures: one dataset and one report per robot, shared by the module's tests
+# ------------------------------------------------------------------------------------------
+
+@pytest.fixture(scope="module")
+def puma_report(tmp_path_factory, puma):
+    folder = tmp_path_factory.mktemp("puma")
+    results = make_results(puma, read_trajectory(SHIPPED, puma.n), folder)
+    written = report.write_report(results, folder / "out")
+    return {"results": results, "out": folder / "out", "written": written,
+            "ds": open_results(results)}
+
+
+@pytest.fixture(scope="module")
+def two_link_report(tmp_path_factory, two_link):
+    folder = tmp_path_factory.mktemp("two")
+    trajectory = plan_quintic(two_link, [0.0, 0.0], [np.pi / 2, np.pi / 3], n_setpoints=21)
+    results = make_results(two_link, trajectory, folder)
+    written = report.write_report(results, folder / "out")
+    return {"results": results, "out": folder / "out", "written": written,
+            "ds": open_results(results)}
+
+
+@pytest.fixture(params=["puma", "two"])
+def any_report(request, puma_report, two_link_report):
+    return puma_report if request.param == "puma" else two_link_report
+
+
+# ------------------------------------------------------------------------------------------
+# Files
+# ------------------------------------------------------------------------------------------
+
+def test_both_files_written_and_returned(any_report):
+    out = any_report["out"]
+    assert any_report["written"] == [out / "report.html", out / "report.pdf"]
+    for path in any_report["written"]:
+        assert path.is_file() and path.stat().st_size > 1000
+    # written atomically: no temporary file is left behind
+    assert sorted(p.name for p in out.iterdir()) == ["report.html", "report.pdf"]
+
+
+def test_only_requested_format(tmp_path, puma_report):
+    written = report.write_report(puma_report["results"], tmp_path / "new", formats=("html",))
+    assert written == [tmp_path / "new" / "report.html"]
+    assert not (tmp_path / "new" / "report.pdf").exists()
+
+
+def test_bad_format_and_bad_input(tmp_path, puma_report):
+    with pytest.raises(ValueError):
+        report.write_report(puma_report["results"], tmp_path, formats=("docx",))
+    with pytest.raises(ValueError):
+        report.write_report(puma_report["results"], tmp_path, formats=())
+    with pytest.raises(InputError):
+        report.write_report(tmp_path / "missing.h5", tmp_path)
+    # a netCDF file that is not a gd-analyze dataset
+    other = tmp_path / "other.h5"
+    write_dataset(puma_report["ds"][["t", "q"]], other)
+    with pytest.raises(InputError, match="missing variable"):
+        report.write_report(other, tmp_path / "o")
+    assert not (tmp_path / "o" / "report.html").exists()
+
+
+# ------------------------------------------------------------------------------------------
+# HTML
+# ------------------------------------------------------------------------------------------
+
+def test_html_is_self_contained(any_report):
+    html = (any_report["out"] / "report.html").read_text(encoding="utf-8")
+    assert html.lstrip().lower().startswith("<!doctype html>")
+    lower = html.lower()
+    assert 'src="http' not in lower and "src='http" not in lower
+    assert "<link " not in lower
+    assert "<script" not in lower
+    assert "<img" not in lower
+    assert "@import" not in lower
+    for ref in re.findall(r"url\(\s*['\"]?([^)'\"]*)", html):    # clip paths only
+        assert ref.startswith("#"), ref
+    assert "<!doctype svg" not in lower and "<?xml" not in lower
+    # every reference is internal (SVG markers, clip paths, table of contents)
+    for ref in re.findall(r'(?:xlink:)?href="([^"]*)"', html):
+        assert ref.startswith("#"), ref
+    assert lower.count("<svg") >= 4
+    ids = re.findall(r'\sid="([^"]*)"', html)
+    assert len(ids) == len(set(ids)), "duplicate ids in the HTML"
+    for ref in re.findall(r'href="#([^"]*)"', html) + re.findall(r"url\(#([^)]*)\)", html):
+        assert ref in ids, ref
+
+
+def test_html_labels_classes_and_ranking_table(any_report):
+    ds = any_report["ds"]
+    html = (any_report["out"] / "report.html").read_text(encoding="utf-8")
+    labels = strings(ds["element"].values)
+    n = ds.sizes["joint"]
+    assert labels == [f"D{i + 1}{j + 1}" for i in range(n) for j in range(i, n)] + \
+        [f"h{i + 1}" for i in range(n)]
+    for label in labels:
+        assert label in html
+    ranking = table_with_header(html, ["element", "share_tran", "class", "peak_tran",
+                                       "peak_rot", "peak_total", "units"])
+    assert ranking is not None
+    rows = ranking[1:]
+    assert [r[0] for r in rows] == labels
+    assert [r[2] for r in rows] == strings(ds["dominance"].values)
+    for row, share in zip(rows, ds["share_tran"].values):
+        assert float(row[1]) == pytest.approx(share, abs=1e-3)
+    assert all(r[6] in ("kg m²", "N m") for r in rows)
+    choices = table_with_header(html, ["element", "class", "kept part"])
+    assert [r[2] for r in choices[1:]] == strings(ds["choice"].values)
+
+
+def test_html_torque_error_table(any_report):
+    ds = any_report["ds"]
+    html = (any_report["out"] / "report.html").read_text(encoding="utf-8")
+    table = next(t for t in tables_of(html) if t and t[0][0] == "joint"
+                 and t[0][1].startswith("peak |"))
+    rows = table[1:]
+    assert len(rows) == ds.sizes["joint"]
+    for k, row in enumerate(rows):
+        assert float(row[1]) == pytest.approx(ds["tau_error_peak"].values[k], rel=1e-3, abs=1e-12)
+        assert float(row[2]) == pytest.approx(ds["tau_error_rms"].values[k], rel=1e-3, abs=1e-12)
+        assert float(row[3]) == pytest.approx(ds["tau_peak"].values[k], rel=1e-3)
+        assert row[4].endswith("%")
+
+
+def test_html_robot_trajectory_and_provenance(puma_report):
+    ds = puma_report["ds"]
+    html = (puma_report["out"] / "report.html").read_text(encoding="utf-8")
+    for key in ("robot_sha256", "input_sha256", "robot_description", "input_file"):
+        assert str(ds.attrs[key]) in html
+    dh = table_with_header(html, ["joint", "d [m]", "a [m]"])
+    assert len(dh) == 1 + ds.sizes["joint"]
+    alpha = [float(r[3]) for r in dh[1:]]
+    np.testing.assert_allclose(alpha, np.degrees(ds["dh_alpha"].values), atol=1e-3)
+    trajectory = table_with_header(html, ["item", "value"])
+    assert trajectory is not None
+    assert "set points N" in html and ">31<" in html
+    provenance = [t for t in tables_of(html) if t and t[0] == ["item", "value"]][-1]
+    prov = dict(r for r in provenance[1:] if len(r) == 2)
+    assert prov["dominance threshold s"] == "0.9"
+    assert prov["negligibility threshold e"] == "0.01"
+    assert prov["verification against pinocchio"].startswith("passed")
+    assert "max relative error D_tran" in prov
+    assert prov["analysis made by"] == f"gd-analyze {ds.attrs['gd_analyze_version']}"
+
+
+def test_html_chapter_comparison_puma(puma_report):
+    ds = puma_report["ds"]
+    html = (puma_report["out"] / "report.html").read_text(encoding="utf-8")
+    table = table_with_header(html, ["element", "our class", "chapter's class", "agree"])
+    assert table is not None
+    ours, theirs = strings(ds["dominance"].values), strings(ds["chapter_dominance"].values)
+    expected = sum(a == b for a, b in zip(ours, theirs) if b)
+    compared = sum(bool(b) for b in theirs)
+    assert [r[3] for r in table[1:]] == ["yes" if a == b else "no" for a, b in zip(ours, theirs)]
+    assert f"Agreement: {expected} of {compared} elements." in html
+
+
+def test_html_chapter_comparison_not_for_two_link(two_link_report):
+    html = (two_link_report["out"] / "report.html").read_text(encoding="utf-8")
+    assert table_with_header(html, ["element", "our class", "chapter's class"]) is None
+    assert "not meaningful" in html and "has 2 joints" in html
+
+
+def test_html_escapes_dataset_text(tmp_path, puma_report):
+    ds = puma_report["ds"].copy()
+    ds.attrs["robot_description"] = "arm <script>alert(1)</script> & co"
+    path = tmp_path / "results.h5"
+    write_dataset(ds, path)
+    report.write_report(path, tmp_path, formats=("html",))
+    html = (tmp_path / "report.html").read_text(encoding="utf-8")
+    assert "<script>" not in html
+    assert "arm &lt;script&gt;alert(1)&lt;/script&gt; &amp; co" in html
+
+
+# ------------------------------------------------------------------------------------------
+# PDF
+# ------------------------------------------------------------------------------------------
+
+@pytest.mark.parametrize("which, min_pages", [("puma", 9), ("two", 7)])
+def test_pdf(which, min_pages, puma_report, two_link_report):
+    rep = puma_report if which == "puma" else two_link_report
+    data = (rep["out"] / "report.pdf").read_bytes()
+    assert data.startswith(b"%PDF")
+    assert data.rstrip().endswith(b"%%EOF")
+    # 4 figure pages (joints, D, h, torque) and the text pages
+    assert len(PAGE.findall(data)) >= min_pages
+    assert b"/Author (gd-analyze " + gd_analyze.__version__.encode() + b")" in data
+    assert b"/Title (G-D dominance analysis" in data
+    assert b"/Subject (" in data
+    sha = str(rep["ds"].attrs["robot_sha256"]).encode()
+    assert b"/Keywords (" in data and sha in data
+
+
+def test_pdf_page_count_grows_with_content(tmp_path, puma_report):
+    # the ranking is one table row per element: the PDF must paginate, not clip
+    data = (puma_report["out"] / "report.pdf").read_bytes()
+    pages = len(PAGE.findall(data))
+    assert 9 <= pages <= 14
+
+
+# ------------------------------------------------------------------------------------------
+# Figures and the envelope
+# ------------------------------------------------------------------------------------------
+
+def test_make_figures_panels(any_report):
+    ds = any_report["ds"]
+    n = ds.sizes["joint"]
+    dom = dict(zip(strings(ds["element"].values), strings(ds["dominance"].values)))
+    figs = report.make_figures(ds)
+    assert set(figs) == {"joints", "D", "h", "torque"}
+    titles = {ax.get_title(): ax for ax in figs["D"].axes if ax.get_title()}
+    assert len(titles) == n * (n + 1) // 2
+    for i in range(n):
+        for j in range(i, n):
+            label = f"D{i + 1}{j + 1}"
+            ax = titles[f"{label}: {dom[label]}"]
+            lines = ax.get_lines()
+            assert [ln.get_marker() for ln in lines[:3]] == ["o", "x", "^"]
+            np.testing.assert_allclose(lines[0].get_ydata(), ds["D_tran"].values[:, i, j])
+            np.testing.assert_allclose(lines[1].get_ydata(), ds["D_rot"].values[:, i, j])
+            np.testing.assert_allclose(lines[2].get_ydata(), ds["D"].values[:, i, j])
+    h_titles = [ax.get_title() for ax in figs["h"].axes if ax.get_visible() and ax.get_title()]
+    assert h_titles == [f"h{i + 1}: {dom[f'h{i + 1}']}" for i in range(n)]
+    # joint plots in degrees, with units on the axes
+    q_ax = figs["joints"].axes[0]
+    assert "[deg]" in q_ax.get_ylabel()
+    np.testing.assert_allclose(q_ax.get_lines()[0].get_ydata(), np.degrees(ds["q"].values[:, 0]))
+    assert all("[N m]" in ax.get_ylabel() for ax in figs["torque"].axes if ax.get_visible())
+
+
+def test_envelope_long_series():
+    rng = np.random.default_rng(1)
+    N, columns = 100_000, 1000
+    x = np.linspace(0.0, 10.0, N)
+    y = np.sin(x) + 0.1 * rng.standard_normal(N)
+    y[12345], y[67890] = 7.5, -6.25                   # isolated spikes
+    xe, ye = report.envelope(x, y, columns)
+    assert xe.shape == ye.shape
+    assert len(xe) <= 2 * columns + 2
+    assert len(xe) >= columns                          # not over-reduced
+    assert ye.max() == y.max() == 7.5 and ye.min() == y.min() == -6.25
+    assert np.all(np.diff(xe) >= 0)
+    assert xe[0] == x[0] and xe[-1] == x[-1]
+    # every kept point is a point of the series
+    idx = np.searchsorted(x, xe)
+    np.testing.assert_array_equal(y[idx], ye)
+    # per column, the envelope holds the column's extremes
+    col = np.minimum((x / 10.0 * columns).astype(int), columns - 1)
+    cole = np.minimum((xe / 10.0 * columns).astype(int), columns - 1)
+    for c in (0, 123, 617, columns - 1):
+        assert ye[cole == c].max() == y[col == c].max()
+        assert ye[cole == c].min() == y[col == c].min()
+
+
+def test_envelope_short_unsorted_and_nan():
+    x = np.arange(31.0)
+    y = np.cos(x)
+    xe, ye = report.envelope(x, y, 1000)
+    np.testing.assert_array_equal(xe, x)
+    np.testing.assert_array_equal(ye, y)
+    rng = np.random.default_rng(2)
+    x = rng.uniform(0, 1, 50_000)
+    y = rng.standard_normal(50_000)
+    y[::7] = np.nan
+    xe, ye = report.envelope(x, y, 200)
+    assert len(xe) <= 402 and np.all(np.diff(xe) >= 0)
+    assert np.nanmax(ye) == np.nanmax(y) and np.nanmin(ye) == np.nanmin(y)
+    with pytest.raises(ValueError):
+        report.envelope(np.arange(3.0), np.arange(4.0))
+    with pytest.raises(ValueError):
+        report.envelope(np.arange(3.0), np.arange(3.0), columns=0)
+
+
+def test_plot_series_decimates_long_and_hides_markers():
+    from matplotlib.figure import Figure
+
+    ax = Figure(figsize=(8, 3)).subplots()
+    x = np.arange(100_000.0)
+    (line,) = report._plot_series(ax, x, np.sin(x / 1000.0), marker="o", color="k")
+    assert len(line.get_xdata()) <= 2 * report.ENVELOPE_COLUMNS + 2
+    assert line.get_marker() in ("None", "", None)
+    (line,) = report._plot_series(ax, x[:31], np.sin(x[:31]), marker="o", color="k")
+    assert len(line.get_xdata()) == 31 and line.get_marker() == "o"
+    (line,) = report._plot_series(ax, x[:2000], np.sin(x[:2000]), marker="x", color="k")
+    assert len(line.get_xdata()) == 2000           # the threshold itself is not decimated
+
+
+def test_long_trajectory_html_under_5mb(tmp_path, puma):
+    start = np.radians([-60.0, 20.0, -150.0, -80.0, -60.0, -120.0])
+    goal = np.radians([60.0, 110.0, -60.0, 80.0, 60.0, 120.0])
+    trajectory = plan_quintic(puma, start, goal, n_setpoints=100_000)
+    results = make_results(puma, trajectory, tmp_path, check=False)
+    (html_path,) = report.write_report(results, tmp_path, formats=("html",))
+    size = html_path.stat().st_size
+    assert size < 5_000_000, f"report.html is {size / 1e6:.2f} MB"
+    html = html_path.read_text(encoding="utf-8")
+    assert "min/max envelope" in html and ">100000<" in html
+    assert "not run" in html                        # no verification without check
+    for label in ("D11", "D66", "h6"):
+        assert label in html
+
+
+# ------------------------------------------------------------------------------------------
+# The report reads, it does not recompute
+# ------------------------------------------------------------------------------------------
+
+def test_report_does_not_recompute_dynamics(tmp_path, monkeypatch, puma_report):
+    def boom(*args, **kwargs):
+        raise AssertionError("the report must not recompute the dynamics")
+
+    import gd_analyze.core.dalembert
+    import gd_analyze.workflows.analyze
+    import gd_analyze.formulations.pinocchio
+    import gd_analyze.core.simplified
+
+    monkeypatch.setattr(gd_analyze.core.dalembert, "gd_terms", boom)
+    monkeypatch.setattr(gd_analyze, "gd_terms", boom)
+    monkeypatch.setattr(gd_analyze.workflows.analyze, "gd_terms", boom)
+    monkeypatch.setattr(gd_analyze.core.simplified, "gd_terms", boom)
+    monkeypatch.setattr(gd_analyze.formulations.pinocchio, "reference_terms", boom)
+    monkeypatch.setattr(gd_analyze.workflows.analyze, "analyze", boom)
+    written = report.write_report(puma_report["results"], tmp_path)
+    assert [p.name for p in written] == ["report.html", "report.pdf"]
+
+
+def test_report_module_imports_no_dynamics():
+    source = Path(report.__file__).read_text(encoding="utf-8")
+    imported = set()
+    for node in ast.walk(ast.parse(source)):
+        if isinstance(node, ast.ImportFrom):
+            imported.add((node.module or "").split(".")[-1])
+            imported.update(a.name for a in node.names)
+        elif isinstance(node, ast.Import):
+            imported.update(a.name.split(".")[-1] for a in node.names)
+    forbidden = {"dalembert", "gd_terms", "pipeline", "analyze", "reference", "kinematics",
+                 "simplified", "lagrange_euler", "pinocchio"}
+    assert not imported & forbidden
+    assert report.__all__ and all(hasattr(report, name) for name in report.__all__)
+
+
+def test_formulations_section_from_the_stored_counts(tmp_path, puma):
+    """The main job's dataset carries the formulations; the report shows them as stored."""
+    from gd_analyze.workflows.analyze import analyze_to_file
+
+    traj = read_trajectory(SHIPPED, 6)
+    results = tmp_path / "results.h5"
+    analyze_to_file(puma, traj, results, check=False)
+    paths = report.write_report(results, tmp_path, formats=("html",))
+    html = Path(paths[0]).read_text()
+    assert "Formulations: Lagrange-Euler, Newton-Euler, G-D" in html
+    ds = open_results(results)
+    costs = next(t for t in tables_of(html) if t and t[0][:2] == ["formulation", "multiplications"])
+    by_name = {row[0]: row for row in costs[1:]}
+    for name in ("lagrange-euler", "newton-euler", "gd"):
+        stored = ds.op_multiplications.sel(dof=6, formulation=name).item()
+        assert by_name[name][1] == f"{stored:.0f}"
+        assert by_name[name][3] == f"{ds.op_multiplications_table_3_5.sel(dof=6, formulation=name).item():.0f}"
+    assert html.count("<svg") == 5          # joints, D, h, torque, formulations
+
+
+def test_report_without_formulations_says_so(puma_report):
+    html = report.render_html(puma_report["ds"])     # made by analyze(): no formulations
+    assert "holds no comparison of the formulations" in html

@@ -1,0 +1,107 @@
+"""The package's layers import downwards only (issue 10): core <- formulations <- io <- workflows
+<- reports <- cli, with the leaf modules errors, files and _version importable from anywhere.
+
+Every import statement of every module is read with ``ast``, including imports inside functions,
+so a lazy import cannot hide an upward arrow.
+"""
+
+import ast
+import pathlib
+import sys
+
+import pytest
+
+import gd_analyze
+
+SRC = pathlib.Path(gd_analyze.__file__).parent
+LAYERS = ["core", "formulations", "io", "workflows", "reports", "cli"]
+LEAVES = {"errors", "files", "_version"}
+SHARED_REPORTS = {"reports.common", "reports.figures"}
+
+
+def _module_name(path):
+    parts = path.relative_to(SRC).with_suffix("").parts
+    return ".".join(p for p in parts if p != "__init__")
+
+
+def _imports(path):
+    """Yield the gd_analyze-relative dotted names a module imports (absolute or relative)."""
+    name = _module_name(path)
+    package = name.split(".")[:-1] if path.name != "__init__.py" else name.split(".") if name else []
+    tree = ast.parse(path.read_text(encoding="utf-8"))
+    for node in ast.walk(tree):
+        if isinstance(node, ast.Import):
+            for alias in node.names:
+                if alias.name == "gd_analyze" or alias.name.startswith("gd_analyze."):
+                    yield alias.name[len("gd_analyze."):] if "." in alias.name else ""
+        elif isinstance(node, ast.ImportFrom):
+            if node.level:
+                base = package[:len(package) - (node.level - 1)] if node.level > 1 else package
+                target = ".".join(base + ([node.module] if node.module else []))
+            elif node.module and (node.module == "gd_analyze" or node.module.startswith("gd_analyze.")):
+                target = node.module[len("gd_analyze."):] if "." in node.module else ""
+            else:
+                continue
+            if target == "" or target in ("core", "formulations", "io", "workflows", "reports"):
+                # "from . import x" / "from ..core import x": the names are modules or re-exports
+                for alias in node.names:
+                    yield f"{target}.{alias.name}".lstrip(".")
+            else:
+                yield target
+
+
+def _layer(dotted):
+    head = dotted.split(".")[0]
+    if head in LEAVES:
+        return -1
+    if head in LAYERS:
+        return LAYERS.index(head)
+    return None     # the package's own __init__ re-exports (gd_analyze.X)
+
+
+def check(path):
+    """The upward or sideways imports of one module, as 'module -> target' strings."""
+    me = _module_name(path)
+    bad = []
+    mine = _layer(me)
+    if me == "" or mine is None:
+        return bad      # gd_analyze/__init__.py: the public facade re-exports the core
+    for target in _imports(path):
+        theirs = _layer(target)
+        if theirs is None:
+            if target.split(".")[0] not in ("__version__",):
+                bad.append(f"{me} -> gd_analyze.{target} (import the defining module)")
+            continue
+        if mine == -1 and theirs != -1:
+            bad.append(f"{me} -> {target} (a leaf imports nothing of the package)")
+        elif theirs > mine:
+            bad.append(f"{me} -> {target} (upward)")
+        elif me.startswith("reports.") and (target.startswith(("formulations", "workflows"))
+                                            or (target.startswith("reports.")
+                                                and target not in SHARED_REPORTS)):
+            bad.append(f"{me} -> {target} (a report reads io and the shared report modules)")
+        elif me.startswith("reports.") and target.startswith("core.") and target != "core.ranking":
+            bad.append(f"{me} -> {target} (a report computes no dynamics)")
+    return bad
+
+
+MODULES = sorted(p for p in SRC.rglob("*.py"))
+
+
+@pytest.mark.parametrize("path", MODULES, ids=lambda p: _module_name(p) or "gd_analyze")
+def test_imports_run_down_the_layers(path):
+    assert check(path) == []
+
+
+def test_the_check_can_fail(tmp_path, monkeypatch):
+    fake = tmp_path / "gd_analyze"
+    (fake / "core").mkdir(parents=True)
+    (fake / "reports").mkdir()
+    (fake / "core" / "bad.py").write_text("from ..workflows.analyze import x\n"
+                                          "def f():\n    from ..reports import main\n")
+    (fake / "reports" / "bad.py").write_text("from ..formulations.pinocchio import y\n"
+                                             "from .sweep import z\nfrom ..core.dalembert import w\n"
+                                             "from .common import ok\nfrom ..io.datasets import ok2\n")
+    monkeypatch.setattr(sys.modules[__name__], "SRC", fake)
+    assert len(check(fake / "core" / "bad.py")) == 2
+    assert len(check(fake / "reports" / "bad.py")) == 3

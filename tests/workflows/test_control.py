@@ -1,0 +1,302 @@
+"""Closed-loop use of the simplified model: forward dynamics, computed torque, evaluation cost,
+the control dataset and the control report.
+
+Run time: one closed-loop run of the three controllers along the shipped 31-set-point PUMA 560
+trajectory (4.16 s of motion, DOP853, rtol 1e-8, atol 1e-10, 2001-point grid) is shared by the
+tests; the crude-model and offset runs reuse the same settings (the offset run stops at
+0.5 s). The cost is timed on 2000 set points only. The file runs in about 20-30 s.
+"""
+
+import math
+
+import numpy as np
+import pytest
+import xarray as xr
+
+from gd_analyze import gd_terms, load_robot
+from gd_analyze.workflows.control import (CONTROLLERS, control_dataset, control_gains, desired_motion,
+                                forward_dynamics, run_control, write_control_dataset)
+from gd_analyze.reports.control import write_control_report
+from gd_analyze.errors import InputError
+from gd_analyze.formulations.opcount import count_operations
+from gd_analyze.workflows.analyze import analyze
+from gd_analyze.core.ranking import element_labels
+from gd_analyze.core.simplified import SimplifiedModel, simplified_torque
+from gd_analyze.formulations.simplified_eval import (count_simplified_operations, evaluation_cost,
+                                        full_choices, simplified_tau)
+from gd_analyze.io.trajectory import Trajectory, read_trajectory
+
+from conftest import SHIPPED, random_states
+
+#: Bound on the tracking error of the full-model computed-torque controller started on the
+#: trajectory [rad]. With the exact model the closed loop is e'' + Kv e' + Kp e = 0 with
+#: e(0) = e'(0) = 0, so e = 0 exactly; what remains is the integrator's error. DOP853 keeps the
+#: local error per step below atol + rtol |y| = 1e-10 + 1e-8 * 2.62 ~ 3e-8 rad (|q| <= 2.62 rad,
+#: |qd| <= 1.9 rad/s on the shipped motion), and the critically damped error dynamics forget an
+#: injected error within a few 1/wn = 0.05 s, i.e. within ~10 steps of the ~290 taken, so
+#: the global error stays below ~10 * 3e-8 = 3e-7 rad. The desired motion is the piecewise
+#: quintic Hermite through (q, qd, qdd), which reproduces the shipped quintic exactly, so
+#: interpolation adds nothing at the set points. Bound: 1e-6 rad.
+FULL_MODEL_BOUND = 1e-6
+
+
+@pytest.fixture(scope="module")
+def shipped():
+    return read_trajectory(SHIPPED, n_joints=6)
+
+
+@pytest.fixture(scope="module")
+def model(puma, shipped):
+    return analyze(puma, shipped, check=False).model
+
+
+@pytest.fixture(scope="module")
+def model_file(model, tmp_path_factory):
+    path = tmp_path_factory.mktemp("model") / "simplified_model.json"
+    model.save(path)
+    return path
+
+
+@pytest.fixture(scope="module")
+def result(model_file):
+    return run_control(model_file, SHIPPED, cost=True, cost_setpoints=2000)
+
+
+def _crude(robot):
+    """All D elements kept whole, all of h dropped."""
+    return {lab: ("both" if lab.startswith("D") else "none") for lab in element_labels(robot.n)}
+
+
+# --------------------------------------------------------------------------------------------
+# Forward dynamics
+# --------------------------------------------------------------------------------------------
+
+@pytest.mark.parametrize("name", ["puma560", "two-link"])
+def test_forward_dynamics_matches_pinocchio_aba(name):
+    pin = pytest.importorskip("pinocchio")
+    from gd_analyze.formulations.pinocchio import pinocchio_model
+
+    robot = load_robot(name)
+    q, qd, qdd = random_states(robot, 40, seed=11)
+    tau = gd_terms(robot, q, qd).tau(qdd) + np.random.default_rng(2).normal(size=q.shape)
+    ours = forward_dynamics(robot, q, qd, tau)
+    model = pinocchio_model(robot)
+    data = model.createData()
+    for k in range(q.shape[0]):
+        ref = pin.aba(model, data, q[k], qd[k], tau[k])
+        assert np.abs(ours[k] - ref).max() <= 1e-10 * np.abs(ref).max()
+    # inverse of inverse dynamics, and a single state
+    back = forward_dynamics(robot, q, qd, gd_terms(robot, q, qd).tau(qdd))
+    np.testing.assert_allclose(back, qdd, rtol=1e-9, atol=1e-9)
+    assert forward_dynamics(robot, q[0], qd[0], tau[0]).shape == (1, robot.n)
+
+
+# --------------------------------------------------------------------------------------------
+# Desired motion and gains
+# --------------------------------------------------------------------------------------------
+
+def test_desired_motion_interpolates_q_qd_qdd(shipped):
+    rng = np.random.default_rng(4)
+    t = np.cumsum(rng.uniform(0.1, 0.3, 12))
+    q, qd, qdd = (rng.normal(size=(12, 3)) for _ in range(3))
+    for traj in (shipped, Trajectory(t=t, q=q, qd=qd, qdd=qdd)):
+        pp = desired_motion(traj)
+        for nu, want in ((0, traj.q), (1, traj.qd), (2, traj.qdd)):
+            np.testing.assert_allclose(pp(traj.t, nu), want, rtol=1e-9, atol=1e-9)
+    # the shipped motion is one quintic: the piecewise quintic reproduces it between set points
+    pp = desired_motion(shipped)
+    T, q0, q1 = shipped.t[-1], shipped.q[0], shipped.q[-1]
+    u = np.linspace(0, 1, 101)[:, None]
+    exact = q0 + (q1 - q0) * u**3 * (10 - 15 * u + 6 * u**2)
+    np.testing.assert_allclose(pp(u[:, 0] * T), exact, rtol=0, atol=1e-12)
+
+
+def test_gains(puma, shipped):
+    g = control_gains(puma, shipped.q[0], wn=10.0, zeta=0.7)
+    np.testing.assert_allclose(g.Kp, 100.0)
+    np.testing.assert_allclose(g.Kv, 14.0)
+    D0 = np.diagonal(gd_terms(puma, shipped.q[:1], 0 * shipped.q[:1]).D[0])
+    np.testing.assert_allclose(g.Kp_pd, D0 * 100.0)
+    np.testing.assert_allclose(g.Kv_pd, D0 * 14.0)
+    g6 = control_gains(puma, shipped.q[0], wn=np.arange(1.0, 7.0))
+    np.testing.assert_allclose(g6.Kp, np.arange(1.0, 7.0) ** 2)
+    for bad in ({"wn": 0.0}, {"zeta": -1.0}, {"wn": [1.0, 2.0]}, {"wn": np.nan}):
+        with pytest.raises(ValueError):
+            control_gains(puma, shipped.q[0], **bad)
+
+
+# --------------------------------------------------------------------------------------------
+# Closed loop
+# --------------------------------------------------------------------------------------------
+
+def test_full_model_tracks_within_solver_tolerance(result):
+    assert list(result.runs) == list(CONTROLLERS)
+    assert all(r.success for r in result.runs.values())
+    assert int(result.is_setpoint.sum()) == 31
+    f = result.error_figures("full")
+    assert max(f["peak_grid"]) < FULL_MODEL_BOUND
+    assert max(f["peak_setpoints"]) < FULL_MODEL_BOUND
+    # torque of the full-model controller on the trajectory = inverse dynamics of q_d
+    tau_ff = gd_terms(result.robot, result.q_d, result.qd_d).tau(result.qdd_d)
+    assert np.abs(result.runs["full"].tau - tau_ff).max() < 1e-3
+
+
+def test_pd_gravity_tracks_worse_than_computed_torque(result):
+    full, pd = result.error_figures("full"), result.error_figures("pd_gravity")
+    assert all(p > f for p, f in zip(pd["peak_grid"], full["peak_grid"]))
+    assert max(pd["peak_grid"]) > 100 * max(full["peak_grid"]) and max(pd["peak_grid"]) > 1e-4
+
+
+def test_simplified_model_tracks_between(result):
+    full, simp = result.error_figures("full"), result.error_figures("simplified")
+    pd = result.error_figures("pd_gravity")
+    assert all(s >= f for s, f in zip(simp["peak_grid"], full["peak_grid"]))
+    assert max(simp["peak_grid"]) < max(pd["peak_grid"])
+    diff = result.summary()["tau_difference"]
+    assert len(diff["peak"]) == 6 and max(diff["peak"]) > 0
+    assert all(r <= p for r, p in zip(diff["rms"], diff["peak"]))
+
+
+def test_crude_model_without_h_tracks_worse(puma, shipped, result):
+    crude = SimplifiedModel(robot=puma, choices=_crude(puma), dominance_threshold=0.9,
+                            negligible_threshold=0.01)
+    res = run_control(crude, shipped, controllers=("simplified",), cost=False)
+    full, bad = result.error_figures("full"), res.error_figures("simplified")
+    assert all(b >= f for b, f in zip(bad["peak_grid"], full["peak_grid"]))
+    assert max(bad["peak_grid"]) > 100 * max(full["peak_grid"])
+    assert max(bad["peak_grid"]) > 10 * FULL_MODEL_BOUND
+
+
+def test_initial_offset_decays_as_critically_damped(model, shipped):
+    wn, e0 = 20.0, 0.01
+    res = run_control(model, shipped, wn=wn, zeta=1.0, q0_offset=e0, controllers=("full",),
+                      t_end=0.5, grid_points=201, cost=False)
+    t = res.t - res.t[0]
+    exact = -e0 * (1 + wn * t) * np.exp(-wn * t)        # e = q_d - q, q(0) = q_d(0) + e0
+    np.testing.assert_allclose(res.runs["full"].error, exact[:, None] * np.ones(6),
+                               rtol=0, atol=1e-7)
+
+
+def test_run_control_rejects_bad_input(model, shipped):
+    two = load_robot("two-link")
+    with pytest.raises(ValueError):
+        run_control(model, shipped, controllers=("nonsense",), cost=False)
+    with pytest.raises(ValueError):
+        run_control(SimplifiedModel(two, full_choices(2), 0.9, 0.01), shipped, cost=False)
+    with pytest.raises(ValueError):
+        run_control(model, shipped, wn=-1, cost=False)
+    with pytest.raises(InputError):
+        run_control("/nonexistent/simplified_model.json", shipped, cost=False)
+
+
+# --------------------------------------------------------------------------------------------
+# The simplified evaluator and its cost
+# --------------------------------------------------------------------------------------------
+
+def test_simplified_evaluator_equals_model_torque(model, puma, two_link):
+    from gd_analyze.core.simplified import simplified_torque
+
+    q, qd, qdd = random_states(puma, 200, seed=5)
+    ref = simplified_torque(gd_terms(puma, q, qd), model.choices, qdd)   # the masked model
+    got = simplified_tau(puma, model.choices, q, qd, qdd)
+    assert np.abs(got - ref).max() <= 1e-12 * np.abs(ref).max()
+    rng = np.random.default_rng(8)
+    for robot in (puma, two_link):
+        q, qd, qdd = random_states(robot, 30, seed=6)
+        terms = gd_terms(robot, q, qd)
+        for _ in range(15):
+            choices = {lab: str(rng.choice(["tran", "rot", "both", "none"]))
+                       for lab in element_labels(robot.n)}
+            ref = simplified_torque(terms, choices, qdd)
+            got = simplified_tau(robot, choices, q, qd, qdd)
+            assert np.abs(got - ref).max() <= 1e-12 * max(1.0, np.abs(ref).max())
+
+
+def test_operation_counts_of_the_simplified_model(model, puma, two_link):
+    from gd_analyze.core.simplified import simplified_torque
+
+    full_gd = count_operations(puma, "gd")
+    full = count_simplified_operations(puma, full_choices(6))
+    simp = count_simplified_operations(puma, model.choices)
+    assert full.multiplications <= full_gd.multiplications
+    assert full.additions <= full_gd.additions
+    assert simp.multiplications < full.multiplications and simp.additions < full.additions
+    crude = count_simplified_operations(puma, _crude(puma))
+    assert crude.multiplications < simp.multiplications
+    # the counted run computes the real torques
+    q, qd, qdd = (x[0] for x in random_states(puma, 1, seed=3))
+    counted = count_simplified_operations(puma, model.choices, q, qd, qdd)
+    masked = simplified_torque(gd_terms(puma, q, qd), model.choices, qdd[None])[0]
+    np.testing.assert_allclose(counted.tau, masked, rtol=1e-12, atol=1e-12)
+    # dropping any single part lowers the count; keeping everything is the full count
+    labels = element_labels(2)
+    base = count_simplified_operations(two_link, full_choices(2))
+    for lab in labels:
+        for keep in ("tran", "rot"):
+            ch = {**full_choices(2), lab: keep}
+            c = count_simplified_operations(two_link, ch)
+            assert c.multiplications + c.additions < base.multiplications + base.additions
+            assert c.multiplications <= base.multiplications
+            assert c.additions <= base.additions
+
+
+def test_evaluation_cost(model):
+    cost = evaluation_cost(model, setpoints=500, repeat=2)
+    assert cost["evaluators"] == ["full_gd_terms", "full_fused", "simplified"]
+    m, a = cost["multiplications"], cost["additions"]
+    assert m[2] < m[1] <= m[0] and a[2] < a[1] <= a[0]
+    assert all(t > 0 and math.isfinite(t) for t in cost["time_per_setpoint_us"])
+    dropped = sum({"both": 0, "tran": 1, "rot": 1, "none": 2}[c] for c in model.choices.values())
+    assert cost["dropped"] == dropped and cost["parts"] == 54
+
+
+# --------------------------------------------------------------------------------------------
+# Dataset and report
+# --------------------------------------------------------------------------------------------
+
+def test_control_dataset_round_trips_through_hdf5(result, model_file, tmp_path):
+    path = tmp_path / "control.h5"
+    ds = write_control_dataset(result, path)
+    with xr.open_dataset(path, engine="h5netcdf") as back:
+        back = back.load()
+    assert set(back.dims) >= {"controller", "time", "joint"}
+    assert back.sizes["controller"] == 3 and back.sizes["time"] == result.t.size
+    for name in list(back.data_vars) + list(back.coords):
+        assert back[name].attrs.get("units"), name
+        assert back[name].attrs.get("long_name"), name
+    for name in ("error", "tau", "q", "tau_difference", "Kp_pd", "error_peak_grid",
+                 "multiplications", "time_per_setpoint"):
+        np.testing.assert_array_equal(back[name].values, ds[name].values)
+    assert list(back["controller"].values) == list(CONTROLLERS)
+    np.testing.assert_allclose(back["error_peak_grid"].sel(controller="full").values,
+                               result.error_figures("full")["peak_grid"])
+    attrs = back.attrs
+    assert attrs["robot"] == "puma560" and len(attrs["robot_sha256"]) == 64
+    assert attrs["trajectory_file"] == "puma560_trajectory.csv"
+    assert attrs["trajectory_sha256"] == read_trajectory(SHIPPED).sha256
+    import hashlib
+
+    assert attrs["model_file"] == "simplified_model.json"
+    assert attrs["model_sha256"] == hashlib.sha256(model_file.read_bytes()).hexdigest()
+    assert attrs["gd_analyze_version"] and "Kp" in attrs["gains"]
+    assert attrs["trajectory_is_models"] == 1
+    np.testing.assert_allclose(attrs["wn"], 20.0)
+    assert control_dataset(result).equals(ds)
+
+
+def test_control_report_is_written(result, tmp_path):
+    path = tmp_path / "control.h5"
+    write_control_dataset(result, path)
+    html_path, pdf_path = write_control_report(path, tmp_path / "out")
+    html = html_path.read_text(encoding="utf-8")
+    assert html.startswith("<!DOCTYPE html>") and html.count("<svg") >= 3
+    assert "<link" not in html and " src=" not in html and "<script" not in html
+    assert "puma560_trajectory.csv" in html and "multiplications" in html
+    from gd_analyze.reports.control import _fmt
+
+    for c in CONTROLLERS:                             # the stored figures, as read back
+        assert _fmt(result.error_figures(c)["peak_grid"][5]) in html
+    assert pdf_path.read_bytes()[:5] == b"%PDF-"
+    assert not list((tmp_path / "out").glob(".*.tmp"))
+    with pytest.raises(InputError):
+        write_control_report(tmp_path / "missing.h5", tmp_path / "out")

@@ -1,0 +1,450 @@
+"""The sweep over trajectories (on a real dask LocalCluster), the merge rule, the payload sweep
+and the sweep report."""
+
+import dataclasses
+import itertools
+
+import numpy as np
+import pytest
+
+from conftest import SHIPPED, random_states
+from gd_analyze import InputError, gd_terms
+from gd_analyze.workflows.analyze import analyze
+from gd_analyze.core.ranking import CLASSES, element_labels
+from gd_analyze.core.robot import with_payload
+from gd_analyze.core.simplified import choice_masks
+from gd_analyze.io.datasets import open_sweep
+from gd_analyze.workflows.sweep import (analyze_one, merge_choices, merged_model,
+                              parse_range, payload_sweep, random_trajectories, run_sweep,
+                              write_sweep)
+from gd_analyze.io.trajectory import plan_quintic, read_trajectory
+
+K = 6
+
+
+# --------------------------------------------------------------------------------------------
+# Random trajectories
+# --------------------------------------------------------------------------------------------
+
+@pytest.mark.parametrize("name", ["puma", "two_link"])
+def test_random_trajectories_respect_the_limits(name, request):
+    robot = request.getfixturevalue(name)
+    trajs = random_trajectories(robot, 25, seed=11)
+    assert len(trajs) == 25
+    tol = 1 + 1e-12
+    for k, tr in enumerate(trajs):
+        assert tr.source == f"random-11-{k}"
+        assert tr.q.shape == tr.qd.shape == tr.qdd.shape == (31, robot.n)
+        assert np.all(tr.q >= robot.q_min) and np.all(tr.q <= robot.q_max)
+        assert np.all(np.abs(tr.qd) <= robot.qd_max * tol)
+        assert np.all(np.abs(tr.qdd) <= robot.qdd_max * tol)
+        np.testing.assert_array_equal(tr.qd[[0, -1]], 0.0)
+        # the shortest such motion: densely sampled, one joint reaches a limit
+        dense = plan_quintic(robot, tr.q[0], tr.q[-1], n_setpoints=4001, duration=tr.t[-1])
+        use = max(np.max(np.abs(dense.qd) / robot.qd_max),
+                  np.max(np.abs(dense.qdd) / robot.qdd_max))
+        assert use == pytest.approx(1.0, abs=1e-5)
+    again = random_trajectories(robot, 25, seed=11)
+    other = random_trajectories(robot, 25, seed=12)
+    assert all(np.array_equal(a.q, b.q) for a, b in zip(trajs, again))
+    assert not any(np.array_equal(a.q, b.q) for a, b in zip(trajs, other))
+    # starts and goals spread over the whole range of every joint
+    starts = np.array([tr.q[0] for tr in trajs])
+    span = robot.q_max - robot.q_min
+    assert np.all(starts.max(axis=0) - starts.min(axis=0) > 0.4 * span)
+
+
+def test_random_trajectories_bad_arguments(puma):
+    with pytest.raises(ValueError):
+        random_trajectories(puma, 0)
+    with pytest.raises(ValueError):
+        random_trajectories(puma, 3, seed=-1)
+    with pytest.raises(ValueError):
+        random_trajectories(puma, 3, n_setpoints=1)
+
+
+# --------------------------------------------------------------------------------------------
+# Merge rule
+# --------------------------------------------------------------------------------------------
+
+@pytest.mark.parametrize("a, b, merged", [
+    ("tran", "none", "tran"), ("tran", "rot", "both"), ("none", "none", "none"),
+    ("rot", "both", "both"), ("rot", "rot", "rot"), ("none", "rot", "rot"),
+    ("tran", "tran", "tran"), ("both", "none", "both"),
+])
+def test_merge_rule_hand_cases(a, b, merged):
+    assert merge_choices([{"D11": a, "h1": "none"}, {"D11": b, "h1": "none"}]) == \
+        {"D11": merged, "h1": "none"}
+
+
+def test_merge_rule_many_models_and_order():
+    models = [{"D11": "none", "D12": "tran", "h1": "rot"},
+              {"D11": "none", "D12": "tran", "h1": "none"},
+              {"D11": "none", "D12": "rot", "h1": "none"}]
+    for perm in itertools.permutations(models):
+        assert merge_choices(perm) == {"D11": "none", "D12": "both", "h1": "rot"}
+    assert merge_choices(models[:1]) == models[0]
+    assert list(merge_choices(models)) == ["D11", "D12", "h1"]
+
+
+def test_merge_rule_errors():
+    with pytest.raises(ValueError, match="no simplified models"):
+        merge_choices([])
+    with pytest.raises(ValueError, match="other elements"):
+        merge_choices([{"D11": "tran"}, {"D11": "tran", "h1": "rot"}])
+    with pytest.raises(ValueError, match="choice must be"):
+        merge_choices([{"D11": "tran"}, {"D11": "translational"}])
+
+
+# --------------------------------------------------------------------------------------------
+# The sweep on a dask LocalCluster
+# --------------------------------------------------------------------------------------------
+
+@pytest.fixture(scope="module")
+def cluster():
+    distributed = pytest.importorskip("distributed")
+    with distributed.LocalCluster(n_workers=2, threads_per_worker=1, processes=True,
+                                  dashboard_address=None,
+                                  scheduler_kwargs={"dashboard_address": "127.0.0.1:0"}) as cl:
+        with distributed.Client(cl) as client:
+            yield cl, client
+
+
+@pytest.fixture(scope="module")
+def trajectories(puma):
+    return random_trajectories(puma, K, seed=5)
+
+
+@pytest.fixture(scope="module")
+def sweep(puma, trajectories, cluster):
+    _, client = cluster
+    return run_sweep(puma, trajectories, client=client, batch=2,
+                     settings={"command": "test"})
+
+
+@pytest.fixture(scope="module")
+def serial(puma, trajectories):
+    return [analyze(puma, tr, check=False).dataset for tr in trajectories]
+
+
+def test_sweep_equals_serial_analysis(sweep, serial, puma, trajectories):
+    labels = element_labels(puma.n)
+    assert sweep.sizes == {"trajectory": K, "element": len(labels), "joint": 6, "class": 4}
+    assert list(sweep["element"].values) == labels
+    for k, ref in enumerate(serial):
+        np.testing.assert_allclose(sweep["share_tran"].values[k], ref["share_tran"].values,
+                                   rtol=0, atol=1e-12)
+        assert list(sweep["dominance"].values[k]) == list(ref["dominance"].values)
+        assert list(sweep["choice"].values[k]) == list(ref["choice"].values)
+        np.testing.assert_allclose(sweep["tau_peak"].values[k], ref["tau_peak"].values,
+                                   rtol=1e-12)
+        np.testing.assert_allclose(sweep["tau_error_peak"].values[k],
+                                   ref["tau_error_peak"].values, rtol=1e-9, atol=1e-14)
+        np.testing.assert_allclose(sweep["peak_total"].values[k], ref["peak_total"].values,
+                                   rtol=1e-12)
+        tr = trajectories[k]
+        assert sweep["source"].values[k] == tr.source
+        assert sweep["duration"].values[k] == pytest.approx(tr.t[-1] - tr.t[0], rel=1e-14)
+        np.testing.assert_array_equal(sweep["q_start"].values[k], tr.q[0])
+        np.testing.assert_array_equal(sweep["q_goal"].values[k], tr.q[-1])
+    # analyze_one in a loop gives the same
+    for k, tr in enumerate(trajectories):
+        one = analyze_one(puma, tr, 0.9, 0.01)
+        np.testing.assert_allclose(sweep["share_tran"].values[k], one["share_tran"], rtol=0,
+                                   atol=1e-12)
+
+
+def test_sweep_envelope(sweep, serial):
+    dom = np.array([list(ref["dominance"].values) for ref in serial])
+    for c, cls in enumerate(CLASSES):
+        np.testing.assert_allclose(sweep["class_fraction"].values[:, c],
+                                   np.mean(dom == cls, axis=0), rtol=0, atol=1e-15)
+    np.testing.assert_allclose(sweep["class_fraction"].sum("class").values, 1.0, atol=1e-12)
+    share = np.array([ref["share_tran"].values for ref in serial])
+    for name, fn in (("min", np.nanmin), ("median", np.nanmedian), ("max", np.nanmax)):
+        np.testing.assert_allclose(sweep[f"share_tran_{name}"].values, fn(share, axis=0),
+                                   rtol=0, atol=1e-12)
+    # the merged choice by set logic, element by element
+    choices = np.array([list(ref["choice"].values) for ref in serial])
+    for m, label in enumerate(sweep["element"].values):
+        kept = set(choices[:, m])
+        tran = bool(kept & {"tran", "both"})
+        rot = bool(kept & {"rot", "both"})
+        want = "both" if tran and rot else "tran" if tran else "rot" if rot else "none"
+        assert sweep["merged_choice"].values[m] == want, label
+
+
+def test_merged_model_keeps_every_part_any_trajectory_keeps(sweep, puma):
+    model = merged_model(puma, sweep)
+    merged = choice_masks(model.choices, puma.n)
+    for k in range(K):
+        own = dict(zip(sweep["element"].values, sweep["choice"].values[k]))
+        for m_merged, m_own in zip(merged, choice_masks(own, puma.n)):
+            assert np.all(m_merged >= m_own)
+    # and it drops what every trajectory drops
+    labels = list(sweep["element"].values)
+    for m, label in enumerate(labels):
+        if all(sweep["choice"].values[k, m] == "none" for k in range(K)):
+            assert model.choices[label] == "none"
+
+
+def test_merged_model_validation_is_its_error_over_all_trajectories(sweep, puma,
+                                                                    trajectories):
+    model = merged_model(puma, sweep)
+    errs, taus = [], []
+    for k, tr in enumerate(trajectories):
+        terms = gd_terms(puma, tr.q, tr.qd)
+        tau = terms.tau(tr.qdd)
+        err = np.abs(model.torque(tr.q, tr.qd, tr.qdd) - tau)
+        errs.append(err)
+        taus.append(tau)
+        np.testing.assert_allclose(sweep["merged_tau_error_peak"].values[k], err.max(axis=0),
+                                   rtol=1e-9, atol=1e-13)
+    err, tau = np.concatenate(errs), np.concatenate(taus)
+    peak, rms, tau_peak = err.max(axis=0), np.sqrt((err**2).mean(axis=0)), np.abs(tau).max(axis=0)
+    v = model.validation
+    np.testing.assert_allclose(v["peak_abs_error"], peak, rtol=1e-9, atol=1e-13)
+    np.testing.assert_allclose(v["rms_error"], rms, rtol=1e-9, atol=1e-13)
+    np.testing.assert_allclose(v["peak_tau"], tau_peak, rtol=1e-12)
+    np.testing.assert_allclose(v["relative_peak_error"], peak / tau_peak, rtol=1e-9,
+                               atol=1e-13)
+    assert v["trajectories"] == K and v["setpoints"] == 31 * K
+    assert model.dominance_threshold == 0.9 and model.negligible_threshold == 0.01
+
+
+def test_merged_model_checks_the_robot(sweep, two_link):
+    with pytest.raises(InputError, match="robot"):
+        merged_model(two_link, sweep)
+
+
+def test_sweep_attributes_and_units(sweep, puma, cluster):
+    cl, _ = cluster
+    for name, var in itertools.chain(sweep.data_vars.items(), sweep.coords.items()):
+        assert "units" in var.attrs and "long_name" in var.attrs, name
+    a = sweep.attrs
+    assert a["Conventions"] == "CF-1.10"
+    from gd_analyze import __version__
+
+    assert a["gd_analyze_version"] == __version__
+    assert a["robot"] == "puma560" and a["robot_sha256"] == puma.sha256
+    np.testing.assert_array_equal(a["gravity"], puma.gravity)
+    assert a["seed"] == 5 and a["input_kind"] == "random" and a["trajectories"] == K
+    assert a["dominance_threshold"] == 0.9 and a["negligible_threshold"] == 0.01
+    assert a["n_workers"] == 2 and a["scheduler_address"] == cl.scheduler_address
+    assert a["batch_size"] == 2 and a["n_tasks"] == 2 * 3
+    assert a["elapsed_s"] > 0 and a["command"] == "test"
+    assert len(a["inputs_sha256"]) == 64
+
+
+def test_sweep_by_scheduler_address_and_file_inputs(sweep, puma, trajectories, cluster,
+                                                    tmp_path):
+    cl, _ = cluster
+    shipped = read_trajectory(SHIPPED, puma.n)
+    ds = run_sweep(puma, [trajectories[1], shipped], scheduler=cl.scheduler_address)
+    np.testing.assert_allclose(ds["share_tran"].values[0], sweep["share_tran"].values[1],
+                               rtol=0, atol=1e-12)
+    ref = analyze(puma, shipped, check=False).dataset
+    np.testing.assert_allclose(ds["share_tran"].values[1], ref["share_tran"].values, rtol=0,
+                               atol=1e-12)
+    assert ds.attrs["scheduler_address"] == cl.scheduler_address
+    assert ds.attrs["input_kind"] == "mixed" and "seed" in ds.attrs
+    assert shipped.sha256 in ds.attrs["input_files"]
+    assert list(ds["input_sha256"].values) == ["", shipped.sha256]
+
+
+def test_big_batches_and_long_trajectories_equal_one_by_one(puma, cluster):
+    """A task groups short trajectories into one G-D call; a long one (compiled engine in
+    gd_terms) is computed alone: either way every share, also of round-off-level elements,
+    is that of analyze_one."""
+    _, client = cluster
+    trajs = random_trajectories(puma, 140, seed=9)      # 100 x 31 set points in one call
+    long = plan_quintic(puma, trajs[0].q[0], trajs[0].q[-1], n_setpoints=2500)
+    trajs.insert(100, dataclasses.replace(long, source="long"))
+    ds = run_sweep(puma, trajs, client=client, batch=len(trajs))
+    assert ds.attrs["n_tasks"] == 2
+    for k, tr in enumerate(trajs):
+        one = analyze_one(puma, tr)
+        np.testing.assert_allclose(ds["share_tran"].values[k], one["share_tran"], rtol=0,
+                                   atol=1e-12)
+        assert tuple(ds["dominance"].values[k]) == one["classes"]
+    assert ds["setpoints"].values[100] == 2500
+
+
+def test_sweep_starts_and_closes_its_own_cluster(puma, trajectories):
+    ds = run_sweep(puma, trajectories[:2], n_workers=1)
+    assert ds.attrs["n_workers"] == 1
+    assert ds.attrs["cluster"].startswith("LocalCluster")
+    np.testing.assert_allclose(ds["share_tran"].values[1],
+                               analyze_one(puma, trajectories[1])["share_tran"], rtol=0,
+                               atol=1e-12)
+
+
+def test_sweep_rejects_bad_input_before_starting(puma, two_link, trajectories):
+    with pytest.raises(ValueError, match="at least one"):
+        run_sweep(puma, [])
+    with pytest.raises(ValueError, match="shape"):
+        run_sweep(two_link, trajectories[:1])
+    with pytest.raises(ValueError, match="dominance"):
+        run_sweep(puma, trajectories[:1], dominance=0.4)
+    with pytest.raises(ValueError, match="batch"):
+        run_sweep(puma, trajectories[:1], batch=0)
+
+
+def test_sweep_file_round_trip(sweep, tmp_path):
+    path = tmp_path / "sweep.h5"
+    write_sweep(sweep, path)
+    back = open_sweep(path)
+    for name in sweep.data_vars:
+        a, b = sweep[name].values, back[name].values
+        if a.dtype.kind in "fi":
+            np.testing.assert_array_equal(a, b)
+        else:
+            assert [str(x) for x in a.ravel()] == [str(x) for x in b.ravel()], name
+        assert back[name].attrs["units"] == sweep[name].attrs["units"]
+        assert back[name].attrs["long_name"] == sweep[name].attrs["long_name"]
+    assert back.attrs["robot_sha256"] == sweep.attrs["robot_sha256"]
+    assert not list(tmp_path.glob(".*.tmp"))
+    with pytest.raises(InputError):
+        open_sweep(path, "payload")
+
+
+# --------------------------------------------------------------------------------------------
+# Payload sweep
+# --------------------------------------------------------------------------------------------
+
+@pytest.fixture(scope="module")
+def shipped(puma):
+    return read_trajectory(SHIPPED, puma.n)
+
+
+def test_payload_sweep_equals_plain_analyses(puma, shipped):
+    com, inertia = (0.01, -0.02, 0.06), (2e-3, 3e-3, 1e-3)
+    ds = payload_sweep(puma, shipped, [0.0, 1.5], com=com, inertia=inertia)
+    np.testing.assert_array_equal(ds["payload"].values, [0.0, 1.5])
+    assert ds["payload"].attrs["units"] == "kg"
+    # zero payload: the plain analysis of the bare arm
+    plain = analyze(puma, shipped, check=False).dataset
+    bare = analyze(with_payload(puma, 0.0, com, inertia), shipped, check=False).dataset
+    loaded = analyze(with_payload(puma, 1.5, com, inertia), shipped, check=False).dataset
+    for p, ref in ((0, bare), (1, loaded)):
+        np.testing.assert_allclose(ds["share_tran"].values[p], ref["share_tran"].values,
+                                   rtol=0, atol=1e-12)
+        assert list(ds["dominance"].values[p]) == list(ref["dominance"].values)
+        assert list(ds["choice"].values[p]) == list(ref["choice"].values)
+        np.testing.assert_allclose(ds["tau_peak"].values[p], ref["tau_peak"].values, rtol=1e-12)
+    zero = payload_sweep(puma, shipped, [0.0])
+    np.testing.assert_allclose(zero["share_tran"].values[0], plain["share_tran"].values,
+                               rtol=0, atol=1e-12)
+    assert list(zero["dominance"].values[0]) == list(plain["dominance"].values)
+    # a load changes the torques the arm needs
+    assert np.any(np.abs(ds["tau_peak"].values[1] - ds["tau_peak"].values[0]) > 1e-3)
+    for name, var in itertools.chain(ds.data_vars.items(), ds.coords.items()):
+        assert "units" in var.attrs and "long_name" in var.attrs, name
+
+
+def test_payload_matches_pinocchio_with_the_load_appended(puma):
+    import pinocchio as pin
+
+    from gd_analyze.formulations.pinocchio import pinocchio_model
+
+    m, com = 2.5, np.array([0.02, -0.03, 0.08])
+    inertia = np.array([[4e-3, 2e-4, -1e-4], [2e-4, 5e-3, 3e-4], [-1e-4, 3e-4, 2e-3]])
+    loaded = with_payload(puma, m, com, inertia)
+    model = pinocchio_model(puma)
+    a, d, alpha = puma.a[-1], puma.d[-1], puma.alpha[-1]
+    c, s = np.cos(alpha), np.sin(alpha)
+    frame_n = pin.SE3(np.array([[1, 0, 0], [0, c, -s], [0, s, c]]), np.array([a, 0.0, d]))
+    model.appendBodyToJoint(model.njoints - 1, frame_n.act(pin.Inertia(m, com, inertia)),
+                            pin.SE3.Identity())
+    data = model.createData()
+    q, qd, qdd = random_states(puma, 25, 41)
+    ref = np.array([pin.rnea(model, data, a_, b_, c_) for a_, b_, c_ in zip(q, qd, qdd)])
+    tau = gd_terms(loaded, q, qd).tau(qdd)
+    np.testing.assert_allclose(tau, ref, rtol=0, atol=1e-10 * np.abs(ref).max())
+    # and the bare arm differs from it: the test can fail
+    bare = gd_terms(puma, q, qd).tau(qdd)
+    assert np.abs(bare - ref).max() > 1e-3 * np.abs(ref).max()
+
+
+def test_payload_sweep_rejects_bad_masses(puma, shipped):
+    with pytest.raises(InputError):
+        payload_sweep(puma, shipped, [])
+    with pytest.raises(InputError, match="distinct"):
+        payload_sweep(puma, shipped, [1.0, 1.0])
+    with pytest.raises(InputError):
+        payload_sweep(puma, shipped, [-1.0])
+
+
+# --------------------------------------------------------------------------------------------
+# parse_range
+# --------------------------------------------------------------------------------------------
+
+def test_parse_range():
+    assert parse_range("0:2.5:0.5") == [0.0, 0.5, 1.0, 1.5, 2.0, 2.5]
+    assert parse_range("0:0.3:0.1") == [0.0, 0.1, 0.2, 0.3]      # exact decimal grid
+    assert parse_range(" 0.1 : 0.7 : 0.2 ") == [0.1, 0.3, 0.5, 0.7]
+    assert parse_range("0:1:0.3") == [0.0, 0.3, 0.6, 0.9]         # stop off the grid
+    assert parse_range("1.5:1.5:1") == [1.5]
+    assert len(parse_range("0:10:0.01")) == 1001
+
+
+@pytest.mark.parametrize("text, match", [
+    ("0:2.5", "START:STOP:STEP"), ("0:1:2:3", "START:STOP:STEP"), ("a:1:0.5", "three numbers"),
+    ("0:1:", "three numbers"), ("0:1:0", "STEP must be positive"),
+    ("0:1:-0.5", "STEP must be positive"), ("2:1:0.5", "STOP must not be below"),
+    ("0:inf:1", "finite"), ("0:1e9:1e-3", "at most"),
+])
+def test_parse_range_errors(text, match):
+    with pytest.raises(InputError, match=match) as info:
+        parse_range(text)
+    assert "--payload-sweep" in str(info.value)
+
+
+# --------------------------------------------------------------------------------------------
+# Report
+# --------------------------------------------------------------------------------------------
+
+def test_sweep_report(sweep, puma, shipped, tmp_path):
+    from matplotlib.figure import Figure
+
+    from gd_analyze.reports.figures import payload_figure
+    from gd_analyze.reports.sweep import write_sweep_report
+
+    path = tmp_path / "sweep.h5"
+    write_sweep(sweep, path)
+    pay = payload_sweep(puma, shipped, parse_range("0:1:0.5"))
+    write_sweep(pay, tmp_path / "payload.h5")
+    # the report reads the file: mark a stored value and find it in the report
+    marked = sweep.copy()
+    marked.attrs["command"] = "marker-7f3a"
+    write_sweep(marked, path)
+    out = write_sweep_report(path, tmp_path / "report", payload=tmp_path / "payload.h5")
+    html_path, pdf_path = out
+    assert html_path.name == "sweep_report.html" and pdf_path.name == "sweep_report.pdf"
+    html = html_path.read_text(encoding="utf-8")
+    assert html.count("<svg") >= 5
+    assert "<link" not in html and 'src="http' not in html and "<script" not in html
+    assert "marker-7f3a" in html and puma.sha256 in html
+    for label in element_labels(puma.n):
+        assert f">{label}<" in html
+    assert "Payload sweep" in html
+    assert pdf_path.read_bytes().startswith(b"%PDF")
+    assert not list((tmp_path / "report").glob(".*.tmp"))
+    fig = payload_figure(pay)
+    assert isinstance(fig, Figure) and len(fig.axes) >= 2
+    # no payload section without a payload sweep; a payload file is not a sweep
+    html2 = write_sweep_report(path, tmp_path / "r2", formats=["html"])[0].read_text()
+    assert "Payload sweep" not in html2
+    with pytest.raises(InputError):
+        write_sweep_report(tmp_path / "payload.h5", tmp_path / "r3")
+    with pytest.raises(InputError):
+        write_sweep_report(tmp_path / "missing.h5", tmp_path / "r3")
+
+
+def test_analyze_one_rejects_a_trajectory_of_another_robot(two_link, puma):
+    tr = random_trajectories(puma, 1)[0]
+    with pytest.raises(ValueError, match="shape"):
+        analyze_one(two_link, tr)
+    bad = dataclasses.replace(tr, qd=tr.qd[:, :3])
+    with pytest.raises(ValueError, match="qd"):
+        analyze_one(puma, bad)
