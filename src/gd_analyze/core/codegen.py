@@ -308,12 +308,7 @@ def _print(e, lang, prec=0):
     if e.is_Add:
         terms = list(e.args)
         terms.sort(key=lambda t: _num(t))             # constants last
-        out = ""
-        for t in terms:
-            neg, body = _split_sign(t)
-            s = _print(body, lang, 1)
-            out += (" - " if neg else " + ") + s if out else ("-" + s if neg else s)
-        return f"({out})" if prec > 0 else out
+        return _print_sum(terms, lang, prec)
     if e.is_Mul:
         neg, body = _split_sign(e)
         factors = list(body.args) if body.is_Mul else [body]
@@ -332,6 +327,23 @@ def _print(e, lang, prec=0):
         fn = f"np.{fn}" if lang == "py" else fn
         return f"{fn}({_print(e.args[0], lang, 0)})"
     raise ValueError(f"cannot print {e}")
+
+
+#: Longest run of terms printed as one flat sum (Python's compiler nests binary operators).
+_SUM_CHUNK = 32
+
+
+def _print_sum(terms, lang, prec):
+    if len(terms) > _SUM_CHUNK:
+        chunks = [terms[a:a + _SUM_CHUNK] for a in range(0, len(terms), _SUM_CHUNK)]
+        out = " + ".join(_print_sum(c, lang, 1) for c in chunks)
+        return f"({out})" if prec > 0 else out
+    out = ""
+    for t in terms:
+        neg, body = _split_sign(t)
+        s = _print(body, lang, 1)
+        out += (" - " if neg else " + ") + s if out else ("-" + s if neg else s)
+    return f"({out})" if prec > 0 or len(terms) > 1 and prec > 0 else out
 
 
 def _split_sign(t):

@@ -273,7 +273,7 @@ def simplified_dataset(model, selection, other=None, ladder_rows=None, cost_tabl
     import xarray as xr
 
     def var(dims, data, units, desc):
-        return xr.Variable(dims, data, {"units": units, "description": desc})
+        return xr.Variable(dims, data, {"units": units, "long_name": desc})
 
     dv = {
         "simplified_scale": var(("joint",), selection.scale, "N m",
@@ -316,9 +316,12 @@ def simplified_dataset(model, selection, other=None, ladder_rows=None, cost_tabl
         })
     coords = {}
     if cost_table:
-        coords["cost_model"] = np.array(list(cost_table), dtype=str)
+        coords["cost_model"] = var(("cost_model",), np.array(list(cost_table), dtype=str), "1",
+                                   "formulation or model whose operations are counted")
     if ladder_rows:
-        coords["ladder_tolerance"] = np.array([r["tolerance"] for r in ladder_rows])
+        coords["ladder_tolerance"] = var(("ladder_tolerance",),
+                                         np.array([r["tolerance"] for r in ladder_rows]), "1",
+                                         "EPS of the error budget")
     ds = xr.Dataset(dv, coords=coords)
     cost = model.cost
     ds.attrs.update({
