@@ -4,10 +4,11 @@ Each part p in {tran, rot} of each element contributes to the joint torques alon
 trajectory: D_ij^p qdd_j to tau_i and, for i != j, D_ij^p qdd_i to tau_j; h_i^p to tau_i.
 Joint i's scale is its peak |tau_i| along the trajectory, raised to a torque floor TAU [N m].
 With the budget rule, parts are dropped in order of increasing peak contribution while, for
-every joint, the sum of the dropped parts' peak contributions stays within EPS x scale_i; the
-explicit model's single terms are then pruned with what is left of the budget
-(:func:`gd_analyze.core.explicit.prune`). By the triangle inequality the simplified model's
-error on the trajectory is within EPS x scale_i for every joint.
+every joint, the sum of the dropped parts' peak contributions stays within EPS x scale_i: these
+are the element choices. The explicit model is pruned the same way at a finer grain, term by
+term (:func:`gd_analyze.core.explicit.prune`, atoms of proportional groups), within the same
+EPS x scale_i. By the triangle inequality either model's error on the trajectory is within
+EPS x scale_i for every joint.
 
 The chapter's rule (``"chapter"``) keeps the share-based classes of
 :mod:`gd_analyze.ranking` and prunes no single term: there is no bound.
@@ -19,7 +20,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from .explicit import budget_drop, prune
+from .explicit import atoms, budget_drop, prune
 
 __all__ = ["RULES", "DEFAULT_TOLERANCE", "PartPeaks", "part_index", "budget_choices",
            "Selection", "select_terms"]
@@ -161,18 +162,22 @@ class Selection:
     tolerance : float
         EPS.
     choices : dict
-        Element label -> kept parts.
+        Element label -> kept parts: for the budget rule the whole-part selection of
+        :func:`budget_choices` (the element-level model, also within EPS), for the chapter rule
+        the share-based classes.
     kept : Term
-        The explicit model's kept terms.
+        The explicit model's kept terms (tran and rot merged).
     scale : ndarray, shape (n,)
         scale_i [N m].
     bound : ndarray, shape (n,)
-        Guaranteed bound on |tau_s - tau| per joint on the trajectories the peaks came from
-        [N m] (sum of the dropped peaks; NaN for the chapter rule, which has none).
-    dropped_parts : ndarray, shape (n,)
-        Of the bound, what the dropped whole parts account for [N m].
-    dropped_terms : ndarray, shape (n,)
-        Of the bound, what the pruned single terms account for [N m].
+        Guaranteed bound on |tau_s - tau| of the explicit model per joint on the trajectories
+        the peaks came from [N m] (NaN for the chapter rule, which has none).
+    bound_by_kind : dict
+        ``"D"``, ``"h"``, ``"c"`` -> ndarray (n,): the bound split by what the dropped atoms
+        belong to (inertia, Coriolis and centrifugal, gravity) [N m].
+    element_bound : ndarray, shape (n,)
+        The bound of the element-level model of ``choices`` (sum of the dropped parts' peaks)
+        [N m]; NaN for the chapter rule.
     """
 
     rule: str
@@ -181,8 +186,8 @@ class Selection:
     kept: object
     scale: np.ndarray
     bound: np.ndarray
-    dropped_parts: np.ndarray
-    dropped_terms: np.ndarray
+    bound_by_kind: dict
+    element_bound: np.ndarray
 
 
 def select_terms(terms, term_peaks, part_peaks, tau_peak, tolerance=DEFAULT_TOLERANCE,
@@ -193,8 +198,8 @@ def select_terms(terms, term_peaks, part_peaks, tau_peak, tolerance=DEFAULT_TOLE
     ----------
     terms : Term
         All terms of the explicit model (:func:`gd_analyze.core.explicit.model_terms`).
-    term_peaks : ndarray, shape (U, n)
-        Their peak contributions (:func:`gd_analyze.core.explicit.term_peaks`) [N m].
+    term_peaks : ndarray, shape (A, n)
+        Peak contributions of their atoms (:func:`gd_analyze.core.explicit.term_peaks`) [N m].
     part_peaks : ndarray, shape (P, n)
         Peak contributions of the parts (:class:`PartPeaks`) [N m].
     tau_peak : ndarray, shape (n,)
@@ -205,8 +210,8 @@ def select_terms(terms, term_peaks, part_peaks, tau_peak, tolerance=DEFAULT_TOLE
     torque_floor : float, optional
         TAU >= 0 [N m]: scale_i = max(peak |tau_i|, TAU).
     chapter_choices : dict, optional
-        The share-based choices (:meth:`gd_analyze.ranking.Ranking.choices`); required for
-        ``rule="chapter"``.
+        The share-based choices (:meth:`gd_analyze.core.ranking.Ranking.choices`); required
+        for ``rule="chapter"``.
 
     Returns
     -------
@@ -216,6 +221,12 @@ def select_terms(terms, term_peaks, part_peaks, tau_peak, tolerance=DEFAULT_TOLE
     ------
     ValueError
         On an unknown rule, a negative tolerance or floor, or missing chapter choices.
+
+    Notes
+    -----
+    Budget rule: the atoms of the full explicit model are pruned within EPS x scale_i
+    (:func:`gd_analyze.core.explicit.prune`); the whole-part choices are computed beside it.
+    Chapter rule: the terms of the parts the share-based classes keep, nothing pruned.
     """
     if rule not in RULES:
         raise ValueError(f"rule must be one of {RULES}, got {rule!r}")
@@ -223,27 +234,27 @@ def select_terms(terms, term_peaks, part_peaks, tau_peak, tolerance=DEFAULT_TOLE
         raise ValueError(f"the torque floor must be a finite number >= 0, got {torque_floor}")
     scale = np.maximum(np.asarray(tau_peak, float), float(torque_floor))
     n = scale.size
+    nan = np.full(n, np.nan)
     if rule == "chapter":
         if chapter_choices is None:
             raise ValueError("the chapter rule needs the ranking's choices")
         choices = dict(chapter_choices)
-        used_parts = np.full(n, np.nan)
-    else:
-        choices, used_parts = budget_choices(part_peaks, scale, tolerance)
-    keep = {"tran": ("tran", "both"), "rot": ("rot", "both")}
-
-    def dropped(kind, part, i, j):
-        if kind == "c":
-            return False
-        label = f"D{i + 1}{j + 1}" if kind == "D" else f"h{i + 1}"
-        return choices[label] not in keep[part]
-
-    if rule == "chapter":
-        kept, used_terms = prune(terms, term_peaks, None, drop_parts=dropped)
-        used_terms = np.full(n, np.nan)
-    else:
-        kept, used_terms = prune(terms, term_peaks, tolerance * scale - used_parts,
-                                 drop_parts=dropped)
+        keep = {"tran": ("tran", "both"), "rot": ("rot", "both")}
+        mask = np.array([kd == "c" or choices[f"D{i + 1}{j + 1}" if kd == "D" else
+                                              f"h{i + 1}"] in keep[pt]
+                         for kd, pt, i, j in zip(terms.kind, terms.part, terms.i, terms.j)],
+                        bool)
+        kept, _, _ = prune(terms.subset(mask), np.zeros((0, n)), None)
+        return Selection(rule=rule, tolerance=float(tolerance), choices=choices, kept=kept,
+                         scale=scale, bound=nan, bound_by_kind={k: nan for k in "Dhc"},
+                         element_bound=nan)
+    choices, element_used = budget_choices(part_peaks, scale, tolerance)
+    kept, used, dropped = prune(terms, term_peaks, tolerance * scale)
+    merged, atom = atoms(terms)
+    by_kind = {}
+    for kind in "Dhc":
+        ids = np.unique(atom[(merged.kind == kind)])
+        ids = ids[dropped[ids]]
+        by_kind[kind] = term_peaks[ids].sum(axis=0) if ids.size else np.zeros(n)
     return Selection(rule=rule, tolerance=float(tolerance), choices=choices, kept=kept,
-                     scale=scale, bound=used_parts + used_terms, dropped_parts=used_parts,
-                     dropped_terms=used_terms)
+                     scale=scale, bound=used, bound_by_kind=by_kind, element_bound=element_used)

@@ -4,8 +4,9 @@ The program (:func:`build_program`) is assembled with symengine from the kept te
 explicit model (:mod:`gd_analyze.core.explicit`) in the AKB style (Armstrong, Khatib & Burdick,
 ICRA 1986), keeping the structure instead of expanding it:
 
-- angles: theta_i = q_i + offset_i (only where the offset is not 0), the compound angles
-  k . theta of the harmonics (theta_2 + theta_3 on the PUMA) and their cos and sin, each once;
+- angles: theta_i = q_i + offset_i (only where the offset is not 0) and their cos and sin;
+  cos and sin of the compound angles k . theta of the harmonics (theta_2 + theta_3 on the
+  PUMA) by the angle-addition formulas, each once;
 - velocity products qd_j qd_k, each once;
 - groups: every element D_ij (used by tau_i with qdd_j and by tau_j with qdd_i), every
   Christoffel coefficient of qd_j qd_k in h_i and every c_i is one sum of coefficient x
@@ -121,7 +122,12 @@ def _key(K, S):
     return (bool(S),) + tuple(int(v) for v in K)
 
 
-def build_program(terms, n, offset):
+#: How cos and sin of compound angles are formed: "products" (angle-addition formulas from the
+#: n joint angles' cos and sin: only 2n calls) or "calls" (one call per compound angle).
+TRIG_MODES = ("products", "calls")
+
+
+def build_program(terms, n, offset, trig_mode="products"):
     """Assemble the straight-line program of the kept terms.
 
     Parameters
@@ -132,6 +138,10 @@ def build_program(terms, n, offset):
         Number of joints.
     offset : array_like, shape (n,)
         Joint offsets [rad]: theta = q + offset.
+    trig_mode : {"products", "calls"}, optional
+        ``"products"``: cos and sin of the n angles are the only calls, compound angles come
+        from the angle-addition formulas (counted); ``"calls"``: one cos/sin call per compound
+        angle (fewer counted operations, more calls).
 
     Returns
     -------
@@ -195,12 +205,37 @@ def build_program(terms, n, offset):
     def trig(key):
         if key in trig_cache:
             return trig_cache[key]
-        is_sin, kvec = key[0], key[1:]
+        is_sin, kvec = key[0], tuple(key[1:])
         if not any(kvec):
             return se.Integer(1)
-        a = angle(kvec)
+        nz = [m for m, v in enumerate(kvec) if v]
+        if trig_mode == "calls" or (len(nz) == 1 and kvec[nz[0]] == 1):
+            a = angle(kvec)
+            expr = se.sin(a) if is_sin else se.cos(a)
+        else:
+            # angle addition: k = a + b, cos(a+b) = ca cb - sa sb, sin(a+b) = sa cb + ca sb
+            g = 0
+            for v in kvec:
+                g = math.gcd(g, abs(v))
+            if g > 1:
+                unit = tuple(v // g for v in kvec)
+                ka, kb = unit, tuple(v * (g - 1) for v in unit)
+                sign_b = 1
+            else:
+                m = nz[-1]
+                ka = tuple(0 if i == m else v for i, v in enumerate(kvec))
+                sign_b = 1 if kvec[m] > 0 else -1
+                kb = tuple(abs(kvec[m]) if i == m else 0 for i in range(len(kvec)))
+            ca, sa = trig((False,) + ka), trig((True,) + ka)
+            cb, sb = trig((False,) + kb), sign_b * trig((True,) + kb)
+            if ka == kb and not is_sin:
+                expr = ca * ca - sa * sa
+            elif ka == kb:
+                expr = 2 * (sa * ca)
+            else:
+                expr = ca * cb - sa * sb if not is_sin else sa * cb + ca * sb
         sym = se.Symbol(f"{'s' if is_sin else 'c'}{len(trig_cache)}")
-        assignments.append((sym, se.sin(a) if is_sin else se.cos(a)))
+        assignments.append((sym, expr))
         trig_cache[key] = sym
         return sym
 

@@ -18,9 +18,11 @@ coefficients times cos or sin of integer combinations of the joint angles theta 
 - c, Eq. (3.4-28): c = dV/dq with V = -sum_s m_s g . rbar_s.
 
 Pruning (:func:`prune`): every term (a coefficient times a cos or sin, times qdd_j, qd_j qd_k or
-nothing) contributes to the joint torques along a trajectory; with the error budget of the
-issue-8 rule the dropped contributions' peaks sum to at most EPS x scale_i for every joint i, so
-by the triangle inequality the pruned model's error on that trajectory is within EPS x scale_i.
+nothing) contributes to the joint torques along a trajectory. Terms are pruned by atoms
+(:func:`atoms`: one harmonic of a class of proportional groups, so shared structure survives);
+with the error budget of the issue-8 rule the dropped atoms' peak contributions sum to at most
+EPS x scale_i for every joint i, so by the triangle inequality the pruned model's error on that
+trajectory is within EPS x scale_i.
 """
 
 from __future__ import annotations
@@ -32,8 +34,8 @@ import numpy as np
 
 from .trigpoly import TrigPoly
 
-__all__ = ["ExplicitModel", "derive", "Term", "model_terms", "term_peaks", "budget_drop",
-           "prune", "PART_KINDS"]
+__all__ = ["ExplicitModel", "derive", "Term", "model_terms", "merge_parts", "atoms",
+           "term_peaks", "budget_drop", "prune", "PART_KINDS"]
 
 #: The parts of a model's terms: the two G-D parts of D and h, and gravity.
 PART_KINDS = ("tran", "rot", "grav")
@@ -314,8 +316,75 @@ def model_terms(model):
                 np.array(C, float))
 
 
+def merge_parts(terms):
+    """Add the tran and rot terms of one element and harmonic together (part ``"both"``).
+
+    Parameters
+    ----------
+    terms : Term
+
+    Returns
+    -------
+    Term
+        One row per (kind, i, j, k, harmonic), sorted; gravity rows keep part ``"grav"``.
+    """
+    acc = {}
+    for kind, i, j, k, K, S, C in zip(terms.kind, terms.i, terms.j, terms.k, terms.K,
+                                      terms.S, terms.C):
+        key = (str(kind), int(i), int(j), int(k), bool(S)) + tuple(int(v) for v in K)
+        acc[key] = acc.get(key, 0.0) + float(C)
+    keys = sorted(k for k, c in acc.items() if c != 0.0)
+    n = terms.K.shape[1]
+    if not keys:
+        return terms.subset(np.zeros(len(terms), bool))
+    return Term(np.array([k[0] for k in keys]),
+                np.array(["grav" if k[0] == "c" else "both" for k in keys]),
+                np.array([k[1] for k in keys]), np.array([k[2] for k in keys]),
+                np.array([k[3] for k in keys]),
+                np.array([k[5:] for k in keys], dtype=np.int64).reshape(-1, n),
+                np.array([k[4] for k in keys], bool), np.array([acc[k] for k in keys]))
+
+
+def atoms(terms):
+    """Group the merged terms into atoms, the units of pruning that keep shared structure.
+
+    A group is the sum of coefficient x cos/sin of one D_ij, one Christoffel coefficient of
+    qd_j qd_k in h_i, or one c_i. Groups that are proportional (many Christoffel symbols are
+    multiples of one derivative of a D element) form a class, computed once in the emitted
+    code; an atom is one harmonic of one class, and pruning drops it from every group of the
+    class together, so the groups stay proportional.
+
+    Parameters
+    ----------
+    terms : Term
+        Terms of any parts (tran and rot are merged first, :func:`merge_parts`).
+
+    Returns
+    -------
+    merged : Term
+        The merged terms.
+    atom : ndarray of int, shape (M,)
+        The atom of each merged term, 0 .. A-1.
+    """
+    merged = merge_parts(terms)
+    groups = {}
+    for r, (kind, i, j, k) in enumerate(zip(merged.kind, merged.i, merged.j, merged.k)):
+        groups.setdefault((str(kind), int(i), int(j), int(k)), []).append(r)
+    atom = np.zeros(len(merged), np.int64)
+    classes, next_id = {}, 0
+    for _, rows in sorted(groups.items()):
+        ref = merged.C[rows][np.argmax(np.abs(merged.C[rows]))]
+        norm = tuple((bool(merged.S[r]),) + tuple(int(v) for v in merged.K[r])
+                     + (round(merged.C[r] / ref, 12),) for r in rows)
+        if norm not in classes:
+            classes[norm] = list(range(next_id, next_id + len(rows)))
+            next_id += len(rows)
+        atom[rows] = classes[norm]
+    return merged, atom
+
+
 def _contributions(terms, theta, qd, qdd):
-    """|contribution| of every term to every joint torque, shape (N, U, n)."""
+    """Signed contribution of every term to every joint torque, shape (N, U, n)."""
     N, n = theta.shape
     ang = theta @ terms.K.T                                    # (N, U)
     val = np.where(terms.S, np.sin(ang), np.cos(ang)) * terms.C
@@ -325,19 +394,19 @@ def _contributions(terms, theta, qd, qdd):
     jj, kk, ii = np.maximum(terms.j, 0), np.maximum(terms.k, 0), terms.i
     # D_ij qdd_j -> tau_i ; D_ij qdd_i -> tau_j (i != j)
     vel = np.where(isD, qdd[:, jj], np.where(ish, qd[:, jj] * qd[:, kk], 1.0))
-    out[:, U, ii] = np.abs(val * vel)
+    out[:, U, ii] = val * vel
     off = isD & (terms.i != terms.j)
-    out[:, U[off], jj[off]] = np.abs(val[:, off] * qdd[:, ii[off]])
+    out[:, U[off], jj[off]] = val[:, off] * qdd[:, ii[off]]
     return out
 
 
-def term_peaks(model_or_terms, offset, q, qd, qdd, chunk=2048):
-    """Peak |contribution| of every term to every joint torque along a trajectory.
+def term_peaks(terms, offset, q, qd, qdd, chunk=512):
+    """Peak |contribution| of every atom of the terms to every joint torque on a trajectory.
 
     Parameters
     ----------
-    model_or_terms : Term
-        The terms (:func:`model_terms`).
+    terms : Term
+        The terms (:func:`model_terms`); their atoms are those of :func:`atoms`.
     offset : ndarray, shape (n,)
         Joint offsets [rad].
     q, qd, qdd : ndarray, shape (N, n)
@@ -347,17 +416,22 @@ def term_peaks(model_or_terms, offset, q, qd, qdd, chunk=2048):
 
     Returns
     -------
-    ndarray, shape (U, n)
-        Peaks [N m]; they combine over trajectories and chunks by taking the maximum.
+    ndarray, shape (A, n)
+        Peaks [N m] of |sum of the atom's terms' contributions|; they combine over
+        trajectories and chunks by taking the maximum.
     """
-    terms = model_or_terms
+    merged, atom = atoms(terms)
     q, qd, qdd = (np.atleast_2d(np.asarray(x, float)) for x in (q, qd, qdd))
     n = q.shape[1]
-    peaks = np.zeros((len(terms), n))
+    A = int(atom.max()) + 1 if atom.size else 0
+    onehot = np.zeros((len(merged), A))
+    onehot[np.arange(len(merged)), atom] = 1.0
+    peaks = np.zeros((A, n))
     for a in range(0, q.shape[0], chunk):
         sl = slice(a, a + chunk)
-        np.maximum(peaks, _contributions(terms, q[sl] + offset, qd[sl], qdd[sl]).max(axis=0),
-                   out=peaks)
+        contrib = _contributions(merged, q[sl] + offset, qd[sl], qdd[sl])   # (N, M, n)
+        per_atom = np.einsum("kmn,ma->kan", contrib, onehot)
+        np.maximum(peaks, np.abs(per_atom).max(axis=0), out=peaks)
     return peaks
 
 
@@ -405,35 +479,29 @@ def budget_drop(peaks, budget, fixed=None):
     return drop, used
 
 
-def prune(terms, peaks, budget, drop_parts=None):
-    """Prune the terms of an explicit model within what is left of the budget.
+def prune(terms, peaks, budget):
+    """Prune the atoms of an explicit model within the budget.
 
     Parameters
     ----------
     terms : Term
-        All terms of the model.
-    peaks : ndarray, shape (U, n)
-        Their peak contributions (:func:`term_peaks`) [N m].
+        The terms of the model (any parts).
+    peaks : ndarray, shape (A, n)
+        Peak contributions of their atoms (:func:`term_peaks`) [N m].
     budget : ndarray, shape (n,) or None
-        The budget left per joint [N m] (EPS x scale_i minus what dropped parts used); None
-        prunes no single term.
-    drop_parts : callable, optional
-        ``drop_parts(kind, part, i, j) -> bool``: terms of these whole parts go first,
-        regardless of the budget (their cost was already counted by the caller).
+        EPS x scale_i [N m]; None prunes nothing (the terms come back merged).
 
     Returns
     -------
     kept : Term
-        The terms of the pruned model.
+        The merged terms of the kept atoms.
     used : ndarray, shape (n,)
-        The budget the pruned terms used [N m].
+        The budget the dropped atoms used [N m].
+    dropped : ndarray of bool, shape (A,)
+        Which atoms were dropped.
     """
-    pre = np.zeros(len(terms), bool)
-    if drop_parts is not None:
-        pre = np.array([bool(drop_parts(kd, pt, int(i), int(j))) for kd, pt, i, j in
-                        zip(terms.kind, terms.part, terms.i, terms.j)], bool)
-    rest = terms.subset(~pre)
+    merged, atom = atoms(terms)
     if budget is None:
-        return rest, np.zeros(peaks.shape[1])
-    drop, used = budget_drop(peaks[~pre], np.maximum(budget, 0.0))
-    return rest.subset(~drop), used
+        return merged, np.zeros(peaks.shape[1]), np.zeros(peaks.shape[0], bool)
+    drop, used = budget_drop(peaks, np.maximum(budget, 0.0))
+    return merged.subset(~drop[atom]), used, drop

@@ -264,8 +264,9 @@ def simplified_dataset(model, selection, other=None, ladder_rows=None, cost_tabl
     Returns
     -------
     xarray.Dataset
-        ``simplified_scale``, ``simplified_bound``, ``simplified_bound_parts``,
-        ``simplified_bound_terms`` (dim joint) [N m]; ``cost_*`` (dim cost_model);
+        ``simplified_scale``, ``simplified_bound``, ``simplified_bound_inertia``,
+        ``simplified_bound_coriolis``, ``simplified_bound_gravity``,
+        ``simplified_element_bound`` (dim joint) [N m]; ``cost_*`` (dim cost_model);
         ``ladder_*`` (dim ladder_tolerance); ``other_rule_*``; attributes ``simplified_rule``,
         ``simplified_tolerance``, ``simplified_torque_floor``, ``simplified_files``,
         ``simplified_terms_kept``.
@@ -280,10 +281,14 @@ def simplified_dataset(model, selection, other=None, ladder_rows=None, cost_tabl
                                 "scale_i = max(peak |tau_i|, torque floor)"),
         "simplified_bound": var(("joint",), selection.bound, "N m",
                                 "guaranteed bound on |tau_s - tau| on the trajectory"),
-        "simplified_bound_parts": var(("joint",), selection.dropped_parts, "N m",
-                                      "share of the bound due to dropped whole parts"),
-        "simplified_bound_terms": var(("joint",), selection.dropped_terms, "N m",
-                                      "share of the bound due to pruned single terms"),
+        "simplified_bound_inertia": var(("joint",), selection.bound_by_kind["D"], "N m",
+                                        "share of the bound from dropped terms of D (D qdd)"),
+        "simplified_bound_coriolis": var(("joint",), selection.bound_by_kind["h"], "N m",
+                                         "share of the bound from dropped terms of h"),
+        "simplified_bound_gravity": var(("joint",), selection.bound_by_kind["c"], "N m",
+                                        "share of the bound from dropped terms of c"),
+        "simplified_element_bound": var(("joint",), selection.element_bound, "N m",
+                                        "bound of the whole-part (element) choices"),
     }
     if cost_table:
         labels = list(cost_table)
