@@ -280,6 +280,16 @@ def _sweep_parser():
     p.add_argument("--negligible", metavar="E",
                    type=_fraction(0.0, 1.0, "--negligible", False),
                    default=DEFAULT_NEGLIGIBLE, help=f"default {DEFAULT_NEGLIGIBLE}")
+    p.add_argument("--tolerance", metavar="EPS", type=_fraction(0.0, math.inf, "--tolerance",
+                                                                False),
+                   help="also build one simplified explicit model within EPS on every swept "
+                        "trajectory (budget rule); writes sweep_model.json/.c/.py")
+    p.add_argument("--torque-floor", metavar="TAU", type=_fraction(0.0, math.inf,
+                                                                   "--torque-floor", False),
+                   default=0.0, help="least scale of a joint torque [N m] (default 0)")
+    p.add_argument("--held-out", metavar="K", type=int, default=20,
+                   help="random trajectories (another seed) to measure the sweep model on, "
+                        "not guaranteed (default 20)")
     p.add_argument("--no-report", action="store_true", help="skip the HTML and PDF report")
     p.add_argument("-q", "--quiet", action="store_true", help="print nothing but errors")
     _add_payload_sweep_argument(_add_payload_arguments(p))
@@ -529,6 +539,43 @@ def _cmd_control(args):
     return EXIT_OK
 
 
+def _sweep_model(robot, trajectories, args, outdir, settings):
+    """The sweep's simplified explicit model within EPS on every trajectory (issue 8)."""
+    from .workflows.simplify import sweep_model
+    from .workflows.sweep import random_trajectories
+
+    if args.held_out < 0:
+        raise InputError("--held-out must be >= 0")
+    held = random_trajectories(robot, args.held_out, seed=args.seed + 1_000_003) \
+        if args.held_out else []
+    model, _ = sweep_model(robot, trajectories, tolerance=args.tolerance,
+                           torque_floor=args.torque_floor, held_out=held,
+                           provenance={"gd_analyze_version": _version(), **settings})
+    path = outdir / "sweep_model.json"
+    model.save(path)
+    written = [path]
+    from .files import atomic_path
+
+    for name, text in (("sweep_model.c", model.c_source()),
+                       ("sweep_model.py", model.python_source())):
+        with atomic_path(outdir / name) as tmp:
+            Path(tmp).write_text(text, encoding="utf-8")
+        written.append(outdir / name)
+    if not args.quiet:
+        v = model.validation
+        held_err = v["held_out"].get("relative_peak_error") if v["held_out"] else None
+        print(f"sweep model (budget, EPS = {args.tolerance:g}): {model.cost['multiplications']} "
+              f"mult + {model.cost['additions']} add (full explicit: "
+              f"{model.full_cost['multiplications']} + {model.full_cost['additions']}); worst "
+              f"relative error on the {v['trajectories']} swept trajectories "
+              f"{max(x for x in v['relative_peak_error'] if x is not None):.2e} (guaranteed "
+              f"<= {args.tolerance:g})" + ("" if held_err is None else
+                                         f", on {v['held_out_trajectories']} held-out "
+                                         f"{max(x for x in held_err if x is not None):.2e} "
+                                         "(not guaranteed)"))
+    return written
+
+
 def _cmd_sweep(args):
     from .core.robot import load_robot
     from .workflows.sweep import (dask_client, merged_model, random_trajectories, run_sweep,
@@ -568,6 +615,8 @@ def _cmd_sweep(args):
     written = [outdir / "sweep.h5", outdir / "merged_model.json"]
     write_sweep(ds, written[0])
     merged_model(loaded, ds).save(written[1])
+    if args.tolerance is not None:
+        written += _sweep_model(loaded, trajectories, args, outdir, settings)
     if payload is not None:
         written.append(outdir / "payload_sweep.h5")
         write_sweep(payload, written[-1])

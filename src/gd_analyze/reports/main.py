@@ -237,8 +237,10 @@ def make_figures(ds):
     :data:`ENVELOPE_THRESHOLD` points are drawn as their min/max envelope (:func:`envelope`).
     """
     with _style(_RC):
+        from .simplified import error_figure, has_simplified
+
         figures = {"joints": _fig_joints(ds), "D": _fig_D(ds), "h": _fig_h(ds),
-                   "torque": _fig_torque(ds)}
+                   "torque": error_figure(ds) if has_simplified(ds) else _fig_torque(ds)}
         if "op_multiplications" in ds.variables:
             figures["formulations"] = _fig_formulations(ds)
         if "payload_share_tran" in ds.variables:
@@ -514,6 +516,14 @@ def _kv(rows):
 
 
 def _report_context(ds):
+    from .simplified import has_simplified, simplified_context
+
+    ctx = _report_context_base(ds)
+    ctx["simplified_model"] = simplified_context(ds) if has_simplified(ds) else None
+    return ctx
+
+
+def _report_context_base(ds):
     """Everything both reports print, as strings and tables (no figures)."""
     from .. import __version__
 
@@ -1006,6 +1016,15 @@ def _pdf(ctx, figures, path):
         doc.paragraph(_SIMPLIFIED_TEXT, size=8.5)
         doc.table(ctx["error"], size=7.5)
         doc.table(ctx["choices"])
+        sm = ctx.get("simplified_model")
+        if sm:
+            doc.paragraph(sm["text"], size=8.5)
+            doc.table(sm["bound"], size=7.5)
+            if sm["costs"]:
+                doc.table(sm["costs"], size=7.5)
+            if sm["ladder"]:
+                doc.table(sm["ladder"], size=7.5)
+            doc.paragraph("Emitted source files: " + ", ".join(sm["files"]), size=8.5)
         doc.figure(figures["torque"])
         doc.heading("6. Comparison with the chapter's PUMA 560")
         doc.paragraph(ctx["compare"]["note"], size=8.5)

@@ -341,3 +341,60 @@ def simplified_dataset(model, selection, other=None, ladder_rows=None, cost_tabl
         "other_rule_additions": -1 if other is None else other.cost["additions"],
     })
     return ds
+
+
+def sweep_model(robot, trajectories, tolerance=DEFAULT_TOLERANCE, torque_floor=0.0,
+                held_out=(), provenance=None):
+    """One simplified explicit model guaranteed on every trajectory of a sweep.
+
+    A term's (atom's) peak is taken over all the trajectories together, and so is each joint's
+    scale; the budget rule then keeps every trajectory's error within EPS x scale_i.
+
+    Parameters
+    ----------
+    robot : Robot
+    trajectories : sequence of Trajectory
+        The swept trajectories.
+    tolerance : float, optional
+        EPS.
+    torque_floor : float, optional
+        TAU [N m].
+    held_out : sequence of Trajectory, optional
+        Trajectories not swept: the error there is measured, not guaranteed.
+    provenance : dict, optional
+
+    Returns
+    -------
+    model : SimplifiedModel
+        ``validation`` holds the error over the swept trajectories, plus ``held_out`` (the
+        error on the held-out ones, or an empty dict) and ``trajectories``.
+    selection : Selection
+    """
+    import hashlib
+
+    terms, _ = explicit_terms(robot)
+    peaks = None
+    for tr in trajectories:
+        p = collect_peaks(robot, terms, tr.q, tr.qd, tr.qdd)
+        peaks = p if peaks is None else peaks.merge(p)
+    if peaks is None:
+        raise ValueError("no trajectories")
+    h = hashlib.sha256()
+    for tr in trajectories:               # file digests, or the arrays of planned trajectories
+        h.update(tr.sha256.encode() if tr.sha256 else
+                 b"".join(np.ascontiguousarray(x, float).tobytes() for x in (tr.q, tr.qd, tr.qdd)))
+    digest = h.hexdigest()
+    model, sel = build_model(robot, terms, peaks, tolerance=tolerance,
+                             torque_floor=torque_floor, trajectory_sha256=digest,
+                             provenance={**(provenance or {}), "kind": "sweep model",
+                                         "trajectories": len(trajectories)})
+    validation = validate(model, [(t.q, t.qd, t.qdd) for t in trajectories])
+    validation["trajectories"] = len(trajectories)
+    validation["held_out"] = validate(model, [(t.q, t.qd, t.qdd) for t in held_out]) \
+        if held_out else {}
+    validation["held_out_trajectories"] = len(held_out)
+    object.__setattr__(model, "validation", validation)
+    return model, sel
+
+
+__all__.append("sweep_model")
