@@ -106,7 +106,18 @@ class PartPeaks:
         np.maximum(self.tau_peak, np.abs(tau).max(axis=0), out=self.tau_peak)
 
     def merge(self, other):
-        """Combine with the peaks of other set points (another chunk or trajectory)."""
+        """Combine with the peaks of other set points (another chunk or trajectory).
+
+        Parameters
+        ----------
+        other : PartPeaks
+            Peaks of the same robot elsewhere.
+
+        Returns
+        -------
+        PartPeaks
+            self, updated in place.
+        """
         np.maximum(self.peaks, other.peaks, out=self.peaks)
         np.maximum(self.tau_peak, other.tau_peak, out=self.tau_peak)
         return self

@@ -81,7 +81,18 @@ class ExplicitModel:
     c: dict
 
     def theta(self, q):
-        """theta = q + offset, shape (N, n) [rad]."""
+        """The angles of the polynomials.
+
+        Parameters
+        ----------
+        q : array_like, shape (N, n)
+            Joint positions [rad].
+
+        Returns
+        -------
+        ndarray, shape (N, n)
+            theta = q + offset [rad].
+        """
         return np.atleast_2d(np.asarray(q, float)) + self.offset
 
     def terms(self, q, qd):
@@ -158,7 +169,10 @@ def derive(robot):
 
     Examples
     --------
-    >>> from gd_analyze.core.robot import load_robot  # doctest: +SKIP
+    >>> from gd_analyze.core.robot import load_robot
+    >>> model = derive(load_robot("two-link"))
+    >>> round(model.D_rot[(1, 1)].constant(), 6)      # m2 l^2 / 12
+    0.083333
     """
     n = robot.n
     ca = [_snap(math.cos(x)) for x in robot.alpha]
@@ -279,7 +293,16 @@ class Term:
         return int(self.C.size)
 
     def subset(self, mask):
-        """The terms where ``mask`` is True."""
+        """The terms where ``mask`` is True.
+
+        Parameters
+        ----------
+        mask : array_like of bool, shape (U,)
+
+        Returns
+        -------
+        Term
+        """
         mask = np.asarray(mask, bool)
         return Term(*(getattr(self, f)[mask] for f in
                       ("kind", "part", "i", "j", "k", "K", "S", "C")))

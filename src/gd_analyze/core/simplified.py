@@ -198,6 +198,22 @@ class SimplifiedModel:
         The torque error along that trajectory, as :func:`torque_error` gives it.
     provenance : dict
         Tool version, input file names, settings.
+    rule : str
+        ``"budget"`` (error budget, issue 8) or ``"chapter"`` (share-based classes).
+    tolerance : float
+        EPS of the budget (NaN when not applicable).
+    torque_floor : float
+        TAU [N m], the least scale of a joint torque.
+    terms : Term or None
+        The explicit model's kept terms (:mod:`gd_analyze.core.explicit`); None for a model
+        read from a layout without them (its kept parts are used, unpruned).
+    cost : dict
+        Counted operations of the emitted code: multiplications, additions, sin, cos.
+    full_cost : dict
+        The same for the full explicit model.
+    bound : list of float
+        Guaranteed bound on |tau_s - tau| per joint on the trajectory [N m] (NaN for the
+        chapter rule).
 
     Notes
     -----

@@ -145,7 +145,17 @@ class TrigPoly:
     __rmul__ = __mul__
 
     def diff(self, m):
-        """The derivative d/d theta_m (m 0-based)."""
+        """The derivative d/d theta_m.
+
+        Parameters
+        ----------
+        m : int
+            The angle, 0-based.
+
+        Returns
+        -------
+        TrigPoly
+        """
         k = self.K[:, m].astype(float)
         return TrigPoly(self.K, ~self.S, np.where(self.S, k, -k) * self.C)
 

@@ -17,7 +17,16 @@ __all__ = ["has_simplified", "simplified_context", "error_figure"]
 
 
 def has_simplified(ds):
-    """bool: the dataset holds the issue-8 simplified-model variables."""
+    """Whether the dataset holds the issue-8 simplified-model variables.
+
+    Parameters
+    ----------
+    ds : xarray.Dataset
+
+    Returns
+    -------
+    bool
+    """
     return "simplified_bound" in ds.variables
 
 

@@ -45,7 +45,18 @@ class Peaks:
     terms: np.ndarray
 
     def merge(self, other):
-        """Combine with the peaks of other trajectories (maximum)."""
+        """Combine with the peaks of other trajectories (maximum).
+
+        Parameters
+        ----------
+        other : Peaks
+            Peaks of the same robot and terms on other trajectories.
+
+        Returns
+        -------
+        Peaks
+            self, updated in place.
+        """
         self.parts.merge(other.parts)
         np.maximum(self.terms, other.terms, out=self.terms)
         return self
