@@ -30,8 +30,9 @@ import time
 from pathlib import Path
 
 from gd_analyze import load_robot
-from gd_analyze.workflows.control import (CONTROL_FILE, DEFAULT_WN, DEFAULT_ZETA, run_control,
-                                write_control_dataset)
+from gd_analyze.files import file_sha256
+from gd_analyze.io.control_dataset import write_control_dataset
+from gd_analyze.workflows.control import CONTROL_FILE, DEFAULT_WN, DEFAULT_ZETA, run_control
 from gd_analyze.workflows.analyze import analyze
 from gd_analyze.io.trajectory import read_trajectory
 
@@ -68,8 +69,9 @@ def main(argv=None):
         outdir.mkdir(parents=True, exist_ok=True)
         model_path = outdir / "simplified_model.json"
         model.save(model_path)
-        result = run_control(model_path, trajectory, wn=args.wn, zeta=args.zeta,
-                             q0_offset=args.offset)
+        result = run_control(model, trajectory, wn=args.wn, zeta=args.zeta,
+                             q0_offset=args.offset, model_path=model_path,
+                             model_sha256=file_sha256(model_path))
         if args.out:
             from gd_analyze.reports.control import write_control_report
 

@@ -51,8 +51,11 @@ def main(argv=None):
 
     from gd_analyze import load_robot
     from gd_analyze.core.ranking import CHAPTER_DOMINANCE, CLASSES
-    from gd_analyze.workflows.sweep import (merged_model, parse_range, payload_sweep,
-                                  random_trajectories, run_sweep, write_sweep)
+    from gd_analyze.cli import parse_range
+    from gd_analyze.io.datasets import write_dataset
+    from gd_analyze.io.trajectory import random_trajectories
+    from gd_analyze.workflows.payload import payload_sweep
+    from gd_analyze.workflows.sweep import merged_model, run_sweep
     from gd_analyze.reports.sweep import write_sweep_report
 
     t_start = time.perf_counter()
@@ -71,7 +74,7 @@ def main(argv=None):
 
     t0 = time.perf_counter()
     sweep_path = outdir / "sweep.h5"
-    write_sweep(ds, sweep_path)
+    write_dataset(ds, sweep_path)
     model = merged_model(robot, ds)
     model.save(outdir / "merged_model.json")
     payload_path = None
@@ -80,7 +83,7 @@ def main(argv=None):
 
         shipped = read_trajectory(ROOT / "data" / "puma560_trajectory.csv", robot.n)
         payload_path = outdir / "payload_sweep.h5"
-        write_sweep(payload_sweep(robot, shipped, parse_range(args.payload_sweep)),
+        write_dataset(payload_sweep(robot, shipped, parse_range(args.payload_sweep)),
                     payload_path)
     t_write = time.perf_counter() - t0
 

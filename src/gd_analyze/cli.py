@@ -10,6 +10,7 @@ Nothing in the package imports this module.
 from __future__ import annotations
 
 import argparse
+import decimal
 import math
 import os
 import sys
@@ -31,6 +32,56 @@ class _Parser(argparse.ArgumentParser):
     def error(self, message):
         raise InputError(f"{self.prog}: {message}")
 
+
+
+def parse_range(text, name="--payload-sweep"):
+    """Parse ``"start:stop:step"`` into the values start, start + step, ..., stop (inclusive).
+
+    Parameters
+    ----------
+    text : str
+        E.g. ``"0:2.5:0.5"``; step > 0, stop >= start. The values are computed in decimal
+        arithmetic from the strings, so ``"0:0.3:0.1"`` gives exactly [0.0, 0.1, 0.2, 0.3].
+        stop is included when it lies on the grid; otherwise the last value is the largest
+        grid value below it.
+    name : str, optional
+        The option or column named in error messages.
+
+    Returns
+    -------
+    list of float
+        At least one value.
+
+    Raises
+    ------
+    InputError
+        If the text is not three numbers separated by ``:``, a number is not finite, step is
+        not positive, stop < start, or the range has more than 10,000 values.
+
+    Examples
+    --------
+    >>> parse_range("0:2.5:0.5")
+    [0.0, 0.5, 1.0, 1.5, 2.0, 2.5]
+    """
+    parts = str(text).split(":")
+    if len(parts) != 3:
+        raise InputError(f"expected START:STOP:STEP (e.g. 0:2.5:0.5), got {text!r}",
+                         column=name)
+    try:
+        start, stop, step = (decimal.Decimal(p.strip()) for p in parts)
+    except decimal.InvalidOperation:
+        raise InputError(f"expected three numbers START:STOP:STEP, got {text!r}",
+                         column=name) from None
+    if not all(v.is_finite() for v in (start, stop, step)):
+        raise InputError(f"START, STOP and STEP must be finite, got {text!r}", column=name)
+    if step <= 0:
+        raise InputError(f"STEP must be positive, got {text!r}", column=name)
+    if stop < start:
+        raise InputError(f"STOP must not be below START, got {text!r}", column=name)
+    count = int((stop - start) // step) + 1
+    if count > 10_000:
+        raise InputError(f"the range {text!r} has {count} values (at most 10000)", column=name)
+    return [float(start + k * step) for k in range(count)]
 
 def _fraction(lo, hi, name, lo_open=True):
     def parse(text):
@@ -341,7 +392,6 @@ def _format_summary(ds):
 def _payload_masses(args):
     if args.payload_sweep is None:
         return None
-    from .workflows.sweep import parse_range
 
     return parse_range(args.payload_sweep)
 
@@ -351,13 +401,13 @@ def _payload_sweep_dataset(robot, trajectory, args):
     masses = _payload_masses(args)
     if masses is None:
         return None
-    from .workflows.sweep import payload_sweep
+    from .io.sweep_datasets import embed_payload
+    from .workflows.payload import payload_sweep
 
     ds = payload_sweep(robot, trajectory, masses, com=args.payload_com,
                        inertia=args.payload_inertia, dominance=args.dominance,
                        negligible=args.negligible)
-    renamed = ds.rename({v: f"payload_{v}" for v in ds.data_vars})
-    return renamed.drop_vars([c for c in ("element_units",) if c in renamed.coords])
+    return embed_payload(ds)
 
 
 def _cmd_analyze(args):
@@ -441,19 +491,14 @@ def _cmd_plan(args):
 def _cmd_evaluate(args):
     import json
 
-    import numpy as np
-
-    from .core.dalembert import gd_terms
-    from .core.simplified import SimplifiedModel, torque_error
+    from .core.simplified import SimplifiedModel
     from .io.trajectory import read_trajectory
+    from .workflows.evaluate import evaluate
 
     model = SimplifiedModel.load(args.model)
     traj = read_trajectory(args.trajectory, n_joints=model.robot.n)
-    plant = _apply_payload(model.robot, args)
-    tau = gd_terms(plant, traj.q, traj.qd).tau(traj.qdd)
-    err = torque_error(model.torque(traj.q, traj.qd, traj.qdd), tau)
-    rel = np.array([np.nan if v is None else v for v in err["relative_peak_error"]], float)
-    worst = float(np.nanmax(rel)) if np.isfinite(rel).any() else 0.0
+    err = evaluate(model, traj, plant=_apply_payload(model.robot, args))
+    worst = err.pop("max_relative_peak_error")
     exceeded = args.max_error is not None and worst > args.max_error
     if args.json:
         out = {"model": args.model, "trajectory": args.trajectory,
@@ -496,8 +541,10 @@ def _cmd_compare(args):
 def _cmd_control(args):
     import json
 
-    from .workflows.control import CONTROL_FILE, run_control, write_control_dataset
     from .core.simplified import SimplifiedModel
+    from .files import file_sha256
+    from .io.control_dataset import write_control_dataset
+    from .workflows.control import CONTROL_FILE, run_control
     from .io.trajectory import read_trajectory
 
     model = SimplifiedModel.load(args.model)
@@ -509,7 +556,8 @@ def _cmd_control(args):
     if outdir.exists() and not outdir.is_dir():
         raise InputError("exists and is not a folder", outdir)
     try:
-        result = run_control(model, traj, wn=args.wn, zeta=args.zeta, q0_offset=args.offset)
+        result = run_control(model, traj, wn=args.wn, zeta=args.zeta, q0_offset=args.offset,
+                             model_path=args.model, model_sha256=file_sha256(args.model))
     except ValueError as exc:
         raise InputError(str(exc)) from None
     outdir.mkdir(parents=True, exist_ok=True)
@@ -541,8 +589,8 @@ def _cmd_control(args):
 
 def _sweep_model(robot, trajectories, args, outdir, settings):
     """The sweep's simplified explicit model within EPS on every trajectory (issue 8)."""
+    from .io.trajectory import random_trajectories
     from .workflows.simplify import sweep_model
-    from .workflows.sweep import random_trajectories
 
     if args.held_out < 0:
         raise InputError("--held-out must be >= 0")
@@ -578,8 +626,10 @@ def _sweep_model(robot, trajectories, args, outdir, settings):
 
 def _cmd_sweep(args):
     from .core.robot import load_robot
-    from .workflows.sweep import (dask_client, merged_model, random_trajectories, run_sweep,
-                        sweep_payloads, write_sweep)
+    from .io.datasets import write_dataset
+    from .io.trajectory import random_trajectories
+    from .workflows.payload import sweep_payloads
+    from .workflows.sweep import dask_client, merged_model, run_sweep
     from .io.trajectory import read_trajectory
 
     robot = load_robot(args.robot)
@@ -613,13 +663,13 @@ def _cmd_sweep(args):
         raise InputError(f"cannot reach the dask scheduler: {exc}", args.scheduler) from None
     outdir.mkdir(parents=True, exist_ok=True)
     written = [outdir / "sweep.h5", outdir / "merged_model.json"]
-    write_sweep(ds, written[0])
+    write_dataset(ds, written[0])
     merged_model(loaded, ds).save(written[1])
     if args.tolerance is not None:
         written += _sweep_model(loaded, trajectories, args, outdir, settings)
     if payload is not None:
         written.append(outdir / "payload_sweep.h5")
-        write_sweep(payload, written[-1])
+        write_dataset(payload, written[-1])
     if not args.no_report:
         from .reports.sweep import write_sweep_report
 

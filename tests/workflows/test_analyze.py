@@ -68,3 +68,57 @@ def test_progress_bar_on_request_and_silent_otherwise(tmp_path, puma, capsys, mo
     analyze_to_file(puma, traj, tmp_path / "b.h5", check=False, formulations=False,
                     progress=False, chunk=8)
     assert capsys.readouterr().err == ""
+
+
+class _CountingEngine:
+    """Wraps a G-D engine (numpy chunk function or compiled kernel) and counts the set points
+    it is asked for; attribute access (e.g. the kernel's ``py_func``) passes through."""
+
+    def __init__(self, fn, q_arg):
+        self.fn, self.q_arg, self.setpoints = fn, q_arg, 0
+
+    def __call__(self, *args, **kwargs):
+        self.setpoints += np.shape(args[self.q_arg])[0]
+        return self.fn(*args, **kwargs)
+
+    def __getattr__(self, name):
+        return getattr(self.fn, name)
+
+
+def _count_gd(monkeypatch):
+    from gd_analyze.core import dalembert, kernels
+
+    numpy_engine = _CountingEngine(dalembert._gd_chunk, 1)      # _gd_chunk(robot, q, qd)
+    compiled = _CountingEngine(kernels.gd_kernel, 0)            # gd_kernel(q, qd, ...)
+    monkeypatch.setattr(dalembert, "_gd_chunk", numpy_engine)
+    monkeypatch.setattr(kernels, "gd_kernel", compiled)
+    return lambda: numpy_engine.setpoints + compiled.setpoints
+
+
+def test_the_main_job_computes_the_terms_once_per_setpoint(tmp_path, monkeypatch, capsys):
+    """Issue 10: ranking, verification, simplified-model error and the formulations' agreement
+    all read the one set of G-D terms; the command computes each set point's terms once."""
+    from gd_analyze.cli import main
+
+    counted = _count_gd(monkeypatch)
+    assert main(["puma560", str(SHIPPED), "-o", str(tmp_path / "out"), "--no-report",
+                 "-q"]) == 0
+    assert counted() == read_trajectory(SHIPPED, n_joints=6).q.shape[0] == 31
+
+
+def test_streaming_in_chunks_still_computes_the_terms_once(tmp_path, monkeypatch, puma):
+    traj = read_trajectory(SHIPPED, n_joints=6)
+    counted = _count_gd(monkeypatch)
+    result = analyze_to_file(puma, traj, tmp_path / "r.h5", chunk=7)     # 5 chunks
+    assert result.verification["passed"] == 1
+    assert counted() == 31
+    counted_mem = _count_gd(monkeypatch)
+    analyze(puma, traj, formulations=True)
+    assert counted_mem() == 31
+
+
+def test_the_count_can_fail(monkeypatch, puma):
+    traj = read_trajectory(SHIPPED, n_joints=6)
+    counted = _count_gd(monkeypatch)
+    verify(puma, traj.q, traj.qd)            # without terms, verify computes its own
+    assert counted() == 31

@@ -14,8 +14,10 @@ import pytest
 import xarray as xr
 
 from gd_analyze import gd_terms, load_robot
-from gd_analyze.workflows.control import (CONTROLLERS, control_dataset, control_gains, desired_motion,
-                                forward_dynamics, run_control, write_control_dataset)
+from gd_analyze.core.dalembert import forward_dynamics
+from gd_analyze.files import file_sha256
+from gd_analyze.io.control_dataset import control_dataset, write_control_dataset
+from gd_analyze.workflows.control import CONTROLLERS, control_gains, desired_motion, run_control
 from gd_analyze.reports.control import write_control_report
 from gd_analyze.errors import InputError
 from gd_analyze.formulations.opcount import count_operations
@@ -59,7 +61,10 @@ def model_file(model, tmp_path_factory):
 
 @pytest.fixture(scope="module")
 def result(model_file):
-    return run_control(model_file, SHIPPED, cost=True, cost_setpoints=2000)
+    model = SimplifiedModel.load(model_file)
+    return run_control(model, read_trajectory(SHIPPED, n_joints=6), cost=True,
+                       cost_setpoints=2000, model_path=model_file,
+                       model_sha256=file_sha256(model_file))
 
 
 def _crude(robot):
@@ -186,7 +191,7 @@ def test_run_control_rejects_bad_input(model, shipped):
     with pytest.raises(ValueError):
         run_control(model, shipped, wn=-1, cost=False)
     with pytest.raises(InputError):
-        run_control("/nonexistent/simplified_model.json", shipped, cost=False)
+        SimplifiedModel.load("/nonexistent/simplified_model.json")
 
 
 # --------------------------------------------------------------------------------------------

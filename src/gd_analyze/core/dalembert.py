@@ -31,7 +31,7 @@ import numpy as np
 
 from .kinematics import as_states, centres_of_mass, frames
 
-__all__ = ["GDTerms", "gd_terms", "DEFAULT_CHUNK", "ENGINES", "COMPILED_MIN_SETPOINTS"]
+__all__ = ["forward_dynamics", "GDTerms", "gd_terms", "DEFAULT_CHUNK", "ENGINES", "COMPILED_MIN_SETPOINTS"]
 
 #: Set points per chunk of the numpy engine: bounds its temporaries to a few tens of MB.
 DEFAULT_CHUNK = 8192
@@ -213,3 +213,46 @@ def gd_terms(robot, q, qd, chunk=DEFAULT_CHUNK, engine="auto"):
         for dst, src in zip(out, _gd_chunk(robot, q[sl], qd[sl])):
             dst[sl] = src
     return GDTerms(*out)
+
+
+def _qdd_from_terms(terms, tau):
+    rhs = np.asarray(tau, dtype=float) - terms.h - terms.c
+    return np.linalg.solve(terms.D, rhs[..., None])[..., 0]
+
+
+def forward_dynamics(robot, q, qd, tau, engine="auto"):
+    """Joint accelerations of the arm under given torques, qdd = D^-1 (tau - h - c).
+
+    Parameters
+    ----------
+    robot : Robot
+        The arm, with n joints.
+    q : array_like, shape (N, n) or (n,)
+        Joint positions [rad].
+    qd : array_like, shape (N, n) or (n,)
+        Joint velocities [rad/s].
+    tau : array_like, shape (N, n) or (n,)
+        Joint torques [N m].
+    engine : {"auto", "numpy", "compiled"}, optional
+        Engine of :func:`~gd_analyze.core.dalembert.gd_terms`.
+
+    Returns
+    -------
+    ndarray, shape (N, n)
+        Joint accelerations qdd [rad/s^2].
+
+    Raises
+    ------
+    ValueError
+        If the arrays do not have n columns or disagree on N, or the engine is unknown.
+    numpy.linalg.LinAlgError
+        If D is singular at some set point (it is positive definite for a physical arm).
+
+    Notes
+    -----
+    Eq. (3.4-24) of Fu, Gonzalez & Lee (1987) solved for qdd, with D = D_tran + D_rot and
+    h = h_tran + h_rot from Eqs. (3.4-25) to (3.4-28); one ``numpy.linalg.solve`` per set
+    point, batched.
+    """
+    q, qd, tau = as_states(robot, q, qd, tau)
+    return _qdd_from_terms(gd_terms(robot, q, qd, engine=engine), tau)

@@ -26,15 +26,16 @@ from ..errors import InputError
 from .ranking import element_index, element_labels
 from .robot import robot_from_dict
 
-__all__ = ["SCHEMA_VERSION", "SimplifiedModel", "choice_masks", "simplified_torque",
-           "torque_error", "TorqueErrorAccumulator"]
+__all__ = ["SCHEMA_VERSION", "CHOICES", "SimplifiedModel", "choice_masks", "merge_choices",
+           "simplified_torque", "torque_error", "TorqueErrorAccumulator"]
 
 #: Version of the simplified_model.json layout (2: explicit terms, rule, tolerance, cost).
 SCHEMA_VERSION = 2
 #: Older layouts still read (their model is rebuilt from the choices, without pruning).
 READABLE_SCHEMAS = (1, 2)
-_TERM_FIELDS = ("kind", "part", "i", "j", "k", "K", "S", "C")
-_CHOICES = ("tran", "rot", "both", "none")
+#: What a simplified model keeps of an element: its translational part, its rotational part,
+#: both, or nothing.
+CHOICES = ("tran", "rot", "both", "none")
 
 
 def choice_masks(choices, n):
@@ -66,8 +67,8 @@ def choice_masks(choices, n):
         if label not in choices:
             raise ValueError(f"no choice for element {label}")
         ch = choices[label]
-        if ch not in _CHOICES:
-            raise ValueError(f"element {label}: choice must be one of {_CHOICES}, got {ch!r}")
+        if ch not in CHOICES:
+            raise ValueError(f"element {label}: choice must be one of {CHOICES}, got {ch!r}")
         keep_t, keep_r = ch in ("tran", "both"), ch in ("rot", "both")
         if kind == "D":
             Mt[i, j] = Mt[j, i] = keep_t
@@ -476,3 +477,59 @@ def _json_safe(obj):
     if isinstance(obj, np.generic):
         return _json_safe(obj.item())
     return obj
+
+
+def merge_choices(choices_list):
+    """Merge simplified models conservatively: drop a part only where every model drops it.
+
+    Parameters
+    ----------
+    choices_list : sequence of dict
+        One dict per trajectory: element label -> ``"tran"``, ``"rot"``, ``"both"`` or
+        ``"none"``; all with the same labels.
+
+    Returns
+    -------
+    dict
+        Element label -> merged choice, in the label order of the first dict. With
+        keep_tran = any choice in {tran, both} and keep_rot = any choice in {rot, both}:
+        ``"both"`` if both are kept, ``"tran"`` or ``"rot"`` if only one, ``"none"`` if
+        neither (the element is negligible in every trajectory).
+
+    Raises
+    ------
+    ValueError
+        If the sequence is empty, the dicts have different labels, or a choice is not one of
+        the four.
+
+    Notes
+    -----
+    The merged model keeps every part that any trajectory's own model keeps, so it is the
+    smallest model of this form that is, element by element, at least as complete as each of
+    them. Source: the simplified model of Sec. 3.4.1 of Fu, Gonzalez & Lee (1987), which
+    "depends on the specific trajectory being considered".
+
+    Examples
+    --------
+    >>> merge_choices([{"D11": "tran", "h1": "none"}, {"D11": "rot", "h1": "none"}])
+    {'D11': 'both', 'h1': 'none'}
+    """
+    choices_list = list(choices_list)
+    if not choices_list:
+        raise ValueError("no simplified models to merge")
+    labels = list(choices_list[0])
+    keep_t = dict.fromkeys(labels, False)
+    keep_r = dict.fromkeys(labels, False)
+    for k, choices in enumerate(choices_list):
+        if set(choices) != set(labels):
+            diff = sorted(set(choices) ^ set(labels))
+            raise ValueError(f"model {k} has other elements than model 0 (e.g. {diff[0]!r})")
+        for label, ch in choices.items():
+            if ch not in CHOICES:
+                raise ValueError(f"model {k}, element {label}: choice must be one of "
+                                 f"{CHOICES}, got {ch!r}")
+            keep_t[label] |= ch in ("tran", "both")
+            keep_r[label] |= ch in ("rot", "both")
+    table = {(True, True): "both", (True, False): "tran", (False, True): "rot",
+             (False, False): "none"}
+    return {label: table[(keep_t[label], keep_r[label])] for label in labels}

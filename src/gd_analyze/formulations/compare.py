@@ -21,7 +21,7 @@ from itertools import combinations
 
 import numpy as np
 
-from ..core.dalembert import gd_terms
+from ..core.dalembert import GDTerms, gd_terms
 from ..core.kinematics import as_states
 from .lagrange_euler import le_terms
 from .newton_euler import ne_tau, ne_terms
@@ -198,7 +198,7 @@ def _disagreement(a, b):
     return min(relative_error(a, b), relative_error(b, a))
 
 
-def compare(robot, q, qd, qdd):
+def compare(robot, q, qd, qdd, gd=None):
     """Largest relative disagreement between each pair of formulations.
 
     Parameters
@@ -211,6 +211,9 @@ def compare(robot, q, qd, qdd):
         Joint velocities [rad/s].
     qdd : array_like, shape (N, n) or (n,)
         Joint accelerations [rad/s^2].
+    gd : GDTerms, optional
+        The G-D terms at these set points if the caller has them already (the main job does):
+        they are used as they are instead of being computed again.
 
     Returns
     -------
@@ -231,8 +234,10 @@ def compare(robot, q, qd, qdd):
     1e-15) unless one formulation or the robot model is wrong.
     """
     q, qd, qdd = as_states(robot, q, qd, qdd)
-    results = {m: dynamics(robot, q, qd, m) for m in METHODS}
-    taus = {m: inverse_dynamics(robot, q, qd, qdd, m) for m in METHODS}
+    given = {} if gd is None else {"gd": DynamicsResult("gd", gd.D, gd.h, gd.c)}
+    results = {m: given[m] if m in given else dynamics(robot, q, qd, m) for m in METHODS}
+    taus = {m: results[m].tau(qdd) if m in given else inverse_dynamics(robot, q, qd, qdd, m)
+            for m in METHODS}
     out = {}
     for quantity in _QUANTITIES:
         values = taus if quantity == "tau" else {m: getattr(r, quantity)
@@ -325,7 +330,8 @@ def format_compare(report):
 FORMULATIONS_MAX_SETPOINTS = 200
 
 
-def formulations_dataset(robot, q, qd, qdd, n_max=10, max_setpoints=FORMULATIONS_MAX_SETPOINTS):
+def formulations_dataset(robot, q, qd, qdd, n_max=10, max_setpoints=FORMULATIONS_MAX_SETPOINTS,
+                         gd=None):
     """The formulations' agreement along a trajectory and their costs, as a Dataset to store.
 
     Parameters
@@ -339,6 +345,8 @@ def formulations_dataset(robot, q, qd, qdd, n_max=10, max_setpoints=FORMULATIONS
         Operation counts are tabulated for generated chains of n = 1..n_max joints.
     max_setpoints : int, optional
         Bound on the set points compared (L-E and N-E probing are slow per set point).
+    gd : GDTerms, optional
+        The G-D terms at the same N set points, if the caller has them (see :func:`compare`).
 
     Returns
     -------
@@ -364,7 +372,9 @@ def formulations_dataset(robot, q, qd, qdd, n_max=10, max_setpoints=FORMULATIONS
     q, qd, qdd = as_states(robot, q, qd, qdd)
     N = q.shape[0]
     idx = np.unique(np.linspace(0, N - 1, min(N, max_setpoints)).round().astype(int))
-    agreement = compare(robot, q[idx], qd[idx], qdd[idx])
+    sample = None if gd is None else GDTerms(gd.D_tran[idx], gd.D_rot[idx], gd.h_tran[idx],
+                                             gd.h_rot[idx], gd.c[idx])
+    agreement = compare(robot, q[idx], qd[idx], qdd[idx], gd=sample)
     pairs = list(next(iter(agreement.values())))
     disagreement = np.array([[agreement[k][p] for k in _QUANTITIES] for p in pairs])
     methods = list(operation_counts(1))

@@ -1,5 +1,10 @@
 """Storage: the analysis as one xarray Dataset in an HDF5/netCDF4 file (engine h5netcdf).
 
+This module also holds the plumbing every gd-analyze dataset shares (:func:`var`,
+:func:`global_attributes`, :func:`element_coords`, :func:`write_dataset`,
+:func:`open_results`); the sweep and closed-loop schemas are in
+:mod:`gd_analyze.io.sweep_datasets` and :mod:`gd_analyze.io.control_dataset`.
+
 Dimensions: ``setpoint``, ``joint`` and ``joint_k`` (the column index of D), ``element`` (the
 ranked elements ``"D11"`` .. ``"hn"``, string labels) and ``xyz``/``xyz_k`` for the link
 parameters. Every variable carries ``units`` and ``long_name``; the global attributes follow
@@ -21,10 +26,15 @@ import numpy as np
 from ..errors import InputError
 from ..files import atomic_path
 
-__all__ = ["build_dataset", "summary_dataset", "setpoint_arrays", "SetpointWriter",
-           "SETPOINT_VARIABLES", "write_dataset", "open_results", "open_sweep", "CONVENTIONS"]
+__all__ = ["CONVENTIONS", "MIXED_UNITS", "var", "attribute_value", "global_attributes",
+           "element_coords", "strings", "write_dataset", "open_results", "open_sweep",
+           "build_dataset", "summary_dataset", "setpoint_arrays", "SetpointWriter",
+           "SETPOINT_VARIABLES"]
 
+#: The CF conventions the datasets follow.
 CONVENTIONS = "CF-1.10"
+#: Units of a variable over the element dim (D elements in kg m2, h elements in N m).
+MIXED_UNITS = "kg m2 (D) or N m (h)"
 
 
 #: Per-set-point variables: name -> (dims, units, long_name). Used by both writers.
@@ -51,8 +61,142 @@ SETPOINT_VARIABLES = {
 }
 
 
-def _var(dims, data, units, long_name, **attrs):
+def var(dims, data, units, long_name, **attrs):
+    """One variable as xarray takes it: ``(dims, data, attrs)`` with ``units`` and ``long_name``.
+
+    Parameters
+    ----------
+    dims : tuple of str
+        Dimension names.
+    data : array_like
+        Values.
+    units : str
+        UDUNITS string, e.g. ``"N m"``, ``"kg m2"``, ``"1"``.
+    long_name : str
+        What the variable is.
+    **attrs
+        More attributes (e.g. CF ``flag_values``).
+
+    Returns
+    -------
+    tuple
+    """
     return (dims, data, {"units": units, "long_name": long_name, **attrs})
+
+
+def attribute_value(value):
+    """A value as an HDF5 attribute can hold it: numbers, strings or numeric arrays.
+
+    Parameters
+    ----------
+    value : object
+        bool, None, a sequence, a dict or a scalar.
+
+    Returns
+    -------
+    int, float, str or ndarray
+        bools as 0/1, None as "", numeric sequences as arrays, other sequences and dicts as
+        "; "-joined text.
+    """
+    if isinstance(value, (bool, np.bool_)):
+        return int(value)
+    if value is None:
+        return ""
+    if isinstance(value, (list, tuple)):
+        arr = np.asarray(value)
+        return arr if arr.dtype.kind in "iuf" else "; ".join(map(str, value))
+    if isinstance(value, dict):
+        return "; ".join(f"{k}={v}" for k, v in value.items())
+    return value
+
+
+def global_attributes(robot, title, references="Fu, Gonzalez & Lee (1987), Robotics, Sec. 3.4; "
+                      "Lee, Lee & Nigam (1983)", **extra):
+    """The CF-style global attributes every gd-analyze dataset carries: its provenance.
+
+    Parameters
+    ----------
+    robot : Robot
+        The arm: its name, description, reference, source file and SHA-256, and gravity
+        [m/s^2] are recorded.
+    title : str
+        The dataset's title.
+    references : str, optional
+        The sources of the method.
+    **extra
+        More attributes (passed through :func:`attribute_value`), e.g. thresholds, input files
+        and their SHA-256, settings.
+
+    Returns
+    -------
+    dict
+        ``Conventions``, ``title``, ``source``, ``references``, ``history``,
+        ``gd_analyze_version``, ``robot``, ``robot_description``, ``robot_reference``,
+        ``robot_source``, ``robot_sha256``, ``gravity``, ``gravity_units``, then ``extra``.
+    """
+    from .._version import __version__
+
+    now = datetime.datetime.now(datetime.timezone.utc).replace(microsecond=0).isoformat()
+    attrs = {
+        "Conventions": CONVENTIONS,
+        "title": title,
+        "source": f"gd-analyze {__version__}",
+        "references": references,
+        "history": f"{now} created by gd-analyze {__version__}",
+        "gd_analyze_version": __version__,
+        "robot": robot.name,
+        "robot_description": robot.description,
+        "robot_reference": robot.reference,
+        "robot_source": robot.source,
+        "robot_sha256": robot.sha256,
+        "gravity": np.asarray(robot.gravity, dtype=float),
+        "gravity_units": "m s-2",
+    }
+    attrs.update({k: attribute_value(v) for k, v in extra.items()})
+    return attrs
+
+
+def element_coords(n):
+    """Coordinates ``element`` (with ``element_units``) and ``joint`` for an n-joint robot.
+
+    Parameters
+    ----------
+    n : int
+        Number of joints.
+
+    Returns
+    -------
+    dict
+        name -> (dims, values, attrs): the M = n (n + 1) / 2 + n ranked element labels
+        ``"D11"`` .. ``"hn"``, their units (kg m2 for D, N m for h) and joints 1 .. n.
+    """
+    from ..core.ranking import element_labels
+
+    labels = element_labels(n)
+    return {
+        "element": ("element", np.array(labels, dtype=str),
+                    {"long_name": "ranked element of D (i <= j) or h", "units": "1"}),
+        "element_units": ("element",
+                          np.array(["kg m2" if lab.startswith("D") else "N m" for lab in labels],
+                                   dtype=str),
+                          {"long_name": "units of the element", "units": "1"}),
+        "joint": ("joint", np.arange(1, n + 1), {"long_name": "joint", "units": "1"}),
+    }
+
+
+def strings(values):
+    """Decode an array of bytes or str read from a file into a list of str.
+
+    Parameters
+    ----------
+    values : array_like
+        Strings as stored.
+
+    Returns
+    -------
+    list of str
+    """
+    return [v.decode() if isinstance(v, bytes) else str(v) for v in np.asarray(values).ravel()]
 
 
 def setpoint_arrays(trajectory, terms, tau, tau_simplified):
@@ -106,87 +250,65 @@ def summary_dataset(robot, trajectory, ranking, choices, error, verification=Non
     """
     import xarray as xr
 
-    from .. import __version__
     from ..core.ranking import CHAPTER_DOMINANCE
 
     n = robot.n
     labels = list(ranking.labels)
-    el_units = ["kg m2" if lab.startswith("D") else "N m" for lab in labels]
-    mixed = "kg m2 (D) or N m (h)"
+    mixed = MIXED_UNITS
     data_vars = {
-        "share_tran": _var(("element",), ranking.share_tran, "1",
+        "share_tran": var(("element",), ranking.share_tran, "1",
                            "translational share sum|tran| / (sum|tran| + sum|rot|)"),
-        "dominance": _var(("element",), np.array(ranking.dominance, dtype=str), "1",
+        "dominance": var(("element",), np.array(ranking.dominance, dtype=str), "1",
                           "dominance class (translational, rotational, both, negligible)"),
-        "chapter_dominance": _var(("element",),
+        "chapter_dominance": var(("element",),
                                   np.array([CHAPTER_DOMINANCE.get(lab, "") if n == 6 else ""
                                             for lab in labels], dtype=str), "1",
                                   "dominance reported in Sec. 3.4.1 for the chapter's PUMA 560 "
                                   "(empty unless the robot has 6 joints)"),
-        "choice": _var(("element",), np.array([choices[lab] for lab in labels], dtype=str), "1",
+        "choice": var(("element",), np.array([choices[lab] for lab in labels], dtype=str), "1",
                        "part kept by the simplified model (tran, rot, both, none)"),
-        "peak_tran": _var(("element",), ranking.peak_tran, mixed,
+        "peak_tran": var(("element",), ranking.peak_tran, mixed,
                           "peak |translational part| along the trajectory"),
-        "peak_rot": _var(("element",), ranking.peak_rot, mixed,
+        "peak_rot": var(("element",), ranking.peak_rot, mixed,
                          "peak |rotational part| along the trajectory"),
-        "peak_total": _var(("element",), ranking.peak_total, mixed,
+        "peak_total": var(("element",), ranking.peak_total, mixed,
                            "peak |translational + rotational| along the trajectory"),
-        "element_scale": _var(("element",), ranking.scale, mixed,
+        "element_scale": var(("element",), ranking.scale, mixed,
                               "scale of the negligibility test: peak sqrt(D_ii D_jj) or |tau_i|"),
-        "tau_error_peak": _var(("joint",), np.array(error["peak_abs_error"]), "N m",
+        "tau_error_peak": var(("joint",), np.array(error["peak_abs_error"]), "N m",
                                "peak |tau_simplified - tau|"),
-        "tau_error_rms": _var(("joint",), np.array(error["rms_error"]), "N m",
+        "tau_error_rms": var(("joint",), np.array(error["rms_error"]), "N m",
                               "RMS of |tau_simplified - tau|"),
-        "tau_peak": _var(("joint",), np.array(error["peak_tau"]), "N m", "peak |tau|"),
-        "tau_error_relative_peak": _var(("joint",), np.array(error["relative_peak_error"]), "1",
+        "tau_peak": var(("joint",), np.array(error["peak_tau"]), "N m", "peak |tau|"),
+        "tau_error_relative_peak": var(("joint",), np.array(error["relative_peak_error"]), "1",
                                         "peak |tau_simplified - tau| / peak |tau|"),
-        "tau_error_relative_rms": _var(("joint",), np.array(error["relative_rms_error"]), "1",
+        "tau_error_relative_rms": var(("joint",), np.array(error["relative_rms_error"]), "1",
                                        "RMS |tau_simplified - tau| / peak |tau|"),
-        "dh_d": _var(("joint",), robot.d, "m", "DH link offset d"),
-        "dh_a": _var(("joint",), robot.a, "m", "DH link length a"),
-        "dh_alpha": _var(("joint",), robot.alpha, "rad", "DH twist angle alpha"),
-        "dh_offset": _var(("joint",), robot.offset, "rad", "joint angle offset, theta = q + offset"),
-        "link_mass": _var(("joint",), robot.mass, "kg", "link mass"),
-        "link_com": _var(("joint", "xyz"), robot.com, "m", "centre of mass in link frame"),
-        "link_inertia": _var(("joint", "xyz", "xyz_k"), robot.inertia, "kg m2",
+        "dh_d": var(("joint",), robot.d, "m", "DH link offset d"),
+        "dh_a": var(("joint",), robot.a, "m", "DH link length a"),
+        "dh_alpha": var(("joint",), robot.alpha, "rad", "DH twist angle alpha"),
+        "dh_offset": var(("joint",), robot.offset, "rad", "joint angle offset, theta = q + offset"),
+        "link_mass": var(("joint",), robot.mass, "kg", "link mass"),
+        "link_com": var(("joint", "xyz"), robot.com, "m", "centre of mass in link frame"),
+        "link_inertia": var(("joint", "xyz", "xyz_k"), robot.inertia, "kg m2",
                              "inertia tensor about the centre of mass, link-frame axes"),
-        "q_min": _var(("joint",), robot.q_min, "rad", "lower joint position limit"),
-        "q_max": _var(("joint",), robot.q_max, "rad", "upper joint position limit"),
-        "qd_max": _var(("joint",), robot.qd_max, "rad s-1", "joint velocity limit"),
-        "qdd_max": _var(("joint",), robot.qdd_max, "rad s-2", "joint acceleration limit"),
+        "q_min": var(("joint",), robot.q_min, "rad", "lower joint position limit"),
+        "q_max": var(("joint",), robot.q_max, "rad", "upper joint position limit"),
+        "qd_max": var(("joint",), robot.qd_max, "rad s-1", "joint velocity limit"),
+        "qdd_max": var(("joint",), robot.qdd_max, "rad s-2", "joint acceleration limit"),
     }
-    coords = {
-        "joint": ("joint", np.arange(1, n + 1), {"long_name": "joint (row of D)", "units": "1"}),
-        "element": ("element", np.array(labels, dtype=str),
-                    {"long_name": "ranked element of D (i <= j) or h", "units": "1"}),
-        "element_units": ("element", np.array(el_units, dtype=str),
-                          {"long_name": "units of the element", "units": "1"}),
-        "xyz": ("xyz", np.array(["x", "y", "z"]), {"long_name": "axis", "units": "1"}),
-        "xyz_k": ("xyz_k", np.array(["x", "y", "z"]), {"long_name": "axis", "units": "1"}),
-    }
-    now = datetime.datetime.now(datetime.timezone.utc).replace(microsecond=0).isoformat()
-    attrs = {
-        "Conventions": CONVENTIONS,
-        "title": f"G-D dominance analysis of {robot.name} along {Path(trajectory.source).name}",
-        "source": f"gd-analyze {__version__}",
-        "references": "Fu, Gonzalez & Lee (1987), Robotics, Sec. 3.4; Lee, Lee & Nigam (1983)",
-        "history": f"{now} created by gd-analyze {__version__}",
-        "gd_analyze_version": __version__,
-        "robot": robot.name,
-        "robot_description": robot.description,
-        "robot_reference": robot.reference,
-        "robot_source": robot.source,
-        "robot_sha256": robot.sha256,
-        "gravity": np.asarray(robot.gravity, dtype=float),
-        "gravity_units": "m s-2",
-        "dominance_threshold": ranking.dominance_threshold,
-        "negligible_threshold": ranking.negligible_threshold,
-        "input_file": Path(trajectory.source).name,
-        "input_path": str(trajectory.source),
-        "input_sha256": trajectory.sha256,
-        "derivatives": trajectory.derivatives,
-        "setpoints": int(trajectory.t.shape[0]),
-    }
+    coords = element_coords(n)
+    coords["joint"] = ("joint", np.arange(1, n + 1), {"long_name": "joint (row of D)",
+                                                      "units": "1"})
+    coords["xyz"] = ("xyz", np.array(["x", "y", "z"]), {"long_name": "axis", "units": "1"})
+    coords["xyz_k"] = ("xyz_k", np.array(["x", "y", "z"]), {"long_name": "axis", "units": "1"})
+    attrs = global_attributes(
+        robot, f"G-D dominance analysis of {robot.name} along {Path(trajectory.source).name}",
+        dominance_threshold=ranking.dominance_threshold,
+        negligible_threshold=ranking.negligible_threshold,
+        input_file=Path(trajectory.source).name, input_path=str(trajectory.source),
+        input_sha256=trajectory.sha256, derivatives=trajectory.derivatives,
+        setpoints=int(trajectory.t.shape[0]))
     for key, value in (verification or {}).items():
         attrs[f"verification_{key}"] = value
     attrs.update(settings or {})
@@ -227,7 +349,7 @@ def build_dataset(robot, trajectory, terms, ranking, tau, tau_simplified, choice
     ds = summary_dataset(robot, trajectory, ranking, choices, error, verification, settings)
     arrays = setpoint_arrays(trajectory, terms, tau, tau_simplified)
     for name, (dims, units, long_name) in SETPOINT_VARIABLES.items():
-        ds[name] = _var(dims, arrays[name], units, long_name)
+        ds[name] = var(dims, arrays[name], units, long_name)
     N, n = trajectory.q.shape
     ds = ds.assign_coords(
         setpoint=("setpoint", np.arange(N), {"long_name": "set point index", "units": "1"}),
@@ -372,7 +494,7 @@ def open_results(path):
 
 
 def open_sweep(path, kind="sweep"):
-    """Read a sweep file written by :func:`gd_analyze.workflows.sweep.write_sweep`.
+    """Read a sweep file written by :func:`gd_analyze.io.datasets.write_dataset`.
 
     Parameters
     ----------

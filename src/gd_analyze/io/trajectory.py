@@ -10,6 +10,8 @@ Rows are counted as a spreadsheet counts them: the header is row 1, the first se
 
 from __future__ import annotations
 
+import dataclasses
+
 import csv
 import hashlib
 import math
@@ -24,7 +26,7 @@ from ..errors import InputError
 from ..files import file_sha256
 
 __all__ = [
-    "Trajectory", "read_trajectory", "write_trajectory", "trajectory_columns",
+    "Trajectory", "random_trajectories", "read_trajectory", "write_trajectory", "trajectory_columns",
     "quintic_duration", "plan_quintic", "JointLimitWarning", "DEFAULT_START_DEG",
     "DEFAULT_GOAL_DEG", "DEFAULT_SETPOINTS",
 ]
@@ -392,3 +394,58 @@ def plan_quintic(robot, q_start, q_goal, n_setpoints=DEFAULT_SETPOINTS, duration
     return Trajectory(t=t, q=q_start + s * dq, qd=sd * dq, qdd=sdd * dq, derivatives="quintic",
                       source=f"quintic {np.degrees(q_start).round(6).tolist()} -> "
                              f"{np.degrees(q_goal).round(6).tolist()} deg, T = {T:.6g} s")
+
+
+def random_trajectories(robot, k, seed=0, n_setpoints=31):
+    """K random rest-to-rest quintic trajectories inside the joint limits.
+
+    Parameters
+    ----------
+    robot : Robot
+        The arm, with n joints, position limits q_min, q_max [rad] and velocity and
+        acceleration limits qd_max [rad/s], qdd_max [rad/s^2].
+    k : int
+        Number of trajectories K, >= 1.
+    seed : int, optional
+        Seed of the :class:`numpy.random.Generator` (``numpy.random.default_rng(seed)``).
+    n_setpoints : int, optional
+        Set points N per trajectory, >= 2 (31, as in Sec. 3.4.1).
+
+    Returns
+    -------
+    list of Trajectory
+        Trajectory i goes from a start to a goal drawn uniformly inside [q_min, q_max] (start
+        and goal of every trajectory drawn in turn, shape (n,) each) in the shortest time
+        within the velocity and acceleration limits
+        (:func:`gd_analyze.io.trajectory.plan_quintic`); t (N,) [s], q, qd, qdd (N, n) [rad,
+        rad/s, rad/s^2]; its ``source`` is ``"random-<seed>-<i>"`` and its ``sha256`` is "".
+
+    Raises
+    ------
+    ValueError
+        If k < 1, n_setpoints < 2, or the seed is not a non-negative integer.
+
+    Notes
+    -----
+    The quintic's peak speed and acceleration are reached between set points in general, so
+    the sampled |qd| and |qdd| stay within the limits. Source: Sec. 3.4.1 of Fu, Gonzalez &
+    Lee (1987) ranks one preplanned PUMA 560 trajectory of 31 set points; a sweep repeats that
+    over many.
+    """
+    k = int(k)
+    if k < 1:
+        raise ValueError(f"the number of trajectories must be >= 1, got {k}")
+    if int(n_setpoints) < 2:
+        raise ValueError("a trajectory needs at least 2 set points")
+    if isinstance(seed, bool) or int(seed) != seed or int(seed) < 0:
+        raise ValueError(f"the seed must be a non-negative integer, got {seed!r}")
+    seed = int(seed)
+    rng = np.random.default_rng(seed)
+    lo, hi = np.asarray(robot.q_min, float), np.asarray(robot.q_max, float)
+    out = []
+    for i in range(k):
+        q_start = rng.uniform(lo, hi)
+        q_goal = rng.uniform(lo, hi)
+        traj = plan_quintic(robot, q_start, q_goal, n_setpoints=int(n_setpoints))
+        out.append(dataclasses.replace(traj, source=f"random-{seed}-{i}", sha256=""))
+    return out

@@ -162,7 +162,7 @@ def make_control_figures(ds):
 # --------------------------------------------------------------------------------------------
 
 def _context(ds):
-    from .. import __version__
+    from .._version import __version__
 
     names = _strings(ds["controller"].values)
     n = int(ds.sizes["joint"])

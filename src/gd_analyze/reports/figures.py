@@ -26,7 +26,7 @@ def payload_figure(ds):
     Parameters
     ----------
     ds : xarray.Dataset
-        A payload sweep from :func:`gd_analyze.workflows.sweep.payload_sweep`: coordinate ``payload``
+        A payload sweep from :func:`gd_analyze.workflows.payload.payload_sweep`: coordinate ``payload``
         (P,) [kg]; ``share_tran`` and ``dominance`` (payload, element); ``tau_peak``
         (payload, joint) [N m].
 

@@ -1,6 +1,7 @@
 """Report: the stored analysis as one self-contained HTML file and a PDF.
 
-The report reads a results file written by :func:`gd_analyze.io.datasets.write_dataset` and never
+The report reads a results file written by the main job
+(:func:`gd_analyze.workflows.analyze.analyze_to_file`) and never
 recomputes the dynamics: every number and curve comes from the dataset's variables and global
 attributes. It has seven parts:
 
@@ -42,6 +43,7 @@ from .common import gridspec as _gridspec, strings as _strings, style as _style
 from .common import table as _table, thresholds as _thresholds
 from .common import check_formats, grid_shape, inline_svgs, joint_colours, render_template
 from .common import utc_now
+from ..io.sweep_datasets import payload_part
 
 __all__ = [
     "REPORT_FORMATS", "ENVELOPE_THRESHOLD", "ENVELOPE_COLUMNS", "envelope", "make_figures",
@@ -246,7 +248,7 @@ def make_figures(ds):
         if "payload_share_tran" in ds.variables:
             from .figures import payload_figure
 
-            figures["payload"] = payload_figure(_payload_part(ds))
+            figures["payload"] = payload_figure(payload_part(ds))
         return figures
 
 
@@ -525,7 +527,7 @@ def _report_context(ds):
 
 def _report_context_base(ds):
     """Everything both reports print, as strings and tables (no figures)."""
-    from .. import __version__
+    from .._version import __version__
 
     _check(ds, _REQUIRED, "results")
     n = ds.sizes["joint"]
@@ -702,16 +704,10 @@ def _report_context_base(ds):
     }
 
 
-def _payload_part(ds):
-    """The payload sweep stored as ``payload_*`` variables, under its own names."""
-    names = [v for v in ds.data_vars if v.startswith("payload_") and "payload" in ds[v].dims]
-    return ds[names].rename({v: v[len("payload_"):] for v in names})
-
-
 def _payload_context(ds):
     if "payload_share_tran" not in ds.variables:
         return {"applicable": False, "table": None, "note": ""}
-    part = _payload_part(ds)
+    part = payload_part(ds)
     masses = [float(m) for m in part["payload"].values]
     labels = _strings(part["element"].values)
     dom = np.array(_strings(part["dominance"].values.ravel())).reshape(part["dominance"].shape)
@@ -1072,7 +1068,7 @@ def write_report(results_path, outdir, formats=REPORT_FORMATS):
     Parameters
     ----------
     results_path : str or os.PathLike
-        A results file written by :func:`gd_analyze.io.datasets.write_dataset`. Only read: the
+        A results file written by :func:`gd_analyze.workflows.analyze.analyze_to_file`. Only read: the
         dynamics are never recomputed.
     outdir : str or os.PathLike
         Output folder; made if missing.

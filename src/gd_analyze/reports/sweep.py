@@ -1,6 +1,6 @@
 """Sweep report: a stored sweep as one self-contained HTML file and a PDF.
 
-:func:`write_sweep_report` reads a ``sweep.h5`` written by :func:`gd_analyze.workflows.sweep.write_sweep`
+:func:`write_sweep_report` reads a ``sweep.h5`` written by :func:`gd_analyze.io.datasets.write_dataset`
 and never recomputes the dynamics: every number comes from the dataset's variables and global
 attributes. The report has these parts:
 
@@ -12,7 +12,7 @@ attributes. The report has these parts:
 4. the envelope: per element the fraction of trajectories in each dominance class and the
    min/median/max share, as a figure and a table;
 5. the conservative merged simplified model: its choice per element and its torque error;
-6. optionally, a payload sweep (:func:`gd_analyze.workflows.sweep.payload_sweep`): share_tran and class
+6. optionally, a payload sweep (:func:`gd_analyze.workflows.payload.payload_sweep`): share_tran and class
    of every element vs payload (:func:`gd_analyze.reports.figures.payload_figure`).
 
 ``sweep_report.html`` has no external resources (inline SVG figures, inline style sheet; the
@@ -257,7 +257,7 @@ def make_sweep_figures(ds, payload=None):
         A sweep dataset from :func:`gd_analyze.workflows.sweep.run_sweep` (K trajectories, M elements,
         n joints).
     payload : xarray.Dataset, optional
-        A payload sweep from :func:`gd_analyze.workflows.sweep.payload_sweep`.
+        A payload sweep from :func:`gd_analyze.workflows.payload.payload_sweep`.
 
     Returns
     -------
@@ -286,7 +286,7 @@ def make_sweep_figures(ds, payload=None):
 # --------------------------------------------------------------------------------------------
 
 def _context(ds, payload=None):
-    from .. import __version__
+    from .._version import __version__
 
     _check(ds, _REQUIRED, "sweep")
     K = ds.sizes["trajectory"]
@@ -402,7 +402,7 @@ def render_sweep_html(ds, payload=None, figures=None):
     ds : xarray.Dataset
         A sweep dataset (:func:`gd_analyze.workflows.sweep.run_sweep`).
     payload : xarray.Dataset, optional
-        A payload sweep (:func:`gd_analyze.workflows.sweep.payload_sweep`).
+        A payload sweep (:func:`gd_analyze.workflows.payload.payload_sweep`).
     figures : dict of str to matplotlib.figure.Figure, optional
         From :func:`make_sweep_figures`; made here if not given.
 
@@ -558,13 +558,13 @@ def write_sweep_report(sweep_path, outdir, payload=None, formats=SWEEP_REPORT_FO
     Parameters
     ----------
     sweep_path : str or os.PathLike
-        A ``sweep.h5`` written by :func:`gd_analyze.workflows.sweep.write_sweep`. Only read: nothing is
+        A ``sweep.h5`` written by :func:`gd_analyze.io.datasets.write_dataset`. Only read: nothing is
         recomputed.
     outdir : str or os.PathLike
         Output folder; made if missing.
     payload : str or os.PathLike or xarray.Dataset, optional
-        A payload sweep (file written by :func:`gd_analyze.workflows.sweep.write_sweep`, or the dataset
-        of :func:`gd_analyze.workflows.sweep.payload_sweep`); adds its section and :func:`payload_figure`.
+        A payload sweep (file written by :func:`gd_analyze.io.datasets.write_dataset`, or the dataset
+        of :func:`gd_analyze.workflows.payload.payload_sweep`); adds its section and :func:`payload_figure`.
     formats : sequence of str, optional
         Any of ``"html"`` and ``"pdf"``.
 

@@ -1,7 +1,15 @@
 """The main job as a function: robot and trajectory in, verified analysis out.
 
 robot model -> kinematics -> G-D terms -> verification -> ranking -> simplified model -> dataset.
-The command line calls :func:`analyze` and then writes the files; nothing here prints or exits.
+The command line calls :func:`analyze_to_file` (or :func:`analyze`, in memory) and then writes
+the remaining files; nothing here prints or exits.
+
+There is one per-trajectory path (:func:`analysis_pass`): it computes the G-D terms once per
+set point, chunk by chunk, and hands each chunk to the ranking, to the file, and to the samples
+that the verification against Pinocchio and the comparison of the formulations read. The
+simplified model's torque error needs the ranking of the whole trajectory first, so it is a
+second pass over the same terms: held in memory when there is one chunk (or no file), read
+back from the file otherwise. Nothing is computed twice.
 """
 
 from __future__ import annotations
@@ -10,11 +18,14 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ..core.dalembert import gd_terms
-from ..core.ranking import DEFAULT_DOMINANCE, DEFAULT_NEGLIGIBLE, rank_dominance
-from ..core.simplified import SimplifiedModel, simplified_torque, torque_error
+from .._version import __version__
+from ..core.dalembert import GDTerms, gd_terms
+from ..core.ranking import DEFAULT_DOMINANCE, DEFAULT_NEGLIGIBLE
+from ..core.simplified import SimplifiedModel, simplified_torque
+from ..formulations.compare import FORMULATIONS_MAX_SETPOINTS
 
-__all__ = ["Analysis", "analyze", "analyze_to_file", "verify", "VERIFY_TOLERANCE",
+__all__ = ["Analysis", "AnalysisPass", "analysis_pass", "analyze", "analyze_to_file", "verify",
+           "VERIFY_TOLERANCE",
            "VERIFY_MAX_SETPOINTS", "STREAM_CHUNK"]
 
 #: Largest relative disagreement with Pinocchio accepted by :func:`verify`.
@@ -51,6 +62,29 @@ def _subsample(N, max_setpoints):
     return np.unique(np.linspace(0, N - 1, min(N, max_setpoints)).round().astype(int))
 
 
+def _take(terms, rows):
+    return GDTerms(terms.D_tran[rows], terms.D_rot[rows], terms.h_tran[rows], terms.h_rot[rows],
+                   terms.c[rows])
+
+
+def _concat(parts):
+    return GDTerms(*(np.concatenate([getattr(t, f) for t in parts]) if parts else None
+                     for f in ("D_tran", "D_rot", "h_tran", "h_rot", "c")))
+
+
+def _verify_sample(robot, q, qd, terms):
+    """The verification of :func:`verify` on given set points and their G-D terms."""
+    from ..formulations.pinocchio import reference_terms, relative_error
+
+    ref = reference_terms(robot, q, qd)
+    out = {f"max_rel_error_{name}": relative_error(getattr(terms, name), getattr(ref, name))
+           for name in ("D_tran", "D_rot", "h_tran", "h_rot", "D", "h", "c")}
+    worst = max(out.values())
+    out.update(setpoints=int(q.shape[0]), tolerance=VERIFY_TOLERANCE,
+               engine="pinocchio", passed=int(worst <= VERIFY_TOLERANCE))
+    return out
+
+
 def verify(robot, q, qd, terms=None, max_setpoints=VERIFY_MAX_SETPOINTS):
     """Check G-D terms against Pinocchio's crba, nonLinearEffects and generalized gravity.
 
@@ -61,7 +95,7 @@ def verify(robot, q, qd, terms=None, max_setpoints=VERIFY_MAX_SETPOINTS):
     q, qd : ndarray, shape (N, n)
         Joint positions [rad] and velocities [rad/s].
     terms : GDTerms, optional
-        The G-D terms at those states; computed at the checked set points if not given.
+        The G-D terms at those N states; computed at the checked set points if not given.
     max_setpoints : int, optional
         At most this many set points, evenly spread, are checked.
 
@@ -77,26 +111,218 @@ def verify(robot, q, qd, terms=None, max_setpoints=VERIFY_MAX_SETPOINTS):
     The split parts are checked against the half-models with zero rotational inertia and with
     zero mass (see :mod:`gd_analyze.formulations.pinocchio`).
     """
-    from ..formulations.pinocchio import reference_terms, relative_error
-
     idx = _subsample(q.shape[0], max_setpoints)
-    ref = reference_terms(robot, q[idx], qd[idx])
-    ours = gd_terms(robot, q[idx], qd[idx]) if terms is None else None
-    out = {}
-    for name in ("D_tran", "D_rot", "h_tran", "h_rot", "D", "h", "c"):
-        value = getattr(ours, name) if terms is None else getattr(terms, name)[idx]
-        out[f"max_rel_error_{name}"] = relative_error(value, getattr(ref, name))
-    worst = max(out.values())
-    out.update(setpoints=int(idx.size), tolerance=VERIFY_TOLERANCE,
-               engine="pinocchio", passed=int(worst <= VERIFY_TOLERANCE))
-    return out
+    sample = gd_terms(robot, q[idx], qd[idx]) if terms is None else _take(terms, idx)
+    return _verify_sample(robot, q[idx], qd[idx], sample)
+
+
+@dataclass(frozen=True, eq=False)
+class AnalysisPass:
+    """What :func:`analysis_pass` produced for one trajectory.
+
+    Attributes
+    ----------
+    ranking : Ranking
+        The dominance of each of the M = n (n + 1) / 2 + n elements.
+    choices : dict
+        Element label -> the part the simplified model keeps.
+    error : dict
+        The simplified model's torque error per joint
+        (:func:`gd_analyze.core.simplified.torque_error`).
+    verification : dict
+        As :func:`verify` returns it; empty if not checked.
+    costs : xarray.Dataset or None
+        :func:`gd_analyze.formulations.compare.formulations_dataset`, if asked for.
+    terms : GDTerms or None
+        The G-D terms at all N set points, held when there is no file to read them back from.
+    tau, tau_simplified : ndarray, shape (N, n) or None
+        Full and simplified torques [N m], held likewise.
+    model : SimplifiedModel or None
+        The explicit simplified model, when asked for (``simplify``).
+    simplified : xarray.Dataset or None
+        Its bound, cost table and ladder (:func:`gd_analyze.workflows.simplify.simplified_dataset`).
+    """
+
+    ranking: object
+    choices: dict
+    error: dict
+    verification: dict
+    costs: object
+    terms: object
+    tau: object
+    tau_simplified: object
+    model: object = None
+    simplified: object = None
+
+
+def analysis_pass(robot, trajectory, dominance=DEFAULT_DOMINANCE, negligible=DEFAULT_NEGLIGIBLE,
+                  check=True, formulations=False, chunk=STREAM_CHUNK, writer=None,
+                  progress=False, terms=None, simplify=None):
+    """The one per-trajectory analysis: the G-D terms once per set point, then everything else.
+
+    Pass 1 computes the terms chunk by chunk and feeds the ranking, the writer and the samples
+    for the verification and the formulations; pass 2 feeds the simplified model's torque
+    error with the same terms (held in memory, or read back from the writer's file).
+
+    Parameters
+    ----------
+    robot : Robot
+        The arm, with n joints.
+    trajectory : Trajectory
+        q, qd, qdd of shape (N, n) [rad, rad/s, rad/s^2].
+    dominance, negligible : float, optional
+        s and e of the ranking.
+    check : bool, optional
+        Verify against Pinocchio on at most :data:`VERIFY_MAX_SETPOINTS` set points.
+    formulations : bool, optional
+        Compare L-E, N-E, G-D and Pinocchio on at most
+        :data:`gd_analyze.formulations.compare.FORMULATIONS_MAX_SETPOINTS` set points.
+    chunk : int, optional
+        Set points per chunk.
+    writer : SetpointWriter, optional
+        Receives the per-set-point variables; with more than one chunk, pass 2 reads the terms
+        back from it instead of holding them.
+    progress : bool, optional
+        Show a tqdm progress bar on stderr.
+    terms : GDTerms, optional
+        The trajectory's G-D terms, if the caller computed them (a sweep computes many short
+        trajectories in one call); then none are computed here.
+    simplify : dict, optional
+        ``tolerance``, ``rule``, ``torque_floor`` and ``provenance``: build the explicit
+        simplified model (issue 8) after pass 1 and take its torque in pass 2; without it the
+        model is the ranking's choices, masked (as in a sweep's per-trajectory models).
+
+    Returns
+    -------
+    AnalysisPass
+
+    Raises
+    ------
+    ValueError
+        If the trajectory does not fit the robot or the thresholds are out of range.
+
+    Notes
+    -----
+    Source: Sec. 3.4.1 of Fu, Gonzalez & Lee (1987); terms from Eqs. (3.4-24) to (3.4-28).
+    """
+    from tqdm.auto import tqdm
+
+    from ..core.budget import PartPeaks
+    from ..core.ranking import RankingAccumulator
+    from ..core.simplified import TorqueErrorAccumulator
+
+    q, qd, qdd = trajectory.q, trajectory.qd, trajectory.qdd
+    N, n = q.shape
+    chunk = max(1, int(chunk))
+    ranges = [(a, min(a + chunk, N)) for a in range(0, N, chunk)]
+    hold = writer is None or len(ranges) == 1
+    idx_verify = _subsample(N, VERIFY_MAX_SETPOINTS) if check else np.zeros(0, int)
+    idx_form = _subsample(N, FORMULATIONS_MAX_SETPOINTS) if formulations else np.zeros(0, int)
+    sample_idx = np.union1d(idx_verify, idx_form).astype(int)
+    samples, held, held_tau = [], [], []
+    ranker = RankingAccumulator(n)
+    parts = PartPeaks(n) if simplify is not None else None
+    bar = tqdm(total=2 * N, unit="setpoint", unit_scale=True, disable=not progress,
+               desc="G-D terms", delay=PROGRESS_DELAY, leave=False)
+    given = terms
+    for a, b in ranges:
+        terms = gd_terms(robot, q[a:b], qd[a:b]) if given is None else _take(given, slice(a, b))
+        tau = terms.tau(qdd[a:b])
+        ranker.update(terms.D_tran, terms.D_rot, terms.h_tran, terms.h_rot, tau)
+        if parts is not None:
+            parts.update(terms.D_tran, terms.D_rot, terms.h_tran, terms.h_rot, qdd[a:b], tau)
+        rows = sample_idx[(sample_idx >= a) & (sample_idx < b)] - a
+        if rows.size:
+            samples.append(_take(terms, rows))
+        if writer is not None:
+            writer.write(a, {"D_tran": terms.D_tran, "D_rot": terms.D_rot, "D": terms.D,
+                             "h_tran": terms.h_tran, "h_rot": terms.h_rot, "h": terms.h,
+                             "c": terms.c, "tau": tau})
+        if hold:
+            held.append(terms)
+            held_tau.append(tau)
+        bar.update(b - a)
+    ranking = ranker.result(dominance=dominance, negligible=negligible)
+    choices = ranking.choices()
+    model = simplified = None
+    if simplify is not None:
+        model, simplified = _simplify(robot, trajectory, ranking, parts, **simplify)
+        choices = model.choices
+    bar.set_description("simplified model")
+    errors = TorqueErrorAccumulator(n)
+    tau_s_all = []
+    for k, (a, b) in enumerate(ranges):
+        if hold:
+            terms, tau = held[k], held_tau[k]
+        else:
+            terms = GDTerms(*(writer.read(name, a, b)
+                              for name in ("D_tran", "D_rot", "h_tran", "h_rot", "c")))
+            tau = writer.read("tau", a, b)
+        tau_s = simplified_torque(terms, choices, qdd[a:b]) if model is None else \
+            model.torque(q[a:b], qd[a:b], qdd[a:b])
+        errors.update(tau_s, tau)
+        if writer is not None:
+            writer.write(a, {"tau_simplified": tau_s})
+        else:
+            tau_s_all.append(tau_s)
+        bar.update(b - a)
+    bar.close()
+    sample = _concat(samples)
+    at = {i: k for k, i in enumerate(sample_idx)}
+    verification = {}
+    if check:
+        verification = _verify_sample(robot, q[idx_verify], qd[idx_verify],
+                                      _take(sample, [at[i] for i in idx_verify]))
+    costs = None
+    if formulations:
+        from ..formulations.compare import formulations_dataset
+
+        costs = formulations_dataset(robot, q[idx_form], qd[idx_form], qdd[idx_form],
+                                     gd=_take(sample, [at[i] for i in idx_form]))
+    return AnalysisPass(ranking=ranking, choices=choices, error=errors.result(),
+                 verification=verification, costs=costs,
+                 terms=_concat(held) if writer is None else None,
+                 tau=np.concatenate(held_tau) if writer is None else None,
+                 tau_simplified=np.concatenate(tau_s_all) if writer is None else None,
+                 model=model, simplified=simplified)
+
+
+def _provenance(trajectory, settings):
+    return {"gd_analyze_version": __version__, "trajectory_file": trajectory.source,
+            "derivatives": trajectory.derivatives, **(settings or {})}
+
+
+def _with_simplified(ds, extra):
+    if extra is not None:
+        ds = ds.assign(extra.data_vars)
+        ds.attrs.update(extra.attrs)
+    return ds
+
+
+def _model(robot, trajectory, result, dominance, negligible, settings):
+    if result.model is not None:                 # the explicit simplified model (issue 8)
+        object.__setattr__(result.model, "validation", result.error)
+        return result.model
+    provenance = _provenance(trajectory, settings)
+    return SimplifiedModel(robot=robot, choices=result.choices,
+                           dominance_threshold=float(dominance),
+                           negligible_threshold=float(negligible),
+                           trajectory_sha256=trajectory.sha256, validation=result.error,
+                           provenance=provenance)
+
+
+def _with_costs(ds, costs):
+    if costs is not None:
+        ds = ds.assign(costs.data_vars)
+        ds.attrs.update(costs.attrs)
+    return ds
 
 
 def _simplify(robot, trajectory, ranking, part_peaks, tolerance, rule, torque_floor,
                provenance):
     """The explicit simplified model by the rule, the other rule's model, ladder, costs."""
-    from .simplify import (build_model, collect_peaks, cost_rows, ladder,
-                                     simplified_dataset, validate)
+    from .simplify import (build_model, collect_peaks, cost_rows, full_torque, ladder,
+                           simplified_dataset, validate)
     from ..io.explicit_cache import explicit_terms
 
     terms, _ = explicit_terms(robot)
@@ -107,8 +333,10 @@ def _simplify(robot, trajectory, ranking, part_peaks, tolerance, rule, torque_fl
     model, sel = build_model(robot, terms, peaks, tolerance=tolerance, rule=rule, **common)
     other_rule = "chapter" if rule == "budget" else "budget"
     other, _ = build_model(robot, terms, peaks, tolerance=tolerance, rule=other_rule, **common)
-    other_error = validate(other, [(q, qd, qdd)])
-    rows = ladder(robot, terms, peaks, [(q, qd, qdd)], torque_floor=torque_floor)
+    reference = full_torque(robot, terms)       # tau without computing the G-D terms again
+    other_error = validate(other, [(q, qd, qdd)], reference=reference)
+    rows = ladder(robot, terms, peaks, [(q, qd, qdd)], torque_floor=torque_floor,
+                  reference=reference)
     table = cost_rows(robot.n, model, other=other, ladder_rows=rows)
     extra = simplified_dataset(model, sel, other=other, ladder_rows=rows, cost_table=table,
                                other_error=other_error)
@@ -116,8 +344,9 @@ def _simplify(robot, trajectory, ranking, part_peaks, tolerance, rule, torque_fl
 
 
 def analyze(robot, trajectory, dominance=DEFAULT_DOMINANCE, negligible=DEFAULT_NEGLIGIBLE,
-            check=True, settings=None, tolerance=0.01, rule="budget", torque_floor=0.0):
-    """Compute, verify, rank and simplify the G-D terms along a trajectory.
+            check=True, settings=None, formulations=False, tolerance=0.01, rule="budget",
+            torque_floor=0.0):
+    """Compute, verify, rank and simplify the G-D terms along a trajectory, in memory.
 
     Parameters
     ----------
@@ -133,6 +362,9 @@ def analyze(robot, trajectory, dominance=DEFAULT_DOMINANCE, negligible=DEFAULT_N
         Verify against Pinocchio (:func:`verify`).
     settings : dict, optional
         Extra provenance for the dataset's global attributes and the model.
+    formulations : bool, optional
+        Also store the formulations' agreement and operation counts (as
+        :func:`analyze_to_file` does).
     tolerance : float, optional
         EPS of the error budget (rule ``"budget"``).
     rule : {"budget", "chapter"}, optional
@@ -143,6 +375,7 @@ def analyze(robot, trajectory, dominance=DEFAULT_DOMINANCE, negligible=DEFAULT_N
     Returns
     -------
     Analysis
+        Its dataset holds the per-set-point variables as well as the summary.
 
     Raises
     ------
@@ -153,31 +386,20 @@ def analyze(robot, trajectory, dominance=DEFAULT_DOMINANCE, negligible=DEFAULT_N
     -----
     Source: Sec. 3.4.1 of Fu, Gonzalez & Lee (1987); terms from Eqs. (3.4-24) to (3.4-28).
     """
-    from .. import __version__
     from ..io.datasets import build_dataset
 
-    from ..core.budget import PartPeaks
-
-    terms = gd_terms(robot, trajectory.q, trajectory.qd)
-    tau = terms.tau(trajectory.qdd)
-    ranking = rank_dominance(terms.D_tran, terms.D_rot, terms.h_tran, terms.h_rot, tau,
-                             dominance=dominance, negligible=negligible)
-    parts = PartPeaks(robot.n)
-    parts.update(terms.D_tran, terms.D_rot, terms.h_tran, terms.h_rot, trajectory.qdd, tau)
-    provenance = {"gd_analyze_version": __version__, "trajectory_file": trajectory.source,
-                  "derivatives": trajectory.derivatives, **(settings or {})}
-    model, extra = _simplify(robot, trajectory, ranking, parts, tolerance, rule, torque_floor,
-                             provenance)
-    choices = model.choices
-    tau_s = model.torque(trajectory.q, trajectory.qd, trajectory.qdd)
-    error = torque_error(tau_s, tau)
-    object.__setattr__(model, "validation", error)
-    verification = verify(robot, trajectory.q, trajectory.qd, terms) if check else {}
-    ds = build_dataset(robot, trajectory, terms, ranking, tau, tau_s, choices, error,
-                       verification=verification, settings=settings)
-    ds = ds.assign(extra.data_vars)
-    ds.attrs.update(extra.attrs)
-    return Analysis(dataset=ds, model=model, verification=verification)
+    N = trajectory.q.shape[0]
+    simplify = {"tolerance": tolerance, "rule": rule, "torque_floor": torque_floor,
+                "provenance": _provenance(trajectory, settings)}
+    result = analysis_pass(robot, trajectory, dominance, negligible, check, formulations,
+                           chunk=max(N, 1), simplify=simplify)
+    ds = build_dataset(robot, trajectory, result.terms, result.ranking, result.tau,
+                       result.tau_simplified, result.choices, result.error,
+                       verification=result.verification, settings=settings)
+    ds = _with_simplified(ds, result.simplified)
+    return Analysis(dataset=_with_costs(ds, result.costs),
+                    model=_model(robot, trajectory, result, dominance, negligible, settings),
+                    verification=result.verification)
 
 
 def analyze_to_file(robot, trajectory, path, dominance=DEFAULT_DOMINANCE,
@@ -186,9 +408,10 @@ def analyze_to_file(robot, trajectory, path, dominance=DEFAULT_DOMINANCE,
                     extra=None, tolerance=0.01, rule="budget", torque_floor=0.0):
     """:func:`analyze`, streamed into a results file in chunks of bounded memory.
 
-    Two passes over the trajectory: the first computes the G-D terms chunk by chunk, writes
-    them and accumulates the ranking; the second, once the simplified model is known,
-    recomputes the terms and writes tau_simplified. Memory stays a few chunks whatever N is.
+    The G-D terms are computed once per set point, chunk by chunk, and written; the simplified
+    model's torque (which needs the ranking of the whole trajectory) is computed in a second
+    pass from the same terms, held in memory when there is one chunk and read back from the
+    file otherwise. Memory stays a few chunks whatever N is.
 
     Parameters
     ----------
@@ -232,67 +455,27 @@ def analyze_to_file(robot, trajectory, path, dominance=DEFAULT_DOMINANCE,
     OSError
         If the file cannot be written.
     """
-    from tqdm.auto import tqdm
-
-    from .. import __version__
-    from ..core.ranking import RankingAccumulator
-    from ..core.simplified import TorqueErrorAccumulator
     from ..files import atomic_path
     from ..io.datasets import SetpointWriter, summary_dataset
 
     N, n = trajectory.q.shape
-    chunk = max(1, int(chunk))
-    ranges = [(a, min(a + chunk, N)) for a in range(0, N, chunk)]
-    from ..core.budget import PartPeaks
-
-    ranker = RankingAccumulator(n)
-    parts = PartPeaks(n)
-    errors = TorqueErrorAccumulator(n)
-    bar = tqdm(total=2 * N, unit="setpoint", unit_scale=True, disable=not progress,
-               desc="G-D terms", delay=PROGRESS_DELAY, leave=False)
     with atomic_path(path) as tmp:
-        with SetpointWriter(tmp, N, n, chunk=min(chunk, 8192), compress=compress) as out:
+        with SetpointWriter(tmp, N, n, chunk=min(max(1, int(chunk)), 8192),
+                            compress=compress) as out:
             out.write(0, {"t": trajectory.t, "q": trajectory.q, "qd": trajectory.qd,
                           "qdd": trajectory.qdd})
-            for a, b in ranges:
-                terms = gd_terms(robot, trajectory.q[a:b], trajectory.qd[a:b])
-                tau = terms.tau(trajectory.qdd[a:b])
-                ranker.update(terms.D_tran, terms.D_rot, terms.h_tran, terms.h_rot, tau)
-                parts.update(terms.D_tran, terms.D_rot, terms.h_tran, terms.h_rot,
-                             trajectory.qdd[a:b], tau)
-                out.write(a, {"D_tran": terms.D_tran, "D_rot": terms.D_rot, "D": terms.D,
-                              "h_tran": terms.h_tran, "h_rot": terms.h_rot, "h": terms.h,
-                              "c": terms.c, "tau": tau})
-                bar.update(b - a)
-            ranking = ranker.result(dominance=dominance, negligible=negligible)
-            provenance = {"gd_analyze_version": __version__,
-                          "trajectory_file": trajectory.source,
-                          "derivatives": trajectory.derivatives, **(settings or {})}
-            model, simp = _simplify(robot, trajectory, ranking, parts, tolerance, rule,
-                                    torque_floor, provenance)
-            choices = model.choices
-            bar.set_description("simplified model")
-            for a, b in ranges:
-                terms = gd_terms(robot, trajectory.q[a:b], trajectory.qd[a:b])
-                tau_s = model.torque(trajectory.q[a:b], trajectory.qd[a:b],
-                                     trajectory.qdd[a:b])
-                errors.update(tau_s, terms.tau(trajectory.qdd[a:b]))
-                out.write(a, {"tau_simplified": tau_s})
-                bar.update(b - a)
-        bar.close()
-        error = errors.result()
-        verification = verify(robot, trajectory.q, trajectory.qd) if check else {}
-        ds = summary_dataset(robot, trajectory, ranking, choices, error, verification, settings)
-        if formulations:
-            from ..formulations.compare import formulations_dataset
-
-            costs = formulations_dataset(robot, trajectory.q, trajectory.qd, trajectory.qdd)
-            ds = ds.assign(costs.data_vars)
-            ds.attrs.update(costs.attrs)
+            simplify = {"tolerance": tolerance, "rule": rule, "torque_floor": torque_floor,
+                        "provenance": _provenance(trajectory, settings)}
+            result = analysis_pass(robot, trajectory, dominance, negligible, check,
+                                   formulations, chunk, writer=out, progress=progress,
+                                   simplify=simplify)
+        ds = summary_dataset(robot, trajectory, result.ranking, result.choices, result.error,
+                             result.verification, settings)
+        ds = _with_costs(ds, result.costs)
         if extra is not None:
             ds = ds.assign(extra.data_vars)
-        ds = ds.assign(simp.data_vars)
-        ds.attrs.update(simp.attrs)
+        ds = _with_simplified(ds, result.simplified)
         ds.to_netcdf(tmp, mode="a", engine="h5netcdf")
-    object.__setattr__(model, "validation", error)
-    return Analysis(dataset=ds, model=model, verification=verification)
+    return Analysis(dataset=ds,
+                    model=_model(robot, trajectory, result, dominance, negligible, settings),
+                    verification=result.verification)

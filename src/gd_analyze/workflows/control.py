@@ -60,19 +60,17 @@ from pathlib import Path
 
 import numpy as np
 
-from ..core.dalembert import gd_terms
+from ..core.dalembert import _qdd_from_terms, forward_dynamics, gd_terms
 from ..core.kinematics import as_states
 from ..core.simplified import SimplifiedModel, choice_masks
-from ..files import file_sha256
 from ..formulations.simplified_eval import (COST_SETPOINTS, evaluation_cost, evaluation_plan,
                               simplified_tau)
 
 __all__ = [
     "CONTROLLERS", "CONTROLLER_DESCRIPTIONS", "DEFAULT_WN", "DEFAULT_ZETA", "DEFAULT_RTOL",
     "DEFAULT_ATOL", "DEFAULT_METHOD", "DEFAULT_GRID_POINTS", "CONTROL_FILE",
-    "forward_dynamics", "Gains", "control_gains", "desired_motion", "controller_torque",
-    "TrackingRun", "track", "ControlResult", "run_control", "control_dataset",
-    "write_control_dataset", "evaluation_cost", "simplified_tau",
+    "Gains", "control_gains", "desired_motion", "controller_torque",
+    "TrackingRun", "track", "ControlResult", "run_control",
 ]
 
 #: The controllers compared, in table order.
@@ -102,48 +100,6 @@ CONTROL_FILE = "control.h5"
 # --------------------------------------------------------------------------------------------
 # Forward dynamics
 # --------------------------------------------------------------------------------------------
-
-def _qdd_from_terms(terms, tau):
-    rhs = np.asarray(tau, dtype=float) - terms.h - terms.c
-    return np.linalg.solve(terms.D, rhs[..., None])[..., 0]
-
-
-def forward_dynamics(robot, q, qd, tau, engine="auto"):
-    """Joint accelerations of the arm under given torques, qdd = D^-1 (tau - h - c).
-
-    Parameters
-    ----------
-    robot : Robot
-        The arm, with n joints.
-    q : array_like, shape (N, n) or (n,)
-        Joint positions [rad].
-    qd : array_like, shape (N, n) or (n,)
-        Joint velocities [rad/s].
-    tau : array_like, shape (N, n) or (n,)
-        Joint torques [N m].
-    engine : {"auto", "numpy", "compiled"}, optional
-        Engine of :func:`~gd_analyze.core.dalembert.gd_terms`.
-
-    Returns
-    -------
-    ndarray, shape (N, n)
-        Joint accelerations qdd [rad/s^2].
-
-    Raises
-    ------
-    ValueError
-        If the arrays do not have n columns or disagree on N, or the engine is unknown.
-    numpy.linalg.LinAlgError
-        If D is singular at some set point (it is positive definite for a physical arm).
-
-    Notes
-    -----
-    Eq. (3.4-24) of Fu, Gonzalez & Lee (1987) solved for qdd, with D = D_tran + D_rot and
-    h = h_tran + h_rot from Eqs. (3.4-25) to (3.4-28); one ``numpy.linalg.solve`` per set
-    point, batched.
-    """
-    q, qd, tau = as_states(robot, q, qd, tau)
-    return _qdd_from_terms(gd_terms(robot, q, qd, engine=engine), tau)
 
 
 # --------------------------------------------------------------------------------------------
@@ -494,6 +450,11 @@ class ControlResult:
     provenance: dict = field(default_factory=dict)
 
     @property
+    def descriptions(self):
+        """dict: controller name -> its control law in one line (:data:`CONTROLLER_DESCRIPTIONS`)."""
+        return {c: CONTROLLER_DESCRIPTIONS[c] for c in self.runs}
+
+    @property
     def controllers(self):
         """list of str: the controllers run, in table order."""
         return list(self.runs)
@@ -569,15 +530,15 @@ def _sample_times(t_set, grid_points):
 def run_control(model, trajectory, wn=DEFAULT_WN, zeta=DEFAULT_ZETA, q0_offset=0.0,
                 controllers=CONTROLLERS, grid_points=DEFAULT_GRID_POINTS, rtol=DEFAULT_RTOL,
                 atol=DEFAULT_ATOL, method=DEFAULT_METHOD, t_end=None, cost=True,
-                cost_setpoints=COST_SETPOINTS):
+                cost_setpoints=COST_SETPOINTS, model_path=None, model_sha256=None):
     """Track a trajectory with the full-model, simplified-model and PD + gravity controllers.
 
     Parameters
     ----------
-    model : SimplifiedModel or str or os.PathLike
-        The simplified model, or its ``simplified_model.json``; its robot is the plant.
-    trajectory : Trajectory or str or os.PathLike
-        The set points to track, or a trajectory CSV file.
+    model : SimplifiedModel
+        The simplified model; its robot is the plant.
+    trajectory : Trajectory
+        The set points to track.
     wn : float or array_like, shape (n,), optional
         Undamped natural frequency of the error dynamics [rad/s] (default 20).
     zeta : float or array_like, shape (n,), optional
@@ -598,6 +559,11 @@ def run_control(model, trajectory, wn=DEFAULT_WN, zeta=DEFAULT_ZETA, q0_offset=0
         Also measure :func:`~gd_analyze.formulations.simplified_eval.evaluation_cost`.
     cost_setpoints : int, optional
         Random set points per timed call of the cost measurement.
+    model_path : str or os.PathLike, optional
+        The file the model was read from, recorded in the provenance.
+    model_sha256 : str, optional
+        That file's SHA-256 (:func:`gd_analyze.files.file_sha256`); without a file, the SHA-256
+        of the model's canonical JSON is recorded.
 
     Returns
     -------
@@ -605,8 +571,6 @@ def run_control(model, trajectory, wn=DEFAULT_WN, zeta=DEFAULT_ZETA, q0_offset=0
 
     Raises
     ------
-    InputError
-        If a file is missing or invalid.
     ValueError
         If the trajectory's joint count differs from the robot's, t_end leaves fewer than 2
         set points, a controller is unknown, or the gains are invalid.
@@ -616,19 +580,14 @@ def run_control(model, trajectory, wn=DEFAULT_WN, zeta=DEFAULT_ZETA, q0_offset=0
     Sources: Fu, Gonzalez & Lee (1987), Eq. (3.4-24) (plant and model), Sec. 3.4.1
     (simplified model), Ch. 5 (computed-torque control).
     """
-    from ..io.trajectory import Trajectory, read_trajectory
-
-    if isinstance(model, SimplifiedModel):
+    if model_path is None:
         model_file = "<in memory>"
-        model_sha = hashlib.sha256(json.dumps(_json_ready(model.to_dict()),
-                                              sort_keys=True).encode()).hexdigest()
+        model_sha = model_sha256 or hashlib.sha256(json.dumps(
+            _json_ready(model.to_dict()), sort_keys=True).encode()).hexdigest()
     else:
-        model_file = str(model)
-        model = SimplifiedModel.load(model_file)
-        model_sha = file_sha256(model_file)
+        model_file = str(model_path)
+        model_sha = model_sha256 or ""
     robot = model.robot
-    if not isinstance(trajectory, Trajectory):
-        trajectory = read_trajectory(trajectory, n_joints=robot.n)
     if trajectory.q.shape[1] != robot.n:
         raise ValueError(f"the trajectory has {trajectory.q.shape[1]} joints, the robot "
                          f"{robot.n}")
@@ -677,206 +636,4 @@ def _json_ready(obj):
 # Dataset
 # --------------------------------------------------------------------------------------------
 
-def _var(dims, data, units, long_name, **attrs):
-    return (dims, data, {"units": units, "long_name": long_name, **attrs})
 
-
-def control_dataset(result):
-    """The closed-loop comparison as an xarray Dataset.
-
-    Parameters
-    ----------
-    result : ControlResult
-        As :func:`run_control` returns it.
-
-    Returns
-    -------
-    xarray.Dataset
-        Dims ``controller``, ``time``, ``joint`` (and ``element`` for the model's choices,
-        ``evaluator`` for the cost); every variable and coordinate has ``units`` and
-        ``long_name``; CF-style global attributes with the gd-analyze version, the robot and
-        its SHA-256, the trajectory and model files and their SHA-256, the gains and the
-        solver settings.
-
-    Notes
-    -----
-    Variables: ``q_d``, ``qd_d``, ``qdd_d`` (time, joint); ``q``, ``qd``, ``tau``, ``error``
-    (controller, time, joint); ``error_peak_setpoints``, ``error_rms_setpoints``,
-    ``error_peak_grid``, ``error_rms_grid``, ``tau_peak``, ``tau_rms`` (controller, joint);
-    ``nfev``, ``success`` (controller); ``tau_difference`` (time, joint) and its
-    ``tau_difference_peak``, ``tau_difference_rms`` (joint) when both computed-torque
-    controllers ran; the gains (joint); ``is_setpoint`` (time); ``choice`` (element);
-    ``multiplications``, ``additions``, ``time_per_setpoint`` (evaluator) when the cost was
-    measured. The attribute ``trajectory_is_models`` is 1 if the tracked trajectory is the one
-    the simplified model was derived on (same SHA-256), else 0.
-    """
-    import datetime
-
-    import xarray as xr
-
-    from .. import __version__
-    from ..core.ranking import element_labels
-    from ..io.datasets import CONVENTIONS
-
-    robot, g, prov = result.robot, result.gains, result.provenance
-    n = robot.n
-    names = result.controllers
-    runs = [result.runs[c] for c in names]
-    stack = lambda key: np.stack([getattr(r, key) for r in runs])   # noqa: E731
-    figs = [result.error_figures(c) for c in names]
-    fig = lambda key: np.array([f[key] for f in figs])              # noqa: E731
-    tau_pk, tau_rm = zip(*(_peak_rms(r.tau) for r in runs))
-    CTJ, CJ = ("controller", "time", "joint"), ("controller", "joint")
-    data_vars = {
-        "is_setpoint": _var(("time",), result.is_setpoint.astype(np.int8), "1",
-                            "sample is a set point of the trajectory (1) or on the fine grid (0)",
-                            flag_values=np.array([0, 1], dtype=np.int8),
-                            flag_meanings="fine_grid set_point"),
-        "q_d": _var(("time", "joint"), result.q_d, "rad", "desired joint position"),
-        "qd_d": _var(("time", "joint"), result.qd_d, "rad s-1", "desired joint velocity"),
-        "qdd_d": _var(("time", "joint"), result.qdd_d, "rad s-2", "desired joint acceleration"),
-        "q": _var(CTJ, stack("q"), "rad", "joint position of the controlled arm"),
-        "qd": _var(CTJ, stack("qd"), "rad s-1", "joint velocity of the controlled arm"),
-        "tau": _var(CTJ, stack("tau"), "N m", "joint torque applied by the controller"),
-        "error": _var(CTJ, stack("error"), "rad", "tracking error q_d - q"),
-        "error_peak_setpoints": _var(CJ, fig("peak_setpoints"), "rad",
-                                     "peak |q_d - q| at the set points"),
-        "error_rms_setpoints": _var(CJ, fig("rms_setpoints"), "rad",
-                                    "RMS of q_d - q at the set points"),
-        "error_peak_grid": _var(CJ, fig("peak_grid"), "rad",
-                                "peak |q_d - q| on the fine grid"),
-        "error_rms_grid": _var(CJ, fig("rms_grid"), "rad", "RMS of q_d - q on the fine grid"),
-        "tau_peak": _var(CJ, np.array(tau_pk), "N m", "peak |tau| on the fine grid"),
-        "tau_rms": _var(CJ, np.array(tau_rm), "N m", "RMS of tau on the fine grid"),
-        "nfev": _var(("controller",), np.array([r.nfev for r in runs], dtype=np.int64), "1",
-                     "right-hand-side evaluations of the integrator"),
-        "success": _var(("controller",), np.array([r.success for r in runs], dtype=np.int8),
-                        "1", "integrator reached the end (1) or failed (0)"),
-        "wn": _var(("joint",), g.wn, "rad s-1", "undamped natural frequency of the error dynamics"),
-        "zeta": _var(("joint",), g.zeta, "1", "damping ratio of the error dynamics"),
-        "Kp": _var(("joint",), g.Kp, "s-2", "computed-torque position gain, wn^2"),
-        "Kv": _var(("joint",), g.Kv, "s-1", "computed-torque velocity gain, 2 zeta wn"),
-        "inertia_scale": _var(("joint",), g.inertia_scale, "kg m2",
-                              "diagonal of D at the start of the motion, scales the PD gains"),
-        "Kp_pd": _var(("joint",), g.Kp_pd, "N m rad-1",
-                      "PD + gravity position gain, D_ii(q_d(0)) wn^2"),
-        "Kv_pd": _var(("joint",), g.Kv_pd, "N m s rad-1",
-                      "PD + gravity velocity gain, D_ii(q_d(0)) 2 zeta wn"),
-        "q0_offset": _var(("joint",), np.asarray(prov.get("q0_offset", np.zeros(n)), float),
-                          "rad", "initial position error q(0) - q_d(0)"),
-        "choice": _var(("element",), np.array([result.choices[k] for k in element_labels(n)],
-                                              dtype=str), "1",
-                       "part kept by the simplified model (tran, rot, both, none)"),
-    }
-    diff = result.tau_difference
-    if diff is not None:
-        pk, rm = _peak_rms(diff)
-        ps, rs = _peak_rms(diff[result.is_setpoint])
-        data_vars.update(
-            tau_difference=_var(("time", "joint"), diff, "N m",
-                                "tau of the simplified-model controller minus tau of the "
-                                "full-model controller, each along its own run"),
-            tau_difference_peak=_var(("joint",), pk, "N m",
-                                     "peak |tau_simplified - tau_full| on the fine grid"),
-            tau_difference_rms=_var(("joint",), rm, "N m",
-                                    "RMS of tau_simplified - tau_full on the fine grid"),
-            tau_difference_peak_setpoints=_var(("joint",), ps, "N m",
-                                               "peak |tau_simplified - tau_full| at the set "
-                                               "points"),
-            tau_difference_rms_setpoints=_var(("joint",), rs, "N m",
-                                              "RMS of tau_simplified - tau_full at the set "
-                                              "points"))
-    coords = {
-        "controller": ("controller", np.array(names, dtype=str),
-                       {"long_name": "controller", "units": "1"}),
-        "controller_description": ("controller",
-                                   np.array([CONTROLLER_DESCRIPTIONS[c] for c in names],
-                                            dtype=str),
-                                   {"long_name": "control law", "units": "1"}),
-        "time": ("time", result.t, {"long_name": "time", "units": "s",
-                                    "standard_name": "time"}),
-        "joint": ("joint", np.arange(1, n + 1), {"long_name": "joint", "units": "1"}),
-        "element": ("element", np.array(element_labels(n), dtype=str),
-                    {"long_name": "element of D (i <= j) or h", "units": "1"}),
-    }
-    cost = result.cost
-    if cost:
-        coords["evaluator"] = ("evaluator", np.array(cost["evaluators"], dtype=str),
-                               {"long_name": "evaluator of tau at one set point", "units": "1"})
-        data_vars.update(
-            multiplications=_var(("evaluator",), np.array(cost["multiplications"], np.int64),
-                                 "1", "multiplications per set point (counted, gd_analyze.formulations.opcount "
-                                      "rule)"),
-            additions=_var(("evaluator",), np.array(cost["additions"], np.int64), "1",
-                           "additions and subtractions per set point (counted)"),
-            time_per_setpoint=_var(("evaluator",), np.array(cost["time_per_setpoint_us"]),
-                                   "us", "wall time per set point, batched, best of repeats"))
-    now = datetime.datetime.now(datetime.timezone.utc).replace(microsecond=0).isoformat()
-    attrs = {
-        "Conventions": CONVENTIONS,
-        "title": f"Computed-torque control of {robot.name} with its simplified G-D model along "
-                 f"{prov.get('trajectory_file', '')}",
-        "source": f"gd-analyze {__version__}",
-        "references": "Fu, Gonzalez & Lee (1987), Robotics, Sec. 3.4 (Eq. 3.4-24, Sec. 3.4.1) "
-                      "and Ch. 5 (computed-torque technique)",
-        "history": f"{now} created by gd-analyze {__version__}",
-        "gd_analyze_version": __version__,
-        "robot": robot.name,
-        "robot_source": robot.source,
-        "robot_sha256": robot.sha256,
-        "trajectory_file": prov.get("trajectory_file", ""),
-        "trajectory_path": prov.get("trajectory_path", ""),
-        "trajectory_sha256": prov.get("trajectory_sha256", ""),
-        "trajectory_derivatives": prov.get("trajectory_derivatives", ""),
-        "model_file": prov.get("model_file", ""),
-        "model_path": prov.get("model_path", ""),
-        "model_sha256": prov.get("model_sha256", ""),
-        "model_trajectory_sha256": prov.get("model_trajectory_sha256", ""),
-        "trajectory_is_models": int(bool(prov.get("model_trajectory_sha256"))
-                                    and prov.get("model_trajectory_sha256")
-                                    == prov.get("trajectory_sha256")),
-        "wn": g.wn, "wn_units": "rad s-1", "zeta": g.zeta,
-        "gains": "computed torque: Kp = wn^2, Kv = 2 zeta wn per joint; PD + gravity: "
-                 "Kp_pd = diag(D(q_d(0))) wn^2, Kv_pd = diag(D(q_d(0))) 2 zeta wn",
-        "control_laws": "; ".join(f"{c}: {CONTROLLER_DESCRIPTIONS[c]}" for c in names)
-                        + "; v = qdd_d + Kv (qd_d - qd) + Kp (q_d - q), e = q_d - q",
-        "plant": "full G-D model, qdd = D^-1 (tau - h - c) (Eq. 3.4-24)",
-        "interpolation": "piecewise quintic Hermite through (q, qd, qdd) at the set points "
-                         "(scipy BPoly.from_derivatives), C2",
-        "integrator": f"scipy.integrate.solve_ivp {prov.get('method', '')}",
-        "rtol": float(prov.get("rtol", np.nan)), "atol": float(prov.get("atol", np.nan)),
-        "grid_points": int(prov.get("grid_points", 0)),
-        "setpoints": int(result.is_setpoint.sum()),
-        "samples": int(result.t.size),
-    }
-    if cost:
-        attrs.update(cost_setpoints=int(cost["setpoints"]), cost_repeat=int(cost["repeat"]),
-                     cost_dropped_parts=int(cost["dropped"]), cost_parts=int(cost["parts"]))
-    return xr.Dataset(data_vars, coords=coords, attrs=attrs)
-
-
-def write_control_dataset(result, path):
-    """Write :func:`control_dataset` of a result to HDF5/netCDF4 (h5netcdf), atomically.
-
-    Parameters
-    ----------
-    result : ControlResult
-        As :func:`run_control` returns it.
-    path : str or os.PathLike
-        Destination, e.g. ``control.h5``.
-
-    Returns
-    -------
-    xarray.Dataset
-        The dataset written.
-
-    Raises
-    ------
-    OSError
-        If the file cannot be written.
-    """
-    from ..io.datasets import write_dataset
-
-    ds = control_dataset(result)
-    write_dataset(ds, path)
-    return ds

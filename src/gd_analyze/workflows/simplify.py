@@ -136,8 +136,31 @@ def build_model(robot, terms, peaks, tolerance=DEFAULT_TOLERANCE, rule="budget",
     return model, sel
 
 
-def validate(model, trajectories, chunk=65536):
-    """The model's torque error against the full G-D model along trajectories.
+def full_torque(robot, terms):
+    """The full explicit model as a function tau(q, qd, qdd), shape (N, n) [N m].
+
+    Parameters
+    ----------
+    robot : Robot
+    terms : Term
+        All explicit terms.
+
+    Returns
+    -------
+    callable
+        Equal to the G-D model's tau = D qdd + h + c to rounding (the tests check it against
+        Pinocchio rnea to 1e-10), without computing the G-D terms again.
+    """
+    from ..core.codegen import emit_python
+
+    ns = {}
+    exec(compile(emit_python(build_program(terms, robot.n, robot.offset), {}),
+                 "<full explicit model>", "exec"), ns)
+    return ns["tau"]
+
+
+def validate(model, trajectories, chunk=65536, reference=None):
+    """The model's torque error against the full model along trajectories.
 
     Parameters
     ----------
@@ -145,6 +168,9 @@ def validate(model, trajectories, chunk=65536):
     trajectories : iterable of (q, qd, qdd)
         Arrays of shape (N, n).
     chunk : int, optional
+    reference : callable, optional
+        tau_full(q, qd, qdd); by default the G-D terms' D qdd + h + c (:func:`full_torque`
+        avoids computing them again).
 
     Returns
     -------
@@ -155,16 +181,17 @@ def validate(model, trajectories, chunk=65536):
     for q, qd, qdd in trajectories:
         for a in range(0, q.shape[0], chunk):
             sl = slice(a, a + chunk)
-            tau = gd_terms(model.robot, q[sl], qd[sl]).tau(qdd[sl])
+            tau = gd_terms(model.robot, q[sl], qd[sl]).tau(qdd[sl]) if reference is None \
+                else reference(q[sl], qd[sl], qdd[sl])
             acc.update(model.torque(q[sl], qd[sl], qdd[sl]), tau)
     return acc.result()
 
 
-__all__.append("validate")
+__all__ += ["validate", "full_torque"]
 
 
 def ladder(robot, terms, peaks, trajectories, tolerances=LADDER, torque_floor=0.0,
-           held_out=None):
+           held_out=None, reference=None):
     """The tolerance ladder: cost and worst per-joint error for each EPS.
 
     Parameters
@@ -179,6 +206,8 @@ def ladder(robot, terms, peaks, trajectories, tolerances=LADDER, torque_floor=0.
     torque_floor : float, optional
     held_out : list of (q, qd, qdd), optional
         Other trajectories (the error there is not guaranteed).
+    reference : callable, optional
+        tau_full(q, qd, qdd) for :func:`validate`.
 
     Returns
     -------
@@ -191,12 +220,12 @@ def ladder(robot, terms, peaks, trajectories, tolerances=LADDER, torque_floor=0.
     rows = []
     for eps in tolerances:
         model, _ = build_model(robot, terms, peaks, tolerance=eps, torque_floor=torque_floor)
-        err = validate(model, trajectories)
+        err = validate(model, trajectories, reference=reference)
         worst = float(np.max(np.array(err["peak_abs_error"]) / np.where(scale > 0, scale,
                                                                          np.inf)))
         held = np.nan
         if held_out:
-            e2 = validate(model, held_out)
+            e2 = validate(model, held_out, reference=reference)
             pt = np.array(e2["peak_tau"])
             held = float(np.max(np.array(e2["peak_abs_error"])
                                 / np.where(pt > 0, np.maximum(pt, torque_floor), np.inf)))
@@ -399,10 +428,11 @@ def sweep_model(robot, trajectories, tolerance=DEFAULT_TOLERANCE, torque_floor=0
                              torque_floor=torque_floor, trajectory_sha256=digest,
                              provenance={**(provenance or {}), "kind": "sweep model",
                                          "trajectories": len(trajectories)})
-    validation = validate(model, [(t.q, t.qd, t.qdd) for t in trajectories])
+    ref = full_torque(robot, terms)
+    validation = validate(model, [(t.q, t.qd, t.qdd) for t in trajectories], reference=ref)
     validation["trajectories"] = len(trajectories)
-    validation["held_out"] = validate(model, [(t.q, t.qd, t.qdd) for t in held_out]) \
-        if held_out else {}
+    validation["held_out"] = validate(model, [(t.q, t.qd, t.qdd) for t in held_out],
+                                      reference=ref) if held_out else {}
     validation["held_out_trajectories"] = len(held_out)
     object.__setattr__(model, "validation", validation)
     return model, sel

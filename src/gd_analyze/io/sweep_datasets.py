@@ -1,0 +1,384 @@
+"""Sweep datasets: the dominance ranking over many trajectories, and over payloads.
+
+Schemas of ``sweep.h5`` (dim ``trajectory``) and of a payload sweep (dim ``payload``), built from
+the per-trajectory results of :mod:`gd_analyze.workflows.sweep` and
+:mod:`gd_analyze.workflows.payload`. Write them with :func:`gd_analyze.io.datasets.write_dataset`
+and read them back with :func:`gd_analyze.io.datasets.open_sweep`. Source: Sec. 3.4.1 of Fu,
+Gonzalez & Lee (1987).
+"""
+
+from __future__ import annotations
+
+import hashlib
+import re
+from pathlib import Path
+
+import numpy as np
+
+from ..core.ranking import CLASSES, element_labels
+from .datasets import MIXED_UNITS, element_coords, global_attributes, var
+
+__all__ = ["inputs_attributes", "sweep_dataset", "payload_dataset", "sweep_payloads_dataset",
+           "embed_payload", "payload_part"]
+
+#: At most this many input files are listed by name in the global attributes (all are in the
+#: per-trajectory variables ``source`` and ``input_sha256``); HDF5 attributes stay small.
+_MAX_LISTED_FILES = 20
+_RANDOM_SOURCE = re.compile(r"^random-(\d+)-(\d+)$")
+_REFERENCES = "Fu, Gonzalez & Lee (1987), Robotics, Sec. 3.4.1; Lee, Lee & Nigam (1983)"
+
+
+def inputs_attributes(trajectories):
+    """Global attributes that identify a sweep's inputs: seed or files, and one digest of all.
+
+    Parameters
+    ----------
+    trajectories : sequence of Trajectory
+        The sweep's trajectories; random ones have ``source`` ``"random-<seed>-<i>"``.
+
+    Returns
+    -------
+    dict
+        ``inputs_sha256`` (SHA-256 over every source and its SHA-256), ``trajectories`` (K),
+        ``input_kind`` (random, files or mixed), ``seed`` when all random ones share one, and
+        ``input_files`` (at most 20 listed by name with their SHA-256).
+    """
+    sources = [str(tr.source) for tr in trajectories]
+    shas = [str(tr.sha256) for tr in trajectories]
+    digest = hashlib.sha256()
+    for src, sha in zip(sources, shas):
+        digest.update(f"{src}\t{sha}\n".encode())
+    attrs = {"inputs_sha256": digest.hexdigest(), "trajectories": len(trajectories)}
+    seeds = {m.group(1) for m in map(_RANDOM_SOURCE.match, sources) if m}
+    n_random = sum(bool(_RANDOM_SOURCE.match(s)) for s in sources)
+    files = [(s, h) for s, h in zip(sources, shas) if h]
+    if n_random == len(sources):
+        attrs["input_kind"] = "random"
+    elif len(files) == len(sources):
+        attrs["input_kind"] = "files"
+    else:
+        attrs["input_kind"] = "mixed"
+    if n_random and len(seeds) == 1:
+        attrs["seed"] = int(next(iter(seeds)))
+    if files:
+        listed = [f"{Path(s).name} sha256 {h}" for s, h in files[:_MAX_LISTED_FILES]]
+        if len(files) > _MAX_LISTED_FILES:
+            listed.append(f"... and {len(files) - _MAX_LISTED_FILES} more (see the variables "
+                          "source and input_sha256)")
+        attrs["input_files"] = "; ".join(listed)
+    return attrs
+
+
+def sweep_dataset(robot, trajectories, results, merged, merged_stats, dominance, negligible):
+    """The sweep dataset (``sweep.h5``) from the per-trajectory results.
+
+    Parameters
+    ----------
+    robot : Robot
+        The arm, with n joints.
+    trajectories : sequence of Trajectory
+        The K trajectories, in the order of ``results``.
+    results : list of dict
+        Per trajectory, as :func:`gd_analyze.workflows.sweep.analyze_one` returns it.
+    merged : dict
+        Element label -> the conservative merged choice.
+    merged_stats : list of dict
+        Per trajectory, the merged model's accumulated torque error: ``peak``, ``sum_sq``,
+        ``count``, ``peak_tau`` [N m].
+    dominance, negligible : float
+        s and e of the ranking.
+
+    Returns
+    -------
+    xarray.Dataset
+        See :func:`gd_analyze.workflows.sweep.run_sweep` for the variables.
+    """
+    import xarray as xr
+
+    n = robot.n
+    labels = element_labels(n)
+    K = len(results)
+    share = np.array([r["share_tran"] for r in results])
+    classes = np.array([r["classes"] for r in results], dtype=str)
+    choice = np.array([[r["choices"][lab] for lab in labels] for r in results], dtype=str)
+    peak_total = np.array([r["peaks"]["peak_total"] for r in results])
+    summ = [r["summary"] for r in results]
+    err = [s["error"] for s in summ]
+
+    def per_joint(key):
+        return np.array([e[key] for e in err], dtype=float)
+
+    m_peak = np.array([s["peak"] for s in merged_stats])
+    m_tau = np.array([s["peak_tau"] for s in merged_stats])
+    with np.errstate(invalid="ignore", divide="ignore"):
+        m_rel = np.where(m_tau > 0, m_peak / np.where(m_tau > 0, m_tau, 1.0), np.nan)
+    all_peak = m_peak.max(axis=0)
+    all_tau = m_tau.max(axis=0)
+    all_rms = np.sqrt(np.sum([s["sum_sq"] for s in merged_stats], axis=0)
+                      / max(1, sum(s["count"] for s in merged_stats)))
+    with np.errstate(invalid="ignore", divide="ignore"):
+        safe = np.where(all_tau > 0, all_tau, 1.0)
+        all_rel_peak = np.where(all_tau > 0, all_peak / safe, np.nan)
+        all_rel_rms = np.where(all_tau > 0, all_rms / safe, np.nan)
+    fraction = np.stack([(classes == c).mean(axis=0) for c in CLASSES], axis=1)
+    import warnings
+
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", RuntimeWarning)     # all-NaN columns
+        s_min, s_med, s_max = (np.nanmin(share, axis=0), np.nanmedian(share, axis=0),
+                               np.nanmax(share, axis=0))
+    data_vars = {
+        "share_tran": var(("trajectory", "element"), share, "1",
+                           "translational share sum|tran| / (sum|tran| + sum|rot|)"),
+        "dominance": var(("trajectory", "element"), classes, "1",
+                          "dominance class (translational, rotational, both, negligible)"),
+        "choice": var(("trajectory", "element"), choice, "1",
+                       "part kept by the trajectory's own simplified model "
+                       "(tran, rot, both, none)"),
+        "peak_total": var(("trajectory", "element"), peak_total, MIXED_UNITS,
+                           "peak |translational + rotational| along the trajectory"),
+        "source": var(("trajectory",), np.array([s["source"] for s in summ], dtype=str), "1",
+                       "trajectory source (file name or random-<seed>-<index>)"),
+        "input_sha256": var(("trajectory",), np.array([s["sha256"] for s in summ], dtype=str),
+                             "1", "SHA-256 of the trajectory file (empty if generated)"),
+        "duration": var(("trajectory",), np.array([s["duration"] for s in summ]), "s",
+                         "trajectory duration"),
+        "setpoints": var(("trajectory",), np.array([s["setpoints"] for s in summ]), "1",
+                          "number of set points"),
+        "q_start": var(("trajectory", "joint"), np.array([s["q_start"] for s in summ]), "rad",
+                        "joint position at the first set point"),
+        "q_goal": var(("trajectory", "joint"), np.array([s["q_goal"] for s in summ]), "rad",
+                       "joint position at the last set point"),
+        "tau_peak": var(("trajectory", "joint"), np.array([s["tau_peak"] for s in summ]),
+                         "N m", "peak |tau| of the full model along the trajectory"),
+        "tau_error_peak": var(("trajectory", "joint"), per_joint("peak_abs_error"), "N m",
+                               "own simplified model: peak |tau_simplified - tau|"),
+        "tau_error_rms": var(("trajectory", "joint"), per_joint("rms_error"), "N m",
+                              "own simplified model: RMS of |tau_simplified - tau|"),
+        "tau_error_relative_peak": var(("trajectory", "joint"),
+                                        per_joint("relative_peak_error"), "1",
+                                        "own simplified model: peak |tau_simplified - tau| / "
+                                        "peak |tau|"),
+        "tau_error_relative_rms": var(("trajectory", "joint"), per_joint("relative_rms_error"),
+                                       "1", "own simplified model: RMS |tau_simplified - tau| / "
+                                            "peak |tau|"),
+        "merged_tau_error_peak": var(("trajectory", "joint"), m_peak, "N m",
+                                      "merged model: peak |tau_merged - tau| along the "
+                                      "trajectory"),
+        "merged_tau_error_relative_peak": var(("trajectory", "joint"), m_rel, "1",
+                                               "merged model: peak |tau_merged - tau| / peak "
+                                               "|tau| along the trajectory"),
+        "class_fraction": var(("element", "class"), fraction, "1",
+                               "fraction of the trajectories in which the class holds"),
+        "share_tran_min": var(("element",), s_min, "1",
+                               "smallest translational share over the trajectories"),
+        "share_tran_median": var(("element",), s_med, "1",
+                                  "median translational share over the trajectories"),
+        "share_tran_max": var(("element",), s_max, "1",
+                               "largest translational share over the trajectories"),
+        "merged_choice": var(("element",), np.array([merged[lab] for lab in labels], dtype=str),
+                              "1", "part kept by the conservative merged model: a part is "
+                                   "dropped only where every trajectory drops it"),
+        "merged_error_peak": var(("joint",), all_peak, "N m",
+                                  "merged model: peak |tau_merged - tau| over all trajectories"),
+        "merged_error_rms": var(("joint",), all_rms, "N m",
+                                 "merged model: RMS of |tau_merged - tau| over all set points "
+                                 "of all trajectories"),
+        "merged_error_tau_peak": var(("joint",), all_tau, "N m",
+                                      "peak |tau| over all trajectories"),
+        "merged_error_relative_peak": var(("joint",), all_rel_peak, "1",
+                                           "merged model: peak error / peak |tau|, over all "
+                                           "trajectories"),
+        "merged_error_relative_rms": var(("joint",), all_rel_rms, "1",
+                                          "merged model: RMS error / peak |tau|, over all "
+                                          "trajectories"),
+    }
+    coords = element_coords(n)
+    coords["trajectory"] = ("trajectory", np.arange(K),
+                            {"long_name": "trajectory index", "units": "1"})
+    coords["class"] = ("class", np.array(CLASSES, dtype=str),
+                       {"long_name": "dominance class", "units": "1"})
+    attrs = global_attributes(robot, f"G-D dominance sweep of {robot.name} over {K} trajectories",
+                              references=_REFERENCES, dominance_threshold=float(dominance),
+                              negligible_threshold=float(negligible))
+    attrs.update(inputs_attributes(trajectories))
+    attrs["setpoints_total"] = int(sum(s["setpoints"] for s in summ))
+    attrs["merge_rule"] = ("keep_tran = any trajectory keeps tran (tran or both); keep_rot = "
+                           "any keeps rot (rot or both); merged = both/tran/rot/none")
+    return xr.Dataset(data_vars, coords=coords, attrs=attrs)
+
+
+def payload_dataset(robot, trajectory, masses, com, inertia, results, dominance, negligible):
+    """The dataset of one trajectory ranked for a range of loads (``--payload-sweep``).
+
+    Parameters
+    ----------
+    robot : Robot
+        The arm, with n joints, without the load.
+    trajectory : Trajectory
+        The trajectory ranked.
+    masses : ndarray, shape (P,)
+        Load masses [kg].
+    com : array_like, shape (3,)
+        Load centre of mass in link frame n [m].
+    inertia : array_like, shape (3,) or (3, 3)
+        Load inertia about its centre of mass [kg m^2].
+    results : list of dict
+        Per mass, as :func:`gd_analyze.workflows.sweep.analyze_one` returns it.
+    dominance, negligible : float
+        s and e of the ranking.
+
+    Returns
+    -------
+    xarray.Dataset
+        See :func:`gd_analyze.workflows.payload.payload_sweep`.
+    """
+    import xarray as xr
+
+    n = robot.n
+    labels = element_labels(n)
+    I_p = np.asarray(inertia, dtype=float)
+    I_p = np.diag(I_p) if I_p.shape == (3,) else I_p.reshape(3, 3)
+    data_vars = {
+        "share_tran": var(("payload", "element"), np.array([r["share_tran"] for r in results]),
+                           "1", "translational share sum|tran| / (sum|tran| + sum|rot|)"),
+        "dominance": var(("payload", "element"),
+                          np.array([r["classes"] for r in results], dtype=str), "1",
+                          "dominance class (translational, rotational, both, negligible)"),
+        "choice": var(("payload", "element"),
+                       np.array([[r["choices"][lab] for lab in labels] for r in results],
+                                dtype=str), "1",
+                       "part kept by the simplified model (tran, rot, both, none)"),
+        "peak_total": var(("payload", "element"),
+                           np.array([r["peaks"]["peak_total"] for r in results]), MIXED_UNITS,
+                           "peak |translational + rotational| along the trajectory"),
+        "tau_peak": var(("payload", "joint"),
+                         np.array([r["summary"]["tau_peak"] for r in results]), "N m",
+                         "peak |tau| of the full model along the trajectory"),
+        "tau_error_relative_peak": var(
+            ("payload", "joint"),
+            np.array([r["summary"]["error"]["relative_peak_error"] for r in results]), "1",
+            "own simplified model: peak |tau_simplified - tau| / peak |tau|"),
+    }
+    coords = element_coords(n)
+    coords["payload"] = ("payload", masses, {"long_name": "payload mass on the last link",
+                                             "units": "kg"})
+    attrs = global_attributes(robot, f"G-D dominance of {robot.name} vs payload along "
+                                     f"{Path(str(trajectory.source)).name}",
+                              references=_REFERENCES, dominance_threshold=float(dominance),
+                              negligible_threshold=float(negligible))
+    attrs.update({
+        "payload_com": np.asarray(com, dtype=float).reshape(3),
+        "payload_com_units": "m",
+        "payload_inertia": I_p.ravel(),
+        "payload_inertia_units": "kg m2 (3 x 3 tensor, row by row)",
+        "input_file": Path(str(trajectory.source)).name,
+        "input_path": str(trajectory.source),
+        "input_sha256": str(trajectory.sha256),
+        "derivatives": str(trajectory.derivatives),
+        "setpoints": int(np.asarray(trajectory.t).shape[0]),
+    })
+    return xr.Dataset(data_vars, coords=coords, attrs=attrs)
+
+
+def sweep_payloads_dataset(robot, n_trajectories, masses, com, inertia, parts, dominance,
+                           negligible):
+    """The dataset of a sweep repeated per load mass (``payload_sweep.h5`` of ``sweep``).
+
+    Parameters
+    ----------
+    robot : Robot
+        The arm, with n joints, without the load.
+    n_trajectories : int
+        K, the trajectories of each sweep.
+    masses : sequence of float
+        Load masses [kg], P of them.
+    com : array_like, shape (3,)
+        Load centre of mass in link frame n [m].
+    inertia : array_like, shape (3,)
+        Load principal moments [kg m^2].
+    parts : list of tuple
+        Per mass: class fractions (M, 4), median share_tran (M,), most frequent class (M,),
+        merged choice (M,), peak |tau| over all trajectories (n,) [N m].
+    dominance, negligible : float
+        s and e of the ranking.
+
+    Returns
+    -------
+    xarray.Dataset
+        See :func:`gd_analyze.workflows.payload.sweep_payloads`.
+    """
+    import xarray as xr
+
+    frac, share, dom, choice, tau = (np.array(x) for x in zip(*parts))
+    n = robot.n
+
+    return xr.Dataset(
+        {"class_fraction": var(("payload", "element", "class"), frac, "1",
+                               "fraction of the trajectories in each class"),
+         "share_tran": var(("payload", "element"), share, "1",
+                           "median translational share over the trajectories"),
+         "dominance": var(("payload", "element"), dom.astype(str), "1",
+                          "most frequent dominance class over the trajectories"),
+         "choice": var(("payload", "element"), choice.astype(str), "1",
+                       "merged (conservative) simplified-model choice"),
+         "tau_peak": var(("payload", "joint"), tau, "N m",
+                         "peak |tau| over all trajectories")},
+        coords={"payload": ("payload", np.asarray(masses, float),
+                            {"units": "kg", "long_name": "load mass on the last link"}),
+                "element": ("element", np.array(element_labels(n), dtype=str),
+                            {"units": "1", "long_name": "ranked element of D (i <= j) or h"}),
+                "class": ("class", np.array(CLASSES, dtype=str),
+                          {"units": "1", "long_name": "dominance class"}),
+                "joint": ("joint", np.arange(1, n + 1), {"units": "1", "long_name": "joint"})},
+        attrs={**global_attributes(robot, f"G-D dominance of {robot.name} vs payload over "
+                                          f"{n_trajectories} trajectories",
+                                   references=_REFERENCES, dominance_threshold=float(dominance),
+                                   negligible_threshold=float(negligible)),
+               "kind": "payload",
+               "payload_com": np.asarray(com, dtype=float).reshape(3),
+               "payload_com_units": "m",
+               "payload_inertia": np.asarray(inertia, dtype=float).reshape(-1),
+               "payload_inertia_units": "kg m2 (principal moments)"})
+
+
+def embed_payload(payload):
+    """A payload sweep as variables ``payload_<name>`` to store beside the main analysis.
+
+    ``results.h5`` holds the main job's ranking over dim ``element``; a ``--payload-sweep``
+    adds its own ranking over (``payload``, ``element``) under prefixed names so the two do not
+    collide. :func:`payload_part` undoes it.
+
+    Parameters
+    ----------
+    payload : xarray.Dataset
+        From :func:`payload_dataset`.
+
+    Returns
+    -------
+    xarray.Dataset
+        The same variables, each prefixed ``payload_``; the ``element_units`` coordinate (already
+        in the main analysis) dropped.
+    """
+    renamed = payload.rename({v: f"payload_{v}" for v in payload.data_vars})
+    return renamed.drop_vars([c for c in ("element_units",) if c in renamed.coords])
+
+
+def payload_part(results):
+    """The payload sweep stored in a results dataset by :func:`embed_payload`, under its own names.
+
+    Parameters
+    ----------
+    results : xarray.Dataset
+        A ``results.h5`` read back (:func:`gd_analyze.io.datasets.open_results`).
+
+    Returns
+    -------
+    xarray.Dataset
+        The ``payload_*`` variables over dim ``payload``, without the prefix (empty if the run
+        had no payload sweep).
+    """
+    names = [v for v in results.data_vars
+             if v.startswith("payload_") and "payload" in results[v].dims]
+    return results[names].rename({v: v[len("payload_"):] for v in names})
+
