@@ -304,7 +304,7 @@ def _cse(assignments, outputs):
     out = []
     for i, (sym, e) in enumerate(reps):
         out.append((se.Symbol(f"x{i}"), e))
-    rename = {s: se.Symbol(f"x{i}") for i, (s, _) in enumerate(reps)}
+    rename = {s: se.Symbol(f"x{i}") for i, (s, _) in enumerate(reps) if s.name != f"x{i}"}
     body = [(s, e.xreplace(rename) if rename else e) for (s, _), e in
             zip(assignments, reduced[:len(assignments)])]
     outs = [e.xreplace(rename) if rename else e for e in reduced[len(assignments):]]

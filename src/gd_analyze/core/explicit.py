@@ -28,6 +28,7 @@ trajectory is within EPS x scale_i.
 from __future__ import annotations
 
 import math
+import weakref
 from dataclasses import dataclass, field
 
 import numpy as np
@@ -339,6 +340,10 @@ def model_terms(model):
                 np.array(C, float))
 
 
+#: atoms() of the Term objects seen (a Term is immutable; entries go with it).
+_ATOMS = weakref.WeakKeyDictionary()
+
+
 def merge_parts(terms):
     """Add the tran and rot terms of one element and harmonic together (part ``"both"``).
 
@@ -389,6 +394,9 @@ def atoms(terms):
     atom : ndarray of int, shape (M,)
         The atom of each merged term, 0 .. A-1.
     """
+    cached = _ATOMS.get(terms)
+    if cached is not None:
+        return cached
     merged = merge_parts(terms)
     groups = {}
     for r, (kind, i, j, k) in enumerate(zip(merged.kind, merged.i, merged.j, merged.k)):
@@ -403,6 +411,7 @@ def atoms(terms):
             classes[norm] = list(range(next_id, next_id + len(rows)))
             next_id += len(rows)
         atom[rows] = classes[norm]
+    _ATOMS[terms] = (merged, atom)
     return merged, atom
 
 

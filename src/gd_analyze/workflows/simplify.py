@@ -7,6 +7,7 @@ its cost, its error, and the tolerance ladder. Nothing here prints or writes fil
 
 from __future__ import annotations
 
+import weakref
 from dataclasses import dataclass
 
 import numpy as np
@@ -27,6 +28,10 @@ LADDER = (0.0, 0.001, 0.01, 0.05)
 #: (multiplications, additions, total); the split of the simplified model is not given.
 AKB_COSTS = {"AKB 1986 full explicit": (739, 426, 1165),
              "AKB 1986 simplified (1 %)": (np.nan, np.nan, 305)}
+
+
+#: Cost of the full explicit program per Term object (computed once).
+_FULL_COST = weakref.WeakKeyDictionary()
 
 
 @dataclass(eq=False)
@@ -124,7 +129,9 @@ def build_model(robot, terms, peaks, tolerance=DEFAULT_TOLERANCE, rule="budget",
                        tolerance=tolerance, rule=rule, torque_floor=torque_floor,
                        chapter_choices=chapter_choices)
     program = build_program(sel.kept, robot.n, robot.offset)
-    full = build_program(terms, robot.n, robot.offset).cost()
+    full = _FULL_COST.get(terms)
+    if full is None:
+        full = _FULL_COST[terms] = build_program(terms, robot.n, robot.offset).cost()
     model = SimplifiedModel(
         robot=robot, choices=sel.choices,
         dominance_threshold=float(getattr(ranking, "dominance_threshold", np.nan)),
