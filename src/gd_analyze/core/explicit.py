@@ -415,24 +415,25 @@ def atoms(terms):
     return merged, atom
 
 
-def _contributions(terms, theta, qd, qdd):
-    """Signed contribution of every term to every joint torque, shape (N, U, n)."""
-    N, n = theta.shape
-    ang = theta @ terms.K.T                                    # (N, U)
-    val = np.where(terms.S, np.sin(ang), np.cos(ang)) * terms.C
+def _entries(terms, atom, n):
+    """Where each merged term's contribution goes: (term, joint, velocity column) by atom."""
     isD, ish = terms.kind == "D", terms.kind == "h"
-    out = np.zeros((N, len(terms), n))
     U = np.arange(len(terms))
-    jj, kk, ii = np.maximum(terms.j, 0), np.maximum(terms.k, 0), terms.i
-    # D_ij qdd_j -> tau_i ; D_ij qdd_i -> tau_j (i != j)
-    vel = np.where(isD, qdd[:, jj], np.where(ish, qd[:, jj] * qd[:, kk], 1.0))
-    out[:, U, ii] = val * vel
+    i, j, k = terms.i, np.maximum(terms.j, 0), np.maximum(terms.k, 0)
+    # velocity columns of [qdd (n), qd_a qd_b (n*n), 1]
+    vcol = np.where(isD, j, np.where(ish, n + j * n + k, n + n * n))
     off = isD & (terms.i != terms.j)
-    out[:, U[off], jj[off]] = val[:, off] * qdd[:, ii[off]]
-    return out
+    e_term = np.concatenate([U, U[off]])
+    e_joint = np.concatenate([i, j[off]])
+    e_vcol = np.concatenate([vcol, i[off]])                  # D_ij qdd_i -> tau_j
+    key = atom[e_term] * n + e_joint
+    order = np.argsort(key, kind="stable")
+    key = key[order]
+    starts = np.flatnonzero(np.r_[True, key[1:] != key[:-1]])
+    return e_term[order], e_vcol[order], starts, key[starts] // n, key[starts] % n
 
 
-def term_peaks(terms, offset, q, qd, qdd, chunk=512):
+def term_peaks(terms, offset, q, qd, qdd, chunk=4096):
     """Peak |contribution| of every atom of the terms to every joint torque on a trajectory.
 
     Parameters
@@ -449,21 +450,32 @@ def term_peaks(terms, offset, q, qd, qdd, chunk=512):
     Returns
     -------
     ndarray, shape (A, n)
-        Peaks [N m] of |sum of the atom's terms' contributions|; they combine over
-        trajectories and chunks by taking the maximum.
+        Peaks [N m] of |sum of the atom's terms' contributions| (D_ij qdd_j to tau_i and
+        D_ij qdd_i to tau_j, the h and c terms to tau_i); they combine over trajectories and
+        chunks by taking the maximum.
     """
     merged, atom = atoms(terms)
     q, qd, qdd = (np.atleast_2d(np.asarray(x, float)) for x in (q, qd, qdd))
     n = q.shape[1]
     A = int(atom.max()) + 1 if atom.size else 0
-    onehot = np.zeros((len(merged), A))
-    onehot[np.arange(len(merged)), atom] = 1.0
     peaks = np.zeros((A, n))
+    if not A:
+        return peaks
+    key = np.concatenate([merged.S[:, None].astype(np.int64), merged.K], axis=1)
+    uniq, hidx = np.unique(key, axis=0, return_inverse=True)
+    hidx = hidx.reshape(-1)
+    Su, Ku = uniq[:, 0].astype(bool), uniq[:, 1:]
+    e_term, e_vcol, starts, g_atom, g_joint = _entries(merged, atom, n)
     for a in range(0, q.shape[0], chunk):
         sl = slice(a, a + chunk)
-        contrib = _contributions(merged, q[sl] + offset, qd[sl], qdd[sl])   # (N, M, n)
-        per_atom = np.einsum("kmn,ma->kan", contrib, onehot)
-        np.maximum(peaks, np.abs(per_atom).max(axis=0), out=peaks)
+        ang = (q[sl] + offset) @ Ku.T
+        trig = np.where(Su, np.sin(ang), np.cos(ang))                    # (N, H)
+        val = trig[:, hidx] * merged.C                                   # (N, M)
+        vel = np.concatenate([qdd[sl], (qd[sl][:, :, None] * qd[sl][:, None, :])
+                              .reshape(-1, n * n), np.ones((ang.shape[0], 1))], axis=1)
+        contrib = val[:, e_term] * vel[:, e_vcol]                        # (N, E)
+        per = np.abs(np.add.reduceat(contrib, starts, axis=1)).max(axis=0)
+        np.maximum.at(peaks, (g_atom, g_joint), per)
     return peaks
 
 
