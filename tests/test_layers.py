@@ -16,7 +16,7 @@ import gd_analyze
 SRC = pathlib.Path(gd_analyze.__file__).parent
 LAYERS = ["core", "formulations", "io", "workflows", "reports", "cli"]
 LEAVES = {"errors", "files", "_version"}
-SHARED_REPORTS = {"reports.common", "reports.figures", "reports.simplified"}
+SHARED_REPORTS = {"reports.common", "reports.figures", "reports.simplified_section"}
 
 
 def _module_name(path):

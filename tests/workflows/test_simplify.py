@@ -109,7 +109,7 @@ def test_sweep_model_is_guaranteed_on_every_swept_trajectory():
 def test_report_section_reads_the_stored_dataset(tmp_path, capsys):
     import xarray as xr
 
-    from gd_analyze.reports.simplified import error_figure, simplified_context
+    from gd_analyze.reports.simplified_section import error_figure, simplified_context
 
     code, _, err = _run(["puma560", SHIPPED, "-o", tmp_path, "--no-report"], capsys)
     assert code == 0, err

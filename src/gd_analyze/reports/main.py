@@ -239,7 +239,7 @@ def make_figures(ds):
     :data:`ENVELOPE_THRESHOLD` points are drawn as their min/max envelope (:func:`envelope`).
     """
     with _style(_RC):
-        from .simplified import error_figure, has_simplified
+        from .simplified_section import error_figure, has_simplified
 
         figures = {"joints": _fig_joints(ds), "D": _fig_D(ds), "h": _fig_h(ds),
                    "torque": error_figure(ds) if has_simplified(ds) else _fig_torque(ds)}
@@ -518,7 +518,7 @@ def _kv(rows):
 
 
 def _report_context(ds):
-    from .simplified import has_simplified, simplified_context
+    from .simplified_section import has_simplified, simplified_context
 
     ctx = _report_context_base(ds)
     ctx["simplified_model"] = simplified_context(ds) if has_simplified(ds) else None
