@@ -1,6 +1,6 @@
 """Speed of the G-D terms against Pinocchio, measured side by side in one process.
 
-    python analysis/benchmark.py [--setpoints N] [--no-latency]
+    python analysis/benchmark.py [--setpoints N] [--runs R] [--no-latency]
 
 For N random PUMA 560 states (default 100,000) it times
   (a) gd_analyze.gd_terms -> D_tran, D_rot, h_tran, h_rot, c (batched);
@@ -8,6 +8,9 @@ For N random PUMA 560 states (default 100,000) it times
       keeps the results (and, as the most demanding reference, the same calls discarding them);
   (c) the Pinocchio split: crba + nonLinearEffects on the zero-rotational-inertia model and on
       the zero-mass model (4 calls) plus computeGeneralizedGravity, in a Python loop;
+  (d) separately (batched_rnea_comparison): gd_terms writing into buffers allocated once,
+      against Pinocchio's batched C++ RNEA (pin.rneaInParallel, one thread, tau only), runs
+      interleaved, the same number on each side (--runs), median and [min, max];
 checks that (a) agrees with (b) and (c), and times the main job
 `gd-analyze puma560 data/puma560_trajectory.csv` (HDF5, HTML, PDF) against a bare
 `python -c "import numpy, scipy, xarray, matplotlib.pyplot, pinocchio"`.
@@ -106,6 +109,49 @@ def pinocchio_split(robot, q, qd):
     return Dt, Dr, ht, hr, c
 
 
+def batched_rnea_comparison(robot, q, qd, qdd, runs):
+    """(d) G-D terms into reused buffers against Pinocchio's batched C++ RNEA (tau only).
+
+    Both sides run ``runs`` times, interleaved (a, d, a, d, ...), on the same N states:
+    gd_analyze.gd_terms(engine="compiled", out=buffers allocated once) and
+    pin.rneaInParallel(1 thread, a ModelPool of one model, column-major q, qd, qdd, tau).
+    Returns the median and [min, max] per set point [us] of each, their ratio, and the largest
+    relative difference of G-D's tau = D qdd + h + c from RNEA's tau.
+    """
+    import pinocchio as pin
+
+    from gd_analyze import gd_terms
+    from gd_analyze.core.dalembert import allocate_terms
+    from gd_analyze.formulations.pinocchio import pinocchio_model
+
+    N, n = q.shape
+    buf = allocate_terms(N, n)
+    pool = pin.ModelPool(pinocchio_model(robot), 1)
+    Q, V, A = (np.asfortranarray(x.T) for x in (q, qd, qdd))
+    tau = np.zeros((n, N), order="F")
+
+    def gd():
+        return gd_terms(robot, q, qd, engine="compiled", out=buf)
+
+    def rnea():
+        pin.rneaInParallel(1, pool, Q, V, A, tau)
+
+    gd(), rnea()                                   # warm: kernel loaded, buffers touched
+    disagreement = float(np.abs(gd().tau(qdd) - tau.T).max() / np.abs(tau).max())
+    t_gd, t_rnea = [], []
+    for _ in range(runs):
+        for fn, acc in ((gd, t_gd), (rnea, t_rnea)):
+            t0 = time.perf_counter()
+            fn()
+            acc.append((time.perf_counter() - t0) * 1e6 / N)
+    return {"runs": runs, "gd_terms_reused_buffers_us": float(np.median(t_gd)),
+            "gd_range_us": [min(t_gd), max(t_gd)],
+            "rnea_in_parallel_1_thread_us": float(np.median(t_rnea)),
+            "rnea_range_us": [min(t_rnea), max(t_rnea)],
+            "ratio_gd_over_rnea_batched": float(np.median(t_gd) / np.median(t_rnea)),
+            "tau_rel_disagreement": disagreement}
+
+
 def _upper(D):
     """crba fills the upper triangle only: mirror it."""
     return np.triu(D) + np.swapaxes(np.triu(D, 1), 1, 2)
@@ -135,6 +181,8 @@ def main(argv=None):
     parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     parser.add_argument("--setpoints", type=int, default=100_000)
     parser.add_argument("--no-latency", action="store_true", help="skip the main-job timing")
+    parser.add_argument("--runs", type=int, default=7,
+                        help="interleaved runs of (d), each side (default 7)")
     args = parser.parse_args(argv)
 
     from gd_analyze import gd_terms, load_robot
@@ -154,6 +202,9 @@ def main(argv=None):
     t_b0, _ = best_of(lambda: pinocchio_calls_only(robot, q, qd), 2)
     t_c, (Dt, Dr, ht, hr, c2) = best_of(lambda: pinocchio_split(robot, q, qd), 1)
     t_np, _ = best_of(lambda: gd_terms(robot, q[:20000], qd[:20000], engine="numpy"), 1)
+
+    qdd = rng.uniform(-robot.qdd_max, robot.qdd_max, (N, robot.n))
+    batched = batched_rnea_comparison(robot, q, qd, qdd, args.runs)
 
     agreement = {
         "D_vs_crba": relative_error(terms.D, _upper(D)),
@@ -177,7 +228,8 @@ def main(argv=None):
         "numpy_engine_us": t_np * 1e6 / 20000,
         "ratio_numpy_engine_over_b": (t_np / 20000) / (t_b / N),
         "kernel_first_call_s": first_call,
-        "max_rel_disagreement": max(agreement.values()),
+        "d_rnea_batched": batched,
+        "max_rel_disagreement": max(max(agreement.values()), batched["tau_rel_disagreement"]),
         "agreement": agreement,
     }
     if not args.no_latency:

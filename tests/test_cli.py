@@ -8,7 +8,7 @@ import numpy as np
 import pytest
 import xarray as xr
 
-from conftest import SHIPPED
+from conftest import ROOT, SHIPPED
 from gd_analyze.cli import main
 
 GOOD_HEADER = "t," + ",".join(f"q{i}" for i in range(1, 7))
@@ -120,8 +120,26 @@ def test_plan_writes_the_shipped_trajectory(tmp_path, capsys):
     a = np.loadtxt(out, delimiter=",", skiprows=1)
     b = np.loadtxt(SHIPPED, delimiter=",", skiprows=1)
     np.testing.assert_allclose(a, b, rtol=0, atol=1e-14)
-    code, _, err = _run(["plan", "two-link", "-o", out], capsys)
+    code, _, err = _run(["plan", "two-link", "-o", out, "--start", "0,10,20"], capsys)
     assert code == 2 and "--start" in err
+
+
+def test_plan_writes_the_shipped_stanford_trajectory(tmp_path, capsys):
+    """Default motion from a quarter to three quarters of every joint's range; the prismatic
+    joint 3 in metres."""
+    out = tmp_path / "plan.csv"
+    code, _, err = _run(["plan", "stanford", "-o", out], capsys)
+    assert code == 0, err
+    a = np.loadtxt(out, delimiter=",", skiprows=1)
+    b = np.loadtxt(ROOT / "data" / "stanford_trajectory.csv", delimiter=",", skiprows=1)
+    np.testing.assert_allclose(a, b, rtol=0, atol=1e-14)
+    np.testing.assert_allclose(a[[0, -1], 3], [0.3048 + 0.25 * 0.9652, 0.3048 + 0.75 * 0.9652])
+    code, _, err = _run(["plan", "stanford", "-o", out, "--start", "0,0,0.5,0,0,0", "--goal",
+                         "10,20,0.9,0,0,0"], capsys)
+    assert code == 0, err
+    a = np.loadtxt(out, delimiter=",", skiprows=1)
+    np.testing.assert_allclose(a[[0, -1], 3], [0.5, 0.9])                     # [m]
+    np.testing.assert_allclose(a[-1, 1:3], np.radians([10, 20]))               # [rad]
 
 
 def test_evaluate_and_max_error_gate(tmp_path, capsys):
@@ -251,7 +269,7 @@ def test_sweep_command_on_csv_files(tmp_path, capsys):
 @pytest.mark.parametrize("args, expect", [
     (["sweep", "puma560"], "either --random K or trajectory CSV files"),
     (["sweep", "puma560", "--random", "3", str(SHIPPED)], "either --random K"),
-    (["sweep", "puma560", "--random", "0"], "K must be >= 1"),
+    (["sweep", "puma560", "--random", "0"], "K must be in [1, 10^6]"),
     (["sweep", "puma560", "--random", "2", "--payload-sweep", "1:0:0.5"], "--payload-sweep"),
 ])
 def test_sweep_bad_arguments(tmp_path, capsys, args, expect):

@@ -9,7 +9,8 @@ against Pinocchio, ranks which part dominates each element, and writes a simplif
 from ._version import __version__
 from .core.dalembert import GDTerms, gd_terms
 from .errors import InputError
-from .core.robot import Robot, load_robot
+from .core.robot import Robot
+from .io.robots import load_robot
 
 __all__ = ["__version__", "GDTerms", "gd_terms", "InputError", "Robot", "load_robot",
            "SimplifiedModel"]

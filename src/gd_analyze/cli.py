@@ -1,8 +1,9 @@
 """The command line: ``gd-analyze ROBOT TRAJECTORY.csv`` and its sub-commands.
 
-Exit status: 0 on success; 1 if the verification against Pinocchio fails; 2 on bad input (one
-line on stderr naming the file, row and column, no traceback, no partial output); 3 when
-``evaluate --max-error`` is exceeded.
+Exit status: 0 on success; 1 if the verification against Pinocchio fails; 2 on bad input or an
+unusable output location (one line on stderr naming the file, row and column, no traceback, no
+partial output); 3 when ``evaluate --max-error`` is exceeded; 4 on an internal error (a bug: one
+line, the traceback only with ``--debug``).
 
 Nothing in the package imports this module.
 """
@@ -17,20 +18,24 @@ import sys
 import warnings
 from pathlib import Path
 
-from .errors import InputError
+from .errors import InputError, InputNote, InputWarning
 
 __all__ = ["main"]
 
 PROG = "gd-analyze"
 COMMANDS = ("analyze", "plan", "evaluate", "compare", "control", "sweep")
-EXIT_OK, EXIT_VERIFY, EXIT_INPUT, EXIT_TOLERANCE = 0, 1, 2, 3
+EXIT_OK, EXIT_VERIFY, EXIT_INPUT, EXIT_TOLERANCE, EXIT_INTERNAL = 0, 1, 2, 3, 4
+EXIT_STATUS_HELP = ("Exit status: 0 ok, 1 verification failed, 2 bad input or unusable output "
+                    "location, 3 error above --max-error, 4 internal error (--debug shows the "
+                    "traceback).")
 
 
 class _Parser(argparse.ArgumentParser):
     """argparse that reports usage errors as one line with exit status 2."""
 
     def error(self, message):
-        raise InputError(f"{self.prog}: {message}")
+        sub = self.prog[len(PROG):].strip()
+        raise InputError(f"{sub}: {message}" if sub else message)
 
 
 
@@ -78,9 +83,13 @@ def parse_range(text, name="--payload-sweep"):
         raise InputError(f"STEP must be positive, got {text!r}", column=name)
     if stop < start:
         raise InputError(f"STOP must not be below START, got {text!r}", column=name)
-    count = int((stop - start) // step) + 1
+    try:
+        count = int((stop - start) // step) + 1
+    except decimal.DecimalException:                  # e.g. 0:1:1e-30: beyond the precision
+        count = math.inf
     if count > 10_000:
-        raise InputError(f"the range {text!r} has {count} values (at most 10000)", column=name)
+        raise InputError(f"the range {text!r} has {count:.3g} values (at most 10000)",
+                         column=name)
     return [float(start + k * step) for k in range(count)]
 
 def _fraction(lo, hi, name, lo_open=True):
@@ -130,6 +139,31 @@ def _add_payload_arguments(p):
     return g
 
 
+def _add_chain_arguments(p):
+    g = p.add_argument_group("URDF chain (a ROBOT given as a .urdf file, or panda, ur5)")
+    g.add_argument("--base", metavar="LINK",
+                   help="the chain's base link (default: the URDF's root link)")
+    g.add_argument("--tip", metavar="LINK",
+                   help="the chain's tip link (default: the end of the only chain); moving "
+                        "joints off the chain are locked at q = 0 and carried by their link")
+    return g
+
+
+_ROBOT_HELP = ("built-in robot (puma560, two-link, panda, ur5, ...), a TOML robot file or a URDF "
+               "file (*.urdf, see --base and --tip)")
+
+
+def _load_robot(args):
+    from .io.robots import load_robot
+
+    return load_robot(args.robot, args.base, args.tip)
+
+
+def _chain_settings(args):
+    """The URDF chain options, for the provenance of a run's outputs."""
+    return {k: v for k, v in (("robot_base", args.base), ("robot_tip", args.tip)) if v}
+
+
 def _add_payload_sweep_argument(group):
     group.add_argument("--payload-sweep", metavar="START:STOP:STEP",
                        help="also rank the elements for each load mass in this range [kg], "
@@ -163,15 +197,12 @@ def _add_budget_arguments(p, rule=True):
 
 
 def _write_sources(model, outdir):
-    """simplified_model.c and simplified_model.py next to the JSON."""
-    from .files import atomic_path
-
+    """simplified_model.c and simplified_model.py next to the JSON (in the staging folder)."""
     written = []
     for name, text in (("simplified_model.c", model.c_source()),
                        ("simplified_model.py", model.python_source())):
         path = outdir / name
-        with atomic_path(path) as tmp:
-            Path(tmp).write_text(text, encoding="utf-8")
+        path.write_text(text, encoding="utf-8")
         written.append(path)
     return written
 
@@ -192,11 +223,9 @@ def _analyze_parser():
                "L-E, N-E and G-D formulations; 'gd-analyze control MODEL.json TRAJECTORY.csv' "
                "checks a simplified model in closed loop; 'gd-analyze sweep ROBOT ...' analyses "
                "many trajectories on dask. 'gd-analyze COMMAND --help' for details. "
-               "Exit status: 0 ok, 1 verification failed, 2 bad input, 3 error above "
-               "--max-error.",
+               + EXIT_STATUS_HELP,
     )
-    p.add_argument("robot", metavar="ROBOT", help="built-in robot (puma560, two-link) or a "
-                   "TOML robot file")
+    p.add_argument("robot", metavar="ROBOT", help=_ROBOT_HELP)
     p.add_argument("trajectory", metavar="TRAJECTORY.csv",
                    help="CSV with header t,q1..qn[,qd1..qdn,qdd1..qddn] [s, rad, rad/s, rad/s^2]")
     p.add_argument("-o", "--outdir", metavar="OUTDIR",
@@ -219,6 +248,7 @@ def _analyze_parser():
     p.add_argument("-q", "--quiet", action="store_true",
                    help="print nothing but warnings and errors (no summary, no progress bar)")
     p.add_argument("--version", action="version", version=f"%(prog)s {_version()}")
+    _add_chain_arguments(p)
     _add_payload_sweep_argument(_add_payload_arguments(p))
     return p
 
@@ -230,24 +260,38 @@ def _version():
 
 
 def _plan_parser():
-    from .io.trajectory import DEFAULT_GOAL_DEG, DEFAULT_SETPOINTS, DEFAULT_START_DEG
+    from .io.trajectory import (DEFAULT_GOAL_DEG, DEFAULT_QDD_PER_QD, DEFAULT_SETPOINTS,
+                                DEFAULT_START_DEG)
 
     p = _Parser(prog=f"{PROG} plan",
                 description="Write a quintic rest-to-rest joint trajectory at the shortest "
-                            "duration within the robot's velocity and acceleration limits.")
-    p.add_argument("robot", metavar="ROBOT")
+                            "duration within the robot's velocity and acceleration limits, and "
+                            "its provenance beside it (FILE's stem + .provenance.json).")
+    p.add_argument("robot", metavar="ROBOT", help=_ROBOT_HELP)
     p.add_argument("-o", "--output", metavar="FILE", required=True,
                    help="CSV file to write ('-' for standard output)")
     p.add_argument("--start", metavar="DEG,...", type=_angles,
-                   help="start positions [deg] (default for puma560: "
-                        f"{','.join(f'{v:g}' for v in DEFAULT_START_DEG)})")
+                   help="start positions [deg; m for a prismatic joint] (default for puma560: "
+                        f"{','.join(f'{v:g}' for v in DEFAULT_START_DEG)}; for other robots "
+                        "a quarter of each joint's range)")
     p.add_argument("--goal", metavar="DEG,...", type=_angles,
-                   help="goal positions [deg] (default for puma560: "
-                        f"{','.join(f'{v:g}' for v in DEFAULT_GOAL_DEG)})")
+                   help="goal positions [deg; m for a prismatic joint] (default for puma560: "
+                        f"{','.join(f'{v:g}' for v in DEFAULT_GOAL_DEG)}; for other robots "
+                        "three quarters of each joint's range)")
     p.add_argument("--setpoints", metavar="N", type=int, default=DEFAULT_SETPOINTS,
                    help=f"number of set points, both ends included (default {DEFAULT_SETPOINTS})")
     p.add_argument("--duration", metavar="T", type=float,
                    help="duration [s] (default: the shortest within the limits)")
+    p.add_argument("--ignore-limits", action="store_true",
+                   help="plan even if the duration, start or goal breaks the robot's joint "
+                        "position, velocity or acceleration limits")
+    p.add_argument("--qdd-max", metavar="A[,...]", type=_angles,
+                   help="acceleration limits [deg/s^2; m/s^2 for a prismatic joint], one for "
+                        "all joints or one per joint (default: the robot's; where it has none, "
+                        f"as in a URDF, {DEFAULT_QDD_PER_QD:g} s^-1 times the velocity limit, "
+                        "i.e. full speed in 1/{0:g} s; the provenance says which)".format(
+                            DEFAULT_QDD_PER_QD))
+    _add_chain_arguments(p)
     return p
 
 
@@ -273,9 +317,10 @@ def _compare_parser():
                 description="Run Lagrange-Euler, Newton-Euler, G-D and Pinocchio on every set "
                             "point and print their largest relative disagreements and the "
                             "operation counts per set point.")
-    p.add_argument("robot", metavar="ROBOT")
+    p.add_argument("robot", metavar="ROBOT", help=_ROBOT_HELP)
     p.add_argument("trajectory", metavar="TRAJECTORY.csv")
     p.add_argument("--json", action="store_true", help="print one JSON object")
+    _add_chain_arguments(p)
     return p
 
 
@@ -297,8 +342,10 @@ def _control_parser():
                         "Kp = wn^2, Kv = 2 zeta wn")
     p.add_argument("--zeta", metavar="Z", type=_fraction(0.0, math.inf, "--zeta"),
                    default=DEFAULT_ZETA, help=f"damping ratio (default {DEFAULT_ZETA:g})")
-    p.add_argument("--offset", metavar="RAD", type=float, default=0.0,
-                   help="initial position error on every joint [rad] (default 0)")
+    p.add_argument("--offset", metavar="RAD", type=_fraction(-2 * math.pi, 2 * math.pi,
+                                                             "--offset", False),
+                   default=0.0, help="initial position error on every joint [rad], within "
+                                     "[-2 pi, 2 pi] (default 0)")
     p.add_argument("--no-report", action="store_true", help="skip the HTML and PDF report")
     p.add_argument("--json", action="store_true", help="print the figures as one JSON object")
     p.add_argument("-q", "--quiet", action="store_true", help="print nothing but errors")
@@ -314,12 +361,13 @@ def _sweep_parser():
                             "over them all (an element is dropped or reduced only where that "
                             "holds in every trajectory); write sweep.h5, merged_model.json and "
                             "sweep_report.html/.pdf.")
-    p.add_argument("robot", metavar="ROBOT")
+    p.add_argument("robot", metavar="ROBOT", help=_ROBOT_HELP)
     p.add_argument("csv", metavar="CSV", nargs="*", help="trajectory files (or use --random)")
     p.add_argument("--random", metavar="K", type=int,
                    help="plan K random quintic trajectories (start and goal uniform in the "
                         "joint limits, shortest duration within the limits, 31 set points)")
-    p.add_argument("--seed", metavar="S", type=int, default=0, help="seed for --random")
+    p.add_argument("--seed", metavar="S", type=_seed, default=0,
+                   help="seed for --random, an integer in [0, 2^63)")
     p.add_argument("-o", "--outdir", metavar="OUTDIR",
                    help="output folder (default: reports/<robot>-sweep/)")
     p.add_argument("--scheduler", metavar="ADDRESS",
@@ -343,15 +391,39 @@ def _sweep_parser():
                         "not guaranteed (default 20)")
     p.add_argument("--no-report", action="store_true", help="skip the HTML and PDF report")
     p.add_argument("-q", "--quiet", action="store_true", help="print nothing but errors")
+    _add_chain_arguments(p)
     _add_payload_sweep_argument(_add_payload_arguments(p))
     return p
 
 
-def _load(robot_arg, csv_arg):
-    from .core.robot import load_robot
+def _seed(text):
+    try:
+        v = int(text)
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"--seed must be an integer, got {text!r}") from None
+    if not 0 <= v < 2**63:
+        raise argparse.ArgumentTypeError(f"--seed must be in [0, 2^63), got {text}")
+    return v
+
+
+def _outdir(args_outdir, *parts):
+    """The output folder: -o as given, or reports/<sanitised parts joined by '-'>."""
+    from .io.staging import safe_name
+
+    if args_outdir:
+        return Path(args_outdir)
+    return Path("reports") / "-".join(safe_name(p) for p in parts)
+
+
+def _results_size(N, n):
+    """Bytes of the per-set-point variables of results.h5 (uncompressed)."""
+    return 8 * N * (1 + 9 * n + 3 * n * n) + (1 << 20)
+
+
+def _load(args, csv_arg):
     from .io.trajectory import read_trajectory
 
-    robot = load_robot(robot_arg)
+    robot = _load_robot(args)
     return robot, read_trajectory(csv_arg, n_joints=robot.n)
 
 
@@ -383,7 +455,10 @@ def _format_summary(ds):
                      f"{ds.tau_error_relative_peak.values[j]:>10.2e}"
                      f"{ds.tau_error_relative_rms.values[j]:>10.2e}")
     if "verification_passed" in ds.attrs:
-        worst = max(v for k, v in ds.attrs.items() if k.startswith("verification_max_rel"))
+        import numpy as np
+
+        worst = float(np.max([v for k, v in ds.attrs.items()
+                              if k.startswith("verification_max_rel")]))
         lines += ["", f"verified against Pinocchio on {ds.attrs['verification_setpoints']} set "
                       f"points: largest relative difference {worst:.2e}"]
     return "\n".join(lines)
@@ -392,8 +467,13 @@ def _format_summary(ds):
 def _payload_masses(args):
     if args.payload_sweep is None:
         return None
+    from .core.limits import LIMITS
 
-    return parse_range(args.payload_sweep)
+    masses = parse_range(args.payload_sweep)
+    if masses[-1] > LIMITS["mass"]:
+        raise InputError(f"load masses up to {LIMITS['mass']:g} kg, got {masses[-1]:g}",
+                         column="--payload-sweep")
+    return masses
 
 
 def _payload_sweep_dataset(robot, trajectory, args):
@@ -410,13 +490,17 @@ def _payload_sweep_dataset(robot, trajectory, args):
     return embed_payload(ds)
 
 
+ANALYZE_OUTPUTS = ("results.h5", "simplified_model.json", "simplified_model.c",
+                   "simplified_model.py", "report.html", "report.pdf")
+
+
 def _cmd_analyze(args):
+    from .io.staging import check_free_space, staged_output
     from .workflows.analyze import analyze_to_file
 
-    robot, trajectory = _load(args.robot, args.trajectory)
+    robot, trajectory = _load(args, args.trajectory)
     _warn_limits(robot, trajectory, args.quiet)
-    outdir = Path(args.outdir) if args.outdir else \
-        Path("reports") / f"{robot.name}-{Path(args.trajectory).stem}"
+    outdir = _outdir(args.outdir, robot.name, Path(args.trajectory).stem)
     base_robot = robot
     robot = _apply_payload(robot, args)
     if outdir.exists() and not outdir.is_dir():
@@ -426,23 +510,26 @@ def _cmd_analyze(args):
                 "tolerance": float(args.tolerance), "rule": args.rule,
                 "torque_floor": float(args.torque_floor),
                 "payload_com": [float(v) for v in args.payload_com],
-                "payload_inertia": [float(v) for v in args.payload_inertia]}
+                "payload_inertia": [float(v) for v in args.payload_inertia],
+                **_chain_settings(args)}
     extra = _payload_sweep_dataset(base_robot, trajectory, args)   # bad range: before any output
-    outdir.mkdir(parents=True, exist_ok=True)
-    results = outdir / "results.h5"
-    analysis = analyze_to_file(robot, trajectory, results, dominance=args.dominance,
-                               negligible=args.negligible, check=not args.no_verify,
-                               settings=settings, compress=args.compress,
-                               progress=not args.quiet and sys.stderr.isatty(), extra=extra,
-                               tolerance=args.tolerance, rule=args.rule,
-                               torque_floor=args.torque_floor)
-    analysis.model.save(outdir / "simplified_model.json")
-    written = [results, outdir / "simplified_model.json"]
-    written += _write_sources(analysis.model, outdir)
-    if not args.no_report:
-        from .reports.main import write_report
+    with staged_output(outdir, ANALYZE_OUTPUTS) as stage:
+        check_free_space(stage, _results_size(trajectory.n_setpoints, robot.n), "results.h5")
+        results = stage / "results.h5"
+        analysis = analyze_to_file(robot, trajectory, results, dominance=args.dominance,
+                                   negligible=args.negligible, check=not args.no_verify,
+                                   settings=settings, compress=args.compress,
+                                   progress=not args.quiet and sys.stderr.isatty(), extra=extra,
+                                   tolerance=args.tolerance, rule=args.rule,
+                                   torque_floor=args.torque_floor)
+        analysis.model.save(stage / "simplified_model.json")
+        written = [results, stage / "simplified_model.json"]
+        written += _write_sources(analysis.model, stage)
+        if not args.no_report:
+            from .reports.main import write_report
 
-        written += write_report(results, outdir)
+            written += write_report(results, stage)
+    written = [outdir / Path(p).name for p in written]
     if not args.quiet:
         print(_format_summary(analysis.dataset))
         print()
@@ -455,37 +542,121 @@ def _cmd_analyze(args):
     return EXIT_OK
 
 
-def _cmd_plan(args):
+def _check_plan(robot, start, goal, duration):
+    """Refuse a plan that breaks the robot's limits: InputError naming the joint and limit.
+
+    start, goal in SI (rad, m for a prismatic joint); robot with the limits the plan uses."""
     import numpy as np
 
-    from .core.robot import load_robot
-    from .io.trajectory import (DEFAULT_GOAL_DEG, DEFAULT_START_DEG, plan_quintic,
-                             write_trajectory)
+    from .io.trajectory import quintic_min_durations
 
-    robot = load_robot(args.robot)
-    start, goal = args.start, args.goal
-    if start is None or goal is None:
-        if robot.n != len(DEFAULT_START_DEG):
-            raise InputError(f"{robot.name} has {robot.n} joints: give --start and --goal")
-        start = DEFAULT_START_DEG if start is None else start
-        goal = DEFAULT_GOAL_DEG if goal is None else goal
+    prismatic = np.asarray(getattr(robot, "prismatic", np.zeros(robot.n, bool)), bool)
+
+    def show(j, v, unit=""):
+        return f"{v:g} m{unit}" if prismatic[j] else f"{math.degrees(v):g} deg{unit}"
+
     for name, vals in (("--start", start), ("--goal", goal)):
-        if len(vals) != robot.n:
+        for j, v in enumerate(vals):
+            if not robot.q_min[j] <= v <= robot.q_max[j]:
+                raise InputError(f"joint {j + 1} at {show(j, v)} is outside its position "
+                                 f"limits [{show(j, robot.q_min[j])}, {show(j, robot.q_max[j])}]"
+                                 f" (--ignore-limits to plan anyway)", column=name)
+    if duration is None:
+        return
+    t_vel, t_acc = quintic_min_durations(robot, start, goal)
+    for j in range(robot.n):
+        for t_lim, what, lim in ((t_vel[j], "velocity", show(j, robot.qd_max[j], "/s")),
+                                 (t_acc[j], "acceleration",
+                                  show(j, robot.qdd_max[j], "/s^2"))):
+            if duration < t_lim * (1 - 1e-12):
+                raise InputError(f"{duration:g} s is too short: joint {j + 1} would exceed its "
+                                 f"{what} limit {lim} (at least {t_lim:.6g} s; "
+                                 f"--ignore-limits to plan anyway)", column="--duration")
+
+
+def _cmd_plan(args):
+    from ._version import __version__
+    from .io.trajectory import (acceleration_limits, default_motion, plan_quintic,
+                                user_positions, write_provenance, write_trajectory)
+
+    robot = _load_robot(args)
+    start, goal = default_motion(robot)
+    for name, vals in (("--start", args.start), ("--goal", args.goal)):
+        if vals is not None and len(vals) != robot.n:
             raise InputError(f"{name}: {len(vals)} values for {robot.n} joints")
-    if args.setpoints < 2:
-        raise InputError("--setpoints: a trajectory needs at least 2 set points")
-    if args.duration is not None and not args.duration > 0:
-        raise InputError("--duration must be positive")
+    start = start if args.start is None else user_positions(robot, args.start)
+    goal = goal if args.goal is None else user_positions(robot, args.goal)
+    from .core.limits import LIMITS, first_beyond
+
+    if not 2 <= args.setpoints <= 10**8:
+        raise InputError("--setpoints: a trajectory needs 2 to 10^8 set points")
+    if args.duration is not None and not (LIMITS["min_duration"] <= args.duration
+                                          <= LIMITS["duration"]):
+        raise InputError(f"must be a number of seconds in [{LIMITS['min_duration']:g}, "
+                         f"{LIMITS['duration']:g}], got {args.duration:g}", column="--duration")
+    if args.output != "-":
+        from .io.staging import check_output_file
+
+        check_output_file(args.output)
+    qdd_arg = args.qdd_max
+    if qdd_arg is not None and len(qdd_arg) == 1:
+        qdd_arg = qdd_arg * robot.n
+    if qdd_arg is not None and len(qdd_arg) != robot.n:
+        raise InputError(f"{len(qdd_arg)} values for {robot.n} joints", column="--qdd-max")
     try:
-        traj = plan_quintic(robot, np.radians(start), np.radians(goal), args.setpoints,
-                            args.duration)
+        qdd_max, qdd_source = acceleration_limits(
+            robot, None if qdd_arg is None else user_positions(robot, qdd_arg))
+    except ValueError as exc:
+        raise InputError(str(exc), column="--qdd-max" if qdd_arg is not None else None) \
+            from None
+    planning = _replace_limits(robot, qdd_max)
+    if not args.ignore_limits:
+        _check_plan(planning, start, goal, args.duration)
+    try:
+        traj = plan_quintic(planning, start, goal, args.setpoints, args.duration)
     except ValueError as exc:
         raise InputError(str(exc)) from None
-    write_trajectory(traj, args.output)
-    if args.output != "-":
-        print(f"wrote {args.output}: {traj.n_setpoints} set points over {traj.t[-1]:.4f} s "
-              f"({traj.source})", file=sys.stderr)
+    for name in ("q", "qd", "qdd"):
+        if first_beyond(getattr(traj, name), LIMITS[name]) is not None:
+            raise InputError(f"the planned {name} exceeds the supported magnitude "
+                             f"{LIMITS[name]:g}: choose a longer --duration", column="--duration")
+    try:
+        write_trajectory(traj, args.output)
+    except OSError as exc:
+        raise InputError(f"cannot write: {exc.strerror or exc}", args.output) from None
+    if args.output == "-":
+        return EXIT_OK
+    record = {
+        "tool": "gd-analyze", "version": __version__,
+        "command": " ".join([PROG] + sys.argv[1:]) if sys.argv else PROG,
+        "robot": robot.name, "robot_source": robot.source, "robot_sha256": robot.sha256,
+        **_chain_settings(args),
+        "start": [float(v) for v in start], "goal": [float(v) for v in goal],
+        "start_goal_units": "rad (m for a prismatic joint)",
+        "setpoints": traj.n_setpoints, "duration_s": float(traj.t[-1]),
+        "duration_from": "--duration" if args.duration is not None else "limits",
+        "qd_max": [float(v) for v in robot.qd_max],
+        "qdd_max": [float(v) for v in qdd_max],
+        "limits_units": "rad/s, rad/s^2 (m/s, m/s^2 for a prismatic joint)",
+        "qdd_max_source": qdd_source,
+        "trajectory": traj.source,
+    }
+    try:
+        side = write_provenance(args.output, record)
+    except OSError as exc:
+        raise InputError(f"cannot write its provenance: {exc.strerror or exc}",
+                         args.output) from None
+    print(f"wrote {args.output}: {traj.n_setpoints} set points over {traj.t[-1]:.4f} s "
+          f"({traj.source}); acceleration limits: {qdd_source}; provenance in {side}",
+          file=sys.stderr)
     return EXIT_OK
+
+
+def _replace_limits(robot, qdd_max):
+    """The robot with other acceleration limits, for planning only."""
+    import dataclasses
+
+    return dataclasses.replace(robot, qdd_max=qdd_max)
 
 
 def _cmd_evaluate(args):
@@ -529,7 +700,7 @@ def _cmd_compare(args):
 
     from .formulations.compare import compare_report, format_compare
 
-    robot, traj = _load(args.robot, args.trajectory)
+    robot, traj = _load(args, args.trajectory)
     report = compare_report(robot, traj.q, traj.qd, traj.qdd)
     if args.json:
         print(json.dumps(report))
@@ -547,12 +718,12 @@ def _cmd_control(args):
     from .workflows.control import CONTROL_FILE, run_control
     from .io.trajectory import read_trajectory
 
+    from .reports.control import CONTROL_REPORT_FILES
+    from .io.staging import staged_output
+
     model = SimplifiedModel.load(args.model)
     traj = read_trajectory(args.trajectory, n_joints=model.robot.n)
-    if not math.isfinite(args.offset):
-        raise InputError("--offset must be a finite number")
-    outdir = Path(args.outdir) if args.outdir else \
-        Path("reports") / f"{model.robot.name}-{Path(args.trajectory).stem}-control"
+    outdir = _outdir(args.outdir, model.robot.name, Path(args.trajectory).stem, "control")
     if outdir.exists() and not outdir.is_dir():
         raise InputError("exists and is not a folder", outdir)
     try:
@@ -560,14 +731,15 @@ def _cmd_control(args):
                              model_path=args.model, model_sha256=file_sha256(args.model))
     except ValueError as exc:
         raise InputError(str(exc)) from None
-    outdir.mkdir(parents=True, exist_ok=True)
-    path = outdir / CONTROL_FILE
-    write_control_dataset(result, path)
-    written = [path]
-    if not args.no_report:
-        from .reports.control import write_control_report
+    with staged_output(outdir, (CONTROL_FILE, *CONTROL_REPORT_FILES)) as stage:
+        path = stage / CONTROL_FILE
+        write_control_dataset(result, path)
+        written = [path]
+        if not args.no_report:
+            from .reports.control import write_control_report
 
-        written += list(write_control_report(path, outdir))
+            written += list(write_control_report(path, stage))
+    written = [outdir / Path(p).name for p in written]
     summary = result.summary()
     if args.json:
         print(json.dumps(summary, default=float))
@@ -602,12 +774,9 @@ def _sweep_model(robot, trajectories, args, outdir, settings):
     path = outdir / "sweep_model.json"
     model.save(path)
     written = [path]
-    from .files import atomic_path
-
     for name, text in (("sweep_model.c", model.c_source()),
                        ("sweep_model.py", model.python_source())):
-        with atomic_path(outdir / name) as tmp:
-            Path(tmp).write_text(text, encoding="utf-8")
+        (outdir / name).write_text(text, encoding="utf-8")
         written.append(outdir / name)
     if not args.quiet:
         v = model.validation
@@ -624,19 +793,27 @@ def _sweep_model(robot, trajectories, args, outdir, settings):
     return written
 
 
+SWEEP_OUTPUTS = ("sweep.h5", "merged_model.json", "payload_sweep.h5", "sweep_report.html",
+                 "sweep_report.pdf", "sweep_model.json", "sweep_model.c", "sweep_model.py")
+
+
 def _cmd_sweep(args):
-    from .core.robot import load_robot
     from .io.datasets import write_dataset
-    from .io.trajectory import random_trajectories
+    from .io.trajectory import random_trajectories, read_trajectory
     from .workflows.payload import sweep_payloads
     from .workflows.sweep import dask_client, merged_model, run_sweep
-    from .io.trajectory import read_trajectory
 
-    robot = load_robot(args.robot)
+    robot = _load_robot(args)
     if (args.random is None) == (not args.csv):
         raise InputError("give either --random K or trajectory CSV files")
-    if args.random is not None and args.random < 1:
-        raise InputError("--random: K must be >= 1")
+    if args.random is not None and not 1 <= args.random <= 10**6:
+        raise InputError("--random: K must be in [1, 10^6]")
+    if args.scheduler is not None:
+        import re
+
+        if not re.fullmatch(r"([a-z][a-z0-9+.-]*://)?[^\s/:]+(:[0-9]{1,5})?/?", args.scheduler):
+            raise InputError("not a dask scheduler address (e.g. tcp://10.0.0.5:8786)",
+                             column="--scheduler")
     if args.workers is not None and args.workers < 1:
         raise InputError("--workers must be >= 1")
     if args.csv:
@@ -645,13 +822,19 @@ def _cmd_sweep(args):
         trajectories = random_trajectories(robot, args.random, seed=args.seed)
     masses = _payload_masses(args)
     loaded = _apply_payload(robot, args)
-    outdir = Path(args.outdir) if args.outdir else Path("reports") / f"{robot.name}-sweep"
+    outdir = _outdir(args.outdir, robot.name, "sweep")
     if outdir.exists() and not outdir.is_dir():
         raise InputError("exists and is not a folder", outdir)
     settings = {"command": " ".join([PROG] + sys.argv[1:]) if sys.argv else PROG,
-                "payload_mass": float(args.payload or 0.0)}
+                "payload_mass": float(args.payload or 0.0), **_chain_settings(args)}
     if args.random is not None:
+        from .io.trajectory import acceleration_limits
+
         settings["seed"] = args.seed
+        try:
+            settings["random_qdd_max_source"] = acceleration_limits(robot)[1]
+        except ValueError as exc:
+            raise InputError(str(exc), robot.source) from None
     try:
         with dask_client(args.scheduler, args.workers) as (client, _):
             ds = run_sweep(loaded, trajectories, args.dominance, args.negligible, client=client,
@@ -659,21 +842,24 @@ def _cmd_sweep(args):
             payload = None if masses is None else sweep_payloads(
                 robot, trajectories, masses, args.payload_com, args.payload_inertia,
                 args.dominance, args.negligible, client=client)
-    except OSError as exc:
+    except (OSError, ValueError, TypeError) as exc:
         raise InputError(f"cannot reach the dask scheduler: {exc}", args.scheduler) from None
-    outdir.mkdir(parents=True, exist_ok=True)
-    written = [outdir / "sweep.h5", outdir / "merged_model.json"]
-    write_dataset(ds, written[0])
-    merged_model(loaded, ds).save(written[1])
-    if args.tolerance is not None:
-        written += _sweep_model(loaded, trajectories, args, outdir, settings)
-    if payload is not None:
-        written.append(outdir / "payload_sweep.h5")
-        write_dataset(payload, written[-1])
-    if not args.no_report:
-        from .reports.sweep import write_sweep_report
+    from .io.staging import staged_output
 
-        written += list(write_sweep_report(written[0], outdir, payload=payload))
+    with staged_output(outdir, SWEEP_OUTPUTS) as stage:
+        written = [stage / "sweep.h5", stage / "merged_model.json"]
+        write_dataset(ds, written[0])
+        merged_model(loaded, ds).save(written[1])
+        if args.tolerance is not None:
+            written += _sweep_model(loaded, trajectories, args, stage, settings)
+        if payload is not None:
+            written.append(stage / "payload_sweep.h5")
+            write_dataset(payload, written[-1])
+        if not args.no_report:
+            from .reports.sweep import write_sweep_report
+
+            written += list(write_sweep_report(written[0], stage, payload=payload))
+    written = [outdir / Path(p).name for p in written]
     if not args.quiet:
         print(f"{robot.name}: {ds.sizes['trajectory']} trajectories in "
               f"{ds.attrs['elapsed_s']:.1f} s on {ds.attrs['n_workers']} dask workers "
@@ -690,20 +876,47 @@ def _cmd_sweep(args):
     return EXIT_OK
 
 
+def _show_warning(message, category, filename, lineno, file=None, line=None):
+    kind = "note" if issubclass(category, InputNote) else "warning"
+    print(f"{PROG}: {kind}: {message}", file=sys.stderr)
+
+
+def _mistyped_command(word):
+    """A 'did you mean' error for a first word that is close to a command and is neither a
+    built-in robot nor a file; None otherwise."""
+    import difflib
+
+    from .core.robot import builtin_robots
+
+    if word.startswith("-") or word in builtin_robots() or os.path.exists(word):
+        return None
+    close = difflib.get_close_matches(word, COMMANDS, n=1, cutoff=0.6)
+    if not close:
+        return None
+    return InputError(f"unknown command {word!r}: did you mean '{close[0]}'? (commands: "
+                      f"{', '.join(COMMANDS)}; or a robot for the main job)")
+
+
 def main(argv=None):
     """Run the command line.
 
     Parameters
     ----------
     argv : list of str, optional
-        Arguments without the program name (default ``sys.argv[1:]``).
+        Arguments without the program name (default ``sys.argv[1:]``). ``--debug`` anywhere
+        shows the traceback of an internal error.
 
     Returns
     -------
     int
-        The exit status: 0 ok, 1 verification failed, 2 bad input, 3 error above --max-error.
+        The exit status: 0 ok, 1 verification failed, 2 bad input or unusable output location,
+        3 error above --max-error, 4 internal error.
     """
+    from .io.staging import Terminated, install_signal_handlers
+
     argv = list(sys.argv[1:] if argv is None else argv)
+    debug = "--debug" in argv
+    argv = [a for a in argv if a != "--debug"]
     command = argv[0] if argv and argv[0] in COMMANDS else "analyze"
     if argv and argv[0] == command:
         argv = argv[1:]
@@ -714,8 +927,19 @@ def main(argv=None):
                "sweep": (_sweep_parser, _cmd_sweep)}
     make_parser, run = parsers[command]
     try:
-        args = make_parser().parse_intermixed_args(argv)
-        return run(args)
+        import threading
+
+        if threading.current_thread() is threading.main_thread():
+            install_signal_handlers()
+        with warnings.catch_warnings():
+            warnings.simplefilter("always", InputWarning)
+            warnings.showwarning = _show_warning
+            if command == "analyze" and argv:
+                mistyped = _mistyped_command(argv[0])
+                if mistyped is not None:
+                    raise mistyped
+            args = make_parser().parse_intermixed_args(argv)
+            return run(args)
     except InputError as exc:
         print(f"{PROG}: error: {exc}", file=sys.stderr)
         return EXIT_INPUT
@@ -727,6 +951,19 @@ def main(argv=None):
     except KeyboardInterrupt:
         print(f"{PROG}: interrupted", file=sys.stderr)
         return 130
+    except Terminated as exc:
+        print(f"{PROG}: terminated", file=sys.stderr)
+        return 128 + int(exc.args[0]) if exc.args else 143
+    except Exception as exc:  # noqa: BLE001 - the last line of defence: exit 4, one line
+        if debug:
+            import traceback
+
+            traceback.print_exc()
+        text = " ".join(str(exc).split())[:300]
+        print(f"{PROG}: internal error: {type(exc).__name__}: {text} (a bug in gd-analyze; "
+              f"{'see the traceback above' if debug else 'rerun with --debug for the traceback'})",
+              file=sys.stderr)
+        return EXIT_INTERNAL
 
 
 if __name__ == "__main__":  # pragma: no cover

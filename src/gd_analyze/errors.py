@@ -7,7 +7,7 @@ command line can print it as it is and exit with status 2.
 
 from __future__ import annotations
 
-__all__ = ["InputError"]
+__all__ = ["InputError", "InputWarning", "InputNote"]
 
 
 class InputError(ValueError):
@@ -22,12 +22,13 @@ class InputError(ValueError):
     row : int, optional
         The row of the file, counted from 1 with the header as row 1 (as a spreadsheet shows it).
     column : str, optional
-        The column's name (or the key, for a robot file; or the option, e.g. "--payload").
+        The column's name (with a row: a CSV file), the key (without a row: a TOML or JSON
+        file, e.g. ``link[2].mass``) or the option (e.g. ``"--payload"``).
 
     Notes
     -----
     ``str(err)`` gives ``"<path>: row <row>, column <column>: <message>"`` with the parts that
-    are known.
+    are known; without a row, ``"<path>: key <column>: <message>"``.
     """
 
     def __init__(self, message, path=None, row=None, column=None):
@@ -45,9 +46,22 @@ class InputError(ValueError):
         if self.row is not None:
             loc.append(f"row {self.row}")
         if self.column is not None:
-            # a command-line option names itself; anything else is a column (or key) of a file
+            # a command-line option names itself; a cell of a CSV file (with a row) is in a
+            # column; anything else is a key of a TOML or JSON file
             opt = str(self.column).startswith("--")
-            loc.append(str(self.column) if opt else f"column {self.column}")
+            kind = "column" if self.row is not None else "key"
+            loc.append(str(self.column) if opt else f"{kind} {self.column}")
         if loc:
             where.append(", ".join(loc))
         return ": ".join(where + [self.message])
+
+
+class InputWarning(UserWarning):
+    """Input the tool accepts but the user should hear about, in one line (e.g. an unknown
+    key that is ignored, a byte-order mark that is stripped, a value that looks like radians
+    in a field in degrees). The command line prints it as ``gd-analyze: warning: ...``."""
+
+
+class InputNote(InputWarning):
+    """Input the tool corrected on its own (e.g. a byte-order mark stripped); printed as
+    ``gd-analyze: note: ...``."""

@@ -118,7 +118,7 @@ def test_two_link_closed_forms_sec_3_4_2(two_link):
     np.testing.assert_allclose(t.D_rot[:, 1, 1], m2 * l**2 / 12, rtol=TOL)
 
 
-@pytest.mark.parametrize("name", ["puma560", "two-link"])
+@pytest.mark.parametrize("name", ["puma560", "two-link", "stanford"])
 def test_D_parts_symmetric_and_D_positive_definite(name):
     robot = load_robot(name)
     q, qd, _ = random_states(robot, 300, 8)
@@ -131,7 +131,7 @@ def test_D_parts_symmetric_and_D_positive_definite(name):
         assert np.linalg.eigvalsh(M).min() > -1e-12
 
 
-@pytest.mark.parametrize("name", ["puma560", "two-link"])
+@pytest.mark.parametrize("name", ["puma560", "two-link", "stanford"])
 def test_power_balance_of_each_part(name):
     """qd^T h_x = 1/2 qd^T (dD_x/dt) qd for x in {tran, rot}: the Coriolis and centrifugal
     torques do no work beyond changing the kinetic energy 1/2 qd^T D_x qd at fixed qdd = 0."""

@@ -4,7 +4,7 @@ import numpy as np
 import pytest
 
 from gd_analyze import load_robot
-from gd_analyze.core.kinematics import link_matrices
+from gd_analyze.core.kinematics import joint_transforms
 from gd_analyze.formulations.lagrange_euler import le_terms, pseudo_inertia, u_matrices
 from gd_analyze.formulations.opcount import random_chain
 from gd_analyze.core.robot import robot_from_dict
@@ -19,8 +19,8 @@ def _states(n, N=40, seed=0):
 
 
 def _T(robot, q):
-    """^0T_i, shape (N, n, 4, 4), by plain matrix products (Eq. 3.2-6)."""
-    A = link_matrices(robot, q)
+    """^0T_i of the body frames, shape (N, n, 4, 4), by plain matrix products (Eq. 3.2-6)."""
+    A = joint_transforms(robot, q)
     T = [A[:, 0]]
     for i in range(1, robot.n):
         T.append(T[-1] @ A[:, i])
@@ -82,8 +82,9 @@ def test_pseudo_inertia_is_second_moment_of_a_point_cloud():
     np.testing.assert_allclose(pseudo_inertia(robot_from_dict(spec))[0], expected, rtol=1e-12)
 
 
-@pytest.mark.parametrize("robot", [load_robot("puma560"), random_chain(4, seed=3)],
-                         ids=["puma560", "random4"])
+@pytest.mark.parametrize("robot", [load_robot("puma560"), random_chain(4, seed=3),
+                                   load_robot("stanford")],
+                         ids=["puma560", "random4", "stanford"])
 def test_u_matrices_are_derivatives_of_the_link_transforms(robot):
     n, eps = robot.n, 1e-6
     q, _, _ = _states(n, N=3, seed=1)

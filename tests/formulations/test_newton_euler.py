@@ -5,11 +5,11 @@ import pinocchio as pin
 import pytest
 
 from gd_analyze import load_robot
-from gd_analyze.formulations.newton_euler import link_constants, ne_tau, ne_terms
+from gd_analyze.formulations.newton_euler import joint_frames, link_constants, ne_tau, ne_terms
 from gd_analyze.formulations.pinocchio import pinocchio_model
 
 G = 9.8062
-ROBOTS = [load_robot("puma560"), load_robot("two-link")]
+ROBOTS = [load_robot("puma560"), load_robot("two-link"), load_robot("stanford")]
 
 
 def _states(n, N, seed=0):
@@ -34,15 +34,31 @@ def test_two_link_torques_sec_3_3_7():
     np.testing.assert_allclose(tau, np.stack([tau1, tau2], axis=1), rtol=0, atol=1e-12)
 
 
-def test_link_constants_pstar_eq_3_3_59():
-    robot = load_robot("puma560")
-    k = link_constants(robot)
-    # p*_i = ^iR_{i-1} (a_i C_i, a_i S_i, d_i): origin of frame i seen from frame i-1
-    from gd_analyze.core.kinematics import link_matrices
-    A = link_matrices(robot, np.full(6, 0.3))[0]
-    expected = np.einsum("iba,ib->ia", A[:, :3, :3], A[:, :3, 3])
-    np.testing.assert_allclose(k["pstar"], expected, atol=1e-15)
-    np.testing.assert_allclose(k["vd0"], -np.asarray(robot.gravity))
+def _dh(theta, d, a, alpha):
+    """Eq. (3.2-5), written out."""
+    ct, st, ca, sa = np.cos(theta), np.sin(theta), np.cos(alpha), np.sin(alpha)
+    return np.array([[ct, -ca * st, sa * st, a * ct], [st, ca * ct, -sa * ct, a * st],
+                     [0, sa, ca, d], [0, 0, 0, 1]])
+
+
+def test_joint_frames_compose_to_the_dh_frames_of_the_stanford_arm():
+    robot = load_robot("stanford")
+    q = np.array([0.3, -0.7, 0.9, 1.1, -0.4, 0.25])
+    R, p = joint_frames(robot, q[None])
+    T, T_dh = np.eye(4), np.eye(4)
+    for i in range(6):
+        Ti = np.eye(4)
+        Ti[:3, :3], Ti[:3, 3] = R[0, i], p[0, i]
+        T = T @ Ti
+        pris = robot.joint_types[i] == "prismatic"
+        theta = robot.offset[i] + (0 if pris else q[i])
+        d = robot.d[i] + (q[i] if pris else 0)
+        T_dh = T_dh @ _dh(theta, d, robot.a[i], robot.alpha[i])
+        # body frame i and DH frame i differ by the fixed link pose L_i
+        L = np.eye(4)
+        L[:3, :3], L[:3, 3] = robot.link_rotation[i], robot.link_translation[i]
+        np.testing.assert_allclose(T @ L, T_dh, atol=1e-14)
+    np.testing.assert_allclose(link_constants(robot)["vd0"], -np.asarray(robot.gravity))
 
 
 @pytest.mark.parametrize("robot", ROBOTS, ids=lambda r: r.name)

@@ -4,7 +4,7 @@ import numpy as np
 import pytest
 
 from gd_analyze import gd_terms, load_robot
-from gd_analyze.core.kinematics import link_matrices
+from gd_analyze.core.kinematics import body_frames
 from gd_analyze.formulations.lagrange_euler import le_terms
 from gd_analyze.formulations.newton_euler import _cross, ne_tau
 from gd_analyze.formulations.opcount import (METHODS, OpLedger, _gd_mirror, book_counts,
@@ -44,9 +44,10 @@ def test_counted_scalar_in_numpy_object_arrays():
         np.array([led.var(1.0)], dtype=float)       # no silent conversion to float
 
 
+@pytest.mark.parametrize("name", ["puma560", "stanford"])
 @pytest.mark.parametrize("method", METHODS)
-def test_counted_run_computes_the_real_torques(method):
-    robot = load_robot("puma560")
+def test_counted_run_computes_the_real_torques(method, name):
+    robot = load_robot(name)
     rng = np.random.default_rng(0)
     q, qd, qdd = rng.uniform(-2, 2, (3, 6))
     expected = {
@@ -60,15 +61,18 @@ def test_counted_run_computes_the_real_torques(method):
     assert got.multiplications > 0 and got.additions > 0
 
 
-def test_gd_mirror_reproduces_gd_terms():
-    robot = random_chain(5, seed=2)
+@pytest.mark.parametrize("robot", [random_chain(5, seed=2), load_robot("stanford")],
+                         ids=["random5", "stanford"])
+def test_gd_mirror_reproduces_gd_terms(robot):
     rng = np.random.default_rng(1)
+    n = robot.n
     for _ in range(5):
-        q, qd, qdd = rng.uniform(-2, 2, (3, 5))
+        q, qd, qdd = rng.uniform(-2, 2, (3, n))
         terms = gd_terms(robot, q, qd, engine="numpy")
+        R, o = body_frames(robot, q)
         tau, D_tran, D_rot, h_tran, h_rot, c = _gd_mirror(
-            link_matrices(robot, q)[0], robot.mass, robot.com, robot.inertia, robot.gravity,
-            qd, qdd)
+            R[0], o[0], robot.prismatic, robot.mass, robot.body_com, robot.body_inertia,
+            robot.gravity, qd, qdd)
         for got, want in ((D_tran, terms.D_tran[0]), (D_rot, terms.D_rot[0]),
                           (h_tran, terms.h_tran[0]), (h_rot, terms.h_rot[0]), (c, terms.c[0]),
                           (tau, terms.tau(qdd[None])[0])):
@@ -89,12 +93,13 @@ def test_newton_euler_is_linear_in_n():
         assert np.diff(v)[0] > 0
 
 
-def test_gd_is_cubic_and_lagrange_euler_quartic_in_n():
+def test_compiled_gd_is_quadratic_numpy_gd_cubic_and_lagrange_euler_quartic_in_n():
     ns = range(3, 11)
     for op in ("multiplications", "additions"):
-        for engine in ("gd", "gd-numpy"):
-            gd = _counts(engine, op, ns)
-            assert np.all(np.diff(gd, 4) == 0) and np.all(np.diff(gd, 3) > 0)
+        gd = _counts("gd", op, ns)                       # D_tran by suffix sums (issue 10)
+        assert np.all(np.diff(gd, 3) == 0) and np.all(np.diff(gd, 2) > 0)
+        gd = _counts("gd-numpy", op, ns)                 # the Jacobians as written
+        assert np.all(np.diff(gd, 4) == 0) and np.all(np.diff(gd, 3) > 0)
         le = _counts("lagrange-euler", op, range(2, 11))
         assert np.all(np.diff(le, 5) == 0) and np.all(np.diff(le, 4) > 0)
 
@@ -104,14 +109,20 @@ def test_ordering_and_book_bounds():
         got, book = operation_counts(n), book_counts(n)
         for op in ("multiplications", "additions"):
             for gd in ("gd", "gd-numpy"):
-                assert got[gd][op] < got["lagrange-euler"][op]
-                if n > 1:                # one link: the compiled G-D saves a few additions
+                if n > 1:                # one link: L-E's single U_11 is cheaper than G-D
+                    assert got[gd][op] < got["lagrange-euler"][op]
                     assert got["newton-euler"][op] < got[gd][op]
             # the compiled engine skips the masked work of the array engine
-            assert got["gd"][op] < got["gd-numpy"][op]
-            # no effort was spent on Table 3.5's counts; ours are never above them
+            assert got["gd"][op] < got["gd-numpy"][op] or n == 1
+            # no effort was spent on Table 3.5's counts; ours are not above them once the
+            # general placements (a full 3x3 product per joint, where Table 3.5 assumes the
+            # structured DH matrix) are paid for: from n = 4 on
             for m in METHODS:
-                assert got[m][op] <= book[m][op]
+                if n >= 4 or m in ("lagrange-euler", "newton-euler"):
+                    assert got[m][op] <= book[m][op]
+    # the compiled G-D engine is O(n^2): below Table 3.5's cubic count by a growing margin
+    assert operation_counts(10)["gd"]["multiplications"] < 0.5 * book_counts(10)["gd"][
+        "multiplications"]
 
 
 def test_book_formulas():

@@ -206,7 +206,7 @@ def test_simplified_evaluator_equals_model_torque(model, puma, two_link):
     got = simplified_tau(puma, model.choices, q, qd, qdd)
     assert np.abs(got - ref).max() <= 1e-12 * np.abs(ref).max()
     rng = np.random.default_rng(8)
-    for robot in (puma, two_link):
+    for robot in (puma, two_link, load_robot("stanford")):     # stanford: a prismatic joint
         q, qd, qdd = random_states(robot, 30, seed=6)
         terms = gd_terms(robot, q, qd)
         for _ in range(15):

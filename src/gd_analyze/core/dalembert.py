@@ -1,15 +1,17 @@
 """The generalized d'Alembert (G-D) equations of motion, Sec. 3.4.
 
-The G-D equations, Eq. (3.4-24), write the joint torques as::
+The G-D equations, Eq. (3.4-24), write the joint torques (forces, for a prismatic joint) as::
 
     tau = (D_tran + D_rot) qdd + h_tran + h_rot + c
 
 where the "tran" parts come from the translational motion of the link masses and the "rot"
 parts from the rotational motion of the link inertias, Eqs. (3.4-25) to (3.4-28). In Jacobian
-form, with z_{j-1} and p_{j-1} the axis and origin of frame j-1, rbar_s the centre of mass of
-link s, Ib_s = R_s I_s R_s^T, and for j <= s (columns j > s are zero)::
+form, with z_j and o_j the axis and origin of body frame j (joint j's axis, see
+:mod:`gd_analyze.robot`), rbar_s the centre of mass of link s, Ib_s = R_s I_s R_s^T, and for
+j <= s (columns j > s are zero)::
 
-    Jv_s[:, j] = z_{j-1} x (rbar_s - p_{j-1}),     Jw_s[:, j] = z_{j-1}
+    revolute j:   Jv_s[:, j] = z_j x (rbar_s - o_j),   Jw_s[:, j] = z_j
+    prismatic j:  Jv_s[:, j] = z_j,                    Jw_s[:, j] = 0
 
     D_tran = sum_s m_s Jv_s^T Jv_s                                   (3.4-25), 2nd term
     D_rot  = sum_s Jw_s^T Ib_s Jw_s                                  (3.4-25), 1st term
@@ -17,10 +19,13 @@ link s, Ib_s = R_s I_s R_s^T, and for j <= s (columns j > s are zero)::
     h_rot  = sum_s Jw_s^T (Ib_s (dJw_s/dt qd) + w_s x Ib_s w_s)      (3.4-27)
     c      = -sum_s m_s Jv_s^T g                                     (3.4-28)
 
-The velocity-product accelerations dJv_s/dt qd and dJw_s/dt qd are computed with the outward
-recursion of the link velocities (Eqs. 3.4-1 to 3.4-7 with qdd = 0), and the sums over links
-s >= j with suffix sums, so the cost is O(n^2) per set point for D and O(n) for h and c.
-Everything is batched over set points and processed in chunks of bounded size.
+A prismatic joint moves every frame beyond it and adds no angular velocity. The
+velocity-product accelerations dJv_s/dt qd and dJw_s/dt qd come from the outward recursion of
+the link velocities (Eqs. 3.4-1 to 3.4-7 with qdd = 0; a prismatic joint adds the Coriolis
+term 2 w x qd z to the origins beyond it), and the sums over links s >= j from suffix sums.
+This module's numpy engine forms the Jacobians as written (O(n^3) per set point for D_tran);
+the compiled engine (:mod:`gd_analyze.core.kernels`) needs O(n^2). Everything is batched over
+set points and processed in chunks of bounded size.
 """
 
 from __future__ import annotations
@@ -29,9 +34,10 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from .kinematics import as_states, centres_of_mass, frames
+from .kinematics import as_states, body_frames
 
-__all__ = ["forward_dynamics", "GDTerms", "gd_terms", "DEFAULT_CHUNK", "ENGINES", "COMPILED_MIN_SETPOINTS"]
+__all__ = ["forward_dynamics", "GDTerms", "gd_terms", "allocate_terms", "kernel_arguments",
+           "DEFAULT_CHUNK", "ENGINES", "COMPILED_MIN_SETPOINTS"]
 
 #: Set points per chunk of the numpy engine: bounds its temporaries to a few tens of MB.
 DEFAULT_CHUNK = 8192
@@ -102,64 +108,130 @@ def _suffix_sum(x):
     return np.flip(np.cumsum(np.flip(x, axis=1), axis=1), axis=1)
 
 
+def _shift(x):
+    """x[:, s-1] along axis 1, with zeros for s = 0 (the base is at rest)."""
+    return np.concatenate([np.zeros_like(x[:, :1]), x[:, :-1]], axis=1)
+
+
 def _gd_chunk(robot, q, qd):
     n = robot.n
     m = robot.mass
-    R, p = frames(robot, q)
-    z = R[:, :n, :, 2]                      # z_{j-1}, (N, n, 3)
-    p_prev = p[:, :n]                       # p_{j-1}, (N, n, 3)
-    rbar = centres_of_mass(robot, R, p)     # (N, n, 3)
-    Rl = R[:, 1:]                           # ^0R_s, (N, n, 3, 3)
-    Ib = Rl @ robot.inertia @ np.swapaxes(Rl, -1, -2)   # (N, n, 3, 3)
+    pris = np.asarray(robot.prismatic, dtype=bool)
+    R, o = body_frames(robot, q)            # body frame j: axis z_j, origin o_j
+    z = R[..., 2]                           # (N, n, 3)
+    zr = z * (~pris)[None, :, None]         # Jw columns: z_j for revolute joints, 0 else
+    rbar = o + np.einsum("ksab,sb->ksa", R, robot.body_com)     # (N, n, 3)
+    Ib = R @ robot.body_inertia @ np.swapaxes(R, -1, -2)        # (N, n, 3, 3)
 
-    # --- D_tran: sum_s m_s Jv_s^T Jv_s, Jv[:, s, j] = z_j x (rbar_s - p_j), j <= s
-    Jv = np.cross(z[:, None, :, :], rbar[:, :, None, :] - p_prev[:, None, :, :])  # (N, s, j, 3)
+    # --- D_tran: sum_s m_s Jv_s^T Jv_s, j <= s
+    Jv = np.cross(z[:, None, :, :], rbar[:, :, None, :] - o[:, None, :, :])  # (N, s, j, 3)
+    Jv = np.where(pris[None, None, :, None], z[:, None, :, :], Jv)
     Jv *= np.tril(np.ones((n, n)))[None, :, :, None]
     D_tran = np.einsum("ksia,s,ksja->kij", Jv, m, Jv, optimize=True)
 
-    # --- D_rot: z_i^T (sum_{s >= max(i,j)} Ib_s) z_j
+    # --- D_rot: zr_i^T (sum_{s >= max(i,j)} Ib_s) zr_j
     Ic = _suffix_sum(Ib)                    # (N, n, 3, 3)
     idx = np.maximum.outer(np.arange(n), np.arange(n))
-    Iz = np.einsum("ksab,kjb->ksja", Ic, z)  # Ic_s z_j, (N, s, j, 3)
-    D_rot = np.einsum("kia,kija->kij", z, Iz[:, idx, np.arange(n)[None, :], :])
+    Iz = np.einsum("ksab,kjb->ksja", Ic, zr)  # Ic_s zr_j, (N, s, j, 3)
+    D_rot = np.einsum("kia,kija->kij", zr, Iz[:, idx, np.arange(n)[None, :], :])
 
     # --- velocities and velocity-product accelerations (qdd = 0), outward recursion
-    wz = qd[:, :, None] * z                 # qd_j z_{j-1}
+    wz = qd[:, :, None] * zr                # qd_j z_j (revolute)
     w = np.cumsum(wz, axis=1)               # w_s, (N, n, 3)
-    w_prev = np.concatenate([np.zeros_like(w[:, :1]), w[:, :-1]], axis=1)
+    w_prev = _shift(w)
     wd = np.cumsum(np.cross(w_prev, wz), axis=1)        # dJw_s/dt qd
-    dp = p[:, 1:] - p_prev                  # p_s - p_{s-1}
-    ap = np.cumsum(np.cross(wd, dp) + np.cross(w, np.cross(w, dp)), axis=1)  # origin p_s
-    rc = rbar - p[:, 1:]
+    wd_prev = _shift(wd)
+    dp = o - _shift(o)                      # o_s - o_{s-1}, fixed in body s-1 but for q_s
+    slide = 2.0 * np.cross(w_prev, qd[:, :, None] * z) * pris[None, :, None]
+    ap = np.cumsum(np.cross(wd_prev, dp) + np.cross(w_prev, np.cross(w_prev, dp)) + slide,
+                   axis=1)                  # origin o_s
+    rc = rbar - o
     abar = ap + np.cross(wd, rc) + np.cross(w, np.cross(w, rc))   # dJv_s/dt qd
 
-    # --- h_tran and c: z_j . sum_{s>=j} (rbar_s - p_{j-1}) x F_s, with F_s = m_s a_s
-    def moment_about_axes(F):
-        M = _suffix_sum(np.cross(rbar, F))
+    # --- h_tran and c: Jv_j . sum_{s>=j} F_s, with F_s = m_s a_s: revolute
+    # z_j . sum_{s>=j} (rbar_s - o_j) x F_s, prismatic z_j . sum_{s>=j} F_s
+    def along_axes(F):
         S = _suffix_sum(F)
-        return np.einsum("kja,kja->kj", z, M - np.cross(p_prev, S))
+        M = _suffix_sum(np.cross(rbar, F)) - np.cross(o, S)
+        return np.einsum("kja,kja->kj", z, np.where(pris[None, :, None], S, M))
 
-    h_tran = moment_about_axes(m[None, :, None] * abar)
-    c = -moment_about_axes(np.broadcast_to(m[:, None] * robot.gravity, rbar.shape))
+    h_tran = along_axes(m[None, :, None] * abar)
+    c = -along_axes(np.broadcast_to(m[:, None] * robot.gravity, rbar.shape))
 
-    # --- h_rot: z_j . sum_{s>=j} (Ib_s wd_s + w_s x Ib_s w_s)
+    # --- h_rot: zr_j . sum_{s>=j} (Ib_s wd_s + w_s x Ib_s w_s)
     Iw = np.einsum("ksab,ksb->ksa", Ib, w)
     f = np.einsum("ksab,ksb->ksa", Ib, wd) + np.cross(w, Iw)
-    h_rot = np.einsum("kja,kja->kj", z, _suffix_sum(f))
+    h_rot = np.einsum("kja,kja->kj", zr, _suffix_sum(f))
+    # exactly symmetric (the sums above round the two triangles differently)
+    D_tran = np.triu(D_tran) + np.swapaxes(np.triu(D_tran, 1), 1, 2)
+    D_rot = np.triu(D_rot) + np.swapaxes(np.triu(D_rot, 1), 1, 2)
     return D_tran, D_rot, h_tran, h_rot, c
 
 
-def gd_terms(robot, q, qd, chunk=DEFAULT_CHUNK, engine="auto"):
-    """The G-D terms D_tran, D_rot, h_tran, h_rot and c at N set points.
+def allocate_terms(N, n):
+    """Output buffers for :func:`gd_terms`, to be reused across streamed chunks.
+
+    Parameters
+    ----------
+    N : int
+        Set points the buffers hold (the largest chunk).
+    n : int
+        Number of joints.
+
+    Returns
+    -------
+    GDTerms
+        Uninitialised arrays: D_tran, D_rot (N, n, n), h_tran, h_rot, c (N, n).
+    """
+    return GDTerms(np.empty((N, n, n)), np.empty((N, n, n)), np.empty((N, n)),
+                   np.empty((N, n)), np.empty((N, n)))
+
+
+def kernel_arguments(robot):
+    """The robot's constants as the compiled kernels take them (contiguous float arrays).
 
     Parameters
     ----------
     robot : Robot
         The arm, with n joints.
+
+    Returns
+    -------
+    tuple
+        Placement rotations (n, 3, 3), translations (n, 3) [m], prismatic flags (n,) int64,
+        masses (n,) [kg], body-frame centres of mass (n, 3) [m] and inertia tensors (n, 3, 3)
+        [kg m^2], gravity (3,) [m/s^2].
+    """
+    c = np.ascontiguousarray
+    return (c(robot.rotation, dtype=float), c(robot.translation, dtype=float),
+            c(robot.prismatic, dtype=np.int64), c(robot.mass, dtype=float),
+            c(robot.body_com, dtype=float), c(robot.body_inertia, dtype=float),
+            c(robot.gravity, dtype=float))
+
+
+def _check_out(out, N, n):
+    shapes = ((N, n, n), (N, n, n), (N, n), (N, n), (N, n))
+    arrays = (out.D_tran, out.D_rot, out.h_tran, out.h_rot, out.c)
+    for name, arr, shape in zip(("D_tran", "D_rot", "h_tran", "h_rot", "c"), arrays, shapes):
+        if (not isinstance(arr, np.ndarray) or arr.dtype != np.float64 or arr.ndim != len(shape)
+                or arr.shape[0] < N or arr.shape[1:] != shape[1:] or not arr.flags.c_contiguous
+                or not arr.flags.writeable):
+            raise ValueError(f"out.{name} must be a writeable C-contiguous float64 array of "
+                             f"shape (>= {N},) + {shape[1:]}")
+    return tuple(arr[:N] for arr in arrays)
+
+
+def gd_terms(robot, q, qd, chunk=DEFAULT_CHUNK, engine="auto", out=None):
+    """The G-D terms D_tran, D_rot, h_tran, h_rot and c at N set points.
+
+    Parameters
+    ----------
+    robot : Robot
+        The arm, with n revolute or prismatic joints.
     q : array_like, shape (N, n) or (n,)
-        Joint positions [rad].
+        Joint positions [rad or m].
     qd : array_like, shape (N, n) or (n,)
-        Joint velocities [rad/s].
+        Joint velocities [rad/s or m/s].
     chunk : int, optional
         Set points processed at once by the numpy engine; bounds the temporaries, not the
         result.
@@ -167,17 +239,22 @@ def gd_terms(robot, q, qd, chunk=DEFAULT_CHUNK, engine="auto"):
         ``"numpy"``: array code over chunks of set points. ``"compiled"``: a numba kernel, one
         pass per set point (about 10 times faster). ``"auto"``: compiled for N >=
         :data:`COMPILED_MIN_SETPOINTS`, numpy otherwise.
+    out : GDTerms, optional
+        Buffers the caller owns (:func:`allocate_terms`), with at least N rows: the terms are
+        written into their first N rows, and the result's arrays are views of them. Reuse them
+        across the chunks of a stream to avoid fresh allocations.
 
     Returns
     -------
     GDTerms
         D_tran and D_rot with shape (N, n, n) [kg m^2]; h_tran, h_rot and c with shape (N, n)
-        [N m].
+        [N m for a revolute joint, N for a prismatic one].
 
     Raises
     ------
     ValueError
-        If q or qd does not have shape (N, n), they disagree on N, or the engine is unknown.
+        If q or qd does not have shape (N, n), they disagree on N, the engine is unknown, or
+        ``out`` does not fit.
 
     Notes
     -----
@@ -198,21 +275,22 @@ def gd_terms(robot, q, qd, chunk=DEFAULT_CHUNK, engine="auto"):
     N, n = q.shape
     if engine not in ENGINES:
         raise ValueError(f"engine must be one of {ENGINES}, got {engine!r}")
-    out = (np.empty((N, n, n)), np.empty((N, n, n)), np.empty((N, n)), np.empty((N, n)),
-           np.empty((N, n)))
+    if out is None:
+        res = tuple(allocate_terms(N, n).__dict__.values())
+    else:
+        res = _check_out(out, N, n)
     if engine == "compiled" or (engine == "auto" and N >= COMPILED_MIN_SETPOINTS):
         from .kernels import gd_kernel
 
         c = np.ascontiguousarray
-        gd_kernel(c(q), c(qd), robot.d, robot.a, robot.alpha, robot.offset, robot.mass,
-                  c(robot.com), c(robot.inertia), c(robot.gravity, dtype=float), *out)
-        return GDTerms(*out)
+        gd_kernel(c(q), c(qd), *kernel_arguments(robot), *res)
+        return GDTerms(*res)
     chunk = max(1, int(chunk))
     for start in range(0, N, chunk):
         sl = slice(start, start + chunk)
-        for dst, src in zip(out, _gd_chunk(robot, q[sl], qd[sl])):
+        for dst, src in zip(res, _gd_chunk(robot, q[sl], qd[sl])):
             dst[sl] = src
-    return GDTerms(*out)
+    return GDTerms(*res)
 
 
 def _qdd_from_terms(terms, tau):
@@ -228,18 +306,18 @@ def forward_dynamics(robot, q, qd, tau, engine="auto"):
     robot : Robot
         The arm, with n joints.
     q : array_like, shape (N, n) or (n,)
-        Joint positions [rad].
+        Joint positions [rad or m].
     qd : array_like, shape (N, n) or (n,)
-        Joint velocities [rad/s].
+        Joint velocities [rad/s or m/s].
     tau : array_like, shape (N, n) or (n,)
-        Joint torques [N m].
+        Joint torques [N m] or forces [N] (prismatic).
     engine : {"auto", "numpy", "compiled"}, optional
         Engine of :func:`~gd_analyze.core.dalembert.gd_terms`.
 
     Returns
     -------
     ndarray, shape (N, n)
-        Joint accelerations qdd [rad/s^2].
+        Joint accelerations qdd [rad/s^2 or m/s^2].
 
     Raises
     ------

@@ -1,21 +1,23 @@
-"""Forward kinematics of a DH chain, batched over set points.
+"""Forward kinematics of a serial chain of revolute and prismatic joints, batched over set points.
 
-Frame 0 is the base frame; link frame i (i = 1..n) sits at the far end of link i. The transform
-from frame i-1 to frame i is the link matrix of Eq. (3.2-5)::
+The joint model is that of :mod:`gd_analyze.robot`: joint i has a fixed placement (P_i, t_i) in
+body frame i-1 and then turns about (revolute) or slides along (prismatic) the placed frame's z
+axis, so::
 
-    ^{i-1}A_i = [[C_i, -cos(alpha_i) S_i,  sin(alpha_i) S_i, a_i C_i],
-                 [S_i,  cos(alpha_i) C_i, -sin(alpha_i) C_i, a_i S_i],
-                 [0,    sin(alpha_i),      cos(alpha_i),      d_i    ],
-                 [0,    0,                 0,                 1      ]]
+    ^{i-1}T_i = [[P_i Rot_z(q_i), t_i], [0, 1]]              (revolute)
+    ^{i-1}T_i = [[P_i, t_i + q_i P_i e_z], [0, 1]]            (prismatic)
 
-with C_i = cos(theta_i), S_i = sin(theta_i), theta_i = q_i + offset_i.
+with e_z = (0, 0, 1). Joint i's axis is z of body frame i, through its origin. For a standard
+DH robot the link frames (body frame i moved by the fixed pose L_i) are the DH frames of
+Eq. (3.2-5), and :func:`link_matrices` gives the DH link matrices ^{i-1}A_i.
 """
 
 from __future__ import annotations
 
 import numpy as np
 
-__all__ = ["as_states", "link_matrices", "frames", "centres_of_mass"]
+__all__ = ["as_states", "transforms_core", "joint_transforms", "body_frames", "link_matrices",
+           "frames", "centres_of_mass"]
 
 
 def as_states(robot, *arrays):
@@ -26,7 +28,8 @@ def as_states(robot, *arrays):
     robot : Robot
         The arm, with n joints.
     *arrays : array_like, shape (N, n) or (n,)
-        Joint positions [rad], velocities [rad/s] or accelerations [rad/s^2].
+        Joint positions [rad or m], velocities [rad/s or m/s] or accelerations [rad/s^2 or
+        m/s^2].
 
     Returns
     -------
@@ -52,21 +55,98 @@ def as_states(robot, *arrays):
     return tuple(out)
 
 
-def link_matrices(robot, q):
-    """The link matrices ^{i-1}A_i for every set point, Eq. (3.2-5).
+def transforms_core(P, t, prismatic, c, s, q):
+    """Rotation and translation of every ^{i-1}T_i; float or object (counting) arrays alike.
+
+    Parameters
+    ----------
+    P : ndarray, shape (n, 3, 3)
+        Placement rotations P_i.
+    t : ndarray, shape (n, 3)
+        Placement translations t_i [m].
+    prismatic : sequence of bool, length n
+        The joint types.
+    c, s : ndarray, shape (N, n)
+        cos q_i and sin q_i (read for revolute joints only).
+    q : ndarray, shape (N, n)
+        Joint positions (read for prismatic joints only) [m].
+
+    Returns
+    -------
+    R : ndarray, shape (N, n, 3, 3)
+        ^{i-1}R_i.
+    p : ndarray, shape (N, n, 3)
+        Origin of body frame i in body frame i-1 [m].
+    """
+    N, n = q.shape
+    R = np.empty((N, n, 3, 3), dtype=q.dtype)
+    p = np.empty((N, n, 3), dtype=q.dtype)
+    for i in range(n):
+        Pi = P[i]
+        if prismatic[i]:
+            R[:, i] = Pi
+            p[:, i] = t[i] + q[:, i, None] * Pi[:, 2]
+        else:
+            ci, si = c[:, i, None], s[:, i, None]
+            R[:, i, :, 0] = ci * Pi[:, 0] + si * Pi[:, 1]
+            R[:, i, :, 1] = ci * Pi[:, 1] - si * Pi[:, 0]
+            R[:, i, :, 2] = Pi[:, 2]
+            p[:, i] = t[i]
+    return R, p
+
+
+def joint_transforms(robot, q):
+    """The transforms ^{i-1}T_i between consecutive body frames.
 
     Parameters
     ----------
     robot : Robot
         The arm, with n joints.
     q : array_like, shape (N, n)
-        Joint positions [rad].
+        Joint positions [rad or m].
 
     Returns
     -------
-    A : ndarray, shape (N, n, 4, 4)
-        ``A[k, i]`` is the homogeneous transform from frame i to frame i+1 (0-based i) at set
-        point k; lengths in [m].
+    T : ndarray, shape (N, n, 4, 4)
+        ``T[k, i]`` is the homogeneous transform from body frame i+1 to body frame i (0-based
+        i; body frame 0 is the base) at set point k; lengths in [m].
+
+    Raises
+    ------
+    ValueError
+        If q does not have n columns.
+
+    Notes
+    -----
+    The revolute form is P_i Rot(z, q_i), the prismatic one P_i Trans(0, 0, q_i): the
+    motions of the joint matrices Q of Eqs. (3.2-8a) and (3.2-8b).
+    """
+    (q,) = as_states(robot, q)
+    R, p = transforms_core(robot.rotation, robot.translation, robot.prismatic, np.cos(q),
+                           np.sin(q), q)
+    T = np.zeros(q.shape + (4, 4))
+    T[..., :3, :3] = R
+    T[..., :3, 3] = p
+    T[..., 3, 3] = 1.0
+    return T
+
+
+def body_frames(robot, q):
+    """Orientation and origin of every body frame in the base frame.
+
+    Parameters
+    ----------
+    robot : Robot
+        The arm, with n joints.
+    q : array_like, shape (N, n)
+        Joint positions [rad or m].
+
+    Returns
+    -------
+    R : ndarray, shape (N, n, 3, 3)
+        ``R[k, i]`` is ^0R of body frame i+1; its column 2 is joint i+1's axis z.
+    o : ndarray, shape (N, n, 3)
+        ``o[k, i]`` is the origin of body frame i+1 [m], a point on joint i+1's axis.
 
     Raises
     ------
@@ -74,23 +154,56 @@ def link_matrices(robot, q):
         If q does not have n columns.
     """
     (q,) = as_states(robot, q)
-    theta = q + robot.offset
-    ct, st = np.cos(theta), np.sin(theta)
-    ca, sa = np.cos(robot.alpha), np.sin(robot.alpha)
-    A = np.zeros(q.shape + (4, 4))
-    A[..., 0, 0] = ct
-    A[..., 0, 1] = -ca * st
-    A[..., 0, 2] = sa * st
-    A[..., 0, 3] = robot.a * ct
-    A[..., 1, 0] = st
-    A[..., 1, 1] = ca * ct
-    A[..., 1, 2] = -sa * ct
-    A[..., 1, 3] = robot.a * st
-    A[..., 2, 1] = sa
-    A[..., 2, 2] = ca
-    A[..., 2, 3] = robot.d
-    A[..., 3, 3] = 1.0
-    return A
+    Rr, pr = transforms_core(robot.rotation, robot.translation, robot.prismatic, np.cos(q),
+                             np.sin(q), q)
+    N, n = q.shape
+    R = np.empty((N, n, 3, 3))
+    o = np.empty((N, n, 3))
+    R[:, 0], o[:, 0] = Rr[:, 0], pr[:, 0]
+    for i in range(1, n):
+        R[:, i] = R[:, i - 1] @ Rr[:, i]
+        o[:, i] = o[:, i - 1] + np.einsum("kab,kb->ka", R[:, i - 1], pr[:, i])
+    return R, o
+
+
+def _homogeneous(R, t):
+    T = np.zeros(np.shape(R)[:-2] + (4, 4))
+    T[..., :3, :3] = R
+    T[..., :3, 3] = t
+    T[..., 3, 3] = 1.0
+    return T
+
+
+def link_matrices(robot, q):
+    """The transforms ^{i-1}A_i between consecutive link frames (DH matrices for DH robots).
+
+    Link frame i is where link i's centre of mass and inertia are given: DH frame i for a
+    standard-DH robot, so that ``A`` is the link matrix of Eq. (3.2-5); modified-DH frame i
+    (Craig) for a modified-DH robot; body frame i for a general chain.
+
+    Parameters
+    ----------
+    robot : Robot
+        The arm, with n joints.
+    q : array_like, shape (N, n)
+        Joint positions [rad or m].
+
+    Returns
+    -------
+    A : ndarray, shape (N, n, 4, 4)
+        ``A[k, i]`` is the homogeneous transform from link frame i+1 to link frame i (0-based
+        i; frame 0 is the base) at set point k; lengths in [m].
+
+    Raises
+    ------
+    ValueError
+        If q does not have n columns.
+    """
+    T = joint_transforms(robot, q)
+    L = _homogeneous(robot.link_rotation, robot.link_translation)          # (n, 4, 4)
+    Linv = np.linalg.inv(L)
+    left = np.concatenate([np.eye(4)[None], Linv[:-1]], axis=0)            # L_{i-1}^-1
+    return left @ T @ L
 
 
 def frames(robot, q):
@@ -101,15 +214,16 @@ def frames(robot, q):
     robot : Robot
         The arm, with n joints.
     q : array_like, shape (N, n)
-        Joint positions [rad].
+        Joint positions [rad or m].
 
     Returns
     -------
     R : ndarray, shape (N, n+1, 3, 3)
-        ``R[k, i]`` is ^0R_i, the rotation from frame i to the base frame (``R[:, 0]`` is the
-        identity). Column 2 of ^0R_{j-1} is the joint axis z_{j-1}.
+        ``R[k, i]`` is ^0R_i, the rotation from link frame i to the base frame (``R[:, 0]``
+        is the identity). For a standard-DH robot these are the DH frames, and column 2 of
+        ^0R_{j-1} is the axis z_{j-1} of joint j.
     p : ndarray, shape (N, n+1, 3)
-        ``p[k, i]`` is the origin p_i of frame i in the base frame [m] (``p[:, 0]`` is 0).
+        ``p[k, i]`` is the origin p_i of link frame i in the base frame [m] (``p[:, 0]`` is 0).
 
     Raises
     ------
@@ -120,15 +234,14 @@ def frames(robot, q):
     -----
     ^0T_i = ^0A_1 ^1A_2 ... ^{i-1}A_i, Eq. (3.2-6).
     """
-    A = link_matrices(robot, q)
-    N, n = A.shape[:2]
+    Rb, ob = body_frames(robot, q)
+    N, n = Rb.shape[:2]
     R = np.empty((N, n + 1, 3, 3))
     p = np.empty((N, n + 1, 3))
     R[:, 0] = np.eye(3)
     p[:, 0] = 0.0
-    for i in range(n):
-        R[:, i + 1] = R[:, i] @ A[:, i, :3, :3]
-        p[:, i + 1] = p[:, i] + np.einsum("kab,kb->ka", R[:, i], A[:, i, :3, 3])
+    R[:, 1:] = Rb @ robot.link_rotation
+    p[:, 1:] = ob + np.einsum("ksab,sb->ksa", Rb, robot.link_translation)
     return R, p
 
 
@@ -140,9 +253,9 @@ def centres_of_mass(robot, R, p):
     robot : Robot
         The arm, with n joints.
     R : ndarray, shape (N, n+1, 3, 3)
-        Frame orientations from :func:`frames`.
+        Link frame orientations from :func:`frames`.
     p : ndarray, shape (N, n+1, 3)
-        Frame origins from :func:`frames` [m].
+        Link frame origins from :func:`frames` [m].
 
     Returns
     -------

@@ -1,16 +1,37 @@
-"""Robot model: a serial chain of revolute joints in standard Denavit-Hartenberg form.
+"""Robot model: a serial chain of revolute and prismatic joints.
 
-A robot is read from a TOML file (see ``src/gd_analyze/data/*.toml``), validated and held in a
-frozen :class:`Robot`. Link frame i is attached to the far end of link i, as in Fu, Gonzalez &
-Lee (1987), Sec. 2.2.10; joint i turns about z_{i-1}, and the homogeneous transform from frame
-i-1 to frame i is Eq. (3.2-5)::
+One joint model serves every source (Fu, Gonzalez & Lee 1987, Secs. 2.2.10 and 3.2; Craig,
+*Introduction to Robotics*, Sec. 3.4; the URDF joint model). Joint i (1-based) has
 
-    ^{i-1}A_i = Rot(z, theta_i) Trans(0, 0, d_i) Trans(a_i, 0, 0) Rot(x, alpha_i),
-    theta_i = q_i + offset_i.
+- a fixed placement (rotation P_i, translation t_i) from body frame i-1 (the base frame for
+  i = 1), and then
+- a motion about or along the z axis of that placed frame: a rotation by q_i [rad] (revolute)
+  or a translation by q_i [m] (prismatic).
 
-Per link the model holds the mass m_i, the centre of mass r_i in link frame i, the inertia
-tensor I_i about the centre of mass (axes parallel to link frame i), and the joint's position,
-velocity and acceleration limits.
+Body frame i is the placed frame after the motion, so the homogeneous transform from body
+frame i-1 to body frame i is::
+
+    ^{i-1}T_i = [P_i t_i; 0 1] Rot(z, q_i)      (revolute)
+    ^{i-1}T_i = [P_i t_i; 0 1] Trans(0, 0, q_i)  (prismatic)
+
+Joint i's axis is the z axis of body frame i and passes through its origin. Per link the model
+holds the mass m_i, the centre of mass r_i and the inertia tensor I_i about it in *link frame
+i*, the frame the source gives them in, which sits at a fixed pose (L_R, L_t) in body frame i:
+
+- standard DH (Eq. (3.2-5)): link frame i is DH frame i at the far end of link i;
+  ^{i-1}A_i = Rot(z, theta_i) Trans(0, 0, d_i) Trans(a_i, 0, 0) Rot(x, alpha_i). Body frame i is
+  DH frame i-1 moved by joint i, so L_i = Rot(z, theta0_i) Trans(0, 0, d0_i) Trans(a_i, 0, 0)
+  Rot(x, alpha_i) with the constant parts theta0, d0, and the placement of joint i is L_{i-1}
+  (the identity for i = 1);
+- modified DH (Craig): link i's row holds alpha_{i-1}, a_{i-1}, d_i, theta_i;
+  ^{i-1}T_i = Rot(x, alpha_{i-1}) Trans(a_{i-1}, 0, 0) Rot(z, theta_i) Trans(0, 0, d_i). Body
+  frame i is modified-DH frame i (L_i is the identity) and the placement of joint i is
+  Rot(x, alpha_{i-1}) Trans(a_{i-1}, 0, 0) Rot(z, theta0_i) Trans(0, 0, d0_i);
+- a general chain (URDF): placements given, link frame i = body frame i.
+
+In both DH conventions the constant parts are theta0_i = offset_i and d0_i = d_i; the joint
+variable adds to theta (revolute: theta_i = q_i + offset_i) or to d (prismatic:
+d_i = q_i + d_i, theta_i = offset_i fixed).
 """
 
 from __future__ import annotations
@@ -18,6 +39,7 @@ from __future__ import annotations
 import dataclasses
 import hashlib
 import math
+import types
 from dataclasses import dataclass
 from importlib import resources
 from pathlib import Path
@@ -25,73 +47,169 @@ from pathlib import Path
 import numpy as np
 
 from ..errors import InputError
+from .limits import LIMITS
 
 try:  # Python >= 3.11
     import tomllib
 except ModuleNotFoundError:  # pragma: no cover - Python 3.10
     import tomli as tomllib
 
-__all__ = ["Robot", "load_robot", "builtin_robots", "robot_from_dict", "with_payload"]
+__all__ = ["Robot", "load_robot", "builtin_robots", "robot_from_dict", "robot_from_chain",
+           "with_payload", "dh_placements", "rot_x", "rot_z", "CONVENTIONS", "JOINT_TYPES"]
 
-_BUILTIN = {"puma560": "puma560.toml", "two-link": "two-link.toml"}
-_LINK_KEYS = {
-    "d", "a", "alpha_deg", "offset_deg", "mass", "com", "inertia",
-    "q_limits_deg", "qd_max_deg", "qdd_max_deg",
-}
+_BUILTIN = {"puma560": "puma560.toml", "two-link": "two-link.toml",
+            "stanford": "stanford.toml"}
+#: How a robot's placements were given: standard DH, modified DH (Craig) or a general chain.
+CONVENTIONS = ("standard", "modified", "chain")
+#: Joint types: rotation about, or translation along, the joint's z axis.
+JOINT_TYPES = ("revolute", "prismatic")
 
 
-def _readonly(x):
-    arr = np.array(x, dtype=float)
+def _readonly(x, dtype=float):
+    arr = np.array(x, dtype=dtype)
     arr.setflags(write=False)
     return arr
 
 
+def rot_x(angle):
+    """Rotation matrix about x.
+
+    Parameters
+    ----------
+    angle : float
+        Angle [rad].
+
+    Returns
+    -------
+    ndarray, shape (3, 3)
+    """
+    c, s = math.cos(angle), math.sin(angle)
+    return np.array([[1.0, 0.0, 0.0], [0.0, c, -s], [0.0, s, c]])
+
+
+def rot_z(angle):
+    """Rotation matrix about z.
+
+    Parameters
+    ----------
+    angle : float
+        Angle [rad].
+
+    Returns
+    -------
+    ndarray, shape (3, 3)
+    """
+    c, s = math.cos(angle), math.sin(angle)
+    return np.array([[c, -s, 0.0], [s, c, 0.0], [0.0, 0.0, 1.0]])
+
+
+def dh_placements(convention, d, a, alpha, offset):
+    """Joint placements and link-frame poses of a DH chain.
+
+    Parameters
+    ----------
+    convention : {"standard", "modified"}
+        Standard DH (Eq. (3.2-5)) or Craig's modified DH.
+    d, a, alpha, offset : array_like, shape (n,)
+        The rows' constant d [m], a [m], alpha [rad] and theta offset [rad] (in the modified
+        convention a and alpha are Craig's a_{i-1} and alpha_{i-1}).
+
+    Returns
+    -------
+    rotation : ndarray, shape (n, 3, 3)
+        P_i, the rotation of joint i's placement in body frame i-1.
+    translation : ndarray, shape (n, 3)
+        t_i, its translation [m].
+    link_rotation : ndarray, shape (n, 3, 3)
+        L_R of link frame i in body frame i.
+    link_translation : ndarray, shape (n, 3)
+        L_t of link frame i in body frame i [m].
+
+    Raises
+    ------
+    ValueError
+        If the convention is neither DH convention.
+    """
+    n = len(d)
+    P, t = np.zeros((n, 3, 3)), np.zeros((n, 3))
+    LR, Lt = np.zeros((n, 3, 3)), np.zeros((n, 3))
+    if convention == "standard":
+        for i in range(n):
+            Rz = rot_z(offset[i])
+            LR[i] = Rz @ rot_x(alpha[i])
+            Lt[i] = Rz @ np.array([a[i], 0.0, 0.0]) + np.array([0.0, 0.0, d[i]])
+            P[i], t[i] = (np.eye(3), np.zeros(3)) if i == 0 else (LR[i - 1], Lt[i - 1])
+    elif convention == "modified":
+        for i in range(n):
+            Rx = rot_x(alpha[i])
+            P[i] = Rx @ rot_z(offset[i])
+            t[i] = np.array([a[i], 0.0, 0.0]) + Rx @ np.array([0.0, 0.0, d[i]])
+            LR[i], Lt[i] = np.eye(3), np.zeros(3)
+    else:
+        raise ValueError(f"not a DH convention: {convention!r}")
+    return P, t, LR, Lt
+
+
 @dataclass(frozen=True, eq=False)
 class Robot:
-    """A serial arm of n revolute joints, standard DH form, with link inertial parameters.
+    """A serial arm of n revolute or prismatic joints with link inertial parameters.
 
-    Every array is read-only. Build one with :func:`load_robot` or :func:`robot_from_dict`.
+    Every array is read-only. Build one with :func:`load_robot`, :func:`robot_from_dict` or
+    :func:`robot_from_chain`. The joint model is in the module docstring.
 
     Attributes
     ----------
     name : str
         The robot's name, e.g. ``"puma560"``.
-    d : ndarray, shape (n,)
-        DH link offsets d_i [m].
-    a : ndarray, shape (n,)
-        DH link lengths a_i [m].
-    alpha : ndarray, shape (n,)
-        DH twist angles alpha_i [rad].
-    offset : ndarray, shape (n,)
-        Joint angle offsets, theta_i = q_i + offset_i [rad].
+    d, a, alpha, offset : ndarray, shape (n,)
+        DH parameters of a DH robot [m, m, rad, rad]: the rows of the robot file (standard:
+        d_i, a_i, alpha_i, theta offset_i; modified: d_i, a_{i-1}, alpha_{i-1}, theta
+        offset_i). For a prismatic joint ``offset`` is the fixed theta_i and ``d`` the constant
+        added to q_i. NaN for a general chain (``convention == "chain"``), whose geometry is
+        in ``rotation`` and ``translation`` only.
     mass : ndarray, shape (n,)
         Link masses m_i [kg].
     com : ndarray, shape (n, 3)
-        Centre of mass r_i of link i in link frame i [m].
+        Centre of mass r_i of link i in link frame i [m] (DH frame i for a DH robot).
     inertia : ndarray, shape (n, 3, 3)
         Inertia tensor I_i of link i about its centre of mass, axes parallel to link frame i,
         symmetric [kg m^2].
     q_min, q_max : ndarray, shape (n,)
-        Joint position limits [rad].
+        Joint position limits [rad] or [m]; may be -inf, inf.
     qd_max : ndarray, shape (n,)
-        Joint velocity limits [rad/s].
+        Joint velocity limits [rad/s] or [m/s].
     qdd_max : ndarray, shape (n,)
-        Joint acceleration limits [rad/s^2].
+        Joint acceleration limits [rad/s^2] or [m/s^2]; NaN where unknown (URDF).
     gravity : ndarray, shape (3,)
         Gravity vector g in the base frame [m/s^2], e.g. (0, 0, -9.8062).
-    description : str
-        A line of text about the robot.
-    reference : str
-        Where the parameters come from.
+    description, reference : str
+        A line of text about the robot; where the parameters come from.
     source : str
         The file the robot was read from, or ``"<dict>"``.
     sha256 : str
         SHA-256 of that file's bytes (of the canonical JSON of the dictionary otherwise).
+    convention : {"standard", "modified", "chain"}
+        How the placements were given.
+    prismatic : ndarray of bool, shape (n,)
+        True for a prismatic joint (q [m]), False for a revolute one (q [rad]).
+    rotation : ndarray, shape (n, 3, 3)
+        P_i: rotation of joint i's placement in body frame i-1 (for a DH robot always derived
+        from d, a, alpha and offset, so that ``dataclasses.replace`` cannot leave it stale).
+    translation : ndarray, shape (n, 3)
+        t_i: translation of joint i's placement in body frame i-1 [m].
+    link_rotation : ndarray, shape (n, 3, 3)
+        Orientation of link frame i in body frame i (identity for modified DH and chains).
+    link_translation : ndarray, shape (n, 3)
+        Origin of link frame i in body frame i [m].
+    metadata : mapping
+        Read-only extra facts from the builder (e.g. a URDF's base and tip links).
 
     Notes
     -----
-    Source: Fu, Gonzalez & Lee (1987), Secs. 2.2.10 and 3.2; the convention of link frame i at
-    the far end of link i is that of the chapter's Eq. (3.2-5).
+    Source: Fu, Gonzalez & Lee (1987), Secs. 2.2.10 and 3.2 (standard DH, Eq. (3.2-5), the
+    joint matrices Q of Eqs. (3.2-8a) and (3.2-8b)); Craig (1989), Sec. 3.4 (modified DH).
+    The dynamics engines read the body-frame quantities :attr:`body_com` and
+    :attr:`body_inertia` with ``rotation``, ``translation`` and ``prismatic``.
     """
 
     name: str
@@ -111,17 +229,64 @@ class Robot:
     reference: str = ""
     source: str = "<dict>"
     sha256: str = ""
+    convention: str = "standard"
+    prismatic: np.ndarray = None
+    rotation: np.ndarray = None
+    translation: np.ndarray = None
+    link_rotation: np.ndarray = None
+    link_translation: np.ndarray = None
+    metadata: types.MappingProxyType = None
 
     def __post_init__(self):
+        if self.convention not in CONVENTIONS:
+            raise ValueError(f"convention must be one of {CONVENTIONS}, got {self.convention!r}")
+        n = len(self.mass)
+        set_ = object.__setattr__
+        set_(self, "prismatic", _readonly(np.zeros(n, bool) if self.prismatic is None
+                                          else self.prismatic, bool))
+        set_(self, "metadata", types.MappingProxyType(dict(self.metadata or {})))
+        if self.convention != "chain":      # always from the DH rows: never stale
+            P, t, LR, Lt = dh_placements(self.convention, self.d, self.a, self.alpha,
+                                         self.offset)
+            set_(self, "rotation", P)
+            set_(self, "translation", t)
+            set_(self, "link_rotation", LR)
+            set_(self, "link_translation", Lt)
+        if self.link_rotation is None:
+            set_(self, "link_rotation", np.broadcast_to(np.eye(3), (n, 3, 3)))
+        if self.link_translation is None:
+            set_(self, "link_translation", np.zeros((n, 3)))
         for f in dataclasses.fields(self):
             value = getattr(self, f.name)
-            if isinstance(value, (np.ndarray, list, tuple)):
-                object.__setattr__(self, f.name, _readonly(value))
+            if f.name != "prismatic" and isinstance(value, (np.ndarray, list, tuple)):
+                set_(self, f.name, _readonly(value))
 
     @property
     def n(self):
         """int: the number of joints (degrees of freedom)."""
-        return int(self.d.shape[0])
+        return int(self.mass.shape[0])
+
+    @property
+    def is_dh(self):
+        """bool: True if the robot came from DH rows (d, a, alpha, offset are meaningful)."""
+        return self.convention in ("standard", "modified")
+
+    @property
+    def joint_types(self):
+        """tuple of str: ``"revolute"`` or ``"prismatic"`` per joint."""
+        return tuple(JOINT_TYPES[int(p)] for p in self.prismatic)
+
+    @property
+    def body_com(self):
+        """ndarray, shape (n, 3): centres of mass in the body frames, L_R r_i + L_t [m]."""
+        return np.einsum("sab,sb->sa", self.link_rotation, self.com) + self.link_translation
+
+    @property
+    def body_inertia(self):
+        """ndarray, shape (n, 3, 3): inertia tensors about the centres of mass, body-frame
+        axes, L_R I_i L_R^T [kg m^2]."""
+        LR = self.link_rotation
+        return LR @ self.inertia @ np.swapaxes(LR, -1, -2)
 
     def joint_names(self):
         """Joint labels ``["1", ..., "n"]``.
@@ -133,31 +298,46 @@ class Robot:
         return [str(i + 1) for i in range(self.n)]
 
     def to_dict(self):
-        """The robot as a dictionary in the robot-file layout (degrees for angles).
+        """The robot as a dictionary in the robot-file layout.
 
         Returns
         -------
         dict
-            Keys ``name``, ``description``, ``reference``, ``gravity`` and ``link`` (a list of
-            per-link dictionaries); ``robot_from_dict(robot.to_dict())`` rebuilds the robot.
+            Keys ``name``, ``description``, ``reference``, ``gravity``, ``convention`` and
+            ``link`` (a list of per-link dictionaries, degrees for revolute angles);
+            ``robot_from_dict(robot.to_dict())`` rebuilds the robot. A general chain writes
+            its placements (``rotation``, ``translation``) and limits in SI units.
         """
         links = []
         for i in range(self.n):
             I = self.inertia[i]
-            links.append({
-                "d": float(self.d[i]), "a": float(self.a[i]),
-                "alpha_deg": math.degrees(self.alpha[i]),
-                "offset_deg": math.degrees(self.offset[i]),
-                "mass": float(self.mass[i]), "com": [float(v) for v in self.com[i]],
-                "inertia": [float(I[0, 0]), float(I[1, 1]), float(I[2, 2]),
-                            float(I[0, 1]), float(I[0, 2]), float(I[1, 2])],
-                "q_limits_deg": [math.degrees(self.q_min[i]), math.degrees(self.q_max[i])],
-                "qd_max_deg": math.degrees(self.qd_max[i]),
-                "qdd_max_deg": math.degrees(self.qdd_max[i]),
-            })
+            link = {"joint": self.joint_types[i]}
+            pris = bool(self.prismatic[i])
+            if self.convention == "chain":
+                link.update(rotation=self.rotation[i].tolist(),
+                            translation=self.translation[i].tolist())
+            elif pris:
+                link.update(theta_deg=math.degrees(self.offset[i]), a=float(self.a[i]),
+                            alpha_deg=math.degrees(self.alpha[i]), offset=float(self.d[i]))
+            else:
+                link.update(d=float(self.d[i]), a=float(self.a[i]),
+                            alpha_deg=math.degrees(self.alpha[i]),
+                            offset_deg=math.degrees(self.offset[i]))
+            link.update(mass=float(self.mass[i]), com=[float(v) for v in self.com[i]],
+                        inertia=[float(I[0, 0]), float(I[1, 1]), float(I[2, 2]),
+                                 float(I[0, 1]), float(I[0, 2]), float(I[1, 2])])
+            if pris or self.convention == "chain":      # SI units: m or rad
+                link.update(q_limits=[float(self.q_min[i]), float(self.q_max[i])],
+                            qd_max=float(self.qd_max[i]), qdd_max=float(self.qdd_max[i]))
+            else:
+                link.update(q_limits_deg=[math.degrees(self.q_min[i]),
+                                          math.degrees(self.q_max[i])],
+                            qd_max_deg=math.degrees(self.qd_max[i]),
+                            qdd_max_deg=math.degrees(self.qdd_max[i]))
+            links.append(link)
         return {"name": self.name, "description": self.description,
                 "reference": self.reference, "gravity": [float(v) for v in self.gravity],
-                "link": links}
+                "convention": self.convention, "link": links}
 
     def with_inertial(self, mass=None, com=None, inertia=None):
         """A copy with some inertial parameters replaced.
@@ -220,11 +400,16 @@ def with_payload(robot, mass, com=(0.0, 0.0, 0.0), inertia=(0.0, 0.0, 0.0)):
     enters the G-D terms through link n's mass, centre of mass and inertia tensor.
     """
     mass = float(mass)
-    if not math.isfinite(mass) or mass < 0:
-        raise InputError(f"payload mass must be a finite number >= 0, got {mass}",
-                         column="--payload")
+    if not math.isfinite(mass) or mass < 0 or mass > LIMITS["mass"]:
+        raise InputError(f"payload mass must be a number in [0, {LIMITS['mass']:g}] kg, got "
+                         f"{mass:g}", column="--payload")
     com_p = np.asarray(com, dtype=float).reshape(3)
     I_p = np.asarray(inertia, dtype=float)
+    for opt, vals, lim in (("--payload-com", com_p, "length"),
+                           ("--payload-inertia", I_p, "inertia")):
+        if not (np.abs(vals) <= LIMITS[lim]).all():
+            raise InputError(f"values beyond the supported magnitude {LIMITS[lim]:g}",
+                             column=opt)
     I_p = np.diag(I_p) if I_p.shape == (3,) else I_p.reshape(3, 3)
     if not np.isfinite(I_p).all() or not np.allclose(I_p, I_p.T) \
             or np.linalg.eigvalsh(I_p).min() < -1e-12:
@@ -254,119 +439,90 @@ def builtin_robots():
     Returns
     -------
     list of str
-        ``["puma560", "two-link"]``.
+        Sorted names, e.g. ``["puma560", "stanford", "two-link"]``.
     """
     return sorted(_BUILTIN)
 
 
-def _number(value, path, column):
-    if isinstance(value, bool) or not isinstance(value, (int, float)):
-        raise InputError(f"expected a number, got {value!r}", path, column=column)
-    if not math.isfinite(value):
-        raise InputError(f"expected a finite number, got {value!r}", path, column=column)
-    return float(value)
-
-
-def _vector(value, length, path, column):
-    if not isinstance(value, (list, tuple)) or len(value) != length:
-        raise InputError(f"expected a list of {length} numbers, got {value!r}", path, column=column)
-    return [_number(v, path, column) for v in value]
-
-
-def robot_from_dict(spec, source="<dict>", sha256=None):
-    """Validate a robot specification and build a :class:`Robot`.
+def robot_from_chain(name, joints, gravity, **metadata):
+    """Build a :class:`Robot` from general joint placements (the URDF route).
 
     Parameters
     ----------
-    spec : dict
-        The robot-file layout: ``name`` (str), ``gravity`` (3 numbers [m/s^2]), optional
-        ``description`` and ``reference``, and ``link``: a list of tables with ``d`` [m], ``a``
-        [m], ``alpha_deg`` [deg], optional ``offset_deg`` [deg], ``mass`` [kg], ``com`` (3
-        numbers [m]), ``inertia`` (3 numbers Ixx, Iyy, Izz or 6 numbers Ixx, Iyy, Izz, Ixy, Ixz,
-        Iyz [kg m^2]), ``q_limits_deg`` (2 numbers [deg]), ``qd_max_deg`` [deg/s] and
-        ``qdd_max_deg`` [deg/s^2].
-    source : str, optional
-        Where the specification came from, for error messages and provenance.
-    sha256 : str, optional
-        SHA-256 of the source file; by default that of the specification's canonical JSON.
+    name : str
+        The robot's name.
+    joints : list of dict
+        One per moving joint from the base, each with ``"type"`` (``"revolute"`` or
+        ``"prismatic"``), ``"rotation"`` (3x3) and ``"translation"`` (3 [m]): the fixed
+        placement of the joint in the previous body frame (the base for the first joint); the
+        joint then turns about or slides along the placed frame's z axis. ``"mass"`` [kg],
+        ``"com"`` (3 [m]) and ``"inertia"`` (3x3 [kg m^2], about the centre of mass), both in
+        this joint's body frame; ``"q_min"``, ``"q_max"`` [rad or m] (may be -inf, inf),
+        ``"qd_max"`` [rad/s or m/s] and ``"qdd_max"`` [rad/s^2 or m/s^2] (None or NaN when
+        unknown).
+    gravity : array_like, shape (3,)
+        Gravity in the base frame [m/s^2].
+    **metadata
+        ``description``, ``reference``, ``source`` (file, also used in error messages) and
+        ``sha256`` become the robot's fields; any other key (e.g. ``base_link``,
+        ``tip_link``) goes to ``Robot.metadata``.
 
     Returns
     -------
     Robot
+        ``convention == "chain"``; the DH fields d, a, alpha, offset are NaN.
 
     Raises
     ------
     InputError
-        On a missing or unknown key, a value that is not a finite number, a negative mass, an
-        inertia tensor that is not positive semi-definite, or limits in the wrong order.
-        (The triangle inequality is not enforced: published models such as the PUMA 560's lump
-        rotor inertia into a link, e.g. I_1 = diag(0, 0.35, 0).) The message names the source and the key (as
-        ``link[i].key``).
-    """
-    if sha256 is None:
-        import json
+        On a missing key, an unknown joint type, a placement that is not a rotation, a negative
+        mass, an inertia that is not symmetric positive semi-definite, or bad limits; the
+        message names the key as ``joint[i].key``.
 
-        sha256 = hashlib.sha256(json.dumps(spec, sort_keys=True).encode()).hexdigest()
-    path = source
-    if not isinstance(spec, dict):
-        raise InputError("a robot file must be a table", path)
-    name = spec.get("name")
-    if not isinstance(name, str) or not name:
-        raise InputError("missing robot name", path, column="name")
-    if "gravity" not in spec:
-        raise InputError("missing gravity vector", path, column="gravity")
-    gravity = _vector(spec["gravity"], 3, path, "gravity")
-    links = spec.get("link")
-    if not isinstance(links, list) or not links:
-        raise InputError("no [[link]] tables", path, column="link")
-    cols = {k: [] for k in ("d", "a", "alpha", "offset", "mass", "com", "inertia",
-                            "q_min", "q_max", "qd_max", "qdd_max")}
-    for i, link in enumerate(links, start=1):
-        where = f"link[{i}]"
-        if not isinstance(link, dict):
-            raise InputError("expected a table", path, column=where)
-        unknown = set(link) - _LINK_KEYS
-        if unknown:
-            raise InputError(f"unknown key {sorted(unknown)[0]!r}", path, column=where)
-        for key in _LINK_KEYS - {"offset_deg"}:
-            if key not in link:
+    Examples
+    --------
+    >>> import numpy as np
+    >>> robot = robot_from_chain("slider", [{
+    ...     "type": "prismatic", "rotation": np.eye(3), "translation": [0, 0, 0.1],
+    ...     "mass": 2.0, "com": [0, 0, 0], "inertia": np.eye(3) * 0.01,
+    ...     "q_min": 0.0, "q_max": 0.5, "qd_max": 1.0, "qdd_max": None}], [0, 0, -9.81])
+    >>> robot.joint_types, float(robot.qdd_max[0]) != float(robot.qdd_max[0])
+    (('prismatic',), True)
+    """
+    fields = {k: metadata.pop(k) for k in ("description", "reference", "source", "sha256")
+              if k in metadata}
+    path = fields.get("source")
+    gravity = np.asarray(gravity, dtype=float).tolist()
+    if not isinstance(joints, (list, tuple)) or not joints:
+        raise InputError("a chain needs at least one moving joint", path, column="joint")
+    links = []
+    for i, j in enumerate(joints, start=1):
+        where = f"joint[{i}]"
+        for key in ("type", "rotation", "translation", "mass", "com", "inertia", "q_min",
+                    "q_max", "qd_max"):
+            if key not in j:
                 raise InputError("missing key", path, column=f"{where}.{key}")
-        cols["d"].append(_number(link["d"], path, f"{where}.d"))
-        cols["a"].append(_number(link["a"], path, f"{where}.a"))
-        cols["alpha"].append(math.radians(_number(link["alpha_deg"], path, f"{where}.alpha_deg")))
-        cols["offset"].append(math.radians(_number(link.get("offset_deg", 0.0), path,
-                                                   f"{where}.offset_deg")))
-        m = _number(link["mass"], path, f"{where}.mass")
-        if m < 0:
-            raise InputError(f"negative mass {m}", path, column=f"{where}.mass")
-        cols["mass"].append(m)
-        cols["com"].append(_vector(link["com"], 3, path, f"{where}.com"))
-        raw = link["inertia"]
-        n_in = len(raw) if isinstance(raw, (list, tuple)) else 0
-        vals = _vector(raw, 6 if n_in == 6 else 3, path, f"{where}.inertia")
-        ixx, iyy, izz = vals[:3]
-        ixy, ixz, iyz = vals[3:] if len(vals) == 6 else (0.0, 0.0, 0.0)
-        I = np.array([[ixx, ixy, ixz], [ixy, iyy, iyz], [ixz, iyz, izz]])
-        eig = np.linalg.eigvalsh(I)
-        tol = 1e-12 * max(1.0, float(np.abs(I).max()))
-        if eig.min() < -tol:
-            raise InputError("inertia tensor is not positive semi-definite", path,
-                             column=f"{where}.inertia")
-        cols["inertia"].append(I)
-        lim = _vector(link["q_limits_deg"], 2, path, f"{where}.q_limits_deg")
-        if lim[0] >= lim[1]:
-            raise InputError("lower limit not below upper limit", path,
-                             column=f"{where}.q_limits_deg")
-        cols["q_min"].append(math.radians(lim[0]))
-        cols["q_max"].append(math.radians(lim[1]))
-        for key, col in (("qd_max_deg", "qd_max"), ("qdd_max_deg", "qdd_max")):
-            v = _number(link[key], path, f"{where}.{key}")
-            if v <= 0:
-                raise InputError("limit must be positive", path, column=f"{where}.{key}")
-            cols[col].append(math.radians(v))
-    return Robot(name=name, gravity=gravity, description=str(spec.get("description", "")),
-                 reference=str(spec.get("reference", "")), source=str(source), sha256=sha256,
-                 **cols)
+        qdd = j.get("qdd_max")
+        link = {"joint": j["type"], "rotation": np.asarray(j["rotation"]).tolist(),
+                "translation": np.asarray(j["translation"]).tolist(), "mass": j["mass"],
+                "com": np.asarray(j["com"]).tolist(),
+                "inertia": np.asarray(j["inertia"], dtype=float).tolist(),
+                "q_limits": [float(j["q_min"]), float(j["q_max"])], "qd_max": j["qd_max"]}
+        if qdd is not None and not (isinstance(qdd, float) and math.isnan(qdd)):
+            link["qdd_max"] = qdd
+        links.append(link)
+    spec = {"name": name, "gravity": gravity, "convention": "chain", "link": links,
+            "description": fields.get("description", ""),
+            "reference": fields.get("reference", "")}
+    try:
+        robot = robot_from_dict(spec, source=path or "<chain>", sha256=fields.get("sha256"))
+    except InputError as err:
+        col = err.column.replace("link[", "joint[") if err.column else err.column
+        col = (col.replace(".q_limits", ".q_min/q_max").replace(".joint", ".type")
+               if col else col)
+        raise InputError(err.message, path, column=col) from None
+    return dataclasses.replace(robot, metadata=metadata,
+                               source=str(path) if path else "<chain>")
 
 
 def load_robot(name_or_path):
@@ -375,7 +531,7 @@ def load_robot(name_or_path):
     Parameters
     ----------
     name_or_path : str or os.PathLike
-        ``"puma560"``, ``"two-link"``, or the path of a TOML robot file (layout in
+        A built-in name (:func:`builtin_robots`), or the path of a TOML robot file (layout in
         :func:`robot_from_dict`).
 
     Returns
@@ -401,6 +557,8 @@ def load_robot(name_or_path):
         source = key
     else:
         path = Path(key)
+        if path.is_dir():
+            raise InputError("is a folder, not a robot file", key)
         if not path.is_file():
             raise InputError(
                 f"unknown robot (built-in: {', '.join(builtin_robots())}) and no such file", key)
@@ -413,4 +571,9 @@ def load_robot(name_or_path):
         spec = tomllib.loads(raw.decode("utf-8"))
     except (tomllib.TOMLDecodeError, UnicodeDecodeError) as exc:
         raise InputError(f"not a valid TOML robot file: {exc}", source) from None
+    except RecursionError:
+        raise InputError("not a robot file: nested too deeply", source) from None
     return robot_from_dict(spec, source=source, sha256=hashlib.sha256(raw).hexdigest())
+
+
+from .robot_file import robot_from_dict  # noqa: E402  (the file layout needs Robot)

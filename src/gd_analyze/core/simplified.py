@@ -27,7 +27,7 @@ from .ranking import element_index, element_labels
 from .robot import robot_from_dict
 
 __all__ = ["SCHEMA_VERSION", "CHOICES", "SimplifiedModel", "choice_masks", "merge_choices",
-           "simplified_torque", "torque_error", "TorqueErrorAccumulator"]
+           "simplified_torque", "torque_error", "TorqueErrorAccumulator", "parameters_sha256"]
 
 #: Version of the simplified_model.json layout (2: explicit terms, rule, tolerance, cost).
 SCHEMA_VERSION = 2
@@ -340,25 +340,29 @@ class SimplifiedModel:
         -------
         dict
         """
-        return {
+        out = {
             "schema_version": SCHEMA_VERSION,
             "kind": "gd-analyze simplified model",
             "robot": {"name": self.robot.name, "sha256": self.robot.sha256,
+                      "parameters_sha256": parameters_sha256(self.robot.to_dict()),
                       "source": self.robot.source, "parameters": self.robot.to_dict()},
             "dominance_threshold": self.dominance_threshold,
             "negligible_threshold": self.negligible_threshold,
             "choices": dict(self.choices),
             "rule": self.rule,
-            "tolerance": self.tolerance,
             "torque_floor": self.torque_floor,
             "cost": dict(self.cost or self.program().cost()),
-            "full_explicit_cost": dict(self.full_cost),
             "bound": list(self.bound),
             "explicit_terms": _terms_to_json(self.explicit_terms()),
             "trajectory_sha256": self.trajectory_sha256,
             "validation": self.validation,
             "provenance": self.provenance,
         }
+        if np.isfinite(self.tolerance):
+            out["tolerance"] = self.tolerance
+        if self.full_cost:
+            out["full_cost"] = dict(self.full_cost)
+        return out
 
     def save(self, path):
         """Write the model as JSON, atomically.
@@ -396,44 +400,78 @@ class SimplifiedModel:
         Raises
         ------
         InputError
-            If the file is missing, not JSON, of another schema version, or its robot or
-            choices are invalid.
+            If the file is missing or not strict JSON (duplicate keys, NaN, numbers beyond a
+            float, deep nesting), of another schema version, does not follow
+            :data:`gd_analyze.core.schema.MODEL_SCHEMA` (types, unknown keys, finite
+            thresholds in range), its robot's parameters do not match
+            ``robot.parameters_sha256`` or fail validation, or its choices do not name exactly
+            the elements of an n-joint robot. One line naming the key.
         """
+        from .schema import MODEL_SCHEMA, load_json
+
         path = str(path)
-        try:
-            with open(path, encoding="utf-8") as fh:
-                spec = json.load(fh)
-        except FileNotFoundError:
-            raise InputError("no such file", path) from None
-        except (OSError, UnicodeDecodeError, json.JSONDecodeError) as exc:
-            raise InputError(f"not a simplified-model JSON file: {exc}", path) from None
-        if not isinstance(spec, dict) or spec.get("schema_version") not in READABLE_SCHEMAS:
-            raise InputError(f"expected schema_version {SCHEMA_VERSION}", path,
+        spec = load_json(path, "simplified-model JSON")
+        if isinstance(spec, dict) and spec.get("schema_version") not in READABLE_SCHEMAS:
+            raise InputError(f"expected schema_version {SCHEMA_VERSION}, got "
+                             f"{spec.get('schema_version')!r}"[:120], path,
                              column="schema_version")
+        MODEL_SCHEMA.check(spec, path, "")
+        rob = spec["robot"]
+        if parameters_sha256(rob["parameters"]) != rob["parameters_sha256"]:
+            raise InputError("the robot's parameters do not match their SHA-256 (edited after "
+                             "the model was written?)", path, column="robot.parameters_sha256")
+        robot = robot_from_dict(rob["parameters"], source=f"{path}#robot",
+                                sha256=rob["sha256"] or None)
+        if robot.name != rob["name"]:
+            raise InputError(f"robot.name {rob['name']!r} differs from the parameters' name "
+                             f"{robot.name!r}", path, column="robot.name")
+        labels = element_labels(robot.n)
+        choices = spec["choices"]
+        if set(choices) != set(labels):
+            extra = sorted(set(choices) - set(labels))
+            missing = [lab for lab in labels if lab not in choices]
+            raise InputError((f"unknown element {extra[0]!r}" if extra else
+                              f"missing element {missing[0]!r}")
+                             + f" (a {robot.n}-joint robot has {labels[0]}..{labels[-1]})",
+                             path, column="choices")
         try:
-            rob = spec["robot"]
-            robot = robot_from_dict(rob["parameters"], source=f"{path}#robot",
-                                    sha256=rob.get("sha256"))
-            model = cls(robot=robot, choices=dict(spec["choices"]),
-                        dominance_threshold=float(spec["dominance_threshold"]),
-                        negligible_threshold=float(spec["negligible_threshold"]),
-                        trajectory_sha256=str(spec.get("trajectory_sha256", "")),
-                        validation=spec.get("validation", {}),
-                        provenance=spec.get("provenance", {}),
-                        rule=str(spec.get("rule", "chapter")),
-                        tolerance=float(spec.get("tolerance") if spec.get("tolerance")
-                                        is not None else float("nan")),
-                        torque_floor=float(spec.get("torque_floor", 0.0) or 0.0),
-                        terms=_terms_from_json(spec.get("explicit_terms"), robot.n),
-                        cost=dict(spec.get("cost") or {}),
-                        full_cost=dict(spec.get("full_explicit_cost") or {}),
-                        bound=list(spec.get("bound") or []))
-            choice_masks(model.choices, robot.n)
-        except InputError:
-            raise
-        except (KeyError, TypeError, ValueError) as exc:
-            raise InputError(f"invalid simplified model: {exc}", path) from None
-        return model
+            terms = _terms_from_json(spec.get("explicit_terms"), robot.n)
+        except (ValueError, TypeError) as exc:
+            raise InputError(f"invalid explicit terms: {exc}"[:200], path,
+                             column="explicit_terms") from None
+        tolerance = spec.get("tolerance")
+        return cls(robot=robot, choices=dict(choices),
+                   dominance_threshold=float(spec["dominance_threshold"]),
+                   negligible_threshold=float(spec["negligible_threshold"]),
+                   trajectory_sha256=spec.get("trajectory_sha256", ""),
+                   validation=spec.get("validation", {}),
+                   provenance=spec.get("provenance", {}),
+                   rule=spec.get("rule", "chapter"),
+                   tolerance=float("nan") if tolerance is None else float(tolerance),
+                   torque_floor=float(spec.get("torque_floor", 0.0)), terms=terms,
+                   cost=dict(spec.get("cost") or {}), full_cost=dict(spec.get("full_cost") or {}),
+                   bound=[float("nan") if v is None else float(v)
+                          for v in spec.get("bound") or []])
+
+
+def parameters_sha256(parameters):
+    """SHA-256 of a robot's parameters as stored in a model file (canonical JSON).
+
+    Parameters
+    ----------
+    parameters : dict
+        :meth:`Robot.to_dict` output, or the same as read back from JSON.
+
+    Returns
+    -------
+    str
+        64 hexadecimal digits of the SHA-256 of ``json.dumps(parameters, sort_keys=True)``;
+        a float survives the JSON round trip exactly, so the digest does too.
+    """
+    import hashlib
+
+    text = json.dumps(_json_safe(parameters), sort_keys=True, allow_nan=False)
+    return hashlib.sha256(text.encode()).hexdigest()
 
 
 def _terms_to_json(terms):
@@ -456,6 +494,8 @@ def _terms_from_json(spec, n):
     for f in ("kind", "part", "i", "j", "k", "S", "C"):
         if getattr(out, f).shape != (size,):
             raise ValueError(f"explicit_terms.{f}: expected {size} values")
+    if not all(isinstance(v, bool) for v in spec["sin"]):
+        raise ValueError("explicit_terms.sin: expected true/false")
     if not np.isfinite(out.C).all():
         raise ValueError("explicit_terms.coef: not finite")
     if size and (out.i.min() < 0 or out.i.max() >= n or out.j.max() >= n or out.k.max() >= n):

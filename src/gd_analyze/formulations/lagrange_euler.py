@@ -1,20 +1,23 @@
 """The Lagrange-Euler (L-E) equations of motion, Sec. 3.2, batched over set points.
 
-The chapter writes the joint torques of an n-joint revolute arm as Eq. (3.2-26),
+The chapter writes the joint torques of an n-joint arm as Eq. (3.2-26),
 ``tau = D(q) qdd + h(q, qd) + c(q)``, with (1-based indices, link j, joints i, k, m)::
 
-    U_ij  = dT_i/dq_j  = ^0T_{j-1} Q ^{j-1}T_i                      j <= i, else 0     (3.2-11)
-    U_ijk = dU_ij/dq_k = ^0T_{j-1} Q ^{j-1}T_{k-1} Q ^{k-1}T_i     i >= k >= j
-                       = ^0T_{k-1} Q ^{k-1}T_{j-1} Q ^{j-1}T_i     i >= j >= k, else 0 (3.2-13)
+    U_ij  = dT_i/dq_j  = ^0T_j' Q_j ^j'T_i                          j <= i, else 0     (3.2-11)
+    U_ijk = dU_ij/dq_k = ^0T_j' Q_j ^j'T_k' Q_k ^k'T_i             i >= k >= j
+                       = ^0T_k' Q_k ^k'T_j' Q_j ^j'T_i             i >= j >= k, else 0 (3.2-13)
     D_ik  = sum_{j >= max(i,k)}   Tr(U_jk J_j U_ji^T)                                  (3.2-31)
     h_ikm = sum_{j >= max(i,k,m)} Tr(U_jkm J_j U_ji^T)                                 (3.2-33)
     h_i   = sum_k sum_m h_ikm qd_k qd_m                                                (3.2-32)
     c_i   = sum_{j >= i} (-m_j g^T U_ji rbar_j)                                        (3.2-34)
 
-where ^{j-1}T_i = ^{j-1}A_j ... ^{i-1}A_i are products of the link matrices of Eq. (3.2-5),
-Q is the revolute-joint matrix of Eq. (3.2-8a), J_j the 4x4 pseudo-inertia matrix of link j,
-Eq. (3.2-18), g = (g_x, g_y, g_z, 0) the gravity row vector and rbar_j = (r_j, 1) the centre of
-mass of link j in homogeneous coordinates of link frame j.
+where the frames are the body frames of :mod:`gd_analyze.robot`: frame j' = body frame j, whose
+z axis is joint j's axis (the role of DH frame j-1 in the book), ^j'T_i the products of the
+transforms ^{i-1}T_i between body frames (:func:`~gd_analyze.kinematics.joint_transforms`;
+the book's link matrices of Eq. (3.2-5) with the joint at the start of its frame), Q_j the
+joint matrix of Eq. (3.2-8a) (revolute) or Eq. (3.2-8b) (prismatic), J_j the 4x4
+pseudo-inertia matrix of link j, Eq. (3.2-18), g = (g_x, g_y, g_z, 0) the gravity row vector
+and rbar_j = (r_j, 1) the centre of mass of link j, both in body frame j.
 
 The algorithm core (:func:`_le_core`) uses nothing but array indexing, ``@``, ``+`` and ``*``,
 so the very same code also runs on object arrays of counting scalars: that is how
@@ -27,13 +30,32 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ..core.kinematics import as_states, link_matrices
+from ..core.kinematics import as_states, joint_transforms
 
-__all__ = ["Q_REVOLUTE", "DEFAULT_CHUNK", "LETerms", "pseudo_inertia", "u_matrices", "le_terms"]
+__all__ = ["Q_REVOLUTE", "Q_PRISMATIC", "joint_q_matrices", "DEFAULT_CHUNK", "LETerms", "pseudo_inertia", "u_matrices", "le_terms"]
 
 #: The matrix Q of a revolute joint, Eq. (3.2-8a): dA/dq = Q A, Eq. (3.2-9).
 Q_REVOLUTE = np.array([[0, -1, 0, 0], [1, 0, 0, 0], [0, 0, 0, 0], [0, 0, 0, 0]])
 Q_REVOLUTE.setflags(write=False)
+#: The matrix Q of a prismatic joint, Eq. (3.2-8b).
+Q_PRISMATIC = np.array([[0, 0, 0, 0], [0, 0, 0, 0], [0, 0, 0, 1], [0, 0, 0, 0]])
+Q_PRISMATIC.setflags(write=False)
+
+
+def joint_q_matrices(robot):
+    """The joint matrices Q_j of every joint, Eqs. (3.2-8a) and (3.2-8b).
+
+    Parameters
+    ----------
+    robot : Robot
+        The arm, with n joints.
+
+    Returns
+    -------
+    ndarray of int, shape (n, 4, 4)
+        Q_REVOLUTE or Q_PRISMATIC per joint (exact 0 and 1 entries).
+    """
+    return np.stack([Q_PRISMATIC if p else Q_REVOLUTE for p in robot.prismatic])
 
 #: Set points per chunk: U_ijk has N n^3 16 entries (28 MB for 1024 set points of a 6-joint arm).
 DEFAULT_CHUNK = 1024
@@ -87,7 +109,7 @@ class LETerms:
         return _tau(self.D, self.h, self.c, qdd)
 
 
-def pseudo_inertia(robot):
+def pseudo_inertia(robot, frame="link"):
     """The pseudo-inertia matrices J_i of the links, Eq. (3.2-18).
 
     J_i = int r r^T dm over link i, with r = (x, y, z, 1) in link frame i. It is built from the
@@ -102,6 +124,9 @@ def pseudo_inertia(robot):
     ----------
     robot : Robot
         The arm, with n joints.
+    frame : {"link", "body"}, optional
+        Link frame i (DH frame i for a DH robot, as in the book) or body frame i (the frame of
+        :func:`le_terms`).
 
     Returns
     -------
@@ -121,8 +146,8 @@ def pseudo_inertia(robot):
     off-diagonals are minus the products of inertia int x y dm, hence the minus sign above.
     """
     m = robot.mass
-    r = robot.com
-    Ic = robot.inertia
+    r = robot.com if frame == "link" else robot.body_com
+    Ic = robot.inertia if frame == "link" else robot.body_inertia
     trace = np.trace(Ic, axis1=1, axis2=2)
     S = (0.5 * trace[:, None, None] * np.eye(3) - Ic              # about the centre of mass
          + m[:, None, None] * r[:, :, None] * r[:, None, :])   # parallel-axis theorem
@@ -148,36 +173,38 @@ def _chain(A):
     return P
 
 
-def _u_core(A):
-    """U_ij and U_ijk, Eqs. (3.2-11) and (3.2-13), from the link matrices A (N, n, 4, 4).
+def _u_core(A, Q):
+    """U_ij and U_ijk, Eqs. (3.2-11) and (3.2-13), from the body transforms A (N, n, 4, 4) and
+    the joint matrices Q (n, 4, 4).
 
     0-based: ``U[:, i, j]`` = dT_{i+1}/dq_{j+1}; ``U3[:, i, j, k]`` = d^2 T_{i+1}/dq_{j+1}dq_{k+1}.
     """
     N, n = A.shape[:2]
-    Q = Q_REVOLUTE.astype(A.dtype)
+    Q = Q.astype(A.dtype)
     P = _chain(A)
     U = np.zeros((N, n, n, 4, 4), dtype=A.dtype)
     U3 = np.zeros((N, n, n, n, 4, 4), dtype=A.dtype)
-    TQ = [P[0][j] @ Q for j in range(n)]                      # ^0T_{j-1} Q
+    TQ = [P[0][j + 1] @ Q[j] for j in range(n)]               # ^0T_j' Q_j
     for j in range(n):
         for i in range(j, n):
-            U[:, i, j] = TQ[j] @ P[j][i + 1]                   # Eq. (3.2-11)
+            U[:, i, j] = TQ[j] @ P[j + 1][i + 1]               # Eq. (3.2-11)
         for k in range(j, n):
-            TQTQ = TQ[j] @ P[j][k] @ Q                         # ^0T_{j-1} Q ^{j-1}T_{k-1} Q
+            TQTQ = TQ[j] @ P[j + 1][k + 1] @ Q[k]              # ^0T_j' Q_j ^j'T_k' Q_k
             for i in range(k, n):
-                U3[:, i, j, k] = TQTQ @ P[k][i + 1]            # Eq. (3.2-13), i >= k >= j
+                U3[:, i, j, k] = TQTQ @ P[k + 1][i + 1]        # Eq. (3.2-13), i >= k >= j
                 U3[:, i, k, j] = U3[:, i, j, k]                # i >= j >= k: same product
     return U, U3
 
 
-def _le_core(A, J, gm, rbar, qd):
-    """D, h_ikm, h and c of Eqs. (3.2-31) to (3.2-34) for link matrices A (N, n, 4, 4).
+def _le_core(A, Q, J, gm, rbar, qd):
+    """D, h_ikm, h and c of Eqs. (3.2-31) to (3.2-34) for body transforms A (N, n, 4, 4).
 
-    J (n, 4, 4): pseudo-inertias; gm (n, 4): the row vectors -m_j g^T; rbar (n, 4): homogeneous
-    centres of mass; qd (N, n). Works on float and on object arrays alike.
+    Q (n, 4, 4): joint matrices; J (n, 4, 4): pseudo-inertias; gm (n, 4): the row vectors
+    -m_j g^T; rbar (n, 4): homogeneous centres of mass; qd (N, n). Works on float and on
+    object arrays alike.
     """
     N, n = A.shape[:2]
-    U, U3 = _u_core(A)
+    U, U3 = _u_core(A, Q)
     D = np.zeros((N, n, n), dtype=A.dtype)
     H = np.zeros((N, n, n, n), dtype=A.dtype)
     c = np.zeros((N, n), dtype=A.dtype)
@@ -205,8 +232,8 @@ def _constants(robot):
     """Per-robot constants of the L-E core: J (n, 4, 4), -m g^T (n, 4), rbar (n, 4)."""
     g = np.append(np.asarray(robot.gravity, dtype=float), 0.0)
     gm = -robot.mass[:, None] * g
-    rbar = np.concatenate([robot.com, np.ones((robot.n, 1))], axis=1)
-    return pseudo_inertia(robot), gm, rbar
+    rbar = np.concatenate([robot.body_com, np.ones((robot.n, 1))], axis=1)
+    return pseudo_inertia(robot, "body"), gm, rbar
 
 
 def u_matrices(robot, q):
@@ -215,15 +242,16 @@ def u_matrices(robot, q):
     Parameters
     ----------
     robot : Robot
-        The arm, with n revolute joints.
+        The arm, with n revolute or prismatic joints.
     q : array_like, shape (N, n) or (n,)
-        Joint positions [rad].
+        Joint positions [rad or m].
 
     Returns
     -------
     U : ndarray, shape (N, n, n, 4, 4)
-        ``U[:, i, j]`` = d(^0T_i)/dq_j (0-based link i and joint j; zero for j > i); [m/rad]
-        in the last column, [1/rad] elsewhere.
+        ``U[:, i, j]`` = d(^0T_i)/dq_j of body frame i (0-based link i and joint j; zero
+        for j > i); [m/rad] in the last column, [1/rad] elsewhere (revolute joint j); [1]
+        in the last column, 0 elsewhere (prismatic joint j).
     U3 : ndarray, shape (N, n, n, n, 4, 4)
         ``U3[:, i, j, k]`` = d(U_ij)/dq_k (zero if j > i or k > i), symmetric in j and k.
 
@@ -232,7 +260,7 @@ def u_matrices(robot, q):
     ValueError
         If q does not have n columns.
     """
-    return _u_core(link_matrices(robot, q))
+    return _u_core(joint_transforms(robot, q), joint_q_matrices(robot))
 
 
 def le_terms(robot, q, qd, chunk=DEFAULT_CHUNK):
@@ -241,11 +269,11 @@ def le_terms(robot, q, qd, chunk=DEFAULT_CHUNK):
     Parameters
     ----------
     robot : Robot
-        The arm, with n revolute joints.
+        The arm, with n revolute or prismatic joints.
     q : array_like, shape (N, n) or (n,)
-        Joint positions [rad].
+        Joint positions [rad or m].
     qd : array_like, shape (N, n) or (n,)
-        Joint velocities [rad/s].
+        Joint velocities [rad/s or m/s].
     chunk : int, optional
         Set points processed at once; bounds the temporaries (U_ijk), not the result.
 
@@ -276,11 +304,12 @@ def le_terms(robot, q, qd, chunk=DEFAULT_CHUNK):
     q, qd = as_states(robot, q, qd)
     N, n = q.shape
     J, gm, rbar = _constants(robot)
+    Q = joint_q_matrices(robot)
     out = (np.empty((N, n, n)), np.empty((N, n)), np.empty((N, n)), np.empty((N, n, n, n)))
     chunk = max(1, int(chunk))
     for start in range(0, N, chunk):
         sl = slice(start, start + chunk)
-        D, H, h, c = _le_core(link_matrices(robot, q[sl]), J, gm, rbar, qd[sl])
+        D, H, h, c = _le_core(joint_transforms(robot, q[sl]), Q, J, gm, rbar, qd[sl])
         for dst, src in zip(out, (D, h, c, H)):
             dst[sl] = src
     return LETerms(*out)

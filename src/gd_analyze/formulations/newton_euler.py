@@ -1,29 +1,30 @@
 """The recursive Newton-Euler (N-E) equations of motion in link coordinates, Sec. 3.3.
 
-Every vector of link i is expressed in link frame i (the book's ^iR_0 w_i etc.), as in
-Table 3.3 and Algorithm 3.1 (Luh, Walker & Paul 1980). With R_i = ^{i-1}R_i the rotation part
-of the link matrix ^{i-1}A_i, Eq. (3.3-48), z0 = (0, 0, 1), p*_i = (a_i, d_i sin alpha_i,
-d_i cos alpha_i) the origin of frame i seen from frame i-1 in frame i, Eq. (3.3-59), sbar_i the
-centre of mass of link i and I_i its inertia tensor about it, both in frame i:
+Every vector of link i is expressed in its own frame (the book's ^iR_0 w_i etc.), as in
+Table 3.3 and Algorithm 3.1 (Luh, Walker & Paul 1980), for revolute and prismatic joints. The
+frames are the body frames of :mod:`gd_analyze.robot`: joint i's axis is z0 = (0, 0, 1) of
+frame i itself, R_i = ^{i-1}R_i, and p_i = ^{i-1}p_i is the origin of frame i seen from frame
+i-1 in frame i-1 (it grows with q_i for a prismatic joint); sbar_i and I_i are link i's centre
+of mass and inertia tensor about it in frame i. With the joint at the start of its link, the
+outward step carries the origin's acceleration across link i-1 before rotating into frame i
+(the book's p*_i term, Eq. (3.3-52), taken one frame earlier, as in Craig's outward equations).
 
-Forward recursion, i = 1..n (w_0 = wd_0 = 0, vd_0 = -g to include gravity, Eq. (3.3-46))::
+Forward recursion, i = 1..n (w_0 = wd_0 = 0, vd_0 = -g to include gravity, Eq. (3.3-46)),
+u_i = R_i^T w_{i-1}::
 
-    w_i    = R_i^T (w_{i-1} + z0 qd_i)                                             (3.3-50)
-    wd_i   = R_i^T (wd_{i-1} + z0 qdd_i + w_{i-1} x z0 qd_i)                       (3.3-51)
-    vd_i   = wd_i x p*_i + w_i x (w_i x p*_i) + R_i^T vd_{i-1}                     (3.3-52)
+    revolute:  w_i  = u_i + z0 qd_i                                                (3.3-50)
+               wd_i = R_i^T wd_{i-1} + z0 qdd_i + u_i x z0 qd_i                    (3.3-51)
+    prismatic: w_i  = u_i,   wd_i = R_i^T wd_{i-1}               (Table 3.3, prismatic rows)
+    vd_i   = R_i^T (vd_{i-1} + wd_{i-1} x p_i + w_{i-1} x (w_{i-1} x p_i))         (3.3-52)
+             [prismatic: + z0 qdd_i + 2 w_i x z0 qd_i]
     abar_i = wd_i x sbar_i + w_i x (w_i x sbar_i) + vd_i                           (3.3-53)
 
-Backward recursion, i = n..1 (f_{n+1}, n_{n+1}: force and moment the hand exerts on a load,
-in frame n, with R_{n+1} = identity)::
+Backward recursion, i = n..1 (f_{n+1}, n_{n+1}: force and moment the hand exerts on a load)::
 
     F_i = m_i abar_i,   N_i = I_i wd_i + w_i x (I_i w_i)                   (3.3-54), (3.3-55)
     f_i = R_{i+1} f_{i+1} + F_i                                                    (3.3-56)
-    n_i = R_{i+1} n_{i+1} + p*_i x (R_{i+1} f_{i+1}) + (p*_i + sbar_i) x F_i + N_i (3.3-57)
-    tau_i = n_i . (R_i^T z0) + b_i qd_i                                            (3.3-58)
-
-Eq. (3.3-57) writes the second term as R_{i+1} [(R_{i+1}^T p*_i) x f_{i+1}]; rotating a cross
-product is rotating its factors, so the form above is the same quantity with one rotation
-fewer per link (it is the form whose cost Table 3.4 lists: 21n - 15 multiplications).
+    n_i = R_{i+1} n_{i+1} + p_{i+1} x (R_{i+1} f_{i+1}) + sbar_i x F_i + N_i        (3.3-57)
+    tau_i = n_i . z0 + b_i qd_i (revolute),  f_i . z0 + b_i qd_i (prismatic)       (3.3-58)
 
 The recursion core (:func:`_ne_core`) uses only indexing, ``@``, ``+``, ``-`` and ``*``, so it
 runs unchanged on object arrays of counting scalars (:mod:`gd_analyze.formulations.opcount`).
@@ -33,9 +34,9 @@ from __future__ import annotations
 
 import numpy as np
 
-from ..core.kinematics import as_states, link_matrices
+from ..core.kinematics import as_states, transforms_core
 
-__all__ = ["ne_tau", "ne_terms", "link_constants"]
+__all__ = ["ne_tau", "ne_terms", "link_constants", "joint_frames"]
 
 
 def _cross(a, b):
@@ -51,39 +52,36 @@ def _mv(M, v):
 
 
 def link_constants(robot):
-    """The per-link constants of the recursion in link coordinates.
+    """The per-link constants of the recursion in link (body-frame) coordinates.
 
     Parameters
     ----------
     robot : Robot
-        The arm, with n revolute joints.
+        The arm, with n revolute or prismatic joints.
 
     Returns
     -------
     dict
-        ``pstar`` (n, 3): p*_i in frame i, Eq. (3.3-59) [m]; ``sbar`` (n, 3): centre of mass in
-        frame i [m]; ``psum`` (n, 3): p*_i + sbar_i [m]; ``mass`` (n,) [kg]; ``inertia``
-        (n, 3, 3): I_i about the centre of mass, frame-i axes [kg m^2]; ``vd0`` (3,): -g, the
-        base acceleration that stands for gravity, Eq. (3.3-46) [m/s^2].
+        ``sbar`` (n, 3): centre of mass in body frame i [m]; ``mass`` (n,) [kg]; ``inertia``
+        (n, 3, 3): I_i about the centre of mass, body-frame axes [kg m^2]; ``vd0`` (3,): -g,
+        the base acceleration that stands for gravity, Eq. (3.3-46) [m/s^2].
 
     Raises
     ------
     AttributeError
         If ``robot`` lacks the attributes of :class:`~gd_analyze.core.robot.Robot`.
     """
-    pstar = np.stack([robot.a, robot.d * np.sin(robot.alpha), robot.d * np.cos(robot.alpha)],
-                     axis=1)
-    sbar = np.array(robot.com, dtype=float)
-    return {"pstar": pstar, "sbar": sbar, "psum": pstar + sbar,
+    return {"sbar": np.array(robot.body_com, dtype=float),
             "mass": np.array(robot.mass, dtype=float),
-            "inertia": np.array(robot.inertia, dtype=float),
+            "inertia": np.array(robot.body_inertia, dtype=float),
             "vd0": -np.asarray(robot.gravity, dtype=float)}
 
 
-def _ne_core(R, qd, qdd, k, f_end=None, n_end=None, b=None):
-    """Table 3.3 for rotations R (N, n, 3, 3) = ^{i-1}R_i; qd, qdd (N, n); constants k.
+def _ne_core(R, p, prismatic, qd, qdd, k, f_end=None, n_end=None, b=None):
+    """Table 3.3 for rotations R (N, n, 3, 3) = ^{i-1}R_i and origins p (N, n, 3) = ^{i-1}p_i.
 
-    Returns tau (N, n). Works on float and on object arrays alike.
+    prismatic: n bools; qd, qdd (N, n); constants k. Returns tau (N, n). Works on float and on
+    object arrays alike.
     """
     N, n = qd.shape
     dt = R.dtype
@@ -95,11 +93,18 @@ def _ne_core(R, qd, qdd, k, f_end=None, n_end=None, b=None):
     F, NN = [], []                                               # F_i, N_i
     for i in range(n):                                           # forward, i = 1..n
         Rt = np.swapaxes(R[:, i], -1, -2)                        # ^iR_{i-1}
-        zq = z0 * qd[:, i, None]
-        wd = _mv(Rt, wd + z0 * qdd[:, i, None] + _cross(w, zq))  # Eq. (3.3-51)
-        w = _mv(Rt, w + zq)                                      # Eq. (3.3-50)
-        p, s = k["pstar"][i], k["sbar"][i]
-        vd = _cross(wd, p) + _cross(w, _cross(w, p)) + _mv(Rt, vd)       # Eq. (3.3-52)
+        pi = p[:, i]
+        vd = _mv(Rt, vd + _cross(wd, pi) + _cross(w, _cross(w, pi)))    # Eq. (3.3-52)
+        u = _mv(Rt, w)
+        if prismatic[i]:
+            w = u
+            wd = _mv(Rt, wd)
+            vd = vd + z0 * qdd[:, i, None] + _cross(w, z0 * (2 * qd[:, i, None]))
+        else:
+            zq = z0 * qd[:, i, None]
+            wd = _mv(Rt, wd) + z0 * qdd[:, i, None] + _cross(u, zq)      # Eq. (3.3-51)
+            w = u + zq                                                   # Eq. (3.3-50)
+        s = k["sbar"][i]
         abar = _cross(wd, s) + _cross(w, _cross(w, s)) + vd              # Eq. (3.3-53)
         I = k["inertia"][i]
         F.append(k["mass"][i] * abar)                                    # Eq. (3.3-54)
@@ -110,11 +115,32 @@ def _ne_core(R, qd, qdd, k, f_end=None, n_end=None, b=None):
     for i in range(n - 1, -1, -1):                               # backward, i = n..1
         if i < n - 1:                                            # R_{n+1} is the identity
             f, nm = _mv(R[:, i + 1], f), _mv(R[:, i + 1], nm)
-        nm = nm + _cross(k["pstar"][i], f) + _cross(k["psum"][i], F[i]) + NN[i]   # Eq. (3.3-57)
-        f = f + F[i]                                                              # Eq. (3.3-56)
-        t = (nm * R[:, i, 2, :]).sum(axis=-1)                   # n_i . (^iR_{i-1} z0)
+            nm = nm + _cross(p[:, i + 1], f)
+        nm = nm + _cross(k["sbar"][i], F[i]) + NN[i]                                 # (3.3-57)
+        f = f + F[i]                                                                 # (3.3-56)
+        t = f[:, 2] if prismatic[i] else nm[:, 2]                # f_i . z0 or n_i . z0
         tau[i] = t if b is None else t + b[i] * qd[:, i]         # Eq. (3.3-58)
     return np.stack(tau, axis=-1)
+
+
+def joint_frames(robot, q):
+    """^{i-1}R_i and ^{i-1}p_i of every joint, the kinematic inputs of :func:`_ne_core`.
+
+    Parameters
+    ----------
+    robot : Robot
+        The arm, with n joints.
+    q : ndarray, shape (N, n)
+        Joint positions [rad or m].
+
+    Returns
+    -------
+    R : ndarray, shape (N, n, 3, 3)
+    p : ndarray, shape (N, n, 3)
+        [m].
+    """
+    return transforms_core(robot.rotation, robot.translation, robot.prismatic, np.cos(q),
+                           np.sin(q), q)
 
 
 def _load(x, N, name):
@@ -134,20 +160,21 @@ def ne_tau(robot, q, qd, qdd, b=None, f_load=None, n_load=None):
     Parameters
     ----------
     robot : Robot
-        The arm, with n revolute joints.
+        The arm, with n revolute or prismatic joints.
     q : array_like, shape (N, n) or (n,)
-        Joint positions [rad].
+        Joint positions [rad or m].
     qd : array_like, shape (N, n) or (n,)
-        Joint velocities [rad/s].
+        Joint velocities [rad/s or m/s].
     qdd : array_like, shape (N, n) or (n,)
         Joint accelerations [rad/s^2].
     b : array_like, shape (n,), optional
         Viscous damping coefficients b_i; adds b_i qd_i to tau_i, Eq. (3.3-58) [N m s/rad].
     f_load : array_like, shape (3,) or (N, 3), optional
-        f_{n+1}: the force the hand exerts on a load, in frame n [N] (step N4).
+        f_{n+1}: the force the hand exerts on a load, in link frame n (DH frame n for a DH
+        robot) [N] (step N4).
     n_load : array_like, shape (3,) or (N, 3), optional
-        n_{n+1}: the moment the hand exerts on the load about the origin of frame n, in frame
-        n [N m].
+        n_{n+1}: the moment the hand exerts on the load about the origin of link frame n, in
+        link frame n [N m].
 
     Returns
     -------
@@ -181,9 +208,13 @@ def ne_tau(robot, q, qd, qdd, b=None, f_load=None, n_load=None):
         b = np.asarray(b, dtype=float)
         if b.shape != (robot.n,):
             raise ValueError(f"b must have shape ({robot.n},), got {b.shape}")
-    R = link_matrices(robot, q)[..., :3, :3]
-    return _ne_core(R, qd, qdd, link_constants(robot), _load(f_load, N, "f_load"),
-                    _load(n_load, N, "n_load"), b)
+    R, p = joint_frames(robot, q)
+    f_end, n_end = _load(f_load, N, "f_load"), _load(n_load, N, "n_load")
+    if f_end is not None or n_end is not None:     # from link frame n to body frame n
+        LR, Lt = robot.link_rotation[-1], robot.link_translation[-1]
+        f_end = np.zeros((N, 3)) if f_end is None else f_end @ LR.T
+        n_end = (np.zeros((N, 3)) if n_end is None else n_end @ LR.T) + np.cross(Lt, f_end)
+    return _ne_core(R, p, robot.prismatic, qd, qdd, link_constants(robot), f_end, n_end, b)
 
 
 def ne_terms(robot, q, qd):
@@ -195,11 +226,11 @@ def ne_terms(robot, q, qd):
     Parameters
     ----------
     robot : Robot
-        The arm, with n revolute joints.
+        The arm, with n revolute or prismatic joints.
     q : array_like, shape (N, n) or (n,)
-        Joint positions [rad].
+        Joint positions [rad or m].
     qd : array_like, shape (N, n) or (n,)
-        Joint velocities [rad/s].
+        Joint velocities [rad/s or m/s].
 
     Returns
     -------
@@ -221,14 +252,15 @@ def ne_terms(robot, q, qd):
     """
     q, qd = as_states(robot, q, qd)
     N, n = q.shape
-    R = link_matrices(robot, q)[..., :3, :3]
+    R, p = joint_frames(robot, q)
     k = link_constants(robot)
+    pr = robot.prismatic
     zero = np.zeros((N, n))
-    c = _ne_core(R, zero, zero, k)
-    h = _ne_core(R, qd, zero, k) - c
+    c = _ne_core(R, p, pr, zero, zero, k)
+    h = _ne_core(R, p, pr, qd, zero, k) - c
     D = np.empty((N, n, n))
     for j in range(n):
         e = np.zeros((N, n))
         e[:, j] = 1.0
-        D[:, :, j] = _ne_core(R, zero, e, k) - c
+        D[:, :, j] = _ne_core(R, p, pr, zero, e, k) - c
     return D, h, c

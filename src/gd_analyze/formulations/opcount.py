@@ -17,9 +17,11 @@ The counts are measured, not derived: the algorithms run on one set point whose 
 
 Counting rule
 -------------
-- Inputs of a set point are C_i = cos(theta_i), S_i = sin(theta_i), qd_i and qdd_i; sines and
-  cosines and theta_i = q_i + offset_i are not counted.
-- Robot parameters (DH constants, cos/sin alpha_i, masses, centres of mass, inertias,
+- Inputs of a set point are C_i = cos(q_i), S_i = sin(q_i) (revolute joints), q_i (prismatic
+  joints), qd_i and qdd_i; sines and cosines are not counted. Every formulation runs on the
+  joint model of :mod:`gd_analyze.robot` (fixed placement P_i, t_i, then the joint's motion):
+  the DH offsets are inside the placements, so theta_i = q_i + offset_i costs nothing.
+- Robot parameters (placements P_i, t_i, masses, centres of mass, inertias,
   pseudo-inertias, gravity) are general numbers: an operation on parameters only is done once
   per robot and not counted; an operation with at least one set-point-dependent operand is.
   Parameters that happen to be 0 or 1 are counted like any other value, so the counts depend on
@@ -64,14 +66,14 @@ from functools import lru_cache
 
 import numpy as np
 
-from ..core.kinematics import as_states
+from ..core.kinematics import as_states, transforms_core
 from .lagrange_euler import _constants as _le_constants
-from .lagrange_euler import _le_core, _tau
+from .lagrange_euler import _le_core, _tau, joint_q_matrices
 from .newton_euler import _cross, _ne_core, link_constants
 from ..core.robot import Robot, robot_from_dict
 
 __all__ = ["Counted", "OpLedger", "OpCount", "METHODS", "TABLE_3_5", "random_chain",
-           "count_operations", "operation_counts", "book_counts", "table"]
+           "count_operations", "operation_counts", "book_counts", "table", "counting_clone"]
 
 #: The implementations counted, in table order ("gd" is the compiled G-D engine).
 METHODS = ("lagrange-euler", "newton-euler", "gd", "gd-numpy")
@@ -301,48 +303,38 @@ def _vars(led, x):
     return np.array([led.var(v) for v in x.ravel()], dtype=object).reshape(x.shape)
 
 
-def _counted_link_matrices(robot, led, q, rotation_only=False):
-    """^{i-1}A_i, shape (1, n, 4, 4) (or ^{i-1}R_i, (1, n, 3, 3)), as kinematics.link_matrices."""
+def _counted_transforms(robot, led, q, homogeneous=False):
+    """^{i-1}R_i (1, n, 3, 3) and ^{i-1}p_i (1, n, 3) of counting scalars, by the very
+    function the float code runs (:func:`~gd_analyze.kinematics.transforms_core`); or the
+    homogeneous ^{i-1}T_i (1, n, 4, 4) with exact 0 and 1 in the last row."""
     n = robot.n
-    theta = q + robot.offset
-    ct, st = _vars(led, np.cos(theta)), _vars(led, np.sin(theta))
-    ca, sa = _consts(led, np.cos(robot.alpha)), _consts(led, np.sin(robot.alpha))
-    a, d = _consts(led, robot.a), _consts(led, robot.d)
-    A = np.zeros((1, n, 4, 4), dtype=object)
-    A[0, :, 0, 0] = ct
-    A[0, :, 0, 1] = -ca * st
-    A[0, :, 0, 2] = sa * st
-    A[0, :, 1, 0] = st
-    A[0, :, 1, 1] = ca * ct
-    A[0, :, 1, 2] = -sa * ct
-    A[0, :, 2, 1] = sa
-    A[0, :, 2, 2] = ca
-    if rotation_only:
-        return A[:, :, :3, :3]
-    A[0, :, 0, 3] = a * ct
-    A[0, :, 1, 3] = a * st
-    A[0, :, 2, 3] = d
-    A[0, :, 3, 3] = 1
-    return A
+    q = np.asarray(q, dtype=float)[None]
+    R, p = transforms_core(_consts(led, robot.rotation), _consts(led, robot.translation),
+                           robot.prismatic, _vars(led, np.cos(q)), _vars(led, np.sin(q)),
+                           _vars(led, q))
+    if not homogeneous:
+        return R, p
+    T = np.zeros((1, n, 4, 4), dtype=object)
+    T[..., :3, :3] = R
+    T[..., :3, 3] = p
+    T[..., 3, 3] = 1
+    return T
 
 
-def _gd_mirror(A, m, com, inertia, gravity, qd, qdd):
+def _gd_mirror(R, o, pris, m, com, inertia, gravity, qd, qdd):
     """dalembert._gd_chunk and GDTerms.tau, step for step, for one set point.
 
-    A (n, 4, 4); m (n,); com (n, 3); inertia (n, 3, 3); gravity (3,); qd, qdd (n,). Float or
-    object arrays. Returns (tau, D_tran, D_rot, h_tran, h_rot, c).
+    R (n, 3, 3), o (n, 3): body frames in the base frame; pris (n,) bools; m (n,); com (n, 3)
+    and inertia (n, 3, 3) in the body frames; gravity (3,); qd, qdd (n,). Float or object
+    arrays. Returns (tau, D_tran, D_rot, h_tran, h_rot, c).
     """
     n = len(m)
-    dt = A.dtype
-    eye = np.zeros((3, 3), dtype=dt)
-    eye[[0, 1, 2], [0, 1, 2]] = 1
-    R, p = [eye], [np.zeros(3, dtype=dt)]
-    for i in range(n):                                        # kinematics.frames
-        R.append(R[i] @ A[i, :3, :3])
-        p.append(p[i] + R[i] @ A[i, :3, 3])
+    dt = R.dtype
+    zero3 = np.zeros(3, dtype=dt)
     z = [R[j][:, 2] for j in range(n)]
-    rbar = [p[s + 1] + R[s + 1] @ com[s] for s in range(n)]   # kinematics.centres_of_mass
-    Ib = [(R[s + 1] @ inertia[s]) @ R[s + 1].T for s in range(n)]
+    zr = [zero3 if pris[j] else z[j] for j in range(n)]                 # z * (~pris)
+    rbar = [o[s] + R[s] @ com[s] for s in range(n)]
+    Ib = [(R[s] @ inertia[s]) @ R[s].T for s in range(n)]
 
     def suffix(x):                                            # _suffix_sum
         out = list(x)
@@ -356,40 +348,49 @@ def _gd_mirror(A, m, com, inertia, gravity, qd, qdd):
             out[s] = out[s - 1] + x[s]
         return out
 
+    def shift(x):
+        return [zero3] + list(x[:-1])
+
     # D_tran: all n^2 Jacobian columns, then the mask j <= s, then einsum with m first
     Jv = np.zeros((n, n, 3), dtype=dt)
     for s in range(n):
         for j in range(n):
-            col = _cross(z[j], rbar[s] - p[j])
+            col = _cross(z[j], rbar[s] - o[j])
+            col = z[j] if pris[j] else col
             if j <= s:
                 Jv[s, j] = col
     mJv = np.stack([m[s] * Jv[s] for s in range(n)])
     D_tran = np.einsum("sia,sja->ij", mJv, Jv)
-    # D_rot: Ic_s z_j for all s, j, then z_i . Iz[max(i, j), j]
+    # D_rot: Ic_s zr_j for all s, j, then zr_i . Iz[max(i, j)][j]
     Ic = suffix(Ib)
-    Iz = [[Ic[s] @ z[j] for j in range(n)] for s in range(n)]
-    D_rot = np.array([[z[i] @ Iz[max(i, j)][j] for j in range(n)] for i in range(n)])
+    Iz = [[Ic[s] @ zr[j] for j in range(n)] for s in range(n)]
+    D_rot = np.array([[zr[i] @ Iz[max(i, j)][j] for j in range(n)] for i in range(n)])
     # velocities and velocity-product accelerations
-    wz = [qd[j] * z[j] for j in range(n)]
+    wz = [qd[j] * zr[j] for j in range(n)]
     w = cumsum(wz)
-    w_prev = [np.zeros(3, dtype=dt)] + w[:-1]
+    w_prev = shift(w)
     wd = cumsum([_cross(w_prev[s], wz[s]) for s in range(n)])
-    dp = [p[s + 1] - p[s] for s in range(n)]
-    ap = cumsum([_cross(wd[s], dp[s]) + _cross(w[s], _cross(w[s], dp[s])) for s in range(n)])
-    rc = [rbar[s] - p[s + 1] for s in range(n)]
+    wd_prev = shift(wd)
+    o_prev = shift(o)
+    dp = [o[s] - o_prev[s] for s in range(n)]
+    slide = [(2.0 * _cross(w_prev[s], qd[s] * z[s])) * pris[s] for s in range(n)]
+    ap = cumsum([_cross(wd_prev[s], dp[s]) + _cross(w_prev[s], _cross(w_prev[s], dp[s]))
+                 + slide[s] for s in range(n)])
+    rc = [rbar[s] - o[s] for s in range(n)]
     abar = [ap[s] + _cross(wd[s], rc[s]) + _cross(w[s], _cross(w[s], rc[s])) for s in range(n)]
 
-    def moment_about_axes(F):
-        M = suffix([_cross(rbar[s], F[s]) for s in range(n)])
+    def along_axes(F):
         S = suffix(F)
-        return np.array([z[j] @ (M[j] - _cross(p[j], S[j])) for j in range(n)])
+        M = suffix([_cross(rbar[s], F[s]) for s in range(n)])
+        M = [M[j] - _cross(o[j], S[j]) for j in range(n)]
+        return np.array([z[j] @ (S[j] if pris[j] else M[j]) for j in range(n)])
 
-    h_tran = moment_about_axes([m[s] * abar[s] for s in range(n)])
-    c = -moment_about_axes([m[s] * gravity for s in range(n)])
+    h_tran = along_axes([m[s] * abar[s] for s in range(n)])
+    c = -along_axes([m[s] * gravity for s in range(n)])
     Iw = [Ib[s] @ w[s] for s in range(n)]
     f = [Ib[s] @ wd[s] + _cross(w[s], Iw[s]) for s in range(n)]
     fs = suffix(f)
-    h_rot = np.array([z[j] @ fs[j] for j in range(n)])
+    h_rot = np.array([zr[j] @ fs[j] for j in range(n)])
     D = D_tran + D_rot                                        # GDTerms.D, .h, .tau
     h = h_tran + h_rot
     tau = np.einsum("ij,j->i", D, qdd) + h + c
@@ -421,24 +422,46 @@ class _CountingNumPy:
         return _elementwise(math.sin, x)
 
 
-def _gd_kernel_counted(robot, led, theta, qd):
+def counting_clone(fn):
+    """The Python source of a numba kernel, bound to counting NumPy functions.
+
+    Parameters
+    ----------
+    fn : numba dispatcher or function
+        The kernel; the compiled helpers it calls (any global with a ``py_func``) are cloned
+        the same way.
+
+    Returns
+    -------
+    function
+        Runs on object arrays of :class:`Counted` scalars; ``np.empty``, ``np.cos`` and
+        ``np.sin`` are :class:`_CountingNumPy`'s.
+    """
+    py = getattr(fn, "py_func", fn)
+    env = {**py.__globals__, "np": _CountingNumPy}
+    for name in py.__code__.co_names:
+        obj = env.get(name)
+        if hasattr(obj, "py_func"):
+            env[name] = counting_clone(obj)
+    return types.FunctionType(py.__code__, env, py.__name__, py.__defaults__, py.__closure__)
+
+
+def _gd_kernel_counted(robot, led, q, qd):
     """Run the compiled G-D engine's Python source on one set point of counting scalars.
 
     Returns (D_tran, D_rot, h_tran, h_rot, c) as object arrays of shapes (n, n) and (n,).
     """
     from ..core.kernels import gd_kernel
 
-    py = gd_kernel.py_func
-    kernel = types.FunctionType(py.__code__, {**py.__globals__, "np": _CountingNumPy},
-                                py.__name__, py.__defaults__, py.__closure__)
+    kernel = counting_clone(gd_kernel)
     n = robot.n
     out = [np.zeros((1, n, n), dtype=object), np.zeros((1, n, n), dtype=object)]
     out += [np.zeros((1, n), dtype=object) for _ in range(3)]
-    # theta is the input and offsets are exact zeros, so q + offset costs nothing (the rule)
-    kernel(_vars(led, theta)[None], qd, _consts(led, robot.d), _consts(led, robot.a),
-           _consts(led, robot.alpha), np.zeros(n, dtype=object), _consts(led, robot.mass),
-           _consts(led, robot.com), _consts(led, robot.inertia), _consts(led, robot.gravity),
-           *out)
+    # q is the input: cos q and sin q are not counted (the rule)
+    kernel(_vars(led, q)[None], qd, _consts(led, robot.rotation),
+           _consts(led, robot.translation), np.asarray(robot.prismatic, dtype=np.int64),
+           _consts(led, robot.mass), _consts(led, robot.body_com),
+           _consts(led, robot.body_inertia), _consts(led, robot.gravity), *out)
     return tuple(x[0] for x in out)
 
 
@@ -488,21 +511,25 @@ def count_operations(robot, method, q=None, qd=None, qdd=None):
         J, gm, rbar = _le_constants(robot)
         gm = np.concatenate([_consts(led, gm[:, :3]), np.zeros((n, 1), dtype=object)], axis=1)
         rbar = np.concatenate([_consts(led, rbar[:, :3]), np.ones((n, 1), dtype=object)], axis=1)
-        A = _counted_link_matrices(robot, led, q)
-        D, _, h, c = _le_core(A, _consts(led, J), gm, rbar, qd_c)
+        A = _counted_transforms(robot, led, q, homogeneous=True)
+        D, _, h, c = _le_core(A, joint_q_matrices(robot), _consts(led, J), gm, rbar, qd_c)
         tau = _tau(D, h, c, qdd_c)[0]
     elif method == "newton-euler":
         k = {key: _consts(led, val) for key, val in link_constants(robot).items()}
-        R = _counted_link_matrices(robot, led, q, rotation_only=True)
-        tau = _ne_core(R, qd_c, qdd_c, k)[0]
+        R, p = _counted_transforms(robot, led, q)
+        tau = _ne_core(R, p, robot.prismatic, qd_c, qdd_c, k)[0]
     elif method == "gd":
-        D_tran, D_rot, h_tran, h_rot, c = _gd_kernel_counted(robot, led, q + robot.offset, qd_c)
+        D_tran, D_rot, h_tran, h_rot, c = _gd_kernel_counted(robot, led, q, qd_c)
         tau = _tau(D_tran + D_rot, h_tran + h_rot, c, qdd_c[0])   # GDTerms.D, .h and .tau
     else:
-        A = _counted_link_matrices(robot, led, q)[0]
-        tau = _gd_mirror(A, _consts(led, robot.mass), _consts(led, robot.com),
-                         _consts(led, robot.inertia), _consts(led, robot.gravity),
-                         qd_c[0], qdd_c[0])[0]
+        Rr, pr = _counted_transforms(robot, led, q)
+        R, o = [Rr[0, 0]], [pr[0, 0]]                         # kinematics.body_frames
+        for i in range(1, n):
+            o.append(o[-1] + R[-1] @ pr[0, i])
+            R.append(R[-1] @ Rr[0, i])
+        tau = _gd_mirror(np.array(R), np.array(o), robot.prismatic, _consts(led, robot.mass),
+                         _consts(led, robot.body_com), _consts(led, robot.body_inertia),
+                         _consts(led, robot.gravity), qd_c[0], qdd_c[0])[0]
     return OpCount(int(led.multiplications), int(led.additions),
                    np.array([_value(t) for t in tau]))
 

@@ -7,10 +7,11 @@ alone with ``computeGeneralizedGravity``. Dynamics are linear in the link inerti
 whose rotational inertias are all zero gives the translational G-D parts, and one whose masses
 are all zero (rotational inertias kept) gives the rotational parts.
 
-Each Pinocchio joint i is a revolute joint about the z axis of DH frame i-1. Its placement in
-joint i-1 is the rest of link i-1's transform, Trans(0,0,d) Trans(a,0,0) Rot(x, alpha), then the
-offset Rot(z, offset_i); link i's inertia sits in joint i's frame at the same remaining
-transform Trans(0,0,d_i) Trans(a_i,0,0) Rot(x, alpha_i).
+The model is built from the robot's joint model (:mod:`gd_analyze.robot`), whatever its source
+(standard or modified DH, URDF): Pinocchio joint i is a ``JointModelRZ`` (revolute) or
+``JointModelPZ`` (prismatic) whose placement in joint i-1's frame is the SE3 (P_i, t_i), and
+link i's inertia is appended in joint i's frame (the body frame) at its body-frame centre of
+mass with its body-frame inertia tensor.
 """
 
 from __future__ import annotations
@@ -21,7 +22,8 @@ import numpy as np
 
 from ..core.kinematics import as_states
 
-__all__ = ["pinocchio_model", "ReferenceTerms", "reference_terms", "relative_error"]
+__all__ = ["pinocchio_model", "ReferenceTerms", "reference_terms", "relative_error",
+           "natural_scales", "natural_relative_error"]
 
 
 def _pin():
@@ -45,7 +47,7 @@ def pinocchio_model(robot, part="full"):
     Returns
     -------
     pinocchio.Model
-        n revolute joints; ``model.gravity`` is the robot's gravity [m/s^2].
+        n revolute (``JointModelRZ``) or prismatic (``JointModelPZ``) joints; ``model.gravity`` is the robot's gravity [m/s^2].
 
     Raises
     ------
@@ -58,29 +60,17 @@ def pinocchio_model(robot, part="full"):
     model = pin.Model()
     model.name = robot.name
     parent = 0
-    placement = pin.SE3.Identity()
+    com, inertia = robot.body_com, robot.body_inertia
     for i in range(robot.n):
-        rest = (pin.SE3(np.eye(3), np.array([robot.a[i], 0.0, robot.d[i]]))
-                * pin.SE3(_rot_x(robot.alpha[i]), np.zeros(3)))
-        joint_placement = placement * pin.SE3(_rot_z(robot.offset[i]), np.zeros(3))
-        jid = model.addJoint(parent, pin.JointModelRZ(), joint_placement, f"joint{i + 1}")
+        placement = pin.SE3(np.array(robot.rotation[i]), np.array(robot.translation[i]))
+        joint = pin.JointModelPZ() if robot.prismatic[i] else pin.JointModelRZ()
+        jid = model.addJoint(parent, joint, placement, f"joint{i + 1}")
         mass = 0.0 if part == "rot" else float(robot.mass[i])
-        inertia = np.zeros((3, 3)) if part == "tran" else np.array(robot.inertia[i])
-        body = pin.Inertia(mass, np.array(robot.com[i]), inertia)
-        model.appendBodyToJoint(jid, rest.act(body), pin.SE3.Identity())
-        parent, placement = jid, rest
+        I = np.zeros((3, 3)) if part == "tran" else np.array(inertia[i])
+        model.appendBodyToJoint(jid, pin.Inertia(mass, np.array(com[i]), I), pin.SE3.Identity())
+        parent = jid
     model.gravity = pin.Motion(np.array(robot.gravity, dtype=float), np.zeros(3))
     return model
-
-
-def _rot_x(angle):
-    c, s = np.cos(angle), np.sin(angle)
-    return np.array([[1.0, 0.0, 0.0], [0.0, c, -s], [0.0, s, c]])
-
-
-def _rot_z(angle):
-    c, s = np.cos(angle), np.sin(angle)
-    return np.array([[c, -s, 0.0], [s, c, 0.0], [0.0, 0.0, 1.0]])
 
 
 @dataclass(frozen=True, eq=False)
@@ -181,3 +171,94 @@ def relative_error(value, reference):
         return 0.0
     scale = max(float(np.max(np.abs(reference))), np.finfo(float).tiny)
     return float(np.max(np.abs(value - reference)) / scale)
+
+
+#: The absolute floor of :func:`natural_relative_error`, in units of machine epsilon times the
+#: overall scale of the quantity.
+FLOOR_EPS = 64.0
+
+
+def natural_scales(robot, ref, qd, qdd=None):
+    """The natural scale of each G-D quantity over the set points.
+
+    Parameters
+    ----------
+    robot : Robot
+        The arm, with n joints (for the size of gravity's torque).
+    ref : ReferenceTerms
+        Pinocchio's terms at N set points: D (N, n, n) [kg m^2], h and c (N, n) [N m].
+    qd : ndarray, shape (N, n)
+        Joint velocities [rad/s].
+    qdd : ndarray, shape (N, n), optional
+        Joint accelerations [rad/s^2] (zero if not given).
+
+    Returns
+    -------
+    dict
+        ``"D"``: shape (n, n), peak sqrt(D_ii D_jj) [kg m^2]; ``"tau"``: shape (n,), peak
+        |tau_i| with tau = D qdd + h + c [N m]; ``"floor_D"``, ``"floor_tau"``: the absolute
+        floors FLOOR_EPS * eps times the overall scale: the largest D scale, and the largest of
+        the torque scales, of D's scale times the largest qd^2, and of gravity's torque
+        |g| sum_i m_i (reach + max |r_i|), the reach being sum_i (|a_i| + |d_i|) (or the sum
+        of the placements' translations for a general chain).
+
+    Notes
+    -----
+    The engineering standard of the project: an element D_ij is compared on the scale
+    sqrt(D_ii D_jj) (Cauchy-Schwarz bound for a positive-definite D), a torque component on its
+    joint's peak |tau_i|; NaN propagates through every reduction.
+    """
+    D = np.asarray(ref.D, dtype=float)
+    diag = np.abs(np.diagonal(D, axis1=1, axis2=2))                  # (N, n)
+    s_D = np.max(np.sqrt(diag[:, :, None] * diag[:, None, :]), axis=0)
+    qdd = np.zeros_like(ref.h) if qdd is None else np.asarray(qdd, dtype=float)
+    tau = np.einsum("kij,kj->ki", D, qdd) + ref.h + ref.c
+    s_tau = np.max(np.abs(tau), axis=0)
+    qd2 = np.max(np.asarray(qd, dtype=float) ** 2)
+    # the arm's reach: DH lengths, or the placements' translations of a general chain (whose
+    # DH columns are NaN)
+    placements = getattr(robot, "translation", None)
+    reach = float(np.nansum(np.abs(robot.a)) + np.nansum(np.abs(robot.d))
+                  + (np.nansum(np.abs(placements)) if placements is not None else 0.0)
+                  + np.max(np.abs(robot.com)))
+    s_g = float(np.linalg.norm(robot.gravity)) * float(np.sum(robot.mass)) * reach
+    eps = np.finfo(float).eps
+    big_D = np.max(s_D)
+    return {"D": s_D, "tau": s_tau, "floor_D": FLOOR_EPS * eps * big_D,
+            "floor_tau": FLOOR_EPS * eps * np.max([np.max(s_tau), big_D * qd2, s_g])}
+
+
+def natural_relative_error(value, reference, scale, floor):
+    """Largest difference over the set points, relative to each element's natural scale.
+
+    Parameters
+    ----------
+    value, reference : array_like, shape (N, ...)
+        The arrays to compare, set points first.
+    scale : array_like, shape (...)
+        The natural scale of each element (see :func:`natural_scales`), >= 0.
+    floor : float
+        Absolute floor: differences up to it count as zero, and no scale is taken below it.
+
+    Returns
+    -------
+    float
+        ``max over elements of max(max_k |value - reference| - floor, 0) / max(scale, floor)``;
+        NaN if any value is NaN (it then fails every tolerance); 0 for empty arrays.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> natural_relative_error(np.array([[1.0, 1e-20]]), np.array([[1.0, 0.0]]),
+    ...                        np.array([2.0, 2.0]), 1e-14)
+    0.0
+    >>> natural_relative_error(np.array([[1.0, np.nan]]), np.zeros((1, 2)), np.ones(2), 0.0)
+    nan
+    """
+    value = np.asarray(value, dtype=float)
+    reference = np.asarray(reference, dtype=float)
+    if value.size == 0:
+        return 0.0
+    diff = np.max(np.abs(value - reference), axis=0)                 # NaN propagates
+    floor = max(float(floor), np.finfo(float).tiny)
+    return float(np.max(np.maximum(diff - floor, 0.0) / np.maximum(scale, floor)))

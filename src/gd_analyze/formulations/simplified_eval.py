@@ -11,10 +11,11 @@ reduced computation time"; :func:`simplified_tau` is the evaluator that delivers
 It is one pass per set point (a numba kernel, :func:`simplified_kernel`, with the structure of
 ``gd_analyze.core.kernels``) that skips, from a plan made once per model:
 
-- D_tran(i, j), Eq. (3.4-25) 2nd term: the sum over links s >= j of m_s Jv_s[:, i] . Jv_s[:, j]
-  only for kept translational elements, and only the Jacobian columns those sums use;
-- D_rot(i, j), Eq. (3.4-25) 1st term: z_i . (Ic_j z_j) only for kept rotational elements, with
-  Ic_j z_j formed once per column j (not once per element) and the base-frame inertias
+- D_tran(i, j), Eq. (3.4-25) 2nd term: a_i . u_j + b_i . v_j (the Plücker form of
+  :mod:`gd_analyze.core.kernels`) only for kept translational elements, the column sums
+  u_j, v_j only for the columns they use and the mass moments only down to the first of them;
+- D_rot(i, j), Eq. (3.4-25) 1st term: a_i . (Ic_j a_j) only for kept rotational elements, with
+  Ic_j a_j formed once per column j (not once per element) and the base-frame inertias
   Ib_s = R_s I_s R_s^T only for the links that some kept rotational part needs;
 - h_tran, Eq. (3.4-26): the outward recursion of the origin accelerations and the link forces
   only if some h element keeps its translational part, the inward moment sums only down to the
@@ -34,11 +35,11 @@ counts cannot drift from the code that is timed.
 from __future__ import annotations
 
 import time
-import types
 
 import numpy as np
 from numba import njit
 
+from ..core.kernels import body_frames_at, plucker_axes
 from ..core.kinematics import as_states
 from ..core.simplified import choice_masks
 
@@ -52,137 +53,121 @@ COST_REPEAT = 9
 
 
 @njit(cache=True, fastmath=False, nogil=True)
-def simplified_kernel(q, qd, qdd, d, a, alpha, offset, mass, com, inertia, gravity,
-                      keep_Dt, keep_Dr, keep_ht, keep_hr, need_Jv, need_Icz,
-                      s_rot0, s_Ic0, jt0, jr0, tau):  # pragma: no cover - compiled
+def simplified_kernel(q, qd, qdd, Rp, tp, pris, mass, com, inertia, gravity,
+                      keep_Dt, keep_Dr, keep_ht, keep_hr, need_uv, need_Icz,
+                      s_rot0, s_m0, s_Ic0, jt0, jr0, tau):  # pragma: no cover - compiled
     """Fill tau (N, n) [N m] with the simplified model's torques, computing kept parts only.
 
     Parameters
     ----------
     q, qd, qdd : ndarray, shape (N, n)
-        Joint positions [rad], velocities [rad/s] and accelerations [rad/s^2].
-    d, a, alpha, offset, mass : ndarray, shape (n,)
-        DH parameters [m, m, rad, rad] and link masses [kg].
+        Joint positions [rad or m], velocities [rad/s or m/s] and accelerations [rad/s^2 or
+        m/s^2].
+    Rp : ndarray, shape (n, 3, 3)
+        Placement rotations of the joints in the previous body frames.
+    tp : ndarray, shape (n, 3)
+        Placement translations [m].
+    pris : ndarray of int, shape (n,)
+        1 for a prismatic joint.
+    mass : ndarray, shape (n,)
+        Link masses [kg].
     com : ndarray, shape (n, 3)
-        Centres of mass in the link frames [m].
+        Centres of mass in the body frames [m].
     inertia : ndarray, shape (n, 3, 3)
-        Inertia tensors about the centres of mass [kg m^2].
+        Inertia tensors about the centres of mass, body-frame axes [kg m^2].
     gravity : ndarray, shape (3,)
         Gravity in the base frame [m/s^2].
     keep_Dt, keep_Dr : ndarray of int, shape (n, n)
         1 where D_tran(i, j), D_rot(i, j) is kept (upper triangle i <= j is read).
     keep_ht, keep_hr : ndarray of int, shape (n,)
         1 where h_tran(i), h_rot(i) is kept.
-    need_Jv : ndarray of int, shape (n, n)
-        need_Jv[s, j] = 1 if the Jacobian column Jv_s[:, j] (j <= s) is used.
+    need_uv : ndarray of int, shape (n,)
+        1 for the columns j whose translational sums u_j, v_j a kept D_tran element uses.
     need_Icz : ndarray of int, shape (n,)
-        1 for the columns j whose Ic_j z_j is used by a kept D_rot element.
-    s_rot0, s_Ic0, jt0, jr0 : int
-        First link whose Ib_s is needed, first column needing Ic_j, first joint keeping
-        h_tran, first joint keeping h_rot (n for none).
+        1 for the columns j whose Ic_j a_j is used by a kept D_rot element.
+    s_rot0, s_m0, s_Ic0, jt0, jr0 : int
+        First link whose Ib_s is needed, first column needing the mass moments, first column
+        needing Ic_j, first joint keeping h_tran, first joint keeping h_rot (n for none).
     tau : ndarray, shape (N, n)
         Output, overwritten.
 
     Notes
     -----
-    Eqs. (3.4-24) to (3.4-28) of Fu, Gonzalez & Lee (1987) in the Jacobian form of
-    :mod:`gd_analyze.core.dalembert`; same kinematics and recursions as ``gd_analyze.core.kernels``.
+    Eqs. (3.4-24) to (3.4-28) of Fu, Gonzalez & Lee (1987) in the Plücker form of
+    :mod:`gd_analyze.core.kernels` (same kinematics and recursions), kept parts only.
     """
     N, n = q.shape
-    ca = np.cos(alpha)
-    sa = np.sin(alpha)
-    R = np.empty((n + 1, 3, 3))
-    p = np.empty((n + 1, 3))
+    R = np.empty((n, 3, 3))
+    o = np.empty((n, 3))
     rbar = np.empty((n, 3))
     Ib = np.empty((n, 3, 3))
-    Icz = np.empty((n, 3))
-    Ic = np.empty((3, 3))
-    Jv = np.empty((n, n, 3))
     F = np.empty((n, 3))
     f = np.empty((n, 3))
+    A = np.empty((n, 3))
+    B = np.empty((n, 3))
+    U = np.empty((n, 3))
+    V = np.empty((n, 3))
+    W = np.empty((n, 3))
+    M = np.empty((3, 3))
+    tmp = np.empty((3, 3))
     ht = np.empty(n)
     hr = np.empty(n)
     cg = np.empty(n)
-    tmp = np.empty((3, 3))
     need_vel = jt0 < n or jr0 < n
     for k in range(N):
-        # forward kinematics, Eq. (3.2-5)
-        for r in range(3):
-            for s in range(3):
-                R[0, r, s] = 1.0 if r == s else 0.0
-            p[0, r] = 0.0
-        for i in range(n):
-            th = q[k, i] + offset[i]
-            ct = np.cos(th)
-            st = np.sin(th)
-            A00, A01, A02 = ct, -ca[i] * st, sa[i] * st
-            A10, A11, A12 = st, ca[i] * ct, -sa[i] * ct
-            A21, A22 = sa[i], ca[i]
-            px, py, pz = a[i] * ct, a[i] * st, d[i]
-            for r in range(3):
-                R0, R1, R2 = R[i, r, 0], R[i, r, 1], R[i, r, 2]
-                R[i + 1, r, 0] = R0 * A00 + R1 * A10
-                R[i + 1, r, 1] = R0 * A01 + R1 * A11 + R2 * A21
-                R[i + 1, r, 2] = R0 * A02 + R1 * A12 + R2 * A22
-                p[i + 1, r] = p[i, r] + R0 * px + R1 * py + R2 * pz
-        # centres of mass (always: gravity c needs them)
-        for s in range(n):
-            for r in range(3):
-                rbar[s, r] = p[s + 1, r] + (R[s + 1, r, 0] * com[s, 0] + R[s + 1, r, 1] * com[s, 1]
-                                            + R[s + 1, r, 2] * com[s, 2])
+        body_frames_at(q, k, Rp, tp, pris, com, M, R, o, rbar)
         # base-frame inertia tensors, only for the links a kept rotational part needs
         for s in range(s_rot0, n):
             for r in range(3):
                 for u in range(3):
-                    tmp[r, u] = (R[s + 1, r, 0] * inertia[s, 0, u]
-                                 + R[s + 1, r, 1] * inertia[s, 1, u]
-                                 + R[s + 1, r, 2] * inertia[s, 2, u])
+                    tmp[r, u] = (R[s, r, 0] * inertia[s, 0, u] + R[s, r, 1] * inertia[s, 1, u]
+                                 + R[s, r, 2] * inertia[s, 2, u])
             for r in range(3):
                 for u in range(r, 3):
-                    v = (tmp[r, 0] * R[s + 1, u, 0] + tmp[r, 1] * R[s + 1, u, 1]
-                         + tmp[r, 2] * R[s + 1, u, 2])
+                    v = tmp[r, 0] * R[s, u, 0] + tmp[r, 1] * R[s, u, 1] + tmp[r, 2] * R[s, u, 2]
                     Ib[s, r, u] = v
                     Ib[s, u, r] = v
         # outward recursion (qdd = 0), only if some h element is kept
         if need_vel:
             wx = wy = wz = 0.0
             ex = ey = ez = 0.0          # dJw/dt qd
-            ax = ay = az = 0.0          # acceleration of origin p_s
+            ax = ay = az = 0.0          # acceleration of the origin o_s
             for s in range(n):
                 zx, zy, zz = R[s, 0, 2], R[s, 1, 2], R[s, 2, 2]
-                ux, uy, uz = qd[k, s] * zx, qd[k, s] * zy, qd[k, s] * zz
-                ex += wy * uz - wz * uy
-                ey += wz * ux - wx * uz
-                ez += wx * uy - wy * ux
-                wx += ux
-                wy += uy
-                wz += uz
                 if jt0 < n:
-                    for which in range(2):
-                        if which == 1 and s < jt0:
-                            break
-                        if which == 0:
-                            vx = p[s + 1, 0] - p[s, 0]
-                            vy = p[s + 1, 1] - p[s, 1]
-                            vz = p[s + 1, 2] - p[s, 2]
-                        else:
-                            vx = rbar[s, 0] - p[s + 1, 0]
-                            vy = rbar[s, 1] - p[s + 1, 1]
-                            vz = rbar[s, 2] - p[s + 1, 2]
-                        cx = wy * vz - wz * vy
-                        cy = wz * vx - wx * vz
-                        cz = wx * vy - wy * vx
-                        gx = ey * vz - ez * vy + wy * cz - wz * cy
-                        gy = ez * vx - ex * vz + wz * cx - wx * cz
-                        gz = ex * vy - ey * vx + wx * cy - wy * cx
-                        if which == 0:
-                            ax += gx
-                            ay += gy
-                            az += gz
-                        else:
-                            F[s, 0] = mass[s] * (ax + gx)
-                            F[s, 1] = mass[s] * (ay + gy)
-                            F[s, 2] = mass[s] * (az + gz)
+                    if s == 0:
+                        vx, vy, vz = o[0, 0], o[0, 1], o[0, 2]
+                    else:
+                        vx = o[s, 0] - o[s - 1, 0]
+                        vy = o[s, 1] - o[s - 1, 1]
+                        vz = o[s, 2] - o[s - 1, 2]
+                    cx = wy * vz - wz * vy
+                    cy = wz * vx - wx * vz
+                    cz = wx * vy - wy * vx
+                    ax += ey * vz - ez * vy + wy * cz - wz * cy
+                    ay += ez * vx - ex * vz + wz * cx - wx * cz
+                    az += ex * vy - ey * vx + wx * cy - wy * cx
+                    if pris[s] != 0:
+                        u2 = 2.0 * qd[k, s]
+                        ax += u2 * (wy * zz - wz * zy)
+                        ay += u2 * (wz * zx - wx * zz)
+                        az += u2 * (wx * zy - wy * zx)
+                if pris[s] == 0:
+                    ux, uy, uz = qd[k, s] * zx, qd[k, s] * zy, qd[k, s] * zz
+                    ex += wy * uz - wz * uy
+                    ey += wz * ux - wx * uz
+                    ez += wx * uy - wy * ux
+                    wx += ux
+                    wy += uy
+                    wz += uz
+                if jt0 < n and s >= jt0:
+                    vx, vy, vz = rbar[s, 0] - o[s, 0], rbar[s, 1] - o[s, 1], rbar[s, 2] - o[s, 2]
+                    cx = wy * vz - wz * vy
+                    cy = wz * vx - wx * vz
+                    cz = wx * vy - wy * vx
+                    F[s, 0] = mass[s] * (ax + ey * vz - ez * vy + wy * cz - wz * cy)
+                    F[s, 1] = mass[s] * (ay + ez * vx - ex * vz + wz * cx - wx * cz)
+                    F[s, 2] = mass[s] * (az + ex * vy - ey * vx + wx * cy - wy * cx)
                 if s >= jr0:
                     Iwx = Ib[s, 0, 0] * wx + Ib[s, 0, 1] * wy + Ib[s, 0, 2] * wz
                     Iwy = Ib[s, 1, 0] * wx + Ib[s, 1, 1] * wy + Ib[s, 1, 2] * wz
@@ -193,59 +178,72 @@ def simplified_kernel(q, qd, qdd, d, a, alpha, offset, mass, com, inertia, gravi
                                + wz * Iwx - wx * Iwz)
                     f[s, 2] = (Ib[s, 2, 0] * ex + Ib[s, 2, 1] * ey + Ib[s, 2, 2] * ez
                                + wx * Iwy - wy * Iwx)
-        # inward suffix sums: gravity (all joints), kept h parts, composite inertias
+        plucker_axes(R, o, pris, A, B)
+        # inward suffix sums: gravity (all joints), kept h parts, the column sums kept D uses
         Mx = My = Mz = Sx = Sy = Sz = 0.0
         Gx = Gy = Gz = Tx = Ty = Tz = 0.0
         fx = fy = fz = 0.0
-        for r in range(3):
-            for u in range(3):
-                Ic[r, u] = 0.0
+        ms = px = py = pz = 0.0
+        q00 = q11 = q22 = q01 = q02 = q12 = 0.0
+        i00 = i11 = i22 = i01 = i02 = i12 = 0.0
         for j in range(n - 1, -1, -1):
-            zx, zy, zz = R[j, 0, 2], R[j, 1, 2], R[j, 2, 2]
-            px, py, pz = p[j, 0], p[j, 1], p[j, 2]
+            rx, ry, rz = rbar[j, 0], rbar[j, 1], rbar[j, 2]
+            ax_, ay_, az_ = A[j, 0], A[j, 1], A[j, 2]
+            bx, by, bz = B[j, 0], B[j, 1], B[j, 2]
             mgx, mgy, mgz = mass[j] * gravity[0], mass[j] * gravity[1], mass[j] * gravity[2]
-            Gx += rbar[j, 1] * mgz - rbar[j, 2] * mgy
-            Gy += rbar[j, 2] * mgx - rbar[j, 0] * mgz
-            Gz += rbar[j, 0] * mgy - rbar[j, 1] * mgx
+            Gx += ry * mgz - rz * mgy
+            Gy += rz * mgx - rx * mgz
+            Gz += rx * mgy - ry * mgx
             Tx += mgx
             Ty += mgy
             Tz += mgz
-            cg[j] = -(zx * (Gx - (py * Tz - pz * Ty)) + zy * (Gy - (pz * Tx - px * Tz))
-                      + zz * (Gz - (px * Ty - py * Tx)))
+            cg[j] = -(ax_ * Gx + ay_ * Gy + az_ * Gz + bx * Tx + by * Ty + bz * Tz)
             if j >= jt0:
-                Mx += rbar[j, 1] * F[j, 2] - rbar[j, 2] * F[j, 1]
-                My += rbar[j, 2] * F[j, 0] - rbar[j, 0] * F[j, 2]
-                Mz += rbar[j, 0] * F[j, 1] - rbar[j, 1] * F[j, 0]
+                Mx += ry * F[j, 2] - rz * F[j, 1]
+                My += rz * F[j, 0] - rx * F[j, 2]
+                Mz += rx * F[j, 1] - ry * F[j, 0]
                 Sx += F[j, 0]
                 Sy += F[j, 1]
                 Sz += F[j, 2]
                 if keep_ht[j] != 0:
-                    ht[j] = (zx * (Mx - (py * Sz - pz * Sy)) + zy * (My - (pz * Sx - px * Sz))
-                             + zz * (Mz - (px * Sy - py * Sx)))
+                    ht[j] = ax_ * Mx + ay_ * My + az_ * Mz + bx * Sx + by * Sy + bz * Sz
             if j >= jr0:
                 fx += f[j, 0]
                 fy += f[j, 1]
                 fz += f[j, 2]
                 if keep_hr[j] != 0:
-                    hr[j] = zx * fx + zy * fy + zz * fz
+                    hr[j] = ax_ * fx + ay_ * fy + az_ * fz
+            if j >= s_m0:
+                mx, my, mz = mass[j] * rx, mass[j] * ry, mass[j] * rz
+                ms += mass[j]
+                px += mx
+                py += my
+                pz += mz
+                q00 += mx * rx
+                q11 += my * ry
+                q22 += mz * rz
+                q01 += mx * ry
+                q02 += mx * rz
+                q12 += my * rz
+                if need_uv[j] != 0:
+                    tr = q00 + q11 + q22
+                    U[j, 0] = (tr - q00) * ax_ - q01 * ay_ - q02 * az_ - (by * pz - bz * py)
+                    U[j, 1] = (tr - q11) * ay_ - q01 * ax_ - q12 * az_ - (bz * px - bx * pz)
+                    U[j, 2] = (tr - q22) * az_ - q02 * ax_ - q12 * ay_ - (bx * py - by * px)
+                    V[j, 0] = ms * bx - (py * az_ - pz * ay_)
+                    V[j, 1] = ms * by - (pz * ax_ - px * az_)
+                    V[j, 2] = ms * bz - (px * ay_ - py * ax_)
             if j >= s_Ic0:
-                for r in range(3):
-                    for u in range(3):
-                        Ic[r, u] += Ib[j, r, u]
+                i00 += Ib[j, 0, 0]
+                i11 += Ib[j, 1, 1]
+                i22 += Ib[j, 2, 2]
+                i01 += Ib[j, 0, 1]
+                i02 += Ib[j, 0, 2]
+                i12 += Ib[j, 1, 2]
                 if need_Icz[j] != 0:
-                    for r in range(3):
-                        Icz[j, r] = Ic[r, 0] * zx + Ic[r, 1] * zy + Ic[r, 2] * zz
-        # Jacobian columns of the centres of mass that kept D_tran elements use
-        for s in range(n):
-            for j in range(s + 1):
-                if need_Jv[s, j] != 0:
-                    zx, zy, zz = R[j, 0, 2], R[j, 1, 2], R[j, 2, 2]
-                    vx = rbar[s, 0] - p[j, 0]
-                    vy = rbar[s, 1] - p[j, 1]
-                    vz = rbar[s, 2] - p[j, 2]
-                    Jv[s, j, 0] = zy * vz - zz * vy
-                    Jv[s, j, 1] = zz * vx - zx * vz
-                    Jv[s, j, 2] = zx * vy - zy * vx
+                    W[j, 0] = i00 * ax_ + i01 * ay_ + i02 * az_
+                    W[j, 1] = i01 * ax_ + i11 * ay_ + i12 * az_
+                    W[j, 2] = i02 * ax_ + i12 * ay_ + i22 * az_
         # tau = c + h_s + D_s qdd, kept parts only; D_s symmetric, each element formed once
         for i in range(n):
             ti = cg[i]
@@ -262,12 +260,10 @@ def simplified_kernel(q, qd, qdd, d, a, alpha, offset, mass, com, inertia, gravi
                     continue
                 Dij = 0.0
                 if kt:
-                    for s in range(j, n):
-                        Dij += mass[s] * (Jv[s, i, 0] * Jv[s, j, 0] + Jv[s, i, 1] * Jv[s, j, 1]
-                                          + Jv[s, i, 2] * Jv[s, j, 2])
+                    Dij = (A[i, 0] * U[j, 0] + A[i, 1] * U[j, 1] + A[i, 2] * U[j, 2]
+                           + B[i, 0] * V[j, 0] + B[i, 1] * V[j, 1] + B[i, 2] * V[j, 2])
                 if kr:
-                    Dij = Dij + (R[i, 0, 2] * Icz[j, 0] + R[i, 1, 2] * Icz[j, 1]
-                                 + R[i, 2, 2] * Icz[j, 2])
+                    Dij = Dij + (A[i, 0] * W[j, 0] + A[i, 1] * W[j, 1] + A[i, 2] * W[j, 2])
                 tau[k, i] += Dij * qdd[k, j]
                 if i != j:
                     tau[k, j] += Dij * qdd[k, i]
@@ -306,8 +302,8 @@ def evaluation_plan(choices, n):
     -------
     dict
         The kernel's structural arguments: ``keep_Dt``, ``keep_Dr`` (n, n), ``keep_ht``,
-        ``keep_hr``, ``need_Icz`` (n,), ``need_Jv`` (n, n), all int64 0/1, and the ints
-        ``s_rot0``, ``s_Ic0``, ``jt0``, ``jr0`` (n meaning "none").
+        ``keep_hr``, ``need_uv``, ``need_Icz`` (n,), all int64 0/1, and the ints ``s_rot0``,
+        ``s_m0``, ``s_Ic0``, ``jt0``, ``jr0`` (n meaning "none").
 
     Raises
     ------
@@ -318,33 +314,27 @@ def evaluation_plan(choices, n):
     keep_Dt = np.triu(Mt).astype(np.int64)
     keep_Dr = np.triu(Mr).astype(np.int64)
     keep_ht, keep_hr = mt.astype(np.int64), mr.astype(np.int64)
-    need_Jv = np.zeros((n, n), dtype=np.int64)
-    for i in range(n):
-        for j in range(i, n):
-            if keep_Dt[i, j]:
-                need_Jv[j:, i] = 1
-                need_Jv[j:, j] = 1
+    need_uv = keep_Dt.any(axis=0).astype(np.int64)       # columns j of kept D_tran(i, j)
     need_Icz = keep_Dr.any(axis=0).astype(np.int64)
 
     def first(flags):
         idx = np.flatnonzero(flags)
         return int(idx[0]) if idx.size else n
 
-    s_Ic0, jt0, jr0 = first(need_Icz), first(keep_ht), first(keep_hr)
+    s_m0, s_Ic0, jt0, jr0 = first(need_uv), first(need_Icz), first(keep_ht), first(keep_hr)
     return {"keep_Dt": keep_Dt, "keep_Dr": keep_Dr, "keep_ht": keep_ht, "keep_hr": keep_hr,
-            "need_Jv": need_Jv, "need_Icz": need_Icz, "s_rot0": min(s_Ic0, jr0),
-            "s_Ic0": s_Ic0, "jt0": jt0, "jr0": jr0}
+            "need_uv": need_uv, "need_Icz": need_Icz, "s_rot0": min(s_Ic0, jr0),
+            "s_m0": s_m0, "s_Ic0": s_Ic0, "jt0": jt0, "jr0": jr0}
 
 
-_PLAN_ORDER = ("keep_Dt", "keep_Dr", "keep_ht", "keep_hr", "need_Jv", "need_Icz", "s_rot0",
-               "s_Ic0", "jt0", "jr0")
+_PLAN_ORDER = ("keep_Dt", "keep_Dr", "keep_ht", "keep_hr", "need_uv", "need_Icz", "s_rot0",
+               "s_m0", "s_Ic0", "jt0", "jr0")
 
 
 def _robot_args(robot):
-    c = np.ascontiguousarray
-    return (c(robot.d, dtype=float), c(robot.a, dtype=float), c(robot.alpha, dtype=float),
-            c(robot.offset, dtype=float), c(robot.mass, dtype=float), c(robot.com, dtype=float),
-            c(robot.inertia, dtype=float), c(robot.gravity, dtype=float))
+    from ..core.dalembert import kernel_arguments
+
+    return kernel_arguments(robot)
 
 
 def simplified_tau(robot, choices, q, qd, qdd, plan=None):
@@ -426,23 +416,21 @@ def count_simplified_operations(robot, choices, q=None, qd=None, qdd=None):
     free. The Python source of :func:`simplified_kernel` runs on counting scalars, as
     ``count_operations(robot, "gd")`` runs the compiled G-D engine's.
     """
-    from .opcount import OpCount, OpLedger, _consts, _CountingNumPy, _value, _vars
+    from .opcount import OpCount, OpLedger, _consts, _value, _vars, counting_clone
 
     n = robot.n
     rng = np.random.default_rng(1)
     q, qd, qdd = (rng.uniform(-1, 1, n) if x is None else x for x in (q, qd, qdd))
     q, qd, qdd = (x[0] for x in as_states(robot, q, qd, qdd))
     plan = evaluation_plan(choices, n)
-    py = simplified_kernel.py_func
-    kernel = types.FunctionType(py.__code__, {**py.__globals__, "np": _CountingNumPy},
-                                py.__name__, py.__defaults__, py.__closure__)
+    kernel = counting_clone(simplified_kernel)
     led = OpLedger()
     tau = np.zeros((1, n), dtype=object)
-    # theta is the input and the offsets exact zeros, so q + offset costs nothing (the rule)
-    kernel(_vars(led, q + robot.offset)[None], _vars(led, qd)[None], _vars(led, qdd)[None],
-           _consts(led, robot.d), _consts(led, robot.a), _consts(led, robot.alpha),
-           np.zeros(n, dtype=object), _consts(led, robot.mass), _consts(led, robot.com),
-           _consts(led, robot.inertia), _consts(led, robot.gravity),
+    # q is the input: cos q and sin q are not counted (the rule)
+    Rp, tp, pris, mass, com, inertia, gravity = _robot_args(robot)
+    kernel(_vars(led, q)[None], _vars(led, qd)[None], _vars(led, qdd)[None],
+           _consts(led, Rp), _consts(led, tp), pris, _consts(led, mass), _consts(led, com),
+           _consts(led, inertia), _consts(led, gravity),
            *(plan[key] for key in _PLAN_ORDER), tau)
     return OpCount(int(led.multiplications), int(led.additions),
                    np.array([_value(t) for t in tau[0]]))

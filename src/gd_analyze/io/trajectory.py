@@ -13,22 +13,26 @@ from __future__ import annotations
 import dataclasses
 
 import csv
+import functools
 import hashlib
 import math
 import os
+import re
 import warnings
 from dataclasses import dataclass
 from pathlib import Path
 
 import numpy as np
 
-from ..errors import InputError
+from ..core.limits import LIMITS, first_beyond
+from ..errors import InputError, InputNote
 from ..files import file_sha256
 
 __all__ = [
-    "Trajectory", "random_trajectories", "read_trajectory", "write_trajectory", "trajectory_columns",
-    "quintic_duration", "plan_quintic", "JointLimitWarning", "DEFAULT_START_DEG",
-    "DEFAULT_GOAL_DEG", "DEFAULT_SETPOINTS",
+    "Trajectory", "random_trajectories", "read_trajectory", "write_trajectory",
+    "trajectory_columns", "quintic_duration", "quintic_min_durations", "plan_quintic",
+    "JointLimitWarning", "DEFAULT_START_DEG", "DEFAULT_GOAL_DEG", "DEFAULT_SETPOINTS",
+    "default_motion", "user_positions",
 ]
 
 #: Start of the default planned PUMA 560 motion [deg].
@@ -37,8 +41,8 @@ DEFAULT_START_DEG = (-60.0, 20.0, -150.0, -80.0, -60.0, -120.0)
 DEFAULT_GOAL_DEG = (60.0, 110.0, -60.0, 80.0, 60.0, 120.0)
 #: Set points of a planned trajectory, as in Sec. 3.4.1.
 DEFAULT_SETPOINTS = 31
-#: Files larger than this [bytes] are parsed by pandas first; the validating parser runs only
-#: to locate an error.
+#: Files larger than this [bytes] are parsed by pandas first when they are regular; the
+#: cell-by-cell parser runs on smaller ones, on irregular ones, and to locate an error.
 FAST_PARSE_BYTES = 1 << 18
 
 
@@ -135,11 +139,17 @@ def _parse_header(header, path):
 def read_trajectory(path, n_joints=None):
     """Read and validate a trajectory CSV file.
 
+    One reader for every size: a file is parsed by pandas when it is regular (every line has
+    the header's number of fields, only the bytes of plain numbers, no quotes), and cell by cell
+    otherwise, or whenever pandas' result fails a check; the cell-by-cell parse then names the
+    first faulty row and column. Both accept exactly the same files and give the same values.
+
     Parameters
     ----------
     path : str or os.PathLike
         The CSV file: header ``t,q1..qn,qd1..qdn,qdd1..qddn`` or ``t,q1..qn`` in [s], [rad],
-        [rad/s], [rad/s^2].
+        [rad/s], [rad/s^2]. A UTF-8 byte-order mark (as Excel writes it) is stripped, with an
+        :class:`~gd_analyze.errors.InputNote`.
     n_joints : int, optional
         The robot's number of joints n; the file must have as many.
 
@@ -151,19 +161,24 @@ def read_trajectory(path, n_joints=None):
     Raises
     ------
     InputError
-        If the file is missing, unreadable or empty; has no header, missing or extra columns,
-        or a ragged row; has a cell that is not a finite number; if time is not strictly
-        increasing; if there are fewer than 2 set points; or if the joint count differs from
-        n_joints. The message names the file, the row (header = row 1) and the column.
+        If the file is missing, not a regular file, unreadable or empty; has no header, missing
+        or extra columns, or a ragged row; has a cell that is not a plain decimal number
+        (``[+-]digits[.digits][e[+-]digits]``, ASCII digits only: no ``1_0``, no full-width
+        digits, no ``inf`` or ``nan``); has a value beyond the limits of
+        :data:`gd_analyze.core.limits.LIMITS`; if time is not strictly increasing; if there
+        are fewer than 2 set points; or if the joint count differs from n_joints. The message
+        names the file, the row (header = row 1) and the column.
     """
     path = str(path)
-    if not os.path.isfile(path):
-        raise InputError("no such file", path)
-    values = None
-    if os.path.getsize(path) > FAST_PARSE_BYTES:
-        values, names, n = _fast_values(path, n_joints)
-    if values is None:
-        values, names, n = _validated_values(path, n_joints)
+    raw = _read_bytes(path)
+    sha256 = hashlib.sha256(raw).hexdigest()
+    if raw.startswith(_BOM):
+        warnings.warn(f"{path}: stripped the UTF-8 byte-order mark at the start of the file",
+                      InputNote, stacklevel=2)
+        raw = raw[len(_BOM):]
+    parsed = _fast_values(raw, path, n_joints) if len(raw) > FAST_PARSE_BYTES else None
+    values, names, n = parsed if parsed is not None else _validated_values(raw, path,
+                                                                            n_joints)
     t = values[:, 0]
     q = values[:, 1:n + 1]
     if len(names) == 3 * n + 1:
@@ -172,59 +187,136 @@ def read_trajectory(path, n_joints=None):
     else:
         from scipy.interpolate import CubicSpline
 
-        spline = CubicSpline(t, q, axis=0, bc_type="not-a-knot")
-        qd, qdd = spline(t, 1), spline(t, 2)
+        with np.errstate(all="ignore"):
+            spline = CubicSpline(t, q, axis=0, bc_type="not-a-knot")
+            qd, qdd = spline(t, 1), spline(t, 2)
+        for name, arr in (("qd", qd), ("qdd", qdd)):
+            bad = first_beyond(arr, LIMITS[name])
+            if bad is not None:
+                raise InputError(f"the {name} derived by the cubic spline exceeds "
+                                 f"{LIMITS[name]:g} in magnitude (time steps too short for "
+                                 f"the positions?)", path, row=bad[0] + 2,
+                                 column=f"q{bad[1] + 1}")
         how = "cubic-spline"
     return Trajectory(t=t, q=q, qd=qd, qdd=qdd, derivatives=how, source=path,
-                      sha256=file_sha256(path))
+                      sha256=sha256)
 
 
-def _fast_values(path, n_joints):
-    """Parse a large, well-formed file with pandas; None if anything is off."""
+_BOM = b"\xef\xbb\xbf"
+#: The plain float grammar of a cell (after stripping spaces and tabs).
+_FLOAT = re.compile(r"[+-]?(?:[0-9]+(?:\.[0-9]*)?|\.[0-9]+)(?:[eE][+-]?[0-9]+)?")
+#: Bytes a regular file's body may hold to be parsed by pandas.
+_PLAIN_BYTES = b"0123456789.eE+-, \t\r\n"
+#: Longest cell accepted [characters].
+MAX_CELL = 1000
+
+
+def _read_bytes(path):
+    if not os.path.exists(path):
+        raise InputError("no such file", path)
+    if os.path.isdir(path):
+        raise InputError("is a folder, not a CSV file", path)
+    if not os.path.isfile(path):
+        raise InputError("not a regular file (a device, FIFO or socket?): give a CSV file",
+                         path)
+    try:
+        with open(path, "rb") as fh:
+            return fh.read()
+    except OSError as exc:
+        raise InputError(f"cannot read: {exc.strerror or exc}", path) from None
+
+
+def _check_magnitudes(values, names, path, row_of):
+    """Raise for the first value beyond LIMITS (column kind from its name)."""
+    n = (len(names) - 1) // 3 if len(names) > 2 and (len(names) - 1) % 3 == 0 and \
+        names[-1].startswith("qdd") else len(names) - 1
+    groups = [("t", slice(0, 1)), ("q", slice(1, n + 1))]
+    if len(names) > n + 1:
+        groups += [("qd", slice(n + 1, 2 * n + 1)), ("qdd", slice(2 * n + 1, 3 * n + 1))]
+    for kind, cols in groups:
+        bad = first_beyond(values[:, cols], LIMITS[kind])
+        if bad is not None:
+            j = cols.start + bad[1]
+            raise InputError(f"{values[bad[0], j]!r} is beyond the supported magnitude "
+                             f"{LIMITS[kind]:g} of {kind} (see the README, Limits)", path,
+                             row=row_of(bad[0]), column=names[j])
+
+
+@functools.lru_cache(maxsize=1)
+def _exact_floats():
+    """read_csv options for correctly rounded floats, as Python's float() gives them: pandas
+    before 3.0 parses with its own, not always correctly rounded, routine by default."""
     import pandas as pd
 
-    with open(path, newline="", encoding="utf-8", errors="replace") as fh:
-        first = next((r for r in csv.reader(fh) if any(c.strip() for c in r)), None)
-    if first is None:
-        return None, None, None
+    return {} if int(pd.__version__.split(".")[0]) >= 3 else {"float_precision": "round_trip"}
+
+
+def _fast_values(raw, path, n_joints):
+    """Parse a large, regular file with pandas; None if anything is off (then the cell-by-cell
+    parser gives the answer, or the exact error)."""
+    import io
+
+    import pandas as pd
+
+    head_end = raw.find(b"\n")
+    if head_end < 0 or b'"' in raw or raw.count(b"\r") != raw.count(b"\r\n"):
+        return None
     try:
-        names, n = _parse_header(first, path)
-    except InputError:
-        return None, None, None
+        header = raw[:head_end].decode("utf-8").rstrip("\r").split(",")
+        names, n = _parse_header(header, path)
+    except (UnicodeDecodeError, InputError):
+        return None
     if n_joints is not None and n != n_joints:
-        return None, None, None
+        return None
+    header_bytes = raw[:head_end + 1]
+    if raw.translate(None, _PLAIN_BYTES) != header_bytes.translate(None, _PLAIN_BYTES):
+        return None                               # the body holds more than plain numbers
+    # The field count of every line is checked: the commas must total the header's count per
+    # line; pandas then refuses a line with more fields than the first, the shape check a first
+    # line with more fields than the header, and the finite check (NaN fill) a line with fewer,
+    # which any surplus elsewhere implies.
+    lines = raw.count(b"\n") - 1 + (not raw.endswith(b"\n"))
+    if lines < 2 or raw.count(b",") - header_bytes.count(b",") != (len(names) - 1) * lines:
+        return None
     try:
-        frame = pd.read_csv(path, dtype=float, skip_blank_lines=True, engine="c",
-                            skipinitialspace=True)
-    except (ValueError, pd.errors.ParserError, UnicodeDecodeError):
-        return None, None, None
+        with warnings.catch_warnings():
+            warnings.simplefilter("ignore")
+            frame = pd.read_csv(io.BytesIO(raw), header=0, dtype=float, engine="c",
+                                skipinitialspace=True, skip_blank_lines=False, index_col=False,
+                                **_exact_floats())
+    except (ValueError, pd.errors.ParserError):
+        return None
     values = frame.to_numpy()
-    if (values.shape[1] != len(names) or values.shape[0] < 2 or not np.isfinite(values).all()
+    if (values.shape != (lines, len(names)) or not np.isfinite(values).all()
             or not (np.diff(values[:, 0]) > 0).all()):
-        return None, None, None
+        return None
+    _check_magnitudes(values, names, path, lambda k: k + 2)
     return values, names, n
 
 
-def _validated_values(path, n_joints):
+def _validated_values(raw, path, n_joints):
     """Parse cell by cell; raise an InputError naming the row and column of the first fault."""
+    import io
+
     try:
-        with open(path, newline="", encoding="utf-8") as fh:
-            rows = list(csv.reader(fh))
+        text = raw.decode("utf-8")
     except UnicodeDecodeError:
         raise InputError("not a UTF-8 text file", path) from None
-    except (OSError, csv.Error) as exc:
-        raise InputError(f"cannot read: {exc}", path) from None
+    if "\x00" in text:
+        raise InputError("not a text file (holds a NUL byte)", path)
+    try:
+        rows = list(csv.reader(io.StringIO(text, newline="")))
+    except csv.Error as exc:
+        if "field larger than field limit" in str(exc):
+            raise InputError(f"a cell longer than {csv.field_size_limit()} characters: not a "
+                             f"trajectory CSV file", path) from None
+        raise InputError(f"not a CSV file: {exc}", path) from None
     # Blank lines (including a trailing one) are not set points.
     numbered = [(k + 1, r) for k, r in enumerate(rows) if any(c.strip() for c in r)]
     if not numbered:
         raise InputError("empty file", path)
     header_row, header = numbered[0]
-    try:
-        [float(c) for c in header]
-        looks_numeric = True
-    except ValueError:
-        looks_numeric = False
-    if looks_numeric:
+    if all(_FLOAT.fullmatch(c.strip(" \t")) for c in header):
         raise InputError("no header (expected t,q1..qn[,qd1..qdn,qdd1..qddn])", path,
                          row=header_row)
     names, n = _parse_header(header, path)
@@ -240,22 +332,34 @@ def _validated_values(path, n_joints):
             raise InputError(f"ragged row: {len(row)} cells, the header has {len(names)}", path,
                              row=row_no)
         for j, cell in enumerate(row):
-            try:
-                v = float(cell)
-            except ValueError:
-                raise InputError(f"not a number: {cell.strip()!r}", path, row=row_no,
-                                 column=names[j]) from None
-            if not math.isfinite(v):
-                raise InputError(f"not a finite number: {cell.strip()!r}", path, row=row_no,
-                                 column=names[j])
-            values[k, j] = v
+            values[k, j] = _cell_value(cell, path, row_no, names[j])
     t = values[:, 0]
     bad = np.nonzero(np.diff(t) <= 0)[0]
     if bad.size:
         k = int(bad[0]) + 1
         raise InputError(f"time not strictly increasing ({t[k]} after {t[k - 1]})", path,
                          row=data[k][0], column="t")
+    _check_magnitudes(values, names, path, lambda k: data[k][0])
     return values, names, n
+
+
+def _cell_value(cell, path, row_no, column):
+    text = cell.strip(" \t")
+    if len(text) > MAX_CELL:
+        raise InputError(f"a cell of {len(text)} characters is not a number", path, row=row_no,
+                         column=column)
+    if _FLOAT.fullmatch(text):
+        return float(text)
+    try:
+        v = float(text)
+    except ValueError:
+        v = None
+    if v is not None and not math.isfinite(v):
+        raise InputError(f"not a finite number: {text!r}", path, row=row_no, column=column)
+    what = ("digits other than 0-9" if any(c.isdigit() and c not in "0123456789" for c in text)
+            else "an underscore" if "_" in text else None)
+    hint = f" (it holds {what}; write plain decimal numbers like -1.5e-3)" if what else ""
+    raise InputError(f"not a number: {text!r}{hint}", path, row=row_no, column=column)
 
 
 def check_joint_limits(robot, trajectory):
@@ -279,10 +383,15 @@ def check_joint_limits(robot, trajectory):
         out = np.nonzero((q[:, j] < robot.q_min[j]) | (q[:, j] > robot.q_max[j]))[0]
         if out.size:
             k = int(out[0])
+            if getattr(robot, "prismatic", np.zeros(robot.n, bool))[j]:
+                where = (f"{q[k, j]:.4f} m is outside its limits "
+                         f"[{robot.q_min[j]:.4f}, {robot.q_max[j]:.4f}] m")
+            else:
+                where = (f"{math.degrees(q[k, j]):.1f} deg is outside its limits "
+                         f"[{math.degrees(robot.q_min[j]):.0f}, "
+                         f"{math.degrees(robot.q_max[j]):.0f}] deg")
             msg = (f"{trajectory.source}: row {k + 2}, column q{j + 1}: joint {j + 1} at "
-                   f"{math.degrees(q[k, j]):.1f} deg is outside its limits "
-                   f"[{math.degrees(robot.q_min[j]):.0f}, {math.degrees(robot.q_max[j]):.0f}] "
-                   f"deg ({out.size} set points)")
+                   f"{where} ({out.size} set points)")
             warnings.warn(msg, JointLimitWarning, stacklevel=2)
             messages.append(msg)
     return messages
@@ -328,7 +437,9 @@ def quintic_duration(robot, q_start, q_goal):
     Parameters
     ----------
     robot : Robot
-        The arm, with limits qd_max [rad/s] and qdd_max [rad/s^2], shape (n,).
+        The arm, with limits qd_max [rad/s] and qdd_max [rad/s^2], shape (n,); where qdd_max
+        is NaN (a URDF robot), :func:`acceleration_limits` supplies the default
+        ``DEFAULT_QDD_PER_QD * qd_max``.
     q_start, q_goal : array_like, shape (n,)
         Start and goal positions [rad].
 
@@ -337,6 +448,11 @@ def quintic_duration(robot, q_start, q_goal):
     float
         Duration T [s]; 0 if start and goal coincide.
 
+    Raises
+    ------
+    ValueError
+        If a joint has neither an acceleration nor a finite velocity limit.
+
     Notes
     -----
     With s(u) = 10 u^3 - 15 u^4 + 6 u^5, u = t/T, the peak speed is 15/8 |dq|/T (at u = 1/2)
@@ -344,10 +460,75 @@ def quintic_duration(robot, q_start, q_goal):
     T = max_i max(15 |dq_i| / (8 qd_max_i), sqrt(10 |dq_i| / (sqrt(3) qdd_max_i))).
     Fu, Gonzalez & Lee (1987), Ch. 4, plan joint-interpolated motion with the same limits.
     """
+    t_vel, t_acc = quintic_min_durations(robot, q_start, q_goal)
+    return float(max(t_vel.max(), t_acc.max()))
+
+
+def quintic_min_durations(robot, q_start, q_goal):
+    """Per joint, the shortest quintic duration within its velocity and its acceleration limit.
+
+    Parameters
+    ----------
+    robot, q_start, q_goal
+        As for :func:`quintic_duration`: the arm with its limits, and start and goal
+        positions, shape (n,) [rad].
+
+    Returns
+    -------
+    t_vel, t_acc : ndarray, shape (n,)
+        15 |dq_i| / (8 qd_max_i) and sqrt(10 |dq_i| / (sqrt(3) qdd_max_i)) [s] (see
+        :func:`quintic_duration`).
+    """
     dq = np.abs(np.asarray(q_goal, float) - np.asarray(q_start, float))
     t_vel = 15.0 * dq / (8.0 * robot.qd_max)
-    t_acc = np.sqrt(10.0 * dq / (math.sqrt(3.0) * robot.qdd_max))
-    return float(max(t_vel.max(), t_acc.max()))
+    t_acc = np.sqrt(10.0 * dq / (math.sqrt(3.0) * acceleration_limits(robot)[0]))
+    return t_vel, t_acc
+
+
+def default_motion(robot):
+    """The default start and goal of ``gd-analyze plan`` for a robot.
+
+    Parameters
+    ----------
+    robot : Robot
+        The arm, with n joints and position limits q_min, q_max [rad or m].
+
+    Returns
+    -------
+    q_start, q_goal : ndarray, shape (n,)
+        [rad or m]. The PUMA 560 gets :data:`DEFAULT_START_DEG` -> :data:`DEFAULT_GOAL_DEG`;
+        any other robot moves every joint from a quarter to three quarters of its range, or,
+        where a limit is infinite, from -60 to 60 deg (revolute) or from 0 to 0.2 m
+        (prismatic).
+    """
+    if robot.name == "puma560" and robot.n == len(DEFAULT_START_DEG):
+        return np.radians(DEFAULT_START_DEG), np.radians(DEFAULT_GOAL_DEG)
+    lo, hi = np.asarray(robot.q_min, float), np.asarray(robot.q_max, float)
+    finite = np.isfinite(lo) & np.isfinite(hi)
+    pris = np.asarray(robot.prismatic, bool)
+    lo, hi = np.where(finite, lo, 0.0), np.where(finite, hi, 0.0)   # no inf - inf below
+    start = np.where(finite, lo + 0.25 * (hi - lo), np.where(pris, 0.0, -math.pi / 3))
+    goal = np.where(finite, lo + 0.75 * (hi - lo), np.where(pris, 0.2, math.pi / 3))
+    return start, goal
+
+
+def user_positions(robot, values):
+    """Joint positions given by a user in degrees (revolute) and metres (prismatic), in SI.
+
+    Parameters
+    ----------
+    robot : Robot
+        The arm, with n joints.
+    values : sequence of float, length n
+        [deg] for a revolute joint, [m] for a prismatic one.
+
+    Returns
+    -------
+    ndarray, shape (n,)
+        [rad or m].
+    """
+    values = np.asarray(values, dtype=float)
+    return np.where(np.asarray(robot.prismatic, bool), values, np.radians(values))
 
 
 def plan_quintic(robot, q_start, q_goal, n_setpoints=DEFAULT_SETPOINTS, duration=None):
@@ -391,9 +572,40 @@ def plan_quintic(robot, q_start, q_goal, n_setpoints=DEFAULT_SETPOINTS, duration
     sd = 30 * u**2 * (1 - u) ** 2 / T
     sdd = 60 * u * (1 - u) * (1 - 2 * u) / T**2
     dq = q_goal - q_start
+    pris = np.asarray(getattr(robot, "prismatic", np.zeros(robot.n, bool)), bool)
+    if pris.any():          # degrees for revolute joints, metres for prismatic ones
+        def show(x):
+            return np.where(pris, x, np.degrees(x)).round(6).tolist()
+        units = "deg or m"
+    else:
+        def show(x):
+            return np.degrees(x).round(6).tolist()
+        units = "deg"
     return Trajectory(t=t, q=q_start + s * dq, qd=sd * dq, qdd=sdd * dq, derivatives="quintic",
-                      source=f"quintic {np.degrees(q_start).round(6).tolist()} -> "
-                             f"{np.degrees(q_goal).round(6).tolist()} deg, T = {T:.6g} s")
+                      source=f"quintic {show(q_start)} -> {show(q_goal)} {units}, "
+                             f"T = {T:.6g} s")
+
+
+
+def default_motion_range(robot):
+    """Position range for drawing random motions: the limits, or a stand-in where infinite.
+
+    Parameters
+    ----------
+    robot : Robot
+        The arm, with limits q_min, q_max [rad or m] (may be infinite) and ``prismatic``.
+
+    Returns
+    -------
+    lo, hi : ndarray, shape (n,)
+        The limits where finite; -pi, pi for a revolute and 0, 0.2 m for a prismatic joint
+        where not.
+    """
+    lo, hi = np.asarray(robot.q_min, float), np.asarray(robot.q_max, float)
+    pris = np.asarray(getattr(robot, "prismatic", np.zeros(robot.n, bool)), bool)
+    lo = np.where(np.isfinite(lo), lo, np.where(pris, 0.0, -math.pi))
+    hi = np.where(np.isfinite(hi), hi, np.where(pris, 0.2, math.pi))
+    return lo, hi
 
 
 def random_trajectories(robot, k, seed=0, n_setpoints=31):
@@ -427,6 +639,8 @@ def random_trajectories(robot, k, seed=0, n_setpoints=31):
 
     Notes
     -----
+    Where a position limit is infinite (a continuous joint), the draw is within -+180 deg
+    (revolute) or 0 to 0.2 m (prismatic).
     The quintic's peak speed and acceleration are reached between set points in general, so
     the sampled |qd| and |qdd| stay within the limits. Source: Sec. 3.4.1 of Fu, Gonzalez &
     Lee (1987) ranks one preplanned PUMA 560 trajectory of 31 set points; a sweep repeats that
@@ -441,7 +655,7 @@ def random_trajectories(robot, k, seed=0, n_setpoints=31):
         raise ValueError(f"the seed must be a non-negative integer, got {seed!r}")
     seed = int(seed)
     rng = np.random.default_rng(seed)
-    lo, hi = np.asarray(robot.q_min, float), np.asarray(robot.q_max, float)
+    lo, hi = default_motion_range(robot)
     out = []
     for i in range(k):
         q_start = rng.uniform(lo, hi)
@@ -449,3 +663,106 @@ def random_trajectories(robot, k, seed=0, n_setpoints=31):
         traj = plan_quintic(robot, q_start, q_goal, n_setpoints=int(n_setpoints))
         out.append(dataclasses.replace(traj, source=f"random-{seed}-{i}", sha256=""))
     return out
+
+
+#: Where a robot gives no acceleration limit (a URDF has none), ``plan`` takes
+#: qdd_max_i = DEFAULT_QDD_PER_QD * qd_max_i [1/s]: full speed in 0.5 s. (The Panda's published
+#: limits give ratios of 2.9 to 7.7 s^-1, so the default is on the cautious side.)
+DEFAULT_QDD_PER_QD = 2.0
+
+
+def acceleration_limits(robot, qdd_max=None):
+    """The acceleration limits a plan uses, and where they come from.
+
+    Parameters
+    ----------
+    robot : Robot
+        The arm: velocity limits qd_max and acceleration limits qdd_max (NaN where unknown),
+        shape (n,) [rad/s, rad/s^2; m/s, m/s^2 for a prismatic joint].
+    qdd_max : array_like, shape (n,), optional
+        Limits given by the user, in SI units [rad/s^2 or m/s^2]; they replace the robot's.
+
+    Returns
+    -------
+    qdd_max : ndarray, shape (n,)
+        The limits [rad/s^2 or m/s^2].
+    source : str
+        ``"robot"``, ``"--qdd-max"``, or the default's rule and the joints it applies to.
+
+    Raises
+    ------
+    ValueError
+        If given limits do not have n entries or are not finite and positive, or a joint with
+        no acceleration limit has no finite velocity limit either.
+    """
+    n = robot.n
+    if qdd_max is not None:
+        qdd = np.asarray(qdd_max, dtype=float).reshape(-1)
+        if qdd.shape != (n,):
+            raise ValueError(f"{qdd.size} acceleration limits for {n} joints")
+        if not (np.isfinite(qdd).all() and (qdd > 0).all()):
+            raise ValueError("acceleration limits must be finite and positive")
+        return qdd, "--qdd-max"
+    qdd = np.array(robot.qdd_max, dtype=float)
+    missing = ~np.isfinite(qdd)
+    if not missing.any():
+        return qdd, "robot"
+    qd = np.asarray(robot.qd_max, dtype=float)
+    bad = missing & ~(np.isfinite(qd) & (qd > 0))
+    if bad.any():
+        raise ValueError(f"joint {int(np.argmax(bad)) + 1} has neither an acceleration nor a "
+                         "finite velocity limit")
+    qdd[missing] = DEFAULT_QDD_PER_QD * qd[missing]
+    joints = ", ".join(str(j + 1) for j in np.flatnonzero(missing))
+    return qdd, (f"default {DEFAULT_QDD_PER_QD:g} s^-1 x qd_max for joints {joints} (the robot "
+                 "gives no acceleration limits)")
+
+
+def provenance_path(csv_path):
+    """The provenance file written beside a planned trajectory: ``<stem>.provenance.json``.
+
+    Parameters
+    ----------
+    csv_path : str or os.PathLike
+
+    Returns
+    -------
+    pathlib.Path
+
+    Examples
+    --------
+    >>> provenance_path("data/panda_trajectory.csv").name
+    'panda_trajectory.provenance.json'
+    """
+    p = Path(csv_path)
+    return p.with_name(p.stem + ".provenance.json")
+
+
+def write_provenance(csv_path, record):
+    """Write a planned trajectory's provenance beside it, atomically, as JSON.
+
+    Parameters
+    ----------
+    csv_path : str or os.PathLike
+        The trajectory CSV (already written: its SHA-256 is recorded).
+    record : dict
+        Tool, command, robot and settings (JSON-serialisable).
+
+    Returns
+    -------
+    pathlib.Path
+        The file written (:func:`provenance_path`).
+    """
+    import json
+
+    from ..files import atomic_path
+
+    out = provenance_path(csv_path)
+    doc = {**record, "output": Path(csv_path).name, "output_sha256": file_sha256(csv_path)}
+    with atomic_path(out) as tmp:
+        Path(tmp).write_text(json.dumps(doc, indent=2, allow_nan=False) + "\n")
+    return out
+
+
+__all__ += ["DEFAULT_QDD_PER_QD", "acceleration_limits", "provenance_path", "write_provenance",
+            "default_motion_range"]

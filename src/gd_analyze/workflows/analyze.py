@@ -19,7 +19,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from .._version import __version__
-from ..core.dalembert import GDTerms, gd_terms
+from ..core.dalembert import GDTerms, allocate_terms, gd_terms
 from ..core.ranking import DEFAULT_DOMINANCE, DEFAULT_NEGLIGIBLE
 from ..core.simplified import SimplifiedModel, simplified_torque
 from ..formulations.compare import FORMULATIONS_MAX_SETPOINTS
@@ -58,6 +58,15 @@ class Analysis:
     verification: dict
 
 
+def _check_finite(terms, tau):
+    """Every computed array must be finite (inputs within LIMITS guarantee it)."""
+    from ..core.limits import check_finite
+
+    for name in ("D_tran", "D_rot", "h_tran", "h_rot", "c"):
+        check_finite(name, getattr(terms, name))
+    check_finite("tau", tau)
+
+
 def _subsample(N, max_setpoints):
     return np.unique(np.linspace(0, N - 1, min(N, max_setpoints)).round().astype(int))
 
@@ -72,20 +81,25 @@ def _concat(parts):
                      for f in ("D_tran", "D_rot", "h_tran", "h_rot", "c")))
 
 
-def _verify_sample(robot, q, qd, terms):
+def _verify_sample(robot, q, qd, terms, qdd=None):
     """The verification of :func:`verify` on given set points and their G-D terms."""
-    from ..formulations.pinocchio import reference_terms, relative_error
+    from ..formulations.pinocchio import (natural_relative_error, natural_scales,
+                                          reference_terms)
 
     ref = reference_terms(robot, q, qd)
-    out = {f"max_rel_error_{name}": relative_error(getattr(terms, name), getattr(ref, name))
-           for name in ("D_tran", "D_rot", "h_tran", "h_rot", "D", "h", "c")}
-    worst = max(out.values())
+    scales = natural_scales(robot, ref, qd, qdd)
+    out = {}
+    for name in ("D_tran", "D_rot", "h_tran", "h_rot", "D", "h", "c"):
+        kind = "D" if name.startswith("D") else "tau"
+        out[f"max_rel_error_{name}"] = natural_relative_error(
+            getattr(terms, name), getattr(ref, name), scales[kind], scales[f"floor_{kind}"])
+    worst = np.max(np.array(list(out.values())))         # NaN propagates: a NaN fails
     out.update(setpoints=int(q.shape[0]), tolerance=VERIFY_TOLERANCE,
-               engine="pinocchio", passed=int(worst <= VERIFY_TOLERANCE))
+               engine="pinocchio", passed=int(bool(worst <= VERIFY_TOLERANCE)))
     return out
 
 
-def verify(robot, q, qd, terms=None, max_setpoints=VERIFY_MAX_SETPOINTS):
+def verify(robot, q, qd, terms=None, max_setpoints=VERIFY_MAX_SETPOINTS, qdd=None):
     """Check G-D terms against Pinocchio's crba, nonLinearEffects and generalized gravity.
 
     Parameters
@@ -98,13 +112,18 @@ def verify(robot, q, qd, terms=None, max_setpoints=VERIFY_MAX_SETPOINTS):
         The G-D terms at those N states; computed at the checked set points if not given.
     max_setpoints : int, optional
         At most this many set points, evenly spread, are checked.
+    qdd : ndarray, shape (N, n), optional
+        Joint accelerations [rad/s^2], for the torque scale (zero if not given).
 
     Returns
     -------
     dict
-        ``max_rel_error_<term>`` for D_tran, D_rot, h_tran, h_rot, D, h and c (each the largest
-        absolute difference over the largest magnitude of Pinocchio's value), ``setpoints``
-        checked, ``tolerance`` and ``passed`` (1 if all are within tolerance, else 0).
+        ``max_rel_error_<term>`` for D_tran, D_rot, h_tran, h_rot, D, h and c: the largest
+        difference from Pinocchio relative to the element's natural scale over the checked set
+        points (:func:`gd_analyze.reference.natural_relative_error`): sqrt(D_ii D_jj) for D_ij,
+        peak |tau_i| for h_i and c_i, with an absolute floor of a few machine epsilons times
+        the overall scale; ``setpoints`` checked, ``tolerance`` and ``passed`` (1 if all are
+        within tolerance, else 0; a NaN anywhere fails).
 
     Notes
     -----
@@ -113,7 +132,7 @@ def verify(robot, q, qd, terms=None, max_setpoints=VERIFY_MAX_SETPOINTS):
     """
     idx = _subsample(q.shape[0], max_setpoints)
     sample = gd_terms(robot, q[idx], qd[idx]) if terms is None else _take(terms, idx)
-    return _verify_sample(robot, q[idx], qd[idx], sample)
+    return _verify_sample(robot, q[idx], qd[idx], sample, None if qdd is None else qdd[idx])
 
 
 @dataclass(frozen=True, eq=False)
@@ -225,9 +244,13 @@ def analysis_pass(robot, trajectory, dominance=DEFAULT_DOMINANCE, negligible=DEF
     bar = tqdm(total=2 * N, unit="setpoint", unit_scale=True, disable=not progress,
                desc="G-D terms", delay=PROGRESS_DELAY, leave=False)
     given = terms
+    # streamed chunks (not held) reuse one set of output buffers: no fresh pages per chunk
+    buf = None if hold or given is not None else allocate_terms(min(chunk, N), n)
     for a, b in ranges:
-        terms = gd_terms(robot, q[a:b], qd[a:b]) if given is None else _take(given, slice(a, b))
+        terms = (gd_terms(robot, q[a:b], qd[a:b], out=buf) if given is None
+                 else _take(given, slice(a, b)))
         tau = terms.tau(qdd[a:b])
+        _check_finite(terms, tau)
         ranker.update(terms.D_tran, terms.D_rot, terms.h_tran, terms.h_rot, tau)
         if parts is not None:
             parts.update(terms.D_tran, terms.D_rot, terms.h_tran, terms.h_rot, qdd[a:b], tau)
@@ -272,7 +295,8 @@ def analysis_pass(robot, trajectory, dominance=DEFAULT_DOMINANCE, negligible=DEF
     verification = {}
     if check:
         verification = _verify_sample(robot, q[idx_verify], qd[idx_verify],
-                                      _take(sample, [at[i] for i in idx_verify]))
+                                      _take(sample, [at[i] for i in idx_verify]),
+                                      qdd[idx_verify])
     costs = None
     if formulations:
         from ..formulations.compare import formulations_dataset

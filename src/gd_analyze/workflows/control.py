@@ -69,6 +69,7 @@ from ..formulations.simplified_eval import (COST_SETPOINTS, evaluation_cost, eva
 __all__ = [
     "CONTROLLERS", "CONTROLLER_DESCRIPTIONS", "DEFAULT_WN", "DEFAULT_ZETA", "DEFAULT_RTOL",
     "DEFAULT_ATOL", "DEFAULT_METHOD", "DEFAULT_GRID_POINTS", "CONTROL_FILE",
+    "MAX_STIFFNESS_STEPS", "MAX_RHS_EVALS", "stiffness_steps",
     "Gains", "control_gains", "desired_motion", "controller_torque",
     "TrackingRun", "track", "ControlResult", "run_control",
 ]
@@ -95,6 +96,40 @@ DEFAULT_METHOD = "DOP853"
 DEFAULT_GRID_POINTS = 2001
 #: Default file name of the stored control dataset.
 CONTROL_FILE = "control.h5"
+#: Most integrator steps the gains may demand (see :func:`stiffness_steps`); stiffer gains are
+#: refused before integrating.
+MAX_STIFFNESS_STEPS = 20_000
+#: Most right-hand-side evaluations of one controller's run: a bound on the integration's time.
+MAX_RHS_EVALS = 500_000
+
+
+def stiffness_steps(wn, zeta, duration):
+    """Integrator steps the error dynamics demand of an explicit method.
+
+    Parameters
+    ----------
+    wn : float or array_like
+        Undamped natural frequency [rad/s].
+    zeta : float or array_like
+        Damping ratio.
+    duration : float
+        Length of the run [s].
+
+    Returns
+    -------
+    float
+        duration * |s_max| / 3, with s_max = wn (zeta + sqrt(max(zeta^2 - 1, 0))) the fastest
+        root of s^2 + 2 zeta wn s + wn^2: an explicit Runge-Kutta method is stable for step
+        sizes up to about 3 / |s_max|.
+
+    Examples
+    --------
+    >>> round(stiffness_steps(20.0, 1.0, 1.5))
+    10
+    """
+    wn, zeta = np.asarray(wn, float), np.asarray(zeta, float)
+    fastest = wn * (zeta + np.sqrt(np.maximum(zeta**2 - 1.0, 0.0)))
+    return float(np.max(fastest)) * float(duration) / 3.0
 
 
 # --------------------------------------------------------------------------------------------
@@ -376,8 +411,12 @@ def track(robot, controller, gains, desired, t_eval, q0_offset=0.0, choices=None
     plan = evaluation_plan(choices, n) if controller == "simplified" and \
         not hasattr(choices, "torque") else None
     d1, d2 = desired.derivative(1), desired.derivative(2)
+    calls = [0]
 
     def rhs(t, y):
+        calls[0] += 1
+        if calls[0] > MAX_RHS_EVALS:
+            raise _TooManyEvals
         q, qd = y[None, :n], y[None, n:]
         terms = gd_terms(robot, q, qd, engine="compiled")
         tau = controller_torque(controller, robot, gains, desired(t)[None], d1(t)[None],
@@ -387,8 +426,13 @@ def track(robot, controller, gains, desired, t_eval, q0_offset=0.0, choices=None
     t0 = t_eval[0]
     y0 = np.concatenate([desired(t0) + np.broadcast_to(np.asarray(q0_offset, float), (n,)),
                          d1(t0)])
-    sol = solve_ivp(rhs, (t0, t_eval[-1]), y0, method=method, t_eval=t_eval, rtol=rtol,
-                    atol=atol)
+    try:
+        sol = solve_ivp(rhs, (t0, t_eval[-1]), y0, method=method, t_eval=t_eval, rtol=rtol,
+                        atol=atol)
+    except _TooManyEvals:
+        raise ValueError(f"the {controller} controller's run did not finish within "
+                         f"{MAX_RHS_EVALS} evaluations of the dynamics: the gains or the "
+                         f"trajectory make it too stiff (lower wn or zeta)") from None
     if sol.success:
         q, qd = sol.y[:n].T.copy(), sol.y[n:].T.copy()
     else:                                   # keep the shapes; NaN after the failure
@@ -404,6 +448,10 @@ def track(robot, controller, gains, desired, t_eval, q0_offset=0.0, choices=None
                                     q[ok], qd[ok], choices=choices, plan=plan)
     return TrackingRun(controller=controller, t=t_eval, q=q, qd=qd, tau=tau, error=q_d - q,
                        nfev=int(sol.nfev), success=bool(sol.success), message=str(sol.message))
+
+
+class _TooManyEvals(Exception):
+    """The integration exceeded MAX_RHS_EVALS."""
 
 
 def _peak_rms(x, axis=0):
@@ -573,7 +621,9 @@ def run_control(model, trajectory, wn=DEFAULT_WN, zeta=DEFAULT_ZETA, q0_offset=0
     ------
     ValueError
         If the trajectory's joint count differs from the robot's, t_end leaves fewer than 2
-        set points, a controller is unknown, or the gains are invalid.
+        set points, a controller is unknown, the gains are invalid or so stiff that the
+        integration would need more than :data:`MAX_STIFFNESS_STEPS` steps
+        (:func:`stiffness_steps`), or a run exceeds :data:`MAX_RHS_EVALS` evaluations.
 
     Notes
     -----
@@ -603,6 +653,12 @@ def run_control(model, trajectory, wn=DEFAULT_WN, zeta=DEFAULT_ZETA, q0_offset=0
     desired = desired_motion(trajectory)
     t, is_set = _sample_times(t_set, grid_points)
     gains = control_gains(robot, desired(t[0]), wn, zeta)
+    steps = stiffness_steps(gains.wn, gains.zeta, t[-1] - t[0])
+    if steps > MAX_STIFFNESS_STEPS:
+        raise ValueError(f"wn = {np.max(gains.wn):g} rad/s and zeta = {np.max(gains.zeta):g} "
+                         f"make the closed loop too stiff: about {steps:.3g} integrator steps "
+                         f"over {t[-1] - t[0]:g} s (at most {MAX_STIFFNESS_STEPS}); lower wn "
+                         f"or zeta")
     offset = np.broadcast_to(np.asarray(q0_offset, dtype=float), (robot.n,)).copy()
     runs = {}
     for name in (c for c in CONTROLLERS if c in controllers):

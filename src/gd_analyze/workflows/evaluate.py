@@ -11,6 +11,7 @@ from __future__ import annotations
 import numpy as np
 
 from ..core.dalembert import gd_terms
+from ..core.limits import check_finite
 from ..core.simplified import torque_error
 
 __all__ = ["evaluate"]
@@ -42,12 +43,14 @@ def evaluate(model, trajectory, plant=None):
     ------
     ValueError
         If the trajectory does not have n columns.
+    InputError
+        If the torques are not finite (inputs beyond :data:`gd_analyze.core.limits.LIMITS`).
     """
     robot = model.robot
     plant = robot if plant is None else plant
     full = gd_terms(plant, trajectory.q, trajectory.qd)
     err = torque_error(model.torque(trajectory.q, trajectory.qd, trajectory.qdd),
-                       full.tau(trajectory.qdd))
+                       check_finite("tau", full.tau(trajectory.qdd)))
     rel = np.array([np.nan if v is None else v for v in err["relative_peak_error"]], float)
     err["max_relative_peak_error"] = float(np.nanmax(rel)) if np.isfinite(rel).any() else 0.0
     return err

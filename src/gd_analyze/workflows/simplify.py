@@ -13,6 +13,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from ..core.budget import DEFAULT_TOLERANCE, PartPeaks, select_terms
+from ..core.ranking import DEFAULT_DOMINANCE, DEFAULT_NEGLIGIBLE
 from ..core.codegen import build_program
 from ..core.explicit import term_peaks
 from ..core.dalembert import gd_terms
@@ -134,8 +135,8 @@ def build_model(robot, terms, peaks, tolerance=DEFAULT_TOLERANCE, rule="budget",
         full = _FULL_COST[terms] = build_program(terms, robot.n, robot.offset).cost()
     model = SimplifiedModel(
         robot=robot, choices=sel.choices,
-        dominance_threshold=float(getattr(ranking, "dominance_threshold", np.nan)),
-        negligible_threshold=float(getattr(ranking, "negligible_threshold", np.nan)),
+        dominance_threshold=float(getattr(ranking, "dominance_threshold", DEFAULT_DOMINANCE)),
+        negligible_threshold=float(getattr(ranking, "negligible_threshold", DEFAULT_NEGLIGIBLE)),
         trajectory_sha256=trajectory_sha256, provenance=dict(provenance or {}), rule=rule,
         tolerance=float(tolerance), torque_floor=float(torque_floor), terms=sel.kept,
         cost=program.cost(), full_cost=full, bound=[float(v) for v in sel.bound])

@@ -1,0 +1,97 @@
+"""Sane magnitudes: the largest values gd-analyze accepts at its boundaries.
+
+Every number that enters the tool (robot file, trajectory CSV, command-line option, model JSON)
+is checked against these limits, so that the G-D terms, which grow as m l^2 qd^2, stay far from
+overflow: with every input at its limit, the largest torque is about 1e6 kg * (1e3 m)^2 *
+(1e4 rad/s)^2 = 1e20 N m, well inside the range of a float (1.8e308). Every computed array is
+checked for being finite as well (:func:`check_finite`).
+
+The README's "Limits" section lists the same values.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from ..errors import InputError
+
+__all__ = ["LIMITS", "check_finite", "first_beyond"]
+
+#: Largest accepted magnitude of each input quantity, in SI units.
+LIMITS = {
+    "t": 1e9,           # |time| [s]
+    "q": 1e4,           # |joint position| [rad]
+    "qd": 1e4,          # |joint velocity| [rad/s]
+    "qdd": 1e8,         # |joint acceleration| [rad/s^2]
+    "length": 1e3,      # |d|, |a|, |centre of mass coordinate|, |payload com| [m]
+    "mass": 1e6,        # link or payload mass [kg]
+    "inertia": 1e9,     # |inertia tensor element| [kg m^2]
+    "gravity": 1e3,     # |gravity vector component| [m/s^2]
+    "duration": 1e9,    # planned duration [s]
+    "min_duration": 1e-6,   # shortest planned duration [s]
+    "angle_deg": 1e6,   # |an angle or angular limit given in degrees| [deg]
+}
+
+
+def first_beyond(values, limit):
+    """Index of the first value whose magnitude exceeds ``limit`` (or is not finite).
+
+    Parameters
+    ----------
+    values : array_like
+        Any shape; searched in C order.
+    limit : float
+        The largest accepted magnitude.
+
+    Returns
+    -------
+    tuple of int or None
+        The index (as from ``np.unravel_index``) of the first offending value, or None.
+
+    Examples
+    --------
+    >>> first_beyond([1.0, -3.0, 2.0], 2.5)
+    (1,)
+    >>> first_beyond([1.0, float("nan")], 2.5)
+    (1,)
+    >>> first_beyond([1.0], 2.5) is None
+    True
+    """
+    arr = np.asarray(values, dtype=float)
+    bad = ~(np.abs(arr) <= limit)          # NaN compares False, so it is caught
+    if not bad.any():
+        return None
+    flat = int(np.argmax(bad.ravel()))
+    return tuple(int(i) for i in np.unravel_index(flat, arr.shape))
+
+
+def check_finite(name, values, what="computed"):
+    """Raise if an array holds NaN or inf.
+
+    Parameters
+    ----------
+    name : str
+        The array's name, for the message (e.g. ``"D"``).
+    values : array_like
+        The array; axis 0 is the set point where it has one.
+    what : str, optional
+        How the array came about, for the message.
+
+    Returns
+    -------
+    ndarray
+        The array, unchanged.
+
+    Raises
+    ------
+    InputError
+        If any element is not finite. Inputs within :data:`LIMITS` never give one, so the
+        message points at the inputs.
+    """
+    arr = np.asarray(values)
+    if arr.dtype.kind in "fc" and not np.isfinite(arr).all():
+        idx = first_beyond(arr, np.inf)
+        where = f" at set point {idx[0]}" if idx and arr.ndim > 1 else ""
+        raise InputError(f"the {what} {name} is not finite{where}: the inputs are beyond the "
+                         f"magnitudes gd-analyze supports (see the README, Limits)")
+    return arr

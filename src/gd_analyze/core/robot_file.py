@@ -1,0 +1,305 @@
+"""The robot-file layout: validation of a robot specification (TOML or JSON dictionary).
+
+:func:`robot_from_dict` checks every key of the three layouts (standard DH, modified DH and a
+general chain of placements; revolute and prismatic joints) and builds a
+:class:`~gd_analyze.robot.Robot`. Every mistake is reported as one :class:`InputError` line
+that names the file, the link and the key. Pure: no files are read here.
+"""
+
+from __future__ import annotations
+
+import hashlib
+import math
+import warnings
+
+import numpy as np
+
+from ..errors import InputError, InputWarning
+from .limits import LIMITS
+from .robot import CONVENTIONS, JOINT_TYPES, Robot
+
+__all__ = ["robot_from_dict"]
+
+
+#: Top-level keys of a robot file; others are ignored with an InputWarning.
+_TOP_KEYS = {"name", "description", "reference", "gravity", "convention", "link"}
+
+
+def _number(value, path, column, finite=True, limit=None):
+    """A float; ``limit`` names the entry of LIMITS its magnitude may not exceed (when finite)."""
+    if isinstance(value, bool) or not isinstance(value, (int, float)):
+        raise InputError(f"expected a number, got {_short(value)}", path, column=column)
+    try:
+        v = float(value)
+    except OverflowError:
+        raise InputError("number too large for a float", path, column=column) from None
+    if finite and not math.isfinite(v):
+        raise InputError(f"expected a finite number, got {value!r}", path, column=column)
+    if limit is not None and math.isfinite(v) and abs(v) > LIMITS[limit]:
+        raise InputError(f"{v:g} is beyond the supported magnitude {LIMITS[limit]:g} (see the "
+                         f"README, Limits)", path, column=column)
+    return v
+
+
+def _short(value):
+    text = repr(value)
+    return text if len(text) <= 60 else text[:57] + "..."
+
+
+def _vector(value, length, path, column, limit=None):
+    if isinstance(value, np.ndarray):
+        value = value.tolist()
+    if not isinstance(value, (list, tuple)) or len(value) != length:
+        raise InputError(f"expected a list of {length} numbers, got {_short(value)}", path,
+                         column=column)
+    return [_number(v, path, column, limit=limit) for v in value]
+
+
+def _text(spec, key, path, required=False):
+    """A string: the name one line of at most 200 printable characters; a description or
+    reference at most 100,000 characters without NUL (HDF5 attributes cannot hold one)."""
+    value = spec.get(key, "")
+    if not isinstance(value, str) or (required and not value):
+        raise InputError(f"expected a {'non-empty ' if required else ''}string, got "
+                         f"{_short(value)}", path, column=key)
+    if required and (len(value) > 200 or not value.isprintable()):
+        raise InputError("expected at most 200 printable characters (no control characters "
+                         "such as NUL or newline)", path, column=key)
+    if len(value) > 100_000 or "\x00" in value:
+        raise InputError("expected at most 100000 characters and no NUL", path, column=key)
+    return value
+
+
+def _degrees(link, key, path, where, default=None):
+    """An angle in degrees [deg] -> [rad]; warns when the value looks like radians (1.5708
+    typed for 90: within 1e-3 of a nonzero multiple of pi/2, and not an integer)."""
+    deg = _number(link.get(key, default) if default is not None else link[key], path,
+                  f"{where}.{key}", limit="angle_deg")
+    k = round(deg / (math.pi / 2))
+    if k != 0 and abs(deg - k * math.pi / 2) < 1e-3 and deg != round(deg):
+        warnings.warn(f"{path}: key {where}.{key}: {deg:g} looks like radians ({k} pi/2); "
+                      f"the value is read in degrees", InputWarning, stacklevel=3)
+    return math.radians(deg)
+
+
+def _inertia_tensor(raw, path, column):
+    """A symmetric positive semi-definite tensor from 3 or 6 numbers or a 3x3 array."""
+    arr = np.asarray(raw, dtype=object) if not isinstance(raw, (int, float)) else None
+    if arr is not None and arr.shape == (3, 3):
+        I = np.array(_vector(arr.ravel().tolist(), 9, path, column, "inertia")).reshape(3, 3)
+        if not np.allclose(I, I.T, rtol=0, atol=1e-12 * max(1.0, np.abs(I).max())):
+            raise InputError("inertia tensor is not symmetric", path, column=column)
+        I = 0.5 * (I + I.T)
+    else:
+        n_in = len(raw) if isinstance(raw, (list, tuple)) else 0
+        vals = _vector(raw, 6 if n_in == 6 else 3, path, column, "inertia")
+        ixx, iyy, izz = vals[:3]
+        ixy, ixz, iyz = vals[3:] if len(vals) == 6 else (0.0, 0.0, 0.0)
+        I = np.array([[ixx, ixy, ixz], [ixy, iyy, iyz], [ixz, iyz, izz]])
+    tol = 1e-12 * max(1.0, float(np.abs(I).max()))
+    if np.linalg.eigvalsh(I).min() < -tol:
+        raise InputError("inertia tensor is not positive semi-definite", path, column=column)
+    return I
+
+
+def _inertial(link, path, where):
+    """mass, com, inertia of one link table (or joint dict), validated."""
+    m = _number(link["mass"], path, f"{where}.mass", limit="mass")
+    if m < 0:
+        raise InputError(f"negative mass {m}", path, column=f"{where}.mass")
+    com = _vector(link["com"], 3, path, f"{where}.com", "length")
+    return m, com, _inertia_tensor(link["inertia"], path, f"{where}.inertia")
+
+
+def _limits(lo_hi, qd, qdd, path, where, keys, scale=1.0, qdd_optional=False):
+    """q_min, q_max, qd_max, qdd_max in SI units; keys name the three entries for messages."""
+    klim, kqd, kqdd = keys
+    lim = lo_hi
+    if isinstance(lim, np.ndarray):
+        lim = lim.tolist()
+    if not isinstance(lim, (list, tuple)) or len(lim) != 2:
+        raise InputError(f"expected a list of 2 numbers, got {lim!r}", path,
+                         column=f"{where}.{klim}")
+    lo, hi = (_number(v, path, f"{where}.{klim}", finite=False, limit="angle_deg")
+              for v in lim)
+    if math.isnan(lo) or math.isnan(hi) or lo >= hi:
+        raise InputError("lower limit not below upper limit", path, column=f"{where}.{klim}")
+    v = _number(qd, path, f"{where}.{kqd}", limit="angle_deg")
+    if v <= 0:
+        raise InputError("limit must be positive", path, column=f"{where}.{kqd}")
+    if qdd is None and qdd_optional:
+        acc = math.nan
+    else:
+        acc = _number(qdd, path, f"{where}.{kqdd}", finite=not qdd_optional)
+        if acc <= 0 or math.isinf(acc):
+            raise InputError("limit must be positive and finite", path,
+                             column=f"{where}.{kqdd}")
+    return lo * scale, hi * scale, v * scale, acc * scale
+
+
+_INERTIAL_KEYS = {"mass", "com", "inertia"}
+_KEYS = {
+    ("standard", "revolute"): ({"d", "a", "alpha_deg", "q_limits_deg", "qd_max_deg",
+                                "qdd_max_deg"}, {"offset_deg", "joint"}),
+    ("standard", "prismatic"): ({"a", "alpha_deg", "q_limits", "qd_max", "qdd_max"},
+                                {"theta_deg", "offset", "joint"}),
+    ("chain", "revolute"): ({"rotation", "translation", "q_limits", "qd_max"},
+                            {"qdd_max", "joint"}),
+}
+_KEYS[("modified", "revolute")] = _KEYS[("standard", "revolute")]
+_KEYS[("modified", "prismatic")] = _KEYS[("standard", "prismatic")]
+_KEYS[("chain", "prismatic")] = _KEYS[("chain", "revolute")]
+_HINT = {"d": "q is d for a prismatic joint (a constant part is 'offset' [m])",
+         "offset_deg": "a prismatic joint's fixed angle is 'theta_deg'",
+         "theta_deg": "a revolute joint's angle offset is 'offset_deg'",
+         "offset": "a revolute joint's angle offset is 'offset_deg'",
+         "q_limits_deg": "a prismatic joint's limits are 'q_limits' [m]",
+         "qd_max_deg": "a prismatic joint's limit is 'qd_max' [m/s]",
+         "qdd_max_deg": "a prismatic joint's limit is 'qdd_max' [m/s^2]",
+         "q_limits": "a revolute joint's limits are 'q_limits_deg' [deg]",
+         "qd_max": "a revolute joint's limit is 'qd_max_deg' [deg/s]",
+         "qdd_max": "a revolute joint's limit is 'qdd_max_deg' [deg/s^2]"}
+
+
+def _check_keys(link, convention, joint, path, where):
+    required, optional = _KEYS[(convention, joint)]
+    required = required | _INERTIAL_KEYS
+    unknown = sorted(set(link) - required - optional)
+    if unknown:
+        key = unknown[0]
+        hint = f" ({_HINT[key]})" if key in _HINT and convention != "chain" else ""
+        raise InputError(f"unknown key {key!r} for a {joint} joint in the {convention} "
+                         f"convention{hint}", path, column=f"{where}.{key}")
+    for key in sorted(required):
+        if key not in link:
+            raise InputError(f"missing key for a {joint} joint", path, column=f"{where}.{key}")
+
+
+def _rotation(value, path, column):
+    arr = np.asarray(value, dtype=object)
+    if arr.shape != (3, 3):
+        raise InputError(f"expected a 3x3 rotation matrix, got {value!r}", path, column=column)
+    R = np.array(_vector(arr.ravel().tolist(), 9, path, column)).reshape(3, 3)
+    if not np.allclose(R @ R.T, np.eye(3), atol=1e-9) or np.linalg.det(R) < 0:
+        raise InputError("not a rotation matrix (R R^T = E, det R = +1)", path, column=column)
+    return R
+
+
+def robot_from_dict(spec, source="<dict>", sha256=None):
+    """Validate a robot specification and build a :class:`Robot`.
+
+    Parameters
+    ----------
+    spec : dict
+        The robot-file layout: ``name`` (str), ``gravity`` (3 numbers [m/s^2]), optional
+        ``description``, ``reference`` and ``convention`` (``"standard"``, the default, or
+        ``"modified"`` DH; ``"chain"`` for general placements), and ``link``: a list of
+        tables, one per joint from the base, each with ``joint`` (``"revolute"``, the default,
+        or ``"prismatic"``), ``mass`` [kg], ``com`` (3 numbers [m]) and ``inertia`` (3 numbers
+        Ixx, Iyy, Izz, or 6 numbers Ixx, Iyy, Izz, Ixy, Ixz, Iyz, tensor elements [kg m^2]),
+        both in link frame i, and
+
+        - revolute, DH: ``d`` [m], ``a`` [m], ``alpha_deg`` [deg], optional ``offset_deg``
+          [deg] (theta_i = q_i + offset), ``q_limits_deg`` (2 numbers [deg]), ``qd_max_deg``
+          [deg/s], ``qdd_max_deg`` [deg/s^2];
+        - prismatic, DH: optional ``theta_deg`` [deg] (the fixed theta_i), ``a`` [m],
+          ``alpha_deg`` [deg], optional ``offset`` [m] (d_i = q_i + offset), ``q_limits``
+          [m], ``qd_max`` [m/s], ``qdd_max`` [m/s^2];
+        - chain: ``rotation`` (3x3) and ``translation`` (3 numbers [m]), the placement of the
+          joint in the previous body frame, and ``q_limits``, ``qd_max``, optional
+          ``qdd_max`` in SI units (rad or m); limits may be infinite.
+
+        In the modified convention link i's row holds Craig's alpha_{i-1}, a_{i-1}, d_i and
+        theta_i (as the Robotics Toolbox's ``RevoluteMDH`` and ``PrismaticMDH`` take them), and
+        the centre of mass and inertia are in modified-DH frame i.
+    source : str, optional
+        Where the specification came from, for error messages and provenance.
+    sha256 : str, optional
+        SHA-256 of the source file; by default that of the specification's canonical JSON.
+
+    Returns
+    -------
+    Robot
+
+    Raises
+    ------
+    InputError
+        On a missing or unknown key, a value that is not a finite number, a negative mass, an
+        inertia tensor that is not positive semi-definite, or limits in the wrong order.
+        (The triangle inequality is not enforced: published models such as the PUMA 560's lump
+        rotor inertia into a link, e.g. I_1 = diag(0, 0.35, 0).) The message names the source
+        and the key (as ``link[i].key``).
+    """
+    if sha256 is None:
+        import json
+
+        sha256 = hashlib.sha256(json.dumps(spec, sort_keys=True).encode()).hexdigest()
+    path = source
+    if not isinstance(spec, dict):
+        raise InputError("a robot file must be a table", path)
+    if "name" not in spec:
+        raise InputError("missing robot name", path, column="name")
+    name = _text(spec, "name", path, required=True)
+    description, reference = _text(spec, "description", path), _text(spec, "reference", path)
+    for key in sorted(set(spec) - _TOP_KEYS):
+        warnings.warn(f"{path}: unknown key {key!r} ignored (known: "
+                      f"{', '.join(sorted(_TOP_KEYS))})", InputWarning, stacklevel=2)
+    if "gravity" not in spec:
+        raise InputError("missing gravity vector", path, column="gravity")
+    gravity = _vector(spec["gravity"], 3, path, "gravity", "gravity")
+    convention = spec.get("convention", "standard")
+    if convention not in CONVENTIONS:
+        raise InputError(f"convention must be 'standard' or 'modified' (or 'chain'), got "
+                         f"{convention!r}", path, column="convention")
+    links = spec.get("link")
+    if not isinstance(links, list) or not links:
+        raise InputError("no [[link]] tables", path, column="link")
+    cols = {k: [] for k in ("d", "a", "alpha", "offset", "mass", "com", "inertia", "q_min",
+                            "q_max", "qd_max", "qdd_max", "prismatic", "rotation",
+                            "translation")}
+    for i, link in enumerate(links, start=1):
+        where = f"link[{i}]"
+        if not isinstance(link, dict):
+            raise InputError("expected a table", path, column=where)
+        joint = link.get("joint", "revolute")
+        if joint not in JOINT_TYPES:
+            raise InputError(f"joint must be 'revolute' or 'prismatic', got {joint!r}", path,
+                             column=f"{where}.joint")
+        pris = joint == "prismatic"
+        _check_keys(link, convention, joint, path, where)
+        m, com, I = _inertial(link, path, where)
+        if convention == "chain":
+            cols["rotation"].append(_rotation(link["rotation"], path, f"{where}.rotation"))
+            cols["translation"].append(_vector(link["translation"], 3, path,
+                                               f"{where}.translation", "length"))
+            for key in ("d", "a", "alpha", "offset"):
+                cols[key].append(math.nan)
+            lims = _limits(link["q_limits"], link["qd_max"], link.get("qdd_max"), path, where,
+                           ("q_limits", "qd_max", "qdd_max"), qdd_optional=True)
+        elif pris:
+            cols["d"].append(_number(link.get("offset", 0.0), path, f"{where}.offset",
+                                     limit="length"))
+            cols["a"].append(_number(link["a"], path, f"{where}.a", limit="length"))
+            cols["alpha"].append(_degrees(link, "alpha_deg", path, where))
+            cols["offset"].append(_degrees(link, "theta_deg", path, where, 0.0))
+            lims = _limits(link["q_limits"], link["qd_max"], link["qdd_max"], path, where,
+                           ("q_limits", "qd_max", "qdd_max"))
+        else:
+            cols["d"].append(_number(link["d"], path, f"{where}.d", limit="length"))
+            cols["a"].append(_number(link["a"], path, f"{where}.a", limit="length"))
+            cols["alpha"].append(_degrees(link, "alpha_deg", path, where))
+            cols["offset"].append(_degrees(link, "offset_deg", path, where, 0.0))
+            lims = _limits(link["q_limits_deg"], link["qd_max_deg"], link["qdd_max_deg"], path,
+                           where, ("q_limits_deg", "qd_max_deg", "qdd_max_deg"),
+                           scale=math.pi / 180)
+        cols["prismatic"].append(pris)
+        cols["mass"].append(m)
+        cols["com"].append(com)
+        cols["inertia"].append(I)
+        for key, v in zip(("q_min", "q_max", "qd_max", "qdd_max"), lims):
+            cols[key].append(v)
+    if convention != "chain":
+        del cols["rotation"], cols["translation"]
+    return Robot(name=name, gravity=gravity, description=description,
+                 reference=reference, source=str(source), sha256=sha256,
+                 convention=convention, **cols)

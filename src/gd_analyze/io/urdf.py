@@ -1,0 +1,406 @@
+"""URDF import: the serial chain from a base link to a tip link, read through Pinocchio.
+
+The file is parsed by Pinocchio's URDF parser (``pinocchio.buildModelFromUrdf``, Carpentier et
+al., "The Pinocchio C++ library", SII 2019), which already merges the links of fixed joints into
+their parent link. The chain kept runs from ``base`` to ``tip``; every other moving joint (side
+branches such as a gripper's fingers, links beyond the tip, joints above the base) is locked at
+q = 0 and its links are carried rigidly by the chain link they hang from
+(``pinocchio.buildReducedModel``).
+
+Each moving joint of the chain becomes one joint of the gd-analyze joint model: a fixed placement
+(rotation R_i, translation p_i) from the previous body frame (body i-1 after its joint's motion;
+the base link's frame for i = 1), then a motion about (revolute) or along (prismatic) the local
+z axis. A URDF joint whose axis is not +z gets its body frame turned by the smallest rotation A_i
+that takes z onto the axis: the placement becomes A_{i-1}^T P_i A_i (B^{-1} P_1 A_1 for the
+first joint, B the base link's frame) and the centre of mass and inertia tensor are expressed in
+the turned frame (A_i^T r_i, A_i^T I_i A_i). A continuous joint is a revolute joint without
+position limits. URDF has no acceleration limits: ``qdd_max`` is None.
+"""
+
+from __future__ import annotations
+
+import hashlib
+import math
+from dataclasses import dataclass, field
+from importlib import resources
+from pathlib import Path
+
+import numpy as np
+
+from ..errors import InputError
+
+__all__ = ["UrdfChain", "read_urdf_chain", "load_urdf", "URDF_BUILTIN", "axis_rotation"]
+
+#: Built-in robots vendored as URDF files in ``gd_analyze/data`` (``data/robots/`` in the
+#: repository): file, chain and the text the reports show.
+URDF_BUILTIN = {
+    "panda": {
+        "file": "panda.urdf", "base": "panda_link0", "tip": "panda_hand",
+        "description": (
+            "Franka Emika Panda, 7 revolute joints; the flange (panda_link8), the hand and both "
+            "fingers are merged into link 7, fingers locked at q = 0; full inertia tensors"),
+        "reference": (
+            "panda.urdf of example-robot-data 6.0.0 (PyPI; upstream franka_ros "
+            "franka_description, Apache-2.0), read with pinocchio.buildModelFromUrdf"),
+    },
+    "ur5": {
+        "file": "ur5.urdf", "base": "base_link", "tip": "wrist_3_link",
+        "description": (
+            "Universal Robots UR5, 6 revolute joints (ee_link and tool0 merged into link 6). "
+            "Simplified inertials: diagonal inertia tensors and centres of mass at the link "
+            "origins (upper arm and forearm: on the link axis, 0.28 m and 0.25 m out), not "
+            "measured values"),
+        "reference": (
+            "ur5_robot.urdf of example-robot-data 6.0.0 (PyPI; upstream ros-industrial "
+            "universal_robot ur_description, BSD), read with pinocchio.buildModelFromUrdf"),
+    },
+}
+
+_TOL = 1e-12
+
+
+def _pin():
+    import pinocchio
+
+    return pinocchio
+
+
+@dataclass(frozen=True, eq=False)
+class UrdfChain:
+    """The serial chain read from a URDF file, in the gd-analyze joint model.
+
+    Attributes
+    ----------
+    name : str
+        The robot's name (the URDF ``<robot name>``, or as given).
+    joints : tuple of dict
+        One per moving joint from the base: ``type`` ("revolute" or "prismatic"), ``rotation``
+        (ndarray, shape (3, 3)) and ``translation`` (ndarray, shape (3,) [m]): the fixed
+        placement from the previous body frame; ``mass`` [kg]; ``com`` (shape (3,) [m]) and
+        ``inertia`` (shape (3, 3) [kg m^2], about the centre of mass), both in this joint's
+        body frame; ``q_min``, ``q_max`` [rad or m] (infinite for a continuous joint);
+        ``qd_max`` [rad/s or m/s]; ``qdd_max`` None (URDF has no acceleration limits).
+    gravity : ndarray, shape (3,)
+        Gravity in the base link's frame [m/s^2].
+    joint_names, link_names : tuple of str
+        The URDF names of the chain's joints and of the link each one moves.
+    base, tip : str
+        The base and tip links.
+    locked : tuple of str
+        Moving URDF joints off the chain, locked at q = 0 and merged.
+    metadata : dict
+        ``description``, ``reference``, ``source`` and ``sha256`` (of the file's bytes), and
+        ``base_link``, ``tip_link``, ``urdf_joints`` (the chain's joint names) and
+        ``locked_joints``, for :func:`gd_analyze.core.robot.robot_from_chain`.
+    """
+
+    name: str
+    joints: tuple
+    gravity: np.ndarray
+    joint_names: tuple
+    link_names: tuple
+    base: str
+    tip: str
+    locked: tuple = ()
+    metadata: dict = field(default_factory=dict)
+
+    @property
+    def n(self):
+        """int: the number of joints of the chain."""
+        return len(self.joints)
+
+
+def axis_rotation(axis):
+    """The smallest rotation that takes the z axis onto a unit axis.
+
+    Parameters
+    ----------
+    axis : array_like, shape (3,)
+        The joint axis (normalised here).
+
+    Returns
+    -------
+    ndarray, shape (3, 3)
+        A with ``A @ (0, 0, 1) = axis``; exactly the identity for +z and diag(1, -1, -1) for -z.
+
+    Raises
+    ------
+    ValueError
+        If the axis is zero or not finite.
+
+    Notes
+    -----
+    Rodrigues' formula about k = z x a / |z x a| with cos = z . a and sin = |z x a|, so axes
+    along x or y give rotations with exact 0 and +-1 entries.
+
+    Examples
+    --------
+    >>> axis_rotation([0, 1, 0]) @ [0, 0, 1]
+    array([0., 1., 0.])
+    """
+    a = np.asarray(axis, dtype=float).reshape(3)
+    norm = float(np.linalg.norm(a))
+    if not math.isfinite(norm) or norm == 0.0:
+        raise ValueError(f"not a joint axis: {a.tolist()}")
+    a = a / norm
+    z = np.array([0.0, 0.0, 1.0])
+    v = np.cross(z, a)
+    s = float(np.linalg.norm(v))
+    c = float(a[2])
+    if s < _TOL:
+        return np.eye(3) if c > 0 else np.diag([1.0, -1.0, -1.0])
+    k = v / s
+    K = np.array([[0.0, -k[2], k[1]], [k[2], 0.0, -k[0]], [-k[1], k[0], 0.0]])
+    return np.eye(3) + s * K + (1.0 - c) * (K @ K)
+
+
+def _read_model(path):
+    pin = _pin()
+    p = Path(path)
+    if not p.is_file():
+        raise InputError("no such file", path)
+    try:
+        raw = p.read_bytes()
+    except OSError as exc:
+        raise InputError(f"cannot read: {exc.strerror}", path) from None
+    try:
+        model = pin.buildModelFromUrdf(str(p))
+    except (ValueError, RuntimeError, OSError) as exc:
+        msg = str(exc).strip().splitlines()
+        raise InputError(f"not a valid URDF file: {msg[0] if msg else type(exc).__name__}",
+                         path) from None
+    return model, raw
+
+
+def _body_frames(model):
+    """Link name -> frame id, for every link (BODY frame) of the model."""
+    pin = _pin()
+    return {f.name: k for k, f in enumerate(model.frames) if f.type == pin.FrameType.BODY}
+
+
+def _joint_body(model, links, j):
+    """The link that joint j moves (the BODY frame right after its JOINT frame)."""
+    pin = _pin()
+    jf = model.getFrameId(model.names[j], pin.FrameType.JOINT)
+    for name, k in links.items():
+        if model.frames[k].parentFrame == jf:
+            return name
+    return model.names[j]
+
+
+def _root_link(model, links):
+    for name, k in links.items():
+        if model.frames[k].parentJoint == 0 and model.frames[k].parentFrame == 0:
+            return name
+    return next(iter(links))
+
+
+def _link(links, name, option, path):
+    if name not in links:
+        near = ", ".join(sorted(links)[:12])
+        raise InputError(f"no link {name!r} in the URDF (links: {near}"
+                         f"{', ...' if len(links) > 12 else ''})", path, column=option)
+    return links[name]
+
+
+def _select_chain(model, links, base, tip, path):
+    """Joint ids of the chain from base to tip, and the base and tip link names."""
+    base = base if base is not None else _root_link(model, links)
+    jb = model.frames[_link(links, base, "--base", path)].parentJoint
+    if tip is None:
+        below = [j for j in range(1, model.njoints)
+                 if j != jb and jb in list(model.supports[j])]
+        leaves = [j for j in below if not list(model.children[j])]
+        if not leaves:
+            raise InputError(f"no moving joint below the base link {base!r}", path,
+                             column="--base")
+        if len(leaves) > 1:
+            names = ", ".join(_joint_body(model, links, j) for j in leaves)
+            raise InputError(f"the URDF has {len(leaves)} chains below {base!r}: give --tip "
+                             f"LINK (candidate tips: {names})", path, column="--tip")
+        jt = leaves[0]
+        tip = _joint_body(model, links, jt)
+    else:
+        jt = model.frames[_link(links, tip, "--tip", path)].parentJoint
+    support = list(model.supports[jt])
+    if jb not in support or jt == jb:
+        raise InputError(f"no moving joint between the base link {base!r} and the tip link "
+                         f"{tip!r} (the tip must lie beyond the base)", path, column="--tip")
+    return support[support.index(jb) + 1:], base, tip
+
+
+def _joint_kind(model, data, j, path):
+    """('revolute' | 'prismatic', unit axis in the joint frame, continuous?) of joint j."""
+    name = model.names[j]
+    if model.nvs[j] != 1 or model.nqs[j] not in (1, 2):
+        raise InputError(f"joint {name!r} ({model.joints[j].shortname()}) is not a revolute, "
+                         "continuous or prismatic joint", path)
+    S = np.asarray(data.joints[j].S, dtype=float).reshape(6)
+    lin, ang = S[:3], S[3:]
+    if np.linalg.norm(ang) < _TOL and abs(np.linalg.norm(lin) - 1.0) < 1e-9:
+        return "prismatic", lin, False
+    if np.linalg.norm(lin) < _TOL and abs(np.linalg.norm(ang) - 1.0) < 1e-9:
+        return "revolute", ang, model.nqs[j] == 2
+    raise InputError(f"joint {name!r} ({model.joints[j].shortname()}) is neither a pure "
+                     "rotation nor a pure translation", path)
+
+
+def read_urdf_chain(path, base=None, tip=None, name=None, description=None, reference=None,
+                    source=None):
+    """Read the serial chain from base to tip of a URDF file.
+
+    Parameters
+    ----------
+    path : str or os.PathLike
+        The URDF file. Meshes are not read (no geometry model is built).
+    base : str, optional
+        The base link (default: the URDF's root link).
+    tip : str, optional
+        The tip link (default: the end of the only chain below the base).
+    name : str, optional
+        The robot's name (default: the URDF's ``<robot name>``, else the file's stem).
+    description, reference : str, optional
+        Text for the reports (default: a description of the chain, and the file read).
+    source : str, optional
+        What to record as the robot's source (default: the path).
+
+    Returns
+    -------
+    UrdfChain
+
+    Raises
+    ------
+    InputError
+        If the file is missing or not a valid URDF; a link is unknown; the tip is not beyond
+        the base; there are several chains and no tip (the message names the candidate tips); a
+        chain joint is neither revolute, continuous nor prismatic (floating, planar, ...); or a
+        chain joint has no velocity limit.
+
+    Notes
+    -----
+    Source: the URDF specification (wiki.ros.org/urdf/XML) and Pinocchio's parser; the joint
+    model is the fixed placement plus a motion about z described in this module's docstring.
+    """
+    pin = _pin()
+    model, raw = _read_model(path)
+    links = _body_frames(model)
+    chain, base, tip = _select_chain(model, links, base, tip, str(path))
+    locked = [j for j in range(1, model.njoints) if j not in chain]
+    data = model.createData()
+    pin.forwardKinematics(model, data, pin.neutral(model))
+    kinds = [_joint_kind(model, data, j, str(path)) for j in chain]
+    reduced = pin.buildReducedModel(model, locked, pin.neutral(model)) if locked else model
+    ids = [reduced.getJointId(model.names[j]) for j in chain]
+    if ids != list(range(1, len(chain) + 1)):  # pragma: no cover - Pinocchio's ordering
+        raise RuntimeError(f"unexpected joint order after reduction: {ids}")
+    base_frame = reduced.frames[reduced.getFrameId(base, pin.FrameType.BODY)]
+    B = base_frame.placement if base_frame.parentJoint == 0 else None
+    if B is None:  # pragma: no cover - the base's joint is locked or the universe
+        raise RuntimeError("base link still attached to a moving joint")
+    joints = []
+    prev = B
+    for k, (j, (kind, axis, continuous)) in enumerate(zip(chain, kinds), start=1):
+        A = pin.SE3(axis_rotation(axis), np.zeros(3))
+        placement = prev.inverse() * reduced.jointPlacements[k] * A
+        inertia = reduced.inertias[k]
+        R = A.rotation
+        iq, iv = model.idx_qs[j], model.idx_vs[j]
+        lo, hi = ((-math.inf, math.inf) if continuous else
+                  (float(model.lowerPositionLimit[iq]), float(model.upperPositionLimit[iq])))
+        vmax = float(model.velocityLimit[iv])
+        if not (math.isfinite(vmax) and vmax > 0):
+            raise InputError(f"joint {model.names[j]!r} has no velocity limit: gd-analyze needs "
+                             "one (<limit velocity=\"...\"/>)", path)
+        joints.append({
+            "type": kind,
+            "rotation": np.array(placement.rotation),
+            "translation": np.array(placement.translation),
+            "mass": float(inertia.mass),
+            "com": R.T @ np.array(inertia.lever),
+            "inertia": R.T @ np.array(inertia.inertia) @ R,
+            "q_min": lo, "q_max": hi,
+            "qd_max": vmax,
+            "qdd_max": None,
+        })
+        prev = A
+    gravity = B.rotation.T @ np.array(reduced.gravity.linear)
+    joint_names = tuple(model.names[j] for j in chain)
+    link_names = tuple(_joint_body(model, links, j) for j in chain)
+    locked_names = tuple(model.names[j] for j in locked if chain[0] in list(model.supports[j]))
+    robot_name = name or model.name or Path(path).stem
+    if description is None:
+        description = (f"{robot_name} from URDF: {len(chain)} joints "
+                       f"({', '.join(joint_names)}), base {base}, tip {tip}; fixed joints "
+                       "merged into their links")
+        if locked_names:
+            description += f"; {', '.join(locked_names)} locked at q = 0 and merged"
+    if reference is None:
+        reference = (f"URDF {Path(path).name} read with pinocchio.buildModelFromUrdf "
+                     f"(Pinocchio {pin.__version__})")
+    metadata = {"description": description, "reference": reference,
+                "source": str(source if source is not None else path),
+                "sha256": hashlib.sha256(raw).hexdigest(), "base_link": base, "tip_link": tip,
+                "urdf_joints": list(joint_names), "locked_joints": list(locked_names)}
+    return UrdfChain(name=robot_name, joints=tuple(joints), gravity=gravity,
+                     joint_names=joint_names, link_names=link_names, base=base, tip=tip,
+                     locked=locked_names, metadata=metadata)
+
+
+def builtin_urdf_path(name):
+    """The vendored URDF file of a built-in robot.
+
+    Parameters
+    ----------
+    name : str
+        A key of :data:`URDF_BUILTIN` (``"panda"``, ``"ur5"``).
+
+    Returns
+    -------
+    pathlib.Path
+
+    Raises
+    ------
+    KeyError
+        If the name is not a URDF built-in.
+    """
+    return Path(str(resources.files("gd_analyze").joinpath("data", URDF_BUILTIN[name]["file"])))
+
+
+__all__.append("builtin_urdf_path")
+
+
+def load_urdf(path, base=None, tip=None):
+    """A robot from a URDF file, or a built-in URDF robot by name.
+
+    Parameters
+    ----------
+    path : str or os.PathLike
+        A URDF file, or ``"panda"`` / ``"ur5"``.
+    base, tip : str, optional
+        The chain's base and tip links (see :func:`read_urdf_chain`); a built-in robot has its
+        own (``panda``: panda_link0 to panda_hand; ``ur5``: base_link to wrist_3_link), which
+        these override.
+
+    Returns
+    -------
+    Robot
+        Built by :func:`gd_analyze.core.robot.robot_from_chain`.
+
+    Raises
+    ------
+    InputError
+        As :func:`read_urdf_chain`.
+    """
+    from ..core.robot import robot_from_chain
+
+    key = str(path)
+    if key in URDF_BUILTIN:
+        spec = URDF_BUILTIN[key]
+        chain = read_urdf_chain(builtin_urdf_path(key), base or spec["base"],
+                                tip or spec["tip"], name=key,
+                                description=spec["description"], reference=spec["reference"],
+                                source=key)
+    else:
+        chain = read_urdf_chain(path, base, tip)
+    return robot_from_chain(chain.name, [dict(j) for j in chain.joints], chain.gravity,
+                            **chain.metadata)

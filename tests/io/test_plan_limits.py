@@ -1,0 +1,89 @@
+"""plan: acceleration limits where the robot has none, --qdd-max, and the provenance file."""
+
+import dataclasses
+import json
+import math
+
+import numpy as np
+import pytest
+
+from gd_analyze import load_robot
+from gd_analyze.cli import main
+from gd_analyze.io.trajectory import (DEFAULT_QDD_PER_QD, acceleration_limits, provenance_path,
+                                   quintic_duration, read_trajectory)
+
+
+@pytest.fixture(scope="module")
+def no_qdd():
+    """The PUMA 560 without acceleration limits, as a URDF robot comes."""
+    puma = load_robot("puma560")
+    qdd = np.array(puma.qdd_max)
+    qdd[[1, 4]] = np.nan
+    return dataclasses.replace(puma, qdd_max=qdd)
+
+
+def test_robot_limits_kept():
+    puma = load_robot("puma560")
+    qdd, source = acceleration_limits(puma)
+    assert source == "robot" and np.array_equal(qdd, puma.qdd_max)
+
+
+def test_default_fraction_of_velocity_limits(no_qdd):
+    qdd, source = acceleration_limits(no_qdd)
+    assert qdd[1] == DEFAULT_QDD_PER_QD * no_qdd.qd_max[1]
+    assert qdd[4] == DEFAULT_QDD_PER_QD * no_qdd.qd_max[4]
+    assert qdd[0] == no_qdd.qdd_max[0]
+    assert "joints 2, 5" in source and "default" in source
+
+
+def test_given_limits(no_qdd):
+    qdd, source = acceleration_limits(no_qdd, np.full(6, 3.0))
+    assert source == "--qdd-max" and (qdd == 3.0).all()
+    for bad in (np.full(5, 3.0), np.full(6, -1.0), np.full(6, np.inf)):
+        with pytest.raises(ValueError):
+            acceleration_limits(no_qdd, bad)
+
+
+def test_no_velocity_limit_either(no_qdd):
+    qd = np.array(no_qdd.qd_max)
+    qd[1] = np.inf
+    with pytest.raises(ValueError, match="joint 2 has neither"):
+        acceleration_limits(dataclasses.replace(no_qdd, qd_max=qd))
+
+
+def test_plan_qdd_max_and_provenance(tmp_path):
+    out = tmp_path / "p.csv"
+    args = ["plan", "puma560", "-o", str(out), "--qdd-max", "20"]
+    assert main(args) == 0
+    traj = read_trajectory(out, 6)                       # the existing reader reads it
+    prov = json.loads(provenance_path(out).read_text())
+    assert prov["qdd_max_source"] == "--qdd-max"
+    assert prov["qdd_max"] == pytest.approx([math.radians(20)] * 6)
+    assert prov["output"] == "p.csv" and prov["output_sha256"] == traj.sha256
+    assert prov["duration_s"] == pytest.approx(traj.t[-1])
+    puma = load_robot("puma560")
+    limited = dataclasses.replace(puma, qdd_max=np.full(6, math.radians(20)))
+    assert traj.t[-1] == pytest.approx(quintic_duration(limited, traj.q[0], traj.q[-1]))
+    peak = np.abs(traj.qdd).max(axis=0)
+    assert (peak <= math.radians(20) * (1 + 1e-9)).all()
+
+
+@pytest.mark.parametrize("value, message", [("1,2", "2 values for 6 joints"),
+                                            ("0", "finite and positive"),
+                                            ("x", "comma-separated numbers")])
+def test_plan_bad_qdd_max(tmp_path, capsys, value, message):
+    out = tmp_path / "p.csv"
+    assert main(["plan", "puma560", "-o", str(out), f"--qdd-max={value}"]) == 2
+    err = capsys.readouterr().err
+    assert message in err and err.count("\n") == 1
+    assert not out.exists() and not provenance_path(out).exists()
+
+
+def test_quintic_duration_uses_the_default_where_no_limit(no_qdd):
+    q0, q1 = np.zeros(6), np.full(6, 1.0)
+    filled = dataclasses.replace(no_qdd, qdd_max=acceleration_limits(no_qdd)[0])
+    T = quintic_duration(no_qdd, q0, q1)
+    assert np.isfinite(T) and T == quintic_duration(filled, q0, q1)
+    slow = dataclasses.replace(no_qdd, qd_max=np.full(6, 100.0))   # acceleration-bound
+    fast = dataclasses.replace(slow, qdd_max=np.array(slow.qdd_max) * 0 + 1e6)
+    assert quintic_duration(slow, q0, q1) > quintic_duration(fast, q0, q1)

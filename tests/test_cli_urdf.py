@@ -1,0 +1,61 @@
+"""`gd-analyze some.urdf traj.csv --tip LINK` end to end, on a URDF this test writes itself."""
+
+import json
+
+import pytest
+import xarray as xr
+
+from gd_analyze.cli import main
+from urdf_oracle import TOY_URDF
+
+
+@pytest.fixture()
+def urdf(tmp_path):
+    path = tmp_path / "some.urdf"
+    path.write_text(TOY_URDF)
+    return path
+
+
+def test_urdf_end_to_end(urdf, tmp_path, capsys):
+    traj = tmp_path / "traj.csv"
+    assert main(["plan", str(urdf), "-o", str(traj), "--tip", "tool", "--start=-40,0.0,-30",
+                 "--goal=60,0.2,45", "--setpoints", "21"]) == 0
+    prov = json.loads((tmp_path / "traj.provenance.json").read_text())
+    assert prov["qdd_max_source"].startswith("default 2 s^-1 x qd_max for joints 1, 2, 3")
+    assert prov["robot_tip"] == "tool"
+    out = tmp_path / "out"
+    code = main([str(urdf), str(traj), "--tip", "tool", "-o", str(out)])
+    assert code == 0, capsys.readouterr().err
+    for name in ("results.h5", "simplified_model.json", "report.html", "report.pdf"):
+        assert (out / name).is_file(), name
+    with xr.open_dataset(out / "results.h5", engine="h5netcdf") as ds:
+        assert ds.attrs["robot"] == "toy"
+        assert ds.attrs["robot_tip"] == "tool"
+        assert ds.attrs["verification_passed"] in (True, 1)
+        assert ds.sizes["joint"] == 3
+
+
+def test_urdf_base_and_tip_then_evaluate(tmp_path, capsys):
+    """j1 a limited revolute joint; the chain from --base base to --tip l3 (the side branch
+    locked and carried): the simplified model it writes is read back by evaluate."""
+    urdf = tmp_path / "limited.urdf"
+    urdf.write_text(TOY_URDF.replace('name="j1" type="continuous"', 'name="j1" type="revolute"')
+                    .replace('<limit velocity="2.0" effort="5"/>',
+                             '<limit lower="-2" upper="2" velocity="2.0" effort="5"/>'))
+    traj = tmp_path / "traj.csv"
+    chain = ["--base", "base", "--tip", "l3"]
+    assert main(["plan", str(urdf), "-o", str(traj), *chain, "--qdd-max", "60,1,90"]) == 0
+    prov = json.loads((tmp_path / "traj.provenance.json").read_text())
+    assert prov["qdd_max_source"] == "--qdd-max" and prov["robot_base"] == "base"
+    out = tmp_path / "out"
+    code = main([str(urdf), str(traj), *chain, "-o", str(out), "--no-report", "-q"])
+    assert code == 0, capsys.readouterr().err
+    assert main(["evaluate", str(out / "simplified_model.json"), str(traj)]) == 0
+    assert main(["compare", str(urdf), str(traj), *chain]) == 0
+
+
+def test_urdf_with_two_chains_needs_a_tip(urdf, tmp_path, capsys):
+    code = main([str(urdf), str(tmp_path / "none.csv")])
+    err = capsys.readouterr().err
+    assert code == 2 and err.count("\n") == 1
+    assert "give --tip LINK (candidate tips: l3, side)" in err
