@@ -524,7 +524,8 @@ def _cmd_analyze(args):
                                    torque_floor=args.torque_floor)
         analysis.model.save(stage / "simplified_model.json")
         written = [results, stage / "simplified_model.json"]
-        written += _write_sources(analysis.model, stage)
+        if analysis.model.terms is not None:          # explicit model (revolute joints)
+            written += _write_sources(analysis.model, stage)
         if not args.no_report:
             from .reports.main import write_report
 

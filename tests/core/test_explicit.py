@@ -81,12 +81,15 @@ def test_trigpoly_products_and_derivatives_are_exact():
     assert len(one) == 1 and one.constant() == pytest.approx(1.0, abs=1e-15)
 
 
-@pytest.mark.parametrize("name", ["puma560", "two-link", "general"])
+@pytest.mark.parametrize("name", ["puma560", "two-link", "general", "ur5"])
 def test_full_explicit_model_equals_pinocchio_rnea(name):
-    """EPS = 0: the emitted model equals rnea to 1e-10 on 200 random states."""
-    robot = _robot_with_products_and_offsets() if name == "general" else load_robot(name)
+    """EPS = 0: the emitted model equals rnea to 1e-10 on 200 random states (DH robots, a
+    PUMA with products of inertia and offsets, and a URDF chain)."""
+    from gd_analyze.io.robots import load_robot as load_any
+
+    robot = _robot_with_products_and_offsets() if name == "general" else load_any(name)
     terms = model_terms(derive(robot))
-    program = build_program(terms, robot.n, robot.offset)
+    program = build_program(terms, robot.n, np.zeros(robot.n))
     q, qd, qdd = random_states(robot, 200, 21)
     err = natural_error(python_tau(program)(q, qd, qdd), rnea(robot, q, qd, qdd))
     assert err.max() < TOL, err
@@ -163,10 +166,10 @@ def test_budget_bound_holds_on_the_trajectory(eps, which):
     t = gd_terms(robot, q, qd)
     parts = PartPeaks(robot.n)
     parts.update(t.D_tran, t.D_rot, t.h_tran, t.h_rot, qdd, t.tau(qdd))
-    sel = select_terms(terms, term_peaks(terms, robot.offset, q, qd, qdd), parts.peaks,
+    sel = select_terms(terms, term_peaks(terms, np.zeros(robot.n), q, qd, qdd), parts.peaks,
                        parts.tau_peak, tolerance=eps)
     assert (sel.bound <= eps * sel.scale * (1 + 1e-12)).all()
-    program = build_program(sel.kept, robot.n, robot.offset)
+    program = build_program(sel.kept, robot.n, np.zeros(robot.n))
     ref = rnea(robot, q, qd, qdd)
     err = np.abs(python_tau(program)(q, qd, qdd) - ref).max(axis=0)
     scale = np.abs(ref).max(axis=0)
@@ -212,9 +215,9 @@ def puma_model_1pct():
     t = gd_terms(robot, traj.q, traj.qd)
     parts = PartPeaks(robot.n)
     parts.update(t.D_tran, t.D_rot, t.h_tran, t.h_rot, traj.qdd, t.tau(traj.qdd))
-    sel = select_terms(terms, term_peaks(terms, robot.offset, traj.q, traj.qd, traj.qdd),
+    sel = select_terms(terms, term_peaks(terms, np.zeros(robot.n), traj.q, traj.qd, traj.qdd),
                        parts.peaks, parts.tau_peak, tolerance=0.01)
-    return robot, traj, terms, build_program(sel.kept, 6, robot.offset)
+    return robot, traj, terms, build_program(sel.kept, 6, np.zeros(6))
 
 
 def test_count_matches_the_emitted_c_and_beats_newton_euler(puma_model_1pct):
@@ -223,7 +226,7 @@ def test_count_matches_the_emitted_c_and_beats_newton_euler(puma_model_1pct):
     robot, _, terms, program = puma_model_1pct
     ne = operation_counts(robot)["newton-euler"]
     ne_total = ne["multiplications"] + ne["additions"]
-    for prog in (program, build_program(terms, 6, robot.offset)):
+    for prog in (program, build_program(terms, 6, np.zeros(robot.n))):
         cost = prog.cost()
         m, a, trig = _c_operator_count(emit_c(prog, {}))
         assert (m, a, trig) == (cost["multiplications"], cost["additions"],
@@ -271,6 +274,23 @@ def test_emitted_c_compiles_and_agrees_with_python_and_rnea(tmp_path, puma_model
     scale = np.abs(ref).max(axis=0)
     assert (np.abs(tau_c - tau_py).max(axis=0) <= 1e-12 * scale).all()
     assert (np.abs(tau_c - ref).max(axis=0) <= 0.01 * scale).all()
+
+
+def test_prismatic_joints_are_refused_and_fall_back(tmp_path):
+    """A prismatic joint: no explicit model; the main job keeps the masked model, no sources."""
+    from gd_analyze.cli import main
+    from gd_analyze.core.explicit import supported
+
+    stanford = load_robot("stanford")
+    assert not supported(stanford)
+    with pytest.raises(ValueError, match="prismatic"):
+        derive(stanford)
+    traj = tmp_path / "t.csv"
+    assert main(["plan", "stanford", "-o", str(traj), "--start", "0,0,0.4,0,0,0",
+                 "--goal", "30,20,0.8,10,10,10"]) == 0
+    assert main(["stanford", str(traj), "-o", str(tmp_path / "out"), "--no-report", "-q"]) == 0
+    names = sorted(p.name for p in (tmp_path / "out").iterdir())
+    assert names == ["results.h5", "simplified_model.json"]
 
 
 def test_derivation_cache(tmp_path, monkeypatch, puma):

@@ -1,15 +1,16 @@
 """The explicit (closed-form) G-D model of a robot, and its pruning term by term.
 
-Derivation (:func:`derive`), from the robot's DH parameters and link inertial parameters, in
-the canonical Fourier form of :class:`~gd_analyze.core.trigpoly.TrigPoly` (sums of numeric
-coefficients times cos or sin of integer combinations of the joint angles theta = q + offset):
+Derivation (:func:`derive`), from the robot's joint model (placements P_i, t_i; revolute
+joints) and link inertial parameters, in the canonical Fourier form of
+:class:`~gd_analyze.core.trigpoly.TrigPoly` (sums of numeric coefficients times cos or sin of
+integer combinations of the joint angles q):
 
 - D_tran, Eq. (3.4-25) 2nd term: D_tran(i, j) = sum_{s >= j} m_s Jv_s[:, i] . Jv_s[:, j]
-  (i <= j). The Jacobian columns are the derivatives of the centre of mass of link s expressed
-  in frame i-1 turned by theta_i (the dot product does not depend on the frame), so D(i, j)
-  never carries theta_1 .. theta_i and no cancellation is left to chance.
+  (i <= j). The Jacobian columns are taken in body frame i (joint i turns about its z axis
+  through its origin; the dot product does not depend on the frame), so D(i, j) never carries
+  q_1 .. q_i and no cancellation is left to chance.
 - D_rot, Eq. (3.4-25) 1st term: D_rot(i, j) = sum_{s >= j} u_si^T I_s u_sj with u_si the axis
-  z_{i-1} expressed in link frame s.
+  of joint i expressed in body frame s.
 - h_tran, h_rot, Eqs. (3.4-26), (3.4-27): each part is the inertial force of its own kinetic
   energy (1/2 qd^T D_tran qd, resp. 1/2 qd^T D_rot qd), so it is given by the Christoffel
   symbols of that part: h_i = sum_{j <= k} C_ijk qd_j qd_k with
@@ -35,7 +36,7 @@ import numpy as np
 
 from .trigpoly import TrigPoly
 
-__all__ = ["ExplicitModel", "derive", "Term", "model_terms", "merge_parts", "atoms",
+__all__ = ["ExplicitModel", "derive", "supported", "Term", "model_terms", "merge_parts", "atoms",
            "term_peaks", "budget_drop", "prune", "PART_KINDS"]
 
 #: The parts of a model's terms: the two G-D parts of D and h, and gravity.
@@ -150,23 +151,50 @@ def _rot_T_vec(R, v):
     return _matvec([[R[c][r] for c in range(3)] for r in range(3)], v)
 
 
+def supported(robot):
+    """Whether the explicit model can be derived: every joint revolute.
+
+    Parameters
+    ----------
+    robot : Robot
+
+    Returns
+    -------
+    bool
+        False if a joint is prismatic (its variable enters as a length, not an angle, and the
+        Fourier form of :class:`~gd_analyze.core.trigpoly.TrigPoly` does not hold it).
+    """
+    return not bool(np.any(getattr(robot, "prismatic", False)))
+
+
 def derive(robot):
     """Derive the explicit G-D model of a robot.
 
     Parameters
     ----------
     robot : Robot
-        The arm: DH parameters d, a, alpha, offset; mass, com, inertia; gravity.
+        The arm, revolute joints: placements (``rotation`` P_i, ``translation`` t_i) of the
+        joint model, link masses, centres of mass and inertia tensors in the body frames
+        (``body_com``, ``body_inertia``), gravity. For a DH robot the placements carry d, a,
+        alpha and the offsets.
 
     Returns
     -------
     ExplicitModel
+        In the angles theta = q (the offsets are part of the placements).
+
+    Raises
+    ------
+    ValueError
+        If a joint is prismatic (:func:`supported`).
 
     Notes
     -----
-    Source: Eqs. (3.2-5) (link transforms) and (3.4-24) to (3.4-28) of Fu, Gonzalez & Lee
-    (1987), in the forms given in the module docstring. The revolute joint model of the robot
-    file is assumed (theta_i = q_i + offset_i).
+    Source: the joint model of :mod:`gd_analyze.core.robot` (^{i-1}T_i = [P_i t_i; 0 1]
+    Rot(z, q_i)) and Eqs. (3.4-24) to (3.4-28) of Fu, Gonzalez & Lee (1987), in the forms given
+    in the module docstring: joint i turns about the z axis of body frame i through its origin,
+    so in body frame i the Jacobian column of a point r is e_z x r and the columns of the later
+    joints are the derivatives of r.
 
     Examples
     --------
@@ -175,51 +203,52 @@ def derive(robot):
     >>> round(model.D_rot[(1, 1)].constant(), 6)      # m2 l^2 / 12
     0.083333
     """
+    if not supported(robot):
+        raise ValueError("the explicit model needs revolute joints; this robot has a "
+                         "prismatic joint")
     n = robot.n
-    ca = [_snap(math.cos(x)) for x in robot.alpha]
-    sa = [_snap(math.sin(x)) for x in robot.alpha]
     C = [TrigPoly.cos(n, i) for i in range(n)]
     S = [TrigPoly.sin(n, i) for i in range(n)]
-    # ^{i-1}R_i and ^{i-1}p_i, Eq. (3.2-5), 0-based i
-    R = [[[C[i], -ca[i] * S[i], sa[i] * S[i]],
-          [S[i], ca[i] * C[i], -sa[i] * C[i]],
-          [0.0, sa[i], ca[i]]] for i in range(n)]
-    P = [[float(robot.a[i]) * C[i], float(robot.a[i]) * S[i], TrigPoly.const(n, robot.d[i])]
-         for i in range(n)]
+    P = np.vectorize(_snap)(np.asarray(robot.rotation, float))
+    t = np.where(np.abs(np.asarray(robot.translation, float)) < 1e-15, 0.0,
+                 np.asarray(robot.translation, float))
+    zero = TrigPoly.zero(n)
+    # R_i = P_i Rot(z, q_i): entries as TrigPoly
+    R = []
+    for i in range(n):
+        rz = [[C[i], -S[i], 0.0], [S[i], C[i], 0.0], [0.0, 0.0, 1.0]]
+        R.append([[sum((P[i][a][b] * rz[b][c] for b in range(3)
+                        if P[i][a][b] != 0 and not (isinstance(rz[b][c], float)
+                                                    and rz[b][c] == 0.0)),
+                       zero) for c in range(3)] for a in range(3)])
 
-    def apply(i, v):                      # ^{i-1}A_i applied to a point v of frame i
-        rv = [sum((R[i][r][c] * v[c] for c in range(3)), TrigPoly.zero(n)) for r in range(3)]
-        return [rv[r] + P[i][r] for r in range(3)]
+    def apply(i, v):                     # point v of body frame i in body frame i-1
+        return [sum((R[i][a][b] * v[b] for b in range(3)), zero) + float(t[i][a])
+                for a in range(3)]
 
-    # r[i][s]: centre of mass of link s in frame i (i = -1 .. s-1 stored at index i+1)
-    pos = {}
+    com, inertia = np.asarray(robot.body_com, float), np.asarray(robot.body_inertia, float)
+    pos = {}                             # pos[(i, s)]: centre of mass of link s in frame i
     for s in range(n):
-        v = _vec(n, [float(x) for x in robot.com[s]])
-        pos[(s, s)] = v                   # in frame s (0-based: link s's own frame)
+        v = _vec(n, [float(x) for x in com[s]])
+        pos[(s, s)] = v
         for i in range(s, -1, -1):
             v = apply(i, v)
-            pos[(i - 1, s)] = v           # in frame i-1
+            pos[(i - 1, s)] = v
     D_tran, D_rot = {}, {}
     for i in range(n):
-        # frame i-1 turned by theta_i about z: Rot_x(alpha_i) r^(i) + (a_i, 0, d_i)
-        Rx = [[1.0, 0.0, 0.0], [0.0, ca[i], -sa[i]], [0.0, sa[i], ca[i]]]
         for j in range(i, n):
             acc = TrigPoly.zero(n)
             for s in range(j, n):
                 if robot.mass[s] == 0:
                     continue
-                r_i = pos[(i, s)]
-                rp = [sum((TrigPoly.const(n, Rx[a][b]) * r_i[b] for b in range(3)),
-                          TrigPoly.zero(n)) for a in range(3)]
-                rp = [rp[0] + float(robot.a[i]), rp[1], rp[2] + float(robot.d[i])]
-                Ji = [-rp[1], rp[0], TrigPoly.zero(n)]          # z x r'
-                Jj = Ji if j == i else [x.diff(j) for x in rp]
+                r = pos[(i, s)]
+                Ji = [-r[1], r[0], zero]                   # e_z x r, in body frame i
+                Jj = Ji if j == i else [x.diff(j) for x in r]
                 acc = acc + float(robot.mass[s]) * _dot(Ji, Jj)
             D_tran[(i, j)] = acc
-    # u[(s, i)]: z_{i-1} in frame s (s >= i)
-    u = {}
+    u = {}                               # u[(s, i)]: axis of joint i in body frame s
     for i in range(n):
-        v = _vec(n, [0.0, sa[i], ca[i]])
+        v = _vec(n, [0.0, 0.0, 1.0])
         u[(i, i)] = v
         for s in range(i + 1, n):
             v = _rot_T_vec(R[s], v)
@@ -228,9 +257,9 @@ def derive(robot):
         for j in range(i, n):
             acc = TrigPoly.zero(n)
             for s in range(j, n):
-                I = robot.inertia[s]
+                I = inertia[s]
                 Iu = [sum((u[(s, j)][b] * float(I[a, b]) for b in range(3) if I[a, b] != 0),
-                          TrigPoly.zero(n)) for a in range(3)]
+                          zero) for a in range(3)]
                 acc = acc + _dot(u[(s, i)], Iu)
             D_rot[(i, j)] = acc
 
@@ -255,9 +284,8 @@ def derive(robot):
         if robot.mass[s]:
             V = V - float(robot.mass[s]) * _dot(_vec(n, g), pos[(-1, s)])
     c = {i: V.diff(i) for i in range(n)}
-    return ExplicitModel(n=n, offset=np.array(robot.offset, float), D_tran=D_tran,
-                         D_rot=D_rot, h_tran=christoffel(D_tran), h_rot=christoffel(D_rot),
-                         c=c)
+    return ExplicitModel(n=n, offset=np.zeros(n), D_tran=D_tran, D_rot=D_rot,
+                         h_tran=christoffel(D_tran), h_rot=christoffel(D_rot), c=c)
 
 
 @dataclass(frozen=True, eq=False)

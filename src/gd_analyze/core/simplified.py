@@ -24,6 +24,7 @@ import numpy as np
 from .dalembert import gd_terms
 from ..errors import InputError
 from .ranking import element_index, element_labels
+from .explicit import supported as explicit_supported
 from .robot import robot_from_dict
 
 __all__ = ["SCHEMA_VERSION", "CHOICES", "SimplifiedModel", "choice_masks", "merge_choices",
@@ -260,7 +261,7 @@ class SimplifiedModel:
         if cached is None:
             from .codegen import build_program
 
-            cached = build_program(self.explicit_terms(), self.robot.n, self.robot.offset)
+            cached = build_program(self.explicit_terms(), self.robot.n, np.zeros(self.robot.n))
             object.__setattr__(self, "_program", cached)
         return cached
 
@@ -331,6 +332,8 @@ class SimplifiedModel:
         from .kinematics import as_states
 
         q, qd, qdd = as_states(self.robot, q, qd, qdd)
+        if self.terms is None and not explicit_supported(self.robot):
+            return simplified_torque(gd_terms(self.robot, q, qd), self.choices, qdd)
         return self._python_tau()(q, qd, qdd)
 
     def to_dict(self):
@@ -351,13 +354,13 @@ class SimplifiedModel:
             "choices": dict(self.choices),
             "rule": self.rule,
             "torque_floor": self.torque_floor,
-            "cost": dict(self.cost or self.program().cost()),
-            "bound": list(self.bound),
-            "explicit_terms": _terms_to_json(self.explicit_terms()),
             "trajectory_sha256": self.trajectory_sha256,
             "validation": self.validation,
             "provenance": self.provenance,
         }
+        if self.terms is not None:
+            out.update(cost=dict(self.cost or self.program().cost()), bound=list(self.bound),
+                       explicit_terms=_terms_to_json(self.terms))
         if np.isfinite(self.tolerance):
             out["tolerance"] = self.tolerance
         if self.full_cost:
