@@ -15,9 +15,11 @@ checks that (a) agrees with (b) and (c), and times the main job
 `gd-analyze puma560 data/puma560_trajectory.csv` (HDF5, HTML, PDF) against a bare
 `python -c "import numpy, scipy, xarray, matplotlib.pyplot, pinocchio"`.
 
-Prints one JSON line: microseconds per set point for a, b, c, the ratios a/b and a/c, the
-main-job latency ratio, and the peak resident memory. Ratios, not absolute times, are what
-carry over between machines.
+Every comparison is timed interleaved (a, b, b, a, ...) with the same number of runs on each
+side (--runs, default 5; --latency-runs for the main job, default 5 pairs). Prints one JSON
+line: microseconds per set point (medians) for a, b, c, and for each comparison the median of
+the per-pair ratios with its range (min, max). Ratios, not absolute times, are what carry over
+between machines.
 """
 
 from __future__ import annotations
@@ -37,14 +39,32 @@ import numpy as np
 ROOT = Path(__file__).resolve().parents[1]
 
 
-def best_of(fn, repeat):
-    """Best wall time of `repeat` calls [s], and the last result."""
-    best, out = np.inf, None
-    for _ in range(repeat):
-        t0 = time.perf_counter()
-        out = fn()
-        best = min(best, time.perf_counter() - t0)
-    return best, out
+def interleaved(fa, fb, runs):
+    """Time two callables side by side: a, b, a, b, ... (b first on odd runs), ``runs`` each.
+
+    Returns
+    -------
+    dict
+        ``median_ratio`` (median of the per-pair ratios t_a / t_b), ``min_ratio``,
+        ``max_ratio``, ``runs``, ``median_a_s`` and ``median_b_s``; the last results under
+        ``"results"`` (a, b).
+    """
+    ta, tb, out = [], [], [None, None]
+    for k in range(runs):
+        order = ((0, fa, ta), (1, fb, tb)) if k % 2 == 0 else ((1, fb, tb), (0, fa, ta))
+        for slot, fn, times in order:
+            t0 = time.perf_counter()
+            out[slot] = fn()
+            times.append(time.perf_counter() - t0)
+    ratios = np.asarray(ta) / np.asarray(tb)
+    return {"median_ratio": float(np.median(ratios)), "min_ratio": float(ratios.min()),
+            "max_ratio": float(ratios.max()), "runs": runs,
+            "median_a_s": float(np.median(ta)), "median_b_s": float(np.median(tb)),
+            "results": tuple(out)}
+
+
+def _summary(r):
+    return {k: v for k, v in r.items() if k != "results"}
 
 
 def pinocchio_loop(robot, q, qd):
@@ -157,17 +177,34 @@ def _upper(D):
     return np.triu(D) + np.swapaxes(np.triu(D, 1), 1, 2)
 
 
-def latency(repeat=3):
-    """Main job wall time over bare-import wall time, best of `repeat` each [s, s, ratio]."""
+BARE_IMPORT = "import numpy, scipy, xarray, matplotlib.pyplot, pinocchio"
+
+
+def latency(runs=5):
+    """The main job on the shipped trajectory against a bare import, interleaved pairs.
+
+    The main job is ``gd-analyze puma560 data/puma560_trajectory.csv -o TMP -q`` (HDF5, JSON,
+    HTML, PDF and the figure files); the reference is ``python -c "import numpy, scipy, xarray,
+    matplotlib.pyplot, pinocchio"``. One warm-up run of each first (file caches), then ``runs``
+    pairs, alternating which goes first.
+
+    Returns
+    -------
+    dict
+        As :func:`interleaved`: ratio job / bare import.
+    """
     exe = Path(sys.executable).parent / "gd-analyze"
-    bare = [sys.executable, "-c", "import numpy, scipy, xarray, matplotlib.pyplot, pinocchio"]
+    job_cmd = [str(exe)] if exe.exists() else [sys.executable, "-m", "gd_analyze.cli"]
+    bare = [sys.executable, "-c", BARE_IMPORT]
     with tempfile.TemporaryDirectory() as tmp:
-        job = [str(exe), "puma560", str(ROOT / "data" / "puma560_trajectory.csv"), "-o", tmp,
-               "-q"]
-        subprocess.run(job, check=True, capture_output=True)        # warm the caches once
-        t_bare = best_of(lambda: subprocess.run(bare, check=True), repeat)[0]
-        t_job = best_of(lambda: subprocess.run(job, check=True, capture_output=True), repeat)[0]
-    return t_job, t_bare, t_job / t_bare
+        job = job_cmd + ["puma560", str(ROOT / "data" / "puma560_trajectory.csv"), "-o", tmp,
+                         "-q"]
+        env = {**os.environ, "MPLBACKEND": "Agg"}
+        subprocess.run(job, check=True, capture_output=True, env=env)        # warm up
+        subprocess.run(bare, check=True, env=env)
+        return interleaved(lambda: subprocess.run(job, check=True, capture_output=True,
+                                                  env=env),
+                           lambda: subprocess.run(bare, check=True, env=env), runs)
 
 
 def main(argv=None):
@@ -181,9 +218,18 @@ def main(argv=None):
     parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     parser.add_argument("--setpoints", type=int, default=100_000)
     parser.add_argument("--no-latency", action="store_true", help="skip the main-job timing")
-    parser.add_argument("--runs", type=int, default=7,
-                        help="interleaved runs of (d), each side (default 7)")
+    parser.add_argument("--runs", type=int, default=5,
+                        help="interleaved runs per side of each comparison, (d) included "
+                             "(default 5)")
+    parser.add_argument("--latency-runs", type=int, default=5,
+                        help="interleaved pairs of the main job and the bare import (default 5)")
+    parser.add_argument("--latency-only", action="store_true",
+                        help="only the main job against the bare import")
     args = parser.parse_args(argv)
+
+    if args.latency_only:
+        print(json.dumps({"main_job_over_bare_import": _summary(latency(args.latency_runs))}))
+        return 0
 
     from gd_analyze import gd_terms, load_robot
     from gd_analyze.formulations.pinocchio import relative_error
@@ -197,11 +243,18 @@ def main(argv=None):
     t0 = time.perf_counter()
     gd_terms(robot, q[:10], qd[:10], engine="compiled")       # load or compile the kernel
     first_call = time.perf_counter() - t0
-    t_a, terms = best_of(lambda: gd_terms(robot, q, qd), 3)
-    t_b, (D, h, c) = best_of(lambda: pinocchio_loop(robot, q, qd), 1)
-    t_b0, _ = best_of(lambda: pinocchio_calls_only(robot, q, qd), 2)
-    t_c, (Dt, Dr, ht, hr, c2) = best_of(lambda: pinocchio_split(robot, q, qd), 1)
-    t_np, _ = best_of(lambda: gd_terms(robot, q[:20000], qd[:20000], engine="numpy"), 1)
+    runs = args.runs
+    ab = interleaved(lambda: gd_terms(robot, q, qd), lambda: pinocchio_loop(robot, q, qd), runs)
+    ab0 = interleaved(lambda: gd_terms(robot, q, qd),
+                      lambda: pinocchio_calls_only(robot, q, qd), runs)
+    ac = interleaved(lambda: gd_terms(robot, q, qd), lambda: pinocchio_split(robot, q, qd),
+                     runs)
+    M = min(N, 20000)
+    anp = interleaved(lambda: gd_terms(robot, q[:M], qd[:M], engine="numpy"),
+                      lambda: pinocchio_calls_only(robot, q[:M], qd[:M]), runs)
+    terms = ab["results"][0]
+    D, h, c = ab["results"][1]
+    Dt, Dr, ht, hr, c2 = ac["results"][1]
 
     qdd = rng.uniform(-robot.qdd_max, robot.qdd_max, (N, robot.n))
     batched = batched_rnea_comparison(robot, q, qd, qdd, args.runs)
@@ -218,23 +271,22 @@ def main(argv=None):
     us = 1e6 / N
     result = {
         "setpoints": N,
-        "a_gd_terms_us": t_a * us,
-        "b_pinocchio_D_h_c_us": t_b * us,
-        "c_pinocchio_split_us": t_c * us,
-        "ratio_a_over_b": t_a / t_b,
-        "ratio_a_over_c": t_a / t_c,
-        "b_calls_only_us": t_b0 * us,
-        "ratio_a_over_b_calls_only": t_a / t_b0,
-        "numpy_engine_us": t_np * 1e6 / 20000,
-        "ratio_numpy_engine_over_b": (t_np / 20000) / (t_b / N),
+        "runs_per_side": runs,
+        "a_gd_terms_us": ab["median_a_s"] * us,
+        "b_pinocchio_D_h_c_us": ab["median_b_s"] * us,
+        "b_calls_only_us": ab0["median_b_s"] * us,
+        "c_pinocchio_split_us": ac["median_b_s"] * us,
+        "gd_terms_over_pinocchio_loop": _summary(ab),
+        "gd_terms_over_pinocchio_calls_only": _summary(ab0),
+        "gd_terms_over_pinocchio_split": _summary(ac),
+        "numpy_engine_over_pinocchio_calls_only": {**_summary(anp), "setpoints": M},
         "kernel_first_call_s": first_call,
         "d_rnea_batched": batched,
         "max_rel_disagreement": max(max(agreement.values()), batched["tau_rel_disagreement"]),
         "agreement": agreement,
     }
     if not args.no_latency:
-        t_job, t_bare, ratio = latency()
-        result.update(main_job_s=t_job, bare_import_s=t_bare, ratio_main_job_over_import=ratio)
+        result["main_job_over_bare_import"] = _summary(latency(args.latency_runs))
     result["peak_rss_mib"] = resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024
     print(json.dumps(result))
     if result["max_rel_disagreement"] > 1e-10:

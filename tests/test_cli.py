@@ -1,3 +1,4 @@
+import hashlib
 import json
 import os
 import subprocess
@@ -221,6 +222,10 @@ def test_control_command(tmp_path, capsys):
     assert peak["full"] < peak["simplified"] < peak["pd_gravity"]
     with xr.open_dataset(tmp_path / "c" / "control.h5", engine="h5netcdf") as ds:
         assert ds.attrs["robot"] == "puma560"
+        # provenance: the model's own path and the SHA-256 of its bytes
+        assert ds.attrs["model_path"] == str(model)
+        assert ds.attrs["model_file"] == "simplified_model.json"
+        assert ds.attrs["model_sha256"] == hashlib.sha256(model.read_bytes()).hexdigest()
     code, _, err = _run(["control", model, SHIPPED, "--wn", "-3"], capsys)
     assert code == 2 and "--wn" in err
     code, _, err = _run(["control", tmp_path / "none.json", SHIPPED], capsys)

@@ -33,6 +33,11 @@ def test_urdf_end_to_end(urdf, tmp_path, capsys):
         assert ds.attrs["robot_tip"] == "tool"
         assert ds.attrs["verification_passed"] in (True, 1)
         assert ds.sizes["joint"] == 3
+    # j1 is continuous: its unlimited range goes into the model's JSON (as null, JSON has no
+    # inf) and comes back as -inf..inf, so evaluate reads the model it wrote
+    model = json.loads((out / "simplified_model.json").read_text())
+    assert model["robot"]["parameters"]["link"][0]["q_limits"] == [None, None]
+    assert main(["evaluate", str(out / "simplified_model.json"), str(traj)]) == 0
 
 
 def test_urdf_base_and_tip_then_evaluate(tmp_path, capsys):

@@ -16,7 +16,11 @@ import gd_analyze
 SRC = pathlib.Path(gd_analyze.__file__).parent
 LAYERS = ["core", "formulations", "io", "workflows", "reports", "cli"]
 LEAVES = {"errors", "files", "_version"}
-SHARED_REPORTS = {"reports.common", "reports.figures", "reports.simplified_section"}
+# the shared report modules, and the main report's own parts (figures and sentences) and the
+# page engine and tick labels of all three (issue 12)
+SHARED_REPORTS = {"reports.common", "reports.figures", "reports.pages", "reports.ticks",
+                  "reports.main_figures", "reports.main_text",
+                  "reports.simplified_section"}
 
 
 def _module_name(path):

@@ -206,6 +206,10 @@ def _write_sources(model, outdir):
         written.append(path)
     return written
 
+def _add_paper_argument(p):
+    p.add_argument("--paper", choices=("a4", "letter"), default="a4",
+                   help="page size of the PDF report (default a4)")
+
 
 def _analyze_parser():
     from .core.ranking import DEFAULT_DOMINANCE, DEFAULT_NEGLIGIBLE
@@ -240,6 +244,7 @@ def _analyze_parser():
                         f"{DEFAULT_NEGLIGIBLE})")
     _add_budget_arguments(p)
     p.add_argument("--no-report", action="store_true", help="skip report.html and report.pdf")
+    _add_paper_argument(p)
     p.add_argument("--compress", metavar="LEVEL", type=int, choices=range(10), default=0,
                    help="gzip level 0-9 for the per-set-point variables of results.h5 "
                         "(default 0: uncompressed, fastest)")
@@ -347,6 +352,7 @@ def _control_parser():
                    default=0.0, help="initial position error on every joint [rad], within "
                                      "[-2 pi, 2 pi] (default 0)")
     p.add_argument("--no-report", action="store_true", help="skip the HTML and PDF report")
+    _add_paper_argument(p)
     p.add_argument("--json", action="store_true", help="print the figures as one JSON object")
     p.add_argument("-q", "--quiet", action="store_true", help="print nothing but errors")
     return p
@@ -390,6 +396,7 @@ def _sweep_parser():
                    help="random trajectories (another seed) to measure the sweep model on, "
                         "not guaranteed (default 20)")
     p.add_argument("--no-report", action="store_true", help="skip the HTML and PDF report")
+    _add_paper_argument(p)
     p.add_argument("-q", "--quiet", action="store_true", help="print nothing but errors")
     _add_chain_arguments(p)
     _add_payload_sweep_argument(_add_payload_arguments(p))
@@ -437,15 +444,25 @@ def _warn_limits(robot, trajectory, quiet):
         print(f"{PROG}: warning: {msg}", file=sys.stderr)
 
 
+#: Printed instead of share_tran for an element that is zero in every part.
+ZERO_MARK = "\u2261 0"
+
+
 def _format_summary(ds):
     lines = [f"{ds.attrs['robot']} along {ds.attrs['input_file']}: "
              f"{ds.attrs['setpoints']} set points, s = {ds.attrs['dominance_threshold']:g}, "
              f"e = {ds.attrs['negligible_threshold']:g}", "",
              f"{'element':<8}{'share_tran':>11}  {'class':<14}{'peak_total':>12}  units"]
-    for lab, share, cls, peak, unit in zip(ds.element.values, ds.share_tran.values,
-                                           ds.dominance.values, ds.peak_total.values,
-                                           ds.element_units.values):
-        lines.append(f"{lab:<8}{share:>11.4f}  {cls:<14}{peak:>12.4g}  {unit}")
+    from .reports.main_figures import identically_zero
+
+    zero = (identically_zero(ds.peak_tran.values, ds.peak_rot.values, ds.peak_total.values,
+                             ds.element_scale.values) if "element_scale" in ds.variables
+            else [False] * ds.sizes["element"])
+    for lab, share, cls, peak, unit, z in zip(ds.element.values, ds.share_tran.values,
+                                              ds.dominance.values, ds.peak_total.values,
+                                              ds.element_units.values, zero):
+        shown = ZERO_MARK.rjust(11) if z else f"{share:>11.4f}"       # rounding noise: no share
+        lines.append(f"{lab:<8}{shown}  {cls:<14}{peak:>12.4g}  {unit}")
     lines += ["", "simplified model torque error per joint:",
               f"{'joint':<6}{'peak [N m]':>12}{'rms [N m]':>12}{'peak |tau|':>12}"
               f"{'rel peak':>10}{'rel rms':>10}"]
@@ -491,14 +508,19 @@ def _payload_sweep_dataset(robot, trajectory, args):
 
 
 ANALYZE_OUTPUTS = ("results.h5", "simplified_model.json", "simplified_model.c",
-                   "simplified_model.py", "report.html", "report.pdf")
+                   "simplified_model.py", "report.html", "report.pdf", "figures")
 
 
 def _cmd_analyze(args):
+    from .io.datasets import skip_dask
     from .io.staging import check_free_space, staged_output
-    from .workflows.analyze import analyze_to_file
+    from .workflows.analyze import analyze_to_file, progress_bar
 
+    skip_dask()                         # the main job makes no dask arrays: skip its import
+    bar = progress_bar(not args.quiet and sys.stderr.isatty())
     robot, trajectory = _load(args, args.trajectory)
+    bar.reset(total=trajectory.n_setpoints)
+    bar.update(trajectory.n_setpoints)
     _warn_limits(robot, trajectory, args.quiet)
     outdir = _outdir(args.outdir, robot.name, Path(args.trajectory).stem)
     base_robot = robot
@@ -519,7 +541,7 @@ def _cmd_analyze(args):
         analysis = analyze_to_file(robot, trajectory, results, dominance=args.dominance,
                                    negligible=args.negligible, check=not args.no_verify,
                                    settings=settings, compress=args.compress,
-                                   progress=not args.quiet and sys.stderr.isatty(), extra=extra,
+                                   progress=bar, extra=extra,
                                    tolerance=args.tolerance, rule=args.rule,
                                    torque_floor=args.torque_floor)
         analysis.model.save(stage / "simplified_model.json")
@@ -529,8 +551,11 @@ def _cmd_analyze(args):
         if not args.no_report:
             from .reports.main import write_report
 
-            written += write_report(results, stage)
-    written = [outdir / Path(p).name for p in written]
+            bar.reset(total=trajectory.n_setpoints)
+            bar.set_description("report")
+            written += write_report(results, stage, paper=args.paper, progress=bar.update)
+        bar.close()
+    written = [outdir / Path(p).relative_to(stage) for p in written]
     if not args.quiet:
         print(_format_summary(analysis.dataset))
         print()
@@ -732,15 +757,15 @@ def _cmd_control(args):
                              model_path=args.model, model_sha256=file_sha256(args.model))
     except ValueError as exc:
         raise InputError(str(exc)) from None
-    with staged_output(outdir, (CONTROL_FILE, *CONTROL_REPORT_FILES)) as stage:
+    with staged_output(outdir, (CONTROL_FILE, *CONTROL_REPORT_FILES, "figures")) as stage:
         path = stage / CONTROL_FILE
         write_control_dataset(result, path)
         written = [path]
         if not args.no_report:
             from .reports.control import write_control_report
 
-            written += list(write_control_report(path, stage))
-    written = [outdir / Path(p).name for p in written]
+            written += list(write_control_report(path, stage, paper=args.paper))
+    written = [outdir / Path(p).relative_to(stage) for p in written]
     summary = result.summary()
     if args.json:
         print(json.dumps(summary, default=float))
@@ -795,7 +820,8 @@ def _sweep_model(robot, trajectories, args, outdir, settings):
 
 
 SWEEP_OUTPUTS = ("sweep.h5", "merged_model.json", "payload_sweep.h5", "sweep_report.html",
-                 "sweep_report.pdf", "sweep_model.json", "sweep_model.c", "sweep_model.py")
+                 "sweep_report.pdf", "figures", "sweep_model.json", "sweep_model.c",
+                 "sweep_model.py")
 
 
 def _cmd_sweep(args):
@@ -859,8 +885,9 @@ def _cmd_sweep(args):
         if not args.no_report:
             from .reports.sweep import write_sweep_report
 
-            written += list(write_sweep_report(written[0], stage, payload=payload))
-    written = [outdir / Path(p).name for p in written]
+            written += list(write_sweep_report(written[0], stage, payload=payload,
+                                               paper=args.paper))
+    written = [outdir / Path(p).relative_to(stage) for p in written]
     if not args.quiet:
         print(f"{robot.name}: {ds.sizes['trajectory']} trajectories in "
               f"{ds.attrs['elapsed_s']:.1f} s on {ds.attrs['n_workers']} dask workers "

@@ -64,7 +64,9 @@ def test_progress_bar_on_request_and_silent_otherwise(tmp_path, puma, capsys, mo
     analyze_to_file(puma, traj, tmp_path / "a.h5", check=False, formulations=False,
                     progress=True, chunk=8)
     err = capsys.readouterr().err
-    assert "setpoint/s" in err and "/62" in err       # rate; two passes over 31 set points
+    # it counts set points, not passes: each pass restarts at 0 of the 31 set points
+    assert "set points/s" in err and "/31" in err and "/62" not in err
+    assert "G-D terms" in err and "simplified model" in err
     analyze_to_file(puma, traj, tmp_path / "b.h5", check=False, formulations=False,
                     progress=False, chunk=8)
     assert capsys.readouterr().err == ""

@@ -292,8 +292,13 @@ def test_control_dataset_round_trips_through_hdf5(result, model_file, tmp_path):
 def test_control_report_is_written(result, tmp_path):
     path = tmp_path / "control.h5"
     write_control_dataset(result, path)
-    html_path, pdf_path = write_control_report(path, tmp_path / "out")
+    written = write_control_report(path, tmp_path / "out")
+    html_path, pdf_path = written[:2]
+    assert [p.name for p in written[2:]] == [
+        f"fig_control_{name}.{ext}" for name in ("tracking_error", "torque_difference",
+                                                 "applied_torque") for ext in ("pdf", "svg")]
     html = html_path.read_text(encoding="utf-8")
+    assert "Verdict: the simplified model" in html
     assert html.startswith("<!DOCTYPE html>") and html.count("<svg") >= 3
     assert "<link" not in html and " src=" not in html and "<script" not in html
     assert "puma560_trajectory.csv" in html and "multiplications" in html
@@ -302,6 +307,15 @@ def test_control_report_is_written(result, tmp_path):
     for c in CONTROLLERS:                             # the stored figures, as read back
         assert _fmt(result.error_figures(c)["peak_grid"][5]) in html
     assert pdf_path.read_bytes()[:5] == b"%PDF-"
+    from pypdf import PdfReader
+
+    reader = PdfReader(pdf_path)
+    assert len({tuple(p.mediabox) for p in reader.pages}) == 1          # one page size
+    text = "\n".join(p.extract_text() for p in reader.pages)
+    assert "Verdict: the simplified model" in text and "Figure 3." in text
+    assert [o["/Title"] for o in reader.outline if not isinstance(o, list)] == [
+        "1. Set-up and gains", "2. Tracking error", "3. Torques",
+        "4. Evaluation cost of the model", "5. Simplified model", "6. Provenance"]
     assert not list((tmp_path / "out").glob(".*.tmp"))
     with pytest.raises(InputError):
         write_control_report(tmp_path / "missing.h5", tmp_path / "out")

@@ -424,9 +424,17 @@ def test_sweep_report(sweep, puma, shipped, tmp_path):
     marked.attrs["command"] = "marker-7f3a"
     write_sweep(marked, path)
     out = write_sweep_report(path, tmp_path / "report", payload=tmp_path / "payload.h5")
-    html_path, pdf_path = out
+    html_path, pdf_path = out[:2]
     assert html_path.name == "sweep_report.html" and pdf_path.name == "sweep_report.pdf"
+    assert {p.name for p in out[2:]} == {f"fig_{name}.{ext}" for ext in ("pdf", "svg") for name in
+                                         ("sweep_share_D", "sweep_share_h", "payload_dominance",
+                                          "sweep_class_fractions", "sweep_torque_error")}
     html = html_path.read_text(encoding="utf-8")
+    # the summary leads with the worst cases: the trajectory of the largest merged error
+    rel = sweep["merged_tau_error_relative_peak"].values
+    worst = str(sweep["source"].values[int(np.nanargmax(np.nanmax(rel, axis=1)))])
+    assert html.index("Worst cases:") < html.index("conservative merged model keeps")
+    assert worst in html[html.index("Worst cases:"):html.index("Worst cases:") + 400]
     assert html.count("<svg") >= 5
     assert "<link" not in html and 'src="http' not in html and "<script" not in html
     assert "marker-7f3a" in html and puma.sha256 in html
@@ -434,6 +442,12 @@ def test_sweep_report(sweep, puma, shipped, tmp_path):
         assert f">{label}<" in html
     assert "Payload sweep" in html
     assert pdf_path.read_bytes().startswith(b"%PDF")
+    from pypdf import PdfReader
+
+    reader = PdfReader(pdf_path)
+    assert len({tuple(p.mediabox) for p in reader.pages}) == 1          # one page size
+    text = "\n".join(p.extract_text() for p in reader.pages)
+    assert "Worst cases:" in text and "Figure 5." in text
     assert not list((tmp_path / "report").glob(".*.tmp"))
     fig = payload_figure(pay)
     assert isinstance(fig, Figure) and len(fig.axes) >= 2

@@ -69,15 +69,22 @@ def element_labels(n):
     Parameters
     ----------
     n : int
-        Number of joints (at most 9, so that labels like "D12" stay unambiguous).
+        Number of joints.
 
     Returns
     -------
     list of str
-        ``["D11", "D12", ..., "Dnn", "h1", ..., "hn"]``; n (n + 1) / 2 + n labels.
+        ``["D11", "D12", ..., "Dnn", "h1", ..., "hn"]``; n (n + 1) / 2 + n labels. Two
+        indices are run together while both have one digit and separated by a comma once one
+        has two (``"D19"``, ``"D1,10"``, ``"D10,10"``), so every label is unambiguous.
+
+    Examples
+    --------
+    >>> element_labels(10)[8:10]
+    ['D19', 'D1,10']
     """
-    return [f"D{i + 1}{j + 1}" if kind == "D" else f"h{i + 1}"
-            for kind, i, j in element_index(n)]
+    return [(f"D{i + 1}{j + 1}" if i < 9 and j < 9 else f"D{i + 1},{j + 1}") if kind == "D"
+            else f"h{i + 1}" for kind, i, j in element_index(n)]
 
 
 @dataclass(frozen=True, eq=False)

@@ -120,8 +120,10 @@ def _limits(lo_hi, qd, qdd, path, where, keys, scale=1.0, qdd_optional=False):
     if not isinstance(lim, (list, tuple)) or len(lim) != 2:
         raise InputError(f"expected a list of 2 numbers, got {lim!r}", path,
                          column=f"{where}.{klim}")
-    lo, hi = (_number(v, path, f"{where}.{klim}", finite=False, limit="angle_deg")
-              for v in lim)
+    # no limit (a continuous joint): inf in TOML, null in JSON (which has no inf)
+    lo, hi = (sign * math.inf if v is None else
+              _number(v, path, f"{where}.{klim}", finite=False, limit="angle_deg")
+              for sign, v in zip((-1, 1), lim))
     if math.isnan(lo) or math.isnan(hi) or lo >= hi:
         raise InputError("lower limit not below upper limit", path, column=f"{where}.{klim}")
     v = _number(qd, path, f"{where}.{kqd}", limit="angle_deg")

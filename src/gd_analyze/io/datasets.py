@@ -29,12 +29,106 @@ from ..files import atomic_path
 __all__ = ["CONVENTIONS", "MIXED_UNITS", "var", "attribute_value", "global_attributes",
            "element_coords", "strings", "write_dataset", "open_results", "open_sweep",
            "build_dataset", "summary_dataset", "setpoint_arrays", "SetpointWriter",
-           "SETPOINT_VARIABLES"]
+           "SETPOINT_VARIABLES", "skip_dask", "append_dataset"]
 
 #: The CF conventions the datasets follow.
 CONVENTIONS = "CF-1.10"
 #: Units of a variable over the element dim (D elements in kg m2, h elements in N m).
 MIXED_UNITS = "kg m2 (D) or N m (h)"
+
+
+def skip_dask():
+    """Keep xarray from importing dask in a process that has not imported it.
+
+    xarray imports dask (about 0.3 s, and 1-2 s with ``dask.array``) the first time it builds
+    a variable, only to check whether the data is a dask array. No object can be a dask array
+    or collection before dask is imported, so this installs two checks that answer "no" while
+    ``dask`` is not in ``sys.modules`` and defer to xarray's own once it is: always correct, so
+    a later dask user (the sweep) is unaffected.
+
+    Returns
+    -------
+    bool
+        True if the checks are installed; False if xarray's internals differ from those
+        expected (then nothing is changed and xarray imports dask as usual).
+
+    Notes
+    -----
+    Writing with :meth:`xarray.Dataset.to_netcdf` still imports dask (it asks for the dask
+    scheduler): :func:`append_dataset` writes without it.
+    """
+    import sys
+
+    try:
+        from xarray.namedarray import pycompat, utils
+    except ImportError:          # pragma: no cover - another xarray layout
+        return False
+    cache = getattr(pycompat, "_cached_duck_array_modules", None)
+    module_type = getattr(pycompat, "DuckArrayModule", None)
+    collection = getattr(utils, "is_dask_collection", None)
+    if not isinstance(cache, dict) or module_type is None or collection is None:
+        return False
+    if getattr(collection, "_gd_lazy", False):
+        return True
+
+    class _LazyDask(module_type):
+        """xarray's record of dask: absent until dask is imported, then the real one."""
+
+        def __init__(self):                  # noqa: D107 - no import here
+            self._real = None
+
+        def _get(self):
+            if "dask" not in sys.modules:
+                return None
+            if self._real is None:
+                self._real = module_type("dask")
+            return self._real
+
+        module = property(lambda self: self._get().module if self._get() else None)
+        version = property(lambda self: self._get().version if self._get() else
+                           __import__("packaging.version").version.Version("0"))
+        type = property(lambda self: self._get().type if self._get() else ())
+        available = property(lambda self: bool(self._get() and self._get().available))
+
+    def is_dask_collection(x):
+        return "dask" in sys.modules and collection(x)
+
+    is_dask_collection._gd_lazy = True
+    if "dask" not in cache:
+        cache["dask"] = _LazyDask()
+    utils.is_dask_collection = is_dask_collection
+    return True
+
+
+def append_dataset(ds, path):
+    """Add a dataset's variables and attributes to a netCDF4/HDF5 file, through h5netcdf.
+
+    Parameters
+    ----------
+    ds : xarray.Dataset
+        In memory (numpy-backed).
+    path : str or os.PathLike
+        An existing file, opened in append mode.
+
+    Raises
+    ------
+    OSError
+        If the file cannot be written.
+
+    Notes
+    -----
+    The same encoding as ``ds.to_netcdf(path, mode="a", engine="h5netcdf")``, without the
+    dask scheduler query of ``to_netcdf`` (which imports dask): see :func:`skip_dask`.
+    """
+    from xarray.backends import H5NetCDFStore
+    from xarray.backends.locks import HDF5_LOCK
+
+    # an explicit lock: the default one asks dask for its scheduler
+    store = H5NetCDFStore.open(str(path), mode="a", lock=HDF5_LOCK)
+    try:
+        ds.dump_to_store(store)
+    finally:
+        store.close()
 
 
 #: Per-set-point variables: name -> (dims, units, long_name). Used by both writers.
@@ -284,6 +378,8 @@ def summary_dataset(robot, trajectory, ranking, choices, error, verification=Non
                                         "peak |tau_simplified - tau| / peak |tau|"),
         "tau_error_relative_rms": var(("joint",), np.array(error["relative_rms_error"]), "1",
                                        "RMS |tau_simplified - tau| / peak |tau|"),
+        "joint_type": var(("joint",), np.array(robot.joint_types, dtype=str), "1",
+                          "joint type: revolute (q in rad) or prismatic (q in m)"),
         "dh_d": var(("joint",), robot.d, "m", "DH link offset d"),
         "dh_a": var(("joint",), robot.a, "m", "DH link length a"),
         "dh_alpha": var(("joint",), robot.alpha, "rad", "DH twist angle alpha"),
@@ -464,18 +560,21 @@ def write_dataset(ds, path):
         ds.to_netcdf(tmp, engine="h5netcdf", encoding=encoding, invalid_netcdf=False)
 
 
-def open_results(path):
+def open_results(path, lazy=False):
     """Open a results file written by :func:`write_dataset`.
 
     Parameters
     ----------
     path : str or os.PathLike
         The ``results.h5`` file.
+    lazy : bool, optional
+        Leave the variables on disk, to be read in slices (the report of a long trajectory);
+        the caller closes the dataset.
 
     Returns
     -------
     xarray.Dataset
-        Loaded into memory; the file is closed.
+        Loaded into memory and the file closed; or, if ``lazy``, open and read on access.
 
     Raises
     ------
@@ -487,6 +586,8 @@ def open_results(path):
     if not os.path.isfile(path):
         raise InputError("no such file", path)
     try:
+        if lazy:
+            return xr.open_dataset(path, engine="h5netcdf")
         with xr.open_dataset(path, engine="h5netcdf") as ds:
             return ds.load()
     except (OSError, ValueError) as exc:

@@ -201,9 +201,9 @@ def staged_output(target, outputs=()):
     target : str or os.PathLike
         The output folder; created (with its parents) if missing.
     outputs : iterable of str, optional
-        The names of every file the command can write; those in ``target`` that this run did
-        not write are removed when the new files are moved in, so the folder holds one run's
-        set.
+        The names of every file (or folder of files, e.g. ``figures``) the command can write;
+        those in ``target`` that this run did not write are removed when the new files are
+        moved in, so the folder holds one run's set. A folder is replaced whole.
 
     Yields
     ------
@@ -269,10 +269,17 @@ def _staged(parent, name, target, outputs):
                 else:
                     written = {p.name for p in stage.iterdir()}
                     for p in sorted(stage.iterdir()):
-                        os.replace(p, target / p.name)
+                        dest = target / p.name
+                        if p.is_dir() and dest.is_dir() and not dest.is_symlink():
+                            shutil.rmtree(dest)      # a folder of outputs (figures/): whole
+                        os.replace(p, dest)
                     for old in set(outputs) - written:
-                        with contextlib.suppress(FileNotFoundError, IsADirectoryError):
-                            (target / old).unlink()
+                        dest = target / old
+                        if dest.is_dir() and not dest.is_symlink():
+                            shutil.rmtree(dest, ignore_errors=True)
+                        else:
+                            with contextlib.suppress(FileNotFoundError, IsADirectoryError):
+                                dest.unlink()
             except OSError as exc:
                 raise _oserror(exc, target) from None
         finally:

@@ -16,15 +16,18 @@ written atomically (:func:`gd_analyze.files.atomic_path`).
 
 from __future__ import annotations
 
+import contextlib
 import functools
 import math
 from pathlib import Path
 
 import numpy as np
 
-from .common import A4 as _A4, BASE_RC
+from .common import BASE_RC
 from .common import strings as _strings, style as _style, table as _table
-from .common import attr, fmt, grid_shape, inline_svgs, render_template, utc_now
+from .common import attr, fmt, grid_shape, render_template, utc_now
+from .main_figures import element_label
+from .pages import PAPER, Document, draw_figures, figure_svg, no_gc, write_figure_files
 
 __all__ = ["CONTROL_REPORT_FILES", "REQUIRED_VARIABLES", "make_control_figures",
            "render_control_html", "render_control_pdf", "write_control_report"]
@@ -76,9 +79,9 @@ def _joint_panels(ds, values, ylabel, title, log=False, controllers=None):
     n = int(ds.sizes["joint"])
     rows, cols = grid_shape(n, 2)
     height = 1.9 * rows + 1.0
-    fig = Figure(figsize=(8.0, height))
+    fig = Figure(figsize=(7.2, height))
     # fixed margins [in] instead of a layout engine: drawing stays fast
-    fig.subplots_adjust(left=0.75 / 8.0, right=1 - 0.2 / 8.0, top=1 - 0.5 / height,
+    fig.subplots_adjust(left=0.75 / 7.2, right=1 - 0.15 / 7.2, top=1 - 0.5 / height,
                         bottom=0.85 / height, wspace=0.25, hspace=0.35)
     axes = fig.subplots(rows, cols, squeeze=False, sharex=True)
     k = _stride(t.size)
@@ -177,6 +180,7 @@ def _context(ds):
     if "tau_difference_peak" in ds:
         summary += (" Largest |tau_simplified - tau_full|: "
                     f"{_fmt(float(ds['tau_difference_peak'].max()))} N m.")
+    verdict = _verdict(worst, ds)
     setup = _table(["item", "value"], [
         ["robot", f"{_attr(ds, 'robot')} (SHA-256 {_attr(ds, 'robot_sha256')})"],
         ["trajectory", f"{_attr(ds, 'trajectory_file')} (SHA-256 "
@@ -248,7 +252,7 @@ def _context(ds):
                  "translational/rotational parts of D and h.")
     labels = _strings(ds["element"].values)
     choice = dict(zip(labels, _strings(ds["choice"].values)))
-    rows = [[f"D, row {i + 1}"] + [choice.get(f"D{i + 1}{j + 1}", "") if j >= i else ""
+    rows = [[f"D, row {i + 1}"] + [choice.get(element_label("D", i + 1, j + 1), "") if j >= i else ""
                               for j in range(n)] for i in range(n)]
     rows.append(["h"] + [choice.get(f"h{j + 1}", "") for j in range(n)])
     choices = _table(["element"] + [f"column {j + 1}" for j in range(n)], rows,
@@ -264,7 +268,7 @@ def _context(ds):
         "version": __version__,
         "created": utc_now().isoformat(),
         "title": f"Computed-torque control with the simplified G-D model: {_attr(ds, 'robot')}",
-        "summary": summary,
+        "summary": summary, "verdict": verdict,
         "intro": ("The arm, simulated with its full generalized d'Alembert dynamics (Fu, Gonzalez "
                   "& Lee 1987, Eq. 3.4-24), tracks the trajectory under computed-torque control "
                   "(Ch. 5) with the full model, with the simplified model of Sec. 3.4.1, and "
@@ -292,6 +296,36 @@ def _context(ds):
     }
 
 
+#: The simplified model "holds" if its peak tracking error is within this [rad] or within twice
+#: the full model's.
+VERDICT_TOLERANCE = 1e-3
+
+
+def _verdict(worst, ds):
+    """One sentence: does the simplified model control the arm as well as the full one?"""
+    full, simp = worst.get("full"), worst.get("simplified")
+    if full is None or simp is None:
+        return "Verdict: not available (the run lacks the full or the simplified controller)."
+    pd = worst.get("pd_gravity")
+    bound = max(2.0 * full, VERDICT_TOLERANCE)
+    tail = ""
+    if "tau_difference_peak" in ds:
+        tail = (f"; its torque differs from the full-model controller's by at most "
+                f"{_fmt(float(ds['tau_difference_peak'].max()))} N m")
+    pd_text = f", PD + gravity {_fmt(pd)} rad" if pd is not None else ""
+    if simp <= bound:
+        head = ("Verdict: the simplified model is good enough for computed-torque control "
+                "along this trajectory")
+    elif pd is not None and simp < pd:
+        head = ("Verdict: the simplified model degrades tracking beyond the tolerance, though "
+                "it still beats PD + gravity")
+    else:
+        head = "Verdict: the simplified model is NOT good enough for computed-torque control"
+    return (f"{head}: peak tracking error {_fmt(simp)} rad against {_fmt(full)} rad with the "
+            f"full model{pd_text} (tolerance: {_fmt(bound)} rad, the larger of "
+            f"{VERDICT_TOLERANCE:g} rad and twice the full model's){tail}.")
+
+
 # --------------------------------------------------------------------------------------------
 # HTML and PDF
 # --------------------------------------------------------------------------------------------
@@ -317,113 +351,40 @@ def render_control_html(ds, figures=None):
     InputError
         If the dataset lacks a variable of a control dataset.
     """
-    from markupsafe import Markup
-
     _check(ds, "<dataset>")
     ctx = _context(ds)
     if figures is None:
         figures = make_control_figures(ds)
-    svgs = inline_svgs(figures, _RC)
-    svgs.setdefault("tau_difference", Markup("<p>No torque difference stored.</p>"))
-    return render_template("control_report.html.j2", {**ctx, "figures": svgs})
+    return _html(ctx, {k: (figure_svg(f, _RC), None, None) for k, f in figures.items()})
 
 
-class _Pages:
-    """Headings, paragraphs and tables flowed onto A4 matplotlib figures."""
-
-    W, H = _A4
-    LEFT, TOP, BOTTOM = 0.6, 0.6, 0.7
-
-    def __init__(self, pdf, footer):
-        self.pdf, self.footer, self.fig, self.y, self.page = pdf, footer, None, 0.0, 0
-
-    def _new(self):
-        from matplotlib.figure import Figure
-
-        self.flush()
-        self.fig = Figure(figsize=_A4)
-        self.page += 1
-        self.y = self.TOP
-        self.fig.text(0.5, 0.3 / self.H, f"{self.footer} \u2014 page {self.page}",
-                      ha="center", va="bottom", fontsize=6.5, color="0.4")
-
-    def _room(self, height):
-        if self.fig is None or self.y + height > self.H - self.BOTTOM:
-            self._new()
-
-    def flush(self):
-        if self.fig is not None:
-            self.pdf.savefig(self.fig)
-            self.fig = None
-
-    def text(self, s, size=9.0, width=110, **kw):
-        import textwrap
-
-        lines = textwrap.wrap(str(s), width=width) or [""]
-        h = len(lines) * size * 1.45 / 72 + 0.08
-        self._room(h)
-        self.fig.text(self.LEFT / self.W, 1 - self.y / self.H, "\n".join(lines), fontsize=size,
-                      va="top", ha="left", linespacing=1.35, **kw)
-        self.y += h
-
-    def heading(self, s, size=12.0):
-        self._room(0.6)
-        self.y += 0.1
-        self.text(s, size=size, fontweight="bold")
-
-    def table(self, t, size=6.5, col_widths=None):
-        import textwrap
-
-        ncol = len(t["header"])
-        width = self.W - 2 * self.LEFT
-        fracs = np.asarray(col_widths if col_widths else [1.0] * ncol, dtype=float)
-        fracs = fracs / fracs.sum()
-        chars = [max(6, int(f * width * 72 / (0.6 * size)) - 2) for f in fracs]
-        rows = [[textwrap.fill(c, chars[m]) for m, c in enumerate(r)] for r in t["rows"]]
-        rows_all = [[textwrap.fill(h, chars[m]) for m, h in enumerate(t["header"])]] + rows
-        heights = [max(c.count("\n") + 1 for c in r) * size * 1.5 / 72 + 0.04 for r in rows_all]
-        k = 0
-        while k < len(rows) or k == 0:
-            self._room(heights[0] + (heights[k + 1] if k < len(rows) else 0))
-            avail = self.H - self.BOTTOM - self.y - heights[0]
-            chunk, used = [], 0.0
-            while k < len(rows) and used + heights[k + 1] <= avail:
-                chunk.append(rows[k])
-                used += heights[k + 1]
-                k += 1
-            h = heights[0] + used
-            ax = self.fig.add_axes([self.LEFT / self.W, 1 - (self.y + h) / self.H,
-                                    width / self.W, h / self.H])
-            ax.axis("off")
-            if chunk:
-                tab = ax.table(cellText=chunk, colLabels=rows_all[0], loc="upper left",
-                               cellLoc="left", colLoc="left", bbox=[0, 0, 1, 1],
-                               colWidths=col_widths)
-            else:
-                tab = ax.table(cellText=[["\u2014"] * ncol], colLabels=rows_all[0],
-                               loc="upper left", cellLoc="left", bbox=[0, 0, 1, 1])
-            tab.auto_set_font_size(False)
-            tab.set_fontsize(size)
-            row_h = [heights[0]] + [heights[k - len(chunk) + m + 1] for m in range(len(chunk))]
-            for (r, _c), cell in tab.get_celld().items():
-                if chunk:     # rows of unequal height: the bbox scales them in proportion
-                    cell.set_height(row_h[r])
-                cell.set_linewidth(0.3)
-                if r == 0:
-                    cell.set_facecolor("#eeeeee")
-                    cell.set_text_props(fontweight="bold")
-            self.y += h + 0.15
-            if not rows:
-                break
-
-    def figure(self, fig):
-        self.flush()
-        self.pdf.savefig(fig)
-        self.page += 1
+_CAPTIONS = {
+    "error": "Tracking error |q_d \u2212 q| per joint along the run, log scale (markers: set "
+             "points). A curve at the bottom of a panel is at the rounding / "
+             "integrator-tolerance level.",
+    "tau_difference": "Torque of the simplified-model controller minus torque of the "
+                      "full-model controller, per joint (markers: set points).",
+    "tau": "Torques applied by the three controllers, per joint.",
+}
+_FIGURE_FILES = {"error": "fig_control_tracking_error",
+                 "tau_difference": "fig_control_torque_difference",
+                 "tau": "fig_control_applied_torque"}
 
 
-def render_control_pdf(ds, path, figures=None):
-    """Write the control report as a PDF with matplotlib's PdfPages.
+def _numbered(figures):
+    return {k: f"Figure {m + 1}. {_CAPTIONS[k]}" for m, k in enumerate(figures)}
+
+
+def _html(ctx, drawn):
+    from markupsafe import Markup
+
+    svgs = {k: Markup(svg) for k, (svg, _, _) in drawn.items()}
+    return render_template("control_report.html.j2", {**ctx, "figures": svgs,
+                                                      "captions": _numbered(drawn)})
+
+
+def render_control_pdf(ds, path, figures=None, paper="a4"):
+    """Write the control report as a PDF document.
 
     Parameters
     ----------
@@ -434,6 +395,8 @@ def render_control_pdf(ds, path, figures=None):
         name).
     figures : dict of str to matplotlib.figure.Figure, optional
         :func:`make_control_figures` of it; made here if not given.
+    paper : {"a4", "letter"}, optional
+        The size of every page.
 
     Returns
     -------
@@ -447,49 +410,61 @@ def render_control_pdf(ds, path, figures=None):
     OSError
         If the file cannot be written.
     """
-    from matplotlib.backends.backend_pdf import PdfPages
-
     _check(ds, "<dataset>")
     ctx = _context(ds)
     if figures is None:
         figures = make_control_figures(ds)
-    metadata = {"Title": ctx["title"], "Author": f"gd-analyze {ctx['version']}",
+    return _pdf(ctx, draw_figures(figures, _RC), path, paper)
+
+
+def _pdf(ctx, drawn, path, paper="a4"):
+    metadata = {"Author": f"gd-analyze {ctx['version']}",
                 "Subject": "Computed-torque control with the simplified G-D model (Fu, Gonzalez "
                            "& Lee 1987, Sec. 3.4.1 and Ch. 5)",
                 "Keywords": ctx["keywords"], "Creator": f"gd-analyze {ctx['version']}"}
-    with _style(_RC), PdfPages(path, metadata=metadata) as pdf:
-        doc = _Pages(pdf, f"gd-analyze {ctx['version']}: control report")
-        doc.heading(ctx["title"], size=13)
-        doc.text(ctx["summary"])
-        doc.text(ctx["intro"] + f" Created {ctx['created']} from the stored dataset.", size=8,
-                 color="0.3")
-        doc.heading("1. Set-up and gains")
-        doc.table(ctx["setup"], col_widths=[0.25, 0.75])
-        doc.text(ctx["gains_note"], size=8)
-        doc.table(ctx["gains"])
-        doc.heading("2. Tracking error")
-        doc.text(ctx["error_note"], size=8)
-        doc.table(ctx["errors"], size=6)
-        doc.heading("3. Torques")
-        doc.text(ctx["diff_note"], size=8)
-        doc.table(ctx["tau_diff"])
-        doc.table(ctx["tau_table"], size=6)
-        doc.heading("4. Evaluation cost of the model")
-        doc.text(ctx["cost_note"], size=8)
-        if ctx["cost"]:
-            doc.table(ctx["cost"])
-        doc.heading("5. Simplified model")
-        doc.table(ctx["choices"])
-        doc.heading("6. Provenance")
-        doc.table(ctx["provenance"], col_widths=[0.25, 0.75])
-        doc.flush()
-        for name in ("error", "tau_difference", "tau"):
-            if name in figures:
-                doc.figure(figures[name])
-        return doc.page
+    doc = Document(ctx["title"], paper=paper, metadata=metadata,
+                   footer=f"gd-analyze {ctx['version']}: control report")
+
+    def fig(key):
+        if key in drawn:
+            doc.figure(drawn[key][1], drawn[key][2], _CAPTIONS[key])
+
+    doc.heading(ctx["title"], level=0)
+    doc.paragraph(ctx["verdict"], size=9.5, bold=True)
+    doc.paragraph(ctx["summary"], size=9)
+    doc.paragraph(ctx["intro"] + f" Report created {ctx['created']} by gd-analyze "
+                  f"{ctx['version']} from the stored control dataset; nothing was recomputed.",
+                  size=8.5, colour="0.25")
+    doc.heading("1. Set-up and gains")
+    doc.table(ctx["setup"])
+    doc.paragraph(ctx["gains_note"], size=8.5)
+    doc.table(ctx["gains"])
+    doc.heading("2. Tracking error")
+    doc.paragraph(ctx["error_note"], size=8.5)
+    doc.table(ctx["errors"], size=7)
+    fig("error")
+    doc.heading("3. Torques")
+    doc.paragraph(ctx["diff_note"], size=8.5)
+    doc.table(ctx["tau_diff"])
+    fig("tau_difference")
+    doc.table(ctx["tau_table"], size=7)
+    fig("tau")
+    doc.heading("4. Evaluation cost of the model")
+    doc.paragraph(ctx["cost_note"], size=8.5)
+    if ctx["cost"]:
+        doc.table(ctx["cost"])
+    else:
+        doc.paragraph("Not measured.", size=8.5)
+    doc.heading("5. Simplified model")
+    doc.paragraph("Part of each element of D (i \u2264 j, mirrored) and h kept by the "
+                  "simplified model; gravity c is kept whole.", size=8.5)
+    doc.table(ctx["choices"])
+    doc.heading("6. Provenance")
+    doc.table(ctx["provenance"], size=7)
+    return doc.write(path)
 
 
-def write_control_report(control_path, outdir):
+def write_control_report(control_path, outdir, paper="a4"):
     """Write control_report.html and control_report.pdf for a stored control dataset.
 
     Parameters
@@ -499,11 +474,14 @@ def write_control_report(control_path, outdir):
         (``control.h5``). Only read: nothing is recomputed.
     outdir : str or os.PathLike
         Output folder; made if missing.
+    paper : {"a4", "letter"}, optional
+        Page size of the PDF.
 
     Returns
     -------
     list of pathlib.Path
-        ``outdir/control_report.html`` and ``outdir/control_report.pdf``.
+        ``outdir/control_report.html`` and ``outdir/control_report.pdf``, then every figure as
+        ``outdir/figures/fig_control_*.pdf`` and ``.svg``.
 
     Raises
     ------
@@ -521,15 +499,20 @@ def write_control_report(control_path, outdir):
     from ..files import atomic_path
     from ..io.datasets import open_results
 
+    if paper not in PAPER:
+        raise ValueError(f"paper must be one of {sorted(PAPER)}, got {paper!r}")
     ds = open_results(str(control_path))
     _check(ds, control_path)
+    ctx = _context(ds)
     outdir = Path(outdir)
-    outdir.mkdir(parents=True, exist_ok=True)
-    figures = make_control_figures(ds)
+    (outdir / "figures").mkdir(parents=True, exist_ok=True)
+    with no_gc():
+        drawn = draw_figures(make_control_figures(ds), _RC)
     html_path, pdf_path = (outdir / name for name in CONTROL_REPORT_FILES)
-    html = render_control_html(ds, figures)
-    with atomic_path(html_path) as tmp:
-        Path(tmp).write_text(html, encoding="utf-8")
-    with atomic_path(pdf_path) as tmp:
-        render_control_pdf(ds, tmp, figures)
-    return [html_path, pdf_path]
+    files = []
+    with contextlib.ExitStack() as stack:
+        files = write_figure_files(stack, drawn, outdir / "figures", _FIGURE_FILES)
+        Path(stack.enter_context(atomic_path(html_path))).write_text(_html(ctx, drawn),
+                                                                     encoding="utf-8")
+        _pdf(ctx, drawn, stack.enter_context(atomic_path(pdf_path)), paper)
+    return [html_path, pdf_path] + files

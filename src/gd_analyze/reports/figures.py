@@ -8,10 +8,13 @@ from __future__ import annotations
 
 import numpy as np
 
-from .common import A4_LANDSCAPE, CLASS_COLOURS, SUPTITLE_RC, check, joint_colours, strings, style
+from .common import CLASS_COLOURS, SUPTITLE_RC, check, joint_colours, strings, style
 from .common import thresholds
 
-__all__ = ["payload_figure", "PAYLOAD_REQUIRED", "CLASS_LETTER"]
+__all__ = ["payload_figure", "PAYLOAD_REQUIRED", "CLASS_LETTER", "PAGE_WIDTH"]
+
+#: Width of the figures: the text of a page [in] (the reports' figures go into papers unscaled).
+PAGE_WIDTH = 7.2
 
 #: The variables :func:`payload_figure` reads.
 PAYLOAD_REQUIRED = ("share_tran", "dominance", "choice", "tau_peak")
@@ -60,7 +63,7 @@ def payload_figure(ds):
         dom = np.array(strings(ds["dominance"].values)).reshape(share.shape)
         P, M = share.shape
         n = ds.sizes["joint"]
-        W = A4_LANDSCAPE[0]
+        W = PAGE_WIDTH
         heat_h = max(1.4, 0.3 * P)
         H = heat_h + 4.6
         fig = Figure(figsize=(W, H))
@@ -75,11 +78,11 @@ def payload_figure(ds):
                 v = share[p, k]
                 dark = np.isfinite(v) and abs(v - 0.5) > 0.33
                 ax.text(k, p, CLASS_LETTER.get(dom[p, k], "?"), ha="center", va="center",
-                        fontsize=6.5, color="white" if dark else "black")
+                        fontsize=7, color="white" if dark else "black")
                 if dom[p, k] != dom[0, k]:
                     ax.add_patch(Rectangle((k - 0.5, p - 0.5), 1, 1, fill=False, lw=1.4,
                                            ec="black"))
-        ax.set_xticks(np.arange(M), labels, rotation=90, fontsize=6.5)
+        ax.set_xticks(np.arange(M), labels, rotation=90, fontsize=7)
         ax.set_yticks(np.arange(P), [f"{m:g}" for m in masses], fontsize=7)
         ax.set_ylabel("payload [kg]")
         ax.grid(False)
@@ -96,7 +99,7 @@ def payload_figure(ds):
         bx.set_ylabel("peak |\u03c4| [N m]")
         bx.legend(loc="center left", bbox_to_anchor=(1.01, 0.5), frameon=False, fontsize=7)
         s, e = thresholds(ds)
-        fig.suptitle(f"Dominance vs payload on the last link (s = {s:g}, e = {e:g}; "
+        fig.suptitle(f"Dominance against the payload on the last link (s = {s:g}, e = {e:g})\n"
                      "T/R/B/N = translational/rotational/both/negligible; framed: class "
-                     "differs from the first payload)", y=1 - 0.12 / H, va="top", fontsize=9)
+                     "differs from the first payload", y=1 - 0.08 / H, va="top", fontsize=8.5)
         return fig

@@ -1,7 +1,6 @@
 """Report: the stored analysis as one self-contained HTML file and a PDF.
 
-The report reads a results file written by the main job
-(:func:`gd_analyze.workflows.analyze.analyze_to_file`) and never
+The report reads a results file written by :func:`gd_analyze.workflows.analyze.analyze_to_file` and never
 recomputes the dynamics: every number and curve comes from the dataset's variables and global
 attributes. It has seven parts:
 
@@ -28,26 +27,26 @@ for 100,000 set points of a 6-joint arm).
 from __future__ import annotations
 
 import contextlib
-import datetime
-import os
-import math
-import textwrap
+import re
 from pathlib import Path
 
 import numpy as np
 
-from .common import A4 as _A4, A4_LANDSCAPE as _A4_LANDSCAPE
-from .common import CLASS_COLOURS as _CLASS_COLOURS, SUPTITLE_RC
+from .simplified_section import SIMPLIFIED_CAPTION, error_figure, has_simplified
+from .simplified_section import simplified_context
+from .common import CLASS_COLOURS as _CLASS_COLOURS
 from .common import attr as _attr, check as _check, fmt as _fmt, pct as _pct
-from .common import gridspec as _gridspec, strings as _strings, style as _style
-from .common import table as _table, thresholds as _thresholds
-from .common import check_formats, grid_shape, inline_svgs, joint_colours, render_template
-from .common import utc_now
+from .common import strings as _strings, table as _table, thresholds as _thresholds
+from .common import check_formats, render_template, utc_now
+from .main_figures import RC as FIG_RC, PAGE_WIDTH, identically_zero, plot_data
+from .main_figures import fig_D, fig_h, fig_joints, fig_torque
+from .main_text import captions, conclusion, disagreement_cause, element_scale
+from .pages import PAPER, Document, draw_figures, no_gc, write_figure_files
 from ..io.sweep_datasets import payload_part
 
 __all__ = [
-    "REPORT_FORMATS", "ENVELOPE_THRESHOLD", "ENVELOPE_COLUMNS", "envelope", "make_figures",
-    "render_html", "render_pdf", "write_report",
+    "REPORT_FORMATS", "ENVELOPE_THRESHOLD", "ENVELOPE_COLUMNS", "FIGURE_FILES", "envelope",
+    "make_figures", "render_html", "render_pdf", "write_report",
 ]
 
 #: The formats :func:`write_report` can write.
@@ -56,28 +55,6 @@ REPORT_FORMATS = ("html", "pdf")
 ENVELOPE_THRESHOLD = 2000
 #: Columns of the min/max envelope (at most two points each).
 ENVELOPE_COLUMNS = 1000
-#: Series of at most this many points are drawn with a marker at every point.
-_ALL_MARKERS = 100
-#: Series up to ENVELOPE_THRESHOLD points are drawn with about this many markers.
-_FEW_MARKERS = 40
-#: Pixel columns per inch of axes width for the envelope (print resolution).
-_PRINT_DPI = 300
-
-# Colour-blind-safe colours (Okabe & Ito), used the same way in every figure and table.
-_PART = {
-    "tran": {"color": "#0072B2", "marker": "o", "linestyle": "-",
-             "label": "translational effect", "mfc": "none"},
-    "rot": {"color": "#D55E00", "marker": "x", "linestyle": "--",
-            "label": "rotational effect", "mfc": None},
-    "total": {"color": "#000000", "marker": "^", "linestyle": ":",
-              "label": "combined effect", "mfc": "none"},
-}
-_AGREE_COLOURS = {"yes": "#007A4D", "no": "#B00020"}
-_FULL_COLOUR, _SIMPLIFIED_COLOUR = "#000000", "#009E73"
-
-# matplotlib settings of every figure; a fixed title position: no per-draw placement.
-_RC = {**SUPTITLE_RC, "lines.markersize": 3.5, "axes.titley": 1.0, "axes.titlepad": 2.5}
-
 _REQUIRED = ("t", "q", "qd", "qdd", "D_tran", "D_rot", "D", "h_tran", "h_rot", "h", "tau",
              "tau_simplified", "share_tran", "dominance", "chapter_dominance", "choice",
              "peak_tran", "peak_rot", "peak_total", "tau_error_peak", "tau_error_rms",
@@ -163,47 +140,46 @@ def envelope(x, y, columns=ENVELOPE_COLUMNS):
     return x[idx], y[idx]
 
 
-def _plot_series(ax, x, y, *, marker=None, threshold=ENVELOPE_THRESHOLD, columns=None,
-                 **kwargs):
-    """Plot one series on ``ax``: every point if short, its min/max envelope if long.
-
-    Above ``threshold`` points the series is reduced by :func:`envelope` to one min/max pair
-    per pixel column of the axes at print resolution (``_PRINT_DPI``), at most
-    :data:`ENVELOPE_COLUMNS` columns, and drawn without markers. Markers are drawn at every
-    point up to ``_ALL_MARKERS`` points and at about ``_FEW_MARKERS`` of them up to
-    ``threshold`` points.
-    """
-    x = np.asarray(x, dtype=float)
-    y = np.asarray(y, dtype=float)
-    N = x.size
-    if N > threshold:
-        if columns is None:
-            width = ax.get_position().width * ax.get_figure().get_size_inches()[0]
-            columns = int(min(ENVELOPE_COLUMNS, max(100, width * _PRINT_DPI)))
-        x, y = envelope(x, y, columns)
-        marker = None
-    elif marker is not None and N > _ALL_MARKERS:
-        kwargs.setdefault("markevery", max(1, math.ceil(N / _FEW_MARKERS)))
-    if marker is None:
-        kwargs.pop("markerfacecolor", None)
-        kwargs.pop("mfc", None)
-    return ax.plot(x, y, marker=marker, **kwargs)
-
-
-def _part_kwargs(part):
-    spec = _PART[part]
-    kw = {"color": spec["color"], "marker": spec["marker"], "linestyle": spec["linestyle"],
-          "label": spec["label"], "linewidth": 0.8}
-    if spec["mfc"] is not None:
-        kw["markerfacecolor"] = spec["mfc"]
-    return kw
-
-
 # --------------------------------------------------------------------------------------------
 # Figures
 # --------------------------------------------------------------------------------------------
 
-def make_figures(ds):
+#: File names (without extension) of the figures in ``OUTDIR/figures/``, by figure key.
+FIGURE_FILES = {"joints": "fig_joints_q_qd_qdd", "D": "fig_3_10_D", "h": "fig_3_11_h",
+                "torque": "fig_torque_full_vs_simplified", "payload": "fig_payload_dominance",
+                "formulations": "fig_table_3_5_operation_counts"}
+_FIGURE_ORDER = ("joints", "D", "h", "torque", "payload", "formulations")
+
+
+def prismatic_joints(ds):
+    """Which joints are prismatic (q in m), from the stored ``joint_type`` (all revolute in a
+    dataset without it).
+
+    Parameters
+    ----------
+    ds : xarray.Dataset
+        A stored analysis.
+
+    Returns
+    -------
+    ndarray of bool, shape (n,)
+    """
+    if "joint_type" not in ds.variables:
+        return np.zeros(ds.sizes["joint"], dtype=bool)
+    return np.array([t == "prismatic" for t in _strings(ds["joint_type"].values)])
+
+
+def _zero_mask(ds):
+    labels = _strings(ds["element"].values)
+    if "element_scale" in ds.variables:              # the ranking's own scale, as stored
+        scale = np.asarray(ds["element_scale"].values, dtype=float)
+    else:
+        scale = element_scale(labels, ds["peak_total"].values, ds["tau_peak"].values)
+    return labels, identically_zero(ds["peak_tran"].values, ds["peak_rot"].values,
+                                    ds["peak_total"].values, scale)
+
+
+def make_figures(ds, data=None):
     """Make the report's figures from a stored analysis.
 
     Parameters
@@ -211,22 +187,17 @@ def make_figures(ds):
     ds : xarray.Dataset
         A dataset as :func:`gd_analyze.io.datasets.build_dataset` makes it (N set points, n joints):
         t (N,) [s]; q, qd, qdd (N, n) [rad, rad/s, rad/s^2]; D_tran, D_rot, D (N, n, n)
-        [kg m^2]; h_tran, h_rot, h, tau, tau_simplified (N, n) [N m]; dominance (M,).
+        [kg m^2]; h_tran, h_rot, h, tau, tau_simplified (N, n) [N m]; the ranking (M,).
+    data : PlotData, optional
+        The series to draw (:func:`gd_analyze.reports.main_figures.plot_data`); read from
+        ``ds`` if not given.
 
     Returns
     -------
     dict of str to matplotlib.figure.Figure
-        ``"joints"``: q, qd, qdd vs t in [deg], [deg/s], [deg/s^2], one panel each;
-        ``"D"``: one panel per element D_ij, i <= j, on an n x n grid with the lower triangle
-        empty, translational ('o'), rotational ('x') and combined ('^') effect over the set
-        points (analogue of Fig. 3.10); ``"h"``: the same for h_i (analogue of Fig. 3.11);
-        ``"torque"``: tau and tau_simplified vs t [N m], one panel per joint;
-        ``"payload"`` (if the dataset holds a payload sweep): share_tran and class per element
-        against the load mass, and peak |tau| per joint;
-        ``"formulations"`` (if the dataset holds the operation counts): multiplications and
-        additions per set point against n, log-log, for L-E, N-E and G-D as implemented, with
-        the formulas of Table 3.5 beside them.
-        The figures are plain :class:`matplotlib.figure.Figure` objects (no pyplot state).
+        ``"joints"``, ``"D"`` (analogue of Fig. 3.10: the n x n upper triangle of D_ij),
+        ``"h"`` (Fig. 3.11), ``"torque"``, and ``"payload"`` and ``"formulations"`` if the
+        dataset holds them; sized for print (7.2 in wide, type >= 7 pt), time [s] on x.
 
     Raises
     ------
@@ -235,273 +206,69 @@ def make_figures(ds):
 
     Notes
     -----
-    Source: Sec. 3.4.1 and Figs. 3.10-3.11 of Fu, Gonzalez & Lee (1987). Series of more than
-    :data:`ENVELOPE_THRESHOLD` points are drawn as their min/max envelope (:func:`envelope`).
+    Source: Sec. 3.4.1 and Figs. 3.10-3.11 of Fu, Gonzalez & Lee (1987).
     """
-    with _style(_RC):
-        from .simplified_section import error_figure, has_simplified
+    import matplotlib
 
-        figures = {"joints": _fig_joints(ds), "D": _fig_D(ds), "h": _fig_h(ds),
-                   "torque": error_figure(ds) if has_simplified(ds) else _fig_torque(ds)}
-        if "op_multiplications" in ds.variables:
-            figures["formulations"] = _fig_formulations(ds)
+    if data is None:
+        data = plot_data(ds)
+    labels, zero = _zero_mask(ds)
+    zero = dict(zip(labels, zero))
+    dom = dict(zip(labels, _strings(ds["dominance"].values)))
+    s, e = _thresholds(ds)
+    with matplotlib.rc_context(FIG_RC):
+        figures = {"joints": fig_joints(data, prismatic_joints(ds)),
+                   "D": fig_D(data, dom, zero, s, e),
+                   "h": fig_h(data, dom, zero),
+                   "torque": fig_torque(data, ds["tau_error_peak"].values,
+                                        ds["tau_error_relative_peak"].values)}
+        if has_simplified(ds):                  # issue 8: tau_s - tau and its bound
+            figures["torque"] = error_figure(ds, size=(PAGE_WIDTH, 7.5))
         if "payload_share_tran" in ds.variables:
             from .figures import payload_figure
 
             figures["payload"] = payload_figure(payload_part(ds))
-        return figures
+        if "op_multiplications" in ds.variables:
+            figures["formulations"] = _fig_formulations(ds)
+    return {k: figures[k] for k in _FIGURE_ORDER if k in figures}
 
 
-def _dominance_of(ds):
-    return dict(zip(_strings(ds["element"].values), _strings(ds["dominance"].values)))
-
-
-def _element_title(ax, label, cls):
-    ax.set_title(f"{label}: {cls}", color=_CLASS_COLOURS.get(cls, "black"), pad=2.5)
-
-
-def _formatter():
-    from matplotlib.ticker import Formatter
-
-    class _TickFormatter(Formatter):
-        """Tick labels with just enough digits to tell the ticks apart, and no offset text
-        (an offset text would collide with the panel titles)."""
-
-        def __call__(self, x, pos=None):
-            return self.format_ticks([x])[0]
-
-        def format_ticks(self, values):
-            v = np.asarray(values, dtype=float)
-            if v.size == 0:
-                return []
-            big = float(np.max(np.abs(v)))
-            if big == 0 or not np.isfinite(big):
-                return ["0" if x == 0 else f"{x:g}" for x in v]
-            u = np.unique(v)
-            step = float(np.min(np.diff(u))) if u.size > 1 else big
-            step = max(step, big * 1e-12)
-            if np.all(v == np.round(v)) and big < 1e7:
-                out = [f"{x:.0f}" for x in v]
-            elif 1e-3 <= big < 1e5:
-                dec = max(0, int(-np.floor(np.log10(step) + 1e-9)))
-                out = [f"{x:.{dec}f}" for x in v]
-            else:
-                dig = max(0, int(np.floor(np.log10(big) + 1e-9) - np.floor(np.log10(step)
-                                                                          + 1e-9)))
-                out = [f"{x:.{dig}e}".replace("e-0", "e-").replace("e+0", "e").replace("e+", "e")
-                       for x in v]
-            return ["0" if float(s) == 0 else s.replace("-", "\u2212") for s in out]
-
-    return _TickFormatter()
-
-
-def _ticks(ax, xbins=5, ybins=4, integer_x=False):
-    from matplotlib.ticker import MaxNLocator
-
-    ax.xaxis.set_major_locator(MaxNLocator(nbins=xbins, integer=integer_x))
-    ax.yaxis.set_major_locator(MaxNLocator(nbins=ybins))
-    ax.xaxis.set_major_formatter(_formatter())
-    ax.yaxis.set_major_formatter(_formatter())
-    ax.tick_params(length=2.5, pad=1.5)
-
-
-def _labels(ax, xlabel=None, ylabel=None, xoff=0.27, yoff=0.5):
-    """Axis labels at fixed offsets [in] from the axes (no per-draw label placement)."""
-    from matplotlib.transforms import offset_copy
-
-    fig = ax.get_figure()
-    ax.xaxis.set_label_coords(0.5, 0.0, transform=offset_copy(ax.transAxes, fig=fig, x=0.0,
-                                                                y=-xoff, units="inches"))
-    ax.yaxis.set_label_coords(0.0, 0.5, transform=offset_copy(ax.transAxes, fig=fig, x=-yoff,
-                                                                y=0.0, units="inches"))
-    if xlabel:
-        ax.set_xlabel(xlabel)
-    if ylabel:
-        ax.set_ylabel(ylabel)
-
-
-def _fig_joints(ds):
-    from matplotlib.figure import Figure
-
-    t = ds["t"].values
-    n = ds.sizes["joint"]
-    colours = joint_colours(n)
-    fig = Figure(figsize=(_A4[0], 8.0))
-    gs = _gridspec(fig, 3, 1, left=0.9, right=0.25, top=0.95, bottom=0.55, wgap=0, hgap=0.22)
-    spec = (("q", "joint position q [deg]"), ("qd", "joint velocity q\u0307 [deg/s]"),
-            ("qdd", "joint acceleration q\u0308 [deg/s\u00b2]"))
-    axes = []
-    for r, (name, ylabel) in enumerate(spec):
-        ax = fig.add_subplot(gs[r, 0], sharex=axes[0] if axes else None)
-        values = np.degrees(ds[name].values)
-        for k in range(n):
-            _plot_series(ax, t, values[:, k], color=colours[k], label=f"joint {k + 1}")
-        _ticks(ax, xbins=8, ybins=6)
-        _labels(ax, "time t [s]" if r == 2 else None, ylabel, xoff=0.2, yoff=0.55)
-        ax.tick_params(labelbottom=r == 2)
-        axes.append(ax)
-    if t[-1] > t[0]:
-        axes[0].set_xlim(t[0], t[-1])
-    fig.legend(*axes[0].get_legend_handles_labels(), loc="upper center",
-               bbox_to_anchor=(0.5, 1 - 0.45 / 8.0), ncol=min(n, 6), frameon=False)
-    fig.suptitle("Joint trajectory", y=1 - 0.15 / 8.0, va="top")
-    return fig
-
-
-def _fig_D(ds):
-    from matplotlib.figure import Figure
-
-    n = ds.sizes["joint"]
-    x = ds["setpoint"].values
-    dom = _dominance_of(ds)
-    D_tran, D_rot, D = ds["D_tran"].values, ds["D_rot"].values, ds["D"].values
-    W, H = _A4_LANDSCAPE
-    fig = Figure(figsize=_A4_LANDSCAPE)
-    gs = _gridspec(fig, n, n, left=0.85, right=0.2, top=0.6, bottom=0.5, wgap=0.5, hgap=0.3)
-    first = None
-    for i in range(n):
-        for j in range(i, n):
-            ax = fig.add_subplot(gs[i, j], sharex=first)
-            first = first or ax
-            for part, y in (("tran", D_tran[:, i, j]), ("rot", D_rot[:, i, j]),
-                            ("total", D[:, i, j])):
-                _plot_series(ax, x, y, **_part_kwargs(part))
-            label = f"D{i + 1}{j + 1}"
-            _element_title(ax, label, dom.get(label, ""))
-            _ticks(ax, xbins=4, ybins=4, integer_x=True)
-            _labels(ax, "set point" if i == j else None, None, xoff=0.16)
-            ax.tick_params(labelbottom=(i == j))
-    if n > 1:   # legend and key in the empty lower triangle
-        k = n // 2
-        lax = fig.add_subplot(gs[k:, :k])
-        lax.axis("off")
-        handles, labels = first.get_legend_handles_labels()
-        lax.legend(handles, labels, loc="upper left", bbox_to_anchor=(0.0, 0.85),
-                   frameon=False, fontsize=9, markerscale=1.5, handlelength=3)
-        lax.text(0.0, 0.4, _D_key(ds), transform=lax.transAxes, va="top", ha="left",
-                 fontsize=8, linespacing=1.4)
-    else:
-        first.legend(frameon=False)
-    if x[-1] > x[0]:
-        first.set_xlim(x[0], x[-1])
-    fig.supylabel("element of D [kg m\u00b2]", x=0.15 / W, ha="left")
-    fig.suptitle("Acceleration-related elements of D along the trajectory "
-                 "(analogue of Fig. 3.10)", y=1 - 0.15 / H, va="top")
-    return fig
-
-
-def _D_key(ds):
-    s, e = _thresholds(ds)
-    return textwrap.fill(
-        "D_ij = D_ij(tran) + D_ij(rot). Panel D_ij: row i, column j (i \u2264 j). Title: "
-        f"element and its dominance class (s = {s:g}, e = {e:g}). x: set point index; "
-        "y: kg m\u00b2, own scale per panel.", 55)
-
-
-def _fig_h(ds):
-    from matplotlib.figure import Figure
-
-    n = ds.sizes["joint"]
-    x = ds["setpoint"].values
-    dom = _dominance_of(ds)
-    h_tran, h_rot, h = ds["h_tran"].values, ds["h_rot"].values, ds["h"].values
-    rows, cols = grid_shape(n, 3)
-    W, H = _A4_LANDSCAPE[0], min(_A4_LANDSCAPE[1], 1.6 + 3.0 * rows)
-    fig = Figure(figsize=(W, H))
-    gs = _gridspec(fig, rows, cols, left=0.85, right=0.2, top=0.6, bottom=0.95, wgap=0.85,
-                   hgap=0.7)
-    axes = []
-    for i in range(n):
-        ax = fig.add_subplot(gs[i // cols, i % cols], sharex=axes[0] if axes else None)
-        for part, y in (("tran", h_tran[:, i]), ("rot", h_rot[:, i]), ("total", h[:, i])):
-            _plot_series(ax, x, y, **_part_kwargs(part))
-        label = f"h{i + 1}"
-        _element_title(ax, label, dom.get(label, ""))
-        _ticks(ax, xbins=6, ybins=5, integer_x=True)
-        _labels(ax, "set point", f"{label} [N m]", xoff=0.2, yoff=0.55)
-        axes.append(ax)
-    if x[-1] > x[0]:
-        axes[0].set_xlim(x[0], x[-1])
-    fig.legend(*axes[0].get_legend_handles_labels(), loc="lower center",
-               bbox_to_anchor=(0.5, 0.08 / H), ncol=3, frameon=False, markerscale=1.5,
-               handlelength=3)
-    fig.suptitle("Coriolis and centrifugal elements of h along the trajectory "
-                 "(analogue of Fig. 3.11)", y=1 - 0.15 / H, va="top")
-    return fig
-
-
-def _fig_torque(ds):
-    from matplotlib.figure import Figure
-
-    n = ds.sizes["joint"]
-    t = ds["t"].values
-    tau, tau_s = ds["tau"].values, ds["tau_simplified"].values
-    rel = ds["tau_error_relative_peak"].values
-    peak = ds["tau_error_peak"].values
-    rows, cols = grid_shape(n, 2)
-    W, H = _A4[0], min(_A4[1] - 0.5, 1.6 + 2.6 * rows)
-    fig = Figure(figsize=(W, H))
-    gs = _gridspec(fig, rows, cols, left=0.85, right=0.2, top=0.6, bottom=0.9, wgap=0.85,
-                   hgap=0.7)
-    axes = []
-    for i in range(n):
-        ax = fig.add_subplot(gs[i // cols, i % cols], sharex=axes[0] if axes else None)
-        _plot_series(ax, t, tau[:, i], color=_FULL_COLOUR, linestyle="-", linewidth=1.2,
-                     label="full model \u03c4")
-        _plot_series(ax, t, tau_s[:, i], color=_SIMPLIFIED_COLOUR, linestyle="--",
-                     linewidth=1.2, label="simplified model \u03c4\u209b")
-        ax.set_title(f"joint {i + 1}: peak |\u03c4\u209b \u2212 \u03c4| = {peak[i]:.3g} N m "
-                     f"({_pct(rel[i])})")
-        _ticks(ax, xbins=6, ybins=5)
-        _labels(ax, "time t [s]", f"\u03c4{_sub(i + 1)} [N m]", xoff=0.2, yoff=0.55)
-        axes.append(ax)
-    if t[-1] > t[0]:
-        axes[0].set_xlim(t[0], t[-1])
-    fig.legend(*axes[0].get_legend_handles_labels(), loc="lower center",
-               bbox_to_anchor=(0.5, 0.08 / H), ncol=2, frameon=False, handlelength=3)
-    fig.suptitle("Joint torque of the full and the simplified model "
-                 "(error in % of peak |\u03c4|)", y=1 - 0.15 / H, va="top")
-    return fig
-
-
-_FORMULATION_STYLE = {"lagrange-euler": ("L-E", "#0072B2", "o"),
-                      "newton-euler": ("N-E", "#D55E00", "s"),
-                      "gd": ("G-D", "#6A3D9A", "^")}
+_FORMULATION_STYLE = {"lagrange-euler": ("L-E", "#0072B2", "o", "-"),
+                      "newton-euler": ("N-E", "#D55E00", "s", "-"),
+                      "gd": ("G-D", "#6A3D9A", "^", "-")}
 
 
 def _fig_formulations(ds):
     from matplotlib.figure import Figure
+    from matplotlib.ticker import NullFormatter
+
+    from .ticks import formatter as tick_formatter
 
     n = ds["dof"].values
     names = _strings(ds["formulation"].values)
-    fig = Figure(figsize=(_A4[0], 3.6))
-    gs = _gridspec(fig, 1, 2, left=0.8, right=0.2, top=0.55, bottom=0.95, wgap=0.9, hgap=0.5)
-    for k, (op, title) in enumerate((("multiplications", "multiplications"),
-                                     ("additions", "additions"))):
-        ax = fig.add_subplot(gs[0, k])
-        for name, (short, colour, marker) in _FORMULATION_STYLE.items():
+    W, H = PAGE_WIDTH, 2.9
+    fig = Figure(figsize=(W, H))
+    for k, op in enumerate(("multiplications", "additions")):
+        ax = fig.add_axes(((0.65 + k * 3.55) / W, 0.75 / H, 2.85 / W, (H - 1.0) / H))
+        for name, (short, colour, marker, ls) in _FORMULATION_STYLE.items():
             if name not in names:
                 continue
             j = names.index(name)
             ax.loglog(n, ds[f"op_{op}"].values[:, j], color=colour, marker=marker,
-                      markersize=4, linestyle="-", linewidth=1.2,
+                      markersize=3.5, linestyle=ls, linewidth=1.0,
                       label=f"{short} as implemented")
             ax.loglog(n, ds[f"op_{op}_table_3_5"].values[:, j], color=colour,
-                      linestyle="--", linewidth=1.0, label=f"{short} Table 3.5")
-        ax.set_title(f"{title} per set point")
-        ax.set_xlabel("number of joints n")
-        ax.set_ylabel(f"{title}")
-        ax.grid(True, which="both", linewidth=0.3, alpha=0.5)
+                      linestyle="--", linewidth=0.9, label=f"{short} Table 3.5")
+        for axis in (ax.xaxis, ax.yaxis):       # plain labels: no mathtext to parse
+            axis.set_major_formatter(tick_formatter())
+            axis.set_minor_formatter(NullFormatter())
+        ax.set_title(f"{op} per set point")
+        ax.set_xlabel("number of joints n", labelpad=1.0)
+        ax.set_ylabel(op, labelpad=1.0)
+        ax.grid(True, which="major", linewidth=0.3)
     fig.legend(*fig.axes[0].get_legend_handles_labels(), loc="lower center", ncol=3,
                frameon=False, bbox_to_anchor=(0.5, 0.0))
-    fig.suptitle("Cost of the three formulations (Fu, Gonzalez & Lee 1987, Table 3.5)",
-                 y=1 - 0.12 / 3.6, va="top")
     return fig
-
-
-def _sub(k):
-    return str(k).translate(str.maketrans("0123456789", "\u2080\u2081\u2082\u2083\u2084"
-                                                       "\u2085\u2086\u2087\u2088\u2089"))
 
 
 # --------------------------------------------------------------------------------------------
@@ -518,10 +285,10 @@ def _kv(rows):
 
 
 def _report_context(ds):
-    from .simplified_section import has_simplified, simplified_context
-
     ctx = _report_context_base(ds)
     ctx["simplified_model"] = simplified_context(ds) if has_simplified(ds) else None
+    if ctx["simplified_model"]:
+        ctx["captions"] = {**ctx["captions"], "torque": SIMPLIFIED_CAPTION}
     return ctx
 
 
@@ -576,20 +343,25 @@ def _report_context_base(ds):
         ("derivatives", f"{derivatives}: {_DERIVATIVES.get(derivatives, 'as recorded')}"
          if derivatives else "\u2014"),
     ])
-    q, qd, qdd = (np.degrees(ds[v].values) for v in ("q", "qd", "qdd"))
+    prismatic = prismatic_joints(ds)
+    scale = np.where(prismatic, 1.0, np.degrees(1.0))
+    q, qd, qdd = (ds[v].values * scale for v in ("q", "qd", "qdd"))
     joints = _table(
-        ["joint", "q min [deg]", "q max [deg]", "peak |q\u0307| [deg/s]",
-         "peak |q\u0308| [deg/s\u00b2]"],
-        [[str(k + 1), _fmt(q[:, k].min()), _fmt(q[:, k].max()), _fmt(np.abs(qd[:, k]).max()),
-          _fmt(np.abs(qdd[:, k]).max())] for k in range(n)],
-        align=["left"] + ["right"] * 4, widths=[0.6, 1, 1, 1.2, 1.2])
+        ["joint", "type", "q min", "q max", "peak |q\u0307|", "peak |q\u0308|", "units"],
+        [[str(k + 1), "prismatic" if prismatic[k] else "revolute", _fmt(q[:, k].min()),
+          _fmt(q[:, k].max()), _fmt(np.abs(qd[:, k]).max()), _fmt(np.abs(qdd[:, k]).max()),
+          "m, m/s, m/s\u00b2" if prismatic[k] else "deg, deg/s, deg/s\u00b2"]
+         for k in range(n)],
+        align=["left", "left"] + ["right"] * 4 + ["left"], widths=[0.6, 0.9, 1, 1, 1, 1, 1.5])
 
     # 4. ranking
     share = ds["share_tran"].values
+    zero = _zero_mask(ds)[1]
     pt, pr, ptot = ds["peak_tran"].values, ds["peak_rot"].values, ds["peak_total"].values
     ranking = _table(
         ["element", "share_tran", "class", "peak_tran", "peak_rot", "peak_total", "units"],
-        [[lab, _fmt(share[k], 3) if np.isfinite(share[k]) else "n/a", dominance[k],
+        [[lab, "\u2261 0" if zero[k] else (_fmt(share[k], 3) if np.isfinite(share[k])
+                                             else "n/a"), dominance[k],
           _fmt(pt[k]), _fmt(pr[k]), _fmt(ptot[k]), _units(el_units[k])]
          for k, lab in enumerate(labels)],
         align=["left", "right", "left", "right", "right", "right", "left"],
@@ -615,14 +387,17 @@ def _report_context_base(ds):
     # 6. comparison with the chapter
     applicable = n == 6
     compare_rows, n_agree, n_compared = [], 0, 0
-    for lab, ours, theirs in zip(labels, dominance, chapter):
+    for k, (lab, ours, theirs) in enumerate(zip(labels, dominance, chapter)):
+        shown = "\u2261 0" if zero[k] else _fmt(share[k], 3)
         if theirs:
             n_compared += 1
             agree = ours == theirs
             n_agree += agree
-            compare_rows.append([lab, ours, theirs, "yes" if agree else "no"])
+            compare_rows.append([lab, ours, theirs, "yes" if agree else "no", shown,
+                                 disagreement_cause(lab, ours, theirs, share[k], zero[k], s,
+                                                    robot_name)])
         else:
-            compare_rows.append([lab, ours, "\u2014", "\u2014"])
+            compare_rows.append([lab, ours, "\u2014", "\u2014", shown, ""])
     if applicable:
         note = ("The chapter reads these classes by eye off Figs. 3.10 and 3.11 for its own "
                 "PUMA 560 trajectory of 31 set points; it notes that the simplification depends "
@@ -636,8 +411,9 @@ def _report_context_base(ds):
         note = (f"The chapter reports dominance only for the 6-joint PUMA 560 (Sec. 3.4.1); "
                 f"this robot has {n} joint{'s' if n != 1 else ''}, so a comparison is not "
                 "meaningful and none is made.")
-    compare = _table(["element", "our class", "chapter's class", "agree"], compare_rows,
-                     widths=[1, 1.4, 1.4, 0.7], colour_cols=[1, 2, 3])
+    compare = _table(["element", "our class", "chapter's class", "agree", "share_tran", "cause"],
+                     compare_rows, align=["left"] * 4 + ["right", "left"],
+                     widths=[0.6, 1.05, 1.05, 0.45, 0.85, 4.0], colour_cols=[1, 2, 3])
 
     # 7. provenance
     prov = [
@@ -677,31 +453,46 @@ def _report_context_base(ds):
     formulations = _formulations_context(ds)
     payload = _payload_context(ds)
     title = f"G-D dominance analysis: {robot_name} along {_attr(ds, 'input_file')}"
-    summary = (f"{n} joints, {N} set points over {_fmt(t[-1] - t[0], 4)} s. "
-               f"{len(labels)} elements ranked (s = {s:g}, e = {e:g}): "
-               + ", ".join(f"{counts[c]} {c}" for c in _CLASS_COLOURS) + ". "
-               + (f"Largest torque error of the simplified model: joint {worst + 1}, "
-                  f"{_pct(rel_peak[worst])} of peak |\u03c4|. " if worst is not None else "")
-               + f"Verification against Pinocchio: {verified}.")
+    summary = conclusion(labels, dominance, zero, choice, rel_peak,
+                         ds["tau_error_peak"].values, ds["tau_peak"].values)
+    facts = (f"{robot_name}, {n} joints, {N} set points over {_fmt(t[-1] - t[0], 4)} s; "
+             f"{len(labels)} elements ranked with s = {s:g}, e = {e:g}: "
+             + ", ".join(f"{counts[c]} {c}" for c in _CLASS_COLOURS)
+             + f". Verification against Pinocchio: {verified}.")
+    enveloped = N > ENVELOPE_THRESHOLD
     return {
         "version": __version__, "title": title, "summary": summary, "robot_name": robot_name,
+        "facts": facts, "intro": _INTRO.format(created=now.isoformat(), version=__version__),
+        "captions": captions(enveloped, N, f"{s:g}", f"{e:g}"),
+        "D_text": _D_TEXT.format(s=f"{s:g}", e=f"{e:g}"),
         "n": n, "N": N, "s": f"{s:g}", "e": f"{e:g}", "created": now.isoformat(),
         "robot_kv": robot_kv, "dh": dh, "link": link, "traj_kv": traj_kv, "joints": joints,
         "ranking": ranking, "counts": counts, "choices": choices, "error": err,
         "compare": {"applicable": applicable, "note": note, "table": compare,
                     "n_agree": n_agree, "n_compared": n_compared},
-        "provenance": _kv(prov), "enveloped": N > ENVELOPE_THRESHOLD,
+        "provenance": _kv(prov), "enveloped": enveloped,
         "formulations": formulations, "payload": payload,
         "envelope_note": (f"The trajectory has {N} set points: curves are drawn as their "
-                          f"min/max envelope per column of {1 / _PRINT_DPI:.4g} in "
-                          f"({_PRINT_DPI} dpi, at most {ENVELOPE_COLUMNS} columns per panel), "
-                          "without markers."
-                          if N > ENVELOPE_THRESHOLD else ""),
+                          "min/max envelope over about 400 equal time columns per panel, "
+                          "without markers (the report reads the stored series in chunks)."
+                          if enveloped else ""),
         "keywords": (f"generalized d'Alembert; G-D dynamics; dominance; {robot_name}; "
                      f"input {_attr(ds, 'input_file')} sha256 {sha_in or '-'}; "
                      f"robot sha256 {_attr(ds, 'robot_sha256')}; s={s:g}; e={e:g}; "
                      f"verification {verified}"),
     }
+
+
+_INTRO = ("Generalized d'Alembert (G-D) equations of motion split the inertia matrix D and the "
+          "Coriolis and centrifugal vector h of \u03c4 = D(q) q\u0308 + h(q, q\u0307) + c(q) into "
+          "a translational and a rotational part (Fu, Gonzalez & Lee 1987, Robotics, Sec. 3.4, "
+          "Eqs. 3.4-24 to 3.4-28). This report ranks which part dominates each element along "
+          "the trajectory (Sec. 3.4.1, Figs. 3.10 and 3.11). Report created {created} by "
+          "gd-analyze {version} from the stored results; nothing was recomputed.")
+_D_TEXT = ("One panel per element D_ij with i \u2264 j (row i, column j): translational part "
+           "(\u25cb, blue), rotational part (\u00d7, orange) and combined D_ij (\u25b3, black) "
+           "against time [kg m\u00b2]. The title gives the element and its dominance class "
+           "(s = {s}, e = {e}).")
 
 
 def _payload_context(ds):
@@ -759,8 +550,24 @@ def _formulations_context(ds):
 
 
 # --------------------------------------------------------------------------------------------
-# HTML
+# Drawing once, HTML and PDF
 # --------------------------------------------------------------------------------------------
+
+def _numbered(ctx, figures):
+    """Figure number and caption ("Figure k. ...") of each figure, in document order."""
+    return {key: f"Figure {k + 1}. {ctx['captions'][key]}" for k, key in enumerate(figures)}
+
+
+def _drawn(figures, pdf=True):
+    """Each figure drawn once as SVG and (if asked) once as PDF: {key: (svg, pdf, size)}."""
+    return draw_figures(figures, FIG_RC, pdf=pdf)
+
+
+def _inline(svg_text, prefix):
+    text = re.sub(r'\bid="', f'id="{prefix}-', svg_text)
+    text = re.sub(r'\bhref="#', f'href="#{prefix}-', text)
+    return re.sub(r"url\(#", f"url(#{prefix}-", text)
+
 
 def render_html(ds, figures=None):
     """Render the report as one self-contained HTML document.
@@ -790,152 +597,20 @@ def render_html(ds, figures=None):
     ctx = _report_context(ds)
     if figures is None:
         figures = make_figures(ds)
-    return _html(ctx, figures)
+    return _html(ctx, _drawn(figures, pdf=False))
 
 
-def _html(ctx, figures):
-    svgs = inline_svgs(figures, _RC)
-    return render_template("report.html.j2", {**ctx, "figures": svgs},
+def _html(ctx, drawn):
+    from markupsafe import Markup
+
+    svgs = {k: Markup(_inline(svg, f"fig-{k}")) for k, (svg, _, _) in drawn.items()}
+    return render_template("report.html.j2", {**ctx, "figures": svgs,
+                                              "captions": _numbered(ctx, drawn)},
                            {"class_colours": _CLASS_COLOURS})
 
 
-# --------------------------------------------------------------------------------------------
-# PDF
-# --------------------------------------------------------------------------------------------
-
-class _TextPages:
-    """Flow headings, paragraphs and tables onto A4 pages drawn as matplotlib figures."""
-
-    W, H = _A4
-    LEFT = RIGHT = 0.75
-    TOP, BOTTOM = 0.65, 0.8
-
-    def __init__(self, pdf, footer):
-        self.pdf = pdf
-        self.footer = footer
-        self.page = 0
-        self.fig = None
-        self.y = self.TOP
-
-    @property
-    def width(self):
-        return self.W - self.LEFT - self.RIGHT
-
-    @property
-    def limit(self):
-        return self.H - self.BOTTOM
-
-    def _new_page(self):
-        from matplotlib.figure import Figure
-
-        self.flush()
-        self.fig = Figure(figsize=(self.W, self.H))
-        self.y = self.TOP
-
-    def _ensure(self, height):
-        if self.fig is None or self.y + height > self.limit:
-            self._new_page()
-
-    def _text(self, x, y, s, **kwargs):
-        self.fig.text(x / self.W, 1.0 - y / self.H, s, va="top", **kwargs)
-
-    def flush(self):
-        """Write the current text page, if any."""
-        if self.fig is not None:
-            self.page += 1
-            self._text(self.LEFT, self.limit + 0.35, f"{self.footer}   \u2014   page {self.page}",
-                       fontsize=7, color="0.45")
-            self.pdf.savefig(self.fig)
-            self.fig = None
-
-    def figure(self, fig):
-        """Write a figure on a page of its own."""
-        self.flush()
-        self.page += 1
-        self.pdf.savefig(fig)
-
-    def heading(self, text, size=13):
-        h = size * 1.7 / 72
-        self._ensure(h + 0.6)            # keep a heading with what follows
-        if self.y > self.TOP + 1e-9:
-            self.y += 0.12
-        self._text(self.LEFT, self.y, text, fontsize=size, fontweight="bold")
-        self.y += h
-
-    def paragraph(self, text, size=9, **kwargs):
-        chars = max(20, int(self.width / (size * 0.53 / 72)))
-        lh = size * 1.4 / 72
-        for line in textwrap.wrap(text, chars) or [""]:
-            self._ensure(lh)
-            self._text(self.LEFT, self.y, line, fontsize=size, **kwargs)
-            self.y += lh
-        self.y += 0.08
-
-    def table(self, table, size=7.5):
-        from matplotlib.lines import Line2D
-        from matplotlib.patches import Rectangle
-
-        widths = np.asarray(table["widths"], float)
-        widths = widths / widths.sum() * self.width
-        xs = self.LEFT + np.r_[0.0, np.cumsum(widths)[:-1]]
-        lh = size * 1.3 / 72
-        pad = 0.04
-        charw = size * 0.56 / 72
-        colour_cols = set(table["colour_cols"])
-
-        def wrap(row):
-            cells = [textwrap.wrap(c, max(3, int((w - 2 * pad) / charw))) or [""]
-                     for c, w in zip(row, widths)]
-            return cells, max(len(c) for c in cells) * lh + 2 * pad
-
-        def draw(cells, height, bold=False, shade=False):
-            if shade:
-                self.fig.add_artist(Rectangle(
-                    (self.LEFT / self.W, 1 - (self.y + height) / self.H), self.width / self.W,
-                    height / self.H, transform=self.fig.transFigure, facecolor="0.94",
-                    edgecolor="none", zorder=0))
-            for k, (lines, x, w) in enumerate(zip(cells, xs, widths)):
-                right = table["align"][k] == "right"
-                colour = "black"
-                if k in colour_cols and not bold:
-                    colour = _CLASS_COLOURS.get(lines[0], _AGREE_COLOURS.get(lines[0], "black"))
-                for m, line in enumerate(lines):
-                    self._text(x + (w - pad if right else pad), self.y + pad + m * lh, line,
-                               fontsize=size, ha="right" if right else "left", color=colour,
-                               fontweight="bold" if bold else "normal")
-            self.y += height
-
-        def rule(width=0.6):
-            yy = 1 - self.y / self.H
-            self.fig.add_artist(Line2D([self.LEFT / self.W, (self.LEFT + self.width) / self.W],
-                                       [yy, yy], transform=self.fig.transFigure,
-                                       color="black", linewidth=width))
-
-        header, hh = wrap(table["header"])
-        rows = [wrap(r) for r in table["rows"]]
-        first = rows[0][1] if rows else 0.0
-        total = hh + sum(h for _, h in rows)
-        if total <= 0.4 * (self.limit - self.TOP):
-            self._ensure(total + 0.05)      # keep a short table on one page
-        else:
-            self._ensure(hh + first + 0.05)
-        rule(0.8)
-        draw(header, hh, bold=True)
-        rule()
-        for k, (cells, height) in enumerate(rows):
-            if self.y + height > self.limit:
-                rule(0.8)
-                self._new_page()
-                rule(0.8)
-                draw(header, hh, bold=True)
-                rule()
-            draw(cells, height, shade=k % 2 == 1)
-        rule(0.8)
-        self.y += 0.15
-
-
-def render_pdf(ds, path, figures=None):
-    """Write the report as a PDF with matplotlib's PdfPages.
+def render_pdf(ds, path, figures=None, paper="a4"):
+    """Write the report as a PDF document.
 
     Parameters
     ----------
@@ -945,6 +620,8 @@ def render_pdf(ds, path, figures=None):
         The PDF file to write (not atomically: :func:`write_report` passes a temporary name).
     figures : dict of str to matplotlib.figure.Figure, optional
         The figures of :func:`make_figures`; made here if not given.
+    paper : {"a4", "letter"}, optional
+        The size of every page.
 
     Returns
     -------
@@ -960,178 +637,191 @@ def render_pdf(ds, path, figures=None):
 
     Notes
     -----
-    Text pages are A4 portrait; figure pages have the figure's size. The PDF metadata carry the
-    title, the author ``gd-analyze <version>``, a subject, and the provenance as keywords.
-    Source: Sec. 3.4.1 and Figs. 3.10-3.11 of Fu, Gonzalez & Lee (1987).
+    The same sections and numbers as the HTML, numbered figures with captions, a bookmark per
+    section (:class:`gd_analyze.reports.pages.Document`). Source: Sec. 3.4.1 and Figs.
+    3.10-3.11 of Fu, Gonzalez & Lee (1987).
     """
     ctx = _report_context(ds)
     if figures is None:
         figures = make_figures(ds)
-    return _pdf(ctx, figures, path)
+    return _pdf(ctx, _drawn(figures), path, paper)
 
 
-def _pdf(ctx, figures, path):
-    from matplotlib.backends.backend_pdf import PdfPages
-
+def _pdf(ctx, drawn, path, paper="a4"):
+    caps = {k: c.split(". ", 1)[1] for k, c in _numbered(ctx, drawn).items()}
     metadata = {
-        "Title": ctx["title"],
         "Author": f"gd-analyze {ctx['version']}",
         "Subject": "Translational and rotational dominance of the generalized d'Alembert "
                    "dynamics (Fu, Gonzalez & Lee 1987, Sec. 3.4.1, Figs. 3.10-3.11)",
-        "Keywords": ctx["keywords"],
-        "Creator": f"gd-analyze {ctx['version']}",
-        "CreationDate": datetime.datetime.fromisoformat(ctx["created"]),
+        "Keywords": ctx["keywords"], "Creator": f"gd-analyze {ctx['version']}",
+        "CreationDate": "D:" + ctx["created"].replace("-", "").replace(":", "")
+                               .replace("T", "")[:14] + "Z",
     }
-    with _style(_RC), PdfPages(path, metadata=metadata) as pdf:
-        doc = _TextPages(pdf, f"gd-analyze {ctx['version']}: {ctx['title']}")
-        doc.heading(ctx["title"], size=14)
-        doc.paragraph(ctx["summary"])
-        doc.paragraph(f"Report created {ctx['created']}. Source of the method: Fu, Gonzalez & "
-                      "Lee (1987), Robotics, Sec. 3.4.1, Figs. 3.10-3.11.", size=8, color="0.3")
-        doc.heading("1. Robot and trajectory")
-        doc.heading("1.1 Robot", size=10.5)
-        doc.table(ctx["robot_kv"], size=8)
-        doc.paragraph("Denavit-Hartenberg parameters (standard form, theta = q + offset):",
-                      size=8.5)
-        doc.table(ctx["dh"], size=8)
-        doc.paragraph("Link inertial parameters: centre of mass (com) in link frame i, diagonal "
-                      "of the inertia tensor about the centre of mass:", size=8.5)
-        doc.table(ctx["link"], size=8)
-        doc.heading("1.2 Trajectory", size=10.5)
-        doc.table(ctx["traj_kv"], size=8)
-        doc.table(ctx["joints"], size=8)
-        if ctx["envelope_note"]:
-            doc.paragraph(ctx["envelope_note"], size=8.5)
-        doc.figure(figures["joints"])
-        doc.figure(figures["D"])
-        doc.figure(figures["h"])
-        doc.heading("4. Dominance ranking")
-        doc.paragraph(_RANKING_TEXT.format(s=ctx["s"], e=ctx["e"]), size=8.5)
-        doc.table(ctx["ranking"])
-        doc.heading("5. Simplified model")
-        doc.paragraph(_SIMPLIFIED_TEXT, size=8.5)
-        doc.table(ctx["error"], size=7.5)
-        doc.table(ctx["choices"])
-        sm = ctx.get("simplified_model")
-        if sm:
-            doc.paragraph(sm["text"], size=8.5)
-            doc.table(sm["bound"], size=7.5)
-            if sm["costs"]:
-                doc.table(sm["costs"], size=7.5)
-            if sm["ladder"]:
-                doc.table(sm["ladder"], size=7.5)
-            doc.paragraph("Emitted source files: " + ", ".join(sm["files"]), size=8.5)
-        doc.figure(figures["torque"])
-        doc.heading("6. Comparison with the chapter's PUMA 560")
-        doc.paragraph(ctx["compare"]["note"], size=8.5)
-        if ctx["compare"]["applicable"]:
-            doc.paragraph(f"Agreement: {ctx['compare']['n_agree']} of "
-                          f"{ctx['compare']['n_compared']} elements.", size=9,
-                          fontweight="bold")
-            doc.table(ctx["compare"]["table"])
-        if ctx["payload"]["applicable"]:
-            doc.heading("6.1 Dominance against the payload")
-            doc.paragraph(ctx["payload"]["note"], size=8.5)
-            if ctx["payload"]["table"]["rows"]:
-                doc.table(ctx["payload"]["table"])
-            doc.figure(figures["payload"])
-        doc.heading("7. Formulations: Lagrange-Euler, Newton-Euler, G-D")
-        doc.paragraph(ctx["formulations"]["note"], size=8.5)
-        if ctx["formulations"]["applicable"]:
-            doc.table(ctx["formulations"]["agreement"])
-            doc.table(ctx["formulations"]["costs"])
-            doc.figure(figures["formulations"])
-        doc.heading("8. Provenance")
-        doc.table(ctx["provenance"], size=7.5)
-        doc.flush()
-        return doc.page
+    doc = Document(ctx["title"], paper=paper, metadata=metadata,
+                   footer=f"gd-analyze {ctx['version']}: {ctx['robot_name']}, {ctx['N']} set "
+                          "points")
+
+    def fig(key):
+        if key in drawn:
+            doc.figure(drawn[key][1], drawn[key][2], caps[key])
+
+    doc.heading(ctx["title"], level=0)
+    doc.paragraph(ctx["summary"], size=9.5)
+    doc.paragraph(ctx["facts"], size=9)
+    doc.paragraph(ctx["intro"], size=8.5, colour="0.25")
+    doc.heading("1. Robot and trajectory")
+    doc.heading("1.1 Robot", level=2)
+    doc.table(ctx["robot_kv"])
+    doc.paragraph(_DH_TEXT, size=8.5)
+    doc.table(ctx["dh"])
+    doc.paragraph(_LINK_TEXT, size=8.5)
+    doc.table(ctx["link"])
+    doc.heading("1.2 Trajectory", level=2)
+    doc.table(ctx["traj_kv"])
+    doc.table(ctx["joints"])
+    if ctx["envelope_note"]:
+        doc.paragraph(ctx["envelope_note"], size=8.5)
+    fig("joints")
+    doc.heading("2. Acceleration-related elements of D (analogue of Fig. 3.10)")
+    doc.paragraph(ctx["D_text"], size=8.5)
+    fig("D")
+    doc.heading("3. Coriolis and centrifugal elements of h (analogue of Fig. 3.11)")
+    fig("h")
+    doc.heading("4. Dominance ranking")
+    doc.paragraph(_RANKING_TEXT.format(s=ctx["s"], e=ctx["e"]), size=8.5)
+    doc.paragraph("   ".join(f"{c}: {k}" for c, k in ctx["counts"].items()), size=8.5,
+                  bold=True)
+    doc.table(ctx["ranking"])
+    doc.heading("5. Simplified model and torque error")
+    doc.paragraph(_SIMPLIFIED_TEXT, size=8.5)
+    doc.heading("5.1 Torque error along the trajectory", level=2)
+    doc.table(ctx["error"])
+    fig("torque")
+    doc.heading("5.2 Choice per element", level=2)
+    doc.table(ctx["choices"])
+    sm = ctx.get("simplified_model")
+    if sm:
+        doc.heading("5.3 Explicit model: rule, bound, cost", level=2)
+        doc.paragraph(sm["text"], size=8.5)
+        doc.table(sm["bound"])
+        if sm["costs"]:
+            doc.heading("5.4 Cost per set point (counted)", level=2)
+            doc.table(sm["costs"])
+        if sm["ladder"]:
+            doc.heading("5.5 Tolerance ladder", level=2)
+            doc.table(sm["ladder"])
+        doc.paragraph("Emitted source files: " + ", ".join(sm["files"]), size=8.5)
+    doc.heading("6. Comparison with the chapter's PUMA 560")
+    doc.paragraph(ctx["compare"]["note"], size=8.5)
+    if ctx["compare"]["applicable"]:
+        doc.paragraph(f"Agreement: {ctx['compare']['n_agree']} of "
+                      f"{ctx['compare']['n_compared']} elements.", size=9, bold=True)
+        doc.table(ctx["compare"]["table"])
+    if ctx["payload"]["applicable"]:
+        doc.heading("6.1 Dominance against the payload")
+        doc.paragraph(ctx["payload"]["note"], size=8.5)
+        if ctx["payload"]["table"]["rows"]:
+            doc.table(ctx["payload"]["table"])
+        fig("payload")
+    doc.heading("7. Formulations: Lagrange-Euler, Newton-Euler, G-D")
+    doc.paragraph(ctx["formulations"]["note"], size=8.5)
+    if ctx["formulations"]["applicable"]:
+        doc.heading("7.1 Largest relative disagreement per pair", level=2)
+        doc.table(ctx["formulations"]["agreement"])
+        doc.heading("7.2 Operations per set point", level=2)
+        doc.table(ctx["formulations"]["costs"])
+        fig("formulations")
+    doc.heading("8. Provenance")
+    doc.table(ctx["provenance"], size=7)
+    return doc.write(path)
 
 
-_RANKING_TEXT = ("For each element, share_tran = sum|tran| / (sum|tran| + sum|rot|) over the "
-                 "set points. Class: negligible if the peak |tran + rot| is below e = {e} times "
-                 "the element's scale (peak sqrt(D_ii D_jj) for D_ij, peak |tau_i| for h_i); "
-                 "else translational if share_tran >= s = {s}, rotational if share_tran <= "
-                 "1 - s, both otherwise. Peaks are of the absolute values along the trajectory.")
+_DH_TEXT = "Denavit-Hartenberg parameters (standard form, \u03b8 = q + offset):"
+_LINK_TEXT = ("Link inertial parameters: centre of mass (com) in link frame i, diagonal of the "
+              "inertia tensor about the centre of mass:")
+_RANKING_TEXT = ("For each element, share_tran = \u03a3|tran| / (\u03a3|tran| + \u03a3|rot|) "
+                 "over the set points. An element is negligible if its peak |tran + rot| is "
+                 "below e = {e} times its scale (peak \u221a(D_ii D_jj) for D_ij, peak |\u03c4_i| "
+                 "for h_i); otherwise translational if share_tran \u2265 s = {s}, rotational if "
+                 "share_tran \u2264 1 \u2212 s, and both in between. \u2261 0: zero in every "
+                 "part (below 1e-12 of its scale), so share_tran is rounding noise and is not "
+                 "shown.")
 _SIMPLIFIED_TEXT = ("The simplified model keeps, for each element of D (mirrored to the lower "
-                    "triangle) and h, only the dominant part (both if neither dominates, none if "
-                    "negligible); gravity c is kept whole: tau_s = D_s qdd + h_s + c. Its error "
-                    "along the trajectory, per joint, relative to the peak |tau| of the joint:")
+                    "triangle) and of h, only its dominant part \u2014 both parts if neither "
+                    "dominates, nothing if it is negligible; gravity c is kept whole: "
+                    "\u03c4\u209b = D\u209b q\u0308 + h\u209b + c.")
 
 
 # --------------------------------------------------------------------------------------------
 # Entry point
 # --------------------------------------------------------------------------------------------
 
-def write_report(results_path, outdir, formats=REPORT_FORMATS):
-    """Write report.html and/or report.pdf for a stored analysis.
+def write_report(results_path, outdir, formats=REPORT_FORMATS, paper="a4", progress=None):
+    """Write report.html and/or report.pdf, and every figure as PDF and SVG, for an analysis.
 
     Parameters
     ----------
     results_path : str or os.PathLike
-        A results file written by :func:`gd_analyze.workflows.analyze.analyze_to_file`. Only read: the
-        dynamics are never recomputed.
+        A results file written by :func:`gd_analyze.workflows.analyze.analyze_to_file`. Only read (long
+        series in chunks): the dynamics are never recomputed.
     outdir : str or os.PathLike
         Output folder; made if missing.
     formats : sequence of str, optional
         Any of ``"html"`` and ``"pdf"``.
+    paper : {"a4", "letter"}, optional
+        Page size of the PDF.
+    progress : callable, optional
+        Called with a number of set points read (for a progress bar).
 
     Returns
     -------
     list of pathlib.Path
-        The files written (``outdir/report.html``, ``outdir/report.pdf``), in the order of
-        ``formats``.
+        The files written: ``outdir/report.html``, ``outdir/report.pdf`` (in the order of
+        ``formats``), then ``outdir/figures/<name>.pdf`` and ``.svg`` per figure
+        (:data:`FIGURE_FILES`).
 
     Raises
     ------
     InputError
         If the results file is missing, unreadable or not a gd-analyze dataset.
     ValueError
-        If a format is not one of :data:`REPORT_FORMATS`, or none is given.
+        If a format is not one of :data:`REPORT_FORMATS`, none is given, or the paper is
+        unknown.
     OSError
         If a file cannot be written.
 
     Notes
     -----
-    Each file is written to a temporary name beside its destination and renamed
-    (:func:`gd_analyze.files.atomic_path`). The report holds the analogues of Figs. 3.10 and
-    3.11 of Fu, Gonzalez & Lee (1987), Sec. 3.4.1, and the ranking, simplified model, comparison
-    with the chapter and provenance read from the dataset.
+    Each figure is drawn once as SVG (inlined in the HTML and written to ``figures/``) and
+    once as PDF (written to ``figures/`` and placed in the report). Every file is written to a
+    temporary name beside its destination and renamed (:func:`gd_analyze.files.atomic_path`).
+    Source: Sec. 3.4.1 and Figs. 3.10-3.11 of Fu, Gonzalez & Lee (1987).
     """
-    from ..files import atomic_path
     from ..io.datasets import open_results
 
     formats = check_formats(formats, REPORT_FORMATS)
-    ds = open_results(results_path)
+    if paper not in PAPER:
+        raise ValueError(f"paper must be one of {sorted(PAPER)}, got {paper!r}")
+    with open_results(results_path, lazy=True) as ds, no_gc():   # long series: in chunks
+        return _write(ds, Path(outdir), formats, paper, progress)
+
+
+def _write(ds, outdir, formats, paper, progress):
+    from ..files import atomic_path
+
     ctx = _report_context(ds)            # fails early on a dataset that is not ours
-    outdir = Path(outdir)
-    outdir.mkdir(parents=True, exist_ok=True)
-    figures = make_figures(ds)
+    (outdir / "figures").mkdir(parents=True, exist_ok=True)
+    figures = make_figures(ds, plot_data(ds, progress=progress))
+    drawn = _drawn(figures)
+    for fig in figures.values():
+        fig.clear()
     paths = {fmt: outdir / f"report.{fmt}" for fmt in formats}
     with contextlib.ExitStack() as stack:
+        files = write_figure_files(stack, drawn, outdir / "figures", FIGURE_FILES)
         tmp = {fmt: stack.enter_context(atomic_path(paths[fmt])) for fmt in formats}
-        child = _start_pdf_process(ctx, figures, tmp["pdf"]) if len(formats) == 2 else None
-        for fmt in formats:
-            if fmt == "html":
-                text = _html(ctx, figures)
-                with open(tmp["html"], "w", encoding="utf-8") as fh:
-                    fh.write(text)
-            elif child is None:
-                _pdf(ctx, figures, tmp["pdf"])
-        if child is not None:
-            child.join()
-            if child.exitcode != 0:
-                raise OSError(f"rendering {paths['pdf']} failed (exit code {child.exitcode})")
-    return [paths[fmt] for fmt in formats]
-
-
-def _start_pdf_process(ctx, figures, path):
-    """Render the PDF in a forked process while the caller writes the HTML; None if the
-    platform cannot fork or there is a single core (then the caller renders it itself)."""
-    import multiprocessing as mp
-
-    if (os.cpu_count() or 1) < 2 or "fork" not in mp.get_all_start_methods():
-        return None
-    # With fork, the arguments are inherited, not pickled: the figures cost nothing to pass.
-    child = mp.get_context("fork").Process(target=_pdf, args=(ctx, figures, path), daemon=True)
-    child.start()
-    return child
+        if "html" in tmp:
+            with open(tmp["html"], "w", encoding="utf-8") as fh:
+                fh.write(_html(ctx, drawn))
+        if "pdf" in tmp:
+            _pdf(ctx, drawn, tmp["pdf"], paper)
+    return [paths[fmt] for fmt in formats] + files

@@ -13,7 +13,12 @@ import numpy as np
 
 from .common import fmt, pct, strings, table
 
-__all__ = ["has_simplified", "simplified_context", "error_figure"]
+__all__ = ["has_simplified", "simplified_context", "error_figure", "SIMPLIFIED_CAPTION"]
+
+#: Caption of the torque-error figure.
+SIMPLIFIED_CAPTION = ("Torque error of the simplified model, \u03c4\u209b \u2212 \u03c4 [N m], "
+                      "per joint against time, with the guaranteed bound \u00b1 (dotted; on "
+                      "this trajectory only).")
 
 
 def has_simplified(ds):

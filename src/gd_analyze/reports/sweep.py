@@ -22,21 +22,22 @@ matplotlib's PdfPages. Both are written atomically (:func:`gd_analyze.files.atom
 
 from __future__ import annotations
 
-import datetime
+import contextlib
 import textwrap
 from pathlib import Path
 
 import numpy as np
 
-from .common import A4 as _A4, A4_LANDSCAPE as _A4_LANDSCAPE
 from .common import CLASS_COLOURS as _CLASS_COLOURS, SUPTITLE_RC as _RC
 from .common import attr as _attr, check as _check, fmt as _fmt, pct as _pct
 from .common import gridspec as _gridspec, strings as _strings, style as _style
 from .common import table as _table, thresholds as _thresholds
-from .common import check_formats, grid_shape, inline_svgs, joint_colours, render_template
+from .common import check_formats, grid_shape, render_template
 from .common import utc_now
 from .figures import CLASS_LETTER as _LETTER, PAYLOAD_REQUIRED as _PAYLOAD_REQUIRED
 from .figures import payload_figure
+from .main_figures import element_label
+from .pages import PAPER, Document, draw_figures, figure_svg, no_gc, write_figure_files
 from ..core.ranking import CLASSES
 
 __all__ = ["SWEEP_REPORT_FORMATS", "make_sweep_figures", "render_sweep_html",
@@ -51,6 +52,8 @@ _CHOICE_COLOURS = {"tran": _CLASS_COLOURS["translational"], "rot": _CLASS_COLOUR
 _CHOICE_CLASS = {"tran": "translational", "rot": "rotational", "both": "both",
                  "none": "negligible"}
 _OWN_COLOUR, _MERGED_COLOUR = "#009E73", "#000000"
+#: Width of every figure: the text of a page [in].
+_PAGE_WIDTH = 7.2
 _REQUIRED = ("share_tran", "dominance", "choice", "source", "duration", "tau_peak",
              "tau_error_relative_peak", "class_fraction", "share_tran_min", "share_tran_median",
              "share_tran_max", "merged_choice", "merged_tau_error_relative_peak",
@@ -99,7 +102,7 @@ def _share_panel(ax, values, label, merged, fractions, s, small):
     ax.yaxis.set_major_formatter("{x:.2g}")
     ax.tick_params(length=2.0, pad=1.5)
     ax.set_title(f"{label} \u2192 {merged}", color=_CHOICE_COLOURS.get(merged, "black"), pad=2.5)
-    ax.set_xlabel(_fraction_text(fractions), fontsize=5.8 if small else 7.0, labelpad=1.5,
+    ax.set_xlabel(_fraction_text(fractions), fontsize=7.0, labelpad=1.5,
                   color="0.15")
 
 
@@ -112,7 +115,7 @@ def _key_text(ds, K):
         f"rotational. Title: element \u2192 choice of the merged model. Bottom: fraction of "
         f"trajectories per class (T translational, R rotational, B both, N negligible, "
         f"e = {e:g}); the share of a negligible element may compare round-off-level "
-        f"values.", 60)
+        f"values.", 52)
 
 
 def _fig_D(ds):
@@ -124,12 +127,13 @@ def _fig_D(ds):
     merged = dict(zip(labels, _strings(ds["merged_choice"].values)))
     frac = ds["class_fraction"].values
     s, _ = _thresholds(ds)
-    W, H = _A4_LANDSCAPE
+    W = _PAGE_WIDTH
+    H = 0.75 + n * 0.72 + (n - 1) * 0.42
     fig = Figure(figsize=(W, H))
-    gs = _gridspec(fig, n, n, left=0.7, right=0.2, top=0.6, bottom=0.3, wgap=0.45, hgap=0.32)
+    gs = _gridspec(fig, n, n, left=0.5, right=0.08, top=0.45, bottom=0.3, wgap=0.28, hgap=0.42)
     for i in range(n):
         for j in range(i, n):
-            label = f"D{i + 1}{j + 1}"
+            label = element_label("D", i + 1, j + 1)
             k = labels.index(label)
             ax = fig.add_subplot(gs[i, j])
             _share_panel(ax, share[:, k], label, merged[label], frac[k], s, small=True)
@@ -139,8 +143,8 @@ def _fig_D(ds):
         lax = fig.add_subplot(gs[k:, :k])
         lax.axis("off")
         lax.text(0.0, 0.9, _key_text(ds, ds.sizes["trajectory"]), transform=lax.transAxes,
-                 va="top", ha="left", fontsize=8, linespacing=1.4)
-    fig.supylabel("share_tran [1]", x=0.12 / W, ha="left")
+                 va="top", ha="left", fontsize=7.5, linespacing=1.35)
+    fig.supylabel("share_tran [1]", x=0.05 / W, ha="left")
     fig.suptitle("Translational share of the elements of D over the sweep "
                  "(layout of Fig. 3.10)", y=1 - 0.15 / H, va="top")
     return fig
@@ -156,18 +160,18 @@ def _fig_h(ds):
     frac = ds["class_fraction"].values
     s, _ = _thresholds(ds)
     rows, cols = grid_shape(n, 3)
-    W, H = _A4_LANDSCAPE[0], min(_A4_LANDSCAPE[1], 2.0 + 2.6 * rows)
+    W, H = _PAGE_WIDTH, 1.9 + 1.9 * rows
     fig = Figure(figsize=(W, H))
-    gs = _gridspec(fig, rows, cols, left=0.8, right=0.2, top=0.6, bottom=1.3, wgap=0.7,
-                   hgap=0.55)
+    gs = _gridspec(fig, rows, cols, left=0.65, right=0.1, top=0.5, bottom=1.2, wgap=0.6,
+                   hgap=0.5)
     for i in range(n):
         label = f"h{i + 1}"
         k = labels.index(label)
         ax = fig.add_subplot(gs[i // cols, i % cols])
         _share_panel(ax, share[:, k], label, merged[label], frac[k], s, small=False)
         ax.set_ylabel("share_tran [1]")
-    key = textwrap.fill(_key_text(ds, ds.sizes["trajectory"]).replace("\n", " "), 165)
-    fig.text(0.8 / W, 0.1 / H, key, ha="left", va="bottom", fontsize=7.5, linespacing=1.3)
+    key = textwrap.fill(_key_text(ds, ds.sizes["trajectory"]).replace("\n", " "), 120)
+    fig.text(0.3 / W, 0.1 / H, key, ha="left", va="bottom", fontsize=7.0, linespacing=1.3)
     fig.suptitle("Translational share of the elements of h over the sweep "
                  "(layout of Fig. 3.11)", y=1 - 0.15 / H, va="top")
     return fig
@@ -181,7 +185,7 @@ def _fig_classes(ds):
     frac = ds["class_fraction"].values
     merged = _strings(ds["merged_choice"].values)
     M = len(labels)
-    W, H = _A4[0], 1.5 + 0.2 * M
+    W, H = _PAGE_WIDTH, 1.5 + 0.17 * M
     fig = Figure(figsize=(W, H))
     ax = fig.add_axes((1.0 / W, 0.8 / H, (W - 2.6) / W, (H - 1.4) / H))
     y = np.arange(M)
@@ -213,7 +217,7 @@ def _fig_error(ds):
     own = ds["tau_error_relative_peak"].values
     merged = ds["merged_tau_error_relative_peak"].values
     overall = ds["merged_error_relative_peak"].values
-    W, H = _A4[0], 4.2
+    W, H = _PAGE_WIDTH, 3.6
     fig = Figure(figsize=(W, H))
     ax = fig.add_axes((0.9 / W, 0.9 / H, (W - 1.2) / W, (H - 1.6) / H))
     for j in range(n):
@@ -242,9 +246,9 @@ def _fig_error(ds):
                               label="merged model, over all trajectories")],
               loc="upper center", bbox_to_anchor=(0.5, -0.08), ncol=3, frameon=False,
               fontsize=7)
-    fig.suptitle("Relative peak torque error per joint (box: quartiles, whiskers: min/max; "
-                 f"values below {_ERROR_FLOOR:g} drawn at it)", y=1 - 0.12 / H, va="top",
-                 fontsize=9)
+    fig.suptitle("Relative peak torque error per joint (box: quartiles, whiskers: min/max;\n"
+                 f"values below {_ERROR_FLOOR:g} drawn at it)", y=1 - 0.08 / H, va="top",
+                 fontsize=8.5)
     return fig
 
 
@@ -355,6 +359,7 @@ def _context(ds, payload=None):
     counts = {c: sum(_CHOICE_CLASS[m] == c for m in merged) for c in CLASSES}
     kept = sum(m != "none" for m in merged)
     single = sum(m in ("tran", "rot") for m in merged)
+    worst = _worst_cases(ds, labels)
     summary = (f"{robot}: share_tran of the {len(labels)} ranked elements of D and h over "
                f"{inputs}, s = {s:g}, e = {e:g}. The conservative merged model keeps both parts "
                f"of {counts['both']} elements, one part of {single}, and drops "
@@ -363,6 +368,8 @@ def _context(ds, payload=None):
                f"(joint {int(np.nanargmax(ds['merged_error_relative_peak'].values)) + 1}).")
     ctx = {"version": __version__, "title": f"G-D dominance sweep: {robot}, {K} trajectories",
            "summary": summary, "settings": _table(["item", "value"], settings),
+           "worst": worst,
+           "intro": _INTRO.format(K=K, created=utc_now().isoformat(), version=__version__),
            "envelope": envelope, "error": err, "counts": counts, "s": f"{s:g}", "e": f"{e:g}",
            "K": K,
            "created": utc_now().isoformat(),
@@ -388,6 +395,38 @@ def _context(ds, payload=None):
             "changed": ", ".join(changed) if changed else "none",
         }
     return ctx
+
+
+def _worst_cases(ds, labels):
+    """The sweep's worst cases, first: trajectories with the largest merged-model error, and
+    the elements whose share_tran varies most over the trajectories."""
+    rel = ds["merged_tau_error_relative_peak"].values          # (K, n)
+    sources = _strings(ds["source"].values)
+    per_traj = np.where(np.isfinite(rel), rel, -np.inf).max(axis=1)
+    order = [k for k in np.argsort(per_traj)[::-1][:3] if np.isfinite(per_traj[k])]
+    parts = []
+    for k in order:
+        j = int(np.nanargmax(rel[k]))
+        parts.append(f"{sources[k]} ({_pct(rel[k, j])} of peak |\u03c4| at joint {j + 1})")
+    spread = ds["share_tran_max"].values - ds["share_tran_min"].values
+    top = [k for k in np.argsort(np.nan_to_num(spread, nan=-1.0))[::-1][:3]
+           if np.isfinite(spread[k])]
+    elems = [f"{labels[k]} ({_fmt(ds['share_tran_min'].values[k], 3)}\u2013"
+             f"{_fmt(ds['share_tran_max'].values[k], 3)})" for k in top]
+    text = "Worst cases: "
+    text += ("the merged model's largest torque errors are on " + "; ".join(parts) + ". "
+             if parts else "no torque error is defined. ")
+    text += ("The classes vary most for " + ", ".join(elems) + " (share_tran range over the "
+             "trajectories)." if elems else "")
+    return text
+
+
+_INTRO = ("The generalized d'Alembert (G-D) equations of motion split the inertia matrix D and "
+          "the Coriolis and centrifugal vector h into a translational and a rotational part (Fu, "
+          "Gonzalez & Lee 1987, Robotics, Sec. 3.4). Sec. 3.4.1 ranks which part dominates each "
+          "element along one trajectory and notes that the simplification depends on the "
+          "trajectory; this report repeats the ranking over {K} trajectories. Report created "
+          "{created} by gd-analyze {version} from the stored sweep; nothing was recomputed.")
 
 
 # --------------------------------------------------------------------------------------------
@@ -424,62 +463,45 @@ def render_sweep_html(ds, payload=None, figures=None):
     ctx = _context(ds, payload)
     if figures is None:
         figures = make_sweep_figures(ds, payload)
-    return _html(ctx, figures)
+    return _html(ctx, {k: (figure_svg(f, _RC), None, None) for k, f in figures.items()})
 
 
 def _html(ctx, figures):
-    svgs = inline_svgs(figures, _RC, prefix_ids=False)
-    return render_template("sweep_report.html.j2", {**ctx, "figures": svgs},
+    from markupsafe import Markup
+
+    svgs = {k: Markup(svg) for k, (svg, _, _) in figures.items()}
+    return render_template("sweep_report.html.j2", {**ctx, "figures": svgs,
+                                                    "captions": _numbered(figures)},
                            {"class_colours": _CLASS_COLOURS})
 
 
-def _text_table(table, width=110):
-    """A table as fixed-width text lines."""
-    cells = [table["header"]] + table["rows"]
-    ncol = len(table["header"])
-    widths = [max(len(r[k]) for r in cells) for k in range(ncol)]
-    if ncol == 2:      # key-value: wrap the value
-        widths[0] = min(widths[0], 34)
-        vw = max(20, width - widths[0] - 2)
-        out = []
-        for key, value in cells:
-            parts = textwrap.wrap(value, vw) or [""]
-            out.append(f"{key:<{widths[0]}}  {parts[0]}")
-            out += [" " * (widths[0] + 2) + p for p in parts[1:]]
-        out.insert(1, "-" * min(width, widths[0] + 2 + vw))
-        return out
-    lines = []
-    for m, row in enumerate(cells):
-        lines.append("  ".join(c.rjust(w) if table["align"][k] == "right" else c.ljust(w)
-                               for k, (c, w) in enumerate(zip(row, widths))).rstrip())
-        if m == 0:
-            lines.append("-" * len(lines[0]))
-    return lines
+#: Captions of the sweep report's figures (the same in the HTML and the PDF).
+_CAPTIONS = {
+    "D": "Distribution of share_tran of the elements of D over the sweep (layout of Fig. 3.10): "
+         "box of the quartiles, whiskers at the minimum and maximum, coloured bar at the median, "
+         "thresholds s and 1 \u2212 s dashed. Panel title: element and the merged model's "
+         "choice; bottom line: fraction of trajectories per class.",
+    "h": "Distribution of share_tran of the Coriolis and centrifugal elements h_i over the "
+         "sweep (layout of Fig. 3.11); same conventions as for D.",
+    "classes": "Fraction of the trajectories in each class, per element; the merged model's "
+               "choice on the right.",
+    "error": "Relative peak torque error per joint: of each trajectory's own simplified model "
+             "(green) and of the merged model (black), per trajectory; diamond: merged model over "
+             "all trajectories.",
+    "payload": "share_tran of every element against the payload mass on the last link, with "
+               "the class of each cell (T, R, B, N); below, peak |\u03c4| per joint.",
+}
+_FIGURE_FILES = {"D": "fig_sweep_share_D", "h": "fig_sweep_share_h",
+                 "classes": "fig_sweep_class_fractions", "error": "fig_sweep_torque_error",
+                 "payload": "fig_payload_dominance"}
 
 
-def _text_pages(pdf, title, blocks, footer):
-    """Write blocks of text lines on A4 pages in a monospaced font."""
-    from matplotlib.figure import Figure
-
-    per_page, lh = 88, 0.118
-    lines = []
-    for block in blocks:
-        lines += block + [""]
-    pages = [lines[k:k + per_page] for k in range(0, len(lines), per_page)] or [[]]
-    for p, chunk in enumerate(pages):
-        fig = Figure(figsize=_A4)
-        fig.text(0.6 / _A4[0], 1 - 0.5 / _A4[1], title, fontsize=11, fontweight="bold",
-                 va="top")
-        for m, line in enumerate(chunk):
-            fig.text(0.6 / _A4[0], 1 - (0.85 + m * lh) / _A4[1], line, family="DejaVu Sans Mono",
-                     fontsize=6.6, va="top")
-        fig.text(0.6 / _A4[0], 0.35 / _A4[1], f"{footer} \u2014 page {p + 1}/{len(pages)}",
-                 fontsize=6.5, color="0.45")
-        pdf.savefig(fig)
+def _numbered(figures):
+    return {k: f"Figure {m + 1}. {_CAPTIONS[k]}" for m, k in enumerate(figures)}
 
 
-def render_sweep_pdf(ds, path, payload=None, figures=None):
-    """Write the sweep report as a PDF with matplotlib's PdfPages.
+def render_sweep_pdf(ds, path, payload=None, figures=None, paper="a4"):
+    """Write the sweep report as a PDF document.
 
     Parameters
     ----------
@@ -491,6 +513,8 @@ def render_sweep_pdf(ds, path, payload=None, figures=None):
         A payload sweep.
     figures : dict of str to matplotlib.figure.Figure, optional
         From :func:`make_sweep_figures`; made here if not given.
+    paper : {"a4", "letter"}, optional
+        The size of every page.
 
     Returns
     -------
@@ -507,52 +531,72 @@ def render_sweep_pdf(ds, path, payload=None, figures=None):
     ctx = _context(ds, payload)
     if figures is None:
         figures = make_sweep_figures(ds, payload)
-    return _pdf(ctx, figures, path)
+    return _pdf(ctx, draw_figures(figures, _RC), path, paper)
 
 
-def _pdf(ctx, figures, path):
-    from matplotlib.backends.backend_pdf import PdfPages
-
-    metadata = {"Title": ctx["title"], "Author": f"gd-analyze {ctx['version']}",
+def _pdf(ctx, drawn, path, paper="a4"):
+    metadata = {"Author": f"gd-analyze {ctx['version']}",
                 "Subject": "Dominance of the translational and rotational G-D terms over a "
                            "sweep of trajectories (Fu, Gonzalez & Lee 1987, Sec. 3.4.1)",
-                "Creator": f"gd-analyze {ctx['version']}",
-                "CreationDate": datetime.datetime.fromisoformat(ctx["created"])}
-    footer = f"gd-analyze {ctx['version']}: {ctx['title']}"
-    with _style(_RC), PdfPages(path, metadata=metadata) as pdf:
-        _text_pages(pdf, ctx["title"], [
-            textwrap.wrap(ctx["summary"], 110),
-            ["1. Settings and provenance", ""] + _text_table(ctx["settings"]),
-        ], footer)
-        for name in ("D", "h", "classes"):
-            pdf.savefig(figures[name])
-        _text_pages(pdf, "4. Envelope per element", [
-            textwrap.wrap("Fraction of the trajectories in which each class holds, and the "
-                          "min/median/max of share_tran over the trajectories. Merged choice: "
-                          "a part is dropped only where every trajectory's own model drops "
-                          "it.", 110),
-            _text_table(ctx["envelope"]),
-            ["5. Merged model: torque error over all trajectories", ""]
-            + textwrap.wrap(_ERROR_TEXT, 110) + [""] + _text_table(ctx["error"]),
-        ], footer)
-        pdf.savefig(figures["error"])
-        if ctx["payload"] is not None and "payload" in figures:
-            _text_pages(pdf, "6. Payload sweep", [
-                _text_table(ctx["payload"]["settings"]),
-                [f"Elements whose class changes with the payload: {ctx['payload']['changed']}",
-                 ""] + _text_table(ctx["payload"]["table"], width=130)], footer)
-            pdf.savefig(figures["payload"])
-        pages = pdf.get_pagecount()
-    return pages
+                "Creator": f"gd-analyze {ctx['version']}"}
+    doc = Document(ctx["title"], paper=paper, metadata=metadata,
+                   footer=f"gd-analyze {ctx['version']}: {ctx['title']}")
+
+    def fig(key):
+        if key in drawn:
+            doc.figure(drawn[key][1], drawn[key][2], _CAPTIONS[key])
+
+    doc.heading(ctx["title"], level=0)
+    doc.paragraph(ctx["worst"], size=9.5, bold=True)
+    doc.paragraph(ctx["summary"], size=9.5)
+    doc.paragraph(ctx["intro"], size=8.5, colour="0.25")
+    doc.heading("1. Settings and provenance")
+    doc.table(ctx["settings"], size=7)
+    doc.heading("2. Translational share of the elements of D (layout of Fig. 3.10)")
+    doc.paragraph(_SHARE_TEXT.format(s=ctx["s"], e=ctx["e"]), size=8.5)
+    fig("D")
+    doc.heading("3. Translational share of the elements of h (layout of Fig. 3.11)")
+    fig("h")
+    doc.heading("4. Envelope per element")
+    doc.paragraph("Fraction of the trajectories in which each class holds, and the smallest, "
+                  "median and largest share_tran over the trajectories.", size=8.5)
+    fig("classes")
+    doc.table(ctx["envelope"])
+    doc.heading("5. Conservative merged model and its torque error")
+    doc.paragraph(_MERGED_TEXT, size=8.5)
+    doc.paragraph("   ".join(f"{c}: {k}" for c, k in ctx["counts"].items()), size=8.5,
+                  bold=True)
+    doc.heading("5.1 Torque error over all trajectories", level=2)
+    doc.paragraph(_ERROR_TEXT, size=8.5)
+    doc.table(ctx["error"])
+    fig("error")
+    if ctx["payload"] is not None:
+        doc.heading("6. Payload sweep")
+        doc.table(ctx["payload"]["settings"])
+        doc.paragraph(f"Elements whose class changes with the payload: "
+                      f"{ctx['payload']['changed']}.", size=9, bold=True)
+        fig("payload")
+        doc.table(ctx["payload"]["table"])
+    return doc.write(path)
 
 
+_SHARE_TEXT = ("For each trajectory and element, share_tran = \u03a3|tran| / (\u03a3|tran| + "
+               "\u03a3|rot|) over its set points. A share above s = {s} is translational, below "
+               "1 \u2212 s rotational, in between both, unless the element is negligible (peak "
+               "below e = {e} times its scale).")
+_MERGED_TEXT = ("Each trajectory has its own simplified model (keep the dominant part of each "
+                "element, both if neither dominates, nothing if negligible). The merged model is "
+                "valid for the whole sweep: a part of an element is dropped only where every "
+                "trajectory's model drops it. Gravity c is kept whole: "
+                "\u03c4\u209b = D\u209b q\u0308 + h\u209b + c.")
 _ERROR_TEXT = ("Per joint, over all set points of all trajectories: peak and RMS of "
-               "|tau_merged - tau| [N m], and both relative to the peak |tau| over all "
-               "trajectories. Last column: the largest relative peak error of any trajectory's "
-               "own simplified model along that trajectory.")
+               "|\u03c4_merged \u2212 \u03c4| [N m], and both relative to the peak |\u03c4| "
+               "over all trajectories. Last column: the largest relative peak error of any "
+               "trajectory's own simplified model along that trajectory.")
 
 
-def write_sweep_report(sweep_path, outdir, payload=None, formats=SWEEP_REPORT_FORMATS):
+def write_sweep_report(sweep_path, outdir, payload=None, formats=SWEEP_REPORT_FORMATS,
+                       paper="a4"):
     """Write sweep_report.html and sweep_report.pdf for a stored sweep.
 
     Parameters
@@ -567,11 +611,14 @@ def write_sweep_report(sweep_path, outdir, payload=None, formats=SWEEP_REPORT_FO
         of :func:`gd_analyze.workflows.payload.payload_sweep`); adds its section and :func:`payload_figure`.
     formats : sequence of str, optional
         Any of ``"html"`` and ``"pdf"``.
+    paper : {"a4", "letter"}, optional
+        Page size of the PDF.
 
     Returns
     -------
     list of pathlib.Path
-        The files written (``outdir/sweep_report.html``, ``outdir/sweep_report.pdf``).
+        The files written (``outdir/sweep_report.html``, ``outdir/sweep_report.pdf``), then
+        every figure as ``outdir/figures/fig_sweep_*.pdf`` and ``.svg``.
 
     Raises
     ------
@@ -592,21 +639,26 @@ def write_sweep_report(sweep_path, outdir, payload=None, formats=SWEEP_REPORT_FO
     from ..io.datasets import open_sweep
 
     formats = check_formats(formats, SWEEP_REPORT_FORMATS)
+    if paper not in PAPER:
+        raise ValueError(f"paper must be one of {sorted(PAPER)}, got {paper!r}")
     ds = open_sweep(sweep_path, "sweep")
     if payload is not None and not hasattr(payload, "data_vars"):
         payload = open_sweep(payload, "payload")
     ctx = _context(ds, payload)
-    figures = make_sweep_figures(ds, payload)
+    with no_gc():
+        drawn = draw_figures(make_sweep_figures(ds, payload), _RC)
     outdir = Path(outdir)
-    outdir.mkdir(parents=True, exist_ok=True)
-    written = []
-    for fmt in formats:
-        path = outdir / f"sweep_report.{fmt}"
-        with atomic_path(path) as tmp:
+    (outdir / "figures").mkdir(parents=True, exist_ok=True)
+    written, files = [], []
+    with contextlib.ExitStack() as stack:
+        files = write_figure_files(stack, drawn, outdir / "figures", _FIGURE_FILES)
+        for fmt in formats:
+            path = outdir / f"sweep_report.{fmt}"
+            tmp = stack.enter_context(atomic_path(path))
             if fmt == "html":
                 with open(tmp, "w", encoding="utf-8") as fh:
-                    fh.write(_html(ctx, figures))
+                    fh.write(_html(ctx, drawn))
             else:
-                _pdf(ctx, figures, tmp)
-        written.append(path)
-    return written
+                _pdf(ctx, drawn, tmp, paper)
+            written.append(path)
+    return written + files

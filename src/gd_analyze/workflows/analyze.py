@@ -27,7 +27,7 @@ from ..formulations.compare import FORMULATIONS_MAX_SETPOINTS
 
 __all__ = ["Analysis", "AnalysisPass", "analysis_pass", "analyze", "analyze_to_file", "verify",
            "VERIFY_TOLERANCE",
-           "VERIFY_MAX_SETPOINTS", "STREAM_CHUNK"]
+           "VERIFY_MAX_SETPOINTS", "STREAM_CHUNK", "progress_bar"]
 
 #: Largest relative disagreement with Pinocchio accepted by :func:`verify`.
 VERIFY_TOLERANCE = 1e-9
@@ -57,6 +57,28 @@ class Analysis:
     dataset: object
     model: SimplifiedModel
     verification: dict
+
+
+def progress_bar(enabled=True, desc="reading"):
+    """A tqdm progress bar on stderr that counts set points.
+
+    Parameters
+    ----------
+    enabled : bool, optional
+        False: a bar that shows nothing.
+    desc : str, optional
+        The first phase's name.
+
+    Returns
+    -------
+    tqdm.tqdm
+        Appears after :data:`PROGRESS_DELAY` seconds; each phase calls ``reset(total=N)`` and
+        ``set_description``.
+    """
+    from tqdm import tqdm
+
+    return tqdm(total=None, unit=" set points", disable=not enabled,
+                desc=desc, delay=PROGRESS_DELAY, leave=False)
 
 
 def _check_finite(terms, tau):
@@ -202,8 +224,10 @@ def analysis_pass(robot, trajectory, dominance=DEFAULT_DOMINANCE, negligible=DEF
     writer : SetpointWriter, optional
         Receives the per-set-point variables; with more than one chunk, pass 2 reads the terms
         back from it instead of holding them.
-    progress : bool, optional
-        Show a tqdm progress bar on stderr.
+    progress : bool or tqdm.tqdm, optional
+        Show a tqdm progress bar on stderr, or use the one given (the command line's, which
+        also covers reading and the report). It counts set points: it restarts at 0 of N for
+        each pass, named "G-D terms" and "simplified model".
     terms : GDTerms, optional
         The trajectory's G-D terms, if the caller computed them (a sweep computes many short
         trajectories in one call); then none are computed here.
@@ -225,9 +249,8 @@ def analysis_pass(robot, trajectory, dominance=DEFAULT_DOMINANCE, negligible=DEF
     -----
     Source: Sec. 3.4.1 of Fu, Gonzalez & Lee (1987); terms from Eqs. (3.4-24) to (3.4-28).
     """
-    from tqdm.auto import tqdm
-
     from ..core.budget import PartPeaks
+
     from ..core.ranking import RankingAccumulator
     from ..core.simplified import TorqueErrorAccumulator
 
@@ -242,8 +265,10 @@ def analysis_pass(robot, trajectory, dominance=DEFAULT_DOMINANCE, negligible=DEF
     samples, held, held_tau = [], [], []
     ranker = RankingAccumulator(n)
     parts = PartPeaks(n) if simplify is not None else None
-    bar = tqdm(total=2 * N, unit="setpoint", unit_scale=True, disable=not progress,
-               desc="G-D terms", delay=PROGRESS_DELAY, leave=False)
+    own = not hasattr(progress, "update")
+    bar = progress_bar(bool(progress)) if own else progress
+    bar.reset(total=N)
+    bar.set_description("G-D terms")
     given = terms
     # streamed chunks (not held) reuse one set of output buffers: no fresh pages per chunk
     buf = None if hold or given is not None else allocate_terms(min(chunk, N), n)
@@ -272,6 +297,7 @@ def analysis_pass(robot, trajectory, dominance=DEFAULT_DOMINANCE, negligible=DEF
     if simplify is not None:
         model, simplified = _simplify(robot, trajectory, ranking, parts, **simplify)
         choices = model.choices
+    bar.reset(total=N)
     bar.set_description("simplified model")
     errors = TorqueErrorAccumulator(n)
     tau_s_all = []
@@ -290,7 +316,8 @@ def analysis_pass(robot, trajectory, dominance=DEFAULT_DOMINANCE, negligible=DEF
         else:
             tau_s_all.append(tau_s)
         bar.update(b - a)
-    bar.close()
+    if own:
+        bar.close()
     sample = _concat(samples)
     at = {i: k for k, i in enumerate(sample_idx)}
     verification = {}
@@ -455,8 +482,8 @@ def analyze_to_file(robot, trajectory, path, dominance=DEFAULT_DOMINANCE,
         Extra provenance.
     chunk : int, optional
         Set points per chunk.
-    progress : bool, optional
-        Show a tqdm progress bar on stderr (set points done and rate).
+    progress : bool or tqdm.tqdm, optional
+        As for :func:`analysis_pass`.
     compress : int, optional
         gzip level (0-9) of the per-set-point variables; 0 stores them uncompressed.
     formulations : bool, optional
@@ -482,7 +509,7 @@ def analyze_to_file(robot, trajectory, path, dominance=DEFAULT_DOMINANCE,
         If the file cannot be written.
     """
     from ..files import atomic_path
-    from ..io.datasets import SetpointWriter, summary_dataset
+    from ..io.datasets import SetpointWriter, append_dataset, summary_dataset
 
     N, n = trajectory.q.shape
     with atomic_path(path) as tmp:
@@ -502,7 +529,7 @@ def analyze_to_file(robot, trajectory, path, dominance=DEFAULT_DOMINANCE,
         if extra is not None:
             ds = ds.assign(extra.data_vars)
         ds = _with_simplified(ds, result.simplified)
-        ds.to_netcdf(tmp, mode="a", engine="h5netcdf")
+        append_dataset(ds, tmp)          # not to_netcdf: it would import dask
     return Analysis(dataset=ds,
                     model=_model(robot, trajectory, result, dominance, negligible, settings),
                     verification=result.verification)

@@ -1,0 +1,207 @@
+"""The sentences of the main report: its three-sentence conclusion, the cause of each
+disagreement with the chapter, and the figure captions (the same in the HTML and the PDF).
+
+Every sentence is built from the stored ranking and torque errors; nothing is recomputed.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+__all__ = ["conclusion", "disagreement_cause", "captions", "element_scale"]
+
+_CLASSES = ("translational", "rotational", "both", "negligible")
+
+
+def element_scale(labels, peak_total, tau_peak):
+    """Each element's own scale: peak sqrt(D_ii D_jj) bound for D_ij, peak |tau_i| for h_i.
+
+    Parameters
+    ----------
+    labels : sequence of str
+        ``D11``, ``D12``, ..., ``h1``, ... (``D1,10`` for two-digit indices).
+    peak_total : ndarray, shape (M,)
+        Peak |D_ij| or |h_i| over the set points.
+    tau_peak : ndarray, shape (n,)
+        Peak |tau_i| [N m].
+
+    Returns
+    -------
+    ndarray, shape (M,)
+        sqrt(peak D_ii * peak D_jj) [kg m^2] (>= the peak of sqrt(D_ii D_jj)) or peak |tau_i|.
+    """
+    index = {lab: k for k, lab in enumerate(labels)}
+    out = np.zeros(len(labels))
+    for k, lab in enumerate(labels):
+        if lab.startswith("D"):
+            body = lab[1:]
+            i, j = body.split(",") if "," in body else (body[0], body[1:])
+            dii = peak_total[index[_diag(i)]]
+            djj = peak_total[index[_diag(j)]]
+            out[k] = np.sqrt(abs(dii * djj))
+        else:
+            out[k] = tau_peak[int(lab[1:]) - 1]
+    return out
+
+
+def _diag(i):
+    return f"D{i}{i}" if len(i) == 1 else f"D{i},{i}"
+
+
+def _names(labels):
+    if not labels:
+        return "none"
+    if len(labels) <= 6:
+        return ", ".join(labels)
+    return ", ".join(labels[:5]) + f" and {len(labels) - 5} more"
+
+
+def conclusion(labels, dominance, zero, choice, rel_peak, abs_peak, tau_peak):
+    """The report's conclusion in three sentences.
+
+    Parameters
+    ----------
+    labels, dominance, choice : list of str
+        Element labels, their classes and the simplified model's kept part per element.
+    zero : ndarray of bool
+        Elements zero in every part (:func:`gd_analyze.reports.main_figures.identically_zero`).
+    rel_peak, abs_peak, tau_peak : ndarray, shape (n,)
+        Per joint: peak |tau_s - tau| / peak |tau| [1], peak |tau_s - tau| [N m], peak |tau|.
+
+    Returns
+    -------
+    str
+        What dominates D and h; what the simplified model keeps (and so what it costs); at what
+        torque error, with the reason when the worst relative error sits on a joint whose own
+        torque is small.
+    """
+    parts = []
+    for name in ("D", "h"):
+        ks = [k for k, lab in enumerate(labels) if lab.startswith(name)]
+        by = {c: [labels[k] for k in ks if dominance[k] == c and not zero[k]] for c in _CLASSES}
+        z = [labels[k] for k in ks if zero[k]]
+        lead = max(("translational", "rotational", "both"), key=lambda c: len(by[c]))
+        text = (f"in {name}, {len(by['translational'])} of {len(ks)} elements are dominated by "
+                f"the translational part ({_names(by['translational'])}), "
+                f"{len(by['rotational'])} by the rotational part ({_names(by['rotational'])}) "
+                f"and {len(by['both'])} need both")
+        if by["negligible"] or z:
+            text += f"; {len(by['negligible']) + len(z)} are negligible"
+            if z:
+                text += f" ({', '.join(z)} \u2261 0)"
+        parts.append(text + f" \u2014 {lead} effects lead")
+    first = "Dominance: " + "; ".join(parts) + "."
+    kept = {c: sum(1 for v in choice if v == c) for c in ("tran", "rot", "both", "none")}
+    terms = kept["tran"] + kept["rot"] + 2 * kept["both"]
+    second = (f"The simplified model keeps only the translational part of {kept['tran']} "
+              f"elements, only the rotational part of {kept['rot']}, both parts of "
+              f"{kept['both']} and drops {kept['none']}: it evaluates {terms} of the "
+              f"{2 * len(labels)} parts of D and h, plus gravity c whole.")
+    rel = np.asarray(rel_peak, float)
+    if not np.any(np.isfinite(rel)):
+        return first + " " + second + " Its torque error is not defined (no torque)."
+    worst = int(np.nanargmax(rel))
+    others = np.delete(rel, worst)
+    third = (f"Its largest torque error is {100 * rel[worst]:.3g} % of peak |\u03c4| at joint "
+             f"{worst + 1} ({abs_peak[worst]:.3g} N m of {tau_peak[worst]:.3g} N m)")
+    big = float(np.nanmax(tau_peak))
+    if tau_peak[worst] < 0.01 * big:
+        third += (f": that joint's own torque is under 1 % of the largest joint's "
+                  f"({big:.3g} N m), so a tiny absolute error is a large share of it")
+    if others.size and np.any(np.isfinite(others)):
+        third += f"; every other joint is within {100 * np.nanmax(others):.3g} %"
+    return first + " " + second + " " + third + "."
+
+
+def disagreement_cause(label, ours, theirs, share, zero, s, robot_name):
+    """Why our class of an element differs from the chapter's.
+
+    Parameters
+    ----------
+    label, ours, theirs : str
+        The element, our class and the chapter's class.
+    share : float
+        share_tran of the element.
+    zero : bool
+        The element is zero in every part.
+    s : float
+        The dominance threshold.
+    robot_name : str
+        The robot (the PUMA 560 parameters' lumped rotor inertias are named as a cause).
+
+    Returns
+    -------
+    str
+        One line; empty if the classes agree.
+    """
+    if ours == theirs:
+        return ""
+    if zero:
+        return ("\u2261 0 for this arm in every part; the chapter reads a class off its plot "
+                "by eye")
+    if ours == "negligible":
+        return ("peak below e times its scale, so no part is ranked; the chapter has no "
+                "negligible class")
+    rot = 1.0 - share
+    if ours == "both":
+        if theirs == "translational":
+            cause = f"rotational share {100 * rot:.1f} % > 1 \u2212 s = {100 * (1 - s):.0f} %"
+        else:
+            cause = (f"translational share {100 * share:.1f} % > 1 \u2212 s = "
+                     f"{100 * (1 - s):.0f} %")
+    elif ours == "translational":
+        cause = f"share_tran {share:.3f} \u2265 s = {s:g}"
+    else:
+        cause = f"share_tran {share:.3f} \u2264 1 \u2212 s = {1 - s:g}"
+    if label.startswith("h"):
+        cause += ("; h depends on q\u0307 and the chapter's trajectory is not given, so it is "
+                  "compared on another motion")
+    elif robot_name.lower().replace(" ", "").replace("-", "") == "puma560" and \
+            (ours == "rotational" or (ours == "both" and theirs == "translational")):
+        cause += ("; these PUMA 560 parameters lump rotor-side inertias into the links, "
+                  "so the rotational part is larger than the chapter's")
+    return cause
+
+
+def captions(enveloped, N, s, e):
+    """Captions of the main report's figures, the same in the HTML and the PDF.
+
+    Parameters
+    ----------
+    enveloped : bool
+        The series are drawn as min/max envelopes (long trajectories).
+    N : int
+        Set points.
+    s, e : str
+        Thresholds, as printed.
+
+    Returns
+    -------
+    dict of str to str
+        By figure key.
+    """
+    if enveloped:
+        how = (f"The {N} set points are drawn as their min/max envelope over about 400 equal "
+               "time columns, without markers; lines: translational solid, rotational dashed, "
+               "combined dotted")
+    else:
+        how = (f"Markers at each of the {N} set points: translational \u25cb (solid line), "
+               "rotational \u00d7 (dashed), combined \u25b3 (dotted)")
+    return {
+        "joints": "Joint positions q, velocities q\u0307 and accelerations q\u0308 against time "
+                  "[deg, deg/s, deg/s\u00b2]; the dataset stores radians.",
+        "D": "Elements D_ij (i \u2264 j) of the inertia matrix against time [kg m\u00b2], "
+             f"split into their translational and rotational parts (analogue of Fig. 3.10). "
+             f"{how}. Panel title: element and its class (s = {s}, e = {e}); \u2261 0 marks "
+             "an element that is zero in every part, whose share is not defined.",
+        "h": "Coriolis and centrifugal elements h_i against time [N m] (analogue of Fig. 3.11), "
+             f"on panels of the size of those of D. {how}.",
+        "torque": "Joint torques of the full model \u03c4 (black, solid) and the simplified "
+                  "model \u03c4\u209b (green, dashed) against time [N m]; the title gives the "
+                  "peak error in % of the joint's peak |\u03c4|.",
+        "payload": "Translational share and class of each element against the load mass "
+                   "(top), and peak joint torques (bottom).",
+        "formulations": "Multiplications and additions per set point against the number of "
+                        "joints n (log-log): counted on the code as implemented (solid) and "
+                        "the formulas of Table 3.5 (dashed).",
+    }

@@ -1,0 +1,723 @@
+"""The page engine of the three PDF reports: one page size, flowing text, one table style,
+numbered figures with captions, bookmarks and "page k of K" footers.
+
+A :class:`Document` is filled with headings, paragraphs, tables and figures, then
+:meth:`Document.write` lays them out on pages of one size (A4 or US letter): text and tables
+flow from page to page (a heading stays with what follows it, a long table repeats its header),
+a figure goes where it fits, or on the next page if it does not. The text pages are drawn
+with matplotlib; each figure is drawn once, as its own PDF (the file the report also writes in
+``figures/``), and placed unscaled on its page with pypdf, which also writes the bookmarks
+(one per heading) and the document information.
+"""
+
+from __future__ import annotations
+
+import contextlib
+import io
+import textwrap
+from dataclasses import dataclass, field
+
+import numpy as np
+
+__all__ = ["PAPER", "PAGE_RC", "no_gc", "Document", "figure_pdf", "figure_svg", "draw_figures",
+           "write_figure_files", "TABLE_COLOURS"]
+
+#: Page sizes [in].
+PAPER = {"a4": (8.27, 11.69), "letter": (8.5, 11.0)}
+#: Colours of the class and yes/no cells of every table.
+TABLE_COLOURS = {"translational": "#0072B2", "rotational": "#D55E00", "both": "#6A3D9A",
+                 "negligible": "#555555", "yes": "#007A4D", "no": "#B00020",
+                 "passed": "#007A4D", "FAILED": "#B00020"}
+
+#: matplotlib settings of the text pages: Type 3 fonts (embedded without a font subsetter: about
+#: ten times faster to write than TrueType subsets).
+PAGE_RC = {"pdf.fonttype": 3, "font.family": "DejaVu Sans", "path.simplify": True}
+
+_MARGIN_X, _MARGIN_TOP, _MARGIN_BOTTOM = 0.53, 0.6, 0.75
+_CHAR = 0.55
+#: Headings and a lead-in at the top of a page [in]: a figure below them shrinks to fit
+#: rather than leave them alone on the page.
+_TOP_GROUP = 1.0            # mean character width of DejaVu Sans [em]
+_HEADING = {1: 13.0, 2: 10.5, 0: 15.0}
+
+
+@contextlib.contextmanager
+def no_gc():
+    """Pause the cyclic garbage collector while a report is drawn.
+
+    matplotlib makes tens of thousands of small objects per figure; with a large heap (numba,
+    Pinocchio, pandas loaded) each automatic collection rescans it, about a fifth of the
+    drawing time. The garbage of a report is bounded (its figures and pages), so it is left
+    to the collection after the block.
+
+    Yields
+    ------
+    None
+    """
+    import gc
+
+    was = gc.isenabled()
+    gc.disable()
+    try:
+        yield
+    finally:
+        if was:
+            gc.enable()
+
+
+def _save(fig, fmt, rc, metadata):
+    import matplotlib
+
+    buf = io.BytesIO()
+    with matplotlib.rc_context(rc or {}):
+        fig.savefig(buf, format=fmt, metadata=metadata)
+    return buf.getvalue()
+
+
+def figure_pdf(fig, rc=None):
+    """A figure as the bytes of a one-page PDF, without date metadata.
+
+    Parameters
+    ----------
+    fig : matplotlib.figure.Figure
+        The figure.
+    rc : dict, optional
+        rcParams to draw with.
+
+    Returns
+    -------
+    bytes
+    """
+    return _save(fig, "pdf", rc, {"CreationDate": None, "Creator": None, "Producer": None})
+
+
+def figure_svg(fig, rc=None):
+    """A figure as SVG text, without XML declaration, DOCTYPE or date metadata.
+
+    Parameters
+    ----------
+    fig : matplotlib.figure.Figure
+        The figure.
+    rc : dict, optional
+        rcParams to draw with.
+
+    Returns
+    -------
+    str
+        Starts with ``<svg``: fit to be a file of its own and to be inlined in HTML.
+    """
+    text = _save(fig, "svg", rc, {"Date": None, "Creator": None, "Format": None,
+                                  "Type": None}).decode("utf-8")
+    start = text.find("<svg")
+    return text[start:] if start >= 0 else text
+
+
+def draw_figures(figures, rc, svg=True, pdf=True):
+    """Draw each figure once, into SVG and PDF at the same time.
+
+    Parameters
+    ----------
+    figures : dict of str to matplotlib.figure.Figure
+        The figures by key.
+    rc : dict
+        rcParams to draw with (the PDF adds :data:`PAGE_RC`: Type 3 fonts).
+    svg, pdf : bool, optional
+        Which formats to make.
+
+    Returns
+    -------
+    dict of str to (str or None, bytes or None, (float, float))
+        SVG text, PDF bytes and size [in] of each figure.
+
+    Notes
+    -----
+    With both formats, one traversal of the figure (layout, ticks, transforms, text metrics)
+    feeds an SVG and a PDF renderer together (:func:`_draw_both`); only the writing of the two
+    files is done twice. Should that fail on some matplotlib version, each format is drawn on
+    its own as :meth:`matplotlib.figure.Figure.savefig` does.
+    """
+    out = {}
+    for k, f in figures.items():
+        size = tuple(float(v) for v in f.get_size_inches())
+        if svg and pdf:
+            try:
+                out[k] = (*_draw_both(f, {**rc, **PAGE_RC}), size)
+                continue
+            except Exception:           # noqa: BLE001 - any failure: the two-pass way below
+                pass
+        out[k] = (figure_svg(f, rc) if svg else None,
+                  figure_pdf(f, {**rc, **PAGE_RC}) if pdf else None, size)
+    return out
+
+
+class _TeeGC:
+    """A graphics context that sets its properties on the SVG and the PDF renderer's own."""
+
+    def __init__(self, a, b):
+        self._pair = (a, b)
+
+    def __getattr__(self, name):
+        a, b = self._pair
+        first = getattr(a, name)
+        if not callable(first):
+            return first
+        second = getattr(b, name)
+
+        def both(*args, **kwargs):
+            result = first(*_side(args, 0), **_side_kw(kwargs, 0))
+            second(*_side(args, 1), **_side_kw(kwargs, 1))
+            return result
+        return both
+
+
+def _side(args, k):
+    return [a._pair[k] if isinstance(a, _TeeGC) else a for a in args]
+
+
+def _side_kw(kwargs, k):
+    return {n: (v._pair[k] if isinstance(v, _TeeGC) else v) for n, v in kwargs.items()}
+
+
+class _TeeRenderer:
+    """Forwards every drawing call to two renderers; answers queries from the first."""
+
+    _QUERIES = {"get_text_width_height_descent", "points_to_pixels", "get_canvas_width_height",
+                "flipy", "option_image_nocomposite", "option_scale_image",
+                "get_image_magnification", "get_texmanager"}
+
+    def __init__(self, a, b):
+        self._pair = (a, b)
+
+    def new_gc(self):
+        return _TeeGC(self._pair[0].new_gc(), self._pair[1].new_gc())
+
+    def draw_text(self, gc, x, y, s, prop, angle, ismath=False, mtext=None):
+        a, b = self._pair
+        a.draw_text(gc._pair[0], x, y, s, prop, angle, ismath=ismath, mtext=mtext)
+        if a.flipy() != b.flipy():          # Text placed y for the first renderer's origin
+            y = b.get_canvas_width_height()[1] - y
+        b.draw_text(gc._pair[1], x, y, s, prop, angle, ismath=ismath, mtext=mtext)
+
+    def __getattr__(self, name):
+        a, b = self._pair
+        first = getattr(a, name)
+        if not callable(first) or name in self._QUERIES:
+            return first
+        second = getattr(b, name)
+
+        def both(*args, **kwargs):
+            result = first(*_side(args, 0), **_side_kw(kwargs, 0))
+            second(*_side(args, 1), **_side_kw(kwargs, 1))
+            return result
+        return both
+
+
+def _draw_both(fig, rc):
+    """One traversal of ``fig`` into a PDF renderer and an SVG renderer: (svg text, pdf
+    bytes), as :meth:`~matplotlib.figure.Figure.savefig` writes them (points, 72 per in)."""
+    import matplotlib
+    from matplotlib import cbook
+    from matplotlib.backends.backend_pdf import PdfFile, RendererPdf
+    from matplotlib.backends.backend_svg import RendererSVG
+
+    pdf_buf, svg_buf = io.BytesIO(), io.StringIO()
+    with matplotlib.rc_context(rc):
+        dpi = fig.dpi
+        with cbook._setattr_cm(fig, dpi=72):
+            w, h = fig.get_size_inches()
+            pdf_file = PdfFile(pdf_buf, metadata={"CreationDate": None, "Creator": None,
+                                                  "Producer": None})
+            try:
+                pdf_file.newPage(w, h)
+                r_pdf = RendererPdf(pdf_file, dpi, h, w)
+                r_svg = RendererSVG(w * 72, h * 72, svg_buf, image_dpi=dpi,
+                                    metadata={"Date": None, "Creator": None, "Format": None,
+                                              "Type": None})
+                fig.draw(_TeeRenderer(r_pdf, r_svg))
+                r_pdf.finalize()
+                r_svg.finalize()
+                pdf_file.finalize()
+            finally:
+                pdf_file.close()
+    text = svg_buf.getvalue()
+    start = text.find("<svg")
+    return (text[start:] if start >= 0 else text), pdf_buf.getvalue()
+
+
+def write_figure_files(stack, drawn, folder, names):
+    """Write every drawn figure as ``folder/<name>.pdf`` and ``.svg``, staged.
+
+    Parameters
+    ----------
+    stack : contextlib.ExitStack
+        The files are renamed into place when it closes without an exception
+        (:func:`gd_analyze.files.atomic_path`).
+    drawn : dict
+        From :func:`draw_figures`.
+    folder : pathlib.Path
+        The figures' folder (made if missing).
+    names : dict of str to str
+        File name without extension, by figure key.
+
+    Returns
+    -------
+    list of pathlib.Path
+        The files, PDF then SVG of each figure in turn.
+    """
+    from ..files import atomic_path
+
+    folder.mkdir(parents=True, exist_ok=True)
+    files = []
+    for key, (svg_text, pdf_bytes, _) in drawn.items():
+        for ext, data in (("pdf", pdf_bytes), ("svg", svg_text.encode("utf-8"))):
+            dest = folder / f"{names[key]}.{ext}"
+            with open(stack.enter_context(atomic_path(dest)), "wb") as fh:
+                fh.write(data)
+            files.append(dest)
+    return files
+
+
+def _place(writer, target, pdf_bytes, name, x, y, scale, turned_width=None):
+    """Put page 1 of ``pdf_bytes`` on ``target`` as a form XObject at (x, y) [pt], scaled,
+    and turned a quarter anticlockwise if ``turned_width`` (its width on the page [pt]).
+
+    The figure's content stream is reused as it is (still compressed), not parsed: placing is
+    as cheap as copying bytes.
+    """
+    from pypdf import PdfReader
+    from pypdf.generic import (ArrayObject, DecodedStreamObject, DictionaryObject, NameObject)
+
+    src = PdfReader(io.BytesIO(pdf_bytes)).pages[0]
+    contents = src["/Contents"].get_object()
+    form = contents.clone(writer)
+    form[NameObject("/Type")] = NameObject("/XObject")
+    form[NameObject("/Subtype")] = NameObject("/Form")
+    form[NameObject("/BBox")] = ArrayObject(src.mediabox).clone(writer)
+    form[NameObject("/Resources")] = src["/Resources"].get_object().clone(writer)
+    ref = writer._add_object(form)
+    resources = target["/Resources"].get_object()
+    if "/XObject" not in resources:
+        resources[NameObject("/XObject")] = DictionaryObject()
+    resources["/XObject"].get_object()[NameObject(name)] = ref
+    op = DecodedStreamObject()
+    if turned_width is None:
+        matrix = f"{scale:.6f} 0 0 {scale:.6f} {x:.3f} {y:.3f}"
+    else:
+        matrix = f"0 {scale:.6f} {-scale:.6f} 0 {x + turned_width:.3f} {y:.3f}"
+    op.set_data(f"q {matrix} cm {name} Do Q\n".encode())
+    op_ref = writer._add_object(op)
+    old = target["/Contents"]
+    if isinstance(old.get_object(), ArrayObject):
+        old.get_object().append(op_ref)
+    else:
+        target[NameObject("/Contents")] = ArrayObject([old, op_ref])
+
+
+def _strings_artist():
+    from matplotlib.artist import Artist
+
+    class Strings(Artist):
+        """Many one-line strings of a text page drawn straight onto the renderer: no Text
+        artist (its layout and bounding boxes) per string. Positions are the tops of the lines
+        [in from the page's top left]; a right-aligned string ends at its x."""
+
+        def __init__(self, page_height):
+            super().__init__()
+            self.set_zorder(5)                  # over the shading of table rows
+            self.H = page_height
+            self.items = []
+
+        def add(self, x, y, s, size, colour, weight, ha):
+            self.items.append((x, y, s, size, colour, weight, ha))
+
+        def draw(self, renderer):
+            from matplotlib.colors import to_rgba
+            from matplotlib.font_manager import FontProperties
+
+            dpi = self.figure.dpi
+            props = {}
+            gc = renderer.new_gc()
+            for x, y, s, size, colour, weight, ha in self.items:
+                if not s:
+                    continue
+                prop = props.get((size, weight))
+                if prop is None:
+                    prop = props[(size, weight)] = FontProperties(
+                        family="DejaVu Sans", size=size, weight=weight)
+                px = x * dpi
+                if ha == "right":
+                    px -= renderer.get_text_width_height_descent(s, prop, ismath=False)[0]
+                baseline = (self.H - y) * dpi - 0.93 * size * dpi / 72     # ascent of DejaVu
+                gc.set_foreground(to_rgba(colour))
+                renderer.draw_text(gc, px, baseline, s, prop, 0.0, ismath=False)
+            gc.restore()
+
+    return Strings
+
+
+def _Strings(page_height):
+    global _STRINGS
+    if _STRINGS is None:
+        _STRINGS = _strings_artist()
+    return _STRINGS(page_height)
+
+
+_STRINGS = None
+
+
+@dataclass
+class _Page:
+    ops: list = field(default_factory=list)          # (kind, payload) drawn in order
+    figures: list = field(default_factory=list)      # (pdf bytes, x, y_top, w, h) [in]
+    used: float = 0.0
+
+
+class Document:
+    """A report as a flow of blocks, written as one PDF of one page size.
+
+    Parameters
+    ----------
+    title : str
+        Document title (metadata, first heading's bookmark root and the footer).
+    paper : {"a4", "letter"}, optional
+        The page size of every page.
+    metadata : dict, optional
+        PDF document information: ``Author``, ``Subject``, ``Keywords``, ``Creator`` ...
+    footer : str, optional
+        Text at the foot of every page, before "page k of K".
+
+    Raises
+    ------
+    ValueError
+        If ``paper`` is not a key of :data:`PAPER`.
+    """
+
+    def __init__(self, title, paper="a4", metadata=None, footer=None):
+        if paper not in PAPER:
+            raise ValueError(f"paper must be one of {sorted(PAPER)}, got {paper!r}")
+        self.title = title
+        self.paper = paper
+        self.W, self.H = PAPER[paper]
+        self.metadata = dict(metadata or {})
+        self.footer = footer or title
+        self.blocks = []
+        self.n_figures = 0
+
+    @property
+    def width(self):
+        """Width of the text [in]."""
+        return self.W - 2 * _MARGIN_X
+
+    @property
+    def body(self):
+        """Height of the text area of a page [in]."""
+        return self.H - _MARGIN_TOP - _MARGIN_BOTTOM
+
+    # ---- blocks ------------------------------------------------------------------------
+    def heading(self, text, level=1):
+        """A heading, kept on a page with the start of what follows it.
+
+        Parameters
+        ----------
+        text : str
+            The heading, wrapped if long.
+        level : {0, 1, 2}, optional
+            0: the document's title (15 pt, no bookmark); 1: a section (13 pt, a bookmark);
+            2: a subsection (10.5 pt, a bookmark under the last section's).
+        """
+        self.blocks.append(("heading", (text, level)))
+
+    def paragraph(self, text, size=9.0, bold=False, colour="black"):
+        """A paragraph of wrapped text; it may continue on the next page.
+
+        Parameters
+        ----------
+        text : str
+            The text.
+        size : float, optional
+            Type size [pt].
+        bold : bool, optional
+            Bold type.
+        colour : str, optional
+            A matplotlib colour.
+        """
+        self.blocks.append(("paragraph", (text, size, bold, colour)))
+
+    def table(self, table, size=7.5):
+        """A table in the one table style of the reports: rules above and below the header and
+        at the end, shaded every other row, cells wrapped to their column.
+
+        Parameters
+        ----------
+        table : dict
+            As :func:`gd_analyze.reports.common.table` makes it (header, rows, align, widths,
+            colour_cols: class and yes/no cells drawn in their colour).
+        size : float, optional
+            Type size [pt]. A short table stays on one page; a long one repeats its header on
+            each page.
+        """
+        self.blocks.append(("table", (table, size)))
+
+    def figure(self, pdf_bytes, size, caption):
+        """A figure with "Figure k." and its caption below it.
+
+        Parameters
+        ----------
+        pdf_bytes : bytes
+            The figure as a one-page PDF (:func:`figure_pdf`), placed unscaled if it fits.
+        size : (float, float)
+            Its width and height [in].
+        caption : str
+            What the figure shows.
+
+        Returns
+        -------
+        int
+            The figure's number k.
+        """
+        self.n_figures += 1
+        self.blocks.append(("figure", (pdf_bytes, size, f"Figure {self.n_figures}. {caption}")))
+        return self.n_figures
+
+    # ---- layout ------------------------------------------------------------------------
+    def _wrap(self, text, size, width=None):
+        chars = max(10, int((width or self.width) / (size * _CHAR / 72)))
+        return textwrap.wrap(text, chars) or [""]
+
+    def _layout(self):
+        pages = [_Page()]
+        bookmarks = []
+        body = self.body
+
+        def room():
+            return body - pages[-1].used
+
+        def new_page():
+            pages.append(_Page())
+
+        def text_height(lines, size):
+            return len(lines) * size * 1.38 / 72
+
+        blocks = self.blocks
+        for k, (kind, payload) in enumerate(blocks):
+            page = pages[-1]
+            if kind == "heading":
+                text, level = payload
+                size = _HEADING.get(level, 10.0)
+                lines = self._wrap(text, size / 0.92)          # bold type is wider
+                lead = 0.12 if page.used > 0 else 0.0
+                h = len(lines) * size * 1.45 / 72 + 0.05
+                follow = self._first_height(blocks[k + 1:]) if k + 1 < len(blocks) else 0.0
+                follow = min(follow, body - _TOP_GROUP)    # a page-high figure shrinks
+                if lead + h + follow > room() and page.used > 0:
+                    new_page()
+                    page = pages[-1]
+                    lead = 0.0
+                page.used += lead
+                for line in lines:
+                    page.ops.append(("text", (page.used, line, size, True, "black")))
+                    page.used += size * 1.45 / 72
+                page.used += 0.05
+                if level in (1, 2):
+                    bookmarks.append((text, level, len(pages) - 1))
+            elif kind == "paragraph":
+                text, size, bold, colour = payload
+                lh = size * 1.38 / 72
+                for line in self._wrap(text, size):
+                    if lh > room():
+                        new_page()
+                        page = pages[-1]
+                    page.ops.append(("text", (page.used, line, size, bold, colour)))
+                    page.used += lh
+                page.used += 0.07
+            elif kind == "table":
+                self._layout_table(payload, pages, new_page)
+            elif kind == "figure":
+                pdf_bytes, (w, h), caption = payload
+                lines = self._wrap(caption, 8.0)
+                pw, ph, scale, rotate, need = self._figure_box(w, h, caption)
+                if need > room() and page.used > _TOP_GROUP:
+                    new_page()
+                    page = pages[-1]
+                if need > room():            # under its heading at the top: shrink to fit
+                    pw, ph, scale, rotate, need = self._figure_box(w, h, caption, room())
+                x = _MARGIN_X + (self.width - pw * scale) / 2
+                page.figures.append((pdf_bytes, x, page.used + 0.05, pw, ph, scale, rotate))
+                page.used += ph * scale + 0.1
+                for line in lines:
+                    page.ops.append(("text", (page.used, line, 8.0, False, "0.15")))
+                    page.used += 8.0 * 1.38 / 72
+                page.used += 0.15
+        return pages, bookmarks
+
+    def _figure_box(self, w, h, caption, room=None):
+        """Size on the page of a w x h figure [in]: (width, height, scale, turned, height with
+        its caption). A figure much wider than the text (shrunk below 85 %) is turned a quarter
+        if it then needs less shrinking."""
+        ch = len(self._wrap(caption, 8.0)) * 8.0 * 1.38 / 72 + 0.08
+        room = (self.body if room is None else room) - ch - 0.15
+        scale = min(1.0, self.width / w, room / h)
+        turned = min(1.0, self.width / h, room / w)
+        rotate = w > self.width and scale < 0.85 and turned > scale
+        scale = turned if rotate else scale
+        pw, ph = (h, w) if rotate else (w, h)
+        return pw, ph, scale, rotate, ph * scale + ch + 0.15
+
+    def _first_height(self, rest):
+        """Height of the start of the next block (what a heading must stay with) [in]: a
+        short paragraph whole, with the start of what follows it (a section's lead-in stays
+        with its figure)."""
+        kind, payload = rest[0]
+        if kind == "paragraph":
+            lines = len(self._wrap(payload[0], payload[1]))
+            own = min(3, lines) * payload[1] * 1.38 / 72
+            if lines <= 4 and len(rest) > 1 and rest[1][0] in ("figure", "table"):
+                return lines * payload[1] * 1.38 / 72 + 0.07 + self._first_height(rest[1:])
+            return own
+        if kind == "table":
+            return 3 * payload[1] * 1.6 / 72 + 0.1
+        if kind == "figure":
+            return self._figure_box(*payload[1], payload[2])[4]
+        if kind == "heading":
+            return _HEADING.get(payload[1], 10.0) * 1.6 / 72 + self._first_height(rest[1:]) \
+                if len(rest) > 1 else 0.3
+        return 0.3
+
+    def _layout_table(self, payload, pages, new_page):
+        table, size = payload
+        widths = np.asarray(table["widths"], float)
+        widths = widths / widths.sum() * self.width
+        lh, pad = size * 1.3 / 72, 0.035
+        charw = size * 0.6 / 72
+
+        def wrap(row):
+            cells = [textwrap.wrap(str(c), max(3, int((w - 2 * pad) / charw))) or [""]
+                     for c, w in zip(row, widths)]
+            return cells, max(len(c) for c in cells) * lh + 2 * pad
+
+        header = wrap(table["header"])
+        rows = [wrap(r) for r in table["rows"]]
+        total = header[1] + sum(h for _, h in rows)
+        first = header[1] + (rows[0][1] if rows else 0.0)
+        page = pages[-1]
+        room = self.body - page.used
+        # a short table stays on one page; a long one starts where at least 3 rows fit
+        keep = total if total <= 0.35 * self.body else first + sum(h for _, h in rows[:2])
+        if keep > room and page.used > 0:
+            new_page()
+            page = pages[-1]
+        spec = {"widths": widths, "align": table["align"], "colour": set(table["colour_cols"]),
+                "size": size, "lh": lh, "pad": pad}
+        page.ops.append(("rule", (page.used, 0.8)))
+        page.ops.append(("row", (page.used, header[0], True, False, spec)))
+        page.used += header[1]
+        page.ops.append(("rule", (page.used, 0.5)))
+        for k, (cells, h) in enumerate(rows):
+            if page.used + h > self.body:
+                page.ops.append(("rule", (page.used, 0.8)))
+                new_page()
+                page = pages[-1]
+                page.ops.append(("rule", (page.used, 0.8)))
+                page.ops.append(("row", (page.used, header[0], True, False, spec)))
+                page.used += header[1]
+                page.ops.append(("rule", (page.used, 0.5)))
+            page.ops.append(("row", (page.used, cells, False, k % 2 == 1, spec)))
+            page.used += h
+        page.ops.append(("rule", (page.used, 0.8)))
+        page.used += 0.16
+
+    # ---- drawing -----------------------------------------------------------------------
+    def _draw(self, page, number, total):
+        from matplotlib.figure import Figure
+        from matplotlib.lines import Line2D
+        from matplotlib.patches import Rectangle
+
+        W, H = self.W, self.H
+        fig = Figure(figsize=(W, H))
+        strings = _Strings(H)
+        fig.add_artist(strings)
+
+        def text(x, y, s, fontsize, color="black", fontweight="normal", ha="left"):
+            strings.add(x, _MARGIN_TOP + y, s, fontsize, color, fontweight, ha)
+
+        for kind, p in page.ops:
+            if kind == "text":
+                y, s, size, bold, colour = p
+                text(_MARGIN_X, y, s, fontsize=size, color=colour,
+                     fontweight="bold" if bold else "normal")
+            elif kind == "rule":
+                y, lw = p
+                yy = 1 - (_MARGIN_TOP + y) / H
+                fig.add_artist(Line2D([_MARGIN_X / W, 1 - _MARGIN_X / W], [yy, yy],
+                                      transform=fig.transFigure, color="black", linewidth=lw))
+            elif kind == "row":
+                y, cells, bold, shade, spec = p
+                widths, pad, lh = spec["widths"], spec["pad"], spec["lh"]
+                height = max(len(c) for c in cells) * lh + 2 * pad
+                if shade:
+                    fig.add_artist(Rectangle(
+                        (_MARGIN_X / W, 1 - (_MARGIN_TOP + y + height) / H), self.width / W,
+                        height / H, transform=fig.transFigure, facecolor="0.94",
+                        edgecolor="none", zorder=0))
+                x = _MARGIN_X
+                for k, (lines, w) in enumerate(zip(cells, widths)):
+                    right = spec["align"][k] == "right"
+                    colour = "black"
+                    if k in spec["colour"] and not bold:
+                        colour = TABLE_COLOURS.get(lines[0], "black")
+                    for m, line in enumerate(lines):
+                        text(x + (w - pad if right else pad), y + pad + m * lh, line,
+                             fontsize=spec["size"], ha="right" if right else "left",
+                             color=colour, fontweight="bold" if bold else "normal")
+                    x += w
+        foot = H - 0.4 - 7 * 1.2 / 72 - _MARGIN_TOP
+        text(_MARGIN_X, foot, self.footer, fontsize=7, color="0.4")
+        text(W - _MARGIN_X, foot, f"page {number} of {total}", fontsize=7, color="0.4",
+             ha="right")
+        return fig
+
+    def write(self, path):
+        """Lay out, draw and write the document.
+
+        Parameters
+        ----------
+        path : str or os.PathLike
+            The PDF file (written as given: the caller stages it).
+
+        Returns
+        -------
+        int
+            The number of pages.
+        """
+        import matplotlib
+        from matplotlib.backends.backend_pdf import PdfPages
+        from pypdf import PdfReader, PdfWriter
+
+        pages, bookmarks = self._layout()
+        K = len(pages)
+        buf = io.BytesIO()
+        with matplotlib.rc_context(PAGE_RC), \
+                PdfPages(buf, metadata={"CreationDate": None}) as pdf:
+            for k, page in enumerate(pages):
+                pdf.savefig(self._draw(page, k + 1, K))
+        writer = PdfWriter(clone_from=PdfReader(io.BytesIO(buf.getvalue())))
+        count = 0
+        for k, page in enumerate(pages):
+            for pdf_bytes, x, y, w, h, scale, rotate in page.figures:
+                count += 1
+                bottom = self.H - (_MARGIN_TOP + y + h * scale)
+                _place(writer, writer.pages[k], pdf_bytes, f"/GdFigure{count}",
+                       72 * x, 72 * bottom, scale, 72 * w * scale if rotate else None)
+        parents = {}
+        for text, level, page_index in bookmarks:
+            parent = parents.get(1) if level == 2 else None
+            item = writer.add_outline_item(title=text, page_number=page_index, parent=parent)
+            if level == 1:
+                parents[1] = item
+        writer.page_mode = "/UseOutlines"
+        info = {"/Title": self.title}
+        info.update({f"/{k}": str(v) for k, v in self.metadata.items() if v is not None})
+        writer.add_metadata(info)
+        with open(path, "wb") as fh:
+            writer.write(fh)
+        return K

@@ -1,0 +1,120 @@
+"""The page engine of the reports (gd_analyze.reports.pages)."""
+
+import io
+
+import numpy as np
+import pytest
+
+from gd_analyze.reports.common import table
+from gd_analyze.reports.pages import PAPER, Document, figure_pdf
+
+
+def _figure(w, h):
+    from matplotlib.figure import Figure
+
+    fig = Figure(figsize=(w, h))
+    ax = fig.add_axes((0.1, 0.1, 0.8, 0.8))
+    ax.plot([0, 1], [0, 1])
+    return figure_pdf(fig)
+
+
+def _document(paper="a4"):
+    doc = Document("A test document", paper=paper, metadata={"Author": "me"})
+    doc.heading("Title", level=0)
+    for k in range(1, 4):
+        doc.heading(f"{k}. Section {k}")
+        doc.paragraph("word " * 300)
+        doc.table(table(["a", "b"], [[str(i), "x" * (i % 40)] for i in range(60)]))
+        doc.heading(f"{k}.1 Sub", level=2)
+        doc.paragraph("A lead-in to the figure.")
+        doc.figure(_figure(7.2, 5.0), (7.2, 5.0), f"figure of section {k}")
+    doc.heading("4. Wide")
+    doc.figure(_figure(10.5, 6.0), (10.5, 6.0), "a wide figure, turned")
+    return doc
+
+
+@pytest.mark.parametrize("paper", sorted(PAPER))
+def test_one_page_size_bookmarks_and_footers(tmp_path, paper):
+    from pypdf import PdfReader
+
+    path = tmp_path / "doc.pdf"
+    K = _document(paper).write(path)
+    reader = PdfReader(path)
+    assert len(reader.pages) == K
+    w, h = PAPER[paper]
+    assert {tuple(round(float(v), 1) for v in p.mediabox[2:]) for p in reader.pages} == \
+        {(round(72 * w, 1), round(72 * h, 1))}
+    titles = [o["/Title"] for o in reader.outline if not isinstance(o, list)]
+    assert titles == ["1. Section 1", "2. Section 2", "3. Section 3", "4. Wide"]
+    assert [o["/Title"] for o in reader.outline[1]] == ["1.1 Sub"]
+    text = [p.extract_text() for p in reader.pages]
+    for k, t in enumerate(text):
+        assert f"page {k + 1} of {K}" in t
+    whole = "\n".join(text)
+    for k in range(1, 5):
+        assert f"Figure {k}." in whole
+    assert reader.metadata["/Author"] == "me" and reader.metadata["/Title"] == "A test document"
+
+
+def test_pages_are_at_least_a_third_full_unless_a_figure_follows():
+    doc = _document()
+    pages, _ = doc._layout()
+    for k, page in enumerate(pages[:-1]):
+        nxt = pages[k + 1]
+        starts_with_figure = bool(nxt.figures) and nxt.figures[0][2] <= 0.06 + 1.0
+        assert page.used >= doc.body / 3 or starts_with_figure, k
+        assert page.used <= doc.body + 1e-9
+    # a heading is never the last thing on a page
+    for page in pages:
+        last = [op for op in page.ops if op[0] == "text"][-1:]
+        if last and not page.figures:
+            assert not (last[0][1][3] and last[0][1][2] >= 10.0)
+
+
+def test_wide_figure_is_turned_to_fit():
+    doc = _document()
+    pages, _ = doc._layout()
+    placed = [f for p in pages for f in p.figures]
+    wide = placed[-1]
+    assert wide[6] is True and wide[5] > 0.9            # turned, hardly scaled
+    assert all(f[6] is False and f[5] == 1.0 for f in placed[:-1])   # page-wide: unscaled
+
+
+def test_bad_paper():
+    with pytest.raises(ValueError):
+        Document("x", paper="a5")
+
+
+def test_one_traversal_draws_the_same_svg_and_pdf_as_savefig():
+    """The figure drawn once into both renderers gives savefig's PDF content stream exactly,
+    and its SVG with the same elements, coordinates within 0.01 pt (text metrics)."""
+    import re
+
+    from pypdf import PdfReader
+
+    from gd_analyze.reports.main_figures import RC
+    from gd_analyze.reports.pages import PAGE_RC, _draw_both, figure_svg
+
+    from matplotlib.figure import Figure
+
+    fig = Figure(figsize=(7.2, 2.5))
+    ax = fig.add_axes((0.1, 0.2, 0.8, 0.6))
+    x = np.linspace(0, 1, 31)
+    ax.plot(x, np.sin(6 * x), marker="o", mfc="none", label="sin")
+    ax.imshow(np.arange(12.0).reshape(3, 4), extent=(0.2, 0.4, -0.5, 0.5), aspect="auto")
+    ax.set_title("a title \u2261 0")
+    ax.set_xlabel("t [s]")
+    fig.legend(loc="lower center")
+    svg, pdf = _draw_both(fig, {**RC, **PAGE_RC})
+    svg_alone = figure_svg(fig, RC)
+    from gd_analyze.reports.pages import figure_pdf
+
+    pdf_alone = figure_pdf(fig, {**RC, **PAGE_RC})
+    content = [PdfReader(io.BytesIO(p)).pages[0].get_contents().get_data()
+               for p in (pdf, pdf_alone)]
+    assert content[0] == content[1]
+    number = re.compile(r"-?\d+(?:\.\d+)?")
+    assert number.sub("#", svg) == number.sub("#", svg_alone)
+    a = np.array([float(v) for v in number.findall(svg)])
+    b = np.array([float(v) for v in number.findall(svg_alone)])
+    assert a.shape == b.shape and np.max(np.abs(a - b)) < 0.01
