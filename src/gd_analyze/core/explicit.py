@@ -227,6 +227,10 @@ def derive(robot):
                 for a in range(3)]
 
     com, inertia = np.asarray(robot.body_com, float), np.asarray(robot.body_inertia, float)
+    # rounding residue of the link-frame rotations (cos 90 deg = 6e-17) is not a parameter
+    com = np.where(np.abs(com) < 1e-15, 0.0, com)
+    inertia = np.where(np.abs(inertia) < 1e-15 * max(np.abs(inertia).max(), 1e-300), 0.0,
+                       inertia)
     pos = {}                             # pos[(i, s)]: centre of mass of link s in frame i
     for s in range(n):
         v = _vec(n, [float(x) for x in com[s]])
