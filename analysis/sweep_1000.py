@@ -52,8 +52,8 @@ def main(argv=None):
     from gd_analyze import load_robot
     from gd_analyze.core.ranking import CHAPTER_DOMINANCE, CLASSES
     from gd_analyze.cli import parse_range
-    from gd_analyze.io.datasets import write_dataset
-    from gd_analyze.io.trajectory import random_trajectories
+    from gd_analyze.io.schema import write_dataset
+    from gd_analyze.io.planning import random_trajectories
     from gd_analyze.workflows.payload import payload_sweep
     from gd_analyze.workflows.sweep import merged_model, run_sweep
     from gd_analyze.reports.sweep import write_sweep_report

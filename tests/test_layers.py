@@ -18,9 +18,9 @@ LAYERS = ["core", "formulations", "io", "workflows", "reports", "cli"]
 LEAVES = {"errors", "files", "_version"}
 # the shared report modules, and the main report's own parts (figures and sentences) and the
 # page engine and tick labels of all three (issue 12)
-SHARED_REPORTS = {"reports.common", "reports.figures", "reports.pages", "reports.ticks",
-                  "reports.main_figures", "reports.main_text",
-                  "reports.simplified_section"}
+SHARED_REPORTS = {"reports.common", "reports.figures", "reports.pages", "reports.drawing",
+                  "reports.ticks", "reports.main_figures", "reports.main_text",
+                  "reports.sweep_figures", "reports.simplified_section"}
 
 
 def _module_name(path):

@@ -265,8 +265,7 @@ def _version():
 
 
 def _plan_parser():
-    from .io.trajectory import (DEFAULT_GOAL_DEG, DEFAULT_QDD_PER_QD, DEFAULT_SETPOINTS,
-                                DEFAULT_START_DEG)
+    from .io.planning import DEFAULT_GOAL_DEG, DEFAULT_QDD_PER_QD, DEFAULT_SETPOINTS, DEFAULT_START_DEG
 
     p = _Parser(prog=f"{PROG} plan",
                 description="Write a quintic rest-to-rest joint trajectory at the shortest "
@@ -512,7 +511,7 @@ ANALYZE_OUTPUTS = ("results.h5", "simplified_model.json", "simplified_model.c",
 
 
 def _cmd_analyze(args):
-    from .io.datasets import skip_dask
+    from .io.schema import skip_dask
     from .io.staging import check_free_space, staged_output
     from .workflows.analyze import analyze_to_file, progress_bar
 
@@ -574,7 +573,7 @@ def _check_plan(robot, start, goal, duration):
     start, goal in SI (rad, m for a prismatic joint); robot with the limits the plan uses."""
     import numpy as np
 
-    from .io.trajectory import quintic_min_durations
+    from .io.planning import quintic_min_durations
 
     prismatic = np.asarray(getattr(robot, "prismatic", np.zeros(robot.n, bool)), bool)
 
@@ -602,8 +601,8 @@ def _check_plan(robot, start, goal, duration):
 
 def _cmd_plan(args):
     from ._version import __version__
-    from .io.trajectory import (acceleration_limits, default_motion, plan_quintic,
-                                user_positions, write_provenance, write_trajectory)
+    from .io.trajectory import write_trajectory
+    from .io.planning import acceleration_limits, default_motion, plan_quintic, user_positions, write_provenance
 
     robot = _load_robot(args)
     start, goal = default_motion(robot)
@@ -787,7 +786,7 @@ def _cmd_control(args):
 
 def _sweep_model(robot, trajectories, args, outdir, settings):
     """The sweep's simplified explicit model within EPS on every trajectory (issue 8)."""
-    from .io.trajectory import random_trajectories
+    from .io.planning import random_trajectories
     from .workflows.simplify import sweep_model
 
     if args.held_out < 0:
@@ -825,8 +824,9 @@ SWEEP_OUTPUTS = ("sweep.h5", "merged_model.json", "payload_sweep.h5", "sweep_rep
 
 
 def _cmd_sweep(args):
-    from .io.datasets import write_dataset
-    from .io.trajectory import random_trajectories, read_trajectory
+    from .io.schema import write_dataset
+    from .io.trajectory import read_trajectory
+    from .io.planning import random_trajectories
     from .workflows.payload import sweep_payloads
     from .workflows.sweep import dask_client, merged_model, run_sweep
 
@@ -855,7 +855,7 @@ def _cmd_sweep(args):
     settings = {"command": " ".join([PROG] + sys.argv[1:]) if sys.argv else PROG,
                 "payload_mass": float(args.payload or 0.0), **_chain_settings(args)}
     if args.random is not None:
-        from .io.trajectory import acceleration_limits
+        from .io.planning import acceleration_limits
 
         settings["seed"] = args.seed
         try:

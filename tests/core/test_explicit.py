@@ -18,7 +18,8 @@ from gd_analyze.core.dalembert import gd_terms
 from gd_analyze.core.explicit import budget_drop, derive, model_terms, term_peaks
 from gd_analyze.core.trigpoly import TrigPoly
 from gd_analyze.formulations.pinocchio import pinocchio_model
-from gd_analyze.io.trajectory import plan_quintic, read_trajectory
+from gd_analyze.io.planning import plan_quintic
+from gd_analyze.io.trajectory import read_trajectory
 
 TOL = 1e-10
 

@@ -17,8 +17,8 @@ from hypothesis import strategies as st
 
 from gd_analyze.core.limits import LIMITS
 from gd_analyze.errors import InputError, InputNote
-from gd_analyze.io.trajectory import (FAST_PARSE_BYTES, plan_quintic, read_trajectory,
-                                      write_trajectory)
+from gd_analyze.io.trajectory import FAST_PARSE_BYTES, read_trajectory, write_trajectory
+from gd_analyze.io.planning import plan_quintic
 
 PLAIN = re.compile(r"[+-]?(?:[0-9]+(?:\.[0-9]*)?|\.[0-9]+)(?:[eE][+-]?[0-9]+)?")
 

@@ -6,7 +6,7 @@ import xarray as xr
 from conftest import SHIPPED
 from gd_analyze.workflows.analyze import analyze
 from gd_analyze.files import atomic_path
-from gd_analyze.io.datasets import write_dataset
+from gd_analyze.io.schema import write_dataset
 from gd_analyze.io.trajectory import read_trajectory
 
 

@@ -5,9 +5,8 @@ import pytest
 
 from conftest import SHIPPED
 from gd_analyze import InputError
-from gd_analyze.io.trajectory import (DEFAULT_GOAL_DEG, DEFAULT_START_DEG, JointLimitWarning,
-                                   check_joint_limits, plan_quintic, quintic_duration,
-                                   read_trajectory, trajectory_columns, write_trajectory)
+from gd_analyze.io.trajectory import JointLimitWarning, check_joint_limits, read_trajectory, trajectory_columns, write_trajectory
+from gd_analyze.io.planning import DEFAULT_GOAL_DEG, DEFAULT_START_DEG, plan_quintic, quintic_duration
 
 
 def _default_plan(puma, n=31):

@@ -12,8 +12,9 @@ import gd_analyze
 from gd_analyze.reports import main as report
 from gd_analyze.errors import InputError
 from gd_analyze.workflows.analyze import analyze
-from gd_analyze.io.datasets import open_results, write_dataset
-from gd_analyze.io.trajectory import plan_quintic, read_trajectory
+from gd_analyze.io.schema import open_results, write_dataset
+from gd_analyze.io.trajectory import read_trajectory
+from gd_analyze.io.planning import plan_quintic
 
 from conftest import SHIPPED
 

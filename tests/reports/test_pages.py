@@ -6,7 +6,8 @@ import numpy as np
 import pytest
 
 from gd_analyze.reports.common import table
-from gd_analyze.reports.pages import PAPER, Document, figure_pdf
+from gd_analyze.reports.pages import PAPER, Document
+from gd_analyze.reports.drawing import figure_pdf
 
 
 def _figure(w, h):
@@ -93,7 +94,8 @@ def test_one_traversal_draws_the_same_svg_and_pdf_as_savefig():
     from pypdf import PdfReader
 
     from gd_analyze.reports.main_figures import RC
-    from gd_analyze.reports.pages import PAGE_RC, _draw_both, figure_svg
+    from gd_analyze.reports.pages import PAGE_RC
+    from gd_analyze.reports.drawing import _draw_both, figure_svg
 
     from matplotlib.figure import Figure
 
@@ -107,7 +109,7 @@ def test_one_traversal_draws_the_same_svg_and_pdf_as_savefig():
     fig.legend(loc="lower center")
     svg, pdf = _draw_both(fig, {**RC, **PAGE_RC})
     svg_alone = figure_svg(fig, RC)
-    from gd_analyze.reports.pages import figure_pdf
+    from gd_analyze.reports.drawing import figure_pdf
 
     pdf_alone = figure_pdf(fig, {**RC, **PAGE_RC})
     content = [PdfReader(io.BytesIO(p)).pages[0].get_contents().get_data()

@@ -4,7 +4,8 @@ import xarray as xr
 from conftest import SHIPPED
 from gd_analyze.workflows.analyze import analyze, analyze_to_file, verify
 from gd_analyze.core.ranking import RankingAccumulator, rank_dominance
-from gd_analyze.io.trajectory import plan_quintic, read_trajectory
+from gd_analyze.io.trajectory import read_trajectory
+from gd_analyze.io.planning import plan_quintic
 
 
 def test_streamed_file_equals_the_in_memory_analysis(tmp_path, puma):

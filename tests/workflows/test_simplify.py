@@ -13,7 +13,7 @@ from gd_analyze.core.simplified import SimplifiedModel
 from gd_analyze.formulations.pinocchio import pinocchio_model
 from gd_analyze.io.trajectory import read_trajectory
 from gd_analyze.workflows.simplify import sweep_model
-from gd_analyze.io.trajectory import random_trajectories
+from gd_analyze.io.planning import random_trajectories
 
 
 def _rnea(robot, q, qd, qdd):

@@ -13,14 +13,15 @@ from gd_analyze.workflows.analyze import analyze
 from gd_analyze.core.ranking import CLASSES, element_labels
 from gd_analyze.core.robot import with_payload
 from gd_analyze.core.simplified import choice_masks
-from gd_analyze.io.datasets import open_sweep
+from gd_analyze.io.schema import open_sweep
 from gd_analyze.cli import parse_range
 from gd_analyze.core.simplified import merge_choices
-from gd_analyze.io.datasets import write_dataset as write_sweep
-from gd_analyze.io.trajectory import random_trajectories
+from gd_analyze.io.schema import write_dataset as write_sweep
+from gd_analyze.io.planning import random_trajectories
 from gd_analyze.workflows.payload import payload_sweep
 from gd_analyze.workflows.sweep import analyze_one, merged_model, run_sweep
-from gd_analyze.io.trajectory import plan_quintic, read_trajectory
+from gd_analyze.io.trajectory import read_trajectory
+from gd_analyze.io.planning import plan_quintic
 
 K = 6
 

@@ -1,7 +1,7 @@
 """Operation counts per set point of the L-E, N-E and G-D formulations, as implemented.
 
 The counts are measured, not derived: the algorithms run on one set point whose values are
-:class:`Counted` scalars, which count every multiplication and addition they take part in.
+:class:`~gd_analyze.formulations.counting.Counted` scalars, which count every multiplication and addition they take part in.
 
 - L-E and N-E: the counted run calls the very cores that :func:`~gd_analyze.formulations.lagrange_euler.le_terms`
   and :func:`~gd_analyze.formulations.newton_euler.ne_tau` run on float arrays (``_le_core``, ``_ne_core``),
@@ -57,9 +57,7 @@ f 9(n-1)/9n-6, N 24n/18n, n 21n-15/24n-15.
 
 from __future__ import annotations
 
-import math
 import numbers
-import types
 from collections import namedtuple
 from fractions import Fraction as Fr
 from functools import lru_cache
@@ -69,11 +67,12 @@ import numpy as np
 from ..core.kinematics import as_states, transforms_core
 from .lagrange_euler import _constants as _le_constants
 from .lagrange_euler import _le_core, _tau, joint_q_matrices
+from .counting import OpLedger, _consts, _value, _vars, counting_clone
 from .newton_euler import _cross, _ne_core, link_constants
 from ..core.robot import Robot, robot_from_dict
 
-__all__ = ["Counted", "OpLedger", "OpCount", "METHODS", "TABLE_3_5", "random_chain",
-           "count_operations", "operation_counts", "book_counts", "table", "counting_clone"]
+__all__ = ["OpCount", "METHODS", "TABLE_3_5", "random_chain", "count_operations",
+           "operation_counts", "book_counts", "table"]
 
 #: The implementations counted, in table order ("gd" is the compiled G-D engine).
 METHODS = ("lagrange-euler", "newton-euler", "gd", "gd-numpy")
@@ -90,149 +89,6 @@ TABLE_3_5 = {
         "additions": (Fr(4, 3), Fr(44), Fr(146, 3), Fr(45)),
     },
 }
-
-
-class OpLedger:
-    """Tally of the operations done by the :class:`Counted` scalars that share it.
-
-    Attributes
-    ----------
-    multiplications : int
-        Multiplications counted so far.
-    additions : int
-        Additions and subtractions counted so far.
-    """
-
-    def __init__(self):
-        self.multiplications = 0
-        self.additions = 0
-
-    def var(self, value):
-        """A set-point-dependent scalar (its operations are counted).
-
-        Parameters
-        ----------
-        value : float
-            Its numerical value.
-
-        Returns
-        -------
-        Counted
-
-        Raises
-        ------
-        TypeError
-            If value is not a real number.
-        """
-        return Counted(float(value), self, True)
-
-    def const(self, value):
-        """A robot parameter (operations between parameters only are not counted).
-
-        Parameters
-        ----------
-        value : float
-            Its numerical value.
-
-        Returns
-        -------
-        Counted
-
-        Raises
-        ------
-        TypeError
-            If value is not a real number.
-        """
-        return Counted(float(value), self, False)
-
-
-class Counted:
-    """A real scalar that counts the multiplications and additions it takes part in.
-
-    Parameters
-    ----------
-    value : float
-        The numerical value carried along.
-    ledger : OpLedger
-        Where the operations are tallied.
-    var : bool
-        True if the value depends on the set point; False for a robot parameter.
-
-    Raises
-    ------
-    TypeError
-        From an arithmetic operation with an operand that is neither a Counted nor a real
-        number, or on conversion to float.
-
-    Notes
-    -----
-    An operation is counted when at least one operand is set-point dependent. Plain Python or
-    NumPy numbers are structural constants: x * 0 gives the plain 0, x * 1 gives x, x * -1 gives
-    -x and x + 0 gives x, all without a count. Negation is free; subtraction counts as an
-    addition. There is no ``__float__``, so a Counted cannot slip silently into a float array.
-
-    Examples
-    --------
-    >>> led = OpLedger()
-    >>> x, y, a = led.var(2.0), led.var(3.0), led.const(5.0)
-    >>> z = a * x + y * y - 0 * x
-    >>> (led.multiplications, led.additions, z.value)
-    (2, 1, 19.0)
-    """
-
-    __slots__ = ("value", "ledger", "var")
-
-    def __init__(self, value, ledger, var=True):
-        self.value = value
-        self.ledger = ledger
-        self.var = var
-
-    def __repr__(self):
-        return f"Counted({self.value!r}, var={self.var})"
-
-    def __neg__(self):
-        return Counted(-self.value, self.ledger, self.var)
-
-    def __pos__(self):
-        return self
-
-    def __mul__(self, other):
-        if isinstance(other, Counted):
-            var = self.var or other.var
-            self.ledger.multiplications += var
-            return Counted(self.value * other.value, self.ledger, var)
-        if not isinstance(other, numbers.Real):
-            return NotImplemented
-        if other == 0:
-            return 0
-        if other == 1:
-            return self
-        if other == -1:
-            return -self
-        self.ledger.multiplications += self.var
-        return Counted(self.value * float(other), self.ledger, self.var)
-
-    __rmul__ = __mul__
-
-    def __add__(self, other):
-        if isinstance(other, Counted):
-            var = self.var or other.var
-            self.ledger.additions += var
-            return Counted(self.value + other.value, self.ledger, var)
-        if not isinstance(other, numbers.Real):
-            return NotImplemented
-        if other == 0:
-            return self
-        self.ledger.additions += self.var
-        return Counted(self.value + float(other), self.ledger, self.var)
-
-    __radd__ = __add__
-
-    def __sub__(self, other):
-        return self + (-other)
-
-    def __rsub__(self, other):
-        return (-self) + other
 
 
 OpCount = namedtuple("OpCount", ["multiplications", "additions", "tau"])
@@ -290,17 +146,6 @@ def random_chain(n, seed=0):
         })
     return robot_from_dict({"name": f"random-{n}", "gravity": [0.0, 0.0, -9.8062],
                             "link": links}, source=f"<random_chain({n}, {seed})>")
-
-
-def _consts(led, x):
-    """Object array of parameter scalars with the shape of x."""
-    x = np.asarray(x, dtype=float)
-    return np.array([led.const(v) for v in x.ravel()], dtype=object).reshape(x.shape)
-
-
-def _vars(led, x):
-    x = np.asarray(x, dtype=float)
-    return np.array([led.var(v) for v in x.ravel()], dtype=object).reshape(x.shape)
 
 
 def _counted_transforms(robot, led, q, homogeneous=False):
@@ -397,55 +242,6 @@ def _gd_mirror(R, o, pris, m, com, inertia, gravity, qd, qdd):
     return tau, D_tran, D_rot, h_tran, h_rot, c
 
 
-def _elementwise(fn, x):
-    """fn of a Counted (uncounted, keeps its kind), a plain number or an object array."""
-    if isinstance(x, np.ndarray):
-        return np.array([_elementwise(fn, e) for e in x.ravel()], dtype=object).reshape(x.shape)
-    if isinstance(x, Counted):
-        return Counted(fn(x.value), x.ledger, x.var)
-    return fn(float(x))
-
-
-class _CountingNumPy:
-    """The NumPy functions that ``_gd_kernel.gd_kernel`` calls, for counting scalars."""
-
-    @staticmethod
-    def empty(shape):
-        return np.zeros(shape, dtype=object)
-
-    @staticmethod
-    def cos(x):
-        return _elementwise(math.cos, x)
-
-    @staticmethod
-    def sin(x):
-        return _elementwise(math.sin, x)
-
-
-def counting_clone(fn):
-    """The Python source of a numba kernel, bound to counting NumPy functions.
-
-    Parameters
-    ----------
-    fn : numba dispatcher or function
-        The kernel; the compiled helpers it calls (any global with a ``py_func``) are cloned
-        the same way.
-
-    Returns
-    -------
-    function
-        Runs on object arrays of :class:`Counted` scalars; ``np.empty``, ``np.cos`` and
-        ``np.sin`` are :class:`_CountingNumPy`'s.
-    """
-    py = getattr(fn, "py_func", fn)
-    env = {**py.__globals__, "np": _CountingNumPy}
-    for name in py.__code__.co_names:
-        obj = env.get(name)
-        if hasattr(obj, "py_func"):
-            env[name] = counting_clone(obj)
-    return types.FunctionType(py.__code__, env, py.__name__, py.__defaults__, py.__closure__)
-
-
 def _gd_kernel_counted(robot, led, q, qd):
     """Run the compiled G-D engine's Python source on one set point of counting scalars.
 
@@ -463,10 +259,6 @@ def _gd_kernel_counted(robot, led, q, qd):
            _consts(led, robot.mass), _consts(led, robot.body_com),
            _consts(led, robot.body_inertia), _consts(led, robot.gravity), *out)
     return tuple(x[0] for x in out)
-
-
-def _value(x):
-    return x.value if isinstance(x, Counted) else float(x)
 
 
 def count_operations(robot, method, q=None, qd=None, qdd=None):
@@ -535,7 +327,7 @@ def count_operations(robot, method, q=None, qd=None, qdd=None):
 
 
 #: Modules whose code the counts depend on: the cache key is the hash of their source.
-_COUNTED_MODULES = ("formulations/opcount", "formulations/lagrange_euler",
+_COUNTED_MODULES = ("formulations/opcount", "formulations/counting", "formulations/lagrange_euler",
                     "formulations/newton_euler", "core/kernels", "core/dalembert", "core/kinematics",
                     "core/robot")
 

@@ -416,7 +416,8 @@ def count_simplified_operations(robot, choices, q=None, qd=None, qdd=None):
     free. The Python source of :func:`simplified_kernel` runs on counting scalars, as
     ``count_operations(robot, "gd")`` runs the compiled G-D engine's.
     """
-    from .opcount import OpCount, OpLedger, _consts, _value, _vars, counting_clone
+    from .counting import OpLedger, _consts, _value, _vars, counting_clone
+    from .opcount import OpCount
 
     n = robot.n
     rng = np.random.default_rng(1)

@@ -2,7 +2,7 @@
 
 Built from a :class:`gd_analyze.workflows.control.ControlResult`; every variable has ``units``
 and ``long_name``, the global attributes carry the provenance (see
-:func:`gd_analyze.io.datasets.global_attributes`). Sources: Fu, Gonzalez & Lee (1987),
+:func:`gd_analyze.io.schema.global_attributes`). Sources: Fu, Gonzalez & Lee (1987),
 Eq. (3.4-24) and Sec. 3.4.1; Ch. 5 (computed-torque control).
 """
 
@@ -10,7 +10,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from .datasets import global_attributes, var, write_dataset
+from .schema import global_attributes, var, write_dataset
 
 __all__ = ["control_dataset", "write_control_dataset"]
 

@@ -2,8 +2,8 @@
 
 Schemas of ``sweep.h5`` (dim ``trajectory``) and of a payload sweep (dim ``payload``), built from
 the per-trajectory results of :mod:`gd_analyze.workflows.sweep` and
-:mod:`gd_analyze.workflows.payload`. Write them with :func:`gd_analyze.io.datasets.write_dataset`
-and read them back with :func:`gd_analyze.io.datasets.open_sweep`. Source: Sec. 3.4.1 of Fu,
+:mod:`gd_analyze.workflows.payload`. Write them with :func:`gd_analyze.io.schema.write_dataset`
+and read them back with :func:`gd_analyze.io.schema.open_sweep`. Source: Sec. 3.4.1 of Fu,
 Gonzalez & Lee (1987).
 """
 
@@ -16,7 +16,7 @@ from pathlib import Path
 import numpy as np
 
 from ..core.ranking import CLASSES, element_labels
-from .datasets import MIXED_UNITS, element_coords, global_attributes, var
+from .schema import MIXED_UNITS, element_coords, global_attributes, var
 
 __all__ = ["inputs_attributes", "sweep_dataset", "payload_dataset", "sweep_payloads_dataset",
            "embed_payload", "payload_part"]
@@ -370,7 +370,7 @@ def payload_part(results):
     Parameters
     ----------
     results : xarray.Dataset
-        A ``results.h5`` read back (:func:`gd_analyze.io.datasets.open_results`).
+        A ``results.h5`` read back (:func:`gd_analyze.io.schema.open_results`).
 
     Returns
     -------

@@ -27,7 +27,8 @@ from .common import BASE_RC
 from .common import strings as _strings, style as _style, table as _table
 from .common import attr, fmt, grid_shape, render_template, utc_now
 from .main_figures import element_label
-from .pages import PAPER, Document, draw_figures, figure_svg, no_gc, write_figure_files
+from .pages import PAPER, Document
+from .drawing import draw_figures, figure_svg, no_gc, write_figure_files
 
 __all__ = ["CONTROL_REPORT_FILES", "REQUIRED_VARIABLES", "make_control_figures",
            "render_control_html", "render_control_pdf", "write_control_report"]
@@ -497,7 +498,7 @@ def write_control_report(control_path, outdir, paper="a4"):
     (simplified model) and Ch. 5 (computed-torque control).
     """
     from ..files import atomic_path
-    from ..io.datasets import open_results
+    from ..io.schema import open_results
 
     if paper not in PAPER:
         raise ValueError(f"paper must be one of {sorted(PAPER)}, got {paper!r}")

@@ -41,7 +41,8 @@ from .common import check_formats, render_template, utc_now
 from .main_figures import RC as FIG_RC, PAGE_WIDTH, identically_zero, plot_data
 from .main_figures import fig_D, fig_h, fig_joints, fig_torque
 from .main_text import captions, conclusion, disagreement_cause, element_scale
-from .pages import PAPER, Document, draw_figures, no_gc, write_figure_files
+from .pages import PAPER, Document
+from .drawing import draw_figures, no_gc, write_figure_files
 from ..io.sweep_datasets import payload_part
 
 __all__ = [
@@ -797,7 +798,7 @@ def write_report(results_path, outdir, formats=REPORT_FORMATS, paper="a4", progr
     temporary name beside its destination and renamed (:func:`gd_analyze.files.atomic_path`).
     Source: Sec. 3.4.1 and Figs. 3.10-3.11 of Fu, Gonzalez & Lee (1987).
     """
-    from ..io.datasets import open_results
+    from ..io.schema import open_results
 
     formats = check_formats(formats, REPORT_FORMATS)
     if paper not in PAPER:

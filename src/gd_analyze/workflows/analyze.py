@@ -509,7 +509,8 @@ def analyze_to_file(robot, trajectory, path, dominance=DEFAULT_DOMINANCE,
         If the file cannot be written.
     """
     from ..files import atomic_path
-    from ..io.datasets import SetpointWriter, append_dataset, summary_dataset
+    from ..io.datasets import SetpointWriter, summary_dataset
+    from ..io.schema import append_dataset
 
     N, n = trajectory.q.shape
     with atomic_path(path) as tmp:

@@ -60,9 +60,8 @@ from pathlib import Path
 
 import numpy as np
 
-from ..core.dalembert import _qdd_from_terms, forward_dynamics, gd_terms
-from ..core.kinematics import as_states
-from ..core.simplified import SimplifiedModel, choice_masks
+from ..core.dalembert import _qdd_from_terms, gd_terms
+from ..core.simplified import choice_masks
 from ..formulations.simplified_eval import (COST_SETPOINTS, evaluation_cost, evaluation_plan,
                               simplified_tau)
 

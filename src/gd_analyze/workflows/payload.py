@@ -120,7 +120,7 @@ def sweep_payloads(robot, trajectories, masses, com=(0.0, 0.0, 0.0), inertia=(0.
     -----
     Source: Sec. 3.4.1 of Fu, Gonzalez & Lee (1987), repeated for each load.
     """
-    from ..core.ranking import CLASSES, element_labels
+    from ..core.ranking import CLASSES
     from ..core.robot import with_payload
 
     trajectories = list(trajectories)

@@ -16,7 +16,7 @@ trajectories and reports, per ranked element (``"D11"`` .. ``"Dnn"``, ``"h1"`` .
 The per-trajectory work (:func:`analyze_one`) is a pure function of small arguments, run in
 batches on a dask.distributed cluster by :func:`run_sweep`. The dataset's schema is in
 :mod:`gd_analyze.io.sweep_datasets`; random trajectories come from
-:func:`gd_analyze.io.trajectory.random_trajectories`; payload sweeps are in
+:func:`gd_analyze.io.planning.random_trajectories`; payload sweeps are in
 :mod:`gd_analyze.workflows.payload`.
 """
 
@@ -34,7 +34,7 @@ from ..core.dalembert import COMPILED_MIN_SETPOINTS, DEFAULT_CHUNK, GDTerms, gd_
 from ..core.ranking import DEFAULT_DOMINANCE, DEFAULT_NEGLIGIBLE, element_labels
 from ..core.simplified import TorqueErrorAccumulator, choice_masks, merge_choices, simplified_torque
 from ..errors import InputError
-from ..io.datasets import attribute_value, strings
+from ..io.schema import attribute_value, strings
 from ..io.sweep_datasets import sweep_dataset
 from .analyze import analysis_pass
 

@@ -1,0 +1,359 @@
+"""Planning: quintic rest-to-rest trajectories within a robot's limits, random ones for sweeps.
+
+:func:`plan_quintic` makes the ``gd-analyze plan`` trajectory: a quintic polynomial in time per
+joint, from rest to rest, at the shortest duration within the velocity and acceleration limits
+(:func:`quintic_duration`), sampled at N set points (31, as in Sec. 3.4.1 of Fu, Gonzalez & Lee
+1987). :func:`random_trajectories` draws many for a sweep; :func:`write_provenance` records how
+a planned file was made.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import math
+from pathlib import Path
+
+import numpy as np
+
+from ..files import atomic_path, file_sha256
+from .trajectory import Trajectory
+
+__all__ = ["DEFAULT_START_DEG", "DEFAULT_GOAL_DEG", "DEFAULT_SETPOINTS", "DEFAULT_QDD_PER_QD",
+           "quintic_duration", "quintic_min_durations", "default_motion", "default_motion_range",
+           "user_positions", "plan_quintic", "random_trajectories", "acceleration_limits",
+           "provenance_path", "write_provenance"]
+
+#: Start of the default planned PUMA 560 motion [deg].
+DEFAULT_START_DEG = (-60.0, 20.0, -150.0, -80.0, -60.0, -120.0)
+#: Goal of the default planned PUMA 560 motion [deg].
+DEFAULT_GOAL_DEG = (60.0, 110.0, -60.0, 80.0, 60.0, 120.0)
+#: Set points of a planned trajectory, as in Sec. 3.4.1.
+DEFAULT_SETPOINTS = 31
+#: Where a robot gives no acceleration limit (a URDF has none), ``plan`` takes
+#: qdd_max_i = DEFAULT_QDD_PER_QD * qd_max_i [1/s]: full speed in 0.5 s. (The Panda's published
+#: limits give ratios of 2.9 to 7.7 s^-1, so the default is on the cautious side.)
+DEFAULT_QDD_PER_QD = 2.0
+
+
+def quintic_duration(robot, q_start, q_goal):
+    """Shortest duration of a rest-to-rest quintic motion within the velocity and acceleration limits.
+
+    Parameters
+    ----------
+    robot : Robot
+        The arm, with limits qd_max [rad/s] and qdd_max [rad/s^2], shape (n,); where qdd_max
+        is NaN (a URDF robot), :func:`acceleration_limits` supplies the default
+        ``DEFAULT_QDD_PER_QD * qd_max``.
+    q_start, q_goal : array_like, shape (n,)
+        Start and goal positions [rad].
+
+    Returns
+    -------
+    float
+        Duration T [s]; 0 if start and goal coincide.
+
+    Raises
+    ------
+    ValueError
+        If a joint has neither an acceleration nor a finite velocity limit.
+
+    Notes
+    -----
+    With s(u) = 10 u^3 - 15 u^4 + 6 u^5, u = t/T, the peak speed is 15/8 |dq|/T (at u = 1/2)
+    and the peak acceleration 10/sqrt(3) |dq|/T^2 (at u = 1/2 -+ sqrt(3)/6), so
+    T = max_i max(15 |dq_i| / (8 qd_max_i), sqrt(10 |dq_i| / (sqrt(3) qdd_max_i))).
+    Fu, Gonzalez & Lee (1987), Ch. 4, plan joint-interpolated motion with the same limits.
+    """
+    t_vel, t_acc = quintic_min_durations(robot, q_start, q_goal)
+    return float(max(t_vel.max(), t_acc.max()))
+
+
+def quintic_min_durations(robot, q_start, q_goal):
+    """Per joint, the shortest quintic duration within its velocity and its acceleration limit.
+
+    Parameters
+    ----------
+    robot, q_start, q_goal
+        As for :func:`quintic_duration`: the arm with its limits, and start and goal
+        positions, shape (n,) [rad].
+
+    Returns
+    -------
+    t_vel, t_acc : ndarray, shape (n,)
+        15 |dq_i| / (8 qd_max_i) and sqrt(10 |dq_i| / (sqrt(3) qdd_max_i)) [s] (see
+        :func:`quintic_duration`).
+    """
+    dq = np.abs(np.asarray(q_goal, float) - np.asarray(q_start, float))
+    t_vel = 15.0 * dq / (8.0 * robot.qd_max)
+    t_acc = np.sqrt(10.0 * dq / (math.sqrt(3.0) * acceleration_limits(robot)[0]))
+    return t_vel, t_acc
+
+
+def default_motion(robot):
+    """The default start and goal of ``gd-analyze plan`` for a robot.
+
+    Parameters
+    ----------
+    robot : Robot
+        The arm, with n joints and position limits q_min, q_max [rad or m].
+
+    Returns
+    -------
+    q_start, q_goal : ndarray, shape (n,)
+        [rad or m]. The PUMA 560 gets :data:`DEFAULT_START_DEG` -> :data:`DEFAULT_GOAL_DEG`;
+        any other robot moves every joint from a quarter to three quarters of its range, or,
+        where a limit is infinite, from -60 to 60 deg (revolute) or from 0 to 0.2 m
+        (prismatic).
+    """
+    if robot.name == "puma560" and robot.n == len(DEFAULT_START_DEG):
+        return np.radians(DEFAULT_START_DEG), np.radians(DEFAULT_GOAL_DEG)
+    lo, hi = np.asarray(robot.q_min, float), np.asarray(robot.q_max, float)
+    finite = np.isfinite(lo) & np.isfinite(hi)
+    pris = np.asarray(robot.prismatic, bool)
+    lo, hi = np.where(finite, lo, 0.0), np.where(finite, hi, 0.0)   # no inf - inf below
+    start = np.where(finite, lo + 0.25 * (hi - lo), np.where(pris, 0.0, -math.pi / 3))
+    goal = np.where(finite, lo + 0.75 * (hi - lo), np.where(pris, 0.2, math.pi / 3))
+    return start, goal
+
+
+def user_positions(robot, values):
+    """Joint positions given by a user in degrees (revolute) and metres (prismatic), in SI.
+
+    Parameters
+    ----------
+    robot : Robot
+        The arm, with n joints.
+    values : sequence of float, length n
+        [deg] for a revolute joint, [m] for a prismatic one.
+
+    Returns
+    -------
+    ndarray, shape (n,)
+        [rad or m].
+    """
+    values = np.asarray(values, dtype=float)
+    return np.where(np.asarray(robot.prismatic, bool), values, np.radians(values))
+
+
+def plan_quintic(robot, q_start, q_goal, n_setpoints=DEFAULT_SETPOINTS, duration=None):
+    """Quintic joint-interpolated rest-to-rest motion at the shortest admissible duration.
+
+    Parameters
+    ----------
+    robot : Robot
+        The arm, with n joints and velocity/acceleration limits.
+    q_start, q_goal : array_like, shape (n,)
+        Start and goal positions [rad].
+    n_setpoints : int, optional
+        Number of set points N, evenly spaced in time, both ends included (default 31).
+    duration : float, optional
+        Duration [s]; by default :func:`quintic_duration`.
+
+    Returns
+    -------
+    Trajectory
+        t (N,) [s], q, qd, qdd (N, n) [rad, rad/s, rad/s^2]; zero velocity and acceleration at
+        both ends; ``derivatives = "quintic"``.
+
+    Raises
+    ------
+    ValueError
+        If n_setpoints < 2, the positions do not have n entries, or start equals goal with no
+        duration given.
+    """
+    q_start = np.asarray(q_start, dtype=float)
+    q_goal = np.asarray(q_goal, dtype=float)
+    if q_start.shape != (robot.n,) or q_goal.shape != (robot.n,):
+        raise ValueError(f"start and goal need {robot.n} joint positions")
+    if int(n_setpoints) < 2:
+        raise ValueError("a trajectory needs at least 2 set points")
+    T = quintic_duration(robot, q_start, q_goal) if duration is None else float(duration)
+    if T <= 0:
+        raise ValueError("start and goal coincide: give a positive duration")
+    t = np.linspace(0.0, T, int(n_setpoints))
+    u = (t / T)[:, None]
+    s = u**3 * (10 - 15 * u + 6 * u**2)
+    sd = 30 * u**2 * (1 - u) ** 2 / T
+    sdd = 60 * u * (1 - u) * (1 - 2 * u) / T**2
+    dq = q_goal - q_start
+    pris = np.asarray(getattr(robot, "prismatic", np.zeros(robot.n, bool)), bool)
+    if pris.any():          # degrees for revolute joints, metres for prismatic ones
+        def show(x):
+            return np.where(pris, x, np.degrees(x)).round(6).tolist()
+        units = "deg or m"
+    else:
+        def show(x):
+            return np.degrees(x).round(6).tolist()
+        units = "deg"
+    return Trajectory(t=t, q=q_start + s * dq, qd=sd * dq, qdd=sdd * dq, derivatives="quintic",
+                      source=f"quintic {show(q_start)} -> {show(q_goal)} {units}, "
+                             f"T = {T:.6g} s")
+
+
+def default_motion_range(robot):
+    """Position range for drawing random motions: the limits, or a stand-in where infinite.
+
+    Parameters
+    ----------
+    robot : Robot
+        The arm, with limits q_min, q_max [rad or m] (may be infinite) and ``prismatic``.
+
+    Returns
+    -------
+    lo, hi : ndarray, shape (n,)
+        The limits where finite; -pi, pi for a revolute and 0, 0.2 m for a prismatic joint
+        where not.
+    """
+    lo, hi = np.asarray(robot.q_min, float), np.asarray(robot.q_max, float)
+    pris = np.asarray(getattr(robot, "prismatic", np.zeros(robot.n, bool)), bool)
+    lo = np.where(np.isfinite(lo), lo, np.where(pris, 0.0, -math.pi))
+    hi = np.where(np.isfinite(hi), hi, np.where(pris, 0.2, math.pi))
+    return lo, hi
+
+
+def random_trajectories(robot, k, seed=0, n_setpoints=31):
+    """K random rest-to-rest quintic trajectories inside the joint limits.
+
+    Parameters
+    ----------
+    robot : Robot
+        The arm, with n joints, position limits q_min, q_max [rad] and velocity and
+        acceleration limits qd_max [rad/s], qdd_max [rad/s^2].
+    k : int
+        Number of trajectories K, >= 1.
+    seed : int, optional
+        Seed of the :class:`numpy.random.Generator` (``numpy.random.default_rng(seed)``).
+    n_setpoints : int, optional
+        Set points N per trajectory, >= 2 (31, as in Sec. 3.4.1).
+
+    Returns
+    -------
+    list of Trajectory
+        Trajectory i goes from a start to a goal drawn uniformly inside [q_min, q_max] (start
+        and goal of every trajectory drawn in turn, shape (n,) each) in the shortest time
+        within the velocity and acceleration limits
+        (:func:`plan_quintic`); t (N,) [s], q, qd, qdd (N, n) [rad,
+        rad/s, rad/s^2]; its ``source`` is ``"random-<seed>-<i>"`` and its ``sha256`` is "".
+
+    Raises
+    ------
+    ValueError
+        If k < 1, n_setpoints < 2, or the seed is not a non-negative integer.
+
+    Notes
+    -----
+    Where a position limit is infinite (a continuous joint), the draw is within -+180 deg
+    (revolute) or 0 to 0.2 m (prismatic).
+    The quintic's peak speed and acceleration are reached between set points in general, so
+    the sampled |qd| and |qdd| stay within the limits. Source: Sec. 3.4.1 of Fu, Gonzalez &
+    Lee (1987) ranks one preplanned PUMA 560 trajectory of 31 set points; a sweep repeats that
+    over many.
+    """
+    k = int(k)
+    if k < 1:
+        raise ValueError(f"the number of trajectories must be >= 1, got {k}")
+    if int(n_setpoints) < 2:
+        raise ValueError("a trajectory needs at least 2 set points")
+    if isinstance(seed, bool) or int(seed) != seed or int(seed) < 0:
+        raise ValueError(f"the seed must be a non-negative integer, got {seed!r}")
+    seed = int(seed)
+    rng = np.random.default_rng(seed)
+    lo, hi = default_motion_range(robot)
+    out = []
+    for i in range(k):
+        q_start = rng.uniform(lo, hi)
+        q_goal = rng.uniform(lo, hi)
+        traj = plan_quintic(robot, q_start, q_goal, n_setpoints=int(n_setpoints))
+        out.append(dataclasses.replace(traj, source=f"random-{seed}-{i}", sha256=""))
+    return out
+
+
+def acceleration_limits(robot, qdd_max=None):
+    """The acceleration limits a plan uses, and where they come from.
+
+    Parameters
+    ----------
+    robot : Robot
+        The arm: velocity limits qd_max and acceleration limits qdd_max (NaN where unknown),
+        shape (n,) [rad/s, rad/s^2; m/s, m/s^2 for a prismatic joint].
+    qdd_max : array_like, shape (n,), optional
+        Limits given by the user, in SI units [rad/s^2 or m/s^2]; they replace the robot's.
+
+    Returns
+    -------
+    qdd_max : ndarray, shape (n,)
+        The limits [rad/s^2 or m/s^2].
+    source : str
+        ``"robot"``, ``"--qdd-max"``, or the default's rule and the joints it applies to.
+
+    Raises
+    ------
+    ValueError
+        If given limits do not have n entries or are not finite and positive, or a joint with
+        no acceleration limit has no finite velocity limit either.
+    """
+    n = robot.n
+    if qdd_max is not None:
+        qdd = np.asarray(qdd_max, dtype=float).reshape(-1)
+        if qdd.shape != (n,):
+            raise ValueError(f"{qdd.size} acceleration limits for {n} joints")
+        if not (np.isfinite(qdd).all() and (qdd > 0).all()):
+            raise ValueError("acceleration limits must be finite and positive")
+        return qdd, "--qdd-max"
+    qdd = np.array(robot.qdd_max, dtype=float)
+    missing = ~np.isfinite(qdd)
+    if not missing.any():
+        return qdd, "robot"
+    qd = np.asarray(robot.qd_max, dtype=float)
+    bad = missing & ~(np.isfinite(qd) & (qd > 0))
+    if bad.any():
+        raise ValueError(f"joint {int(np.argmax(bad)) + 1} has neither an acceleration nor a "
+                         "finite velocity limit")
+    qdd[missing] = DEFAULT_QDD_PER_QD * qd[missing]
+    joints = ", ".join(str(j + 1) for j in np.flatnonzero(missing))
+    return qdd, (f"default {DEFAULT_QDD_PER_QD:g} s^-1 x qd_max for joints {joints} (the robot "
+                 "gives no acceleration limits)")
+
+
+def provenance_path(csv_path):
+    """The provenance file written beside a planned trajectory: ``<stem>.provenance.json``.
+
+    Parameters
+    ----------
+    csv_path : str or os.PathLike
+
+    Returns
+    -------
+    pathlib.Path
+
+    Examples
+    --------
+    >>> provenance_path("data/panda_trajectory.csv").name
+    'panda_trajectory.provenance.json'
+    """
+    p = Path(csv_path)
+    return p.with_name(p.stem + ".provenance.json")
+
+
+def write_provenance(csv_path, record):
+    """Write a planned trajectory's provenance beside it, atomically, as JSON.
+
+    Parameters
+    ----------
+    csv_path : str or os.PathLike
+        The trajectory CSV (already written: its SHA-256 is recorded).
+    record : dict
+        Tool, command, robot and settings (JSON-serialisable).
+
+    Returns
+    -------
+    pathlib.Path
+        The file written (:func:`provenance_path`).
+    """
+    import json
+
+    out = provenance_path(csv_path)
+    doc = {**record, "output": Path(csv_path).name, "output_sha256": file_sha256(csv_path)}
+    with atomic_path(out) as tmp:
+        Path(tmp).write_text(json.dumps(doc, indent=2, allow_nan=False) + "\n")
+    return out

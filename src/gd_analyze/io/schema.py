@@ -1,0 +1,345 @@
+"""The plumbing every gd-analyze dataset shares: variables, CF attributes, writing, reading.
+
+One :func:`var` (``units`` and ``long_name`` on every variable), one block of CF-style global
+attributes with the provenance (:func:`global_attributes`), one writer (:func:`write_dataset`,
+atomic, h5netcdf) and one reader (:func:`open_results`, :func:`open_sweep`). The schemas that use
+it: :mod:`gd_analyze.io.datasets` (``results.h5``), :mod:`gd_analyze.io.sweep_datasets`,
+:mod:`gd_analyze.io.control_dataset`.
+"""
+
+from __future__ import annotations
+
+import datetime
+import os
+
+import numpy as np
+
+from ..errors import InputError
+from ..files import atomic_path
+
+__all__ = ["CONVENTIONS", "MIXED_UNITS", "var", "attribute_value", "global_attributes",
+           "element_coords", "strings", "write_dataset", "append_dataset", "open_results",
+           "open_sweep", "skip_dask"]
+
+#: The CF conventions the datasets follow.
+CONVENTIONS = "CF-1.10"
+#: Units of a variable over the element dim (D elements in kg m2, h elements in N m).
+MIXED_UNITS = "kg m2 (D) or N m (h)"
+
+
+def skip_dask():
+    """Keep xarray from importing dask in a process that has not imported it.
+
+    xarray imports dask (about 0.3 s, and 1-2 s with ``dask.array``) the first time it builds
+    a variable, only to check whether the data is a dask array. No object can be a dask array
+    or collection before dask is imported, so this installs two checks that answer "no" while
+    ``dask`` is not in ``sys.modules`` and defer to xarray's own once it is: always correct, so
+    a later dask user (the sweep) is unaffected.
+
+    Returns
+    -------
+    bool
+        True if the checks are installed; False if xarray's internals differ from those
+        expected (then nothing is changed and xarray imports dask as usual).
+
+    Notes
+    -----
+    Writing with :meth:`xarray.Dataset.to_netcdf` still imports dask (it asks for the dask
+    scheduler): :func:`append_dataset` writes without it.
+    """
+    import sys
+
+    try:
+        from xarray.namedarray import pycompat, utils
+    except ImportError:          # pragma: no cover - another xarray layout
+        return False
+    cache = getattr(pycompat, "_cached_duck_array_modules", None)
+    module_type = getattr(pycompat, "DuckArrayModule", None)
+    collection = getattr(utils, "is_dask_collection", None)
+    if not isinstance(cache, dict) or module_type is None or collection is None:
+        return False
+    if getattr(collection, "_gd_lazy", False):
+        return True
+
+    class _LazyDask(module_type):
+        """xarray's record of dask: absent until dask is imported, then the real one."""
+
+        def __init__(self):                  # noqa: D107 - no import here
+            self._real = None
+
+        def _get(self):
+            if "dask" not in sys.modules:
+                return None
+            if self._real is None:
+                self._real = module_type("dask")
+            return self._real
+
+        module = property(lambda self: self._get().module if self._get() else None)
+        version = property(lambda self: self._get().version if self._get() else
+                           __import__("packaging.version").version.Version("0"))
+        type = property(lambda self: self._get().type if self._get() else ())
+        available = property(lambda self: bool(self._get() and self._get().available))
+
+    def is_dask_collection(x):
+        return "dask" in sys.modules and collection(x)
+
+    is_dask_collection._gd_lazy = True
+    if "dask" not in cache:
+        cache["dask"] = _LazyDask()
+    utils.is_dask_collection = is_dask_collection
+    return True
+
+
+def append_dataset(ds, path):
+    """Add a dataset's variables and attributes to a netCDF4/HDF5 file, through h5netcdf.
+
+    Parameters
+    ----------
+    ds : xarray.Dataset
+        In memory (numpy-backed).
+    path : str or os.PathLike
+        An existing file, opened in append mode.
+
+    Raises
+    ------
+    OSError
+        If the file cannot be written.
+
+    Notes
+    -----
+    The same encoding as ``ds.to_netcdf(path, mode="a", engine="h5netcdf")``, without the
+    dask scheduler query of ``to_netcdf`` (which imports dask): see :func:`skip_dask`.
+    """
+    from xarray.backends import H5NetCDFStore
+    from xarray.backends.locks import HDF5_LOCK
+
+    # an explicit lock: the default one asks dask for its scheduler
+    store = H5NetCDFStore.open(str(path), mode="a", lock=HDF5_LOCK)
+    try:
+        ds.dump_to_store(store)
+    finally:
+        store.close()
+
+
+def var(dims, data, units, long_name, **attrs):
+    """One variable as xarray takes it: ``(dims, data, attrs)`` with ``units`` and ``long_name``.
+
+    Parameters
+    ----------
+    dims : tuple of str
+        Dimension names.
+    data : array_like
+        Values.
+    units : str
+        UDUNITS string, e.g. ``"N m"``, ``"kg m2"``, ``"1"``.
+    long_name : str
+        What the variable is.
+    **attrs
+        More attributes (e.g. CF ``flag_values``).
+
+    Returns
+    -------
+    tuple
+    """
+    return (dims, data, {"units": units, "long_name": long_name, **attrs})
+
+
+def attribute_value(value):
+    """A value as an HDF5 attribute can hold it: numbers, strings or numeric arrays.
+
+    Parameters
+    ----------
+    value : object
+        bool, None, a sequence, a dict or a scalar.
+
+    Returns
+    -------
+    int, float, str or ndarray
+        bools as 0/1, None as "", numeric sequences as arrays, other sequences and dicts as
+        "; "-joined text.
+    """
+    if isinstance(value, (bool, np.bool_)):
+        return int(value)
+    if value is None:
+        return ""
+    if isinstance(value, (list, tuple)):
+        arr = np.asarray(value)
+        return arr if arr.dtype.kind in "iuf" else "; ".join(map(str, value))
+    if isinstance(value, dict):
+        return "; ".join(f"{k}={v}" for k, v in value.items())
+    return value
+
+
+def global_attributes(robot, title, references="Fu, Gonzalez & Lee (1987), Robotics, Sec. 3.4; "
+                      "Lee, Lee & Nigam (1983)", **extra):
+    """The CF-style global attributes every gd-analyze dataset carries: its provenance.
+
+    Parameters
+    ----------
+    robot : Robot
+        The arm: its name, description, reference, source file and SHA-256, and gravity
+        [m/s^2] are recorded.
+    title : str
+        The dataset's title.
+    references : str, optional
+        The sources of the method.
+    **extra
+        More attributes (passed through :func:`attribute_value`), e.g. thresholds, input files
+        and their SHA-256, settings.
+
+    Returns
+    -------
+    dict
+        ``Conventions``, ``title``, ``source``, ``references``, ``history``,
+        ``gd_analyze_version``, ``robot``, ``robot_description``, ``robot_reference``,
+        ``robot_source``, ``robot_sha256``, ``gravity``, ``gravity_units``, then ``extra``.
+    """
+    from .._version import __version__
+
+    now = datetime.datetime.now(datetime.timezone.utc).replace(microsecond=0).isoformat()
+    attrs = {
+        "Conventions": CONVENTIONS,
+        "title": title,
+        "source": f"gd-analyze {__version__}",
+        "references": references,
+        "history": f"{now} created by gd-analyze {__version__}",
+        "gd_analyze_version": __version__,
+        "robot": robot.name,
+        "robot_description": robot.description,
+        "robot_reference": robot.reference,
+        "robot_source": robot.source,
+        "robot_sha256": robot.sha256,
+        "gravity": np.asarray(robot.gravity, dtype=float),
+        "gravity_units": "m s-2",
+    }
+    attrs.update({k: attribute_value(v) for k, v in extra.items()})
+    return attrs
+
+
+def element_coords(n):
+    """Coordinates ``element`` (with ``element_units``) and ``joint`` for an n-joint robot.
+
+    Parameters
+    ----------
+    n : int
+        Number of joints.
+
+    Returns
+    -------
+    dict
+        name -> (dims, values, attrs): the M = n (n + 1) / 2 + n ranked element labels
+        ``"D11"`` .. ``"hn"``, their units (kg m2 for D, N m for h) and joints 1 .. n.
+    """
+    from ..core.ranking import element_labels
+
+    labels = element_labels(n)
+    return {
+        "element": ("element", np.array(labels, dtype=str),
+                    {"long_name": "ranked element of D (i <= j) or h", "units": "1"}),
+        "element_units": ("element",
+                          np.array(["kg m2" if lab.startswith("D") else "N m" for lab in labels],
+                                   dtype=str),
+                          {"long_name": "units of the element", "units": "1"}),
+        "joint": ("joint", np.arange(1, n + 1), {"long_name": "joint", "units": "1"}),
+    }
+
+
+def strings(values):
+    """Decode an array of bytes or str read from a file into a list of str.
+
+    Parameters
+    ----------
+    values : array_like
+        Strings as stored.
+
+    Returns
+    -------
+    list of str
+    """
+    return [v.decode() if isinstance(v, bytes) else str(v) for v in np.asarray(values).ravel()]
+
+
+def write_dataset(ds, path):
+    """Write a dataset to HDF5/netCDF4 with h5netcdf, atomically.
+
+    Parameters
+    ----------
+    ds : xarray.Dataset
+        The dataset.
+    path : str or os.PathLike
+        Destination, e.g. ``results.h5``.
+
+    Raises
+    ------
+    OSError
+        If the file cannot be written.
+    """
+    encoding = {name: {"zlib": True, "complevel": 4}
+                for name, var in ds.data_vars.items() if var.dtype.kind == "f" and var.ndim >= 2}
+    with atomic_path(path) as tmp:
+        ds.to_netcdf(tmp, engine="h5netcdf", encoding=encoding, invalid_netcdf=False)
+
+
+def open_results(path, lazy=False):
+    """Open a results file written by :func:`write_dataset`.
+
+    Parameters
+    ----------
+    path : str or os.PathLike
+        The ``results.h5`` file.
+    lazy : bool, optional
+        Leave the variables on disk, to be read in slices (the report of a long trajectory);
+        the caller closes the dataset.
+
+    Returns
+    -------
+    xarray.Dataset
+        Loaded into memory and the file closed; or, if ``lazy``, open and read on access.
+
+    Raises
+    ------
+    InputError
+        If the file is missing or not a readable netCDF4/HDF5 file.
+    """
+    import xarray as xr
+
+    if not os.path.isfile(path):
+        raise InputError("no such file", path)
+    try:
+        if lazy:
+            return xr.open_dataset(path, engine="h5netcdf")
+        with xr.open_dataset(path, engine="h5netcdf") as ds:
+            return ds.load()
+    except (OSError, ValueError) as exc:
+        raise InputError(f"not a gd-analyze results file: {exc}", path) from None
+
+
+def open_sweep(path, kind="sweep"):
+    """Read a sweep file written by :func:`gd_analyze.io.schema.write_dataset`.
+
+    Parameters
+    ----------
+    path : str or os.PathLike
+        The ``sweep.h5`` (or payload-sweep) file.
+    kind : {"sweep", "payload"}, optional
+        What the file must hold: a trajectory sweep (dim ``trajectory``) or a payload sweep
+        (dim ``payload``).
+
+    Returns
+    -------
+    xarray.Dataset
+        Loaded into memory; the file is closed.
+
+    Raises
+    ------
+    InputError
+        If the file is missing, unreadable, or not a sweep dataset of that kind.
+    """
+    ds = open_results(path)
+    dim = {"sweep": "trajectory", "payload": "payload"}.get(kind)
+    if dim is None:
+        raise ValueError(f"kind must be 'sweep' or 'payload', got {kind!r}")
+    if "share_tran" not in ds.variables or dim not in ds["share_tran"].dims:
+        raise InputError(f"not a gd-analyze {kind} sweep file (no share_tran over {dim})",
+                         str(path))
+    return ds

@@ -1,0 +1,256 @@
+"""The sweep report's figures: share_tran over the trajectories in the layout of Figs. 3.10 and
+3.11 of Fu, Gonzalez & Lee (1987), Sec. 3.4.1, the class fractions and the torque errors.
+
+Drawn from a stored sweep dataset (:func:`gd_analyze.io.schema.open_sweep`); nothing is
+recomputed.
+"""
+
+from __future__ import annotations
+
+import textwrap
+
+import numpy as np
+
+from .common import CLASS_COLOURS as _CLASS_COLOURS, SUPTITLE_RC as _RC
+from .common import gridspec as _gridspec, strings as _strings, style as _style
+from .common import check as _check, grid_shape, thresholds as _thresholds
+from .figures import CLASS_LETTER as _LETTER
+from .figures import payload_figure
+from .main_figures import element_label
+from ..core.ranking import CLASSES
+
+__all__ = ["make_sweep_figures", "REQUIRED"]
+
+#: The variables of a sweep dataset the figures and the report read.
+REQUIRED = ("share_tran", "dominance", "choice", "source", "duration", "tau_peak",
+             "tau_error_relative_peak", "class_fraction", "share_tran_min", "share_tran_median",
+             "share_tran_max", "merged_choice", "merged_tau_error_relative_peak",
+             "merged_error_peak", "merged_error_rms", "merged_error_tau_peak",
+             "merged_error_relative_peak", "merged_error_relative_rms")
+
+# The choices of the merged model in the colours of their classes.
+_CHOICE_COLOURS = {"tran": _CLASS_COLOURS["translational"], "rot": _CLASS_COLOURS["rotational"],
+                   "both": _CLASS_COLOURS["both"], "none": _CLASS_COLOURS["negligible"]}
+_OWN_COLOUR, _MERGED_COLOUR = "#009E73", "#000000"
+#: Width of every figure: the text of a page [in].
+_PAGE_WIDTH = 7.2
+#: Floor of the logarithmic torque-error axis (errors below it are drawn at it).
+_ERROR_FLOOR = 1e-16
+
+
+def _fraction_text(fractions):
+    parts = [f"{_LETTER[c]} {100 * f:.0f}%" if f >= 0.01 else f"{_LETTER[c]} {100 * f:.1g}%"
+             for c, f in zip(CLASSES, fractions) if f > 0]
+    return " \u00b7 ".join(parts)
+
+
+def _share_panel(ax, values, label, merged, fractions, s, small):
+    """One element: a box of its share_tran over the trajectories, thresholds s and 1 - s."""
+    ax.axhspan(s, 1.0, color=_CLASS_COLOURS["translational"], alpha=0.09, lw=0)
+    ax.axhspan(0.0, 1.0 - s, color=_CLASS_COLOURS["rotational"], alpha=0.09, lw=0)
+    for y in (s, 1.0 - s):
+        ax.axhline(y, color="0.35", lw=0.6, ls="--")
+    finite = values[np.isfinite(values)]
+    if finite.size:
+        bp = ax.boxplot([finite], positions=[0.0], widths=0.55, whis=(0, 100), showfliers=False,
+                        patch_artist=True, manage_ticks=False)
+        for box in bp["boxes"]:
+            box.set(facecolor="white", edgecolor="black", linewidth=0.8)
+        for key in ("whiskers", "caps"):
+            for line in bp[key]:
+                line.set(color="black", linewidth=0.7)
+        for line in bp["medians"]:
+            line.set(color=_CHOICE_COLOURS.get(merged, "black"), linewidth=1.6)
+        if finite.size <= 60:
+            jitter = np.linspace(-0.18, 0.18, finite.size) if finite.size > 1 else [0.0]
+            ax.plot(np.asarray(jitter) + 0.45, finite, ".", ms=2.0, color="0.3")
+    else:
+        ax.text(0.5, 0.5, "no data", transform=ax.transAxes, ha="center", va="center")
+    ax.set_xlim(-0.6, 0.8)
+    ax.set_ylim(-0.03, 1.03)
+    ax.set_xticks([])
+    ax.set_yticks([0.0, 0.5, 1.0])
+    ax.yaxis.set_major_formatter("{x:.2g}")
+    ax.tick_params(length=2.0, pad=1.5)
+    ax.set_title(f"{label} \u2192 {merged}", color=_CHOICE_COLOURS.get(merged, "black"), pad=2.5)
+    ax.set_xlabel(_fraction_text(fractions), fontsize=7.0, labelpad=1.5,
+                  color="0.15")
+
+
+def _key_text(ds, K):
+    s, e = _thresholds(ds)
+    return textwrap.fill(
+        f"Box: share_tran = \u03a3|tran| / (\u03a3|tran| + \u03a3|rot|) of the element over the "
+        f"{K} trajectories (box: quartiles; whiskers: min and max; coloured bar: median). "
+        f"Dashed lines: s = {s:g} and 1 \u2212 s; blue band: translational, orange band: "
+        f"rotational. Title: element \u2192 choice of the merged model. Bottom: fraction of "
+        f"trajectories per class (T translational, R rotational, B both, N negligible, "
+        f"e = {e:g}); the share of a negligible element may compare round-off-level "
+        f"values.", 52)
+
+
+def _fig_D(ds):
+    from matplotlib.figure import Figure
+
+    n = ds.sizes["joint"]
+    labels = _strings(ds["element"].values)
+    share = ds["share_tran"].values
+    merged = dict(zip(labels, _strings(ds["merged_choice"].values)))
+    frac = ds["class_fraction"].values
+    s, _ = _thresholds(ds)
+    W = _PAGE_WIDTH
+    H = 0.75 + n * 0.72 + (n - 1) * 0.42
+    fig = Figure(figsize=(W, H))
+    gs = _gridspec(fig, n, n, left=0.5, right=0.08, top=0.45, bottom=0.3, wgap=0.28, hgap=0.42)
+    for i in range(n):
+        for j in range(i, n):
+            label = element_label("D", i + 1, j + 1)
+            k = labels.index(label)
+            ax = fig.add_subplot(gs[i, j])
+            _share_panel(ax, share[:, k], label, merged[label], frac[k], s, small=True)
+            ax.tick_params(labelleft=(i == j))
+    if n > 1:
+        k = n // 2
+        lax = fig.add_subplot(gs[k:, :k])
+        lax.axis("off")
+        lax.text(0.0, 0.9, _key_text(ds, ds.sizes["trajectory"]), transform=lax.transAxes,
+                 va="top", ha="left", fontsize=7.5, linespacing=1.35)
+    fig.supylabel("share_tran [1]", x=0.05 / W, ha="left")
+    fig.suptitle("Translational share of the elements of D over the sweep "
+                 "(layout of Fig. 3.10)", y=1 - 0.15 / H, va="top")
+    return fig
+
+
+def _fig_h(ds):
+    from matplotlib.figure import Figure
+
+    n = ds.sizes["joint"]
+    labels = _strings(ds["element"].values)
+    share = ds["share_tran"].values
+    merged = dict(zip(labels, _strings(ds["merged_choice"].values)))
+    frac = ds["class_fraction"].values
+    s, _ = _thresholds(ds)
+    rows, cols = grid_shape(n, 3)
+    W, H = _PAGE_WIDTH, 1.9 + 1.9 * rows
+    fig = Figure(figsize=(W, H))
+    gs = _gridspec(fig, rows, cols, left=0.65, right=0.1, top=0.5, bottom=1.2, wgap=0.6,
+                   hgap=0.5)
+    for i in range(n):
+        label = f"h{i + 1}"
+        k = labels.index(label)
+        ax = fig.add_subplot(gs[i // cols, i % cols])
+        _share_panel(ax, share[:, k], label, merged[label], frac[k], s, small=False)
+        ax.set_ylabel("share_tran [1]")
+    key = textwrap.fill(_key_text(ds, ds.sizes["trajectory"]).replace("\n", " "), 120)
+    fig.text(0.3 / W, 0.1 / H, key, ha="left", va="bottom", fontsize=7.0, linespacing=1.3)
+    fig.suptitle("Translational share of the elements of h over the sweep "
+                 "(layout of Fig. 3.11)", y=1 - 0.15 / H, va="top")
+    return fig
+
+
+def _fig_classes(ds):
+    from matplotlib.figure import Figure
+    from matplotlib.patches import Patch
+
+    labels = _strings(ds["element"].values)
+    frac = ds["class_fraction"].values
+    merged = _strings(ds["merged_choice"].values)
+    M = len(labels)
+    W, H = _PAGE_WIDTH, 1.5 + 0.17 * M
+    fig = Figure(figsize=(W, H))
+    ax = fig.add_axes((1.0 / W, 0.8 / H, (W - 2.6) / W, (H - 1.4) / H))
+    y = np.arange(M)
+    left = np.zeros(M)
+    for c_idx, cls in enumerate(CLASSES):
+        ax.barh(y, frac[:, c_idx], left=left, color=_CLASS_COLOURS[cls], height=0.75,
+                label=cls, edgecolor="white", linewidth=0.3)
+        left += frac[:, c_idx]
+    ax.set_yticks(y, labels)
+    ax.set_ylim(M - 0.5, -0.5)
+    ax.set_xlim(0, 1)
+    ax.set_xlabel("fraction of trajectories [1]")
+    ax.grid(axis="y", visible=False)
+    for k, ch in enumerate(merged):
+        ax.text(1.02, k, f"merged: {ch}", transform=ax.get_yaxis_transform(), va="center",
+                ha="left", fontsize=7, color=_CHOICE_COLOURS.get(ch, "black"))
+    fig.legend(handles=[Patch(color=_CLASS_COLOURS[c], label=c) for c in CLASSES],
+               loc="lower center", ncol=4, frameon=False, bbox_to_anchor=(0.5, 0.0))
+    fig.suptitle(f"Dominance class per element over {ds.sizes['trajectory']} trajectories",
+                 y=1 - 0.12 / H, va="top")
+    return fig
+
+
+def _fig_error(ds):
+    from matplotlib.figure import Figure
+    from matplotlib.lines import Line2D
+
+    n = ds.sizes["joint"]
+    own = ds["tau_error_relative_peak"].values
+    merged = ds["merged_tau_error_relative_peak"].values
+    overall = ds["merged_error_relative_peak"].values
+    W, H = _PAGE_WIDTH, 3.6
+    fig = Figure(figsize=(W, H))
+    ax = fig.add_axes((0.9 / W, 0.9 / H, (W - 1.2) / W, (H - 1.6) / H))
+    for j in range(n):
+        for off, data, colour in ((-0.18, own[:, j], _OWN_COLOUR),
+                                  (0.18, merged[:, j], _MERGED_COLOUR)):
+            vals = data[np.isfinite(data)]
+            if not vals.size:
+                continue
+            vals = np.maximum(vals, _ERROR_FLOOR)
+            bp = ax.boxplot([vals], positions=[j + 1 + off], widths=0.3, whis=(0, 100),
+                            showfliers=False, manage_ticks=False)
+            for key in ("boxes", "whiskers", "caps", "medians"):
+                for line in bp[key]:
+                    line.set(color=colour, linewidth=0.9)
+        if np.isfinite(overall[j]):
+            ax.plot(j + 1.18, max(overall[j], _ERROR_FLOOR), marker="D", ms=4, color="#CC79A7",
+                    ls="none")
+    ax.set_yscale("log")
+    ax.set_xticks(np.arange(1, n + 1), [f"joint {j + 1}" for j in range(n)])
+    ax.set_xlim(0.4, n + 0.6)
+    ax.set_ylabel("peak |\u03c4\u209b \u2212 \u03c4| / peak |\u03c4| [1]")
+    ax.legend(handles=[Line2D([], [], color=_OWN_COLOUR, label="own simplified model, per "
+                              "trajectory"),
+                       Line2D([], [], color=_MERGED_COLOUR, label="merged model, per trajectory"),
+                       Line2D([], [], color="#CC79A7", marker="D", ls="none",
+                              label="merged model, over all trajectories")],
+              loc="upper center", bbox_to_anchor=(0.5, -0.08), ncol=3, frameon=False,
+              fontsize=7)
+    fig.suptitle("Relative peak torque error per joint (box: quartiles, whiskers: min/max;\n"
+                 f"values below {_ERROR_FLOOR:g} drawn at it)", y=1 - 0.08 / H, va="top",
+                 fontsize=8.5)
+    return fig
+
+
+def make_sweep_figures(ds, payload=None):
+    """Make the sweep report's figures from a stored sweep.
+
+    Parameters
+    ----------
+    ds : xarray.Dataset
+        A sweep dataset from :func:`gd_analyze.workflows.sweep.run_sweep` (K trajectories, M elements,
+        n joints).
+    payload : xarray.Dataset, optional
+        A payload sweep from :func:`gd_analyze.workflows.payload.payload_sweep`.
+
+    Returns
+    -------
+    dict of str to matplotlib.figure.Figure
+        ``"D"``: box plots of share_tran [1] per element of D in the upper-triangle layout of
+        Fig. 3.10; ``"h"``: the same for h (Fig. 3.11); ``"classes"``: class fractions per
+        element; ``"error"``: relative peak torque error per joint of the trajectories' own
+        and of the merged model; ``"payload"`` (if given): :func:`payload_figure`.
+
+    Raises
+    ------
+    InputError
+        If a variable the figures need is missing.
+    """
+    _check(ds, REQUIRED, "sweep")
+    with _style(_RC):
+        figs = {"D": _fig_D(ds), "h": _fig_h(ds), "classes": _fig_classes(ds),
+                "error": _fig_error(ds)}
+    if payload is not None:
+        figs["payload"] = payload_figure(payload)
+    return figs
