@@ -25,7 +25,9 @@ def test_main_job_without_report(tmp_path, capsys):
     out_dir = tmp_path / "out"
     code, out, err = _run(["puma560", SHIPPED, "-o", out_dir, "--no-report"], capsys)
     assert code == 0, err
-    assert sorted(p.name for p in out_dir.iterdir()) == ["results.h5", "simplified_model.json"]
+    assert sorted(p.name for p in out_dir.iterdir()) == ["results.h5", "simplified_model.c",
+                                                         "simplified_model.json",
+                                                         "simplified_model.py"]
     assert "D11" in out and "h6" in out and "torque error" in out
     with xr.open_dataset(out_dir / "results.h5", engine="h5netcdf") as ds:
         assert ds.attrs["dominance_threshold"] == 0.9
@@ -240,7 +242,7 @@ def test_evaluate_under_a_payload(tmp_path, capsys):
     loaded = json.loads(out)
     assert code == 0 and loaded["payload_mass"] == 2.5
     # the model knows nothing of the load: its error grows, most at the shoulder and elbow
-    assert loaded["peak_abs_error"][1] > 100 * bare["peak_abs_error"][1]
+    assert loaded["peak_abs_error"][1] > 50 * bare["peak_abs_error"][1]
 
 
 def test_sweep_command_on_csv_files(tmp_path, capsys):

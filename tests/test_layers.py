@@ -20,7 +20,7 @@ LEAVES = {"errors", "files", "_version"}
 # page engine and tick labels of all three (issue 12)
 SHARED_REPORTS = {"reports.common", "reports.figures", "reports.pages", "reports.drawing",
                   "reports.ticks", "reports.main_figures", "reports.main_text",
-                  "reports.sweep_figures"}
+                  "reports.sweep_figures", "reports.simplified_section"}
 
 
 def _module_name(path):

@@ -181,6 +181,31 @@ def _apply_payload(robot, args):
     return with_payload(robot, args.payload, args.payload_com, args.payload_inertia)
 
 
+def _add_budget_arguments(p, rule=True):
+    g = p.add_argument_group("simplified model (error budget, issue 8)")
+    g.add_argument("--tolerance", metavar="EPS", type=_fraction(0.0, math.inf, "--tolerance",
+                                                                False), default=0.01,
+                   help="error budget: every joint's simplified torque stays within EPS times "
+                        "its scale on the analysed trajectory (default 0.01)")
+    g.add_argument("--torque-floor", metavar="TAU", type=_fraction(0.0, math.inf,
+                                                                   "--torque-floor", False),
+                   default=0.0, help="least scale of a joint torque [N m] (default 0)")
+    if rule:
+        g.add_argument("--rule", choices=("budget", "chapter"), default="budget",
+                       help="budget: by torque contribution within EPS (default); chapter: "
+                            "the share-based classes of Sec. 3.4.1 (no bound)")
+
+
+def _write_sources(model, outdir):
+    """simplified_model.c and simplified_model.py next to the JSON (in the staging folder)."""
+    written = []
+    for name, text in (("simplified_model.c", model.c_source()),
+                       ("simplified_model.py", model.python_source())):
+        path = outdir / name
+        path.write_text(text, encoding="utf-8")
+        written.append(path)
+    return written
+
 def _add_paper_argument(p):
     p.add_argument("--paper", choices=("a4", "letter"), default="a4",
                    help="page size of the PDF report (default a4)")
@@ -217,6 +242,7 @@ def _analyze_parser():
                    default=DEFAULT_NEGLIGIBLE,
                    help=f"an element below E times its scale is negligible (default "
                         f"{DEFAULT_NEGLIGIBLE})")
+    _add_budget_arguments(p)
     p.add_argument("--no-report", action="store_true", help="skip report.html and report.pdf")
     _add_paper_argument(p)
     p.add_argument("--compress", metavar="LEVEL", type=int, choices=range(10), default=0,
@@ -358,6 +384,16 @@ def _sweep_parser():
     p.add_argument("--negligible", metavar="E",
                    type=_fraction(0.0, 1.0, "--negligible", False),
                    default=DEFAULT_NEGLIGIBLE, help=f"default {DEFAULT_NEGLIGIBLE}")
+    p.add_argument("--tolerance", metavar="EPS", type=_fraction(0.0, math.inf, "--tolerance",
+                                                                False),
+                   help="also build one simplified explicit model within EPS on every swept "
+                        "trajectory (budget rule); writes sweep_model.json/.c/.py")
+    p.add_argument("--torque-floor", metavar="TAU", type=_fraction(0.0, math.inf,
+                                                                   "--torque-floor", False),
+                   default=0.0, help="least scale of a joint torque [N m] (default 0)")
+    p.add_argument("--held-out", metavar="K", type=int, default=20,
+                   help="random trajectories (another seed) to measure the sweep model on, "
+                        "not guaranteed (default 20)")
     p.add_argument("--no-report", action="store_true", help="skip the HTML and PDF report")
     _add_paper_argument(p)
     p.add_argument("-q", "--quiet", action="store_true", help="print nothing but errors")
@@ -470,8 +506,8 @@ def _payload_sweep_dataset(robot, trajectory, args):
     return embed_payload(ds)
 
 
-ANALYZE_OUTPUTS = ("results.h5", "simplified_model.json", "report.html", "report.pdf",
-                   "figures")
+ANALYZE_OUTPUTS = ("results.h5", "simplified_model.json", "simplified_model.c",
+                   "simplified_model.py", "report.html", "report.pdf", "figures")
 
 
 def _cmd_analyze(args):
@@ -492,6 +528,8 @@ def _cmd_analyze(args):
         raise InputError("exists and is not a folder", outdir)
     settings = {"command": " ".join([PROG] + sys.argv[1:]) if sys.argv else PROG,
                 "payload_mass": float(args.payload or 0.0),
+                "tolerance": float(args.tolerance), "rule": args.rule,
+                "torque_floor": float(args.torque_floor),
                 "payload_com": [float(v) for v in args.payload_com],
                 "payload_inertia": [float(v) for v in args.payload_inertia],
                 **_chain_settings(args)}
@@ -502,9 +540,13 @@ def _cmd_analyze(args):
         analysis = analyze_to_file(robot, trajectory, results, dominance=args.dominance,
                                    negligible=args.negligible, check=not args.no_verify,
                                    settings=settings, compress=args.compress,
-                                   progress=bar, extra=extra)
+                                   progress=bar, extra=extra,
+                                   tolerance=args.tolerance, rule=args.rule,
+                                   torque_floor=args.torque_floor)
         analysis.model.save(stage / "simplified_model.json")
         written = [results, stage / "simplified_model.json"]
+        if analysis.model.terms is not None:          # explicit model (revolute joints)
+            written += _write_sources(analysis.model, stage)
         if not args.no_report:
             from .reports.main import write_report
 
@@ -742,8 +784,43 @@ def _cmd_control(args):
     return EXIT_OK
 
 
+def _sweep_model(robot, trajectories, args, outdir, settings):
+    """The sweep's simplified explicit model within EPS on every trajectory (issue 8)."""
+    from .io.planning import random_trajectories
+    from .workflows.simplify import sweep_model
+
+    if args.held_out < 0:
+        raise InputError("--held-out must be >= 0")
+    held = random_trajectories(robot, args.held_out, seed=args.seed + 1_000_003) \
+        if args.held_out else []
+    model, _ = sweep_model(robot, trajectories, tolerance=args.tolerance,
+                           torque_floor=args.torque_floor, held_out=held,
+                           provenance={"gd_analyze_version": _version(), **settings})
+    path = outdir / "sweep_model.json"
+    model.save(path)
+    written = [path]
+    for name, text in (("sweep_model.c", model.c_source()),
+                       ("sweep_model.py", model.python_source())):
+        (outdir / name).write_text(text, encoding="utf-8")
+        written.append(outdir / name)
+    if not args.quiet:
+        v = model.validation
+        held_err = v["held_out"].get("relative_peak_error") if v["held_out"] else None
+        print(f"sweep model (budget, EPS = {args.tolerance:g}): {model.cost['multiplications']} "
+              f"mult + {model.cost['additions']} add (full explicit: "
+              f"{model.full_cost['multiplications']} + {model.full_cost['additions']}); worst "
+              f"relative error on the {v['trajectories']} swept trajectories "
+              f"{max(x for x in v['relative_peak_error'] if x is not None):.2e} (guaranteed "
+              f"<= {args.tolerance:g})" + ("" if held_err is None else
+                                         f", on {v['held_out_trajectories']} held-out "
+                                         f"{max(x for x in held_err if x is not None):.2e} "
+                                         "(not guaranteed)"))
+    return written
+
+
 SWEEP_OUTPUTS = ("sweep.h5", "merged_model.json", "payload_sweep.h5", "sweep_report.html",
-                 "sweep_report.pdf", "figures")
+                 "sweep_report.pdf", "figures", "sweep_model.json", "sweep_model.c",
+                 "sweep_model.py")
 
 
 def _cmd_sweep(args):
@@ -800,6 +877,8 @@ def _cmd_sweep(args):
         written = [stage / "sweep.h5", stage / "merged_model.json"]
         write_dataset(ds, written[0])
         merged_model(loaded, ds).save(written[1])
+        if args.tolerance is not None:
+            written += _sweep_model(loaded, trajectories, args, stage, settings)
         if payload is not None:
             written.append(stage / "payload_sweep.h5")
             write_dataset(payload, written[-1])

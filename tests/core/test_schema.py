@@ -48,7 +48,7 @@ def test_case7_edited_parameters_are_refused(tmp_path, model_doc):
 @pytest.mark.parametrize("edit, match", [
     (lambda d: d["choices"].update(D77="tran"), "unknown element 'D77'"),
     (lambda d: d["choices"].pop("h3"), "missing element 'h3'"),
-    (lambda d: d.update(schema_version=True), "key schema_version: expected 1, got True"),
+    (lambda d: d.update(schema_version=True), "key schema_version: expected 1 or 2, got True"),
     (lambda d: d.update(dominance_threshold=2.0), "key dominance_threshold: expected a number"),
     (lambda d: d.update(negligible_threshold="0.1"), "expected a number, got a string"),
     (lambda d: d["choices"].update(D12="half"), "key choices.D12: expected one of"),
@@ -69,9 +69,19 @@ def test_case7_schema_violations_are_one_line(tmp_path, model_doc, edit, match):
 
 def test_issue8_keys_are_accepted(tmp_path, model_doc):
     doc = copy.deepcopy(model_doc)
-    doc.update(tolerance=0.01, rule="tolerance", cost={"multiplications": 10, "additions": 8},
-               full_cost={"multiplications": 20, "additions": 16}, explicit_terms=[["D11", 1]])
-    SimplifiedModel.load(_write(tmp_path, doc))
+    n = len(doc["robot"]["parameters"]["link"])
+    terms = {"kind": ["c"], "part": ["grav"], "i": [0], "j": [-1], "k": [-1],
+             "K": [[1] + [0] * (n - 1)], "sin": [False], "coef": [2.5]}
+    doc.update(schema_version=2, tolerance=0.01, rule="budget", torque_floor=0.0,
+               cost={"multiplications": 10, "additions": 8, "sin": 0, "cos": 1},
+               full_cost={"multiplications": 20, "additions": 16}, bound=[0.1] * n,
+               explicit_terms=terms)
+    model = SimplifiedModel.load(_write(tmp_path, doc))
+    assert model.torque([0.0] * n, [0.0] * n, [0.0] * n)[0, 0] == 2.5    # 2.5 cos(q1)
+    bad = copy.deepcopy(doc)
+    bad["explicit_terms"]["i"] = [n]
+    with pytest.raises(InputError, match="explicit"):
+        SimplifiedModel.load(_write(tmp_path, bad))
 
 
 @pytest.mark.parametrize("text, match", [

@@ -70,7 +70,10 @@ def test_save_load_and_reuse_on_new_states(tmp_path, puma):
     path = tmp_path / "simplified_model.json"
     analysis.model.save(path)
     spec = json.loads(path.read_text())
-    assert spec["schema_version"] == 1 and spec["robot"]["name"] == "puma560"
+    assert spec["schema_version"] == 2 and spec["robot"]["name"] == "puma560"
+    assert spec["rule"] == "budget" and spec["tolerance"] == 0.01
+    assert set(spec["cost"]) >= {"multiplications", "additions"}
+    assert set(spec["full_cost"]) >= {"multiplications", "additions"}
     assert spec["robot"]["sha256"] == puma.sha256 and spec["trajectory_sha256"] == traj.sha256
     assert spec["dominance_threshold"] == 0.9 and spec["negligible_threshold"] == 0.01
     assert len(spec["validation"]["peak_abs_error"]) == 6
@@ -78,9 +81,17 @@ def test_save_load_and_reuse_on_new_states(tmp_path, puma):
     assert loaded.choices == analysis.model.choices
     q, qd, qdd = random_states(puma, 10, 4)
     terms = gd_terms(puma, q, qd)
-    np.testing.assert_allclose(loaded.torque(q, qd, qdd),
-                               simplified_torque(terms, analysis.model.choices, qdd),
+    np.testing.assert_allclose(loaded.torque(q, qd, qdd), analysis.model.torque(q, qd, qdd),
                                rtol=1e-12, atol=1e-12)
+    # a schema-1 file (no explicit terms) still loads: its kept parts, unpruned
+    old = {k: v for k, v in spec.items() if k not in ("rule", "tolerance", "cost", "bound",
+                                                      "full_cost", "explicit_terms",
+                                                      "torque_floor")}
+    old["schema_version"] = 1
+    path.write_text(json.dumps(old))
+    np.testing.assert_allclose(SimplifiedModel.load(path).torque(q, qd, qdd),
+                               simplified_torque(terms, analysis.model.choices, qdd),
+                               rtol=1e-10, atol=1e-10)
 
 
 def test_load_errors(tmp_path):

@@ -28,7 +28,7 @@ def test_reads_back_with_xarray(written, puma):
     with xr.open_dataset(path, engine="h5netcdf") as ds:
         assert set(REQUIRED) <= set(ds.data_vars)
         assert ds.sizes == {"setpoint": 31, "joint": 6, "joint_k": 6, "element": 27, "xyz": 3,
-                            "xyz_k": 3}
+                            "xyz_k": 3, "cost_model": 15, "ladder_tolerance": 4}
         assert ds.D_tran.dims == ("setpoint", "joint", "joint_k")
         assert ds.element.values[0] == "D11" and ds.element.values[-1] == "h6"
         for name, var in ds.variables.items():

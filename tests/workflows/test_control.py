@@ -199,8 +199,10 @@ def test_run_control_rejects_bad_input(model, shipped):
 # --------------------------------------------------------------------------------------------
 
 def test_simplified_evaluator_equals_model_torque(model, puma, two_link):
+    from gd_analyze.core.simplified import simplified_torque
+
     q, qd, qdd = random_states(puma, 200, seed=5)
-    ref = model.torque(q, qd, qdd)
+    ref = simplified_torque(gd_terms(puma, q, qd), model.choices, qdd)   # the masked model
     got = simplified_tau(puma, model.choices, q, qd, qdd)
     assert np.abs(got - ref).max() <= 1e-12 * np.abs(ref).max()
     rng = np.random.default_rng(8)
@@ -216,6 +218,8 @@ def test_simplified_evaluator_equals_model_torque(model, puma, two_link):
 
 
 def test_operation_counts_of_the_simplified_model(model, puma, two_link):
+    from gd_analyze.core.simplified import simplified_torque
+
     full_gd = count_operations(puma, "gd")
     full = count_simplified_operations(puma, full_choices(6))
     simp = count_simplified_operations(puma, model.choices)
@@ -227,8 +231,8 @@ def test_operation_counts_of_the_simplified_model(model, puma, two_link):
     # the counted run computes the real torques
     q, qd, qdd = (x[0] for x in random_states(puma, 1, seed=3))
     counted = count_simplified_operations(puma, model.choices, q, qd, qdd)
-    np.testing.assert_allclose(counted.tau, model.torque(q, qd, qdd)[0], rtol=1e-12,
-                               atol=1e-12)
+    masked = simplified_torque(gd_terms(puma, q, qd), model.choices, qdd[None])[0]
+    np.testing.assert_allclose(counted.tau, masked, rtol=1e-12, atol=1e-12)
     # dropping any single part lowers the count; keeping everything is the full count
     labels = element_labels(2)
     base = count_simplified_operations(two_link, full_choices(2))
@@ -247,7 +251,8 @@ def test_evaluation_cost(model):
     m, a = cost["multiplications"], cost["additions"]
     assert m[2] < m[1] <= m[0] and a[2] < a[1] <= a[0]
     assert all(t > 0 and math.isfinite(t) for t in cost["time_per_setpoint_us"])
-    assert cost["dropped"] == 19 and cost["parts"] == 54
+    dropped = sum({"both": 0, "tran": 1, "rot": 1, "none": 2}[c] for c in model.choices.values())
+    assert cost["dropped"] == dropped and cost["parts"] == 54
 
 
 # --------------------------------------------------------------------------------------------

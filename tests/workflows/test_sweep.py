@@ -128,7 +128,7 @@ def sweep(puma, trajectories, cluster):
 
 @pytest.fixture(scope="module")
 def serial(puma, trajectories):
-    return [analyze(puma, tr, check=False).dataset for tr in trajectories]
+    return [analyze(puma, tr, check=False, rule="chapter").dataset for tr in trajectories]
 
 
 def test_sweep_equals_serial_analysis(sweep, serial, puma, trajectories):
@@ -247,7 +247,7 @@ def test_sweep_by_scheduler_address_and_file_inputs(sweep, puma, trajectories, c
     ds = run_sweep(puma, [trajectories[1], shipped], scheduler=cl.scheduler_address)
     np.testing.assert_allclose(ds["share_tran"].values[0], sweep["share_tran"].values[1],
                                rtol=0, atol=1e-12)
-    ref = analyze(puma, shipped, check=False).dataset
+    ref = analyze(puma, shipped, check=False, rule="chapter").dataset
     np.testing.assert_allclose(ds["share_tran"].values[1], ref["share_tran"].values, rtol=0,
                                atol=1e-12)
     assert ds.attrs["scheduler_address"] == cl.scheduler_address
@@ -327,9 +327,11 @@ def test_payload_sweep_equals_plain_analyses(puma, shipped):
     np.testing.assert_array_equal(ds["payload"].values, [0.0, 1.5])
     assert ds["payload"].attrs["units"] == "kg"
     # zero payload: the plain analysis of the bare arm
-    plain = analyze(puma, shipped, check=False).dataset
-    bare = analyze(with_payload(puma, 0.0, com, inertia), shipped, check=False).dataset
-    loaded = analyze(with_payload(puma, 1.5, com, inertia), shipped, check=False).dataset
+    plain = analyze(puma, shipped, check=False, rule="chapter").dataset
+    bare = analyze(with_payload(puma, 0.0, com, inertia), shipped, check=False,
+                    rule="chapter").dataset
+    loaded = analyze(with_payload(puma, 1.5, com, inertia), shipped, check=False,
+                    rule="chapter").dataset
     for p, ref in ((0, bare), (1, loaded)):
         np.testing.assert_allclose(ds["share_tran"].values[p], ref["share_tran"].values,
                                    rtol=0, atol=1e-12)

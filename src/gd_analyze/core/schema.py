@@ -21,8 +21,8 @@ import re
 
 from ..errors import InputError
 
-__all__ = ["Obj", "MapOf", "ListOf", "Num", "Int", "Str", "Const", "AnyJSON", "Field",
-           "load_json", "MODEL_SCHEMA", "COST_SCHEMA", "MAX_DEPTH"]
+__all__ = ["Obj", "MapOf", "ListOf", "Num", "Int", "Str", "Const", "Consts", "AnyJSON",
+           "Field", "load_json", "MODEL_SCHEMA", "COST_SCHEMA", "MAX_DEPTH"]
 
 
 def _kind(value):
@@ -86,6 +86,24 @@ class Const(_Node):
     def _check(self, value, path, where):
         if type(value) is not type(self.value) or value != self.value:
             self.fail(f"expected {self.value!r}, got {value!r}"[:120], path, where)
+
+
+class Consts(_Node):
+    """One of these values (and types: ``true`` is not ``1``).
+
+    Parameters
+    ----------
+    *values : object
+        The values accepted.
+    """
+
+    def __init__(self, *values):
+        self.values = values
+        self.expected = " or ".join(repr(v) for v in values)
+
+    def _check(self, value, path, where):
+        if not any(type(value) is type(v) and value == v for v in self.values):
+            self.fail(f"expected {self.expected}, got {value!r}"[:200], path, where)
 
 
 class Num(_Node):
@@ -338,13 +356,25 @@ def load_json(path, what="JSON"):
 
 _HEX64 = Str(pattern=r"[0-9a-f]{64}")
 #: An operation count, as issue 8's models record it.
-COST_SCHEMA = Obj({"multiplications": Int(0, 10**15), "additions": Int(0, 10**15)})
+COST_SCHEMA = Obj({"multiplications": Int(0, 10**15), "additions": Int(0, 10**15),
+                   "sin": Field(Int(0, 10**15), required=False),
+                   "cos": Field(Int(0, 10**15), required=False)})
+#: The kept terms of an explicit model (issue 8), one list entry per term; lengths and ranges
+#: are checked by :func:`gd_analyze.core.simplified.SimplifiedModel.load`.
+_TERMS_SCHEMA = Obj({
+    "kind": ListOf(Str(choices=("D", "h", "c"))),
+    "part": ListOf(Str(choices=("tran", "rot", "both", "grav"))),
+    "i": ListOf(Int(-1, 10**6)), "j": ListOf(Int(-1, 10**6)), "k": ListOf(Int(-1, 10**6)),
+    "K": ListOf(ListOf(Int(-10**6, 10**6))),
+    "sin": ListOf(AnyJSON()),
+    "coef": ListOf(Num()),
+})
 
-#: The layout of simplified_model.json (schema_version 1). The element keys of ``choices`` are
+#: The layout of simplified_model.json (schema_version 2; 1 lacks the keys of issue 8). The element keys of ``choices`` are
 #: checked against the robot's n by the loader; the robot's parameters by
 #: :func:`gd_analyze.robot.robot_from_dict`.
 MODEL_SCHEMA = Obj({
-    "schema_version": Const(1),
+    "schema_version": Consts(1, 2),
     "kind": Field(Str(max_len=200), required=False),
     "robot": Obj({
         "name": Str(max_len=200),
@@ -361,8 +391,10 @@ MODEL_SCHEMA = Obj({
     "provenance": Field(Obj({}, open_keys=True), required=False),
     # the keys of issue 8 (tolerance-driven simplification, explicit model)
     "tolerance": Field(Num(0.0, math.inf), required=False),
-    "rule": Field(Str(max_len=200), required=False),
+    "rule": Field(Str(choices=("budget", "chapter")), required=False),
+    "torque_floor": Field(Num(0.0, math.inf), required=False),
     "cost": Field(COST_SCHEMA, required=False),
     "full_cost": Field(COST_SCHEMA, required=False),
-    "explicit_terms": Field(ListOf(AnyJSON()), required=False),
+    "bound": Field(ListOf(AnyJSON()), required=False),
+    "explicit_terms": Field(_TERMS_SCHEMA, required=False),
 })

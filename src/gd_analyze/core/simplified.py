@@ -6,9 +6,12 @@ translational part, the rotational part, both, or nothing (negligible). Gravity 
     tau_s = D_s qdd + h_s + c,   D_s = M_tran * D_tran + M_rot * D_rot,
                                  h_s = m_tran * h_tran + m_rot * h_rot
 
-with 0/1 masks M and m from the choices. The model is written as JSON (``simplified_model.json``)
-that carries its robot's parameters, so ``SimplifiedModel.load(path).torque(q, qd, qdd)`` works
-on any machine.
+with 0/1 masks M and m from the choices. Since issue 8 the model is evaluated in its explicit
+form (:mod:`gd_analyze.core.explicit`): the kept terms, pruned by the error budget
+(:mod:`gd_analyze.core.budget`), compiled to straight-line code (:mod:`gd_analyze.core.codegen`),
+so it costs less than the full model. The model is written as JSON (``simplified_model.json``)
+that carries its robot's parameters and its kept terms, so
+``SimplifiedModel.load(path).torque(q, qd, qdd)`` works on any machine.
 """
 
 from __future__ import annotations
@@ -21,13 +24,16 @@ import numpy as np
 from .dalembert import gd_terms
 from ..errors import InputError
 from .ranking import element_index, element_labels
+from .explicit import supported as explicit_supported
 from .robot import robot_from_dict
 
 __all__ = ["SCHEMA_VERSION", "CHOICES", "SimplifiedModel", "choice_masks", "merge_choices",
            "simplified_torque", "torque_error", "TorqueErrorAccumulator", "parameters_sha256"]
 
-#: Version of the simplified_model.json layout.
-SCHEMA_VERSION = 1
+#: Version of the simplified_model.json layout (2: explicit terms, rule, tolerance, cost).
+SCHEMA_VERSION = 2
+#: Older layouts still read (their model is rebuilt from the choices, without pruning).
+READABLE_SCHEMAS = (1, 2)
 #: What a simplified model keeps of an element: its translational part, its rotational part,
 #: both, or nothing.
 CHOICES = ("tran", "rot", "both", "none")
@@ -194,6 +200,22 @@ class SimplifiedModel:
         The torque error along that trajectory, as :func:`torque_error` gives it.
     provenance : dict
         Tool version, input file names, settings.
+    rule : str
+        ``"budget"`` (error budget, issue 8) or ``"chapter"`` (share-based classes).
+    tolerance : float
+        EPS of the budget (NaN when not applicable).
+    torque_floor : float
+        TAU [N m], the least scale of a joint torque.
+    terms : Term or None
+        The explicit model's kept terms (:mod:`gd_analyze.core.explicit`); None for a model
+        read from a layout without them (its kept parts are used, unpruned).
+    cost : dict
+        Counted operations of the emitted code: multiplications, additions, sin, cos.
+    full_cost : dict
+        The same for the full explicit model.
+    bound : list of float
+        Guaranteed bound on |tau_s - tau| per joint on the trajectory [N m] (NaN for the
+        chapter rule).
 
     Notes
     -----
@@ -208,9 +230,85 @@ class SimplifiedModel:
     trajectory_sha256: str = ""
     validation: dict = field(default_factory=dict)
     provenance: dict = field(default_factory=dict)
+    rule: str = "chapter"
+    tolerance: float = float("nan")
+    torque_floor: float = 0.0
+    terms: object = None
+    cost: dict = field(default_factory=dict)
+    full_cost: dict = field(default_factory=dict)
+    bound: list = field(default_factory=list)
+
+    def explicit_terms(self):
+        """The kept terms of the explicit model (:class:`~gd_analyze.core.explicit.Term`).
+
+        A model read from a layout without terms gets the terms of its kept parts, unpruned.
+        """
+        if self.terms is None:
+            from .explicit import derive, model_terms
+
+            all_terms = model_terms(derive(self.robot))
+            keep = {"tran": ("tran", "both"), "rot": ("rot", "both")}
+            mask = np.array([
+                kd == "c" or self.choices[f"D{i + 1}{j + 1}" if kd == "D" else f"h{i + 1}"]
+                in keep[pt] for kd, pt, i, j in zip(all_terms.kind, all_terms.part,
+                                                     all_terms.i, all_terms.j)], bool)
+            object.__setattr__(self, "terms", all_terms.subset(mask))
+        return self.terms
+
+    def program(self):
+        """The straight-line program of the explicit model (:class:`~gd_analyze.core.codegen.Program`)."""
+        cached = self.__dict__.get("_program")
+        if cached is None:
+            from .codegen import build_program
+
+            cached = build_program(self.explicit_terms(), self.robot.n, np.zeros(self.robot.n))
+            object.__setattr__(self, "_program", cached)
+        return cached
+
+    def header(self):
+        """The header of the emitted files: robot, SHA-256s, rule, tolerance, counts, version.
+
+        Returns
+        -------
+        dict
+        """
+        cost = self.cost or self.program().cost()
+        return {
+            "gd-analyze simplified model": "tau = D_s qdd + h_s + c (Fu, Gonzalez & Lee 1987, "
+                                           "Eq. 3.4-24), explicit form",
+            "robot": f"{self.robot.name} (sha256 {self.robot.sha256})",
+            "rule": self.rule, "tolerance": f"{self.tolerance:g}",
+            "torque floor [N m]": f"{self.torque_floor:g}",
+            "trajectory sha256": self.trajectory_sha256,
+            "operations": f"{cost['multiplications']} multiplications, {cost['additions']} "
+                          f"additions, {cost['sin']} sin, {cost['cos']} cos",
+            "gd-analyze version": self.provenance.get("gd_analyze_version", ""),
+            "units": "q [rad], qd [rad/s], qdd [rad/s^2], tau [N m]",
+        }
+
+    def c_source(self):
+        """C99 source of the model (``void gd_simplified_tau(q, qd, qdd, tau)``)."""
+        from .codegen import emit_c
+
+        return emit_c(self.program(), self.header())
+
+    def python_source(self):
+        """numpy source of the model (``tau(q, qd, qdd)``, vectorised over set points)."""
+        from .codegen import emit_python
+
+        return emit_python(self.program(), self.header())
+
+    def _python_tau(self):
+        fn = self.__dict__.get("_tau_fn")
+        if fn is None:
+            ns = {}
+            exec(compile(self.python_source(), "<simplified_model.py>", "exec"), ns)
+            fn = ns["tau"]
+            object.__setattr__(self, "_tau_fn", fn)
+        return fn
 
     def torque(self, q, qd, qdd):
-        """Torques of the simplified model, tau_s = D_s qdd + h_s + c.
+        """Torques of the simplified model, tau_s = D_s qdd + h_s + c, in explicit form.
 
         Parameters
         ----------
@@ -231,8 +329,12 @@ class SimplifiedModel:
         ValueError
             If the arrays do not have n columns or disagree on N.
         """
-        terms = gd_terms(self.robot, q, qd)
-        return simplified_torque(terms, self.choices, np.asarray(qdd, float).reshape(terms.c.shape))
+        from .kinematics import as_states
+
+        q, qd, qdd = as_states(self.robot, q, qd, qdd)
+        if self.terms is None and not explicit_supported(self.robot):
+            return simplified_torque(gd_terms(self.robot, q, qd), self.choices, qdd)
+        return self._python_tau()(q, qd, qdd)
 
     def to_dict(self):
         """The model in the layout of simplified_model.json.
@@ -241,7 +343,7 @@ class SimplifiedModel:
         -------
         dict
         """
-        return {
+        out = {
             "schema_version": SCHEMA_VERSION,
             "kind": "gd-analyze simplified model",
             "robot": {"name": self.robot.name, "sha256": self.robot.sha256,
@@ -250,10 +352,20 @@ class SimplifiedModel:
             "dominance_threshold": self.dominance_threshold,
             "negligible_threshold": self.negligible_threshold,
             "choices": dict(self.choices),
+            "rule": self.rule,
+            "torque_floor": self.torque_floor,
             "trajectory_sha256": self.trajectory_sha256,
             "validation": self.validation,
             "provenance": self.provenance,
         }
+        if self.terms is not None:
+            out.update(cost=dict(self.cost or self.program().cost()), bound=list(self.bound),
+                       explicit_terms=_terms_to_json(self.terms))
+        if np.isfinite(self.tolerance):
+            out["tolerance"] = self.tolerance
+        if self.full_cost:
+            out["full_cost"] = dict(self.full_cost)
+        return out
 
     def save(self, path):
         """Write the model as JSON, atomically.
@@ -302,7 +414,7 @@ class SimplifiedModel:
 
         path = str(path)
         spec = load_json(path, "simplified-model JSON")
-        if isinstance(spec, dict) and spec.get("schema_version") != SCHEMA_VERSION:
+        if isinstance(spec, dict) and spec.get("schema_version") not in READABLE_SCHEMAS:
             raise InputError(f"expected schema_version {SCHEMA_VERSION}, got "
                              f"{spec.get('schema_version')!r}"[:120], path,
                              column="schema_version")
@@ -325,12 +437,24 @@ class SimplifiedModel:
                               f"missing element {missing[0]!r}")
                              + f" (a {robot.n}-joint robot has {labels[0]}..{labels[-1]})",
                              path, column="choices")
+        try:
+            terms = _terms_from_json(spec.get("explicit_terms"), robot.n)
+        except (ValueError, TypeError) as exc:
+            raise InputError(f"invalid explicit terms: {exc}"[:200], path,
+                             column="explicit_terms") from None
+        tolerance = spec.get("tolerance")
         return cls(robot=robot, choices=dict(choices),
                    dominance_threshold=float(spec["dominance_threshold"]),
                    negligible_threshold=float(spec["negligible_threshold"]),
                    trajectory_sha256=spec.get("trajectory_sha256", ""),
                    validation=spec.get("validation", {}),
-                   provenance=spec.get("provenance", {}))
+                   provenance=spec.get("provenance", {}),
+                   rule=spec.get("rule", "chapter"),
+                   tolerance=float("nan") if tolerance is None else float(tolerance),
+                   torque_floor=float(spec.get("torque_floor", 0.0)), terms=terms,
+                   cost=dict(spec.get("cost") or {}), full_cost=dict(spec.get("full_cost") or {}),
+                   bound=[float("nan") if v is None else float(v)
+                          for v in spec.get("bound") or []])
 
 
 def parameters_sha256(parameters):
@@ -351,6 +475,38 @@ def parameters_sha256(parameters):
 
     text = json.dumps(_json_safe(parameters), sort_keys=True, allow_nan=False)
     return hashlib.sha256(text.encode()).hexdigest()
+
+
+def _terms_to_json(terms):
+    return {"kind": [str(v) for v in terms.kind], "part": [str(v) for v in terms.part],
+            "i": terms.i.tolist(), "j": terms.j.tolist(), "k": terms.k.tolist(),
+            "K": terms.K.tolist(), "sin": terms.S.tolist(), "coef": terms.C.tolist()}
+
+
+def _terms_from_json(spec, n):
+    """The kept terms from JSON, or None (older layouts)."""
+    if spec is None:
+        return None
+    from .explicit import Term
+
+    size = len(spec["coef"])
+    K = np.array(spec["K"], dtype=np.int64).reshape(size, n)
+    out = Term(np.array(spec["kind"], dtype=str), np.array(spec["part"], dtype=str),
+               np.array(spec["i"], int), np.array(spec["j"], int), np.array(spec["k"], int),
+               K, np.array(spec["sin"], bool), np.array(spec["coef"], float))
+    for f in ("kind", "part", "i", "j", "k", "S", "C"):
+        if getattr(out, f).shape != (size,):
+            raise ValueError(f"explicit_terms.{f}: expected {size} values")
+    if not all(isinstance(v, bool) for v in spec["sin"]):
+        raise ValueError("explicit_terms.sin: expected true/false")
+    if not np.isfinite(out.C).all():
+        raise ValueError("explicit_terms.coef: not finite")
+    if size and (out.i.min() < 0 or out.i.max() >= n or out.j.max() >= n or out.k.max() >= n):
+        raise ValueError("explicit_terms: joint index out of range")
+    bad = set(out.kind.tolist()) - {"D", "h", "c"}
+    if bad:
+        raise ValueError(f"explicit_terms.kind: unknown {sorted(bad)[0]!r}")
+    return out
 
 
 def _json_safe(obj):

@@ -32,6 +32,8 @@ from pathlib import Path
 
 import numpy as np
 
+from .simplified_section import SIMPLIFIED_CAPTION, error_figure, has_simplified
+from .simplified_section import simplified_context
 from .common import CLASS_COLOURS as _CLASS_COLOURS
 from .common import attr as _attr, check as _check, fmt as _fmt, pct as _pct
 from .common import strings as _strings, table as _table, thresholds as _thresholds
@@ -221,6 +223,8 @@ def make_figures(ds, data=None):
                    "h": fig_h(data, dom, zero),
                    "torque": fig_torque(data, ds["tau_error_peak"].values,
                                         ds["tau_error_relative_peak"].values)}
+        if has_simplified(ds):                  # issue 8: tau_s - tau and its bound
+            figures["torque"] = error_figure(ds, size=(PAGE_WIDTH, 7.5))
         if "payload_share_tran" in ds.variables:
             from .figures import payload_figure
 
@@ -282,6 +286,14 @@ def _kv(rows):
 
 
 def _report_context(ds):
+    ctx = _report_context_base(ds)
+    ctx["simplified_model"] = simplified_context(ds) if has_simplified(ds) else None
+    if ctx["simplified_model"]:
+        ctx["captions"] = {**ctx["captions"], "torque": SIMPLIFIED_CAPTION}
+    return ctx
+
+
+def _report_context_base(ds):
     """Everything both reports print, as strings and tables (no figures)."""
     from .._version import __version__
 
@@ -688,6 +700,18 @@ def _pdf(ctx, drawn, path, paper="a4"):
     fig("torque")
     doc.heading("5.2 Choice per element", level=2)
     doc.table(ctx["choices"])
+    sm = ctx.get("simplified_model")
+    if sm:
+        doc.heading("5.3 Explicit model: rule, bound, cost", level=2)
+        doc.paragraph(sm["text"], size=8.5)
+        doc.table(sm["bound"])
+        if sm["costs"]:
+            doc.heading("5.4 Cost per set point (counted)", level=2)
+            doc.table(sm["costs"])
+        if sm["ladder"]:
+            doc.heading("5.5 Tolerance ladder", level=2)
+            doc.table(sm["ladder"])
+        doc.paragraph("Emitted source files: " + ", ".join(sm["files"]), size=8.5)
     doc.heading("6. Comparison with the chapter's PUMA 560")
     doc.paragraph(ctx["compare"]["note"], size=8.5)
     if ctx["compare"]["applicable"]:

@@ -21,6 +21,7 @@ import numpy as np
 from .._version import __version__
 from ..core.dalembert import GDTerms, allocate_terms, gd_terms
 from ..core.ranking import DEFAULT_DOMINANCE, DEFAULT_NEGLIGIBLE
+from ..core.explicit import supported as explicit_supported
 from ..core.simplified import SimplifiedModel, simplified_torque
 from ..formulations.compare import FORMULATIONS_MAX_SETPOINTS
 
@@ -178,6 +179,10 @@ class AnalysisPass:
         The G-D terms at all N set points, held when there is no file to read them back from.
     tau, tau_simplified : ndarray, shape (N, n) or None
         Full and simplified torques [N m], held likewise.
+    model : SimplifiedModel or None
+        The explicit simplified model, when asked for (``simplify``).
+    simplified : xarray.Dataset or None
+        Its bound, cost table and ladder (:func:`gd_analyze.workflows.simplify.simplified_dataset`).
     """
 
     ranking: object
@@ -188,11 +193,13 @@ class AnalysisPass:
     terms: object
     tau: object
     tau_simplified: object
+    model: object = None
+    simplified: object = None
 
 
 def analysis_pass(robot, trajectory, dominance=DEFAULT_DOMINANCE, negligible=DEFAULT_NEGLIGIBLE,
                   check=True, formulations=False, chunk=STREAM_CHUNK, writer=None,
-                  progress=False, terms=None):
+                  progress=False, terms=None, simplify=None):
     """The one per-trajectory analysis: the G-D terms once per set point, then everything else.
 
     Pass 1 computes the terms chunk by chunk and feeds the ranking, the writer and the samples
@@ -224,6 +231,10 @@ def analysis_pass(robot, trajectory, dominance=DEFAULT_DOMINANCE, negligible=DEF
     terms : GDTerms, optional
         The trajectory's G-D terms, if the caller computed them (a sweep computes many short
         trajectories in one call); then none are computed here.
+    simplify : dict, optional
+        ``tolerance``, ``rule``, ``torque_floor`` and ``provenance``: build the explicit
+        simplified model (issue 8) after pass 1 and take its torque in pass 2; without it the
+        model is the ranking's choices, masked (as in a sweep's per-trajectory models).
 
     Returns
     -------
@@ -238,6 +249,8 @@ def analysis_pass(robot, trajectory, dominance=DEFAULT_DOMINANCE, negligible=DEF
     -----
     Source: Sec. 3.4.1 of Fu, Gonzalez & Lee (1987); terms from Eqs. (3.4-24) to (3.4-28).
     """
+    from ..core.budget import PartPeaks
+
     from ..core.ranking import RankingAccumulator
     from ..core.simplified import TorqueErrorAccumulator
 
@@ -251,6 +264,7 @@ def analysis_pass(robot, trajectory, dominance=DEFAULT_DOMINANCE, negligible=DEF
     sample_idx = np.union1d(idx_verify, idx_form).astype(int)
     samples, held, held_tau = [], [], []
     ranker = RankingAccumulator(n)
+    parts = PartPeaks(n) if simplify is not None else None
     own = not hasattr(progress, "update")
     bar = progress_bar(bool(progress)) if own else progress
     bar.reset(total=N)
@@ -264,6 +278,8 @@ def analysis_pass(robot, trajectory, dominance=DEFAULT_DOMINANCE, negligible=DEF
         tau = terms.tau(qdd[a:b])
         _check_finite(terms, tau)
         ranker.update(terms.D_tran, terms.D_rot, terms.h_tran, terms.h_rot, tau)
+        if parts is not None:
+            parts.update(terms.D_tran, terms.D_rot, terms.h_tran, terms.h_rot, qdd[a:b], tau)
         rows = sample_idx[(sample_idx >= a) & (sample_idx < b)] - a
         if rows.size:
             samples.append(_take(terms, rows))
@@ -277,6 +293,10 @@ def analysis_pass(robot, trajectory, dominance=DEFAULT_DOMINANCE, negligible=DEF
         bar.update(b - a)
     ranking = ranker.result(dominance=dominance, negligible=negligible)
     choices = ranking.choices()
+    model = simplified = None
+    if simplify is not None:
+        model, simplified = _simplify(robot, trajectory, ranking, parts, **simplify)
+        choices = model.choices
     bar.reset(total=N)
     bar.set_description("simplified model")
     errors = TorqueErrorAccumulator(n)
@@ -288,7 +308,8 @@ def analysis_pass(robot, trajectory, dominance=DEFAULT_DOMINANCE, negligible=DEF
             terms = GDTerms(*(writer.read(name, a, b)
                               for name in ("D_tran", "D_rot", "h_tran", "h_rot", "c")))
             tau = writer.read("tau", a, b)
-        tau_s = simplified_torque(terms, choices, qdd[a:b])
+        tau_s = simplified_torque(terms, choices, qdd[a:b]) if model is None else \
+            model.torque(q[a:b], qd[a:b], qdd[a:b])
         errors.update(tau_s, tau)
         if writer is not None:
             writer.write(a, {"tau_simplified": tau_s})
@@ -314,12 +335,27 @@ def analysis_pass(robot, trajectory, dominance=DEFAULT_DOMINANCE, negligible=DEF
                  verification=verification, costs=costs,
                  terms=_concat(held) if writer is None else None,
                  tau=np.concatenate(held_tau) if writer is None else None,
-                 tau_simplified=np.concatenate(tau_s_all) if writer is None else None)
+                 tau_simplified=np.concatenate(tau_s_all) if writer is None else None,
+                 model=model, simplified=simplified)
+
+
+def _provenance(trajectory, settings):
+    return {"gd_analyze_version": __version__, "trajectory_file": trajectory.source,
+            "derivatives": trajectory.derivatives, **(settings or {})}
+
+
+def _with_simplified(ds, extra):
+    if extra is not None:
+        ds = ds.assign(extra.data_vars)
+        ds.attrs.update(extra.attrs)
+    return ds
 
 
 def _model(robot, trajectory, result, dominance, negligible, settings):
-    provenance = {"gd_analyze_version": __version__, "trajectory_file": trajectory.source,
-                  "derivatives": trajectory.derivatives, **(settings or {})}
+    if result.model is not None:                 # the explicit simplified model (issue 8)
+        object.__setattr__(result.model, "validation", result.error)
+        return result.model
+    provenance = _provenance(trajectory, settings)
     return SimplifiedModel(robot=robot, choices=result.choices,
                            dominance_threshold=float(dominance),
                            negligible_threshold=float(negligible),
@@ -334,8 +370,34 @@ def _with_costs(ds, costs):
     return ds
 
 
+def _simplify(robot, trajectory, ranking, part_peaks, tolerance, rule, torque_floor,
+               provenance):
+    """The explicit simplified model by the rule, the other rule's model, ladder, costs."""
+    from .simplify import (build_model, collect_peaks, cost_rows, full_torque, ladder,
+                           simplified_dataset, validate)
+    from ..io.explicit_cache import explicit_terms
+
+    terms, _ = explicit_terms(robot)
+    q, qd, qdd = trajectory.q, trajectory.qd, trajectory.qdd
+    peaks = collect_peaks(robot, terms, q, qd, qdd, gd=part_peaks)
+    common = dict(torque_floor=torque_floor, chapter_choices=ranking.choices(),
+                  ranking=ranking, trajectory_sha256=trajectory.sha256, provenance=provenance)
+    model, sel = build_model(robot, terms, peaks, tolerance=tolerance, rule=rule, **common)
+    other_rule = "chapter" if rule == "budget" else "budget"
+    other, _ = build_model(robot, terms, peaks, tolerance=tolerance, rule=other_rule, **common)
+    reference = full_torque(robot, terms)       # tau without computing the G-D terms again
+    other_error = validate(other, [(q, qd, qdd)], reference=reference)
+    rows = ladder(robot, terms, peaks, [(q, qd, qdd)], torque_floor=torque_floor,
+                  reference=reference)
+    table = cost_rows(robot.n, model, other=other, ladder_rows=rows)
+    extra = simplified_dataset(model, sel, other=other, ladder_rows=rows, cost_table=table,
+                               other_error=other_error)
+    return model, extra
+
+
 def analyze(robot, trajectory, dominance=DEFAULT_DOMINANCE, negligible=DEFAULT_NEGLIGIBLE,
-            check=True, settings=None, formulations=False):
+            check=True, settings=None, formulations=False, tolerance=0.01, rule="budget",
+            torque_floor=0.0):
     """Compute, verify, rank and simplify the G-D terms along a trajectory, in memory.
 
     Parameters
@@ -355,6 +417,12 @@ def analyze(robot, trajectory, dominance=DEFAULT_DOMINANCE, negligible=DEFAULT_N
     formulations : bool, optional
         Also store the formulations' agreement and operation counts (as
         :func:`analyze_to_file` does).
+    tolerance : float, optional
+        EPS of the error budget (rule ``"budget"``).
+    rule : {"budget", "chapter"}, optional
+        How the simplified model is chosen (:mod:`gd_analyze.core.budget`).
+    torque_floor : float, optional
+        TAU [N m], the least scale of a joint torque.
 
     Returns
     -------
@@ -373,11 +441,15 @@ def analyze(robot, trajectory, dominance=DEFAULT_DOMINANCE, negligible=DEFAULT_N
     from ..io.datasets import build_dataset
 
     N = trajectory.q.shape[0]
+    simplify = {"tolerance": tolerance, "rule": rule, "torque_floor": torque_floor,
+                "provenance": _provenance(trajectory, settings)} \
+                if explicit_supported(robot) else None
     result = analysis_pass(robot, trajectory, dominance, negligible, check, formulations,
-                           chunk=max(N, 1))
+                           chunk=max(N, 1), simplify=simplify)
     ds = build_dataset(robot, trajectory, result.terms, result.ranking, result.tau,
                        result.tau_simplified, result.choices, result.error,
                        verification=result.verification, settings=settings)
+    ds = _with_simplified(ds, result.simplified)
     return Analysis(dataset=_with_costs(ds, result.costs),
                     model=_model(robot, trajectory, result, dominance, negligible, settings),
                     verification=result.verification)
@@ -386,7 +458,7 @@ def analyze(robot, trajectory, dominance=DEFAULT_DOMINANCE, negligible=DEFAULT_N
 def analyze_to_file(robot, trajectory, path, dominance=DEFAULT_DOMINANCE,
                     negligible=DEFAULT_NEGLIGIBLE, check=True, settings=None,
                     chunk=STREAM_CHUNK, progress=False, compress=0, formulations=True,
-                    extra=None):
+                    extra=None, tolerance=0.01, rule="budget", torque_floor=0.0):
     """:func:`analyze`, streamed into a results file in chunks of bounded memory.
 
     The G-D terms are computed once per set point, chunk by chunk, and written; the simplified
@@ -420,6 +492,8 @@ def analyze_to_file(robot, trajectory, path, dominance=DEFAULT_DOMINANCE,
         (:func:`gd_analyze.formulations.compare.formulations_dataset`).
     extra : xarray.Dataset, optional
         More variables to store with the summary (e.g. a payload sweep, dim ``payload``).
+    tolerance, rule, torque_floor : optional
+        As :func:`analyze`.
 
     Returns
     -------
@@ -444,13 +518,18 @@ def analyze_to_file(robot, trajectory, path, dominance=DEFAULT_DOMINANCE,
                             compress=compress) as out:
             out.write(0, {"t": trajectory.t, "q": trajectory.q, "qd": trajectory.qd,
                           "qdd": trajectory.qdd})
+            simplify = {"tolerance": tolerance, "rule": rule, "torque_floor": torque_floor,
+                        "provenance": _provenance(trajectory, settings)} \
+                if explicit_supported(robot) else None
             result = analysis_pass(robot, trajectory, dominance, negligible, check,
-                                   formulations, chunk, writer=out, progress=progress)
+                                   formulations, chunk, writer=out, progress=progress,
+                                   simplify=simplify)
         ds = summary_dataset(robot, trajectory, result.ranking, result.choices, result.error,
                              result.verification, settings)
         ds = _with_costs(ds, result.costs)
         if extra is not None:
             ds = ds.assign(extra.data_vars)
+        ds = _with_simplified(ds, result.simplified)
         append_dataset(ds, tmp)          # not to_netcdf: it would import dask
     return Analysis(dataset=ds,
                     model=_model(robot, trajectory, result, dominance, negligible, settings),

@@ -280,8 +280,9 @@ def controller_torque(controller, robot, gains, q_d, qd_d, qdd_d, q, qd, choices
         Desired positions [rad], velocities [rad/s] and accelerations [rad/s^2].
     q, qd : ndarray, shape (N, n)
         Actual positions [rad] and velocities [rad/s].
-    choices : dict, optional
-        The simplified model's choices; required for ``"simplified"``.
+    choices : dict or SimplifiedModel, optional
+        The simplified model (evaluated in explicit form), or its choices (evaluated by the
+        fused masked evaluator); required for ``"simplified"``.
     terms : GDTerms, optional
         The full G-D terms at (q, qd), if already computed (used by ``"full"`` and
         ``"pd_gravity"``).
@@ -318,6 +319,8 @@ def controller_torque(controller, robot, gains, q_d, qd_d, qdd_d, q, qd, choices
         return terms.tau(v)
     if choices is None:
         raise ValueError("the simplified controller needs the model's choices")
+    if hasattr(choices, "torque"):                  # the explicit simplified model (issue 8)
+        return choices.torque(q, qd, v)
     return simplified_tau(robot, choices, q, qd, v, plan=plan)
 
 
@@ -374,8 +377,8 @@ def track(robot, controller, gains, desired, t_eval, q0_offset=0.0, choices=None
         Increasing sample times [s]; the run goes from t_eval[0] to t_eval[-1].
     q0_offset : float or array_like, shape (n,), optional
         Initial position error, q(0) = q_d(0) + q0_offset [rad]; qd(0) = qd_d(0).
-    choices : dict, optional
-        The simplified model's choices (for ``"simplified"``).
+    choices : dict or SimplifiedModel, optional
+        The simplified model or its choices (for ``"simplified"``).
     rtol, atol : float, optional
         Tolerances of ``scipy.integrate.solve_ivp``.
     method : str, optional
@@ -404,7 +407,8 @@ def track(robot, controller, gains, desired, t_eval, q0_offset=0.0, choices=None
         raise ValueError(f"controller must be one of {CONTROLLERS}, got {controller!r}")
     if controller == "simplified" and choices is None:
         raise ValueError("the simplified controller needs the model's choices")
-    plan = evaluation_plan(choices, n) if controller == "simplified" else None
+    plan = evaluation_plan(choices, n) if controller == "simplified" and \
+        not hasattr(choices, "torque") else None
     d1, d2 = desired.derivative(1), desired.derivative(2)
     calls = [0]
 
@@ -658,7 +662,7 @@ def run_control(model, trajectory, wn=DEFAULT_WN, zeta=DEFAULT_ZETA, q0_offset=0
     runs = {}
     for name in (c for c in CONTROLLERS if c in controllers):
         runs[name] = track(robot, name, gains, desired, t, q0_offset=offset,
-                           choices=model.choices, rtol=rtol, atol=atol, method=method)
+                           choices=model, rtol=rtol, atol=atol, method=method)
     cost_figures = evaluation_cost(model, setpoints=cost_setpoints) if cost else None
     provenance = {
         "trajectory_file": Path(trajectory.source).name if trajectory.source else "",

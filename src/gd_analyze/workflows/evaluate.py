@@ -12,7 +12,7 @@ import numpy as np
 
 from ..core.dalembert import gd_terms
 from ..core.limits import check_finite
-from ..core.simplified import simplified_torque, torque_error
+from ..core.simplified import torque_error
 
 __all__ = ["evaluate"]
 
@@ -23,7 +23,8 @@ def evaluate(model, trajectory, plant=None):
     Parameters
     ----------
     model : SimplifiedModel
-        The model (its robot and the parts it keeps).
+        The model (its robot and its explicit kept terms, evaluated by
+        :meth:`~gd_analyze.core.simplified.SimplifiedModel.torque`).
     trajectory : Trajectory
         q, qd, qdd of shape (N, n) [rad, rad/s, rad/s^2].
     plant : Robot, optional
@@ -46,10 +47,9 @@ def evaluate(model, trajectory, plant=None):
         If the torques are not finite (inputs beyond :data:`gd_analyze.core.limits.LIMITS`).
     """
     robot = model.robot
-    terms = gd_terms(robot, trajectory.q, trajectory.qd)
     plant = robot if plant is None else plant
-    full = terms if plant is robot else gd_terms(plant, trajectory.q, trajectory.qd)
-    err = torque_error(simplified_torque(terms, model.choices, trajectory.qdd),
+    full = gd_terms(plant, trajectory.q, trajectory.qd)
+    err = torque_error(model.torque(trajectory.q, trajectory.qd, trajectory.qdd),
                        check_finite("tau", full.tau(trajectory.qdd)))
     rel = np.array([np.nan if v is None else v for v in err["relative_peak_error"]], float)
     err["max_relative_peak_error"] = float(np.nanmax(rel)) if np.isfinite(rel).any() else 0.0

@@ -1,0 +1,467 @@
+"""Straight-line code for an explicit G-D model: C99, numpy Python, and its operation count.
+
+The program (:func:`build_program`) is assembled with symengine from the kept terms of an
+explicit model (:mod:`gd_analyze.core.explicit`) in the AKB style (Armstrong, Khatib & Burdick,
+ICRA 1986), keeping the structure instead of expanding it:
+
+- angles: theta_i = q_i + offset_i (only where the offset is not 0) and their cos and sin;
+  cos and sin of the compound angles k . theta of the harmonics (theta_2 + theta_3 on the
+  PUMA) by the angle-addition formulas, each once;
+- velocity products qd_j qd_k, each once;
+- groups: every element D_ij (used by tau_i with qdd_j and by tau_j with qdd_i), every
+  Christoffel coefficient of qd_j qd_k in h_i and every c_i is one sum of coefficient x
+  cos/sin; a group proportional to an earlier one is that one times a constant;
+- tau_i = sum_j D_ij qdd_j + sum_{j<=k} C_ijk (qd_j qd_k) + c_i, Eq. (3.4-24);
+- common subexpressions are then eliminated (symengine ``cse``).
+
+Counting rule (that of :mod:`gd_analyze.opcount`): operations between numeric constants are
+free, multiplying by +-1 and adding 0 are free, a negation is free, a subtraction is an
+addition, a square is one multiplication; the calls to cos and sin are listed separately.
+The count is taken on the very expressions that are printed.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+import numpy as np
+import symengine as se
+
+__all__ = ["Program", "build_program", "count_operations", "emit_c", "emit_python",
+           "C_FUNCTION"]
+
+#: The exported C function.
+C_FUNCTION = "gd_simplified_tau"
+
+
+@dataclass(frozen=True, eq=False)
+class Program:
+    """A straight-line program computing tau from q, qd, qdd.
+
+    Attributes
+    ----------
+    n : int
+        Number of joints.
+    assignments : list of (symengine.Symbol, symengine.Basic)
+        Temporaries, in order.
+    outputs : list of symengine.Basic, length n
+        tau_i [N m].
+    """
+
+    n: int
+    assignments: list
+    outputs: list
+
+    def cost(self):
+        """Operation counts: dict with ``multiplications``, ``additions``, ``sin``, ``cos``."""
+        return count_operations(self.assignments, self.outputs)
+
+
+def _num(x):
+    return isinstance(x, se.Number) or getattr(x, "is_Number", False)
+
+
+def _count(e, tally):
+    if e.is_Symbol or _num(e):
+        return
+    args = e.args
+    if e.is_Add:
+        tally["additions"] += len(args) - 1
+    elif e.is_Mul:
+        coeff = [a for a in args if _num(a)]
+        rest = len(args) - len(coeff)
+        tally["multiplications"] += max(rest - 1, 0)
+        if coeff and abs(float(coeff[0])) != 1.0:
+            tally["multiplications"] += 1
+    elif e.is_Pow:
+        base, ex = args
+        if not (_num(ex) and float(ex) == int(float(ex)) and int(float(ex)) >= 2):
+            raise ValueError(f"unexpected power {e}")
+        tally["multiplications"] += int(float(ex)) - 1
+        _count(base, tally)
+        return
+    elif isinstance(e, se.cos):
+        tally["cos"] += 1
+    elif isinstance(e, se.sin):
+        tally["sin"] += 1
+    else:
+        raise ValueError(f"unexpected expression {e}")
+    for a in args:
+        _count(a, tally)
+
+
+def count_operations(assignments, outputs):
+    """Count the operations of a straight-line program (rule in the module docstring).
+
+    Parameters
+    ----------
+    assignments : list of (Symbol, expression)
+    outputs : list of expression
+
+    Returns
+    -------
+    dict
+        ``multiplications``, ``additions``, ``sin``, ``cos`` (ints).
+
+    Examples
+    --------
+    >>> x, y = se.symbols("x y")
+    >>> count_operations([], [2.0 * x * y + x**2 - y])
+    {'multiplications': 3, 'additions': 2, 'sin': 0, 'cos': 0}
+    """
+    tally = {"multiplications": 0, "additions": 0, "sin": 0, "cos": 0}
+    for _, e in assignments:
+        _count(e, tally)
+    for e in outputs:
+        _count(e, tally)
+    return tally
+
+
+def _key(K, S):
+    return (bool(S),) + tuple(int(v) for v in K)
+
+
+#: How cos and sin of compound angles are formed: "products" (angle-addition formulas from the
+#: n joint angles' cos and sin: only 2n calls) or "calls" (one call per compound angle).
+TRIG_MODES = ("products", "calls")
+
+
+def build_program(terms, n, offset, trig_mode="products"):
+    """Assemble the straight-line program of the kept terms.
+
+    Parameters
+    ----------
+    terms : gd_analyze.core.explicit.Term
+        The kept terms (tran and rot of one element and harmonic are added together).
+    n : int
+        Number of joints.
+    offset : array_like, shape (n,)
+        Joint offsets [rad]: theta = q + offset.
+    trig_mode : {"products", "calls"}, optional
+        ``"products"``: cos and sin of the n angles are the only calls, compound angles come
+        from the angle-addition formulas (counted); ``"calls"``: one cos/sin call per compound
+        angle (fewer counted operations, more calls).
+
+    Returns
+    -------
+    Program
+
+    Notes
+    -----
+    tau = D qdd + h + c, Eq. (3.4-24) of Fu, Gonzalez & Lee (1987), with D, h, c in the explicit
+    forms of :mod:`gd_analyze.core.explicit`.
+    """
+    q = [se.Symbol(f"q{i}") for i in range(n)]
+    qd = [se.Symbol(f"qd{i}") for i in range(n)]
+    qdd = [se.Symbol(f"qdd{i}") for i in range(n)]
+    assignments = []
+    # merge the kept terms per group and harmonic
+    groups = {}
+    for kind, i, j, k, K, S, C in zip(terms.kind, terms.i, terms.j, terms.k, terms.K,
+                                      terms.S, terms.C):
+        g = groups.setdefault((str(kind), int(i), int(j), int(k)), {})
+        key = _key(K, S)
+        g[key] = g.get(key, 0.0) + float(C)
+    groups = {gk: {h: c for h, c in g.items() if c != 0.0} for gk, g in groups.items()}
+    groups = {gk: g for gk, g in groups.items() if g}
+    # angles, compound angles and their cos/sin
+    theta = []
+    for i in range(n):
+        off = float(offset[i])
+        if off:
+            t = se.Symbol(f"th{i}")
+            assignments.append((t, q[i] + off))
+            theta.append(t)
+        else:
+            theta.append(q[i])
+    angle_cache, trig_cache = {}, {}
+
+    def angle(kvec):
+        kvec = tuple(kvec)
+        if kvec in angle_cache:
+            return angle_cache[kvec]
+        g = 0
+        for v in kvec:
+            g = math.gcd(g, abs(v))
+        if g > 1:
+            base = angle(tuple(v // g for v in kvec))
+            expr = g * base
+        else:
+            nz = [m for m, v in enumerate(kvec) if v]
+            if len(nz) == 1:
+                angle_cache[kvec] = theta[nz[0]]
+                return theta[nz[0]]
+            # split off the last joint: k . theta = (k without m) . theta + k_m theta_m
+            m = nz[-1]
+            head = list(kvec)
+            head[m] = 0
+            expr = angle(tuple(head)) + kvec[m] * theta[m]
+        sym = se.Symbol(f"a{len(angle_cache)}")
+        assignments.append((sym, expr))
+        angle_cache[kvec] = sym
+        return sym
+
+    def trig(key):
+        if key in trig_cache:
+            return trig_cache[key]
+        is_sin, kvec = key[0], tuple(key[1:])
+        if not any(kvec):
+            return se.Integer(1)
+        nz = [m for m, v in enumerate(kvec) if v]
+        if trig_mode == "calls" or (len(nz) == 1 and kvec[nz[0]] == 1):
+            a = angle(kvec)
+            expr = se.sin(a) if is_sin else se.cos(a)
+        else:
+            # angle addition: k = a + b, cos(a+b) = ca cb - sa sb, sin(a+b) = sa cb + ca sb
+            g = 0
+            for v in kvec:
+                g = math.gcd(g, abs(v))
+            if g > 1:
+                unit = tuple(v // g for v in kvec)
+                ka, kb = unit, tuple(v * (g - 1) for v in unit)
+                sign_b = 1
+            else:
+                m = nz[-1]
+                ka = tuple(0 if i == m else v for i, v in enumerate(kvec))
+                sign_b = 1 if kvec[m] > 0 else -1
+                kb = tuple(abs(kvec[m]) if i == m else 0 for i in range(len(kvec)))
+            ca, sa = trig((False,) + ka), trig((True,) + ka)
+            cb, sb = trig((False,) + kb), sign_b * trig((True,) + kb)
+            if ka == kb and not is_sin:
+                expr = ca * ca - sa * sa
+            elif ka == kb:
+                expr = 2 * (sa * ca)
+            else:
+                expr = ca * cb - sa * sb if not is_sin else sa * cb + ca * sb
+        sym = se.Symbol(f"{'s' if is_sin else 'c'}{len(trig_cache)}")
+        assignments.append((sym, expr))
+        trig_cache[key] = sym
+        return sym
+
+    for g in groups.values():                       # trig values first, in a stable order
+        for key in sorted(g):
+            trig(key)
+    vel_cache = {}
+
+    def vel(j, k):
+        if (j, k) not in vel_cache:
+            sym = se.Symbol(f"v{j}{k}" if n < 10 else f"v{j}_{k}")
+            assignments.append((sym, qd[j] * qd[k]))
+            vel_cache[(j, k)] = sym
+        return vel_cache[(j, k)]
+
+    shared = {}
+
+    def group_value(g, name):
+        """A symbol (or constant) for sum coef x trig, reusing a proportional earlier group."""
+        items = sorted(g.items())
+        if len(items) == 1 and not any(items[0][0][1:]):
+            return se.RealDouble(items[0][1])            # a constant group
+        ref = max(items, key=lambda t: abs(t[1]))[1]
+        norm = tuple((h, round(c / ref, 12)) for h, c in items)
+        if norm in shared:
+            sym, ref0 = shared[norm]
+            factor = ref / ref0
+            return sym if factor == 1.0 else (-sym if factor == -1.0 else
+                                               se.RealDouble(factor) * sym)
+        expr = se.Add(*[_coef(c) * trig(h) for h, c in items])
+        sym = se.Symbol(name)
+        assignments.append((sym, expr))
+        shared[norm] = (sym, ref)
+        return sym
+
+    tau = [[] for _ in range(n)]
+    for (kind, i, j, k), g in sorted(groups.items()):
+        if kind == "D":
+            val = group_value(g, f"D{i}{j}" if n < 10 else f"D{i}_{j}")
+            tau[i].append(val * qdd[j])
+            if i != j:
+                tau[j].append(val * qdd[i])
+    for (kind, i, j, k), g in sorted(groups.items()):
+        if kind == "h":
+            val = group_value(g, f"C{i}{j}{k}" if n < 10 else f"C{i}_{j}_{k}")
+            tau[i].append(val * vel(j, k))
+        elif kind == "c":
+            tau[i].append(group_value(g, f"g{i}"))
+    outputs = [se.Add(*t) if t else se.Integer(0) for t in tau]
+    assignments, outputs = _cse(assignments, outputs)
+    return Program(n=n, assignments=assignments, outputs=outputs)
+
+
+def _coef(c):
+    if c == 1.0:
+        return se.Integer(1)
+    if c == -1.0:
+        return se.Integer(-1)
+    return se.RealDouble(c)
+
+
+def _cse(assignments, outputs):
+    """Eliminate what common subexpressions remain (symengine cse), keeping the order."""
+    exprs = [e for _, e in assignments] + list(outputs)
+    reps, reduced = se.cse(exprs)
+    out = []
+    for i, (sym, e) in enumerate(reps):
+        out.append((se.Symbol(f"x{i}"), e))
+    rename = {s: se.Symbol(f"x{i}") for i, (s, _) in enumerate(reps) if s.name != f"x{i}"}
+    body = [(s, e.xreplace(rename) if rename else e) for (s, _), e in
+            zip(assignments, reduced[:len(assignments)])]
+    outs = [e.xreplace(rename) if rename else e for e in reduced[len(assignments):]]
+    # cse temporaries may depend on earlier assignments: place each before first use
+    return _order(out, body), outs
+
+
+def _order(cse_defs, body):
+    """Topological order of the assignments (each after the temporaries it uses)."""
+    pending = list(cse_defs) + list(body)
+    lhs = {s for s, _ in pending}
+    defined, result = set(), []
+    while pending:
+        rest = [(s, e) for s, e in pending if not (e.free_symbols & lhs) <= defined]
+        ready = [(s, e) for s, e in pending if (e.free_symbols & lhs) <= defined]
+        if not ready:
+            raise RuntimeError("cyclic program")
+        result += ready
+        defined |= {s for s, _ in ready}
+        pending = rest
+    return result
+
+
+def _fmt_num(x):
+    v = float(x)
+    return repr(v) if v == v else "NAN"
+
+
+def _print(e, lang, prec=0):
+    """Print an expression; prec: 0 top/sum, 1 product operand, 2 atom."""
+    if e.is_Symbol:
+        return _ref(e.name, lang)
+    if _num(e):
+        s = _fmt_num(e)
+        return f"({s})" if s.startswith("-") and prec > 0 else s
+    if e.is_Add:
+        terms = list(e.args)
+        terms.sort(key=lambda t: _num(t))             # constants last
+        return _print_sum(terms, lang, prec)
+    if e.is_Mul:
+        neg, body = _split_sign(e)
+        factors = list(body.args) if body.is_Mul else [body]
+        factors.sort(key=lambda t: not _num(t))       # constant first
+        s = "*".join(_print(f, lang, 2) for f in factors)
+        if neg:
+            s = f"-{s}"
+            return f"({s})" if prec > 0 else s
+        return s
+    if e.is_Pow:
+        base, ex = e.args
+        b = _print(base, lang, 2)
+        return "(" + "*".join([b] * int(float(ex))) + ")"
+    if isinstance(e, (se.sin, se.cos)):
+        fn = "sin" if isinstance(e, se.sin) else "cos"
+        fn = f"np.{fn}" if lang == "py" else fn
+        return f"{fn}({_print(e.args[0], lang, 0)})"
+    raise ValueError(f"cannot print {e}")
+
+
+#: Longest run of terms printed as one flat sum (Python's compiler nests binary operators).
+_SUM_CHUNK = 32
+
+
+def _print_sum(terms, lang, prec):
+    if len(terms) > _SUM_CHUNK:
+        chunks = [terms[a:a + _SUM_CHUNK] for a in range(0, len(terms), _SUM_CHUNK)]
+        out = " + ".join(_print_sum(c, lang, 1) for c in chunks)
+        return f"({out})" if prec > 0 else out
+    out = ""
+    for t in terms:
+        neg, body = _split_sign(t)
+        s = _print(body, lang, 1)
+        out += (" - " if neg else " + ") + s if out else ("-" + s if neg else s)
+    return f"({out})" if prec > 0 or len(terms) > 1 and prec > 0 else out
+
+
+def _split_sign(t):
+    """(negative?, |t|) for a product with a negative numeric coefficient."""
+    if t.is_Mul:
+        coeff = [a for a in t.args if _num(a)]
+        if coeff and float(coeff[0]) < 0:
+            c = -float(coeff[0])
+            rest = [a for a in t.args if not _num(a)]
+            body = se.Mul(*rest) if c == 1.0 else se.Mul(se.RealDouble(c), *rest)
+            if c == 1.0 and len(rest) == 1:
+                body = rest[0]
+            return True, body
+    if _num(t) and float(t) < 0:
+        return True, se.RealDouble(-float(t))
+    return False, t
+
+
+def _ref(name, lang):
+    for prefix, arr in (("qdd", "qdd"), ("qd", "qd"), ("q", "q")):
+        if name.startswith(prefix) and name[len(prefix):].isdigit():
+            idx = int(name[len(prefix):])
+            return f"{arr}[{idx}]" if lang == "c" else f"{arr}[:, {idx}]"
+    return name
+
+
+def _header_lines(header):
+    return [f"{k}: {v}" for k, v in header.items()]
+
+
+def emit_c(program, header):
+    """C99 source of the program: ``void gd_simplified_tau(q, qd, qdd, tau)``.
+
+    Parameters
+    ----------
+    program : Program
+    header : dict
+        Lines of the header comment (robot, SHA-256s, tolerance, counts, version).
+
+    Returns
+    -------
+    str
+        Standalone C99 that includes only math.h; arrays of n doubles in SI units.
+    """
+    lines = ["/*"] + [f" * {ln}" for ln in _header_lines(header)] + [" */",
+             "#include <math.h>", "",
+             f"void {C_FUNCTION}(const double *q, const double *qd, const double *qdd, "
+             "double *tau)", "{"]
+    for s, e in program.assignments:
+        lines.append(f"    const double {s.name} = {_print(e, 'c')};")
+    for i, e in enumerate(program.outputs):
+        lines.append(f"    tau[{i}] = {_print(e, 'c')};")
+    lines += ["}", ""]
+    return "\n".join(lines)
+
+
+def emit_python(program, header):
+    """numpy source of the program: ``tau(q, qd, qdd)`` vectorised over set points.
+
+    Parameters
+    ----------
+    program : Program
+    header : dict
+        Lines of the header comment.
+
+    Returns
+    -------
+    str
+        A module that imports only numpy; ``tau(q, qd, qdd)`` takes arrays of shape (N, n)
+        (or (n,)) [rad, rad/s, rad/s^2] and returns shape (N, n) [N m].
+    """
+    lines = ['"""'] + _header_lines(header) + ['"""', "", "import numpy as np", "",
+             f"N_JOINTS = {program.n}", "", "",
+             "def tau(q, qd, qdd):",
+             '    """Joint torques [N m], shape (N, n), of q, qd, qdd of shape (N, n)."""',
+             "    q, qd, qdd = (np.atleast_2d(np.asarray(x, dtype=float)) for x in "
+             "(q, qd, qdd))",
+             "    out = np.zeros(np.broadcast_shapes(q.shape, qd.shape, qdd.shape))",
+             "    if out.shape[-1] != N_JOINTS:",
+             "        raise ValueError(f'expected {N_JOINTS} joints, got shape {out.shape}')"]
+    for s, e in program.assignments:
+        lines.append(f"    {s.name} = {_print(e, 'py')}")
+    for i, e in enumerate(program.outputs):
+        lines.append(f"    out[:, {i}] = {_print(e, 'py')}")
+    lines += ["    return out", ""]
+    return "\n".join(lines)

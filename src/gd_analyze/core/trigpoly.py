@@ -1,0 +1,184 @@
+"""Trigonometric polynomials in the joint angles: the algebra behind the explicit model.
+
+A trigonometric polynomial in theta = (theta_1, ..., theta_n) is held in its canonical Fourier
+form::
+
+    f(theta) = sum_r  C_r * cos(k_r . theta)   or   C_r * sin(k_r . theta)
+
+with integer harmonic vectors k_r whose first nonzero entry is positive. The form is unique, so
+equal functions have equal representations: products of sines and cosines of the DH angles
+collapse to sums of harmonics, and the compound angles of parallel axes (theta_2 + theta_3 on
+the PUMA 560) appear by themselves. Derivatives are exact and cheap,
+d cos(k . theta) / d theta_m = -k_m sin(k . theta).
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+__all__ = ["TrigPoly"]
+
+#: Coefficients below this fraction of a result's largest one are rounding residue, dropped.
+CLEAN = 1e-14
+
+
+class TrigPoly:
+    """A trigonometric polynomial in n angles, in canonical Fourier form.
+
+    Parameters
+    ----------
+    K : array_like of int, shape (M, n)
+        Harmonic vectors k_r.
+    S : array_like of bool, shape (M,)
+        True for sin(k_r . theta), False for cos(k_r . theta).
+    C : array_like of float, shape (M,)
+        Coefficients.
+    canonical : bool, optional
+        The rows are already canonical and unique.
+
+    Examples
+    --------
+    >>> p = TrigPoly.cos(2, 0) * TrigPoly.cos(2, 0)      # cos^2 = 1/2 + cos(2 theta)/2
+    >>> sorted((tuple(int(v) for v in k), bool(s), float(c)) for k, s, c in p.rows())
+    [((0, 0), False, 0.5), ((2, 0), False, 0.5)]
+    """
+
+    __slots__ = ("K", "S", "C", "n")
+
+    def __init__(self, K, S, C, canonical=False):
+        K = np.asarray(K, dtype=np.int64).reshape(-1, np.shape(K)[-1] if np.ndim(K) == 2 else 0)
+        self.n = K.shape[1]
+        self.K, self.S, self.C = K, np.asarray(S, bool).reshape(-1), \
+            np.asarray(C, float).reshape(-1)
+        if not canonical:
+            self._canonicalise()
+
+    # -- construction -------------------------------------------------------------------
+    @classmethod
+    def zero(cls, n):
+        """The zero polynomial in n angles."""
+        return cls(np.zeros((0, n), np.int64), np.zeros(0, bool), np.zeros(0), canonical=True)
+
+    @classmethod
+    def const(cls, n, value):
+        """The constant ``value``."""
+        if value == 0:
+            return cls.zero(n)
+        return cls(np.zeros((1, n), np.int64), [False], [float(value)], canonical=True)
+
+    @classmethod
+    def cos(cls, n, i):
+        """cos(theta_i), i 0-based."""
+        K = np.zeros((1, n), np.int64)
+        K[0, i] = 1
+        return cls(K, [False], [1.0], canonical=True)
+
+    @classmethod
+    def sin(cls, n, i):
+        """sin(theta_i), i 0-based."""
+        K = np.zeros((1, n), np.int64)
+        K[0, i] = 1
+        return cls(K, [True], [1.0], canonical=True)
+
+    # -- canonical form -----------------------------------------------------------------
+    def _canonicalise(self):
+        K, S, C = self.K, self.S, self.C
+        if K.shape[0]:
+            nz = K != 0
+            first = np.where(nz.any(axis=1), nz.argmax(axis=1), 0)
+            neg = K[np.arange(K.shape[0]), first] < 0
+            K = np.where(neg[:, None], -K, K)
+            C = np.where(neg & S, -C, C)
+            zero = ~nz.any(axis=1)
+            keep = ~(zero & S)
+            K, S, C = K[keep], S[keep], C[keep]
+            key = np.concatenate([S[:, None].astype(np.int64), K], axis=1)
+            uniq, inv = np.unique(key, axis=0, return_inverse=True)
+            C = np.bincount(inv.reshape(-1), weights=C, minlength=uniq.shape[0])
+            S, K = uniq[:, 0].astype(bool), uniq[:, 1:]
+            big = np.abs(C).max() if C.size else 0.0
+            keep = np.abs(C) > CLEAN * big
+            K, S, C = K[keep], S[keep], C[keep]
+        self.K, self.S, self.C = K, S, C
+
+    # -- arithmetic ---------------------------------------------------------------------
+    def __add__(self, other):
+        if not isinstance(other, TrigPoly):
+            other = TrigPoly.const(self.n, other)
+        return TrigPoly(np.concatenate([self.K, other.K]), np.concatenate([self.S, other.S]),
+                        np.concatenate([self.C, other.C]))
+
+    __radd__ = __add__
+
+    def __neg__(self):
+        return TrigPoly(self.K, self.S, -self.C, canonical=True)
+
+    def __sub__(self, other):
+        return self + (-other)
+
+    def __rsub__(self, other):
+        return (-self) + other
+
+    def __mul__(self, other):
+        if not isinstance(other, TrigPoly):
+            other = float(other)
+            if other == 0:
+                return TrigPoly.zero(self.n)
+            return TrigPoly(self.K, self.S, self.C * other, canonical=True)
+        if not self.C.size or not other.C.size:
+            return TrigPoly.zero(self.n)
+        K1, K2 = self.K[:, None, :], other.K[None, :, :]
+        s1, s2 = self.S[:, None], other.S[None, :]
+        c = 0.5 * self.C[:, None] * other.C[None, :]
+        # cos a cos b = (cos(a+b) + cos(a-b))/2      sin a sin b = (cos(a-b) - cos(a+b))/2
+        # sin a cos b = (sin(a+b) + sin(a-b))/2      cos a sin b = (sin(a+b) - sin(a-b))/2
+        kind = s1 ^ s2
+        f_plus = np.where(s1 & s2, -1.0, 1.0)
+        f_minus = np.where(~s1 & s2, -1.0, 1.0)
+        shape = (K1.shape[0], K2.shape[1], self.n)
+        Kp = np.broadcast_to(K1 + K2, shape).reshape(-1, self.n)
+        Km = np.broadcast_to(K1 - K2, shape).reshape(-1, self.n)
+        kind = np.broadcast_to(kind, c.shape).reshape(-1)
+        return TrigPoly(np.concatenate([Kp, Km]), np.concatenate([kind, kind]),
+                        np.concatenate([(c * f_plus).reshape(-1), (c * f_minus).reshape(-1)]))
+
+    __rmul__ = __mul__
+
+    def diff(self, m):
+        """The derivative d/d theta_m.
+
+        Parameters
+        ----------
+        m : int
+            The angle, 0-based.
+
+        Returns
+        -------
+        TrigPoly
+        """
+        k = self.K[:, m].astype(float)
+        return TrigPoly(self.K, ~self.S, np.where(self.S, k, -k) * self.C)
+
+    # -- inspection ---------------------------------------------------------------------
+    def rows(self):
+        """Iterate over (k, is_sin, coefficient)."""
+        return zip(self.K, self.S, self.C)
+
+    def __len__(self):
+        return int(self.C.size)
+
+    def constant(self):
+        """The constant term (the coefficient of cos(0))."""
+        zero = ~(self.K != 0).any(axis=1) & ~self.S
+        return float(self.C[zero].sum())
+
+    def __call__(self, theta):
+        """Evaluate at theta, shape (N, n) [rad]; returns shape (N,)."""
+        theta = np.atleast_2d(np.asarray(theta, float))
+        if not self.C.size:
+            return np.zeros(theta.shape[0])
+        ang = theta @ self.K.T
+        return np.where(self.S, np.sin(ang), np.cos(ang)) @ self.C
+
+    def __repr__(self):
+        return f"TrigPoly(n={self.n}, terms={len(self)})"

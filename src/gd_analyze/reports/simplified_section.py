@@ -1,0 +1,159 @@
+"""The report's "Simplified model" section (issue 8), from the stored dataset only.
+
+Kept self-contained (one context function, one figure function) so that it carries over to any
+report engine: :func:`simplified_context` gives the tables and text, :func:`error_figure` the
+per-joint plots of tau_s - tau with the guaranteed bound. Everything is read from the variables
+and attributes that :func:`gd_analyze.workflows.simplify.simplified_dataset` stored at analysis
+time; nothing is recomputed.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from .common import fmt, pct, strings, table
+
+__all__ = ["has_simplified", "simplified_context", "error_figure", "SIMPLIFIED_CAPTION"]
+
+#: Caption of the torque-error figure.
+SIMPLIFIED_CAPTION = ("Torque error of the simplified model, \u03c4\u209b \u2212 \u03c4 [N m], "
+                      "per joint against time, with the guaranteed bound \u00b1 (dotted; on "
+                      "this trajectory only).")
+
+
+def has_simplified(ds):
+    """Whether the dataset holds the issue-8 simplified-model variables.
+
+    Parameters
+    ----------
+    ds : xarray.Dataset
+
+    Returns
+    -------
+    bool
+    """
+    return "simplified_bound" in ds.variables
+
+
+def _num(v, digits=4):
+    v = float(v)
+    return "\u2014" if not np.isfinite(v) else fmt(v, digits)
+
+
+def simplified_context(ds):
+    """Tables and text of the "Simplified model" section.
+
+    Parameters
+    ----------
+    ds : xarray.Dataset
+        A results dataset with the ``simplified_*``, ``cost_*`` and ``ladder_*`` variables.
+
+    Returns
+    -------
+    dict
+        ``text`` (str), ``bound`` (table: per joint scale, bound, its split by D/h/c, measured
+        error), ``costs`` (table), ``ladder`` (table), ``files`` (list of str), ``rule``,
+        ``tolerance``.
+    """
+    a = ds.attrs
+    n = ds.sizes["joint"]
+    rule, eps = str(a.get("simplified_rule", "")), float(a.get("simplified_tolerance", np.nan))
+    floor = float(a.get("simplified_torque_floor", 0.0))
+    files = [f.strip() for f in str(a.get("simplified_files", "")).split(",") if f.strip()]
+    choice = strings(ds["choice"].values) if "choice" in ds.variables else []
+    dropped = sum({"both": 0, "tran": 1, "rot": 1, "none": 2}.get(c, 0) for c in choice)
+    if rule == "budget":
+        text = (f"Rule: error budget, EPS = {eps:g}"
+                + (f", torque floor {floor:g} N m" if floor else "")
+                + ". Every part of an element and every term of the explicit model contributes "
+                "to the joint torques (D_ij qdd_j to tau_i and D_ij qdd_i to tau_j, h_i to "
+                "tau_i, c_i to tau_i); terms are dropped in order of increasing peak "
+                "contribution while, for every joint, the dropped peaks sum to at most EPS x "
+                "scale_i (scale_i = peak |tau_i|, raised to the floor). By the triangle "
+                "inequality the error on this trajectory is within that sum: the bound below is "
+                "guaranteed, on this trajectory only.")
+    else:
+        text = ("Rule: the chapter's share-based classes (Sec. 3.4.1): each element keeps its "
+                "dominant part, no term is pruned; there is no error bound.")
+    text += (f" Kept: {int(a.get('simplified_terms_kept', 0))} terms of the explicit model; "
+             f"{dropped} of {2 * len(choice)} element parts dropped as whole parts. The emitted "
+             f"code costs {a.get('simplified_multiplications')} multiplications and "
+             f"{a.get('simplified_additions')} additions per set point "
+             f"({a.get('simplified_sin')} sin, {a.get('simplified_cos')} cos).")
+    other = str(a.get("other_rule", ""))
+    if other and "other_rule_error_relative_peak" in ds.variables:
+        worst = np.nanmax(ds["other_rule_error_relative_peak"].values)
+        text += (f" Side by side, the {other} rule's model costs "
+                 f"{a.get('other_rule_multiplications')} multiplications and "
+                 f"{a.get('other_rule_additions')} additions, worst error {pct(worst)} of "
+                 "peak |tau|.")
+    measured = ds["tau_error_peak"].values
+    bound = table(
+        ["joint", "scale [N m]", "bound [N m]", "from D", "from h", "from c",
+         "measured peak |\u03c4\u209b\u2212\u03c4| [N m]", "measured / scale"],
+        [[str(i + 1), _num(ds["simplified_scale"].values[i]),
+          _num(ds["simplified_bound"].values[i]),
+          _num(ds["simplified_bound_inertia"].values[i]),
+          _num(ds["simplified_bound_coriolis"].values[i]),
+          _num(ds["simplified_bound_gravity"].values[i]), _num(measured[i]),
+          pct(measured[i] / ds["simplified_scale"].values[i])
+          if ds["simplified_scale"].values[i] > 0 else "\u2014"] for i in range(n)],
+        align=["left"] + ["right"] * 7)
+    costs = ladder = None
+    if "cost_total" in ds.variables:
+        costs = table(["model", "multiplications", "additions", "total"],
+                      [[str(lab), _num(m, 6), _num(ad, 6), _num(tot, 6)] for lab, m, ad, tot in
+                       zip(strings(ds["cost_model"].values), ds["cost_multiplications"].values,
+                           ds["cost_additions"].values, ds["cost_total"].values)],
+                      align=["left", "right", "right", "right"], widths=[3, 1, 1, 1])
+    if "ladder_operations" in ds.variables:
+        ladder = table(["EPS", "operations", "sin + cos", "worst error on this trajectory "
+                        "(guaranteed \u2264 EPS)"],
+                       [[f"{e:g}", str(int(o)), str(int(tr)), pct(w)] for e, o, tr, w in
+                        zip(ds["ladder_tolerance"].values, ds["ladder_operations"].values,
+                            ds["ladder_trig"].values, ds["ladder_worst_error"].values)],
+                       align=["right"] * 4)
+    return {"text": text, "bound": bound, "costs": costs, "ladder": ladder, "files": files,
+            "rule": rule, "tolerance": eps}
+
+
+def error_figure(ds, size=(8.27, 9.0)):
+    """Per-joint plots of tau_s - tau against time, with the guaranteed band +- bound.
+
+    Parameters
+    ----------
+    ds : xarray.Dataset
+        With ``t``, ``tau``, ``tau_simplified`` (N, n) [N m] and ``simplified_bound`` (n,).
+    size : tuple, optional
+        Figure size [in].
+
+    Returns
+    -------
+    matplotlib.figure.Figure
+    """
+    from matplotlib.figure import Figure
+
+    n = ds.sizes["joint"]
+    t = ds["t"].values
+    diff = ds["tau_simplified"].values - ds["tau"].values
+    bound = ds["simplified_bound"].values
+    cols = 2 if n > 1 else 1
+    rows = -(-n // cols)
+    fig = Figure(figsize=size, layout="constrained")
+    for i in range(n):
+        ax = fig.add_subplot(rows, cols, i + 1)
+        ax.plot(t, diff[:, i], color="#D55E00", linewidth=1.2, label="\u03c4\u209b \u2212 \u03c4")
+        if np.isfinite(bound[i]):
+            ax.axhline(bound[i], color="0.4", linestyle=":", linewidth=1,
+                       label="guaranteed bound")
+            ax.axhline(-bound[i], color="0.4", linestyle=":", linewidth=1)
+        ax.axhline(0.0, color="0.8", linewidth=0.6)
+        ax.set_title(f"joint {i + 1}", fontsize=9)
+        ax.set_xlabel("time t [s]", fontsize=8)
+        ax.set_ylabel(f"\u03c4\u209b \u2212 \u03c4 (joint {i + 1}) [N m]", fontsize=8)
+        ax.tick_params(labelsize=7)
+        if i == 0:
+            ax.legend(fontsize=7, frameon=False)
+    fig.suptitle("Torque error of the simplified model, \u03c4\u209b \u2212 \u03c4 [N m], and "
+                 "its bound", fontsize=10)
+    return fig

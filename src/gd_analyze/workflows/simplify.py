@@ -1,0 +1,449 @@
+"""Build the simplified explicit model of a robot along trajectories (issue 8).
+
+robot -> explicit terms (cached derivation) -> peaks of every part and term along the
+trajectories -> selection by the rule (budget or chapter) -> straight-line program -> model,
+its cost, its error, and the tolerance ladder. Nothing here prints or writes files.
+"""
+
+from __future__ import annotations
+
+import weakref
+from dataclasses import dataclass
+
+import numpy as np
+
+from ..core.budget import DEFAULT_TOLERANCE, PartPeaks, select_terms
+from ..core.ranking import DEFAULT_DOMINANCE, DEFAULT_NEGLIGIBLE
+from ..core.codegen import build_program
+from ..core.explicit import term_peaks
+from ..core.dalembert import gd_terms
+from ..io.explicit_cache import explicit_terms
+from ..core.simplified import SimplifiedModel, TorqueErrorAccumulator
+
+__all__ = ["Peaks", "collect_peaks", "build_model", "LADDER", "ladder", "cost_rows",
+           "AKB_COSTS", "simplified_dataset"]
+
+#: The tolerance ladder of the report and README.
+LADDER = (0.0, 0.001, 0.01, 0.05)
+#: Armstrong, Khatib & Burdick (ICRA 1986), PUMA 560: explicit model costs
+#: (multiplications, additions, total); the split of the simplified model is not given.
+AKB_COSTS = {"AKB 1986 full explicit": (739, 426, 1165),
+             "AKB 1986 simplified (1 %)": (np.nan, np.nan, 305)}
+
+
+#: Cost of the full explicit program per Term object (computed once).
+_FULL_COST = weakref.WeakKeyDictionary()
+
+
+@dataclass(eq=False)
+class Peaks:
+    """Peaks along one or more trajectories, combinable by maximum.
+
+    Attributes
+    ----------
+    parts : PartPeaks
+        Peak contribution of every part, and peak |tau| [N m].
+    terms : ndarray, shape (U, n)
+        Peak contribution of every explicit term [N m].
+    """
+
+    parts: PartPeaks
+    terms: np.ndarray
+
+    def merge(self, other):
+        """Combine with the peaks of other trajectories (maximum).
+
+        Parameters
+        ----------
+        other : Peaks
+            Peaks of the same robot and terms on other trajectories.
+
+        Returns
+        -------
+        Peaks
+            self, updated in place.
+        """
+        self.parts.merge(other.parts)
+        np.maximum(self.terms, other.terms, out=self.terms)
+        return self
+
+
+def collect_peaks(robot, terms, q, qd, qdd, chunk=8192, gd=None):
+    """Peaks of the parts and of the explicit terms along one trajectory.
+
+    Parameters
+    ----------
+    robot : Robot
+    terms : Term
+        All explicit terms (:func:`gd_analyze.io.explicit_cache.explicit_terms`).
+    q, qd, qdd : ndarray, shape (N, n)
+        [rad, rad/s, rad/s^2].
+    chunk : int, optional
+        Set points at once.
+    gd : PartPeaks, optional
+        Part peaks already accumulated (by a pass over the G-D terms); computed if not given.
+
+    Returns
+    -------
+    Peaks
+    """
+    if gd is None:
+        gd = PartPeaks(robot.n)
+        for a in range(0, q.shape[0], chunk):
+            sl = slice(a, a + chunk)
+            t = gd_terms(robot, q[sl], qd[sl])
+            gd.update(t.D_tran, t.D_rot, t.h_tran, t.h_rot, qdd[sl], t.tau(qdd[sl]))
+    return Peaks(parts=gd, terms=term_peaks(terms, np.zeros(robot.n), q, qd, qdd))
+
+
+def build_model(robot, terms, peaks, tolerance=DEFAULT_TOLERANCE, rule="budget",
+                torque_floor=0.0, chapter_choices=None, ranking=None, trajectory_sha256="",
+                provenance=None):
+    """The simplified explicit model chosen by a rule on the peaks.
+
+    Parameters
+    ----------
+    robot : Robot
+    terms : Term
+        All explicit terms.
+    peaks : Peaks
+        From :func:`collect_peaks` (merged over trajectories for a sweep).
+    tolerance : float, optional
+        EPS.
+    rule : {"budget", "chapter"}, optional
+    torque_floor : float, optional
+        TAU [N m].
+    chapter_choices : dict, optional
+        The share-based choices (needed for the chapter rule).
+    ranking : Ranking, optional
+        For the thresholds s and e recorded with the model.
+    trajectory_sha256 : str, optional
+    provenance : dict, optional
+
+    Returns
+    -------
+    model : SimplifiedModel
+        With ``validation`` empty (fill it with :func:`validate`).
+    selection : Selection
+    """
+    sel = select_terms(terms, peaks.terms, peaks.parts.peaks, peaks.parts.tau_peak,
+                       tolerance=tolerance, rule=rule, torque_floor=torque_floor,
+                       chapter_choices=chapter_choices)
+    program = build_program(sel.kept, robot.n, np.zeros(robot.n))
+    full = _FULL_COST.get(terms)
+    if full is None:
+        full = _FULL_COST[terms] = build_program(terms, robot.n, np.zeros(robot.n)).cost()
+    model = SimplifiedModel(
+        robot=robot, choices=sel.choices,
+        dominance_threshold=float(getattr(ranking, "dominance_threshold", DEFAULT_DOMINANCE)),
+        negligible_threshold=float(getattr(ranking, "negligible_threshold", DEFAULT_NEGLIGIBLE)),
+        trajectory_sha256=trajectory_sha256, provenance=dict(provenance or {}), rule=rule,
+        tolerance=float(tolerance), torque_floor=float(torque_floor), terms=sel.kept,
+        cost=program.cost(), full_cost=full, bound=[float(v) for v in sel.bound])
+    object.__setattr__(model, "_program", program)
+    return model, sel
+
+
+def full_torque(robot, terms):
+    """The full explicit model as a function tau(q, qd, qdd), shape (N, n) [N m].
+
+    Parameters
+    ----------
+    robot : Robot
+    terms : Term
+        All explicit terms.
+
+    Returns
+    -------
+    callable
+        Equal to the G-D model's tau = D qdd + h + c to rounding (the tests check it against
+        Pinocchio rnea to 1e-10), without computing the G-D terms again.
+    """
+    from ..core.codegen import emit_python
+
+    ns = {}
+    exec(compile(emit_python(build_program(terms, robot.n, np.zeros(robot.n)), {}),
+                 "<full explicit model>", "exec"), ns)
+    return ns["tau"]
+
+
+def validate(model, trajectories, chunk=65536, reference=None):
+    """The model's torque error against the full model along trajectories.
+
+    Parameters
+    ----------
+    model : SimplifiedModel
+    trajectories : iterable of (q, qd, qdd)
+        Arrays of shape (N, n).
+    chunk : int, optional
+    reference : callable, optional
+        tau_full(q, qd, qdd); by default the G-D terms' D qdd + h + c (:func:`full_torque`
+        avoids computing them again).
+
+    Returns
+    -------
+    dict
+        As :func:`gd_analyze.simplified.torque_error` (over all trajectories together).
+    """
+    acc = TorqueErrorAccumulator(model.robot.n)
+    for q, qd, qdd in trajectories:
+        for a in range(0, q.shape[0], chunk):
+            sl = slice(a, a + chunk)
+            tau = gd_terms(model.robot, q[sl], qd[sl]).tau(qdd[sl]) if reference is None \
+                else reference(q[sl], qd[sl], qdd[sl])
+            acc.update(model.torque(q[sl], qd[sl], qdd[sl]), tau)
+    return acc.result()
+
+
+__all__ += ["validate", "full_torque"]
+
+
+def ladder(robot, terms, peaks, trajectories, tolerances=LADDER, torque_floor=0.0,
+           held_out=None, reference=None):
+    """The tolerance ladder: cost and worst per-joint error for each EPS.
+
+    Parameters
+    ----------
+    robot : Robot
+    terms : Term
+    peaks : Peaks
+        Along the analysed trajectories.
+    trajectories : list of (q, qd, qdd)
+        The analysed trajectories (the error there is guaranteed within EPS).
+    tolerances : sequence of float, optional
+    torque_floor : float, optional
+    held_out : list of (q, qd, qdd), optional
+        Other trajectories (the error there is not guaranteed).
+    reference : callable, optional
+        tau_full(q, qd, qdd) for :func:`validate`.
+
+    Returns
+    -------
+    list of dict
+        Per EPS: ``tolerance``, ``multiplications``, ``additions``, ``sin``, ``cos``,
+        ``worst_relative_error`` (max over joints of peak |tau_s - tau| / scale_i on the
+        analysed trajectories), ``worst_relative_error_held_out`` (NaN without held-out ones).
+    """
+    scale = np.maximum(peaks.parts.tau_peak, torque_floor)
+    rows = []
+    for eps in tolerances:
+        model, _ = build_model(robot, terms, peaks, tolerance=eps, torque_floor=torque_floor)
+        err = validate(model, trajectories, reference=reference)
+        worst = float(np.max(np.array(err["peak_abs_error"]) / np.where(scale > 0, scale,
+                                                                         np.inf)))
+        held = np.nan
+        if held_out:
+            e2 = validate(model, held_out, reference=reference)
+            pt = np.array(e2["peak_tau"])
+            held = float(np.max(np.array(e2["peak_abs_error"])
+                                / np.where(pt > 0, np.maximum(pt, torque_floor), np.inf)))
+        rows.append({"tolerance": float(eps), **model.cost,
+                     "worst_relative_error": worst, "worst_relative_error_held_out": held})
+    return rows
+
+
+def cost_rows(n, model, other=None, ladder_rows=None, formulation_counts=None):
+    """The cost table: label -> (multiplications, additions, total).
+
+    Parameters
+    ----------
+    n : int
+        Number of joints (for Table 3.5).
+    model : SimplifiedModel
+        The model built (its cost and the full explicit model's).
+    other : SimplifiedModel, optional
+        The model of the other rule, side by side.
+    ladder_rows : list of dict, optional
+        From :func:`ladder`.
+    formulation_counts : dict, optional
+        :func:`gd_analyze.opcount.operation_counts` (as implemented); by default counted.
+
+    Returns
+    -------
+    dict
+    """
+    from ..formulations.opcount import book_counts
+
+    def row(c):
+        return (float(c["multiplications"]), float(c["additions"]),
+                float(c["multiplications"] + c["additions"]))
+
+    rows = {"explicit, full": row(model.full_cost)}
+    for r in ladder_rows or []:
+        rows[f"explicit, budget EPS={r['tolerance']:g}"] = row(r)
+    for m in (model, other):
+        if m is not None:
+            eps = "" if m.rule == "chapter" else f" EPS={m.tolerance:g}"
+            rows[f"explicit, {m.rule}{eps} (this model)" if m is model else
+                 f"explicit, {m.rule}{eps}"] = row(m.cost)
+    from ..formulations.opcount import operation_counts
+
+    counts = operation_counts(n) if formulation_counts is None else formulation_counts
+    for method, label in (("gd", "G-D"), ("newton-euler", "N-E"), ("lagrange-euler", "L-E")):
+        mu, ad = counts[method]["multiplications"], counts[method]["additions"]
+        rows[f"project {label} as implemented"] = (float(mu), float(ad), float(mu + ad))
+    book = book_counts(n)
+    for method, label in (("gd", "G-D"), ("newton-euler", "N-E"), ("lagrange-euler", "L-E")):
+        mu, ad = book[method]["multiplications"], book[method]["additions"]
+        rows[f"Table 3.5 {label}"] = (float(mu), float(ad), float(mu + ad))
+    if n == 6:
+        rows.update({k: tuple(float(x) for x in v) for k, v in AKB_COSTS.items()})
+    return rows
+
+
+def simplified_dataset(model, selection, other=None, ladder_rows=None, cost_table=None,
+                       files=("simplified_model.c", "simplified_model.py"), other_error=None):
+    """The variables the report's "Simplified model" section reads.
+
+    Parameters
+    ----------
+    model : SimplifiedModel
+    selection : Selection
+    other : SimplifiedModel, optional
+        The other rule's model.
+    ladder_rows : list of dict, optional
+    cost_table : dict, optional
+        From :func:`cost_rows`.
+    files : tuple of str, optional
+        The emitted source files.
+    other_error : dict, optional
+        The other model's error along the trajectory (:func:`validate`).
+
+    Returns
+    -------
+    xarray.Dataset
+        ``simplified_scale``, ``simplified_bound``, ``simplified_bound_inertia``,
+        ``simplified_bound_coriolis``, ``simplified_bound_gravity``,
+        ``simplified_element_bound`` (dim joint) [N m]; ``cost_*`` (dim cost_model);
+        ``ladder_*`` (dim ladder_tolerance); ``other_rule_*``; attributes ``simplified_rule``,
+        ``simplified_tolerance``, ``simplified_torque_floor``, ``simplified_files``,
+        ``simplified_terms_kept``.
+    """
+    import xarray as xr
+
+    def var(dims, data, units, desc):
+        return xr.Variable(dims, data, {"units": units, "long_name": desc})
+
+    dv = {
+        "simplified_scale": var(("joint",), selection.scale, "N m",
+                                "scale_i = max(peak |tau_i|, torque floor)"),
+        "simplified_bound": var(("joint",), selection.bound, "N m",
+                                "guaranteed bound on |tau_s - tau| on the trajectory"),
+        "simplified_bound_inertia": var(("joint",), selection.bound_by_kind["D"], "N m",
+                                        "share of the bound from dropped terms of D (D qdd)"),
+        "simplified_bound_coriolis": var(("joint",), selection.bound_by_kind["h"], "N m",
+                                         "share of the bound from dropped terms of h"),
+        "simplified_bound_gravity": var(("joint",), selection.bound_by_kind["c"], "N m",
+                                        "share of the bound from dropped terms of c"),
+        "simplified_element_bound": var(("joint",), selection.element_bound, "N m",
+                                        "bound of the whole-part (element) choices"),
+    }
+    if cost_table:
+        labels = list(cost_table)
+        arr = np.array([cost_table[k] for k in labels], float)
+        dv.update({
+            "cost_multiplications": var(("cost_model",), arr[:, 0], "1", "multiplications"),
+            "cost_additions": var(("cost_model",), arr[:, 1], "1", "additions"),
+            "cost_total": var(("cost_model",), arr[:, 2], "1", "multiplications + additions"),
+        })
+    if ladder_rows:
+        dv.update({
+            "ladder_operations": var(("ladder_tolerance",),
+                                     [r["multiplications"] + r["additions"] for r in
+                                      ladder_rows], "1", "multiplications + additions"),
+            "ladder_trig": var(("ladder_tolerance",), [r["sin"] + r["cos"] for r in
+                                                       ladder_rows], "1", "sin and cos calls"),
+            "ladder_worst_error": var(("ladder_tolerance",),
+                                      [r["worst_relative_error"] for r in ladder_rows], "1",
+                                      "worst peak |tau_s - tau| / scale_i on the trajectory "
+                                      "(guaranteed <= EPS)"),
+        })
+    if other is not None and other_error is not None:
+        dv.update({
+            "other_rule_choice": var(("element",), np.array(
+                [other.choices[k] for k in other.choices], dtype=str), "1",
+                f"choices of the {other.rule} rule"),
+            "other_rule_error_relative_peak": var(
+                ("joint",), np.array(other_error["relative_peak_error"], float), "1",
+                f"peak |tau_s - tau| / peak |tau| of the {other.rule} rule's model"),
+        })
+    coords = {}
+    if cost_table:
+        coords["cost_model"] = var(("cost_model",), np.array(list(cost_table), dtype=str), "1",
+                                   "formulation or model whose operations are counted")
+    if ladder_rows:
+        coords["ladder_tolerance"] = var(("ladder_tolerance",),
+                                         np.array([r["tolerance"] for r in ladder_rows]), "1",
+                                         "EPS of the error budget")
+    ds = xr.Dataset(dv, coords=coords)
+    cost = model.cost
+    ds.attrs.update({
+        "simplified_rule": model.rule, "simplified_tolerance": model.tolerance,
+        "simplified_torque_floor": model.torque_floor,
+        "simplified_files": ", ".join(files), "simplified_terms_kept": len(model.terms),
+        "simplified_multiplications": cost["multiplications"],
+        "simplified_additions": cost["additions"], "simplified_sin": cost["sin"],
+        "simplified_cos": cost["cos"],
+        "other_rule": "" if other is None else other.rule,
+        "other_rule_multiplications": -1 if other is None else other.cost["multiplications"],
+        "other_rule_additions": -1 if other is None else other.cost["additions"],
+    })
+    return ds
+
+
+def sweep_model(robot, trajectories, tolerance=DEFAULT_TOLERANCE, torque_floor=0.0,
+                held_out=(), provenance=None):
+    """One simplified explicit model guaranteed on every trajectory of a sweep.
+
+    A term's (atom's) peak is taken over all the trajectories together, and so is each joint's
+    scale; the budget rule then keeps every trajectory's error within EPS x scale_i.
+
+    Parameters
+    ----------
+    robot : Robot
+    trajectories : sequence of Trajectory
+        The swept trajectories.
+    tolerance : float, optional
+        EPS.
+    torque_floor : float, optional
+        TAU [N m].
+    held_out : sequence of Trajectory, optional
+        Trajectories not swept: the error there is measured, not guaranteed.
+    provenance : dict, optional
+
+    Returns
+    -------
+    model : SimplifiedModel
+        ``validation`` holds the error over the swept trajectories, plus ``held_out`` (the
+        error on the held-out ones, or an empty dict) and ``trajectories``.
+    selection : Selection
+    """
+    import hashlib
+
+    terms, _ = explicit_terms(robot)
+    peaks = None
+    for tr in trajectories:
+        p = collect_peaks(robot, terms, tr.q, tr.qd, tr.qdd)
+        peaks = p if peaks is None else peaks.merge(p)
+    if peaks is None:
+        raise ValueError("no trajectories")
+    h = hashlib.sha256()
+    for tr in trajectories:               # file digests, or the arrays of planned trajectories
+        h.update(tr.sha256.encode() if tr.sha256 else
+                 b"".join(np.ascontiguousarray(x, float).tobytes() for x in (tr.q, tr.qd, tr.qdd)))
+    digest = h.hexdigest()
+    model, sel = build_model(robot, terms, peaks, tolerance=tolerance,
+                             torque_floor=torque_floor, trajectory_sha256=digest,
+                             provenance={**(provenance or {}), "kind": "sweep model",
+                                         "trajectories": len(trajectories)})
+    ref = full_torque(robot, terms)
+    validation = validate(model, [(t.q, t.qd, t.qdd) for t in trajectories], reference=ref)
+    validation["trajectories"] = len(trajectories)
+    validation["held_out"] = validate(model, [(t.q, t.qd, t.qdd) for t in held_out],
+                                      reference=ref) if held_out else {}
+    validation["held_out_trajectories"] = len(held_out)
+    object.__setattr__(model, "validation", validation)
+    return model, sel
+
+
+__all__.append("sweep_model")

@@ -1,0 +1,128 @@
+"""The simplified explicit model in the main job, the CLI, the sweep and the report."""
+
+import json
+
+import numpy as np
+import pinocchio as pin
+import pytest
+
+from conftest import SHIPPED
+from gd_analyze import load_robot
+from gd_analyze.cli import main
+from gd_analyze.core.simplified import SimplifiedModel
+from gd_analyze.formulations.pinocchio import pinocchio_model
+from gd_analyze.io.trajectory import read_trajectory
+from gd_analyze.workflows.simplify import sweep_model
+from gd_analyze.io.planning import random_trajectories
+
+
+def _rnea(robot, q, qd, qdd):
+    model = pinocchio_model(robot)
+    data = model.createData()
+    return np.array([pin.rnea(model, data, a, b, c) for a, b, c in zip(q, qd, qdd)])
+
+
+def _run(argv, capsys):
+    code = main([str(a) for a in argv])
+    out, err = capsys.readouterr()
+    return code, out, err
+
+
+@pytest.mark.parametrize("eps", ["0.01", "0.05"])
+def test_main_job_model_within_tolerance_and_cheaper_than_newton_euler(tmp_path, capsys, eps):
+    from gd_analyze.formulations.opcount import operation_counts
+
+    code, _, err = _run(["puma560", SHIPPED, "-o", tmp_path, "--no-report", "--tolerance", eps],
+                        capsys)
+    assert code == 0, err
+    spec = json.loads((tmp_path / "simplified_model.json").read_text())
+    assert spec["rule"] == "budget" and spec["tolerance"] == float(eps)
+    ne = operation_counts(6)["newton-euler"]
+    cost = spec["cost"]
+    assert cost["multiplications"] + cost["additions"] < ne["multiplications"] + ne["additions"]
+    full = spec["full_cost"]
+    assert cost["multiplications"] + cost["additions"] < full["multiplications"] + \
+        full["additions"]
+    traj = read_trajectory(SHIPPED, 6)
+    robot = load_robot("puma560")
+    ref = _rnea(robot, traj.q, traj.qd, traj.qdd)
+    scale = np.abs(ref).max(axis=0)
+    ns = {}
+    exec((tmp_path / "simplified_model.py").read_text(), ns)     # numpy only, no gd_analyze
+    for tau in (ns["tau"](traj.q, traj.qd, traj.qdd),
+                SimplifiedModel.load(tmp_path / "simplified_model.json").torque(
+                    traj.q, traj.qd, traj.qdd)):
+        assert (np.abs(tau - ref).max(axis=0) <= float(eps) * scale * (1 + 1e-9)).all()
+    header = (tmp_path / "simplified_model.c").read_text().split("*/")[0]
+    for needle in (robot.sha256, traj.sha256, f"tolerance: {float(eps):g}",
+                   f"{cost['multiplications']} multiplications", "gd-analyze version"):
+        assert needle in header
+    # evaluate uses the explicit model: within EPS on its own trajectory, exit 0
+    code, out, err = _run(["evaluate", tmp_path / "simplified_model.json", SHIPPED,
+                           "--max-error", eps, "--json"], capsys)
+    assert code == 0, err
+    assert json.loads(out)["max_relative_peak_error"] <= float(eps)
+
+
+def test_rule_chapter_and_bad_tolerance(tmp_path, capsys):
+    code, _, err = _run(["puma560", SHIPPED, "-o", tmp_path, "--no-report", "--rule", "chapter"],
+                        capsys)
+    assert code == 0, err
+    spec = json.loads((tmp_path / "simplified_model.json").read_text())
+    assert spec["rule"] == "chapter"
+    code, _, err = _run(["puma560", SHIPPED, "-o", tmp_path / "x", "--tolerance", "-1"], capsys)
+    assert code == 2 and "--tolerance" in err and "Traceback" not in err
+    code, _, err = _run(["puma560", SHIPPED, "-o", tmp_path / "y", "--torque-floor", "nan"],
+                        capsys)
+    assert code == 2 and "Traceback" not in err
+
+
+def test_torque_floor_lowers_the_cost(tmp_path, capsys):
+    costs = []
+    for floor in ("0", "1"):
+        out = tmp_path / floor
+        code, _, err = _run(["puma560", SHIPPED, "-o", out, "--no-report", "--torque-floor",
+                             floor], capsys)
+        assert code == 0, err
+        c = json.loads((out / "simplified_model.json").read_text())["cost"]
+        costs.append(c["multiplications"] + c["additions"])
+    assert costs[1] < costs[0]
+
+
+def test_sweep_model_is_guaranteed_on_every_swept_trajectory():
+    robot = load_robot("puma560")
+    trajs = random_trajectories(robot, 6, seed=5)
+    held = random_trajectories(robot, 3, seed=99)
+    model, sel = sweep_model(robot, trajs, tolerance=0.02, held_out=held)
+    scale = np.zeros(6)
+    refs = [_rnea(robot, t.q, t.qd, t.qdd) for t in trajs]
+    for ref in refs:
+        scale = np.maximum(scale, np.abs(ref).max(axis=0))
+    np.testing.assert_allclose(sel.scale, scale, rtol=1e-9)
+    for t, ref in zip(trajs, refs):
+        err = np.abs(model.torque(t.q, t.qd, t.qdd) - ref).max(axis=0)
+        assert (err <= 0.02 * scale * (1 + 1e-9)).all()
+    assert model.validation["trajectories"] == 6
+    assert len(model.validation["held_out"]["peak_abs_error"]) == 6
+
+
+def test_report_section_reads_the_stored_dataset(tmp_path, capsys):
+    import xarray as xr
+
+    from gd_analyze.reports.simplified_section import error_figure, simplified_context
+
+    code, _, err = _run(["puma560", SHIPPED, "-o", tmp_path, "--no-report"], capsys)
+    assert code == 0, err
+    with xr.open_dataset(tmp_path / "results.h5", engine="h5netcdf") as ds:
+        ds = ds.load()
+    ctx = simplified_context(ds)
+    assert ctx["rule"] == "budget" and ctx["tolerance"] == 0.01
+    assert ctx["files"] == ["simplified_model.c", "simplified_model.py"]
+    labels = [row[0] for row in ctx["costs"]["rows"]]
+    assert "AKB 1986 simplified (1 %)" in labels and "project N-E as implemented" in labels
+    assert len(ctx["ladder"]["rows"]) == 4
+    # the stored bound holds the measured error
+    assert (ds["tau_error_peak"].values <= ds["simplified_bound"].values + 1e-12).all()
+    assert (ds["simplified_bound"].values <= 0.01 * ds["simplified_scale"].values).all()
+    fig = error_figure(ds)
+    assert len(fig.axes) == 6
