@@ -17,7 +17,8 @@ from gd_analyze import gd_terms, load_robot
 from gd_analyze.core.dalembert import forward_dynamics
 from gd_analyze.files import file_sha256
 from gd_analyze.io.control_dataset import control_dataset, write_control_dataset
-from gd_analyze.workflows.control import CONTROLLERS, control_gains, desired_motion, run_control
+from gd_analyze.workflows.control import run_control
+from gd_analyze.workflows.tracking import CONTROLLERS, control_gains, desired_motion
 from gd_analyze.reports.control import write_control_report
 from gd_analyze.errors import InputError
 from gd_analyze.formulations.opcount import count_operations

@@ -296,7 +296,7 @@ def _compare_parser():
 
 
 def _control_parser():
-    from ..workflows.control import DEFAULT_WN, DEFAULT_ZETA
+    from ..workflows.tracking import DEFAULT_WN, DEFAULT_ZETA
 
     p = _Parser(prog=f"{PROG} control",
                 description="Simulate computed-torque control of the full-model arm along a "

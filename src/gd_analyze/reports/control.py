@@ -1,7 +1,7 @@
 """Control report: the stored closed-loop comparison as one self-contained HTML file and a PDF.
 
 :func:`write_control_report` reads a control dataset written by
-:func:`gd_analyze.workflows.control.write_control_dataset` (``control.h5``) and never recomputes anything:
+:func:`gd_analyze.io.control_dataset.write_control_dataset` (``control.h5``) and never recomputes anything:
 every number and curve comes from the dataset's variables and global attributes. The report
 holds the set-up and gains, the tracking error per joint of the three controllers (figure and
 peak/RMS table), the torque difference between the simplified-model and the full-model
@@ -132,7 +132,7 @@ def make_control_figures(ds):
     Parameters
     ----------
     ds : xarray.Dataset
-        A control dataset (:func:`gd_analyze.workflows.control.control_dataset`).
+        A control dataset (:func:`gd_analyze.io.control_dataset.control_dataset`).
 
     Returns
     -------
@@ -471,7 +471,7 @@ def write_control_report(control_path, outdir, paper="a4"):
     Parameters
     ----------
     control_path : str or os.PathLike
-        A control dataset written by :func:`gd_analyze.workflows.control.write_control_dataset`
+        A control dataset written by :func:`gd_analyze.io.control_dataset.write_control_dataset`
         (``control.h5``). Only read: nothing is recomputed.
     outdir : str or os.PathLike
         Output folder; made if missing.
