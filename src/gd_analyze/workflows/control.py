@@ -11,8 +11,8 @@ and three controllers track a desired motion q_d(t):
 - ``"full"``: computed torque (Fu, Gonzalez & Lee 1987, Ch. 5, computed-torque technique) with
   the full G-D model, tau = D(q) v + h(q, qd) + c(q);
 - ``"simplified"``: computed torque with the simplified model of ``simplified_model.json``,
-  tau = D_s(q) v + h_s(q, qd) + c(q), evaluated by
-  :func:`gd_analyze.formulations.simplified_eval.simplified_tau` (only the kept parts are computed);
+  tau = D_s(q) v + h_s(q, qd) + c(q), evaluated in its explicit form
+  (:meth:`gd_analyze.core.simplified.SimplifiedModel.torque`: only the kept terms are computed);
 - ``"pd_gravity"``: PD control with gravity compensation, tau = Kp_pd e + Kv_pd ed + c(q);
 
 where e = q_d - q, ed = qd_d - qd and v = qdd_d + Kv ed + Kp e. With the full model the
@@ -61,12 +61,11 @@ from pathlib import Path
 import numpy as np
 
 from ..core.simplified import choice_masks
-from ..formulations.simplified_eval import COST_SETPOINTS, evaluation_cost
 from .tracking import (CONTROLLER_DESCRIPTIONS, CONTROLLERS, DEFAULT_ATOL, DEFAULT_METHOD,
                        DEFAULT_RTOL, DEFAULT_WN, DEFAULT_ZETA, MAX_STIFFNESS_STEPS, Gains,
                        control_gains, desired_motion, stiffness_steps, track)
 
-__all__ = ["DEFAULT_GRID_POINTS", "CONTROL_FILE", "ControlResult", "run_control"]
+__all__ = ["DEFAULT_GRID_POINTS", "CONTROL_FILE", "ControlResult", "run_control", "model_cost"]
 
 #: Default number of evenly spaced samples of the fine grid (set points are added).
 DEFAULT_GRID_POINTS = 2001
@@ -100,7 +99,7 @@ class ControlResult:
     runs : dict
         Controller name -> :class:`TrackingRun`, in :data:`CONTROLLERS` order.
     cost : dict or None
-        :func:`~gd_analyze.formulations.simplified_eval.evaluation_cost` of the model, if computed.
+        :func:`model_cost` of the model, if asked for.
     provenance : dict
         Files and their SHA-256, solver settings, initial offset.
     """
@@ -184,6 +183,53 @@ class ControlResult:
                 "tau_difference": td, "cost": self.cost}
 
 
+def model_cost(model):
+    """The counted operations per set point of a simplified model, beside the full model's.
+
+    Parameters
+    ----------
+    model : SimplifiedModel
+        The model: its counted ``cost`` and ``full_cost`` (the explicit model with and without
+        pruning, counted on the emitted expressions), or, for a model stored without them, its
+        straight-line program's count.
+
+    Returns
+    -------
+    dict
+        ``evaluators`` (names), ``multiplications`` and ``additions`` (lists of int per set
+        point): the simplified explicit model, the full explicit model where known, and the
+        project's recursive Newton-Euler as implemented (:func:`gd_analyze.formulations.opcount.count_operations`);
+        ``dropped`` and ``parts``: parts of D and h the model drops, of 2 (n (n + 1) / 2 + n).
+
+    Notes
+    -----
+    Counts, not times: they do not depend on the machine. Sources: Sec. 3.4.1 of Fu, Gonzalez &
+    Lee (1987) (a simplified model "at a reduced computation time"), Table 3.5 (N-E), and
+    Armstrong, Khatib & Burdick (1986) for the explicit form.
+    """
+    from ..formulations.opcount import count_operations
+
+    robot = model.robot
+    names, mults, adds = [], [], []
+    simp = model.cost or model.program().cost()
+    names.append("simplified explicit model")
+    mults.append(int(simp["multiplications"]))
+    adds.append(int(simp["additions"]))
+    if model.full_cost:
+        names.append("full explicit model")
+        mults.append(int(model.full_cost["multiplications"]))
+        adds.append(int(model.full_cost["additions"]))
+    ne = count_operations(robot, "newton-euler")
+    names.append("Newton-Euler (as implemented)")
+    mults.append(int(ne[0]))
+    adds.append(int(ne[1]))
+    Mt, Mr, mt, mr = choice_masks(model.choices, robot.n)
+    parts = 2 * (robot.n * (robot.n + 1) // 2 + robot.n)
+    kept = int(np.triu(Mt).sum() + np.triu(Mr).sum() + mt.sum() + mr.sum())
+    return {"evaluators": names, "multiplications": mults, "additions": adds,
+            "dropped": parts - kept, "parts": parts}
+
+
 def _sample_times(t_set, grid_points):
     """Set-point times and an even grid, merged; grid points within 1e-9 T of a set point go."""
     t_set = np.asarray(t_set, dtype=float)
@@ -198,7 +244,7 @@ def _sample_times(t_set, grid_points):
 def run_control(model, trajectory, wn=DEFAULT_WN, zeta=DEFAULT_ZETA, q0_offset=0.0,
                 controllers=CONTROLLERS, grid_points=DEFAULT_GRID_POINTS, rtol=DEFAULT_RTOL,
                 atol=DEFAULT_ATOL, method=DEFAULT_METHOD, t_end=None, cost=True,
-                cost_setpoints=COST_SETPOINTS, model_path=None, model_sha256=None):
+                model_path=None, model_sha256=None):
     """Track a trajectory with the full-model, simplified-model and PD + gravity controllers.
 
     Parameters
@@ -224,9 +270,7 @@ def run_control(model, trajectory, wn=DEFAULT_WN, zeta=DEFAULT_ZETA, q0_offset=0
     t_end : float, optional
         Stop at this time [s] (set points after it are left out); default: the last set point.
     cost : bool, optional
-        Also measure :func:`~gd_analyze.formulations.simplified_eval.evaluation_cost`.
-    cost_setpoints : int, optional
-        Random set points per timed call of the cost measurement.
+        Also record the counted operations of the model (:func:`model_cost`).
     model_path : str or os.PathLike, optional
         The file the model was read from, recorded in the provenance.
     model_sha256 : str, optional
@@ -284,7 +328,7 @@ def run_control(model, trajectory, wn=DEFAULT_WN, zeta=DEFAULT_ZETA, q0_offset=0
     for name in (c for c in CONTROLLERS if c in controllers):
         runs[name] = track(robot, name, gains, desired, t, q0_offset=offset,
                            choices=model, rtol=rtol, atol=atol, method=method)
-    cost_figures = evaluation_cost(model, setpoints=cost_setpoints) if cost else None
+    cost_figures = model_cost(model) if cost else None
     provenance = {
         "trajectory_file": Path(trajectory.source).name if trajectory.source else "",
         "trajectory_path": str(trajectory.source), "trajectory_sha256": trajectory.sha256,

@@ -14,7 +14,6 @@ from dataclasses import dataclass
 import numpy as np
 
 from ..core.dalembert import _qdd_from_terms, gd_terms
-from ..formulations.simplified_eval import evaluation_plan, simplified_tau
 
 __all__ = ["CONTROLLERS", "CONTROLLER_DESCRIPTIONS", "DEFAULT_WN", "DEFAULT_ZETA",
            "DEFAULT_RTOL", "DEFAULT_ATOL", "DEFAULT_METHOD", "MAX_STIFFNESS_STEPS",
@@ -213,7 +212,7 @@ def desired_motion(trajectory):
 
 
 def controller_torque(controller, robot, gains, q_d, qd_d, qdd_d, q, qd, choices=None,
-                      terms=None, plan=None):
+                      terms=None):
     """Torque a controller applies at given desired and actual states.
 
     Parameters
@@ -228,14 +227,12 @@ def controller_torque(controller, robot, gains, q_d, qd_d, qdd_d, q, qd, choices
         Desired positions [rad], velocities [rad/s] and accelerations [rad/s^2].
     q, qd : ndarray, shape (N, n)
         Actual positions [rad] and velocities [rad/s].
-    choices : dict or SimplifiedModel, optional
-        The simplified model (evaluated in explicit form), or its choices (evaluated by the
-        fused masked evaluator); required for ``"simplified"``.
+    choices : SimplifiedModel, optional
+        The simplified model (its :meth:`~gd_analyze.core.simplified.SimplifiedModel.torque`,
+        the explicit form); required for ``"simplified"``.
     terms : GDTerms, optional
         The full G-D terms at (q, qd), if already computed (used by ``"full"`` and
         ``"pd_gravity"``).
-    plan : dict, optional
-        :func:`~gd_analyze.formulations.simplified_eval.evaluation_plan` of the choices.
 
     Returns
     -------
@@ -265,11 +262,9 @@ def controller_torque(controller, robot, gains, q_d, qd_d, qdd_d, q, qd, choices
         if terms is None:
             terms = gd_terms(robot, q, qd)
         return terms.tau(v)
-    if choices is None:
-        raise ValueError("the simplified controller needs the model's choices")
-    if hasattr(choices, "torque"):                  # the explicit simplified model (issue 8)
-        return choices.torque(q, qd, v)
-    return simplified_tau(robot, choices, q, qd, v, plan=plan)
+    if choices is None or not hasattr(choices, "torque"):
+        raise ValueError("the simplified controller needs the simplified model")
+    return choices.torque(q, qd, v)
 
 
 @dataclass(frozen=True, eq=False)
@@ -325,8 +320,8 @@ def track(robot, controller, gains, desired, t_eval, q0_offset=0.0, choices=None
         Increasing sample times [s]; the run goes from t_eval[0] to t_eval[-1].
     q0_offset : float or array_like, shape (n,), optional
         Initial position error, q(0) = q_d(0) + q0_offset [rad]; qd(0) = qd_d(0).
-    choices : dict or SimplifiedModel, optional
-        The simplified model or its choices (for ``"simplified"``).
+    choices : SimplifiedModel, optional
+        The simplified model (for ``"simplified"``).
     rtol, atol : float, optional
         Tolerances of ``scipy.integrate.solve_ivp``.
     method : str, optional
@@ -353,10 +348,8 @@ def track(robot, controller, gains, desired, t_eval, q0_offset=0.0, choices=None
     t_eval = np.asarray(t_eval, dtype=float)
     if controller not in CONTROLLERS:
         raise ValueError(f"controller must be one of {CONTROLLERS}, got {controller!r}")
-    if controller == "simplified" and choices is None:
-        raise ValueError("the simplified controller needs the model's choices")
-    plan = evaluation_plan(choices, n) if controller == "simplified" and \
-        not hasattr(choices, "torque") else None
+    if controller == "simplified" and not hasattr(choices, "torque"):
+        raise ValueError("the simplified controller needs the simplified model")
     d1, d2 = desired.derivative(1), desired.derivative(2)
     calls = [0]
 
@@ -367,7 +360,7 @@ def track(robot, controller, gains, desired, t_eval, q0_offset=0.0, choices=None
         q, qd = y[None, :n], y[None, n:]
         terms = gd_terms(robot, q, qd, engine="compiled")
         tau = controller_torque(controller, robot, gains, desired(t)[None], d1(t)[None],
-                                d2(t)[None], q, qd, choices=choices, terms=terms, plan=plan)
+                                d2(t)[None], q, qd, choices=choices, terms=terms)
         return np.concatenate([y[n:], _qdd_from_terms(terms, tau)[0]])
 
     t0 = t_eval[0]
@@ -392,7 +385,7 @@ def track(robot, controller, gains, desired, t_eval, q0_offset=0.0, choices=None
     tau = np.full_like(q, np.nan)
     if ok.any():
         tau[ok] = controller_torque(controller, robot, gains, q_d[ok], qd_d[ok], qdd_d[ok],
-                                    q[ok], qd[ok], choices=choices, plan=plan)
+                                    q[ok], qd[ok], choices=choices)
     return TrackingRun(controller=controller, t=t_eval, q=q, qd=qd, tau=tau, error=q_d - q,
                        nfev=int(sol.nfev), success=bool(sol.success), message=str(sol.message))
 
