@@ -127,7 +127,7 @@ def _key(K, S):
 TRIG_MODES = ("products", "calls")
 
 
-def build_program(terms, n, offset, trig_mode="products"):
+def build_program(terms, n, offset, trig_mode="products", prismatic=None):
     """Assemble the straight-line program of the kept terms.
 
     Parameters
@@ -142,6 +142,9 @@ def build_program(terms, n, offset, trig_mode="products"):
         ``"products"``: cos and sin of the n angles are the only calls, compound angles come
         from the angle-addition formulas (counted); ``"calls"``: one cos/sin call per compound
         angle (fewer counted operations, more calls).
+    prismatic : array_like of bool, shape (n,), optional
+        The prismatic joints: their columns of the terms' K are powers of q_i [m], formed as
+        products of q_i (each power once) and factored out per harmonic; default none.
 
     Returns
     -------
@@ -165,6 +168,15 @@ def build_program(terms, n, offset, trig_mode="products"):
         g[key] = g.get(key, 0.0) + float(C)
     groups = {gk: {h: c for h, c in g.items() if c != 0.0} for gk, g in groups.items()}
     groups = {gk: g for gk, g in groups.items() if g}
+    lin = np.zeros(n, bool) if prismatic is None else np.asarray(prismatic, bool)
+
+    def split(key):
+        """(trig key with the polynomial columns zeroed, powers of the prismatic q)."""
+        if not lin.any():
+            return key, None
+        kv = key[1:]
+        return ((key[0],) + tuple(0 if lin[m] else v for m, v in enumerate(kv)),
+                tuple(v if lin[m] else 0 for m, v in enumerate(kv)))
     # angles, compound angles and their cos/sin
     theta = []
     for i in range(n):
@@ -241,7 +253,24 @@ def build_program(terms, n, offset, trig_mode="products"):
 
     for g in groups.values():                       # trig values first, in a stable order
         for key in sorted(g):
-            trig(key)
+            trig(split(key)[0])
+    mono_cache = {}
+
+    def mono(pvec):
+        """prod q_m^p_m over the prismatic joints, each power formed once."""
+        if pvec is None or not any(pvec):
+            return se.Integer(1)
+        if pvec in mono_cache:
+            return mono_cache[pvec]
+        nz = [m for m, v in enumerate(pvec) if v]
+        if len(nz) == 1 and pvec[nz[0]] == 1:
+            return q[nz[0]]
+        m = nz[-1]
+        head = tuple(v - 1 if i == m else v for i, v in enumerate(pvec))
+        sym = se.Symbol(f"m{len(mono_cache)}")
+        mono_cache[pvec] = sym                      # reserve the name before the recursion
+        assignments.append((sym, mono(head) * q[m]))
+        return sym
     vel_cache = {}
 
     def vel(j, k):
@@ -265,7 +294,18 @@ def build_program(terms, n, offset, trig_mode="products"):
             factor = ref / ref0
             return sym if factor == 1.0 else (-sym if factor == -1.0 else
                                                se.RealDouble(factor) * sym)
-        expr = se.Add(*[_coef(c) * trig(h) for h, c in items])
+        if not lin.any():
+            expr = se.Add(*[_coef(c) * trig(h) for h, c in items])
+        else:                                       # per harmonic: trig x polynomial in q
+            by_trig = {}
+            for h, c in items:
+                th, pw = split(h)
+                by_trig.setdefault(th, []).append((pw, c))
+            parts = []
+            for th, poly in sorted(by_trig.items()):
+                val = se.Add(*[_coef(c) * mono(pw) for pw, c in sorted(poly)])
+                parts.append(val * trig(th))
+            expr = se.Add(*parts)
         sym = se.Symbol(name)
         assignments.append((sym, expr))
         shared[norm] = (sym, ref)

@@ -21,10 +21,8 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from .dalembert import gd_terms
 from ..errors import InputError
 from .ranking import element_index, element_labels
-from .explicit import supported as explicit_supported
 from .robot import robot_from_dict
 
 __all__ = ["SCHEMA_VERSION", "CHOICES", "SimplifiedModel", "choice_masks", "merge_choices",
@@ -77,6 +75,17 @@ def choice_masks(choices, n):
         else:
             mt[i], mr[i] = keep_t, keep_r
     return Mt, Mr, mt, mr
+
+
+def _units(robot):
+    """The units line of the emitted files (prismatic joints in m and N)."""
+    pris = [i + 1 for i, p in enumerate(getattr(robot, "prismatic", ())) if p]
+    text = "q [rad], qd [rad/s], qdd [rad/s^2], tau [N m]"
+    if pris:
+        joints = ", ".join(str(i) for i in pris)
+        text += (f"; prismatic joint{'s' if len(pris) > 1 else ''} {joints}: q [m], qd [m/s], "
+                 "qdd [m/s^2], tau [N]")
+    return text
 
 
 def simplified_torque(terms, choices, qdd):
@@ -261,7 +270,8 @@ class SimplifiedModel:
         if cached is None:
             from .codegen import build_program
 
-            cached = build_program(self.explicit_terms(), self.robot.n, np.zeros(self.robot.n))
+            cached = build_program(self.explicit_terms(), self.robot.n, np.zeros(self.robot.n),
+                                   prismatic=self.robot.prismatic)
             object.__setattr__(self, "_program", cached)
         return cached
 
@@ -283,7 +293,7 @@ class SimplifiedModel:
             "operations": f"{cost['multiplications']} multiplications, {cost['additions']} "
                           f"additions, {cost['sin']} sin, {cost['cos']} cos",
             "gd-analyze version": self.provenance.get("gd_analyze_version", ""),
-            "units": "q [rad], qd [rad/s], qdd [rad/s^2], tau [N m]",
+            "units": _units(self.robot),
         }
 
     def c_source(self):
@@ -332,8 +342,6 @@ class SimplifiedModel:
         from .kinematics import as_states
 
         q, qd, qdd = as_states(self.robot, q, qd, qdd)
-        if self.terms is None and not explicit_supported(self.robot):
-            return simplified_torque(gd_terms(self.robot, q, qd), self.choices, qdd)
         return self._python_tau()(q, qd, qdd)
 
     def to_dict(self):

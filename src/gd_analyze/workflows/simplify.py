@@ -93,7 +93,8 @@ def collect_peaks(robot, terms, q, qd, qdd, chunk=8192, gd=None):
             sl = slice(a, a + chunk)
             t = gd_terms(robot, q[sl], qd[sl])
             gd.update(t.D_tran, t.D_rot, t.h_tran, t.h_rot, qdd[sl], t.tau(qdd[sl]))
-    return Peaks(parts=gd, terms=term_peaks(terms, np.zeros(robot.n), q, qd, qdd))
+    return Peaks(parts=gd, terms=term_peaks(terms, np.zeros(robot.n), q, qd, qdd,
+                                                    prismatic=robot.prismatic))
 
 
 def build_model(robot, terms, peaks, tolerance=DEFAULT_TOLERANCE, rule="budget",
@@ -129,10 +130,11 @@ def build_model(robot, terms, peaks, tolerance=DEFAULT_TOLERANCE, rule="budget",
     sel = select_terms(terms, peaks.terms, peaks.parts.peaks, peaks.parts.tau_peak,
                        tolerance=tolerance, rule=rule, torque_floor=torque_floor,
                        chapter_choices=chapter_choices)
-    program = build_program(sel.kept, robot.n, np.zeros(robot.n))
+    program = build_program(sel.kept, robot.n, np.zeros(robot.n), prismatic=robot.prismatic)
     full = _FULL_COST.get(terms)
     if full is None:
-        full = _FULL_COST[terms] = build_program(terms, robot.n, np.zeros(robot.n)).cost()
+        full = _FULL_COST[terms] = build_program(terms, robot.n, np.zeros(robot.n),
+                                                 prismatic=robot.prismatic).cost()
     model = SimplifiedModel(
         robot=robot, choices=sel.choices,
         dominance_threshold=float(getattr(ranking, "dominance_threshold", DEFAULT_DOMINANCE)),
@@ -162,7 +164,8 @@ def full_torque(robot, terms):
     from ..core.codegen import emit_python
 
     ns = {}
-    exec(compile(emit_python(build_program(terms, robot.n, np.zeros(robot.n)), {}),
+    exec(compile(emit_python(build_program(terms, robot.n, np.zeros(robot.n),
+                                           prismatic=robot.prismatic), {}),
                  "<full explicit model>", "exec"), ns)
     return ns["tau"]
 
