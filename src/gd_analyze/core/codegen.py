@@ -29,7 +29,7 @@ import numpy as np
 import symengine as se
 
 __all__ = ["Program", "build_program", "count_operations", "emit_c", "emit_python",
-           "C_FUNCTION"]
+           "python_function", "C_FUNCTION"]
 
 #: The exported C function.
 C_FUNCTION = "gd_simplified_tau"
@@ -55,7 +55,11 @@ class Program:
 
     def cost(self):
         """Operation counts: dict with ``multiplications``, ``additions``, ``sin``, ``cos``."""
-        return count_operations(self.assignments, self.outputs)
+        cached = self.__dict__.get("_cost")
+        if cached is None:
+            cached = count_operations(self.assignments, self.outputs)
+            object.__setattr__(self, "_cost", cached)
+        return dict(cached)
 
 
 def _num(x):
@@ -353,19 +357,37 @@ def _cse(assignments, outputs):
 
 
 def _order(cse_defs, body):
-    """Topological order of the assignments (each after the temporaries it uses)."""
+    """Topological order of the assignments (each after the temporaries it uses).
+
+    The order is that of rounds: round 0 holds the assignments that use no temporary, round r
+    those whose temporaries are all in earlier rounds; within a round the given order is kept.
+    An assignment's round is therefore 1 + the largest round of the temporaries it uses, which
+    is computed once per assignment (linear time) instead of by repeated scans.
+    """
     pending = list(cse_defs) + list(body)
-    lhs = {s for s, _ in pending}
-    defined, result = set(), []
-    while pending:
-        rest = [(s, e) for s, e in pending if not (e.free_symbols & lhs) <= defined]
-        ready = [(s, e) for s, e in pending if (e.free_symbols & lhs) <= defined]
-        if not ready:
-            raise RuntimeError("cyclic program")
-        result += ready
-        defined |= {s for s, _ in ready}
-        pending = rest
-    return result
+    index = {s: k for k, (s, _) in enumerate(pending)}
+    deps = [[index[x] for x in e.free_symbols if x in index] for _, e in pending]
+    level = [-1] * len(pending)
+    for start in range(len(pending)):
+        if level[start] >= 0:
+            continue
+        stack, open_ = [start], set()
+        while stack:
+            v = stack[-1]
+            if level[v] >= 0:
+                stack.pop()
+                continue
+            todo = [d for d in deps[v] if level[d] < 0]
+            if not todo:
+                level[v] = 1 + max((level[d] for d in deps[v]), default=-1)
+                open_.discard(v)
+                stack.pop()
+            elif v in open_:
+                raise RuntimeError("cyclic program")
+            else:
+                open_.add(v)
+                stack.extend(todo)
+    return [pending[k] for k in sorted(range(len(pending)), key=lambda k: (level[k], k))]
 
 
 def _fmt_num(x):
@@ -473,6 +495,29 @@ def emit_c(program, header):
         lines.append(f"    tau[{i}] = {_print(e, 'c')};")
     lines += ["}", ""]
     return "\n".join(lines)
+
+
+def python_function(program):
+    """The program's ``tau(q, qd, qdd)`` as a Python function, compiled once per program.
+
+    Parameters
+    ----------
+    program : Program
+
+    Returns
+    -------
+    callable
+        ``tau`` of :func:`emit_python` (the header does not change what it computes):
+        arrays of shape (N, n) [rad, rad/s, rad/s^2; m, m/s, m/s^2 for a prismatic joint]
+        to shape (N, n) [N m; N].
+    """
+    fn = program.__dict__.get("_tau_fn")
+    if fn is None:
+        ns = {}
+        exec(compile(emit_python(program, {}), "<simplified_model.py>", "exec"), ns)
+        fn = ns["tau"]
+        object.__setattr__(program, "_tau_fn", fn)
+    return fn
 
 
 def emit_python(program, header):

@@ -309,13 +309,9 @@ class SimplifiedModel:
         return emit_python(self.program(), self.header())
 
     def _python_tau(self):
-        fn = self.__dict__.get("_tau_fn")
-        if fn is None:
-            ns = {}
-            exec(compile(self.python_source(), "<simplified_model.py>", "exec"), ns)
-            fn = ns["tau"]
-            object.__setattr__(self, "_tau_fn", fn)
-        return fn
+        from .codegen import python_function
+
+        return python_function(self.program())
 
     def torque(self, q, qd, qdd):
         """Torques of the simplified model, tau_s = D_s qdd + h_s + c, in explicit form.
