@@ -99,6 +99,7 @@ def _strings_artist():
             dpi = self.figure.dpi
             props = {}
             gc = renderer.new_gc()
+            fast = _PdfText.for_renderer(renderer)
             for x, y, s, size, colour, weight, ha in self.items:
                 if not s:
                     continue
@@ -106,15 +107,142 @@ def _strings_artist():
                 if prop is None:
                     prop = props[(size, weight)] = FontProperties(
                         family="DejaVu Sans", size=size, weight=weight)
-                px = x * dpi
-                if ha == "right":
-                    px -= renderer.get_text_width_height_descent(s, prop, ismath=False)[0]
                 baseline = (self.H - y) * dpi - 0.93 * size * dpi / 72     # ascent of DejaVu
                 gc.set_foreground(to_rgba(colour))
-                renderer.draw_text(gc, px, baseline, s, prop, 0.0, ismath=False)
+                run = fast.layout(s, prop) if fast is not None else None
+                px = x * dpi
+                if run is None:
+                    if ha == "right":
+                        px -= renderer.get_text_width_height_descent(s, prop,
+                                                                     ismath=False)[0]
+                    renderer.draw_text(gc, px, baseline, s, prop, 0.0, ismath=False)
+                else:
+                    fast.draw(gc, px - run[1] if ha == "right" else px, baseline, run, size)
             gc.restore()
 
     return Strings
+
+
+class _PdfText:
+    """Strings of the text pages written straight into matplotlib's PDF content stream.
+
+    matplotlib's ``RendererPdf.draw_text`` shapes every string anew (libraqm) and loads each
+    glyph; a report's pages hold over a thousand short strings in two fonts and a few sizes.
+    Here each glyph's advance (FreeType) and each pair's kerning (libraqm, on the two
+    characters: the font's GPOS kerning that ``draw_text`` applies) are looked up once per font
+    and size, the glyphs are recorded with the
+    PDF file's own character tracker (so the Type 3 fonts embed exactly the glyphs used), and
+    the same operators as ``draw_text`` are written (a text object, font and size, one TJ of
+    glyph codes and kerns). Used only where the renderer offers the interfaces of matplotlib
+    >= 3.11 with Type 3 fonts; otherwise (and for any string with a glyph the font lacks)
+    :meth:`layout` returns None and the string goes through ``draw_text``.
+    """
+
+    def __init__(self, renderer, font_path, op, flags):
+        self.renderer = renderer
+        self.file = renderer.file
+        self.tracker = renderer.file._character_tracker
+        self.FontPath, self.Op, self.flags = font_path, op, flags
+
+    #: (size, weight) -> {char: (font, glyph, advance [pt])}, kept across pages and reports
+    metrics = {}
+    #: ((size, weight), char, char) -> kern [pt]
+    kerns = {}
+
+    @classmethod
+    def for_renderer(cls, renderer):
+        """The fast path for ``renderer``, or None where it does not apply."""
+        import matplotlib as mpl
+
+        try:
+            from matplotlib.backends.backend_pdf import Op, RendererPdf
+            from matplotlib.font_manager import FontPath, FontProperties
+            from matplotlib.ft2font import LoadFlags
+        except ImportError:
+            return None
+        renderer = getattr(renderer, "_renderer", renderer)     # inside a MixedModeRenderer
+        if (not isinstance(renderer, RendererPdf) or mpl.rcParams["pdf.fonttype"] != 3
+                or mpl.rcParams["pdf.use14corefonts"]
+                or not hasattr(getattr(renderer.file, "_character_tracker", None),
+                               "track_glyph")):
+            return None
+        if not hasattr(renderer._get_font_ttf(FontProperties(family="DejaVu Sans")), "_layout"):
+            return None
+        return cls(renderer, FontPath, Op, LoadFlags.NO_HINTING)
+
+    def layout(self, s, prop):
+        """(glyphs, width [pt]) of ``s``: glyphs as (font, glyph index, char, x [pt], advance
+        [pt]); None
+        if a character is missing from the font."""
+        key = (prop.get_size_in_points(), prop.get_weight())
+        table = self.metrics.setdefault(key, {})
+        font = None
+        glyphs, x, prev = [], 0.0, None
+        for ch in s:
+            m = table.get(ch)
+            if m is None:
+                if font is None:
+                    font = self.renderer._get_font_ttf(prop)
+                gi = font.get_char_index(ord(ch))
+                if gi == 0:
+                    return None
+                g = font.load_glyph(gi, flags=self.flags)
+                m = table[ch] = (font, gi, g.linearHoriAdvance / 65536)
+            ft, gi, adv = m
+            if prev is not None:
+                k = self.kerns.get((key, prev, ch))
+                if k is None:
+                    if font is None:
+                        font = self.renderer._get_font_ttf(prop)
+                    pair = list(font._layout(prev + ch, self.flags))
+                    k = self.kerns[(key, prev, ch)] = \
+                        float(pair[1].prev_kern) if len(pair) == 2 else 0.0
+                x += k
+            glyphs.append((ft, gi, ch, x, adv))
+            x += adv
+            prev = ch
+        return glyphs, x
+
+    def draw(self, gc, x, y, run, size):
+        """Write the glyphs of ``run`` with their left end at (x, y) [pt, baseline]."""
+        Op, out = self.Op, self.file.output
+        self.renderer.check_gc(gc, gc._rgb)
+        out(Op.gsave)
+        out(1, 0, 0, 1, x, y, Op.concat_matrix)
+        out(Op.begin_text)
+        chunk, font_key, start, last_end = [], None, 0.0, 0.0
+
+        def flush():
+            if chunk:
+                parts, codes = [], []
+                for item in chunk:
+                    if isinstance(item, float):
+                        if codes:
+                            parts.append(bytes(codes))
+                            codes = []
+                        parts.append(-1000 * item / size)
+                    else:
+                        codes.append(item)
+                if codes:
+                    parts.append(bytes(codes))
+                out(parts, Op.showkern)
+                chunk.clear()
+
+        for ft, gi, ch, gx, adv in run[0]:
+            subset, code = self.tracker.track_glyph(ft, ch, gi)
+            if (ft, subset) != font_key:
+                flush()
+                name = self.file.fontName(self.FontPath(ft.fname, ft.face_index), subset)
+                out(name, size, Op.selectfont)
+                out(gx - start, 0, Op.textpos)
+                font_key, start = (ft, subset), gx
+            elif abs(gx - last_end) > 1e-9:
+                chunk.append(float(gx - last_end))
+            chunk.append(code)
+            last_end = gx + adv
+        flush()
+        out(Op.end_text)
+        out(Op.grestore)
 
 
 def _Strings(page_height):
@@ -225,8 +353,9 @@ class Document:
 
         Parameters
         ----------
-        pdf_bytes : bytes
-            The figure as a one-page PDF (:func:`gd_analyze.reports.drawing.figure_pdf`), placed unscaled if it fits.
+        pdf_bytes : bytes or str
+            The figure as a one-page PDF (:func:`gd_analyze.reports.drawing.figure_pdf`), placed
+            unscaled if it fits; or a key of the ``figures`` given to :meth:`write` later.
         size : (float, float)
             Its width and height [in].
         caption : str
@@ -438,35 +567,50 @@ class Document:
              ha="right")
         return fig
 
-    def write(self, path):
+    def write(self, path, figures=None):
         """Lay out, draw and write the document.
 
         Parameters
         ----------
         path : str or os.PathLike
             The PDF file (written as given: the caller stages it).
+        figures : dict of str to bytes, optional
+            The PDF of each figure whose block holds a key in place of its bytes (a document
+            laid out before its figures are drawn: :mod:`gd_analyze.reports.pdf_worker`).
 
         Returns
         -------
         int
             The number of pages.
         """
+        pages, bookmarks = self._layout()
+        return self._finish(self._text_pages(pages), pages, bookmarks, path, figures)
+
+    def _text_pages(self, pages):
+        """The text, rules and shading of every page (no figures) as PDF bytes."""
         import matplotlib
         from matplotlib.backends.backend_pdf import PdfPages
-        from pypdf import PdfReader, PdfWriter
 
-        pages, bookmarks = self._layout()
-        K = len(pages)
         buf = io.BytesIO()
+        K = len(pages)
         with matplotlib.rc_context(PAGE_RC), \
                 PdfPages(buf, metadata={"CreationDate": None}) as pdf:
             for k, page in enumerate(pages):
                 pdf.savefig(self._draw(page, k + 1, K))
-        writer = PdfWriter(clone_from=PdfReader(io.BytesIO(buf.getvalue())))
+        return buf.getvalue()
+
+    def _finish(self, text_pdf, pages, bookmarks, path, figures=None):
+        """Place the figures on the text pages, add bookmarks and information, write."""
+        from pypdf import PdfReader, PdfWriter
+
+        figures = figures or {}
+        writer = PdfWriter(clone_from=PdfReader(io.BytesIO(text_pdf)))
         count = 0
         for k, page in enumerate(pages):
             for pdf_bytes, x, y, w, h, scale, rotate in page.figures:
                 count += 1
+                if isinstance(pdf_bytes, str):
+                    pdf_bytes = figures[pdf_bytes]
                 bottom = self.H - (_MARGIN_TOP + y + h * scale)
                 _place(writer, writer.pages[k], pdf_bytes, f"/GdFigure{count}",
                        72 * x, 72 * bottom, scale, 72 * w * scale if rotate else None)
@@ -482,4 +626,4 @@ class Document:
         writer.add_metadata(info)
         with open(path, "wb") as fh:
             writer.write(fh)
-        return K
+        return len(pages)
