@@ -32,7 +32,8 @@ from pathlib import Path
 from gd_analyze import load_robot
 from gd_analyze.files import file_sha256
 from gd_analyze.io.control_dataset import write_control_dataset
-from gd_analyze.workflows.control import CONTROL_FILE, DEFAULT_WN, DEFAULT_ZETA, run_control
+from gd_analyze.workflows.control import CONTROL_FILE, run_control
+from gd_analyze.workflows.tracking import DEFAULT_WN, DEFAULT_ZETA
 from gd_analyze.workflows.analyze import analyze
 from gd_analyze.io.trajectory import read_trajectory
 
@@ -91,9 +92,7 @@ def main(argv=None):
         "cost": {
             "evaluators": cost["evaluators"],
             "multiplications": cost["multiplications"], "additions": cost["additions"],
-            "us_per_setpoint": cost["time_per_setpoint_us"],
             "dropped_parts": f"{cost['dropped']} of {cost['parts']}",
-            "timed_setpoints": cost["setpoints"],
         },
         "kept": model.choices,
         "wall_s": time.perf_counter() - t0,

@@ -7,7 +7,6 @@ tests; the crude-model and offset runs reuse the same settings (the offset run s
 0.5 s). The cost is timed on 2000 set points only. The file runs in about 20-30 s.
 """
 
-import math
 
 import numpy as np
 import pytest
@@ -17,15 +16,14 @@ from gd_analyze import gd_terms, load_robot
 from gd_analyze.core.dalembert import forward_dynamics
 from gd_analyze.files import file_sha256
 from gd_analyze.io.control_dataset import control_dataset, write_control_dataset
-from gd_analyze.workflows.control import CONTROLLERS, control_gains, desired_motion, run_control
+from gd_analyze.workflows.control import run_control
+from gd_analyze.workflows.tracking import CONTROLLERS, control_gains, desired_motion
 from gd_analyze.reports.control import write_control_report
 from gd_analyze.errors import InputError
 from gd_analyze.formulations.opcount import count_operations
 from gd_analyze.workflows.analyze import analyze
 from gd_analyze.core.ranking import element_labels
-from gd_analyze.core.simplified import SimplifiedModel, simplified_torque
-from gd_analyze.formulations.simplified_eval import (count_simplified_operations, evaluation_cost,
-                                        full_choices, simplified_tau)
+from gd_analyze.core.simplified import SimplifiedModel, full_choices
 from gd_analyze.io.trajectory import Trajectory, read_trajectory
 
 from conftest import SHIPPED, random_states
@@ -63,7 +61,7 @@ def model_file(model, tmp_path_factory):
 def result(model_file):
     model = SimplifiedModel.load(model_file)
     return run_control(model, read_trajectory(SHIPPED, n_joints=6), cost=True,
-                       cost_setpoints=2000, model_path=model_file,
+                       model_path=model_file,
                        model_sha256=file_sha256(model_file))
 
 
@@ -195,62 +193,26 @@ def test_run_control_rejects_bad_input(model, shipped):
 
 
 # --------------------------------------------------------------------------------------------
-# The simplified evaluator and its cost
+# The model's counted cost
 # --------------------------------------------------------------------------------------------
 
-def test_simplified_evaluator_equals_model_torque(model, puma, two_link):
-    from gd_analyze.core.simplified import simplified_torque
+def test_model_cost_counts_the_emitted_model_and_newton_euler(model, puma):
+    """The control dataset's cost: the model's own counts (of its emitted program), the full
+    explicit model's, and N-E's from the counting scalar; no timing."""
+    from gd_analyze.workflows.control import model_cost
 
-    q, qd, qdd = random_states(puma, 200, seed=5)
-    ref = simplified_torque(gd_terms(puma, q, qd), model.choices, qdd)   # the masked model
-    got = simplified_tau(puma, model.choices, q, qd, qdd)
-    assert np.abs(got - ref).max() <= 1e-12 * np.abs(ref).max()
-    rng = np.random.default_rng(8)
-    for robot in (puma, two_link, load_robot("stanford")):     # stanford: a prismatic joint
-        q, qd, qdd = random_states(robot, 30, seed=6)
-        terms = gd_terms(robot, q, qd)
-        for _ in range(15):
-            choices = {lab: str(rng.choice(["tran", "rot", "both", "none"]))
-                       for lab in element_labels(robot.n)}
-            ref = simplified_torque(terms, choices, qdd)
-            got = simplified_tau(robot, choices, q, qd, qdd)
-            assert np.abs(got - ref).max() <= 1e-12 * max(1.0, np.abs(ref).max())
-
-
-def test_operation_counts_of_the_simplified_model(model, puma, two_link):
-    from gd_analyze.core.simplified import simplified_torque
-
-    full_gd = count_operations(puma, "gd")
-    full = count_simplified_operations(puma, full_choices(6))
-    simp = count_simplified_operations(puma, model.choices)
-    assert full.multiplications <= full_gd.multiplications
-    assert full.additions <= full_gd.additions
-    assert simp.multiplications < full.multiplications and simp.additions < full.additions
-    crude = count_simplified_operations(puma, _crude(puma))
-    assert crude.multiplications < simp.multiplications
-    # the counted run computes the real torques
-    q, qd, qdd = (x[0] for x in random_states(puma, 1, seed=3))
-    counted = count_simplified_operations(puma, model.choices, q, qd, qdd)
-    masked = simplified_torque(gd_terms(puma, q, qd), model.choices, qdd[None])[0]
-    np.testing.assert_allclose(counted.tau, masked, rtol=1e-12, atol=1e-12)
-    # dropping any single part lowers the count; keeping everything is the full count
-    labels = element_labels(2)
-    base = count_simplified_operations(two_link, full_choices(2))
-    for lab in labels:
-        for keep in ("tran", "rot"):
-            ch = {**full_choices(2), lab: keep}
-            c = count_simplified_operations(two_link, ch)
-            assert c.multiplications + c.additions < base.multiplications + base.additions
-            assert c.multiplications <= base.multiplications
-            assert c.additions <= base.additions
-
-
-def test_evaluation_cost(model):
-    cost = evaluation_cost(model, setpoints=500, repeat=2)
-    assert cost["evaluators"] == ["full_gd_terms", "full_fused", "simplified"]
-    m, a = cost["multiplications"], cost["additions"]
-    assert m[2] < m[1] <= m[0] and a[2] < a[1] <= a[0]
-    assert all(t > 0 and math.isfinite(t) for t in cost["time_per_setpoint_us"])
+    cost = model_cost(model)
+    names = cost["evaluators"]
+    assert names[0] == "simplified explicit model" and names[-1].startswith("Newton-Euler")
+    program = model.program().cost()
+    assert (cost["multiplications"][0], cost["additions"][0]) == \
+        (program["multiplications"], program["additions"])
+    ne = count_operations(puma, "newton-euler")
+    assert (cost["multiplications"][-1], cost["additions"][-1]) == (ne[0], ne[1])
+    if "full explicit model" in names:
+        k = names.index("full explicit model")
+        assert cost["multiplications"][0] + cost["additions"][0] <= \
+            cost["multiplications"][k] + cost["additions"][k]
     dropped = sum({"both": 0, "tran": 1, "rot": 1, "none": 2}[c] for c in model.choices.values())
     assert cost["dropped"] == dropped and cost["parts"] == 54
 
@@ -270,7 +232,7 @@ def test_control_dataset_round_trips_through_hdf5(result, model_file, tmp_path):
         assert back[name].attrs.get("units"), name
         assert back[name].attrs.get("long_name"), name
     for name in ("error", "tau", "q", "tau_difference", "Kp_pd", "error_peak_grid",
-                 "multiplications", "time_per_setpoint"):
+                 "multiplications", "additions"):
         np.testing.assert_array_equal(back[name].values, ds[name].values)
     assert list(back["controller"].values) == list(CONTROLLERS)
     np.testing.assert_allclose(back["error_peak_grid"].sel(controller="full").values,

@@ -28,6 +28,7 @@ from .explicit import supported as explicit_supported
 from .robot import robot_from_dict
 
 __all__ = ["SCHEMA_VERSION", "CHOICES", "SimplifiedModel", "choice_masks", "merge_choices",
+           "full_choices",
            "simplified_torque", "torque_error", "TorqueErrorAccumulator", "parameters_sha256"]
 
 #: Version of the simplified_model.json layout (2: explicit terms, rule, tolerance, cost).
@@ -576,3 +577,25 @@ def merge_choices(choices_list):
     table = {(True, True): "both", (True, False): "tran", (False, True): "rot",
              (False, False): "none"}
     return {label: table[(keep_t[label], keep_r[label])] for label in labels}
+
+
+def full_choices(n):
+    """Choices that keep every part of every element: the full model.
+
+    Parameters
+    ----------
+    n : int
+        Number of joints.
+
+    Returns
+    -------
+    dict
+        ``{"D11": "both", ..., "hn": "both"}``.
+
+    Examples
+    --------
+    >>> full_choices(1)
+    {'D11': 'both', 'h1': 'both'}
+    """
+    return {label: "both" for label in element_labels(n)}
+

@@ -45,7 +45,7 @@ def control_dataset(result):
     ``nfev``, ``success`` (controller); ``tau_difference`` (time, joint) and its
     ``tau_difference_peak``, ``tau_difference_rms`` (joint) when both computed-torque
     controllers ran; the gains (joint); ``is_setpoint`` (time); ``choice`` (element);
-    ``multiplications``, ``additions``, ``time_per_setpoint`` (evaluator) when the cost was
+    ``multiplications``, ``additions`` (evaluator) when the cost was
     measured. The attribute ``trajectory_is_models`` is 1 if the tracked trajectory is the one
     the simplified model was derived on (same SHA-256), else 0.
     """
@@ -143,9 +143,7 @@ def control_dataset(result):
                                  "1", "multiplications per set point (counted, gd_analyze.formulations.opcount "
                                       "rule)"),
             additions=var(("evaluator",), np.array(cost["additions"], np.int64), "1",
-                           "additions and subtractions per set point (counted)"),
-            time_per_setpoint=var(("evaluator",), np.array(cost["time_per_setpoint_us"]),
-                                   "us", "wall time per set point, batched, best of repeats"))
+                           "additions and subtractions per set point (counted)"))
     attrs = global_attributes(
         robot, f"Computed-torque control of {robot.name} with its simplified G-D model along "
                f"{prov.get('trajectory_file', '')}",
@@ -178,8 +176,7 @@ def control_dataset(result):
         "samples": int(result.t.size),
     })
     if cost:
-        attrs.update(cost_setpoints=int(cost["setpoints"]), cost_repeat=int(cost["repeat"]),
-                     cost_dropped_parts=int(cost["dropped"]), cost_parts=int(cost["parts"]))
+        attrs.update(cost_dropped_parts=int(cost["dropped"]), cost_parts=int(cost["parts"]))
     return xr.Dataset(data_vars, coords=coords, attrs=attrs)
 
 

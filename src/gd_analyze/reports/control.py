@@ -1,7 +1,7 @@
 """Control report: the stored closed-loop comparison as one self-contained HTML file and a PDF.
 
 :func:`write_control_report` reads a control dataset written by
-:func:`gd_analyze.workflows.control.write_control_dataset` (``control.h5``) and never recomputes anything:
+:func:`gd_analyze.io.control_dataset.write_control_dataset` (``control.h5``) and never recomputes anything:
 every number and curve comes from the dataset's variables and global attributes. The report
 holds the set-up and gains, the tracking error per joint of the three controllers (figure and
 peak/RMS table), the torque difference between the simplified-model and the full-model
@@ -132,7 +132,7 @@ def make_control_figures(ds):
     Parameters
     ----------
     ds : xarray.Dataset
-        A control dataset (:func:`gd_analyze.workflows.control.control_dataset`).
+        A control dataset (:func:`gd_analyze.io.control_dataset.control_dataset`).
 
     Returns
     -------
@@ -234,21 +234,16 @@ def _context(ds):
     if "evaluator" in ds.dims:
         ev = _strings(ds["evaluator"].values)
         mul, add = ds["multiplications"].values, ds["additions"].values
-        tm = ds["time_per_setpoint"].values
-        ref = ev.index("full_gd_terms") if "full_gd_terms" in ev else 0
-        what = {"full_gd_terms": "full model: gd_terms (compiled) + tau",
-                "full_fused": "full model in the fused evaluator (every part kept)",
-                "simplified": "simplified model in the fused evaluator (kept parts only)"}
-        cost = _table(["evaluator", "multiplications", "additions", "time per set point [\u00b5s]",
-                       "mul vs full", "time vs full"],
-                      [[what.get(e, e), str(int(mul[k])), str(int(add[k])), _fmt(tm[k]),
-                        f"{mul[k] / mul[ref]:.3f}", f"{tm[k] / tm[ref]:.3f}"]
+        ref = len(ev) - 1            # the last: Newton-Euler, the recursive reference
+        cost = _table(["evaluator", "multiplications", "additions", "operations",
+                       "operations vs Newton-Euler"],
+                      [[e, str(int(mul[k])), str(int(add[k])), str(int(mul[k] + add[k])),
+                        f"{(mul[k] + add[k]) / (mul[ref] + add[ref]):.3f}"]
                        for k, e in enumerate(ev)], align="right")
-    cost_note = ("Operations per set point are counted on the project's counting scalar "
-                 "(gd_analyze.formulations.opcount rule: sines and cosines are inputs, parameter-only "
-                 "operations are free). Times are batched wall-clock times per set point, best "
-                 f"of {_attr(ds, 'cost_repeat')} calls over {_attr(ds, 'cost_setpoints')} random "
-                 "set points, on the machine that wrote the dataset. The simplified model drops "
+    cost_note = ("Operations per set point, counted (not timed): the explicit models on their "
+                 "emitted expressions (constants and structural 0/±1 free, a square one "
+                 "multiplication), the recursive Newton-Euler on the project's counting scalar "
+                 "(gd_analyze.formulations.opcount). The simplified model drops "
                  f"{_attr(ds, 'cost_dropped_parts')} of {_attr(ds, 'cost_parts')} "
                  "translational/rotational parts of D and h.")
     labels = _strings(ds["element"].values)
@@ -471,7 +466,7 @@ def write_control_report(control_path, outdir, paper="a4"):
     Parameters
     ----------
     control_path : str or os.PathLike
-        A control dataset written by :func:`gd_analyze.workflows.control.write_control_dataset`
+        A control dataset written by :func:`gd_analyze.io.control_dataset.write_control_dataset`
         (``control.h5``). Only read: nothing is recomputed.
     outdir : str or os.PathLike
         Output folder; made if missing.

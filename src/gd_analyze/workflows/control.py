@@ -11,8 +11,8 @@ and three controllers track a desired motion q_d(t):
 - ``"full"``: computed torque (Fu, Gonzalez & Lee 1987, Ch. 5, computed-torque technique) with
   the full G-D model, tau = D(q) v + h(q, qd) + c(q);
 - ``"simplified"``: computed torque with the simplified model of ``simplified_model.json``,
-  tau = D_s(q) v + h_s(q, qd) + c(q), evaluated by
-  :func:`gd_analyze.formulations.simplified_eval.simplified_tau` (only the kept parts are computed);
+  tau = D_s(q) v + h_s(q, qd) + c(q), evaluated in its explicit form
+  (:meth:`gd_analyze.core.simplified.SimplifiedModel.torque`: only the kept terms are computed);
 - ``"pd_gravity"``: PD control with gravity compensation, tau = Kp_pd e + Kv_pd ed + c(q);
 
 where e = q_d - q, ed = qd_d - qd and v = qdd_d + Kv ed + Kp e. With the full model the
@@ -60,397 +60,17 @@ from pathlib import Path
 
 import numpy as np
 
-from ..core.dalembert import _qdd_from_terms, gd_terms
 from ..core.simplified import choice_masks
-from ..formulations.simplified_eval import (COST_SETPOINTS, evaluation_cost, evaluation_plan,
-                              simplified_tau)
+from .tracking import (CONTROLLER_DESCRIPTIONS, CONTROLLERS, DEFAULT_ATOL, DEFAULT_METHOD,
+                       DEFAULT_RTOL, DEFAULT_WN, DEFAULT_ZETA, MAX_STIFFNESS_STEPS, Gains,
+                       control_gains, desired_motion, stiffness_steps, track)
 
-__all__ = [
-    "CONTROLLERS", "CONTROLLER_DESCRIPTIONS", "DEFAULT_WN", "DEFAULT_ZETA", "DEFAULT_RTOL",
-    "DEFAULT_ATOL", "DEFAULT_METHOD", "DEFAULT_GRID_POINTS", "CONTROL_FILE",
-    "MAX_STIFFNESS_STEPS", "MAX_RHS_EVALS", "stiffness_steps",
-    "Gains", "control_gains", "desired_motion", "controller_torque",
-    "TrackingRun", "track", "ControlResult", "run_control",
-]
+__all__ = ["DEFAULT_GRID_POINTS", "CONTROL_FILE", "ControlResult", "run_control", "model_cost"]
 
-#: The controllers compared, in table order.
-CONTROLLERS = ("full", "simplified", "pd_gravity")
-#: One line per controller, for tables and the dataset.
-CONTROLLER_DESCRIPTIONS = {
-    "full": "computed torque, full G-D model: D v + h + c",
-    "simplified": "computed torque, simplified model: D_s v + h_s + c",
-    "pd_gravity": "PD + gravity compensation: Kp_pd e + Kv_pd ed + c",
-}
-#: Default undamped natural frequency of the error dynamics [rad/s].
-DEFAULT_WN = 20.0
-#: Default damping ratio (critical damping).
-DEFAULT_ZETA = 1.0
-#: Default relative tolerance of the integrator.
-DEFAULT_RTOL = 1e-8
-#: Default absolute tolerance of the integrator [rad, rad/s].
-DEFAULT_ATOL = 1e-10
-#: Default integration method of ``scipy.integrate.solve_ivp``.
-DEFAULT_METHOD = "DOP853"
 #: Default number of evenly spaced samples of the fine grid (set points are added).
 DEFAULT_GRID_POINTS = 2001
 #: Default file name of the stored control dataset.
 CONTROL_FILE = "control.h5"
-#: Most integrator steps the gains may demand (see :func:`stiffness_steps`); stiffer gains are
-#: refused before integrating.
-MAX_STIFFNESS_STEPS = 20_000
-#: Most right-hand-side evaluations of one controller's run: a bound on the integration's time.
-MAX_RHS_EVALS = 500_000
-
-
-def stiffness_steps(wn, zeta, duration):
-    """Integrator steps the error dynamics demand of an explicit method.
-
-    Parameters
-    ----------
-    wn : float or array_like
-        Undamped natural frequency [rad/s].
-    zeta : float or array_like
-        Damping ratio.
-    duration : float
-        Length of the run [s].
-
-    Returns
-    -------
-    float
-        duration * |s_max| / 3, with s_max = wn (zeta + sqrt(max(zeta^2 - 1, 0))) the fastest
-        root of s^2 + 2 zeta wn s + wn^2: an explicit Runge-Kutta method is stable for step
-        sizes up to about 3 / |s_max|.
-
-    Examples
-    --------
-    >>> round(stiffness_steps(20.0, 1.0, 1.5))
-    10
-    """
-    wn, zeta = np.asarray(wn, float), np.asarray(zeta, float)
-    fastest = wn * (zeta + np.sqrt(np.maximum(zeta**2 - 1.0, 0.0)))
-    return float(np.max(fastest)) * float(duration) / 3.0
-
-
-# --------------------------------------------------------------------------------------------
-# Forward dynamics
-# --------------------------------------------------------------------------------------------
-
-
-# --------------------------------------------------------------------------------------------
-# Gains and the desired motion
-# --------------------------------------------------------------------------------------------
-
-@dataclass(frozen=True, eq=False)
-class Gains:
-    """Gains of the three controllers.
-
-    Attributes
-    ----------
-    wn : ndarray, shape (n,)
-        Undamped natural frequency of each joint's error dynamics [rad/s].
-    zeta : ndarray, shape (n,)
-        Damping ratio of each joint [1].
-    Kp : ndarray, shape (n,)
-        Computed-torque position gain, wn^2 [s^-2].
-    Kv : ndarray, shape (n,)
-        Computed-torque velocity gain, 2 zeta wn [s^-1].
-    inertia_scale : ndarray, shape (n,)
-        diag(D(q_ref)), the inertia the PD gains are scaled by [kg m^2].
-    Kp_pd : ndarray, shape (n,)
-        PD + gravity position gain, inertia_scale wn^2 [N m/rad].
-    Kv_pd : ndarray, shape (n,)
-        PD + gravity velocity gain, inertia_scale 2 zeta wn [N m s/rad].
-    """
-
-    wn: np.ndarray
-    zeta: np.ndarray
-    Kp: np.ndarray
-    Kv: np.ndarray
-    inertia_scale: np.ndarray
-    Kp_pd: np.ndarray
-    Kv_pd: np.ndarray
-
-    def to_dict(self):
-        """The gains as lists of floats.
-
-        Returns
-        -------
-        dict
-            ``wn``, ``zeta``, ``Kp``, ``Kv``, ``inertia_scale``, ``Kp_pd``, ``Kv_pd``.
-        """
-        return {k: [float(v) for v in getattr(self, k)]
-                for k in ("wn", "zeta", "Kp", "Kv", "inertia_scale", "Kp_pd", "Kv_pd")}
-
-
-def control_gains(robot, q_ref, wn=DEFAULT_WN, zeta=DEFAULT_ZETA):
-    """Gains for a chosen natural frequency and damping ratio.
-
-    Parameters
-    ----------
-    robot : Robot
-        The arm, with n joints.
-    q_ref : array_like, shape (n,)
-        Configuration whose inertia diagonal scales the PD gains, normally q_d(0) [rad].
-    wn : float or array_like, shape (n,), optional
-        Undamped natural frequency [rad/s], > 0.
-    zeta : float or array_like, shape (n,), optional
-        Damping ratio [1], > 0.
-
-    Returns
-    -------
-    Gains
-        Kp = wn^2, Kv = 2 zeta wn; Kp_pd = diag(D(q_ref)) wn^2, Kv_pd = diag(D(q_ref)) 2 zeta wn.
-
-    Raises
-    ------
-    ValueError
-        If wn or zeta is not positive and finite, or not a scalar or n values.
-
-    Notes
-    -----
-    Computed torque decouples the joints into e'' + Kv e' + Kp e = 0 (Fu, Gonzalez & Lee 1987,
-    Ch. 5), whose characteristic polynomial s^2 + 2 zeta wn s + wn^2 gives the gains.
-    """
-    n = robot.n
-    out = []
-    for name, value in (("wn", wn), ("zeta", zeta)):
-        arr = np.asarray(value, dtype=float)
-        if arr.ndim > 1 or (arr.ndim == 1 and arr.shape != (n,)):
-            raise ValueError(f"{name} must be a number or {n} numbers, got shape {arr.shape}")
-        arr = np.broadcast_to(arr, (n,)).astype(float)
-        if not (np.isfinite(arr).all() and (arr > 0).all()):
-            raise ValueError(f"{name} must be positive and finite, got {arr.tolist()}")
-        out.append(arr)
-    wn, zeta = out
-    q_ref = np.asarray(q_ref, dtype=float).reshape(1, n)
-    scale = np.diagonal(gd_terms(robot, q_ref, np.zeros_like(q_ref)).D[0]).copy()
-    return Gains(wn=wn, zeta=zeta, Kp=wn**2, Kv=2 * zeta * wn, inertia_scale=scale,
-                 Kp_pd=scale * wn**2, Kv_pd=scale * 2 * zeta * wn)
-
-
-def desired_motion(trajectory):
-    """The desired motion between set points: piecewise quintic Hermite through (q, qd, qdd).
-
-    Parameters
-    ----------
-    trajectory : Trajectory
-        Set points t (N,) [s] and q, qd, qdd (N, n) [rad, rad/s, rad/s^2].
-
-    Returns
-    -------
-    scipy.interpolate.PPoly
-        Degree 5 in each of the N - 1 intervals, values of shape (n,): ``pp(t)`` is q_d [rad],
-        ``pp(t, 1)`` qd_d [rad/s], ``pp(t, 2)`` qdd_d [rad/s^2]; it matches q, qd and qdd at
-        every set point and is C2.
-
-    Raises
-    ------
-    ValueError
-        If there are fewer than 2 set points or the times are not strictly increasing.
-    """
-    from scipy.interpolate import BPoly, PPoly
-
-    t = np.asarray(trajectory.t, dtype=float)
-    if t.shape[0] < 2 or not (np.diff(t) > 0).all():
-        raise ValueError("the desired motion needs >= 2 set points with increasing times")
-    coeffs = []
-    for j in range(trajectory.q.shape[1]):
-        yi = np.column_stack([trajectory.q[:, j], trajectory.qd[:, j], trajectory.qdd[:, j]])
-        coeffs.append(PPoly.from_bernstein_basis(BPoly.from_derivatives(t, yi)).c)
-    return PPoly(np.stack(coeffs, axis=-1), t)
-
-
-# --------------------------------------------------------------------------------------------
-# Control laws and the closed loop
-# --------------------------------------------------------------------------------------------
-
-def controller_torque(controller, robot, gains, q_d, qd_d, qdd_d, q, qd, choices=None,
-                      terms=None, plan=None):
-    """Torque a controller applies at given desired and actual states.
-
-    Parameters
-    ----------
-    controller : {"full", "simplified", "pd_gravity"}
-        The control law (see the module docstring).
-    robot : Robot
-        The arm, with n joints.
-    gains : Gains
-        The gains.
-    q_d, qd_d, qdd_d : ndarray, shape (N, n)
-        Desired positions [rad], velocities [rad/s] and accelerations [rad/s^2].
-    q, qd : ndarray, shape (N, n)
-        Actual positions [rad] and velocities [rad/s].
-    choices : dict or SimplifiedModel, optional
-        The simplified model (evaluated in explicit form), or its choices (evaluated by the
-        fused masked evaluator); required for ``"simplified"``.
-    terms : GDTerms, optional
-        The full G-D terms at (q, qd), if already computed (used by ``"full"`` and
-        ``"pd_gravity"``).
-    plan : dict, optional
-        :func:`~gd_analyze.formulations.simplified_eval.evaluation_plan` of the choices.
-
-    Returns
-    -------
-    ndarray, shape (N, n)
-        Joint torques tau [N m].
-
-    Raises
-    ------
-    ValueError
-        If the controller is unknown, or ``"simplified"`` is asked for without choices.
-
-    Notes
-    -----
-    Computed torque (Fu, Gonzalez & Lee 1987, Ch. 5): tau = D_m(q) [qdd_d + Kv (qd_d - qd) +
-    Kp (q_d - q)] + h_m(q, qd) + c_m(q), the model terms from Eq. (3.4-24) (full) or from its
-    kept parts (simplified, Sec. 3.4.1). PD + gravity: tau = Kp_pd e + Kv_pd ed + c(q).
-    """
-    if controller not in CONTROLLERS:
-        raise ValueError(f"controller must be one of {CONTROLLERS}, got {controller!r}")
-    e, ed = q_d - q, qd_d - qd
-    if controller == "pd_gravity":
-        if terms is None:
-            terms = gd_terms(robot, q, qd)
-        return gains.Kp_pd * e + gains.Kv_pd * ed + terms.c
-    v = qdd_d + gains.Kv * ed + gains.Kp * e
-    if controller == "full":
-        if terms is None:
-            terms = gd_terms(robot, q, qd)
-        return terms.tau(v)
-    if choices is None:
-        raise ValueError("the simplified controller needs the model's choices")
-    if hasattr(choices, "torque"):                  # the explicit simplified model (issue 8)
-        return choices.torque(q, qd, v)
-    return simplified_tau(robot, choices, q, qd, v, plan=plan)
-
-
-@dataclass(frozen=True, eq=False)
-class TrackingRun:
-    """One controller's closed-loop run along the desired motion.
-
-    Attributes
-    ----------
-    controller : str
-        ``"full"``, ``"simplified"`` or ``"pd_gravity"``.
-    t : ndarray, shape (M,)
-        Sample times: the set points and the fine grid [s].
-    q, qd : ndarray, shape (M, n)
-        Joint positions [rad] and velocities [rad/s] of the plant.
-    tau : ndarray, shape (M, n)
-        Torques the controller applied [N m].
-    error : ndarray, shape (M, n)
-        Tracking error e = q_d - q [rad].
-    nfev : int
-        Right-hand side evaluations of the integrator.
-    success : bool
-        Whether the integrator reached the end.
-    message : str
-        The integrator's message.
-    """
-
-    controller: str
-    t: np.ndarray
-    q: np.ndarray
-    qd: np.ndarray
-    tau: np.ndarray
-    error: np.ndarray
-    nfev: int
-    success: bool
-    message: str
-
-
-def track(robot, controller, gains, desired, t_eval, q0_offset=0.0, choices=None,
-          rtol=DEFAULT_RTOL, atol=DEFAULT_ATOL, method=DEFAULT_METHOD):
-    """Integrate the full-model arm under one controller along a desired motion.
-
-    Parameters
-    ----------
-    robot : Robot
-        The arm (the plant, with its full G-D dynamics), n joints.
-    controller : {"full", "simplified", "pd_gravity"}
-        The control law.
-    gains : Gains
-        The gains.
-    desired : scipy.interpolate.PPoly
-        The desired motion, as :func:`desired_motion` gives it.
-    t_eval : array_like, shape (M,)
-        Increasing sample times [s]; the run goes from t_eval[0] to t_eval[-1].
-    q0_offset : float or array_like, shape (n,), optional
-        Initial position error, q(0) = q_d(0) + q0_offset [rad]; qd(0) = qd_d(0).
-    choices : dict or SimplifiedModel, optional
-        The simplified model or its choices (for ``"simplified"``).
-    rtol, atol : float, optional
-        Tolerances of ``scipy.integrate.solve_ivp``.
-    method : str, optional
-        Its method, e.g. ``"DOP853"`` or ``"RK45"``.
-
-    Returns
-    -------
-    TrackingRun
-
-    Raises
-    ------
-    ValueError
-        If the controller is unknown or its choices are missing or invalid.
-
-    Notes
-    -----
-    Plant: qdd = D^-1 (tau - h - c), Eq. (3.4-24); the G-D terms at the current state are
-    computed once per right-hand-side call (compiled engine) and serve both the plant and the
-    full-model and PD laws.
-    """
-    from scipy.integrate import solve_ivp
-
-    n = robot.n
-    t_eval = np.asarray(t_eval, dtype=float)
-    if controller not in CONTROLLERS:
-        raise ValueError(f"controller must be one of {CONTROLLERS}, got {controller!r}")
-    if controller == "simplified" and choices is None:
-        raise ValueError("the simplified controller needs the model's choices")
-    plan = evaluation_plan(choices, n) if controller == "simplified" and \
-        not hasattr(choices, "torque") else None
-    d1, d2 = desired.derivative(1), desired.derivative(2)
-    calls = [0]
-
-    def rhs(t, y):
-        calls[0] += 1
-        if calls[0] > MAX_RHS_EVALS:
-            raise _TooManyEvals
-        q, qd = y[None, :n], y[None, n:]
-        terms = gd_terms(robot, q, qd, engine="compiled")
-        tau = controller_torque(controller, robot, gains, desired(t)[None], d1(t)[None],
-                                d2(t)[None], q, qd, choices=choices, terms=terms, plan=plan)
-        return np.concatenate([y[n:], _qdd_from_terms(terms, tau)[0]])
-
-    t0 = t_eval[0]
-    y0 = np.concatenate([desired(t0) + np.broadcast_to(np.asarray(q0_offset, float), (n,)),
-                         d1(t0)])
-    try:
-        sol = solve_ivp(rhs, (t0, t_eval[-1]), y0, method=method, t_eval=t_eval, rtol=rtol,
-                        atol=atol)
-    except _TooManyEvals:
-        raise ValueError(f"the {controller} controller's run did not finish within "
-                         f"{MAX_RHS_EVALS} evaluations of the dynamics: the gains or the "
-                         f"trajectory make it too stiff (lower wn or zeta)") from None
-    if sol.success:
-        q, qd = sol.y[:n].T.copy(), sol.y[n:].T.copy()
-    else:                                   # keep the shapes; NaN after the failure
-        q = np.full((t_eval.size, n), np.nan)
-        qd = np.full((t_eval.size, n), np.nan)
-        m = sol.y.shape[1]
-        q[:m], qd[:m] = sol.y[:n].T, sol.y[n:].T
-    q_d, qd_d, qdd_d = desired(t_eval), d1(t_eval), d2(t_eval)
-    ok = np.isfinite(q).all(axis=1)
-    tau = np.full_like(q, np.nan)
-    if ok.any():
-        tau[ok] = controller_torque(controller, robot, gains, q_d[ok], qd_d[ok], qdd_d[ok],
-                                    q[ok], qd[ok], choices=choices, plan=plan)
-    return TrackingRun(controller=controller, t=t_eval, q=q, qd=qd, tau=tau, error=q_d - q,
-                       nfev=int(sol.nfev), success=bool(sol.success), message=str(sol.message))
-
-
-class _TooManyEvals(Exception):
-    """The integration exceeded MAX_RHS_EVALS."""
 
 
 def _peak_rms(x, axis=0):
@@ -479,7 +99,7 @@ class ControlResult:
     runs : dict
         Controller name -> :class:`TrackingRun`, in :data:`CONTROLLERS` order.
     cost : dict or None
-        :func:`~gd_analyze.formulations.simplified_eval.evaluation_cost` of the model, if computed.
+        :func:`model_cost` of the model, if asked for.
     provenance : dict
         Files and their SHA-256, solver settings, initial offset.
     """
@@ -563,6 +183,53 @@ class ControlResult:
                 "tau_difference": td, "cost": self.cost}
 
 
+def model_cost(model):
+    """The counted operations per set point of a simplified model, beside the full model's.
+
+    Parameters
+    ----------
+    model : SimplifiedModel
+        The model: its counted ``cost`` and ``full_cost`` (the explicit model with and without
+        pruning, counted on the emitted expressions), or, for a model stored without them, its
+        straight-line program's count.
+
+    Returns
+    -------
+    dict
+        ``evaluators`` (names), ``multiplications`` and ``additions`` (lists of int per set
+        point): the simplified explicit model, the full explicit model where known, and the
+        project's recursive Newton-Euler as implemented (:func:`gd_analyze.formulations.opcount.count_operations`);
+        ``dropped`` and ``parts``: parts of D and h the model drops, of 2 (n (n + 1) / 2 + n).
+
+    Notes
+    -----
+    Counts, not times: they do not depend on the machine. Sources: Sec. 3.4.1 of Fu, Gonzalez &
+    Lee (1987) (a simplified model "at a reduced computation time"), Table 3.5 (N-E), and
+    Armstrong, Khatib & Burdick (1986) for the explicit form.
+    """
+    from ..formulations.opcount import count_operations
+
+    robot = model.robot
+    names, mults, adds = [], [], []
+    simp = model.cost or model.program().cost()
+    names.append("simplified explicit model")
+    mults.append(int(simp["multiplications"]))
+    adds.append(int(simp["additions"]))
+    if model.full_cost:
+        names.append("full explicit model")
+        mults.append(int(model.full_cost["multiplications"]))
+        adds.append(int(model.full_cost["additions"]))
+    ne = count_operations(robot, "newton-euler")
+    names.append("Newton-Euler (as implemented)")
+    mults.append(int(ne[0]))
+    adds.append(int(ne[1]))
+    Mt, Mr, mt, mr = choice_masks(model.choices, robot.n)
+    parts = 2 * (robot.n * (robot.n + 1) // 2 + robot.n)
+    kept = int(np.triu(Mt).sum() + np.triu(Mr).sum() + mt.sum() + mr.sum())
+    return {"evaluators": names, "multiplications": mults, "additions": adds,
+            "dropped": parts - kept, "parts": parts}
+
+
 def _sample_times(t_set, grid_points):
     """Set-point times and an even grid, merged; grid points within 1e-9 T of a set point go."""
     t_set = np.asarray(t_set, dtype=float)
@@ -577,7 +244,7 @@ def _sample_times(t_set, grid_points):
 def run_control(model, trajectory, wn=DEFAULT_WN, zeta=DEFAULT_ZETA, q0_offset=0.0,
                 controllers=CONTROLLERS, grid_points=DEFAULT_GRID_POINTS, rtol=DEFAULT_RTOL,
                 atol=DEFAULT_ATOL, method=DEFAULT_METHOD, t_end=None, cost=True,
-                cost_setpoints=COST_SETPOINTS, model_path=None, model_sha256=None):
+                model_path=None, model_sha256=None):
     """Track a trajectory with the full-model, simplified-model and PD + gravity controllers.
 
     Parameters
@@ -603,9 +270,7 @@ def run_control(model, trajectory, wn=DEFAULT_WN, zeta=DEFAULT_ZETA, q0_offset=0
     t_end : float, optional
         Stop at this time [s] (set points after it are left out); default: the last set point.
     cost : bool, optional
-        Also measure :func:`~gd_analyze.formulations.simplified_eval.evaluation_cost`.
-    cost_setpoints : int, optional
-        Random set points per timed call of the cost measurement.
+        Also record the counted operations of the model (:func:`model_cost`).
     model_path : str or os.PathLike, optional
         The file the model was read from, recorded in the provenance.
     model_sha256 : str, optional
@@ -663,7 +328,7 @@ def run_control(model, trajectory, wn=DEFAULT_WN, zeta=DEFAULT_ZETA, q0_offset=0
     for name in (c for c in CONTROLLERS if c in controllers):
         runs[name] = track(robot, name, gains, desired, t, q0_offset=offset,
                            choices=model, rtol=rtol, atol=atol, method=method)
-    cost_figures = evaluation_cost(model, setpoints=cost_setpoints) if cost else None
+    cost_figures = model_cost(model) if cost else None
     provenance = {
         "trajectory_file": Path(trajectory.source).name if trajectory.source else "",
         "trajectory_path": str(trajectory.source), "trajectory_sha256": trajectory.sha256,

@@ -1,0 +1,116 @@
+"""The command line: ``gd-analyze ROBOT TRAJECTORY.csv`` and its sub-commands.
+
+Exit status: 0 on success; 1 if the verification against Pinocchio fails; 2 on bad input or an
+unusable output location (one line on stderr naming the file, row and column, no traceback, no
+partial output); 3 when ``evaluate --max-error`` is exceeded; 4 on an internal error (a bug: one
+line, the traceback only with ``--debug``).
+
+The parsers are in :mod:`gd_analyze.cli.parsing`, the commands in :mod:`gd_analyze.cli.commands`.
+Nothing in the package imports this package.
+"""
+
+from __future__ import annotations
+
+import os
+import sys
+import warnings
+
+from ..errors import InputError, InputNote, InputWarning
+
+from .commands import (_cmd_analyze, _cmd_compare, _cmd_control, _cmd_evaluate, _cmd_plan,
+                       _cmd_sweep)
+from .parsing import (COMMANDS, EXIT_INPUT, EXIT_INTERNAL, EXIT_OK, PROG, _analyze_parser,
+                      _compare_parser, _control_parser, _evaluate_parser, _plan_parser,
+                      _sweep_parser, parse_range)
+
+__all__ = ["main", "parse_range"]
+
+
+def _show_warning(message, category, filename, lineno, file=None, line=None):
+    kind = "note" if issubclass(category, InputNote) else "warning"
+    print(f"{PROG}: {kind}: {message}", file=sys.stderr)
+
+
+def _mistyped_command(word):
+    """A 'did you mean' error for a first word that is close to a command and is neither a
+    built-in robot nor a file; None otherwise."""
+    import difflib
+
+    from ..core.robot import builtin_robots
+
+    if word.startswith("-") or word in builtin_robots() or os.path.exists(word):
+        return None
+    close = difflib.get_close_matches(word, COMMANDS, n=1, cutoff=0.6)
+    if not close:
+        return None
+    return InputError(f"unknown command {word!r}: did you mean '{close[0]}'? (commands: "
+                      f"{', '.join(COMMANDS)}; or a robot for the main job)")
+
+
+def main(argv=None):
+    """Run the command line.
+
+    Parameters
+    ----------
+    argv : list of str, optional
+        Arguments without the program name (default ``sys.argv[1:]``). ``--debug`` anywhere
+        shows the traceback of an internal error.
+
+    Returns
+    -------
+    int
+        The exit status: 0 ok, 1 verification failed, 2 bad input or unusable output location,
+        3 error above --max-error, 4 internal error.
+    """
+    from ..io.staging import Terminated, install_signal_handlers
+
+    argv = list(sys.argv[1:] if argv is None else argv)
+    debug = "--debug" in argv
+    argv = [a for a in argv if a != "--debug"]
+    command = argv[0] if argv and argv[0] in COMMANDS else "analyze"
+    if argv and argv[0] == command:
+        argv = argv[1:]
+    parsers = {"analyze": (_analyze_parser, _cmd_analyze), "plan": (_plan_parser, _cmd_plan),
+               "evaluate": (_evaluate_parser, _cmd_evaluate),
+               "compare": (_compare_parser, _cmd_compare),
+               "control": (_control_parser, _cmd_control),
+               "sweep": (_sweep_parser, _cmd_sweep)}
+    make_parser, run = parsers[command]
+    try:
+        import threading
+
+        if threading.current_thread() is threading.main_thread():
+            install_signal_handlers()
+        with warnings.catch_warnings():
+            warnings.simplefilter("always", InputWarning)
+            warnings.showwarning = _show_warning
+            if command == "analyze" and argv:
+                mistyped = _mistyped_command(argv[0])
+                if mistyped is not None:
+                    raise mistyped
+            args = make_parser().parse_intermixed_args(argv)
+            return run(args)
+    except InputError as exc:
+        print(f"{PROG}: error: {exc}", file=sys.stderr)
+        return EXIT_INPUT
+    except BrokenPipeError:
+        # The reader of stdout went away (e.g. `| head`): not an error of ours.
+        devnull = os.open(os.devnull, os.O_WRONLY)
+        os.dup2(devnull, sys.stdout.fileno())
+        return EXIT_OK
+    except KeyboardInterrupt:
+        print(f"{PROG}: interrupted", file=sys.stderr)
+        return 130
+    except Terminated as exc:
+        print(f"{PROG}: terminated", file=sys.stderr)
+        return 128 + int(exc.args[0]) if exc.args else 143
+    except Exception as exc:  # noqa: BLE001 - the last line of defence: exit 4, one line
+        if debug:
+            import traceback
+
+            traceback.print_exc()
+        text = " ".join(str(exc).split())[:300]
+        print(f"{PROG}: internal error: {type(exc).__name__}: {text} (a bug in gd-analyze; "
+              f"{'see the traceback above' if debug else 'rerun with --debug for the traceback'})",
+              file=sys.stderr)
+        return EXIT_INTERNAL

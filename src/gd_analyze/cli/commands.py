@@ -1,0 +1,542 @@
+"""The commands of the command line: each runs a workflow, writes its files and prints a summary.
+
+``_cmd_<command>(args)`` takes the parsed arguments of :mod:`gd_analyze.cli.parsing` and returns
+the exit status; bad input raises :class:`gd_analyze.errors.InputError`, which
+:func:`gd_analyze.cli.main` prints as one line with exit status 2.
+"""
+
+from __future__ import annotations
+
+import math
+import sys
+import warnings
+from pathlib import Path
+
+from ..errors import InputError
+
+from .parsing import EXIT_OK, EXIT_TOLERANCE, EXIT_VERIFY, PROG, _version, parse_range
+
+__all__ = []
+
+def _load_robot(args):
+    from ..io.robots import load_robot
+
+    return load_robot(args.robot, args.base, args.tip)
+
+
+def _chain_settings(args):
+    """The URDF chain options, for the provenance of a run's outputs."""
+    return {k: v for k, v in (("robot_base", args.base), ("robot_tip", args.tip)) if v}
+
+
+def _apply_payload(robot, args):
+    from ..core.robot import with_payload
+
+    if args.payload is None:
+        if any(args.payload_com) or any(args.payload_inertia):
+            raise InputError("--payload-com and --payload-inertia need --payload MASS")
+        return robot
+    return with_payload(robot, args.payload, args.payload_com, args.payload_inertia)
+
+
+def _write_sources(model, outdir):
+    """simplified_model.c and simplified_model.py next to the JSON (in the staging folder)."""
+    written = []
+    for name, text in (("simplified_model.c", model.c_source()),
+                       ("simplified_model.py", model.python_source())):
+        path = outdir / name
+        path.write_text(text, encoding="utf-8")
+        written.append(path)
+    return written
+
+
+def _outdir(args_outdir, *parts):
+    """The output folder: -o as given, or reports/<sanitised parts joined by '-'>."""
+    from ..io.staging import safe_name
+
+    if args_outdir:
+        return Path(args_outdir)
+    return Path("reports") / "-".join(safe_name(p) for p in parts)
+
+
+def _results_size(N, n):
+    """Bytes of the per-set-point variables of results.h5 (uncompressed)."""
+    return 8 * N * (1 + 9 * n + 3 * n * n) + (1 << 20)
+
+
+def _load(args, csv_arg):
+    from ..io.trajectory import read_trajectory
+
+    robot = _load_robot(args)
+    return robot, read_trajectory(csv_arg, n_joints=robot.n)
+
+
+def _warn_limits(robot, trajectory, quiet):
+    from ..io.trajectory import JointLimitWarning, check_joint_limits
+
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", JointLimitWarning)
+        messages = check_joint_limits(robot, trajectory)
+    for msg in messages:
+        print(f"{PROG}: warning: {msg}", file=sys.stderr)
+
+
+#: Printed instead of share_tran for an element that is zero in every part.
+ZERO_MARK = "\u2261 0"
+
+
+def _format_summary(ds):
+    lines = [f"{ds.attrs['robot']} along {ds.attrs['input_file']}: "
+             f"{ds.attrs['setpoints']} set points, s = {ds.attrs['dominance_threshold']:g}, "
+             f"e = {ds.attrs['negligible_threshold']:g}", "",
+             f"{'element':<8}{'share_tran':>11}  {'class':<14}{'peak_total':>12}  units"]
+    from ..reports.main_figures import identically_zero
+
+    zero = (identically_zero(ds.peak_tran.values, ds.peak_rot.values, ds.peak_total.values,
+                             ds.element_scale.values) if "element_scale" in ds.variables
+            else [False] * ds.sizes["element"])
+    for lab, share, cls, peak, unit, z in zip(ds.element.values, ds.share_tran.values,
+                                              ds.dominance.values, ds.peak_total.values,
+                                              ds.element_units.values, zero):
+        shown = ZERO_MARK.rjust(11) if z else f"{share:>11.4f}"       # rounding noise: no share
+        lines.append(f"{lab:<8}{shown}  {cls:<14}{peak:>12.4g}  {unit}")
+    lines += ["", "simplified model torque error per joint:",
+              f"{'joint':<6}{'peak [N m]':>12}{'rms [N m]':>12}{'peak |tau|':>12}"
+              f"{'rel peak':>10}{'rel rms':>10}"]
+    for j in range(ds.sizes["joint"]):
+        lines.append(f"{j + 1:<6}{ds.tau_error_peak.values[j]:>12.4g}"
+                     f"{ds.tau_error_rms.values[j]:>12.4g}{ds.tau_peak.values[j]:>12.4g}"
+                     f"{ds.tau_error_relative_peak.values[j]:>10.2e}"
+                     f"{ds.tau_error_relative_rms.values[j]:>10.2e}")
+    if "verification_passed" in ds.attrs:
+        import numpy as np
+
+        worst = float(np.max([v for k, v in ds.attrs.items()
+                              if k.startswith("verification_max_rel")]))
+        lines += ["", f"verified against Pinocchio on {ds.attrs['verification_setpoints']} set "
+                      f"points: largest relative difference {worst:.2e}"]
+    return "\n".join(lines)
+
+
+def _payload_masses(args):
+    if args.payload_sweep is None:
+        return None
+    from ..core.limits import LIMITS
+
+    masses = parse_range(args.payload_sweep)
+    if masses[-1] > LIMITS["mass"]:
+        raise InputError(f"load masses up to {LIMITS['mass']:g} kg, got {masses[-1]:g}",
+                         column="--payload-sweep")
+    return masses
+
+
+def _payload_sweep_dataset(robot, trajectory, args):
+    """The ranking per load mass, as variables ``payload_*`` with dim ``payload``; or None."""
+    masses = _payload_masses(args)
+    if masses is None:
+        return None
+    from ..io.sweep_datasets import embed_payload
+    from ..workflows.payload import payload_sweep
+
+    ds = payload_sweep(robot, trajectory, masses, com=args.payload_com,
+                       inertia=args.payload_inertia, dominance=args.dominance,
+                       negligible=args.negligible)
+    return embed_payload(ds)
+
+
+ANALYZE_OUTPUTS = ("results.h5", "simplified_model.json", "simplified_model.c",
+                   "simplified_model.py", "report.html", "report.pdf", "figures")
+
+
+def _cmd_analyze(args):
+    from ..io.schema import skip_dask
+    from ..io.staging import check_free_space, staged_output
+    from ..workflows.analyze import analyze_to_file, progress_bar
+
+    skip_dask()                         # the main job makes no dask arrays: skip its import
+    bar = progress_bar(not args.quiet and sys.stderr.isatty())
+    robot, trajectory = _load(args, args.trajectory)
+    bar.reset(total=trajectory.n_setpoints)
+    bar.update(trajectory.n_setpoints)
+    _warn_limits(robot, trajectory, args.quiet)
+    outdir = _outdir(args.outdir, robot.name, Path(args.trajectory).stem)
+    base_robot = robot
+    robot = _apply_payload(robot, args)
+    if outdir.exists() and not outdir.is_dir():
+        raise InputError("exists and is not a folder", outdir)
+    settings = {"command": " ".join([PROG] + sys.argv[1:]) if sys.argv else PROG,
+                "payload_mass": float(args.payload or 0.0),
+                "tolerance": float(args.tolerance), "rule": args.rule,
+                "torque_floor": float(args.torque_floor),
+                "payload_com": [float(v) for v in args.payload_com],
+                "payload_inertia": [float(v) for v in args.payload_inertia],
+                **_chain_settings(args)}
+    extra = _payload_sweep_dataset(base_robot, trajectory, args)   # bad range: before any output
+    with staged_output(outdir, ANALYZE_OUTPUTS) as stage:
+        check_free_space(stage, _results_size(trajectory.n_setpoints, robot.n), "results.h5")
+        results = stage / "results.h5"
+        analysis = analyze_to_file(robot, trajectory, results, dominance=args.dominance,
+                                   negligible=args.negligible, check=not args.no_verify,
+                                   settings=settings, compress=args.compress,
+                                   progress=bar, extra=extra,
+                                   tolerance=args.tolerance, rule=args.rule,
+                                   torque_floor=args.torque_floor)
+        analysis.model.save(stage / "simplified_model.json")
+        written = [results, stage / "simplified_model.json"]
+        if analysis.model.terms is not None:          # explicit model (revolute joints)
+            written += _write_sources(analysis.model, stage)
+        if not args.no_report:
+            from ..reports.main import write_report
+
+            bar.reset(total=trajectory.n_setpoints)
+            bar.set_description("report")
+            written += write_report(results, stage, paper=args.paper, progress=bar.update)
+        bar.close()
+    written = [outdir / Path(p).relative_to(stage) for p in written]
+    if not args.quiet:
+        print(_format_summary(analysis.dataset))
+        print()
+        print("wrote " + ", ".join(str(p) for p in written))
+    if analysis.verification and not analysis.verification["passed"]:
+        print(f"{PROG}: error: the G-D terms disagree with Pinocchio beyond "
+              f"{analysis.verification['tolerance']:g} (see results.h5 attributes)",
+              file=sys.stderr)
+        return EXIT_VERIFY
+    return EXIT_OK
+
+
+def _check_plan(robot, start, goal, duration):
+    """Refuse a plan that breaks the robot's limits: InputError naming the joint and limit.
+
+    start, goal in SI (rad, m for a prismatic joint); robot with the limits the plan uses."""
+    import numpy as np
+
+    from ..io.planning import quintic_min_durations
+
+    prismatic = np.asarray(getattr(robot, "prismatic", np.zeros(robot.n, bool)), bool)
+
+    def show(j, v, unit=""):
+        return f"{v:g} m{unit}" if prismatic[j] else f"{math.degrees(v):g} deg{unit}"
+
+    for name, vals in (("--start", start), ("--goal", goal)):
+        for j, v in enumerate(vals):
+            if not robot.q_min[j] <= v <= robot.q_max[j]:
+                raise InputError(f"joint {j + 1} at {show(j, v)} is outside its position "
+                                 f"limits [{show(j, robot.q_min[j])}, {show(j, robot.q_max[j])}]"
+                                 f" (--ignore-limits to plan anyway)", column=name)
+    if duration is None:
+        return
+    t_vel, t_acc = quintic_min_durations(robot, start, goal)
+    for j in range(robot.n):
+        for t_lim, what, lim in ((t_vel[j], "velocity", show(j, robot.qd_max[j], "/s")),
+                                 (t_acc[j], "acceleration",
+                                  show(j, robot.qdd_max[j], "/s^2"))):
+            if duration < t_lim * (1 - 1e-12):
+                raise InputError(f"{duration:g} s is too short: joint {j + 1} would exceed its "
+                                 f"{what} limit {lim} (at least {t_lim:.6g} s; "
+                                 f"--ignore-limits to plan anyway)", column="--duration")
+
+
+def _cmd_plan(args):
+    from .._version import __version__
+    from ..io.trajectory import write_trajectory
+    from ..io.planning import acceleration_limits, default_motion, plan_quintic, user_positions, write_provenance
+
+    robot = _load_robot(args)
+    start, goal = default_motion(robot)
+    for name, vals in (("--start", args.start), ("--goal", args.goal)):
+        if vals is not None and len(vals) != robot.n:
+            raise InputError(f"{name}: {len(vals)} values for {robot.n} joints")
+    start = start if args.start is None else user_positions(robot, args.start)
+    goal = goal if args.goal is None else user_positions(robot, args.goal)
+    from ..core.limits import LIMITS, first_beyond
+
+    if not 2 <= args.setpoints <= 10**8:
+        raise InputError("--setpoints: a trajectory needs 2 to 10^8 set points")
+    if args.duration is not None and not (LIMITS["min_duration"] <= args.duration
+                                          <= LIMITS["duration"]):
+        raise InputError(f"must be a number of seconds in [{LIMITS['min_duration']:g}, "
+                         f"{LIMITS['duration']:g}], got {args.duration:g}", column="--duration")
+    if args.output != "-":
+        from ..io.staging import check_output_file
+
+        check_output_file(args.output)
+    qdd_arg = args.qdd_max
+    if qdd_arg is not None and len(qdd_arg) == 1:
+        qdd_arg = qdd_arg * robot.n
+    if qdd_arg is not None and len(qdd_arg) != robot.n:
+        raise InputError(f"{len(qdd_arg)} values for {robot.n} joints", column="--qdd-max")
+    try:
+        qdd_max, qdd_source = acceleration_limits(
+            robot, None if qdd_arg is None else user_positions(robot, qdd_arg))
+    except ValueError as exc:
+        raise InputError(str(exc), column="--qdd-max" if qdd_arg is not None else None) \
+            from None
+    planning = _replace_limits(robot, qdd_max)
+    if not args.ignore_limits:
+        _check_plan(planning, start, goal, args.duration)
+    try:
+        traj = plan_quintic(planning, start, goal, args.setpoints, args.duration)
+    except ValueError as exc:
+        raise InputError(str(exc)) from None
+    for name in ("q", "qd", "qdd"):
+        if first_beyond(getattr(traj, name), LIMITS[name]) is not None:
+            raise InputError(f"the planned {name} exceeds the supported magnitude "
+                             f"{LIMITS[name]:g}: choose a longer --duration", column="--duration")
+    try:
+        write_trajectory(traj, args.output)
+    except OSError as exc:
+        raise InputError(f"cannot write: {exc.strerror or exc}", args.output) from None
+    if args.output == "-":
+        return EXIT_OK
+    record = {
+        "tool": "gd-analyze", "version": __version__,
+        "command": " ".join([PROG] + sys.argv[1:]) if sys.argv else PROG,
+        "robot": robot.name, "robot_source": robot.source, "robot_sha256": robot.sha256,
+        **_chain_settings(args),
+        "start": [float(v) for v in start], "goal": [float(v) for v in goal],
+        "start_goal_units": "rad (m for a prismatic joint)",
+        "setpoints": traj.n_setpoints, "duration_s": float(traj.t[-1]),
+        "duration_from": "--duration" if args.duration is not None else "limits",
+        "qd_max": [float(v) for v in robot.qd_max],
+        "qdd_max": [float(v) for v in qdd_max],
+        "limits_units": "rad/s, rad/s^2 (m/s, m/s^2 for a prismatic joint)",
+        "qdd_max_source": qdd_source,
+        "trajectory": traj.source,
+    }
+    try:
+        side = write_provenance(args.output, record)
+    except OSError as exc:
+        raise InputError(f"cannot write its provenance: {exc.strerror or exc}",
+                         args.output) from None
+    print(f"wrote {args.output}: {traj.n_setpoints} set points over {traj.t[-1]:.4f} s "
+          f"({traj.source}); acceleration limits: {qdd_source}; provenance in {side}",
+          file=sys.stderr)
+    return EXIT_OK
+
+
+def _replace_limits(robot, qdd_max):
+    """The robot with other acceleration limits, for planning only."""
+    import dataclasses
+
+    return dataclasses.replace(robot, qdd_max=qdd_max)
+
+
+def _cmd_evaluate(args):
+    import json
+
+    from ..core.simplified import SimplifiedModel
+    from ..io.trajectory import read_trajectory
+    from ..workflows.evaluate import evaluate
+
+    model = SimplifiedModel.load(args.model)
+    traj = read_trajectory(args.trajectory, n_joints=model.robot.n)
+    err = evaluate(model, traj, plant=_apply_payload(model.robot, args))
+    worst = err.pop("max_relative_peak_error")
+    exceeded = args.max_error is not None and worst > args.max_error
+    if args.json:
+        out = {"model": args.model, "trajectory": args.trajectory,
+               "trajectory_sha256": traj.sha256, "robot": model.robot.name,
+               "setpoints": traj.n_setpoints, "payload_mass": float(args.payload or 0.0),
+               "max_relative_peak_error": worst,
+               "max_error": args.max_error, "exceeded": exceeded, **err}
+        print(json.dumps(out, allow_nan=False, default=str).replace("NaN", "null"))
+    else:
+        print(f"{model.robot.name} simplified model on {args.trajectory} "
+              f"({traj.n_setpoints} set points)")
+        print(f"{'joint':<6}{'peak [N m]':>12}{'rms [N m]':>12}{'peak |tau|':>12}"
+              f"{'rel peak':>10}{'rel rms':>10}")
+        for j in range(model.robot.n):
+            print(f"{j + 1:<6}{err['peak_abs_error'][j]:>12.4g}{err['rms_error'][j]:>12.4g}"
+                  f"{err['peak_tau'][j]:>12.4g}{err['relative_peak_error'][j]:>10.2e}"
+                  f"{err['relative_rms_error'][j]:>10.2e}")
+        print(f"largest relative peak error: {worst:.3e}")
+    if exceeded:
+        print(f"{PROG}: relative torque error {worst:.3e} exceeds --max-error "
+              f"{args.max_error:g}", file=sys.stderr)
+        return EXIT_TOLERANCE
+    return EXIT_OK
+
+
+def _cmd_compare(args):
+    import json
+
+    from ..formulations.compare import compare_report, format_compare
+
+    robot, traj = _load(args, args.trajectory)
+    report = compare_report(robot, traj.q, traj.qd, traj.qdd)
+    if args.json:
+        print(json.dumps(report))
+    else:
+        print(format_compare(report))
+    return EXIT_OK
+
+
+def _cmd_control(args):
+    import json
+
+    from ..core.simplified import SimplifiedModel
+    from ..files import file_sha256
+    from ..io.control_dataset import write_control_dataset
+    from ..workflows.control import CONTROL_FILE, run_control
+    from ..io.trajectory import read_trajectory
+
+    from ..reports.control import CONTROL_REPORT_FILES
+    from ..io.staging import staged_output
+
+    model = SimplifiedModel.load(args.model)
+    traj = read_trajectory(args.trajectory, n_joints=model.robot.n)
+    outdir = _outdir(args.outdir, model.robot.name, Path(args.trajectory).stem, "control")
+    if outdir.exists() and not outdir.is_dir():
+        raise InputError("exists and is not a folder", outdir)
+    try:
+        result = run_control(model, traj, wn=args.wn, zeta=args.zeta, q0_offset=args.offset,
+                             model_path=args.model, model_sha256=file_sha256(args.model))
+    except ValueError as exc:
+        raise InputError(str(exc)) from None
+    with staged_output(outdir, (CONTROL_FILE, *CONTROL_REPORT_FILES, "figures")) as stage:
+        path = stage / CONTROL_FILE
+        write_control_dataset(result, path)
+        written = [path]
+        if not args.no_report:
+            from ..reports.control import write_control_report
+
+            written += list(write_control_report(path, stage, paper=args.paper))
+    written = [outdir / Path(p).relative_to(stage) for p in written]
+    summary = result.summary()
+    if args.json:
+        print(json.dumps(summary, default=float))
+    elif not args.quiet:
+        print(f"computed-torque control of {model.robot.name} along {args.trajectory}: "
+              f"wn = {args.wn:g} rad/s, zeta = {args.zeta:g}")
+        print(f"{'controller':<12}" + "".join(f"{'joint ' + str(j + 1):>11}"
+                                               for j in range(model.robot.n)))
+        for name, fig in summary["tracking"].items():
+            print(f"{name:<12}" + "".join(f"{v:>11.3e}" for v in fig["peak_grid"])
+                  + "   peak |e| [rad]")
+        if summary["tau_difference"]:
+            print(f"{'tau diff':<12}" + "".join(f"{v:>11.3e}"
+                                               for v in summary["tau_difference"]["peak"])
+                  + "   peak |tau_simplified - tau_full| [N m]")
+        print("wrote " + ", ".join(str(p) for p in written))
+    return EXIT_OK
+
+
+def _sweep_model(robot, trajectories, args, outdir, settings):
+    """The sweep's simplified explicit model within EPS on every trajectory (issue 8)."""
+    from ..io.planning import random_trajectories
+    from ..workflows.simplify import sweep_model
+
+    if args.held_out < 0:
+        raise InputError("--held-out must be >= 0")
+    held = random_trajectories(robot, args.held_out, seed=args.seed + 1_000_003) \
+        if args.held_out else []
+    model, _ = sweep_model(robot, trajectories, tolerance=args.tolerance,
+                           torque_floor=args.torque_floor, held_out=held,
+                           provenance={"gd_analyze_version": _version(), **settings})
+    path = outdir / "sweep_model.json"
+    model.save(path)
+    written = [path]
+    for name, text in (("sweep_model.c", model.c_source()),
+                       ("sweep_model.py", model.python_source())):
+        (outdir / name).write_text(text, encoding="utf-8")
+        written.append(outdir / name)
+    if not args.quiet:
+        v = model.validation
+        held_err = v["held_out"].get("relative_peak_error") if v["held_out"] else None
+        print(f"sweep model (budget, EPS = {args.tolerance:g}): {model.cost['multiplications']} "
+              f"mult + {model.cost['additions']} add (full explicit: "
+              f"{model.full_cost['multiplications']} + {model.full_cost['additions']}); worst "
+              f"relative error on the {v['trajectories']} swept trajectories "
+              f"{max(x for x in v['relative_peak_error'] if x is not None):.2e} (guaranteed "
+              f"<= {args.tolerance:g})" + ("" if held_err is None else
+                                         f", on {v['held_out_trajectories']} held-out "
+                                         f"{max(x for x in held_err if x is not None):.2e} "
+                                         "(not guaranteed)"))
+    return written
+
+
+SWEEP_OUTPUTS = ("sweep.h5", "merged_model.json", "payload_sweep.h5", "sweep_report.html",
+                 "sweep_report.pdf", "figures", "sweep_model.json", "sweep_model.c",
+                 "sweep_model.py")
+
+
+def _cmd_sweep(args):
+    from ..io.schema import write_dataset
+    from ..io.trajectory import read_trajectory
+    from ..io.planning import random_trajectories
+    from ..workflows.payload import sweep_payloads
+    from ..workflows.sweep import dask_client, merged_model, run_sweep
+
+    robot = _load_robot(args)
+    if (args.random is None) == (not args.csv):
+        raise InputError("give either --random K or trajectory CSV files")
+    if args.random is not None and not 1 <= args.random <= 10**6:
+        raise InputError("--random: K must be in [1, 10^6]")
+    if args.scheduler is not None:
+        import re
+
+        if not re.fullmatch(r"([a-z][a-z0-9+.-]*://)?[^\s/:]+(:[0-9]{1,5})?/?", args.scheduler):
+            raise InputError("not a dask scheduler address (e.g. tcp://10.0.0.5:8786)",
+                             column="--scheduler")
+    if args.workers is not None and args.workers < 1:
+        raise InputError("--workers must be >= 1")
+    if args.csv:
+        trajectories = [read_trajectory(path, n_joints=robot.n) for path in args.csv]
+    else:
+        trajectories = random_trajectories(robot, args.random, seed=args.seed)
+    masses = _payload_masses(args)
+    loaded = _apply_payload(robot, args)
+    outdir = _outdir(args.outdir, robot.name, "sweep")
+    if outdir.exists() and not outdir.is_dir():
+        raise InputError("exists and is not a folder", outdir)
+    settings = {"command": " ".join([PROG] + sys.argv[1:]) if sys.argv else PROG,
+                "payload_mass": float(args.payload or 0.0), **_chain_settings(args)}
+    if args.random is not None:
+        from ..io.planning import acceleration_limits
+
+        settings["seed"] = args.seed
+        try:
+            settings["random_qdd_max_source"] = acceleration_limits(robot)[1]
+        except ValueError as exc:
+            raise InputError(str(exc), robot.source) from None
+    try:
+        with dask_client(args.scheduler, args.workers) as (client, _):
+            ds = run_sweep(loaded, trajectories, args.dominance, args.negligible, client=client,
+                           settings=settings, progress=not args.quiet and sys.stderr.isatty())
+            payload = None if masses is None else sweep_payloads(
+                robot, trajectories, masses, args.payload_com, args.payload_inertia,
+                args.dominance, args.negligible, client=client)
+    except (OSError, ValueError, TypeError) as exc:
+        raise InputError(f"cannot reach the dask scheduler: {exc}", args.scheduler) from None
+    from ..io.staging import staged_output
+
+    with staged_output(outdir, SWEEP_OUTPUTS) as stage:
+        written = [stage / "sweep.h5", stage / "merged_model.json"]
+        write_dataset(ds, written[0])
+        merged_model(loaded, ds).save(written[1])
+        if args.tolerance is not None:
+            written += _sweep_model(loaded, trajectories, args, stage, settings)
+        if payload is not None:
+            written.append(stage / "payload_sweep.h5")
+            write_dataset(payload, written[-1])
+        if not args.no_report:
+            from ..reports.sweep import write_sweep_report
+
+            written += list(write_sweep_report(written[0], stage, payload=payload,
+                                               paper=args.paper))
+    written = [outdir / Path(p).relative_to(stage) for p in written]
+    if not args.quiet:
+        print(f"{robot.name}: {ds.sizes['trajectory']} trajectories in "
+              f"{ds.attrs['elapsed_s']:.1f} s on {ds.attrs['n_workers']} dask workers "
+              f"({ds.attrs['scheduler_address']})")
+        classes = [str(c) for c in ds["class"].values]
+        print(f"{'element':<8}" + "".join(f"{c[:5]:>7}" for c in classes)
+              + f"{'min':>8}{'median':>8}{'max':>8}  merged")
+        for k, lab in enumerate(str(v) for v in ds.element.values):
+            frac = ds.class_fraction.values[k]
+            print(f"{lab:<8}" + "".join(f"{v:>7.3f}" for v in frac)
+                  + f"{ds.share_tran_min.values[k]:>8.3f}{ds.share_tran_median.values[k]:>8.3f}"
+                  + f"{ds.share_tran_max.values[k]:>8.3f}  {ds.merged_choice.values[k]}")
+        print("wrote " + ", ".join(str(p) for p in written))
+    return EXIT_OK

@@ -1,0 +1,379 @@
+"""The command line's parsers: one argparse parser per command, and the argument types.
+
+Usage errors are one line with exit status 2 (:class:`_Parser`). The commands themselves are in
+:mod:`gd_analyze.cli.commands`; :func:`gd_analyze.cli.main` ties the two together.
+"""
+
+from __future__ import annotations
+
+import argparse
+import decimal
+import math
+
+from ..errors import InputError
+
+__all__ = ["parse_range", "PROG", "COMMANDS", "EXIT_STATUS_HELP"]
+
+PROG = "gd-analyze"
+
+
+COMMANDS = ("analyze", "plan", "evaluate", "compare", "control", "sweep")
+
+
+EXIT_OK, EXIT_VERIFY, EXIT_INPUT, EXIT_TOLERANCE, EXIT_INTERNAL = 0, 1, 2, 3, 4
+
+
+EXIT_STATUS_HELP = ("Exit status: 0 ok, 1 verification failed, 2 bad input or unusable output "
+                    "location, 3 error above --max-error, 4 internal error (--debug shows the "
+                    "traceback).")
+
+
+class _Parser(argparse.ArgumentParser):
+    """argparse that reports usage errors as one line with exit status 2."""
+
+    def error(self, message):
+        sub = self.prog[len(PROG):].strip()
+        raise InputError(f"{sub}: {message}" if sub else message)
+
+
+def parse_range(text, name="--payload-sweep"):
+    """Parse ``"start:stop:step"`` into the values start, start + step, ..., stop (inclusive).
+
+    Parameters
+    ----------
+    text : str
+        E.g. ``"0:2.5:0.5"``; step > 0, stop >= start. The values are computed in decimal
+        arithmetic from the strings, so ``"0:0.3:0.1"`` gives exactly [0.0, 0.1, 0.2, 0.3].
+        stop is included when it lies on the grid; otherwise the last value is the largest
+        grid value below it.
+    name : str, optional
+        The option or column named in error messages.
+
+    Returns
+    -------
+    list of float
+        At least one value.
+
+    Raises
+    ------
+    InputError
+        If the text is not three numbers separated by ``:``, a number is not finite, step is
+        not positive, stop < start, or the range has more than 10,000 values.
+
+    Examples
+    --------
+    >>> parse_range("0:2.5:0.5")
+    [0.0, 0.5, 1.0, 1.5, 2.0, 2.5]
+    """
+    parts = str(text).split(":")
+    if len(parts) != 3:
+        raise InputError(f"expected START:STOP:STEP (e.g. 0:2.5:0.5), got {text!r}",
+                         column=name)
+    try:
+        start, stop, step = (decimal.Decimal(p.strip()) for p in parts)
+    except decimal.InvalidOperation:
+        raise InputError(f"expected three numbers START:STOP:STEP, got {text!r}",
+                         column=name) from None
+    if not all(v.is_finite() for v in (start, stop, step)):
+        raise InputError(f"START, STOP and STEP must be finite, got {text!r}", column=name)
+    if step <= 0:
+        raise InputError(f"STEP must be positive, got {text!r}", column=name)
+    if stop < start:
+        raise InputError(f"STOP must not be below START, got {text!r}", column=name)
+    try:
+        count = int((stop - start) // step) + 1
+    except decimal.DecimalException:                  # e.g. 0:1:1e-30: beyond the precision
+        count = math.inf
+    if count > 10_000:
+        raise InputError(f"the range {text!r} has {count:.3g} values (at most 10000)",
+                         column=name)
+    return [float(start + k * step) for k in range(count)]
+
+
+def _fraction(lo, hi, name, lo_open=True):
+    def parse(text):
+        try:
+            v = float(text)
+        except ValueError:
+            raise argparse.ArgumentTypeError(f"{name} must be a number, got {text!r}") from None
+        ok = (lo < v if lo_open else lo <= v) and v <= hi and math.isfinite(v)
+        if not ok:
+            bracket = "(" if lo_open else "["
+            raise argparse.ArgumentTypeError(f"{name} must be in {bracket}{lo}, {hi}], got {v}")
+        return v
+    return parse
+
+
+def _angles(text):
+    try:
+        vals = [float(v) for v in text.split(",")]
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"expected comma-separated numbers, got {text!r}") \
+            from None
+    if not all(math.isfinite(v) for v in vals):
+        raise argparse.ArgumentTypeError(f"expected finite numbers, got {text!r}")
+    return vals
+
+
+def _vector3(name):
+    def parse(text):
+        vals = _angles(text)
+        if len(vals) != 3:
+            raise argparse.ArgumentTypeError(f"{name} needs 3 comma-separated numbers, got "
+                                             f"{text!r}")
+        return vals
+    return parse
+
+
+def _add_payload_arguments(p):
+    g = p.add_argument_group("payload (a rigid load fixed to the last link)")
+    g.add_argument("--payload", metavar="MASS", type=_fraction(0.0, math.inf, "--payload", False),
+                   help="load mass [kg] (the PUMA 560's rated load is 2.5 kg)")
+    g.add_argument("--payload-com", metavar="X,Y,Z", type=_vector3("--payload-com"),
+                   default=[0.0, 0.0, 0.0], help="load centre of mass in the last link frame [m]")
+    g.add_argument("--payload-inertia", metavar="IXX,IYY,IZZ",
+                   type=_vector3("--payload-inertia"), default=[0.0, 0.0, 0.0],
+                   help="load principal moments about its centre of mass [kg m^2]")
+    return g
+
+
+def _add_chain_arguments(p):
+    g = p.add_argument_group("URDF chain (a ROBOT given as a .urdf file, or panda, ur5)")
+    g.add_argument("--base", metavar="LINK",
+                   help="the chain's base link (default: the URDF's root link)")
+    g.add_argument("--tip", metavar="LINK",
+                   help="the chain's tip link (default: the end of the only chain); moving "
+                        "joints off the chain are locked at q = 0 and carried by their link")
+    return g
+
+
+_ROBOT_HELP = ("built-in robot (puma560, two-link, panda, ur5, ...), a TOML robot file or a URDF "
+               "file (*.urdf, see --base and --tip)")
+
+
+def _add_payload_sweep_argument(group):
+    group.add_argument("--payload-sweep", metavar="START:STOP:STEP",
+                       help="also rank the elements for each load mass in this range [kg], "
+                            "stop included, e.g. 0:2.5:0.5; uses --payload-com and "
+                            "--payload-inertia for the load's shape (stored with dim 'payload')")
+
+
+def _add_budget_arguments(p, rule=True):
+    g = p.add_argument_group("simplified model (error budget, issue 8)")
+    g.add_argument("--tolerance", metavar="EPS", type=_fraction(0.0, math.inf, "--tolerance",
+                                                                False), default=0.01,
+                   help="error budget: every joint's simplified torque stays within EPS times "
+                        "its scale on the analysed trajectory (default 0.01)")
+    g.add_argument("--torque-floor", metavar="TAU", type=_fraction(0.0, math.inf,
+                                                                   "--torque-floor", False),
+                   default=0.0, help="least scale of a joint torque [N m] (default 0)")
+    if rule:
+        g.add_argument("--rule", choices=("budget", "chapter"), default="budget",
+                       help="budget: by torque contribution within EPS (default); chapter: "
+                            "the share-based classes of Sec. 3.4.1 (no bound)")
+
+
+def _add_paper_argument(p):
+    p.add_argument("--paper", choices=("a4", "letter"), default="a4",
+                   help="page size of the PDF report (default a4)")
+
+
+def _analyze_parser():
+    from ..core.ranking import DEFAULT_DOMINANCE, DEFAULT_NEGLIGIBLE
+
+    p = _Parser(
+        prog=PROG,
+        description="Rank the translational and rotational parts of a robot arm's inertia "
+                    "matrix D and Coriolis/centrifugal vector h along a trajectory (generalized "
+                    "d'Alembert equations, Fu, Gonzalez & Lee 1987, Sec. 3.4), verify them "
+                    "against Pinocchio, and write results.h5, simplified_model.json, "
+                    "report.html and report.pdf.",
+        epilog="other commands: 'gd-analyze plan ROBOT -o FILE' writes a planned trajectory; "
+               "'gd-analyze evaluate MODEL.json TRAJECTORY.csv' checks a simplified model on "
+               "another trajectory; 'gd-analyze compare ROBOT TRAJECTORY.csv' compares the "
+               "L-E, N-E and G-D formulations; 'gd-analyze control MODEL.json TRAJECTORY.csv' "
+               "checks a simplified model in closed loop; 'gd-analyze sweep ROBOT ...' analyses "
+               "many trajectories on dask. 'gd-analyze COMMAND --help' for details. "
+               + EXIT_STATUS_HELP,
+    )
+    p.add_argument("robot", metavar="ROBOT", help=_ROBOT_HELP)
+    p.add_argument("trajectory", metavar="TRAJECTORY.csv",
+                   help="CSV with header t,q1..qn[,qd1..qdn,qdd1..qddn] [s, rad, rad/s, rad/s^2]")
+    p.add_argument("-o", "--outdir", metavar="OUTDIR",
+                   help="output folder (default: reports/<robot>-<csv stem>/)")
+    p.add_argument("--dominance", metavar="S", type=_fraction(0.5, 1.0, "--dominance"),
+                   default=DEFAULT_DOMINANCE,
+                   help=f"share at which one part dominates, in (0.5, 1] (default "
+                        f"{DEFAULT_DOMINANCE})")
+    p.add_argument("--negligible", metavar="E", type=_fraction(0.0, 1.0, "--negligible", False),
+                   default=DEFAULT_NEGLIGIBLE,
+                   help=f"an element below E times its scale is negligible (default "
+                        f"{DEFAULT_NEGLIGIBLE})")
+    _add_budget_arguments(p)
+    p.add_argument("--no-report", action="store_true", help="skip report.html and report.pdf")
+    _add_paper_argument(p)
+    p.add_argument("--compress", metavar="LEVEL", type=int, choices=range(10), default=0,
+                   help="gzip level 0-9 for the per-set-point variables of results.h5 "
+                        "(default 0: uncompressed, fastest)")
+    p.add_argument("--no-verify", action="store_true",
+                   help="skip the verification against Pinocchio")
+    p.add_argument("-q", "--quiet", action="store_true",
+                   help="print nothing but warnings and errors (no summary, no progress bar)")
+    p.add_argument("--version", action="version", version=f"%(prog)s {_version()}")
+    _add_chain_arguments(p)
+    _add_payload_sweep_argument(_add_payload_arguments(p))
+    return p
+
+
+def _version():
+    from .._version import __version__
+
+    return __version__
+
+
+def _plan_parser():
+    from ..io.planning import DEFAULT_GOAL_DEG, DEFAULT_QDD_PER_QD, DEFAULT_SETPOINTS, DEFAULT_START_DEG
+
+    p = _Parser(prog=f"{PROG} plan",
+                description="Write a quintic rest-to-rest joint trajectory at the shortest "
+                            "duration within the robot's velocity and acceleration limits, and "
+                            "its provenance beside it (FILE's stem + .provenance.json).")
+    p.add_argument("robot", metavar="ROBOT", help=_ROBOT_HELP)
+    p.add_argument("-o", "--output", metavar="FILE", required=True,
+                   help="CSV file to write ('-' for standard output)")
+    p.add_argument("--start", metavar="DEG,...", type=_angles,
+                   help="start positions [deg; m for a prismatic joint] (default for puma560: "
+                        f"{','.join(f'{v:g}' for v in DEFAULT_START_DEG)}; for other robots "
+                        "a quarter of each joint's range)")
+    p.add_argument("--goal", metavar="DEG,...", type=_angles,
+                   help="goal positions [deg; m for a prismatic joint] (default for puma560: "
+                        f"{','.join(f'{v:g}' for v in DEFAULT_GOAL_DEG)}; for other robots "
+                        "three quarters of each joint's range)")
+    p.add_argument("--setpoints", metavar="N", type=int, default=DEFAULT_SETPOINTS,
+                   help=f"number of set points, both ends included (default {DEFAULT_SETPOINTS})")
+    p.add_argument("--duration", metavar="T", type=float,
+                   help="duration [s] (default: the shortest within the limits)")
+    p.add_argument("--ignore-limits", action="store_true",
+                   help="plan even if the duration, start or goal breaks the robot's joint "
+                        "position, velocity or acceleration limits")
+    p.add_argument("--qdd-max", metavar="A[,...]", type=_angles,
+                   help="acceleration limits [deg/s^2; m/s^2 for a prismatic joint], one for "
+                        "all joints or one per joint (default: the robot's; where it has none, "
+                        f"as in a URDF, {DEFAULT_QDD_PER_QD:g} s^-1 times the velocity limit, "
+                        "i.e. full speed in 1/{0:g} s; the provenance says which)".format(
+                            DEFAULT_QDD_PER_QD))
+    _add_chain_arguments(p)
+    return p
+
+
+def _evaluate_parser():
+    p = _Parser(prog=f"{PROG} evaluate",
+                description="Report a simplified model's torque error on another trajectory.")
+    p.add_argument("model", metavar="MODEL.json")
+    p.add_argument("trajectory", metavar="TRAJECTORY.csv")
+    p.add_argument("--max-error", metavar="REL", type=_fraction(0.0, math.inf, "--max-error",
+                                                                False),
+                   help="exit with status 3 if the peak relative torque error of any joint "
+                        "exceeds REL")
+    p.add_argument("--json", action="store_true", help="print one JSON object")
+    _add_payload_arguments(p)
+    p.epilog = ("With --payload, the reference torques are those of the arm carrying the load, "
+                "while the simplified model keeps its own robot: the error shows whether the "
+                "model holds under that load.")
+    return p
+
+
+def _compare_parser():
+    p = _Parser(prog=f"{PROG} compare",
+                description="Run Lagrange-Euler, Newton-Euler, G-D and Pinocchio on every set "
+                            "point and print their largest relative disagreements and the "
+                            "operation counts per set point.")
+    p.add_argument("robot", metavar="ROBOT", help=_ROBOT_HELP)
+    p.add_argument("trajectory", metavar="TRAJECTORY.csv")
+    p.add_argument("--json", action="store_true", help="print one JSON object")
+    _add_chain_arguments(p)
+    return p
+
+
+def _control_parser():
+    from ..workflows.tracking import DEFAULT_WN, DEFAULT_ZETA
+
+    p = _Parser(prog=f"{PROG} control",
+                description="Simulate computed-torque control of the full-model arm along a "
+                            "trajectory with three controllers: one built on the full G-D "
+                            "model, one on the simplified model, and PD with gravity "
+                            "compensation; write control.h5 and control_report.html/.pdf.")
+    p.add_argument("model", metavar="MODEL.json")
+    p.add_argument("trajectory", metavar="TRAJECTORY.csv")
+    p.add_argument("-o", "--outdir", metavar="OUTDIR",
+                   help="output folder (default: reports/<robot>-<csv stem>-control/)")
+    p.add_argument("--wn", metavar="RAD/S", type=_fraction(0.0, math.inf, "--wn"),
+                   default=DEFAULT_WN,
+                   help=f"natural frequency of the error dynamics [rad/s] (default {DEFAULT_WN:g}); "
+                        "Kp = wn^2, Kv = 2 zeta wn")
+    p.add_argument("--zeta", metavar="Z", type=_fraction(0.0, math.inf, "--zeta"),
+                   default=DEFAULT_ZETA, help=f"damping ratio (default {DEFAULT_ZETA:g})")
+    p.add_argument("--offset", metavar="RAD", type=_fraction(-2 * math.pi, 2 * math.pi,
+                                                             "--offset", False),
+                   default=0.0, help="initial position error on every joint [rad], within "
+                                     "[-2 pi, 2 pi] (default 0)")
+    p.add_argument("--no-report", action="store_true", help="skip the HTML and PDF report")
+    _add_paper_argument(p)
+    p.add_argument("--json", action="store_true", help="print the figures as one JSON object")
+    p.add_argument("-q", "--quiet", action="store_true", help="print nothing but errors")
+    return p
+
+
+def _sweep_parser():
+    from ..core.ranking import DEFAULT_DOMINANCE, DEFAULT_NEGLIGIBLE
+
+    p = _Parser(prog=f"{PROG} sweep",
+                description="Rank the G-D elements over many trajectories on dask, give the "
+                            "envelope of the ranking per element and one simplified model valid "
+                            "over them all (an element is dropped or reduced only where that "
+                            "holds in every trajectory); write sweep.h5, merged_model.json and "
+                            "sweep_report.html/.pdf.")
+    p.add_argument("robot", metavar="ROBOT", help=_ROBOT_HELP)
+    p.add_argument("csv", metavar="CSV", nargs="*", help="trajectory files (or use --random)")
+    p.add_argument("--random", metavar="K", type=int,
+                   help="plan K random quintic trajectories (start and goal uniform in the "
+                        "joint limits, shortest duration within the limits, 31 set points)")
+    p.add_argument("--seed", metavar="S", type=_seed, default=0,
+                   help="seed for --random, an integer in [0, 2^63)")
+    p.add_argument("-o", "--outdir", metavar="OUTDIR",
+                   help="output folder (default: reports/<robot>-sweep/)")
+    p.add_argument("--scheduler", metavar="ADDRESS",
+                   help="address of a running dask scheduler (default: start a LocalCluster)")
+    p.add_argument("--workers", metavar="N", type=int,
+                   help="workers of the LocalCluster (default: one per core)")
+    p.add_argument("--dominance", metavar="S", type=_fraction(0.5, 1.0, "--dominance"),
+                   default=DEFAULT_DOMINANCE, help=f"default {DEFAULT_DOMINANCE}")
+    p.add_argument("--negligible", metavar="E",
+                   type=_fraction(0.0, 1.0, "--negligible", False),
+                   default=DEFAULT_NEGLIGIBLE, help=f"default {DEFAULT_NEGLIGIBLE}")
+    p.add_argument("--tolerance", metavar="EPS", type=_fraction(0.0, math.inf, "--tolerance",
+                                                                False),
+                   help="also build one simplified explicit model within EPS on every swept "
+                        "trajectory (budget rule); writes sweep_model.json/.c/.py")
+    p.add_argument("--torque-floor", metavar="TAU", type=_fraction(0.0, math.inf,
+                                                                   "--torque-floor", False),
+                   default=0.0, help="least scale of a joint torque [N m] (default 0)")
+    p.add_argument("--held-out", metavar="K", type=int, default=20,
+                   help="random trajectories (another seed) to measure the sweep model on, "
+                        "not guaranteed (default 20)")
+    p.add_argument("--no-report", action="store_true", help="skip the HTML and PDF report")
+    _add_paper_argument(p)
+    p.add_argument("-q", "--quiet", action="store_true", help="print nothing but errors")
+    _add_chain_arguments(p)
+    _add_payload_sweep_argument(_add_payload_arguments(p))
+    return p
+
+
+def _seed(text):
+    try:
+        v = int(text)
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"--seed must be an integer, got {text!r}") from None
+    if not 0 <= v < 2**63:
+        raise argparse.ArgumentTypeError(f"--seed must be in [0, 2^63), got {text}")
+    return v
