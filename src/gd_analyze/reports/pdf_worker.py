@@ -116,11 +116,16 @@ def spare_core():
     """Whether a second core is free for the worker: at least two cores usable by this process
     and a one-minute load average below their number less a half (this job counts as one).
     On a busy machine a second interpreter would only compete with the first.
+    ``GD_ANALYZE_PDF_WORKER=0`` (never) or ``=1`` (always) overrides the test, e.g. to time
+    both ways with ``analysis/benchmark.py --latency-only``.
 
     Returns
     -------
     bool
     """
+    forced = os.environ.get("GD_ANALYZE_PDF_WORKER", "").strip()
+    if forced in ("0", "1"):
+        return forced == "1"
     try:
         cores = len(os.sched_getaffinity(0))
     except AttributeError:                  # not on Linux
