@@ -223,7 +223,7 @@ def make_figures(ds, data=None):
                    "D": fig_D(data, dom, zero, s, e),
                    "h": fig_h(data, dom, zero)}
         if has_simplified(ds):                  # issue 8: tau_s - tau and its bound
-            figures["torque"] = error_figure(ds, size=(PAGE_WIDTH, 7.5))
+            figures["torque"] = error_figure(ds, size=(PAGE_WIDTH, 7.5), data=data)
         else:
             figures["torque"] = fig_torque(data, ds["tau_error_peak"].values,
                                            ds["tau_error_relative_peak"].values)

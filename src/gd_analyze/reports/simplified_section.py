@@ -117,7 +117,7 @@ def simplified_context(ds):
             "rule": rule, "tolerance": eps}
 
 
-def error_figure(ds, size=(8.27, 9.0)):
+def error_figure(ds, size=(8.27, 9.0), data=None):
     """Per-joint plots of tau_s - tau against time, with the guaranteed band +- bound.
 
     Parameters
@@ -126,6 +126,10 @@ def error_figure(ds, size=(8.27, 9.0)):
         With ``t``, ``tau``, ``tau_simplified`` (N, n) [N m] and ``simplified_bound`` (n,).
     size : tuple, optional
         Figure size [in].
+    data : gd_analyze.reports.main_figures.PlotData, optional
+        The series as the report reads them, with ``tau_error`` (tau_s - tau per set point,
+        or its min/max envelope for a long trajectory: the stored series are then never read
+        whole); without it, the whole series are read from ``ds``.
 
     Returns
     -------
@@ -140,8 +144,11 @@ def error_figure(ds, size=(8.27, 9.0)):
     from .ticks import set_ticks
 
     n = ds.sizes["joint"]
-    t = ds["t"].values
-    diff = ds["tau_simplified"].values - ds["tau"].values
+    if data is not None and "tau_error" in data.series:
+        t, diff = data.x, data.series["tau_error"]
+    else:
+        t = ds["t"].values
+        diff = ds["tau_simplified"].values - ds["tau"].values
     bound = ds["simplified_bound"].values
     cols = 2 if n > 1 else 1
     rows = -(-n // cols)
