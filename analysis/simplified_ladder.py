@@ -1,4 +1,4 @@
-"""The simplified explicit model of the PUMA 560: cost table beside the anchors, tolerance ladder.
+"""The simplified explicit model of a robot (default the PUMA 560): cost table, tolerance ladder.
 
 Prints
 1. the derivation time of the explicit model (no cache) and the program build time;
@@ -10,7 +10,8 @@ Prints
 
 Errors are peak |tau_s - tau_rnea| / peak |tau_rnea| per joint, against Pinocchio rnea.
 
-Usage: python analysis/simplified_ladder.py [TRAJECTORY.csv] [--held-out K] [--seed S]
+Usage: python analysis/simplified_ladder.py [TRAJECTORY.csv] [--robot NAME] [--held-out K]
+       [--seed S]   (the trajectory defaults to data/<robot>_trajectory.csv)
 """
 
 import argparse
@@ -39,8 +40,8 @@ def rnea(model, data, q, qd, qdd):
 
 def worst(model_s, trajs, pmodel, pdata):
     """max over joints of peak |tau_s - tau| / peak |tau| over the trajectories together."""
-    peak_err = np.zeros(6)
-    peak_tau = np.zeros(6)
+    peak_err = np.zeros(model_s.robot.n)
+    peak_tau = np.zeros(model_s.robot.n)
     for tr in trajs:
         ref = rnea(pmodel, pdata, tr.q, tr.qd, tr.qdd)
         err = np.abs(model_s.torque(tr.q, tr.qd, tr.qdd) - ref).max(axis=0)
@@ -51,13 +52,15 @@ def worst(model_s, trajs, pmodel, pdata):
 
 def main():
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    ap.add_argument("trajectory", nargs="?", default=str(ROOT / "data" /
-                                                         "puma560_trajectory.csv"))
+    ap.add_argument("trajectory", nargs="?", default=None)
+    ap.add_argument("--robot", default="puma560")
     ap.add_argument("--held-out", type=int, default=100)
     ap.add_argument("--seed", type=int, default=1)
     args = ap.parse_args()
-    robot = load_robot("puma560")
-    traj = read_trajectory(args.trajectory, 6)
+    robot = load_robot(args.robot)
+    if args.trajectory is None:
+        args.trajectory = str(ROOT / "data" / f"{args.robot}_trajectory.csv")
+    traj = read_trajectory(args.trajectory, robot.n)
     os.environ["GD_ANALYZE_NO_CACHE"] = "1"
     terms, t_derive = explicit_terms(robot)
     q, qd, qdd = traj.q, traj.qd, traj.qdd
@@ -67,7 +70,7 @@ def main():
     peaks = collect_peaks(robot, terms, q, qd, qdd)
     model, _ = build_model(robot, terms, peaks, tolerance=0.01, ranking=ranking)
     t_build = time.perf_counter() - t0
-    print(f"derivation of the explicit PUMA 560 model (no cache): {t_derive:.2f} s; "
+    print(f"derivation of the explicit {robot.name} model (no cache): {t_derive:.2f} s; "
           f"peaks, selection and program at EPS = 0.01: {t_build:.2f} s "
           f"({len(terms)} terms in the full model); timings under contention on a shared "
           "machine")
@@ -81,9 +84,9 @@ def main():
         m, _ = build_model(robot, terms, peaks, tolerance=eps)
         rows.append((eps, m, worst(m, [traj], pmodel, pdata), worst(m, held, pmodel, pdata)))
     ladder_rows = [{"tolerance": eps, **m.cost} for eps, m, *_ in rows]
-    table = cost_rows(6, model, other=chapter, ladder_rows=ladder_rows)
+    table = cost_rows(robot.n, model, other=chapter, ladder_rows=ladder_rows)
     print()
-    print(f"{'model (PUMA 560)':<44}{'mult':>8}{'add':>8}{'total':>8}{'sin+cos':>9}")
+    print(f"{f'model ({robot.name})':<44}{'mult':>8}{'add':>8}{'total':>8}{'sin+cos':>9}")
     trig = {f"explicit, budget EPS={eps:g}": m.cost["sin"] + m.cost["cos"]
             for eps, m, *_ in rows}
     trig["explicit, full"] = trig["explicit, budget EPS=0"]
@@ -94,7 +97,8 @@ def main():
         fmt = (lambda v: f"{v:>8.0f}" if np.isfinite(v) else f"{'-':>8}")
         tr = trig.get(label)
         print(f"{label:<44}{fmt(mu)}{fmt(ad)}{fmt(tot)}{tr if tr is not None else '':>9}")
-    print("(project N-E and Table 3.5 take sin/cos of the n joint angles as inputs: 6 + 6)")
+    print(f"(project N-E and Table 3.5 take sin/cos of the n joint angles as inputs: "
+          f"{robot.n} + {robot.n})")
     print()
     print(f"tolerance ladder on {Path(args.trajectory).name} "
           f"({traj.n_setpoints} set points), errors against Pinocchio rnea")

@@ -1,16 +1,15 @@
 import hashlib
 import json
-import os
 import subprocess
 import sys
-from pathlib import Path
 
 import numpy as np
 import pytest
 import xarray as xr
 
 from conftest import ROOT, SHIPPED
-from gd_analyze.cli import main
+from gd_analyze.cli import main, parse_range
+from gd_analyze.errors import InputError
 
 GOOD_HEADER = "t," + ",".join(f"q{i}" for i in range(1, 7))
 
@@ -281,3 +280,24 @@ def test_sweep_bad_arguments(tmp_path, capsys, args, expect):
     code, _, err = _run(args + ["-o", tmp_path / "o"], capsys)
     assert code == 2 and expect in err and err.count("\n") == 1
     assert not (tmp_path / "o").exists()
+
+
+def test_parse_range():
+    assert parse_range("0:2.5:0.5") == [0.0, 0.5, 1.0, 1.5, 2.0, 2.5]
+    assert parse_range("0:0.3:0.1") == [0.0, 0.1, 0.2, 0.3]      # exact decimal grid
+    assert parse_range(" 0.1 : 0.7 : 0.2 ") == [0.1, 0.3, 0.5, 0.7]
+    assert parse_range("0:1:0.3") == [0.0, 0.3, 0.6, 0.9]         # stop off the grid
+    assert parse_range("1.5:1.5:1") == [1.5]
+    assert len(parse_range("0:10:0.01")) == 1001
+
+
+@pytest.mark.parametrize("text, match", [
+    ("0:2.5", "START:STOP:STEP"), ("0:1:2:3", "START:STOP:STEP"), ("a:1:0.5", "three numbers"),
+    ("0:1:", "three numbers"), ("0:1:0", "STEP must be positive"),
+    ("0:1:-0.5", "STEP must be positive"), ("2:1:0.5", "STOP must not be below"),
+    ("0:inf:1", "finite"), ("0:1e9:1e-3", "at most"),
+])
+def test_parse_range_errors(text, match):
+    with pytest.raises(InputError, match=match) as info:
+        parse_range(text)
+    assert "--payload-sweep" in str(info.value)

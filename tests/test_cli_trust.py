@@ -227,6 +227,13 @@ def test_case9_messages(cwd, capsys):
     traj = _plan(cwd, capsys)
     line = _refused(["compre", "two-link", traj], capsys, cwd, "did you mean 'compare'")
     assert "unknown command 'compre'" in line
+    # the URDF built-ins are robots, not mistyped commands ('panda' is close to 'plan')
+    from gd_analyze.cli import _mistyped_command
+    from gd_analyze.io.robots import builtin_robots
+
+    assert {"panda", "ur5"} <= set(builtin_robots())
+    assert all(_mistyped_command(name) is None for name in builtin_robots())
+    assert _mistyped_command("plann") is not None
     line = _refused(["plan", "two-link"], capsys, cwd, "plan: the following arguments")
     assert line.startswith("gd-analyze: error: plan:")
     _refused(["two-link", cwd], capsys, cwd, "is a folder, not a CSV file")

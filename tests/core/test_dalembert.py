@@ -8,6 +8,7 @@ from conftest import SHIPPED, random_states
 from gd_analyze import gd_terms, load_robot
 from gd_analyze.formulations.pinocchio import reference_terms, relative_error
 from gd_analyze.io.trajectory import read_trajectory
+from gd_analyze.core.dalembert import forward_dynamics
 
 TOL = 1e-10
 PARTS = ("D_tran", "D_rot", "h_tran", "h_rot", "c")
@@ -179,3 +180,23 @@ def test_energy_balance_along_a_simulated_motion(two_link):
 def test_rejects_wrong_shapes(puma):
     with pytest.raises(ValueError):
         gd_terms(puma, np.zeros((2, 6)), np.zeros((2, 5)))
+
+
+@pytest.mark.parametrize("name", ["puma560", "two-link"])
+def test_forward_dynamics_matches_pinocchio_aba(name):
+    pin = pytest.importorskip("pinocchio")
+    from gd_analyze.formulations.pinocchio import pinocchio_model
+
+    robot = load_robot(name)
+    q, qd, qdd = random_states(robot, 40, seed=11)
+    tau = gd_terms(robot, q, qd).tau(qdd) + np.random.default_rng(2).normal(size=q.shape)
+    ours = forward_dynamics(robot, q, qd, tau)
+    model = pinocchio_model(robot)
+    data = model.createData()
+    for k in range(q.shape[0]):
+        ref = pin.aba(model, data, q[k], qd[k], tau[k])
+        assert np.abs(ours[k] - ref).max() <= 1e-10 * np.abs(ref).max()
+    # inverse of inverse dynamics, and a single state
+    back = forward_dynamics(robot, q, qd, gd_terms(robot, q, qd).tau(qdd))
+    np.testing.assert_allclose(back, qdd, rtol=1e-9, atol=1e-9)
+    assert forward_dynamics(robot, q[0], qd[0], tau[0]).shape == (1, robot.n)

@@ -96,8 +96,10 @@ def test_full_explicit_model_equals_pinocchio_rnea(name):
     assert err.max() < TOL, err
 
 
-def test_explicit_parts_equal_the_gd_terms():
-    robot = _robot_with_products_and_offsets()
+@pytest.mark.parametrize("name", ["general", "stanford"])
+def test_explicit_parts_equal_the_gd_terms(name):
+    """D_tran, D_rot, h_tran, h_rot, c against the G-D engine (stanford: a prismatic joint)."""
+    robot = _robot_with_products_and_offsets() if name == "general" else load_robot(name)
     q, qd, _ = random_states(robot, 100, 3)
     ours = derive(robot).terms(q, qd)
     ref = gd_terms(robot, q, qd)
@@ -275,23 +277,6 @@ def test_emitted_c_compiles_and_agrees_with_python_and_rnea(tmp_path, puma_model
     scale = np.abs(ref).max(axis=0)
     assert (np.abs(tau_c - tau_py).max(axis=0) <= 1e-12 * scale).all()
     assert (np.abs(tau_c - ref).max(axis=0) <= 0.01 * scale).all()
-
-
-def test_prismatic_joints_are_refused_and_fall_back(tmp_path):
-    """A prismatic joint: no explicit model; the main job keeps the masked model, no sources."""
-    from gd_analyze.cli import main
-    from gd_analyze.core.explicit import supported
-
-    stanford = load_robot("stanford")
-    assert not supported(stanford)
-    with pytest.raises(ValueError, match="prismatic"):
-        derive(stanford)
-    traj = tmp_path / "t.csv"
-    assert main(["plan", "stanford", "-o", str(traj), "--start", "0,0,0.4,0,0,0",
-                 "--goal", "30,20,0.8,10,10,10"]) == 0
-    assert main(["stanford", str(traj), "-o", str(tmp_path / "out"), "--no-report", "-q"]) == 0
-    names = sorted(p.name for p in (tmp_path / "out").iterdir())
-    assert names == ["results.h5", "simplified_model.json"]
 
 
 def test_derivation_cache(tmp_path, monkeypatch, puma):

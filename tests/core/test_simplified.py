@@ -1,5 +1,7 @@
 import json
 
+import itertools
+
 import numpy as np
 import pytest
 
@@ -10,6 +12,7 @@ from gd_analyze.core.ranking import element_labels
 from gd_analyze.formulations.pinocchio import pinocchio_model
 from gd_analyze.core.simplified import choice_masks, simplified_torque, torque_error
 from gd_analyze.io.trajectory import read_trajectory
+from gd_analyze.core.simplified import merge_choices
 
 
 def _model(robot, choice):
@@ -104,3 +107,32 @@ def test_load_errors(tmp_path):
         SimplifiedModel.load(bad)
     with pytest.raises(InputError, match="no such file"):
         SimplifiedModel.load(tmp_path / "none.json")
+
+
+@pytest.mark.parametrize("a, b, merged", [
+    ("tran", "none", "tran"), ("tran", "rot", "both"), ("none", "none", "none"),
+    ("rot", "both", "both"), ("rot", "rot", "rot"), ("none", "rot", "rot"),
+    ("tran", "tran", "tran"), ("both", "none", "both"),
+])
+def test_merge_rule_hand_cases(a, b, merged):
+    assert merge_choices([{"D11": a, "h1": "none"}, {"D11": b, "h1": "none"}]) == \
+        {"D11": merged, "h1": "none"}
+
+
+def test_merge_rule_many_models_and_order():
+    models = [{"D11": "none", "D12": "tran", "h1": "rot"},
+              {"D11": "none", "D12": "tran", "h1": "none"},
+              {"D11": "none", "D12": "rot", "h1": "none"}]
+    for perm in itertools.permutations(models):
+        assert merge_choices(perm) == {"D11": "none", "D12": "both", "h1": "rot"}
+    assert merge_choices(models[:1]) == models[0]
+    assert list(merge_choices(models)) == ["D11", "D12", "h1"]
+
+
+def test_merge_rule_errors():
+    with pytest.raises(ValueError, match="no simplified models"):
+        merge_choices([])
+    with pytest.raises(ValueError, match="other elements"):
+        merge_choices([{"D11": "tran"}, {"D11": "tran", "h1": "rot"}])
+    with pytest.raises(ValueError, match="choice must be"):
+        merge_choices([{"D11": "tran"}, {"D11": "translational"}])

@@ -13,20 +13,19 @@ import pytest
 import xarray as xr
 
 from gd_analyze import gd_terms, load_robot
-from gd_analyze.core.dalembert import forward_dynamics
 from gd_analyze.files import file_sha256
 from gd_analyze.io.control_dataset import control_dataset, write_control_dataset
 from gd_analyze.workflows.control import run_control
-from gd_analyze.workflows.tracking import CONTROLLERS, control_gains, desired_motion
+from gd_analyze.workflows.tracking import CONTROLLERS
 from gd_analyze.reports.control import write_control_report
 from gd_analyze.errors import InputError
 from gd_analyze.formulations.opcount import count_operations
 from gd_analyze.workflows.analyze import analyze
 from gd_analyze.core.ranking import element_labels
 from gd_analyze.core.simplified import SimplifiedModel, full_choices
-from gd_analyze.io.trajectory import Trajectory, read_trajectory
+from gd_analyze.io.trajectory import read_trajectory
 
-from conftest import SHIPPED, random_states
+from conftest import SHIPPED
 
 #: Bound on the tracking error of the full-model computed-torque controller started on the
 #: trajectory [rad]. With the exact model the closed loop is e'' + Kv e' + Kp e = 0 with
@@ -74,58 +73,10 @@ def _crude(robot):
 # Forward dynamics
 # --------------------------------------------------------------------------------------------
 
-@pytest.mark.parametrize("name", ["puma560", "two-link"])
-def test_forward_dynamics_matches_pinocchio_aba(name):
-    pin = pytest.importorskip("pinocchio")
-    from gd_analyze.formulations.pinocchio import pinocchio_model
-
-    robot = load_robot(name)
-    q, qd, qdd = random_states(robot, 40, seed=11)
-    tau = gd_terms(robot, q, qd).tau(qdd) + np.random.default_rng(2).normal(size=q.shape)
-    ours = forward_dynamics(robot, q, qd, tau)
-    model = pinocchio_model(robot)
-    data = model.createData()
-    for k in range(q.shape[0]):
-        ref = pin.aba(model, data, q[k], qd[k], tau[k])
-        assert np.abs(ours[k] - ref).max() <= 1e-10 * np.abs(ref).max()
-    # inverse of inverse dynamics, and a single state
-    back = forward_dynamics(robot, q, qd, gd_terms(robot, q, qd).tau(qdd))
-    np.testing.assert_allclose(back, qdd, rtol=1e-9, atol=1e-9)
-    assert forward_dynamics(robot, q[0], qd[0], tau[0]).shape == (1, robot.n)
-
 
 # --------------------------------------------------------------------------------------------
 # Desired motion and gains
 # --------------------------------------------------------------------------------------------
-
-def test_desired_motion_interpolates_q_qd_qdd(shipped):
-    rng = np.random.default_rng(4)
-    t = np.cumsum(rng.uniform(0.1, 0.3, 12))
-    q, qd, qdd = (rng.normal(size=(12, 3)) for _ in range(3))
-    for traj in (shipped, Trajectory(t=t, q=q, qd=qd, qdd=qdd)):
-        pp = desired_motion(traj)
-        for nu, want in ((0, traj.q), (1, traj.qd), (2, traj.qdd)):
-            np.testing.assert_allclose(pp(traj.t, nu), want, rtol=1e-9, atol=1e-9)
-    # the shipped motion is one quintic: the piecewise quintic reproduces it between set points
-    pp = desired_motion(shipped)
-    T, q0, q1 = shipped.t[-1], shipped.q[0], shipped.q[-1]
-    u = np.linspace(0, 1, 101)[:, None]
-    exact = q0 + (q1 - q0) * u**3 * (10 - 15 * u + 6 * u**2)
-    np.testing.assert_allclose(pp(u[:, 0] * T), exact, rtol=0, atol=1e-12)
-
-
-def test_gains(puma, shipped):
-    g = control_gains(puma, shipped.q[0], wn=10.0, zeta=0.7)
-    np.testing.assert_allclose(g.Kp, 100.0)
-    np.testing.assert_allclose(g.Kv, 14.0)
-    D0 = np.diagonal(gd_terms(puma, shipped.q[:1], 0 * shipped.q[:1]).D[0])
-    np.testing.assert_allclose(g.Kp_pd, D0 * 100.0)
-    np.testing.assert_allclose(g.Kv_pd, D0 * 14.0)
-    g6 = control_gains(puma, shipped.q[0], wn=np.arange(1.0, 7.0))
-    np.testing.assert_allclose(g6.Kp, np.arange(1.0, 7.0) ** 2)
-    for bad in ({"wn": 0.0}, {"zeta": -1.0}, {"wn": [1.0, 2.0]}, {"wn": np.nan}):
-        with pytest.raises(ValueError):
-            control_gains(puma, shipped.q[0], **bad)
 
 
 # --------------------------------------------------------------------------------------------

@@ -64,6 +64,32 @@ def test_main_job_model_within_tolerance_and_cheaper_than_newton_euler(tmp_path,
     assert json.loads(out)["max_relative_peak_error"] <= float(eps)
 
 
+def test_stanford_main_job_emits_the_explicit_model(tmp_path, capsys):
+    """A prismatic joint: the main job writes simplified_model.c and .py like every robot,
+    verification passes, and the emitted model is within EPS of rnea on the trajectory."""
+    from conftest import ROOT
+
+    csv = ROOT / "data" / "stanford_trajectory.csv"
+    code, _, err = _run(["stanford", csv, "-o", tmp_path, "--no-report", "-q"], capsys)
+    assert code == 0, err
+    assert sorted(p.name for p in tmp_path.iterdir()) == [
+        "results.h5", "simplified_model.c", "simplified_model.json", "simplified_model.py"]
+    robot = load_robot("stanford")
+    traj = read_trajectory(csv, robot.n)
+    ref = _rnea(robot, traj.q, traj.qd, traj.qdd)
+    scale = np.abs(ref).max(axis=0)
+    ns = {}
+    exec((tmp_path / "simplified_model.py").read_text(), ns)
+    tau = ns["tau"](traj.q, traj.qd, traj.qdd)
+    assert (np.abs(tau - ref).max(axis=0) <= 0.01 * scale * (1 + 1e-9)).all()
+    spec = json.loads((tmp_path / "simplified_model.json").read_text())
+    assert spec["explicit_terms"]["K"] and spec["cost"]["multiplications"] > 0
+    loaded = SimplifiedModel.load(tmp_path / "simplified_model.json")
+    np.testing.assert_allclose(loaded.torque(traj.q, traj.qd, traj.qdd), tau, rtol=0,
+                               atol=1e-12 * scale.max())
+    assert "prismatic joint 3: q [m]" in (tmp_path / "simplified_model.c").read_text()
+
+
 def test_rule_chapter_and_bad_tolerance(tmp_path, capsys):
     code, _, err = _run(["puma560", SHIPPED, "-o", tmp_path, "--no-report", "--rule", "chapter"],
                         capsys)

@@ -7,15 +7,13 @@ import itertools
 import numpy as np
 import pytest
 
-from conftest import SHIPPED, random_states
+from conftest import SHIPPED
 from gd_analyze import InputError, gd_terms
 from gd_analyze.workflows.analyze import analyze
 from gd_analyze.core.ranking import CLASSES, element_labels
-from gd_analyze.core.robot import with_payload
 from gd_analyze.core.simplified import choice_masks
 from gd_analyze.io.schema import open_sweep
 from gd_analyze.cli import parse_range
-from gd_analyze.core.simplified import merge_choices
 from gd_analyze.io.schema import write_dataset as write_sweep
 from gd_analyze.io.planning import random_trajectories
 from gd_analyze.workflows.payload import payload_sweep
@@ -27,77 +25,8 @@ K = 6
 
 
 # --------------------------------------------------------------------------------------------
-# Random trajectories
-# --------------------------------------------------------------------------------------------
-
-@pytest.mark.parametrize("name", ["puma", "two_link"])
-def test_random_trajectories_respect_the_limits(name, request):
-    robot = request.getfixturevalue(name)
-    trajs = random_trajectories(robot, 25, seed=11)
-    assert len(trajs) == 25
-    tol = 1 + 1e-12
-    for k, tr in enumerate(trajs):
-        assert tr.source == f"random-11-{k}"
-        assert tr.q.shape == tr.qd.shape == tr.qdd.shape == (31, robot.n)
-        assert np.all(tr.q >= robot.q_min) and np.all(tr.q <= robot.q_max)
-        assert np.all(np.abs(tr.qd) <= robot.qd_max * tol)
-        assert np.all(np.abs(tr.qdd) <= robot.qdd_max * tol)
-        np.testing.assert_array_equal(tr.qd[[0, -1]], 0.0)
-        # the shortest such motion: densely sampled, one joint reaches a limit
-        dense = plan_quintic(robot, tr.q[0], tr.q[-1], n_setpoints=4001, duration=tr.t[-1])
-        use = max(np.max(np.abs(dense.qd) / robot.qd_max),
-                  np.max(np.abs(dense.qdd) / robot.qdd_max))
-        assert use == pytest.approx(1.0, abs=1e-5)
-    again = random_trajectories(robot, 25, seed=11)
-    other = random_trajectories(robot, 25, seed=12)
-    assert all(np.array_equal(a.q, b.q) for a, b in zip(trajs, again))
-    assert not any(np.array_equal(a.q, b.q) for a, b in zip(trajs, other))
-    # starts and goals spread over the whole range of every joint
-    starts = np.array([tr.q[0] for tr in trajs])
-    span = robot.q_max - robot.q_min
-    assert np.all(starts.max(axis=0) - starts.min(axis=0) > 0.4 * span)
-
-
-def test_random_trajectories_bad_arguments(puma):
-    with pytest.raises(ValueError):
-        random_trajectories(puma, 0)
-    with pytest.raises(ValueError):
-        random_trajectories(puma, 3, seed=-1)
-    with pytest.raises(ValueError):
-        random_trajectories(puma, 3, n_setpoints=1)
-
-
-# --------------------------------------------------------------------------------------------
 # Merge rule
 # --------------------------------------------------------------------------------------------
-
-@pytest.mark.parametrize("a, b, merged", [
-    ("tran", "none", "tran"), ("tran", "rot", "both"), ("none", "none", "none"),
-    ("rot", "both", "both"), ("rot", "rot", "rot"), ("none", "rot", "rot"),
-    ("tran", "tran", "tran"), ("both", "none", "both"),
-])
-def test_merge_rule_hand_cases(a, b, merged):
-    assert merge_choices([{"D11": a, "h1": "none"}, {"D11": b, "h1": "none"}]) == \
-        {"D11": merged, "h1": "none"}
-
-
-def test_merge_rule_many_models_and_order():
-    models = [{"D11": "none", "D12": "tran", "h1": "rot"},
-              {"D11": "none", "D12": "tran", "h1": "none"},
-              {"D11": "none", "D12": "rot", "h1": "none"}]
-    for perm in itertools.permutations(models):
-        assert merge_choices(perm) == {"D11": "none", "D12": "both", "h1": "rot"}
-    assert merge_choices(models[:1]) == models[0]
-    assert list(merge_choices(models)) == ["D11", "D12", "h1"]
-
-
-def test_merge_rule_errors():
-    with pytest.raises(ValueError, match="no simplified models"):
-        merge_choices([])
-    with pytest.raises(ValueError, match="other elements"):
-        merge_choices([{"D11": "tran"}, {"D11": "tran", "h1": "rot"}])
-    with pytest.raises(ValueError, match="choice must be"):
-        merge_choices([{"D11": "tran"}, {"D11": "translational"}])
 
 
 # --------------------------------------------------------------------------------------------
@@ -313,102 +242,14 @@ def test_sweep_file_round_trip(sweep, tmp_path):
 
 
 # --------------------------------------------------------------------------------------------
-# Payload sweep
+# Report
 # --------------------------------------------------------------------------------------------
+
 
 @pytest.fixture(scope="module")
 def shipped(puma):
     return read_trajectory(SHIPPED, puma.n)
 
-
-def test_payload_sweep_equals_plain_analyses(puma, shipped):
-    com, inertia = (0.01, -0.02, 0.06), (2e-3, 3e-3, 1e-3)
-    ds = payload_sweep(puma, shipped, [0.0, 1.5], com=com, inertia=inertia)
-    np.testing.assert_array_equal(ds["payload"].values, [0.0, 1.5])
-    assert ds["payload"].attrs["units"] == "kg"
-    # zero payload: the plain analysis of the bare arm
-    plain = analyze(puma, shipped, check=False, rule="chapter").dataset
-    bare = analyze(with_payload(puma, 0.0, com, inertia), shipped, check=False,
-                    rule="chapter").dataset
-    loaded = analyze(with_payload(puma, 1.5, com, inertia), shipped, check=False,
-                    rule="chapter").dataset
-    for p, ref in ((0, bare), (1, loaded)):
-        np.testing.assert_allclose(ds["share_tran"].values[p], ref["share_tran"].values,
-                                   rtol=0, atol=1e-12)
-        assert list(ds["dominance"].values[p]) == list(ref["dominance"].values)
-        assert list(ds["choice"].values[p]) == list(ref["choice"].values)
-        np.testing.assert_allclose(ds["tau_peak"].values[p], ref["tau_peak"].values, rtol=1e-12)
-    zero = payload_sweep(puma, shipped, [0.0])
-    np.testing.assert_allclose(zero["share_tran"].values[0], plain["share_tran"].values,
-                               rtol=0, atol=1e-12)
-    assert list(zero["dominance"].values[0]) == list(plain["dominance"].values)
-    # a load changes the torques the arm needs
-    assert np.any(np.abs(ds["tau_peak"].values[1] - ds["tau_peak"].values[0]) > 1e-3)
-    for name, var in itertools.chain(ds.data_vars.items(), ds.coords.items()):
-        assert "units" in var.attrs and "long_name" in var.attrs, name
-
-
-def test_payload_matches_pinocchio_with_the_load_appended(puma):
-    import pinocchio as pin
-
-    from gd_analyze.formulations.pinocchio import pinocchio_model
-
-    m, com = 2.5, np.array([0.02, -0.03, 0.08])
-    inertia = np.array([[4e-3, 2e-4, -1e-4], [2e-4, 5e-3, 3e-4], [-1e-4, 3e-4, 2e-3]])
-    loaded = with_payload(puma, m, com, inertia)
-    model = pinocchio_model(puma)
-    a, d, alpha = puma.a[-1], puma.d[-1], puma.alpha[-1]
-    c, s = np.cos(alpha), np.sin(alpha)
-    frame_n = pin.SE3(np.array([[1, 0, 0], [0, c, -s], [0, s, c]]), np.array([a, 0.0, d]))
-    model.appendBodyToJoint(model.njoints - 1, frame_n.act(pin.Inertia(m, com, inertia)),
-                            pin.SE3.Identity())
-    data = model.createData()
-    q, qd, qdd = random_states(puma, 25, 41)
-    ref = np.array([pin.rnea(model, data, a_, b_, c_) for a_, b_, c_ in zip(q, qd, qdd)])
-    tau = gd_terms(loaded, q, qd).tau(qdd)
-    np.testing.assert_allclose(tau, ref, rtol=0, atol=1e-10 * np.abs(ref).max())
-    # and the bare arm differs from it: the test can fail
-    bare = gd_terms(puma, q, qd).tau(qdd)
-    assert np.abs(bare - ref).max() > 1e-3 * np.abs(ref).max()
-
-
-def test_payload_sweep_rejects_bad_masses(puma, shipped):
-    with pytest.raises(InputError):
-        payload_sweep(puma, shipped, [])
-    with pytest.raises(InputError, match="distinct"):
-        payload_sweep(puma, shipped, [1.0, 1.0])
-    with pytest.raises(InputError):
-        payload_sweep(puma, shipped, [-1.0])
-
-
-# --------------------------------------------------------------------------------------------
-# parse_range
-# --------------------------------------------------------------------------------------------
-
-def test_parse_range():
-    assert parse_range("0:2.5:0.5") == [0.0, 0.5, 1.0, 1.5, 2.0, 2.5]
-    assert parse_range("0:0.3:0.1") == [0.0, 0.1, 0.2, 0.3]      # exact decimal grid
-    assert parse_range(" 0.1 : 0.7 : 0.2 ") == [0.1, 0.3, 0.5, 0.7]
-    assert parse_range("0:1:0.3") == [0.0, 0.3, 0.6, 0.9]         # stop off the grid
-    assert parse_range("1.5:1.5:1") == [1.5]
-    assert len(parse_range("0:10:0.01")) == 1001
-
-
-@pytest.mark.parametrize("text, match", [
-    ("0:2.5", "START:STOP:STEP"), ("0:1:2:3", "START:STOP:STEP"), ("a:1:0.5", "three numbers"),
-    ("0:1:", "three numbers"), ("0:1:0", "STEP must be positive"),
-    ("0:1:-0.5", "STEP must be positive"), ("2:1:0.5", "STOP must not be below"),
-    ("0:inf:1", "finite"), ("0:1e9:1e-3", "at most"),
-])
-def test_parse_range_errors(text, match):
-    with pytest.raises(InputError, match=match) as info:
-        parse_range(text)
-    assert "--payload-sweep" in str(info.value)
-
-
-# --------------------------------------------------------------------------------------------
-# Report
-# --------------------------------------------------------------------------------------------
 
 def test_sweep_report(sweep, puma, shipped, tmp_path):
     from matplotlib.figure import Figure

@@ -36,7 +36,7 @@ def _mistyped_command(word):
     built-in robot nor a file; None otherwise."""
     import difflib
 
-    from ..core.robot import builtin_robots
+    from ..io.robots import builtin_robots          # the TOML and the URDF built-ins
 
     if word.startswith("-") or word in builtin_robots() or os.path.exists(word):
         return None

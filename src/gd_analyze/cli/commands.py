@@ -183,8 +183,7 @@ def _cmd_analyze(args):
                                    torque_floor=args.torque_floor)
         analysis.model.save(stage / "simplified_model.json")
         written = [results, stage / "simplified_model.json"]
-        if analysis.model.terms is not None:          # explicit model (revolute joints)
-            written += _write_sources(analysis.model, stage)
+        written += _write_sources(analysis.model, stage)      # the explicit model
         if not args.no_report:
             from ..reports.main import write_report
 

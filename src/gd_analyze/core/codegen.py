@@ -29,7 +29,7 @@ import numpy as np
 import symengine as se
 
 __all__ = ["Program", "build_program", "count_operations", "emit_c", "emit_python",
-           "C_FUNCTION"]
+           "python_function", "C_FUNCTION"]
 
 #: The exported C function.
 C_FUNCTION = "gd_simplified_tau"
@@ -55,7 +55,11 @@ class Program:
 
     def cost(self):
         """Operation counts: dict with ``multiplications``, ``additions``, ``sin``, ``cos``."""
-        return count_operations(self.assignments, self.outputs)
+        cached = self.__dict__.get("_cost")
+        if cached is None:
+            cached = count_operations(self.assignments, self.outputs)
+            object.__setattr__(self, "_cost", cached)
+        return dict(cached)
 
 
 def _num(x):
@@ -127,7 +131,7 @@ def _key(K, S):
 TRIG_MODES = ("products", "calls")
 
 
-def build_program(terms, n, offset, trig_mode="products"):
+def build_program(terms, n, offset, trig_mode="products", prismatic=None):
     """Assemble the straight-line program of the kept terms.
 
     Parameters
@@ -142,6 +146,9 @@ def build_program(terms, n, offset, trig_mode="products"):
         ``"products"``: cos and sin of the n angles are the only calls, compound angles come
         from the angle-addition formulas (counted); ``"calls"``: one cos/sin call per compound
         angle (fewer counted operations, more calls).
+    prismatic : array_like of bool, shape (n,), optional
+        The prismatic joints: their columns of the terms' K are powers of q_i [m], formed as
+        products of q_i (each power once) and factored out per harmonic; default none.
 
     Returns
     -------
@@ -165,6 +172,15 @@ def build_program(terms, n, offset, trig_mode="products"):
         g[key] = g.get(key, 0.0) + float(C)
     groups = {gk: {h: c for h, c in g.items() if c != 0.0} for gk, g in groups.items()}
     groups = {gk: g for gk, g in groups.items() if g}
+    lin = np.zeros(n, bool) if prismatic is None else np.asarray(prismatic, bool)
+
+    def split(key):
+        """(trig key with the polynomial columns zeroed, powers of the prismatic q)."""
+        if not lin.any():
+            return key, None
+        kv = key[1:]
+        return ((key[0],) + tuple(0 if lin[m] else v for m, v in enumerate(kv)),
+                tuple(v if lin[m] else 0 for m, v in enumerate(kv)))
     # angles, compound angles and their cos/sin
     theta = []
     for i in range(n):
@@ -241,7 +257,24 @@ def build_program(terms, n, offset, trig_mode="products"):
 
     for g in groups.values():                       # trig values first, in a stable order
         for key in sorted(g):
-            trig(key)
+            trig(split(key)[0])
+    mono_cache = {}
+
+    def mono(pvec):
+        """prod q_m^p_m over the prismatic joints, each power formed once."""
+        if pvec is None or not any(pvec):
+            return se.Integer(1)
+        if pvec in mono_cache:
+            return mono_cache[pvec]
+        nz = [m for m, v in enumerate(pvec) if v]
+        if len(nz) == 1 and pvec[nz[0]] == 1:
+            return q[nz[0]]
+        m = nz[-1]
+        head = tuple(v - 1 if i == m else v for i, v in enumerate(pvec))
+        sym = se.Symbol(f"m{len(mono_cache)}")
+        mono_cache[pvec] = sym                      # reserve the name before the recursion
+        assignments.append((sym, mono(head) * q[m]))
+        return sym
     vel_cache = {}
 
     def vel(j, k):
@@ -265,7 +298,18 @@ def build_program(terms, n, offset, trig_mode="products"):
             factor = ref / ref0
             return sym if factor == 1.0 else (-sym if factor == -1.0 else
                                                se.RealDouble(factor) * sym)
-        expr = se.Add(*[_coef(c) * trig(h) for h, c in items])
+        if not lin.any():
+            expr = se.Add(*[_coef(c) * trig(h) for h, c in items])
+        else:                                       # per harmonic: trig x polynomial in q
+            by_trig = {}
+            for h, c in items:
+                th, pw = split(h)
+                by_trig.setdefault(th, []).append((pw, c))
+            parts = []
+            for th, poly in sorted(by_trig.items()):
+                val = se.Add(*[_coef(c) * mono(pw) for pw, c in sorted(poly)])
+                parts.append(val * trig(th))
+            expr = se.Add(*parts)
         sym = se.Symbol(name)
         assignments.append((sym, expr))
         shared[norm] = (sym, ref)
@@ -313,19 +357,37 @@ def _cse(assignments, outputs):
 
 
 def _order(cse_defs, body):
-    """Topological order of the assignments (each after the temporaries it uses)."""
+    """Topological order of the assignments (each after the temporaries it uses).
+
+    The order is that of rounds: round 0 holds the assignments that use no temporary, round r
+    those whose temporaries are all in earlier rounds; within a round the given order is kept.
+    An assignment's round is therefore 1 + the largest round of the temporaries it uses, which
+    is computed once per assignment (linear time) instead of by repeated scans.
+    """
     pending = list(cse_defs) + list(body)
-    lhs = {s for s, _ in pending}
-    defined, result = set(), []
-    while pending:
-        rest = [(s, e) for s, e in pending if not (e.free_symbols & lhs) <= defined]
-        ready = [(s, e) for s, e in pending if (e.free_symbols & lhs) <= defined]
-        if not ready:
-            raise RuntimeError("cyclic program")
-        result += ready
-        defined |= {s for s, _ in ready}
-        pending = rest
-    return result
+    index = {s: k for k, (s, _) in enumerate(pending)}
+    deps = [[index[x] for x in e.free_symbols if x in index] for _, e in pending]
+    level = [-1] * len(pending)
+    for start in range(len(pending)):
+        if level[start] >= 0:
+            continue
+        stack, open_ = [start], set()
+        while stack:
+            v = stack[-1]
+            if level[v] >= 0:
+                stack.pop()
+                continue
+            todo = [d for d in deps[v] if level[d] < 0]
+            if not todo:
+                level[v] = 1 + max((level[d] for d in deps[v]), default=-1)
+                open_.discard(v)
+                stack.pop()
+            elif v in open_:
+                raise RuntimeError("cyclic program")
+            else:
+                open_.add(v)
+                stack.extend(todo)
+    return [pending[k] for k in sorted(range(len(pending)), key=lambda k: (level[k], k))]
 
 
 def _fmt_num(x):
@@ -433,6 +495,29 @@ def emit_c(program, header):
         lines.append(f"    tau[{i}] = {_print(e, 'c')};")
     lines += ["}", ""]
     return "\n".join(lines)
+
+
+def python_function(program):
+    """The program's ``tau(q, qd, qdd)`` as a Python function, compiled once per program.
+
+    Parameters
+    ----------
+    program : Program
+
+    Returns
+    -------
+    callable
+        ``tau`` of :func:`emit_python` (the header does not change what it computes):
+        arrays of shape (N, n) [rad, rad/s, rad/s^2; m, m/s, m/s^2 for a prismatic joint]
+        to shape (N, n) [N m; N].
+    """
+    fn = program.__dict__.get("_tau_fn")
+    if fn is None:
+        ns = {}
+        exec(compile(emit_python(program, {}), "<simplified_model.py>", "exec"), ns)
+        fn = ns["tau"]
+        object.__setattr__(program, "_tau_fn", fn)
+    return fn
 
 
 def emit_python(program, header):

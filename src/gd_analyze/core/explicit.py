@@ -1,9 +1,10 @@
 """The explicit (closed-form) G-D model of a robot, and its pruning term by term.
 
-Derivation (:func:`derive`), from the robot's joint model (placements P_i, t_i; revolute
-joints) and link inertial parameters, in the canonical Fourier form of
+Derivation (:func:`derive`), from the robot's joint model (placements P_i, t_i; revolute and
+prismatic joints) and link inertial parameters, in the canonical Fourier form of
 :class:`~gd_analyze.core.trigpoly.TrigPoly` (sums of numeric coefficients times cos or sin of
-integer combinations of the joint angles q):
+integer combinations of the revolute joint angles, times powers of the prismatic joint
+variables, which enter the kinematics polynomially):
 
 - D_tran, Eq. (3.4-25) 2nd term: D_tran(i, j) = sum_{s >= j} m_s Jv_s[:, i] . Jv_s[:, j]
   (i <= j). The Jacobian columns are taken in body frame i (joint i turns about its z axis
@@ -34,9 +35,9 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from .trigpoly import TrigPoly
+from .trigpoly import TrigPoly, evaluate_rows
 
-__all__ = ["ExplicitModel", "derive", "supported", "Term", "model_terms", "merge_parts", "atoms",
+__all__ = ["ExplicitModel", "derive", "Term", "model_terms", "merge_parts", "atoms",
            "term_peaks", "budget_drop", "prune", "PART_KINDS"]
 
 #: The parts of a model's terms: the two G-D parts of D and h, and gravity.
@@ -131,8 +132,8 @@ class ExplicitModel:
         return tuple(out)
 
 
-def _vec(n, values):
-    return [v if isinstance(v, TrigPoly) else TrigPoly.const(n, v) for v in values]
+def _vec(n, values, lin=None):
+    return [v if isinstance(v, TrigPoly) else TrigPoly.const(n, v, lin) for v in values]
 
 
 def _dot(u, v):
@@ -143,28 +144,12 @@ def _matvec(M, v):
     """M (3x3 list of TrigPoly or float) times v (3 TrigPoly)."""
     return [sum((M[r][c] * v[c] for c in range(3) if not (isinstance(M[r][c], float)
                                                           and M[r][c] == 0.0)),
-                TrigPoly.zero(v[0].n)) for r in range(3)]
+                TrigPoly.zero(v[0].n, v[0].lin)) for r in range(3)]
 
 
 def _rot_T_vec(R, v):
     """R^T v."""
     return _matvec([[R[c][r] for c in range(3)] for r in range(3)], v)
-
-
-def supported(robot):
-    """Whether the explicit model can be derived: every joint revolute.
-
-    Parameters
-    ----------
-    robot : Robot
-
-    Returns
-    -------
-    bool
-        False if a joint is prismatic (its variable enters as a length, not an angle, and the
-        Fourier form of :class:`~gd_analyze.core.trigpoly.TrigPoly` does not hold it).
-    """
-    return not bool(np.any(getattr(robot, "prismatic", False)))
 
 
 def derive(robot):
@@ -173,28 +158,25 @@ def derive(robot):
     Parameters
     ----------
     robot : Robot
-        The arm, revolute joints: placements (``rotation`` P_i, ``translation`` t_i) of the
-        joint model, link masses, centres of mass and inertia tensors in the body frames
-        (``body_com``, ``body_inertia``), gravity. For a DH robot the placements carry d, a,
-        alpha and the offsets.
+        The arm, revolute and prismatic joints: placements (``rotation`` P_i, ``translation``
+        t_i) of the joint model, ``prismatic``, link masses, centres of mass and inertia
+        tensors in the body frames (``body_com``, ``body_inertia``), gravity. For a DH robot
+        the placements carry d, a, alpha and the offsets.
 
     Returns
     -------
     ExplicitModel
-        In the angles theta = q (the offsets are part of the placements).
-
-    Raises
-    ------
-    ValueError
-        If a joint is prismatic (:func:`supported`).
+        In the joint variables q (the offsets are part of the placements): harmonics of the
+        revolute q_i [rad] times powers of the prismatic q_i [m].
 
     Notes
     -----
     Source: the joint model of :mod:`gd_analyze.core.robot` (^{i-1}T_i = [P_i t_i; 0 1]
-    Rot(z, q_i)) and Eqs. (3.4-24) to (3.4-28) of Fu, Gonzalez & Lee (1987), in the forms given
-    in the module docstring: joint i turns about the z axis of body frame i through its origin,
-    so in body frame i the Jacobian column of a point r is e_z x r and the columns of the later
-    joints are the derivatives of r.
+    Rot(z, q_i) for a revolute joint, [P_i t_i; 0 1] Trans(0, 0, q_i) for a prismatic one) and
+    Eqs. (3.4-24) to (3.4-28) of Fu, Gonzalez & Lee (1987), in the forms given in the module
+    docstring: joint i turns about (slides along) the z axis of body frame i, so in body frame i
+    the Jacobian column of a point r is e_z x r (e_z for a prismatic joint, whose rotational
+    column is 0) and the columns of the later joints are the derivatives of r.
 
     Examples
     --------
@@ -203,19 +185,20 @@ def derive(robot):
     >>> round(model.D_rot[(1, 1)].constant(), 6)      # m2 l^2 / 12
     0.083333
     """
-    if not supported(robot):
-        raise ValueError("the explicit model needs revolute joints; this robot has a "
-                         "prismatic joint")
     n = robot.n
-    C = [TrigPoly.cos(n, i) for i in range(n)]
-    S = [TrigPoly.sin(n, i) for i in range(n)]
+    lin = np.asarray(getattr(robot, "prismatic", np.zeros(n, bool)), bool).copy()
+    C = [None if lin[i] else TrigPoly.cos(n, i, lin) for i in range(n)]
+    S = [None if lin[i] else TrigPoly.sin(n, i, lin) for i in range(n)]
     P = np.vectorize(_snap)(np.asarray(robot.rotation, float))
     t = np.where(np.abs(np.asarray(robot.translation, float)) < 1e-15, 0.0,
                  np.asarray(robot.translation, float))
-    zero = TrigPoly.zero(n)
-    # R_i = P_i Rot(z, q_i): entries as TrigPoly
+    zero = TrigPoly.zero(n, lin)
+    # R_i = P_i Rot(z, q_i) (revolute) or P_i (prismatic): entries as TrigPoly
     R = []
     for i in range(n):
+        if lin[i]:
+            R.append([[float(P[i][a][c]) for c in range(3)] for a in range(3)])
+            continue
         rz = [[C[i], -S[i], 0.0], [S[i], C[i], 0.0], [0.0, 0.0, 1.0]]
         R.append([[sum((P[i][a][b] * rz[b][c] for b in range(3)
                         if P[i][a][b] != 0 and not (isinstance(rz[b][c], float)
@@ -223,8 +206,14 @@ def derive(robot):
                        zero) for c in range(3)] for a in range(3)])
 
     def apply(i, v):                     # point v of body frame i in body frame i-1
-        return [sum((R[i][a][b] * v[b] for b in range(3)), zero) + float(t[i][a])
-                for a in range(3)]
+        out = [sum((R[i][a][b] * v[b] for b in range(3)
+                    if not (isinstance(R[i][a][b], float) and R[i][a][b] == 0.0)), zero)
+               + float(t[i][a]) for a in range(3)]
+        if lin[i]:                       # P_i (v + q_i e_z) + t_i
+            d = TrigPoly.var(n, i, lin)
+            out = [o + float(P[i][a][2]) * d if P[i][a][2] != 0 else o
+                   for a, o in enumerate(out)]
+        return out
 
     com, inertia = np.asarray(robot.body_com, float), np.asarray(robot.body_inertia, float)
     # rounding residue of the link-frame rotations (cos 90 deg = 6e-17) is not a parameter
@@ -233,33 +222,39 @@ def derive(robot):
                        inertia)
     pos = {}                             # pos[(i, s)]: centre of mass of link s in frame i
     for s in range(n):
-        v = _vec(n, [float(x) for x in com[s]])
+        v = _vec(n, [float(x) for x in com[s]], lin)
         pos[(s, s)] = v
         for i in range(s, -1, -1):
             v = apply(i, v)
             pos[(i - 1, s)] = v
+    ez = _vec(n, [0.0, 0.0, 1.0], lin)
     D_tran, D_rot = {}, {}
     for i in range(n):
         for j in range(i, n):
-            acc = TrigPoly.zero(n)
+            acc = zero
             for s in range(j, n):
                 if robot.mass[s] == 0:
                     continue
                 r = pos[(i, s)]
-                Ji = [-r[1], r[0], zero]                   # e_z x r, in body frame i
+                Ji = ez if lin[i] else [-r[1], r[0], zero]     # in body frame i
                 Jj = Ji if j == i else [x.diff(j) for x in r]
                 acc = acc + float(robot.mass[s]) * _dot(Ji, Jj)
             D_tran[(i, j)] = acc
     u = {}                               # u[(s, i)]: axis of joint i in body frame s
     for i in range(n):
-        v = _vec(n, [0.0, 0.0, 1.0])
+        if lin[i]:                       # no rotational Jacobian column
+            continue
+        v = ez
         u[(i, i)] = v
         for s in range(i + 1, n):
             v = _rot_T_vec(R[s], v)
             u[(s, i)] = v
     for i in range(n):
         for j in range(i, n):
-            acc = TrigPoly.zero(n)
+            acc = zero
+            if lin[i] or lin[j]:
+                D_rot[(i, j)] = acc
+                continue
             for s in range(j, n):
                 I = inertia[s]
                 Iu = [sum((u[(s, j)][b] * float(I[a, b]) for b in range(3) if I[a, b] != 0),
@@ -283,10 +278,10 @@ def derive(robot):
         return h
 
     g = [float(x) for x in robot.gravity]
-    V = TrigPoly.zero(n)
+    V = zero
     for s in range(n):
         if robot.mass[s]:
-            V = V - float(robot.mass[s]) * _dot(_vec(n, g), pos[(-1, s)])
+            V = V - float(robot.mass[s]) * _dot(_vec(n, g, lin), pos[(-1, s)])
     c = {i: V.diff(i) for i in range(n)}
     return ExplicitModel(n=n, offset=np.zeros(n), D_tran=D_tran, D_rot=D_rot,
                          h_tran=christoffel(D_tran), h_rot=christoffel(D_rot), c=c)
@@ -306,7 +301,8 @@ class Term:
     i, j, k : ndarray of int, shape (U,)
         Indices (0-based; -1 where unused).
     K : ndarray of int, shape (U, n)
-        Harmonic vectors.
+        Harmonic vectors; in the column of a prismatic joint, the power of q_i [m]
+        (:mod:`gd_analyze.core.trigpoly`).
     S : ndarray of bool, shape (U,)
         sin (True) or cos (False).
     C : ndarray, shape (U,)
@@ -465,7 +461,7 @@ def _entries(terms, atom, n):
     return e_term[order], e_vcol[order], starts, key[starts] // n, key[starts] % n
 
 
-def term_peaks(terms, offset, q, qd, qdd, chunk=4096):
+def term_peaks(terms, offset, q, qd, qdd, chunk=4096, prismatic=None):
     """Peak |contribution| of every atom of the terms to every joint torque on a trajectory.
 
     Parameters
@@ -473,11 +469,14 @@ def term_peaks(terms, offset, q, qd, qdd, chunk=4096):
     terms : Term
         The terms (:func:`model_terms`); their atoms are those of :func:`atoms`.
     offset : ndarray, shape (n,)
-        Joint offsets [rad].
+        Joint offsets [rad] (0 for a prismatic joint).
     q, qd, qdd : ndarray, shape (N, n)
-        Joint positions [rad], velocities [rad/s] and accelerations [rad/s^2].
+        Joint positions [rad], velocities [rad/s] and accelerations [rad/s^2] (m, m/s and
+        m/s^2 for a prismatic joint).
     chunk : int, optional
         Set points at once (bounds memory).
+    prismatic : array_like of bool, shape (n,), optional
+        The prismatic joints (their columns of K are powers of q_i [m]); default none.
 
     Returns
     -------
@@ -500,11 +499,10 @@ def term_peaks(terms, offset, q, qd, qdd, chunk=4096):
     e_term, e_vcol, starts, g_atom, g_joint = _entries(merged, atom, n)
     for a in range(0, q.shape[0], chunk):
         sl = slice(a, a + chunk)
-        ang = (q[sl] + offset) @ Ku.T
-        trig = np.where(Su, np.sin(ang), np.cos(ang))                    # (N, H)
+        trig = evaluate_rows(Ku, Su, q[sl] + offset, prismatic)           # (N, H)
         val = trig[:, hidx] * merged.C                                   # (N, M)
         vel = np.concatenate([qdd[sl], (qd[sl][:, :, None] * qd[sl][:, None, :])
-                              .reshape(-1, n * n), np.ones((ang.shape[0], 1))], axis=1)
+                              .reshape(-1, n * n), np.ones((trig.shape[0], 1))], axis=1)
         contrib = val[:, e_term] * vel[:, e_vcol]                        # (N, E)
         per = np.abs(np.add.reduceat(contrib, starts, axis=1)).max(axis=0)
         np.maximum.at(peaks, (g_atom, g_joint), per)

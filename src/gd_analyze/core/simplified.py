@@ -21,10 +21,8 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from .dalembert import gd_terms
 from ..errors import InputError
 from .ranking import element_index, element_labels
-from .explicit import supported as explicit_supported
 from .robot import robot_from_dict
 
 __all__ = ["SCHEMA_VERSION", "CHOICES", "SimplifiedModel", "choice_masks", "merge_choices",
@@ -78,6 +76,17 @@ def choice_masks(choices, n):
         else:
             mt[i], mr[i] = keep_t, keep_r
     return Mt, Mr, mt, mr
+
+
+def _units(robot):
+    """The units line of the emitted files (prismatic joints in m and N)."""
+    pris = [i + 1 for i, p in enumerate(getattr(robot, "prismatic", ())) if p]
+    text = "q [rad], qd [rad/s], qdd [rad/s^2], tau [N m]"
+    if pris:
+        joints = ", ".join(str(i) for i in pris)
+        text += (f"; prismatic joint{'s' if len(pris) > 1 else ''} {joints}: q [m], qd [m/s], "
+                 "qdd [m/s^2], tau [N]")
+    return text
 
 
 def simplified_torque(terms, choices, qdd):
@@ -262,7 +271,8 @@ class SimplifiedModel:
         if cached is None:
             from .codegen import build_program
 
-            cached = build_program(self.explicit_terms(), self.robot.n, np.zeros(self.robot.n))
+            cached = build_program(self.explicit_terms(), self.robot.n, np.zeros(self.robot.n),
+                                   prismatic=self.robot.prismatic)
             object.__setattr__(self, "_program", cached)
         return cached
 
@@ -284,7 +294,7 @@ class SimplifiedModel:
             "operations": f"{cost['multiplications']} multiplications, {cost['additions']} "
                           f"additions, {cost['sin']} sin, {cost['cos']} cos",
             "gd-analyze version": self.provenance.get("gd_analyze_version", ""),
-            "units": "q [rad], qd [rad/s], qdd [rad/s^2], tau [N m]",
+            "units": _units(self.robot),
         }
 
     def c_source(self):
@@ -300,13 +310,9 @@ class SimplifiedModel:
         return emit_python(self.program(), self.header())
 
     def _python_tau(self):
-        fn = self.__dict__.get("_tau_fn")
-        if fn is None:
-            ns = {}
-            exec(compile(self.python_source(), "<simplified_model.py>", "exec"), ns)
-            fn = ns["tau"]
-            object.__setattr__(self, "_tau_fn", fn)
-        return fn
+        from .codegen import python_function
+
+        return python_function(self.program())
 
     def torque(self, q, qd, qdd):
         """Torques of the simplified model, tau_s = D_s qdd + h_s + c, in explicit form.
@@ -333,8 +339,6 @@ class SimplifiedModel:
         from .kinematics import as_states
 
         q, qd, qdd = as_states(self.robot, q, qd, qdd)
-        if self.terms is None and not explicit_supported(self.robot):
-            return simplified_torque(gd_terms(self.robot, q, qd), self.choices, qdd)
         return self._python_tau()(q, qd, qdd)
 
     def to_dict(self):

@@ -10,13 +10,51 @@ equal functions have equal representations: products of sines and cosines of the
 collapse to sums of harmonics, and the compound angles of parallel axes (theta_2 + theta_3 on
 the PUMA 560) appear by themselves. Derivatives are exact and cheap,
 d cos(k . theta) / d theta_m = -k_m sin(k . theta).
+
+Prismatic joints: a joint variable that is a length d_m (marked in ``lin``) enters the
+kinematics polynomially, so its column of a row holds the power p_m >= 0 of d_m instead of a
+harmonic: a row is C_r * prod_{m in lin} d_m^p_m * cos or sin(k_r . theta), the dot product
+over the revolute columns only. The form stays unique (canonical sign over the revolute
+columns; powers add in products; d/d d_m lowers p_m).
 """
 
 from __future__ import annotations
 
 import numpy as np
 
-__all__ = ["TrigPoly"]
+__all__ = ["TrigPoly", "evaluate_rows"]
+
+
+def evaluate_rows(K, S, theta, lin=None):
+    """cos or sin(k_r . theta) times the powers of the polynomial columns, per row.
+
+    Parameters
+    ----------
+    K : ndarray of int, shape (M, n)
+        Harmonics (revolute columns) and powers (polynomial columns).
+    S : ndarray of bool, shape (M,)
+        sin (True) or cos (False).
+    theta : ndarray, shape (N, n)
+        Joint variables [rad; m in the polynomial columns].
+    lin : ndarray of bool, shape (n,), optional
+        The polynomial (prismatic) columns.
+
+    Returns
+    -------
+    ndarray, shape (N, M)
+    """
+    if lin is None or not np.any(lin):
+        ang = theta @ K.T
+        return np.where(S, np.sin(ang), np.cos(ang))
+    lin = np.asarray(lin, bool)
+    rev = ~lin
+    ang = theta[:, rev] @ K[:, rev].T
+    out = np.where(S, np.sin(ang), np.cos(ang))
+    for m in np.flatnonzero(lin):
+        p = K[:, m]
+        if p.any():
+            out = out * theta[:, m:m + 1] ** p
+    return out
 
 #: Coefficients below this fraction of a result's largest one are rounding residue, dropped.
 CLEAN = 1e-14
@@ -35,19 +73,27 @@ class TrigPoly:
         Coefficients.
     canonical : bool, optional
         The rows are already canonical and unique.
+    lin : array_like of bool, shape (n,), optional
+        Polynomial (prismatic) columns: K holds the power of that variable (default: none).
 
     Examples
     --------
     >>> p = TrigPoly.cos(2, 0) * TrigPoly.cos(2, 0)      # cos^2 = 1/2 + cos(2 theta)/2
     >>> sorted((tuple(int(v) for v in k), bool(s), float(c)) for k, s, c in p.rows())
     [((0, 0), False, 0.5), ((2, 0), False, 0.5)]
+    >>> lin = [False, True]                               # theta_1 and a length d_2
+    >>> d = TrigPoly.var(2, 1, lin)
+    >>> r = (d * TrigPoly.cos(2, 0, lin)) * d             # d_2^2 cos(theta_1)
+    >>> [(tuple(int(v) for v in k), bool(s), float(c)) for k, s, c in r.diff(1).rows()]
+    [((1, 1), False, 2.0)]
     """
 
-    __slots__ = ("K", "S", "C", "n")
+    __slots__ = ("K", "S", "C", "n", "lin")
 
-    def __init__(self, K, S, C, canonical=False):
+    def __init__(self, K, S, C, canonical=False, lin=None):
         K = np.asarray(K, dtype=np.int64).reshape(-1, np.shape(K)[-1] if np.ndim(K) == 2 else 0)
         self.n = K.shape[1]
+        self.lin = np.zeros(self.n, bool) if lin is None else np.asarray(lin, bool)
         self.K, self.S, self.C = K, np.asarray(S, bool).reshape(-1), \
             np.asarray(C, float).reshape(-1)
         if not canonical:
@@ -55,39 +101,50 @@ class TrigPoly:
 
     # -- construction -------------------------------------------------------------------
     @classmethod
-    def zero(cls, n):
-        """The zero polynomial in n angles."""
-        return cls(np.zeros((0, n), np.int64), np.zeros(0, bool), np.zeros(0), canonical=True)
+    def zero(cls, n, lin=None):
+        """The zero polynomial in n variables (``lin``: the polynomial columns)."""
+        return cls(np.zeros((0, n), np.int64), np.zeros(0, bool), np.zeros(0), canonical=True,
+                   lin=lin)
 
     @classmethod
-    def const(cls, n, value):
+    def const(cls, n, value, lin=None):
         """The constant ``value``."""
         if value == 0:
-            return cls.zero(n)
-        return cls(np.zeros((1, n), np.int64), [False], [float(value)], canonical=True)
+            return cls.zero(n, lin)
+        return cls(np.zeros((1, n), np.int64), [False], [float(value)], canonical=True,
+                   lin=lin)
 
     @classmethod
-    def cos(cls, n, i):
-        """cos(theta_i), i 0-based."""
+    def cos(cls, n, i, lin=None):
+        """cos(theta_i), i 0-based (a revolute column)."""
         K = np.zeros((1, n), np.int64)
         K[0, i] = 1
-        return cls(K, [False], [1.0], canonical=True)
+        return cls(K, [False], [1.0], canonical=True, lin=lin)
 
     @classmethod
-    def sin(cls, n, i):
-        """sin(theta_i), i 0-based."""
+    def sin(cls, n, i, lin=None):
+        """sin(theta_i), i 0-based (a revolute column)."""
         K = np.zeros((1, n), np.int64)
         K[0, i] = 1
-        return cls(K, [True], [1.0], canonical=True)
+        return cls(K, [True], [1.0], canonical=True, lin=lin)
+
+    @classmethod
+    def var(cls, n, i, lin):
+        """The length d_i itself, i 0-based (a polynomial column of ``lin``)."""
+        if not np.asarray(lin, bool)[i]:
+            raise ValueError(f"column {i} is not polynomial")
+        K = np.zeros((1, n), np.int64)
+        K[0, i] = 1
+        return cls(K, [False], [1.0], canonical=True, lin=lin)
 
     # -- canonical form -----------------------------------------------------------------
     def _canonicalise(self):
         K, S, C = self.K, self.S, self.C
         if K.shape[0]:
-            nz = K != 0
+            nz = (K != 0) & ~self.lin
             first = np.where(nz.any(axis=1), nz.argmax(axis=1), 0)
-            neg = K[np.arange(K.shape[0]), first] < 0
-            K = np.where(neg[:, None], -K, K)
+            neg = (K[np.arange(K.shape[0]), first] < 0) & nz.any(axis=1)
+            K = np.where(neg[:, None] & ~self.lin, -K, K)     # powers keep their sign
             C = np.where(neg & S, -C, C)
             zero = ~nz.any(axis=1)
             keep = ~(zero & S)
@@ -104,14 +161,14 @@ class TrigPoly:
     # -- arithmetic ---------------------------------------------------------------------
     def __add__(self, other):
         if not isinstance(other, TrigPoly):
-            other = TrigPoly.const(self.n, other)
+            other = TrigPoly.const(self.n, other, self.lin)
         return TrigPoly(np.concatenate([self.K, other.K]), np.concatenate([self.S, other.S]),
-                        np.concatenate([self.C, other.C]))
+                        np.concatenate([self.C, other.C]), lin=self.lin | other.lin)
 
     __radd__ = __add__
 
     def __neg__(self):
-        return TrigPoly(self.K, self.S, -self.C, canonical=True)
+        return TrigPoly(self.K, self.S, -self.C, canonical=True, lin=self.lin)
 
     def __sub__(self, other):
         return self + (-other)
@@ -123,10 +180,11 @@ class TrigPoly:
         if not isinstance(other, TrigPoly):
             other = float(other)
             if other == 0:
-                return TrigPoly.zero(self.n)
-            return TrigPoly(self.K, self.S, self.C * other, canonical=True)
+                return TrigPoly.zero(self.n, self.lin)
+            return TrigPoly(self.K, self.S, self.C * other, canonical=True, lin=self.lin)
+        lin = self.lin | other.lin
         if not self.C.size or not other.C.size:
-            return TrigPoly.zero(self.n)
+            return TrigPoly.zero(self.n, lin)
         K1, K2 = self.K[:, None, :], other.K[None, :, :]
         s1, s2 = self.S[:, None], other.S[None, :]
         c = 0.5 * self.C[:, None] * other.C[None, :]
@@ -137,27 +195,34 @@ class TrigPoly:
         f_minus = np.where(~s1 & s2, -1.0, 1.0)
         shape = (K1.shape[0], K2.shape[1], self.n)
         Kp = np.broadcast_to(K1 + K2, shape).reshape(-1, self.n)
-        Km = np.broadcast_to(K1 - K2, shape).reshape(-1, self.n)
+        # powers of the polynomial columns add in both products
+        Km = np.broadcast_to(np.where(lin, K1 + K2, K1 - K2), shape).reshape(-1, self.n)
         kind = np.broadcast_to(kind, c.shape).reshape(-1)
         return TrigPoly(np.concatenate([Kp, Km]), np.concatenate([kind, kind]),
-                        np.concatenate([(c * f_plus).reshape(-1), (c * f_minus).reshape(-1)]))
+                        np.concatenate([(c * f_plus).reshape(-1), (c * f_minus).reshape(-1)]),
+                        lin=lin)
 
     __rmul__ = __mul__
 
     def diff(self, m):
-        """The derivative d/d theta_m.
+        """The derivative d/d theta_m (d/d d_m for a polynomial column).
 
         Parameters
         ----------
         m : int
-            The angle, 0-based.
+            The variable, 0-based.
 
         Returns
         -------
         TrigPoly
         """
         k = self.K[:, m].astype(float)
-        return TrigPoly(self.K, ~self.S, np.where(self.S, k, -k) * self.C)
+        if self.lin[m]:
+            has = self.K[:, m] > 0
+            K = self.K[has].copy()
+            K[:, m] -= 1
+            return TrigPoly(K, self.S[has], self.C[has] * k[has], lin=self.lin)
+        return TrigPoly(self.K, ~self.S, np.where(self.S, k, -k) * self.C, lin=self.lin)
 
     # -- inspection ---------------------------------------------------------------------
     def rows(self):
@@ -168,17 +233,16 @@ class TrigPoly:
         return int(self.C.size)
 
     def constant(self):
-        """The constant term (the coefficient of cos(0))."""
+        """The constant term (the coefficient of cos(0) with no power of a length)."""
         zero = ~(self.K != 0).any(axis=1) & ~self.S
         return float(self.C[zero].sum())
 
     def __call__(self, theta):
-        """Evaluate at theta, shape (N, n) [rad]; returns shape (N,)."""
+        """Evaluate at theta, shape (N, n) [rad; m in the polynomial columns]; shape (N,)."""
         theta = np.atleast_2d(np.asarray(theta, float))
         if not self.C.size:
             return np.zeros(theta.shape[0])
-        ang = theta @ self.K.T
-        return np.where(self.S, np.sin(ang), np.cos(ang)) @ self.C
+        return evaluate_rows(self.K, self.S, theta, self.lin) @ self.C
 
     def __repr__(self):
         return f"TrigPoly(n={self.n}, terms={len(self)})"

@@ -21,7 +21,6 @@ import numpy as np
 from .._version import __version__
 from ..core.dalembert import GDTerms, allocate_terms, gd_terms
 from ..core.ranking import DEFAULT_DOMINANCE, DEFAULT_NEGLIGIBLE
-from ..core.explicit import supported as explicit_supported
 from ..core.simplified import SimplifiedModel, simplified_torque
 from ..formulations.compare import FORMULATIONS_MAX_SETPOINTS
 
@@ -442,8 +441,7 @@ def analyze(robot, trajectory, dominance=DEFAULT_DOMINANCE, negligible=DEFAULT_N
 
     N = trajectory.q.shape[0]
     simplify = {"tolerance": tolerance, "rule": rule, "torque_floor": torque_floor,
-                "provenance": _provenance(trajectory, settings)} \
-                if explicit_supported(robot) else None
+                "provenance": _provenance(trajectory, settings)}
     result = analysis_pass(robot, trajectory, dominance, negligible, check, formulations,
                            chunk=max(N, 1), simplify=simplify)
     ds = build_dataset(robot, trajectory, result.terms, result.ranking, result.tau,
@@ -519,8 +517,7 @@ def analyze_to_file(robot, trajectory, path, dominance=DEFAULT_DOMINANCE,
             out.write(0, {"t": trajectory.t, "q": trajectory.q, "qd": trajectory.qd,
                           "qdd": trajectory.qdd})
             simplify = {"tolerance": tolerance, "rule": rule, "torque_floor": torque_floor,
-                        "provenance": _provenance(trajectory, settings)} \
-                if explicit_supported(robot) else None
+                        "provenance": _provenance(trajectory, settings)}
             result = analysis_pass(robot, trajectory, dominance, negligible, check,
                                    formulations, chunk, writer=out, progress=progress,
                                    simplify=simplify)

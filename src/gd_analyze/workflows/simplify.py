@@ -31,8 +31,25 @@ AKB_COSTS = {"AKB 1986 full explicit": (739, 426, 1165),
              "AKB 1986 simplified (1 %)": (np.nan, np.nan, 305)}
 
 
-#: Cost of the full explicit program per Term object (computed once).
-_FULL_COST = weakref.WeakKeyDictionary()
+#: Programs built from the terms of a Term object, by the SHA-256 of the kept terms: the
+#: full model (its cost and its reference torque) and a model the ladder builds again (the
+#: main model's EPS) are assembled once.
+_PROGRAMS = weakref.WeakKeyDictionary()
+
+
+def _program(robot, terms, kept):
+    """build_program of ``kept`` (a subset of ``terms``), once per content."""
+    import hashlib
+
+    digest = hashlib.sha256()
+    for f in ("kind", "part", "i", "j", "k", "K", "S", "C"):
+        digest.update(np.ascontiguousarray(getattr(kept, f)).tobytes())
+    digest.update(np.asarray(robot.prismatic, bool).tobytes())
+    cache = _PROGRAMS.setdefault(terms, {})
+    key = (robot.n, digest.hexdigest())
+    if key not in cache:
+        cache[key] = build_program(kept, robot.n, np.zeros(robot.n), prismatic=robot.prismatic)
+    return cache[key]
 
 
 @dataclass(eq=False)
@@ -93,7 +110,8 @@ def collect_peaks(robot, terms, q, qd, qdd, chunk=8192, gd=None):
             sl = slice(a, a + chunk)
             t = gd_terms(robot, q[sl], qd[sl])
             gd.update(t.D_tran, t.D_rot, t.h_tran, t.h_rot, qdd[sl], t.tau(qdd[sl]))
-    return Peaks(parts=gd, terms=term_peaks(terms, np.zeros(robot.n), q, qd, qdd))
+    return Peaks(parts=gd, terms=term_peaks(terms, np.zeros(robot.n), q, qd, qdd,
+                                                    prismatic=robot.prismatic))
 
 
 def build_model(robot, terms, peaks, tolerance=DEFAULT_TOLERANCE, rule="budget",
@@ -129,10 +147,8 @@ def build_model(robot, terms, peaks, tolerance=DEFAULT_TOLERANCE, rule="budget",
     sel = select_terms(terms, peaks.terms, peaks.parts.peaks, peaks.parts.tau_peak,
                        tolerance=tolerance, rule=rule, torque_floor=torque_floor,
                        chapter_choices=chapter_choices)
-    program = build_program(sel.kept, robot.n, np.zeros(robot.n))
-    full = _FULL_COST.get(terms)
-    if full is None:
-        full = _FULL_COST[terms] = build_program(terms, robot.n, np.zeros(robot.n)).cost()
+    program = _program(robot, terms, sel.kept)
+    full = _program(robot, terms, terms).cost()
     model = SimplifiedModel(
         robot=robot, choices=sel.choices,
         dominance_threshold=float(getattr(ranking, "dominance_threshold", DEFAULT_DOMINANCE)),
@@ -159,12 +175,9 @@ def full_torque(robot, terms):
         Equal to the G-D model's tau = D qdd + h + c to rounding (the tests check it against
         Pinocchio rnea to 1e-10), without computing the G-D terms again.
     """
-    from ..core.codegen import emit_python
+    from ..core.codegen import python_function
 
-    ns = {}
-    exec(compile(emit_python(build_program(terms, robot.n, np.zeros(robot.n)), {}),
-                 "<full explicit model>", "exec"), ns)
-    return ns["tau"]
+    return python_function(_program(robot, terms, terms))
 
 
 def validate(model, trajectories, chunk=65536, reference=None):

@@ -1,0 +1,44 @@
+"""The control laws' pieces: the desired motion through the set points and the gains."""
+
+import numpy as np
+import pytest
+
+from conftest import SHIPPED
+from gd_analyze import gd_terms
+from gd_analyze.io.trajectory import Trajectory, read_trajectory
+from gd_analyze.workflows.tracking import control_gains, desired_motion
+
+
+@pytest.fixture(scope="module")
+def shipped(puma):
+    return read_trajectory(SHIPPED, n_joints=6)
+
+
+def test_desired_motion_interpolates_q_qd_qdd(shipped):
+    rng = np.random.default_rng(4)
+    t = np.cumsum(rng.uniform(0.1, 0.3, 12))
+    q, qd, qdd = (rng.normal(size=(12, 3)) for _ in range(3))
+    for traj in (shipped, Trajectory(t=t, q=q, qd=qd, qdd=qdd)):
+        pp = desired_motion(traj)
+        for nu, want in ((0, traj.q), (1, traj.qd), (2, traj.qdd)):
+            np.testing.assert_allclose(pp(traj.t, nu), want, rtol=1e-9, atol=1e-9)
+    # the shipped motion is one quintic: the piecewise quintic reproduces it between set points
+    pp = desired_motion(shipped)
+    T, q0, q1 = shipped.t[-1], shipped.q[0], shipped.q[-1]
+    u = np.linspace(0, 1, 101)[:, None]
+    exact = q0 + (q1 - q0) * u**3 * (10 - 15 * u + 6 * u**2)
+    np.testing.assert_allclose(pp(u[:, 0] * T), exact, rtol=0, atol=1e-12)
+
+
+def test_gains(puma, shipped):
+    g = control_gains(puma, shipped.q[0], wn=10.0, zeta=0.7)
+    np.testing.assert_allclose(g.Kp, 100.0)
+    np.testing.assert_allclose(g.Kv, 14.0)
+    D0 = np.diagonal(gd_terms(puma, shipped.q[:1], 0 * shipped.q[:1]).D[0])
+    np.testing.assert_allclose(g.Kp_pd, D0 * 100.0)
+    np.testing.assert_allclose(g.Kv_pd, D0 * 14.0)
+    g6 = control_gains(puma, shipped.q[0], wn=np.arange(1.0, 7.0))
+    np.testing.assert_allclose(g6.Kp, np.arange(1.0, 7.0) ** 2)
+    for bad in ({"wn": 0.0}, {"zeta": -1.0}, {"wn": [1.0, 2.0]}, {"wn": np.nan}):
+        with pytest.raises(ValueError):
+            control_gains(puma, shipped.q[0], **bad)
