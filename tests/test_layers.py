@@ -20,7 +20,8 @@ LEAVES = {"errors", "files", "_version"}
 # page engine and tick labels of all three (issue 12)
 SHARED_REPORTS = {"reports.common", "reports.figures", "reports.pages", "reports.drawing",
                   "reports.ticks", "reports.main_figures", "reports.main_text",
-                  "reports.sweep_figures", "reports.simplified_section"}
+                  "reports.sweep_figures", "reports.simplified_section",
+                  "reports.pdf_worker", "reports.pdf_text"}
 
 
 def _module_name(path):

@@ -470,6 +470,32 @@ def test_plot_data_reads_long_series_in_chunks():
     assert not short.enveloped and short.series["q"].shape == (31, 2)
 
 
+def test_plot_data_envelope_of_the_torque_error():
+    """tau_error is the envelope of tau_s - tau taken per set point (oracle: numpy on the whole
+    difference), not the difference of the two envelopes."""
+    import xarray as xr
+
+    from gd_analyze.reports.main_figures import plot_data
+
+    rng = np.random.default_rng(5)
+    N, columns = 20_000, 50
+    t = np.linspace(0.0, 2.0, N)
+    tau = np.cos(3 * t)[:, None] * np.ones((1, 2)) + 0.01 * rng.standard_normal((N, 2))
+    tau_s = tau + 1e-3 * rng.standard_normal((N, 2))
+    ds = xr.Dataset({"t": ("setpoint", t), "tau": (("setpoint", "joint"), tau),
+                     "tau_simplified": (("setpoint", "joint"), tau_s)})
+    col = np.minimum((t / 2.0 * columns).astype(int), columns - 1)
+    diff = tau_s - tau
+    for chunk in (777, N):
+        data = plot_data(ds, names=("tau_error",), columns=columns, chunk=chunk)
+        lo, hi = data.series["tau_error"][0::2], data.series["tau_error"][1::2]
+        for c in range(columns):
+            np.testing.assert_array_equal(lo[c], diff[col == c].min(axis=0))
+            np.testing.assert_array_equal(hi[c], diff[col == c].max(axis=0))
+    short = plot_data(ds.isel(setpoint=slice(0, 40)), names=("tau_error",))
+    np.testing.assert_array_equal(short.series["tau_error"], diff[:40])
+
+
 def test_long_trajectory_html_under_5mb(tmp_path, puma):
     start = np.radians([-60.0, 20.0, -150.0, -80.0, -60.0, -120.0])
     goal = np.radians([60.0, 110.0, -60.0, 80.0, 60.0, 120.0])

@@ -120,3 +120,4 @@ def test_one_traversal_draws_the_same_svg_and_pdf_as_savefig():
     a = np.array([float(v) for v in number.findall(svg)])
     b = np.array([float(v) for v in number.findall(svg_alone)])
     assert a.shape == b.shape and np.max(np.abs(a - b)) < 0.01
+

@@ -42,6 +42,7 @@ from .main_figures import RC as FIG_RC, PAGE_WIDTH, identically_zero, plot_data
 from .main_figures import fig_D, fig_h, fig_joints, fig_torque
 from .main_text import captions, conclusion, disagreement_cause, element_scale
 from .pages import PAPER, Document
+from .pdf_worker import PdfWorker
 from .drawing import draw_figures, no_gc, write_figure_files
 from ..io.sweep_datasets import payload_part
 
@@ -220,11 +221,12 @@ def make_figures(ds, data=None):
     with matplotlib.rc_context(FIG_RC):
         figures = {"joints": fig_joints(data, prismatic_joints(ds)),
                    "D": fig_D(data, dom, zero, s, e),
-                   "h": fig_h(data, dom, zero),
-                   "torque": fig_torque(data, ds["tau_error_peak"].values,
-                                        ds["tau_error_relative_peak"].values)}
+                   "h": fig_h(data, dom, zero)}
         if has_simplified(ds):                  # issue 8: tau_s - tau and its bound
-            figures["torque"] = error_figure(ds, size=(PAGE_WIDTH, 7.5))
+            figures["torque"] = error_figure(ds, size=(PAGE_WIDTH, 7.5), data=data)
+        else:
+            figures["torque"] = fig_torque(data, ds["tau_error_peak"].values,
+                                           ds["tau_error_relative_peak"].values)
         if "payload_share_tran" in ds.variables:
             from .figures import payload_figure
 
@@ -649,7 +651,14 @@ def render_pdf(ds, path, figures=None, paper="a4"):
 
 
 def _pdf(ctx, drawn, path, paper="a4"):
-    caps = {k: c.split(". ", 1)[1] for k, c in _numbered(ctx, drawn).items()}
+    sizes = {k: size for k, (_, _, size) in drawn.items()}
+    return _document(ctx, sizes, paper).write(path, {k: d[1] for k, d in drawn.items()})
+
+
+def _document(ctx, sizes, paper="a4"):
+    """The PDF report as a page-engine document; each figure block holds its key and size
+    (the figures' PDFs are given when it is written)."""
+    caps = {k: c.split(". ", 1)[1] for k, c in _numbered(ctx, sizes).items()}
     metadata = {
         "Author": f"gd-analyze {ctx['version']}",
         "Subject": "Translational and rotational dominance of the generalized d'Alembert "
@@ -663,8 +672,8 @@ def _pdf(ctx, drawn, path, paper="a4"):
                           "points")
 
     def fig(key):
-        if key in drawn:
-            doc.figure(drawn[key][1], drawn[key][2], caps[key])
+        if key in sizes:
+            doc.figure(key, sizes[key], caps[key])
 
     doc.heading(ctx["title"], level=0)
     doc.paragraph(ctx["summary"], size=9.5)
@@ -734,7 +743,7 @@ def _pdf(ctx, drawn, path, paper="a4"):
         fig("formulations")
     doc.heading("8. Provenance")
     doc.table(ctx["provenance"], size=7)
-    return doc.write(path)
+    return doc
 
 
 _DH_TEXT = "Denavit-Hartenberg parameters (standard form, \u03b8 = q + offset):"
@@ -812,17 +821,23 @@ def _write(ds, outdir, formats, paper, progress):
 
     ctx = _report_context(ds)            # fails early on a dataset that is not ours
     (outdir / "figures").mkdir(parents=True, exist_ok=True)
-    figures = make_figures(ds, plot_data(ds, progress=progress))
-    drawn = _drawn(figures)
-    for fig in figures.values():
-        fig.clear()
-    paths = {fmt: outdir / f"report.{fmt}" for fmt in formats}
     with contextlib.ExitStack() as stack:
+        worker = None
+        if "pdf" in formats:             # the text pages on a second core (pdf_worker)
+            worker = PdfWorker()
+            stack.callback(worker.close)
+        figures = make_figures(ds, plot_data(ds, progress=progress))
+        if worker is not None:
+            worker.send(_document(ctx, {k: tuple(float(v) for v in f.get_size_inches())
+                                        for k, f in figures.items()}, paper))
+        drawn = _drawn(figures)
+        del figures                      # no Figure.clear(): it would rebuild every Axes
+        paths = {fmt: outdir / f"report.{fmt}" for fmt in formats}
         files = write_figure_files(stack, drawn, outdir / "figures", FIGURE_FILES)
         tmp = {fmt: stack.enter_context(atomic_path(paths[fmt])) for fmt in formats}
         if "html" in tmp:
             with open(tmp["html"], "w", encoding="utf-8") as fh:
                 fh.write(_html(ctx, drawn))
         if "pdf" in tmp:
-            _pdf(ctx, drawn, tmp["pdf"], paper)
+            worker.finish(tmp["pdf"], {k: d[1] for k, d in drawn.items()})
     return [paths[fmt] for fmt in formats] + files

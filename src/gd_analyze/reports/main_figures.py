@@ -105,8 +105,19 @@ def _read(var, a, b):
     return np.asarray(var[a:b].values, dtype=float)
 
 
+#: Series computed from stored ones as they are read: name -> (a, b), meaning a - b.
+DERIVED = {"tau_error": ("tau_simplified", "tau")}
+
+
+def _chunk(ds, v, a, b):
+    if v in DERIVED:
+        first, second = DERIVED[v]
+        return _read(ds[first], a, b) - _read(ds[second], a, b)
+    return _read(ds[v], a, b)
+
+
 def plot_data(ds, names=("q", "qd", "qdd", "D_tran", "D_rot", "D", "h_tran", "h_rot", "h",
-                          "tau", "tau_simplified"), columns=ENVELOPE_COLUMNS,
+                          "tau", "tau_simplified", "tau_error"), columns=ENVELOPE_COLUMNS,
               threshold=ENVELOPE_THRESHOLD, chunk=READ_CHUNK, progress=None):
     """Read the series to plot from a stored analysis, reduced if long.
 
@@ -116,7 +127,8 @@ def plot_data(ds, names=("q", "qd", "qdd", "D_tran", "D_rot", "D", "h_tran", "h_
         An opened results file (lazily loaded: only chunks are read) with ``t`` (N,) [s] and
         the variables ``names`` with first dimension ``setpoint``.
     names : sequence of str, optional
-        The variables to read.
+        The variables to read; ``tau_error`` is tau_simplified - tau (:data:`DERIVED`), taken
+        per chunk before the envelope.
     columns : int, optional
         Columns of the envelope of a long series.
     threshold : int, optional
@@ -136,7 +148,7 @@ def plot_data(ds, names=("q", "qd", "qdd", "D_tran", "D_rot", "D", "h_tran", "h_
     t = np.asarray(ds["t"].values, dtype=float)
     N = t.size
     if N <= threshold:
-        series = {v: np.asarray(ds[v].values, dtype=float) for v in names}
+        series = {v: _chunk(ds, v, 0, N) for v in names}
         if progress:
             progress(N)
         return PlotData(x=t, enveloped=False, series=series, N=N)
@@ -153,7 +165,7 @@ def plot_data(ds, names=("q", "qd", "qdd", "D_tran", "D_rot", "D", "h_tran", "h_
         starts = np.flatnonzero(np.r_[True, c[1:] != c[:-1]])
         cols = c[starts]
         for v in names:
-            y = _read(ds[v], a, b)
+            y = _chunk(ds, v, a, b)
             if lo[v] is None:
                 lo[v] = np.full((columns,) + y.shape[1:], np.nan)
                 hi[v] = np.full((columns,) + y.shape[1:], np.nan)

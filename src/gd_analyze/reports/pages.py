@@ -96,9 +96,12 @@ def _strings_artist():
             from matplotlib.colors import to_rgba
             from matplotlib.font_manager import FontProperties
 
+            from .pdf_text import PdfText
+
             dpi = self.figure.dpi
             props = {}
             gc = renderer.new_gc()
+            fast = PdfText.for_renderer(renderer)
             for x, y, s, size, colour, weight, ha in self.items:
                 if not s:
                     continue
@@ -106,12 +109,17 @@ def _strings_artist():
                 if prop is None:
                     prop = props[(size, weight)] = FontProperties(
                         family="DejaVu Sans", size=size, weight=weight)
-                px = x * dpi
-                if ha == "right":
-                    px -= renderer.get_text_width_height_descent(s, prop, ismath=False)[0]
                 baseline = (self.H - y) * dpi - 0.93 * size * dpi / 72     # ascent of DejaVu
                 gc.set_foreground(to_rgba(colour))
-                renderer.draw_text(gc, px, baseline, s, prop, 0.0, ismath=False)
+                run = fast.layout(s, prop) if fast is not None else None
+                px = x * dpi
+                if run is None:
+                    if ha == "right":
+                        px -= renderer.get_text_width_height_descent(s, prop,
+                                                                     ismath=False)[0]
+                    renderer.draw_text(gc, px, baseline, s, prop, 0.0, ismath=False)
+                else:
+                    fast.draw(gc, px - run[1] if ha == "right" else px, baseline, run, size)
             gc.restore()
 
     return Strings
@@ -225,8 +233,9 @@ class Document:
 
         Parameters
         ----------
-        pdf_bytes : bytes
-            The figure as a one-page PDF (:func:`gd_analyze.reports.drawing.figure_pdf`), placed unscaled if it fits.
+        pdf_bytes : bytes or str
+            The figure as a one-page PDF (:func:`gd_analyze.reports.drawing.figure_pdf`), placed
+            unscaled if it fits; or a key of the ``figures`` given to :meth:`write` later.
         size : (float, float)
             Its width and height [in].
         caption : str
@@ -438,35 +447,50 @@ class Document:
              ha="right")
         return fig
 
-    def write(self, path):
+    def write(self, path, figures=None):
         """Lay out, draw and write the document.
 
         Parameters
         ----------
         path : str or os.PathLike
             The PDF file (written as given: the caller stages it).
+        figures : dict of str to bytes, optional
+            The PDF of each figure whose block holds a key in place of its bytes (a document
+            laid out before its figures are drawn: :mod:`gd_analyze.reports.pdf_worker`).
 
         Returns
         -------
         int
             The number of pages.
         """
+        pages, bookmarks = self._layout()
+        return self._finish(self._text_pages(pages), pages, bookmarks, path, figures)
+
+    def _text_pages(self, pages):
+        """The text, rules and shading of every page (no figures) as PDF bytes."""
         import matplotlib
         from matplotlib.backends.backend_pdf import PdfPages
-        from pypdf import PdfReader, PdfWriter
 
-        pages, bookmarks = self._layout()
-        K = len(pages)
         buf = io.BytesIO()
+        K = len(pages)
         with matplotlib.rc_context(PAGE_RC), \
                 PdfPages(buf, metadata={"CreationDate": None}) as pdf:
             for k, page in enumerate(pages):
                 pdf.savefig(self._draw(page, k + 1, K))
-        writer = PdfWriter(clone_from=PdfReader(io.BytesIO(buf.getvalue())))
+        return buf.getvalue()
+
+    def _finish(self, text_pdf, pages, bookmarks, path, figures=None):
+        """Place the figures on the text pages, add bookmarks and information, write."""
+        from pypdf import PdfReader, PdfWriter
+
+        figures = figures or {}
+        writer = PdfWriter(clone_from=PdfReader(io.BytesIO(text_pdf)))
         count = 0
         for k, page in enumerate(pages):
             for pdf_bytes, x, y, w, h, scale, rotate in page.figures:
                 count += 1
+                if isinstance(pdf_bytes, str):
+                    pdf_bytes = figures[pdf_bytes]
                 bottom = self.H - (_MARGIN_TOP + y + h * scale)
                 _place(writer, writer.pages[k], pdf_bytes, f"/GdFigure{count}",
                        72 * x, 72 * bottom, scale, 72 * w * scale if rotate else None)
@@ -482,4 +506,4 @@ class Document:
         writer.add_metadata(info)
         with open(path, "wb") as fh:
             writer.write(fh)
-        return K
+        return len(pages)

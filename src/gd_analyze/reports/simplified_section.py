@@ -117,7 +117,7 @@ def simplified_context(ds):
             "rule": rule, "tolerance": eps}
 
 
-def error_figure(ds, size=(8.27, 9.0)):
+def error_figure(ds, size=(8.27, 9.0), data=None):
     """Per-joint plots of tau_s - tau against time, with the guaranteed band +- bound.
 
     Parameters
@@ -126,28 +126,60 @@ def error_figure(ds, size=(8.27, 9.0)):
         With ``t``, ``tau``, ``tau_simplified`` (N, n) [N m] and ``simplified_bound`` (n,).
     size : tuple, optional
         Figure size [in].
+    data : gd_analyze.reports.main_figures.PlotData, optional
+        The series as the report reads them, with ``tau_error`` (tau_s - tau per set point,
+        or its min/max envelope for a long trajectory: the stored series are then never read
+        whole); without it, the whole series are read from ``ds``.
 
     Returns
     -------
     matplotlib.figure.Figure
+        Two panels a row on a fixed grid (no layout engine: the margins are set for the 7-pt
+        tick labels, the 8-pt axis labels and the titles); ticks placed once
+        (:func:`gd_analyze.reports.ticks.set_ticks`), every y range padded so that neither the
+        error nor the bound touches the frame.
     """
     from matplotlib.figure import Figure
 
+    from .ticks import set_ticks
+
     n = ds.sizes["joint"]
-    t = ds["t"].values
-    diff = ds["tau_simplified"].values - ds["tau"].values
+    if data is not None and "tau_error" in data.series:
+        t, diff = data.x, data.series["tau_error"]
+    else:
+        t = ds["t"].values
+        diff = ds["tau_simplified"].values - ds["tau"].values
     bound = ds["simplified_bound"].values
     cols = 2 if n > 1 else 1
     rows = -(-n // cols)
-    fig = Figure(figsize=size, layout="constrained")
+    W, H = size
+    left, right, gap, top, bottom, hgap = 0.85, 0.12, 0.95, 0.62, 0.45, 0.72
+    w = (W - left - right - (cols - 1) * gap) / cols
+    h = (H - top - bottom - (rows - 1) * hgap) / rows
+    fig = Figure(figsize=size)
+    t0, t1 = (float(t[0]), float(t[-1])) if t.size else (0.0, 1.0)
     for i in range(n):
-        ax = fig.add_subplot(rows, cols, i + 1)
+        r, c = divmod(i, cols)
+        x0, y0 = left + c * (w + gap), top + r * (h + hgap)
+        ax = fig.add_axes((x0 / W, 1 - (y0 + h) / H, w / W, h / H))
         ax.plot(t, diff[:, i], color="#D55E00", linewidth=1.2, label="\u03c4\u209b \u2212 \u03c4")
+        span = [0.0]
+        if diff.size and np.isfinite(diff[:, i]).any():
+            span += [float(np.nanmin(diff[:, i])), float(np.nanmax(diff[:, i]))]
         if np.isfinite(bound[i]):
             ax.axhline(bound[i], color="0.4", linestyle=":", linewidth=1,
                        label="guaranteed bound")
             ax.axhline(-bound[i], color="0.4", linestyle=":", linewidth=1)
+            span += [float(bound[i]), -float(bound[i])]
         ax.axhline(0.0, color="0.8", linewidth=0.6)
+        lo, hi = min(span), max(span)
+        if hi - lo <= 1e-300:
+            lo, hi = -1.0, 1.0
+        pad = 0.08 * (hi - lo)
+        ax.set_ylim(lo - pad, hi + pad)
+        set_ticks(ax.yaxis, lo, hi, 4)
+        ax.set_xlim(t0, t1 if t1 > t0 else t0 + 1.0)
+        set_ticks(ax.xaxis, t0, t1 if t1 > t0 else t0 + 1.0, 4)
         ax.set_title(f"joint {i + 1}", fontsize=9)
         ax.set_xlabel("time t [s]", fontsize=8)
         ax.set_ylabel(f"\u03c4\u209b \u2212 \u03c4 (joint {i + 1}) [N m]", fontsize=8)
@@ -155,5 +187,5 @@ def error_figure(ds, size=(8.27, 9.0)):
         if i == 0:
             ax.legend(fontsize=7, frameon=False)
     fig.suptitle("Torque error of the simplified model, \u03c4\u209b \u2212 \u03c4 [N m], and "
-                 "its bound", fontsize=10)
+                 "its bound", fontsize=10, y=1 - 0.12 / H, va="top")
     return fig
