@@ -21,7 +21,7 @@ LEAVES = {"errors", "files", "_version"}
 SHARED_REPORTS = {"reports.common", "reports.figures", "reports.pages", "reports.drawing",
                   "reports.ticks", "reports.main_figures", "reports.main_text",
                   "reports.sweep_figures", "reports.simplified_section",
-                  "reports.pdf_worker", "reports.pdf_text"}
+                  "reports.pdf_worker", "reports.pdf_text", "reports.main_context"}
 
 
 def _module_name(path):

@@ -10,6 +10,7 @@ import pytest
 
 import gd_analyze
 from gd_analyze.reports import main as report
+from gd_analyze.reports.main_context import zero_mask
 from gd_analyze.errors import InputError
 from gd_analyze.workflows.analyze import analyze
 from gd_analyze.io.schema import open_results, write_dataset
@@ -205,7 +206,7 @@ def test_html_labels_classes_and_ranking_table(any_report):
     rows = ranking[1:]
     assert [r[0] for r in rows] == labels
     assert [r[2] for r in rows] == strings(ds["dominance"].values)
-    zero = set(report._zero_mask(ds)[0][k] for k in np.flatnonzero(report._zero_mask(ds)[1]))
+    zero = set(zero_mask(ds)[0][k] for k in np.flatnonzero(zero_mask(ds)[1]))
     for row, share in zip(rows, ds["share_tran"].values):
         if row[0] in zero:
             assert row[1] == "\u2261 0"             # rounding noise is not printed as a share
@@ -341,7 +342,7 @@ def test_make_figures_panels(any_report):
 
     figs = report.make_figures(ds)
     assert set(figs) == {"joints", "D", "h", "torque"}
-    labels, zero = report._zero_mask(ds)
+    labels, zero = zero_mask(ds)
     zero = dict(zip(labels, zero))
     titles = {ax.get_title(): ax for ax in figs["D"].axes if ax.get_title()}
     assert len(titles) == n * (n + 1) // 2

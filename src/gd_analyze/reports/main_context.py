@@ -1,0 +1,376 @@
+"""The main report's content: every number, table and paragraph, read from the stored dataset.
+
+:func:`_report_context` builds the context that both the HTML template and the PDF page engine
+render (the same sections and numbers in both): robot and trajectory, the ranking, the
+simplified model, the comparison with the chapter (Sec. 3.4.1 of Fu, Gonzalez & Lee 1987), the
+payload sweep, the formulations (Table 3.5) and the provenance. Nothing is recomputed.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from .common import CLASS_COLOURS as _CLASS_COLOURS
+from .common import attr as _attr, check as _check, fmt as _fmt, pct as _pct
+from .common import strings as _strings, table as _table, thresholds as _thresholds
+from .common import utc_now
+from .main_figures import identically_zero
+from .main_text import captions, conclusion, disagreement_cause, element_scale
+from .simplified_section import SIMPLIFIED_CAPTION, has_simplified, simplified_context
+from ..io.sweep_datasets import payload_part
+
+__all__ = ["ENVELOPE_THRESHOLD", "ENVELOPE_COLUMNS", "prismatic_joints", "zero_mask",
+           "report_context"]
+
+#: Series longer than this are drawn as a min/max envelope, without markers.
+ENVELOPE_THRESHOLD = 2000
+
+#: Columns of the min/max envelope (at most two points each).
+ENVELOPE_COLUMNS = 1000
+
+_REQUIRED = ("t", "q", "qd", "qdd", "D_tran", "D_rot", "D", "h_tran", "h_rot", "h", "tau",
+             "tau_simplified", "share_tran", "dominance", "chapter_dominance", "choice",
+             "peak_tran", "peak_rot", "peak_total", "tau_error_peak", "tau_error_rms",
+             "tau_peak", "tau_error_relative_peak", "tau_error_relative_rms", "dh_d", "dh_a",
+             "dh_alpha", "dh_offset", "link_mass", "link_com", "link_inertia")
+
+_DERIVATIVES = {
+    "file": "read from the file (columns qd1..qdn, qdd1..qddn)",
+    "cubic-spline": "derived from q by a not-a-knot cubic spline",
+    "quintic": "analytic derivatives of a planned quintic motion",
+}
+
+_CHOICE_TEXT = {"tran": "translational part only", "rot": "rotational part only",
+                "both": "translational + rotational", "none": "dropped (negligible)"}
+
+def prismatic_joints(ds):
+    """Which joints are prismatic (q in m), from the stored ``joint_type`` (all revolute in a
+    dataset without it).
+
+    Parameters
+    ----------
+    ds : xarray.Dataset
+        A stored analysis.
+
+    Returns
+    -------
+    ndarray of bool, shape (n,)
+    """
+    if "joint_type" not in ds.variables:
+        return np.zeros(ds.sizes["joint"], dtype=bool)
+    return np.array([t == "prismatic" for t in _strings(ds["joint_type"].values)])
+
+def zero_mask(ds):
+    """The element labels and which elements are identically zero for the arm.
+
+    Parameters
+    ----------
+    ds : xarray.Dataset
+        A results dataset (``element``, ``peak_tran``, ``peak_rot``, ``peak_total``, and
+        ``element_scale`` or ``tau_peak``).
+
+    Returns
+    -------
+    (list of str, ndarray of bool, shape (M,))
+        The labels, and True where the translational, rotational and total peaks are all within
+        1e-12 of the element's scale (drawn as "\u2261 0", no share printed).
+    """
+    labels = _strings(ds["element"].values)
+    if "element_scale" in ds.variables:              # the ranking's own scale, as stored
+        scale = np.asarray(ds["element_scale"].values, dtype=float)
+    else:
+        scale = element_scale(labels, ds["peak_total"].values, ds["tau_peak"].values)
+    return labels, identically_zero(ds["peak_tran"].values, ds["peak_rot"].values,
+                                    ds["peak_total"].values, scale)
+
+
+def _units(text):
+    return str(text).replace("m2", "m\u00b2").replace("s-2", "s\u207b\u00b2") \
+        .replace("s-1", "s\u207b\u00b9")
+
+
+def _kv(rows):
+    return _table(["item", "value"], rows, widths=[1.2, 3.4])
+
+
+def report_context(ds):
+    """Every number, table and paragraph of the main report, for the HTML and the PDF alike.
+
+    Parameters
+    ----------
+    ds : xarray.Dataset
+        A results dataset as stored by the main job.
+
+    Returns
+    -------
+    dict
+        The context the template and the page engine render.
+
+    Raises
+    ------
+    InputError
+        If a variable the report needs is missing.
+    """
+    ctx = _report_context_base(ds)
+    ctx["simplified_model"] = simplified_context(ds) if has_simplified(ds) else None
+    if ctx["simplified_model"]:
+        ctx["captions"] = {**ctx["captions"], "torque": SIMPLIFIED_CAPTION}
+    return ctx
+
+
+def _report_context_base(ds):
+    """Everything both reports print, as strings and tables (no figures)."""
+    from .._version import __version__
+
+    _check(ds, _REQUIRED, "results")
+    n = ds.sizes["joint"]
+    t = ds["t"].values
+    N = t.size
+    labels = _strings(ds["element"].values)
+    dominance = _strings(ds["dominance"].values)
+    chapter = _strings(ds["chapter_dominance"].values)
+    choice = _strings(ds["choice"].values)
+    el_units = (_strings(ds["element_units"].values) if "element_units" in ds.variables
+                else ["kg m2" if lab.startswith("D") else "N m" for lab in labels])
+    s, e = _thresholds(ds)
+    robot_name = _attr(ds, "robot", "robot")
+    now = utc_now()
+
+    # 1. robot and trajectory
+    robot_kv = _kv([
+        ("name", robot_name), ("description", _attr(ds, "robot_description")),
+        ("reference", _attr(ds, "robot_reference")), ("robot file", _attr(ds, "robot_source")),
+        ("robot file SHA-256", _attr(ds, "robot_sha256")), ("joints n", str(n)),
+        ("gravity g [m/s\u00b2]", _attr(ds, "gravity")),
+    ])
+    com = ds["link_com"].values
+    inertia = ds["link_inertia"].values
+    dh = _table(
+        ["joint", "d [m]", "a [m]", "\u03b1 [deg]", "offset [deg]"],
+        [[str(k + 1), _fmt(ds["dh_d"].values[k]), _fmt(ds["dh_a"].values[k]),
+          _fmt(np.degrees(ds["dh_alpha"].values[k])),
+          _fmt(np.degrees(ds["dh_offset"].values[k]))] for k in range(n)],
+        align=["left"] + ["right"] * 4, widths=[0.8, 1, 1, 1, 1])
+    link = _table(
+        ["joint", "mass [kg]", "com x [m]", "com y [m]", "com z [m]", "Ixx [kg m\u00b2]",
+         "Iyy [kg m\u00b2]", "Izz [kg m\u00b2]"],
+        [[str(k + 1), _fmt(ds["link_mass"].values[k]), _fmt(com[k, 0]), _fmt(com[k, 1]),
+          _fmt(com[k, 2]), _fmt(inertia[k, 0, 0]), _fmt(inertia[k, 1, 1]),
+          _fmt(inertia[k, 2, 2])] for k in range(n)],
+        align=["left"] + ["right"] * 7, widths=[0.7] + [1] * 7)
+    derivatives = str(ds.attrs.get("derivatives", ""))
+    sha_in = _attr(ds, "input_sha256", "")
+    traj_kv = _kv([
+        ("source file", _attr(ds, "input_file")), ("path", _attr(ds, "input_path")),
+        ("SHA-256", sha_in or "\u2014 (not read from a file)"),
+        ("set points N", str(N)),
+        ("duration [s]",
+         f"{_fmt(t[-1] - t[0], 6)}  (t = {_fmt(t[0], 6)} \u2026 {_fmt(t[-1], 6)})"),
+        ("derivatives", f"{derivatives}: {_DERIVATIVES.get(derivatives, 'as recorded')}"
+         if derivatives else "\u2014"),
+    ])
+    prismatic = prismatic_joints(ds)
+    scale = np.where(prismatic, 1.0, np.degrees(1.0))
+    q, qd, qdd = (ds[v].values * scale for v in ("q", "qd", "qdd"))
+    joints = _table(
+        ["joint", "type", "q min", "q max", "peak |q\u0307|", "peak |q\u0308|", "units"],
+        [[str(k + 1), "prismatic" if prismatic[k] else "revolute", _fmt(q[:, k].min()),
+          _fmt(q[:, k].max()), _fmt(np.abs(qd[:, k]).max()), _fmt(np.abs(qdd[:, k]).max()),
+          "m, m/s, m/s\u00b2" if prismatic[k] else "deg, deg/s, deg/s\u00b2"]
+         for k in range(n)],
+        align=["left", "left"] + ["right"] * 4 + ["left"], widths=[0.6, 0.9, 1, 1, 1, 1, 1.5])
+
+    # 4. ranking
+    share = ds["share_tran"].values
+    zero = zero_mask(ds)[1]
+    pt, pr, ptot = ds["peak_tran"].values, ds["peak_rot"].values, ds["peak_total"].values
+    ranking = _table(
+        ["element", "share_tran", "class", "peak_tran", "peak_rot", "peak_total", "units"],
+        [[lab, "\u2261 0" if zero[k] else (_fmt(share[k], 3) if np.isfinite(share[k])
+                                             else "n/a"), dominance[k],
+          _fmt(pt[k]), _fmt(pr[k]), _fmt(ptot[k]), _units(el_units[k])]
+         for k, lab in enumerate(labels)],
+        align=["left", "right", "left", "right", "right", "right", "left"],
+        widths=[0.8, 0.9, 1.2, 1, 1, 1, 0.8], colour_cols=[2])
+    counts = {c: dominance.count(c) for c in _CLASS_COLOURS}
+
+    # 5. simplified model and torque error
+    choices = _table(
+        ["element", "class", "kept part", "meaning"],
+        [[lab, dominance[k], choice[k], _CHOICE_TEXT.get(choice[k], "")]
+         for k, lab in enumerate(labels)],
+        widths=[0.8, 1.2, 0.8, 2.2], colour_cols=[1])
+    err = _table(
+        ["joint", "peak |\u03c4\u209b\u2212\u03c4| [N m]", "RMS |\u03c4\u209b\u2212\u03c4| [N m]",
+         "peak |\u03c4| [N m]", "peak error / peak |\u03c4|", "RMS error / peak |\u03c4|"],
+        [[str(k + 1), _fmt(ds["tau_error_peak"].values[k]), _fmt(ds["tau_error_rms"].values[k]),
+          _fmt(ds["tau_peak"].values[k]), _pct(ds["tau_error_relative_peak"].values[k]),
+          _pct(ds["tau_error_relative_rms"].values[k])] for k in range(n)],
+        align=["left"] + ["right"] * 5, widths=[0.6, 1.2, 1.2, 1, 1.2, 1.2])
+    rel_peak = ds["tau_error_relative_peak"].values
+
+    # 6. comparison with the chapter
+    applicable = n == 6
+    compare_rows, n_agree, n_compared = [], 0, 0
+    for k, (lab, ours, theirs) in enumerate(zip(labels, dominance, chapter)):
+        shown = "\u2261 0" if zero[k] else _fmt(share[k], 3)
+        if theirs:
+            n_compared += 1
+            agree = ours == theirs
+            n_agree += agree
+            compare_rows.append([lab, ours, theirs, "yes" if agree else "no", shown,
+                                 disagreement_cause(lab, ours, theirs, share[k], zero[k], s,
+                                                    robot_name)])
+        else:
+            compare_rows.append([lab, ours, "\u2014", "\u2014", shown, ""])
+    if applicable:
+        note = ("The chapter reads these classes by eye off Figs. 3.10 and 3.11 for its own "
+                "PUMA 560 trajectory of 31 set points; it notes that the simplification depends "
+                "on the trajectory, so disagreements are expected for another trajectory. The "
+                "chapter has no 'negligible' class: an element classed negligible here counts "
+                "as a disagreement.")
+        if robot_name.lower() not in ("puma560", "puma 560", "puma-560"):
+            note += (f" This robot ({robot_name}) is not the chapter's PUMA 560: the comparison "
+                     "is indicative only.")
+    else:
+        note = (f"The chapter reports dominance only for the 6-joint PUMA 560 (Sec. 3.4.1); "
+                f"this robot has {n} joint{'s' if n != 1 else ''}, so a comparison is not "
+                "meaningful and none is made.")
+    compare = _table(["element", "our class", "chapter's class", "agree", "share_tran", "cause"],
+                     compare_rows, align=["left"] * 4 + ["right", "left"],
+                     widths=[0.6, 1.05, 1.05, 0.45, 0.85, 4.0], colour_cols=[1, 2, 3])
+
+    # 7. provenance
+    prov = [
+        ("report made by", f"gd-analyze {__version__}"),
+        ("analysis made by", f"gd-analyze {_attr(ds, 'gd_analyze_version')}"),
+        ("dataset history", _attr(ds, "history")),
+        ("report created", now.isoformat()),
+        ("input file", _attr(ds, "input_path")),
+        ("input SHA-256", sha_in or "\u2014 (not read from a file)"),
+        ("robot file", _attr(ds, "robot_source")),
+        ("robot file SHA-256", _attr(ds, "robot_sha256")),
+        ("dominance threshold s", _fmt(s, 6)),
+        ("negligibility threshold e", _fmt(e, 6)),
+    ]
+    ver_keys = sorted(k for k in ds.attrs if k.startswith("verification_max_rel_error_"))
+    if "verification_passed" in ds.attrs:
+        passed = bool(int(ds.attrs["verification_passed"]))
+        prov.append(("verification against " + _attr(ds, "verification_engine", "Pinocchio"),
+                     ("passed" if passed else "FAILED")
+                     + f" (tolerance {_attr(ds, 'verification_tolerance')}, "
+                     f"{_attr(ds, 'verification_setpoints')} set points checked)"))
+        verified = "passed" if passed else "FAILED"
+    else:
+        prov.append(("verification against Pinocchio", "not run (analysis without check)"))
+        verified = "not run"
+    for key in ver_keys:
+        prov.append((f"max relative error {key[len('verification_max_rel_error_'):]}",
+                     _fmt(ds.attrs[key], 3)))
+    shown = {"robot", "robot_description", "robot_reference", "robot_source", "robot_sha256",
+             "gravity", "gravity_units", "input_file", "input_path", "input_sha256",
+             "derivatives", "dominance_threshold", "negligible_threshold", "history",
+             "gd_analyze_version", "verification_passed", "verification_engine",
+             "verification_tolerance", "verification_setpoints", *ver_keys}
+    for key in sorted(k for k in ds.attrs if k not in shown):
+        prov.append((key, _attr(ds, key)))
+
+    formulations = _formulations_context(ds)
+    payload = _payload_context(ds)
+    title = f"G-D dominance analysis: {robot_name} along {_attr(ds, 'input_file')}"
+    summary = conclusion(labels, dominance, zero, choice, rel_peak,
+                         ds["tau_error_peak"].values, ds["tau_peak"].values)
+    facts = (f"{robot_name}, {n} joints, {N} set points over {_fmt(t[-1] - t[0], 4)} s; "
+             f"{len(labels)} elements ranked with s = {s:g}, e = {e:g}: "
+             + ", ".join(f"{counts[c]} {c}" for c in _CLASS_COLOURS)
+             + f". Verification against Pinocchio: {verified}.")
+    enveloped = N > ENVELOPE_THRESHOLD
+    return {
+        "version": __version__, "title": title, "summary": summary, "robot_name": robot_name,
+        "facts": facts, "intro": _INTRO.format(created=now.isoformat(), version=__version__),
+        "captions": captions(enveloped, N, f"{s:g}", f"{e:g}"),
+        "D_text": _D_TEXT.format(s=f"{s:g}", e=f"{e:g}"),
+        "n": n, "N": N, "s": f"{s:g}", "e": f"{e:g}", "created": now.isoformat(),
+        "robot_kv": robot_kv, "dh": dh, "link": link, "traj_kv": traj_kv, "joints": joints,
+        "ranking": ranking, "counts": counts, "choices": choices, "error": err,
+        "compare": {"applicable": applicable, "note": note, "table": compare,
+                    "n_agree": n_agree, "n_compared": n_compared},
+        "provenance": _kv(prov), "enveloped": enveloped,
+        "formulations": formulations, "payload": payload,
+        "envelope_note": (f"The trajectory has {N} set points: curves are drawn as their "
+                          "min/max envelope over about 400 equal time columns per panel, "
+                          "without markers (the report reads the stored series in chunks)."
+                          if enveloped else ""),
+        "keywords": (f"generalized d'Alembert; G-D dynamics; dominance; {robot_name}; "
+                     f"input {_attr(ds, 'input_file')} sha256 {sha_in or '-'}; "
+                     f"robot sha256 {_attr(ds, 'robot_sha256')}; s={s:g}; e={e:g}; "
+                     f"verification {verified}"),
+    }
+
+
+_INTRO = ("Generalized d'Alembert (G-D) equations of motion split the inertia matrix D and the "
+          "Coriolis and centrifugal vector h of \u03c4 = D(q) q\u0308 + h(q, q\u0307) + c(q) into "
+          "a translational and a rotational part (Fu, Gonzalez & Lee 1987, Robotics, Sec. 3.4, "
+          "Eqs. 3.4-24 to 3.4-28). This report ranks which part dominates each element along "
+          "the trajectory (Sec. 3.4.1, Figs. 3.10 and 3.11). Report created {created} by "
+          "gd-analyze {version} from the stored results; nothing was recomputed.")
+
+
+_D_TEXT = ("One panel per element D_ij with i \u2264 j (row i, column j): translational part "
+           "(\u25cb, blue), rotational part (\u00d7, orange) and combined D_ij (\u25b3, black) "
+           "against time [kg m\u00b2]. The title gives the element and its dominance class "
+           "(s = {s}, e = {e}).")
+
+
+def _payload_context(ds):
+    if "payload_share_tran" not in ds.variables:
+        return {"applicable": False, "table": None, "note": ""}
+    part = payload_part(ds)
+    masses = [float(m) for m in part["payload"].values]
+    labels = _strings(part["element"].values)
+    dom = np.array(_strings(part["dominance"].values.ravel())).reshape(part["dominance"].shape)
+    rows = [[lab] + [dom[k, j] for k in range(len(masses))]
+            for j, lab in enumerate(labels) if len(set(dom[:, j])) > 1]
+    table = _table(["element"] + [f"{m:g} kg" for m in masses], rows,
+                   colour_cols=list(range(1, len(masses) + 1)))
+    note = (f"The ranking was repeated with a rigid load of {masses[0]:g} to {masses[-1]:g} kg "
+            f"fixed to the last link (centre of mass {_attr(ds, 'payload_com')} m in link "
+            f"frame n). {len(rows)} of {len(labels)} elements change class with the load; "
+            "they are listed below. The load is merged into link n, so its parallel-axis "
+            "terms about the combined centre of mass count as rotational.")
+    return {"applicable": True, "table": table, "note": note}
+
+
+def _formulations_context(ds):
+    """Agreement and cost tables of L-E, N-E, G-D and Pinocchio, if the dataset has them."""
+    if "formulation_disagreement" not in ds.variables:
+        return {"applicable": False, "note": "The dataset holds no comparison of the "
+                "formulations (made by `gd-analyze ROBOT TRAJECTORY.csv`).",
+                "agreement": None, "costs": None}
+    quantities = _strings(ds["quantity"].values)
+    pairs = _strings(ds["formulation_pair"].values)
+    dis = ds["formulation_disagreement"].values
+    agreement = _table(["pair"] + [f"{q}" for q in quantities],
+                       [[p] + [f"{v:.2e}" for v in dis[i]] for i, p in enumerate(pairs)],
+                       align=["left"] + ["right"] * len(quantities))
+    n = int(ds.attrs.get("formulations_n", ds.sizes["joint"]))
+    names = _strings(ds["formulation"].values)
+    dof = list(ds["dof"].values)
+    rows = []
+    if n in dof:
+        k = dof.index(n)
+        for j, name in enumerate(names):
+            mul, add = ds["op_multiplications"].values[k, j], ds["op_additions"].values[k, j]
+            bm = ds["op_multiplications_table_3_5"].values[k, j]
+            ba = ds["op_additions_table_3_5"].values[k, j]
+            rows.append([name, f"{mul:.0f}", f"{add:.0f}", f"{bm:.0f}", f"{ba:.0f}"])
+    costs = _table(["formulation", "multiplications", "additions", "mult. Table 3.5",
+                    "add. Table 3.5"], rows, align=["left"] + ["right"] * 4)
+    worst = float(np.max(dis)) if dis.size else float("nan")
+    note = (f"Lagrange-Euler (Sec. 3.2), recursive Newton-Euler (Sec. 3.3; D, h and c by "
+            f"probing), the G-D equations (Sec. 3.4) and Pinocchio (crba, rnea) were run on "
+            f"{ds.attrs.get('formulations_setpoints', '?')} set points of the trajectory; the "
+            f"largest relative disagreement of any pair is {worst:.1e}. Operation counts are "
+            f"per set point, counted on the code as implemented (gd: compiled G-D engine, "
+            f"gd-numpy: array engine), beside the formulas of Table 3.5, for n = {n}.")
+    return {"applicable": True, "note": note, "agreement": agreement, "costs": costs}
