@@ -301,3 +301,32 @@ def test_parse_range_errors(text, match):
     with pytest.raises(InputError, match=match) as info:
         parse_range(text)
     assert "--payload-sweep" in str(info.value)
+
+
+def test_summary_gives_the_model_cost_beside_newton_euler(tmp_path, capsys):
+    """The printed cost line reads the stored cost table; N-E's figure is the counted one."""
+    from gd_analyze import load_robot
+    from gd_analyze.formulations.opcount import count_operations
+
+    assert main(["puma560", str(SHIPPED), "-o", str(tmp_path / "o"), "--no-report"]) == 0
+    out = capsys.readouterr().out
+    ne = count_operations(load_robot("puma560"), "newton-euler")
+    line = next(x for x in out.splitlines() if x.startswith("simplified model (explicit"))
+    assert line.endswith(f"Newton-Euler as implemented: {ne[0] + ne[1]:,}")
+    model = json.loads((tmp_path / "o" / "simplified_model.json").read_text())
+    total = model["cost"]["multiplications"] + model["cost"]["additions"]
+    assert f": {total:,} operations per set point" in line
+    assert "does not beat Newton-Euler" not in out        # 885 < 1,212 on the PUMA
+
+
+def test_summary_warns_when_the_model_does_not_pay():
+    from gd_analyze.cli.commands import _cost_lines
+
+    names = ["explicit, budget EPS=0.01 (this model)", "project N-E as implemented"]
+    ds = xr.Dataset({"cost_multiplications": ("cost_model", [900, 600]),
+                     "cost_additions": ("cost_model", [800, 500]),
+                     "cost_total": ("cost_model", [1700, 1100])},
+                    coords={"cost_model": names})
+    lines = _cost_lines(ds)
+    assert "1,700 operations" in lines[1] and lines[1].endswith("1,100")
+    assert "does not beat Newton-Euler" in lines[2]

@@ -85,6 +85,26 @@ def _warn_limits(robot, trajectory, quiet):
 ZERO_MARK = "\u2261 0"
 
 
+def _cost_lines(ds):
+    """The simplified model's counted operations beside Newton-Euler's, from the stored table."""
+    if "cost_model" not in ds.coords or "cost_total" not in ds.variables:
+        return []
+    names = [str(v) for v in ds["cost_model"].values]
+    mine = [k for k, name in enumerate(names) if name.endswith("(this model)")]
+    ne = [k for k, name in enumerate(names) if name == "project N-E as implemented"]
+    if not mine or not ne:
+        return []
+    m, a = (int(ds[v].values[mine[0]]) for v in ("cost_multiplications", "cost_additions"))
+    total, ne_total = m + a, int(ds["cost_total"].values[ne[0]])
+    lines = ["", f"simplified model ({names[mine[0]].replace(' (this model)', '')}): {total:,} "
+                 f"operations per set point ({m:,} multiplications, {a:,} additions); "
+                 f"Newton-Euler as implemented: {ne_total:,}"]
+    if total >= ne_total:
+        lines.append("  it does not beat Newton-Euler for this arm: for speed, use N-E (the "
+                     "model still gives the error bound and the dominance)")
+    return lines
+
+
 def _format_summary(ds):
     lines = [f"{ds.attrs['robot']} along {ds.attrs['input_file']}: "
              f"{ds.attrs['setpoints']} set points, s = {ds.attrs['dominance_threshold']:g}, "
@@ -108,6 +128,7 @@ def _format_summary(ds):
                      f"{ds.tau_error_rms.values[j]:>12.4g}{ds.tau_peak.values[j]:>12.4g}"
                      f"{ds.tau_error_relative_peak.values[j]:>10.2e}"
                      f"{ds.tau_error_relative_rms.values[j]:>10.2e}")
+    lines += _cost_lines(ds)
     if "verification_passed" in ds.attrs:
         import numpy as np
 
