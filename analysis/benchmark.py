@@ -186,7 +186,9 @@ def latency(runs=5):
     The main job is ``gd-analyze puma560 data/puma560_trajectory.csv -o TMP -q`` (HDF5, JSON,
     HTML, PDF and the figure files); the reference is ``python -c "import numpy, scipy, xarray,
     matplotlib.pyplot, pinocchio"``. One warm-up run of each first (file caches), then ``runs``
-    pairs, alternating which goes first.
+    pairs, alternating which goes first. Both run with Python's default settings: a
+    ``PYTHONDONTWRITEBYTECODE`` in the caller's environment is dropped, so the warm-up leaves
+    the byte-code of gd_analyze as any first run (or a non-editable install) does.
 
     Returns
     -------
@@ -199,7 +201,8 @@ def latency(runs=5):
     with tempfile.TemporaryDirectory() as tmp:
         job = job_cmd + ["puma560", str(ROOT / "data" / "puma560_trajectory.csv"), "-o", tmp,
                          "-q"]
-        env = {**os.environ, "MPLBACKEND": "Agg"}
+        env = {k: v for k, v in os.environ.items() if k != "PYTHONDONTWRITEBYTECODE"}
+        env["MPLBACKEND"] = "Agg"           # default Python settings: the warm-up writes .pyc
         subprocess.run(job, check=True, capture_output=True, env=env)        # warm up
         subprocess.run(bare, check=True, env=env)
         return interleaved(lambda: subprocess.run(job, check=True, capture_output=True,

@@ -32,10 +32,10 @@ class InputError(ValueError):
     """
 
     def __init__(self, message, path=None, row=None, column=None):
-        self.message = str(message).replace("\n", " ")
-        self.path = None if path is None else str(path)
+        self.message = _one_line(str(message).replace("\n", " "))
+        self.path = None if path is None else _one_line(path)
         self.row = row
-        self.column = column
+        self.column = None if column is None else _one_line(column)
         super().__init__(self.__str__())
 
     def __str__(self):
@@ -54,6 +54,16 @@ class InputError(ValueError):
         if loc:
             where.append(", ".join(loc))
         return ": ".join(where + [self.message])
+
+
+def _one_line(text):
+    """``text`` with every unprintable character (line breaks, controls, unassigned code
+    points) written as its escape, so that a file name or key cannot break the line."""
+    text = str(text)
+    if text.isprintable():
+        return text
+    return "".join(c if c.isprintable() else c.encode("unicode_escape").decode("ascii")
+                   for c in text)
 
 
 class InputWarning(UserWarning):

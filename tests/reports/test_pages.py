@@ -122,3 +122,27 @@ def test_one_traversal_draws_the_same_svg_and_pdf_as_savefig():
     b = np.array([float(v) for v in number.findall(svg_alone)])
     assert a.shape == b.shape and np.max(np.abs(a - b)) < 0.02
 
+
+
+@pytest.mark.parametrize("lead", ["", "A short lead-in."])
+def test_a_heading_stays_with_its_short_table(lead):
+    """Wherever the heading falls on the page, the short table under it (kept whole on one
+    page) starts on the heading's page: the report's "5.4 Cost per set point" once ended a page
+    with its table on the next."""
+    short = table(["model", "multiplications", "additions"],
+                  [[f"model {i}", str(100 * i), str(90 * i)] for i in range(14)])
+    moved = 0
+    for words in range(0, 1400, 23):
+        doc = Document("x")
+        doc.paragraph("word " * words)
+        doc.heading("5.4 Cost per set point", level=2)
+        if lead:
+            doc.paragraph(lead)
+        doc.table(short)
+        pages, _ = doc._layout()
+        where = [k for k, p in enumerate(pages) for op in p.ops
+                 if op[0] == "text" and op[1][1] == "5.4 Cost per set point"]
+        rows = [k for k, p in enumerate(pages) for op in p.ops if op[0] == "row"]
+        assert where and rows and where[0] == rows[0], words
+        moved += where[0] > 0 and words < 1000
+    assert moved       # some placements did push the group to a new page

@@ -172,6 +172,15 @@ ANALYZE_OUTPUTS = ("results.h5", "simplified_model.json", "simplified_model.c",
 
 
 def _cmd_analyze(args):
+    from ..reports.main_worker import FigureWorker
+
+    # a second interpreter imports the report's modules while this one computes, then draws
+    # some of the figures (if a core is free): started first, stopped on every way out
+    with FigureWorker(enabled=not args.no_report) as worker:
+        return _analyze(args, worker)
+
+
+def _analyze(args, worker):
     from ..io.schema import skip_dask
     from ..io.staging import check_free_space, staged_output
     from ..workflows.analyze import analyze_to_file, progress_bar
@@ -212,7 +221,8 @@ def _cmd_analyze(args):
 
             bar.reset(total=trajectory.n_setpoints)
             bar.set_description("report")
-            written += write_report(results, stage, paper=args.paper, progress=bar.update)
+            written += write_report(results, stage, paper=args.paper, progress=bar.update,
+                                    worker=worker)
         bar.close()
     written = [outdir / Path(p).relative_to(stage) for p in written]
     if not args.quiet:

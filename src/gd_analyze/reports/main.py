@@ -41,7 +41,6 @@ from .main_context import prismatic_joints
 from .main_figures import RC as FIG_RC, PAGE_WIDTH, plot_data
 from .main_figures import fig_D, fig_h, fig_joints, fig_torque
 from .pages import PAPER, Document
-from .pdf_worker import PdfWorker
 from .drawing import draw_figures, no_gc, write_figure_files
 from ..io.sweep_datasets import payload_part
 
@@ -135,7 +134,7 @@ FIGURE_FILES = {"joints": "fig_joints_q_qd_qdd", "D": "fig_3_10_D", "h": "fig_3_
 _FIGURE_ORDER = ("joints", "D", "h", "torque", "payload", "formulations")
 
 
-def make_figures(ds, data=None):
+def make_figures(ds, data=None, keys=None):
     """Make the report's figures from a stored analysis.
 
     Parameters
@@ -147,6 +146,8 @@ def make_figures(ds, data=None):
     data : PlotData, optional
         The series to draw (:func:`gd_analyze.reports.main_figures.plot_data`); read from
         ``ds`` if not given.
+    keys : collection of str, optional
+        Make only these of the figures below (those the dataset holds); all if not given.
 
     Returns
     -------
@@ -172,22 +173,30 @@ def make_figures(ds, data=None):
     zero = dict(zip(labels, zero))
     dom = dict(zip(labels, _strings(ds["dominance"].values)))
     s, e = _thresholds(ds)
+    wanted = set(_FIGURE_ORDER if keys is None else keys)
+    makers = {"joints": lambda: fig_joints(data, prismatic_joints(ds)),
+              "D": lambda: fig_D(data, dom, zero, s, e),
+              "h": lambda: fig_h(data, dom, zero),
+              "torque": lambda: _fig_error(ds, data)}
+    if "payload_share_tran" in ds.variables:
+        makers["payload"] = lambda: _fig_payload(ds)
+    if "op_multiplications" in ds.variables:
+        makers["formulations"] = lambda: _fig_formulations(ds)
     with matplotlib.rc_context(FIG_RC):
-        figures = {"joints": fig_joints(data, prismatic_joints(ds)),
-                   "D": fig_D(data, dom, zero, s, e),
-                   "h": fig_h(data, dom, zero)}
-        if has_simplified(ds):                  # issue 8: tau_s - tau and its bound
-            figures["torque"] = error_figure(ds, size=(PAGE_WIDTH, 7.5), data=data)
-        else:
-            figures["torque"] = fig_torque(data, ds["tau_error_peak"].values,
-                                           ds["tau_error_relative_peak"].values)
-        if "payload_share_tran" in ds.variables:
-            from .figures import payload_figure
-
-            figures["payload"] = payload_figure(payload_part(ds))
-        if "op_multiplications" in ds.variables:
-            figures["formulations"] = _fig_formulations(ds)
+        figures = {k: make() for k, make in makers.items() if k in wanted}
     return {k: figures[k] for k in _FIGURE_ORDER if k in figures}
+
+
+def _fig_error(ds, data):
+    if has_simplified(ds):                      # issue 8: tau_s - tau and its bound
+        return error_figure(ds, size=(PAGE_WIDTH, 7.5), data=data)
+    return fig_torque(data, ds["tau_error_peak"].values, ds["tau_error_relative_peak"].values)
+
+
+def _fig_payload(ds):
+    from .figures import payload_figure
+
+    return payload_figure(payload_part(ds))
 
 
 _FORMULATION_STYLE = {"lagrange-euler": ("L-E", "#0072B2", "o", "-"),
@@ -197,7 +206,7 @@ _FORMULATION_STYLE = {"lagrange-euler": ("L-E", "#0072B2", "o", "-"),
 
 def _fig_formulations(ds):
     from matplotlib.figure import Figure
-    from matplotlib.ticker import NullFormatter
+    from matplotlib.ticker import FixedLocator, LogLocator, NullFormatter
 
     from .ticks import formatter as tick_formatter
 
@@ -207,15 +216,20 @@ def _fig_formulations(ds):
     fig = Figure(figsize=(W, H))
     for k, op in enumerate(("multiplications", "additions")):
         ax = fig.add_axes(((0.65 + k * 3.55) / W, 0.75 / H, 2.85 / W, (H - 1.0) / H))
+        ax.set_yscale("log")
         for name, (short, colour, marker, ls) in _FORMULATION_STYLE.items():
             if name not in names:
                 continue
             j = names.index(name)
-            ax.loglog(n, ds[f"op_{op}"].values[:, j], color=colour, marker=marker,
-                      markersize=3.5, linestyle=ls, linewidth=1.0,
-                      label=f"{short} as implemented")
-            ax.loglog(n, ds[f"op_{op}_table_3_5"].values[:, j], color=colour,
-                      linestyle="--", linewidth=0.9, label=f"{short} Table 3.5")
+            ax.plot(n, ds[f"op_{op}"].values[:, j], color=colour, marker=marker,
+                    markersize=3.5, linestyle=ls, linewidth=1.0,
+                    label=f"{short} as implemented")
+            ax.plot(n, ds[f"op_{op}_table_3_5"].values[:, j], color=colour,
+                    linestyle="--", linewidth=0.9, label=f"{short} Table 3.5")
+        # joints counted one by one on x; decades with unlabelled 2x and 5x marks on y (few
+        # Tick objects: each costs an Axes draw)
+        ax.xaxis.set_major_locator(FixedLocator(n))
+        ax.yaxis.set_minor_locator(LogLocator(subs=(2.0, 5.0)))
         for axis in (ax.xaxis, ax.yaxis):       # plain labels: no mathtext to parse
             axis.set_major_formatter(tick_formatter())
             axis.set_minor_formatter(NullFormatter())
@@ -447,7 +461,8 @@ _SIMPLIFIED_TEXT = ("The simplified model keeps, for each element of D (mirrored
 # Entry point
 # --------------------------------------------------------------------------------------------
 
-def write_report(results_path, outdir, formats=REPORT_FORMATS, paper="a4", progress=None):
+def write_report(results_path, outdir, formats=REPORT_FORMATS, paper="a4", progress=None,
+                 worker=None):
     """Write report.html and/or report.pdf, and every figure as PDF and SVG, for an analysis.
 
     Parameters
@@ -463,6 +478,10 @@ def write_report(results_path, outdir, formats=REPORT_FORMATS, paper="a4", progr
         Page size of the PDF.
     progress : callable, optional
         Called with a number of set points read (for a progress bar).
+    worker : gd_analyze.reports.main_worker.FigureWorker, optional
+        A second interpreter, started before the results were computed, that draws some of
+        the figures from ``results_path`` while this process draws the others and the
+        text; without it (or should it fail) every figure is drawn here.
 
     Returns
     -------
@@ -493,26 +512,38 @@ def write_report(results_path, outdir, formats=REPORT_FORMATS, paper="a4", progr
     formats = check_formats(formats, REPORT_FORMATS)
     if paper not in PAPER:
         raise ValueError(f"paper must be one of {sorted(PAPER)}, got {paper!r}")
+    away = () if worker is None else worker.draw(results_path)    # before this process reads
     with open_results(results_path, lazy=True) as ds, no_gc():   # long series: in chunks
-        return _write(ds, Path(outdir), formats, paper, progress)
+        return _write(ds, Path(outdir), formats, paper, progress, away, worker)
 
 
-def _write(ds, outdir, formats, paper, progress):
+def _draw_missing(ds, data, drawn, keys):
+    """Draw here the figures the worker did not give (it failed): same code, same result."""
+    if keys:
+        drawn.update(_drawn(make_figures(ds, data, keys=keys)))
+
+
+def _write(ds, outdir, formats, paper, progress, away=(), worker=None):
     from ..files import atomic_path
 
     ctx = report_context(ds)            # fails early on a dataset that is not ours
     (outdir / "figures").mkdir(parents=True, exist_ok=True)
+    data = plot_data(ds, progress=progress)
+    drawn = _drawn(make_figures(ds, data, keys=set(_FIGURE_ORDER) - set(away)))
+    sizes = {k: d[2] for k, d in drawn.items()}
+    if away:                            # sizes first: the PDF's text pages meanwhile
+        sizes.update(worker.sizes())
+        _draw_missing(ds, data, drawn, set(away) - set(sizes))
+        sizes.update({k: d[2] for k, d in drawn.items()})
+    document = text = None
+    if "pdf" in formats:
+        document = _document(ctx, {k: sizes[k] for k in _FIGURE_ORDER if k in sizes}, paper)
+        text = document.draw_text()
+    if away:
+        drawn.update(worker.collect())
+        _draw_missing(ds, data, drawn, set(away) - set(drawn))
+    drawn = {k: drawn[k] for k in _FIGURE_ORDER if k in drawn}
     with contextlib.ExitStack() as stack:
-        worker = None
-        if "pdf" in formats:             # the text pages on a second core (pdf_worker)
-            worker = PdfWorker()
-            stack.callback(worker.close)
-        figures = make_figures(ds, plot_data(ds, progress=progress))
-        if worker is not None:
-            worker.send(_document(ctx, {k: tuple(float(v) for v in f.get_size_inches())
-                                        for k, f in figures.items()}, paper))
-        drawn = _drawn(figures)
-        del figures                      # no Figure.clear(): it would rebuild every Axes
         paths = {fmt: outdir / f"report.{fmt}" for fmt in formats}
         files = write_figure_files(stack, drawn, outdir / "figures", FIGURE_FILES)
         tmp = {fmt: stack.enter_context(atomic_path(paths[fmt])) for fmt in formats}
@@ -520,5 +551,5 @@ def _write(ds, outdir, formats, paper, progress):
             with open(tmp["html"], "w", encoding="utf-8") as fh:
                 fh.write(_html(ctx, drawn))
         if "pdf" in tmp:
-            worker.finish(tmp["pdf"], {k: d[1] for k, d in drawn.items()})
+            document.write(tmp["pdf"], {k: d[1] for k, d in drawn.items()}, text=text)
     return [paths[fmt] for fmt in formats] + files

@@ -202,6 +202,6 @@ def captions(enveloped, N, s, e):
         "payload": "Translational share and class of each element against the load mass "
                    "(top), and peak joint torques (bottom).",
         "formulations": "Multiplications and additions per set point against the number of "
-                        "joints n (log-log): counted on the code as implemented (solid) and "
+                        "joints n (logarithmic vertical axis): counted on the code as implemented (solid) and "
                         "the formulas of Table 3.5 (dashed).",
     }

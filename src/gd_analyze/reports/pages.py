@@ -346,7 +346,7 @@ class Document:
                 return lines * payload[1] * 1.38 / 72 + 0.07 + self._first_height(rest[1:])
             return own
         if kind == "table":
-            return 3 * payload[1] * 1.6 / 72 + 0.1
+            return self._table_rows(payload)[3]
         if kind == "figure":
             return self._figure_box(*payload[1], payload[2])[4]
         if kind == "heading":
@@ -354,7 +354,10 @@ class Document:
                 if len(rest) > 1 else 0.3
         return 0.3
 
-    def _layout_table(self, payload, pages, new_page):
+    def _table_rows(self, payload):
+        """A table's column widths [in], wrapped header and rows (cells, height [in]), and
+        the height that must fit where it starts [in]: the whole of a short table (at most
+        35 % of the body), else its header and first three rows."""
         table, size = payload
         widths = np.asarray(table["widths"], float)
         widths = widths / widths.sum() * self.width
@@ -369,11 +372,16 @@ class Document:
         header = wrap(table["header"])
         rows = [wrap(r) for r in table["rows"]]
         total = header[1] + sum(h for _, h in rows)
-        first = header[1] + (rows[0][1] if rows else 0.0)
+        keep = total if total <= 0.35 * self.body else header[1] + sum(h for _, h in rows[:3])
+        return widths, header, rows, keep
+
+    def _layout_table(self, payload, pages, new_page):
+        table, size = payload
+        widths, header, rows, keep = self._table_rows(payload)
+        lh, pad = size * 1.3 / 72, 0.035
         page = pages[-1]
         room = self.body - page.used
         # a short table stays on one page; a long one starts where at least 3 rows fit
-        keep = total if total <= 0.35 * self.body else first + sum(h for _, h in rows[:2])
         if keep > room and page.used > 0:
             new_page()
             page = pages[-1]
@@ -447,7 +455,19 @@ class Document:
              ha="right")
         return fig
 
-    def write(self, path, figures=None):
+    def draw_text(self):
+        """Lay out the document and draw its text pages, before its figures are given.
+
+        Returns
+        -------
+        tuple
+            Opaque: the text pages' PDF, the layout and the bookmarks, for :meth:`write`
+            (``text=``). The figure blocks need only their keys and sizes by then.
+        """
+        pages, bookmarks = self._layout()
+        return self._text_pages(pages), pages, bookmarks
+
+    def write(self, path, figures=None, text=None):
         """Lay out, draw and write the document.
 
         Parameters
@@ -456,15 +476,18 @@ class Document:
             The PDF file (written as given: the caller stages it).
         figures : dict of str to bytes, optional
             The PDF of each figure whose block holds a key in place of its bytes (a document
-            laid out before its figures are drawn: :mod:`gd_analyze.reports.pdf_worker`).
+            laid out before its figures are drawn).
+        text : tuple, optional
+            What :meth:`draw_text` returned, if called already (the layout is not redone).
 
         Returns
         -------
         int
             The number of pages.
         """
-        pages, bookmarks = self._layout()
-        return self._finish(self._text_pages(pages), pages, bookmarks, path, figures)
+        if text is None:
+            text = self.draw_text()
+        return self._finish(*text, path, figures)
 
     def _text_pages(self, pages):
         """The text, rules and shading of every page (no figures) as PDF bytes."""

@@ -18,7 +18,13 @@ __all__ = ["has_simplified", "simplified_context", "error_figure", "SIMPLIFIED_C
 #: Caption of the torque-error figure.
 SIMPLIFIED_CAPTION = ("Torque error of the simplified model, \u03c4\u209b \u2212 \u03c4 [N m], "
                       "per joint against time, with the guaranteed bound \u00b1 (dotted; on "
-                      "this trajectory only).")
+                      "this trajectory only). A joint whose model drops nothing (bound 0) reads "
+                      "\u201c\u03c4\u209b = \u03c4\u201d: its difference is floating-point "
+                      "round-off, not drawn.")
+
+#: A joint's tau_s - tau is round-off if its bound is 0 and its peak is below this fraction of
+#: the joint's scale (about 4500 machine epsilons: a sum of a few thousand rounded terms).
+ROUND_OFF = 1e-12
 
 
 def has_simplified(ds):
@@ -117,6 +123,16 @@ def simplified_context(ds):
             "rule": rule, "tolerance": eps}
 
 
+def _round_off(diff, bound, scale):
+    """Whether a joint's tau_s - tau is floating-point round-off only: nothing was dropped
+    for it (bound 0) and its peak is within :data:`ROUND_OFF` of the joint's scale."""
+    if bound != 0 or not np.isfinite(scale) or diff.size == 0:
+        return False
+    if not np.isfinite(diff).all():
+        return False
+    return float(np.max(np.abs(diff))) <= ROUND_OFF * max(float(scale), 1e-300)
+
+
 def error_figure(ds, size=(8.27, 9.0), data=None):
     """Per-joint plots of tau_s - tau against time, with the guaranteed band +- bound.
 
@@ -137,11 +153,12 @@ def error_figure(ds, size=(8.27, 9.0), data=None):
         Two panels a row on a fixed grid (no layout engine: the margins are set for the 7-pt
         tick labels, the 8-pt axis labels and the titles); ticks placed once
         (:func:`gd_analyze.reports.ticks.set_ticks`), every y range padded so that neither the
-        error nor the bound touches the frame.
+        error nor the bound touches the frame. A joint whose model drops nothing and whose
+        difference is round-off (:data:`ROUND_OFF`) reads "τₛ = τ" instead of a curve of noise.
     """
     from matplotlib.figure import Figure
 
-    from .ticks import set_ticks
+    from .ticks import MINUS, set_ticks
 
     n = ds.sizes["joint"]
     if data is not None and "tau_error" in data.series:
@@ -150,6 +167,8 @@ def error_figure(ds, size=(8.27, 9.0), data=None):
         t = ds["t"].values
         diff = ds["tau_simplified"].values - ds["tau"].values
     bound = ds["simplified_bound"].values
+    scale = ds["simplified_scale"].values if "simplified_scale" in ds else ds["tau_peak"].values
+    legend = False
     cols = 2 if n > 1 else 1
     rows = -(-n // cols)
     W, H = size
@@ -162,6 +181,20 @@ def error_figure(ds, size=(8.27, 9.0), data=None):
         r, c = divmod(i, cols)
         x0, y0 = left + c * (w + gap), top + r * (h + hgap)
         ax = fig.add_axes((x0 / W, 1 - (y0 + h) / H, w / W, h / H))
+        ax.set_xlim(t0, t1 if t1 > t0 else t0 + 1.0)
+        set_ticks(ax.xaxis, t0, t1 if t1 > t0 else t0 + 1.0, 4)
+        ax.set_title(f"joint {i + 1}", fontsize=9)
+        ax.set_xlabel("time t [s]", fontsize=8)
+        ax.tick_params(labelsize=7)
+        if _round_off(diff[:, i], bound[i], scale[i]):
+            peak = f"{float(np.max(np.abs(diff[:, i]))):.1e}".replace("-", MINUS)
+            ax.text(0.5, 0.5, f"nothing dropped: \u03c4\u209b = \u03c4\nup to round-off "
+                    f"(peak {peak} N m)", transform=ax.transAxes,
+                    ha="center", va="center", fontsize=8, color="0.35", linespacing=1.6)
+            ax.set_ylim(-1, 1)
+            ax.yaxis.set_ticks([])
+            ax.set_ylabel(f"\u03c4\u209b \u2212 \u03c4 (joint {i + 1}) [N m]", fontsize=8)
+            continue
         ax.plot(t, diff[:, i], color="#D55E00", linewidth=1.2, label="\u03c4\u209b \u2212 \u03c4")
         span = [0.0]
         if diff.size and np.isfinite(diff[:, i]).any():
@@ -178,14 +211,10 @@ def error_figure(ds, size=(8.27, 9.0), data=None):
         pad = 0.08 * (hi - lo)
         ax.set_ylim(lo - pad, hi + pad)
         set_ticks(ax.yaxis, lo, hi, 4)
-        ax.set_xlim(t0, t1 if t1 > t0 else t0 + 1.0)
-        set_ticks(ax.xaxis, t0, t1 if t1 > t0 else t0 + 1.0, 4)
-        ax.set_title(f"joint {i + 1}", fontsize=9)
-        ax.set_xlabel("time t [s]", fontsize=8)
         ax.set_ylabel(f"\u03c4\u209b \u2212 \u03c4 (joint {i + 1}) [N m]", fontsize=8)
-        ax.tick_params(labelsize=7)
-        if i == 0:
+        if not legend:
             ax.legend(fontsize=7, frameon=False)
+            legend = True
     fig.suptitle("Torque error of the simplified model, \u03c4\u209b \u2212 \u03c4 [N m], and "
                  "its bound", fontsize=10, y=1 - 0.12 / H, va="top")
     return fig

@@ -1,0 +1,25 @@
+"""One-line errors (gd_analyze.errors)."""
+
+from hypothesis import given, settings
+from hypothesis import strategies as st
+
+from gd_analyze.errors import InputError
+
+
+def test_the_parts_and_their_order():
+    assert str(InputError("x", "f.csv", row=3, column="q1")) == "f.csv: row 3, column q1: x"
+    assert str(InputError("x", "m.json", column="robot.name")) == "m.json: key robot.name: x"
+    assert str(InputError("x", column="--payload")) == "--payload: x"
+
+
+def test_a_key_or_file_name_with_a_line_break_stays_on_one_line():
+    # found by the model-JSON fuzz test: a key ending in a newline broke the message
+    err = InputError("bad\nvalue", "/tmp/a\nb.json", column="choices.\U0004d6bd\u00f4\n")
+    assert str(err) == "/tmp/a\\nb.json: key choices.\\U0004d6bd\u00f4\\n: bad value"
+
+
+@settings(max_examples=200, deadline=None)
+@given(st.text(), st.text(), st.text())
+def test_always_one_line(message, path, column):
+    text = str(InputError(message, path, column=column))
+    assert len(text.splitlines()) <= 1
