@@ -193,8 +193,12 @@ def latency(runs=5):
     Returns
     -------
     dict
-        As :func:`interleaved`: ratio job / bare import.
+        As :func:`interleaved`: ratio job / bare import; ``figure_worker_runs``: in how many
+        of the timed runs a core was free for the report's figure worker
+        (:func:`gd_analyze.reports.main_worker.spare_core`, as the job decides it).
     """
+    from gd_analyze.reports.main_worker import spare_core
+
     exe = Path(sys.executable).parent / "gd-analyze"
     job_cmd = [str(exe)] if exe.exists() else [sys.executable, "-m", "gd_analyze.cli"]
     bare = [sys.executable, "-c", BARE_IMPORT]
@@ -205,9 +209,15 @@ def latency(runs=5):
         env["MPLBACKEND"] = "Agg"           # default Python settings: the warm-up writes .pyc
         subprocess.run(job, check=True, capture_output=True, env=env)        # warm up
         subprocess.run(bare, check=True, env=env)
-        return interleaved(lambda: subprocess.run(job, check=True, capture_output=True,
-                                                  env=env),
-                           lambda: subprocess.run(bare, check=True, env=env), runs)
+        used = []
+
+        def run_job():
+            used.append(spare_core())       # what the job will decide, as it starts
+            return subprocess.run(job, check=True, capture_output=True, env=env)
+
+        result = interleaved(run_job, lambda: subprocess.run(bare, check=True, env=env), runs)
+    result["figure_worker_runs"] = f"{sum(used)} of {len(used)}"
+    return result
 
 
 def main(argv=None):

@@ -330,3 +330,67 @@ def test_summary_warns_when_the_model_does_not_pay():
     lines = _cost_lines(ds)
     assert "1,700 operations" in lines[1] and lines[1].endswith("1,100")
     assert "does not beat Newton-Euler" in lines[2]
+
+
+# ------------------------------------------------------------------------------------------
+# The program's exit: at once when nothing else runs, with everything flushed
+# ------------------------------------------------------------------------------------------
+
+def test_program_exits_at_once_with_its_status_and_all_its_output(tmp_path):
+    out = tmp_path / "out"
+    proc = subprocess.run([sys.executable, "-m", "gd_analyze.cli", "two-link",
+                           str(tmp_path / "missing.csv")], capture_output=True, text=True)
+    assert proc.returncode == 2 and proc.stderr.count("\n") == 1
+    assert "missing.csv: no such file" in proc.stderr
+    plan = subprocess.run([sys.executable, "-m", "gd_analyze.cli", "plan", "two-link",
+                           "--start", "0,0", "--goal", "30,20", "-o",
+                           str(tmp_path / "t.csv")], capture_output=True, text=True)
+    assert plan.returncode == 0, plan.stderr
+    proc = subprocess.run([sys.executable, "-m", "gd_analyze.cli", "two-link",
+                           str(tmp_path / "t.csv"), "-o", str(out), "--no-report"],
+                          capture_output=True, text=True)
+    assert proc.returncode == 0, proc.stderr
+    last = proc.stdout.rstrip("\n").splitlines()[-1]        # the last line made it out whole
+    assert last.startswith("wrote ") and last.endswith("simplified_model.py")
+
+
+@pytest.mark.parametrize("alone", [True, False])
+def test_run_ends_at_once_only_when_alone(monkeypatch, alone):
+    import gd_analyze.cli as cli
+
+    ended = []
+    monkeypatch.setattr(cli, "main", lambda: 3)
+    monkeypatch.setattr(cli, "_alone", lambda: alone)
+    monkeypatch.setattr(cli.os, "_exit", lambda status: ended.append(status))
+    with pytest.raises(SystemExit) as exc:      # os._exit is mocked: sys.exit follows
+        cli.run()
+    assert exc.value.code == 3
+    assert ended == ([3] if alone else [])
+
+
+def test_a_thread_or_a_child_process_is_not_alone(monkeypatch):
+    import threading
+
+    import gd_analyze.cli as cli
+
+    stop = threading.Event()
+    thread = threading.Thread(target=stop.wait)
+    thread.start()
+    try:
+        assert not cli._alone()
+    finally:
+        stop.set()
+        thread.join()
+    monkeypatch.setattr(threading, "active_count", lambda: 1)
+
+    class _MP:
+        children = []
+
+        def active_children(self):
+            return self.children
+
+    mp = _MP()
+    monkeypatch.setitem(sys.modules, "multiprocessing", mp)
+    assert cli._alone()
+    mp.children = ["a dask worker"]
+    assert not cli._alone()

@@ -23,7 +23,7 @@ from .parsing import (COMMANDS, EXIT_INPUT, EXIT_INTERNAL, EXIT_OK, PROG, _analy
                       _compare_parser, _control_parser, _evaluate_parser, _plan_parser,
                       _sweep_parser, parse_range)
 
-__all__ = ["main", "parse_range"]
+__all__ = ["main", "run", "parse_range"]
 
 
 def _show_warning(message, category, filename, lineno, file=None, line=None):
@@ -45,6 +45,45 @@ def _mistyped_command(word):
         return None
     return InputError(f"unknown command {word!r}: did you mean '{close[0]}'? (commands: "
                       f"{', '.join(COMMANDS)}; or a robot for the main job)")
+
+
+def run():
+    """The ``gd-analyze`` program: :func:`main` on ``sys.argv``, then exit with its status.
+
+    Once the command has returned, its files are closed and in place and its child processes
+    reaped; what is left is the interpreter tearing down its modules and objects (matplotlib's
+    figures, xarray, Pinocchio: about a quarter of a second after a main job). So if nothing
+    else runs (the main thread only, no multiprocessing child: dask's workers, a tqdm monitor
+    thread), stdout and stderr are flushed and the process ends at once (``os._exit``);
+    otherwise it exits normally. :func:`main` itself returns, for use from Python.
+
+    Raises
+    ------
+    SystemExit
+        With the exit status, when the process does not end at once.
+    """
+    try:
+        status = main()
+    except SystemExit as exc:           # argparse's --help and usage errors
+        status = exc.code
+    if isinstance(status, int) and _alone():
+        for stream in (sys.stdout, sys.stderr):
+            try:
+                stream.flush()
+            except (OSError, ValueError):   # a closed pipe: nothing more to say
+                pass
+        os._exit(status)
+    sys.exit(status)
+
+
+def _alone():
+    """Whether this process runs nothing but its main thread (no thread, no child)."""
+    import threading
+
+    if threading.active_count() != 1:
+        return False
+    mp = sys.modules.get("multiprocessing")
+    return mp is None or not mp.active_children()
 
 
 def main(argv=None):

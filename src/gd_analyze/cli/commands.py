@@ -8,6 +8,7 @@ the exit status; bad input raises :class:`gd_analyze.errors.InputError`, which
 from __future__ import annotations
 
 import math
+import os
 import sys
 import warnings
 from pathlib import Path
@@ -172,11 +173,16 @@ ANALYZE_OUTPUTS = ("results.h5", "simplified_model.json", "simplified_model.c",
 
 
 def _cmd_analyze(args):
-    from ..reports.main_worker import FigureWorker
+    from ..reports.main_worker import WORKER_MAX_INPUT, FigureWorker
 
     # a second interpreter imports the report's modules while this one computes, then draws
-    # some of the figures (if a core is free): started first, stopped on every way out
-    with FigureWorker(enabled=not args.no_report) as worker:
+    # some of the figures (if a core is free and the trajectory short): started first,
+    # stopped on every way out
+    try:
+        short = os.path.getsize(args.trajectory) <= WORKER_MAX_INPUT
+    except (OSError, ValueError, TypeError):
+        short = False                   # the reader gives the error
+    with FigureWorker(enabled=short and not args.no_report) as worker:
         return _analyze(args, worker)
 
 

@@ -12,7 +12,8 @@ the others. The worker sends the sizes of its figures first (:meth:`FigureWorker
 that the job can lay out the PDF and draw its text pages meanwhile; then the drawings
 (:meth:`FigureWorker.collect`). Each figure is still drawn exactly once, from the same file, with the same code.
 
-The worker is started only if a second core is free (:func:`spare_core`). Should it fail at any
+The worker is started only if a second core is free (:func:`spare_core`), and by the main job
+only for a trajectory file of at most :data:`WORKER_MAX_INPUT` bytes. Should it fail at any
 point, :func:`gd_analyze.reports.main.write_report` draws the missing figures itself, with the
 same result. Messages are pickles over the worker's stdin and stdout, between two processes of
 the same user and program.
@@ -26,10 +27,14 @@ import subprocess
 import sys
 from pathlib import Path
 
-__all__ = ["FigureWorker", "WORKER_FIGURES", "spare_core"]
+__all__ = ["FigureWorker", "WORKER_FIGURES", "WORKER_MAX_INPUT", "spare_core"]
 
 #: The figures the worker draws (when they are in the report), by key.
 WORKER_FIGURES = ("joints", "D", "h", "torque")
+#: The largest trajectory file [bytes] for which the main job starts the worker: it saves
+#: about half a second, which matters for a short trajectory; a long one is bound by its
+#: computing, and the worker's own memory is better left to it.
+WORKER_MAX_INPUT = 8 * 2**20
 
 
 class FigureWorker:
