@@ -132,11 +132,11 @@ def pinocchio_split(robot, q, qd):
 def batched_rnea_comparison(robot, q, qd, qdd, runs):
     """(d) G-D terms into reused buffers against Pinocchio's batched C++ RNEA (tau only).
 
-    Both sides run ``runs`` times, interleaved (a, d, a, d, ...), on the same N states:
+    Both sides run ``runs`` times, interleaved (:func:`interleaved`), on the same N states:
     gd_analyze.gd_terms(engine="compiled", out=buffers allocated once) and
     pin.rneaInParallel(1 thread, a ModelPool of one model, column-major q, qd, qdd, tau).
-    Returns the median and [min, max] per set point [us] of each, their ratio, and the largest
-    relative difference of G-D's tau = D qdd + h + c from RNEA's tau.
+    Returns the median per set point [us] of each, the median of the per-pair ratios with its
+    range, and the largest relative difference of G-D's tau = D qdd + h + c from RNEA's tau.
     """
     import pinocchio as pin
 
@@ -158,17 +158,10 @@ def batched_rnea_comparison(robot, q, qd, qdd, runs):
 
     gd(), rnea()                                   # warm: kernel loaded, buffers touched
     disagreement = float(np.abs(gd().tau(qdd) - tau.T).max() / np.abs(tau).max())
-    t_gd, t_rnea = [], []
-    for _ in range(runs):
-        for fn, acc in ((gd, t_gd), (rnea, t_rnea)):
-            t0 = time.perf_counter()
-            fn()
-            acc.append((time.perf_counter() - t0) * 1e6 / N)
-    return {"runs": runs, "gd_terms_reused_buffers_us": float(np.median(t_gd)),
-            "gd_range_us": [min(t_gd), max(t_gd)],
-            "rnea_in_parallel_1_thread_us": float(np.median(t_rnea)),
-            "rnea_range_us": [min(t_rnea), max(t_rnea)],
-            "ratio_gd_over_rnea_batched": float(np.median(t_gd) / np.median(t_rnea)),
+    r = interleaved(gd, rnea, runs)
+    return {"runs": runs, "gd_terms_reused_buffers_us": r["median_a_s"] * 1e6 / N,
+            "rnea_in_parallel_1_thread_us": r["median_b_s"] * 1e6 / N,
+            "gd_over_rnea_batched": _summary(r),
             "tau_rel_disagreement": disagreement}
 
 

@@ -265,8 +265,11 @@ def _report_context_base(ds):
         prov.append(("verification against Pinocchio", "not run (analysis without check)"))
         verified = "not run"
     for key in ver_keys:
-        prov.append((f"max relative error {key[len('verification_max_rel_error_'):]}",
-                     _fmt(ds.attrs[key], 3)))
+        value = ds.attrs[key]
+        text = _fmt(value, 3)
+        if text == "0":                 # the differences past the floor, not "no difference"
+            text = "0 (every difference within round-off: 64 eps of its scale)"
+        prov.append((f"max relative error {key[len('verification_max_rel_error_'):]}", text))
     shown = {"robot", "robot_description", "robot_reference", "robot_source", "robot_sha256",
              "gravity", "gravity_units", "input_file", "input_path", "input_sha256",
              "derivatives", "dominance_threshold", "negligible_threshold", "history",
