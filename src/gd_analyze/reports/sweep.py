@@ -126,9 +126,11 @@ def _context(ds, payload=None):
     summary = (f"{robot}: share_tran of the {len(labels)} ranked elements of D and h over "
                f"{inputs}, s = {s:g}, e = {e:g}. The conservative merged model keeps both parts "
                f"of {counts['both']} elements, one part of {single}, and drops "
-               f"{len(labels) - kept}; its largest relative peak torque error over all "
+               f"{len(labels) - kept}; its largest peak torque error over all "
                f"trajectories is {_pct(np.nanmax(ds['merged_error_relative_peak'].values))} "
-               f"(joint {int(np.nanargmax(ds['merged_error_relative_peak'].values)) + 1}).")
+               f"of that joint's peak |\u03c4| over all of them "
+               f"(joint {int(np.nanargmax(ds['merged_error_relative_peak'].values)) + 1}; "
+               f"the worst cases above divide by each trajectory's own peak |\u03c4|).")
     ctx = {"version": __version__, "title": f"G-D dominance sweep: {robot}, {K} trajectories",
            "summary": summary, "settings": _table(["item", "value"], settings),
            "worst": worst,
@@ -170,7 +172,8 @@ def _worst_cases(ds, labels):
     parts = []
     for k in order:
         j = int(np.nanargmax(rel[k]))
-        parts.append(f"{sources[k]} ({_pct(rel[k, j])} of peak |\u03c4| at joint {j + 1})")
+        parts.append(f"{sources[k]} ({_pct(rel[k, j])} of its own peak |\u03c4| at joint "
+                     f"{j + 1})")
     spread = ds["share_tran_max"].values - ds["share_tran_min"].values
     top = [k for k in np.argsort(np.nan_to_num(spread, nan=-1.0))[::-1][:3]
            if np.isfinite(spread[k])]
