@@ -394,3 +394,18 @@ def test_a_thread_or_a_child_process_is_not_alone(monkeypatch):
     assert cli._alone()
     mp.children = ["a dask worker"]
     assert not cli._alone()
+
+
+def test_figure_fonts_option_reaches_the_figure_files(tmp_path, capsys):
+    out = tmp_path / "tt"
+    code, _, err = _run(["two-link", _two_link_csv(tmp_path), "-o", out, "-q",
+                         "--figure-fonts", "truetype", "--paper", "letter"], capsys)
+    assert code == 0, err
+    pdfs = sorted((out / "figures").glob("*.pdf"))
+    assert len(pdfs) >= 4
+    for path in pdfs:
+        data = path.read_bytes()
+        assert b"/FontFile2" in data and b"/Type3" not in data, path.name
+    code, _, err = _run(["two-link", _two_link_csv(tmp_path), "-o", tmp_path / "x", "-q",
+                         "--figure-fonts", "type1"], capsys)
+    assert code == 2 and "--figure-fonts" in err and err.count("\n") == 1

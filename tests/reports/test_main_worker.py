@@ -117,3 +117,27 @@ def test_worker_is_a_fresh_interpreter_of_this_python(monkeypatch):
     with FigureWorker() as worker:
         args = worker.proc.args
         assert args[:3] == [sys.executable, "-m", "gd_analyze.reports.main_worker"]
+
+
+def _embedding(pdf_bytes):
+    return ("truetype" if b"/FontFile2" in pdf_bytes else "") + \
+        ("type3" if b"/Type3" in pdf_bytes else "")
+
+
+def test_truetype_figure_fonts_through_the_worker(results, tmp_path, monkeypatch):
+    """--figure-fonts truetype reaches the figures the worker draws and those drawn here: every
+    figure PDF embeds a TrueType subset and no Type 3 font; the default is Type 3."""
+    monkeypatch.setenv("GD_ANALYZE_WORKER", "1")
+    with FigureWorker() as worker:
+        files = report.write_report(results, tmp_path / "tt", worker=worker, fonts="truetype")
+    alone = report.write_report(results, tmp_path / "alone", fonts="truetype")
+    figures = [p for p in files if p.parent.name == "figures" and p.suffix == ".pdf"]
+    assert len(figures) == len([p for p in alone if p.parent.name == "figures"]) // 2 >= 4
+    for path in figures:
+        assert _embedding(path.read_bytes()) == "truetype", path.name
+        assert path.read_bytes() == (tmp_path / "alone" / "figures" / path.name).read_bytes()
+    default = report.write_report(results, tmp_path / "t3", formats=("html",))
+    for path in (p for p in default if p.suffix == ".pdf"):
+        assert _embedding(path.read_bytes()) == "type3", path.name
+    with pytest.raises(ValueError, match="fonts"):
+        report.write_report(results, tmp_path / "bad", fonts="type1")

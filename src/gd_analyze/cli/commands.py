@@ -228,7 +228,7 @@ def _analyze(args, worker):
             bar.reset(total=trajectory.n_setpoints)
             bar.set_description("report")
             written += write_report(results, stage, paper=args.paper, progress=bar.update,
-                                    worker=worker)
+                                    worker=worker, fonts=args.figure_fonts)
         bar.close()
     written = [outdir / Path(p).relative_to(stage) for p in written]
     if not args.quiet:
@@ -439,7 +439,8 @@ def _cmd_control(args):
         if not args.no_report:
             from ..reports.control import write_control_report
 
-            written += list(write_control_report(path, stage, paper=args.paper))
+            written += list(write_control_report(path, stage, paper=args.paper,
+                                                 fonts=args.figure_fonts))
     written = [outdir / Path(p).relative_to(stage) for p in written]
     summary = result.summary()
     if args.json:
@@ -562,7 +563,7 @@ def _cmd_sweep(args):
             from ..reports.sweep import write_sweep_report
 
             written += list(write_sweep_report(written[0], stage, payload=payload,
-                                               paper=args.paper))
+                                               paper=args.paper, fonts=args.figure_fonts))
     written = [outdir / Path(p).relative_to(stage) for p in written]
     if not args.quiet:
         print(f"{robot.name}: {ds.sizes['trajectory']} trajectories in "

@@ -460,7 +460,7 @@ def _pdf(ctx, drawn, path, paper="a4"):
     return doc.write(path)
 
 
-def write_control_report(control_path, outdir, paper="a4"):
+def write_control_report(control_path, outdir, paper="a4", fonts="type3"):
     """Write control_report.html and control_report.pdf for a stored control dataset.
 
     Parameters
@@ -472,6 +472,9 @@ def write_control_report(control_path, outdir, paper="a4"):
         Output folder; made if missing.
     paper : {"a4", "letter"}, optional
         Page size of the PDF.
+    fonts : {"type3", "truetype"}, optional
+        How the figures' PDFs embed their font
+        (:data:`gd_analyze.reports.pages.FIGURE_FONTS`).
 
     Returns
     -------
@@ -503,7 +506,7 @@ def write_control_report(control_path, outdir, paper="a4"):
     outdir = Path(outdir)
     (outdir / "figures").mkdir(parents=True, exist_ok=True)
     with no_gc():
-        drawn = draw_figures(make_control_figures(ds), _RC)
+        drawn = draw_figures(make_control_figures(ds), _RC, fonts=fonts)
     html_path, pdf_path = (outdir / name for name in CONTROL_REPORT_FILES)
     files = []
     with contextlib.ExitStack() as stack:

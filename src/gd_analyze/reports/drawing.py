@@ -11,7 +11,7 @@ from __future__ import annotations
 import contextlib
 import io
 
-from .pages import PAGE_RC
+from .pages import FIGURE_FONTS, PAGE_RC
 
 __all__ = ["no_gc", "figure_pdf", "figure_svg", "draw_figures", "write_figure_files"]
 
@@ -87,7 +87,7 @@ def figure_svg(fig, rc=None):
     return text[start:] if start >= 0 else text
 
 
-def draw_figures(figures, rc, svg=True, pdf=True):
+def draw_figures(figures, rc, svg=True, pdf=True, fonts="type3"):
     """Draw each figure once, into SVG and PDF at the same time.
 
     Parameters
@@ -98,6 +98,8 @@ def draw_figures(figures, rc, svg=True, pdf=True):
         rcParams to draw with (the PDF adds :data:`PAGE_RC`: Type 3 fonts).
     svg, pdf : bool, optional
         Which formats to make.
+    fonts : {"type3", "truetype"}, optional
+        How the PDFs embed their font (:data:`gd_analyze.reports.pages.FIGURE_FONTS`).
 
     Returns
     -------
@@ -110,18 +112,26 @@ def draw_figures(figures, rc, svg=True, pdf=True):
     feeds an SVG and a PDF renderer together (:func:`_draw_both`); only the writing of the two
     files is done twice. Should that fail on some matplotlib version, each format is drawn on
     its own as :meth:`matplotlib.figure.Figure.savefig` does.
+
+    Raises
+    ------
+    ValueError
+        If ``fonts`` is not one of :data:`gd_analyze.reports.pages.FIGURE_FONTS`.
     """
+    if fonts not in FIGURE_FONTS:
+        raise ValueError(f"fonts must be one of {sorted(FIGURE_FONTS)}, got {fonts!r}")
+    pdf_rc = {**rc, **PAGE_RC, "pdf.fonttype": FIGURE_FONTS[fonts]}
     out = {}
     for k, f in figures.items():
         size = tuple(float(v) for v in f.get_size_inches())
         if svg and pdf:
             try:
-                out[k] = (*_draw_both(f, {**rc, **PAGE_RC}), size)
+                out[k] = (*_draw_both(f, pdf_rc), size)
                 continue
             except Exception:           # noqa: BLE001 - any failure: the two-pass way below
                 pass
         out[k] = (figure_svg(f, rc) if svg else None,
-                  figure_pdf(f, {**rc, **PAGE_RC}) if pdf else None, size)
+                  figure_pdf(f, pdf_rc) if pdf else None, size)
     return out
 
 

@@ -40,7 +40,7 @@ from .main_context import ENVELOPE_COLUMNS, ENVELOPE_THRESHOLD, report_context, 
 from .main_context import prismatic_joints
 from .main_figures import RC as FIG_RC, PAGE_WIDTH, plot_data
 from .main_figures import fig_D, fig_h, fig_joints, fig_torque
-from .pages import PAPER, Document
+from .pages import FIGURE_FONTS, PAPER, Document
 from .drawing import draw_figures, no_gc, write_figure_files
 from ..io.sweep_datasets import payload_part
 
@@ -256,9 +256,9 @@ def _numbered(ctx, figures):
     return {key: f"Figure {k + 1}. {ctx['captions'][key]}" for k, key in enumerate(figures)}
 
 
-def _drawn(figures, pdf=True):
+def _drawn(figures, pdf=True, fonts="type3"):
     """Each figure drawn once as SVG and (if asked) once as PDF: {key: (svg, pdf, size)}."""
-    return draw_figures(figures, FIG_RC, pdf=pdf)
+    return draw_figures(figures, FIG_RC, pdf=pdf, fonts=fonts)
 
 
 def _inline(svg_text, prefix):
@@ -462,7 +462,7 @@ _SIMPLIFIED_TEXT = ("The simplified model keeps, for each element of D (mirrored
 # --------------------------------------------------------------------------------------------
 
 def write_report(results_path, outdir, formats=REPORT_FORMATS, paper="a4", progress=None,
-                 worker=None):
+                 worker=None, fonts="type3"):
     """Write report.html and/or report.pdf, and every figure as PDF and SVG, for an analysis.
 
     Parameters
@@ -482,6 +482,9 @@ def write_report(results_path, outdir, formats=REPORT_FORMATS, paper="a4", progr
         A second interpreter, started before the results were computed, that draws some of
         the figures from ``results_path`` while this process draws the others and the
         text; without it (or should it fail) every figure is drawn here.
+    fonts : {"type3", "truetype"}, optional
+        How the figures' PDFs embed their font
+        (:data:`gd_analyze.reports.pages.FIGURE_FONTS`).
 
     Returns
     -------
@@ -495,8 +498,8 @@ def write_report(results_path, outdir, formats=REPORT_FORMATS, paper="a4", progr
     InputError
         If the results file is missing, unreadable or not a gd-analyze dataset.
     ValueError
-        If a format is not one of :data:`REPORT_FORMATS`, none is given, or the paper is
-        unknown.
+        If a format is not one of :data:`REPORT_FORMATS`, none is given, or the paper or the
+        fonts are unknown.
     OSError
         If a file cannot be written.
 
@@ -512,28 +515,31 @@ def write_report(results_path, outdir, formats=REPORT_FORMATS, paper="a4", progr
     formats = check_formats(formats, REPORT_FORMATS)
     if paper not in PAPER:
         raise ValueError(f"paper must be one of {sorted(PAPER)}, got {paper!r}")
-    away = () if worker is None else worker.draw(results_path)    # before this process reads
+    if fonts not in FIGURE_FONTS:
+        raise ValueError(f"fonts must be one of {sorted(FIGURE_FONTS)}, got {fonts!r}")
+    # before this process reads: the worker's figures, drawn there
+    away = () if worker is None else worker.draw(results_path, fonts=fonts)
     with open_results(results_path, lazy=True) as ds, no_gc():   # long series: in chunks
-        return _write(ds, Path(outdir), formats, paper, progress, away, worker)
+        return _write(ds, Path(outdir), formats, paper, progress, away, worker, fonts)
 
 
-def _draw_missing(ds, data, drawn, keys):
+def _draw_missing(ds, data, drawn, keys, fonts):
     """Draw here the figures the worker did not give (it failed): same code, same result."""
     if keys:
-        drawn.update(_drawn(make_figures(ds, data, keys=keys)))
+        drawn.update(_drawn(make_figures(ds, data, keys=keys), fonts=fonts))
 
 
-def _write(ds, outdir, formats, paper, progress, away=(), worker=None):
+def _write(ds, outdir, formats, paper, progress, away=(), worker=None, fonts="type3"):
     from ..files import atomic_path
 
     ctx = report_context(ds)            # fails early on a dataset that is not ours
     (outdir / "figures").mkdir(parents=True, exist_ok=True)
     data = plot_data(ds, progress=progress)
-    drawn = _drawn(make_figures(ds, data, keys=set(_FIGURE_ORDER) - set(away)))
+    drawn = _drawn(make_figures(ds, data, keys=set(_FIGURE_ORDER) - set(away)), fonts=fonts)
     sizes = {k: d[2] for k, d in drawn.items()}
     if away:                            # sizes first: the PDF's text pages meanwhile
         sizes.update(worker.sizes())
-        _draw_missing(ds, data, drawn, set(away) - set(sizes))
+        _draw_missing(ds, data, drawn, set(away) - set(sizes), fonts)
         sizes.update({k: d[2] for k, d in drawn.items()})
     document = text = None
     if "pdf" in formats:
@@ -541,7 +547,7 @@ def _write(ds, outdir, formats, paper, progress, away=(), worker=None):
         text = document.draw_text()
     if away:
         drawn.update(worker.collect())
-        _draw_missing(ds, data, drawn, set(away) - set(drawn))
+        _draw_missing(ds, data, drawn, set(away) - set(drawn), fonts)
     drawn = {k: drawn[k] for k in _FIGURE_ORDER if k in drawn}
     with contextlib.ExitStack() as stack:
         paths = {fmt: outdir / f"report.{fmt}" for fmt in formats}

@@ -77,7 +77,7 @@ class FigureWorker:
         self.close()
         return False
 
-    def draw(self, results_path, keys=WORKER_FIGURES):
+    def draw(self, results_path, keys=WORKER_FIGURES, fonts="type3"):
         """Ask the worker to draw these figures of a stored analysis.
 
         Parameters
@@ -87,6 +87,8 @@ class FigureWorker:
         keys : sequence of str, optional
             Figure keys of :func:`gd_analyze.reports.main.make_figures` that every results
             dataset has (default :data:`WORKER_FIGURES`).
+        fonts : {"type3", "truetype"}, optional
+            How the figures' PDFs embed their font.
 
         Returns
         -------
@@ -97,7 +99,7 @@ class FigureWorker:
         if self.proc is None:
             return ()
         try:
-            pickle.dump((str(results_path), tuple(keys)), self.proc.stdin,
+            pickle.dump((str(results_path), tuple(keys), str(fonts)), self.proc.stdin,
                         protocol=pickle.HIGHEST_PROTOCOL)
             self.proc.stdin.close()
         except (OSError, pickle.PicklingError):
@@ -204,13 +206,13 @@ def _serve(stdin, stdout):
     from .drawing import draw_figures
     from .main import FIG_RC, make_figures
 
-    path, keys = pickle.load(stdin)
+    path, keys, fonts = pickle.load(stdin)
     with open_results(path, lazy=True) as ds:
         figures = make_figures(ds, keys=keys)
     pickle.dump({k: tuple(float(v) for v in f.get_size_inches()) for k, f in figures.items()},
                 stdout, protocol=pickle.HIGHEST_PROTOCOL)
     stdout.flush()
-    pickle.dump(draw_figures(figures, FIG_RC), stdout, protocol=pickle.HIGHEST_PROTOCOL)
+    pickle.dump(draw_figures(figures, FIG_RC, fonts=fonts), stdout, protocol=pickle.HIGHEST_PROTOCOL)
     stdout.flush()
     os._exit(0)                         # all is sent: skip tearing down thousands of artists
 

@@ -362,7 +362,7 @@ _ERROR_TEXT = ("Per joint, over all set points of all trajectories: peak and RMS
 
 
 def write_sweep_report(sweep_path, outdir, payload=None, formats=SWEEP_REPORT_FORMATS,
-                       paper="a4"):
+                       paper="a4", fonts="type3"):
     """Write sweep_report.html and sweep_report.pdf for a stored sweep.
 
     Parameters
@@ -379,6 +379,9 @@ def write_sweep_report(sweep_path, outdir, payload=None, formats=SWEEP_REPORT_FO
         Any of ``"html"`` and ``"pdf"``.
     paper : {"a4", "letter"}, optional
         Page size of the PDF.
+    fonts : {"type3", "truetype"}, optional
+        How the figures' PDFs embed their font
+        (:data:`gd_analyze.reports.pages.FIGURE_FONTS`).
 
     Returns
     -------
@@ -412,7 +415,7 @@ def write_sweep_report(sweep_path, outdir, payload=None, formats=SWEEP_REPORT_FO
         payload = open_sweep(payload, "payload")
     ctx = _context(ds, payload)
     with no_gc():
-        drawn = draw_figures(make_sweep_figures(ds, payload), _RC)
+        drawn = draw_figures(make_sweep_figures(ds, payload), _RC, fonts=fonts)
     outdir = Path(outdir)
     (outdir / "figures").mkdir(parents=True, exist_ok=True)
     written, files = [], []
