@@ -125,15 +125,15 @@ def test_plan_writes_the_shipped_trajectory(tmp_path, capsys):
 
 
 def test_plan_writes_the_shipped_stanford_trajectory(tmp_path, capsys):
-    """Default motion from a quarter to three quarters of every joint's range; the prismatic
-    joint 3 in metres."""
+    """Default motion between staggered fractions of every joint's range (joint 3, k = 2,
+    moves up from 0.28 to 0.72 of its range); the prismatic joint 3 in metres."""
     out = tmp_path / "plan.csv"
     code, _, err = _run(["plan", "stanford", "-o", out], capsys)
     assert code == 0, err
     a = np.loadtxt(out, delimiter=",", skiprows=1)
     b = np.loadtxt(ROOT / "data" / "stanford_trajectory.csv", delimiter=",", skiprows=1)
     np.testing.assert_allclose(a, b, rtol=0, atol=1e-14)
-    np.testing.assert_allclose(a[[0, -1], 3], [0.3048 + 0.25 * 0.9652, 0.3048 + 0.75 * 0.9652])
+    np.testing.assert_allclose(a[[0, -1], 3], [0.3048 + 0.28 * 0.9652, 0.3048 + 0.72 * 0.9652])
     code, _, err = _run(["plan", "stanford", "-o", out, "--start", "0,0,0.5,0,0,0", "--goal",
                          "10,20,0.9,0,0,0"], capsys)
     assert code == 0, err

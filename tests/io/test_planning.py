@@ -85,3 +85,51 @@ def test_random_trajectories_bad_arguments(puma):
         random_trajectories(puma, 3, seed=-1)
     with pytest.raises(ValueError):
         random_trajectories(puma, 3, n_setpoints=1)
+
+
+def test_default_motion_moves_joints_with_equal_limits_differently():
+    """Stanford's joints 1, 2, 4 and 6 share their limits: the default plan still moves them
+    differently, so no difference q_i - q_j of two revolute joints stays constant (a plain
+    quarter-to-three-quarters plan made joints 2 and 4 move alike, and sin(q2 - q4) vanish)."""
+    from gd_analyze import load_robot
+    from gd_analyze.io.planning import default_motion
+
+    # (the PUMA 560 has its own default, DEFAULT_START_DEG -> DEFAULT_GOAL_DEG, whose joints
+    # 1 and 5 move alike; q1 appears nowhere in its D, h or c)
+    for name in ("stanford", "two-link"):
+        robot = load_robot(name)
+        start, goal = default_motion(robot)
+        assert (start >= robot.q_min).all() and (start <= robot.q_max).all()
+        assert (goal >= robot.q_min).all() and (goal <= robot.q_max).all()
+        traj = plan_quintic(robot, start, goal, 31)
+        rev = np.flatnonzero(~np.asarray(robot.prismatic, bool))
+        for a in rev:
+            for b in rev[rev > a]:
+                diff = traj.q[:, a] - traj.q[:, b]
+                assert np.ptp(diff) > 0.05, (name, a + 1, b + 1)
+
+
+def test_default_motion_rule_and_infinite_limits():
+    from gd_analyze.core.robot import Robot
+    from gd_analyze import load_robot
+    from gd_analyze.io.planning import default_motion
+
+    robot = load_robot("stanford")
+    lo, hi = robot.q_min, robot.q_max
+    start, goal = default_motion(robot)
+    frac_start = (start - lo) / (hi - lo)
+    frac_goal = (goal - lo) / (hi - lo)
+    np.testing.assert_allclose(frac_start, [0.20, 0.64, 0.28, 0.80, 0.36, 0.76])
+    np.testing.assert_allclose(frac_goal, [0.76, 0.24, 0.72, 0.32, 0.68, 0.20])
+    import dataclasses
+
+    free = dataclasses.replace(robot, q_min=np.full(6, -np.inf), q_max=np.full(6, np.inf)) \
+        if dataclasses.is_dataclass(robot) else None
+    if free is not None:
+        s, g = default_motion(free)
+        assert np.isfinite(s).all() and np.isfinite(g).all()
+        # revolute joint 1: 0.20 -> 0.76 of [-120, 120] deg; prismatic joint 3: 0.28 -> 0.72
+        # of [-0.1, 0.3] m
+        np.testing.assert_allclose(np.degrees([s[0], g[0]]), [-72.0, 62.4])
+        np.testing.assert_allclose([s[2], g[2]], [0.012, 0.188])
+    assert Robot is not None

@@ -248,11 +248,13 @@ def _plan_parser():
     p.add_argument("--start", metavar="DEG,...", type=_angles,
                    help="start positions [deg; m for a prismatic joint] (default for puma560: "
                         f"{','.join(f'{v:g}' for v in DEFAULT_START_DEG)}; for other robots "
-                        "a quarter of each joint's range)")
+                        "between staggered fractions (0.2 to 0.8) of each joint's range, so "
+                        "that no two joints move alike)")
     p.add_argument("--goal", metavar="DEG,...", type=_angles,
                    help="goal positions [deg; m for a prismatic joint] (default for puma560: "
                         f"{','.join(f'{v:g}' for v in DEFAULT_GOAL_DEG)}; for other robots "
-                        "three quarters of each joint's range)")
+                        "the other end of the start's span: even joints move up, odd joints "
+                        "down)")
     p.add_argument("--setpoints", metavar="N", type=int, default=DEFAULT_SETPOINTS,
                    help=f"number of set points, both ends included (default {DEFAULT_SETPOINTS})")
     p.add_argument("--duration", metavar="T", type=float,

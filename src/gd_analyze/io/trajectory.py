@@ -402,6 +402,7 @@ def write_trajectory(trajectory, path):
 
     n = trajectory.q.shape[1]
     table = np.column_stack([trajectory.t, trajectory.q, trajectory.qd, trajectory.qdd])
+    table = table + 0.0                 # -0.0 (a joint at rest moving down) is written "0"
     frame = pd.DataFrame(table, columns=trajectory_columns(n, True))
     if str(path) == "-":
         import sys
