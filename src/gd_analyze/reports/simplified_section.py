@@ -119,8 +119,10 @@ def simplified_context(ds):
                         zip(ds["ladder_tolerance"].values, ds["ladder_operations"].values,
                             ds["ladder_trig"].values, ds["ladder_worst_error"].values)],
                        align=["right"] * 4)
+    skipped = str(ds.attrs.get("simplified_ladder_skipped", "")) if ladder is None else ""
     return {"text": text, "bound": bound, "costs": costs, "ladder": ladder, "files": files,
-            "rule": rule, "tolerance": eps}
+            "rule": rule, "tolerance": eps,
+            "ladder_note": f"Tolerance ladder {skipped}." if skipped else ""}
 
 
 def _round_off(diff, bound, scale):

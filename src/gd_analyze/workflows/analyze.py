@@ -373,7 +373,8 @@ def _simplify(robot, trajectory, ranking, part_peaks, tolerance, rule, torque_fl
                provenance):
     """The explicit simplified model by the rule, the other rule's model, ladder, costs."""
     from .simplify import (build_model, collect_peaks, cost_rows, full_torque, ladder,
-                           simplified_dataset, validate)
+                           ladder_skipped, simplified_dataset, validate)
+    from ..formulations.opcount import operation_counts
     from ..io.explicit_cache import explicit_terms
 
     terms, _ = explicit_terms(robot)
@@ -386,11 +387,15 @@ def _simplify(robot, trajectory, ranking, part_peaks, tolerance, rule, torque_fl
     other, _ = build_model(robot, terms, peaks, tolerance=tolerance, rule=other_rule, **common)
     reference = full_torque(robot, terms)       # tau without computing the G-D terms again
     other_error = validate(other, [(q, qd, qdd)], reference=reference)
-    rows = ladder(robot, terms, peaks, [(q, qd, qdd)], torque_floor=torque_floor,
-                  reference=reference)
-    table = cost_rows(robot.n, model, other=other, ladder_rows=rows)
+    counts = operation_counts(robot.n)
+    skipped = ladder_skipped(model.full_cost, counts)
+    rows = [] if skipped else ladder(robot, terms, peaks, [(q, qd, qdd)],
+                                     torque_floor=torque_floor, reference=reference)
+    table = cost_rows(robot.n, model, other=other, ladder_rows=rows, formulation_counts=counts)
     extra = simplified_dataset(model, sel, other=other, ladder_rows=rows, cost_table=table,
                                other_error=other_error)
+    if skipped:
+        extra.attrs["simplified_ladder_skipped"] = skipped
     return model, extra
 
 

@@ -255,6 +255,51 @@ def ladder(robot, terms, peaks, trajectories, tolerances=LADDER, torque_floor=0.
     return rows
 
 
+#: The ladder is skipped when the full explicit model costs more than this many times
+#: Newton-Euler as implemented: its rungs are then not expected to pay (EPS = 0.05 halves the
+#: PUMA 560's full model), and each is a long build (about 10 s for the Panda's 170,000
+#: operations).
+LADDER_COST_LIMIT = 4.0
+
+
+def ladder_skipped(full_cost, formulation_counts):
+    """Why the tolerance ladder is not worth building for an arm, or "" if it is.
+
+    Parameters
+    ----------
+    full_cost : dict
+        The full explicit model's ``multiplications`` and ``additions``.
+    formulation_counts : dict
+        :func:`gd_analyze.formulations.opcount.operation_counts`, with ``"newton-euler"``.
+
+    Returns
+    -------
+    str
+        Empty if the full explicit model costs at most :data:`LADDER_COST_LIMIT` times
+        Newton-Euler (multiplications + additions); else one sentence for the report.
+
+    Examples
+    --------
+    >>> ladder_skipped({"multiplications": 638, "additions": 690},
+    ...                {"newton-euler": {"multiplications": 683, "additions": 529}})
+    ''
+    >>> ladder_skipped({"multiplications": 90000, "additions": 80000},
+    ...                {"newton-euler": {"multiplications": 800, "additions": 652}})[:50]
+    'not built: the full explicit model costs 170,000 o'
+    """
+    full = int(full_cost["multiplications"]) + int(full_cost["additions"])
+    ne = formulation_counts["newton-euler"]
+    ne = int(ne["multiplications"]) + int(ne["additions"])
+    if full <= LADDER_COST_LIMIT * ne:
+        return ""
+    return (f"not built: the full explicit model costs {full:,} operations, more than "
+            f"{LADDER_COST_LIMIT:g} times Newton-Euler's {ne:,}; none of its rungs (EPS up to "
+            f"{max(LADDER):g}) is expected to pay for this arm, and each is a long build")
+
+
+__all__ += ["ladder_skipped", "LADDER_COST_LIMIT"]
+
+
 def cost_rows(n, model, other=None, ladder_rows=None, formulation_counts=None):
     """The cost table: label -> (multiplications, additions, total).
 
