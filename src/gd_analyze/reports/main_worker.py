@@ -188,7 +188,7 @@ def spare_core():
         cores = os.cpu_count() or 1
     try:
         load = os.getloadavg()[0]
-    except OSError:
+    except (OSError, AttributeError):        # unknown, or no load average on this system
         return False
     return cores >= 2 and load < cores - 0.5
 
