@@ -28,6 +28,8 @@ from dataclasses import dataclass
 import numpy as np
 import symengine as se
 
+from .factoring import expand_pairs, factor_sum, prune_dead
+
 __all__ = ["Program", "build_program", "count_operations", "emit_c", "emit_python",
            "python_function", "C_FUNCTION"]
 
@@ -191,7 +193,16 @@ def build_program(terms, n, offset, trig_mode="products", prismatic=None):
             theta.append(t)
         else:
             theta.append(q[i])
-    angle_cache, trig_cache = {}, {}
+    angle_cache, trig_cache, prod_cache, recipe = {}, {}, {}, {}
+
+    def prod(a, b):
+        """The product a b of two trig values, each formed once."""
+        pk = (a, b) if a.name <= b.name else (b, a)
+        if pk not in prod_cache:
+            sym = se.Symbol(f"p{len(prod_cache)}")
+            assignments.append((sym, a * a if a == b else a * b))
+            prod_cache[pk] = sym
+        return prod_cache[pk]
 
     def angle(kvec):
         kvec = tuple(kvec)
@@ -243,13 +254,16 @@ def build_program(terms, n, offset, trig_mode="products", prismatic=None):
                 sign_b = 1 if kvec[m] > 0 else -1
                 kb = tuple(abs(kvec[m]) if i == m else 0 for i in range(len(kvec)))
             ca, sa = trig((False,) + ka), trig((True,) + ka)
-            cb, sb = trig((False,) + kb), sign_b * trig((True,) + kb)
+            cb, sb = trig((False,) + kb), trig((True,) + kb)
             if ka == kb and not is_sin:
-                expr = ca * ca - sa * sa
+                recipe[key] = ((1, prod(ca, ca)), (-1, prod(sa, sa)))
             elif ka == kb:
-                expr = 2 * (sa * ca)
+                recipe[key] = ((2, prod(sa, ca)),)
+            elif not is_sin:
+                recipe[key] = ((1, prod(ca, cb)), (-sign_b, prod(sa, sb)))
             else:
-                expr = ca * cb - sa * sb if not is_sin else sa * cb + ca * sb
+                recipe[key] = ((1, prod(sa, cb)), (sign_b, prod(ca, sb)))
+            expr = se.Add(*[_coef(sg) * p for sg, p in recipe[key]])
         sym = se.Symbol(f"{'s' if is_sin else 'c'}{len(trig_cache)}")
         assignments.append((sym, expr))
         trig_cache[key] = sym
@@ -299,7 +313,8 @@ def build_program(terms, n, offset, trig_mode="products", prismatic=None):
             return sym if factor == 1.0 else (-sym if factor == -1.0 else
                                                se.RealDouble(factor) * sym)
         if not lin.any():
-            expr = se.Add(*[_coef(c) * trig(h) for h, c in items])
+            expr = se.Add(*[_coef(c) * (h[1] if h[0] == "p" else trig(h))
+                            for h, c in expand_pairs(items, recipe)])
         else:                                       # per harmonic: trig x polynomial in q
             by_trig = {}
             for h, c in items:
@@ -328,8 +343,8 @@ def build_program(terms, n, offset, trig_mode="products", prismatic=None):
             tau[i].append(val * vel(j, k))
         elif kind == "c":
             tau[i].append(group_value(g, f"g{i}"))
-    outputs = [se.Add(*t) if t else se.Integer(0) for t in tau]
-    assignments, outputs = _cse(assignments, outputs)
+    outputs = [factor_sum(t) if t else se.Integer(0) for t in tau]
+    assignments, outputs = _cse(prune_dead(assignments, outputs), outputs)
     return Program(n=n, assignments=assignments, outputs=outputs)
 
 
