@@ -12,16 +12,19 @@ terms are kept, each is an algebraic identity):
   formed at all where no sum uses them any more. This is the product form of Armstrong,
   Khatib & Burdick (ICRA 1986), taken where it is not dearer than the harmonic form;
 - common factors (:func:`factor_sum`): a x y + b x z -> x (a y + b z), greedily over the
-  symbol shared by the most terms (a nested, Horner-like form), e.g. C_013 qd_1 qd_3 +
-  C_013 qd_2 qd_3 -> C_013 (qd_1 qd_3 + qd_2 qd_3);
+  factor shared by the most terms (a nested, Horner-like form), e.g. C_013 qd_1 qd_3 +
+  C_013 qd_2 qd_3 -> C_013 (qd_1 qd_3 + qd_2 qd_3); numeric coefficients equal in magnitude
+  count as a common factor too (a x - a y + a z -> a (x - y + z));
 - dead code (:func:`prune_dead`): assignments no output needs are dropped.
 """
 
 from __future__ import annotations
 
+import heapq
+
 import symengine as se
 
-__all__ = ["expand_pairs", "factor_sum", "prune_dead"]
+__all__ = ["expand_pairs", "private_products", "factor_sum", "prune_dead"]
 
 
 def expand_pairs(items, recipe):
@@ -70,76 +73,179 @@ def expand_pairs(items, recipe):
     return out
 
 
+def private_products(sums, recipe, factors):
+    """The products that exactly one sum uses and nothing else needs.
+
+    Parameters
+    ----------
+    sums : list of list
+        Per sum, its terms' atoms: ``("p", product)`` or a trig value (symbol).
+    recipe : dict
+        ``trig symbol -> ((sign, product), ...)`` for the values formed by angle addition.
+    factors : dict
+        ``product -> (factor, factor)``: the two trig values of each product.
+
+    Returns
+    -------
+    set
+        Products used by one sum and by no needed trig value: written inline in their sum
+        (``a x y`` instead of ``a p`` with ``p = x y``, the same count), they can share a
+        factor with the sum's other terms (:func:`factor_sum`).
+
+    Examples
+    --------
+    >>> x, y, p, h = se.symbols("x y p h")
+    >>> sorted(map(str, private_products([[("p", p)]], {}, {p: (x, y)})))
+    ['p']
+    >>> private_products([[("p", p)], [h]], {h: ((1, p),)}, {p: (x, y)})
+    set()
+    """
+    uses, stack, seen = {}, [], set()
+    for atoms in sums:
+        for a in atoms:
+            if isinstance(a, tuple):
+                uses[a[1]] = uses.get(a[1], 0) + 1
+                stack.extend(factors[a[1]])
+            else:
+                stack.append(a)
+    while stack:                                    # the trig values needed, and their products
+        t = stack.pop()
+        if t in seen:
+            continue
+        seen.add(t)
+        for _, p in recipe.get(t, ()):
+            uses[p] = uses.get(p, 0) + 1
+            stack.extend(factors[p])
+    return {p for p, k in uses.items() if k == 1 and p not in seen}
+
+
+def _num(x):
+    return isinstance(x, se.Number) or getattr(x, "is_Number", False)
+
+
 def _split(term):
-    """(coefficient expression or None, [symbol factors], [other factors]) of a product."""
+    """(float coefficient, [symbol factors], [other factors]) of a product."""
     if term.is_Symbol:
-        return None, [term], []
+        return 1.0, [term], []
+    if _num(term):
+        return float(term), [], []
     if not term.is_Mul:
-        return term, [], []
-    coef, syms, other = [], [], []
+        return 1.0, [], [term]
+    coef, syms, other = 1.0, [], []
     for a in term.args:
         if a.is_Symbol:
             syms.append(a)
-        elif isinstance(a, se.Number) or getattr(a, "is_Number", False):
-            coef.append(a)
+        elif _num(a):
+            coef *= float(a)
         else:
             other.append(a)
-    return (se.Mul(*coef) if coef else None), syms, other
+    return coef, syms, other
 
 
-def factor_sum(terms):
-    """A sum with its common symbol factors taken out, greedily and nested.
+def factor_sum(terms, recipe=None):
+    """A sum with its common factors taken out, greedily and nested.
 
     Parameters
     ----------
     terms : list of symengine.Basic
-        The terms of the sum (products of numbers, symbols and other expressions).
+        The terms of the sum (products of a number, symbols and other expressions).
+    recipe : dict, optional
+        ``symbol -> ((sign, product), (sign, product))`` of the harmonics formed by angle
+        addition: inside every bracket, the pairs of such harmonics are written in their
+        products as :func:`expand_pairs` does (a bracket ``s12 (c19 + c29)`` holds a pair
+        the whole sum did not show).
 
     Returns
     -------
     symengine.Basic
-        The same sum: the symbol that divides the most terms (at least two; ties by name) is
-        factored out of them, then the same on the bracket and on the rest. Each factoring of
-        a symbol out of k terms saves k - 1 multiplications and adds none.
+        The same sum: the factor that divides the most terms (at least two) is taken out of
+        them, then the same on the bracket and on the rest. A factor is a symbol or the
+        magnitude of a numeric coefficient (terms whose coefficients are exactly +-a become
+        a (+-x +-y ...)); ties go to the symbol, then by name or value. Taking a factor out
+        of k terms saves k - 1 multiplications and adds no operation.
 
     Examples
     --------
     >>> a, b, x, y, z = se.symbols("a b x y z")
     >>> factor_sum([2.0 * a * x, 3.0 * a * y, b * z])
     a*(2.0*x + 3.0*y) + b*z
+    >>> factor_sum([0.25 * x, -0.25 * y, 0.5 * z])
+    0.5*z + 0.25*(x - y)
     """
-    parts = [_split(t) for t in terms]
-    return _factor(parts)
+    return _factor([_split(t) for t in terms], recipe or {})
+
+
+def _merge_pairs(parts, recipe):
+    """expand_pairs on the terms that are a coefficient times one harmonic of a recipe."""
+    family = {}
+    for coef, syms, other in parts:
+        if len(syms) == 1 and not other and len(recipe.get(syms[0], ())) == 2:
+            family.setdefault(frozenset(p for _, p in recipe[syms[0]]), []).append(syms[0])
+    expand = {h for hs in family.values() if len(hs) >= 2 for h in hs}
+    if not expand:
+        return parts
+    out, acc = [], {}
+    for coef, syms, other in parts:
+        if len(syms) == 1 and not other and syms[0] in expand:
+            for sign, p in recipe[syms[0]]:
+                acc[p] = acc.get(p, 0.0) + sign * coef
+        else:
+            out.append((coef, syms, other))
+    out.extend((c, [p], []) for p, c in acc.items() if c != 0.0)
+    return out
 
 
 def _rebuild(part):
     coef, syms, other = part
-    args = ([coef] if coef is not None else []) + syms + other
-    return se.Mul(*args) if args else se.Integer(1)
+    body = syms + other
+    if coef == 0.0:
+        return se.Integer(0)
+    if not body:
+        return se.RealDouble(coef)
+    c = se.Integer(1) if coef == 1.0 else (se.Integer(-1) if coef == -1.0 else
+                                           se.RealDouble(coef))
+    return se.Mul(c, *body)
 
 
-def _factor(parts):
+def _factor(parts, recipe):
+    """Greedy: the factor of the most remaining terms first (a heap, counts updated lazily)."""
+    if recipe and len(parts) >= 2:
+        parts = _merge_pairs(parts, recipe)
     if len(parts) < 2:
         return se.Add(*[_rebuild(p) for p in parts])
-    freq = {}
-    for _, syms, _ in parts:
+    index = {}
+    for i, (coef, syms, _) in enumerate(parts):
         for s in set(syms):
-            freq[s] = freq.get(s, 0) + 1
-    best, n_best = None, 1
-    for s, k in freq.items():
-        if k > n_best or (k == n_best and best is not None and k > 1 and s.name < best.name):
-            best, n_best = s, k
-    if best is None:
-        return se.Add(*[_rebuild(p) for p in parts])
-    inner, rest = [], []
-    for coef, syms, other in parts:
-        if best in syms:
-            syms = list(syms)
-            syms.remove(best)
+            index.setdefault(("s", s.name, s), []).append(i)
+        m = abs(coef)
+        if m != 1.0 and m != 0.0:
+            index.setdefault(("c", m, None), []).append(i)
+    heap = [((-len(v), k[0] == "c", k[1]), k) for k, v in index.items() if len(v) >= 2]
+    heapq.heapify(heap)
+    taken = [False] * len(parts)
+    out = []
+    while heap:
+        rank, k = heapq.heappop(heap)
+        live = [i for i in index[k] if not taken[i]]
+        if len(live) < 2:
+            continue
+        if len(live) < -rank[0]:                    # some terms went to another factor
+            heapq.heappush(heap, ((-len(live),) + rank[1:], k))
+            continue
+        inner = []
+        for i in live:
+            taken[i] = True
+            coef, syms, other = parts[i]
+            if k[0] == "s":
+                syms = list(syms)
+                syms.remove(k[2])
+            else:
+                coef = 1.0 if coef > 0 else -1.0
             inner.append((coef, syms, other))
-        else:
-            rest.append((coef, syms, other))
-    return se.Add(best * _factor(inner), _factor(rest)) if rest else best * _factor(inner)
+        head = k[2] if k[0] == "s" else se.RealDouble(k[1])
+        out.append(se.Mul(head, _factor(inner, recipe)))
+    out.extend(_rebuild(p) for i, p in enumerate(parts) if not taken[i])
+    return se.Add(*out)
 
 
 def prune_dead(assignments, outputs):
