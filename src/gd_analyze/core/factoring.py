@@ -100,7 +100,7 @@ def private_products(sums, recipe, factors):
     >>> private_products([[("p", p)], [h]], {h: ((1, p),)}, {p: (x, y)})
     set()
     """
-    uses, stack, seen = {}, [], set()
+    uses, needed, stack, seen = {}, set(), [], set()
     for atoms in sums:
         for a in atoms:
             if isinstance(a, tuple):
@@ -114,9 +114,9 @@ def private_products(sums, recipe, factors):
             continue
         seen.add(t)
         for _, p in recipe.get(t, ()):
-            uses[p] = uses.get(p, 0) + 1
+            needed.add(p)
             stack.extend(factors[p])
-    return {p for p, k in uses.items() if k == 1 and p not in seen}
+    return {p for p, k in uses.items() if k == 1 and p not in needed}
 
 
 def _num(x):
@@ -172,7 +172,19 @@ def factor_sum(terms, recipe=None):
     >>> factor_sum([0.25 * x, -0.25 * y, 0.5 * z])
     0.5*z + 0.25*(x - y)
     """
-    return _factor([_split(t) for t in terms], recipe or {})
+    return _factor(_combine([_split(t) for t in terms]), recipe or {})
+
+
+def _combine(parts):
+    """Like terms (the same factors) added into one, exact zeros dropped, order kept."""
+    acc = {}
+    for coef, syms, other in parts:
+        key = (tuple(sorted(s.name for s in syms)), tuple(other))
+        if key in acc:
+            acc[key][0] += coef
+        else:
+            acc[key] = [coef, syms, other]
+    return [(c, syms, other) for c, syms, other in acc.values() if c != 0.0]
 
 
 def _merge_pairs(parts, recipe):
@@ -192,7 +204,7 @@ def _merge_pairs(parts, recipe):
         else:
             out.append((coef, syms, other))
     out.extend((c, [p], []) for p, c in acc.items() if c != 0.0)
-    return out
+    return _combine(out)
 
 
 def _rebuild(part):
@@ -214,11 +226,11 @@ def _factor(parts, recipe):
     if len(parts) < 2:
         return se.Add(*[_rebuild(p) for p in parts])
     index = {}
-    for i, (coef, syms, _) in enumerate(parts):
+    for i, (coef, syms, other) in enumerate(parts):
         for s in set(syms):
             index.setdefault(("s", s.name, s), []).append(i)
         m = abs(coef)
-        if m != 1.0 and m != 0.0:
+        if m != 1.0 and m != 0.0 and (syms or other):     # constants are added, not factored
             index.setdefault(("c", m, None), []).append(i)
     heap = [((-len(v), k[0] == "c", k[1]), k) for k, v in index.items() if len(v) >= 2]
     heapq.heapify(heap)
