@@ -82,13 +82,16 @@ def test_private_products_and_dead_code():
 
 
 @pytest.mark.parametrize("late", [False, True])
-def test_factored_puma_program_equals_rnea_and_the_c_count(late, monkeypatch):
-    """Both orders (factoring before cse, and after it as for large programs): EPS = 0 equals
-    rnea to 1e-10 on 100 random states; the count equals the operators of the emitted C."""
+@pytest.mark.parametrize("name", ["puma560", "stanford"])
+def test_factored_program_equals_rnea_and_the_c_count(name, late, monkeypatch):
+    """Both orders (factoring before cse, and after it as for large programs), revolute and
+    prismatic joints: EPS = 0 equals rnea to 1e-10 on 100 random states; the count equals the
+    operators of the emitted C."""
     if late:
         monkeypatch.setattr(codegen, "LATE_FACTORING", 0)
-    robot = load_robot("puma560")
-    program = build_program(model_terms(derive(robot)), robot.n, np.zeros(robot.n))
+    robot = load_robot(name)
+    program = build_program(model_terms(derive(robot)), robot.n, np.zeros(robot.n),
+                            prismatic=robot.prismatic)
     q, qd, qdd = random_states(robot, 100, 8)
     err = natural_error(python_tau(program)(q, qd, qdd), rnea(robot, q, qd, qdd))
     assert err.max() < 1e-10, err

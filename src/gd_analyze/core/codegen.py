@@ -282,9 +282,15 @@ def build_program(terms, n, offset, trig_mode="products", prismatic=None):
     for g in groups.values():                       # trig values first, in a stable order
         for key in sorted(g):
             trig(split(key)[0])
-    expanded = {} if lin.any() else {gk: expand_pairs(sorted(g.items()), recipe)
-                                     for gk, g in groups.items()}
-    private = private_products([[h if h[0] == "p" else trig(h) for h, _ in ex]
+    def expand(g):
+        """[(trig value or product key, powers of the prismatic q, coef)]: pairs in products."""
+        by_pw = {}
+        for key, c in sorted(g.items()):
+            th, pw = split(key)
+            by_pw.setdefault(pw, []).append((th, c))
+        return [(a, pw, c) for pw, items in by_pw.items() for a, c in expand_pairs(items, recipe)]
+    expanded = {gk: expand(g) for gk, g in groups.items()}
+    private = private_products([[a if a[0] == "p" else trig(a) for a, _, _ in ex]
                                 for ex in expanded.values()], by_sym, factors)
 
     def atom(h):
@@ -333,19 +339,12 @@ def build_program(terms, n, offset, trig_mode="products", prismatic=None):
             factor = ref / ref0
             return sym if factor == 1.0 else (-sym if factor == -1.0 else
                                                se.RealDouble(factor) * sym)
-        if not lin.any():
-            expr = [_coef(c) * atom(h) for h, c in expanded[gk]]
-            expr = se.Add(*expr) if late else factor_sum(expr, by_sym)
-        else:                                       # per harmonic: trig x polynomial in q
-            by_trig = {}
-            for h, c in items:
-                th, pw = split(h)
-                by_trig.setdefault(th, []).append((pw, c))
-            parts = []
-            for th, poly in sorted(by_trig.items()):
-                val = se.Add(*[_coef(c) * mono(pw) for pw, c in sorted(poly)])
-                parts.append(val * trig(th))
-            expr = se.Add(*parts)
+        by_atom = {}                                # per trig value: a polynomial in q
+        for a, pw, c in expanded[gk]:
+            by_atom.setdefault(a, []).append((pw, c))
+        expr = [se.Add(*[_coef(c) * mono(pw) for pw, c in poly]) * atom(a)
+                for a, poly in by_atom.items()]
+        expr = se.Add(*expr) if late else factor_sum(expr, by_sym)
         sym = se.Symbol(name)
         assignments.append((sym, expr))
         shared[norm] = (sym, ref)
