@@ -6,13 +6,16 @@ ICRA 1986), keeping the structure instead of expanding it:
 
 - angles: theta_i = q_i + offset_i (only where the offset is not 0) and their cos and sin;
   cos and sin of the compound angles k . theta of the harmonics (theta_2 + theta_3 on the
-  PUMA) by the angle-addition formulas, each once;
+  PUMA) by the angle-addition formulas, each once, from products of two cos/sin formed once;
 - velocity products qd_j qd_k, each once;
 - groups: every element D_ij (used by tau_i with qdd_j and by tau_j with qdd_i), every
   Christoffel coefficient of qd_j qd_k in h_i and every c_i is one sum of coefficient x
-  cos/sin; a group proportional to an earlier one is that one times a constant;
-- tau_i = sum_j D_ij qdd_j + sum_{j<=k} C_ijk (qd_j qd_k) + c_i, Eq. (3.4-24);
-- common subexpressions are then eliminated (symengine ``cse``).
+  cos/sin; a group proportional to an earlier one is that one times a constant; the pairs
+  cos(A +- B), sin(A +- B) of a sum are written in their shared products and common factors
+  are taken out (:mod:`gd_analyze.core.factoring`);
+- tau_i = sum_j D_ij qdd_j + sum_{j<=k} C_ijk (qd_j qd_k) + c_i, Eq. (3.4-24), its common
+  factors taken out;
+- unused assignments are dropped, common subexpressions eliminated (symengine ``cse``).
 
 Counting rule (that of :mod:`gd_analyze.opcount`): operations between numeric constants are
 free, multiplying by +-1 and adding 0 are free, a negation is free, a subtraction is an
@@ -182,10 +185,11 @@ def build_program(terms, n, offset, trig_mode="products", prismatic=None):
     groups = {gk: g for gk, g in groups.items() if g}
     lin = np.zeros(n, bool) if prismatic is None else np.asarray(prismatic, bool)
     late = len(terms) > LATE_FACTORING
+    has_lin = bool(lin.any())
 
     def split(key):
         """(trig key with the polynomial columns zeroed, powers of the prismatic q)."""
-        if not lin.any():
+        if not has_lin:
             return key, None
         kv = key[1:]
         return ((key[0],) + tuple(0 if lin[m] else v for m, v in enumerate(kv)),
@@ -284,6 +288,8 @@ def build_program(terms, n, offset, trig_mode="products", prismatic=None):
             trig(split(key)[0])
     def expand(g):
         """[(trig value or product key, powers of the prismatic q, coef)]: pairs in products."""
+        if not has_lin:
+            return [(a, None, c) for a, c in expand_pairs(sorted(g.items()), recipe)]
         by_pw = {}
         for key, c in sorted(g.items()):
             th, pw = split(key)

@@ -7,8 +7,8 @@ terms are kept, each is an algebraic identity):
   cos(A - B) = cA cB + sA sB are formed from the same two products, and so are sin(A + B) and
   sin(A - B); where one sum holds both members of such a pair, it is written in the two
   products, a cos(A + B) + b cos(A - B) = (a + b) cA cB + (b - a) sA sB: never more terms,
-  one less where a = +-b (the physics makes that frequent: on the PUMA 560 D_15 =
-  2e-5 cos(t4 - t5) - 2e-5 cos(t4 + t5) = 4e-5 s4 s5), and the pair's own values are not
+  one less where a = +-b (the physics makes that frequent: on the PUMA 560 D_26 =
+  2e-5 cos(q4 - q5) - 2e-5 cos(q4 + q5) = 4e-5 s4 s5), and the pair's own values are not
   formed at all where no sum uses them any more. This is the product form of Armstrong,
   Khatib & Burdick (ICRA 1986), taken where it is not dearer than the harmonic form;
 - common factors (:func:`factor_sum`): a x y + b x z -> x (a y + b z), greedily over the
