@@ -316,7 +316,7 @@ def test_summary_gives_the_model_cost_beside_newton_euler(tmp_path, capsys):
     model = json.loads((tmp_path / "o" / "simplified_model.json").read_text())
     total = model["cost"]["multiplications"] + model["cost"]["additions"]
     assert f": {total:,} operations per set point" in line
-    assert "does not beat Newton-Euler" not in out        # 885 < 1,212 on the PUMA
+    assert "does not beat Newton-Euler" not in out        # 622 < 1,212 on the PUMA
 
 
 def test_summary_warns_when_the_model_does_not_pay():
