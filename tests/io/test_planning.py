@@ -110,26 +110,19 @@ def test_default_motion_moves_joints_with_equal_limits_differently():
 
 
 def test_default_motion_rule_and_infinite_limits():
-    from gd_analyze.core.robot import Robot
+    import dataclasses
+
     from gd_analyze import load_robot
     from gd_analyze.io.planning import default_motion
 
     robot = load_robot("stanford")
     lo, hi = robot.q_min, robot.q_max
     start, goal = default_motion(robot)
-    frac_start = (start - lo) / (hi - lo)
-    frac_goal = (goal - lo) / (hi - lo)
-    np.testing.assert_allclose(frac_start, [0.20, 0.64, 0.28, 0.80, 0.36, 0.76])
-    np.testing.assert_allclose(frac_goal, [0.76, 0.24, 0.72, 0.32, 0.68, 0.20])
-    import dataclasses
-
-    free = dataclasses.replace(robot, q_min=np.full(6, -np.inf), q_max=np.full(6, np.inf)) \
-        if dataclasses.is_dataclass(robot) else None
-    if free is not None:
-        s, g = default_motion(free)
-        assert np.isfinite(s).all() and np.isfinite(g).all()
-        # revolute joint 1: 0.20 -> 0.76 of [-120, 120] deg; prismatic joint 3: 0.28 -> 0.72
-        # of [-0.1, 0.3] m
-        np.testing.assert_allclose(np.degrees([s[0], g[0]]), [-72.0, 62.4])
-        np.testing.assert_allclose([s[2], g[2]], [0.012, 0.188])
-    assert Robot is not None
+    np.testing.assert_allclose((start - lo) / (hi - lo), [0.20, 0.64, 0.28, 0.80, 0.36, 0.76])
+    np.testing.assert_allclose((goal - lo) / (hi - lo), [0.76, 0.24, 0.72, 0.32, 0.68, 0.20])
+    free = dataclasses.replace(robot, q_min=np.full(6, -np.inf), q_max=np.full(6, np.inf))
+    s, g = default_motion(free)
+    # revolute joint 1: 0.20 -> 0.76 of [-120, 120] deg; prismatic joint 3: 0.28 -> 0.72 of
+    # [-0.1, 0.3] m
+    np.testing.assert_allclose(np.degrees([s[0], g[0]]), [-72.0, 62.4])
+    np.testing.assert_allclose([s[2], g[2]], [0.012, 0.188])

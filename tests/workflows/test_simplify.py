@@ -178,3 +178,19 @@ def test_ladder_is_skipped_when_the_explicit_model_cannot_pay(tmp_path, monkeypa
     with xr.open_dataset(tmp_path / "built" / "results.h5", engine="h5netcdf") as ds:
         assert ds.sizes["ladder_tolerance"] == 4
         assert "simplified_ladder_skipped" not in ds.attrs
+
+
+def test_akb_anchors_only_for_the_puma(tmp_path, capsys):
+    """Armstrong, Khatib & Burdick's counts are the PUMA 560's: another six-joint arm's cost
+    table does not list them."""
+    import xarray as xr
+
+    from conftest import ROOT
+
+    code, _, err = _run(["stanford", ROOT / "data" / "stanford_trajectory.csv", "-o", tmp_path,
+                         "--no-report", "-q"], capsys)
+    assert code == 0, err
+    with xr.open_dataset(tmp_path / "results.h5", engine="h5netcdf") as ds:
+        labels = [str(v) for v in ds["cost_model"].values]
+    assert ds.sizes["joint"] == 6 and "project N-E as implemented" in labels
+    assert not any(lab.startswith("AKB") for lab in labels)

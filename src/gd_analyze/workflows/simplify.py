@@ -344,7 +344,7 @@ def cost_rows(n, model, other=None, ladder_rows=None, formulation_counts=None):
     for method, label in (("gd", "G-D"), ("newton-euler", "N-E"), ("lagrange-euler", "L-E")):
         mu, ad = book[method]["multiplications"], book[method]["additions"]
         rows[f"Table 3.5 {label}"] = (float(mu), float(ad), float(mu + ad))
-    if n == 6:
+    if getattr(model.robot, "name", "") == "puma560" and n == 6:     # AKB's arm only
         rows.update({k: tuple(float(x) for x in v) for k, v in AKB_COSTS.items()})
     return rows
 
