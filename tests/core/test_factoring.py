@@ -16,7 +16,8 @@ from gd_analyze import load_robot
 from gd_analyze.core import codegen
 from gd_analyze.core.codegen import build_program, count_operations, emit_c
 from gd_analyze.core.explicit import derive, model_terms
-from gd_analyze.core.factoring import expand_pairs, factor_sum, private_products, prune_dead
+from gd_analyze.core.factoring import (expand_pairs, factor_sum, private_products, prune_dead,
+                                        sum_to_product)
 
 SYMS = se.symbols("a b c d e f")
 
@@ -106,3 +107,37 @@ def test_full_puma_model_costs_less_than_the_hand_made_one_of_akb_1986():
     robot = load_robot("puma560")
     cost = build_program(model_terms(derive(robot)), robot.n, np.zeros(robot.n)).cost()
     assert cost["multiplications"] + cost["additions"] < 1165
+
+
+def test_sum_to_product_identities_hold_numerically():
+    """cos/sin K1 +- cos/sin K2 with equal magnitudes, every sign case, on random angles: the
+    products returned equal the pair they replace (A, B put in canonical form)."""
+    rng = np.random.default_rng(9)
+    theta = rng.uniform(-3, 3, (20, 3))
+
+    def trig(key):
+        arg = theta @ np.array(key[1:])
+        return np.sin(arg) if key[0] else np.cos(arg)
+
+    ks = [(1, 0, 1), (1, -2, 1), (0, 1, 1), (2, 1, -1), (1, 1, 0), (0, 0, 2)]
+    count = 0
+    for is_sin in (False, True):
+        for i, k1 in enumerate(ks):
+            for k2 in ks[i + 1:]:
+                for c2 in (0.75, -0.75):
+                    items = [((is_sin,) + k1, 0.75), ((is_sin,) + k2, c2)]
+                    rest, prods = sum_to_product(items, lambda key: True)
+                    want = sum(c * trig(k) for k, c in items)
+                    got = sum(c * trig(k) for k, c in rest) + sum(
+                        c * trig(ka) * trig(kb) for c, ka, kb in prods)
+                    np.testing.assert_allclose(got, want, atol=1e-13)
+                    count += len(prods)
+    # every pair with K1 + K2 even is paired: both types, both signs
+    even = sum(all((x + y) % 2 == 0 for x, y in zip(k1, k2))
+               for i, k1 in enumerate(ks) for k2 in ks[i + 1:])
+    assert even > 0 and count == 4 * even
+    # nothing paired where A or B is not formed, or magnitudes differ
+    items = [((False, 0, 1, 0), 0.5), ((False, 2, 1, 0), 0.5)]
+    assert sum_to_product(items, lambda key: False) == (items, [])
+    items = [((False, 0, 1, 0), 0.5), ((False, 2, 1, 0), 0.25)]
+    assert sum_to_product(items, lambda key: True) == (items, [])

@@ -31,7 +31,8 @@ from dataclasses import dataclass
 import numpy as np
 import symengine as se
 
-from .factoring import expand_pairs, factor_sum, private_products, prune_dead
+from .factoring import (expand_pairs, factor_sum, private_products, prune_dead,
+                        sum_to_product)
 
 __all__ = ["Program", "build_program", "count_operations", "emit_c", "emit_python",
            "python_function", "C_FUNCTION"]
@@ -286,15 +287,20 @@ def build_program(terms, n, offset, trig_mode="products", prismatic=None):
     for g in groups.values():                       # trig values first, in a stable order
         for key in sorted(g):
             trig(split(key)[0])
+    def pairs(items):
+        rest, prods = sum_to_product(items, trig_cache.__contains__)
+        rest += [(("p", prod(trig(ka), trig(kb))), c) for c, ka, kb in prods]
+        return expand_pairs(rest, recipe)
+
     def expand(g):
         """[(trig value or product key, powers of the prismatic q, coef)]: pairs in products."""
         if not has_lin:
-            return [(a, None, c) for a, c in expand_pairs(sorted(g.items()), recipe)]
+            return [(a, None, c) for a, c in pairs(sorted(g.items()))]
         by_pw = {}
         for key, c in sorted(g.items()):
             th, pw = split(key)
             by_pw.setdefault(pw, []).append((th, c))
-        return [(a, pw, c) for pw, items in by_pw.items() for a, c in expand_pairs(items, recipe)]
+        return [(a, pw, c) for pw, items in by_pw.items() for a, c in pairs(items)]
     expanded = {gk: expand(g) for gk, g in groups.items()}
     private = private_products([[a if a[0] == "p" else trig(a) for a, _, _ in ex]
                                 for ex in expanded.values()], by_sym, factors)

@@ -24,7 +24,7 @@ import heapq
 
 import symengine as se
 
-__all__ = ["expand_pairs", "private_products", "factor_sum", "prune_dead"]
+__all__ = ["expand_pairs", "sum_to_product", "private_products", "factor_sum", "prune_dead"]
 
 
 def expand_pairs(items, recipe):
@@ -71,6 +71,75 @@ def expand_pairs(items, recipe):
             out.append((key, c))
     out.extend((("p", p), c) for p, c in acc.items() if c != 0.0)
     return out
+
+
+def _canon(v):
+    """(canonical vector: first non-zero entry positive, sign of sin) of an integer vector."""
+    for x in v:
+        if x:
+            return (v, 1) if x > 0 else (tuple(-y for y in v), -1)
+    return v, 0
+
+
+def sum_to_product(items, exists):
+    """Pairs a cos K1 +- a cos K2 (or sines) of equal magnitude as one product of two cos/sin.
+
+    With K1 = A + B, K2 = A - B: cos K1 + cos K2 = 2 cA cB, cos K1 - cos K2 = -2 sA sB,
+    sin K1 + sin K2 = 2 sA cB, sin K1 - sin K2 = 2 cA sB. Used where cos/sin of A and B are
+    formed anyway; on the PUMA 560, cos(q3) + cos(2 q2 + q3) = 2 c2 c23.
+
+    Parameters
+    ----------
+    items : list of (key, float)
+        The sum: harmonic keys ``(is_sin, k_1, ..., k_n)`` with the first non-zero k positive,
+        and coefficients.
+    exists : callable
+        ``exists(key) -> bool``: whether that cos/sin is formed anyway.
+
+    Returns
+    -------
+    rest : list of (key, float)
+        The terms not paired, in their order.
+    products : list of (float, key, key)
+        ``(coef, key_a, key_b)``: each a term coef x trig(key_a) x trig(key_b).
+
+    Examples
+    --------
+    >>> items = [((False, 0, 1), 0.5), ((False, 2, 1), 0.5), ((True, 1, 0), 3.0)]
+    >>> sum_to_product(items, lambda key: True)
+    ([((True, 1, 0), 3.0)], [(1.0, (False, 1, 1), (False, 1, 0))])
+    """
+    by_mag = {}
+    for idx, (key, c) in enumerate(items):
+        by_mag.setdefault((key[0], abs(c)), []).append(idx)
+    used, products = set(), []
+    for idx, (k1, c1) in enumerate(items):
+        if idx in used or len(by_mag[(k1[0], abs(c1))]) < 2:
+            continue
+        for jdx in by_mag[(k1[0], abs(c1))]:
+            if jdx <= idx or jdx in used:
+                continue
+            k2, c2 = items[jdx]
+            v1, v2 = k1[1:], k2[1:]
+            if any((x + y) % 2 for x, y in zip(v1, v2)):
+                continue
+            (a, sa), (b, sb) = _canon(tuple((x + y) // 2 for x, y in zip(v1, v2))), \
+                _canon(tuple((x - y) // 2 for x, y in zip(v1, v2)))
+            if not sa or not sb:
+                continue
+            same = (c1 == c2)
+            if not k1[0]:                           # cosines
+                ka, kb = ((False,) + a, (False,) + b) if same else ((True,) + a, (True,) + b)
+                coef = 2 * c1 if same else -2 * c1 * sa * sb
+            else:                                   # sines
+                ka, kb = ((True,) + a, (False,) + b) if same else ((False,) + a, (True,) + b)
+                coef = 2 * c1 * sa if same else 2 * c1 * sb
+            if not (exists(ka) and exists(kb)):
+                continue
+            used |= {idx, jdx}
+            products.append((coef, ka, kb))
+            break
+    return [it for idx, it in enumerate(items) if idx not in used], products
 
 
 def private_products(sums, recipe, factors):
