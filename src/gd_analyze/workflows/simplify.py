@@ -258,7 +258,7 @@ def ladder(robot, terms, peaks, trajectories, tolerances=LADDER, torque_floor=0.
 #: The ladder is skipped when the full explicit model costs more than this many times
 #: Newton-Euler as implemented: its rungs are then not expected to pay (EPS = 0.05 halves the
 #: PUMA 560's full model), and each is a long build (seconds for the Panda's full model of
-#: 119,190 operations).
+#: 97,231 operations).
 LADDER_COST_LIMIT = 4.0
 
 
