@@ -13,8 +13,7 @@ ICRA 1986), keeping the structure instead of expanding it:
   cos/sin; a group proportional to an earlier one is that one times a constant; the pairs
   cos(A +- B), sin(A +- B) of a sum are written in their shared products and common factors
   are taken out (:mod:`gd_analyze.core.factoring`);
-- tau_i = sum_j D_ij qdd_j + sum_{j<=k} C_ijk (qd_j qd_k) + c_i, Eq. (3.4-24), its common
-  factors taken out;
+- tau_i = sum_j D_ij qdd_j + sum_{j<=k} C_ijk (qd_j qd_k) + c_i, Eq. (3.4-24), factored;
 - unused assignments are dropped, common subexpressions eliminated (symengine ``cse``).
 
 Counting rule (that of :mod:`gd_analyze.opcount`): operations between numeric constants are
@@ -137,9 +136,8 @@ def _key(K, S):
 TRIG_MODES = ("products", "calls")
 
 
-#: Above this many terms, the sums are factored after cse, not before: cse on the many nested
-#: sums of a large factored program is slow (Panda's full model: a 12 s build instead of 6 s,
-#: for 85,770 operations instead of 97,231).
+#: Above this many terms the sums are factored after cse: cse on the nested sums of a large
+#: factored program is slow (Panda's full model: 12 s instead of 6 s, 85,770 not 97,231 ops).
 LATE_FACTORING = 50_000
 
 
