@@ -95,8 +95,10 @@ def main():
     scale = np.abs(ref).max(axis=0)
     print(f"simplified PUMA 560 model, EPS = {args.eps:g}: {cost['multiplications']} mult, "
           f"{cost['additions']} add, {cost['sin']} sin, {cost['cos']} cos per set point")
+    import os
+
     print(f"{N} random set points within the joint limits, {args.runs} interleaved runs; "
-          "timed on a shared 2-core machine under contention")
+          f"load average {os.getloadavg()[0]:.2f} on {os.cpu_count()} cores at the start")
     print(f"largest |tau_c - rnea| / peak |rnea| per joint on these states (not guaranteed off "
           f"the trajectory): {np.array2string(np.abs(tau_c - ref).max(axis=0) / scale, precision=2)}")
     c = np.array(times["c"])
