@@ -93,6 +93,22 @@ def _kv(rows):
     return _table(["item", "value"], rows, widths=[1.2, 3.4])
 
 
+def _model_cost(ds):
+    """(multiplications, additions, Newton-Euler operations or None) of the emitted model, from
+    the stored attributes and cost table; None without a simplified model."""
+    try:
+        mult = int(ds.attrs["simplified_multiplications"])
+        add = int(ds.attrs["simplified_additions"])
+    except (KeyError, TypeError, ValueError):
+        return None
+    ne = None
+    if "cost_total" in ds.variables:
+        labels = [str(v) for v in ds["cost_model"].values]
+        if "project N-E as implemented" in labels:
+            ne = int(ds["cost_total"].values[labels.index("project N-E as implemented")])
+    return mult, add, ne
+
+
 def report_context(ds):
     """Every number, table and paragraph of the main report, for the HTML and the PDF alike.
 
@@ -282,7 +298,7 @@ def _report_context_base(ds):
     payload = _payload_context(ds)
     title = f"G-D dominance analysis: {robot_name} along {_attr(ds, 'input_file')}"
     summary = conclusion(labels, dominance, zero, choice, rel_peak,
-                         ds["tau_error_peak"].values, ds["tau_peak"].values)
+                         ds["tau_error_peak"].values, ds["tau_peak"].values, _model_cost(ds))
     facts = (f"{robot_name}, {n} joints, {N} set points over {_fmt(t[-1] - t[0], 4)} s; "
              f"{len(labels)} elements ranked with s = {s:g}, e = {e:g}: "
              + ", ".join(f"{counts[c]} {c}" for c in _CLASS_COLOURS)
