@@ -11,7 +11,7 @@ Prints
 Errors are peak |tau_s - tau_rnea| / peak |tau_rnea| per joint, against Pinocchio rnea.
 
 Usage: python analysis/simplified_ladder.py [TRAJECTORY.csv] [--robot NAME] [--held-out K]
-       [--seed S]   (the trajectory defaults to data/<robot>_trajectory.csv)
+       [--seed S] [--torque-floor TAU]   (the trajectory defaults to data/<robot>_trajectory.csv)
 """
 
 import argparse
@@ -56,6 +56,8 @@ def main():
     ap.add_argument("--robot", default="puma560")
     ap.add_argument("--held-out", type=int, default=100)
     ap.add_argument("--seed", type=int, default=1)
+    ap.add_argument("--torque-floor", type=float, default=0.0,
+                    help="least joint-torque scale TAU [N m] of the budget (as the CLI's)")
     args = ap.parse_args()
     robot = load_robot(args.robot)
     if args.trajectory is None:
@@ -68,7 +70,9 @@ def main():
     ranking = rank_dominance(t.D_tran, t.D_rot, t.h_tran, t.h_rot, t.tau(qdd))
     t0 = time.perf_counter()
     peaks = collect_peaks(robot, terms, q, qd, qdd)
-    model, _ = build_model(robot, terms, peaks, tolerance=0.01, ranking=ranking)
+    floor = args.torque_floor
+    model, _ = build_model(robot, terms, peaks, tolerance=0.01, ranking=ranking,
+                           torque_floor=floor)
     t_build = time.perf_counter() - t0
     print(f"derivation of the explicit {robot.name} model (no cache): {t_derive:.2f} s; "
           f"peaks, selection and program at EPS = 0.01: {t_build:.2f} s "
@@ -81,7 +85,7 @@ def main():
     held = random_trajectories(robot, args.held_out, seed=args.seed)
     rows = []
     for eps in LADDER:
-        m, _ = build_model(robot, terms, peaks, tolerance=eps)
+        m, _ = build_model(robot, terms, peaks, tolerance=eps, torque_floor=floor)
         rows.append((eps, m, worst(m, [traj], pmodel, pdata), worst(m, held, pmodel, pdata)))
     ladder_rows = [{"tolerance": eps, **m.cost} for eps, m, *_ in rows]
     table = cost_rows(robot.n, model, other=chapter, ladder_rows=ladder_rows)
@@ -101,7 +105,8 @@ def main():
           f"{robot.n} + {robot.n})")
     print()
     print(f"tolerance ladder on {Path(args.trajectory).name} "
-          f"({traj.n_setpoints} set points), errors against Pinocchio rnea")
+          f"({traj.n_setpoints} set points), torque floor {floor:g} N m, errors against "
+          f"Pinocchio rnea (relative to each joint's peak |tau|)")
     print(f"{'EPS':>7}{'mult':>7}{'add':>7}{'total':>7}{'sin+cos':>9}{'worst, analysed':>17}"
           f"{f'worst, {len(held)} others':>20}")
     for eps, m, w, wh in rows:
