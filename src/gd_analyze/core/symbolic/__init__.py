@@ -1,0 +1,10 @@
+"""Customized symbolic models: base inertial parameters, the recursive Newton-Euler program
+with numeric parameters folded in, and its pruning with an error bound.
+
+- :mod:`.base_parameters`: standard inertial parameters per link, the numeric joint-torque
+  regressor and the base parameters (Khalil & Kleinfinger 1987; Gautier 1990);
+- :mod:`.recursive`: the customized recursive Newton-Euler algorithm as straight-line code
+  (a :class:`gd_analyze.core.codegen.Program`);
+- :mod:`.pruning`: dropping the smallest (base parameter, part) contributions within a
+  per-joint error budget.
+"""
