@@ -34,7 +34,7 @@ from ..codegen import Program, _cse
 from ..factoring import prune_dead
 from .base_parameters import base_parameters
 
-__all__ = ["recursive_program", "PARTS"]
+__all__ = ["recursive_program", "exact_program", "parts_program", "PARTS"]
 
 #: The parts of a torque: inertial (qdd), velocity (Coriolis and centrifugal, qd) and gravity.
 PARTS = ("a", "v", "g")
@@ -187,33 +187,73 @@ class _Recursion:
             return {(a, b): self.b(w[a] * w[b]) for a in range(3) for b in range(a, 3)}
         return self.memo(("ww", j), make)
 
+    # A quantity of a set of parts: the whole recursion for all parts; the inertial (a) and
+    # gravity (g) parts by their own recursions; any other set from these by sums or
+    # differences (the velocity part never has its own recursion).
+    def _parts(self, parts, relevant):
+        return frozenset(parts) & relevant
+
+    def _combine(self, whole, chain, S, relevant):
+        """The quantity of parts S from whole(), chain(part) for part in ('a', 'g')."""
+        if not S:
+            return None
+        if S == relevant:
+            return whole()
+        if "v" in S:
+            terms, sign = [whole()] + [chain(p) for p in sorted(relevant - S)], -1
+        else:
+            terms, sign = [chain(p) for p in sorted(S)], 1
+        out = terms[0]
+        for t in terms[1:]:
+            out = self.vec_sum(out, t, sign)
+        return out
+
+    def vec_sum(self, x, y, sign=1):
+        if isinstance(x[0], (list, tuple)):          # a matrix, by rows
+            return [self.vec_sum(a, b, sign) for a, b in zip(x, y)]
+        return self.vec([a + sign * b for a, b in zip(x, y)])
+
     def wd(self, j, parts):
-        parts = frozenset(parts) & {"a", "v"}
-        if j < 0 or not parts:
+        """wd_j of the given parts (a: qdd, v: qd)."""
+        relevant = frozenset("av")
+        S = self._parts(parts, relevant)
+        if j < 0 or not S:
             return ZERO3
+        return self.memo(("wd", j, S), lambda: self._combine(
+            lambda: self._wd_rec(j, relevant), lambda p: self._wd_rec(j, {p}), S, relevant))
+
+    def _wd_rec(self, j, S):
+        S = frozenset(S)
 
         def make():
-            x = self.rot_t(j, self.wd(j - 1, parts))
+            prev = ZERO3 if j == 0 else self._wd_rec(j - 1, S)
+            x = self.rot_t(j, prev)
             if self.prismatic[j]:
                 return x
             x = list(x)
-            if "a" in parts:
+            if "a" in S:
                 x[2] = x[2] + self.qdd[j]
-            if "v" in parts:
+            if "v" in S:
                 wp, qd = self.w_parent(j), self.qd[j]
                 x[0] = x[0] + wp[1] * qd
                 x[1] = x[1] - wp[0] * qd
             return self.vec(x)
-        return self.memo(("wd", j, parts), make)
+        return self.memo(("wd_rec", j, S), make)
 
     def U(self, j, parts):
         """U_j = skew(wd_j) + skew(w_j)^2 (the second term in the velocity part), by entry."""
-        parts = frozenset(parts) & {"a", "v"}
+        relevant = frozenset("av")
+        S = self._parts(parts, relevant)
+        if not S:
+            return [list(ZERO3) for _ in range(3)]
+        return self.memo(("U", j, S), lambda: self._combine(
+            lambda: self._U_rec(j, relevant), lambda p: self._U_rec(j, {p}), S, relevant))
 
+    def _U_rec(self, j, S):
         def make():
-            wd = self.wd(j, parts)
+            wd = self._wd_rec(j, S)
             out = [[se.Integer(0)] * 3 for _ in range(3)]
-            if "v" in parts:
+            if "v" in S:
                 p = self.ww(j)
                 out[0][0] = -(p[1, 1] + p[2, 2])
                 out[1][1] = -(p[0, 0] + p[2, 2])
@@ -228,33 +268,39 @@ class _Recursion:
             out[1][2] = out[1][2] - wd[0]
             out[2][1] = out[2][1] + wd[0]
             return [[self.b(e) for e in row] for row in out]
-        return self.memo(("U", j, parts), make)
+        return self.memo(("U_rec", j, frozenset(S)), make)
 
     def vd(self, j, parts):
-        parts = frozenset(parts)
-        if j < 0:
-            return self.minus_g if "g" in parts else ZERO3
-        if not parts:
+        """vd_j of the given parts (a: qdd, v: qd, g: gravity)."""
+        S = self._parts(parts, ALL)
+        if not S:
             return ZERO3
+        return self.memo(("vd", j, S), lambda: self._combine(
+            lambda: self._vd_rec(j, ALL), lambda p: self._vd_rec(j, {p}), S, ALL))
+
+    def _vd_rec(self, j, S):
+        S = frozenset(S)
+        if j < 0:
+            return self.minus_g if "g" in S else ZERO3
 
         def make():
-            prev = self.vd(j - 1, parts)
-            if j > 0 and parts & {"a", "v"}:
-                U, p = self.U(j - 1, parts), self.p(j)
+            prev = self._vd_rec(j - 1, S)
+            if j > 0 and S & {"a", "v"}:
+                U, p = self._U_rec(j - 1, S & {"a", "v"}), self.p(j)
                 prev = self.vec([prev[a] + sum((U[a][k] * p[k] for k in range(3)),
                                                se.Integer(0)) for a in range(3)])
             x = self.rot_t(j, prev)
             if not self.prismatic[j]:
                 return x
             x = list(x)
-            if "a" in parts:
+            if "a" in S:
                 x[2] = x[2] + self.qdd[j]
-            if "v" in parts:        # 2 w_j x (qd_j z) = 2 qd_j (w_y, -w_x, 0)
+            if "v" in S:        # 2 w_j x (qd_j z) = 2 qd_j (w_y, -w_x, 0)
                 w, qd2 = self.w(j), self.b(2 * self.qd[j])
                 x[0] = x[0] + w[1] * qd2
                 x[1] = x[1] - w[0] * qd2
             return self.vec(x)
-        return self.memo(("vd", j, parts), make)
+        return self.memo(("vd_rec", j, S), make)
 
     # --- link wrench ------------------------------------------------------------------------
     def wrench(self, j, phi, parts):
@@ -380,13 +426,66 @@ def recursive_program(robot, values=None, cse=True):
     if values is None:
         values = base_parameters(robot).values
     consts = _link_constants(values)
-    lock = _last_joint_free(robot, values)
+    return _choose(robot, [[(ALL, consts[j])] for j in range(robot.n)],
+                   _last_joint_free(robot, values), cse)
 
-    def build(direct):
-        rec = _Recursion(robot, lock_last=lock, direct=direct)
-        tau = _torques(rec, [[(ALL, consts[j])] for j in range(robot.n)])
-        return _finish(rec, tau, cse)
-    return _choose(build, robot.n)
+
+#: The exact program: :func:`recursive_program` (the name the pruning module uses).
+exact_program = recursive_program
+
+
+def parts_program(robot, values, cse=True, search=True):
+    """The recursive program with different parameter values per part of the torque.
+
+    Parameters
+    ----------
+    robot : Robot
+        The arm, with n joints.
+    values : array_like, shape (3, n, 10)
+        Per part of :data:`PARTS` (inertial, velocity, gravity) the parameter values per
+        link; a parameter is either 0 or one common value in every part.
+    cse : bool, optional
+        Run symengine's common-subexpression elimination on the result (default True).
+    search : bool, optional
+        Choose each link's form of w x (J w) by the count (default True); False: the
+        product form everywhere (quicker).
+
+    Returns
+    -------
+    gd_analyze.core.codegen.Program
+        tau = sum over the parts p of the part p of the torque of values[p] [N m or N].
+
+    Raises
+    ------
+    ValueError
+        If values is not of shape (3, n, 10).
+
+    Notes
+    -----
+    Per link the parameters are grouped by the set of parts they are kept in; a group's
+    wrench is formed from the kinematic quantities of those parts: the whole recursion,
+    the inertial and gravity parts by their own recursions, the others by differences.
+    """
+    values = np.asarray(values, float)
+    if values.shape != (len(PARTS), robot.n, 10):
+        raise ValueError(f"values must have shape (3, {robot.n}, 10), got {values.shape}")
+    groups = []
+    for j in range(robot.n):
+        by_set = {}
+        for c in range(10):
+            col = values[:, j, c]
+            kept = [p for p, v in zip(PARTS, col) if v != 0.0]
+            if not kept:
+                continue
+            if len({float(col[PARTS.index(p)]) for p in kept}) == 1:
+                by_set.setdefault(frozenset(kept), np.zeros(10))[c] = col[PARTS.index(kept[0])]
+            else:
+                for p in kept:
+                    by_set.setdefault(frozenset(p), np.zeros(10))[c] = col[PARTS.index(p)]
+        groups.append([(S, _link_constants(phi[None, :])[0])
+                       for S, phi in sorted(by_set.items(), key=lambda t: sorted(t[0]))])
+    lock = all(_last_joint_free(robot, values[p]) for p in range(len(PARTS)))
+    return _choose(robot, groups, lock, cse, search)
 
 
 def _total(program):
@@ -394,12 +493,15 @@ def _total(program):
     return c["multiplications"] + c["additions"]
 
 
-def _choose(build, n):
+def _choose(robot, groups, lock, cse, search=True):
     """The cheapest program over the links' form of w x (J w), by a greedy pass from the
     product form: each link switched to the direct form where that lowers the count."""
+    def build(direct):
+        rec = _Recursion(robot, lock_last=lock, direct=direct)
+        return _finish(rec, _torques(rec, groups), cse)
     direct = set()
     best = build(frozenset(direct))
-    for j in range(n):
+    for j in range(robot.n if search else 0):
         trial = build(frozenset(direct | {j}))
         if _total(trial) < _total(best):
             best, direct = trial, direct | {j}

@@ -1,0 +1,110 @@
+"""Pruning with a guarantee: on the shipped trajectories the pruned program's error against
+Pinocchio's rnea stays within its per-joint bound, and the bound within EPS of the scale."""
+
+from functools import lru_cache
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+from gd_analyze.core.codegen import python_function
+from gd_analyze.core.symbolic.base_parameters import base_parameters
+from gd_analyze.core.symbolic.pruning import part_contributions, prune, pruned_program
+from gd_analyze.core.symbolic.recursive import recursive_program
+from gd_analyze.io.trajectory import read_trajectory
+from symbolic_robots import rnea, robot, states
+
+DATA = Path(__file__).resolve().parents[3] / "data"
+TRAJECTORIES = {"puma560": "puma560_trajectory.csv", "stanford": "stanford_trajectory.csv",
+                "ur5": "ur5_trajectory.csv"}
+
+
+@lru_cache(maxsize=None)
+def case(name):
+    arm = robot(name)
+    if name in TRAJECTORIES:
+        traj = read_trajectory(DATA / TRAJECTORIES[name], arm.n)
+        q, qd, qdd = traj.q, traj.qd, traj.qdd
+    else:
+        q, qd, qdd = states(arm, 150, 9)
+    base = base_parameters(arm)
+    return arm, base, (q, qd, qdd), rnea(arm, q, qd, qdd), recursive_program(arm).cost()
+
+
+def _total(cost):
+    return cost["multiplications"] + cost["additions"]
+
+
+def test_parts_add_up_to_rnea_and_each_part_is_its_own_rnea():
+    arm, base, (q, qd, qdd), tau, _ = case("stanford")
+    C = part_contributions(arm, base, q, qd, qdd)
+    scale = np.abs(tau).max()
+    assert np.abs(C.sum(axis=(0, 3)) - tau).max() <= 1e-10 * scale
+    zero = np.zeros_like(q)
+    inertial = rnea(arm, q, zero, qdd, gravity=False)
+    velocity = rnea(arm, q, qd, zero, gravity=False)
+    assert np.abs(C[0].sum(axis=-1) - inertial).max() <= 1e-10 * scale
+    assert np.abs(C[1].sum(axis=-1) - velocity).max() <= 1e-10 * scale
+
+
+@pytest.mark.parametrize("eps", [0.001, 0.01, 0.05])
+@pytest.mark.parametrize("name", ["puma560", "stanford", "ur5", "mixed-chain"])
+def test_pruned_error_within_bound_within_eps(name, eps):
+    arm, base, (q, qd, qdd), tau, exact = case(name)
+    pr = prune(arm, base, q, qd, qdd, eps)
+    scale = np.abs(tau).max(axis=0)
+    np.testing.assert_allclose(pr.scale, scale, rtol=1e-9)
+    assert np.all(pr.bound <= eps * pr.scale)
+    prog = pruned_program(arm, base, pr.dropped)
+    err = np.abs(python_function(prog)(q, qd, qdd) - tau).max(axis=0)
+    assert np.isfinite(err).all()
+    assert np.all(err <= pr.bound + 1e-10 * scale), (err, pr.bound)
+    assert _total(prog.cost()) <= _total(exact)
+
+
+@pytest.mark.parametrize("strategy", ["peak", "cost"])
+def test_every_dropped_pair_counts_in_the_bound(strategy):
+    arm, base, (q, qd, qdd), _, _ = case("puma560")
+    pr = prune(arm, base, q, qd, qdd, 0.05, strategy=strategy)
+    assert pr.dropped.any()
+    np.testing.assert_allclose(pr.bound, (pr.peak * pr.dropped[:, :, None]).sum(axis=(0, 1)),
+                               rtol=1e-12, atol=0)
+
+
+def test_pruning_lowers_the_count_and_eps_zero_is_exact():
+    arm, base, (q, qd, qdd), tau, exact = case("puma560")
+    pr = prune(arm, base, q, qd, qdd, 0.0)
+    assert not pr.bound.any()
+    prog = pruned_program(arm, base, pr.dropped)
+    assert _total(prog.cost()) == _total(exact)
+    pr = prune(arm, base, q, qd, qdd, 0.05)
+    assert _total(pruned_program(arm, base, pr.dropped).cost()) < _total(exact)
+
+
+@pytest.mark.parametrize("bad", [-0.1, float("nan"), float("inf")])
+def test_bad_eps_is_refused(bad):
+    arm, base, (q, qd, qdd), _, _ = case("stanford")
+    with pytest.raises(ValueError, match="eps"):
+        prune(arm, base, q, qd, qdd, bad)
+
+
+@pytest.mark.parametrize("name", ["stanford", "panda", "mixed-chain"])
+def test_parts_program_computes_exactly_the_kept_pairs(name):
+    """Each part alone is its rnea; random dropped sets equal the regressor's sum of the kept
+    (parameter, part) contributions to 1e-10 (the split recursions are exact)."""
+    from gd_analyze.core.symbolic.pruning import _part_values
+    from gd_analyze.core.symbolic.recursive import parts_program
+
+    arm = robot(name)
+    base = base_parameters(arm)
+    q, qd, qdd = states(arm, 60, 4)
+    C = part_contributions(arm, base, q, qd, qdd)
+    scale = np.abs(C.sum(axis=(0, 3))).max(axis=0)
+    rng = np.random.default_rng(3)
+    sets = [np.tile(np.arange(3) != p, (base.rank, 1)) for p in range(3)]
+    sets += [rng.random((base.rank, 3)) < 0.3 for _ in range(3)]
+    for dropped in sets:
+        prog = parts_program(arm, _part_values(base, dropped), search=False)
+        want = (C * ~dropped.T[:, None, None, :]).sum(axis=(0, 3))
+        got = python_function(prog)(q, qd, qdd)
+        assert (np.abs(got - want).max(axis=0) <= 1e-10 * scale).all()
