@@ -205,7 +205,7 @@ def _analyze(args, worker):
     settings = {"command": " ".join([PROG] + sys.argv[1:]) if sys.argv else PROG,
                 "payload_mass": float(args.payload or 0.0),
                 "tolerance": float(args.tolerance), "rule": args.rule,
-                "torque_floor": float(args.torque_floor),
+                "torque_floor": float(args.torque_floor), "explicit": args.explicit,
                 "payload_com": [float(v) for v in args.payload_com],
                 "payload_inertia": [float(v) for v in args.payload_inertia],
                 **_chain_settings(args)}
@@ -218,7 +218,7 @@ def _analyze(args, worker):
                                    settings=settings, compress=args.compress,
                                    progress=bar, extra=extra,
                                    tolerance=args.tolerance, rule=args.rule,
-                                   torque_floor=args.torque_floor)
+                                   torque_floor=args.torque_floor, explicit=args.explicit)
         analysis.model.save(stage / "simplified_model.json")
         written = [results, stage / "simplified_model.json"]
         written += _write_sources(analysis.model, stage)      # the explicit model

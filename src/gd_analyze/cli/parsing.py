@@ -171,6 +171,10 @@ def _add_budget_arguments(p, rule=True, where="on the analysed trajectory"):
         g.add_argument("--rule", choices=("budget", "chapter"), default="budget",
                        help="budget: by torque contribution within EPS (default); chapter: "
                             "the share-based classes of Sec. 3.4.1 (no bound)")
+        g.add_argument("--explicit", choices=("auto", "always", "never"), default="auto",
+                       help="derive the explicit G-D model too: auto (default) where its "
+                            "estimated size is cheap, always, or never; the cheaper of it and "
+                            "the recursive model is deployed")
 
 
 def _add_paper_argument(p):

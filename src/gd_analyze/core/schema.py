@@ -370,6 +370,20 @@ _TERMS_SCHEMA = Obj({
     "coef": ListOf(Num()),
 })
 
+#: A model of the recursive form (issue 17): its base parameters, the dropped (parameter,
+#: part) pairs and its bound; checked against the robot by
+#: :meth:`gd_analyze.core.symbolic.recursive_model.RecursiveModel.from_dict`.
+_RECURSIVE_SCHEMA = Obj({
+    "base_parameters": ListOf(Str(max_len=16)),
+    "beta": ListOf(Num()),
+    "dropped": ListOf(ListOf(Str(max_len=16))),
+    "scale": ListOf(Num(0.0, math.inf)),
+    "bound": ListOf(Num(0.0, math.inf)),
+    "bound_by_part": Obj({"inertial": ListOf(Num(0.0, math.inf)),
+                          "velocity": ListOf(Num(0.0, math.inf)),
+                          "gravity": ListOf(Num(0.0, math.inf))}),
+})
+
 #: The layout of simplified_model.json (schema_version 2; 1 lacks the keys of issue 8). The element keys of ``choices`` are
 #: checked against the robot's n by the loader; the robot's parameters by
 #: :func:`gd_analyze.robot.robot_from_dict`.
@@ -397,4 +411,8 @@ MODEL_SCHEMA = Obj({
     "full_cost": Field(COST_SCHEMA, required=False),
     "bound": Field(ListOf(AnyJSON()), required=False),
     "explicit_terms": Field(_TERMS_SCHEMA, required=False),
+    # the keys of issue 17 (the recursive form, and the costs of the models compared)
+    "form": Field(Str(choices=("explicit", "recursive")), required=False),
+    "recursive": Field(_RECURSIVE_SCHEMA, required=False),
+    "costs": Field(MapOf(COST_SCHEMA), required=False),
 })

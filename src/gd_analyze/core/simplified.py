@@ -226,6 +226,13 @@ class SimplifiedModel:
     bound : list of float
         Guaranteed bound on |tau_s - tau| per joint on the trajectory [N m] (NaN for the
         chapter rule).
+    recursive : RecursiveModel or None
+        For a model of the recursive form (issue 17), the pruned customized recursive
+        Newton-Euler model (:class:`~gd_analyze.core.symbolic.recursive_model.RecursiveModel`);
+        None for the explicit form.
+    costs : dict
+        Counted operations of the other models, by label (``"exact recursive"``,
+        ``"explicit, budget"``, ``"explicit, full"``, ``"newton-euler"``), for comparison.
 
     Notes
     -----
@@ -247,6 +254,13 @@ class SimplifiedModel:
     cost: dict = field(default_factory=dict)
     full_cost: dict = field(default_factory=dict)
     bound: list = field(default_factory=list)
+    recursive: object = None
+    costs: dict = field(default_factory=dict)
+
+    @property
+    def form(self):
+        """``"recursive"`` or ``"explicit"``: how the emitted code computes tau."""
+        return "explicit" if self.recursive is None else "recursive"
 
     def explicit_terms(self):
         """The kept terms of the explicit model (:class:`~gd_analyze.core.explicit.Term`).
@@ -268,6 +282,9 @@ class SimplifiedModel:
     def program(self):
         """The straight-line program of the explicit model (:class:`~gd_analyze.core.codegen.Program`)."""
         cached = self.__dict__.get("_program")
+        if cached is None and self.recursive is not None:
+            cached = self.recursive.program(self.robot)
+            object.__setattr__(self, "_program", cached)
         if cached is None:
             from .codegen import build_program
 
@@ -285,8 +302,11 @@ class SimplifiedModel:
         """
         cost = self.cost or self.program().cost()
         return {
-            "gd-analyze simplified model": "tau = D_s qdd + h_s + c (Fu, Gonzalez & Lee 1987, "
-                                           "Eq. 3.4-24), explicit form",
+            "gd-analyze simplified model": (
+                "tau = D_s qdd + h_s + c (Fu, Gonzalez & Lee 1987, Eq. 3.4-24), explicit form"
+                if self.recursive is None else
+                "tau = Y_b beta, customized recursive Newton-Euler on base parameters (Fu, "
+                "Gonzalez & Lee 1987, Algorithm 3.1; Khalil & Kleinfinger 1987)"),
             "robot": f"{self.robot.name} (sha256 {self.robot.sha256})",
             "rule": self.rule, "tolerance": f"{self.tolerance:g}",
             "torque floor [N m]": f"{self.torque_floor:g}",
@@ -366,6 +386,11 @@ class SimplifiedModel:
         if self.terms is not None:
             out.update(cost=dict(self.cost or self.program().cost()), bound=list(self.bound),
                        explicit_terms=_terms_to_json(self.terms))
+        if self.recursive is not None:
+            out.update(form="recursive", cost=dict(self.program().cost()),
+                       bound=list(self.bound), recursive=self.recursive.to_dict())
+        if self.costs:
+            out["costs"] = {k: dict(v) for k, v in self.costs.items()}
         if np.isfinite(self.tolerance):
             out["tolerance"] = self.tolerance
         if self.full_cost:
@@ -447,6 +472,15 @@ class SimplifiedModel:
         except (ValueError, TypeError) as exc:
             raise InputError(f"invalid explicit terms: {exc}"[:200], path,
                              column="explicit_terms") from None
+        recursive = None
+        if spec.get("form") == "recursive" or "recursive" in spec:
+            from .symbolic.recursive_model import RecursiveModel
+
+            if "recursive" not in spec or spec.get("form") != "recursive":
+                raise InputError("a model of the recursive form needs both 'form' and "
+                                 "'recursive'", path, column="form")
+            recursive = RecursiveModel.from_dict(spec["recursive"], robot, path)
+            terms = None
         tolerance = spec.get("tolerance")
         return cls(robot=robot, choices=dict(choices),
                    dominance_threshold=float(spec["dominance_threshold"]),
@@ -459,7 +493,8 @@ class SimplifiedModel:
                    torque_floor=float(spec.get("torque_floor", 0.0)), terms=terms,
                    cost=dict(spec.get("cost") or {}), full_cost=dict(spec.get("full_cost") or {}),
                    bound=[float("nan") if v is None else float(v)
-                          for v in spec.get("bound") or []])
+                          for v in spec.get("bound") or []],
+                   recursive=recursive, costs=dict(spec.get("costs") or {}))
 
 
 def parameters_sha256(parameters):

@@ -398,15 +398,15 @@ def _document(ctx, sizes, paper="a4"):
                   bold=True)
     doc.table(ctx["ranking"])
     doc.heading("5. Simplified model and torque error")
-    doc.paragraph(_SIMPLIFIED_TEXT, size=8.5)
+    doc.paragraph(ctx["simplified_intro"], size=8.5)
     doc.heading("5.1 Torque error along the trajectory", level=2)
     doc.table(ctx["error"])
     fig("torque")
-    doc.heading("5.2 Choice per element", level=2)
+    doc.heading(ctx["choices_heading"], level=2)
     doc.table(ctx["choices"])
     sm = ctx.get("simplified_model")
     if sm:
-        doc.heading("5.3 Explicit model: rule, bound, cost", level=2)
+        doc.heading(ctx["model_heading"], level=2)
         doc.paragraph(sm["text"], size=8.5)
         doc.table(sm["bound"])
         if sm["costs"]:
@@ -454,11 +454,6 @@ _RANKING_TEXT = ("For each element, share_tran = \u03a3|tran| / (\u03a3|tran| + 
                  "share_tran \u2264 1 \u2212 s, and both in between. \u2261 0: zero in every "
                  "part (below 1e-12 of its scale), so share_tran is rounding noise and is not "
                  "shown.")
-_SIMPLIFIED_TEXT = ("The simplified model keeps, for each element of D (mirrored to the lower "
-                    "triangle) and of h, only its dominant part \u2014 both parts if neither "
-                    "dominates, nothing if it is negligible; gravity c is kept whole: "
-                    "\u03c4\u209b = D\u209b q\u0308 + h\u209b + c.")
-
 
 # --------------------------------------------------------------------------------------------
 # Entry point

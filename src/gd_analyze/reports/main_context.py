@@ -43,6 +43,47 @@ _DERIVATIVES = {
 _CHOICE_TEXT = {"tran": "translational part only", "rot": "rotational part only",
                 "both": "translational + rotational", "none": "dropped (negligible)"}
 
+#: Section 5's opening paragraph, per form of the deployed model.
+_SIMPLIFIED_INTRO = {
+    "explicit": ("The simplified model is the explicit G-D model (Eq. (3.4-24)) with parts of "
+                 "the elements of D (mirrored to the lower triangle), h and c left out by its "
+                 "rule (Sec. 5.3): \u03c4\u209b = D\u209b q\u0308 + h\u209b + c\u209b."),
+    "recursive": ("The simplified model is the customized recursive Newton-Euler model on the "
+                  "base inertial parameters, with parts of the parameters' contributions left "
+                  "out by the error budget (Sec. 5.3); it keeps the elements of D and h as "
+                  "sums over the parameters, not element by element."),
+}
+_CHOICES_HEADING = {"explicit": "5.2 Choice per element",
+                    "recursive": "5.2 Base parameters and the parts kept"}
+_MODEL_HEADING = {"explicit": "5.3 Explicit model: rule, bound, cost",
+                  "recursive": "5.3 Recursive model: rule, bound, cost"}
+
+
+def _base_parameter_table(ds):
+    """The base parameters of a recursive model, their values and which parts are kept."""
+    names = _strings(ds["base_parameter"].values)
+    parts = _strings(ds["torque_part"].values)
+    dropped = ds["base_parameter_dropped"].values
+    units = _strings(ds["base_parameter_units"].values)
+    return _table(["base parameter", "value", "units", *parts],
+                  [[name, _fmt(ds["base_parameter_value"].values[k]), _units_text(units[k]),
+                    *("dropped" if dropped[k, p] else "kept" for p in range(len(parts)))]
+                   for k, name in enumerate(names)],
+                  align=["left", "right", "left", "left", "left", "left"],
+                  widths=[1.0, 1.0, 0.7, 0.8, 0.8, 0.8])
+
+
+def _units_text(u):
+    return u.replace("m2", "m\u00b2")
+
+
+def _recursive_facts(ds):
+    """(base parameters, dropped pairs, all pairs) of a recursive model, for the summary."""
+    a = ds.attrs
+    return (int(ds.sizes.get("base_parameter", 0)), int(a.get("simplified_pairs_dropped", 0)),
+            int(a.get("simplified_pairs", 0)))
+
+
 def prismatic_joints(ds):
     """Which joints are prismatic (q in m), from the stored ``joint_type`` (all revolute in a
     dataset without it).
@@ -211,11 +252,15 @@ def _report_context_base(ds):
     counts = {c: dominance.count(c) for c in _CLASS_COLOURS}
 
     # 5. simplified model and torque error
-    choices = _table(
-        ["element", "class", "kept part", "meaning"],
-        [[lab, dominance[k], choice[k], _CHOICE_TEXT.get(choice[k], "")]
-         for k, lab in enumerate(labels)],
-        widths=[0.8, 1.2, 0.8, 2.2], colour_cols=[1])
+    form = str(ds.attrs.get("simplified_form", "explicit"))
+    if form == "recursive":
+        choices = _base_parameter_table(ds)
+    else:
+        choices = _table(
+            ["element", "class", "kept part", "meaning"],
+            [[lab, dominance[k], choice[k], _CHOICE_TEXT.get(choice[k], "")]
+             for k, lab in enumerate(labels)],
+            widths=[0.8, 1.2, 0.8, 2.2], colour_cols=[1])
     err = _table(
         ["joint", "peak |\u03c4\u209b\u2212\u03c4| [N m]", "RMS |\u03c4\u209b\u2212\u03c4| [N m]",
          "peak |\u03c4| [N m]", "peak error / peak |\u03c4|", "RMS error / peak |\u03c4|"],
@@ -298,7 +343,8 @@ def _report_context_base(ds):
     payload = _payload_context(ds)
     title = f"G-D dominance analysis: {robot_name} along {_attr(ds, 'input_file')}"
     summary = conclusion(labels, dominance, zero, choice, rel_peak,
-                         ds["tau_error_peak"].values, ds["tau_peak"].values, _model_cost(ds))
+                         ds["tau_error_peak"].values, ds["tau_peak"].values, _model_cost(ds),
+                         recursive=_recursive_facts(ds) if form == "recursive" else None)
     facts = (f"{robot_name}, {n} joints, {N} set points over {_fmt(t[-1] - t[0], 4)} s; "
              f"{len(labels)} elements ranked with s = {s:g}, e = {e:g}: "
              + ", ".join(f"{counts[c]} {c}" for c in _CLASS_COLOURS)
@@ -312,6 +358,8 @@ def _report_context_base(ds):
         "n": n, "N": N, "s": f"{s:g}", "e": f"{e:g}", "created": now.isoformat(),
         "robot_kv": robot_kv, "dh": dh, "link": link, "traj_kv": traj_kv, "joints": joints,
         "ranking": ranking, "counts": counts, "choices": choices, "error": err,
+        "simplified_intro": _SIMPLIFIED_INTRO[form], "choices_heading": _CHOICES_HEADING[form],
+        "model_heading": _MODEL_HEADING[form],
         "compare": {"applicable": applicable, "note": note, "table": compare,
                     "n_agree": n_agree, "n_compared": n_compared},
         "provenance": _kv(prov), "enveloped": enveloped,

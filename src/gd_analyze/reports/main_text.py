@@ -56,7 +56,8 @@ def _names(labels):
     return ", ".join(labels[:5]) + f" and {len(labels) - 5} more"
 
 
-def conclusion(labels, dominance, zero, choice, rel_peak, abs_peak, tau_peak, cost=None):
+def conclusion(labels, dominance, zero, choice, rel_peak, abs_peak, tau_peak, cost=None,
+               recursive=None):
     """The report's conclusion in three sentences.
 
     Parameters
@@ -70,6 +71,9 @@ def conclusion(labels, dominance, zero, choice, rel_peak, abs_peak, tau_peak, co
     cost : tuple of (int, int, int or None), optional
         The emitted model's multiplications and additions per set point, and Newton-Euler's
         operations as implemented (None if not counted).
+    recursive : tuple of (int, int, int), optional
+        For a model of the recursive form: its number of base parameters, of dropped
+        (parameter, part) pairs and of pairs; ``choice`` is then not used.
 
     Returns
     -------
@@ -103,12 +107,19 @@ def conclusion(labels, dominance, zero, choice, rel_peak, abs_peak, tau_peak, co
                 text += f" ({', '.join(z)} \u2261 0)"
         parts.append(text + f" \u2014 {lead} effects lead")
     first = "Dominance: " + "; ".join(parts) + "."
-    kept = {c: sum(1 for v in choice if v == c) for c in ("tran", "rot", "both", "none")}
-    terms = kept["tran"] + kept["rot"] + 2 * kept["both"]
-    second = (f"The simplified model keeps only the translational part of {kept['tran']} "
-              f"elements, only the rotational part of {kept['rot']}, both parts of "
-              f"{kept['both']} and drops {kept['none']}: it evaluates {terms} of the "
-              f"{2 * len(labels)} parts of D and h, plus gravity c whole.")
+    if recursive is not None:
+        b, dropped, pairs = recursive
+        second = (f"The simplified model is the recursive Newton-Euler model on {b} base "
+                  "parameters" + (": it is exact, nothing is dropped." if dropped == 0 else
+                                  f"; it drops {dropped} of the {pairs} inertial, velocity and "
+                                  "gravity parts of their contributions."))
+    else:
+        kept = {c: sum(1 for v in choice if v == c) for c in ("tran", "rot", "both", "none")}
+        terms = kept["tran"] + kept["rot"] + 2 * kept["both"]
+        second = (f"The simplified model keeps only the translational part of {kept['tran']} "
+                  f"elements, only the rotational part of {kept['rot']}, both parts of "
+                  f"{kept['both']} and drops {kept['none']}: it evaluates {terms} of the "
+                  f"{2 * len(labels)} parts of D and h, with its rule's terms of c.")
     rel = np.asarray(rel_peak, float)
     if not np.any(np.isfinite(rel)):
         return first + " " + second + " Its torque error is not defined (no torque)."

@@ -68,7 +68,10 @@ def simplified_context(ds):
     files = [f.strip() for f in str(a.get("simplified_files", "")).split(",") if f.strip()]
     choice = strings(ds["choice"].values) if "choice" in ds.variables else []
     dropped = sum({"both": 0, "tran": 1, "rot": 1, "none": 2}.get(c, 0) for c in choice)
-    if rule == "budget":
+    form = str(a.get("simplified_form", "explicit"))
+    if form == "recursive":
+        text = _recursive_text(ds, eps, floor)
+    elif rule == "budget":
         text = (f"Rule: error budget, EPS = {eps:g}"
                 + (f", torque floor {floor:g} N m" if floor else "")
                 + ". Every part of an element and every term of the explicit model contributes "
@@ -81,9 +84,10 @@ def simplified_context(ds):
     else:
         text = ("Rule: the chapter's share-based classes (Sec. 3.4.1): each element keeps its "
                 "dominant part, no term is pruned; there is no error bound.")
-    text += (f" Kept: {int(a.get('simplified_terms_kept', 0))} terms of the explicit model; "
-             f"{dropped} of {2 * len(choice)} element parts dropped as whole parts. The emitted "
-             f"code costs {a.get('simplified_multiplications')} multiplications and "
+    if form != "recursive":
+        text += (f" Kept: {int(a.get('simplified_terms_kept', 0))} terms of the explicit "
+                 f"model; {dropped} of {2 * len(choice)} element parts dropped as whole parts.")
+    text += (f" The emitted code costs {a.get('simplified_multiplications')} multiplications and "
              f"{a.get('simplified_additions')} additions per set point "
              f"({a.get('simplified_sin')} sin, {a.get('simplified_cos')} cos).")
     other = str(a.get("other_rule", ""))
@@ -94,8 +98,10 @@ def simplified_context(ds):
                  f"{a.get('other_rule_additions')} additions, worst error {pct(worst)} of "
                  "peak |tau|.")
     measured = ds["tau_error_peak"].values
+    parts = ("from D", "from h", "from c") if form != "recursive" else (
+        "inertial (D)", "velocity (h)", "gravity (c)")
     bound = table(
-        ["joint", "scale [N m]", "bound [N m]", "from D", "from h", "from c",
+        ["joint", "scale [N m]", "bound [N m]", *parts,
          "measured peak |\u03c4\u209b\u2212\u03c4| [N m]", "measured / scale"],
         [[str(i + 1), _num(ds["simplified_scale"].values[i]),
           _num(ds["simplified_bound"].values[i]),
@@ -123,6 +129,30 @@ def simplified_context(ds):
     return {"text": text, "bound": bound, "costs": costs, "ladder": ladder, "files": files,
             "rule": rule, "tolerance": eps,
             "ladder_note": f"Tolerance ladder {skipped}." if skipped else ""}
+
+
+def _recursive_text(ds, eps, floor):
+    """The rule of a model of the recursive form, what it keeps and its guarantee."""
+    a = ds.attrs
+    b = ds.sizes.get("base_parameter", 0)
+    dropped = int(a.get("simplified_pairs_dropped", 0))
+    pairs = int(a.get("simplified_pairs", 3 * b))
+    text = (f"Form: the customized recursive Newton-Euler model (Algorithm 3.1) on the arm's "
+            f"{b} base inertial parameters (Khalil & Kleinfinger 1987; Gautier 1990), with the "
+            "numeric parameters as constants, 0 and \u00b11 folded and common subexpressions "
+            "shared. The torque is linear in the base parameters, \u03c4 = Y_b \u03b2; each "
+            "parameter's contribution splits into an inertial part (in D q\u0308), a velocity "
+            "part (in h) and a gravity part (in c). ")
+    if dropped == 0:
+        return text + (f"Rule: error budget, EPS = {eps:g}: no part is dropped, the model is "
+                       "exact (its difference from the full torque is round-off).")
+    return text + (f"Rule: error budget, EPS = {eps:g}"
+                   + (f", torque floor {floor:g} N m" if floor else "")
+                   + f". {dropped} of {pairs} (parameter, part) pairs are dropped, in order of "
+                   "increasing peak contribution, while for every joint the dropped peaks sum "
+                   "to at most EPS \u00d7 scale_i (scale_i = peak |\u03c4_i|, raised to the "
+                   "floor); by the triangle inequality the error on this trajectory is within "
+                   "that sum: the bound below is guaranteed, on this trajectory only.")
 
 
 def _round_off(diff, bound, scale):

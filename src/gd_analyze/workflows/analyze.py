@@ -370,27 +370,62 @@ def _with_costs(ds, costs):
 
 
 def _simplify(robot, trajectory, ranking, part_peaks, tolerance, rule, torque_floor,
-               provenance):
-    """The explicit simplified model by the rule, the other rule's model, ladder, costs."""
-    from .simplify import (build_model, collect_peaks, cost_rows, full_torque, ladder,
-                           ladder_skipped, simplified_dataset, validate)
+              provenance, explicit="auto"):
+    """The simplified model deployed (issue 17), the models compared with it, ladder, costs.
+
+    The pruned recursive model is always built; the explicit G-D model is derived when the
+    chapter rule asks for it, when ``explicit`` is ``"always"``, or (``"auto"``) when its
+    estimated size is cheap (:func:`gd_analyze.core.explicit_estimate.is_expensive`). Under the
+    budget rule the cheaper of the pruned recursive and pruned explicit models is deployed
+    (multiplications + additions; the recursive one on a tie).
+    """
+    from .simplify import (build_model, build_recursive, collect_peaks, cost_rows,
+                           full_torque, ladder, ladder_skipped, simplified_dataset, validate)
+    from ..core.explicit_estimate import is_expensive
     from ..formulations.opcount import operation_counts
     from ..io.explicit_cache import explicit_terms
 
-    terms, _ = explicit_terms(robot)
     q, qd, qdd = trajectory.q, trajectory.qd, trajectory.qdd
-    peaks = collect_peaks(robot, terms, q, qd, qdd, gd=part_peaks)
-    common = dict(torque_floor=torque_floor, chapter_choices=ranking.choices(),
-                  ranking=ranking, trajectory_sha256=trajectory.sha256, provenance=provenance)
-    model, sel = build_model(robot, terms, peaks, tolerance=tolerance, rule=rule, **common)
-    other_rule = "chapter" if rule == "budget" else "budget"
-    other, _ = build_model(robot, terms, peaks, tolerance=tolerance, rule=other_rule, **common)
-    reference = full_torque(robot, terms)       # tau without computing the G-D terms again
-    other_error = validate(other, [(q, qd, qdd)], reference=reference)
+    common = dict(ranking=ranking, trajectory_sha256=trajectory.sha256, provenance=provenance)
     counts = operation_counts(robot.n)
-    skipped = ladder_skipped(model.full_cost, counts)
-    rows = [] if skipped else ladder(robot, terms, peaks, [(q, qd, qdd)],
-                                     torque_floor=torque_floor, reference=reference)
+    rec, rec_sel = build_recursive(robot, [(q, qd, qdd)], tolerance=tolerance,
+                                   torque_floor=torque_floor, **common)
+    exact = rec.costs["exact recursive"]
+    ne = counts["newton-euler"]
+    ne = {"multiplications": int(ne["multiplications"]), "additions": int(ne["additions"])}
+    derive = rule == "chapter" or explicit == "always" or (
+        explicit == "auto" and not is_expensive(robot))
+    model, sel, other, other_error, rows, skipped = rec, rec_sel, None, None, [], ""
+    costs = {"exact recursive": exact, "recursive, budget": dict(rec.cost),
+             "newton-euler": ne}
+    if derive:
+        terms, _ = explicit_terms(robot)
+        peaks = collect_peaks(robot, terms, q, qd, qdd, gd=part_peaks)
+        ex, ex_sel = build_model(robot, terms, peaks, tolerance=tolerance, rule=rule,
+                                 torque_floor=torque_floor,
+                                 chapter_choices=ranking.choices(), **common)
+        other_rule = "chapter" if rule == "budget" else "budget"
+        other, _ = build_model(robot, terms, peaks, tolerance=tolerance, rule=other_rule,
+                               torque_floor=torque_floor, chapter_choices=ranking.choices(),
+                               **common)
+        reference = full_torque(robot, terms)       # tau without computing the G-D terms again
+        other_error = validate(other, [(q, qd, qdd)], reference=reference)
+        costs.update({f"explicit, {rule}": dict(ex.cost), "explicit, full": dict(ex.full_cost)})
+        skipped = ladder_skipped(ex.full_cost, counts)
+        rows = [] if skipped else ladder(robot, terms, peaks, [(q, qd, qdd)],
+                                         torque_floor=torque_floor, reference=reference)
+        if rule == "chapter" or _ops(ex.cost) < _ops(rec.cost):
+            model, sel = ex, ex_sel
+    else:
+        skipped = ("not built: the explicit G-D model of this arm is estimated too large to "
+                   "pay (give --explicit always to derive it)")
+    import dataclasses
+
+    program = model.__dict__.get("_program")
+    model = dataclasses.replace(model, costs=costs,
+                                full_cost=dict(costs.get("explicit, full", model.full_cost)))
+    if program is not None:
+        model.__dict__["_program"] = program
     table = cost_rows(robot.n, model, other=other, ladder_rows=rows, formulation_counts=counts)
     extra = simplified_dataset(model, sel, other=other, ladder_rows=rows, cost_table=table,
                                other_error=other_error)
@@ -399,9 +434,13 @@ def _simplify(robot, trajectory, ranking, part_peaks, tolerance, rule, torque_fl
     return model, extra
 
 
+def _ops(cost):
+    return int(cost["multiplications"]) + int(cost["additions"])
+
+
 def analyze(robot, trajectory, dominance=DEFAULT_DOMINANCE, negligible=DEFAULT_NEGLIGIBLE,
             check=True, settings=None, formulations=False, tolerance=0.01, rule="budget",
-            torque_floor=0.0):
+            torque_floor=0.0, explicit="auto"):
     """Compute, verify, rank and simplify the G-D terms along a trajectory, in memory.
 
     Parameters
@@ -427,6 +466,9 @@ def analyze(robot, trajectory, dominance=DEFAULT_DOMINANCE, negligible=DEFAULT_N
         How the simplified model is chosen (:mod:`gd_analyze.core.budget`).
     torque_floor : float, optional
         TAU [N m], the least scale of a joint torque.
+    explicit : {"auto", "always", "never"}, optional
+        Whether the explicit G-D model is derived besides the recursive one (``"auto"``:
+        where its estimated size is cheap); the cheaper of the two is deployed.
 
     Returns
     -------
@@ -446,7 +488,7 @@ def analyze(robot, trajectory, dominance=DEFAULT_DOMINANCE, negligible=DEFAULT_N
 
     N = trajectory.q.shape[0]
     simplify = {"tolerance": tolerance, "rule": rule, "torque_floor": torque_floor,
-                "provenance": _provenance(trajectory, settings)}
+                "provenance": _provenance(trajectory, settings), "explicit": explicit}
     result = analysis_pass(robot, trajectory, dominance, negligible, check, formulations,
                            chunk=max(N, 1), simplify=simplify)
     ds = build_dataset(robot, trajectory, result.terms, result.ranking, result.tau,
@@ -461,7 +503,8 @@ def analyze(robot, trajectory, dominance=DEFAULT_DOMINANCE, negligible=DEFAULT_N
 def analyze_to_file(robot, trajectory, path, dominance=DEFAULT_DOMINANCE,
                     negligible=DEFAULT_NEGLIGIBLE, check=True, settings=None,
                     chunk=STREAM_CHUNK, progress=False, compress=0, formulations=True,
-                    extra=None, tolerance=0.01, rule="budget", torque_floor=0.0):
+                    extra=None, tolerance=0.01, rule="budget", torque_floor=0.0,
+                    explicit="auto"):
     """:func:`analyze`, streamed into a results file in chunks of bounded memory.
 
     The G-D terms are computed once per set point, chunk by chunk, and written; the simplified
@@ -495,7 +538,7 @@ def analyze_to_file(robot, trajectory, path, dominance=DEFAULT_DOMINANCE,
         (:func:`gd_analyze.formulations.compare.formulations_dataset`).
     extra : xarray.Dataset, optional
         More variables to store with the summary (e.g. a payload sweep, dim ``payload``).
-    tolerance, rule, torque_floor : optional
+    tolerance, rule, torque_floor, explicit : optional
         As :func:`analyze`.
 
     Returns
@@ -522,7 +565,7 @@ def analyze_to_file(robot, trajectory, path, dominance=DEFAULT_DOMINANCE,
             out.write(0, {"t": trajectory.t, "q": trajectory.q, "qd": trajectory.qd,
                           "qdd": trajectory.qdd})
             simplify = {"tolerance": tolerance, "rule": rule, "torque_floor": torque_floor,
-                        "provenance": _provenance(trajectory, settings)}
+                        "provenance": _provenance(trajectory, settings), "explicit": explicit}
             result = analysis_pass(robot, trajectory, dominance, negligible, check,
                                    formulations, chunk, writer=out, progress=progress,
                                    simplify=simplify)

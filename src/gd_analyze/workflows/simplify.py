@@ -19,6 +19,7 @@ from ..core.explicit import term_peaks
 from ..core.dalembert import gd_terms
 from ..io.explicit_cache import explicit_terms
 from ..core.simplified import SimplifiedModel, TorqueErrorAccumulator
+from ..core.symbolic.recursive_model import PART_NAMES
 
 __all__ = ["Peaks", "collect_peaks", "build_model", "LADDER", "ladder", "cost_rows",
            "AKB_COSTS", "simplified_dataset"]
@@ -359,14 +360,30 @@ def cost_rows(n, model, other=None, ladder_rows=None, formulation_counts=None):
         return (float(c["multiplications"]), float(c["additions"]),
                 float(c["multiplications"] + c["additions"]))
 
-    rows = {"explicit, full": row(model.full_cost)}
+    rows = {}
+    rec = model.costs or {}
+    eps_m = f" EPS={model.tolerance:g}"
+    if "exact recursive" in rec:
+        rows["recursive N-E, exact"] = row(rec["exact recursive"])
+    if "recursive, budget" in rec:
+        rows[f"recursive N-E, budget{eps_m}"
+             + (" (this model)" if model.form == "recursive" else "")] = \
+            row(rec["recursive, budget"])
+    if model.full_cost:
+        rows["explicit, full"] = row(model.full_cost)
+    elif "explicit, full" in rec:
+        rows["explicit, full"] = row(rec["explicit, full"])
     for r in ladder_rows or []:
         rows[f"explicit, budget EPS={r['tolerance']:g}"] = row(r)
     for m in (model, other):
-        if m is not None:
+        if m is not None and m.form == "explicit":
             eps = "" if m.rule == "chapter" else f" EPS={m.tolerance:g}"
             rows[f"explicit, {m.rule}{eps} (this model)" if m is model else
                  f"explicit, {m.rule}{eps}"] = row(m.cost)
+    for key, c in rec.items():
+        if key.startswith("explicit, ") and key != "explicit, full" and model.form != "explicit":
+            label = key + ("" if key.endswith("chapter") else eps_m)
+            rows.setdefault(label, row(c))
     from ..formulations.opcount import operation_counts
 
     counts = operation_counts(n) if formulation_counts is None else formulation_counts
@@ -459,6 +476,23 @@ def simplified_dataset(model, selection, other=None, ladder_rows=None, cost_tabl
                 f"peak |tau_s - tau| / peak |tau| of the {other.rule} rule's model"),
         })
     coords = {}
+    if model.recursive is not None:
+        rec = model.recursive
+        units = {"M": "kg", "MX": "kg m", "MY": "kg m", "MZ": "kg m"}
+        coords["base_parameter"] = var(("base_parameter",), np.array(rec.names, dtype=str),
+                                       "1", "base inertial parameter (Gautier 1990)")
+        coords["torque_part"] = var(("torque_part",), np.array(PART_NAMES, dtype=str), "1",
+                                    "part of the torque: inertial (D qdd), velocity (h), "
+                                    "gravity (c)")
+        dv.update({
+            "base_parameter_value": var(("base_parameter",), rec.beta, "SI", "value"),
+            "base_parameter_units": var(("base_parameter",), np.array(
+                [units.get(name.rstrip("0123456789"), "kg m2") for name in rec.names],
+                dtype=str), "1", "units of the value"),
+            "base_parameter_dropped": var(("base_parameter", "torque_part"),
+                                          rec.dropped.astype(np.int8), "1",
+                                          "1 where the part is dropped from the model"),
+        })
     if cost_table:
         coords["cost_model"] = var(("cost_model",), np.array(list(cost_table), dtype=str), "1",
                                    "formulation or model whose operations are counted")
@@ -471,7 +505,15 @@ def simplified_dataset(model, selection, other=None, ladder_rows=None, cost_tabl
     ds.attrs.update({
         "simplified_rule": model.rule, "simplified_tolerance": model.tolerance,
         "simplified_torque_floor": model.torque_floor,
-        "simplified_files": ", ".join(files), "simplified_terms_kept": len(model.terms),
+        "simplified_files": ", ".join(files),
+        "simplified_form": model.form,
+        "simplified_terms_kept": -1 if model.terms is None else len(model.terms),
+        "simplified_pairs_dropped": -1 if model.recursive is None else
+        int(model.recursive.dropped.sum()),
+        "simplified_pairs": -1 if model.recursive is None else
+        int(model.recursive.dropped.size),
+        "simplified_dropped_pairs": "" if model.recursive is None else
+        ", ".join(f"{a} ({b})" for a, b in model.recursive.dropped_pairs()),
         "simplified_multiplications": cost["multiplications"],
         "simplified_additions": cost["additions"], "simplified_sin": cost["sin"],
         "simplified_cos": cost["cos"],
@@ -573,3 +615,89 @@ def sweep_model(robot, trajectories, tolerance=DEFAULT_TOLERANCE, torque_floor=0
 
 
 __all__.append("sweep_model")
+
+
+def build_recursive(robot, trajectories, tolerance=DEFAULT_TOLERANCE, torque_floor=0.0,
+                    ranking=None, trajectory_sha256="", provenance=None):
+    """The pruned customized recursive Newton-Euler model within the budget (issue 17).
+
+    Parameters
+    ----------
+    robot : Robot
+        The arm, with n joints.
+    trajectories : sequence of (q, qd, qdd)
+        Arrays of shape (N_t, n) [rad, rad/s, rad/s^2; m, m/s, m/s^2]: the bound holds on
+        each of them.
+    tolerance : float, optional
+        EPS.
+    torque_floor : float, optional
+        TAU [N m].
+    ranking : Ranking, optional
+        For the thresholds s and e recorded with the model.
+    trajectory_sha256 : str, optional
+    provenance : dict, optional
+
+    Returns
+    -------
+    model : SimplifiedModel
+        Of the recursive form, ``validation`` empty; ``costs["exact recursive"]`` holds the
+        exact recursive model's count.
+    selection : Selection
+        Its scale and bound, the bound split by part (``"D"``: inertial, ``"h"``: velocity,
+        ``"c"``: gravity) [N m].
+
+    Notes
+    -----
+    Fu, Gonzalez & Lee (1987), Algorithm 3.1 on the base parameters (Khalil & Kleinfinger
+    1987; Gautier 1990), pruned as :func:`gd_analyze.core.symbolic.recursive_model.recursive_model`.
+    """
+    from ..core.budget import Selection
+    from ..core.ranking import element_labels
+    from ..core.symbolic.base_parameters import base_parameters
+    from ..core.symbolic.recursive import recursive_program
+    from ..core.symbolic.recursive_model import recursive_model
+
+    base = base_parameters(robot)
+    rec = recursive_model(robot, list(trajectories), tolerance, torque_floor, base=base)
+    exact = recursive_program(robot, base.values).cost()
+    choices = {lab: "both" for lab in element_labels(robot.n)}
+    model = SimplifiedModel(
+        robot=robot, choices=choices,
+        dominance_threshold=float(getattr(ranking, "dominance_threshold", DEFAULT_DOMINANCE)),
+        negligible_threshold=float(getattr(ranking, "negligible_threshold", DEFAULT_NEGLIGIBLE)),
+        trajectory_sha256=trajectory_sha256, provenance=dict(provenance or {}), rule="budget",
+        tolerance=float(tolerance), torque_floor=float(torque_floor), terms=None,
+        recursive=rec, bound=[float(v) for v in rec.bound],
+        costs={"exact recursive": exact})
+    model = replace_cost(model, model.program().cost())
+    sel = Selection(rule="budget", tolerance=float(tolerance), choices=choices, kept=None,
+                    scale=rec.scale, bound=rec.bound,
+                    bound_by_kind={"D": rec.bound_by_part[0], "h": rec.bound_by_part[1],
+                                   "c": rec.bound_by_part[2]},
+                    element_bound=np.full(robot.n, np.nan))
+    return model, sel
+
+
+def replace_cost(model, cost):
+    """The model with its ``cost`` set, its program kept (a new frozen value).
+
+    Parameters
+    ----------
+    model : SimplifiedModel
+    cost : dict
+        ``multiplications``, ``additions``, ``sin``, ``cos``.
+
+    Returns
+    -------
+    SimplifiedModel
+    """
+    import dataclasses
+
+    program = model.__dict__.get("_program")
+    out = dataclasses.replace(model, cost=dict(cost))
+    if program is not None:
+        out.__dict__["_program"] = program
+    return out
+
+
+__all__ += ["build_recursive", "replace_cost"]

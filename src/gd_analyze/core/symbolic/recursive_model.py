@@ -1,0 +1,255 @@
+"""The pruned recursive model as a value: what it keeps, its bound, and how to rebuild it.
+
+A :class:`RecursiveModel` holds the base parameters of an arm (names and values, Gautier 1990)
+and which (base parameter, part) pairs the error budget dropped (:mod:`.pruning`). It is
+enough to rebuild the straight-line program (:func:`.pruning.pruned_program`), and it is what
+``simplified_model.json`` stores for a model of the recursive form. On reading, the base
+parameters are derived again from the robot's parameters and must agree with the stored ones,
+so a hand-edited value cannot change the torques that the model file claims.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+from ...errors import InputError
+from .base_parameters import BaseParameters, base_parameters
+from .recursive import PARTS
+
+__all__ = ["RecursiveModel", "recursive_model", "PART_NAMES", "AGREEMENT"]
+
+#: What each part of a base parameter's contribution is, in the order of :data:`.recursive.PARTS`.
+PART_NAMES = ("inertial", "velocity", "gravity")
+#: Largest relative difference accepted between stored and re-derived base parameters.
+AGREEMENT = 1e-8
+
+
+@dataclass(frozen=True, eq=False)
+class RecursiveModel:
+    """A customized recursive Newton-Euler model with some parameter parts dropped.
+
+    Attributes
+    ----------
+    names : tuple of str, length b
+        The base parameters, e.g. ``("ZZ1", "XXR2", ...)`` as
+        :meth:`.base_parameters.BaseParameters.names` gives them.
+    beta : ndarray, shape (b,)
+        Their values [kg m^2, kg m, kg].
+    dropped : ndarray of bool, shape (b, 3)
+        ``dropped[k, p]``: part p (inertial, velocity, gravity) of parameter k is left out.
+    scale : ndarray, shape (n,)
+        scale_i = max(peak |tau_i|, torque floor) on the trajectories [N m or N].
+    bound : ndarray, shape (n,)
+        Guaranteed bound on |tau_s - tau| per joint on those trajectories [N m or N]: the sum
+        of the dropped pairs' peaks (triangle inequality).
+    bound_by_part : ndarray, shape (3, n)
+        The bound split by part (inertial, velocity, gravity) [N m or N].
+
+    Notes
+    -----
+    tau = Y_b(q, qd, qdd) beta (Khalil & Kleinfinger 1987; Gautier 1990), each column split
+    into its inertial, Coriolis/centrifugal and gravity parts, i.e. into the D qdd, h and c of
+    Fu, Gonzalez & Lee (1987), Eq. (3.4-24).
+    """
+
+    names: tuple
+    beta: np.ndarray
+    dropped: np.ndarray
+    scale: np.ndarray
+    bound: np.ndarray
+    bound_by_part: np.ndarray
+
+    def base(self, robot):
+        """The :class:`.base_parameters.BaseParameters` these names and values stand for.
+
+        Parameters
+        ----------
+        robot : Robot
+            The arm the model was built for.
+
+        Returns
+        -------
+        BaseParameters
+            With the stored beta; ``K`` empty (the program does not need it).
+        """
+        from .base_parameters import PARAMETER_NAMES, standard_parameters
+
+        n = robot.n
+        index = {f"{PARAMETER_NAMES[c]}{j + 1}": (j, c) for j in range(n) for c in range(10)}
+        independent = np.zeros((n, 10), bool)
+        for name in self.names:
+            independent[index[name]] = True
+        return BaseParameters(standard=standard_parameters(robot), independent=independent,
+                              K=np.zeros((len(self.names), 0)), beta=np.array(self.beta, float),
+                              rank=len(self.names))
+
+    def program(self, robot):
+        """The straight-line program of the pruned model (:class:`~gd_analyze.core.codegen.Program`).
+
+        Parameters
+        ----------
+        robot : Robot
+
+        Returns
+        -------
+        Program
+            tau [N m or N] of q, qd, qdd; the exact recursive program when nothing is dropped.
+        """
+        from .pruning import pruned_program
+
+        return pruned_program(robot, self.base(robot), self.dropped)
+
+    def dropped_pairs(self):
+        """The dropped pairs as (parameter name, part name), in parameter order.
+
+        Returns
+        -------
+        list of (str, str)
+        """
+        return [(self.names[k], PART_NAMES[p]) for k, p in zip(*np.nonzero(self.dropped))]
+
+    def to_dict(self):
+        """The model in the layout of ``simplified_model.json`` (key ``recursive``).
+
+        Returns
+        -------
+        dict
+        """
+        return {"base_parameters": list(self.names),
+                "beta": [float(v) for v in self.beta],
+                "dropped": [[a, b] for a, b in self.dropped_pairs()],
+                "scale": [float(v) for v in self.scale],
+                "bound": [float(v) for v in self.bound],
+                "bound_by_part": {PART_NAMES[p]: [float(v) for v in self.bound_by_part[p]]
+                                  for p in range(len(PARTS))}}
+
+    @classmethod
+    def from_dict(cls, spec, robot, path="<model>"):
+        """Read the ``recursive`` key of a model file, checked against the robot.
+
+        Parameters
+        ----------
+        spec : dict
+            As :meth:`to_dict` writes it (shapes are checked here, types by the schema).
+        robot : Robot
+            The model file's robot.
+        path : str, optional
+            The file, for messages.
+
+        Returns
+        -------
+        RecursiveModel
+
+        Raises
+        ------
+        InputError
+            If the base parameters differ from those derived again from the robot (names, or
+            values by more than :data:`AGREEMENT` relative), a dropped pair names an unknown
+            parameter or part, or a list has the wrong length. One line naming the key.
+        """
+        where = "recursive"
+        base = base_parameters(robot)
+        names = tuple(base.names())
+        if tuple(spec["base_parameters"]) != names:
+            raise InputError(f"the base parameters differ from those of the robot ({len(names)}"
+                             f": {', '.join(names[:4])}, ...)", path,
+                             column=f"{where}.base_parameters")
+        beta = np.array(spec["beta"], float)
+        scale = np.maximum(np.abs(base.beta), np.abs(base.beta).max(initial=0.0) * 1e-12)
+        if beta.shape != base.beta.shape or not np.all(
+                np.abs(beta - base.beta) <= AGREEMENT * np.where(scale > 0, scale, 1.0)):
+            raise InputError("the base parameter values differ from those of the robot "
+                             "(edited after the model was written?)", path,
+                             column=f"{where}.beta")
+        dropped = np.zeros((len(names), len(PARTS)), bool)
+        for pair in spec["dropped"]:
+            if len(pair) != 2 or pair[0] not in names or pair[1] not in PART_NAMES:
+                raise InputError(f"unknown dropped pair {pair!r}"[:120], path,
+                                 column=f"{where}.dropped")
+            dropped[names.index(pair[0]), PART_NAMES.index(pair[1])] = True
+        n = robot.n
+        arrays = {}
+        for key in ("scale", "bound"):
+            arrays[key] = np.array(spec[key], float)
+            if arrays[key].shape != (n,):
+                raise InputError(f"expected {n} numbers", path, column=f"{where}.{key}")
+        by_part = np.array([spec["bound_by_part"][p] for p in PART_NAMES], float)
+        if by_part.shape != (len(PARTS), n):
+            raise InputError(f"expected 3 lists of {n} numbers", path,
+                             column=f"{where}.bound_by_part")
+        return cls(names=names, beta=base.beta, dropped=dropped, scale=arrays["scale"],
+                   bound=arrays["bound"], bound_by_part=by_part)
+
+
+def recursive_model(robot, trajectories, tolerance, torque_floor=0.0, base=None):
+    """Prune the recursive model within the error budget on every given trajectory.
+
+    Parameters
+    ----------
+    robot : Robot
+        The arm, with n joints.
+    trajectories : sequence of (q, qd, qdd)
+        Arrays of shape (N_t, n) [rad, rad/s, rad/s^2; m, m/s, m/s^2].
+    tolerance : float
+        EPS >= 0: on each trajectory t, every joint's dropped peaks add up to at most
+        EPS scale_{t,i}, scale_{t,i} = max(peak |tau_i| on t, torque_floor).
+    torque_floor : float, optional
+        TAU [N m or N].
+    base : BaseParameters, optional
+        The robot's base parameters, if already derived.
+
+    Returns
+    -------
+    RecursiveModel
+        ``scale`` and ``bound`` are those of the trajectory where the bound is tightest
+        relative to its scale (for one trajectory, that trajectory's).
+
+    Raises
+    ------
+    ValueError
+        If tolerance or torque_floor is negative or not finite, or there is no trajectory.
+
+    Notes
+    -----
+    Pairs are visited in increasing order of their largest peak relative to the joint scales
+    over all trajectories; a pair is dropped when every trajectory's every joint stays within
+    budget, so the bound holds on each trajectory by the triangle inequality (the rule of
+    :func:`.pruning.prune`, taken over several trajectories).
+    """
+    from .pruning import part_contributions
+
+    if not (np.isfinite(tolerance) and tolerance >= 0):
+        raise ValueError(f"tolerance must be a finite number >= 0, got {tolerance!r}")
+    if not (np.isfinite(torque_floor) and torque_floor >= 0):
+        raise ValueError(f"torque_floor must be a finite number >= 0, got {torque_floor!r}")
+    if not trajectories:
+        raise ValueError("no trajectories")
+    base = base_parameters(robot) if base is None else base
+    peaks, scales = [], []
+    for q, qd, qdd in trajectories:
+        C = part_contributions(robot, base, q, qd, qdd)            # (3, N, n, b)
+        scales.append(np.maximum(np.abs(C.sum(axis=(0, 3))).max(axis=0), torque_floor))
+        peaks.append(np.abs(C).max(axis=1).transpose(2, 0, 1))     # (b, 3, n)
+    peak = np.stack(peaks)                                         # (T, b, 3, n)
+    scale = np.stack(scales)                                       # (T, n)
+    safe = np.where(scale > 0, scale, 1.0)[:, None, None, :]
+    rel = np.where(scale[:, None, None, :] > 0, peak / safe,
+                   np.where(peak > 0, np.inf, 0.0)).max(axis=(0, 3))        # (b, 3)
+    budget = tolerance * scale
+    dropped = np.zeros(rel.shape, bool)
+    bound = np.zeros_like(scale)                                   # (T, n)
+    by_part = np.zeros((len(trajectories), len(PARTS), robot.n))
+    if tolerance > 0:
+        for flat in np.argsort(rel, axis=None, kind="stable"):
+            k, p = np.unravel_index(flat, rel.shape)
+            trial = bound + peak[:, k, p]
+            if np.all(trial <= budget):
+                dropped[k, p] = True
+                bound = trial
+                by_part[:, p] += peak[:, k, p]
+    worst = int(np.argmax(np.where(scale > 0, bound / safe[:, 0, 0, :], 0.0).max(axis=1)))
+    return RecursiveModel(names=tuple(base.names()), beta=np.array(base.beta, float),
+                          dropped=dropped, scale=scale[worst], bound=bound[worst],
+                          bound_by_part=by_part[worst])
