@@ -227,17 +227,13 @@ def _placement(pin, xyz, rpy):
     return pin.SE3(pin.rpy.rpyToMatrix(*rpy), np.asarray(xyz, float))
 
 
-def _cross(v):
-    return np.array([[0.0, -v[2], v[1]], [v[2], 0.0, -v[0]], [-v[1], v[0], 0.0]])
-
-
-def _moved(body, placement):
+def _moved(pin, body, placement):
     """(m, h = m c, I about the origin) of a body given in a frame that ``placement`` (R, p)
     places in its parent frame, in the parent frame (Featherstone 2008, Eq. 2.66)."""
     m, h, I = body
     R, p = np.asarray(placement.rotation), np.asarray(placement.translation)
-    Rh, P = R @ h, _cross(p)
-    return m, Rh + m * p, R @ I @ R.T - _cross(Rh) @ P - P @ _cross(Rh) - m * P @ P
+    Rh, P = R @ h, pin.skew(p)
+    return m, Rh + m * p, R @ I @ R.T - pin.skew(Rh) @ P - P @ pin.skew(Rh) - m * P @ P
 
 
 def _body_inertia(pin, doc, fixed, link):
@@ -259,11 +255,11 @@ def _body_inertia(pin, doc, fixed, link):
             mass, xyz, rpy, Ic = value
             c = np.asarray(xyz, float)
             R = np.asarray(pin.rpy.rpyToMatrix(*rpy))
-            own = (mass, mass * c, R @ Ic @ R.T - mass * _cross(c) @ _cross(c))
-            dm, dh, dI = _moved(own, placement)
+            own = (mass, mass * c, R @ Ic @ R.T - mass * pin.skew(c) @ pin.skew(c))
+            dm, dh, dI = _moved(pin, own, placement)
             m, h, I = m + dm, h + dh, I + dI
         stack.extend((child, placement * p) for child, p in fixed.get(name, ()))
-    H = _cross(h)
+    H = pin.skew(h)
     return np.block([[m * np.eye(3), H.T], [H, I]])
 
 
