@@ -201,3 +201,20 @@ def test_sweep_model_uses_the_same_header(two_link):
     assert ast.dump(ast.parse(py_src)) == ast.dump(ast.parse(ref.python_source()))
     for src in (c_src, py_src):
         assert '"touch PWNED"' not in src and comment_safe(C_CONSTRUCTOR, digest=True) in src
+
+
+@settings(max_examples=200, deadline=None)
+@given(text=st.one_of(NAMES, st.text()))
+@example(text="a??/\n*/ '''\"\"\"\u2028\r\\ # -*- coding: utf-7 -*-")
+def test_comment_safe_keeps_only_inert_ascii(text):
+    """Printable ASCII only, none of the characters that end or extend a comment or string,
+    idempotent, and the digest is the raw text's SHA-256."""
+    import string
+
+    safe = comment_safe(text)
+    assert set(safe) <= set(string.printable) - set("*\\\"'#?`\t\n\r\x0b\x0c")
+    for bad in ("*/", "/*", '"""', "'''", "\\", "??/", "#"):
+        assert bad not in safe
+    assert len(safe) <= 200 and comment_safe(safe) == safe
+    raw = text.encode("utf-8", "backslashreplace")
+    assert comment_safe(text, digest=True) == f"{safe} (sha256 {hashlib.sha256(raw).hexdigest()})"
