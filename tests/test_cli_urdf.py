@@ -6,7 +6,7 @@ import pytest
 import xarray as xr
 
 from gd_analyze.cli import main
-from urdf_oracle import TOY_URDF
+from urdf_oracle import BAD_UR5, TOY_URDF, UR5
 
 
 @pytest.fixture()
@@ -64,3 +64,28 @@ def test_urdf_with_two_chains_needs_a_tip(urdf, tmp_path, capsys):
     err = capsys.readouterr().err
     assert code == 2 and err.count("\n") == 1
     assert "give --tip LINK (candidate tips: l3, side)" in err
+
+
+@pytest.fixture(scope="module")
+def ur5_traj(tmp_path_factory):
+    """A short UR5 trajectory planned on the built-in robot (not on the broken copies)."""
+    traj = tmp_path_factory.mktemp("ur5") / "traj.csv"
+    assert main(["plan", "ur5", "-o", str(traj), "--setpoints", "11"]) == 0
+    return traj
+
+
+@pytest.mark.parametrize("case, old, new, column", BAD_UR5, ids=[c[0] for c in BAD_UR5])
+def test_broken_urdf_exits_2_naming_link_and_attribute(ur5_traj, tmp_path, capfd, case, old,
+                                                       new, column):
+    """urdfdom drops a broken <inertial> (or ignores <mimic>) and the run used to pass
+    "verified against Pinocchio" on the same wrong model: now one line, exit 2, nothing
+    written (capfd: not even urdfdom's own messages on the C stderr)."""
+    bad = tmp_path / "bad.urdf"
+    bad.write_text(UR5.replace(old, new, 1))
+    out = tmp_path / "out"
+    code = main([str(bad), str(ur5_traj), "-o", str(out)])
+    err = capfd.readouterr().err
+    assert code == 2, err
+    assert err.count("\n") == 1 and f"{bad}: key {column}: " in err, err
+    assert not out.exists()
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["bad.urdf"]

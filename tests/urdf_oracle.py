@@ -5,6 +5,8 @@ import numpy as np
 import pinocchio as pin
 import pytest
 
+from gd_analyze.io.urdf import builtin_urdf_path
+
 #: Tolerance and number of random states of the comparisons with the URDF's own model.
 TOL = 1e-10
 STATES = 200
@@ -42,6 +44,42 @@ TOY_URDF = """<?xml version="1.0"?>
     <inertia ixx="0.001" iyy="0.002" izz="0.003" ixy="0" ixz="0" iyz="0"/></inertial></link>
 </robot>
 """
+
+
+UR5 = builtin_urdf_path("ur5").read_text()
+PANDA = builtin_urdf_path("panda").read_text()
+# the upper arm's <inertial> in the shipped UR5 file
+UR5_MASS = '<mass value="8.393"/>'
+UR5_COM = '<origin rpy="0 0 0" xyz="0.0 0.0 0.28"/>'
+UR5_IXX = 'ixx="0.22689067591"'
+UR5_IZZ = 'izz="0.0151074"'
+
+#: Broken copies of ur5.urdf (issue 16 item 6): (name, text to replace in ur5.urdf, replacement, column the message names)
+BAD_UR5 = [
+    ("mass decimal comma", UR5_MASS, '<mass value="2,5"/>', "link 'upper_arm_link' <mass value>"),
+    ("mass with unit", UR5_MASS, '<mass value="2.5kg"/>', "link 'upper_arm_link' <mass value>"),
+    ("mass nan", UR5_MASS, '<mass value="nan"/>', "link 'upper_arm_link' <mass value>"),
+    ("mass overflows", UR5_MASS, '<mass value="1e400"/>', "link 'upper_arm_link' <mass value>"),
+    ("mass negative", UR5_MASS, '<mass value="-1"/>', "link 'upper_arm_link' <mass value>"),
+    ("mass trailing blank", UR5_MASS, '<mass value="8.393 "/>',
+     "link 'upper_arm_link' <mass value>"),
+    ("mass missing", UR5_MASS, "", "link 'upper_arm_link' <mass>"),
+    ("mass without value", UR5_MASS, "<mass/>", "link 'upper_arm_link' <mass value>"),
+    ("com nan", UR5_COM, '<origin rpy="0 0 0" xyz="0.0 nan 0.28"/>',
+     "link 'upper_arm_link' <inertial> <origin xyz>"),
+    ("com two numbers", UR5_COM, '<origin rpy="0 0 0" xyz="0.0 0.28"/>',
+     "link 'upper_arm_link' <inertial> <origin xyz>"),
+    ("inertial rpy inf", UR5_COM, '<origin rpy="0 0 inf" xyz="0.0 0.0 0.28"/>',
+     "link 'upper_arm_link' <inertial> <origin rpy>"),
+    ("ixx inf", UR5_IXX, 'ixx="inf"', "link 'upper_arm_link' <inertia ixx>"),
+    ("ixx overflows", UR5_IXX, 'ixx="1e400"', "link 'upper_arm_link' <inertia ixx>"),
+    ("izz missing", UR5_IZZ, "", "link 'upper_arm_link' <inertia izz>"),
+    ("two inertials", UR5_MASS, UR5_MASS + '</inertial><inertial><mass value="1"/>',
+     "link 'upper_arm_link' <inertial>"),
+    ("mimic on the chain", '<child link="forearm_link"/>',
+     '<child link="forearm_link"/><mimic joint="shoulder_lift_joint"/>',
+     "joint 'elbow_joint' <mimic>"),
+]
 
 
 def chain_model(joints, gravity):

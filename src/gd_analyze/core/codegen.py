@@ -32,6 +32,7 @@ import symengine as se
 
 from .factoring import (expand_pairs, factor_sum, private_products, prune_dead,
                         sum_to_product)
+from .safe_text import header_lines
 
 __all__ = ["Program", "build_program", "count_operations", "emit_c", "emit_python",
            "python_function", "C_FUNCTION"]
@@ -515,10 +516,6 @@ def _ref(name, lang):
     return name
 
 
-def _header_lines(header):
-    return [f"{k}: {v}" for k, v in header.items()]
-
-
 def emit_c(program, header):
     """C99 source of the program: ``void gd_simplified_tau(q, qd, qdd, tau)``.
 
@@ -526,14 +523,16 @@ def emit_c(program, header):
     ----------
     program : Program
     header : dict
-        Lines of the header comment (robot, SHA-256s, tolerance, counts, version).
+        Lines of the header comment (robot, SHA-256s, tolerance, counts, version); keys and
+        values are written through :func:`~gd_analyze.core.safe_text.header_lines`.
 
     Returns
     -------
     str
-        Standalone C99 that includes only math.h; arrays of n doubles in SI units.
+        Standalone C99 that includes only math.h; arrays of n doubles in SI units. Its only
+        external symbol is ``gd_simplified_tau``.
     """
-    lines = ["/*"] + [f" * {ln}" for ln in _header_lines(header)] + [" */",
+    lines = ["/*"] + [f" * {ln}" for ln in header_lines(header)] + [" */",
              "#include <math.h>", "",
              f"void {C_FUNCTION}(const double *q, const double *qd, const double *qdd, "
              "double *tau)", "{"]
@@ -568,6 +567,10 @@ def python_function(program):
     return fn
 
 
+#: The emitted Python module's docstring: fixed text, the header follows as comments.
+_PY_DOC = '"""Simplified G-D model emitted by gd-analyze: tau(q, qd, qdd); header below."""'
+
+
 def emit_python(program, header):
     """numpy source of the program: ``tau(q, qd, qdd)`` vectorised over set points.
 
@@ -575,7 +578,9 @@ def emit_python(program, header):
     ----------
     program : Program
     header : dict
-        Lines of the header comment.
+        Lines of the header, written as ``#`` comments from the third line on (after a fixed
+        docstring, so that no input text can be a PEP 263 coding line), keys and values
+        through :func:`~gd_analyze.core.safe_text.header_lines`.
 
     Returns
     -------
@@ -583,7 +588,8 @@ def emit_python(program, header):
         A module that imports only numpy; ``tau(q, qd, qdd)`` takes arrays of shape (N, n)
         (or (n,)) [rad, rad/s, rad/s^2] and returns shape (N, n) [N m].
     """
-    lines = ['"""'] + _header_lines(header) + ['"""', "", "import numpy as np", "",
+    lines = [_PY_DOC, ""] + [f"# {ln}" for ln in header_lines(header)] + [
+             "", "import numpy as np", "",
              f"N_JOINTS = {program.n}", "", "",
              "def tau(q, qd, qdd):",
              '    """Joint torques [N m], shape (N, n), of q, qd, qdd of shape (N, n)."""',

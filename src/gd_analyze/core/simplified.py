@@ -24,6 +24,7 @@ import numpy as np
 from ..errors import InputError
 from .ranking import element_index, element_labels
 from .robot import robot_from_dict
+from .safe_text import comment_safe
 
 __all__ = ["SCHEMA_VERSION", "CHOICES", "SimplifiedModel", "choice_masks", "merge_choices",
            "full_choices",
@@ -299,6 +300,9 @@ class SimplifiedModel:
         Returns
         -------
         dict
+            The robot's name (input text) only as
+            :func:`~gd_analyze.core.safe_text.comment_safe` gives it, with the SHA-256 of the
+            raw name; then the SHA-256 of the robot file.
         """
         cost = self.cost or self.program().cost()
         return {
@@ -307,7 +311,8 @@ class SimplifiedModel:
                 if self.recursive is None else
                 "tau = Y_b beta, customized recursive Newton-Euler on base parameters (Fu, "
                 "Gonzalez & Lee 1987, Algorithm 3.1; Khalil & Kleinfinger 1987)"),
-            "robot": f"{self.robot.name} (sha256 {self.robot.sha256})",
+            "robot": comment_safe(self.robot.name, digest=True),
+            "robot file sha256": self.robot.sha256,
             "rule": self.rule, "tolerance": f"{self.tolerance:g}",
             "torque floor [N m]": f"{self.torque_floor:g}",
             "trajectory sha256": self.trajectory_sha256,

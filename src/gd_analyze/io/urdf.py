@@ -1,8 +1,11 @@
 """URDF import: the serial chain from a base link to a tip link, read through Pinocchio.
 
-The file is parsed by Pinocchio's URDF parser (``pinocchio.buildModelFromUrdf``, Carpentier et
-al., "The Pinocchio C++ library", SII 2019), which already merges the links of fixed joints into
-their parent link. The chain kept runs from ``base`` to ``tip``; every other moving joint (side
+The file is parsed by Pinocchio's URDF parser (``pinocchio.buildModelFromXML`` on the file's
+bytes, the parser of ``buildModelFromUrdf``; Carpentier et al., "The Pinocchio C++ library", SII
+2019), which already merges the links of fixed joints into their parent link. That parser drops
+an ``<inertial>`` it cannot read and goes on, so the file is first read by
+:mod:`gd_analyze.io.urdf_xml`, which refuses broken inertials, document type declarations and
+``<mimic>`` joints the chain would get wrong, and checks the inertias Pinocchio loaded. The chain kept runs from ``base`` to ``tip``; every other moving joint (side
 branches such as a gripper's fingers, links beyond the tip, joints above the base) is locked at
 q = 0 and its links are carried rigidly by the chain link they hang from
 (``pinocchio.buildReducedModel``).
@@ -28,6 +31,7 @@ from pathlib import Path
 import numpy as np
 
 from ..errors import InputError
+from .urdf_xml import check_inertias, check_mimic, read_urdf_xml
 
 __all__ = ["UrdfChain", "read_urdf_chain", "load_urdf", "URDF_BUILTIN", "axis_rotation"]
 
@@ -163,13 +167,20 @@ def _read_model(path):
         raw = p.read_bytes()
     except OSError as exc:
         raise InputError(f"cannot read: {exc.strerror}", path) from None
+    doc = read_urdf_xml(raw, str(path))
     try:
-        model = pin.buildModelFromUrdf(str(p))
+        text = raw.decode("utf-8-sig")
+    except UnicodeDecodeError as exc:
+        raise InputError(f"not UTF-8 text (byte {exc.start + 1})", path) from None
+    try:
+        # the bytes just checked, not the file again (it could have changed since)
+        model = pin.buildModelFromXML(text)
     except (ValueError, RuntimeError, OSError) as exc:
         msg = str(exc).strip().splitlines()
         raise InputError(f"not a valid URDF file: {msg[0] if msg else type(exc).__name__}",
                          path) from None
-    return model, raw
+    check_inertias(doc, model, str(path))
+    return model, raw, doc
 
 
 def _body_frames(model):
@@ -273,8 +284,10 @@ def read_urdf_chain(path, base=None, tip=None, name=None, description=None, refe
     InputError
         If the file is missing or not a valid URDF; a link is unknown; the tip is not beyond
         the base; there are several chains and no tip (the message names the candidate tips); a
-        chain joint is neither revolute, continuous nor prismatic (floating, planar, ...); or a
-        chain joint has no velocity limit.
+        chain joint is neither revolute, continuous nor prismatic (floating, planar, ...); a
+        chain joint has no velocity limit; an ``<inertial>`` is broken or not the one Pinocchio
+        loaded, or a ``<mimic>`` joint is on the chain or follows it (see
+        :func:`gd_analyze.io.urdf_xml.read_urdf_xml`, :func:`~gd_analyze.io.urdf_xml.check_mimic`).
 
     Notes
     -----
@@ -282,10 +295,12 @@ def read_urdf_chain(path, base=None, tip=None, name=None, description=None, refe
     model is the fixed placement plus a motion about z described in this module's docstring.
     """
     pin = _pin()
-    model, raw = _read_model(path)
+    model, raw, doc = _read_model(path)
     links = _body_frames(model)
     chain, base, tip = _select_chain(model, links, base, tip, str(path))
     locked = [j for j in range(1, model.njoints) if j not in chain]
+    check_mimic(doc, [model.names[j] for j in chain], [model.names[j] for j in locked],
+                str(path))
     data = model.createData()
     pin.forwardKinematics(model, data, pin.neutral(model))
     kinds = [_joint_kind(model, data, j, str(path)) for j in chain]

@@ -139,6 +139,31 @@ def _Strings(page_height):
 _STRINGS = None
 
 
+def _line_width(s, size):
+    """Drawn width [in] of one line of DejaVu Sans at ``size`` [pt] (its glyphs' advances)."""
+    import warnings
+
+    from matplotlib.font_manager import FontProperties
+    from matplotlib.textpath import text_to_path
+
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")                 # glyphs missing from the font
+        return text_to_path.get_text_width_height_descent(
+            s, FontProperties(family="DejaVu Sans", size=size), ismath=False)[0] / 72
+
+
+def _fit_line(s, size, width):
+    """The line ``s``, cut and ended by an ellipsis if wider than ``width`` [in]: a footer
+    holding a long robot name stops short of the page number instead of running over it."""
+    if _line_width(s, size) <= width:
+        return s
+    lo, hi = 0, len(s)                                  # longest prefix that fits
+    while lo < hi:
+        mid = (lo + hi + 1) // 2
+        lo, hi = (mid, hi) if _line_width(s[:mid] + "\u2026", size) <= width else (lo, mid - 1)
+    return s[:lo] + "\u2026"
+
+
 @dataclass
 class _Page:
     ops: list = field(default_factory=list)          # (kind, payload) drawn in order
@@ -410,7 +435,7 @@ class Document:
         page.used += 0.16
 
     # ---- drawing -----------------------------------------------------------------------
-    def _draw(self, page, number, total):
+    def _draw(self, page, number, total, footer):
         from matplotlib.figure import Figure
         from matplotlib.lines import Line2D
         from matplotlib.patches import Rectangle
@@ -454,7 +479,7 @@ class Document:
                              color=colour, fontweight="bold" if bold else "normal")
                     x += w
         foot = H - 0.4 - 7 * 1.2 / 72 - _MARGIN_TOP
-        text(_MARGIN_X, foot, self.footer, fontsize=7, color="0.4")
+        text(_MARGIN_X, foot, footer, fontsize=7, color="0.4")
         text(W - _MARGIN_X, foot, f"page {number} of {total}", fontsize=7, color="0.4",
              ha="right")
         return fig
@@ -500,10 +525,12 @@ class Document:
 
         buf = io.BytesIO()
         K = len(pages)
+        last = f"page {K} of {K}"                   # the widest page number (digits: one width)
+        footer = _fit_line(self.footer, 7, self.width - _line_width(last, 7) - 0.15)
         with matplotlib.rc_context(PAGE_RC), \
                 PdfPages(buf, metadata={"CreationDate": None}) as pdf:
             for k, page in enumerate(pages):
-                pdf.savefig(self._draw(page, k + 1, K))
+                pdf.savefig(self._draw(page, k + 1, K, footer))
         return buf.getvalue()
 
     def _finish(self, text_pdf, pages, bookmarks, path, figures=None):

@@ -1,0 +1,88 @@
+"""Input text made safe for the comments of emitted C and Python source.
+
+Robot names, file paths and descriptions come from input files and are hostile: a name holding
+``*/`` would end the header comment of ``simplified_model.c`` and put its own code into the
+model; one holding ``\"\"\"`` would do the same to a Python docstring. :func:`comment_safe` keeps
+only characters that cannot end or extend a C block comment or a Python ``#`` comment, nor
+open a string, and names the raw text by its SHA-256 so that what it replaced is still
+identified. (HTML and PDF reports show the raw text: Jinja2 autoescape and literal strings.)
+"""
+
+from __future__ import annotations
+
+import hashlib
+import string
+
+__all__ = ["comment_safe", "header_lines", "SAFE_CHARACTERS"]
+
+#: The characters kept: printable ASCII without ``*`` (``/*``, ``*/``), backslash (line splices,
+#: escapes), ``?`` (the trigraph ``??/`` is a backslash), quotes and backquote (strings,
+#: docstrings) and ``#`` (a comment or preprocessor line); no newline, carriage return, tab,
+#: form feed or Unicode line separator.
+SAFE_CHARACTERS = frozenset(string.ascii_letters + string.digits + " _-.,:;+=()[]{}<>@%&!~^|$/")
+
+#: Longest sanitised text (the SHA-256 still names the whole of it).
+MAX_LENGTH = 200
+
+
+def comment_safe(text, digest=False):
+    """The text with every character outside :data:`SAFE_CHARACTERS` replaced by ``_``.
+
+    Parameters
+    ----------
+    text : str
+        Any text, e.g. a robot name from a TOML file or a URDF ``<robot name>``.
+    digest : bool, optional
+        Append `` (sha256 <hex>)``: the SHA-256 of the raw text's UTF-8 bytes (lone surrogates
+        escaped), which identifies it whatever was replaced.
+
+    Returns
+    -------
+    str
+        At most :data:`MAX_LENGTH` safe characters (longer text is cut and ends in ``...``),
+        plus the digest if asked. It cannot contain ``*/``, ``/*``, ``\"\"\"``, ``'''``, a
+        backslash, ``??/``, ``#`` or any line break, so it can stand in a C block comment, a
+        C or Python line comment, or a Python string literal of either quote.
+
+    Notes
+    -----
+    Own rule, not from the chapter: issue 16 of gd-analyze (code injection through the header
+    of the emitted model). :func:`comment_safe` is idempotent.
+
+    Examples
+    --------
+    >>> comment_safe('a */ int x; /* "b"')
+    'a _/ int x; /_ _b_'
+    >>> comment_safe("two-link", digest=True)[:33]
+    'two-link (sha256 6dcdfcdfdcf5f341'
+    """
+    text = str(text)
+    safe = "".join(ch if ch in SAFE_CHARACTERS else "_" for ch in text)
+    if len(safe) > MAX_LENGTH:
+        safe = safe[:MAX_LENGTH - 3] + "..."
+    if not digest:
+        return safe
+    raw = text.encode("utf-8", "backslashreplace")
+    return f"{safe} (sha256 {hashlib.sha256(raw).hexdigest()})"
+
+
+def header_lines(header):
+    """The lines ``key: value`` of an emitted file's header, each key and value made safe.
+
+    Parameters
+    ----------
+    header : dict
+        Header entries (any values; ``str`` of each is taken).
+
+    Returns
+    -------
+    list of str
+        One line per entry, through :func:`comment_safe` (no digest added: give the entries
+        that come from input ``comment_safe(text, digest=True)`` beforehand).
+
+    Examples
+    --------
+    >>> header_lines({"robot": "x */ y", "tolerance": 0.01})
+    ['robot: x _/ y', 'tolerance: 0.01']
+    """
+    return [f"{comment_safe(k)}: {comment_safe(v)}" for k, v in header.items()]

@@ -1,0 +1,155 @@
+"""Broken URDF inertials and <mimic> joints are refused, naming the link or joint and the
+attribute (issue 16 item 6); urdfdom would drop such an <inertial> and Pinocchio would agree
+with the massless link. The good files still load, and the inertias read from the XML are the
+ones Pinocchio loaded."""
+
+import glob
+import importlib.metadata
+
+import numpy as np
+import pinocchio as pin
+import pytest
+
+from gd_analyze.errors import InputError
+from gd_analyze.io import urdf as urdf_mod
+from gd_analyze.io.urdf import builtin_urdf_path, read_urdf_chain
+from gd_analyze.io.urdf_xml import check_inertias, read_urdf_xml
+from urdf_oracle import (BAD_UR5, PANDA, STATES, TOL, UR5, UrdfOracle, chain_model,
+                         random_chain_states, worst_relative)
+
+def _write(tmp_path, text, old, new, name="bad.urdf"):
+    assert text.count(old) >= 1, old
+    path = tmp_path / name
+    path.write_text(text.replace(old, new, 1))
+    return path
+
+
+@pytest.mark.parametrize("case, old, new, column", BAD_UR5, ids=[c[0] for c in BAD_UR5])
+def test_broken_ur5_refused_naming_link_and_attribute(tmp_path, case, old, new, column):
+    path = _write(tmp_path, UR5, old, new)
+    with pytest.raises(InputError) as err:
+        read_urdf_chain(path)
+    assert err.value.column == column
+    assert str(err.value).startswith(f"{path}: key {column}: ")
+
+
+def test_missing_inertia_element_refused(tmp_path):
+    text = UR5.replace('<inertia ixx="0.22689067591" ixy="0.0" ixz="0.0" iyy="0.22689067591" '
+                       'iyz="0.0" izz="0.0151074"/>', "", 1)
+    assert text != UR5
+    path = tmp_path / "bad.urdf"
+    path.write_text(text)
+    with pytest.raises(InputError, match="no <inertia> element") as err:
+        read_urdf_chain(path)
+    assert err.value.column == "link 'upper_arm_link' <inertia>"
+
+
+@pytest.mark.parametrize("old, new, column", [
+    # the hand is merged into link 7 through fixed joints: its inertial counts too
+    ('<mass value="0.73"/>', '<mass value="0,73"/>', "link 'panda_hand' <mass value>"),
+    # the fingers are locked at q = 0: a mimic that follows a chain joint, or has an offset,
+    # would not be at 0
+    ('<mimic joint="panda_finger_joint1"/>', '<mimic joint="panda_joint7"/>',
+     "joint 'panda_finger_joint2' <mimic>"),
+    ('<mimic joint="panda_finger_joint1"/>', '<mimic joint="panda_finger_joint1" offset="0.01"/>',
+     "joint 'panda_finger_joint2' <mimic>"),
+])
+def test_broken_panda_refused(tmp_path, old, new, column):
+    path = _write(tmp_path, PANDA, old, new)
+    with pytest.raises(InputError) as err:
+        read_urdf_chain(path, "panda_link0", "panda_hand")
+    assert err.value.column == column
+
+
+def test_doctype_refused_before_any_entity_is_expanded(tmp_path):
+    """Billion laughs: urdfdom ignores the declaration, ElementTree would expand it."""
+    lol = ['<!ENTITY lol0 "lol">'] + [
+        f'<!ENTITY lol{k} "{"&lol%d;" % (k - 1) * 10}">' for k in range(1, 10)]
+    text = UR5.replace("<robot ", f"<!DOCTYPE robot [{''.join(lol)}]>\n<robot ", 1)
+    path = tmp_path / "lol.urdf"
+    path.write_text(text.replace('name="ur5"', 'name="&lol9;"', 1))
+    with pytest.raises(InputError, match="document type declaration"):
+        read_urdf_chain(path)
+    path.write_text(text)    # declared, not used
+    with pytest.raises(InputError, match="document type declaration"):
+        read_urdf_chain(path)
+
+
+def test_massless_link_without_inertial_accepted(tmp_path):
+    """A link without <inertial> is massless in URDF (a frame link): still read."""
+    start = UR5.index("<inertial>", UR5.index('<link name="upper_arm_link">'))
+    end = UR5.index("</inertial>", start) + len("</inertial>")
+    path = tmp_path / "massless.urdf"
+    path.write_text(UR5[:start] + UR5[end:])
+    chain = read_urdf_chain(path)
+    assert chain.joints[1]["mass"] == 0.0 and not chain.joints[1]["inertia"].any()
+
+
+def test_inertia_pinocchio_did_not_load_is_refused(monkeypatch):
+    """The safety net: if Pinocchio's parser read an <inertial> differently from the file,
+    the link is named (here a model whose link 3 lost its inertia tensor)."""
+    real = pin.buildModelFromXML
+
+    def dropped(text, *args):
+        model = real(text, *args)
+        j = model.getJointId("elbow_joint")
+        model.inertias[j] = pin.Inertia(model.inertias[j].mass, model.inertias[j].lever,
+                                        np.zeros((3, 3)))
+        return model
+
+    monkeypatch.setattr(urdf_mod._pin(), "buildModelFromXML", dropped)
+    with pytest.raises(InputError, match="Pinocchio loaded mass") as err:
+        read_urdf_chain(builtin_urdf_path("ur5"))
+    assert err.value.column == "link 'forearm_link' <inertial>"
+
+
+def _erd_robots():
+    """The robots folder of example-robot-data (a wheel with data, no Python module)."""
+    root = importlib.metadata.distribution("example-robot-data").locate_file(
+        "cmeel.prefix/share/example-robot-data/robots")
+    assert root.is_dir(), f"example-robot-data has no {root}"
+    return root
+
+
+ERD_ARMS = [
+    ("ur_description/urdf/ur5_robot.urdf", None, None, 6),
+    ("ur_description/urdf/ur5_gripper.urdf", None, None, 6),
+    ("panda_description/urdf/panda.urdf", None, "panda_hand", 7),
+    ("kinova_description/robots/kinova.urdf", None, None, 6),
+    ("z1_description/urdf/z1.urdf", None, None, 7),
+    # indefinite inertia tensors on the antennas (merged into the base) and a locked hand
+    ("tiago_description/robots/tiago.urdf", "torso_lift_link", "arm_7_link", 7),
+]
+
+
+@pytest.mark.parametrize("file, base, tip, n", ERD_ARMS, ids=[a[0].split("/")[-1] for a in ERD_ARMS])
+def test_example_robot_data_arms_still_load(file, base, tip, n):
+    path = _erd_robots() / file
+    chain = read_urdf_chain(path, base, tip)
+    assert chain.n == n
+    model = chain_model(chain.joints, chain.gravity)
+    data = model.createData()
+    oracle = UrdfOracle(path, chain.joint_names)
+    q, qd, qdd = random_chain_states(chain.joints, STATES // 4, seed=7)
+    tau = [pin.rnea(model, data, q[k], qd[k], qdd[k]) for k in range(len(q))]
+    taur = [oracle.rnea(q[k], qd[k], qdd[k]) for k in range(len(q))]
+    assert worst_relative(tau, taur, "tau") < TOL
+
+
+def test_every_example_robot_data_urdf_matches_pinocchio():
+    """Every URDF of example-robot-data that Pinocchio can read passes the XML checks and
+    gives, joint by joint, the spatial inertia Pinocchio loaded (talos and tiago_pro have
+    mimic grippers, tiago indefinite antenna tensors)."""
+    files = sorted(glob.glob(str(_erd_robots() / "**" / "*.urdf"), recursive=True))
+    assert len(files) > 50
+    checked = 0
+    for file in files:
+        raw = open(file, "rb").read()
+        doc = read_urdf_xml(raw, file)
+        try:
+            model = pin.buildModelFromXML(raw.decode("utf-8"))
+        except ValueError:      # ur3.urdf: not a URDF Pinocchio reads
+            continue
+        check_inertias(doc, model, file)
+        checked += 1
+    assert checked >= len(files) - 1
