@@ -286,9 +286,14 @@ def dask_client(scheduler=None, n_workers=None):
         # The workers' statistical profiler samples every thread's stack every 10 ms while
         # holding the GIL; for these many short numpy calls it costs about 40 % of the time,
         # so the cluster started here runs without it.
-        with dask.config.set({"distributed.worker.profile.enabled": False}):
-            cluster = LocalCluster(n_workers=workers, threads_per_worker=1, processes=True,
-                                   dashboard_address=None, scheduler_kwargs=_NO_DASHBOARD)
+        safe = _safe_path_children()
+        try:
+            with dask.config.set({"distributed.worker.profile.enabled": False}):
+                cluster = LocalCluster(n_workers=workers, threads_per_worker=1, processes=True,
+                                       dashboard_address=None, scheduler_kwargs=_NO_DASHBOARD)
+        except BaseException:
+            safe.close()
+            raise
         client, how = Client(cluster), "LocalCluster started by gd-analyze"
     try:
         yield client, how
@@ -296,6 +301,39 @@ def dask_client(scheduler=None, n_workers=None):
         client.close()
         if cluster is not None:
             cluster.close()
+            safe.close()
+
+
+def _safe_path_children():
+    """Keep the current folder off the sys.path of the child interpreters started from now
+    until the returned stack is closed: ``PYTHONSAFEPATH=1`` (Python >= 3.11).
+
+    multiprocessing starts dask's workers and its resource tracker as ``python -c ...``,
+    which puts the current folder first on ``sys.path`` and imports ``pickle``, ``socket``
+    and more before the parent's path is restored: a ``pickle.py`` in the folder where the
+    sweep starts would run in each of them. ``PYTHONSAFEPATH`` (``-P``) leaves that entry
+    out; the spawned workers then take the parent's ``sys.path`` as multiprocessing passes
+    it. The variable is set for the cluster's life (workers the nanny restarts included) and
+    restored afterwards.
+
+    Returns
+    -------
+    contextlib.ExitStack
+    """
+    stack = contextlib.ExitStack()
+    before = os.environ.get("PYTHONSAFEPATH")
+    if before:
+        return stack
+    os.environ["PYTHONSAFEPATH"] = "1"
+
+    def restore():
+        if before is None:
+            os.environ.pop("PYTHONSAFEPATH", None)
+        else:
+            os.environ["PYTHONSAFEPATH"] = before
+
+    stack.callback(restore)
+    return stack
 
 
 def run_sweep(robot, trajectories, dominance=DEFAULT_DOMINANCE, negligible=DEFAULT_NEGLIGIBLE,
