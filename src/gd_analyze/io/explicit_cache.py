@@ -153,10 +153,8 @@ def _read(path, key, robot):
 
     try:
         fd = os.open(path, os.O_RDONLY | getattr(os, "O_NOFOLLOW", 0) | os.O_NONBLOCK)
-    except FileNotFoundError:
-        return None
-    except OSError as exc:
-        return f"cannot be read ({exc.strerror or exc})"
+    except OSError as exc:          # no entry (or no folder) is no warning
+        return f"cannot be read ({exc.strerror or exc})" if os.path.lexists(path) else None
     try:
         info = os.fstat(fd)
         if not stat.S_ISREG(info.st_mode):
