@@ -38,7 +38,7 @@ from pathlib import Path
 
 import numpy as np
 
-from ..errors import InputWarning
+from ..errors import InputWarning, _one_line
 
 __all__ = ["cache_dir", "cache_path", "cache_key", "explicit_terms", "CacheWarning",
            "SELF_CHECK_TOLERANCE"]
@@ -251,8 +251,8 @@ def explicit_terms(robot):
         if found is not None and not isinstance(found, str):
             return found, 0.0
         if isinstance(found, str):
-            warnings.warn(f"{path}: derivation cache entry {found}: ignored, the model is "
-                          "derived again", CacheWarning, stacklevel=2)
+            warnings.warn(_one_line(f"{path}: derivation cache entry {found}: ignored, the "
+                                    "model is derived again"), CacheWarning, stacklevel=2)
     t0 = time.perf_counter()
     terms = model_terms(derive(robot))
     seconds = time.perf_counter() - t0
