@@ -7,6 +7,7 @@ the exit status; bad input raises :class:`gd_analyze.errors.InputError`, which
 
 from __future__ import annotations
 
+import contextlib
 import math
 import os
 import sys
@@ -18,6 +19,14 @@ from ..errors import InputError
 from .parsing import EXIT_OK, EXIT_TOLERANCE, EXIT_VERIFY, PROG, _version, parse_range
 
 __all__ = []
+
+def _command_line(args):
+    """The command as :func:`gd_analyze.cli.main` was given it, for the provenance (a shell
+    could run it: each argument quoted as needed)."""
+    import shlex
+
+    return shlex.join([PROG] + [str(a) for a in getattr(args, "given_argv", ())])
+
 
 def _load_robot(args):
     from ..io.robots import load_robot
@@ -202,7 +211,7 @@ def _analyze(args, worker):
     robot = _apply_payload(robot, args)
     if outdir.exists() and not outdir.is_dir():
         raise InputError("exists and is not a folder", outdir)
-    settings = {"command": " ".join([PROG] + sys.argv[1:]) if sys.argv else PROG,
+    settings = {"command": _command_line(args),
                 "payload_mass": float(args.payload or 0.0),
                 "tolerance": float(args.tolerance), "rule": args.rule,
                 "torque_floor": float(args.torque_floor),
@@ -329,7 +338,7 @@ def _cmd_plan(args):
         return EXIT_OK
     record = {
         "tool": "gd-analyze", "version": __version__,
-        "command": " ".join([PROG] + sys.argv[1:]) if sys.argv else PROG,
+        "command": _command_line(args),
         "robot": robot.name, "robot_source": robot.source, "robot_sha256": robot.sha256,
         **_chain_settings(args),
         "start": [float(v) for v in start], "goal": [float(v) for v in goal],
@@ -529,7 +538,7 @@ def _cmd_sweep(args):
     outdir = _outdir(args.outdir, robot.name, "sweep")
     if outdir.exists() and not outdir.is_dir():
         raise InputError("exists and is not a folder", outdir)
-    settings = {"command": " ".join([PROG] + sys.argv[1:]) if sys.argv else PROG,
+    settings = {"command": _command_line(args),
                 "payload_mass": float(args.payload or 0.0), **_chain_settings(args)}
     if args.random is not None:
         from ..io.planning import acceleration_limits
@@ -539,15 +548,19 @@ def _cmd_sweep(args):
             settings["random_qdd_max_source"] = acceleration_limits(robot)[1]
         except ValueError as exc:
             raise InputError(str(exc), robot.source) from None
-    try:
-        with dask_client(args.scheduler, args.workers) as (client, _):
-            ds = run_sweep(loaded, trajectories, args.dominance, args.negligible, client=client,
-                           settings=settings, progress=not args.quiet and sys.stderr.isatty())
-            payload = None if masses is None else sweep_payloads(
-                robot, trajectories, masses, args.payload_com, args.payload_inertia,
-                args.dominance, args.negligible, client=client)
-    except (OSError, ValueError, TypeError) as exc:
-        raise InputError(f"cannot reach the dask scheduler: {exc}", args.scheduler) from None
+    with contextlib.ExitStack() as stack:
+        try:                            # only the connection: the sweep's errors are its own
+            client, _ = stack.enter_context(dask_client(args.scheduler, args.workers))
+        except (OSError, ValueError, TypeError) as exc:
+            if args.scheduler is None:
+                raise InputError(f"cannot start a local dask cluster: {exc}") from None
+            raise InputError(f"cannot reach the dask scheduler: {exc}",
+                             args.scheduler) from None
+        ds = run_sweep(loaded, trajectories, args.dominance, args.negligible, client=client,
+                       settings=settings, progress=not args.quiet and sys.stderr.isatty())
+        payload = None if masses is None else sweep_payloads(
+            robot, trajectories, masses, args.payload_com, args.payload_inertia,
+            args.dominance, args.negligible, client=client)
     from ..io.staging import staged_output
 
     with staged_output(outdir, SWEEP_OUTPUTS) as stage:
