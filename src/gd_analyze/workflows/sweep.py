@@ -26,6 +26,7 @@ import contextlib
 import datetime
 import math
 import os
+import tempfile
 import time
 
 import numpy as np
@@ -294,7 +295,9 @@ def dask_client(scheduler=None, n_workers=None):
             # The workers' statistical profiler samples every thread's stack every 10 ms while
             # holding the GIL; for these many short numpy calls it costs about 40 % of the
             # time, so the cluster started here runs without it.
-            with dask.config.set({"distributed.worker.profile.enabled": False}):
+            empty = env.enter_context(tempfile.TemporaryDirectory(prefix="gd-analyze-dask-"))
+            with dask.config.set({"distributed.worker.profile.enabled": False}), \
+                    _working_folder(empty):
                 cluster = LocalCluster(n_workers=workers, threads_per_worker=1, processes=True,
                                        dashboard_address=None, scheduler_kwargs=_NO_DASHBOARD)
             client, how = Client(cluster), "LocalCluster started by gd-analyze"
@@ -304,6 +307,36 @@ def dask_client(scheduler=None, n_workers=None):
             client.close()
             if cluster is not None:
                 cluster.close()
+
+
+@contextlib.contextmanager
+def _working_folder(folder):
+    """Run the block in ``folder`` (an empty private one), then return to the current folder.
+
+    The interpreters that multiprocessing starts inside the block (dask's workers and its
+    resource tracker, as ``python -c ...``) put their working folder first on ``sys.path``
+    before anything else runs; started here, that is an empty folder on every Python version
+    (``PYTHONSAFEPATH`` of :func:`_safe_path_children` needs Python >= 3.11). The block only
+    starts the cluster: the parent uses no relative path inside it.
+
+    Parameters
+    ----------
+    folder : str
+        An existing folder that lives at least as long as the processes started here.
+
+    Yields
+    ------
+    None
+    """
+    back = os.open(".", os.O_RDONLY)
+    try:
+        os.chdir(folder)
+        try:
+            yield
+        finally:
+            os.fchdir(back)
+    finally:
+        os.close(back)
 
 
 @contextlib.contextmanager
