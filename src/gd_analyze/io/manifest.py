@@ -1,0 +1,270 @@
+"""Which files of an output folder gd-analyze wrote: one manifest per command.
+
+Every command that writes an output folder (the main job, ``control``, ``sweep``) records the
+files of its run in ``.gd-analyze-manifest-<command>.json`` inside the folder: each file's path
+relative to the folder, its size [bytes] and SHA-256, with the tool's version and the command.
+
+Before a run touches a folder, :func:`folder_owners` reads every manifest and walks the folder.
+A file that no manifest lists, or a file a manifest lists whose bytes changed since (a user's
+own ``report.html`` saved over ours), was not written by gd-analyze: the run is refused with one
+line and nothing is touched. A command replaces only the files its own previous manifest lists;
+the files of the other commands' manifests are kept as they are.
+"""
+
+from __future__ import annotations
+
+import json
+import os
+import re
+import stat
+from dataclasses import dataclass, field
+from pathlib import Path
+
+from ..errors import InputError
+from ..files import file_sha256
+
+__all__ = ["MANIFEST_PREFIX", "RESERVED_PREFIX", "FolderOwners", "manifest_name",
+           "folder_owners", "write_manifest", "tree_files"]
+
+MANIFEST_PREFIX = ".gd-analyze-manifest-"
+#: Top-level names of the output folder that belong to the machinery (the lock and staging
+#: folders of a run in a folder that is a mount point), never to a run's set.
+RESERVED_PREFIX = ".gd-"
+#: Foreign files named in the refusal, at most.
+SHOWN = 8
+_COMMAND = re.compile(r"[a-z][a-z0-9_-]{0,40}")
+
+
+def manifest_name(command):
+    """The manifest's file name of ``command``.
+
+    Parameters
+    ----------
+    command : str
+        The command's name: lower-case letters, digits, ``_`` and ``-``.
+
+    Returns
+    -------
+    str
+        ``.gd-analyze-manifest-<command>.json``.
+
+    Raises
+    ------
+    ValueError
+        If the name is not a plain command name.
+
+    Examples
+    --------
+    >>> manifest_name("control")
+    '.gd-analyze-manifest-control.json'
+    """
+    if not _COMMAND.fullmatch(str(command)):
+        raise ValueError(f"not a command name: {command!r}")
+    return f"{MANIFEST_PREFIX}{command}.json"
+
+
+@dataclass
+class FolderOwners:
+    """Who wrote what in an output folder, as its manifests say.
+
+    Attributes
+    ----------
+    own : dict of str to dict
+        The files the command's previous manifest lists and the folder holds unchanged
+        (relative POSIX path to its manifest entry): the run may replace them.
+    others : dict of str to str
+        The files of the other commands' manifests (path to the command): kept as they are.
+    manifests : list of str
+        The manifests' names, the command's own included.
+    empty_dirs : list of str
+        Folders that hold nothing (kept).
+    """
+
+    own: dict = field(default_factory=dict)
+    others: dict = field(default_factory=dict)
+    manifests: list = field(default_factory=list)
+    empty_dirs: list = field(default_factory=list)
+
+
+def tree_files(root, skip_reserved=True):
+    """The files and empty folders under ``root``, without following symbolic links.
+
+    Parameters
+    ----------
+    root : str or os.PathLike
+        A folder.
+    skip_reserved : bool, optional
+        Leave out the top-level names that start with ``.gd-`` (manifests, lock, staging).
+
+    Returns
+    -------
+    files : dict of str to os.stat_result
+        Every entry that is not a folder (regular file, symbolic link, ...), by relative POSIX
+        path, with its ``lstat``.
+    empty_dirs : list of str
+        The folders that hold nothing.
+
+    Raises
+    ------
+    OSError
+        If a folder cannot be listed.
+    """
+    files, empty = {}, []
+
+    def walk(folder, rel):
+        entries = list(os.scandir(folder))
+        if rel and not entries:
+            empty.append(rel)
+        for e in entries:
+            if not rel and skip_reserved and e.name.startswith(RESERVED_PREFIX):
+                continue
+            path = f"{rel}/{e.name}" if rel else e.name
+            st = e.stat(follow_symlinks=False)
+            if stat.S_ISDIR(st.st_mode):
+                walk(e.path, path)
+            else:
+                files[path] = st
+
+    walk(os.fspath(root), "")
+    return files, empty
+
+
+def _read_manifest(folder, name):
+    """The manifest's ``(command, files)``, or None if it is not a manifest gd-analyze wrote."""
+    try:
+        fd = os.open(os.path.join(folder, name), os.O_RDONLY | os.O_NOFOLLOW | os.O_NONBLOCK)
+    except OSError:
+        return None
+    try:
+        with os.fdopen(fd, "rb") as fh:
+            if not stat.S_ISREG(os.fstat(fh.fileno()).st_mode):
+                return None
+            data = json.loads(fh.read(64 << 20))
+    except (OSError, ValueError):
+        return None
+    files = data.get("files") if isinstance(data, dict) else None
+    command = data.get("command") if isinstance(data, dict) else None
+    if (data.get("tool") if isinstance(data, dict) else None) != "gd-analyze" \
+            or not isinstance(files, dict) or name != _manifest_name_or_none(command):
+        return None
+    good = {}
+    for path, entry in files.items():
+        parts = str(path).split("/")
+        if (isinstance(entry, dict) and isinstance(entry.get("sha256"), str)
+                and isinstance(entry.get("size"), int) and path and not path.startswith("/")
+                and all(p not in ("", ".", "..") for p in parts)
+                and not parts[0].startswith(RESERVED_PREFIX)):
+            good[path] = entry
+    return command, good
+
+
+def _manifest_name_or_none(command):
+    try:
+        return manifest_name(command)
+    except ValueError:
+        return None
+
+
+def _unchanged(folder, path, entry, st):
+    """Whether the file still holds the bytes the manifest recorded."""
+    if not stat.S_ISREG(st.st_mode) or st.st_size != entry["size"]:
+        return False
+    if entry.get("mtime_ns") == st.st_mtime_ns:
+        return True                         # not written since: skip re-reading a large file
+    return file_sha256(os.path.join(folder, path)) == entry["sha256"]
+
+
+def folder_owners(folder, command, shown_as=None):
+    """Read the manifests of an output folder and check that gd-analyze wrote every file.
+
+    Parameters
+    ----------
+    folder : str or os.PathLike
+        The output folder (it may not exist: then it holds nothing).
+    command : str
+        The command about to write it.
+    shown_as : str, optional
+        The folder as the user named it, for the message.
+
+    Returns
+    -------
+    FolderOwners
+
+    Raises
+    ------
+    InputError
+        ``"<folder> holds files gd-analyze did not write: <paths>; use an empty or new
+        folder"`` if a file is listed by no manifest, or a listed file was changed since.
+    """
+    folder = Path(folder)
+    owners = FolderOwners()
+    if not folder.is_dir():
+        return owners
+    try:
+        files, owners.empty_dirs = tree_files(folder)
+        names = sorted(n for n in os.listdir(folder) if n.startswith(MANIFEST_PREFIX))
+    except OSError as exc:
+        raise InputError(f"cannot read the output folder: {exc.strerror or exc}",
+                         shown_as or folder) from None
+    foreign = []
+    for name in names:
+        read = _read_manifest(folder, name)
+        if read is None:
+            foreign.append(name)
+            continue
+        owners.manifests.append(name)
+        cmd, listed = read
+        for path, entry in listed.items():
+            st = files.get(path)
+            if st is None or path in owners.own or path in owners.others:
+                continue
+            if cmd == command:
+                if _unchanged(folder, path, entry, st):
+                    owners.own[path] = entry
+            else:
+                owners.others[path] = cmd
+    foreign += sorted(p for p in files if p not in owners.own and p not in owners.others)
+    if foreign:
+        more = f" and {len(foreign) - SHOWN} more" if len(foreign) > SHOWN else ""
+        raise InputError(f"{shown_as or folder} holds files gd-analyze did not write: "
+                         f"{', '.join(foreign[:SHOWN])}{more}; use an empty or new folder")
+    return owners
+
+
+def write_manifest(folder, command, version):
+    """Record every file under ``folder`` (a run's new set) in the command's manifest there.
+
+    Parameters
+    ----------
+    folder : str or os.PathLike
+        The staging folder holding only this run's files.
+    command : str
+        The command that wrote them.
+    version : str
+        gd-analyze's version.
+
+    Returns
+    -------
+    list of str
+        The relative paths recorded.
+
+    Raises
+    ------
+    OSError
+        If a file cannot be read or the manifest cannot be written (it is created new, never
+        through a symbolic link).
+    """
+    files, _ = tree_files(folder)
+    entries = {}
+    for path, st in sorted(files.items()):
+        if not stat.S_ISREG(st.st_mode):
+            continue                            # a run writes regular files only
+        entries[path] = {"sha256": file_sha256(os.path.join(folder, path)),
+                         "size": st.st_size, "mtime_ns": st.st_mtime_ns}
+    text = json.dumps({"tool": "gd-analyze", "format": 1, "version": str(version),
+                       "command": command, "files": entries}, indent=1)
+    fd = os.open(os.path.join(folder, manifest_name(command)),
+                 os.O_WRONLY | os.O_CREAT | os.O_EXCL | os.O_NOFOLLOW, 0o666)
+    with os.fdopen(fd, "w", encoding="utf-8") as fh:
+        fh.write(text)
+    return list(entries)
