@@ -1,6 +1,7 @@
 """Issue 9, cases 3, 6 and 8 (output locations): staged output folders with a lock."""
 
 import os
+import shutil
 import signal
 import stat
 import subprocess
@@ -452,3 +453,48 @@ def test_case8_without_renameat2_a_killed_swap_is_undone(tmp_path, monkeypatch):
         (stage / "b.txt").write_text("3")
     assert _set(target) == {"b.txt": "3"} and _leftovers(tmp_path) == []
     assert sorted(os.listdir(tmp_path)) == ["out"]
+
+
+def test_case7_a_lock_file_linked_to_another_file_is_refused(tmp_path):
+    victim = tmp_path / "victim.txt"
+    victim.write_text("precious")
+    os.link(victim, tmp_path / f".out{LOCK_SUFFIX}")
+    with pytest.raises(InputError, match="lock file .* is not a file of its own"):
+        with staged_output(tmp_path / "out"):
+            pass
+    assert victim.read_text() == "precious"
+
+
+@pytest.mark.parametrize("kind", ["file", "folder"])
+def test_case7_a_symbolic_link_inside_the_folder_is_not_ours(tmp_path, kind):
+    victim = tmp_path / "victim"
+    if kind == "folder":
+        victim.mkdir()
+        (victim / "f.svg").write_text("precious")
+    else:
+        victim.write_text("precious")
+    target = tmp_path / "out"
+    with staged_output(target) as stage:
+        (stage / "figures").mkdir()
+        (stage / "figures" / "f.svg").write_text("ours")
+    shutil.rmtree(target / "figures")
+    (target / "figures").symlink_to(victim)
+    with pytest.raises(InputError, match="did not write: figures; use an empty"):
+        with staged_output(target) as stage:
+            (stage / "figures").mkdir()
+            (stage / "figures" / "f.svg").write_text("new")
+    assert (target / "figures").is_symlink()
+    assert (victim / "f.svg" if kind == "folder" else victim).read_text() == "precious"
+
+
+def test_case8_a_folder_added_to_during_the_run_is_refused_untouched(tmp_path):
+    target = tmp_path / "out"
+    with staged_output(target) as stage:
+        (stage / "a.txt").write_text("1")
+    with pytest.raises(InputError, match="did not write: notes.txt; use an empty"):
+        with staged_output(target) as stage:
+            (stage / "a.txt").write_text("2")
+            (target / "notes.txt").write_text("the user's, written while the run computed")
+    assert _visible(target) == {"a.txt": b"1",
+                                "notes.txt": b"the user's, written while the run computed"}
+    assert _leftovers(tmp_path) == []

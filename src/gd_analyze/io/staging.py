@@ -211,10 +211,11 @@ def _lock(lock_path, target):
                 raise InputError(f"cannot write the output folder: its lock file {lock_path} "
                                  "is a symbolic link", target) from None
             raise _oserror(exc, target) from None
-        if not stat.S_ISREG(os.fstat(fd).st_mode):
+        st = os.fstat(fd)
+        if not stat.S_ISREG(st.st_mode) or st.st_nlink != 1:     # a FIFO, a hard link
             os.close(fd)
             raise InputError(f"cannot write the output folder: its lock file {lock_path} is "
-                             "not a regular file", target)
+                             "not a file of its own", target)
         try:
             fcntl.flock(fd, fcntl.LOCK_EX | fcntl.LOCK_NB)
         except BlockingIOError:
@@ -423,7 +424,8 @@ def staged_output(target, outputs=(), command="output"):
         raise _oserror(exc, target) from None
     mount = real.is_dir() and os.path.ismount(real)
     try:
-        if not os.access(real if mount else parent, os.W_OK | os.X_OK):
+        if not all(os.access(a, os.W_OK | os.X_OK) for a in {real if mount else parent,
+                                                             *([real] if real.is_dir() else [])}):
             raise InputError("cannot write the output folder: permission denied", target)
         lock = real / LOCK_SUFFIX if mount else parent / f".{name}{LOCK_SUFFIX}"
         with _lock(lock, target):
