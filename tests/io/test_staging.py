@@ -498,3 +498,16 @@ def test_case8_a_folder_added_to_during_the_run_is_refused_untouched(tmp_path):
     assert _visible(target) == {"a.txt": b"1",
                                 "notes.txt": b"the user's, written while the run computed"}
     assert _leftovers(tmp_path) == []
+
+
+def test_case2_a_wrong_folder_is_refused_without_reading_it_all(tmp_path):
+    """-o into a big folder of one's own (a home folder): refused after a few names."""
+    target = tmp_path / "home"
+    for k in range(30):
+        (target / f"d{k:02d}").mkdir(parents=True)
+        (target / f"d{k:02d}" / "notes.txt").write_text("mine")
+    with pytest.raises(InputError) as err:
+        with staged_output(target):
+            pass
+    assert str(err.value) == _foreign_message(
+        target, [f"d{k:02d}/notes.txt" for k in range(8)]).replace("; use", " and more; use")

@@ -24,13 +24,13 @@ from ..errors import InputError
 from ..files import file_sha256
 
 __all__ = ["MANIFEST_PREFIX", "RESERVED_PREFIX", "FolderOwners", "manifest_name",
-           "folder_owners", "write_manifest", "tree_files"]
+           "folder_owners", "write_manifest", "walk_files"]
 
 MANIFEST_PREFIX = ".gd-analyze-manifest-"
 #: Top-level names of the output folder that belong to the machinery (the lock and staging
 #: folders of a run in a folder that is a mount point), never to a run's set.
 RESERVED_PREFIX = ".gd-"
-#: Foreign files named in the refusal, at most.
+#: Foreign files named in the refusal, at most (the walk stops after one more).
 SHOWN = 8
 _COMMAND = re.compile(r"[a-z][a-z0-9_-]{0,40}")
 
@@ -86,47 +86,46 @@ class FolderOwners:
     empty_dirs: list = field(default_factory=list)
 
 
-def tree_files(root, skip_reserved=True):
-    """The files and empty folders under ``root``, without following symbolic links.
+def walk_files(root, empty_dirs=None):
+    """The entries under ``root`` that are not folders, in sorted order, without following a
+    symbolic link; the top-level names starting with ``.gd-`` (manifests, lock, staging
+    folders) are left out.
 
     Parameters
     ----------
     root : str or os.PathLike
         A folder.
-    skip_reserved : bool, optional
-        Leave out the top-level names that start with ``.gd-`` (manifests, lock, staging).
+    empty_dirs : list, optional
+        Receives the relative paths of the folders that hold nothing.
 
-    Returns
-    -------
-    files : dict of str to os.stat_result
-        Every entry that is not a folder (regular file, symbolic link, ...), by relative POSIX
-        path, with its ``lstat``.
-    empty_dirs : list of str
-        The folders that hold nothing.
+    Yields
+    ------
+    path : str
+        Relative POSIX path of a regular file, symbolic link or other non-folder entry.
+    st : os.stat_result
+        Its ``lstat``.
 
     Raises
     ------
     OSError
         If a folder cannot be listed.
     """
-    files, empty = {}, []
-
     def walk(folder, rel):
-        entries = list(os.scandir(folder))
-        if rel and not entries:
-            empty.append(rel)
+        with os.scandir(folder) as it:
+            entries = sorted(it, key=lambda e: e.name)
+        if rel and not entries and empty_dirs is not None:
+            empty_dirs.append(rel)
         for e in entries:
-            if not rel and skip_reserved and e.name.startswith(RESERVED_PREFIX):
+            if not rel and e.name.startswith(RESERVED_PREFIX):
                 continue
             path = f"{rel}/{e.name}" if rel else e.name
             st = e.stat(follow_symlinks=False)
             if stat.S_ISDIR(st.st_mode):
-                walk(e.path, path)
+                yield from walk(e.path, path)
             else:
-                files[path] = st
+                yield path, st
 
-    walk(os.fspath(root), "")
-    return files, empty
+    yield from walk(os.fspath(root), "")
 
 
 def _read_manifest(folder, name):
@@ -200,34 +199,34 @@ def folder_owners(folder, command, shown_as=None):
     owners = FolderOwners()
     if not folder.is_dir():
         return owners
+    foreign, listed, more = [], {}, False
     try:
-        files, owners.empty_dirs = tree_files(folder)
-        names = sorted(n for n in os.listdir(folder) if n.startswith(MANIFEST_PREFIX))
+        for name in sorted(n for n in os.listdir(folder) if n.startswith(MANIFEST_PREFIX)):
+            read = _read_manifest(folder, name)
+            if read is None:
+                foreign.append(name)
+                continue
+            owners.manifests.append(name)
+            for path, entry in read[1].items():
+                listed.setdefault(path, (read[0], entry))
+        for path, st in walk_files(folder, owners.empty_dirs):
+            cmd, entry = listed.get(path, (None, None))
+            if cmd is not None and cmd != command:
+                owners.others[path] = cmd
+            elif cmd is not None and _unchanged(folder, path, entry, st):
+                owners.own[path] = entry
+            else:
+                foreign.append(path)
+                if len(foreign) > SHOWN:        # a wrong -o (a home folder): stop looking
+                    more = True
+                    break
     except OSError as exc:
         raise InputError(f"cannot read the output folder: {exc.strerror or exc}",
                          shown_as or folder) from None
-    foreign = []
-    for name in names:
-        read = _read_manifest(folder, name)
-        if read is None:
-            foreign.append(name)
-            continue
-        owners.manifests.append(name)
-        cmd, listed = read
-        for path, entry in listed.items():
-            st = files.get(path)
-            if st is None or path in owners.own or path in owners.others:
-                continue
-            if cmd == command:
-                if _unchanged(folder, path, entry, st):
-                    owners.own[path] = entry
-            else:
-                owners.others[path] = cmd
-    foreign += sorted(p for p in files if p not in owners.own and p not in owners.others)
     if foreign:
-        more = f" and {len(foreign) - SHOWN} more" if len(foreign) > SHOWN else ""
+        names = ", ".join(sorted(foreign)[:SHOWN]) + (" and more" if more else "")
         raise InputError(f"{shown_as or folder} holds files gd-analyze did not write: "
-                         f"{', '.join(foreign[:SHOWN])}{more}; use an empty or new folder")
+                         f"{names}; use an empty or new folder")
     return owners
 
 
@@ -254,9 +253,8 @@ def write_manifest(folder, command, version):
         If a file cannot be read or the manifest cannot be written (it is created new, never
         through a symbolic link).
     """
-    files, _ = tree_files(folder)
     entries = {}
-    for path, st in sorted(files.items()):
+    for path, st in walk_files(folder):
         if not stat.S_ISREG(st.st_mode):
             continue                            # a run writes regular files only
         entries[path] = {"sha256": file_sha256(os.path.join(folder, path)),

@@ -482,7 +482,6 @@ def _swap_folder(real, stage, owners, command):
         if not real.is_dir():
             if not _renameat2(stage, real, RENAME_NOREPLACE):
                 os.rename(stage, real)      # fails on a folder created meanwhile, not empty
-            stage.mkdir()                   # for the clean-up
         elif not _renameat2(stage, real, RENAME_EXCHANGE):
             prev = real.parent / f".{real.name}.gd-prev"
             os.rename(real, prev)           # no exchange here: two renames, undone if killed
