@@ -24,7 +24,7 @@ from ..errors import InputError
 from ..files import file_sha256
 
 __all__ = ["MANIFEST_PREFIX", "RESERVED_PREFIX", "FolderOwners", "manifest_name",
-           "folder_owners", "write_manifest", "walk_files"]
+           "folder_owners", "write_manifest", "write_transition", "walk_files"]
 
 MANIFEST_PREFIX = ".gd-analyze-manifest-"
 #: Top-level names of the output folder that belong to the machinery (the lock and staging
@@ -149,11 +149,12 @@ def _read_manifest(folder, name):
     good = {}
     for path, entry in files.items():
         parts = str(path).split("/")
-        if (isinstance(entry, dict) and isinstance(entry.get("sha256"), str)
-                and isinstance(entry.get("size"), int) and path and not path.startswith("/")
+        if (_valid(entry) and path and not path.startswith("/")
                 and all(p not in ("", ".", "..") for p in parts)
                 and not parts[0].startswith(RESERVED_PREFIX)):
-            good[path] = entry
+            also = entry.get("also")
+            good[path] = {**entry, "also": [e for e in also if _valid(e)]
+                          if isinstance(also, list) else []}
     return command, good
 
 
@@ -164,13 +165,21 @@ def _manifest_name_or_none(command):
         return None
 
 
+def _valid(entry):
+    return (isinstance(entry, dict) and isinstance(entry.get("sha256"), str)
+            and isinstance(entry.get("size"), int))
+
+
 def _unchanged(folder, path, entry, st):
-    """Whether the file still holds the bytes the manifest recorded."""
-    if not stat.S_ISREG(st.st_mode) or st.st_size != entry["size"]:
+    """Whether the file still holds the bytes the manifest recorded (or, in a transition
+    manifest, the bytes of the set being replaced: ``also``)."""
+    accepted = [e for e in [entry, *entry.get("also", [])] if e["size"] == st.st_size]
+    if not stat.S_ISREG(st.st_mode) or not accepted:
         return False
-    if entry.get("mtime_ns") == st.st_mtime_ns:
+    if any(e.get("mtime_ns") == st.st_mtime_ns for e in accepted):
         return True                         # not written since: skip re-reading a large file
-    return file_sha256(os.path.join(folder, path)) == entry["sha256"]
+    digest = file_sha256(os.path.join(folder, path))
+    return any(e["sha256"] == digest for e in accepted)
 
 
 def folder_owners(folder, command, shown_as=None):
@@ -259,10 +268,47 @@ def write_manifest(folder, command, version):
             continue                            # a run writes regular files only
         entries[path] = {"sha256": file_sha256(os.path.join(folder, path)),
                          "size": st.st_size, "mtime_ns": st.st_mtime_ns}
-    text = json.dumps({"tool": "gd-analyze", "format": 1, "version": str(version),
-                       "command": command, "files": entries}, indent=1)
-    fd = os.open(os.path.join(folder, manifest_name(command)),
-                 os.O_WRONLY | os.O_CREAT | os.O_EXCL | os.O_NOFOLLOW, 0o666)
-    with os.fdopen(fd, "w", encoding="utf-8") as fh:
-        fh.write(text)
+    _write_new(os.path.join(folder, manifest_name(command)),
+               {"tool": "gd-analyze", "format": 1, "version": str(version),
+                "command": command, "files": entries})
     return list(entries)
+
+
+def _write_new(path, data):
+    """Write JSON to a file created new, never through a symbolic link."""
+    fd = os.open(path, os.O_WRONLY | os.O_CREAT | os.O_EXCL | os.O_NOFOLLOW, 0o666)
+    with os.fdopen(fd, "w", encoding="utf-8") as fh:
+        fh.write(json.dumps(data, indent=1))
+
+
+def write_transition(folder, command, old, name):
+    """A manifest that accepts the old set and the new one, put in place while the sets are
+    exchanged entry by entry (a mount point): after a SIGKILL in between, the next run still
+    knows every file as the command's own and replaces the lot.
+
+    Parameters
+    ----------
+    folder : str or os.PathLike
+        The staging folder, holding the command's new manifest.
+    command : str
+        The command.
+    old : dict of str to dict
+        The entries of the files the run replaces (:attr:`FolderOwners.own`).
+    name : str
+        The file to write in ``folder``.
+
+    Raises
+    ------
+    OSError
+        If the new manifest cannot be read or the file cannot be written.
+    """
+    with open(os.path.join(folder, manifest_name(command)), encoding="utf-8") as fh:
+        data = json.load(fh)
+    files = data["files"]
+    for path, entry in old.items():
+        base = {k: entry[k] for k in ("sha256", "size", "mtime_ns") if k in entry}
+        if path not in files:
+            files[path] = base
+        elif files[path]["sha256"] != base["sha256"]:
+            files[path] = {**files[path], "also": [base]}
+    _write_new(os.path.join(folder, name), data)

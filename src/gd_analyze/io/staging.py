@@ -19,7 +19,8 @@
   are held back during the exchange and delivered after it. Where the target cannot be
   exchanged (a mount point, such as a Docker volume at ``/out``, or the current folder of the
   run, which a shell would keep open), the run stages inside the target and exchanges its
-  top-level entries one by one, the manifest last (only SIGKILL can split that set). Without
+  top-level entries one by one, the new manifest last (only SIGKILL can split that set; a
+  manifest that knows both sets is in place meanwhile, so the next run replaces it whole). Without
   ``renameat2`` (other systems, old C libraries) the target is renamed aside and the new
   folder renamed in; a run killed between the two renames is undone by the next run;
 - on an error, SIGINT or SIGTERM the staging folder is removed; the staging folders of a
@@ -45,7 +46,7 @@ import tempfile
 from pathlib import Path
 
 from ..errors import InputError
-from .manifest import folder_owners, manifest_name, write_manifest
+from .manifest import folder_owners, manifest_name, write_manifest, write_transition
 
 __all__ = ["safe_name", "staged_output", "writing", "check_free_space", "check_output_file",
            "install_signal_handlers", "Terminated", "LOCK_SUFFIX", "TMP_MARK"]
@@ -490,14 +491,17 @@ def _swap_folder(real, stage, owners, command):
 
 
 def _swap_entries(real, stage, owners, command, new):
-    """Exchange the top-level entries the command owns, one by one, the manifest last."""
+    """Exchange the top-level entries the command owns one by one, under a manifest that
+    knows both sets; the new manifest last."""
     own = manifest_name(command)
     tops = {p.split("/")[0] for p in [*owners.own, *new]}
     _carry(real, stage, owners, command, tops)
     old = stage / f"{TMP_MARK}old"
     old.mkdir()
+    write_transition(stage, command, owners.own, f"{TMP_MARK}manifest")
     with _signals_held():
-        for top in [*sorted(tops), own]:
+        os.replace(stage / f"{TMP_MARK}manifest", real / own)    # knows both sets
+        for top in sorted(tops):
             src, dst = stage / top, real / top
             if not os.path.lexists(src):
                 os.rename(dst, old / top)   # ours, not in the new set
@@ -507,4 +511,5 @@ def _swap_entries(real, stage, owners, command, new):
             elif not _renameat2(src, dst, RENAME_EXCHANGE):
                 os.rename(dst, old / top)
                 os.rename(src, dst)
+        os.replace(stage / own, real / own)          # the new set's own, last
 
