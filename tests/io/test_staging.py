@@ -363,10 +363,8 @@ def _set(target):
     return {k: v.decode() for k, v in _visible(target).items()}
 
 
-@pytest.mark.parametrize("sig, mount", [(signal.SIGKILL, False), (signal.SIGTERM, False),
-                                        (signal.SIGINT, False), (signal.SIGTERM, True)])
-def test_case8_an_interrupted_move_leaves_one_whole_set(tmp_path, sig, mount, monkeypatch):
-    target = tmp_path / "out"
+def _old_set(target, monkeypatch, mount):
+    """A folder holding the OLD set, written by a run; optionally seen as a mount point."""
     target.mkdir()
     if mount:
         ismount = os.path.ismount
@@ -376,6 +374,13 @@ def test_case8_an_interrupted_move_leaves_one_whole_set(tmp_path, sig, mount, mo
         for path, text in OLD.items():
             (stage / path).parent.mkdir(parents=True, exist_ok=True)
             (stage / path).write_text(text)
+    return target
+
+
+@pytest.mark.parametrize("sig, mount", [(signal.SIGKILL, False), (signal.SIGTERM, False),
+                                        (signal.SIGINT, False), (signal.SIGTERM, True)])
+def test_case8_an_interrupted_move_leaves_one_whole_set(tmp_path, sig, mount, monkeypatch):
+    target = _old_set(tmp_path / "out", monkeypatch, mount)
     proc = _start(_mover_script(target, 30 if sig == signal.SIGKILL else 2, mount))
     assert proc.stdout.readline().strip() == "moved"
     proc.send_signal(sig)
@@ -518,15 +523,7 @@ def test_case8_a_mount_point_killed_mid_exchange_is_replaced_whole_by_the_next_r
         tmp_path, monkeypatch):
     """In a mount point the entries are exchanged one by one: SIGKILL between two can split
     the set, but the manifest then knows both sets, so the next run is not refused."""
-    target = tmp_path / "vol"
-    target.mkdir()
-    ismount = os.path.ismount
-    monkeypatch.setattr(os.path, "ismount",
-                        lambda p: Path(p).resolve() == target.resolve() or ismount(p))
-    with staged_output(target, ("a.txt", "b.txt", "figures")) as stage:
-        for path, text in OLD.items():
-            (stage / path).parent.mkdir(parents=True, exist_ok=True)
-            (stage / path).write_text(text)
+    target = _old_set(tmp_path / "vol", monkeypatch, mount=True)
     proc = _start(_mover_script(target, 30, mount=True))
     assert proc.stdout.readline().strip() == "moved"
     proc.kill()
