@@ -533,3 +533,13 @@ def test_case8_a_mount_point_killed_mid_exchange_is_replaced_whole_by_the_next_r
         (stage / "a.txt").write_text("next")
     assert _set(target) == {"a.txt": "next"}
     assert not any(TMP_MARK in n for n in os.listdir(target))
+
+
+@pytest.mark.parametrize("where", ["out", "reports/out"])
+def test_case7_no_folder_is_created_through_a_dangling_link(tmp_path, where):
+    elsewhere = tmp_path / "elsewhere"
+    (tmp_path / where.split("/")[0]).symlink_to(elsewhere)
+    with pytest.raises(InputError, match="is a symbolic link to nothing"):
+        with staged_output(tmp_path / where):
+            pass
+    assert not elsewhere.exists()

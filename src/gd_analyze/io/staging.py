@@ -407,8 +407,9 @@ def staged_output(target, outputs=(), command="output"):
     del outputs
     manifest_name(command)                  # a plain command name, or ValueError
     target = Path(target)
-    if target.is_symlink() and not target.exists():
-        raise InputError("is a symbolic link to nothing", target)
+    for a in [target, *target.parents]:     # never create folders through a dangling link
+        if a.is_symlink() and not a.exists():
+            raise InputError(f"{a} is a symbolic link to nothing", target)
     real = Path(os.path.realpath(target))
     if real.exists() and not real.is_dir():
         raise InputError("exists and is not a folder", target)
