@@ -197,7 +197,7 @@ def _cmd_analyze(args):
 
 def _analyze(args, worker):
     from ..io.schema import skip_dask
-    from ..io.staging import check_free_space, staged_output
+    from ..io.staging import check_free_space, staged_output, writing
     from ..workflows.analyze import analyze_to_file, progress_bar
 
     skip_dask()                         # the main job makes no dask arrays: skip its import
@@ -219,7 +219,7 @@ def _analyze(args, worker):
                 "payload_inertia": [float(v) for v in args.payload_inertia],
                 **_chain_settings(args)}
     extra = _payload_sweep_dataset(base_robot, trajectory, args)   # bad range: before any output
-    with staged_output(outdir, ANALYZE_OUTPUTS) as stage:
+    with staged_output(outdir, ANALYZE_OUTPUTS, "analyze") as stage, writing(outdir, stage):
         check_free_space(stage, _results_size(trajectory.n_setpoints, robot.n), "results.h5")
         results = stage / "results.h5"
         analysis = analyze_to_file(robot, trajectory, results, dominance=args.dominance,
@@ -429,7 +429,7 @@ def _cmd_control(args):
     from ..io.trajectory import read_trajectory
 
     from ..reports.control import CONTROL_REPORT_FILES
-    from ..io.staging import staged_output
+    from ..io.staging import staged_output, writing
 
     model = SimplifiedModel.load(args.model)
     traj = read_trajectory(args.trajectory, n_joints=model.robot.n)
@@ -441,7 +441,8 @@ def _cmd_control(args):
                              model_path=args.model, model_sha256=file_sha256(args.model))
     except ValueError as exc:
         raise InputError(str(exc)) from None
-    with staged_output(outdir, (CONTROL_FILE, *CONTROL_REPORT_FILES, "figures")) as stage:
+    with staged_output(outdir, (CONTROL_FILE, *CONTROL_REPORT_FILES, "figures"),
+                       "control") as stage, writing(outdir, stage):
         path = stage / CONTROL_FILE
         write_control_dataset(result, path)
         written = [path]
@@ -561,9 +562,9 @@ def _cmd_sweep(args):
         payload = None if masses is None else sweep_payloads(
             robot, trajectories, masses, args.payload_com, args.payload_inertia,
             args.dominance, args.negligible, client=client)
-    from ..io.staging import staged_output
+    from ..io.staging import staged_output, writing
 
-    with staged_output(outdir, SWEEP_OUTPUTS) as stage:
+    with staged_output(outdir, SWEEP_OUTPUTS, "sweep") as stage, writing(outdir, stage):
         written = [stage / "sweep.h5", stage / "merged_model.json"]
         write_dataset(ds, written[0])
         merged_model(loaded, ds).save(written[1])
