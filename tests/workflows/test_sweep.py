@@ -275,7 +275,7 @@ def test_sweep_report(sweep, puma, shipped, tmp_path):
     # the summary leads with the worst cases: the trajectory of the largest merged error
     rel = sweep["merged_tau_error_relative_peak"].values
     worst = str(sweep["source"].values[int(np.nanargmax(np.nanmax(rel, axis=1)))])
-    assert html.index("Worst cases:") < html.index("conservative merged model keeps")
+    assert html.index("Worst cases:") < html.index("merged model of the chapter rule keeps")
     assert worst in html[html.index("Worst cases:"):html.index("Worst cases:") + 400]
     assert html.count("<svg") >= 5
     assert "<link" not in html and 'src="http' not in html and "<script" not in html
@@ -309,3 +309,113 @@ def test_analyze_one_rejects_a_trajectory_of_another_robot(two_link, puma):
     bad = dataclasses.replace(tr, qd=tr.qd[:, :3])
     with pytest.raises(ValueError, match="qd"):
         analyze_one(puma, bad)
+
+
+# --------------------------------------------------------------------------------------------
+# The merged model of the budget rule (issue 17): guaranteed on each swept trajectory
+# --------------------------------------------------------------------------------------------
+
+def _rnea(robot, q, qd, qdd):
+    import pinocchio as pin
+
+    from gd_analyze.formulations.pinocchio import pinocchio_model
+
+    model = pinocchio_model(robot)
+    data = model.createData()
+    return np.array([pin.rnea(model, data, a, b, c) for a, b, c in zip(q, qd, qdd)])
+
+
+@pytest.fixture(scope="module")
+def mixed(puma, shipped):
+    """Fast random moves, the shipped trajectory and a slow small move: joint scales that
+    differ by orders of magnitude between trajectories."""
+    slow = plan_quintic(puma, np.radians([0, 45, -90, 0, 30, 0]),
+                        np.radians([2, 46, -89, 1, 31, 1]), duration=4.0)
+    return [*random_trajectories(puma, 3, seed=11), shipped, slow]
+
+
+@pytest.mark.parametrize("eps, floor", [(0.002, 0.0), (0.01, 0.0), (0.05, 0.0), (0.01, 1.0)])
+def test_budget_merged_model_within_eps_of_each_trajectory_scale(puma, mixed, eps, floor):
+    from gd_analyze.workflows.simplify import sweep_model
+
+    model, _ = sweep_model(puma, mixed, tolerance=eps, torque_floor=floor)
+    assert model.rule == "budget"
+    worst = 0.0
+    for tr in mixed:
+        ref = _rnea(puma, tr.q, tr.qd, tr.qdd)                  # the oracle, per trajectory
+        scale = np.maximum(np.abs(ref).max(axis=0), floor)
+        err = np.abs(model.torque(tr.q, tr.qd, tr.qdd) - ref).max(axis=0)
+        assert np.isfinite(err).all()
+        assert (err <= eps * scale * (1 + 1e-9) + 1e-12).all(), (tr.source, err / scale)
+        worst = max(worst, float((err / scale).max()))
+    # the stored figure is the one the oracle gives, and within the relative bound <= EPS
+    assert model.validation["worst_scaled_error"] == pytest.approx(worst, rel=1e-6, abs=1e-12)
+    assert max(model.validation["relative_bound"]) <= eps * (1 + 1e-12)
+    assert worst <= max(model.validation["relative_bound"]) * (1 + 1e-9) + 1e-12
+
+
+def test_sweep_command_rule_budget_by_default_and_chapter_says_no_bound(tmp_path, capsys):
+    import json
+
+    from gd_analyze.cli import main
+    from gd_analyze.core.simplified import SimplifiedModel
+
+    slow = tmp_path / "slow.csv"
+    assert main(["plan", "puma560", "-o", str(slow), "--start", "0,45,-90,0,30,0", "--goal",
+                 "2,46,-89,1,31,1", "--duration", "4"]) == 0
+    csvs = [str(SHIPPED), str(slow)]
+    trajs = [read_trajectory(p, 6) for p in csvs]
+    capsys.readouterr()
+    out_b = tmp_path / "budget"
+    assert main(["sweep", "puma560", *csvs, "-o", str(out_b), "--workers", "1",
+                 "--tolerance", "0.01", "--torque-floor", "1", "--held-out", "0"]) == 0
+    printed = capsys.readouterr().out
+    spec = json.loads((out_b / "merged_model.json").read_text())
+    assert spec["rule"] == "budget" and spec["tolerance"] == 0.01
+    model = SimplifiedModel.load(out_b / "merged_model.json")
+    ns = {}
+    exec((out_b / "merged_model.py").read_text(), ns)                # numpy only
+    robot = model.robot
+    worst = 0.0
+    for tr in trajs:
+        ref = _rnea(robot, tr.q, tr.qd, tr.qdd)
+        scale = np.maximum(np.abs(ref).max(axis=0), 1.0)
+        for tau in (model.torque(tr.q, tr.qd, tr.qdd), ns["tau"](tr.q, tr.qd, tr.qdd)):
+            err = np.abs(tau - ref).max(axis=0)
+            assert (err <= 0.01 * scale * (1 + 1e-9) + 1e-12).all()
+            worst = max(worst, float((err / scale).max()))
+    # the printed figure is the guaranteed quantity (relative to max(peak, floor)), and true
+    line = next(x for x in printed.splitlines() if x.startswith("merged model (budget"))
+    assert f"{worst:.2e}" in line and "(guaranteed <= 0.01)" in line
+    html = (out_b / "sweep_report.html").read_text(encoding="utf-8")
+    assert "guaranteed within 0.01 \u00d7 scale_i on every swept trajectory" in html
+    assert "onservative" not in html and "no error bound" not in html
+    out_c = tmp_path / "chapter"
+    assert main(["sweep", "puma560", *csvs, "-o", str(out_c), "--workers", "1",
+                 "--rule", "chapter", "--no-report"]) == 0
+    assert "no error bound" in capsys.readouterr().out
+    assert json.loads((out_c / "merged_model.json").read_text())["rule"] == "chapter"
+    assert not (out_c / "merged_model.py").exists()
+
+
+def test_sweep_report_wording_follows_the_rule(sweep, puma, trajectories, tmp_path):
+    from gd_analyze.reports.sweep import write_sweep_report
+    from gd_analyze.workflows.simplify import sweep_model
+    from gd_analyze.workflows.sweep import with_budget_model
+
+    write_sweep(sweep, tmp_path / "chapter.h5")
+    html = write_sweep_report(tmp_path / "chapter.h5", tmp_path / "rc",
+                              formats=["html"])[0].read_text(encoding="utf-8")
+    assert "chapter rule, no error bound" in html and "guaranteed within" not in html
+    assert "onservative" not in html
+    model, _ = sweep_model(puma, trajectories, tolerance=0.02)
+    ds = with_budget_model(sweep, model)
+    rel = ds["merged_tau_error_relative_peak"].values
+    assert np.isfinite(rel).all() and (rel <= 0.02 * (1 + 1e-9)).all()
+    write_sweep(ds, tmp_path / "budget.h5")
+    html = write_sweep_report(tmp_path / "budget.h5", tmp_path / "rb",
+                              formats=["html"])[0].read_text(encoding="utf-8")
+    assert "guaranteed within 0.02 \u00d7 scale_i on every swept trajectory" in html
+    assert "no error bound" not in html and "onservative" not in html
+    with pytest.raises(ValueError, match="trajectories"):
+        with_budget_model(sweep.isel(trajectory=slice(0, 2)), model)

@@ -471,10 +471,14 @@ def _cmd_control(args):
     return EXIT_OK
 
 
-def _sweep_model(robot, trajectories, args, outdir, settings):
-    """The sweep's simplified explicit model within EPS on every trajectory (issue 8)."""
+def _sweep_model(robot, trajectories, args, outdir, settings, ds):
+    """The sweep's merged model of the budget rule, within EPS x scale_i on every trajectory.
+
+    Writes merged_model.json/.c/.py into outdir; returns (written paths, the sweep dataset
+    with this model's errors)."""
     from ..io.planning import random_trajectories
     from ..workflows.simplify import sweep_model
+    from ..workflows.sweep import with_budget_model
 
     if args.held_out < 0:
         raise InputError("--held-out must be >= 0")
@@ -483,31 +487,42 @@ def _sweep_model(robot, trajectories, args, outdir, settings):
     model, _ = sweep_model(robot, trajectories, tolerance=args.tolerance,
                            torque_floor=args.torque_floor, held_out=held,
                            provenance={"gd_analyze_version": _version(), **settings})
-    path = outdir / "sweep_model.json"
-    model.save(path)
-    written = [path]
-    for name, text in (("sweep_model.c", model.c_source()),
-                       ("sweep_model.py", model.python_source())):
+    ds = with_budget_model(ds, model)
+    model.validation.pop("per_trajectory")          # in sweep.h5; K x n lists
+    written = [outdir / "merged_model.json"]
+    model.save(written[0])
+    for name, text in (("merged_model.c", model.c_source()),
+                       ("merged_model.py", model.python_source())):
         (outdir / name).write_text(text, encoding="utf-8")
         written.append(outdir / name)
     if not args.quiet:
         v = model.validation
-        held_err = v["held_out"].get("relative_peak_error") if v["held_out"] else None
-        print(f"sweep model (budget, EPS = {args.tolerance:g}): {model.cost['multiplications']} "
+        worst, eps = v["worst_scaled_error"], args.tolerance
+        held_err = None
+        if v["held_out"]:                # relative to max(peak |tau_i|, TAU) over them all
+            import numpy as np
+
+            h = v["held_out"]
+            with np.errstate(divide="ignore", invalid="ignore"):
+                held_err = np.asarray(h["peak_abs_error"], float) / np.maximum(
+                    np.asarray(h["peak_tau"], float), args.torque_floor)
+        floor = f"max(peak |tau_i|, {args.torque_floor:g} N m)" if args.torque_floor else \
+            "peak |tau_i|"
+        claim = f"guaranteed <= {eps:g}" if worst <= eps * (1 + 1e-9) else \
+            f"ABOVE the guarantee {eps:g}: please report this bug"
+        print(f"merged model (budget rule, EPS = {eps:g}): {model.cost['multiplications']} "
               f"mult + {model.cost['additions']} add (full explicit: "
               f"{model.full_cost['multiplications']} + {model.full_cost['additions']}); worst "
-              f"relative error on the {v['trajectories']} swept trajectories "
-              f"{max(x for x in v['relative_peak_error'] if x is not None):.2e} (guaranteed "
-              f"<= {args.tolerance:g})" + ("" if held_err is None else
-                                         f", on {v['held_out_trajectories']} held-out "
-                                         f"{max(x for x in held_err if x is not None):.2e} "
-                                         "(not guaranteed)"))
-    return written
+              f"error on the {v['trajectories']} swept trajectories {worst:.2e} of each "
+              f"trajectory's {floor} ({claim})" + ("" if held_err is None else
+                                           f", on {v['held_out_trajectories']} held-out "
+                                           f"{np.nanmax(held_err):.2e} of their {floor} "
+                                           "(not guaranteed)"))
+    return written, ds
 
 
 SWEEP_OUTPUTS = ("sweep.h5", "merged_model.json", "payload_sweep.h5", "sweep_report.html",
-                 "sweep_report.pdf", "figures", "sweep_model.json", "sweep_model.c",
-                 "sweep_model.py")
+                 "sweep_report.pdf", "figures", "merged_model.c", "merged_model.py")
 
 
 def _cmd_sweep(args):
@@ -565,11 +580,17 @@ def _cmd_sweep(args):
     from ..io.staging import staged_output, writing
 
     with staged_output(outdir, SWEEP_OUTPUTS, "sweep") as stage, writing(outdir, stage):
-        written = [stage / "sweep.h5", stage / "merged_model.json"]
+        written = [stage / "sweep.h5"]
+        if args.rule == "budget":
+            files, ds = _sweep_model(loaded, trajectories, args, stage, settings, ds)
+        else:
+            files = [stage / "merged_model.json"]
+            merged_model(loaded, ds).save(files[0])
+            if not args.quiet:
+                print("merged model (chapter rule): a part is dropped only where every "
+                      "trajectory's share-based model drops it; no error bound")
         write_dataset(ds, written[0])
-        merged_model(loaded, ds).save(written[1])
-        if args.tolerance is not None:
-            written += _sweep_model(loaded, trajectories, args, stage, settings)
+        written += files
         if payload is not None:
             written.append(stage / "payload_sweep.h5")
             write_dataset(payload, written[-1])

@@ -158,12 +158,12 @@ def _add_payload_sweep_argument(group):
                             "--payload-inertia for the load's shape (stored with dim 'payload')")
 
 
-def _add_budget_arguments(p, rule=True):
+def _add_budget_arguments(p, rule=True, where="on the analysed trajectory"):
     g = p.add_argument_group("simplified model (error budget, issue 8)")
     g.add_argument("--tolerance", metavar="EPS", type=_fraction(0.0, math.inf, "--tolerance",
                                                                 False), default=0.01,
                    help="error budget: every joint's simplified torque stays within EPS times "
-                        "its scale on the analysed trajectory (default 0.01)")
+                        f"its scale {where} (default 0.01)")
     g.add_argument("--torque-floor", metavar="TAU", type=_fraction(0.0, math.inf,
                                                                    "--torque-floor", False),
                    default=0.0, help="least scale of a joint torque [N m] (default 0)")
@@ -335,10 +335,10 @@ def _sweep_parser():
 
     p = _Parser(prog=f"{PROG} sweep",
                 description="Rank the G-D elements over many trajectories on dask, give the "
-                            "envelope of the ranking per element and one simplified model valid "
-                            "over them all (an element is dropped or reduced only where that "
-                            "holds in every trajectory); write sweep.h5, merged_model.json and "
-                            "sweep_report.html/.pdf.")
+                            "envelope of the ranking per element and one merged simplified model "
+                            "(budget rule: guaranteed within EPS x scale_i on every swept "
+                            "trajectory; --rule chapter: no error bound); write sweep.h5, "
+                            "merged_model.json and sweep_report.html/.pdf.")
     p.add_argument("robot", metavar="ROBOT", help=_ROBOT_HELP)
     p.add_argument("csv", metavar="CSV", nargs="*", help="trajectory files (or use --random)")
     p.add_argument("--random", metavar="K", type=int,
@@ -357,16 +357,12 @@ def _sweep_parser():
     p.add_argument("--negligible", metavar="E",
                    type=_fraction(0.0, 1.0, "--negligible", False),
                    default=DEFAULT_NEGLIGIBLE, help=f"default {DEFAULT_NEGLIGIBLE}")
-    p.add_argument("--tolerance", metavar="EPS", type=_fraction(0.0, math.inf, "--tolerance",
-                                                                False),
-                   help="also build one simplified explicit model within EPS on every swept "
-                        "trajectory (budget rule); writes sweep_model.json/.c/.py")
-    p.add_argument("--torque-floor", metavar="TAU", type=_fraction(0.0, math.inf,
-                                                                   "--torque-floor", False),
-                   default=0.0, help="least scale of a joint torque [N m] (default 0)")
+    _add_budget_arguments(p, where="on every swept trajectory, scale_i = max(that "
+                                   "trajectory's peak |tau_i|, TAU); the merged model "
+                                   "merged_model.json/.c/.py")
     p.add_argument("--held-out", metavar="K", type=int, default=20,
-                   help="random trajectories (another seed) to measure the sweep model on, "
-                        "not guaranteed (default 20)")
+                   help="random trajectories (another seed) to measure the merged model of the "
+                        "budget rule on, not guaranteed (default 20)")
     p.add_argument("--no-report", action="store_true", help="skip the HTML and PDF report")
     _add_paper_argument(p)
     p.add_argument("-q", "--quiet", action="store_true", help="print nothing but errors")

@@ -10,6 +10,14 @@ term (:func:`gd_analyze.core.explicit.prune`, atoms of proportional groups), wit
 EPS x scale_i. By the triangle inequality either model's error on the trajectory is within
 EPS x scale_i for every joint.
 
+Over several trajectories (a sweep) each joint's scale is that trajectory's: scale_{t,i} =
+max(peak_t |tau_i|, TAU). Every peak is divided by its own trajectory's scale
+(:func:`relative_peaks`) and the largest ratio over the trajectories is kept; the budget EPS
+then applies to these ratios (scale 1). For every trajectory t and joint i the dropped
+contributions sum to at most sum_a p_{a,t,i} <= scale_{t,i} sum_a max_u (p_{a,u,i} /
+scale_{u,i}) <= EPS x scale_{t,i}: the model is guaranteed on each trajectory, relative to that
+trajectory's own scale, with memory independent of the number of trajectories.
+
 The chapter's rule (``"chapter"``) keeps the share-based classes of
 :mod:`gd_analyze.ranking` and prunes no single term: there is no bound.
 """
@@ -23,7 +31,7 @@ import numpy as np
 from .explicit import atoms, budget_drop, prune
 
 __all__ = ["RULES", "DEFAULT_TOLERANCE", "PartPeaks", "part_index", "budget_choices",
-           "Selection", "select_terms"]
+           "Selection", "select_terms", "relative_peaks"]
 
 #: The rules that build a simplified model.
 RULES = ("budget", "chapter")
@@ -121,6 +129,36 @@ class PartPeaks:
         np.maximum(self.peaks, other.peaks, out=self.peaks)
         np.maximum(self.tau_peak, other.tau_peak, out=self.tau_peak)
         return self
+
+
+def relative_peaks(peaks, scale):
+    """Peak contributions relative to the joint scales of the trajectory they were taken on.
+
+    Parameters
+    ----------
+    peaks : ndarray, shape (U, n)
+        Peak |contribution| of each part or atom to each joint torque on one trajectory [N m].
+    scale : ndarray, shape (n,)
+        That trajectory's scale_i = max(peak |tau_i|, TAU) [N m].
+
+    Returns
+    -------
+    ndarray, shape (U, n)
+        peaks / scale; 0 where the peak is 0, inf where the peak is positive and the scale 0
+        (such a unit can never be dropped). The maximum of these over trajectories, under the
+        budget EPS with scale 1, keeps every trajectory's error within EPS x its own scale_i
+        (module docstring).
+
+    Examples
+    --------
+    >>> relative_peaks(np.array([[1.0, 0.0], [2.0, 3.0]]), np.array([4.0, 0.0])).tolist()
+    [[0.25, 0.0], [0.5, inf]]
+    """
+    peaks = np.asarray(peaks, float)
+    scale = np.asarray(scale, float)
+    with np.errstate(divide="ignore", invalid="ignore"):
+        rel = np.where(peaks > 0, peaks / np.where(scale > 0, scale, 0.0), 0.0)
+    return np.where(np.isnan(rel), np.inf, rel)
 
 
 def budget_choices(peaks, scale, tolerance):

@@ -81,7 +81,7 @@ def sweep_dataset(robot, trajectories, results, merged, merged_stats, dominance,
     results : list of dict
         Per trajectory, as :func:`gd_analyze.workflows.sweep.analyze_one` returns it.
     merged : dict
-        Element label -> the conservative merged choice.
+        Element label -> the merged choice of the chapter rule (no error bound).
     merged_stats : list of dict
         Per trajectory, the merged model's accumulated torque error: ``peak``, ``sum_sq``,
         ``count``, ``peak_tau`` [N m].
@@ -177,8 +177,8 @@ def sweep_dataset(robot, trajectories, results, merged, merged_stats, dominance,
         "share_tran_max": var(("element",), s_max, "1",
                                "largest translational share over the trajectories"),
         "merged_choice": var(("element",), np.array([merged[lab] for lab in labels], dtype=str),
-                              "1", "part kept by the conservative merged model: a part is "
-                                   "dropped only where every trajectory drops it"),
+                              "1", "part kept by the merged model of the chapter rule: a "
+                                   "part is dropped only where every trajectory drops it"),
         "merged_error_peak": var(("joint",), all_peak, "N m",
                                   "merged model: peak |tau_merged - tau| over all trajectories"),
         "merged_error_rms": var(("joint",), all_rms, "N m",
@@ -204,7 +204,9 @@ def sweep_dataset(robot, trajectories, results, merged, merged_stats, dominance,
     attrs.update(inputs_attributes(trajectories))
     attrs["setpoints_total"] = int(sum(s["setpoints"] for s in summ))
     attrs["merge_rule"] = ("keep_tran = any trajectory keeps tran (tran or both); keep_rot = "
-                           "any keeps rot (rot or both); merged = both/tran/rot/none")
+                           "any keeps rot (rot or both); merged = both/tran/rot/none "
+                           "(chapter rule: no error bound)")
+    attrs["merged_rule"] = "chapter"
     return xr.Dataset(data_vars, coords=coords, attrs=attrs)
 
 
@@ -321,7 +323,7 @@ def sweep_payloads_dataset(robot, n_trajectories, masses, com, inertia, parts, d
          "dominance": var(("payload", "element"), dom.astype(str), "1",
                           "most frequent dominance class over the trajectories"),
          "choice": var(("payload", "element"), choice.astype(str), "1",
-                       "merged (conservative) simplified-model choice"),
+                       "merged share-based choice (chapter rule, no error bound)"),
          "tau_peak": var(("payload", "joint"), tau, "N m",
                          "peak |tau| over all trajectories")},
         coords={"payload": ("payload", np.asarray(masses, float),

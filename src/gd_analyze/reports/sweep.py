@@ -11,7 +11,8 @@ attributes. The report has these parts:
 3. the same for the elements of h (layout of Fig. 3.11);
 4. the envelope: per element the fraction of trajectories in each dominance class and the
    min/median/max share, as a figure and a table;
-5. the conservative merged simplified model: its choice per element and its torque error;
+5. the merged simplified model (budget rule: guaranteed within EPS x scale_i on every swept
+   trajectory; chapter rule: no error bound): its choice per element and its torque error;
 6. optionally, a payload sweep (:func:`gd_analyze.workflows.payload.payload_sweep`): share_tran and class
    of every element vs payload (:func:`gd_analyze.reports.figures.payload_figure`).
 
@@ -123,16 +124,28 @@ def _context(ds, payload=None):
     kept = sum(m != "none" for m in merged)
     single = sum(m in ("tran", "rot") for m in merged)
     worst = _worst_cases(ds, labels)
+    rule, heading, merged_text = _merged_rule(ds)
+    if rule == "budget":
+        eps = f"{float(ds.attrs['merged_tolerance']):g}"
+        claim = (f"guaranteed within {eps} \u00d7 scale_i on every swept trajectory (scale_i = "
+                 f"max(that trajectory's peak |\u03c4_i|, "
+                 f"{float(ds.attrs.get('merged_torque_floor', 0.0)):g} N m)); its largest "
+                 f"measured peak error is "
+                 f"{_pct(float(ds.attrs.get('merged_worst_scaled_error', np.nan)))} of scale_i")
+        name = f"The merged model (budget rule, EPS = {eps})"
+    else:
+        claim = ("no error bound: its largest peak torque error over all trajectories is "
+                 f"{_pct(np.nanmax(ds['merged_error_relative_peak'].values))} of that joint's "
+                 f"peak |\u03c4| over all of them (joint "
+                 f"{int(np.nanargmax(ds['merged_error_relative_peak'].values)) + 1})")
+        name = "The merged model of the chapter rule"
     summary = (f"{robot}: share_tran of the {len(labels)} ranked elements of D and h over "
-               f"{inputs}, s = {s:g}, e = {e:g}. The conservative merged model keeps both parts "
+               f"{inputs}, s = {s:g}, e = {e:g}. {name} keeps both parts "
                f"of {counts['both']} elements, one part of {single}, and drops "
-               f"{len(labels) - kept}; its largest peak torque error over all "
-               f"trajectories is {_pct(np.nanmax(ds['merged_error_relative_peak'].values))} "
-               f"of that joint's peak |\u03c4| over all of them "
-               f"(joint {int(np.nanargmax(ds['merged_error_relative_peak'].values)) + 1}; "
-               f"the worst cases above divide by each trajectory's own peak |\u03c4|).")
+               f"{len(labels) - kept}; it is {claim}.")
     ctx = {"version": __version__, "title": f"G-D dominance sweep: {robot}, {K} trajectories",
            "summary": summary, "settings": _table(["item", "value"], settings),
+           "merged_heading": heading, "merged_text": merged_text,
            "worst": worst,
            "intro": _INTRO.format(K=K, created=utc_now().isoformat(), version=__version__),
            "envelope": envelope, "error": err, "counts": counts, "s": f"{s:g}", "e": f"{e:g}",
@@ -162,6 +175,26 @@ def _context(ds, payload=None):
     return ctx
 
 
+def _merged_rule(ds):
+    """The merged model's rule, the heading of its section and its description, in words that
+    follow the rule: a bound only for the budget rule."""
+    rule = str(ds.attrs.get("merged_rule", "chapter"))
+    if rule == "budget":
+        eps = f"{float(ds.attrs['merged_tolerance']):g}"
+        return rule, f"5. Merged model (budget rule, EPS = {eps}) and its torque error", (
+            "One explicit model for the whole sweep, by the budget rule: every term's peak "
+            "contribution on each trajectory is divided by that trajectory's scale_i = "
+            "max(peak |\u03c4_i|, torque floor), and terms are dropped, smallest first, while "
+            f"these ratios sum to at most EPS = {eps} for every joint. By the triangle "
+            f"inequality its torque error is guaranteed within {eps} \u00d7 scale_i on every "
+            "swept trajectory (not on others). The choices per element are the whole parts "
+            "the same budget drops; the model prunes term by term within it. Gravity c is "
+            "pruned the same way.")
+    return rule, "5. Merged model (chapter rule, no error bound) and its torque error", (
+        _MERGED_TEXT + " This rule has no error bound: the errors below are measured, not "
+                       "guaranteed.")
+
+
 def _worst_cases(ds, labels):
     """The sweep's worst cases, first: trajectories with the largest merged-model error, and
     the elements whose share_tran varies most over the trajectories."""
@@ -172,7 +205,8 @@ def _worst_cases(ds, labels):
     parts = []
     for k in order:
         j = int(np.nanargmax(rel[k]))
-        parts.append(f"{sources[k]} ({_pct(rel[k, j])} of its own peak |\u03c4| at joint "
+        parts.append(f"{sources[k]} ({_pct(rel[k, j])} of its own "
+                     f"{'scale_i' if 'merged_scale' in ds.variables else 'peak |τ|'} at joint "
                      f"{j + 1})")
     spread = ds["share_tran_max"].values - ds["share_tran_min"].values
     top = [k for k in np.argsort(np.nan_to_num(spread, nan=-1.0))[::-1][:3]
@@ -328,8 +362,8 @@ def _pdf(ctx, drawn, path, paper="a4"):
                   "median and largest share_tran over the trajectories.", size=8.5)
     fig("classes")
     doc.table(ctx["envelope"])
-    doc.heading("5. Conservative merged model and its torque error")
-    doc.paragraph(_MERGED_TEXT, size=8.5)
+    doc.heading(ctx["merged_heading"])
+    doc.paragraph(ctx["merged_text"], size=8.5)
     doc.paragraph("   ".join(f"{c}: {k}" for c, k in ctx["counts"].items()), size=8.5,
                   bold=True)
     doc.heading("5.1 Torque error over all trajectories", level=2)

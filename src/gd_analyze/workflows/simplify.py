@@ -12,7 +12,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ..core.budget import DEFAULT_TOLERANCE, PartPeaks, select_terms
+from ..core.budget import DEFAULT_TOLERANCE, PartPeaks, relative_peaks, select_terms
 from ..core.ranking import DEFAULT_DOMINANCE, DEFAULT_NEGLIGIBLE
 from ..core.codegen import build_program
 from ..core.explicit import term_peaks
@@ -84,6 +84,25 @@ class Peaks:
         np.maximum(self.terms, other.terms, out=self.terms)
         return self
 
+    def relative(self, scale):
+        """These peaks divided by the joint scales of their trajectory (for a sweep).
+
+        Parameters
+        ----------
+        scale : ndarray, shape (n,)
+            The trajectory's scale_i = max(peak |tau_i|, TAU) [N m].
+
+        Returns
+        -------
+        Peaks
+            New peaks: :func:`gd_analyze.core.budget.relative_peaks` of the parts and terms,
+            and ``parts.tau_peak`` = 1 (every joint's scale is 1 in these units).
+        """
+        parts = PartPeaks(self.parts.n)
+        parts.peaks = relative_peaks(self.parts.peaks, scale)
+        parts.tau_peak = np.ones(self.parts.n)
+        return Peaks(parts=parts, terms=relative_peaks(self.terms, scale))
+
 
 def collect_peaks(robot, terms, q, qd, qdd, chunk=8192, gd=None):
     """Peaks of the parts and of the explicit terms along one trajectory.
@@ -116,7 +135,7 @@ def collect_peaks(robot, terms, q, qd, qdd, chunk=8192, gd=None):
 
 def build_model(robot, terms, peaks, tolerance=DEFAULT_TOLERANCE, rule="budget",
                 torque_floor=0.0, chapter_choices=None, ranking=None, trajectory_sha256="",
-                provenance=None):
+                provenance=None, relative_to=None):
     """The simplified explicit model chosen by a rule on the peaks.
 
     Parameters
@@ -137,6 +156,12 @@ def build_model(robot, terms, peaks, tolerance=DEFAULT_TOLERANCE, rule="budget",
         For the thresholds s and e recorded with the model.
     trajectory_sha256 : str, optional
     provenance : dict, optional
+    relative_to : ndarray, shape (n,), optional
+        Given when ``peaks`` are relative to each trajectory's own scale
+        (:meth:`Peaks.relative`, merged over a sweep): the largest scale_i over the
+        trajectories [N m]. The budget is then EPS on the ratios, and the selection's scale and
+        bounds are brought back to N m with it (the bound on trajectory t is the relative bound
+        times that trajectory's scale_{t,i}, at most this one).
 
     Returns
     -------
@@ -144,9 +169,17 @@ def build_model(robot, terms, peaks, tolerance=DEFAULT_TOLERANCE, rule="budget",
         With ``validation`` empty (fill it with :func:`validate`).
     selection : Selection
     """
+    import dataclasses
+
     sel = select_terms(terms, peaks.terms, peaks.parts.peaks, peaks.parts.tau_peak,
-                       tolerance=tolerance, rule=rule, torque_floor=torque_floor,
+                       tolerance=tolerance, rule=rule,
+                       torque_floor=torque_floor if relative_to is None else 0.0,
                        chapter_choices=chapter_choices)
+    if relative_to is not None:
+        top = np.asarray(relative_to, float)
+        sel = dataclasses.replace(
+            sel, scale=top, bound=sel.bound * top, element_bound=sel.element_bound * top,
+            bound_by_kind={k: v * top for k, v in sel.bound_by_kind.items()})
     program = _program(robot, terms, sel.kept)
     full = _program(robot, terms, terms).cost()
     model = SimplifiedModel(
@@ -451,16 +484,19 @@ def simplified_dataset(model, selection, other=None, ladder_rows=None, cost_tabl
 
 def sweep_model(robot, trajectories, tolerance=DEFAULT_TOLERANCE, torque_floor=0.0,
                 held_out=(), provenance=None):
-    """One simplified explicit model guaranteed on every trajectory of a sweep.
+    """One simplified explicit model guaranteed on every trajectory of a sweep (budget rule).
 
-    A term's (atom's) peak is taken over all the trajectories together, and so is each joint's
-    scale; the budget rule then keeps every trajectory's error within EPS x scale_i.
+    Each joint's scale is per trajectory, scale_{t,i} = max(peak_t |tau_i|, TAU); every part's
+    and term's (atom's) peak on trajectory t is divided by scale_{t,i} and the largest ratio
+    over the trajectories is budgeted within EPS (:func:`gd_analyze.core.budget.relative_peaks`),
+    so the model's error on each swept trajectory t is at most EPS x scale_{t,i} for every
+    joint i.
 
     Parameters
     ----------
     robot : Robot
     trajectories : sequence of Trajectory
-        The swept trajectories.
+        The swept trajectories, q, qd, qdd of shape (N_t, n).
     tolerance : float, optional
         EPS.
     torque_floor : float, optional
@@ -472,34 +508,66 @@ def sweep_model(robot, trajectories, tolerance=DEFAULT_TOLERANCE, torque_floor=0
     Returns
     -------
     model : SimplifiedModel
-        ``validation`` holds the error over the swept trajectories, plus ``held_out`` (the
-        error on the held-out ones, or an empty dict) and ``trajectories``.
+        ``bound`` is the relative bound times the largest scale_i [N m]. ``validation`` holds
+        the error over the swept trajectories together (as :func:`validate`), plus
+        ``relative_bound`` (n,): the guaranteed bound on peak |tau_s - tau| / scale_{t,i} on
+        every swept trajectory (<= EPS); ``worst_scaled_error``: the largest measured
+        peak |tau_s - tau| / scale_{t,i} over trajectories and joints (<= relative_bound);
+        ``per_trajectory``: ``peak_abs_error``, ``rms_error``, ``peak_tau`` and ``scale``,
+        (K, n) lists [N m] (large: remove it before saving a big sweep's model);
+        ``trajectories`` (K); ``held_out`` (the error on the held-out ones, or an empty dict)
+        and ``held_out_trajectories``.
     selection : Selection
+        ``scale`` is the largest scale_i over the trajectories.
+
+    Raises
+    ------
+    ValueError
+        If there are no trajectories.
     """
     import hashlib
 
+    trajectories = list(trajectories)
+    if not trajectories:
+        raise ValueError("no trajectories")
     terms, _ = explicit_terms(robot)
-    peaks = None
+    peaks, scales = None, []
     for tr in trajectories:
         p = collect_peaks(robot, terms, tr.q, tr.qd, tr.qdd)
+        scales.append(np.maximum(p.parts.tau_peak, float(torque_floor)))
+        p = p.relative(scales[-1])
         peaks = p if peaks is None else peaks.merge(p)
-    if peaks is None:
-        raise ValueError("no trajectories")
+    scales = np.array(scales)
     h = hashlib.sha256()
     for tr in trajectories:               # file digests, or the arrays of planned trajectories
         h.update(tr.sha256.encode() if tr.sha256 else
                  b"".join(np.ascontiguousarray(x, float).tobytes() for x in (tr.q, tr.qd, tr.qdd)))
     digest = h.hexdigest()
+    top = scales.max(axis=0)
     model, sel = build_model(robot, terms, peaks, tolerance=tolerance,
                              torque_floor=torque_floor, trajectory_sha256=digest,
                              provenance={**(provenance or {}), "kind": "sweep model",
-                                         "trajectories": len(trajectories)})
+                                         "trajectories": len(trajectories)},
+                             relative_to=top)
     ref = full_torque(robot, terms)
+    per = [validate(model, [(t.q, t.qd, t.qdd)], reference=ref) for t in trajectories]
+    peak = np.array([v["peak_abs_error"] for v in per])
+    with np.errstate(divide="ignore", invalid="ignore"):
+        scaled = np.where(peak > 0, peak / np.where(scales > 0, scales, 0.0), 0.0)
     validation = validate(model, [(t.q, t.qd, t.qdd) for t in trajectories], reference=ref)
-    validation["trajectories"] = len(trajectories)
-    validation["held_out"] = validate(model, [(t.q, t.qd, t.qdd) for t in held_out],
-                                      reference=ref) if held_out else {}
-    validation["held_out_trajectories"] = len(held_out)
+    validation.update({
+        "relative_bound": [float(v) for v in np.where(top > 0, sel.bound / np.where(
+            top > 0, top, 1.0), 0.0)],
+        "worst_scaled_error": float(np.nan_to_num(scaled, nan=np.inf).max()),
+        "per_trajectory": {"peak_abs_error": peak.tolist(),
+                           "rms_error": [v["rms_error"] for v in per],
+                           "peak_tau": [v["peak_tau"] for v in per],
+                           "scale": scales.tolist()},
+        "trajectories": len(trajectories),
+        "held_out": validate(model, [(t.q, t.qd, t.qdd) for t in held_out], reference=ref)
+        if held_out else {},
+        "held_out_trajectories": len(held_out),
+    })
     object.__setattr__(model, "validation", validation)
     return model, sel
 

@@ -9,9 +9,11 @@ trajectories and reports, per ranked element (``"D11"`` .. ``"Dnn"``, ``"h1"`` .
   (min, median, max);
 - the fraction of trajectories in which each class (translational, rotational, both,
   negligible) holds;
-- the choice of a *conservative merged* simplified model, valid for every trajectory of the
-  sweep: a part of an element is dropped only where every trajectory's own simplified model
-  drops it (:func:`gd_analyze.core.simplified.merge_choices`).
+- one merged simplified model for the whole sweep. By default (budget rule) it is the explicit
+  model of :func:`gd_analyze.workflows.simplify.sweep_model`, guaranteed within EPS x scale_i
+  on every swept trajectory (:func:`with_budget_model` puts it into the dataset); with the
+  chapter rule a part of an element is dropped only where every trajectory's own share-based
+  model drops it (:func:`gd_analyze.core.simplified.merge_choices`), which bounds nothing.
 
 The per-trajectory work (:func:`analyze_one`) is a pure function of small arguments, run in
 batches on a dask.distributed cluster by :func:`run_sweep`. The dataset's schema is in
@@ -40,7 +42,7 @@ from ..io.sweep_datasets import sweep_dataset
 from .analyze import analysis_pass
 
 __all__ = ["DEFAULT_BATCH_MAX", "dask_client", "analyze_one", "run_sweep", "merged_model",
-           "check_thresholds", "check_trajectory"]
+           "check_thresholds", "check_trajectory", "with_budget_model"]
 
 #: Largest number of trajectories per dask task chosen automatically by :func:`run_sweep`.
 DEFAULT_BATCH_MAX = 50
@@ -504,7 +506,7 @@ def run_sweep(robot, trajectories, dominance=DEFAULT_DOMINANCE, negligible=DEFAU
 
 
 def merged_model(robot, sweep_ds):
-    """The sweep's conservative merged simplified model.
+    """The sweep's merged simplified model of the chapter rule (no error bound).
 
     Parameters
     ----------
@@ -573,6 +575,88 @@ def merged_model(robot, sweep_ds):
                                                       DEFAULT_NEGLIGIBLE)),
         trajectory_sha256=str(sweep_ds.attrs.get("inputs_sha256", "")),
         validation=validation, provenance=provenance)
+
+
+def with_budget_model(sweep_ds, model):
+    """The sweep dataset with the budget rule's merged model in place of the chapter merge.
+
+    Parameters
+    ----------
+    sweep_ds : xarray.Dataset
+        From :func:`run_sweep` (K trajectories, n joints).
+    model : SimplifiedModel
+        From :func:`gd_analyze.workflows.simplify.sweep_model` on the same trajectories, in
+        the same order (its ``validation["per_trajectory"]``).
+
+    Returns
+    -------
+    xarray.Dataset
+        A copy: ``merged_choice`` = the model's whole-part choices; ``merged_tau_error_peak``
+        (trajectory, joint) [N m] and ``merged_tau_error_relative_peak`` (divided by that
+        trajectory's scale_{t,i} = max(peak |tau_i|, TAU), guaranteed <= EPS);
+        ``merged_scale`` (trajectory, joint) [N m]; ``merged_error_*`` over all trajectories
+        (relative to the peak |tau| over all of them); attributes ``merged_rule`` = "budget",
+        ``merged_tolerance`` (EPS), ``merged_torque_floor`` (TAU) [N m],
+        ``merged_worst_scaled_error`` and ``merge_rule`` (the rule in words).
+
+    Raises
+    ------
+    ValueError
+        If the model's per-trajectory errors do not match the dataset's trajectories.
+
+    Notes
+    -----
+    The guarantee is that of :mod:`gd_analyze.core.budget` over several trajectories.
+    """
+    from ..core.ranking import element_labels
+
+    v = model.validation
+    per = v["per_trajectory"]
+    peak = np.asarray(per["peak_abs_error"], float)
+    scale = np.asarray(per["scale"], float)
+    if peak.shape != (sweep_ds.sizes["trajectory"], sweep_ds.sizes["joint"]):
+        raise ValueError(f"the model's errors have shape {peak.shape}, the sweep has "
+                         f"{sweep_ds.sizes['trajectory']} trajectories and "
+                         f"{sweep_ds.sizes['joint']} joints")
+    with np.errstate(invalid="ignore", divide="ignore"):
+        rel = np.where(peak > 0, peak / np.where(scale > 0, scale, 0.0), 0.0)
+    ds = sweep_ds.copy()
+    eps = f"{model.tolerance:g}"
+
+    def put(name, dims, data, units, desc):
+        ds[name] = (dims, np.asarray(data), {"units": units, "long_name": desc})
+
+    labels = element_labels(sweep_ds.sizes["joint"])
+    put("merged_choice", ("element",), np.array([model.choices[k] for k in labels], dtype=str),
+        "1", f"whole parts kept by the budget rule (EPS = {eps}) on every swept trajectory")
+    put("merged_tau_error_peak", ("trajectory", "joint"), peak, "N m",
+        "merged model: peak |tau_merged - tau| along the trajectory")
+    put("merged_scale", ("trajectory", "joint"), scale, "N m",
+        "scale_i = max(peak |tau_i|, torque floor) along the trajectory")
+    put("merged_tau_error_relative_peak", ("trajectory", "joint"), np.nan_to_num(rel, nan=np.inf),
+        "1", f"merged model: peak |tau_merged - tau| / scale_i along the trajectory "
+             f"(guaranteed <= {eps})")
+    for key, name, units, desc in (
+            ("peak_abs_error", "merged_error_peak", "N m",
+             "merged model: peak |tau_merged - tau| over all trajectories"),
+            ("rms_error", "merged_error_rms", "N m", "merged model: RMS of |tau_merged - tau| "
+                                                     "over all set points of all trajectories"),
+            ("peak_tau", "merged_error_tau_peak", "N m", "peak |tau| over all trajectories"),
+            ("relative_peak_error", "merged_error_relative_peak", "1",
+             "merged model: peak error / peak |tau|, over all trajectories"),
+            ("relative_rms_error", "merged_error_relative_rms", "1",
+             "merged model: RMS error / peak |tau|, over all trajectories")):
+        put(name, ("joint",), np.array([np.nan if x is None else x for x in v[key]], float),
+            units, desc)
+    ds.attrs.update({
+        "merged_rule": "budget", "merged_tolerance": float(model.tolerance),
+        "merged_torque_floor": float(model.torque_floor),
+        "merged_worst_scaled_error": float(v["worst_scaled_error"]),
+        "merge_rule": f"budget rule: one explicit model whose dropped terms' peaks, each "
+                      f"divided by its trajectory's scale_i = max(peak |tau_i|, "
+                      f"{model.torque_floor:g} N m), sum to at most EPS = {eps}: guaranteed "
+                      f"within {eps} x scale_i on every swept trajectory"})
+    return ds
 
 
 # --------------------------------------------------------------------------------------------
