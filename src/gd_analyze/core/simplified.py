@@ -22,7 +22,7 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from ..errors import InputError
-from .ranking import element_index, element_labels
+from .labels import element_index, element_labels
 from .robot import robot_from_dict
 
 __all__ = ["SCHEMA_VERSION", "CHOICES", "SimplifiedModel", "choice_masks", "merge_choices",
@@ -254,15 +254,12 @@ class SimplifiedModel:
         A model read from a layout without terms gets the terms of its kept parts, unpruned.
         """
         if self.terms is None:
+            from .budget import chosen_terms
             from .explicit import derive, model_terms
 
             all_terms = model_terms(derive(self.robot))
-            keep = {"tran": ("tran", "both"), "rot": ("rot", "both")}
-            mask = np.array([
-                kd == "c" or self.choices[f"D{i + 1}{j + 1}" if kd == "D" else f"h{i + 1}"]
-                in keep[pt] for kd, pt, i, j in zip(all_terms.kind, all_terms.part,
-                                                     all_terms.i, all_terms.j)], bool)
-            object.__setattr__(self, "terms", all_terms.subset(mask))
+            object.__setattr__(self, "terms", all_terms.subset(chosen_terms(all_terms,
+                                                                            self.choices)))
         return self.terms
 
     def program(self):
