@@ -411,6 +411,11 @@ class SimplifiedModel:
             thresholds in range), its robot's parameters do not match
             ``robot.parameters_sha256`` or fail validation, or its choices do not name exactly
             the elements of an n-joint robot. One line naming the key.
+
+        Notes
+        -----
+        The file's ``cost`` and ``full_cost`` are not read: a claim is not a count. The model's
+        cost is counted from its terms (:meth:`program`) wherever it is shown or written.
         """
         from .schema import MODEL_SCHEMA, load_json
 
@@ -454,7 +459,7 @@ class SimplifiedModel:
                    rule=spec.get("rule", "chapter"),
                    tolerance=float("nan") if tolerance is None else float(tolerance),
                    torque_floor=float(spec.get("torque_floor", 0.0)), terms=terms,
-                   cost=dict(spec.get("cost") or {}), full_cost=dict(spec.get("full_cost") or {}),
+                   cost={}, full_cost={},
                    bound=[float("nan") if v is None else float(v)
                           for v in spec.get("bound") or []])
 
