@@ -24,7 +24,8 @@ def test_main_job_without_report(tmp_path, capsys):
     out_dir = tmp_path / "out"
     code, out, err = _run(["puma560", SHIPPED, "-o", out_dir, "--no-report"], capsys)
     assert code == 0, err
-    assert sorted(p.name for p in out_dir.iterdir()) == ["results.h5", "simplified_model.c",
+    assert sorted(p.name for p in out_dir.iterdir()) == [".gd-analyze-manifest-analyze.json",
+                                                         "results.h5", "simplified_model.c",
                                                          "simplified_model.json",
                                                          "simplified_model.py"]
     assert "D11" in out and "h6" in out and "torque error" in out

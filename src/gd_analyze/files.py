@@ -46,6 +46,9 @@ def file_sha256(path):
 def atomic_path(path):
     """Yield a temporary file name beside ``path``; rename it to ``path`` on success.
 
+    The temporary name is unpredictable and created new with the final mode (never through a
+    symbolic link), and the rename replaces whatever ``path`` is without following it.
+
     Parameters
     ----------
     path : str or os.PathLike
@@ -63,14 +66,17 @@ def atomic_path(path):
         If the temporary file cannot be created or renamed.
     """
     path = Path(path)
+    # mkstemp: an unpredictable name, created new (O_EXCL), never through a symbolic link
     fd, tmp = tempfile.mkstemp(prefix=f".{path.name}.", suffix=".tmp", dir=path.parent or ".")
-    os.close(fd)
-    umask = os.umask(0)
-    os.umask(umask)
+    try:
+        umask = os.umask(0)
+        os.umask(umask)
+        os.fchmod(fd, 0o666 & ~umask)   # mkstemp makes 0600; the usual mode, set on the file
+    finally:                            # itself: a name swapped meanwhile is never followed
+        os.close(fd)
     try:
         yield tmp
-        os.chmod(tmp, 0o666 & ~umask)   # mkstemp makes 0600; give the file the usual mode
-        os.replace(tmp, path)
+        os.replace(tmp, path)           # a rename replaces a symbolic link, never follows it
     except BaseException:
         with contextlib.suppress(OSError):
             os.remove(tmp)

@@ -586,7 +586,8 @@ def test_fig_3_10_analogue_grows_to_n_by_n(n):
     """Any n: n(n+1)/2 panels D_ij, labels with a comma once an index has two digits."""
     import matplotlib
 
-    from gd_analyze.reports.main_figures import RC, PlotData, element_label, fig_D, fig_h
+    from gd_analyze.core.ranking import element_label
+    from gd_analyze.reports.main_figures import RC, PlotData, fig_D, fig_h
 
     rng = np.random.default_rng(n)
     M = 21
@@ -595,7 +596,7 @@ def test_fig_3_10_analogue_grows_to_n_by_n(n):
     data = PlotData(x=np.linspace(0.0, 2.0, M), enveloped=False, N=M,
                     series={"D_tran": D, "D_rot": 0.5 * D, "D": 1.5 * D, "h_tran": h,
                             "h_rot": h, "h": 2 * h})
-    labels = [element_label("D", i + 1, j + 1) for i in range(n) for j in range(i, n)]
+    labels = [element_label("D", i, j) for i in range(n) for j in range(i, n)]
     with matplotlib.rc_context(RC):
         fig = fig_D(data, {lab: "both" for lab in labels}, {}, 0.9, 0.01)
         figh = fig_h(data, {}, {})

@@ -112,11 +112,26 @@ def test_worker_off_and_forced(monkeypatch):
         assert worker.proc is None
 
 
-def test_worker_is_a_fresh_interpreter_of_this_python(monkeypatch):
+def test_worker_is_a_fresh_isolated_interpreter_of_this_python(monkeypatch):
     monkeypatch.setenv("GD_ANALYZE_WORKER", "1")
     with FigureWorker() as worker:
         args = worker.proc.args
-        assert args[:3] == [sys.executable, "-m", "gd_analyze.reports.main_worker"]
+        assert args[:2] == [sys.executable, "-I"]
+
+
+def test_isolated_worker_draws_and_ignores_the_current_folder(results, tmp_path, monkeypatch):
+    """A pickle.py in the current folder (it would write a marker) does not run in the
+    worker, and the isolated worker still finds this gd_analyze and draws its figures."""
+    monkeypatch.setenv("GD_ANALYZE_WORKER", "1")
+    marker = tmp_path / "MARKER"
+    (tmp_path / "pickle.py").write_text(f"open({str(marker)!r}, 'w').close()\n"
+                                        "raise SystemExit(3)\n")
+    monkeypatch.chdir(tmp_path)
+    with FigureWorker() as worker:
+        assert worker.draw(results) == WORKER_FIGURES
+        assert set(worker.sizes()) == set(WORKER_FIGURES)
+        assert set(worker.collect()) == set(WORKER_FIGURES)
+    assert not marker.exists()
 
 
 def _embedding(pdf_bytes):

@@ -73,7 +73,8 @@ def test_stanford_main_job_emits_the_explicit_model(tmp_path, capsys):
     code, _, err = _run(["stanford", csv, "-o", tmp_path, "--no-report", "-q"], capsys)
     assert code == 0, err
     assert sorted(p.name for p in tmp_path.iterdir()) == [
-        "results.h5", "simplified_model.c", "simplified_model.json", "simplified_model.py"]
+        ".gd-analyze-manifest-analyze.json", "results.h5", "simplified_model.c",
+        "simplified_model.json", "simplified_model.py"]
     robot = load_robot("stanford")
     traj = read_trajectory(csv, robot.n)
     ref = _rnea(robot, traj.q, traj.qd, traj.qdd)

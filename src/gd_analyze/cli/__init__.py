@@ -104,6 +104,7 @@ def main(argv=None):
     from ..io.staging import Terminated, install_signal_handlers
 
     argv = list(sys.argv[1:] if argv is None else argv)
+    given = list(argv)
     debug = "--debug" in argv
     argv = [a for a in argv if a != "--debug"]
     command = argv[0] if argv and argv[0] in COMMANDS else "analyze"
@@ -128,6 +129,7 @@ def main(argv=None):
                 if mistyped is not None:
                     raise mistyped
             args = make_parser().parse_intermixed_args(argv)
+            args.given_argv = given      # the provenance records what main() was given
             return run(args)
     except InputError as exc:
         print(f"{PROG}: error: {exc}", file=sys.stderr)

@@ -7,6 +7,7 @@ the exit status; bad input raises :class:`gd_analyze.errors.InputError`, which
 
 from __future__ import annotations
 
+import contextlib
 import math
 import os
 import sys
@@ -18,6 +19,14 @@ from ..errors import InputError
 from .parsing import EXIT_OK, EXIT_TOLERANCE, EXIT_VERIFY, PROG, _version, parse_range
 
 __all__ = []
+
+def _command_line(args):
+    """The command as :func:`gd_analyze.cli.main` was given it, for the provenance (a shell
+    could run it: each argument quoted as needed)."""
+    import shlex
+
+    return shlex.join([PROG] + [str(a) for a in getattr(args, "given_argv", ())])
+
 
 def _load_robot(args):
     from ..io.robots import load_robot
@@ -188,7 +197,7 @@ def _cmd_analyze(args):
 
 def _analyze(args, worker):
     from ..io.schema import skip_dask
-    from ..io.staging import check_free_space, staged_output
+    from ..io.staging import check_free_space, staged_output, writing
     from ..workflows.analyze import analyze_to_file, progress_bar
 
     skip_dask()                         # the main job makes no dask arrays: skip its import
@@ -202,7 +211,7 @@ def _analyze(args, worker):
     robot = _apply_payload(robot, args)
     if outdir.exists() and not outdir.is_dir():
         raise InputError("exists and is not a folder", outdir)
-    settings = {"command": " ".join([PROG] + sys.argv[1:]) if sys.argv else PROG,
+    settings = {"command": _command_line(args),
                 "payload_mass": float(args.payload or 0.0),
                 "tolerance": float(args.tolerance), "rule": args.rule,
                 "torque_floor": float(args.torque_floor), "explicit": args.explicit,
@@ -210,7 +219,7 @@ def _analyze(args, worker):
                 "payload_inertia": [float(v) for v in args.payload_inertia],
                 **_chain_settings(args)}
     extra = _payload_sweep_dataset(base_robot, trajectory, args)   # bad range: before any output
-    with staged_output(outdir, ANALYZE_OUTPUTS) as stage:
+    with staged_output(outdir, ANALYZE_OUTPUTS, "analyze") as stage, writing(outdir, stage):
         check_free_space(stage, _results_size(trajectory.n_setpoints, robot.n), "results.h5")
         results = stage / "results.h5"
         analysis = analyze_to_file(robot, trajectory, results, dominance=args.dominance,
@@ -329,7 +338,7 @@ def _cmd_plan(args):
         return EXIT_OK
     record = {
         "tool": "gd-analyze", "version": __version__,
-        "command": " ".join([PROG] + sys.argv[1:]) if sys.argv else PROG,
+        "command": _command_line(args),
         "robot": robot.name, "robot_source": robot.source, "robot_sha256": robot.sha256,
         **_chain_settings(args),
         "start": [float(v) for v in start], "goal": [float(v) for v in goal],
@@ -420,7 +429,7 @@ def _cmd_control(args):
     from ..io.trajectory import read_trajectory
 
     from ..reports.control import CONTROL_REPORT_FILES
-    from ..io.staging import staged_output
+    from ..io.staging import staged_output, writing
 
     model = SimplifiedModel.load(args.model)
     traj = read_trajectory(args.trajectory, n_joints=model.robot.n)
@@ -432,7 +441,8 @@ def _cmd_control(args):
                              model_path=args.model, model_sha256=file_sha256(args.model))
     except ValueError as exc:
         raise InputError(str(exc)) from None
-    with staged_output(outdir, (CONTROL_FILE, *CONTROL_REPORT_FILES, "figures")) as stage:
+    with staged_output(outdir, (CONTROL_FILE, *CONTROL_REPORT_FILES, "figures"),
+                       "control") as stage, writing(outdir, stage):
         path = stage / CONTROL_FILE
         write_control_dataset(result, path)
         written = [path]
@@ -488,18 +498,26 @@ def _sweep_model(robot, trajectories, args, outdir, settings, ds):
     if not args.quiet:
         v = model.validation
         worst, eps = v["worst_scaled_error"], args.tolerance
-        held_err = v["held_out"].get("relative_peak_error") if v["held_out"] else None
+        held_err = None
+        if v["held_out"]:                # relative to max(peak |tau_i|, TAU) over them all
+            import numpy as np
+
+            h = v["held_out"]
+            with np.errstate(divide="ignore", invalid="ignore"):
+                held_err = np.asarray(h["peak_abs_error"], float) / np.maximum(
+                    np.asarray(h["peak_tau"], float), args.torque_floor)
         floor = f"max(peak |tau_i|, {args.torque_floor:g} N m)" if args.torque_floor else \
             "peak |tau_i|"
-        claim = "guaranteed" if worst <= eps * (1 + 1e-9) else "BROKEN: the guarantee is"
+        claim = f"guaranteed <= {eps:g}" if worst <= eps * (1 + 1e-9) else \
+            f"ABOVE the guarantee {eps:g}: please report this bug"
         print(f"merged model (budget rule, EPS = {eps:g}): {model.cost['multiplications']} "
               f"mult + {model.cost['additions']} add (full explicit: "
               f"{model.full_cost['multiplications']} + {model.full_cost['additions']}); worst "
               f"error on the {v['trajectories']} swept trajectories {worst:.2e} of each "
-              f"trajectory's {floor} ({claim} <= {eps:g})" + ("" if held_err is None else
+              f"trajectory's {floor} ({claim})" + ("" if held_err is None else
                                            f", on {v['held_out_trajectories']} held-out "
-                                           f"{max(x for x in held_err if x is not None):.2e} "
-                                           "of peak |tau_i| (not guaranteed)"))
+                                           f"{np.nanmax(held_err):.2e} of their {floor} "
+                                           "(not guaranteed)"))
     return written, ds
 
 
@@ -536,7 +554,7 @@ def _cmd_sweep(args):
     outdir = _outdir(args.outdir, robot.name, "sweep")
     if outdir.exists() and not outdir.is_dir():
         raise InputError("exists and is not a folder", outdir)
-    settings = {"command": " ".join([PROG] + sys.argv[1:]) if sys.argv else PROG,
+    settings = {"command": _command_line(args),
                 "payload_mass": float(args.payload or 0.0), **_chain_settings(args)}
     if args.random is not None:
         from ..io.planning import acceleration_limits
@@ -546,18 +564,22 @@ def _cmd_sweep(args):
             settings["random_qdd_max_source"] = acceleration_limits(robot)[1]
         except ValueError as exc:
             raise InputError(str(exc), robot.source) from None
-    try:
-        with dask_client(args.scheduler, args.workers) as (client, _):
-            ds = run_sweep(loaded, trajectories, args.dominance, args.negligible, client=client,
-                           settings=settings, progress=not args.quiet and sys.stderr.isatty())
-            payload = None if masses is None else sweep_payloads(
-                robot, trajectories, masses, args.payload_com, args.payload_inertia,
-                args.dominance, args.negligible, client=client)
-    except (OSError, ValueError, TypeError) as exc:
-        raise InputError(f"cannot reach the dask scheduler: {exc}", args.scheduler) from None
-    from ..io.staging import staged_output
+    with contextlib.ExitStack() as stack:
+        try:                            # only the connection: the sweep's errors are its own
+            client, _ = stack.enter_context(dask_client(args.scheduler, args.workers))
+        except (OSError, ValueError, TypeError) as exc:
+            if args.scheduler is None:
+                raise InputError(f"cannot start a local dask cluster: {exc}") from None
+            raise InputError(f"cannot reach the dask scheduler: {exc}",
+                             args.scheduler) from None
+        ds = run_sweep(loaded, trajectories, args.dominance, args.negligible, client=client,
+                       settings=settings, progress=not args.quiet and sys.stderr.isatty())
+        payload = None if masses is None else sweep_payloads(
+            robot, trajectories, masses, args.payload_com, args.payload_inertia,
+            args.dominance, args.negligible, client=client)
+    from ..io.staging import staged_output, writing
 
-    with staged_output(outdir, SWEEP_OUTPUTS) as stage:
+    with staged_output(outdir, SWEEP_OUTPUTS, "sweep") as stage, writing(outdir, stage):
         written = [stage / "sweep.h5"]
         if args.rule == "budget":
             files, ds = _sweep_model(loaded, trajectories, args, stage, settings, ds)

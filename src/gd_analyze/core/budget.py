@@ -29,9 +29,10 @@ from dataclasses import dataclass
 import numpy as np
 
 from .explicit import atoms, budget_drop, prune
+from .labels import element_label
 
 __all__ = ["RULES", "DEFAULT_TOLERANCE", "PartPeaks", "part_index", "budget_choices",
-           "Selection", "select_terms", "relative_peaks"]
+           "Selection", "select_terms", "relative_peaks", "chosen_terms"]
 
 #: The rules that build a simplified model.
 RULES = ("budget", "chapter")
@@ -56,10 +57,35 @@ def part_index(n):
     out = []
     for i in range(n):
         for j in range(i, n):
-            out += [(f"D{i + 1}{j + 1}", p, "D", i, j) for p in ("tran", "rot")]
+            out += [(element_label("D", i, j), p, "D", i, j) for p in ("tran", "rot")]
     for i in range(n):
-        out += [(f"h{i + 1}", p, "h", i, -1) for p in ("tran", "rot")]
+        out += [(element_label("h", i), p, "h", i, -1) for p in ("tran", "rot")]
     return out
+
+
+def chosen_terms(terms, choices):
+    """Which terms whole-part choices keep: the parts of D and h they name, and all of c.
+
+    Parameters
+    ----------
+    terms : Term
+        Explicit terms (:func:`gd_analyze.core.explicit.model_terms`), M of them.
+    choices : dict
+        Element label (:func:`gd_analyze.core.labels.element_label`) -> ``"tran"``, ``"rot"``,
+        ``"both"`` or ``"none"``.
+
+    Returns
+    -------
+    ndarray of bool, shape (M,)
+
+    Raises
+    ------
+    KeyError
+        If a term's element has no choice.
+    """
+    keep = {"tran": ("tran", "both"), "rot": ("rot", "both")}
+    return np.array([kd == "c" or choices[element_label(kd, i, j)] in keep[pt]
+                     for kd, pt, i, j in zip(terms.kind, terms.part, terms.i, terms.j)], bool)
 
 
 class PartPeaks:
@@ -288,12 +314,7 @@ def select_terms(terms, term_peaks, part_peaks, tau_peak, tolerance=DEFAULT_TOLE
         if chapter_choices is None:
             raise ValueError("the chapter rule needs the ranking's choices")
         choices = dict(chapter_choices)
-        keep = {"tran": ("tran", "both"), "rot": ("rot", "both")}
-        mask = np.array([kd == "c" or choices[f"D{i + 1}{j + 1}" if kd == "D" else
-                                              f"h{i + 1}"] in keep[pt]
-                         for kd, pt, i, j in zip(terms.kind, terms.part, terms.i, terms.j)],
-                        bool)
-        kept, _, _ = prune(terms.subset(mask), np.zeros((0, n)), None)
+        kept, _, _ = prune(terms.subset(chosen_terms(terms, choices)), np.zeros((0, n)), None)
         return Selection(rule=rule, tolerance=float(tolerance), choices=choices, kept=kept,
                          scale=scale, bound=nan, bound_by_kind={k: nan for k in "Dhc"},
                          element_bound=nan)

@@ -17,7 +17,10 @@ two-link 14 (0.86), PUMA 560 1,630 (1.75), Stanford 1,049 (2.67), UR5 1,297 (0.6
 (0.76), UR10 1,080 (0.83), SO-100 6,131 (0.79), finger_edu 62 (1.44), TwoDofs 11 (1.09), Kinova
 16,893 (0.38), Z1 36,444 (1.64), Panda 418,774 (0.74): every estimate within a factor
 :data:`ESTIMATE_FACTOR` of the real count. The factors below are a least-squares fit of log
-counts on these twelve arms.
+counts on these twelve arms. Arms not used in the fit (estimate / real): SO-101 10,349 (1.85),
+borinot flying arm 15 (0.93), hextilt flying arm 905 (2.09), TALOS left arm 412,034 (0.59;
+53 s of derivation), xArm7 573,168 (0.45; 129 s). Derivation times: under 1 s for the 6-joint
+arms above except SO-101 (3.6 s) and Kinova (1.2 s); Z1 3.8 s, Panda 19 s (two shared cores).
 """
 
 from __future__ import annotations

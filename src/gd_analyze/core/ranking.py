@@ -1,7 +1,8 @@
 """Dominance ranking of the G-D terms along a trajectory, Sec. 3.4.1.
 
 The elements ranked are the upper triangle of D (i <= j; 21 for n = 6), labelled ``"D11"`` ..
-``"D66"``, and the n elements of h, labelled ``"h1"`` .. ``"hn"``. For each element, with k
+``"D66"``, and the n elements of h, labelled ``"h1"`` .. ``"hn"`` (:mod:`gd_analyze.core.labels`,
+re-exported here). For each element, with k
 running over the set points::
 
     share_tran = sum_k |tran_k| / (sum_k |tran_k| + sum_k |rot_k|)
@@ -23,9 +24,12 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from .labels import element_index, element_label, element_labels, parse_element_label
+
 __all__ = [
     "CLASSES", "DEFAULT_DOMINANCE", "DEFAULT_NEGLIGIBLE", "Ranking", "element_labels",
-    "element_index", "rank_dominance", "CHAPTER_DOMINANCE",
+    "element_index", "element_label", "parse_element_label", "rank_dominance",
+    "CHAPTER_DOMINANCE",
 ]
 
 #: The dominance classes, in the order used for codes in files.
@@ -44,47 +48,6 @@ CHAPTER_DOMINANCE = {
     "h1": "translational", "h2": "translational", "h3": "translational",
     "h4": "rotational", "h5": "both", "h6": "both",
 }
-
-
-def element_index(n):
-    """Index pairs of the ranked elements.
-
-    Parameters
-    ----------
-    n : int
-        Number of joints.
-
-    Returns
-    -------
-    list of tuple
-        ``("D", i, j)`` for 0 <= i <= j < n (row by row), then ``("h", i, None)`` for 0 <= i < n.
-    """
-    return ([("D", i, j) for i in range(n) for j in range(i, n)]
-            + [("h", i, None) for i in range(n)])
-
-
-def element_labels(n):
-    """Labels of the ranked elements.
-
-    Parameters
-    ----------
-    n : int
-        Number of joints.
-
-    Returns
-    -------
-    list of str
-        ``["D11", "D12", ..., "Dnn", "h1", ..., "hn"]``; n (n + 1) / 2 + n labels. Two
-        indices are run together while both have one digit and separated by a comma once one
-        has two (``"D19"``, ``"D1,10"``, ``"D10,10"``), so every label is unambiguous.
-
-    Examples
-    --------
-    >>> element_labels(10)[8:10]
-    ['D19', 'D1,10']
-    """
-    return [(f"D{i + 1}{j + 1}" if i < 9 and j < 9 else f"D{i + 1},{j + 1}") if kind == "D"
-            else f"h{i + 1}" for kind, i, j in element_index(n)]
 
 
 @dataclass(frozen=True, eq=False)

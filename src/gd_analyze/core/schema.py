@@ -22,7 +22,7 @@ import re
 from ..errors import InputError
 
 __all__ = ["Obj", "MapOf", "ListOf", "Num", "Int", "Str", "Const", "Consts", "AnyJSON",
-           "Field", "load_json", "MODEL_SCHEMA", "COST_SCHEMA", "MAX_DEPTH"]
+           "Field", "load_json", "MODEL_SCHEMA", "COST_SCHEMA", "MAX_DEPTH", "MAX_HARMONIC"]
 
 
 def _kind(value):
@@ -359,13 +359,18 @@ _HEX64 = Str(pattern=r"[0-9a-f]{64}")
 COST_SCHEMA = Obj({"multiplications": Int(0, 10**15), "additions": Int(0, 10**15),
                    "sin": Field(Int(0, 10**15), required=False),
                    "cos": Field(Int(0, 10**15), required=False)})
+#: Largest |entry| of a harmonic vector K of a model file: a harmonic's multiple of a joint angle,
+#: or a power of a prismatic joint variable. The derivation gives at most 2 (D is quadratic in
+#: each joint's rotation and in each prismatic variable); the straight-line code forms a
+#: multiple angle or a power by recursion over this entry, so a larger one is refused.
+MAX_HARMONIC = 16
 #: The kept terms of an explicit model (issue 8), one list entry per term; lengths and ranges
 #: are checked by :func:`gd_analyze.core.simplified.SimplifiedModel.load`.
 _TERMS_SCHEMA = Obj({
     "kind": ListOf(Str(choices=("D", "h", "c"))),
     "part": ListOf(Str(choices=("tran", "rot", "both", "grav"))),
     "i": ListOf(Int(-1, 10**6)), "j": ListOf(Int(-1, 10**6)), "k": ListOf(Int(-1, 10**6)),
-    "K": ListOf(ListOf(Int(-10**6, 10**6))),
+    "K": ListOf(ListOf(Int(-MAX_HARMONIC, MAX_HARMONIC))),
     "sin": ListOf(AnyJSON()),
     "coef": ListOf(Num()),
 })

@@ -22,7 +22,7 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from ..errors import InputError
-from .ranking import element_index, element_labels
+from .labels import element_index, element_labels
 from .robot import robot_from_dict
 from .safe_text import comment_safe
 
@@ -269,15 +269,12 @@ class SimplifiedModel:
         A model read from a layout without terms gets the terms of its kept parts, unpruned.
         """
         if self.terms is None:
+            from .budget import chosen_terms
             from .explicit import derive, model_terms
 
             all_terms = model_terms(derive(self.robot))
-            keep = {"tran": ("tran", "both"), "rot": ("rot", "both")}
-            mask = np.array([
-                kd == "c" or self.choices[f"D{i + 1}{j + 1}" if kd == "D" else f"h{i + 1}"]
-                in keep[pt] for kd, pt, i, j in zip(all_terms.kind, all_terms.part,
-                                                     all_terms.i, all_terms.j)], bool)
-            object.__setattr__(self, "terms", all_terms.subset(mask))
+            object.__setattr__(self, "terms", all_terms.subset(chosen_terms(all_terms,
+                                                                            self.choices)))
         return self.terms
 
     def program(self):
@@ -444,6 +441,11 @@ class SimplifiedModel:
             thresholds in range), its robot's parameters do not match
             ``robot.parameters_sha256`` or fail validation, or its choices do not name exactly
             the elements of an n-joint robot. One line naming the key.
+
+        Notes
+        -----
+        The file's ``cost`` and ``full_cost`` are not read: a claim is not a count. The model's
+        cost is counted from its terms (:meth:`program`) wherever it is shown or written.
         """
         from .schema import MODEL_SCHEMA, load_json
 
@@ -496,7 +498,7 @@ class SimplifiedModel:
                    rule=spec.get("rule", "chapter"),
                    tolerance=float("nan") if tolerance is None else float(tolerance),
                    torque_floor=float(spec.get("torque_floor", 0.0)), terms=terms,
-                   cost=dict(spec.get("cost") or {}), full_cost=dict(spec.get("full_cost") or {}),
+                   cost={}, full_cost={},
                    bound=[float("nan") if v is None else float(v)
                           for v in spec.get("bound") or []],
                    recursive=recursive, costs=dict(spec.get("costs") or {}))

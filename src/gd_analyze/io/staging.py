@@ -1,33 +1,54 @@
-"""Output folders a run can trust: one run at a time, all files of one run, nothing half-written.
+"""Output folders a run can trust: one run at a time, one run's set, never a user's file.
 
 :func:`staged_output` is the one way a command writes its output folder:
 
-- a lock file beside the folder (``.<name>.gd-lock``, held with ``flock``, so the kernel
-  releases it even when a run is killed) refuses a second run into the same folder;
-- every file of the run is written into a temporary folder beside the target
-  (``.<name>.gd-tmp-<random>``) and moved in together once the run has succeeded; files a
-  command writes that this run did not (e.g. an old report after ``--no-report``) are removed,
-  so the set in the folder is from one run;
-- on an error, SIGINT or SIGTERM the temporary folder is removed; the temporary folders and
-  files of a killed run (SIGKILL) are removed by the next run into the same folder;
+- the folder is taken by its real path (a symbolic link to it names the same folder) and locked
+  with ``flock`` on a lock file beside it (``.<name>.gd-lock``; inside it, ``.gd-lock``, when
+  the folder is a mount point), opened without following a symbolic link, so a second run into
+  the same folder is refused and the kernel releases the lock even when a run is killed;
+- the folder's manifests (:mod:`gd_analyze.io.manifest`) must list every file it holds: a
+  file gd-analyze did not write is never replaced or deleted; the run is refused, with one line
+  and exit status 2, before it computes anything, and nothing is touched;
+- every file of the run is written into a fresh staging folder (``tempfile.mkdtemp``: an
+  unpredictable name, mode 0700) beside the target; it also receives, as hard links, the files
+  of the other commands' manifests, so that ``control`` and the main job can share a folder
+  and neither replaces the other's files; the command's manifest (paths, sizes, SHA-256, tool
+  version) is written there too;
+- the staging folder then takes the target's place in one ``renameat2(RENAME_EXCHANGE)``
+  (Linux): an interruption leaves the old set or the new set, whole. SIGINT, SIGTERM and SIGHUP
+  are held back during the exchange and delivered after it. Where the target cannot be
+  exchanged (a mount point, such as a Docker volume at ``/out``, or the current folder of the
+  run, which a shell would keep open), the run stages inside the target and exchanges its
+  top-level entries one by one, the new manifest last (only SIGKILL can split that set; a
+  manifest that knows both sets is in place meanwhile, so the next run replaces it whole). Without
+  ``renameat2`` (other systems, old C libraries) the target is renamed aside and the new
+  folder renamed in; a run killed between the two renames is undone by the next run;
+- on an error, SIGINT or SIGTERM the staging folder is removed; the staging folders of a
+  killed run (SIGKILL) are removed by the next run into the same folder;
 - an output location that cannot be created or written gives an
-  :class:`~gd_analyze.errors.InputError` (exit status 2) and leaves nothing behind.
+  :class:`~gd_analyze.errors.InputError` (exit status 2) and leaves nothing behind. Inside a
+  run, :func:`writing` turns the write errors (and only those) of the calls it wraps into
+  one line.
 """
 
 from __future__ import annotations
 
 import contextlib
 import errno
+import functools
 import os
 import re
 import shutil
 import signal
+import stat
+import sys
 import tempfile
 from pathlib import Path
 
 from ..errors import InputError
+from .manifest import folder_owners, manifest_name, write_manifest, write_transition
 
-__all__ = ["safe_name", "staged_output", "check_free_space", "check_output_file",
+__all__ = ["safe_name", "staged_output", "writing", "check_free_space", "check_output_file",
            "install_signal_handlers", "Terminated", "LOCK_SUFFIX", "TMP_MARK"]
 
 LOCK_SUFFIX = ".gd-lock"
@@ -139,18 +160,38 @@ def _oserror(exc, path):
     return InputError(f"cannot write the output folder: {reason}", path)
 
 
-def _remove_stale(parent, name, target, outputs):
-    """Remove the temporary folders beside ``target``, and the temporary files of its outputs
-    inside it (``.<output>.*.tmp``, as :func:`gd_analyze.files.atomic_path` names them).
+def _inside(name, folder):
+    try:
+        return os.path.commonpath([os.path.abspath(os.fsdecode(name)),
+                                   os.path.abspath(folder)]) == os.path.abspath(folder)
+    except (TypeError, ValueError):
+        return False
 
-    Called with the lock held: no live run owns them."""
-    for p in parent.glob(f".{glob_escape(name)}{TMP_MARK}*"):
-        shutil.rmtree(p, ignore_errors=True)
-    if target.is_dir():
-        for out in outputs:
-            for p in target.glob(f".{glob_escape(out)}.*.tmp"):
-                with contextlib.suppress(OSError):
-                    p.unlink()
+
+@contextlib.contextmanager
+def writing(target, stage=None):
+    """Report the write errors of the enclosed calls as "cannot write the output folder".
+
+    Parameters
+    ----------
+    target : str or os.PathLike
+        The output folder, as the message names it.
+    stage : str or os.PathLike, optional
+        The staging folder the calls write in: an :class:`OSError` naming a file outside it
+        (a file the calls read) is not a write error and propagates unchanged.
+
+    Raises
+    ------
+    InputError
+        On an :class:`OSError` of a write (h5py's write errors name no file).
+    """
+    try:
+        yield
+    except OSError as exc:
+        names = [n for n in (exc.filename, exc.filename2) if n is not None]
+        if stage is not None and names and not any(_inside(n, stage) for n in names):
+            raise
+        raise _oserror(exc, target) from None
 
 
 def glob_escape(text):
@@ -164,9 +205,18 @@ def _lock(lock_path, target):
 
     while True:
         try:
-            fd = os.open(lock_path, os.O_RDWR | os.O_CREAT, 0o644)
+            fd = os.open(lock_path, os.O_RDWR | os.O_CREAT | os.O_NOFOLLOW | os.O_NONBLOCK
+                         | os.O_CLOEXEC, 0o644)
         except OSError as exc:
+            if exc.errno == errno.ELOOP:
+                raise InputError(f"cannot write the output folder: its lock file {lock_path} "
+                                 "is a symbolic link", target) from None
             raise _oserror(exc, target) from None
+        st = os.fstat(fd)
+        if not stat.S_ISREG(st.st_mode) or st.st_nlink != 1:     # a FIFO, a hard link
+            os.close(fd)
+            raise InputError(f"cannot write the output folder: its lock file {lock_path} is "
+                             "not a file of its own", target)
         try:
             fcntl.flock(fd, fcntl.LOCK_EX | fcntl.LOCK_NB)
         except BlockingIOError:
@@ -175,7 +225,7 @@ def _lock(lock_path, target):
                              "another output folder (-o)", target) from None
         # The previous holder may have unlinked the file between our open and our flock.
         try:
-            same = os.path.samestat(os.fstat(fd), os.stat(lock_path))
+            same = os.path.samestat(os.fstat(fd), os.lstat(lock_path))
         except FileNotFoundError:
             same = False
         if same:
@@ -183,6 +233,7 @@ def _lock(lock_path, target):
         os.close(fd)
     owner = os.getpid()
     try:
+        os.ftruncate(fd, 0)
         os.write(fd, f"{owner}\n".encode())
         yield
     finally:
@@ -192,38 +243,177 @@ def _lock(lock_path, target):
         os.close(fd)
 
 
+RENAME_NOREPLACE, RENAME_EXCHANGE = 1, 2
+
+
+@functools.lru_cache(maxsize=None)
+def _libc_renameat2():
+    if not sys.platform.startswith("linux"):
+        return None
+    import ctypes
+
+    try:
+        fn = ctypes.CDLL(None, use_errno=True).renameat2
+    except (OSError, AttributeError):
+        return None
+    fn.argtypes = [ctypes.c_int, ctypes.c_char_p, ctypes.c_int, ctypes.c_char_p, ctypes.c_uint]
+    fn.restype = ctypes.c_int
+    return fn
+
+
+def _renameat2(src, dst, flags):
+    """``renameat2(src, dst, flags)``; False where the system or file system lacks it."""
+    import ctypes
+
+    fn = _libc_renameat2()
+    if fn is None:
+        return False
+    if fn(-100, os.fsencode(src), -100, os.fsencode(dst), flags) == 0:     # AT_FDCWD
+        return True
+    err = ctypes.get_errno()
+    if err in (errno.EINVAL, errno.ENOSYS, errno.EOPNOTSUPP):
+        return False
+    raise OSError(err, os.strerror(err), os.fspath(src), None, os.fspath(dst))
+
+
 @contextlib.contextmanager
-def staged_output(target, outputs=()):
-    """Write a run's files aside and move them into ``target`` together.
+def _signals_held():
+    """Hold SIGINT, SIGTERM and SIGHUP back while the sets are exchanged; deliver them after."""
+    import threading
+
+    if threading.current_thread() is not threading.main_thread():
+        yield
+        return
+    got, old = [], {}
+    for sig in (signal.SIGINT, signal.SIGTERM, getattr(signal, "SIGHUP", None)):
+        if sig is not None and signal.getsignal(sig) is not None:
+            old[sig] = signal.signal(sig, lambda signum, frame: got.append(signum))
+    try:
+        yield
+    finally:
+        for sig, handler in old.items():
+            signal.signal(sig, handler)
+        for sig in got[:1]:
+            signal.raise_signal(sig)
+
+
+def _umask():
+    mask = os.umask(0)
+    os.umask(mask)
+    return mask
+
+
+def _chmod_folder(folder, mode):
+    fd = os.open(folder, os.O_RDONLY | os.O_DIRECTORY | os.O_NOFOLLOW)
+    try:
+        os.fchmod(fd, mode)
+    finally:
+        os.close(fd)
+
+
+def _conflicts(new, owners):
+    """The new paths that would replace a file of another command's manifest."""
+    taken = dict(owners.others)
+    dirs = {}
+    for path, cmd in owners.others.items():
+        parts = path.split("/")
+        for k in range(1, len(parts)):
+            dirs.setdefault("/".join(parts[:k]), cmd)
+    out = []
+    for path in new:
+        parts = path.split("/")
+        cmd = taken.get(path) or dirs.get(path) or next(
+            (taken["/".join(parts[:k])] for k in range(1, len(parts))
+             if "/".join(parts[:k]) in taken), None)
+        if cmd is not None:
+            out.append((path, cmd))
+    return out
+
+
+def _carry(real, stage, owners, command, tops=None):
+    """Hard-link the other commands' files (and manifests, and empty folders) into stage."""
+    own = manifest_name(command)
+    keep = [*owners.others, *(m for m in owners.manifests if m != own)]
+    for path in [*keep, *owners.empty_dirs]:
+        if tops is not None and path.split("/")[0] not in tops:
+            continue
+        dst = stage / path
+        if path in owners.empty_dirs:
+            dst.mkdir(parents=True, exist_ok=True)
+            continue
+        dst.parent.mkdir(parents=True, exist_ok=True)
+        try:
+            os.link(real / path, dst, follow_symlinks=False)
+        except OSError:                          # another file system, or links forbidden
+            shutil.copy2(real / path, dst, follow_symlinks=False)
+
+
+def _remove_stale(parent, name, real, mount):
+    """Undo what a killed run left (called with the lock held: no live run owns it)."""
+    if not mount:
+        prev = parent / f".{name}.gd-prev"
+        if prev.is_dir() and not prev.is_symlink():
+            if not os.path.lexists(real):
+                os.rename(prev, real)       # killed between the two renames: the old set back
+            else:
+                shutil.rmtree(prev, ignore_errors=True)
+        for p in parent.glob(f".{glob_escape(name)}{TMP_MARK}*"):
+            shutil.rmtree(p, ignore_errors=True)
+    if real.is_dir():
+        for p in real.glob(f"{TMP_MARK}*"):
+            shutil.rmtree(p, ignore_errors=True)
+
+
+def _in_place(real):
+    """Whether the target cannot be exchanged whole: a mount point, or holds our own cwd."""
+    if os.path.ismount(real):
+        return True
+    try:
+        return _inside(os.path.realpath(os.getcwd()), real)
+    except OSError:
+        return False
+
+
+@contextlib.contextmanager
+def staged_output(target, outputs=(), command="output"):
+    """Write a run's files aside and put them into ``target`` as one set.
 
     Parameters
     ----------
     target : str or os.PathLike
-        The output folder; created (with its parents) if missing.
+        The output folder; created (with its parents) if missing. A symbolic link to a folder
+        names that folder.
     outputs : iterable of str, optional
-        The names of every file (or folder of files, e.g. ``figures``) the command can write;
-        those in ``target`` that this run did not write are removed when the new files are
-        moved in, so the folder holds one run's set. A folder is replaced whole.
+        The names of the files and folders the command can write. Kept for callers; the
+        command's manifest, not this list, says which files the run replaces.
+    command : str, optional
+        The command writing the folder (``analyze``, ``control``, ``sweep``): its manifest
+        ``.gd-analyze-manifest-<command>.json`` lists the run's files; the run replaces the
+        files of its own previous manifest and keeps the other commands'.
 
     Yields
     ------
     pathlib.Path
-        The staging folder, beside ``target`` on the same filesystem: write every file there.
+        The staging folder (empty, mode 0700): write every file of the run there.
 
     Raises
     ------
     InputError
-        If ``target`` exists and is not a folder, cannot be created or written, another run
-        holds its lock, or a write fails for lack of space or permission. Nothing is left
-        behind (the lock file and the staging folder are removed).
+        If ``target`` exists and is not a folder, holds files gd-analyze did not write (before
+        the run computes anything), cannot be created or written, another run holds its lock,
+        a new file would replace another command's file, or the set cannot be moved in. Then
+        the folder is as it was, and the lock file and the staging folder are removed.
     """
+    del outputs
+    manifest_name(command)                  # a plain command name, or ValueError
     target = Path(target)
-    if target.exists() and not target.is_dir():
+    for a in [target, *target.parents]:     # never create folders through a dangling link
+        if a.is_symlink() and not a.exists():
+            raise InputError(f"{a} is a symbolic link to nothing", target)
+    real = Path(os.path.realpath(target))
+    if real.exists() and not real.is_dir():
         raise InputError("exists and is not a folder", target)
-    parent = target.parent
-    name = target.resolve().name if target.name in ("", ".", "..") else target.name
-    if target.name in ("", ".", ".."):
-        parent = target.resolve().parent
+    parent, name = real.parent, real.name
     missing = [a for a in [parent, *parent.parents] if not a.exists()]
     for a in [parent, *parent.parents]:
         if a.exists():
@@ -234,11 +424,18 @@ def staged_output(target, outputs=()):
         parent.mkdir(parents=True, exist_ok=True)
     except OSError as exc:
         raise _oserror(exc, target) from None
+    mount = real.is_dir() and os.path.ismount(real)
     try:
-        if not os.access(parent, os.W_OK | os.X_OK):
+        if not all(os.access(a, os.W_OK | os.X_OK) for a in {real if mount else parent,
+                                                             *([real] if real.is_dir() else [])}):
             raise InputError("cannot write the output folder: permission denied", target)
-        with _staged(parent, name, target, outputs) as stage:
-            yield stage
+        lock = real / LOCK_SUFFIX if mount else parent / f".{name}{LOCK_SUFFIX}"
+        with _lock(lock, target):
+            with writing(target):
+                _remove_stale(parent, name, real, mount)
+            folder_owners(real, command, target)        # refuse before the run computes
+            with _staged(real, target, command, mount) as stage:
+                yield stage
     except BaseException:
         for a in missing:                   # the folders this run created, deepest first
             with contextlib.suppress(OSError):
@@ -247,47 +444,73 @@ def staged_output(target, outputs=()):
 
 
 @contextlib.contextmanager
-def _staged(parent, name, target, outputs):
+def _staged(real, target, command, mount):
+    from .._version import __version__
+
     owner = os.getpid()
-    with _lock(parent / f".{name}{LOCK_SUFFIX}", target):
-        _remove_stale(parent, name, target, outputs)
-        try:
-            stage = Path(tempfile.mkdtemp(prefix=f".{name}{TMP_MARK}", dir=parent))
-        except OSError as exc:
-            raise _oserror(exc, target) from None
-        try:
-            try:
-                yield stage
-            except OSError as exc:          # h5py's and the OS's write errors alike
-                raise _oserror(exc, target) from None
-            created = not target.exists()
-            try:
-                target.mkdir(exist_ok=True)
-                os.chmod(stage, 0o777 & ~_umask())
-                if created and not any(target.iterdir()):
-                    os.replace(stage, target)              # one rename: the whole set at once
-                else:
-                    written = {p.name for p in stage.iterdir()}
-                    for p in sorted(stage.iterdir()):
-                        dest = target / p.name
-                        if p.is_dir() and dest.is_dir() and not dest.is_symlink():
-                            shutil.rmtree(dest)      # a folder of outputs (figures/): whole
-                        os.replace(p, dest)
-                    for old in set(outputs) - written:
-                        dest = target / old
-                        if dest.is_dir() and not dest.is_symlink():
-                            shutil.rmtree(dest, ignore_errors=True)
-                        else:
-                            with contextlib.suppress(FileNotFoundError, IsADirectoryError):
-                                dest.unlink()
-            except OSError as exc:
-                raise _oserror(exc, target) from None
-        finally:
-            if os.getpid() == owner:
-                shutil.rmtree(stage, ignore_errors=True)
+    inside = real.is_dir() and (mount or _in_place(real))
+    where = real if inside else real.parent
+    try:
+        stage = Path(tempfile.mkdtemp(prefix=TMP_MARK if inside else f".{real.name}{TMP_MARK}",
+                                      dir=where))
+    except OSError as exc:
+        raise _oserror(exc, target) from None
+    try:
+        yield stage
+        owners = folder_owners(real, command, target)   # files added while the run computed
+        with writing(target):
+            new = write_manifest(stage, command, __version__)
+        clash = _conflicts(new, owners)
+        if clash:
+            path, other = clash[0]
+            raise InputError(f"{target} holds {path} of gd-analyze {other}; a command never "
+                             "replaces another command's files: use an empty or new folder")
+        with writing(target):
+            if inside:
+                _swap_entries(real, stage, owners, command, new)
+            else:
+                _swap_folder(real, stage, owners, command)
+    finally:
+        if os.getpid() == owner:
+            shutil.rmtree(stage, ignore_errors=True)
 
 
-def _umask():
-    mask = os.umask(0)
-    os.umask(mask)
-    return mask
+def _swap_folder(real, stage, owners, command):
+    """Put the staged folder in the target's place in one exchange; the old set ends in stage."""
+    _carry(real, stage, owners, command)
+    mode = stat.S_IMODE(os.stat(real).st_mode) if real.is_dir() else 0o777 & ~_umask()
+    _chmod_folder(stage, mode)
+    with _signals_held():
+        if not real.is_dir():
+            if not _renameat2(stage, real, RENAME_NOREPLACE):
+                os.rename(stage, real)      # fails on a folder created meanwhile, not empty
+        elif not _renameat2(stage, real, RENAME_EXCHANGE):
+            prev = real.parent / f".{real.name}.gd-prev"
+            os.rename(real, prev)           # no exchange here: two renames, undone if killed
+            os.rename(stage, real)
+            os.rename(prev, stage)
+
+
+def _swap_entries(real, stage, owners, command, new):
+    """Exchange the top-level entries the command owns one by one, under a manifest that
+    knows both sets; the new manifest last."""
+    own = manifest_name(command)
+    tops = {p.split("/")[0] for p in [*owners.own, *new]}
+    _carry(real, stage, owners, command, tops)
+    old = stage / f"{TMP_MARK}old"
+    old.mkdir()
+    write_transition(stage, command, owners.own, f"{TMP_MARK}manifest")
+    with _signals_held():
+        os.replace(stage / f"{TMP_MARK}manifest", real / own)    # knows both sets
+        for top in sorted(tops):
+            src, dst = stage / top, real / top
+            if not os.path.lexists(src):
+                os.rename(dst, old / top)   # ours, not in the new set
+            elif not os.path.lexists(dst):
+                if not _renameat2(src, dst, RENAME_NOREPLACE):
+                    os.rename(src, dst)
+            elif not _renameat2(src, dst, RENAME_EXCHANGE):
+                os.rename(dst, old / top)
+                os.rename(src, dst)
+        os.replace(stage / own, real / own)          # the new set's own, last
+

@@ -81,7 +81,7 @@ def sweep_dataset(robot, trajectories, results, merged, merged_stats, dominance,
     results : list of dict
         Per trajectory, as :func:`gd_analyze.workflows.sweep.analyze_one` returns it.
     merged : dict
-        Element label -> the conservative merged choice.
+        Element label -> the merged choice of the chapter rule (no error bound).
     merged_stats : list of dict
         Per trajectory, the merged model's accumulated torque error: ``peak``, ``sum_sq``,
         ``count``, ``peak_tau`` [N m].
@@ -323,7 +323,7 @@ def sweep_payloads_dataset(robot, n_trajectories, masses, com, inertia, parts, d
          "dominance": var(("payload", "element"), dom.astype(str), "1",
                           "most frequent dominance class over the trajectories"),
          "choice": var(("payload", "element"), choice.astype(str), "1",
-                       "merged (conservative) simplified-model choice"),
+                       "merged share-based choice (chapter rule, no error bound)"),
          "tau_peak": var(("payload", "joint"), tau, "N m",
                          "peak |tau| over all trajectories")},
         coords={"payload": ("payload", np.asarray(masses, float),

@@ -26,7 +26,7 @@ import numpy as np
 from .common import BASE_RC
 from .common import strings as _strings, style as _style, table as _table
 from .common import attr, fmt, grid_shape, render_template, utc_now
-from .main_figures import element_label
+from ..core.ranking import element_label
 from .pages import PAPER, Document
 from .drawing import draw_figures, figure_svg, no_gc, write_figure_files
 
@@ -248,9 +248,9 @@ def _context(ds):
                  "translational/rotational parts of D and h.")
     labels = _strings(ds["element"].values)
     choice = dict(zip(labels, _strings(ds["choice"].values)))
-    rows = [[f"D, row {i + 1}"] + [choice.get(element_label("D", i + 1, j + 1), "") if j >= i else ""
-                              for j in range(n)] for i in range(n)]
-    rows.append(["h"] + [choice.get(f"h{j + 1}", "") for j in range(n)])
+    rows = [[f"D, row {i + 1}"] + [choice.get(element_label("D", i, j), "") if j >= i else ""
+                                   for j in range(n)] for i in range(n)]
+    rows.append(["h"] + [choice.get(element_label("h", j), "") for j in range(n)])
     choices = _table(["element"] + [f"column {j + 1}" for j in range(n)], rows,
                      align=["left"] * (n + 1))
     prov = _table(["attribute", "value"], [[k, _attr(ds, k)] for k in (

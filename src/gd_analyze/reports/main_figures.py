@@ -23,10 +23,11 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from ..core.ranking import element_label
 from .ticks import set_ticks
 
 __all__ = ["PAGE_WIDTH", "COLUMN_WIDTH", "ZERO_TOL", "PART_STYLE", "SHORT_CLASS", "PlotData", "plot_data",
-           "identically_zero", "element_label", "fig_D", "fig_h", "fig_joints", "fig_torque",
+           "identically_zero", "fig_D", "fig_h", "fig_joints", "fig_torque",
            "RC"]
 
 #: Width of a figure spanning the text of a page [in] (two-column journals: 7.0-7.3).
@@ -213,30 +214,6 @@ def identically_zero(peak_tran, peak_rot, peak_total, scale, tol=ZERO_TOL):
     return np.asarray(peak <= tol * np.abs(scale)) & np.isfinite(peak)
 
 
-def element_label(name, i, j=None):
-    """``D12``, ``h3``, or ``D1,10`` once an index has two digits.
-
-    Parameters
-    ----------
-    name : str
-        ``"D"`` or ``"h"``.
-    i, j : int
-        One-based indices (j only for D).
-
-    Returns
-    -------
-    str
-
-    Examples
-    --------
-    >>> element_label("D", 1, 2), element_label("D", 1, 10), element_label("h", 7)
-    ('D12', 'D1,10', 'h7')
-    """
-    if j is None:
-        return f"{name}{i}"
-    return f"{name}{i}{j}" if i < 10 and j < 10 else f"{name}{i},{j}"
-
-
 def _figure(w, h):
     from matplotlib.figure import Figure
 
@@ -342,7 +319,7 @@ def fig_D(data, dominance, zero, s, e):
     for i in range(n):
         for j in range(i, n):
             ax = _axes(fig, _LEFT + j * (w + _WGAP), _TOP + i * (h + _HGAP), w, h)
-            label = element_label("D", i + 1, j + 1)
+            label = element_label("D", i, j)
             if zero.get(label, False):
                 _zero_panel(ax, x, label)
             else:
@@ -407,7 +384,7 @@ def fig_h(data, dominance, zero):
     for i in range(n):
         r, c = divmod(i, cols)
         ax = _axes(fig, _LEFT + c * (w + _WGAP), _TOP + r * (h + hgap), w, h)
-        label = element_label("h", i + 1)
+        label = element_label("h", i)
         if zero.get(label, False):
             _zero_panel(ax, data.x, label)
         else:

@@ -8,6 +8,8 @@ from __future__ import annotations
 
 import numpy as np
 
+from ..core.ranking import element_label, parse_element_label
+
 __all__ = ["conclusion", "disagreement_cause", "captions", "element_scale"]
 
 _CLASSES = ("translational", "rotational", "both", "negligible")
@@ -30,22 +32,18 @@ def element_scale(labels, peak_total, tau_peak):
     ndarray, shape (M,)
         sqrt(peak D_ii * peak D_jj) [kg m^2] (>= the peak of sqrt(D_ii D_jj)) or peak |tau_i|.
     """
+    n = np.asarray(tau_peak).size
     index = {lab: k for k, lab in enumerate(labels)}
     out = np.zeros(len(labels))
     for k, lab in enumerate(labels):
-        if lab.startswith("D"):
-            body = lab[1:]
-            i, j = body.split(",") if "," in body else (body[0], body[1:])
-            dii = peak_total[index[_diag(i)]]
-            djj = peak_total[index[_diag(j)]]
+        kind, i, j = parse_element_label(lab, n)
+        if kind == "D":
+            dii = peak_total[index[element_label("D", i, i)]]
+            djj = peak_total[index[element_label("D", j, j)]]
             out[k] = np.sqrt(abs(dii * djj))
         else:
-            out[k] = tau_peak[int(lab[1:]) - 1]
+            out[k] = tau_peak[i]
     return out
-
-
-def _diag(i):
-    return f"D{i}{i}" if len(i) == 1 else f"D{i},{i}"
 
 
 def _names(labels):

@@ -1,10 +1,10 @@
 """Part of the main report's figures drawn by a second interpreter, on a second core.
 
 The figures of a report depend only on the stored results file, so they can be drawn in any
-process that can read it. :class:`FigureWorker` starts a fresh interpreter (``python -m
-gd_analyze.reports.main_worker``; not a fork) when the main job begins. While the job computes
-the dynamics and writes ``results.h5``, the worker imports matplotlib, xarray and the report's
-modules. When the file is written, :meth:`FigureWorker.draw` asks it for some figures
+process that can read it. :class:`FigureWorker` starts a fresh, isolated interpreter
+(:func:`worker_command`: ``python -I``, not a fork) when the main job begins. While the job
+computes the dynamics and writes ``results.h5``, the worker imports matplotlib, xarray and the
+report's modules. When the file is written, :meth:`FigureWorker.draw` asks it for some figures
 (:data:`WORKER_FIGURES`: D, h and the torque error, the ones with one panel per element or
 joint); it reads the file, makes and draws them, each once for both the SVG and the PDF
 (:func:`gd_analyze.reports.drawing.draw_figures`), while the job's own process makes and draws
@@ -27,7 +27,7 @@ import subprocess
 import sys
 from pathlib import Path
 
-__all__ = ["FigureWorker", "WORKER_FIGURES", "WORKER_MAX_INPUT", "spare_core"]
+__all__ = ["FigureWorker", "WORKER_FIGURES", "WORKER_MAX_INPUT", "spare_core", "worker_command"]
 
 #: The figures the worker draws (when they are in the report), by key.
 WORKER_FIGURES = ("joints", "D", "h", "torque")
@@ -59,14 +59,9 @@ class FigureWorker:
         if not enabled or not spare_core():
             return
         try:
-            root = str(Path(__file__).resolve().parents[2])
-            env = {**os.environ, "MPLBACKEND": "Agg",
-                   "PYTHONPATH": os.pathsep.join(
-                       [root] + [p for p in os.environ.get("PYTHONPATH", "").split(os.pathsep)
-                                 if p])}
-            self.proc = subprocess.Popen([sys.executable, "-m", "gd_analyze.reports.main_worker"],
-                                         stdin=subprocess.PIPE, stdout=subprocess.PIPE,
-                                         stderr=subprocess.DEVNULL, env=env)
+            self.proc = subprocess.Popen(worker_command(), stdin=subprocess.PIPE,
+                                         stdout=subprocess.PIPE, stderr=subprocess.DEVNULL,
+                                         env={**os.environ, "MPLBACKEND": "Agg"})
         except OSError:
             self.proc = None
 
@@ -161,6 +156,30 @@ class FigureWorker:
         if proc.poll() is None:
             proc.kill()
         proc.wait()
+
+
+#: The child's program: the folder that holds this gd_analyze package (its argument) goes
+#: first on sys.path unless the isolated interpreter has it already (an installed package),
+#: so the child runs the parent's code even from a source tree.
+_BOOT = ("import sys; root = sys.argv[1]; root in sys.path or sys.path.insert(0, root); "
+         "from gd_analyze.reports.main_worker import _serve; "
+         "_serve(sys.stdin.buffer, sys.stdout.buffer)")
+
+
+def worker_command():
+    """The command line of the worker: an isolated interpreter.
+
+    ``python -I`` ignores the ``PYTHON*`` environment variables and the user's site folder,
+    and puts neither the current folder nor a script's folder on ``sys.path``: no module of the
+    folder the job was started in (a ``pickle.py``, say) can run in the child. The package is
+    found where the parent found it (the folder that holds it is an argument).
+
+    Returns
+    -------
+    list of str
+    """
+    root = str(Path(__file__).resolve().parents[2])
+    return [sys.executable, "-I", "-c", _BOOT, root]
 
 
 def _well_formed(entry):

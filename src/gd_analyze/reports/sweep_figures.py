@@ -16,8 +16,7 @@ from .common import gridspec as _gridspec, strings as _strings, style as _style
 from .common import check as _check, grid_shape, thresholds as _thresholds
 from .figures import CLASS_LETTER as _LETTER
 from .figures import payload_figure
-from .main_figures import element_label
-from ..core.ranking import CLASSES
+from ..core.ranking import CLASSES, element_label
 
 __all__ = ["make_sweep_figures", "REQUIRED"]
 
@@ -104,7 +103,7 @@ def _fig_D(ds):
     gs = _gridspec(fig, n, n, left=0.5, right=0.08, top=0.45, bottom=0.3, wgap=0.28, hgap=0.42)
     for i in range(n):
         for j in range(i, n):
-            label = element_label("D", i + 1, j + 1)
+            label = element_label("D", i, j)
             k = labels.index(label)
             ax = fig.add_subplot(gs[i, j])
             _share_panel(ax, share[:, k], label, merged[label], frac[k], s, small=True)
@@ -136,7 +135,7 @@ def _fig_h(ds):
     gs = _gridspec(fig, rows, cols, left=0.65, right=0.1, top=0.5, bottom=1.2, wgap=0.6,
                    hgap=0.5)
     for i in range(n):
-        label = f"h{i + 1}"
+        label = element_label("h", i)
         k = labels.index(label)
         ax = fig.add_subplot(gs[i // cols, i % cols])
         _share_panel(ax, share[:, k], label, merged[label], frac[k], s, small=False)

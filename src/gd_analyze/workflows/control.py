@@ -61,6 +61,7 @@ from pathlib import Path
 import numpy as np
 
 from ..core.simplified import choice_masks
+from .evaluate import model_torque
 from .tracking import (CONTROLLER_DESCRIPTIONS, CONTROLLERS, DEFAULT_ATOL, DEFAULT_METHOD,
                        DEFAULT_RTOL, DEFAULT_WN, DEFAULT_ZETA, MAX_STIFFNESS_STEPS, Gains,
                        control_gains, desired_motion, stiffness_steps, track)
@@ -189,16 +190,16 @@ def model_cost(model):
     Parameters
     ----------
     model : SimplifiedModel
-        The model: its counted ``cost`` and ``full_cost`` (the explicit model with and without
-        pruning, counted on the emitted expressions), or, for a model stored without them, its
-        straight-line program's count.
+        The model. Both costs are counted here, never read from a file: the simplified
+        model's on the straight-line program of its own terms, the full explicit model's on
+        the program of all the terms of its robot (:func:`gd_analyze.io.explicit_cache.explicit_terms`).
 
     Returns
     -------
     dict
         ``evaluators`` (names), ``multiplications`` and ``additions`` (lists of int per set
-        point): the simplified explicit model, the full explicit model where known, and the
-        project's recursive Newton-Euler as implemented (:func:`gd_analyze.formulations.opcount.count_operations`);
+        point): the simplified explicit model, the full explicit model and the project's
+        recursive Newton-Euler as implemented (:func:`gd_analyze.formulations.opcount.count_operations`);
         ``dropped`` and ``parts``: parts of D and h the model drops, of 2 (n (n + 1) / 2 + n).
 
     Notes
@@ -208,17 +209,17 @@ def model_cost(model):
     Armstrong, Khatib & Burdick (1986) for the explicit form.
     """
     from ..formulations.opcount import count_operations
+    from ..io.explicit_cache import explicit_terms
+    from .simplify import full_program
 
     robot = model.robot
     names, mults, adds = [], [], []
-    simp = model.cost or model.program().cost()
-    names.append("simplified explicit model")
-    mults.append(int(simp["multiplications"]))
-    adds.append(int(simp["additions"]))
-    if model.full_cost:
-        names.append("full explicit model")
-        mults.append(int(model.full_cost["multiplications"]))
-        adds.append(int(model.full_cost["additions"]))
+    terms, _ = explicit_terms(robot)
+    for name, counted in (("simplified explicit model", model.program().cost()),
+                          ("full explicit model", full_program(robot, terms).cost())):
+        names.append(name)
+        mults.append(int(counted["multiplications"]))
+        adds.append(int(counted["additions"]))
     ne = count_operations(robot, "newton-euler")
     names.append("Newton-Euler (as implemented)")
     mults.append(int(ne[0]))
@@ -288,6 +289,8 @@ def run_control(model, trajectory, wn=DEFAULT_WN, zeta=DEFAULT_ZETA, q0_offset=0
         set points, a controller is unknown, the gains are invalid or so stiff that the
         integration would need more than :data:`MAX_STIFFNESS_STEPS` steps
         (:func:`stiffness_steps`), or a run exceeds :data:`MAX_RHS_EVALS` evaluations.
+    InputError
+        If the model's torque is not finite on a set point (:func:`~gd_analyze.workflows.evaluate.model_torque`).
 
     Notes
     -----
@@ -309,6 +312,7 @@ def run_control(model, trajectory, wn=DEFAULT_WN, zeta=DEFAULT_ZETA, q0_offset=0
     if unknown or not controllers:
         raise ValueError(f"controllers must be among {CONTROLLERS}, got {list(controllers)}")
     choice_masks(model.choices, robot.n)            # validate
+    model_torque(model, trajectory.q, trajectory.qd, trajectory.qdd)    # finite on the set points
     t_set = np.asarray(trajectory.t, dtype=float)
     if t_end is not None:
         t_set = t_set[t_set <= float(t_end) * (1 + 1e-12)]

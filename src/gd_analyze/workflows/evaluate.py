@@ -13,8 +13,45 @@ import numpy as np
 from ..core.dalembert import gd_terms
 from ..core.limits import check_finite
 from ..core.simplified import torque_error
+from ..errors import InputError
 
-__all__ = ["evaluate"]
+__all__ = ["evaluate", "model_torque"]
+
+
+def model_torque(model, q, qd, qdd):
+    """A simplified model's torques, refused where they are not finite.
+
+    Parameters
+    ----------
+    model : SimplifiedModel
+        The model (e.g. read from a hand-edited file).
+    q, qd, qdd : ndarray, shape (N, n)
+        Set points [rad, rad/s, rad/s^2].
+
+    Returns
+    -------
+    ndarray, shape (N, n)
+        tau_s [N m], all finite.
+
+    Raises
+    ------
+    InputError
+        If a torque is NaN or inf: the model's coefficients (``explicit_terms.coef``) are
+        beyond the range of a float once multiplied out (a coefficient of 1e308, say).
+
+    Notes
+    -----
+    Source: the simplified model tau_s = D_s qdd + h_s + c of Fu, Gonzalez & Lee (1987),
+    Sec. 3.4.1, Eq. (3.4-24).
+    """
+    with np.errstate(over="ignore", invalid="ignore"):
+        tau = np.asarray(model.torque(q, qd, qdd), float)
+    bad = ~np.isfinite(tau)
+    if bad.any():
+        k, j = (int(v[0]) for v in np.nonzero(bad))
+        raise InputError(f"the model's torque is not finite at set point {k + 1}, joint {j + 1}: "
+                         "its explicit_terms.coef are beyond the range of a float")
+    return tau
 
 
 def evaluate(model, trajectory, plant=None):
@@ -44,12 +81,13 @@ def evaluate(model, trajectory, plant=None):
     ValueError
         If the trajectory does not have n columns.
     InputError
-        If the torques are not finite (inputs beyond :data:`gd_analyze.core.limits.LIMITS`).
+        If the torques are not finite (inputs beyond :data:`gd_analyze.core.limits.LIMITS`, or
+        the model's coefficients beyond a float: :func:`model_torque`).
     """
     robot = model.robot
     plant = robot if plant is None else plant
     full = gd_terms(plant, trajectory.q, trajectory.qd)
-    err = torque_error(model.torque(trajectory.q, trajectory.qd, trajectory.qdd),
+    err = torque_error(model_torque(model, trajectory.q, trajectory.qd, trajectory.qdd),
                        check_finite("tau", full.tau(trajectory.qdd)))
     rel = np.array([np.nan if v is None else v for v in err["relative_peak_error"]], float)
     err["max_relative_peak_error"] = float(np.nanmax(rel)) if np.isfinite(rel).any() else 0.0

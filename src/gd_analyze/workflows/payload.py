@@ -106,7 +106,7 @@ def sweep_payloads(robot, trajectories, masses, com=(0.0, 0.0, 0.0), inertia=(0.
         Dims ``payload`` (P), ``element`` (M), ``class``, ``joint``: ``class_fraction``
         (payload, element, class), ``share_tran`` (payload, element) = the median over the
         trajectories, ``dominance`` (payload, element) = the most frequent class, ``choice``
-        (payload, element) = the merged (conservative) choice, ``tau_peak`` (payload, joint) =
+        (payload, element) = the merged choice of the chapter rule, ``tau_peak`` (payload, joint) =
         peak |tau| over all trajectories [N m].
 
     Raises

@@ -21,8 +21,8 @@ from ..io.explicit_cache import explicit_terms
 from ..core.simplified import SimplifiedModel, TorqueErrorAccumulator
 from ..core.symbolic.recursive_model import PART_NAMES
 
-__all__ = ["Peaks", "collect_peaks", "build_model", "LADDER", "ladder", "cost_rows",
-           "AKB_COSTS", "simplified_dataset"]
+__all__ = ["Peaks", "collect_peaks", "build_model", "full_program", "LADDER", "ladder",
+           "cost_rows", "AKB_COSTS", "simplified_dataset"]
 
 #: The tolerance ladder of the report and README.
 LADDER = (0.0, 0.001, 0.01, 0.05)
@@ -51,6 +51,24 @@ def _program(robot, terms, kept):
     if key not in cache:
         cache[key] = build_program(kept, robot.n, np.zeros(robot.n), prismatic=robot.prismatic)
     return cache[key]
+
+
+def full_program(robot, terms):
+    """The straight-line program of the full explicit model (:class:`~gd_analyze.core.codegen.Program`).
+
+    Parameters
+    ----------
+    robot : Robot
+        The arm.
+    terms : Term
+        All its explicit terms (:func:`gd_analyze.io.explicit_cache.explicit_terms`).
+
+    Returns
+    -------
+    Program
+        Built once per terms object; its ``cost()`` is the full model's counted operations.
+    """
+    return _program(robot, terms, terms)
 
 
 @dataclass(eq=False)
@@ -182,7 +200,7 @@ def build_model(robot, terms, peaks, tolerance=DEFAULT_TOLERANCE, rule="budget",
             sel, scale=top, bound=sel.bound * top, element_bound=sel.element_bound * top,
             bound_by_kind={k: v * top for k, v in sel.bound_by_kind.items()})
     program = _program(robot, terms, sel.kept)
-    full = _program(robot, terms, terms).cost()
+    full = full_program(robot, terms).cost()
     model = SimplifiedModel(
         robot=robot, choices=sel.choices,
         dominance_threshold=float(getattr(ranking, "dominance_threshold", DEFAULT_DOMINANCE)),

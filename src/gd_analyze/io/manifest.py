@@ -1,0 +1,314 @@
+"""Which files of an output folder gd-analyze wrote: one manifest per command.
+
+Every command that writes an output folder (the main job, ``control``, ``sweep``) records the
+files of its run in ``.gd-analyze-manifest-<command>.json`` inside the folder: each file's path
+relative to the folder, its size [bytes] and SHA-256, with the tool's version and the command.
+
+Before a run touches a folder, :func:`folder_owners` reads every manifest and walks the folder.
+A file that no manifest lists, or a file a manifest lists whose bytes changed since (a user's
+own ``report.html`` saved over ours), was not written by gd-analyze: the run is refused with one
+line and nothing is touched. A command replaces only the files its own previous manifest lists;
+the files of the other commands' manifests are kept as they are.
+"""
+
+from __future__ import annotations
+
+import json
+import os
+import re
+import stat
+from dataclasses import dataclass, field
+from pathlib import Path
+
+from ..errors import InputError
+from ..files import file_sha256
+
+__all__ = ["MANIFEST_PREFIX", "RESERVED_PREFIX", "FolderOwners", "manifest_name",
+           "folder_owners", "write_manifest", "write_transition", "walk_files"]
+
+MANIFEST_PREFIX = ".gd-analyze-manifest-"
+#: Top-level names of the output folder that belong to the machinery (the lock and staging
+#: folders of a run in a folder that is a mount point), never to a run's set.
+RESERVED_PREFIX = ".gd-"
+#: Foreign files named in the refusal, at most (the walk stops after one more).
+SHOWN = 8
+_COMMAND = re.compile(r"[a-z][a-z0-9_-]{0,40}")
+
+
+def manifest_name(command):
+    """The manifest's file name of ``command``.
+
+    Parameters
+    ----------
+    command : str
+        The command's name: lower-case letters, digits, ``_`` and ``-``.
+
+    Returns
+    -------
+    str
+        ``.gd-analyze-manifest-<command>.json``.
+
+    Raises
+    ------
+    ValueError
+        If the name is not a plain command name.
+
+    Examples
+    --------
+    >>> manifest_name("control")
+    '.gd-analyze-manifest-control.json'
+    """
+    if not _COMMAND.fullmatch(str(command)):
+        raise ValueError(f"not a command name: {command!r}")
+    return f"{MANIFEST_PREFIX}{command}.json"
+
+
+@dataclass
+class FolderOwners:
+    """Who wrote what in an output folder, as its manifests say.
+
+    Attributes
+    ----------
+    own : dict of str to dict
+        The files the command's previous manifest lists and the folder holds unchanged
+        (relative POSIX path to its manifest entry): the run may replace them.
+    others : dict of str to str
+        The files of the other commands' manifests (path to the command): kept as they are.
+    manifests : list of str
+        The manifests' names, the command's own included.
+    empty_dirs : list of str
+        Folders that hold nothing (kept).
+    """
+
+    own: dict = field(default_factory=dict)
+    others: dict = field(default_factory=dict)
+    manifests: list = field(default_factory=list)
+    empty_dirs: list = field(default_factory=list)
+
+
+def walk_files(root, empty_dirs=None):
+    """The entries under ``root`` that are not folders, in sorted order, without following a
+    symbolic link; the top-level names starting with ``.gd-`` (manifests, lock, staging
+    folders) are left out.
+
+    Parameters
+    ----------
+    root : str or os.PathLike
+        A folder.
+    empty_dirs : list, optional
+        Receives the relative paths of the folders that hold nothing.
+
+    Yields
+    ------
+    path : str
+        Relative POSIX path of a regular file, symbolic link or other non-folder entry.
+    st : os.stat_result
+        Its ``lstat``.
+
+    Raises
+    ------
+    OSError
+        If a folder cannot be listed.
+    """
+    def walk(folder, rel):
+        with os.scandir(folder) as it:
+            entries = sorted(it, key=lambda e: e.name)
+        if rel and not entries and empty_dirs is not None:
+            empty_dirs.append(rel)
+        for e in entries:
+            if not rel and e.name.startswith(RESERVED_PREFIX):
+                continue
+            path = f"{rel}/{e.name}" if rel else e.name
+            st = e.stat(follow_symlinks=False)
+            if stat.S_ISDIR(st.st_mode):
+                yield from walk(e.path, path)
+            else:
+                yield path, st
+
+    yield from walk(os.fspath(root), "")
+
+
+def _read_manifest(folder, name):
+    """The manifest's ``(command, files)``, or None if it is not a manifest gd-analyze wrote."""
+    try:
+        fd = os.open(os.path.join(folder, name), os.O_RDONLY | os.O_NOFOLLOW | os.O_NONBLOCK)
+    except OSError:
+        return None
+    try:
+        with os.fdopen(fd, "rb") as fh:
+            if not stat.S_ISREG(os.fstat(fh.fileno()).st_mode):
+                return None
+            data = json.loads(fh.read(64 << 20))
+    except (OSError, ValueError):
+        return None
+    files = data.get("files") if isinstance(data, dict) else None
+    command = data.get("command") if isinstance(data, dict) else None
+    if (data.get("tool") if isinstance(data, dict) else None) != "gd-analyze" \
+            or not isinstance(files, dict) or name != _manifest_name_or_none(command):
+        return None
+    good = {}
+    for path, entry in files.items():
+        parts = str(path).split("/")
+        if (_valid(entry) and path and not path.startswith("/")
+                and all(p not in ("", ".", "..") for p in parts)
+                and not parts[0].startswith(RESERVED_PREFIX)):
+            also = entry.get("also")
+            good[path] = {**entry, "also": [e for e in also if _valid(e)]
+                          if isinstance(also, list) else []}
+    return command, good
+
+
+def _manifest_name_or_none(command):
+    try:
+        return manifest_name(command)
+    except ValueError:
+        return None
+
+
+def _valid(entry):
+    return (isinstance(entry, dict) and isinstance(entry.get("sha256"), str)
+            and isinstance(entry.get("size"), int))
+
+
+def _unchanged(folder, path, entry, st):
+    """Whether the file still holds the bytes the manifest recorded (or, in a transition
+    manifest, the bytes of the set being replaced: ``also``)."""
+    accepted = [e for e in [entry, *entry.get("also", [])] if e["size"] == st.st_size]
+    if not stat.S_ISREG(st.st_mode) or not accepted:
+        return False
+    if any(e.get("mtime_ns") == st.st_mtime_ns for e in accepted):
+        return True                         # not written since: skip re-reading a large file
+    digest = file_sha256(os.path.join(folder, path))
+    return any(e["sha256"] == digest for e in accepted)
+
+
+def folder_owners(folder, command, shown_as=None):
+    """Read the manifests of an output folder and check that gd-analyze wrote every file.
+
+    Parameters
+    ----------
+    folder : str or os.PathLike
+        The output folder (it may not exist: then it holds nothing).
+    command : str
+        The command about to write it.
+    shown_as : str, optional
+        The folder as the user named it, for the message.
+
+    Returns
+    -------
+    FolderOwners
+
+    Raises
+    ------
+    InputError
+        ``"<folder> holds files gd-analyze did not write: <paths>; use an empty or new
+        folder"`` if a file is listed by no manifest, or a listed file was changed since.
+    """
+    folder = Path(folder)
+    owners = FolderOwners()
+    if not folder.is_dir():
+        return owners
+    foreign, listed, more = [], {}, False
+    try:
+        for name in sorted(n for n in os.listdir(folder) if n.startswith(MANIFEST_PREFIX)):
+            read = _read_manifest(folder, name)
+            if read is None:
+                foreign.append(name)
+                continue
+            owners.manifests.append(name)
+            for path, entry in read[1].items():
+                listed.setdefault(path, (read[0], entry))
+        for path, st in walk_files(folder, owners.empty_dirs):
+            cmd, entry = listed.get(path, (None, None))
+            if cmd is not None and cmd != command:
+                owners.others[path] = cmd
+            elif cmd is not None and _unchanged(folder, path, entry, st):
+                owners.own[path] = entry
+            else:
+                foreign.append(path)
+                if len(foreign) > SHOWN:        # a wrong -o (a home folder): stop looking
+                    more = True
+                    break
+    except OSError as exc:
+        raise InputError(f"cannot read the output folder: {exc.strerror or exc}",
+                         shown_as or folder) from None
+    if foreign:
+        names = ", ".join(sorted(foreign)[:SHOWN]) + (" and more" if more else "")
+        raise InputError(f"{shown_as or folder} holds files gd-analyze did not write: "
+                         f"{names}; use an empty or new folder")
+    return owners
+
+
+def write_manifest(folder, command, version):
+    """Record every file under ``folder`` (a run's new set) in the command's manifest there.
+
+    Parameters
+    ----------
+    folder : str or os.PathLike
+        The staging folder holding only this run's files.
+    command : str
+        The command that wrote them.
+    version : str
+        gd-analyze's version.
+
+    Returns
+    -------
+    list of str
+        The relative paths recorded.
+
+    Raises
+    ------
+    OSError
+        If a file cannot be read or the manifest cannot be written (it is created new, never
+        through a symbolic link).
+    """
+    entries = {}
+    for path, st in walk_files(folder):
+        if not stat.S_ISREG(st.st_mode):
+            continue                            # a run writes regular files only
+        entries[path] = {"sha256": file_sha256(os.path.join(folder, path)),
+                         "size": st.st_size, "mtime_ns": st.st_mtime_ns}
+    _write_new(os.path.join(folder, manifest_name(command)),
+               {"tool": "gd-analyze", "format": 1, "version": str(version),
+                "command": command, "files": entries})
+    return list(entries)
+
+
+def _write_new(path, data):
+    """Write JSON to a file created new, never through a symbolic link."""
+    fd = os.open(path, os.O_WRONLY | os.O_CREAT | os.O_EXCL | os.O_NOFOLLOW, 0o666)
+    with os.fdopen(fd, "w", encoding="utf-8") as fh:
+        fh.write(json.dumps(data, indent=1))
+
+
+def write_transition(folder, command, old, name):
+    """A manifest that accepts the old set and the new one, put in place while the sets are
+    exchanged entry by entry (a mount point): after a SIGKILL in between, the next run still
+    knows every file as the command's own and replaces the lot.
+
+    Parameters
+    ----------
+    folder : str or os.PathLike
+        The staging folder, holding the command's new manifest.
+    command : str
+        The command.
+    old : dict of str to dict
+        The entries of the files the run replaces (:attr:`FolderOwners.own`).
+    name : str
+        The file to write in ``folder``.
+
+    Raises
+    ------
+    OSError
+        If the new manifest cannot be read or the file cannot be written.
+    """
+    with open(os.path.join(folder, manifest_name(command)), encoding="utf-8") as fh:
+        data = json.load(fh)
+    files = data["files"]
+    for path, entry in old.items():
+        base = {k: entry[k] for k in ("sha256", "size", "mtime_ns") if k in entry}
+        if path not in files:
+            files[path] = base
+        elif files[path]["sha256"] != base["sha256"]:
+            files[path] = {**files[path], "also": [base]}
+    _write_new(os.path.join(folder, name), data)

@@ -1,0 +1,165 @@
+"""Issue 16 items 2, 7, 8 and 10 at the command line: the output folder of the real commands.
+
+A run never deletes what it did not write; the main job, ``control`` and ``sweep`` share a folder
+and each replaces only the files its own manifest lists; the manifests' hashes are checked with
+hashlib against the files themselves.
+"""
+
+import errno
+import hashlib
+import json
+import os
+import shutil
+from pathlib import Path
+
+import pytest
+
+from gd_analyze import __version__
+from gd_analyze.cli import main
+from gd_analyze.io.manifest import manifest_name
+
+
+def _run(args, capsys):
+    code = main([str(a) for a in args])
+    out, err = capsys.readouterr()
+    return code, out, err
+
+
+def _tree(folder):
+    return {p.relative_to(folder).as_posix(): p.read_bytes()
+            for p in sorted(Path(folder).rglob("*")) if p.is_file() or p.is_symlink()}
+
+
+def _manifest(folder, command):
+    return json.loads((Path(folder) / manifest_name(command)).read_text())
+
+
+def _check_manifest(folder, command):
+    """The manifest lists files whose SHA-256 (hashlib) and size match; returns their paths."""
+    m = _manifest(folder, command)
+    assert m["command"] == command and m["version"] == __version__ and m["tool"] == "gd-analyze"
+    for path, entry in m["files"].items():
+        data = (Path(folder) / path).read_bytes()
+        assert entry["sha256"] == hashlib.sha256(data).hexdigest(), path
+        assert entry["size"] == len(data), path
+    return set(m["files"])
+
+
+@pytest.fixture(scope="module")
+def main_job(tmp_path_factory):
+    """One main job's folder (with its report), run once, copied by each test."""
+    base = tmp_path_factory.mktemp("main")
+    traj = base / "p.csv"
+    assert main(["plan", "two-link", "-o", str(traj), "--start=-60,-30", "--goal=60,30"]) == 0
+    assert main(["two-link", str(traj), "-o", str(base / "out"), "-q"]) == 0
+    return base
+
+
+@pytest.fixture
+def job(main_job, tmp_path, monkeypatch):
+    monkeypatch.chdir(tmp_path)
+    shutil.copy2(main_job / "p.csv", tmp_path / "p.csv")
+    shutil.copytree(main_job / "out", tmp_path / "out")        # copy2: same bytes and times
+    return tmp_path
+
+
+def test_the_main_jobs_manifest_lists_exactly_its_files(job):
+    listed = _check_manifest(job / "out", "analyze")
+    files = {k for k in _tree(job / "out") if not k.startswith(".gd-analyze-manifest-")}
+    assert listed == files
+    assert {"results.h5", "report.html", "simplified_model.json"} <= listed
+    assert any(p.startswith("figures/") for p in listed)
+
+
+@pytest.mark.parametrize("how", ["-o DIR", "--no-report", "-o ."])
+def test_case2_a_users_files_are_refused_and_kept(job, capsys, monkeypatch, how):
+    user = job / "thesis"
+    (user / "figures").mkdir(parents=True)
+    (user / "figures" / "thesis_fig1.png").write_bytes(b"\x89PNG the user's figure")
+    (user / "report.html").write_text("<p>the user's own report</p>")
+    before = _tree(user)
+    args = ["two-link", job / "p.csv", "-o", user]
+    shown = str(user)
+    if how == "--no-report":
+        args.append("--no-report")
+    if how == "-o .":
+        monkeypatch.chdir(user)
+        args[-1], shown = ".", "."
+    code, _, err = _run(args, capsys)
+    assert code == 2, err
+    assert err.strip() == (f"gd-analyze: error: {shown} holds files gd-analyze did not write: "
+                           "figures/thesis_fig1.png, report.html; use an empty or new folder")
+    assert _tree(user) == before
+    assert sorted(os.listdir(job)) == ["out", "p.csv", "thesis"]
+
+
+def test_case2_control_into_a_main_jobs_folder_keeps_the_main_jobs_files(job, capsys):
+    out = job / "out"
+    main_files = {k: v for k, v in _tree(out).items()}
+    code, _, err = _run(["control", out / "simplified_model.json", job / "p.csv", "-o", out,
+                         "-q"], capsys)
+    assert code == 0, err
+    after = _tree(out)
+    assert {k: after[k] for k in main_files} == main_files     # not one byte changed
+    control = _check_manifest(out, "control")
+    assert {"control.h5", "control_report.html"} <= control
+    assert any(p.startswith("figures/") for p in control)
+    assert set(after) == set(main_files) | control | {manifest_name("control")}
+    # the main job again, without its report: its own report and figures go, control's stay
+    code, _, err = _run(["two-link", job / "p.csv", "-o", out, "-q", "--no-report"], capsys)
+    assert code == 0, err
+    final = _tree(out)
+    assert {k: final[k] for k in control} == {k: after[k] for k in control}
+    ours = _check_manifest(out, "analyze")
+    assert "report.html" not in final and not any(
+        p.startswith("figures/fig_3") for p in final)
+    assert set(final) == ours | control | {manifest_name("analyze"), manifest_name("control")}
+
+
+def test_case2_sweep_into_a_main_jobs_folder_keeps_the_main_jobs_files(job, capsys):
+    out = job / "out"
+    main_files = _tree(out)
+    code, _, err = _run(["sweep", "two-link", "--random", "2", "--workers", "1", "--no-report",
+                         "-o", out, "-q"], capsys)
+    assert code == 0, err
+    after = _tree(out)
+    assert {k: after[k] for k in main_files} == main_files
+    sweep = _check_manifest(out, "sweep")
+    assert {"sweep.h5", "merged_model.json"} <= sweep
+    assert set(after) == set(main_files) | sweep | {manifest_name("sweep")}
+
+
+def test_case7_an_alias_of_a_folder_being_written_is_refused(job, capsys):
+    from gd_analyze.io.staging import staged_output
+
+    (job / "alias").symlink_to(job / "out")
+    before = _tree(job / "out")
+    with staged_output(job / "out"):
+        code, _, err = _run(["two-link", job / "p.csv", "-o", job / "alias", "-q"], capsys)
+        assert _tree(job / "out") == before
+    assert code == 2 and "another run is writing here" in err and err.count("\n") == 1, err
+
+
+@pytest.mark.parametrize("error, expect", [
+    (FileNotFoundError(errno.ENOENT, "No such file or directory", "/nonexistent/font.ttf"),
+     "/nonexistent/font.ttf"),
+    (OSError(errno.ENOSPC, "No space left on device", "STAGE/results.h5"),
+     "cannot write the output folder: no space left on the device")])
+def test_case10_only_write_errors_are_write_errors(job, capsys, monkeypatch, error, expect):
+    """A read error inside the output stage surfaces as what it is (issue 16 item 10)."""
+    import gd_analyze.workflows.analyze as analyze
+
+    def fail(robot, trajectory, path, **kw):
+        if error.filename.startswith("STAGE"):
+            error.filename = str(Path(path).parent / "results.h5")
+        raise error
+
+    monkeypatch.setattr(analyze, "analyze_to_file", fail)
+    before = _tree(job / "out")
+    code, _, err = _run(["two-link", job / "p.csv", "-o", job / "out", "-q"], capsys)
+    assert expect in err and err.count("\n") == 1, err
+    if "font" in expect:
+        assert "cannot write the output folder" not in err and code != 0
+    else:
+        assert code == 2
+    assert _tree(job / "out") == before
