@@ -63,12 +63,17 @@ def test_pruned_error_within_bound_within_eps(name, eps):
 
 
 @pytest.mark.parametrize("strategy", ["peak", "cost"])
-def test_every_dropped_pair_counts_in_the_bound(strategy):
+def test_every_dropped_unit_counts_in_the_bound(strategy):
     arm, base, (q, qd, qdd), _, _ = case("puma560")
     pr = prune(arm, base, q, qd, qdd, 0.05, strategy=strategy)
     assert pr.dropped.any()
-    np.testing.assert_allclose(pr.bound, (pr.peak * pr.dropped[:, :, None]).sum(axis=(0, 1)),
-                               rtol=1e-12, atol=0)
+    single = pr.dropped & ~pr.whole[:, None]
+    want = (pr.peak * single[:, :, None]).sum(axis=(0, 1)) + pr.whole_peak[pr.whole].sum(0)
+    np.testing.assert_allclose(pr.bound, want, rtol=1e-12, atol=0)
+    assert np.all(pr.dropped[pr.whole] | (pr.peak[pr.whole].max(axis=2) == 0))
+    assert np.all(pr.whole_peak <= pr.peak.sum(axis=1) * (1 + 1e-12))
+    if strategy == "peak":
+        assert not pr.whole.any()
 
 
 def test_pruning_lowers_the_count_and_eps_zero_is_exact():

@@ -74,8 +74,13 @@ class Pruning:
         parameter m is left out.
     peak : ndarray, shape (b, 3, n)
         Peak |contribution| of each pair to each joint torque on the trajectory [N m or N].
+    whole_peak : ndarray, shape (b, n)
+        Peak |contribution| of each base parameter (all parts together) [N m or N].
+    whole : ndarray of bool, shape (b,)
+        The parameters dropped as a unit (all their parts), counted by ``whole_peak``.
     bound : ndarray, shape (n,)
-        Per joint, the sum of the dropped pairs' peaks: the pruned model's error on the
+        Per joint, the sum of the dropped units' peaks (``whole_peak`` of the parameters in
+        ``whole``, ``peak`` of the other dropped pairs): the pruned model's error on the
         trajectory is at most this [N m or N], and bound <= eps * scale.
     scale : ndarray, shape (n,)
         max(peak |tau_i| on the trajectory, torque_floor) [N m or N].
@@ -84,6 +89,8 @@ class Pruning:
     eps: float
     dropped: np.ndarray
     peak: np.ndarray
+    whole_peak: np.ndarray
+    whole: np.ndarray
     bound: np.ndarray
     scale: np.ndarray
 
@@ -111,8 +118,10 @@ def prune(robot, base, q, qd, qdd, eps, torque_floor=0.0, strategy="cost"):
     strategy : {"cost", "peak"}, optional
         ``"peak"``: pairs in increasing order of their largest peak relative to the joint
         scales, max_i peak_i / scale_i, each dropped when the budget allows. ``"cost"``
-        (default): first whole parameters (all their parts) in increasing order of their
-        summed relative peaks, then single pairs in increasing order of peak, each kept
+        (default): first whole parameters (all their parts, bounded by the peak of their
+        whole contribution) in increasing order of their relative peak or in decreasing
+        order of operations saved per budget share (the cheaper result of the two), then
+        single pairs in increasing order of peak, each kept
         dropped only when it lowers the operation count of the program (single parts need
         split kinematic quantities, which may cost more than they save).
 
@@ -128,8 +137,9 @@ def prune(robot, base, q, qd, qdd, eps, torque_floor=0.0, strategy="cost"):
 
     Notes
     -----
-    A pair is dropped only when every joint's sum of dropped peaks stays within
-    eps * scale_i; by the triangle inequality the pruned torque then differs from the exact
+    A unit (a pair, or a whole parameter with the peak of its whole contribution) is dropped
+    only when every joint's sum of dropped peaks stays within eps * scale_i; by the triangle
+    inequality the pruned torque then differs from the exact
     one on the trajectory by at most that sum. Pairs whose peak is 0 on the trajectory are
     dropped with their parameter when all its other parts are, and kept otherwise.
     """
@@ -143,11 +153,13 @@ def prune(robot, base, q, qd, qdd, eps, torque_floor=0.0, strategy="cost"):
     tau = C.sum(axis=(0, 3))
     scale = np.maximum(np.abs(tau).max(axis=0), torque_floor)
     peak = np.abs(C).max(axis=1).transpose(2, 0, 1)         # (b, 3, n)
+    whole_peak = np.abs(C.sum(axis=0)).max(axis=0).T         # (b, n)
     budget = eps * scale
     safe = np.where(scale > 0, scale, 1.0)
     rel = np.where(scale > 0, peak / safe, np.where(peak > 0, np.inf, 0.0)).max(axis=2)
     live = rel > 0                                            # (b, 3): contributes
     dropped = np.zeros(peak.shape[:2], bool)
+    whole = np.zeros(peak.shape[0], bool)
     bound = np.zeros(robot.n)
 
     def fits(extra):
@@ -160,19 +172,18 @@ def prune(robot, base, q, qd, qdd, eps, torque_floor=0.0, strategy="cost"):
                 dropped[m, p] = True
                 bound = bound + peak[m, p]
     else:
-        dropped, bound = _by_cost(robot, base, peak, live, budget, scale)
+        dropped, whole, bound = _by_cost(robot, base, peak, whole_peak, live, budget)
     return Pruning(eps=float(eps), dropped=_normalize(dropped, live), peak=peak,
-                   bound=bound, scale=scale)
+                   whole_peak=whole_peak, whole=whole, bound=bound, scale=scale)
 
 
-def _by_cost(robot, base, peak, live, budget, scale):
+def _by_cost(robot, base, peak, whole_peak, live, budget):
     """The "cost" strategy: whole parameters, then single pairs (see :func:`prune`)."""
     b = peak.shape[0]
-    safe = np.where(scale > 0, scale, 1.0)
-    rel = np.where(scale > 0, peak / safe[None, None, :], np.where(peak > 0, np.inf, 0.0))
-    whole = (peak * live[:, :, None]).sum(axis=1)                       # (b, n)
-    use = np.where(budget > 0, whole / np.where(budget > 0, budget, 1.0),
-                   np.where(whole > 0, np.inf, 0.0)).max(axis=1)       # budget share
+    safe = np.where(budget > 0, budget, 1.0)
+    rel = np.where(budget > 0, peak / safe, np.where(peak > 0, np.inf, 0.0))
+    use = np.where(budget > 0, whole_peak / safe,
+                   np.where(whole_peak > 0, np.inf, 0.0)).max(axis=1)    # budget share
     none = np.zeros(peak.shape[:2], bool)
     full = _count(robot, base, none)
     saving = np.zeros(b)
@@ -185,10 +196,11 @@ def _by_cost(robot, base, peak, live, budget, scale):
     for order in (np.argsort(use, kind="stable"),
                   np.argsort(-saving / np.maximum(use, 1e-300), kind="stable")):
         dropped, bound = none.copy(), np.zeros(peak.shape[2])
+        whole = np.zeros(b, bool)
         for m in order:
-            if live[m].any() and np.all(bound + whole[m] <= budget):
-                dropped[m] = live[m]
-                bound = bound + whole[m]
+            if live[m].any() and np.all(bound + whole_peak[m] <= budget):
+                dropped[m], whole[m] = live[m], True
+                bound = bound + whole_peak[m]
         cost = _count(robot, base, _normalize(dropped, live))
         for flat in np.argsort(rel.max(axis=2), axis=None, kind="stable"):
             m, p = np.unravel_index(flat, rel.shape[:2])
@@ -201,8 +213,8 @@ def _by_cost(robot, base, peak, live, budget, scale):
             else:
                 dropped[m, p] = False
         if best is None or cost < best[0]:
-            best = (cost, dropped, bound)
-    return best[1], best[2]
+            best = (cost, dropped, whole, bound)
+    return best[1:]
 
 
 def _normalize(dropped, live):

@@ -97,9 +97,9 @@ ZERO3 = (se.Integer(0),) * 3
 class _Recursion:
     """Memoized symbolic quantities of the recursion for one arm."""
 
-    def __init__(self, robot, lock_last=False, direct=()):
+    def __init__(self, robot, lock_last=False, direct=None):
         self.robot = robot
-        self.direct = frozenset(direct)
+        self.direct = dict(direct or {})
         self.n = n = robot.n
         self.b = _Builder()
         self.q = [se.Symbol(f"q{i}") for i in range(n)]
@@ -319,11 +319,22 @@ class _Recursion:
                 N = [MS[1] * vd[2] - MS[2] * vd[1], MS[2] * vd[0] - MS[0] * vd[2],
                      MS[0] * vd[1] - MS[1] * vd[0]]
         J = ((XX, XY, XZ), (XY, YY, YZ), (XZ, YZ, ZZ))
-        if any(v != 0 for v in (XX, XY, XZ, YY, YZ, ZZ)):
+        if any(v != 0 for v in (XX, XY, XZ, YY, YZ, ZZ)) and self.direct.get(j) == "second":
+            # N = vee(U K - (U K)^T), K = tr(J)/2 1 - J the second moment about the origin
+            Jf = np.array([[float(v) for v in row] for row in J])
+            K = np.trace(Jf) / 2 * np.eye(3) - Jf
+            K = [[_const(v, np.abs(Jf).max()) for v in row] for row in K]
+            U = self.U(j, parts)
+
+            def UK(a, b):
+                return U[a][0] * K[0][b] + U[a][1] * K[1][b] + U[a][2] * K[2][b]
+            N = [N[0] + UK(2, 1) - UK(1, 2), N[1] + UK(0, 2) - UK(2, 0),
+                 N[2] + UK(1, 0) - UK(0, 1)]
+        elif any(v != 0 for v in (XX, XY, XZ, YY, YZ, ZZ)):
             wd = self.wd(j, parts)
             for a in range(3):
                 N[a] = N[a] + J[a][0] * wd[0] + J[a][1] * wd[1] + J[a][2] * wd[2]
-            if "v" in parts and j in self.direct:    # w x (J w) as it stands
+            if "v" in parts and self.direct.get(j) == "direct":    # w x (J w) as it stands
                 w = self.w(j)
                 Jw = self.vec([J[a][0] * w[0] + J[a][1] * w[1] + J[a][2] * w[2]
                                for a in range(3)])
@@ -493,16 +504,23 @@ def _total(program):
     return c["multiplications"] + c["additions"]
 
 
+#: Forms of a link's inertial moment J wd + w x (J w): "products" (w x (J w) from the six
+#: products w_a w_b shared with U), "direct" (w x (J w) as it stands), "second" (the whole
+#: moment as vee(U K - (U K)^T) from U and the second moment K = tr(J)/2 1 - J).
+FORMS = ("products", "direct", "second")
+
+
 def _choose(robot, groups, lock, cse, search=True):
-    """The cheapest program over the links' form of w x (J w), by a greedy pass from the
-    product form: each link switched to the direct form where that lowers the count."""
-    def build(direct):
-        rec = _Recursion(robot, lock_last=lock, direct=direct)
+    """The cheapest program over the links' forms of :data:`FORMS`, by a greedy pass from
+    the product form: each link switched to another form where that lowers the count."""
+    def build(forms):
+        rec = _Recursion(robot, lock_last=lock, direct=forms)
         return _finish(rec, _torques(rec, groups), cse)
-    direct = set()
-    best = build(frozenset(direct))
+    forms = {}
+    best = build(forms)
     for j in range(robot.n if search else 0):
-        trial = build(frozenset(direct | {j}))
-        if _total(trial) < _total(best):
-            best, direct = trial, direct | {j}
+        for form in FORMS[1:]:
+            trial = build({**forms, j: form})
+            if _total(trial) < _total(best):
+                best, forms = trial, {**forms, j: form}
     return best
