@@ -31,7 +31,7 @@ import symengine as se
 import numpy as np
 
 from ..codegen import Program, _cse
-from ..factoring import prune_dead
+from ..factoring import factor_sum, prune_dead
 from .base_parameters import base_parameters
 
 __all__ = ["recursive_program", "exact_program", "parts_program", "PARTS"]
@@ -383,11 +383,65 @@ def _torques(rec, groups):
 
 
 def _finish(rec, tau, cse):
-    assignments = prune_dead(rec.b.assignments, tau)
-    outputs = list(tau)
+    assignments, outputs = _inline_sums(prune_dead(rec.b.assignments, tau), list(tau))
+    assignments = [(sym, _factored(e)) for sym, e in assignments]
     if cse:
         assignments, outputs = _cse(assignments, outputs)
+    assignments = [(sym, _factored(e)) for sym, e in assignments]
+    outputs = [_factored(e) for e in outputs]
     return Program(n=rec.n, assignments=assignments, outputs=outputs)
+
+
+def _inline_sums(assignments, outputs):
+    """Sums used once, as a term of another sum, merged into it (one flat sum to factor)."""
+    uses = {}
+
+    def count(e):
+        if e.is_Symbol:
+            uses[e] = uses.get(e, 0) + 1
+        for a in e.args:
+            count(a)
+    for e in [e for _, e in assignments] + list(outputs):
+        count(e)
+    defs = dict(assignments)
+    merged = set()
+
+    def expand(e):
+        out = []
+        for t in _terms(e):
+            coef, sym = (se.Integer(1), t)
+            if t.is_Mul and len(t.args) == 2 and _is_num(t.args[0]) and t.args[1].is_Symbol:
+                coef, sym = t.args
+            if sym.is_Symbol and uses.get(sym) == 1 and sym in defs and defs[sym].is_Add:
+                merged.add(sym)
+                out += [coef * u for u in expand(defs[sym])]
+            else:
+                out.append(t)
+        return out
+
+    def flat(e):
+        return se.Add(*expand(e)) if e.is_Add else e
+    new = [(sym, flat(e)) for sym, e in assignments]
+    outs = [flat(e) for e in outputs]
+    return [(sym, e) for sym, e in new if sym not in merged], outs
+
+
+def _factored(e):
+    """A sum with its common factors (symbols, equal coefficients) taken out."""
+    return factor_sum(_terms(e)) if e.is_Add else e
+
+
+def _terms(e):
+    """The terms of a sum, nested sums (also negated ones, as cse leaves them) flattened."""
+    if e.is_Add:
+        return [t for a in e.args for t in _terms(a)]
+    if e.is_Mul and len(e.args) == 2:
+        a, b = e.args
+        if _is_num(a) and b.is_Add:
+            return [a * t for t in _terms(b)]
+        if _is_num(b) and a.is_Add:
+            return [b * t for t in _terms(a)]
+    return [e]
 
 
 def _last_joint_free(robot, values):
