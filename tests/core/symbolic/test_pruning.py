@@ -113,3 +113,21 @@ def test_parts_program_computes_exactly_the_kept_pairs(name):
         want = (C * ~dropped.T[:, None, None, :]).sum(axis=(0, 3))
         got = python_function(prog)(q, qd, qdd)
         assert (np.abs(got - want).max(axis=0) <= 1e-10 * scale).all()
+
+
+def test_pruned_counts_at_one_percent_within_the_targets():
+    """Issue 17: on the shipped trajectories at EPS = 0.01 the pruned PUMA counts <= 305
+    operations; the PUMA and the Panda prune below their exact counts and far below the
+    chapter's Newton-Euler (Table 3.3, counted by formulations.opcount)."""
+    from gd_analyze.formulations.opcount import count_operations
+
+    for name, target in (("puma560", 305), ("panda", None)):
+        arm = robot(name)
+        traj = read_trajectory(DATA / f"{name}_trajectory.csv", arm.n)
+        base = base_parameters(arm)
+        pr = prune(arm, base, traj.q, traj.qd, traj.qdd, 0.01)
+        pruned = _total(pruned_program(arm, base, pr.dropped).cost())
+        exact = _total(recursive_program(arm).cost())
+        ne = count_operations(arm, "newton-euler")
+        assert pruned < exact < ne.multiplications + ne.additions
+        assert target is None or pruned <= target

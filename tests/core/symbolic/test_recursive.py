@@ -129,3 +129,19 @@ def test_costs_within_the_targets():
     assert cost["multiplications"] + cost["additions"] <= 648
     src = emit_c(program("puma560")[1], {})
     assert not re.search(r"(sin|cos)\(q\[(0|5)\]\)", src)
+
+
+def test_standard_parameters_give_the_same_torques_with_more_operations():
+    """tau is linear in the parameters: the standard parameters give the torques of the
+    base parameters, and folding the base parameters' zeros saves operations."""
+    from gd_analyze.core.symbolic.base_parameters import standard_parameters
+
+    arm, prog = program("stanford")
+    full = recursive_program(arm, standard_parameters(arm))
+    q, qd, qdd = states(arm, 100, 12)
+    ref = rnea(arm, q, qd, qdd)
+    assert _rel_error(python_function(full)(q, qd, qdd), ref) < TOL
+    total = [p.cost()["multiplications"] + p.cost()["additions"] for p in (prog, full)]
+    assert total[0] < total[1]
+    with pytest.raises(ValueError, match="shape"):
+        recursive_program(arm, standard_parameters(arm)[:-1])

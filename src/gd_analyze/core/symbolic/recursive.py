@@ -114,6 +114,11 @@ def recursive_program(robot, values=None, cse=True):
     gd_analyze.core.codegen.Program
         tau [N m or N] from the symbols ``q0, qd0, qdd0, ...``; ``Program.cost()`` counts it.
 
+    Raises
+    ------
+    ValueError
+        If values is not a finite array of shape (n, 10).
+
     Notes
     -----
     Fu, Gonzalez & Lee (1987), Algorithm 3.1 and Table 3.3, with gravity as the base
@@ -132,6 +137,10 @@ def recursive_program(robot, values=None, cse=True):
     """
     if values is None:
         values = base_parameters(robot).values
+    values = np.asarray(values, float)
+    if values.shape != (robot.n, 10) or not np.isfinite(values).all():
+        raise ValueError(f"values must be finite, of shape ({robot.n}, 10), got "
+                         f"{values.shape}")
     consts = _link_constants(values)
     return _choose(robot, [[(ALL, consts[j])] for j in range(robot.n)],
                    _last_joint_free(robot, values), cse)
@@ -154,8 +163,8 @@ def parts_program(robot, values, cse=True, search=True):
     cse : bool, optional
         Run symengine's common-subexpression elimination on the result (default True).
     search : bool, optional
-        Choose each link's form of w x (J w) by the count (default True); False: the
-        product form everywhere (quicker).
+        Choose each link's form of the inertial moment (:data:`.newton_euler.FORMS`) by
+        the count (default True); False: the product form everywhere (quicker).
 
     Returns
     -------
