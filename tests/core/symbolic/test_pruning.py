@@ -47,11 +47,16 @@ def test_parts_add_up_to_rnea_and_each_part_is_its_own_rnea():
     assert np.abs(C[1].sum(axis=-1) - velocity).max() <= 1e-10 * scale
 
 
-@pytest.mark.parametrize("eps", [0.001, 0.01, 0.05])
-@pytest.mark.parametrize("name", ["puma560", "stanford", "ur5", "mixed-chain"])
-def test_pruned_error_within_bound_within_eps(name, eps):
+CASES = [(name, eps, "peaks") for name in ("puma560", "stanford", "ur5", "mixed-chain")
+         for eps in (0.001, 0.01, 0.05)]
+CASES += [(name, 0.05, "error") for name in ("puma560", "ur5", "mixed-chain")]
+
+
+@pytest.mark.parametrize("name, eps, criterion", CASES)
+def test_pruned_error_within_bound_within_eps(name, eps, criterion):
     arm, base, (q, qd, qdd), tau, exact = case(name)
-    pr = prune(arm, base, q, qd, qdd, eps)
+    pr = prune(arm, base, q, qd, qdd, eps, criterion=criterion)
+    assert pr.criterion == criterion
     scale = np.abs(tau).max(axis=0)
     np.testing.assert_allclose(pr.scale, scale, rtol=1e-9)
     assert np.all(pr.bound <= eps * pr.scale)
@@ -91,6 +96,22 @@ def test_bad_eps_is_refused(bad):
     arm, base, (q, qd, qdd), _, _ = case("stanford")
     with pytest.raises(ValueError, match="eps"):
         prune(arm, base, q, qd, qdd, bad)
+    with pytest.raises(ValueError, match="criterion"):
+        prune(arm, base, q, qd, qdd, 0.01, criterion="max")
+
+
+def test_error_criterion_bound_is_the_error_and_no_looser():
+    """criterion "error": the bound is the dropped set's own peak error on the trajectory
+    (<= the sum of its peaks), and it allows at least the drops of "peaks" at no more cost."""
+    arm, base, (q, qd, qdd), tau, _ = case("puma560")
+    by_error = prune(arm, base, q, qd, qdd, 0.01, criterion="error")
+    C = part_contributions(arm, base, q, qd, qdd)
+    lost = (C * by_error.dropped.T[:, None, None, :]).sum(axis=(0, 3))
+    np.testing.assert_allclose(by_error.bound, np.abs(lost).max(axis=0), rtol=1e-12,
+                               atol=1e-15 * np.abs(tau).max())
+    by_peaks = prune(arm, base, q, qd, qdd, 0.01)
+    costs = [_total(pruned_program(arm, base, p.dropped).cost()) for p in (by_error, by_peaks)]
+    assert costs[0] <= costs[1]
 
 
 @pytest.mark.parametrize("name", ["stanford", "panda", "mixed-chain"])
