@@ -1,4 +1,4 @@
-"""Makes the shared helpers of this folder (symbolic_robots.py) importable by its tests."""
+"""Makes the shared helpers of this folder (symbolic_helpers.py) importable by its tests."""
 
 import sys
 from pathlib import Path

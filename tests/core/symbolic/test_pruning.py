@@ -7,12 +7,12 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from gd_analyze.core.codegen import python_function
+from gd_analyze.core.codegen import emit_c, python_function
 from gd_analyze.core.symbolic.base_parameters import base_parameters
 from gd_analyze.core.symbolic.pruning import part_contributions, prune, pruned_program
 from gd_analyze.core.symbolic.recursive import recursive_program
 from gd_analyze.io.trajectory import read_trajectory
-from symbolic_robots import rnea, robot, states
+from symbolic_helpers import count_c, rnea, robot, states
 
 DATA = Path(__file__).resolve().parents[3] / "data"
 TRAJECTORIES = {"puma560": "puma560_trajectory.csv", "stanford": "stanford_trajectory.csv",
@@ -88,7 +88,9 @@ def test_pruning_lowers_the_count_and_eps_zero_is_exact():
     prog = pruned_program(arm, base, pr.dropped)
     assert _total(prog.cost()) == _total(exact)
     pr = prune(arm, base, q, qd, qdd, 0.05)
-    assert _total(pruned_program(arm, base, pr.dropped).cost()) < _total(exact)
+    pruned = pruned_program(arm, base, pr.dropped)
+    assert _total(pruned.cost()) < _total(exact)
+    assert count_c(emit_c(pruned, {"robot": "test"})) == pruned.cost()
 
 
 @pytest.mark.parametrize("bad", [-0.1, float("nan"), float("inf")])

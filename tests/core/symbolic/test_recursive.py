@@ -12,7 +12,7 @@ import pytest
 
 from gd_analyze.core.codegen import C_FUNCTION, emit_c, python_function
 from gd_analyze.core.symbolic.recursive import recursive_program
-from symbolic_robots import ROBOTS, rnea, robot, states
+from symbolic_helpers import ROBOTS, count_c, rnea, robot, states
 
 TOL = 1e-10
 
@@ -69,42 +69,6 @@ def test_compiled_c_equals_python_and_rnea(tmp_path, name):
     tau_py = python_function(prog)(q, qd, qdd)
     assert _rel_error(tau_c, tau_py) < 1e-13
     assert _rel_error(tau_c, rnea(arm, q, qd, qdd)) < TOL
-
-
-_TOKEN = re.compile(r"\s*(?:(\d+\.?\d*(?:[eE][-+]?\d+)?|\.\d+(?:[eE][-+]?\d+)?)|([A-Za-z_]\w*)"
-                    r"|(.))")
-
-
-def count_c(src):
-    """Operations of the emitted C by its tokens: binary * + - (a - after an operand is a
-    subtraction, else a free negation), calls of sin and cos; no division allowed."""
-    tally = {"multiplications": 0, "additions": 0, "sin": 0, "cos": 0}
-    body = [ln for ln in src.splitlines()
-            if ln.strip().startswith(("const double", "tau["))]
-    for line in body:
-        rhs = line.split("=", 1)[1].rstrip().rstrip(";")
-        prev = None
-        for num, name, op in _TOKEN.findall(rhs):
-            if num:
-                kind = "operand"
-            elif name:
-                kind = "name"
-                if name in ("sin", "cos"):
-                    tally[name] += 1
-            else:
-                op = op.strip()
-                if not op:
-                    continue
-                assert op != "/", line
-                binary = prev in ("operand", "name", ")", "]")
-                if op == "*":
-                    assert binary, line
-                    tally["multiplications"] += 1
-                elif op in "+-" and binary:
-                    tally["additions"] += 1
-                kind = op
-            prev = kind
-    return tally
 
 
 def test_c_counter_counts_what_it_should():
