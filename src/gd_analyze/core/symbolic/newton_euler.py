@@ -52,13 +52,13 @@ def _is_num(e):
 
 
 def _atomic(e):
-    """Free to use as it is: a number, a symbol or its negation."""
+    """Left as it is (no temporary): a number, a symbol or a number times a symbol (its
+    multiplication, when not by +-1, is counted where it is used, or merges with others)."""
     if _is_num(e) or e.is_Symbol:
         return True
     if e.is_Mul and len(e.args) == 2:
         a, b = e.args
-        return (_is_num(a) and float(a) == -1.0 and b.is_Symbol) or \
-            (_is_num(b) and float(b) == -1.0 and a.is_Symbol)
+        return (_is_num(a) and b.is_Symbol) or (_is_num(b) and a.is_Symbol)
     return False
 
 
