@@ -7,12 +7,12 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from gd_analyze.core.codegen import python_function
+from gd_analyze.core.codegen import emit_c, python_function
 from gd_analyze.core.symbolic.base_parameters import base_parameters
 from gd_analyze.core.symbolic.pruning import part_contributions, prune, pruned_program
 from gd_analyze.core.symbolic.recursive import recursive_program
 from gd_analyze.io.trajectory import read_trajectory
-from symbolic_robots import rnea, robot, states
+from symbolic_helpers import count_c, rnea, robot, states
 
 DATA = Path(__file__).resolve().parents[3] / "data"
 TRAJECTORIES = {"puma560": "puma560_trajectory.csv", "stanford": "stanford_trajectory.csv",
@@ -47,11 +47,16 @@ def test_parts_add_up_to_rnea_and_each_part_is_its_own_rnea():
     assert np.abs(C[1].sum(axis=-1) - velocity).max() <= 1e-10 * scale
 
 
-@pytest.mark.parametrize("eps", [0.001, 0.01, 0.05])
-@pytest.mark.parametrize("name", ["puma560", "stanford", "ur5", "mixed-chain"])
-def test_pruned_error_within_bound_within_eps(name, eps):
+CASES = [(name, eps, "peaks") for name in ("puma560", "stanford", "ur5", "mixed-chain")
+         for eps in (0.001, 0.01, 0.05)]
+CASES += [(name, 0.05, "error") for name in ("puma560", "ur5", "mixed-chain")]
+
+
+@pytest.mark.parametrize("name, eps, criterion", CASES)
+def test_pruned_error_within_bound_within_eps(name, eps, criterion):
     arm, base, (q, qd, qdd), tau, exact = case(name)
-    pr = prune(arm, base, q, qd, qdd, eps)
+    pr = prune(arm, base, q, qd, qdd, eps, criterion=criterion)
+    assert pr.criterion == criterion
     scale = np.abs(tau).max(axis=0)
     np.testing.assert_allclose(pr.scale, scale, rtol=1e-9)
     assert np.all(pr.bound <= eps * pr.scale)
@@ -63,12 +68,17 @@ def test_pruned_error_within_bound_within_eps(name, eps):
 
 
 @pytest.mark.parametrize("strategy", ["peak", "cost"])
-def test_every_dropped_pair_counts_in_the_bound(strategy):
+def test_every_dropped_unit_counts_in_the_bound(strategy):
     arm, base, (q, qd, qdd), _, _ = case("puma560")
     pr = prune(arm, base, q, qd, qdd, 0.05, strategy=strategy)
     assert pr.dropped.any()
-    np.testing.assert_allclose(pr.bound, (pr.peak * pr.dropped[:, :, None]).sum(axis=(0, 1)),
-                               rtol=1e-12, atol=0)
+    single = pr.dropped & ~pr.whole[:, None]
+    want = (pr.peak * single[:, :, None]).sum(axis=(0, 1)) + pr.whole_peak[pr.whole].sum(0)
+    np.testing.assert_allclose(pr.bound, want, rtol=1e-12, atol=0)
+    assert np.all(pr.dropped[pr.whole] | (pr.peak[pr.whole].max(axis=2) == 0))
+    assert np.all(pr.whole_peak <= pr.peak.sum(axis=1) * (1 + 1e-12))
+    if strategy == "peak":
+        assert not pr.whole.any()
 
 
 def test_pruning_lowers_the_count_and_eps_zero_is_exact():
@@ -78,7 +88,9 @@ def test_pruning_lowers_the_count_and_eps_zero_is_exact():
     prog = pruned_program(arm, base, pr.dropped)
     assert _total(prog.cost()) == _total(exact)
     pr = prune(arm, base, q, qd, qdd, 0.05)
-    assert _total(pruned_program(arm, base, pr.dropped).cost()) < _total(exact)
+    pruned = pruned_program(arm, base, pr.dropped)
+    assert _total(pruned.cost()) < _total(exact)
+    assert count_c(emit_c(pruned, {"robot": "test"})) == pruned.cost()
 
 
 @pytest.mark.parametrize("bad", [-0.1, float("nan"), float("inf")])
@@ -86,6 +98,22 @@ def test_bad_eps_is_refused(bad):
     arm, base, (q, qd, qdd), _, _ = case("stanford")
     with pytest.raises(ValueError, match="eps"):
         prune(arm, base, q, qd, qdd, bad)
+    with pytest.raises(ValueError, match="criterion"):
+        prune(arm, base, q, qd, qdd, 0.01, criterion="max")
+
+
+def test_error_criterion_bound_is_the_error_and_no_looser():
+    """criterion "error": the bound is the dropped set's own peak error on the trajectory
+    (<= the sum of its peaks), and it allows at least the drops of "peaks" at no more cost."""
+    arm, base, (q, qd, qdd), tau, _ = case("puma560")
+    by_error = prune(arm, base, q, qd, qdd, 0.01, criterion="error")
+    C = part_contributions(arm, base, q, qd, qdd)
+    lost = (C * by_error.dropped.T[:, None, None, :]).sum(axis=(0, 3))
+    np.testing.assert_allclose(by_error.bound, np.abs(lost).max(axis=0), rtol=1e-12,
+                               atol=1e-15 * np.abs(tau).max())
+    by_peaks = prune(arm, base, q, qd, qdd, 0.01)
+    costs = [_total(pruned_program(arm, base, p.dropped).cost()) for p in (by_error, by_peaks)]
+    assert costs[0] <= costs[1]
 
 
 @pytest.mark.parametrize("name", ["stanford", "panda", "mixed-chain"])
@@ -108,3 +136,21 @@ def test_parts_program_computes_exactly_the_kept_pairs(name):
         want = (C * ~dropped.T[:, None, None, :]).sum(axis=(0, 3))
         got = python_function(prog)(q, qd, qdd)
         assert (np.abs(got - want).max(axis=0) <= 1e-10 * scale).all()
+
+
+def test_pruned_counts_at_one_percent_within_the_targets():
+    """Issue 17: on the shipped trajectories at EPS = 0.01 the pruned PUMA counts <= 305
+    operations; the PUMA and the Panda prune below their exact counts and far below the
+    chapter's Newton-Euler (Table 3.3, counted by formulations.opcount)."""
+    from gd_analyze.formulations.opcount import count_operations
+
+    for name, target in (("puma560", 305), ("panda", None)):
+        arm = robot(name)
+        traj = read_trajectory(DATA / f"{name}_trajectory.csv", arm.n)
+        base = base_parameters(arm)
+        pr = prune(arm, base, traj.q, traj.qd, traj.qdd, 0.01)
+        pruned = _total(pruned_program(arm, base, pr.dropped).cost())
+        exact = _total(recursive_program(arm).cost())
+        ne = count_operations(arm, "newton-euler")
+        assert pruned < exact < ne.multiplications + ne.additions
+        assert target is None or pruned <= target

@@ -12,7 +12,7 @@ import pytest
 
 from gd_analyze.core.codegen import C_FUNCTION, emit_c, python_function
 from gd_analyze.core.symbolic.recursive import recursive_program
-from symbolic_robots import ROBOTS, rnea, robot, states
+from symbolic_helpers import ROBOTS, count_c, rnea, robot, states
 
 TOL = 1e-10
 
@@ -71,42 +71,6 @@ def test_compiled_c_equals_python_and_rnea(tmp_path, name):
     assert _rel_error(tau_c, rnea(arm, q, qd, qdd)) < TOL
 
 
-_TOKEN = re.compile(r"\s*(?:(\d+\.?\d*(?:[eE][-+]?\d+)?|\.\d+(?:[eE][-+]?\d+)?)|([A-Za-z_]\w*)"
-                    r"|(.))")
-
-
-def count_c(src):
-    """Operations of the emitted C by its tokens: binary * + - (a - after an operand is a
-    subtraction, else a free negation), calls of sin and cos; no division allowed."""
-    tally = {"multiplications": 0, "additions": 0, "sin": 0, "cos": 0}
-    body = [ln for ln in src.splitlines()
-            if ln.strip().startswith(("const double", "tau["))]
-    for line in body:
-        rhs = line.split("=", 1)[1].rstrip().rstrip(";")
-        prev = None
-        for num, name, op in _TOKEN.findall(rhs):
-            if num:
-                kind = "operand"
-            elif name:
-                kind = "name"
-                if name in ("sin", "cos"):
-                    tally[name] += 1
-            else:
-                op = op.strip()
-                if not op:
-                    continue
-                assert op != "/", line
-                binary = prev in ("operand", "name", ")", "]")
-                if op == "*":
-                    assert binary, line
-                    tally["multiplications"] += 1
-                elif op in "+-" and binary:
-                    tally["additions"] += 1
-                kind = op
-            prev = kind
-    return tally
-
-
 def test_c_counter_counts_what_it_should():
     src = ("const double t0 = -2.5*x + (y*y) - q[1]*4e-05 - (-0.5)*z;\n"
            "tau[0] = -t0 + sin(q[2])*cos(q[0]);")
@@ -129,3 +93,19 @@ def test_costs_within_the_targets():
     assert cost["multiplications"] + cost["additions"] <= 648
     src = emit_c(program("puma560")[1], {})
     assert not re.search(r"(sin|cos)\(q\[(0|5)\]\)", src)
+
+
+def test_standard_parameters_give_the_same_torques_with_more_operations():
+    """tau is linear in the parameters: the standard parameters give the torques of the
+    base parameters, and folding the base parameters' zeros saves operations."""
+    from gd_analyze.core.symbolic.base_parameters import standard_parameters
+
+    arm, prog = program("stanford")
+    full = recursive_program(arm, standard_parameters(arm))
+    q, qd, qdd = states(arm, 100, 12)
+    ref = rnea(arm, q, qd, qdd)
+    assert _rel_error(python_function(full)(q, qd, qdd), ref) < TOL
+    total = [p.cost()["multiplications"] + p.cost()["additions"] for p in (prog, full)]
+    assert total[0] < total[1]
+    with pytest.raises(ValueError, match="shape"):
+        recursive_program(arm, standard_parameters(arm)[:-1])

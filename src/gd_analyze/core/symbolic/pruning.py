@@ -24,7 +24,8 @@ from ..kinematics import as_states
 from .base_parameters import regressor
 from .recursive import PARTS, exact_program, parts_program
 
-__all__ = ["part_contributions", "Pruning", "prune", "pruned_program", "STRATEGIES"]
+__all__ = ["part_contributions", "Pruning", "prune", "pruned_program", "STRATEGIES",
+           "CRITERIA"]
 
 
 def part_contributions(robot, base, q, qd, qdd):
@@ -74,9 +75,17 @@ class Pruning:
         parameter m is left out.
     peak : ndarray, shape (b, 3, n)
         Peak |contribution| of each pair to each joint torque on the trajectory [N m or N].
+    whole_peak : ndarray, shape (b, n)
+        Peak |contribution| of each base parameter (all parts together) [N m or N].
+    whole : ndarray of bool, shape (b,)
+        The parameters dropped as a unit (all their parts), counted by ``whole_peak``.
     bound : ndarray, shape (n,)
-        Per joint, the sum of the dropped pairs' peaks: the pruned model's error on the
-        trajectory is at most this [N m or N], and bound <= eps * scale.
+        Per joint, criterion "peaks": the sum of the dropped units' peaks (``whole_peak`` of
+        the parameters in ``whole``, ``peak`` of the other dropped pairs); criterion "error":
+        the largest |sum of the dropped contributions| on the trajectory. The pruned model's
+        error on the trajectory is at most this [N m or N], and bound <= eps * scale.
+    criterion : str
+        ``"peaks"`` or ``"error"`` (:func:`prune`).
     scale : ndarray, shape (n,)
         max(peak |tau_i| on the trajectory, torque_floor) [N m or N].
     """
@@ -84,15 +93,21 @@ class Pruning:
     eps: float
     dropped: np.ndarray
     peak: np.ndarray
+    whole_peak: np.ndarray
+    whole: np.ndarray
     bound: np.ndarray
     scale: np.ndarray
+    criterion: str = "peaks"
 
 
 #: Selection strategies of :func:`prune`.
 STRATEGIES = ("cost", "peak")
+#: How :func:`prune` bounds the error of a dropped set on the trajectory.
+CRITERIA = ("peaks", "error")
 
 
-def prune(robot, base, q, qd, qdd, eps, torque_floor=0.0, strategy="cost"):
+def prune(robot, base, q, qd, qdd, eps, torque_floor=0.0, strategy="cost",
+          criterion="peaks"):
     """Choose the (base parameter, part) pairs to drop within the error budget EPS.
 
     Parameters
@@ -104,7 +119,7 @@ def prune(robot, base, q, qd, qdd, eps, torque_floor=0.0, strategy="cost"):
     q, qd, qdd : array_like, shape (N, n)
         The trajectory [rad, rad/s, rad/s^2; m, m/s, m/s^2].
     eps : float
-        Tolerance, >= 0: every joint's dropped peaks add up to at most eps * scale_i.
+        Tolerance, >= 0: every joint's bound stays within eps * scale_i.
     torque_floor : float, optional
         Least scale of a joint [N m or N] (for joints whose torque is near 0 on the
         trajectory); default 0.
@@ -112,9 +127,16 @@ def prune(robot, base, q, qd, qdd, eps, torque_floor=0.0, strategy="cost"):
         ``"peak"``: pairs in increasing order of their largest peak relative to the joint
         scales, max_i peak_i / scale_i, each dropped when the budget allows. ``"cost"``
         (default): first whole parameters (all their parts) in increasing order of their
-        summed relative peaks, then single pairs in increasing order of peak, each kept
-        dropped only when it lowers the operation count of the program (single parts need
-        split kinematic quantities, which may cost more than they save).
+        relative whole peak or in decreasing order of operations saved per budget share
+        (the cheaper result of the two), then single pairs in increasing order of peak,
+        each kept dropped only when it lowers the operation count of the program (single
+        parts need split kinematic quantities, which may cost more than they save).
+    criterion : {"peaks", "error"}, optional
+        ``"peaks"`` (default): the bound of joint i is the sum of the dropped units' peaks
+        (a unit is a pair, or with the "cost" strategy a whole parameter, counted by the
+        peak of its whole contribution). ``"error"``: the bound is the largest |sum of the
+        dropped contributions| on the trajectory itself, i.e. the pruned model's error
+        there (tighter: contributions peak at different set points or cancel).
 
     Returns
     -------
@@ -123,15 +145,15 @@ def prune(robot, base, q, qd, qdd, eps, torque_floor=0.0, strategy="cost"):
     Raises
     ------
     ValueError
-        If eps or torque_floor is negative or not finite, the strategy unknown, or the
-        arrays not (N, n).
+        If eps or torque_floor is negative or not finite, the strategy or criterion
+        unknown, or the arrays not (N, n).
 
     Notes
     -----
-    A pair is dropped only when every joint's sum of dropped peaks stays within
-    eps * scale_i; by the triangle inequality the pruned torque then differs from the exact
-    one on the trajectory by at most that sum. Pairs whose peak is 0 on the trajectory are
-    dropped with their parameter when all its other parts are, and kept otherwise.
+    A unit is dropped only when every joint's bound stays within eps * scale_i. With
+    "peaks", by the triangle inequality the pruned torque differs from the exact one on the
+    trajectory by at most the bound. Pairs whose peak is 0 on the trajectory are dropped with
+    their parameter when all its other parts are, and kept otherwise.
     """
     if not (np.isfinite(eps) and eps >= 0):
         raise ValueError(f"eps must be a finite number >= 0, got {eps!r}")
@@ -139,70 +161,99 @@ def prune(robot, base, q, qd, qdd, eps, torque_floor=0.0, strategy="cost"):
         raise ValueError(f"torque_floor must be a finite number >= 0, got {torque_floor!r}")
     if strategy not in STRATEGIES:
         raise ValueError(f"strategy must be one of {STRATEGIES}, got {strategy!r}")
+    if criterion not in CRITERIA:
+        raise ValueError(f"criterion must be one of {CRITERIA}, got {criterion!r}")
     C = part_contributions(robot, base, q, qd, qdd)          # (3, N, n, b)
     tau = C.sum(axis=(0, 3))
     scale = np.maximum(np.abs(tau).max(axis=0), torque_floor)
     peak = np.abs(C).max(axis=1).transpose(2, 0, 1)         # (b, 3, n)
-    budget = eps * scale
-    safe = np.where(scale > 0, scale, 1.0)
-    rel = np.where(scale > 0, peak / safe, np.where(peak > 0, np.inf, 0.0)).max(axis=2)
-    live = rel > 0                                            # (b, 3): contributes
-    dropped = np.zeros(peak.shape[:2], bool)
-    bound = np.zeros(robot.n)
-
-    def fits(extra):
-        return np.all(bound + extra <= budget)
-
+    whole_peak = np.abs(C.sum(axis=0)).max(axis=0).T         # (b, n)
+    sel = _Selection(robot, base, C, peak, whole_peak, eps * scale, criterion)
     if strategy == "peak":
-        for flat in np.argsort(rel, axis=None, kind="stable"):
-            m, p = np.unravel_index(flat, rel.shape)
-            if live[m, p] and fits(peak[m, p]):
-                dropped[m, p] = True
-                bound = bound + peak[m, p]
+        dropped, whole = sel.by_peak()
     else:
-        dropped, bound = _by_cost(robot, base, peak, live, budget, scale)
-    return Pruning(eps=float(eps), dropped=_normalize(dropped, live), peak=peak,
-                   bound=bound, scale=scale)
+        dropped, whole = sel.by_cost()
+    return Pruning(eps=float(eps), dropped=_normalize(dropped, sel.live), peak=peak,
+                   whole_peak=whole_peak, whole=whole, bound=sel.bound(dropped, whole),
+                   scale=scale, criterion=criterion)
 
 
-def _by_cost(robot, base, peak, live, budget, scale):
-    """The "cost" strategy: whole parameters, then single pairs (see :func:`prune`)."""
-    b = peak.shape[0]
-    safe = np.where(scale > 0, scale, 1.0)
-    rel = np.where(scale > 0, peak / safe[None, None, :], np.where(peak > 0, np.inf, 0.0))
-    whole = (peak * live[:, :, None]).sum(axis=1)                       # (b, n)
-    use = np.where(budget > 0, whole / np.where(budget > 0, budget, 1.0),
-                   np.where(whole > 0, np.inf, 0.0)).max(axis=1)       # budget share
-    none = np.zeros(peak.shape[:2], bool)
-    full = _count(robot, base, none)
-    saving = np.zeros(b)
-    for m in range(b):
-        if live[m].any() and np.isfinite(use[m]) and use[m] <= 1.0:
-            one = none.copy()
-            one[m] = live[m]
-            saving[m] = full - _count(robot, base, _normalize(one, live))
-    best = None
-    for order in (np.argsort(use, kind="stable"),
-                  np.argsort(-saving / np.maximum(use, 1e-300), kind="stable")):
-        dropped, bound = none.copy(), np.zeros(peak.shape[2])
-        for m in order:
-            if live[m].any() and np.all(bound + whole[m] <= budget):
-                dropped[m] = live[m]
-                bound = bound + whole[m]
-        cost = _count(robot, base, _normalize(dropped, live))
-        for flat in np.argsort(rel.max(axis=2), axis=None, kind="stable"):
-            m, p = np.unravel_index(flat, rel.shape[:2])
-            if not live[m, p] or dropped[m, p] or not np.all(bound + peak[m, p] <= budget):
-                continue
-            dropped[m, p] = True
-            trial = _count(robot, base, _normalize(dropped, live))
-            if trial < cost:
-                cost, bound = trial, bound + peak[m, p]
-            else:
-                dropped[m, p] = False
-        if best is None or cost < best[0]:
-            best = (cost, dropped, bound)
-    return best[1], best[2]
+class _Selection:
+    """The state of a selection: contributions, peaks, budget and the bound of a set."""
+
+    def __init__(self, robot, base, C, peak, whole_peak, budget, criterion):
+        self.robot, self.base = robot, base
+        self.C = C.transpose(3, 0, 1, 2)                      # (b, 3, N, n)
+        self.peak, self.whole_peak, self.budget = peak, whole_peak, budget
+        self.criterion = criterion
+        safe = np.where(budget > 0, budget, 1.0)
+        self.rel = np.where(budget > 0, peak / safe, np.where(peak > 0, np.inf, 0.0))
+        self.use = np.where(budget > 0, whole_peak / safe,
+                            np.where(whole_peak > 0, np.inf, 0.0)).max(axis=1)
+        self.live = self.rel.max(axis=2) > 0                   # (b, 3): contributes
+
+    def bound(self, dropped, whole):
+        """(n,): the bound of a dropped set (whole: parameters dropped as a unit)."""
+        if self.criterion == "error":
+            if not dropped.any():
+                return np.zeros(self.budget.shape)
+            err = np.einsum("bpkn,bp->kn", self.C, dropped.astype(float))
+            return np.abs(err).max(axis=0)
+        single = dropped & ~whole[:, None]
+        return ((self.peak * single[:, :, None]).sum(axis=(0, 1))
+                + self.whole_peak[whole].sum(axis=0))
+
+    def fits(self, dropped, whole):
+        return bool(np.all(self.bound(dropped, whole) <= self.budget))
+
+    def count(self, dropped):
+        return _count(self.robot, self.base, _normalize(dropped, self.live))
+
+    def by_peak(self):
+        dropped = np.zeros(self.live.shape, bool)
+        whole = np.zeros(self.live.shape[0], bool)
+        for flat in np.argsort(self.rel.max(axis=2), axis=None, kind="stable"):
+            m, p = np.unravel_index(flat, self.live.shape)
+            if self.live[m, p]:
+                dropped[m, p] = True
+                if not self.fits(dropped, whole):
+                    dropped[m, p] = False
+        return dropped, whole
+
+    def by_cost(self):
+        live, b = self.live, self.live.shape[0]
+        none = np.zeros(live.shape, bool)
+        full = self.count(none)
+        saving = np.zeros(b)
+        for m in range(b):
+            if live[m].any() and np.isfinite(self.use[m]) and self.use[m] <= 1.0:
+                one = none.copy()
+                one[m] = live[m]
+                saving[m] = full - self.count(one)
+        best = None
+        for order in (np.argsort(self.use, kind="stable"),
+                      np.argsort(-saving / np.maximum(self.use, 1e-300), kind="stable")):
+            dropped, whole = none.copy(), np.zeros(b, bool)
+            for m in order:
+                if live[m].any():
+                    trial, twhole = dropped.copy(), whole.copy()
+                    trial[m], twhole[m] = live[m], True
+                    if self.fits(trial, twhole):
+                        dropped, whole = trial, twhole
+            cost = self.count(dropped)
+            for flat in np.argsort(self.rel.max(axis=2), axis=None, kind="stable"):
+                m, p = np.unravel_index(flat, live.shape)
+                if not live[m, p] or dropped[m, p]:
+                    continue
+                trial = dropped.copy()
+                trial[m, p] = True
+                if self.fits(trial, whole):
+                    c = self.count(trial)
+                    if c < cost:
+                        cost, dropped = c, trial
+            if best is None or cost < best[0]:
+                best = (cost, dropped, whole)
+        return best[1:]
 
 
 def _normalize(dropped, live):

@@ -1,4 +1,7 @@
-"""The arms the symbolic-model tests run on, and Pinocchio's rnea of them."""
+"""Helpers of the symbolic-model tests: the arms, Pinocchio's rnea of them, and an
+independent count of the operations of emitted C."""
+
+import re
 
 import numpy as np
 import pinocchio as pin
@@ -64,3 +67,39 @@ def rnea(robot, q, qd, qdd, gravity=True):
         model.gravity = pin.Motion.Zero()
     data = model.createData()
     return np.array([pin.rnea(model, data, a, b, c) for a, b, c in zip(q, qd, qdd)])
+
+
+_TOKEN = re.compile(r"\s*(?:(\d+\.?\d*(?:[eE][-+]?\d+)?|\.\d+(?:[eE][-+]?\d+)?)|([A-Za-z_]\w*)"
+                    r"|(.))")
+
+
+def count_c(src):
+    """Operations of the emitted C by its tokens: binary * + - (a - after an operand is a
+    subtraction, else a free negation), calls of sin and cos; no division allowed."""
+    tally = {"multiplications": 0, "additions": 0, "sin": 0, "cos": 0}
+    body = [ln for ln in src.splitlines()
+            if ln.strip().startswith(("const double", "tau["))]
+    for line in body:
+        rhs = line.split("=", 1)[1].rstrip().rstrip(";")
+        prev = None
+        for num, name, op in _TOKEN.findall(rhs):
+            if num:
+                kind = "operand"
+            elif name:
+                kind = "name"
+                if name in ("sin", "cos"):
+                    tally[name] += 1
+            else:
+                op = op.strip()
+                if not op:
+                    continue
+                assert op != "/", line
+                binary = prev in ("operand", "name", ")", "]")
+                if op == "*":
+                    assert binary, line
+                    tally["multiplications"] += 1
+                elif op in "+-" and binary:
+                    tally["additions"] += 1
+                kind = op
+            prev = kind
+    return tally
