@@ -386,7 +386,8 @@ _RECURSIVE_SCHEMA = Obj({
     "bound": ListOf(Num(0.0, math.inf)),
     "bound_by_part": Obj({"inertial": ListOf(Num(0.0, math.inf)),
                           "velocity": ListOf(Num(0.0, math.inf)),
-                          "gravity": ListOf(Num(0.0, math.inf))}),
+                          "gravity": ListOf(Num(0.0, math.inf)),
+                          "whole": ListOf(Num(0.0, math.inf))}),
 })
 
 #: The layout of simplified_model.json (schema_version 2; 1 lacks the keys of issue 8). The element keys of ``choices`` are

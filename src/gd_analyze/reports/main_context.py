@@ -16,7 +16,8 @@ from .common import strings as _strings, table as _table, thresholds as _thresho
 from .common import utc_now
 from .main_figures import identically_zero
 from .main_text import captions, conclusion, disagreement_cause, element_scale
-from .simplified_section import SIMPLIFIED_CAPTION, has_simplified, simplified_context
+from .simplified_section import (ROUND_OFF, SIMPLIFIED_CAPTION, has_simplified,
+                                 simplified_context)
 from ..io.sweep_datasets import payload_part
 
 __all__ = ["ENVELOPE_THRESHOLD", "ENVELOPE_COLUMNS", "prismatic_joints", "zero_mask",
@@ -65,9 +66,17 @@ def _base_parameter_table(ds):
     parts = _strings(ds["torque_part"].values)
     dropped = ds["base_parameter_dropped"].values
     units = _strings(ds["base_parameter_units"].values)
+    rel = (ds["base_parameter_relative_peak"].values if "base_parameter_relative_peak" in ds
+           else np.ones(dropped.shape))
+
+    def cell(k, p):
+        if rel[k, p] < ROUND_OFF:
+            return "\u2261 0"            # contributes nothing on this trajectory
+        return "dropped" if dropped[k, p] else "kept"
+
     return _table(["base parameter", "value", "units", *parts],
                   [[name, _fmt(ds["base_parameter_value"].values[k]), _units_text(units[k]),
-                    *("dropped" if dropped[k, p] else "kept" for p in range(len(parts)))]
+                    *(cell(k, p) for p in range(len(parts)))]
                    for k, name in enumerate(names)],
                   align=["left", "right", "left", "left", "left", "left"],
                   widths=[1.0, 1.0, 0.7, 0.8, 0.8, 0.8])

@@ -99,7 +99,8 @@ def simplified_context(ds):
                  "peak |tau|.")
     measured = ds["tau_error_peak"].values
     parts = ("from D", "from h", "from c") if form != "recursive" else (
-        "inertial (D)", "velocity (h)", "gravity (c)")
+        "inertial (D)", "velocity (h)", "gravity (c)", "whole parameters")
+    whole = ds["simplified_bound_whole"].values if "simplified_bound_whole" in ds else None
     bound = table(
         ["joint", "scale [N m]", "bound [N m]", *parts,
          "measured peak |\u03c4\u209b\u2212\u03c4| [N m]", "measured / scale"],
@@ -107,10 +108,11 @@ def simplified_context(ds):
           _num(ds["simplified_bound"].values[i]),
           _num(ds["simplified_bound_inertia"].values[i]),
           _num(ds["simplified_bound_coriolis"].values[i]),
-          _num(ds["simplified_bound_gravity"].values[i]), _num(measured[i]),
+          _num(ds["simplified_bound_gravity"].values[i]),
+          *([] if whole is None else [_num(whole[i])]), _num(measured[i]),
           pct(measured[i] / ds["simplified_scale"].values[i])
           if ds["simplified_scale"].values[i] > 0 else "\u2014"] for i in range(n)],
-        align=["left"] + ["right"] * 7)
+        align=["left"] + ["right"] * (7 + (whole is not None)))
     costs = ladder = None
     if "cost_total" in ds.variables:
         costs = table(["model", "multiplications", "additions", "total"],

@@ -464,6 +464,10 @@ def simplified_dataset(model, selection, other=None, ladder_rows=None, cost_tabl
         "simplified_element_bound": var(("joint",), selection.element_bound, "N m",
                                         "bound of the whole-part (element) choices"),
     }
+    if "whole" in selection.bound_by_kind:
+        dv["simplified_bound_whole"] = var(("joint",), selection.bound_by_kind["whole"], "N m",
+                                           "share of the bound from base parameters dropped "
+                                           "whole")
     if cost_table:
         labels = list(cost_table)
         arr = np.array([cost_table[k] for k in labels], float)
@@ -511,6 +515,10 @@ def simplified_dataset(model, selection, other=None, ladder_rows=None, cost_tabl
                                           rec.dropped.astype(np.int8), "1",
                                           "1 where the part is dropped from the model"),
         })
+        if rec.relative_peak is not None:
+            dv["base_parameter_relative_peak"] = var(
+                ("base_parameter", "torque_part"), rec.relative_peak, "1",
+                "largest peak contribution on the trajectory / scale_i (0: none)")
     if cost_table:
         coords["cost_model"] = var(("cost_model",), np.array(list(cost_table), dtype=str), "1",
                                    "formulation or model whose operations are counted")
@@ -635,7 +643,7 @@ def sweep_model(robot, trajectories, tolerance=DEFAULT_TOLERANCE, torque_floor=0
 __all__.append("sweep_model")
 
 
-def build_recursive(robot, trajectories, tolerance=DEFAULT_TOLERANCE, torque_floor=0.0,
+def build_recursive(robot, q, qd, qdd, tolerance=DEFAULT_TOLERANCE, torque_floor=0.0,
                     ranking=None, trajectory_sha256="", provenance=None):
     """The pruned customized recursive Newton-Euler model within the budget (issue 17).
 
@@ -643,9 +651,8 @@ def build_recursive(robot, trajectories, tolerance=DEFAULT_TOLERANCE, torque_flo
     ----------
     robot : Robot
         The arm, with n joints.
-    trajectories : sequence of (q, qd, qdd)
-        Arrays of shape (N_t, n) [rad, rad/s, rad/s^2; m, m/s, m/s^2]: the bound holds on
-        each of them.
+    q, qd, qdd : ndarray, shape (N, n)
+        The trajectory [rad, rad/s, rad/s^2; m, m/s, m/s^2]: the bound holds on it.
     tolerance : float, optional
         EPS.
     torque_floor : float, optional
@@ -662,7 +669,7 @@ def build_recursive(robot, trajectories, tolerance=DEFAULT_TOLERANCE, torque_flo
         exact recursive model's count.
     selection : Selection
         Its scale and bound, the bound split by part (``"D"``: inertial, ``"h"``: velocity,
-        ``"c"``: gravity) [N m].
+        ``"c"``: gravity, ``"whole"``: parameters dropped whole) [N m].
 
     Notes
     -----
@@ -676,7 +683,7 @@ def build_recursive(robot, trajectories, tolerance=DEFAULT_TOLERANCE, torque_flo
     from ..core.symbolic.recursive_model import recursive_model
 
     base = base_parameters(robot)
-    rec = recursive_model(robot, list(trajectories), tolerance, torque_floor, base=base)
+    rec = recursive_model(robot, q, qd, qdd, tolerance, torque_floor, base=base)
     exact = recursive_program(robot, base.values).cost()
     choices = {lab: "both" for lab in element_labels(robot.n)}
     model = SimplifiedModel(
@@ -691,7 +698,7 @@ def build_recursive(robot, trajectories, tolerance=DEFAULT_TOLERANCE, torque_flo
     sel = Selection(rule="budget", tolerance=float(tolerance), choices=choices, kept=None,
                     scale=rec.scale, bound=rec.bound,
                     bound_by_kind={"D": rec.bound_by_part[0], "h": rec.bound_by_part[1],
-                                   "c": rec.bound_by_part[2]},
+                                   "c": rec.bound_by_part[2], "whole": rec.bound_by_part[3]},
                     element_bound=np.full(robot.n, np.nan))
     return model, sel
 

@@ -18,10 +18,12 @@ from ...errors import InputError
 from .base_parameters import BaseParameters, base_parameters
 from .recursive import PARTS
 
-__all__ = ["RecursiveModel", "recursive_model", "PART_NAMES", "AGREEMENT"]
+__all__ = ["RecursiveModel", "recursive_model", "PART_NAMES", "BOUND_PARTS", "AGREEMENT"]
 
 #: What each part of a base parameter's contribution is, in the order of :data:`.recursive.PARTS`.
 PART_NAMES = ("inertial", "velocity", "gravity")
+#: How the bound splits: single parts, then parameters dropped whole.
+BOUND_PARTS = PART_NAMES + ("whole",)
 #: Largest relative difference accepted between stored and re-derived base parameters.
 AGREEMENT = 1e-8
 
@@ -44,8 +46,13 @@ class RecursiveModel:
     bound : ndarray, shape (n,)
         Guaranteed bound on |tau_s - tau| per joint on those trajectories [N m or N]: the sum
         of the dropped pairs' peaks (triangle inequality).
-    bound_by_part : ndarray, shape (3, n)
-        The bound split by part (inertial, velocity, gravity) [N m or N].
+    bound_by_part : ndarray, shape (4, n)
+        The bound split: dropped single parts (inertial, velocity, gravity) and parameters
+        dropped whole [N m or N].
+    relative_peak : ndarray, shape (b, 3), optional
+        Per pair, its largest peak contribution on the trajectory relative to the joint's
+        scale, max_i peak_i / scale_i [1] (0: the part contributes nothing); None for a model
+        read from a file.
 
     Notes
     -----
@@ -60,6 +67,7 @@ class RecursiveModel:
     scale: np.ndarray
     bound: np.ndarray
     bound_by_part: np.ndarray
+    relative_peak: np.ndarray = None
 
     def base(self, robot):
         """The :class:`.base_parameters.BaseParameters` these names and values stand for.
@@ -122,8 +130,8 @@ class RecursiveModel:
                 "dropped": [[a, b] for a, b in self.dropped_pairs()],
                 "scale": [float(v) for v in self.scale],
                 "bound": [float(v) for v in self.bound],
-                "bound_by_part": {PART_NAMES[p]: [float(v) for v in self.bound_by_part[p]]
-                                  for p in range(len(PARTS))}}
+                "bound_by_part": {name: [float(v) for v in self.bound_by_part[p]]
+                                  for p, name in enumerate(BOUND_PARTS)}}
 
     @classmethod
     def from_dict(cls, spec, robot, path="<model>"):
@@ -175,26 +183,26 @@ class RecursiveModel:
             arrays[key] = np.array(spec[key], float)
             if arrays[key].shape != (n,):
                 raise InputError(f"expected {n} numbers", path, column=f"{where}.{key}")
-        by_part = np.array([spec["bound_by_part"][p] for p in PART_NAMES], float)
-        if by_part.shape != (len(PARTS), n):
-            raise InputError(f"expected 3 lists of {n} numbers", path,
+        by_part = np.array([spec["bound_by_part"][p] for p in BOUND_PARTS], float)
+        if by_part.shape != (len(BOUND_PARTS), n):
+            raise InputError(f"expected {len(BOUND_PARTS)} lists of {n} numbers", path,
                              column=f"{where}.bound_by_part")
         return cls(names=names, beta=base.beta, dropped=dropped, scale=arrays["scale"],
                    bound=arrays["bound"], bound_by_part=by_part)
 
 
-def recursive_model(robot, trajectories, tolerance, torque_floor=0.0, base=None):
-    """Prune the recursive model within the error budget on every given trajectory.
+def recursive_model(robot, q, qd, qdd, tolerance, torque_floor=0.0, base=None):
+    """Prune the recursive model within the error budget on a trajectory.
 
     Parameters
     ----------
     robot : Robot
         The arm, with n joints.
-    trajectories : sequence of (q, qd, qdd)
-        Arrays of shape (N_t, n) [rad, rad/s, rad/s^2; m, m/s, m/s^2].
+    q, qd, qdd : ndarray, shape (N, n)
+        The trajectory [rad, rad/s, rad/s^2; m, m/s, m/s^2].
     tolerance : float
-        EPS >= 0: on each trajectory t, every joint's dropped peaks add up to at most
-        EPS scale_{t,i}, scale_{t,i} = max(peak |tau_i| on t, torque_floor).
+        EPS >= 0: every joint's dropped peaks add up to at most EPS scale_i,
+        scale_i = max(peak |tau_i|, torque_floor); EPS = 0 gives the exact model.
     torque_floor : float, optional
         TAU [N m or N].
     base : BaseParameters, optional
@@ -203,53 +211,30 @@ def recursive_model(robot, trajectories, tolerance, torque_floor=0.0, base=None)
     Returns
     -------
     RecursiveModel
-        ``scale`` and ``bound`` are those of the trajectory where the bound is tightest
-        relative to its scale (for one trajectory, that trajectory's).
 
     Raises
     ------
     ValueError
-        If tolerance or torque_floor is negative or not finite, or there is no trajectory.
+        If tolerance or torque_floor is negative or not finite, or the arrays are not (N, n).
 
     Notes
     -----
-    Pairs are visited in increasing order of their largest peak relative to the joint scales
-    over all trajectories; a pair is dropped when every trajectory's every joint stays within
-    budget, so the bound holds on each trajectory by the triangle inequality (the rule of
-    :func:`.pruning.prune`, taken over several trajectories).
+    The selection of :func:`.pruning.prune` (criterion "peaks": by the triangle inequality
+    the error on the trajectory is within the bound). ``bound_by_part`` gives the dropped
+    single parts' peaks per part and, last, the parameters dropped whole (by the peak of their
+    whole contribution).
     """
-    from .pruning import part_contributions
+    from .pruning import prune
 
-    if not (np.isfinite(tolerance) and tolerance >= 0):
-        raise ValueError(f"tolerance must be a finite number >= 0, got {tolerance!r}")
-    if not (np.isfinite(torque_floor) and torque_floor >= 0):
-        raise ValueError(f"torque_floor must be a finite number >= 0, got {torque_floor!r}")
-    if not trajectories:
-        raise ValueError("no trajectories")
     base = base_parameters(robot) if base is None else base
-    peaks, scales = [], []
-    for q, qd, qdd in trajectories:
-        C = part_contributions(robot, base, q, qd, qdd)            # (3, N, n, b)
-        scales.append(np.maximum(np.abs(C.sum(axis=(0, 3))).max(axis=0), torque_floor))
-        peaks.append(np.abs(C).max(axis=1).transpose(2, 0, 1))     # (b, 3, n)
-    peak = np.stack(peaks)                                         # (T, b, 3, n)
-    scale = np.stack(scales)                                       # (T, n)
-    safe = np.where(scale > 0, scale, 1.0)[:, None, None, :]
-    rel = np.where(scale[:, None, None, :] > 0, peak / safe,
-                   np.where(peak > 0, np.inf, 0.0)).max(axis=(0, 3))        # (b, 3)
-    budget = tolerance * scale
-    dropped = np.zeros(rel.shape, bool)
-    bound = np.zeros_like(scale)                                   # (T, n)
-    by_part = np.zeros((len(trajectories), len(PARTS), robot.n))
-    if tolerance > 0:
-        for flat in np.argsort(rel, axis=None, kind="stable"):
-            k, p = np.unravel_index(flat, rel.shape)
-            trial = bound + peak[:, k, p]
-            if np.all(trial <= budget):
-                dropped[k, p] = True
-                bound = trial
-                by_part[:, p] += peak[:, k, p]
-    worst = int(np.argmax(np.where(scale > 0, bound / safe[:, 0, 0, :], 0.0).max(axis=1)))
+    pr = prune(robot, base, q, qd, qdd, tolerance, torque_floor=torque_floor)
+    single = pr.dropped & ~pr.whole[:, None]
+    by_part = np.concatenate([(pr.peak * single[:, :, None]).sum(axis=0),
+                              pr.whole_peak[pr.whole].sum(axis=0)[None, :]], axis=0) \
+        if pr.dropped.any() else np.zeros((len(PARTS) + 1, robot.n))
+    safe = np.where(pr.scale > 0, pr.scale, 1.0)
+    rel = np.where(pr.scale > 0, pr.peak / safe, np.where(pr.peak > 0, np.inf, 0.0)).max(axis=2)
     return RecursiveModel(names=tuple(base.names()), beta=np.array(base.beta, float),
-                          dropped=dropped, scale=scale[worst], bound=bound[worst],
-                          bound_by_part=by_part[worst])
+                          dropped=np.array(pr.dropped, bool), scale=np.array(pr.scale, float),
+                          bound=np.array(pr.bound, float), bound_by_part=by_part,
+                          relative_peak=rel)
