@@ -89,7 +89,8 @@ def test_save_load_and_reuse_on_new_states(tmp_path, puma):
     # a schema-1 file (no explicit terms) still loads: its kept parts, unpruned
     old = {k: v for k, v in spec.items() if k not in ("rule", "tolerance", "cost", "bound",
                                                       "full_cost", "explicit_terms",
-                                                      "torque_floor")}
+                                                      "torque_floor", "form", "recursive",
+                                                      "costs")}
     old["schema_version"] = 1
     path.write_text(json.dumps(old))
     np.testing.assert_allclose(SimplifiedModel.load(path).torque(q, qd, qdd),

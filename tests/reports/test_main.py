@@ -213,8 +213,20 @@ def test_html_labels_classes_and_ranking_table(any_report):
         else:
             assert float(row[1]) == pytest.approx(share, abs=1e-3)
     assert all(r[6] in ("kg m²", "N m") for r in rows)
-    choices = table_with_header(html, ["element", "class", "kept part"])
-    assert [r[2] for r in choices[1:]] == strings(ds["choice"].values)
+    if ds.attrs.get("simplified_form", "explicit") == "explicit":
+        choices = table_with_header(html, ["element", "class", "kept part"])
+        assert [r[2] for r in choices[1:]] == strings(ds["choice"].values)
+    else:                     # the recursive form: a row per base parameter, a column per part
+        table = table_with_header(html, ["base parameter", "value", "units", "inertial",
+                                         "velocity", "gravity"])
+        assert [r[0] for r in table[1:]] == strings(ds["base_parameter"].values)
+        dropped = ds["base_parameter_dropped"].values
+        rel = ds["base_parameter_relative_peak"].values
+        for k, row in enumerate(table[1:]):
+            for p in range(3):
+                want = "\u2261 0" if rel[k, p] < 1e-12 else ("dropped" if dropped[k, p]
+                                                            else "kept")
+                assert row[3 + p] == want, (row, p)
 
 
 def test_html_torque_error_table(any_report):

@@ -1,0 +1,147 @@
+"""The deployed simplified model (issue 17): the cheaper of the pruned recursive and explicit
+models, its file, and the guarantee it states.
+
+Oracles: Pinocchio's rnea (the torques), the operation counts of the models compared (each
+counted from its own program), and the model file itself (hand edits are refused).
+"""
+
+import json
+
+import numpy as np
+import pytest
+
+from conftest import ROOT, SHIPPED
+from gd_analyze.cli import main
+from gd_analyze.core.robot import load_robot
+from gd_analyze.core.simplified import SimplifiedModel
+from gd_analyze.core.symbolic.base_parameters import base_parameters, random_states
+from gd_analyze.io.trajectory import read_trajectory
+from gd_analyze.workflows.analyze import analyze
+
+
+def _rnea(robot, q, qd, qdd):
+    from gd_analyze.formulations.pinocchio import pinocchio_model
+
+    import pinocchio as pin
+
+    model = pinocchio_model(robot)
+    data = model.createData()
+    return np.array([pin.rnea(model, data, *x).copy() for x in zip(q, qd, qdd)])
+
+
+def _ops(c):
+    return int(c["multiplications"]) + int(c["additions"])
+
+
+@pytest.fixture(scope="module")
+def puma_run(tmp_path_factory):
+    out = tmp_path_factory.mktemp("deploy") / "puma"
+    assert main(["puma560", str(SHIPPED), "-o", str(out), "--no-report", "-q"]) == 0
+    return out, json.loads((out / "simplified_model.json").read_text())
+
+
+def test_deployed_model_is_the_cheapest_within_budget(puma_run):
+    out, spec = puma_run
+    costs = spec["costs"]
+    deployed = _ops(spec["cost"])
+    assert deployed == min(_ops(costs["recursive, budget"]), _ops(costs["explicit, budget"]))
+    assert deployed <= _ops(costs["exact recursive"]) < _ops(costs["newton-euler"])
+    assert _ops(costs["exact recursive"]) <= 338           # the customized N-E of issue 17
+    robot = load_robot("puma560")
+    traj = read_trajectory(SHIPPED, 6)
+    ref = _rnea(robot, traj.q, traj.qd, traj.qdd)
+    scale = np.abs(ref).max(axis=0)
+    model = SimplifiedModel.load(out / "simplified_model.json")
+    err = np.abs(model.torque(traj.q, traj.qd, traj.qdd) - ref).max(axis=0)
+    assert np.all(err <= np.array(spec["bound"]) + 1e-9 * scale)
+    assert np.all(np.array(spec["bound"]) <= 0.01 * scale * (1 + 1e-9))
+
+
+def test_recursive_file_round_trip_and_hand_edits(puma_run, tmp_path):
+    out, spec = puma_run
+    assert spec["form"] == "recursive"
+    model = SimplifiedModel.load(out / "simplified_model.json")
+    robot = model.robot
+    q, qd, qdd = random_states(robot, 20, 3)
+    exact = _rnea(robot, q, qd, qdd)
+    # the deployed program is the one the file describes: rebuild it from the pairs
+    dropped = {tuple(p) for p in spec["recursive"]["dropped"]}
+    assert len(dropped) == int(model.recursive.dropped.sum())
+    np.testing.assert_allclose(model.torque(q, qd, qdd),
+                               SimplifiedModel.load(out / "simplified_model.json")
+                               .torque(q, qd, qdd), rtol=0, atol=0)
+    # with nothing dropped the file's model is exact
+    spec0 = json.loads(json.dumps(spec))
+    spec0["recursive"]["dropped"] = []
+    p0 = tmp_path / "exact.json"
+    p0.write_text(json.dumps(spec0))
+    tau0 = SimplifiedModel.load(p0).torque(q, qd, qdd)
+    assert np.all(np.abs(tau0 - exact).max(axis=0) <= 1e-10 * np.abs(exact).max(axis=0))
+    # a base parameter value edited by 1.5 is refused, as is an unknown pair
+    for edit, column in ((lambda s: s["recursive"]["beta"].__setitem__(
+            0, 1.5 * s["recursive"]["beta"][0]), "recursive.beta"),
+            (lambda s: s["recursive"]["dropped"].append(["XX9", "inertial"]),
+             "recursive.dropped")):
+        bad = json.loads(json.dumps(spec))
+        edit(bad)
+        path = tmp_path / "bad.json"
+        path.write_text(json.dumps(bad))
+        with pytest.raises(Exception) as exc:
+            SimplifiedModel.load(path)
+        assert column in str(exc.value)
+
+
+@pytest.mark.parametrize("explicit", ["never", "always"])
+def test_explicit_option(explicit, tmp_path):
+    out = tmp_path / explicit
+    assert main(["puma560", str(SHIPPED), "-o", str(out), "--no-report", "-q",
+                 "--explicit", explicit]) == 0
+    spec = json.loads((out / "simplified_model.json").read_text())
+    assert ("explicit, full" in spec["costs"]) == (explicit == "always")
+    if explicit == "never":
+        assert spec["form"] == "recursive"
+
+
+def test_seven_joints_skip_the_expansion_and_stay_exact_at_eps_0(tmp_path, monkeypatch):
+    """The Panda: no explicit expansion by default (its estimate is expensive), and at
+    --tolerance 0 the deployed model is exact off the trajectory too."""
+    import gd_analyze.io.explicit_cache as cache
+
+    def refuse(*a, **k):
+        raise AssertionError("the explicit model was derived")
+
+    monkeypatch.setattr(cache, "explicit_terms", refuse)
+    csv = ROOT / "data" / "panda_trajectory.csv"
+    out = tmp_path / "panda"
+    assert main(["panda", str(csv), "-o", str(out), "--no-report", "-q",
+                 "--tolerance", "0"]) == 0
+    spec = json.loads((out / "simplified_model.json").read_text())
+    assert spec["form"] == "recursive" and spec["recursive"]["dropped"] == []
+    assert _ops(spec["cost"]) <= 648
+    model = SimplifiedModel.load(out / "simplified_model.json")
+    q, qd, qdd = random_states(model.robot, 200, 7)
+    ref = _rnea(model.robot, q, qd, qdd)
+    err = np.abs(model.torque(q, qd, qdd) - ref).max(axis=0)
+    assert np.all(err <= 1e-10 * np.abs(ref).max(axis=0))
+
+
+def test_report_text_follows_the_model(tmp_path):
+    """The summary and Sec. 5.3 name the form and count what the built model drops."""
+    from gd_analyze.reports.main_context import report_context
+
+    traj = read_trajectory(SHIPPED, 6)
+    robot = load_robot("puma560")
+    for eps in (0.0, 0.05):
+        a = analyze(robot, traj, check=False, tolerance=eps, explicit="never")
+        ctx = report_context(a.dataset)
+        dropped = int(a.model.recursive.dropped.sum())
+        b = base_parameters(robot).rank
+        assert f"recursive Newton-Euler model on {b} base parameters" in ctx["summary"]
+        if dropped:
+            assert f"drops {dropped} of the {3 * b}" in ctx["summary"]
+            assert f"{dropped} of {3 * b} (parameter, part) pairs" in \
+                ctx["simplified_model"]["text"]
+        else:
+            assert "it is exact, nothing is dropped" in ctx["summary"]
+            assert "no part is dropped" in ctx["simplified_model"]["text"]
+        assert ctx["choices_heading"].endswith("Base parameters and the parts kept")
