@@ -17,7 +17,8 @@ def made(tmp_path_factory):
     traj = tmp / "t.csv"
     assert main(["plan", "two-link", "-o", str(traj), "--start=-60,-30", "--goal=60,30",
                  "--setpoints", "9"]) == 0
-    assert main(["two-link", str(traj), "-o", str(tmp / "a"), "--no-report", "-q"]) == 0
+    assert main(["two-link", str(traj), "-o", str(tmp / "a"), "--no-report", "-q",
+                 "--form", "explicit"]) == 0
     path = tmp / "a" / "simplified_model.json"
     return path, traj, json.loads(path.read_text())
 
@@ -81,7 +82,7 @@ def test_the_cost_is_counted_not_read(made, tmp_path, capsys):
     assert code == 0, err
     cost = json.loads(out)["cost"]
     names = cost["evaluators"]
-    simp, full = names.index("simplified explicit model"), names.index("full explicit model")
+    simp, full = names.index("simplified model (explicit form)"), names.index("full explicit model")
     assert (cost["multiplications"][simp], cost["additions"][simp]) == \
         (counted["multiplications"], counted["additions"])
     # the full model's count is the one the main job made, not the claim (3, 4)

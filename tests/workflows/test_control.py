@@ -154,7 +154,8 @@ def test_model_cost_counts_the_emitted_model_and_newton_euler(model, puma):
 
     cost = model_cost(model)
     names = cost["evaluators"]
-    assert names[0] == "simplified explicit model" and names[-1].startswith("Newton-Euler")
+    assert names[0] == f"simplified model ({model.form} form)"
+    assert names[-1].startswith("Newton-Euler") and "exact recursive model" in names
     program = model.program().cost()
     assert (cost["multiplications"][0], cost["additions"][0]) == \
         (program["multiplications"], program["additions"])
@@ -164,8 +165,13 @@ def test_model_cost_counts_the_emitted_model_and_newton_euler(model, puma):
         k = names.index("full explicit model")
         assert cost["multiplications"][0] + cost["additions"][0] <= \
             cost["multiplications"][k] + cost["additions"][k]
-    dropped = sum({"both": 0, "tran": 1, "rot": 1, "none": 2}[c] for c in model.choices.values())
-    assert cost["dropped"] == dropped and cost["parts"] == 54
+    if model.recursive is None:
+        dropped = sum({"both": 0, "tran": 1, "rot": 1, "none": 2}[c]
+                      for c in model.choices.values())
+        assert cost["dropped"] == dropped and cost["parts"] == 54
+    else:
+        assert cost["dropped"] == int(model.recursive.dropped.sum())
+        assert cost["parts"] == 3 * len(model.recursive.names)
 
 
 # --------------------------------------------------------------------------------------------

@@ -215,6 +215,7 @@ def _analyze(args, worker):
                 "payload_mass": float(args.payload or 0.0),
                 "tolerance": float(args.tolerance), "rule": args.rule,
                 "torque_floor": float(args.torque_floor), "explicit": args.explicit,
+                "form": args.form,
                 "payload_com": [float(v) for v in args.payload_com],
                 "payload_inertia": [float(v) for v in args.payload_inertia],
                 **_chain_settings(args)}
@@ -227,7 +228,8 @@ def _analyze(args, worker):
                                    settings=settings, compress=args.compress,
                                    progress=bar, extra=extra,
                                    tolerance=args.tolerance, rule=args.rule,
-                                   torque_floor=args.torque_floor, explicit=args.explicit)
+                                   torque_floor=args.torque_floor, explicit=args.explicit,
+                                   form=args.form)
         analysis.model.save(stage / "simplified_model.json")
         written = [results, stage / "simplified_model.json"]
         written += _write_sources(analysis.model, stage)      # the explicit model

@@ -173,8 +173,12 @@ def _add_budget_arguments(p, rule=True, where="on the analysed trajectory"):
                             "the share-based classes of Sec. 3.4.1 (no bound)")
         g.add_argument("--explicit", choices=("auto", "always", "never"), default="auto",
                        help="derive the explicit G-D model too: auto (default) where its "
-                            "estimated size is cheap, always, or never; the cheaper of it and "
-                            "the recursive model is deployed")
+                            "estimated size is cheap, always, or never")
+        g.add_argument("--form", choices=("cheapest", "recursive", "explicit"),
+                       default="cheapest",
+                       help="the simplified model written: the cheaper of the pruned recursive "
+                            "and explicit models (default), or that form (explicit: derived "
+                            "whatever --explicit says)")
 
 
 def _add_paper_argument(p):

@@ -176,7 +176,9 @@ def control_dataset(result):
         "samples": int(result.t.size),
     })
     if cost:
-        attrs.update(cost_dropped_parts=int(cost["dropped"]), cost_parts=int(cost["parts"]))
+        attrs.update(cost_dropped_parts=int(cost["dropped"]), cost_parts=int(cost["parts"]),
+                     cost_parts_what=str(cost.get("what", "")),
+                     model_dropped_pairs=str(cost.get("dropped_pairs", "")))
     return xr.Dataset(data_vars, coords=coords, attrs=attrs)
 
 

@@ -240,19 +240,29 @@ def _context(ds):
                       [[e, str(int(mul[k])), str(int(add[k])), str(int(mul[k] + add[k])),
                         f"{(mul[k] + add[k]) / (mul[ref] + add[ref]):.3f}"]
                        for k, e in enumerate(ev)], align="right")
-    cost_note = ("Operations per set point, counted (not timed): the explicit models on their "
-                 "emitted expressions (constants and structural 0/±1 free, a square one "
-                 "multiplication), the recursive Newton-Euler on the project's counting scalar "
+    what = str(ds.attrs.get("cost_parts_what", "")) or \
+        "translational/rotational parts of D and h"
+    recursive = what.startswith("(base parameter")
+    cost_note = ("Operations per set point, counted (not timed): the emitted models on their "
+                 "expressions (constants and structural 0/±1 free, a square one "
+                 "multiplication), the project's Newton-Euler on its counting scalar "
                  "(gd_analyze.formulations.opcount). The simplified model drops "
-                 f"{_attr(ds, 'cost_dropped_parts')} of {_attr(ds, 'cost_parts')} "
-                 "translational/rotational parts of D and h.")
+                 f"{_attr(ds, 'cost_dropped_parts')} of {_attr(ds, 'cost_parts')} {what}.")
+    model_note = (
+        "The simplified model is the customized recursive Newton-Euler model on the base "
+        "parameters; it keeps every element of D and h and drops these (base parameter, part) "
+        "pairs: " + (str(ds.attrs.get("model_dropped_pairs", "")) or "none (exact)") + "."
+        if recursive else
+        "Part of each element of D (i \u2264 j, mirrored) and h kept by the simplified model, "
+        "which keeps the terms of c its rule keeps.")
     labels = _strings(ds["element"].values)
     choice = dict(zip(labels, _strings(ds["choice"].values)))
     rows = [[f"D, row {i + 1}"] + [choice.get(element_label("D", i, j), "") if j >= i else ""
                                    for j in range(n)] for i in range(n)]
     rows.append(["h"] + [choice.get(element_label("h", j), "") for j in range(n)])
-    choices = _table(["element"] + [f"column {j + 1}" for j in range(n)], rows,
-                     align=["left"] * (n + 1))
+    choices = None if recursive else _table(["element"] + [f"column {j + 1}"
+                                                          for j in range(n)], rows,
+                                           align=["left"] * (n + 1))
     prov = _table(["attribute", "value"], [[k, _attr(ds, k)] for k in (
         "gd_analyze_version", "history", "robot", "robot_source", "robot_sha256",
         "trajectory_file", "trajectory_path", "trajectory_sha256", "trajectory_derivatives",
@@ -284,7 +294,7 @@ def _context(ds):
                       "times."),
         "tau_table": tau_table,
         "cost": cost, "cost_note": cost_note,
-        "choices": choices, "provenance": prov,
+        "choices": choices, "model_note": model_note, "provenance": prov,
         "keywords": (f"robot {_attr(ds, 'robot')} sha256 {_attr(ds, 'robot_sha256')}; "
                      f"trajectory {_attr(ds, 'trajectory_file')} sha256 "
                      f"{_attr(ds, 'trajectory_sha256')}; model {_attr(ds, 'model_file')} sha256 "
@@ -452,9 +462,9 @@ def _pdf(ctx, drawn, path, paper="a4"):
     else:
         doc.paragraph("Not measured.", size=8.5)
     doc.heading("5. Simplified model")
-    doc.paragraph("Part of each element of D (i \u2264 j, mirrored) and h kept by the "
-                  "simplified model; gravity c is kept whole.", size=8.5)
-    doc.table(ctx["choices"])
+    doc.paragraph(ctx["model_note"], size=8.5)
+    if ctx["choices"]:
+        doc.table(ctx["choices"])
     doc.heading("6. Provenance")
     doc.table(ctx["provenance"], size=7)
     return doc.write(path)

@@ -370,14 +370,15 @@ def _with_costs(ds, costs):
 
 
 def _simplify(robot, trajectory, ranking, part_peaks, tolerance, rule, torque_floor,
-              provenance, explicit="auto"):
+              provenance, explicit="auto", form="cheapest"):
     """The simplified model deployed (issue 17), the models compared with it, ladder, costs.
 
     The pruned recursive model is always built; the explicit G-D model is derived when the
-    chapter rule asks for it, when ``explicit`` is ``"always"``, or (``"auto"``) when its
-    estimated size is cheap (:func:`gd_analyze.core.explicit_estimate.is_expensive`). Under the
-    budget rule the cheaper of the pruned recursive and pruned explicit models is deployed
-    (multiplications + additions; the recursive one on a tie).
+    chapter rule or ``form="explicit"`` asks for it, when ``explicit`` is ``"always"``, or
+    (``"auto"``) when its estimated size is cheap
+    (:func:`gd_analyze.core.explicit_estimate.is_expensive`). Under the budget rule and
+    ``form="cheapest"`` the cheaper of the pruned recursive and pruned explicit models is
+    deployed (multiplications + additions; the recursive one on a tie).
     """
     from .simplify import (build_model, build_recursive, collect_peaks, cost_rows,
                            full_torque, ladder, ladder_skipped, simplified_dataset, validate)
@@ -393,7 +394,7 @@ def _simplify(robot, trajectory, ranking, part_peaks, tolerance, rule, torque_fl
     exact = rec.costs["exact recursive"]
     ne = counts["newton-euler"]
     ne = {"multiplications": int(ne["multiplications"]), "additions": int(ne["additions"])}
-    derive = rule == "chapter" or explicit == "always" or (
+    derive = rule == "chapter" or form == "explicit" or explicit == "always" or (
         explicit == "auto" and not is_expensive(robot))
     model, sel, other, other_error, rows, skipped = rec, rec_sel, None, None, [], ""
     costs = {"exact recursive": exact, "recursive, budget": dict(rec.cost),
@@ -414,7 +415,8 @@ def _simplify(robot, trajectory, ranking, part_peaks, tolerance, rule, torque_fl
         skipped = ladder_skipped(ex.full_cost, counts)
         rows = [] if skipped else ladder(robot, terms, peaks, [(q, qd, qdd)],
                                          torque_floor=torque_floor, reference=reference)
-        if rule == "chapter" or _ops(ex.cost) < _ops(rec.cost):
+        if rule == "chapter" or form == "explicit" or (
+                form == "cheapest" and _ops(ex.cost) < _ops(rec.cost)):
             model, sel = ex, ex_sel
     else:
         skipped = ("not built: the explicit G-D model of this arm is estimated too large to "
@@ -440,7 +442,7 @@ def _ops(cost):
 
 def analyze(robot, trajectory, dominance=DEFAULT_DOMINANCE, negligible=DEFAULT_NEGLIGIBLE,
             check=True, settings=None, formulations=False, tolerance=0.01, rule="budget",
-            torque_floor=0.0, explicit="auto"):
+            torque_floor=0.0, explicit="auto", form="cheapest"):
     """Compute, verify, rank and simplify the G-D terms along a trajectory, in memory.
 
     Parameters
@@ -468,7 +470,10 @@ def analyze(robot, trajectory, dominance=DEFAULT_DOMINANCE, negligible=DEFAULT_N
         TAU [N m], the least scale of a joint torque.
     explicit : {"auto", "always", "never"}, optional
         Whether the explicit G-D model is derived besides the recursive one (``"auto"``:
-        where its estimated size is cheap); the cheaper of the two is deployed.
+        where its estimated size is cheap).
+    form : {"cheapest", "recursive", "explicit"}, optional
+        The model returned: the cheaper of the pruned recursive and explicit models, or that
+        form (``"explicit"`` derives the explicit model whatever ``explicit`` says).
 
     Returns
     -------
@@ -488,7 +493,8 @@ def analyze(robot, trajectory, dominance=DEFAULT_DOMINANCE, negligible=DEFAULT_N
 
     N = trajectory.q.shape[0]
     simplify = {"tolerance": tolerance, "rule": rule, "torque_floor": torque_floor,
-                "provenance": _provenance(trajectory, settings), "explicit": explicit}
+                "provenance": _provenance(trajectory, settings), "explicit": explicit,
+                "form": form}
     result = analysis_pass(robot, trajectory, dominance, negligible, check, formulations,
                            chunk=max(N, 1), simplify=simplify)
     ds = build_dataset(robot, trajectory, result.terms, result.ranking, result.tau,
@@ -504,7 +510,7 @@ def analyze_to_file(robot, trajectory, path, dominance=DEFAULT_DOMINANCE,
                     negligible=DEFAULT_NEGLIGIBLE, check=True, settings=None,
                     chunk=STREAM_CHUNK, progress=False, compress=0, formulations=True,
                     extra=None, tolerance=0.01, rule="budget", torque_floor=0.0,
-                    explicit="auto"):
+                    explicit="auto", form="cheapest"):
     """:func:`analyze`, streamed into a results file in chunks of bounded memory.
 
     The G-D terms are computed once per set point, chunk by chunk, and written; the simplified
@@ -538,7 +544,7 @@ def analyze_to_file(robot, trajectory, path, dominance=DEFAULT_DOMINANCE,
         (:func:`gd_analyze.formulations.compare.formulations_dataset`).
     extra : xarray.Dataset, optional
         More variables to store with the summary (e.g. a payload sweep, dim ``payload``).
-    tolerance, rule, torque_floor, explicit : optional
+    tolerance, rule, torque_floor, explicit, form : optional
         As :func:`analyze`.
 
     Returns
@@ -565,7 +571,8 @@ def analyze_to_file(robot, trajectory, path, dominance=DEFAULT_DOMINANCE,
             out.write(0, {"t": trajectory.t, "q": trajectory.q, "qd": trajectory.qd,
                           "qdd": trajectory.qdd})
             simplify = {"tolerance": tolerance, "rule": rule, "torque_floor": torque_floor,
-                        "provenance": _provenance(trajectory, settings), "explicit": explicit}
+                        "provenance": _provenance(trajectory, settings), "explicit": explicit,
+                "form": form}
             result = analysis_pass(robot, trajectory, dominance, negligible, check,
                                    formulations, chunk, writer=out, progress=progress,
                                    simplify=simplify)

@@ -198,9 +198,13 @@ def model_cost(model):
     -------
     dict
         ``evaluators`` (names), ``multiplications`` and ``additions`` (lists of int per set
-        point): the simplified explicit model, the full explicit model and the project's
-        recursive Newton-Euler as implemented (:func:`gd_analyze.formulations.opcount.count_operations`);
-        ``dropped`` and ``parts``: parts of D and h the model drops, of 2 (n (n + 1) / 2 + n).
+        point): the simplified model, the exact recursive model
+        (:func:`gd_analyze.core.symbolic.recursive.recursive_program`), the full explicit model
+        (unless the model is recursive and the expansion expensive,
+        :func:`gd_analyze.core.explicit_estimate.is_expensive`) and the project's Newton-Euler
+        as implemented (:func:`gd_analyze.formulations.opcount.count_operations`), last;
+        ``dropped`` of ``parts``: what the model drops, ``what`` names them (parts of D and h,
+        or (base parameter, part) pairs), ``dropped_pairs`` lists the pairs of a recursive model.
 
     Notes
     -----
@@ -208,27 +212,37 @@ def model_cost(model):
     Lee (1987) (a simplified model "at a reduced computation time"), Table 3.5 (N-E), and
     Armstrong, Khatib & Burdick (1986) for the explicit form.
     """
+    from ..core.explicit_estimate import is_expensive
+    from ..core.symbolic.recursive import recursive_program
     from ..formulations.opcount import count_operations
     from ..io.explicit_cache import explicit_terms
     from .simplify import full_program
 
     robot = model.robot
-    names, mults, adds = [], [], []
-    terms, _ = explicit_terms(robot)
-    for name, counted in (("simplified explicit model", model.program().cost()),
-                          ("full explicit model", full_program(robot, terms).cost())):
-        names.append(name)
-        mults.append(int(counted["multiplications"]))
-        adds.append(int(counted["additions"]))
+    counted = [(f"simplified model ({model.form} form)", model.program().cost()),
+               ("exact recursive model", recursive_program(robot).cost())]
+    if model.form == "explicit" or not is_expensive(robot):
+        terms, _ = explicit_terms(robot)
+        counted.append(("full explicit model", full_program(robot, terms).cost()))
     ne = count_operations(robot, "newton-euler")
-    names.append("Newton-Euler (as implemented)")
-    mults.append(int(ne[0]))
-    adds.append(int(ne[1]))
+    counted.append(("Newton-Euler (as implemented)",
+                    {"multiplications": ne[0], "additions": ne[1]}))
+    names = [name for name, _ in counted]
+    mults = [int(c["multiplications"]) for _, c in counted]
+    adds = [int(c["additions"]) for _, c in counted]
+    if model.recursive is not None:
+        return {"evaluators": names, "multiplications": mults, "additions": adds,
+                "dropped": int(model.recursive.dropped.sum()),
+                "parts": int(model.recursive.dropped.size),
+                "what": "(base parameter, part) pairs of the recursive model",
+                "dropped_pairs": ", ".join(f"{a} ({b})"
+                                           for a, b in model.recursive.dropped_pairs())}
     Mt, Mr, mt, mr = choice_masks(model.choices, robot.n)
     parts = 2 * (robot.n * (robot.n + 1) // 2 + robot.n)
     kept = int(np.triu(Mt).sum() + np.triu(Mr).sum() + mt.sum() + mr.sum())
     return {"evaluators": names, "multiplications": mults, "additions": adds,
-            "dropped": parts - kept, "parts": parts}
+            "dropped": parts - kept, "parts": parts,
+            "what": "translational/rotational parts of D and h", "dropped_pairs": ""}
 
 
 def _sample_times(t_set, grid_points):
