@@ -312,11 +312,14 @@ def test_summary_gives_the_model_cost_beside_newton_euler(tmp_path, capsys):
     assert main(["puma560", str(SHIPPED), "-o", str(tmp_path / "o"), "--no-report"]) == 0
     out = capsys.readouterr().out
     ne = count_operations(load_robot("puma560"), "newton-euler")
-    line = next(x for x in out.splitlines() if x.startswith("simplified model (explicit"))
+    line = next(x for x in out.splitlines() if x.startswith("simplified model ("))
     assert line.endswith(f"Newton-Euler as implemented: {ne[0] + ne[1]:,}")
     model = json.loads((tmp_path / "o" / "simplified_model.json").read_text())
     total = model["cost"]["multiplications"] + model["cost"]["additions"]
     assert f": {total:,} operations per set point" in line
+    exact = model["costs"]["exact recursive"]
+    assert f"exact recursive model: {exact['multiplications'] + exact['additions']:,}" in line
+    assert line.startswith(f"simplified model ({'recursive N-E' if model['form'] == 'recursive' else 'explicit'}, budget")
     assert "does not beat Newton-Euler" not in out        # 622 < 1,212 on the PUMA
 
 

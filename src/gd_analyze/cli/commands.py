@@ -106,8 +106,12 @@ def _cost_lines(ds):
         return []
     m, a = (int(ds[v].values[mine[0]]) for v in ("cost_multiplications", "cost_additions"))
     total, ne_total = m + a, int(ds["cost_total"].values[ne[0]])
+    others = "".join(f"; {label}: {int(ds['cost_total'].values[names.index(key)]):,}"
+                     for key, label in (("recursive N-E, exact", "exact recursive model"),
+                                        ("explicit, full", "full explicit model"))
+                     if key in names)
     lines = ["", f"simplified model ({names[mine[0]].replace(' (this model)', '')}): {total:,} "
-                 f"operations per set point ({m:,} multiplications, {a:,} additions); "
+                 f"operations per set point ({m:,} multiplications, {a:,} additions){others}; "
                  f"Newton-Euler as implemented: {ne_total:,}"]
     if total >= ne_total:
         lines.append("  it does not beat Newton-Euler for this arm: for speed, use N-E (the "
