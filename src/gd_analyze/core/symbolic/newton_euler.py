@@ -355,7 +355,7 @@ def _link_constants(values):
 
 def _torques(rec, groups):
     """tau from the link wrenches of groups[j] = [(parts, phi constants), ...]."""
-    n, b = rec.n, rec.b
+    n = rec.n
     f_next = n_next = None
     tau = [None] * n
     for j in range(n - 1, -1, -1):

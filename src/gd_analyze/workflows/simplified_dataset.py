@@ -1,0 +1,217 @@
+"""The simplified model's stored variables: the cost table and what the report's "Simplified
+model" section reads (issues 8 and 17).
+
+Built once at analysis time from the model and its selection; the report reads them back and
+recomputes nothing.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from ..core.symbolic.recursive_model import PART_NAMES
+
+__all__ = ["AKB_COSTS", "cost_rows", "simplified_dataset"]
+
+#: Armstrong, Khatib & Burdick (ICRA 1986), PUMA 560: explicit model costs
+#: (multiplications, additions, total); the split of the simplified model is not given.
+AKB_COSTS = {"AKB 1986 full explicit": (739, 426, 1165),
+             "AKB 1986 simplified (1 %)": (np.nan, np.nan, 305)}
+
+
+def cost_rows(n, model, other=None, ladder_rows=None, formulation_counts=None):
+    """The cost table: label -> (multiplications, additions, total).
+
+    Parameters
+    ----------
+    n : int
+        Number of joints (for Table 3.5).
+    model : SimplifiedModel
+        The model built (its cost and the full explicit model's).
+    other : SimplifiedModel, optional
+        The model of the other rule, side by side.
+    ladder_rows : list of dict, optional
+        From :func:`ladder`.
+    formulation_counts : dict, optional
+        :func:`gd_analyze.opcount.operation_counts` (as implemented); by default counted.
+
+    Returns
+    -------
+    dict
+    """
+    from ..formulations.opcount import book_counts
+
+    def row(c):
+        return (float(c["multiplications"]), float(c["additions"]),
+                float(c["multiplications"] + c["additions"]))
+
+    rows = {}
+    rec = model.costs or {}
+    eps_m = f" EPS={model.tolerance:g}"
+    if "exact recursive" in rec:
+        rows["recursive N-E, exact"] = row(rec["exact recursive"])
+    if "recursive, budget" in rec:
+        rows[f"recursive N-E, budget{eps_m}"
+             + (" (this model)" if model.form == "recursive" else "")] = \
+            row(rec["recursive, budget"])
+    if model.full_cost:
+        rows["explicit, full"] = row(model.full_cost)
+    elif "explicit, full" in rec:
+        rows["explicit, full"] = row(rec["explicit, full"])
+    for r in ladder_rows or []:
+        rows[f"explicit, budget EPS={r['tolerance']:g}"] = row(r)
+    for m in (model, other):
+        if m is not None and m.form == "explicit":
+            eps = "" if m.rule == "chapter" else f" EPS={m.tolerance:g}"
+            rows[f"explicit, {m.rule}{eps} (this model)" if m is model else
+                 f"explicit, {m.rule}{eps}"] = row(m.cost)
+    for key, c in rec.items():
+        if key.startswith("explicit, ") and key != "explicit, full" and model.form != "explicit":
+            label = key + ("" if key.endswith("chapter") else eps_m)
+            rows.setdefault(label, row(c))
+    from ..formulations.opcount import operation_counts
+
+    counts = operation_counts(n) if formulation_counts is None else formulation_counts
+    for method, label in (("gd", "G-D"), ("newton-euler", "N-E"), ("lagrange-euler", "L-E")):
+        mu, ad = counts[method]["multiplications"], counts[method]["additions"]
+        rows[f"project {label} as implemented"] = (float(mu), float(ad), float(mu + ad))
+    book = book_counts(n)
+    for method, label in (("gd", "G-D"), ("newton-euler", "N-E"), ("lagrange-euler", "L-E")):
+        mu, ad = book[method]["multiplications"], book[method]["additions"]
+        rows[f"Table 3.5 {label}"] = (float(mu), float(ad), float(mu + ad))
+    if getattr(model.robot, "name", "") == "puma560" and n == 6:     # AKB's arm only
+        rows.update({k: tuple(float(x) for x in v) for k, v in AKB_COSTS.items()})
+    return rows
+
+
+def simplified_dataset(model, selection, other=None, ladder_rows=None, cost_table=None,
+                       files=("simplified_model.c", "simplified_model.py"), other_error=None):
+    """The variables the report's "Simplified model" section reads.
+
+    Parameters
+    ----------
+    model : SimplifiedModel
+    selection : Selection
+    other : SimplifiedModel, optional
+        The other rule's model.
+    ladder_rows : list of dict, optional
+    cost_table : dict, optional
+        From :func:`cost_rows`.
+    files : tuple of str, optional
+        The emitted source files.
+    other_error : dict, optional
+        The other model's error along the trajectory (:func:`validate`).
+
+    Returns
+    -------
+    xarray.Dataset
+        ``simplified_scale``, ``simplified_bound``, ``simplified_bound_inertia``,
+        ``simplified_bound_coriolis``, ``simplified_bound_gravity``,
+        ``simplified_element_bound`` (dim joint) [N m]; ``cost_*`` (dim cost_model);
+        ``ladder_*`` (dim ladder_tolerance); ``other_rule_*``; attributes ``simplified_rule``,
+        ``simplified_tolerance``, ``simplified_torque_floor``, ``simplified_files``,
+        ``simplified_terms_kept``.
+    """
+    import xarray as xr
+
+    def var(dims, data, units, desc):
+        return xr.Variable(dims, data, {"units": units, "long_name": desc})
+
+    dv = {
+        "simplified_scale": var(("joint",), selection.scale, "N m",
+                                "scale_i = max(peak |tau_i|, torque floor)"),
+        "simplified_bound": var(("joint",), selection.bound, "N m",
+                                "guaranteed bound on |tau_s - tau| on the trajectory"),
+        "simplified_bound_inertia": var(("joint",), selection.bound_by_kind["D"], "N m",
+                                        "share of the bound from dropped terms of D (D qdd)"),
+        "simplified_bound_coriolis": var(("joint",), selection.bound_by_kind["h"], "N m",
+                                         "share of the bound from dropped terms of h"),
+        "simplified_bound_gravity": var(("joint",), selection.bound_by_kind["c"], "N m",
+                                        "share of the bound from dropped terms of c"),
+        "simplified_element_bound": var(("joint",), selection.element_bound, "N m",
+                                        "bound of the whole-part (element) choices"),
+    }
+    if "whole" in selection.bound_by_kind:
+        dv["simplified_bound_whole"] = var(("joint",), selection.bound_by_kind["whole"], "N m",
+                                           "share of the bound from base parameters dropped "
+                                           "whole")
+    if cost_table:
+        labels = list(cost_table)
+        arr = np.array([cost_table[k] for k in labels], float)
+        dv.update({
+            "cost_multiplications": var(("cost_model",), arr[:, 0], "1", "multiplications"),
+            "cost_additions": var(("cost_model",), arr[:, 1], "1", "additions"),
+            "cost_total": var(("cost_model",), arr[:, 2], "1", "multiplications + additions"),
+        })
+    if ladder_rows:
+        dv.update({
+            "ladder_operations": var(("ladder_tolerance",),
+                                     [r["multiplications"] + r["additions"] for r in
+                                      ladder_rows], "1", "multiplications + additions"),
+            "ladder_trig": var(("ladder_tolerance",), [r["sin"] + r["cos"] for r in
+                                                       ladder_rows], "1", "sin and cos calls"),
+            "ladder_worst_error": var(("ladder_tolerance",),
+                                      [r["worst_relative_error"] for r in ladder_rows], "1",
+                                      "worst peak |tau_s - tau| / scale_i on the trajectory "
+                                      "(guaranteed <= EPS)"),
+        })
+    if other is not None and other_error is not None:
+        dv.update({
+            "other_rule_choice": var(("element",), np.array(
+                [other.choices[k] for k in other.choices], dtype=str), "1",
+                f"choices of the {other.rule} rule"),
+            "other_rule_error_relative_peak": var(
+                ("joint",), np.array(other_error["relative_peak_error"], float), "1",
+                f"peak |tau_s - tau| / peak |tau| of the {other.rule} rule's model"),
+        })
+    coords = {}
+    if model.recursive is not None:
+        rec = model.recursive
+        units = {"M": "kg", "MX": "kg m", "MY": "kg m", "MZ": "kg m"}
+        coords["base_parameter"] = var(("base_parameter",), np.array(rec.names, dtype=str),
+                                       "1", "base inertial parameter (Gautier 1990)")
+        coords["torque_part"] = var(("torque_part",), np.array(PART_NAMES, dtype=str), "1",
+                                    "part of the torque: inertial (D qdd), velocity (h), "
+                                    "gravity (c)")
+        dv.update({
+            "base_parameter_value": var(("base_parameter",), rec.beta, "SI", "value"),
+            "base_parameter_units": var(("base_parameter",), np.array(
+                [units.get(name.rstrip("0123456789"), "kg m2") for name in rec.names],
+                dtype=str), "1", "units of the value"),
+            "base_parameter_dropped": var(("base_parameter", "torque_part"),
+                                          rec.dropped.astype(np.int8), "1",
+                                          "1 where the part is dropped from the model"),
+        })
+        if rec.relative_peak is not None:
+            dv["base_parameter_relative_peak"] = var(
+                ("base_parameter", "torque_part"), rec.relative_peak, "1",
+                "largest peak contribution on the trajectory / scale_i (0: none)")
+    if cost_table:
+        coords["cost_model"] = var(("cost_model",), np.array(list(cost_table), dtype=str), "1",
+                                   "formulation or model whose operations are counted")
+    if ladder_rows:
+        coords["ladder_tolerance"] = var(("ladder_tolerance",),
+                                         np.array([r["tolerance"] for r in ladder_rows]), "1",
+                                         "EPS of the error budget")
+    ds = xr.Dataset(dv, coords=coords)
+    cost = model.cost
+    ds.attrs.update({
+        "simplified_rule": model.rule, "simplified_tolerance": model.tolerance,
+        "simplified_torque_floor": model.torque_floor,
+        "simplified_files": ", ".join(files),
+        "simplified_form": model.form,
+        "simplified_terms_kept": -1 if model.terms is None else len(model.terms),
+        "simplified_pairs_dropped": -1 if model.recursive is None else
+        int(model.recursive.dropped.sum()),
+        "simplified_pairs": -1 if model.recursive is None else
+        int(model.recursive.dropped.size),
+        "simplified_dropped_pairs": "" if model.recursive is None else
+        ", ".join(f"{a} ({b})" for a, b in model.recursive.dropped_pairs()),
+        "simplified_multiplications": cost["multiplications"],
+        "simplified_additions": cost["additions"], "simplified_sin": cost["sin"],
+        "simplified_cos": cost["cos"],
+        "other_rule": "" if other is None else other.rule,
+        "other_rule_multiplications": -1 if other is None else other.cost["multiplications"],
+        "other_rule_additions": -1 if other is None else other.cost["additions"],
+    })
+    return ds
