@@ -1,17 +1,16 @@
-"""The simplified dynamic model of Sec. 3.4.1: keep only the dominant part of each element.
+"""The simplified model as a value: its robot, its form, what it keeps, its guarantee and cost.
 
-For each ranked element of D (upper triangle, mirrored to the lower) and h, the model keeps the
-translational part, the rotational part, both, or nothing (negligible). Gravity c stays whole::
+A :class:`SimplifiedModel` is of one of two forms (issue 17):
 
-    tau_s = D_s qdd + h_s + c,   D_s = M_tran * D_tran + M_rot * D_rot,
-                                 h_s = m_tran * h_tran + m_rot * h_rot
+- explicit: the kept terms of the explicit G-D model (:mod:`gd_analyze.core.explicit`), pruned
+  by the error budget (:mod:`gd_analyze.core.budget`) or chosen per element by the chapter's
+  rule (:mod:`gd_analyze.core.choices`, Sec. 3.4.1), compiled to straight-line code
+  (:mod:`gd_analyze.core.codegen`);
+- recursive: the customized recursive Newton-Euler model on the base parameters with parts of
+  their contributions dropped (:mod:`gd_analyze.core.symbolic.recursive_model`).
 
-with 0/1 masks M and m from the choices. Since issue 8 the model is evaluated in its explicit
-form (:mod:`gd_analyze.core.explicit`): the kept terms, pruned by the error budget
-(:mod:`gd_analyze.core.budget`), compiled to straight-line code (:mod:`gd_analyze.core.codegen`),
-so it costs less than the full model. The model is written as JSON (``simplified_model.json``)
-that carries its robot's parameters and its kept terms, so
-``SimplifiedModel.load(path).torque(q, qd, qdd)`` works on any machine.
+It is written as JSON (``simplified_model.json``) that carries its robot's parameters and what
+the model keeps, so ``SimplifiedModel.load(path).torque(q, qd, qdd)`` works on any machine.
 """
 
 from __future__ import annotations
@@ -22,7 +21,9 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from ..errors import InputError
-from .labels import element_index, element_labels
+from .choices import (CHOICES, choice_masks, full_choices, merge_choices,  # noqa: F401
+                      simplified_torque)
+from .labels import element_labels
 from .robot import robot_from_dict
 from .safe_text import comment_safe
 
@@ -34,51 +35,6 @@ __all__ = ["SCHEMA_VERSION", "CHOICES", "SimplifiedModel", "choice_masks", "merg
 SCHEMA_VERSION = 2
 #: Older layouts still read (their model is rebuilt from the choices, without pruning).
 READABLE_SCHEMAS = (1, 2)
-#: What a simplified model keeps of an element: its translational part, its rotational part,
-#: both, or nothing.
-CHOICES = ("tran", "rot", "both", "none")
-
-
-def choice_masks(choices, n):
-    """0/1 masks that select the kept parts.
-
-    Parameters
-    ----------
-    choices : dict
-        Element label (``"D11"`` .. ``"Dnn"`` with i <= j, ``"h1"`` .. ``"hn"``) -> ``"tran"``,
-        ``"rot"``, ``"both"`` or ``"none"``.
-    n : int
-        Number of joints.
-
-    Returns
-    -------
-    D_tran_mask, D_rot_mask : ndarray, shape (n, n)
-        Symmetric masks for D_tran and D_rot.
-    h_tran_mask, h_rot_mask : ndarray, shape (n,)
-        Masks for h_tran and h_rot.
-
-    Raises
-    ------
-    ValueError
-        If an element is missing or a choice is not one of the four.
-    """
-    Mt, Mr = np.zeros((n, n)), np.zeros((n, n))
-    mt, mr = np.zeros(n), np.zeros(n)
-    for label, (kind, i, j) in zip(element_labels(n), element_index(n)):
-        if label not in choices:
-            raise ValueError(f"no choice for element {label}")
-        ch = choices[label]
-        if ch not in CHOICES:
-            raise ValueError(f"element {label}: choice must be one of {CHOICES}, got {ch!r}")
-        keep_t, keep_r = ch in ("tran", "both"), ch in ("rot", "both")
-        if kind == "D":
-            Mt[i, j] = Mt[j, i] = keep_t
-            Mr[i, j] = Mr[j, i] = keep_r
-        else:
-            mt[i], mr[i] = keep_t, keep_r
-    return Mt, Mr, mt, mr
-
-
 def _units(robot):
     """The units line of the emitted files (prismatic joints in m and N)."""
     pris = [i + 1 for i, p in enumerate(getattr(robot, "prismatic", ())) if p]
@@ -88,36 +44,6 @@ def _units(robot):
         text += (f"; prismatic joint{'s' if len(pris) > 1 else ''} {joints}: q [m], qd [m/s], "
                  "qdd [m/s^2], tau [N]")
     return text
-
-
-def simplified_torque(terms, choices, qdd):
-    """Torques of the simplified model from already computed G-D terms.
-
-    Parameters
-    ----------
-    terms : GDTerms
-        D_tran, D_rot (N, n, n) [kg m^2]; h_tran, h_rot, c (N, n) [N m].
-    choices : dict
-        Element label -> ``"tran"``, ``"rot"``, ``"both"`` or ``"none"``.
-    qdd : array_like, shape (N, n)
-        Joint accelerations [rad/s^2].
-
-    Returns
-    -------
-    ndarray, shape (N, n)
-        tau_s = D_s qdd + h_s + c [N m].
-
-    Raises
-    ------
-    ValueError
-        As :func:`choice_masks`.
-    """
-    n = terms.c.shape[1]
-    Mt, Mr, mt, mr = choice_masks(choices, n)
-    D_s = Mt * terms.D_tran + Mr * terms.D_rot
-    h_s = mt * terms.h_tran + mr * terms.h_rot
-    qdd = np.asarray(qdd, dtype=float).reshape(terms.c.shape)
-    return np.einsum("kij,kj->ki", D_s, qdd) + h_s + terms.c
 
 
 class TorqueErrorAccumulator:
@@ -567,81 +493,3 @@ def _json_safe(obj):
     if isinstance(obj, np.generic):
         return _json_safe(obj.item())
     return obj
-
-
-def merge_choices(choices_list):
-    """Merge simplified models conservatively: drop a part only where every model drops it.
-
-    Parameters
-    ----------
-    choices_list : sequence of dict
-        One dict per trajectory: element label -> ``"tran"``, ``"rot"``, ``"both"`` or
-        ``"none"``; all with the same labels.
-
-    Returns
-    -------
-    dict
-        Element label -> merged choice, in the label order of the first dict. With
-        keep_tran = any choice in {tran, both} and keep_rot = any choice in {rot, both}:
-        ``"both"`` if both are kept, ``"tran"`` or ``"rot"`` if only one, ``"none"`` if
-        neither (the element is negligible in every trajectory).
-
-    Raises
-    ------
-    ValueError
-        If the sequence is empty, the dicts have different labels, or a choice is not one of
-        the four.
-
-    Notes
-    -----
-    The merged model keeps every part that any trajectory's own model keeps, so it is the
-    smallest model of this form that is, element by element, at least as complete as each of
-    them. Source: the simplified model of Sec. 3.4.1 of Fu, Gonzalez & Lee (1987), which
-    "depends on the specific trajectory being considered".
-
-    Examples
-    --------
-    >>> merge_choices([{"D11": "tran", "h1": "none"}, {"D11": "rot", "h1": "none"}])
-    {'D11': 'both', 'h1': 'none'}
-    """
-    choices_list = list(choices_list)
-    if not choices_list:
-        raise ValueError("no simplified models to merge")
-    labels = list(choices_list[0])
-    keep_t = dict.fromkeys(labels, False)
-    keep_r = dict.fromkeys(labels, False)
-    for k, choices in enumerate(choices_list):
-        if set(choices) != set(labels):
-            diff = sorted(set(choices) ^ set(labels))
-            raise ValueError(f"model {k} has other elements than model 0 (e.g. {diff[0]!r})")
-        for label, ch in choices.items():
-            if ch not in CHOICES:
-                raise ValueError(f"model {k}, element {label}: choice must be one of "
-                                 f"{CHOICES}, got {ch!r}")
-            keep_t[label] |= ch in ("tran", "both")
-            keep_r[label] |= ch in ("rot", "both")
-    table = {(True, True): "both", (True, False): "tran", (False, True): "rot",
-             (False, False): "none"}
-    return {label: table[(keep_t[label], keep_r[label])] for label in labels}
-
-
-def full_choices(n):
-    """Choices that keep every part of every element: the full model.
-
-    Parameters
-    ----------
-    n : int
-        Number of joints.
-
-    Returns
-    -------
-    dict
-        ``{"D11": "both", ..., "hn": "both"}``.
-
-    Examples
-    --------
-    >>> full_choices(1)
-    {'D11': 'both', 'h1': 'both'}
-    """
-    return {label: "both" for label in element_labels(n)}
-
