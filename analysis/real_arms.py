@@ -259,9 +259,13 @@ def run_arm(name, path, tip, chain, work, args, env):
         notes.append("verification failed (exit 1)")
     spec = json.loads((out / "simplified_model.json").read_text(encoding="utf-8"))
     costs = spec.get("costs") or {}
-    row.update(form=spec.get("form"), cost=spec.get("cost"),
-               exact=costs.get("exact recursive"), ne=costs.get("newton-euler"),
-               explicit=costs.get("explicit, budget"))
+    # an explicit model's file has no "form" key, only its "explicit_terms"
+    form = spec.get("form") or ("explicit" if "explicit_terms" in spec else None)
+    row.update(form=form, cost=spec.get("cost"),
+               exact=costs.get("exact recursive"), ne=costs.get("newton-euler"))
+    full = costs.get("explicit, full")
+    if full and row["cost"] and mul_add(full) < mul_add(row["cost"]):
+        notes.append(f"the full explicit model (EPS = 0) costs less: {_cost(full)}")
     build = work / f"{name}.build"
     build.mkdir()
     try:
@@ -330,6 +334,16 @@ def criteria(rows, eps):
     ]
 
 
+def progress(r):
+    """One line of figures per arm for stderr: C against Python, per-joint errors, peaks."""
+    nan = float("nan")
+    vec = (lambda key: " ".join(f"{v:.1e}" for v in r.get(key, [])))
+    return (f"{r.get('time_s', nan):.1f} s; error py {r.get('error_py', nan):.2e}, "
+            f"C {r.get('error_c', nan):.2e}, C vs py {r.get('c_vs_py', nan):.1e}, "
+            f"exact {r.get('exact_error', nan):.1e}; per joint (py) [{vec('joint_errors_py')}]; "
+            f"peak |tau| [N m] [{vec('peak_tau')}] {r.get('note', '')}")
+
+
 def header(eps, cache):
     """Lines about the machine and the run: load averages (times are noisy on a shared host)."""
     cc = subprocess.run(["cc", "--version"], capture_output=True, text=True).stdout
@@ -374,13 +388,7 @@ def main(argv=None):
         for name, path, tip, chain in arms:
             print(f"{name}: {len(chain.joint_names)} joints ...", file=sys.stderr, flush=True)
             rows.append(run_arm(name, path, tip, chain, Path(tmp), args, env))
-            r = rows[-1]
-            print(f"  {r.get('time_s', float('nan')):.1f} s, py {r.get('error_py', float('nan')):.2e}"
-                  f", C {r.get('error_c', float('nan')):.2e}, C vs py "
-                  f"{r.get('c_vs_py', float('nan')):.1e}, exact {r.get('exact_error', float('nan')):.1e}"
-                  f", per-joint py {np.array2string(r.get('joint_errors_py', np.array([])), precision=2)}"
-                  f", peak |tau| {np.array2string(r.get('peak_tau', np.array([])), precision=3)}"
-                  f" {r.get('note', '')}", file=sys.stderr, flush=True)
+            print("  " + progress(rows[-1]), file=sys.stderr, flush=True)
     print(table(rows, args.tolerance))
     print(f"\nuptime at end: {subprocess.run(['uptime'], capture_output=True, text=True).stdout.strip()}\n")
     for text, failing in criteria(rows, args.tolerance):
