@@ -1,4 +1,4 @@
-"""The main job on the serial arms of example-robot-data: costs, error against Pinocchio, time, memory.
+"""The main job on the serial arms of example-robot-data: costs, errors against Pinocchio, time, memory.
 
 For every serial arm shipped with the ``example-robot-data`` package (its URDF files, found
 through the installed distribution's file list; an arm is a URDF with one chain the main job
@@ -8,27 +8,35 @@ accepts, or a NAME:TIP given with --arms, e.g. a quadruped's leg), the script
 2. runs the main job ``gd-analyze URDF traj.csv -o OUT --tolerance EPS`` as a child process
    (explicit-model cache disabled unless --cache), measuring its wall time and peak resident
    memory (``os.wait4``: the child's own maximum RSS, including the processes it waited for);
-3. reads ``simplified_model.json``: ``exact_recursive_cost`` if the model has one, else n/a;
-   ``cost`` (the simplified model at EPS: multiplications + additions + sin + cos, and the
-   split); and the Newton-Euler count as implemented from the cost table in ``results.h5``;
-4. evaluates the emitted ``simplified_model.py`` (numpy only) along the trajectory against
-   Pinocchio's rnea on the URDF itself (``pinocchio.buildModelFromUrdf``, the chain's joints
-   driven by the trajectory, every other joint at its neutral position): the worst per-joint
-   peak |tau_py - tau_rnea| / peak |tau_rnea_i|.
+3. reads ``simplified_model.json``: the deployed ``form`` (recursive or explicit), its ``cost``
+   (the EPS model), and from ``costs`` the exact recursive model and Newton-Euler as
+   implemented; counts are multiplications + additions (sin and cos beside them);
+4. evaluates the emitted ``simplified_model.py`` (numpy only) and ``simplified_model.c``
+   (compiled with ``cc -O2 -shared -fPIC``, timed, called through ctypes one set point at a
+   time) along the trajectory against Pinocchio's rnea on the URDF itself
+   (``pinocchio.buildModelFromUrdf``, the chain's joints driven, every other joint at its
+   neutral position and at rest): the worst per-joint peak |tau - tau_rnea| / peak |tau_rnea_i|;
+5. builds the exact model (EPS = 0) in-process, ``recursive_program(load_robot(URDF, base,
+   tip))``, and compares it with rnea in the same way on 200 random states
+   (``base_parameters.random_states``).
 
-It prints a Markdown table. Arms with 7 joints take minutes each (their explicit expansion).
+It prints the machine's load averages, a Markdown table, and one PASS/FAIL line per issue-17
+criterion naming the arms that fail it.
 
 Usage::
 
     python analysis/real_arms.py [--arms NAME[:TIP],...] [--timeout S] [--tolerance EPS]
-                                 [--cache] [--list]
+                                 [--cache] [--no-report] [--list]
 """
 
 from __future__ import annotations
 
 import argparse
+import ctypes
 import json
 import os
+import platform
+import shutil
 import signal
 import subprocess
 import sys
@@ -138,34 +146,85 @@ def rnea_torques(path, joint_names, q, qd, qdd):
     return out
 
 
-def python_model_error(outdir, path, chain, csv):
-    """Worst per-joint peak |tau_py - tau_rnea| / peak |tau_rnea_i| along the trajectory."""
-    from gd_analyze.io.trajectory import read_trajectory
+#: States of the exact-model check (EPS = 0) and their seed.
+EXACT_STATES, EXACT_SEED = 200, 0
 
-    traj = read_trajectory(csv, n_joints=len(chain.joint_names))
-    ns = {"__name__": "simplified_model"}
-    exec((outdir / "simplified_model.py").read_text(encoding="utf-8"), ns)   # our own output
-    tau = np.asarray(ns["tau"](traj.q, traj.qd, traj.qdd), float)
-    ref = rnea_torques(path, chain.joint_names, traj.q, traj.qd, traj.qdd)
+#: The C compiler command of the deployed model (the machine's cc), flags of the issue.
+CC = ["cc", "-O2", "-shared", "-fPIC"]
+
+
+def relative_error(tau, ref):
+    """Worst per-joint peak |tau - ref| / peak |ref_i|; inf for non-finite values or a zero joint."""
     scale = np.abs(ref).max(axis=0)
-    if not (np.isfinite(tau).all() and (scale > 0).all()):
+    if not (np.isfinite(tau).all() and np.isfinite(ref).all() and (scale > 0).all()):
         return float("inf")
     return float((np.abs(tau - ref).max(axis=0) / scale).max())
 
 
-def newton_euler_cost(results):
-    """Multiplications + additions of N-E as implemented, from the cost table of results.h5."""
-    import xarray as xr
+def python_model(outdir):
+    """tau(q, qd, qdd) of the emitted simplified_model.py (our own output, numpy only)."""
+    ns = {"__name__": "simplified_model"}
+    exec((outdir / "simplified_model.py").read_text(encoding="utf-8"), ns)
+    return ns["tau"]
 
-    with xr.open_dataset(results, engine="h5netcdf") as ds:
-        if "cost_model" not in ds.coords:
-            return None
-        labels = [str(v) for v in ds["cost_model"].values]
-        key = "project N-E as implemented"
-        if key not in labels:
-            return None
-        k = labels.index(key)
-        return int(ds["cost_multiplications"].values[k]), int(ds["cost_additions"].values[k])
+
+def c_model(outdir, n, build):
+    """Compile simplified_model.c with ``cc -O2 -shared -fPIC``: (tau function, compile time [s]).
+
+    The function evaluates the set points one by one through ctypes; shape (N, n) -> (N, n).
+    """
+    lib = build / "simplified_model.so"
+    t0 = time.perf_counter()
+    done = subprocess.run(CC + ["-o", str(lib), str(outdir / "simplified_model.c"), "-lm"],
+                          capture_output=True, text=True)
+    seconds = time.perf_counter() - t0
+    if done.returncode != 0:
+        raise RuntimeError(f"cc failed: {done.stderr.strip().splitlines()[-1:]}")
+    fn = ctypes.CDLL(str(lib)).gd_simplified_tau
+    ptr = ctypes.POINTER(ctypes.c_double)
+    fn.argtypes, fn.restype = [ptr] * 4, None
+
+    def tau(q, qd, qdd):
+        q, qd, qdd = (np.ascontiguousarray(x, dtype=float) for x in (q, qd, qdd))
+        out = np.empty_like(q)
+        row = np.empty(n)
+        for k in range(q.shape[0]):
+            fn(q[k].ctypes.data_as(ptr), qd[k].ctypes.data_as(ptr), qdd[k].ctypes.data_as(ptr),
+               row.ctypes.data_as(ptr))
+            out[k] = row
+        return out
+
+    return tau, seconds
+
+
+def exact_model_error(path, tip, chain):
+    """The exact recursive model (EPS = 0) against rnea on random states: worst relative error."""
+    from gd_analyze.core.codegen import python_function
+    from gd_analyze.core.symbolic.base_parameters import random_states
+    from gd_analyze.core.symbolic.recursive import recursive_program
+    from gd_analyze.io.robots import load_robot
+
+    robot = load_robot(str(path), None, tip)                    # as the CLI: robot, --base, --tip
+    q, qd, qdd = random_states(robot, EXACT_STATES, EXACT_SEED)
+    tau = np.asarray(python_function(recursive_program(robot))(q, qd, qdd), float)
+    return relative_error(tau, rnea_torques(path, chain.joint_names, q, qd, qdd))
+
+
+def model_errors(row, outdir, path, chain, csv, build):
+    """Errors of the emitted Python and C models along the trajectory, and the compile time."""
+    from gd_analyze.io.trajectory import read_trajectory
+
+    traj = read_trajectory(csv, n_joints=len(chain.joint_names))
+    ref = rnea_torques(path, chain.joint_names, traj.q, traj.qd, traj.qdd)
+    py = np.asarray(python_model(outdir)(traj.q, traj.qd, traj.qdd), float)
+    row["error_py"] = relative_error(py, ref)
+    row["peak_tau"] = np.abs(ref).max(axis=0)
+    row["joint_errors_py"] = np.abs(py - ref).max(axis=0) / row["peak_tau"]
+    fn, row["compile_s"] = c_model(outdir, len(chain.joint_names), build)
+    c = fn(traj.q, traj.qd, traj.qdd)
+    row["error_c"] = relative_error(c, ref)
+    row["joint_errors_c"] = np.abs(c - ref).max(axis=0) / row["peak_tau"]
+    row["c_vs_py"] = relative_error(c, py) if np.isfinite(py).all() else float("inf")
 
 
 def run_arm(name, path, tip, chain, work, args, env):
@@ -174,10 +233,16 @@ def run_arm(name, path, tip, chain, work, args, env):
     chain_opt = ["--tip", tip] if tip else []
     csv = work / f"{name}.csv"
     row = {"arm": name + (f":{tip}" if tip else ""), "joints": len(chain.joint_names)}
+    notes = []
+    try:
+        row["exact_error"] = exact_model_error(path, tip, chain)
+    except Exception as exc:                                   # noqa: BLE001 - reported
+        notes.append(f"exact model: {type(exc).__name__}: {exc}")
     code, _, _, err = run_child(cli + ["plan", str(path), "-o", str(csv), *chain_opt],
                                 args.timeout, env)
     if code != 0:
-        return {**row, "note": f"plan failed: {err}" if code is not None else "plan timed out"}
+        notes.append(f"plan failed: {err}" if code is not None else "plan timed out")
+        return {**row, "note": "; ".join(notes)}
     out = work / name
     code, wall, rss, err = run_child(cli + [str(path), str(csv), "-o", str(out), "--tolerance",
                                             str(args.tolerance), *chain_opt,
@@ -185,42 +250,112 @@ def run_arm(name, path, tip, chain, work, args, env):
                                      args.timeout, env)
     row.update(time_s=wall, rss_mib=rss)
     if code is None:
-        return {**row, "note": f"main job timed out after {args.timeout:g} s"}
+        notes.append(f"main job timed out after {args.timeout:g} s")
+        return {**row, "note": "; ".join(notes)}
     if code not in (0, 1):
-        return {**row, "note": f"main job exit {code}: {err}"}
+        notes.append(f"main job exit {code}: {err}")
+        return {**row, "note": "; ".join(notes)}
+    if code == 1:
+        notes.append("verification failed (exit 1)")
     spec = json.loads((out / "simplified_model.json").read_text(encoding="utf-8"))
-    row["exact"] = spec.get("exact_recursive_cost")
-    row["cost"] = spec.get("cost")
-    row["ne"] = newton_euler_cost(out / "results.h5")
-    row["error"] = python_model_error(out, path, chain, csv)
-    row["note"] = "verification failed (exit 1)" if code == 1 else ""
+    costs = spec.get("costs") or {}
+    # an explicit model's file has no "form" key, only its "explicit_terms"
+    form = spec.get("form") or ("explicit" if "explicit_terms" in spec else None)
+    row.update(form=form, cost=spec.get("cost"),
+               exact=costs.get("exact recursive"), ne=costs.get("newton-euler"))
+    full = costs.get("explicit, full")
+    if full and row["cost"] and mul_add(full) < mul_add(row["cost"]):
+        notes.append(f"the full explicit model (EPS = 0) costs less: {_cost(full)}")
+    build = work / f"{name}.build"
+    build.mkdir()
+    try:
+        model_errors(row, out, path, chain, csv, build)
+    except Exception as exc:                                   # noqa: BLE001 - reported
+        notes.append(f"model check: {type(exc).__name__}: {exc}")
+    row["note"] = "; ".join(notes)
     return row
+
+
+def mul_add(c):
+    """Multiplications + additions of a cost dict, or None."""
+    return int(c["multiplications"]) + int(c["additions"]) if c else None
 
 
 def _cost(c):
     if not c:
         return "n/a"
-    if isinstance(c, (int, float)):
-        return f"{int(c):,}"
-    total = sum(int(c.get(k, 0)) for k in ("multiplications", "additions", "sin", "cos"))
-    return (f"{total:,} ({c.get('multiplications', 0):,} mul + {c.get('additions', 0):,} add "
-            f"+ {c.get('sin', 0)} sin + {c.get('cos', 0)} cos)")
+    trig = [f"{c[k]} {k}" for k in ("sin", "cos") if k in c]
+    return (f"{mul_add(c):,} ({c['multiplications']:,} mul + {c['additions']:,} add"
+            + (f"; {', '.join(trig)}" if trig else "") + ")")
+
+
+def _num(r, key, fmt):
+    return format(r[key], fmt) if key in r else "n/a"
 
 
 def table(rows, eps):
-    head = ["arm", "joints", "exact recursive cost", f"EPS={eps:g} model cost",
-            "Newton-Euler cost", "worst error vs rnea", "main job [s]", "peak RSS [MiB]", "note"]
+    head = ["arm", "joints", "form", "exact recursive cost", f"EPS={eps:g} model cost",
+            "Newton-Euler cost", "error py vs rnea", "error C vs rnea",
+            "exact (EPS=0) error vs rnea", "cc -O2 [s]", "main job [s]", "peak RSS [MiB]", "note"]
     lines = ["| " + " | ".join(head) + " |", "|" + "---|" * len(head)]
     for r in rows:
-        ne = r.get("ne")
         lines.append("| " + " | ".join([
-            r["arm"], str(r["joints"]), _cost(r.get("exact")), _cost(r.get("cost")),
-            f"{sum(ne):,} ({ne[0]:,} mul + {ne[1]:,} add)" if ne else "n/a",
-            f"{r['error']:.2e}" if "error" in r else "n/a",
-            f"{r['time_s']:.1f}" if "time_s" in r else "n/a",
-            f"{r['rss_mib']:.0f}" if "rss_mib" in r else "n/a",
+            r["arm"], str(r["joints"]), r.get("form") or "n/a", _cost(r.get("exact")),
+            _cost(r.get("cost")), _cost(r.get("ne")), _num(r, "error_py", ".2e"),
+            _num(r, "error_c", ".2e"), _num(r, "exact_error", ".1e"),
+            _num(r, "compile_s", ".2f"), _num(r, "time_s", ".1f"), _num(r, "rss_mib", ".0f"),
             r.get("note", "")]) + " |")
     return "\n".join(lines)
+
+
+def criteria(rows, eps):
+    """(text, failing arms) per issue-17 criterion; a missing figure fails."""
+    def fails(test, subset=None):
+        return [r["arm"] for r in rows if (subset is None or subset(r)) and not test(r)]
+
+    def cheaper(r):
+        m, e, ne = (mul_add(r.get(k)) for k in ("cost", "exact", "ne"))
+        return None not in (m, e, ne) and m < ne and m <= e
+
+    def below(key, limit):
+        return lambda r: key in r and np.isfinite(r[key]) and r[key] <= limit
+
+    seven = (lambda r: r["joints"] == 7)
+    return [
+        ("every arm's EPS model < Newton-Euler and <= exact recursive (mul + add)",
+         fails(cheaper)),
+        (f"every error of the Python and C models vs rnea <= {eps:.0%}",
+         fails(lambda r: below("error_py", eps)(r) and below("error_c", eps)(r))),
+        ("every exact (EPS = 0) error vs rnea <= 1e-10", fails(below("exact_error", 1e-10))),
+        ("every cc -O2 compile of simplified_model.c < 10 s",
+         fails(lambda r: "compile_s" in r and r["compile_s"] < 10)),
+        ("the 7-joint arms' main job <= 15 s and <= 1 GiB peak RSS",
+         fails(lambda r: below("time_s", 15)(r) and below("rss_mib", 1024)(r), seven)),
+    ]
+
+
+def progress(r):
+    """One line of figures per arm for stderr: C against Python, per-joint errors, peaks."""
+    nan = float("nan")
+    vec = (lambda key: " ".join(f"{v:.1e}" for v in r.get(key, [])))
+    return (f"{r.get('time_s', nan):.1f} s; error py {r.get('error_py', nan):.2e}, "
+            f"C {r.get('error_c', nan):.2e}, C vs py {r.get('c_vs_py', nan):.1e}, "
+            f"exact {r.get('exact_error', nan):.1e}; per joint (py) [{vec('joint_errors_py')}]; "
+            f"peak |tau| [N m] [{vec('peak_tau')}] {r.get('note', '')}")
+
+
+def header(eps, cache):
+    """Lines about the machine and the run: load averages (times are noisy on a shared host)."""
+    cc = subprocess.run(["cc", "--version"], capture_output=True, text=True).stdout
+    up = subprocess.run(["uptime"], capture_output=True, text=True).stdout.strip()
+    return [f"# gd-analyze on the serial arms of example-robot-data (EPS = {eps:g})", "",
+            f"- {time.strftime('%Y-%m-%d %H:%M:%S UTC', time.gmtime())}; {platform.node()}, "
+            f"{os.cpu_count()} CPUs; Python {platform.python_version()}; "
+            f"cc: {(cc.splitlines() or ['?'])[0]}",
+            f"- uptime at start: {up}",
+            f"- explicit-model cache: {'used' if cache else 'disabled (cold)'}; trajectory: "
+            f"`gd-analyze plan` (31 set points); exact check: {EXACT_STATES} random states, "
+            f"seed {EXACT_SEED}", ""]
 
 
 def main(argv=None):
@@ -245,12 +380,20 @@ def main(argv=None):
     env = dict(os.environ)
     if not args.cache:
         env["GD_ANALYZE_NO_CACHE"] = "1"
+    if shutil.which("cc") is None:
+        sys.exit("no C compiler 'cc' on PATH")
+    print("\n".join(header(args.tolerance, args.cache)), flush=True)
     rows = []
     with tempfile.TemporaryDirectory(prefix="real_arms_") as tmp:
         for name, path, tip, chain in arms:
             print(f"{name}: {len(chain.joint_names)} joints ...", file=sys.stderr, flush=True)
             rows.append(run_arm(name, path, tip, chain, Path(tmp), args, env))
+            print("  " + progress(rows[-1]), file=sys.stderr, flush=True)
     print(table(rows, args.tolerance))
+    print(f"\nuptime at end: {subprocess.run(['uptime'], capture_output=True, text=True).stdout.strip()}\n")
+    for text, failing in criteria(rows, args.tolerance):
+        print(f"- {'PASS' if not failing else 'FAIL'}: {text}"
+              + (f" -- failing: {', '.join(failing)}" if failing else ""))
     if skipped and not args.arms:
         print(f"\nNot serial arms the main job accepts: "
               + "; ".join(f"{n} ({why})" for n, why in skipped))
