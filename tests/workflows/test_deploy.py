@@ -145,3 +145,20 @@ def test_report_text_follows_the_model(tmp_path):
             assert "it is exact, nothing is dropped" in ctx["summary"]
             assert "no part is dropped" in ctx["simplified_model"]["text"]
         assert ctx["choices_heading"].endswith("Base parameters and the parts kept")
+
+
+def test_deployed_model_never_costs_more_than_a_model_within_budget(tmp_path):
+    """finger_edu (example-robot-data): pruning its explicit model raised the count (105
+    against the full model's 101); the deployed model is the cheapest one within the budget."""
+    import importlib.metadata
+
+    root = importlib.metadata.distribution("example-robot-data").locate_file(
+        "cmeel.prefix/share/example-robot-data/robots")
+    urdf = root / "finger_edu_description" / "robots" / "finger_edu.urdf"
+    csv = tmp_path / "f.csv"
+    assert main(["plan", str(urdf), "-o", str(csv)]) == 0
+    assert main([str(urdf), str(csv), "-o", str(tmp_path / "o"), "--no-report", "-q"]) == 0
+    spec = json.loads((tmp_path / "o" / "simplified_model.json").read_text())
+    assert spec["form"] in ("explicit", "recursive")
+    within = [c for key, c in spec["costs"].items() if key != "newton-euler"]
+    assert _ops(spec["cost"]) == min(_ops(c) for c in within)

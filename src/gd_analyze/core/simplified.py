@@ -314,8 +314,9 @@ class SimplifiedModel:
         if self.terms is not None:
             out.update(cost=dict(self.cost or self.program().cost()), bound=list(self.bound),
                        explicit_terms=_terms_to_json(self.terms))
+        out["form"] = self.form
         if self.recursive is not None:
-            out.update(form="recursive", cost=dict(self.program().cost()),
+            out.update(cost=dict(self.program().cost()),
                        bound=list(self.bound), recursive=self.recursive.to_dict())
         if self.costs:
             out["costs"] = {k: dict(v) for k, v in self.costs.items()}

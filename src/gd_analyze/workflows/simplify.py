@@ -187,17 +187,26 @@ def build_model(robot, terms, peaks, tolerance=DEFAULT_TOLERANCE, rule="budget",
     """
     import dataclasses
 
-    sel = select_terms(terms, peaks.terms, peaks.parts.peaks, peaks.parts.tau_peak,
-                       tolerance=tolerance, rule=rule,
-                       torque_floor=torque_floor if relative_to is None else 0.0,
-                       chapter_choices=chapter_choices)
-    if relative_to is not None:
-        top = np.asarray(relative_to, float)
-        sel = dataclasses.replace(
-            sel, scale=top, bound=sel.bound * top, element_bound=sel.element_bound * top,
-            bound_by_kind={k: v * top for k, v in sel.bound_by_kind.items()})
+    def select(eps):
+        sel = select_terms(terms, peaks.terms, peaks.parts.peaks, peaks.parts.tau_peak,
+                           tolerance=eps, rule=rule,
+                           torque_floor=torque_floor if relative_to is None else 0.0,
+                           chapter_choices=chapter_choices)
+        if relative_to is not None:
+            top = np.asarray(relative_to, float)
+            sel = dataclasses.replace(
+                sel, scale=top, bound=sel.bound * top, element_bound=sel.element_bound * top,
+                bound_by_kind={k: v * top for k, v in sel.bound_by_kind.items()})
+        return sel
+
+    sel = select(tolerance)
     program = _program(robot, terms, sel.kept)
     full = full_program(robot, terms).cost()
+    if rule == "budget" and _ops(program.cost()) > _ops(full):
+        # dropping terms can cost more (the factoring and the CSE find less to share): the
+        # full model (nothing dropped, bound 0) is then the cheapest one within the budget
+        sel = select(0.0)
+        program = _program(robot, terms, sel.kept)
     model = SimplifiedModel(
         robot=robot, choices=sel.choices,
         dominance_threshold=float(getattr(ranking, "dominance_threshold", DEFAULT_DOMINANCE)),
@@ -207,6 +216,10 @@ def build_model(robot, terms, peaks, tolerance=DEFAULT_TOLERANCE, rule="budget",
         cost=program.cost(), full_cost=full, bound=[float(v) for v in sel.bound])
     object.__setattr__(model, "_program", program)
     return model, sel
+
+
+def _ops(cost):
+    return int(cost["multiplications"]) + int(cost["additions"])
 
 
 def full_torque(robot, terms):
