@@ -17,8 +17,8 @@ import warnings
 
 from ..errors import InputError, InputNote, InputWarning
 
-from .commands import (_cmd_analyze, _cmd_compare, _cmd_control, _cmd_evaluate, _cmd_plan,
-                       _cmd_sweep)
+from .commands import _cmd_analyze, _cmd_compare, _cmd_control, _cmd_evaluate, _cmd_plan
+from .sweep_command import _cmd_sweep
 from .parsing import (COMMANDS, EXIT_INPUT, EXIT_INTERNAL, EXIT_OK, PROG, _analyze_parser,
                       _compare_parser, _control_parser, _evaluate_parser, _plan_parser,
                       _sweep_parser, parse_range)

@@ -1,0 +1,163 @@
+"""The ``sweep`` command: many trajectories on dask, the merged model, and their files.
+
+``_cmd_sweep(args)`` takes the parsed arguments of :mod:`gd_analyze.cli.parsing` and returns the
+exit status; bad input raises :class:`gd_analyze.errors.InputError` (exit status 2).
+"""
+
+from __future__ import annotations
+
+import contextlib
+import sys
+from pathlib import Path
+
+from ..errors import InputError
+from .commands import (_apply_payload, _chain_settings, _command_line, _load_robot, _outdir,
+                       _payload_masses)
+from .parsing import EXIT_OK, _version
+
+__all__ = []
+
+
+def _sweep_model(robot, trajectories, args, outdir, settings, ds):
+    """The sweep's merged model of the budget rule, within EPS x scale_i on every trajectory.
+
+    Writes merged_model.json/.c/.py into outdir; returns (written paths, the sweep dataset
+    with this model's errors)."""
+    from ..io.planning import random_trajectories
+    from ..workflows.simplify import sweep_model
+    from ..workflows.sweep import with_budget_model
+
+    if args.held_out < 0:
+        raise InputError("--held-out must be >= 0")
+    held = random_trajectories(robot, args.held_out, seed=args.seed + 1_000_003) \
+        if args.held_out else []
+    model, _ = sweep_model(robot, trajectories, tolerance=args.tolerance,
+                           torque_floor=args.torque_floor, held_out=held,
+                           provenance={"gd_analyze_version": _version(), **settings})
+    ds = with_budget_model(ds, model)
+    model.validation.pop("per_trajectory")          # in sweep.h5; K x n lists
+    written = [outdir / "merged_model.json"]
+    model.save(written[0])
+    for name, text in (("merged_model.c", model.c_source()),
+                       ("merged_model.py", model.python_source())):
+        (outdir / name).write_text(text, encoding="utf-8")
+        written.append(outdir / name)
+    if not args.quiet:
+        v = model.validation
+        worst, eps = v["worst_scaled_error"], args.tolerance
+        held_err = None
+        if v["held_out"]:                # relative to max(peak |tau_i|, TAU) over them all
+            import numpy as np
+
+            h = v["held_out"]
+            with np.errstate(divide="ignore", invalid="ignore"):
+                held_err = np.asarray(h["peak_abs_error"], float) / np.maximum(
+                    np.asarray(h["peak_tau"], float), args.torque_floor)
+        floor = f"max(peak |tau_i|, {args.torque_floor:g} N m)" if args.torque_floor else \
+            "peak |tau_i|"
+        claim = f"guaranteed <= {eps:g}" if worst <= eps * (1 + 1e-9) else \
+            f"ABOVE the guarantee {eps:g}: please report this bug"
+        print(f"merged model (budget rule, EPS = {eps:g}): {model.cost['multiplications']} "
+              f"mult + {model.cost['additions']} add (full explicit: "
+              f"{model.full_cost['multiplications']} + {model.full_cost['additions']}); worst "
+              f"error on the {v['trajectories']} swept trajectories {worst:.2e} of each "
+              f"trajectory's {floor} ({claim})" + ("" if held_err is None else
+                                           f", on {v['held_out_trajectories']} held-out "
+                                           f"{np.nanmax(held_err):.2e} of their {floor} "
+                                           "(not guaranteed)"))
+    return written, ds
+
+
+SWEEP_OUTPUTS = ("sweep.h5", "merged_model.json", "payload_sweep.h5", "sweep_report.html",
+                 "sweep_report.pdf", "figures", "merged_model.c", "merged_model.py")
+
+
+def _cmd_sweep(args):
+    from ..io.schema import write_dataset
+    from ..io.trajectory import read_trajectory
+    from ..io.planning import random_trajectories
+    from ..workflows.payload import sweep_payloads
+    from ..workflows.sweep import dask_client, merged_model, run_sweep
+
+    robot = _load_robot(args)
+    if (args.random is None) == (not args.csv):
+        raise InputError("give either --random K or trajectory CSV files")
+    if args.random is not None and not 1 <= args.random <= 10**6:
+        raise InputError("--random: K must be in [1, 10^6]")
+    if args.scheduler is not None:
+        import re
+
+        if not re.fullmatch(r"([a-z][a-z0-9+.-]*://)?[^\s/:]+(:[0-9]{1,5})?/?", args.scheduler):
+            raise InputError("not a dask scheduler address (e.g. tcp://10.0.0.5:8786)",
+                             column="--scheduler")
+    if args.workers is not None and args.workers < 1:
+        raise InputError("--workers must be >= 1")
+    if args.csv:
+        trajectories = [read_trajectory(path, n_joints=robot.n) for path in args.csv]
+    else:
+        trajectories = random_trajectories(robot, args.random, seed=args.seed)
+    masses = _payload_masses(args)
+    loaded = _apply_payload(robot, args)
+    outdir = _outdir(args.outdir, robot.name, "sweep")
+    if outdir.exists() and not outdir.is_dir():
+        raise InputError("exists and is not a folder", outdir)
+    settings = {"command": _command_line(args),
+                "payload_mass": float(args.payload or 0.0), **_chain_settings(args)}
+    if args.random is not None:
+        from ..io.planning import acceleration_limits
+
+        settings["seed"] = args.seed
+        try:
+            settings["random_qdd_max_source"] = acceleration_limits(robot)[1]
+        except ValueError as exc:
+            raise InputError(str(exc), robot.source) from None
+    with contextlib.ExitStack() as stack:
+        try:                            # only the connection: the sweep's errors are its own
+            client, _ = stack.enter_context(dask_client(args.scheduler, args.workers))
+        except (OSError, ValueError, TypeError) as exc:
+            if args.scheduler is None:
+                raise InputError(f"cannot start a local dask cluster: {exc}") from None
+            raise InputError(f"cannot reach the dask scheduler: {exc}",
+                             args.scheduler) from None
+        ds = run_sweep(loaded, trajectories, args.dominance, args.negligible, client=client,
+                       settings=settings, progress=not args.quiet and sys.stderr.isatty())
+        payload = None if masses is None else sweep_payloads(
+            robot, trajectories, masses, args.payload_com, args.payload_inertia,
+            args.dominance, args.negligible, client=client)
+    from ..io.staging import staged_output, writing
+
+    with staged_output(outdir, SWEEP_OUTPUTS, "sweep") as stage, writing(outdir, stage):
+        written = [stage / "sweep.h5"]
+        if args.rule == "budget":
+            files, ds = _sweep_model(loaded, trajectories, args, stage, settings, ds)
+        else:
+            files = [stage / "merged_model.json"]
+            merged_model(loaded, ds).save(files[0])
+            if not args.quiet:
+                print("merged model (chapter rule): a part is dropped only where every "
+                      "trajectory's share-based model drops it; no error bound")
+        write_dataset(ds, written[0])
+        written += files
+        if payload is not None:
+            written.append(stage / "payload_sweep.h5")
+            write_dataset(payload, written[-1])
+        if not args.no_report:
+            from ..reports.sweep import write_sweep_report
+
+            written += list(write_sweep_report(written[0], stage, payload=payload,
+                                               paper=args.paper, fonts=args.figure_fonts))
+    written = [outdir / Path(p).relative_to(stage) for p in written]
+    if not args.quiet:
+        print(f"{robot.name}: {ds.sizes['trajectory']} trajectories in "
+              f"{ds.attrs['elapsed_s']:.1f} s on {ds.attrs['n_workers']} dask workers "
+              f"({ds.attrs['scheduler_address']})")
+        classes = [str(c) for c in ds["class"].values]
+        print(f"{'element':<8}" + "".join(f"{c[:5]:>7}" for c in classes)
+              + f"{'min':>8}{'median':>8}{'max':>8}  merged")
+        for k, lab in enumerate(str(v) for v in ds.element.values):
+            frac = ds.class_fraction.values[k]
+            print(f"{lab:<8}" + "".join(f"{v:>7.3f}" for v in frac)
+                  + f"{ds.share_tran_min.values[k]:>8.3f}{ds.share_tran_median.values[k]:>8.3f}"
+                  + f"{ds.share_tran_max.values[k]:>8.3f}  {ds.merged_choice.values[k]}")
+        print("wrote " + ", ".join(str(p) for p in written))
+    return EXIT_OK
