@@ -134,13 +134,16 @@ def test_report_text_follows_the_model(tmp_path):
     for eps in (0.0, 0.05):
         a = analyze(robot, traj, check=False, tolerance=eps, explicit="never")
         ctx = report_context(a.dataset)
-        dropped = int(a.model.recursive.dropped.sum())
+        rec = a.model.recursive
+        live = rec.relative_peak >= 1e-12
+        dropped, pairs = int((rec.dropped & live).sum()), int(live.sum())
         b = base_parameters(robot).rank
         assert f"recursive Newton-Euler model on {b} base parameters" in ctx["summary"]
         if dropped:
-            assert f"drops {dropped} of the {3 * b}" in ctx["summary"]
-            assert f"{dropped} of {3 * b} (parameter, part) pairs" in \
-                ctx["simplified_model"]["text"]
+            assert f"of the {pairs} inertial, velocity and gravity parts" in ctx["summary"]
+            assert f"it drops {dropped}." in ctx["summary"]
+            assert f"Of the {pairs} (parameter, part) pairs that contribute on this " \
+                f"trajectory, {dropped} are dropped" in ctx["simplified_model"]["text"]
         else:
             assert "it is exact, nothing is dropped" in ctx["summary"]
             assert "no part is dropped" in ctx["simplified_model"]["text"]

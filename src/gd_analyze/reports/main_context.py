@@ -74,12 +74,25 @@ def _base_parameter_table(ds):
             return "\u2261 0"            # contributes nothing on this trajectory
         return "dropped" if dropped[k, p] else "kept"
 
+    value = ds["base_parameter_value"].values
     return _table(["base parameter", "value", "units", *parts],
-                  [[name, _fmt(ds["base_parameter_value"].values[k]), _units_text(units[k]),
+                  [[name, _fmt(value[k]), _units_text(units[k]),
                     *(cell(k, p) for p in range(len(parts)))]
-                   for k, name in enumerate(names)],
+                   for k, name in enumerate(names) if value[k] != 0],
                   align=["left", "right", "left", "left", "left", "left"],
                   widths=[1.0, 1.0, 0.7, 0.8, 0.8, 0.8])
+
+
+def _zero_parameters(ds):
+    """The sentence naming the base parameters whose value is 0 (not listed in Sec. 5.2)."""
+    if "base_parameter_value" not in ds:
+        return ""
+    zero = [n for n, v in zip(_strings(ds["base_parameter"].values),
+                              ds["base_parameter_value"].values) if v == 0]
+    if not zero:
+        return ""
+    return (f" Of the {ds.sizes['base_parameter']} base parameters, {len(zero)} are 0 for this "
+            f"robot and are not listed: {', '.join(zero)}.")
 
 
 def _units_text(u):
@@ -367,7 +380,8 @@ def _report_context_base(ds):
         "n": n, "N": N, "s": f"{s:g}", "e": f"{e:g}", "created": now.isoformat(),
         "robot_kv": robot_kv, "dh": dh, "link": link, "traj_kv": traj_kv, "joints": joints,
         "ranking": ranking, "counts": counts, "choices": choices, "error": err,
-        "simplified_intro": _SIMPLIFIED_INTRO[form], "choices_heading": _CHOICES_HEADING[form],
+        "simplified_intro": _SIMPLIFIED_INTRO[form] + _zero_parameters(ds),
+        "choices_heading": _CHOICES_HEADING[form],
         "model_heading": _MODEL_HEADING[form],
         "compare": {"applicable": applicable, "note": note, "table": compare,
                     "n_agree": n_agree, "n_compared": n_compared},

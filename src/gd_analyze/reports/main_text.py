@@ -109,8 +109,9 @@ def conclusion(labels, dominance, zero, choice, rel_peak, abs_peak, tau_peak, co
         b, dropped, pairs = recursive
         second = (f"The simplified model is the recursive Newton-Euler model on {b} base "
                   "parameters" + (": it is exact, nothing is dropped." if dropped == 0 else
-                                  f"; it drops {dropped} of the {pairs} inertial, velocity and "
-                                  "gravity parts of their contributions."))
+                                  f"; of the {pairs} inertial, velocity and gravity parts of "
+                                  "their contributions that act on this trajectory, it drops "
+                                  f"{dropped}."))
     else:
         kept = {c: sum(1 for v in choice if v == c) for c in ("tran", "rot", "both", "none")}
         terms = kept["tran"] + kept["rot"] + 2 * kept["both"]

@@ -150,7 +150,9 @@ def _recursive_text(ds, eps, floor):
                        "exact (its difference from the full torque is round-off).")
     return text + (f"Rule: error budget, EPS = {eps:g}"
                    + (f", torque floor {floor:g} N m" if floor else "")
-                   + f". {dropped} of {pairs} (parameter, part) pairs are dropped, in order of "
+                   + f". Of the {pairs} (parameter, part) pairs that contribute on this "
+                   f"trajectory, {dropped} are dropped (alone or with their whole parameter), "
+                   "in order of "
                    "increasing peak contribution, while for every joint the dropped peaks sum "
                    "to at most EPS \u00d7 scale_i (scale_i = peak |\u03c4_i|, raised to the "
                    "floor); by the triangle inequality the error on this trajectory is within "

@@ -11,6 +11,9 @@ import numpy as np
 
 from ..core.symbolic.recursive_model import PART_NAMES
 
+#: A contribution below this fraction of its joint's scale is round-off, not data.
+ROUND_OFF = 1e-12
+
 __all__ = ["AKB_COSTS", "cost_rows", "simplified_dataset"]
 
 #: Armstrong, Khatib & Burdick (ICRA 1986), PUMA 560: explicit model costs
@@ -194,6 +197,10 @@ def simplified_dataset(model, selection, other=None, ladder_rows=None, cost_tabl
                                          np.array([r["tolerance"] for r in ladder_rows]), "1",
                                          "EPS of the error budget")
     ds = xr.Dataset(dv, coords=coords)
+    # the (parameter, part) pairs that contribute on the trajectory (round-off excluded)
+    live = None if model.recursive is None else (
+        np.ones(model.recursive.dropped.shape, bool) if model.recursive.relative_peak is None
+        else model.recursive.relative_peak >= ROUND_OFF)
     cost = model.cost
     ds.attrs.update({
         "simplified_rule": model.rule, "simplified_tolerance": model.tolerance,
@@ -202,11 +209,11 @@ def simplified_dataset(model, selection, other=None, ladder_rows=None, cost_tabl
         "simplified_form": model.form,
         "simplified_terms_kept": -1 if model.terms is None else len(model.terms),
         "simplified_pairs_dropped": -1 if model.recursive is None else
-        int(model.recursive.dropped.sum()),
-        "simplified_pairs": -1 if model.recursive is None else
-        int(model.recursive.dropped.size),
+        int((model.recursive.dropped & live).sum()),
+        "simplified_pairs": -1 if model.recursive is None else int(live.sum()),
         "simplified_dropped_pairs": "" if model.recursive is None else
-        ", ".join(f"{a} ({b})" for a, b in model.recursive.dropped_pairs()),
+        ", ".join(f"{model.recursive.names[k]} ({PART_NAMES[p]})"
+                  for k, p in zip(*np.nonzero(model.recursive.dropped & live))),
         "simplified_multiplications": cost["multiplications"],
         "simplified_additions": cost["additions"], "simplified_sin": cost["sin"],
         "simplified_cos": cost["cos"],
