@@ -413,10 +413,10 @@ def _document(ctx, sizes, paper="a4"):
             doc.heading("5.4 Cost per set point (counted)", level=2)
             doc.table(sm["costs"])
         if sm["ladder"]:
-            doc.heading("5.5 Tolerance ladder", level=2)
+            doc.heading(sm["ladder_heading"], level=2)
             doc.table(sm["ladder"])
         elif sm["ladder_note"]:
-            doc.heading("5.5 Tolerance ladder", level=2)
+            doc.heading(sm["ladder_heading"], level=2)
             doc.paragraph(sm["ladder_note"], size=8.5)
         doc.paragraph("Emitted source files: " + ", ".join(sm["files"]), size=8.5)
     doc.heading("6. Comparison with the chapter's PUMA 560")

@@ -130,6 +130,8 @@ def simplified_context(ds):
     skipped = str(ds.attrs.get("simplified_ladder_skipped", "")) if ladder is None else ""
     return {"text": text, "bound": bound, "costs": costs, "ladder": ladder, "files": files,
             "rule": rule, "tolerance": eps,
+            "ladder_heading": "5.5 Tolerance ladder" + (" of the explicit form"
+                                                         if form == "recursive" else ""),
             "ladder_note": f"Tolerance ladder {skipped}." if skipped else ""}
 
 
