@@ -193,7 +193,7 @@ def sweep_dataset(robot, trajectories, results, merged, merged_stats, dominance,
                                           "merged model: RMS error / peak |tau|, over all "
                                           "trajectories"),
     }
-    coords = element_coords(n)
+    coords = element_coords(n, robot.prismatic)
     coords["trajectory"] = ("trajectory", np.arange(K),
                             {"long_name": "trajectory index", "units": "1"})
     coords["class"] = ("class", np.array(CLASSES, dtype=str),
@@ -262,7 +262,7 @@ def payload_dataset(robot, trajectory, masses, com, inertia, results, dominance,
             np.array([r["summary"]["error"]["relative_peak_error"] for r in results]), "1",
             "own simplified model: peak |tau_simplified - tau| / peak |tau|"),
     }
-    coords = element_coords(n)
+    coords = element_coords(n, robot.prismatic)
     coords["payload"] = ("payload", masses, {"long_name": "payload mass on the last link",
                                              "units": "kg"})
     attrs = global_attributes(robot, f"G-D dominance of {robot.name} vs payload along "
