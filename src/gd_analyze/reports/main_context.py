@@ -13,10 +13,11 @@ import numpy as np
 from .common import CLASS_COLOURS as _CLASS_COLOURS
 from .common import attr as _attr, check as _check, fmt as _fmt, pct as _pct
 from .common import strings as _strings, table as _table, thresholds as _thresholds
-from .common import utc_now
+from .common import element_units_of, prismatic_joints, torque_units, units_said_once
+from .common import units_text, utc_now
 from .main_figures import identically_zero
 from .main_text import captions, conclusion, disagreement_cause, element_scale
-from .simplified_section import (ROUND_OFF, SIMPLIFIED_CAPTION, has_simplified,
+from .simplified_section import (ROUND_OFF, simplified_caption, has_simplified,
                                  simplified_context)
 from ..io.sweep_datasets import payload_part
 
@@ -76,7 +77,7 @@ def _base_parameter_table(ds):
 
     value = ds["base_parameter_value"].values
     return _table(["base parameter", "value", "units", *parts],
-                  [[name, _fmt(value[k]), _units_text(units[k]),
+                  [[name, _fmt(value[k]), units_text(units[k]),
                     *(cell(k, p) for p in range(len(parts)))]
                    for k, name in enumerate(names) if value[k] != 0],
                   align=["left", "right", "left", "left", "left", "left"],
@@ -95,8 +96,6 @@ def _zero_parameters(ds):
             f"robot and are not listed: {', '.join(zero)}.")
 
 
-def _units_text(u):
-    return u.replace("m2", "m\u00b2")
 
 
 def _recursive_facts(ds):
@@ -105,23 +104,6 @@ def _recursive_facts(ds):
     return (int(ds.sizes.get("base_parameter", 0)), int(a.get("simplified_pairs_dropped", 0)),
             int(a.get("simplified_pairs", 0)))
 
-
-def prismatic_joints(ds):
-    """Which joints are prismatic (q in m), from the stored ``joint_type`` (all revolute in a
-    dataset without it).
-
-    Parameters
-    ----------
-    ds : xarray.Dataset
-        A stored analysis.
-
-    Returns
-    -------
-    ndarray of bool, shape (n,)
-    """
-    if "joint_type" not in ds.variables:
-        return np.zeros(ds.sizes["joint"], dtype=bool)
-    return np.array([t == "prismatic" for t in _strings(ds["joint_type"].values)])
 
 def zero_mask(ds):
     """The element labels and which elements are identically zero for the arm.
@@ -147,9 +129,21 @@ def zero_mask(ds):
                                     ds["peak_total"].values, scale)
 
 
-def _units(text):
-    return str(text).replace("m2", "m\u00b2").replace("s-2", "s\u207b\u00b2") \
-        .replace("s-1", "s\u207b\u00b9")
+def _caption_units(ds):
+    """The units the captions state, from the joint types (:func:`captions`)."""
+    from ..core.ranking import joint_motion_units
+
+    prismatic = prismatic_joints(ds)
+    motion = []
+    for kind in (False, True):
+        joints = [str(k + 1) for k in range(len(prismatic)) if prismatic[k] == kind]
+        if joints:
+            what = "prismatic" if kind else "revolute"
+            motion.append(", ".join(joint_motion_units(kind, shown=True))
+                          + (f" for {what} joint{'s' if len(joints) > 1 else ''} "
+                             f"{', '.join(joints)}" if prismatic.any() else ""))
+    return {"joints": "; ".join(motion), "D": units_said_once(ds, "D"),
+            "tau": units_said_once(ds, "tau")}
 
 
 def _kv(rows):
@@ -193,7 +187,7 @@ def report_context(ds):
     ctx = _report_context_base(ds)
     ctx["simplified_model"] = simplified_context(ds) if has_simplified(ds) else None
     if ctx["simplified_model"]:
-        ctx["captions"] = {**ctx["captions"], "torque": SIMPLIFIED_CAPTION}
+        ctx["captions"] = {**ctx["captions"], "torque": simplified_caption(ds)}
     return ctx
 
 
@@ -209,8 +203,8 @@ def _report_context_base(ds):
     dominance = _strings(ds["dominance"].values)
     chapter = _strings(ds["chapter_dominance"].values)
     choice = _strings(ds["choice"].values)
-    el_units = (_strings(ds["element_units"].values) if "element_units" in ds.variables
-                else ["kg m2" if lab.startswith("D") else "N m" for lab in labels])
+    el_units = element_units_of(ds)            # from the joint types, also for older files
+    tau_units = torque_units(ds)
     s, e = _thresholds(ds)
     robot_name = _attr(ds, "robot", "robot")
     now = utc_now()
@@ -267,7 +261,7 @@ def _report_context_base(ds):
         ["element", "share_tran", "class", "peak_tran", "peak_rot", "peak_total", "units"],
         [[lab, "\u2261 0" if zero[k] else (_fmt(share[k], 3) if np.isfinite(share[k])
                                              else "n/a"), dominance[k],
-          _fmt(pt[k]), _fmt(pr[k]), _fmt(ptot[k]), _units(el_units[k])]
+          _fmt(pt[k]), _fmt(pr[k]), _fmt(ptot[k]), el_units[k]]
          for k, lab in enumerate(labels)],
         align=["left", "right", "left", "right", "right", "right", "left"],
         widths=[0.8, 0.9, 1.2, 1, 1, 1, 0.8], colour_cols=[2])
@@ -284,12 +278,12 @@ def _report_context_base(ds):
              for k, lab in enumerate(labels)],
             widths=[0.8, 1.2, 0.8, 2.2], colour_cols=[1])
     err = _table(
-        ["joint", "peak |\u03c4\u209b\u2212\u03c4| [N m]", "RMS |\u03c4\u209b\u2212\u03c4| [N m]",
-         "peak |\u03c4| [N m]", "peak error / peak |\u03c4|", "RMS error / peak |\u03c4|"],
+        ["joint", "peak |\u03c4\u209b\u2212\u03c4|", "RMS |\u03c4\u209b\u2212\u03c4|",
+         "peak |\u03c4|", "peak error / peak |\u03c4|", "RMS error / peak |\u03c4|", "units"],
         [[str(k + 1), _fmt(ds["tau_error_peak"].values[k]), _fmt(ds["tau_error_rms"].values[k]),
           _fmt(ds["tau_peak"].values[k]), _pct(ds["tau_error_relative_peak"].values[k]),
-          _pct(ds["tau_error_relative_rms"].values[k])] for k in range(n)],
-        align=["left"] + ["right"] * 5, widths=[0.6, 1.2, 1.2, 1, 1.2, 1.2])
+          _pct(ds["tau_error_relative_rms"].values[k]), tau_units[k]] for k in range(n)],
+        align=["left"] + ["right"] * 5 + ["left"], widths=[0.6, 1.2, 1.2, 1, 1.2, 1.2, 0.6])
     rel_peak = ds["tau_error_relative_peak"].values
 
     # 6. comparison with the chapter
@@ -375,8 +369,8 @@ def _report_context_base(ds):
     return {
         "version": __version__, "title": title, "summary": summary, "robot_name": robot_name,
         "facts": facts, "intro": _INTRO.format(created=now.isoformat(), version=__version__),
-        "captions": captions(enveloped, N, f"{s:g}", f"{e:g}"),
-        "D_text": _D_TEXT.format(s=f"{s:g}", e=f"{e:g}"),
+        "captions": captions(enveloped, N, f"{s:g}", f"{e:g}", units=_caption_units(ds)),
+        "D_text": _D_TEXT.format(s=f"{s:g}", e=f"{e:g}", units=units_said_once(ds, "D")),
         "n": n, "N": N, "s": f"{s:g}", "e": f"{e:g}", "created": now.isoformat(),
         "robot_kv": robot_kv, "dh": dh, "link": link, "traj_kv": traj_kv, "joints": joints,
         "ranking": ranking, "counts": counts, "choices": choices, "error": err,
@@ -408,7 +402,7 @@ _INTRO = ("Generalized d'Alembert (G-D) equations of motion split the inertia ma
 
 _D_TEXT = ("One panel per element D_ij with i \u2264 j (row i, column j): translational part "
            "(\u25cb, blue), rotational part (\u00d7, orange) and combined D_ij (\u25b3, black) "
-           "against time [kg m\u00b2]. The title gives the element and its dominance class "
+           "against time [{units}]. The title gives the element and its dominance class "
            "(s = {s}, e = {e}).")
 
 

@@ -192,7 +192,7 @@ def disagreement_cause(label, ours, theirs, share, zero, s, robot_name):
     return cause
 
 
-def captions(enveloped, N, s, e):
+def captions(enveloped, N, s, e, units=None):
     """Captions of the main report's figures, the same in the HTML and the PDF.
 
     Parameters
@@ -203,6 +203,9 @@ def captions(enveloped, N, s, e):
         Set points.
     s, e : str
         Thresholds, as printed.
+    units : dict of str to str, optional
+        The units as the captions state them, from the joint types: ``joints`` (q, qd, qdd
+        per joint type), ``D`` and ``tau``; an all-revolute arm's if not given.
 
     Returns
     -------
@@ -216,17 +219,20 @@ def captions(enveloped, N, s, e):
     else:
         how = (f"Markers at each of the {N} set points: translational \u25cb (solid line), "
                "rotational \u00d7 (dashed), combined \u25b3 (dotted)")
+    u = {"joints": "deg, deg/s, deg/s\u00b2", "D": "kg m\u00b2", "tau": "N m", **(units or {})}
     return {
         "joints": "Joint positions q, velocities q\u0307 and accelerations q\u0308 against time "
-                  "[deg, deg/s, deg/s\u00b2]; the dataset stores radians.",
-        "D": "Elements D_ij (i \u2264 j) of the inertia matrix against time [kg m\u00b2], "
+                  f"[{u['joints']}]; the dataset stores SI units (rad or m).",
+        "D": f"Elements D_ij (i \u2264 j) of the inertia matrix against time [{u['D']}], "
              f"split into their translational and rotational parts (analogue of Fig. 3.10). "
              f"{how}. Panel title: element and its class (s = {s}, e = {e}); \u2261 0 marks "
              "an element that is zero in every part, whose share is not defined.",
-        "h": "Coriolis and centrifugal elements h_i against time [N m] (analogue of Fig. 3.11), "
+        "h": f"Coriolis and centrifugal elements h_i against time [{u['tau']}] (analogue of "
+             "Fig. 3.11), "
              f"on panels of the size of those of D. {how}.",
         "torque": "Joint torques of the full model \u03c4 (black, solid) and the simplified "
-                  "model \u03c4\u209b (green, dashed) against time [N m]; the title gives the "
+                  f"model \u03c4\u209b (green, dashed) against time [{u['tau']}]; the title "
+                  "gives the "
                   "peak error in % of the joint's peak |\u03c4|.",
         "payload": "Translational share and class of each element against the load mass "
                    "(top), and peak joint torques (bottom).",
