@@ -182,6 +182,7 @@ def summary_dataset(robot, trajectory, ranking, choices, error, verification=Non
     n = robot.n
     labels = list(ranking.labels)
     mixed = MIXED_UNITS
+    puma = n == 6 and robot.name.lower().replace(" ", "").replace("-", "") == "puma560"
     prismatic = np.asarray(robot.prismatic, bool)
     torque = _one_units(joint_units(prismatic, "tau"), "tau_units")
     data_vars = {
@@ -190,10 +191,10 @@ def summary_dataset(robot, trajectory, ranking, choices, error, verification=Non
         "dominance": var(("element",), np.array(ranking.dominance, dtype=str), "1",
                           "dominance class (translational, rotational, both, negligible)"),
         "chapter_dominance": var(("element",),
-                                  np.array([CHAPTER_DOMINANCE.get(lab, "") if n == 6 else ""
+                                  np.array([CHAPTER_DOMINANCE.get(lab, "") if puma else ""
                                             for lab in labels], dtype=str), "1",
                                   "dominance reported in Sec. 3.4.1 for the chapter's PUMA 560 "
-                                  "(empty unless the robot has 6 joints)"),
+                                  "(empty unless the robot is a PUMA 560)"),
         "choice": var(("element",), np.array([choices[lab] for lab in labels], dtype=str), "1",
                        "part kept by the simplified model (tran, rot, both, none)"),
         "peak_tran": var(("element",), ranking.peak_tran, mixed,

@@ -146,24 +146,62 @@ def _caption_units(ds):
             "tau": units_said_once(ds, "tau")}
 
 
+def _is_puma560(name):
+    return str(name).lower().replace(" ", "").replace("-", "") == "puma560"
+
+
 def _kv(rows):
     return _table(["item", "value"], rows, widths=[1.2, 3.4])
 
 
+#: The models every cost is shown against, by their label in the stored cost table.
+_COST_REFERENCES = ("project N-E as implemented", "recursive N-E, exact", "explicit, full")
+
+
 def _model_cost(ds):
-    """(multiplications, additions, Newton-Euler operations or None) of the emitted model, from
-    the stored attributes and cost table; None without a simplified model."""
+    """(multiplications, additions, then the operations of Newton-Euler, of the exact model and
+    of the full explicit model, each None if not counted) of the emitted model, from the stored
+    attributes and cost table; None without a simplified model."""
     try:
         mult = int(ds.attrs["simplified_multiplications"])
         add = int(ds.attrs["simplified_additions"])
     except (KeyError, TypeError, ValueError):
         return None
-    ne = None
-    if "cost_total" in ds.variables:
-        labels = [str(v) for v in ds["cost_model"].values]
-        if "project N-E as implemented" in labels:
-            ne = int(ds["cost_total"].values[labels.index("project N-E as implemented")])
-    return mult, add, ne
+    labels = ([str(v) for v in ds["cost_model"].values] if "cost_total" in ds.variables
+              else [])
+    return (mult, add, *(int(ds["cost_total"].values[labels.index(key)]) if key in labels
+                         else None for key in _COST_REFERENCES))
+
+
+def _gravity_fact(ds, form):
+    """What the deployed model does with the gravity loading c, read from what it dropped: a
+    clause for the summary, or None when the dataset does not say."""
+    if form == "recursive" and "base_parameter_dropped" in ds:
+        parts = _strings(ds["torque_part"].values)
+        if "gravity" not in parts:
+            return None
+        g = parts.index("gravity")
+        rel = (ds["base_parameter_relative_peak"].values[:, g]
+               if "base_parameter_relative_peak" in ds else np.ones(ds.sizes["base_parameter"]))
+        names = [nm for nm, d, r in zip(_strings(ds["base_parameter"].values),
+                                        ds["base_parameter_dropped"].values[:, g], rel)
+                 if d and r >= ROUND_OFF]
+        if not names:
+            return "keeps c whole (no gravity part is dropped)"
+        return (f"drops the gravity part of {len(names)} base parameter"
+                f"{'s' if len(names) > 1 else ''} from c ({', '.join(names)})")
+    if "simplified_bound_gravity" not in ds:
+        return None
+    bound = ds["simplified_bound_gravity"].values
+    if not np.all(np.isfinite(bound)):               # no budget: the chapter rule's model
+        return ("keeps c whole (the chapter rule drops parts of D and h only)"
+                if ds.attrs.get("simplified_rule") == "chapter" else None)
+    if not np.any(bound > 0):
+        return "keeps c whole (no term of c is dropped)"
+    units = torque_units(ds)
+    return ("drops terms of c, worth at most "
+            + ", ".join(f"{b:.3g} {units[i]} at joint {i + 1}" for i, b in enumerate(bound)
+                        if b > 0))
 
 
 def report_context(ds):
@@ -287,7 +325,7 @@ def _report_context_base(ds):
     rel_peak = ds["tau_error_relative_peak"].values
 
     # 6. comparison with the chapter
-    applicable = n == 6
+    applicable = n == 6 and _is_puma560(robot_name)
     compare_rows, n_agree, n_compared = [], 0, 0
     for k, (lab, ours, theirs) in enumerate(zip(labels, dominance, chapter)):
         shown = "\u2261 0" if zero[k] else _fmt(share[k], 3)
@@ -306,9 +344,10 @@ def _report_context_base(ds):
                 "on the trajectory, so disagreements are expected for another trajectory. The "
                 "chapter has no 'negligible' class: an element classed negligible here counts "
                 "as a disagreement.")
-        if robot_name.lower() not in ("puma560", "puma 560", "puma-560"):
-            note += (f" This robot ({robot_name}) is not the chapter's PUMA 560: the comparison "
-                     "is indicative only.")
+    elif n == 6:
+        note = (f"The chapter reports dominance only for its PUMA 560 (Sec. 3.4.1); this robot "
+                f"({robot_name}) is another arm, so its classes are not compared with the "
+                "chapter's.")
     else:
         note = (f"The chapter reports dominance only for the 6-joint PUMA 560 (Sec. 3.4.1); "
                 f"this robot has {n} joint{'s' if n != 1 else ''}, so a comparison is not "
@@ -331,28 +370,19 @@ def _report_context_base(ds):
         ("negligibility threshold e", _fmt(e, 6)),
     ]
     ver_keys = sorted(k for k in ds.attrs if k.startswith("verification_max_rel_error_"))
-    if "verification_passed" in ds.attrs:
-        passed = bool(int(ds.attrs["verification_passed"]))
-        prov.append(("verification against " + _attr(ds, "verification_engine", "Pinocchio"),
-                     ("passed" if passed else "FAILED")
-                     + f" (tolerance {_attr(ds, 'verification_tolerance')}, "
-                     f"{_attr(ds, 'verification_setpoints')} set points checked)"))
-        verified = "passed" if passed else "FAILED"
-    else:
-        prov.append(("verification against Pinocchio", "not run (analysis without check)"))
-        verified = "not run"
-    for key in ver_keys:
-        value = ds.attrs[key]
-        text = _fmt(value, 3)
-        if text == "0":                 # the differences past the floor, not "no difference"
-            text = "0 (every difference within round-off: 64 eps of its scale)"
-        prov.append((f"max relative error {key[len('verification_max_rel_error_'):]}", text))
+    verified, verification = _verification(ds, ver_keys, N)
+    prov.append(("verification against " + _attr(ds, "verification_engine", "Pinocchio"),
+                 verification))
     shown = {"robot", "robot_description", "robot_reference", "robot_source", "robot_sha256",
              "gravity", "gravity_units", "input_file", "input_path", "input_sha256",
              "derivatives", "dominance_threshold", "negligible_threshold", "history",
              "gd_analyze_version", "verification_passed", "verification_engine",
-             "verification_tolerance", "verification_setpoints", *ver_keys}
+             "verification_tolerance", "verification_setpoints", *ver_keys,
+             "setpoints"}                                   # N: in Sec. 1.2
     for key in sorted(k for k in ds.attrs if k not in shown):
+        twin = key[len("simplified_"):] if key.startswith("simplified_") else None
+        if twin in ds.attrs and _attr(ds, twin) == _attr(ds, key):
+            continue                                        # each setting once
         prov.append((key, _attr(ds, key)))
 
     formulations = _formulations_context(ds)
@@ -360,7 +390,8 @@ def _report_context_base(ds):
     title = f"G-D dominance analysis: {robot_name} along {_attr(ds, 'input_file')}"
     summary = conclusion(labels, dominance, zero, choice, rel_peak,
                          ds["tau_error_peak"].values, ds["tau_peak"].values, _model_cost(ds),
-                         recursive=_recursive_facts(ds) if form == "recursive" else None)
+                         recursive=_recursive_facts(ds) if form == "recursive" else None,
+                         gravity=_gravity_fact(ds, form), units=tau_units)
     facts = (f"{robot_name}, {n} joints, {N} set points over {_fmt(t[-1] - t[0], 4)} s; "
              f"{len(labels)} elements ranked with s = {s:g}, e = {e:g}: "
              + ", ".join(f"{counts[c]} {c}" for c in _CLASS_COLOURS)
@@ -404,6 +435,35 @@ _D_TEXT = ("One panel per element D_ij with i \u2264 j (row i, column j): transl
            "(\u25cb, blue), rotational part (\u00d7, orange) and combined D_ij (\u25b3, black) "
            "against time [{units}]. The title gives the element and its dominance class "
            "(s = {s}, e = {e}).")
+
+
+#: The verification's absolute floor (gd_analyze.formulations.pinocchio.FLOOR_EPS machine
+#: epsilons of the overall scale), as the text names it; a report imports no formulation.
+_ROUND_OFF_FLOOR = "64 eps"
+
+
+def _verification(ds, keys, N):
+    """(verdict for the summary, the one provenance row) of the check against Pinocchio: how
+    many of the N set points it checked, its tolerance once, and its largest errors, which are
+    the differences past the round-off floor (smaller than any raw difference of Sec. 7.1)."""
+    if "verification_passed" not in ds.attrs:
+        return "not run", "not run (analysis without check)"
+    passed = bool(int(ds.attrs["verification_passed"]))
+    checked = int(ds.attrs.get("verification_setpoints", N))
+    verdict = (f"{'passed' if passed else 'FAILED'} on {checked:,} of {N:,} set points"
+               + ("" if checked == N else " (evenly spread)"))
+    worst = {k[len("verification_max_rel_error_"):]: float(ds.attrs[k]) for k in keys}
+    floor = _ROUND_OFF_FLOOR
+    if worst and max(worst.values()) == 0:
+        errors = (f"every difference within the round-off floor ({floor} of its scale), "
+                  "so none is counted")
+    else:
+        errors = ("largest relative difference past the round-off floor "
+                  f"({floor} of its scale): "
+                  + ", ".join(f"{k} {_fmt(v, 3)}" for k, v in worst.items()))
+    row = (f"{verdict}; tolerance {_attr(ds, 'verification_tolerance')} of each element's "
+           f"scale on {', '.join(worst) or 'D, h and c'}; {errors}")
+    return verdict, row
 
 
 def _payload_context(ds):

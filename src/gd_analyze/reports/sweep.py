@@ -387,8 +387,8 @@ _SHARE_TEXT = ("For each trajectory and element, share_tran = \u03a3|tran| / (\u
 _MERGED_TEXT = ("Each trajectory has its own simplified model (keep the dominant part of each "
                 "element, both if neither dominates, nothing if negligible). The merged model is "
                 "valid for the whole sweep: a part of an element is dropped only where every "
-                "trajectory's model drops it. Gravity c is kept whole: "
-                "\u03c4\u209b = D\u209b q\u0308 + h\u209b + c.")
+                "trajectory's model drops it. The chapter rule drops parts of D and h only, "
+                "never a term of gravity: \u03c4\u209b = D\u209b q\u0308 + h\u209b + c.")
 _ERROR_TEXT = ("Per joint, over all set points of all trajectories: peak and RMS of "
                "|\u03c4_merged \u2212 \u03c4| [N m], and both relative to the peak |\u03c4| "
                "over all trajectories. Last column: the largest relative peak error of any "
