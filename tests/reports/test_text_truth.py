@@ -150,3 +150,13 @@ def test_no_statement_of_gravity_kept_whole_without_a_check():
     """The sweep report said "Gravity c is kept whole" of a budget model that drops terms."""
     src = ROOT / "src" / "gd_analyze"
     assert not [p.name for p in src.rglob("*.py") if "kept whole" in p.read_text()]
+
+
+def test_control_verdict_names_its_torque_difference_closed_loop():
+    """The control verdict's torque is a difference of two closed-loop runs, not the main
+    report's open-loop error: the sentence says so."""
+    from gd_analyze.reports.control import _verdict
+
+    ds = xr.Dataset({"tau_difference_peak": ("joint", np.array([0.152, 0.01]))})
+    text = _verdict({"full": 1e-4, "simplified": 2e-4}, ds)
+    assert "closed-loop torque differs" in text and "0.152 N m" in text
