@@ -140,4 +140,25 @@ def test_stored_attributes_follow_the_joint_types(stanford):
         assert [str(v) for v in ds["q_units"].values] == ["m" if p else "rad" for p in PRISMATIC]
         for name in ("tau", "tau_simplified", "h", "c", "tau_peak", "tau_error_peak", "q", "D"):
             assert ds[name].attrs["units"] not in ("N m", "rad", "kg m2"), name
+        per_joint = [k for k in ds.variables if "joint" in ds[k].dims
+                     and ds[k].attrs.get("units") in ("N m", "N")]
+        assert per_joint == []           # a torque of joints 1..6 is N m and N: never one unit
         assert np.isfinite(ds["tau"].values).all()
+
+
+def test_sweep_report_and_dataset_give_n_for_the_prismatic_joint(tmp_path):
+    out = tmp_path / "sweep"
+    assert main(["sweep", "stanford", str(ROOT / "data" / "stanford_trajectory.csv"),
+                 str(ROOT / "data" / "stanford_trajectory.csv"), "-o", str(out), "--workers",
+                 "1", "--held-out", "0", "-q"]) == 0
+    html = (out / "sweep_report.html").read_text()
+    table = next(t for t in tables_of(html) if t and t[0][:2] == ["joint", "peak |\u03c4|"])
+    assert [row[table[0].index("units")] for row in table[1:]] == [
+        _tau_units(i) for i in range(N_JOINTS)]
+    assert "[N m]" not in unescape(_html_without_svg(html))
+    with xr.open_dataset(out / "sweep.h5") as ds:
+        stored = dict(zip([str(v) for v in ds["element"].values],
+                          [str(v).replace("m2", "m\u00b2") for v in ds["element_units"].values]))
+        assert stored == dict(EXPECTED)
+        assert [k for k in ds.variables if "joint" in ds[k].dims
+                and ds[k].attrs.get("units") in ("N m", "N")] == []

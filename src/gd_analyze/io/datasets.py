@@ -23,7 +23,7 @@ import numpy as np
 from .schema import MIXED_UNITS, element_coords, global_attributes, var
 
 __all__ = ["build_dataset", "summary_dataset", "setpoint_arrays", "SetpointWriter",
-           "SETPOINT_VARIABLES", "setpoint_units", "joint_units"]
+           "SETPOINT_VARIABLES", "setpoint_units", "joint_units", "units_attribute"]
 
 
 #: Per-set-point variables: name -> (dims, units, long_name). Used by both writers.
@@ -81,8 +81,26 @@ def joint_units(prismatic, which):
     return [joint_motion_units(bool(p))[k] for p in prismatic]
 
 
-def _one_units(units, coord):
-    """The ``units`` attribute of a per-joint variable: the unit, or where to read it."""
+def units_attribute(units, coord):
+    """The ``units`` attribute of a per-joint (or per-element) variable.
+
+    Parameters
+    ----------
+    units : sequence of str
+        The units of each joint or element.
+    coord : str
+        The variable that gives them one by one (``tau_units``, ``element_units``).
+
+    Returns
+    -------
+    str
+        The unit when all agree, else ``"N m or N by joint type (per joint: tau_units)"``.
+
+    Examples
+    --------
+    >>> units_attribute(["N m", "N"], "tau_units")
+    'N m or N by joint type (per joint: tau_units)'
+    """
     if len(set(units)) == 1:
         return units[0]
     return " or ".join(dict.fromkeys(units)) + f" by joint type (per joint: {coord})"
@@ -116,14 +134,14 @@ def setpoint_units(name, prismatic=None):
     if prismatic is None or not np.any(prismatic):
         return base
     if name in ("q", "qd", "qdd"):
-        return _one_units(joint_units(prismatic, name), f"{name}_units")
+        return units_attribute(joint_units(prismatic, name), f"{name}_units")
     if name.startswith("D"):
         n = len(prismatic)
         units = [element_units("D", i, j, prismatic) for i in range(n) for j in range(i, n)]
-        return _one_units(units, "element_units")
+        return units_attribute(units, "element_units")
     if name == "t":
         return base
-    return _one_units(joint_units(prismatic, "tau"), "tau_units")
+    return units_attribute(joint_units(prismatic, "tau"), "tau_units")
 
 
 def setpoint_arrays(trajectory, terms, tau, tau_simplified):
@@ -184,7 +202,7 @@ def summary_dataset(robot, trajectory, ranking, choices, error, verification=Non
     mixed = MIXED_UNITS
     puma = n == 6 and robot.name.lower().replace(" ", "").replace("-", "") == "puma560"
     prismatic = np.asarray(robot.prismatic, bool)
-    torque = _one_units(joint_units(prismatic, "tau"), "tau_units")
+    torque = units_attribute(joint_units(prismatic, "tau"), "tau_units")
     data_vars = {
         "share_tran": var(("element",), ranking.share_tran, "1",
                            "translational share sum|tran| / (sum|tran| + sum|rot|)"),
