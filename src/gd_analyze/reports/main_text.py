@@ -164,6 +164,8 @@ def conclusion(labels, dominance, zero, choice, rel_peak, abs_peak, tau_peak, co
                       f", more than Newton-Euler's {ne:,}: for speed, use Newton-Euler")
         elif others:
             third += f" against {' and '.join(others)}"
+        if len(cost) > 4 and not full:
+            third += " (the full explicit model was not derived, so it has no count)"
     return first + " " + second + " " + third + "."
 
 
