@@ -141,7 +141,7 @@ def test_report_text_follows_the_model(tmp_path):
         assert f"recursive Newton-Euler model on {b} base parameters" in ctx["summary"]
         if dropped:
             assert f"of the {pairs} inertial, velocity and gravity parts" in ctx["summary"]
-            assert f"it drops {dropped}." in ctx["summary"]
+            assert f"it drops {dropped}," in ctx["summary"]      # then what it does with c
             assert f"Of the {pairs} (parameter, part) pairs that contribute on this " \
                 f"trajectory, {dropped} are dropped" in ctx["simplified_model"]["text"]
         else:

@@ -6,13 +6,19 @@ The elements are the upper triangle of D (i <= j) and the n elements of h (Fu, G
 digit and separated by a comma once one has two (``"D19"``, ``"D1,10"``, ``"D10,10"``), so a
 robot with fewer than 10 joints keeps the labels of the files written before, and every label
 of any robot is unambiguous (``"D110"`` is no label: it is ``"D1,10"``).
+
+Their units follow the joint types (:func:`element_units`, :func:`joint_torque_units`): a
+prismatic joint's coordinate is a length and its generalized force a force, so D_ij is
+kg m^2, kg m or kg as none, one or both of joints i and j are prismatic, and h_i, c_i and
+tau_i are N m or N. Every table, axis, caption and stored attribute takes its units from here.
 """
 
 from __future__ import annotations
 
 import re
 
-__all__ = ["element_index", "element_label", "element_labels", "parse_element_label"]
+__all__ = ["element_index", "element_label", "element_labels", "parse_element_label",
+           "element_units", "joint_torque_units", "joint_motion_units", "joint_units_text"]
 
 _PATTERN = re.compile(r"D([1-9])([1-9])|D([1-9][0-9]*),([1-9][0-9]*)|h([1-9][0-9]*)")
 
@@ -134,3 +140,126 @@ def parse_element_label(text, n):
     raise ValueError(f"{str(text)[:40]!r} is not an element of a {n}-joint robot "
                      f"({element_labels(n)[0]}..{element_labels(n)[-1]})" if n > 0 else
                      f"{str(text)[:40]!r} is not an element label")
+
+
+def element_units(kind, i, j=None, prismatic=None):
+    """The units of an element of D or h (and of c_i, tau_i), from the joint types.
+
+    D_ij = dtau_i / dqdd_j: a revolute joint contributes m (torque over force, or angle over
+    length) to neither, so D_ij is kg m^2 when joints i and j are both revolute, kg m when
+    one is prismatic and kg when both are; h_i is a generalized force of joint i: N m for a
+    revolute joint, N for a prismatic one (Fu, Gonzalez & Lee 1987, Eq. (3.4-24)).
+
+    Parameters
+    ----------
+    kind : str
+        ``"D"`` or ``"h"`` (``"c"`` and ``"tau"`` are read as ``"h"``).
+    i : int
+        Zero-based row (D) or joint (h).
+    j : int, optional
+        Zero-based column of D.
+    prismatic : sequence of bool, shape (n,), optional
+        True for a prismatic joint; all revolute if not given.
+
+    Returns
+    -------
+    str
+        ``"kg m2"``, ``"kg m"``, ``"kg"``, ``"N m"`` or ``"N"`` (UDUNITS spelling, as stored).
+
+    Raises
+    ------
+    ValueError
+        If kind is not one of ``"D"``, ``"h"``, ``"c"``, ``"tau"``, or j is missing for D.
+
+    Examples
+    --------
+    >>> p = [False, False, True]
+    >>> element_units("D", 0, 2, p), element_units("D", 2, 2, p), element_units("h", 2, None, p)
+    ('kg m', 'kg', 'N')
+    """
+    def lin(k):
+        return bool(prismatic[k]) if prismatic is not None else False
+
+    if kind in ("h", "c", "tau"):
+        return joint_torque_units(lin(i))
+    if kind == "D" and j is not None:
+        return {0: "kg m2", 1: "kg m", 2: "kg"}[int(lin(i)) + int(lin(j))]
+    raise ValueError(f"no element {kind!r} with indices {i!r}, {j!r}")
+
+
+def joint_torque_units(prismatic):
+    """The units of a joint's generalized force (tau_i, h_i, c_i).
+
+    Parameters
+    ----------
+    prismatic : bool
+        True for a prismatic joint.
+
+    Returns
+    -------
+    str
+        ``"N"`` for a prismatic joint, ``"N m"`` for a revolute one.
+
+    Examples
+    --------
+    >>> joint_torque_units(True), joint_torque_units(False)
+    ('N', 'N m')
+    """
+    return "N" if prismatic else "N m"
+
+
+def joint_motion_units(prismatic, shown=False):
+    """The units of a joint's q, qd and qdd.
+
+    Parameters
+    ----------
+    prismatic : bool
+        True for a prismatic joint.
+    shown : bool, optional
+        False: as stored (rad or m, SI); True: as the report shows them (deg or mm).
+
+    Returns
+    -------
+    tuple of str
+        (q, qd, qdd) units, e.g. ``("deg", "deg/s", "deg/s\u00b2")``.
+
+    Examples
+    --------
+    >>> joint_motion_units(True), joint_motion_units(False, shown=True)[2]
+    (('m', 'm s-1', 'm s-2'), 'deg/s²')
+    """
+    if shown:
+        base = "mm" if prismatic else "deg"
+        return base, f"{base}/s", f"{base}/s\u00b2"
+    base = "m" if prismatic else "rad"
+    return base, f"{base} s-1", f"{base} s-2"
+
+
+def joint_units_text(units, what="joint"):
+    """Units that differ between joints, said once: ``"N m"`` or ``"N m (joints 1, 2), N (joint 3)"``.
+
+    Parameters
+    ----------
+    units : sequence of str, shape (n,)
+        The units of each joint (or element).
+    what : str, optional
+        What is counted (``"joint"``).
+
+    Returns
+    -------
+    str
+        The one unit if all agree, else each unit with the one-based joints that have it.
+
+    Examples
+    --------
+    >>> joint_units_text(["N m", "N m", "N"])
+    'N m (joints 1, 2), N (joint 3)'
+    """
+    order = list(dict.fromkeys(units))
+    if len(order) == 1:
+        return order[0]
+    parts = []
+    for u in order:
+        ks = [str(k + 1) for k, v in enumerate(units) if v == u]
+        parts.append(f"{u} ({what}{'s' if len(ks) > 1 else ''} {', '.join(ks)})")
+    return ", ".join(parts)

@@ -25,11 +25,13 @@ from dataclasses import dataclass
 import numpy as np
 
 from .labels import element_index, element_label, element_labels, parse_element_label
+from .labels import element_units, joint_motion_units, joint_torque_units, joint_units_text
 
 __all__ = [
     "CLASSES", "DEFAULT_DOMINANCE", "DEFAULT_NEGLIGIBLE", "Ranking", "element_labels",
     "element_index", "element_label", "parse_element_label", "rank_dominance",
-    "CHAPTER_DOMINANCE",
+    "CHAPTER_DOMINANCE", "element_units", "joint_torque_units", "joint_motion_units",
+    "joint_units_text",
 ]
 
 #: The dominance classes, in the order used for codes in files.

@@ -23,7 +23,7 @@ import numpy as np
 from .schema import MIXED_UNITS, element_coords, global_attributes, var
 
 __all__ = ["build_dataset", "summary_dataset", "setpoint_arrays", "SetpointWriter",
-           "SETPOINT_VARIABLES"]
+           "SETPOINT_VARIABLES", "setpoint_units", "joint_units", "units_attribute"]
 
 
 #: Per-set-point variables: name -> (dims, units, long_name). Used by both writers.
@@ -48,6 +48,100 @@ SETPOINT_VARIABLES = {
     "tau_simplified": (("setpoint", "joint"), "N m",
                        "joint torque of the simplified model, D_s qdd + h_s + c"),
 }
+
+
+#: Per-joint unit coordinates: name -> (quantity of :func:`joint_units`, long_name).
+_JOINT_UNIT_COORDS = {"q_units": ("q", "units of q of the joint (rad or m)"),
+                      "qd_units": ("qd", "units of qd of the joint (rad s-1 or m s-1)"),
+                      "qdd_units": ("qdd", "units of qdd of the joint (rad s-2 or m s-2)"),
+                      "tau_units": ("tau", "units of tau, h and c of the joint (N m or N)")}
+
+
+def joint_units(prismatic, which):
+    """The stored units of one per-joint quantity, joint by joint.
+
+    Parameters
+    ----------
+    prismatic : sequence of bool, shape (n,)
+        The prismatic joints.
+    which : str
+        ``"q"``, ``"qd"``, ``"qdd"`` or ``"tau"`` (also h, c and the torque errors).
+
+    Returns
+    -------
+    list of str, length n
+        From :func:`gd_analyze.core.labels.joint_motion_units` and
+        :func:`gd_analyze.core.labels.joint_torque_units`.
+    """
+    from ..core.labels import joint_motion_units, joint_torque_units
+
+    if which == "tau":
+        return [joint_torque_units(bool(p)) for p in prismatic]
+    k = ("q", "qd", "qdd").index(which)
+    return [joint_motion_units(bool(p))[k] for p in prismatic]
+
+
+def units_attribute(units, coord):
+    """The ``units`` attribute of a per-joint (or per-element) variable.
+
+    Parameters
+    ----------
+    units : sequence of str
+        The units of each joint or element.
+    coord : str
+        The variable that gives them one by one (``tau_units``, ``element_units``).
+
+    Returns
+    -------
+    str
+        The unit when all agree, else ``"N m or N by joint type (per joint: tau_units)"``.
+
+    Examples
+    --------
+    >>> units_attribute(["N m", "N"], "tau_units")
+    'N m or N by joint type (per joint: tau_units)'
+    """
+    if len(set(units)) == 1:
+        return units[0]
+    return " or ".join(dict.fromkeys(units)) + f" by joint type (per joint: {coord})"
+
+
+def setpoint_units(name, prismatic=None):
+    """The ``units`` attribute of a variable of :data:`SETPOINT_VARIABLES` for an arm.
+
+    Parameters
+    ----------
+    name : str
+        A key of :data:`SETPOINT_VARIABLES`.
+    prismatic : sequence of bool, shape (n,), optional
+        The prismatic joints; all revolute if not given.
+
+    Returns
+    -------
+    str
+        The one unit when every joint has it (``"rad"``, ``"m"``, ``"kg m2"``, ``"N"``...),
+        else the units and the coordinate that gives them joint by joint (``q_units``,
+        ``tau_units``) or element by element (``element_units``).
+
+    Examples
+    --------
+    >>> setpoint_units("tau", [True]), setpoint_units("D", [False, False])
+    ('N', 'kg m2')
+    """
+    from ..core.labels import element_units
+
+    base = SETPOINT_VARIABLES[name][1]
+    if prismatic is None or not np.any(prismatic):
+        return base
+    if name in ("q", "qd", "qdd"):
+        return units_attribute(joint_units(prismatic, name), f"{name}_units")
+    if name.startswith("D"):
+        n = len(prismatic)
+        units = [element_units("D", i, j, prismatic) for i in range(n) for j in range(i, n)]
+        return units_attribute(units, "element_units")
+    if name == "t":
+        return base
+    return units_attribute(joint_units(prismatic, "tau"), "tau_units")
 
 
 def setpoint_arrays(trajectory, terms, tau, tau_simplified):
@@ -106,16 +200,19 @@ def summary_dataset(robot, trajectory, ranking, choices, error, verification=Non
     n = robot.n
     labels = list(ranking.labels)
     mixed = MIXED_UNITS
+    puma = n == 6 and robot.name.lower().replace(" ", "").replace("-", "") == "puma560"
+    prismatic = np.asarray(robot.prismatic, bool)
+    torque = units_attribute(joint_units(prismatic, "tau"), "tau_units")
     data_vars = {
         "share_tran": var(("element",), ranking.share_tran, "1",
                            "translational share sum|tran| / (sum|tran| + sum|rot|)"),
         "dominance": var(("element",), np.array(ranking.dominance, dtype=str), "1",
                           "dominance class (translational, rotational, both, negligible)"),
         "chapter_dominance": var(("element",),
-                                  np.array([CHAPTER_DOMINANCE.get(lab, "") if n == 6 else ""
+                                  np.array([CHAPTER_DOMINANCE.get(lab, "") if puma else ""
                                             for lab in labels], dtype=str), "1",
                                   "dominance reported in Sec. 3.4.1 for the chapter's PUMA 560 "
-                                  "(empty unless the robot has 6 joints)"),
+                                  "(empty unless the robot is a PUMA 560)"),
         "choice": var(("element",), np.array([choices[lab] for lab in labels], dtype=str), "1",
                        "part kept by the simplified model (tran, rot, both, none)"),
         "peak_tran": var(("element",), ranking.peak_tran, mixed,
@@ -126,11 +223,11 @@ def summary_dataset(robot, trajectory, ranking, choices, error, verification=Non
                            "peak |translational + rotational| along the trajectory"),
         "element_scale": var(("element",), ranking.scale, mixed,
                               "scale of the negligibility test: peak sqrt(D_ii D_jj) or |tau_i|"),
-        "tau_error_peak": var(("joint",), np.array(error["peak_abs_error"]), "N m",
+        "tau_error_peak": var(("joint",), np.array(error["peak_abs_error"]), torque,
                                "peak |tau_simplified - tau|"),
-        "tau_error_rms": var(("joint",), np.array(error["rms_error"]), "N m",
+        "tau_error_rms": var(("joint",), np.array(error["rms_error"]), torque,
                               "RMS of |tau_simplified - tau|"),
-        "tau_peak": var(("joint",), np.array(error["peak_tau"]), "N m", "peak |tau|"),
+        "tau_peak": var(("joint",), np.array(error["peak_tau"]), torque, "peak |tau|"),
         "tau_error_relative_peak": var(("joint",), np.array(error["relative_peak_error"]), "1",
                                         "peak |tau_simplified - tau| / peak |tau|"),
         "tau_error_relative_rms": var(("joint",), np.array(error["relative_rms_error"]), "1",
@@ -150,9 +247,13 @@ def summary_dataset(robot, trajectory, ranking, choices, error, verification=Non
         "qd_max": var(("joint",), robot.qd_max, "rad s-1", "joint velocity limit"),
         "qdd_max": var(("joint",), robot.qdd_max, "rad s-2", "joint acceleration limit"),
     }
-    coords = element_coords(n)
+    coords = element_coords(n, prismatic)
     coords["joint"] = ("joint", np.arange(1, n + 1), {"long_name": "joint (row of D)",
                                                       "units": "1"})
+    for name, (which, long_name) in _JOINT_UNIT_COORDS.items():
+        units = joint_units(prismatic, which)
+        coords[name] = ("joint", np.array(units, dtype=str), {"long_name": long_name,
+                                                              "units": "1"})
     coords["xyz"] = ("xyz", np.array(["x", "y", "z"]), {"long_name": "axis", "units": "1"})
     coords["xyz_k"] = ("xyz_k", np.array(["x", "y", "z"]), {"long_name": "axis", "units": "1"})
     attrs = global_attributes(
@@ -201,8 +302,9 @@ def build_dataset(robot, trajectory, terms, ranking, tau, tau_simplified, choice
     """
     ds = summary_dataset(robot, trajectory, ranking, choices, error, verification, settings)
     arrays = setpoint_arrays(trajectory, terms, tau, tau_simplified)
-    for name, (dims, units, long_name) in SETPOINT_VARIABLES.items():
-        ds[name] = var(dims, arrays[name], units, long_name)
+    prismatic = np.asarray(robot.prismatic, bool)
+    for name, (dims, _, long_name) in SETPOINT_VARIABLES.items():
+        ds[name] = var(dims, arrays[name], setpoint_units(name, prismatic), long_name)
     N, n = trajectory.q.shape
     ds = ds.assign_coords(
         setpoint=("setpoint", np.arange(N), {"long_name": "set point index", "units": "1"}),
@@ -232,9 +334,11 @@ class SetpointWriter:
     compress : int, optional
         gzip level 1-9 for the per-set-point variables; 0 (default) stores them uncompressed,
         about ten times faster to write and 1.5 to 2 times larger.
+    prismatic : sequence of bool, shape (n,), optional
+        The prismatic joints, for the ``units`` of each variable (:func:`setpoint_units`).
     """
 
-    def __init__(self, path, N, n, chunk=8192, compress=0):
+    def __init__(self, path, N, n, chunk=8192, compress=0, prismatic=None):
         import h5netcdf
 
         self._file = h5netcdf.File(path, "w")
@@ -249,7 +353,8 @@ class SetpointWriter:
             v[:] = values
             v.attrs.update(units="1", long_name=long_name)
         self.variables = {}
-        for name, (dims, units, long_name) in SETPOINT_VARIABLES.items():
+        for name, (dims, _, long_name) in SETPOINT_VARIABLES.items():
+            units = setpoint_units(name, prismatic)
             shape = tuple({"setpoint": rows, "joint": n, "joint_k": n}[d] for d in dims)
             opts = {"compression": "gzip", "compression_opts": int(compress)} if compress else {}
             v = f.create_variable(name, dims, "f8", chunks=shape, **opts)

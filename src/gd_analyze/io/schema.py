@@ -24,7 +24,7 @@ __all__ = ["CONVENTIONS", "MIXED_UNITS", "var", "attribute_value", "global_attri
 #: The CF conventions the datasets follow.
 CONVENTIONS = "CF-1.10"
 #: Units of a variable over the element dim (D elements in kg m2, h elements in N m).
-MIXED_UNITS = "kg m2 (D) or N m (h)"
+MIXED_UNITS = "per element: element_units (kg m2, kg m or kg for D; N m or N for h)"
 
 
 def skip_dask():
@@ -216,29 +216,34 @@ def global_attributes(robot, title, references="Fu, Gonzalez & Lee (1987), Robot
     return attrs
 
 
-def element_coords(n):
+def element_coords(n, prismatic=None):
     """Coordinates ``element`` (with ``element_units``) and ``joint`` for an n-joint robot.
 
     Parameters
     ----------
     n : int
         Number of joints.
+    prismatic : sequence of bool, shape (n,), optional
+        The prismatic joints, for the units (all revolute if not given).
 
     Returns
     -------
     dict
         name -> (dims, values, attrs): the M = n (n + 1) / 2 + n ranked element labels
-        ``"D11"`` .. ``"hn"``, their units (kg m2 for D, N m for h) and joints 1 .. n.
+        ``"D11"`` .. ``"hn"``, their units from the joint types
+        (:func:`gd_analyze.core.labels.element_units`: kg m2, kg m or kg for D; N m or N for
+        h) and joints 1 .. n.
     """
+    from ..core.labels import element_index, element_units
     from ..core.ranking import element_labels
 
     labels = element_labels(n)
+    units = [element_units(kind, i, j, prismatic) for kind, i, j in element_index(n)]
     return {
         "element": ("element", np.array(labels, dtype=str),
                     {"long_name": "ranked element of D (i <= j) or h", "units": "1"}),
         "element_units": ("element",
-                          np.array(["kg m2" if lab.startswith("D") else "N m" for lab in labels],
-                                   dtype=str),
+                          np.array(units, dtype=str),
                           {"long_name": "units of the element", "units": "1"}),
         "joint": ("joint", np.arange(1, n + 1), {"long_name": "joint", "units": "1"}),
     }

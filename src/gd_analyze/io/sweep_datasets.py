@@ -28,6 +28,13 @@ _RANDOM_SOURCE = re.compile(r"^random-(\d+)-(\d+)$")
 _REFERENCES = "Fu, Gonzalez & Lee (1987), Robotics, Sec. 3.4.1; Lee, Lee & Nigam (1983)"
 
 
+def _torque_units(robot):
+    """The ``units`` of a per-joint torque variable: N m, N, or both with where to read them."""
+    from .datasets import units_attribute, joint_units
+
+    return units_attribute(joint_units(robot.prismatic, "tau"), "joint_type")
+
+
 def inputs_attributes(trajectories):
     """Global attributes that identify a sweep's inputs: seed or files, and one digest of all.
 
@@ -127,6 +134,7 @@ def sweep_dataset(robot, trajectories, results, merged, merged_stats, dominance,
         warnings.simplefilter("ignore", RuntimeWarning)     # all-NaN columns
         s_min, s_med, s_max = (np.nanmin(share, axis=0), np.nanmedian(share, axis=0),
                                np.nanmax(share, axis=0))
+    torque = _torque_units(robot)
     data_vars = {
         "share_tran": var(("trajectory", "element"), share, "1",
                            "translational share sum|tran| / (sum|tran| + sum|rot|)"),
@@ -150,10 +158,10 @@ def sweep_dataset(robot, trajectories, results, merged, merged_stats, dominance,
         "q_goal": var(("trajectory", "joint"), np.array([s["q_goal"] for s in summ]), "rad",
                        "joint position at the last set point"),
         "tau_peak": var(("trajectory", "joint"), np.array([s["tau_peak"] for s in summ]),
-                         "N m", "peak |tau| of the full model along the trajectory"),
-        "tau_error_peak": var(("trajectory", "joint"), per_joint("peak_abs_error"), "N m",
+                         torque, "peak |tau| of the full model along the trajectory"),
+        "tau_error_peak": var(("trajectory", "joint"), per_joint("peak_abs_error"), torque,
                                "own simplified model: peak |tau_simplified - tau|"),
-        "tau_error_rms": var(("trajectory", "joint"), per_joint("rms_error"), "N m",
+        "tau_error_rms": var(("trajectory", "joint"), per_joint("rms_error"), torque,
                               "own simplified model: RMS of |tau_simplified - tau|"),
         "tau_error_relative_peak": var(("trajectory", "joint"),
                                         per_joint("relative_peak_error"), "1",
@@ -162,7 +170,7 @@ def sweep_dataset(robot, trajectories, results, merged, merged_stats, dominance,
         "tau_error_relative_rms": var(("trajectory", "joint"), per_joint("relative_rms_error"),
                                        "1", "own simplified model: RMS |tau_simplified - tau| / "
                                             "peak |tau|"),
-        "merged_tau_error_peak": var(("trajectory", "joint"), m_peak, "N m",
+        "merged_tau_error_peak": var(("trajectory", "joint"), m_peak, torque,
                                       "merged model: peak |tau_merged - tau| along the "
                                       "trajectory"),
         "merged_tau_error_relative_peak": var(("trajectory", "joint"), m_rel, "1",
@@ -179,12 +187,12 @@ def sweep_dataset(robot, trajectories, results, merged, merged_stats, dominance,
         "merged_choice": var(("element",), np.array([merged[lab] for lab in labels], dtype=str),
                               "1", "part kept by the merged model of the chapter rule: a "
                                    "part is dropped only where every trajectory drops it"),
-        "merged_error_peak": var(("joint",), all_peak, "N m",
+        "merged_error_peak": var(("joint",), all_peak, torque,
                                   "merged model: peak |tau_merged - tau| over all trajectories"),
-        "merged_error_rms": var(("joint",), all_rms, "N m",
+        "merged_error_rms": var(("joint",), all_rms, torque,
                                  "merged model: RMS of |tau_merged - tau| over all set points "
                                  "of all trajectories"),
-        "merged_error_tau_peak": var(("joint",), all_tau, "N m",
+        "merged_error_tau_peak": var(("joint",), all_tau, torque,
                                       "peak |tau| over all trajectories"),
         "merged_error_relative_peak": var(("joint",), all_rel_peak, "1",
                                            "merged model: peak error / peak |tau|, over all "
@@ -193,7 +201,9 @@ def sweep_dataset(robot, trajectories, results, merged, merged_stats, dominance,
                                           "merged model: RMS error / peak |tau|, over all "
                                           "trajectories"),
     }
-    coords = element_coords(n)
+    data_vars["joint_type"] = var(("joint",), np.array(robot.joint_types, dtype=str), "1",
+                                  "joint type: revolute (q in rad) or prismatic (q in m)")
+    coords = element_coords(n, robot.prismatic)
     coords["trajectory"] = ("trajectory", np.arange(K),
                             {"long_name": "trajectory index", "units": "1"})
     coords["class"] = ("class", np.array(CLASSES, dtype=str),
@@ -241,6 +251,7 @@ def payload_dataset(robot, trajectory, masses, com, inertia, results, dominance,
     labels = element_labels(n)
     I_p = np.asarray(inertia, dtype=float)
     I_p = np.diag(I_p) if I_p.shape == (3,) else I_p.reshape(3, 3)
+    torque = _torque_units(robot)
     data_vars = {
         "share_tran": var(("payload", "element"), np.array([r["share_tran"] for r in results]),
                            "1", "translational share sum|tran| / (sum|tran| + sum|rot|)"),
@@ -255,14 +266,14 @@ def payload_dataset(robot, trajectory, masses, com, inertia, results, dominance,
                            np.array([r["peaks"]["peak_total"] for r in results]), MIXED_UNITS,
                            "peak |translational + rotational| along the trajectory"),
         "tau_peak": var(("payload", "joint"),
-                         np.array([r["summary"]["tau_peak"] for r in results]), "N m",
+                         np.array([r["summary"]["tau_peak"] for r in results]), torque,
                          "peak |tau| of the full model along the trajectory"),
         "tau_error_relative_peak": var(
             ("payload", "joint"),
             np.array([r["summary"]["error"]["relative_peak_error"] for r in results]), "1",
             "own simplified model: peak |tau_simplified - tau| / peak |tau|"),
     }
-    coords = element_coords(n)
+    coords = element_coords(n, robot.prismatic)
     coords["payload"] = ("payload", masses, {"long_name": "payload mass on the last link",
                                              "units": "kg"})
     attrs = global_attributes(robot, f"G-D dominance of {robot.name} vs payload along "
@@ -314,6 +325,7 @@ def sweep_payloads_dataset(robot, n_trajectories, masses, com, inertia, parts, d
 
     frac, share, dom, choice, tau = (np.array(x) for x in zip(*parts))
     n = robot.n
+    torque = _torque_units(robot)
 
     return xr.Dataset(
         {"class_fraction": var(("payload", "element", "class"), frac, "1",
@@ -324,7 +336,7 @@ def sweep_payloads_dataset(robot, n_trajectories, masses, com, inertia, parts, d
                           "most frequent dominance class over the trajectories"),
          "choice": var(("payload", "element"), choice.astype(str), "1",
                        "merged share-based choice (chapter rule, no error bound)"),
-         "tau_peak": var(("payload", "joint"), tau, "N m",
+         "tau_peak": var(("payload", "joint"), tau, torque,
                          "peak |tau| over all trajectories")},
         coords={"payload": ("payload", np.asarray(masses, float),
                             {"units": "kg", "long_name": "load mass on the last link"}),

@@ -24,7 +24,9 @@ A4_LANDSCAPE = (11.69, 8.27)
 #: Colour-blind-safe colours (Okabe & Ito) of the dominance classes, the same in every report.
 __all__ = ["CLASS_COLOURS", "BASE_RC", "SUPTITLE_RC", "A4", "A4_LANDSCAPE", "style", "utc_now",
            "strings", "fmt", "pct", "attr", "thresholds", "check", "table", "grid_shape",
-           "joint_colours", "gridspec", "svg", "inline_svgs", "render_template", "check_formats"]
+           "joint_colours", "gridspec", "svg", "inline_svgs", "render_template", "check_formats",
+           "prismatic_joints", "torque_units", "element_units_of", "units_text",
+           "units_said_once"]
 
 CLASS_COLOURS = {"translational": "#0072B2", "rotational": "#D55E00", "both": "#6A3D9A",
                  "negligible": "#777777"}
@@ -424,3 +426,104 @@ def check_formats(formats, allowed):
     if not formats or any(f not in allowed for f in formats):
         raise ValueError(f"report formats must be among {allowed}, got {formats}")
     return list(dict.fromkeys(formats))
+
+
+def prismatic_joints(ds):
+    """Which joints are prismatic (q in m), from the stored ``joint_type`` (all revolute in a
+    dataset without it).
+
+    Parameters
+    ----------
+    ds : xarray.Dataset
+        A stored analysis.
+
+    Returns
+    -------
+    ndarray of bool, shape (n,)
+    """
+    if "joint_type" not in ds.variables:
+        return np.zeros(ds.sizes["joint"], dtype=bool)
+    return np.array([t == "prismatic" for t in strings(ds["joint_type"].values)])
+
+
+def units_text(u):
+    """Stored units as printed: ``"kg m2"`` -> ``"kg m²"``, ``"s-2"`` -> ``"s⁻²"``.
+
+    Parameters
+    ----------
+    u : str
+
+    Returns
+    -------
+    str
+    """
+    return (str(u).replace("m2", "m\u00b2").replace("s-2", "s\u207b\u00b2")
+            .replace("s-1", "s\u207b\u00b9"))
+
+
+def torque_units(ds):
+    """The printed units of tau_i, h_i and c_i per joint: N m, or N for a prismatic joint.
+
+    Parameters
+    ----------
+    ds : xarray.Dataset
+
+    Returns
+    -------
+    list of str, length n
+        From :func:`gd_analyze.core.labels.joint_torque_units`.
+    """
+    from ..core.ranking import joint_torque_units
+
+    return [joint_torque_units(p) for p in prismatic_joints(ds)]
+
+
+def element_units_of(ds):
+    """The printed units of the ranked elements (kg m², kg m, kg, N m, N), from the joint types.
+
+    Parameters
+    ----------
+    ds : xarray.Dataset
+        With the ``element`` coordinate.
+
+    Returns
+    -------
+    list of str, length M
+        From :func:`gd_analyze.core.labels.element_units`.
+    """
+    from ..core.ranking import element_units, parse_element_label
+
+    n, prismatic = ds.sizes["joint"], prismatic_joints(ds)
+    return [units_text(element_units(*parse_element_label(lab, n), prismatic))
+            for lab in strings(ds["element"].values)]
+
+
+def units_said_once(ds, kind):
+    """The units of every D_ij or every tau_i in words, for captions and keys.
+
+    Parameters
+    ----------
+    ds : xarray.Dataset
+    kind : str
+        ``"D"`` or ``"tau"``.
+
+    Returns
+    -------
+    str
+        ``"kg m²"`` or ``"N m"`` for an all-revolute arm; for a mixed one, each unit with where
+        it holds (``"N m (joints 1, 2), N (joint 3)"``; ``"kg m² where joints i and j are both
+        revolute, kg m where one is prismatic, kg where both are"``).
+    """
+    from ..core.ranking import joint_units_text
+
+    if kind != "D":
+        return joint_units_text(torque_units(ds))
+    prismatic = prismatic_joints(ds)
+    where = {"kg m\u00b2": "kg m\u00b2 where joints i and j are both revolute",
+             "kg m": "kg m where one of them is prismatic", "kg": "kg where both are"}
+    n = len(prismatic)
+    found = {["kg m\u00b2", "kg m", "kg"][int(prismatic[i]) + int(prismatic[j])]
+             for i in range(n) for j in range(i, n)}
+    if len(found) == 1:
+        return found.pop()
+    return ", ".join(where[u] for u in where if u in found)

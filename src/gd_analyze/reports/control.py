@@ -155,7 +155,8 @@ def make_control_figures(ds):
         if "tau_difference" in ds:
             figs["tau_difference"] = _joint_panels(
                 ds, {"simplified": ds["tau_difference"].values}, "tau_s - tau_f [N m]",
-                "Torque difference: simplified-model minus full-model computed torque")
+                "Closed-loop torque difference: simplified-model minus full-model computed "
+                "torque")
         figs["tau"] = _joint_panels(ds, {c: ds["tau"].sel(controller=c).values for c in names},
                                     "tau [N m]", "Applied joint torques")
     return figs
@@ -179,8 +180,11 @@ def _context(ds):
     summary = (f"{_attr(ds, 'robot')} along {_attr(ds, 'trajectory_file')}, "
                f"wn = {_attr(ds, 'wn')} rad/s, zeta = {_attr(ds, 'zeta')}. {summary}.")
     if "tau_difference_peak" in ds:
-        summary += (" Largest |tau_simplified - tau_full|: "
-                    f"{_fmt(float(ds['tau_difference_peak'].max()))} N m.")
+        summary += (" Largest closed-loop torque difference |tau_simplified - tau_full| (two "
+                    "closed-loop runs, each along its own motion): "
+                    f"{_fmt(float(ds['tau_difference_peak'].max()))} N m; not the open-loop "
+                    "error tau_s - tau of the main report (one model against the other along "
+                    "the desired trajectory).")
     verdict = _verdict(worst, ds)
     setup = _table(["item", "value"], [
         ["robot", f"{_attr(ds, 'robot')} (SHA-256 {_attr(ds, 'robot_sha256')})"],
@@ -289,9 +293,11 @@ def _context(ds):
                        "points of the trajectory and on the fine grid (set points included)."),
         "floor_note": floor,
         "tau_diff": tau_diff,
-        "diff_note": ("Torque of the simplified-model computed-torque controller minus that of "
-                      "the full-model one, each along its own closed-loop run, at the same "
-                      "times."),
+        "diff_note": ("Closed-loop torque difference: torque of the simplified-model "
+                      "computed-torque controller minus that of the full-model one, each along "
+                      "its own closed-loop run, at the same times. It is not the open-loop "
+                      "error of the main report (\u03c4\u209b \u2212 \u03c4 of the two models "
+                      "along the desired trajectory)."),
         "tau_table": tau_table,
         "cost": cost, "cost_note": cost_note,
         "choices": choices, "model_note": model_note, "provenance": prov,
@@ -316,7 +322,8 @@ def _verdict(worst, ds):
     bound = max(2.0 * full, VERDICT_TOLERANCE)
     tail = ""
     if "tau_difference_peak" in ds:
-        tail = (f"; its torque differs from the full-model controller's by at most "
+        tail = (f"; its closed-loop torque differs from the full-model controller's (two "
+                f"closed-loop runs) by at most "
                 f"{_fmt(float(ds['tau_difference_peak'].max()))} N m")
     pd_text = f", PD + gravity {_fmt(pd)} rad" if pd is not None else ""
     if simp <= bound:
@@ -368,8 +375,9 @@ _CAPTIONS = {
     "error": "Tracking error |q_d \u2212 q| per joint along the run, log scale (markers: set "
              "points). A curve at the bottom of a panel is at the rounding / "
              "integrator-tolerance level.",
-    "tau_difference": "Torque of the simplified-model controller minus torque of the "
-                      "full-model controller, per joint (markers: set points).",
+    "tau_difference": "Closed-loop torque difference: torque of the simplified-model "
+                      "controller minus torque of the full-model controller, each along its "
+                      "own closed-loop run, per joint (markers: set points).",
     "tau": "Torques applied by the three controllers, per joint.",
 }
 _FIGURE_FILES = {"error": "fig_control_tracking_error",

@@ -37,7 +37,7 @@ from .common import CLASS_COLOURS as _CLASS_COLOURS
 from .common import strings as _strings, thresholds as _thresholds
 from .common import check_formats, render_template
 from .main_context import ENVELOPE_COLUMNS, ENVELOPE_THRESHOLD, report_context, zero_mask
-from .main_context import prismatic_joints
+from .common import prismatic_joints
 from .main_figures import RC as FIG_RC, PAGE_WIDTH, plot_data
 from .main_figures import fig_D, fig_h, fig_joints, fig_torque
 from .pages import FIGURE_FONTS, PAPER, Document
@@ -175,8 +175,8 @@ def make_figures(ds, data=None, keys=None):
     s, e = _thresholds(ds)
     wanted = set(_FIGURE_ORDER if keys is None else keys)
     makers = {"joints": lambda: fig_joints(data, prismatic_joints(ds)),
-              "D": lambda: fig_D(data, dom, zero, s, e),
-              "h": lambda: fig_h(data, dom, zero),
+              "D": lambda: fig_D(data, dom, zero, s, e, prismatic_joints(ds)),
+              "h": lambda: fig_h(data, dom, zero, prismatic_joints(ds)),
               "torque": lambda: _fig_error(ds, data)}
     if "payload_share_tran" in ds.variables:
         makers["payload"] = lambda: _fig_payload(ds)
@@ -190,7 +190,8 @@ def make_figures(ds, data=None, keys=None):
 def _fig_error(ds, data):
     if has_simplified(ds):                      # issue 8: tau_s - tau and its bound
         return error_figure(ds, size=(PAGE_WIDTH, 7.5), data=data)
-    return fig_torque(data, ds["tau_error_peak"].values, ds["tau_error_relative_peak"].values)
+    return fig_torque(data, ds["tau_error_peak"].values, ds["tau_error_relative_peak"].values,
+                      prismatic_joints(ds))
 
 
 def _fig_payload(ds):

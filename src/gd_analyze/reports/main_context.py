@@ -13,10 +13,11 @@ import numpy as np
 from .common import CLASS_COLOURS as _CLASS_COLOURS
 from .common import attr as _attr, check as _check, fmt as _fmt, pct as _pct
 from .common import strings as _strings, table as _table, thresholds as _thresholds
-from .common import utc_now
+from .common import element_units_of, prismatic_joints, torque_units, units_said_once
+from .common import units_text, utc_now
 from .main_figures import identically_zero
 from .main_text import captions, conclusion, disagreement_cause, element_scale
-from .simplified_section import (ROUND_OFF, SIMPLIFIED_CAPTION, has_simplified,
+from .simplified_section import (ROUND_OFF, simplified_caption, has_simplified,
                                  simplified_context)
 from ..io.sweep_datasets import payload_part
 
@@ -76,7 +77,7 @@ def _base_parameter_table(ds):
 
     value = ds["base_parameter_value"].values
     return _table(["base parameter", "value", "units", *parts],
-                  [[name, _fmt(value[k]), _units_text(units[k]),
+                  [[name, _fmt(value[k]), units_text(units[k]),
                     *(cell(k, p) for p in range(len(parts)))]
                    for k, name in enumerate(names) if value[k] != 0],
                   align=["left", "right", "left", "left", "left", "left"],
@@ -95,8 +96,6 @@ def _zero_parameters(ds):
             f"robot and are not listed: {', '.join(zero)}.")
 
 
-def _units_text(u):
-    return u.replace("m2", "m\u00b2")
 
 
 def _recursive_facts(ds):
@@ -105,23 +104,6 @@ def _recursive_facts(ds):
     return (int(ds.sizes.get("base_parameter", 0)), int(a.get("simplified_pairs_dropped", 0)),
             int(a.get("simplified_pairs", 0)))
 
-
-def prismatic_joints(ds):
-    """Which joints are prismatic (q in m), from the stored ``joint_type`` (all revolute in a
-    dataset without it).
-
-    Parameters
-    ----------
-    ds : xarray.Dataset
-        A stored analysis.
-
-    Returns
-    -------
-    ndarray of bool, shape (n,)
-    """
-    if "joint_type" not in ds.variables:
-        return np.zeros(ds.sizes["joint"], dtype=bool)
-    return np.array([t == "prismatic" for t in _strings(ds["joint_type"].values)])
 
 def zero_mask(ds):
     """The element labels and which elements are identically zero for the arm.
@@ -147,29 +129,79 @@ def zero_mask(ds):
                                     ds["peak_total"].values, scale)
 
 
-def _units(text):
-    return str(text).replace("m2", "m\u00b2").replace("s-2", "s\u207b\u00b2") \
-        .replace("s-1", "s\u207b\u00b9")
+def _caption_units(ds):
+    """The units the captions state, from the joint types (:func:`captions`)."""
+    from ..core.ranking import joint_motion_units
+
+    prismatic = prismatic_joints(ds)
+    motion = []
+    for kind in (False, True):
+        joints = [str(k + 1) for k in range(len(prismatic)) if prismatic[k] == kind]
+        if joints:
+            what = "prismatic" if kind else "revolute"
+            motion.append(", ".join(joint_motion_units(kind, shown=True))
+                          + (f" for {what} joint{'s' if len(joints) > 1 else ''} "
+                             f"{', '.join(joints)}" if prismatic.any() else ""))
+    return {"joints": "; ".join(motion), "D": units_said_once(ds, "D"),
+            "tau": units_said_once(ds, "tau")}
+
+
+def _is_puma560(name):
+    return str(name).lower().replace(" ", "").replace("-", "") == "puma560"
 
 
 def _kv(rows):
     return _table(["item", "value"], rows, widths=[1.2, 3.4])
 
 
+#: The models every cost is shown against, by their label in the stored cost table.
+_COST_REFERENCES = ("project N-E as implemented", "recursive N-E, exact", "explicit, full")
+
+
 def _model_cost(ds):
-    """(multiplications, additions, Newton-Euler operations or None) of the emitted model, from
-    the stored attributes and cost table; None without a simplified model."""
+    """(multiplications, additions, then the operations of Newton-Euler, of the exact model and
+    of the full explicit model, each None if not counted) of the emitted model, from the stored
+    attributes and cost table; None without a simplified model."""
     try:
         mult = int(ds.attrs["simplified_multiplications"])
         add = int(ds.attrs["simplified_additions"])
     except (KeyError, TypeError, ValueError):
         return None
-    ne = None
-    if "cost_total" in ds.variables:
-        labels = [str(v) for v in ds["cost_model"].values]
-        if "project N-E as implemented" in labels:
-            ne = int(ds["cost_total"].values[labels.index("project N-E as implemented")])
-    return mult, add, ne
+    labels = ([str(v) for v in ds["cost_model"].values] if "cost_total" in ds.variables
+              else [])
+    return (mult, add, *(int(ds["cost_total"].values[labels.index(key)]) if key in labels
+                         else None for key in _COST_REFERENCES))
+
+
+def _gravity_fact(ds, form):
+    """What the deployed model does with the gravity loading c, read from what it dropped: a
+    clause for the summary, or None when the dataset does not say."""
+    if form == "recursive" and "base_parameter_dropped" in ds:
+        parts = _strings(ds["torque_part"].values)
+        if "gravity" not in parts:
+            return None
+        g = parts.index("gravity")
+        rel = (ds["base_parameter_relative_peak"].values[:, g]
+               if "base_parameter_relative_peak" in ds else np.ones(ds.sizes["base_parameter"]))
+        names = [nm for nm, d, r in zip(_strings(ds["base_parameter"].values),
+                                        ds["base_parameter_dropped"].values[:, g], rel)
+                 if d and r >= ROUND_OFF]
+        if not names:
+            return "keeps c whole (no gravity part is dropped)"
+        return (f"drops the gravity part of {len(names)} base parameter"
+                f"{'s' if len(names) > 1 else ''} from c ({', '.join(names)})")
+    if "simplified_bound_gravity" not in ds:
+        return None
+    bound = ds["simplified_bound_gravity"].values
+    if not np.all(np.isfinite(bound)):               # no budget: the chapter rule's model
+        return ("keeps c whole (the chapter rule drops parts of D and h only)"
+                if ds.attrs.get("simplified_rule") == "chapter" else None)
+    if not np.any(bound > 0):
+        return "keeps c whole (no term of c is dropped)"
+    units = torque_units(ds)
+    return ("drops terms of c, worth at most "
+            + ", ".join(f"{b:.3g} {units[i]} at joint {i + 1}" for i, b in enumerate(bound)
+                        if b > 0))
 
 
 def report_context(ds):
@@ -193,7 +225,7 @@ def report_context(ds):
     ctx = _report_context_base(ds)
     ctx["simplified_model"] = simplified_context(ds) if has_simplified(ds) else None
     if ctx["simplified_model"]:
-        ctx["captions"] = {**ctx["captions"], "torque": SIMPLIFIED_CAPTION}
+        ctx["captions"] = {**ctx["captions"], "torque": simplified_caption(ds)}
     return ctx
 
 
@@ -209,8 +241,8 @@ def _report_context_base(ds):
     dominance = _strings(ds["dominance"].values)
     chapter = _strings(ds["chapter_dominance"].values)
     choice = _strings(ds["choice"].values)
-    el_units = (_strings(ds["element_units"].values) if "element_units" in ds.variables
-                else ["kg m2" if lab.startswith("D") else "N m" for lab in labels])
+    el_units = element_units_of(ds)            # from the joint types, also for older files
+    tau_units = torque_units(ds)
     s, e = _thresholds(ds)
     robot_name = _attr(ds, "robot", "robot")
     now = utc_now()
@@ -267,7 +299,7 @@ def _report_context_base(ds):
         ["element", "share_tran", "class", "peak_tran", "peak_rot", "peak_total", "units"],
         [[lab, "\u2261 0" if zero[k] else (_fmt(share[k], 3) if np.isfinite(share[k])
                                              else "n/a"), dominance[k],
-          _fmt(pt[k]), _fmt(pr[k]), _fmt(ptot[k]), _units(el_units[k])]
+          _fmt(pt[k]), _fmt(pr[k]), _fmt(ptot[k]), el_units[k]]
          for k, lab in enumerate(labels)],
         align=["left", "right", "left", "right", "right", "right", "left"],
         widths=[0.8, 0.9, 1.2, 1, 1, 1, 0.8], colour_cols=[2])
@@ -284,16 +316,16 @@ def _report_context_base(ds):
              for k, lab in enumerate(labels)],
             widths=[0.8, 1.2, 0.8, 2.2], colour_cols=[1])
     err = _table(
-        ["joint", "peak |\u03c4\u209b\u2212\u03c4| [N m]", "RMS |\u03c4\u209b\u2212\u03c4| [N m]",
-         "peak |\u03c4| [N m]", "peak error / peak |\u03c4|", "RMS error / peak |\u03c4|"],
+        ["joint", "peak |\u03c4\u209b\u2212\u03c4|", "RMS |\u03c4\u209b\u2212\u03c4|",
+         "peak |\u03c4|", "peak error / peak |\u03c4|", "RMS error / peak |\u03c4|", "units"],
         [[str(k + 1), _fmt(ds["tau_error_peak"].values[k]), _fmt(ds["tau_error_rms"].values[k]),
           _fmt(ds["tau_peak"].values[k]), _pct(ds["tau_error_relative_peak"].values[k]),
-          _pct(ds["tau_error_relative_rms"].values[k])] for k in range(n)],
-        align=["left"] + ["right"] * 5, widths=[0.6, 1.2, 1.2, 1, 1.2, 1.2])
+          _pct(ds["tau_error_relative_rms"].values[k]), tau_units[k]] for k in range(n)],
+        align=["left"] + ["right"] * 5 + ["left"], widths=[0.6, 1.2, 1.2, 1, 1.2, 1.2, 0.6])
     rel_peak = ds["tau_error_relative_peak"].values
 
     # 6. comparison with the chapter
-    applicable = n == 6
+    applicable = n == 6 and _is_puma560(robot_name)
     compare_rows, n_agree, n_compared = [], 0, 0
     for k, (lab, ours, theirs) in enumerate(zip(labels, dominance, chapter)):
         shown = "\u2261 0" if zero[k] else _fmt(share[k], 3)
@@ -312,9 +344,10 @@ def _report_context_base(ds):
                 "on the trajectory, so disagreements are expected for another trajectory. The "
                 "chapter has no 'negligible' class: an element classed negligible here counts "
                 "as a disagreement.")
-        if robot_name.lower() not in ("puma560", "puma 560", "puma-560"):
-            note += (f" This robot ({robot_name}) is not the chapter's PUMA 560: the comparison "
-                     "is indicative only.")
+    elif n == 6:
+        note = (f"The chapter reports dominance only for its PUMA 560 (Sec. 3.4.1); this robot "
+                f"({robot_name}) is another arm, so its classes are not compared with the "
+                "chapter's.")
     else:
         note = (f"The chapter reports dominance only for the 6-joint PUMA 560 (Sec. 3.4.1); "
                 f"this robot has {n} joint{'s' if n != 1 else ''}, so a comparison is not "
@@ -337,28 +370,19 @@ def _report_context_base(ds):
         ("negligibility threshold e", _fmt(e, 6)),
     ]
     ver_keys = sorted(k for k in ds.attrs if k.startswith("verification_max_rel_error_"))
-    if "verification_passed" in ds.attrs:
-        passed = bool(int(ds.attrs["verification_passed"]))
-        prov.append(("verification against " + _attr(ds, "verification_engine", "Pinocchio"),
-                     ("passed" if passed else "FAILED")
-                     + f" (tolerance {_attr(ds, 'verification_tolerance')}, "
-                     f"{_attr(ds, 'verification_setpoints')} set points checked)"))
-        verified = "passed" if passed else "FAILED"
-    else:
-        prov.append(("verification against Pinocchio", "not run (analysis without check)"))
-        verified = "not run"
-    for key in ver_keys:
-        value = ds.attrs[key]
-        text = _fmt(value, 3)
-        if text == "0":                 # the differences past the floor, not "no difference"
-            text = "0 (every difference within round-off: 64 eps of its scale)"
-        prov.append((f"max relative error {key[len('verification_max_rel_error_'):]}", text))
+    verified, verification = _verification(ds, ver_keys, N)
+    prov.append(("verification against " + _attr(ds, "verification_engine", "Pinocchio"),
+                 verification))
     shown = {"robot", "robot_description", "robot_reference", "robot_source", "robot_sha256",
              "gravity", "gravity_units", "input_file", "input_path", "input_sha256",
              "derivatives", "dominance_threshold", "negligible_threshold", "history",
              "gd_analyze_version", "verification_passed", "verification_engine",
-             "verification_tolerance", "verification_setpoints", *ver_keys}
+             "verification_tolerance", "verification_setpoints", *ver_keys,
+             "setpoints"}                                   # N: in Sec. 1.2
     for key in sorted(k for k in ds.attrs if k not in shown):
+        twin = key[len("simplified_"):] if key.startswith("simplified_") else None
+        if twin in ds.attrs and _attr(ds, twin) == _attr(ds, key):
+            continue                                        # each setting once
         prov.append((key, _attr(ds, key)))
 
     formulations = _formulations_context(ds)
@@ -366,7 +390,8 @@ def _report_context_base(ds):
     title = f"G-D dominance analysis: {robot_name} along {_attr(ds, 'input_file')}"
     summary = conclusion(labels, dominance, zero, choice, rel_peak,
                          ds["tau_error_peak"].values, ds["tau_peak"].values, _model_cost(ds),
-                         recursive=_recursive_facts(ds) if form == "recursive" else None)
+                         recursive=_recursive_facts(ds) if form == "recursive" else None,
+                         gravity=_gravity_fact(ds, form), units=tau_units)
     facts = (f"{robot_name}, {n} joints, {N} set points over {_fmt(t[-1] - t[0], 4)} s; "
              f"{len(labels)} elements ranked with s = {s:g}, e = {e:g}: "
              + ", ".join(f"{counts[c]} {c}" for c in _CLASS_COLOURS)
@@ -375,8 +400,8 @@ def _report_context_base(ds):
     return {
         "version": __version__, "title": title, "summary": summary, "robot_name": robot_name,
         "facts": facts, "intro": _INTRO.format(created=now.isoformat(), version=__version__),
-        "captions": captions(enveloped, N, f"{s:g}", f"{e:g}"),
-        "D_text": _D_TEXT.format(s=f"{s:g}", e=f"{e:g}"),
+        "captions": captions(enveloped, N, f"{s:g}", f"{e:g}", units=_caption_units(ds)),
+        "D_text": _D_TEXT.format(s=f"{s:g}", e=f"{e:g}", units=units_said_once(ds, "D")),
         "n": n, "N": N, "s": f"{s:g}", "e": f"{e:g}", "created": now.isoformat(),
         "robot_kv": robot_kv, "dh": dh, "link": link, "traj_kv": traj_kv, "joints": joints,
         "ranking": ranking, "counts": counts, "choices": choices, "error": err,
@@ -408,8 +433,37 @@ _INTRO = ("Generalized d'Alembert (G-D) equations of motion split the inertia ma
 
 _D_TEXT = ("One panel per element D_ij with i \u2264 j (row i, column j): translational part "
            "(\u25cb, blue), rotational part (\u00d7, orange) and combined D_ij (\u25b3, black) "
-           "against time [kg m\u00b2]. The title gives the element and its dominance class "
+           "against time [{units}]. The title gives the element and its dominance class "
            "(s = {s}, e = {e}).")
+
+
+#: The verification's absolute floor (gd_analyze.formulations.pinocchio.FLOOR_EPS machine
+#: epsilons of the overall scale), as the text names it; a report imports no formulation.
+_ROUND_OFF_FLOOR = "64 eps"
+
+
+def _verification(ds, keys, N):
+    """(verdict for the summary, the one provenance row) of the check against Pinocchio: how
+    many of the N set points it checked, its tolerance once, and its largest errors, which are
+    the differences past the round-off floor (smaller than any raw difference of Sec. 7.1)."""
+    if "verification_passed" not in ds.attrs:
+        return "not run", "not run (analysis without check)"
+    passed = bool(int(ds.attrs["verification_passed"]))
+    checked = int(ds.attrs.get("verification_setpoints", N))
+    verdict = (f"{'passed' if passed else 'FAILED'} on {checked:,} of {N:,} set points"
+               + ("" if checked == N else " (evenly spread)"))
+    worst = {k[len("verification_max_rel_error_"):]: float(ds.attrs[k]) for k in keys}
+    floor = _ROUND_OFF_FLOOR
+    if worst and max(worst.values()) == 0:
+        errors = (f"every difference within the round-off floor ({floor} of its scale), "
+                  "so none is counted")
+    else:
+        errors = ("largest relative difference past the round-off floor "
+                  f"({floor} of its scale): "
+                  + ", ".join(f"{k} {_fmt(v, 3)}" for k, v in worst.items()))
+    row = (f"{verdict}; tolerance {_attr(ds, 'verification_tolerance')} of each element's "
+           f"scale on {', '.join(worst) or 'D, h and c'}; {errors}")
+    return verdict, row
 
 
 def _payload_context(ds):

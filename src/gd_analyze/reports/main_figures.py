@@ -23,7 +23,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ..core.ranking import element_label
+from ..core.ranking import element_label, element_units, joint_motion_units, joint_torque_units
 from .ticks import set_ticks
 
 __all__ = ["PAGE_WIDTH", "COLUMN_WIDTH", "ZERO_TOL", "PART_STYLE", "SHORT_CLASS", "PlotData", "plot_data",
@@ -287,7 +287,13 @@ def _panel_height(w):
     return float(np.clip(0.7 * w, 0.5, 0.9))
 
 
-def fig_D(data, dominance, zero, s, e):
+def _unit_label(ax, units):
+    """The panel's units on its y axis, e.g. ``[kg m]`` (every panel: a mixed arm's differ)."""
+    shown = units.replace("m2", "m\u00b2")
+    ax.set_ylabel(f"[{shown}]", fontsize=7, labelpad=0.5)
+
+
+def fig_D(data, dominance, zero, s, e, prismatic=None):
     """The analogue of Fig. 3.10: one panel per D_ij, i <= j, on an n x n grid.
 
     Parameters
@@ -300,6 +306,9 @@ def fig_D(data, dominance, zero, s, e):
         Elements drawn as "≡ 0" panels.
     s, e : float
         Thresholds of the ranking, for the key.
+    prismatic : ndarray of bool, shape (n,), optional
+        Prismatic joints: each panel's y axis gives its units
+        (:func:`gd_analyze.core.labels.element_units`: kg m², kg m or kg).
 
     Returns
     -------
@@ -326,11 +335,13 @@ def fig_D(data, dominance, zero, s, e):
                 _element_panel(ax, x, (Dt[:, i, j], Dr[:, i, j], D[:, i, j]), label,
                                dominance.get(label, ""), data.enveloped, 2 if h < 0.6 else 3)
                 first = first or ax
+            _unit_label(ax, element_units("D", i, j, prismatic))
             _time_axis(ax, x, labels=i == j, nbins=2 if w < 0.7 else 3)
             if i == j:
                 ax.set_xlabel("t [s]", labelpad=1.0)
     _key(fig, first, n, w, h, W, H,
-         f"D_ij [kg m\u00b2] against time t [s]; panel D_ij in row i, column j. Title: "
+         f"D_ij against time t [s], units on each panel's axis; panel D_ij in row i, "
+         f"column j. Title: "
          f"element and its class: tran(slational), rot(ational), both, negl(igible) "
          f"(s = {s:g}, e = {e:g}); \u2261\u00a00: zero in every part.")
     return fig
@@ -355,7 +366,7 @@ def _key(fig, source, n, w, h, W, H, text):
                    handlelength=2.6, bbox_to_anchor=(0.5, 0.0))
 
 
-def fig_h(data, dominance, zero):
+def fig_h(data, dominance, zero, prismatic=None):
     """The analogue of Fig. 3.11: one panel per h_i, as large as the panels of :func:`fig_D`.
 
     Parameters
@@ -364,6 +375,8 @@ def fig_h(data, dominance, zero):
         With ``h_tran``, ``h_rot``, ``h`` (M, n) [N m] and time x [s].
     dominance, zero : dict
         As for :func:`fig_D`.
+    prismatic : ndarray of bool, shape (n,), optional
+        Prismatic joints: their panels' axes read N, the others N m.
 
     Returns
     -------
@@ -391,12 +404,13 @@ def fig_h(data, dominance, zero):
             _element_panel(ax, data.x, (ht[:, i], hr[:, i], hh[:, i]), label,
                            dominance.get(label, ""), data.enveloped, 2 if h < 0.6 else 3)
             first = first or ax
+        _unit_label(ax, element_units("h", i, None, prismatic))
         _time_axis(ax, data.x, labels=True, nbins=2 if w < 0.7 else 3)
         ax.set_xlabel("t [s]", labelpad=1.0)
     if first is not None:
         fig.legend(*first.get_legend_handles_labels(), loc="lower center", ncol=3,
                    frameon=False, handlelength=2.6, bbox_to_anchor=(0.5, 0.02 / H))
-    fig.text(0.08 / W, 1 - (_TOP + h / 2) / H, "h_i [N m]", rotation=90, va="center",
+    fig.text(0.08 / W, 1 - (_TOP + h / 2) / H, "h_i", rotation=90, va="center",
              ha="left", fontsize=8)
     return fig
 
@@ -410,15 +424,21 @@ def fig_joints(data, prismatic=None):
         With ``q``, ``qd``, ``qdd`` (M, n) [rad, rad/s, rad/s^2; m, m/s, m/s^2 for a prismatic
         joint] and time x [s].
     prismatic : ndarray of bool, shape (n,), optional
-        Prismatic joints, drawn in mm (mm/s, mm/s^2) and named in the axis label.
+        Prismatic joints, drawn in mm (mm/s, mm/s^2) on panels of their own.
 
     Returns
     -------
     matplotlib.figure.Figure
-        7.2 x 2.4 in, three panels, one line per joint (colour and line style), legend on top.
+        7.2 in wide, three panels a row, one line per joint (colour and line style), legend
+        on top; an arm with both joint types gets a row for its revolute joints [deg, deg/s,
+        deg/s^2] and a row for its prismatic ones [mm, mm/s, mm/s^2]
+        (:func:`gd_analyze.core.labels.joint_motion_units`), never two units on one axis.
     """
     n = data.series["q"].shape[1]
-    W, H = PAGE_WIDTH, 2.5
+    prismatic = np.zeros(n, bool) if prismatic is None else np.asarray(prismatic, bool)
+    kinds = [k for k in (False, True) if np.any(prismatic == k)]
+    row_h, top, gap_h, bottom = 1.5, 0.55, 0.55, 0.45
+    W, H = PAGE_WIDTH, top + len(kinds) * row_h + (len(kinds) - 1) * gap_h + bottom
     fig = _figure(W, H)
     left, gap = 0.55, 0.55
     w = (W - left - 0.1 - 2 * gap) / 3
@@ -426,31 +446,35 @@ def fig_joints(data, prismatic=None):
     from matplotlib import colormaps
 
     cmap = colormaps["tab10"]
-    prismatic = np.zeros(n, bool) if prismatic is None else np.asarray(prismatic, bool)
-    scale = np.where(prismatic, 1000.0, np.degrees(1.0))
-    lin = ", ".join(str(k + 1) for k in np.flatnonzero(prismatic))
-    extra = f"; joint {lin}: mm" if lin else ""
-    spec = (("q", f"q [deg{extra}]"), ("qd", f"q\u0307 [deg/s{extra}/s]"),
-            ("qdd", f"q\u0308 [deg/s\u00b2{extra}/s\u00b2]"))
-    for k, (name, ylabel) in enumerate(spec):
-        ax = _axes(fig, left + k * (w + gap), 0.55, w, H - 0.55 - 0.45)
-        y = data.series[name] * scale
-        for jn in range(n):
-            ax.plot(data.x, y[:, jn], color=cmap(jn % 10), linestyle=styles[jn % 4],
-                    linewidth=0.9, label=f"joint {jn + 1}")
-        lo, hi = _limits(y)
-        ax.set_ylim(lo, hi)
-        pad = (hi - lo) / 1.2 * 0.1
-        set_ticks(ax.yaxis, lo + pad, hi - pad, 4)
-        _time_axis(ax, data.x, True)
-        ax.set_xlabel("t [s]", labelpad=1.0)
-        ax.set_ylabel(ylabel, labelpad=1.0)
-    fig.legend(*fig.axes[0].get_legend_handles_labels(), loc="upper center",
+    symbols = ("q", "q\u0307", "q\u0308")
+    for r, kind in enumerate(kinds):
+        joints = np.flatnonzero(prismatic == kind)
+        scale = 1000.0 if kind else np.degrees(1.0)
+        units = joint_motion_units(kind, shown=True)
+        for k, name in enumerate(("q", "qd", "qdd")):
+            ax = _axes(fig, left + k * (w + gap), top + r * (row_h + gap_h), w, row_h)
+            y = data.series[name][:, joints] * scale
+            for col, jn in enumerate(joints):
+                ax.plot(data.x, y[:, col], color=cmap(jn % 10), linestyle=styles[jn % 4],
+                        linewidth=0.9, label=f"joint {jn + 1}")
+            lo, hi = _limits(y)
+            ax.set_ylim(lo, hi)
+            pad = (hi - lo) / 1.2 * 0.1
+            set_ticks(ax.yaxis, lo + pad, hi - pad, 4)
+            _time_axis(ax, data.x, True)
+            ax.set_xlabel("t [s]", labelpad=1.0)
+            ax.set_ylabel(f"{symbols[k]} [{units[k]}]", labelpad=1.0)
+    handles, labels = [], []
+    for r in range(len(kinds)):
+        hs, ls = fig.axes[3 * r].get_legend_handles_labels()
+        handles, labels = handles + hs, labels + ls
+    order = np.argsort([int(lab.split()[1]) for lab in labels])
+    fig.legend([handles[o] for o in order], [labels[o] for o in order], loc="upper center",
                ncol=min(n, 7), frameon=False, handlelength=2.4, bbox_to_anchor=(0.5, 1.0))
     return fig
 
 
-def fig_torque(data, peak_error, rel_error):
+def fig_torque(data, peak_error, rel_error, prismatic=None):
     """tau of the full and of the simplified model per joint against time [N m].
 
     Parameters
@@ -460,6 +484,8 @@ def fig_torque(data, peak_error, rel_error):
     peak_error, rel_error : ndarray, shape (n,)
         Peak |tau_s - tau| [N m] and the same over peak |tau| [1]; the titles give the
         latter (the table of the report gives both).
+    prismatic : ndarray of bool, shape (n,), optional
+        Prismatic joints, whose axes read N (the others N m).
 
     Returns
     -------
@@ -487,7 +513,8 @@ def fig_torque(data, peak_error, rel_error):
         set_ticks(ax.yaxis, lo + pad, hi - pad, 3)
         _time_axis(ax, data.x, True)
         ax.set_xlabel("t [s]", labelpad=1.0)
-        ax.set_ylabel(f"\u03c4{i + 1} [N m]", labelpad=1.0)
+        units = joint_torque_units(bool(prismatic[i])) if prismatic is not None else "N m"
+        ax.set_ylabel(f"\u03c4{i + 1} [{units}]", labelpad=1.0)
         rel = f"{100 * rel_error[i]:.2g} %" if np.isfinite(rel_error[i]) else "n/a"
         ax.set_title(f"joint {i + 1}: peak error {rel}")
     fig.legend(*fig.axes[0].get_legend_handles_labels(), loc="lower center", ncol=2,

@@ -55,7 +55,7 @@ def _names(labels):
 
 
 def conclusion(labels, dominance, zero, choice, rel_peak, abs_peak, tau_peak, cost=None,
-               recursive=None):
+               recursive=None, gravity=None, units=None):
     """The report's conclusion in three sentences.
 
     Parameters
@@ -66,19 +66,28 @@ def conclusion(labels, dominance, zero, choice, rel_peak, abs_peak, tau_peak, co
         Elements zero in every part (:func:`gd_analyze.reports.main_figures.identically_zero`).
     rel_peak, abs_peak, tau_peak : ndarray, shape (n,)
         Per joint: peak |tau_s - tau| / peak |tau| [1], peak |tau_s - tau| [N m], peak |tau|.
-    cost : tuple of (int, int, int or None), optional
-        The emitted model's multiplications and additions per set point, and Newton-Euler's
-        operations as implemented (None if not counted).
+    cost : tuple of (int, int, int or None[, int or None, int or None]), optional
+        The emitted model's multiplications and additions per set point, Newton-Euler's
+        operations as implemented (None if not counted), and optionally the operations of the
+        exact (nothing dropped) model and of the full explicit model, which the sentence then
+        names beside Newton-Euler's.
     recursive : tuple of (int, int, int), optional
         For a model of the recursive form: its number of base parameters, of dropped
         (parameter, part) pairs and of pairs; ``choice`` is then not used.
+    gravity : str, optional
+        What the model does with the gravity loading c, as a clause (``"keeps c whole"``,
+        ``"drops terms of c ..."``); the sentence on the model ends with it.
+    units : list of str, optional
+        Units of each joint's torque (N m, or N for a prismatic joint); N m if not given.
 
     Returns
     -------
     str
-        What dominates D and h; what the simplified model keeps; at what torque error, with the
-        reason when the worst relative error sits on a joint whose own torque is small, and at
-        what counted cost against Newton-Euler.
+        What dominates D and h, every negligible element named; what the simplified model
+        keeps, c included; at what open-loop torque error (tau_s - tau along the given
+        trajectory), with the reason when the worst relative error sits on a joint whose own
+        torque is small, and at what counted cost against the exact model, the full explicit
+        model and Newton-Euler.
 
     Examples
     --------
@@ -100,9 +109,10 @@ def conclusion(labels, dominance, zero, choice, rel_peak, abs_peak, tau_peak, co
                 f"{len(by['rotational'])} by the rotational part ({_names(by['rotational'])}) "
                 f"and {len(by['both'])} need both")
         if by["negligible"] or z:
-            text += f"; {len(by['negligible']) + len(z)} are negligible"
-            if z:
-                text += f" ({', '.join(z)} \u2261 0)"
+            text += (f"; {len(by['negligible']) + len(z)} are negligible ("
+                     + "; ".join(filter(None, [", ".join(by["negligible"]),
+                                               ", ".join(z) + " \u2261 0" if z else ""]))
+                     + ")")
         parts.append(text + f" \u2014 {lead} effects lead")
     first = "Dominance: " + "; ".join(parts) + "."
     if recursive is not None:
@@ -111,34 +121,51 @@ def conclusion(labels, dominance, zero, choice, rel_peak, abs_peak, tau_peak, co
                   "parameters" + (": it is exact, nothing is dropped." if dropped == 0 else
                                   f"; of the {pairs} inertial, velocity and gravity parts of "
                                   "their contributions that act on this trajectory, it drops "
-                                  f"{dropped}."))
+                                  f"{dropped}" + (f", and {gravity}" if gravity else "")
+                                  + "."))
     else:
         kept = {c: sum(1 for v in choice if v == c) for c in ("tran", "rot", "both", "none")}
         terms = kept["tran"] + kept["rot"] + 2 * kept["both"]
         second = (f"The simplified model keeps only the translational part of {kept['tran']} "
                   f"elements, only the rotational part of {kept['rot']}, both parts of "
                   f"{kept['both']} and drops {kept['none']}: it evaluates {terms} of the "
-                  f"{2 * len(labels)} parts of D and h, with its rule's terms of c.")
+                  f"{2 * len(labels)} parts of D and h, and "
+                  + (f"{gravity}." if gravity else "its rule's terms of c."))
     rel = np.asarray(rel_peak, float)
     if not np.any(np.isfinite(rel)):
         return first + " " + second + " Its torque error is not defined (no torque)."
     worst = int(np.nanargmax(rel))
     others = np.delete(rel, worst)
-    third = (f"Its largest torque error is {100 * rel[worst]:.3g} % of peak |\u03c4| at joint "
-             f"{worst + 1} ({abs_peak[worst]:.3g} N m of {tau_peak[worst]:.3g} N m)")
+    unit = list(units) if units is not None else ["N m"] * rel.size
+    third = (f"Its largest open-loop torque error (\u03c4\u209b \u2212 \u03c4 along the "
+             f"trajectory) is {100 * rel[worst]:.3g} % of peak |\u03c4| at joint "
+             f"{worst + 1} ({abs_peak[worst]:.3g} {unit[worst]} of {tau_peak[worst]:.3g} "
+             f"{unit[worst]})")
     big = float(np.nanmax(tau_peak))
     if tau_peak[worst] < 0.01 * big:
+        at = int(np.nanargmax(tau_peak))
         third += (f": that joint's own torque is under 1 % of the largest joint's "
-                  f"({big:.3g} N m), so a tiny absolute error is a large share of it")
+                  f"({big:.3g} {unit[at]}), so a tiny absolute error is a large share of it")
     if others.size and np.any(np.isfinite(others)):
         third += f"; every other joint is within {100 * np.nanmax(others):.3g} %"
     if cost is not None:
-        mult, add, ne = cost
+        mult, add, ne = cost[:3]
+        exact, full = (tuple(cost[3:5]) + (None, None))[:2]
         third += (f"; its code costs {mult + add:,} operations per set point ({mult:,} "
                   f"multiplications, {add:,} additions)")
-        if ne:
+        others = [f"the {name} model's {v:,}" for name, v in (("exact", exact),
+                                                               ("full explicit", full)) if v]
+        if others and ne:
+            third += (f" against {', '.join(others)} and Newton-Euler's {ne:,}" if mult + add < ne
+                      else f" against {' and '.join(others)}, more than Newton-Euler's "
+                      f"{ne:,}: for speed, use Newton-Euler")
+        elif ne:
             third += (f" against Newton-Euler's {ne:,}" if mult + add < ne else
                       f", more than Newton-Euler's {ne:,}: for speed, use Newton-Euler")
+        elif others:
+            third += f" against {' and '.join(others)}"
+        if len(cost) > 4 and not full:
+            third += " (the full explicit model was not derived, so it has no count)"
     return first + " " + second + " " + third + "."
 
 
@@ -192,7 +219,7 @@ def disagreement_cause(label, ours, theirs, share, zero, s, robot_name):
     return cause
 
 
-def captions(enveloped, N, s, e):
+def captions(enveloped, N, s, e, units=None):
     """Captions of the main report's figures, the same in the HTML and the PDF.
 
     Parameters
@@ -203,6 +230,9 @@ def captions(enveloped, N, s, e):
         Set points.
     s, e : str
         Thresholds, as printed.
+    units : dict of str to str, optional
+        The units as the captions state them, from the joint types: ``joints`` (q, qd, qdd
+        per joint type), ``D`` and ``tau``; an all-revolute arm's if not given.
 
     Returns
     -------
@@ -216,17 +246,20 @@ def captions(enveloped, N, s, e):
     else:
         how = (f"Markers at each of the {N} set points: translational \u25cb (solid line), "
                "rotational \u00d7 (dashed), combined \u25b3 (dotted)")
+    u = {"joints": "deg, deg/s, deg/s\u00b2", "D": "kg m\u00b2", "tau": "N m", **(units or {})}
     return {
         "joints": "Joint positions q, velocities q\u0307 and accelerations q\u0308 against time "
-                  "[deg, deg/s, deg/s\u00b2]; the dataset stores radians.",
-        "D": "Elements D_ij (i \u2264 j) of the inertia matrix against time [kg m\u00b2], "
+                  f"[{u['joints']}]; the dataset stores SI units (rad or m).",
+        "D": f"Elements D_ij (i \u2264 j) of the inertia matrix against time [{u['D']}], "
              f"split into their translational and rotational parts (analogue of Fig. 3.10). "
              f"{how}. Panel title: element and its class (s = {s}, e = {e}); \u2261 0 marks "
              "an element that is zero in every part, whose share is not defined.",
-        "h": "Coriolis and centrifugal elements h_i against time [N m] (analogue of Fig. 3.11), "
+        "h": f"Coriolis and centrifugal elements h_i against time [{u['tau']}] (analogue of "
+             "Fig. 3.11), "
              f"on panels of the size of those of D. {how}.",
         "torque": "Joint torques of the full model \u03c4 (black, solid) and the simplified "
-                  "model \u03c4\u209b (green, dashed) against time [N m]; the title gives the "
+                  f"model \u03c4\u209b (green, dashed) against time [{u['tau']}]; the title "
+                  "gives the "
                   "peak error in % of the joint's peak |\u03c4|.",
         "payload": "Translational share and class of each element against the load mass "
                    "(top), and peak joint torques (bottom).",

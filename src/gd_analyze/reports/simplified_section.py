@@ -11,12 +11,14 @@ from __future__ import annotations
 
 import numpy as np
 
-from .common import fmt, pct, strings, table
+from .common import fmt, pct, strings, table, torque_units, units_said_once
 
-__all__ = ["has_simplified", "simplified_context", "error_figure", "SIMPLIFIED_CAPTION"]
+__all__ = ["has_simplified", "simplified_context", "error_figure", "SIMPLIFIED_CAPTION",
+           "simplified_caption"]
 
-#: Caption of the torque-error figure.
-SIMPLIFIED_CAPTION = ("Torque error of the simplified model, \u03c4\u209b \u2212 \u03c4 [N m], "
+#: Caption of the torque-error figure; ``{units}`` as :func:`simplified_caption` fills it.
+SIMPLIFIED_CAPTION = ("Torque error of the simplified model, \u03c4\u209b \u2212 \u03c4 "
+                      "[{units}], "
                       "per joint against time, with the guaranteed bound \u00b1 (dotted; on "
                       "this trajectory only). A joint whose model drops nothing (bound 0) reads "
                       "\u201c\u03c4\u209b = \u03c4\u201d: its difference is floating-point "
@@ -25,6 +27,21 @@ SIMPLIFIED_CAPTION = ("Torque error of the simplified model, \u03c4\u209b \u2212
 #: A joint's tau_s - tau is round-off if its bound is 0 and its peak is below this fraction of
 #: the joint's scale (about 4500 machine epsilons: a sum of a few thousand rounded terms).
 ROUND_OFF = 1e-12
+
+
+def simplified_caption(ds):
+    """The caption of :func:`error_figure`, with the units of each joint's torque.
+
+    Parameters
+    ----------
+    ds : xarray.Dataset
+
+    Returns
+    -------
+    str
+        :data:`SIMPLIFIED_CAPTION` in N m, or N m and N for an arm with a prismatic joint.
+    """
+    return SIMPLIFIED_CAPTION.format(units=units_said_once(ds, "tau"))
 
 
 def has_simplified(ds):
@@ -101,10 +118,11 @@ def simplified_context(ds):
     parts = ("from D", "from h", "from c") if form != "recursive" else (
         "inertial (D)", "velocity (h)", "gravity (c)", "whole parameters")
     whole = ds["simplified_bound_whole"].values if "simplified_bound_whole" in ds else None
+    units = torque_units(ds)
     bound = table(
-        ["joint", "scale [N m]", "bound [N m]", *parts,
-         "measured peak |\u03c4\u209b\u2212\u03c4| [N m]", "measured / scale"],
-        [[str(i + 1), _num(ds["simplified_scale"].values[i]),
+        ["joint", "units", "scale", "bound", *parts,
+         "measured peak |\u03c4\u209b\u2212\u03c4|", "measured / scale"],
+        [[str(i + 1), units[i], _num(ds["simplified_scale"].values[i]),
           _num(ds["simplified_bound"].values[i]),
           _num(ds["simplified_bound_inertia"].values[i]),
           _num(ds["simplified_bound_coriolis"].values[i]),
@@ -112,7 +130,7 @@ def simplified_context(ds):
           *([] if whole is None else [_num(whole[i])]), _num(measured[i]),
           pct(measured[i] / ds["simplified_scale"].values[i])
           if ds["simplified_scale"].values[i] > 0 else "\u2014"] for i in range(n)],
-        align=["left"] + ["right"] * (7 + (whole is not None)))
+        align=["left", "left"] + ["right"] * (7 + (whole is not None)))
     costs = ladder = None
     if "cost_total" in ds.variables:
         costs = table(["model", "multiplications", "additions", "total"],
@@ -199,6 +217,7 @@ def error_figure(ds, size=(8.27, 9.0), data=None):
     from .ticks import MINUS, set_ticks
 
     n = ds.sizes["joint"]
+    units = torque_units(ds)
     if data is not None and "tau_error" in data.series:
         t, diff = data.x, data.series["tau_error"]
     else:
@@ -227,11 +246,11 @@ def error_figure(ds, size=(8.27, 9.0), data=None):
         if _round_off(diff[:, i], bound[i], scale[i]):
             peak = f"{float(np.max(np.abs(diff[:, i]))):.1e}".replace("-", MINUS)
             ax.text(0.5, 0.5, f"nothing dropped: \u03c4\u209b = \u03c4\nup to round-off "
-                    f"(peak {peak} N m)", transform=ax.transAxes,
+                    f"(peak {peak} {units[i]})", transform=ax.transAxes,
                     ha="center", va="center", fontsize=8, color="0.35", linespacing=1.6)
             ax.set_ylim(-1, 1)
             ax.yaxis.set_ticks([])
-            ax.set_ylabel(f"\u03c4\u209b \u2212 \u03c4 (joint {i + 1}) [N m]", fontsize=8)
+            ax.set_ylabel(f"\u03c4\u209b \u2212 \u03c4 (joint {i + 1}) [{units[i]}]", fontsize=8)
             continue
         ax.plot(t, diff[:, i], color="#D55E00", linewidth=1.2, label="\u03c4\u209b \u2212 \u03c4")
         span = [0.0]
@@ -249,10 +268,11 @@ def error_figure(ds, size=(8.27, 9.0), data=None):
         pad = 0.08 * (hi - lo)
         ax.set_ylim(lo - pad, hi + pad)
         set_ticks(ax.yaxis, lo, hi, 4)
-        ax.set_ylabel(f"\u03c4\u209b \u2212 \u03c4 (joint {i + 1}) [N m]", fontsize=8)
+        ax.set_ylabel(f"\u03c4\u209b \u2212 \u03c4 (joint {i + 1}) [{units[i]}]", fontsize=8)
         if not legend:
             ax.legend(fontsize=7, frameon=False)
             legend = True
-    fig.suptitle("Torque error of the simplified model, \u03c4\u209b \u2212 \u03c4 [N m], and "
-                 "its bound", fontsize=10, y=1 - 0.12 / H, va="top")
+    fig.suptitle("Torque error of the simplified model, \u03c4\u209b \u2212 \u03c4 "
+                 f"[{units_said_once(ds, 'tau')}], and its bound", fontsize=10,
+                 y=1 - 0.12 / H, va="top")
     return fig

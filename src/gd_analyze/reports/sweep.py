@@ -33,7 +33,7 @@ from .common import attr as _attr, check as _check, fmt as _fmt, pct as _pct
 from .common import strings as _strings
 from .common import table as _table, thresholds as _thresholds
 from .common import check_formats, render_template
-from .common import utc_now
+from .common import torque_units, units_said_once, utc_now
 from .figures import PAYLOAD_REQUIRED as _PAYLOAD_REQUIRED
 from .sweep_figures import REQUIRED as _REQUIRED, make_sweep_figures
 from .pages import PAPER, Document
@@ -108,18 +108,19 @@ def _context(ds, payload=None):
           _fmt(ds["share_tran_median"].values[k], 3), _fmt(ds["share_tran_max"].values[k], 3),
           merged[k]] for k, lab in enumerate(labels)],
         align=["left"] + ["right"] * 7 + ["left"], colour_cols=[8])
+    units = torque_units(ds)
     err = _table(
-        ["joint", "peak |\u03c4| [N m]", "peak error [N m]", "RMS error [N m]",
+        ["joint", "peak |\u03c4|", "peak error", "RMS error",
          "peak error / peak |\u03c4|", "RMS error / peak |\u03c4|",
-         "own models (worst)"],
+         "own models (worst)", "units"],
         [[str(j + 1), _fmt(ds["merged_error_tau_peak"].values[j]),
           _fmt(ds["merged_error_peak"].values[j]), _fmt(ds["merged_error_rms"].values[j]),
           _pct(ds["merged_error_relative_peak"].values[j]),
           _pct(ds["merged_error_relative_rms"].values[j]),
           _pct(np.nanmax(ds["tau_error_relative_peak"].values[:, j])
-               if np.isfinite(ds["tau_error_relative_peak"].values[:, j]).any() else np.nan)]
-         for j in range(n)],
-        align=["left"] + ["right"] * 6)
+               if np.isfinite(ds["tau_error_relative_peak"].values[:, j]).any() else np.nan),
+          units[j]] for j in range(n)],
+        align=["left"] + ["right"] * 6 + ["left"])
     counts = {c: sum(_CHOICE_CLASS[m] == c for m in merged) for c in CLASSES}
     kept = sum(m != "none" for m in merged)
     single = sum(m in ("tran", "rot") for m in merged)
@@ -148,7 +149,9 @@ def _context(ds, payload=None):
            "merged_heading": heading, "merged_text": merged_text,
            "worst": worst,
            "intro": _INTRO.format(K=K, created=utc_now().isoformat(), version=__version__),
-           "envelope": envelope, "error": err, "counts": counts, "s": f"{s:g}", "e": f"{e:g}",
+           "envelope": envelope, "error": err,
+           "error_text": _ERROR_TEXT.format(units=units_said_once(ds, "tau")),
+           "counts": counts, "s": f"{s:g}", "e": f"{e:g}",
            "K": K,
            "created": utc_now().isoformat(),
            "payload": None}
@@ -367,7 +370,7 @@ def _pdf(ctx, drawn, path, paper="a4"):
     doc.paragraph("   ".join(f"{c}: {k}" for c, k in ctx["counts"].items()), size=8.5,
                   bold=True)
     doc.heading("5.1 Torque error over all trajectories", level=2)
-    doc.paragraph(_ERROR_TEXT, size=8.5)
+    doc.paragraph(ctx["error_text"], size=8.5)
     doc.table(ctx["error"])
     fig("error")
     if ctx["payload"] is not None:
@@ -387,12 +390,13 @@ _SHARE_TEXT = ("For each trajectory and element, share_tran = \u03a3|tran| / (\u
 _MERGED_TEXT = ("Each trajectory has its own simplified model (keep the dominant part of each "
                 "element, both if neither dominates, nothing if negligible). The merged model is "
                 "valid for the whole sweep: a part of an element is dropped only where every "
-                "trajectory's model drops it. Gravity c is kept whole: "
-                "\u03c4\u209b = D\u209b q\u0308 + h\u209b + c.")
+                "trajectory's model drops it. The chapter rule drops parts of D and h only, "
+                "never a term of gravity: \u03c4\u209b = D\u209b q\u0308 + h\u209b + c.")
 _ERROR_TEXT = ("Per joint, over all set points of all trajectories: peak and RMS of "
-               "|\u03c4_merged \u2212 \u03c4| [N m], and both relative to the peak |\u03c4| "
-               "over all trajectories. Last column: the largest relative peak error of any "
-               "trajectory's own simplified model along that trajectory.")
+               "|\u03c4_merged \u2212 \u03c4| [{units}], and both relative to the peak |\u03c4| "
+               "over all trajectories. Column \u201cown models (worst)\u201d: the largest "
+               "relative peak error of any trajectory's own simplified model along that "
+               "trajectory.")
 
 
 def write_sweep_report(sweep_path, outdir, payload=None, formats=SWEEP_REPORT_FORMATS,

@@ -567,7 +567,7 @@ def analyze_to_file(robot, trajectory, path, dominance=DEFAULT_DOMINANCE,
     N, n = trajectory.q.shape
     with atomic_path(path) as tmp:
         with SetpointWriter(tmp, N, n, chunk=min(max(1, int(chunk)), 8192),
-                            compress=compress) as out:
+                            compress=compress, prismatic=robot.prismatic) as out:
             out.write(0, {"t": trajectory.t, "q": trajectory.q, "qd": trajectory.qd,
                           "qdd": trajectory.qdd})
             simplify = {"tolerance": tolerance, "rule": rule, "torque_floor": torque_floor,

@@ -117,25 +117,31 @@ def simplified_dataset(model, selection, other=None, ladder_rows=None, cost_tabl
     """
     import xarray as xr
 
+    from ..io.datasets import joint_units, units_attribute
+
+    robot = getattr(model, "robot", None)
+    torque = ("N m" if robot is None else
+              units_attribute(joint_units(robot.prismatic, "tau"), "tau_units"))
+
     def var(dims, data, units, desc):
         return xr.Variable(dims, data, {"units": units, "long_name": desc})
 
     dv = {
-        "simplified_scale": var(("joint",), selection.scale, "N m",
+        "simplified_scale": var(("joint",), selection.scale, torque,
                                 "scale_i = max(peak |tau_i|, torque floor)"),
-        "simplified_bound": var(("joint",), selection.bound, "N m",
+        "simplified_bound": var(("joint",), selection.bound, torque,
                                 "guaranteed bound on |tau_s - tau| on the trajectory"),
-        "simplified_bound_inertia": var(("joint",), selection.bound_by_kind["D"], "N m",
+        "simplified_bound_inertia": var(("joint",), selection.bound_by_kind["D"], torque,
                                         "share of the bound from dropped terms of D (D qdd)"),
-        "simplified_bound_coriolis": var(("joint",), selection.bound_by_kind["h"], "N m",
+        "simplified_bound_coriolis": var(("joint",), selection.bound_by_kind["h"], torque,
                                          "share of the bound from dropped terms of h"),
-        "simplified_bound_gravity": var(("joint",), selection.bound_by_kind["c"], "N m",
+        "simplified_bound_gravity": var(("joint",), selection.bound_by_kind["c"], torque,
                                         "share of the bound from dropped terms of c"),
-        "simplified_element_bound": var(("joint",), selection.element_bound, "N m",
+        "simplified_element_bound": var(("joint",), selection.element_bound, torque,
                                         "bound of the whole-part (element) choices"),
     }
     if "whole" in selection.bound_by_kind:
-        dv["simplified_bound_whole"] = var(("joint",), selection.bound_by_kind["whole"], "N m",
+        dv["simplified_bound_whole"] = var(("joint",), selection.bound_by_kind["whole"], torque,
                                            "share of the bound from base parameters dropped "
                                            "whole")
     if cost_table:

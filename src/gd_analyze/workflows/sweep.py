@@ -610,6 +610,8 @@ def with_budget_model(sweep_ds, model):
     """
     from ..core.ranking import element_labels
 
+    torque = sweep_ds["tau_peak"].attrs.get("units", "N m") if "tau_peak" in sweep_ds else "N m"
+
     v = model.validation
     per = v["per_trajectory"]
     peak = np.asarray(per["peak_abs_error"], float)
@@ -629,19 +631,19 @@ def with_budget_model(sweep_ds, model):
     labels = element_labels(sweep_ds.sizes["joint"])
     put("merged_choice", ("element",), np.array([model.choices[k] for k in labels], dtype=str),
         "1", f"whole parts kept by the budget rule (EPS = {eps}) on every swept trajectory")
-    put("merged_tau_error_peak", ("trajectory", "joint"), peak, "N m",
+    put("merged_tau_error_peak", ("trajectory", "joint"), peak, torque,
         "merged model: peak |tau_merged - tau| along the trajectory")
-    put("merged_scale", ("trajectory", "joint"), scale, "N m",
+    put("merged_scale", ("trajectory", "joint"), scale, torque,
         "scale_i = max(peak |tau_i|, torque floor) along the trajectory")
     put("merged_tau_error_relative_peak", ("trajectory", "joint"), np.nan_to_num(rel, nan=np.inf),
         "1", f"merged model: peak |tau_merged - tau| / scale_i along the trajectory "
              f"(guaranteed <= {eps})")
     for key, name, units, desc in (
-            ("peak_abs_error", "merged_error_peak", "N m",
+            ("peak_abs_error", "merged_error_peak", torque,
              "merged model: peak |tau_merged - tau| over all trajectories"),
-            ("rms_error", "merged_error_rms", "N m", "merged model: RMS of |tau_merged - tau| "
+            ("rms_error", "merged_error_rms", torque, "merged model: RMS of |tau_merged - tau| "
                                                      "over all set points of all trajectories"),
-            ("peak_tau", "merged_error_tau_peak", "N m", "peak |tau| over all trajectories"),
+            ("peak_tau", "merged_error_tau_peak", torque, "peak |tau| over all trajectories"),
             ("relative_peak_error", "merged_error_relative_peak", "1",
              "merged model: peak error / peak |tau|, over all trajectories"),
             ("relative_rms_error", "merged_error_relative_rms", "1",

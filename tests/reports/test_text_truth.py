@@ -1,0 +1,162 @@
+"""The report's statements agree with the model it describes (issue 18, item 1).
+
+Models are built under both rules (``--rule budget``, ``--rule chapter``), both forms
+(``--form recursive``, ``--form explicit``) and with terms of gravity dropped (``--form explicit
+--tolerance 0.05`` drops terms of c at joints 2 and 3 of the PUMA 560). Oracles: Pinocchio's
+generalized gravity for what the emitted model does with c at rest (q̇ = q̈ = 0); the stored
+ranking, cost table and verification attributes for the counts the text states.
+"""
+
+import importlib.util
+import re
+from html import unescape
+
+import numpy as np
+import pytest
+import xarray as xr
+
+from gd_analyze import load_robot
+from gd_analyze.cli import main
+from gd_analyze.formulations.pinocchio import reference_terms
+from gd_analyze.io.planning import plan_quintic
+from gd_analyze.io.schema import write_dataset
+from gd_analyze.reports import main as report
+from gd_analyze.workflows.analyze import analyze
+
+from conftest import ROOT, SHIPPED
+
+STANFORD = ROOT / "data" / "stanford_trajectory.csv"
+CONFIGS = {"budget-recursive": ["--rule", "budget", "--form", "recursive"],
+           "chapter": ["--rule", "chapter"],
+           "budget-explicit": ["--rule", "budget", "--form", "explicit"],
+           "gravity-dropped": ["--form", "explicit", "--tolerance", "0.05"]}
+
+
+def _run(robot, csv, folder, extra=()):
+    assert main([robot, str(csv), "-o", str(folder), "-q", *extra]) == 0
+    return folder
+
+
+def _text(html):
+    """The document's text outside the figures, tags stripped, entities decoded."""
+    html = re.sub(r"<svg.*?</svg>", "", html, flags=re.S)
+    return unescape(re.sub(r"\s+", " ", re.sub(r"<[^>]+>", " ", html)))
+
+
+def _summary(text):
+    return text[text.index("Dominance: "):text.index(" set points over ")]
+
+
+def _provenance(html):
+    table = html[html.index('id="provenance"'):]
+    return [[unescape(re.sub(r"<[^>]+>", "", c)).strip() for c in
+             re.findall(r"<td[^>]*>(.*?)</td>", row, flags=re.S)]
+            for row in re.findall(r"<tr[^>]*>(.*?)</tr>", table, flags=re.S)][1:]
+
+
+@pytest.fixture(scope="module")
+def stanford(tmp_path_factory):
+    return _run("stanford", STANFORD, tmp_path_factory.mktemp("stanford"))
+
+
+@pytest.fixture(scope="module", params=list(CONFIGS))
+def puma(request, tmp_path_factory):
+    return request.param, _run("puma560", SHIPPED, tmp_path_factory.mktemp(request.param),
+                               CONFIGS[request.param])
+
+
+def _check_summary_against_dataset(folder):
+    text = _text((folder / "report.html").read_text())
+    summary = _summary(text)
+    with xr.open_dataset(folder / "results.h5") as ds:
+        labels = [str(v) for v in ds["element"].values]
+        dominance = [str(v) for v in ds["dominance"].values]
+        costs = dict(zip([str(v) for v in ds["cost_model"].values], ds["cost_total"].values))
+        form = str(ds.attrs["simplified_form"])
+    for lab, cls in zip(labels, dominance):              # every negligible element named
+        if cls == "negligible":
+            assert re.search(rf"\b{lab}\b", summary), (lab, summary)
+    negligible = re.findall(r"(\d+) are negligible", summary)
+    assert sum(map(int, negligible)) == dominance.count("negligible")
+    for key in ("recursive N-E, exact", "explicit, full", "project N-E as implemented"):
+        assert f"{int(costs[key]):,}" in summary, (key, summary)
+    assert "open-loop torque error" in summary
+    assert ("recursive Newton-Euler model on" in summary) == (form == "recursive")
+    return summary
+
+
+def test_summary_names_every_negligible_element_and_every_reference_cost(stanford):
+    _check_summary_against_dataset(stanford)
+
+
+def test_text_matches_the_model_under_each_rule_and_form(puma):
+    """The summary's claim about c against the emitted model at rest and Pinocchio's gravity."""
+    name, folder = puma
+    summary = _check_summary_against_dataset(folder)
+    robot = load_robot("puma560")
+    with xr.open_dataset(folder / "results.h5") as ds:
+        q = ds["q"].values
+        scale = ds["tau_peak"].values
+    spec = importlib.util.spec_from_file_location(f"model_{name.replace('-', '_')}",
+                                                  folder / "simplified_model.py")
+    model = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(model)
+    rest = np.zeros_like(q)
+    c = reference_terms(robot, q, rest).c
+    error = np.max(np.abs(model.tau(q, rest, rest) - c), axis=0) / scale
+    assert np.all(np.isfinite(error))
+    whole = bool(np.all(error <= 1e-9))
+    assert ("keeps c whole" in summary) == whole, (name, error, summary)
+    assert bool(re.search(r"drops[^.;]* of c\b|from c\b", summary)) == (not whole), summary
+    assert name != "gravity-dropped" or not whole        # the case is really exercised
+
+
+def test_chapter_comparison_only_for_the_puma_560(stanford, puma):
+    _, folder = puma
+    assert "Agreement:" in _text((folder / "report.html").read_text())
+    text = _text((stanford / "report.html").read_text())
+    assert "Agreement:" not in text and "chapter's class" not in text
+    with xr.open_dataset(stanford / "results.h5") as ds:
+        assert not any(str(v) for v in ds["chapter_dominance"].values)
+
+
+def test_provenance_states_each_setting_once_and_no_contradicting_error(stanford):
+    html = (stanford / "report.html").read_text()
+    rows = _provenance(html)
+    values = dict((r[0], r[1]) for r in rows if len(r) == 2)
+    joined = " ".join(" ".join(r) for r in rows)
+    assert joined.count("1e-09") == 1 and joined.count("64 eps") <= 1
+    assert not [k for k in values if k.startswith("max relative error")]
+    for key, value in values.items():                   # simplified_rule = rule: shown once
+        if key.startswith("simplified_") and key[len("simplified_"):] in values:
+            assert values[key[len("simplified_"):]] != value, key
+    text = _text(html)
+    assert re.search(r"Verification against Pinocchio: passed on 31 of 31 set points", text)
+
+
+def test_verification_says_how_many_set_points_it_checked(tmp_path):
+    robot = load_robot("two-link")
+    trajectory = plan_quintic(robot, [0.0, 0.0], [np.pi / 2, np.pi / 3], n_setpoints=2101)
+    ds = analyze(robot, trajectory).dataset
+    checked = int(ds.attrs["verification_setpoints"])
+    assert checked < 2101
+    write_dataset(ds, tmp_path / "results.h5")
+    report.write_report(tmp_path / "results.h5", tmp_path / "out", formats=("html",))
+    text = _text((tmp_path / "out" / "report.html").read_text())
+    assert f"passed on {checked:,} of 2,101 set points" in text
+
+
+def test_no_statement_of_gravity_kept_whole_without_a_check():
+    """The sweep report said "Gravity c is kept whole" of a budget model that drops terms."""
+    src = ROOT / "src" / "gd_analyze"
+    assert not [p.name for p in src.rglob("*.py") if "kept whole" in p.read_text()]
+
+
+def test_control_verdict_names_its_torque_difference_closed_loop():
+    """The control verdict's torque is a difference of two closed-loop runs, not the main
+    report's open-loop error: the sentence says so."""
+    from gd_analyze.reports.control import _verdict
+
+    ds = xr.Dataset({"tau_difference_peak": ("joint", np.array([0.152, 0.01]))})
+    text = _verdict({"full": 1e-4, "simplified": 2e-4}, ds)
+    assert "closed-loop torque differs" in text and "0.152 N m" in text

@@ -1,0 +1,164 @@
+"""Units from the joint types in every table, axis, caption and stored attribute (issue 18, item 2).
+
+The Stanford arm's third joint is prismatic. Dimensional analysis is the oracle: q_3 is a
+length, so tau_3 = dL/dq_3 is a force [N], D_i3 = dtau_i/dqdd_3 is kg m for a revolute i and
+kg for i = 3, and h_3, c_3 are forces. Nothing here is read from the code under test.
+"""
+
+import re
+from html import unescape
+
+import numpy as np
+import pytest
+import xarray as xr
+
+from gd_analyze.cli import main
+
+from conftest import ROOT
+
+PRISMATIC = [False, False, True, False, False, False]          # Stanford: joint 3 slides
+N_JOINTS = len(PRISMATIC)
+
+
+def _d_units(i, j):
+    linear = PRISMATIC[i] + PRISMATIC[j]                      # each prismatic index: one m less
+    return ["kg m²", "kg m", "kg"][linear]
+
+
+def _tau_units(i):
+    return "N" if PRISMATIC[i] else "N m"
+
+
+EXPECTED = ([(f"D{i + 1}{j + 1}", _d_units(i, j)) for i in range(N_JOINTS)
+             for j in range(i, N_JOINTS)]
+            + [(f"h{i + 1}", _tau_units(i)) for i in range(N_JOINTS)])
+
+
+@pytest.fixture(scope="module")
+def stanford(tmp_path_factory):
+    out = tmp_path_factory.mktemp("stanford")
+    code = main(["stanford", str(ROOT / "data" / "stanford_trajectory.csv"), "-o", str(out),
+                 "-q"])
+    assert code == 0
+    return out
+
+
+def tables_of(html):
+    """Every <table> as a list of rows of cell texts (tags stripped)."""
+    return [[[unescape(re.sub(r"<[^>]+>", "", c)).strip()
+              for c in re.findall(r"<t[dh][^>]*>(.*?)</t[dh]>", row, flags=re.S)]
+             for row in re.findall(r"<tr[^>]*>(.*?)</tr>", table, flags=re.S)]
+            for table in re.findall(r"<table.*?</table>", html, flags=re.S)]
+
+
+def _svg_texts(svg):
+    return [unescape(t).strip() for t in re.findall(r"<text[^>]*>([^<]*)", svg)]
+
+
+def _html_without_svg(html):
+    return re.sub(r"<svg.*?</svg>", "", html, flags=re.S)
+
+
+def test_ranking_table_gives_each_element_its_units(stanford):
+    html = (stanford / "report.html").read_text()
+    table = next(t for t in tables_of(html) if t and t[0][:2] == ["element", "share_tran"])
+    units = {row[0]: row[table[0].index("units")] for row in table[1:]}
+    assert units == dict(EXPECTED)
+
+
+def test_per_joint_torque_tables_give_n_for_the_prismatic_joint(stanford):
+    """Every table with a row per joint and a torque column: joint 3's torques are in N."""
+    html = (stanford / "report.html").read_text()
+    checked = 0
+    for table in tables_of(html):
+        head = table[0] if table else []
+        if not head or head[0] != "joint" or not any("\u03c4" in h for h in head):
+            continue
+        checked += 1
+        assert not any("[N m]" in h for h in head), head     # one unit for a mixed column
+        col = head.index("units")
+        assert [row[col] for row in table[1:]] == [_tau_units(i) for i in range(N_JOINTS)]
+    assert checked >= 2                                       # Sec. 5.1 and Sec. 5.3
+
+
+def test_report_text_claims_no_single_unit_for_mixed_quantities(stanford):
+    """Captions and paragraphs: no "[N m]" or D in "[kg m²]" alone, no "deg/s/s"."""
+    text = unescape(_html_without_svg((stanford / "report.html").read_text()))
+    assert "[N m]" not in text
+    assert "/s/s" not in text and "/s\u00b2/s\u00b2" not in text
+    for m in re.finditer(r"\[kg m\u00b2\]", text):
+        before = text[max(0, m.start() - 4):m.start()]
+        assert re.search(r"I[xyz]{2} $", before), text[max(0, m.start() - 80):m.end()]
+    caption = re.search(r"Figure 1\.[^<]*", text).group(0)
+    assert "deg/s\u00b2" in caption and "mm/s\u00b2" in caption and "joint 3" in caption
+
+
+def test_figure_1_separates_revolute_and_prismatic_joints(stanford):
+    texts = _svg_texts((stanford / "figures" / "fig_joints_q_qd_qdd.svg").read_text())
+    labels = [t for t in texts if re.match(r"^q\S* \[", t)]
+    assert sorted(labels) == sorted(["q [deg]", "q\u0307 [deg/s]", "q\u0308 [deg/s\u00b2]",
+                                     "q [mm]", "q\u0307 [mm/s]", "q\u0308 [mm/s\u00b2]"])
+    assert not any("/s/s" in t or ("deg" in t and "mm" in t) for t in texts)
+
+
+def test_d_and_h_panels_carry_their_units(stanford):
+    d = _svg_texts((stanford / "figures" / "fig_3_10_D.svg").read_text())
+    h = _svg_texts((stanford / "figures" / "fig_3_11_h.svg").read_text())
+    assert [t for t in d if re.fullmatch(r"\[.*\]", t)] == [
+        f"[{u}]" for lab, u in EXPECTED if lab.startswith("D")]
+    assert [t for t in h if re.fullmatch(r"\[.*\]", t)] == [
+        f"[{u}]" for lab, u in EXPECTED if lab.startswith("h")]
+    assert not any("[kg m\u00b2]" in t or "[N m]" in t for t in d + h if "_i" in t)
+
+
+_JOINT_AXIS = re.compile(r"(?:\u03c4(\d+)|\u03c4\u209b \u2212 \u03c4 \(joint (\d+)\)) \[(.*)\]")
+
+
+def _joint_axes(texts):
+    found = [_JOINT_AXIS.fullmatch(t) for t in texts]
+    return {m.group(1) or m.group(2): m.group(3) for m in found if m}
+
+
+def test_torque_axes_give_n_for_the_prismatic_joint(stanford):
+    """The torque figure (full vs simplified, or the simplified model's error) and its copy
+    inline in the HTML: one axis per joint, in N m or N; no other text claims [N m]."""
+    expected = {str(i + 1): _tau_units(i) for i in range(N_JOINTS)}
+    for source in (stanford / "figures" / "fig_torque_full_vs_simplified.svg",
+                   stanford / "report.html"):
+        texts = _svg_texts(source.read_text())
+        assert _joint_axes(texts) == expected, source.name
+        if source.suffix == ".svg":                 # the HTML also holds Fig. 3's [N m] axes
+            assert not [t for t in texts if "[N m]" in t and not _JOINT_AXIS.fullmatch(t)]
+
+
+def test_stored_attributes_follow_the_joint_types(stanford):
+    with xr.open_dataset(stanford / "results.h5") as ds:
+        stored = dict(zip([str(v) for v in ds["element"].values],
+                          [str(v).replace("m2", "m\u00b2") for v in ds["element_units"].values]))
+        assert stored == dict(EXPECTED)
+        assert [str(v) for v in ds["tau_units"].values] == [_tau_units(i) for i in range(6)]
+        assert [str(v) for v in ds["q_units"].values] == ["m" if p else "rad" for p in PRISMATIC]
+        for name in ("tau", "tau_simplified", "h", "c", "tau_peak", "tau_error_peak", "q", "D"):
+            assert ds[name].attrs["units"] not in ("N m", "rad", "kg m2"), name
+        per_joint = [k for k in ds.variables if "joint" in ds[k].dims
+                     and ds[k].attrs.get("units") in ("N m", "N")]
+        assert per_joint == []           # a torque of joints 1..6 is N m and N: never one unit
+        assert np.isfinite(ds["tau"].values).all()
+
+
+def test_sweep_report_and_dataset_give_n_for_the_prismatic_joint(tmp_path):
+    out = tmp_path / "sweep"
+    assert main(["sweep", "stanford", str(ROOT / "data" / "stanford_trajectory.csv"),
+                 str(ROOT / "data" / "stanford_trajectory.csv"), "-o", str(out), "--workers",
+                 "1", "--held-out", "0", "-q"]) == 0
+    html = (out / "sweep_report.html").read_text()
+    table = next(t for t in tables_of(html) if t and t[0][:2] == ["joint", "peak |\u03c4|"])
+    assert [row[table[0].index("units")] for row in table[1:]] == [
+        _tau_units(i) for i in range(N_JOINTS)]
+    assert "[N m]" not in unescape(_html_without_svg(html))
+    with xr.open_dataset(out / "sweep.h5") as ds:
+        stored = dict(zip([str(v) for v in ds["element"].values],
+                          [str(v).replace("m2", "m\u00b2") for v in ds["element_units"].values]))
+        assert stored == dict(EXPECTED)
+        assert [k for k in ds.variables if "joint" in ds[k].dims
+                and ds[k].attrs.get("units") in ("N m", "N")] == []
