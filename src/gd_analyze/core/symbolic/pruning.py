@@ -24,8 +24,8 @@ from ..kinematics import as_states
 from .base_parameters import regressor
 from .recursive import PARTS, exact_program, parts_program
 
-__all__ = ["part_contributions", "Pruning", "prune", "pruned_program", "STRATEGIES",
-           "CRITERIA"]
+__all__ = ["part_contributions", "contribution_peaks", "Pruning", "prune", "pruned_program",
+           "STRATEGIES", "CRITERIA", "PEAK_CHUNK"]
 
 
 def part_contributions(robot, base, q, qd, qdd):
@@ -60,6 +60,50 @@ def part_contributions(robot, base, q, qd, qdd):
                        (q, zero, zero, None)):
         out.append(regressor(robot, a, b, c, gravity=g)[:, :, B] * base.beta)
     return np.stack(out)
+
+
+#: Set points per chunk of :func:`contribution_peaks` (about 3 x 8 MB of regressor for 7 joints).
+PEAK_CHUNK = 2048
+
+
+def contribution_peaks(robot, base, q, qd, qdd, chunk=PEAK_CHUNK):
+    """Peaks of the joint torques and of every contribution along a trajectory, in chunks.
+
+    Parameters
+    ----------
+    robot : Robot
+        The arm, with n joints.
+    base : BaseParameters
+        Its base parameters.
+    q, qd, qdd : array_like, shape (N, n)
+        The trajectory [rad, rad/s, rad/s^2; m, m/s, m/s^2].
+    chunk : int, optional
+        Set points at once: memory stays O(chunk n^2) whatever N is.
+
+    Returns
+    -------
+    tau_peak : ndarray, shape (n,)
+        Peak |tau_i| [N m or N].
+    peak : ndarray, shape (b, 3, n)
+        Peak |contribution| of each (base parameter, part) to each joint torque.
+    whole_peak : ndarray, shape (b, n)
+        Peak |contribution| of each base parameter, all parts together.
+
+    Raises
+    ------
+    ValueError
+        If the arrays are not of shape (N, n).
+    """
+    q, qd, qdd = as_states(robot, q, qd, qdd)
+    n, b = robot.n, base.rank
+    tau_peak, peak, whole_peak = np.zeros(n), np.zeros((b, len(PARTS), n)), np.zeros((b, n))
+    for a in range(0, q.shape[0], max(1, int(chunk))):
+        sl = slice(a, a + max(1, int(chunk)))
+        C = part_contributions(robot, base, q[sl], qd[sl], qdd[sl])     # (3, k, n, b)
+        np.maximum(tau_peak, np.abs(C.sum(axis=(0, 3))).max(axis=0), out=tau_peak)
+        np.maximum(peak, np.abs(C).max(axis=1).transpose(2, 0, 1), out=peak)
+        np.maximum(whole_peak, np.abs(C.sum(axis=0)).max(axis=0).T, out=whole_peak)
+    return tau_peak, peak, whole_peak
 
 
 @dataclass(frozen=True, eq=False)
@@ -163,11 +207,15 @@ def prune(robot, base, q, qd, qdd, eps, torque_floor=0.0, strategy="cost",
         raise ValueError(f"strategy must be one of {STRATEGIES}, got {strategy!r}")
     if criterion not in CRITERIA:
         raise ValueError(f"criterion must be one of {CRITERIA}, got {criterion!r}")
-    C = part_contributions(robot, base, q, qd, qdd)          # (3, N, n, b)
-    tau = C.sum(axis=(0, 3))
-    scale = np.maximum(np.abs(tau).max(axis=0), torque_floor)
-    peak = np.abs(C).max(axis=1).transpose(2, 0, 1)         # (b, 3, n)
-    whole_peak = np.abs(C.sum(axis=0)).max(axis=0).T         # (b, n)
+    if criterion == "error":             # the dropped set's own error: every contribution kept
+        C = part_contributions(robot, base, q, qd, qdd)      # (3, N, n, b)
+        tau_peak = np.abs(C.sum(axis=(0, 3))).max(axis=0)
+        peak = np.abs(C).max(axis=1).transpose(2, 0, 1)     # (b, 3, n)
+        whole_peak = np.abs(C.sum(axis=0)).max(axis=0).T     # (b, n)
+    else:                                # peaks only, accumulated chunk by chunk
+        C = None
+        tau_peak, peak, whole_peak = contribution_peaks(robot, base, q, qd, qdd)
+    scale = np.maximum(tau_peak, torque_floor)
     sel = _Selection(robot, base, C, peak, whole_peak, eps * scale, criterion)
     if strategy == "peak":
         dropped, whole = sel.by_peak()
@@ -183,7 +231,7 @@ class _Selection:
 
     def __init__(self, robot, base, C, peak, whole_peak, budget, criterion):
         self.robot, self.base = robot, base
-        self.C = C.transpose(3, 0, 1, 2)                      # (b, 3, N, n)
+        self.C = None if C is None else C.transpose(3, 0, 1, 2)       # (b, 3, N, n)
         self.peak, self.whole_peak, self.budget = peak, whole_peak, budget
         self.criterion = criterion
         safe = np.where(budget > 0, budget, 1.0)
