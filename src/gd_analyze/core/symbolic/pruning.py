@@ -99,11 +99,17 @@ def contribution_peaks(robot, base, q, qd, qdd, chunk=PEAK_CHUNK):
     tau_peak, peak, whole_peak = np.zeros(n), np.zeros((b, len(PARTS), n)), np.zeros((b, n))
     for a in range(0, q.shape[0], max(1, int(chunk))):
         sl = slice(a, a + max(1, int(chunk)))
-        C = part_contributions(robot, base, q[sl], qd[sl], qdd[sl])     # (3, k, n, b)
-        np.maximum(tau_peak, np.abs(C.sum(axis=(0, 3))).max(axis=0), out=tau_peak)
-        np.maximum(peak, np.abs(C).max(axis=1).transpose(2, 0, 1), out=peak)
-        np.maximum(whole_peak, np.abs(C.sum(axis=0)).max(axis=0).T, out=whole_peak)
+        t, p, w = _peaks_of(part_contributions(robot, base, q[sl], qd[sl], qdd[sl]))
+        np.maximum(tau_peak, t, out=tau_peak)
+        np.maximum(peak, p, out=peak)
+        np.maximum(whole_peak, w, out=whole_peak)
     return tau_peak, peak, whole_peak
+
+
+def _peaks_of(C):
+    """(tau_peak (n,), peak (b, 3, n), whole_peak (b, n)) of contributions C (3, N, n, b)."""
+    return (np.abs(C.sum(axis=(0, 3))).max(axis=0), np.abs(C).max(axis=1).transpose(2, 0, 1),
+            np.abs(C.sum(axis=0)).max(axis=0).T)
 
 
 @dataclass(frozen=True, eq=False)
@@ -209,9 +215,7 @@ def prune(robot, base, q, qd, qdd, eps, torque_floor=0.0, strategy="cost",
         raise ValueError(f"criterion must be one of {CRITERIA}, got {criterion!r}")
     if criterion == "error":             # the dropped set's own error: every contribution kept
         C = part_contributions(robot, base, q, qd, qdd)      # (3, N, n, b)
-        tau_peak = np.abs(C.sum(axis=(0, 3))).max(axis=0)
-        peak = np.abs(C).max(axis=1).transpose(2, 0, 1)     # (b, 3, n)
-        whole_peak = np.abs(C.sum(axis=0)).max(axis=0).T     # (b, n)
+        tau_peak, peak, whole_peak = _peaks_of(C)
     else:                                # peaks only, accumulated chunk by chunk
         C = None
         tau_peak, peak, whole_peak = contribution_peaks(robot, base, q, qd, qdd)
