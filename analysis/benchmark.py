@@ -141,7 +141,7 @@ def batched_rnea_comparison(robot, q, qd, qdd, runs):
     import pinocchio as pin
 
     from gd_analyze import gd_terms
-    from gd_analyze.core.dalembert import allocate_terms
+    from gd_analyze.core.dynamics.dalembert import allocate_terms
     from gd_analyze.formulations.pinocchio import pinocchio_model
 
     N, n = q.shape

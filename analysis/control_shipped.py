@@ -36,6 +36,7 @@ from gd_analyze.workflows.control import CONTROL_FILE, run_control
 from gd_analyze.workflows.tracking import DEFAULT_WN, DEFAULT_ZETA
 from gd_analyze.workflows.analyze import analyze
 from gd_analyze.io.trajectory import read_trajectory
+from gd_analyze.io.model_file import save_model
 
 ROOT = Path(__file__).resolve().parents[1]
 SHIPPED = ROOT / "data" / "puma560_trajectory.csv"
@@ -69,7 +70,7 @@ def main(argv=None):
         outdir = args.out or Path(tmp)
         outdir.mkdir(parents=True, exist_ok=True)
         model_path = outdir / "simplified_model.json"
-        model.save(model_path)
+        save_model(model, model_path)
         result = run_control(model, trajectory, wn=args.wn, zeta=args.zeta,
                              q0_offset=args.offset, model_path=model_path,
                              model_sha256=file_sha256(model_path))

@@ -16,7 +16,7 @@ from pathlib import Path
 
 import numpy as np
 
-from gd_analyze.core.robot import load_robot
+from gd_analyze import load_robot
 from gd_analyze.io import trajectory as tr
 
 

@@ -31,7 +31,7 @@ def random_robot(n, seed=0):
     """A random chain of n joints: general placements, every third joint prismatic."""
     from scipy.spatial.transform import Rotation
 
-    from gd_analyze.core.robot import robot_from_chain
+    from gd_analyze.core.model.robot_spec import robot_from_chain
 
     rng = np.random.default_rng(seed)
     joints = []
@@ -52,7 +52,7 @@ def measure(n, setpoints, runs, seed=0):
     import pinocchio as pin
 
     from gd_analyze import gd_terms
-    from gd_analyze.core.dalembert import allocate_terms
+    from gd_analyze.core.dynamics.dalembert import allocate_terms
     from gd_analyze.formulations.pinocchio import pinocchio_model
 
     robot = random_robot(n, seed)

@@ -23,8 +23,8 @@ import numpy as np
 import pinocchio as pin
 
 from gd_analyze import load_robot
-from gd_analyze.core.dalembert import gd_terms
-from gd_analyze.core.ranking import rank_dominance
+from gd_analyze.core.dynamics.dalembert import gd_terms
+from gd_analyze.core.selection.ranking import rank_dominance
 from gd_analyze.formulations.pinocchio import pinocchio_model
 from gd_analyze.io.explicit_cache import explicit_terms
 from gd_analyze.io.trajectory import read_trajectory

@@ -28,6 +28,7 @@ import time
 from pathlib import Path
 
 import numpy as np
+from gd_analyze.io.model_file import save_model
 
 ROOT = Path(__file__).resolve().parents[1]
 
@@ -50,7 +51,7 @@ def main(argv=None):
     args = parser.parse_args(argv)
 
     from gd_analyze import load_robot
-    from gd_analyze.core.ranking import CHAPTER_DOMINANCE, CLASSES
+    from gd_analyze.core.selection.ranking import CHAPTER_DOMINANCE, CLASSES
     from gd_analyze.cli import parse_range
     from gd_analyze.io.schema import write_dataset
     from gd_analyze.io.planning import random_trajectories
@@ -76,7 +77,7 @@ def main(argv=None):
     sweep_path = outdir / "sweep.h5"
     write_dataset(ds, sweep_path)
     model = merged_model(robot, ds)
-    model.save(outdir / "merged_model.json")
+    save_model(model, outdir / "merged_model.json")
     payload_path = None
     if args.payload_sweep:
         from gd_analyze.io.trajectory import read_trajectory

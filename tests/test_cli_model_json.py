@@ -7,7 +7,8 @@ import json
 import pytest
 
 from gd_analyze.cli import main
-from gd_analyze.core.simplified import SimplifiedModel
+from gd_analyze.core.selection.simplified import SimplifiedModel
+from gd_analyze.io.model_file import load_model
 
 
 @pytest.fixture(scope="module")
@@ -67,14 +68,14 @@ def test_a_coefficient_beyond_a_float_gives_exit_2(made, tmp_path, capsys):
 
 def test_the_cost_is_counted_not_read(made, tmp_path, capsys):
     path, traj, doc = made
-    counted = SimplifiedModel.load(path).program().cost()
+    counted = load_model(path).program().cost()
 
     def edit(d):
         d["cost"] = {"multiplications": 1, "additions": 2, "sin": 0, "cos": 0}
         d["full_cost"] = {"multiplications": 3, "additions": 4, "sin": 0, "cos": 0}
     model = _edited(tmp_path, doc, edit)
-    assert SimplifiedModel.load(model).to_dict()["cost"] == counted
-    assert SimplifiedModel.load(model).header()["operations"].startswith(
+    assert load_model(model).to_dict()["cost"] == counted
+    assert load_model(model).header()["operations"].startswith(
         f"{counted['multiplications']} multiplications, {counted['additions']} additions")
     code = main(["control", str(model), str(traj), "-o", str(tmp_path / "c"), "--no-report",
                  "--json"])

@@ -14,7 +14,7 @@ from hypothesis import strategies as st
 
 from conftest import SHIPPED
 from gd_analyze.cli import main
-from gd_analyze.core.robot import load_robot
+from gd_analyze import load_robot
 from gd_analyze.errors import InputError
 
 TWO_LINK_TOML = (Path(__file__).resolve().parents[1] / "src" / "gd_analyze" / "data"
@@ -133,7 +133,7 @@ def test_case6_robot_name_cannot_escape_reports(cwd, capsys):
 
 
 def test_case6_control_name_from_the_model(cwd, capsys):
-    from gd_analyze.core.simplified import parameters_sha256
+    from gd_analyze.core.selection.simplified import parameters_sha256
 
     traj = _plan(cwd, capsys)
     code, _, err = _run(["two-link", traj, "-o", "a", "--no-report", "-q"], capsys)

@@ -22,6 +22,8 @@ SHARED_REPORTS = {"reports.common", "reports.figures", "reports.pages", "reports
                   "reports.ticks", "reports.main_figures", "reports.main_text",
                   "reports.sweep_figures", "reports.simplified_section",
                   "reports.pdf_text", "reports.main_context"}
+# the core modules a report may read: names and labels of the ranking's classes and elements
+REPORT_CORE = {"core.selection.ranking", "core.selection.labels"}
 # a report's worker process (a second interpreter drawing part of its figures) runs that report
 WORKERS = {"reports.main_worker": "reports.main"}
 
@@ -88,7 +90,8 @@ def check(path):
                                                 and target not in SHARED_REPORTS
                                                 and WORKERS.get(me) != target)):
             bad.append(f"{me} -> {target} (a report reads io and the shared report modules)")
-        elif me.startswith("reports.") and target.startswith("core.") and target != "core.ranking":
+        elif me.startswith("reports.") and target.startswith("core.") \
+                and target not in REPORT_CORE:
             bad.append(f"{me} -> {target} (a report computes no dynamics)")
     return bad
 
@@ -113,3 +116,50 @@ def test_the_check_can_fail(tmp_path, monkeypatch):
     monkeypatch.setattr(sys.modules[__name__], "SRC", fake)
     assert len(check(fake / "core" / "bad.py")) == 2
     assert len(check(fake / "reports" / "bad.py")) == 3
+
+
+#: core/ holds one folder per concept (issue 19): the robot model, the numeric dynamics, the
+#: symbolic models with their code generation, and the selection.
+CORE_CONCEPTS = {"model", "dynamics", "symbolic", "selection"}
+#: Calls that read or write files; none belongs in core/.
+FILE_CALLS = {"open", "read_text", "read_bytes", "write_text", "write_bytes", "mkdir",
+              "unlink", "atomic_path"}
+
+
+def _file_io(path):
+    """The file-system calls and imports of a module, as 'line: name' strings."""
+    out = []
+    for node in ast.walk(ast.parse(path.read_text(encoding="utf-8"))):
+        if isinstance(node, ast.Call):
+            f = node.func
+            name = f.id if isinstance(f, ast.Name) else f.attr if isinstance(f, ast.Attribute) \
+                else None
+            recv = f.value.id if isinstance(f, ast.Attribute) and isinstance(f.value, ast.Name) \
+                else None
+            if name in FILE_CALLS and recv not in ("str", "text", "s", "name"):
+                out.append(f"{node.lineno}: {name}")
+        elif isinstance(node, (ast.Import, ast.ImportFrom)):
+            mods = [a.name for a in node.names] if isinstance(node, ast.Import) \
+                else [node.module or ""]
+            out += [f"{node.lineno}: import {m}" for m in mods
+                    if m.split(".")[0] in ("tomllib", "tomli", "shutil", "tempfile", "pathlib", "os")
+                    or m.endswith("files")]
+    return out
+
+
+CORE_MODULES = sorted(p for p in (SRC / "core").rglob("*.py") if p.name != "__init__.py")
+
+
+@pytest.mark.parametrize("path", CORE_MODULES, ids=_module_name)
+def test_core_is_split_by_concept_and_reads_no_files(path):
+    parts = path.relative_to(SRC / "core").parts
+    assert len(parts) == 2 and parts[0] in CORE_CONCEPTS, \
+        f"{_module_name(path)}: a core module lives in core/<{'|'.join(sorted(CORE_CONCEPTS))}>/"
+    assert _file_io(path) == []
+
+
+def test_the_file_io_check_can_fail(tmp_path):
+    bad = tmp_path / "bad.py"
+    bad.write_text("import tomllib\nfrom pathlib import Path\n"
+                   "def f(p):\n    return open(p).read() + Path(p).read_text()\n")
+    assert len(_file_io(bad)) == 4

@@ -7,19 +7,23 @@ against Pinocchio, ranks which part dominates each element, and writes a simplif
 """
 
 from ._version import __version__
-from .core.dalembert import GDTerms, gd_terms
+from .core.dynamics.dalembert import GDTerms, gd_terms
 from .errors import InputError
-from .core.robot import Robot
+from .core.model.robot import Robot
 from .io.robots import load_robot
 
 __all__ = ["__version__", "GDTerms", "gd_terms", "InputError", "Robot", "load_robot",
-           "SimplifiedModel"]
+           "SimplifiedModel", "load_model", "save_model"]
 
 
 def __getattr__(name):
     # SimplifiedModel pulls in JSON/IO code that the core does not need: import it on use.
     if name == "SimplifiedModel":
-        from .core.simplified import SimplifiedModel
+        from .core.selection.simplified import SimplifiedModel
 
         return SimplifiedModel
+    if name in ("load_model", "save_model"):
+        from .io import model_file
+
+        return getattr(model_file, name)
     raise AttributeError(f"module 'gd_analyze' has no attribute {name!r}")

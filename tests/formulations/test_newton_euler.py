@@ -113,7 +113,7 @@ def test_static_point_load_equals_heavier_last_link():
     robot = load_robot("puma560")
     mL = 2.5
     q, _, _ = _states(6, 10, seed=5)
-    from gd_analyze.core.kinematics import frames
+    from gd_analyze.core.model.kinematics import frames
     R, _ = frames(robot, q)
     f = -mL * np.einsum("kba,b->ka", R[:, -1], robot.gravity)      # ^nR_0 (-mL g)
     m, r, I = robot.mass[-1], robot.com[-1], robot.inertia[-1]

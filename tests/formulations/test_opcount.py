@@ -4,7 +4,7 @@ import numpy as np
 import pytest
 
 from gd_analyze import gd_terms, load_robot
-from gd_analyze.core.kinematics import body_frames
+from gd_analyze.core.model.kinematics import body_frames
 from gd_analyze.formulations.lagrange_euler import le_terms
 from gd_analyze.formulations.newton_euler import _cross, ne_tau
 from gd_analyze.formulations.counting import OpLedger

@@ -15,7 +15,7 @@ import pytest
 from hypothesis import HealthCheck, Phase, given, note, settings
 from hypothesis import strategies as st
 
-from gd_analyze.core.limits import LIMITS
+from gd_analyze.core.model.limits import LIMITS
 from gd_analyze.errors import InputError, InputNote
 from gd_analyze.io.trajectory import FAST_PARSE_BYTES, read_trajectory, write_trajectory
 from gd_analyze.io.planning import plan_quintic

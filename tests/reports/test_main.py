@@ -539,17 +539,17 @@ def test_report_does_not_recompute_dynamics(tmp_path, monkeypatch, puma_report):
     def boom(*args, **kwargs):
         raise AssertionError("the report must not recompute the dynamics")
 
-    import gd_analyze.core.dalembert
+    import gd_analyze.core.dynamics.dalembert
     import gd_analyze.workflows.analyze
     import gd_analyze.formulations.pinocchio
-    import gd_analyze.core.simplified
+    import gd_analyze.core.selection.simplified
 
-    monkeypatch.setattr(gd_analyze.core.dalembert, "gd_terms", boom)
+    monkeypatch.setattr(gd_analyze.core.dynamics.dalembert, "gd_terms", boom)
     monkeypatch.setattr(gd_analyze, "gd_terms", boom)
     monkeypatch.setattr(gd_analyze.workflows.analyze, "gd_terms", boom)
     # core.simplified evaluates the explicit model only (no masked G-D fallback since the
     # explicit model covers prismatic joints), so it has no gd_terms to patch
-    assert not hasattr(gd_analyze.core.simplified, "gd_terms")
+    assert not hasattr(gd_analyze.core.selection.simplified, "gd_terms")
     monkeypatch.setattr(gd_analyze.formulations.pinocchio, "reference_terms", boom)
     monkeypatch.setattr(gd_analyze.workflows.analyze, "analyze", boom)
     written = report.write_report(puma_report["results"], tmp_path)
@@ -601,7 +601,7 @@ def test_fig_3_10_analogue_grows_to_n_by_n(n):
     """Any n: n(n+1)/2 panels D_ij, labels with a comma once an index has two digits."""
     import matplotlib
 
-    from gd_analyze.core.ranking import element_label
+    from gd_analyze.core.selection.ranking import element_label
     from gd_analyze.reports.main_figures import RC, PlotData, fig_D, fig_h
 
     rng = np.random.default_rng(n)

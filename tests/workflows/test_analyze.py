@@ -3,7 +3,7 @@ import xarray as xr
 
 from conftest import SHIPPED
 from gd_analyze.workflows.analyze import analyze, analyze_to_file, verify
-from gd_analyze.core.ranking import RankingAccumulator, rank_dominance
+from gd_analyze.core.selection.ranking import RankingAccumulator, rank_dominance
 from gd_analyze.io.trajectory import read_trajectory
 from gd_analyze.io.planning import plan_quintic
 
@@ -89,7 +89,7 @@ class _CountingEngine:
 
 
 def _count_gd(monkeypatch):
-    from gd_analyze.core import dalembert, kernels
+    from gd_analyze.core.dynamics import dalembert, kernels
 
     numpy_engine = _CountingEngine(dalembert._gd_chunk, 1)      # _gd_chunk(robot, q, qd)
     compiled = _CountingEngine(kernels.gd_kernel, 0)            # gd_kernel(q, qd, ...)

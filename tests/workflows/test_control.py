@@ -21,11 +21,12 @@ from gd_analyze.reports.control import write_control_report
 from gd_analyze.errors import InputError
 from gd_analyze.formulations.opcount import count_operations
 from gd_analyze.workflows.analyze import analyze
-from gd_analyze.core.ranking import element_labels
-from gd_analyze.core.simplified import SimplifiedModel, full_choices
+from gd_analyze.core.selection.ranking import element_labels
+from gd_analyze.core.selection.simplified import SimplifiedModel, full_choices
 from gd_analyze.io.trajectory import read_trajectory
 
 from conftest import SHIPPED
+from gd_analyze.io.model_file import load_model, save_model
 
 #: Bound on the tracking error of the full-model computed-torque controller started on the
 #: trajectory [rad]. With the exact model the closed loop is e'' + Kv e' + Kp e = 0 with
@@ -52,13 +53,13 @@ def model(puma, shipped):
 @pytest.fixture(scope="module")
 def model_file(model, tmp_path_factory):
     path = tmp_path_factory.mktemp("model") / "simplified_model.json"
-    model.save(path)
+    save_model(model, path)
     return path
 
 
 @pytest.fixture(scope="module")
 def result(model_file):
-    model = SimplifiedModel.load(model_file)
+    model = load_model(model_file)
     return run_control(model, read_trajectory(SHIPPED, n_joints=6), cost=True,
                        model_path=model_file,
                        model_sha256=file_sha256(model_file))
@@ -140,7 +141,7 @@ def test_run_control_rejects_bad_input(model, shipped):
     with pytest.raises(ValueError):
         run_control(model, shipped, wn=-1, cost=False)
     with pytest.raises(InputError):
-        SimplifiedModel.load("/nonexistent/simplified_model.json")
+        load_model("/nonexistent/simplified_model.json")
 
 
 # --------------------------------------------------------------------------------------------

@@ -12,11 +12,12 @@ import pytest
 
 from conftest import ROOT, SHIPPED
 from gd_analyze.cli import main
-from gd_analyze.core.robot import load_robot
-from gd_analyze.core.simplified import SimplifiedModel
+from gd_analyze import load_robot
+from gd_analyze.core.selection.simplified import SimplifiedModel
 from gd_analyze.core.symbolic.base_parameters import base_parameters, random_states
 from gd_analyze.io.trajectory import read_trajectory
 from gd_analyze.workflows.analyze import analyze
+from gd_analyze.io.model_file import load_model
 
 
 def _rnea(robot, q, qd, qdd):
@@ -51,7 +52,7 @@ def test_deployed_model_is_the_cheapest_within_budget(puma_run):
     traj = read_trajectory(SHIPPED, 6)
     ref = _rnea(robot, traj.q, traj.qd, traj.qdd)
     scale = np.abs(ref).max(axis=0)
-    model = SimplifiedModel.load(out / "simplified_model.json")
+    model = load_model(out / "simplified_model.json")
     err = np.abs(model.torque(traj.q, traj.qd, traj.qdd) - ref).max(axis=0)
     assert np.all(err <= np.array(spec["bound"]) + 1e-9 * scale)
     assert np.all(np.array(spec["bound"]) <= 0.01 * scale * (1 + 1e-9))
@@ -60,7 +61,7 @@ def test_deployed_model_is_the_cheapest_within_budget(puma_run):
 def test_recursive_file_round_trip_and_hand_edits(puma_run, tmp_path):
     out, spec = puma_run
     assert spec["form"] == "recursive"
-    model = SimplifiedModel.load(out / "simplified_model.json")
+    model = load_model(out / "simplified_model.json")
     robot = model.robot
     q, qd, qdd = random_states(robot, 20, 3)
     exact = _rnea(robot, q, qd, qdd)
@@ -68,14 +69,14 @@ def test_recursive_file_round_trip_and_hand_edits(puma_run, tmp_path):
     dropped = {tuple(p) for p in spec["recursive"]["dropped"]}
     assert len(dropped) == int(model.recursive.dropped.sum())
     np.testing.assert_allclose(model.torque(q, qd, qdd),
-                               SimplifiedModel.load(out / "simplified_model.json")
+                               load_model(out / "simplified_model.json")
                                .torque(q, qd, qdd), rtol=0, atol=0)
     # with nothing dropped the file's model is exact
     spec0 = json.loads(json.dumps(spec))
     spec0["recursive"]["dropped"] = []
     p0 = tmp_path / "exact.json"
     p0.write_text(json.dumps(spec0))
-    tau0 = SimplifiedModel.load(p0).torque(q, qd, qdd)
+    tau0 = load_model(p0).torque(q, qd, qdd)
     assert np.all(np.abs(tau0 - exact).max(axis=0) <= 1e-10 * np.abs(exact).max(axis=0))
     # a base parameter value edited by 1.5 is refused, as is an unknown pair
     for edit, column in ((lambda s: s["recursive"]["beta"].__setitem__(
@@ -87,7 +88,7 @@ def test_recursive_file_round_trip_and_hand_edits(puma_run, tmp_path):
         path = tmp_path / "bad.json"
         path.write_text(json.dumps(bad))
         with pytest.raises(Exception) as exc:
-            SimplifiedModel.load(path)
+            load_model(path)
         assert column in str(exc.value)
 
 
@@ -118,7 +119,7 @@ def test_seven_joints_skip_the_expansion_and_stay_exact_at_eps_0(tmp_path, monke
     spec = json.loads((out / "simplified_model.json").read_text())
     assert spec["form"] == "recursive" and spec["recursive"]["dropped"] == []
     assert _ops(spec["cost"]) <= 648
-    model = SimplifiedModel.load(out / "simplified_model.json")
+    model = load_model(out / "simplified_model.json")
     q, qd, qdd = random_states(model.robot, 200, 7)
     ref = _rnea(model.robot, q, qd, qdd)
     err = np.abs(model.torque(q, qd, qdd) - ref).max(axis=0)

@@ -2,8 +2,8 @@
 
 import numpy as np
 
-from gd_analyze.core.robot import with_payload
-from gd_analyze.core.simplified import SimplifiedModel, full_choices
+from gd_analyze.core.model.robot import with_payload
+from gd_analyze.core.selection.simplified import SimplifiedModel, full_choices
 from gd_analyze.formulations.pinocchio import reference_terms
 from gd_analyze.io.trajectory import read_trajectory
 from gd_analyze.workflows.evaluate import evaluate

@@ -12,10 +12,11 @@ import pinocchio as pin
 import pytest
 
 from gd_analyze.cli import main
-from gd_analyze.core.ranking import element_labels
-from gd_analyze.core.simplified import SimplifiedModel
+from gd_analyze.core.selection.ranking import element_labels
+from gd_analyze.core.selection.simplified import SimplifiedModel
 from gd_analyze.formulations.pinocchio import pinocchio_model
 from gd_analyze.io.trajectory import read_trajectory
+from gd_analyze.io.model_file import load_model
 
 EPS = 0.01          # the main job's default --tolerance
 
@@ -61,7 +62,7 @@ def test_every_command_on_a_chain_of_n_joints(n, tmp_path, monkeypatch, capsys):
     for name in ("results.h5", "simplified_model.json") + \
             ("report.html", "report.pdf") * (n == 10):
         assert (tmp_path / "main" / name).is_file(), name
-    model = SimplifiedModel.load(tmp_path / "main" / "simplified_model.json")
+    model = load_model(tmp_path / "main" / "simplified_model.json")
     assert list(model.choices) == element_labels(n) and "D1,10" in model.choices
 
     # the model's torque against Pinocchio's rnea, within EPS x peak |tau| per joint
@@ -89,5 +90,5 @@ def test_every_command_on_a_chain_of_n_joints(n, tmp_path, monkeypatch, capsys):
     for name in ("sweep.h5", "merged_model.json", "merged_model.c", "merged_model.py") + \
             ("sweep_report.html",) * (n == 10):
         assert (tmp_path / "sweep" / name).is_file(), name
-    merged = SimplifiedModel.load(tmp_path / "sweep" / "merged_model.json")
+    merged = load_model(tmp_path / "sweep" / "merged_model.json")
     assert list(merged.choices) == element_labels(n)

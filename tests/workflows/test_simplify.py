@@ -9,11 +9,12 @@ import pytest
 from conftest import SHIPPED
 from gd_analyze import load_robot
 from gd_analyze.cli import main
-from gd_analyze.core.simplified import SimplifiedModel
+from gd_analyze.core.selection.simplified import SimplifiedModel
 from gd_analyze.formulations.pinocchio import pinocchio_model
 from gd_analyze.io.trajectory import read_trajectory
 from gd_analyze.workflows.simplify import sweep_model
 from gd_analyze.io.planning import random_trajectories
+from gd_analyze.io.model_file import load_model
 
 
 def _rnea(robot, q, qd, qdd):
@@ -50,7 +51,7 @@ def test_main_job_model_within_tolerance_and_cheaper_than_newton_euler(tmp_path,
     ns = {}
     exec((tmp_path / "simplified_model.py").read_text(), ns)     # numpy only, no gd_analyze
     for tau in (ns["tau"](traj.q, traj.qd, traj.qdd),
-                SimplifiedModel.load(tmp_path / "simplified_model.json").torque(
+                load_model(tmp_path / "simplified_model.json").torque(
                     traj.q, traj.qd, traj.qdd)):
         assert (np.abs(tau - ref).max(axis=0) <= float(eps) * scale * (1 + 1e-9)).all()
     header = (tmp_path / "simplified_model.c").read_text().split("*/")[0]
@@ -86,7 +87,7 @@ def test_stanford_main_job_emits_the_simplified_model(tmp_path, capsys):
     spec = json.loads((tmp_path / "simplified_model.json").read_text())
     assert spec["cost"]["multiplications"] > 0
     assert bool(spec.get("explicit_terms")) == (spec.get("form", "explicit") == "explicit")
-    loaded = SimplifiedModel.load(tmp_path / "simplified_model.json")
+    loaded = load_model(tmp_path / "simplified_model.json")
     np.testing.assert_allclose(loaded.torque(traj.q, traj.qd, traj.qdd), tau, rtol=0,
                                atol=1e-12 * scale.max())
     assert "prismatic joint 3: q [m]" in (tmp_path / "simplified_model.c").read_text()

@@ -10,8 +10,8 @@ import dataclasses
 import numpy as np
 import pytest
 
-from gd_analyze.core.dalembert import gd_terms
-from gd_analyze.core.robot import robot_from_dict
+from gd_analyze.core.dynamics.dalembert import gd_terms
+from gd_analyze.core.model.robot_spec import robot_from_dict
 from gd_analyze.errors import InputError
 from gd_analyze.io.trajectory import read_trajectory
 from gd_analyze.workflows.analyze import VERIFY_TOLERANCE, analyze, verify

@@ -16,6 +16,7 @@ from pathlib import Path
 from ..errors import InputError
 
 from .parsing import EXIT_OK, EXIT_TOLERANCE, EXIT_VERIFY, PROG, parse_range
+from ..io.model_file import load_model, save_model
 
 __all__ = []
 
@@ -39,7 +40,7 @@ def _chain_settings(args):
 
 
 def _apply_payload(robot, args):
-    from ..core.robot import with_payload
+    from ..core.model.robot import with_payload
 
     if args.payload is None:
         if any(args.payload_com) or any(args.payload_inertia):
@@ -157,7 +158,7 @@ def _format_summary(ds):
 def _payload_masses(args):
     if args.payload_sweep is None:
         return None
-    from ..core.limits import LIMITS
+    from ..core.model.limits import LIMITS
 
     masses = parse_range(args.payload_sweep)
     if masses[-1] > LIMITS["mass"]:
@@ -233,7 +234,7 @@ def _analyze(args, worker):
                                    tolerance=args.tolerance, rule=args.rule,
                                    torque_floor=args.torque_floor, explicit=args.explicit,
                                    form=args.form)
-        analysis.model.save(stage / "simplified_model.json")
+        save_model(analysis.model, stage / "simplified_model.json")
         written = [results, stage / "simplified_model.json"]
         written += _write_sources(analysis.model, stage)      # the explicit model
         if not args.no_report:
@@ -301,7 +302,7 @@ def _cmd_plan(args):
             raise InputError(f"{name}: {len(vals)} values for {robot.n} joints")
     start = start if args.start is None else user_positions(robot, args.start)
     goal = goal if args.goal is None else user_positions(robot, args.goal)
-    from ..core.limits import LIMITS, first_beyond
+    from ..core.model.limits import LIMITS, first_beyond
 
     if not 2 <= args.setpoints <= 10**8:
         raise InputError("--setpoints: a trajectory needs 2 to 10^8 set points")
@@ -377,11 +378,11 @@ def _replace_limits(robot, qdd_max):
 def _cmd_evaluate(args):
     import json
 
-    from ..core.simplified import SimplifiedModel
+    from ..core.selection.simplified import SimplifiedModel
     from ..io.trajectory import read_trajectory
     from ..workflows.evaluate import evaluate
 
-    model = SimplifiedModel.load(args.model)
+    model = load_model(args.model)
     traj = read_trajectory(args.trajectory, n_joints=model.robot.n)
     err = evaluate(model, traj, plant=_apply_payload(model.robot, args))
     worst = err.pop("max_relative_peak_error")
@@ -427,7 +428,7 @@ def _cmd_compare(args):
 def _cmd_control(args):
     import json
 
-    from ..core.simplified import SimplifiedModel
+    from ..core.selection.simplified import SimplifiedModel
     from ..files import file_sha256
     from ..io.control_dataset import write_control_dataset
     from ..workflows.control import CONTROL_FILE, run_control
@@ -436,7 +437,7 @@ def _cmd_control(args):
     from ..reports.control import CONTROL_REPORT_FILES
     from ..io.staging import staged_output, writing
 
-    model = SimplifiedModel.load(args.model)
+    model = load_model(args.model)
     traj = read_trajectory(args.trajectory, n_joints=model.robot.n)
     outdir = _outdir(args.outdir, model.robot.name, Path(args.trajectory).stem, "control")
     if outdir.exists() and not outdir.is_dir():

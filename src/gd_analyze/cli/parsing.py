@@ -191,7 +191,7 @@ def _add_paper_argument(p):
 
 
 def _analyze_parser():
-    from ..core.ranking import DEFAULT_DOMINANCE, DEFAULT_NEGLIGIBLE
+    from ..core.selection.ranking import DEFAULT_DOMINANCE, DEFAULT_NEGLIGIBLE
 
     p = _Parser(
         prog=PROG,
@@ -339,7 +339,7 @@ def _control_parser():
 
 
 def _sweep_parser():
-    from ..core.ranking import DEFAULT_DOMINANCE, DEFAULT_NEGLIGIBLE
+    from ..core.selection.ranking import DEFAULT_DOMINANCE, DEFAULT_NEGLIGIBLE
 
     p = _Parser(prog=f"{PROG} sweep",
                 description="Rank the G-D elements over many trajectories on dask, give the "

@@ -14,6 +14,7 @@ from ..errors import InputError
 from .commands import (_apply_payload, _chain_settings, _command_line, _load_robot, _outdir,
                        _payload_masses)
 from .parsing import EXIT_OK, _version
+from ..io.model_file import save_model
 
 __all__ = []
 
@@ -37,7 +38,7 @@ def _sweep_model(robot, trajectories, args, outdir, settings, ds):
     ds = with_budget_model(ds, model)
     model.validation.pop("per_trajectory")          # in sweep.h5; K x n lists
     written = [outdir / "merged_model.json"]
-    model.save(written[0])
+    save_model(model, written[0])
     for name, text in (("merged_model.c", model.c_source()),
                        ("merged_model.py", model.python_source())):
         (outdir / name).write_text(text, encoding="utf-8")
@@ -132,7 +133,7 @@ def _cmd_sweep(args):
             files, ds = _sweep_model(loaded, trajectories, args, stage, settings, ds)
         else:
             files = [stage / "merged_model.json"]
-            merged_model(loaded, ds).save(files[0])
+            save_model(merged_model(loaded, ds), files[0])
             if not args.quiet:
                 print("merged model (chapter rule): a part is dropped only where every "
                       "trajectory's share-based model drops it; no error bound")

@@ -21,8 +21,8 @@ from itertools import combinations
 
 import numpy as np
 
-from ..core.dalembert import GDTerms, gd_terms
-from ..core.kinematics import as_states
+from ..core.dynamics.dalembert import GDTerms, gd_terms
+from ..core.model.kinematics import as_states
 from .lagrange_euler import le_terms
 from .newton_euler import ne_tau, ne_terms
 from .opcount import book_counts, operation_counts

@@ -30,7 +30,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ..core.kinematics import as_states, joint_transforms
+from ..core.model.kinematics import as_states, joint_transforms
 
 __all__ = ["Q_REVOLUTE", "Q_PRISMATIC", "joint_q_matrices", "DEFAULT_CHUNK", "LETerms", "pseudo_inertia", "u_matrices", "le_terms"]
 
@@ -137,7 +137,7 @@ def pseudo_inertia(robot, frame="link"):
     Raises
     ------
     AttributeError
-        If ``robot`` lacks the inertial attributes of :class:`~gd_analyze.core.robot.Robot`.
+        If ``robot`` lacks the inertial attributes of :class:`~gd_analyze.core.model.robot.Robot`.
 
     Notes
     -----

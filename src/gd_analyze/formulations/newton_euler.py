@@ -34,7 +34,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from ..core.kinematics import as_states, transforms_core
+from ..core.model.kinematics import as_states, transforms_core
 
 __all__ = ["ne_tau", "ne_terms", "link_constants", "joint_frames"]
 
@@ -69,7 +69,7 @@ def link_constants(robot):
     Raises
     ------
     AttributeError
-        If ``robot`` lacks the attributes of :class:`~gd_analyze.core.robot.Robot`.
+        If ``robot`` lacks the attributes of :class:`~gd_analyze.core.model.robot.Robot`.
     """
     return {"sbar": np.array(robot.body_com, dtype=float),
             "mass": np.array(robot.mass, dtype=float),

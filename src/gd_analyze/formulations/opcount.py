@@ -6,8 +6,8 @@ The counts are measured, not derived: the algorithms run on one set point whose 
 - L-E and N-E: the counted run calls the very cores that :func:`~gd_analyze.formulations.lagrange_euler.le_terms`
   and :func:`~gd_analyze.formulations.newton_euler.ne_tau` run on float arrays (``_le_core``, ``_ne_core``),
   on object arrays with a set-point axis of length 1. The counts cannot drift from that code.
-- G-D, ``"gd"``: :func:`~gd_analyze.core.dalembert.gd_terms` has two engines. Its compiled engine
-  (``gd_analyze.core.kernels``, one pass per set point, used for long trajectories) is counted by
+- G-D, ``"gd"``: :func:`~gd_analyze.core.dynamics.dalembert.gd_terms` has two engines. Its compiled engine
+  (``gd_analyze.core.dynamics.kernels``, one pass per set point, used for long trajectories) is counted by
   running the Python source of the very kernel numba compiles (``gd_kernel.py_func``) with
   ``np.empty``, ``np.cos`` and ``np.sin`` bound to counting versions.
 - G-D, ``"gd-numpy"``: the array engine (``dalembert._gd_chunk``) is float-only, so
@@ -64,12 +64,13 @@ from functools import lru_cache
 
 import numpy as np
 
-from ..core.kinematics import as_states, transforms_core
+from ..core.model.kinematics import as_states, transforms_core
 from .lagrange_euler import _constants as _le_constants
 from .lagrange_euler import _le_core, _tau, joint_q_matrices
 from .counting import OpLedger, _consts, _value, _vars, counting_clone
 from .newton_euler import _cross, _ne_core, link_constants
-from ..core.robot import Robot, robot_from_dict
+from ..core.model.robot import Robot
+from ..core.model.robot_spec import robot_from_dict
 
 __all__ = ["OpCount", "METHODS", "TABLE_3_5", "random_chain", "count_operations",
            "operation_counts", "book_counts", "table"]
@@ -247,7 +248,7 @@ def _gd_kernel_counted(robot, led, q, qd):
 
     Returns (D_tran, D_rot, h_tran, h_rot, c) as object arrays of shapes (n, n) and (n,).
     """
-    from ..core.kernels import gd_kernel
+    from ..core.dynamics.kernels import gd_kernel
 
     kernel = counting_clone(gd_kernel)
     n = robot.n
@@ -289,7 +290,7 @@ def count_operations(robot, method, q=None, qd=None, qdd=None):
     -----
     The counting rule is in the module docstring. L-E computes tau by Eqs. (3.2-26) to
     (3.2-34), N-E by Table 3.3 (Eqs. (3.3-50) to (3.3-58)), G-D by Eqs. (3.4-24) to (3.4-28) as
-    :func:`~gd_analyze.core.dalembert.gd_terms` evaluates them.
+    :func:`~gd_analyze.core.dynamics.dalembert.gd_terms` evaluates them.
     """
     if method not in METHODS:
         raise ValueError(f"method must be one of {METHODS}, got {method!r}")
@@ -328,8 +329,8 @@ def count_operations(robot, method, q=None, qd=None, qdd=None):
 
 #: Modules whose code the counts depend on: the cache key is the hash of their source.
 _COUNTED_MODULES = ("formulations/opcount", "formulations/counting", "formulations/lagrange_euler",
-                    "formulations/newton_euler", "core/kernels", "core/dalembert", "core/kinematics",
-                    "core/robot")
+                    "formulations/newton_euler", "core/dynamics/kernels", "core/dynamics/dalembert", "core/model/kinematics",
+                    "core/model/robot")
 
 
 def _cache_file():

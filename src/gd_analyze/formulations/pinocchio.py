@@ -20,7 +20,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ..core.kinematics import as_states
+from ..core.model.kinematics import as_states
 
 __all__ = ["pinocchio_model", "ReferenceTerms", "reference_terms", "relative_error",
            "natural_scales", "natural_relative_error"]

@@ -51,7 +51,7 @@ def control_dataset(result):
     """
     import xarray as xr
 
-    from ..core.ranking import element_labels
+    from ..core.selection.ranking import element_labels
 
     robot, g, prov = result.robot, result.gains, result.provenance
     n = robot.n

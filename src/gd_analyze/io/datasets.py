@@ -70,10 +70,10 @@ def joint_units(prismatic, which):
     Returns
     -------
     list of str, length n
-        From :func:`gd_analyze.core.labels.joint_motion_units` and
-        :func:`gd_analyze.core.labels.joint_torque_units`.
+        From :func:`gd_analyze.core.selection.labels.joint_motion_units` and
+        :func:`gd_analyze.core.selection.labels.joint_torque_units`.
     """
-    from ..core.labels import joint_motion_units, joint_torque_units
+    from ..core.selection.labels import joint_motion_units, joint_torque_units
 
     if which == "tau":
         return [joint_torque_units(bool(p)) for p in prismatic]
@@ -128,7 +128,7 @@ def setpoint_units(name, prismatic=None):
     >>> setpoint_units("tau", [True]), setpoint_units("D", [False, False])
     ('N', 'kg m2')
     """
-    from ..core.labels import element_units
+    from ..core.selection.labels import element_units
 
     base = SETPOINT_VARIABLES[name][1]
     if prismatic is None or not np.any(prismatic):
@@ -182,7 +182,7 @@ def summary_dataset(robot, trajectory, ranking, choices, error, verification=Non
     choices : dict
         Element label -> kept part (``"tran"``, ``"rot"``, ``"both"``, ``"none"``).
     error : dict
-        Torque error per joint, as :func:`gd_analyze.core.simplified.torque_error` gives it.
+        Torque error per joint, as :func:`gd_analyze.core.selection.simplified.torque_error` gives it.
     verification : dict, optional
         Largest relative disagreement with Pinocchio per term, and the set points checked.
     settings : dict, optional
@@ -195,7 +195,7 @@ def summary_dataset(robot, trajectory, ranking, choices, error, verification=Non
     """
     import xarray as xr
 
-    from ..core.ranking import CHAPTER_DOMINANCE
+    from ..core.selection.ranking import CHAPTER_DOMINANCE
 
     n = robot.n
     labels = list(ranking.labels)

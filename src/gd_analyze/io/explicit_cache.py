@@ -1,6 +1,6 @@
 """On-disk cache of the explicit model's derivation, which cannot lie.
 
-The explicit model (:func:`gd_analyze.core.explicit.derive`) is a pure function of the robot's
+The explicit model (:func:`gd_analyze.core.symbolic.explicit.derive`) is a pure function of the robot's
 parameters and of the deriving code, so an entry is named by the SHA-256 of its key: the
 robot's parameters (its file's SHA-256 and the parameters actually used, so a robot carrying
 a payload gets its own entry), the version and source of the deriving modules and the
@@ -15,7 +15,7 @@ unpickled) stores its key and a SHA-256 of its arrays, and is used only if
 - its stored key equals the robot's key and its checksum its arrays, and
 - its terms, evaluated at a few fixed pseudo-random states, equal the G-D engine's D_tran,
   D_rot, h_tran, h_rot and c to 1e-10 of their scales
-  (:func:`gd_analyze.core.explicit_check.terms_disagreement`): the terms of another robot, or
+  (:func:`gd_analyze.core.symbolic.explicit_check.terms_disagreement`): the terms of another robot, or
   coefficients scaled, are caught even with a forged key and checksum.
 
 Otherwise one warning line (:class:`CacheWarning`) says why, the model is derived again, and
@@ -43,7 +43,7 @@ from ..errors import InputWarning, _one_line
 __all__ = ["cache_dir", "cache_path", "cache_key", "explicit_terms", "CacheWarning",
            "SELF_CHECK_TOLERANCE"]
 
-_DERIVING = ("core/explicit.py", "core/trigpoly.py")
+_DERIVING = ("core/symbolic/explicit.py", "core/symbolic/trigpoly.py")
 _FIELDS = ("kind", "part", "i", "j", "k", "K", "S", "C")
 #: Layout of an entry (its arrays and the stored key).
 _FORMAT = 2
@@ -84,12 +84,12 @@ def cache_key(robot):
     -------
     dict
         ``format``; ``robot_sha256`` (its file's SHA-256), ``parameters_sha256`` (of the
-        parameters used, :func:`gd_analyze.core.simplified.parameters_sha256`); ``code`` (the
+        parameters used, :func:`gd_analyze.core.selection.simplified.parameters_sha256`); ``code`` (the
         package version and the SHA-256 of the deriving modules' source); ``settings`` (what
         the derivation depends on besides the parameters: the joint types, the fields).
     """
     from .._version import __version__
-    from ..core.simplified import parameters_sha256
+    from ..core.selection.simplified import parameters_sha256
 
     code = hashlib.sha256()
     for name in _DERIVING:
@@ -148,8 +148,8 @@ def _arrays(terms):
 
 def _read(path, key, robot):
     """The entry's terms, or the reason it is not used (a str)."""
-    from ..core.explicit import Term
-    from ..core.explicit_check import terms_disagreement
+    from ..core.symbolic.explicit import Term
+    from ..core.symbolic.explicit_check import terms_disagreement
 
     try:
         fd = os.open(path, os.O_RDONLY | getattr(os, "O_NOFOLLOW", 0) | os.O_NONBLOCK)
@@ -223,8 +223,8 @@ def explicit_terms(robot):
 
     Returns
     -------
-    terms : gd_analyze.core.explicit.Term
-        The terms (:func:`gd_analyze.core.explicit.model_terms`).
+    terms : gd_analyze.core.symbolic.explicit.Term
+        The terms (:func:`gd_analyze.core.symbolic.explicit.model_terms`).
     seconds : float
         Time the derivation took now (0.0 when read from the cache).
 
@@ -236,13 +236,13 @@ def explicit_terms(robot):
 
     Notes
     -----
-    Source: the derivation is :func:`gd_analyze.core.explicit.derive` (Fu, Gonzalez & Lee,
+    Source: the derivation is :func:`gd_analyze.core.symbolic.explicit.derive` (Fu, Gonzalez & Lee,
     1987, Eqs. (3.4-24) to (3.4-28)); the self-check compares with
-    :func:`gd_analyze.core.dalembert.gd_terms`.
+    :func:`gd_analyze.core.dynamics.dalembert.gd_terms`.
     """
     import time
 
-    from ..core.explicit import derive, model_terms
+    from ..core.symbolic.explicit import derive, model_terms
 
     path = cache_path(robot)
     key = None if path is None else cache_key(robot)

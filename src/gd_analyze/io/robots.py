@@ -1,6 +1,7 @@
 """Loading a robot from any source: a built-in name, a TOML robot file or a URDF file.
 
-TOML robot files and the TOML built-ins are read by :func:`gd_analyze.core.robot.load_robot`; URDF
+TOML robot files and the TOML built-ins are read by :func:`load_toml_robot` (the layout is
+checked by :func:`gd_analyze.core.model.robot_spec.robot_from_dict`); URDF
 files (suffix ``.urdf``) and the URDF built-ins (``panda``, ``ur5``) by
 :func:`gd_analyze.io.urdf.load_urdf`, which needs Pinocchio's parser and therefore lives above
 the core.
@@ -10,12 +11,23 @@ from __future__ import annotations
 
 from pathlib import Path
 
+import hashlib
+from importlib import resources
+
+from ..core.model.robot_spec import robot_from_dict
 from ..errors import InputError
-from ..core.robot import builtin_robots as _toml_builtins
-from ..core.robot import load_robot as _load_toml
 from .urdf import URDF_BUILTIN, load_urdf
 
-__all__ = ["load_robot", "builtin_robots", "is_urdf"]
+try:  # Python >= 3.11
+    import tomllib
+except ModuleNotFoundError:  # pragma: no cover - Python 3.10
+    import tomli as tomllib
+
+__all__ = ["load_robot", "load_toml_robot", "builtin_robots", "is_urdf", "TOML_BUILTIN"]
+
+#: The built-in TOML robots: name -> file in gd_analyze/data.
+TOML_BUILTIN = {"puma560": "puma560.toml", "two-link": "two-link.toml",
+                "stanford": "stanford.toml"}
 
 
 def is_urdf(name_or_path):
@@ -48,7 +60,7 @@ def builtin_robots():
     list of str
         Sorted, e.g. ``["panda", "puma560", "two-link", "ur5"]``.
     """
-    return sorted(set(_toml_builtins()) | set(URDF_BUILTIN))
+    return sorted(set(TOML_BUILTIN) | set(URDF_BUILTIN))
 
 
 def load_robot(name_or_path, base=None, tip=None):
@@ -68,7 +80,7 @@ def load_robot(name_or_path, base=None, tip=None):
     Raises
     ------
     InputError
-        If the robot cannot be read (see :func:`gd_analyze.core.robot.load_robot` and
+        If the robot cannot be read (see :func:`load_toml_robot` and
         :func:`gd_analyze.io.urdf.read_urdf_chain`), or base or tip is given for a robot that is
         not a URDF.
     """
@@ -77,4 +89,54 @@ def load_robot(name_or_path, base=None, tip=None):
     if base is not None or tip is not None:
         raise InputError("--base and --tip apply to a URDF robot only", str(name_or_path),
                          column="--base" if base is not None else "--tip")
-    return _load_toml(name_or_path)
+    return load_toml_robot(name_or_path)
+
+
+def load_toml_robot(name_or_path):
+    """Load a built-in TOML robot by name, or a TOML robot file by path.
+
+    Parameters
+    ----------
+    name_or_path : str or os.PathLike
+        A built-in name (:data:`TOML_BUILTIN`), or the path of a TOML robot file (layout in
+        :func:`robot_from_dict`).
+
+    Returns
+    -------
+    Robot
+
+    Raises
+    ------
+    InputError
+        If the name is not a built-in robot and no such file exists, if the file is not valid
+        TOML, or if it fails validation.
+
+    Examples
+    --------
+    >>> load_toml_robot("puma560").n
+    6
+    """
+    key = str(name_or_path)
+    if key in TOML_BUILTIN:
+        res = resources.files("gd_analyze").joinpath("data", TOML_BUILTIN[key])
+        raw = res.read_bytes()
+        source = key
+    else:
+        path = Path(key)
+        if path.is_dir():
+            raise InputError("is a folder, not a robot file", key)
+        if not path.is_file():
+            raise InputError(
+                f"unknown robot (built-in: {', '.join(builtin_robots())}) and no such file", key)
+        try:
+            raw = path.read_bytes()
+        except OSError as exc:
+            raise InputError(f"cannot read: {exc.strerror}", key) from None
+        source = str(path)
+    try:
+        spec = tomllib.loads(raw.decode("utf-8"))
+    except (tomllib.TOMLDecodeError, UnicodeDecodeError) as exc:
+        raise InputError(f"not a valid TOML robot file: {exc}", source) from None
+    except RecursionError:
+        raise InputError("not a robot file: nested too deeply", source) from None
+    return robot_from_dict(spec, source=source, sha256=hashlib.sha256(raw).hexdigest())

@@ -231,11 +231,11 @@ def element_coords(n, prismatic=None):
     dict
         name -> (dims, values, attrs): the M = n (n + 1) / 2 + n ranked element labels
         ``"D11"`` .. ``"hn"``, their units from the joint types
-        (:func:`gd_analyze.core.labels.element_units`: kg m2, kg m or kg for D; N m or N for
+        (:func:`gd_analyze.core.selection.labels.element_units`: kg m2, kg m or kg for D; N m or N for
         h) and joints 1 .. n.
     """
-    from ..core.labels import element_index, element_units
-    from ..core.ranking import element_labels
+    from ..core.selection.labels import element_index, element_units
+    from ..core.selection.ranking import element_labels
 
     labels = element_labels(n)
     units = [element_units(kind, i, j, prismatic) for kind, i, j in element_index(n)]

@@ -15,7 +15,7 @@ from pathlib import Path
 
 import numpy as np
 
-from ..core.ranking import CLASSES, element_labels
+from ..core.selection.ranking import CLASSES, element_labels
 from .schema import MIXED_UNITS, element_coords, global_attributes, var
 
 __all__ = ["inputs_attributes", "sweep_dataset", "payload_dataset", "sweep_payloads_dataset",

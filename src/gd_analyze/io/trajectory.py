@@ -21,7 +21,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ..core.limits import LIMITS, first_beyond
+from ..core.model.limits import LIMITS, first_beyond
 from ..errors import InputError, InputNote
 
 __all__ = ["Trajectory", "read_trajectory", "write_trajectory", "trajectory_columns",
@@ -151,7 +151,7 @@ def read_trajectory(path, n_joints=None):
         or extra columns, or a ragged row; has a cell that is not a plain decimal number
         (``[+-]digits[.digits][e[+-]digits]``, ASCII digits only: no ``1_0``, no full-width
         digits, no ``inf`` or ``nan``); has a value beyond the limits of
-        :data:`gd_analyze.core.limits.LIMITS`; if time is not strictly increasing; if there
+        :data:`gd_analyze.core.model.limits.LIMITS`; if time is not strictly increasing; if there
         are fewer than 2 set points; or if the joint count differs from n_joints. The message
         names the file, the row (header = row 1) and the column.
     """

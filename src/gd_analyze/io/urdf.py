@@ -95,7 +95,7 @@ class UrdfChain:
     metadata : dict
         ``description``, ``reference``, ``source`` and ``sha256`` (of the file's bytes), and
         ``base_link``, ``tip_link``, ``urdf_joints`` (the chain's joint names) and
-        ``locked_joints``, for :func:`gd_analyze.core.robot.robot_from_chain`.
+        ``locked_joints``, for :func:`gd_analyze.core.model.robot.robot_from_chain`.
     """
 
     name: str
@@ -399,14 +399,14 @@ def load_urdf(path, base=None, tip=None):
     Returns
     -------
     Robot
-        Built by :func:`gd_analyze.core.robot.robot_from_chain`.
+        Built by :func:`gd_analyze.core.model.robot.robot_from_chain`.
 
     Raises
     ------
     InputError
         As :func:`read_urdf_chain`.
     """
-    from ..core.robot import robot_from_chain
+    from ..core.model.robot_spec import robot_from_chain
 
     key = str(path)
     if key in URDF_BUILTIN:

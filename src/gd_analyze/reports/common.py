@@ -471,9 +471,9 @@ def torque_units(ds):
     Returns
     -------
     list of str, length n
-        From :func:`gd_analyze.core.labels.joint_torque_units`.
+        From :func:`gd_analyze.core.selection.labels.joint_torque_units`.
     """
-    from ..core.ranking import joint_torque_units
+    from ..core.selection.ranking import joint_torque_units
 
     return [joint_torque_units(p) for p in prismatic_joints(ds)]
 
@@ -489,9 +489,9 @@ def element_units_of(ds):
     Returns
     -------
     list of str, length M
-        From :func:`gd_analyze.core.labels.element_units`.
+        From :func:`gd_analyze.core.selection.labels.element_units`.
     """
-    from ..core.ranking import element_units, parse_element_label
+    from ..core.selection.ranking import element_units, parse_element_label
 
     n, prismatic = ds.sizes["joint"], prismatic_joints(ds)
     return [units_text(element_units(*parse_element_label(lab, n), prismatic))
@@ -514,7 +514,7 @@ def units_said_once(ds, kind):
         it holds (``"N m (joints 1, 2), N (joint 3)"``; ``"kg m² where joints i and j are both
         revolute, kg m where one is prismatic, kg where both are"``).
     """
-    from ..core.ranking import joint_units_text
+    from ..core.selection.ranking import joint_units_text
 
     if kind != "D":
         return joint_units_text(torque_units(ds))

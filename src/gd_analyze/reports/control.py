@@ -26,7 +26,7 @@ import numpy as np
 from .common import BASE_RC
 from .common import strings as _strings, style as _style, table as _table
 from .common import attr, fmt, grid_shape, render_template, utc_now
-from ..core.ranking import element_label
+from ..core.selection.ranking import element_label
 from .pages import PAPER, Document
 from .drawing import draw_figures, figure_svg, no_gc, write_figure_files
 

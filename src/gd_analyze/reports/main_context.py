@@ -131,7 +131,7 @@ def zero_mask(ds):
 
 def _caption_units(ds):
     """The units the captions state, from the joint types (:func:`captions`)."""
-    from ..core.ranking import joint_motion_units
+    from ..core.selection.ranking import joint_motion_units
 
     prismatic = prismatic_joints(ds)
     motion = []

@@ -23,7 +23,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ..core.ranking import element_label, element_units, joint_motion_units, joint_torque_units
+from ..core.selection.ranking import element_label, element_units, joint_motion_units, joint_torque_units
 from .ticks import set_ticks
 
 __all__ = ["PAGE_WIDTH", "COLUMN_WIDTH", "ZERO_TOL", "PART_STYLE", "SHORT_CLASS", "PlotData", "plot_data",
@@ -308,7 +308,7 @@ def fig_D(data, dominance, zero, s, e, prismatic=None):
         Thresholds of the ranking, for the key.
     prismatic : ndarray of bool, shape (n,), optional
         Prismatic joints: each panel's y axis gives its units
-        (:func:`gd_analyze.core.labels.element_units`: kg m², kg m or kg).
+        (:func:`gd_analyze.core.selection.labels.element_units`: kg m², kg m or kg).
 
     Returns
     -------
@@ -432,7 +432,7 @@ def fig_joints(data, prismatic=None):
         7.2 in wide, three panels a row, one line per joint (colour and line style), legend
         on top; an arm with both joint types gets a row for its revolute joints [deg, deg/s,
         deg/s^2] and a row for its prismatic ones [mm, mm/s, mm/s^2]
-        (:func:`gd_analyze.core.labels.joint_motion_units`), never two units on one axis.
+        (:func:`gd_analyze.core.selection.labels.joint_motion_units`), never two units on one axis.
     """
     n = data.series["q"].shape[1]
     prismatic = np.zeros(n, bool) if prismatic is None else np.asarray(prismatic, bool)

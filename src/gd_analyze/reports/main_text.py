@@ -8,7 +8,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from ..core.ranking import element_label, parse_element_label
+from ..core.selection.ranking import element_label, parse_element_label
 
 __all__ = ["conclusion", "disagreement_cause", "captions", "element_scale"]
 

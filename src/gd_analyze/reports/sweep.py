@@ -38,7 +38,7 @@ from .figures import PAYLOAD_REQUIRED as _PAYLOAD_REQUIRED
 from .sweep_figures import REQUIRED as _REQUIRED, make_sweep_figures
 from .pages import PAPER, Document
 from .drawing import draw_figures, figure_svg, no_gc, write_figure_files
-from ..core.ranking import CLASSES
+from ..core.selection.ranking import CLASSES
 
 __all__ = ["SWEEP_REPORT_FORMATS", "render_sweep_html", "render_sweep_pdf", "write_sweep_report"]
 

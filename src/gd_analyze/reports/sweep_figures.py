@@ -16,7 +16,7 @@ from .common import gridspec as _gridspec, strings as _strings, style as _style
 from .common import check as _check, grid_shape, thresholds as _thresholds
 from .figures import CLASS_LETTER as _LETTER
 from .figures import payload_figure
-from ..core.ranking import CLASSES, element_label
+from ..core.selection.ranking import CLASSES, element_label
 
 __all__ = ["make_sweep_figures", "REQUIRED"]
 

@@ -14,14 +14,15 @@ back from the file otherwise. Nothing is computed twice.
 
 from __future__ import annotations
 
+import dataclasses
 from dataclasses import dataclass
 
 import numpy as np
 
 from .._version import __version__
-from ..core.dalembert import GDTerms, allocate_terms, gd_terms
-from ..core.ranking import DEFAULT_DOMINANCE, DEFAULT_NEGLIGIBLE
-from ..core.simplified import SimplifiedModel, simplified_torque
+from ..core.dynamics.dalembert import GDTerms, allocate_terms, gd_terms
+from ..core.selection.ranking import DEFAULT_DOMINANCE, DEFAULT_NEGLIGIBLE
+from ..core.selection.simplified import SimplifiedModel, simplified_torque
 from ..formulations.compare import FORMULATIONS_MAX_SETPOINTS
 
 __all__ = ["Analysis", "AnalysisPass", "analysis_pass", "analyze", "analyze_to_file", "verify",
@@ -82,7 +83,7 @@ def progress_bar(enabled=True, desc="reading"):
 
 def _check_finite(terms, tau):
     """Every computed array must be finite (inputs within LIMITS guarantee it)."""
-    from ..core.limits import check_finite
+    from ..core.model.limits import check_finite
 
     for name in ("D_tran", "D_rot", "h_tran", "h_rot", "c"):
         check_finite(name, getattr(terms, name))
@@ -169,7 +170,7 @@ class AnalysisPass:
         Element label -> the part the simplified model keeps.
     error : dict
         The simplified model's torque error per joint
-        (:func:`gd_analyze.core.simplified.torque_error`).
+        (:func:`gd_analyze.core.selection.simplified.torque_error`).
     verification : dict
         As :func:`verify` returns it; empty if not checked.
     costs : xarray.Dataset or None
@@ -248,10 +249,10 @@ def analysis_pass(robot, trajectory, dominance=DEFAULT_DOMINANCE, negligible=DEF
     -----
     Source: Sec. 3.4.1 of Fu, Gonzalez & Lee (1987); terms from Eqs. (3.4-24) to (3.4-28).
     """
-    from ..core.budget import PartPeaks
+    from ..core.selection.budget import PartPeaks
 
-    from ..core.ranking import RankingAccumulator
-    from ..core.simplified import TorqueErrorAccumulator
+    from ..core.selection.ranking import RankingAccumulator
+    from ..core.selection.simplified import TorqueErrorAccumulator
 
     q, qd, qdd = trajectory.q, trajectory.qd, trajectory.qdd
     N, n = q.shape
@@ -352,8 +353,7 @@ def _with_simplified(ds, extra):
 
 def _model(robot, trajectory, result, dominance, negligible, settings):
     if result.model is not None:                 # the explicit simplified model (issue 8)
-        object.__setattr__(result.model, "validation", result.error)
-        return result.model
+        return dataclasses.replace(result.model, validation=result.error)
     provenance = _provenance(trajectory, settings)
     return SimplifiedModel(robot=robot, choices=result.choices,
                            dominance_threshold=float(dominance),
@@ -376,13 +376,13 @@ def _simplify(robot, trajectory, ranking, part_peaks, tolerance, rule, torque_fl
     The pruned recursive model is always built; the explicit G-D model is derived when the
     chapter rule or ``form="explicit"`` asks for it, when ``explicit`` is ``"always"``, or
     (``"auto"``) when its estimated size is cheap
-    (:func:`gd_analyze.core.explicit_estimate.is_expensive`). Under the budget rule and
+    (:func:`gd_analyze.core.symbolic.explicit_estimate.is_expensive`). Under the budget rule and
     ``form="cheapest"`` the cheaper of the pruned recursive and pruned explicit models is
     deployed (multiplications + additions; the recursive one on a tie).
     """
     from .simplify import (build_model, build_recursive, collect_peaks, cost_rows,
                            full_torque, ladder, ladder_skipped, simplified_dataset, validate)
-    from ..core.explicit_estimate import is_expensive
+    from ..core.symbolic.explicit_estimate import is_expensive
     from ..formulations.opcount import operation_counts
     from ..io.explicit_cache import explicit_terms
 
@@ -465,7 +465,7 @@ def analyze(robot, trajectory, dominance=DEFAULT_DOMINANCE, negligible=DEFAULT_N
     tolerance : float, optional
         EPS of the error budget (rule ``"budget"``).
     rule : {"budget", "chapter"}, optional
-        How the simplified model is chosen (:mod:`gd_analyze.core.budget`).
+        How the simplified model is chosen (:mod:`gd_analyze.core.selection.budget`).
     torque_floor : float, optional
         TAU [N m], the least scale of a joint torque.
     explicit : {"auto", "always", "never"}, optional

@@ -12,7 +12,7 @@ and three controllers track a desired motion q_d(t):
   the full G-D model, tau = D(q) v + h(q, qd) + c(q);
 - ``"simplified"``: computed torque with the simplified model of ``simplified_model.json``,
   tau = D_s(q) v + h_s(q, qd) + c(q), evaluated in its explicit form
-  (:meth:`gd_analyze.core.simplified.SimplifiedModel.torque`: only the kept terms are computed);
+  (:meth:`gd_analyze.core.selection.simplified.SimplifiedModel.torque`: only the kept terms are computed);
 - ``"pd_gravity"``: PD control with gravity compensation, tau = Kp_pd e + Kv_pd ed + c(q);
 
 where e = q_d - q, ed = qd_d - qd and v = qdd_d + Kv ed + Kp e. With the full model the
@@ -60,7 +60,7 @@ from pathlib import Path
 
 import numpy as np
 
-from ..core.simplified import choice_masks
+from ..core.selection.simplified import choice_masks
 from .evaluate import model_torque
 from .tracking import (CONTROLLER_DESCRIPTIONS, CONTROLLERS, DEFAULT_ATOL, DEFAULT_METHOD,
                        DEFAULT_RTOL, DEFAULT_WN, DEFAULT_ZETA, MAX_STIFFNESS_STEPS, Gains,
@@ -201,7 +201,7 @@ def model_cost(model):
         point): the simplified model, the exact recursive model
         (:func:`gd_analyze.core.symbolic.recursive.recursive_program`), the full explicit model
         (unless the model is recursive and the expansion expensive,
-        :func:`gd_analyze.core.explicit_estimate.is_expensive`) and the project's Newton-Euler
+        :func:`gd_analyze.core.symbolic.explicit_estimate.is_expensive`) and the project's Newton-Euler
         as implemented (:func:`gd_analyze.formulations.opcount.count_operations`), last;
         ``dropped`` of ``parts``: what the model drops, ``what`` names them (parts of D and h,
         or (base parameter, part) pairs), ``dropped_pairs`` lists the pairs of a recursive model.
@@ -212,7 +212,7 @@ def model_cost(model):
     Lee (1987) (a simplified model "at a reduced computation time"), Table 3.5 (N-E), and
     Armstrong, Khatib & Burdick (1986) for the explicit form.
     """
-    from ..core.explicit_estimate import is_expensive
+    from ..core.symbolic.explicit_estimate import is_expensive
     from ..core.symbolic.recursive import recursive_program
     from ..formulations.opcount import count_operations
     from ..io.explicit_cache import explicit_terms
@@ -365,9 +365,9 @@ def run_control(model, trajectory, wn=DEFAULT_WN, zeta=DEFAULT_ZETA, q0_offset=0
 
 
 def _json_ready(obj):
-    from ..core.simplified import _json_safe
+    from ..core.selection.simplified import json_safe
 
-    return _json_safe(obj)
+    return json_safe(obj)
 
 
 # --------------------------------------------------------------------------------------------

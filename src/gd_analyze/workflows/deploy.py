@@ -9,9 +9,9 @@ from __future__ import annotations
 
 import numpy as np
 
-from ..core.budget import DEFAULT_TOLERANCE
-from ..core.ranking import DEFAULT_DOMINANCE, DEFAULT_NEGLIGIBLE
-from ..core.simplified import SimplifiedModel
+from ..core.selection.budget import DEFAULT_TOLERANCE
+from ..core.selection.ranking import DEFAULT_DOMINANCE, DEFAULT_NEGLIGIBLE
+from ..core.selection.simplified import SimplifiedModel
 
 __all__ = ["build_recursive", "replace_cost"]
 
@@ -49,8 +49,8 @@ def build_recursive(robot, q, qd, qdd, tolerance=DEFAULT_TOLERANCE, torque_floor
     Fu, Gonzalez & Lee (1987), Algorithm 3.1 on the base parameters (Khalil & Kleinfinger
     1987; Gautier 1990), pruned as :func:`gd_analyze.core.symbolic.recursive_model.recursive_model`.
     """
-    from ..core.budget import Selection
-    from ..core.ranking import element_labels
+    from ..core.selection.budget import Selection
+    from ..core.selection.ranking import element_labels
     from ..core.symbolic.base_parameters import base_parameters
     from ..core.symbolic.recursive import recursive_program
     from ..core.symbolic.recursive_model import recursive_model

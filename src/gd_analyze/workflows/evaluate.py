@@ -10,9 +10,9 @@ from __future__ import annotations
 
 import numpy as np
 
-from ..core.dalembert import gd_terms
-from ..core.limits import check_finite
-from ..core.simplified import torque_error
+from ..core.dynamics.dalembert import gd_terms
+from ..core.model.limits import check_finite
+from ..core.selection.simplified import torque_error
 from ..errors import InputError
 
 __all__ = ["evaluate", "model_torque"]
@@ -61,17 +61,17 @@ def evaluate(model, trajectory, plant=None):
     ----------
     model : SimplifiedModel
         The model (its robot and its explicit kept terms, evaluated by
-        :meth:`~gd_analyze.core.simplified.SimplifiedModel.torque`).
+        :meth:`~gd_analyze.core.selection.simplified.SimplifiedModel.torque`).
     trajectory : Trajectory
         q, qd, qdd of shape (N, n) [rad, rad/s, rad/s^2].
     plant : Robot, optional
         The arm that really moves (e.g. the model's robot carrying a payload, see
-        :func:`gd_analyze.core.robot.with_payload`); default the model's robot.
+        :func:`gd_analyze.core.model.robot.with_payload`); default the model's robot.
 
     Returns
     -------
     dict
-        :func:`gd_analyze.core.simplified.torque_error` of the model's torque against the
+        :func:`gd_analyze.core.selection.simplified.torque_error` of the model's torque against the
         plant's full torque (per joint ``peak_abs_error``, ``rms_error``, ``peak_tau`` [N m],
         ``relative_peak_error``, ``relative_rms_error``), plus ``max_relative_peak_error``, the
         largest relative peak error over the joints (0 if no joint has a defined one).
@@ -81,7 +81,7 @@ def evaluate(model, trajectory, plant=None):
     ValueError
         If the trajectory does not have n columns.
     InputError
-        If the torques are not finite (inputs beyond :data:`gd_analyze.core.limits.LIMITS`, or
+        If the torques are not finite (inputs beyond :data:`gd_analyze.core.model.limits.LIMITS`, or
         the model's coefficients beyond a float: :func:`model_torque`).
     """
     robot = model.robot

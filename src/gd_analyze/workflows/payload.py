@@ -3,14 +3,14 @@
 :func:`payload_sweep` ranks one trajectory for each load mass (the main job's
 ``--payload-sweep``); :func:`sweep_payloads` repeats a whole sweep over many trajectories for each
 load mass (``gd-analyze sweep --payload-sweep``). The load is merged into link n by
-:func:`gd_analyze.core.robot.with_payload`. Source: Sec. 3.4.1 of Fu, Gonzalez & Lee (1987).
+:func:`gd_analyze.core.model.robot.with_payload`. Source: Sec. 3.4.1 of Fu, Gonzalez & Lee (1987).
 """
 
 from __future__ import annotations
 
 import numpy as np
 
-from ..core.ranking import DEFAULT_DOMINANCE, DEFAULT_NEGLIGIBLE
+from ..core.selection.ranking import DEFAULT_DOMINANCE, DEFAULT_NEGLIGIBLE
 from ..errors import InputError
 from ..io.sweep_datasets import payload_dataset, sweep_payloads_dataset
 from .sweep import analyze_one, check_thresholds, check_trajectory, run_sweep
@@ -59,12 +59,12 @@ def payload_sweep(robot, trajectory, masses, com=(0.0, 0.0, 0.0), inertia=(0.0, 
 
     Notes
     -----
-    Each payload is merged into link n by :func:`gd_analyze.core.robot.with_payload`; the load
+    Each payload is merged into link n by :func:`gd_analyze.core.model.robot.with_payload`; the load
     changes link n's mass, centre of mass and inertia and so the G-D terms. Source: Sec. 3.4.1
     of Fu, Gonzalez & Lee (1987) (the simplification "depends on the specific trajectory");
     the load enters the dynamics as in Sec. 3.1.
     """
-    from ..core.robot import with_payload
+    from ..core.model.robot import with_payload
 
     masses = np.asarray(masses, dtype=float)
     if masses.ndim != 1 or masses.size == 0:
@@ -120,8 +120,8 @@ def sweep_payloads(robot, trajectories, masses, com=(0.0, 0.0, 0.0), inertia=(0.
     -----
     Source: Sec. 3.4.1 of Fu, Gonzalez & Lee (1987), repeated for each load.
     """
-    from ..core.ranking import CLASSES
-    from ..core.robot import with_payload
+    from ..core.selection.ranking import CLASSES
+    from ..core.model.robot import with_payload
 
     trajectories = list(trajectories)
     parts = []

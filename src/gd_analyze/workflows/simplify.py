@@ -7,18 +7,18 @@ its cost, its error, and the tolerance ladder. Nothing here prints or writes fil
 
 from __future__ import annotations
 
-import weakref
+import dataclasses
 from dataclasses import dataclass
 
 import numpy as np
 
-from ..core.budget import DEFAULT_TOLERANCE, PartPeaks, relative_peaks, select_terms
-from ..core.ranking import DEFAULT_DOMINANCE, DEFAULT_NEGLIGIBLE
-from ..core.codegen import build_program
-from ..core.explicit import term_peaks
-from ..core.dalembert import gd_terms
+from ..core.selection.budget import DEFAULT_TOLERANCE, PartPeaks, relative_peaks, select_terms
+from ..core.selection.ranking import DEFAULT_DOMINANCE, DEFAULT_NEGLIGIBLE
+from ..core.symbolic.codegen import build_program
+from ..core.symbolic.explicit import term_peaks
+from ..core.dynamics.dalembert import gd_terms
 from ..io.explicit_cache import explicit_terms
-from ..core.simplified import SimplifiedModel, TorqueErrorAccumulator
+from ..core.selection.simplified import SimplifiedModel, TorqueErrorAccumulator
 from .deploy import build_recursive, replace_cost  # noqa: F401  (re-exported)
 from .simplified_dataset import AKB_COSTS, cost_rows, simplified_dataset  # noqa: F401
 
@@ -29,21 +29,20 @@ __all__ = ["Peaks", "collect_peaks", "build_model", "full_program", "LADDER", "l
 LADDER = (0.0, 0.001, 0.01, 0.05)
 
 
-#: Programs built from the terms of a Term object, by the SHA-256 of the kept terms: the
-#: full model (its cost and its reference torque) and a model the ladder builds again (the
-#: main model's EPS) are assembled once.
-_PROGRAMS = weakref.WeakKeyDictionary()
-
-
 def _program(robot, terms, kept):
-    """build_program of ``kept`` (a subset of ``terms``), once per content."""
+    """build_program of ``kept`` (a subset of ``terms``), once per content.
+
+    The programs are kept in ``terms.programs`` by the SHA-256 of the kept terms: the full
+    model (its cost and its reference torque) and a model the ladder builds again (the main
+    model's EPS) are assembled once.
+    """
     import hashlib
 
     digest = hashlib.sha256()
     for f in ("kind", "part", "i", "j", "k", "K", "S", "C"):
         digest.update(np.ascontiguousarray(getattr(kept, f)).tobytes())
     digest.update(np.asarray(robot.prismatic, bool).tobytes())
-    cache = _PROGRAMS.setdefault(terms, {})
+    cache = terms.programs
     key = (robot.n, digest.hexdigest())
     if key not in cache:
         cache[key] = build_program(kept, robot.n, np.zeros(robot.n), prismatic=robot.prismatic)
@@ -51,7 +50,7 @@ def _program(robot, terms, kept):
 
 
 def full_program(robot, terms):
-    """The straight-line program of the full explicit model (:class:`~gd_analyze.core.codegen.Program`).
+    """The straight-line program of the full explicit model (:class:`~gd_analyze.core.symbolic.codegen.Program`).
 
     Parameters
     ----------
@@ -111,7 +110,7 @@ class Peaks:
         Returns
         -------
         Peaks
-            New peaks: :func:`gd_analyze.core.budget.relative_peaks` of the parts and terms,
+            New peaks: :func:`gd_analyze.core.selection.budget.relative_peaks` of the parts and terms,
             and ``parts.tau_peak`` = 1 (every joint's scale is 1 in these units).
         """
         parts = PartPeaks(self.parts.n)
@@ -213,8 +212,8 @@ def build_model(robot, terms, peaks, tolerance=DEFAULT_TOLERANCE, rule="budget",
         negligible_threshold=float(getattr(ranking, "negligible_threshold", DEFAULT_NEGLIGIBLE)),
         trajectory_sha256=trajectory_sha256, provenance=dict(provenance or {}), rule=rule,
         tolerance=float(tolerance), torque_floor=float(torque_floor), terms=sel.kept,
-        cost=program.cost(), full_cost=full, bound=[float(v) for v in sel.bound])
-    object.__setattr__(model, "_program", program)
+        cost=program.cost(), full_cost=full, bound=[float(v) for v in sel.bound],
+        program_cache=program)
     return model, sel
 
 
@@ -237,7 +236,7 @@ def full_torque(robot, terms):
         Equal to the G-D model's tau = D qdd + h + c to rounding (the tests check it against
         Pinocchio rnea to 1e-10), without computing the G-D terms again.
     """
-    from ..core.codegen import python_function
+    from ..core.symbolic.codegen import python_function
 
     return python_function(_program(robot, terms, terms))
 
@@ -368,7 +367,7 @@ def sweep_model(robot, trajectories, tolerance=DEFAULT_TOLERANCE, torque_floor=0
 
     Each joint's scale is per trajectory, scale_{t,i} = max(peak_t |tau_i|, TAU); every part's
     and term's (atom's) peak on trajectory t is divided by scale_{t,i} and the largest ratio
-    over the trajectories is budgeted within EPS (:func:`gd_analyze.core.budget.relative_peaks`),
+    over the trajectories is budgeted within EPS (:func:`gd_analyze.core.selection.budget.relative_peaks`),
     so the model's error on each swept trajectory t is at most EPS x scale_{t,i} for every
     joint i.
 
@@ -448,8 +447,7 @@ def sweep_model(robot, trajectories, tolerance=DEFAULT_TOLERANCE, torque_floor=0
         if held_out else {},
         "held_out_trajectories": len(held_out),
     })
-    object.__setattr__(model, "validation", validation)
-    return model, sel
+    return dataclasses.replace(model, validation=validation), sel
 
 
 __all__.append("sweep_model")

@@ -13,7 +13,7 @@ trajectories and reports, per ranked element (``"D11"`` .. ``"Dnn"``, ``"h1"`` .
   model of :func:`gd_analyze.workflows.simplify.sweep_model`, guaranteed within EPS x scale_i
   on every swept trajectory (:func:`with_budget_model` puts it into the dataset); with the
   chapter rule a part of an element is dropped only where every trajectory's own share-based
-  model drops it (:func:`gd_analyze.core.simplified.merge_choices`), which bounds nothing.
+  model drops it (:func:`gd_analyze.core.selection.simplified.merge_choices`), which bounds nothing.
 
 The per-trajectory work (:func:`analyze_one`) is a pure function of small arguments, run in
 batches on a dask.distributed cluster by :func:`run_sweep`. The dataset's schema is in
@@ -33,9 +33,9 @@ import time
 
 import numpy as np
 
-from ..core.dalembert import COMPILED_MIN_SETPOINTS, DEFAULT_CHUNK, GDTerms, gd_terms
-from ..core.ranking import DEFAULT_DOMINANCE, DEFAULT_NEGLIGIBLE, element_labels
-from ..core.simplified import TorqueErrorAccumulator, choice_masks, merge_choices, simplified_torque
+from ..core.dynamics.dalembert import COMPILED_MIN_SETPOINTS, DEFAULT_CHUNK, GDTerms, gd_terms
+from ..core.selection.ranking import DEFAULT_DOMINANCE, DEFAULT_NEGLIGIBLE, element_labels
+from ..core.selection.simplified import TorqueErrorAccumulator, choice_masks, merge_choices, simplified_torque
 from ..errors import InputError
 from ..io.schema import attribute_value, strings
 from ..io.sweep_datasets import sweep_dataset
@@ -132,14 +132,14 @@ def analyze_one(robot, trajectory, dominance=DEFAULT_DOMINANCE, negligible=DEFAU
 
         - ``share_tran`` : ndarray, shape (M,), the translational share in [0, 1] (NaN where
           both parts vanish);
-        - ``classes`` : tuple of str, length M, each one of :data:`gd_analyze.core.ranking.CLASSES`;
+        - ``classes`` : tuple of str, length M, each one of :data:`gd_analyze.core.selection.ranking.CLASSES`;
         - ``choices`` : dict, element label -> ``"tran"``, ``"rot"``, ``"both"`` or ``"none"``;
         - ``peaks`` : dict of ndarray, shape (M,): ``peak_tran``, ``peak_rot``, ``peak_total``
           and ``scale`` [kg m^2] for D, [N m] for h;
         - ``summary`` : dict: ``source`` (str), ``sha256`` (str), ``duration`` [s],
           ``setpoints`` N, ``q_start`` and ``q_goal`` (n,) [rad], ``tau_peak`` (n,) = peak
           |tau| [N m], and ``error``: the torque error of the trajectory's own simplified
-          model as :func:`gd_analyze.core.simplified.torque_error` gives it.
+          model as :func:`gd_analyze.core.selection.simplified.torque_error` gives it.
 
     Raises
     ------
@@ -380,7 +380,7 @@ def run_sweep(robot, trajectories, dominance=DEFAULT_DOMINANCE, negligible=DEFAU
     ----------
     robot : Robot
         The arm, with n joints (may carry a payload, see
-        :func:`gd_analyze.core.robot.with_payload`).
+        :func:`gd_analyze.core.model.robot.with_payload`).
     trajectories : sequence of Trajectory
         K >= 1 trajectories, each t (N_k,) [s] and q, qd, qdd (N_k, n) [rad, rad/s, rad/s^2].
     dominance : float, optional
@@ -536,7 +536,7 @@ def merged_model(robot, sweep_ds):
     dataset; nothing is recomputed here. Source: Sec. 3.4.1 of Fu, Gonzalez & Lee (1987).
     """
     from .._version import __version__
-    from ..core.simplified import SimplifiedModel
+    from ..core.selection.simplified import SimplifiedModel
 
     needed = ("merged_choice", "merged_error_peak", "merged_error_rms", "merged_error_tau_peak",
               "merged_error_relative_peak", "merged_error_relative_rms")
@@ -606,9 +606,9 @@ def with_budget_model(sweep_ds, model):
 
     Notes
     -----
-    The guarantee is that of :mod:`gd_analyze.core.budget` over several trajectories.
+    The guarantee is that of :mod:`gd_analyze.core.selection.budget` over several trajectories.
     """
-    from ..core.ranking import element_labels
+    from ..core.selection.ranking import element_labels
 
     torque = sweep_ds["tau_peak"].attrs.get("units", "N m") if "tau_peak" in sweep_ds else "N m"
 

@@ -13,7 +13,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ..core.dalembert import _qdd_from_terms, gd_terms
+from ..core.dynamics.dalembert import _qdd_from_terms, gd_terms
 
 __all__ = ["CONTROLLERS", "CONTROLLER_DESCRIPTIONS", "DEFAULT_WN", "DEFAULT_ZETA",
            "DEFAULT_RTOL", "DEFAULT_ATOL", "DEFAULT_METHOD", "MAX_STIFFNESS_STEPS",
@@ -228,7 +228,7 @@ def controller_torque(controller, robot, gains, q_d, qd_d, qdd_d, q, qd, choices
     q, qd : ndarray, shape (N, n)
         Actual positions [rad] and velocities [rad/s].
     choices : SimplifiedModel, optional
-        The simplified model (its :meth:`~gd_analyze.core.simplified.SimplifiedModel.torque`,
+        The simplified model (its :meth:`~gd_analyze.core.selection.simplified.SimplifiedModel.torque`,
         the explicit form); required for ``"simplified"``.
     terms : GDTerms, optional
         The full G-D terms at (q, qd), if already computed (used by ``"full"`` and

@@ -7,7 +7,7 @@ import numpy as np
 import pinocchio as pin
 from scipy.spatial.transform import Rotation
 
-from gd_analyze.core.robot import robot_from_chain, robot_from_dict
+from gd_analyze.core.model.robot_spec import robot_from_chain, robot_from_dict
 from gd_analyze.formulations.opcount import random_chain
 from gd_analyze.formulations.pinocchio import pinocchio_model
 from gd_analyze.io.robots import load_robot

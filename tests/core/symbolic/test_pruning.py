@@ -7,7 +7,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from gd_analyze.core.codegen import emit_c, python_function
+from gd_analyze.core.symbolic.codegen import emit_c, python_function
 from gd_analyze.core.symbolic.base_parameters import base_parameters
 from gd_analyze.core.symbolic.pruning import part_contributions, prune, pruned_program
 from gd_analyze.core.symbolic.recursive import recursive_program
@@ -161,7 +161,7 @@ def test_peaks_in_chunks_equal_the_whole_contributions():
     the peaks of the contributions computed at once."""
     import numpy as np
 
-    from gd_analyze.core.robot import load_robot
+    from gd_analyze import load_robot
     from gd_analyze.core.symbolic.base_parameters import base_parameters, random_states
     from gd_analyze.core.symbolic.pruning import contribution_peaks, part_contributions
 

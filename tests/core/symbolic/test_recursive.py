@@ -10,7 +10,7 @@ from functools import lru_cache
 import numpy as np
 import pytest
 
-from gd_analyze.core.codegen import C_FUNCTION, emit_c, python_function
+from gd_analyze.core.symbolic.codegen import C_FUNCTION, emit_c, python_function
 from gd_analyze.core.symbolic.recursive import recursive_program
 from symbolic_helpers import ROBOTS, count_c, rnea, robot, states
 

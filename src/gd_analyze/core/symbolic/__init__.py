@@ -6,7 +6,7 @@ with numeric parameters folded in, and its pruning with an error bound.
 - :mod:`.newton_euler`: the symbolic quantities of the customized recursive Newton-Euler
   algorithm (forward and backward recursions, split by parts of the torque);
 - :mod:`.recursive`: the exact model as straight-line code (a
-  :class:`gd_analyze.core.codegen.Program`);
+  :class:`gd_analyze.core.symbolic.codegen.Program`);
 - :mod:`.pruning`: dropping the smallest (base parameter, part) contributions within a
   per-joint error budget.
 """

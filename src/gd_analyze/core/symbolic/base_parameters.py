@@ -3,7 +3,7 @@
 The dynamics of a serial arm are linear in the standard inertial parameters of its links
 (Khalil & Kleinfinger, "Minimum operations and minimum parameters of the dynamic models of
 tree structure robots", IEEE J. Robotics and Automation 3(6), 1987). Per link i, in body frame
-i (the joint model of :mod:`gd_analyze.core.robot`) and about its origin::
+i (the joint model of :mod:`gd_analyze.core.model.robot`) and about its origin::
 
     phi_i = (XX, XY, XZ, YY, YZ, ZZ, MX, MY, MZ, M)
 
@@ -22,7 +22,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ..kinematics import as_states, transforms_core
+from ..model.kinematics import as_states, transforms_core
 
 __all__ = ["PARAMETER_NAMES", "standard_parameters", "regressor", "BaseParameters",
            "base_parameters", "random_states"]
@@ -59,7 +59,7 @@ def standard_parameters(robot):
 
     Examples
     --------
-    >>> from gd_analyze.core.robot import load_robot
+    >>> from gd_analyze import load_robot
     >>> standard_parameters(load_robot("two-link")).shape
     (2, 10)
     """
@@ -164,7 +164,7 @@ def regressor(robot, q, qd, qdd, gravity=None):
 
     Examples
     --------
-    >>> from gd_analyze.core.robot import load_robot
+    >>> from gd_analyze import load_robot
     >>> robot = load_robot("two-link")
     >>> W = regressor(robot, np.zeros((1, 2)), np.zeros((1, 2)), np.zeros((1, 2)))
     >>> W.shape
@@ -308,7 +308,7 @@ def base_parameters(robot, count=None, seed=0, tol=1e-8):
 
     Examples
     --------
-    >>> from gd_analyze.core.robot import load_robot
+    >>> from gd_analyze import load_robot
     >>> base_parameters(load_robot("puma560")).rank
     36
     """

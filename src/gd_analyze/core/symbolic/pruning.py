@@ -20,7 +20,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ..kinematics import as_states
+from ..model.kinematics import as_states
 from .base_parameters import regressor
 from .recursive import PARTS, exact_program, parts_program
 
@@ -345,7 +345,7 @@ def pruned_program(robot, base, dropped, cse=True):
 
     Returns
     -------
-    gd_analyze.core.codegen.Program
+    gd_analyze.core.symbolic.codegen.Program
         The pruned program, or the exact one (:func:`.recursive.exact_program`) when the
         pruned one would count more operations (multiplications + additions).
 

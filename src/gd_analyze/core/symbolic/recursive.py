@@ -4,10 +4,10 @@ The recursion of :mod:`.newton_euler` (Fu, Gonzalez & Lee 1987, Algorithm 3.1 an
 Khalil & Kleinfinger 1987) with numeric parameters as constants: the base parameters (0 in the
 dependent slots, :mod:`.base_parameters`), so whatever multiplies a zero folds away. Only what
 tau needs is kept; sums used once are merged into their user, common factors are taken out
-(:func:`gd_analyze.core.factoring.factor_sum`) and common subexpressions eliminated. Per link,
+(:func:`gd_analyze.core.symbolic.factoring.factor_sum`) and common subexpressions eliminated. Per link,
 the form of the inertial moment (:data:`.newton_euler.FORMS`) is chosen by the count. The
-result is a :class:`gd_analyze.core.codegen.Program` for the emitters of
-:mod:`gd_analyze.core.codegen`. Programs with per-part parameter values serve the pruned
+result is a :class:`gd_analyze.core.symbolic.codegen.Program` for the emitters of
+:mod:`gd_analyze.core.symbolic.codegen`. Programs with per-part parameter values serve the pruned
 models of :mod:`.pruning`.
 """
 
@@ -16,8 +16,8 @@ from __future__ import annotations
 import numpy as np
 import symengine as se
 
-from ..codegen import Program, _cse
-from ..factoring import factor_sum, prune_dead
+from .codegen import Program, _cse
+from .factoring import factor_sum, prune_dead
 from .base_parameters import base_parameters
 from .newton_euler import (ALL, FORMS, PARTS, _Recursion, _is_num, _link_constants,
                            _torques)
@@ -111,7 +111,7 @@ def recursive_program(robot, values=None, cse=True):
 
     Returns
     -------
-    gd_analyze.core.codegen.Program
+    gd_analyze.core.symbolic.codegen.Program
         tau [N m or N] from the symbols ``q0, qd0, qdd0, ...``; ``Program.cost()`` counts it.
 
     Raises
@@ -130,7 +130,7 @@ def recursive_program(robot, values=None, cse=True):
 
     Examples
     --------
-    >>> from gd_analyze.core.robot import load_robot
+    >>> from gd_analyze import load_robot
     >>> prog = recursive_program(load_robot("two-link"))
     >>> sorted(prog.cost())
     ['additions', 'cos', 'multiplications', 'sin']
@@ -168,7 +168,7 @@ def parts_program(robot, values, cse=True, search=True):
 
     Returns
     -------
-    gd_analyze.core.codegen.Program
+    gd_analyze.core.symbolic.codegen.Program
         tau = sum over the parts p of the part p of the torque of values[p] [N m or N].
 
     Raises

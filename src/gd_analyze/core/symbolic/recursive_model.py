@@ -94,7 +94,7 @@ class RecursiveModel:
                               rank=len(self.names))
 
     def program(self, robot):
-        """The straight-line program of the pruned model (:class:`~gd_analyze.core.codegen.Program`).
+        """The straight-line program of the pruned model (:class:`~gd_analyze.core.symbolic.codegen.Program`).
 
         Parameters
         ----------

@@ -6,7 +6,7 @@ Joint i's scale is its peak |tau_i| along the trajectory, raised to a torque flo
 With the budget rule, parts are dropped in order of increasing peak contribution while, for
 every joint, the sum of the dropped parts' peak contributions stays within EPS x scale_i: these
 are the element choices. The explicit model is pruned the same way at a finer grain, term by
-term (:func:`gd_analyze.core.explicit.prune`, atoms of proportional groups), within the same
+term (:func:`gd_analyze.core.symbolic.explicit.prune`, atoms of proportional groups), within the same
 EPS x scale_i. By the triangle inequality either model's error on the trajectory is within
 EPS x scale_i for every joint.
 
@@ -28,7 +28,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from .explicit import atoms, budget_drop, prune
+from ..symbolic.explicit import atoms, budget_drop, prune
 from .labels import element_label
 
 __all__ = ["RULES", "DEFAULT_TOLERANCE", "PartPeaks", "part_index", "budget_choices",
@@ -69,9 +69,9 @@ def chosen_terms(terms, choices):
     Parameters
     ----------
     terms : Term
-        Explicit terms (:func:`gd_analyze.core.explicit.model_terms`), M of them.
+        Explicit terms (:func:`gd_analyze.core.symbolic.explicit.model_terms`), M of them.
     choices : dict
-        Element label (:func:`gd_analyze.core.labels.element_label`) -> ``"tran"``, ``"rot"``,
+        Element label (:func:`gd_analyze.core.selection.labels.element_label`) -> ``"tran"``, ``"rot"``,
         ``"both"`` or ``"none"``.
 
     Returns
@@ -272,9 +272,9 @@ def select_terms(terms, term_peaks, part_peaks, tau_peak, tolerance=DEFAULT_TOLE
     Parameters
     ----------
     terms : Term
-        All terms of the explicit model (:func:`gd_analyze.core.explicit.model_terms`).
+        All terms of the explicit model (:func:`gd_analyze.core.symbolic.explicit.model_terms`).
     term_peaks : ndarray, shape (A, n)
-        Peak contributions of their atoms (:func:`gd_analyze.core.explicit.term_peaks`) [N m].
+        Peak contributions of their atoms (:func:`gd_analyze.core.symbolic.explicit.term_peaks`) [N m].
     part_peaks : ndarray, shape (P, n)
         Peak contributions of the parts (:class:`PartPeaks`) [N m].
     tau_peak : ndarray, shape (n,)
@@ -285,7 +285,7 @@ def select_terms(terms, term_peaks, part_peaks, tau_peak, tolerance=DEFAULT_TOLE
     torque_floor : float, optional
         TAU >= 0 [N m]: scale_i = max(peak |tau_i|, TAU).
     chapter_choices : dict, optional
-        The share-based choices (:meth:`gd_analyze.core.ranking.Ranking.choices`); required
+        The share-based choices (:meth:`gd_analyze.core.selection.ranking.Ranking.choices`); required
         for ``rule="chapter"``.
 
     Returns
@@ -300,7 +300,7 @@ def select_terms(terms, term_peaks, part_peaks, tau_peak, tolerance=DEFAULT_TOLE
     Notes
     -----
     Budget rule: the atoms of the full explicit model are pruned within EPS x scale_i
-    (:func:`gd_analyze.core.explicit.prune`); the whole-part choices are computed beside it.
+    (:func:`gd_analyze.core.symbolic.explicit.prune`); the whole-part choices are computed beside it.
     Chapter rule: the terms of the parts the share-based classes keep, nothing pruned.
     """
     if rule not in RULES:

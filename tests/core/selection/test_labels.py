@@ -2,8 +2,8 @@
 
 import pytest
 
-from gd_analyze.core.budget import part_index
-from gd_analyze.core.labels import (element_index, element_label, element_labels,
+from gd_analyze.core.selection.budget import part_index
+from gd_analyze.core.selection.labels import (element_index, element_label, element_labels,
                                     parse_element_label)
 
 

@@ -1,8 +1,8 @@
 """Check explicit terms against the G-D engine at a few fixed states (a cache's self-check).
 
-The terms of the explicit model (:class:`~gd_analyze.core.explicit.Term`) are evaluated at a
+The terms of the explicit model (:class:`~gd_analyze.core.symbolic.explicit.Term`) are evaluated at a
 few pseudo-random states of a seeded generator and compared with the G-D engine
-(:func:`gd_analyze.core.dalembert.gd_terms`), part by part (D_tran, D_rot, h_tran, h_rot, c),
+(:func:`gd_analyze.core.dynamics.dalembert.gd_terms`), part by part (D_tran, D_rot, h_tran, h_rot, c),
 each relative to its own scale. Terms that were derived for the robot agree to round-off; the
 terms of another robot, or coefficients scaled, do not.
 """
@@ -11,7 +11,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from .dalembert import gd_terms
+from ..dynamics.dalembert import gd_terms
 from .trigpoly import evaluate_rows
 
 __all__ = ["term_values", "terms_disagreement", "CHECK_STATES", "CHECK_SEED"]
@@ -30,7 +30,7 @@ def term_values(terms, q, qd, prismatic=None):
     Parameters
     ----------
     terms : Term
-        Rows of an explicit model (:func:`gd_analyze.core.explicit.model_terms`), in q (no
+        Rows of an explicit model (:func:`gd_analyze.core.symbolic.explicit.model_terms`), in q (no
         offsets).
     q, qd : ndarray, shape (N, n)
         Joint positions [rad] and velocities [rad/s] (m, m/s for a prismatic joint).
@@ -53,13 +53,13 @@ def term_values(terms, q, qd, prismatic=None):
     Notes
     -----
     Source: Eqs. (3.4-25) to (3.4-28) of Fu, Gonzalez & Lee (1987) in the term form of
-    :mod:`gd_analyze.core.explicit`: D_ij = sum of its rows, h_i = sum over rows of
+    :mod:`gd_analyze.core.symbolic.explicit`: D_ij = sum of its rows, h_i = sum over rows of
     C cos/sin(k . q) qd_j qd_k, c_i = sum of its rows.
 
     Examples
     --------
-    >>> from gd_analyze.core.explicit import derive, model_terms
-    >>> from gd_analyze.core.robot import load_robot
+    >>> from gd_analyze.core.symbolic.explicit import derive, model_terms
+    >>> from gd_analyze import load_robot
     >>> D_tran, D_rot, h_tran, h_rot, c = term_values(model_terms(derive(load_robot(
     ...     "two-link"))), np.zeros((1, 2)), np.zeros((1, 2)))
     >>> round(float(D_rot[0, 1, 1]), 6)
@@ -114,7 +114,7 @@ def terms_disagreement(robot, terms):
     robot : Robot
         The arm the terms claim to describe.
     terms : Term
-        Its explicit terms (:func:`gd_analyze.core.explicit.model_terms`).
+        Its explicit terms (:func:`gd_analyze.core.symbolic.explicit.model_terms`).
 
     Returns
     -------
@@ -129,12 +129,12 @@ def terms_disagreement(robot, terms):
     Notes
     -----
     Source: the engine is the Jacobian form of Eqs. (3.4-25) to (3.4-28) of Fu, Gonzalez &
-    Lee (1987) (:func:`gd_analyze.core.dalembert.gd_terms`).
+    Lee (1987) (:func:`gd_analyze.core.dynamics.dalembert.gd_terms`).
 
     Examples
     --------
-    >>> from gd_analyze.core.explicit import derive, model_terms
-    >>> from gd_analyze.core.robot import load_robot
+    >>> from gd_analyze.core.symbolic.explicit import derive, model_terms
+    >>> from gd_analyze import load_robot
     >>> robot = load_robot("two-link")
     >>> terms_disagreement(robot, model_terms(derive(robot))) < 1e-12
     True

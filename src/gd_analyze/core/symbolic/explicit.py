@@ -2,7 +2,7 @@
 
 Derivation (:func:`derive`), from the robot's joint model (placements P_i, t_i; revolute and
 prismatic joints) and link inertial parameters, in the canonical Fourier form of
-:class:`~gd_analyze.core.trigpoly.TrigPoly` (sums of numeric coefficients times cos or sin of
+:class:`~gd_analyze.core.symbolic.trigpoly.TrigPoly` (sums of numeric coefficients times cos or sin of
 integer combinations of the revolute joint angles, times powers of the prismatic joint
 variables, which enter the kinematics polynomially):
 
@@ -30,8 +30,8 @@ trajectory is within EPS x scale_i.
 from __future__ import annotations
 
 import math
-import weakref
 from dataclasses import dataclass, field
+from functools import cached_property
 
 import numpy as np
 
@@ -171,7 +171,7 @@ def derive(robot):
 
     Notes
     -----
-    Source: the joint model of :mod:`gd_analyze.core.robot` (^{i-1}T_i = [P_i t_i; 0 1]
+    Source: the joint model of :mod:`gd_analyze.core.model.robot` (^{i-1}T_i = [P_i t_i; 0 1]
     Rot(z, q_i) for a revolute joint, [P_i t_i; 0 1] Trans(0, 0, q_i) for a prismatic one) and
     Eqs. (3.4-24) to (3.4-28) of Fu, Gonzalez & Lee (1987), in the forms given in the module
     docstring: joint i turns about (slides along) the z axis of body frame i, so in body frame i
@@ -180,7 +180,7 @@ def derive(robot):
 
     Examples
     --------
-    >>> from gd_analyze.core.robot import load_robot
+    >>> from gd_analyze import load_robot
     >>> model = derive(load_robot("two-link"))
     >>> round(model.D_rot[(1, 1)].constant(), 6)      # m2 l^2 / 12
     0.083333
@@ -302,7 +302,7 @@ class Term:
         Indices (0-based; -1 where unused).
     K : ndarray of int, shape (U, n)
         Harmonic vectors; in the column of a prismatic joint, the power of q_i [m]
-        (:mod:`gd_analyze.core.trigpoly`).
+        (:mod:`gd_analyze.core.symbolic.trigpoly`).
     S : ndarray of bool, shape (U,)
         sin (True) or cos (False).
     C : ndarray, shape (U,)
@@ -336,6 +336,20 @@ class Term:
         return Term(*(getattr(self, f)[mask] for f in
                       ("kind", "part", "i", "j", "k", "K", "S", "C")))
 
+    @cached_property
+    def _atoms(self):
+        """:func:`atoms` of these terms, computed once (the terms never change)."""
+        return _atoms(self)
+
+    @cached_property
+    def programs(self):
+        """A memo of the straight-line programs built from subsets of these terms.
+
+        A dict owned by this value (the terms never change), keyed by the caller with the
+        SHA-256 of the subset (:func:`gd_analyze.workflows.simplify.full_program`).
+        """
+        return {}
+
 
 def model_terms(model):
     """Flatten an :class:`ExplicitModel` into :class:`Term` rows.
@@ -366,10 +380,6 @@ def model_terms(model):
     return Term(np.array(kind), np.array(part), np.array(i), np.array(j), np.array(k),
                 np.array(K, dtype=np.int64).reshape(-1, n), np.array(S, bool),
                 np.array(C, float))
-
-
-#: atoms() of the Term objects seen (a Term is immutable; entries go with it).
-_ATOMS = weakref.WeakKeyDictionary()
 
 
 def merge_parts(terms):
@@ -422,9 +432,10 @@ def atoms(terms):
     atom : ndarray of int, shape (M,)
         The atom of each merged term, 0 .. A-1.
     """
-    cached = _ATOMS.get(terms)
-    if cached is not None:
-        return cached
+    return terms._atoms
+
+
+def _atoms(terms):
     merged = merge_parts(terms)
     groups = {}
     for r, (kind, i, j, k) in enumerate(zip(merged.kind, merged.i, merged.j, merged.k)):
@@ -439,7 +450,6 @@ def atoms(terms):
             classes[norm] = list(range(next_id, next_id + len(rows)))
             next_id += len(rows)
         atom[rows] = classes[norm]
-    _ATOMS[terms] = (merged, atom)
     return merged, atom
 
 

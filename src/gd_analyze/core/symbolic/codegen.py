@@ -1,7 +1,7 @@
 """Straight-line code for an explicit G-D model: C99, numpy Python, and its operation count.
 
 The program (:func:`build_program`) is assembled with symengine from the kept terms of an
-explicit model (:mod:`gd_analyze.core.explicit`) in the AKB style (Armstrong, Khatib & Burdick,
+explicit model (:mod:`gd_analyze.core.symbolic.explicit`) in the AKB style (Armstrong, Khatib & Burdick,
 ICRA 1986), keeping the structure instead of expanding it:
 
 - angles: theta_i = q_i + offset_i (only where the offset is not 0) and their cos and sin;
@@ -12,7 +12,7 @@ ICRA 1986), keeping the structure instead of expanding it:
   Christoffel coefficient of qd_j qd_k in h_i and every c_i is one sum of coefficient x
   cos/sin; a group proportional to an earlier one is that one times a constant; the pairs
   cos(A +- B), sin(A +- B) of a sum are written in their shared products and common factors
-  are taken out (:mod:`gd_analyze.core.factoring`);
+  are taken out (:mod:`gd_analyze.core.symbolic.factoring`);
 - tau_i = sum_j D_ij qdd_j + sum_{j<=k} C_ijk (qd_j qd_k) + c_i, Eq. (3.4-24), factored;
 - unused assignments are dropped, common subexpressions eliminated (symengine ``cse``).
 
@@ -26,6 +26,7 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass
+from functools import cached_property
 
 import numpy as np
 import symengine as se
@@ -61,11 +62,17 @@ class Program:
 
     def cost(self):
         """Operation counts: dict with ``multiplications``, ``additions``, ``sin``, ``cos``."""
-        cached = self.__dict__.get("_cost")
-        if cached is None:
-            cached = count_operations(self.assignments, self.outputs)
-            object.__setattr__(self, "_cost", cached)
-        return dict(cached)
+        return dict(self._cost)
+
+    @cached_property
+    def _cost(self):
+        return count_operations(self.assignments, self.outputs)
+
+    @cached_property
+    def _tau_function(self):
+        ns = {}
+        exec(compile(emit_python(self, {}), "<simplified_model.py>", "exec"), ns)
+        return ns["tau"]
 
 
 def _num(x):
@@ -147,7 +154,7 @@ def build_program(terms, n, offset, trig_mode="products", prismatic=None):
 
     Parameters
     ----------
-    terms : gd_analyze.core.explicit.Term
+    terms : gd_analyze.core.symbolic.explicit.Term
         The kept terms (tran and rot of one element and harmonic are added together).
     n : int
         Number of joints.
@@ -168,7 +175,7 @@ def build_program(terms, n, offset, trig_mode="products", prismatic=None):
     Notes
     -----
     tau = D qdd + h + c, Eq. (3.4-24) of Fu, Gonzalez & Lee (1987), with D, h, c in the explicit
-    forms of :mod:`gd_analyze.core.explicit`.
+    forms of :mod:`gd_analyze.core.symbolic.explicit`.
     """
     q = [se.Symbol(f"q{i}") for i in range(n)]
     qd = [se.Symbol(f"qd{i}") for i in range(n)]
@@ -524,7 +531,7 @@ def emit_c(program, header):
     program : Program
     header : dict
         Lines of the header comment (robot, SHA-256s, tolerance, counts, version); keys and
-        values are written through :func:`~gd_analyze.core.safe_text.header_lines`.
+        values are written through :func:`~gd_analyze.core.symbolic.safe_text.header_lines`.
 
     Returns
     -------
@@ -558,13 +565,7 @@ def python_function(program):
         arrays of shape (N, n) [rad, rad/s, rad/s^2; m, m/s, m/s^2 for a prismatic joint]
         to shape (N, n) [N m; N].
     """
-    fn = program.__dict__.get("_tau_fn")
-    if fn is None:
-        ns = {}
-        exec(compile(emit_python(program, {}), "<simplified_model.py>", "exec"), ns)
-        fn = ns["tau"]
-        object.__setattr__(program, "_tau_fn", fn)
-    return fn
+    return program._tau_function
 
 
 #: The emitted Python module's docstring: fixed text, the header follows as comments.
@@ -580,7 +581,7 @@ def emit_python(program, header):
     header : dict
         Lines of the header, written as ``#`` comments from the third line on (after a fixed
         docstring, so that no input text can be a PEP 263 coding line), keys and values
-        through :func:`~gd_analyze.core.safe_text.header_lines`.
+        through :func:`~gd_analyze.core.symbolic.safe_text.header_lines`.
 
     Returns
     -------

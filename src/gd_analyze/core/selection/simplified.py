@@ -2,34 +2,36 @@
 
 A :class:`SimplifiedModel` is of one of two forms (issue 17):
 
-- explicit: the kept terms of the explicit G-D model (:mod:`gd_analyze.core.explicit`), pruned
-  by the error budget (:mod:`gd_analyze.core.budget`) or chosen per element by the chapter's
-  rule (:mod:`gd_analyze.core.choices`, Sec. 3.4.1), compiled to straight-line code
-  (:mod:`gd_analyze.core.codegen`);
+- explicit: the kept terms of the explicit G-D model (:mod:`gd_analyze.core.symbolic.explicit`), pruned
+  by the error budget (:mod:`gd_analyze.core.selection.budget`) or chosen per element by the chapter's
+  rule (:mod:`gd_analyze.core.selection.choices`, Sec. 3.4.1), compiled to straight-line code
+  (:mod:`gd_analyze.core.symbolic.codegen`);
 - recursive: the customized recursive Newton-Euler model on the base parameters with parts of
   their contributions dropped (:mod:`gd_analyze.core.symbolic.recursive_model`).
 
 It is written as JSON (``simplified_model.json``) that carries its robot's parameters and what
-the model keeps, so ``SimplifiedModel.load(path).torque(q, qd, qdd)`` works on any machine.
+the model keeps, so ``gd_analyze.load_model(path).torque(q, qd, qdd)`` works on any machine
+(:mod:`gd_analyze.io.model_file` reads and writes the file).
 """
 
 from __future__ import annotations
 
 import json
 from dataclasses import dataclass, field
+from functools import cached_property
 
 import numpy as np
 
-from ..errors import InputError
+from ...errors import InputError
 from .choices import (CHOICES, choice_masks, full_choices, merge_choices,  # noqa: F401
                       simplified_torque)
 from .labels import element_labels
-from .robot import robot_from_dict
-from .safe_text import comment_safe
+from ..symbolic.safe_text import comment_safe
 
 __all__ = ["SCHEMA_VERSION", "CHOICES", "SimplifiedModel", "choice_masks", "merge_choices",
            "full_choices",
-           "simplified_torque", "torque_error", "TorqueErrorAccumulator", "parameters_sha256"]
+           "simplified_torque", "torque_error", "TorqueErrorAccumulator", "parameters_sha256",
+           "json_safe"]
 
 #: Version of the simplified_model.json layout (2: explicit terms, rule, tolerance, cost).
 SCHEMA_VERSION = 2
@@ -144,7 +146,7 @@ class SimplifiedModel:
     torque_floor : float
         TAU [N m], the least scale of a joint torque.
     terms : Term or None
-        The explicit model's kept terms (:mod:`gd_analyze.core.explicit`); None for a model
+        The explicit model's kept terms (:mod:`gd_analyze.core.symbolic.explicit`); None for a model
         read from a layout without them (its kept parts are used, unpruned).
     cost : dict
         Counted operations of the emitted code: multiplications, additions, sin, cos.
@@ -160,6 +162,9 @@ class SimplifiedModel:
     costs : dict
         Counted operations of the other models, by label (``"exact recursive"``,
         ``"explicit, budget"``, ``"explicit, full"``, ``"newton-euler"``), for comparison.
+    program_cache : Program or None
+        The model's program where its builder already has it (not written to the file);
+        otherwise :meth:`program` builds it once, on first use.
 
     Notes
     -----
@@ -183,6 +188,7 @@ class SimplifiedModel:
     bound: list = field(default_factory=list)
     recursive: object = None
     costs: dict = field(default_factory=dict)
+    program_cache: object = field(default=None, repr=False, compare=False)
 
     @property
     def form(self):
@@ -190,32 +196,34 @@ class SimplifiedModel:
         return "explicit" if self.recursive is None else "recursive"
 
     def explicit_terms(self):
-        """The kept terms of the explicit model (:class:`~gd_analyze.core.explicit.Term`).
+        """The kept terms of the explicit model (:class:`~gd_analyze.core.symbolic.explicit.Term`).
 
         A model read from a layout without terms gets the terms of its kept parts, unpruned.
         """
-        if self.terms is None:
-            from .budget import chosen_terms
-            from .explicit import derive, model_terms
+        return self.terms if self.terms is not None else self._chosen_terms
 
-            all_terms = model_terms(derive(self.robot))
-            object.__setattr__(self, "terms", all_terms.subset(chosen_terms(all_terms,
-                                                                            self.choices)))
-        return self.terms
+    @cached_property
+    def _chosen_terms(self):
+        from ..symbolic.explicit import derive, model_terms
+        from .budget import chosen_terms
+
+        all_terms = model_terms(derive(self.robot))
+        return all_terms.subset(chosen_terms(all_terms, self.choices))
 
     def program(self):
-        """The straight-line program of the explicit model (:class:`~gd_analyze.core.codegen.Program`)."""
-        cached = self.__dict__.get("_program")
-        if cached is None and self.recursive is not None:
-            cached = self.recursive.program(self.robot)
-            object.__setattr__(self, "_program", cached)
-        if cached is None:
-            from .codegen import build_program
+        """The straight-line program of the explicit model (:class:`~gd_analyze.core.symbolic.codegen.Program`)."""
+        return self._program
 
-            cached = build_program(self.explicit_terms(), self.robot.n, np.zeros(self.robot.n),
-                                   prismatic=self.robot.prismatic)
-            object.__setattr__(self, "_program", cached)
-        return cached
+    @cached_property
+    def _program(self):
+        if self.program_cache is not None:
+            return self.program_cache
+        if self.recursive is not None:
+            return self.recursive.program(self.robot)
+        from ..symbolic.codegen import build_program
+
+        return build_program(self.explicit_terms(), self.robot.n, np.zeros(self.robot.n),
+                             prismatic=self.robot.prismatic)
 
     def header(self):
         """The header of the emitted files: robot, SHA-256s, rule, tolerance, counts, version.
@@ -224,7 +232,7 @@ class SimplifiedModel:
         -------
         dict
             The robot's name (input text) only as
-            :func:`~gd_analyze.core.safe_text.comment_safe` gives it, with the SHA-256 of the
+            :func:`~gd_analyze.core.symbolic.safe_text.comment_safe` gives it, with the SHA-256 of the
             raw name; then the SHA-256 of the robot file.
         """
         cost = self.cost or self.program().cost()
@@ -247,18 +255,18 @@ class SimplifiedModel:
 
     def c_source(self):
         """C99 source of the model (``void gd_simplified_tau(q, qd, qdd, tau)``)."""
-        from .codegen import emit_c
+        from ..symbolic.codegen import emit_c
 
         return emit_c(self.program(), self.header())
 
     def python_source(self):
         """numpy source of the model (``tau(q, qd, qdd)``, vectorised over set points)."""
-        from .codegen import emit_python
+        from ..symbolic.codegen import emit_python
 
         return emit_python(self.program(), self.header())
 
     def _python_tau(self):
-        from .codegen import python_function
+        from ..symbolic.codegen import python_function
 
         return python_function(self.program())
 
@@ -284,7 +292,7 @@ class SimplifiedModel:
         ValueError
             If the arrays do not have n columns or disagree on N.
         """
-        from .kinematics import as_states
+        from ..model.kinematics import as_states
 
         q, qd, qdd = as_states(self.robot, q, qd, qdd)
         return self._python_tau()(q, qd, qdd)
@@ -326,34 +334,19 @@ class SimplifiedModel:
             out["full_cost"] = dict(self.full_cost)
         return out
 
-    def save(self, path):
-        """Write the model as JSON, atomically.
-
-        Parameters
-        ----------
-        path : str or os.PathLike
-            Destination file.
-
-        Raises
-        ------
-        OSError
-            If the file cannot be written.
-        """
-        from ..files import atomic_path
-
-        with atomic_path(path) as tmp:
-            with open(tmp, "w", encoding="utf-8") as fh:
-                json.dump(_json_safe(self.to_dict()), fh, indent=2)
-                fh.write("\n")
-
     @classmethod
-    def load(cls, path):
-        """Read a simplified_model.json.
+    def from_dict(cls, spec, robot, path="<dict>"):
+        """The model from a parsed simplified_model.json (see :func:`gd_analyze.io.model_file.load_model`).
 
         Parameters
         ----------
-        path : str or os.PathLike
-            The file written by :meth:`save` or by ``gd-analyze``.
+        spec : dict
+            The document, already checked against
+            :data:`gd_analyze.io.json_schema.MODEL_SCHEMA`.
+        robot : Robot
+            Its robot, rebuilt from ``spec["robot"]["parameters"]``.
+        path : str
+            The file, for error messages.
 
         Returns
         -------
@@ -362,33 +355,17 @@ class SimplifiedModel:
         Raises
         ------
         InputError
-            If the file is missing or not strict JSON (duplicate keys, NaN, numbers beyond a
-            float, deep nesting), of another schema version, does not follow
-            :data:`gd_analyze.core.schema.MODEL_SCHEMA` (types, unknown keys, finite
-            thresholds in range), its robot's parameters do not match
-            ``robot.parameters_sha256`` or fail validation, or its choices do not name exactly
-            the elements of an n-joint robot. One line naming the key.
+            If the robot's name differs from ``robot.name``, the choices do not name exactly
+            the elements of an n-joint robot, or the explicit or recursive terms are invalid.
+            One line naming the key.
 
         Notes
         -----
-        The file's ``cost`` and ``full_cost`` are not read: a claim is not a count. The model's
-        cost is counted from its terms (:meth:`program`) wherever it is shown or written.
+        The document's ``cost`` and ``full_cost`` are not read: a claim is not a count. The
+        model's cost is counted from its terms (:meth:`program`) wherever it is shown or
+        written.
         """
-        from .schema import MODEL_SCHEMA, load_json
-
-        path = str(path)
-        spec = load_json(path, "simplified-model JSON")
-        if isinstance(spec, dict) and spec.get("schema_version") not in READABLE_SCHEMAS:
-            raise InputError(f"expected schema_version {SCHEMA_VERSION}, got "
-                             f"{spec.get('schema_version')!r}"[:120], path,
-                             column="schema_version")
-        MODEL_SCHEMA.check(spec, path, "")
         rob = spec["robot"]
-        if parameters_sha256(rob["parameters"]) != rob["parameters_sha256"]:
-            raise InputError("the robot's parameters do not match their SHA-256 (edited after "
-                             "the model was written?)", path, column="robot.parameters_sha256")
-        robot = robot_from_dict(rob["parameters"], source=f"{path}#robot",
-                                sha256=rob["sha256"] or None)
         if robot.name != rob["name"]:
             raise InputError(f"robot.name {rob['name']!r} differs from the parameters' name "
                              f"{robot.name!r}", path, column="robot.name")
@@ -408,7 +385,7 @@ class SimplifiedModel:
                              column="explicit_terms") from None
         recursive = None
         if spec.get("form") == "recursive" or "recursive" in spec:
-            from .symbolic.recursive_model import RecursiveModel
+            from ..symbolic.recursive_model import RecursiveModel
 
             if "recursive" not in spec or spec.get("form") != "recursive":
                 raise InputError("a model of the recursive form needs both 'form' and "
@@ -431,6 +408,8 @@ class SimplifiedModel:
                    recursive=recursive, costs=dict(spec.get("costs") or {}))
 
 
+
+
 def parameters_sha256(parameters):
     """SHA-256 of a robot's parameters as stored in a model file (canonical JSON).
 
@@ -447,7 +426,7 @@ def parameters_sha256(parameters):
     """
     import hashlib
 
-    text = json.dumps(_json_safe(parameters), sort_keys=True, allow_nan=False)
+    text = json.dumps(json_safe(parameters), sort_keys=True, allow_nan=False)
     return hashlib.sha256(text.encode()).hexdigest()
 
 
@@ -461,7 +440,7 @@ def _terms_from_json(spec, n):
     """The kept terms from JSON, or None (older layouts)."""
     if spec is None:
         return None
-    from .explicit import Term
+    from ..symbolic.explicit import Term
 
     size = len(spec["coef"])
     K = np.array(spec["K"], dtype=np.int64).reshape(size, n)
@@ -483,14 +462,30 @@ def _terms_from_json(spec, n):
     return out
 
 
-def _json_safe(obj):
-    """Replace NaN/inf (not valid JSON) by None, recursively."""
+def json_safe(obj):
+    """Replace NaN/inf (not valid JSON) by None, recursively; numpy scalars by Python ones.
+
+    Parameters
+    ----------
+    obj : object
+        Nested dicts, lists, tuples, floats and numpy scalars.
+
+    Returns
+    -------
+    object
+        The same structure, ready for strict JSON (RFC 8259 has no NaN).
+
+    Examples
+    --------
+    >>> json_safe({"a": [1.0, float("nan")], "b": np.float64(2.0)})
+    {'a': [1.0, None], 'b': 2.0}
+    """
     if isinstance(obj, dict):
-        return {k: _json_safe(v) for k, v in obj.items()}
+        return {k: json_safe(v) for k, v in obj.items()}
     if isinstance(obj, (list, tuple)):
-        return [_json_safe(v) for v in obj]
+        return [json_safe(v) for v in obj]
     if isinstance(obj, float) and not np.isfinite(obj):
         return None
     if isinstance(obj, np.generic):
-        return _json_safe(obj.item())
+        return json_safe(obj.item())
     return obj

@@ -8,11 +8,12 @@ import pytest
 from conftest import SHIPPED, random_states
 from gd_analyze import InputError, SimplifiedModel, gd_terms
 from gd_analyze.workflows.analyze import analyze
-from gd_analyze.core.ranking import element_labels
+from gd_analyze.core.selection.ranking import element_labels
 from gd_analyze.formulations.pinocchio import pinocchio_model
-from gd_analyze.core.simplified import choice_masks, simplified_torque, torque_error
+from gd_analyze.core.selection.simplified import choice_masks, simplified_torque, torque_error
+from gd_analyze.io.model_file import load_model, save_model
 from gd_analyze.io.trajectory import read_trajectory
-from gd_analyze.core.simplified import merge_choices
+from gd_analyze.core.selection.simplified import merge_choices
 
 
 def _model(robot, choice):
@@ -71,7 +72,7 @@ def test_save_load_and_reuse_on_new_states(tmp_path, puma):
     traj = read_trajectory(SHIPPED, 6)
     analysis = analyze(puma, traj, check=False)
     path = tmp_path / "simplified_model.json"
-    analysis.model.save(path)
+    save_model(analysis.model, path)
     spec = json.loads(path.read_text())
     assert spec["schema_version"] == 2 and spec["robot"]["name"] == "puma560"
     assert spec["rule"] == "budget" and spec["tolerance"] == 0.01
@@ -80,7 +81,7 @@ def test_save_load_and_reuse_on_new_states(tmp_path, puma):
     assert spec["robot"]["sha256"] == puma.sha256 and spec["trajectory_sha256"] == traj.sha256
     assert spec["dominance_threshold"] == 0.9 and spec["negligible_threshold"] == 0.01
     assert len(spec["validation"]["peak_abs_error"]) == 6
-    loaded = SimplifiedModel.load(path)
+    loaded = load_model(path)
     assert loaded.choices == analysis.model.choices
     q, qd, qdd = random_states(puma, 10, 4)
     terms = gd_terms(puma, q, qd)
@@ -93,7 +94,7 @@ def test_save_load_and_reuse_on_new_states(tmp_path, puma):
                                                       "costs")}
     old["schema_version"] = 1
     path.write_text(json.dumps(old))
-    np.testing.assert_allclose(SimplifiedModel.load(path).torque(q, qd, qdd),
+    np.testing.assert_allclose(load_model(path).torque(q, qd, qdd),
                                simplified_torque(terms, analysis.model.choices, qdd),
                                rtol=1e-10, atol=1e-10)
 
@@ -102,12 +103,12 @@ def test_load_errors(tmp_path):
     bad = tmp_path / "m.json"
     bad.write_text("{not json")
     with pytest.raises(InputError, match="not a simplified-model JSON"):
-        SimplifiedModel.load(bad)
+        load_model(bad)
     bad.write_text(json.dumps({"schema_version": 99}))
     with pytest.raises(InputError, match="schema_version"):
-        SimplifiedModel.load(bad)
+        load_model(bad)
     with pytest.raises(InputError, match="no such file"):
-        SimplifiedModel.load(tmp_path / "none.json")
+        load_model(tmp_path / "none.json")
 
 
 @pytest.mark.parametrize("a, b, merged", [

@@ -12,11 +12,11 @@ import pytest
 
 from conftest import SHIPPED, random_states
 from gd_analyze import load_robot
-from gd_analyze.core.budget import PartPeaks, budget_choices, part_index, select_terms
-from gd_analyze.core.codegen import build_program, count_operations, emit_c, emit_python
-from gd_analyze.core.dalembert import gd_terms
-from gd_analyze.core.explicit import budget_drop, derive, model_terms, term_peaks
-from gd_analyze.core.trigpoly import TrigPoly
+from gd_analyze.core.selection.budget import PartPeaks, budget_choices, part_index, select_terms
+from gd_analyze.core.symbolic.codegen import build_program, count_operations, emit_c, emit_python
+from gd_analyze.core.dynamics.dalembert import gd_terms
+from gd_analyze.core.symbolic.explicit import budget_drop, derive, model_terms, term_peaks
+from gd_analyze.core.symbolic.trigpoly import TrigPoly
 from gd_analyze.formulations.pinocchio import pinocchio_model
 from gd_analyze.io.planning import plan_quintic
 from gd_analyze.io.trajectory import read_trajectory
@@ -47,7 +47,7 @@ def natural_error(tau, ref):
 
 def _robot_with_products_and_offsets():
     """The PUMA's twists with full inertia tensors, joint offsets, other masses and centres."""
-    from gd_analyze.core.robot import robot_from_dict
+    from gd_analyze.core.model.robot_spec import robot_from_dict
 
     spec = load_robot("puma560").to_dict()
     rng = np.random.default_rng(31)
@@ -290,7 +290,7 @@ def test_derivation_cache(tmp_path, monkeypatch, puma):
     np.testing.assert_array_equal(first.C, second.C)
     np.testing.assert_array_equal(first.K, second.K)
     # a payload changes the parameters, not the file: another entry
-    from gd_analyze.core.robot import with_payload
+    from gd_analyze.core.model.robot import with_payload
 
     _, t3 = explicit_terms(with_payload(puma, 1.0))
     assert t3 > 0

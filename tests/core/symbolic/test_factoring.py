@@ -1,4 +1,4 @@
-"""The rewrites of the straight-line program (core/factoring.py): each keeps the value (checked by
+"""The rewrites of the straight-line program (core/symbolic/factoring.py): each keeps the value (checked by
 evaluating both forms at random points) and never adds operations; the PUMA 560 programs built
 with them, in both orders (factoring before and after cse), against Pinocchio rnea and the
 independent count of the emitted C; the full PUMA model against the hand-made one of Armstrong,
@@ -13,10 +13,10 @@ from hypothesis import strategies as st
 from conftest import random_states
 from core.test_explicit import _c_operator_count, natural_error, python_tau, rnea
 from gd_analyze import load_robot
-from gd_analyze.core import codegen
-from gd_analyze.core.codegen import build_program, count_operations, emit_c
-from gd_analyze.core.explicit import derive, model_terms
-from gd_analyze.core.factoring import (expand_pairs, factor_sum, private_products, prune_dead,
+from gd_analyze.core.symbolic import codegen
+from gd_analyze.core.symbolic.codegen import build_program, count_operations, emit_c
+from gd_analyze.core.symbolic.explicit import derive, model_terms
+from gd_analyze.core.symbolic.factoring import (expand_pairs, factor_sum, private_products, prune_dead,
                                         sum_to_product)
 
 SYMS = se.symbols("a b c d e f")

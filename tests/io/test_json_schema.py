@@ -10,10 +10,11 @@ import pytest
 from hypothesis import HealthCheck, Phase, given, note, settings
 from hypothesis import strategies as st
 
-from gd_analyze.core.ranking import element_labels
-from gd_analyze.core.schema import MODEL_SCHEMA, load_json
-from gd_analyze.core.simplified import SimplifiedModel, parameters_sha256
+from gd_analyze.core.selection.ranking import element_labels
+from gd_analyze.io.json_schema import MODEL_SCHEMA, load_json
+from gd_analyze.core.selection.simplified import SimplifiedModel, parameters_sha256
 from gd_analyze.errors import InputError
+from gd_analyze.io.model_file import load_model
 
 
 @pytest.fixture(scope="module")
@@ -33,7 +34,7 @@ def _write(tmp_path, doc, name="m.json"):
 
 
 def test_round_trip(tmp_path, model_doc, puma):
-    back = SimplifiedModel.load(_write(tmp_path, model_doc))
+    back = load_model(_write(tmp_path, model_doc))
     assert back.robot.sha256 == puma.sha256 and back.choices["D11"] == "tran"
     np.testing.assert_array_equal(back.robot.inertia, puma.inertia)
 
@@ -42,7 +43,7 @@ def test_case7_edited_parameters_are_refused(tmp_path, model_doc):
     doc = copy.deepcopy(model_doc)
     doc["robot"]["parameters"]["link"][2]["mass"] *= 1.01
     with pytest.raises(InputError, match="robot.parameters_sha256: .*do not match"):
-        SimplifiedModel.load(_write(tmp_path, doc))
+        load_model(_write(tmp_path, doc))
 
 
 @pytest.mark.parametrize("edit, match", [
@@ -63,7 +64,7 @@ def test_case7_schema_violations_are_one_line(tmp_path, model_doc, edit, match):
     doc = copy.deepcopy(model_doc)
     edit(doc)
     with pytest.raises(InputError, match=match) as err:
-        SimplifiedModel.load(_write(tmp_path, doc))
+        load_model(_write(tmp_path, doc))
     assert "\n" not in str(err.value) and "list indices" not in str(err.value)
 
 
@@ -76,12 +77,12 @@ def test_issue8_keys_are_accepted(tmp_path, model_doc):
                cost={"multiplications": 10, "additions": 8, "sin": 0, "cos": 1},
                full_cost={"multiplications": 20, "additions": 16}, bound=[0.1] * n,
                explicit_terms=terms)
-    model = SimplifiedModel.load(_write(tmp_path, doc))
+    model = load_model(_write(tmp_path, doc))
     assert model.torque([0.0] * n, [0.0] * n, [0.0] * n)[0, 0] == 2.5    # 2.5 cos(q1)
     bad = copy.deepcopy(doc)
     bad["explicit_terms"]["i"] = [n]
     with pytest.raises(InputError, match="explicit"):
-        SimplifiedModel.load(_write(tmp_path, bad))
+        load_model(_write(tmp_path, bad))
 
 
 @pytest.mark.parametrize("text, match", [
@@ -103,7 +104,7 @@ def test_case7_and_8_strict_json(tmp_path, text, match):
 def test_duplicate_choice_key_is_refused(tmp_path, model_doc):
     text = json.dumps(model_doc).replace('"D11": "tran"', '"D11": "tran", "D11": "rot"')
     with pytest.raises(InputError, match="duplicate key 'D11'"):
-        SimplifiedModel.load(_write(tmp_path, text))
+        load_model(_write(tmp_path, text))
 
 
 def test_huge_integer_in_the_robot_is_refused(tmp_path, model_doc):
@@ -111,12 +112,12 @@ def test_huge_integer_in_the_robot_is_refused(tmp_path, model_doc):
     doc["robot"]["parameters"]["link"][0]["mass"] = 10**400
     doc["robot"]["parameters_sha256"] = parameters_sha256(doc["robot"]["parameters"])
     with pytest.raises(InputError, match="number too large for a float"):
-        SimplifiedModel.load(_write(tmp_path, doc))
+        load_model(_write(tmp_path, doc))
 
 
 def test_folder_as_model(tmp_path):
     with pytest.raises(InputError, match="not a regular file"):
-        SimplifiedModel.load(tmp_path)
+        load_model(tmp_path)
 
 
 # --- fuzz -------------------------------------------------------------------------------------
@@ -167,7 +168,7 @@ def test_fuzz_model_loader(tmp_path_factory, model_doc, data, action, value, reh
     file = _write(tmp, doc)
     before = set(os.listdir(tmp))
     try:
-        model = SimplifiedModel.load(file)
+        model = load_model(file)
     except InputError as exc:
         assert "\n" not in str(exc) and str(exc).startswith(str(file))
     else:

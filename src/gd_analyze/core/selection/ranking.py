@@ -1,7 +1,7 @@
 """Dominance ranking of the G-D terms along a trajectory, Sec. 3.4.1.
 
 The elements ranked are the upper triangle of D (i <= j; 21 for n = 6), labelled ``"D11"`` ..
-``"D66"``, and the n elements of h, labelled ``"h1"`` .. ``"hn"`` (:mod:`gd_analyze.core.labels`,
+``"D66"``, and the n elements of h, labelled ``"h1"`` .. ``"hn"`` (:mod:`gd_analyze.core.selection.labels`,
 re-exported here). For each element, with k
 running over the set points::
 

@@ -1,6 +1,6 @@
 """Fewer operations in the straight-line program of an explicit model, same values.
 
-Three rewrites that :func:`gd_analyze.core.codegen.build_program` applies (none changes which
+Three rewrites that :func:`gd_analyze.core.symbolic.codegen.build_program` applies (none changes which
 terms are kept, each is an algebraic identity):
 
 - pairs of harmonics (:func:`expand_pairs`): cos(A + B) = cA cB - sA sB and

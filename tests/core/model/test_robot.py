@@ -5,7 +5,8 @@ import numpy as np
 import pytest
 
 from gd_analyze import InputError, load_robot
-from gd_analyze.core.robot import builtin_robots, robot_from_dict
+from gd_analyze.core.model.robot_spec import robot_from_dict
+from gd_analyze.io.robots import builtin_robots
 
 
 def test_builtin_names():
@@ -99,7 +100,7 @@ def test_payload_matches_pinocchio_with_the_load_on_the_last_body(puma):
     from conftest import random_states
     from gd_analyze import gd_terms
     from gd_analyze.formulations.pinocchio import pinocchio_model, relative_error
-    from gd_analyze.core.robot import with_payload
+    from gd_analyze.core.model.robot import with_payload
 
     mass, com, inertia = 2.5, np.array([0.01, -0.02, 0.08]), np.array([0.004, 0.005, 0.002])
     loaded = with_payload(puma, mass, com, inertia)
@@ -122,7 +123,7 @@ def test_payload_matches_pinocchio_with_the_load_on_the_last_body(puma):
 
 
 def test_payload_validation(puma):
-    from gd_analyze.core.robot import with_payload
+    from gd_analyze.core.model.robot import with_payload
 
     with pytest.raises(InputError, match="payload mass"):
         with_payload(puma, -1.0)

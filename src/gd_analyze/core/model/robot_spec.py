@@ -8,17 +8,19 @@ that names the file, the link and the key. Pure: no files are read here.
 
 from __future__ import annotations
 
+import dataclasses
 import hashlib
 import math
+import types
 import warnings
 
 import numpy as np
 
-from ..errors import InputError, InputWarning
+from ...errors import InputError, InputWarning
 from .limits import LIMITS
-from .robot import CONVENTIONS, JOINT_TYPES, Robot
+from .robot import CONVENTIONS, JOINT_TYPES, make_robot
 
-__all__ = ["robot_from_dict"]
+__all__ = ["robot_from_dict", "robot_from_chain"]
 
 
 #: Top-level keys of a robot file; others are ignored with an InputWarning.
@@ -302,6 +304,87 @@ def robot_from_dict(spec, source="<dict>", sha256=None):
             cols[key].append(v)
     if convention != "chain":
         del cols["rotation"], cols["translation"]
-    return Robot(name=name, gravity=gravity, description=description,
+    return make_robot(name=name, gravity=gravity, description=description,
                  reference=reference, source=str(source), sha256=sha256,
                  convention=convention, **cols)
+
+
+def robot_from_chain(name, joints, gravity, **metadata):
+    """Build a :class:`Robot` from general joint placements (the URDF route).
+
+    Parameters
+    ----------
+    name : str
+        The robot's name.
+    joints : list of dict
+        One per moving joint from the base, each with ``"type"`` (``"revolute"`` or
+        ``"prismatic"``), ``"rotation"`` (3x3) and ``"translation"`` (3 [m]): the fixed
+        placement of the joint in the previous body frame (the base for the first joint); the
+        joint then turns about or slides along the placed frame's z axis. ``"mass"`` [kg],
+        ``"com"`` (3 [m]) and ``"inertia"`` (3x3 [kg m^2], about the centre of mass), both in
+        this joint's body frame; ``"q_min"``, ``"q_max"`` [rad or m] (may be -inf, inf),
+        ``"qd_max"`` [rad/s or m/s] and ``"qdd_max"`` [rad/s^2 or m/s^2] (None or NaN when
+        unknown).
+    gravity : array_like, shape (3,)
+        Gravity in the base frame [m/s^2].
+    **metadata
+        ``description``, ``reference``, ``source`` (file, also used in error messages) and
+        ``sha256`` become the robot's fields; any other key (e.g. ``base_link``,
+        ``tip_link``) goes to ``Robot.metadata``.
+
+    Returns
+    -------
+    Robot
+        ``convention == "chain"``; the DH fields d, a, alpha, offset are NaN.
+
+    Raises
+    ------
+    InputError
+        On a missing key, an unknown joint type, a placement that is not a rotation, a negative
+        mass, an inertia that is not symmetric positive semi-definite, or bad limits; the
+        message names the key as ``joint[i].key``.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> robot = robot_from_chain("slider", [{
+    ...     "type": "prismatic", "rotation": np.eye(3), "translation": [0, 0, 0.1],
+    ...     "mass": 2.0, "com": [0, 0, 0], "inertia": np.eye(3) * 0.01,
+    ...     "q_min": 0.0, "q_max": 0.5, "qd_max": 1.0, "qdd_max": None}], [0, 0, -9.81])
+    >>> robot.joint_types, float(robot.qdd_max[0]) != float(robot.qdd_max[0])
+    (('prismatic',), True)
+    """
+    fields = {k: metadata.pop(k) for k in ("description", "reference", "source", "sha256")
+              if k in metadata}
+    path = fields.get("source")
+    gravity = np.asarray(gravity, dtype=float).tolist()
+    if not isinstance(joints, (list, tuple)) or not joints:
+        raise InputError("a chain needs at least one moving joint", path, column="joint")
+    links = []
+    for i, j in enumerate(joints, start=1):
+        where = f"joint[{i}]"
+        for key in ("type", "rotation", "translation", "mass", "com", "inertia", "q_min",
+                    "q_max", "qd_max"):
+            if key not in j:
+                raise InputError("missing key", path, column=f"{where}.{key}")
+        qdd = j.get("qdd_max")
+        link = {"joint": j["type"], "rotation": np.asarray(j["rotation"]).tolist(),
+                "translation": np.asarray(j["translation"]).tolist(), "mass": j["mass"],
+                "com": np.asarray(j["com"]).tolist(),
+                "inertia": np.asarray(j["inertia"], dtype=float).tolist(),
+                "q_limits": [float(j["q_min"]), float(j["q_max"])], "qd_max": j["qd_max"]}
+        if qdd is not None and not (isinstance(qdd, float) and math.isnan(qdd)):
+            link["qdd_max"] = qdd
+        links.append(link)
+    spec = {"name": name, "gravity": gravity, "convention": "chain", "link": links,
+            "description": fields.get("description", ""),
+            "reference": fields.get("reference", "")}
+    try:
+        robot = robot_from_dict(spec, source=path or "<chain>", sha256=fields.get("sha256"))
+    except InputError as err:
+        col = err.column.replace("link[", "joint[") if err.column else err.column
+        col = (col.replace(".q_limits", ".q_min/q_max").replace(".joint", ".type")
+               if col else col)
+        raise InputError(err.message, path, column=col) from None
+    return dataclasses.replace(robot, metadata=types.MappingProxyType(metadata),
+                               source=str(path) if path else "<chain>")

@@ -24,7 +24,7 @@ velocity-product accelerations dJv_s/dt qd and dJw_s/dt qd come from the outward
 the link velocities (Eqs. 3.4-1 to 3.4-7 with qdd = 0; a prismatic joint adds the Coriolis
 term 2 w x qd z to the origins beyond it), and the sums over links s >= j from suffix sums.
 This module's numpy engine forms the Jacobians as written (O(n^3) per set point for D_tran);
-the compiled engine (:mod:`gd_analyze.core.kernels`) needs O(n^2). Everything is batched over
+the compiled engine (:mod:`gd_analyze.core.dynamics.kernels`) needs O(n^2). Everything is batched over
 set points and processed in chunks of bounded size.
 """
 
@@ -34,7 +34,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from .kinematics import as_states, body_frames
+from ..model.kinematics import as_states, body_frames
 
 __all__ = ["forward_dynamics", "GDTerms", "gd_terms", "allocate_terms", "kernel_arguments",
            "DEFAULT_CHUNK", "ENGINES", "COMPILED_MIN_SETPOINTS"]
@@ -312,7 +312,7 @@ def forward_dynamics(robot, q, qd, tau, engine="auto"):
     tau : array_like, shape (N, n) or (n,)
         Joint torques [N m] or forces [N] (prismatic).
     engine : {"auto", "numpy", "compiled"}, optional
-        Engine of :func:`~gd_analyze.core.dalembert.gd_terms`.
+        Engine of :func:`~gd_analyze.core.dynamics.dalembert.gd_terms`.
 
     Returns
     -------

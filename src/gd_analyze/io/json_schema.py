@@ -365,7 +365,7 @@ COST_SCHEMA = Obj({"multiplications": Int(0, 10**15), "additions": Int(0, 10**15
 #: multiple angle or a power by recursion over this entry, so a larger one is refused.
 MAX_HARMONIC = 16
 #: The kept terms of an explicit model (issue 8), one list entry per term; lengths and ranges
-#: are checked by :func:`gd_analyze.core.simplified.SimplifiedModel.load`.
+#: are checked by :func:`gd_analyze.core.selection.simplified.SimplifiedModel.load`.
 _TERMS_SCHEMA = Obj({
     "kind": ListOf(Str(choices=("D", "h", "c"))),
     "part": ListOf(Str(choices=("tran", "rot", "both", "grav"))),

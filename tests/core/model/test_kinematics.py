@@ -1,7 +1,7 @@
 import numpy as np
 import pytest
 
-from gd_analyze.core.kinematics import as_states, frames, link_matrices
+from gd_analyze.core.model.kinematics import as_states, frames, link_matrices
 
 
 def test_two_link_positions_are_planar_closed_form(two_link):

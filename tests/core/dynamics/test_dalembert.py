@@ -8,7 +8,7 @@ from conftest import SHIPPED, random_states
 from gd_analyze import gd_terms, load_robot
 from gd_analyze.formulations.pinocchio import reference_terms, relative_error
 from gd_analyze.io.trajectory import read_trajectory
-from gd_analyze.core.dalembert import forward_dynamics
+from gd_analyze.core.dynamics.dalembert import forward_dynamics
 
 TOL = 1e-10
 PARTS = ("D_tran", "D_rot", "h_tran", "h_rot", "c")
@@ -47,7 +47,7 @@ def test_split_matches_pinocchio_on_shipped_trajectory(puma, engine):
 
 def test_engines_agree_on_a_robot_with_products_of_inertia_and_offsets(puma):
     """A chain unlike the built-ins: full inertia tensors, joint offsets, odd twists."""
-    from gd_analyze.core.robot import robot_from_dict
+    from gd_analyze.core.model.robot_spec import robot_from_dict
 
     spec = puma.to_dict()
     rng = np.random.default_rng(31)
@@ -67,7 +67,7 @@ def test_engines_agree_on_a_robot_with_products_of_inertia_and_offsets(puma):
 
 
 def test_auto_engine_switches_on_length(puma):
-    from gd_analyze.core.dalembert import COMPILED_MIN_SETPOINTS
+    from gd_analyze.core.dynamics.dalembert import COMPILED_MIN_SETPOINTS
 
     q, qd, _ = random_states(puma, COMPILED_MIN_SETPOINTS, 33)
     auto = gd_terms(puma, q, qd)
@@ -153,7 +153,7 @@ def test_energy_balance_along_a_simulated_motion(two_link):
     forward dynamics qdd = D^-1 (-h - c)."""
     from scipy.integrate import solve_ivp
 
-    from gd_analyze.core.kinematics import centres_of_mass, frames
+    from gd_analyze.core.model.kinematics import centres_of_mass, frames
 
     robot = two_link
 

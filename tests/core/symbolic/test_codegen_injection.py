@@ -23,8 +23,8 @@ from hypothesis import HealthCheck, example, given, settings
 from hypothesis import strategies as st
 
 from gd_analyze import SimplifiedModel, load_robot
-from gd_analyze.core.ranking import element_labels
-from gd_analyze.core.safe_text import comment_safe
+from gd_analyze.core.selection.ranking import element_labels
+from gd_analyze.core.symbolic.safe_text import comment_safe
 from gd_analyze.io.urdf import load_urdf
 
 #: The attacks quoted in issue 16: a constructor that runs a command when the controller loads

@@ -37,28 +37,18 @@ d_i = q_i + d_i, theta_i = offset_i fixed).
 from __future__ import annotations
 
 import dataclasses
-import hashlib
 import math
 import types
 from dataclasses import dataclass
-from importlib import resources
-from pathlib import Path
 
 import numpy as np
 
-from ..errors import InputError
+from ...errors import InputError
 from .limits import LIMITS
 
-try:  # Python >= 3.11
-    import tomllib
-except ModuleNotFoundError:  # pragma: no cover - Python 3.10
-    import tomli as tomllib
-
-__all__ = ["Robot", "load_robot", "builtin_robots", "robot_from_dict", "robot_from_chain",
+__all__ = ["Robot", "make_robot",
            "with_payload", "dh_placements", "rot_x", "rot_z", "CONVENTIONS", "JOINT_TYPES"]
 
-_BUILTIN = {"puma560": "puma560.toml", "two-link": "two-link.toml",
-            "stanford": "stanford.toml"}
 #: How a robot's placements were given: standard DH, modified DH (Craig) or a general chain.
 CONVENTIONS = ("standard", "modified", "chain")
 #: Joint types: rotation about, or translation along, the joint's z axis.
@@ -238,28 +228,28 @@ class Robot:
     metadata: types.MappingProxyType = None
 
     def __post_init__(self):
+        # Validation only: a frozen value is never changed after construction. Build a robot
+        # with make_robot (or robot_from_dict / robot_from_chain), which normalises its fields.
         if self.convention not in CONVENTIONS:
             raise ValueError(f"convention must be one of {CONVENTIONS}, got {self.convention!r}")
-        n = len(self.mass)
-        set_ = object.__setattr__
-        set_(self, "prismatic", _readonly(np.zeros(n, bool) if self.prismatic is None
-                                          else self.prismatic, bool))
-        set_(self, "metadata", types.MappingProxyType(dict(self.metadata or {})))
-        if self.convention != "chain":      # always from the DH rows: never stale
-            P, t, LR, Lt = dh_placements(self.convention, self.d, self.a, self.alpha,
-                                         self.offset)
-            set_(self, "rotation", P)
-            set_(self, "translation", t)
-            set_(self, "link_rotation", LR)
-            set_(self, "link_translation", Lt)
-        if self.link_rotation is None:
-            set_(self, "link_rotation", np.broadcast_to(np.eye(3), (n, 3, 3)))
-        if self.link_translation is None:
-            set_(self, "link_translation", np.zeros((n, 3)))
         for f in dataclasses.fields(self):
             value = getattr(self, f.name)
-            if f.name != "prismatic" and isinstance(value, (np.ndarray, list, tuple)):
-                set_(self, f.name, _readonly(value))
+            if isinstance(value, (list, tuple)):
+                raise TypeError(f"Robot.{f.name} must be an ndarray (build with make_robot)")
+            if isinstance(value, np.ndarray):
+                value.setflags(write=False)         # the array, not the frozen value
+        if self.prismatic is None or self.prismatic.dtype != bool:
+            raise TypeError("Robot.prismatic must be a bool ndarray (build with make_robot)")
+        if not isinstance(self.metadata, types.MappingProxyType):
+            raise TypeError("Robot.metadata must be a read-only mapping (build with make_robot)")
+        if any(getattr(self, k) is None for k in _PLACEMENTS):
+            raise TypeError("Robot placements missing (build with make_robot)")
+        if self.convention != "chain":      # always from the DH rows: never stale
+            derived = dh_placements(self.convention, self.d, self.a, self.alpha, self.offset)
+            if not all(np.array_equal(getattr(self, k), v)
+                       for k, v in zip(_PLACEMENTS, derived)):
+                raise ValueError("Robot placements differ from its DH rows (a DH robot's "
+                                 "placements are derived: build it with make_robot)")
 
     @property
     def n(self):
@@ -363,6 +353,66 @@ class Robot:
         )
 
 
+#: The placement fields, derived from the DH rows for a DH robot.
+_PLACEMENTS = ("rotation", "translation", "link_rotation", "link_translation")
+
+
+def make_robot(**fields):
+    """Build a :class:`Robot` from its fields, normalised.
+
+    Parameters
+    ----------
+    **fields
+        The fields of :class:`Robot` (array-likes welcome). ``prismatic`` defaults to all
+        revolute, ``metadata`` to an empty mapping; for a DH robot the placements are derived
+        from d, a, alpha and offset (:func:`dh_placements`), for a chain ``rotation`` and
+        ``translation`` are given and the link frames default to the body frames.
+
+    Returns
+    -------
+    Robot
+        Every array read-only.
+
+    Raises
+    ------
+    ValueError
+        If the convention is unknown.
+
+    Notes
+    -----
+    Source: the joint model of this module's docstring (Fu, Gonzalez & Lee 1987, Eq. (3.2-5);
+    Craig 1989, Sec. 3.4).
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> r = make_robot(name="one", d=[0.0], a=[1.0], alpha=[0.0], offset=[0.0], mass=[1.0],
+    ...                com=[[-0.5, 0, 0]], inertia=[np.eye(3) * 0.01], q_min=[-1.0],
+    ...                q_max=[1.0], qd_max=[1.0], qdd_max=[1.0], gravity=[0, -9.81, 0])
+    >>> r.n, r.translation[0].tolist(), r.mass.flags.writeable
+    (1, [0.0, 0.0, 0.0], False)
+    """
+    convention = fields.get("convention", "standard")
+    if convention not in CONVENTIONS:
+        raise ValueError(f"convention must be one of {CONVENTIONS}, got {convention!r}")
+    n = len(fields["mass"])
+    prismatic = fields.get("prismatic")
+    fields["prismatic"] = _readonly(np.zeros(n, bool) if prismatic is None else prismatic, bool)
+    fields["metadata"] = types.MappingProxyType(dict(fields.get("metadata") or {}))
+    if convention != "chain":
+        fields.update(zip(_PLACEMENTS, dh_placements(convention, fields["d"], fields["a"],
+                                                     fields["alpha"], fields["offset"])))
+    if fields.get("link_rotation") is None:
+        fields["link_rotation"] = np.broadcast_to(np.eye(3), (n, 3, 3))
+    if fields.get("link_translation") is None:
+        fields["link_translation"] = np.zeros((n, 3))
+    for key, value in fields.items():
+        if key not in ("prismatic", "metadata") and isinstance(value, (np.ndarray, list,
+                                                                         tuple)):
+            fields[key] = _readonly(value)
+    return Robot(**fields)
+
+
 def with_payload(robot, mass, com=(0.0, 0.0, 0.0), inertia=(0.0, 0.0, 0.0)):
     """The robot carrying a rigid load fixed to its last link.
 
@@ -431,149 +481,3 @@ def with_payload(robot, mass, com=(0.0, 0.0, 0.0), inertia=(0.0, 0.0, 0.0)):
         robot, name=f"{robot.name}+payload", mass=masses, com=coms, inertia=inertias,
         description=(f"{robot.description}; payload {mass:g} kg at {com_p.tolist()} m, "
                      f"inertia diag {np.diag(I_p).tolist()} kg m^2").lstrip("; "))
-
-
-def builtin_robots():
-    """Names of the built-in robots.
-
-    Returns
-    -------
-    list of str
-        Sorted names, e.g. ``["puma560", "stanford", "two-link"]``.
-    """
-    return sorted(_BUILTIN)
-
-
-def robot_from_chain(name, joints, gravity, **metadata):
-    """Build a :class:`Robot` from general joint placements (the URDF route).
-
-    Parameters
-    ----------
-    name : str
-        The robot's name.
-    joints : list of dict
-        One per moving joint from the base, each with ``"type"`` (``"revolute"`` or
-        ``"prismatic"``), ``"rotation"`` (3x3) and ``"translation"`` (3 [m]): the fixed
-        placement of the joint in the previous body frame (the base for the first joint); the
-        joint then turns about or slides along the placed frame's z axis. ``"mass"`` [kg],
-        ``"com"`` (3 [m]) and ``"inertia"`` (3x3 [kg m^2], about the centre of mass), both in
-        this joint's body frame; ``"q_min"``, ``"q_max"`` [rad or m] (may be -inf, inf),
-        ``"qd_max"`` [rad/s or m/s] and ``"qdd_max"`` [rad/s^2 or m/s^2] (None or NaN when
-        unknown).
-    gravity : array_like, shape (3,)
-        Gravity in the base frame [m/s^2].
-    **metadata
-        ``description``, ``reference``, ``source`` (file, also used in error messages) and
-        ``sha256`` become the robot's fields; any other key (e.g. ``base_link``,
-        ``tip_link``) goes to ``Robot.metadata``.
-
-    Returns
-    -------
-    Robot
-        ``convention == "chain"``; the DH fields d, a, alpha, offset are NaN.
-
-    Raises
-    ------
-    InputError
-        On a missing key, an unknown joint type, a placement that is not a rotation, a negative
-        mass, an inertia that is not symmetric positive semi-definite, or bad limits; the
-        message names the key as ``joint[i].key``.
-
-    Examples
-    --------
-    >>> import numpy as np
-    >>> robot = robot_from_chain("slider", [{
-    ...     "type": "prismatic", "rotation": np.eye(3), "translation": [0, 0, 0.1],
-    ...     "mass": 2.0, "com": [0, 0, 0], "inertia": np.eye(3) * 0.01,
-    ...     "q_min": 0.0, "q_max": 0.5, "qd_max": 1.0, "qdd_max": None}], [0, 0, -9.81])
-    >>> robot.joint_types, float(robot.qdd_max[0]) != float(robot.qdd_max[0])
-    (('prismatic',), True)
-    """
-    fields = {k: metadata.pop(k) for k in ("description", "reference", "source", "sha256")
-              if k in metadata}
-    path = fields.get("source")
-    gravity = np.asarray(gravity, dtype=float).tolist()
-    if not isinstance(joints, (list, tuple)) or not joints:
-        raise InputError("a chain needs at least one moving joint", path, column="joint")
-    links = []
-    for i, j in enumerate(joints, start=1):
-        where = f"joint[{i}]"
-        for key in ("type", "rotation", "translation", "mass", "com", "inertia", "q_min",
-                    "q_max", "qd_max"):
-            if key not in j:
-                raise InputError("missing key", path, column=f"{where}.{key}")
-        qdd = j.get("qdd_max")
-        link = {"joint": j["type"], "rotation": np.asarray(j["rotation"]).tolist(),
-                "translation": np.asarray(j["translation"]).tolist(), "mass": j["mass"],
-                "com": np.asarray(j["com"]).tolist(),
-                "inertia": np.asarray(j["inertia"], dtype=float).tolist(),
-                "q_limits": [float(j["q_min"]), float(j["q_max"])], "qd_max": j["qd_max"]}
-        if qdd is not None and not (isinstance(qdd, float) and math.isnan(qdd)):
-            link["qdd_max"] = qdd
-        links.append(link)
-    spec = {"name": name, "gravity": gravity, "convention": "chain", "link": links,
-            "description": fields.get("description", ""),
-            "reference": fields.get("reference", "")}
-    try:
-        robot = robot_from_dict(spec, source=path or "<chain>", sha256=fields.get("sha256"))
-    except InputError as err:
-        col = err.column.replace("link[", "joint[") if err.column else err.column
-        col = (col.replace(".q_limits", ".q_min/q_max").replace(".joint", ".type")
-               if col else col)
-        raise InputError(err.message, path, column=col) from None
-    return dataclasses.replace(robot, metadata=metadata,
-                               source=str(path) if path else "<chain>")
-
-
-def load_robot(name_or_path):
-    """Load a built-in robot by name, or a robot file by path.
-
-    Parameters
-    ----------
-    name_or_path : str or os.PathLike
-        A built-in name (:func:`builtin_robots`), or the path of a TOML robot file (layout in
-        :func:`robot_from_dict`).
-
-    Returns
-    -------
-    Robot
-
-    Raises
-    ------
-    InputError
-        If the name is not a built-in robot and no such file exists, if the file is not valid
-        TOML, or if it fails validation.
-
-    Examples
-    --------
-    >>> from gd_analyze import load_robot
-    >>> load_robot("puma560").n
-    6
-    """
-    key = str(name_or_path)
-    if key in _BUILTIN:
-        res = resources.files("gd_analyze").joinpath("data", _BUILTIN[key])
-        raw = res.read_bytes()
-        source = key
-    else:
-        path = Path(key)
-        if path.is_dir():
-            raise InputError("is a folder, not a robot file", key)
-        if not path.is_file():
-            raise InputError(
-                f"unknown robot (built-in: {', '.join(builtin_robots())}) and no such file", key)
-        try:
-            raw = path.read_bytes()
-        except OSError as exc:
-            raise InputError(f"cannot read: {exc.strerror}", key) from None
-        source = str(path)
-    try:
-        spec = tomllib.loads(raw.decode("utf-8"))
-    except (tomllib.TOMLDecodeError, UnicodeDecodeError) as exc:
-        raise InputError(f"not a valid TOML robot file: {exc}", source) from None
-    except RecursionError:
-        raise InputError("not a robot file: nested too deeply", source) from None
-    return robot_from_dict(spec, source=source, sha256=hashlib.sha256(raw).hexdigest())
-
-
-from .robot_file import robot_from_dict  # noqa: E402  (the file layout needs Robot)

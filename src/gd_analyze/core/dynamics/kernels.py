@@ -1,6 +1,6 @@
 """Compiled engine for the G-D terms: one pass per set point, O(n^2) work, caller-owned output.
 
-The same quantities as :func:`gd_analyze.core.dalembert._gd_chunk` (Eqs. 3.4-24 to 3.4-28 in
+The same quantities as :func:`gd_analyze.core.dynamics.dalembert._gd_chunk` (Eqs. 3.4-24 to 3.4-28 in
 Jacobian form, revolute and prismatic joints), written as scalar loops that numba compiles:
 
 - forward kinematics of the body frames (placement P_i, t_i, then the joint's motion);
@@ -22,7 +22,7 @@ Jw_s[:, j] = a_j, and every element (i <= j) is O(1) from the column-j sums::
 
 so D_tran costs O(n^2) per set point like D_rot (Eq. (3.4-25)); the whole kernel is O(n^2).
 
-The outputs are arrays the caller owns (:func:`gd_analyze.core.dalembert.gd_terms` takes them as
+The outputs are arrays the caller owns (:func:`gd_analyze.core.dynamics.dalembert.gd_terms` takes them as
 ``out``), so streamed chunks reuse the same memory.
 """
 

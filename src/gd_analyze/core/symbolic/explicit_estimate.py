@@ -1,10 +1,10 @@
 """How large the explicit G-D model of an arm would be, estimated before expanding it (issue 17).
 
-The explicit model (:func:`gd_analyze.core.explicit.derive`) writes D, h and c as sums of
+The explicit model (:func:`gd_analyze.core.symbolic.explicit.derive`) writes D, h and c as sums of
 coefficients times cos or sin of integer combinations of the joint angles. Its size grows
 roughly geometrically with the joints whose angles the elements depend on: D_ij and the
 Christoffel terms of h, taken in body frame i, depend on the angles of the joints after i
-(Eq. (3.4-25) and the module docstring of :mod:`gd_analyze.core.explicit`). How many harmonics
+(Eq. (3.4-25) and the module docstring of :mod:`gd_analyze.core.symbolic.explicit`). How many harmonics
 each such angle brings depends on the geometry: an axis parallel to the one before (DH twist 0)
 lets the angles combine (cos(q2 + q3)) instead of multiplying, a perpendicular one does not,
 and every nonzero offset of the joint placement, of the centre of mass or product of inertia
@@ -77,11 +77,11 @@ def estimate_terms(robot):
     Christoffel terms C_ijk (j <= k) of h depend on the angles after min(i, j, k), so the
     estimate is 1.38 x (sum over D_ij of M_i + sum over C_ijk of M_min(i,j,k)) with
     M_i = prod_{k > i} f_k. Source: the structure of Eqs. (3.4-25) to (3.4-27) of Fu,
-    Gonzalez & Lee (1987) as derived in :mod:`gd_analyze.core.explicit`; the factors are fitted.
+    Gonzalez & Lee (1987) as derived in :mod:`gd_analyze.core.symbolic.explicit`; the factors are fitted.
 
     Examples
     --------
-    >>> from gd_analyze.core.robot import load_robot
+    >>> from gd_analyze import load_robot
     >>> estimate_terms(load_robot("two-link"))
     12
     >>> 500 < estimate_terms(load_robot("puma560")) < 5000
@@ -113,7 +113,7 @@ def is_expensive(robot):
 
     Examples
     --------
-    >>> from gd_analyze.core.robot import load_robot
+    >>> from gd_analyze import load_robot
     >>> is_expensive(load_robot("puma560"))
     False
     """

@@ -1,0 +1,90 @@
+"""Reading and writing ``simplified_model.json``: the simplified model as a file.
+
+:func:`save_model` writes :meth:`SimplifiedModel.to_dict
+<gd_analyze.core.selection.simplified.SimplifiedModel.to_dict>` atomically; :func:`load_model`
+reads it back with strict JSON (:func:`gd_analyze.io.json_schema.load_json`), checks it against
+:data:`gd_analyze.io.json_schema.MODEL_SCHEMA`, rebuilds its robot from the stored parameters
+(:func:`gd_analyze.core.model.robot_spec.robot_from_dict`) and hands the rest to
+:meth:`SimplifiedModel.from_dict <gd_analyze.core.selection.simplified.SimplifiedModel.from_dict>`.
+"""
+
+from __future__ import annotations
+
+import json
+
+from ..core.model.robot_spec import robot_from_dict
+from ..core.selection.simplified import (READABLE_SCHEMAS, SCHEMA_VERSION, SimplifiedModel,
+                                         json_safe, parameters_sha256)
+from ..errors import InputError
+from ..files import atomic_path
+from .json_schema import MODEL_SCHEMA, load_json
+
+__all__ = ["save_model", "load_model"]
+
+
+def save_model(model, path):
+    """Write a simplified model as JSON, atomically.
+
+    Parameters
+    ----------
+    model : SimplifiedModel
+        The model (:class:`~gd_analyze.core.selection.simplified.SimplifiedModel`).
+    path : str or os.PathLike
+        Destination file (``simplified_model.json``).
+
+    Raises
+    ------
+    OSError
+        If the file cannot be written.
+
+    Notes
+    -----
+    NaN and inf, which JSON cannot hold, are written as null.
+    """
+    with atomic_path(path) as tmp:
+        with open(tmp, "w", encoding="utf-8") as fh:
+            json.dump(json_safe(model.to_dict()), fh, indent=2)
+            fh.write("\n")
+
+
+def load_model(path):
+    """Read a simplified_model.json written by :func:`save_model` or ``gd-analyze``.
+
+    Parameters
+    ----------
+    path : str or os.PathLike
+        The file.
+
+    Returns
+    -------
+    SimplifiedModel
+        Ready for ``.torque(q, qd, qdd)`` (q [rad] or [m], tau [N m] or [N]).
+
+    Raises
+    ------
+    InputError
+        If the file is missing or not strict JSON (duplicate keys, NaN, numbers beyond a
+        float, deep nesting), of another schema version, does not follow
+        :data:`~gd_analyze.io.json_schema.MODEL_SCHEMA` (types, unknown keys, finite
+        thresholds in range), its robot's parameters do not match
+        ``robot.parameters_sha256`` or fail validation, or its choices do not name exactly
+        the elements of an n-joint robot. One line naming the key.
+
+    Notes
+    -----
+    The file's ``cost`` and ``full_cost`` are not read: a claim is not a count (Sec. 3.4.1's
+    simplified model is counted from its own terms).
+    """
+    path = str(path)
+    spec = load_json(path, "simplified-model JSON")
+    if isinstance(spec, dict) and spec.get("schema_version") not in READABLE_SCHEMAS:
+        raise InputError(f"expected schema_version {SCHEMA_VERSION}, got "
+                         f"{spec.get('schema_version')!r}"[:120], path, column="schema_version")
+    MODEL_SCHEMA.check(spec, path, "")
+    rob = spec["robot"]
+    if parameters_sha256(rob["parameters"]) != rob["parameters_sha256"]:
+        raise InputError("the robot's parameters do not match their SHA-256 (edited after "
+                         "the model was written?)", path, column="robot.parameters_sha256")
+    robot = robot_from_dict(rob["parameters"], source=f"{path}#robot",
+                            sha256=rob["sha256"] or None)
+    return SimplifiedModel.from_dict(spec, robot, path)
