@@ -13,8 +13,8 @@ import numpy as np
 import pytest
 
 from conftest import ROOT, random_states
-from core.test_chain import random_chain_spec
-from core.test_explicit import _c_operator_count, natural_error, python_tau, rnea
+from core.model.test_chain import random_chain_spec
+from core.symbolic.test_explicit import _c_operator_count, natural_error, python_tau, rnea
 from gd_analyze import load_robot
 from gd_analyze.core.selection.budget import PartPeaks, select_terms
 from gd_analyze.core.symbolic.codegen import build_program, emit_c

@@ -11,7 +11,7 @@ from hypothesis import given, settings
 from hypothesis import strategies as st
 
 from conftest import random_states
-from core.test_explicit import _c_operator_count, natural_error, python_tau, rnea
+from core.symbolic.test_explicit import _c_operator_count, natural_error, python_tau, rnea
 from gd_analyze import load_robot
 from gd_analyze.core.symbolic import codegen
 from gd_analyze.core.symbolic.codegen import build_program, count_operations, emit_c
