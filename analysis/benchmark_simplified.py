@@ -6,7 +6,7 @@ with ``cc -O2 -shared -fPIC`` together with a batch loop over set points:
 
 - the exact customized recursive Newton-Euler model on base parameters
   (:func:`gd_analyze.core.symbolic.recursive.recursive_program`);
-- the model the main job deploys at EPS (``analyze(robot, trajectory, check=False).model``:
+- the model the main job deploys at EPS (``analyze(robot, trajectory, AnalysisOptions(verify=False, formulations=False)).model``:
   the cheapest simplified model within the error budget on the trajectory).
 
 They are timed on the same N random set points (q within the joint limits, else +-pi; qd within
@@ -46,6 +46,7 @@ from gd_analyze.formulations.pinocchio import pinocchio_model
 from gd_analyze.io.planning import acceleration_limits
 from gd_analyze.io.trajectory import read_trajectory
 from gd_analyze.workflows.analyze import analyze
+from gd_analyze.workflows.options import AnalysisOptions, SimplifyOptions
 
 ROOT = Path(__file__).resolve().parents[1]
 #: Largest relative disagreement of the exact compiled model with rnea.
@@ -96,7 +97,7 @@ def bench_robot(name, args):
     n, N = robot.n, args.setpoints
     traj = read_trajectory(ROOT / "data" / f"{name}_trajectory.csv", n)
     exact = recursive_program(robot)
-    model = analyze(robot, traj, check=False, tolerance=args.eps).model
+    model = analyze(robot, traj, AnalysisOptions(verify=False, formulations=False, simplify=SimplifyOptions(tolerance=args.eps))).model
     deployed = model.program()
     tmp = Path(tempfile.mkdtemp(prefix="gd-bench-"))
     header = {"gd-analyze benchmark": "exact customized recursive Newton-Euler model",

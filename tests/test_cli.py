@@ -10,6 +10,7 @@ import xarray as xr
 from conftest import ROOT, SHIPPED
 from gd_analyze.cli import main, parse_range
 from gd_analyze.errors import InputError
+from gd_analyze.workflows.options import AnalysisOptions
 
 GOOD_HEADER = "t," + ",".join(f"q{i}" for i in range(1, 7))
 
@@ -261,7 +262,7 @@ def test_sweep_command_on_csv_files(tmp_path, capsys):
         from gd_analyze.workflows.analyze import analyze
         from gd_analyze.io.trajectory import read_trajectory
 
-        single = analyze(load_robot("puma560"), read_trajectory(SHIPPED, 6), check=False).dataset
+        single = analyze(load_robot("puma560"), read_trajectory(SHIPPED, 6), AnalysisOptions(verify=False, formulations=False)).dataset
         np.testing.assert_allclose(ds.share_tran.values[0], single.share_tran.values,
                                    rtol=1e-12)
     with xr.open_dataset(out_dir / "payload_sweep.h5", engine="h5netcdf") as p:

@@ -15,7 +15,7 @@ import gd_analyze
 
 SRC = pathlib.Path(gd_analyze.__file__).parent
 LAYERS = ["core", "formulations", "io", "workflows", "reports", "cli"]
-LEAVES = {"errors", "files", "_version"}
+LEAVES = {"errors", "files", "_version", "config"}
 # the shared report modules, and the main report's own parts (figures and sentences) and the
 # page engine and tick labels of all three (issue 12)
 SHARED_REPORTS = {"reports.common", "reports.figures", "reports.pages", "reports.drawing",

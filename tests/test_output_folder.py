@@ -147,14 +147,14 @@ def test_case7_an_alias_of_a_folder_being_written_is_refused(job, capsys):
      "cannot write the output folder: no space left on the device")])
 def test_case10_only_write_errors_are_write_errors(job, capsys, monkeypatch, error, expect):
     """A read error inside the output stage surfaces as what it is (issue 16 item 10)."""
-    import gd_analyze.workflows.analyze as analyze
+    import gd_analyze.workflows.run as run
 
-    def fail(robot, trajectory, path, **kw):
+    def fail(robot, trajectory, path, *args, **kw):
         if error.filename.startswith("STAGE"):
             error.filename = str(Path(path).parent / "results.h5")
         raise error
 
-    monkeypatch.setattr(analyze, "analyze_to_file", fail)
+    monkeypatch.setattr(run, "analyze_to_file", fail)
     before = _tree(job / "out")
     code, _, err = _run(["two-link", job / "p.csv", "-o", job / "out", "-q"], capsys)
     assert expect in err and err.count("\n") == 1, err

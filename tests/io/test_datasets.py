@@ -8,12 +8,13 @@ from gd_analyze.workflows.analyze import analyze
 from gd_analyze.files import atomic_path
 from gd_analyze.io.schema import write_dataset
 from gd_analyze.io.trajectory import read_trajectory
+from gd_analyze.workflows.options import AnalysisOptions
 
 
 @pytest.fixture(scope="module")
 def written(tmp_path_factory, puma):
     traj = read_trajectory(SHIPPED, 6)
-    analysis = analyze(puma, traj)
+    analysis = analyze(puma, traj, AnalysisOptions(formulations=False))
     path = tmp_path_factory.mktemp("store") / "results.h5"
     write_dataset(analysis.dataset, path)
     return path, analysis, traj
@@ -83,7 +84,7 @@ def test_main_job_stores_the_formulations(tmp_path, puma):
 
     traj = read_trajectory(SHIPPED, 6)
     path = tmp_path / "results.h5"
-    analyze_to_file(puma, traj, path, check=False)
+    analyze_to_file(puma, traj, path, AnalysisOptions(verify=False))
     with xr.open_dataset(path, engine="h5netcdf") as ds:
         assert ds.sizes["formulation_pair"] == 6 and ds.sizes["dof"] == 10
         assert float(ds.formulation_disagreement.max()) < 1e-10

@@ -18,6 +18,7 @@ from gd_analyze.io.trajectory import read_trajectory
 from gd_analyze.io.planning import plan_quintic
 
 from conftest import SHIPPED
+from gd_analyze.workflows.options import AnalysisOptions
 
 PAGE = re.compile(rb"/Type\s*/Page(?![a-zA-Z])")
 
@@ -73,7 +74,7 @@ def strings(values):
 
 def make_results(robot, trajectory, folder, check=True):
     folder.mkdir(parents=True, exist_ok=True)
-    analysis = analyze(robot, trajectory, check=check)
+    analysis = analyze(robot, trajectory, AnalysisOptions(verify=check, formulations=False))
     path = folder / "results.h5"
     write_dataset(analysis.dataset, path)
     return path
@@ -577,7 +578,7 @@ def test_formulations_section_from_the_stored_counts(tmp_path, puma):
 
     traj = read_trajectory(SHIPPED, 6)
     results = tmp_path / "results.h5"
-    analyze_to_file(puma, traj, results, check=False)
+    analyze_to_file(puma, traj, results, AnalysisOptions(verify=False))
     paths = report.write_report(results, tmp_path, formats=("html",))
     html = Path(paths[0]).read_text()
     assert "Formulations: Lagrange-Euler, Newton-Euler, G-D" in html

@@ -11,6 +11,7 @@ import sys
 import numpy as np
 import pytest
 
+from gd_analyze.workflows.options import AnalysisOptions
 from gd_analyze.io.planning import plan_quintic
 from gd_analyze.io.schema import write_dataset
 from gd_analyze.reports import main as report
@@ -23,7 +24,7 @@ def results(tmp_path_factory, two_link):
     folder = tmp_path_factory.mktemp("worker")
     trajectory = plan_quintic(two_link, [0.0, 0.0], [np.pi / 2, np.pi / 3], n_setpoints=21)
     path = folder / "results.h5"
-    write_dataset(analyze(two_link, trajectory).dataset, path)
+    write_dataset(analyze(two_link, trajectory, AnalysisOptions(formulations=False)).dataset, path)
     return path
 
 

@@ -6,14 +6,15 @@ from gd_analyze.workflows.analyze import analyze, analyze_to_file, verify
 from gd_analyze.core.selection.ranking import RankingAccumulator, rank_dominance
 from gd_analyze.io.trajectory import read_trajectory
 from gd_analyze.io.planning import plan_quintic
+from gd_analyze.workflows.options import AnalysisOptions
 
 
 def test_streamed_file_equals_the_in_memory_analysis(tmp_path, puma):
     traj = plan_quintic(puma, np.radians([-60, 20, -150, -80, -60, -120]),
                         np.radians([60, 110, -60, 80, 60, 120]), n_setpoints=1001)
-    whole = analyze(puma, traj, check=False).dataset
+    whole = analyze(puma, traj, AnalysisOptions(verify=False, formulations=False)).dataset
     path = tmp_path / "results.h5"
-    streamed = analyze_to_file(puma, traj, path, check=True, chunk=97)   # 11 uneven chunks
+    streamed = analyze_to_file(puma, traj, path, AnalysisOptions(verify=True), chunk=97)   # 11 uneven chunks
     assert streamed.verification["passed"] == 1
     with xr.open_dataset(path, engine="h5netcdf") as ds:
         for name in ("t", "q", "D_tran", "D_rot", "D", "h_tran", "h_rot", "h", "c", "tau",
@@ -62,14 +63,12 @@ def test_progress_bar_on_request_and_silent_otherwise(tmp_path, puma, capsys, mo
 
     traj = read_trajectory(SHIPPED, 6)
     monkeypatch.setattr(pipeline, "PROGRESS_DELAY", 0.0)
-    analyze_to_file(puma, traj, tmp_path / "a.h5", check=False, formulations=False,
-                    progress=True, chunk=8)
+    analyze_to_file(puma, traj, tmp_path / "a.h5", AnalysisOptions(verify=False, formulations=False), progress=True, chunk=8)
     err = capsys.readouterr().err
     # it counts set points, not passes: each pass restarts at 0 of the 31 set points
     assert "set points/s" in err and "/31" in err and "/62" not in err
     assert "G-D terms" in err and "simplified model" in err
-    analyze_to_file(puma, traj, tmp_path / "b.h5", check=False, formulations=False,
-                    progress=False, chunk=8)
+    analyze_to_file(puma, traj, tmp_path / "b.h5", AnalysisOptions(verify=False, formulations=False), progress=False, chunk=8)
     assert capsys.readouterr().err == ""
 
 
@@ -116,7 +115,7 @@ def test_streaming_in_chunks_still_computes_the_terms_once(tmp_path, monkeypatch
     assert result.verification["passed"] == 1
     assert counted() == 31
     counted_mem = _count_gd(monkeypatch)
-    analyze(puma, traj, formulations=True)
+    analyze(puma, traj, AnalysisOptions(formulations=True))
     assert counted_mem() == 31
 
 

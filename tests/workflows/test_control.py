@@ -27,6 +27,7 @@ from gd_analyze.io.trajectory import read_trajectory
 
 from conftest import SHIPPED
 from gd_analyze.io.model_file import load_model, save_model
+from gd_analyze.workflows.options import AnalysisOptions
 
 #: Bound on the tracking error of the full-model computed-torque controller started on the
 #: trajectory [rad]. With the exact model the closed loop is e'' + Kv e' + Kp e = 0 with
@@ -47,7 +48,7 @@ def shipped():
 
 @pytest.fixture(scope="module")
 def model(puma, shipped):
-    return analyze(puma, shipped, check=False).model
+    return analyze(puma, shipped, AnalysisOptions(verify=False, formulations=False)).model
 
 
 @pytest.fixture(scope="module")

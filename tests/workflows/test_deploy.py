@@ -18,6 +18,7 @@ from gd_analyze.core.symbolic.base_parameters import base_parameters, random_sta
 from gd_analyze.io.trajectory import read_trajectory
 from gd_analyze.workflows.analyze import analyze
 from gd_analyze.io.model_file import load_model
+from gd_analyze.workflows.options import AnalysisOptions, SimplifyOptions
 
 
 def _rnea(robot, q, qd, qdd):
@@ -133,7 +134,7 @@ def test_report_text_follows_the_model(tmp_path):
     traj = read_trajectory(SHIPPED, 6)
     robot = load_robot("puma560")
     for eps in (0.0, 0.05):
-        a = analyze(robot, traj, check=False, tolerance=eps, explicit="never")
+        a = analyze(robot, traj, AnalysisOptions(verify=False, formulations=False, simplify=SimplifyOptions(tolerance=eps, explicit="never")))
         ctx = report_context(a.dataset)
         rec = a.model.recursive
         live = rec.relative_peak >= 1e-12

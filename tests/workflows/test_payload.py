@@ -11,6 +11,7 @@ from gd_analyze.core.model.robot import with_payload
 from gd_analyze.io.trajectory import read_trajectory
 from gd_analyze.workflows.analyze import analyze
 from gd_analyze.workflows.payload import payload_sweep
+from gd_analyze.workflows.options import AnalysisOptions, SimplifyOptions
 
 
 @pytest.fixture(scope="module")
@@ -24,11 +25,9 @@ def test_payload_sweep_equals_plain_analyses(puma, shipped):
     np.testing.assert_array_equal(ds["payload"].values, [0.0, 1.5])
     assert ds["payload"].attrs["units"] == "kg"
     # zero payload: the plain analysis of the bare arm
-    plain = analyze(puma, shipped, check=False, rule="chapter").dataset
-    bare = analyze(with_payload(puma, 0.0, com, inertia), shipped, check=False,
-                    rule="chapter").dataset
-    loaded = analyze(with_payload(puma, 1.5, com, inertia), shipped, check=False,
-                    rule="chapter").dataset
+    plain = analyze(puma, shipped, AnalysisOptions(verify=False, formulations=False, simplify=SimplifyOptions(rule="chapter"))).dataset
+    bare = analyze(with_payload(puma, 0.0, com, inertia), shipped, AnalysisOptions(verify=False, formulations=False, simplify=SimplifyOptions(rule="chapter"))).dataset
+    loaded = analyze(with_payload(puma, 1.5, com, inertia), shipped, AnalysisOptions(verify=False, formulations=False, simplify=SimplifyOptions(rule="chapter"))).dataset
     for p, ref in ((0, bare), (1, loaded)):
         np.testing.assert_allclose(ds["share_tran"].values[p], ref["share_tran"].values,
                                    rtol=0, atol=1e-12)

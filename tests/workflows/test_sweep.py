@@ -21,6 +21,7 @@ from gd_analyze.workflows.sweep import analyze_one, merged_model, run_sweep
 from gd_analyze.io.trajectory import read_trajectory
 from gd_analyze.io.planning import plan_quintic
 from gd_analyze.io.model_file import load_model
+from gd_analyze.workflows.options import AnalysisOptions, SimplifyOptions
 
 K = 6
 
@@ -58,7 +59,7 @@ def sweep(puma, trajectories, cluster):
 
 @pytest.fixture(scope="module")
 def serial(puma, trajectories):
-    return [analyze(puma, tr, check=False, rule="chapter").dataset for tr in trajectories]
+    return [analyze(puma, tr, AnalysisOptions(verify=False, formulations=False, simplify=SimplifyOptions(rule="chapter"))).dataset for tr in trajectories]
 
 
 def test_sweep_equals_serial_analysis(sweep, serial, puma, trajectories):
@@ -177,7 +178,7 @@ def test_sweep_by_scheduler_address_and_file_inputs(sweep, puma, trajectories, c
     ds = run_sweep(puma, [trajectories[1], shipped], scheduler=cl.scheduler_address)
     np.testing.assert_allclose(ds["share_tran"].values[0], sweep["share_tran"].values[1],
                                rtol=0, atol=1e-12)
-    ref = analyze(puma, shipped, check=False, rule="chapter").dataset
+    ref = analyze(puma, shipped, AnalysisOptions(verify=False, formulations=False, simplify=SimplifyOptions(rule="chapter"))).dataset
     np.testing.assert_allclose(ds["share_tran"].values[1], ref["share_tran"].values, rtol=0,
                                atol=1e-12)
     assert ds.attrs["scheduler_address"] == cl.scheduler_address

@@ -15,6 +15,7 @@ from gd_analyze.core.model.robot_spec import robot_from_dict
 from gd_analyze.errors import InputError
 from gd_analyze.io.trajectory import read_trajectory
 from gd_analyze.workflows.analyze import VERIFY_TOLERANCE, analyze, verify
+from gd_analyze.workflows.options import AnalysisOptions
 
 
 def one_link(gravity=(0.0, -9.8062, 0.0)):
@@ -104,4 +105,4 @@ def test_non_finite_terms_are_refused(puma):
     q = np.ones((3, 6))
     tr = traj(np.arange(3.0), q, q * 1e10, q, "file", "x", "")
     with pytest.raises(InputError, match="not finite"):
-        analyze(heavy, tr, check=False)
+        analyze(heavy, tr, AnalysisOptions(verify=False, formulations=False))

@@ -40,24 +40,12 @@ def _chain_settings(args):
 
 
 def _apply_payload(robot, args):
+    """The robot with the --payload options' load, if any (Sec. 3.4.1's loaded arm)."""
     from ..core.model.robot import with_payload
 
-    if args.payload is None:
-        if any(args.payload_com) or any(args.payload_inertia):
-            raise InputError("--payload-com and --payload-inertia need --payload MASS")
-        return robot
-    return with_payload(robot, args.payload, args.payload_com, args.payload_inertia)
-
-
-def _write_sources(model, outdir):
-    """simplified_model.c and simplified_model.py next to the JSON (in the staging folder)."""
-    written = []
-    for name, text in (("simplified_model.c", model.c_source()),
-                       ("simplified_model.py", model.python_source())):
-        path = outdir / name
-        path.write_text(text, encoding="utf-8")
-        written.append(path)
-    return written
+    payload = _payload(args)
+    return robot if payload is None else with_payload(robot, payload.mass, payload.com,
+                                                      payload.inertia)
 
 
 def _outdir(args_outdir, *parts):
@@ -67,11 +55,6 @@ def _outdir(args_outdir, *parts):
     if args_outdir:
         return Path(args_outdir)
     return Path("reports") / "-".join(safe_name(p) for p in parts)
-
-
-def _results_size(N, n):
-    """Bytes of the per-set-point variables of results.h5 (uncompressed)."""
-    return 8 * N * (1 + 9 * n + 3 * n * n) + (1 << 20)
 
 
 def _load(args, csv_arg):
@@ -167,24 +150,6 @@ def _payload_masses(args):
     return masses
 
 
-def _payload_sweep_dataset(robot, trajectory, args):
-    """The ranking per load mass, as variables ``payload_*`` with dim ``payload``; or None."""
-    masses = _payload_masses(args)
-    if masses is None:
-        return None
-    from ..io.sweep_datasets import embed_payload
-    from ..workflows.payload import payload_sweep
-
-    ds = payload_sweep(robot, trajectory, masses, com=args.payload_com,
-                       inertia=args.payload_inertia, dominance=args.dominance,
-                       negligible=args.negligible)
-    return embed_payload(ds)
-
-
-ANALYZE_OUTPUTS = ("results.h5", "simplified_model.json", "simplified_model.c",
-                   "simplified_model.py", "report.html", "report.pdf", "figures")
-
-
 def _cmd_analyze(args):
     from ..reports.main_worker import WORKER_MAX_INPUT, FigureWorker
 
@@ -199,10 +164,34 @@ def _cmd_analyze(args):
         return _analyze(args, worker)
 
 
+def _options(args):
+    """The main job's settings from its arguments."""
+    from ..workflows.options import AnalysisOptions, SimplifyOptions
+
+    return AnalysisOptions(
+        dominance=args.dominance, negligible=args.negligible, verify=not args.no_verify,
+        compress=args.compress,
+        simplify=SimplifyOptions(tolerance=args.tolerance, rule=args.rule,
+                                 torque_floor=args.torque_floor, explicit=args.explicit,
+                                 form=args.form))
+
+
+def _payload(args):
+    """The --payload options as a Payload, or None; InputError for a shape without a mass."""
+    from ..workflows.run import Payload
+
+    if args.payload is None:
+        if any(args.payload_com) or any(args.payload_inertia):
+            raise InputError("--payload-com and --payload-inertia need --payload MASS")
+        return None
+    return Payload(float(args.payload), tuple(float(v) for v in args.payload_com),
+                   tuple(float(v) for v in args.payload_inertia))
+
+
 def _analyze(args, worker):
     from ..io.schema import skip_dask
-    from ..io.staging import check_free_space, staged_output, writing
-    from ..workflows.analyze import analyze_to_file, progress_bar
+    from ..workflows.analyze import progress_bar
+    from ..workflows.run import run_analysis
 
     skip_dask()                         # the main job makes no dask arrays: skip its import
     bar = progress_bar(not args.quiet and sys.stderr.isatty())
@@ -210,46 +199,26 @@ def _analyze(args, worker):
     bar.reset(total=trajectory.n_setpoints)
     bar.update(trajectory.n_setpoints)
     _warn_limits(robot, trajectory, args.quiet)
-    outdir = _outdir(args.outdir, robot.name, Path(args.trajectory).stem)
-    base_robot = robot
-    robot = _apply_payload(robot, args)
-    if outdir.exists() and not outdir.is_dir():
-        raise InputError("exists and is not a folder", outdir)
-    settings = {"command": _command_line(args),
-                "payload_mass": float(args.payload or 0.0),
-                "tolerance": float(args.tolerance), "rule": args.rule,
-                "torque_floor": float(args.torque_floor), "explicit": args.explicit,
-                "form": args.form,
-                "payload_com": [float(v) for v in args.payload_com],
-                "payload_inertia": [float(v) for v in args.payload_inertia],
-                **_chain_settings(args)}
-    extra = _payload_sweep_dataset(base_robot, trajectory, args)   # bad range: before any output
-    with staged_output(outdir, ANALYZE_OUTPUTS, "analyze") as stage, writing(outdir, stage):
-        check_free_space(stage, _results_size(trajectory.n_setpoints, robot.n), "results.h5")
-        results = stage / "results.h5"
-        analysis = analyze_to_file(robot, trajectory, results, dominance=args.dominance,
-                                   negligible=args.negligible, check=not args.no_verify,
-                                   settings=settings, compress=args.compress,
-                                   progress=bar, extra=extra,
-                                   tolerance=args.tolerance, rule=args.rule,
-                                   torque_floor=args.torque_floor, explicit=args.explicit,
-                                   form=args.form)
-        save_model(analysis.model, stage / "simplified_model.json")
-        written = [results, stage / "simplified_model.json"]
-        written += _write_sources(analysis.model, stage)      # the explicit model
-        if not args.no_report:
-            from ..reports.main import write_report
+    report = None
+    if not args.no_report:
+        from ..reports.main import write_report
 
+        def report(results, folder, progress):
             bar.reset(total=trajectory.n_setpoints)
             bar.set_description("report")
-            written += write_report(results, stage, paper=args.paper, progress=bar.update,
-                                    worker=worker, fonts=args.figure_fonts)
-        bar.close()
-    written = [outdir / Path(p).relative_to(stage) for p in written]
+            return write_report(results, folder, paper=args.paper, progress=bar.update,
+                                worker=worker, fonts=args.figure_fonts)
+    outputs = run_analysis(
+        robot, trajectory, _options(args), _outdir(args.outdir, robot.name,
+                                                   Path(args.trajectory).stem),
+        report=report, settings={"command": _command_line(args), **_chain_settings(args)},
+        payload=_payload(args), payload_masses=_payload_masses(args), progress=bar)
+    bar.close()
+    analysis = outputs.analysis
     if not args.quiet:
         print(_format_summary(analysis.dataset))
         print()
-        print("wrote " + ", ".join(str(p) for p in written))
+        print("wrote " + ", ".join(str(p) for p in outputs.files))
     if analysis.verification and not analysis.verification["passed"]:
         print(f"{PROG}: error: the G-D terms disagree with Pinocchio beyond "
               f"{analysis.verification['tolerance']:g} (see results.h5 attributes)",

@@ -10,6 +10,7 @@ import argparse
 import decimal
 import math
 
+from ..config import defaults
 from ..errors import InputError
 
 __all__ = ["parse_range", "PROG", "COMMANDS", "EXIT_STATUS_HELP"]
@@ -161,38 +162,41 @@ def _add_payload_sweep_argument(group):
 def _add_budget_arguments(p, rule=True, where="on the analysed trajectory"):
     g = p.add_argument_group("simplified model (error budget, issue 8)")
     g.add_argument("--tolerance", metavar="EPS", type=_fraction(0.0, math.inf, "--tolerance",
-                                                                False), default=0.01,
+                                                                False), default=defaults["tolerance"],
                    help="error budget: every joint's simplified torque stays within EPS times "
-                        f"its scale {where} (default 0.01)")
+                        f"its scale {where} (default {defaults['tolerance']:g})")
     g.add_argument("--torque-floor", metavar="TAU", type=_fraction(0.0, math.inf,
                                                                    "--torque-floor", False),
-                   default=0.0, help="least scale of a joint torque [N m] (default 0)")
+                   default=defaults["torque_floor"],
+                   help=f"least scale of a joint torque [N m] (default "
+                        f"{defaults['torque_floor']:g})")
     if rule:
-        g.add_argument("--rule", choices=("budget", "chapter"), default="budget",
+        g.add_argument("--rule", choices=("budget", "chapter"), default=defaults["rule"],
                        help="budget: by torque contribution within EPS (default); chapter: "
                             "the share-based classes of Sec. 3.4.1 (no bound)")
-        g.add_argument("--explicit", choices=("auto", "always", "never"), default="auto",
+        g.add_argument("--explicit", choices=("auto", "always", "never"),
+                       default=defaults["explicit"],
                        help="derive the explicit G-D model too: auto (default) where its "
                             "estimated size is cheap, always, or never")
         g.add_argument("--form", choices=("cheapest", "recursive", "explicit"),
-                       default="cheapest",
+                       default=defaults["form"],
                        help="the simplified model written: the cheaper of the pruned recursive "
                             "and explicit models (default), or that form (explicit: derived "
                             "whatever --explicit says)")
 
 
 def _add_paper_argument(p):
-    p.add_argument("--paper", choices=("a4", "letter"), default="a4",
+    p.add_argument("--paper", choices=("a4", "letter"), default=defaults["paper"],
                    help="page size of the PDF report (default a4)")
-    p.add_argument("--figure-fonts", choices=("type3", "truetype"), default="type3",
+    p.add_argument("--figure-fonts", choices=("type3", "truetype"),
+                   default=defaults["figure_fonts"],
                    help="font embedding of the figures' PDFs: type3 (default, fast) or "
                         "truetype (for journals that refuse Type 3 fonts, e.g. IEEE PDF "
                         "eXpress; slower)")
 
 
 def _analyze_parser():
-    from ..core.selection.ranking import DEFAULT_DOMINANCE, DEFAULT_NEGLIGIBLE
-
+    
     p = _Parser(
         prog=PROG,
         description="Rank the translational and rotational parts of a robot arm's inertia "
@@ -214,17 +218,18 @@ def _analyze_parser():
     p.add_argument("-o", "--outdir", metavar="OUTDIR",
                    help="output folder (default: reports/<robot>-<csv stem>/)")
     p.add_argument("--dominance", metavar="S", type=_fraction(0.5, 1.0, "--dominance"),
-                   default=DEFAULT_DOMINANCE,
+                   default=defaults["dominance"],
                    help=f"share at which one part dominates, in (0.5, 1] (default "
-                        f"{DEFAULT_DOMINANCE})")
+                        f"{defaults['dominance']})")
     p.add_argument("--negligible", metavar="E", type=_fraction(0.0, 1.0, "--negligible", False),
-                   default=DEFAULT_NEGLIGIBLE,
+                   default=defaults["negligible"],
                    help=f"an element below E times its scale is negligible (default "
-                        f"{DEFAULT_NEGLIGIBLE})")
+                        f"{defaults['negligible']})")
     _add_budget_arguments(p)
     p.add_argument("--no-report", action="store_true", help="skip report.html and report.pdf")
     _add_paper_argument(p)
-    p.add_argument("--compress", metavar="LEVEL", type=int, choices=range(10), default=0,
+    p.add_argument("--compress", metavar="LEVEL", type=int, choices=range(10),
+                   default=defaults["compress"],
                    help="gzip level 0-9 for the per-set-point variables of results.h5 "
                         "(default 0: uncompressed, fastest)")
     p.add_argument("--no-verify", action="store_true",
@@ -339,8 +344,7 @@ def _control_parser():
 
 
 def _sweep_parser():
-    from ..core.selection.ranking import DEFAULT_DOMINANCE, DEFAULT_NEGLIGIBLE
-
+    
     p = _Parser(prog=f"{PROG} sweep",
                 description="Rank the G-D elements over many trajectories on dask, give the "
                             "envelope of the ranking per element and one merged simplified model "
@@ -361,10 +365,10 @@ def _sweep_parser():
     p.add_argument("--workers", metavar="N", type=int,
                    help="workers of the LocalCluster (default: one per core)")
     p.add_argument("--dominance", metavar="S", type=_fraction(0.5, 1.0, "--dominance"),
-                   default=DEFAULT_DOMINANCE, help=f"default {DEFAULT_DOMINANCE}")
+                   default=defaults["dominance"], help=f"default {defaults['dominance']}")
     p.add_argument("--negligible", metavar="E",
                    type=_fraction(0.0, 1.0, "--negligible", False),
-                   default=DEFAULT_NEGLIGIBLE, help=f"default {DEFAULT_NEGLIGIBLE}")
+                   default=defaults["negligible"], help=f"default {defaults['negligible']}")
     _add_budget_arguments(p, where="on every swept trajectory, scale_i = max(that "
                                    "trajectory's peak |tau_i|, TAU); the merged model "
                                    "merged_model.json/.c/.py")

@@ -21,8 +21,8 @@ import numpy as np
 
 from .._version import __version__
 from ..core.dynamics.dalembert import GDTerms, allocate_terms, gd_terms
-from ..core.selection.ranking import DEFAULT_DOMINANCE, DEFAULT_NEGLIGIBLE
 from ..core.selection.simplified import SimplifiedModel, simplified_torque
+from .options import AnalysisOptions
 from ..formulations.compare import FORMULATIONS_MAX_SETPOINTS
 
 __all__ = ["Analysis", "AnalysisPass", "analysis_pass", "analyze", "analyze_to_file", "verify",
@@ -197,9 +197,8 @@ class AnalysisPass:
     simplified: object = None
 
 
-def analysis_pass(robot, trajectory, dominance=DEFAULT_DOMINANCE, negligible=DEFAULT_NEGLIGIBLE,
-                  check=True, formulations=False, chunk=STREAM_CHUNK, writer=None,
-                  progress=False, terms=None, simplify=None):
+def analysis_pass(robot, trajectory, options=None, provenance=None, chunk=STREAM_CHUNK,
+                  writer=None, progress=False, terms=None):
     """The one per-trajectory analysis: the G-D terms once per set point, then everything else.
 
     Pass 1 computes the terms chunk by chunk and feeds the ranking, the writer and the samples
@@ -212,13 +211,15 @@ def analysis_pass(robot, trajectory, dominance=DEFAULT_DOMINANCE, negligible=DEF
         The arm, with n joints.
     trajectory : Trajectory
         q, qd, qdd of shape (N, n) [rad, rad/s, rad/s^2].
-    dominance, negligible : float, optional
-        s and e of the ranking.
-    check : bool, optional
-        Verify against Pinocchio on at most :data:`VERIFY_MAX_SETPOINTS` set points.
-    formulations : bool, optional
-        Compare L-E, N-E, G-D and Pinocchio on at most
-        :data:`gd_analyze.formulations.compare.FORMULATIONS_MAX_SETPOINTS` set points.
+    options : AnalysisOptions, optional
+        s and e of the ranking; whether to verify against Pinocchio (on at most
+        :data:`VERIFY_MAX_SETPOINTS` set points) and to compare L-E, N-E, G-D and Pinocchio
+        (on at most :data:`gd_analyze.formulations.compare.FORMULATIONS_MAX_SETPOINTS`);
+        ``options.simplify``: build the simplified model (issue 8) after pass 1 and take its
+        torque in pass 2; with ``simplify=None`` the model is the ranking's choices, masked
+        (as in a sweep's per-trajectory models). Default :class:`AnalysisOptions`.
+    provenance : dict, optional
+        The simplified model's provenance.
     chunk : int, optional
         Set points per chunk.
     writer : SetpointWriter, optional
@@ -231,10 +232,6 @@ def analysis_pass(robot, trajectory, dominance=DEFAULT_DOMINANCE, negligible=DEF
     terms : GDTerms, optional
         The trajectory's G-D terms, if the caller computed them (a sweep computes many short
         trajectories in one call); then none are computed here.
-    simplify : dict, optional
-        ``tolerance``, ``rule``, ``torque_floor`` and ``provenance``: build the explicit
-        simplified model (issue 8) after pass 1 and take its torque in pass 2; without it the
-        model is the ranking's choices, masked (as in a sweep's per-trajectory models).
 
     Returns
     -------
@@ -254,6 +251,8 @@ def analysis_pass(robot, trajectory, dominance=DEFAULT_DOMINANCE, negligible=DEF
     from ..core.selection.ranking import RankingAccumulator
     from ..core.selection.simplified import TorqueErrorAccumulator
 
+    options = AnalysisOptions() if options is None else options
+    check, formulations, simplify = options.verify, options.formulations, options.simplify
     q, qd, qdd = trajectory.q, trajectory.qd, trajectory.qdd
     N, n = q.shape
     chunk = max(1, int(chunk))
@@ -291,11 +290,12 @@ def analysis_pass(robot, trajectory, dominance=DEFAULT_DOMINANCE, negligible=DEF
             held.append(terms)
             held_tau.append(tau)
         bar.update(b - a)
-    ranking = ranker.result(dominance=dominance, negligible=negligible)
+    ranking = ranker.result(dominance=options.dominance, negligible=options.negligible)
     choices = ranking.choices()
     model = simplified = None
     if simplify is not None:
-        model, simplified = _simplify(robot, trajectory, ranking, parts, **simplify)
+        model, simplified = _simplify(robot, trajectory, ranking, parts, simplify,
+                                      provenance or {})
         choices = model.choices
     bar.reset(total=N)
     bar.set_description("simplified model")
@@ -351,13 +351,13 @@ def _with_simplified(ds, extra):
     return ds
 
 
-def _model(robot, trajectory, result, dominance, negligible, settings):
+def _model(robot, trajectory, result, options, settings):
     if result.model is not None:                 # the explicit simplified model (issue 8)
         return dataclasses.replace(result.model, validation=result.error)
     provenance = _provenance(trajectory, settings)
     return SimplifiedModel(robot=robot, choices=result.choices,
-                           dominance_threshold=float(dominance),
-                           negligible_threshold=float(negligible),
+                           dominance_threshold=float(options.dominance),
+                           negligible_threshold=float(options.negligible),
                            trajectory_sha256=trajectory.sha256, validation=result.error,
                            provenance=provenance)
 
@@ -369,8 +369,7 @@ def _with_costs(ds, costs):
     return ds
 
 
-def _simplify(robot, trajectory, ranking, part_peaks, tolerance, rule, torque_floor,
-              provenance, explicit="auto", form="cheapest"):
+def _simplify(robot, trajectory, ranking, part_peaks, options, provenance):
     """The simplified model deployed (issue 17), the models compared with it, ladder, costs.
 
     The pruned recursive model is always built; the explicit G-D model is derived when the
@@ -386,6 +385,8 @@ def _simplify(robot, trajectory, ranking, part_peaks, tolerance, rule, torque_fl
     from ..formulations.opcount import operation_counts
     from ..io.explicit_cache import explicit_terms
 
+    tolerance, rule, torque_floor = options.tolerance, options.rule, options.torque_floor
+    explicit, form = options.explicit, options.form
     q, qd, qdd = trajectory.q, trajectory.qd, trajectory.qdd
     common = dict(ranking=ranking, trajectory_sha256=trajectory.sha256, provenance=provenance)
     counts = operation_counts(robot.n)
@@ -421,13 +422,9 @@ def _simplify(robot, trajectory, ranking, part_peaks, tolerance, rule, torque_fl
     else:
         skipped = ("not built: the explicit G-D model of this arm is estimated too large to "
                    "pay (give --explicit always to derive it)")
-    import dataclasses
-
-    program = model.__dict__.get("_program")
     model = dataclasses.replace(model, costs=costs,
-                                full_cost=dict(costs.get("explicit, full", model.full_cost)))
-    if program is not None:
-        model.__dict__["_program"] = program
+                                full_cost=dict(costs.get("explicit, full", model.full_cost)),
+                                program_cache=model.program())
     table = cost_rows(robot.n, model, other=other, ladder_rows=rows, formulation_counts=counts)
     extra = simplified_dataset(model, sel, other=other, ladder_rows=rows, cost_table=table,
                                other_error=other_error)
@@ -440,9 +437,7 @@ def _ops(cost):
     return int(cost["multiplications"]) + int(cost["additions"])
 
 
-def analyze(robot, trajectory, dominance=DEFAULT_DOMINANCE, negligible=DEFAULT_NEGLIGIBLE,
-            check=True, settings=None, formulations=False, tolerance=0.01, rule="budget",
-            torque_floor=0.0, explicit="auto", form="cheapest"):
+def analyze(robot, trajectory, options=None, settings=None):
     """Compute, verify, rank and simplify the G-D terms along a trajectory, in memory.
 
     Parameters
@@ -451,29 +446,13 @@ def analyze(robot, trajectory, dominance=DEFAULT_DOMINANCE, negligible=DEFAULT_N
         The arm, with n joints.
     trajectory : Trajectory
         q, qd, qdd of shape (N, n) [rad, rad/s, rad/s^2].
-    dominance : float, optional
-        s, the dominance threshold of the ranking.
-    negligible : float, optional
-        e, the negligibility threshold.
-    check : bool, optional
-        Verify against Pinocchio (:func:`verify`).
+    options : AnalysisOptions, optional
+        The ranking's thresholds s and e, whether to verify against Pinocchio
+        (:func:`verify`) and store the formulations' agreement and operation counts, and how
+        the simplified model is built (``options.simplify``). Default
+        :class:`~gd_analyze.workflows.options.AnalysisOptions`, as the main job.
     settings : dict, optional
         Extra provenance for the dataset's global attributes and the model.
-    formulations : bool, optional
-        Also store the formulations' agreement and operation counts (as
-        :func:`analyze_to_file` does).
-    tolerance : float, optional
-        EPS of the error budget (rule ``"budget"``).
-    rule : {"budget", "chapter"}, optional
-        How the simplified model is chosen (:mod:`gd_analyze.core.selection.budget`).
-    torque_floor : float, optional
-        TAU [N m], the least scale of a joint torque.
-    explicit : {"auto", "always", "never"}, optional
-        Whether the explicit G-D model is derived besides the recursive one (``"auto"``:
-        where its estimated size is cheap).
-    form : {"cheapest", "recursive", "explicit"}, optional
-        The model returned: the cheaper of the pruned recursive and explicit models, or that
-        form (``"explicit"`` derives the explicit model whatever ``explicit`` says).
 
     Returns
     -------
@@ -491,26 +470,21 @@ def analyze(robot, trajectory, dominance=DEFAULT_DOMINANCE, negligible=DEFAULT_N
     """
     from ..io.datasets import build_dataset
 
+    options = AnalysisOptions() if options is None else options
     N = trajectory.q.shape[0]
-    simplify = {"tolerance": tolerance, "rule": rule, "torque_floor": torque_floor,
-                "provenance": _provenance(trajectory, settings), "explicit": explicit,
-                "form": form}
-    result = analysis_pass(robot, trajectory, dominance, negligible, check, formulations,
-                           chunk=max(N, 1), simplify=simplify)
+    result = analysis_pass(robot, trajectory, options, _provenance(trajectory, settings),
+                           chunk=max(N, 1))
     ds = build_dataset(robot, trajectory, result.terms, result.ranking, result.tau,
                        result.tau_simplified, result.choices, result.error,
                        verification=result.verification, settings=settings)
     ds = _with_simplified(ds, result.simplified)
     return Analysis(dataset=_with_costs(ds, result.costs),
-                    model=_model(robot, trajectory, result, dominance, negligible, settings),
+                    model=_model(robot, trajectory, result, options, settings),
                     verification=result.verification)
 
 
-def analyze_to_file(robot, trajectory, path, dominance=DEFAULT_DOMINANCE,
-                    negligible=DEFAULT_NEGLIGIBLE, check=True, settings=None,
-                    chunk=STREAM_CHUNK, progress=False, compress=0, formulations=True,
-                    extra=None, tolerance=0.01, rule="budget", torque_floor=0.0,
-                    explicit="auto", form="cheapest"):
+def analyze_to_file(robot, trajectory, path, options=None, settings=None, chunk=STREAM_CHUNK,
+                    progress=False, extra=None):
     """:func:`analyze`, streamed into a results file in chunks of bounded memory.
 
     The G-D terms are computed once per set point, chunk by chunk, and written; the simplified
@@ -526,26 +500,17 @@ def analyze_to_file(robot, trajectory, path, dominance=DEFAULT_DOMINANCE,
         q, qd, qdd of shape (N, n) [rad, rad/s, rad/s^2].
     path : str or os.PathLike
         The results file (netCDF4/HDF5), written under a temporary name and renamed.
-    dominance, negligible : float, optional
-        s and e of the ranking.
-    check : bool, optional
-        Verify against Pinocchio on at most :data:`VERIFY_MAX_SETPOINTS` set points.
+    options : AnalysisOptions, optional
+        As :func:`analyze`; ``options.compress`` is the gzip level (0-9) of the
+        per-set-point variables (0 stores them uncompressed).
     settings : dict, optional
         Extra provenance.
     chunk : int, optional
         Set points per chunk.
     progress : bool or tqdm.tqdm, optional
         As for :func:`analysis_pass`.
-    compress : int, optional
-        gzip level (0-9) of the per-set-point variables; 0 stores them uncompressed.
-    formulations : bool, optional
-        Also store the agreement of L-E, N-E, G-D and Pinocchio on (a sample of) the
-        trajectory and their operation counts
-        (:func:`gd_analyze.formulations.compare.formulations_dataset`).
     extra : xarray.Dataset, optional
         More variables to store with the summary (e.g. a payload sweep, dim ``payload``).
-    tolerance, rule, torque_floor, explicit, form : optional
-        As :func:`analyze`.
 
     Returns
     -------
@@ -564,18 +529,16 @@ def analyze_to_file(robot, trajectory, path, dominance=DEFAULT_DOMINANCE,
     from ..io.datasets import SetpointWriter, summary_dataset
     from ..io.schema import append_dataset
 
+    options = AnalysisOptions() if options is None else options
     N, n = trajectory.q.shape
     with atomic_path(path) as tmp:
         with SetpointWriter(tmp, N, n, chunk=min(max(1, int(chunk)), 8192),
-                            compress=compress, prismatic=robot.prismatic) as out:
+                            compress=options.compress, prismatic=robot.prismatic) as out:
             out.write(0, {"t": trajectory.t, "q": trajectory.q, "qd": trajectory.qd,
                           "qdd": trajectory.qdd})
-            simplify = {"tolerance": tolerance, "rule": rule, "torque_floor": torque_floor,
-                        "provenance": _provenance(trajectory, settings), "explicit": explicit,
-                "form": form}
-            result = analysis_pass(robot, trajectory, dominance, negligible, check,
-                                   formulations, chunk, writer=out, progress=progress,
-                                   simplify=simplify)
+            result = analysis_pass(robot, trajectory, options,
+                                   _provenance(trajectory, settings), chunk, writer=out,
+                                   progress=progress)
         ds = summary_dataset(robot, trajectory, result.ranking, result.choices, result.error,
                              result.verification, settings)
         ds = _with_costs(ds, result.costs)
@@ -584,5 +547,5 @@ def analyze_to_file(robot, trajectory, path, dominance=DEFAULT_DOMINANCE,
         ds = _with_simplified(ds, result.simplified)
         append_dataset(ds, tmp)          # not to_netcdf: it would import dask
     return Analysis(dataset=ds,
-                    model=_model(robot, trajectory, result, dominance, negligible, settings),
+                    model=_model(robot, trajectory, result, options, settings),
                     verification=result.verification)

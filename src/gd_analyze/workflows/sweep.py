@@ -38,6 +38,7 @@ from ..core.selection.ranking import DEFAULT_DOMINANCE, DEFAULT_NEGLIGIBLE, elem
 from ..core.selection.simplified import TorqueErrorAccumulator, choice_masks, merge_choices, simplified_torque
 from ..errors import InputError
 from ..io.schema import attribute_value, strings
+from .options import AnalysisOptions
 from ..io.sweep_datasets import sweep_dataset
 from .analyze import analysis_pass
 
@@ -154,8 +155,9 @@ def analyze_one(robot, trajectory, dominance=DEFAULT_DOMINANCE, negligible=DEFAU
     """
     check_thresholds(dominance, negligible)
     check_trajectory(robot, trajectory)
-    return _summary(trajectory, analysis_pass(robot, trajectory, dominance, negligible,
-                                              check=False, chunk=trajectory.q.shape[0]))
+    return _summary(trajectory, analysis_pass(robot, trajectory,
+                                              _ranking_only(dominance, negligible),
+                                              chunk=trajectory.q.shape[0]))
 
 
 def _summary(trajectory, result):
@@ -226,9 +228,15 @@ def _batch_terms(robot, trajectories, max_setpoints=_GROUP_SETPOINTS):
     yield from flush()
 
 
+def _ranking_only(dominance, negligible):
+    """The analysis of one swept trajectory: its ranking and masked model, nothing checked."""
+    return AnalysisOptions(dominance=dominance, negligible=negligible, verify=False,
+                           formulations=False, simplify=None)
+
+
 def _analyze_batch(robot, trajectories, dominance, negligible):
-    return [_summary(tr, analysis_pass(robot, tr, dominance, negligible, check=False,
-                                       chunk=tr.q.shape[0], terms=terms))
+    options = _ranking_only(dominance, negligible)
+    return [_summary(tr, analysis_pass(robot, tr, options, chunk=tr.q.shape[0], terms=terms))
             for tr, terms in _batch_terms(robot, trajectories)]
 
 

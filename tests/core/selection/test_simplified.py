@@ -14,6 +14,7 @@ from gd_analyze.core.selection.simplified import choice_masks, simplified_torque
 from gd_analyze.io.model_file import load_model, save_model
 from gd_analyze.io.trajectory import read_trajectory
 from gd_analyze.core.selection.simplified import merge_choices
+from gd_analyze.workflows.options import AnalysisOptions
 
 
 def _model(robot, choice):
@@ -70,7 +71,7 @@ def test_torque_error():
 
 def test_save_load_and_reuse_on_new_states(tmp_path, puma):
     traj = read_trajectory(SHIPPED, 6)
-    analysis = analyze(puma, traj, check=False)
+    analysis = analyze(puma, traj, AnalysisOptions(verify=False, formulations=False))
     path = tmp_path / "simplified_model.json"
     save_model(analysis.model, path)
     spec = json.loads(path.read_text())

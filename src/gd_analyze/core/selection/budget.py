@@ -28,6 +28,8 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from ...config import defaults
+
 from ..symbolic.explicit import atoms, budget_drop, prune
 from .labels import element_label
 
@@ -37,7 +39,7 @@ __all__ = ["RULES", "DEFAULT_TOLERANCE", "PartPeaks", "part_index", "budget_choi
 #: The rules that build a simplified model.
 RULES = ("budget", "chapter")
 #: Default EPS of --tolerance.
-DEFAULT_TOLERANCE = 0.01
+DEFAULT_TOLERANCE = defaults["tolerance"]
 
 
 def part_index(n):

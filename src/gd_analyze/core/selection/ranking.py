@@ -24,6 +24,8 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from ...config import defaults
+
 from .labels import element_index, element_label, element_labels, parse_element_label
 from .labels import element_units, joint_motion_units, joint_torque_units, joint_units_text
 
@@ -36,10 +38,10 @@ __all__ = [
 
 #: The dominance classes, in the order used for codes in files.
 CLASSES = ("translational", "rotational", "both", "negligible")
-#: Default dominance threshold s.
-DEFAULT_DOMINANCE = 0.9
-#: Default negligibility threshold e.
-DEFAULT_NEGLIGIBLE = 0.01
+#: Default dominance threshold s (:data:`gd_analyze.config.defaults`).
+DEFAULT_DOMINANCE = defaults["dominance"]
+#: Default negligibility threshold e (:data:`gd_analyze.config.defaults`).
+DEFAULT_NEGLIGIBLE = defaults["negligible"]
 
 #: The dominance the chapter reports for its PUMA 560 trajectory (Sec. 3.4.1, Figs. 3.10-3.11).
 CHAPTER_DOMINANCE = {

@@ -1,0 +1,41 @@
+"""The defaults of gd-analyze's settings, in one place.
+
+Every default a command-line option, a workflow or a core function uses is read from
+:data:`defaults` (in the style of python-control's ``control.config.defaults``): the ranking's
+thresholds s and e (Sec. 3.4.1 of Fu, Gonzalez & Lee 1987), the simplified model's error budget
+EPS and torque floor TAU, the rule and form of the model, and the report's paper and fonts.
+A leaf module: it imports nothing of the package, so every layer may read it.
+
+Examples
+--------
+>>> defaults["tolerance"], defaults["dominance"], defaults["rule"]
+(0.01, 0.9, 'budget')
+"""
+
+from __future__ import annotations
+
+import types
+
+__all__ = ["defaults"]
+
+#: The defaults, read-only. Units: ``torque_floor`` [N m]; the others are fractions or names.
+defaults = types.MappingProxyType({
+    # ranking (Sec. 3.4.1): an element's part dominates at a share of at least s; an element
+    # below e times its scale is negligible
+    "dominance": 0.9,
+    "negligible": 0.01,
+    # the simplified model: error budget EPS (fraction of each joint's torque scale), least
+    # torque scale TAU [N m], the rule that chooses its terms, whether the explicit G-D model
+    # is derived and which form is written
+    "tolerance": 0.01,
+    "torque_floor": 0.0,
+    "rule": "budget",
+    "explicit": "auto",
+    "form": "cheapest",
+    # results.h5 and the report
+    "verify": True,
+    "formulations": True,
+    "compress": 0,
+    "paper": "a4",
+    "figure_fonts": "type3",
+})

@@ -1,0 +1,187 @@
+"""The main job as one call: analyse a trajectory and write its output folder.
+
+:func:`run_analysis` is what ``gd-analyze ROBOT TRAJECTORY.csv`` runs: the G-D terms, their
+verification against Pinocchio, the ranking and the simplified model
+(:func:`gd_analyze.workflows.analyze.analyze_to_file`), an optional payload sweep, then
+``results.h5``, ``simplified_model.json`` with its emitted C and numpy sources, and the report,
+all written aside and moved into the output folder together
+(:func:`gd_analyze.io.staging.staged_output`). The command line only parses, calls this and
+prints.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+from dataclasses import dataclass
+from pathlib import Path
+
+from ..io.model_file import save_model
+from ..io.staging import check_free_space, staged_output, writing
+from .analyze import analyze_to_file
+from .options import AnalysisOptions
+
+__all__ = ["ANALYZE_OUTPUTS", "AnalysisOutputs", "Payload", "run_analysis",
+           "results_size"]
+
+#: The files and folders the main job writes into its output folder.
+ANALYZE_OUTPUTS = ("results.h5", "simplified_model.json", "simplified_model.c",
+                   "simplified_model.py", "report.html", "report.pdf", "figures")
+
+
+@dataclass(frozen=True)
+class Payload:
+    """A load fixed to the last link (Sec. 3.4.1's simplified model, loaded).
+
+    Attributes
+    ----------
+    mass : float
+        Load mass [kg].
+    com : tuple of float, length 3
+        The load's centre of mass in the last link frame [m].
+    inertia : tuple of float, length 3
+        The load's principal moments of inertia about its centre of mass [kg m^2].
+    """
+
+    mass: float = 0.0
+    com: tuple = (0.0, 0.0, 0.0)
+    inertia: tuple = (0.0, 0.0, 0.0)
+
+
+@dataclass(frozen=True)
+class AnalysisOutputs:
+    """What the main job wrote.
+
+    Attributes
+    ----------
+    outdir : pathlib.Path
+        The output folder.
+    files : tuple of pathlib.Path
+        The files written, in the output folder.
+    analysis : Analysis
+        The summary dataset, the simplified model and the verification
+        (:class:`gd_analyze.workflows.analyze.Analysis`).
+    """
+
+    outdir: Path
+    files: tuple
+    analysis: object
+
+
+def results_size(N, n):
+    """Bytes of the per-set-point variables of results.h5 (uncompressed), plus 1 MiB.
+
+    Parameters
+    ----------
+    N, n : int
+        Set points and joints.
+
+    Returns
+    -------
+    int
+        8 bytes per value: t, nine vectors of n (q, qd, qdd, h and its two parts, c, tau,
+        tau_simplified) and three matrices of n^2 (D and its two parts) per set point
+        [bytes].
+
+    Examples
+    --------
+    >>> results_size(31, 6) - (1 << 20) == 8 * 31 * (1 + 9 * 6 + 3 * 6 * 6)
+    True
+    """
+    return 8 * N * (1 + 9 * n + 3 * n * n) + (1 << 20)
+
+
+def _settings(options, base_settings, payload):
+    """The provenance of a run: each setting once."""
+    return {**(base_settings or {}), "payload_mass": float(payload.mass),
+            "payload_com": [float(v) for v in payload.com],
+            "payload_inertia": [float(v) for v in payload.inertia],
+            **dataclasses.asdict(options.simplify)}
+
+
+def run_analysis(robot, trajectory, options, outdir, report=None, settings=None, payload=None,
+                 payload_masses=None, progress=False):
+    """Analyse a trajectory and write the main job's output folder.
+
+    Parameters
+    ----------
+    robot : Robot
+        The arm, n joints, without the payload.
+    trajectory : Trajectory
+        t [s], q, qd, qdd of shape (N, n) [rad, rad/s, rad/s^2; m, m/s, m/s^2 for a
+        prismatic joint].
+    options : AnalysisOptions
+        Ranking, verification, storage and simplified-model settings.
+    outdir : str or os.PathLike
+        The output folder: created if missing; only the files this command wrote before are
+        replaced (:func:`gd_analyze.io.staging.staged_output`).
+    report : callable, optional
+        ``report(results_path, folder, progress) -> list of paths``: writes the report from
+        the stored dataset into ``folder`` (the command line passes
+        :func:`gd_analyze.reports.main.write_report` with its page and font settings); None
+        writes no report.
+    settings : dict, optional
+        Extra provenance (the command line, the payload, the URDF chain), stored with the
+        simplified-model settings in results.h5 and the model.
+    payload : Payload, optional
+        A load fixed to the last link for the analysis
+        (:func:`gd_analyze.core.model.robot.with_payload`).
+    payload_masses : sequence of float, optional
+        Also rank the trajectory for each of these load masses [kg] of the payload's shape,
+        on the arm without the payload (variables ``payload_*`` of results.h5); computed
+        before anything is written.
+    progress : bool or tqdm.tqdm, optional
+        As for :func:`gd_analyze.workflows.analyze.analysis_pass`.
+
+    Returns
+    -------
+    AnalysisOutputs
+
+    Raises
+    ------
+    InputError
+        If the output folder is not a folder, holds files gd-analyze did not write, or has no
+        room; or the payload range is invalid. Nothing is written then.
+    OSError
+        If the output folder cannot be written ("cannot write the output folder").
+
+    Notes
+    -----
+    Source: Sec. 3.4.1 of Fu, Gonzalez & Lee (1987) for the analysis; the terms from
+    Eqs. (3.4-24) to (3.4-28).
+    """
+    from ..errors import InputError
+
+    options = AnalysisOptions() if options is None else options
+    outdir = Path(outdir)
+    if outdir.exists() and not outdir.is_dir():
+        raise InputError("exists and is not a folder", outdir)
+    extra = None
+    if payload_masses is not None:                      # computed before any output
+        from ..io.sweep_datasets import embed_payload
+        from .payload import payload_sweep
+
+        shape = Payload() if payload is None else payload
+        extra = embed_payload(payload_sweep(
+            robot, trajectory, payload_masses, com=shape.com, inertia=shape.inertia,
+            dominance=options.dominance, negligible=options.negligible))
+    if payload is not None:
+        from ..core.model.robot import with_payload
+
+        robot = with_payload(robot, payload.mass, payload.com, payload.inertia)
+    settings = _settings(options, settings, Payload() if payload is None else payload)
+    with staged_output(outdir, ANALYZE_OUTPUTS, "analyze") as stage, writing(outdir, stage):
+        check_free_space(stage, results_size(trajectory.n_setpoints, robot.n), "results.h5")
+        results = stage / "results.h5"
+        analysis = analyze_to_file(robot, trajectory, results, options, settings=settings,
+                                   progress=progress, extra=extra)
+        model = analysis.model
+        save_model(model, stage / "simplified_model.json")
+        written = [results, stage / "simplified_model.json"]
+        for name, text in (("simplified_model.c", model.c_source()),
+                           ("simplified_model.py", model.python_source())):
+            (stage / name).write_text(text, encoding="utf-8")
+            written.append(stage / name)
+        if report is not None:
+            written += report(results, stage, progress)
+    files = tuple(outdir / Path(p).relative_to(stage) for p in written)
+    return AnalysisOutputs(outdir=outdir, files=files, analysis=analysis)
