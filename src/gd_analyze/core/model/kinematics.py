@@ -1,6 +1,6 @@
 """Forward kinematics of a serial chain of revolute and prismatic joints, batched over set points.
 
-The joint model is that of :mod:`gd_analyze.robot`: joint i has a fixed placement (P_i, t_i) in
+The joint model is that of :mod:`gd_analyze.core.model.robot`: joint i has a fixed placement (P_i, t_i) in
 body frame i-1 and then turns about (revolute) or slides along (prismatic) the placed frame's z
 axis, so::
 
