@@ -25,18 +25,22 @@ M1, M2, L, G = 1.2, 0.8, 0.6, 9.81
 
 @lru_cache(maxsize=None)
 def arm(name):
-    robot = robot_from_dict(chapter_two_link.spec(M1, M2, L, G)) if name == "chapter" \
-        else load_robot(name)
+    if name in ("chapter", "offsets"):
+        spec = chapter_two_link.spec(M1, M2, L, G)
+        if name == "offsets":
+            spec["link"][0]["offset_deg"], spec["link"][1]["offset_deg"] = 25.0, -70.0
+        robot = robot_from_dict(spec)
+    else:
+        robot = load_robot(name)
     return robot, model_terms(derive(robot))
 
 
 def _values(robot, terms, q, qd):
-    # the explicit model is in q (offsets inside the harmonics' angles: theta = q + offset)
-    return term_values(terms, q + np.where(robot.prismatic, 0.0, robot.offset), qd,
-                       robot.prismatic)
+    # the explicit model's terms are in q (the offsets are inside them)
+    return term_values(terms, q, qd, robot.prismatic)
 
 
-@pytest.mark.parametrize("name", ["puma560", "stanford"])
+@pytest.mark.parametrize("name", ["puma560", "stanford", "offsets"])
 def test_term_values_match_pinocchios_split(name):
     robot, terms = arm(name)
     q, qd, _ = random_states(robot, 30, 41)
