@@ -18,8 +18,8 @@ The counts are measured, not derived: the algorithms run on one set point whose 
 Counting rule
 -------------
 - Inputs of a set point are C_i = cos(q_i), S_i = sin(q_i) (revolute joints), q_i (prismatic
-  joints), qd_i and qdd_i; sines and cosines are not counted. Every formulation runs on the
-  joint model of :mod:`gd_analyze.core.model.robot` (fixed placement P_i, t_i, then the joint's motion):
+  joints), qd_i and qdd_i; sines and cosines are not counted. Every formulation runs on the joint
+  model of :mod:`gd_analyze.core.model.robot` (fixed placement P_i, t_i, then the joint's motion):
   the DH offsets are inside the placements, so theta_i = q_i + offset_i costs nothing.
 - Robot parameters (placements P_i, t_i, masses, centres of mass, inertias,
   pseudo-inertias, gravity) are general numbers: an operation on parameters only is done once

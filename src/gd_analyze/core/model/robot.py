@@ -146,7 +146,8 @@ class Robot:
 
     Every array is read-only. Build one with :func:`~gd_analyze.io.robots.load_robot`,
     :func:`~gd_analyze.core.model.robot_spec.robot_from_dict` or
-    :func:`~gd_analyze.core.model.robot_spec.robot_from_chain`. The joint model is in the module docstring.
+    :func:`~gd_analyze.core.model.robot_spec.robot_from_chain`. The joint model is in the module
+    docstring.
 
     Attributes
     ----------
