@@ -155,6 +155,7 @@ def _set(path, value):
     (_set(("link", 0, "joint"), "helical"), "link[1].joint", "revolute' or 'prismatic"),
     (_set(("link", 1, "mass"), True), "link[2].mass", "expected a number"),
     (_set(("link", 1, "mass"), float("nan")), "link[2].mass", "finite number"),
+    (_set(("link", 1, "mass"), -0.5), "link[2].mass", "negative mass"),
     (_set(("link", 0, "a"), 5e3), "link[1].a", "beyond the supported magnitude"),
     (_set(("link", 0, "inertia"), [[1, 0.5, 0], [0, 1, 0], [0, 0, 1]]), "link[1].inertia",
      "not symmetric"),

@@ -102,7 +102,8 @@ def _edit(path, value):
 
 
 @pytest.mark.parametrize("mutate, column, words", [
-    (_edit(("beta", 0), lambda v: v * 1.001), "recursive.beta", "differ from those of the robot"),
+    (_edit(("beta", 0), lambda v: v * (1 + 1e-6)), "recursive.beta",
+     "differ from those of the robot"),
     (_edit(("base_parameters", 0), "ZZ9"), "recursive.base_parameters", "differ"),
     (_edit(("dropped",), [["ZZ9", "gravity"]]), "recursive.dropped", "unknown dropped pair"),
     (_edit(("dropped",), lambda v: [[v[0][0], "friction"]]), "recursive.dropped",
@@ -119,6 +120,15 @@ def test_edited_model_files_are_refused_naming_the_key(mutate, column, words):
         RecursiveModel.from_dict(spec, arm, path="simplified_model.json")
     assert err.value.column == column and words in str(err.value)
     assert str(err.value).startswith("simplified_model.json: key ")
+
+
+def test_beta_within_the_agreement_is_accepted():
+    """Rounding in a written file (1e-10 relative) is not an edit."""
+    arm, _, _, model = case(0.05, 20.0)
+    spec = copy.deepcopy(model.to_dict())
+    spec["beta"] = [v * (1 + 1e-10) for v in spec["beta"]]
+    back = RecursiveModel.from_dict(spec, arm)
+    np.testing.assert_array_equal(back.beta, model.beta)          # the derived values are kept
 
 
 def test_bad_tolerances_are_refused():
