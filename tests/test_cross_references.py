@@ -2,7 +2,8 @@
 (issue 19, item 8).
 
 The docstrings of every module, class and function (methods included) of src/gd_analyze are
-read with ``ast`` (no import needed to find them), and every ``:func:``, ``:mod:``,
+read with ``ast`` (no import needed to find them), with the ``#:`` comments that document
+attributes, and every ``:func:``, ``:mod:``,
 ``:class:``, ``:meth:``, ``:data:``, ``:attr:`` and ``:exc:`` role is resolved the way Sphinx's
 Python domain would look it up:
 
@@ -52,6 +53,22 @@ def docstrings(tree):
             if doc:
                 yield here, doc
             stack += [(child, here) for child in node.body]
+
+
+def attribute_comments(source):
+    """The ``#:`` comments (Sphinx's documentation of module and class attributes), each run
+    of consecutive lines joined (a role may wrap onto the next line)."""
+    runs, current = [], []
+    for line in source.splitlines():
+        stripped = line.strip()
+        if stripped.startswith("#:"):
+            current.append(stripped[2:].strip())
+        elif current:
+            runs.append(" ".join(current))
+            current = []
+    if current:
+        runs.append(" ".join(current))
+    return runs
 
 
 def references(text):
@@ -145,9 +162,11 @@ def _sources():
 
 def _all_references():
     for path in _sources():
-        tree = ast.parse(path.read_text(encoding="utf-8"))
+        source = path.read_text(encoding="utf-8")
         name = module_name(path)
-        for owner, doc in docstrings(tree):
+        docs = list(docstrings(ast.parse(source)))
+        docs += [(None, comment) for comment in attribute_comments(source)]
+        for owner, doc in docs:
             for role, target in references(doc):
                 yield name, owner, role, target
 
@@ -203,6 +222,8 @@ def test_scan_finds_a_planted_stale_reference(tmp_path):
             '        """Uses :func:`~gd_analyze.robot.load_robot` and '
             ':meth:`title <gd_analyze.core.selection.ranking.Ranking.choices>`."""\n')
     found = [ref for _, doc in docstrings(ast.parse(text)) for ref in references(doc)]
+    assert [ref for c in attribute_comments("#: The limit (see\n#: :data:`~a.b.C`).\nX = 1\n")
+            for ref in references(c)] == [("data", "a.b.C")]
     assert sorted(found) == [("func", "gd_analyze.robot.load_robot"),
                              ("meth", "gd_analyze.core.selection.ranking.Ranking.choices"),
                              ("mod", "gd_analyze.core.selection.budget")]
