@@ -11,10 +11,11 @@ The chapter writes the joint torques of an n-joint arm as Eq. (3.2-26),
     h_i   = sum_k sum_m h_ikm qd_k qd_m                                                (3.2-32)
     c_i   = sum_{j >= i} (-m_j g^T U_ji rbar_j)                                        (3.2-34)
 
-where the frames are the body frames of :mod:`gd_analyze.robot`: frame j' = body frame j, whose
-z axis is joint j's axis (the role of DH frame j-1 in the book), ^j'T_i the products of the
-transforms ^{i-1}T_i between body frames (:func:`~gd_analyze.kinematics.joint_transforms`;
-the book's link matrices of Eq. (3.2-5) with the joint at the start of its frame), Q_j the
+where the frames are the body frames of :mod:`gd_analyze.core.model.robot`: frame j' = body
+frame j, whose z axis is joint j's axis (the role of DH frame j-1 in the book), ^j'T_i the
+products of the transforms ^{i-1}T_i between body frames
+(:func:`~gd_analyze.core.model.kinematics.joint_transforms`; the book's link matrices of
+Eq. (3.2-5) with the joint at the start of its frame), Q_j the
 joint matrix of Eq. (3.2-8a) (revolute) or Eq. (3.2-8b) (prismatic), J_j the 4x4
 pseudo-inertia matrix of link j, Eq. (3.2-18), g = (g_x, g_y, g_z, 0) the gravity row vector
 and rbar_j = (r_j, 1) the centre of mass of link j, both in body frame j.

@@ -2,8 +2,9 @@
 
 Every vector of link i is expressed in its own frame (the book's ^iR_0 w_i etc.), as in
 Table 3.3 and Algorithm 3.1 (Luh, Walker & Paul 1980), for revolute and prismatic joints. The
-frames are the body frames of :mod:`gd_analyze.robot`: joint i's axis is z0 = (0, 0, 1) of
-frame i itself, R_i = ^{i-1}R_i, and p_i = ^{i-1}p_i is the origin of frame i seen from frame
+frames are the body frames of :mod:`gd_analyze.core.model.robot`: joint i's axis is
+z0 = (0, 0, 1) of frame i itself, R_i = ^{i-1}R_i, and p_i = ^{i-1}p_i is the origin of frame
+i seen from frame
 i-1 in frame i-1 (it grows with q_i for a prismatic joint); sbar_i and I_i are link i's centre
 of mass and inertia tensor about it in frame i. With the joint at the start of its link, the
 outward step carries the origin's acceleration across link i-1 before rotating into frame i

@@ -18,8 +18,8 @@ The counts are measured, not derived: the algorithms run on one set point whose 
 Counting rule
 -------------
 - Inputs of a set point are C_i = cos(q_i), S_i = sin(q_i) (revolute joints), q_i (prismatic
-  joints), qd_i and qdd_i; sines and cosines are not counted. Every formulation runs on the
-  joint model of :mod:`gd_analyze.robot` (fixed placement P_i, t_i, then the joint's motion):
+  joints), qd_i and qdd_i; sines and cosines are not counted. Every formulation runs on the joint
+  model of :mod:`gd_analyze.core.model.robot` (fixed placement P_i, t_i, then the joint's motion):
   the DH offsets are inside the placements, so theta_i = q_i + offset_i costs nothing.
 - Robot parameters (placements P_i, t_i, masses, centres of mass, inertias,
   pseudo-inertias, gravity) are general numbers: an operation on parameters only is done once
@@ -151,7 +151,7 @@ def random_chain(n, seed=0):
 
 def _counted_transforms(robot, led, q, homogeneous=False):
     """^{i-1}R_i (1, n, 3, 3) and ^{i-1}p_i (1, n, 3) of counting scalars, by the very
-    function the float code runs (:func:`~gd_analyze.kinematics.transforms_core`); or the
+    function the float code runs (:func:`~gd_analyze.core.model.kinematics.transforms_core`); or the
     homogeneous ^{i-1}T_i (1, n, 4, 4) with exact 0 and 1 in the last row."""
     n = robot.n
     q = np.asarray(q, dtype=float)[None]

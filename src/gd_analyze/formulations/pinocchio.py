@@ -7,8 +7,8 @@ alone with ``computeGeneralizedGravity``. Dynamics are linear in the link inerti
 whose rotational inertias are all zero gives the translational G-D parts, and one whose masses
 are all zero (rotational inertias kept) gives the rotational parts.
 
-The model is built from the robot's joint model (:mod:`gd_analyze.robot`), whatever its source
-(standard or modified DH, URDF): Pinocchio joint i is a ``JointModelRZ`` (revolute) or
+The model is built from the robot's joint model (:mod:`gd_analyze.core.model.robot`), whatever
+its source (standard or modified DH, URDF): Pinocchio joint i is a ``JointModelRZ`` (revolute) or
 ``JointModelPZ`` (prismatic) whose placement in joint i-1's frame is the SE3 (P_i, t_i), and
 link i's inertia is appended in joint i's frame (the body frame) at its body-frame centre of
 mass with its body-frame inertia tensor.

@@ -324,7 +324,8 @@ class SetpointWriter:
     Parameters
     ----------
     path : str or os.PathLike
-        The file to create (write it under a temporary name: see :func:`atomic_path`).
+        The file to create (write it under a temporary name: see
+        :func:`gd_analyze.files.atomic_path`).
     N : int
         Number of set points.
     n : int

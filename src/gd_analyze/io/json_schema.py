@@ -365,7 +365,7 @@ COST_SCHEMA = Obj({"multiplications": Int(0, 10**15), "additions": Int(0, 10**15
 #: multiple angle or a power by recursion over this entry, so a larger one is refused.
 MAX_HARMONIC = 16
 #: The kept terms of an explicit model (issue 8), one list entry per term; lengths and ranges
-#: are checked by :func:`gd_analyze.core.selection.simplified.SimplifiedModel.load`.
+#: are checked by :func:`gd_analyze.io.model_file.load_model`.
 _TERMS_SCHEMA = Obj({
     "kind": ListOf(Str(choices=("D", "h", "c"))),
     "part": ListOf(Str(choices=("tran", "rot", "both", "grav"))),
@@ -392,7 +392,7 @@ _RECURSIVE_SCHEMA = Obj({
 
 #: The layout of simplified_model.json (schema_version 2; 1 lacks the keys of issue 8). The element keys of ``choices`` are
 #: checked against the robot's n by the loader; the robot's parameters by
-#: :func:`gd_analyze.robot.robot_from_dict`.
+#: :func:`gd_analyze.core.model.robot_spec.robot_from_dict`.
 MODEL_SCHEMA = Obj({
     "schema_version": Consts(1, 2),
     "kind": Field(Str(max_len=200), required=False),

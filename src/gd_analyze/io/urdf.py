@@ -95,7 +95,7 @@ class UrdfChain:
     metadata : dict
         ``description``, ``reference``, ``source`` and ``sha256`` (of the file's bytes), and
         ``base_link``, ``tip_link``, ``urdf_joints`` (the chain's joint names) and
-        ``locked_joints``, for :func:`gd_analyze.core.model.robot.robot_from_chain`.
+        ``locked_joints``, for :func:`gd_analyze.core.model.robot_spec.robot_from_chain`.
     """
 
     name: str
@@ -399,7 +399,7 @@ def load_urdf(path, base=None, tip=None):
     Returns
     -------
     Robot
-        Built by :func:`gd_analyze.core.model.robot.robot_from_chain`.
+        Built by :func:`gd_analyze.core.model.robot_spec.robot_from_chain`.
 
     Raises
     ------

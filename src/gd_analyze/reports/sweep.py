@@ -412,7 +412,8 @@ def write_sweep_report(sweep_path, outdir, payload=None, formats=SWEEP_REPORT_FO
         Output folder; made if missing.
     payload : str or os.PathLike or xarray.Dataset, optional
         A payload sweep (file written by :func:`gd_analyze.io.schema.write_dataset`, or the dataset
-        of :func:`gd_analyze.workflows.payload.payload_sweep`); adds its section and :func:`payload_figure`.
+        of :func:`gd_analyze.workflows.payload.payload_sweep`); adds its section and
+        :func:`~gd_analyze.reports.figures.payload_figure`.
     formats : sequence of str, optional
         Any of ``"html"`` and ``"pdf"``.
     paper : {"a4", "letter"}, optional

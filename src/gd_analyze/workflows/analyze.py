@@ -143,9 +143,9 @@ def verify(robot, q, qd, terms=None, max_setpoints=VERIFY_MAX_SETPOINTS, qdd=Non
     dict
         ``max_rel_error_<term>`` for D_tran, D_rot, h_tran, h_rot, D, h and c: the largest
         difference from Pinocchio relative to the element's natural scale over the checked set
-        points (:func:`gd_analyze.reference.natural_relative_error`): sqrt(D_ii D_jj) for D_ij,
-        peak |tau_i| for h_i and c_i, with an absolute floor of a few machine epsilons times
-        the overall scale; ``setpoints`` checked, ``tolerance`` and ``passed`` (1 if all are
+        points (:func:`gd_analyze.formulations.pinocchio.natural_relative_error`): sqrt(D_ii D_jj)
+        for D_ij, peak |tau_i| for h_i and c_i, with an absolute floor of a few machine epsilons
+        times the overall scale; ``setpoints`` checked, ``tolerance`` and ``passed`` (1 if all are
         within tolerance, else 0; a NaN anywhere fails).
 
     Notes

@@ -98,7 +98,8 @@ class ControlResult:
     q_d, qd_d, qdd_d : ndarray, shape (M, n)
         The desired motion at the samples [rad, rad/s, rad/s^2].
     runs : dict
-        Controller name -> :class:`TrackingRun`, in :data:`CONTROLLERS` order.
+        Controller name -> :class:`~gd_analyze.workflows.tracking.TrackingRun`, in
+        :data:`CONTROLLERS` order.
     cost : dict or None
         :func:`model_cost` of the model, if asked for.
     provenance : dict
@@ -299,10 +300,10 @@ def run_control(model, trajectory, wn=DEFAULT_WN, zeta=DEFAULT_ZETA, q0_offset=0
     Raises
     ------
     ValueError
-        If the trajectory's joint count differs from the robot's, t_end leaves fewer than 2
-        set points, a controller is unknown, the gains are invalid or so stiff that the
-        integration would need more than :data:`MAX_STIFFNESS_STEPS` steps
-        (:func:`stiffness_steps`), or a run exceeds :data:`MAX_RHS_EVALS` evaluations.
+        If the trajectory's joint count differs from the robot's, t_end leaves fewer than 2 set
+        points, a controller is unknown, the gains are invalid or so stiff that the integration
+        would need more than :data:`MAX_STIFFNESS_STEPS` steps (:func:`stiffness_steps`), or a run
+        exceeds :data:`~gd_analyze.workflows.tracking.MAX_RHS_EVALS` evaluations.
     InputError
         If the model's torque is not finite on a set point (:func:`~gd_analyze.workflows.evaluate.model_torque`).
 

@@ -34,9 +34,10 @@ def cost_rows(n, model, other=None, ladder_rows=None, formulation_counts=None):
     other : SimplifiedModel, optional
         The model of the other rule, side by side.
     ladder_rows : list of dict, optional
-        From :func:`ladder`.
+        From :func:`~gd_analyze.workflows.simplify.ladder`.
     formulation_counts : dict, optional
-        :func:`gd_analyze.opcount.operation_counts` (as implemented); by default counted.
+        :func:`gd_analyze.formulations.opcount.operation_counts` (as implemented); by default
+        counted.
 
     Returns
     -------
@@ -103,7 +104,8 @@ def simplified_dataset(model, selection, other=None, ladder_rows=None, cost_tabl
     files : tuple of str, optional
         The emitted source files.
     other_error : dict, optional
-        The other model's error along the trajectory (:func:`validate`).
+        The other model's error along the trajectory
+        (:func:`~gd_analyze.workflows.simplify.validate`).
 
     Returns
     -------

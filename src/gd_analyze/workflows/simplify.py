@@ -257,7 +257,8 @@ def validate(model, trajectories, chunk=65536, reference=None):
     Returns
     -------
     dict
-        As :func:`gd_analyze.simplified.torque_error` (over all trajectories together).
+        As :func:`gd_analyze.core.selection.simplified.torque_error` (over all trajectories
+        together).
     """
     acc = TorqueErrorAccumulator(model.robot.n)
     for q, qd, qdd in trajectories:

@@ -522,7 +522,8 @@ def merged_model(robot, sweep_ds):
         The arm the sweep was run on (checked against the dataset's ``robot_sha256`` and
         number of elements).
     sweep_ds : xarray.Dataset
-        A sweep dataset from :func:`run_sweep` (or read back with :func:`open_sweep`).
+        A sweep dataset from :func:`run_sweep` (or read back with
+        :func:`~gd_analyze.io.schema.open_sweep`).
 
     Returns
     -------

@@ -7,8 +7,8 @@ The G-D equations, Eq. (3.4-24), write the joint torques (forces, for a prismati
 where the "tran" parts come from the translational motion of the link masses and the "rot"
 parts from the rotational motion of the link inertias, Eqs. (3.4-25) to (3.4-28). In Jacobian
 form, with z_j and o_j the axis and origin of body frame j (joint j's axis, see
-:mod:`gd_analyze.robot`), rbar_s the centre of mass of link s, Ib_s = R_s I_s R_s^T, and for
-j <= s (columns j > s are zero)::
+:mod:`gd_analyze.core.model.robot`), rbar_s the centre of mass of link s, Ib_s = R_s I_s R_s^T,
+and for j <= s (columns j > s are zero)::
 
     revolute j:   Jv_s[:, j] = z_j x (rbar_s - o_j),   Jw_s[:, j] = z_j
     prismatic j:  Jv_s[:, j] = z_j,                    Jw_s[:, j] = 0

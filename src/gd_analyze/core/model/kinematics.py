@@ -1,8 +1,8 @@
 """Forward kinematics of a serial chain of revolute and prismatic joints, batched over set points.
 
-The joint model is that of :mod:`gd_analyze.robot`: joint i has a fixed placement (P_i, t_i) in
-body frame i-1 and then turns about (revolute) or slides along (prismatic) the placed frame's z
-axis, so::
+The joint model is that of :mod:`gd_analyze.core.model.robot`: joint i has a fixed placement (P_i,
+t_i) in body frame i-1 and then turns about (revolute) or slides along (prismatic) the placed
+frame's z axis, so::
 
     ^{i-1}T_i = [[P_i Rot_z(q_i), t_i], [0, 1]]              (revolute)
     ^{i-1}T_i = [[P_i, t_i + q_i P_i e_z], [0, 1]]            (prismatic)

@@ -144,8 +144,10 @@ def dh_placements(convention, d, a, alpha, offset):
 class Robot:
     """A serial arm of n revolute or prismatic joints with link inertial parameters.
 
-    Every array is read-only. Build one with :func:`load_robot`, :func:`robot_from_dict` or
-    :func:`robot_from_chain`. The joint model is in the module docstring.
+    Every array is read-only. Build one with :func:`~gd_analyze.io.robots.load_robot`,
+    :func:`~gd_analyze.core.model.robot_spec.robot_from_dict` or
+    :func:`~gd_analyze.core.model.robot_spec.robot_from_chain`. The joint model is in the module
+    docstring.
 
     Attributes
     ----------

@@ -2,8 +2,8 @@
 
 :func:`robot_from_dict` checks every key of the three layouts (standard DH, modified DH and a
 general chain of placements; revolute and prismatic joints) and builds a
-:class:`~gd_analyze.robot.Robot`. Every mistake is reported as one :class:`InputError` line
-that names the file, the link and the key. Pure: no files are read here.
+:class:`~gd_analyze.core.model.robot.Robot`. Every mistake is reported as one :class:`InputError`
+line that names the file, the link and the key. Pure: no files are read here.
 """
 
 from __future__ import annotations
@@ -190,7 +190,7 @@ def _rotation(value, path, column):
 
 
 def robot_from_dict(spec, source="<dict>", sha256=None):
-    """Validate a robot specification and build a :class:`Robot`.
+    """Validate a robot specification and build a :class:`~gd_analyze.core.model.robot.Robot`.
 
     Parameters
     ----------
@@ -310,7 +310,8 @@ def robot_from_dict(spec, source="<dict>", sha256=None):
 
 
 def robot_from_chain(name, joints, gravity, **metadata):
-    """Build a :class:`Robot` from general joint placements (the URDF route).
+    """Build a :class:`~gd_analyze.core.model.robot.Robot` from general joint placements (the URDF
+    route).
 
     Parameters
     ----------

@@ -19,7 +19,7 @@ scale_{u,i}) <= EPS x scale_{t,i}: the model is guaranteed on each trajectory, r
 trajectory's own scale, with memory independent of the number of trajectories.
 
 The chapter's rule (``"chapter"``) keeps the share-based classes of
-:mod:`gd_analyze.ranking` and prunes no single term: there is no bound.
+:mod:`gd_analyze.core.selection.ranking` and prunes no single term: there is no bound.
 """
 
 from __future__ import annotations

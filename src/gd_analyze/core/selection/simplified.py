@@ -416,7 +416,8 @@ def parameters_sha256(parameters):
     Parameters
     ----------
     parameters : dict
-        :meth:`Robot.to_dict` output, or the same as read back from JSON.
+        :meth:`~gd_analyze.core.model.robot.Robot.to_dict` output, or the same as read back from
+        JSON.
 
     Returns
     -------

@@ -54,7 +54,8 @@ def standard_parameters(robot):
     Notes
     -----
     J = I_c + m (r^T r 1 - r r^T) (parallel-axis theorem), MS = m r, with the centre of mass r
-    and the inertia tensor I_c of :attr:`Robot.body_com` and :attr:`Robot.body_inertia`
+    and the inertia tensor I_c of :attr:`~gd_analyze.core.model.robot.Robot.body_com` and
+    :attr:`~gd_analyze.core.model.robot.Robot.body_inertia`
     (Khalil & Kleinfinger 1987).
 
     Examples

@@ -16,8 +16,9 @@ ICRA 1986), keeping the structure instead of expanding it:
 - tau_i = sum_j D_ij qdd_j + sum_{j<=k} C_ijk (qd_j qd_k) + c_i, Eq. (3.4-24), factored;
 - unused assignments are dropped, common subexpressions eliminated (symengine ``cse``).
 
-Counting rule (that of :mod:`gd_analyze.opcount`): operations between numeric constants are
-free, multiplying by +-1 and adding 0 are free, a negation is free, a subtraction is an
+Counting rule (that of :mod:`gd_analyze.formulations.opcount`): operations between numeric
+constants are free, multiplying by +-1 and adding 0 are free, a negation is free, a
+subtraction is an
 addition, a square is one multiplication; the calls to cos and sin are listed separately.
 The count is taken on the very expressions that are printed.
 """
