@@ -185,25 +185,9 @@ ANALYZE_OUTPUTS = ("results.h5", "simplified_model.json", "simplified_model.c",
 
 
 def _cmd_analyze(args):
-    from ..reports.main_worker import WORKER_MAX_INPUT, FigureWorker
-
-    # a second interpreter imports the report's modules while this one computes, then draws
-    # some of the figures (if a core is free and the trajectory short): started first,
-    # stopped on every way out
-    try:
-        short = os.path.getsize(args.trajectory) <= WORKER_MAX_INPUT
-    except (OSError, ValueError, TypeError):
-        short = False                   # the reader gives the error
-    with FigureWorker(enabled=short and not args.no_report) as worker:
-        return _analyze(args, worker)
-
-
-def _analyze(args, worker):
-    from ..io.schema import skip_dask
     from ..io.staging import check_free_space, staged_output, writing
     from ..workflows.analyze import analyze_to_file, progress_bar
 
-    skip_dask()                         # the main job makes no dask arrays: skip its import
     bar = progress_bar(not args.quiet and sys.stderr.isatty())
     robot, trajectory = _load(args, args.trajectory)
     bar.reset(total=trajectory.n_setpoints)
@@ -242,7 +226,7 @@ def _analyze(args, worker):
             bar.reset(total=trajectory.n_setpoints)
             bar.set_description("report")
             written += write_report(results, stage, paper=args.paper, progress=bar.update,
-                                    worker=worker, fonts=args.figure_fonts)
+                                    fonts=args.figure_fonts)
         bar.close()
     written = [outdir / Path(p).relative_to(stage) for p in written]
     if not args.quiet:

@@ -560,14 +560,17 @@ def analyze_to_file(robot, trajectory, path, dominance=DEFAULT_DOMINANCE,
     OSError
         If the file cannot be written.
     """
+    import contextlib
+
     from ..files import atomic_path
     from ..io.datasets import SetpointWriter, summary_dataset
     from ..io.schema import append_dataset
 
     N, n = trajectory.q.shape
     with atomic_path(path) as tmp:
-        with SetpointWriter(tmp, N, n, chunk=min(max(1, int(chunk)), 8192),
-                            compress=compress, prismatic=robot.prismatic) as out:
+        with contextlib.closing(SetpointWriter(tmp, N, n, chunk=min(max(1, int(chunk)), 8192),
+                                               compress=compress,
+                                               prismatic=robot.prismatic)) as out:
             out.write(0, {"t": trajectory.t, "q": trajectory.q, "qd": trajectory.qd,
                           "qdd": trajectory.qdd})
             simplify = {"tolerance": tolerance, "rule": rule, "torque_floor": torque_floor,
