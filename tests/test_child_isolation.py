@@ -13,8 +13,6 @@ import sys
 
 import pytest
 
-from conftest import SHIPPED
-
 PLANTED = '''
 import os, sys
 with open(os.path.join(os.path.dirname(os.path.abspath(__file__)), "MARKER"), "a") as f:

@@ -8,7 +8,6 @@ the exit status; bad input raises :class:`gd_analyze.errors.InputError`, which
 from __future__ import annotations
 
 import math
-import os
 import sys
 import warnings
 from pathlib import Path
