@@ -384,6 +384,17 @@ def test_main_job_exits_normally_without_importing_dask(tmp_path):
     assert proc.stderr.splitlines()[-1] == "atexit ran; dask imported: False"
 
 
+def test_a_command_that_runs_alone_exits_normally(tmp_path):
+    """``plan`` starts no thread and no child: the old early exit (os._exit) skipped the
+    atexit handlers exactly there."""
+    proc = subprocess.run([sys.executable, "-c", _AT_EXIT, "plan", "two-link", "--start", "0,0",
+                           "--goal", "30,20", "-o", str(tmp_path / "t.csv")],
+                          capture_output=True, text=True, timeout=600)
+    assert proc.returncode == 0, proc.stderr
+    assert (tmp_path / "t.csv").is_file()
+    assert proc.stderr.splitlines()[-1].startswith("atexit ran")
+
+
 def test_a_sub_command_may_import_dask(tmp_path):
     """Only the main job is kept from dask: the sweep runs on it."""
     proc = subprocess.run([sys.executable, "-c", _AT_EXIT, "sweep", "two-link", "--random",
