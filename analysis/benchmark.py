@@ -16,7 +16,8 @@ checks that (a) agrees with (b) and (c), and times the main job
 `python -c "import numpy, scipy, xarray, matplotlib.pyplot, pinocchio"`.
 
 Every comparison is timed interleaved (a, b, b, a, ...) with the same number of runs on each
-side (--runs, default 5; --latency-runs for the main job, default 5 pairs). Prints one JSON
+side (--runs, default 5; --latency-runs rounds for the main job, default 5; --baseline SRC
+adds another checkout's main job, e.g. /work/main/src, to the same rounds). Prints one JSON
 line: microseconds per set point (medians) for a, b, c, and for each comparison the median of
 the per-pair ratios with its range (min, max). Ratios, not absolute times, are what carry over
 between machines.
@@ -173,44 +174,99 @@ def _upper(D):
 BARE_IMPORT = "import numpy, scipy, xarray, matplotlib.pyplot, pinocchio"
 
 
-def latency(runs=5):
-    """The main job on the shipped trajectory against a bare import, interleaved pairs.
+def rounds(fns, runs):
+    """Time several callables in rounds, each once per round, the order rotated each round.
 
-    The main job is ``gd-analyze puma560 data/puma560_trajectory.csv -o TMP -q`` (HDF5, JSON,
-    HTML, PDF and the figure files); the reference is ``python -c "import numpy, scipy, xarray,
-    matplotlib.pyplot, pinocchio"``. One warm-up run of each first (file caches), then ``runs``
-    pairs, alternating which goes first. Both run with Python's default settings: a
-    ``PYTHONDONTWRITEBYTECODE`` in the caller's environment is dropped, so the warm-up leaves
-    the byte-code of gd_analyze as any first run (or a non-editable install) does.
+    Parameters
+    ----------
+    fns : list of callable
+        The last one is the reference every other is divided by, within its round.
+    runs : int
+        Rounds.
+
+    Returns
+    -------
+    list of dict
+        One per callable but the last: ``median_ratio``, ``min_ratio``, ``max_ratio`` (its
+        time over the reference's of the same round), ``runs``, ``median_a_s`` (its median
+        time) and ``median_b_s`` (the reference's).
+    """
+    times = [[] for _ in fns]
+    m = len(fns)
+    for k in range(runs):
+        for j in range(m):
+            slot = (j + k) % m
+            t0 = time.perf_counter()
+            fns[slot]()
+            times[slot].append(time.perf_counter() - t0)
+    ref = np.asarray(times[-1])
+    out = []
+    for t in times[:-1]:
+        ratios = np.asarray(t) / ref
+        out.append({"median_ratio": float(np.median(ratios)), "min_ratio": float(ratios.min()),
+                    "max_ratio": float(ratios.max()), "runs": runs,
+                    "median_a_s": float(np.median(t)), "median_b_s": float(np.median(ref))})
+    return out
+
+
+def _job(command, env):
+    done = subprocess.run(command, capture_output=True, text=True, env=env)
+    if done.returncode != 0:
+        raise RuntimeError(f"{' '.join(command)} exited {done.returncode} "
+                           f"(PYTHONPATH={env.get('PYTHONPATH')}): {done.stderr[-2000:]}")
+    return done
+
+
+def latency(runs=5, baseline=None):
+    """The main job on the shipped trajectory against a bare import, in interleaved rounds.
+
+    The main job is ``python -m gd_analyze.cli puma560 data/puma560_trajectory.csv -o TMP -q``
+    (HDF5, JSON, the model's sources, HTML, PDF and the figure files), run with this
+    checkout's ``src`` first on ``PYTHONPATH``; the reference is ``python -c "import numpy,
+    scipy, xarray, matplotlib.pyplot, pinocchio"``. One warm-up run of each first (file
+    caches), then ``runs`` rounds, the order rotated each round. Every side runs with
+    Python's default settings: a ``PYTHONDONTWRITEBYTECODE`` in the caller's environment is
+    dropped, so the warm-up leaves the byte-code of gd_analyze as any first run (or a
+    non-editable install) does.
+
+    Parameters
+    ----------
+    runs : int, optional
+        Rounds.
+    baseline : str or os.PathLike, optional
+        Another checkout's ``src`` folder (e.g. the main branch's): its main job is timed in
+        the same rounds, with that folder first on ``PYTHONPATH``, against the same bare
+        import.
 
     Returns
     -------
     dict
-        As :func:`interleaved`: ratio job / bare import; ``figure_worker_runs``: in how many
-        of the timed runs a core was free for the report's figure worker
-        (:func:`gd_analyze.reports.main_worker.spare_core`, as the job decides it).
+        ``job``: as :func:`rounds`, the job over the bare import; ``baseline`` likewise, if
+        given; ``load_average``: the one-minute load average before and after.
     """
-    from gd_analyze.reports.main_worker import spare_core
-
-    exe = Path(sys.executable).parent / "gd-analyze"
-    job_cmd = [str(exe)] if exe.exists() else [sys.executable, "-m", "gd_analyze.cli"]
+    env = {k: v for k, v in os.environ.items() if k != "PYTHONDONTWRITEBYTECODE"}
+    env["MPLBACKEND"] = "Agg"           # default Python settings: the warm-up writes .pyc
     bare = [sys.executable, "-c", BARE_IMPORT]
+    srcs = [ROOT / "src"] + ([Path(baseline).resolve()] if baseline else [])
+    load = [os.getloadavg()[0]]
     with tempfile.TemporaryDirectory() as tmp:
-        job = job_cmd + ["puma560", str(ROOT / "data" / "puma560_trajectory.csv"), "-o", tmp,
-                         "-q"]
-        env = {k: v for k, v in os.environ.items() if k != "PYTHONDONTWRITEBYTECODE"}
-        env["MPLBACKEND"] = "Agg"           # default Python settings: the warm-up writes .pyc
-        subprocess.run(job, check=True, capture_output=True, env=env)        # warm up
+        fns = []
+        for k, src in enumerate(srcs):
+            job = [sys.executable, "-m", "gd_analyze.cli", "puma560",
+                   str(ROOT / "data" / "puma560_trajectory.csv"), "-o", f"{tmp}/out{k}", "-q"]
+            side = {**env, "PYTHONPATH": os.pathsep.join(
+                [str(src)] + [p for p in [env.get("PYTHONPATH")] if p])}
+            _job(job, side)                                 # warm up
+            fns.append(lambda job=job, side=side: _job(job, side))
         subprocess.run(bare, check=True, env=env)
-        used = []
-
-        def run_job():
-            used.append(spare_core())       # what the job will decide, as it starts
-            return subprocess.run(job, check=True, capture_output=True, env=env)
-
-        result = interleaved(run_job, lambda: subprocess.run(bare, check=True, env=env), runs)
-    result["figure_worker_runs"] = f"{sum(used)} of {len(used)}"
-    return result
+        fns.append(lambda: subprocess.run(bare, check=True, env=env))
+        result = rounds(fns, runs)
+    load.append(os.getloadavg()[0])
+    out = {"job": result[0], "load_average": load}
+    if baseline:
+        out["baseline"] = result[1]
+        out["baseline_src"] = str(srcs[1])
+    return out
 
 
 def main(argv=None):
@@ -231,10 +287,14 @@ def main(argv=None):
                         help="interleaved pairs of the main job and the bare import (default 5)")
     parser.add_argument("--latency-only", action="store_true",
                         help="only the main job against the bare import")
+    parser.add_argument("--baseline", metavar="SRC",
+                        help="also time the main job of another checkout's src folder (e.g. "
+                             "/work/main/src) in the same rounds")
     args = parser.parse_args(argv)
 
     if args.latency_only:
-        print(json.dumps({"main_job_over_bare_import": _summary(latency(args.latency_runs))}))
+        print(json.dumps({"main_job_over_bare_import": latency(args.latency_runs,
+                                                               args.baseline)}))
         return 0
 
     from gd_analyze import gd_terms, load_robot
@@ -292,7 +352,7 @@ def main(argv=None):
         "agreement": agreement,
     }
     if not args.no_latency:
-        result["main_job_over_bare_import"] = _summary(latency(args.latency_runs))
+        result["main_job_over_bare_import"] = latency(args.latency_runs, args.baseline)
     result["peak_rss_mib"] = resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024
     print(json.dumps(result))
     if result["max_rel_disagreement"] > 1e-10:

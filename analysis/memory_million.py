@@ -4,10 +4,9 @@ main job with its report (HTML, PDF and the figure files).
     python analysis/memory_million.py [--setpoints N] [--no-terms]
 
 Each measurement runs in a fresh Python process that prints its own peak resident set size
-(ru_maxrss), so the figures do not mix. The main job runs as a user runs it: its report's figure
-worker (:mod:`gd_analyze.reports.main_worker`) is started only for trajectory files up to
-``WORKER_MAX_INPUT`` (8 MiB), so it does not run here. The trajectory is the default PUMA 560 motion planned
-with N set points, written to a temporary CSV. Prints one JSON line.
+(ru_maxrss), so the figures do not mix. The main job runs as a user runs it, in one process.
+The trajectory is the default PUMA 560 motion planned with N set points, written to a
+temporary CSV. Prints one JSON line.
 """
 
 from __future__ import annotations

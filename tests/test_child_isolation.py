@@ -4,8 +4,7 @@ A ``pickle.py`` planted in the folder where ``gd-analyze`` starts appends its pr
 marker file (and then hands over to the real pickle, so that a child that imported it still
 works). The program is started as its console script is: from a launcher in another folder,
 so that only a child interpreter could put the current folder on ``sys.path``. The oracle is
-the marker file: it must not exist after the main job (with the figure worker forced on) or
-after a sweep on a local dask cluster.
+the marker file: it must not exist after a sweep on a local dask cluster.
 """
 
 import os
@@ -13,8 +12,6 @@ import subprocess
 import sys
 
 import pytest
-
-from conftest import SHIPPED
 
 PLANTED = '''
 import os, sys
@@ -49,14 +46,6 @@ def _run(planted, args, **env):
                           timeout=600)
     marker = cwd / "MARKER"
     return done, marker.read_text() if marker.exists() else ""
-
-
-def test_planted_pickle_does_not_run_in_the_figure_worker(planted):
-    done, marker = _run(planted, ["puma560", str(SHIPPED), "-o", "out", "-q"],
-                        GD_ANALYZE_WORKER="1")
-    assert done.returncode == 0, done.stderr
-    assert marker == "", f"pickle.py of the current folder ran in: {marker}"
-    assert (planted[0] / "out" / "report.pdf").is_file()
 
 
 def test_planted_pickle_does_not_run_in_the_sweeps_dask_workers(planted):

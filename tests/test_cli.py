@@ -1,4 +1,5 @@
 import hashlib
+import os
 import json
 import subprocess
 import sys
@@ -338,10 +339,11 @@ def test_summary_warns_when_the_model_does_not_pay():
 
 
 # ------------------------------------------------------------------------------------------
-# The program's exit: at once when nothing else runs, with everything flushed
+# The program's exit: a normal one (atexit handlers run), with everything flushed; the main
+# job runs as without dask
 # ------------------------------------------------------------------------------------------
 
-def test_program_exits_at_once_with_its_status_and_all_its_output(tmp_path):
+def test_program_exits_with_its_status_and_all_its_output(tmp_path):
     out = tmp_path / "out"
     proc = subprocess.run([sys.executable, "-m", "gd_analyze.cli", "two-link",
                            str(tmp_path / "missing.csv")], capture_output=True, text=True)
@@ -359,58 +361,46 @@ def test_program_exits_at_once_with_its_status_and_all_its_output(tmp_path):
     assert last.startswith("wrote ") and last.endswith("simplified_model.py")
 
 
-@pytest.mark.parametrize("alone", [True, False])
-def test_run_ends_at_once_only_when_alone(monkeypatch, alone):
-    import gd_analyze.cli as cli
+_AT_EXIT = """
+import atexit, sys
+from gd_analyze.cli import run
 
-    ended = []
-    monkeypatch.setattr(cli, "main", lambda: 3)
-    monkeypatch.setattr(cli, "_alone", lambda: alone)
-    monkeypatch.setattr(cli.os, "_exit", lambda status: ended.append(status))
-    with pytest.raises(SystemExit) as exc:      # os._exit is mocked: sys.exit follows
-        cli.run()
-    assert exc.value.code == 3
-    assert ended == ([3] if alone else [])
+def report():
+    print("atexit ran; dask imported:", sys.modules.get("dask") is not None, file=sys.stderr)
 
-
-def test_a_thread_or_a_child_process_is_not_alone(monkeypatch):
-    import threading
-
-    import gd_analyze.cli as cli
-
-    stop = threading.Event()
-    thread = threading.Thread(target=stop.wait)
-    thread.start()
-    try:
-        assert not cli._alone()
-    finally:
-        stop.set()
-        thread.join()
-    monkeypatch.setattr(threading, "active_count", lambda: 1)
-
-    class _MP:
-        children = []
-
-        def active_children(self):
-            return self.children
-
-    mp = _MP()
-    monkeypatch.setitem(sys.modules, "multiprocessing", mp)
-    assert cli._alone()
-    mp.children = ["a dask worker"]
-    assert not cli._alone()
+atexit.register(report)
+sys.argv = ["gd-analyze"] + sys.argv[1:]
+run()
+"""
 
 
-def test_figure_fonts_option_reaches_the_figure_files(tmp_path, capsys):
-    out = tmp_path / "tt"
-    code, _, err = _run(["two-link", _two_link_csv(tmp_path), "-o", out, "-q",
-                         "--figure-fonts", "truetype", "--paper", "letter"], capsys)
-    assert code == 0, err
-    pdfs = sorted((out / "figures").glob("*.pdf"))
-    assert len(pdfs) >= 4
-    for path in pdfs:
-        data = path.read_bytes()
-        assert b"/FontFile2" in data and b"/Type3" not in data, path.name
-    code, _, err = _run(["two-link", _two_link_csv(tmp_path), "-o", tmp_path / "x", "-q",
-                         "--figure-fonts", "type1"], capsys)
-    assert code == 2 and "--figure-fonts" in err and err.count("\n") == 1
+def test_main_job_exits_normally_without_importing_dask(tmp_path):
+    """The console script returns through sys.exit: the interpreter's teardown and atexit
+    handlers run (no os._exit), and the main job with its report never imports dask."""
+    proc = subprocess.run([sys.executable, "-c", _AT_EXIT, "puma560", str(SHIPPED), "-o",
+                           str(tmp_path / "out"), "-q"], capture_output=True, text=True,
+                          env={**os.environ, "MPLBACKEND": "Agg"}, timeout=600)
+    assert proc.returncode == 0, proc.stderr
+    assert (tmp_path / "out" / "report.pdf").is_file()
+    assert proc.stderr.splitlines()[-1] == "atexit ran; dask imported: False"
+
+
+def test_a_command_that_runs_alone_exits_normally(tmp_path):
+    """``plan`` starts no thread and no child: the old early exit (os._exit) skipped the
+    atexit handlers exactly there."""
+    proc = subprocess.run([sys.executable, "-c", _AT_EXIT, "plan", "two-link", "--start", "0,0",
+                           "--goal", "30,20", "-o", str(tmp_path / "t.csv")],
+                          capture_output=True, text=True, timeout=600)
+    assert proc.returncode == 0, proc.stderr
+    assert (tmp_path / "t.csv").is_file()
+    assert proc.stderr.splitlines()[-1].startswith("atexit ran")
+
+
+def test_a_sub_command_may_import_dask(tmp_path):
+    """Only the main job is kept from dask: the sweep runs on it."""
+    proc = subprocess.run([sys.executable, "-c", _AT_EXIT, "sweep", "two-link", "--random",
+                           "2", "--workers", "1", "--no-report", "-o", str(tmp_path / "out"),
+                           "-q"], capture_output=True, text=True,
+                          env={**os.environ, "MPLBACKEND": "Agg"}, timeout=600)
+    assert proc.returncode == 0, proc.stderr
+    assert proc.stderr.splitlines()[-1] == "atexit ran; dask imported: True"

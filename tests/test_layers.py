@@ -21,11 +21,9 @@ LEAVES = {"errors", "files", "_version", "config"}
 SHARED_REPORTS = {"reports.common", "reports.figures", "reports.pages", "reports.drawing",
                   "reports.ticks", "reports.main_figures", "reports.main_text",
                   "reports.sweep_figures", "reports.simplified_section",
-                  "reports.pdf_text", "reports.main_context"}
+                  "reports.main_context"}
 # the core modules a report may read: names and labels of the ranking's classes and elements
 REPORT_CORE = {"core.selection.ranking", "core.selection.labels"}
-# a report's worker process (a second interpreter drawing part of its figures) runs that report
-WORKERS = {"reports.main_worker": "reports.main"}
 
 
 def _module_name(path):
@@ -87,8 +85,7 @@ def check(path):
             bad.append(f"{me} -> {target} (upward)")
         elif me.startswith("reports.") and (target.startswith(("formulations", "workflows"))
                                             or (target.startswith("reports.")
-                                                and target not in SHARED_REPORTS
-                                                and WORKERS.get(me) != target)):
+                                                and target not in SHARED_REPORTS)):
             bad.append(f"{me} -> {target} (a report reads io and the shared report modules)")
         elif me.startswith("reports.") and target.startswith("core.") \
                 and target not in REPORT_CORE:

@@ -50,40 +50,39 @@ def _mistyped_command(word):
 def run():
     """The ``gd-analyze`` program: :func:`main` on ``sys.argv``, then exit with its status.
 
-    Once the command has returned, its files are closed and in place and its child processes
-    reaped; what is left is the interpreter tearing down its modules and objects (matplotlib's
-    figures, xarray, Pinocchio: about a quarter of a second after a main job). So if nothing
-    else runs (the main thread only, no multiprocessing child: dask's workers, a tqdm monitor
-    thread), stdout and stderr are flushed and the process ends at once (``os._exit``);
-    otherwise it exits normally. :func:`main` itself returns, for use from Python.
+    The main job runs as on an installation without dask (:func:`_without_dask`): it makes no
+    dask arrays, and xarray would otherwise import dask (about 0.3 s) to check that its numpy
+    arrays are not dask arrays. The interpreter then exits normally (atexit handlers and
+    teardown run). :func:`main` itself returns, for use from Python.
 
     Raises
     ------
     SystemExit
-        With the exit status, when the process does not end at once.
+        With the exit status.
     """
-    try:
-        status = main()
-    except SystemExit as exc:           # argparse's --help and usage errors
-        status = exc.code
-    if isinstance(status, int) and _alone():
-        for stream in (sys.stdout, sys.stderr):
-            try:
-                stream.flush()
-            except (OSError, ValueError):   # a closed pipe: nothing more to say
-                pass
-        os._exit(status)
-    sys.exit(status)
+    argv = sys.argv[1:]
+    if _main_job(argv):
+        _without_dask()
+    sys.exit(main(argv))
 
 
-def _alone():
-    """Whether this process runs nothing but its main thread (no thread, no child)."""
-    import threading
+def _main_job(argv):
+    """Whether the command line is the main job (no sub-command word first)."""
+    words = [a for a in argv if a != "--debug"]
+    return not words or words[0] not in COMMANDS
 
-    if threading.active_count() != 1:
-        return False
-    mp = sys.modules.get("multiprocessing")
-    return mp is None or not mp.active_children()
+
+def _without_dask():
+    """Make ``import dask`` fail in this process, as where dask is not installed.
+
+    ``sys.modules["dask"] = None`` is Python's documented way to make an import raise
+    ImportError (the import system reference, "The module cache"); xarray then treats dask as
+    absent, a configuration it supports. Only for the main job of the console script: one
+    command per process, and the job never makes a dask array. Nothing is done if dask is
+    imported already.
+    """
+    if "dask" not in sys.modules:
+        sys.modules["dask"] = None
 
 
 def main(argv=None):

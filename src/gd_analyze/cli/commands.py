@@ -8,7 +8,6 @@ the exit status; bad input raises :class:`gd_analyze.errors.InputError`, which
 from __future__ import annotations
 
 import math
-import os
 import sys
 import warnings
 from pathlib import Path
@@ -150,20 +149,6 @@ def _payload_masses(args):
     return masses
 
 
-def _cmd_analyze(args):
-    from ..reports.main_worker import WORKER_MAX_INPUT, FigureWorker
-
-    # a second interpreter imports the report's modules while this one computes, then draws
-    # some of the figures (if a core is free and the trajectory short): started first,
-    # stopped on every way out
-    try:
-        short = os.path.getsize(args.trajectory) <= WORKER_MAX_INPUT
-    except (OSError, ValueError, TypeError):
-        short = False                   # the reader gives the error
-    with FigureWorker(enabled=short and not args.no_report) as worker:
-        return _analyze(args, worker)
-
-
 def _options(args):
     """The main job's settings from its arguments."""
     from ..workflows.options import AnalysisOptions, SimplifyOptions
@@ -188,12 +173,10 @@ def _payload(args):
                    tuple(float(v) for v in args.payload_inertia))
 
 
-def _analyze(args, worker):
-    from ..io.schema import skip_dask
+def _cmd_analyze(args):
     from ..workflows.analyze import progress_bar
     from ..workflows.run import run_analysis
 
-    skip_dask()                         # the main job makes no dask arrays: skip its import
     bar = progress_bar(not args.quiet and sys.stderr.isatty())
     robot, trajectory = _load(args, args.trajectory)
     bar.reset(total=trajectory.n_setpoints)
@@ -207,7 +190,7 @@ def _analyze(args, worker):
             bar.reset(total=trajectory.n_setpoints)
             bar.set_description("report")
             return write_report(results, folder, paper=args.paper, progress=bar.update,
-                                worker=worker, fonts=args.figure_fonts)
+                                fonts=args.figure_fonts)
     outputs = run_analysis(
         robot, trajectory, _options(args), _outdir(args.outdir, robot.name,
                                                    Path(args.trajectory).stem),

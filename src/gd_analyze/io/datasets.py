@@ -392,13 +392,7 @@ class SetpointWriter:
         return self.variables[name][start:stop]
 
     def close(self):
-        """Close the file."""
+        """Close the file (``with contextlib.closing(SetpointWriter(...)) as w:``)."""
         self._file.close()
-
-    def __enter__(self):
-        return self
-
-    def __exit__(self, *exc):
-        self.close()
 
 

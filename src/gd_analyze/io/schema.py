@@ -19,75 +19,12 @@ from ..files import atomic_path
 
 __all__ = ["CONVENTIONS", "MIXED_UNITS", "var", "attribute_value", "global_attributes",
            "element_coords", "strings", "write_dataset", "append_dataset", "open_results",
-           "open_sweep", "skip_dask"]
+           "open_sweep"]
 
 #: The CF conventions the datasets follow.
 CONVENTIONS = "CF-1.10"
 #: Units of a variable over the element dim (D elements in kg m2, h elements in N m).
 MIXED_UNITS = "per element: element_units (kg m2, kg m or kg for D; N m or N for h)"
-
-
-def skip_dask():
-    """Keep xarray from importing dask in a process that has not imported it.
-
-    xarray imports dask (about 0.3 s, and 1-2 s with ``dask.array``) the first time it builds
-    a variable, only to check whether the data is a dask array. No object can be a dask array
-    or collection before dask is imported, so this installs two checks that answer "no" while
-    ``dask`` is not in ``sys.modules`` and defer to xarray's own once it is: always correct, so
-    a later dask user (the sweep) is unaffected.
-
-    Returns
-    -------
-    bool
-        True if the checks are installed; False if xarray's internals differ from those
-        expected (then nothing is changed and xarray imports dask as usual).
-
-    Notes
-    -----
-    Writing with :meth:`xarray.Dataset.to_netcdf` still imports dask (it asks for the dask
-    scheduler): :func:`append_dataset` writes without it.
-    """
-    import sys
-
-    try:
-        from xarray.namedarray import pycompat, utils
-    except ImportError:          # pragma: no cover - another xarray layout
-        return False
-    cache = getattr(pycompat, "_cached_duck_array_modules", None)
-    module_type = getattr(pycompat, "DuckArrayModule", None)
-    collection = getattr(utils, "is_dask_collection", None)
-    if not isinstance(cache, dict) or module_type is None or collection is None:
-        return False
-    if getattr(collection, "_gd_lazy", False):
-        return True
-
-    class _LazyDask(module_type):
-        """xarray's record of dask: absent until dask is imported, then the real one."""
-
-        def __init__(self):                  # noqa: D107 - no import here
-            self._real = None
-
-        def _get(self):
-            if "dask" not in sys.modules:
-                return None
-            if self._real is None:
-                self._real = module_type("dask")
-            return self._real
-
-        module = property(lambda self: self._get().module if self._get() else None)
-        version = property(lambda self: self._get().version if self._get() else
-                           __import__("packaging.version").version.Version("0"))
-        type = property(lambda self: self._get().type if self._get() else ())
-        available = property(lambda self: bool(self._get() and self._get().available))
-
-    def is_dask_collection(x):
-        return "dask" in sys.modules and collection(x)
-
-    is_dask_collection._gd_lazy = True
-    if "dask" not in cache:
-        cache["dask"] = _LazyDask()
-    utils.is_dask_collection = is_dask_collection
-    return True
 
 
 def append_dataset(ds, path):
@@ -107,8 +44,9 @@ def append_dataset(ds, path):
 
     Notes
     -----
-    The same encoding as ``ds.to_netcdf(path, mode="a", engine="h5netcdf")``, without the
-    dask scheduler query of ``to_netcdf`` (which imports dask): see :func:`skip_dask`.
+    The same encoding as ``ds.to_netcdf(path, mode="a", engine="h5netcdf")``, through xarray's
+    public h5netcdf store with an explicit lock: ``to_netcdf`` asks dask for its scheduler
+    (importing dask where it is installed), which the main job has no use for.
     """
     from xarray.backends import H5NetCDFStore
     from xarray.backends.locks import HDF5_LOCK

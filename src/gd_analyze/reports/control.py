@@ -28,7 +28,7 @@ from .common import strings as _strings, style as _style, table as _table
 from .common import attr, fmt, grid_shape, render_template, utc_now
 from ..core.selection.ranking import element_label
 from .pages import PAPER, Document
-from .drawing import draw_figures, figure_svg, no_gc, write_figure_files
+from .drawing import draw_figures, figure_svg, write_figure_files
 
 __all__ = ["CONTROL_REPORT_FILES", "REQUIRED_VARIABLES", "make_control_figures",
            "render_control_html", "render_control_pdf", "write_control_report"]
@@ -523,8 +523,7 @@ def write_control_report(control_path, outdir, paper="a4", fonts="type3"):
     ctx = _context(ds)
     outdir = Path(outdir)
     (outdir / "figures").mkdir(parents=True, exist_ok=True)
-    with no_gc():
-        drawn = draw_figures(make_control_figures(ds), _RC, fonts=fonts)
+    drawn = draw_figures(make_control_figures(ds), _RC, fonts=fonts)
     html_path, pdf_path = (outdir / name for name in CONTROL_REPORT_FILES)
     files = []
     with contextlib.ExitStack() as stack:

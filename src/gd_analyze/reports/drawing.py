@@ -1,43 +1,17 @@
 """Drawing the reports' figures: once, for both the HTML (SVG) and the PDF, and as files.
 
 :func:`draw_figures` renders each matplotlib figure a single time into both formats (a tee of
-the renderer), with the garbage collector paused (:func:`no_gc`); :func:`write_figure_files`
-writes them to ``OUTDIR/figures/``. The page engine (:mod:`gd_analyze.reports.pages`) places the
-PDF of each figure on its page.
+the renderer); :func:`write_figure_files` writes them to ``OUTDIR/figures/``. The page engine
+(:mod:`gd_analyze.reports.pages`) places the PDF of each figure on its page.
 """
 
 from __future__ import annotations
 
-import contextlib
 import io
 
 from .pages import FIGURE_FONTS, PAGE_RC
 
-__all__ = ["no_gc", "figure_pdf", "figure_svg", "draw_figures", "write_figure_files"]
-
-
-@contextlib.contextmanager
-def no_gc():
-    """Pause the cyclic garbage collector while a report is drawn.
-
-    matplotlib makes tens of thousands of small objects per figure; with a large heap (numba,
-    Pinocchio, pandas loaded) each automatic collection rescans it, about a fifth of the
-    drawing time. The garbage of a report is bounded (its figures and pages), so it is left
-    to the collection after the block.
-
-    Yields
-    ------
-    None
-    """
-    import gc
-
-    was = gc.isenabled()
-    gc.disable()
-    try:
-        yield
-    finally:
-        if was:
-            gc.enable()
+__all__ = ["figure_pdf", "figure_svg", "draw_figures", "write_figure_files"]
 
 
 def _save(fig, fmt, rc, metadata):
@@ -201,29 +175,29 @@ def _draw_both(fig, rc):
     """One traversal of ``fig`` into a PDF renderer and an SVG renderer: (svg text, pdf
     bytes), as :meth:`~matplotlib.figure.Figure.savefig` writes them (points, 72 per in)."""
     import matplotlib
-    from matplotlib import cbook
     from matplotlib.backends.backend_pdf import PdfFile, RendererPdf
     from matplotlib.backends.backend_svg import RendererSVG
 
     pdf_buf, svg_buf = io.BytesIO(), io.StringIO()
+    dpi = fig.dpi
     with matplotlib.rc_context(rc):
-        dpi = fig.dpi
-        with cbook._setattr_cm(fig, dpi=72):
+        fig.dpi = 72                        # as savefig draws a vector format
+        pdf_file = PdfFile(pdf_buf, metadata={"CreationDate": None, "Creator": None,
+                                              "Producer": None})
+        try:
             w, h = fig.get_size_inches()
-            pdf_file = PdfFile(pdf_buf, metadata={"CreationDate": None, "Creator": None,
-                                                  "Producer": None})
-            try:
-                pdf_file.newPage(w, h)
-                r_pdf = RendererPdf(pdf_file, dpi, h, w)
-                r_svg = RendererSVG(w * 72, h * 72, svg_buf, image_dpi=dpi,
-                                    metadata={"Date": None, "Creator": None, "Format": None,
-                                              "Type": None})
-                fig.draw(_TeeRenderer(r_pdf, r_svg))
-                r_pdf.finalize()
-                r_svg.finalize()
-                pdf_file.finalize()
-            finally:
-                pdf_file.close()
+            pdf_file.newPage(w, h)
+            r_pdf = RendererPdf(pdf_file, dpi, h, w)
+            r_svg = RendererSVG(w * 72, h * 72, svg_buf, image_dpi=dpi,
+                                metadata={"Date": None, "Creator": None, "Format": None,
+                                          "Type": None})
+            fig.draw(_TeeRenderer(r_pdf, r_svg))
+            r_pdf.finalize()
+            r_svg.finalize()
+            pdf_file.finalize()
+        finally:
+            pdf_file.close()
+            fig.dpi = dpi
     text = svg_buf.getvalue()
     start = text.find("<svg")
     return (text[start:] if start >= 0 else text), pdf_buf.getvalue()

@@ -41,7 +41,7 @@ from .common import prismatic_joints
 from .main_figures import RC as FIG_RC, PAGE_WIDTH, plot_data
 from .main_figures import fig_D, fig_h, fig_joints, fig_torque
 from .pages import FIGURE_FONTS, PAPER, Document
-from .drawing import draw_figures, no_gc, write_figure_files
+from .drawing import draw_figures, write_figure_files
 from ..io.sweep_datasets import payload_part
 
 __all__ = [
@@ -461,7 +461,7 @@ _RANKING_TEXT = ("For each element, share_tran = \u03a3|tran| / (\u03a3|tran| + 
 # --------------------------------------------------------------------------------------------
 
 def write_report(results_path, outdir, formats=REPORT_FORMATS, paper="a4", progress=None,
-                 worker=None, fonts="type3"):
+                 fonts="type3"):
     """Write report.html and/or report.pdf, and every figure as PDF and SVG, for an analysis.
 
     Parameters
@@ -477,10 +477,6 @@ def write_report(results_path, outdir, formats=REPORT_FORMATS, paper="a4", progr
         Page size of the PDF.
     progress : callable, optional
         Called with a number of set points read (for a progress bar).
-    worker : gd_analyze.reports.main_worker.FigureWorker, optional
-        A second interpreter, started before the results were computed, that draws some of
-        the figures from ``results_path`` while this process draws the others and the
-        text; without it (or should it fail) every figure is drawn here.
     fonts : {"type3", "truetype"}, optional
         How the figures' PDFs embed their font
         (:data:`gd_analyze.reports.pages.FIGURE_FONTS`).
@@ -516,38 +512,17 @@ def write_report(results_path, outdir, formats=REPORT_FORMATS, paper="a4", progr
         raise ValueError(f"paper must be one of {sorted(PAPER)}, got {paper!r}")
     if fonts not in FIGURE_FONTS:
         raise ValueError(f"fonts must be one of {sorted(FIGURE_FONTS)}, got {fonts!r}")
-    # before this process reads: the worker's figures, drawn there
-    away = () if worker is None else worker.draw(results_path, fonts=fonts)
-    with open_results(results_path, lazy=True) as ds, no_gc():   # long series: in chunks
-        return _write(ds, Path(outdir), formats, paper, progress, away, worker, fonts)
+    with open_results(results_path, lazy=True) as ds:       # long series: in chunks
+        return _write(ds, Path(outdir), formats, paper, progress, fonts)
 
 
-def _draw_missing(ds, data, drawn, keys, fonts):
-    """Draw here the figures the worker did not give (it failed): same code, same result."""
-    if keys:
-        drawn.update(_drawn(make_figures(ds, data, keys=keys), fonts=fonts))
-
-
-def _write(ds, outdir, formats, paper, progress, away=(), worker=None, fonts="type3"):
+def _write(ds, outdir, formats, paper, progress, fonts="type3"):
     from ..files import atomic_path
 
     ctx = report_context(ds)            # fails early on a dataset that is not ours
     (outdir / "figures").mkdir(parents=True, exist_ok=True)
     data = plot_data(ds, progress=progress)
-    drawn = _drawn(make_figures(ds, data, keys=set(_FIGURE_ORDER) - set(away)), fonts=fonts)
-    sizes = {k: d[2] for k, d in drawn.items()}
-    if away:                            # sizes first: the PDF's text pages meanwhile
-        sizes.update(worker.sizes())
-        _draw_missing(ds, data, drawn, set(away) - set(sizes), fonts)
-        sizes.update({k: d[2] for k, d in drawn.items()})
-    document = text = None
-    if "pdf" in formats:
-        document = _document(ctx, {k: sizes[k] for k in _FIGURE_ORDER if k in sizes}, paper)
-        text = document.draw_text()
-    if away:
-        drawn.update(worker.collect())
-        _draw_missing(ds, data, drawn, set(away) - set(drawn), fonts)
-    drawn = {k: drawn[k] for k in _FIGURE_ORDER if k in drawn}
+    drawn = _drawn(make_figures(ds, data), fonts=fonts)
     with contextlib.ExitStack() as stack:
         paths = {fmt: outdir / f"report.{fmt}" for fmt in formats}
         files = write_figure_files(stack, drawn, outdir / "figures", FIGURE_FILES)
@@ -556,5 +531,5 @@ def _write(ds, outdir, formats, paper, progress, away=(), worker=None, fonts="ty
             with open(tmp["html"], "w", encoding="utf-8") as fh:
                 fh.write(_html(ctx, drawn))
         if "pdf" in tmp:
-            document.write(tmp["pdf"], {k: d[1] for k, d in drawn.items()}, text=text)
+            _pdf(ctx, drawn, tmp["pdf"], paper)
     return [paths[fmt] for fmt in formats] + files

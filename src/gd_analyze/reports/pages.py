@@ -100,12 +100,9 @@ def _strings_artist():
             from matplotlib.colors import to_rgba
             from matplotlib.font_manager import FontProperties
 
-            from .pdf_text import PdfText
-
             dpi = self.figure.dpi
             props = {}
             gc = renderer.new_gc()
-            fast = PdfText.for_renderer(renderer)
             for x, y, s, size, colour, weight, ha in self.items:
                 if not s:
                     continue
@@ -115,15 +112,10 @@ def _strings_artist():
                         family="DejaVu Sans", size=size, weight=weight)
                 baseline = (self.H - y) * dpi - 0.93 * size * dpi / 72     # ascent of DejaVu
                 gc.set_foreground(to_rgba(colour))
-                run = fast.layout(s, prop) if fast is not None else None
                 px = x * dpi
-                if run is None:
-                    if ha == "right":
-                        px -= renderer.get_text_width_height_descent(s, prop,
-                                                                     ismath=False)[0]
-                    renderer.draw_text(gc, px, baseline, s, prop, 0.0, ismath=False)
-                else:
-                    fast.draw(gc, px - run[1] if ha == "right" else px, baseline, run, size)
+                if ha == "right":
+                    px -= renderer.get_text_width_height_descent(s, prop, ismath=False)[0]
+                renderer.draw_text(gc, px, baseline, s, prop, 0.0, ismath=False)
             gc.restore()
 
     return Strings
@@ -484,19 +476,7 @@ class Document:
              ha="right")
         return fig
 
-    def draw_text(self):
-        """Lay out the document and draw its text pages, before its figures are given.
-
-        Returns
-        -------
-        tuple
-            Opaque: the text pages' PDF, the layout and the bookmarks, for :meth:`write`
-            (``text=``). The figure blocks need only their keys and sizes by then.
-        """
-        pages, bookmarks = self._layout()
-        return self._text_pages(pages), pages, bookmarks
-
-    def write(self, path, figures=None, text=None):
+    def write(self, path, figures=None):
         """Lay out, draw and write the document.
 
         Parameters
@@ -506,17 +486,14 @@ class Document:
         figures : dict of str to bytes, optional
             The PDF of each figure whose block holds a key in place of its bytes (a document
             laid out before its figures are drawn).
-        text : tuple, optional
-            What :meth:`draw_text` returned, if called already (the layout is not redone).
 
         Returns
         -------
         int
             The number of pages.
         """
-        if text is None:
-            text = self.draw_text()
-        return self._finish(*text, path, figures)
+        pages, bookmarks = self._layout()
+        return self._finish(self._text_pages(pages), pages, bookmarks, path, figures)
 
     def _text_pages(self, pages):
         """The text, rules and shading of every page (no figures) as PDF bytes."""

@@ -37,7 +37,7 @@ from .common import torque_units, units_said_once, utc_now
 from .figures import PAYLOAD_REQUIRED as _PAYLOAD_REQUIRED
 from .sweep_figures import REQUIRED as _REQUIRED, make_sweep_figures
 from .pages import PAPER, Document
-from .drawing import draw_figures, figure_svg, no_gc, write_figure_files
+from .drawing import draw_figures, figure_svg, write_figure_files
 from ..core.selection.ranking import CLASSES
 
 __all__ = ["SWEEP_REPORT_FORMATS", "render_sweep_html", "render_sweep_pdf", "write_sweep_report"]
@@ -453,8 +453,7 @@ def write_sweep_report(sweep_path, outdir, payload=None, formats=SWEEP_REPORT_FO
     if payload is not None and not hasattr(payload, "data_vars"):
         payload = open_sweep(payload, "payload")
     ctx = _context(ds, payload)
-    with no_gc():
-        drawn = draw_figures(make_sweep_figures(ds, payload), _RC, fonts=fonts)
+    drawn = draw_figures(make_sweep_figures(ds, payload), _RC, fonts=fonts)
     outdir = Path(outdir)
     (outdir / "figures").mkdir(parents=True, exist_ok=True)
     written, files = [], []

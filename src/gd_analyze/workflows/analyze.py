@@ -525,6 +525,8 @@ def analyze_to_file(robot, trajectory, path, options=None, settings=None, chunk=
     OSError
         If the file cannot be written.
     """
+    import contextlib
+
     from ..files import atomic_path
     from ..io.datasets import SetpointWriter, summary_dataset
     from ..io.schema import append_dataset
@@ -532,8 +534,9 @@ def analyze_to_file(robot, trajectory, path, options=None, settings=None, chunk=
     options = AnalysisOptions() if options is None else options
     N, n = trajectory.q.shape
     with atomic_path(path) as tmp:
-        with SetpointWriter(tmp, N, n, chunk=min(max(1, int(chunk)), 8192),
-                            compress=options.compress, prismatic=robot.prismatic) as out:
+        with contextlib.closing(SetpointWriter(tmp, N, n, chunk=min(max(1, int(chunk)), 8192),
+                                               compress=options.compress,
+                                               prismatic=robot.prismatic)) as out:
             out.write(0, {"t": trajectory.t, "q": trajectory.q, "qd": trajectory.qd,
                           "qdd": trajectory.qdd})
             result = analysis_pass(robot, trajectory, options,

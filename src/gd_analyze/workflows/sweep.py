@@ -278,8 +278,7 @@ def dask_client(scheduler=None, n_workers=None):
     Notes
     -----
     The LocalCluster's processes (workers, multiprocessing's resource tracker) start without
-    the current folder on ``sys.path``, as the figure worker does
-    (:func:`gd_analyze.reports.main_worker.worker_command`).
+    the current folder on ``sys.path``.
 
     Raises
     ------
