@@ -61,7 +61,7 @@ def _html_without_svg(html):
 
 def test_ranking_table_gives_each_element_its_units(stanford):
     html = (stanford / "report.html").read_text()
-    table = next(t for t in tables_of(html) if t and t[0][:2] == ["element", "share_tran"])
+    table = next(t for t in tables_of(html) if t and t[0][:2] == ["element", "translational share"])
     units = {row[0]: row[table[0].index("units")] for row in table[1:]}
     assert units == dict(EXPECTED)
 

@@ -227,6 +227,10 @@ def check(ds, required, what):
                          + ", ".join(missing))
 
 
+#: Units in brackets in a column heading: kept on one line (no-break spaces).
+_UNITS = re.compile(r"\[[^\]]*\]")
+
+
 def table(header, rows, align=None, widths=None, colour_cols=()):
     """A table as the templates and the PDF writers read it.
 
@@ -251,7 +255,8 @@ def table(header, rows, align=None, widths=None, colour_cols=()):
     """
     if isinstance(align, str):
         align = ["left"] + [align] * (len(header) - 1)
-    return {"header": list(header), "rows": [[str(c) for c in row] for row in rows],
+    header = [_UNITS.sub(lambda m: m.group().replace(" ", "\u00a0"), str(h)) for h in header]
+    return {"header": header, "rows": [[str(c) for c in row] for row in rows],
             "align": list(align or ["left"] * len(header)),
             "widths": list(widths or [1] * len(header)), "colour_cols": list(colour_cols)}
 
@@ -392,12 +397,22 @@ def render_template(name, context, env_globals=None):
     """
     import jinja2
 
-    source = resources.files("gd_analyze.reports").joinpath(f"templates/{name}") \
-        .read_text(encoding="utf-8")
-    env = jinja2.Environment(autoescape=True, undefined=jinja2.StrictUndefined,
+    from . import markup
+
+    def source(template):
+        return resources.files("gd_analyze.reports").joinpath(f"templates/{template}") \
+            .read_text(encoding="utf-8")
+
+    def finalize(value):                # sub- and superscripts as tags, the rest escaped
+        if isinstance(value, str) and (markup.SUB in value or markup.SUP in value):
+            return markup.html(value)
+        return value
+
+    env = jinja2.Environment(loader=jinja2.FunctionLoader(source), autoescape=True,
+                             undefined=jinja2.StrictUndefined, finalize=finalize,
                              trim_blocks=True, lstrip_blocks=True, keep_trailing_newline=True)
     env.globals.update(env_globals or {})
-    return env.from_string(source).render(**context)
+    return env.get_template(name).render(**context)
 
 
 def check_formats(formats, allowed):

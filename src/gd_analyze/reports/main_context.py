@@ -16,6 +16,7 @@ from .common import strings as _strings, table as _table, thresholds as _thresho
 from .common import element_units_of, prismatic_joints, torque_units, units_said_once
 from .common import units_text, utc_now
 from .main_figures import identically_zero
+from .markup import element as _el
 from .main_text import captions, conclusion, disagreement_cause, element_scale
 from .simplified_section import (ROUND_OFF, simplified_caption, has_simplified,
                                  simplified_context)
@@ -146,6 +147,41 @@ def _caption_units(ds):
             "tau": units_said_once(ds, "tau")}
 
 
+def _robot_geometry(ds):
+    """(DH table, None) for a robot given by DH rows; (None, placements table) for a URDF or
+    chain robot, whose DH parameters are not defined: each joint's fixed placement in body frame
+    i-1 (translation xyz [m], rotation as roll-pitch-yaw [deg], R = Rz(yaw) Ry(pitch)
+    Rx(roll) as in URDF) and its axis, the z column of the rotation."""
+    n = ds.sizes["joint"]
+    dh_rows = np.stack([ds[v].values for v in ("dh_d", "dh_a", "dh_alpha", "dh_offset")])
+    if np.all(np.isfinite(dh_rows)) or "joint_rotation" not in ds.variables:
+        dh = _table(
+            ["joint", "d [m]", "a [m]", "\u03b1 [deg]", "offset [deg]"],
+            [[str(k + 1), _fmt(dh_rows[0, k]), _fmt(dh_rows[1, k]),
+              _fmt(np.degrees(dh_rows[2, k])), _fmt(np.degrees(dh_rows[3, k]))]
+             for k in range(n)],
+            align=["left"] + ["right"] * 4, widths=[0.8, 1, 1, 1, 1])
+        return dh, None
+    from scipy.spatial.transform import Rotation
+
+    R = np.asarray(ds["joint_rotation"].values, float)
+    t = np.asarray(ds["joint_translation"].values, float)
+    rpy = Rotation.from_matrix(R).as_euler("xyz", degrees=True)      # extrinsic: URDF's rpy
+
+    def num(v):
+        return _fmt(0.0 if abs(v) < 1e-12 else v)                    # no -0, no 1e-17
+
+    placements = _table(
+        ["joint", "type", "x [m]", "y [m]", "z [m]", "roll [deg]", "pitch [deg]", "yaw [deg]",
+         "axis in frame i\u22121"],
+        [[str(k + 1), str(ds["joint_type"].values[k]) if "joint_type" in ds else "",
+          *(num(v) for v in t[k]), *(num(v) for v in rpy[k]),
+          "(" + ", ".join(num(v) for v in R[k, :, 2]) + ")"] for k in range(n)],
+        align=["left", "left"] + ["right"] * 6 + ["left"],
+        widths=[0.6, 0.9, 0.9, 0.9, 0.9, 0.9, 0.9, 0.9, 1.6])
+    return None, placements
+
+
 def _is_puma560(name):
     return str(name).lower().replace(" ", "").replace("-", "") == "puma560"
 
@@ -256,12 +292,7 @@ def _report_context_base(ds):
     ])
     com = ds["link_com"].values
     inertia = ds["link_inertia"].values
-    dh = _table(
-        ["joint", "d [m]", "a [m]", "\u03b1 [deg]", "offset [deg]"],
-        [[str(k + 1), _fmt(ds["dh_d"].values[k]), _fmt(ds["dh_a"].values[k]),
-          _fmt(np.degrees(ds["dh_alpha"].values[k])),
-          _fmt(np.degrees(ds["dh_offset"].values[k]))] for k in range(n)],
-        align=["left"] + ["right"] * 4, widths=[0.8, 1, 1, 1, 1])
+    dh, placements = _robot_geometry(ds)
     link = _table(
         ["joint", "mass [kg]", "com x [m]", "com y [m]", "com z [m]", "Ixx [kg m\u00b2]",
          "Iyy [kg m\u00b2]", "Izz [kg m\u00b2]"],
@@ -296,7 +327,8 @@ def _report_context_base(ds):
     zero = zero_mask(ds)[1]
     pt, pr, ptot = ds["peak_tran"].values, ds["peak_rot"].values, ds["peak_total"].values
     ranking = _table(
-        ["element", "share_tran", "class", "peak_tran", "peak_rot", "peak_total", "units"],
+        ["element", "translational share", "class", f"peak |{_el('X', '', 'tran')}|",
+         f"peak |{_el('X', '', 'rot')}|", "peak |X|", "units"],
         [[lab, "\u2261 0" if zero[k] else (_fmt(share[k], 3) if np.isfinite(share[k])
                                              else "n/a"), dominance[k],
           _fmt(pt[k]), _fmt(pr[k]), _fmt(ptot[k]), el_units[k]]
@@ -352,7 +384,8 @@ def _report_context_base(ds):
         note = (f"The chapter reports dominance only for the 6-joint PUMA 560 (Sec. 3.4.1); "
                 f"this robot has {n} joint{'s' if n != 1 else ''}, so a comparison is not "
                 "meaningful and none is made.")
-    compare = _table(["element", "our class", "chapter's class", "agree", "share_tran", "cause"],
+    compare = _table(["element", "our class", "chapter's class", "agree", "translational share",
+                      "cause"],
                      compare_rows, align=["left"] * 4 + ["right", "left"],
                      widths=[0.6, 1.05, 1.05, 0.45, 0.85, 4.0], colour_cols=[1, 2, 3])
 
@@ -403,7 +436,7 @@ def _report_context_base(ds):
         "captions": captions(enveloped, N, f"{s:g}", f"{e:g}", units=_caption_units(ds)),
         "D_text": _D_TEXT.format(s=f"{s:g}", e=f"{e:g}", units=units_said_once(ds, "D")),
         "n": n, "N": N, "s": f"{s:g}", "e": f"{e:g}", "created": now.isoformat(),
-        "robot_kv": robot_kv, "dh": dh, "link": link, "traj_kv": traj_kv, "joints": joints,
+        "robot_kv": robot_kv, "dh": dh, "placements": placements, "link": link, "traj_kv": traj_kv, "joints": joints,
         "ranking": ranking, "counts": counts, "choices": choices, "error": err,
         "simplified_intro": _SIMPLIFIED_INTRO[form] + _zero_parameters(ds),
         "choices_heading": _CHOICES_HEADING[form],
@@ -431,8 +464,11 @@ _INTRO = ("Generalized d'Alembert (G-D) equations of motion split the inertia ma
           "gd-analyze {version} from the stored results; nothing was recomputed.")
 
 
-_D_TEXT = ("One panel per element D_ij with i \u2264 j (row i, column j): translational part "
-           "(\u25cb, blue), rotational part (\u00d7, orange) and combined D_ij (\u25b3, black) "
+_D_TEXT = ("One panel per element " + _el("D", "ij") + " with i \u2264 j (row i, column j): "
+           "translational part " + _el("D", "ij", "tran") + " (\u25cb, blue), rotational part "
+           + _el("D", "ij", "rot") + " (\u00d7, orange) and " + _el("D", "ij")
+           + " = " + _el("D", "ij", "tran") + " + " + _el("D", "ij", "rot")
+           + " (\u25b3, black) "
            "against time [{units}]. The title gives the element and its dominance class "
            "(s = {s}, e = {e}).")
 

@@ -164,6 +164,32 @@ def _fit_line(s, size, width):
     return s[:lo] + "\u2026"
 
 
+def _column_widths(table, width, charw, pad):
+    """Column widths [in] summing to ``width``: the table's relative widths, each raised to
+    hold its column's longest word (header in bold, at 1.1 times the width of a character);
+    the others shrink in proportion, never below their own longest word."""
+    share = np.asarray(table["widths"], float)
+    share = share / share.sum()
+    words = [[table["header"][k]] + [row[k] for row in table["rows"]]
+             for k in range(len(share))]
+    need = np.array([max((len(w) * (1.1 if m == 0 else 1.0) for m, cell in enumerate(col)
+                          for w in str(cell).split()), default=1) * charw + 2 * pad
+                     for col in words])
+    if need.sum() >= width:                 # no room: in proportion to the longest words
+        return need / need.sum() * width
+    widths = share * width
+    fixed = np.zeros(share.size, bool)
+    for _ in range(share.size):             # raise the narrow ones, take it from the rest
+        fixed |= widths < need
+        if fixed.all():
+            return need + (width - need.sum()) * share
+        free = width - need[fixed].sum()
+        widths = np.where(fixed, need, share / share[~fixed].sum() * free)
+        if not np.any(widths < need - 1e-12):
+            break
+    return widths
+
+
 @dataclass
 class _Page:
     ops: list = field(default_factory=list)          # (kind, payload) drawn in order
@@ -184,16 +210,24 @@ class Document:
         PDF document information: ``Author``, ``Subject``, ``Keywords``, ``Creator`` ...
     footer : str, optional
         Text at the foot of every page, before "page k of K".
+    fonts : {"type3", "truetype"}, optional
+        How the text pages embed their font (:data:`FIGURE_FONTS`): Type 3 (the default,
+        fast) or TrueType subsets (Type 42), so that a report asked for with
+        ``--figure-fonts truetype`` holds no Type 3 font at all.
 
     Raises
     ------
     ValueError
-        If ``paper`` is not a key of :data:`PAPER`.
+        If ``paper`` is not a key of :data:`PAPER`, or ``fonts`` not one of
+        :data:`FIGURE_FONTS`.
     """
 
-    def __init__(self, title, paper="a4", metadata=None, footer=None):
+    def __init__(self, title, paper="a4", metadata=None, footer=None, fonts="type3"):
         if paper not in PAPER:
             raise ValueError(f"paper must be one of {sorted(PAPER)}, got {paper!r}")
+        if fonts not in FIGURE_FONTS:
+            raise ValueError(f"fonts must be one of {sorted(FIGURE_FONTS)}, got {fonts!r}")
+        self.fonts = fonts
         self.title = title
         self.paper = paper
         self.W, self.H = PAPER[paper]
@@ -242,9 +276,10 @@ class Document:
         """
         self.blocks.append(("paragraph", (text, size, bold, colour)))
 
-    def table(self, table, size=7.5):
-        """A table in the one table style of the reports: rules above and below the header and
-        at the end, shaded every other row, cells wrapped to their column.
+    def table(self, table, size=7.5, caption=""):
+        """A table in the one table style of the reports: its caption above it, rules above
+        and below the header and at the end, shaded every other row, cells wrapped at spaces to
+        their column (each column at least as wide as its longest word).
 
         Parameters
         ----------
@@ -254,8 +289,10 @@ class Document:
         size : float, optional
             Type size [pt]. A short table stays on one page; a long one repeats its header on
             each page.
+        caption : str, optional
+            "Table 5.2: ...", kept on the page of the table's first rows.
         """
-        self.blocks.append(("table", (table, size)))
+        self.blocks.append(("table", (table, size, caption)))
 
     def figure(self, pdf_bytes, size, caption):
         """A figure with "Figure k." and its caption below it.
@@ -387,25 +424,29 @@ class Document:
         """A table's column widths [in], wrapped header and rows (cells, height [in]), and
         the height that must fit where it starts [in]: the whole of a short table (at most
         35 % of the body), else its header and first three rows."""
-        table, size = payload
-        widths = np.asarray(table["widths"], float)
-        widths = widths / widths.sum() * self.width
+        table, size, caption = payload
         lh, pad = size * 1.3 / 72, 0.035
         charw = size * 0.6 / 72
+        widths = _column_widths(table, self.width, charw, pad)
 
-        def wrap(row):
-            cells = [textwrap.wrap(str(c), max(3, int((w - 2 * pad) / charw))) or [""]
+        def wrap(row, cw=charw):
+            cells = [textwrap.wrap(str(c), max(1, int((w - 2 * pad) / cw)),
+                                   break_long_words=False, break_on_hyphens=False) or [""]
                      for c, w in zip(row, widths)]
             return cells, max(len(c) for c in cells) * lh + 2 * pad
 
-        header = wrap(table["header"])
+        header = wrap(table["header"], size * 0.66 / 72)        # bold type is wider
         rows = [wrap(r) for r in table["rows"]]
-        total = header[1] + sum(h for _, h in rows)
-        keep = total if total <= 0.35 * self.body else header[1] + sum(h for _, h in rows[:3])
+        total = header[1] + sum(h for _, h in rows) + self._caption_height(caption)
+        keep = total if total <= 0.35 * self.body else (
+            self._caption_height(caption) + header[1] + sum(h for _, h in rows[:3]))
         return widths, header, rows, keep
 
+    def _caption_height(self, caption):
+        return len(self._wrap(caption, 8.0)) * 8.0 * 1.38 / 72 + 0.04 if caption else 0.0
+
     def _layout_table(self, payload, pages, new_page):
-        table, size = payload
+        table, size, caption = payload
         widths, header, rows, keep = self._table_rows(payload)
         lh, pad = size * 1.3 / 72, 0.035
         page = pages[-1]
@@ -414,6 +455,11 @@ class Document:
         if keep > room and page.used > 0:
             new_page()
             page = pages[-1]
+        if caption:
+            for line in self._wrap(caption, 8.0):
+                page.ops.append(("text", (page.used, line, 8.0, False, "0.15")))
+                page.used += 8.0 * 1.38 / 72
+            page.used += 0.04
         spec = {"widths": widths, "align": table["align"], "colour": set(table["colour_cols"]),
                 "size": size, "lh": lh, "pad": pad}
         page.ops.append(("rule", (page.used, 0.8)))
@@ -527,7 +573,7 @@ class Document:
         K = len(pages)
         last = f"page {K} of {K}"                   # the widest page number (digits: one width)
         footer = _fit_line(self.footer, 7, self.width - _line_width(last, 7) - 0.15)
-        with matplotlib.rc_context(PAGE_RC), \
+        with matplotlib.rc_context({**PAGE_RC, "pdf.fonttype": FIGURE_FONTS[self.fonts]}), \
                 PdfPages(buf, metadata={"CreationDate": None}) as pdf:
             for k, page in enumerate(pages):
                 pdf.savefig(self._draw(page, k + 1, K, footer))
