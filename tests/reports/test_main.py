@@ -260,11 +260,15 @@ def test_html_robot_trajectory_and_provenance(puma_report):
     assert "set points N" in html and ">31<" in html
     provenance = [t for t in tables_of(html) if t and t[0] == ["item", "value"]][-1]
     prov = dict(r for r in provenance[1:] if len(r) == 2)
-    assert prov["dominance threshold s"] == "0.9"
-    assert prov["negligibility threshold e"] == "0.01"
-    assert prov["verification against pinocchio"].startswith("passed on 31 of 31 set points")
-    assert "D_tran" in prov["verification against pinocchio"]      # one row, every term named
-    assert prov["analysis made by"] == f"gd-analyze {ds.attrs['gd_analyze_version']}"
+    assert prov["dominance threshold s, negligibility threshold e"] == "0.9, 0.01"
+    assert prov["verification against Pinocchio"].startswith("passed on 31 of 31 set points")
+    assert "Dtran" in prov["verification against Pinocchio"]       # one row, every term named
+    assert prov["software"] == f"gd-analyze {ds.attrs['gd_analyze_version']}"
+    # each setting once, in words: no attribute name, no value twice
+    assert len(prov) == len(provenance) - 1
+    assert not [k for k in prov if "_" in k]
+    values = [v for v in prov.values()]
+    assert len(set(values)) == len(values), values
 
 
 def test_html_chapter_comparison_puma(puma_report):

@@ -194,8 +194,8 @@ def _context(ds):
                        f"{_attr(ds, 'trajectory_sha256')})"],
         ["simplified model", f"{_attr(ds, 'model_file')} (SHA-256 {_attr(ds, 'model_sha256')})"],
         ["plant", _attr(ds, "plant")],
-        ["controllers", "; ".join(f"{c}: {d}" for c, d in zip(names, desc))],
-        ["control laws", _attr(ds, "control_laws")],
+        ["controllers", "; ".join(f"{c}: {_LABELS.get(c, d)}" for c, d in zip(names, desc))
+         + " (control laws below)"],
         ["desired motion", _attr(ds, "interpolation")],
         ["integrator", f"{_attr(ds, 'integrator')}, rtol = {_attr(ds, 'rtol')}, "
                        f"atol = {_attr(ds, 'atol')}"],
@@ -271,12 +271,8 @@ def _context(ds):
     choices = None if recursive else _table(["element"] + [f"column {j + 1}"
                                                           for j in range(n)], rows,
                                            align=["left"] * (n + 1))
-    prov = _table(["attribute", "value"], [[k, _attr(ds, k)] for k in (
-        "gd_analyze_version", "history", "robot", "robot_source", "robot_sha256",
-        "trajectory_file", "trajectory_path", "trajectory_sha256", "trajectory_derivatives",
-        "model_file", "model_path", "model_sha256", "model_trajectory_sha256",
-        "trajectory_is_models", "gains", "references", "Conventions")],
-        align=["left", "left"])
+    prov = _table(["item", "value"], [[label, _attr(ds, k)] for label, k in _PROVENANCE
+                                      if k in ds.attrs], align=["left", "left"])
     floor = ("A curve at the bottom of a panel is at the rounding / integrator-tolerance level.")
     return {
         "version": __version__,
@@ -316,6 +312,16 @@ def _context(ds):
                      f"{_attr(ds, 'model_sha256')}"),
     }
 
+
+#: The provenance rows of the control report: (item, attribute), each setting once (the gains
+#: and the control laws are in Sec. 1, the robot, trajectory and model files in Table 1.1).
+_PROVENANCE = (("gd-analyze version", "gd_analyze_version"), ("run", "history"),
+               ("trajectory path", "trajectory_path"),
+               ("trajectory derivatives", "trajectory_derivatives"),
+               ("model path", "model_path"),
+               ("trajectory the model was built on (SHA-256)", "model_trajectory_sha256"),
+               ("model built on this trajectory (1 yes, 0 no)", "trajectory_is_models"),
+               ("method", "references"), ("conventions", "Conventions"))
 
 #: The simplified model "holds" if its peak tracking error is within this [rad] or within twice
 #: the full model's.

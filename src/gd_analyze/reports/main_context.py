@@ -16,6 +16,7 @@ from .common import strings as _strings, table as _table, thresholds as _thresho
 from .common import element_units_of, prismatic_joints, torque_units, units_said_once
 from .common import units_text, utc_now
 from .main_figures import identically_zero
+from .main_provenance import provenance_rows
 from .markup import element as _el
 from .main_text import captions, conclusion, disagreement_cause, element_scale
 from .simplified_section import (ROUND_OFF, simplified_caption, has_simplified,
@@ -162,11 +163,15 @@ def _robot_geometry(ds):
              for k in range(n)],
             align=["left"] + ["right"] * 4, widths=[0.8, 1, 1, 1, 1])
         return dh, None
+    import warnings
+
     from scipy.spatial.transform import Rotation
 
     R = np.asarray(ds["joint_rotation"].values, float)
     t = np.asarray(ds["joint_translation"].values, float)
-    rpy = Rotation.from_matrix(R).as_euler("xyz", degrees=True)      # extrinsic: URDF's rpy
+    with warnings.catch_warnings():             # pitch of +-90 deg: yaw 0, roll takes it all
+        warnings.simplefilter("ignore", UserWarning)
+        rpy = Rotation.from_matrix(R).as_euler("xyz", degrees=True)  # extrinsic: URDF's rpy
 
     def num(v):
         return _fmt(0.0 if abs(v) < 1e-12 else v)                    # no -0, no 1e-17
@@ -390,33 +395,9 @@ def _report_context_base(ds):
                      widths=[0.6, 1.05, 1.05, 0.45, 0.85, 4.0], colour_cols=[1, 2, 3])
 
     # 7. provenance
-    prov = [
-        ("report made by", f"gd-analyze {__version__}"),
-        ("analysis made by", f"gd-analyze {_attr(ds, 'gd_analyze_version')}"),
-        ("dataset history", _attr(ds, "history")),
-        ("report created", now.isoformat()),
-        ("input file", _attr(ds, "input_path")),
-        ("input SHA-256", sha_in or "\u2014 (not read from a file)"),
-        ("robot file", _attr(ds, "robot_source")),
-        ("robot file SHA-256", _attr(ds, "robot_sha256")),
-        ("dominance threshold s", _fmt(s, 6)),
-        ("negligibility threshold e", _fmt(e, 6)),
-    ]
     ver_keys = sorted(k for k in ds.attrs if k.startswith("verification_max_rel_error_"))
     verified, verification = _verification(ds, ver_keys, N)
-    prov.append(("verification against " + _attr(ds, "verification_engine", "Pinocchio"),
-                 verification))
-    shown = {"robot", "robot_description", "robot_reference", "robot_source", "robot_sha256",
-             "gravity", "gravity_units", "input_file", "input_path", "input_sha256",
-             "derivatives", "dominance_threshold", "negligible_threshold", "history",
-             "gd_analyze_version", "verification_passed", "verification_engine",
-             "verification_tolerance", "verification_setpoints", *ver_keys,
-             "setpoints"}                                   # N: in Sec. 1.2
-    for key in sorted(k for k in ds.attrs if k not in shown):
-        twin = key[len("simplified_"):] if key.startswith("simplified_") else None
-        if twin in ds.attrs and _attr(ds, twin) == _attr(ds, key):
-            continue                                        # each setting once
-        prov.append((key, _attr(ds, key)))
+    prov = provenance_rows(ds, now.isoformat(), __version__, verification)
 
     formulations = _formulations_context(ds)
     payload = _payload_context(ds)
@@ -436,7 +417,8 @@ def _report_context_base(ds):
         "captions": captions(enveloped, N, f"{s:g}", f"{e:g}", units=_caption_units(ds)),
         "D_text": _D_TEXT.format(s=f"{s:g}", e=f"{e:g}", units=units_said_once(ds, "D")),
         "n": n, "N": N, "s": f"{s:g}", "e": f"{e:g}", "created": now.isoformat(),
-        "robot_kv": robot_kv, "dh": dh, "placements": placements, "link": link, "traj_kv": traj_kv, "joints": joints,
+        "robot_kv": robot_kv, "dh": dh, "placements": placements, "link": link,
+        "traj_kv": traj_kv, "joints": joints,
         "ranking": ranking, "counts": counts, "choices": choices, "error": err,
         "simplified_intro": _SIMPLIFIED_INTRO[form] + _zero_parameters(ds),
         "choices_heading": _CHOICES_HEADING[form],
@@ -478,6 +460,12 @@ _D_TEXT = ("One panel per element " + _el("D", "ij") + " with i \u2264 j (row i,
 _ROUND_OFF_FLOOR = "64 eps"
 
 
+def _quantity(name):
+    """A verified quantity's name as mathematics: "D_tran" -> D^tran, "h" -> h."""
+    symbol, _, part = name.partition("_")
+    return _el(symbol, "", part) if part in ("tran", "rot") else name
+
+
 def _verification(ds, keys, N):
     """(verdict for the summary, the one provenance row) of the check against Pinocchio: how
     many of the N set points it checked, its tolerance once, and its largest errors, which are
@@ -488,7 +476,8 @@ def _verification(ds, keys, N):
     checked = int(ds.attrs.get("verification_setpoints", N))
     verdict = (f"{'passed' if passed else 'FAILED'} on {checked:,} of {N:,} set points"
                + ("" if checked == N else " (evenly spread)"))
-    worst = {k[len("verification_max_rel_error_"):]: float(ds.attrs[k]) for k in keys}
+    worst = {_quantity(k[len("verification_max_rel_error_"):]): float(ds.attrs[k])
+             for k in keys}
     floor = _ROUND_OFF_FLOOR
     if worst and max(worst.values()) == 0:
         errors = (f"every difference within the round-off floor ({floor} of its scale), "

@@ -12,6 +12,7 @@ with matplotlib; each figure is drawn once, as its own PDF (the file the report 
 
 from __future__ import annotations
 
+import functools
 import io
 import textwrap
 from dataclasses import dataclass, field
@@ -164,18 +165,52 @@ def _fit_line(s, size, width):
     return s[:lo] + "\u2026"
 
 
-def _column_widths(table, width, charw, pad):
+@functools.lru_cache(maxsize=None)
+def _word_width(word, size, bold):
+    """Drawn width [in] of one word of DejaVu Sans at ``size`` [pt], bold or not."""
+    import warnings
+
+    from matplotlib.font_manager import FontProperties
+    from matplotlib.textpath import text_to_path
+
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")                 # glyphs missing from the font
+        return text_to_path.get_text_width_height_descent(
+            word, FontProperties(family="DejaVu Sans", size=size,
+                                 weight="bold" if bold else "normal"), ismath=False)[0] / 72
+
+
+def _wrap_cell(text, width, size, bold):
+    """The lines of a table cell: its words, broken only at spaces, filled greedily to
+    ``width`` [in] by their drawn widths; a word wider than the column stands alone."""
+    words = str(text).split()
+    if not words:
+        return [""]
+    space = _word_width("a a", size, bold) - 2 * _word_width("a", size, bold)
+    lines, line, used = [], [words[0]], _word_width(words[0], size, bold)
+    for w in words[1:]:
+        ww = _word_width(w, size, bold)
+        if used + space + ww <= width:
+            line.append(w)
+            used += space + ww
+        else:
+            lines.append(" ".join(line))
+            line, used = [w], ww
+    lines.append(" ".join(line))
+    return lines
+
+
+def _column_widths(table, width, size, pad):
     """Column widths [in] summing to ``width``: the table's relative widths, each raised to
-    hold its column's longest word (header in bold, at 1.1 times the width of a character);
-    the others shrink in proportion, never below their own longest word."""
+    hold its column's widest word (drawn widths, the header in bold); the others shrink in
+    proportion, never below their own widest word."""
     share = np.asarray(table["widths"], float)
     share = share / share.sum()
-    words = [[table["header"][k]] + [row[k] for row in table["rows"]]
-             for k in range(len(share))]
-    need = np.array([max((len(w) * (1.1 if m == 0 else 1.0) for m, cell in enumerate(col)
-                          for w in str(cell).split()), default=1) * charw + 2 * pad
-                     for col in words])
-    if need.sum() >= width:                 # no room: in proportion to the longest words
+    need = np.array([max([_word_width(w, size, True) for w in str(table["header"][k]).split()]
+                         + [_word_width(w, size, False) for row in table["rows"]
+                            for w in str(row[k]).split()] + [0.0]) + 2 * pad + 1e-3
+                     for k in range(share.size)])
+    if need.sum() >= width:                 # no room: in proportion to the widest words
         return need / need.sum() * width
     widths = share * width
     fixed = np.zeros(share.size, bool)
@@ -426,16 +461,13 @@ class Document:
         35 % of the body), else its header and first three rows."""
         table, size, caption = payload
         lh, pad = size * 1.3 / 72, 0.035
-        charw = size * 0.6 / 72
-        widths = _column_widths(table, self.width, charw, pad)
+        widths = _column_widths(table, self.width, size, pad)
 
-        def wrap(row, cw=charw):
-            cells = [textwrap.wrap(str(c), max(1, int((w - 2 * pad) / cw)),
-                                   break_long_words=False, break_on_hyphens=False) or [""]
-                     for c, w in zip(row, widths)]
+        def wrap(row, bold=False):
+            cells = [_wrap_cell(c, w - 2 * pad, size, bold) for c, w in zip(row, widths)]
             return cells, max(len(c) for c in cells) * lh + 2 * pad
 
-        header = wrap(table["header"], size * 0.66 / 72)        # bold type is wider
+        header = wrap(table["header"], True)
         rows = [wrap(r) for r in table["rows"]]
         total = header[1] + sum(h for _, h in rows) + self._caption_height(caption)
         keep = total if total <= 0.35 * self.body else (

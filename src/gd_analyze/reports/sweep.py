@@ -86,7 +86,7 @@ def _context(ds, payload=None):
                           if setpoints.size else "")),
         ("duration [s]", f"{_fmt(np.min(durations))} \u2013 {_fmt(np.max(durations))} "
                          f"(median {_fmt(np.median(durations))})"),
-        ("merge rule", _attr(ds, "merge_rule")),
+        ("merge rule", f"{ds.attrs.get('merged_rule', 'chapter')} rule (Sec. 5)"),
         ("cluster", f"{_attr(ds, 'cluster')}; {_attr(ds, 'n_workers')} worker(s) at "
                     f"{_attr(ds, 'scheduler_address')}"),
         ("tasks", f"{_attr(ds, 'n_tasks')} ({_attr(ds, 'batch_size')} trajectories per task)"),
