@@ -353,7 +353,8 @@ def _report_context_base(ds):
              for k, lab in enumerate(labels)],
             widths=[0.8, 1.2, 0.8, 2.2], colour_cols=[1])
     err = _table(
-        ["joint", "peak |\u03c4\u209b\u2212\u03c4|", "RMS |\u03c4\u209b\u2212\u03c4|",
+        ["joint", "peak |\u03c4\u209b\u00a0\u2212\u00a0\u03c4|",
+         "RMS |\u03c4\u209b\u00a0\u2212\u00a0\u03c4|",
          "peak |\u03c4|", "peak error / peak |\u03c4|", "RMS error / peak |\u03c4|", "units"],
         [[str(k + 1), _fmt(ds["tau_error_peak"].values[k]), _fmt(ds["tau_error_rms"].values[k]),
           _fmt(ds["tau_peak"].values[k]), _pct(ds["tau_error_relative_peak"].values[k]),

@@ -12,7 +12,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from .common import attr as _attr, fmt as _fmt
+from .common import attr as _attr, fmt as _fmt, prismatic_joints
 
 __all__ = ["provenance_rows"]
 
@@ -33,7 +33,7 @@ _SETTINGS = (
     ("simplification rule", "rule", "simplified_rule"),
     ("error budget \u03b5 (relative to each joint's scale)", "tolerance",
      "simplified_tolerance"),
-    ("torque floor of the scale [N m]", "torque_floor", "simplified_torque_floor"),
+    ("torque floor of each joint's scale", "torque_floor", "simplified_torque_floor"),
     ("model form", "form", "simplified_form"),
     ("explicit model", "explicit", None),
     ("rule compared side by side", "other_rule", None),
@@ -92,6 +92,9 @@ def provenance_rows(ds, created, version, verification):
     for label, asked, built in _SETTINGS:
         value = _setting(ds, asked, built)
         used.update((asked, built))
+        if value is not None and asked == "torque_floor":
+            value += " N m" + (", or N for a prismatic joint" if prismatic_joints(ds).any()
+                               else "")
         if value is not None:
             rows.append((label, value))
     rows.append(("payload on the last link", _payload(ds)))

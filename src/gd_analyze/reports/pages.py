@@ -180,10 +180,15 @@ def _word_width(word, size, bold):
                                  weight="bold" if bold else "normal"), ismath=False)[0] / 72
 
 
+def _words(text):
+    """The words of a cell: split at spaces only (a no-break space holds "N\u00a0m" together)."""
+    return [w for w in str(text).split(" ") if w]
+
+
 def _wrap_cell(text, width, size, bold):
     """The lines of a table cell: its words, broken only at spaces, filled greedily to
     ``width`` [in] by their drawn widths; a word wider than the column stands alone."""
-    words = str(text).split()
+    words = _words(text)
     if not words:
         return [""]
     space = _word_width("a a", size, bold) - 2 * _word_width("a", size, bold)
@@ -206,9 +211,9 @@ def _column_widths(table, width, size, pad):
     proportion, never below their own widest word."""
     share = np.asarray(table["widths"], float)
     share = share / share.sum()
-    need = np.array([max([_word_width(w, size, True) for w in str(table["header"][k]).split()]
+    need = np.array([max([_word_width(w, size, True) for w in _words(table["header"][k])]
                          + [_word_width(w, size, False) for row in table["rows"]
-                            for w in str(row[k]).split()] + [0.0]) + 2 * pad + 1e-3
+                            for w in _words(row[k])] + [0.0]) + 2 * pad + 1e-3
                      for k in range(share.size)])
     if need.sum() >= width:                 # no room: in proportion to the widest words
         return need / need.sum() * width

@@ -130,7 +130,7 @@ def simplified_context(ds):
     units = torque_units(ds)
     bound = table(
         ["joint", "units", f"scale {_S_I}", "bound", *parts,
-         "measured peak |\u03c4\u209b \u2212 \u03c4|", f"measured / {_S_I}"],
+         "measured peak |\u03c4\u209b\u00a0\u2212\u00a0\u03c4|", f"measured / {_S_I}"],
         [[str(i + 1), units[i], _num(ds["simplified_scale"].values[i]),
           _num(ds["simplified_bound"].values[i]),
           _num(ds["simplified_bound_inertia"].values[i]),
