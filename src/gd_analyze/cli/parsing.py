@@ -185,9 +185,9 @@ def _add_paper_argument(p):
     p.add_argument("--paper", choices=("a4", "letter"), default="a4",
                    help="page size of the PDF report (default a4)")
     p.add_argument("--figure-fonts", choices=("type3", "truetype"), default="type3",
-                   help="font embedding of the figures' PDFs: type3 (default, fast) or "
-                        "truetype (for journals that refuse Type 3 fonts, e.g. IEEE PDF "
-                        "eXpress; slower)")
+                   help="font embedding of the PDF report and of the figures' PDFs: type3 "
+                        "(default, fast) or truetype (no Type 3 font anywhere, for journals "
+                        "that refuse them, e.g. IEEE PDF eXpress; slower)")
 
 
 def _analyze_parser():

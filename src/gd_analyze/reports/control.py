@@ -180,7 +180,8 @@ def _context(ds):
     worst = {c: float(np.nanmax(peak_grid.sel(controller=c).values)) for c in names}
     summary = "; ".join(f"{_LABELS.get(c, c)}: peak |e| {_fmt(worst[c])} rad" for c in names)
     summary = (f"{_attr(ds, 'robot')} along {_attr(ds, 'trajectory_file')}, "
-               f"wn = {_attr(ds, 'wn')} rad/s, zeta = {_attr(ds, 'zeta')}. {summary}.")
+               f"\u03c9{_sub('n')} = {_attr(ds, 'wn')} rad/s, \u03b6 = {_attr(ds, 'zeta')}. "
+               f"{summary}.")
     if "tau_difference_peak" in ds:
         summary += (" Largest closed-loop torque difference, simplified-model controller "
                     "minus full-model controller (two closed-loop runs, each along its own "
@@ -193,7 +194,7 @@ def _context(ds):
         ["trajectory", f"{_attr(ds, 'trajectory_file')} (SHA-256 "
                        f"{_attr(ds, 'trajectory_sha256')})"],
         ["simplified model", f"{_attr(ds, 'model_file')} (SHA-256 {_attr(ds, 'model_sha256')})"],
-        ["plant", _attr(ds, "plant")],
+        ["plant", _plant(ds)],
         ["controllers", "; ".join(f"{c}: {_LABELS.get(c, d)}" for c, d in zip(names, desc))
          + " (control laws below)"],
         ["desired motion", _attr(ds, "interpolation")],
@@ -311,6 +312,14 @@ def _context(ds):
                      f"{_attr(ds, 'trajectory_sha256')}; model {_attr(ds, 'model_file')} sha256 "
                      f"{_attr(ds, 'model_sha256')}"),
     }
+
+
+def _plant(ds):
+    """The simulated plant: the full G-D model's forward dynamics, written as mathematics."""
+    plant = _attr(ds, "plant")
+    if plant.startswith("full G-D model"):
+        return "full G-D model, q\u0308 = D\u207b\u00b9 (\u03c4 \u2212 h \u2212 c) (Eq. 3.4-24)"
+    return plant
 
 
 #: The provenance rows of the control report: (item, attribute), each setting once (the gains

@@ -83,7 +83,7 @@ def element(symbol, index, part=None):
     str
         E.g. D_ij^tran, marked.
     """
-    return symbol + sub(index) + (sup(part) if part else "")
+    return symbol + (sub(index) if index else "") + (sup(part) if part else "")
 
 
 def tau(index=None, simplified=False):

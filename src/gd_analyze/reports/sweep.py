@@ -75,6 +75,7 @@ def _context(ds, payload=None):
     setpoints = ds["setpoints"].values if "setpoints" in ds.variables else np.array([])
     settings = [
         ("robot", robot), ("robot description", _attr(ds, "robot_description")),
+        ("robot reference", _attr(ds, "robot_reference")),
         ("robot source", _attr(ds, "robot_source")), ("robot SHA-256", _attr(ds, "robot_sha256")),
         ("gravity [m/s\u00b2]", _attr(ds, "gravity")),
         ("dominance threshold s", f"{s:g}"), ("negligibility threshold e", f"{e:g}"),
@@ -86,7 +87,12 @@ def _context(ds, payload=None):
                           if setpoints.size else "")),
         ("duration [s]", f"{_fmt(np.min(durations))} \u2013 {_fmt(np.max(durations))} "
                          f"(median {_fmt(np.median(durations))})"),
-        ("merge rule", f"{ds.attrs.get('merged_rule', 'chapter')} rule (Sec. 5)"),
+        ("merge rule", f"{ds.attrs.get('merged_rule', 'chapter')} rule (Sec. 5)"
+                       + (f", \u03b5 = {_attr(ds, 'merged_tolerance')}, torque floor "
+                          f"{_attr(ds, 'merged_torque_floor', '0')} N m"
+                          if "merged_tolerance" in ds.attrs else "")),
+        ("payload on the last link [kg]", _attr(ds, "payload_mass", "0")),
+        ("random accelerations limited by", _attr(ds, "random_qdd_max_source")),
         ("cluster", f"{_attr(ds, 'cluster')}; {_attr(ds, 'n_workers')} worker(s) at "
                     f"{_attr(ds, 'scheduler_address')}"),
         ("tasks", f"{_attr(ds, 'n_tasks')} ({_attr(ds, 'batch_size')} trajectories per task)"),
@@ -101,8 +107,10 @@ def _context(ds, payload=None):
         "inputs_sha256", "setpoints_total", "merge_rule", "cluster", "n_workers",
         "scheduler_address", "n_tasks", "batch_size", "elapsed_s", "compute_s", "history",
         "gd_analyze_version", "Conventions", "title", "source", "references", "input_kind",
-        "trajectories", "started"})
-    settings += [(key, _attr(ds, key)) for key in extra]
+        "trajectories", "started", "robot_reference", "merged_rule", "merged_tolerance",
+        "merged_torque_floor", "merged_worst_scaled_error", "payload_mass",
+        "random_qdd_max_source"})
+    settings += [(key.replace("_", " "), _attr(ds, key)) for key in extra]
     envelope = _table(
         ["element", "translational", "rotational", "both", "negligible", "min share",
          "median share", "max share", "merged choice"],
