@@ -272,8 +272,10 @@ def _context(ds):
     choices = None if recursive else _table(["element"] + [f"column {j + 1}"
                                                           for j in range(n)], rows,
                                            align=["left"] * (n + 1))
-    prov = _table(["item", "value"], [[label, _attr(ds, k)] for label, k in _PROVENANCE
-                                      if k in ds.attrs], align=["left", "left"])
+    prov = _table(["item", "value"],
+                  [[label, {"1": "yes", "0": "no"}.get(_attr(ds, k), _attr(ds, k))
+                    if k == "trajectory_is_models" else _attr(ds, k)]
+                   for label, k in _PROVENANCE if k in ds.attrs], align=["left", "left"])
     floor = ("A curve at the bottom of a panel is at the rounding / integrator-tolerance level.")
     return {
         "version": __version__,
@@ -329,7 +331,7 @@ _PROVENANCE = (("gd-analyze version", "gd_analyze_version"), ("run", "history"),
                ("trajectory derivatives", "trajectory_derivatives"),
                ("model path", "model_path"),
                ("trajectory the model was built on (SHA-256)", "model_trajectory_sha256"),
-               ("model built on this trajectory (1 yes, 0 no)", "trajectory_is_models"),
+               ("model built on this trajectory", "trajectory_is_models"),
                ("method", "references"), ("conventions", "Conventions"))
 
 #: The simplified model "holds" if its peak tracking error is within this [rad] or within twice

@@ -12,12 +12,13 @@ with matplotlib; each figure is drawn once, as its own PDF (the file the report 
 
 from __future__ import annotations
 
-import functools
 import io
 import textwrap
 from dataclasses import dataclass, field
 
 import numpy as np
+
+from .table_layout import column_widths as _column_widths, wrap_cell as _wrap_cell
 
 __all__ = ["PAPER", "PAGE_RC", "FIGURE_FONTS", "Document", "TABLE_COLOURS"]
 
@@ -163,71 +164,6 @@ def _fit_line(s, size, width):
         mid = (lo + hi + 1) // 2
         lo, hi = (mid, hi) if _line_width(s[:mid] + "\u2026", size) <= width else (lo, mid - 1)
     return s[:lo] + "\u2026"
-
-
-@functools.lru_cache(maxsize=None)
-def _word_width(word, size, bold):
-    """Drawn width [in] of one word of DejaVu Sans at ``size`` [pt], bold or not."""
-    import warnings
-
-    from matplotlib.font_manager import FontProperties
-    from matplotlib.textpath import text_to_path
-
-    with warnings.catch_warnings():
-        warnings.simplefilter("ignore")                 # glyphs missing from the font
-        return text_to_path.get_text_width_height_descent(
-            word, FontProperties(family="DejaVu Sans", size=size,
-                                 weight="bold" if bold else "normal"), ismath=False)[0] / 72
-
-
-def _words(text):
-    """The words of a cell: split at spaces only (a no-break space holds "N\u00a0m" together)."""
-    return [w for w in str(text).split(" ") if w]
-
-
-def _wrap_cell(text, width, size, bold):
-    """The lines of a table cell: its words, broken only at spaces, filled greedily to
-    ``width`` [in] by their drawn widths; a word wider than the column stands alone."""
-    words = _words(text)
-    if not words:
-        return [""]
-    space = _word_width("a a", size, bold) - 2 * _word_width("a", size, bold)
-    lines, line, used = [], [words[0]], _word_width(words[0], size, bold)
-    for w in words[1:]:
-        ww = _word_width(w, size, bold)
-        if used + space + ww <= width:
-            line.append(w)
-            used += space + ww
-        else:
-            lines.append(" ".join(line))
-            line, used = [w], ww
-    lines.append(" ".join(line))
-    return lines
-
-
-def _column_widths(table, width, size, pad):
-    """Column widths [in] summing to ``width``: the table's relative widths, each raised to
-    hold its column's widest word (drawn widths, the header in bold); the others shrink in
-    proportion, never below their own widest word."""
-    share = np.asarray(table["widths"], float)
-    share = share / share.sum()
-    need = np.array([max([_word_width(w, size, True) for w in _words(table["header"][k])]
-                         + [_word_width(w, size, False) for row in table["rows"]
-                            for w in _words(row[k])] + [0.0]) + 2 * pad + 1e-3
-                     for k in range(share.size)])
-    if need.sum() >= width:                 # no room: in proportion to the widest words
-        return need / need.sum() * width
-    widths = share * width
-    fixed = np.zeros(share.size, bool)
-    for _ in range(share.size):             # raise the narrow ones, take it from the rest
-        fixed |= widths < need
-        if fixed.all():
-            return need + (width - need.sum()) * share
-        free = width - need[fixed].sum()
-        widths = np.where(fixed, need, share / share[~fixed].sum() * free)
-        if not np.any(widths < need - 1e-12):
-            break
-    return widths
 
 
 @dataclass

@@ -106,7 +106,19 @@ class Outline:
         self.n_figures = 0
 
     def section(self, number, title, anchor=None, level=None):
-        """Start a section ("5") or a subsection ("5.1"; level from the number's dots)."""
+        """Start a section ("5") or a subsection ("5.1").
+
+        Parameters
+        ----------
+        number : str
+            Its number.
+        title : str
+            Its title.
+        anchor : str, optional
+            The HTML id; from the number if not given.
+        level : {1, 2}, optional
+            From the number's dots if not given.
+        """
         level = level or (1 + str(number).count("."))
         self.sections.append(Section(str(number), title, level,
                                      anchor or "s" + str(number).replace(".", "-")))
@@ -115,12 +127,31 @@ class Outline:
         self.sections[-1].blocks.append(block)
 
     def paragraph(self, text, style="body"):
-        """A paragraph in a style of :data:`PARAGRAPH_SIZE`; nothing if ``text`` is empty."""
+        """A paragraph; nothing if ``text`` is empty.
+
+        Parameters
+        ----------
+        text : str
+            May hold the marks of :mod:`gd_analyze.reports.markup`.
+        style : str, optional
+            A key of :data:`PARAGRAPH_SIZE`.
+        """
         if text:
             self._add(Block("paragraph", text, style))
 
     def table(self, table, caption, kv=False, size=7.5):
         """A table with its caption, numbered within its top-level section ("Table 5.2: ...").
+
+        Parameters
+        ----------
+        table : dict
+            As :func:`gd_analyze.reports.common.table` makes it.
+        caption : str
+            What the table shows.
+        kv : bool, optional
+            An item/value table (its first column in bold in the HTML).
+        size : float, optional
+            Type size in the PDF [pt].
         """
         top = next((s.number.split(".")[0] for s in reversed(self.sections) if s.level == 1),
                    "0")
@@ -129,14 +160,27 @@ class Outline:
                         f"Table {top}.{k}: {caption}", size))
 
     def figure(self, key, caption):
-        """A figure (by key) with its caption, numbered in document order; left out if the
-        figure was not drawn."""
+        """A figure with its caption, numbered in document order.
+
+        Parameters
+        ----------
+        key : str
+            The figure's key; the block is left out if the figure was not drawn.
+        caption : str
+            What the figure shows.
+        """
         if key in self.available:
             self.n_figures += 1
             self._add(Block("figure", key, caption=f"Figure {self.n_figures}. {caption}"))
 
     def counts(self, counts):
-        """The number of elements per class, each in its class colour."""
+        """The number of elements per class, each in its class colour.
+
+        Parameters
+        ----------
+        counts : dict of str to int
+            Class -> number of elements.
+        """
         self._add(Block("counts", dict(counts)))
 
     def headings(self):
@@ -182,7 +226,8 @@ def to_document(outline, document, sizes):
             elif b.kind == "figure":
                 number = document.figure(b.content, sizes[b.content],
                                          u(b.caption.split(". ", 1)[1]))
-                assert b.caption.startswith(f"Figure {number}. ")
+                if not b.caption.startswith(f"Figure {number}. "):     # one numbering
+                    raise RuntimeError(f"figure {number} is {b.caption[:12]!r} in the HTML")
             elif b.kind == "counts":
                 document.paragraph("   ".join(f"{c}: {k}" for c, k in b.content.items()),
                                    size=8.5, bold=True)
