@@ -97,7 +97,7 @@ def simplified_context(ds):
     if form == "recursive":
         text = _recursive_text(ds, eps, floor)
     elif rule == "budget":
-        text = (f"Rule: error budget, \u03b5 = {eps:g}"
+        text = (f"Rule: error budget, \u03b5\u00a0=\u00a0{eps:g}"
                 + (f", torque floor {floor:g} N m" if floor else "")
                 + ". Every part of an element and every term of the explicit model contributes "
                 f"to the joint torques ({_D_IJ} {_QDD_J} to {_TAU_I} and {_D_IJ} "
@@ -176,9 +176,9 @@ def _recursive_text(ds, eps, floor):
             + " \u03b2; each parameter's contribution splits into an inertial part (in "
             "D q\u0308), a velocity part (in h) and a gravity part (in c). ")
     if dropped == 0:
-        return text + (f"Rule: error budget, \u03b5 = {eps:g}: no part is dropped, the model is "
+        return text + (f"Rule: error budget, \u03b5\u00a0=\u00a0{eps:g}: no part is dropped, the model is "
                        "exact (its difference from the full torque is round-off).")
-    return text + (f"Rule: error budget, \u03b5 = {eps:g}"
+    return text + (f"Rule: error budget, \u03b5\u00a0=\u00a0{eps:g}"
                    + (f", torque floor {floor:g} N m" if floor else "")
                    + f". Of the {pairs} (parameter, part) pairs that contribute on this "
                    f"trajectory, {dropped} are dropped (alone or with their whole parameter), "
