@@ -23,6 +23,7 @@ A4_LANDSCAPE = (11.69, 8.27)
 
 #: Colour-blind-safe colours (Okabe & Ito) of the dominance classes, the same in every report.
 __all__ = ["CLASS_COLOURS", "BASE_RC", "SUPTITLE_RC", "A4", "A4_LANDSCAPE", "style", "utc_now",
+           "keep_units",
            "strings", "fmt", "pct", "attr", "thresholds", "check", "table", "grid_shape",
            "joint_colours", "gridspec", "svg", "inline_svgs", "render_template", "check_formats",
            "prismatic_joints", "torque_units", "element_units_of", "units_text",
@@ -228,7 +229,28 @@ def check(ds, required, what):
 
 
 #: Units in brackets in a column heading: kept on one line (no-break spaces).
-_UNITS = re.compile(r"\[[^\]]*\]")
+_UNITS = re.compile(r"\[[^\]\n]{1,16}\]")
+
+
+def keep_units(text):
+    """Text with the spaces inside its bracketed units made no-break: "[N m]" is never split
+    over two lines.
+
+    Parameters
+    ----------
+    text : object
+        Converted with ``str``.
+
+    Returns
+    -------
+    str
+
+    Examples
+    --------
+    >>> keep_units("peak error [N m]") == "peak error [N\u00a0m]"
+    True
+    """
+    return _UNITS.sub(lambda m: m.group().replace(" ", "\u00a0"), str(text))
 
 
 def table(header, rows, align=None, widths=None, colour_cols=()):
@@ -255,7 +277,7 @@ def table(header, rows, align=None, widths=None, colour_cols=()):
     """
     if isinstance(align, str):
         align = ["left"] + [align] * (len(header) - 1)
-    header = [_UNITS.sub(lambda m: m.group().replace(" ", "\u00a0"), str(h)) for h in header]
+    header = [keep_units(h) for h in header]
     return {"header": header, "rows": [[str(c) for c in row] for row in rows],
             "align": list(align or ["left"] * len(header)),
             "widths": list(widths or [1] * len(header)), "colour_cols": list(colour_cols)}

@@ -27,7 +27,8 @@ PAPER = {"a4": (8.27, 11.69), "letter": (8.5, 11.0)}
 #: Colours of the class and yes/no cells of every table.
 TABLE_COLOURS = {"translational": "#0072B2", "rotational": "#D55E00", "both": "#6A3D9A",
                  "negligible": "#555555", "yes": "#007A4D", "no": "#B00020",
-                 "passed": "#007A4D", "FAILED": "#B00020"}
+                 "passed": "#007A4D", "FAILED": "#B00020", "tran": "#0072B2",
+                 "rot": "#D55E00", "none": "#555555"}
 
 #: matplotlib settings of the text pages: Type 3 fonts (embedded without a font subsetter: about
 #: ten times faster to write than TrueType subsets).

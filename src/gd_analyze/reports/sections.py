@@ -14,6 +14,7 @@ from __future__ import annotations
 from dataclasses import dataclass, field
 
 from . import markup
+from .common import keep_units
 
 __all__ = ["Block", "Section", "Outline", "to_document", "PARAGRAPH_SIZE"]
 
@@ -215,7 +216,8 @@ def to_document(outline, document, sizes):
         document.heading(u(section.heading), level=section.level)
         for b in section.blocks:
             if b.kind == "paragraph":
-                document.paragraph(u(b.content), size=PARAGRAPH_SIZE.get(b.style, 9.0),
+                document.paragraph(keep_units(u(b.content)),
+                                   size=PARAGRAPH_SIZE.get(b.style, 9.0),
                                    bold=b.style in ("lead", "strong"),
                                    colour="0.25" if b.style == "note" else "black")
             elif b.kind == "table":
