@@ -156,7 +156,8 @@ def make_control_figures(ds):
             "|q_d - q| [rad]", "Tracking error per joint", log=True)}
         if "tau_difference" in ds:
             figs["tau_difference"] = _joint_panels(
-                ds, {"simplified": ds["tau_difference"].values}, "\u03c4 (simplified) \u2212 \u03c4 (full) [N m]",
+                ds, {"simplified": ds["tau_difference"].values},
+                "\u03c4 (simplified) \u2212 \u03c4 (full) [N m]",
                 "Closed-loop torque difference: simplified-model minus full-model computed "
                 "torque")
         figs["tau"] = _joint_panels(ds, {c: ds["tau"].sel(controller=c).values for c in names},
@@ -179,6 +180,7 @@ def _context(ds):
     peak_grid = ds["error_peak_grid"]
     worst = {c: float(np.nanmax(peak_grid.sel(controller=c).values)) for c in names}
     summary = "; ".join(f"{_LABELS.get(c, c)}: peak |e| {_fmt(worst[c])} rad" for c in names)
+    summary = summary[:1].upper() + summary[1:]
     summary = (f"{_attr(ds, 'robot')} along {_attr(ds, 'trajectory_file')}, "
                f"\u03c9{_sub('n')} = {_attr(ds, 'wn')} rad/s, \u03b6 = {_attr(ds, 'zeta')}. "
                f"{summary}.")
@@ -202,7 +204,7 @@ def _context(ds):
                        f"atol = {_attr(ds, 'atol')}"],
         ["samples", f"{_attr(ds, 'samples')} ({_attr(ds, 'setpoints')} set points + fine grid "
                     f"of {_attr(ds, 'grid_points')})"],
-        ["initial offset q(0) - q_d(0) [rad]",
+        ["initial offset q(0) - q" + _sub("d") + "(0) [rad]",
          ", ".join(_fmt(v) for v in ds["q0_offset"].values) if "q0_offset" in ds else "0"],
     ], align=["left", "left"])
     gains = _table(["joint", "\u03c9" + _sub("n") + " [rad/s]", "\u03b6",
@@ -287,18 +289,16 @@ def _context(ds):
                   "(Ch. 5) with the full model, with the simplified model of Sec. 3.4.1, and "
                   "under PD control with gravity compensation."),
         "setup": setup, "gains": gains,
-        "gains_note": ("Computed torque: v = q\u0308_d + K" + _sub("v") + " (q\u0307_d "
-                       "\u2212 q\u0307) + K" + _sub("p") + " (q_d \u2212 q), K" + _sub("p")
-                       + " = \u03c9" + _sub("n") + "\u00b2, K" + _sub("v") + " = 2\u03b6\u03c9"
-                       + _sub("n") + ", so the full-model closed loop is \u00eb + K"
-                       + _sub("v") + " \u0117 + K" + _sub("p") + " e = 0 (e = q_d \u2212 q, "
-                       "q_d the desired motion). PD + gravity: \u03c4 = K" + _sub("p")
-                       + " e + K" + _sub("v") + " \u0117 + c with the PD gains, scaled by the "
-                       "diagonal of D at the start of the motion (D" + _sub("ii")
-                       + " at the start)."),
+        "gains_note": (f"Computed torque: v = q\u0308{_D} + {_KV} (q\u0307{_D} \u2212 q\u0307) + "
+                       f"{_KP} (q{_D} \u2212 q), {_KP} = {_WN}\u00b2, {_KV} = 2\u03b6{_WN}, so "
+                       f"the full-model closed loop is \u00eb + {_KV} \u0117 + {_KP} e = 0 "
+                       f"(e = q{_D} \u2212 q, q{_D} the desired motion). PD + gravity: \u03c4 = "
+                       f"{_KP} e + {_KV} \u0117 + c with the PD gains, scaled by the diagonal "
+                       f"of D at the start of the motion (D{_sub('ii')} at the start)."),
         "errors": errors,
-        "error_note": ("Tracking error e = q_d - q per joint, peak |e| and RMS, at the set "
-                       "points of the trajectory and on the fine grid (set points included)."),
+        "error_note": (f"Tracking error e = q{_D} \u2212 q per joint, peak |e| and RMS, at the "
+                       "set points of the trajectory and on the fine grid (set points "
+                       "included)."),
         "floor_note": floor,
         "tau_diff": tau_diff,
         "diff_note": ("Closed-loop torque difference: torque of the simplified-model "
@@ -323,6 +323,8 @@ def _plant(ds):
         return "full G-D model, q\u0308 = D\u207b\u00b9 (\u03c4 \u2212 h \u2212 c) (Eq. 3.4-24)"
     return plant
 
+
+_D, _KP, _KV, _WN = _sub("d"), "K" + _sub("p"), "K" + _sub("v"), "\u03c9" + _sub("n")
 
 #: The provenance rows of the control report: (item, attribute), each setting once (the gains
 #: and the control laws are in Sec. 1, the robot, trajectory and model files in Table 1.1).
@@ -398,8 +400,8 @@ def render_control_html(ds, figures=None):
 
 
 _CAPTIONS = {
-    "error": "Tracking error |q_d \u2212 q| per joint along the run, log scale (markers: set "
-             "points). A curve at the bottom of a panel is at the rounding / "
+    "error": "Tracking error |q" + _sub("d") + " \u2212 q| per joint along the run, log scale "
+             "(markers: set points). A curve at the bottom of a panel is at the rounding / "
              "integrator-tolerance level.",
     "tau_difference": "Closed-loop torque difference: torque of the simplified-model "
                       "controller minus torque of the full-model controller, each along its "

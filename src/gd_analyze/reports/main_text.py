@@ -251,11 +251,13 @@ def captions(enveloped, N, s, e, units=None):
     return {
         "joints": "Joint positions q, velocities q\u0307 and accelerations q\u0308 against time "
                   f"[{u['joints']}]; the dataset stores SI units (rad or m).",
-        "D": f"Elements {element('D', 'ij')} (i \u2264 j) of the inertia matrix against time [{u['D']}], "
+        "D": f"Elements {element('D', 'ij')} (i \u2264 j) of the inertia matrix against time "
+             f"[{u['D']}], "
              f"split into their translational and rotational parts (analogue of Fig. 3.10). "
              f"{how}. Panel title: element and its class (s = {s}, e = {e}); \u2261 0 marks "
              "an element that is zero in every part, whose share is not defined.",
-        "h": f"Coriolis and centrifugal elements {element('h', 'i')} against time [{u['tau']}] (analogue of "
+        "h": f"Coriolis and centrifugal elements {element('h', 'i')} against time "
+             f"[{u['tau']}] (analogue of "
              "Fig. 3.11), "
              f"on panels of the size of those of D. {how}.",
         "torque": "Joint torques of the full model \u03c4 (black, solid) and the simplified "

@@ -1,8 +1,8 @@
 """Table cells of the PDF page engine: column widths and line breaks from the drawn widths of
 the words (DejaVu Sans, as :mod:`gd_analyze.reports.pages` draws them).
 
-A cell breaks only at spaces (a no-break space holds "N\u00a0m" or "|\u03c4\u209b\u00a0\u2212\u00a0\u03c4|"
-together); a column is at least as wide as its widest word, so no heading breaks mid-word and
+A cell breaks only at spaces (a no-break space holds "N\u00a0m" or
+"|\u03c4\u209b\u00a0\u2212\u00a0\u03c4|" together); a column is at least as wide as its widest word, so no heading breaks mid-word and
 no cell runs into its neighbour.
 """
 
