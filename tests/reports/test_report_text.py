@@ -304,3 +304,15 @@ def test_markup_escapes_and_renders():
     assert str(markup.html(s)) == "&lt;b&gt;D<sub>12</sub><sup>tran</sup> &amp; <sub>d</sub>"
     assert markup.unicode(s) == "<b>D\u2081\u2082\u1d57\u02b3\u1d43\u207f & _d"
     assert markup.plain(s) == "<b>D12tran & d"
+
+
+def test_marks_in_a_file_s_text_are_dropped():
+    """A robot name holding the private-use marks reaches the report as plain text."""
+    import xarray as xr
+
+    from gd_analyze.reports import markup
+    from gd_analyze.reports.common import attr
+
+    ds = xr.Dataset(attrs={"robot": "arm" + markup.sub("<i>") + markup.sup("x")})
+    assert attr(ds, "robot") == "arm<i>x"
+    assert str(markup.html(attr(ds, "robot"))) == "arm&lt;i&gt;x"

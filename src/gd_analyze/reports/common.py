@@ -182,7 +182,9 @@ def attr(ds, key, default="\u2014", *, parens=True, bools=False, sci_outside=Non
     if isinstance(value, (np.generic, float, int)) and (
             bools or not isinstance(value, (bool, np.bool_))):
         return fmt(value, 6, sci_outside)
-    text = str(value)
+    from .markup import clean
+
+    text = clean(str(value))            # no sub/superscript marks from a file's text
     return text if text else default
 
 

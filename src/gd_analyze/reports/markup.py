@@ -2,8 +2,8 @@
 tags in ``report.html`` and as Unicode sub- and superscript characters in ``report.pdf``.
 
 A string of a report's context may hold spans marked with :func:`sub` and :func:`sup` (private
-use characters, which no input text reaches: :func:`clean` drops them from names read from
-files). The HTML renderer turns them into ``<sub>``/``<sup>`` (:func:`html`, every other
+use characters; :func:`clean` drops them from the dataset's text attributes that
+:func:`gd_analyze.reports.common.attr` reads, such as robot and file names). The HTML renderer turns them into ``<sub>``/``<sup>`` (:func:`html`, every other
 character escaped); the PDF page engine into the Unicode characters of DejaVu Sans
 (:func:`unicode`); :func:`plain` drops the marks (tests, search).
 
