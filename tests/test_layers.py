@@ -21,11 +21,13 @@ LEAVES = {"errors", "files", "_version"}
 SHARED_REPORTS = {"reports.common", "reports.figures", "reports.pages", "reports.drawing",
                   "reports.ticks", "reports.main_figures", "reports.main_text",
                   "reports.sweep_figures", "reports.simplified_section",
-                  "reports.pdf_text", "reports.main_context", "reports.markup",
-                  "reports.sections", "reports.table_layout", "reports.main_outline",
-                  "reports.main_provenance"}
+                  "reports.pdf_text", "reports.main_context"}
 # a report's worker process (a second interpreter drawing part of its figures) runs that report
 WORKERS = {"reports.main_worker": "reports.main"}
+
+# the one section list of the three reports and what it is built with (issue 19 item 6)
+SHARED_REPORTS |= {"reports.markup", "reports.sections", "reports.table_layout",
+                   "reports.main_outline", "reports.main_provenance"}
 
 
 def _module_name(path):

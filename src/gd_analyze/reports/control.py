@@ -27,10 +27,11 @@ from .common import BASE_RC
 from .common import strings as _strings, style as _style, table as _table
 from .common import attr, fmt, grid_shape, render_template, utc_now
 from ..core.ranking import element_label
-from .markup import sub as _sub
 from .pages import PAPER, Document
-from .sections import Outline, to_document
 from .drawing import draw_figures, figure_svg, no_gc, write_figure_files
+
+from .markup import sub as _sub
+from .sections import Outline, to_document
 
 __all__ = ["CONTROL_REPORT_FILES", "REQUIRED_VARIABLES", "make_control_figures",
            "render_control_html", "render_control_pdf", "write_control_report"]

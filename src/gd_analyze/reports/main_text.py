@@ -9,7 +9,6 @@ from __future__ import annotations
 import numpy as np
 
 from ..core.ranking import element_label, parse_element_label
-from .markup import element
 
 __all__ = ["conclusion", "disagreement_cause", "captions", "element_scale"]
 
@@ -240,6 +239,8 @@ def captions(enveloped, N, s, e, units=None):
     dict of str to str
         By figure key.
     """
+    from .markup import element
+
     if enveloped:
         how = (f"The {N} set points are drawn as their min/max envelope over about 400 equal "
                "time columns, without markers; lines: translational solid, rotational dashed, "
