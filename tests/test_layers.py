@@ -25,6 +25,10 @@ SHARED_REPORTS = {"reports.common", "reports.figures", "reports.pages", "reports
 # the core modules a report may read: names and labels of the ranking's classes and elements
 REPORT_CORE = {"core.selection.ranking", "core.selection.labels"}
 
+# the one section list of the three reports and what it is built with (issue 19 item 6)
+SHARED_REPORTS |= {"reports.markup", "reports.sections", "reports.table_layout",
+                   "reports.main_outline", "reports.main_provenance"}
+
 
 def _module_name(path):
     parts = path.relative_to(SRC).with_suffix("").parts

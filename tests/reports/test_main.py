@@ -201,8 +201,8 @@ def test_html_labels_classes_and_ranking_table(any_report):
         [f"h{i + 1}" for i in range(n)]
     for label in labels:
         assert label in html
-    ranking = table_with_header(html, ["element", "share_tran", "class", "peak_tran",
-                                       "peak_rot", "peak_total", "units"])
+    ranking = table_with_header(html, ["element", "translational share", "class", "peak |Xtran|",
+                                       "peak |Xrot|", "peak |X|", "units"])
     assert ranking is not None
     rows = ranking[1:]
     assert [r[0] for r in rows] == labels
@@ -261,11 +261,15 @@ def test_html_robot_trajectory_and_provenance(puma_report):
     assert "set points N" in html and ">31<" in html
     provenance = [t for t in tables_of(html) if t and t[0] == ["item", "value"]][-1]
     prov = dict(r for r in provenance[1:] if len(r) == 2)
-    assert prov["dominance threshold s"] == "0.9"
-    assert prov["negligibility threshold e"] == "0.01"
-    assert prov["verification against pinocchio"].startswith("passed on 31 of 31 set points")
-    assert "D_tran" in prov["verification against pinocchio"]      # one row, every term named
-    assert prov["analysis made by"] == f"gd-analyze {ds.attrs['gd_analyze_version']}"
+    assert prov["dominance threshold s, negligibility threshold e"] == "0.9, 0.01"
+    assert prov["verification against Pinocchio"].startswith("passed on 31 of 31 set points")
+    assert "Dtran" in prov["verification against Pinocchio"]       # one row, every term named
+    assert prov["software"] == f"gd-analyze {ds.attrs['gd_analyze_version']}"
+    # each setting once, in words: no attribute name, no value twice
+    assert len(prov) == len(provenance) - 1
+    assert not [k for k in prov if "_" in k]
+    values = [v for v in prov.values()]
+    assert len(set(values)) == len(values), values
 
 
 def test_html_chapter_comparison_puma(puma_report):
@@ -321,7 +325,7 @@ def test_pdf_is_a_document(which, puma_report, two_link_report):
     # every section of the HTML, as a bookmark, in order
     html = (rep["out"] / "report.html").read_text(encoding="utf-8")
     sections = [re.sub(r"<[^>]+>", "", h).replace("&#39;", "'")
-                for h in re.findall(r"<h2>(.*?)</h2>", html)]
+                for h in re.findall(r"<h2[^>]*>(.*?)</h2>", html)]
     top = [item["/Title"] for item in reader.outline if not isinstance(item, list)]
     assert top == sections
     # numbered figures with captions, the same numbers as the HTML
@@ -329,7 +333,7 @@ def test_pdf_is_a_document(which, puma_report, two_link_report):
     for k in range(1, 5):
         assert f"Figure {k}." in whole and f"Figure {k}." in html
     # the same numbers as the HTML: the ranking table's shares and the torque errors
-    ranking = table_with_header(html, ["element", "share_tran", "class"])
+    ranking = table_with_header(html, ["element", "translational share", "class"])
     # matplotlib < 3.11 writes the Type 3 glyph of "\u2261" without a text mapping, so pypdf
     # cannot read it back there; the "0" after it must still be in its place
     readable = "\u2261" in whole
@@ -417,7 +421,7 @@ def test_zero_velocity_has_no_nan_share(tmp_path, puma):
     report.write_report(results, tmp_path / "out")
     html = (tmp_path / "out" / "report.html").read_text(encoding="utf-8")
     assert not re.search(r"\bnan\b", html, re.IGNORECASE)
-    h = table_with_header(html, ["element", "share_tran", "class"])
+    h = table_with_header(html, ["element", "translational share", "class"])
     assert [r[1] for r in h[1:] if r[0].startswith("h")] == ["\u2261 0"] * 6
 
 

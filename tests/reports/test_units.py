@@ -61,7 +61,7 @@ def _html_without_svg(html):
 
 def test_ranking_table_gives_each_element_its_units(stanford):
     html = (stanford / "report.html").read_text()
-    table = next(t for t in tables_of(html) if t and t[0][:2] == ["element", "share_tran"])
+    table = next(t for t in tables_of(html) if t and t[0][:2] == ["element", "translational share"])
     units = {row[0]: row[table[0].index("units")] for row in table[1:]}
     assert units == dict(EXPECTED)
 
@@ -84,6 +84,7 @@ def test_per_joint_torque_tables_give_n_for_the_prismatic_joint(stanford):
 def test_report_text_claims_no_single_unit_for_mixed_quantities(stanford):
     """Captions and paragraphs: no "[N m]" or D in "[kg m²]" alone, no "deg/s/s"."""
     text = unescape(_html_without_svg((stanford / "report.html").read_text()))
+    text = text.replace("\u00a0", " ")                 # no-break spaces inside units
     assert "[N m]" not in text
     assert "/s/s" not in text and "/s\u00b2/s\u00b2" not in text
     for m in re.finditer(r"\[kg m\u00b2\]", text):
@@ -155,7 +156,7 @@ def test_sweep_report_and_dataset_give_n_for_the_prismatic_joint(tmp_path):
     table = next(t for t in tables_of(html) if t and t[0][:2] == ["joint", "peak |\u03c4|"])
     assert [row[table[0].index("units")] for row in table[1:]] == [
         _tau_units(i) for i in range(N_JOINTS)]
-    assert "[N m]" not in unescape(_html_without_svg(html))
+    assert "[N m]" not in unescape(_html_without_svg(html)).replace("\u00a0", " ")
     with xr.open_dataset(out / "sweep.h5") as ds:
         stored = dict(zip([str(v) for v in ds["element"].values],
                           [str(v).replace("m2", "m\u00b2") for v in ds["element_units"].values]))

@@ -390,7 +390,8 @@ def test_sweep_command_rule_budget_by_default_and_chapter_says_no_bound(tmp_path
     line = next(x for x in printed.splitlines() if x.startswith("merged model (budget"))
     assert f"{worst:.2e}" in line and "(guaranteed <= 0.01)" in line
     html = (out_b / "sweep_report.html").read_text(encoding="utf-8")
-    assert "guaranteed within 0.01 \u00d7 scale_i on every swept trajectory" in html
+    assert ("guaranteed within \u03b5\u00b7s<sub>i</sub> (\u03b5 = 0.01) on every swept "
+            "trajectory") in html
     assert "onservative" not in html and "no error bound" not in html
     out_c = tmp_path / "chapter"
     assert main(["sweep", "puma560", *csvs, "-o", str(out_c), "--workers", "1",
@@ -417,7 +418,8 @@ def test_sweep_report_wording_follows_the_rule(sweep, puma, trajectories, tmp_pa
     write_sweep(ds, tmp_path / "budget.h5")
     html = write_sweep_report(tmp_path / "budget.h5", tmp_path / "rb",
                               formats=["html"])[0].read_text(encoding="utf-8")
-    assert "guaranteed within 0.02 \u00d7 scale_i on every swept trajectory" in html
+    assert ("guaranteed within \u03b5\u00b7s<sub>i</sub> (\u03b5 = 0.02) on every swept "
+            "trajectory") in html
     assert "no error bound" not in html and "onservative" not in html
     with pytest.raises(ValueError, match="trajectories"):
         with_budget_model(sweep.isel(trajectory=slice(0, 2)), model)

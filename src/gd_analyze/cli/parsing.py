@@ -190,9 +190,9 @@ def _add_paper_argument(p):
                    help="page size of the PDF report (default a4)")
     p.add_argument("--figure-fonts", choices=("type3", "truetype"),
                    default=defaults["figure_fonts"],
-                   help="font embedding of the figures' PDFs: type3 (default, fast) or "
-                        "truetype (for journals that refuse Type 3 fonts, e.g. IEEE PDF "
-                        "eXpress; slower)")
+                   help="font embedding of the PDF report and of the figures' PDFs: type3 "
+                        "(default, fast) or truetype (no Type 3 font anywhere, for journals "
+                        "that refuse them, e.g. IEEE PDF eXpress; slower)")
 
 
 def _analyze_parser():

@@ -238,6 +238,11 @@ def summary_dataset(robot, trajectory, ranking, choices, error, verification=Non
         "dh_a": var(("joint",), robot.a, "m", "DH link length a"),
         "dh_alpha": var(("joint",), robot.alpha, "rad", "DH twist angle alpha"),
         "dh_offset": var(("joint",), robot.offset, "rad", "joint angle offset, theta = q + offset"),
+        "joint_translation": var(("joint", "xyz"), robot.translation, "m",
+                                 "translation of joint i's placement in body frame i-1"),
+        "joint_rotation": var(("joint", "xyz", "xyz_k"), robot.rotation, "1",
+                              "rotation of joint i's placement in body frame i-1; its z column "
+                              "is joint i's axis"),
         "link_mass": var(("joint",), robot.mass, "kg", "link mass"),
         "link_com": var(("joint", "xyz"), robot.com, "m", "centre of mass in link frame"),
         "link_inertia": var(("joint", "xyz", "xyz_k"), robot.inertia, "kg m2",

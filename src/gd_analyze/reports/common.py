@@ -23,6 +23,7 @@ A4_LANDSCAPE = (11.69, 8.27)
 
 #: Colour-blind-safe colours (Okabe & Ito) of the dominance classes, the same in every report.
 __all__ = ["CLASS_COLOURS", "BASE_RC", "SUPTITLE_RC", "A4", "A4_LANDSCAPE", "style", "utc_now",
+           "keep_units",
            "strings", "fmt", "pct", "attr", "thresholds", "check", "table", "grid_shape",
            "joint_colours", "gridspec", "svg", "inline_svgs", "render_template", "check_formats",
            "prismatic_joints", "torque_units", "element_units_of", "units_text",
@@ -181,7 +182,9 @@ def attr(ds, key, default="\u2014", *, parens=True, bools=False, sci_outside=Non
     if isinstance(value, (np.generic, float, int)) and (
             bools or not isinstance(value, (bool, np.bool_))):
         return fmt(value, 6, sci_outside)
-    text = str(value)
+    from .markup import clean
+
+    text = clean(str(value))            # no sub/superscript marks from a file's text
     return text if text else default
 
 
@@ -227,6 +230,31 @@ def check(ds, required, what):
                          + ", ".join(missing))
 
 
+#: Units in brackets in a column heading: kept on one line (no-break spaces).
+_UNITS = re.compile(r"\[[^\]\n]{1,16}\]")
+
+
+def keep_units(text):
+    """Text with the spaces inside its bracketed units made no-break: "[N m]" is never split
+    over two lines.
+
+    Parameters
+    ----------
+    text : object
+        Converted with ``str``.
+
+    Returns
+    -------
+    str
+
+    Examples
+    --------
+    >>> keep_units("peak error [N m]") == "peak error [N\u00a0m]"
+    True
+    """
+    return _UNITS.sub(lambda m: m.group().replace(" ", "\u00a0"), str(text))
+
+
 def table(header, rows, align=None, widths=None, colour_cols=()):
     """A table as the templates and the PDF writers read it.
 
@@ -251,7 +279,8 @@ def table(header, rows, align=None, widths=None, colour_cols=()):
     """
     if isinstance(align, str):
         align = ["left"] + [align] * (len(header) - 1)
-    return {"header": list(header), "rows": [[str(c) for c in row] for row in rows],
+    header = [keep_units(h) for h in header]
+    return {"header": header, "rows": [[str(c) for c in row] for row in rows],
             "align": list(align or ["left"] * len(header)),
             "widths": list(widths or [1] * len(header)), "colour_cols": list(colour_cols)}
 
@@ -392,12 +421,22 @@ def render_template(name, context, env_globals=None):
     """
     import jinja2
 
-    source = resources.files("gd_analyze.reports").joinpath(f"templates/{name}") \
-        .read_text(encoding="utf-8")
-    env = jinja2.Environment(autoescape=True, undefined=jinja2.StrictUndefined,
+    from . import markup
+
+    def source(template):
+        return resources.files("gd_analyze.reports").joinpath(f"templates/{template}") \
+            .read_text(encoding="utf-8")
+
+    def finalize(value):                # sub- and superscripts as tags, the rest escaped
+        if isinstance(value, str) and (markup.SUB in value or markup.SUP in value):
+            return markup.html(value)
+        return value
+
+    env = jinja2.Environment(loader=jinja2.FunctionLoader(source), autoescape=True,
+                             undefined=jinja2.StrictUndefined, finalize=finalize,
                              trim_blocks=True, lstrip_blocks=True, keep_trailing_newline=True)
     env.globals.update(env_globals or {})
-    return env.from_string(source).render(**context)
+    return env.get_template(name).render(**context)
 
 
 def check_formats(formats, allowed):

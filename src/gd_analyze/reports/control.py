@@ -30,6 +30,9 @@ from ..core.selection.ranking import element_label
 from .pages import PAPER, Document
 from .drawing import draw_figures, figure_svg, write_figure_files
 
+from .markup import sub as _sub
+from .sections import Outline, to_document
+
 __all__ = ["CONTROL_REPORT_FILES", "REQUIRED_VARIABLES", "make_control_figures",
            "render_control_html", "render_control_pdf", "write_control_report"]
 
@@ -154,7 +157,8 @@ def make_control_figures(ds):
             "|q_d - q| [rad]", "Tracking error per joint", log=True)}
         if "tau_difference" in ds:
             figs["tau_difference"] = _joint_panels(
-                ds, {"simplified": ds["tau_difference"].values}, "tau_s - tau_f [N m]",
+                ds, {"simplified": ds["tau_difference"].values},
+                "\u03c4 (simplified) \u2212 \u03c4 (full) [N m]",
                 "Closed-loop torque difference: simplified-model minus full-model computed "
                 "torque")
         figs["tau"] = _joint_panels(ds, {c: ds["tau"].sel(controller=c).values for c in names},
@@ -177,33 +181,37 @@ def _context(ds):
     peak_grid = ds["error_peak_grid"]
     worst = {c: float(np.nanmax(peak_grid.sel(controller=c).values)) for c in names}
     summary = "; ".join(f"{_LABELS.get(c, c)}: peak |e| {_fmt(worst[c])} rad" for c in names)
+    summary = summary[:1].upper() + summary[1:]
     summary = (f"{_attr(ds, 'robot')} along {_attr(ds, 'trajectory_file')}, "
-               f"wn = {_attr(ds, 'wn')} rad/s, zeta = {_attr(ds, 'zeta')}. {summary}.")
+               f"\u03c9{_sub('n')} = {_attr(ds, 'wn')} rad/s, \u03b6 = {_attr(ds, 'zeta')}. "
+               f"{summary}.")
     if "tau_difference_peak" in ds:
-        summary += (" Largest closed-loop torque difference |tau_simplified - tau_full| (two "
-                    "closed-loop runs, each along its own motion): "
-                    f"{_fmt(float(ds['tau_difference_peak'].max()))} N m; not the open-loop "
-                    "error tau_s - tau of the main report (one model against the other along "
-                    "the desired trajectory).")
+        summary += (" Largest closed-loop torque difference, simplified-model controller "
+                    "minus full-model controller (two closed-loop runs, each along its own "
+                    f"motion): {_fmt(float(ds['tau_difference_peak'].max()))} N m; not the "
+                    "open-loop error \u03c4" + _sub("s") + " \u2212 \u03c4 of the main "
+                    "report (one model against the other along the desired trajectory).")
     verdict = _verdict(worst, ds)
     setup = _table(["item", "value"], [
         ["robot", f"{_attr(ds, 'robot')} (SHA-256 {_attr(ds, 'robot_sha256')})"],
         ["trajectory", f"{_attr(ds, 'trajectory_file')} (SHA-256 "
                        f"{_attr(ds, 'trajectory_sha256')})"],
         ["simplified model", f"{_attr(ds, 'model_file')} (SHA-256 {_attr(ds, 'model_sha256')})"],
-        ["plant", _attr(ds, "plant")],
-        ["controllers", "; ".join(f"{c}: {d}" for c, d in zip(names, desc))],
-        ["control laws", _attr(ds, "control_laws")],
+        ["plant", _plant(ds)],
+        ["controllers", "; ".join(f"{c}: {_LABELS.get(c, d)}" for c, d in zip(names, desc))
+         + " (control laws below)"],
         ["desired motion", _attr(ds, "interpolation")],
         ["integrator", f"{_attr(ds, 'integrator')}, rtol = {_attr(ds, 'rtol')}, "
                        f"atol = {_attr(ds, 'atol')}"],
         ["samples", f"{_attr(ds, 'samples')} ({_attr(ds, 'setpoints')} set points + fine grid "
                     f"of {_attr(ds, 'grid_points')})"],
-        ["initial offset q(0) - q_d(0) [rad]",
+        ["initial offset q(0) - q" + _sub("d") + "(0) [rad]",
          ", ".join(_fmt(v) for v in ds["q0_offset"].values) if "q0_offset" in ds else "0"],
     ], align=["left", "left"])
-    gains = _table(["joint", "wn [rad/s]", "zeta", "Kp [1/s\u00b2]", "Kv [1/s]",
-                    "D_ii(q_d(0)) [kg m\u00b2]", "Kp_pd [N m/rad]", "Kv_pd [N m s/rad]"],
+    gains = _table(["joint", "\u03c9" + _sub("n") + " [rad/s]", "\u03b6",
+                    "K" + _sub("p") + " [1/s\u00b2]", "K" + _sub("v") + " [1/s]",
+                    "D" + _sub("ii") + " at the start [kg m\u00b2]",
+                    "PD K" + _sub("p") + " [N m/rad]", "PD K" + _sub("v") + " [N m s/rad]"],
                    [[joints[j]] + [_fmt(ds[v].values[j], digits=4) for v in
                                    ("wn", "zeta", "Kp", "Kv", "inertia_scale", "Kp_pd", "Kv_pd")]
                     for j in range(n)], align="right")
@@ -230,8 +238,8 @@ def _context(ds):
     tau_rows = []
     for c in names:
         if "tau_peak" in ds:
-            tau_rows.append([c, "peak |tau|"] + fmt_all("tau_peak", controller=c))
-            tau_rows.append([c, "RMS tau"] + fmt_all("tau_rms", controller=c))
+            tau_rows.append([c, "peak |\u03c4|"] + fmt_all("tau_peak", controller=c))
+            tau_rows.append([c, "RMS \u03c4"] + fmt_all("tau_rms", controller=c))
     tau_table = _table(["controller", "figure"] + [f"{j} [N m]" for j in joints], tau_rows,
                        align=["left", "left"] + ["right"] * n)
     cost = None
@@ -267,12 +275,10 @@ def _context(ds):
     choices = None if recursive else _table(["element"] + [f"column {j + 1}"
                                                           for j in range(n)], rows,
                                            align=["left"] * (n + 1))
-    prov = _table(["attribute", "value"], [[k, _attr(ds, k)] for k in (
-        "gd_analyze_version", "history", "robot", "robot_source", "robot_sha256",
-        "trajectory_file", "trajectory_path", "trajectory_sha256", "trajectory_derivatives",
-        "model_file", "model_path", "model_sha256", "model_trajectory_sha256",
-        "trajectory_is_models", "gains", "references", "Conventions")],
-        align=["left", "left"])
+    prov = _table(["item", "value"],
+                  [[label, {"1": "yes", "0": "no"}.get(_attr(ds, k), _attr(ds, k))
+                    if k == "trajectory_is_models" else _attr(ds, k)]
+                   for label, k in _PROVENANCE if k in ds.attrs], align=["left", "left"])
     floor = ("A curve at the bottom of a panel is at the rounding / integrator-tolerance level.")
     return {
         "version": __version__,
@@ -284,13 +290,16 @@ def _context(ds):
                   "(Ch. 5) with the full model, with the simplified model of Sec. 3.4.1, and "
                   "under PD control with gravity compensation."),
         "setup": setup, "gains": gains,
-        "gains_note": ("Computed torque: v = qdd_d + Kv (qd_d - qd) + Kp (q_d - q), "
-                       "Kp = wn\u00b2, Kv = 2 zeta wn, so the full-model closed loop is "
-                       "e'' + Kv e' + Kp e = 0. PD + gravity: tau = Kp_pd e + Kv_pd ed + c, "
-                       "gains scaled by the diagonal of D at the start of the motion."),
+        "gains_note": (f"Computed torque: v = q\u0308{_D} + {_KV} (q\u0307{_D} \u2212 q\u0307) + "
+                       f"{_KP} (q{_D} \u2212 q), {_KP} = {_WN}\u00b2, {_KV} = 2\u03b6{_WN}, so "
+                       f"the full-model closed loop is \u00eb + {_KV} \u0117 + {_KP} e = 0 "
+                       f"(e = q{_D} \u2212 q, q{_D} the desired motion). PD + gravity: \u03c4 = "
+                       f"{_KP} e + {_KV} \u0117 + c with the PD gains, scaled by the diagonal "
+                       f"of D at the start of the motion (D{_sub('ii')} at the start)."),
         "errors": errors,
-        "error_note": ("Tracking error e = q_d - q per joint, peak |e| and RMS, at the set "
-                       "points of the trajectory and on the fine grid (set points included)."),
+        "error_note": (f"Tracking error e = q{_D} \u2212 q per joint, peak |e| and RMS, at the "
+                       "set points of the trajectory and on the fine grid (set points "
+                       "included)."),
         "floor_note": floor,
         "tau_diff": tau_diff,
         "diff_note": ("Closed-loop torque difference: torque of the simplified-model "
@@ -307,6 +316,26 @@ def _context(ds):
                      f"{_attr(ds, 'model_sha256')}"),
     }
 
+
+def _plant(ds):
+    """The simulated plant: the full G-D model's forward dynamics, written as mathematics."""
+    plant = _attr(ds, "plant")
+    if plant.startswith("full G-D model"):
+        return "full G-D model, q\u0308 = D\u207b\u00b9 (\u03c4 \u2212 h \u2212 c) (Eq. 3.4-24)"
+    return plant
+
+
+_D, _KP, _KV, _WN = _sub("d"), "K" + _sub("p"), "K" + _sub("v"), "\u03c9" + _sub("n")
+
+#: The provenance rows of the control report: (item, attribute), each setting once (the gains
+#: and the control laws are in Sec. 1, the robot, trajectory and model files in Table 1.1).
+_PROVENANCE = (("gd-analyze version", "gd_analyze_version"), ("run", "history"),
+               ("trajectory path", "trajectory_path"),
+               ("trajectory derivatives", "trajectory_derivatives"),
+               ("model path", "model_path"),
+               ("trajectory the model was built on (SHA-256)", "model_trajectory_sha256"),
+               ("model built on this trajectory", "trajectory_is_models"),
+               ("method", "references"), ("conventions", "Conventions"))
 
 #: The simplified model "holds" if its peak tracking error is within this [rad] or within twice
 #: the full model's.
@@ -372,8 +401,8 @@ def render_control_html(ds, figures=None):
 
 
 _CAPTIONS = {
-    "error": "Tracking error |q_d \u2212 q| per joint along the run, log scale (markers: set "
-             "points). A curve at the bottom of a panel is at the rounding / "
+    "error": "Tracking error |q" + _sub("d") + " \u2212 q| per joint along the run, log scale "
+             "(markers: set points). A curve at the bottom of a panel is at the rounding / "
              "integrator-tolerance level.",
     "tau_difference": "Closed-loop torque difference: torque of the simplified-model "
                       "controller minus torque of the full-model controller, each along its "
@@ -385,8 +414,47 @@ _FIGURE_FILES = {"error": "fig_control_tracking_error",
                  "tau": "fig_control_applied_torque"}
 
 
-def _numbered(figures):
-    return {k: f"Figure {m + 1}. {_CAPTIONS[k]}" for m, k in enumerate(figures)}
+def _outline(ctx, figures):
+    """The control report's sections, once, for the HTML and the PDF
+    (:class:`gd_analyze.reports.sections.Outline`)."""
+    o = Outline(ctx["title"], figures)
+    o.paragraph(ctx["verdict"], "lead")
+    o.paragraph(ctx["summary"], "summary")
+    o.paragraph(ctx["intro"] + f" Report created {ctx['created']} by gd-analyze "
+                f"{ctx['version']} from the stored control dataset; nothing was recomputed.",
+                "note")
+    o.section("1", "Set-up and gains", "setup")
+    o.table(ctx["setup"], "The closed-loop run.", kv=True)
+    o.paragraph(ctx["gains_note"], "note")
+    o.table(ctx["gains"], "Gains per joint.")
+    o.section("2", "Tracking error", "tracking")
+    o.paragraph(ctx["error_note"], "note")
+    o.table(ctx["errors"], "Tracking error per controller and joint.", size=7)
+    o.figure("error", _CAPTIONS["error"])
+    o.section("3", "Torques", "torque")
+    o.paragraph(ctx["diff_note"], "note")
+    o.table(ctx["tau_diff"], "Closed-loop torque difference per joint, simplified-model "
+                             "controller minus full-model controller.")
+    if "tau_difference" in o.available:
+        o.figure("tau_difference", _CAPTIONS["tau_difference"])
+    else:
+        o.paragraph("No torque difference stored.", "body")
+    o.table(ctx["tau_table"], "Applied torques per controller and joint.", size=7)
+    o.figure("tau", _CAPTIONS["tau"])
+    o.section("4", "Evaluation cost of the model", "cost")
+    o.paragraph(ctx["cost_note"], "note")
+    if ctx["cost"]:
+        o.table(ctx["cost"], "Operations per set point of each evaluator.")
+    else:
+        o.paragraph("Not measured.", "body")
+    o.section("5", "Simplified model", "model")
+    o.paragraph(ctx["model_note"], "note")
+    if ctx["choices"]:
+        o.table(ctx["choices"], "The part of each element the simplified model keeps.")
+    o.section("6", "Provenance", "provenance")
+    o.table(ctx["provenance"], "Provenance: the files and settings of the run, each once.",
+            kv=True, size=7)
+    return o
 
 
 def _html(ctx, drawn):
@@ -394,7 +462,7 @@ def _html(ctx, drawn):
 
     svgs = {k: Markup(svg) for k, (svg, _, _) in drawn.items()}
     return render_template("control_report.html.j2", {**ctx, "figures": svgs,
-                                                      "captions": _numbered(drawn)})
+                                                      "outline": _outline(ctx, drawn)})
 
 
 def render_control_pdf(ds, path, figures=None, paper="a4"):
@@ -431,51 +499,15 @@ def render_control_pdf(ds, path, figures=None, paper="a4"):
     return _pdf(ctx, draw_figures(figures, _RC), path, paper)
 
 
-def _pdf(ctx, drawn, path, paper="a4"):
+def _pdf(ctx, drawn, path, paper="a4", fonts="type3"):
     metadata = {"Author": f"gd-analyze {ctx['version']}",
                 "Subject": "Computed-torque control with the simplified G-D model (Fu, Gonzalez "
                            "& Lee 1987, Sec. 3.4.1 and Ch. 5)",
                 "Keywords": ctx["keywords"], "Creator": f"gd-analyze {ctx['version']}"}
-    doc = Document(ctx["title"], paper=paper, metadata=metadata,
+    doc = Document(ctx["title"], paper=paper, metadata=metadata, fonts=fonts,
                    footer=f"gd-analyze {ctx['version']}: control report")
-
-    def fig(key):
-        if key in drawn:
-            doc.figure(drawn[key][1], drawn[key][2], _CAPTIONS[key])
-
-    doc.heading(ctx["title"], level=0)
-    doc.paragraph(ctx["verdict"], size=9.5, bold=True)
-    doc.paragraph(ctx["summary"], size=9)
-    doc.paragraph(ctx["intro"] + f" Report created {ctx['created']} by gd-analyze "
-                  f"{ctx['version']} from the stored control dataset; nothing was recomputed.",
-                  size=8.5, colour="0.25")
-    doc.heading("1. Set-up and gains")
-    doc.table(ctx["setup"])
-    doc.paragraph(ctx["gains_note"], size=8.5)
-    doc.table(ctx["gains"])
-    doc.heading("2. Tracking error")
-    doc.paragraph(ctx["error_note"], size=8.5)
-    doc.table(ctx["errors"], size=7)
-    fig("error")
-    doc.heading("3. Torques")
-    doc.paragraph(ctx["diff_note"], size=8.5)
-    doc.table(ctx["tau_diff"])
-    fig("tau_difference")
-    doc.table(ctx["tau_table"], size=7)
-    fig("tau")
-    doc.heading("4. Evaluation cost of the model")
-    doc.paragraph(ctx["cost_note"], size=8.5)
-    if ctx["cost"]:
-        doc.table(ctx["cost"])
-    else:
-        doc.paragraph("Not measured.", size=8.5)
-    doc.heading("5. Simplified model")
-    doc.paragraph(ctx["model_note"], size=8.5)
-    if ctx["choices"]:
-        doc.table(ctx["choices"])
-    doc.heading("6. Provenance")
-    doc.table(ctx["provenance"], size=7)
-    return doc.write(path)
+    to_document(_outline(ctx, drawn), doc, {k: d[2] for k, d in drawn.items()})
+    return doc.write(path, {k: d[1] for k, d in drawn.items()})
 
 
 def write_control_report(control_path, outdir, paper="a4", fonts="type3"):
@@ -530,5 +562,5 @@ def write_control_report(control_path, outdir, paper="a4", fonts="type3"):
         files = write_figure_files(stack, drawn, outdir / "figures", _FIGURE_FILES)
         Path(stack.enter_context(atomic_path(html_path))).write_text(_html(ctx, drawn),
                                                                      encoding="utf-8")
-        _pdf(ctx, drawn, stack.enter_context(atomic_path(pdf_path)), paper)
+        _pdf(ctx, drawn, stack.enter_context(atomic_path(pdf_path)), paper, fonts)
     return [html_path, pdf_path] + files

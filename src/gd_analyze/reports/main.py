@@ -40,7 +40,9 @@ from .main_context import ENVELOPE_COLUMNS, ENVELOPE_THRESHOLD, report_context, 
 from .common import prismatic_joints
 from .main_figures import RC as FIG_RC, PAGE_WIDTH, plot_data
 from .main_figures import fig_D, fig_h, fig_joints, fig_torque
+from .main_outline import main_outline
 from .pages import FIGURE_FONTS, PAPER, Document
+from .sections import to_document
 from .drawing import draw_figures, write_figure_files
 from ..io.sweep_datasets import payload_part
 
@@ -252,11 +254,6 @@ def _fig_formulations(ds):
 # Drawing once, HTML and PDF
 # --------------------------------------------------------------------------------------------
 
-def _numbered(ctx, figures):
-    """Figure number and caption ("Figure k. ...") of each figure, in document order."""
-    return {key: f"Figure {k + 1}. {ctx['captions'][key]}" for k, key in enumerate(figures)}
-
-
 def _drawn(figures, pdf=True, fonts="type3"):
     """Each figure drawn once as SVG and (if asked) once as PDF: {key: (svg, pdf, size)}."""
     return draw_figures(figures, FIG_RC, pdf=pdf, fonts=fonts)
@@ -304,7 +301,7 @@ def _html(ctx, drawn):
 
     svgs = {k: Markup(_inline(svg, f"fig-{k}")) for k, (svg, _, _) in drawn.items()}
     return render_template("report.html.j2", {**ctx, "figures": svgs,
-                                              "captions": _numbered(ctx, drawn)},
+                                              "outline": main_outline(ctx, drawn)},
                            {"class_colours": _CLASS_COLOURS})
 
 
@@ -346,15 +343,15 @@ def render_pdf(ds, path, figures=None, paper="a4"):
     return _pdf(ctx, _drawn(figures), path, paper)
 
 
-def _pdf(ctx, drawn, path, paper="a4"):
+def _pdf(ctx, drawn, path, paper="a4", fonts="type3"):
     sizes = {k: size for k, (_, _, size) in drawn.items()}
-    return _document(ctx, sizes, paper).write(path, {k: d[1] for k, d in drawn.items()})
+    return _document(ctx, sizes, paper, fonts).write(path, {k: d[1] for k, d in drawn.items()})
 
 
-def _document(ctx, sizes, paper="a4"):
-    """The PDF report as a page-engine document; each figure block holds its key and size
-    (the figures' PDFs are given when it is written)."""
-    caps = {k: c.split(". ", 1)[1] for k, c in _numbered(ctx, sizes).items()}
+def _document(ctx, sizes, paper="a4", fonts="type3"):
+    """The PDF report as a page-engine document, from the one section list of the report
+    (:func:`gd_analyze.reports.main_outline.main_outline`); each figure block holds its key
+    and size (the figures' PDFs are given when it is written)."""
     metadata = {
         "Author": f"gd-analyze {ctx['version']}",
         "Subject": "Translational and rotational dominance of the generalized d'Alembert "
@@ -363,98 +360,11 @@ def _document(ctx, sizes, paper="a4"):
         "CreationDate": "D:" + ctx["created"].replace("-", "").replace(":", "")
                                .replace("T", "")[:14] + "Z",
     }
-    doc = Document(ctx["title"], paper=paper, metadata=metadata,
+    doc = Document(ctx["title"], paper=paper, metadata=metadata, fonts=fonts,
                    footer=f"gd-analyze {ctx['version']}: {ctx['robot_name']}, {ctx['N']} set "
                           "points")
+    return to_document(main_outline(ctx, sizes), doc, sizes)
 
-    def fig(key):
-        if key in sizes:
-            doc.figure(key, sizes[key], caps[key])
-
-    doc.heading(ctx["title"], level=0)
-    doc.paragraph(ctx["summary"], size=9.5)
-    doc.paragraph(ctx["facts"], size=9)
-    doc.paragraph(ctx["intro"], size=8.5, colour="0.25")
-    doc.heading("1. Robot and trajectory")
-    doc.heading("1.1 Robot", level=2)
-    doc.table(ctx["robot_kv"])
-    doc.paragraph(_DH_TEXT, size=8.5)
-    doc.table(ctx["dh"])
-    doc.paragraph(_LINK_TEXT, size=8.5)
-    doc.table(ctx["link"])
-    doc.heading("1.2 Trajectory", level=2)
-    doc.table(ctx["traj_kv"])
-    doc.table(ctx["joints"])
-    if ctx["envelope_note"]:
-        doc.paragraph(ctx["envelope_note"], size=8.5)
-    fig("joints")
-    doc.heading("2. Acceleration-related elements of D (analogue of Fig. 3.10)")
-    doc.paragraph(ctx["D_text"], size=8.5)
-    fig("D")
-    doc.heading("3. Coriolis and centrifugal elements of h (analogue of Fig. 3.11)")
-    fig("h")
-    doc.heading("4. Dominance ranking")
-    doc.paragraph(_RANKING_TEXT.format(s=ctx["s"], e=ctx["e"]), size=8.5)
-    doc.paragraph("   ".join(f"{c}: {k}" for c, k in ctx["counts"].items()), size=8.5,
-                  bold=True)
-    doc.table(ctx["ranking"])
-    doc.heading("5. Simplified model and torque error")
-    doc.paragraph(ctx["simplified_intro"], size=8.5)
-    doc.heading("5.1 Torque error along the trajectory", level=2)
-    doc.table(ctx["error"])
-    fig("torque")
-    doc.heading(ctx["choices_heading"], level=2)
-    doc.table(ctx["choices"])
-    sm = ctx.get("simplified_model")
-    if sm:
-        doc.heading(ctx["model_heading"], level=2)
-        doc.paragraph(sm["text"], size=8.5)
-        doc.table(sm["bound"])
-        if sm["costs"]:
-            doc.heading("5.4 Cost per set point (counted)", level=2)
-            doc.table(sm["costs"])
-        if sm["ladder"]:
-            doc.heading(sm["ladder_heading"], level=2)
-            doc.table(sm["ladder"])
-        elif sm["ladder_note"]:
-            doc.heading(sm["ladder_heading"], level=2)
-            doc.paragraph(sm["ladder_note"], size=8.5)
-        doc.paragraph("Emitted source files: " + ", ".join(sm["files"]), size=8.5)
-    doc.heading("6. Comparison with the chapter's PUMA 560")
-    doc.paragraph(ctx["compare"]["note"], size=8.5)
-    if ctx["compare"]["applicable"]:
-        doc.paragraph(f"Agreement: {ctx['compare']['n_agree']} of "
-                      f"{ctx['compare']['n_compared']} elements.", size=9, bold=True)
-        doc.table(ctx["compare"]["table"])
-    if ctx["payload"]["applicable"]:
-        doc.heading("6.1 Dominance against the payload")
-        doc.paragraph(ctx["payload"]["note"], size=8.5)
-        if ctx["payload"]["table"]["rows"]:
-            doc.table(ctx["payload"]["table"])
-        fig("payload")
-    doc.heading("7. Formulations: Lagrange-Euler, Newton-Euler, G-D")
-    doc.paragraph(ctx["formulations"]["note"], size=8.5)
-    if ctx["formulations"]["applicable"]:
-        doc.heading("7.1 Largest relative disagreement per pair", level=2)
-        doc.table(ctx["formulations"]["agreement"])
-        doc.heading("7.2 Operations per set point", level=2)
-        doc.table(ctx["formulations"]["costs"])
-        fig("formulations")
-    doc.heading("8. Provenance")
-    doc.table(ctx["provenance"], size=7)
-    return doc
-
-
-_DH_TEXT = "Denavit-Hartenberg parameters (standard form, \u03b8 = q + offset):"
-_LINK_TEXT = ("Link inertial parameters: centre of mass (com) in link frame i, diagonal of the "
-              "inertia tensor about the centre of mass:")
-_RANKING_TEXT = ("For each element, share_tran = \u03a3|tran| / (\u03a3|tran| + \u03a3|rot|) "
-                 "over the set points. An element is negligible if its peak |tran + rot| is "
-                 "below e = {e} times its scale (peak \u221a(D_ii D_jj) for D_ij, peak |\u03c4_i| "
-                 "for h_i); otherwise translational if share_tran \u2265 s = {s}, rotational if "
-                 "share_tran \u2264 1 \u2212 s, and both in between. \u2261 0: zero in every "
-                 "part (below 1e-12 of its scale), so share_tran is rounding noise and is not "
-                 "shown.")
 
 # --------------------------------------------------------------------------------------------
 # Entry point
@@ -531,5 +441,5 @@ def _write(ds, outdir, formats, paper, progress, fonts="type3"):
             with open(tmp["html"], "w", encoding="utf-8") as fh:
                 fh.write(_html(ctx, drawn))
         if "pdf" in tmp:
-            _pdf(ctx, drawn, tmp["pdf"], paper)
+            _pdf(ctx, drawn, tmp["pdf"], paper, fonts)
     return [paths[fmt] for fmt in formats] + files

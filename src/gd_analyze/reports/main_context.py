@@ -16,6 +16,8 @@ from .common import strings as _strings, table as _table, thresholds as _thresho
 from .common import element_units_of, prismatic_joints, torque_units, units_said_once
 from .common import units_text, utc_now
 from .main_figures import identically_zero
+from .main_provenance import provenance_rows
+from .markup import element as _el
 from .main_text import captions, conclusion, disagreement_cause, element_scale
 from .simplified_section import (ROUND_OFF, simplified_caption, has_simplified,
                                  simplified_context)
@@ -146,6 +148,45 @@ def _caption_units(ds):
             "tau": units_said_once(ds, "tau")}
 
 
+def _robot_geometry(ds):
+    """(DH table, None) for a robot given by DH rows; (None, placements table) for a URDF or
+    chain robot, whose DH parameters are not defined: each joint's fixed placement in body frame
+    i-1 (translation xyz [m], rotation as roll-pitch-yaw [deg], R = Rz(yaw) Ry(pitch)
+    Rx(roll) as in URDF) and its axis, the z column of the rotation."""
+    n = ds.sizes["joint"]
+    dh_rows = np.stack([ds[v].values for v in ("dh_d", "dh_a", "dh_alpha", "dh_offset")])
+    if np.all(np.isfinite(dh_rows)) or "joint_rotation" not in ds.variables:
+        dh = _table(
+            ["joint", "d [m]", "a [m]", "\u03b1 [deg]", "offset [deg]"],
+            [[str(k + 1), _fmt(dh_rows[0, k]), _fmt(dh_rows[1, k]),
+              _fmt(np.degrees(dh_rows[2, k])), _fmt(np.degrees(dh_rows[3, k]))]
+             for k in range(n)],
+            align=["left"] + ["right"] * 4, widths=[0.8, 1, 1, 1, 1])
+        return dh, None
+    import warnings
+
+    from scipy.spatial.transform import Rotation
+
+    R = np.asarray(ds["joint_rotation"].values, float)
+    t = np.asarray(ds["joint_translation"].values, float)
+    with warnings.catch_warnings():             # pitch of +-90 deg: yaw 0, roll takes it all
+        warnings.simplefilter("ignore", UserWarning)
+        rpy = Rotation.from_matrix(R).as_euler("xyz", degrees=True)  # extrinsic: URDF's rpy
+
+    def num(v):
+        return _fmt(0.0 if abs(v) < 1e-12 else v)                    # no -0, no 1e-17
+
+    placements = _table(
+        ["joint", "type", "x [m]", "y [m]", "z [m]", "roll [deg]", "pitch [deg]", "yaw [deg]",
+         "axis in frame i\u22121"],
+        [[str(k + 1), str(ds["joint_type"].values[k]) if "joint_type" in ds else "",
+          *(num(v) for v in t[k]), *(num(v) for v in rpy[k]),
+          "(" + ", ".join(num(v) for v in R[k, :, 2]) + ")"] for k in range(n)],
+        align=["left", "left"] + ["right"] * 6 + ["left"],
+        widths=[0.6, 0.9, 0.9, 0.9, 0.9, 0.9, 0.9, 0.9, 1.6])
+    return None, placements
+
+
 def _is_puma560(name):
     return str(name).lower().replace(" ", "").replace("-", "") == "puma560"
 
@@ -256,12 +297,7 @@ def _report_context_base(ds):
     ])
     com = ds["link_com"].values
     inertia = ds["link_inertia"].values
-    dh = _table(
-        ["joint", "d [m]", "a [m]", "\u03b1 [deg]", "offset [deg]"],
-        [[str(k + 1), _fmt(ds["dh_d"].values[k]), _fmt(ds["dh_a"].values[k]),
-          _fmt(np.degrees(ds["dh_alpha"].values[k])),
-          _fmt(np.degrees(ds["dh_offset"].values[k]))] for k in range(n)],
-        align=["left"] + ["right"] * 4, widths=[0.8, 1, 1, 1, 1])
+    dh, placements = _robot_geometry(ds)
     link = _table(
         ["joint", "mass [kg]", "com x [m]", "com y [m]", "com z [m]", "Ixx [kg m\u00b2]",
          "Iyy [kg m\u00b2]", "Izz [kg m\u00b2]"],
@@ -296,7 +332,8 @@ def _report_context_base(ds):
     zero = zero_mask(ds)[1]
     pt, pr, ptot = ds["peak_tran"].values, ds["peak_rot"].values, ds["peak_total"].values
     ranking = _table(
-        ["element", "share_tran", "class", "peak_tran", "peak_rot", "peak_total", "units"],
+        ["element", "translational share", "class", f"peak |{_el('X', '', 'tran')}|",
+         f"peak |{_el('X', '', 'rot')}|", "peak |X|", "units"],
         [[lab, "\u2261 0" if zero[k] else (_fmt(share[k], 3) if np.isfinite(share[k])
                                              else "n/a"), dominance[k],
           _fmt(pt[k]), _fmt(pr[k]), _fmt(ptot[k]), el_units[k]]
@@ -316,7 +353,8 @@ def _report_context_base(ds):
              for k, lab in enumerate(labels)],
             widths=[0.8, 1.2, 0.8, 2.2], colour_cols=[1])
     err = _table(
-        ["joint", "peak |\u03c4\u209b\u2212\u03c4|", "RMS |\u03c4\u209b\u2212\u03c4|",
+        ["joint", "peak |\u03c4\u209b\u00a0\u2212\u00a0\u03c4|",
+         "RMS |\u03c4\u209b\u00a0\u2212\u00a0\u03c4|",
          "peak |\u03c4|", "peak error / peak |\u03c4|", "RMS error / peak |\u03c4|", "units"],
         [[str(k + 1), _fmt(ds["tau_error_peak"].values[k]), _fmt(ds["tau_error_rms"].values[k]),
           _fmt(ds["tau_peak"].values[k]), _pct(ds["tau_error_relative_peak"].values[k]),
@@ -352,38 +390,15 @@ def _report_context_base(ds):
         note = (f"The chapter reports dominance only for the 6-joint PUMA 560 (Sec. 3.4.1); "
                 f"this robot has {n} joint{'s' if n != 1 else ''}, so a comparison is not "
                 "meaningful and none is made.")
-    compare = _table(["element", "our class", "chapter's class", "agree", "share_tran", "cause"],
+    compare = _table(["element", "our class", "chapter's class", "agree", "translational share",
+                      "cause"],
                      compare_rows, align=["left"] * 4 + ["right", "left"],
                      widths=[0.6, 1.05, 1.05, 0.45, 0.85, 4.0], colour_cols=[1, 2, 3])
 
     # 7. provenance
-    prov = [
-        ("report made by", f"gd-analyze {__version__}"),
-        ("analysis made by", f"gd-analyze {_attr(ds, 'gd_analyze_version')}"),
-        ("dataset history", _attr(ds, "history")),
-        ("report created", now.isoformat()),
-        ("input file", _attr(ds, "input_path")),
-        ("input SHA-256", sha_in or "\u2014 (not read from a file)"),
-        ("robot file", _attr(ds, "robot_source")),
-        ("robot file SHA-256", _attr(ds, "robot_sha256")),
-        ("dominance threshold s", _fmt(s, 6)),
-        ("negligibility threshold e", _fmt(e, 6)),
-    ]
     ver_keys = sorted(k for k in ds.attrs if k.startswith("verification_max_rel_error_"))
     verified, verification = _verification(ds, ver_keys, N)
-    prov.append(("verification against " + _attr(ds, "verification_engine", "Pinocchio"),
-                 verification))
-    shown = {"robot", "robot_description", "robot_reference", "robot_source", "robot_sha256",
-             "gravity", "gravity_units", "input_file", "input_path", "input_sha256",
-             "derivatives", "dominance_threshold", "negligible_threshold", "history",
-             "gd_analyze_version", "verification_passed", "verification_engine",
-             "verification_tolerance", "verification_setpoints", *ver_keys,
-             "setpoints"}                                   # N: in Sec. 1.2
-    for key in sorted(k for k in ds.attrs if k not in shown):
-        twin = key[len("simplified_"):] if key.startswith("simplified_") else None
-        if twin in ds.attrs and _attr(ds, twin) == _attr(ds, key):
-            continue                                        # each setting once
-        prov.append((key, _attr(ds, key)))
+    prov = provenance_rows(ds, now.isoformat(), __version__, verification)
 
     formulations = _formulations_context(ds)
     payload = _payload_context(ds)
@@ -403,7 +418,8 @@ def _report_context_base(ds):
         "captions": captions(enveloped, N, f"{s:g}", f"{e:g}", units=_caption_units(ds)),
         "D_text": _D_TEXT.format(s=f"{s:g}", e=f"{e:g}", units=units_said_once(ds, "D")),
         "n": n, "N": N, "s": f"{s:g}", "e": f"{e:g}", "created": now.isoformat(),
-        "robot_kv": robot_kv, "dh": dh, "link": link, "traj_kv": traj_kv, "joints": joints,
+        "robot_kv": robot_kv, "dh": dh, "placements": placements, "link": link,
+        "traj_kv": traj_kv, "joints": joints,
         "ranking": ranking, "counts": counts, "choices": choices, "error": err,
         "simplified_intro": _SIMPLIFIED_INTRO[form] + _zero_parameters(ds),
         "choices_heading": _CHOICES_HEADING[form],
@@ -431,8 +447,11 @@ _INTRO = ("Generalized d'Alembert (G-D) equations of motion split the inertia ma
           "gd-analyze {version} from the stored results; nothing was recomputed.")
 
 
-_D_TEXT = ("One panel per element D_ij with i \u2264 j (row i, column j): translational part "
-           "(\u25cb, blue), rotational part (\u00d7, orange) and combined D_ij (\u25b3, black) "
+_D_TEXT = ("One panel per element " + _el("D", "ij") + " with i \u2264 j (row i, column j): "
+           "translational part " + _el("D", "ij", "tran") + " (\u25cb, blue), rotational part "
+           + _el("D", "ij", "rot") + " (\u00d7, orange) and " + _el("D", "ij")
+           + " = " + _el("D", "ij", "tran") + " + " + _el("D", "ij", "rot")
+           + " (\u25b3, black) "
            "against time [{units}]. The title gives the element and its dominance class "
            "(s = {s}, e = {e}).")
 
@@ -440,6 +459,12 @@ _D_TEXT = ("One panel per element D_ij with i \u2264 j (row i, column j): transl
 #: The verification's absolute floor (gd_analyze.formulations.pinocchio.FLOOR_EPS machine
 #: epsilons of the overall scale), as the text names it; a report imports no formulation.
 _ROUND_OFF_FLOOR = "64 eps"
+
+
+def _quantity(name):
+    """A verified quantity's name as mathematics: "D_tran" -> D^tran, "h" -> h."""
+    symbol, _, part = name.partition("_")
+    return _el(symbol, "", part) if part in ("tran", "rot") else name
 
 
 def _verification(ds, keys, N):
@@ -452,7 +477,8 @@ def _verification(ds, keys, N):
     checked = int(ds.attrs.get("verification_setpoints", N))
     verdict = (f"{'passed' if passed else 'FAILED'} on {checked:,} of {N:,} set points"
                + ("" if checked == N else " (evenly spread)"))
-    worst = {k[len("verification_max_rel_error_"):]: float(ds.attrs[k]) for k in keys}
+    worst = {_quantity(k[len("verification_max_rel_error_"):]): float(ds.attrs[k])
+             for k in keys}
     floor = _ROUND_OFF_FLOOR
     if worst and max(worst.values()) == 0:
         errors = (f"every difference within the round-off floor ({floor} of its scale), "

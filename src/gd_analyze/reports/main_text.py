@@ -206,9 +206,9 @@ def disagreement_cause(label, ours, theirs, share, zero, s, robot_name):
             cause = (f"translational share {100 * share:.1f} % > 1 \u2212 s = "
                      f"{100 * (1 - s):.0f} %")
     elif ours == "translational":
-        cause = f"share_tran {share:.3f} \u2265 s = {s:g}"
+        cause = f"translational share {share:.3f} \u2265 s = {s:g}"
     else:
-        cause = f"share_tran {share:.3f} \u2264 1 \u2212 s = {1 - s:g}"
+        cause = f"translational share {share:.3f} \u2264 1 \u2212 s = {1 - s:g}"
     if label.startswith("h"):
         cause += ("; h depends on q\u0307 and the chapter's trajectory is not given, so it is "
                   "compared on another motion")
@@ -239,6 +239,8 @@ def captions(enveloped, N, s, e, units=None):
     dict of str to str
         By figure key.
     """
+    from .markup import element
+
     if enveloped:
         how = (f"The {N} set points are drawn as their min/max envelope over about 400 equal "
                "time columns, without markers; lines: translational solid, rotational dashed, "
@@ -250,11 +252,13 @@ def captions(enveloped, N, s, e, units=None):
     return {
         "joints": "Joint positions q, velocities q\u0307 and accelerations q\u0308 against time "
                   f"[{u['joints']}]; the dataset stores SI units (rad or m).",
-        "D": f"Elements D_ij (i \u2264 j) of the inertia matrix against time [{u['D']}], "
+        "D": f"Elements {element('D', 'ij')} (i \u2264 j) of the inertia matrix against time "
+             f"[{u['D']}], "
              f"split into their translational and rotational parts (analogue of Fig. 3.10). "
              f"{how}. Panel title: element and its class (s = {s}, e = {e}); \u2261 0 marks "
              "an element that is zero in every part, whose share is not defined.",
-        "h": f"Coriolis and centrifugal elements h_i against time [{u['tau']}] (analogue of "
+        "h": f"Coriolis and centrifugal elements {element('h', 'i')} against time "
+             f"[{u['tau']}] (analogue of "
              "Fig. 3.11), "
              f"on panels of the size of those of D. {how}.",
         "torque": "Joint torques of the full model \u03c4 (black, solid) and the simplified "

@@ -18,6 +18,8 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
+from .table_layout import column_widths as _column_widths, wrap_cell as _wrap_cell
+
 __all__ = ["PAPER", "PAGE_RC", "FIGURE_FONTS", "Document", "TABLE_COLOURS"]
 
 #: Page sizes [in].
@@ -25,7 +27,8 @@ PAPER = {"a4": (8.27, 11.69), "letter": (8.5, 11.0)}
 #: Colours of the class and yes/no cells of every table.
 TABLE_COLOURS = {"translational": "#0072B2", "rotational": "#D55E00", "both": "#6A3D9A",
                  "negligible": "#555555", "yes": "#007A4D", "no": "#B00020",
-                 "passed": "#007A4D", "FAILED": "#B00020"}
+                 "passed": "#007A4D", "FAILED": "#B00020", "tran": "#0072B2",
+                 "rot": "#D55E00", "none": "#555555"}
 
 #: matplotlib settings of the text pages: Type 3 fonts (embedded without a font subsetter: about
 #: ten times faster to write than TrueType subsets).
@@ -176,16 +179,24 @@ class Document:
         PDF document information: ``Author``, ``Subject``, ``Keywords``, ``Creator`` ...
     footer : str, optional
         Text at the foot of every page, before "page k of K".
+    fonts : {"type3", "truetype"}, optional
+        How the text pages embed their font (:data:`FIGURE_FONTS`): Type 3 (the default,
+        fast) or TrueType subsets (Type 42), so that a report asked for with
+        ``--figure-fonts truetype`` holds no Type 3 font at all.
 
     Raises
     ------
     ValueError
-        If ``paper`` is not a key of :data:`PAPER`.
+        If ``paper`` is not a key of :data:`PAPER`, or ``fonts`` not one of
+        :data:`FIGURE_FONTS`.
     """
 
-    def __init__(self, title, paper="a4", metadata=None, footer=None):
+    def __init__(self, title, paper="a4", metadata=None, footer=None, fonts="type3"):
         if paper not in PAPER:
             raise ValueError(f"paper must be one of {sorted(PAPER)}, got {paper!r}")
+        if fonts not in FIGURE_FONTS:
+            raise ValueError(f"fonts must be one of {sorted(FIGURE_FONTS)}, got {fonts!r}")
+        self.fonts = fonts
         self.title = title
         self.paper = paper
         self.W, self.H = PAPER[paper]
@@ -234,9 +245,10 @@ class Document:
         """
         self.blocks.append(("paragraph", (text, size, bold, colour)))
 
-    def table(self, table, size=7.5):
-        """A table in the one table style of the reports: rules above and below the header and
-        at the end, shaded every other row, cells wrapped to their column.
+    def table(self, table, size=7.5, caption=""):
+        """A table in the one table style of the reports: its caption above it, rules above
+        and below the header and at the end, shaded every other row, cells wrapped at spaces to
+        their column (each column at least as wide as its longest word).
 
         Parameters
         ----------
@@ -246,8 +258,10 @@ class Document:
         size : float, optional
             Type size [pt]. A short table stays on one page; a long one repeats its header on
             each page.
+        caption : str, optional
+            "Table 5.2: ...", kept on the page of the table's first rows.
         """
-        self.blocks.append(("table", (table, size)))
+        self.blocks.append(("table", (table, size, caption)))
 
     def figure(self, pdf_bytes, size, caption):
         """A figure with "Figure k." and its caption below it.
@@ -379,25 +393,26 @@ class Document:
         """A table's column widths [in], wrapped header and rows (cells, height [in]), and
         the height that must fit where it starts [in]: the whole of a short table (at most
         35 % of the body), else its header and first three rows."""
-        table, size = payload
-        widths = np.asarray(table["widths"], float)
-        widths = widths / widths.sum() * self.width
+        table, size, caption = payload
         lh, pad = size * 1.3 / 72, 0.035
-        charw = size * 0.6 / 72
+        widths = _column_widths(table, self.width, size, pad)
 
-        def wrap(row):
-            cells = [textwrap.wrap(str(c), max(3, int((w - 2 * pad) / charw))) or [""]
-                     for c, w in zip(row, widths)]
+        def wrap(row, bold=False):
+            cells = [_wrap_cell(c, w - 2 * pad, size, bold) for c, w in zip(row, widths)]
             return cells, max(len(c) for c in cells) * lh + 2 * pad
 
-        header = wrap(table["header"])
+        header = wrap(table["header"], True)
         rows = [wrap(r) for r in table["rows"]]
-        total = header[1] + sum(h for _, h in rows)
-        keep = total if total <= 0.35 * self.body else header[1] + sum(h for _, h in rows[:3])
+        total = header[1] + sum(h for _, h in rows) + self._caption_height(caption)
+        keep = total if total <= 0.35 * self.body else (
+            self._caption_height(caption) + header[1] + sum(h for _, h in rows[:3]))
         return widths, header, rows, keep
 
+    def _caption_height(self, caption):
+        return len(self._wrap(caption, 8.0)) * 8.0 * 1.38 / 72 + 0.04 if caption else 0.0
+
     def _layout_table(self, payload, pages, new_page):
-        table, size = payload
+        table, size, caption = payload
         widths, header, rows, keep = self._table_rows(payload)
         lh, pad = size * 1.3 / 72, 0.035
         page = pages[-1]
@@ -406,6 +421,11 @@ class Document:
         if keep > room and page.used > 0:
             new_page()
             page = pages[-1]
+        if caption:
+            for line in self._wrap(caption, 8.0):
+                page.ops.append(("text", (page.used, line, 8.0, False, "0.15")))
+                page.used += 8.0 * 1.38 / 72
+            page.used += 0.04
         spec = {"widths": widths, "align": table["align"], "colour": set(table["colour_cols"]),
                 "size": size, "lh": lh, "pad": pad}
         page.ops.append(("rule", (page.used, 0.8)))
@@ -504,7 +524,7 @@ class Document:
         K = len(pages)
         last = f"page {K} of {K}"                   # the widest page number (digits: one width)
         footer = _fit_line(self.footer, 7, self.width - _line_width(last, 7) - 0.15)
-        with matplotlib.rc_context(PAGE_RC), \
+        with matplotlib.rc_context({**PAGE_RC, "pdf.fonttype": FIGURE_FONTS[self.fonts]}), \
                 PdfPages(buf, metadata={"CreationDate": None}) as pdf:
             for k, page in enumerate(pages):
                 pdf.savefig(self._draw(page, k + 1, K, footer))

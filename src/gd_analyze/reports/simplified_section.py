@@ -12,6 +12,7 @@ from __future__ import annotations
 import numpy as np
 
 from .common import fmt, pct, strings, table, torque_units, units_said_once
+from .markup import element as _el, sub as _sub
 
 __all__ = ["has_simplified", "simplified_context", "error_figure", "SIMPLIFIED_CAPTION",
            "simplified_caption"]
@@ -58,6 +59,13 @@ def has_simplified(ds):
     return "simplified_bound" in ds.variables
 
 
+_S_I = "s" + _sub("i")
+_EPS_S = "\u03b5\u00b7" + _S_I
+_TAU_I, _TAU_J = "\u03c4" + _sub("i"), "\u03c4" + _sub("j")
+_D_IJ = _el("D", "ij")
+_QDD_I, _QDD_J = "q\u0308" + _sub("i"), "q\u0308" + _sub("j")
+
+
 def _num(v, digits=4):
     v = float(v)
     return "\u2014" if not np.isfinite(v) else fmt(v, digits)
@@ -89,13 +97,14 @@ def simplified_context(ds):
     if form == "recursive":
         text = _recursive_text(ds, eps, floor)
     elif rule == "budget":
-        text = (f"Rule: error budget, EPS = {eps:g}"
+        text = (f"Rule: error budget, \u03b5\u00a0=\u00a0{eps:g}"
                 + (f", torque floor {floor:g} N m" if floor else "")
                 + ". Every part of an element and every term of the explicit model contributes "
-                "to the joint torques (D_ij qdd_j to tau_i and D_ij qdd_i to tau_j, h_i to "
-                "tau_i, c_i to tau_i); terms are dropped in order of increasing peak "
-                "contribution while, for every joint, the dropped peaks sum to at most EPS x "
-                "scale_i (scale_i = peak |tau_i|, raised to the floor). By the triangle "
+                f"to the joint torques ({_D_IJ} {_QDD_J} to {_TAU_I} and {_D_IJ} "
+                f"{_QDD_I} to {_TAU_J}, {_el('h', 'i')} to {_TAU_I}, {_el('c', 'i')} to "
+                f"{_TAU_I}); terms are dropped in order of increasing peak contribution while, "
+                f"for every joint, the dropped peaks sum to at most {_EPS_S} ({_S_I} = peak "
+                f"|{_TAU_I}|, raised to the floor). By the triangle "
                 "inequality the error on this trajectory is within that sum: the bound below is "
                 "guaranteed, on this trajectory only.")
     else:
@@ -113,15 +122,15 @@ def simplified_context(ds):
         text += (f" Side by side, the {other} rule's model costs "
                  f"{a.get('other_rule_multiplications')} multiplications and "
                  f"{a.get('other_rule_additions')} additions, worst error {pct(worst)} of "
-                 "peak |tau|.")
+                 "peak |\u03c4|.")
     measured = ds["tau_error_peak"].values
     parts = ("from D", "from h", "from c") if form != "recursive" else (
         "inertial (D)", "velocity (h)", "gravity (c)", "whole parameters")
     whole = ds["simplified_bound_whole"].values if "simplified_bound_whole" in ds else None
     units = torque_units(ds)
     bound = table(
-        ["joint", "units", "scale", "bound", *parts,
-         "measured peak |\u03c4\u209b\u2212\u03c4|", "measured / scale"],
+        ["joint", "units", f"scale {_S_I}", "bound", *parts,
+         "measured peak |\u03c4\u209b\u00a0\u2212\u00a0\u03c4|", f"measured / {_S_I}"],
         [[str(i + 1), units[i], _num(ds["simplified_scale"].values[i]),
           _num(ds["simplified_bound"].values[i]),
           _num(ds["simplified_bound_inertia"].values[i]),
@@ -134,13 +143,14 @@ def simplified_context(ds):
     costs = ladder = None
     if "cost_total" in ds.variables:
         costs = table(["model", "multiplications", "additions", "total"],
-                      [[str(lab), _num(m, 6), _num(ad, 6), _num(tot, 6)] for lab, m, ad, tot in
+                      [[str(lab).replace("EPS=", "\u03b5 = "), _num(m, 6), _num(ad, 6),
+                        _num(tot, 6)] for lab, m, ad, tot in
                        zip(strings(ds["cost_model"].values), ds["cost_multiplications"].values,
                            ds["cost_additions"].values, ds["cost_total"].values)],
                       align=["left", "right", "right", "right"], widths=[3, 1, 1, 1])
     if "ladder_operations" in ds.variables:
-        ladder = table(["EPS", "operations", "sin + cos", "worst error on this trajectory "
-                        "(guaranteed \u2264 EPS)"],
+        ladder = table(["\u03b5", "operations", "sin + cos", "worst error on this trajectory "
+                        "(guaranteed \u2264 \u03b5)"],
                        [[f"{e:g}", str(int(o)), str(int(tr)), pct(w)] for e, o, tr, w in
                         zip(ds["ladder_tolerance"].values, ds["ladder_operations"].values,
                             ds["ladder_trig"].values, ds["ladder_worst_error"].values)],
@@ -162,19 +172,20 @@ def _recursive_text(ds, eps, floor):
     text = (f"Form: the customized recursive Newton-Euler model (Algorithm 3.1) on the arm's "
             f"{b} base inertial parameters (Khalil & Kleinfinger 1987; Gautier 1990), with the "
             "numeric parameters as constants, 0 and \u00b11 folded and common subexpressions "
-            "shared. The torque is linear in the base parameters, \u03c4 = Y_b \u03b2; each "
-            "parameter's contribution splits into an inertial part (in D q\u0308), a velocity "
-            "part (in h) and a gravity part (in c). ")
+            "shared. The torque is linear in the base parameters, \u03c4 = Y" + _sub("b")
+            + " \u03b2; each parameter's contribution splits into an inertial part (in "
+            "D q\u0308), a velocity part (in h) and a gravity part (in c). ")
     if dropped == 0:
-        return text + (f"Rule: error budget, EPS = {eps:g}: no part is dropped, the model is "
+        return text + (f"Rule: error budget, \u03b5\u00a0=\u00a0{eps:g}: no part is dropped, "
+                       "the model is "
                        "exact (its difference from the full torque is round-off).")
-    return text + (f"Rule: error budget, EPS = {eps:g}"
+    return text + (f"Rule: error budget, \u03b5\u00a0=\u00a0{eps:g}"
                    + (f", torque floor {floor:g} N m" if floor else "")
                    + f". Of the {pairs} (parameter, part) pairs that contribute on this "
                    f"trajectory, {dropped} are dropped (alone or with their whole parameter), "
                    "in order of "
                    "increasing peak contribution, while for every joint the dropped peaks sum "
-                   "to at most EPS \u00d7 scale_i (scale_i = peak |\u03c4_i|, raised to the "
+                   f"to at most {_EPS_S} ({_S_I} = peak |{_TAU_I}|, raised to the "
                    "floor); by the triangle inequality the error on this trajectory is within "
                    "that sum: the bound below is guaranteed, on this trajectory only.")
 

@@ -36,7 +36,9 @@ from .common import check_formats, render_template
 from .common import torque_units, units_said_once, utc_now
 from .figures import PAYLOAD_REQUIRED as _PAYLOAD_REQUIRED
 from .sweep_figures import REQUIRED as _REQUIRED, make_sweep_figures
+from .markup import element as _el, sub as _sub
 from .pages import PAPER, Document
+from .sections import Outline, to_document
 from .drawing import draw_figures, figure_svg, write_figure_files
 from ..core.selection.ranking import CLASSES
 
@@ -73,6 +75,7 @@ def _context(ds, payload=None):
     setpoints = ds["setpoints"].values if "setpoints" in ds.variables else np.array([])
     settings = [
         ("robot", robot), ("robot description", _attr(ds, "robot_description")),
+        ("robot reference", _attr(ds, "robot_reference")),
         ("robot source", _attr(ds, "robot_source")), ("robot SHA-256", _attr(ds, "robot_sha256")),
         ("gravity [m/s\u00b2]", _attr(ds, "gravity")),
         ("dominance threshold s", f"{s:g}"), ("negligibility threshold e", f"{e:g}"),
@@ -84,7 +87,12 @@ def _context(ds, payload=None):
                           if setpoints.size else "")),
         ("duration [s]", f"{_fmt(np.min(durations))} \u2013 {_fmt(np.max(durations))} "
                          f"(median {_fmt(np.median(durations))})"),
-        ("merge rule", _attr(ds, "merge_rule")),
+        ("merge rule", f"{ds.attrs.get('merged_rule', 'chapter')} rule (Sec. 5)"
+                       + (f", \u03b5 = {_attr(ds, 'merged_tolerance')}, torque floor "
+                          f"{_attr(ds, 'merged_torque_floor', '0')} N m"
+                          if "merged_tolerance" in ds.attrs else "")),
+        ("payload on the last link [kg]", _attr(ds, "payload_mass", "0")),
+        ("random accelerations limited by", _attr(ds, "random_qdd_max_source")),
         ("cluster", f"{_attr(ds, 'cluster')}; {_attr(ds, 'n_workers')} worker(s) at "
                     f"{_attr(ds, 'scheduler_address')}"),
         ("tasks", f"{_attr(ds, 'n_tasks')} ({_attr(ds, 'batch_size')} trajectories per task)"),
@@ -99,8 +107,10 @@ def _context(ds, payload=None):
         "inputs_sha256", "setpoints_total", "merge_rule", "cluster", "n_workers",
         "scheduler_address", "n_tasks", "batch_size", "elapsed_s", "compute_s", "history",
         "gd_analyze_version", "Conventions", "title", "source", "references", "input_kind",
-        "trajectories", "started"})
-    settings += [(key, _attr(ds, key)) for key in extra]
+        "trajectories", "started", "robot_reference", "merged_rule", "merged_tolerance",
+        "merged_torque_floor", "merged_worst_scaled_error", "payload_mass",
+        "random_qdd_max_source"})
+    settings += [(key.replace("_", " "), _attr(ds, key)) for key in extra]
     envelope = _table(
         ["element", "translational", "rotational", "both", "negligible", "min share",
          "median share", "max share", "merged choice"],
@@ -128,19 +138,19 @@ def _context(ds, payload=None):
     rule, heading, merged_text = _merged_rule(ds)
     if rule == "budget":
         eps = f"{float(ds.attrs['merged_tolerance']):g}"
-        claim = (f"guaranteed within {eps} \u00d7 scale_i on every swept trajectory (scale_i = "
-                 f"max(that trajectory's peak |\u03c4_i|, "
+        claim = (f"guaranteed within \u03b5\u00b7{_SI} (\u03b5 = {eps}) on every swept "
+                 f"trajectory ({_SI} = max(that trajectory's peak |{_TAU_I}|, "
                  f"{float(ds.attrs.get('merged_torque_floor', 0.0)):g} N m)); its largest "
                  f"measured peak error is "
-                 f"{_pct(float(ds.attrs.get('merged_worst_scaled_error', np.nan)))} of scale_i")
-        name = f"The merged model (budget rule, EPS = {eps})"
+                 f"{_pct(float(ds.attrs.get('merged_worst_scaled_error', np.nan)))} of {_SI}")
+        name = f"The merged model (budget rule, \u03b5 = {eps})"
     else:
         claim = ("no error bound: its largest peak torque error over all trajectories is "
                  f"{_pct(np.nanmax(ds['merged_error_relative_peak'].values))} of that joint's "
                  f"peak |\u03c4| over all of them (joint "
                  f"{int(np.nanargmax(ds['merged_error_relative_peak'].values)) + 1})")
         name = "The merged model of the chapter rule"
-    summary = (f"{robot}: share_tran of the {len(labels)} ranked elements of D and h over "
+    summary = (f"{robot}: translational share of the {len(labels)} ranked elements of D and h over "
                f"{inputs}, s = {s:g}, e = {e:g}. {name} keeps both parts "
                f"of {counts['both']} elements, one part of {single}, and drops "
                f"{len(labels) - kept}; it is {claim}.")
@@ -184,12 +194,12 @@ def _merged_rule(ds):
     rule = str(ds.attrs.get("merged_rule", "chapter"))
     if rule == "budget":
         eps = f"{float(ds.attrs['merged_tolerance']):g}"
-        return rule, f"5. Merged model (budget rule, EPS = {eps}) and its torque error", (
+        return rule, f"5. Merged model (budget rule, \u03b5 = {eps}) and its torque error", (
             "One explicit model for the whole sweep, by the budget rule: every term's peak "
-            "contribution on each trajectory is divided by that trajectory's scale_i = "
-            "max(peak |\u03c4_i|, torque floor), and terms are dropped, smallest first, while "
-            f"these ratios sum to at most EPS = {eps} for every joint. By the triangle "
-            f"inequality its torque error is guaranteed within {eps} \u00d7 scale_i on every "
+            f"contribution on each trajectory is divided by that trajectory's {_SI} = "
+            f"max(peak |{_TAU_I}|, torque floor), and terms are dropped, smallest first, while "
+            f"these ratios sum to at most \u03b5 = {eps} for every joint. By the triangle "
+            f"inequality its torque error is guaranteed within \u03b5\u00b7{_SI} on every "
             "swept trajectory (not on others). The choices per element are the whole parts "
             "the same budget drops; the model prunes term by term within it. Gravity c is "
             "pruned the same way.")
@@ -209,7 +219,7 @@ def _worst_cases(ds, labels):
     for k in order:
         j = int(np.nanargmax(rel[k]))
         parts.append(f"{sources[k]} ({_pct(rel[k, j])} of its own "
-                     f"{'scale_i' if 'merged_scale' in ds.variables else 'peak |τ|'} at joint "
+                     f"{_SI if 'merged_scale' in ds.variables else 'peak |τ|'} at joint "
                      f"{j + 1})")
     spread = ds["share_tran_max"].values - ds["share_tran_min"].values
     top = [k for k in np.argsort(np.nan_to_num(spread, nan=-1.0))[::-1][:3]
@@ -219,11 +229,13 @@ def _worst_cases(ds, labels):
     text = "Worst cases: "
     text += ("the merged model's largest torque errors are on " + "; ".join(parts) + ". "
              if parts else "no torque error is defined. ")
-    text += ("The classes vary most for " + ", ".join(elems) + " (share_tran range over the "
-             "trajectories)." if elems else "")
+    text += ("The classes vary most for " + ", ".join(elems) + " (range of the translational "
+             "share over the trajectories)." if elems else "")
     return text
 
 
+_SI = "s" + _sub("i")
+_TAU_I = "\u03c4" + _sub("i")
 _INTRO = ("The generalized d'Alembert (G-D) equations of motion split the inertia matrix D and "
           "the Coriolis and centrifugal vector h into a translational and a rotational part (Fu, "
           "Gonzalez & Lee 1987, Robotics, Sec. 3.4). Sec. 3.4.1 ranks which part dominates each "
@@ -269,38 +281,75 @@ def render_sweep_html(ds, payload=None, figures=None):
     return _html(ctx, {k: (figure_svg(f, _RC), None, None) for k, f in figures.items()})
 
 
+def _outline(ctx, figures):
+    """The sweep report's sections, once, for the HTML and the PDF
+    (:class:`gd_analyze.reports.sections.Outline`)."""
+    o = Outline(ctx["title"], figures)
+    o.paragraph(ctx["worst"], "lead")
+    o.paragraph(ctx["summary"], "summary")
+    o.paragraph(ctx["intro"], "note")
+    o.section("1", "Settings and provenance", "settings")
+    o.table(ctx["settings"], "Settings of the sweep and its provenance, each once.", kv=True,
+            size=7)
+    o.section("2", "Translational share of the elements of D (layout of Fig. 3.10)", "D")
+    o.paragraph(_SHARE_TEXT.format(s=ctx["s"], e=ctx["e"]), "note")
+    o.figure("D", _CAPTIONS["D"])
+    o.section("3", "Translational share of the elements of h (layout of Fig. 3.11)", "h")
+    o.figure("h", _CAPTIONS["h"])
+    o.section("4", "Envelope per element", "envelope")
+    o.paragraph("Fraction of the trajectories in which each class holds, and the smallest, "
+                "median and largest translational share over the trajectories.", "note")
+    o.figure("classes", _CAPTIONS["classes"])
+    o.table(ctx["envelope"], "Fraction of the trajectories per class, the range of the "
+                             "translational share, and the merged model's choice.")
+    number, title = ctx["merged_heading"].split(" ", 1)
+    o.section(number.rstrip("."), title, "merged")
+    o.paragraph(ctx["merged_text"], "note")
+    o.counts(ctx["counts"])
+    o.section("5.1", "Torque error over all trajectories")
+    o.paragraph(ctx["error_text"], "note")
+    o.table(ctx["error"], "Torque error of the merged model per joint, over all set points "
+                          "of all trajectories.")
+    o.figure("error", _CAPTIONS["error"])
+    if ctx["payload"] is not None:
+        o.section("6", "Payload sweep", "payload")
+        o.table(ctx["payload"]["settings"], "Settings of the payload sweep.", kv=True)
+        o.paragraph("Elements whose class changes with the payload: "
+                    f"{ctx['payload']['changed']}.", "strong")
+        o.figure("payload", _CAPTIONS["payload"])
+        o.table(ctx["payload"]["table"], "Class of each element per payload mass.")
+    return o
+
+
 def _html(ctx, figures):
     from markupsafe import Markup
 
     svgs = {k: Markup(svg) for k, (svg, _, _) in figures.items()}
     return render_template("sweep_report.html.j2", {**ctx, "figures": svgs,
-                                                    "captions": _numbered(figures)},
+                                                    "outline": _outline(ctx, figures)},
                            {"class_colours": _CLASS_COLOURS})
 
 
 #: Captions of the sweep report's figures (the same in the HTML and the PDF).
 _CAPTIONS = {
-    "D": "Distribution of share_tran of the elements of D over the sweep (layout of Fig. 3.10): "
+    "D": "Distribution of the translational share of the elements of D over the sweep (layout of Fig. 3.10): "
          "box of the quartiles, whiskers at the minimum and maximum, coloured bar at the median, "
          "thresholds s and 1 \u2212 s dashed. Panel title: element and the merged model's "
          "choice; bottom line: fraction of trajectories per class.",
-    "h": "Distribution of share_tran of the Coriolis and centrifugal elements h_i over the "
+    "h": "Distribution of the translational share of the Coriolis and centrifugal elements "
+         + _el("h", "i") + " over the "
          "sweep (layout of Fig. 3.11); same conventions as for D.",
     "classes": "Fraction of the trajectories in each class, per element; the merged model's "
                "choice on the right.",
     "error": "Relative peak torque error per joint: of each trajectory's own simplified model "
              "(green) and of the merged model (black), per trajectory; diamond: merged model over "
              "all trajectories.",
-    "payload": "share_tran of every element against the payload mass on the last link, with "
+    "payload": "Translational share of every element against the payload mass on the last link, with "
                "the class of each cell (T, R, B, N); below, peak |\u03c4| per joint.",
 }
 _FIGURE_FILES = {"D": "fig_sweep_share_D", "h": "fig_sweep_share_h",
                  "classes": "fig_sweep_class_fractions", "error": "fig_sweep_torque_error",
                  "payload": "fig_payload_dominance"}
-
-
-def _numbered(figures):
-    return {k: f"Figure {m + 1}. {_CAPTIONS[k]}" for m, k in enumerate(figures)}
 
 
 def render_sweep_pdf(ds, path, payload=None, figures=None, paper="a4"):
@@ -337,54 +386,24 @@ def render_sweep_pdf(ds, path, payload=None, figures=None, paper="a4"):
     return _pdf(ctx, draw_figures(figures, _RC), path, paper)
 
 
-def _pdf(ctx, drawn, path, paper="a4"):
+def _pdf(ctx, drawn, path, paper="a4", fonts="type3"):
     metadata = {"Author": f"gd-analyze {ctx['version']}",
                 "Subject": "Dominance of the translational and rotational G-D terms over a "
                            "sweep of trajectories (Fu, Gonzalez & Lee 1987, Sec. 3.4.1)",
                 "Creator": f"gd-analyze {ctx['version']}"}
-    doc = Document(ctx["title"], paper=paper, metadata=metadata,
+    doc = Document(ctx["title"], paper=paper, metadata=metadata, fonts=fonts,
                    footer=f"gd-analyze {ctx['version']}: {ctx['title']}")
-
-    def fig(key):
-        if key in drawn:
-            doc.figure(drawn[key][1], drawn[key][2], _CAPTIONS[key])
-
-    doc.heading(ctx["title"], level=0)
-    doc.paragraph(ctx["worst"], size=9.5, bold=True)
-    doc.paragraph(ctx["summary"], size=9.5)
-    doc.paragraph(ctx["intro"], size=8.5, colour="0.25")
-    doc.heading("1. Settings and provenance")
-    doc.table(ctx["settings"], size=7)
-    doc.heading("2. Translational share of the elements of D (layout of Fig. 3.10)")
-    doc.paragraph(_SHARE_TEXT.format(s=ctx["s"], e=ctx["e"]), size=8.5)
-    fig("D")
-    doc.heading("3. Translational share of the elements of h (layout of Fig. 3.11)")
-    fig("h")
-    doc.heading("4. Envelope per element")
-    doc.paragraph("Fraction of the trajectories in which each class holds, and the smallest, "
-                  "median and largest share_tran over the trajectories.", size=8.5)
-    fig("classes")
-    doc.table(ctx["envelope"])
-    doc.heading(ctx["merged_heading"])
-    doc.paragraph(ctx["merged_text"], size=8.5)
-    doc.paragraph("   ".join(f"{c}: {k}" for c, k in ctx["counts"].items()), size=8.5,
-                  bold=True)
-    doc.heading("5.1 Torque error over all trajectories", level=2)
-    doc.paragraph(ctx["error_text"], size=8.5)
-    doc.table(ctx["error"])
-    fig("error")
-    if ctx["payload"] is not None:
-        doc.heading("6. Payload sweep")
-        doc.table(ctx["payload"]["settings"])
-        doc.paragraph(f"Elements whose class changes with the payload: "
-                      f"{ctx['payload']['changed']}.", size=9, bold=True)
-        fig("payload")
-        doc.table(ctx["payload"]["table"])
-    return doc.write(path)
+    sizes = {k: d[2] for k, d in drawn.items()}
+    to_document(_outline(ctx, drawn), doc, sizes)
+    return doc.write(path, {k: d[1] for k, d in drawn.items()})
 
 
-_SHARE_TEXT = ("For each trajectory and element, share_tran = \u03a3|tran| / (\u03a3|tran| + "
-               "\u03a3|rot|) over its set points. A share above s = {s} is translational, below "
+_SHARE_TEXT = ("For each trajectory and element X, the translational share is \u03a3|"
+               + _el("X", "", "tran") + "| / (\u03a3|" + _el("X", "", "tran") + "| + \u03a3|"
+               + _el("X", "", "rot") + "|) over its set points. One panel per element "
+               + _el("D", "ij") + " with i \u2264 j (row i, column j): a box of the share over "
+               "the trajectories (quartiles; whiskers at the minimum and maximum; the coloured "
+               "bar is the median), with the thresholds s and 1 \u2212 s dashed. A share above s = {s} is translational, below "
                "1 \u2212 s rotational, in between both, unless the element is negligible (peak "
                "below e = {e} times its scale).")
 _MERGED_TEXT = ("Each trajectory has its own simplified model (keep the dominant part of each "
@@ -393,7 +412,8 @@ _MERGED_TEXT = ("Each trajectory has its own simplified model (keep the dominant
                 "trajectory's model drops it. The chapter rule drops parts of D and h only, "
                 "never a term of gravity: \u03c4\u209b = D\u209b q\u0308 + h\u209b + c.")
 _ERROR_TEXT = ("Per joint, over all set points of all trajectories: peak and RMS of "
-               "|\u03c4_merged \u2212 \u03c4| [{units}], and both relative to the peak |\u03c4| "
+               "the merged model's torque error |\u03c4" + _sub("s") + " \u2212 \u03c4| "
+               "[{units}], and both relative to the peak |\u03c4| "
                "over all trajectories. Column \u201cown models (worst)\u201d: the largest "
                "relative peak error of any trajectory's own simplified model along that "
                "trajectory.")
@@ -466,6 +486,6 @@ def write_sweep_report(sweep_path, outdir, payload=None, formats=SWEEP_REPORT_FO
                 with open(tmp, "w", encoding="utf-8") as fh:
                     fh.write(_html(ctx, drawn))
             else:
-                _pdf(ctx, drawn, tmp, paper)
+                _pdf(ctx, drawn, tmp, paper, fonts)
             written.append(path)
     return written + files

@@ -1,0 +1,158 @@
+"""The main report's sections, once, for the HTML template and the PDF page engine alike.
+
+:func:`main_outline` turns the context of :func:`gd_analyze.reports.main_context.report_context`
+into an :class:`gd_analyze.reports.sections.Outline`: numbered sections, paragraphs, tables
+with numbered captions, figures with numbered captions.
+"""
+
+from __future__ import annotations
+
+from .markup import element, sub
+from .sections import Outline
+
+__all__ = ["main_outline", "RANKING_TEXT"]
+
+_X = "X"
+#: The ranking's rule in words (Sec. 3.4.1 of Fu, Gonzalez & Lee 1987, with the negligible
+#: class of this tool); ``{s}`` and ``{e}`` are the thresholds.
+RANKING_TEXT = (
+    "For each element X (" + element("D", "ij") + " or " + element("h", "i") + "), the "
+    "translational share is \u03a3|" + element(_X, "", "tran") + "| / (\u03a3|"
+    + element(_X, "", "tran") + "| + \u03a3|" + element(_X, "", "rot") + "|) over the set "
+    "points. An element is negligible if its peak |" + element(_X, "", "tran") + " + "
+    + element(_X, "", "rot") + "| is below e = {e} times its scale (peak \u221a("
+    + element("D", "ii") + " " + element("D", "jj") + ") for " + element("D", "ij")
+    + ", peak |\u03c4" + sub("i") + "| for " + element("h", "i") + "); otherwise "
+    "translational if its share is at least s = {s}, rotational if at most 1 \u2212 s, and "
+    "both in between. \u2261 0: zero in every part (below 1e-12 of its scale); its share is "
+    "rounding noise and is not shown.")
+_DH_CAPTION = "Denavit-Hartenberg parameters (standard form, \u03b8 = q + offset)."
+_PLACEMENT_CAPTION = (
+    "Joint placements, as the model holds them: frame i in body frame i \u2212 1, translation "
+    "x, y, z [m] and rotation as roll, pitch, yaw [deg] (R = Rz(yaw) Ry(pitch) Rx(roll), as in "
+    "URDF); joint i turns about, or slides along, the z axis of frame i, whose direction in "
+    "frame i \u2212 1 is the last column. The robot has no Denavit-Hartenberg parameters.")
+_LINK_CAPTION = ("Link inertial parameters: mass, centre of mass (com) in link frame i, and "
+                 "the diagonal of the inertia tensor about the centre of mass.")
+_FILES_TEXT = (" (C99 with void gd_simplified_tau(const double *q, const double *qd, const "
+               "double *qdd, double *tau); numpy tau(q, qd, qdd) over arrays of shape (N, n)).")
+
+
+def _split(heading):
+    """("5.2", "Choice per element") from "5.2 Choice per element"."""
+    number, title = heading.split(" ", 1)
+    return number, title
+
+
+def main_outline(ctx, figures):
+    """The main report's sections.
+
+    Parameters
+    ----------
+    ctx : dict
+        :func:`gd_analyze.reports.main_context.report_context` of the dataset.
+    figures : collection of str
+        The keys of the drawn figures (:data:`gd_analyze.reports.main.FIGURE_FILES`).
+
+    Returns
+    -------
+    Outline
+        Title block, then Secs. 1 to 8 (6.1 only with a payload sweep).
+
+    Notes
+    -----
+    Source of the sections: Sec. 3.4.1, Figs. 3.10-3.11 and Table 3.5 of Fu, Gonzalez & Lee
+    (1987).
+    """
+    caps = ctx["captions"]
+    o = Outline(ctx["title"], figures)
+    o.paragraph(ctx["summary"], "summary")
+    o.paragraph(ctx["facts"], "body")
+    o.paragraph(ctx["intro"], "note")
+
+    o.section("1", "Robot and trajectory", "robot")
+    o.section("1.1", "Robot")
+    o.table(ctx["robot_kv"], "The robot.", kv=True)
+    if ctx["dh"] is not None:
+        o.table(ctx["dh"], _DH_CAPTION)
+    if ctx.get("placements") is not None:
+        o.table(ctx["placements"], _PLACEMENT_CAPTION)
+    o.table(ctx["link"], _LINK_CAPTION)
+    o.section("1.2", "Trajectory")
+    o.table(ctx["traj_kv"], "The trajectory.", kv=True)
+    o.table(ctx["joints"], "Range of motion per joint.")
+    o.paragraph(ctx["envelope_note"], "note")
+    o.figure("joints", caps["joints"])
+
+    o.section("2", "Acceleration-related elements of D (analogue of Fig. 3.10)", "D")
+    o.paragraph(ctx["D_text"], "note")
+    o.figure("D", caps["D"])
+    o.section("3", "Coriolis and centrifugal elements of h (analogue of Fig. 3.11)", "h")
+    o.figure("h", caps["h"])
+
+    o.section("4", "Dominance ranking", "ranking")
+    o.paragraph(RANKING_TEXT.format(s=ctx["s"], e=ctx["e"]), "note")
+    o.counts(ctx["counts"])
+    o.table(ctx["ranking"], "Dominance of each element: translational share, class and the "
+                            "peaks of its parts along the trajectory.")
+
+    o.section("5", "Simplified model and torque error", "simplified")
+    o.paragraph(ctx["simplified_intro"], "note")
+    o.section("5.1", "Torque error along the trajectory")
+    o.table(ctx["error"], "Open-loop torque error of the simplified model per joint, "
+                          "\u03c4" + sub("s") + " \u2212 \u03c4 along the trajectory.")
+    o.figure("torque", caps["torque"])
+    o.section(*_split(ctx["choices_heading"]))
+    o.table(ctx["choices"], "Base parameters and the parts of their contributions the model "
+                            "keeps." if ctx["choices"]["header"][0] == "base parameter" else
+            "The part of each element the simplified model keeps.")
+    sm = ctx.get("simplified_model")
+    if sm:
+        o.section(*_split(ctx["model_heading"]))
+        o.paragraph(sm["text"], "note")
+        o.table(sm["bound"], "Bound on the torque error per joint, split by where the dropped "
+                             "terms sit, beside the measured peak error.")
+        if sm["costs"]:
+            o.section("5.4", "Cost per set point (counted)")
+            o.table(sm["costs"], "Operations per set point, counted on each model's code.")
+        if sm["ladder"] or sm["ladder_note"]:
+            o.section(*_split(sm["ladder_heading"]))
+            if sm["ladder"]:
+                o.table(sm["ladder"], "Cost and worst error of the model built at each "
+                                      "tolerance \u03b5.")
+            else:
+                o.paragraph(sm["ladder_note"], "note")
+        o.paragraph("Emitted source files: " + ", ".join(sm["files"]) + _FILES_TEXT, "note")
+
+    compare = ctx["compare"]
+    o.section("6", "Comparison with the chapter's PUMA 560", "chapter")
+    o.paragraph(compare["note"], "note")
+    if compare["applicable"]:
+        o.paragraph(f"Agreement: {compare['n_agree']} of {compare['n_compared']} elements.",
+                    "strong")
+        o.table(compare["table"], "Our class of each element against the class the chapter "
+                                  "reads off Figs. 3.10 and 3.11.")
+    payload = ctx["payload"]
+    if payload["applicable"]:
+        o.section("6.1", "Dominance against the payload", "payload", level=1)
+        o.paragraph(payload["note"], "note")
+        if payload["table"]["rows"]:
+            o.table(payload["table"], "Elements whose class changes with the payload.")
+        o.figure("payload", caps["payload"])
+
+    forms = ctx["formulations"]
+    o.section("7", "Formulations: Lagrange-Euler, Newton-Euler, G-D", "formulations")
+    o.paragraph(forms["note"], "note")
+    if forms["applicable"]:
+        o.section("7.1", "Largest relative disagreement per pair")
+        o.table(forms["agreement"], "Largest relative disagreement of each pair of "
+                                    "formulations over the checked set points.")
+        o.section("7.2", "Operations per set point")
+        o.table(forms["costs"], "Operations per set point: as implemented, and by the "
+                                "formulas of Table 3.5.")
+        o.figure("formulations", caps["formulations"])
+
+    o.section("8", "Provenance", "provenance")
+    o.table(ctx["provenance"], "Provenance: each setting of the analysis and the report once.",
+            kv=True, size=7)
+    return o

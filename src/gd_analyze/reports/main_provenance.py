@@ -1,0 +1,118 @@
+"""The main report's provenance: each setting of the analysis once, in words.
+
+The dataset's global attributes hold the settings asked for (``rule``, ``tolerance``, ``form``
+...), the model's record of what it was built with (``simplified_rule`` ...), and results that
+Sec. 5 and Sec. 7 already print. :func:`provenance_rows` gives one row per setting: a setting
+asked for and recorded twice with one value is shown once; one asked for and built otherwise
+("form: cheapest") reads "asked cheapest, built recursive"; results and the attributes the
+report shows elsewhere (the robot and trajectory in Sec. 1, the title) are left out.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from .common import attr as _attr, fmt as _fmt, prismatic_joints
+
+__all__ = ["provenance_rows"]
+
+#: Attributes shown in other sections or rows, or results printed in Secs. 5 and 7.
+_ELSEWHERE = {
+    "robot", "robot_description", "robot_reference", "gravity", "gravity_units", "input_file",
+    "derivatives", "setpoints", "title", "source", "gd_analyze_version", "history",
+    "input_path", "input_sha256", "robot_source", "robot_sha256", "dominance_threshold",
+    "negligible_threshold", "command", "Conventions", "references",
+    "simplified_terms_kept", "simplified_pairs_dropped", "simplified_pairs",
+    "simplified_dropped_pairs", "simplified_multiplications", "simplified_additions",
+    "simplified_sin", "simplified_cos", "other_rule_multiplications", "other_rule_additions",
+    "simplified_ladder_skipped", "formulations_n", "formulations_setpoints",
+    "payload_mass", "payload_com", "payload_inertia", "simplified_files",
+}
+#: (row, setting asked for, what the model records it was built with), in the order shown.
+_SETTINGS = (
+    ("simplification rule", "rule", "simplified_rule"),
+    ("error budget \u03b5 (relative to each joint's scale)", "tolerance",
+     "simplified_tolerance"),
+    ("torque floor of each joint's scale", "torque_floor", "simplified_torque_floor"),
+    ("model form", "form", "simplified_form"),
+    ("explicit model", "explicit", None),
+    ("rule compared side by side", "other_rule", None),
+)
+
+
+def _setting(ds, asked, built):
+    a = _attr(ds, asked) if asked in ds.attrs else None
+    b = _attr(ds, built) if built and built in ds.attrs else None
+    if a is None or b is None or a == b:
+        return a if a is not None else b
+    return f"asked {a}, built {b}"
+
+
+def _payload(ds):
+    mass = float(ds.attrs.get("payload_mass", 0.0) or 0.0)
+    if mass == 0.0:
+        return "none"
+    return (f"{mass:g} kg, centre of mass {_attr(ds, 'payload_com')} m in link frame n, "
+            f"inertia diagonal {_attr(ds, 'payload_inertia')} kg m\u00b2")
+
+
+def provenance_rows(ds, created, version, verification):
+    """The rows (item, value) of the main report's provenance table, each setting once.
+
+    Parameters
+    ----------
+    ds : xarray.Dataset
+        A results dataset; only its global attributes are read.
+    created : str
+        When the report was made (ISO 8601).
+    version : str
+        The version of gd-analyze that makes the report.
+    verification : str
+        The verification's one row (:func:`gd_analyze.reports.main_context._verification`).
+
+    Returns
+    -------
+    list of (str, str)
+    """
+    analysis = _attr(ds, "gd_analyze_version")
+    sha_in = _attr(ds, "input_sha256", "") or "\u2014, not read from a file"
+    rows = [
+        ("software", f"gd-analyze {version}" if analysis == version else
+         f"analysis by gd-analyze {analysis}, report by gd-analyze {version}"),
+        ("command", _attr(ds, "command")),
+        ("analysis run", _attr(ds, "history")),
+        ("report created", created),
+        ("trajectory file", f"{_attr(ds, 'input_path')} (SHA-256 {sha_in})"),
+        ("robot file", f"{_attr(ds, 'robot_source')} (SHA-256 {_attr(ds, 'robot_sha256')})"),
+        ("dominance threshold s, negligibility threshold e",
+         f"{_fmt(float(ds.attrs.get('dominance_threshold', np.nan)), 6)}, "
+         f"{_fmt(float(ds.attrs.get('negligible_threshold', np.nan)), 6)}"),
+    ]
+    used = set(_ELSEWHERE)
+    for label, asked, built in _SETTINGS:
+        value = _setting(ds, asked, built)
+        used.update((asked, built))
+        if value is not None and asked == "torque_floor":
+            value += " N m" + (", or N for a prismatic joint" if prismatic_joints(ds).any()
+                               else "")
+        if value is not None:
+            rows.append((label, value))
+    rows.append(("payload on the last link", _payload(ds)))
+    if "formulations_setpoints" in ds.attrs:
+        rows.append(("formulations compared on",
+                     f"{_attr(ds, 'formulations_setpoints')} set points, for "
+                     f"n = {_attr(ds, 'formulations_n')}"))
+    if "simplified_files" in ds.attrs:
+        rows.append(("emitted source files", _attr(ds, "simplified_files")))
+    engine = _attr(ds, "verification_engine", "Pinocchio")
+    rows.append(("verification against " + engine.replace("pinocchio", "Pinocchio"),
+                 verification))
+    for key in sorted(k for k in ds.attrs if k not in used
+                      and not k.startswith("verification_")):
+        value = _attr(ds, key)
+        twin = key[len("simplified_"):] if key.startswith("simplified_") else None
+        if twin in ds.attrs and _attr(ds, twin) == value:
+            continue                                        # each setting once
+        rows.append((key.replace("_", " "), value))
+    rows += [("conventions", _attr(ds, "Conventions")), ("method", _attr(ds, "references"))]
+    return rows

@@ -1,0 +1,179 @@
+"""Mathematics in the reports' text: subscripts and superscripts, written once, shown as HTML
+tags in ``report.html`` and as Unicode sub- and superscript characters in ``report.pdf``.
+
+A string of a report's context may hold spans marked with :func:`sub` and :func:`sup` (private
+use characters; :func:`clean` drops them from the dataset's text attributes that
+:func:`gd_analyze.reports.common.attr` reads, such as robot and file names). The HTML renderer turns them into ``<sub>``/``<sup>`` (:func:`html`, every other
+character escaped); the PDF page engine into the Unicode characters of DejaVu Sans
+(:func:`unicode`); :func:`plain` drops the marks (tests, search).
+
+Examples
+--------
+>>> s = "peak |" + element("D", "ij", "tran") + "|"
+>>> plain(s)
+'peak |Dijtran|'
+>>> unicode(s)
+'peak |Dᵢⱼᵗʳᵃⁿ|'
+>>> str(html(s))
+'peak |D<sub>ij</sub><sup>tran</sup>|'
+"""
+
+from __future__ import annotations
+
+import re
+
+__all__ = ["SUB", "SUP", "END", "sub", "sup", "element", "tau", "html", "unicode", "plain",
+           "clean"]
+
+#: Start of a subscript, start of a superscript, end of either (Unicode private use area).
+SUB, SUP, END = "\ue000", "\ue001", "\ue002"
+_MARKS = re.compile(f"([{SUB}{SUP}])([^{END}]*){END}")
+_SUBSCRIPT = dict(zip("0123456789ijsnkmtxaeorplhuv+-=()\u2212",
+                      "\u2080\u2081\u2082\u2083\u2084\u2085\u2086\u2087\u2088\u2089"
+                      "\u1d62\u2c7c\u209b\u2099\u2096\u2098\u209c\u2093\u2090\u2091\u2092"
+                      "\u1d63\u209a\u2097\u2095\u1d64\u1d65\u208a\u208b\u208c\u208d\u208e"
+                      "\u208b"))
+_SUPERSCRIPT = dict(zip("0123456789tranoi+-\u2212",
+                        "\u2070\u00b9\u00b2\u00b3\u2074\u2075\u2076\u2077\u2078\u2079"
+                        "\u1d57\u02b3\u1d43\u207f\u1d52\u2071\u207a\u207b\u207b"))
+
+
+def sub(text):
+    """``text`` marked as a subscript.
+
+    Parameters
+    ----------
+    text : str
+
+    Returns
+    -------
+    str
+    """
+    return f"{SUB}{text}{END}"
+
+
+def sup(text):
+    """``text`` marked as a superscript.
+
+    Parameters
+    ----------
+    text : str
+
+    Returns
+    -------
+    str
+    """
+    return f"{SUP}{text}{END}"
+
+
+def element(symbol, index, part=None):
+    """An element symbol with its index as a subscript and its part as a superscript.
+
+    Parameters
+    ----------
+    symbol : str
+        ``"D"``, ``"h"``, ``"c"`` or ``"\u03c4"``.
+    index : str
+        ``"ij"``, ``"i"``, ``"12"`` ... (a label's digits, "1,10" for n >= 10).
+    part : {None, "tran", "rot"}, optional
+        The G-D part (Eqs. (3.4-25) to (3.4-28) of Fu, Gonzalez & Lee 1987).
+
+    Returns
+    -------
+    str
+        E.g. D_ij^tran, marked.
+    """
+    return symbol + (sub(index) if index else "") + (sup(part) if part else "")
+
+
+def tau(index=None, simplified=False):
+    """The torque symbol: \u03c4, \u03c4_i, or \u03c4_s (the simplified model's torque).
+
+    Parameters
+    ----------
+    index : str, optional
+        The joint index ("i", "3").
+    simplified : bool, optional
+        The simplified model's torque \u03c4\u209b.
+
+    Returns
+    -------
+    str
+    """
+    return "\u03c4" + (sub("s") if simplified else "") + (sub(index) if index else "")
+
+
+def html(text):
+    """The marked string as HTML: escaped, with ``<sub>`` and ``<sup>`` tags.
+
+    Parameters
+    ----------
+    text : str
+
+    Returns
+    -------
+    markupsafe.Markup
+    """
+    from markupsafe import Markup, escape
+
+    out, pos = [], 0
+    for m in _MARKS.finditer(text):
+        out.append(str(escape(text[pos:m.start()])))
+        tag = "sub" if m.group(1) == SUB else "sup"
+        out.append(f"<{tag}>{escape(m.group(2))}</{tag}>")
+        pos = m.end()
+    out.append(str(escape(text[pos:])))
+    return Markup("".join(out).replace(SUB, "").replace(SUP, "").replace(END, ""))
+
+
+def unicode(text):
+    """The marked string with its marked spans as Unicode sub- and superscript characters
+    (a span with a character that has none, such as d, is written ``_d`` or ``^d``).
+
+    Parameters
+    ----------
+    text : str
+
+    Returns
+    -------
+    str
+    """
+    if SUB not in text and SUP not in text:
+        return text.replace(END, "")
+
+    def one(m):
+        table = _SUBSCRIPT if m.group(1) == SUB else _SUPERSCRIPT
+        if all(c in table for c in m.group(2)):
+            return "".join(table[c] for c in m.group(2))
+        return ("_" if m.group(1) == SUB else "^") + m.group(2)      # no such characters
+
+    return _MARKS.sub(one, text).replace(SUB, "").replace(SUP, "").replace(END, "")
+
+
+def plain(text):
+    """The marked string without its marks.
+
+    Parameters
+    ----------
+    text : str
+
+    Returns
+    -------
+    str
+    """
+    return clean(text)
+
+
+def clean(text):
+    """Text without the marks of this module: what a name read from a file becomes before it
+    reaches a report.
+
+    Parameters
+    ----------
+    text : str
+
+    Returns
+    -------
+    str
+    """
+    return str(text).replace(SUB, "").replace(SUP, "").replace(END, "")

@@ -1,0 +1,236 @@
+"""One list of sections per report, rendered by the Jinja template and by the PDF page engine.
+
+A report (main, sweep, control) builds its structure once as an :class:`Outline`: the title
+block, then sections (number, title, level) each holding blocks: paragraphs, tables with a
+numbered caption ("Table 5.2: ..."), figures with a numbered caption ("Figure 3. ..."), and
+class counts. :func:`to_document` lays the outline out as a PDF
+(:class:`gd_analyze.reports.pages.Document`); the HTML templates render the same outline with
+the macros of ``templates/sections.j2``. Text may hold the sub- and superscript marks of
+:mod:`gd_analyze.reports.markup`.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+
+from . import markup
+from .common import keep_units
+
+__all__ = ["Block", "Section", "Outline", "to_document", "PARAGRAPH_SIZE"]
+
+#: Type size [pt] of each paragraph style in the PDF; the HTML styles have the same names.
+PARAGRAPH_SIZE = {"lead": 9.5, "summary": 9.5, "body": 9.0, "note": 8.5, "strong": 9.0}
+
+
+@dataclass(frozen=True)
+class Block:
+    """One block of a section.
+
+    Attributes
+    ----------
+    kind : {"paragraph", "table", "figure", "counts"}
+    content : object
+        The paragraph's text (str); the table (dict of :func:`gd_analyze.reports.common.table`);
+        the figure's key; the counts (dict class -> number).
+    style : str
+        Paragraph style (a key of :data:`PARAGRAPH_SIZE`); ``"kv"`` for an item/value table.
+    caption : str
+        A table's or figure's caption, numbered ("Table 5.2: ...", "Figure 3. ...").
+    size : float
+        A table's type size in the PDF [pt].
+    """
+
+    kind: str
+    content: object
+    style: str = "body"
+    caption: str = ""
+    size: float = 7.5
+
+
+@dataclass
+class Section:
+    """A numbered section or subsection and its blocks.
+
+    Attributes
+    ----------
+    number : str
+        "5" or "5.1"; "" for the title block.
+    title : str
+    level : int
+        0: the title block (the document's title); 1: a section; 2: a subsection.
+    anchor : str
+        The HTML id.
+    blocks : list of Block
+    """
+
+    number: str
+    title: str
+    level: int
+    anchor: str
+    blocks: list = field(default_factory=list)
+
+    @property
+    def heading(self):
+        """str: "5. Title" or "5.1 Title" (the title alone for the title block)."""
+        number = self.number + ("." if self.number and "." not in self.number else "")
+        return f"{number} {self.title}".strip()
+
+
+class Outline:
+    """A report's sections in order, built once and rendered as HTML and PDF.
+
+    Parameters
+    ----------
+    title : str
+        The document's title (the title block's heading).
+    figures : collection of str
+        The keys of the figures that were drawn; a figure block for any other key is left out,
+        so that HTML and PDF number the same figures.
+
+    Examples
+    --------
+    >>> o = Outline("Report", figures={"D"})
+    >>> o.section("1", "Robot")
+    >>> o.table({"header": ["a"], "rows": [], "align": ["left"], "widths": [1],
+    ...          "colour_cols": []}, "joint placements")
+    >>> o.figure("D", "elements of D")
+    >>> o.figure("h", "not drawn")
+    >>> [b.caption for b in o.sections[1].blocks]
+    ['Table 1.1: joint placements', 'Figure 1. elements of D']
+    """
+
+    def __init__(self, title, figures=()):
+        self.title = title
+        self.available = set(figures)
+        self.sections = [Section("", title, 0, "top")]
+        self._tables = {}
+        self.n_figures = 0
+
+    def section(self, number, title, anchor=None, level=None):
+        """Start a section ("5") or a subsection ("5.1").
+
+        Parameters
+        ----------
+        number : str
+            Its number.
+        title : str
+            Its title.
+        anchor : str, optional
+            The HTML id; from the number if not given.
+        level : {1, 2}, optional
+            From the number's dots if not given.
+        """
+        level = level or (1 + str(number).count("."))
+        self.sections.append(Section(str(number), title, level,
+                                     anchor or "s" + str(number).replace(".", "-")))
+
+    def _add(self, block):
+        self.sections[-1].blocks.append(block)
+
+    def paragraph(self, text, style="body"):
+        """A paragraph; nothing if ``text`` is empty.
+
+        Parameters
+        ----------
+        text : str
+            May hold the marks of :mod:`gd_analyze.reports.markup`.
+        style : str, optional
+            A key of :data:`PARAGRAPH_SIZE`.
+        """
+        if text:
+            self._add(Block("paragraph", text, style))
+
+    def table(self, table, caption, kv=False, size=7.5):
+        """A table with its caption, numbered within its top-level section ("Table 5.2: ...").
+
+        Parameters
+        ----------
+        table : dict
+            As :func:`gd_analyze.reports.common.table` makes it.
+        caption : str
+            What the table shows.
+        kv : bool, optional
+            An item/value table (its first column in bold in the HTML).
+        size : float, optional
+            Type size in the PDF [pt].
+        """
+        top = next((s.number.split(".")[0] for s in reversed(self.sections) if s.level == 1),
+                   "0")
+        k = self._tables[top] = self._tables.get(top, 0) + 1
+        self._add(Block("table", table, "kv" if kv else "body",
+                        f"Table {top}.{k}: {caption}", size))
+
+    def figure(self, key, caption):
+        """A figure with its caption, numbered in document order.
+
+        Parameters
+        ----------
+        key : str
+            The figure's key; the block is left out if the figure was not drawn.
+        caption : str
+            What the figure shows.
+        """
+        if key in self.available:
+            self.n_figures += 1
+            self._add(Block("figure", key, caption=f"Figure {self.n_figures}. {caption}"))
+
+    def counts(self, counts):
+        """The number of elements per class, each in its class colour.
+
+        Parameters
+        ----------
+        counts : dict of str to int
+            Class -> number of elements.
+        """
+        self._add(Block("counts", dict(counts)))
+
+    def headings(self):
+        """The numbered headings in order (the title block left out).
+
+        Returns
+        -------
+        list of str
+        """
+        return [s.heading for s in self.sections if s.level > 0]
+
+
+def to_document(outline, document, sizes):
+    """Fill a PDF page-engine document with an outline.
+
+    Parameters
+    ----------
+    outline : Outline
+    document : gd_analyze.reports.pages.Document
+        Empty; filled in the outline's order.
+    sizes : dict of str to (float, float)
+        The size [in] of each drawn figure; its block holds its key (the figure's PDF is given
+        to :meth:`gd_analyze.reports.pages.Document.write`).
+
+    Returns
+    -------
+    gd_analyze.reports.pages.Document
+        ``document``.
+    """
+    u = markup.unicode
+    for section in outline.sections:
+        document.heading(u(section.heading), level=section.level)
+        for b in section.blocks:
+            if b.kind == "paragraph":
+                document.paragraph(keep_units(u(b.content)),
+                                   size=PARAGRAPH_SIZE.get(b.style, 9.0),
+                                   bold=b.style in ("lead", "strong"),
+                                   colour="0.25" if b.style == "note" else "black")
+            elif b.kind == "table":
+                t = b.content
+                document.table({**t, "header": [u(h) for h in t["header"]],
+                                "rows": [[u(c) for c in row] for row in t["rows"]]},
+                               size=b.size, caption=u(b.caption))
+            elif b.kind == "figure":
+                number = document.figure(b.content, sizes[b.content],
+                                         u(b.caption.split(". ", 1)[1]))
+                if not b.caption.startswith(f"Figure {number}. "):     # one numbering
+                    raise RuntimeError(f"figure {number} is {b.caption[:12]!r} in the HTML")
+            elif b.kind == "counts":
+                document.paragraph("   ".join(f"{c}: {k}" for c, k in b.content.items()),
+                                   size=8.5, bold=True)
+    return document

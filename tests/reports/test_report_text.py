@@ -1,0 +1,319 @@
+"""The reports' text and tables (issue 18 items 4-6, issue 19 item 6).
+
+- every table has a numbered caption ("Table 5.2: ..."), numbered within its section, unique,
+  and the PDF carries the same captions in the same order;
+- no code name stands in for mathematics (share_tran, EPS, scale_i, tau_s, D_ij ...), in the
+  HTML or the PDF text;
+- a table's wrapped cells are whole words, each line as wide as its column at most (measured
+  with the font's own advances), so no heading breaks mid-word or runs into its neighbour;
+- a URDF robot gets its joint placements (xyz, rpy) and axes, no DH table and no "n/a"; the
+  printed placements rebuild the model's rotations with Pinocchio's rpyToMatrix (oracle);
+- ``--figure-fonts truetype`` gives a report.pdf without a Type 3 font (font dictionaries
+  read with pypdf), the default gives Type 3 text pages;
+- one section list per report: the HTML headings and the PDF bookmarks are the same, in order,
+  for the main, sweep and control reports.
+"""
+
+import re
+from html import unescape
+
+import numpy as np
+import pytest
+from pypdf import PdfReader
+
+from gd_analyze import load_robot
+from gd_analyze.cli import main
+from gd_analyze.reports.pages import Document
+
+from conftest import ROOT
+
+DATA = ROOT / "data"
+#: Code names that must not stand in for mathematics in a report's text.
+CODE_NAMES = re.compile(r"\b(share_tran|peak_tran|peak_rot|peak_total|tau_s|tau_f|tau_i|"
+                        r"tau_simplified|tau_full|scale_i|EPS|D_ij|D_ii|D_jj|h_i|D_tran|D_rot|"
+                        r"h_tran|h_rot|qdd_d|Kp_pd|Kv_pd)\b")
+
+
+def _run(args, folder):
+    assert main([*args, "-o", str(folder), "-q"]) == 0
+    return folder
+
+
+@pytest.fixture(scope="module")
+def reports(tmp_path_factory):
+    """The main job on the PUMA 560 (truetype fonts) and the UR5 (default), the sweep and the
+    control report on the PUMA."""
+    tmp = tmp_path_factory.mktemp("text")
+    puma = _run(["puma560", str(DATA / "puma560_trajectory.csv"), "--figure-fonts",
+                 "truetype"], tmp / "puma")
+    ur5 = _run(["ur5", str(DATA / "ur5_trajectory.csv")], tmp / "ur5")
+    csv = str(DATA / "puma560_trajectory.csv")
+    sweep = _run(["sweep", "puma560", csv, csv, "--workers", "1", "--held-out", "0"],
+                 tmp / "sweep")
+    control = _run(["control", str(puma / "simplified_model.json"), csv], tmp / "control")
+    return {"puma": (puma, "report"), "ur5": (ur5, "report"),
+            "sweep": (sweep, "sweep_report"), "control": (control, "control_report")}
+
+
+def _files(reports, which):
+    folder, stem = reports[which]
+    return (folder / f"{stem}.html").read_text(encoding="utf-8"), folder / f"{stem}.pdf"
+
+
+def _text(html):
+    """The document's text outside the figures, tags stripped, entities decoded."""
+    html = re.sub(r"<svg.*?</svg>", "", html, flags=re.S)
+    return unescape(re.sub(r"\s+", " ", re.sub(r"<[^>]+>", " ", html))).replace("\u00a0", " ")
+
+
+def _pdf_text(path):
+    return "\n".join(page.extract_text() for page in PdfReader(path).pages)
+
+
+def _cells(fragment):
+    return [unescape(re.sub(r"<[^>]+>", "", c)).replace("\u00a0", " ").strip()
+            for c in re.findall(r"<t[dh][^>]*>(.*?)</t[dh]>", fragment, flags=re.S)]
+
+
+def _tables(html):
+    """(caption, header cells, rows of cells) of every table."""
+    out = []
+    for t in re.findall(r"<table[^>]*>(.*?)</table>", html, flags=re.S):
+        cap = re.search(r"<caption>(.*?)</caption>", t, flags=re.S)
+        rows = [_cells(r) for r in re.findall(r"<tr[^>]*>(.*?)</tr>", t, flags=re.S)]
+        out.append((unescape(re.sub(r"<[^>]+>", "", cap.group(1))).strip() if cap else None,
+                    rows[0], rows[1:]))
+    return out
+
+
+ALL = ("puma", "ur5", "sweep", "control")
+
+
+@pytest.mark.parametrize("which", ALL)
+def test_every_table_has_a_numbered_caption_in_html_and_pdf(reports, which):
+    html, pdf = _files(reports, which)
+    captions = [c for c, _, _ in _tables(html)]
+    assert captions and None not in captions
+    numbers = [re.match(r"Table (\d+)\.(\d+): \S", c) for c in captions]
+    assert all(numbers), captions
+    keys = [(int(m.group(1)), int(m.group(2))) for m in numbers]
+    assert len(set(keys)) == len(keys)                          # unique
+    # numbered within the section they sit in, from 1, in order
+    body = re.sub(r"<svg.*?</svg>", "", html, flags=re.S)
+    for m, (sec, k) in zip(re.finditer(r"<caption>Table (\d+)\.(\d+):", body), keys):
+        heading = re.findall(r"<h2[^>]*>(\d+)\.", body[:m.start()])[-1]
+        assert int(heading) == sec
+        assert k == 1 or (sec, k - 1) in keys
+    # the PDF: the same captions, in the same order
+    text = _pdf_text(pdf)
+    found = re.findall(r"Table (\d+)\.(\d+):", text)
+    assert [(int(a), int(b)) for a, b in found] == keys
+
+
+def _text_pages(reports, which):
+    """The text of the PDF's own pages, without the figures placed on them (the figures'
+    lettering is the figures' business): the report's document laid out without figures."""
+    import io
+
+    import xarray as xr
+
+    from gd_analyze.reports import control, sweep
+    from gd_analyze.reports.main import _document
+    from gd_analyze.reports.main_context import report_context
+    from gd_analyze.reports.sections import to_document
+
+    folder, _ = reports[which]
+    if which in ("puma", "ur5"):
+        with xr.open_dataset(folder / "results.h5") as ds:
+            doc = _document(report_context(ds.load()), {})
+    else:
+        module, name = (sweep, "sweep.h5") if which == "sweep" else (control, "control.h5")
+        with xr.open_dataset(folder / name) as ds:
+            ds = ds.load()
+            ctx = module._context(ds) if which == "control" else module._context(ds, None)
+        doc = to_document(module._outline(ctx, {}), Document("t"), {})
+    pages, _ = doc._layout()
+    return _pdf_text(io.BytesIO(doc._text_pages(pages)))
+
+
+@pytest.mark.parametrize("which", ALL)
+def test_no_code_names_in_the_text(reports, which):
+    html, _ = _files(reports, which)
+    text = _text(html)
+    assert not CODE_NAMES.findall(text), sorted(set(CODE_NAMES.findall(text)))
+    text = _text_pages(reports, which)
+    assert not CODE_NAMES.findall(text), sorted(set(CODE_NAMES.findall(text)))
+
+
+def test_mathematics_is_typeset(reports):
+    html, pdf = _files(reports, "puma")
+    assert "D<sub>ij</sub><sup>tran</sup>" in html and "D<sub>ij</sub><sup>rot</sup>" in html
+    assert "\u03c4\u209b \u2212 \u03c4" in _text(html)
+    text = _pdf_text(pdf)
+    assert "D\u1d62\u2c7c\u1d57\u02b3\u1d43\u207f" in text           # D_ij^tran in Unicode
+    assert "\u03b5\u00b7s" in text or "\u03b5\u00b7s" in _text(html)
+
+
+def _header_words_ok(header, lines):
+    words = header.split()
+    return all(w in words for line in lines for w in line.split())
+
+
+def _measured(doc):
+    """For every table block of a laid-out document: its wrapped header and cells, with their
+    drawn widths [in] (the font's advances, bold for the header) and the column widths."""
+    from matplotlib.font_manager import FontProperties
+    from matplotlib.textpath import text_to_path
+
+    def width(s, size, bold):
+        prop = FontProperties(family="DejaVu Sans", size=size,
+                              weight="bold" if bold else "normal")
+        return text_to_path.get_text_width_height_descent(s, prop, ismath=False)[0] / 72
+
+    out = []
+    for kind, payload in doc.blocks:
+        if kind != "table":
+            continue
+        widths, header, rows, _ = doc._table_rows(payload)
+        size = payload[1]
+        for cells, bold in [(header[0], True)] + [(r[0], False) for r in rows]:
+            for k, lines in enumerate(cells):
+                out.append((payload[0]["header"][k] if bold else None, lines,
+                            widths[k] - 2 * 0.035, max(width(x, size, bold) for x in lines)))
+    return out
+
+
+def test_table_headings_break_only_between_words():
+    doc = Document("t")
+    doc.table({"header": ["element", "translational", "peak error [N\u00a0m]", "from c",
+                          "measured peak |\u03c4\u209b \u2212 \u03c4|"],
+               "rows": [["D11", "0.5", "1.0", "2.0", "3.0"]], "align": ["left"] * 5,
+               "widths": [0.3, 0.3, 0.3, 0.3, 0.3], "colour_cols": []}, size=7.5)
+    doc.table({"header": ["a"] * 14 + ["translational"], "rows": [["1"] * 15],
+               "align": ["left"] * 15, "widths": [1] * 15, "colour_cols": []})
+    doc.W = 5.0                              # a narrow page: every column is tight
+    measured = _measured(doc)
+    assert any(len(lines) > 1 for h, lines, _, _ in measured if h)    # headings do wrap
+    for header, lines, room, drawn in measured:
+        if header is not None:
+            assert _header_words_ok(header, lines), (header, lines)
+        assert drawn <= room + 1e-3, (header, lines, drawn, room)
+
+
+@pytest.mark.parametrize("which", ["puma", "ur5"])
+def test_report_tables_fit_their_columns(reports, which):
+    """Every line of every table of the main report is as wide as its column at most, and
+    every wrapped heading is made of whole words of the heading."""
+    import xarray as xr
+
+    from gd_analyze.reports.main import _document
+    from gd_analyze.reports.main_context import report_context
+
+    folder = reports[which][0]
+    with xr.open_dataset(folder / "results.h5") as ds:
+        ctx = report_context(ds.load())
+    doc = _document(ctx, {})
+    for header, lines, room, drawn in _measured(doc):
+        assert drawn <= room + 1e-3, (header, lines, drawn, room)
+        if header is not None:
+            assert _header_words_ok(header, lines), (header, lines)
+
+
+def test_urdf_robot_shows_its_joint_placements(reports):
+    import pinocchio as pin
+
+    html, pdf = _files(reports, "ur5")
+    tables = _tables(html)
+    assert not [h for _, h, _ in tables if h[:3] == ["joint", "d [m]", "a [m]"]]   # no DH
+    for caption, header, rows in tables:
+        assert "n/a" not in [c for row in rows for c in row], caption
+    (caption, header, rows), = [t for t in tables if t[1][:3] == ["joint", "type", "x [m]"]]
+    assert header == ["joint", "type", "x [m]", "y [m]", "z [m]", "roll [deg]", "pitch [deg]",
+                      "yaw [deg]", "axis in frame i\u22121"]
+    robot = load_robot("ur5")
+    assert len(rows) == robot.n
+    for k, row in enumerate(rows):
+        assert row[1] == robot.joint_types[k]
+        np.testing.assert_allclose([float(v) for v in row[2:5]], robot.translation[k],
+                                   atol=1e-4)
+        R = pin.rpy.rpyToMatrix(*np.radians([float(v) for v in row[5:8]]))
+        np.testing.assert_allclose(R, robot.rotation[k], atol=1e-3)
+        axis = [float(v) for v in row[8].strip("()").split(",")]
+        np.testing.assert_allclose(axis, robot.rotation[k][:, 2], atol=1e-3)
+    assert "Joint placements" in _pdf_text(pdf) and "n/a" not in _pdf_text(pdf)
+
+
+def test_dh_robot_keeps_its_dh_table(reports):
+    html, _ = _files(reports, "puma")
+    headers = [h for _, h, _ in _tables(html)]
+    assert ["joint", "d [m]", "a [m]", "\u03b1 [deg]", "offset [deg]"] in headers
+    assert not [h for h in headers if h[:3] == ["joint", "type", "x [m]"]]
+
+
+def _font_subtypes(pdf):
+    """The /Subtype of every font the PDF's pages and their form XObjects use."""
+    seen, out = set(), []
+
+    def walk(resources):
+        resources = resources.get_object() if resources is not None else {}
+        for font in (resources.get("/Font") or {}).values():
+            font = font.get_object()
+            if id(font) not in seen:
+                seen.add(id(font))
+                out.append(str(font["/Subtype"]))
+        for xobj in (resources.get("/XObject") or {}).values():
+            xobj = xobj.get_object()
+            if xobj.get("/Subtype") == "/Form" and "/Resources" in xobj:
+                walk(xobj["/Resources"])
+
+    for page in PdfReader(pdf).pages:
+        walk(page.get("/Resources"))
+    return out
+
+
+def test_truetype_report_has_no_type3_font(reports):
+    fonts = _font_subtypes(_files(reports, "puma")[1])
+    assert fonts and "/Type3" not in fonts, fonts
+    assert "/Type3" in _font_subtypes(_files(reports, "ur5")[1])   # the default: fast Type 3
+
+
+def _outline_titles(outline, level=1):
+    out = []
+    for item in outline:
+        if isinstance(item, list):
+            out += _outline_titles(item, level + 1)
+        else:
+            out.append(str(item["/Title"]))
+    return out
+
+
+@pytest.mark.parametrize("which", ALL)
+def test_html_and_pdf_headings_are_one_list(reports, which):
+    html, pdf = _files(reports, which)
+    body = re.sub(r"<svg.*?</svg>", "", html, flags=re.S)
+    headings = [unescape(re.sub(r"<[^>]+>", "", h)).strip()
+                for h in re.findall(r"<h[23][^>]*>(.*?)</h[23]>", body, flags=re.S)]
+    bookmarks = _outline_titles(PdfReader(pdf).outline)
+    assert headings and headings == bookmarks
+    assert len(headings) >= 6
+
+
+def test_markup_escapes_and_renders():
+    from gd_analyze.reports import markup
+
+    s = "<b>" + markup.element("D", "12", "tran") + " & " + markup.sub("d")
+    assert str(markup.html(s)) == "&lt;b&gt;D<sub>12</sub><sup>tran</sup> &amp; <sub>d</sub>"
+    assert markup.unicode(s) == "<b>D\u2081\u2082\u1d57\u02b3\u1d43\u207f & _d"
+    assert markup.plain(s) == "<b>D12tran & d"
+
+
+def test_marks_in_a_file_s_text_are_dropped():
+    """A robot name holding the private-use marks reaches the report as plain text."""
+    import xarray as xr
+
+    from gd_analyze.reports import markup
+    from gd_analyze.reports.common import attr
+
+    ds = xr.Dataset(attrs={"robot": "arm" + markup.sub("<i>") + markup.sup("x")})
+    assert attr(ds, "robot") == "arm<i>x"
+    assert str(markup.html(attr(ds, "robot"))) == "arm&lt;i&gt;x"
