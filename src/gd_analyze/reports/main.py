@@ -38,7 +38,7 @@ from .common import strings as _strings, thresholds as _thresholds
 from .common import check_formats, render_template
 from .main_context import ENVELOPE_COLUMNS, ENVELOPE_THRESHOLD, report_context, zero_mask
 from .common import prismatic_joints
-from .main_figures import RC as FIG_RC, PAGE_WIDTH, plot_data
+from .main_figures import RC as FIG_RC, COLUMN_WIDTH, PAGE_WIDTH, plot_data
 from .main_figures import fig_D, fig_h, fig_joints, fig_torque
 from .pages import FIGURE_FONTS, PAPER, Document
 from .drawing import draw_figures, no_gc, write_figure_files
@@ -46,7 +46,7 @@ from ..io.sweep_datasets import payload_part
 
 __all__ = [
     "REPORT_FORMATS", "ENVELOPE_THRESHOLD", "ENVELOPE_COLUMNS", "FIGURE_FILES", "envelope",
-    "make_figures", "render_html", "render_pdf", "write_report",
+    "COLUMN_FIGURES", "make_figures", "render_html", "render_pdf", "write_report",
 ]
 
 #: The formats :func:`write_report` can write.
@@ -132,6 +132,11 @@ FIGURE_FILES = {"joints": "fig_joints_q_qd_qdd", "D": "fig_3_10_D", "h": "fig_3_
                 "torque": "fig_torque_full_vs_simplified", "payload": "fig_payload_dominance",
                 "formulations": "fig_table_3_5_operation_counts"}
 _FIGURE_ORDER = ("joints", "D", "h", "torque", "payload", "formulations")
+#: Figures also made 3.5 in wide for a one-column layout, as ``<key>_column``, written to
+#: ``figures/<name>_column.pdf`` and ``.svg`` beside the page-width files (not in the report).
+COLUMN_FIGURES = ("joints", "D", "h", "torque")
+FIGURE_FILES.update({f"{k}_column": f"{FIGURE_FILES[k]}_column" for k in COLUMN_FIGURES})
+_FILE_ORDER = _FIGURE_ORDER + tuple(f"{k}_column" for k in COLUMN_FIGURES)
 
 
 def make_figures(ds, data=None, keys=None):
@@ -154,7 +159,8 @@ def make_figures(ds, data=None, keys=None):
     dict of str to matplotlib.figure.Figure
         ``"joints"``, ``"D"`` (analogue of Fig. 3.10: the n x n upper triangle of D_ij),
         ``"h"`` (Fig. 3.11), ``"torque"``, and ``"payload"`` and ``"formulations"`` if the
-        dataset holds them; sized for print (7.2 in wide, type >= 7 pt), time [s] on x.
+        dataset holds them; sized for print (7.2 in wide, type >= 7 pt), time [s] on x;
+        then ``"<key>_column"`` for :data:`COLUMN_FIGURES`, 3.5 in wide (type >= 7 pt).
 
     Raises
     ------
@@ -173,22 +179,30 @@ def make_figures(ds, data=None, keys=None):
     zero = dict(zip(labels, zero))
     dom = dict(zip(labels, _strings(ds["dominance"].values)))
     s, e = _thresholds(ds)
-    wanted = set(_FIGURE_ORDER if keys is None else keys)
+    wanted = set(_FILE_ORDER if keys is None else keys)
     makers = {"joints": lambda: fig_joints(data, prismatic_joints(ds)),
               "D": lambda: fig_D(data, dom, zero, s, e, prismatic_joints(ds)),
               "h": lambda: fig_h(data, dom, zero, prismatic_joints(ds)),
-              "torque": lambda: _fig_error(ds, data)}
+              "torque": lambda: _fig_error(ds, data),
+              "joints_column": lambda: fig_joints(data, prismatic_joints(ds), COLUMN_WIDTH),
+              "D_column": lambda: fig_D(data, dom, zero, s, e, prismatic_joints(ds),
+                                        COLUMN_WIDTH),
+              "h_column": lambda: fig_h(data, dom, zero, prismatic_joints(ds), COLUMN_WIDTH),
+              "torque_column": lambda: _fig_error(ds, data, COLUMN_WIDTH)}
     if "payload_share_tran" in ds.variables:
         makers["payload"] = lambda: _fig_payload(ds)
     if "op_multiplications" in ds.variables:
         makers["formulations"] = lambda: _fig_formulations(ds)
     with matplotlib.rc_context(FIG_RC):
         figures = {k: make() for k, make in makers.items() if k in wanted}
-    return {k: figures[k] for k in _FIGURE_ORDER if k in figures}
+    return {k: figures[k] for k in _FILE_ORDER if k in figures}
 
 
-def _fig_error(ds, data):
+def _fig_error(ds, data, width=PAGE_WIDTH):
     if has_simplified(ds):                      # issue 8: tau_s - tau and its bound
+        if width < PAGE_WIDTH:
+            n = ds.sizes["joint"]
+            return error_figure(ds, size=(width, 1.0 + 1.25 * n), data=data)
         return error_figure(ds, size=(PAGE_WIDTH, 7.5), data=data)
     return fig_torque(data, ds["tau_error_peak"].values, ds["tau_error_relative_peak"].values,
                       prismatic_joints(ds))
@@ -262,6 +276,11 @@ def _drawn(figures, pdf=True, fonts="type3"):
     return draw_figures(figures, FIG_RC, pdf=pdf, fonts=fonts)
 
 
+def _in_report(figures):
+    """The figures the report shows, in its order (not the column-width files)."""
+    return {k: figures[k] for k in _FIGURE_ORDER if k in figures}
+
+
 def _inline(svg_text, prefix):
     text = re.sub(r'\bid="', f'id="{prefix}-', svg_text)
     text = re.sub(r'\bhref="#', f'href="#{prefix}-', text)
@@ -295,8 +314,8 @@ def render_html(ds, figures=None):
     """
     ctx = report_context(ds)
     if figures is None:
-        figures = make_figures(ds)
-    return _html(ctx, _drawn(figures, pdf=False))
+        figures = make_figures(ds, keys=_FIGURE_ORDER)
+    return _html(ctx, _drawn(_in_report(figures), pdf=False))
 
 
 def _html(ctx, drawn):
@@ -342,8 +361,8 @@ def render_pdf(ds, path, figures=None, paper="a4"):
     """
     ctx = report_context(ds)
     if figures is None:
-        figures = make_figures(ds)
-    return _pdf(ctx, _drawn(figures), path, paper)
+        figures = make_figures(ds, keys=_FIGURE_ORDER)
+    return _pdf(ctx, _drawn(_in_report(figures)), path, paper)
 
 
 def _pdf(ctx, drawn, path, paper="a4"):
@@ -534,7 +553,7 @@ def _write(ds, outdir, formats, paper, progress, away=(), worker=None, fonts="ty
     ctx = report_context(ds)            # fails early on a dataset that is not ours
     (outdir / "figures").mkdir(parents=True, exist_ok=True)
     data = plot_data(ds, progress=progress)
-    drawn = _drawn(make_figures(ds, data, keys=set(_FIGURE_ORDER) - set(away)), fonts=fonts)
+    drawn = _drawn(make_figures(ds, data, keys=set(_FILE_ORDER) - set(away)), fonts=fonts)
     sizes = {k: d[2] for k, d in drawn.items()}
     if away:                            # sizes first: the PDF's text pages meanwhile
         sizes.update(worker.sizes())
@@ -547,10 +566,11 @@ def _write(ds, outdir, formats, paper, progress, away=(), worker=None, fonts="ty
     if away:
         drawn.update(worker.collect())
         _draw_missing(ds, data, drawn, set(away) - set(drawn), fonts)
-    drawn = {k: drawn[k] for k in _FIGURE_ORDER if k in drawn}
+    drawn = {k: drawn[k] for k in _FILE_ORDER if k in drawn}
     with contextlib.ExitStack() as stack:
         paths = {fmt: outdir / f"report.{fmt}" for fmt in formats}
         files = write_figure_files(stack, drawn, outdir / "figures", FIGURE_FILES)
+        drawn = _in_report(drawn)
         tmp = {fmt: stack.enter_context(atomic_path(paths[fmt])) for fmt in formats}
         if "html" in tmp:
             with open(tmp["html"], "w", encoding="utf-8") as fh:
