@@ -26,7 +26,7 @@ import numpy as np
 from .common import BASE_RC
 from .common import strings as _strings, style as _style, table as _table
 from .common import attr, fmt, grid_shape, render_template, utc_now
-from ..core.ranking import element_label
+from ..core.ranking import ROUND_OFF, element_label, is_round_off
 from .pages import PAPER, Document
 from .drawing import draw_figures, figure_svg, no_gc, write_figure_files
 
@@ -71,59 +71,114 @@ def _stride(m):
     return max(1, int(math.ceil(m / _MAX_LINE_POINTS)))
 
 
-def _joint_panels(ds, values, ylabel, title, log=False, controllers=None):
-    """A figure with one panel per joint; values: name -> (M, n) array along ds.time."""
+def _noise_floor(ds, scale):
+    """Per joint, the level at or below which a closed-loop quantity is the integrator's
+    noise, not data: ``max(rtol, ROUND_OFF)`` times the joint's scale
+    (:func:`gd_analyze.core.ranking.is_round_off` applies it)."""
+    rtol = float(ds.attrs.get("rtol", 0.0))
+    tol = max(rtol if np.isfinite(rtol) else 0.0, ROUND_OFF)
+    return tol, tol * np.abs(np.asarray(scale, float))
+
+
+def _joint_panels(ds, values, ylabel, title, log=False, scale=None, which="q"):
+    """A figure with one panel per joint; values: name -> (M, n) array along ds.time.
+
+    ``ylabel`` is formatted with each joint's units (``{u}``). With ``scale`` (n,), a
+    controller whose curve on a joint is integrator noise (:func:`_noise_floor`) is not drawn
+    there: the panel says so; on a log axis the axis starts at the noise floor.
+    """
     from matplotlib.figure import Figure
+
+    from .common import markevery
 
     t = np.asarray(ds["time"].values, dtype=float)
     is_set = np.asarray(ds["is_setpoint"].values).astype(bool)
     n = int(ds.sizes["joint"])
+    units = _joint_units(ds, which)
     rows, cols = grid_shape(n, 2)
-    height = 1.9 * rows + 1.0
+    top = 0.5 if scale is None else 0.72
+    height = 1.9 * rows + 0.5 + top
     fig = Figure(figsize=(7.2, height))
     # fixed margins [in] instead of a layout engine: drawing stays fast
-    fig.subplots_adjust(left=0.75 / 7.2, right=1 - 0.15 / 7.2, top=1 - 0.5 / height,
-                        bottom=0.85 / height, wspace=0.25, hspace=0.35)
+    fig.subplots_adjust(left=0.75 / 7.2, right=1 - 0.15 / 7.2, top=1 - top / height,
+                        bottom=0.85 / height, wspace=0.3, hspace=0.35)
     axes = fig.subplots(rows, cols, squeeze=False, sharex=True)
     k = _stride(t.size)
     keep = np.zeros(t.size, dtype=bool)
     keep[::k] = True
     keep |= is_set
-    floor = None
+    every = markevery(int(is_set.sum()))
+    tol, floor = _noise_floor(ds, scale) if scale is not None else (None, None)
+    handles = {}
+    quiet = {}                          # controller -> [(joint, peak)] of noise-only curves
     for j in range(rows * cols):
         ax = axes[j // cols, j % cols]
         if j >= n:
             ax.set_visible(False)
             continue
+        drawn = 0
         for name, y in values.items():
             yj = np.asarray(y[:, j], dtype=float)
             if log:
-                pos = np.abs(yj)[np.isfinite(yj) & (yj != 0)]
-                floor = min(floor or np.inf, float(pos.min()) if pos.size else 1e-16)
                 yj = np.abs(yj)
+            peak = float(np.nanmax(np.abs(yj))) if yj.size else 0.0
+            if floor is not None and is_round_off(peak, scale[j], tol):
+                quiet.setdefault(name, []).append((j, peak))
+                continue
+            drawn += 1
+            if log:
+                yj = np.where(yj > (floor[j] if floor is not None else 0.0), yj, np.nan)
             kw = {"color": _COLOURS.get(name, "#0072B2"), "linestyle": _STYLES.get(name, "-"),
                   "label": _LABELS.get(name, name)}
-            ax.plot(t[keep], yj[keep], **kw)
+            line, = ax.plot(t[keep], yj[keep], **kw)
+            handles.setdefault(kw["label"], line)
             ax.plot(t[is_set], yj[is_set], linestyle="none", marker="o", markersize=2.5,
-                    color=kw["color"], mfc="none")
+                    color=kw["color"], mfc="none", markevery=every)
         if log:
             ax.set_yscale("log")
+            if floor is not None and floor[j] > 0:
+                ax.set_ylim(bottom=floor[j])
+        if not drawn and floor is not None:
+            ax.text(0.5, 0.5, "integrator noise only: not drawn", transform=ax.transAxes,
+                    ha="center", va="center", fontsize=7, color="0.35")
+            ax.set_yticks([])
         ax.set_title(f"joint {j + 1}")
         if j // cols == rows - 1 or j + cols >= n:
             ax.set_xlabel("time t [s]")
-        if j % cols == 0:
-            ax.set_ylabel(ylabel)
-    if log and floor is not None and np.isfinite(floor):
-        for ax in axes.ravel():
-            if ax.get_visible():
-                ax.set_ylim(bottom=max(floor * 0.5, 1e-18))
-    handles, labels = axes[0, 0].get_legend_handles_labels()
-    pairs = [(h, lab) for h, lab in zip(handles, labels) if not lab.startswith("_")]
-    if pairs:
-        fig.legend([p[0] for p in pairs], [p[1] for p in pairs], loc="lower center",
-                   ncols=min(3, len(pairs)), frameon=False, bbox_to_anchor=(0.5, 0.0))
+        ax.set_ylabel(ylabel.format(u=units[j]))
+    if handles:
+        fig.legend(list(handles.values()), list(handles), loc="lower center",
+                   ncols=min(3, len(handles)), frameon=False, bbox_to_anchor=(0.5, 0.0))
     fig.suptitle(title, fontsize=10, fontweight="bold", y=1 - 0.12 / height, va="top")
+    if floor is not None:
+        notes = [f"Integrator noise (at most {tol:g} of the joint's scale) is not drawn"]
+        for name, where in quiet.items():
+            peak = max(p for _, p in where)
+            joints = ("every joint" if len(where) == n else
+                      "joint" + ("s " if len(where) > 1 else " ")
+                      + ", ".join(str(j + 1) for j, _ in where))
+            notes.append(f"{_LABELS.get(name, name)}: noise on {joints} (peak "
+                         f"{_fmt(peak)} {units[where[0][0]]})")
+        fig.text(0.5, 1 - 0.36 / height, "; ".join(notes) + ".", ha="center", va="top",
+                 fontsize=7, color="0.3", wrap=False)
     return fig
+
+
+def _joint_units(ds, which):
+    """Units of q (``"q"``) or tau (``"tau"``) per joint, from the stored joint types
+    (:func:`gd_analyze.core.labels.joint_motion_units`, ``joint_torque_units``)."""
+    from ..core.labels import joint_motion_units, joint_torque_units
+
+    prismatic = _prismatic(ds)
+    if which == "tau":
+        return [joint_torque_units(bool(p)) for p in prismatic]
+    return [joint_motion_units(bool(p))[0] for p in prismatic]
+
+
+def _prismatic(ds):
+    from .common import prismatic_joints
+
+    return prismatic_joints(ds)
 
 
 def make_control_figures(ds):
@@ -137,9 +192,11 @@ def make_control_figures(ds):
     Returns
     -------
     dict of str to matplotlib.figure.Figure
-        ``"error"`` (|q_d - q| per joint, log scale [rad]), ``"tau_difference"`` (tau of the
-        simplified-model controller minus the full-model one [N m]; absent if not stored) and
-        ``"tau"`` (applied torques [N m]).
+        ``"error"`` (|q_d - q| per joint, log scale [rad or m]), ``"tau_difference"`` (tau of
+        the simplified-model controller minus the full-model one [N m or N]; absent if not
+        stored) and ``"tau"`` (applied torques [N m or N]). Integrator noise (at most the
+        integrator's rtol times the joint's scale: the range of q_d for an error, the full
+        controller's peak |tau| for a torque difference) is never drawn as data.
 
     Raises
     ------
@@ -148,17 +205,22 @@ def make_control_figures(ds):
     """
     _check(ds, "<dataset>")
     names = _strings(ds["controller"].values)
+    q_d = np.asarray(ds["q_d"].values, float)
+    q_scale = np.maximum(np.ptp(q_d, axis=0), np.abs(q_d).max(axis=0))
+    full = names.index("full") if "full" in names else 0
+    tau_scale = np.asarray(ds["tau"].values, float)[full]
+    tau_scale = np.nanmax(np.abs(tau_scale), axis=0)
     with _style(_RC):
         figs = {"error": _joint_panels(
             ds, {c: ds["error"].sel(controller=c).values for c in names},
-            "|q_d - q| [rad]", "Tracking error per joint", log=True)}
+            "|q_d \u2212 q| [{u}]", "Tracking error per joint", log=True, scale=q_scale)}
         if "tau_difference" in ds:
             figs["tau_difference"] = _joint_panels(
-                ds, {"simplified": ds["tau_difference"].values}, "tau_s - tau_f [N m]",
+                ds, {"simplified": ds["tau_difference"].values}, "\u03c4_s \u2212 \u03c4_f [{u}]",
                 "Closed-loop torque difference: simplified-model minus full-model computed "
-                "torque")
+                "torque", scale=tau_scale, which="tau")
         figs["tau"] = _joint_panels(ds, {c: ds["tau"].sel(controller=c).values for c in names},
-                                    "tau [N m]", "Applied joint torques")
+                                    "\u03c4 [{u}]", "Applied joint torques", which="tau")
     return figs
 
 
@@ -214,9 +276,12 @@ def _context(ds):
             rm = ds[f"error_rms_{key}"].sel(controller=c).values
             err_rows.append([c, where, "peak"] + [_fmt(v) for v in pk])
             err_rows.append([c, where, "RMS"] + [_fmt(v) for v in rm])
-    errors = _table(["controller", "sampled at", "figure"] + [f"{j} [rad]" for j in joints],
+    q_u, tau_u = _joint_units(ds, "q"), _joint_units(ds, "tau")
+    errors = _table(["controller", "sampled at", "figure"]
+                    + [f"{j} [{u}]" for j, u in zip(joints, q_u)],
                     err_rows, align=["left", "left", "left"] + ["right"] * n)
-    tau_diff = _table(["figure"] + [f"{j} [N m]" for j in joints], [], align="right")
+    tau_diff = _table(["figure"] + [f"{j} [{u}]" for j, u in zip(joints, tau_u)], [],
+                      align="right")
 
     def fmt_all(name, **sel):
         return [_fmt(v) for v in ds[name].sel(**sel).values]
@@ -232,7 +297,8 @@ def _context(ds):
         if "tau_peak" in ds:
             tau_rows.append([c, "peak |tau|"] + fmt_all("tau_peak", controller=c))
             tau_rows.append([c, "RMS tau"] + fmt_all("tau_rms", controller=c))
-    tau_table = _table(["controller", "figure"] + [f"{j} [N m]" for j in joints], tau_rows,
+    tau_table = _table(["controller", "figure"] + [f"{j} [{u}]" for j, u in zip(joints, tau_u)],
+                       tau_rows,
                        align=["left", "left"] + ["right"] * n)
     cost = None
     if "evaluator" in ds.dims:

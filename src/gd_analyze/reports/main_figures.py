@@ -325,7 +325,7 @@ def _legend_order(ax):
     return [p[0] for p in pairs], [p[1] for p in pairs]
 
 
-def _grid(count, width, wgap, min_w=0.62):
+def _grid(count, width, wgap, min_w=0.55):
     """Columns and panel size [in] of ``count`` panels in reading order within ``width``."""
     cols = max(1, min(count, int((width - _LEFT - _RIGHT + wgap) / (min_w + wgap))))
     w = (width - _LEFT - _RIGHT - (cols - 1) * wgap) / cols
@@ -365,9 +365,10 @@ def fig_D(data, dominance, zero, s, e, prismatic=None, width=PAGE_WIDTH):
     units = {element_label("D", i, j): element_units("D", i, j, prismatic)
              for i in range(n) for j in range(i, n)}
     mixed = len(set(units.values())) > 1
-    wgap = _gaps(mixed)
+    wgap = _gaps(True)                  # as fig_h's: panels of one size in both figures
     column = width < PAGE_WIDTH and n > 2
-    if column:
+    if column:                          # three a row: said-once units leave room for it
+        wgap = _gaps(mixed)
         cols, w, h = _grid(len(units), width, wgap)
         rows = math.ceil(len(units) / cols)
         place = {lab: divmod(k, cols) for k, lab in enumerate(units)}

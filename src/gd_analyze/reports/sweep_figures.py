@@ -16,7 +16,7 @@ from .common import gridspec as _gridspec, strings as _strings, style as _style
 from .common import check as _check, grid_shape, thresholds as _thresholds
 from .figures import CLASS_LETTER as _LETTER
 from .figures import payload_figure
-from ..core.ranking import CLASSES, element_label
+from ..core.ranking import CLASSES, ROUND_OFF, element_label
 
 __all__ = ["make_sweep_figures", "REQUIRED"]
 
@@ -33,8 +33,16 @@ _CHOICE_COLOURS = {"tran": _CLASS_COLOURS["translational"], "rot": _CLASS_COLOUR
 _OWN_COLOUR, _MERGED_COLOUR = "#009E73", "#000000"
 #: Width of every figure: the text of a page [in].
 _PAGE_WIDTH = 7.2
-#: Floor of the logarithmic torque-error axis (errors below it are drawn at it).
-_ERROR_FLOOR = 1e-16
+#: Relative torque errors at or below this are round-off (:data:`ROUND_OFF`): not drawn.
+_ERROR_FLOOR = ROUND_OFF
+
+
+def _round_off(ds):
+    """(trajectory, element) bool: the element is round-off on the trajectory (stored by the
+    sweep, :func:`gd_analyze.core.ranking.is_round_off`); all False for an older file."""
+    if "round_off" in ds.variables:
+        return ds["round_off"].values.astype(bool)
+    return np.zeros(ds["share_tran"].shape, bool)
 
 
 def _fraction_text(fractions):
@@ -43,8 +51,27 @@ def _fraction_text(fractions):
     return " \u00b7 ".join(parts)
 
 
-def _share_panel(ax, values, label, merged, fractions, s, small):
-    """One element: a box of its share_tran over the trajectories, thresholds s and 1 - s."""
+def _zero_share_panel(ax, label, merged):
+    """An element that is round-off on every trajectory: no share (it would be noise)."""
+    ax.text(0.5, 0.5, "\u2261 0", transform=ax.transAxes, ha="center", va="center",
+            fontsize=10, color="0.35")
+    ax.set_xlim(-0.6, 0.8)
+    ax.set_ylim(-0.03, 1.03)
+    ax.set_xticks([])
+    ax.set_yticks([0.0, 0.5, 1.0])
+    ax.yaxis.set_major_formatter("{x:.2g}")
+    ax.tick_params(length=2.0, pad=1.5)
+    ax.grid(False)
+    ax.set_title(f"{label}: \u2261 0", color=_CHOICE_COLOURS.get(merged, "black"), pad=2.5)
+
+
+def _share_panel(ax, values, label, merged, fractions, s, small, zero=None):
+    """One element: a box of its share_tran over the trajectories, thresholds s and 1 - s;
+    trajectories on which the element is round-off (``zero``) are left out of the box."""
+    if zero is not None:
+        if zero.all():
+            return _zero_share_panel(ax, label, merged)
+        values = values[~zero]
     ax.axhspan(s, 1.0, color=_CLASS_COLOURS["translational"], alpha=0.09, lw=0)
     ax.axhspan(0.0, 1.0 - s, color=_CLASS_COLOURS["rotational"], alpha=0.09, lw=0)
     for y in (s, 1.0 - s):
@@ -84,8 +111,9 @@ def _key_text(ds, K):
         f"Dashed lines: s = {s:g} and 1 \u2212 s; blue band: translational, orange band: "
         f"rotational. Title: element \u2192 choice of the merged model. Bottom: fraction of "
         f"trajectories per class (T translational, R rotational, B both, N negligible, "
-        f"e = {e:g}); the share of a negligible element may compare round-off-level "
-        f"values.", 52)
+        f"e = {e:g}). \u2261 0: round-off (below 1e-12 of its scale) in every part on every "
+        f"trajectory, no share drawn; on the trajectories where an element is round-off its "
+        f"share is left out of the box.", 52)
 
 
 def _fig_D(ds):
@@ -96,6 +124,7 @@ def _fig_D(ds):
     share = ds["share_tran"].values
     merged = dict(zip(labels, _strings(ds["merged_choice"].values)))
     frac = ds["class_fraction"].values
+    zero = _round_off(ds)
     s, _ = _thresholds(ds)
     W = _PAGE_WIDTH
     H = 0.75 + n * 0.72 + (n - 1) * 0.42
@@ -106,7 +135,8 @@ def _fig_D(ds):
             label = element_label("D", i, j)
             k = labels.index(label)
             ax = fig.add_subplot(gs[i, j])
-            _share_panel(ax, share[:, k], label, merged[label], frac[k], s, small=True)
+            _share_panel(ax, share[:, k], label, merged[label], frac[k], s, small=True,
+                         zero=zero[:, k])
             ax.tick_params(labelleft=(i == j))
     if n > 1:
         k = n // 2
@@ -128,6 +158,7 @@ def _fig_h(ds):
     share = ds["share_tran"].values
     merged = dict(zip(labels, _strings(ds["merged_choice"].values)))
     frac = ds["class_fraction"].values
+    zero = _round_off(ds)
     s, _ = _thresholds(ds)
     rows, cols = grid_shape(n, 3)
     W, H = _PAGE_WIDTH, 1.9 + 1.9 * rows
@@ -138,7 +169,8 @@ def _fig_h(ds):
         label = element_label("h", i)
         k = labels.index(label)
         ax = fig.add_subplot(gs[i // cols, i % cols])
-        _share_panel(ax, share[:, k], label, merged[label], frac[k], s, small=False)
+        _share_panel(ax, share[:, k], label, merged[label], frac[k], s, small=False,
+                     zero=zero[:, k])
         ax.set_ylabel("share_tran [1]")
     key = textwrap.fill(_key_text(ds, ds.sizes["trajectory"]).replace("\n", " "), 120)
     fig.text(0.3 / W, 0.1 / H, key, ha="left", va="bottom", fontsize=7.0, linespacing=1.3)
@@ -193,18 +225,21 @@ def _fig_error(ds):
     for j in range(n):
         for off, data, colour in ((-0.18, own[:, j], _OWN_COLOUR),
                                   (0.18, merged[:, j], _MERGED_COLOUR)):
-            vals = data[np.isfinite(data)]
+            vals = data[np.isfinite(data) & (data > _ERROR_FLOOR)]     # round-off: not drawn
             if not vals.size:
                 continue
-            vals = np.maximum(vals, _ERROR_FLOOR)
             bp = ax.boxplot([vals], positions=[j + 1 + off], widths=0.3, whis=(0, 100),
                             showfliers=False, manage_ticks=False)
             for key in ("boxes", "whiskers", "caps", "medians"):
                 for line in bp[key]:
                     line.set(color=colour, linewidth=0.9)
-        if np.isfinite(overall[j]):
-            ax.plot(j + 1.18, max(overall[j], _ERROR_FLOOR), marker="D", ms=4, color="#CC79A7",
-                    ls="none")
+        if np.isfinite(overall[j]) and overall[j] > _ERROR_FLOOR:
+            ax.plot(j + 1.18, overall[j], marker="D", ms=4, color="#CC79A7", ls="none")
+        finite = np.concatenate([own[:, j], merged[:, j]])
+        finite = finite[np.isfinite(finite)]
+        if finite.size and (finite <= _ERROR_FLOOR).all():
+            ax.text(j + 1, 0.5, "round-off\nonly", transform=ax.get_xaxis_transform(),
+                    ha="center", va="center", fontsize=7, color="0.35")
     ax.set_yscale("log")
     ax.set_xticks(np.arange(1, n + 1), [f"joint {j + 1}" for j in range(n)])
     ax.set_xlim(0.4, n + 0.6)
@@ -217,8 +252,8 @@ def _fig_error(ds):
               loc="upper center", bbox_to_anchor=(0.5, -0.08), ncol=3, frameon=False,
               fontsize=7)
     fig.suptitle("Relative peak torque error per joint (box: quartiles, whiskers: min/max;\n"
-                 f"values below {_ERROR_FLOOR:g} drawn at it)", y=1 - 0.08 / H, va="top",
-                 fontsize=8.5)
+                 f"round-off, at most {_ERROR_FLOOR:g}, not drawn)", y=1 - 0.08 / H,
+                 va="top", fontsize=8.5)
     return fig
 
 
