@@ -213,6 +213,38 @@ def latency(runs=5):
     return result
 
 
+def latency_against(baseline, runs=5):
+    """The main job with this source against the same job with another source tree.
+
+    Parameters
+    ----------
+    baseline : str or Path
+        A ``src`` folder holding another version of ``gd_analyze`` (e.g. ``git archive main
+        src | tar x -C /tmp/base``), put first on ``PYTHONPATH`` for the baseline runs.
+    runs : int, optional
+        Interleaved pairs, after one warm-up run of each.
+
+    Returns
+    -------
+    dict
+        As :func:`interleaved`: ratio this job / baseline job (median, min, max).
+    """
+    job_base = [sys.executable, "-m", "gd_analyze.cli", "puma560",
+                str(ROOT / "data" / "puma560_trajectory.csv"), "-q"]
+    env = {k: v for k, v in os.environ.items() if k != "PYTHONDONTWRITEBYTECODE"}
+    env["MPLBACKEND"] = "Agg"
+    base_env = {**env, "PYTHONPATH": str(Path(baseline).resolve())}
+    this_env = {**env, "PYTHONPATH": str(ROOT / "src")}
+    with tempfile.TemporaryDirectory() as tmp:
+        def run(e, name):
+            out = Path(tmp) / f"{name}-{time.perf_counter_ns()}"
+            return subprocess.run(job_base + ["-o", str(out)], check=True, capture_output=True,
+                                  env=e)
+        run(this_env, "warm-a")
+        run(base_env, "warm-b")
+        return interleaved(lambda: run(this_env, "a"), lambda: run(base_env, "b"), runs)
+
+
 def main(argv=None):
     """Run the benchmark and print one JSON line.
 
@@ -231,7 +263,15 @@ def main(argv=None):
                         help="interleaved pairs of the main job and the bare import (default 5)")
     parser.add_argument("--latency-only", action="store_true",
                         help="only the main job against the bare import")
+    parser.add_argument("--baseline", metavar="SRC",
+                        help="with --latency-only: the main job against the same job run "
+                             "with the gd_analyze package of SRC (another version's src/)")
     args = parser.parse_args(argv)
+
+    if args.latency_only and args.baseline:
+        print(json.dumps({"main_job_over_baseline":
+                          _summary(latency_against(args.baseline, args.latency_runs))}))
+        return 0
 
     if args.latency_only:
         print(json.dumps({"main_job_over_bare_import": _summary(latency(args.latency_runs))}))

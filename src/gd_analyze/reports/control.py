@@ -167,7 +167,7 @@ def _joint_panels(ds, values, ylabel, title, log=False, scale=None, which="q"):
 def _joint_units(ds, which):
     """Units of q (``"q"``) or tau (``"tau"``) per joint, from the stored joint types
     (:func:`gd_analyze.core.labels.joint_motion_units`, ``joint_torque_units``)."""
-    from ..core.labels import joint_motion_units, joint_torque_units
+    from ..core.ranking import joint_motion_units, joint_torque_units
 
     prismatic = _prismatic(ds)
     if which == "tau":
