@@ -30,7 +30,10 @@ from pathlib import Path
 __all__ = ["FigureWorker", "WORKER_FIGURES", "WORKER_MAX_INPUT", "spare_core", "worker_command"]
 
 #: The figures the worker draws (when they are in the report), by key.
-WORKER_FIGURES = ("joints", "D", "h", "torque")
+#: The column-width D (the costliest of the column versions) goes with them, so that the
+#: job's own process, which draws the other column versions and lays out the text, and the
+#: worker finish at about the same time.
+WORKER_FIGURES = ("joints", "D", "h", "torque", "D_column")
 #: The largest trajectory file [bytes] for which the main job starts the worker: it saves
 #: about half a second, which matters for a short trajectory; a long one is bound by its
 #: computing, and the worker's own memory is better left to it.
