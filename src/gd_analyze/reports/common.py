@@ -24,7 +24,8 @@ A4_LANDSCAPE = (11.69, 8.27)
 #: Colour-blind-safe colours (Okabe & Ito) of the dominance classes, the same in every report.
 __all__ = ["CLASS_COLOURS", "BASE_RC", "SUPTITLE_RC", "A4", "A4_LANDSCAPE", "style", "utc_now",
            "strings", "fmt", "pct", "attr", "thresholds", "check", "table", "grid_shape",
-           "joint_colours", "joint_style", "JOINT_STYLES", "gridspec", "svg", "inline_svgs", "render_template", "check_formats",
+           "joint_colours", "joint_style", "JOINT_STYLES", "MAX_MARKERS", "markevery",
+           "gridspec", "svg", "inline_svgs", "render_template", "check_formats",
            "prismatic_joints", "torque_units", "element_units_of", "units_text",
            "units_said_once"]
 

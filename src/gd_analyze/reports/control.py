@@ -25,7 +25,7 @@ import numpy as np
 
 from .common import BASE_RC
 from .common import strings as _strings, style as _style, table as _table
-from .common import attr, fmt, grid_shape, render_template, utc_now
+from .common import attr, fmt, grid_shape, prismatic_joints, render_template, utc_now
 from ..core.ranking import ROUND_OFF, element_label, is_round_off
 from .pages import PAPER, Document
 from .drawing import draw_figures, figure_svg, no_gc, write_figure_files
@@ -169,16 +169,10 @@ def _joint_units(ds, which):
     (:func:`gd_analyze.core.labels.joint_motion_units`, ``joint_torque_units``)."""
     from ..core.ranking import joint_motion_units, joint_torque_units
 
-    prismatic = _prismatic(ds)
+    prismatic = prismatic_joints(ds)
     if which == "tau":
         return [joint_torque_units(bool(p)) for p in prismatic]
     return [joint_motion_units(bool(p))[0] for p in prismatic]
-
-
-def _prismatic(ds):
-    from .common import prismatic_joints
-
-    return prismatic_joints(ds)
 
 
 def make_control_figures(ds):
