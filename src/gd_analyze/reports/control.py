@@ -90,6 +90,7 @@ def _joint_panels(ds, values, ylabel, title, log=False, scale=None, which="q"):
     from matplotlib.figure import Figure
 
     from .common import markevery
+    from .ticks import label_axes, set_ticks
 
     t = np.asarray(ds["time"].values, dtype=float)
     is_set = np.asarray(ds["is_setpoint"].values).astype(bool)
@@ -111,6 +112,7 @@ def _joint_panels(ds, values, ylabel, title, log=False, scale=None, which="q"):
     tol, floor = _noise_floor(ds, scale) if scale is not None else (None, None)
     handles = {}
     quiet = {}                          # controller -> [(joint, peak)] of noise-only curves
+    linear = []
     for j in range(rows * cols):
         ax = axes[j // cols, j % cols]
         if j >= n:
@@ -138,6 +140,10 @@ def _joint_panels(ds, values, ylabel, title, log=False, scale=None, which="q"):
             ax.set_yscale("log")
             if floor is not None and floor[j] > 0:
                 ax.set_ylim(bottom=floor[j])
+        elif drawn:                     # round ticks, labelled below in one notation
+            lo, hi = ax.get_ylim()
+            set_ticks(ax.yaxis, lo, hi, 4, labels=False)
+            linear.append(ax.yaxis)
         if not drawn and floor is not None:
             ax.text(0.5, 0.5, "integrator noise only: not drawn", transform=ax.transAxes,
                     ha="center", va="center", fontsize=7, color="0.35")
@@ -146,6 +152,7 @@ def _joint_panels(ds, values, ylabel, title, log=False, scale=None, which="q"):
         if j // cols == rows - 1 or j + cols >= n:
             ax.set_xlabel("time t [s]")
         ax.set_ylabel(ylabel.format(u=units[j]))
+    label_axes(linear)                  # one tick notation for the figure
     if handles:
         fig.legend(list(handles.values()), list(handles), loc="lower center",
                    ncols=min(3, len(handles)), frameon=False, bbox_to_anchor=(0.5, 0.0))
