@@ -39,13 +39,23 @@ def figures(request, tmp_path_factory):
     return name, ds, figs
 
 
+def _drawn_tick_labels(ax):
+    """The tick labels the axes draws: of ticks within its view, shown (as Axis.draw picks
+    them; a located tick outside the limits is not drawn)."""
+    out = []
+    for axis in (ax.xaxis, ax.yaxis):
+        for tick in axis._update_ticks():
+            out += [lab for lab in (tick.label1, tick.label2) if lab.get_visible()]
+    return out
+
+
 def _texts(fig):
     """(owner, text) of every visible non-empty text: tick labels, axis labels, titles,
     panel texts, legends, figure texts; the owner is the axes (or the figure)."""
     out = []
     for ax in fig.axes:
         items = ([ax.title, ax._left_title, ax._right_title, ax.xaxis.label, ax.yaxis.label]
-                 + list(ax.texts) + ax.get_xticklabels() + ax.get_yticklabels())
+                 + list(ax.texts) + _drawn_tick_labels(ax))
         legend = ax.get_legend()
         if legend is not None:
             items += legend.get_texts()
