@@ -157,7 +157,8 @@ def _time_axis(ax, x, labels, nbins=3):
     t0, t1 = float(x[0]), float(x[-1])
     pad = 0.03 * (t1 - t0) if t1 > t0 else 0.5
     ax.set_xlim(t0 - pad, t1 + pad)
-    set_ticks(ax.xaxis, t0, t1, nbins, labels)
+    # within the drawn range: an envelope's first point is half a column after t = 0
+    set_ticks(ax.xaxis, t0 - pad, t1 + pad, nbins, labels)
 
 
 def _zero_panel(ax, x, title):
@@ -430,7 +431,7 @@ def fig_joints(data, prismatic=None, width=PAGE_WIDTH):
     per_row = 1 if column else 3
     panels = [(kind, k) for kind in kinds for k in range(3)]
     rows = math.ceil(len(panels) / per_row)
-    row_h, gap_h, bottom = (1.1, 0.42, 0.4) if column else (1.5, 0.55, 0.45)
+    row_h, gap_h, bottom = (0.95, 0.42, 0.4) if column else (1.5, 0.55, 0.45)
     top = 0.25 + 0.16 * math.ceil(n / (3 if column else 7))
     W, H = width, top + rows * row_h + (rows - 1) * gap_h + bottom
     fig = _figure(W, H)

@@ -255,7 +255,11 @@ def error_figure(ds, size=(8.27, 9.0), data=None):
     w = (W - left - right - (cols - 1) * gap) / cols
     h = (H - top - bottom - (rows - 1) * hgap) / rows
     fig = Figure(figsize=size)
-    t0, t1 = (float(t[0]), float(t[-1])) if t.size else (0.0, 1.0)
+    if data is not None and data.enveloped:     # the set points' range, not the columns'
+        t = np.asarray(t, float)
+        t0, t1 = float(ds["t"][0]), float(ds["t"][-1])
+    else:
+        t0, t1 = (float(t[0]), float(t[-1])) if t.size else (0.0, 1.0)
     handles = None
     ys = []
     for i in range(n):
