@@ -340,7 +340,8 @@ def _context(ds):
         "model_file", "model_path", "model_sha256", "model_trajectory_sha256",
         "trajectory_is_models", "gains", "references", "Conventions")],
         align=["left", "left"])
-    floor = ("A curve at the bottom of a panel is at the rounding / integrator-tolerance level.")
+    floor = ("Integrator noise (at most the integrator's rtol times the joint's scale) is not "
+             "drawn: a log axis starts at that floor.")
     return {
         "version": __version__,
         "created": utc_now().isoformat(),
@@ -440,11 +441,14 @@ def render_control_html(ds, figures=None):
 
 _CAPTIONS = {
     "error": "Tracking error |q_d \u2212 q| per joint along the run, log scale (markers: set "
-             "points). A curve at the bottom of a panel is at the rounding / "
-             "integrator-tolerance level.",
+             "points, at most 12 per line). Integrator noise, at most the integrator's rtol "
+             "times the joint's range of motion, is not drawn: the axis starts there, and a "
+             "controller whose error is all noise is named above the panels.",
     "tau_difference": "Closed-loop torque difference: torque of the simplified-model "
                       "controller minus torque of the full-model controller, each along its "
-                      "own closed-loop run, per joint (markers: set points).",
+                      "own closed-loop run, per joint (markers: set points); a joint whose "
+                      "difference is integrator noise (at most rtol times the full "
+                      "controller's peak |\u03c4|) reads so instead of a curve.",
     "tau": "Torques applied by the three controllers, per joint.",
 }
 _FIGURE_FILES = {"error": "fig_control_tracking_error",

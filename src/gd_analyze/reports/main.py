@@ -134,7 +134,7 @@ FIGURE_FILES = {"joints": "fig_joints_q_qd_qdd", "D": "fig_3_10_D", "h": "fig_3_
 _FIGURE_ORDER = ("joints", "D", "h", "torque", "payload", "formulations")
 #: Figures also made 3.5 in wide for a one-column layout, as ``<key>_column``, written to
 #: ``figures/<name>_column.pdf`` and ``.svg`` beside the page-width files (not in the report).
-COLUMN_FIGURES = ("joints", "D", "h", "torque")
+COLUMN_FIGURES = ("joints", "D", "h", "torque", "formulations")
 FIGURE_FILES.update({f"{k}_column": f"{FIGURE_FILES[k]}_column" for k in COLUMN_FIGURES})
 _FILE_ORDER = _FIGURE_ORDER + tuple(f"{k}_column" for k in COLUMN_FIGURES)
 
@@ -193,6 +193,7 @@ def make_figures(ds, data=None, keys=None):
         makers["payload"] = lambda: _fig_payload(ds)
     if "op_multiplications" in ds.variables:
         makers["formulations"] = lambda: _fig_formulations(ds)
+        makers["formulations_column"] = lambda: _fig_formulations(ds, COLUMN_WIDTH)
     with matplotlib.rc_context(FIG_RC):
         figures = {k: make() for k, make in makers.items() if k in wanted}
     return {k: figures[k] for k in _FILE_ORDER if k in figures}
@@ -219,7 +220,7 @@ _FORMULATION_STYLE = {"lagrange-euler": ("L-E", "#0072B2", "o", "-"),
                       "gd": ("G-D", "#6A3D9A", "^", "-")}
 
 
-def _fig_formulations(ds):
+def _fig_formulations(ds, width=PAGE_WIDTH):
     from matplotlib.figure import Figure
     from matplotlib.ticker import FixedLocator, LogLocator, NullFormatter
 
@@ -227,10 +228,13 @@ def _fig_formulations(ds):
 
     n = ds["dof"].values
     names = _strings(ds["formulation"].values)
-    W, H = PAGE_WIDTH, 2.9
+    column = width < PAGE_WIDTH             # the two panels one above the other
+    W, H = (width, 5.0) if column else (PAGE_WIDTH, 2.9)
     fig = Figure(figsize=(W, H))
     for k, op in enumerate(("multiplications", "additions")):
-        ax = fig.add_axes(((0.65 + k * 3.55) / W, 0.75 / H, 2.85 / W, (H - 1.0) / H))
+        box = ((0.65, (0.95 + (1 - k) * 2.05), W - 0.8, 1.6) if column else
+               (0.65 + k * 3.55, 0.75, 2.85, H - 1.0))        # x, y from the bottom, w, h [in]
+        ax = fig.add_axes((box[0] / W, box[1] / H, box[2] / W, box[3] / H))
         ax.set_yscale("log")
         for name, (short, colour, marker, ls) in _FORMULATION_STYLE.items():
             if name not in names:
@@ -252,8 +256,9 @@ def _fig_formulations(ds):
         ax.set_xlabel("number of joints n", labelpad=1.0)
         ax.set_ylabel(op, labelpad=1.0)
         ax.grid(True, which="major", linewidth=0.3)
-    fig.legend(*fig.axes[0].get_legend_handles_labels(), loc="lower center", ncol=3,
-               frameon=False, bbox_to_anchor=(0.5, 0.0))
+    fig.legend(*fig.axes[0].get_legend_handles_labels(), loc="lower center",
+               ncol=2 if column else 3, frameon=False, bbox_to_anchor=(0.5, 0.0),
+               fontsize=7 if column else None)
     return fig
 
 
