@@ -21,7 +21,8 @@ LEAVES = {"errors", "files", "_version"}
 SHARED_REPORTS = {"reports.common", "reports.figures", "reports.pages", "reports.drawing",
                   "reports.ticks", "reports.main_figures", "reports.main_text",
                   "reports.sweep_figures", "reports.simplified_section",
-                  "reports.pdf_text", "reports.main_context", "reports.plot_data"}
+                  "reports.pdf_text", "reports.main_context", "reports.plot_data",
+                  "reports.control_figures"}
 # a report's worker process (a second interpreter drawing part of its figures) runs that report
 WORKERS = {"reports.main_worker": "reports.main"}
 

@@ -214,8 +214,9 @@ def test_control_report_is_written(result, tmp_path):
     written = write_control_report(path, tmp_path / "out")
     html_path, pdf_path = written[:2]
     assert [p.name for p in written[2:]] == [
-        f"fig_control_{name}.{ext}" for name in ("tracking_error", "torque_difference",
-                                                 "applied_torque") for ext in ("pdf", "svg")]
+        f"fig_control_{name}{width}.{ext}" for width in ("", "_column")
+        for name in ("tracking_error", "torque_difference", "applied_torque")
+        for ext in ("pdf", "svg")]
     html = html_path.read_text(encoding="utf-8")
     assert "Verdict: the simplified model" in html
     assert html.startswith("<!DOCTYPE html>") and html.count("<svg") >= 3

@@ -18,15 +18,15 @@ from __future__ import annotations
 
 import contextlib
 import functools
-import math
 from pathlib import Path
 
 import numpy as np
 
-from .common import BASE_RC
-from .common import strings as _strings, style as _style, table as _table
-from .common import attr, fmt, grid_shape, prismatic_joints, render_template, utc_now
-from ..core.ranking import ROUND_OFF, element_label, is_round_off
+from .common import strings as _strings, table as _table
+from .common import attr, fmt, render_template, utc_now
+from ..core.ranking import element_label
+from .control_figures import COLUMN_WIDTH, PAGE_WIDTH, control_figures
+from .control_figures import _LABELS, _RC, _joint_units
 from .pages import PAPER, Document
 from .drawing import draw_figures, figure_svg, no_gc, write_figure_files
 
@@ -40,13 +40,6 @@ REQUIRED_VARIABLES = ("is_setpoint", "q_d", "error", "tau", "error_peak_setpoint
                       "error_rms_setpoints", "error_peak_grid", "error_rms_grid", "Kp", "Kv",
                       "Kp_pd", "Kv_pd", "wn", "zeta", "inertia_scale", "choice", "nfev")
 
-# Okabe & Ito colours, the same in every figure.
-_COLOURS = {"full": "#000000", "simplified": "#009E73", "pd_gravity": "#D55E00"}
-_STYLES = {"full": "-", "simplified": "--", "pd_gravity": "-."}
-_LABELS = {"full": "computed torque, full model", "simplified": "computed torque, simplified "
-           "model", "pd_gravity": "PD + gravity"}
-_MAX_LINE_POINTS = 600
-_RC = {**BASE_RC, "legend.fontsize": 7.5, "lines.markersize": 3.0}
 # Numbers in e-notation outside [1e-3, 1e5), 3 significant digits unless told; attributes
 # with 6 digits, arrays without parentheses, booleans as 0/1.
 _SCI = (1e-3, 1e5)
@@ -64,140 +57,24 @@ def _check(ds, path):
 
 
 # --------------------------------------------------------------------------------------------
-# Figures
+# Figures (reports/control_figures.py)
 # --------------------------------------------------------------------------------------------
 
-def _stride(m):
-    return max(1, int(math.ceil(m / _MAX_LINE_POINTS)))
-
-
-def _noise_floor(ds, scale):
-    """Per joint, the level at or below which a closed-loop quantity is the integrator's
-    noise, not data: ``max(rtol, ROUND_OFF)`` times the joint's scale
-    (:func:`gd_analyze.core.ranking.is_round_off` applies it)."""
-    rtol = float(ds.attrs.get("rtol", 0.0))
-    tol = max(rtol if np.isfinite(rtol) else 0.0, ROUND_OFF)
-    return tol, tol * np.abs(np.asarray(scale, float))
-
-
-def _joint_panels(ds, values, ylabel, title, log=False, scale=None, which="q"):
-    """A figure with one panel per joint; values: name -> (M, n) array along ds.time.
-
-    ``ylabel`` is formatted with each joint's units (``{u}``). With ``scale`` (n,), a
-    controller whose curve on a joint is integrator noise (:func:`_noise_floor`) is not drawn
-    there: the panel says so; on a log axis the axis starts at the noise floor.
-    """
-    from matplotlib.figure import Figure
-
-    from .common import markevery
-    from .ticks import label_axes, set_ticks
-
-    t = np.asarray(ds["time"].values, dtype=float)
-    is_set = np.asarray(ds["is_setpoint"].values).astype(bool)
-    n = int(ds.sizes["joint"])
-    units = _joint_units(ds, which)
-    rows, cols = grid_shape(n, 2)
-    top = 0.5 if scale is None else 0.72
-    height = 1.9 * rows + 0.5 + top
-    fig = Figure(figsize=(7.2, height))
-    # fixed margins [in] instead of a layout engine: drawing stays fast
-    fig.subplots_adjust(left=0.75 / 7.2, right=1 - 0.15 / 7.2, top=1 - top / height,
-                        bottom=0.85 / height, wspace=0.3, hspace=0.35)
-    axes = fig.subplots(rows, cols, squeeze=False, sharex=True)
-    k = _stride(t.size)
-    keep = np.zeros(t.size, dtype=bool)
-    keep[::k] = True
-    keep |= is_set
-    every = markevery(int(is_set.sum()))
-    tol, floor = _noise_floor(ds, scale) if scale is not None else (None, None)
-    handles = {}
-    quiet = {}                          # controller -> [(joint, peak)] of noise-only curves
-    linear = []
-    for j in range(rows * cols):
-        ax = axes[j // cols, j % cols]
-        if j >= n:
-            ax.set_visible(False)
-            continue
-        drawn = 0
-        for name, y in values.items():
-            yj = np.asarray(y[:, j], dtype=float)
-            if log:
-                yj = np.abs(yj)
-            peak = float(np.nanmax(np.abs(yj))) if yj.size else 0.0
-            if floor is not None and is_round_off(peak, scale[j], tol):
-                quiet.setdefault(name, []).append((j, peak))
-                continue
-            drawn += 1
-            if log:
-                yj = np.where(yj > (floor[j] if floor is not None else 0.0), yj, np.nan)
-            kw = {"color": _COLOURS.get(name, "#0072B2"), "linestyle": _STYLES.get(name, "-"),
-                  "label": _LABELS.get(name, name)}
-            line, = ax.plot(t[keep], yj[keep], **kw)
-            handles.setdefault(kw["label"], line)
-            ax.plot(t[is_set], yj[is_set], linestyle="none", marker="o", markersize=2.5,
-                    color=kw["color"], mfc="none", markevery=every)
-        if log:
-            ax.set_yscale("log")
-            if floor is not None and floor[j] > 0:
-                ax.set_ylim(bottom=floor[j])
-        elif drawn:                     # round ticks, labelled below in one notation
-            lo, hi = ax.get_ylim()
-            set_ticks(ax.yaxis, lo, hi, 4, labels=False)
-            linear.append(ax.yaxis)
-        if not drawn and floor is not None:
-            ax.text(0.5, 0.5, "integrator noise only: not drawn", transform=ax.transAxes,
-                    ha="center", va="center", fontsize=7, color="0.35")
-            ax.set_yticks([])
-        ax.set_title(f"joint {j + 1}")
-        if j // cols == rows - 1 or j + cols >= n:
-            ax.set_xlabel("time t [s]")
-        ax.set_ylabel(ylabel.format(u=units[j]))
-    label_axes(linear)                  # one tick notation for the figure
-    if handles:
-        fig.legend(list(handles.values()), list(handles), loc="lower center",
-                   ncols=min(3, len(handles)), frameon=False, bbox_to_anchor=(0.5, 0.0))
-    fig.suptitle(title, fontsize=10, fontweight="bold", y=1 - 0.12 / height, va="top")
-    if floor is not None:
-        notes = [f"Integrator noise (at most {tol:g} of the joint's scale) is not drawn"]
-        for name, where in quiet.items():
-            peak = max(p for _, p in where)
-            joints = ("every joint" if len(where) == n else
-                      "joint" + ("s " if len(where) > 1 else " ")
-                      + ", ".join(str(j + 1) for j, _ in where))
-            notes.append(f"{_LABELS.get(name, name)}: noise on {joints} (peak "
-                         f"{_fmt(peak)} {units[where[0][0]]})")
-        fig.text(0.5, 1 - 0.36 / height, "; ".join(notes) + ".", ha="center", va="top",
-                 fontsize=7, color="0.3", wrap=False)
-    return fig
-
-
-def _joint_units(ds, which):
-    """Units of q (``"q"``) or tau (``"tau"``) per joint, from the stored joint types
-    (:func:`gd_analyze.core.labels.joint_motion_units`, ``joint_torque_units``)."""
-    from ..core.ranking import joint_motion_units, joint_torque_units
-
-    prismatic = prismatic_joints(ds)
-    if which == "tau":
-        return [joint_torque_units(bool(p)) for p in prismatic]
-    return [joint_motion_units(bool(p))[0] for p in prismatic]
-
-
-def make_control_figures(ds):
+def make_control_figures(ds, width=PAGE_WIDTH):
     """The report's figures, drawn from a stored control dataset.
 
     Parameters
     ----------
     ds : xarray.Dataset
         A control dataset (:func:`gd_analyze.io.control_dataset.control_dataset`).
+    width : float, optional
+        7.2 in (a page, default) or 3.5 in (a column, one panel a row).
 
     Returns
     -------
     dict of str to matplotlib.figure.Figure
-        ``"error"`` (|q_d - q| per joint, log scale [rad or m]), ``"tau_difference"`` (tau of
-        the simplified-model controller minus the full-model one [N m or N]; absent if not
-        stored) and ``"tau"`` (applied torques [N m or N]). Integrator noise (at most the
-        integrator's rtol times the joint's scale: the range of q_d for an error, the full
-        controller's peak |tau| for a torque difference) is never drawn as data.
+        As :func:`gd_analyze.reports.control_figures.control_figures`: ``"error"``,
+        ``"tau_difference"`` (if stored) and ``"tau"``.
 
     Raises
     ------
@@ -205,24 +82,7 @@ def make_control_figures(ds):
         If the dataset lacks a variable of a control dataset.
     """
     _check(ds, "<dataset>")
-    names = _strings(ds["controller"].values)
-    q_d = np.asarray(ds["q_d"].values, float)
-    q_scale = np.maximum(np.ptp(q_d, axis=0), np.abs(q_d).max(axis=0))
-    full = names.index("full") if "full" in names else 0
-    tau_scale = np.asarray(ds["tau"].values, float)[full]
-    tau_scale = np.nanmax(np.abs(tau_scale), axis=0)
-    with _style(_RC):
-        figs = {"error": _joint_panels(
-            ds, {c: ds["error"].sel(controller=c).values for c in names},
-            "|q_d \u2212 q| [{u}]", "Tracking error per joint", log=True, scale=q_scale)}
-        if "tau_difference" in ds:
-            figs["tau_difference"] = _joint_panels(
-                ds, {"simplified": ds["tau_difference"].values}, "\u03c4_s \u2212 \u03c4_f [{u}]",
-                "Closed-loop torque difference: simplified-model minus full-model computed "
-                "torque", scale=tau_scale, which="tau")
-        figs["tau"] = _joint_panels(ds, {c: ds["tau"].sel(controller=c).values for c in names},
-                                    "\u03c4 [{u}]", "Applied joint torques", which="tau")
-    return figs
+    return control_figures(ds, width)
 
 
 # --------------------------------------------------------------------------------------------
@@ -454,6 +314,9 @@ _CAPTIONS = {
 _FIGURE_FILES = {"error": "fig_control_tracking_error",
                  "tau_difference": "fig_control_torque_difference",
                  "tau": "fig_control_applied_torque"}
+#: Each figure also 3.5 in wide, as ``figures/<name>_column.pdf`` and ``.svg`` (not in the
+#: report).
+_FIGURE_FILES.update({f"{k}_column": f"{v}_column" for k, v in list(_FIGURE_FILES.items())})
 
 
 def _numbered(figures):
@@ -595,11 +458,15 @@ def write_control_report(control_path, outdir, paper="a4", fonts="type3"):
     outdir = Path(outdir)
     (outdir / "figures").mkdir(parents=True, exist_ok=True)
     with no_gc():
-        drawn = draw_figures(make_control_figures(ds), _RC, fonts=fonts)
+        figures = make_control_figures(ds)
+        column = control_figures(ds, COLUMN_WIDTH)
+        drawn = draw_figures({**figures, **{f"{k}_column": f for k, f in column.items()}}, _RC,
+                             fonts=fonts)
     html_path, pdf_path = (outdir / name for name in CONTROL_REPORT_FILES)
     files = []
     with contextlib.ExitStack() as stack:
         files = write_figure_files(stack, drawn, outdir / "figures", _FIGURE_FILES)
+        drawn = {k: drawn[k] for k in figures}          # the report shows the page versions
         Path(stack.enter_context(atomic_path(html_path))).write_text(_html(ctx, drawn),
                                                                      encoding="utf-8")
         _pdf(ctx, drawn, stack.enter_context(atomic_path(pdf_path)), paper)
