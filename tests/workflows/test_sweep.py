@@ -268,9 +268,11 @@ def test_sweep_report(sweep, puma, shipped, tmp_path):
     out = write_sweep_report(path, tmp_path / "report", payload=tmp_path / "payload.h5")
     html_path, pdf_path = out[:2]
     assert html_path.name == "sweep_report.html" and pdf_path.name == "sweep_report.pdf"
-    assert {p.name for p in out[2:]} == {f"fig_{name}.{ext}" for ext in ("pdf", "svg") for name in
-                                         ("sweep_share_D", "sweep_share_h", "payload_dominance",
-                                          "sweep_class_fractions", "sweep_torque_error")}
+    page = ("sweep_share_D", "sweep_share_h", "payload_dominance", "sweep_class_fractions",
+            "sweep_torque_error")
+    column = tuple(f"{name}_column" for name in page if name != "payload_dominance")
+    assert {p.name for p in out[2:]} == {f"fig_{name}.{ext}" for ext in ("pdf", "svg")
+                                         for name in page + column}
     html = html_path.read_text(encoding="utf-8")
     # the summary leads with the worst cases: the trajectory of the largest merged error
     rel = sweep["merged_tau_error_relative_peak"].values

@@ -31,8 +31,8 @@ REQUIRED = ("share_tran", "dominance", "choice", "source", "duration", "tau_peak
 _CHOICE_COLOURS = {"tran": _CLASS_COLOURS["translational"], "rot": _CLASS_COLOURS["rotational"],
                    "both": _CLASS_COLOURS["both"], "none": _CLASS_COLOURS["negligible"]}
 _OWN_COLOUR, _MERGED_COLOUR = "#009E73", "#000000"
-#: Width of every figure: the text of a page [in].
-_PAGE_WIDTH = 7.2
+#: Width of every figure: the text of a page [in]; the column versions' [in].
+_PAGE_WIDTH, COLUMN_WIDTH = 7.2, 3.5
 #: Relative torque errors at or below this are round-off (:data:`ROUND_OFF`): not drawn.
 _ERROR_FLOOR = ROUND_OFF
 
@@ -116,9 +116,11 @@ def _key_text(ds, K):
         f"share is left out of the box.", 52)
 
 
-def _fig_D(ds):
+def _fig_D(ds, width=_PAGE_WIDTH):
     from matplotlib.figure import Figure
 
+    if width < _PAGE_WIDTH:
+        return _fig_D_column(ds, width)
     n = ds.sizes["joint"]
     labels = _strings(ds["element"].values)
     share = ds["share_tran"].values
@@ -150,7 +152,8 @@ def _fig_D(ds):
     return fig
 
 
-def _fig_h(ds):
+def _fig_D_column(ds, W):
+    """The share boxes of D in reading order, three a row, the key below (a column)."""
     from matplotlib.figure import Figure
 
     n = ds.sizes["joint"]
@@ -160,11 +163,45 @@ def _fig_h(ds):
     frac = ds["class_fraction"].values
     zero = _round_off(ds)
     s, _ = _thresholds(ds)
-    rows, cols = grid_shape(n, 3)
-    W, H = _PAGE_WIDTH, 1.9 + 1.9 * rows
+    elements = [element_label("D", i, j) for i in range(n) for j in range(i, n)]
+    cols = 3
+    rows = -(-len(elements) // cols)
+    H = 0.62 + rows * 0.95 + 1.55
     fig = Figure(figsize=(W, H))
-    gs = _gridspec(fig, rows, cols, left=0.65, right=0.1, top=0.5, bottom=1.2, wgap=0.6,
-                   hgap=0.5)
+    gs = _gridspec(fig, rows, cols, left=0.55, right=0.08, top=0.62, bottom=1.75, wgap=0.3,
+                   hgap=0.42)
+    for m, label in enumerate(elements):
+        k = labels.index(label)
+        ax = fig.add_subplot(gs[m // cols, m % cols])
+        _share_panel(ax, share[:, k], label, merged[label], frac[k], s, small=True,
+                     zero=zero[:, k])
+        ax.tick_params(labelleft=(m % cols == 0))
+    fig.text(0.1 / W, 1.5 / H, textwrap.fill(_key_text(ds, ds.sizes["trajectory"])
+                                             .replace("\n", " "), 68),
+             va="top", ha="left", fontsize=7, linespacing=1.25)
+    fig.supylabel("share_tran [1]", x=0.05 / W, ha="left")
+    fig.suptitle("Translational share of the elements of D\nover the sweep (layout of Fig. "
+                 "3.10)", y=1 - 0.08 / H, va="top", fontsize=9)
+    return fig
+
+
+def _fig_h(ds, width=_PAGE_WIDTH):
+    from matplotlib.figure import Figure
+
+    n = ds.sizes["joint"]
+    labels = _strings(ds["element"].values)
+    share = ds["share_tran"].values
+    merged = dict(zip(labels, _strings(ds["merged_choice"].values)))
+    frac = ds["class_fraction"].values
+    zero = _round_off(ds)
+    s, _ = _thresholds(ds)
+    column = width < _PAGE_WIDTH
+    rows, cols = grid_shape(n, 2 if column else 3)
+    W = width
+    H = (2.3 + 1.6 * rows) if column else (1.9 + 1.9 * rows)
+    fig = Figure(figsize=(W, H))
+    gs = _gridspec(fig, rows, cols, left=0.65, right=0.1, top=0.55 if column else 0.5,
+                   bottom=1.75 if column else 1.2, wgap=0.6, hgap=0.5)
     for i in range(n):
         label = element_label("h", i)
         k = labels.index(label)
@@ -172,14 +209,19 @@ def _fig_h(ds):
         _share_panel(ax, share[:, k], label, merged[label], frac[k], s, small=False,
                      zero=zero[:, k])
         ax.set_ylabel("share_tran [1]")
-    key = textwrap.fill(_key_text(ds, ds.sizes["trajectory"]).replace("\n", " "), 120)
-    fig.text(0.3 / W, 0.1 / H, key, ha="left", va="bottom", fontsize=7.0, linespacing=1.3)
+    key = textwrap.fill(_key_text(ds, ds.sizes["trajectory"]).replace("\n", " "),
+                        68 if column else 120)
+    fig.text(0.1 / W if column else 0.3 / W, 0.1 / H, key, ha="left", va="bottom",
+             fontsize=7.0, linespacing=1.25 if column else 1.3)
     fig.suptitle("Translational share of the elements of h over the sweep "
-                 "(layout of Fig. 3.11)", y=1 - 0.15 / H, va="top")
+                 "(layout of Fig. 3.11)" if not column else
+                 "Translational share of the elements of h\nover the sweep (layout of Fig. "
+                 "3.11)", y=1 - 0.15 / H if not column else 1 - 0.08 / H, va="top",
+                 fontsize=None if not column else 9)
     return fig
 
 
-def _fig_classes(ds):
+def _fig_classes(ds, width=_PAGE_WIDTH):
     from matplotlib.figure import Figure
     from matplotlib.patches import Patch
 
@@ -187,9 +229,12 @@ def _fig_classes(ds):
     frac = ds["class_fraction"].values
     merged = _strings(ds["merged_choice"].values)
     M = len(labels)
-    W, H = _PAGE_WIDTH, 1.5 + 0.17 * M
+    column = width < _PAGE_WIDTH
+    W, H = width, (1.75 if column else 1.5) + 0.17 * M
     fig = Figure(figsize=(W, H))
-    ax = fig.add_axes((1.0 / W, 0.8 / H, (W - 2.6) / W, (H - 1.4) / H))
+    ax = fig.add_axes(((0.45 if column else 1.0) / W, (1.05 if column else 0.8) / H,
+                       (W - (1.4 if column else 2.6)) / W,
+                       (H - (1.45 if column else 1.4)) / H))
     y = np.arange(M)
     left = np.zeros(M)
     for c_idx, cls in enumerate(CLASSES):
@@ -205,13 +250,14 @@ def _fig_classes(ds):
         ax.text(1.02, k, f"merged: {ch}", transform=ax.get_yaxis_transform(), va="center",
                 ha="left", fontsize=7, color=_CHOICE_COLOURS.get(ch, "black"))
     fig.legend(handles=[Patch(color=_CLASS_COLOURS[c], label=c) for c in CLASSES],
-               loc="lower center", ncol=4, frameon=False, bbox_to_anchor=(0.5, 0.0))
+               loc="lower center", ncol=2 if column else 4, frameon=False,
+               bbox_to_anchor=(0.5, 0.0), fontsize=7 if column else None)
     fig.suptitle(f"Dominance class per element over {ds.sizes['trajectory']} trajectories",
-                 y=1 - 0.12 / H, va="top")
+                 y=1 - 0.12 / H, va="top", fontsize=9 if column else None)
     return fig
 
 
-def _fig_error(ds):
+def _fig_error(ds, width=_PAGE_WIDTH):
     from matplotlib.figure import Figure
     from matplotlib.lines import Line2D
 
@@ -219,9 +265,11 @@ def _fig_error(ds):
     own = ds["tau_error_relative_peak"].values
     merged = ds["merged_tau_error_relative_peak"].values
     overall = ds["merged_error_relative_peak"].values
-    W, H = _PAGE_WIDTH, 3.6
+    column = width < _PAGE_WIDTH
+    W, H = width, (3.9 if column else 3.6)
     fig = Figure(figsize=(W, H))
-    ax = fig.add_axes((0.9 / W, 0.9 / H, (W - 1.2) / W, (H - 1.6) / H))
+    ax = fig.add_axes((0.75 / W, (1.25 if column else 0.9) / H, (W - 0.95) / W,
+                       (H - (2.05 if column else 1.6)) / H))
     for j in range(n):
         for off, data, colour in ((-0.18, own[:, j], _OWN_COLOUR),
                                   (0.18, merged[:, j], _MERGED_COLOUR)):
@@ -241,7 +289,10 @@ def _fig_error(ds):
             ax.text(j + 1, 0.5, "round-off\nonly", transform=ax.get_xaxis_transform(),
                     ha="center", va="center", fontsize=7, color="0.35")
     ax.set_yscale("log")
-    ax.set_xticks(np.arange(1, n + 1), [f"joint {j + 1}" for j in range(n)])
+    ax.set_xticks(np.arange(1, n + 1), [f"{j + 1}" if column else f"joint {j + 1}"
+                                         for j in range(n)])
+    if column:
+        ax.set_xlabel("joint", labelpad=1.0)
     ax.set_xlim(0.4, n + 0.6)
     ax.set_ylabel("peak |\u03c4\u209b \u2212 \u03c4| / peak |\u03c4| [1]")
     ax.legend(handles=[Line2D([], [], color=_OWN_COLOUR, label="own simplified model, per "
@@ -249,15 +300,17 @@ def _fig_error(ds):
                        Line2D([], [], color=_MERGED_COLOUR, label="merged model, per trajectory"),
                        Line2D([], [], color="#CC79A7", marker="D", ls="none",
                               label="merged model, over all trajectories")],
-              loc="upper center", bbox_to_anchor=(0.5, -0.08), ncol=3, frameon=False,
-              fontsize=7)
-    fig.suptitle("Relative peak torque error per joint (box: quartiles, whiskers: min/max;\n"
+              loc="upper center", bbox_to_anchor=(0.5, -0.2 if column else -0.08),
+              ncol=1 if column else 3, frameon=False, fontsize=7)
+    fig.suptitle("Relative peak torque error per joint\n(box: quartiles, whiskers: min/max;\n"
+                 f"round-off, at most {_ERROR_FLOOR:g}, not drawn)" if column else
+                 "Relative peak torque error per joint (box: quartiles, whiskers: min/max;\n"
                  f"round-off, at most {_ERROR_FLOOR:g}, not drawn)", y=1 - 0.08 / H,
                  va="top", fontsize=8.5)
     return fig
 
 
-def make_sweep_figures(ds, payload=None):
+def make_sweep_figures(ds, payload=None, column=False):
     """Make the sweep report's figures from a stored sweep.
 
     Parameters
@@ -267,6 +320,8 @@ def make_sweep_figures(ds, payload=None):
         n joints).
     payload : xarray.Dataset, optional
         A payload sweep from :func:`gd_analyze.workflows.payload.payload_sweep`.
+    column : bool, optional
+        Also make ``"<key>_column"``, 3.5 in wide, of ``D``, ``h``, ``classes``, ``error``.
 
     Returns
     -------
@@ -285,6 +340,10 @@ def make_sweep_figures(ds, payload=None):
     with _style(_RC):
         figs = {"D": _fig_D(ds), "h": _fig_h(ds), "classes": _fig_classes(ds),
                 "error": _fig_error(ds)}
+        if column:
+            figs.update({f"{k}_column": make(ds, COLUMN_WIDTH) for k, make in
+                         (("D", _fig_D), ("h", _fig_h), ("classes", _fig_classes),
+                          ("error", _fig_error))})
     if payload is not None:
         figs["payload"] = payload_figure(payload)
     return figs
