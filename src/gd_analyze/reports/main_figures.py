@@ -148,6 +148,7 @@ def _plot(ax, x, y, part, enveloped):
         start = {"tran": 0, "rot": every // 3, "total": (2 * every) // 3}[part]
         kw["markevery"] = (start, every) if every > 1 else 1
         kw["markersize"] = 2.6 if part == "total" else 3.2
+        kw["markeredgewidth"] = 0.6 if part == "total" else 0.8    # open, not a blot
         if style["mfc"] is not None:
             kw["markerfacecolor"] = style["mfc"]
     return ax.plot(x, y, **kw)

@@ -248,7 +248,7 @@ def captions(enveloped, N, s, e, units=None):
 
         k = markevery(N)
         where = (f"Markers at each of the {N} set points" if k == 1 else
-                 f"Lines through all {N} set points, markers at every {k}th "
+                 f"Lines through all {N} set points, a marker at one set point in {k} "
                  f"(at most {-(-N // k)} per line)")
         how = (f"{where}: translational \u25cb (solid line), rotational \u00d7 (dashed), "
                "combined \u25b3 (dotted, thin, drawn first)")
