@@ -113,6 +113,7 @@ def any_report(request, puma_report, two_link_report):
 # ------------------------------------------------------------------------------------------
 
 FIGURES = ("fig_joints_q_qd_qdd", "fig_3_10_D", "fig_3_11_h", "fig_torque_full_vs_simplified")
+FIGURES = FIGURES + tuple(f"{name}_column" for name in FIGURES)      # 3.5-in versions
 
 
 def test_both_files_written_and_returned(any_report):
@@ -136,7 +137,10 @@ def test_standalone_figures_are_the_report_figures(puma_report):
         reader = PdfReader(out / "figures" / f"{name}.pdf")
         assert len(reader.pages) == 1
         w, h = (float(v) / 72 for v in reader.pages[0].mediabox[2:])
-        assert w == pytest.approx(7.2, abs=0.01) and h < 11.0      # the width of a page's text
+        width = 3.5 if name.endswith("_column") else 7.2    # a column's, or a page's text
+        assert w == pytest.approx(width, abs=0.01) and h < 11.0
+        if name.endswith("_column"):                # not in the report: a file of its own
+            continue
         svg = (out / "figures" / f"{name}.svg").read_text(encoding="utf-8")
         assert svg.startswith("<svg")
         # the same drawing: its text content appears in the HTML (ids prefixed there)
@@ -365,7 +369,9 @@ def test_make_figures_panels(any_report):
     from gd_analyze.reports.main_figures import SHORT_CLASS
 
     figs = report.make_figures(ds)
-    assert set(figs) == {"joints", "D", "h", "torque"}
+    assert set(figs) == {"joints", "D", "h", "torque"} | {
+        f"{k}_column" for k in ("joints", "D", "h", "torque")}
+    figs = {k: figs[k] for k in ("joints", "D", "h", "torque")}
     labels, zero = zero_mask(ds)
     zero = dict(zip(labels, zero))
     titles = {ax.get_title(): ax for ax in figs["D"].axes if ax.get_title()}
@@ -380,8 +386,9 @@ def test_make_figures_panels(any_report):
                 assert np.abs(ds["D"].values[:, i, j]).max() < 1e-12
                 continue
             ax = titles[f"{label}: {SHORT_CLASS[dom[label]]}"]
-            lines = ax.get_lines()
-            assert [ln.get_marker() for ln in lines[:3]] == ["o", "x", "^"]
+            by_label = {ln.get_label(): ln for ln in ax.get_lines()}
+            lines = [by_label[k] for k in ("translational", "rotational", "combined")]
+            assert [ln.get_marker() for ln in lines] == ["o", "x", "^"]
             np.testing.assert_allclose(lines[0].get_xdata(), t)      # time [s] on x
             np.testing.assert_allclose(lines[0].get_ydata(), ds["D_tran"].values[:, i, j])
             np.testing.assert_allclose(lines[1].get_ydata(), ds["D_rot"].values[:, i, j])

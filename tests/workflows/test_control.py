@@ -216,8 +216,9 @@ def test_control_report_is_written(result, tmp_path):
     written = write_control_report(path, tmp_path / "out")
     html_path, pdf_path = written[:2]
     assert [p.name for p in written[2:]] == [
-        f"fig_control_{name}.{ext}" for name in ("tracking_error", "torque_difference",
-                                                 "applied_torque") for ext in ("pdf", "svg")]
+        f"fig_control_{name}{width}.{ext}" for width in ("", "_column")
+        for name in ("tracking_error", "torque_difference", "applied_torque")
+        for ext in ("pdf", "svg")]
     html = html_path.read_text(encoding="utf-8")
     assert "Verdict: the simplified model" in html
     assert html.startswith("<!DOCTYPE html>") and html.count("<svg") >= 3
@@ -240,3 +241,30 @@ def test_control_report_is_written(result, tmp_path):
     assert not list((tmp_path / "out").glob(".*.tmp"))
     with pytest.raises(InputError):
         write_control_report(tmp_path / "missing.h5", tmp_path / "out")
+
+
+def test_integrator_noise_is_not_drawn_and_units_follow_joint_types(result):
+    """The full-model controller tracks its own plant: its error is integrator noise (at most
+    rtol of the joint's motion), never drawn as data in the tracking-error figure; the two
+    other controllers' errors are drawn, on axes that start at the noise floor, in the units
+    of the stored joint types (all revolute: rad, N m)."""
+    from gd_analyze.core.selection.ranking import is_round_off
+    from gd_analyze.reports.control import make_control_figures
+
+    ds = control_dataset(result)
+    assert list(ds["joint_type"].values) == ["revolute"] * 6
+    assert ds["error"].attrs["units"] == "rad" and ds["tau"].attrs["units"] == "N m"
+    rtol = float(ds.attrs["rtol"])
+    q_d = ds["q_d"].values
+    scale = np.maximum(np.ptp(q_d, axis=0), np.abs(q_d).max(axis=0))
+    full = np.abs(ds["error"].sel(controller="full").values).max(axis=0)
+    assert is_round_off(full, scale, rtol).all()           # the physics: noise, per joint
+    fig = make_control_figures(ds)["error"]
+    labels = {"computed torque, full model", "computed torque, simplified model",
+              "PD + gravity"}
+    for j, ax in enumerate(a for a in fig.axes if a.get_visible()):
+        drawn = {ln.get_label() for ln in ax.lines} & labels
+        assert drawn == labels - {"computed torque, full model"}
+        assert ax.get_ylim()[0] == pytest.approx(rtol * scale[j])
+        assert ax.get_ylabel().endswith("[rad]")
+    assert any("noise on every joint" in t.get_text() for t in fig.texts)

@@ -270,9 +270,11 @@ def test_sweep_report(sweep, puma, shipped, tmp_path):
     out = write_sweep_report(path, tmp_path / "report", payload=tmp_path / "payload.h5")
     html_path, pdf_path = out[:2]
     assert html_path.name == "sweep_report.html" and pdf_path.name == "sweep_report.pdf"
-    assert {p.name for p in out[2:]} == {f"fig_{name}.{ext}" for ext in ("pdf", "svg") for name in
-                                         ("sweep_share_D", "sweep_share_h", "payload_dominance",
-                                          "sweep_class_fractions", "sweep_torque_error")}
+    page = ("sweep_share_D", "sweep_share_h", "payload_dominance", "sweep_class_fractions",
+            "sweep_torque_error")
+    column = tuple(f"{name}_column" for name in page if name != "payload_dominance")
+    assert {p.name for p in out[2:]} == {f"fig_{name}.{ext}" for ext in ("pdf", "svg")
+                                         for name in page + column}
     html = html_path.read_text(encoding="utf-8")
     # the summary leads with the worst cases: the trajectory of the largest merged error
     rel = sweep["merged_tau_error_relative_peak"].values
@@ -423,3 +425,31 @@ def test_sweep_report_wording_follows_the_rule(sweep, puma, trajectories, tmp_pa
     assert "no error bound" not in html and "onservative" not in html
     with pytest.raises(ValueError, match="trajectories"):
         with_budget_model(sweep.isel(trajectory=slice(0, 2)), model)
+
+
+def test_round_off_elements_have_no_share_box(sweep, serial):
+    """D45 and D56 of the PUMA 560 are zero in every part on every trajectory (parts of about
+    1e-19 kg m^2 against scales of 1e-4 kg m^2 and more): the sweep stores the round-off flag
+    the per-trajectory analyses give (:func:`is_round_off` on their own peaks and scales),
+    and draws no box of their noise shares; every other element gets its box."""
+    from gd_analyze.core.selection.ranking import is_round_off
+    from gd_analyze.reports.sweep_figures import make_sweep_figures
+
+    labels = [str(v) for v in sweep["element"].values]
+    expected = np.array([[bool(is_round_off(max(ds["peak_tran"].values[k],
+                                                ds["peak_rot"].values[k],
+                                                ds["peak_total"].values[k]),
+                                            ds["element_scale"].values[k]))
+                          for k in range(len(labels))] for ds in serial])
+    np.testing.assert_array_equal(sweep["round_off"].values.astype(bool), expected)
+    assert {lab for lab, z in zip(labels, expected.all(axis=0)) if z} >= {"D45", "D56"}
+    fig = make_sweep_figures(sweep)["D"]
+    for ax in fig.axes:
+        element = ax.get_title().split(" ")[0].rstrip(":")
+        if element not in labels:
+            continue
+        if expected[:, labels.index(element)].all():
+            assert ax.get_title() == f"{element}: \u2261 0"
+            assert not ax.lines and not ax.patches          # no box, no threshold lines
+        else:
+            assert len(ax.lines) > 2                        # thresholds, whiskers, median

@@ -101,6 +101,31 @@ def _cost_lines(ds):
     return lines
 
 
+def _joint_units(robot, which):
+    """``"rad"``, ``"N m"``, or each unit with its joints for a mixed arm
+    (:func:`gd_analyze.core.selection.labels.joint_units_text`)."""
+    from ..core.selection.labels import joint_motion_units, joint_torque_units, joint_units_text
+
+    units = [joint_torque_units(bool(p)) if which == "tau" else joint_motion_units(bool(p))[0]
+             for p in robot.prismatic]
+    return joint_units_text(units)
+
+
+def _torque_table_header(prismatic):
+    """Header of a per-joint torque-error table, and the units each row ends with: ``[N m]``
+    in the header when every joint is revolute, else a units column
+    (:func:`gd_analyze.core.selection.labels.joint_torque_units`: N m or N per joint)."""
+    from ..core.selection.labels import joint_torque_units
+
+    units = [joint_torque_units(bool(p)) for p in prismatic]
+    if len(set(units)) == 1:
+        u = f" [{units[0]}]"
+        return (f"{'joint':<6}{'peak' + u:>12}{'rms' + u:>12}{'peak |tau|':>12}"
+                f"{'rel peak':>10}{'rel rms':>10}"), [""] * len(units)
+    return (f"{'joint':<6}{'peak':>12}{'rms':>12}{'peak |tau|':>12}{'rel peak':>10}"
+            f"{'rel rms':>10}  units"), [f"  {u}" for u in units]
+
+
 def _format_summary(ds):
     lines = [f"{ds.attrs['robot']} along {ds.attrs['input_file']}: "
              f"{ds.attrs['setpoints']} set points, s = {ds.attrs['dominance_threshold']:g}, "
@@ -116,14 +141,15 @@ def _format_summary(ds):
                                               ds.element_units.values, zero):
         shown = ZERO_MARK.rjust(11) if z else f"{share:>11.4f}"       # rounding noise: no share
         lines.append(f"{lab:<8}{shown}  {cls:<14}{peak:>12.4g}  {unit}")
-    lines += ["", "simplified model torque error per joint:",
-              f"{'joint':<6}{'peak [N m]':>12}{'rms [N m]':>12}{'peak |tau|':>12}"
-              f"{'rel peak':>10}{'rel rms':>10}"]
+    from ..reports.common import prismatic_joints
+
+    header, ends = _torque_table_header(prismatic_joints(ds))
+    lines += ["", "simplified model torque error per joint:", header]
     for j in range(ds.sizes["joint"]):
         lines.append(f"{j + 1:<6}{ds.tau_error_peak.values[j]:>12.4g}"
                      f"{ds.tau_error_rms.values[j]:>12.4g}{ds.tau_peak.values[j]:>12.4g}"
                      f"{ds.tau_error_relative_peak.values[j]:>10.2e}"
-                     f"{ds.tau_error_relative_rms.values[j]:>10.2e}")
+                     f"{ds.tau_error_relative_rms.values[j]:>10.2e}{ends[j]}")
     lines += _cost_lines(ds)
     if "verification_passed" in ds.attrs:
         import numpy as np
@@ -349,12 +375,12 @@ def _cmd_evaluate(args):
     else:
         print(f"{model.robot.name} simplified model on {args.trajectory} "
               f"({traj.n_setpoints} set points)")
-        print(f"{'joint':<6}{'peak [N m]':>12}{'rms [N m]':>12}{'peak |tau|':>12}"
-              f"{'rel peak':>10}{'rel rms':>10}")
+        header, ends = _torque_table_header(model.robot.prismatic)
+        print(header)
         for j in range(model.robot.n):
             print(f"{j + 1:<6}{err['peak_abs_error'][j]:>12.4g}{err['rms_error'][j]:>12.4g}"
                   f"{err['peak_tau'][j]:>12.4g}{err['relative_peak_error'][j]:>10.2e}"
-                  f"{err['relative_rms_error'][j]:>10.2e}")
+                  f"{err['relative_rms_error'][j]:>10.2e}{ends[j]}")
         print(f"largest relative peak error: {worst:.3e}")
     if exceeded:
         print(f"{PROG}: relative torque error {worst:.3e} exceeds --max-error "
@@ -420,10 +446,11 @@ def _cmd_control(args):
                                                for j in range(model.robot.n)))
         for name, fig in summary["tracking"].items():
             print(f"{name:<12}" + "".join(f"{v:>11.3e}" for v in fig["peak_grid"])
-                  + "   peak |e| [rad]")
+                  + f"   peak |e| [{_joint_units(model.robot, 'q')}]")
         if summary["tau_difference"]:
             print(f"{'tau diff':<12}" + "".join(f"{v:>11.3e}"
                                                for v in summary["tau_difference"]["peak"])
-                  + "   peak |tau_simplified - tau_full| [N m]")
+                  + "   peak |tau_simplified - tau_full| "
+                    f"[{_joint_units(model.robot, 'tau')}]")
         print("wrote " + ", ".join(str(p) for p in written))
     return EXIT_OK

@@ -52,6 +52,7 @@ def control_dataset(result):
     import xarray as xr
 
     from ..core.selection.ranking import element_labels
+    from .datasets import _JOINT_UNIT_COORDS, joint_units, units_attribute
 
     robot, g, prov = result.robot, result.gains, result.provenance
     n = robot.n
@@ -62,27 +63,30 @@ def control_dataset(result):
     fig = lambda key: np.array([f[key] for f in figs])              # noqa: E731
     tau_pk, tau_rm = zip(*(_peak_rms(r.tau) for r in runs))
     CTJ, CJ = ("controller", "time", "joint"), ("controller", "joint")
+    prismatic = np.asarray(robot.prismatic, bool)
+    U = {k: units_attribute(joint_units(prismatic, k), f"{k}_units")
+         for k in ("q", "qd", "qdd", "tau")}
     data_vars = {
         "is_setpoint": var(("time",), result.is_setpoint.astype(np.int8), "1",
                             "sample is a set point of the trajectory (1) or on the fine grid (0)",
                             flag_values=np.array([0, 1], dtype=np.int8),
                             flag_meanings="fine_grid set_point"),
-        "q_d": var(("time", "joint"), result.q_d, "rad", "desired joint position"),
-        "qd_d": var(("time", "joint"), result.qd_d, "rad s-1", "desired joint velocity"),
-        "qdd_d": var(("time", "joint"), result.qdd_d, "rad s-2", "desired joint acceleration"),
-        "q": var(CTJ, stack("q"), "rad", "joint position of the controlled arm"),
-        "qd": var(CTJ, stack("qd"), "rad s-1", "joint velocity of the controlled arm"),
-        "tau": var(CTJ, stack("tau"), "N m", "joint torque applied by the controller"),
-        "error": var(CTJ, stack("error"), "rad", "tracking error q_d - q"),
-        "error_peak_setpoints": var(CJ, fig("peak_setpoints"), "rad",
+        "q_d": var(("time", "joint"), result.q_d, U["q"], "desired joint position"),
+        "qd_d": var(("time", "joint"), result.qd_d, U["qd"], "desired joint velocity"),
+        "qdd_d": var(("time", "joint"), result.qdd_d, U["qdd"], "desired joint acceleration"),
+        "q": var(CTJ, stack("q"), U["q"], "joint position of the controlled arm"),
+        "qd": var(CTJ, stack("qd"), U["qd"], "joint velocity of the controlled arm"),
+        "tau": var(CTJ, stack("tau"), U["tau"], "joint torque applied by the controller"),
+        "error": var(CTJ, stack("error"), U["q"], "tracking error q_d - q"),
+        "error_peak_setpoints": var(CJ, fig("peak_setpoints"), U["q"],
                                      "peak |q_d - q| at the set points"),
-        "error_rms_setpoints": var(CJ, fig("rms_setpoints"), "rad",
+        "error_rms_setpoints": var(CJ, fig("rms_setpoints"), U["q"],
                                     "RMS of q_d - q at the set points"),
-        "error_peak_grid": var(CJ, fig("peak_grid"), "rad",
+        "error_peak_grid": var(CJ, fig("peak_grid"), U["q"],
                                 "peak |q_d - q| on the fine grid"),
-        "error_rms_grid": var(CJ, fig("rms_grid"), "rad", "RMS of q_d - q on the fine grid"),
-        "tau_peak": var(CJ, np.array(tau_pk), "N m", "peak |tau| on the fine grid"),
-        "tau_rms": var(CJ, np.array(tau_rm), "N m", "RMS of tau on the fine grid"),
+        "error_rms_grid": var(CJ, fig("rms_grid"), U["q"], "RMS of q_d - q on the fine grid"),
+        "tau_peak": var(CJ, np.array(tau_pk), U["tau"], "peak |tau| on the fine grid"),
+        "tau_rms": var(CJ, np.array(tau_rm), U["tau"], "RMS of tau on the fine grid"),
         "nfev": var(("controller",), np.array([r.nfev for r in runs], dtype=np.int64), "1",
                      "right-hand-side evaluations of the integrator"),
         "success": var(("controller",), np.array([r.success for r in runs], dtype=np.int8),
@@ -97,8 +101,10 @@ def control_dataset(result):
                       "PD + gravity position gain, D_ii(q_d(0)) wn^2"),
         "Kv_pd": var(("joint",), g.Kv_pd, "N m s rad-1",
                       "PD + gravity velocity gain, D_ii(q_d(0)) 2 zeta wn"),
+        "joint_type": var(("joint",), np.array(robot.joint_types, dtype=str), "1",
+                          "joint type: revolute (q in rad) or prismatic (q in m)"),
         "q0_offset": var(("joint",), np.asarray(prov.get("q0_offset", np.zeros(n)), float),
-                          "rad", "initial position error q(0) - q_d(0)"),
+                          U["q"], "initial position error q(0) - q_d(0)"),
         "choice": var(("element",), np.array([result.choices[k] for k in element_labels(n)],
                                               dtype=str), "1",
                        "part kept by the simplified model (tran, rot, both, none)"),
@@ -108,17 +114,17 @@ def control_dataset(result):
         pk, rm = _peak_rms(diff)
         ps, rs = _peak_rms(diff[result.is_setpoint])
         data_vars.update(
-            tau_difference=var(("time", "joint"), diff, "N m",
+            tau_difference=var(("time", "joint"), diff, U["tau"],
                                 "tau of the simplified-model controller minus tau of the "
                                 "full-model controller, each along its own run"),
-            tau_difference_peak=var(("joint",), pk, "N m",
+            tau_difference_peak=var(("joint",), pk, U["tau"],
                                      "peak |tau_simplified - tau_full| on the fine grid"),
-            tau_difference_rms=var(("joint",), rm, "N m",
+            tau_difference_rms=var(("joint",), rm, U["tau"],
                                     "RMS of tau_simplified - tau_full on the fine grid"),
-            tau_difference_peak_setpoints=var(("joint",), ps, "N m",
+            tau_difference_peak_setpoints=var(("joint",), ps, U["tau"],
                                                "peak |tau_simplified - tau_full| at the set "
                                                "points"),
-            tau_difference_rms_setpoints=var(("joint",), rs, "N m",
+            tau_difference_rms_setpoints=var(("joint",), rs, U["tau"],
                                               "RMS of tau_simplified - tau_full at the set "
                                               "points"))
     coords = {
@@ -131,6 +137,9 @@ def control_dataset(result):
         "time": ("time", result.t, {"long_name": "time", "units": "s",
                                     "standard_name": "time"}),
         "joint": ("joint", np.arange(1, n + 1), {"long_name": "joint", "units": "1"}),
+        **{name: ("joint", np.array(joint_units(prismatic, which), dtype=str),
+                  {"long_name": long_name, "units": "1"})
+           for name, (which, long_name) in _JOINT_UNIT_COORDS.items()},
         "element": ("element", np.array(element_labels(n), dtype=str),
                     {"long_name": "element of D (i <= j) or h", "units": "1"}),
     }

@@ -15,7 +15,7 @@ from pathlib import Path
 
 import numpy as np
 
-from ..core.selection.ranking import CLASSES, element_labels
+from ..core.selection.ranking import CLASSES, element_labels, is_round_off
 from .schema import MIXED_UNITS, element_coords, global_attributes, var
 
 __all__ = ["inputs_attributes", "sweep_dataset", "payload_dataset", "sweep_payloads_dataset",
@@ -109,6 +109,9 @@ def sweep_dataset(robot, trajectories, results, merged, merged_stats, dominance,
     classes = np.array([r["classes"] for r in results], dtype=str)
     choice = np.array([[r["choices"][lab] for lab in labels] for r in results], dtype=str)
     peak_total = np.array([r["peaks"]["peak_total"] for r in results])
+    peak_part = np.max([[r["peaks"][k] for k in ("peak_tran", "peak_rot", "peak_total")]
+                        for r in results], axis=1)
+    round_off = is_round_off(peak_part, np.array([r["peaks"]["scale"] for r in results]))
     summ = [r["summary"] for r in results]
     err = [s["error"] for s in summ]
 
@@ -145,6 +148,11 @@ def sweep_dataset(robot, trajectories, results, merged, merged_stats, dominance,
                        "(tran, rot, both, none)"),
         "peak_total": var(("trajectory", "element"), peak_total, MIXED_UNITS,
                            "peak |translational + rotational| along the trajectory"),
+        "round_off": var(("trajectory", "element"), round_off.astype(np.int8), "1",
+                          "every part of the element is round-off on the trajectory (1: at "
+                          "most 1e-12 of its scale; its share_tran is noise), else 0",
+                          flag_values=np.array([0, 1], dtype=np.int8),
+                          flag_meanings="data round_off"),
         "source": var(("trajectory",), np.array([s["source"] for s in summ], dtype=str), "1",
                        "trajectory source (file name or random-<seed>-<index>)"),
         "input_sha256": var(("trajectory",), np.array([s["sha256"] for s in summ], dtype=str),

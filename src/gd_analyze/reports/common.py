@@ -25,7 +25,8 @@ A4_LANDSCAPE = (11.69, 8.27)
 __all__ = ["CLASS_COLOURS", "BASE_RC", "SUPTITLE_RC", "A4", "A4_LANDSCAPE", "style", "utc_now",
            "keep_units",
            "strings", "fmt", "pct", "attr", "thresholds", "check", "table", "grid_shape",
-           "joint_colours", "gridspec", "svg", "inline_svgs", "render_template", "check_formats",
+           "joint_colours", "joint_style", "JOINT_STYLES", "MAX_MARKERS", "markevery",
+           "gridspec", "svg", "inline_svgs", "render_template", "check_formats",
            "prismatic_joints", "torque_units", "element_units_of", "units_text",
            "units_said_once"]
 
@@ -320,6 +321,68 @@ def joint_colours(n):
 
     cmap = colormaps["tab10"]
     return [cmap(k % 10) for k in range(n)]
+
+
+#: Line style and marker of joints 1..7: no two joints share either, so that seven lines are
+#: told apart in greyscale (dash patterns as (offset, (on, off, ...)) in points).
+JOINT_STYLES = (("-", "o"), ((0, (4.0, 1.6)), "s"), ((0, (1.0, 1.3)), "^"),
+                ((0, (5.0, 1.5, 1.0, 1.5)), "D"), ((0, (2.2, 1.4)), "v"),
+                ((0, (6.0, 1.5, 1.0, 1.5, 1.0, 1.5)), "x"), ((0, (8.0, 2.0)), "+"))
+
+
+def joint_style(j, n_lines=1):
+    """Colour, line style and marker of joint ``j`` (0-based): distinct for up to 7 joints.
+
+    Parameters
+    ----------
+    j : int
+        The joint, 0-based.
+    n_lines : int, optional
+        Set points on the line, to place at most about 12 markers on it
+        (:func:`markevery`).
+
+    Returns
+    -------
+    dict
+        Keyword arguments of :meth:`matplotlib.axes.Axes.plot`: ``color`` (Okabe & Ito
+        colour-blind-safe set, then tab10), ``linestyle``, ``marker`` (open), ``markevery``,
+        ``markersize``; the markers of joint j start at an offset so that two joints' markers
+        do not fall on the same set points.
+    """
+    colours = ("#000000", "#0072B2", "#D55E00", "#009E73", "#CC79A7", "#E69F00", "#56B4E9")
+    ls, marker = JOINT_STYLES[j % len(JOINT_STYLES)]
+    colour = colours[j] if j < len(colours) else joint_colours(j + 1)[j]
+    every = markevery(n_lines)
+    offset = (j * max(1, every // 7)) % every if every > 1 else 0
+    return {"color": colour, "linestyle": ls, "marker": marker, "markevery": (offset, every),
+            "markersize": 3.0, "markerfacecolor": "none", "markeredgewidth": 0.7}
+
+
+#: The most markers drawn on one line of a panel: more merge into a band at print size.
+MAX_MARKERS = 12
+
+
+def markevery(m, most=MAX_MARKERS):
+    """The stride that leaves at most ``most`` markers on a line of ``m`` points.
+
+    Parameters
+    ----------
+    m : int
+        Points on the line.
+    most : int, optional
+        The most markers (:data:`MAX_MARKERS`).
+
+    Returns
+    -------
+    int
+        k >= 1 with ceil(m / k) <= most (markers at points 0, k, 2k, ...).
+
+    Examples
+    --------
+    >>> markevery(31), markevery(12), markevery(0)
+    (3, 1, 1)
+    """
+    return max(1, -(-int(m) // max(1, int(most))))
 
 
 def gridspec(fig, rows, cols, left, right, top, bottom, wgap, hgap):

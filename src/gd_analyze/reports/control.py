@@ -18,15 +18,15 @@ from __future__ import annotations
 
 import contextlib
 import functools
-import math
 from pathlib import Path
 
 import numpy as np
 
-from .common import BASE_RC
-from .common import strings as _strings, style as _style, table as _table
-from .common import attr, fmt, grid_shape, render_template, utc_now
+from .common import strings as _strings, table as _table
+from .common import attr, fmt, render_template, utc_now
 from ..core.selection.ranking import element_label
+from .control_figures import COLUMN_WIDTH, PAGE_WIDTH, control_figures
+from .control_figures import _LABELS, _RC, _joint_units
 from .pages import PAPER, Document
 from .drawing import draw_figures, figure_svg, write_figure_files
 
@@ -43,13 +43,6 @@ REQUIRED_VARIABLES = ("is_setpoint", "q_d", "error", "tau", "error_peak_setpoint
                       "error_rms_setpoints", "error_peak_grid", "error_rms_grid", "Kp", "Kv",
                       "Kp_pd", "Kv_pd", "wn", "zeta", "inertia_scale", "choice", "nfev")
 
-# Okabe & Ito colours, the same in every figure.
-_COLOURS = {"full": "#000000", "simplified": "#009E73", "pd_gravity": "#D55E00"}
-_STYLES = {"full": "-", "simplified": "--", "pd_gravity": "-."}
-_LABELS = {"full": "computed torque, full model", "simplified": "computed torque, simplified "
-           "model", "pd_gravity": "PD + gravity"}
-_MAX_LINE_POINTS = 600
-_RC = {**BASE_RC, "legend.fontsize": 7.5, "lines.markersize": 3.0}
 # Numbers in e-notation outside [1e-3, 1e5), 3 significant digits unless told; attributes
 # with 6 digits, arrays without parentheses, booleans as 0/1.
 _SCI = (1e-3, 1e5)
@@ -67,82 +60,24 @@ def _check(ds, path):
 
 
 # --------------------------------------------------------------------------------------------
-# Figures
+# Figures (reports/control_figures.py)
 # --------------------------------------------------------------------------------------------
 
-def _stride(m):
-    return max(1, int(math.ceil(m / _MAX_LINE_POINTS)))
-
-
-def _joint_panels(ds, values, ylabel, title, log=False, controllers=None):
-    """A figure with one panel per joint; values: name -> (M, n) array along ds.time."""
-    from matplotlib.figure import Figure
-
-    t = np.asarray(ds["time"].values, dtype=float)
-    is_set = np.asarray(ds["is_setpoint"].values).astype(bool)
-    n = int(ds.sizes["joint"])
-    rows, cols = grid_shape(n, 2)
-    height = 1.9 * rows + 1.0
-    fig = Figure(figsize=(7.2, height))
-    # fixed margins [in] instead of a layout engine: drawing stays fast
-    fig.subplots_adjust(left=0.75 / 7.2, right=1 - 0.15 / 7.2, top=1 - 0.5 / height,
-                        bottom=0.85 / height, wspace=0.25, hspace=0.35)
-    axes = fig.subplots(rows, cols, squeeze=False, sharex=True)
-    k = _stride(t.size)
-    keep = np.zeros(t.size, dtype=bool)
-    keep[::k] = True
-    keep |= is_set
-    floor = None
-    for j in range(rows * cols):
-        ax = axes[j // cols, j % cols]
-        if j >= n:
-            ax.set_visible(False)
-            continue
-        for name, y in values.items():
-            yj = np.asarray(y[:, j], dtype=float)
-            if log:
-                pos = np.abs(yj)[np.isfinite(yj) & (yj != 0)]
-                floor = min(floor or np.inf, float(pos.min()) if pos.size else 1e-16)
-                yj = np.abs(yj)
-            kw = {"color": _COLOURS.get(name, "#0072B2"), "linestyle": _STYLES.get(name, "-"),
-                  "label": _LABELS.get(name, name)}
-            ax.plot(t[keep], yj[keep], **kw)
-            ax.plot(t[is_set], yj[is_set], linestyle="none", marker="o", markersize=2.5,
-                    color=kw["color"], mfc="none")
-        if log:
-            ax.set_yscale("log")
-        ax.set_title(f"joint {j + 1}")
-        if j // cols == rows - 1 or j + cols >= n:
-            ax.set_xlabel("time t [s]")
-        if j % cols == 0:
-            ax.set_ylabel(ylabel)
-    if log and floor is not None and np.isfinite(floor):
-        for ax in axes.ravel():
-            if ax.get_visible():
-                ax.set_ylim(bottom=max(floor * 0.5, 1e-18))
-    handles, labels = axes[0, 0].get_legend_handles_labels()
-    pairs = [(h, lab) for h, lab in zip(handles, labels) if not lab.startswith("_")]
-    if pairs:
-        fig.legend([p[0] for p in pairs], [p[1] for p in pairs], loc="lower center",
-                   ncols=min(3, len(pairs)), frameon=False, bbox_to_anchor=(0.5, 0.0))
-    fig.suptitle(title, fontsize=10, fontweight="bold", y=1 - 0.12 / height, va="top")
-    return fig
-
-
-def make_control_figures(ds):
+def make_control_figures(ds, width=PAGE_WIDTH):
     """The report's figures, drawn from a stored control dataset.
 
     Parameters
     ----------
     ds : xarray.Dataset
         A control dataset (:func:`gd_analyze.io.control_dataset.control_dataset`).
+    width : float, optional
+        7.2 in (a page, default) or 3.5 in (a column, one panel a row).
 
     Returns
     -------
     dict of str to matplotlib.figure.Figure
-        ``"error"`` (|q_d - q| per joint, log scale [rad]), ``"tau_difference"`` (tau of the
-        simplified-model controller minus the full-model one [N m]; absent if not stored) and
-        ``"tau"`` (applied torques [N m]).
+        As :func:`gd_analyze.reports.control_figures.control_figures`: ``"error"``,
+        ``"tau_difference"`` (if stored) and ``"tau"``.
 
     Raises
     ------
@@ -150,20 +85,7 @@ def make_control_figures(ds):
         If the dataset lacks a variable of a control dataset.
     """
     _check(ds, "<dataset>")
-    names = _strings(ds["controller"].values)
-    with _style(_RC):
-        figs = {"error": _joint_panels(
-            ds, {c: ds["error"].sel(controller=c).values for c in names},
-            "|q_d - q| [rad]", "Tracking error per joint", log=True)}
-        if "tau_difference" in ds:
-            figs["tau_difference"] = _joint_panels(
-                ds, {"simplified": ds["tau_difference"].values},
-                "\u03c4 (simplified) \u2212 \u03c4 (full) [N m]",
-                "Closed-loop torque difference: simplified-model minus full-model computed "
-                "torque")
-        figs["tau"] = _joint_panels(ds, {c: ds["tau"].sel(controller=c).values for c in names},
-                                    "tau [N m]", "Applied joint torques")
-    return figs
+    return control_figures(ds, width)
 
 
 # --------------------------------------------------------------------------------------------
@@ -222,9 +144,12 @@ def _context(ds):
             rm = ds[f"error_rms_{key}"].sel(controller=c).values
             err_rows.append([c, where, "peak"] + [_fmt(v) for v in pk])
             err_rows.append([c, where, "RMS"] + [_fmt(v) for v in rm])
-    errors = _table(["controller", "sampled at", "figure"] + [f"{j} [rad]" for j in joints],
+    q_u, tau_u = _joint_units(ds, "q"), _joint_units(ds, "tau")
+    errors = _table(["controller", "sampled at", "figure"]
+                    + [f"{j} [{u}]" for j, u in zip(joints, q_u)],
                     err_rows, align=["left", "left", "left"] + ["right"] * n)
-    tau_diff = _table(["figure"] + [f"{j} [N m]" for j in joints], [], align="right")
+    tau_diff = _table(["figure"] + [f"{j} [{u}]" for j, u in zip(joints, tau_u)], [],
+                      align="right")
 
     def fmt_all(name, **sel):
         return [_fmt(v) for v in ds[name].sel(**sel).values]
@@ -240,7 +165,8 @@ def _context(ds):
         if "tau_peak" in ds:
             tau_rows.append([c, "peak |\u03c4|"] + fmt_all("tau_peak", controller=c))
             tau_rows.append([c, "RMS \u03c4"] + fmt_all("tau_rms", controller=c))
-    tau_table = _table(["controller", "figure"] + [f"{j} [N m]" for j in joints], tau_rows,
+    tau_table = _table(["controller", "figure"] + [f"{j} [{u}]" for j, u in zip(joints, tau_u)],
+                       tau_rows,
                        align=["left", "left"] + ["right"] * n)
     cost = None
     if "evaluator" in ds.dims:
@@ -279,7 +205,8 @@ def _context(ds):
                   [[label, {"1": "yes", "0": "no"}.get(_attr(ds, k), _attr(ds, k))
                     if k == "trajectory_is_models" else _attr(ds, k)]
                    for label, k in _PROVENANCE if k in ds.attrs], align=["left", "left"])
-    floor = ("A curve at the bottom of a panel is at the rounding / integrator-tolerance level.")
+    floor = ("Integrator noise (at most the integrator's rtol times the joint's scale) is not "
+             "drawn: a log axis starts at that floor.")
     return {
         "version": __version__,
         "created": utc_now().isoformat(),
@@ -402,16 +329,23 @@ def render_control_html(ds, figures=None):
 
 _CAPTIONS = {
     "error": "Tracking error |q" + _sub("d") + " \u2212 q| per joint along the run, log scale "
-             "(markers: set points). A curve at the bottom of a panel is at the rounding / "
-             "integrator-tolerance level.",
+             "(markers: set points, at most 12 per line). Integrator noise, at most the "
+             "integrator's rtol times the joint's range of motion, is not drawn: the axis "
+             "starts there, and a controller whose error is all noise is named above the "
+             "panels.",
     "tau_difference": "Closed-loop torque difference: torque of the simplified-model "
                       "controller minus torque of the full-model controller, each along its "
-                      "own closed-loop run, per joint (markers: set points).",
+                      "own closed-loop run, per joint (markers: set points); a joint whose "
+                      "difference is integrator noise (at most rtol times the full "
+                      "controller's peak |\u03c4|) reads so instead of a curve.",
     "tau": "Torques applied by the three controllers, per joint.",
 }
 _FIGURE_FILES = {"error": "fig_control_tracking_error",
                  "tau_difference": "fig_control_torque_difference",
                  "tau": "fig_control_applied_torque"}
+#: Each figure also 3.5 in wide, as ``figures/<name>_column.pdf`` and ``.svg`` (not in the
+#: report).
+_FIGURE_FILES.update({f"{k}_column": f"{v}_column" for k, v in list(_FIGURE_FILES.items())})
 
 
 def _outline(ctx, figures):
@@ -555,11 +489,15 @@ def write_control_report(control_path, outdir, paper="a4", fonts="type3"):
     ctx = _context(ds)
     outdir = Path(outdir)
     (outdir / "figures").mkdir(parents=True, exist_ok=True)
-    drawn = draw_figures(make_control_figures(ds), _RC, fonts=fonts)
+    figures = make_control_figures(ds)
+    column = control_figures(ds, COLUMN_WIDTH)
+    drawn = draw_figures({**figures, **{f"{k}_column": f for k, f in column.items()}}, _RC,
+                         fonts=fonts)
     html_path, pdf_path = (outdir / name for name in CONTROL_REPORT_FILES)
     files = []
     with contextlib.ExitStack() as stack:
         files = write_figure_files(stack, drawn, outdir / "figures", _FIGURE_FILES)
+        drawn = {k: drawn[k] for k in figures}          # the report shows the page versions
         Path(stack.enter_context(atomic_path(html_path))).write_text(_html(ctx, drawn),
                                                                      encoding="utf-8")
         _pdf(ctx, drawn, stack.enter_context(atomic_path(pdf_path)), paper, fonts)

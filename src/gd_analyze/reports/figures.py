@@ -8,7 +8,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from .common import CLASS_COLOURS, SUPTITLE_RC, check, joint_colours, strings, style
+from .common import CLASS_COLOURS, SUPTITLE_RC, check, joint_style, strings, style
 from .common import thresholds
 
 __all__ = ["payload_figure", "PAYLOAD_REQUIRED", "CLASS_LETTER", "PAGE_WIDTH"]
@@ -90,11 +90,10 @@ def payload_figure(ds):
         cb = fig.colorbar(im, cax=cax)
         cb.set_label("share_tran [1]")
         bx = fig.add_axes((0.9 / W, 0.6 / H, (W - 2.0) / W, 2.6 / H))
-        colours = joint_colours(n)
         tau = ds["tau_peak"].values
-        for j in range(n):
-            bx.plot(masses, tau[:, j], marker="o", ms=3, color=colours[j],
-                    label=f"joint {j + 1}")
+        for j in range(n):                  # told apart by line style and marker too
+            bx.plot(masses, tau[:, j], label=f"joint {j + 1}", linewidth=0.9,
+                    **joint_style(j, len(masses)))
         bx.set_xlabel("payload [kg]")
         bx.set_ylabel("peak |\u03c4| [N m]")
         bx.legend(loc="center left", bbox_to_anchor=(1.01, 0.5), frameon=False, fontsize=7)

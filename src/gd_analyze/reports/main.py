@@ -38,7 +38,7 @@ from .common import strings as _strings, thresholds as _thresholds
 from .common import check_formats, render_template
 from .main_context import ENVELOPE_COLUMNS, ENVELOPE_THRESHOLD, report_context, zero_mask
 from .common import prismatic_joints
-from .main_figures import RC as FIG_RC, PAGE_WIDTH, plot_data
+from .main_figures import RC as FIG_RC, COLUMN_WIDTH, PAGE_WIDTH, plot_data
 from .main_figures import fig_D, fig_h, fig_joints, fig_torque
 from .main_outline import main_outline
 from .pages import FIGURE_FONTS, PAPER, Document
@@ -48,7 +48,7 @@ from ..io.sweep_datasets import payload_part
 
 __all__ = [
     "REPORT_FORMATS", "ENVELOPE_THRESHOLD", "ENVELOPE_COLUMNS", "FIGURE_FILES", "envelope",
-    "make_figures", "render_html", "render_pdf", "write_report",
+    "COLUMN_FIGURES", "make_figures", "render_html", "render_pdf", "write_report",
 ]
 
 #: The formats :func:`write_report` can write.
@@ -134,6 +134,11 @@ FIGURE_FILES = {"joints": "fig_joints_q_qd_qdd", "D": "fig_3_10_D", "h": "fig_3_
                 "torque": "fig_torque_full_vs_simplified", "payload": "fig_payload_dominance",
                 "formulations": "fig_table_3_5_operation_counts"}
 _FIGURE_ORDER = ("joints", "D", "h", "torque", "payload", "formulations")
+#: Figures also made 3.5 in wide for a one-column layout, as ``<key>_column``, written to
+#: ``figures/<name>_column.pdf`` and ``.svg`` beside the page-width files (not in the report).
+COLUMN_FIGURES = ("joints", "D", "h", "torque", "formulations")
+FIGURE_FILES.update({f"{k}_column": f"{FIGURE_FILES[k]}_column" for k in COLUMN_FIGURES})
+_FILE_ORDER = _FIGURE_ORDER + tuple(f"{k}_column" for k in COLUMN_FIGURES)
 
 
 def make_figures(ds, data=None, keys=None):
@@ -156,7 +161,8 @@ def make_figures(ds, data=None, keys=None):
     dict of str to matplotlib.figure.Figure
         ``"joints"``, ``"D"`` (analogue of Fig. 3.10: the n x n upper triangle of D_ij),
         ``"h"`` (Fig. 3.11), ``"torque"``, and ``"payload"`` and ``"formulations"`` if the
-        dataset holds them; sized for print (7.2 in wide, type >= 7 pt), time [s] on x.
+        dataset holds them; sized for print (7.2 in wide, type >= 7 pt), time [s] on x;
+        then ``"<key>_column"`` for :data:`COLUMN_FIGURES`, 3.5 in wide (type >= 7 pt).
 
     Raises
     ------
@@ -175,22 +181,31 @@ def make_figures(ds, data=None, keys=None):
     zero = dict(zip(labels, zero))
     dom = dict(zip(labels, _strings(ds["dominance"].values)))
     s, e = _thresholds(ds)
-    wanted = set(_FIGURE_ORDER if keys is None else keys)
+    wanted = set(_FILE_ORDER if keys is None else keys)
     makers = {"joints": lambda: fig_joints(data, prismatic_joints(ds)),
               "D": lambda: fig_D(data, dom, zero, s, e, prismatic_joints(ds)),
               "h": lambda: fig_h(data, dom, zero, prismatic_joints(ds)),
-              "torque": lambda: _fig_error(ds, data)}
+              "torque": lambda: _fig_error(ds, data),
+              "joints_column": lambda: fig_joints(data, prismatic_joints(ds), COLUMN_WIDTH),
+              "D_column": lambda: fig_D(data, dom, zero, s, e, prismatic_joints(ds),
+                                        COLUMN_WIDTH),
+              "h_column": lambda: fig_h(data, dom, zero, prismatic_joints(ds), COLUMN_WIDTH),
+              "torque_column": lambda: _fig_error(ds, data, COLUMN_WIDTH)}
     if "payload_share_tran" in ds.variables:
         makers["payload"] = lambda: _fig_payload(ds)
     if "op_multiplications" in ds.variables:
         makers["formulations"] = lambda: _fig_formulations(ds)
+        makers["formulations_column"] = lambda: _fig_formulations(ds, COLUMN_WIDTH)
     with matplotlib.rc_context(FIG_RC):
         figures = {k: make() for k, make in makers.items() if k in wanted}
-    return {k: figures[k] for k in _FIGURE_ORDER if k in figures}
+    return {k: figures[k] for k in _FILE_ORDER if k in figures}
 
 
-def _fig_error(ds, data):
+def _fig_error(ds, data, width=PAGE_WIDTH):
     if has_simplified(ds):                      # issue 8: tau_s - tau and its bound
+        if width < PAGE_WIDTH:
+            n = ds.sizes["joint"]
+            return error_figure(ds, size=(width, 1.0 + 1.25 * n), data=data)
         return error_figure(ds, size=(PAGE_WIDTH, 7.5), data=data)
     return fig_torque(data, ds["tau_error_peak"].values, ds["tau_error_relative_peak"].values,
                       prismatic_joints(ds))
@@ -207,7 +222,7 @@ _FORMULATION_STYLE = {"lagrange-euler": ("L-E", "#0072B2", "o", "-"),
                       "gd": ("G-D", "#6A3D9A", "^", "-")}
 
 
-def _fig_formulations(ds):
+def _fig_formulations(ds, width=PAGE_WIDTH):
     from matplotlib.figure import Figure
     from matplotlib.ticker import FixedLocator, LogLocator, NullFormatter
 
@@ -215,10 +230,13 @@ def _fig_formulations(ds):
 
     n = ds["dof"].values
     names = _strings(ds["formulation"].values)
-    W, H = PAGE_WIDTH, 2.9
+    column = width < PAGE_WIDTH             # the two panels one above the other
+    W, H = (width, 5.0) if column else (PAGE_WIDTH, 2.9)
     fig = Figure(figsize=(W, H))
     for k, op in enumerate(("multiplications", "additions")):
-        ax = fig.add_axes(((0.65 + k * 3.55) / W, 0.75 / H, 2.85 / W, (H - 1.0) / H))
+        box = ((0.65, (0.95 + (1 - k) * 2.05), W - 0.8, 1.6) if column else
+               (0.65 + k * 3.55, 0.75, 2.85, H - 1.0))        # x, y from the bottom, w, h [in]
+        ax = fig.add_axes((box[0] / W, box[1] / H, box[2] / W, box[3] / H))
         ax.set_yscale("log")
         for name, (short, colour, marker, ls) in _FORMULATION_STYLE.items():
             if name not in names:
@@ -240,8 +258,9 @@ def _fig_formulations(ds):
         ax.set_xlabel("number of joints n", labelpad=1.0)
         ax.set_ylabel(op, labelpad=1.0)
         ax.grid(True, which="major", linewidth=0.3)
-    fig.legend(*fig.axes[0].get_legend_handles_labels(), loc="lower center", ncol=3,
-               frameon=False, bbox_to_anchor=(0.5, 0.0))
+    fig.legend(*fig.axes[0].get_legend_handles_labels(), loc="lower center",
+               ncol=2 if column else 3, frameon=False, bbox_to_anchor=(0.5, 0.0),
+               fontsize=7 if column else None)
     return fig
 
 
@@ -257,6 +276,11 @@ def _fig_formulations(ds):
 def _drawn(figures, pdf=True, fonts="type3"):
     """Each figure drawn once as SVG and (if asked) once as PDF: {key: (svg, pdf, size)}."""
     return draw_figures(figures, FIG_RC, pdf=pdf, fonts=fonts)
+
+
+def _in_report(figures):
+    """The figures the report shows, in its order (not the column-width files)."""
+    return {k: figures[k] for k in _FIGURE_ORDER if k in figures}
 
 
 def _inline(svg_text, prefix):
@@ -292,8 +316,8 @@ def render_html(ds, figures=None):
     """
     ctx = report_context(ds)
     if figures is None:
-        figures = make_figures(ds)
-    return _html(ctx, _drawn(figures, pdf=False))
+        figures = make_figures(ds, keys=_FIGURE_ORDER)
+    return _html(ctx, _drawn(_in_report(figures), pdf=False))
 
 
 def _html(ctx, drawn):
@@ -339,8 +363,8 @@ def render_pdf(ds, path, figures=None, paper="a4"):
     """
     ctx = report_context(ds)
     if figures is None:
-        figures = make_figures(ds)
-    return _pdf(ctx, _drawn(figures), path, paper)
+        figures = make_figures(ds, keys=_FIGURE_ORDER)
+    return _pdf(ctx, _drawn(_in_report(figures)), path, paper)
 
 
 def _pdf(ctx, drawn, path, paper="a4", fonts="type3"):
@@ -433,9 +457,11 @@ def _write(ds, outdir, formats, paper, progress, fonts="type3"):
     (outdir / "figures").mkdir(parents=True, exist_ok=True)
     data = plot_data(ds, progress=progress)
     drawn = _drawn(make_figures(ds, data), fonts=fonts)
+    drawn = {k: drawn[k] for k in _FILE_ORDER if k in drawn}
     with contextlib.ExitStack() as stack:
         paths = {fmt: outdir / f"report.{fmt}" for fmt in formats}
         files = write_figure_files(stack, drawn, outdir / "figures", FIGURE_FILES)
+        drawn = _in_report(drawn)
         tmp = {fmt: stack.enter_context(atomic_path(paths[fmt])) for fmt in formats}
         if "html" in tmp:
             with open(tmp["html"], "w", encoding="utf-8") as fh:

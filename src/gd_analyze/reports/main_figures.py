@@ -19,12 +19,15 @@ panel reading "≡ 0": its share_tran is rounding noise and is not shown.
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass
 
 import numpy as np
 
-from ..core.selection.ranking import element_label, element_units, joint_motion_units, joint_torque_units
-from .ticks import set_ticks
+from ..core.selection.ranking import ROUND_OFF, element_label, element_units, is_round_off
+from ..core.selection.ranking import joint_motion_units, joint_torque_units
+from .common import joint_style, markevery
+from .plot_data import DERIVED, ENVELOPE_COLUMNS, ENVELOPE_THRESHOLD, READ_CHUNK  # noqa: F401
+from .plot_data import PlotData, plot_data
+from .ticks import label_axes, set_ticks
 
 __all__ = ["PAGE_WIDTH", "COLUMN_WIDTH", "ZERO_TOL", "PART_STYLE", "SHORT_CLASS", "PlotData", "plot_data",
            "identically_zero", "fig_D", "fig_h", "fig_joints", "fig_torque",
@@ -34,14 +37,9 @@ __all__ = ["PAGE_WIDTH", "COLUMN_WIDTH", "ZERO_TOL", "PART_STYLE", "SHORT_CLASS"
 PAGE_WIDTH = 7.2
 #: Width of a one-column figure [in].
 COLUMN_WIDTH = 3.5
-#: An element is identically zero if all its parts stay below this fraction of its scale.
-ZERO_TOL = 1e-12
-#: Series longer than this are read and drawn as a min/max envelope per column.
-ENVELOPE_THRESHOLD = 2000
-#: Columns of the envelope of a long series (about 300 dpi on a panel).
-ENVELOPE_COLUMNS = 400
-#: Set points read per chunk when a long series is reduced.
-READ_CHUNK = 32768
+#: An element is identically zero if all its parts stay below this fraction of its scale
+#: (:data:`gd_analyze.core.selection.ranking.ROUND_OFF`).
+ZERO_TOL = ROUND_OFF
 
 #: matplotlib settings: 7 pt ticks, 8 pt titles and labels at print size.
 RC = {
@@ -79,113 +77,6 @@ _LEFT, _RIGHT, _WGAP, _HGAP, _TOP, _BOTTOM = 0.5, 0.06, 0.46, 0.3, 0.2, 0.36
 _MIN_PANEL_W = 0.55
 
 
-@dataclass(frozen=True)
-class PlotData:
-    """The series the figures draw, as stored or reduced to their envelope.
-
-    Attributes
-    ----------
-    x : ndarray, shape (M,)
-        Time [s] of each plotted point (M = N, or two points per envelope column).
-    enveloped : bool
-        True if the series are min/max envelopes (no markers are drawn).
-    series : dict of str to ndarray
-        ``q``, ``qd``, ``qdd``, ``h_tran``, ``h_rot``, ``h``, ``tau``, ``tau_simplified``
-        (M, n) and ``D_tran``, ``D_rot``, ``D`` (M, n, n).
-    N : int
-        Set points stored.
-    """
-
-    x: np.ndarray
-    enveloped: bool
-    series: dict
-    N: int
-
-
-def _read(var, a, b):
-    return np.asarray(var[a:b].values, dtype=float)
-
-
-#: Series computed from stored ones as they are read: name -> (a, b), meaning a - b.
-DERIVED = {"tau_error": ("tau_simplified", "tau")}
-
-
-def _chunk(ds, v, a, b):
-    if v in DERIVED:
-        first, second = DERIVED[v]
-        return _read(ds[first], a, b) - _read(ds[second], a, b)
-    return _read(ds[v], a, b)
-
-
-def plot_data(ds, names=("q", "qd", "qdd", "D_tran", "D_rot", "D", "h_tran", "h_rot", "h",
-                          "tau", "tau_simplified", "tau_error"), columns=ENVELOPE_COLUMNS,
-              threshold=ENVELOPE_THRESHOLD, chunk=READ_CHUNK, progress=None):
-    """Read the series to plot from a stored analysis, reduced if long.
-
-    Parameters
-    ----------
-    ds : xarray.Dataset
-        An opened results file (lazily loaded: only chunks are read) with ``t`` (N,) [s] and
-        the variables ``names`` with first dimension ``setpoint``.
-    names : sequence of str, optional
-        The variables to read; ``tau_error`` is tau_simplified - tau (:data:`DERIVED`), taken
-        per chunk before the envelope.
-    columns : int, optional
-        Columns of the envelope of a long series.
-    threshold : int, optional
-        Up to this many set points the series are read whole.
-    chunk : int, optional
-        Set points read at a time.
-    progress : callable, optional
-        Called with the number of set points read, per chunk (for a progress bar).
-
-    Returns
-    -------
-    PlotData
-        For N > threshold: per column of equal time, the minimum and the maximum of each series
-        at the column's mid-time, in time order (2 * columns points); memory stays a few chunks
-        whatever N is.
-    """
-    t = np.asarray(ds["t"].values, dtype=float)
-    N = t.size
-    if N <= threshold:
-        series = {v: _chunk(ds, v, 0, N) for v in names}
-        if progress:
-            progress(N)
-        return PlotData(x=t, enveloped=False, series=series, N=N)
-    t0, t1 = float(t[0]), float(t[-1])
-    if t1 > t0:
-        col = np.minimum(((t - t0) * (columns / (t1 - t0))).astype(np.intp), columns - 1)
-    else:
-        col = (np.arange(N) * columns) // N
-    lo = {v: None for v in names}
-    hi = {v: None for v in names}
-    for a in range(0, N, chunk):
-        b = min(N, a + chunk)
-        c = col[a:b]
-        starts = np.flatnonzero(np.r_[True, c[1:] != c[:-1]])
-        cols = c[starts]
-        for v in names:
-            y = _chunk(ds, v, a, b)
-            if lo[v] is None:
-                lo[v] = np.full((columns,) + y.shape[1:], np.nan)
-                hi[v] = np.full((columns,) + y.shape[1:], np.nan)
-            with np.errstate(invalid="ignore"):
-                lo[v][cols] = np.fmin(lo[v][cols], np.fmin.reduceat(y, starts, axis=0))
-                hi[v][cols] = np.fmax(hi[v][cols], np.fmax.reduceat(y, starts, axis=0))
-        if progress:
-            progress(b - a)
-    used = np.unique(col)
-    edges = np.linspace(t0, t1, columns + 1) if t1 > t0 else np.arange(columns + 1.0)
-    mid = 0.5 * (edges[used] + edges[used + 1])
-    x = np.repeat(mid, 2)
-    series = {}
-    for v in names:
-        pair = np.stack([lo[v][used], hi[v][used]], axis=1)      # (C, 2, ...)
-        series[v] = pair.reshape((2 * used.size,) + pair.shape[2:])
-    return PlotData(x=x, enveloped=True, series=series, N=N)
-
-
 def identically_zero(peak_tran, peak_rot, peak_total, scale, tol=ZERO_TOL):
     """Which elements are zero to rounding in every part along the trajectory.
 
@@ -211,7 +102,7 @@ def identically_zero(peak_tran, peak_rot, peak_total, scale, tol=ZERO_TOL):
     [True, False]
     """
     peak = np.fmax(np.fmax(np.abs(peak_tran), np.abs(peak_rot)), np.abs(peak_total))
-    return np.asarray(peak <= tol * np.abs(scale)) & np.isfinite(peak)
+    return is_round_off(peak, scale, tol)
 
 
 def _figure(w, h):
@@ -239,16 +130,27 @@ def _limits(*arrays):
     return lo - pad, hi + pad
 
 
+#: Line widths of the parts: the combined curve thin, under the two parts it sums.
+_PART_WIDTH = {"tran": 0.8, "rot": 0.8, "total": 0.55}
+#: Drawing order: the combined curve first, so that o and x stay visible on top of it.
+_PART_ORDER = ("total", "tran", "rot")
+
+
 def _plot(ax, x, y, part, enveloped):
+    """One part of an element; at most :data:`gd_analyze.reports.common.MAX_MARKERS` markers
+    (every k-th set point, the line through all of them)."""
     style = PART_STYLE[part]
     kw = {"color": style["color"], "linestyle": style["linestyle"], "label": style["label"],
-          "linewidth": 0.8}
+          "linewidth": _PART_WIDTH[part], "zorder": {"total": 2, "tran": 3, "rot": 4}[part]}
     if not enveloped:
+        every = markevery(x.size)
         kw["marker"] = style["marker"]
+        start = {"tran": 0, "rot": every // 3, "total": (2 * every) // 3}[part]
+        kw["markevery"] = (start, every) if every > 1 else 1
+        kw["markersize"] = 2.6 if part == "total" else 3.2
+        kw["markeredgewidth"] = 0.6 if part == "total" else 0.8    # open, not a blot
         if style["mfc"] is not None:
             kw["markerfacecolor"] = style["mfc"]
-        if x.size > _ALL_MARKERS:
-            kw["markevery"] = max(1, math.ceil(x.size / _FEW_MARKERS))
     return ax.plot(x, y, **kw)
 
 
@@ -256,7 +158,8 @@ def _time_axis(ax, x, labels, nbins=3):
     t0, t1 = float(x[0]), float(x[-1])
     pad = 0.03 * (t1 - t0) if t1 > t0 else 0.5
     ax.set_xlim(t0 - pad, t1 + pad)
-    set_ticks(ax.xaxis, t0, t1, nbins, labels)
+    # within the drawn range: an envelope's first point is half a column after t = 0
+    set_ticks(ax.xaxis, t0 - pad, t1 + pad, nbins, labels)
 
 
 def _zero_panel(ax, x, title):
@@ -269,17 +172,26 @@ def _zero_panel(ax, x, title):
 
 
 def _element_panel(ax, x, parts, title, cls, enveloped, nbins=3):
-    for part, y in zip(("tran", "rot", "total"), parts):
-        _plot(ax, x, y, part, enveloped)
+    """Parts (tran, rot, total) of one element; y ticks placed, labelled by the figure
+    (:func:`gd_analyze.reports.ticks.label_axes`: one notation per figure)."""
+    by_part = dict(zip(("tran", "rot", "total"), parts))
+    for part in _PART_ORDER:
+        _plot(ax, x, by_part[part], part, enveloped)
     lo, hi = _limits(*parts)
     ax.set_ylim(lo, hi)
     pad = (hi - lo) / 1.2 * 0.1
-    set_ticks(ax.yaxis, lo + pad, hi - pad, nbins)
+    set_ticks(ax.yaxis, lo + pad, hi - pad, nbins, labels=False)
     ax.set_title(f"{title}: {SHORT_CLASS.get(cls, cls)}", color=_CLASS_COLOURS.get(cls, "black"))
 
 
-def _panel_width(n):
-    free = PAGE_WIDTH - _LEFT - _RIGHT - (n - 1) * _WGAP
+def _gaps(per_panel_units):
+    """Horizontal gap between panels [in]: room for 7-char tick labels (``−2.5e−3``) and, when
+    the panels' units differ (a mixed arm), each panel's unit label."""
+    return _WGAP + (0.13 if per_panel_units else 0.0)
+
+
+def _panel_width(n, width=PAGE_WIDTH, wgap=_WGAP):
+    free = width - _LEFT - _RIGHT - (n - 1) * wgap
     return max(_MIN_PANEL_W, free / max(n, 1))
 
 
@@ -287,13 +199,30 @@ def _panel_height(w):
     return float(np.clip(0.7 * w, 0.5, 0.9))
 
 
+def _shown(units):
+    return units.replace("m2", "m\u00b2")
+
+
 def _unit_label(ax, units):
-    """The panel's units on its y axis, e.g. ``[kg m]`` (every panel: a mixed arm's differ)."""
-    shown = units.replace("m2", "m\u00b2")
-    ax.set_ylabel(f"[{shown}]", fontsize=7, labelpad=0.5)
+    """The panel's units on its y axis, e.g. ``[kg m]`` (a mixed arm's panels differ)."""
+    ax.set_ylabel(f"[{_shown(units)}]", fontsize=7, labelpad=0.5)
 
 
-def fig_D(data, dominance, zero, s, e, prismatic=None):
+def _legend_order(ax):
+    handles, labels = ax.get_legend_handles_labels()
+    order = [PART_STYLE[p]["label"] for p in ("tran", "rot", "total")]
+    pairs = sorted(zip(handles, labels), key=lambda p: order.index(p[1]))
+    return [p[0] for p in pairs], [p[1] for p in pairs]
+
+
+def _grid(count, width, wgap, min_w=0.55):
+    """Columns and panel size [in] of ``count`` panels in reading order within ``width``."""
+    cols = max(1, min(count, int((width - _LEFT - _RIGHT + wgap) / (min_w + wgap))))
+    w = (width - _LEFT - _RIGHT - (cols - 1) * wgap) / cols
+    return cols, w, _panel_height(w)
+
+
+def fig_D(data, dominance, zero, s, e, prismatic=None, width=PAGE_WIDTH):
     """The analogue of Fig. 3.10: one panel per D_ij, i <= j, on an n x n grid.
 
     Parameters
@@ -303,58 +232,107 @@ def fig_D(data, dominance, zero, s, e, prismatic=None):
     dominance : dict of str to str
         Class of each element label (``"D12"`` -> ``"both"``).
     zero : dict of str to bool
-        Elements drawn as "≡ 0" panels.
+        Elements drawn as "≡ 0" panels (round-off in every part, :func:`identically_zero`).
     s, e : float
         Thresholds of the ranking, for the key.
     prismatic : ndarray of bool, shape (n,), optional
         Prismatic joints: each panel's y axis gives its units
-        (:func:`gd_analyze.core.selection.labels.element_units`: kg m², kg m or kg).
+        (:func:`gd_analyze.core.selection.labels.element_units`: kg m², kg m or kg); with one unit for
+        all panels it is said once, in the key.
+    width : float, optional
+        :data:`PAGE_WIDTH` (the upper triangle, panel D_ij in row i, column j) or
+        :data:`COLUMN_WIDTH` [in] (the panels in reading order, three a row, the key below).
 
     Returns
     -------
     matplotlib.figure.Figure
-        7.2 in wide for n <= 7 (wider for n >= 8, with panels of at least 0.55 in); panels of
-        the same size as those of :func:`fig_h`; the legend and key in the empty lower left.
+        ``width`` wide (wider for n >= 8 at page width, with panels of at least 0.55 in);
+        at most :data:`gd_analyze.reports.common.MAX_MARKERS` markers per line; the combined
+        curve drawn first and thin; y tick labels in one notation for the whole figure.
     """
     Dt, Dr, D = (data.series[k] for k in ("D_tran", "D_rot", "D"))
     n = D.shape[1]
-    w = _panel_width(n)
-    h = _panel_height(w)
-    W = _LEFT + _RIGHT + n * w + (n - 1) * _WGAP
-    H = _TOP + _BOTTOM + n * h + (n - 1) * _HGAP
+    units = {element_label("D", i, j): element_units("D", i, j, prismatic)
+             for i in range(n) for j in range(i, n)}
+    mixed = len(set(units.values())) > 1
+    wgap = _gaps(True)                  # as fig_h's: panels of one size in both figures
+    column = width < PAGE_WIDTH and n > 2
+    if column:                          # three a row: said-once units leave room for it
+        wgap = _gaps(mixed)
+        cols, w, h = _grid(len(units), width, wgap)
+        rows = math.ceil(len(units) / cols)
+        place = {lab: divmod(k, cols) for k, lab in enumerate(units)}
+        H_panels = _TOP + rows * h + (rows - 1) * _HGAP + _BOTTOM
+        W = width
+    else:
+        w = _panel_width(n, width, wgap)
+        h = _panel_height(w)
+        place = {element_label("D", i, j): (i, j) for i in range(n) for j in range(i, n)}
+        W = _LEFT + _RIGHT + n * w + (n - 1) * wgap
+        H_panels = _TOP + _BOTTOM + n * h + (n - 1) * _HGAP
+    key = (f"D_ij against time t [s]"
+           + ("; units on each panel's axis" if mixed else
+              f" [{_shown(next(iter(units.values())))}]")
+           + ("" if column else "; panel D_ij in row i, column j")
+           + f". Title: element and its class: tran(slational), rot(ational), both, "
+           f"negl(igible) (s = {s:g}, e = {e:g}); \u2261\u00a00: zero in every part "
+           f"(below 1e-12 of its scale).")
+    H = H_panels + (1.05 if column else 0.0)
     fig = _figure(W, H)
     x = data.x
     first = None
+    ys = []
+    nb = 2 if h < 0.6 else 3
     for i in range(n):
         for j in range(i, n):
-            ax = _axes(fig, _LEFT + j * (w + _WGAP), _TOP + i * (h + _HGAP), w, h)
             label = element_label("D", i, j)
+            r, c = place[label]
+            ax = _axes(fig, _LEFT + c * (w + wgap), _TOP + r * (h + _HGAP), w, h)
             if zero.get(label, False):
                 _zero_panel(ax, x, label)
             else:
                 _element_panel(ax, x, (Dt[:, i, j], Dr[:, i, j], D[:, i, j]), label,
-                               dominance.get(label, ""), data.enveloped, 2 if h < 0.6 else 3)
+                               dominance.get(label, ""), data.enveloped, nb)
                 first = first or ax
-            _unit_label(ax, element_units("D", i, j, prismatic))
-            _time_axis(ax, x, labels=i == j, nbins=2 if w < 0.7 else 3)
-            if i == j:
+                ys.append(ax.yaxis)
+            if mixed:
+                _unit_label(ax, units[label])
+            bottom = i == j
+            if column:                  # the lowest panel of its column
+                bottom = not any(cc == c and rr == r + 1 for rr, cc in place.values())
+            _time_axis(ax, x, labels=bottom, nbins=2 if w < 0.7 else 3)
+            if bottom:
                 ax.set_xlabel("t [s]", labelpad=1.0)
-    _key(fig, first, n, w, h, W, H,
-         f"D_ij against time t [s], units on each panel's axis; panel D_ij in row i, "
-         f"column j. Title: "
-         f"element and its class: tran(slational), rot(ational), both, negl(igible) "
-         f"(s = {s:g}, e = {e:g}); \u2261\u00a00: zero in every part.")
+    label_axes(ys)
+    if column:
+        _key_below(fig, first, W, H, H_panels, key)
+    else:
+        _key(fig, first, n, w, h, W, H, key, wgap)
     return fig
 
 
-def _key(fig, source, n, w, h, W, H, text):
+def _key_below(fig, source, W, H, top, text):
+    """Legend and key under the panels of a column-width figure."""
     import textwrap
 
     if source is None:
         return
-    handles, labels = source.get_legend_handles_labels()
+    fig.legend(*_legend_order(source), loc="upper center", ncol=3, frameon=False,
+               handlelength=2.4, columnspacing=1.0, bbox_to_anchor=(0.5, 1 - (top - 0.05) / H),
+               borderaxespad=0.0, fontsize=7)
+    chars = max(24, int((W - 0.2) / (7.0 * 0.52 / 72)))
+    fig.text(0.1 / W, 1 - (top + 0.22) / H, textwrap.fill(text, chars), fontsize=7, va="top",
+             ha="left", linespacing=1.25)
+
+
+def _key(fig, source, n, w, h, W, H, text, wgap=_WGAP):
+    import textwrap
+
+    if source is None:
+        return
+    handles, labels = _legend_order(source)
     if n >= 3:
-        width = (n // 2) * (w + _WGAP)
+        width = (n // 2) * (w + wgap)
         y = _TOP + (n - n // 2) * (h + _HGAP) + 0.1
         fig.legend(handles, labels, loc="upper left", frameon=False, handlelength=2.6,
                    bbox_to_anchor=(0.05 / W, 1 - y / H), borderaxespad=0.0)
@@ -366,7 +344,7 @@ def _key(fig, source, n, w, h, W, H, text):
                    handlelength=2.6, bbox_to_anchor=(0.5, 0.0))
 
 
-def fig_h(data, dominance, zero, prismatic=None):
+def fig_h(data, dominance, zero, prismatic=None, width=PAGE_WIDTH):
     """The analogue of Fig. 3.11: one panel per h_i, as large as the panels of :func:`fig_D`.
 
     Parameters
@@ -377,26 +355,35 @@ def fig_h(data, dominance, zero, prismatic=None):
         As for :func:`fig_D`.
     prismatic : ndarray of bool, shape (n,), optional
         Prismatic joints: their panels' axes read N, the others N m.
+    width : float, optional
+        :data:`PAGE_WIDTH` or :data:`COLUMN_WIDTH` [in].
 
     Returns
     -------
     matplotlib.figure.Figure
-        n panels in one row (up to 7, more rows beyond), legend below.
+        n panels in rows (up to 7 a row at page width, 3 at column width), legend below; one
+        tick notation per figure; at most about 12 markers per line.
     """
     ht, hr, hh = (data.series[k] for k in ("h_tran", "h_rot", "h"))
     n = hh.shape[1]
-    w = _panel_width(n)
-    h = _panel_height(w)
-    cols = min(n, max(1, int((PAGE_WIDTH - _LEFT - _RIGHT + _WGAP) / (w + _WGAP) + 1e-6)))
+    units = [element_units("h", i, None, prismatic) for i in range(n)]
+    wgap = _gaps(True)
+    if width < PAGE_WIDTH:
+        cols, w, h = _grid(n, width, wgap)
+    else:
+        w = _panel_width(n, width, wgap)
+        h = _panel_height(w)
+        cols = min(n, max(1, int((width - _LEFT - _RIGHT + wgap) / (w + wgap) + 1e-6)))
     rows = math.ceil(n / cols)
-    W = max(PAGE_WIDTH, _LEFT + _RIGHT + cols * w + (cols - 1) * _WGAP)
+    W = max(width, _LEFT + _RIGHT + cols * w + (cols - 1) * wgap)
     hgap = _HGAP + 0.28
     H = _TOP + 0.62 + rows * h + (rows - 1) * hgap
     fig = _figure(W, H)
     first = None
+    ys = []
     for i in range(n):
         r, c = divmod(i, cols)
-        ax = _axes(fig, _LEFT + c * (w + _WGAP), _TOP + r * (h + hgap), w, h)
+        ax = _axes(fig, _LEFT + c * (w + wgap), _TOP + r * (h + hgap), w, h)
         label = element_label("h", i)
         if zero.get(label, False):
             _zero_panel(ax, data.x, label)
@@ -404,18 +391,18 @@ def fig_h(data, dominance, zero, prismatic=None):
             _element_panel(ax, data.x, (ht[:, i], hr[:, i], hh[:, i]), label,
                            dominance.get(label, ""), data.enveloped, 2 if h < 0.6 else 3)
             first = first or ax
-        _unit_label(ax, element_units("h", i, None, prismatic))
+            ys.append(ax.yaxis)
+        _unit_label(ax, units[i])
         _time_axis(ax, data.x, labels=True, nbins=2 if w < 0.7 else 3)
         ax.set_xlabel("t [s]", labelpad=1.0)
+    label_axes(ys)
     if first is not None:
-        fig.legend(*first.get_legend_handles_labels(), loc="lower center", ncol=3,
+        fig.legend(*_legend_order(first), loc="lower center", ncol=3,
                    frameon=False, handlelength=2.6, bbox_to_anchor=(0.5, 0.02 / H))
-    fig.text(0.08 / W, 1 - (_TOP + h / 2) / H, "h_i", rotation=90, va="center",
-             ha="left", fontsize=8)
     return fig
 
 
-def fig_joints(data, prismatic=None):
+def fig_joints(data, prismatic=None, width=PAGE_WIDTH):
     """q, qd and qdd of every joint against time, side by side [deg, deg/s, deg/s^2].
 
     Parameters
@@ -425,52 +412,64 @@ def fig_joints(data, prismatic=None):
         joint] and time x [s].
     prismatic : ndarray of bool, shape (n,), optional
         Prismatic joints, drawn in mm (mm/s, mm/s^2) on panels of their own.
+    width : float, optional
+        :data:`PAGE_WIDTH` (three panels a row) or :data:`COLUMN_WIDTH` [in] (one panel a
+        row).
 
     Returns
     -------
     matplotlib.figure.Figure
-        7.2 in wide, three panels a row, one line per joint (colour and line style), legend
-        on top; an arm with both joint types gets a row for its revolute joints [deg, deg/s,
-        deg/s^2] and a row for its prismatic ones [mm, mm/s, mm/s^2]
+        One line per joint, told apart by colour, line style and marker (distinct for up to 7
+        joints, :func:`gd_analyze.reports.common.joint_style`), legend on top; an arm with
+        both joint types gets panels for its revolute joints [deg, deg/s, deg/s^2] and panels
+        for its prismatic ones [mm, mm/s, mm/s^2]
         (:func:`gd_analyze.core.selection.labels.joint_motion_units`), never two units on one axis.
     """
     n = data.series["q"].shape[1]
     prismatic = np.zeros(n, bool) if prismatic is None else np.asarray(prismatic, bool)
     kinds = [k for k in (False, True) if np.any(prismatic == k)]
-    row_h, top, gap_h, bottom = 1.5, 0.55, 0.55, 0.45
-    W, H = PAGE_WIDTH, top + len(kinds) * row_h + (len(kinds) - 1) * gap_h + bottom
+    column = width < PAGE_WIDTH
+    per_row = 1 if column else 3
+    panels = [(kind, k) for kind in kinds for k in range(3)]
+    rows = math.ceil(len(panels) / per_row)
+    row_h, gap_h, bottom = (0.95, 0.42, 0.4) if column else (1.5, 0.55, 0.45)
+    top = 0.25 + 0.16 * math.ceil(n / (3 if column else 7))
+    W, H = width, top + rows * row_h + (rows - 1) * gap_h + bottom
     fig = _figure(W, H)
-    left, gap = 0.55, 0.55
-    w = (W - left - 0.1 - 2 * gap) / 3
-    styles = ["-", "--", ":", "-."]
-    from matplotlib import colormaps
-
-    cmap = colormaps["tab10"]
+    left, gap = 0.6, 0.55
+    w = (W - left - 0.1 - (per_row - 1) * gap) / per_row
     symbols = ("q", "q\u0307", "q\u0308")
-    for r, kind in enumerate(kinds):
+    first = {}
+    for p, (kind, k) in enumerate(panels):
+        r, c = divmod(p, per_row)
         joints = np.flatnonzero(prismatic == kind)
         scale = 1000.0 if kind else np.degrees(1.0)
         units = joint_motion_units(kind, shown=True)
-        for k, name in enumerate(("q", "qd", "qdd")):
-            ax = _axes(fig, left + k * (w + gap), top + r * (row_h + gap_h), w, row_h)
-            y = data.series[name][:, joints] * scale
-            for col, jn in enumerate(joints):
-                ax.plot(data.x, y[:, col], color=cmap(jn % 10), linestyle=styles[jn % 4],
-                        linewidth=0.9, label=f"joint {jn + 1}")
-            lo, hi = _limits(y)
-            ax.set_ylim(lo, hi)
-            pad = (hi - lo) / 1.2 * 0.1
-            set_ticks(ax.yaxis, lo + pad, hi - pad, 4)
-            _time_axis(ax, data.x, True)
-            ax.set_xlabel("t [s]", labelpad=1.0)
-            ax.set_ylabel(f"{symbols[k]} [{units[k]}]", labelpad=1.0)
+        name = ("q", "qd", "qdd")[k]
+        ax = _axes(fig, left + c * (w + gap), top + r * (row_h + gap_h), w, row_h)
+        y = data.series[name][:, joints] * scale
+        for col, jn in enumerate(joints):
+            style = joint_style(int(jn), 1 if data.enveloped else y.shape[0])
+            if data.enveloped:
+                style = {k2: v for k2, v in style.items() if not k2.startswith("marker")}
+            ax.plot(data.x, y[:, col], linewidth=0.9, label=f"joint {jn + 1}", **style)
+        first.setdefault(kind, ax)
+        lo, hi = _limits(y)
+        ax.set_ylim(lo, hi)
+        pad = (hi - lo) / 1.2 * 0.1
+        set_ticks(ax.yaxis, lo + pad, hi - pad, 4 if row_h > 1.2 else 3, labels=False)
+        _time_axis(ax, data.x, True)
+        ax.set_xlabel("t [s]", labelpad=1.0)
+        ax.set_ylabel(f"{symbols[k]} [{units[k]}]", labelpad=1.0)
+    label_axes([ax.yaxis for ax in fig.axes])
     handles, labels = [], []
-    for r in range(len(kinds)):
-        hs, ls = fig.axes[3 * r].get_legend_handles_labels()
+    for ax in first.values():
+        hs, ls = ax.get_legend_handles_labels()
         handles, labels = handles + hs, labels + ls
     order = np.argsort([int(lab.split()[1]) for lab in labels])
     fig.legend([handles[o] for o in order], [labels[o] for o in order], loc="upper center",
-               ncol=min(n, 7), frameon=False, handlelength=2.4, bbox_to_anchor=(0.5, 1.0))
+               ncol=min(n, 3 if column else 7), frameon=False, handlelength=3.0,
+               columnspacing=1.2, bbox_to_anchor=(0.5, 1.0), fontsize=7 if column else 8)
     return fig
 
 
@@ -510,13 +509,14 @@ def fig_torque(data, peak_error, rel_error, prismatic=None):
         lo, hi = _limits(tau[:, i], tau_s[:, i])
         ax.set_ylim(lo, hi)
         pad = (hi - lo) / 1.2 * 0.1
-        set_ticks(ax.yaxis, lo + pad, hi - pad, 3)
+        set_ticks(ax.yaxis, lo + pad, hi - pad, 3, labels=False)
         _time_axis(ax, data.x, True)
         ax.set_xlabel("t [s]", labelpad=1.0)
         units = joint_torque_units(bool(prismatic[i])) if prismatic is not None else "N m"
         ax.set_ylabel(f"\u03c4{i + 1} [{units}]", labelpad=1.0)
         rel = f"{100 * rel_error[i]:.2g} %" if np.isfinite(rel_error[i]) else "n/a"
         ax.set_title(f"joint {i + 1}: peak error {rel}")
+    label_axes([ax.yaxis for ax in fig.axes])
     fig.legend(*fig.axes[0].get_legend_handles_labels(), loc="lower center", ncol=2,
                frameon=False, handlelength=2.6, bbox_to_anchor=(0.5, 0.0))
     return fig

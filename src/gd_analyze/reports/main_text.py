@@ -246,12 +246,19 @@ def captions(enveloped, N, s, e, units=None):
                "time columns, without markers; lines: translational solid, rotational dashed, "
                "combined dotted")
     else:
-        how = (f"Markers at each of the {N} set points: translational \u25cb (solid line), "
-               "rotational \u00d7 (dashed), combined \u25b3 (dotted)")
+        from .common import markevery
+
+        k = markevery(N)
+        where = (f"Markers at each of the {N} set points" if k == 1 else
+                 f"Lines through all {N} set points, a marker at one set point in {k} "
+                 f"(at most {-(-N // k)} per line)")
+        how = (f"{where}: translational \u25cb (solid line), rotational \u00d7 (dashed), "
+               "combined \u25b3 (dotted, thin, drawn first)")
     u = {"joints": "deg, deg/s, deg/s\u00b2", "D": "kg m\u00b2", "tau": "N m", **(units or {})}
     return {
         "joints": "Joint positions q, velocities q\u0307 and accelerations q\u0308 against time "
-                  f"[{u['joints']}]; the dataset stores SI units (rad or m).",
+                  f"[{u['joints']}], each joint in its own colour, line style and marker; the "
+                  "dataset stores SI units (rad or m).",
         "D": f"Elements {element('D', 'ij')} (i \u2264 j) of the inertia matrix against time "
              f"[{u['D']}], "
              f"split into their translational and rotational parts (analogue of Fig. 3.10). "

@@ -11,10 +11,12 @@ from __future__ import annotations
 
 import numpy as np
 
-from .common import fmt, pct, strings, table, torque_units, units_said_once
+from ..core.selection.ranking import ROUND_OFF, is_round_off
+from .common import fmt, pct, prismatic_joints, strings, table, torque_units
+from .common import units_said_once
 from .markup import element as _el, sub as _sub
 
-__all__ = ["has_simplified", "simplified_context", "error_figure", "SIMPLIFIED_CAPTION",
+__all__ = ["has_simplified", "simplified_context", "error_figure", "SIMPLIFIED_CAPTION", "ROUND_OFF",
            "simplified_caption"]
 
 #: Caption of the torque-error figure; ``{units}`` as :func:`simplified_caption` fills it.
@@ -24,11 +26,6 @@ SIMPLIFIED_CAPTION = ("Torque error of the simplified model, \u03c4\u209b \u2212
                       "this trajectory only). A joint whose model drops nothing (bound 0) reads "
                       "\u201c\u03c4\u209b = \u03c4\u201d: its difference is floating-point "
                       "round-off, not drawn.")
-
-#: A joint's tau_s - tau is round-off if its bound is 0 and its peak is below this fraction of
-#: the joint's scale (about 4500 machine epsilons: a sum of a few thousand rounded terms).
-ROUND_OFF = 1e-12
-
 
 def simplified_caption(ds):
     """The caption of :func:`error_figure`, with the units of each joint's torque.
@@ -190,14 +187,33 @@ def _recursive_text(ds, eps, floor):
                    "that sum: the bound below is guaranteed, on this trajectory only.")
 
 
-def _round_off(diff, bound, scale):
-    """Whether a joint's tau_s - tau is floating-point round-off only: nothing was dropped
-    for it (bound 0) and its peak is within :data:`ROUND_OFF` of the joint's scale."""
-    if bound != 0 or not np.isfinite(scale) or diff.size == 0:
+def _round_off(diff, bound, scale, arm_scale=None):
+    """Whether a joint's tau_s - tau is floating-point round-off only
+    (:func:`gd_analyze.core.selection.ranking.is_round_off`).
+
+    Its bound (what was dropped for the joint) must be round-off of the joint's own scale,
+    and its peak round-off of ``arm_scale``: the largest scale among the joints of the same
+    type (same units). Both models evaluate the same recursion over the whole chain, whose
+    round-off follows the chain's largest torques, not the joint's own: joint 6 of the PUMA
+    (scale 1.2e-4 N m) differs by 2e-16 N m, 1.8e-12 of its own scale.
+    """
+    if diff.size == 0 or not np.isfinite(diff).all() or not np.isfinite(bound):
         return False
-    if not np.isfinite(diff).all():
-        return False
-    return float(np.max(np.abs(diff))) <= ROUND_OFF * max(float(scale), 1e-300)
+    ref = scale if arm_scale is None else max(float(scale), float(arm_scale))
+    return bool(is_round_off(bound, scale)
+                and is_round_off(float(np.max(np.abs(diff))), ref))
+
+
+def _arm_scales(scale, prismatic):
+    """The largest scale among the joints of each joint's type [N m or N]."""
+    scale = np.asarray(scale, float)
+    out = np.empty_like(scale)
+    for kind in (False, True):
+        same = np.asarray(prismatic, bool) == kind
+        if same.any():
+            finite = scale[same][np.isfinite(scale[same])]
+            out[same] = finite.max() if finite.size else np.nan
+    return out
 
 
 def error_figure(ds, size=(8.27, 9.0), data=None):
@@ -208,7 +224,8 @@ def error_figure(ds, size=(8.27, 9.0), data=None):
     ds : xarray.Dataset
         With ``t``, ``tau``, ``tau_simplified`` (N, n) [N m] and ``simplified_bound`` (n,).
     size : tuple, optional
-        Figure size [in].
+        Figure size [in]; narrower than 5 in (a 3.5-in column) gives one panel a row, else
+        two.
     data : gd_analyze.reports.main_figures.PlotData, optional
         The series as the report reads them, with ``tau_error`` (tau_s - tau per set point,
         or its min/max envelope for a long trajectory: the stored series are then never read
@@ -217,15 +234,17 @@ def error_figure(ds, size=(8.27, 9.0), data=None):
     Returns
     -------
     matplotlib.figure.Figure
-        Two panels a row on a fixed grid (no layout engine: the margins are set for the 7-pt
-        tick labels, the 8-pt axis labels and the titles); ticks placed once
-        (:func:`gd_analyze.reports.ticks.set_ticks`), every y range padded so that neither the
-        error nor the bound touches the frame. A joint whose model drops nothing and whose
-        difference is round-off (:data:`ROUND_OFF`) reads "τₛ = τ" instead of a curve of noise.
+        Panels on a fixed grid (no layout engine: the margins are set for the 7-pt tick
+        labels, the 8-pt axis labels and the titles); ticks placed once, in one notation for
+        the figure (:func:`gd_analyze.reports.ticks.label_axes`), every y range padded so that
+        neither the error nor the bound touches the frame; the legend above the panels,
+        clear of every curve. A joint whose difference and bound are round-off
+        (:func:`_round_off`, :data:`gd_analyze.core.selection.ranking.ROUND_OFF`) reads "τₛ = τ"
+        instead of a curve of noise.
     """
     from matplotlib.figure import Figure
 
-    from .ticks import MINUS, set_ticks
+    from .ticks import MINUS, label_axes, set_ticks
 
     n = ds.sizes["joint"]
     units = torque_units(ds)
@@ -236,54 +255,72 @@ def error_figure(ds, size=(8.27, 9.0), data=None):
         diff = ds["tau_simplified"].values - ds["tau"].values
     bound = ds["simplified_bound"].values
     scale = ds["simplified_scale"].values if "simplified_scale" in ds else ds["tau_peak"].values
-    legend = False
-    cols = 2 if n > 1 else 1
-    rows = -(-n // cols)
+    arm = _arm_scales(scale, prismatic_joints(ds) if "joint" in ds.sizes else np.zeros(n, bool))
     W, H = size
-    left, right, gap, top, bottom, hgap = 0.85, 0.12, 0.95, 0.62, 0.45, 0.72
+    column = W < 5.0
+    cols = 2 if n > 1 and not column else 1
+    rows = -(-n // cols)
+    left, right, gap, top, bottom, hgap = 0.62, 0.1, 0.75, 0.72, 0.42, 0.62
+    if column:
+        top, hgap = 0.7, 0.5
     w = (W - left - right - (cols - 1) * gap) / cols
     h = (H - top - bottom - (rows - 1) * hgap) / rows
     fig = Figure(figsize=size)
-    t0, t1 = (float(t[0]), float(t[-1])) if t.size else (0.0, 1.0)
+    if data is not None and data.enveloped:     # the set points' range, not the columns'
+        t = np.asarray(t, float)
+        t0, t1 = float(ds["t"][0]), float(ds["t"][-1])
+    else:
+        t0, t1 = (float(t[0]), float(t[-1])) if t.size else (0.0, 1.0)
+    handles = None
+    ys = []
     for i in range(n):
         r, c = divmod(i, cols)
         x0, y0 = left + c * (w + gap), top + r * (h + hgap)
         ax = fig.add_axes((x0 / W, 1 - (y0 + h) / H, w / W, h / H))
         ax.set_xlim(t0, t1 if t1 > t0 else t0 + 1.0)
         set_ticks(ax.xaxis, t0, t1 if t1 > t0 else t0 + 1.0, 4)
-        ax.set_title(f"joint {i + 1}", fontsize=9)
-        ax.set_xlabel("time t [s]", fontsize=8)
+        ax.set_title(f"joint {i + 1}", fontsize=8)
+        ax.set_xlabel("t [s]", fontsize=8, labelpad=1.0)
         ax.tick_params(labelsize=7)
-        if _round_off(diff[:, i], bound[i], scale[i]):
+        which = "" if column else f" (joint {i + 1})"   # a column's panels are short
+        ax.set_ylabel(f"\u03c4\u209b \u2212 \u03c4{which} [{units[i]}]", fontsize=8,
+                      labelpad=1.0)
+        if _round_off(diff[:, i], bound[i], scale[i], arm[i]):
             peak = f"{float(np.max(np.abs(diff[:, i]))):.1e}".replace("-", MINUS)
             ax.text(0.5, 0.5, f"nothing dropped: \u03c4\u209b = \u03c4\nup to round-off "
                     f"(peak {peak} {units[i]})", transform=ax.transAxes,
-                    ha="center", va="center", fontsize=8, color="0.35", linespacing=1.6)
+                    ha="center", va="center", fontsize=7, color="0.35", linespacing=1.5)
             ax.set_ylim(-1, 1)
             ax.yaxis.set_ticks([])
-            ax.set_ylabel(f"\u03c4\u209b \u2212 \u03c4 (joint {i + 1}) [{units[i]}]", fontsize=8)
             continue
-        ax.plot(t, diff[:, i], color="#D55E00", linewidth=1.2, label="\u03c4\u209b \u2212 \u03c4")
+        line, = ax.plot(t, diff[:, i], color="#D55E00", linewidth=1.1,
+                        label="\u03c4\u209b \u2212 \u03c4")
         span = [0.0]
         if diff.size and np.isfinite(diff[:, i]).any():
             span += [float(np.nanmin(diff[:, i])), float(np.nanmax(diff[:, i]))]
         if np.isfinite(bound[i]):
-            ax.axhline(bound[i], color="0.4", linestyle=":", linewidth=1,
-                       label="guaranteed bound")
+            b, = ax.plot([t0, t1], [bound[i]] * 2, color="0.4", linestyle=":", linewidth=1,
+                         label="guaranteed bound \u00b1")
             ax.axhline(-bound[i], color="0.4", linestyle=":", linewidth=1)
             span += [float(bound[i]), -float(bound[i])]
+            handles = handles or [line, b]
         ax.axhline(0.0, color="0.8", linewidth=0.6)
         lo, hi = min(span), max(span)
         if hi - lo <= 1e-300:
             lo, hi = -1.0, 1.0
         pad = 0.08 * (hi - lo)
         ax.set_ylim(lo - pad, hi + pad)
-        set_ticks(ax.yaxis, lo, hi, 4)
-        ax.set_ylabel(f"\u03c4\u209b \u2212 \u03c4 (joint {i + 1}) [{units[i]}]", fontsize=8)
-        if not legend:
-            ax.legend(fontsize=7, frameon=False)
-            legend = True
-    fig.suptitle("Torque error of the simplified model, \u03c4\u209b \u2212 \u03c4 "
-                 f"[{units_said_once(ds, 'tau')}], and its bound", fontsize=10,
-                 y=1 - 0.12 / H, va="top")
+        set_ticks(ax.yaxis, lo, hi, 4 if h > 1.2 else 3, labels=False)
+        ys.append(ax.yaxis)
+    label_axes(ys)
+    if handles:                     # above the panels: no curve or bound runs through it
+        fig.legend(handles, [hd.get_label() for hd in handles], loc="upper center", ncol=2,
+                   frameon=False, fontsize=7, handlelength=2.6,
+                   bbox_to_anchor=(0.5, 1 - (0.4 if not column else 0.3) / H))
+    title = ("Torque error of the simplified model, \u03c4\u209b \u2212 \u03c4 "
+             f"[{units_said_once(ds, 'tau')}], and its bound")
+    if column:
+        title = ("Simplified model: \u03c4\u209b \u2212 \u03c4 "
+                 f"[{units_said_once(ds, 'tau')}] and its bound")
+    fig.suptitle(title, fontsize=9 if not column else 8, y=1 - 0.1 / H, va="top")
     return fig

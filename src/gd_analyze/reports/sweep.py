@@ -350,6 +350,10 @@ _CAPTIONS = {
 _FIGURE_FILES = {"D": "fig_sweep_share_D", "h": "fig_sweep_share_h",
                  "classes": "fig_sweep_class_fractions", "error": "fig_sweep_torque_error",
                  "payload": "fig_payload_dominance"}
+#: Column-width (3.5 in) versions: ``figures/<name>_column.pdf`` and ``.svg`` (not in the
+#: report).
+_FIGURE_FILES.update({f"{k}_column": f"{_FIGURE_FILES[k]}_column"
+                      for k in ("D", "h", "classes", "error")})
 
 
 def render_sweep_pdf(ds, path, payload=None, figures=None, paper="a4"):
@@ -473,12 +477,13 @@ def write_sweep_report(sweep_path, outdir, payload=None, formats=SWEEP_REPORT_FO
     if payload is not None and not hasattr(payload, "data_vars"):
         payload = open_sweep(payload, "payload")
     ctx = _context(ds, payload)
-    drawn = draw_figures(make_sweep_figures(ds, payload), _RC, fonts=fonts)
+    drawn = draw_figures(make_sweep_figures(ds, payload, column=True), _RC, fonts=fonts)
     outdir = Path(outdir)
     (outdir / "figures").mkdir(parents=True, exist_ok=True)
     written, files = [], []
     with contextlib.ExitStack() as stack:
         files = write_figure_files(stack, drawn, outdir / "figures", _FIGURE_FILES)
+        drawn = {k: v for k, v in drawn.items() if not k.endswith("_column")}   # the report's
         for fmt in formats:
             path = outdir / f"sweep_report.{fmt}"
             tmp = stack.enter_context(atomic_path(path))

@@ -16,7 +16,7 @@ from .common import gridspec as _gridspec, strings as _strings, style as _style
 from .common import check as _check, grid_shape, thresholds as _thresholds
 from .figures import CLASS_LETTER as _LETTER
 from .figures import payload_figure
-from ..core.selection.ranking import CLASSES, element_label
+from ..core.selection.ranking import CLASSES, ROUND_OFF, element_label
 
 __all__ = ["make_sweep_figures", "REQUIRED"]
 
@@ -31,10 +31,18 @@ REQUIRED = ("share_tran", "dominance", "choice", "source", "duration", "tau_peak
 _CHOICE_COLOURS = {"tran": _CLASS_COLOURS["translational"], "rot": _CLASS_COLOURS["rotational"],
                    "both": _CLASS_COLOURS["both"], "none": _CLASS_COLOURS["negligible"]}
 _OWN_COLOUR, _MERGED_COLOUR = "#009E73", "#000000"
-#: Width of every figure: the text of a page [in].
-_PAGE_WIDTH = 7.2
-#: Floor of the logarithmic torque-error axis (errors below it are drawn at it).
-_ERROR_FLOOR = 1e-16
+#: Width of every figure: the text of a page [in]; the column versions' [in].
+_PAGE_WIDTH, COLUMN_WIDTH = 7.2, 3.5
+#: Relative torque errors at or below this are round-off (:data:`ROUND_OFF`): not drawn.
+_ERROR_FLOOR = ROUND_OFF
+
+
+def _round_off(ds):
+    """(trajectory, element) bool: the element is round-off on the trajectory (stored by the
+    sweep, :func:`gd_analyze.core.selection.ranking.is_round_off`); all False for an older file."""
+    if "round_off" in ds.variables:
+        return ds["round_off"].values.astype(bool)
+    return np.zeros(ds["share_tran"].shape, bool)
 
 
 def _fraction_text(fractions):
@@ -43,8 +51,27 @@ def _fraction_text(fractions):
     return " \u00b7 ".join(parts)
 
 
-def _share_panel(ax, values, label, merged, fractions, s, small):
-    """One element: a box of its share_tran over the trajectories, thresholds s and 1 - s."""
+def _zero_share_panel(ax, label, merged):
+    """An element that is round-off on every trajectory: no share (it would be noise)."""
+    ax.text(0.5, 0.5, "\u2261 0", transform=ax.transAxes, ha="center", va="center",
+            fontsize=10, color="0.35")
+    ax.set_xlim(-0.6, 0.8)
+    ax.set_ylim(-0.03, 1.03)
+    ax.set_xticks([])
+    ax.set_yticks([0.0, 0.5, 1.0])
+    ax.yaxis.set_major_formatter("{x:.2g}")
+    ax.tick_params(length=2.0, pad=1.5)
+    ax.grid(False)
+    ax.set_title(f"{label}: \u2261 0", color=_CHOICE_COLOURS.get(merged, "black"), pad=2.5)
+
+
+def _share_panel(ax, values, label, merged, fractions, s, small, zero=None):
+    """One element: a box of its share_tran over the trajectories, thresholds s and 1 - s;
+    trajectories on which the element is round-off (``zero``) are left out of the box."""
+    if zero is not None:
+        if zero.all():
+            return _zero_share_panel(ax, label, merged)
+        values = values[~zero]
     ax.axhspan(s, 1.0, color=_CLASS_COLOURS["translational"], alpha=0.09, lw=0)
     ax.axhspan(0.0, 1.0 - s, color=_CLASS_COLOURS["rotational"], alpha=0.09, lw=0)
     for y in (s, 1.0 - s):
@@ -84,18 +111,22 @@ def _key_text(ds, K):
         f"Dashed lines: s = {s:g} and 1 \u2212 s; blue band: translational, orange band: "
         f"rotational. Title: element \u2192 choice of the merged model. Bottom: fraction of "
         f"trajectories per class (T translational, R rotational, B both, N negligible, "
-        f"e = {e:g}); the share of a negligible element may compare round-off-level "
-        f"values.", 52)
+        f"e = {e:g}). \u2261 0: round-off (below 1e-12 of its scale) in every part on every "
+        f"trajectory, no share drawn; on the trajectories where an element is round-off its "
+        f"share is left out of the box.", 52)
 
 
-def _fig_D(ds):
+def _fig_D(ds, width=_PAGE_WIDTH):
     from matplotlib.figure import Figure
 
+    if width < _PAGE_WIDTH:
+        return _fig_D_column(ds, width)
     n = ds.sizes["joint"]
     labels = _strings(ds["element"].values)
     share = ds["share_tran"].values
     merged = dict(zip(labels, _strings(ds["merged_choice"].values)))
     frac = ds["class_fraction"].values
+    zero = _round_off(ds)
     s, _ = _thresholds(ds)
     W = _PAGE_WIDTH
     H = 0.75 + n * 0.72 + (n - 1) * 0.42
@@ -106,7 +137,8 @@ def _fig_D(ds):
             label = element_label("D", i, j)
             k = labels.index(label)
             ax = fig.add_subplot(gs[i, j])
-            _share_panel(ax, share[:, k], label, merged[label], frac[k], s, small=True)
+            _share_panel(ax, share[:, k], label, merged[label], frac[k], s, small=True,
+                         zero=zero[:, k])
             ax.tick_params(labelleft=(i == j))
     if n > 1:
         k = n // 2
@@ -120,7 +152,8 @@ def _fig_D(ds):
     return fig
 
 
-def _fig_h(ds):
+def _fig_D_column(ds, W):
+    """The share boxes of D in reading order, three a row, the key below (a column)."""
     from matplotlib.figure import Figure
 
     n = ds.sizes["joint"]
@@ -128,26 +161,67 @@ def _fig_h(ds):
     share = ds["share_tran"].values
     merged = dict(zip(labels, _strings(ds["merged_choice"].values)))
     frac = ds["class_fraction"].values
+    zero = _round_off(ds)
     s, _ = _thresholds(ds)
-    rows, cols = grid_shape(n, 3)
-    W, H = _PAGE_WIDTH, 1.9 + 1.9 * rows
+    elements = [element_label("D", i, j) for i in range(n) for j in range(i, n)]
+    cols = 3
+    rows = -(-len(elements) // cols)
+    H = 0.62 + rows * 0.95 + 1.55
     fig = Figure(figsize=(W, H))
-    gs = _gridspec(fig, rows, cols, left=0.65, right=0.1, top=0.5, bottom=1.2, wgap=0.6,
-                   hgap=0.5)
+    gs = _gridspec(fig, rows, cols, left=0.55, right=0.08, top=0.62, bottom=1.75, wgap=0.3,
+                   hgap=0.42)
+    for m, label in enumerate(elements):
+        k = labels.index(label)
+        ax = fig.add_subplot(gs[m // cols, m % cols])
+        _share_panel(ax, share[:, k], label, merged[label], frac[k], s, small=True,
+                     zero=zero[:, k])
+        ax.tick_params(labelleft=(m % cols == 0))
+    fig.text(0.1 / W, 1.5 / H, textwrap.fill(_key_text(ds, ds.sizes["trajectory"])
+                                             .replace("\n", " "), 68),
+             va="top", ha="left", fontsize=7, linespacing=1.25)
+    fig.supylabel("share_tran [1]", x=0.05 / W, ha="left")
+    fig.suptitle("Translational share of the elements of D\nover the sweep (layout of Fig. "
+                 "3.10)", y=1 - 0.08 / H, va="top", fontsize=9)
+    return fig
+
+
+def _fig_h(ds, width=_PAGE_WIDTH):
+    from matplotlib.figure import Figure
+
+    n = ds.sizes["joint"]
+    labels = _strings(ds["element"].values)
+    share = ds["share_tran"].values
+    merged = dict(zip(labels, _strings(ds["merged_choice"].values)))
+    frac = ds["class_fraction"].values
+    zero = _round_off(ds)
+    s, _ = _thresholds(ds)
+    column = width < _PAGE_WIDTH
+    rows, cols = grid_shape(n, 2 if column else 3)
+    W = width
+    H = (2.3 + 1.6 * rows) if column else (1.9 + 1.9 * rows)
+    fig = Figure(figsize=(W, H))
+    gs = _gridspec(fig, rows, cols, left=0.65, right=0.1, top=0.55 if column else 0.5,
+                   bottom=1.75 if column else 1.2, wgap=0.6, hgap=0.5)
     for i in range(n):
         label = element_label("h", i)
         k = labels.index(label)
         ax = fig.add_subplot(gs[i // cols, i % cols])
-        _share_panel(ax, share[:, k], label, merged[label], frac[k], s, small=False)
+        _share_panel(ax, share[:, k], label, merged[label], frac[k], s, small=False,
+                     zero=zero[:, k])
         ax.set_ylabel("share_tran [1]")
-    key = textwrap.fill(_key_text(ds, ds.sizes["trajectory"]).replace("\n", " "), 120)
-    fig.text(0.3 / W, 0.1 / H, key, ha="left", va="bottom", fontsize=7.0, linespacing=1.3)
+    key = textwrap.fill(_key_text(ds, ds.sizes["trajectory"]).replace("\n", " "),
+                        68 if column else 120)
+    fig.text(0.1 / W if column else 0.3 / W, 0.1 / H, key, ha="left", va="bottom",
+             fontsize=7.0, linespacing=1.25 if column else 1.3)
     fig.suptitle("Translational share of the elements of h over the sweep "
-                 "(layout of Fig. 3.11)", y=1 - 0.15 / H, va="top")
+                 "(layout of Fig. 3.11)" if not column else
+                 "Translational share of the elements of h\nover the sweep (layout of Fig. "
+                 "3.11)", y=1 - 0.15 / H if not column else 1 - 0.08 / H, va="top",
+                 fontsize=None if not column else 9)
     return fig
 
 
-def _fig_classes(ds):
+def _fig_classes(ds, width=_PAGE_WIDTH):
     from matplotlib.figure import Figure
     from matplotlib.patches import Patch
 
@@ -155,9 +229,12 @@ def _fig_classes(ds):
     frac = ds["class_fraction"].values
     merged = _strings(ds["merged_choice"].values)
     M = len(labels)
-    W, H = _PAGE_WIDTH, 1.5 + 0.17 * M
+    column = width < _PAGE_WIDTH
+    W, H = width, (1.75 if column else 1.5) + 0.17 * M
     fig = Figure(figsize=(W, H))
-    ax = fig.add_axes((1.0 / W, 0.8 / H, (W - 2.6) / W, (H - 1.4) / H))
+    ax = fig.add_axes(((0.45 if column else 1.0) / W, (1.05 if column else 0.8) / H,
+                       (W - (1.4 if column else 2.6)) / W,
+                       (H - (1.45 if column else 1.4)) / H))
     y = np.arange(M)
     left = np.zeros(M)
     for c_idx, cls in enumerate(CLASSES):
@@ -173,13 +250,14 @@ def _fig_classes(ds):
         ax.text(1.02, k, f"merged: {ch}", transform=ax.get_yaxis_transform(), va="center",
                 ha="left", fontsize=7, color=_CHOICE_COLOURS.get(ch, "black"))
     fig.legend(handles=[Patch(color=_CLASS_COLOURS[c], label=c) for c in CLASSES],
-               loc="lower center", ncol=4, frameon=False, bbox_to_anchor=(0.5, 0.0))
+               loc="lower center", ncol=2 if column else 4, frameon=False,
+               bbox_to_anchor=(0.5, 0.0), fontsize=7 if column else None)
     fig.suptitle(f"Dominance class per element over {ds.sizes['trajectory']} trajectories",
-                 y=1 - 0.12 / H, va="top")
+                 y=1 - 0.12 / H, va="top", fontsize=9 if column else None)
     return fig
 
 
-def _fig_error(ds):
+def _fig_error(ds, width=_PAGE_WIDTH):
     from matplotlib.figure import Figure
     from matplotlib.lines import Line2D
 
@@ -187,26 +265,34 @@ def _fig_error(ds):
     own = ds["tau_error_relative_peak"].values
     merged = ds["merged_tau_error_relative_peak"].values
     overall = ds["merged_error_relative_peak"].values
-    W, H = _PAGE_WIDTH, 3.6
+    column = width < _PAGE_WIDTH
+    W, H = width, (3.9 if column else 3.6)
     fig = Figure(figsize=(W, H))
-    ax = fig.add_axes((0.9 / W, 0.9 / H, (W - 1.2) / W, (H - 1.6) / H))
+    ax = fig.add_axes((0.75 / W, (1.25 if column else 0.9) / H, (W - 0.95) / W,
+                       (H - (2.05 if column else 1.6)) / H))
     for j in range(n):
         for off, data, colour in ((-0.18, own[:, j], _OWN_COLOUR),
                                   (0.18, merged[:, j], _MERGED_COLOUR)):
-            vals = data[np.isfinite(data)]
+            vals = data[np.isfinite(data) & (data > _ERROR_FLOOR)]     # round-off: not drawn
             if not vals.size:
                 continue
-            vals = np.maximum(vals, _ERROR_FLOOR)
             bp = ax.boxplot([vals], positions=[j + 1 + off], widths=0.3, whis=(0, 100),
                             showfliers=False, manage_ticks=False)
             for key in ("boxes", "whiskers", "caps", "medians"):
                 for line in bp[key]:
                     line.set(color=colour, linewidth=0.9)
-        if np.isfinite(overall[j]):
-            ax.plot(j + 1.18, max(overall[j], _ERROR_FLOOR), marker="D", ms=4, color="#CC79A7",
-                    ls="none")
+        if np.isfinite(overall[j]) and overall[j] > _ERROR_FLOOR:
+            ax.plot(j + 1.18, overall[j], marker="D", ms=4, color="#CC79A7", ls="none")
+        finite = np.concatenate([own[:, j], merged[:, j]])
+        finite = finite[np.isfinite(finite)]
+        if finite.size and (finite <= _ERROR_FLOOR).all():
+            ax.text(j + 1, 0.5, "round-off\nonly", transform=ax.get_xaxis_transform(),
+                    ha="center", va="center", fontsize=7, color="0.35")
     ax.set_yscale("log")
-    ax.set_xticks(np.arange(1, n + 1), [f"joint {j + 1}" for j in range(n)])
+    ax.set_xticks(np.arange(1, n + 1), [f"{j + 1}" if column else f"joint {j + 1}"
+                                         for j in range(n)])
+    if column:
+        ax.set_xlabel("joint", labelpad=1.0)
     ax.set_xlim(0.4, n + 0.6)
     ax.set_ylabel("peak |\u03c4\u209b \u2212 \u03c4| / peak |\u03c4| [1]")
     ax.legend(handles=[Line2D([], [], color=_OWN_COLOUR, label="own simplified model, per "
@@ -214,15 +300,17 @@ def _fig_error(ds):
                        Line2D([], [], color=_MERGED_COLOUR, label="merged model, per trajectory"),
                        Line2D([], [], color="#CC79A7", marker="D", ls="none",
                               label="merged model, over all trajectories")],
-              loc="upper center", bbox_to_anchor=(0.5, -0.08), ncol=3, frameon=False,
-              fontsize=7)
-    fig.suptitle("Relative peak torque error per joint (box: quartiles, whiskers: min/max;\n"
-                 f"values below {_ERROR_FLOOR:g} drawn at it)", y=1 - 0.08 / H, va="top",
-                 fontsize=8.5)
+              loc="upper center", bbox_to_anchor=(0.5, -0.2 if column else -0.08),
+              ncol=1 if column else 3, frameon=False, fontsize=7)
+    fig.suptitle("Relative peak torque error per joint\n(box: quartiles, whiskers: min/max;\n"
+                 f"round-off, at most {_ERROR_FLOOR:g}, not drawn)" if column else
+                 "Relative peak torque error per joint (box: quartiles, whiskers: min/max;\n"
+                 f"round-off, at most {_ERROR_FLOOR:g}, not drawn)", y=1 - 0.08 / H,
+                 va="top", fontsize=8.5)
     return fig
 
 
-def make_sweep_figures(ds, payload=None):
+def make_sweep_figures(ds, payload=None, column=False):
     """Make the sweep report's figures from a stored sweep.
 
     Parameters
@@ -232,6 +320,8 @@ def make_sweep_figures(ds, payload=None):
         n joints).
     payload : xarray.Dataset, optional
         A payload sweep from :func:`gd_analyze.workflows.payload.payload_sweep`.
+    column : bool, optional
+        Also make ``"<key>_column"``, 3.5 in wide, of ``D``, ``h``, ``classes``, ``error``.
 
     Returns
     -------
@@ -250,6 +340,10 @@ def make_sweep_figures(ds, payload=None):
     with _style(_RC):
         figs = {"D": _fig_D(ds), "h": _fig_h(ds), "classes": _fig_classes(ds),
                 "error": _fig_error(ds)}
+        if column:
+            figs.update({f"{k}_column": make(ds, COLUMN_WIDTH) for k, make in
+                         (("D", _fig_D), ("h", _fig_h), ("classes", _fig_classes),
+                          ("error", _fig_error))})
     if payload is not None:
         figs["payload"] = payload_figure(payload)
     return figs

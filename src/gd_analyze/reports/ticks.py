@@ -13,7 +13,8 @@ import math
 
 import numpy as np
 
-__all__ = ["tick_labels", "nice_ticks", "set_ticks", "formatter", "MINUS"]
+__all__ = ["tick_labels", "nice_ticks", "set_ticks", "formatter", "MINUS", "notation",
+           "label_axes"]
 
 #: The minus sign of the labels (U+2212, as wide as the plus sign).
 MINUS = "\u2212"
@@ -45,13 +46,16 @@ def _sci(x, digits):
     return f"{mant}e{int(exp)}"
 
 
-def tick_labels(values):
+def tick_labels(values, style=None):
     """Labels of axis ticks, each giving back its tick's value.
 
     Parameters
     ----------
     values : array_like, shape (K,)
         Tick positions, any order; NaN or inf are written as "n/a".
+    style : {None, "fixed", "sci"}, optional
+        Force one notation (for one tick format across a figure, :func:`label_axes`); by
+        default the rule below picks it.
 
     Returns
     -------
@@ -88,6 +92,10 @@ def tick_labels(values):
     sci = _fewest(finite, tol, _sci)
     if fixed is None and sci is None:       # not representable in 15 digits: full precision
         texts = [repr(float(x)) for x in finite]
+    elif style == "sci" and sci is not None:
+        texts = sci
+    elif style == "fixed" and fixed is not None:
+        texts = fixed
     elif sci is None or (fixed is not None and _FIXED[0] <= big < _FIXED[1]
                          and _width(fixed) <= _width(sci) + 1):
         texts = fixed
@@ -102,6 +110,49 @@ def tick_labels(values):
         t = next(it)
         out.append("0" if x == 0 or float(t) == 0 else t.replace("-", MINUS))
     return out
+
+
+def notation(values):
+    """The notation :func:`tick_labels` picks for a set of ticks: ``"fixed"`` or ``"sci"``.
+
+    Parameters
+    ----------
+    values : array_like, shape (K,)
+        Tick positions.
+
+    Returns
+    -------
+    str
+        ``"sci"`` if any label is written like ``1.5e−5``, else ``"fixed"``.
+
+    Examples
+    --------
+    >>> notation([0, 0.5, 1.0]), notation([0, 2e-5, 4e-5])
+    ('fixed', 'sci')
+    """
+    return "sci" if any("e" in t for t in tick_labels(values)) else "fixed"
+
+
+def label_axes(axes):
+    """Write the tick labels of several axes of one figure in one notation.
+
+    Parameters
+    ----------
+    axes : iterable of matplotlib.axis.Axis
+        Axes whose ticks are placed (:func:`set_ticks` with ``labels=False`` or ``True``).
+
+    Returns
+    -------
+    str
+        The notation used: ``"sci"`` for every axis if any one needs it (a figure never mixes
+        2e−5 and 0.0015), else ``"fixed"``.
+    """
+    axes = [a for a in axes if len(a.get_ticklocs())]
+    style = "sci" if any(notation(a.get_ticklocs()) == "sci" for a in axes) else "fixed"
+    for a in axes:
+        ticks = a.get_ticklocs()
+        a.set_ticks(ticks, labels=tick_labels(ticks, style))
+    return style
 
 
 def nice_ticks(lo, hi, nbins=3):

@@ -9,10 +9,8 @@ from __future__ import annotations
 
 import numpy as np
 
+from ..core.selection.ranking import ROUND_OFF
 from ..core.symbolic.recursive_model import PART_NAMES
-
-#: A contribution below this fraction of its joint's scale is round-off, not data.
-ROUND_OFF = 1e-12
 
 __all__ = ["AKB_COSTS", "cost_rows", "simplified_dataset"]
 

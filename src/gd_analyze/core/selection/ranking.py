@@ -33,7 +33,7 @@ __all__ = [
     "CLASSES", "DEFAULT_DOMINANCE", "DEFAULT_NEGLIGIBLE", "Ranking", "element_labels",
     "element_index", "element_label", "parse_element_label", "rank_dominance",
     "CHAPTER_DOMINANCE", "element_units", "joint_torque_units", "joint_motion_units",
-    "joint_units_text",
+    "joint_units_text", "ROUND_OFF", "is_round_off",
 ]
 
 #: The dominance classes, in the order used for codes in files.
@@ -42,6 +42,47 @@ CLASSES = ("translational", "rotational", "both", "negligible")
 DEFAULT_DOMINANCE = defaults["dominance"]
 #: Default negligibility threshold e (:data:`gd_analyze.config.defaults`).
 DEFAULT_NEGLIGIBLE = defaults["negligible"]
+
+#: A quantity whose peak is at most this fraction of its own scale is floating-point round-off
+#: (about 4500 machine epsilons: a sum of a few thousand rounded terms), never data.
+ROUND_OFF = 1e-12
+
+
+def is_round_off(peak, scale, tol=ROUND_OFF):
+    """Whether a quantity is floating-point round-off relative to its own scale.
+
+    The one rule by which the reports and the stored model tell round-off from data: an
+    element, a joint's torque error or a tracking error whose peak is at most ``tol`` times its
+    scale is never drawn or tabulated as data.
+
+    Parameters
+    ----------
+    peak : array_like, shape (M,) or scalar
+        Peak |value| of each quantity (any units).
+    scale : array_like, shape (M,) or scalar
+        Each quantity's own scale, in the same units: peak sqrt(D_ii D_jj) [kg m^2] for D_ij,
+        peak |tau_i| [N m] (or [N]) for h_i and for joint i's torque error, the motion's
+        range [rad] for a tracking error.
+    tol : float, optional
+        The fraction of the scale (default :data:`ROUND_OFF`).
+
+    Returns
+    -------
+    ndarray of bool, shape (M,) (0-d for scalars)
+        True where ``peak <= tol * |scale|`` and the peak is finite; NaN or inf never counts
+        as round-off. A zero scale makes only an exactly zero peak round-off.
+
+    Examples
+    --------
+    >>> is_round_off([1e-19, 0.2, np.nan, 0.0], [1.0, 1.0, 1.0, 0.0]).tolist()
+    [True, False, False, True]
+    """
+    peak = np.abs(np.asarray(peak, dtype=float))
+    scale = np.abs(np.asarray(scale, dtype=float))
+    with np.errstate(invalid="ignore"):
+        return np.asarray((peak <= tol * np.where(np.isfinite(scale), scale, 0.0))
+                          & np.isfinite(peak))
+
 
 #: The dominance the chapter reports for its PUMA 560 trajectory (Sec. 3.4.1, Figs. 3.10-3.11).
 CHAPTER_DOMINANCE = {

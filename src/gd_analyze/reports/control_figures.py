@@ -1,0 +1,197 @@
+"""The control report's figures: tracking error, closed-loop torque difference and applied
+torques per joint, drawn from a stored control dataset at a page's width (7.2 in) or a
+column's (3.5 in). Integrator noise is never drawn as data
+(:func:`gd_analyze.core.selection.ranking.is_round_off` with the integrator's rtol).
+"""
+
+from __future__ import annotations
+
+import functools
+import math
+import textwrap
+
+import numpy as np
+
+from ..core.selection.ranking import ROUND_OFF, is_round_off
+from .common import BASE_RC, fmt, grid_shape, prismatic_joints
+from .common import strings as _strings, style as _style
+
+__all__ = ["control_figures", "PAGE_WIDTH", "COLUMN_WIDTH", "CONTROLLER_LABELS"]
+
+#: Figure widths [in]: the text of a page, one column.
+PAGE_WIDTH, COLUMN_WIDTH = 7.2, 3.5
+
+# Okabe & Ito colours, the same in every figure.
+_COLOURS = {"full": "#000000", "simplified": "#009E73", "pd_gravity": "#D55E00"}
+_STYLES = {"full": "-", "simplified": "--", "pd_gravity": "-."}
+CONTROLLER_LABELS = _LABELS = {"full": "computed torque, full model", "simplified": "computed torque, simplified "
+           "model", "pd_gravity": "PD + gravity"}
+_MAX_LINE_POINTS = 600
+_RC = {**BASE_RC, "legend.fontsize": 7.5, "lines.markersize": 3.0}
+_fmt = functools.partial(fmt, digits=3, sci_outside=(1e-3, 1e5))
+
+
+def _stride(m):
+    return max(1, int(math.ceil(m / _MAX_LINE_POINTS)))
+
+
+def _noise_floor(ds, scale):
+    """Per joint, the level at or below which a closed-loop quantity is the integrator's
+    noise, not data: ``max(rtol, ROUND_OFF)`` times the joint's scale
+    (:func:`gd_analyze.core.selection.ranking.is_round_off` applies it)."""
+    rtol = float(ds.attrs.get("rtol", 0.0))
+    tol = max(rtol if np.isfinite(rtol) else 0.0, ROUND_OFF)
+    return tol, tol * np.abs(np.asarray(scale, float))
+
+
+def _joint_panels(ds, values, ylabel, title, log=False, scale=None, which="q",
+                  width=PAGE_WIDTH):
+    """A figure with one panel per joint; values: name -> (M, n) array along ds.time.
+
+    ``ylabel`` is formatted with each joint's units (``{u}``). With ``scale`` (n,), a
+    controller whose curve on a joint is integrator noise (:func:`_noise_floor`) is not drawn
+    there: the panel says so; on a log axis the axis starts at the noise floor.
+    """
+    from matplotlib.figure import Figure
+
+    from .common import markevery
+    from .ticks import label_axes, set_ticks
+
+    t = np.asarray(ds["time"].values, dtype=float)
+    is_set = np.asarray(ds["is_setpoint"].values).astype(bool)
+    n = int(ds.sizes["joint"])
+    units = _joint_units(ds, which)
+    column = width < PAGE_WIDTH
+    rows, cols = grid_shape(n, 1 if column else 2)
+    top = (0.5 if scale is None else 0.72) + ((0.25 if scale is None else 0.42) if column
+                                              else 0.0)
+    bottom = 0.62 + 0.14 * len(values) if column else 0.85     # the key, one entry a line
+    height = (1.35 if column else 1.9) * rows + bottom - 0.35 + top
+    W = width
+    fig = Figure(figsize=(W, height))
+    # fixed margins [in] instead of a layout engine: drawing stays fast
+    fig.subplots_adjust(left=0.75 / W, right=1 - 0.15 / W, top=1 - top / height,
+                        bottom=bottom / height, wspace=0.3, hspace=0.35)
+    axes = fig.subplots(rows, cols, squeeze=False, sharex=True)
+    k = _stride(t.size)
+    keep = np.zeros(t.size, dtype=bool)
+    keep[::k] = True
+    keep |= is_set
+    every = markevery(int(is_set.sum()))
+    tol, floor = _noise_floor(ds, scale) if scale is not None else (None, None)
+    handles = {}
+    quiet = {}                          # controller -> [(joint, peak)] of noise-only curves
+    linear = []
+    for j in range(rows * cols):
+        ax = axes[j // cols, j % cols]
+        if j >= n:
+            ax.set_visible(False)
+            continue
+        drawn = 0
+        for name, y in values.items():
+            yj = np.asarray(y[:, j], dtype=float)
+            if log:
+                yj = np.abs(yj)
+            peak = float(np.nanmax(np.abs(yj))) if yj.size else 0.0
+            if floor is not None and is_round_off(peak, scale[j], tol):
+                quiet.setdefault(name, []).append((j, peak))
+                continue
+            drawn += 1
+            if log:
+                yj = np.where(yj > (floor[j] if floor is not None else 0.0), yj, np.nan)
+            kw = {"color": _COLOURS.get(name, "#0072B2"), "linestyle": _STYLES.get(name, "-"),
+                  "label": _LABELS.get(name, name)}
+            line, = ax.plot(t[keep], yj[keep], **kw)
+            handles.setdefault(kw["label"], line)
+            ax.plot(t[is_set], yj[is_set], linestyle="none", marker="o", markersize=2.5,
+                    color=kw["color"], mfc="none", markevery=every)
+        if log:
+            ax.set_yscale("log")
+            if floor is not None and floor[j] > 0:
+                ax.set_ylim(bottom=floor[j])
+        elif drawn:                     # round ticks, labelled below in one notation
+            lo, hi = ax.get_ylim()
+            set_ticks(ax.yaxis, lo, hi, 4, labels=False)
+            linear.append(ax.yaxis)
+        if not drawn and floor is not None:
+            ax.text(0.5, 0.5, "integrator noise only: not drawn", transform=ax.transAxes,
+                    ha="center", va="center", fontsize=7, color="0.35")
+            ax.set_yticks([])
+        ax.set_title(f"joint {j + 1}")
+        if j // cols == rows - 1 or j + cols >= n:
+            ax.set_xlabel("time t [s]")
+        ax.set_ylabel(ylabel.format(u=units[j]))
+    label_axes(linear)                  # one tick notation for the figure
+    if handles:
+        fig.legend(list(handles.values()), list(handles), loc="lower center",
+                   ncols=1 if column else min(3, len(handles)), frameon=False,
+                   bbox_to_anchor=(0.5, 0.0))
+    fig.suptitle(textwrap.fill(title, 48) if column else title, fontsize=9 if column else 10,
+                 fontweight="bold", y=1 - 0.12 / height, va="top")
+    if floor is not None:
+        notes = [f"Integrator noise (at most {tol:g} of the joint's scale) is not drawn"]
+        for name, where in quiet.items():
+            peak = max(p for _, p in where)
+            joints = ("every joint" if len(where) == n else
+                      "joint" + ("s " if len(where) > 1 else " ")
+                      + ", ".join(str(j + 1) for j, _ in where))
+            notes.append(f"{_LABELS.get(name, name)}: noise on {joints} (peak "
+                         f"{_fmt(peak)} {units[where[0][0]]})")
+        note = "; ".join(notes) + "."
+        fig.text(0.5, 1 - (0.62 if column else 0.36) / height,
+                 textwrap.fill(note, 70) if column else note, ha="center", va="top",
+                 fontsize=7, color="0.3")
+    return fig
+
+
+def _joint_units(ds, which):
+    """Units of q (``"q"``) or tau (``"tau"``) per joint, from the stored joint types
+    (:func:`gd_analyze.core.selection.labels.joint_motion_units`, ``joint_torque_units``)."""
+    from ..core.selection.ranking import joint_motion_units, joint_torque_units
+
+    prismatic = prismatic_joints(ds)
+    if which == "tau":
+        return [joint_torque_units(bool(p)) for p in prismatic]
+    return [joint_motion_units(bool(p))[0] for p in prismatic]
+
+
+def control_figures(ds, width=PAGE_WIDTH):
+    """The report's figures, drawn from a stored control dataset.
+
+    Parameters
+    ----------
+    ds : xarray.Dataset
+        A control dataset (:func:`gd_analyze.io.control_dataset.control_dataset`), checked by
+        the caller.
+    width : float, optional
+        :data:`PAGE_WIDTH` (two panels a row) or :data:`COLUMN_WIDTH` [in] (one a row).
+
+    Returns
+    -------
+    dict of str to matplotlib.figure.Figure
+        ``"error"`` (|q_d - q| per joint, log scale [rad or m]), ``"tau_difference"`` (tau of
+        the simplified-model controller minus the full-model one [N m or N]; absent if not
+        stored) and ``"tau"`` (applied torques [N m or N]). Integrator noise (at most the
+        integrator's rtol times the joint's scale: the range of q_d for an error, the full
+        controller's peak |tau| for a torque difference) is never drawn as data.
+    """
+    names = _strings(ds["controller"].values)
+    q_d = np.asarray(ds["q_d"].values, float)
+    q_scale = np.maximum(np.ptp(q_d, axis=0), np.abs(q_d).max(axis=0))
+    full = names.index("full") if "full" in names else 0
+    tau_scale = np.asarray(ds["tau"].values, float)[full]
+    tau_scale = np.nanmax(np.abs(tau_scale), axis=0)
+    with _style(_RC):
+        figs = {"error": _joint_panels(
+            ds, {c: ds["error"].sel(controller=c).values for c in names},
+            "|q_d \u2212 q| [{u}]", "Tracking error per joint", log=True, scale=q_scale,
+            width=width)}
+        if "tau_difference" in ds:
+            figs["tau_difference"] = _joint_panels(
+                ds, {"simplified": ds["tau_difference"].values}, "\u03c4_s \u2212 \u03c4_f [{u}]",
+                "Closed-loop torque difference: simplified-model minus full-model computed "
+                "torque", scale=tau_scale, which="tau", width=width)
+        figs["tau"] = _joint_panels(ds, {c: ds["tau"].sel(controller=c).values for c in names},
+                                    "\u03c4 [{u}]", "Applied joint torques", which="tau",
+                                    width=width)
+    return figs

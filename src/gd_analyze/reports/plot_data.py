@@ -1,0 +1,130 @@
+"""The series the main report's figures draw, read from the stored results file.
+
+:func:`plot_data` reads the stored series whole, or for long trajectories their min/max
+envelope per column of the panel, in chunks (memory stays a few chunks whatever N is). The
+figures (:mod:`gd_analyze.reports.main_figures`) never see the full dataset and never recompute
+the dynamics.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+__all__ = ["PlotData", "plot_data", "DERIVED", "ENVELOPE_THRESHOLD", "ENVELOPE_COLUMNS",
+           "READ_CHUNK"]
+
+#: Series longer than this are read and drawn as a min/max envelope per column.
+ENVELOPE_THRESHOLD = 2000
+#: Columns of the envelope of a long series (about 300 dpi on a panel).
+ENVELOPE_COLUMNS = 400
+#: Set points read per chunk when a long series is reduced.
+READ_CHUNK = 32768
+
+
+@dataclass(frozen=True)
+class PlotData:
+    """The series the figures draw, as stored or reduced to their envelope.
+
+    Attributes
+    ----------
+    x : ndarray, shape (M,)
+        Time [s] of each plotted point (M = N, or two points per envelope column).
+    enveloped : bool
+        True if the series are min/max envelopes (no markers are drawn).
+    series : dict of str to ndarray
+        ``q``, ``qd``, ``qdd``, ``h_tran``, ``h_rot``, ``h``, ``tau``, ``tau_simplified``
+        (M, n) and ``D_tran``, ``D_rot``, ``D`` (M, n, n).
+    N : int
+        Set points stored.
+    """
+
+    x: np.ndarray
+    enveloped: bool
+    series: dict
+    N: int
+
+
+def _read(var, a, b):
+    return np.asarray(var[a:b].values, dtype=float)
+
+
+#: Series computed from stored ones as they are read: name -> (a, b), meaning a - b.
+DERIVED = {"tau_error": ("tau_simplified", "tau")}
+
+
+def _chunk(ds, v, a, b):
+    if v in DERIVED:
+        first, second = DERIVED[v]
+        return _read(ds[first], a, b) - _read(ds[second], a, b)
+    return _read(ds[v], a, b)
+
+
+def plot_data(ds, names=("q", "qd", "qdd", "D_tran", "D_rot", "D", "h_tran", "h_rot", "h",
+                          "tau", "tau_simplified", "tau_error"), columns=ENVELOPE_COLUMNS,
+              threshold=ENVELOPE_THRESHOLD, chunk=READ_CHUNK, progress=None):
+    """Read the series to plot from a stored analysis, reduced if long.
+
+    Parameters
+    ----------
+    ds : xarray.Dataset
+        An opened results file (lazily loaded: only chunks are read) with ``t`` (N,) [s] and
+        the variables ``names`` with first dimension ``setpoint``.
+    names : sequence of str, optional
+        The variables to read; ``tau_error`` is tau_simplified - tau (:data:`DERIVED`), taken
+        per chunk before the envelope.
+    columns : int, optional
+        Columns of the envelope of a long series.
+    threshold : int, optional
+        Up to this many set points the series are read whole.
+    chunk : int, optional
+        Set points read at a time.
+    progress : callable, optional
+        Called with the number of set points read, per chunk (for a progress bar).
+
+    Returns
+    -------
+    PlotData
+        For N > threshold: per column of equal time, the minimum and the maximum of each series
+        at the column's mid-time, in time order (2 * columns points); memory stays a few chunks
+        whatever N is.
+    """
+    t = np.asarray(ds["t"].values, dtype=float)
+    N = t.size
+    if N <= threshold:
+        series = {v: _chunk(ds, v, 0, N) for v in names}
+        if progress:
+            progress(N)
+        return PlotData(x=t, enveloped=False, series=series, N=N)
+    t0, t1 = float(t[0]), float(t[-1])
+    if t1 > t0:
+        col = np.minimum(((t - t0) * (columns / (t1 - t0))).astype(np.intp), columns - 1)
+    else:
+        col = (np.arange(N) * columns) // N
+    lo = {v: None for v in names}
+    hi = {v: None for v in names}
+    for a in range(0, N, chunk):
+        b = min(N, a + chunk)
+        c = col[a:b]
+        starts = np.flatnonzero(np.r_[True, c[1:] != c[:-1]])
+        cols = c[starts]
+        for v in names:
+            y = _chunk(ds, v, a, b)
+            if lo[v] is None:
+                lo[v] = np.full((columns,) + y.shape[1:], np.nan)
+                hi[v] = np.full((columns,) + y.shape[1:], np.nan)
+            with np.errstate(invalid="ignore"):
+                lo[v][cols] = np.fmin(lo[v][cols], np.fmin.reduceat(y, starts, axis=0))
+                hi[v][cols] = np.fmax(hi[v][cols], np.fmax.reduceat(y, starts, axis=0))
+        if progress:
+            progress(b - a)
+    used = np.unique(col)
+    edges = np.linspace(t0, t1, columns + 1) if t1 > t0 else np.arange(columns + 1.0)
+    mid = 0.5 * (edges[used] + edges[used + 1])
+    x = np.repeat(mid, 2)
+    series = {}
+    for v in names:
+        pair = np.stack([lo[v][used], hi[v][used]], axis=1)      # (C, 2, ...)
+        series[v] = pair.reshape((2 * used.size,) + pair.shape[2:])
+    return PlotData(x=x, enveloped=True, series=series, N=N)

@@ -1,0 +1,225 @@
+"""The main report's figures at print size (issue 18 item 3): no two labels collide, at most
+about 12 markers per line, round-off never drawn, seven joints told apart in greyscale.
+
+Collisions are measured on the drawn figure: every text's extent from the renderer
+(``Text.get_window_extent``) against every other text's, and against the plotting area of every
+other panel, at page width (7.2 in) and at column width (3.5 in), for the PUMA 560, the
+Stanford arm (a prismatic joint 3) and the UR5.
+"""
+
+import numpy as np
+import pytest
+
+from gd_analyze import load_robot
+from gd_analyze.core.selection.ranking import ROUND_OFF, is_round_off
+from gd_analyze.io.schema import open_results
+from gd_analyze.io.trajectory import read_trajectory
+from gd_analyze.reports import main as report
+from gd_analyze.reports.common import JOINT_STYLES, MAX_MARKERS, joint_style
+from gd_analyze.reports.main_figures import plot_data
+from gd_analyze.workflows.analyze import analyze_to_file
+
+from conftest import ROOT
+from gd_analyze.workflows.options import AnalysisOptions
+
+ROBOTS = ("puma560", "stanford", "ur5")
+#: Overlap below this many points is antialiasing, not a collision.
+SLACK = 0.5
+
+
+@pytest.fixture(scope="module", params=ROBOTS)
+def figures(request, tmp_path_factory):
+    name = request.param
+    robot = load_robot(name)
+    traj = read_trajectory(ROOT / "data" / f"{name}_trajectory.csv", robot.n)
+    path = tmp_path_factory.mktemp(name) / "results.h5"
+    analyze_to_file(robot, traj, path, AnalysisOptions(formulations=False))
+    with open_results(path, lazy=True) as ds:
+        ds = ds.load()
+    figs = report.make_figures(ds, plot_data(ds))
+    return name, ds, figs
+
+
+def _drawn_tick_labels(ax):
+    """The tick labels the axes draws: of ticks within its view, shown (as Axis.draw picks
+    them; a located tick outside the limits is not drawn)."""
+    out = []
+    for axis in (ax.xaxis, ax.yaxis):
+        for tick in axis._update_ticks():
+            out += [lab for lab in (tick.label1, tick.label2) if lab.get_visible()]
+    return out
+
+
+def _texts(fig):
+    """(owner, text) of every visible non-empty text: tick labels, axis labels, titles,
+    panel texts, legends, figure texts; the owner is the axes (or the figure)."""
+    out = []
+    for ax in fig.axes:
+        items = ([ax.title, ax._left_title, ax._right_title, ax.xaxis.label, ax.yaxis.label]
+                 + list(ax.texts) + _drawn_tick_labels(ax))
+        legend = ax.get_legend()
+        if legend is not None:
+            items += legend.get_texts()
+        out += [(ax, t) for t in items]
+    items = list(fig.texts) + [t for lg in fig.legends for t in lg.get_texts()]
+    if fig._suptitle is not None and fig._suptitle not in items:
+        items.append(fig._suptitle)
+    out += [(fig, t) for t in items]
+    return [(o, t) for o, t in out if t.get_visible() and t.get_text().strip()]
+
+
+def _draw(fig):
+    """Draw the figure as the report does (fixed layout) and give its renderer."""
+    from matplotlib.backends.backend_agg import FigureCanvasAgg
+
+    import matplotlib
+
+    canvas = FigureCanvasAgg(fig)
+    with matplotlib.rc_context(report.FIG_RC):
+        canvas.draw()
+    return canvas.get_renderer()
+
+
+def _overlap(a, b):
+    w = min(a.x1, b.x1) - max(a.x0, b.x0)
+    h = min(a.y1, b.y1) - max(a.y0, b.y0)
+    return min(w, h)
+
+
+def collisions(fig):
+    """Pairs of labels of a drawn figure whose extents overlap, and labels that run into the
+    plotting area of a panel they do not belong to; as readable strings."""
+    renderer = _draw(fig)
+    px = fig.dpi / 72.0 * SLACK
+    boxes = [(o, t, t.get_window_extent(renderer)) for o, t in _texts(fig)]
+    found = []
+    for k, (oa, ta, a) in enumerate(boxes):
+        for ob, tb, b in boxes[k + 1:]:
+            if _overlap(a, b) > px:
+                found.append(f"{ta.get_text()!r} / {tb.get_text()!r}")
+        for ax in fig.axes:
+            if ax is oa or not ax.get_visible() or not ax.axison:
+                continue
+            if _overlap(a, ax.get_window_extent(renderer)) > px:
+                found.append(f"{ta.get_text()!r} runs into panel {ax.get_title()!r}")
+    return found
+
+
+def test_no_label_collides_at_page_or_column_width(figures):
+    name, _, figs = figures
+    bad = {key: collisions(fig) for key, fig in figs.items()}
+    bad = {k: v[:4] for k, v in bad.items() if v}
+    assert not bad, f"{name}: {bad}"
+
+
+def test_column_versions_are_a_column_wide_with_7_pt_type(figures):
+    _, _, figs = figures
+    assert {"joints_column", "D_column", "h_column", "torque_column"} <= set(figs)
+    for key in (k for k in report.COLUMN_FIGURES if f"{k}_column" in figs):
+        fig = figs[f"{key}_column"]
+        assert fig.get_size_inches()[0] == pytest.approx(3.5)
+        _draw(fig)
+        sizes = [t.get_fontsize() for _, t in _texts(fig)]
+        assert min(sizes) >= 7.0
+
+
+def test_minus_signs_survive(figures):
+    """A negative tick is written with its minus sign (U+2212) and no tick label is cut by
+    a neighbouring panel (checked above); here: every negative tick's label starts with it."""
+    _, _, figs = figures
+    for fig in figs.values():
+        for ax in fig.axes:
+            for loc, lab in zip(ax.get_yticks(), ax.get_yticklabels()):
+                if loc < 0 and lab.get_text():
+                    assert lab.get_text().startswith("\u2212"), lab.get_text()
+
+
+def _markers_shown(line):
+    """Markers a Line2D draws: its points picked by its markevery."""
+    if line.get_marker() in (None, "None", "", " "):
+        return 0
+    n = len(line.get_xdata())
+    every = line.get_markevery()
+    if every is None:
+        return n
+    if isinstance(every, int):
+        return len(range(0, n, every))
+    if isinstance(every, tuple) and len(every) == 2 and all(isinstance(v, int) for v in every):
+        return len(range(every[0], n, every[1]))
+    return len(np.arange(n)[every])
+
+
+def test_at_most_about_12_markers_per_line(figures):
+    name, _, figs = figures
+    for key in ("D", "h", "joints", "D_column", "h_column", "joints_column"):
+        for ax in figs[key].axes:
+            for line in ax.lines:
+                assert _markers_shown(line) <= MAX_MARKERS, (name, key, ax.get_title())
+
+
+def test_the_combined_curve_is_drawn_first_and_thinner(figures):
+    _, _, figs = figures
+    for ax in figs["D"].axes:
+        lines = {ln.get_label(): ln for ln in ax.lines}
+        if "combined" not in lines:
+            continue
+        total, tran, rot = lines["combined"], lines["translational"], lines["rotational"]
+        assert total.get_zorder() < min(tran.get_zorder(), rot.get_zorder())
+        assert total.get_linewidth() < min(tran.get_linewidth(), rot.get_linewidth())
+
+
+def test_one_tick_notation_per_figure(figures):
+    _, _, figs = figures
+    for key in ("D", "h", "D_column", "h_column", "torque", "torque_column", "joints"):
+        styles = set()
+        for ax in figs[key].axes:
+            for lab in ax.get_yticklabels():
+                text = lab.get_text()
+                if text and text != "0":
+                    styles.add("sci" if "e" in text else "fixed")
+        assert len(styles) <= 1, (key, styles)
+
+
+def test_round_off_is_never_drawn_as_data(figures):
+    """An element whose parts are round-off (D45, D56 of the PUMA) reads "≡ 0" with no
+    curve; a joint whose torque error and bound are round-off reads "τₛ = τ" with no curve."""
+    name, ds, figs = figures
+    labels = [str(v) for v in ds["element"].values]
+    peak = np.fmax(np.fmax(ds["peak_tran"].values, ds["peak_rot"].values),
+                   ds["peak_total"].values)
+    zero = is_round_off(peak, ds["element_scale"].values)
+    if name == "puma560":
+        assert {lab for lab, z in zip(labels, zero) if z} == {"D45", "D56"}
+    for key in ("D", "D_column"):
+        for ax in figs[key].axes:
+            element = ax.get_title().split(":")[0]
+            if element in labels and zero[labels.index(element)]:
+                assert not ax.lines, (key, element)
+    diff = ds["tau_simplified"].values - ds["tau"].values
+    bound = ds["simplified_bound"].values
+    for key in ("torque", "torque_column"):
+        axes = [ax for ax in figs[key].axes if ax.get_title().startswith("joint")]
+        for i, ax in enumerate(axes):
+            texts = " ".join(t.get_text() for t in ax.texts)
+            if bound[i] == 0:           # nothing dropped: the difference is round-off
+                assert "round-off" in texts and not ax.lines, (name, key, i + 1)
+            else:
+                assert ax.lines and "round-off" not in texts
+    assert np.abs(diff).max() > 0       # the data hold a difference to hide or to draw
+
+
+def test_the_round_off_rule_is_relative_to_the_scale():
+    """Physical reading: 1e-19 kg m^2 on an element of scale 1 kg m^2 is round-off; the same
+    1e-19 on a scale of 1e-9 is 1e-10 of it, data; NaN is never round-off."""
+    assert is_round_off(1e-19, 1.0)
+    assert not is_round_off(1e-19, 1e-9)
+    assert is_round_off(ROUND_OFF, 1.0) and not is_round_off(2 * ROUND_OFF, 1.0)
+    assert not is_round_off(np.nan, 1.0) and not is_round_off(np.inf, np.inf)
+
+
+def test_seven_joints_differ_in_line_style_and_marker():
+    styles = [joint_style(j, 31) for j in range(7)]
+    dashes = [str(s["linestyle"]) for s in styles]
+    markers = [s["marker"] for s in styles]
+    assert len(set(dashes)) == 7 and len(set(markers)) == 7
+    assert len(JOINT_STYLES) >= 7
