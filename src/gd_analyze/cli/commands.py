@@ -13,7 +13,7 @@ import sys
 import warnings
 from pathlib import Path
 
-from ..errors import InputError
+from ..errors import InputError, InputWarning
 
 from .parsing import EXIT_OK, EXIT_TOLERANCE, EXIT_VERIFY, PROG, parse_range
 
@@ -30,12 +30,30 @@ def _command_line(args):
 def _load_robot(args):
     from ..io.robots import load_robot
 
-    return load_robot(args.robot, args.base, args.tip)
+    return _apply_mounting(load_robot(args.robot, args.base, args.tip), args)
+
+
+def _apply_mounting(robot, args):
+    """The robot with --gravity and --base-rpy applied (the same robot without them)."""
+    from ..core.mounting import with_mounting
+
+    return with_mounting(robot, getattr(args, "gravity", None), getattr(args, "base_rpy", None))
+
+
+def _mounting_settings(args, robot):
+    """The mounting, for the provenance: the options as given and the gravity they give in the
+    base frame [m/s^2]."""
+    out = {"mounting_base_rpy_deg": [float(v) for v in (args.base_rpy or (0.0, 0.0, 0.0))],
+           "mounting_gravity_base": [float(v) for v in robot.gravity]}
+    if args.gravity is not None:
+        out["mounting_gravity_world"] = [float(v) for v in args.gravity]
+    return out
 
 
 def _chain_settings(args):
-    """The URDF chain options, for the provenance of a run's outputs."""
-    return {k: v for k, v in (("robot_base", args.base), ("robot_tip", args.tip)) if v}
+    """The URDF chain options and the mounting, for the provenance of a run's outputs."""
+    return {k: v for k, v in (("robot_base", getattr(args, "base", None)),
+                              ("robot_tip", getattr(args, "tip", None))) if v}
 
 
 def _apply_payload(robot, args):
@@ -221,7 +239,7 @@ def _analyze(args, worker):
                 "form": args.form,
                 "payload_com": [float(v) for v in args.payload_com],
                 "payload_inertia": [float(v) for v in args.payload_inertia],
-                **_chain_settings(args)}
+                **_chain_settings(args), **_mounting_settings(args, base_robot)}
     extra = _payload_sweep_dataset(base_robot, trajectory, args)   # bad range: before any output
     with staged_output(outdir, ANALYZE_OUTPUTS, "analyze") as stage, writing(outdir, stage):
         check_free_space(stage, _results_size(trajectory.n_setpoints, robot.n), "results.h5")
@@ -294,7 +312,13 @@ def _cmd_plan(args):
     from ..io.trajectory import write_trajectory
     from ..io.planning import acceleration_limits, default_motion, plan_quintic, user_positions, write_provenance
 
+    from ..io.planning import check_velocity_limits
+
     robot = _load_robot(args)
+    if args.duration is None or not args.ignore_limits:     # the plan needs the limits
+        placeholder = check_velocity_limits(robot)
+        if placeholder:
+            warnings.warn(placeholder, InputWarning)
     start, goal = default_motion(robot)
     for name, vals in (("--start", args.start), ("--goal", args.goal)):
         if vals is not None and len(vals) != robot.n:
@@ -345,7 +369,7 @@ def _cmd_plan(args):
         "tool": "gd-analyze", "version": __version__,
         "command": _command_line(args),
         "robot": robot.name, "robot_source": robot.source, "robot_sha256": robot.sha256,
-        **_chain_settings(args),
+        **_chain_settings(args), **_mounting_settings(args, robot),
         "start": [float(v) for v in start], "goal": [float(v) for v in goal],
         "start_goal_units": "rad (m for a prismatic joint)",
         "setpoints": traj.n_setpoints, "duration_s": float(traj.t[-1]),
@@ -383,13 +407,15 @@ def _cmd_evaluate(args):
 
     model = SimplifiedModel.load(args.model)
     traj = read_trajectory(args.trajectory, n_joints=model.robot.n)
-    err = evaluate(model, traj, plant=_apply_payload(model.robot, args))
+    plant = _apply_payload(_apply_mounting(model.robot, args), args)
+    err = evaluate(model, traj, plant=plant)
     worst = err.pop("max_relative_peak_error")
     exceeded = args.max_error is not None and worst > args.max_error
     if args.json:
         out = {"model": args.model, "trajectory": args.trajectory,
                "trajectory_sha256": traj.sha256, "robot": model.robot.name,
                "setpoints": traj.n_setpoints, "payload_mass": float(args.payload or 0.0),
+               **_mounting_settings(args, plant),
                "max_relative_peak_error": worst,
                "max_error": args.max_error, "exceeded": exceeded, **err}
         print(json.dumps(out, allow_nan=False, default=str).replace("NaN", "null"))
@@ -418,7 +444,7 @@ def _cmd_compare(args):
     robot, traj = _load(args, args.trajectory)
     report = compare_report(robot, traj.q, traj.qd, traj.qdd)
     if args.json:
-        print(json.dumps(report))
+        print(json.dumps({**report, **_mounting_settings(args, robot)}))
     else:
         print(format_compare(report))
     return EXIT_OK
@@ -443,7 +469,8 @@ def _cmd_control(args):
         raise InputError("exists and is not a folder", outdir)
     try:
         result = run_control(model, traj, wn=args.wn, zeta=args.zeta, q0_offset=args.offset,
-                             model_path=args.model, model_sha256=file_sha256(args.model))
+                             model_path=args.model, model_sha256=file_sha256(args.model),
+                             plant=_apply_mounting(model.robot, args))
     except ValueError as exc:
         raise InputError(str(exc)) from None
     with staged_output(outdir, (CONTROL_FILE, *CONTROL_REPORT_FILES, "figures"),

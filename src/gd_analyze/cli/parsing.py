@@ -137,6 +137,18 @@ def _add_payload_arguments(p):
     return g
 
 
+def _add_mounting_arguments(p, what="the arm"):
+    g = p.add_argument_group("mounting (recorded in the provenance)")
+    g.add_argument("--gravity", metavar="GX,GY,GZ", type=_vector3("--gravity"),
+                   help="gravity in the world frame [m/s^2] (default: the robot file's, e.g. "
+                        "0,0,-9.81; 0,0,0 for none)")
+    g.add_argument("--base-rpy", metavar="R,P,Y", type=_vector3("--base-rpy"),
+                   help=f"roll, pitch, yaw of {what}'s base in the world [deg] (URDF "
+                        "convention R = Rz(Y) Ry(P) Rx(R); gravity in the base frame is R^T g): "
+                        "e.g. 0,90,0 on a wall, 0,180,0 on a ceiling (default 0,0,0)")
+    return g
+
+
 def _add_chain_arguments(p):
     g = p.add_argument_group("URDF chain (a ROBOT given as a .urdf file, or panda, ur5)")
     g.add_argument("--base", metavar="LINK",
@@ -233,6 +245,7 @@ def _analyze_parser():
                    help="print nothing but warnings and errors (no summary, no progress bar)")
     p.add_argument("--version", action="version", version=f"%(prog)s {_version()}")
     _add_chain_arguments(p)
+    _add_mounting_arguments(p)
     _add_payload_sweep_argument(_add_payload_arguments(p))
     return p
 
@@ -277,6 +290,7 @@ def _plan_parser():
                         "i.e. full speed in 1/{0:g} s; the provenance says which)".format(
                             DEFAULT_QDD_PER_QD))
     _add_chain_arguments(p)
+    _add_mounting_arguments(p)
     return p
 
 
@@ -291,9 +305,10 @@ def _evaluate_parser():
                         "exceeds REL")
     p.add_argument("--json", action="store_true", help="print one JSON object")
     _add_payload_arguments(p)
-    p.epilog = ("With --payload, the reference torques are those of the arm carrying the load, "
-                "while the simplified model keeps its own robot: the error shows whether the "
-                "model holds under that load.")
+    _add_mounting_arguments(p, "the reference arm")
+    p.epilog = ("With --payload, --gravity or --base-rpy, the reference torques are those of the "
+                "arm carrying the load or mounted so, while the simplified model keeps its own "
+                "robot: the error shows whether the model holds there.")
     return p
 
 
@@ -306,6 +321,7 @@ def _compare_parser():
     p.add_argument("trajectory", metavar="TRAJECTORY.csv")
     p.add_argument("--json", action="store_true", help="print one JSON object")
     _add_chain_arguments(p)
+    _add_mounting_arguments(p)
     return p
 
 
@@ -335,6 +351,8 @@ def _control_parser():
     _add_paper_argument(p)
     p.add_argument("--json", action="store_true", help="print the figures as one JSON object")
     p.add_argument("-q", "--quiet", action="store_true", help="print nothing but errors")
+    _add_mounting_arguments(p, "the controlled arm (the plant, and the full-model and PD + "
+                               "gravity controllers; the simplified model keeps its own)")
     return p
 
 
@@ -375,6 +393,7 @@ def _sweep_parser():
     _add_paper_argument(p)
     p.add_argument("-q", "--quiet", action="store_true", help="print nothing but errors")
     _add_chain_arguments(p)
+    _add_mounting_arguments(p)
     _add_payload_sweep_argument(_add_payload_arguments(p))
     return p
 

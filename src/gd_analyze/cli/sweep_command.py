@@ -11,8 +11,8 @@ import sys
 from pathlib import Path
 
 from ..errors import InputError
-from .commands import (_apply_payload, _chain_settings, _command_line, _load_robot, _outdir,
-                       _payload_masses)
+from .commands import (_apply_payload, _chain_settings, _command_line, _load_robot,
+                       _mounting_settings, _outdir, _payload_masses)
 from .parsing import EXIT_OK, _version
 
 __all__ = []
@@ -95,6 +95,15 @@ def _cmd_sweep(args):
     if args.csv:
         trajectories = [read_trajectory(path, n_joints=robot.n) for path in args.csv]
     else:
+        from ..io.planning import check_velocity_limits
+
+        placeholder = check_velocity_limits(robot)           # random plans need them
+        if placeholder:
+            import warnings
+
+            from ..errors import InputWarning
+
+            warnings.warn(placeholder, InputWarning)
         trajectories = random_trajectories(robot, args.random, seed=args.seed)
     masses = _payload_masses(args)
     loaded = _apply_payload(robot, args)
@@ -102,7 +111,8 @@ def _cmd_sweep(args):
     if outdir.exists() and not outdir.is_dir():
         raise InputError("exists and is not a folder", outdir)
     settings = {"command": _command_line(args),
-                "payload_mass": float(args.payload or 0.0), **_chain_settings(args)}
+                "payload_mass": float(args.payload or 0.0), **_chain_settings(args),
+                **_mounting_settings(args, robot)}
     if args.random is not None:
         from ..io.planning import acceleration_limits
 

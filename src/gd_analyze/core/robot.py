@@ -175,9 +175,10 @@ class Robot:
         Inertia tensor I_i of link i about its centre of mass, axes parallel to link frame i,
         symmetric [kg m^2].
     q_min, q_max : ndarray, shape (n,)
-        Joint position limits [rad] or [m]; may be -inf, inf.
+        Joint position limits [rad] or [m]; -inf, inf where there is none (a continuous
+        joint) or none is given.
     qd_max : ndarray, shape (n,)
-        Joint velocity limits [rad/s] or [m/s].
+        Joint velocity limits [rad/s] or [m/s]; NaN where not given (only planning needs them).
     qdd_max : ndarray, shape (n,)
         Joint acceleration limits [rad/s^2] or [m/s^2]; NaN where unknown (URDF).
     gravity : ndarray, shape (3,)
@@ -201,6 +202,9 @@ class Robot:
         Orientation of link frame i in body frame i (identity for modified DH and chains).
     link_translation : ndarray, shape (n, 3)
         Origin of link frame i in body frame i [m].
+    tau_max : ndarray, shape (n,)
+        Joint effort limits |tau_i| <= tau_max_i [N m] or [N] (prismatic); NaN where not
+        given (default: none given).
     metadata : mapping
         Read-only extra facts from the builder (e.g. a URDF's base and tip links).
 
@@ -236,6 +240,7 @@ class Robot:
     link_rotation: np.ndarray = None
     link_translation: np.ndarray = None
     metadata: types.MappingProxyType = None
+    tau_max: np.ndarray = None
 
     def __post_init__(self):
         if self.convention not in CONVENTIONS:
@@ -245,6 +250,8 @@ class Robot:
         set_(self, "prismatic", _readonly(np.zeros(n, bool) if self.prismatic is None
                                           else self.prismatic, bool))
         set_(self, "metadata", types.MappingProxyType(dict(self.metadata or {})))
+        if self.tau_max is None:
+            set_(self, "tau_max", np.full(n, np.nan))
         if self.convention != "chain":      # always from the DH rows: never stale
             P, t, LR, Lt = dh_placements(self.convention, self.d, self.a, self.alpha,
                                          self.offset)
@@ -334,6 +341,8 @@ class Robot:
                                           math.degrees(self.q_max[i])],
                             qd_max_deg=math.degrees(self.qd_max[i]),
                             qdd_max_deg=math.degrees(self.qdd_max[i]))
+            if math.isfinite(self.tau_max[i]):
+                link["tau_max"] = float(self.tau_max[i])
             links.append(link)
         return {"name": self.name, "description": self.description,
                 "reference": self.reference, "gravity": [float(v) for v in self.gravity],
@@ -457,9 +466,9 @@ def robot_from_chain(name, joints, gravity, **metadata):
         placement of the joint in the previous body frame (the base for the first joint); the
         joint then turns about or slides along the placed frame's z axis. ``"mass"`` [kg],
         ``"com"`` (3 [m]) and ``"inertia"`` (3x3 [kg m^2], about the centre of mass), both in
-        this joint's body frame; ``"q_min"``, ``"q_max"`` [rad or m] (may be -inf, inf),
-        ``"qd_max"`` [rad/s or m/s] and ``"qdd_max"`` [rad/s^2 or m/s^2] (None or NaN when
-        unknown).
+        this joint's body frame; optional ``"q_min"``, ``"q_max"`` [rad or m] (may be -inf,
+        inf; default none), ``"qd_max"`` [rad/s or m/s], ``"qdd_max"`` [rad/s^2 or m/s^2] and
+        ``"tau_max"`` [N m or N] (None or NaN when not given).
     gravity : array_like, shape (3,)
         Gravity in the base frame [m/s^2].
     **metadata
@@ -477,7 +486,8 @@ def robot_from_chain(name, joints, gravity, **metadata):
     InputError
         On a missing key, an unknown joint type, a placement that is not a rotation, a negative
         mass, an inertia that is not symmetric positive semi-definite, or bad limits; the
-        message names the key as ``joint[i].key``.
+        message names the key as ``joint[i].key``, and the joint's own name when
+        ``urdf_joints`` is given.
 
     Examples
     --------
@@ -498,18 +508,18 @@ def robot_from_chain(name, joints, gravity, **metadata):
     links = []
     for i, j in enumerate(joints, start=1):
         where = f"joint[{i}]"
-        for key in ("type", "rotation", "translation", "mass", "com", "inertia", "q_min",
-                    "q_max", "qd_max"):
+        for key in ("type", "rotation", "translation", "mass", "com", "inertia"):
             if key not in j:
                 raise InputError("missing key", path, column=f"{where}.{key}")
-        qdd = j.get("qdd_max")
         link = {"joint": j["type"], "rotation": np.asarray(j["rotation"]).tolist(),
                 "translation": np.asarray(j["translation"]).tolist(), "mass": j["mass"],
                 "com": np.asarray(j["com"]).tolist(),
                 "inertia": np.asarray(j["inertia"], dtype=float).tolist(),
-                "q_limits": [float(j["q_min"]), float(j["q_max"])], "qd_max": j["qd_max"]}
-        if qdd is not None and not (isinstance(qdd, float) and math.isnan(qdd)):
-            link["qdd_max"] = qdd
+                "q_limits": [float(j.get("q_min", -math.inf)), float(j.get("q_max", math.inf))]}
+        for key in ("qd_max", "qdd_max", "tau_max"):      # None or NaN: not given
+            v = j.get(key)
+            if v is not None and not (isinstance(v, float) and math.isnan(v)):
+                link[key] = v
         links.append(link)
     spec = {"name": name, "gravity": gravity, "convention": "chain", "link": links,
             "description": fields.get("description", ""),
@@ -520,6 +530,11 @@ def robot_from_chain(name, joints, gravity, **metadata):
         col = err.column.replace("link[", "joint[") if err.column else err.column
         col = (col.replace(".q_limits", ".q_min/q_max").replace(".joint", ".type")
                if col else col)
+        names = metadata.get("urdf_joints") or ()
+        if col and col.startswith("joint[") and "]" in col:
+            k = int(col[len("joint["):col.index("]")])
+            if 1 <= k <= len(names):
+                col = f"{col} (joint {str(names[k - 1])!r})"
         raise InputError(err.message, path, column=col) from None
     return dataclasses.replace(robot, metadata=metadata,
                                source=str(path) if path else "<chain>")

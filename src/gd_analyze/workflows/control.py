@@ -259,7 +259,7 @@ def _sample_times(t_set, grid_points):
 def run_control(model, trajectory, wn=DEFAULT_WN, zeta=DEFAULT_ZETA, q0_offset=0.0,
                 controllers=CONTROLLERS, grid_points=DEFAULT_GRID_POINTS, rtol=DEFAULT_RTOL,
                 atol=DEFAULT_ATOL, method=DEFAULT_METHOD, t_end=None, cost=True,
-                model_path=None, model_sha256=None):
+                model_path=None, model_sha256=None, plant=None):
     """Track a trajectory with the full-model, simplified-model and PD + gravity controllers.
 
     Parameters
@@ -291,6 +291,10 @@ def run_control(model, trajectory, wn=DEFAULT_WN, zeta=DEFAULT_ZETA, q0_offset=0
     model_sha256 : str, optional
         That file's SHA-256 (:func:`gd_analyze.files.file_sha256`); without a file, the SHA-256
         of the model's canonical JSON is recorded.
+    plant : Robot, optional
+        The controlled arm, which the full-model and PD + gravity controllers also use
+        (default: the model's robot), e.g. mounted otherwise
+        (:func:`gd_analyze.core.mounting.with_mounting`); the simplified model keeps its own.
 
     Returns
     -------
@@ -318,7 +322,7 @@ def run_control(model, trajectory, wn=DEFAULT_WN, zeta=DEFAULT_ZETA, q0_offset=0
     else:
         model_file = str(model_path)
         model_sha = model_sha256 or ""
-    robot = model.robot
+    robot = model.robot if plant is None else plant
     if trajectory.q.shape[1] != robot.n:
         raise ValueError(f"the trajectory has {trajectory.q.shape[1]} joints, the robot "
                          f"{robot.n}")
@@ -357,6 +361,7 @@ def run_control(model, trajectory, wn=DEFAULT_WN, zeta=DEFAULT_ZETA, q0_offset=0
         "rtol": float(rtol), "atol": float(atol), "method": str(method),
         "grid_points": int(grid_points), "q0_offset": offset.tolist(),
         "t_end": float(t[-1]),
+        "gravity_base": [float(v) for v in robot.gravity],
     }
     return ControlResult(robot=robot, choices=dict(model.choices), gains=gains, t=t,
                          is_setpoint=is_set, q_d=desired(t), qd_d=desired(t, 1),
