@@ -21,7 +21,7 @@ LEAVES = {"errors", "files", "_version"}
 SHARED_REPORTS = {"reports.common", "reports.figures", "reports.pages", "reports.drawing",
                   "reports.ticks", "reports.main_figures", "reports.main_text",
                   "reports.sweep_figures", "reports.simplified_section",
-                  "reports.pdf_text", "reports.main_context"}
+                  "reports.pdf_text", "reports.main_context", "reports.effort"}
 # a report's worker process (a second interpreter drawing part of its figures) runs that report
 WORKERS = {"reports.main_worker": "reports.main"}
 

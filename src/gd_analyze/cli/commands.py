@@ -136,6 +136,25 @@ def _cost_lines(ds):
     return lines
 
 
+def _effort_lines(ds):
+    """Each joint's peak |tau| against its effort limit, where the robot gives one."""
+    from ..reports.effort import effort_rows
+
+    rows = effort_rows(ds)
+    if not rows:
+        return []
+    lines = ["", "effort limits (peak |tau| of the full model against the robot's limit):",
+             f"{'joint':<6}{'peak |tau|':>12}{'limit':>12}  {'units':<6}{'ratio':>7}  flag"]
+    for j, peak, limit, ratio, flag, unit in rows:
+        lines.append(f"{j:<6}{peak:>12.4g}{limit:>12.4g}  {unit:<6}{ratio:>7.3f}  {flag}")
+    over = [str(r[0]) for r in rows if r.exceeded]
+    if over:
+        lines.append(f"  joint{'s' if len(over) > 1 else ''} {', '.join(over)} exceed"
+                     f"{'' if len(over) > 1 else 's'} {'their' if len(over) > 1 else 'its'} "
+                     "effort limit along this trajectory")
+    return lines
+
+
 def _format_summary(ds):
     lines = [f"{ds.attrs['robot']} along {ds.attrs['input_file']}: "
              f"{ds.attrs['setpoints']} set points, s = {ds.attrs['dominance_threshold']:g}, "
@@ -159,6 +178,7 @@ def _format_summary(ds):
                      f"{ds.tau_error_rms.values[j]:>12.4g}{ds.tau_peak.values[j]:>12.4g}"
                      f"{ds.tau_error_relative_peak.values[j]:>10.2e}"
                      f"{ds.tau_error_relative_rms.values[j]:>10.2e}")
+    lines += _effort_lines(ds)
     lines += _cost_lines(ds)
     if "verification_passed" in ds.attrs:
         import numpy as np

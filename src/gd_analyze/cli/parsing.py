@@ -159,8 +159,11 @@ def _add_chain_arguments(p):
     return g
 
 
-_ROBOT_HELP = ("built-in robot (puma560, two-link, panda, ur5, ...), a TOML robot file or a URDF "
-               "file (*.urdf, see --base and --tip)")
+def _robot_help():
+    from ..io.robots import robots_text
+
+    return (f"built-in robot ({robots_text()}), a TOML robot file or a URDF file (*.urdf, see "
+            "--base and --tip)")
 
 
 def _add_payload_sweep_argument(group):
@@ -220,7 +223,7 @@ def _analyze_parser():
                "many trajectories on dask. 'gd-analyze COMMAND --help' for details. "
                + EXIT_STATUS_HELP,
     )
-    p.add_argument("robot", metavar="ROBOT", help=_ROBOT_HELP)
+    p.add_argument("robot", metavar="ROBOT", help=_robot_help())
     p.add_argument("trajectory", metavar="TRAJECTORY.csv",
                    help="CSV with header t,q1..qn[,qd1..qdn,qdd1..qddn] [s, rad, rad/s, rad/s^2]")
     p.add_argument("-o", "--outdir", metavar="OUTDIR",
@@ -263,7 +266,7 @@ def _plan_parser():
                 description="Write a quintic rest-to-rest joint trajectory at the shortest "
                             "duration within the robot's velocity and acceleration limits, and "
                             "its provenance beside it (FILE's stem + .provenance.json).")
-    p.add_argument("robot", metavar="ROBOT", help=_ROBOT_HELP)
+    p.add_argument("robot", metavar="ROBOT", help=_robot_help())
     p.add_argument("-o", "--output", metavar="FILE", required=True,
                    help="CSV file to write ('-' for standard output)")
     p.add_argument("--start", metavar="DEG,...", type=_angles,
@@ -317,7 +320,7 @@ def _compare_parser():
                 description="Run Lagrange-Euler, Newton-Euler, G-D and Pinocchio on every set "
                             "point and print their largest relative disagreements and the "
                             "operation counts per set point.")
-    p.add_argument("robot", metavar="ROBOT", help=_ROBOT_HELP)
+    p.add_argument("robot", metavar="ROBOT", help=_robot_help())
     p.add_argument("trajectory", metavar="TRAJECTORY.csv")
     p.add_argument("--json", action="store_true", help="print one JSON object")
     _add_chain_arguments(p)
@@ -365,7 +368,7 @@ def _sweep_parser():
                             "(budget rule: guaranteed within EPS x scale_i on every swept "
                             "trajectory; --rule chapter: no error bound); write sweep.h5, "
                             "merged_model.json and sweep_report.html/.pdf.")
-    p.add_argument("robot", metavar="ROBOT", help=_ROBOT_HELP)
+    p.add_argument("robot", metavar="ROBOT", help=_robot_help())
     p.add_argument("csv", metavar="CSV", nargs="*", help="trajectory files (or use --random)")
     p.add_argument("--random", metavar="K", type=int,
                    help="plan K random quintic trajectories (start and goal uniform in the "

@@ -34,7 +34,7 @@ def _number(value, path, column, finite=True, limit=None):
     except OverflowError:
         raise InputError("number too large for a float", path, column=column) from None
     if finite and not math.isfinite(v):
-        raise InputError(f"expected a finite number, got {value!r}", path, column=column)
+        raise InputError(f"expected a finite number, got {v:g}", path, column=column)
     if limit is not None and math.isfinite(v) and abs(v) > LIMITS[limit]:
         raise InputError(f"{v:g} is beyond the supported magnitude {LIMITS[limit]:g} (see the "
                          f"README, Limits)", path, column=column)
@@ -42,6 +42,9 @@ def _number(value, path, column, finite=True, limit=None):
 
 
 def _short(value):
+    """repr of a value for a message, at most 60 characters; numbers plain (no numpy repr)."""
+    if isinstance(value, np.generic):
+        value = value.item()
     text = repr(value)
     return text if len(text) <= 60 else text[:57] + "..."
 

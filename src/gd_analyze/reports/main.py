@@ -385,6 +385,9 @@ def _document(ctx, sizes, paper="a4"):
     doc.heading("1.2 Trajectory", level=2)
     doc.table(ctx["traj_kv"])
     doc.table(ctx["joints"])
+    if ctx["effort"]:
+        doc.paragraph(ctx["effort_text"], size=8.5)
+        doc.table(ctx["effort"])
     if ctx["envelope_note"]:
         doc.paragraph(ctx["envelope_note"], size=8.5)
     fig("joints")
