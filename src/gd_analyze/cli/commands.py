@@ -418,6 +418,15 @@ def _replace_limits(robot, qdd_max):
     return dataclasses.replace(robot, qdd_max=qdd_max)
 
 
+def _warn_provenance(csv_path, robot):
+    """One warning line when the trajectory's provenance names another robot."""
+    from ..io.planning import provenance_mismatch
+
+    message = provenance_mismatch(csv_path, robot)
+    if message:
+        warnings.warn(message, InputWarning)
+
+
 def _cmd_evaluate(args):
     import json
 
@@ -427,6 +436,7 @@ def _cmd_evaluate(args):
 
     model = SimplifiedModel.load(args.model)
     traj = read_trajectory(args.trajectory, n_joints=model.robot.n)
+    _warn_provenance(args.trajectory, model.robot)
     plant = _apply_payload(_apply_mounting(model.robot, args), args)
     err = evaluate(model, traj, plant=plant)
     worst = err.pop("max_relative_peak_error")
@@ -484,6 +494,7 @@ def _cmd_control(args):
 
     model = SimplifiedModel.load(args.model)
     traj = read_trajectory(args.trajectory, n_joints=model.robot.n)
+    _warn_provenance(args.trajectory, model.robot)
     outdir = _outdir(args.outdir, model.robot.name, Path(args.trajectory).stem, "control")
     if outdir.exists() and not outdir.is_dir():
         raise InputError("exists and is not a folder", outdir)

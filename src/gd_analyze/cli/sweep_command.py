@@ -57,6 +57,14 @@ def _sweep_model(robot, trajectories, args, outdir, settings, ds):
             "peak |tau_i|"
         claim = f"guaranteed <= {eps:g}" if worst <= eps * (1 + 1e-9) else \
             f"ABOVE the guarantee {eps:g}: please report this bug"
+        from ..io.sweep_datasets import beyond_the_floor
+
+        beyond = beyond_the_floor(ds)
+        if beyond is not None:
+            rel, j, over = beyond
+            claim += (f"; not guaranteed relative to peak |tau_i| itself, where it is below "
+                      f"{args.torque_floor:g} N m: up to {rel:.2e} (joint {j}; above {eps:g} "
+                      f"on joint{'s' if len(over) > 1 else ''} {', '.join(map(str, over))})")
         print(f"merged model (budget rule, EPS = {eps:g}): {model.cost['multiplications']} "
               f"mult + {model.cost['additions']} add (full explicit: "
               f"{model.full_cost['multiplications']} + {model.full_cost['additions']}); worst "

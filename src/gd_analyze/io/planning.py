@@ -21,7 +21,8 @@ from .trajectory import Trajectory
 __all__ = ["DEFAULT_START_DEG", "DEFAULT_GOAL_DEG", "DEFAULT_SETPOINTS", "DEFAULT_QDD_PER_QD",
            "quintic_duration", "quintic_min_durations", "default_motion", "default_motion_range",
            "user_positions", "plan_quintic", "random_trajectories", "acceleration_limits",
-           "provenance_path", "write_provenance", "joint_title", "check_velocity_limits",
+           "provenance_path", "write_provenance", "read_provenance", "provenance_mismatch",
+           "joint_title", "check_velocity_limits",
            "PLACEHOLDER_QD"]
 
 #: Start of the default planned PUMA 560 motion [deg].
@@ -408,6 +409,63 @@ def provenance_path(csv_path):
     """
     p = Path(csv_path)
     return p.with_name(p.stem + ".provenance.json")
+
+
+def read_provenance(csv_path):
+    """The provenance written beside a planned trajectory, if there is a readable one.
+
+    Parameters
+    ----------
+    csv_path : str or os.PathLike
+        The trajectory CSV.
+
+    Returns
+    -------
+    dict or None
+        The record of :func:`write_provenance`, or None when there is no such file or it is
+        not a JSON object (a provenance is advice, never a reason to refuse a trajectory).
+    """
+    import json
+
+    side = provenance_path(csv_path)
+    try:
+        with open(side, encoding="utf-8") as fh:
+            record = json.load(fh)
+    except (OSError, ValueError, RecursionError):
+        return None
+    return record if isinstance(record, dict) else None
+
+
+def provenance_mismatch(csv_path, robot):
+    """A one-line warning when a trajectory was planned for another robot than this one.
+
+    Parameters
+    ----------
+    csv_path : str or os.PathLike
+        The trajectory CSV; its provenance is ``<stem>.provenance.json`` beside it.
+    robot : Robot
+        The robot the trajectory is used with (e.g. a simplified model's); a ``+payload``
+        suffix of its name is not a difference.
+
+    Returns
+    -------
+    str or None
+        None when there is no provenance, or it names this robot with this robot file's
+        SHA-256 (or none); else the warning, naming both robots.
+    """
+    record = read_provenance(csv_path)
+    if record is None or not isinstance(record.get("robot"), str):
+        return None
+    theirs, ours = record["robot"], robot.name.split("+payload")[0]
+    side = provenance_path(csv_path).name
+    if theirs != ours:
+        return (f"{csv_path}: planned for robot {theirs[:80]!r} (says {side}), not for "
+                f"{ours!r}: the torques compare another robot's motion")
+    sha = record.get("robot_sha256")
+    if isinstance(sha, str) and sha and robot.sha256 and sha != robot.sha256:
+        return (f"{csv_path}: planned for another version of robot {ours!r} (its robot file's "
+                f"SHA-256 differs from {side}'s)")
+    return None
 
 
 def write_provenance(csv_path, record):

@@ -23,6 +23,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from ..core.ranking import ZERO_TOL, identically_zero  # "zero to rounding": the ranking's rule
 from ..core.ranking import element_label, element_units, joint_motion_units, joint_torque_units
 from .ticks import set_ticks
 
@@ -34,8 +35,6 @@ __all__ = ["PAGE_WIDTH", "COLUMN_WIDTH", "ZERO_TOL", "PART_STYLE", "SHORT_CLASS"
 PAGE_WIDTH = 7.2
 #: Width of a one-column figure [in].
 COLUMN_WIDTH = 3.5
-#: An element is identically zero if all its parts stay below this fraction of its scale.
-ZERO_TOL = 1e-12
 #: Series longer than this are read and drawn as a min/max envelope per column.
 ENVELOPE_THRESHOLD = 2000
 #: Columns of the envelope of a long series (about 300 dpi on a panel).
@@ -184,34 +183,6 @@ def plot_data(ds, names=("q", "qd", "qdd", "D_tran", "D_rot", "D", "h_tran", "h_
         pair = np.stack([lo[v][used], hi[v][used]], axis=1)      # (C, 2, ...)
         series[v] = pair.reshape((2 * used.size,) + pair.shape[2:])
     return PlotData(x=x, enveloped=True, series=series, N=N)
-
-
-def identically_zero(peak_tran, peak_rot, peak_total, scale, tol=ZERO_TOL):
-    """Which elements are zero to rounding in every part along the trajectory.
-
-    Parameters
-    ----------
-    peak_tran, peak_rot, peak_total : ndarray, shape (M,)
-        Peak |part| of each element over the set points.
-    scale : ndarray, shape (M,)
-        Each element's own scale (peak sqrt(D_ii D_jj) [kg m^2] or peak |tau_i| [N m]).
-    tol : float, optional
-        The fraction of the scale below which a part counts as zero.
-
-    Returns
-    -------
-    ndarray of bool, shape (M,)
-        True where all three peaks are <= tol * scale (e.g. D45 and D56 of the PUMA 560, whose
-        parts are about 1e-19; h when q̇ = 0).
-
-    Examples
-    --------
-    >>> identically_zero(np.array([1e-19, 0.2]), np.array([2e-19, 0.1]),
-    ...                  np.array([1e-19, 0.3]), np.array([1.0, 1.0])).tolist()
-    [True, False]
-    """
-    peak = np.fmax(np.fmax(np.abs(peak_tran), np.abs(peak_rot)), np.abs(peak_total))
-    return np.asarray(peak <= tol * np.abs(scale)) & np.isfinite(peak)
 
 
 def _figure(w, h):

@@ -39,6 +39,7 @@ from .sweep_figures import REQUIRED as _REQUIRED, make_sweep_figures
 from .pages import PAPER, Document
 from .drawing import draw_figures, figure_svg, no_gc, write_figure_files
 from ..core.ranking import CLASSES
+from ..io.sweep_datasets import beyond_the_floor
 
 __all__ = ["SWEEP_REPORT_FORMATS", "render_sweep_html", "render_sweep_pdf", "write_sweep_report"]
 
@@ -133,6 +134,12 @@ def _context(ds, payload=None):
                  f"{float(ds.attrs.get('merged_torque_floor', 0.0)):g} N m)); its largest "
                  f"measured peak error is "
                  f"{_pct(float(ds.attrs.get('merged_worst_scaled_error', np.nan)))} of scale_i")
+        beyond = beyond_the_floor(ds)
+        if beyond is not None:
+            rel, j, over = beyond
+            claim += (f". Relative to peak |\u03c4_i| itself, below the torque floor, nothing is "
+                      f"guaranteed: the error reaches {_pct(rel)} (joint {j}; above EPS on "
+                      f"joint{'s' if len(over) > 1 else ''} {', '.join(map(str, over))})")
         name = f"The merged model (budget rule, EPS = {eps})"
     else:
         claim = ("no error bound: its largest peak torque error over all trajectories is "

@@ -61,10 +61,12 @@ from pathlib import Path
 import numpy as np
 
 from ..core.simplified import choice_masks
+from ..core.dalembert import gd_terms
 from .evaluate import model_torque
 from .tracking import (CONTROLLER_DESCRIPTIONS, CONTROLLERS, DEFAULT_ATOL, DEFAULT_METHOD,
                        DEFAULT_RTOL, DEFAULT_WN, DEFAULT_ZETA, MAX_STIFFNESS_STEPS, Gains,
-                       control_gains, desired_motion, stiffness_steps, track)
+                       closed_loop_rates, control_gains, desired_motion, singular_inertia,
+                       track)
 
 __all__ = ["DEFAULT_GRID_POINTS", "CONTROL_FILE", "ControlResult", "run_control", "model_cost"]
 
@@ -306,7 +308,7 @@ def run_control(model, trajectory, wn=DEFAULT_WN, zeta=DEFAULT_ZETA, q0_offset=0
         If the trajectory's joint count differs from the robot's, t_end leaves fewer than 2
         set points, a controller is unknown, the gains are invalid or so stiff that the
         integration would need more than :data:`MAX_STIFFNESS_STEPS` steps
-        (:func:`stiffness_steps`), or a run exceeds :data:`MAX_RHS_EVALS` evaluations.
+        (:func:`~gd_analyze.workflows.tracking.closed_loop_rates`, every controller), D is singular (:func:`~gd_analyze.workflows.tracking.singular_inertia`), or a run exceeds :data:`MAX_RHS_EVALS` evaluations.
     InputError
         If the model's torque is not finite on a set point (:func:`~gd_analyze.workflows.evaluate.model_torque`).
 
@@ -338,13 +340,23 @@ def run_control(model, trajectory, wn=DEFAULT_WN, zeta=DEFAULT_ZETA, q0_offset=0
             raise ValueError(f"t_end = {t_end} s leaves fewer than 2 set points")
     desired = desired_motion(trajectory)
     t, is_set = _sample_times(t_set, grid_points)
+    # D at (up to 64 of) the set points: invertible, and the loops' speed for every controller
+    pick = np.unique(np.linspace(0, len(trajectory.t) - 1, 64).round().astype(int))
+    D = gd_terms(robot, trajectory.q[pick], np.zeros_like(trajectory.q[pick])).D
+    singular = singular_inertia(robot, D)
+    if singular:
+        raise ValueError(singular)
     gains = control_gains(robot, desired(t[0]), wn, zeta)
-    steps = stiffness_steps(gains.wn, gains.zeta, t[-1] - t[0])
-    if steps > MAX_STIFFNESS_STEPS:
-        raise ValueError(f"wn = {np.max(gains.wn):g} rad/s and zeta = {np.max(gains.zeta):g} "
-                         f"make the closed loop too stiff: about {steps:.3g} integrator steps "
-                         f"over {t[-1] - t[0]:g} s (at most {MAX_STIFFNESS_STEPS}); lower wn "
-                         f"or zeta")
+    rates = closed_loop_rates(robot, gains, D)
+    for name in (c for c in CONTROLLERS if c in controllers):
+        steps = rates[name] * (t[-1] - t[0]) / 3.0
+        if steps > MAX_STIFFNESS_STEPS:
+            raise ValueError(
+                f"wn = {np.max(gains.wn):g} rad/s and zeta = {np.max(gains.zeta):g} make the "
+                f"{CONTROLLER_DESCRIPTIONS[name].split(':')[0]} loop ({name}) too stiff: its "
+                f"fastest mode, {rates[name]:.3g} rad/s, needs about {steps:.3g} integrator "
+                f"steps over {t[-1] - t[0]:g} s (at most {MAX_STIFFNESS_STEPS}); lower wn or "
+                "zeta")
     offset = np.broadcast_to(np.asarray(q0_offset, dtype=float), (robot.n,)).copy()
     runs = {}
     for name in (c for c in CONTROLLERS if c in controllers):
