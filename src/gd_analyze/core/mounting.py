@@ -15,18 +15,29 @@ import numpy as np
 
 from ..errors import InputError
 from .limits import LIMITS
-from .robot import rot_x, rot_z
 
 __all__ = ["rpy_matrix", "with_mounting"]
 
 
-def rpy_matrix(roll, pitch, yaw):
+def _cos_sin(angle, degrees):
+    """cos and sin of an angle, exact (0, +-1) at multiples of 90 deg given in degrees."""
+    if degrees and float(angle) % 90.0 == 0.0:
+        k = int(round(float(angle) / 90.0)) % 4
+        return ((1.0, 0.0), (0.0, 1.0), (-1.0, 0.0), (0.0, -1.0))[k]
+    a = math.radians(angle) if degrees else float(angle)
+    return math.cos(a), math.sin(a)
+
+
+def rpy_matrix(roll, pitch, yaw, degrees=False):
     """The rotation of URDF roll, pitch, yaw angles: R = Rz(yaw) Ry(pitch) Rx(roll).
 
     Parameters
     ----------
     roll, pitch, yaw : float
-        Angles about the fixed x, y and z axes [rad], applied in that order.
+        Angles about the fixed x, y and z axes, applied in that order [rad; deg if
+        ``degrees``].
+    degrees : bool, optional
+        The angles are in degrees; multiples of 90 deg then give exact 0 and +-1 entries.
 
     Returns
     -------
@@ -38,13 +49,14 @@ def rpy_matrix(roll, pitch, yaw):
 
     Examples
     --------
-    >>> import math
-    >>> rpy_matrix(0.0, math.pi / 2, 0.0).round(12) @ [0.0, 0.0, 1.0] + 0.0
+    >>> rpy_matrix(0.0, 90.0, 0.0, degrees=True) @ [0.0, 0.0, 1.0]
     array([1., 0., 0.])
     """
-    cp, sp = math.cos(pitch), math.sin(pitch)
+    (cr, sr), (cp, sp), (cy, sy) = (_cos_sin(a, degrees) for a in (roll, pitch, yaw))
+    rx = np.array([[1.0, 0.0, 0.0], [0.0, cr, -sr], [0.0, sr, cr]])
     ry = np.array([[cp, 0.0, sp], [0.0, 1.0, 0.0], [-sp, 0.0, cp]])
-    return rot_z(yaw) @ ry @ rot_x(roll)
+    rz = np.array([[cy, -sy, 0.0], [sy, cy, 0.0], [0.0, 0.0, 1.0]])
+    return rz @ ry @ rx
 
 
 def with_mounting(robot, gravity=None, base_rpy=None):
@@ -88,7 +100,7 @@ def with_mounting(robot, gravity=None, base_rpy=None):
     >>> robot = load_robot("two-link")
     >>> robot.gravity.tolist()
     [0.0, -9.8062, 0.0]
-    >>> (with_mounting(robot, base_rpy=(90, 0, 0)).gravity.round(4) + 0.0).tolist()
+    >>> with_mounting(robot, base_rpy=(90, 0, 0)).gravity.tolist()
     [0.0, 0.0, 9.8062]
     """
     if gravity is None and base_rpy is None:
@@ -108,8 +120,8 @@ def with_mounting(robot, gravity=None, base_rpy=None):
         vecs[opt] = v
     g_world = vecs.get("--gravity", np.asarray(robot.gravity, dtype=float))
     rpy = vecs.get("--base-rpy", np.zeros(3))
-    R = rpy_matrix(*np.radians(rpy))
-    g_base = R.T @ g_world
+    R = rpy_matrix(*rpy, degrees=True)
+    g_base = R.T @ g_world + 0.0          # no -0.0
     said = ", ".join(f"{float(v):g}" for v in g_world)
     turn = ", ".join(f"{float(v):g}" for v in rpy)
     return dataclasses.replace(
