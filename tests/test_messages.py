@@ -186,7 +186,7 @@ def test_sweep_summary_never_claims_a_guarantee_that_does_not_hold(tmp_path, cap
     with xr.open_dataset(tmp_path / "sw" / "sweep.h5") as ds:
         own = (ds["merged_tau_error_peak"] / ds["tau_peak"]).max("trajectory").values
     assert own.max() > 0.01                   # the floor lets a small joint's error grow
-    assert "not guaranteed relative to peak |tau_i| itself" in line
+    assert "relative to peak |tau_i| itself, where it is below 1 N m, not guaranteed" in line
 
 
 # --- evaluate checks the trajectory's provenance --------------------------------------------------

@@ -60,16 +60,18 @@ def _sweep_model(robot, trajectories, args, outdir, settings, ds):
         from ..io.sweep_datasets import beyond_the_floor
 
         beyond = beyond_the_floor(ds)
+        caveat = ""
         if beyond is not None:
             rel, j, over = beyond
-            claim += (f"; not guaranteed relative to peak |tau_i| itself, where it is below "
-                      f"{args.torque_floor:g} N m: up to {rel:.2e} (joint {j}; above {eps:g} "
-                      f"on joint{'s' if len(over) > 1 else ''} {', '.join(map(str, over))})")
+            caveat = (f"; relative to peak |tau_i| itself, where it is below "
+                      f"{args.torque_floor:g} N m, not guaranteed: up to {rel:.2e} (joint {j}; "
+                      f"above {eps:g} on joint{'s' if len(over) > 1 else ''} "
+                      f"{', '.join(map(str, over))})")
         print(f"merged model (budget rule, EPS = {eps:g}): {model.cost['multiplications']} "
               f"mult + {model.cost['additions']} add (full explicit: "
               f"{model.full_cost['multiplications']} + {model.full_cost['additions']}); worst "
               f"error on the {v['trajectories']} swept trajectories {worst:.2e} of each "
-              f"trajectory's {floor} ({claim})" + ("" if held_err is None else
+              f"trajectory's {floor} ({claim}){caveat}" + ("" if held_err is None else
                                            f", on {v['held_out_trajectories']} held-out "
                                            f"{np.nanmax(held_err):.2e} of their {floor} "
                                            "(not guaranteed)"))
