@@ -64,7 +64,8 @@ from ..core.simplified import choice_masks
 from ..core.dalembert import gd_terms
 from .evaluate import model_torque
 from .tracking import (CONTROLLER_DESCRIPTIONS, CONTROLLERS, DEFAULT_ATOL, DEFAULT_METHOD,
-                       DEFAULT_RTOL, DEFAULT_WN, DEFAULT_ZETA, MAX_STIFFNESS_STEPS, Gains,
+                       DEFAULT_RTOL, DEFAULT_WN, DEFAULT_ZETA, MAX_RHS_EVALS,
+                       MAX_STIFFNESS_STEPS, RHS_PER_STEP, Gains,
                        closed_loop_rates, control_gains, desired_motion, singular_inertia,
                        track)
 
@@ -349,14 +350,15 @@ def run_control(model, trajectory, wn=DEFAULT_WN, zeta=DEFAULT_ZETA, q0_offset=0
     gains = control_gains(robot, desired(t[0]), wn, zeta)
     rates = closed_loop_rates(robot, gains, D)
     for name in (c for c in CONTROLLERS if c in controllers):
+        # computed torque: the gains' own bound; PD + gravity: what a run can evaluate
+        most = MAX_STIFFNESS_STEPS if name != "pd_gravity" else MAX_RHS_EVALS // RHS_PER_STEP
         steps = rates[name] * (t[-1] - t[0]) / 3.0
-        if steps > MAX_STIFFNESS_STEPS:
+        if steps > most:
             raise ValueError(
                 f"wn = {np.max(gains.wn):g} rad/s and zeta = {np.max(gains.zeta):g} make the "
                 f"{CONTROLLER_DESCRIPTIONS[name].split(':')[0]} loop ({name}) too stiff: its "
                 f"fastest mode, {rates[name]:.3g} rad/s, needs about {steps:.3g} integrator "
-                f"steps over {t[-1] - t[0]:g} s (at most {MAX_STIFFNESS_STEPS}); lower wn or "
-                "zeta")
+                f"steps over {t[-1] - t[0]:g} s (at most {most}); lower wn or zeta")
     offset = np.broadcast_to(np.asarray(q0_offset, dtype=float), (robot.n,)).copy()
     runs = {}
     for name in (c for c in CONTROLLERS if c in controllers):

@@ -17,7 +17,7 @@ from ..core.dalembert import _qdd_from_terms, gd_terms
 
 __all__ = ["CONTROLLERS", "CONTROLLER_DESCRIPTIONS", "DEFAULT_WN", "DEFAULT_ZETA",
            "DEFAULT_RTOL", "DEFAULT_ATOL", "DEFAULT_METHOD", "MAX_STIFFNESS_STEPS",
-           "MAX_RHS_EVALS", "stiffness_steps", "closed_loop_rates", "singular_inertia", "Gains", "control_gains", "desired_motion",
+           "MAX_RHS_EVALS", "RHS_PER_STEP", "stiffness_steps", "closed_loop_rates", "singular_inertia", "Gains", "control_gains", "desired_motion",
            "controller_torque", "TrackingRun", "track"]
 
 
@@ -60,6 +60,10 @@ MAX_STIFFNESS_STEPS = 20_000
 
 #: Most right-hand-side evaluations of one controller's run: a bound on the integration's time.
 MAX_RHS_EVALS = 500_000
+
+#: Right-hand-side evaluations per step of DOP853 (12 stages; Hairer, Norsett & Wanner,
+#: *Solving ODEs I*, Sec. II.10): with :data:`MAX_RHS_EVALS`, the most steps a run can take.
+RHS_PER_STEP = 12
 
 
 def stiffness_steps(wn, zeta, duration):
