@@ -232,8 +232,8 @@ def test_case9_messages(cwd, capsys):
     from gd_analyze.io.robots import builtin_robots
 
     assert {"panda", "ur5"} <= set(builtin_robots())
-    assert all(_mistyped_command(name) is None for name in builtin_robots())
-    assert _mistyped_command("plann") is not None
+    assert all(_mistyped_command([name]) is None for name in builtin_robots())
+    assert _mistyped_command(["plann"]) is not None
     line = _refused(["plan", "two-link"], capsys, cwd, "plan: the following arguments")
     assert line.startswith("gd-analyze: error: plan:")
     _refused(["two-link", cwd], capsys, cwd, "is a folder, not a CSV file")

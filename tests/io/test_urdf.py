@@ -132,8 +132,9 @@ def test_axis_rotation(axis):
     assert np.linalg.det(A) == pytest.approx(1.0, abs=1e-15)
 
 
-def test_missing_velocity_limit_refused(tmp_path):
+def test_missing_velocity_limit_is_not_given(tmp_path):
+    """A joint without <limit velocity> is read (only planning needs the limit): NaN."""
     path = tmp_path / "nolimit.urdf"
     path.write_text(TOY_URDF.replace('<limit velocity="2.0" effort="5"/>', ""))
-    with pytest.raises(InputError, match="joint 'j1' has no velocity limit"):
-        read_urdf_chain(path, tip="tool")
+    chain = read_urdf_chain(path, tip="tool")
+    assert math.isnan(chain.joints[0]["qd_max"]) and math.isnan(chain.joints[0]["tau_max"])

@@ -31,20 +31,38 @@ def _show_warning(message, category, filename, lineno, file=None, line=None):
     print(f"{PROG}: {kind}: {message}", file=sys.stderr)
 
 
-def _mistyped_command(word):
-    """A 'did you mean' error for a first word that is close to a command and is neither a
-    built-in robot nor a file; None otherwise."""
+def _looks_like_trajectory(word):
+    """Whether an argument is a trajectory file: an existing file or a name ending in .csv."""
+    return word.lower().endswith(".csv") or os.path.isfile(word)
+
+
+def _mistyped_command(argv):
+    """A 'did you mean' error for a first word that is neither a built-in robot nor a file: an
+    unknown robot when the second argument looks like a trajectory file (``gd-analyze pand
+    traj.csv``), else a mistyped command when one is close; None otherwise."""
     import difflib
 
-    from ..io.robots import builtin_robots          # the TOML and the URDF built-ins
+    from ..io.robots import builtin_robots, unknown_robot    # the TOML and URDF built-ins
 
+    word = argv[0]
     if word.startswith("-") or word in builtin_robots() or os.path.exists(word):
         return None
+    if len(argv) > 1 and _looks_like_trajectory(argv[1]):
+        return unknown_robot(word)
     close = difflib.get_close_matches(word, COMMANDS, n=1, cutoff=0.6)
     if not close:
         return None
     return InputError(f"unknown command {word!r}: did you mean '{close[0]}'? (commands: "
                       f"{', '.join(COMMANDS)}; or a robot for the main job)")
+
+
+def _print_help(rest, parsers):
+    """``gd-analyze help [COMMAND]``: the help of the main job or of a command; exit status 0."""
+    name = rest[0] if rest else "analyze"
+    if name not in parsers:
+        raise InputError(f"help: unknown command {name!r} (commands: {', '.join(COMMANDS)})")
+    parsers[name][0]().print_help()
+    return EXIT_OK
 
 
 def run():
@@ -123,8 +141,10 @@ def main(argv=None):
         with warnings.catch_warnings():
             warnings.simplefilter("always", InputWarning)
             warnings.showwarning = _show_warning
+            if command == "analyze" and argv and argv[0] in ("help", "-help"):
+                return _print_help(argv[1:], parsers)
             if command == "analyze" and argv:
-                mistyped = _mistyped_command(argv[0])
+                mistyped = _mistyped_command(argv)
                 if mistyped is not None:
                     raise mistyped
             args = make_parser().parse_intermixed_args(argv)

@@ -12,7 +12,7 @@ import sys
 import warnings
 from pathlib import Path
 
-from ..errors import InputError
+from ..errors import InputError, InputWarning
 
 from .parsing import EXIT_OK, EXIT_TOLERANCE, EXIT_VERIFY, PROG, parse_range
 from ..io.model_file import load_model, save_model
@@ -30,12 +30,30 @@ def _command_line(args):
 def _load_robot(args):
     from ..io.robots import load_robot
 
-    return load_robot(args.robot, args.base, args.tip)
+    return _apply_mounting(load_robot(args.robot, args.base, args.tip), args)
+
+
+def _apply_mounting(robot, args):
+    """The robot with --gravity and --base-rpy applied (the same robot without them)."""
+    from ..core.model.mounting import with_mounting
+
+    return with_mounting(robot, getattr(args, "gravity", None), getattr(args, "base_rpy", None))
+
+
+def _mounting_settings(args, robot):
+    """The mounting, for the provenance: the options as given and the gravity they give in the
+    base frame [m/s^2]."""
+    out = {"mounting_base_rpy_deg": [float(v) for v in (args.base_rpy or (0.0, 0.0, 0.0))],
+           "mounting_gravity_base": [float(v) for v in robot.gravity]}
+    if args.gravity is not None:
+        out["mounting_gravity_world"] = [float(v) for v in args.gravity]
+    return out
 
 
 def _chain_settings(args):
-    """The URDF chain options, for the provenance of a run's outputs."""
-    return {k: v for k, v in (("robot_base", args.base), ("robot_tip", args.tip)) if v}
+    """The URDF chain options and the mounting, for the provenance of a run's outputs."""
+    return {k: v for k, v in (("robot_base", getattr(args, "base", None)),
+                              ("robot_tip", getattr(args, "tip", None))) if v}
 
 
 def _apply_payload(robot, args):
@@ -124,6 +142,23 @@ def _torque_table_header(prismatic):
                 f"{'rel peak':>10}{'rel rms':>10}"), [""] * len(units)
     return (f"{'joint':<6}{'peak':>12}{'rms':>12}{'peak |tau|':>12}{'rel peak':>10}"
             f"{'rel rms':>10}  units"), [f"  {u}" for u in units]
+def _effort_lines(ds):
+    """Each joint's peak |tau| against its effort limit, where the robot gives one."""
+    from ..reports.effort import effort_rows
+
+    rows = effort_rows(ds)
+    if not rows:
+        return []
+    lines = ["", "effort limits (peak |tau| of the full model against the robot's limit):",
+             f"{'joint':<6}{'peak |tau|':>12}{'limit':>12}  {'units':<6}{'ratio':>7}  flag"]
+    for j, peak, limit, ratio, flag, unit in rows:
+        lines.append(f"{j:<6}{peak:>12.4g}{limit:>12.4g}  {unit:<6}{ratio:>7.3f}  {flag}")
+    over = [str(r[0]) for r in rows if r.exceeded]
+    if over:
+        lines.append(f"  joint{'s' if len(over) > 1 else ''} {', '.join(over)} exceed"
+                     f"{'' if len(over) > 1 else 's'} {'their' if len(over) > 1 else 'its'} "
+                     "effort limit along this trajectory")
+    return lines
 
 
 def _format_summary(ds):
@@ -150,6 +185,7 @@ def _format_summary(ds):
                      f"{ds.tau_error_rms.values[j]:>12.4g}{ds.tau_peak.values[j]:>12.4g}"
                      f"{ds.tau_error_relative_peak.values[j]:>10.2e}"
                      f"{ds.tau_error_relative_rms.values[j]:>10.2e}{ends[j]}")
+    lines += _effort_lines(ds)
     lines += _cost_lines(ds)
     if "verification_passed" in ds.attrs:
         import numpy as np
@@ -220,7 +256,8 @@ def _cmd_analyze(args):
     outputs = run_analysis(
         robot, trajectory, _options(args), _outdir(args.outdir, robot.name,
                                                    Path(args.trajectory).stem),
-        report=report, settings={"command": _command_line(args), **_chain_settings(args)},
+        report=report, settings={"command": _command_line(args), **_chain_settings(args),
+                                 **_mounting_settings(args, robot)},
         payload=_payload(args), payload_masses=_payload_masses(args), progress=bar)
     bar.close()
     analysis = outputs.analysis
@@ -273,7 +310,13 @@ def _cmd_plan(args):
     from ..io.trajectory import write_trajectory
     from ..io.planning import acceleration_limits, default_motion, plan_quintic, user_positions, write_provenance
 
+    from ..io.planning import check_velocity_limits
+
     robot = _load_robot(args)
+    if args.duration is None or not args.ignore_limits:     # the plan needs the limits
+        placeholder = check_velocity_limits(robot)
+        if placeholder:
+            warnings.warn(placeholder, InputWarning)
     start, goal = default_motion(robot)
     for name, vals in (("--start", args.start), ("--goal", args.goal)):
         if vals is not None and len(vals) != robot.n:
@@ -324,7 +367,7 @@ def _cmd_plan(args):
         "tool": "gd-analyze", "version": __version__,
         "command": _command_line(args),
         "robot": robot.name, "robot_source": robot.source, "robot_sha256": robot.sha256,
-        **_chain_settings(args),
+        **_chain_settings(args), **_mounting_settings(args, robot),
         "start": [float(v) for v in start], "goal": [float(v) for v in goal],
         "start_goal_units": "rad (m for a prismatic joint)",
         "setpoints": traj.n_setpoints, "duration_s": float(traj.t[-1]),
@@ -353,6 +396,15 @@ def _replace_limits(robot, qdd_max):
     return dataclasses.replace(robot, qdd_max=qdd_max)
 
 
+def _warn_provenance(csv_path, robot):
+    """One warning line when the trajectory's provenance names another robot."""
+    from ..io.planning import provenance_mismatch
+
+    message = provenance_mismatch(csv_path, robot)
+    if message:
+        warnings.warn(message, InputWarning)
+
+
 def _cmd_evaluate(args):
     import json
 
@@ -362,13 +414,16 @@ def _cmd_evaluate(args):
 
     model = load_model(args.model)
     traj = read_trajectory(args.trajectory, n_joints=model.robot.n)
-    err = evaluate(model, traj, plant=_apply_payload(model.robot, args))
+    _warn_provenance(args.trajectory, model.robot)
+    plant = _apply_payload(_apply_mounting(model.robot, args), args)
+    err = evaluate(model, traj, plant=plant)
     worst = err.pop("max_relative_peak_error")
     exceeded = args.max_error is not None and worst > args.max_error
     if args.json:
         out = {"model": args.model, "trajectory": args.trajectory,
                "trajectory_sha256": traj.sha256, "robot": model.robot.name,
                "setpoints": traj.n_setpoints, "payload_mass": float(args.payload or 0.0),
+               **_mounting_settings(args, plant),
                "max_relative_peak_error": worst,
                "max_error": args.max_error, "exceeded": exceeded, **err}
         print(json.dumps(out, allow_nan=False, default=str).replace("NaN", "null"))
@@ -397,7 +452,7 @@ def _cmd_compare(args):
     robot, traj = _load(args, args.trajectory)
     report = compare_report(robot, traj.q, traj.qd, traj.qdd)
     if args.json:
-        print(json.dumps(report))
+        print(json.dumps({**report, **_mounting_settings(args, robot)}))
     else:
         print(format_compare(report))
     return EXIT_OK
@@ -417,12 +472,14 @@ def _cmd_control(args):
 
     model = load_model(args.model)
     traj = read_trajectory(args.trajectory, n_joints=model.robot.n)
+    _warn_provenance(args.trajectory, model.robot)
     outdir = _outdir(args.outdir, model.robot.name, Path(args.trajectory).stem, "control")
     if outdir.exists() and not outdir.is_dir():
         raise InputError("exists and is not a folder", outdir)
     try:
         result = run_control(model, traj, wn=args.wn, zeta=args.zeta, q0_offset=args.offset,
-                             model_path=args.model, model_sha256=file_sha256(args.model))
+                             model_path=args.model, model_sha256=file_sha256(args.model),
+                             plant=_apply_mounting(model.robot, args))
     except ValueError as exc:
         raise InputError(str(exc)) from None
     with staged_output(outdir, (CONTROL_FILE, *CONTROL_REPORT_FILES, "figures"),

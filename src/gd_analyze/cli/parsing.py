@@ -138,6 +138,18 @@ def _add_payload_arguments(p):
     return g
 
 
+def _add_mounting_arguments(p, what="the arm"):
+    g = p.add_argument_group("mounting (recorded in the provenance)")
+    g.add_argument("--gravity", metavar="GX,GY,GZ", type=_vector3("--gravity"),
+                   help="gravity in the world frame [m/s^2] (default: the robot file's, e.g. "
+                        "0,0,-9.81; 0,0,0 for none)")
+    g.add_argument("--base-rpy", metavar="R,P,Y", type=_vector3("--base-rpy"),
+                   help=f"roll, pitch, yaw of {what}'s base in the world [deg] (URDF "
+                        "convention R = Rz(Y) Ry(P) Rx(R); gravity in the base frame is R^T g): "
+                        "e.g. 0,90,0 on a wall, 0,180,0 on a ceiling (default 0,0,0)")
+    return g
+
+
 def _add_chain_arguments(p):
     g = p.add_argument_group("URDF chain (a ROBOT given as a .urdf file, or panda, ur5)")
     g.add_argument("--base", metavar="LINK",
@@ -148,8 +160,11 @@ def _add_chain_arguments(p):
     return g
 
 
-_ROBOT_HELP = ("built-in robot (puma560, two-link, panda, ur5, ...), a TOML robot file or a URDF "
-               "file (*.urdf, see --base and --tip)")
+def _robot_help():
+    from ..io.robots import robots_text
+
+    return (f"built-in robot ({robots_text()}), a TOML robot file or a URDF file (*.urdf, see "
+            "--base and --tip)")
 
 
 def _add_payload_sweep_argument(group):
@@ -212,7 +227,7 @@ def _analyze_parser():
                "many trajectories on dask. 'gd-analyze COMMAND --help' for details. "
                + EXIT_STATUS_HELP,
     )
-    p.add_argument("robot", metavar="ROBOT", help=_ROBOT_HELP)
+    p.add_argument("robot", metavar="ROBOT", help=_robot_help())
     p.add_argument("trajectory", metavar="TRAJECTORY.csv",
                    help="CSV with header t,q1..qn[,qd1..qdn,qdd1..qddn] [s, rad, rad/s, rad/s^2]")
     p.add_argument("-o", "--outdir", metavar="OUTDIR",
@@ -238,6 +253,7 @@ def _analyze_parser():
                    help="print nothing but warnings and errors (no summary, no progress bar)")
     p.add_argument("--version", action="version", version=f"%(prog)s {_version()}")
     _add_chain_arguments(p)
+    _add_mounting_arguments(p)
     _add_payload_sweep_argument(_add_payload_arguments(p))
     return p
 
@@ -255,7 +271,7 @@ def _plan_parser():
                 description="Write a quintic rest-to-rest joint trajectory at the shortest "
                             "duration within the robot's velocity and acceleration limits, and "
                             "its provenance beside it (FILE's stem + .provenance.json).")
-    p.add_argument("robot", metavar="ROBOT", help=_ROBOT_HELP)
+    p.add_argument("robot", metavar="ROBOT", help=_robot_help())
     p.add_argument("-o", "--output", metavar="FILE", required=True,
                    help="CSV file to write ('-' for standard output)")
     p.add_argument("--start", metavar="DEG,...", type=_angles,
@@ -282,6 +298,7 @@ def _plan_parser():
                         "i.e. full speed in 1/{0:g} s; the provenance says which)".format(
                             DEFAULT_QDD_PER_QD))
     _add_chain_arguments(p)
+    _add_mounting_arguments(p)
     return p
 
 
@@ -296,9 +313,10 @@ def _evaluate_parser():
                         "exceeds REL")
     p.add_argument("--json", action="store_true", help="print one JSON object")
     _add_payload_arguments(p)
-    p.epilog = ("With --payload, the reference torques are those of the arm carrying the load, "
-                "while the simplified model keeps its own robot: the error shows whether the "
-                "model holds under that load.")
+    _add_mounting_arguments(p, "the reference arm")
+    p.epilog = ("With --payload, --gravity or --base-rpy, the reference torques are those of the "
+                "arm carrying the load or mounted so, while the simplified model keeps its own "
+                "robot: the error shows whether the model holds there.")
     return p
 
 
@@ -307,10 +325,11 @@ def _compare_parser():
                 description="Run Lagrange-Euler, Newton-Euler, G-D and Pinocchio on every set "
                             "point and print their largest relative disagreements and the "
                             "operation counts per set point.")
-    p.add_argument("robot", metavar="ROBOT", help=_ROBOT_HELP)
+    p.add_argument("robot", metavar="ROBOT", help=_robot_help())
     p.add_argument("trajectory", metavar="TRAJECTORY.csv")
     p.add_argument("--json", action="store_true", help="print one JSON object")
     _add_chain_arguments(p)
+    _add_mounting_arguments(p)
     return p
 
 
@@ -340,6 +359,8 @@ def _control_parser():
     _add_paper_argument(p)
     p.add_argument("--json", action="store_true", help="print the figures as one JSON object")
     p.add_argument("-q", "--quiet", action="store_true", help="print nothing but errors")
+    _add_mounting_arguments(p, "the controlled arm (the plant, and the full-model and PD + "
+                               "gravity controllers; the simplified model keeps its own)")
     return p
 
 
@@ -351,7 +372,7 @@ def _sweep_parser():
                             "(budget rule: guaranteed within EPS x scale_i on every swept "
                             "trajectory; --rule chapter: no error bound); write sweep.h5, "
                             "merged_model.json and sweep_report.html/.pdf.")
-    p.add_argument("robot", metavar="ROBOT", help=_ROBOT_HELP)
+    p.add_argument("robot", metavar="ROBOT", help=_robot_help())
     p.add_argument("csv", metavar="CSV", nargs="*", help="trajectory files (or use --random)")
     p.add_argument("--random", metavar="K", type=int,
                    help="plan K random quintic trajectories (start and goal uniform in the "
@@ -379,6 +400,7 @@ def _sweep_parser():
     _add_paper_argument(p)
     p.add_argument("-q", "--quiet", action="store_true", help="print nothing but errors")
     _add_chain_arguments(p)
+    _add_mounting_arguments(p)
     _add_payload_sweep_argument(_add_payload_arguments(p))
     return p
 

@@ -11,8 +11,8 @@ import sys
 from pathlib import Path
 
 from ..errors import InputError
-from .commands import (_apply_payload, _chain_settings, _command_line, _load_robot, _outdir,
-                       _payload_masses)
+from .commands import (_apply_payload, _chain_settings, _command_line, _load_robot,
+                       _mounting_settings, _outdir, _payload_masses)
 from .parsing import EXIT_OK, _version
 from ..io.model_file import save_model
 
@@ -58,11 +58,21 @@ def _sweep_model(robot, trajectories, args, outdir, settings, ds):
             "peak |tau_i|"
         claim = f"guaranteed <= {eps:g}" if worst <= eps * (1 + 1e-9) else \
             f"ABOVE the guarantee {eps:g}: please report this bug"
+        from ..io.sweep_datasets import beyond_the_floor
+
+        beyond = beyond_the_floor(ds)
+        caveat = ""
+        if beyond is not None:
+            rel, j, over = beyond
+            caveat = (f"; relative to peak |tau_i| itself, where it is below "
+                      f"{args.torque_floor:g} N m, not guaranteed: up to {rel:.2e} (joint {j}; "
+                      f"above {eps:g} on joint{'s' if len(over) > 1 else ''} "
+                      f"{', '.join(map(str, over))})")
         print(f"merged model (budget rule, EPS = {eps:g}): {model.cost['multiplications']} "
               f"mult + {model.cost['additions']} add (full explicit: "
               f"{model.full_cost['multiplications']} + {model.full_cost['additions']}); worst "
               f"error on the {v['trajectories']} swept trajectories {worst:.2e} of each "
-              f"trajectory's {floor} ({claim})" + ("" if held_err is None else
+              f"trajectory's {floor} ({claim}){caveat}" + ("" if held_err is None else
                                            f", on {v['held_out_trajectories']} held-out "
                                            f"{np.nanmax(held_err):.2e} of their {floor} "
                                            "(not guaranteed)"))
@@ -96,6 +106,15 @@ def _cmd_sweep(args):
     if args.csv:
         trajectories = [read_trajectory(path, n_joints=robot.n) for path in args.csv]
     else:
+        from ..io.planning import check_velocity_limits
+
+        placeholder = check_velocity_limits(robot)           # random plans need them
+        if placeholder:
+            import warnings
+
+            from ..errors import InputWarning
+
+            warnings.warn(placeholder, InputWarning)
         trajectories = random_trajectories(robot, args.random, seed=args.seed)
     masses = _payload_masses(args)
     loaded = _apply_payload(robot, args)
@@ -103,7 +122,8 @@ def _cmd_sweep(args):
     if outdir.exists() and not outdir.is_dir():
         raise InputError("exists and is not a folder", outdir)
     settings = {"command": _command_line(args),
-                "payload_mass": float(args.payload or 0.0), **_chain_settings(args)}
+                "payload_mass": float(args.payload or 0.0), **_chain_settings(args),
+                **_mounting_settings(args, robot)}
     if args.random is not None:
         from ..io.planning import acceleration_limits
 

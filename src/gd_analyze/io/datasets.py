@@ -228,6 +228,8 @@ def summary_dataset(robot, trajectory, ranking, choices, error, verification=Non
         "tau_error_rms": var(("joint",), np.array(error["rms_error"]), torque,
                               "RMS of |tau_simplified - tau|"),
         "tau_peak": var(("joint",), np.array(error["peak_tau"]), torque, "peak |tau|"),
+        "tau_max": var(("joint",), np.asarray(robot.tau_max, float), torque,
+                        "joint effort limit |tau| <= tau_max (NaN: not given)"),
         "tau_error_relative_peak": var(("joint",), np.array(error["relative_peak_error"]), "1",
                                         "peak |tau_simplified - tau| / peak |tau|"),
         "tau_error_relative_rms": var(("joint",), np.array(error["relative_rms_error"]), "1",

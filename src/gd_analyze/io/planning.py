@@ -21,7 +21,9 @@ from .trajectory import Trajectory
 __all__ = ["DEFAULT_START_DEG", "DEFAULT_GOAL_DEG", "DEFAULT_SETPOINTS", "DEFAULT_QDD_PER_QD",
            "quintic_duration", "quintic_min_durations", "default_motion", "default_motion_range",
            "user_positions", "plan_quintic", "random_trajectories", "acceleration_limits",
-           "provenance_path", "write_provenance"]
+           "provenance_path", "write_provenance", "read_provenance", "provenance_mismatch",
+           "joint_title", "check_velocity_limits",
+           "PLACEHOLDER_QD"]
 
 #: Start of the default planned PUMA 560 motion [deg].
 DEFAULT_START_DEG = (-60.0, 20.0, -150.0, -80.0, -60.0, -120.0)
@@ -33,6 +35,68 @@ DEFAULT_SETPOINTS = 31
 #: qdd_max_i = DEFAULT_QDD_PER_QD * qd_max_i [1/s]: full speed in 0.5 s. (The Panda's published
 #: limits give ratios of 2.9 to 7.7 s^-1, so the default is on the cautious side.)
 DEFAULT_QDD_PER_QD = 2.0
+#: A velocity limit above this [rad/s; m/s for a prismatic joint] is beyond physical sense for
+#: an arm's joint: a placeholder (e.g. URDF ``velocity="1000"``), warned about by ``plan``.
+PLACEHOLDER_QD = 100.0
+
+
+def joint_title(robot, j):
+    """How messages name joint j: its number, and its URDF name where the robot has one.
+
+    Parameters
+    ----------
+    robot : Robot
+        The arm (``robot.metadata["urdf_joints"]`` names a URDF chain's joints).
+    j : int
+        Zero-based joint index.
+
+    Returns
+    -------
+    str
+        E.g. ``"joint 1 ('joint1')"`` or ``"joint 1"``.
+    """
+    names = robot.metadata.get("urdf_joints") or ()
+    return f"joint {j + 1} ({str(names[j])!r})" if j < len(names) else f"joint {j + 1}"
+
+
+def check_velocity_limits(robot):
+    """Check that a robot has the velocity limits planning needs, and find placeholders.
+
+    Parameters
+    ----------
+    robot : Robot
+        The arm, with qd_max, shape (n,) [rad/s or m/s], NaN where not given.
+
+    Returns
+    -------
+    str or None
+        A warning (one line) naming the joints whose limit exceeds :data:`PLACEHOLDER_QD`, or
+        None.
+
+    Raises
+    ------
+    InputError
+        One line naming the first joint without a velocity limit and the key that gives one.
+    """
+    from ..errors import InputError
+
+    qd = np.asarray(robot.qd_max, dtype=float)
+    pris = np.asarray(robot.prismatic, bool)
+    for j in range(robot.n):
+        if not (math.isfinite(qd[j]) and qd[j] > 0):
+            key = ("<limit velocity> in a URDF" if robot.convention == "chain"
+                   else "qd_max" if pris[j] else "qd_max_deg")
+            raise InputError(f"{joint_title(robot, j)} has no velocity limit: planning needs "
+                             f"one ({key}), or give --duration with --ignore-limits",
+                             robot.source)
+    high = np.flatnonzero(qd > PLACEHOLDER_QD)
+    if not high.size:
+        return None
+    shown = ", ".join(f"{joint_title(robot, j)} {float(qd[j]):g} "
+                      f"{'m/s' if pris[j] else 'rad/s'}" for j in high)
+    return (f"velocity limits above {PLACEHOLDER_QD:g} rad/s (m/s) look like placeholders, "
+            f"not physical limits: {shown}; the plan is as fast as they allow (give --duration "
+            f"for a realistic one)")
 
 
 def quintic_duration(robot, q_start, q_goal):
@@ -345,6 +409,63 @@ def provenance_path(csv_path):
     """
     p = Path(csv_path)
     return p.with_name(p.stem + ".provenance.json")
+
+
+def read_provenance(csv_path):
+    """The provenance written beside a planned trajectory, if there is a readable one.
+
+    Parameters
+    ----------
+    csv_path : str or os.PathLike
+        The trajectory CSV.
+
+    Returns
+    -------
+    dict or None
+        The record of :func:`write_provenance`, or None when there is no such file or it is
+        not a JSON object (a provenance is advice, never a reason to refuse a trajectory).
+    """
+    import json
+
+    side = provenance_path(csv_path)
+    try:
+        with open(side, encoding="utf-8") as fh:
+            record = json.load(fh)
+    except (OSError, ValueError, RecursionError):
+        return None
+    return record if isinstance(record, dict) else None
+
+
+def provenance_mismatch(csv_path, robot):
+    """A one-line warning when a trajectory was planned for another robot than this one.
+
+    Parameters
+    ----------
+    csv_path : str or os.PathLike
+        The trajectory CSV; its provenance is ``<stem>.provenance.json`` beside it.
+    robot : Robot
+        The robot the trajectory is used with (e.g. a simplified model's); a ``+payload``
+        suffix of its name is not a difference.
+
+    Returns
+    -------
+    str or None
+        None when there is no provenance, or it names this robot with this robot file's
+        SHA-256 (or none); else the warning, naming both robots.
+    """
+    record = read_provenance(csv_path)
+    if record is None or not isinstance(record.get("robot"), str):
+        return None
+    theirs, ours = record["robot"], robot.name.split("+payload")[0]
+    side = provenance_path(csv_path).name
+    if theirs != ours:
+        return (f"{csv_path}: planned for robot {theirs[:80]!r} (says {side}), not for "
+                f"{ours!r}: the torques compare another robot's motion")
+    sha = record.get("robot_sha256")
+    if isinstance(sha, str) and sha and robot.sha256 and sha != robot.sha256:
+        return (f"{csv_path}: planned for another version of robot {ours!r} (its robot file's "
+                f"SHA-256 differs from {side}'s)")
+    return None
 
 
 def write_provenance(csv_path, record):

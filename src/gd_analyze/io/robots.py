@@ -23,7 +23,8 @@ try:  # Python >= 3.11
 except ModuleNotFoundError:  # pragma: no cover - Python 3.10
     import tomli as tomllib
 
-__all__ = ["load_robot", "load_toml_robot", "builtin_robots", "is_urdf", "TOML_BUILTIN"]
+__all__ = ["load_robot", "load_toml_robot", "builtin_robots", "is_urdf", "TOML_BUILTIN",
+           "unknown_robot", "robots_text"]
 
 #: The built-in TOML robots: name -> file in gd_analyze/data.
 TOML_BUILTIN = {"puma560": "puma560.toml", "two-link": "two-link.toml",
@@ -63,6 +64,39 @@ def builtin_robots():
     return sorted(set(TOML_BUILTIN) | set(URDF_BUILTIN))
 
 
+def robots_text():
+    """The built-in robots as the help, the errors and the README list them.
+
+    Returns
+    -------
+    str
+        E.g. ``"panda, puma560, stanford, two-link, ur5"``: :func:`builtin_robots`, joined.
+    """
+    return ", ".join(builtin_robots())
+
+
+def unknown_robot(name):
+    """The error for a robot argument that is neither a built-in robot nor a file.
+
+    Parameters
+    ----------
+    name : str
+        The argument as given.
+
+    Returns
+    -------
+    InputError
+        ``unknown robot 'pand': did you mean 'panda'? (no such file; built-in: ...; or a
+        TOML or URDF robot file)``; without the question when no built-in name is close.
+    """
+    import difflib
+
+    close = difflib.get_close_matches(str(name), builtin_robots(), n=1, cutoff=0.6)
+    guess = f": did you mean {close[0]!r}?" if close else ""
+    return InputError(f"unknown robot {str(name)!r}{guess} (no such file; built-in: "
+                      f"{robots_text()}; or a TOML or URDF robot file)")
+
+
 def load_robot(name_or_path, base=None, tip=None):
     """Load a built-in robot by name, a TOML robot file or a URDF file (dispatch on ``.urdf``).
 
@@ -80,12 +114,16 @@ def load_robot(name_or_path, base=None, tip=None):
     Raises
     ------
     InputError
-        If the robot cannot be read (see :func:`load_toml_robot` and
+        If the name is neither a built-in robot nor a file (:func:`unknown_robot`), the robot
+        cannot be read (see :func:`load_toml_robot` and
         :func:`gd_analyze.io.urdf.read_urdf_chain`), or base or tip is given for a robot that is
         not a URDF.
     """
     if is_urdf(name_or_path):
         return load_urdf(name_or_path, base, tip)
+    key = str(name_or_path)
+    if key not in TOML_BUILTIN and not Path(key).exists():
+        raise unknown_robot(key)
     if base is not None or tip is not None:
         raise InputError("--base and --tip apply to a URDF robot only", str(name_or_path),
                          column="--base" if base is not None else "--tip")

@@ -19,7 +19,7 @@ from ..core.selection.ranking import CLASSES, element_labels, is_round_off
 from .schema import MIXED_UNITS, element_coords, global_attributes, var
 
 __all__ = ["inputs_attributes", "sweep_dataset", "payload_dataset", "sweep_payloads_dataset",
-           "embed_payload", "payload_part"]
+           "embed_payload", "payload_part", "beyond_the_floor"]
 
 #: At most this many input files are listed by name in the global attributes (all are in the
 #: per-trajectory variables ``source`` and ``input_sha256``); HDF5 attributes stay small.
@@ -403,4 +403,39 @@ def payload_part(results):
     names = [v for v in results.data_vars
              if v.startswith("payload_") and "payload" in results[v].dims]
     return results[names].rename({v: v[len("payload_"):] for v in names})
+
+
+def beyond_the_floor(ds):
+    """Where the budget's guarantee does not reach: errors above EPS of peak |tau_i| itself.
+
+    The budget rule guarantees |tau_merged - tau| <= EPS scale_i with scale_i = max(peak
+    |tau_i|, TAU) on each swept trajectory; where a joint's peak |tau_i| is below the torque
+    floor TAU, its error relative to its own peak |tau_i| is not bounded by EPS.
+
+    Parameters
+    ----------
+    ds : xarray.Dataset
+        A sweep dataset with the budget rule's merged model (``merged_tau_error_peak`` and
+        ``tau_peak``, dims (trajectory, joint) [N m]; attribute ``merged_tolerance``).
+
+    Returns
+    -------
+    tuple or None
+        (worst relative error, its joint from 1, the joints above EPS) when some joint's peak
+        error exceeds EPS times its own peak |tau_i| on some trajectory; None otherwise (or
+        without a budget-rule model).
+    """
+    if "merged_tau_error_peak" not in ds.variables or "merged_tolerance" not in ds.attrs:
+        return None
+    err = np.asarray(ds["merged_tau_error_peak"].values, float)
+    peak = np.asarray(ds["tau_peak"].values, float)
+    with np.errstate(invalid="ignore", divide="ignore"):
+        rel = np.where(err > 0, err / np.where(peak > 0, peak, 0.0), 0.0)
+    rel = np.nan_to_num(rel, nan=np.inf).max(axis=0)
+    eps = float(ds.attrs["merged_tolerance"])
+    over = np.flatnonzero(rel > eps * (1 + 1e-9))
+    if not over.size:
+        return None
+    j = int(np.argmax(rel))
+    return float(rel[j]), j + 1, [int(k) + 1 for k in over]
 

@@ -223,7 +223,7 @@ def _check_magnitudes(values, names, path, row_of):
         bad = first_beyond(values[:, cols], LIMITS[kind])
         if bad is not None:
             j = cols.start + bad[1]
-            raise InputError(f"{values[bad[0], j]!r} is beyond the supported magnitude "
+            raise InputError(f"{float(values[bad[0], j]):g} is beyond the supported magnitude "
                              f"{LIMITS[kind]:g} of {kind} (see the README, Limits)", path,
                              row=row_of(bad[0]), column=names[j])
 

@@ -17,7 +17,9 @@ z axis. A URDF joint whose axis is not +z gets its body frame turned by the smal
 that takes z onto the axis: the placement becomes A_{i-1}^T P_i A_i (B^{-1} P_1 A_1 for the
 first joint, B the base link's frame) and the centre of mass and inertia tensor are expressed in
 the turned frame (A_i^T r_i, A_i^T I_i A_i). A continuous joint is a revolute joint without
-position limits. URDF has no acceleration limits: ``qdd_max`` is None.
+position limits. URDF has no acceleration limits: ``qdd_max`` is None. ROS's placeholders for an
+unset limit mean "not given": ``lower = upper`` (no position limits), ``velocity="0"`` and
+``effort="0"`` (NaN); only planning needs the limits.
 """
 
 from __future__ import annotations
@@ -83,7 +85,9 @@ class UrdfChain:
         placement from the previous body frame; ``mass`` [kg]; ``com`` (shape (3,) [m]) and
         ``inertia`` (shape (3, 3) [kg m^2], about the centre of mass), both in this joint's
         body frame; ``q_min``, ``q_max`` [rad or m] (infinite for a continuous joint);
-        ``qd_max`` [rad/s or m/s]; ``qdd_max`` None (URDF has no acceleration limits).
+        ``qd_max`` [rad/s or m/s] (NaN where not given); ``qdd_max`` None (URDF has no
+        acceleration limits); ``tau_max`` [N m or N], the ``effort`` limit (NaN where not
+        given).
     gravity : ndarray, shape (3,)
         Gravity in the base link's frame [m/s^2].
     joint_names, link_names : tuple of str
@@ -284,8 +288,7 @@ def read_urdf_chain(path, base=None, tip=None, name=None, description=None, refe
     InputError
         If the file is missing or not a valid URDF; a link is unknown; the tip is not beyond
         the base; there are several chains and no tip (the message names the candidate tips); a
-        chain joint is neither revolute, continuous nor prismatic (floating, planar, ...); a
-        chain joint has no velocity limit; an ``<inertial>`` is broken or not the one Pinocchio
+        chain joint is neither revolute, continuous nor prismatic (floating, planar, ...); an ``<inertial>`` is broken or not the one Pinocchio
         loaded, or a ``<mimic>`` joint is on the chain or follows it (see
         :func:`gd_analyze.io.urdf_xml.read_urdf_xml`, :func:`~gd_analyze.io.urdf_xml.check_mimic`).
 
@@ -322,10 +325,8 @@ def read_urdf_chain(path, base=None, tip=None, name=None, description=None, refe
         iq, iv = model.idx_qs[j], model.idx_vs[j]
         lo, hi = ((-math.inf, math.inf) if continuous else
                   (float(model.lowerPositionLimit[iq]), float(model.upperPositionLimit[iq])))
-        vmax = float(model.velocityLimit[iv])
-        if not (math.isfinite(vmax) and vmax > 0):
-            raise InputError(f"joint {model.names[j]!r} has no velocity limit: gd-analyze needs "
-                             "one (<limit velocity=\"...\"/>)", path)
+        if not lo < hi:                     # ROS's "unset" lower = upper (= 0): not given
+            lo, hi = -math.inf, math.inf
         joints.append({
             "type": kind,
             "rotation": np.array(placement.rotation),
@@ -334,8 +335,9 @@ def read_urdf_chain(path, base=None, tip=None, name=None, description=None, refe
             "com": R.T @ np.array(inertia.lever),
             "inertia": R.T @ np.array(inertia.inertia) @ R,
             "q_min": lo, "q_max": hi,
-            "qd_max": vmax,
+            "qd_max": _given(model.velocityLimit[iv]),
             "qdd_max": None,
+            "tau_max": _given(model.effortLimit[iv]),
         })
         prev = A
     gravity = B.rotation.T @ np.array(reduced.gravity.linear)
@@ -359,6 +361,13 @@ def read_urdf_chain(path, base=None, tip=None, name=None, description=None, refe
     return UrdfChain(name=robot_name, joints=tuple(joints), gravity=gravity,
                      joint_names=joint_names, link_names=link_names, base=base, tip=tip,
                      locked=locked_names, metadata=metadata)
+
+
+def _given(limit):
+    """A URDF limit, or NaN where it is not given: ROS's placeholder 0 (``velocity="0"``,
+    ``effort="0"``) or what Pinocchio sets for a missing one (0, inf or the largest float)."""
+    v = float(limit)
+    return v if 0 < v < 1e300 else math.nan
 
 
 def builtin_urdf_path(name):

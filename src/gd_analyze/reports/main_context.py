@@ -15,6 +15,7 @@ from .common import attr as _attr, check as _check, fmt as _fmt, pct as _pct
 from .common import strings as _strings, table as _table, thresholds as _thresholds
 from .common import element_units_of, prismatic_joints, torque_units, units_said_once
 from .common import units_text, utc_now
+from .effort import effort_rows
 from .main_figures import identically_zero
 from .main_provenance import provenance_rows
 from .markup import element as _el
@@ -327,6 +328,14 @@ def _report_context_base(ds):
          for k in range(n)],
         align=["left", "left"] + ["right"] * 4 + ["left"], widths=[0.6, 0.9, 1, 1, 1, 1, 1.5])
 
+    efforts = effort_rows(ds)
+    effort = _table(
+        ["joint", "peak |\u03c4|", "effort limit", "peak / limit", "flag", "units"],
+        [[str(j), _fmt(peak), _fmt(limit), _fmt(ratio, 3), flag, unit]
+         for j, peak, limit, ratio, flag, unit in efforts],
+        align=["left", "right", "right", "right", "left", "left"],
+        widths=[0.6, 1, 1, 1, 1, 0.6]) if efforts else None
+
     # 4. ranking
     share = ds["share_tran"].values
     zero = zero_mask(ds)[1]
@@ -420,6 +429,7 @@ def _report_context_base(ds):
         "n": n, "N": N, "s": f"{s:g}", "e": f"{e:g}", "created": now.isoformat(),
         "robot_kv": robot_kv, "dh": dh, "placements": placements, "link": link,
         "traj_kv": traj_kv, "joints": joints,
+        "effort": effort, "effort_text": _effort_text(efforts),
         "ranking": ranking, "counts": counts, "choices": choices, "error": err,
         "simplified_intro": _SIMPLIFIED_INTRO[form] + _zero_parameters(ds),
         "choices_heading": _CHOICES_HEADING[form],
@@ -544,3 +554,15 @@ def _formulations_context(ds):
             f"per set point, counted on the code as implemented (gd: compiled G-D engine, "
             f"gd-numpy: array engine), beside the formulas of Table 3.5, for n = {n}.")
     return {"applicable": True, "note": note, "agreement": agreement, "costs": costs}
+
+
+def _effort_text(rows):
+    """The sentence over the effort-limit table: which joints exceed their limit, if any."""
+    if not rows:
+        return ""
+    over = [str(r[0]) for r in rows if r.exceeded]
+    verdict = (f"joint{'s' if len(over) > 1 else ''} {', '.join(over)} exceed"
+               f"{'' if len(over) > 1 else 's'} {'their' if len(over) > 1 else 'its'} limit "
+               "along this trajectory" if over else "every joint stays within its limit")
+    return ("Peak |\u03c4| of the full model against the effort limits the robot gives "
+            f"(URDF <limit effort>, robot file tau_max): {verdict}.")

@@ -23,6 +23,7 @@ import math
 import numpy as np
 
 from ..core.selection.ranking import ROUND_OFF, element_label, element_units, is_round_off
+from ..core.selection.ranking import identically_zero  # noqa: F401  (the ranking's rule)
 from ..core.selection.ranking import joint_motion_units, joint_torque_units
 from .common import joint_style, markevery
 from .plot_data import DERIVED, ENVELOPE_COLUMNS, ENVELOPE_THRESHOLD, READ_CHUNK  # noqa: F401
@@ -77,32 +78,6 @@ _LEFT, _RIGHT, _WGAP, _HGAP, _TOP, _BOTTOM = 0.5, 0.06, 0.46, 0.3, 0.2, 0.36
 _MIN_PANEL_W = 0.55
 
 
-def identically_zero(peak_tran, peak_rot, peak_total, scale, tol=ZERO_TOL):
-    """Which elements are zero to rounding in every part along the trajectory.
-
-    Parameters
-    ----------
-    peak_tran, peak_rot, peak_total : ndarray, shape (M,)
-        Peak |part| of each element over the set points.
-    scale : ndarray, shape (M,)
-        Each element's own scale (peak sqrt(D_ii D_jj) [kg m^2] or peak |tau_i| [N m]).
-    tol : float, optional
-        The fraction of the scale below which a part counts as zero.
-
-    Returns
-    -------
-    ndarray of bool, shape (M,)
-        True where all three peaks are <= tol * scale (e.g. D45 and D56 of the PUMA 560, whose
-        parts are about 1e-19; h when q̇ = 0).
-
-    Examples
-    --------
-    >>> identically_zero(np.array([1e-19, 0.2]), np.array([2e-19, 0.1]),
-    ...                  np.array([1e-19, 0.3]), np.array([1.0, 1.0])).tolist()
-    [True, False]
-    """
-    peak = np.fmax(np.fmax(np.abs(peak_tran), np.abs(peak_rot)), np.abs(peak_total))
-    return is_round_off(peak, scale, tol)
 
 
 def _figure(w, h):

@@ -81,6 +81,10 @@ def main_outline(ctx, figures):
     o.section("1.2", "Trajectory")
     o.table(ctx["traj_kv"], "The trajectory.", kv=True)
     o.table(ctx["joints"], "Range of motion per joint.")
+    if ctx.get("effort"):
+        o.paragraph(ctx["effort_text"], "body")
+        o.table(ctx["effort"], "Peak |\u03c4| of the full model against each joint's effort "
+                               "limit.")
     o.paragraph(ctx["envelope_note"], "note")
     o.figure("joints", caps["joints"])
 

@@ -41,6 +41,7 @@ from .pages import PAPER, Document
 from .sections import Outline, to_document
 from .drawing import draw_figures, figure_svg, write_figure_files
 from ..core.selection.ranking import CLASSES
+from ..io.sweep_datasets import beyond_the_floor
 
 __all__ = ["SWEEP_REPORT_FORMATS", "render_sweep_html", "render_sweep_pdf", "write_sweep_report"]
 
@@ -143,6 +144,13 @@ def _context(ds, payload=None):
                  f"{float(ds.attrs.get('merged_torque_floor', 0.0)):g} N m)); its largest "
                  f"measured peak error is "
                  f"{_pct(float(ds.attrs.get('merged_worst_scaled_error', np.nan)))} of {_SI}")
+        beyond = beyond_the_floor(ds)
+        if beyond is not None:
+            rel, j, over = beyond
+            claim += (f". Relative to peak |\u03c4{_sub('i')}| itself, below the torque floor, "
+                      f"nothing is guaranteed: the error reaches {_pct(rel)} (joint {j}; above "
+                      f"\u03b5 on joint{'s' if len(over) > 1 else ''} "
+                      f"{', '.join(map(str, over))})")
         name = f"The merged model (budget rule, \u03b5 = {eps})"
     else:
         claim = ("no error bound: its largest peak torque error over all trajectories is "

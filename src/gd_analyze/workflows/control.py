@@ -61,10 +61,13 @@ from pathlib import Path
 import numpy as np
 
 from ..core.selection.simplified import choice_masks
+from ..core.dynamics.dalembert import gd_terms
 from .evaluate import model_torque
 from .tracking import (CONTROLLER_DESCRIPTIONS, CONTROLLERS, DEFAULT_ATOL, DEFAULT_METHOD,
-                       DEFAULT_RTOL, DEFAULT_WN, DEFAULT_ZETA, MAX_STIFFNESS_STEPS, Gains,
-                       control_gains, desired_motion, stiffness_steps, track)
+                       DEFAULT_RTOL, DEFAULT_WN, DEFAULT_ZETA, MAX_RHS_EVALS,
+                       MAX_STIFFNESS_STEPS, RHS_PER_STEP, Gains,
+                       closed_loop_rates, control_gains, desired_motion, singular_inertia,
+                       track)
 
 __all__ = ["DEFAULT_GRID_POINTS", "CONTROL_FILE", "ControlResult", "run_control", "model_cost"]
 
@@ -260,7 +263,7 @@ def _sample_times(t_set, grid_points):
 def run_control(model, trajectory, wn=DEFAULT_WN, zeta=DEFAULT_ZETA, q0_offset=0.0,
                 controllers=CONTROLLERS, grid_points=DEFAULT_GRID_POINTS, rtol=DEFAULT_RTOL,
                 atol=DEFAULT_ATOL, method=DEFAULT_METHOD, t_end=None, cost=True,
-                model_path=None, model_sha256=None):
+                model_path=None, model_sha256=None, plant=None):
     """Track a trajectory with the full-model, simplified-model and PD + gravity controllers.
 
     Parameters
@@ -292,6 +295,10 @@ def run_control(model, trajectory, wn=DEFAULT_WN, zeta=DEFAULT_ZETA, q0_offset=0
     model_sha256 : str, optional
         That file's SHA-256 (:func:`gd_analyze.files.file_sha256`); without a file, the SHA-256
         of the model's canonical JSON is recorded.
+    plant : Robot, optional
+        The controlled arm, which the full-model and PD + gravity controllers also use
+        (default: the model's robot), e.g. mounted otherwise
+        (:func:`gd_analyze.core.model.mounting.with_mounting`); the simplified model keeps its own.
 
     Returns
     -------
@@ -300,10 +307,12 @@ def run_control(model, trajectory, wn=DEFAULT_WN, zeta=DEFAULT_ZETA, q0_offset=0
     Raises
     ------
     ValueError
-        If the trajectory's joint count differs from the robot's, t_end leaves fewer than 2 set
-        points, a controller is unknown, the gains are invalid or so stiff that the integration
-        would need more than :data:`MAX_STIFFNESS_STEPS` steps (:func:`stiffness_steps`), or a run
-        exceeds :data:`~gd_analyze.workflows.tracking.MAX_RHS_EVALS` evaluations.
+        If the trajectory's joint count differs from the robot's, t_end leaves fewer than 2
+        set points, a controller is unknown, the gains are invalid or so stiff that the
+        integration would need more than :data:`MAX_STIFFNESS_STEPS` steps
+        (:func:`~gd_analyze.workflows.tracking.closed_loop_rates`, every controller), D is
+        singular (:func:`~gd_analyze.workflows.tracking.singular_inertia`), or a run exceeds
+        :data:`~gd_analyze.workflows.tracking.MAX_RHS_EVALS` evaluations.
     InputError
         If the model's torque is not finite on a set point (:func:`~gd_analyze.workflows.evaluate.model_torque`).
 
@@ -319,7 +328,7 @@ def run_control(model, trajectory, wn=DEFAULT_WN, zeta=DEFAULT_ZETA, q0_offset=0
     else:
         model_file = str(model_path)
         model_sha = model_sha256 or ""
-    robot = model.robot
+    robot = model.robot if plant is None else plant
     if trajectory.q.shape[1] != robot.n:
         raise ValueError(f"the trajectory has {trajectory.q.shape[1]} joints, the robot "
                          f"{robot.n}")
@@ -335,13 +344,24 @@ def run_control(model, trajectory, wn=DEFAULT_WN, zeta=DEFAULT_ZETA, q0_offset=0
             raise ValueError(f"t_end = {t_end} s leaves fewer than 2 set points")
     desired = desired_motion(trajectory)
     t, is_set = _sample_times(t_set, grid_points)
+    # D at (up to 64 of) the set points: invertible, and the loops' speed for every controller
+    pick = np.unique(np.linspace(0, len(trajectory.t) - 1, 64).round().astype(int))
+    D = gd_terms(robot, trajectory.q[pick], np.zeros_like(trajectory.q[pick])).D
+    singular = singular_inertia(robot, D)
+    if singular:
+        raise ValueError(singular)
     gains = control_gains(robot, desired(t[0]), wn, zeta)
-    steps = stiffness_steps(gains.wn, gains.zeta, t[-1] - t[0])
-    if steps > MAX_STIFFNESS_STEPS:
-        raise ValueError(f"wn = {np.max(gains.wn):g} rad/s and zeta = {np.max(gains.zeta):g} "
-                         f"make the closed loop too stiff: about {steps:.3g} integrator steps "
-                         f"over {t[-1] - t[0]:g} s (at most {MAX_STIFFNESS_STEPS}); lower wn "
-                         f"or zeta")
+    rates = closed_loop_rates(robot, gains, D)
+    for name in (c for c in CONTROLLERS if c in controllers):
+        # computed torque: the gains' own bound; PD + gravity: what a run can evaluate
+        most = MAX_STIFFNESS_STEPS if name != "pd_gravity" else MAX_RHS_EVALS // RHS_PER_STEP
+        steps = rates[name] * (t[-1] - t[0]) / 3.0
+        if steps > most:
+            raise ValueError(
+                f"wn = {np.max(gains.wn):g} rad/s and zeta = {np.max(gains.zeta):g} make the "
+                f"{CONTROLLER_DESCRIPTIONS[name].split(':')[0]} loop ({name}) too stiff: its "
+                f"fastest mode, {rates[name]:.3g} rad/s, needs about {steps:.3g} integrator "
+                f"steps over {t[-1] - t[0]:g} s (at most {most}); lower wn or zeta")
     offset = np.broadcast_to(np.asarray(q0_offset, dtype=float), (robot.n,)).copy()
     runs = {}
     for name in (c for c in CONTROLLERS if c in controllers):
@@ -358,6 +378,7 @@ def run_control(model, trajectory, wn=DEFAULT_WN, zeta=DEFAULT_ZETA, q0_offset=0
         "rtol": float(rtol), "atol": float(atol), "method": str(method),
         "grid_points": int(grid_points), "q0_offset": offset.tolist(),
         "t_end": float(t[-1]),
+        "gravity_base": [float(v) for v in robot.gravity],
     }
     return ControlResult(robot=robot, choices=dict(model.choices), gains=gains, t=t,
                          is_setpoint=is_set, q_d=desired(t), qd_d=desired(t, 1),

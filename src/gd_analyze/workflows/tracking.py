@@ -17,7 +17,7 @@ from ..core.dynamics.dalembert import _qdd_from_terms, gd_terms
 
 __all__ = ["CONTROLLERS", "CONTROLLER_DESCRIPTIONS", "DEFAULT_WN", "DEFAULT_ZETA",
            "DEFAULT_RTOL", "DEFAULT_ATOL", "DEFAULT_METHOD", "MAX_STIFFNESS_STEPS",
-           "MAX_RHS_EVALS", "stiffness_steps", "Gains", "control_gains", "desired_motion",
+           "MAX_RHS_EVALS", "RHS_PER_STEP", "stiffness_steps", "closed_loop_rates", "singular_inertia", "Gains", "control_gains", "desired_motion",
            "controller_torque", "TrackingRun", "track"]
 
 
@@ -61,6 +61,10 @@ MAX_STIFFNESS_STEPS = 20_000
 #: Most right-hand-side evaluations of one controller's run: a bound on the integration's time.
 MAX_RHS_EVALS = 500_000
 
+#: Right-hand-side evaluations per step of DOP853 (12 stages; Hairer, Norsett & Wanner,
+#: *Solving ODEs I*, Sec. II.10): with :data:`MAX_RHS_EVALS`, the most steps a run can take.
+RHS_PER_STEP = 12
+
 
 def stiffness_steps(wn, zeta, duration):
     """Integrator steps the error dynamics demand of an explicit method.
@@ -89,6 +93,89 @@ def stiffness_steps(wn, zeta, duration):
     wn, zeta = np.asarray(wn, float), np.asarray(zeta, float)
     fastest = wn * (zeta + np.sqrt(np.maximum(zeta**2 - 1.0, 0.0)))
     return float(np.max(fastest)) * float(duration) / 3.0
+
+
+def singular_inertia(robot, D, rtol=1e-12):
+    """Where D is singular: the joint that moves no inertia, for the message.
+
+    Parameters
+    ----------
+    robot : Robot
+        The arm (joint types for the units, URDF names for the joints).
+    D : ndarray, shape (N, n, n)
+        The inertia matrix at N set points [kg m^2; kg m, kg with prismatic joints].
+    rtol : float, optional
+        D is singular at a set point where its smallest eigenvalue is at most rtol times its
+        largest.
+
+    Returns
+    -------
+    str or None
+        None if D is invertible at every set point; else one line naming the set point, the
+        joint (the largest entry of the eigenvector of the smallest eigenvalue) and its D_ii.
+
+    Notes
+    -----
+    Computed-torque and PD control integrate qdd = D^-1 (tau - h - c) (Fu, Gonzalez & Lee
+    1987, Eq. (3.4-24)); a joint whose axis moves no mass and no inertia (D_ii = 0) makes it
+    impossible.
+    """
+    from ..core.selection.labels import element_units
+
+    D = np.asarray(D, dtype=float)
+    D = 0.5 * (D + np.swapaxes(D, -1, -2))
+    w, v = np.linalg.eigh(D)
+    big = np.abs(w).max(axis=1)
+    bad = np.flatnonzero(~(w[:, 0] > rtol * big))
+    if not bad.size:
+        return None
+    k = int(bad[0])
+    j = int(np.argmax(np.abs(v[k, :, 0])))
+    names = robot.metadata.get("urdf_joints") or ()
+    name = f"joint {j + 1}" + (f" ({str(names[j])!r})" if j < len(names) else "")
+    units = element_units("D", j, j, robot.prismatic)
+    return (f"the inertia matrix D is singular at set point {k + 1}: {name} has "
+            f"D_{j + 1}{j + 1} = {float(D[k, j, j]):.3g} {units.replace('m2', 'm^2')} (of "
+            f"largest eigenvalue {float(big[k]):.3g}): no inertia moves with it, so the arm "
+            "cannot be simulated; give that link a mass or inertia (or the joint an armature)")
+
+
+def closed_loop_rates(robot, gains, D):
+    """The fastest root of each controller's linearised error dynamics.
+
+    Parameters
+    ----------
+    robot : Robot
+        The arm, with n joints.
+    gains : Gains
+        The controllers' gains.
+    D : ndarray, shape (N, n, n)
+        The inertia matrix at the set points the loop passes [kg m^2].
+
+    Returns
+    -------
+    dict of str to float
+        Controller (:data:`CONTROLLERS`) -> largest |s| [rad/s]: for computed torque, the roots
+        of s^2 + 2 zeta wn s + wn^2 per joint; for PD + gravity, the eigenvalues of
+        [[0, E], [-D^-1 Kp_pd, -D^-1 Kv_pd]] at each set point, whose coupling through D^-1 can
+        be much faster than wn.
+
+    Notes
+    -----
+    Source: linearisation of Eq. (3.4-24) about the desired motion with qd = 0 (Fu, Gonzalez
+    & Lee 1987, Ch. 5); an explicit Runge-Kutta method needs steps below about 3 / |s|.
+    """
+    wn, zeta = np.asarray(gains.wn, float), np.asarray(gains.zeta, float)
+    ct = float(np.max(wn * (zeta + np.sqrt(np.maximum(zeta**2 - 1.0, 0.0)))))
+    n = robot.n
+    D = np.asarray(D, dtype=float)
+    Kp, Kv = np.diag(gains.Kp_pd), np.diag(gains.Kv_pd)
+    pd = 0.0
+    for Dk in D:
+        Dinv = np.linalg.inv(Dk)
+        A = np.block([[np.zeros((n, n)), np.eye(n)], [-Dinv @ Kp, -Dinv @ Kv]])
+        pd = max(pd, float(np.abs(np.linalg.eigvals(A)).max()))
+    return {"full": ct, "simplified": ct, "pd_gravity": pd}
 
 
 @dataclass(frozen=True, eq=False)

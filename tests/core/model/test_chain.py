@@ -286,7 +286,7 @@ def _spec():
     (lambda s: s["link"][2].update(joint="screw"), "link[3].joint", "revolute"),
     (lambda s: s["link"][2].update(d=0.1), "link[3].d", "q is d"),
     (lambda s: s["link"][2].update(q_limits_deg=[0, 1]), "link[3].q_limits_deg", "'q_limits'"),
-    (lambda s: s["link"][2].pop("q_limits"), "link[3].q_limits", "missing"),
+    (lambda s: s["link"][2].pop("a"), "link[3].a", "missing"),
     (lambda s: s["link"][2].update(qd_max=-1.0), "link[3].qd_max", "positive"),
     (lambda s: s["link"][2].update(theta_deg="x"), "link[3].theta_deg", "number"),
     (lambda s: s["link"][0].update(theta_deg=10.0), "link[1].theta_deg", "offset_deg"),

@@ -167,9 +167,10 @@ class Robot:
         Inertia tensor I_i of link i about its centre of mass, axes parallel to link frame i,
         symmetric [kg m^2].
     q_min, q_max : ndarray, shape (n,)
-        Joint position limits [rad] or [m]; may be -inf, inf.
+        Joint position limits [rad] or [m]; -inf, inf where there is none (a continuous
+        joint) or none is given.
     qd_max : ndarray, shape (n,)
-        Joint velocity limits [rad/s] or [m/s].
+        Joint velocity limits [rad/s] or [m/s]; NaN where not given (only planning needs them).
     qdd_max : ndarray, shape (n,)
         Joint acceleration limits [rad/s^2] or [m/s^2]; NaN where unknown (URDF).
     gravity : ndarray, shape (3,)
@@ -193,6 +194,9 @@ class Robot:
         Orientation of link frame i in body frame i (identity for modified DH and chains).
     link_translation : ndarray, shape (n, 3)
         Origin of link frame i in body frame i [m].
+    tau_max : ndarray, shape (n,)
+        Joint effort limits |tau_i| <= tau_max_i [N m] or [N] (prismatic); NaN where not
+        given (default: none given).
     metadata : mapping
         Read-only extra facts from the builder (e.g. a URDF's base and tip links).
 
@@ -228,6 +232,7 @@ class Robot:
     link_rotation: np.ndarray = None
     link_translation: np.ndarray = None
     metadata: types.MappingProxyType = None
+    tau_max: np.ndarray = None
 
     def __post_init__(self):
         # Validation only: a frozen value is never changed after construction. Build a robot
@@ -326,6 +331,8 @@ class Robot:
                                           math.degrees(self.q_max[i])],
                             qd_max_deg=math.degrees(self.qd_max[i]),
                             qdd_max_deg=math.degrees(self.qdd_max[i]))
+            if math.isfinite(self.tau_max[i]):
+                link["tau_max"] = float(self.tau_max[i])
             links.append(link)
         return {"name": self.name, "description": self.description,
                 "reference": self.reference, "gravity": [float(v) for v in self.gravity],
@@ -408,6 +415,8 @@ def make_robot(**fields):
         fields["link_rotation"] = np.broadcast_to(np.eye(3), (n, 3, 3))
     if fields.get("link_translation") is None:
         fields["link_translation"] = np.zeros((n, 3))
+    if fields.get("tau_max") is None:
+        fields["tau_max"] = np.full(n, np.nan)
     for key, value in fields.items():
         if key not in ("prismatic", "metadata") and isinstance(value, (np.ndarray, list,
                                                                          tuple)):

@@ -36,7 +36,7 @@ def _number(value, path, column, finite=True, limit=None):
     except OverflowError:
         raise InputError("number too large for a float", path, column=column) from None
     if finite and not math.isfinite(v):
-        raise InputError(f"expected a finite number, got {value!r}", path, column=column)
+        raise InputError(f"expected a finite number, got {v:g}", path, column=column)
     if limit is not None and math.isfinite(v) and abs(v) > LIMITS[limit]:
         raise InputError(f"{v:g} is beyond the supported magnitude {LIMITS[limit]:g} (see the "
                          f"README, Limits)", path, column=column)
@@ -44,6 +44,9 @@ def _number(value, path, column, finite=True, limit=None):
 
 
 def _short(value):
+    """repr of a value for a message, at most 60 characters; numbers plain (no numpy repr)."""
+    if isinstance(value, np.generic):
+        value = value.item()
     text = repr(value)
     return text if len(text) <= 60 else text[:57] + "..."
 
@@ -113,42 +116,70 @@ def _inertial(link, path, where):
     return m, com, _inertia_tensor(link["inertia"], path, f"{where}.inertia")
 
 
-def _limits(lo_hi, qd, qdd, path, where, keys, scale=1.0, qdd_optional=False):
-    """q_min, q_max, qd_max, qdd_max in SI units; keys name the three entries for messages."""
+def _limits(lo_hi, qd, qdd, path, where, keys, scale=1.0):
+    """q_min, q_max, qd_max, qdd_max in SI units; keys name the three entries for messages.
+
+    Every limit is optional (only planning needs them): a missing position range (None) is
+    (-inf, inf), a missing velocity or acceleration limit NaN."""
     klim, kqd, kqdd = keys
-    lim = lo_hi
+    lim = [None, None] if lo_hi is None else lo_hi
     if isinstance(lim, np.ndarray):
         lim = lim.tolist()
     if not isinstance(lim, (list, tuple)) or len(lim) != 2:
-        raise InputError(f"expected a list of 2 numbers, got {lim!r}", path,
+        raise InputError(f"expected a list of 2 numbers, got {_short(lim)}", path,
                          column=f"{where}.{klim}")
     # no limit (a continuous joint): inf in TOML, null in JSON (which has no inf)
     lo, hi = (sign * math.inf if v is None else
               _number(v, path, f"{where}.{klim}", finite=False, limit="angle_deg")
               for sign, v in zip((-1, 1), lim))
     if math.isnan(lo) or math.isnan(hi) or lo >= hi:
-        raise InputError("lower limit not below upper limit", path, column=f"{where}.{klim}")
-    v = _number(qd, path, f"{where}.{kqd}", limit="angle_deg")
+        raise InputError(f"lower limit {lo:g} not below upper limit {hi:g} (leave the key out "
+                         "where the joint has no position limits)", path,
+                         column=f"{where}.{klim}")
+    out = []
+    for value, key in ((qd, kqd), (qdd, kqdd)):
+        v = _number(value, path, f"{where}.{key}", finite=False, limit="angle_deg") \
+            if value is not None else math.nan
+        if math.isnan(v):                      # not given (null in a model file's JSON)
+            out.append(math.nan)
+            continue
+        if math.isinf(v):
+            raise InputError("expected a finite number, got inf (leave the key out where "
+                             "there is no limit)", path, column=f"{where}.{key}")
+        if v <= 0:
+            raise InputError(f"limit must be positive, got {v:g} (leave the key out where "
+                             "there is none)", path, column=f"{where}.{key}")
+        out.append(v)
+    return lo * scale, hi * scale, out[0] * scale, out[1] * scale
+
+
+def _effort(link, path, where):
+    """The effort limit tau_max [N m or N], NaN where not given."""
+    value = link.get("tau_max")
+    v = (math.nan if value is None else
+         _number(value, path, f"{where}.tau_max", finite=False, limit="mass"))
+    if math.isnan(v):
+        return math.nan
+    if math.isinf(v):
+        raise InputError("expected a finite number, got inf (leave the key out where there "
+                         "is no limit)", path, column=f"{where}.tau_max")
     if v <= 0:
-        raise InputError("limit must be positive", path, column=f"{where}.{kqd}")
-    if qdd is None and qdd_optional:
-        acc = math.nan
-    else:
-        acc = _number(qdd, path, f"{where}.{kqdd}", finite=not qdd_optional)
-        if acc <= 0 or math.isinf(acc):
-            raise InputError("limit must be positive and finite", path,
-                             column=f"{where}.{kqdd}")
-    return lo * scale, hi * scale, v * scale, acc * scale
+        raise InputError(f"limit must be positive, got {v:g} (leave the key out where there "
+                         "is none)", path, column=f"{where}.tau_max")
+    return v
 
 
 _INERTIAL_KEYS = {"mass", "com", "inertia"}
+#: Keys every link may have: limits (only planning needs them) and the effort limit.
+_LIMIT_KEYS = {"revolute": {"q_limits_deg", "qd_max_deg", "qdd_max_deg", "tau_max"},
+               "prismatic": {"q_limits", "qd_max", "qdd_max", "tau_max"},
+               "chain": {"q_limits", "qd_max", "qdd_max", "tau_max"}}
 _KEYS = {
-    ("standard", "revolute"): ({"d", "a", "alpha_deg", "q_limits_deg", "qd_max_deg",
-                                "qdd_max_deg"}, {"offset_deg", "joint"}),
-    ("standard", "prismatic"): ({"a", "alpha_deg", "q_limits", "qd_max", "qdd_max"},
-                                {"theta_deg", "offset", "joint"}),
-    ("chain", "revolute"): ({"rotation", "translation", "q_limits", "qd_max"},
-                            {"qdd_max", "joint"}),
+    ("standard", "revolute"): ({"d", "a", "alpha_deg"},
+                               {"offset_deg", "joint"} | _LIMIT_KEYS["revolute"]),
+    ("standard", "prismatic"): ({"a", "alpha_deg"},
+                                {"theta_deg", "offset", "joint"} | _LIMIT_KEYS["prismatic"]),
+    ("chain", "revolute"): ({"rotation", "translation"}, {"joint"} | _LIMIT_KEYS["chain"]),
 }
 _KEYS[("modified", "revolute")] = _KEYS[("standard", "revolute")]
 _KEYS[("modified", "prismatic")] = _KEYS[("standard", "prismatic")]
@@ -204,14 +235,18 @@ def robot_from_dict(spec, source="<dict>", sha256=None):
         both in link frame i, and
 
         - revolute, DH: ``d`` [m], ``a`` [m], ``alpha_deg`` [deg], optional ``offset_deg``
-          [deg] (theta_i = q_i + offset), ``q_limits_deg`` (2 numbers [deg]), ``qd_max_deg``
-          [deg/s], ``qdd_max_deg`` [deg/s^2];
+          [deg] (theta_i = q_i + offset), optional ``q_limits_deg`` (2 numbers [deg]),
+          ``qd_max_deg`` [deg/s], ``qdd_max_deg`` [deg/s^2];
         - prismatic, DH: optional ``theta_deg`` [deg] (the fixed theta_i), ``a`` [m],
-          ``alpha_deg`` [deg], optional ``offset`` [m] (d_i = q_i + offset), ``q_limits``
-          [m], ``qd_max`` [m/s], ``qdd_max`` [m/s^2];
+          ``alpha_deg`` [deg], optional ``offset`` [m] (d_i = q_i + offset), optional
+          ``q_limits`` [m], ``qd_max`` [m/s], ``qdd_max`` [m/s^2];
         - chain: ``rotation`` (3x3) and ``translation`` (3 numbers [m]), the placement of the
-          joint in the previous body frame, and ``q_limits``, ``qd_max``, optional
-          ``qdd_max`` in SI units (rad or m); limits may be infinite.
+          joint in the previous body frame, and optional ``q_limits``, ``qd_max``, ``qdd_max``
+          in SI units (rad or m); position limits may be infinite.
+
+        Every link may give ``tau_max``, its effort limit [N m; N for a prismatic joint].
+        Limits are optional: only ``plan`` and ``sweep --random`` need velocity limits; a
+        missing position range is none (-inf, inf).
 
         In the modified convention link i's row holds Craig's alpha_{i-1}, a_{i-1}, d_i and
         theta_i (as the Robotics Toolbox's ``RevoluteMDH`` and ``PrismaticMDH`` take them), and
@@ -260,7 +295,7 @@ def robot_from_dict(spec, source="<dict>", sha256=None):
         raise InputError("no [[link]] tables", path, column="link")
     cols = {k: [] for k in ("d", "a", "alpha", "offset", "mass", "com", "inertia", "q_min",
                             "q_max", "qd_max", "qdd_max", "prismatic", "rotation",
-                            "translation")}
+                            "translation", "tau_max")}
     for i, link in enumerate(links, start=1):
         where = f"link[{i}]"
         if not isinstance(link, dict):
@@ -278,30 +313,31 @@ def robot_from_dict(spec, source="<dict>", sha256=None):
                                                f"{where}.translation", "length"))
             for key in ("d", "a", "alpha", "offset"):
                 cols[key].append(math.nan)
-            lims = _limits(link["q_limits"], link["qd_max"], link.get("qdd_max"), path, where,
-                           ("q_limits", "qd_max", "qdd_max"), qdd_optional=True)
+            lims = _limits(link.get("q_limits"), link.get("qd_max"), link.get("qdd_max"), path,
+                           where, ("q_limits", "qd_max", "qdd_max"))
         elif pris:
             cols["d"].append(_number(link.get("offset", 0.0), path, f"{where}.offset",
                                      limit="length"))
             cols["a"].append(_number(link["a"], path, f"{where}.a", limit="length"))
             cols["alpha"].append(_degrees(link, "alpha_deg", path, where))
             cols["offset"].append(_degrees(link, "theta_deg", path, where, 0.0))
-            lims = _limits(link["q_limits"], link["qd_max"], link["qdd_max"], path, where,
-                           ("q_limits", "qd_max", "qdd_max"))
+            lims = _limits(link.get("q_limits"), link.get("qd_max"), link.get("qdd_max"), path,
+                           where, ("q_limits", "qd_max", "qdd_max"))
         else:
             cols["d"].append(_number(link["d"], path, f"{where}.d", limit="length"))
             cols["a"].append(_number(link["a"], path, f"{where}.a", limit="length"))
             cols["alpha"].append(_degrees(link, "alpha_deg", path, where))
             cols["offset"].append(_degrees(link, "offset_deg", path, where, 0.0))
-            lims = _limits(link["q_limits_deg"], link["qd_max_deg"], link["qdd_max_deg"], path,
-                           where, ("q_limits_deg", "qd_max_deg", "qdd_max_deg"),
-                           scale=math.pi / 180)
+            lims = _limits(link.get("q_limits_deg"), link.get("qd_max_deg"),
+                           link.get("qdd_max_deg"), path, where,
+                           ("q_limits_deg", "qd_max_deg", "qdd_max_deg"), scale=math.pi / 180)
         cols["prismatic"].append(pris)
         cols["mass"].append(m)
         cols["com"].append(com)
         cols["inertia"].append(I)
         for key, v in zip(("q_min", "q_max", "qd_max", "qdd_max"), lims):
             cols[key].append(v)
+        cols["tau_max"].append(_effort(link, path, where))
     if convention != "chain":
         del cols["rotation"], cols["translation"]
     return make_robot(name=name, gravity=gravity, description=description,
@@ -323,9 +359,9 @@ def robot_from_chain(name, joints, gravity, **metadata):
         placement of the joint in the previous body frame (the base for the first joint); the
         joint then turns about or slides along the placed frame's z axis. ``"mass"`` [kg],
         ``"com"`` (3 [m]) and ``"inertia"`` (3x3 [kg m^2], about the centre of mass), both in
-        this joint's body frame; ``"q_min"``, ``"q_max"`` [rad or m] (may be -inf, inf),
-        ``"qd_max"`` [rad/s or m/s] and ``"qdd_max"`` [rad/s^2 or m/s^2] (None or NaN when
-        unknown).
+        this joint's body frame; optional ``"q_min"``, ``"q_max"`` [rad or m] (may be -inf,
+        inf; default none), ``"qd_max"`` [rad/s or m/s], ``"qdd_max"`` [rad/s^2 or m/s^2] and
+        ``"tau_max"`` [N m or N] (None or NaN when not given).
     gravity : array_like, shape (3,)
         Gravity in the base frame [m/s^2].
     **metadata
@@ -343,7 +379,8 @@ def robot_from_chain(name, joints, gravity, **metadata):
     InputError
         On a missing key, an unknown joint type, a placement that is not a rotation, a negative
         mass, an inertia that is not symmetric positive semi-definite, or bad limits; the
-        message names the key as ``joint[i].key``.
+        message names the key as ``joint[i].key``, and the joint's own name when
+        ``urdf_joints`` is given.
 
     Examples
     --------
@@ -364,18 +401,18 @@ def robot_from_chain(name, joints, gravity, **metadata):
     links = []
     for i, j in enumerate(joints, start=1):
         where = f"joint[{i}]"
-        for key in ("type", "rotation", "translation", "mass", "com", "inertia", "q_min",
-                    "q_max", "qd_max"):
+        for key in ("type", "rotation", "translation", "mass", "com", "inertia"):
             if key not in j:
                 raise InputError("missing key", path, column=f"{where}.{key}")
-        qdd = j.get("qdd_max")
         link = {"joint": j["type"], "rotation": np.asarray(j["rotation"]).tolist(),
                 "translation": np.asarray(j["translation"]).tolist(), "mass": j["mass"],
                 "com": np.asarray(j["com"]).tolist(),
                 "inertia": np.asarray(j["inertia"], dtype=float).tolist(),
-                "q_limits": [float(j["q_min"]), float(j["q_max"])], "qd_max": j["qd_max"]}
-        if qdd is not None and not (isinstance(qdd, float) and math.isnan(qdd)):
-            link["qdd_max"] = qdd
+                "q_limits": [float(j.get("q_min", -math.inf)), float(j.get("q_max", math.inf))]}
+        for key in ("qd_max", "qdd_max", "tau_max"):      # None or NaN: not given
+            v = j.get(key)
+            if v is not None and not (isinstance(v, float) and math.isnan(v)):
+                link[key] = v
         links.append(link)
     spec = {"name": name, "gravity": gravity, "convention": "chain", "link": links,
             "description": fields.get("description", ""),
@@ -386,6 +423,11 @@ def robot_from_chain(name, joints, gravity, **metadata):
         col = err.column.replace("link[", "joint[") if err.column else err.column
         col = (col.replace(".q_limits", ".q_min/q_max").replace(".joint", ".type")
                if col else col)
+        names = metadata.get("urdf_joints") or ()
+        if col and col.startswith("joint[") and "]" in col:
+            k = int(col[len("joint["):col.index("]")])
+            if 1 <= k <= len(names):
+                col = f"{col} (joint {str(names[k - 1])!r})"
         raise InputError(err.message, path, column=col) from None
     return dataclasses.replace(robot, metadata=types.MappingProxyType(metadata),
                                source=str(path) if path else "<chain>")

@@ -14,6 +14,9 @@ and the element's class is
 - else ``"translational"`` if share_tran >= s, ``"rotational"`` if share_tran <= 1 - s,
   ``"both"`` otherwise.
 
+An element zero to rounding (:func:`identically_zero`: every part below 1e-12 of its scale)
+is ``"negligible"`` whatever e, and has no share to speak of: the reports print it as "≡ 0".
+
 The chapter reads the same classes off its Figs. 3.10 and 3.11 by eye; s (default 0.9) and e
 (default 0.01) make the reading reproducible.
 """
@@ -33,8 +36,56 @@ __all__ = [
     "CLASSES", "DEFAULT_DOMINANCE", "DEFAULT_NEGLIGIBLE", "Ranking", "element_labels",
     "element_index", "element_label", "parse_element_label", "rank_dominance",
     "CHAPTER_DOMINANCE", "element_units", "joint_torque_units", "joint_motion_units",
-    "joint_units_text", "ROUND_OFF", "is_round_off",
+    "joint_units_text", "ROUND_OFF", "is_round_off", "ZERO_TOL", "identically_zero",
 ]
+
+#: An element whose parts all stay below this fraction of its scale is zero to rounding.
+ZERO_TOL = 1e-12
+
+
+def identically_zero(peak_tran, peak_rot, peak_total, scale, tol=ZERO_TOL):
+    """Which elements are zero to rounding in every part along the trajectory.
+
+    Parameters
+    ----------
+    peak_tran, peak_rot, peak_total : ndarray, shape (M,)
+        Peak |part| of each element over the set points; M = n (n + 1) / 2 + n (D's upper
+        triangle, then h) or any M (each element on its own scale only).
+    scale : ndarray, shape (M,)
+        Each element's own scale (peak sqrt(D_ii D_jj) [kg m^2] or peak |tau_i| [N m]).
+    tol : float, optional
+        The fraction of the scale below which a part counts as zero.
+
+    Returns
+    -------
+    ndarray of bool, shape (M,)
+        True where all three peaks are <= tol * scale. Where the scale is itself rounding
+        (below tol times the largest scale of its kind, D or h: a joint that moves no inertia,
+        whose D_ii is 1e-34), the largest scale of the kind stands for it.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> identically_zero(np.array([1e-19, 0.2]), np.array([2e-19, 0.1]),
+    ...                  np.array([1e-19, 0.3]), np.array([1.0, 1.0])).tolist()
+    [True, False]
+
+    A D_66 of 2.5e-34 on a scale of its own size is rounding beside D_11 = 3.6:
+
+    >>> identically_zero(np.array([3.6, 2.5e-34, 1.0]), np.zeros(3),
+    ...                  np.array([3.6, 2.5e-34, 1.0]), np.array([3.6, 2.5e-34, 5.0])).tolist()
+    [False, True, False]
+    """
+    scale = np.abs(np.asarray(scale, dtype=float))
+    ref = scale.copy()
+    m = scale.size
+    n = int(round((-3 + np.sqrt(9 + 8 * m)) / 2)) if m else 0
+    if n * (n + 3) // 2 == m and m:
+        for part in (slice(0, m - n), slice(m - n, m)):
+            big = np.max(scale[part], initial=0.0)
+            ref[part] = np.where(scale[part] <= tol * big, big, scale[part])
+    peak = np.fmax(np.fmax(np.abs(peak_tran), np.abs(peak_rot)), np.abs(peak_total))
+    return np.asarray(peak <= tol * ref) & np.isfinite(peak)
 
 #: The dominance classes, in the order used for codes in files.
 CLASSES = ("translational", "rotational", "both", "negligible")
@@ -280,9 +331,11 @@ class RankingAccumulator:
         with np.errstate(invalid="ignore", divide="ignore"):
             share = np.where(total > 0, self.sum_tran / np.where(total > 0, total, 1.0), np.nan)
         scale = np.concatenate([self.scale_D, self.peak_tau])
+        zero = identically_zero(self.peak_tran, self.peak_rot, self.peak_total, scale)
         classes = []
         for k in range(share.size):
-            if self.peak_total[k] < negligible * scale[k] or not np.isfinite(share[k]):
+            if (self.peak_total[k] < negligible * scale[k] or not np.isfinite(share[k])
+                    or zero[k]):
                 classes.append("negligible")
             elif share[k] >= dominance:
                 classes.append("translational")
