@@ -35,7 +35,7 @@ from .factoring import (expand_pairs, factor_sum, private_products, prune_dead,
 from .safe_text import header_lines
 
 __all__ = ["Program", "build_program", "count_operations", "emit_c", "emit_python",
-           "python_function", "C_FUNCTION"]
+           "python_function", "with_drives", "C_FUNCTION"]
 
 #: The exported C function.
 C_FUNCTION = "gd_simplified_tau"
@@ -95,6 +95,8 @@ def _count(e, tally):
         tally["cos"] += 1
     elif isinstance(e, se.sin):
         tally["sin"] += 1
+    elif isinstance(e, se.sign):        # friction's sign(qd): two comparisons, no arithmetic
+        pass
     else:
         raise ValueError(f"unexpected expression {e}")
     for a in args:
@@ -468,6 +470,9 @@ def _print(e, lang, prec=0):
         base, ex = e.args
         b = _print(base, lang, 2)
         return "(" + "*".join([b] * int(float(ex))) + ")"
+    if isinstance(e, se.sign):          # sign(0) = 0, as numpy's
+        x = _print(e.args[0], lang, 2)
+        return f"np.sign({x})" if lang == "py" else f"(double)(({x} > 0) - ({x} < 0))"
     if isinstance(e, (se.sin, se.cos)):
         fn = "sin" if isinstance(e, se.sin) else "cos"
         fn = f"np.{fn}" if lang == "py" else fn
@@ -604,3 +609,34 @@ def emit_python(program, header):
         lines.append(f"    out[:, {i}] = {_print(e, 'py')}")
     lines += ["    return out", ""]
     return "\n".join(lines)
+
+
+def with_drives(program, robot):
+    """The program with the robot's drive terms added to every tau_i, kept whole.
+
+    Parameters
+    ----------
+    program : Program
+        The rigid-link model, tau_i of q, qd, qdd.
+    robot : Robot
+        Its ``armature`` Ia [kg m^2], ``viscous`` F_v [N m s/rad] and ``coulomb`` F_c [N m].
+
+    Returns
+    -------
+    Program
+        The same program when the robot has no drives; else one whose tau_i adds
+        Ia_i qdd_i + F_v,i qd_i + F_c,i sign(qd_i) (:mod:`gd_analyze.core.drives`): one
+        multiplication and one addition per nonzero coefficient, at most 3 + 3 per joint
+        (sign(qd) costs two comparisons, not counted).
+    """
+    arm, fv, fc = (np.asarray(getattr(robot, k), float) for k in ("armature", "viscous",
+                                                                  "coulomb"))
+    if not (arm.any() or fv.any() or fc.any()):
+        return program
+    outputs = list(program.outputs)
+    for i in range(program.n):
+        qd, qdd = se.Symbol(f"qd{i}"), se.Symbol(f"qdd{i}")
+        extra = [se.RealDouble(float(c)) * x for c, x in ((arm[i], qdd), (fv[i], qd),
+                                                          (fc[i], se.sign(qd))) if c != 0.0]
+        outputs[i] = se.Add(outputs[i], *extra)
+    return Program(program.n, program.assignments, outputs)

@@ -47,6 +47,7 @@ from pathlib import Path
 import numpy as np
 
 from ..errors import InputError
+from .drives import drive_dict
 from .limits import LIMITS
 
 try:  # Python >= 3.11
@@ -57,8 +58,8 @@ except ModuleNotFoundError:  # pragma: no cover - Python 3.10
 __all__ = ["Robot", "load_robot", "builtin_robots", "robot_from_dict", "robot_from_chain",
            "with_payload", "dh_placements", "rot_x", "rot_z", "CONVENTIONS", "JOINT_TYPES"]
 
-_BUILTIN = {"puma560": "puma560.toml", "two-link": "two-link.toml",
-            "stanford": "stanford.toml"}
+_BUILTIN = {"puma560": "puma560.toml", "puma560-drives": "puma560-drives.toml",
+            "two-link": "two-link.toml", "stanford": "stanford.toml"}
 #: How a robot's placements were given: standard DH, modified DH (Craig) or a general chain.
 CONVENTIONS = ("standard", "modified", "chain")
 #: Joint types: rotation about, or translation along, the joint's z axis.
@@ -203,6 +204,12 @@ class Robot:
         Origin of link frame i in body frame i [m].
     metadata : mapping
         Read-only extra facts from the builder (e.g. a URDF's base and tip links).
+    armature : ndarray, shape (n,)
+        Reflected rotor inertia Ia_i = J_m G^2 of joint i's drive [kg m^2] (prismatic: [kg]);
+        zero by default. It adds diag(Ia) to D (:mod:`gd_analyze.core.drives`).
+    viscous, coulomb : ndarray, shape (n,)
+        Joint friction F_v [N m s/rad] (N s/m) and F_c [N m] (N), tau_f = F_v qd + F_c sign(qd);
+        zero by default.
 
     Notes
     -----
@@ -236,6 +243,9 @@ class Robot:
     link_rotation: np.ndarray = None
     link_translation: np.ndarray = None
     metadata: types.MappingProxyType = None
+    armature: np.ndarray = None
+    viscous: np.ndarray = None
+    coulomb: np.ndarray = None
 
     def __post_init__(self):
         if self.convention not in CONVENTIONS:
@@ -256,6 +266,12 @@ class Robot:
             set_(self, "link_rotation", np.broadcast_to(np.eye(3), (n, 3, 3)))
         if self.link_translation is None:
             set_(self, "link_translation", np.zeros((n, 3)))
+        for key in ("armature", "viscous", "coulomb"):      # drives: finite, >= 0, (n,)
+            v = np.zeros(n) if getattr(self, key) is None else np.array(getattr(self, key),
+                                                                        dtype=float)
+            if v.shape != (n,) or not (np.isfinite(v) & (v >= 0)).all():
+                raise ValueError(f"{key} must be {n} finite numbers >= 0")
+            set_(self, key, v)
         for f in dataclasses.fields(self):
             value = getattr(self, f.name)
             if f.name != "prismatic" and isinstance(value, (np.ndarray, list, tuple)):
@@ -334,6 +350,7 @@ class Robot:
                                           math.degrees(self.q_max[i])],
                             qd_max_deg=math.degrees(self.qd_max[i]),
                             qdd_max_deg=math.degrees(self.qdd_max[i]))
+            link.update(drive_dict(self, i))
             links.append(link)
         return {"name": self.name, "description": self.description,
                 "reference": self.reference, "gravity": [float(v) for v in self.gravity],
@@ -459,7 +476,8 @@ def robot_from_chain(name, joints, gravity, **metadata):
         ``"com"`` (3 [m]) and ``"inertia"`` (3x3 [kg m^2], about the centre of mass), both in
         this joint's body frame; ``"q_min"``, ``"q_max"`` [rad or m] (may be -inf, inf),
         ``"qd_max"`` [rad/s or m/s] and ``"qdd_max"`` [rad/s^2 or m/s^2] (None or NaN when
-        unknown).
+        unknown); optional drive keys ``"armature"`` [kg m^2], ``"viscous"`` [N m s/rad] and
+        ``"coulomb"`` [N m] (:mod:`gd_analyze.core.drives`).
     gravity : array_like, shape (3,)
         Gravity in the base frame [m/s^2].
     **metadata
@@ -510,6 +528,8 @@ def robot_from_chain(name, joints, gravity, **metadata):
                 "q_limits": [float(j["q_min"]), float(j["q_max"])], "qd_max": j["qd_max"]}
         if qdd is not None and not (isinstance(qdd, float) and math.isnan(qdd)):
             link["qdd_max"] = qdd
+        link.update({k: float(j[k]) for k in ("armature", "viscous", "coulomb")
+                     if j.get(k)})              # drives: optional, zero when absent
         links.append(link)
     spec = {"name": name, "gravity": gravity, "convention": "chain", "link": links,
             "description": fields.get("description", ""),

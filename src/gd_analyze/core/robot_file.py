@@ -15,6 +15,7 @@ import warnings
 import numpy as np
 
 from ..errors import InputError, InputWarning
+from .drives import DRIVE_KEYS, drive_values
 from .limits import LIMITS
 from .robot import CONVENTIONS, JOINT_TYPES, Robot
 
@@ -166,7 +167,7 @@ _HINT = {"d": "q is d for a prismatic joint (a constant part is 'offset' [m])",
 def _check_keys(link, convention, joint, path, where):
     required, optional = _KEYS[(convention, joint)]
     required = required | _INERTIAL_KEYS
-    unknown = sorted(set(link) - required - optional)
+    unknown = sorted(set(link) - required - optional - set(DRIVE_KEYS))
     if unknown:
         key = unknown[0]
         hint = f" ({_HINT[key]})" if key in _HINT and convention != "chain" else ""
@@ -210,6 +211,11 @@ def robot_from_dict(spec, source="<dict>", sha256=None):
         - chain: ``rotation`` (3x3) and ``translation`` (3 numbers [m]), the placement of the
           joint in the previous body frame, and ``q_limits``, ``qd_max``, optional
           ``qdd_max`` in SI units (rad or m); limits may be infinite.
+
+        Every link may give its drive (:mod:`gd_analyze.core.drives`), all optional, >= 0:
+        ``armature`` [kg m^2] (prismatic: [kg]), or instead ``rotor_inertia`` [kg m^2] and
+        ``gear_ratio`` [-] (armature = rotor_inertia * gear_ratio^2); ``viscous``
+        [N m s/rad] (N s/m) and ``coulomb`` [N m] (N), link-side friction.
 
         In the modified convention link i's row holds Craig's alpha_{i-1}, a_{i-1}, d_i and
         theta_i (as the Robotics Toolbox's ``RevoluteMDH`` and ``PrismaticMDH`` take them), and
@@ -258,7 +264,7 @@ def robot_from_dict(spec, source="<dict>", sha256=None):
         raise InputError("no [[link]] tables", path, column="link")
     cols = {k: [] for k in ("d", "a", "alpha", "offset", "mass", "com", "inertia", "q_min",
                             "q_max", "qd_max", "qdd_max", "prismatic", "rotation",
-                            "translation")}
+                            "translation", "armature", "viscous", "coulomb")}
     for i, link in enumerate(links, start=1):
         where = f"link[{i}]"
         if not isinstance(link, dict):
@@ -295,6 +301,8 @@ def robot_from_dict(spec, source="<dict>", sha256=None):
                            where, ("q_limits_deg", "qd_max_deg", "qdd_max_deg"),
                            scale=math.pi / 180)
         cols["prismatic"].append(pris)
+        for key, v in zip(("armature", "viscous", "coulomb"), drive_values(link, path, where)):
+            cols[key].append(v)
         cols["mass"].append(m)
         cols["com"].append(com)
         cols["inertia"].append(I)

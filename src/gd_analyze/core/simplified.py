@@ -204,16 +204,20 @@ class SimplifiedModel:
         return self.terms
 
     def program(self):
-        """The straight-line program of the explicit model (:class:`~gd_analyze.core.codegen.Program`)."""
+        """The straight-line program of the model (:class:`~gd_analyze.core.codegen.Program`),
+        with the drives' armature and friction kept whole (:func:`~gd_analyze.core.codegen.with_drives`)."""
         cached = self.__dict__.get("_program")
         if cached is None and self.recursive is not None:
-            cached = self.recursive.program(self.robot)
+            from .codegen import with_drives
+
+            cached = with_drives(self.recursive.program(self.robot), self.robot)
             object.__setattr__(self, "_program", cached)
         if cached is None:
-            from .codegen import build_program
+            from .codegen import build_program, with_drives
 
-            cached = build_program(self.explicit_terms(), self.robot.n, np.zeros(self.robot.n),
-                                   prismatic=self.robot.prismatic)
+            cached = with_drives(build_program(self.explicit_terms(), self.robot.n,
+                                               np.zeros(self.robot.n),
+                                               prismatic=self.robot.prismatic), self.robot)
             object.__setattr__(self, "_program", cached)
         return cached
 

@@ -147,7 +147,9 @@ def _caption_units(ds):
 
 
 def _is_puma560(name):
-    return str(name).lower().replace(" ", "").replace("-", "") == "puma560"
+    from ..core.ranking import is_chapter_puma
+
+    return is_chapter_puma(name)
 
 
 def _kv(rows):

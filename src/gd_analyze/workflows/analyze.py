@@ -94,13 +94,11 @@ def _subsample(N, max_setpoints):
 
 
 def _take(terms, rows):
-    return GDTerms(terms.D_tran[rows], terms.D_rot[rows], terms.h_tran[rows], terms.h_rot[rows],
-                   terms.c[rows])
+    return terms.rows(rows)
 
 
 def _concat(parts):
-    return GDTerms(*(np.concatenate([getattr(t, f) for t in parts]) if parts else None
-                     for f in ("D_tran", "D_rot", "h_tran", "h_rot", "c")))
+    return GDTerms.concatenate(parts) if parts else GDTerms(None, None, None, None, None)
 
 
 def _verify_sample(robot, q, qd, terms, qdd=None):
@@ -276,7 +274,8 @@ def analysis_pass(robot, trajectory, dominance=DEFAULT_DOMINANCE, negligible=DEF
                  else _take(given, slice(a, b)))
         tau = terms.tau(qdd[a:b])
         _check_finite(terms, tau)
-        ranker.update(terms.D_tran, terms.D_rot, terms.h_tran, terms.h_rot, tau)
+        ranker.update(terms.D_tran, terms.D_rot, terms.h_tran, terms.h_rot, tau,
+                      armature=terms.armature)
         if parts is not None:
             parts.update(terms.D_tran, terms.D_rot, terms.h_tran, terms.h_rot, qdd[a:b], tau)
         rows = sample_idx[(sample_idx >= a) & (sample_idx < b)] - a
@@ -285,7 +284,8 @@ def analysis_pass(robot, trajectory, dominance=DEFAULT_DOMINANCE, negligible=DEF
         if writer is not None:
             writer.write(a, {"D_tran": terms.D_tran, "D_rot": terms.D_rot, "D": terms.D,
                              "h_tran": terms.h_tran, "h_rot": terms.h_rot, "h": terms.h,
-                             "c": terms.c, "tau": tau})
+                             "c": terms.c, "tau": tau,
+                             **({} if terms.tau_f is None else {"tau_f": terms.tau_f})})
         if hold:
             held.append(terms)
             held_tau.append(tau)
@@ -305,7 +305,9 @@ def analysis_pass(robot, trajectory, dominance=DEFAULT_DOMINANCE, negligible=DEF
             terms, tau = held[k], held_tau[k]
         else:
             terms = GDTerms(*(writer.read(name, a, b)
-                              for name in ("D_tran", "D_rot", "h_tran", "h_rot", "c")))
+                              for name in ("D_tran", "D_rot", "h_tran", "h_rot", "c")),
+                            robot.armature if np.any(robot.armature) else None,
+                            writer.read("tau_f", a, b) if "tau_f" in writer.variables else None)
             tau = writer.read("tau", a, b)
         tau_s = simplified_torque(terms, choices, qdd[a:b]) if model is None else \
             model.torque(q[a:b], qd[a:b], qdd[a:b])
@@ -567,7 +569,8 @@ def analyze_to_file(robot, trajectory, path, dominance=DEFAULT_DOMINANCE,
     N, n = trajectory.q.shape
     with atomic_path(path) as tmp:
         with SetpointWriter(tmp, N, n, chunk=min(max(1, int(chunk)), 8192),
-                            compress=compress, prismatic=robot.prismatic) as out:
+                            compress=compress, prismatic=robot.prismatic,
+                            friction=bool(np.any(robot.viscous) or np.any(robot.coulomb))) as out:
             out.write(0, {"t": trajectory.t, "q": trajectory.q, "qd": trajectory.qd,
                           "qdd": trajectory.qdd})
             simplify = {"tolerance": tolerance, "rule": rule, "torque_floor": torque_floor,

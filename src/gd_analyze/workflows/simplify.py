@@ -14,7 +14,7 @@ import numpy as np
 
 from ..core.budget import DEFAULT_TOLERANCE, PartPeaks, relative_peaks, select_terms
 from ..core.ranking import DEFAULT_DOMINANCE, DEFAULT_NEGLIGIBLE
-from ..core.codegen import build_program
+from ..core.codegen import build_program, with_drives
 from ..core.explicit import term_peaks
 from ..core.dalembert import gd_terms
 from ..io.explicit_cache import explicit_terms
@@ -43,10 +43,13 @@ def _program(robot, terms, kept):
     for f in ("kind", "part", "i", "j", "k", "K", "S", "C"):
         digest.update(np.ascontiguousarray(getattr(kept, f)).tobytes())
     digest.update(np.asarray(robot.prismatic, bool).tobytes())
+    for drive in (robot.armature, robot.viscous, robot.coulomb):
+        digest.update(np.asarray(drive, float).tobytes())
     cache = _PROGRAMS.setdefault(terms, {})
     key = (robot.n, digest.hexdigest())
-    if key not in cache:
-        cache[key] = build_program(kept, robot.n, np.zeros(robot.n), prismatic=robot.prismatic)
+    if key not in cache:        # the drives' terms are kept whole (codegen.with_drives)
+        cache[key] = with_drives(build_program(kept, robot.n, np.zeros(robot.n),
+                                               prismatic=robot.prismatic), robot)
     return cache[key]
 
 

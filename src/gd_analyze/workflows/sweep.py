@@ -33,7 +33,7 @@ import time
 
 import numpy as np
 
-from ..core.dalembert import COMPILED_MIN_SETPOINTS, DEFAULT_CHUNK, GDTerms, gd_terms
+from ..core.dalembert import COMPILED_MIN_SETPOINTS, DEFAULT_CHUNK, gd_terms
 from ..core.ranking import DEFAULT_DOMINANCE, DEFAULT_NEGLIGIBLE, element_labels
 from ..core.simplified import TorqueErrorAccumulator, choice_masks, merge_choices, simplified_torque
 from ..errors import InputError
@@ -206,8 +206,7 @@ def _batch_terms(robot, trajectories, max_setpoints=_GROUP_SETPOINTS):
         out, a = [], 0
         for tr in group:
             b = a + tr.q.shape[0]
-            out.append((tr, GDTerms(terms.D_tran[a:b], terms.D_rot[a:b], terms.h_tran[a:b],
-                                    terms.h_rot[a:b], terms.c[a:b])))
+            out.append((tr, terms.rows(slice(a, b))))
             a = b
         return out
 
