@@ -472,7 +472,7 @@ def _print(e, lang, prec=0):
         return "(" + "*".join([b] * int(float(ex))) + ")"
     if isinstance(e, se.sign):          # sign(0) = 0, as numpy's
         x = _print(e.args[0], lang, 2)
-        return f"np.sign({x})" if lang == "py" else f"(double)(({x} > 0) - ({x} < 0))"
+        return f"np.sign({x})" if lang == "py" else f"({x} > 0 ? 1.0 : {x} < 0 ? -1.0 : 0.0)"
     if isinstance(e, (se.sin, se.cos)):
         fn = "sin" if isinstance(e, se.sin) else "cos"
         fn = f"np.{fn}" if lang == "py" else fn
