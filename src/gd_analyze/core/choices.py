@@ -7,7 +7,7 @@ translational part, the rotational part, both, or nothing (negligible)::
                                  h_s = m_tran * h_tran + m_rot * h_rot
 
 with 0/1 masks M and m from the choices (Fu, Gonzalez & Lee 1987, Sec. 3.4.1, Eq. (3.4-24)).
-The drives' terms (:mod:`gd_analyze.core.drives`) are always kept whole: D_s gets + D_arm and
+The drives' terms (:mod:`gd_analyze.core.drives`) are never dropped: D_s gets + D_arm and
 tau_s gets + tau_f.
 """
 

@@ -612,7 +612,7 @@ def emit_python(program, header):
 
 
 def with_drives(program, robot):
-    """The program with the robot's drive terms added to every tau_i, kept whole.
+    """The program with the robot's drive terms added to every tau_i, never dropped.
 
     Parameters
     ----------

@@ -118,6 +118,9 @@ class Ranking:
         without the drives.
     peak_arm : ndarray, shape (M,) or None
         |armature| of the element [kg m^2] (0 off the diagonal of D and for h).
+    rigid_dominance : tuple of str or None
+        For an arm with drives, the classes of its rigid links alone (armature and friction
+        left out, the chapter's model); None otherwise.
     """
 
     labels: tuple
@@ -131,6 +134,7 @@ class Ranking:
     negligible_threshold: float
     share_arm: np.ndarray = None
     peak_arm: np.ndarray = None
+    rigid_dominance: tuple = None
 
     def choices(self):
         """The simplified model's choice per element.

@@ -205,7 +205,7 @@ class SimplifiedModel:
 
     def program(self):
         """The straight-line program of the model (:class:`~gd_analyze.core.codegen.Program`),
-        with the drives' armature and friction kept whole (:func:`~gd_analyze.core.codegen.with_drives`)."""
+        with the drives' armature and friction, never dropped (:func:`~gd_analyze.core.codegen.with_drives`)."""
         cached = self.__dict__.get("_program")
         if cached is None and self.recursive is not None:
             from .codegen import with_drives

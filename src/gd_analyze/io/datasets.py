@@ -276,6 +276,10 @@ def summary_dataset(robot, trajectory, ranking, choices, error, verification=Non
                        "viscous friction coefficient (N s m-1 for a prismatic joint)"),
         "coulomb": var(("joint",), robot.coulomb, torque, "Coulomb friction torque"),
     }
+    if getattr(ranking, "rigid_dominance", None) is not None:
+        data_vars["dominance_rigid_links"] = var(
+            ("element",), np.array(ranking.rigid_dominance, dtype=str), "1",
+            "dominance class of the rigid links alone: drives (armature, friction) left out")
     if getattr(ranking, "share_arm", None) is not None:
         data_vars["share_arm"] = var(
             ("element",), ranking.share_arm, "1",

@@ -175,7 +175,8 @@ def make_figures(ds, data=None, keys=None):
     s, e = _thresholds(ds)
     wanted = set(_FIGURE_ORDER if keys is None else keys)
     makers = {"joints": lambda: fig_joints(data, prismatic_joints(ds)),
-              "D": lambda: fig_D(data, dom, zero, s, e, prismatic_joints(ds)),
+              "D": lambda: fig_D(data, dom, zero, s, e, prismatic_joints(ds),
+                                 ds["D_arm"].values if "D_arm" in ds else None),
               "h": lambda: fig_h(data, dom, zero, prismatic_joints(ds)),
               "torque": lambda: _fig_error(ds, data)}
     if "payload_share_tran" in ds.variables:
@@ -382,6 +383,9 @@ def _document(ctx, sizes, paper="a4"):
     doc.table(ctx["dh"])
     doc.paragraph(_LINK_TEXT, size=8.5)
     doc.table(ctx["link"])
+    if ctx.get("drives"):
+        doc.paragraph(ctx["drives"]["note"], size=8.5)
+        doc.table(ctx["drives"]["table"])
     doc.heading("1.2 Trajectory", level=2)
     doc.table(ctx["traj_kv"])
     doc.table(ctx["joints"])

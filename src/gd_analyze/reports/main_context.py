@@ -146,6 +146,33 @@ def _caption_units(ds):
             "tau": units_said_once(ds, "tau")}
 
 
+def _drives_context(ds, labels):
+    """The drives' table and its note, or None when the robot has no drives."""
+    names = ("D_arm", "viscous", "coulomb")
+    if not all(v in ds for v in names) or not any(np.any(ds[v].values) for v in names):
+        return None
+    arm, fv, fc = (ds[v].values for v in names)
+    n = arm.shape[0]
+    pris = prismatic_joints(ds)
+    peak_f = (np.abs(ds["tau_f"].values).max(axis=0) if "tau_f" in ds else np.zeros(n))
+    share = ds["share_arm"].values if "share_arm" in ds else np.zeros(len(labels))
+    diag = [list(labels).index(f"D{k + 1}{k + 1}") if n < 10 else None for k in range(n)]
+    table = _table(
+        ["joint", "armature", "viscous", "Coulomb", "peak |τ_f|", "share_arm (D_ii)",
+         "units"],
+        [[str(k + 1), _fmt(arm[k]), _fmt(fv[k]), _fmt(fc[k]), _fmt(peak_f[k]),
+          _fmt(share[diag[k]], 3) if diag[k] is not None else "—",
+          "kg, N s/m, N, N" if pris[k] else "kg m², N m s/rad, N m, N m"]
+         for k in range(n)],
+        align=["left"] + ["right"] * 5 + ["left"], widths=[0.5, 0.9, 0.9, 0.9, 0.9, 1, 2])
+    note = ("Drives: the armature (rotor inertia × gear ratio²) adds diag(armature) "
+            "to D, a third part D_arm beside D_tran and D_rot, counted on the rotational side "
+            "of share_tran (share_arm: its share of D_ii); friction τ_f = viscous "
+            "· q̇ + Coulomb · sign(q̇) adds to τ. The simplified model "
+            "keeps both whole.")
+    return {"table": table, "note": note}
+
+
 def _is_puma560(name):
     from ..core.ranking import is_chapter_puma
 
@@ -271,6 +298,7 @@ def _report_context_base(ds):
           _fmt(com[k, 2]), _fmt(inertia[k, 0, 0]), _fmt(inertia[k, 1, 1]),
           _fmt(inertia[k, 2, 2])] for k in range(n)],
         align=["left"] + ["right"] * 7, widths=[0.7] + [1] * 7)
+    drives = _drives_context(ds, labels)
     derivatives = str(ds.attrs.get("derivatives", ""))
     sha_in = _attr(ds, "input_sha256", "")
     traj_kv = _kv([
@@ -354,6 +382,13 @@ def _report_context_base(ds):
         note = (f"The chapter reports dominance only for the 6-joint PUMA 560 (Sec. 3.4.1); "
                 f"this robot has {n} joint{'s' if n != 1 else ''}, so a comparison is not "
                 "meaningful and none is made.")
+    if applicable and "dominance_rigid_links" in ds:
+        rigid = [str(v) for v in ds["dominance_rigid_links"].values]
+        n_rigid = sum(r == c for r, c in zip(rigid, chapter) if c)
+        note += (f" With its drives (armature counted on the rotational side, friction in "
+                 f"τ) {n_agree} of {n_compared} classes agree with the chapter's; its "
+                 f"rigid links alone (drives left out, the chapter's model) {n_rigid} of "
+                 f"{n_compared}.")
     compare = _table(["element", "our class", "chapter's class", "agree", "share_tran", "cause"],
                      compare_rows, align=["left"] * 4 + ["right", "left"],
                      widths=[0.6, 1.05, 1.05, 0.45, 0.85, 4.0], colour_cols=[1, 2, 3])
@@ -406,6 +441,7 @@ def _report_context_base(ds):
         "D_text": _D_TEXT.format(s=f"{s:g}", e=f"{e:g}", units=units_said_once(ds, "D")),
         "n": n, "N": N, "s": f"{s:g}", "e": f"{e:g}", "created": now.isoformat(),
         "robot_kv": robot_kv, "dh": dh, "link": link, "traj_kv": traj_kv, "joints": joints,
+        "drives": drives,
         "ranking": ranking, "counts": counts, "choices": choices, "error": err,
         "simplified_intro": _SIMPLIFIED_INTRO[form] + _zero_parameters(ds),
         "choices_heading": _CHOICES_HEADING[form],

@@ -65,6 +65,8 @@ PART_STYLE = {
             "label": "rotational"},
     "total": {"color": "#000000", "marker": "^", "linestyle": ":", "mfc": "none",
               "label": "combined"},
+    "arm": {"color": "#CC79A7", "marker": "s", "linestyle": "-.", "mfc": "none",
+            "label": "armature"},
 }
 _CLASS_COLOURS = {"translational": "#0072B2", "rotational": "#D55E00", "both": "#6A3D9A",
                   "negligible": "#555555"}
@@ -269,7 +271,7 @@ def _zero_panel(ax, x, title):
 
 
 def _element_panel(ax, x, parts, title, cls, enveloped, nbins=3):
-    for part, y in zip(("tran", "rot", "total"), parts):
+    for part, y in zip(("tran", "rot", "total", "arm"), parts):
         _plot(ax, x, y, part, enveloped)
     lo, hi = _limits(*parts)
     ax.set_ylim(lo, hi)
@@ -293,7 +295,7 @@ def _unit_label(ax, units):
     ax.set_ylabel(f"[{shown}]", fontsize=7, labelpad=0.5)
 
 
-def fig_D(data, dominance, zero, s, e, prismatic=None):
+def fig_D(data, dominance, zero, s, e, prismatic=None, armature=None):
     """The analogue of Fig. 3.10: one panel per D_ij, i <= j, on an n x n grid.
 
     Parameters
@@ -309,6 +311,9 @@ def fig_D(data, dominance, zero, s, e, prismatic=None):
     prismatic : ndarray of bool, shape (n,), optional
         Prismatic joints: each panel's y axis gives its units
         (:func:`gd_analyze.core.labels.element_units`: kg m², kg m or kg).
+    armature : ndarray, shape (n,), optional
+        The drives' armature [kg m^2]: drawn as a fourth part on the diagonal panels where
+        nonzero (the combined curve includes it).
 
     Returns
     -------
@@ -332,7 +337,10 @@ def fig_D(data, dominance, zero, s, e, prismatic=None):
             if zero.get(label, False):
                 _zero_panel(ax, x, label)
             else:
-                _element_panel(ax, x, (Dt[:, i, j], Dr[:, i, j], D[:, i, j]), label,
+                parts = (Dt[:, i, j], Dr[:, i, j], D[:, i, j])
+                if i == j and armature is not None and armature[i] > 0:
+                    parts += (np.full(np.shape(Dt[:, i, j]), float(armature[i])),)
+                _element_panel(ax, x, parts, label,
                                dominance.get(label, ""), data.enveloped, 2 if h < 0.6 else 3)
                 first = first or ax
             _unit_label(ax, element_units("D", i, j, prismatic))
@@ -359,7 +367,8 @@ def _key(fig, source, n, w, h, W, H, text):
         fig.legend(handles, labels, loc="upper left", frameon=False, handlelength=2.6,
                    bbox_to_anchor=(0.05 / W, 1 - y / H), borderaxespad=0.0)
         chars = max(24, int(width / (7.0 * 0.55 / 72)))
-        fig.text(0.08 / W, 1 - (y + 0.62) / H, textwrap.fill(text, chars), fontsize=7,
+        below = 0.62 + 0.16 * max(0, len(handles) - 3)     # the legend's height [in]
+        fig.text(0.08 / W, 1 - (y + below) / H, textwrap.fill(text, chars), fontsize=7,
                  va="top", ha="left", linespacing=1.3)
     else:
         fig.legend(handles, labels, loc="lower center", ncol=3, frameon=False,

@@ -14,12 +14,14 @@ back from the file otherwise. Nothing is computed twice.
 
 from __future__ import annotations
 
+import dataclasses
 from dataclasses import dataclass
 
 import numpy as np
 
 from .._version import __version__
 from ..core.dalembert import GDTerms, allocate_terms, gd_terms
+from ..core.drives import has_drives
 from ..core.ranking import DEFAULT_DOMINANCE, DEFAULT_NEGLIGIBLE
 from ..core.simplified import SimplifiedModel, simplified_torque
 from ..formulations.compare import FORMULATIONS_MAX_SETPOINTS
@@ -93,10 +95,6 @@ def _subsample(N, max_setpoints):
     return np.unique(np.linspace(0, N - 1, min(N, max_setpoints)).round().astype(int))
 
 
-def _take(terms, rows):
-    return terms.rows(rows)
-
-
 def _concat(parts):
     return GDTerms.concatenate(parts) if parts else GDTerms(None, None, None, None, None)
 
@@ -151,7 +149,7 @@ def verify(robot, q, qd, terms=None, max_setpoints=VERIFY_MAX_SETPOINTS, qdd=Non
     zero mass (see :mod:`gd_analyze.formulations.pinocchio`).
     """
     idx = _subsample(q.shape[0], max_setpoints)
-    sample = gd_terms(robot, q[idx], qd[idx]) if terms is None else _take(terms, idx)
+    sample = gd_terms(robot, q[idx], qd[idx]) if terms is None else terms.rows(idx)
     return _verify_sample(robot, q[idx], qd[idx], sample, None if qdd is None else qdd[idx])
 
 
@@ -261,6 +259,9 @@ def analysis_pass(robot, trajectory, dominance=DEFAULT_DOMINANCE, negligible=DEF
     sample_idx = np.union1d(idx_verify, idx_form).astype(int)
     samples, held, held_tau = [], [], []
     ranker = RankingAccumulator(n)
+    # an arm with drives is also ranked as its rigid links alone (the chapter's model), in
+    # the same pass
+    rigid = RankingAccumulator(n) if has_drives(robot) else None
     parts = PartPeaks(n) if simplify is not None else None
     own = not hasattr(progress, "update")
     bar = progress_bar(bool(progress)) if own else progress
@@ -271,16 +272,21 @@ def analysis_pass(robot, trajectory, dominance=DEFAULT_DOMINANCE, negligible=DEF
     buf = None if hold or given is not None else allocate_terms(min(chunk, N), n)
     for a, b in ranges:
         terms = (gd_terms(robot, q[a:b], qd[a:b], out=buf) if given is None
-                 else _take(given, slice(a, b)))
+                 else given.rows(slice(a, b)))
         tau = terms.tau(qdd[a:b])
         _check_finite(terms, tau)
         ranker.update(terms.D_tran, terms.D_rot, terms.h_tran, terms.h_rot, tau,
                       armature=terms.armature)
+        if rigid is not None:
+            tau_rigid = tau - robot.armature * qdd[a:b]
+            if terms.tau_f is not None:
+                tau_rigid -= terms.tau_f
+            rigid.update(terms.D_tran, terms.D_rot, terms.h_tran, terms.h_rot, tau_rigid)
         if parts is not None:
             parts.update(terms.D_tran, terms.D_rot, terms.h_tran, terms.h_rot, qdd[a:b], tau)
         rows = sample_idx[(sample_idx >= a) & (sample_idx < b)] - a
         if rows.size:
-            samples.append(_take(terms, rows))
+            samples.append(terms.rows(rows))
         if writer is not None:
             writer.write(a, {"D_tran": terms.D_tran, "D_rot": terms.D_rot, "D": terms.D,
                              "h_tran": terms.h_tran, "h_rot": terms.h_rot, "h": terms.h,
@@ -291,6 +297,9 @@ def analysis_pass(robot, trajectory, dominance=DEFAULT_DOMINANCE, negligible=DEF
             held_tau.append(tau)
         bar.update(b - a)
     ranking = ranker.result(dominance=dominance, negligible=negligible)
+    if rigid is not None:
+        ranking = dataclasses.replace(ranking, rigid_dominance=rigid.result(
+            dominance=dominance, negligible=negligible).dominance)
     choices = ranking.choices()
     model = simplified = None
     if simplify is not None:
@@ -324,14 +333,14 @@ def analysis_pass(robot, trajectory, dominance=DEFAULT_DOMINANCE, negligible=DEF
     verification = {}
     if check:
         verification = _verify_sample(robot, q[idx_verify], qd[idx_verify],
-                                      _take(sample, [at[i] for i in idx_verify]),
+                                      sample.rows([at[i] for i in idx_verify]),
                                       qdd[idx_verify])
     costs = None
     if formulations:
         from ..formulations.compare import formulations_dataset
 
         costs = formulations_dataset(robot, q[idx_form], qd[idx_form], qdd[idx_form],
-                                     gd=_take(sample, [at[i] for i in idx_form]))
+                                     gd=sample.rows([at[i] for i in idx_form]))
     return AnalysisPass(ranking=ranking, choices=choices, error=errors.result(),
                  verification=verification, costs=costs,
                  terms=_concat(held) if writer is None else None,

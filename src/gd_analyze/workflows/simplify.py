@@ -47,7 +47,7 @@ def _program(robot, terms, kept):
         digest.update(np.asarray(drive, float).tobytes())
     cache = _PROGRAMS.setdefault(terms, {})
     key = (robot.n, digest.hexdigest())
-    if key not in cache:        # the drives' terms are kept whole (codegen.with_drives)
+    if key not in cache:        # the drives' terms are never dropped (codegen.with_drives)
         cache[key] = with_drives(build_program(kept, robot.n, np.zeros(robot.n),
                                                prismatic=robot.prismatic), robot)
     return cache[key]
