@@ -69,3 +69,40 @@ def test_main_job_on_the_puma_with_drives_keeps_them_in_the_model(tmp_path, caps
         assert (np.abs(tau - ref).max(axis=0) <= eps * scale * (1 + 1e-9)).all()
     spec = json.loads((tmp_path / "simplified_model.json").read_text())
     assert spec["robot"]["parameters"]["link"][1]["armature"] == robot.armature[1]
+
+
+def test_stored_dataset_carries_the_armature_part_and_the_friction(tmp_path, capsys):
+    import xarray as xr
+
+    code = main(["puma560-drives", str(SHIPPED), "-o", str(tmp_path), "--no-report",
+                 "--no-verify"])
+    assert code == 0, capsys.readouterr().err
+    robot = load_robot("puma560-drives")
+    with xr.open_dataset(tmp_path / "results.h5", engine="h5netcdf") as ds:
+        np.testing.assert_array_equal(ds["D_arm"].values, robot.armature)
+        D = ds["D_tran"].values + ds["D_rot"].values + np.diag(ds["D_arm"].values)
+        np.testing.assert_allclose(ds["D"].values, D, rtol=0, atol=1e-15 * np.abs(D).max())
+        qd, qdd = ds["qd"].values, ds["qdd"].values
+        np.testing.assert_array_equal(ds["tau_f"].values, _friction(robot, qd))
+        tau = (np.einsum("kij,kj->ki", ds["D"].values, qdd) + ds["h"].values + ds["c"].values
+               + ds["tau_f"].values)
+        scale = np.abs(tau).max(axis=0)
+        assert (np.abs(ds["tau"].values - tau).max(axis=0) <= 1e-12 * scale).all()
+        # the rigid links are ranked too, for the comparison with the chapter
+        assert set(ds["dominance_rigid_links"].values) <= {"translational", "rotational",
+                                                           "both", "negligible"}
+        diag = [list(ds["element"].values).index(f"D{i}{i}") for i in range(1, 7)]
+        assert (ds["share_arm"].values[diag] > 0).all()
+        # the report's chapter comparison states both agreements, counted here afresh
+        from gd_analyze.core.ranking import CHAPTER_DOMINANCE
+        from gd_analyze.reports.main_context import report_context
+
+        labels = [str(v) for v in ds["element"].values]
+        ours = dict(zip(labels, (str(v) for v in ds["dominance"].values)))
+        rigid = dict(zip(labels, (str(v) for v in ds["dominance_rigid_links"].values)))
+        n_drives = sum(ours[k] == v for k, v in CHAPTER_DOMINANCE.items())
+        n_rigid = sum(rigid[k] == v for k, v in CHAPTER_DOMINANCE.items())
+        note = report_context(ds)["compare"]["note"]
+        assert (f"{n_drives} of {len(CHAPTER_DOMINANCE)} classes agree" in note
+                and f"alone (drives left out, the chapter's model) {n_rigid} of "
+                    f"{len(CHAPTER_DOMINANCE)}" in note), note
