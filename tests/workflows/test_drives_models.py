@@ -12,7 +12,8 @@ from core.test_explicit import _c_operator_count, natural_error, python_tau, rne
 from core.test_explicit_prismatic import _compile
 from gd_analyze import load_robot
 from gd_analyze.cli import main
-from gd_analyze.core.codegen import build_program, emit_c, with_drives
+from gd_analyze.core.codegen import build_program, emit_c
+from gd_analyze.core.drives import with_drives
 from gd_analyze.core.explicit import derive, model_terms
 from gd_analyze.core.simplified import SimplifiedModel
 from gd_analyze.io.trajectory import read_trajectory

@@ -35,7 +35,7 @@ from .factoring import (expand_pairs, factor_sum, private_products, prune_dead,
 from .safe_text import header_lines
 
 __all__ = ["Program", "build_program", "count_operations", "emit_c", "emit_python",
-           "python_function", "with_drives", "C_FUNCTION"]
+           "python_function", "C_FUNCTION"]
 
 #: The exported C function.
 C_FUNCTION = "gd_simplified_tau"
@@ -610,33 +610,3 @@ def emit_python(program, header):
     lines += ["    return out", ""]
     return "\n".join(lines)
 
-
-def with_drives(program, robot):
-    """The program with the robot's drive terms added to every tau_i, never dropped.
-
-    Parameters
-    ----------
-    program : Program
-        The rigid-link model, tau_i of q, qd, qdd.
-    robot : Robot
-        Its ``armature`` Ia [kg m^2], ``viscous`` F_v [N m s/rad] and ``coulomb`` F_c [N m].
-
-    Returns
-    -------
-    Program
-        The same program when the robot has no drives; else one whose tau_i adds
-        Ia_i qdd_i + F_v,i qd_i + F_c,i sign(qd_i) (:mod:`gd_analyze.core.drives`): one
-        multiplication and one addition per nonzero coefficient, at most 3 + 3 per joint
-        (sign(qd) costs two comparisons, not counted).
-    """
-    arm, fv, fc = (np.asarray(getattr(robot, k), float) for k in ("armature", "viscous",
-                                                                  "coulomb"))
-    if not (arm.any() or fv.any() or fc.any()):
-        return program
-    outputs = list(program.outputs)
-    for i in range(program.n):
-        qd, qdd = se.Symbol(f"qd{i}"), se.Symbol(f"qdd{i}")
-        extra = [se.RealDouble(float(c)) * x for c, x in ((arm[i], qdd), (fv[i], qd),
-                                                          (fc[i], se.sign(qd))) if c != 0.0]
-        outputs[i] = se.Add(outputs[i], *extra)
-    return Program(program.n, program.assignments, outputs)

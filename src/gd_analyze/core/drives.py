@@ -27,7 +27,7 @@ from ..errors import InputError
 from .limits import LIMITS
 
 __all__ = ["DRIVE_KEYS", "drive_values", "drive_dict", "friction_torque", "has_drives",
-           "rigid_links"]
+           "rigid_links", "with_drives"]
 
 #: The optional per-link keys of a robot file for the drive: armature [kg m^2] (or rotor
 #: inertia [kg m^2] and gear ratio [-], armature = rotor_inertia * gear_ratio^2), viscous
@@ -189,3 +189,38 @@ def rigid_links(robot):
     import dataclasses
 
     return dataclasses.replace(robot, armature=None, viscous=None, coulomb=None)
+
+
+def with_drives(program, robot):
+    """The program with the robot's drive terms added to every tau_i, never dropped.
+
+    Parameters
+    ----------
+    program : Program
+        The rigid-link model, tau_i of q, qd, qdd.
+    robot : Robot
+        Its ``armature`` Ia [kg m^2], ``viscous`` F_v [N m s/rad] and ``coulomb`` F_c [N m].
+
+    Returns
+    -------
+    Program
+        The same program when the robot has no drives; else one whose tau_i adds
+        Ia_i qdd_i + F_v,i qd_i + F_c,i sign(qd_i) (:mod:`gd_analyze.core.drives`): one
+        multiplication and one addition per nonzero coefficient, at most 3 + 3 per joint
+        (sign(qd) costs two comparisons, not counted).
+    """
+    import symengine as se
+
+    from .codegen import Program
+
+    arm, fv, fc = (np.asarray(getattr(robot, k), float) for k in ("armature", "viscous",
+                                                                  "coulomb"))
+    if not (arm.any() or fv.any() or fc.any()):
+        return program
+    outputs = list(program.outputs)
+    for i in range(program.n):
+        qd, qdd = se.Symbol(f"qd{i}"), se.Symbol(f"qdd{i}")
+        extra = [se.RealDouble(float(c)) * x for c, x in ((arm[i], qdd), (fv[i], qd),
+                                                          (fc[i], se.sign(qd))) if c != 0.0]
+        outputs[i] = se.Add(outputs[i], *extra)
+    return Program(program.n, program.assignments, outputs)

@@ -205,15 +205,17 @@ class SimplifiedModel:
 
     def program(self):
         """The straight-line program of the model (:class:`~gd_analyze.core.codegen.Program`),
-        with the drives' armature and friction, never dropped (:func:`~gd_analyze.core.codegen.with_drives`)."""
+        with the drives' armature and friction, never dropped
+        (:func:`~gd_analyze.core.drives.with_drives`)."""
         cached = self.__dict__.get("_program")
         if cached is None and self.recursive is not None:
-            from .codegen import with_drives
+            from .drives import with_drives
 
             cached = with_drives(self.recursive.program(self.robot), self.robot)
             object.__setattr__(self, "_program", cached)
         if cached is None:
-            from .codegen import build_program, with_drives
+            from .codegen import build_program
+            from .drives import with_drives
 
             cached = with_drives(build_program(self.explicit_terms(), self.robot.n,
                                                np.zeros(self.robot.n),

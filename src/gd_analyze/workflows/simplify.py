@@ -14,7 +14,8 @@ import numpy as np
 
 from ..core.budget import DEFAULT_TOLERANCE, PartPeaks, relative_peaks, select_terms
 from ..core.ranking import DEFAULT_DOMINANCE, DEFAULT_NEGLIGIBLE
-from ..core.codegen import build_program, with_drives
+from ..core.codegen import build_program
+from ..core.drives import with_drives
 from ..core.explicit import term_peaks
 from ..core.dalembert import gd_terms
 from ..io.explicit_cache import explicit_terms
@@ -47,7 +48,7 @@ def _program(robot, terms, kept):
         digest.update(np.asarray(drive, float).tobytes())
     cache = _PROGRAMS.setdefault(terms, {})
     key = (robot.n, digest.hexdigest())
-    if key not in cache:        # the drives' terms are never dropped (codegen.with_drives)
+    if key not in cache:        # the drives' terms are never dropped (drives.with_drives)
         cache[key] = with_drives(build_program(kept, robot.n, np.zeros(robot.n),
                                                prismatic=robot.prismatic), robot)
     return cache[key]
