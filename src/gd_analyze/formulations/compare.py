@@ -22,6 +22,7 @@ from itertools import combinations
 import numpy as np
 
 from ..core.dynamics.dalembert import GDTerms, gd_terms
+from ..core.model.drives import rigid_links
 from ..core.model.kinematics import as_states
 from .lagrange_euler import le_terms
 from .newton_euler import ne_tau, ne_terms
@@ -231,10 +232,14 @@ def compare(robot, q, qd, qdd, gd=None):
     Notes
     -----
     All four solve the same equations, Eq. (3.2-26); the figures are rounding-level (about
-    1e-15) unless one formulation or the robot model is wrong.
+    1e-15) unless one formulation or the robot model is wrong. They compare the rigid links,
+    the chapter's model: the drives' armature and friction are left out
+    (:func:`gd_analyze.core.model.drives.rigid_links`).
     """
+    robot = rigid_links(robot)
     q, qd, qdd = as_states(robot, q, qd, qdd)
-    given = {} if gd is None else {"gd": DynamicsResult("gd", gd.D, gd.h, gd.c)}
+    given = {} if gd is None else {"gd": DynamicsResult("gd", gd.D_tran + gd.D_rot, gd.h,
+                                                        gd.c)}
     results = {m: given[m] if m in given else dynamics(robot, q, qd, m) for m in METHODS}
     taus = {m: results[m].tau(qdd) if m in given else inverse_dynamics(robot, q, qd, qdd, m)
             for m in METHODS}
@@ -372,8 +377,7 @@ def formulations_dataset(robot, q, qd, qdd, n_max=10, max_setpoints=FORMULATIONS
     q, qd, qdd = as_states(robot, q, qd, qdd)
     N = q.shape[0]
     idx = np.unique(np.linspace(0, N - 1, min(N, max_setpoints)).round().astype(int))
-    sample = None if gd is None else GDTerms(gd.D_tran[idx], gd.D_rot[idx], gd.h_tran[idx],
-                                             gd.h_rot[idx], gd.c[idx])
+    sample = None if gd is None else gd.rows(idx)
     agreement = compare(robot, q[idx], qd[idx], qdd[idx], gd=sample)
     pairs = list(next(iter(agreement.values())))
     disagreement = np.array([[agreement[k][p] for k in _QUANTITIES] for p in pairs])

@@ -40,9 +40,9 @@ def pinocchio_model(robot, part="full"):
     robot : Robot
         The arm, with n joints.
     part : {"full", "tran", "rot"}, optional
-        ``"full"``: the robot as it is. ``"tran"``: every rotational inertia set to zero (point
-        masses at the centres of mass). ``"rot"``: every mass set to zero, rotational inertias
-        kept.
+        ``"full"``: the robot as it is, with its drives' armature in ``model.armature``.
+        ``"tran"``: every rotational inertia set to zero (point masses at the centres of mass).
+        ``"rot"``: every mass set to zero, rotational inertias kept. Neither part has armature.
 
     Returns
     -------
@@ -70,6 +70,8 @@ def pinocchio_model(robot, part="full"):
         model.appendBodyToJoint(jid, pin.Inertia(mass, np.array(com[i]), I), pin.SE3.Identity())
         parent = jid
     model.gravity = pin.Motion(np.array(robot.gravity, dtype=float), np.zeros(3))
+    if part == "full":
+        model.armature = np.array(robot.armature, dtype=float)
     return model
 
 

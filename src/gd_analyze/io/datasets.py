@@ -23,7 +23,7 @@ import numpy as np
 from .schema import MIXED_UNITS, element_coords, global_attributes, var
 
 __all__ = ["build_dataset", "summary_dataset", "setpoint_arrays", "SetpointWriter",
-           "SETPOINT_VARIABLES", "setpoint_units", "joint_units", "units_attribute"]
+           "SETPOINT_VARIABLES", "FRICTION_VARIABLE", "setpoint_variables", "setpoint_units", "joint_units", "units_attribute"]
 
 
 #: Per-set-point variables: name -> (dims, units, long_name). Used by both writers.
@@ -36,7 +36,8 @@ SETPOINT_VARIABLES = {
                "inertia matrix, translational part (Eq. 3.4-25)"),
     "D_rot": (("setpoint", "joint", "joint_k"), "kg m2",
               "inertia matrix, rotational part (Eq. 3.4-25)"),
-    "D": (("setpoint", "joint", "joint_k"), "kg m2", "inertia matrix D = D_tran + D_rot"),
+    "D": (("setpoint", "joint", "joint_k"), "kg m2",
+          "inertia matrix D = D_tran + D_rot + diag(armature)"),
     "h_tran": (("setpoint", "joint"), "N m",
                "Coriolis and centrifugal torque, translational part (Eq. 3.4-26)"),
     "h_rot": (("setpoint", "joint"), "N m",
@@ -44,10 +45,29 @@ SETPOINT_VARIABLES = {
     "h": (("setpoint", "joint"), "N m", "Coriolis and centrifugal torque h = h_tran + h_rot"),
     "c": (("setpoint", "joint"), "N m", "gravity loading (Eq. 3.4-28)"),
     "tau": (("setpoint", "joint"), "N m",
-            "joint torque of the full model, D qdd + h + c (Eq. 3.4-24)"),
+            "joint torque of the full model, D qdd + h + c + tau_f (Eq. 3.4-24)"),
     "tau_simplified": (("setpoint", "joint"), "N m",
-                       "joint torque of the simplified model, D_s qdd + h_s + c"),
+                       "joint torque of the simplified model, D_s qdd + h_s + c + tau_f"),
 }
+#: The per-set-point variable of a robot with friction only (core/model/drives.py).
+FRICTION_VARIABLE = {"tau_f": (("setpoint", "joint"), "N m",
+                               "joint friction torque viscous qd + coulomb sign(qd)")}
+
+
+def setpoint_variables(friction=False):
+    """The per-set-point variables of a dataset: name -> (dims, units, long_name).
+
+    Parameters
+    ----------
+    friction : bool, optional
+        Whether the robot has friction: then ``tau_f`` is stored too.
+
+    Returns
+    -------
+    dict
+        :data:`SETPOINT_VARIABLES`, and :data:`FRICTION_VARIABLE` with friction.
+    """
+    return {**SETPOINT_VARIABLES, **(FRICTION_VARIABLE if friction else {})}
 
 
 #: Per-joint unit coordinates: name -> (quantity of :func:`joint_units`, long_name).
@@ -130,7 +150,7 @@ def setpoint_units(name, prismatic=None):
     """
     from ..core.selection.labels import element_units
 
-    base = SETPOINT_VARIABLES[name][1]
+    base = setpoint_variables(True)[name][1]
     if prismatic is None or not np.any(prismatic):
         return base
     if name in ("q", "qd", "qdd"):
@@ -159,12 +179,15 @@ def setpoint_arrays(trajectory, terms, tau, tau_simplified):
     Returns
     -------
     dict
-        name -> ndarray.
+        name -> ndarray; ``tau_f`` too where the terms have friction.
     """
-    return {"t": trajectory.t, "q": trajectory.q, "qd": trajectory.qd, "qdd": trajectory.qdd,
-            "D_tran": terms.D_tran, "D_rot": terms.D_rot, "D": terms.D, "h_tran": terms.h_tran,
-            "h_rot": terms.h_rot, "h": terms.h, "c": terms.c, "tau": tau,
-            "tau_simplified": tau_simplified}
+    out = {"t": trajectory.t, "q": trajectory.q, "qd": trajectory.qd, "qdd": trajectory.qdd,
+           "D_tran": terms.D_tran, "D_rot": terms.D_rot, "D": terms.D, "h_tran": terms.h_tran,
+           "h_rot": terms.h_rot, "h": terms.h, "c": terms.c, "tau": tau,
+           "tau_simplified": tau_simplified}
+    if terms.tau_f is not None:
+        out["tau_f"] = terms.tau_f
+    return out
 
 
 def summary_dataset(robot, trajectory, ranking, choices, error, verification=None,
@@ -195,12 +218,12 @@ def summary_dataset(robot, trajectory, ranking, choices, error, verification=Non
     """
     import xarray as xr
 
-    from ..core.selection.ranking import CHAPTER_DOMINANCE
+    from ..core.selection.ranking import CHAPTER_DOMINANCE, is_chapter_puma
 
     n = robot.n
     labels = list(ranking.labels)
     mixed = MIXED_UNITS
-    puma = n == 6 and robot.name.lower().replace(" ", "").replace("-", "") == "puma560"
+    puma = is_chapter_puma(robot.name, n)
     prismatic = np.asarray(robot.prismatic, bool)
     torque = units_attribute(joint_units(prismatic, "tau"), "tau_units")
     data_vars = {
@@ -253,7 +276,21 @@ def summary_dataset(robot, trajectory, ranking, choices, error, verification=Non
         "q_max": var(("joint",), robot.q_max, "rad", "upper joint position limit"),
         "qd_max": var(("joint",), robot.qd_max, "rad s-1", "joint velocity limit"),
         "qdd_max": var(("joint",), robot.qdd_max, "rad s-2", "joint acceleration limit"),
+        "D_arm": var(("joint",), robot.armature, "kg m2",
+                     "armature part of D: its diagonal, the drive's reflected rotor inertia "
+                     "rotor_inertia * gear_ratio^2 (D_arm = diag of this)"),
+        "viscous": var(("joint",), robot.viscous, "N m s rad-1",
+                       "viscous friction coefficient (N s m-1 for a prismatic joint)"),
+        "coulomb": var(("joint",), robot.coulomb, torque, "Coulomb friction torque"),
     }
+    if getattr(ranking, "rigid_dominance", None) is not None:
+        data_vars["dominance_rigid_links"] = var(
+            ("element",), np.array(ranking.rigid_dominance, dtype=str), "1",
+            "dominance class of the rigid links alone: drives (armature, friction) left out")
+    if getattr(ranking, "share_arm", None) is not None:
+        data_vars["share_arm"] = var(
+            ("element",), ranking.share_arm, "1",
+            "armature share sum|arm| / (sum|tran| + sum|rot + arm|), diagonal of D only")
     coords = element_coords(n, prismatic)
     coords["joint"] = ("joint", np.arange(1, n + 1), {"long_name": "joint (row of D)",
                                                       "units": "1"})
@@ -310,7 +347,7 @@ def build_dataset(robot, trajectory, terms, ranking, tau, tau_simplified, choice
     ds = summary_dataset(robot, trajectory, ranking, choices, error, verification, settings)
     arrays = setpoint_arrays(trajectory, terms, tau, tau_simplified)
     prismatic = np.asarray(robot.prismatic, bool)
-    for name, (dims, _, long_name) in SETPOINT_VARIABLES.items():
+    for name, (dims, _, long_name) in setpoint_variables("tau_f" in arrays).items():
         ds[name] = var(dims, arrays[name], setpoint_units(name, prismatic), long_name)
     N, n = trajectory.q.shape
     ds = ds.assign_coords(
@@ -344,9 +381,11 @@ class SetpointWriter:
         about ten times faster to write and 1.5 to 2 times larger.
     prismatic : sequence of bool, shape (n,), optional
         The prismatic joints, for the ``units`` of each variable (:func:`setpoint_units`).
+    friction : bool, optional
+        Whether the robot has friction: then ``tau_f`` is stored too.
     """
 
-    def __init__(self, path, N, n, chunk=8192, compress=0, prismatic=None):
+    def __init__(self, path, N, n, chunk=8192, compress=0, prismatic=None, friction=False):
         import h5netcdf
 
         self._file = h5netcdf.File(path, "w")
@@ -361,7 +400,7 @@ class SetpointWriter:
             v[:] = values
             v.attrs.update(units="1", long_name=long_name)
         self.variables = {}
-        for name, (dims, _, long_name) in SETPOINT_VARIABLES.items():
+        for name, (dims, _, long_name) in setpoint_variables(friction).items():
             units = setpoint_units(name, prismatic)
             shape = tuple({"setpoint": rows, "joint": n, "joint_k": n}[d] for d in dims)
             opts = {"compression": "gzip", "compression_opts": int(compress)} if compress else {}

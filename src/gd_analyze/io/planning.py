@@ -177,7 +177,7 @@ def default_motion(robot):
     plain quarter-to-three-quarters plan gives, terms in sin(q_i - q_j) vanish along the whole
     trajectory, and a simplified model fit to it would drop them for nothing.
     """
-    if robot.name == "puma560" and robot.n == len(DEFAULT_START_DEG):
+    if robot.name in ("puma560", "puma560-drives") and robot.n == len(DEFAULT_START_DEG):
         return np.radians(DEFAULT_START_DEG), np.radians(DEFAULT_GOAL_DEG)
     lo, hi = np.asarray(robot.q_min, float), np.asarray(robot.q_max, float)
     finite = np.isfinite(lo) & np.isfinite(hi)

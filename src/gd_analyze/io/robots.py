@@ -27,8 +27,8 @@ __all__ = ["load_robot", "load_toml_robot", "builtin_robots", "is_urdf", "TOML_B
            "unknown_robot", "robots_text"]
 
 #: The built-in TOML robots: name -> file in gd_analyze/data.
-TOML_BUILTIN = {"puma560": "puma560.toml", "two-link": "two-link.toml",
-                "stanford": "stanford.toml"}
+TOML_BUILTIN = {"puma560": "puma560.toml", "puma560-drives": "puma560-drives.toml",
+                "two-link": "two-link.toml", "stanford": "stanford.toml"}
 
 
 def is_urdf(name_or_path):

@@ -182,13 +182,15 @@ def make_figures(ds, data=None, keys=None):
     dom = dict(zip(labels, _strings(ds["dominance"].values)))
     s, e = _thresholds(ds)
     wanted = set(_FILE_ORDER if keys is None else keys)
+    arm = ds["D_arm"].values if "D_arm" in ds else None
     makers = {"joints": lambda: fig_joints(data, prismatic_joints(ds)),
-              "D": lambda: fig_D(data, dom, zero, s, e, prismatic_joints(ds)),
+              "D": lambda: fig_D(data, dom, zero, s, e, prismatic_joints(ds),
+                                 armature=arm),
               "h": lambda: fig_h(data, dom, zero, prismatic_joints(ds)),
               "torque": lambda: _fig_error(ds, data),
               "joints_column": lambda: fig_joints(data, prismatic_joints(ds), COLUMN_WIDTH),
               "D_column": lambda: fig_D(data, dom, zero, s, e, prismatic_joints(ds),
-                                        COLUMN_WIDTH),
+                                        COLUMN_WIDTH, armature=arm),
               "h_column": lambda: fig_h(data, dom, zero, prismatic_joints(ds), COLUMN_WIDTH),
               "torque_column": lambda: _fig_error(ds, data, COLUMN_WIDTH)}
     if "payload_share_tran" in ds.variables:

@@ -186,10 +186,37 @@ def _robot_geometry(ds):
         align=["left", "left"] + ["right"] * 6 + ["left"],
         widths=[0.6, 0.9, 0.9, 0.9, 0.9, 0.9, 0.9, 0.9, 1.6])
     return None, placements
+def _drives_context(ds, labels):
+    """The drives' table and its note, or None when the robot has no drives."""
+    names = ("D_arm", "viscous", "coulomb")
+    if not all(v in ds for v in names) or not any(np.any(ds[v].values) for v in names):
+        return None
+    arm, fv, fc = (ds[v].values for v in names)
+    n = arm.shape[0]
+    pris = prismatic_joints(ds)
+    peak_f = (np.abs(ds["tau_f"].values).max(axis=0) if "tau_f" in ds else np.zeros(n))
+    share = ds["share_arm"].values if "share_arm" in ds else np.zeros(len(labels))
+    diag = [list(labels).index(f"D{k + 1}{k + 1}") if n < 10 else None for k in range(n)]
+    table = _table(
+        ["joint", "armature", "viscous", "Coulomb", "peak |τ_f|", "armature share of D_ii",
+         "units"],
+        [[str(k + 1), _fmt(arm[k]), _fmt(fv[k]), _fmt(fc[k]), _fmt(peak_f[k]),
+          _fmt(share[diag[k]], 3) if diag[k] is not None else "—",
+          "kg, N s/m, N, N" if pris[k] else "kg m², N m s/rad, N m, N m"]
+         for k in range(n)],
+        align=["left"] + ["right"] * 5 + ["left"], widths=[0.5, 0.9, 0.9, 0.9, 0.9, 1, 2])
+    note = ("Drives: the armature (rotor inertia × gear ratio²) adds diag(armature) "
+            "to D, a third part D^arm beside D^tran and D^rot, counted on the rotational side "
+            "of the translational share; friction τ_f = viscous "
+            "· q̇ + Coulomb · sign(q̇) adds to τ. The simplified model "
+            "keeps both whole.")
+    return {"table": table, "note": note}
 
 
 def _is_puma560(name):
-    return str(name).lower().replace(" ", "").replace("-", "") == "puma560"
+    from ..core.selection.ranking import is_chapter_puma
+
+    return is_chapter_puma(name)
 
 
 def _kv(rows):
@@ -306,6 +333,7 @@ def _report_context_base(ds):
           _fmt(com[k, 2]), _fmt(inertia[k, 0, 0]), _fmt(inertia[k, 1, 1]),
           _fmt(inertia[k, 2, 2])] for k in range(n)],
         align=["left"] + ["right"] * 7, widths=[0.7] + [1] * 7)
+    drives = _drives_context(ds, labels)
     derivatives = str(ds.attrs.get("derivatives", ""))
     sha_in = _attr(ds, "input_sha256", "")
     traj_kv = _kv([
@@ -399,6 +427,13 @@ def _report_context_base(ds):
         note = (f"The chapter reports dominance only for the 6-joint PUMA 560 (Sec. 3.4.1); "
                 f"this robot has {n} joint{'s' if n != 1 else ''}, so a comparison is not "
                 "meaningful and none is made.")
+    if applicable and "dominance_rigid_links" in ds:
+        rigid = [str(v) for v in ds["dominance_rigid_links"].values]
+        n_rigid = sum(r == c for r, c in zip(rigid, chapter) if c)
+        note += (f" With its drives (armature counted on the rotational side, friction in "
+                 f"τ) {n_agree} of {n_compared} classes agree with the chapter's; its "
+                 f"rigid links alone (drives left out, the chapter's model) {n_rigid} of "
+                 f"{n_compared}.")
     compare = _table(["element", "our class", "chapter's class", "agree", "translational share",
                       "cause"],
                      compare_rows, align=["left"] * 4 + ["right", "left"],
@@ -429,7 +464,7 @@ def _report_context_base(ds):
         "n": n, "N": N, "s": f"{s:g}", "e": f"{e:g}", "created": now.isoformat(),
         "robot_kv": robot_kv, "dh": dh, "placements": placements, "link": link,
         "traj_kv": traj_kv, "joints": joints,
-        "effort": effort, "effort_text": _effort_text(efforts),
+        "effort": effort, "effort_text": _effort_text(efforts), "drives": drives,
         "ranking": ranking, "counts": counts, "choices": choices, "error": err,
         "simplified_intro": _SIMPLIFIED_INTRO[form] + _zero_parameters(ds),
         "choices_heading": _CHOICES_HEADING[form],

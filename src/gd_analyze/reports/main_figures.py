@@ -64,6 +64,8 @@ PART_STYLE = {
             "label": "rotational"},
     "total": {"color": "#000000", "marker": "^", "linestyle": ":", "mfc": "none",
               "label": "combined"},
+    "arm": {"color": "#CC79A7", "marker": "s", "linestyle": "-.", "mfc": "none",
+            "label": "armature"},
 }
 _CLASS_COLOURS = {"translational": "#0072B2", "rotational": "#D55E00", "both": "#6A3D9A",
                   "negligible": "#555555"}
@@ -147,10 +149,11 @@ def _zero_panel(ax, x, title):
 
 
 def _element_panel(ax, x, parts, title, cls, enveloped, nbins=3):
-    """Parts (tran, rot, total) of one element; y ticks placed, labelled by the figure
+    """Parts (tran, rot, total and, on a diagonal panel of an arm with drives, arm) of one
+    element; y ticks placed, labelled by the figure
     (:func:`gd_analyze.reports.ticks.label_axes`: one notation per figure)."""
-    by_part = dict(zip(("tran", "rot", "total"), parts))
-    for part in _PART_ORDER:
+    by_part = dict(zip(("tran", "rot", "total", "arm"), parts))
+    for part in _PART_ORDER + (("arm",) if "arm" in by_part else ()):
         _plot(ax, x, by_part[part], part, enveloped)
     lo, hi = _limits(*parts)
     ax.set_ylim(lo, hi)
@@ -185,7 +188,7 @@ def _unit_label(ax, units):
 
 def _legend_order(ax):
     handles, labels = ax.get_legend_handles_labels()
-    order = [PART_STYLE[p]["label"] for p in ("tran", "rot", "total")]
+    order = [PART_STYLE[p]["label"] for p in ("tran", "rot", "total", "arm")]
     pairs = sorted(zip(handles, labels), key=lambda p: order.index(p[1]))
     return [p[0] for p in pairs], [p[1] for p in pairs]
 
@@ -197,7 +200,7 @@ def _grid(count, width, wgap, min_w=0.55):
     return cols, w, _panel_height(w)
 
 
-def fig_D(data, dominance, zero, s, e, prismatic=None, width=PAGE_WIDTH):
+def fig_D(data, dominance, zero, s, e, prismatic=None, width=PAGE_WIDTH, armature=None):
     """The analogue of Fig. 3.10: one panel per D_ij, i <= j, on an n x n grid.
 
     Parameters
@@ -217,6 +220,9 @@ def fig_D(data, dominance, zero, s, e, prismatic=None, width=PAGE_WIDTH):
     width : float, optional
         :data:`PAGE_WIDTH` (the upper triangle, panel D_ij in row i, column j) or
         :data:`COLUMN_WIDTH` [in] (the panels in reading order, three a row, the key below).
+    armature : ndarray, shape (n,), optional
+        The drives' armature [kg m^2]: drawn as a fourth part on the diagonal panels where
+        nonzero (the combined curve includes it).
 
     Returns
     -------
@@ -266,8 +272,11 @@ def fig_D(data, dominance, zero, s, e, prismatic=None, width=PAGE_WIDTH):
             if zero.get(label, False):
                 _zero_panel(ax, x, label)
             else:
-                _element_panel(ax, x, (Dt[:, i, j], Dr[:, i, j], D[:, i, j]), label,
-                               dominance.get(label, ""), data.enveloped, nb)
+                parts = (Dt[:, i, j], Dr[:, i, j], D[:, i, j])
+                if i == j and armature is not None and armature[i] > 0:
+                    parts += (np.full(np.shape(Dt[:, i, j]), float(armature[i])),)
+                _element_panel(ax, x, parts, label, dominance.get(label, ""), data.enveloped,
+                               nb)
                 first = first or ax
                 ys.append(ax.yaxis)
             if mixed:
@@ -312,7 +321,8 @@ def _key(fig, source, n, w, h, W, H, text, wgap=_WGAP):
         fig.legend(handles, labels, loc="upper left", frameon=False, handlelength=2.6,
                    bbox_to_anchor=(0.05 / W, 1 - y / H), borderaxespad=0.0)
         chars = max(24, int(width / (7.0 * 0.55 / 72)))
-        fig.text(0.08 / W, 1 - (y + 0.62) / H, textwrap.fill(text, chars), fontsize=7,
+        below = 0.62 + 0.16 * max(0, len(handles) - 3)     # the legend's height [in]
+        fig.text(0.08 / W, 1 - (y + below) / H, textwrap.fill(text, chars), fontsize=7,
                  va="top", ha="left", linespacing=1.3)
     else:
         fig.legend(handles, labels, loc="lower center", ncol=3, frameon=False,

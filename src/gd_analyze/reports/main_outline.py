@@ -78,6 +78,9 @@ def main_outline(ctx, figures):
     if ctx.get("placements") is not None:
         o.table(ctx["placements"], _PLACEMENT_CAPTION)
     o.table(ctx["link"], _LINK_CAPTION)
+    if ctx.get("drives"):
+        o.paragraph(ctx["drives"]["note"], "note")
+        o.table(ctx["drives"]["table"], "The drives: armature and friction per joint.")
     o.section("1.2", "Trajectory")
     o.table(ctx["traj_kv"], "The trajectory.", kv=True)
     o.table(ctx["joints"], "Range of motion per joint.")

@@ -216,6 +216,9 @@ def disagreement_cause(label, ours, theirs, share, zero, s, robot_name):
             (ours == "rotational" or (ours == "both" and theirs == "translational")):
         cause += ("; these PUMA 560 parameters lump rotor-side inertias into the links, "
                   "so the rotational part is larger than the chapter's")
+    elif robot_name == "puma560-drives" and label[1] == label[2] and \
+            ours in ("rotational", "both") and theirs == "translational":
+        cause += "; the drive's armature counts on the rotational side"
     return cause
 
 

@@ -21,6 +21,7 @@ import numpy as np
 
 from .._version import __version__
 from ..core.dynamics.dalembert import GDTerms, allocate_terms, gd_terms
+from ..core.model.drives import has_drives
 from ..core.selection.simplified import SimplifiedModel, simplified_torque
 from .options import AnalysisOptions
 from ..formulations.compare import FORMULATIONS_MAX_SETPOINTS
@@ -94,14 +95,8 @@ def _subsample(N, max_setpoints):
     return np.unique(np.linspace(0, N - 1, min(N, max_setpoints)).round().astype(int))
 
 
-def _take(terms, rows):
-    return GDTerms(terms.D_tran[rows], terms.D_rot[rows], terms.h_tran[rows], terms.h_rot[rows],
-                   terms.c[rows])
-
-
 def _concat(parts):
-    return GDTerms(*(np.concatenate([getattr(t, f) for t in parts]) if parts else None
-                     for f in ("D_tran", "D_rot", "h_tran", "h_rot", "c")))
+    return GDTerms.concatenate(parts) if parts else GDTerms(None, None, None, None, None)
 
 
 def _verify_sample(robot, q, qd, terms, qdd=None):
@@ -154,7 +149,7 @@ def verify(robot, q, qd, terms=None, max_setpoints=VERIFY_MAX_SETPOINTS, qdd=Non
     zero mass (see :mod:`gd_analyze.formulations.pinocchio`).
     """
     idx = _subsample(q.shape[0], max_setpoints)
-    sample = gd_terms(robot, q[idx], qd[idx]) if terms is None else _take(terms, idx)
+    sample = gd_terms(robot, q[idx], qd[idx]) if terms is None else terms.rows(idx)
     return _verify_sample(robot, q[idx], qd[idx], sample, None if qdd is None else qdd[idx])
 
 
@@ -263,6 +258,9 @@ def analysis_pass(robot, trajectory, options=None, provenance=None, chunk=STREAM
     sample_idx = np.union1d(idx_verify, idx_form).astype(int)
     samples, held, held_tau = [], [], []
     ranker = RankingAccumulator(n)
+    # an arm with drives is also ranked as its rigid links alone (the chapter's model), in
+    # the same pass
+    rigid = RankingAccumulator(n) if has_drives(robot) else None
     parts = PartPeaks(n) if simplify is not None else None
     own = not hasattr(progress, "update")
     bar = progress_bar(bool(progress)) if own else progress
@@ -273,24 +271,34 @@ def analysis_pass(robot, trajectory, options=None, provenance=None, chunk=STREAM
     buf = None if hold or given is not None else allocate_terms(min(chunk, N), n)
     for a, b in ranges:
         terms = (gd_terms(robot, q[a:b], qd[a:b], out=buf) if given is None
-                 else _take(given, slice(a, b)))
+                 else given.rows(slice(a, b)))
         tau = terms.tau(qdd[a:b])
         _check_finite(terms, tau)
-        ranker.update(terms.D_tran, terms.D_rot, terms.h_tran, terms.h_rot, tau)
+        ranker.update(terms.D_tran, terms.D_rot, terms.h_tran, terms.h_rot, tau,
+                      armature=terms.armature)
+        if rigid is not None:
+            tau_rigid = tau - robot.armature * qdd[a:b]
+            if terms.tau_f is not None:
+                tau_rigid -= terms.tau_f
+            rigid.update(terms.D_tran, terms.D_rot, terms.h_tran, terms.h_rot, tau_rigid)
         if parts is not None:
             parts.update(terms.D_tran, terms.D_rot, terms.h_tran, terms.h_rot, qdd[a:b], tau)
         rows = sample_idx[(sample_idx >= a) & (sample_idx < b)] - a
         if rows.size:
-            samples.append(_take(terms, rows))
+            samples.append(terms.rows(rows))
         if writer is not None:
             writer.write(a, {"D_tran": terms.D_tran, "D_rot": terms.D_rot, "D": terms.D,
                              "h_tran": terms.h_tran, "h_rot": terms.h_rot, "h": terms.h,
-                             "c": terms.c, "tau": tau})
+                             "c": terms.c, "tau": tau,
+                             **({} if terms.tau_f is None else {"tau_f": terms.tau_f})})
         if hold:
             held.append(terms)
             held_tau.append(tau)
         bar.update(b - a)
     ranking = ranker.result(dominance=options.dominance, negligible=options.negligible)
+    if rigid is not None:
+        ranking = dataclasses.replace(ranking, rigid_dominance=rigid.result(
+            dominance=options.dominance, negligible=options.negligible).dominance)
     choices = ranking.choices()
     model = simplified = None
     if simplify is not None:
@@ -306,7 +314,9 @@ def analysis_pass(robot, trajectory, options=None, provenance=None, chunk=STREAM
             terms, tau = held[k], held_tau[k]
         else:
             terms = GDTerms(*(writer.read(name, a, b)
-                              for name in ("D_tran", "D_rot", "h_tran", "h_rot", "c")))
+                              for name in ("D_tran", "D_rot", "h_tran", "h_rot", "c")),
+                            robot.armature if np.any(robot.armature) else None,
+                            writer.read("tau_f", a, b) if "tau_f" in writer.variables else None)
             tau = writer.read("tau", a, b)
         tau_s = simplified_torque(terms, choices, qdd[a:b]) if model is None else \
             model.torque(q[a:b], qd[a:b], qdd[a:b])
@@ -323,14 +333,14 @@ def analysis_pass(robot, trajectory, options=None, provenance=None, chunk=STREAM
     verification = {}
     if check:
         verification = _verify_sample(robot, q[idx_verify], qd[idx_verify],
-                                      _take(sample, [at[i] for i in idx_verify]),
+                                      sample.rows([at[i] for i in idx_verify]),
                                       qdd[idx_verify])
     costs = None
     if formulations:
         from ..formulations.compare import formulations_dataset
 
         costs = formulations_dataset(robot, q[idx_form], qd[idx_form], qdd[idx_form],
-                                     gd=_take(sample, [at[i] for i in idx_form]))
+                                     gd=sample.rows([at[i] for i in idx_form]))
     return AnalysisPass(ranking=ranking, choices=choices, error=errors.result(),
                  verification=verification, costs=costs,
                  terms=_concat(held) if writer is None else None,
@@ -534,9 +544,10 @@ def analyze_to_file(robot, trajectory, path, options=None, settings=None, chunk=
     options = AnalysisOptions() if options is None else options
     N, n = trajectory.q.shape
     with atomic_path(path) as tmp:
-        with contextlib.closing(SetpointWriter(tmp, N, n, chunk=min(max(1, int(chunk)), 8192),
-                                               compress=options.compress,
-                                               prismatic=robot.prismatic)) as out:
+        with contextlib.closing(SetpointWriter(
+                tmp, N, n, chunk=min(max(1, int(chunk)), 8192), compress=options.compress,
+                prismatic=robot.prismatic,
+                friction=bool(np.any(robot.viscous) or np.any(robot.coulomb)))) as out:
             out.write(0, {"t": trajectory.t, "q": trajectory.q, "qd": trajectory.qd,
                           "qdd": trajectory.qdd})
             result = analysis_pass(robot, trajectory, options,

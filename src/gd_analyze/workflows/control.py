@@ -216,6 +216,7 @@ def model_cost(model):
     Lee (1987) (a simplified model "at a reduced computation time"), Table 3.5 (N-E), and
     Armstrong, Khatib & Burdick (1986) for the explicit form.
     """
+    from ..core.model.drives import with_drives
     from ..core.symbolic.explicit_estimate import is_expensive
     from ..core.symbolic.recursive import recursive_program
     from ..formulations.opcount import count_operations
@@ -224,7 +225,8 @@ def model_cost(model):
 
     robot = model.robot
     counted = [(f"simplified model ({model.form} form)", model.program().cost()),
-               ("exact recursive model", recursive_program(robot).cost())]
+               ("exact recursive model",
+                with_drives(recursive_program(robot), robot).cost())]
     if model.form == "explicit" or not is_expensive(robot):
         terms, _ = explicit_terms(robot)
         counted.append(("full explicit model", full_program(robot, terms).cost()))

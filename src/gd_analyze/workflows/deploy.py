@@ -52,12 +52,13 @@ def build_recursive(robot, q, qd, qdd, tolerance=DEFAULT_TOLERANCE, torque_floor
     from ..core.selection.budget import Selection
     from ..core.selection.ranking import element_labels
     from ..core.symbolic.base_parameters import base_parameters
+    from ..core.model.drives import with_drives
     from ..core.symbolic.recursive import recursive_program
     from ..core.symbolic.recursive_model import recursive_model
 
     base = base_parameters(robot)
     rec = recursive_model(robot, q, qd, qdd, tolerance, torque_floor, base=base)
-    exact = recursive_program(robot, base.values).cost()
+    exact = with_drives(recursive_program(robot, base.values), robot).cost()
     choices = {lab: "both" for lab in element_labels(robot.n)}
     model = SimplifiedModel(
         robot=robot, choices=choices,

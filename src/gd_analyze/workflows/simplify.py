@@ -12,11 +12,12 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from ..core.dynamics.dalembert import gd_terms
+from ..core.model.drives import with_drives
 from ..core.selection.budget import DEFAULT_TOLERANCE, PartPeaks, relative_peaks, select_terms
 from ..core.selection.ranking import DEFAULT_DOMINANCE, DEFAULT_NEGLIGIBLE
 from ..core.symbolic.codegen import build_program
 from ..core.symbolic.explicit import term_peaks
-from ..core.dynamics.dalembert import gd_terms
 from ..io.explicit_cache import explicit_terms
 from ..core.selection.simplified import SimplifiedModel, TorqueErrorAccumulator
 from .deploy import build_recursive, replace_cost  # noqa: F401  (re-exported)
@@ -42,10 +43,13 @@ def _program(robot, terms, kept):
     for f in ("kind", "part", "i", "j", "k", "K", "S", "C"):
         digest.update(np.ascontiguousarray(getattr(kept, f)).tobytes())
     digest.update(np.asarray(robot.prismatic, bool).tobytes())
+    for drive in (robot.armature, robot.viscous, robot.coulomb):
+        digest.update(np.asarray(drive, float).tobytes())
     cache = terms.programs
     key = (robot.n, digest.hexdigest())
-    if key not in cache:
-        cache[key] = build_program(kept, robot.n, np.zeros(robot.n), prismatic=robot.prismatic)
+    if key not in cache:        # the drives' terms are never dropped (drives.with_drives)
+        cache[key] = with_drives(build_program(kept, robot.n, np.zeros(robot.n),
+                                               prismatic=robot.prismatic), robot)
     return cache[key]
 
 

@@ -35,7 +35,8 @@ import numpy as np
 
 from ..core.dynamics.dalembert import COMPILED_MIN_SETPOINTS, DEFAULT_CHUNK, GDTerms, gd_terms
 from ..core.selection.ranking import DEFAULT_DOMINANCE, DEFAULT_NEGLIGIBLE, element_labels
-from ..core.selection.simplified import TorqueErrorAccumulator, choice_masks, merge_choices, simplified_torque
+from ..core.selection.simplified import (TorqueErrorAccumulator, choice_masks, merge_choices,
+                                         simplified_torque)
 from ..errors import InputError
 from ..io.schema import attribute_value, strings
 from .options import AnalysisOptions
@@ -208,8 +209,7 @@ def _batch_terms(robot, trajectories, max_setpoints=_GROUP_SETPOINTS):
         out, a = [], 0
         for tr in group:
             b = a + tr.q.shape[0]
-            out.append((tr, GDTerms(terms.D_tran[a:b], terms.D_rot[a:b], terms.h_tran[a:b],
-                                    terms.h_rot[a:b], terms.c[a:b])))
+            out.append((tr, terms.rows(slice(a, b))))
             a = b
         return out
 

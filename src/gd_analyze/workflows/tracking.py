@@ -425,7 +425,8 @@ def track(robot, controller, gains, desired, t_eval, q0_offset=0.0, choices=None
 
     Notes
     -----
-    Plant: qdd = D^-1 (tau - h - c), Eq. (3.4-24); the G-D terms at the current state are
+    Plant: qdd = D^-1 (tau - h - c - tau_f), Eq. (3.4-24) with the drives' armature in D and
+    friction tau_f (:mod:`gd_analyze.core.model.drives`); the G-D terms at the current state are
     computed once per right-hand-side call (compiled engine) and serve both the plant and the
     full-model and PD laws.
     """
@@ -457,9 +458,11 @@ def track(robot, controller, gains, desired, t_eval, q0_offset=0.0, choices=None
         sol = solve_ivp(rhs, (t0, t_eval[-1]), y0, method=method, t_eval=t_eval, rtol=rtol,
                         atol=atol)
     except _TooManyEvals:
+        cause = ("the plant's Coulomb friction switches sign wherever qd crosses 0 (a "
+                 "discontinuous plant)" if np.any(robot.coulomb) else
+                 "the gains or the trajectory make it too stiff (lower wn or zeta)")
         raise ValueError(f"the {controller} controller's run did not finish within "
-                         f"{MAX_RHS_EVALS} evaluations of the dynamics: the gains or the "
-                         f"trajectory make it too stiff (lower wn or zeta)") from None
+                         f"{MAX_RHS_EVALS} evaluations of the dynamics: {cause}") from None
     if sol.success:
         q, qd = sol.y[:n].T.copy(), sol.y[n:].T.copy()
     else:                                   # keep the shapes; NaN after the failure

@@ -34,6 +34,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from ..model.drives import friction_torque
 from ..model.kinematics import as_states, body_frames
 
 __all__ = ["forward_dynamics", "GDTerms", "gd_terms", "allocate_terms", "kernel_arguments",
@@ -64,10 +65,17 @@ class GDTerms:
         Rotational part of the Coriolis and centrifugal torques, Eq. (3.4-27) [N m].
     c : ndarray, shape (N, n)
         Gravity loading, Eq. (3.4-28) [N m].
+    armature : ndarray, shape (n,) or None
+        The drives' reflected rotor inertias Ia [kg m^2]: D_arm = diag(Ia), the third part of
+        D (:mod:`gd_analyze.core.model.drives`); None means zero.
+    tau_f : ndarray, shape (N, n) or None
+        Joint friction F_v qd + F_c sign(qd) [N m]; None means zero.
 
     Notes
     -----
     Source: Fu, Gonzalez & Lee (1987), Eqs. (3.4-24) to (3.4-28); Lee, Lee & Nigam (1983).
+    The drive terms are outside the chapter's model: tau = (D_tran + D_rot + D_arm) qdd +
+    h_tran + h_rot + c + tau_f.
     """
 
     D_tran: np.ndarray
@@ -75,11 +83,59 @@ class GDTerms:
     h_tran: np.ndarray
     h_rot: np.ndarray
     c: np.ndarray
+    armature: np.ndarray = None
+    tau_f: np.ndarray = None
+
+    @property
+    def D_arm(self):
+        """ndarray, shape (N, n, n): the armature part of D, diag(Ia) at every set point
+        [kg m^2] (a read-only broadcast view; zeros without drives)."""
+        n = self.c.shape[-1]
+        arm = np.zeros(n) if self.armature is None else np.asarray(self.armature, float)
+        return np.broadcast_to(np.diag(arm), (self.c.shape[0], n, n))
 
     @property
     def D(self):
-        """ndarray, shape (N, n, n): the inertia matrix D = D_tran + D_rot [kg m^2]."""
-        return self.D_tran + self.D_rot
+        """ndarray, shape (N, n, n): the inertia matrix D = D_tran + D_rot + D_arm [kg m^2]."""
+        D = self.D_tran + self.D_rot
+        if self.armature is not None and np.any(self.armature):
+            idx = np.arange(D.shape[-1])
+            D[:, idx, idx] += self.armature
+        return D
+
+    def rows(self, index):
+        """The terms at some of the set points.
+
+        Parameters
+        ----------
+        index : slice or array_like of int
+            Set points to take (a slice gives views).
+
+        Returns
+        -------
+        GDTerms
+        """
+        return GDTerms(self.D_tran[index], self.D_rot[index], self.h_tran[index],
+                       self.h_rot[index], self.c[index], self.armature,
+                       None if self.tau_f is None else self.tau_f[index])
+
+    @staticmethod
+    def concatenate(parts):
+        """The terms of consecutive chunks as one.
+
+        Parameters
+        ----------
+        parts : list of GDTerms
+            Chunks of the same robot, in order (at least one).
+
+        Returns
+        -------
+        GDTerms
+        """
+        cat = [np.concatenate([getattr(t, f) for t in parts])
+               for f in ("D_tran", "D_rot", "h_tran", "h_rot", "c")]
+        tau_f = None if parts[0].tau_f is None else np.concatenate([t.tau_f for t in parts])
+        return GDTerms(*cat, parts[0].armature, tau_f)
 
     @property
     def h(self):
@@ -97,10 +153,14 @@ class GDTerms:
         Returns
         -------
         ndarray, shape (N, n)
-            Joint torques [N m].
+            Joint torques [N m], with the drives' armature and friction where the robot has
+            them.
         """
         qdd = np.asarray(qdd, dtype=float).reshape(self.c.shape)
-        return np.einsum("kij,kj->ki", self.D, qdd) + self.h + self.c
+        tau = np.einsum("kij,kj->ki", self.D, qdd) + self.h + self.c
+        if self.tau_f is not None:
+            tau += self.tau_f
+        return tau
 
 
 def _suffix_sum(x):
@@ -222,7 +282,7 @@ def _check_out(out, N, n):
 
 
 def gd_terms(robot, q, qd, chunk=DEFAULT_CHUNK, engine="auto", out=None):
-    """The G-D terms D_tran, D_rot, h_tran, h_rot and c at N set points.
+    """The G-D terms D_tran, D_rot, h_tran, h_rot and c at N set points, and the drives'.
 
     Parameters
     ----------
@@ -248,7 +308,8 @@ def gd_terms(robot, q, qd, chunk=DEFAULT_CHUNK, engine="auto", out=None):
     -------
     GDTerms
         D_tran and D_rot with shape (N, n, n) [kg m^2]; h_tran, h_rot and c with shape (N, n)
-        [N m for a revolute joint, N for a prismatic one].
+        [N m for a revolute joint, N for a prismatic one]; the robot's armature (n,) and the
+        friction torque tau_f (N, n), None where the robot has none.
 
     Raises
     ------
@@ -276,7 +337,7 @@ def gd_terms(robot, q, qd, chunk=DEFAULT_CHUNK, engine="auto", out=None):
     if engine not in ENGINES:
         raise ValueError(f"engine must be one of {ENGINES}, got {engine!r}")
     if out is None:
-        res = tuple(allocate_terms(N, n).__dict__.values())
+        res = _check_out(allocate_terms(N, n), N, n)
     else:
         res = _check_out(out, N, n)
     if engine == "compiled" or (engine == "auto" and N >= COMPILED_MIN_SETPOINTS):
@@ -284,22 +345,25 @@ def gd_terms(robot, q, qd, chunk=DEFAULT_CHUNK, engine="auto", out=None):
 
         c = np.ascontiguousarray
         gd_kernel(c(q), c(qd), *kernel_arguments(robot), *res)
-        return GDTerms(*res)
-    chunk = max(1, int(chunk))
-    for start in range(0, N, chunk):
-        sl = slice(start, start + chunk)
-        for dst, src in zip(res, _gd_chunk(robot, q[sl], qd[sl])):
-            dst[sl] = src
-    return GDTerms(*res)
+    else:
+        chunk = max(1, int(chunk))
+        for start in range(0, N, chunk):
+            sl = slice(start, start + chunk)
+            for dst, src in zip(res, _gd_chunk(robot, q[sl], qd[sl])):
+                dst[sl] = src
+    arm = robot.armature if np.any(robot.armature) else None
+    return GDTerms(*res, arm, friction_torque(robot, qd))
 
 
 def _qdd_from_terms(terms, tau):
     rhs = np.asarray(tau, dtype=float) - terms.h - terms.c
+    if terms.tau_f is not None:
+        rhs = rhs - terms.tau_f
     return np.linalg.solve(terms.D, rhs[..., None])[..., 0]
 
 
 def forward_dynamics(robot, q, qd, tau, engine="auto"):
-    """Joint accelerations of the arm under given torques, qdd = D^-1 (tau - h - c).
+    """Joint accelerations of the arm under given torques, qdd = D^-1 (tau - h - c - tau_f).
 
     Parameters
     ----------

@@ -44,6 +44,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from ...errors import InputError
+from .drives import drive_dict
 from .limits import LIMITS
 
 __all__ = ["Robot", "make_robot",
@@ -199,6 +200,12 @@ class Robot:
         given (default: none given).
     metadata : mapping
         Read-only extra facts from the builder (e.g. a URDF's base and tip links).
+    armature : ndarray, shape (n,)
+        Reflected rotor inertia Ia_i = J_m G^2 of joint i's drive [kg m^2] (prismatic: [kg]);
+        zero by default. It adds diag(Ia) to D (:mod:`gd_analyze.core.model.drives`).
+    viscous, coulomb : ndarray, shape (n,)
+        Joint friction F_v [N m s/rad] (N s/m) and F_c [N m] (N), tau_f = F_v qd + F_c sign(qd);
+        zero by default.
 
     Notes
     -----
@@ -233,12 +240,20 @@ class Robot:
     link_translation: np.ndarray = None
     metadata: types.MappingProxyType = None
     tau_max: np.ndarray = None
+    armature: np.ndarray = None
+    viscous: np.ndarray = None
+    coulomb: np.ndarray = None
 
     def __post_init__(self):
         # Validation only: a frozen value is never changed after construction. Build a robot
         # with make_robot (or robot_from_dict / robot_from_chain), which normalises its fields.
         if self.convention not in CONVENTIONS:
             raise ValueError(f"convention must be one of {CONVENTIONS}, got {self.convention!r}")
+        n = len(self.mass)
+        for key in ("armature", "viscous", "coulomb"):      # drives: finite, >= 0, (n,)
+            v = getattr(self, key)
+            if v is None or v.shape != (n,) or not (np.isfinite(v) & (v >= 0)).all():
+                raise ValueError(f"{key} must be {n} finite numbers >= 0")
         for f in dataclasses.fields(self):
             value = getattr(self, f.name)
             if isinstance(value, (list, tuple)):
@@ -333,6 +348,7 @@ class Robot:
                             qdd_max_deg=math.degrees(self.qdd_max[i]))
             if math.isfinite(self.tau_max[i]):
                 link["tau_max"] = float(self.tau_max[i])
+            link.update(drive_dict(self, i))
             links.append(link)
         return {"name": self.name, "description": self.description,
                 "reference": self.reference, "gravity": [float(v) for v in self.gravity],
@@ -417,6 +433,9 @@ def make_robot(**fields):
         fields["link_translation"] = np.zeros((n, 3))
     if fields.get("tau_max") is None:
         fields["tau_max"] = np.full(n, np.nan)
+    for key in ("armature", "viscous", "coulomb"):      # drives: none unless given
+        if fields.get(key) is None:
+            fields[key] = np.zeros(n)
     for key, value in fields.items():
         if key not in ("prismatic", "metadata") and isinstance(value, (np.ndarray, list,
                                                                          tuple)):

@@ -18,6 +18,12 @@ contributions sum to at most sum_a p_{a,t,i} <= scale_{t,i} sum_a max_u (p_{a,u,
 scale_{u,i}) <= EPS x scale_{t,i}: the model is guaranteed on each trajectory, relative to that
 trajectory's own scale, with memory independent of the number of trajectories.
 
+The drives' terms of an arm (:mod:`gd_analyze.core.model.drives`: the armature part D_arm of D and
+the friction torque tau_f) are not parts of this index: the simplified model never drops them
+(:func:`gd_analyze.core.model.drives.with_drives`, at most 3 multiplications and 3 additions per
+joint), so they add nothing to the error and the budget applies to the links' parts alone;
+each joint's scale, peak |tau_i|, includes them.
+
 The chapter's rule (``"chapter"``) keeps the share-based classes of
 :mod:`gd_analyze.core.selection.ranking` and prunes no single term: there is no bound.
 """

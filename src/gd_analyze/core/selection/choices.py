@@ -7,6 +7,8 @@ translational part, the rotational part, both, or nothing (negligible)::
                                  h_s = m_tran * h_tran + m_rot * h_rot
 
 with 0/1 masks M and m from the choices (Fu, Gonzalez & Lee 1987, Sec. 3.4.1, Eq. (3.4-24)).
+The drives' terms (:mod:`gd_analyze.core.model.drives`) are never dropped: D_s gets + D_arm and
+tau_s gets + tau_f.
 """
 
 from __future__ import annotations
@@ -77,7 +79,8 @@ def simplified_torque(terms, choices, qdd):
     Returns
     -------
     ndarray, shape (N, n)
-        tau_s = D_s qdd + h_s + c [N m].
+        tau_s = D_s qdd + h_s + c [N m], plus the drives' Ia qdd and tau_f when the terms
+        carry them.
 
     Raises
     ------
@@ -89,7 +92,12 @@ def simplified_torque(terms, choices, qdd):
     D_s = Mt * terms.D_tran + Mr * terms.D_rot
     h_s = mt * terms.h_tran + mr * terms.h_rot
     qdd = np.asarray(qdd, dtype=float).reshape(terms.c.shape)
-    return np.einsum("kij,kj->ki", D_s, qdd) + h_s + terms.c
+    tau = np.einsum("kij,kj->ki", D_s, qdd) + h_s + terms.c
+    if terms.armature is not None:
+        tau += terms.armature * qdd
+    if terms.tau_f is not None:
+        tau += terms.tau_f
+    return tau
 
 
 def merge_choices(choices_list):

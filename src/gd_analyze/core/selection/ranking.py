@@ -19,6 +19,19 @@ is ``"negligible"`` whatever e, and has no share to speak of: the reports print 
 
 The chapter reads the same classes off its Figs. 3.10 and 3.11 by eye; s (default 0.9) and e
 (default 0.01) make the reading reproducible.
+
+Drives (:mod:`gd_analyze.core.model.drives`): the armature Ia_i adds a third part, D_arm = diag(Ia),
+to the diagonal elements D_ii only. It is rotational inertia about the joint axis (a rotor's),
+which the chapter's PUMA data lump into the links' rotational inertias, so it counts on the
+rotational side of the share::
+
+    share_tran = sum_k |tran_k| / (sum_k |tran_k| + sum_k |rot_k + arm_k|)
+    share_arm  = sum_k |arm_k|  / (sum_k |tran_k| + sum_k |rot_k + arm_k|)
+
+and the peak and the scale of D_ii include it. An element is thus "rotational" when rotor and
+link rotation together dominate; ``share_arm`` tells how much of that is the rotor. The
+simplified model always keeps the armature whole (one multiplication and one addition per
+joint), whatever the element's class.
 """
 
 from __future__ import annotations
@@ -35,7 +48,8 @@ from .labels import element_units, joint_motion_units, joint_torque_units, joint
 __all__ = [
     "CLASSES", "DEFAULT_DOMINANCE", "DEFAULT_NEGLIGIBLE", "Ranking", "element_labels",
     "element_index", "element_label", "parse_element_label", "rank_dominance",
-    "CHAPTER_DOMINANCE", "element_units", "joint_torque_units", "joint_motion_units",
+    "CHAPTER_DOMINANCE", "CHAPTER_PUMA", "is_chapter_puma", "element_units",
+    "joint_torque_units", "joint_motion_units",
     "joint_units_text", "ROUND_OFF", "is_round_off", "ZERO_TOL", "identically_zero",
 ]
 
@@ -144,6 +158,33 @@ CHAPTER_DOMINANCE = {
     "h1": "translational", "h2": "translational", "h3": "translational",
     "h4": "rotational", "h5": "both", "h6": "both",
 }
+#: The built-in robots that are the chapter's PUMA 560 arm: its links alone, and with the
+#: Robotics Toolbox's drives (``data/puma560-drives.toml``).
+CHAPTER_PUMA = ("puma560", "puma560-drives")
+
+
+def is_chapter_puma(name, n=6):
+    """Whether a robot is the chapter's PUMA 560 (with or without its drives).
+
+    Parameters
+    ----------
+    name : str
+        The robot's name (case, spaces and hyphens ignored).
+    n : int, optional
+        Its number of joints.
+
+    Returns
+    -------
+    bool
+
+    Examples
+    --------
+    >>> is_chapter_puma("PUMA 560"), is_chapter_puma("puma560-drives"), is_chapter_puma("ur5")
+    (True, True, False)
+    """
+    def key(text):
+        return str(text).lower().replace(" ", "").replace("-", "")
+    return n == 6 and key(name) in {key(k) for k in CHAPTER_PUMA}
 
 
 @dataclass(frozen=True, eq=False)
@@ -167,6 +208,14 @@ class Ranking:
         s.
     negligible_threshold : float
         e.
+    share_arm : ndarray, shape (M,) or None
+        Armature share (module docstring), 0 off the diagonal of D; None for rankings made
+        without the drives.
+    peak_arm : ndarray, shape (M,) or None
+        |armature| of the element [kg m^2] (0 off the diagonal of D and for h).
+    rigid_dominance : tuple of str or None
+        For an arm with drives, the classes of its rigid links alone (armature and friction
+        left out, the chapter's model); None otherwise.
     """
 
     labels: tuple
@@ -178,6 +227,9 @@ class Ranking:
     scale: np.ndarray
     dominance_threshold: float
     negligible_threshold: float
+    share_arm: np.ndarray = None
+    peak_arm: np.ndarray = None
+    rigid_dominance: tuple = None
 
     def choices(self):
         """The simplified model's choice per element.
@@ -256,12 +308,14 @@ class RankingAccumulator:
         self.peak_tran = np.zeros(m)
         self.peak_rot = np.zeros(m)
         self.peak_total = np.zeros(m)
+        self.sum_arm = np.zeros(m)
+        self.arm = np.zeros(m)
         self.peak_diag = np.zeros(n)
         self.scale_D = np.zeros(n * (n + 1) // 2)
         self.peak_tau = np.zeros(n)
         self.count = 0
 
-    def update(self, D_tran, D_rot, h_tran, h_rot, tau):
+    def update(self, D_tran, D_rot, h_tran, h_rot, tau, armature=None):
         """Add a chunk of set points.
 
         Parameters
@@ -272,6 +326,8 @@ class RankingAccumulator:
             Coriolis and centrifugal parts [N m].
         tau : ndarray, shape (N, n)
             Joint torques of the full model [N m].
+        armature : ndarray, shape (n,), optional
+            The drives' armature Ia [kg m^2] (the same for every chunk); zero if not given.
 
         Raises
         ------
@@ -290,12 +346,19 @@ class RankingAccumulator:
             return
         tran, rot = element_series(D_tran, D_rot, h_tran, h_rot)
         at, ar = np.abs(tran), np.abs(rot)
+        arm_d = np.zeros(n) if armature is None else np.asarray(armature, float)
+        if arm_d.any():             # Ia_i on the diagonal elements D_ii only
+            iu = np.triu_indices(n)
+            self.arm[:iu[0].size] = np.where(iu[0] == iu[1], arm_d[iu[0]], 0.0)
+            self.sum_arm += N * self.arm
+            ar = np.abs(rot + self.arm)
         self.sum_tran += at.sum(axis=0)
         self.sum_rot += ar.sum(axis=0)
         np.maximum(self.peak_tran, at.max(axis=0), out=self.peak_tran)
-        np.maximum(self.peak_rot, ar.max(axis=0), out=self.peak_rot)
-        np.maximum(self.peak_total, np.abs(tran + rot).max(axis=0), out=self.peak_total)
-        diag = np.clip(np.diagonal(D_tran + D_rot, axis1=1, axis2=2), 0.0, None)
+        np.maximum(self.peak_rot, np.abs(rot).max(axis=0), out=self.peak_rot)
+        np.maximum(self.peak_total, np.abs(tran + rot + self.arm).max(axis=0),
+                   out=self.peak_total)
+        diag = np.clip(np.diagonal(D_tran + D_rot, axis1=1, axis2=2) + arm_d, 0.0, None)
         iu = np.triu_indices(n)
         np.maximum(self.scale_D, np.sqrt(diag[:, iu[0]] * diag[:, iu[1]]).max(axis=0),
                    out=self.scale_D)
@@ -327,9 +390,10 @@ class RankingAccumulator:
             raise ValueError(f"the negligibility threshold e must be >= 0, got {negligible}")
         if self.count == 0:
             raise ValueError("no set points were accumulated")
-        total = self.sum_tran + self.sum_rot
+        total = self.sum_tran + self.sum_rot        # sum_rot holds sum|rot + arm|
         with np.errstate(invalid="ignore", divide="ignore"):
             share = np.where(total > 0, self.sum_tran / np.where(total > 0, total, 1.0), np.nan)
+            share_arm = np.where(total > 0, self.sum_arm / np.where(total > 0, total, 1.0), 0.0)
         scale = np.concatenate([self.scale_D, self.peak_tau])
         zero = identically_zero(self.peak_tran, self.peak_rot, self.peak_total, scale)
         classes = []
@@ -347,14 +411,15 @@ class RankingAccumulator:
                        dominance=tuple(classes), peak_tran=self.peak_tran.copy(),
                        peak_rot=self.peak_rot.copy(), peak_total=self.peak_total.copy(),
                        scale=scale, dominance_threshold=float(dominance),
-                       negligible_threshold=float(negligible))
+                       negligible_threshold=float(negligible), share_arm=share_arm,
+                       peak_arm=self.arm.copy())
 
 
 __all__.append("RankingAccumulator")
 
 
 def rank_dominance(D_tran, D_rot, h_tran, h_rot, tau, dominance=DEFAULT_DOMINANCE,
-                   negligible=DEFAULT_NEGLIGIBLE):
+                   negligible=DEFAULT_NEGLIGIBLE, armature=None):
     """Rank which part, translational or rotational, dominates each element of D and h.
 
     Parameters
@@ -369,6 +434,8 @@ def rank_dominance(D_tran, D_rot, h_tran, h_rot, tau, dominance=DEFAULT_DOMINANC
         s, in (0.5, 1]: the share above which one part dominates.
     negligible : float, optional
         e, >= 0: an element whose peak is below e times its scale is negligible.
+    armature : ndarray, shape (n,), optional
+        The drives' armature Ia [kg m^2], counted on the rotational side (module docstring).
 
     Returns
     -------
@@ -387,5 +454,5 @@ def rank_dominance(D_tran, D_rot, h_tran, h_rot, tau, dominance=DEFAULT_DOMINANC
     """
     h_tran = np.asarray(h_tran, float)
     acc = RankingAccumulator(h_tran.shape[-1] if h_tran.ndim == 2 else 0)
-    acc.update(D_tran, D_rot, h_tran, h_rot, tau)
+    acc.update(D_tran, D_rot, h_tran, h_rot, tau, armature=armature)
     return acc.result(dominance=dominance, negligible=negligible)

@@ -211,19 +211,24 @@ class SimplifiedModel:
         return all_terms.subset(chosen_terms(all_terms, self.choices))
 
     def program(self):
-        """The straight-line program of the explicit model (:class:`~gd_analyze.core.symbolic.codegen.Program`)."""
+        """The straight-line program of the model
+        (:class:`~gd_analyze.core.symbolic.codegen.Program`), with the drives' armature and
+        friction, never dropped (:func:`~gd_analyze.core.model.drives.with_drives`)."""
         return self._program
 
     @cached_property
     def _program(self):
         if self.program_cache is not None:
             return self.program_cache
+        from ..model.drives import with_drives
+
         if self.recursive is not None:
-            return self.recursive.program(self.robot)
+            return with_drives(self.recursive.program(self.robot), self.robot)
         from ..symbolic.codegen import build_program
 
-        return build_program(self.explicit_terms(), self.robot.n, np.zeros(self.robot.n),
-                             prismatic=self.robot.prismatic)
+        return with_drives(build_program(self.explicit_terms(), self.robot.n,
+                                         np.zeros(self.robot.n),
+                                         prismatic=self.robot.prismatic), self.robot)
 
     def header(self):
         """The header of the emitted files: robot, SHA-256s, rule, tolerance, counts, version.

@@ -103,6 +103,8 @@ def _count(e, tally):
         tally["cos"] += 1
     elif isinstance(e, se.sin):
         tally["sin"] += 1
+    elif isinstance(e, se.sign):        # friction's sign(qd): two comparisons, no arithmetic
+        pass
     else:
         raise ValueError(f"unexpected expression {e}")
     for a in args:
@@ -476,6 +478,9 @@ def _print(e, lang, prec=0):
         base, ex = e.args
         b = _print(base, lang, 2)
         return "(" + "*".join([b] * int(float(ex))) + ")"
+    if isinstance(e, se.sign):          # sign(0) = 0, as numpy's
+        x = _print(e.args[0], lang, 2)
+        return f"np.sign({x})" if lang == "py" else f"({x} > 0 ? 1.0 : {x} < 0 ? -1.0 : 0.0)"
     if isinstance(e, (se.sin, se.cos)):
         fn = "sin" if isinstance(e, se.sin) else "cos"
         fn = f"np.{fn}" if lang == "py" else fn
@@ -606,3 +611,4 @@ def emit_python(program, header):
         lines.append(f"    out[:, {i}] = {_print(e, 'py')}")
     lines += ["    return out", ""]
     return "\n".join(lines)
+

@@ -1,0 +1,227 @@
+"""Drive-side dynamics: reflected rotor inertia (armature) and joint friction.
+
+A geared drive adds to joint i, on the link side of its gearbox,
+
+- the armature Ia_i = J_m,i G_i^2 [kg m^2] (prismatic: [kg]): the rotor inertia J_m,i
+  reflected through a gear of ratio G_i (motor turns per joint turn). The rotor spins about
+  the joint axis at G_i qd_i, so its kinetic energy 1/2 J_m G^2 qd_i^2 adds Ia_i to D_ii only
+  (the rotor's own gyroscopic coupling with the links is neglected, as in the Robotics
+  Toolbox's ``rne`` and Pinocchio's ``model.armature``): D = D_tran + D_rot + diag(Ia);
+- the friction torque tau_f,i = F_v,i qd_i + F_c,i sign(qd_i) [N m] (prismatic: [N]), viscous
+  F_v [N m s/rad] (N s/m) and Coulomb F_c [N m] (N), both >= 0 and symmetric in the direction
+  of motion (sign(0) = 0: no stiction model).
+
+The torque of Eq. (3.4-24) becomes tau = (D_tran + D_rot + D_arm) qdd + h_tran + h_rot + c +
+tau_f. Motor-side data reflect to the link side as Ia = J_m G^2, F_v = B G^2, F_c = T_c |G|
+(Corke, *Robotics, Vision and Control*, 2nd ed. 2017, Sec. 9.1.4; the Robotics Toolbox's
+``Link.friction``). Pure: no files are read here.
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+
+from ...errors import InputError
+from .limits import LIMITS
+
+__all__ = ["DRIVE_KEYS", "drive_values", "drive_dict", "friction_torque", "has_drives",
+           "rigid_links", "with_drives"]
+
+#: The optional per-link keys of a robot file for the drive: armature [kg m^2] (or rotor
+#: inertia [kg m^2] and gear ratio [-], armature = rotor_inertia * gear_ratio^2), viscous
+#: [N m s/rad] and coulomb [N m] friction (prismatic: kg, N s/m, N).
+DRIVE_KEYS = ("armature", "rotor_inertia", "gear_ratio", "viscous", "coulomb")
+
+
+def _value(link, key, path, column, lo=0.0):
+    value = link[key]
+    if isinstance(value, bool) or not isinstance(value, (int, float)):
+        raise InputError(f"expected a number, got {value!r:.60}", path, column=column)
+    v = float(value)
+    if not math.isfinite(v) or v < lo or abs(v) > LIMITS["inertia"]:
+        raise InputError(f"expected a finite number >= {lo:g} and at most "
+                         f"{LIMITS['inertia']:g}, got {v:g}", path, column=column)
+    return v
+
+
+def drive_values(link, path, where):
+    """The drive of one link table of a robot file, validated.
+
+    Parameters
+    ----------
+    link : dict
+        The link table; its keys of :data:`DRIVE_KEYS` are read, all optional.
+    path : str
+        The robot file, for messages.
+    where : str
+        The link's key prefix, e.g. ``"link[2]"``.
+
+    Returns
+    -------
+    armature, viscous, coulomb : float
+        Ia [kg m^2], F_v [N m s/rad] and F_c [N m] (prismatic: kg, N s/m, N); 0 when not
+        given.
+
+    Raises
+    ------
+    InputError
+        If a value is not a finite number >= 0, if ``armature`` is given together with
+        ``rotor_inertia`` or ``gear_ratio``, or if only one of those two is given. One line
+        naming the key.
+
+    Examples
+    --------
+    >>> values = drive_values({"rotor_inertia": 2e-4, "gear_ratio": -62.6111}, "f.toml", "link[1]")
+    >>> round(values[0], 6)     # 2e-4 * 62.6111^2
+    0.78403
+    """
+    given = [k for k in ("rotor_inertia", "gear_ratio") if k in link]
+    if "armature" in link and given:
+        raise InputError("give either 'armature' or 'rotor_inertia' and 'gear_ratio', not "
+                         "both (armature = rotor_inertia * gear_ratio^2)", path,
+                         column=f"{where}.{given[0]}")
+    if len(given) == 1:
+        other = ({"rotor_inertia", "gear_ratio"} - set(given)).pop()
+        raise InputError(f"'{given[0]}' needs '{other}' (armature = rotor_inertia * "
+                         f"gear_ratio^2)", path, column=f"{where}.{other}")
+    if given:
+        jm = _value(link, "rotor_inertia", path, f"{where}.rotor_inertia")
+        g = _value(link, "gear_ratio", path, f"{where}.gear_ratio", lo=-math.inf)
+        armature = jm * g * g
+        if armature > LIMITS["inertia"]:
+            raise InputError(f"armature rotor_inertia * gear_ratio^2 = {armature:g} is beyond "
+                             f"{LIMITS['inertia']:g}", path, column=f"{where}.gear_ratio")
+    else:
+        armature = _value(link, "armature", path, f"{where}.armature") if "armature" in link \
+            else 0.0
+    return (armature,) + tuple(_value(link, k, path, f"{where}.{k}") if k in link else 0.0
+                               for k in ("viscous", "coulomb"))
+
+
+def has_drives(robot):
+    """Whether a robot has any armature or friction.
+
+    Parameters
+    ----------
+    robot : Robot
+        The arm.
+
+    Returns
+    -------
+    bool
+    """
+    return bool(np.any(robot.armature) or np.any(robot.viscous) or np.any(robot.coulomb))
+
+
+def drive_dict(robot, i):
+    """Joint i's nonzero drive keys in the robot-file layout (for ``Robot.to_dict``).
+
+    Parameters
+    ----------
+    robot : Robot
+        The arm.
+    i : int
+        Joint index, 0-based.
+
+    Returns
+    -------
+    dict
+        ``armature``, ``viscous``, ``coulomb`` where nonzero (an arm without drives writes
+        none, so its parameters' SHA-256 is unchanged).
+    """
+    return {k: float(getattr(robot, k)[i]) for k in ("armature", "viscous", "coulomb")
+            if getattr(robot, k)[i] != 0.0}
+
+
+def friction_torque(robot, qd):
+    """Joint friction tau_f = F_v qd + F_c sign(qd).
+
+    Parameters
+    ----------
+    robot : Robot
+        The arm, with n joints (``viscous``, ``coulomb``).
+    qd : ndarray, shape (N, n)
+        Joint velocities [rad/s or m/s].
+
+    Returns
+    -------
+    ndarray, shape (N, n) or None
+        Friction torques [N m] (prismatic: [N]); None when the robot has no friction (the
+        term is then zero and costs nothing).
+
+    Notes
+    -----
+    The viscous plus Coulomb model of Armstrong-Helouvry, Dupont & Canudas de Wit, "A survey of
+    models, analysis tools and compensation methods for the control of machines with
+    friction", Automatica 30(7), 1994; sign(0) = 0.
+
+    Examples
+    --------
+    >>> from gd_analyze import load_robot
+    >>> robot = load_robot("puma560-drives")
+    >>> friction_torque(robot, np.zeros((1, 6))).tolist()
+    [[0.0, 0.0, 0.0, 0.0, 0.0, 0.0]]
+    """
+    if not (np.any(robot.viscous) or np.any(robot.coulomb)):
+        return None
+    qd = np.asarray(qd, dtype=float)
+    return robot.viscous * qd + robot.coulomb * np.sign(qd)
+
+
+def rigid_links(robot):
+    """The robot without its drives: the rigid links the chapter models.
+
+    Parameters
+    ----------
+    robot : Robot
+        The arm.
+
+    Returns
+    -------
+    Robot
+        The same robot (the same object when it has no drives) with zero armature and
+        friction.
+    """
+    if not has_drives(robot):
+        return robot
+    import dataclasses
+
+    zero = np.zeros(robot.n)
+    return dataclasses.replace(robot, armature=zero, viscous=zero, coulomb=zero)
+
+
+def with_drives(program, robot):
+    """The program with the robot's drive terms added to every tau_i, never dropped.
+
+    Parameters
+    ----------
+    program : Program
+        The rigid-link model, tau_i of q, qd, qdd.
+    robot : Robot
+        Its ``armature`` Ia [kg m^2], ``viscous`` F_v [N m s/rad] and ``coulomb`` F_c [N m].
+
+    Returns
+    -------
+    Program
+        The same program when the robot has no drives; else one whose tau_i adds
+        Ia_i qdd_i + F_v,i qd_i + F_c,i sign(qd_i) (:mod:`gd_analyze.core.model.drives`): one
+        multiplication and one addition per nonzero coefficient, at most 3 + 3 per joint
+        (sign(qd) costs two comparisons, not counted).
+    """
+    import symengine as se
+
+    from ..symbolic.codegen import Program
+
+    arm, fv, fc = (np.asarray(getattr(robot, k), float) for k in ("armature", "viscous",
+                                                                  "coulomb"))
+    if not (arm.any() or fv.any() or fc.any()):
+        return program
+    outputs = list(program.outputs)
+    for i in range(program.n):
+        qd, qdd = se.Symbol(f"qd{i}"), se.Symbol(f"qdd{i}")
+        extra = [se.RealDouble(float(c)) * x for c, x in ((arm[i], qdd), (fv[i], qd),
+                                                          (fc[i], se.sign(qd))) if c != 0.0]
+        outputs[i] = se.Add(outputs[i], *extra)
+    return Program(program.n, program.assignments, outputs)
