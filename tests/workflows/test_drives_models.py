@@ -108,3 +108,13 @@ def test_stored_dataset_carries_the_armature_part_and_the_friction(tmp_path, cap
         assert (f"{n_drives} of {len(CHAPTER_DOMINANCE)} classes agree" in note
                 and f"alone (drives left out, the chapter's model) {n_rigid} of "
                     f"{len(CHAPTER_DOMINANCE)}" in note), note
+
+
+def test_report_of_the_puma_with_drives_draws_the_armature(tmp_path):
+    """The whole main job, report included, on the built-in arm with drives (the armature is
+    a fourth part on the diagonal D panels)."""
+    out = tmp_path / "drives"
+    assert main(["puma560-drives", str(SHIPPED), "-o", str(out), "-q"]) == 0
+    svg = (out / "figures" / "fig_3_10_D.svg").read_text()
+    assert "armature" in svg            # the legend's text, kept as a comment beside its glyphs
+    assert (out / "report.pdf").stat().st_size > 0

@@ -108,7 +108,7 @@ def _limits(*arrays):
 
 
 #: Line widths of the parts: the combined curve thin, under the two parts it sums.
-_PART_WIDTH = {"tran": 0.8, "rot": 0.8, "total": 0.55}
+_PART_WIDTH = {"tran": 0.8, "rot": 0.8, "total": 0.55, "arm": 0.8}
 #: Drawing order: the combined curve first, so that o and x stay visible on top of it.
 _PART_ORDER = ("total", "tran", "rot")
 
@@ -118,11 +118,13 @@ def _plot(ax, x, y, part, enveloped):
     (every k-th set point, the line through all of them)."""
     style = PART_STYLE[part]
     kw = {"color": style["color"], "linestyle": style["linestyle"], "label": style["label"],
-          "linewidth": _PART_WIDTH[part], "zorder": {"total": 2, "tran": 3, "rot": 4}[part]}
+          "linewidth": _PART_WIDTH[part],
+          "zorder": {"total": 2, "tran": 3, "rot": 4, "arm": 3}[part]}
     if not enveloped:
         every = markevery(x.size)
         kw["marker"] = style["marker"]
-        start = {"tran": 0, "rot": every // 3, "total": (2 * every) // 3}[part]
+        start = {"tran": 0, "rot": every // 3, "total": (2 * every) // 3,
+                 "arm": every // 2}[part]
         kw["markevery"] = (start, every) if every > 1 else 1
         kw["markersize"] = 2.6 if part == "total" else 3.2
         kw["markeredgewidth"] = 0.6 if part == "total" else 0.8    # open, not a blot

@@ -84,11 +84,13 @@ def identically_zero(peak_tran, peak_rot, peak_total, scale, tol=ZERO_TOL):
     ...                  np.array([1e-19, 0.3]), np.array([1.0, 1.0])).tolist()
     [True, False]
 
-    A D_66 of 2.5e-34 on a scale of its own size is rounding beside D_11 = 3.6:
+    A two-joint arm (D11, D12, D22, h1, h2) whose D_22 of 2.5e-34 is measured on a scale of
+    its own size is rounding beside D_11 = 3.6:
 
-    >>> identically_zero(np.array([3.6, 2.5e-34, 1.0]), np.zeros(3),
-    ...                  np.array([3.6, 2.5e-34, 1.0]), np.array([3.6, 2.5e-34, 5.0])).tolist()
-    [False, True, False]
+    >>> peak = np.array([3.6, 0.1, 2.5e-34, 1.0, 0.5])
+    >>> identically_zero(peak, np.zeros(5), peak,
+    ...                  np.array([3.6, 0.5, 2.5e-34, 5.0, 5.0])).tolist()
+    [False, False, True, False, False]
     """
     scale = np.abs(np.asarray(scale, dtype=float))
     ref = scale.copy()
