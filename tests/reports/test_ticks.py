@@ -114,3 +114,41 @@ def test_nice_ticks_are_labelled_exactly(lo, span, nbins):
 def test_non_finite_and_empty():
     assert tick_labels([]) == []
     assert tick_labels([np.nan, 1.0]) == ["n/a", "1"]
+
+
+def _gridded(scale):
+    """A figure with matplotlib's own per-tick grid on two Axes (one of them log-scaled)."""
+    from matplotlib.figure import Figure
+
+    fig = Figure(figsize=(3.0, 2.0), dpi=100)
+    for k, box in enumerate(((0.1, 0.55, 0.8, 0.4), (0.1, 0.08, 0.8, 0.4))):
+        ax = fig.add_axes(box)
+        x = np.linspace(0.0, 2.0, 50)
+        ax.plot(x, 1.0 + x ** 2, linewidth=0.8)
+        if k == 1:
+            ax.set_yscale(scale)
+        ax.grid(True, color="0.7", linewidth=0.5)
+    return fig
+
+
+@pytest.mark.parametrize("scale", ["linear", "log"])
+def test_grid_once_draws_the_same_picture_as_the_per_tick_grid(scale):
+    """Oracle: matplotlib's own grid, one line per tick, rendered by Agg pixel for pixel."""
+    from matplotlib.backends.backend_agg import FigureCanvasAgg
+    from matplotlib.collections import LineCollection
+
+    from gd_analyze.reports.ticks import grid_once
+
+    def pixels(fig):
+        canvas = FigureCanvasAgg(fig)
+        canvas.draw()
+        return np.asarray(canvas.buffer_rgba()).copy()
+
+    reference = pixels(_gridded(scale))
+    fig = _gridded(scale)
+    FigureCanvasAgg(fig).draw()                 # ticks placed as when drawn
+    grid_once(fig)
+    assert all(not g.get_visible() for ax in fig.axes
+               for g in ax.xaxis.get_gridlines() + ax.yaxis.get_gridlines())
+    assert sum(isinstance(c, LineCollection) for ax in fig.axes for c in ax.collections) == 4
+    assert np.array_equal(pixels(fig), reference)

@@ -58,7 +58,9 @@ def build_recursive(robot, q, qd, qdd, tolerance=DEFAULT_TOLERANCE, torque_floor
 
     base = base_parameters(robot)
     rec = recursive_model(robot, q, qd, qdd, tolerance, torque_floor, base=base)
-    exact = with_drives(recursive_program(robot, base.values), robot).cost()
+    exact_program = recursive_program(robot, base.values)
+    exact = with_drives(exact_program, robot).cost()
+    program = with_drives(rec.program(robot, exact=exact_program), robot)
     choices = {lab: "both" for lab in element_labels(robot.n)}
     model = SimplifiedModel(
         robot=robot, choices=choices,
@@ -67,8 +69,8 @@ def build_recursive(robot, q, qd, qdd, tolerance=DEFAULT_TOLERANCE, torque_floor
         trajectory_sha256=trajectory_sha256, provenance=dict(provenance or {}), rule="budget",
         tolerance=float(tolerance), torque_floor=float(torque_floor), terms=None,
         recursive=rec, bound=[float(v) for v in rec.bound],
-        costs={"exact recursive": exact})
-    model = replace_cost(model, model.program().cost())
+        costs={"exact recursive": exact}, program_cache=program)
+    model = replace_cost(model, program.cost())
     sel = Selection(rule="budget", tolerance=float(tolerance), choices=choices, kept=None,
                     scale=rec.scale, bound=rec.bound,
                     bound_by_kind={"D": rec.bound_by_part[0], "h": rec.bound_by_part[1],

@@ -329,7 +329,7 @@ def _count(robot, base, dropped):
     return _total(parts_program(robot, _part_values(base, dropped), cse=False, search=False))
 
 
-def pruned_program(robot, base, dropped, cse=True):
+def pruned_program(robot, base, dropped, cse=True, exact=None):
     """The recursive program without the dropped (base parameter, part) pairs.
 
     Parameters
@@ -342,6 +342,9 @@ def pruned_program(robot, base, dropped, cse=True):
         The pairs left out (:attr:`Pruning.dropped`).
     cse : bool, optional
         Run symengine's common-subexpression elimination (default True).
+    exact : Program, optional
+        The exact program (:func:`.recursive.exact_program` of ``base.values`` with the same
+        ``cse``) when the caller has built it already; built here otherwise.
 
     Returns
     -------
@@ -358,7 +361,8 @@ def pruned_program(robot, base, dropped, cse=True):
     dropped = np.asarray(dropped, bool)
     if dropped.shape != (base.rank, len(PARTS)):
         raise ValueError(f"dropped must have shape ({base.rank}, 3), got {dropped.shape}")
-    exact = exact_program(robot, base.values, cse=cse)
+    if exact is None:
+        exact = exact_program(robot, base.values, cse=cse)
     if not dropped.any():
         return exact
     pruned = parts_program(robot, _part_values(base, dropped), cse=cse)

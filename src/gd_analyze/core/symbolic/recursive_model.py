@@ -93,12 +93,16 @@ class RecursiveModel:
                               K=np.zeros((len(self.names), 0)), beta=np.array(self.beta, float),
                               rank=len(self.names))
 
-    def program(self, robot):
+    def program(self, robot, exact=None):
         """The straight-line program of the pruned model (:class:`~gd_analyze.core.symbolic.codegen.Program`).
 
         Parameters
         ----------
         robot : Robot
+        exact : Program, optional
+            The exact recursive program of these base parameters
+            (:func:`.recursive.recursive_program` of ``self.base(robot).values``), when the
+            caller has built it already.
 
         Returns
         -------
@@ -107,7 +111,7 @@ class RecursiveModel:
         """
         from .pruning import pruned_program
 
-        return pruned_program(robot, self.base(robot), self.dropped)
+        return pruned_program(robot, self.base(robot), self.dropped, exact=exact)
 
     def dropped_pairs(self):
         """The dropped pairs as (parameter name, part name), in parameter order.
