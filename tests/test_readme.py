@@ -165,3 +165,22 @@ def test_how_to_read_quotes_the_sample_errors():
     assert (f"worst error is {100 * rel[worst]:.3g} % of peak |tau| at joint {worst + 1}, every "
             f"other joint within {100 * others:.3g} %") in text
     assert "32 %" not in text and "EPS = 0.01" in text
+
+
+def test_quoted_costs_agree_with_the_sample_and_the_counts():
+    """Costs quoted outside the sample block are the sample's and opcount's (no second copy drifts)."""
+    from gd_analyze.formulations.opcount import operation_counts
+
+    cost_line = next(line for line in _code_block_after("## Sample output")
+                     if line.startswith("simplified model (recursive N-E"))
+    deployed, exact, explicit, ne = (re.search(pattern, cost_line).group(1) for pattern in (
+        r": ([\d,]+) operations per set point", r"exact recursive model: ([\d,]+)",
+        r"full explicit model: ([\d,]+)", r"Newton-Euler as implemented: ([\d,]+)"))
+    row = re.search(r"^\| PUMA 560 \(\d+ base parameters\) \| (.*)$", README, re.MULTILINE)
+    cells = [c.strip() for c in row.group(1).split("|")]
+    assert cells[0].split()[0] == exact and cells[2] == deployed and cells[4] == ne
+    assert f"full explicit PUMA 560 model ({explicit} operations)" in " ".join(README.split())
+    counted = operation_counts(6)
+    for label, method in (("G-D", "gd"), ("L-E", "lagrange-euler")):
+        total = sum(counted[method].values())
+        assert f"{label} {total:,}" in README, (label, total)
