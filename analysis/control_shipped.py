@@ -32,11 +32,11 @@ from pathlib import Path
 from gd_analyze import load_robot
 from gd_analyze.files import file_sha256
 from gd_analyze.io.control_dataset import write_control_dataset
+from gd_analyze.io.model_file import save_model
+from gd_analyze.io.trajectory import read_trajectory
+from gd_analyze.workflows.analyze import analyze
 from gd_analyze.workflows.control import CONTROL_FILE, run_control
 from gd_analyze.workflows.tracking import DEFAULT_WN, DEFAULT_ZETA
-from gd_analyze.workflows.analyze import analyze
-from gd_analyze.io.trajectory import read_trajectory
-from gd_analyze.io.model_file import save_model
 
 ROOT = Path(__file__).resolve().parents[1]
 SHIPPED = ROOT / "data" / "puma560_trajectory.csv"

@@ -47,7 +47,6 @@ from pathlib import Path
 
 import numpy as np
 
-
 #: Arms of example-robot-data whose URDF has several chains: the tip of the arm by default.
 KNOWN_TIPS = {"panda": "panda_hand"}
 
@@ -199,8 +198,8 @@ def c_model(outdir, n, build):
 
 def exact_model_error(path, tip, chain):
     """The exact recursive model (EPS = 0) against rnea on random states: worst relative error."""
-    from gd_analyze.core.symbolic.codegen import python_function
     from gd_analyze.core.symbolic.base_parameters import random_states
+    from gd_analyze.core.symbolic.codegen import python_function
     from gd_analyze.core.symbolic.recursive import recursive_program
     from gd_analyze.io.robots import load_robot
 
@@ -395,7 +394,7 @@ def main(argv=None):
         print(f"- {'PASS' if not failing else 'FAIL'}: {text}"
               + (f" -- failing: {', '.join(failing)}" if failing else ""))
     if skipped and not args.arms:
-        print(f"\nNot serial arms the main job accepts: "
+        print("\nNot serial arms the main job accepts: "
               + "; ".join(f"{n} ({why})" for n, why in skipped))
     return 0
 

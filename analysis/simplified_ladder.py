@@ -27,9 +27,9 @@ from gd_analyze.core.dynamics.dalembert import gd_terms
 from gd_analyze.core.selection.ranking import rank_dominance
 from gd_analyze.formulations.pinocchio import pinocchio_model
 from gd_analyze.io.explicit_cache import explicit_terms
+from gd_analyze.io.planning import random_trajectories
 from gd_analyze.io.trajectory import read_trajectory
 from gd_analyze.workflows.simplify import LADDER, build_model, collect_peaks, cost_rows
-from gd_analyze.io.planning import random_trajectories
 
 ROOT = Path(__file__).resolve().parents[1]
 

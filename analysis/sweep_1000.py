@@ -28,6 +28,7 @@ import time
 from pathlib import Path
 
 import numpy as np
+
 from gd_analyze.io.model_file import save_model
 
 ROOT = Path(__file__).resolve().parents[1]
@@ -51,13 +52,13 @@ def main(argv=None):
     args = parser.parse_args(argv)
 
     from gd_analyze import load_robot
-    from gd_analyze.core.selection.ranking import CHAPTER_DOMINANCE, CLASSES
     from gd_analyze.cli import parse_range
-    from gd_analyze.io.schema import write_dataset
+    from gd_analyze.core.selection.ranking import CHAPTER_DOMINANCE, CLASSES
     from gd_analyze.io.planning import random_trajectories
+    from gd_analyze.io.schema import write_dataset
+    from gd_analyze.reports.sweep import write_sweep_report
     from gd_analyze.workflows.payload import payload_sweep
     from gd_analyze.workflows.sweep import merged_model, run_sweep
-    from gd_analyze.reports.sweep import write_sweep_report
 
     t_start = time.perf_counter()
     outdir = Path(args.outdir) if args.outdir else Path(tempfile.mkdtemp(prefix="gd-sweep-"))

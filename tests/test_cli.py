@@ -1,14 +1,14 @@
 import hashlib
-import os
 import json
+import os
 import subprocess
 import sys
 
 import numpy as np
 import pytest
 import xarray as xr
-
 from conftest import ROOT, SHIPPED
+
 from gd_analyze.cli import main, parse_range
 from gd_analyze.errors import InputError
 from gd_analyze.workflows.options import AnalysisOptions
@@ -260,8 +260,8 @@ def test_sweep_command_on_csv_files(tmp_path, capsys):
         assert ds.sizes["trajectory"] == 2
         # the shipped trajectory's row is its own ranking, as the main job gives it
         from gd_analyze import load_robot
-        from gd_analyze.workflows.analyze import analyze
         from gd_analyze.io.trajectory import read_trajectory
+        from gd_analyze.workflows.analyze import analyze
 
         single = analyze(load_robot("puma560"), read_trajectory(SHIPPED, 6), AnalysisOptions(verify=False, formulations=False)).dataset
         np.testing.assert_allclose(ds.share_tran.values[0], single.share_tran.values,

@@ -7,7 +7,6 @@ import json
 import pytest
 
 from gd_analyze.cli import main
-from gd_analyze.core.selection.simplified import SimplifiedModel
 from gd_analyze.io.model_file import load_model
 
 

@@ -12,9 +12,8 @@ import pytest
 from hypothesis import HealthCheck, Phase, given, note, settings
 from hypothesis import strategies as st
 
-from conftest import SHIPPED
-from gd_analyze.cli import main
 from gd_analyze import load_robot
+from gd_analyze.cli import main
 from gd_analyze.errors import InputError
 
 TWO_LINK_TOML = (Path(__file__).resolve().parents[1] / "src" / "gd_analyze" / "data"

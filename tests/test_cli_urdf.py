@@ -4,9 +4,9 @@ import json
 
 import pytest
 import xarray as xr
+from urdf_oracle import BAD_UR5, TOY_URDF, UR5
 
 from gd_analyze.cli import main
-from urdf_oracle import BAD_UR5, TOY_URDF, UR5
 
 
 @pytest.fixture()

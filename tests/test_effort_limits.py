@@ -5,15 +5,14 @@ import re
 import xml.etree.ElementTree as ET
 
 import numpy as np
-import pinocchio as pin
 import pytest
 import xarray as xr
+from urdf_oracle import UrdfOracle
 
-from gd_analyze.cli import main
 from gd_analyze import load_robot
+from gd_analyze.cli import main
 from gd_analyze.io.trajectory import read_trajectory
 from gd_analyze.io.urdf import builtin_urdf_path
-from urdf_oracle import UrdfOracle
 
 ROOT = __import__("pathlib").Path(__file__).resolve().parents[1]
 UR5_CSV = ROOT / "data" / "ur5_trajectory.csv"

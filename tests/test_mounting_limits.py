@@ -3,19 +3,17 @@ where they are needed (real URDFs and TOML robots without them analyse a given t
 
 import importlib.metadata
 import json
-import math
 
 import numpy as np
 import pinocchio as pin
 import pytest
 import xarray as xr
+from urdf_oracle import UrdfOracle, worst_relative
 
 from gd_analyze.cli import main
 from gd_analyze.core.dynamics.dalembert import gd_terms
-from gd_analyze import load_robot
 from gd_analyze.io.robots import load_robot as load_any
 from gd_analyze.io.urdf import builtin_urdf_path
-from urdf_oracle import UrdfOracle, worst_relative
 
 TOL = 1e-10
 

@@ -8,8 +8,8 @@ against Pinocchio, ranks which part dominates each element, and writes a simplif
 
 from ._version import __version__
 from .core.dynamics.dalembert import GDTerms, gd_terms
-from .errors import InputError
 from .core.model.robot import Robot
+from .errors import InputError
 from .io.robots import load_robot
 
 __all__ = ["__version__", "GDTerms", "gd_terms", "InputError", "Robot", "load_robot",

@@ -8,8 +8,15 @@ import pytest
 
 from gd_analyze import load_robot
 from gd_analyze.formulations import compare as formulations
-from gd_analyze.formulations.compare import (METHODS, DynamicsResult, compare, compare_report, dynamics,
-                                     format_compare, inverse_dynamics)
+from gd_analyze.formulations.compare import (
+    METHODS,
+    DynamicsResult,
+    compare,
+    compare_report,
+    dynamics,
+    format_compare,
+    inverse_dynamics,
+)
 
 G = 9.8062
 ROBOTS = [load_robot("puma560"), load_robot("two-link")]

@@ -5,9 +5,9 @@ import pytest
 
 from gd_analyze import load_robot
 from gd_analyze.core.model.kinematics import joint_transforms
+from gd_analyze.core.model.robot_spec import robot_from_dict
 from gd_analyze.formulations.lagrange_euler import le_terms, pseudo_inertia, u_matrices
 from gd_analyze.formulations.opcount import random_chain
-from gd_analyze.core.model.robot_spec import robot_from_dict
 
 G = 9.8062
 

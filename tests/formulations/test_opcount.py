@@ -5,11 +5,18 @@ import pytest
 
 from gd_analyze import gd_terms, load_robot
 from gd_analyze.core.model.kinematics import body_frames
+from gd_analyze.formulations.counting import OpLedger
 from gd_analyze.formulations.lagrange_euler import le_terms
 from gd_analyze.formulations.newton_euler import _cross, ne_tau
-from gd_analyze.formulations.counting import OpLedger
-from gd_analyze.formulations.opcount import (METHODS, _gd_mirror, book_counts, count_operations,
-                                             operation_counts, random_chain, table)
+from gd_analyze.formulations.opcount import (
+    METHODS,
+    _gd_mirror,
+    book_counts,
+    count_operations,
+    operation_counts,
+    random_chain,
+    table,
+)
 
 
 def _counts(method, op, ns):

@@ -6,7 +6,6 @@ hypothesis fuzz test on small files and on files large enough for the pandas pat
 
 import csv
 import io
-import math
 import os
 import re
 
@@ -17,8 +16,8 @@ from hypothesis import strategies as st
 
 from gd_analyze.core.model.limits import LIMITS
 from gd_analyze.errors import InputError, InputNote
-from gd_analyze.io.trajectory import FAST_PARSE_BYTES, read_trajectory, write_trajectory
 from gd_analyze.io.planning import plan_quintic
+from gd_analyze.io.trajectory import FAST_PARSE_BYTES, read_trajectory, write_trajectory
 
 PLAIN = re.compile(r"[+-]?(?:[0-9]+(?:\.[0-9]*)?|\.[0-9]+)(?:[eE][+-]?[0-9]+)?")
 

@@ -2,12 +2,12 @@ import h5py
 import numpy as np
 import pytest
 import xarray as xr
-
 from conftest import SHIPPED
-from gd_analyze.workflows.analyze import analyze
+
 from gd_analyze.files import atomic_path
 from gd_analyze.io.schema import write_dataset
 from gd_analyze.io.trajectory import read_trajectory
+from gd_analyze.workflows.analyze import analyze
 from gd_analyze.workflows.options import AnalysisOptions
 
 

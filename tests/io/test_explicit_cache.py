@@ -13,12 +13,12 @@ import warnings
 import numpy as np
 import pinocchio as pin
 import pytest
-
 from conftest import SHIPPED
+
 from gd_analyze import load_robot
 from gd_analyze.cli import main
-from gd_analyze.core.symbolic.explicit import derive, model_terms
 from gd_analyze.core.model.robot import with_payload
+from gd_analyze.core.symbolic.explicit import derive, model_terms
 from gd_analyze.formulations.pinocchio import pinocchio_model
 from gd_analyze.io import explicit_cache
 from gd_analyze.io.explicit_cache import CacheWarning, cache_path, explicit_terms

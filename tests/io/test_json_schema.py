@@ -11,9 +11,9 @@ from hypothesis import HealthCheck, Phase, given, note, settings
 from hypothesis import strategies as st
 
 from gd_analyze.core.selection.ranking import element_labels
-from gd_analyze.io.json_schema import MODEL_SCHEMA, load_json
 from gd_analyze.core.selection.simplified import SimplifiedModel, parameters_sha256
 from gd_analyze.errors import InputError
+from gd_analyze.io.json_schema import MODEL_SCHEMA, load_json
 from gd_analyze.io.model_file import load_model
 
 

@@ -9,8 +9,13 @@ import pytest
 
 from gd_analyze import load_robot
 from gd_analyze.cli import main
+from gd_analyze.io.planning import (
+    DEFAULT_QDD_PER_QD,
+    acceleration_limits,
+    provenance_path,
+    quintic_duration,
+)
 from gd_analyze.io.trajectory import read_trajectory
-from gd_analyze.io.planning import DEFAULT_QDD_PER_QD, acceleration_limits, provenance_path, quintic_duration
 
 
 @pytest.fixture(scope="module")

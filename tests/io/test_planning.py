@@ -3,12 +3,17 @@
 import math
 
 import numpy as np
-
-from conftest import SHIPPED
-from gd_analyze.io.planning import DEFAULT_GOAL_DEG, DEFAULT_START_DEG, plan_quintic, quintic_duration
-from gd_analyze.io.trajectory import read_trajectory
 import pytest
-from gd_analyze.io.planning import random_trajectories
+from conftest import SHIPPED
+
+from gd_analyze.io.planning import (
+    DEFAULT_GOAL_DEG,
+    DEFAULT_START_DEG,
+    plan_quintic,
+    quintic_duration,
+    random_trajectories,
+)
+from gd_analyze.io.trajectory import read_trajectory
 
 
 def _default_plan(puma, n=31):

@@ -4,13 +4,12 @@ Pinocchio model (pin.buildModelFromUrdf), not against the converted chain."""
 import numpy as np
 import pinocchio as pin
 import pytest
+from urdf_oracle import STATES, TOL, UrdfOracle, random_chain_states, toy, worst_relative  # noqa: F401  (toy, random_chain_states: fixtures)
 
 from gd_analyze import gd_terms
 from gd_analyze.errors import InputError
 from gd_analyze.io.robots import builtin_robots, is_urdf, load_robot
 from gd_analyze.io.urdf import URDF_BUILTIN, builtin_urdf_path
-from urdf_oracle import (STATES, TOL, UrdfOracle, random_chain_states, toy,  # noqa: F401
-                         worst_relative)
 
 
 def test_builtins_and_dispatch():

@@ -7,15 +7,20 @@ import stat
 import subprocess
 import sys
 import textwrap
-import time
 from pathlib import Path
 
 import pytest
 
 from gd_analyze.errors import InputError
 from gd_analyze.io.manifest import manifest_name
-from gd_analyze.io.staging import (LOCK_SUFFIX, TMP_MARK, check_free_space, check_output_file,
-                                   safe_name, staged_output)
+from gd_analyze.io.staging import (
+    LOCK_SUFFIX,
+    TMP_MARK,
+    check_free_space,
+    check_output_file,
+    safe_name,
+    staged_output,
+)
 
 
 def _leftovers(parent):

@@ -2,8 +2,14 @@ import numpy as np
 import pytest
 
 from gd_analyze import InputError
-from gd_analyze.io.trajectory import JointLimitWarning, check_joint_limits, read_trajectory, trajectory_columns, write_trajectory
 from gd_analyze.io.planning import DEFAULT_GOAL_DEG, DEFAULT_START_DEG, plan_quintic
+from gd_analyze.io.trajectory import (
+    JointLimitWarning,
+    check_joint_limits,
+    read_trajectory,
+    trajectory_columns,
+    write_trajectory,
+)
 
 
 def _default_plan(puma, n=31):

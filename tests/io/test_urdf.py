@@ -5,12 +5,19 @@ import math
 import numpy as np
 import pinocchio as pin
 import pytest
+from urdf_oracle import (
+    STATES,
+    TOL,
+    TOY_URDF,
+    UrdfOracle,
+    chain_model,
+    random_chain_states,  # noqa: F401 (a fixture)
+    toy,  # noqa: F401 (a fixture)
+    worst_relative,
+)
 
 from gd_analyze.errors import InputError
-from gd_analyze.io.urdf import (URDF_BUILTIN, axis_rotation, builtin_urdf_path,
-                                read_urdf_chain)
-from urdf_oracle import (STATES, TOL, TOY_URDF, UrdfOracle, chain_model,
-                         random_chain_states, toy, worst_relative)  # noqa: F401 (toy)
+from gd_analyze.io.urdf import URDF_BUILTIN, axis_rotation, builtin_urdf_path, read_urdf_chain
 
 
 def _check_against_urdf(path, chain, seed):

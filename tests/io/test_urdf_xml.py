@@ -9,13 +9,23 @@ import importlib.metadata
 import numpy as np
 import pinocchio as pin
 import pytest
+from urdf_oracle import (
+    BAD_UR5,
+    PANDA,
+    STATES,
+    TOL,
+    UR5,
+    UrdfOracle,
+    chain_model,
+    random_chain_states,
+    worst_relative,
+)
 
 from gd_analyze.errors import InputError
 from gd_analyze.io import urdf as urdf_mod
 from gd_analyze.io.urdf import builtin_urdf_path, read_urdf_chain
 from gd_analyze.io.urdf_xml import check_inertias, read_urdf_xml
-from urdf_oracle import (BAD_UR5, PANDA, STATES, TOL, UR5, UrdfOracle, chain_model,
-                         random_chain_states, worst_relative)
+
 
 def _write(tmp_path, text, old, new, name="bad.urdf"):
     assert text.count(old) >= 1, old
@@ -64,7 +74,7 @@ def test_broken_panda_refused(tmp_path, old, new, column):
 def test_doctype_refused_before_any_entity_is_expanded(tmp_path):
     """Billion laughs: urdfdom ignores the declaration, ElementTree would expand it."""
     lol = ['<!ENTITY lol0 "lol">'] + [
-        f'<!ENTITY lol{k} "{"&lol%d;" % (k - 1) * 10}">' for k in range(1, 10)]
+        f'<!ENTITY lol{k} "{f"&lol{k - 1};" * 10}">' for k in range(1, 10)]
     text = UR5.replace("<robot ", f"<!DOCTYPE robot [{''.join(lol)}]>\n<robot ", 1)
     path = tmp_path / "lol.urdf"
     path.write_text(text.replace('name="ur5"', 'name="&lol9;"', 1))

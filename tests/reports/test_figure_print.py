@@ -9,6 +9,7 @@ Stanford arm (a prismatic joint 3) and the UR5.
 
 import numpy as np
 import pytest
+from conftest import ROOT
 
 from gd_analyze import load_robot
 from gd_analyze.core.selection.ranking import ROUND_OFF, is_round_off
@@ -18,8 +19,6 @@ from gd_analyze.reports import main as report
 from gd_analyze.reports.common import JOINT_STYLES, MAX_MARKERS, joint_style
 from gd_analyze.reports.main_figures import plot_data
 from gd_analyze.workflows.analyze import analyze_to_file
-
-from conftest import ROOT
 from gd_analyze.workflows.options import AnalysisOptions
 
 ROBOTS = ("puma560", "stanford", "ur5")
@@ -70,9 +69,8 @@ def _texts(fig):
 
 def _draw(fig):
     """Draw the figure as the report does (fixed layout) and give its renderer."""
-    from matplotlib.backends.backend_agg import FigureCanvasAgg
-
     import matplotlib
+    from matplotlib.backends.backend_agg import FigureCanvasAgg
 
     canvas = FigureCanvasAgg(fig)
     with matplotlib.rc_context(report.FIG_RC):

@@ -7,17 +7,16 @@ from pathlib import Path
 
 import numpy as np
 import pytest
+from conftest import SHIPPED
 
 import gd_analyze
-from gd_analyze.reports import main as report
-from gd_analyze.reports.main_context import zero_mask
 from gd_analyze.errors import InputError
-from gd_analyze.workflows.analyze import analyze
+from gd_analyze.io.planning import plan_quintic
 from gd_analyze.io.schema import open_results, write_dataset
 from gd_analyze.io.trajectory import read_trajectory
-from gd_analyze.io.planning import plan_quintic
-
-from conftest import SHIPPED
+from gd_analyze.reports import main as report
+from gd_analyze.reports.main_context import zero_mask
+from gd_analyze.workflows.analyze import analyze
 from gd_analyze.workflows.options import AnalysisOptions
 
 PAGE = re.compile(rb"/Type\s*/Page(?![a-zA-Z])")
@@ -552,9 +551,9 @@ def test_report_does_not_recompute_dynamics(tmp_path, monkeypatch, puma_report):
         raise AssertionError("the report must not recompute the dynamics")
 
     import gd_analyze.core.dynamics.dalembert
-    import gd_analyze.workflows.analyze
-    import gd_analyze.formulations.pinocchio
     import gd_analyze.core.selection.simplified
+    import gd_analyze.formulations.pinocchio
+    import gd_analyze.workflows.analyze
 
     monkeypatch.setattr(gd_analyze.core.dynamics.dalembert, "gd_terms", boom)
     monkeypatch.setattr(gd_analyze, "gd_terms", boom)

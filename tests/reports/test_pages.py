@@ -6,8 +6,8 @@ import numpy as np
 import pytest
 
 from gd_analyze.reports.common import table
-from gd_analyze.reports.pages import PAPER, Document
 from gd_analyze.reports.drawing import figure_pdf
+from gd_analyze.reports.pages import PAPER, Document
 
 
 def _figure(w, h):
@@ -92,13 +92,12 @@ def test_one_traversal_draws_the_same_svg_and_pdf_as_savefig():
     3.10 differs by 0.011 pt)."""
     import re
 
+    from matplotlib.figure import Figure
     from pypdf import PdfReader
 
+    from gd_analyze.reports.drawing import _draw_both, figure_svg
     from gd_analyze.reports.main_figures import RC
     from gd_analyze.reports.pages import PAGE_RC
-    from gd_analyze.reports.drawing import _draw_both, figure_svg
-
-    from matplotlib.figure import Figure
 
     fig = Figure(figsize=(7.2, 2.5))
     ax = fig.add_axes((0.1, 0.2, 0.8, 0.6))

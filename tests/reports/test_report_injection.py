@@ -13,13 +13,13 @@ from importlib import resources
 import numpy as np
 import pytest
 
-from gd_analyze.workflows.options import AnalysisOptions
 from gd_analyze import load_robot
 from gd_analyze.io.planning import plan_quintic
 from gd_analyze.io.schema import write_dataset
 from gd_analyze.reports import main as report
 from gd_analyze.reports.pages import Document
 from gd_analyze.workflows.analyze import analyze
+from gd_analyze.workflows.options import AnalysisOptions
 
 #: A name that would open a script element, end an attribute, run mathtext, escape a PDF
 #: string and end a C comment, long enough that the footer cannot hold it.

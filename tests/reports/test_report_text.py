@@ -19,13 +19,12 @@ from html import unescape
 
 import numpy as np
 import pytest
+from conftest import ROOT
 from pypdf import PdfReader
 
 from gd_analyze import load_robot
 from gd_analyze.cli import main
 from gd_analyze.reports.pages import Document
-
-from conftest import ROOT
 
 DATA = ROOT / "data"
 #: Code names that must not stand in for mathematics in a report's text.

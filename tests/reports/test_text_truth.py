@@ -14,8 +14,8 @@ from html import unescape
 import numpy as np
 import pytest
 import xarray as xr
+from conftest import ROOT, SHIPPED
 
-from gd_analyze.workflows.options import AnalysisOptions
 from gd_analyze import load_robot
 from gd_analyze.cli import main
 from gd_analyze.formulations.pinocchio import reference_terms
@@ -23,8 +23,7 @@ from gd_analyze.io.planning import plan_quintic
 from gd_analyze.io.schema import write_dataset
 from gd_analyze.reports import main as report
 from gd_analyze.workflows.analyze import analyze
-
-from conftest import ROOT, SHIPPED
+from gd_analyze.workflows.options import AnalysisOptions
 
 STANFORD = ROOT / "data" / "stanford_trajectory.csv"
 CONFIGS = {"budget-recursive": ["--rule", "budget", "--form", "recursive"],

@@ -11,10 +11,9 @@ from html import unescape
 import numpy as np
 import pytest
 import xarray as xr
+from conftest import ROOT
 
 from gd_analyze.cli import main
-
-from conftest import ROOT
 
 PRISMATIC = [False, False, True, False, False, False]          # Stanford: joint 3 slides
 N_JOINTS = len(PRISMATIC)

@@ -1,11 +1,11 @@
 import numpy as np
 import xarray as xr
-
 from conftest import SHIPPED
-from gd_analyze.workflows.analyze import analyze, analyze_to_file, verify
+
 from gd_analyze.core.selection.ranking import RankingAccumulator, rank_dominance
-from gd_analyze.io.trajectory import read_trajectory
 from gd_analyze.io.planning import plan_quintic
+from gd_analyze.io.trajectory import read_trajectory
+from gd_analyze.workflows.analyze import analyze, analyze_to_file, verify
 from gd_analyze.workflows.options import AnalysisOptions
 
 

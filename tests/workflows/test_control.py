@@ -11,23 +11,22 @@ tests; the crude-model and offset runs reuse the same settings (the offset run s
 import numpy as np
 import pytest
 import xarray as xr
+from conftest import SHIPPED
 
 from gd_analyze import gd_terms, load_robot
-from gd_analyze.files import file_sha256
-from gd_analyze.io.control_dataset import control_dataset, write_control_dataset
-from gd_analyze.workflows.control import run_control
-from gd_analyze.workflows.tracking import CONTROLLERS
-from gd_analyze.reports.control import write_control_report
-from gd_analyze.errors import InputError
-from gd_analyze.formulations.opcount import count_operations
-from gd_analyze.workflows.analyze import analyze
 from gd_analyze.core.selection.ranking import element_labels
 from gd_analyze.core.selection.simplified import SimplifiedModel, full_choices
-from gd_analyze.io.trajectory import read_trajectory
-
-from conftest import SHIPPED
+from gd_analyze.errors import InputError
+from gd_analyze.files import file_sha256
+from gd_analyze.formulations.opcount import count_operations
+from gd_analyze.io.control_dataset import control_dataset, write_control_dataset
 from gd_analyze.io.model_file import load_model, save_model
+from gd_analyze.io.trajectory import read_trajectory
+from gd_analyze.reports.control import write_control_report
+from gd_analyze.workflows.analyze import analyze
+from gd_analyze.workflows.control import run_control
 from gd_analyze.workflows.options import AnalysisOptions
+from gd_analyze.workflows.tracking import CONTROLLERS
 
 #: Bound on the tracking error of the full-model computed-torque controller started on the
 #: trajectory [rad]. With the exact model the closed loop is e'' + Kv e' + Kp e = 0 with

@@ -9,22 +9,21 @@ import json
 
 import numpy as np
 import pytest
-
 from conftest import ROOT, SHIPPED
-from gd_analyze.cli import main
+
 from gd_analyze import load_robot
-from gd_analyze.core.selection.simplified import SimplifiedModel
+from gd_analyze.cli import main
 from gd_analyze.core.symbolic.base_parameters import base_parameters, random_states
+from gd_analyze.io.model_file import load_model
 from gd_analyze.io.trajectory import read_trajectory
 from gd_analyze.workflows.analyze import analyze
-from gd_analyze.io.model_file import load_model
 from gd_analyze.workflows.options import AnalysisOptions, SimplifyOptions
 
 
 def _rnea(robot, q, qd, qdd):
-    from gd_analyze.formulations.pinocchio import pinocchio_model
-
     import pinocchio as pin
+
+    from gd_analyze.formulations.pinocchio import pinocchio_model
 
     model = pinocchio_model(robot)
     data = model.createData()

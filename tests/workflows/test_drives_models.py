@@ -5,20 +5,19 @@ plus the hand-written friction viscous qd + coulomb sign(qd)."""
 import json
 
 import numpy as np
-
 from conftest import SHIPPED, random_states
 from core.model.test_drives import _friction
 from core.symbolic.test_explicit import _c_operator_count, natural_error, python_tau, rnea
 from core.symbolic.test_explicit_prismatic import _compile
+
 from gd_analyze import load_robot
 from gd_analyze.cli import main
-from gd_analyze.core.symbolic.codegen import build_program, emit_c
 from gd_analyze.core.model.drives import with_drives
+from gd_analyze.core.symbolic.codegen import build_program, emit_c
 from gd_analyze.core.symbolic.explicit import derive, model_terms
-from gd_analyze.core.selection.simplified import SimplifiedModel
+from gd_analyze.io.model_file import load_model
 from gd_analyze.io.trajectory import read_trajectory
 from gd_analyze.workflows.deploy import build_recursive
-from gd_analyze.io.model_file import load_model
 
 TOL = 1e-10
 

@@ -1,14 +1,13 @@
 """evaluate(): a simplified model's torque error, against Pinocchio as the oracle."""
 
 import numpy as np
+from conftest import SHIPPED
 
 from gd_analyze.core.model.robot import with_payload
 from gd_analyze.core.selection.simplified import SimplifiedModel, full_choices
 from gd_analyze.formulations.pinocchio import reference_terms
 from gd_analyze.io.trajectory import read_trajectory
 from gd_analyze.workflows.evaluate import evaluate
-
-from conftest import SHIPPED
 
 
 def _pin_tau(robot, traj):

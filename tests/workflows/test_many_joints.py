@@ -13,10 +13,9 @@ import pytest
 
 from gd_analyze.cli import main
 from gd_analyze.core.selection.ranking import element_labels
-from gd_analyze.core.selection.simplified import SimplifiedModel
 from gd_analyze.formulations.pinocchio import pinocchio_model
-from gd_analyze.io.trajectory import read_trajectory
 from gd_analyze.io.model_file import load_model
+from gd_analyze.io.trajectory import read_trajectory
 
 EPS = 0.01          # the main job's default --tolerance
 

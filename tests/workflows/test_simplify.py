@@ -5,16 +5,15 @@ import json
 import numpy as np
 import pinocchio as pin
 import pytest
-
 from conftest import SHIPPED
+
 from gd_analyze import load_robot
 from gd_analyze.cli import main
-from gd_analyze.core.selection.simplified import SimplifiedModel
 from gd_analyze.formulations.pinocchio import pinocchio_model
+from gd_analyze.io.model_file import load_model
+from gd_analyze.io.planning import random_trajectories
 from gd_analyze.io.trajectory import read_trajectory
 from gd_analyze.workflows.simplify import sweep_model
-from gd_analyze.io.planning import random_trajectories
-from gd_analyze.io.model_file import load_model
 
 
 def _rnea(robot, q, qd, qdd):
@@ -187,7 +186,6 @@ def test_akb_anchors_only_for_the_puma(tmp_path, capsys):
     """Armstrong, Khatib & Burdick's counts are the PUMA 560's: another six-joint arm's cost
     table does not list them."""
     import xarray as xr
-
     from conftest import ROOT
 
     code, _, err = _run(["stanford", ROOT / "data" / "stanford_trajectory.csv", "-o", tmp_path,

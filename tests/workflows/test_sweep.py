@@ -6,22 +6,21 @@ import itertools
 
 import numpy as np
 import pytest
-
 from conftest import SHIPPED
+
 from gd_analyze import InputError, gd_terms
-from gd_analyze.workflows.analyze import analyze
+from gd_analyze.cli import parse_range
 from gd_analyze.core.selection.ranking import CLASSES, element_labels
 from gd_analyze.core.selection.simplified import choice_masks
+from gd_analyze.io.model_file import load_model
+from gd_analyze.io.planning import plan_quintic, random_trajectories
 from gd_analyze.io.schema import open_sweep
-from gd_analyze.cli import parse_range
 from gd_analyze.io.schema import write_dataset as write_sweep
-from gd_analyze.io.planning import random_trajectories
+from gd_analyze.io.trajectory import read_trajectory
+from gd_analyze.workflows.analyze import analyze
+from gd_analyze.workflows.options import AnalysisOptions, SimplifyOptions
 from gd_analyze.workflows.payload import payload_sweep
 from gd_analyze.workflows.sweep import analyze_one, merged_model, run_sweep
-from gd_analyze.io.trajectory import read_trajectory
-from gd_analyze.io.planning import plan_quintic
-from gd_analyze.io.model_file import load_model
-from gd_analyze.workflows.options import AnalysisOptions, SimplifyOptions
 
 K = 6
 
@@ -362,7 +361,6 @@ def test_sweep_command_rule_budget_by_default_and_chapter_says_no_bound(tmp_path
     import json
 
     from gd_analyze.cli import main
-    from gd_analyze.core.selection.simplified import SimplifiedModel
 
     slow = tmp_path / "slow.csv"
     assert main(["plan", "puma560", "-o", str(slow), "--start", "0,45,-90,0,30,0", "--goal",

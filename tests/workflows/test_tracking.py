@@ -2,8 +2,8 @@
 
 import numpy as np
 import pytest
-
 from conftest import SHIPPED
+
 from gd_analyze import gd_terms
 from gd_analyze.io.trajectory import Trajectory, read_trajectory
 from gd_analyze.workflows.tracking import control_gains, desired_motion

@@ -16,12 +16,22 @@ import sys
 import warnings
 
 from ..errors import InputError, InputNote, InputWarning
-
 from .commands import _cmd_analyze, _cmd_compare, _cmd_control, _cmd_evaluate, _cmd_plan
+from .parsing import (
+    COMMANDS,
+    EXIT_INPUT,
+    EXIT_INTERNAL,
+    EXIT_OK,
+    PROG,
+    _analyze_parser,
+    _compare_parser,
+    _control_parser,
+    _evaluate_parser,
+    _plan_parser,
+    _sweep_parser,
+    parse_range,
+)
 from .sweep_command import _cmd_sweep
-from .parsing import (COMMANDS, EXIT_INPUT, EXIT_INTERNAL, EXIT_OK, PROG, _analyze_parser,
-                      _compare_parser, _control_parser, _evaluate_parser, _plan_parser,
-                      _sweep_parser, parse_range)
 
 __all__ = ["main", "run", "parse_range"]
 
@@ -42,7 +52,7 @@ def _mistyped_command(argv):
     traj.csv``), else a mistyped command when one is close; None otherwise."""
     import difflib
 
-    from ..io.robots import builtin_robots, unknown_robot    # the TOML and URDF built-ins
+    from ..io.robots import builtin_robots, unknown_robot  # the TOML and URDF built-ins
 
     word = argv[0]
     if word.startswith("-") or word in builtin_robots() or os.path.exists(word):

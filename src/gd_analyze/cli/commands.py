@@ -13,9 +13,8 @@ import warnings
 from pathlib import Path
 
 from ..errors import InputError, InputWarning
-
+from ..io.model_file import load_model
 from .parsing import EXIT_OK, EXIT_TOLERANCE, EXIT_VERIFY, PROG, parse_range
-from ..io.model_file import load_model, save_model
 
 __all__ = []
 
@@ -307,10 +306,15 @@ def _check_plan(robot, start, goal, duration):
 
 def _cmd_plan(args):
     from .._version import __version__
+    from ..io.planning import (
+        acceleration_limits,
+        check_velocity_limits,
+        default_motion,
+        plan_quintic,
+        user_positions,
+        write_provenance,
+    )
     from ..io.trajectory import write_trajectory
-    from ..io.planning import acceleration_limits, default_motion, plan_quintic, user_positions, write_provenance
-
-    from ..io.planning import check_velocity_limits
 
     robot = _load_robot(args)
     if args.duration is None or not args.ignore_limits:     # the plan needs the limits
@@ -408,7 +412,6 @@ def _warn_provenance(csv_path, robot):
 def _cmd_evaluate(args):
     import json
 
-    from ..core.selection.simplified import SimplifiedModel
     from ..io.trajectory import read_trajectory
     from ..workflows.evaluate import evaluate
 
@@ -461,14 +464,12 @@ def _cmd_compare(args):
 def _cmd_control(args):
     import json
 
-    from ..core.selection.simplified import SimplifiedModel
     from ..files import file_sha256
     from ..io.control_dataset import write_control_dataset
-    from ..workflows.control import CONTROL_FILE, run_control
-    from ..io.trajectory import read_trajectory
-
-    from ..reports.control import CONTROL_REPORT_FILES
     from ..io.staging import staged_output, writing
+    from ..io.trajectory import read_trajectory
+    from ..reports.control import CONTROL_REPORT_FILES
+    from ..workflows.control import CONTROL_FILE, run_control
 
     model = load_model(args.model)
     traj = read_trajectory(args.trajectory, n_joints=model.robot.n)

@@ -265,7 +265,12 @@ def _version():
 
 
 def _plan_parser():
-    from ..io.planning import DEFAULT_GOAL_DEG, DEFAULT_QDD_PER_QD, DEFAULT_SETPOINTS, DEFAULT_START_DEG
+    from ..io.planning import (
+        DEFAULT_GOAL_DEG,
+        DEFAULT_QDD_PER_QD,
+        DEFAULT_SETPOINTS,
+        DEFAULT_START_DEG,
+    )
 
     p = _Parser(prog=f"{PROG} plan",
                 description="Write a quintic rest-to-rest joint trajectory at the shortest "

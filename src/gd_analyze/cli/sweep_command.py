@@ -11,10 +11,17 @@ import sys
 from pathlib import Path
 
 from ..errors import InputError
-from .commands import (_apply_payload, _chain_settings, _command_line, _load_robot,
-                       _mounting_settings, _outdir, _payload_masses)
-from .parsing import EXIT_OK, _version
 from ..io.model_file import save_model
+from .commands import (
+    _apply_payload,
+    _chain_settings,
+    _command_line,
+    _load_robot,
+    _mounting_settings,
+    _outdir,
+    _payload_masses,
+)
+from .parsing import EXIT_OK, _version
 
 __all__ = []
 
@@ -84,9 +91,9 @@ SWEEP_OUTPUTS = ("sweep.h5", "merged_model.json", "payload_sweep.h5", "sweep_rep
 
 
 def _cmd_sweep(args):
+    from ..io.planning import random_trajectories
     from ..io.schema import write_dataset
     from ..io.trajectory import read_trajectory
-    from ..io.planning import random_trajectories
     from ..workflows.payload import sweep_payloads
     from ..workflows.sweep import dask_client, merged_model, run_sweep
 

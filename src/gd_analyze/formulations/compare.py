@@ -21,7 +21,7 @@ from itertools import combinations
 
 import numpy as np
 
-from ..core.dynamics.dalembert import GDTerms, gd_terms
+from ..core.dynamics.dalembert import gd_terms
 from ..core.model.drives import rigid_links
 from ..core.model.kinematics import as_states
 from .lagrange_euler import le_terms

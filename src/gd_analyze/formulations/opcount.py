@@ -60,17 +60,17 @@ from __future__ import annotations
 import numbers
 from collections import namedtuple
 from fractions import Fraction as Fr
-from functools import lru_cache
+from functools import cache
 
 import numpy as np
 
 from ..core.model.kinematics import as_states, transforms_core
-from .lagrange_euler import _constants as _le_constants
-from .lagrange_euler import _le_core, _tau, joint_q_matrices
-from .counting import OpLedger, _consts, _value, _vars, counting_clone
-from .newton_euler import _cross, _ne_core, link_constants
 from ..core.model.robot import Robot
 from ..core.model.robot_spec import robot_from_dict
+from .counting import OpLedger, _consts, _value, _vars, counting_clone
+from .lagrange_euler import _constants as _le_constants
+from .lagrange_euler import _le_core, _tau, joint_q_matrices
+from .newton_euler import _cross, _ne_core, link_constants
 
 __all__ = ["OpCount", "METHODS", "TABLE_3_5", "random_chain", "count_operations",
            "operation_counts", "book_counts", "table"]
@@ -353,7 +353,7 @@ def _cache_file():
     return Path(base) / "gd-analyze" / f"opcounts-{digest.hexdigest()[:32]}.json"
 
 
-@lru_cache(maxsize=None)
+@cache
 def _counts_for_n(n):
     import json
 

@@ -13,8 +13,13 @@ from __future__ import annotations
 import json
 
 from ..core.model.robot_spec import robot_from_dict
-from ..core.selection.simplified import (READABLE_SCHEMAS, SCHEMA_VERSION, SimplifiedModel,
-                                         json_safe, parameters_sha256)
+from ..core.selection.simplified import (
+    READABLE_SCHEMAS,
+    SCHEMA_VERSION,
+    SimplifiedModel,
+    json_safe,
+    parameters_sha256,
+)
 from ..errors import InputError
 from ..files import atomic_path
 from .json_schema import MODEL_SCHEMA, load_json

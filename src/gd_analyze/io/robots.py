@@ -9,10 +9,9 @@ the core.
 
 from __future__ import annotations
 
-from pathlib import Path
-
 import hashlib
 from importlib import resources
+from pathlib import Path
 
 from ..core.model.robot_spec import robot_from_dict
 from ..errors import InputError

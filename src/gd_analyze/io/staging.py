@@ -246,7 +246,7 @@ def _lock(lock_path, target):
 RENAME_NOREPLACE, RENAME_EXCHANGE = 1, 2
 
 
-@functools.lru_cache(maxsize=None)
+@functools.cache
 def _libc_renameat2():
     if not sys.platform.startswith("linux"):
         return None

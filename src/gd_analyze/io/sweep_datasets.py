@@ -30,7 +30,7 @@ _REFERENCES = "Fu, Gonzalez & Lee (1987), Robotics, Sec. 3.4.1; Lee, Lee & Nigam
 
 def _torque_units(robot):
     """The ``units`` of a per-joint torque variable: N m, N, or both with where to read them."""
-    from .datasets import units_attribute, joint_units
+    from .datasets import joint_units, units_attribute
 
     return units_attribute(joint_units(robot.prismatic, "tau"), "joint_type")
 

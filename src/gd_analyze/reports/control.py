@@ -22,15 +22,14 @@ from pathlib import Path
 
 import numpy as np
 
-from .common import strings as _strings, table as _table
-from .common import attr, fmt, render_template, utc_now
 from ..core.selection.ranking import element_label
-from .control_figures import COLUMN_WIDTH, PAGE_WIDTH, control_figures
-from .control_figures import _LABELS, _RC, _joint_units
-from .pages import PAPER, Document
+from .common import attr, fmt, render_template, utc_now
+from .common import strings as _strings
+from .common import table as _table
+from .control_figures import _LABELS, _RC, COLUMN_WIDTH, PAGE_WIDTH, _joint_units, control_figures
 from .drawing import draw_figures, figure_svg, write_figure_files
-
 from .markup import sub as _sub
+from .pages import PAPER, Document
 from .sections import Outline, to_document
 
 __all__ = ["CONTROL_REPORT_FILES", "REQUIRED_VARIABLES", "make_control_figures",

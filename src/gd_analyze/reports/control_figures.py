@@ -14,7 +14,8 @@ import numpy as np
 
 from ..core.selection.ranking import ROUND_OFF, is_round_off
 from .common import BASE_RC, fmt, grid_shape, prismatic_joints
-from .common import strings as _strings, style as _style
+from .common import strings as _strings
+from .common import style as _style
 
 __all__ = ["control_figures", "PAGE_WIDTH", "COLUMN_WIDTH", "CONTROLLER_LABELS"]
 

@@ -8,8 +8,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from .common import CLASS_COLOURS, SUPTITLE_RC, check, joint_style, strings, style
-from .common import thresholds
+from .common import CLASS_COLOURS, SUPTITLE_RC, check, joint_style, strings, style, thresholds
 
 __all__ = ["payload_figure", "PAYLOAD_REQUIRED", "CLASS_LETTER", "PAGE_WIDTH"]
 

@@ -32,19 +32,19 @@ from pathlib import Path
 
 import numpy as np
 
-from .simplified_section import error_figure, has_simplified
+from ..io.sweep_datasets import payload_part
 from .common import CLASS_COLOURS as _CLASS_COLOURS
-from .common import strings as _strings, thresholds as _thresholds
-from .common import check_formats, render_template
+from .common import check_formats, prismatic_joints, render_template
+from .common import strings as _strings
+from .common import thresholds as _thresholds
+from .drawing import draw_figures, write_figure_files
 from .main_context import ENVELOPE_COLUMNS, ENVELOPE_THRESHOLD, report_context, zero_mask
-from .common import prismatic_joints
-from .main_figures import RC as FIG_RC, COLUMN_WIDTH, PAGE_WIDTH, plot_data
-from .main_figures import fig_D, fig_h, fig_joints, fig_torque
+from .main_figures import COLUMN_WIDTH, PAGE_WIDTH, fig_D, fig_h, fig_joints, fig_torque, plot_data
+from .main_figures import RC as FIG_RC
 from .main_outline import main_outline
 from .pages import FIGURE_FONTS, PAPER, Document
 from .sections import to_document
-from .drawing import draw_figures, write_figure_files
-from ..io.sweep_datasets import payload_part
+from .simplified_section import error_figure, has_simplified
 
 __all__ = [
     "REPORT_FORMATS", "ENVELOPE_THRESHOLD", "ENVELOPE_COLUMNS", "FIGURE_FILES", "envelope",

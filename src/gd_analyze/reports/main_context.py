@@ -10,19 +10,29 @@ from __future__ import annotations
 
 import numpy as np
 
+from ..io.sweep_datasets import payload_part
 from .common import CLASS_COLOURS as _CLASS_COLOURS
-from .common import attr as _attr, check as _check, fmt as _fmt, pct as _pct
-from .common import strings as _strings, table as _table, thresholds as _thresholds
-from .common import element_units_of, prismatic_joints, torque_units, units_said_once
-from .common import units_text, utc_now
+from .common import attr as _attr
+from .common import check as _check
+from .common import (
+    element_units_of,
+    prismatic_joints,
+    torque_units,
+    units_said_once,
+    units_text,
+    utc_now,
+)
+from .common import fmt as _fmt
+from .common import pct as _pct
+from .common import strings as _strings
+from .common import table as _table
+from .common import thresholds as _thresholds
 from .effort import effort_rows
 from .main_figures import identically_zero
 from .main_provenance import provenance_rows
-from .markup import element as _el
 from .main_text import captions, conclusion, disagreement_cause, element_scale
-from .simplified_section import (ROUND_OFF, simplified_caption, has_simplified,
-                                 simplified_context)
-from ..io.sweep_datasets import payload_part
+from .markup import element as _el
+from .simplified_section import ROUND_OFF, has_simplified, simplified_caption, simplified_context
 
 __all__ = ["ENVELOPE_THRESHOLD", "ENVELOPE_COLUMNS", "prismatic_joints", "zero_mask",
            "report_context"]

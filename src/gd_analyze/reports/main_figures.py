@@ -22,12 +22,23 @@ import math
 
 import numpy as np
 
-from ..core.selection.ranking import ROUND_OFF, element_label, element_units, is_round_off
-from ..core.selection.ranking import identically_zero  # noqa: F401  (the ranking's rule)
-from ..core.selection.ranking import joint_motion_units, joint_torque_units
+from ..core.selection.ranking import (
+    ROUND_OFF,
+    element_label,
+    element_units,
+    identically_zero,  # noqa: F401  (the ranking's rule)
+    joint_motion_units,
+    joint_torque_units,
+)
 from .common import joint_style, markevery
-from .plot_data import DERIVED, ENVELOPE_COLUMNS, ENVELOPE_THRESHOLD, READ_CHUNK  # noqa: F401
-from .plot_data import PlotData, plot_data
+from .plot_data import (  # noqa: F401
+    DERIVED,
+    ENVELOPE_COLUMNS,
+    ENVELOPE_THRESHOLD,
+    READ_CHUNK,
+    PlotData,
+    plot_data,
+)
 from .ticks import label_axes, set_ticks
 
 __all__ = ["PAGE_WIDTH", "COLUMN_WIDTH", "ZERO_TOL", "PART_STYLE", "SHORT_CLASS", "PlotData", "plot_data",
@@ -253,7 +264,7 @@ def fig_D(data, dominance, zero, s, e, prismatic=None, width=PAGE_WIDTH, armatur
         place = {element_label("D", i, j): (i, j) for i in range(n) for j in range(i, n)}
         W = _LEFT + _RIGHT + n * w + (n - 1) * wgap
         H_panels = _TOP + _BOTTOM + n * h + (n - 1) * _HGAP
-    key = (f"D_ij against time t [s]"
+    key = ("D_ij against time t [s]"
            + ("; units on each panel's axis" if mixed else
               f" [{_shown(next(iter(units.values())))}]")
            + ("" if column else "; panel D_ij in row i, column j")

@@ -12,7 +12,9 @@ from __future__ import annotations
 
 import numpy as np
 
-from .common import attr as _attr, fmt as _fmt, prismatic_joints
+from .common import attr as _attr
+from .common import fmt as _fmt
+from .common import prismatic_joints
 
 __all__ = ["provenance_rows"]
 

@@ -16,9 +16,8 @@ import io
 import textwrap
 from dataclasses import dataclass, field
 
-import numpy as np
-
-from .table_layout import column_widths as _column_widths, wrap_cell as _wrap_cell
+from .table_layout import column_widths as _column_widths
+from .table_layout import wrap_cell as _wrap_cell
 
 __all__ = ["PAPER", "PAGE_RC", "FIGURE_FONTS", "Document", "TABLE_COLOURS"]
 
@@ -54,7 +53,7 @@ def _place(writer, target, pdf_bytes, name, x, y, scale, turned_width=None):
     as cheap as copying bytes.
     """
     from pypdf import PdfReader
-    from pypdf.generic import (ArrayObject, DecodedStreamObject, DictionaryObject, NameObject)
+    from pypdf.generic import ArrayObject, DecodedStreamObject, DictionaryObject, NameObject
 
     src = PdfReader(io.BytesIO(pdf_bytes)).pages[0]
     contents = src["/Contents"].get_object()

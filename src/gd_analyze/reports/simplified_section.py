@@ -12,9 +12,9 @@ from __future__ import annotations
 import numpy as np
 
 from ..core.selection.ranking import ROUND_OFF, is_round_off
-from .common import fmt, pct, prismatic_joints, strings, table, torque_units
-from .common import units_said_once
-from .markup import element as _el, sub as _sub
+from .common import fmt, pct, prismatic_joints, strings, table, torque_units, units_said_once
+from .markup import element as _el
+from .markup import sub as _sub
 
 __all__ = ["has_simplified", "simplified_context", "error_figure", "SIMPLIFIED_CAPTION", "ROUND_OFF",
            "simplified_caption"]

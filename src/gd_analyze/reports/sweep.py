@@ -28,20 +28,26 @@ from pathlib import Path
 
 import numpy as np
 
-from .common import CLASS_COLOURS as _CLASS_COLOURS, SUPTITLE_RC as _RC
-from .common import attr as _attr, check as _check, fmt as _fmt, pct as _pct
-from .common import strings as _strings
-from .common import table as _table, thresholds as _thresholds
-from .common import check_formats, render_template
-from .common import torque_units, units_said_once, utc_now
-from .figures import PAYLOAD_REQUIRED as _PAYLOAD_REQUIRED
-from .sweep_figures import REQUIRED as _REQUIRED, make_sweep_figures
-from .markup import element as _el, sub as _sub
-from .pages import PAPER, Document
-from .sections import Outline, to_document
-from .drawing import draw_figures, figure_svg, write_figure_files
 from ..core.selection.ranking import CLASSES
 from ..io.sweep_datasets import beyond_the_floor
+from .common import CLASS_COLOURS as _CLASS_COLOURS
+from .common import SUPTITLE_RC as _RC
+from .common import attr as _attr
+from .common import check as _check
+from .common import check_formats, render_template, torque_units, units_said_once, utc_now
+from .common import fmt as _fmt
+from .common import pct as _pct
+from .common import strings as _strings
+from .common import table as _table
+from .common import thresholds as _thresholds
+from .drawing import draw_figures, figure_svg, write_figure_files
+from .figures import PAYLOAD_REQUIRED as _PAYLOAD_REQUIRED
+from .markup import element as _el
+from .markup import sub as _sub
+from .pages import PAPER, Document
+from .sections import Outline, to_document
+from .sweep_figures import REQUIRED as _REQUIRED
+from .sweep_figures import make_sweep_figures
 
 __all__ = ["SWEEP_REPORT_FORMATS", "render_sweep_html", "render_sweep_pdf", "write_sweep_report"]
 

@@ -11,12 +11,17 @@ import textwrap
 
 import numpy as np
 
-from .common import CLASS_COLOURS as _CLASS_COLOURS, SUPTITLE_RC as _RC
-from .common import gridspec as _gridspec, strings as _strings, style as _style
-from .common import check as _check, grid_shape, thresholds as _thresholds
+from ..core.selection.ranking import CLASSES, ROUND_OFF, element_label
+from .common import CLASS_COLOURS as _CLASS_COLOURS
+from .common import SUPTITLE_RC as _RC
+from .common import check as _check
+from .common import grid_shape
+from .common import gridspec as _gridspec
+from .common import strings as _strings
+from .common import style as _style
+from .common import thresholds as _thresholds
 from .figures import CLASS_LETTER as _LETTER
 from .figures import payload_figure
-from ..core.selection.ranking import CLASSES, ROUND_OFF, element_label
 
 __all__ = ["make_sweep_figures", "REQUIRED"]
 

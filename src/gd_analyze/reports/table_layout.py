@@ -15,7 +15,7 @@ import numpy as np
 __all__ = ["column_widths", "wrap_cell", "words", "word_width"]
 
 
-@functools.lru_cache(maxsize=None)
+@functools.cache
 def word_width(word, size, bold):
     """Drawn width of one word.
 

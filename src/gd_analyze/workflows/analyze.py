@@ -23,8 +23,8 @@ from .._version import __version__
 from ..core.dynamics.dalembert import GDTerms, allocate_terms, gd_terms
 from ..core.model.drives import has_drives
 from ..core.selection.simplified import SimplifiedModel, simplified_torque
-from .options import AnalysisOptions
 from ..formulations.compare import FORMULATIONS_MAX_SETPOINTS
+from .options import AnalysisOptions
 
 __all__ = ["Analysis", "AnalysisPass", "analysis_pass", "analyze", "analyze_to_file", "verify",
            "VERIFY_TOLERANCE",
@@ -101,8 +101,7 @@ def _concat(parts):
 
 def _verify_sample(robot, q, qd, terms, qdd=None):
     """The verification of :func:`verify` on given set points and their G-D terms."""
-    from ..formulations.pinocchio import (natural_relative_error, natural_scales,
-                                          reference_terms)
+    from ..formulations.pinocchio import natural_relative_error, natural_scales, reference_terms
 
     ref = reference_terms(robot, q, qd)
     scales = natural_scales(robot, ref, qd, qdd)
@@ -242,7 +241,6 @@ def analysis_pass(robot, trajectory, options=None, provenance=None, chunk=STREAM
     Source: Sec. 3.4.1 of Fu, Gonzalez & Lee (1987); terms from Eqs. (3.4-24) to (3.4-28).
     """
     from ..core.selection.budget import PartPeaks
-
     from ..core.selection.ranking import RankingAccumulator
     from ..core.selection.simplified import TorqueErrorAccumulator
 
@@ -389,11 +387,20 @@ def _simplify(robot, trajectory, ranking, part_peaks, options, provenance):
     ``form="cheapest"`` the cheaper of the pruned recursive and pruned explicit models is
     deployed (multiplications + additions; the recursive one on a tie).
     """
-    from .simplify import (build_model, build_recursive, collect_peaks, cost_rows,
-                           full_torque, ladder, ladder_skipped, simplified_dataset, validate)
     from ..core.symbolic.explicit_estimate import is_expensive
     from ..formulations.opcount import operation_counts
     from ..io.explicit_cache import explicit_terms
+    from .simplify import (
+        build_model,
+        build_recursive,
+        collect_peaks,
+        cost_rows,
+        full_torque,
+        ladder,
+        ladder_skipped,
+        simplified_dataset,
+        validate,
+    )
 
     tolerance, rule, torque_floor = options.tolerance, options.rule, options.torque_floor
     explicit, form = options.explicit, options.form

@@ -60,14 +60,27 @@ from pathlib import Path
 
 import numpy as np
 
-from ..core.selection.simplified import choice_masks
 from ..core.dynamics.dalembert import gd_terms
+from ..core.selection.simplified import choice_masks
 from .evaluate import model_torque
-from .tracking import (CONTROLLER_DESCRIPTIONS, CONTROLLERS, DEFAULT_ATOL, DEFAULT_METHOD,
-                       DEFAULT_RTOL, DEFAULT_WN, DEFAULT_ZETA, MAX_RHS_EVALS,
-                       MAX_STIFFNESS_STEPS, RHS_PER_STEP, Gains,
-                       closed_loop_rates, control_gains, desired_motion, singular_inertia,
-                       track)
+from .tracking import (
+    CONTROLLER_DESCRIPTIONS,
+    CONTROLLERS,
+    DEFAULT_ATOL,
+    DEFAULT_METHOD,
+    DEFAULT_RTOL,
+    DEFAULT_WN,
+    DEFAULT_ZETA,
+    MAX_RHS_EVALS,
+    MAX_STIFFNESS_STEPS,
+    RHS_PER_STEP,
+    Gains,
+    closed_loop_rates,
+    control_gains,
+    desired_motion,
+    singular_inertia,
+    track,
+)
 
 __all__ = ["DEFAULT_GRID_POINTS", "CONTROL_FILE", "ControlResult", "run_control", "model_cost"]
 

@@ -49,10 +49,10 @@ def build_recursive(robot, q, qd, qdd, tolerance=DEFAULT_TOLERANCE, torque_floor
     Fu, Gonzalez & Lee (1987), Algorithm 3.1 on the base parameters (Khalil & Kleinfinger
     1987; Gautier 1990), pruned as :func:`gd_analyze.core.symbolic.recursive_model.recursive_model`.
     """
+    from ..core.model.drives import with_drives
     from ..core.selection.budget import Selection
     from ..core.selection.ranking import element_labels
     from ..core.symbolic.base_parameters import base_parameters
-    from ..core.model.drives import with_drives
     from ..core.symbolic.recursive import recursive_program
     from ..core.symbolic.recursive_model import recursive_model
 

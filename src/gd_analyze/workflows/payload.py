@@ -120,8 +120,8 @@ def sweep_payloads(robot, trajectories, masses, com=(0.0, 0.0, 0.0), inertia=(0.
     -----
     Source: Sec. 3.4.1 of Fu, Gonzalez & Lee (1987), repeated for each load.
     """
-    from ..core.selection.ranking import CLASSES
     from ..core.model.robot import with_payload
+    from ..core.selection.ranking import CLASSES
 
     trajectories = list(trajectories)
     parts = []

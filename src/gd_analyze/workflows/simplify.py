@@ -16,10 +16,10 @@ from ..core.dynamics.dalembert import gd_terms
 from ..core.model.drives import with_drives
 from ..core.selection.budget import DEFAULT_TOLERANCE, PartPeaks, relative_peaks, select_terms
 from ..core.selection.ranking import DEFAULT_DOMINANCE, DEFAULT_NEGLIGIBLE
+from ..core.selection.simplified import SimplifiedModel, TorqueErrorAccumulator
 from ..core.symbolic.codegen import build_program
 from ..core.symbolic.explicit import term_peaks
 from ..io.explicit_cache import explicit_terms
-from ..core.selection.simplified import SimplifiedModel, TorqueErrorAccumulator
 from .deploy import build_recursive, replace_cost  # noqa: F401  (re-exported)
 from .simplified_dataset import AKB_COSTS, cost_rows, simplified_dataset  # noqa: F401
 

@@ -33,15 +33,19 @@ import time
 
 import numpy as np
 
-from ..core.dynamics.dalembert import COMPILED_MIN_SETPOINTS, DEFAULT_CHUNK, GDTerms, gd_terms
+from ..core.dynamics.dalembert import COMPILED_MIN_SETPOINTS, DEFAULT_CHUNK, gd_terms
 from ..core.selection.ranking import DEFAULT_DOMINANCE, DEFAULT_NEGLIGIBLE, element_labels
-from ..core.selection.simplified import (TorqueErrorAccumulator, choice_masks, merge_choices,
-                                         simplified_torque)
+from ..core.selection.simplified import (
+    TorqueErrorAccumulator,
+    choice_masks,
+    merge_choices,
+    simplified_torque,
+)
 from ..errors import InputError
 from ..io.schema import attribute_value, strings
-from .options import AnalysisOptions
 from ..io.sweep_datasets import sweep_dataset
 from .analyze import analysis_pass
+from .options import AnalysisOptions
 
 __all__ = ["DEFAULT_BATCH_MAX", "dask_client", "analyze_one", "run_sweep", "merged_model",
            "check_thresholds", "check_trajectory", "with_budget_model"]
@@ -475,14 +479,14 @@ def run_sweep(robot, trajectories, dominance=DEFAULT_DOMINANCE, negligible=DEFAU
         size = int(batch) if batch is not None else _auto_batch(len(trajectories), n_w)
         batches = [trajectories[a:a + size] for a in range(0, len(trajectories), size)]
         t_compute = time.perf_counter()
-        robot_f = client.scatter(robot, broadcast=True, hash=False)
-        batch_f = client.scatter(batches, hash=False)
+        scattered = {"robot": client.scatter(robot, broadcast=True, hash=False),
+                     "batches": client.scatter(batches, hash=False)}
         bar = tqdm(total=2 * len(batches), unit="task", disable=not progress,
                    desc="sweep: ranking", leave=False)
 
         def run(fn, *args):
-            futures = {client.submit(fn, robot_f, b, *args, pure=False): k
-                       for k, b in enumerate(batch_f)}
+            futures = {client.submit(fn, scattered["robot"], b, *args, pure=False): k
+                       for k, b in enumerate(scattered["batches"])}
             out = [None] * len(futures)
             for fut in as_completed(list(futures)):
                 out[futures[fut]] = fut.result()
@@ -495,7 +499,7 @@ def run_sweep(robot, trajectories, dominance=DEFAULT_DOMINANCE, negligible=DEFAU
         merged_stats = run(_error_batch, merged)
         bar.close()
         compute_s = time.perf_counter() - t_compute
-        del robot_f, batch_f
+        scattered.clear()              # the scattered data may go from the workers
     finally:
         own.close()
     ds = sweep_dataset(robot, trajectories, results, merged, merged_stats, dominance,

@@ -3,12 +3,12 @@ physical identities."""
 
 import numpy as np
 import pytest
-
 from conftest import SHIPPED, random_states
+
 from gd_analyze import gd_terms, load_robot
+from gd_analyze.core.dynamics.dalembert import forward_dynamics
 from gd_analyze.formulations.pinocchio import reference_terms, relative_error
 from gd_analyze.io.trajectory import read_trajectory
-from gd_analyze.core.dynamics.dalembert import forward_dynamics
 
 TOL = 1e-10
 PARTS = ("D_tran", "D_rot", "h_tran", "h_rot", "c")

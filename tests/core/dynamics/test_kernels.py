@@ -8,12 +8,12 @@ c = 0 without gravity)."""
 
 import dataclasses
 
+import chapter_two_link
 import numpy as np
 import pinocchio as pin
 import pytest
-
-import chapter_two_link
 from conftest import random_states
+
 from gd_analyze.core.dynamics.dalembert import kernel_arguments
 from gd_analyze.core.dynamics.kernels import body_frames_at, gd_kernel, plucker_axes
 from gd_analyze.core.model.robot_spec import robot_from_dict

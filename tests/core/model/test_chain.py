@@ -9,8 +9,8 @@ import pytest
 from gd_analyze import InputError, gd_terms, load_robot
 from gd_analyze.core.dynamics.dalembert import allocate_terms
 from gd_analyze.core.model.kinematics import centres_of_mass, frames
-from gd_analyze.formulations.pinocchio import reference_terms
 from gd_analyze.core.model.robot_spec import robot_from_chain, robot_from_dict
+from gd_analyze.formulations.pinocchio import reference_terms
 from gd_analyze.io.robots import builtin_robots
 
 TOL = 1e-10

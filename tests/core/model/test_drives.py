@@ -10,8 +10,8 @@ import pytest
 from gd_analyze import InputError, gd_terms, load_robot
 from gd_analyze.cli import main
 from gd_analyze.core.model.drives import friction_torque, rigid_links
-from gd_analyze.core.selection.ranking import rank_dominance
 from gd_analyze.core.model.robot_spec import robot_from_chain, robot_from_dict
+from gd_analyze.core.selection.ranking import rank_dominance
 from gd_analyze.formulations.pinocchio import pinocchio_model
 
 TOL = 1e-10

@@ -4,8 +4,8 @@ correct (against Pinocchio)."""
 
 import numpy as np
 import pytest
-
 from chapter_two_link import spec as two_link_spec
+
 from gd_analyze.core.dynamics.dalembert import gd_terms
 from gd_analyze.core.model.limits import LIMITS, check_finite, first_beyond
 from gd_analyze.core.model.robot_spec import robot_from_dict

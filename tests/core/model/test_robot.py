@@ -96,11 +96,11 @@ def test_payload_matches_pinocchio_with_the_load_on_the_last_body(puma):
     """G-D terms of the robot with a merged payload against Pinocchio's model with the load
     appended as a second body on the last joint."""
     import pinocchio as pin
-
     from conftest import random_states
+
     from gd_analyze import gd_terms
-    from gd_analyze.formulations.pinocchio import pinocchio_model, relative_error
     from gd_analyze.core.model.robot import with_payload
+    from gd_analyze.formulations.pinocchio import pinocchio_model, relative_error
 
     mass, com, inertia = 2.5, np.array([0.01, -0.02, 0.08]), np.array([0.004, 0.005, 0.002])
     loaded = with_payload(puma, mass, com, inertia)

@@ -11,10 +11,10 @@ import json
 import math
 import warnings
 
+import chapter_two_link
 import numpy as np
 import pytest
 
-import chapter_two_link
 from gd_analyze.core.dynamics.dalembert import gd_terms
 from gd_analyze.core.model.robot_spec import robot_from_chain, robot_from_dict
 from gd_analyze.errors import InputError, InputWarning

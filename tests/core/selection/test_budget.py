@@ -5,15 +5,21 @@ rnea for the full torque; the guarantee itself, checked against rnea: the torque
 simplified model (element level and explicit, pruned) never exceeds the bound, and the bound
 never exceeds EPS x scale_i, on one trajectory and on each trajectory of a sweep."""
 
-from functools import lru_cache
+from functools import cache
 
 import numpy as np
 import pytest
-
 from conftest import random_states
+
 from gd_analyze.core.dynamics.dalembert import gd_terms
-from gd_analyze.core.selection.budget import (PartPeaks, budget_choices, chosen_terms,
-                                              part_index, relative_peaks, select_terms)
+from gd_analyze.core.selection.budget import (
+    PartPeaks,
+    budget_choices,
+    chosen_terms,
+    part_index,
+    relative_peaks,
+    select_terms,
+)
 from gd_analyze.core.selection.choices import full_choices, simplified_torque
 from gd_analyze.core.selection.labels import element_labels
 from gd_analyze.core.symbolic.codegen import build_program, python_function
@@ -24,7 +30,7 @@ from gd_analyze.io.robots import load_robot
 ROUND = 1e-12          # round-off allowance, relative to the largest joint scale (engine vs rnea)
 
 
-@lru_cache(maxsize=None)
+@cache
 def puma_terms():
     robot = load_robot("puma560")
     return robot, model_terms(derive(robot))

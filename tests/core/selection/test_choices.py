@@ -6,15 +6,20 @@ closed forms."""
 
 import itertools
 
+import chapter_two_link
 import numpy as np
 import pinocchio as pin
 import pytest
-
-import chapter_two_link
 from conftest import random_states
+
 from gd_analyze.core.dynamics.dalembert import gd_terms
-from gd_analyze.core.selection.choices import (CHOICES, choice_masks, full_choices,
-                                               merge_choices, simplified_torque)
+from gd_analyze.core.selection.choices import (
+    CHOICES,
+    choice_masks,
+    full_choices,
+    merge_choices,
+    simplified_torque,
+)
 from gd_analyze.core.selection.labels import element_labels
 from gd_analyze.formulations.pinocchio import pinocchio_model, reference_terms, relative_error
 

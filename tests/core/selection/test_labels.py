@@ -3,8 +3,12 @@
 import pytest
 
 from gd_analyze.core.selection.budget import part_index
-from gd_analyze.core.selection.labels import (element_index, element_label, element_labels,
-                                    parse_element_label)
+from gd_analyze.core.selection.labels import (
+    element_index,
+    element_label,
+    element_labels,
+    parse_element_label,
+)
 
 
 @pytest.mark.parametrize("n", range(1, 13))

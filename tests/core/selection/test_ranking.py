@@ -1,10 +1,14 @@
 import numpy as np
 import pytest
-
 from conftest import SHIPPED
+
 from gd_analyze import gd_terms
-from gd_analyze.core.selection.ranking import (CHAPTER_DOMINANCE, element_labels, element_series,
-                                rank_dominance)
+from gd_analyze.core.selection.ranking import (
+    CHAPTER_DOMINANCE,
+    element_labels,
+    element_series,
+    rank_dominance,
+)
 from gd_analyze.io.trajectory import read_trajectory
 
 

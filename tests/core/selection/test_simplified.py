@@ -1,19 +1,22 @@
-import json
-
 import itertools
+import json
 
 import numpy as np
 import pytest
-
 from conftest import SHIPPED, random_states
+
 from gd_analyze import InputError, SimplifiedModel, gd_terms
-from gd_analyze.workflows.analyze import analyze
 from gd_analyze.core.selection.ranking import element_labels
+from gd_analyze.core.selection.simplified import (
+    choice_masks,
+    merge_choices,
+    simplified_torque,
+    torque_error,
+)
 from gd_analyze.formulations.pinocchio import pinocchio_model
-from gd_analyze.core.selection.simplified import choice_masks, simplified_torque, torque_error
 from gd_analyze.io.model_file import load_model, save_model
 from gd_analyze.io.trajectory import read_trajectory
-from gd_analyze.core.selection.simplified import merge_choices
+from gd_analyze.workflows.analyze import analyze
 from gd_analyze.workflows.options import AnalysisOptions
 
 

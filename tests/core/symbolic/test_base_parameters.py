@@ -4,11 +4,15 @@ computeJointTorqueRegressor and rnea."""
 import numpy as np
 import pinocchio as pin
 import pytest
-
-from gd_analyze.core.symbolic.base_parameters import (PARAMETER_NAMES, base_parameters,
-                                                      regressor, standard_parameters)
-from gd_analyze.formulations.pinocchio import pinocchio_model
 from symbolic_helpers import ROBOTS, rnea, robot, states
+
+from gd_analyze.core.symbolic.base_parameters import (
+    PARAMETER_NAMES,
+    base_parameters,
+    regressor,
+    standard_parameters,
+)
+from gd_analyze.formulations.pinocchio import pinocchio_model
 
 #: Pinocchio's per-joint order (m, mc_x, mc_y, mc_z, Ixx, Ixy, Iyy, Ixz, Iyz, Izz) -> ours.
 PIN_ORDER = [4, 5, 7, 6, 8, 9, 1, 2, 3, 0]

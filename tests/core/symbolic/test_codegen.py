@@ -9,18 +9,24 @@ import ast
 import ctypes
 import shutil
 import subprocess
-from functools import lru_cache
+from functools import cache
 
+import chapter_two_link
 import numpy as np
 import pytest
 import symengine as se
-
-import chapter_two_link
-from gd_analyze.core.model.robot_spec import robot_from_dict
-from gd_analyze.core.symbolic.codegen import (C_FUNCTION, build_program, count_operations,
-                                              emit_c, emit_python, python_function)
-from gd_analyze.core.symbolic.explicit import derive, model_terms
 from symbolic_helpers import count_c, mixed_chain, rnea, states
+
+from gd_analyze.core.model.robot_spec import robot_from_dict
+from gd_analyze.core.symbolic.codegen import (
+    C_FUNCTION,
+    build_program,
+    count_operations,
+    emit_c,
+    emit_python,
+    python_function,
+)
+from gd_analyze.core.symbolic.explicit import derive, model_terms
 
 TOL = 1e-10
 M1, M2, L, G = 1.1, 0.7, 0.9, 9.81
@@ -36,7 +42,7 @@ def _two_link(offsets=(0.0, 0.0)):
     return robot_from_dict(spec)
 
 
-@lru_cache(maxsize=None)
+@cache
 def program(name, trig_mode="products"):
     """The arm and the program of its whole explicit model (terms in q: offsets inside)."""
     arm = {"two-link": _two_link, "mixed": lambda: mixed_chain(3, seed=2)}[name]()

@@ -5,17 +5,16 @@ chapter's two-link closed forms; a tampered model (another arm's terms, one coef
 scaled by a known factor) must be found, and by the factor it was scaled by."""
 
 import dataclasses
-from functools import lru_cache
-
-import numpy as np
-import pytest
+from functools import cache
 
 import chapter_two_link
+import numpy as np
+import pytest
 from conftest import random_states
+
 from gd_analyze.core.model.robot_spec import robot_from_dict
 from gd_analyze.core.symbolic.explicit import derive, model_terms
-from gd_analyze.core.symbolic.explicit_check import (_check_states, term_values,
-                                                     terms_disagreement)
+from gd_analyze.core.symbolic.explicit_check import _check_states, term_values, terms_disagreement
 from gd_analyze.formulations.pinocchio import reference_terms, relative_error
 from gd_analyze.io.robots import load_robot
 
@@ -23,7 +22,7 @@ TOL = 1e-10
 M1, M2, L, G = 1.2, 0.8, 0.6, 9.81
 
 
-@lru_cache(maxsize=None)
+@cache
 def arm(name):
     if name in ("chapter", "offsets"):
         spec = chapter_two_link.spec(M1, M2, L, G)

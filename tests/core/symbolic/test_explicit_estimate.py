@@ -3,8 +3,12 @@
 import pytest
 
 from gd_analyze.core.symbolic.explicit import derive, model_terms
-from gd_analyze.core.symbolic.explicit_estimate import (ESTIMATE_FACTOR, EXPENSIVE_TERMS, estimate_terms,
-                                               is_expensive)
+from gd_analyze.core.symbolic.explicit_estimate import (
+    ESTIMATE_FACTOR,
+    EXPENSIVE_TERMS,
+    estimate_terms,
+    is_expensive,
+)
 from gd_analyze.io.robots import load_robot
 
 

@@ -7,17 +7,22 @@ Khatib & Burdick (ICRA 1986, 1165 operations)."""
 import numpy as np
 import pytest
 import symengine as se
+from conftest import random_states
+from core.symbolic.test_explicit import _c_operator_count, natural_error, python_tau, rnea
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
-from conftest import random_states
-from core.symbolic.test_explicit import _c_operator_count, natural_error, python_tau, rnea
 from gd_analyze import load_robot
 from gd_analyze.core.symbolic import codegen
 from gd_analyze.core.symbolic.codegen import build_program, count_operations, emit_c
 from gd_analyze.core.symbolic.explicit import derive, model_terms
-from gd_analyze.core.symbolic.factoring import (expand_pairs, factor_sum, private_products, prune_dead,
-                                        sum_to_product)
+from gd_analyze.core.symbolic.factoring import (
+    expand_pairs,
+    factor_sum,
+    private_products,
+    prune_dead,
+    sum_to_product,
+)
 
 SYMS = se.symbols("a b c d e f")
 

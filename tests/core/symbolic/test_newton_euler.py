@@ -7,26 +7,33 @@ set of parts is the sum of its members' oracles, whichever form of the inertial 
 (:data:`FORMS`) each link takes."""
 
 import itertools
-from functools import lru_cache
+from functools import cache
 
 import numpy as np
 import pinocchio as pin
 import pytest
 import symengine as se
+from symbolic_helpers import robot, states
 
 from gd_analyze.core.symbolic.base_parameters import standard_parameters
 from gd_analyze.core.symbolic.codegen import Program, python_function
-from gd_analyze.core.symbolic.newton_euler import (FORMS, PARTS, _Builder, _const,
-                                                   _link_constants, _Recursion, _torques)
+from gd_analyze.core.symbolic.newton_euler import (
+    FORMS,
+    PARTS,
+    _Builder,
+    _const,
+    _link_constants,
+    _Recursion,
+    _torques,
+)
 from gd_analyze.formulations.pinocchio import pinocchio_model
-from symbolic_helpers import robot, states
 
 TOL = 1e-10
 ARMS = ("puma560", "stanford", "mixed-chain")
 SETS = [frozenset(s) for r in (1, 2, 3) for s in itertools.combinations(PARTS, r)]
 
 
-@lru_cache(maxsize=None)
+@cache
 def arm(name):
     return robot(name)
 
@@ -39,7 +46,7 @@ def program(robot, parts, forms=None, lock_last=False):
     return Program(n=robot.n, assignments=list(rec.b.assignments), outputs=list(tau))
 
 
-@lru_cache(maxsize=None)
+@cache
 def oracles(name):
     """Per part, Pinocchio's torque at 25 random states; and the states."""
     robot = arm(name)

@@ -1,25 +1,25 @@
 """Pruning with a guarantee: on the shipped trajectories the pruned program's error against
 Pinocchio's rnea stays within its per-joint bound, and the bound within EPS of the scale."""
 
-from functools import lru_cache
+from functools import cache
 from pathlib import Path
 
 import numpy as np
 import pytest
+from symbolic_helpers import count_c, rnea, robot, states
 
-from gd_analyze.core.symbolic.codegen import emit_c, python_function
 from gd_analyze.core.symbolic.base_parameters import base_parameters
+from gd_analyze.core.symbolic.codegen import emit_c, python_function
 from gd_analyze.core.symbolic.pruning import part_contributions, prune, pruned_program
 from gd_analyze.core.symbolic.recursive import recursive_program
 from gd_analyze.io.trajectory import read_trajectory
-from symbolic_helpers import count_c, rnea, robot, states
 
 DATA = Path(__file__).resolve().parents[3] / "data"
 TRAJECTORIES = {"puma560": "puma560_trajectory.csv", "stanford": "stanford_trajectory.csv",
                 "ur5": "ur5_trajectory.csv"}
 
 
-@lru_cache(maxsize=None)
+@cache
 def case(name):
     arm = robot(name)
     if name in TRAJECTORIES:

@@ -5,19 +5,19 @@ import ctypes
 import re
 import shutil
 import subprocess
-from functools import lru_cache
+from functools import cache
 
 import numpy as np
 import pytest
+from symbolic_helpers import ROBOTS, count_c, rnea, robot, states
 
 from gd_analyze.core.symbolic.codegen import C_FUNCTION, emit_c, python_function
 from gd_analyze.core.symbolic.recursive import recursive_program
-from symbolic_helpers import ROBOTS, count_c, rnea, robot, states
 
 TOL = 1e-10
 
 
-@lru_cache(maxsize=None)
+@cache
 def program(name):
     arm = robot(name)
     return arm, recursive_program(arm)

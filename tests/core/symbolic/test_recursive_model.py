@@ -6,24 +6,28 @@ regressor (the base parameters beta reproduce rnea through Y_b = Y K); the model
 round trip, and every edit to it refused with the key named."""
 
 import copy
-from functools import lru_cache
+from functools import cache
 
 import numpy as np
 import pinocchio as pin
 import pytest
+from symbolic_helpers import rnea, robot, states
 
 from gd_analyze.core.symbolic.base_parameters import PARAMETER_NAMES, base_parameters
 from gd_analyze.core.symbolic.codegen import python_function
-from gd_analyze.core.symbolic.recursive_model import (BOUND_PARTS, PART_NAMES, RecursiveModel,
-                                                      recursive_model)
+from gd_analyze.core.symbolic.recursive_model import (
+    BOUND_PARTS,
+    PART_NAMES,
+    RecursiveModel,
+    recursive_model,
+)
 from gd_analyze.errors import InputError
 from gd_analyze.formulations.pinocchio import pinocchio_model
-from symbolic_helpers import rnea, robot, states
 
 ROUND = 1e-11
 
 
-@lru_cache(maxsize=None)
+@cache
 def case(eps, floor=0.0):
     arm = robot("stanford")
     q, qd, qdd = states(arm, 150, 71)

@@ -11,8 +11,12 @@ import string
 from hypothesis import example, given, settings
 from hypothesis import strategies as st
 
-from gd_analyze.core.symbolic.safe_text import (MAX_LENGTH, SAFE_CHARACTERS, comment_safe,
-                                                header_lines)
+from gd_analyze.core.symbolic.safe_text import (
+    MAX_LENGTH,
+    SAFE_CHARACTERS,
+    comment_safe,
+    header_lines,
+)
 
 HOSTILE = ['a */ int x; /* b', 'x"""; import os; """', "x'''; import os; '''", "a\\\nb",
            "??/", "#include <stdio.h>", "line\rbreak", "u\u2028v\u2029w", "tab\there", "\x00",

@@ -35,7 +35,6 @@ from dataclasses import dataclass
 import numpy as np
 
 from ...config import defaults
-
 from ..symbolic.explicit import atoms, budget_drop, prune
 from .labels import element_label
 

@@ -41,9 +41,16 @@ from dataclasses import dataclass
 import numpy as np
 
 from ...config import defaults
-
-from .labels import element_index, element_label, element_labels, parse_element_label
-from .labels import element_units, joint_motion_units, joint_torque_units, joint_units_text
+from .labels import (
+    element_index,
+    element_label,
+    element_labels,
+    element_units,
+    joint_motion_units,
+    joint_torque_units,
+    joint_units_text,
+    parse_element_label,
+)
 
 __all__ = [
     "CLASSES", "DEFAULT_DOMINANCE", "DEFAULT_NEGLIGIBLE", "Ranking", "element_labels",

@@ -23,10 +23,9 @@ from functools import cached_property
 import numpy as np
 
 from ...errors import InputError
-from .choices import (CHOICES, choice_masks, full_choices, merge_choices,  # noqa: F401
-                      simplified_torque)
-from .labels import element_labels
 from ..symbolic.safe_text import comment_safe
+from .choices import CHOICES, choice_masks, full_choices, merge_choices, simplified_torque  # noqa: F401
+from .labels import element_labels
 
 __all__ = ["SCHEMA_VERSION", "CHOICES", "SimplifiedModel", "choice_masks", "merge_choices",
            "full_choices",

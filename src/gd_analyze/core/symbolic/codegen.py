@@ -32,8 +32,7 @@ from functools import cached_property
 import numpy as np
 import symengine as se
 
-from .factoring import (expand_pairs, factor_sum, private_products, prune_dead,
-                        sum_to_product)
+from .factoring import expand_pairs, factor_sum, private_products, prune_dead, sum_to_product
 from .safe_text import header_lines
 
 __all__ = ["Program", "build_program", "count_operations", "emit_c", "emit_python",

@@ -29,8 +29,7 @@ trajectory is within EPS x scale_i.
 
 from __future__ import annotations
 
-import math
-from dataclasses import dataclass, field
+from dataclasses import dataclass
 from functools import cached_property
 
 import numpy as np

@@ -16,11 +16,10 @@ from __future__ import annotations
 import numpy as np
 import symengine as se
 
+from .base_parameters import base_parameters
 from .codegen import Program, _cse
 from .factoring import factor_sum, prune_dead
-from .base_parameters import base_parameters
-from .newton_euler import (ALL, FORMS, PARTS, _Recursion, _is_num, _link_constants,
-                           _torques)
+from .newton_euler import ALL, FORMS, PARTS, _is_num, _link_constants, _Recursion, _torques
 
 __all__ = ["recursive_program", "exact_program", "parts_program", "PARTS"]
 
