@@ -10,6 +10,7 @@ from __future__ import annotations
 
 import numpy as np
 
+from ..core.selection.ranking import is_round_off
 from ..io.sweep_datasets import payload_part
 from .common import CLASS_COLOURS as _CLASS_COLOURS
 from .common import attr as _attr
@@ -133,13 +134,27 @@ def zero_mask(ds):
         The labels, and True where the translational, rotational and total peaks are all within
         1e-12 of the element's scale (drawn as "\u2261 0", no share printed).
     """
-    labels = _strings(ds["element"].values)
-    if "element_scale" in ds.variables:              # the ranking's own scale, as stored
-        scale = np.asarray(ds["element_scale"].values, dtype=float)
-    else:
-        scale = element_scale(labels, ds["peak_total"].values, ds["tau_peak"].values)
+    labels, scale = _scales(ds)
     return labels, identically_zero(ds["peak_tran"].values, ds["peak_rot"].values,
                                     ds["peak_total"].values, scale)
+
+
+def _scales(ds):
+    """The element labels and each element's scale (the ranking's own, as stored)."""
+    labels = _strings(ds["element"].values)
+    if "element_scale" in ds.variables:
+        return labels, np.asarray(ds["element_scale"].values, dtype=float)
+    return labels, element_scale(labels, ds["peak_total"].values, ds["tau_peak"].values)
+
+
+def _share_text(share, tran_off, rot_off):
+    """The translational share as printed: 0 or 1 where the other part is round-off of the
+    element's scale (a share of 4e-14 is round-off, not data), else three digits."""
+    if tran_off and not rot_off:
+        return "0"
+    if rot_off and not tran_off:
+        return "1"
+    return _fmt(share, 3) if np.isfinite(share) else "n/a"
 
 
 def _caption_units(ds):
@@ -378,12 +393,19 @@ def _report_context_base(ds):
     share = ds["share_tran"].values
     zero = zero_mask(ds)[1]
     pt, pr, ptot = ds["peak_tran"].values, ds["peak_rot"].values, ds["peak_total"].values
+    scale = _scales(ds)[1]
+    off = {name: is_round_off(v, scale) for name, v in (("tran", pt), ("rot", pr),
+                                                         ("total", ptot))}
+
+    def peak(name, k, v):                        # round-off of the element's scale: not data
+        return "\u2261 0" if off[name][k] else _fmt(v[k])
+
     ranking = _table(
         ["element", "translational share", "class", f"peak |{_el('X', '', 'tran')}|",
          f"peak |{_el('X', '', 'rot')}|", "peak |X|", "units"],
-        [[lab, "\u2261 0" if zero[k] else (_fmt(share[k], 3) if np.isfinite(share[k])
-                                             else "n/a"), dominance[k],
-          _fmt(pt[k]), _fmt(pr[k]), _fmt(ptot[k]), el_units[k]]
+        [[lab, "\u2261 0" if zero[k] else _share_text(share[k], off["tran"][k], off["rot"][k]),
+          dominance[k], peak("tran", k, pt), peak("rot", k, pr), peak("total", k, ptot),
+          el_units[k]]
          for k, lab in enumerate(labels)],
         align=["left", "right", "left", "right", "right", "right", "left"],
         widths=[0.8, 0.9, 1.2, 1, 1, 1, 0.8], colour_cols=[2])
@@ -399,13 +421,19 @@ def _report_context_base(ds):
             [[lab, dominance[k], choice[k], _CHOICE_TEXT.get(choice[k], "")]
              for k, lab in enumerate(labels)],
             widths=[0.8, 1.2, 0.8, 2.2], colour_cols=[1])
+    err_off = is_round_off(ds["tau_error_peak"].values, ds["tau_peak"].values)
     err = _table(
         ["joint", "peak |\u03c4\u209b\u00a0\u2212\u00a0\u03c4|",
          "RMS |\u03c4\u209b\u00a0\u2212\u00a0\u03c4|",
          "peak |\u03c4|", "peak error / peak |\u03c4|", "RMS error / peak |\u03c4|", "units"],
-        [[str(k + 1), _fmt(ds["tau_error_peak"].values[k]), _fmt(ds["tau_error_rms"].values[k]),
-          _fmt(ds["tau_peak"].values[k]), _pct(ds["tau_error_relative_peak"].values[k]),
-          _pct(ds["tau_error_relative_rms"].values[k]), tau_units[k]] for k in range(n)],
+        [[str(k + 1)] + (["\u2261 0 (round-off)"] * 2 if err_off[k] else
+                         [_fmt(ds["tau_error_peak"].values[k]),
+                          _fmt(ds["tau_error_rms"].values[k])])
+         + [_fmt(ds["tau_peak"].values[k])]
+         + (["\u2261 0"] * 2 if err_off[k] else
+            [_pct(ds["tau_error_relative_peak"].values[k]),
+             _pct(ds["tau_error_relative_rms"].values[k])]) + [tau_units[k]]
+         for k in range(n)],
         align=["left"] + ["right"] * 5 + ["left"], widths=[0.6, 1.2, 1.2, 1, 1.2, 1.2, 0.6])
     rel_peak = ds["tau_error_relative_peak"].values
 
@@ -413,7 +441,8 @@ def _report_context_base(ds):
     applicable = n == 6 and _is_puma560(robot_name)
     compare_rows, n_agree, n_compared = [], 0, 0
     for k, (lab, ours, theirs) in enumerate(zip(labels, dominance, chapter)):
-        shown = "\u2261 0" if zero[k] else _fmt(share[k], 3)
+        shown = "\u2261 0" if zero[k] else _share_text(share[k], off["tran"][k],
+                                                         off["rot"][k])
         if theirs:
             n_compared += 1
             agree = ours == theirs

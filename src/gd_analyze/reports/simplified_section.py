@@ -125,17 +125,22 @@ def simplified_context(ds):
         "inertial (D)", "velocity (h)", "gravity (c)", "whole parameters")
     whole = ds["simplified_bound_whole"].values if "simplified_bound_whole" in ds else None
     units = torque_units(ds)
+    scale = ds["simplified_scale"].values
+
+    def num(v, i):                   # round-off of joint i's scale is not data (issue 18)
+        return "\u2261 0" if is_round_off(v, scale[i]) and v != 0 else _num(v)
+
     bound = table(
         ["joint", "units", f"scale {_S_I}", "bound", *parts,
          "measured peak |\u03c4\u209b\u00a0\u2212\u00a0\u03c4|", f"measured / {_S_I}"],
-        [[str(i + 1), units[i], _num(ds["simplified_scale"].values[i]),
-          _num(ds["simplified_bound"].values[i]),
-          _num(ds["simplified_bound_inertia"].values[i]),
-          _num(ds["simplified_bound_coriolis"].values[i]),
-          _num(ds["simplified_bound_gravity"].values[i]),
-          *([] if whole is None else [_num(whole[i])]), _num(measured[i]),
-          pct(measured[i] / ds["simplified_scale"].values[i])
-          if ds["simplified_scale"].values[i] > 0 else "\u2014"] for i in range(n)],
+        [[str(i + 1), units[i], _num(scale[i]),
+          num(ds["simplified_bound"].values[i], i),
+          num(ds["simplified_bound_inertia"].values[i], i),
+          num(ds["simplified_bound_coriolis"].values[i], i),
+          num(ds["simplified_bound_gravity"].values[i], i),
+          *([] if whole is None else [num(whole[i], i)]), num(measured[i], i),
+          ("\u2261 0" if is_round_off(measured[i], scale[i]) else
+           pct(measured[i] / scale[i])) if scale[i] > 0 else "\u2014"] for i in range(n)],
         align=["left", "left"] + ["right"] * (7 + (whole is not None)))
     costs = ladder = None
     if "cost_total" in ds.variables:
