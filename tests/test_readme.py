@@ -78,20 +78,13 @@ def _code_block_after(heading):
     raise AssertionError(f"no code block after {heading!r}")
 
 
-def _roundoff_row(tokens):
-    """A row of the error table whose joint's error is round-off (rel peak < 1e-12)."""
-    try:
-        return len(tokens) == 6 and float(tokens[4]) < 1e-12
-    except ValueError:
-        return False
-
-
 def test_sample_output_is_what_the_main_job_prints(tmp_path):
     """The README's sample block, line by line, against a run of the main job.
 
-    Allowed to differ: the numbers of a joint whose error is round-off (rel peak below 1e-12;
-    only its peak |tau| is compared), and the ``wrote`` line (the README abbreviates the files
-    of the default folder; the run here writes to a temporary folder without the report).
+    Allowed to differ: only the ``wrote`` line (the README abbreviates the files of the default
+    folder; the run here writes to a temporary folder without the report). Round-off (a
+    joint's error or an element below 1e-12 of its scale) prints as "≡ 0", the same on every
+    platform.
     """
     block = _code_block_after("## Sample output")
     command = block[0]
@@ -107,10 +100,6 @@ def test_sample_output_is_what_the_main_job_prints(tmp_path):
     for want, got in zip(expected, printed):
         if want.startswith("wrote "):
             assert got.startswith("wrote ") and "results.h5" in got and "results.h5" in want
-            continue
-        w, g = want.split(), got.split()
-        if _roundoff_row(w) and _roundoff_row(g):
-            assert w[0] == g[0] and w[3] == g[3], (want, got)
             continue
         assert want == got
 

@@ -174,12 +174,20 @@ def _format_summary(ds):
                                               ds.dominance.values, ds.peak_total.values,
                                               ds.element_units.values, zero):
         shown = ZERO_MARK.rjust(11) if z else f"{share:>11.4f}"       # rounding noise: no share
-        lines.append(f"{lab:<8}{shown}  {cls:<14}{peak:>12.4g}  {unit}")
+        top = ZERO_MARK.rjust(12) if z else f"{peak:>12.4g}"          # nor a peak
+        lines.append(f"{lab:<8}{shown}  {cls:<14}{top}  {unit}")
     from ..reports.common import prismatic_joints
 
     header, ends = _torque_table_header(prismatic_joints(ds))
     lines += ["", "simplified model torque error per joint:", header]
+    from ..core.selection.ranking import is_round_off
+
+    off = is_round_off(ds.tau_error_peak.values, ds.tau_peak.values)
     for j in range(ds.sizes["joint"]):
+        if off[j]:                      # round-off of the joint's torque: not data
+            lines.append(f"{j + 1:<6}{ZERO_MARK:>12}{ZERO_MARK:>12}"
+                         f"{ds.tau_peak.values[j]:>12.4g}{ZERO_MARK:>10}{ZERO_MARK:>10}{ends[j]}")
+            continue
         lines.append(f"{j + 1:<6}{ds.tau_error_peak.values[j]:>12.4g}"
                      f"{ds.tau_error_rms.values[j]:>12.4g}{ds.tau_peak.values[j]:>12.4g}"
                      f"{ds.tau_error_relative_peak.values[j]:>10.2e}"
