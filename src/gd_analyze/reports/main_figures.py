@@ -87,7 +87,7 @@ _FULL, _SIMPLIFIED = "#000000", "#009E73"
 _ALL_MARKERS, _FEW_MARKERS = 100, 40
 
 # Panel geometry of D and h [in].
-_LEFT, _RIGHT, _WGAP, _HGAP, _TOP, _BOTTOM = 0.5, 0.06, 0.52, 0.3, 0.2, 0.36
+_LEFT, _RIGHT, _WGAP, _HGAP, _TOP, _BOTTOM = 0.5, 0.06, 0.49, 0.3, 0.2, 0.36
 _MIN_PANEL_W = 0.55
 
 
@@ -178,7 +178,7 @@ def _element_panel(ax, x, parts, title, cls, enveloped, nbins=3):
 def _gaps(per_panel_units):
     """Horizontal gap between panels [in]: room for 7-char tick labels (``−2.5e−3``) and, when
     the panels' units differ (a mixed arm), each panel's unit label."""
-    return _WGAP + (0.18 if per_panel_units else 0.0)
+    return _WGAP + (0.15 if per_panel_units else 0.0)
 
 
 def _panel_width(n, width=PAGE_WIDTH, wgap=_WGAP):
