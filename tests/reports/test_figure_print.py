@@ -18,6 +18,7 @@ from gd_analyze.io.trajectory import read_trajectory
 from gd_analyze.reports import main as report
 from gd_analyze.reports.common import JOINT_STYLES, MAX_MARKERS, joint_style
 from gd_analyze.reports.main_figures import plot_data
+from gd_analyze.reports.ticks import tick_texts
 from gd_analyze.workflows.analyze import analyze_to_file
 from gd_analyze.workflows.options import AnalysisOptions
 
@@ -125,11 +126,14 @@ def test_minus_signs_survive(figures):
     """A negative tick is written with its minus sign (U+2212) and no tick label is cut by
     a neighbouring panel (checked above); here: every negative tick's label starts with it."""
     _, _, figs = figures
+    negative = 0
     for fig in figs.values():
         for ax in fig.axes:
-            for loc, lab in zip(ax.get_yticks(), ax.get_yticklabels()):
+            for loc, lab in tick_texts(ax, "y") + tick_texts(ax, "x"):
                 if loc < 0 and lab.get_text():
                     assert lab.get_text().startswith("\u2212"), lab.get_text()
+                    negative += 1
+    assert negative > 0                     # every arm has D_ij and tau_i below zero
 
 
 def _markers_shown(line):
@@ -170,8 +174,9 @@ def test_one_tick_notation_per_figure(figures):
     _, _, figs = figures
     for key in ("D", "h", "D_column", "h_column", "torque", "torque_column", "joints"):
         styles = set()
+        assert any(tick_texts(ax, "y") for ax in figs[key].axes), key
         for ax in figs[key].axes:
-            for lab in ax.get_yticklabels():
+            for _, lab in tick_texts(ax, "y"):
                 text = lab.get_text()
                 if text and text != "0":
                     styles.add("sci" if "e" in text else "fixed")

@@ -175,7 +175,7 @@ def make_figures(ds, data=None, keys=None):
     """
     import matplotlib
 
-    from .ticks import grid_once
+    from .ticks import ticks_once
 
     if data is None:
         data = plot_data(ds)
@@ -201,7 +201,8 @@ def make_figures(ds, data=None, keys=None):
         makers["formulations"] = lambda: _fig_formulations(ds)
         makers["formulations_column"] = lambda: _fig_formulations(ds, COLUMN_WIDTH)
     with matplotlib.rc_context(FIG_RC):
-        figures = {k: grid_once(make()) for k, make in makers.items() if k in wanted}
+        figures = {k: ticks_once(make()) for k, make in makers.items()
+                   if k in wanted}
     return {k: figures[k] for k in _FILE_ORDER if k in figures}
 
 

@@ -9,12 +9,13 @@ puts both on an axis.
 
 from __future__ import annotations
 
+import functools
 import math
 
 import numpy as np
 
-__all__ = ["tick_labels", "grid_once", "nice_ticks", "set_ticks", "formatter", "MINUS", "notation",
-           "label_axes"]
+__all__ = ["tick_labels", "ticks_once", "tick_texts", "nice_ticks", "set_ticks",
+           "formatter", "MINUS", "notation", "label_axes"]
 
 #: The minus sign of the labels (U+2212, as wide as the plus sign).
 MINUS = "\u2212"
@@ -151,7 +152,7 @@ def label_axes(axes):
     style = "sci" if any(notation(a.get_ticklocs()) == "sci" for a in axes) else "fixed"
     for a in axes:
         ticks = a.get_ticklocs()
-        a.set_ticks(ticks, labels=tick_labels(ticks, style))
+        _place(a, ticks, tick_labels(ticks, style))
     return style
 
 
@@ -232,46 +233,228 @@ def set_ticks(axis, lo, hi, nbins=3, labels=True):
         The tick positions.
     """
     ticks = nice_ticks(lo, hi, nbins)
-    axis.set_ticks(ticks, labels=tick_labels(ticks) if labels else [""] * len(ticks))
+    _place(axis, ticks, tick_labels(ticks) if labels else [""] * len(ticks))
     return ticks
 
 
+def _place(axis, ticks, labels):
+    """Fixed ticks and labels by the axis' locator and formatter (its Tick objects are made
+    only when it is drawn)."""
+    from matplotlib.ticker import FixedFormatter, FixedLocator
 
-def grid_once(fig):
-    """Draw each Axes' major grid as one line collection instead of one line per tick.
+    axis.set_major_locator(FixedLocator(ticks))
+    axis.set_major_formatter(FixedFormatter(labels))
+
+
+
+def _shown_ticks(axis, which):
+    """(positions, labels, first Tick) of the ticks an axis draws now: located within its
+    view, as :meth:`matplotlib.axis.Axis.draw` picks them."""
+    if which == "major":
+        locs = np.asarray(axis.get_majorticklocs(), float)
+        fmt, ticks = axis.get_major_formatter(), axis.get_major_ticks(1)
+    else:
+        locs = np.asarray(axis.get_minorticklocs(), float)
+        fmt, ticks = axis.get_minor_formatter(), axis.get_minor_ticks(1)
+    if not len(locs):
+        return locs, [], None
+    fmt.set_locs(locs)
+    labels = fmt.format_ticks(locs)
+    lo, hi = sorted(axis.get_view_interval())
+    tol = 1e-10 * max(abs(hi - lo), abs(lo), abs(hi), 1e-300)
+    keep = (locs >= lo - tol) & (locs <= hi + tol)
+    return locs[keep], [t for t, k in zip(labels, keep) if k], ticks[0]
+
+
+def _edge_box(ax, texts, side):
+    """A callable (renderer -> Bbox): the drawn tick marks and labels of one side of an axis
+    together with that side's spine, which matplotlib puts an axis label next to."""
+    from matplotlib.transforms import Bbox
+
+    def box(renderer):
+        spine = ax.spines.get(side)
+        edge = (spine if spine is not None else ax).get_window_extent(renderer)
+        return Bbox.union([edge] + [t.get_window_extent(renderer) for t in texts
+                                    if t.get_visible()])
+    return box
+
+
+def ticks_once(fig):
+    """Draw each Axes' ticks as one marker line per side and plain texts: no Tick objects.
+
+    Matplotlib builds a :class:`~matplotlib.axis.Tick` (two marks, two labels and a gridline)
+    for every tick of every Axes and lays each out again at every draw; for figures of many
+    small panels that is most of their drawing. This replaces the ticks placed now by the
+    same picture from fewer, simpler artists.
 
     Parameters
     ----------
     fig : matplotlib.figure.Figure
-        A figure whose ticks are placed (the grid is drawn where they are now).
+        A figure whose ticks, labels and grid are placed (:func:`set_ticks`,
+        :func:`label_axes`, ``ax.grid``).
 
     Returns
     -------
     matplotlib.figure.Figure
-        ``fig``, each visible major grid replaced by a
-        :class:`~matplotlib.collections.LineCollection` of the same lines (colour, width,
-        style, z-order, clipped to the Axes): the same picture from fewer Artists.
+        ``fig``: per Axes and axis, the gridlines of the visible grid as one
+        :class:`~matplotlib.collections.LineCollection` (colour, width, style, z-order,
+        clipped to the Axes); per side, the tick marks as one
+        :class:`~matplotlib.lines.Line2D` of the ticks' own markers (size, width, colour,
+        direction); the labels as texts at
+        the ticks' positions and padding (read back by
+        :func:`tick_texts`), each axis label as an annotation kept outside those labels by
+        its label pad, as matplotlib places it; the axes' locators then place no ticks.
     """
-    from matplotlib.collections import LineCollection
+    from matplotlib.lines import Line2D
+    from matplotlib.ticker import NullLocator
 
     for ax in fig.axes:
         for name, axis in (("x", ax.xaxis), ("y", ax.yaxis)):
-            lines = [g for g in axis.get_gridlines() if g.get_visible()]
-            if not lines:
-                continue
-            lo, hi = sorted(axis.get_view_interval())
-            locs = [v for v in axis.get_majorticklocs() if lo <= v <= hi]
-            g = lines[0]
-            if name == "x":
-                segments = [((v, 0.0), (v, 1.0)) for v in locs]
-                transform = ax.get_xaxis_transform()
-            else:
-                segments = [((0.0, v), (1.0, v)) for v in locs]
-                transform = ax.get_yaxis_transform()
-            ax.grid(False, which="major", axis=name)
-            if segments:
-                ax.add_collection(LineCollection(
-                    segments, colors=[g.get_color()], linewidths=g.get_linewidth(),
-                    linestyles=g.get_linestyle(), alpha=g.get_alpha(), zorder=axis.get_zorder(),
-                    transform=transform), autolim=False)
+            texts = {1: [], 2: []}              # labels and marks of each side
+            for which in ("major", "minor"):
+                locs, labels, tick = _shown_ticks(axis, which)
+                if tick is None or not len(locs):
+                    continue
+                if tick.gridline.get_visible():
+                    _grid(ax, name, locs, tick.gridline, axis.get_zorder())
+                pad = tick.get_pad() + tick.get_tick_padding()
+                for side, mark, label in ((1, tick.tick1line, tick.label1),
+                                          (2, tick.tick2line, tick.label2)):
+                    at = np.full(len(locs), 0.0 if side == 1 else 1.0)
+                    if mark.get_visible():
+                        xy = (locs, at) if name == "x" else (at, locs)
+                        texts[side].append(_marks(Line2D(
+                            *xy, linestyle="none", marker=mark.get_marker(),
+                            markersize=mark.get_markersize(),
+                            markeredgewidth=mark.get_markeredgewidth(),
+                            markeredgecolor=mark.get_markeredgecolor(), clip_on=False,
+                            zorder=mark.get_zorder(),
+                            transform=(ax.get_xaxis_transform() if name == "x"
+                                       else ax.get_yaxis_transform()))))
+                        ax.add_artist(texts[side][-1])
+                    if not label.get_visible():
+                        continue
+                    get = {("x", 1): ax.get_xaxis_text1_transform,
+                           ("x", 2): ax.get_xaxis_text2_transform,
+                           ("y", 1): ax.get_yaxis_text1_transform,
+                           ("y", 2): ax.get_yaxis_text2_transform}[(name, side)]
+                    transform, va, ha = get(pad)
+                    for v, s in zip(locs, labels):
+                        if not s:
+                            continue
+                        xy = (v, 0.0 if side == 1 else 1.0) if name == "x" else (
+                            0.0 if side == 1 else 1.0, v)
+                        texts[side].append(ax.add_artist(_tick_label()(
+                            *xy, s, transform=transform, va=va, ha=ha,
+                            fontproperties=label.get_fontproperties(),
+                            color=label.get_color(), rotation=label.get_rotation(),
+                            clip_on=False, axis_name=name, value=float(v))))
+            axis.set_major_locator(NullLocator())
+            axis.set_minor_locator(NullLocator())
+            _move_label(ax, axis, name, texts)
     return fig
+
+
+def _grid(ax, name, locs, line, zorder):
+    """The gridlines at ``locs`` as one line collection, as each tick's gridline draws."""
+    from matplotlib.collections import LineCollection
+
+    if name == "x":
+        segments, transform = [((v, 0.0), (v, 1.0)) for v in locs], ax.get_xaxis_transform()
+    else:
+        segments, transform = [((0.0, v), (1.0, v)) for v in locs], ax.get_yaxis_transform()
+    ax.add_collection(LineCollection(
+        segments, colors=[line.get_color()], linewidths=line.get_linewidth(),
+        linestyles=line.get_linestyle(), alpha=line.get_alpha(), zorder=zorder,
+        transform=transform), autolim=False)
+
+
+def _move_label(ax, axis, name, texts):
+    """The axis label as an annotation placed as matplotlib places it: outside the tick
+    labels of its side (and the spine) by its label pad."""
+    label = axis.label
+    if not (label.get_visible() and label.get_text()):
+        return
+    pos = axis.get_label_position()
+    side = 1 if pos in ("bottom", "left") else 2
+    box = _edge_box(ax, texts[side], pos)
+    pad = axis.labelpad
+    x, y = label.get_position()
+    if name == "x":
+        coords, xy = ("axes fraction", box), (x, 0.0 if side == 1 else 1.0)
+        offset = (0.0, -pad if side == 1 else pad)
+    else:
+        coords, xy = (box, "axes fraction"), (0.0 if side == 1 else 1.0, y)
+        offset = (-pad if side == 1 else pad, 0.0)
+    ax.annotate(label.get_text(), xy=xy, xycoords=coords, xytext=offset,
+                textcoords="offset points", va=label.get_va(), ha=label.get_ha(),
+                rotation=label.get_rotation(), rotation_mode=label.get_rotation_mode(),
+                fontproperties=label.get_fontproperties(), color=label.get_color(),
+                annotation_clip=False)
+    label.set_visible(False)
+
+
+def tick_texts(ax, axis="y"):
+    """The tick labels :func:`ticks_once` wrote on one axis of an Axes.
+
+    Parameters
+    ----------
+    ax : matplotlib.axes.Axes
+        The Axes.
+    axis : {"x", "y"}, optional
+        Which axis.
+
+    Returns
+    -------
+    list of (float, matplotlib.text.Text)
+        Each label with its tick's position [data units of that axis].
+    """
+    kind = _tick_label()
+    return [(t.value, t) for t in ax.texts if isinstance(t, kind) and t.axis_name == axis]
+
+
+def _tick_label():
+    """The class of the tick labels :func:`ticks_once` writes: a text that knows its tick."""
+    return _artists()[0]
+
+
+def _marks(line):
+    """The tick marks of one side of an axis (a marker line) as an artist of their own, not
+    one of the Axes' data lines (``ax.lines``)."""
+    return _artists()[1](line)
+
+
+@functools.cache
+def _artists():
+    """(TickLabel, Marks): the two artist classes of :func:`ticks_once`, made once (matplotlib
+    is imported only when a figure is drawn)."""
+    from matplotlib.artist import Artist
+    from matplotlib.text import Text
+
+    class TickLabel(Text):
+        """A tick's label: ``axis_name`` ("x" or "y") and ``value`` (its position)."""
+
+        def __init__(self, *args, axis_name, value, **kwargs):
+            super().__init__(*args, **kwargs)
+            self.axis_name, self.value = axis_name, value
+
+    class Marks(Artist):
+        """Draws one marker line (the tick marks of one side of an axis)."""
+
+        def __init__(self, line):
+            super().__init__()
+            self.line = line
+            self.set_zorder(line.get_zorder())
+
+        def set_figure(self, fig):
+            super().set_figure(fig)
+            self.line.set_figure(fig)
+
+        def draw(self, renderer):
+            if self.get_visible():
+                self.line.draw(renderer)
+
+        def get_window_extent(self, renderer=None):
+            return self.line.get_window_extent(renderer)
+
+    return TickLabel, Marks
