@@ -55,7 +55,7 @@ def _joint_panels(ds, values, ylabel, title, log=False, scale=None, which="q",
     """
     from matplotlib.figure import Figure
 
-    from .common import markevery
+    from .common import panel_markevery
     from .ticks import label_axes, set_ticks
 
     t = np.asarray(ds["time"].values, dtype=float)
@@ -78,7 +78,7 @@ def _joint_panels(ds, values, ylabel, title, log=False, scale=None, which="q",
     keep = np.zeros(t.size, dtype=bool)
     keep[::k] = True
     keep |= is_set
-    every = markevery(int(is_set.sum()))
+    every = panel_markevery(int(is_set.sum()), len(values))
     tol, floor = _noise_floor(ds, scale) if scale is not None else (None, None)
     handles = {}
     quiet = {}                          # controller -> [(joint, peak)] of noise-only curves

@@ -92,7 +92,7 @@ def payload_figure(ds):
         tau = ds["tau_peak"].values
         for j in range(n):                  # told apart by line style and marker too
             bx.plot(masses, tau[:, j], label=f"joint {j + 1}", linewidth=0.9,
-                    **joint_style(j, len(masses)))
+                    **joint_style(j, len(masses), n))
         bx.set_xlabel("payload [kg]")
         bx.set_ylabel("peak |\u03c4| [N m]")
         bx.legend(loc="center left", bbox_to_anchor=(1.01, 0.5), frameon=False, fontsize=7)

@@ -30,7 +30,7 @@ from ..core.selection.ranking import (
     joint_motion_units,
     joint_torque_units,
 )
-from .common import joint_style, markevery
+from .common import joint_style, panel_markevery
 from .plot_data import (  # noqa: F401
     DERIVED,
     ENVELOPE_COLUMNS,
@@ -125,14 +125,16 @@ _PART_ORDER = ("total", "tran", "rot")
 
 
 def _plot(ax, x, y, part, enveloped):
-    """One part of an element; at most :data:`gd_analyze.reports.common.MAX_MARKERS` markers
-    (every k-th set point, the line through all of them)."""
+    """One part of an element: the tran, rot and total curves of a panel together carry at
+    most about :data:`gd_analyze.reports.common.MAX_MARKERS` markers (every k-th set point,
+    :func:`gd_analyze.reports.common.panel_markevery`; the line through all of them); the
+    armature curve has none (told apart by its colour and dash-dot line)."""
     style = PART_STYLE[part]
     kw = {"color": style["color"], "linestyle": style["linestyle"], "label": style["label"],
           "linewidth": _PART_WIDTH[part],
           "zorder": {"total": 2, "tran": 3, "rot": 4, "arm": 3}[part]}
-    if not enveloped:
-        every = markevery(x.size)
+    if not enveloped and part != "arm":
+        every = panel_markevery(x.size, len(_PART_ORDER))
         kw["marker"] = style["marker"]
         start = {"tran": 0, "rot": every // 3, "total": (2 * every) // 3,
                  "arm": every // 2}[part]
@@ -447,7 +449,7 @@ def fig_joints(data, prismatic=None, width=PAGE_WIDTH):
         ax = _axes(fig, left + c * (w + gap), top + r * (row_h + gap_h), w, row_h)
         y = data.series[name][:, joints] * scale
         for col, jn in enumerate(joints):
-            style = joint_style(int(jn), 1 if data.enveloped else y.shape[0])
+            style = joint_style(int(jn), 1 if data.enveloped else y.shape[0], len(joints))
             if data.enveloped:
                 style = {k2: v for k2, v in style.items() if not k2.startswith("marker")}
             ax.plot(data.x, y[:, col], linewidth=0.9, label=f"joint {jn + 1}", **style)
