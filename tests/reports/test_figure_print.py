@@ -223,3 +223,22 @@ def test_every_figure_file_of_the_main_job_has_a_column_twin(tmp_path):
     folder = out / "figures"
     assert (folder / "fig_payload_dominance_column.pdf").is_file()
     assert not column_twins(folder), column_twins(folder)
+
+
+def test_payload_figure_draws_no_share_of_round_off(payload_figures):
+    """D45 and D56 of the PUMA 560 are zero in every part (the wrist's axes 4, 5, 6 meet and
+    the point load sits on axis 6, at the flange's origin): with any load their share is
+    round-off noise, flagged ``round_off`` and left grey (masked) in the heat map, at page
+    and at column width; every other element keeps its share."""
+    name, figs = payload_figures
+    if name != "puma560":
+        return
+    from gd_analyze.core.selection.ranking import element_labels
+
+    labels = element_labels(6)
+    for key, fig in figs.items():
+        grid = fig.axes[0].images[0].get_array()
+        masked = np.ma.getmaskarray(grid)
+        per_element = masked.T if key == "payload" else masked      # (element, payload)
+        assert {lab for lab, m in zip(labels, per_element.all(axis=1)) if m} == {"D45", "D56"}
+        assert not per_element[[lab not in ("D45", "D56") for lab in labels]].any()

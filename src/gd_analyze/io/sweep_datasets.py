@@ -276,6 +276,9 @@ def payload_dataset(robot, trajectory, masses, com, inertia, results, dominance,
         "tau_peak": var(("payload", "joint"),
                          np.array([r["summary"]["tau_peak"] for r in results]), torque,
                          "peak |tau| of the full model along the trajectory"),
+        "round_off": _round_off_var(np.array([is_round_off(
+            np.max([r["peaks"][k] for k in ("peak_tran", "peak_rot", "peak_total")], axis=0),
+            r["peaks"]["scale"]) for r in results]), "along the trajectory"),
         "tau_error_relative_peak": var(
             ("payload", "joint"),
             np.array([r["summary"]["error"]["relative_peak_error"] for r in results]), "1",
@@ -320,7 +323,8 @@ def sweep_payloads_dataset(robot, n_trajectories, masses, com, inertia, parts, d
         Load principal moments [kg m^2].
     parts : list of tuple
         Per mass: class fractions (M, 4), median share_tran (M,), most frequent class (M,),
-        merged choice (M,), peak |tau| over all trajectories (n,) [N m].
+        merged choice (M,), peak |tau| over all trajectories (n,) [N m], and optionally
+        round-off on every trajectory (M,) bool (stored as ``round_off``).
     dominance, negligible : float
         s and e of the ranking.
 
@@ -331,12 +335,16 @@ def sweep_payloads_dataset(robot, n_trajectories, masses, com, inertia, parts, d
     """
     import xarray as xr
 
-    frac, share, dom, choice, tau = (np.array(x) for x in zip(*parts))
+    frac, share, dom, choice, tau = (np.array(x) for x in list(zip(*parts))[:5])
     n = robot.n
     torque = _torque_units(robot)
+    extra = ({"round_off": _round_off_var(np.array([p[5] for p in parts]),
+                                          "on every trajectory")}
+             if all(len(p) > 5 for p in parts) else {})
 
     return xr.Dataset(
-        {"class_fraction": var(("payload", "element", "class"), frac, "1",
+        {**extra,
+         "class_fraction": var(("payload", "element", "class"), frac, "1",
                                "fraction of the trajectories in each class"),
          "share_tran": var(("payload", "element"), share, "1",
                            "median translational share over the trajectories"),
@@ -362,6 +370,15 @@ def sweep_payloads_dataset(robot, n_trajectories, masses, com, inertia, parts, d
                "payload_com_units": "m",
                "payload_inertia": np.asarray(inertia, dtype=float).reshape(-1),
                "payload_inertia_units": "kg m2 (principal moments)"})
+
+
+def _round_off_var(flags, where):
+    """The (payload, element) flag: every part of the element is round-off (its share is
+    noise, :func:`gd_analyze.core.selection.ranking.is_round_off`)."""
+    return var(("payload", "element"), np.asarray(flags, bool).astype(np.int8), "1",
+               f"every part of the element is round-off {where} (1: at most 1e-12 of its "
+               "scale; its share_tran is noise), else 0",
+               flag_values=np.array([0, 1], dtype=np.int8), flag_meanings="data round_off")
 
 
 def embed_payload(payload):

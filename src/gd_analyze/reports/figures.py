@@ -57,7 +57,8 @@ def payload_figure(ds, width=PAGE_WIDTH):
         ``width`` wide, type of at least 7 pt. Top: a heat map of the translational share
         over (payload, element) from rotational (0, orange) through 0.5 (white) to
         translational (1, blue), each cell marked with its class (T, R, B or N) and with a
-        bold frame where the class differs from that at the first payload; elements lettered
+        bold frame where the class differs from that at the first payload; grey where the
+        element is round-off in every part (``round_off``: its share is noise); elements lettered
         as mathematics (D\u2081\u2082, :func:`gd_analyze.reports.markup.label`).
         Bottom: peak |tau| per joint vs payload [N m, N for a prismatic joint]. A plain
         Figure (no pyplot state).
@@ -82,6 +83,8 @@ def payload_figure(ds, width=PAGE_WIDTH):
         masses = ds["payload"].values
         labels = [label(lab) for lab in strings(ds["element"].values)]
         share = ds["share_tran"].values
+        if "round_off" in ds.variables:         # a share of round-off is noise: not drawn
+            share = np.where(ds["round_off"].values.astype(bool), np.nan, share)
         dom = np.array(strings(ds["dominance"].values)).reshape(share.shape)
         P, M = share.shape
         n = ds.sizes["joint"]
@@ -89,7 +92,8 @@ def payload_figure(ds, width=PAGE_WIDTH):
         s, e = thresholds(ds)
         title = (f"Dominance against the payload on the last link (s = {s:g}, e = {e:g})\n"
                  "T/R/B/N = translational/rotational/both/negligible; framed: class "
-                 "differs from the first payload")
+                 "differs from the first payload\ngrey: \u2261 0 (round-off in every part), no "
+                 "share drawn")
         if column:                      # bold 8 pt: about 44 characters a line
             title = textwrap.fill(title.replace("\n", "; "), 44)
         if column:                      # elements down: one 7-pt row each
@@ -136,6 +140,7 @@ def payload_figure(ds, width=PAGE_WIDTH):
         cb = fig.colorbar(im, cax=cax)
         cb.set_label("translational share [1]")
         cb.ax.tick_params(labelsize=7)
+        cb.ax.grid(False)                   # no grid lines across the colour scale
         bottom = 0.42 + legend_h if column else 0.6
         bx = fig.add_axes((left / W, bottom / H, (heat_w if column else W - 2.0) / W,
                            tau_h / H))
