@@ -194,13 +194,15 @@ def payload_figures(request):
     robot = load_robot(name)
     traj = read_trajectory(ROOT / "data" / f"{name}_trajectory.csv", robot.n)
     ds = payload_sweep(robot, traj, [0.0, 0.5, 1.0, 2.0])
-    return name, {"payload": payload_figure(ds), "payload_column": payload_figure(ds, COLUMN_WIDTH)}
+    return name, {"payload": payload_figure(ds), "payload_column": payload_figure(ds, COLUMN_WIDTH),
+                  "data": ds}
 
 
 def test_payload_figure_at_page_and_column_width(payload_figures):
     """The payload figure (main job with --payload-sweep, sweep report) has a 3.5-in version
     with type of at least 7 pt; neither collides, both letter elements as mathematics."""
     name, figs = payload_figures
+    figs = {k: v for k, v in figs.items() if k != "data"}
     assert figs["payload"].get_size_inches()[0] == pytest.approx(7.2)
     assert figs["payload_column"].get_size_inches()[0] == pytest.approx(3.5)
     for key, fig in figs.items():
@@ -226,19 +228,21 @@ def test_every_figure_file_of_the_main_job_has_a_column_twin(tmp_path):
 
 
 def test_payload_figure_draws_no_share_of_round_off(payload_figures):
-    """D45 and D56 of the PUMA 560 are zero in every part (the wrist's axes 4, 5, 6 meet and
-    the point load sits on axis 6, at the flange's origin): with any load their share is
-    round-off noise, flagged ``round_off`` and left grey (masked) in the heat map, at page
-    and at column width; every other element keeps its share."""
+    """An element whose every part is round-off of its scale has a share of noise: the payload
+    sweep flags it (``round_off``) and the heat map leaves its cells grey (masked), at page and
+    at column width; every other cell keeps its share. D45 and D56 of the PUMA 560 are zero
+    in every part (the wrist's axes 4, 5, 6 meet and the point load sits on axis 6, at the
+    flange's origin), with any load."""
     name, figs = payload_figures
-    if name != "puma560":
-        return
     from gd_analyze.core.selection.ranking import element_labels
 
-    labels = element_labels(6)
-    for key, fig in figs.items():
-        grid = fig.axes[0].images[0].get_array()
-        masked = np.ma.getmaskarray(grid)
-        per_element = masked.T if key == "payload" else masked      # (element, payload)
-        assert {lab for lab, m in zip(labels, per_element.all(axis=1)) if m} == {"D45", "D56"}
-        assert not per_element[[lab not in ("D45", "D56") for lab in labels]].any()
+    ds = figs["data"]
+    flag = ds["round_off"].values.astype(bool)                   # (payload, element)
+    labels = element_labels(ds.sizes["joint"])
+    if name == "puma560":
+        assert {lab for lab, f in zip(labels, flag.all(axis=0)) if f} == {"D45", "D56"}
+        assert not flag[:, [lab not in ("D45", "D56") for lab in labels]].any()
+    for key in ("payload", "payload_column"):
+        masked = np.ma.getmaskarray(figs[key].axes[0].images[0].get_array())
+        per_payload = masked if key == "payload" else masked.T       # (payload, element)
+        np.testing.assert_array_equal(per_payload, flag | ~np.isfinite(ds["share_tran"].values))
