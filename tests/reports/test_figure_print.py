@@ -246,3 +246,21 @@ def test_payload_figure_draws_no_share_of_round_off(payload_figures):
         masked = np.ma.getmaskarray(figs[key].axes[0].images[0].get_array())
         per_payload = masked if key == "payload" else masked.T       # (payload, element)
         np.testing.assert_array_equal(per_payload, flag | ~np.isfinite(ds["share_tran"].values))
+
+
+def test_payload_figure_gives_each_torque_axis_one_unit(payload_figures):
+    """Peak |τ| against the payload: a joint's units from its type (N m revolute, N
+    prismatic); a mixed arm (Stanford, joint 3 prismatic) gets a panel per unit, never N m and
+    N on one axis."""
+    name, figs = payload_figures
+    prismatic = load_robot(name).prismatic
+    for key in ("payload", "payload_column"):
+        axes = [ax for ax in figs[key].axes if ax.get_ylabel().startswith("peak")]
+        assert len(axes) == len(set(prismatic))
+        drawn = []
+        for ax in axes:
+            joints = [int(ln.get_label().split()[1]) - 1 for ln in ax.lines]
+            units = {"N" if prismatic[j] else "N m" for j in joints}
+            assert len(units) == 1 and ax.get_ylabel() == f"peak |\u03c4| [{units.pop()}]"
+            drawn += joints
+        assert sorted(drawn) == list(range(len(prismatic)))

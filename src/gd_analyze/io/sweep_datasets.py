@@ -209,8 +209,7 @@ def sweep_dataset(robot, trajectories, results, merged, merged_stats, dominance,
                                           "merged model: RMS error / peak |tau|, over all "
                                           "trajectories"),
     }
-    data_vars["joint_type"] = var(("joint",), np.array(robot.joint_types, dtype=str), "1",
-                                  "joint type: revolute (q in rad) or prismatic (q in m)")
+    data_vars["joint_type"] = _joint_type_var(robot)
     coords = element_coords(n, robot.prismatic)
     coords["trajectory"] = ("trajectory", np.arange(K),
                             {"long_name": "trajectory index", "units": "1"})
@@ -282,8 +281,8 @@ def payload_dataset(robot, trajectory, masses, com, inertia, results, dominance,
         "tau_error_relative_peak": var(
             ("payload", "joint"),
             np.array([r["summary"]["error"]["relative_peak_error"] for r in results]), "1",
-            "own simplified model: peak |tau_simplified - tau| / peak |tau|"),
-    }
+            "own simplified model: peak |tau_simplified - tau| / peak |tau|"),    }
+    data_vars["joint_type"] = _joint_type_var(robot)
     coords = element_coords(n, robot.prismatic)
     coords["payload"] = ("payload", masses, {"long_name": "payload mass on the last link",
                                              "units": "kg"})
@@ -353,7 +352,8 @@ def sweep_payloads_dataset(robot, n_trajectories, masses, com, inertia, parts, d
          "choice": var(("payload", "element"), choice.astype(str), "1",
                        "merged share-based choice (chapter rule, no error bound)"),
          "tau_peak": var(("payload", "joint"), tau, torque,
-                         "peak |tau| over all trajectories")},
+                         "peak |tau| over all trajectories"),
+         "joint_type": _joint_type_var(robot)},
         coords={"payload": ("payload", np.asarray(masses, float),
                             {"units": "kg", "long_name": "load mass on the last link"}),
                 "element": ("element", np.array(element_labels(n), dtype=str),
@@ -370,6 +370,12 @@ def sweep_payloads_dataset(robot, n_trajectories, masses, com, inertia, parts, d
                "payload_com_units": "m",
                "payload_inertia": np.asarray(inertia, dtype=float).reshape(-1),
                "payload_inertia_units": "kg m2 (principal moments)"})
+
+
+def _joint_type_var(robot):
+    """Each joint's type (the units of its q and tau follow from it)."""
+    return var(("joint",), np.array(robot.joint_types, dtype=str), "1",
+               "joint type: revolute (q in rad) or prismatic (q in m)")
 
 
 def _round_off_var(flags, where):
@@ -396,10 +402,11 @@ def embed_payload(payload):
     Returns
     -------
     xarray.Dataset
-        The same variables, each prefixed ``payload_``; the ``element_units`` coordinate (already
-        in the main analysis) dropped.
+        The same variables, each prefixed ``payload_``; the ``element_units`` coordinate and
+        ``joint_type`` (already in the main analysis) dropped.
     """
-    renamed = payload.rename({v: f"payload_{v}" for v in payload.data_vars})
+    renamed = payload.drop_vars([v for v in ("joint_type",) if v in payload.variables])
+    renamed = renamed.rename({v: f"payload_{v}" for v in renamed.data_vars})
     return renamed.drop_vars([c for c in ("element_units",) if c in renamed.coords])
 
 
@@ -414,12 +421,15 @@ def payload_part(results):
     Returns
     -------
     xarray.Dataset
-        The ``payload_*`` variables over dim ``payload``, without the prefix (empty if the run
-        had no payload sweep).
+        The ``payload_*`` variables over dim ``payload``, without the prefix, and the
+        analysis' ``joint_type`` (empty if the run had no payload sweep).
     """
     names = [v for v in results.data_vars
              if v.startswith("payload_") and "payload" in results[v].dims]
-    return results[names].rename({v: v[len("payload_"):] for v in names})
+    part = results[names].rename({v: v[len("payload_"):] for v in names})
+    if names and "joint_type" in results.variables:     # the main analysis' joint types
+        part["joint_type"] = results["joint_type"]
+    return part
 
 
 def beyond_the_floor(ds):

@@ -10,7 +10,6 @@ import textwrap
 
 import numpy as np
 
-from ..core.selection.labels import joint_units_text
 from .common import (
     CLASS_COLOURS,
     SUPTITLE_RC,
@@ -142,20 +141,34 @@ def payload_figure(ds, width=PAGE_WIDTH):
         cb.ax.tick_params(labelsize=7)
         cb.ax.grid(False)                   # no grid lines across the colour scale
         bottom = 0.42 + legend_h if column else 0.6
-        bx = fig.add_axes((left / W, bottom / H, (heat_w if column else W - 2.0) / W,
-                           tau_h / H))
         tau = ds["tau_peak"].values
-        for j in range(n):                  # told apart by line style and marker too
-            bx.plot(masses, tau[:, j], label=f"joint {j + 1}", linewidth=0.9,
-                    **joint_style(j, len(masses)))
-        bx.set_xlabel("payload [kg]", labelpad=1.0)
-        bx.set_ylabel(f"peak |\u03c4| [{joint_units_text(torque_units(ds))}]")
-        bx.tick_params(labelsize=7)
+        units = torque_units(ds)
+        kinds = list(dict.fromkeys(units))  # one panel per unit: never N m and N on one axis
+        gap = 0.3
+        each = (tau_h - gap * (len(kinds) - 1)) / len(kinds)
+        handles, names = [], []
+        for k, unit in enumerate(kinds):
+            y0 = bottom + (len(kinds) - 1 - k) * (each + gap)
+            bx = fig.add_axes((left / W, y0 / H, (heat_w if column else W - 2.0) / W, each / H))
+            for j in (j for j in range(n) if units[j] == unit):    # style and marker differ
+                line, = bx.plot(masses, tau[:, j], label=f"joint {j + 1}", linewidth=0.9,
+                                **joint_style(j, len(masses)))
+                handles.append(line)
+                names.append(line.get_label())
+            if k == len(kinds) - 1:
+                bx.set_xlabel("payload [kg]", labelpad=1.0)
+            else:
+                bx.tick_params(labelbottom=False)
+            bx.set_ylabel(f"peak |\u03c4| [{unit}]")
+            bx.tick_params(labelsize=7)
+        order = np.argsort([int(name.split()[1]) for name in names])
+        handles, names = [handles[o] for o in order], [names[o] for o in order]
         if column:
-            bx.legend(loc="upper center", bbox_to_anchor=((W / 2 - left) / heat_w, -0.42 / tau_h),
-                      ncol=3, frameon=False, fontsize=7, handlelength=2.6)
+            fig.legend(handles, names, loc="upper center", ncol=3, frameon=False, fontsize=7,
+                       handlelength=2.6, bbox_to_anchor=(0.5, legend_h / H))
         else:
-            bx.legend(loc="center left", bbox_to_anchor=(1.01, 0.5), frameon=False, fontsize=7)
+            fig.legend(handles, names, loc="center left", frameon=False, fontsize=7,
+                       bbox_to_anchor=((W - 1.05) / W, (bottom + tau_h / 2) / H))
         fig.suptitle(title, y=1 - 0.08 / H, va="top", fontsize=8 if column else 8.5)
         return fig
 
