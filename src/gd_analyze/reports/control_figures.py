@@ -28,6 +28,11 @@ _STYLES = {"full": "-", "simplified": "--", "pd_gravity": "-."}
 CONTROLLER_LABELS = _LABELS = {"full": "computed torque, full model", "simplified": "computed torque, simplified "
            "model", "pd_gravity": "PD + gravity"}
 _MAX_LINE_POINTS = 600
+#: Axis labels ({u}: the joint's units) in mathematics: q_d (desired) and tau_s, tau_f (the
+#: simplified- and the full-model controller) have subscripts that Unicode has no character
+#: for, so mathtext writes them, in the regular (upright) font of the other labels.
+_TRACKING_ERROR = "$\\mathregular{{|q_d - q|}}$ [{u}]"
+_TAU_DIFFERENCE = "$\\mathregular{{\\tau_s - \\tau_f}}$ [{u}]"
 _RC = {**BASE_RC, "legend.fontsize": 7.5, "lines.markersize": 3.0}
 _fmt = functools.partial(fmt, digits=3, sci_outside=(1e-3, 1e5))
 
@@ -185,11 +190,11 @@ def control_figures(ds, width=PAGE_WIDTH):
     with _style(_RC):
         figs = {"error": _joint_panels(
             ds, {c: ds["error"].sel(controller=c).values for c in names},
-            "|q_d \u2212 q| [{u}]", "Tracking error per joint", log=True, scale=q_scale,
+            _TRACKING_ERROR, "Tracking error per joint", log=True, scale=q_scale,
             width=width)}
         if "tau_difference" in ds:
             figs["tau_difference"] = _joint_panels(
-                ds, {"simplified": ds["tau_difference"].values}, "\u03c4_s \u2212 \u03c4_f [{u}]",
+                ds, {"simplified": ds["tau_difference"].values}, _TAU_DIFFERENCE,
                 "Closed-loop torque difference: simplified-model minus full-model computed "
                 "torque", scale=tau_scale, which="tau", width=width)
         figs["tau"] = _joint_panels(ds, {c: ds["tau"].sel(controller=c).values for c in names},

@@ -31,6 +31,7 @@ from ..core.selection.ranking import (
     joint_torque_units,
 )
 from .common import joint_style, panel_markevery
+from .markup import label as _math
 from .plot_data import (  # noqa: F401
     DERIVED,
     ENVELOPE_COLUMNS,
@@ -87,7 +88,7 @@ _FULL, _SIMPLIFIED = "#000000", "#009E73"
 _ALL_MARKERS, _FEW_MARKERS = 100, 40
 
 # Panel geometry of D and h [in].
-_LEFT, _RIGHT, _WGAP, _HGAP, _TOP, _BOTTOM = 0.5, 0.06, 0.49, 0.3, 0.2, 0.36
+_LEFT, _RIGHT, _WGAP, _HGAP, _TOP, _BOTTOM = 0.53, 0.06, 0.49, 0.3, 0.2, 0.36
 _MIN_PANEL_W = 0.55
 
 
@@ -155,7 +156,7 @@ def _time_axis(ax, x, labels, nbins=3):
 
 
 def _zero_panel(ax, x, title):
-    ax.set_title(f"{title}: \u2261 0", color=_CLASS_COLOURS["negligible"], loc="center")
+    ax.set_title(f"{_math(title)}: \u2261 0", color=_CLASS_COLOURS["negligible"], loc="center")
     ax.text(0.5, 0.5, "\u2261 0", transform=ax.transAxes, ha="center", va="center",
             fontsize=10, color="0.35")
     ax.set_ylim(-1, 1)
@@ -174,7 +175,7 @@ def _element_panel(ax, x, parts, title, cls, enveloped, nbins=3):
     ax.set_ylim(lo, hi)
     pad = (hi - lo) / 1.2 * 0.1
     set_ticks(ax.yaxis, lo + pad, hi - pad, nbins, labels=False)
-    ax.set_title(f"{title}: {SHORT_CLASS.get(cls, cls)}", color=_CLASS_COLOURS.get(cls, "black"))
+    ax.set_title(f"{_math(title)}: {SHORT_CLASS.get(cls, cls)}", color=_CLASS_COLOURS.get(cls, "black"))
 
 
 def _gaps(per_panel_units):
@@ -266,10 +267,10 @@ def fig_D(data, dominance, zero, s, e, prismatic=None, width=PAGE_WIDTH, armatur
         place = {element_label("D", i, j): (i, j) for i in range(n) for j in range(i, n)}
         W = _LEFT + _RIGHT + n * w + (n - 1) * wgap
         H_panels = _TOP + _BOTTOM + n * h + (n - 1) * _HGAP
-    key = ("D_ij against time t [s]"
+    key = (f"{_math('D_ij')} against time t [s]"
            + ("; units on each panel's axis" if mixed else
               f" [{_shown(next(iter(units.values())))}]")
-           + ("" if column else "; panel D_ij in row i, column j")
+           + ("" if column else f"; panel {_math('D_ij')} in row i, column j")
            + f". Title: element and its class: tran(slational), rot(ational), both, "
            f"negl(igible) (s = {s:g}, e = {e:g}); \u2261\u00a00: zero in every part "
            f"(below 1e-12 of its scale).")
@@ -513,7 +514,7 @@ def fig_torque(data, peak_error, rel_error, prismatic=None):
         _time_axis(ax, data.x, True)
         ax.set_xlabel("t [s]", labelpad=1.0)
         units = joint_torque_units(bool(prismatic[i])) if prismatic is not None else "N m"
-        ax.set_ylabel(f"\u03c4{i + 1} [{units}]", labelpad=1.0)
+        ax.set_ylabel(_math("\u03c4" + str(i + 1)) + f" [{units}]", labelpad=1.0)
         rel = f"{100 * rel_error[i]:.2g} %" if np.isfinite(rel_error[i]) else "n/a"
         ax.set_title(f"joint {i + 1}: peak error {rel}")
     label_axes([ax.yaxis for ax in fig.axes])
