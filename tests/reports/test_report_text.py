@@ -357,6 +357,12 @@ def test_round_off_is_never_tabulated_in_the_sweep_and_control_reports(reports, 
     table = next(r for c, h, r in _tables(html) if h[0] == "controller" and "sampled at" in h)
     full = [r for r in table if r[0] == "full model"]
     assert len(full) == 4 and all(c == "\u2261 0" for r in full for c in r[3:]), full
+    # nor in a sentence: the summary and the verdict say noise, not its digits
+    with xr.open_dataset(folder / "control.h5") as ds:
+        digits = f"{float(ds['error_peak_grid'].sel(controller='full').max()):.2e}"
+    for where in (_text(html), text):
+        assert digits not in where and "full model: peak |e| \u2261 0 (integrator noise)" in \
+            where.replace("\n", " ")
 
 
 #: A code name: letters or digits joined by "_" (q_d, Y_b, share_tran, pd_gravity, tau_s).

@@ -112,7 +112,11 @@ def _context(ds):
     q_units = _joint_units(ds, "q")
     unit = {c: q_units[int(np.nanargmax(peak_grid.sel(controller=c).values))]
             if np.isfinite(peak_grid.sel(controller=c).values).any() else "" for c in names}
-    summary = "; ".join(f"{_LABELS.get(c, c)}: peak |e| {_fmt(worst[c])} {unit[c]}"
+    tol, q_scale, tau_scale = noise_scales(ds)
+    quiet = {c: bool(is_round_off(peak_grid.sel(controller=c).values, q_scale, tol).all())
+             for c in names}           # every joint's error is integrator noise: not data
+    summary = "; ".join(f"{_LABELS.get(c, c)}: peak |e| "
+                        + (_NOISE if quiet[c] else f"{_fmt(worst[c])} {unit[c]}")
                         for c in names)
     summary = summary[:1].upper() + summary[1:]
     summary = (f"{_attr(ds, 'robot')} along {_attr(ds, 'trajectory_file')}, "
@@ -124,7 +128,7 @@ def _context(ds):
                     f"motion): {_tau_difference_peak(ds)}; not the "
                     "open-loop error \u03c4" + _sub("s") + " \u2212 \u03c4 of the main "
                     "report (one model against the other along the desired trajectory).")
-    verdict = _verdict(worst, ds, unit)
+    verdict = _verdict(worst, ds, unit, quiet)
     setup = _table(["item", "value"], [
         ["robot", f"{_attr(ds, 'robot')} (SHA-256 {_attr(ds, 'robot_sha256')})"],
         ["trajectory", f"{_attr(ds, 'trajectory_file')} (SHA-256 "
@@ -143,8 +147,6 @@ def _context(ds):
          if "q0_offset" in ds else "0"],
     ], align=["left", "left"])
     gains = _gains_table(ds, joints)
-    tol, q_scale, tau_scale = noise_scales(ds)
-
     def noise(values, peaks, scale):     # integrator noise of the joint's scale: not data
         off = is_round_off(peaks, scale, tol)
         return ["\u2261 0" if o else _fmt(v) for v, o in zip(values, off)]
@@ -324,10 +326,19 @@ _PROVENANCE = (("gd-analyze version", "gd_analyze_version"), ("run", "history"),
 VERDICT_TOLERANCE = 1e-3
 
 
-def _verdict(worst, ds, unit=None):
+#: A tracking error that is integrator noise on every joint, as the text says it.
+_NOISE = "\u2261 0 (integrator noise)"
+
+
+def _verdict(worst, ds, unit=None, quiet=None):
     """One sentence: does the simplified model control the arm as well as the full one?
-    ``unit``: per controller, the units of the joint of its peak error (rad or m)."""
-    unit = unit or {}
+    ``unit``: per controller, the units of the joint of its peak error (rad or m);
+    ``quiet``: per controller, whether its error is integrator noise on every joint."""
+    unit, quiet = unit or {}, quiet or {}
+
+    def said(c, value):
+        return _NOISE if quiet.get(c) else f"{_fmt(value)} {unit.get(c, 'rad')}"
+
     full, simp = worst.get("full"), worst.get("simplified")
     if full is None or simp is None:
         return "Verdict: not available (the run lacks the full or the simplified controller)."
@@ -338,8 +349,7 @@ def _verdict(worst, ds, unit=None):
     if "tau_difference_peak" in ds:
         tail = (f"; its closed-loop torque differs from the full-model controller's (two "
                 f"closed-loop runs) by at most {_tau_difference_peak(ds)}")
-    pd_text = f", PD + gravity {_fmt(pd)} {unit.get('pd_gravity', 'rad')}" if pd is not None \
-        else ""
+    pd_text = f", PD + gravity {said('pd_gravity', pd)}" if pd is not None else ""
     if simp <= bound:
         head = ("Verdict: the simplified model is good enough for computed-torque control "
                 "along this trajectory")
@@ -348,8 +358,8 @@ def _verdict(worst, ds, unit=None):
                 "it still beats PD + gravity")
     else:
         head = "Verdict: the simplified model is NOT good enough for computed-torque control"
-    return (f"{head}: peak tracking error {_fmt(simp)} {u} against {_fmt(full)} "
-            f"{unit.get('full', 'rad')} with the full model{pd_text} (tolerance: {_fmt(bound)} "
+    return (f"{head}: peak tracking error {said('simplified', simp)} against "
+            f"{said('full', full)} with the full model{pd_text} (tolerance: {_fmt(bound)} "
             f"{u}, the larger of {VERDICT_TOLERANCE:g} {u} and twice the full model's){tail}.")
 
 
