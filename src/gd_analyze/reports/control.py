@@ -116,7 +116,7 @@ def _context(ds):
     quiet = {c: bool(is_round_off(peak_grid.sel(controller=c).values, q_scale, tol).all())
              for c in names}           # every joint's error is integrator noise: not data
     summary = "; ".join(f"{_LABELS.get(c, c)}: peak |e| "
-                        + (_NOISE if quiet[c] else f"{_fmt(worst[c])} {unit[c]}")
+                        + (_NOISE if quiet[c] else _value(worst[c], unit[c]))
                         for c in names)
     summary = summary[:1].upper() + summary[1:]
     summary = (f"{_attr(ds, 'robot')} along {_attr(ds, 'trajectory_file')}, "
@@ -337,7 +337,7 @@ def _verdict(worst, ds, unit=None, quiet=None):
     unit, quiet = unit or {}, quiet or {}
 
     def said(c, value):
-        return _NOISE if quiet.get(c) else f"{_fmt(value)} {unit.get(c, 'rad')}"
+        return _NOISE if quiet.get(c) else _value(value, unit.get(c, "rad"))
 
     full, simp = worst.get("full"), worst.get("simplified")
     if full is None or simp is None:
@@ -367,7 +367,12 @@ def _tau_difference_peak(ds):
     """The largest closed-loop torque difference over the joints, with its joint's units."""
     peak = np.asarray(ds["tau_difference_peak"].values, float)
     j = int(np.nanargmax(peak)) if np.isfinite(peak).any() else 0
-    return f"{_fmt(float(peak[j]))} {_joint_units(ds, 'tau')[j]}"
+    return _value(float(peak[j]), _joint_units(ds, "tau")[j])
+
+
+def _value(value, unit):
+    """A number and its unit, never split over two lines."""
+    return f"{_fmt(value)}\u00a0{unit}".replace(" ", "\u00a0")
 
 
 # --------------------------------------------------------------------------------------------
