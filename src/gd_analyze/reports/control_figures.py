@@ -132,12 +132,12 @@ def _joint_panels(ds, values, ylabel, title, log=False, scale=None, which="q",
     if floor is not None:
         notes = [f"Integrator noise (at most {tol:g} of the joint's scale) is not drawn"]
         for name, where in quiet.items():
-            peak = max(p for _, p in where)
+            jmax, peak = max(where, key=lambda item: item[1])      # with its joint's units
             joints = ("every joint" if len(where) == n else
                       "joint" + ("s " if len(where) > 1 else " ")
                       + ", ".join(str(j + 1) for j, _ in where))
             notes.append(f"{_LABELS.get(name, name)}: noise on {joints} (peak "
-                         f"{_fmt(peak)} {units[where[0][0]]})")
+                         f"{_fmt(peak)} {units[jmax]})")
         note = "; ".join(notes) + "."
         fig.text(0.5, 1 - (0.62 if column else 0.36) / height,
                  textwrap.fill(note, 70) if column else note, ha="center", va="top",
