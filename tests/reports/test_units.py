@@ -232,3 +232,24 @@ def test_every_unit_of_the_control_report_follows_the_joint_types(stanford_contr
     offset = next(v for k, v in setup.items() if k.startswith("initial offset"))
     assert [u.split()[-1] for u in offset.replace("\u00a0", " ").split(", ")] == [
         "m" if p else "rad" for p in PRISMATIC]
+
+
+def test_payload_figure_gives_n_for_the_prismatic_joint():
+    """The payload sweep's peak |tau| panel: joint 3 of the Stanford arm in N, the others in
+    N m (a load changes forces and torques alike); the dataset says which joint is which."""
+    from gd_analyze import load_robot
+    from gd_analyze.io.trajectory import read_trajectory
+    from gd_analyze.reports.figures import payload_figure
+    from gd_analyze.workflows.payload import payload_sweep
+
+    robot = load_robot("stanford")
+    traj = read_trajectory(ROOT / "data" / "stanford_trajectory.csv", robot.n)
+    ds = payload_sweep(robot, traj, [0.0, 1.0])
+    assert [str(t) for t in ds["joint_type"].values] == [
+        "prismatic" if p else "revolute" for p in PRISMATIC]
+    fig = payload_figure(ds)
+    bx = fig.axes[-1] if fig.axes[-1].get_legend() else next(
+        a for a in fig.axes if a.get_legend())
+    keys = [t.get_text() for t in bx.get_legend().get_texts()]
+    assert keys == [f"joint {i + 1} [{_tau_units(i)}]" for i in range(N_JOINTS)]
+    assert "N m" not in bx.get_ylabel()

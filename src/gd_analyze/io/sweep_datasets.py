@@ -293,6 +293,8 @@ def payload_dataset(robot, trajectory, masses, com, inertia, results, dominance,
             ("payload", "joint"),
             np.array([r["summary"]["error"]["relative_peak_error"] for r in results]), "1",
             "own simplified model: peak |tau_simplified - tau| / peak |tau|"),
+        "joint_type": var(("joint",), np.array(robot.joint_types, dtype=str), "1",
+                          "joint type: revolute (tau in N m) or prismatic (tau in N)"),
     }
     coords = element_coords(n, robot.prismatic)
     coords["payload"] = ("payload", masses, {"long_name": "payload mass on the last link",
