@@ -158,5 +158,5 @@ def test_control_verdict_names_its_torque_difference_closed_loop():
     from gd_analyze.reports.control import _verdict
 
     ds = xr.Dataset({"tau_difference_peak": ("joint", np.array([0.152, 0.01]))})
-    text = _verdict({"full": 1e-4, "simplified": 2e-4}, ds)
+    text = _verdict({"full": 1e-4, "simplified": 2e-4}, ds).replace("\u00a0", " ")  # no-break
     assert "closed-loop torque differs" in text and "0.152 N m" in text

@@ -358,8 +358,8 @@ def _control_parser():
                    default=DEFAULT_ZETA, help=f"damping ratio (default {DEFAULT_ZETA:g})")
     p.add_argument("--offset", metavar="RAD", type=_fraction(-2 * math.pi, 2 * math.pi,
                                                              "--offset", False),
-                   default=0.0, help="initial position error on every joint [rad], within "
-                                     "[-2 pi, 2 pi] (default 0)")
+                   default=0.0, help="initial position error on every joint [rad; m on a "
+                                     "prismatic joint], within [-2 pi, 2 pi] (default 0)")
     p.add_argument("--no-report", action="store_true", help="skip the HTML and PDF report")
     _add_paper_argument(p)
     p.add_argument("--json", action="store_true", help="print the figures as one JSON object")

@@ -22,11 +22,19 @@ from pathlib import Path
 
 import numpy as np
 
-from ..core.selection.ranking import element_label
+from ..core.selection.ranking import element_label, is_round_off
 from .common import attr, fmt, render_template, utc_now
 from .common import strings as _strings
 from .common import table as _table
-from .control_figures import _LABELS, _RC, COLUMN_WIDTH, PAGE_WIDTH, _joint_units, control_figures
+from .control_figures import (
+    _LABELS,
+    _RC,
+    COLUMN_WIDTH,
+    PAGE_WIDTH,
+    _joint_units,
+    control_figures,
+    noise_scales,
+)
 from .drawing import draw_figures, figure_svg, write_figure_files
 from .markup import sub as _sub
 from .pages import PAPER, Document
@@ -101,7 +109,15 @@ def _context(ds):
             else names)
     peak_grid = ds["error_peak_grid"]
     worst = {c: float(np.nanmax(peak_grid.sel(controller=c).values)) for c in names}
-    summary = "; ".join(f"{_LABELS.get(c, c)}: peak |e| {_fmt(worst[c])} rad" for c in names)
+    q_units = _joint_units(ds, "q")
+    unit = {c: q_units[int(np.nanargmax(peak_grid.sel(controller=c).values))]
+            if np.isfinite(peak_grid.sel(controller=c).values).any() else "" for c in names}
+    tol, q_scale, tau_scale = noise_scales(ds)
+    quiet = {c: bool(is_round_off(peak_grid.sel(controller=c).values, q_scale, tol).all())
+             for c in names}           # every joint's error is integrator noise: not data
+    summary = "; ".join(f"{_LABELS.get(c, c)}: peak |e| "
+                        + (_NOISE if quiet[c] else _value(worst[c], unit[c]))
+                        for c in names)
     summary = summary[:1].upper() + summary[1:]
     summary = (f"{_attr(ds, 'robot')} along {_attr(ds, 'trajectory_file')}, "
                f"\u03c9{_sub('n')} = {_attr(ds, 'wn')} rad/s, \u03b6 = {_attr(ds, 'zeta')}. "
@@ -109,40 +125,39 @@ def _context(ds):
     if "tau_difference_peak" in ds:
         summary += (" Largest closed-loop torque difference, simplified-model controller "
                     "minus full-model controller (two closed-loop runs, each along its own "
-                    f"motion): {_fmt(float(ds['tau_difference_peak'].max()))} N m; not the "
+                    f"motion): {_tau_difference_peak(ds)}; not the "
                     "open-loop error \u03c4" + _sub("s") + " \u2212 \u03c4 of the main "
                     "report (one model against the other along the desired trajectory).")
-    verdict = _verdict(worst, ds)
+    verdict = _verdict(worst, ds, unit, quiet)
     setup = _table(["item", "value"], [
         ["robot", f"{_attr(ds, 'robot')} (SHA-256 {_attr(ds, 'robot_sha256')})"],
         ["trajectory", f"{_attr(ds, 'trajectory_file')} (SHA-256 "
                        f"{_attr(ds, 'trajectory_sha256')})"],
         ["simplified model", f"{_attr(ds, 'model_file')} (SHA-256 {_attr(ds, 'model_sha256')})"],
         ["plant", _plant(ds)],
-        ["controllers", "; ".join(f"{c}: {_LABELS.get(c, d)}" for c, d in zip(names, desc))
+        ["controllers", "; ".join(_LABELS.get(c, d) for c, d in zip(names, desc))
          + " (control laws below)"],
         ["desired motion", _attr(ds, "interpolation")],
         ["integrator", f"{_attr(ds, 'integrator')}, rtol = {_attr(ds, 'rtol')}, "
                        f"atol = {_attr(ds, 'atol')}"],
         ["samples", f"{_attr(ds, 'samples')} ({_attr(ds, 'setpoints')} set points + fine grid "
                     f"of {_attr(ds, 'grid_points')})"],
-        ["initial offset q(0) - q" + _sub("d") + "(0) [rad]",
-         ", ".join(_fmt(v) for v in ds["q0_offset"].values) if "q0_offset" in ds else "0"],
+        ["initial offset q(0) \u2212 q" + _sub("d") + "(0)",
+         ", ".join(f"{_fmt(v)}\u00a0{u}" for v, u in zip(ds["q0_offset"].values, q_units))
+         if "q0_offset" in ds else "0"],
     ], align=["left", "left"])
-    gains = _table(["joint", "\u03c9" + _sub("n") + " [rad/s]", "\u03b6",
-                    "K" + _sub("p") + " [1/s\u00b2]", "K" + _sub("v") + " [1/s]",
-                    "D" + _sub("ii") + " at the start [kg m\u00b2]",
-                    "PD K" + _sub("p") + " [N m/rad]", "PD K" + _sub("v") + " [N m s/rad]"],
-                   [[joints[j]] + [_fmt(ds[v].values[j], digits=4) for v in
-                                   ("wn", "zeta", "Kp", "Kv", "inertia_scale", "Kp_pd", "Kv_pd")]
-                    for j in range(n)], align="right")
+    gains = _gains_table(ds, joints)
+    def noise(values, peaks, scale):     # integrator noise of the joint's scale: not data
+        off = is_round_off(peaks, scale, tol)
+        return ["\u2261 0" if o else _fmt(v) for v, o in zip(values, off)]
+
     err_rows = []
     for c in names:
         for key, where in (("setpoints", "set points"), ("grid", "fine grid")):
             pk = ds[f"error_peak_{key}"].sel(controller=c).values
             rm = ds[f"error_rms_{key}"].sel(controller=c).values
-            err_rows.append([c, where, "peak"] + [_fmt(v) for v in pk])
-            err_rows.append([c, where, "RMS"] + [_fmt(v) for v in rm])
+            err_rows.append([_SHORT.get(c, c), where, "peak"] + noise(pk, pk, q_scale))
+            err_rows.append([_SHORT.get(c, c), where, "RMS"] + noise(rm, pk, q_scale))
     q_u, tau_u = _joint_units(ds, "q"), _joint_units(ds, "tau")
     errors = _table(["controller", "sampled at", "figure"]
                     + [f"{j} [{u}]" for j, u in zip(joints, q_u)],
@@ -153,17 +168,23 @@ def _context(ds):
     def fmt_all(name, **sel):
         return [_fmt(v) for v in ds[name].sel(**sel).values]
 
+    def diff(name, peak):
+        return noise(ds[name].values, ds[peak].values, tau_scale)
+
     if "tau_difference_peak" in ds:
-        tau_diff["rows"] = [["peak, fine grid"] + fmt_all("tau_difference_peak"),
-                            ["RMS, fine grid"] + fmt_all("tau_difference_rms")]
+        tau_diff["rows"] = [["peak, fine grid"] + diff("tau_difference_peak",
+                                                       "tau_difference_peak"),
+                            ["RMS, fine grid"] + diff("tau_difference_rms",
+                                                      "tau_difference_peak")]
         if "tau_difference_peak_setpoints" in ds:
-            tau_diff["rows"] += [["peak, set points"] + fmt_all("tau_difference_peak_setpoints"),
-                                 ["RMS, set points"] + fmt_all("tau_difference_rms_setpoints")]
+            at = "tau_difference_peak_setpoints"
+            tau_diff["rows"] += [["peak, set points"] + diff(at, at),
+                                 ["RMS, set points"] + diff("tau_difference_rms_setpoints", at)]
     tau_rows = []
     for c in names:
         if "tau_peak" in ds:
-            tau_rows.append([c, "peak |\u03c4|"] + fmt_all("tau_peak", controller=c))
-            tau_rows.append([c, "RMS \u03c4"] + fmt_all("tau_rms", controller=c))
+            tau_rows.append([_SHORT.get(c, c), "peak |\u03c4|"] + fmt_all("tau_peak", controller=c))
+            tau_rows.append([_SHORT.get(c, c), "RMS \u03c4"] + fmt_all("tau_rms", controller=c))
     tau_table = _table(["controller", "figure"] + [f"{j} [{u}]" for j, u in zip(joints, tau_u)],
                        tau_rows,
                        align=["left", "left"] + ["right"] * n)
@@ -226,7 +247,7 @@ def _context(ds):
         "error_note": (f"Tracking error e = q{_D} \u2212 q per joint, peak |e| and RMS, at the "
                        "set points of the trajectory and on the fine grid (set points "
                        "included)."),
-        "floor_note": floor,
+        "floor_note": floor, "noise_tol": f"{tol:g}",
         "tau_diff": tau_diff,
         "diff_note": ("Closed-loop torque difference: torque of the simplified-model "
                       "computed-torque controller minus that of the full-model one, each along "
@@ -243,6 +264,40 @@ def _context(ds):
     }
 
 
+#: Stored units of the gains (:func:`gd_analyze.core.selection.labels.joint_gain_units`) and
+#: of D_ii, as printed.
+_GAIN_UNITS = {"N m rad-1": "N m/rad", "N m s rad-1": "N m s/rad", "N m-1": "N/m",
+               "N s m-1": "N s/m", "kg m2": "kg m\u00b2", "kg": "kg"}
+
+
+def _gains_table(ds, joints):
+    """The gains per joint. D_ii and the PD gains carry the units of their joint's type
+    (the stored ``<name>_units`` per joint): in the header where every joint agrees, else in
+    each cell."""
+    from .common import prismatic_joints
+
+    prismatic = prismatic_joints(ds)
+    header = ["joint", "\u03c9" + _sub("n") + " [rad/s]", "\u03b6",
+              "K" + _sub("p") + " [1/s\u00b2]", "K" + _sub("v") + " [1/s]"]
+    per_joint = {}
+    for name, title in (("inertia_scale", "D" + _sub("ii") + " at the start"),
+                        ("Kp_pd", "PD K" + _sub("p")), ("Kv_pd", "PD K" + _sub("v"))):
+        if f"{name}_units" in ds.coords:
+            units = [_GAIN_UNITS.get(u, u) for u in _strings(ds[f"{name}_units"].values)]
+        else:                               # an older file: units from the joint types
+            from ..io.control_dataset import _gain_units
+
+            units = [_GAIN_UNITS.get(u, u) for u in _gain_units(prismatic)[name]]
+        same = len(set(units)) == 1
+        header.append(f"{title} [{units[0]}]" if same else title)
+        per_joint[name] = ([""] * len(units) if same else
+                           ["\u00a0" + u.replace(" ", "\u00a0") for u in units])
+    rows = [[joints[j]] + [_fmt(ds[v].values[j], digits=4) for v in ("wn", "zeta", "Kp", "Kv")]
+            + [_fmt(ds[v].values[j], digits=4) + per_joint[v][j]
+               for v in ("inertia_scale", "Kp_pd", "Kv_pd")] for j in range(len(joints))]
+    return _table(header, rows, align="right")
+
+
 def _plant(ds):
     """The simulated plant: the full G-D model's forward dynamics, written as mathematics."""
     plant = _attr(ds, "plant")
@@ -250,6 +305,9 @@ def _plant(ds):
         return "full G-D model, q\u0308 = D\u207b\u00b9 (\u03c4 \u2212 h \u2212 c) (Eq. 3.4-24)"
     return plant
 
+
+#: The controllers as a table's rows name them (the figures' keys: ``CONTROLLER_LABELS``).
+_SHORT = {"full": "full model", "simplified": "simplified model", "pd_gravity": "PD + gravity"}
 
 _D, _KP, _KV, _WN = _sub("d"), "K" + _sub("p"), "K" + _sub("v"), "\u03c9" + _sub("n")
 
@@ -268,19 +326,30 @@ _PROVENANCE = (("gd-analyze version", "gd_analyze_version"), ("run", "history"),
 VERDICT_TOLERANCE = 1e-3
 
 
-def _verdict(worst, ds):
-    """One sentence: does the simplified model control the arm as well as the full one?"""
+#: A tracking error that is integrator noise on every joint, as the text says it.
+_NOISE = "\u2261 0 (integrator noise)"
+
+
+def _verdict(worst, ds, unit=None, quiet=None):
+    """One sentence: does the simplified model control the arm as well as the full one?
+    ``unit``: per controller, the units of the joint of its peak error (rad or m);
+    ``quiet``: per controller, whether its error is integrator noise on every joint."""
+    unit, quiet = unit or {}, quiet or {}
+
+    def said(c, value):
+        return _NOISE if quiet.get(c) else _value(value, unit.get(c, "rad"))
+
     full, simp = worst.get("full"), worst.get("simplified")
     if full is None or simp is None:
         return "Verdict: not available (the run lacks the full or the simplified controller)."
     pd = worst.get("pd_gravity")
     bound = max(2.0 * full, VERDICT_TOLERANCE)
+    u = unit.get("simplified", "rad")
     tail = ""
     if "tau_difference_peak" in ds:
         tail = (f"; its closed-loop torque differs from the full-model controller's (two "
-                f"closed-loop runs) by at most "
-                f"{_fmt(float(ds['tau_difference_peak'].max()))} N m")
-    pd_text = f", PD + gravity {_fmt(pd)} rad" if pd is not None else ""
+                f"closed-loop runs) by at most {_tau_difference_peak(ds)}")
+    pd_text = f", PD + gravity {said('pd_gravity', pd)}" if pd is not None else ""
     if simp <= bound:
         head = ("Verdict: the simplified model is good enough for computed-torque control "
                 "along this trajectory")
@@ -289,9 +358,21 @@ def _verdict(worst, ds):
                 "it still beats PD + gravity")
     else:
         head = "Verdict: the simplified model is NOT good enough for computed-torque control"
-    return (f"{head}: peak tracking error {_fmt(simp)} rad against {_fmt(full)} rad with the "
-            f"full model{pd_text} (tolerance: {_fmt(bound)} rad, the larger of "
-            f"{VERDICT_TOLERANCE:g} rad and twice the full model's){tail}.")
+    return (f"{head}: peak tracking error {said('simplified', simp)} against "
+            f"{said('full', full)} with the full model{pd_text} (tolerance: {_fmt(bound)} "
+            f"{u}, the larger of {VERDICT_TOLERANCE:g} {u} and twice the full model's){tail}.")
+
+
+def _tau_difference_peak(ds):
+    """The largest closed-loop torque difference over the joints, with its joint's units."""
+    peak = np.asarray(ds["tau_difference_peak"].values, float)
+    j = int(np.nanargmax(peak)) if np.isfinite(peak).any() else 0
+    return _value(float(peak[j]), _joint_units(ds, "tau")[j])
+
+
+def _value(value, unit):
+    """A number and its unit, never split over two lines."""
+    return f"{_fmt(value)}\u00a0{unit}".replace(" ", "\u00a0")
 
 
 # --------------------------------------------------------------------------------------------
@@ -362,12 +443,16 @@ def _outline(ctx, figures):
     o.table(ctx["gains"], "Gains per joint.")
     o.section("2", "Tracking error", "tracking")
     o.paragraph(ctx["error_note"], "note")
-    o.table(ctx["errors"], "Tracking error per controller and joint.", size=7)
+    o.table(ctx["errors"], "Tracking error per controller and joint; \u2261 0: integrator "
+                           f"noise (at most {ctx['noise_tol']} of the joint's range of "
+                           "motion), not data.", size=7)
     o.figure("error", _CAPTIONS["error"])
     o.section("3", "Torques", "torque")
     o.paragraph(ctx["diff_note"], "note")
     o.table(ctx["tau_diff"], "Closed-loop torque difference per joint, simplified-model "
-                             "controller minus full-model controller.")
+                             "controller minus full-model controller; \u2261 0: integrator "
+                             f"noise (at most {ctx['noise_tol']} of the full-model controller's "
+                             "peak |\u03c4|), not data.")
     if "tau_difference" in o.available:
         o.figure("tau_difference", _CAPTIONS["tau_difference"])
     else:
