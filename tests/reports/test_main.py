@@ -602,10 +602,12 @@ def test_formulations_section_from_the_stored_counts(tmp_path, puma):
     ds = open_results(results)
     costs = next(t for t in tables_of(html) if t and t[0][:2] == ["formulation", "multiplications"])
     by_name = {row[0]: row for row in costs[1:]}
+    shown = {"lagrange-euler": "Lagrange-Euler", "newton-euler": "Newton-Euler",
+             "gd": "G-D, compiled engine"}          # names in words, not dataset keys
     for name in ("lagrange-euler", "newton-euler", "gd"):
         stored = ds.op_multiplications.sel(dof=6, formulation=name).item()
-        assert by_name[name][1] == f"{stored:.0f}"
-        assert by_name[name][3] == f"{ds.op_multiplications_table_3_5.sel(dof=6, formulation=name).item():.0f}"
+        assert by_name[shown[name]][1] == f"{stored:.0f}"
+        assert by_name[shown[name]][3] == f"{ds.op_multiplications_table_3_5.sel(dof=6, formulation=name).item():.0f}"
     assert html.count("<svg") == 5          # joints, D, h, torque, formulations
 
 
