@@ -28,8 +28,8 @@ __all__ = ["CLASS_COLOURS", "BASE_RC", "SUPTITLE_RC", "A4", "A4_LANDSCAPE", "sty
            "joint_colours", "joint_style", "JOINT_STYLES", "MAX_MARKERS", "MIN_MARKERS",
            "markevery", "panel_markevery",
            "gridspec", "svg", "inline_svgs", "render_template", "check_formats",
-           "prismatic_joints", "torque_units", "element_units_of", "units_text",
-           "units_said_once"]
+           "prismatic_joints", "torque_units", "FORMULATION_NAMES", "FORMULATION_ABBR",
+           "element_units_of", "units_text", "units_said_once"]
 
 CLASS_COLOURS = {"translational": "#0072B2", "rotational": "#D55E00", "both": "#6A3D9A",
                  "negligible": "#777777"}
@@ -257,6 +257,15 @@ def keep_units(text):
     return _UNITS.sub(lambda m: m.group().replace(" ", "\u00a0"), str(text))
 
 
+#: How the report names each formulation and implementation of the stored comparison (the
+#: key is the name in the dataset), in full and abbreviated.
+FORMULATION_NAMES = {"lagrange-euler": "Lagrange-Euler", "newton-euler": "Newton-Euler",
+                     "gd": "G-D, compiled engine", "gd-numpy": "G-D, array engine",
+                     "pinocchio": "Pinocchio"}
+FORMULATION_ABBR = {"lagrange-euler": "L-E", "newton-euler": "N-E", "gd": "G-D",
+                    "gd-numpy": "G-D np", "pinocchio": "Pinocchio"}
+
+
 def table(header, rows, align=None, widths=None, colour_cols=()):
     """A table as the templates and the PDF writers read it.
 
@@ -265,7 +274,9 @@ def table(header, rows, align=None, widths=None, colour_cols=()):
     header : sequence of str
         Column headings.
     rows : sequence of sequence
-        The cells, converted with ``str``.
+        The cells, converted with ``str``; a cell that is an element's label (``D12``,
+        ``D1,10``, ``h3``) is lettered as the figures letter it, ``D₁₂``
+        (:func:`gd_analyze.reports.markup.label`).
     align : sequence of str or {"right"}, optional
         ``"left"`` or ``"right"`` per column; ``"right"``: the first column left, the others
         right. Default: all left.
@@ -281,8 +292,10 @@ def table(header, rows, align=None, widths=None, colour_cols=()):
     """
     if isinstance(align, str):
         align = ["left"] + [align] * (len(header) - 1)
+    from .markup import label
+
     header = [keep_units(h) for h in header]
-    return {"header": header, "rows": [[str(c) for c in row] for row in rows],
+    return {"header": header, "rows": [[label(str(c)) for c in row] for row in rows],
             "align": list(align or ["left"] * len(header)),
             "widths": list(widths or [1] * len(header)), "colour_cols": list(colour_cols)}
 

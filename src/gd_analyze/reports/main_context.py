@@ -605,7 +605,7 @@ def _formulations_context(ds):
     quantities = _strings(ds["quantity"].values)
     pairs = _strings(ds["formulation_pair"].values)
     dis = ds["formulation_disagreement"].values
-    from ..formulations.opcount import FORMULATION_ABBR, FORMULATION_NAMES
+    from .common import FORMULATION_ABBR, FORMULATION_NAMES
 
     def pair(p):                            # "lagrange-euler vs gd" -> "L-E vs G-D"
         return " vs ".join(FORMULATION_ABBR.get(f, f) for f in p.split(" vs "))
