@@ -16,6 +16,7 @@ from gd_analyze.io.schema import open_results, write_dataset
 from gd_analyze.io.trajectory import read_trajectory
 from gd_analyze.reports import main as report
 from gd_analyze.reports.main_context import zero_mask
+from gd_analyze.reports.markup import label as math_label
 from gd_analyze.workflows.analyze import analyze
 from gd_analyze.workflows.options import AnalysisOptions
 
@@ -202,15 +203,15 @@ def test_html_labels_classes_and_ranking_table(any_report):
     n = ds.sizes["joint"]
     assert labels == [f"D{i + 1}{j + 1}" for i in range(n) for j in range(i, n)] + \
         [f"h{i + 1}" for i in range(n)]
-    for label in labels:
-        assert label in html
+    for lab in labels:
+        assert math_label(lab) in html           # lettered as the figures letter it: D₁₂
     ranking = table_with_header(html, ["element", "translational share", "class", "peak |Xtran|",
                                        "peak |Xrot|", "peak |X|", "units"])
     assert ranking is not None
     rows = ranking[1:]
-    assert [r[0] for r in rows] == labels
+    assert [r[0] for r in rows] == [math_label(lab) for lab in labels]
     assert [r[2] for r in rows] == strings(ds["dominance"].values)
-    zero = set(zero_mask(ds)[0][k] for k in np.flatnonzero(zero_mask(ds)[1]))
+    zero = set(math_label(zero_mask(ds)[0][k]) for k in np.flatnonzero(zero_mask(ds)[1]))
     for row, share in zip(rows, ds["share_tran"].values):
         if row[0] in zero:
             assert row[1] == "\u2261 0"             # rounding noise is not printed as a share
@@ -545,8 +546,8 @@ def test_long_trajectory_html_under_5mb(tmp_path, puma):
     html = html_path.read_text(encoding="utf-8")
     assert "min/max envelope" in html and ">100000<" in html
     assert "not run" in html                        # no verification without check
-    for label in ("D11", "D66", "h6"):
-        assert label in html
+    for lab in ("D11", "D66", "h6"):
+        assert math_label(lab) in html
 
 
 # ------------------------------------------------------------------------------------------

@@ -300,8 +300,10 @@ def test_sweep_report(sweep, puma, shipped, tmp_path):
     assert html.count("<svg") >= 5
     assert "<link" not in html and 'src="http' not in html and "<script" not in html
     assert "marker-7f3a" in html and puma.sha256 in html
+    from gd_analyze.reports.markup import label as lettered
+
     for label in element_labels(puma.n):
-        assert f">{label}<" in html
+        assert f">{lettered(label)}<" in html          # D₁₂, as the figures letter it
     assert "Payload sweep" in html
     assert pdf_path.read_bytes().startswith(b"%PDF")
     from pypdf import PdfReader
