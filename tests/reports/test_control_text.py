@@ -110,3 +110,21 @@ def test_control_verdict_keeps_revolute_and_prismatic_joints_apart():
     revolute = control_verdict({k: v[:2] for k, v in peaks.items()}, prismatic[:2])
     assert " m " not in revolute and "joint" not in revolute
 
+
+
+def test_verdict_tolerance_option_reaches_the_report(tmp_path):
+    """``control --verdict-tolerance RAD,M``: checked (exit 2 on a bad value), stored in
+    control.h5 and stated in the verdict and the provenance."""
+    assert main(["control", "x.json", "y.csv", "--verdict-tolerance", "-1"]) == 2
+    assert main(["control", "x.json", "y.csv", "--verdict-tolerance", "1,2,3"]) == 2
+    csv = tmp_path / "two.csv"
+    assert main(["plan", "two-link", "-o", str(csv)]) == 0
+    assert main(["two-link", str(csv), "-o", str(tmp_path / "main"), "-q", "--no-report"]) == 0
+    assert main(["control", str(tmp_path / "main" / "simplified_model.json"), str(csv),
+                 "-o", str(tmp_path / "control"), "-q", "--verdict-tolerance", "0.002,0.004"]) == 0
+    with xr.open_dataset(tmp_path / "control" / "control.h5") as ds:
+        assert (float(ds.attrs["verdict_tolerance_revolute"]),
+                float(ds.attrs["verdict_tolerance_prismatic"])) == (0.002, 0.004)
+    text = _text((tmp_path / "control" / "control_report.html").read_text())
+    assert "the larger of 0.002 rad and twice the full model's" in text     # all revolute
+    assert "verdict tolerance 0.002 rad" in text and "0.004" not in text
