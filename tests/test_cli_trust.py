@@ -157,6 +157,22 @@ def test_case7_edited_model_is_refused_by_control(cwd, capsys):
     _refused(["control", "m.json", traj, "-o", "c"], capsys, cwd, "do not match")
 
 
+def test_case7_unequal_bound_lists_are_refused_by_evaluate(cwd, capsys):
+    """bound_by_part lists of unequal lengths (a corrupted file) are bad input, not a bug:
+    exit 2 with one line naming the key (they made a ragged array: exit 4)."""
+    traj = _plan(cwd, capsys)
+    code, _, err = _run(["two-link", traj, "-o", "a", "--no-report", "-q", "--form",
+                         "recursive"], capsys)
+    assert code == 0, err
+    doc = json.loads((cwd / "a" / "simplified_model.json").read_text())
+    parts = doc["recursive"]["bound_by_part"]
+    first = next(iter(parts))
+    parts[first] = parts[first] + [0.0]             # one list longer than the others
+    (cwd / "m.json").write_text(json.dumps(doc))
+    line = _refused(["evaluate", "m.json", traj], capsys, cwd, "recursive.bound_by_part")
+    assert "m.json" in line
+
+
 # --- case 8 -----------------------------------------------------------------------------------
 
 def test_case8_toml_crashes(cwd, capsys):

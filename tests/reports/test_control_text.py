@@ -33,7 +33,7 @@ CONFIGS = {"budget-recursive": ["--rule", "budget", "--form", "recursive"],
 
 def _text(html):
     html = re.sub(r"<svg.*?</svg>", "", html, flags=re.S)
-    return unescape(re.sub(r"\s+", " ", re.sub(r"<[^>]+>", " ", html)))
+    return unescape(re.sub(r"\s+", " ", re.sub(r"<[^>]+>", " ", html))).replace("\u00a0", " ")
 
 
 @pytest.fixture(scope="module", params=list(CONFIGS))
@@ -100,14 +100,16 @@ def test_control_verdict_keeps_revolute_and_prismatic_joints_apart():
     peaks = {"full": np.array([1e-10, 1e-10, 1e-11]),
              "simplified": np.array([2e-4, 1e-4, 5e-3]),        # 5 mm: beyond 1 mm
              "pd_gravity": np.array([1e-2, 1e-2, 2e-2])}
-    text = control_verdict(peaks, prismatic, np.array([0.1, 0.2, 3.0]), (1e-3, 1e-3))
+    text = control_verdict(peaks, prismatic, np.array([0.1, 0.2, 3.0]),
+                           (1e-3, 1e-3)).replace("\u00a0", " ")
     assert "NOT good enough" in text or "degrades" in text
     assert "joints 1, 2 revolute (rad, N m); joint 3 prismatic (m, N)" in text
     assert "2.00e-04 rad, 0.005 m" in text and "0.2 N m, 3 N" in text
     assert "0.02 rad" not in text and "0.005 rad" not in text       # no max across units
-    looser = control_verdict(peaks, prismatic, None, (1e-3, 1e-2))
+    looser = control_verdict(peaks, prismatic, None, (1e-3, 1e-2)).replace("\u00a0", " ")
     assert "good enough" in looser and "NOT" not in looser
-    revolute = control_verdict({k: v[:2] for k, v in peaks.items()}, prismatic[:2])
+    revolute = control_verdict({k: v[:2] for k, v in peaks.items()},
+                               prismatic[:2]).replace("\u00a0", " ")
     assert " m " not in revolute and "joint" not in revolute
 
 

@@ -77,10 +77,10 @@ def _cells(fragment):
 def _tables(html):
     """(caption, header cells, rows of cells) of every table."""
     out = []
-    for t in re.findall(r"<table[^>]*>(.*?)</table>", html, flags=re.S):
-        cap = re.search(r"<caption>(.*?)</caption>", t, flags=re.S)
+    for cap, t in re.findall(r"<figure class=\"table\">\s*(?:<figcaption>(.*?)</figcaption>)?"
+                             r"\s*<table[^>]*>(.*?)</table>", html, flags=re.S):
         rows = [_cells(r) for r in re.findall(r"<tr[^>]*>(.*?)</tr>", t, flags=re.S)]
-        out.append((unescape(re.sub(r"<[^>]+>", "", cap.group(1))).strip() if cap else None,
+        out.append((unescape(re.sub(r"<[^>]+>", "", cap)).strip() if cap else None,
                     rows[0], rows[1:]))
     return out
 
@@ -99,7 +99,7 @@ def test_every_table_has_a_numbered_caption_in_html_and_pdf(reports, which):
     assert len(set(keys)) == len(keys)                          # unique
     # numbered within the section they sit in, from 1, in order
     body = re.sub(r"<svg.*?</svg>", "", html, flags=re.S)
-    for m, (sec, k) in zip(re.finditer(r"<caption>Table (\d+)\.(\d+):", body), keys):
+    for m, (sec, k) in zip(re.finditer(r"<figcaption>Table (\d+)\.(\d+):", body), keys):
         heading = re.findall(r"<h2[^>]*>(\d+)\.", body[:m.start()])[-1]
         assert int(heading) == sec
         assert k == 1 or (sec, k - 1) in keys
@@ -302,7 +302,8 @@ def test_markup_escapes_and_renders():
 
     s = "<b>" + markup.element("D", "12", "tran") + " & " + markup.sub("d")
     assert str(markup.html(s)) == "&lt;b&gt;D<sub>12</sub><sup>tran</sup> &amp; <sub>d</sub>"
-    assert markup.unicode(s) == "<b>D\u2081\u2082\u1d57\u02b3\u1d43\u207f & _d"
+    # d has no Unicode subscript: the span stays marked, a run for the PDF page engine
+    assert markup.unicode(s) == "<b>D\u2081\u2082\u1d57\u02b3\u1d43\u207f & " + markup.sub("d")
     assert markup.plain(s) == "<b>D12tran & d"
 
 
@@ -316,3 +317,119 @@ def test_marks_in_a_file_s_text_are_dropped():
     ds = xr.Dataset(attrs={"robot": "arm" + markup.sub("<i>") + markup.sup("x")})
     assert attr(ds, "robot") == "arm<i>x"
     assert str(markup.html(attr(ds, "robot"))) == "arm&lt;i&gt;x"
+
+
+#: A number that is round-off of any quantity's scale the reports tabulate (1e-13 and below).
+_TINY = re.compile(r"(?<![\w.])-?[0-9.]+e-(1[3-9]|[2-9][0-9])(?![\w])")
+
+
+@pytest.mark.parametrize("which", ("sweep", "control"))
+def test_round_off_is_never_tabulated_in_the_sweep_and_control_reports(reports, which):
+    """Issue 18: round-off of a quantity's own scale reads "≡ 0" in every table of the sweep
+    and control reports, in the HTML and in the PDF's text pages. The sweep's D45 and D56
+    (zero for the PUMA 560 in every part: an axis intersection) have no share, D16 (rotational
+    only) a share of exactly 0; the full-model controller's tracking error is the
+    integrator's noise (its rtol of the range of motion)."""
+    import xarray as xr
+
+    from gd_analyze.core.selection.ranking import is_round_off
+
+    html, _ = _files(reports, which)
+    for caption, header, rows in _tables(html):
+        for row in rows:
+            assert not any(_TINY.search(c) for c in row), (caption, row)
+    text = _text_pages(reports, which)
+    assert not _TINY.findall(text), sorted(set(_TINY.findall(text)))
+    folder, _ = reports[which]
+    if which == "sweep":
+        env = next(r for c, h, r in _tables(html) if h[-1] == "merged choice")
+        by = {r[0]: r for r in env}
+        for lab in ("D45", "D56"):
+            assert by[lab][5:8] == ["\u2261 0"] * 3, by[lab]
+        assert by["D16"][5:8] == ["0"] * 3, by["D16"]
+        return
+    with xr.open_dataset(folder / "control.h5") as ds:
+        q_d = ds["q_d"].values
+        scale = np.maximum(np.ptp(q_d, axis=0), np.abs(q_d).max(axis=0))
+        noise = is_round_off(ds["error_peak_grid"].sel(controller="full").values, scale,
+                             float(ds.attrs["rtol"]))
+    assert noise.all()                      # the physics: the full model tracks exactly
+    table = next(r for c, h, r in _tables(html) if h[0] == "controller" and "sampled at" in h)
+    full = [r for r in table if r[0] == "full model"]
+    assert len(full) == 4 and all(c == "\u2261 0" for r in full for c in r[3:]), full
+    # nor in a sentence: the summary and the verdict say noise, not its digits
+    with xr.open_dataset(folder / "control.h5") as ds:
+        digits = f"{float(ds['error_peak_grid'].sel(controller='full').max()):.2e}"
+    for where in (_text(html), text):
+        assert digits not in where and "full model: peak |e| \u2261 0 (integrator noise)" in \
+            where.replace("\n", " ")
+
+
+#: A code name: letters or digits joined by "_" (q_d, Y_b, share_tran, pd_gravity, tau_s).
+_CODE = re.compile(r"[^\s(|]*[A-Za-z0-9]_[A-Za-z0-9][^\s,;)|]*")
+
+
+def _is_code(token, names=""):
+    """File and module names, the emitted C function and the robot file's key tau_max are
+    code written as code; names read from the robot's files (URDF links, packages) are
+    names."""
+    return ("." in token or "/" in token or token.startswith("gd_simplified_tau")
+            or token == "tau_max" or token in names)
+
+
+def _names(reports, which):
+    """The robot's description and reference, as its files give them."""
+    import xarray as xr
+
+    folder, _ = reports[which]
+    name = {"sweep": "sweep.h5", "control": "control.h5"}.get(which, "results.h5")
+    with xr.open_dataset(folder / name) as ds:
+        return " ".join(str(ds.attrs.get(k, "")) for k in ("robot_description",
+                                                          "robot_reference"))
+
+
+@pytest.mark.parametrize("which", ALL)
+def test_no_code_subscript_reaches_the_pdf_or_the_html(reports, which):
+    """Issue 18: mathematics, not code names, in the whole PDF as pypdf extracts it (text
+    pages and figures: q_d is q with a subscript d, drawn as a run of smaller glyphs, never
+    "q_d") and in the HTML's text; file and module names excepted."""
+    html, pdf = _files(reports, which)
+    names = _names(reports, which)
+    for where, text in (("pdf", _pdf_text(pdf)), ("html", _text(html))):
+        bad = sorted({t for t in _CODE.findall(text) if not _is_code(t, names)})
+        assert not bad, (where, bad)
+
+
+def test_subscript_runs_are_drawn_smaller_and_lowered():
+    """A span without Unicode subscripts (the d of q_d) is drawn as a run: its glyphs at
+    markup.RUN_SIZE of the line's size, lowered, measured at that size; the line's text reads
+    "qd(0)" and no "_"."""
+    import io
+
+    from gd_analyze.reports import markup
+    from gd_analyze.reports.pages import _line_width
+    from gd_analyze.reports.table_layout import word_width
+
+    s = markup.unicode("q" + markup.sub("d") + "(0)")
+    assert "_" not in s and markup.runs(s) == [("q", None), ("d", "sub"), ("(0)", None)]
+    assert word_width(s, 9.0, False) == pytest.approx(
+        word_width("q", 9.0, False) + word_width("d", 9.0 * markup.RUN_SIZE, False)
+        + word_width("(0)", 9.0, False))
+    assert _line_width(s, 9.0) < _line_width("qd(0)", 9.0)
+    doc = Document("t")
+    doc.paragraph("offset " + s)
+    pages, _ = doc._layout()
+    reader = PdfReader(io.BytesIO(doc._text_pages(pages)))
+    sizes = []
+
+    def visit(text, cm, tm, font, size):
+        if text.strip():
+            y = tm[5] * cm[3] + tm[4] * cm[1] + cm[5]         # the baseline on the page
+            sizes.append((text.strip(), round(size * tm[0], 2), round(y, 2)))
+
+    text = reader.pages[0].extract_text(visitor_text=visit)
+    assert "_" not in text and "q" in text and "d" in text
+    d = [s for s in sizes if s[0] == "d"]
+    q = [s for s in sizes if s[0].endswith("q") or s[0] == "q"]
+    assert d and q, sizes
+    assert d[0][1] < q[0][1] and d[0][2] < q[0][2], sizes          # smaller, lower

@@ -158,5 +158,5 @@ def test_control_verdict_names_its_torque_difference_closed_loop():
     from gd_analyze.reports.control import control_verdict
 
     text = control_verdict({"full": np.array([1e-4, 1e-5]), "simplified": np.array([2e-4, 0.0])},
-                           np.zeros(2, bool), np.array([0.152, 0.01]))
+                           np.zeros(2, bool), np.array([0.152, 0.01])).replace("\u00a0", " ")
     assert "closed-loop torque differs" in text and "0.152 N m" in text

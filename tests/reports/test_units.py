@@ -162,3 +162,95 @@ def test_sweep_report_and_dataset_give_n_for_the_prismatic_joint(tmp_path):
         assert stored == dict(EXPECTED)
         assert [k for k in ds.variables if "joint" in ds[k].dims
                 and ds[k].attrs.get("units") in ("N m", "N")] == []
+
+
+def _gain_units(i):
+    """PD gains tau_i = Kp e_i + Kv de_i/dt: generalized force over q_i and over qd_i."""
+    return ("N/m", "N s/m") if PRISMATIC[i] else ("N m/rad", "N m s/rad")
+
+
+@pytest.fixture(scope="module")
+def stanford_control(stanford):
+    out = stanford.parent / "stanford_control"
+    assert main(["control", str(stanford / "simplified_model.json"),
+                 str(ROOT / "data" / "stanford_trajectory.csv"), "-o", str(out), "-q"]) == 0
+    return out
+
+
+def test_control_gains_carry_the_units_of_their_joint(stanford_control):
+    """Stored per joint (HDF5 ``<name>_units``), never one unit for the mixed arm, and printed
+    in the gains table joint by joint: Kp_pd in N m/rad or N/m, Kv_pd in N m s/rad or N s/m,
+    D_ii (their scale) in kg m² or kg."""
+    with xr.open_dataset(stanford_control / "control.h5") as ds:
+        for name, k in (("Kp_pd", 0), ("Kv_pd", 1)):
+            stored = [str(u).replace(" rad-1", "/rad").replace(" m-1", "/m")
+                      for u in ds[f"{name}_units"].values]
+            assert stored == [_gain_units(i)[k] for i in range(N_JOINTS)], name
+            assert "by joint type" in ds[name].attrs["units"], ds[name].attrs["units"]
+        assert [str(u).replace("m2", "m\u00b2") for u in ds["inertia_scale_units"].values] == [
+            _d_units(i, i) for i in range(N_JOINTS)]
+        assert [k for k in ds.variables if "joint" in ds[k].dims
+                and ds[k].attrs.get("units") in ("N m", "N", "N m rad-1", "N m s rad-1",
+                                                 "kg m2", "rad", "m")] == []
+    html = (stanford_control / "control_report.html").read_text(encoding="utf-8")
+    gains = next(t for t in tables_of(html) if t and t[0][0] == "joint" and len(t[0]) == 8)
+    for i, row in enumerate(gains[1:]):
+        row = [c.replace("\u00a0", " ") for c in row]
+        assert row[5].endswith(" " + _d_units(i, i)), row
+        assert row[6].endswith(" " + _gain_units(i)[0]), row
+        assert row[7].endswith(" " + _gain_units(i)[1]), row
+
+
+def test_every_unit_of_the_control_report_follows_the_joint_types(stanford_control):
+    """Every per-joint unit of the control report's tables: q and the tracking error of joint
+    3 in m, its torques in N; the rest in rad and N m. No sentence gives the mixed arm's
+    largest error or torque difference in the units of another joint."""
+    html = (stanford_control / "control_report.html").read_text(encoding="utf-8")
+    text = unescape(re.sub(r"<[^>]+>", " ", _html_without_svg(html))).replace("\u00a0", " ")
+    for t in tables_of(html):
+        head = [c.replace("\u00a0", " ") for c in t[0]] if t else []
+        cols = [c for c in head if re.match(r"J\d+ \[", c)]
+        if not cols:
+            continue
+        units = [c.split("[", 1)[1].rstrip("]") for c in cols]
+        torque = units[0] in ("N m", "N")
+        assert units == ([_tau_units(i) for i in range(N_JOINTS)] if torque else
+                         ["m" if p else "rad" for p in PRISMATIC]), head
+    with xr.open_dataset(stanford_control / "control.h5") as ds:
+        peak = ds["error_peak_grid"].values                  # (controller, joint)
+        names = [str(c) for c in ds["controller"].values]
+    for c, row in zip(names, peak):
+        j = int(np.nanargmax(row))
+        label = {"full": "full model", "simplified": "simplified model",
+                 "pd_gravity": "PD + gravity"}[c]
+        unit = "m" if PRISMATIC[j] else "rad"
+        if c == "full":                 # integrator noise on every joint: no number, no unit
+            assert f"{label}: peak |e| \u2261 0 (integrator noise)" in text
+            continue
+        # each joint type apart, in its own unit: never one maximum across rad and m
+        assert re.search(rf"{re.escape(label)}: peak \|e\| \S+ rad, \S+ m\b", text), (c, unit)
+    setup = dict(r for t in tables_of(html) if t and t[0] == ["item", "value"] for r in t[1:])
+    offset = next(v for k, v in setup.items() if k.startswith("initial offset"))
+    assert [u.split()[-1] for u in offset.replace("\u00a0", " ").split(", ")] == [
+        "m" if p else "rad" for p in PRISMATIC]
+
+
+def test_payload_figure_gives_n_for_the_prismatic_joint():
+    """The payload sweep's peak |tau| panel: joint 3 of the Stanford arm in N, the others in
+    N m (a load changes forces and torques alike); the dataset says which joint is which."""
+    from gd_analyze import load_robot
+    from gd_analyze.io.trajectory import read_trajectory
+    from gd_analyze.reports.figures import payload_figure
+    from gd_analyze.workflows.payload import payload_sweep
+
+    robot = load_robot("stanford")
+    traj = read_trajectory(ROOT / "data" / "stanford_trajectory.csv", robot.n)
+    ds = payload_sweep(robot, traj, [0.0, 1.0])
+    assert [str(t) for t in ds["joint_type"].values] == [
+        "prismatic" if p else "revolute" for p in PRISMATIC]
+    fig = payload_figure(ds)
+    bx = fig.axes[-1] if fig.axes[-1].get_legend() else next(
+        a for a in fig.axes if a.get_legend())
+    keys = [t.get_text() for t in bx.get_legend().get_texts()]
+    assert keys == [f"joint {i + 1} [{_tau_units(i)}]" for i in range(N_JOINTS)]
+    assert "N m" not in bx.get_ylabel()

@@ -94,10 +94,25 @@ def test_sweep_envelope(sweep, serial):
         np.testing.assert_allclose(sweep["class_fraction"].values[:, c],
                                    np.mean(dom == cls, axis=0), rtol=0, atol=1e-15)
     np.testing.assert_allclose(sweep["class_fraction"].sum("class").values, 1.0, atol=1e-12)
+    # the envelope of the shares as data: a part that is round-off of the element's scale
+    # (is_round_off on each analysis's own peaks) makes the share exactly 0 or 1; an element
+    # that is round-off in every part on a trajectory has no share there
+    import warnings
+
+    from gd_analyze.core.selection.ranking import is_round_off
+
     share = np.array([ref["share_tran"].values for ref in serial])
-    for name, fn in (("min", np.nanmin), ("median", np.nanmedian), ("max", np.nanmax)):
-        np.testing.assert_allclose(sweep[f"share_tran_{name}"].values, fn(share, axis=0),
-                                   rtol=0, atol=1e-12)
+    off = {p: np.array([is_round_off(ref[f"peak_{p}"].values, ref["element_scale"].values)
+                        for ref in serial]) for p in ("tran", "rot", "total")}
+    share = np.where(off["tran"] & ~off["rot"], 0.0,
+                     np.where(off["rot"] & ~off["tran"], 1.0, share))
+    share = np.where(off["tran"] & off["rot"] & off["total"], np.nan, share)
+    assert np.isnan(share).all(axis=0).any() and (share == 0.0).any()   # both rules at work
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", RuntimeWarning)                  # all-NaN columns
+        for name, fn in (("min", np.nanmin), ("median", np.nanmedian), ("max", np.nanmax)):
+            np.testing.assert_allclose(sweep[f"share_tran_{name}"].values, fn(share, axis=0),
+                                       rtol=0, atol=1e-12)
     # the merged choice by set logic, element by element
     choices = np.array([list(ref["choice"].values) for ref in serial])
     for m, label in enumerate(sweep["element"].values):

@@ -368,8 +368,8 @@ def _control_parser():
                    default=DEFAULT_ZETA, help=f"damping ratio (default {DEFAULT_ZETA:g})")
     p.add_argument("--offset", metavar="RAD", type=_fraction(-2 * math.pi, 2 * math.pi,
                                                              "--offset", False),
-                   default=0.0, help="initial position error on every joint [rad], within "
-                                     "[-2 pi, 2 pi] (default 0)")
+                   default=0.0, help="initial position error on every joint [rad; m on a "
+                                     "prismatic joint], within [-2 pi, 2 pi] (default 0)")
     rad, metre = defaults["verdict_tolerance"]
     p.add_argument("--verdict-tolerance", metavar="RAD[,M]", type=_verdict_tolerance,
                    default=tuple(defaults["verdict_tolerance"]),

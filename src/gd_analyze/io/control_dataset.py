@@ -20,6 +20,16 @@ def _peak_rms(x, axis=0):
     return np.abs(x).max(axis=axis), np.sqrt((x**2).mean(axis=axis))
 
 
+def _gain_units(prismatic):
+    """Per joint, the units of the PD gains and of D_ii (which scales them), from the joint
+    types (:func:`gd_analyze.core.selection.labels.joint_gain_units`, ``element_units``)."""
+    from ..core.selection.labels import element_units, joint_gain_units
+
+    gains = [joint_gain_units(bool(p)) for p in prismatic]
+    return {"inertia_scale": [element_units("D", j, j, prismatic) for j in range(len(prismatic))],
+            "Kp_pd": [kp for kp, _ in gains], "Kv_pd": [kv for _, kv in gains]}
+
+
 def control_dataset(result):
     """The closed-loop comparison as an xarray Dataset.
 
@@ -66,6 +76,8 @@ def control_dataset(result):
     prismatic = np.asarray(robot.prismatic, bool)
     U = {k: units_attribute(joint_units(prismatic, k), f"{k}_units")
          for k in ("q", "qd", "qdd", "tau")}
+    per_joint = _gain_units(prismatic)
+    U.update({k: units_attribute(v, f"{k}_units") for k, v in per_joint.items()})
     data_vars = {
         "is_setpoint": var(("time",), result.is_setpoint.astype(np.int8), "1",
                             "sample is a set point of the trajectory (1) or on the fine grid (0)",
@@ -95,11 +107,11 @@ def control_dataset(result):
         "zeta": var(("joint",), g.zeta, "1", "damping ratio of the error dynamics"),
         "Kp": var(("joint",), g.Kp, "s-2", "computed-torque position gain, wn^2"),
         "Kv": var(("joint",), g.Kv, "s-1", "computed-torque velocity gain, 2 zeta wn"),
-        "inertia_scale": var(("joint",), g.inertia_scale, "kg m2",
+        "inertia_scale": var(("joint",), g.inertia_scale, U["inertia_scale"],
                               "diagonal of D at the start of the motion, scales the PD gains"),
-        "Kp_pd": var(("joint",), g.Kp_pd, "N m rad-1",
+        "Kp_pd": var(("joint",), g.Kp_pd, U["Kp_pd"],
                       "PD + gravity position gain, D_ii(q_d(0)) wn^2"),
-        "Kv_pd": var(("joint",), g.Kv_pd, "N m s rad-1",
+        "Kv_pd": var(("joint",), g.Kv_pd, U["Kv_pd"],
                       "PD + gravity velocity gain, D_ii(q_d(0)) 2 zeta wn"),
         "joint_type": var(("joint",), np.array(robot.joint_types, dtype=str), "1",
                           "joint type: revolute (q in rad) or prismatic (q in m)"),
@@ -140,6 +152,9 @@ def control_dataset(result):
         **{name: ("joint", np.array(joint_units(prismatic, which), dtype=str),
                   {"long_name": long_name, "units": "1"})
            for name, (which, long_name) in _JOINT_UNIT_COORDS.items()},
+        **{f"{k}_units": ("joint", np.array(v, dtype=str),
+                          {"long_name": f"units of {k} of the joint", "units": "1"})
+           for k, v in per_joint.items()},
         "element": ("element", np.array(element_labels(n), dtype=str),
                     {"long_name": "element of D (i <= j) or h", "units": "1"}),
     }

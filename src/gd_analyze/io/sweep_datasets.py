@@ -28,6 +28,11 @@ _RANDOM_SOURCE = re.compile(r"^random-(\d+)-(\d+)$")
 _REFERENCES = "Fu, Gonzalez & Lee (1987), Robotics, Sec. 3.4.1; Lee, Lee & Nigam (1983)"
 
 
+#: How the envelope of the shares treats round-off (:func:`is_round_off`).
+_AS_DATA = ("; 0 or 1 on a trajectory where a part is round-off (at most 1e-12 of the element's "
+            "scale), a trajectory where the element is round-off left out (NaN: on every one)")
+
+
 def _torque_units(robot):
     """The ``units`` of a per-joint torque variable: N m, N, or both with where to read them."""
     from .datasets import joint_units, units_attribute
@@ -111,7 +116,14 @@ def sweep_dataset(robot, trajectories, results, merged, merged_stats, dominance,
     peak_total = np.array([r["peaks"]["peak_total"] for r in results])
     peak_part = np.max([[r["peaks"][k] for k in ("peak_tran", "peak_rot", "peak_total")]
                         for r in results], axis=1)
-    round_off = is_round_off(peak_part, np.array([r["peaks"]["scale"] for r in results]))
+    scale = np.array([r["peaks"]["scale"] for r in results])
+    round_off = is_round_off(peak_part, scale)
+    # the share as data: 0 or 1 where one part is round-off of the element's scale (a share of
+    # 4e-14 is round-off, not data), left out where the element is round-off on a trajectory
+    tran_off, rot_off = (is_round_off(np.array([r["peaks"][k] for r in results]), scale)
+                         for k in ("peak_tran", "peak_rot"))
+    share_data = np.where(tran_off & ~rot_off, 0.0, np.where(rot_off & ~tran_off, 1.0, share))
+    share_data = np.where(round_off, np.nan, share_data)
     summ = [r["summary"] for r in results]
     err = [s["error"] for s in summ]
 
@@ -135,8 +147,8 @@ def sweep_dataset(robot, trajectories, results, merged, merged_stats, dominance,
 
     with warnings.catch_warnings():
         warnings.simplefilter("ignore", RuntimeWarning)     # all-NaN columns
-        s_min, s_med, s_max = (np.nanmin(share, axis=0), np.nanmedian(share, axis=0),
-                               np.nanmax(share, axis=0))
+        s_min, s_med, s_max = (np.nanmin(share_data, axis=0),
+                               np.nanmedian(share_data, axis=0), np.nanmax(share_data, axis=0))
     torque = _torque_units(robot)
     data_vars = {
         "share_tran": var(("trajectory", "element"), share, "1",
@@ -187,11 +199,12 @@ def sweep_dataset(robot, trajectories, results, merged, merged_stats, dominance,
         "class_fraction": var(("element", "class"), fraction, "1",
                                "fraction of the trajectories in which the class holds"),
         "share_tran_min": var(("element",), s_min, "1",
-                               "smallest translational share over the trajectories"),
+                               "smallest translational share over the trajectories" + _AS_DATA),
         "share_tran_median": var(("element",), s_med, "1",
-                                  "median translational share over the trajectories"),
+                                  "median translational share over the trajectories"
+                                  + _AS_DATA),
         "share_tran_max": var(("element",), s_max, "1",
-                               "largest translational share over the trajectories"),
+                               "largest translational share over the trajectories" + _AS_DATA),
         "merged_choice": var(("element",), np.array([merged[lab] for lab in labels], dtype=str),
                               "1", "part kept by the merged model of the chapter rule: a "
                                    "part is dropped only where every trajectory drops it"),
@@ -282,6 +295,8 @@ def payload_dataset(robot, trajectory, masses, com, inertia, results, dominance,
             ("payload", "joint"),
             np.array([r["summary"]["error"]["relative_peak_error"] for r in results]), "1",
             "own simplified model: peak |tau_simplified - tau| / peak |tau|"),
+        "joint_type": var(("joint",), np.array(robot.joint_types, dtype=str), "1",
+                          "joint type: revolute (tau in N m) or prismatic (tau in N)"),
     }
     coords = element_coords(n, robot.prismatic)
     coords["payload"] = ("payload", masses, {"long_name": "payload mass on the last link",

@@ -23,11 +23,24 @@ from pathlib import Path
 import numpy as np
 
 from ..config import defaults
-from ..core.selection.ranking import element_label, joint_motion_units, joint_torque_units
+from ..core.selection.ranking import (
+    element_label,
+    is_round_off,
+    joint_motion_units,
+    joint_torque_units,
+)
 from .common import attr, fmt, prismatic_joints, render_template, utc_now
 from .common import strings as _strings
 from .common import table as _table
-from .control_figures import _LABELS, _RC, COLUMN_WIDTH, PAGE_WIDTH, _joint_units, control_figures
+from .control_figures import (
+    _LABELS,
+    _RC,
+    COLUMN_WIDTH,
+    PAGE_WIDTH,
+    _joint_units,
+    control_figures,
+    noise_scales,
+)
 from .drawing import draw_figures, figure_svg, write_figure_files
 from .main_provenance import gravity_row, run_row, software_row
 from .main_text import gravity_clause, model_sentence
@@ -105,7 +118,12 @@ def _context(ds):
     peak_grid = ds["error_peak_grid"]
     prismatic = prismatic_joints(ds)
     peaks = {c: peak_grid.sel(controller=c).values for c in names}
-    summary = "; ".join(f"{_LABELS.get(c, c)}: peak |e| {_by_type_text(peaks[c], prismatic, 'q')}"
+    q_units = _joint_units(ds, "q")
+    tol, q_scale, tau_scale = noise_scales(ds)
+    quiet = {c: bool(is_round_off(peaks[c], q_scale, tol).all())
+             for c in names}           # every joint's error is integrator noise: not data
+    summary = "; ".join(f"{_LABELS.get(c, c)}: peak |e| "
+                        + (_NOISE if quiet[c] else _by_type_text(peaks[c], prismatic, "q"))
                         for c in names)
     summary = summary[:1].upper() + summary[1:]
     summary = (f"{_attr(ds, 'robot')} along {_attr(ds, 'trajectory_file')}, "
@@ -120,37 +138,36 @@ def _context(ds):
                     "report (one model against the other along the desired trajectory).")
     tolerance = tuple(float(ds.attrs.get(f"verdict_tolerance_{k}", d)) for k, d in
                       zip(("revolute", "prismatic"), VERDICT_TOLERANCE))
-    verdict = control_verdict(peaks, prismatic, diff, tolerance)
+    verdict = control_verdict(peaks, prismatic, diff, tolerance, quiet)
     setup = _table(["item", "value"], [
         ["robot", f"{_attr(ds, 'robot')} (SHA-256 {_attr(ds, 'robot_sha256')})"],
         ["trajectory", f"{_attr(ds, 'trajectory_file')} (SHA-256 "
                        f"{_attr(ds, 'trajectory_sha256')})"],
         ["simplified model", f"{_attr(ds, 'model_file')} (SHA-256 {_attr(ds, 'model_sha256')})"],
         ["plant", _plant(ds)],
-        ["controllers", "; ".join(f"{c}: {_LABELS.get(c, d)}" for c, d in zip(names, desc))
+        ["controllers", "; ".join(_LABELS.get(c, d) for c, d in zip(names, desc))
          + " (control laws below)"],
         ["desired motion", _attr(ds, "interpolation")],
         ["integrator", f"{_attr(ds, 'integrator')}, rtol = {_attr(ds, 'rtol')}, "
                        f"atol = {_attr(ds, 'atol')}"],
         ["samples", f"{_attr(ds, 'samples')} ({_attr(ds, 'setpoints')} set points + fine grid "
                     f"of {_attr(ds, 'grid_points')})"],
-        ["initial offset q(0) - q" + _sub("d") + "(0) [rad]",
-         ", ".join(_fmt(v) for v in ds["q0_offset"].values) if "q0_offset" in ds else "0"],
+        ["initial offset q(0) \u2212 q" + _sub("d") + "(0)",
+         ", ".join(f"{_fmt(v)}\u00a0{u}" for v, u in zip(ds["q0_offset"].values, q_units))
+         if "q0_offset" in ds else "0"],
     ], align=["left", "left"])
-    gains = _table(["joint", "\u03c9" + _sub("n") + " [rad/s]", "\u03b6",
-                    "K" + _sub("p") + " [1/s\u00b2]", "K" + _sub("v") + " [1/s]",
-                    "D" + _sub("ii") + " at the start [kg m\u00b2]",
-                    "PD K" + _sub("p") + " [N m/rad]", "PD K" + _sub("v") + " [N m s/rad]"],
-                   [[joints[j]] + [_fmt(ds[v].values[j], digits=4) for v in
-                                   ("wn", "zeta", "Kp", "Kv", "inertia_scale", "Kp_pd", "Kv_pd")]
-                    for j in range(n)], align="right")
+    gains = _gains_table(ds, joints)
+    def noise(values, peaks, scale):     # integrator noise of the joint's scale: not data
+        off = is_round_off(peaks, scale, tol)
+        return ["\u2261 0" if o else _fmt(v) for v, o in zip(values, off)]
+
     err_rows = []
     for c in names:
         for key, where in (("setpoints", "set points"), ("grid", "fine grid")):
             pk = ds[f"error_peak_{key}"].sel(controller=c).values
             rm = ds[f"error_rms_{key}"].sel(controller=c).values
-            err_rows.append([c, where, "peak"] + [_fmt(v) for v in pk])
-            err_rows.append([c, where, "RMS"] + [_fmt(v) for v in rm])
+            err_rows.append([_SHORT.get(c, c), where, "peak"] + noise(pk, pk, q_scale))
+            err_rows.append([_SHORT.get(c, c), where, "RMS"] + noise(rm, pk, q_scale))
     q_u, tau_u = _joint_units(ds, "q"), _joint_units(ds, "tau")
     errors = _table(["controller", "sampled at", "figure"]
                     + [f"{j} [{u}]" for j, u in zip(joints, q_u)],
@@ -161,17 +178,23 @@ def _context(ds):
     def fmt_all(name, **sel):
         return [_fmt(v) for v in ds[name].sel(**sel).values]
 
+    def diff(name, peak):
+        return noise(ds[name].values, ds[peak].values, tau_scale)
+
     if "tau_difference_peak" in ds:
-        tau_diff["rows"] = [["peak, fine grid"] + fmt_all("tau_difference_peak"),
-                            ["RMS, fine grid"] + fmt_all("tau_difference_rms")]
+        tau_diff["rows"] = [["peak, fine grid"] + diff("tau_difference_peak",
+                                                       "tau_difference_peak"),
+                            ["RMS, fine grid"] + diff("tau_difference_rms",
+                                                      "tau_difference_peak")]
         if "tau_difference_peak_setpoints" in ds:
-            tau_diff["rows"] += [["peak, set points"] + fmt_all("tau_difference_peak_setpoints"),
-                                 ["RMS, set points"] + fmt_all("tau_difference_rms_setpoints")]
+            at = "tau_difference_peak_setpoints"
+            tau_diff["rows"] += [["peak, set points"] + diff(at, at),
+                                 ["RMS, set points"] + diff("tau_difference_rms_setpoints", at)]
     tau_rows = []
     for c in names:
         if "tau_peak" in ds:
-            tau_rows.append([c, "peak |\u03c4|"] + fmt_all("tau_peak", controller=c))
-            tau_rows.append([c, "RMS \u03c4"] + fmt_all("tau_rms", controller=c))
+            tau_rows.append([_SHORT.get(c, c), "peak |\u03c4|"] + fmt_all("tau_peak", controller=c))
+            tau_rows.append([_SHORT.get(c, c), "RMS \u03c4"] + fmt_all("tau_rms", controller=c))
     tau_table = _table(["controller", "figure"] + [f"{j} [{u}]" for j, u in zip(joints, tau_u)],
                        tau_rows,
                        align=["left", "left"] + ["right"] * n)
@@ -221,7 +244,7 @@ def _context(ds):
         "error_note": (f"Tracking error e = q{_D} \u2212 q per joint, peak |e| and RMS, at the "
                        "set points of the trajectory and on the fine grid (set points "
                        "included)."),
-        "floor_note": floor,
+        "floor_note": floor, "noise_tol": f"{tol:g}",
         "tau_diff": tau_diff,
         "diff_note": ("Closed-loop torque difference: torque of the simplified-model "
                       "computed-torque controller minus that of the full-model one, each along "
@@ -280,6 +303,40 @@ def _model_note(ds):
     return text, recursive
 
 
+#: Stored units of the gains (:func:`gd_analyze.core.selection.labels.joint_gain_units`) and
+#: of D_ii, as printed.
+_GAIN_UNITS = {"N m rad-1": "N m/rad", "N m s rad-1": "N m s/rad", "N m-1": "N/m",
+               "N s m-1": "N s/m", "kg m2": "kg m\u00b2", "kg": "kg"}
+
+
+def _gains_table(ds, joints):
+    """The gains per joint. D_ii and the PD gains carry the units of their joint's type
+    (the stored ``<name>_units`` per joint): in the header where every joint agrees, else in
+    each cell."""
+    from .common import prismatic_joints
+
+    prismatic = prismatic_joints(ds)
+    header = ["joint", "\u03c9" + _sub("n") + " [rad/s]", "\u03b6",
+              "K" + _sub("p") + " [1/s\u00b2]", "K" + _sub("v") + " [1/s]"]
+    per_joint = {}
+    for name, title in (("inertia_scale", "D" + _sub("ii") + " at the start"),
+                        ("Kp_pd", "PD K" + _sub("p")), ("Kv_pd", "PD K" + _sub("v"))):
+        if f"{name}_units" in ds.coords:
+            units = [_GAIN_UNITS.get(u, u) for u in _strings(ds[f"{name}_units"].values)]
+        else:                               # an older file: units from the joint types
+            from ..io.control_dataset import _gain_units
+
+            units = [_GAIN_UNITS.get(u, u) for u in _gain_units(prismatic)[name]]
+        same = len(set(units)) == 1
+        header.append(f"{title} [{units[0]}]" if same else title)
+        per_joint[name] = ([""] * len(units) if same else
+                           ["\u00a0" + u.replace(" ", "\u00a0") for u in units])
+    rows = [[joints[j]] + [_fmt(ds[v].values[j], digits=4) for v in ("wn", "zeta", "Kp", "Kv")]
+            + [_fmt(ds[v].values[j], digits=4) + per_joint[v][j]
+               for v in ("inertia_scale", "Kp_pd", "Kv_pd")] for j in range(len(joints))]
+    return _table(header, rows, align="right")
+
+
 def _plant(ds):
     """The simulated plant: the full G-D model's forward dynamics, written as mathematics."""
     plant = _attr(ds, "plant")
@@ -287,6 +344,9 @@ def _plant(ds):
         return "full G-D model, q\u0308 = D\u207b\u00b9 (\u03c4 \u2212 h \u2212 c) (Eq. 3.4-24)"
     return plant
 
+
+#: The controllers as a table's rows name them (the figures' keys: ``CONTROLLER_LABELS``).
+_SHORT = {"full": "full model", "simplified": "simplified model", "pd_gravity": "PD + gravity"}
 
 _D, _KP, _KV, _WN = _sub("d"), "K" + _sub("p"), "K" + _sub("v"), "\u03c9" + _sub("n")
 
@@ -326,6 +386,13 @@ def _provenance(ds, version):
 #: verdict takes the larger of it and twice the full-model controller's error (its integrator
 #: floor); ``control --verdict-tolerance`` sets it.
 VERDICT_TOLERANCE = tuple(defaults["verdict_tolerance"])
+#: A tracking error that is integrator noise on every joint, as the text says it.
+_NOISE = "\u2261 0 (integrator noise)"
+
+
+def _value(value, unit):
+    """A number and its unit, never split over two lines."""
+    return f"{_fmt(value)}\u00a0{unit}".replace(" ", "\u00a0")
 
 
 def _by_type(values, prismatic, which):
@@ -347,7 +414,7 @@ def _by_type_text(values, prismatic, which, limits=None):
     groups = _by_type(values, prismatic, which)
     if limits is not None:
         groups = [(u, lim, js) for (u, _, js), lim in zip(groups, limits)]
-    return ", ".join(f"{_fmt(v)} {u}" for u, v, _ in groups)
+    return ", ".join(_value(v, u) for u, v, _ in groups)
 
 
 def _joint_types(prismatic):
@@ -362,7 +429,7 @@ def _joint_types(prismatic):
 
 
 def control_verdict(peaks, prismatic, tau_difference=None,
-                    tolerance=VERDICT_TOLERANCE):
+                    tolerance=VERDICT_TOLERANCE, quiet=None):
     """One sentence: does the simplified model control the arm as well as the full one?
 
     Parameters
@@ -378,6 +445,9 @@ def control_verdict(peaks, prismatic, tau_difference=None,
     tolerance : tuple of (float, float), optional
         Revolute [rad] and prismatic [m] tolerance
         (:data:`VERDICT_TOLERANCE`).
+    quiet : dict of str to bool, optional
+        Per controller, whether its error is integrator noise on every joint: said as
+        "\u2261 0 (integrator noise)" instead of its digits.
 
     Returns
     -------
@@ -391,12 +461,17 @@ def control_verdict(peaks, prismatic, tau_difference=None,
     >>> v = control_verdict({"full": np.array([1e-9, 1e-9]),
     ...                      "simplified": np.array([2e-4, 5e-4])}, np.array([False, True]))
     >>> print(v[:v.index(" (tolerance")])
-    Verdict: the simplified model is good enough for computed-torque control along this trajectory: joint 1 revolute (rad, N m); joint 2 prismatic (m, N): peak tracking error 2.00e-04 rad, 5.00e-04 m against 1.00e-09 rad, 1.00e-09 m with the full model
+    Verdict: the simplified model is good enough for computed-torque control along this trajectory: joint 1 revolute (rad, N m); joint 2 prismatic (m, N): peak tracking error 2.00e-04\xa0rad, 5.00e-04\xa0m against 1.00e-09\xa0rad, 1.00e-09\xa0m with the full model
     """
     full, simp = peaks.get("full"), peaks.get("simplified")
     if full is None or simp is None:
         return "Verdict: not available (the run lacks the full or the simplified controller)."
     pd = peaks.get("pd_gravity")
+    quiet = quiet or {}
+
+    def said(c, values):
+        return _NOISE if quiet.get(c) else _by_type_text(values, prismatic, "q")
+
     groups = {k: _by_type(v, prismatic, "q") for k, v in peaks.items()}
     tol = {False: tolerance[0], True: tolerance[1]}
     kinds = [u != joint_motion_units(False)[0] for u, _, _ in groups["full"]]
@@ -408,7 +483,7 @@ def control_verdict(peaks, prismatic, tau_difference=None,
     if tau_difference is not None:
         tail = (f"; its closed-loop torque differs from the full-model controller's (two "
                 f"closed-loop runs) by at most {_by_type_text(tau_difference, prismatic, 'tau')}")
-    pd_text = f", PD + gravity {_by_type_text(pd, prismatic, 'q')}" if pd is not None else ""
+    pd_text = f", PD + gravity {said('pd_gravity', pd)}" if pd is not None else ""
     if holds:
         head = ("Verdict: the simplified model is good enough for computed-torque control "
                 "along this trajectory")
@@ -429,8 +504,8 @@ def control_verdict(peaks, prismatic, tau_difference=None,
                 f"{tol[kind]:g} {u}" for (u, _, _), kind in zip(groups["full"], kinds))
             + " and twice the full model's")
     return (f"{head}: {_joint_types(prismatic)}"
-            f"peak tracking error {_by_type_text(simp, prismatic, 'q')} against "
-            f"{_by_type_text(full, prismatic, 'q')} with the full model{pd_text} (tolerance: "
+            f"peak tracking error {said('simplified', simp)} against "
+            f"{said('full', full)} with the full model{pd_text} (tolerance: "
             f"{tolerance_text}){tail}.")
 
 
@@ -502,12 +577,16 @@ def _outline(ctx, figures):
     o.table(ctx["gains"], "Gains per joint.")
     o.section("2", "Tracking error", "tracking")
     o.paragraph(ctx["error_note"], "note")
-    o.table(ctx["errors"], "Tracking error per controller and joint.", size=7)
+    o.table(ctx["errors"], "Tracking error per controller and joint; \u2261 0: integrator "
+                           f"noise (at most {ctx['noise_tol']} of the joint's range of "
+                           "motion), not data.", size=7)
     o.figure("error", _CAPTIONS["error"])
     o.section("3", "Torques", "torque")
     o.paragraph(ctx["diff_note"], "note")
     o.table(ctx["tau_diff"], "Closed-loop torque difference per joint, simplified-model "
-                             "controller minus full-model controller.")
+                             "controller minus full-model controller; \u2261 0: integrator "
+                             f"noise (at most {ctx['noise_tol']} of the full-model controller's "
+                             "peak |\u03c4|), not data.")
     if "tau_difference" in o.available:
         o.figure("tau_difference", _CAPTIONS["tau_difference"])
     else:

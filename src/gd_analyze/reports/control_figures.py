@@ -17,7 +17,7 @@ from .common import BASE_RC, fmt, grid_shape, prismatic_joints
 from .common import strings as _strings
 from .common import style as _style
 
-__all__ = ["control_figures", "PAGE_WIDTH", "COLUMN_WIDTH", "CONTROLLER_LABELS"]
+__all__ = ["control_figures", "noise_scales", "PAGE_WIDTH", "COLUMN_WIDTH", "CONTROLLER_LABELS"]
 
 #: Figure widths [in]: the text of a page, one column.
 PAGE_WIDTH, COLUMN_WIDTH = 7.2, 3.5
@@ -132,12 +132,12 @@ def _joint_panels(ds, values, ylabel, title, log=False, scale=None, which="q",
     if floor is not None:
         notes = [f"Integrator noise (at most {tol:g} of the joint's scale) is not drawn"]
         for name, where in quiet.items():
-            peak = max(p for _, p in where)
+            jmax, peak = max(where, key=lambda item: item[1])      # with its joint's units
             joints = ("every joint" if len(where) == n else
                       "joint" + ("s " if len(where) > 1 else " ")
                       + ", ".join(str(j + 1) for j, _ in where))
             notes.append(f"{_LABELS.get(name, name)}: noise on {joints} (peak "
-                         f"{_fmt(peak)} {units[where[0][0]]})")
+                         f"{_fmt(peak)} {units[jmax]})")
         note = "; ".join(notes) + "."
         fig.text(0.5, 1 - (0.62 if column else 0.36) / height,
                  textwrap.fill(note, 70) if column else note, ha="center", va="top",
@@ -154,6 +154,32 @@ def _joint_units(ds, which):
     if which == "tau":
         return [joint_torque_units(bool(p)) for p in prismatic]
     return [joint_motion_units(bool(p))[0] for p in prismatic]
+
+
+def noise_scales(ds):
+    """The scales against which a closed-loop quantity is integrator noise
+    (:func:`_noise_floor`), the same for the figures and the tables.
+
+    Parameters
+    ----------
+    ds : xarray.Dataset
+        A control dataset.
+
+    Returns
+    -------
+    tol : float
+        ``max(rtol, ROUND_OFF)`` [1].
+    q_scale : ndarray, shape (n,)
+        Per joint, the larger of the range and the peak |q_d| [rad or m]: a tracking error's.
+    tau_scale : ndarray, shape (n,)
+        Per joint, the full-model controller's peak |tau| [N m or N]: a torque difference's.
+    """
+    names = _strings(ds["controller"].values)
+    q_d = np.asarray(ds["q_d"].values, float)
+    q_scale = np.maximum(np.ptp(q_d, axis=0), np.abs(q_d).max(axis=0))
+    full = names.index("full") if "full" in names else 0
+    tau_scale = np.nanmax(np.abs(np.asarray(ds["tau"].values, float)[full]), axis=0)
+    return _noise_floor(ds, q_scale)[0], q_scale, tau_scale
 
 
 def control_figures(ds, width=PAGE_WIDTH):
@@ -177,19 +203,16 @@ def control_figures(ds, width=PAGE_WIDTH):
         controller's peak |tau| for a torque difference) is never drawn as data.
     """
     names = _strings(ds["controller"].values)
-    q_d = np.asarray(ds["q_d"].values, float)
-    q_scale = np.maximum(np.ptp(q_d, axis=0), np.abs(q_d).max(axis=0))
-    full = names.index("full") if "full" in names else 0
-    tau_scale = np.asarray(ds["tau"].values, float)[full]
-    tau_scale = np.nanmax(np.abs(tau_scale), axis=0)
+    _, q_scale, tau_scale = noise_scales(ds)
     with _style(_RC):
         figs = {"error": _joint_panels(
             ds, {c: ds["error"].sel(controller=c).values for c in names},
-            "|q_d \u2212 q| [{u}]", "Tracking error per joint", log=True, scale=q_scale,
+            "|$\\mathregular{{q_d}}$ \u2212 q| [{u}]", "Tracking error per joint", log=True, scale=q_scale,
             width=width)}
         if "tau_difference" in ds:
             figs["tau_difference"] = _joint_panels(
-                ds, {"simplified": ds["tau_difference"].values}, "\u03c4_s \u2212 \u03c4_f [{u}]",
+                ds, {"simplified": ds["tau_difference"].values}, "$\\mathregular{{\\tau_s}}$ \u2212 "
+                "$\\mathregular{{\\tau_f}}$ [{u}]",
                 "Closed-loop torque difference: simplified-model minus full-model computed "
                 "torque", scale=tau_scale, which="tau", width=width)
         figs["tau"] = _joint_panels(ds, {c: ds["tau"].sel(controller=c).values for c in names},

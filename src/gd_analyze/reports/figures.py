@@ -8,7 +8,16 @@ from __future__ import annotations
 
 import numpy as np
 
-from .common import CLASS_COLOURS, SUPTITLE_RC, check, joint_style, strings, style, thresholds
+from .common import (
+    CLASS_COLOURS,
+    SUPTITLE_RC,
+    check,
+    joint_style,
+    strings,
+    style,
+    thresholds,
+    torque_units,
+)
 
 __all__ = ["payload_figure", "PAYLOAD_REQUIRED", "CLASS_LETTER", "PAGE_WIDTH"]
 
@@ -30,7 +39,7 @@ def payload_figure(ds):
     ds : xarray.Dataset
         A payload sweep from :func:`gd_analyze.workflows.payload.payload_sweep`: coordinate ``payload``
         (P,) [kg]; ``share_tran`` and ``dominance`` (payload, element); ``tau_peak``
-        (payload, joint) [N m].
+        (payload, joint) [N m or N] and ``joint_type`` (joint; all revolute if absent).
 
     Returns
     -------
@@ -38,7 +47,8 @@ def payload_figure(ds):
         Top: a heat map of share_tran over (payload, element) from rotational (0, orange)
         through 0.5 (white) to translational (1, blue), each cell marked with its class (T, R,
         B or N) and with a bold frame where the class differs from that at the first payload.
-        Bottom: peak |tau| per joint vs payload [N m]. A plain Figure (no pyplot state).
+        Bottom: peak |tau| per joint vs payload [N m, or N for a prismatic joint: in the key
+        when the joints differ]. A plain Figure (no pyplot state).
 
     Raises
     ------
@@ -87,14 +97,16 @@ def payload_figure(ds):
         ax.grid(False)
         cax = fig.add_axes(((W - 0.95) / W, (H - 0.75 - heat_h) / H, 0.12 / W, heat_h / H))
         cb = fig.colorbar(im, cax=cax)
-        cb.set_label("share_tran [1]")
+        cb.set_label("translational share [1]")
         bx = fig.add_axes((0.9 / W, 0.6 / H, (W - 2.0) / W, 2.6 / H))
         tau = ds["tau_peak"].values
+        units = torque_units(ds)            # N m, N on a prismatic joint
+        mixed = len(set(units)) > 1
         for j in range(n):                  # told apart by line style and marker too
-            bx.plot(masses, tau[:, j], label=f"joint {j + 1}", linewidth=0.9,
-                    **joint_style(j, len(masses)))
+            bx.plot(masses, tau[:, j], linewidth=0.9, **joint_style(j, len(masses)),
+                    label=f"joint {j + 1}" + (f" [{units[j]}]" if mixed else ""))
         bx.set_xlabel("payload [kg]")
-        bx.set_ylabel("peak |\u03c4| [N m]")
+        bx.set_ylabel("peak |\u03c4|" + ("" if mixed else f" [{units[0]}]"))
         bx.legend(loc="center left", bbox_to_anchor=(1.01, 0.5), frameon=False, fontsize=7)
         s, e = thresholds(ds)
         fig.suptitle(f"Dominance against the payload on the last link (s = {s:g}, e = {e:g})\n"

@@ -264,10 +264,10 @@ def fig_D(data, dominance, zero, s, e, prismatic=None, width=PAGE_WIDTH, armatur
         place = {element_label("D", i, j): (i, j) for i in range(n) for j in range(i, n)}
         W = _LEFT + _RIGHT + n * w + (n - 1) * wgap
         H_panels = _TOP + _BOTTOM + n * h + (n - 1) * _HGAP
-    key = ("D_ij against time t [s]"
+    key = ("D\u1d62\u2c7c against time t [s]"
            + ("; units on each panel's axis" if mixed else
               f" [{_shown(next(iter(units.values())))}]")
-           + ("" if column else "; panel D_ij in row i, column j")
+           + ("" if column else "; panel D\u1d62\u2c7c in row i, column j")
            + f". Title: element and its class: tran(slational), rot(ational), both, "
            f"negl(igible) (s = {s:g}, e = {e:g}); \u2261\u00a00: zero in every part "
            f"(below 1e-12 of its scale).")

@@ -1,11 +1,15 @@
 """Mathematics in the reports' text: subscripts and superscripts, written once, shown as HTML
-tags in ``report.html`` and as Unicode sub- and superscript characters in ``report.pdf``.
+tags in ``report.html`` and in ``report.pdf`` as Unicode sub- and superscript characters, or,
+for a span with a letter that has none (the d of q_d, the b of Y_b), as a run of smaller,
+lowered or raised glyphs that the PDF page engine draws (:func:`runs`).
 
 A string of a report's context may hold spans marked with :func:`sub` and :func:`sup` (private
 use characters; :func:`clean` drops them from the dataset's text attributes that
-:func:`gd_analyze.reports.common.attr` reads, such as robot and file names). The HTML renderer turns them into ``<sub>``/``<sup>`` (:func:`html`, every other
-character escaped); the PDF page engine into the Unicode characters of DejaVu Sans
-(:func:`unicode`); :func:`plain` drops the marks (tests, search).
+:func:`gd_analyze.reports.common.attr` reads, such as robot and file names). The HTML
+renderer turns them into ``<sub>``/``<sup>`` (:func:`html`, every other character escaped);
+the PDF page engine into the Unicode characters of DejaVu Sans where every character of the
+span has one (:func:`unicode`), else it keeps the span marked and draws it as a run
+(:func:`runs`); :func:`plain` drops the marks (tests, search).
 
 Examples
 --------
@@ -16,14 +20,16 @@ Examples
 'peak |Dᵢⱼᵗʳᵃⁿ|'
 >>> str(html(s))
 'peak |D<sub>ij</sub><sup>tran</sup>|'
+>>> runs(unicode("q" + sub("d") + "(0)"))
+[('q', None), ('d', 'sub'), ('(0)', None)]
 """
 
 from __future__ import annotations
 
 import re
 
-__all__ = ["SUB", "SUP", "END", "sub", "sup", "element", "tau", "html", "unicode", "plain",
-           "clean"]
+__all__ = ["SUB", "SUP", "END", "sub", "sup", "element", "tau", "html", "unicode", "runs",
+           "plain", "clean", "RUN_SIZE", "RUN_SHIFT"]
 
 #: Start of a subscript, start of a superscript, end of either (Unicode private use area).
 SUB, SUP, END = "\ue000", "\ue001", "\ue002"
@@ -126,9 +132,16 @@ def html(text):
     return Markup("".join(out).replace(SUB, "").replace(SUP, "").replace(END, ""))
 
 
+#: A run's type size, a fraction of its line's, and its baseline shift [fraction of the
+#: line's size]: subscripts lowered, superscripts raised (as LaTeX's \scriptsize runs).
+RUN_SIZE = 0.7
+RUN_SHIFT = {"sub": -0.22, "sup": 0.38}
+
+
 def unicode(text):
-    """The marked string with its marked spans as Unicode sub- and superscript characters
-    (a span with a character that has none, such as d, is written ``_d`` or ``^d``).
+    """The marked string with its marked spans as Unicode sub- and superscript characters; a
+    span with a character that has none (such as the d of q_d) stays marked, for the PDF page
+    engine to draw as a run of smaller glyphs (:func:`runs`), never as ``_d``.
 
     Parameters
     ----------
@@ -145,9 +158,40 @@ def unicode(text):
         table = _SUBSCRIPT if m.group(1) == SUB else _SUPERSCRIPT
         if all(c in table for c in m.group(2)):
             return "".join(table[c] for c in m.group(2))
-        return ("_" if m.group(1) == SUB else "^") + m.group(2)      # no such characters
+        return _KEEP[m.group(1)] + m.group(2) + _KEEP[END]       # no such characters: a run
 
-    return _MARKS.sub(one, text).replace(SUB, "").replace(SUP, "").replace(END, "")
+    out = _MARKS.sub(one, text).replace(SUB, "").replace(SUP, "").replace(END, "")
+    return out.translate({ord(v): k for k, v in _KEEP.items()})
+
+
+#: Stand-ins for the marks of a kept span while :func:`unicode` drops stray marks.
+_KEEP = {SUB: "\ue003", SUP: "\ue004", END: "\ue005"}
+
+
+def runs(text):
+    """The pieces of a string as the PDF page engine draws them.
+
+    Parameters
+    ----------
+    text : str
+        As :func:`unicode` returns it (marked spans left only where Unicode has no
+        characters).
+
+    Returns
+    -------
+    list of (str, {None, "sub", "sup"})
+        The text in order: plain pieces, and sub- or superscript runs (drawn at
+        :data:`RUN_SIZE` of the line's size, shifted by :data:`RUN_SHIFT`).
+    """
+    out, pos = [], 0
+    for m in _MARKS.finditer(text):
+        if m.start() > pos:
+            out.append((clean(text[pos:m.start()]), None))
+        out.append((m.group(2), "sub" if m.group(1) == SUB else "sup"))
+        pos = m.end()
+    if pos < len(text) or not out:
+        out.append((clean(text[pos:]), None))
+    return [(t, k) for t, k in out if t] or [("", None)]
 
 
 def plain(text):

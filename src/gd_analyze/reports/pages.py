@@ -16,6 +16,7 @@ import io
 import textwrap
 from dataclasses import dataclass, field
 
+from .markup import RUN_SHIFT, RUN_SIZE, SUB, SUP, plain, runs
 from .table_layout import column_widths as _column_widths
 from .table_layout import wrap_cell as _wrap_cell
 
@@ -115,10 +116,33 @@ def _strings_artist():
                 baseline = (self.H - y) * dpi - 0.93 * size * dpi / 72     # ascent of DejaVu
                 gc.set_foreground(to_rgba(colour))
                 px = x * dpi
+                if SUB in s or SUP in s:            # sub- and superscript runs (markup.runs)
+                    self._draw_runs(renderer, gc, px, baseline, s, size, weight, ha, props)
+                    continue
                 if ha == "right":
                     px -= renderer.get_text_width_height_descent(s, prop, ismath=False)[0]
                 renderer.draw_text(gc, px, baseline, s, prop, 0.0, ismath=False)
             gc.restore()
+
+        def _draw_runs(self, renderer, gc, px, baseline, s, size, weight, ha, props):
+            """One line holding runs: each piece at its size, a run lowered or raised."""
+            from matplotlib.font_manager import FontProperties
+
+            dpi = self.figure.dpi
+            pieces = []
+            for text, kind in runs(s):
+                at = size * (RUN_SIZE if kind else 1.0)
+                prop = props.get((at, weight))
+                if prop is None:
+                    prop = props[(at, weight)] = FontProperties(
+                        family="DejaVu Sans", size=at, weight=weight)
+                w = renderer.get_text_width_height_descent(text, prop, ismath=False)[0]
+                pieces.append((text, prop, w, RUN_SHIFT.get(kind, 0.0) * size * dpi / 72))
+            if ha == "right":
+                px -= sum(w for _, _, w, _ in pieces)
+            for text, prop, w, shift in pieces:
+                renderer.draw_text(gc, px, baseline + shift, text, prop, 0.0, ismath=False)
+                px += w
 
     return Strings
 
@@ -134,8 +158,12 @@ _STRINGS = None
 
 
 def _line_width(s, size):
-    """Drawn width [in] of one line of DejaVu Sans at ``size`` [pt] (its glyphs' advances)."""
+    """Drawn width [in] of one line of DejaVu Sans at ``size`` [pt] (its glyphs' advances;
+    sub- and superscript runs at their size)."""
     import warnings
+
+    if SUB in s or SUP in s:
+        return sum(_line_width(t, size * (RUN_SIZE if k else 1.0)) for t, k in runs(s) if t)
 
     from matplotlib.font_manager import FontProperties
     from matplotlib.textpath import text_to_path
@@ -324,7 +352,7 @@ class Document:
                     page.used += size * 1.45 / 72
                 page.used += 0.05
                 if level in (1, 2):
-                    bookmarks.append((text, level, len(pages) - 1))
+                    bookmarks.append((plain(text), level, len(pages) - 1))
             elif kind == "paragraph":
                 text, size, bold, colour = payload
                 lh = size * 1.38 / 72
@@ -551,7 +579,7 @@ class Document:
             if level == 1:
                 parents[1] = item
         writer.page_mode = "/UseOutlines"
-        info = {"/Title": self.title}
+        info = {"/Title": plain(self.title)}
         info.update({f"/{k}": str(v) for k, v in self.metadata.items() if v is not None})
         writer.add_metadata(info)
         with open(path, "wb") as fh:

@@ -28,7 +28,7 @@ from pathlib import Path
 
 import numpy as np
 
-from ..core.selection.ranking import CLASSES
+from ..core.selection.ranking import CLASSES, is_round_off
 from ..io.sweep_datasets import beyond_the_floor
 from .common import CLASS_COLOURS as _CLASS_COLOURS
 from .common import SUPTITLE_RC as _RC
@@ -82,25 +82,28 @@ def _context(ds, payload=None):
     durations = ds["duration"].values
     setpoints = ds["setpoints"].values if "setpoints" in ds.variables else np.array([])
     settings = _settings(ds, inputs, setpoints, durations, __version__)
+    zero = (ds["round_off"].values.astype(bool).all(axis=0) if "round_off" in ds
+            else np.zeros(len(labels), bool))
     envelope = _table(
         ["element", "translational", "rotational", "both", "negligible", "min share",
          "median share", "max share", "merged choice"],
-        [[lab, *(f"{f:.3f}" for f in frac[k]), _fmt(ds["share_tran_min"].values[k], 3),
-          _fmt(ds["share_tran_median"].values[k], 3), _fmt(ds["share_tran_max"].values[k], 3),
+        [[lab, *(f"{f:.3f}" for f in frac[k]),
+          *(_share(ds[f"share_tran_{w}"].values[k], zero[k]) for w in ("min", "median", "max")),
           merged[k]] for k, lab in enumerate(labels)],
         align=["left"] + ["right"] * 7 + ["left"], colour_cols=[8])
     units = torque_units(ds)
+    merged_off = is_round_off(ds["merged_error_peak"].values,
+                              ds["merged_error_tau_peak"].values)
     err = _table(
         ["joint", "peak |\u03c4|", "peak error", "RMS error",
          "peak error / peak |\u03c4|", "RMS error / peak |\u03c4|",
          f"own models, {_own_rule(ds)} rule (worst)", "units"],
-        [[str(j + 1), _fmt(ds["merged_error_tau_peak"].values[j]),
-          _fmt(ds["merged_error_peak"].values[j]), _fmt(ds["merged_error_rms"].values[j]),
-          _pct(ds["merged_error_relative_peak"].values[j]),
-          _pct(ds["merged_error_relative_rms"].values[j]),
-          _pct(np.nanmax(ds["tau_error_relative_peak"].values[:, j])
-               if np.isfinite(ds["tau_error_relative_peak"].values[:, j]).any() else np.nan),
-          units[j]] for j in range(n)],
+        [[str(j + 1), _fmt(ds["merged_error_tau_peak"].values[j])]
+         + (["\u2261 0 (round-off)"] * 2 + ["\u2261 0"] * 2 if merged_off[j] else
+            [_fmt(ds["merged_error_peak"].values[j]), _fmt(ds["merged_error_rms"].values[j]),
+             _pct(ds["merged_error_relative_peak"].values[j]),
+             _pct(ds["merged_error_relative_rms"].values[j])])
+         + [_own_worst(ds, j), units[j]] for j in range(n)],
         align=["left"] + ["right"] * 6 + ["left"])
     counts = {c: sum(_CHOICE_CLASS[m] == c for m in merged) for c in CLASSES}
     kept = sum(m != "none" for m in merged)
@@ -255,6 +258,24 @@ def _merged_rule(ds):
                        "guaranteed.")
 
 
+def _share(value, zero):
+    """A share of the envelope as printed: "\u2261 0" for an element that is round-off on
+    every trajectory (its share is noise: NaN in the dataset), else three digits."""
+    return "\u2261 0" if zero or not np.isfinite(value) else _fmt(value, 3)
+
+
+def _own_worst(ds, j):
+    """The largest relative peak torque error of the trajectories' own models on joint j,
+    round-off of that trajectory's peak |\u03c4| counted as 0 ("\u2261 0" if it is round-off on
+    every trajectory, :func:`gd_analyze.core.selection.ranking.is_round_off`)."""
+    rel = np.asarray(ds["tau_error_relative_peak"].values[:, j], float)
+    off = is_round_off(ds["tau_error_peak"].values[:, j], ds["tau_peak"].values[:, j])
+    if off.all():
+        return "\u2261 0"
+    rel = np.where(off, 0.0, rel)
+    return _pct(np.nanmax(rel)) if np.isfinite(rel).any() else _pct(np.nan)
+
+
 def _worst_cases(ds, labels):
     """The sweep's worst cases, first: trajectories with the largest merged-model error, and
     the elements whose share_tran varies most over the trajectories."""
@@ -349,7 +370,10 @@ def _outline(ctx, figures):
                 + ctx["captions"]["none"], "note")
     o.figure("classes", ctx["captions"]["classes"])
     o.table(ctx["envelope"], "Fraction of the trajectories per class, the range of the "
-                             "translational share, and the merged model's choice.")
+                             "translational share, and the merged model's choice. A share is "
+                             "0 or 1 where one part is round-off (at most 1e-12 of the "
+                             "element's scale); \u2261 0: the element is round-off on every "
+                             "trajectory, it has no share.")
     number, title = ctx["merged_heading"].split(" ", 1)
     o.section(number.rstrip("."), title, "merged")
     o.paragraph(ctx["merged_text"], "note")
@@ -357,7 +381,8 @@ def _outline(ctx, figures):
     o.section("5.1", "Torque error over all trajectories")
     o.paragraph(ctx["error_text"], "note")
     o.table(ctx["error"], "Torque error of the merged model per joint, over all set points "
-                          "of all trajectories.")
+                          "of all trajectories; \u2261 0: round-off (at most 1e-12 of the "
+                          "peak |\u03c4|), not data.")
     o.figure("error", ctx["captions"]["error"])
     if ctx["payload"] is not None:
         o.section("6", "Payload sweep", "payload")
@@ -488,7 +513,8 @@ def _own_sentence(ds):
     """The own models' worst relative peak error, named with their rule (they carry no
     bound under the chapter rule)."""
     rel = np.asarray(ds["tau_error_relative_peak"].values, float)
-    if not np.isfinite(rel).any():
+    rel = np.where(is_round_off(ds["tau_error_peak"].values, ds["tau_peak"].values), 0.0, rel)
+    if not np.isfinite(rel).any() or not np.nanmax(rel) > 0:
         return ""
     k, j = np.unravel_index(np.nanargmax(np.where(np.isfinite(rel), rel, -np.inf)), rel.shape)
     own, _ = _models(ds)

@@ -111,7 +111,7 @@ def _share_panel(ax, values, label, merged, fractions, s, small, zero=None):
 def _key_text(ds, K):
     s, e = _thresholds(ds)
     return textwrap.fill(
-        f"Box: share_tran = \u03a3|tran| / (\u03a3|tran| + \u03a3|rot|) of the element over the "
+        f"Box: translational share \u03a3|tran| / (\u03a3|tran| + \u03a3|rot|) of the element over the "
         f"{K} trajectories (box: quartiles; whiskers: min and max; coloured bar: median). "
         f"Dashed lines: s = {s:g} and 1 \u2212 s; blue band: translational, orange band: "
         f"rotational. Title: element \u2192 choice of the merged model. Bottom: fraction of "
@@ -152,7 +152,7 @@ def _fig_D(ds, width=_PAGE_WIDTH):
         lax.axis("off")
         lax.text(0.0, 0.9, _key_text(ds, ds.sizes["trajectory"]), transform=lax.transAxes,
                  va="top", ha="left", fontsize=7.5, linespacing=1.35)
-    fig.supylabel("share_tran [1]", x=0.05 / W, ha="left")
+    fig.supylabel("translational share [1]", x=0.05 / W, ha="left")
     fig.suptitle("Translational share of the elements of D over the sweep "
                  "(layout of Fig. 3.10)", y=1 - 0.15 / H, va="top")
     return fig
@@ -185,7 +185,7 @@ def _fig_D_column(ds, W):
     fig.text(0.1 / W, 1.5 / H, textwrap.fill(_key_text(ds, ds.sizes["trajectory"])
                                              .replace("\n", " "), 68),
              va="top", ha="left", fontsize=7, linespacing=1.25)
-    fig.supylabel("share_tran [1]", x=0.05 / W, ha="left")
+    fig.supylabel("translational share [1]", x=0.05 / W, ha="left")
     fig.suptitle("Translational share of the elements of D\nover the sweep (layout of Fig. "
                  "3.10)", y=1 - 0.08 / H, va="top", fontsize=9)
     return fig
@@ -214,7 +214,7 @@ def _fig_h(ds, width=_PAGE_WIDTH):
         ax = fig.add_subplot(gs[i // cols, i % cols])
         _share_panel(ax, share[:, k], label, merged[label], frac[k], s, small=False,
                      zero=zero[:, k])
-        ax.set_ylabel("share_tran [1]")
+        ax.set_ylabel("translational share [1]")
     key = textwrap.fill(_key_text(ds, ds.sizes["trajectory"]).replace("\n", " "),
                         68 if column else 120)
     fig.text(0.1 / W if column else 0.3 / W, 0.1 / H, key, ha="left", va="bottom",

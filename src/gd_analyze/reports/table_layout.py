@@ -31,9 +31,16 @@ def word_width(word, size, bold):
     Returns
     -------
     float
-        The width [in] of the word in DejaVu Sans, its glyphs' advances and kerning.
+        The width [in] of the word in DejaVu Sans, its glyphs' advances and kerning; a
+        sub- or superscript run (:func:`gd_analyze.reports.markup.runs`) at its smaller size.
     """
     import warnings
+
+    from . import markup
+
+    if markup.SUB in word or markup.SUP in word:
+        return sum(word_width(t, size * (markup.RUN_SIZE if k else 1.0), bold)
+                   for t, k in markup.runs(word) if t)
 
     from matplotlib.font_manager import FontProperties
     from matplotlib.textpath import text_to_path

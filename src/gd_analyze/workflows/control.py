@@ -29,7 +29,8 @@ is fast against the shipped 4.2 s motion (its rest-to-rest quintic has no conten
 flexibility, actuator limit, sampling or friction that would bound it, so it is a stated
 choice, not a tuned one. PD + gravity acts on torque, not acceleration, so its gains are
 scaled by the diagonal of the inertia matrix at the start of the motion:
-Kp_pd = diag(D(q_d(0))) wn^2 [N m/rad], Kv_pd = diag(D(q_d(0))) 2 zeta wn [N m s/rad]; each
+Kp_pd = diag(D(q_d(0))) wn^2 [N m/rad; N/m on a prismatic joint], Kv_pd = diag(D(q_d(0)))
+2 zeta wn [N m s/rad; N s/m]; each
 joint then has the same wn and zeta as long as the inertia stays near its starting value and the
 coupling is ignored.
 

@@ -34,6 +34,9 @@ def test_first_beyond_accepts_the_limit_itself_and_catches_every_non_finite():
     for bad in (np.nan, np.inf, -np.inf):
         assert first_beyond([0.0, bad], 1e300) == (1,)
     assert first_beyond([0.0, np.nan], np.inf) == (1,)
+    for bad in (np.inf, -np.inf):           # not finite, so beyond even an infinite limit
+        assert first_beyond([0.0, bad], np.inf) == (1,)
+        assert first_beyond([[0.0, 1.0], [bad, 0.0]], np.inf) == (1, 0)
     assert first_beyond(np.zeros((0, 3)), 1.0) is None
 
 

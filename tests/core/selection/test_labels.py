@@ -44,3 +44,13 @@ def test_the_budget_parts_use_the_same_labels(n):
     assert [lab for lab, p, *_ in parts if p == "tran"] == element_labels(n)
     assert all(parse_element_label(lab, n) == (kd, i, None if kd == "h" else j)
                for lab, _, kd, i, j in parts)
+
+
+def test_gain_units_are_generalized_force_over_the_joint_motion():
+    """A PD law tau_i = Kp e_i + Kv de_i/dt: Kp is [tau_i]/[q_i], Kv is [tau_i] s/[q_i];
+    a revolute joint's q is rad and tau N m, a prismatic one's m and N."""
+    from gd_analyze.core.selection.labels import joint_gain_units
+
+    for prismatic, (force, motion) in ((False, ("N m", "rad")), (True, ("N", "m"))):
+        kp, kv = joint_gain_units(prismatic)
+        assert kp == f"{force} {motion}-1" and kv == f"{force} s {motion}-1"

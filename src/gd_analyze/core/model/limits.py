@@ -54,11 +54,14 @@ def first_beyond(values, limit):
     (1,)
     >>> first_beyond([1.0, float("nan")], 2.5)
     (1,)
+    >>> first_beyond([1.0, -float("inf")], float("inf"))
+    (1,)
     >>> first_beyond([1.0], 2.5) is None
     True
     """
     arr = np.asarray(values, dtype=float)
-    bad = ~(np.abs(arr) <= limit)          # NaN compares False, so it is caught
+    # NaN compares False, so it is caught; +-inf is caught even under an infinite limit
+    bad = ~(np.abs(arr) <= limit) | ~np.isfinite(arr)
     if not bad.any():
         return None
     flat = int(np.argmax(bad.ravel()))

@@ -18,7 +18,8 @@ from __future__ import annotations
 import re
 
 __all__ = ["element_index", "element_label", "element_labels", "parse_element_label",
-           "element_units", "joint_torque_units", "joint_motion_units", "joint_units_text"]
+           "element_units", "joint_torque_units", "joint_motion_units", "joint_gain_units",
+           "joint_units_text"]
 
 _PATTERN = re.compile(r"D([1-9])([1-9])|D([1-9][0-9]*),([1-9][0-9]*)|h([1-9][0-9]*)")
 
@@ -206,6 +207,29 @@ def joint_torque_units(prismatic):
     ('N', 'N m')
     """
     return "N" if prismatic else "N m"
+
+
+def joint_gain_units(prismatic):
+    """The units of a joint's position and velocity gains in generalized force (a PD law
+    tau_i = Kp_i e_i + Kv_i de_i/dt): generalized force over q and over qd of the joint.
+
+    Parameters
+    ----------
+    prismatic : bool
+        True for a prismatic joint.
+
+    Returns
+    -------
+    tuple of str
+        (Kp, Kv) units, UDUNITS spelling as stored: ``("N m rad-1", "N m s rad-1")`` for a
+        revolute joint, ``("N m-1", "N s m-1")`` for a prismatic one.
+
+    Examples
+    --------
+    >>> joint_gain_units(False), joint_gain_units(True)
+    (('N m rad-1', 'N m s rad-1'), ('N m-1', 'N s m-1'))
+    """
+    return ("N m-1", "N s m-1") if prismatic else ("N m rad-1", "N m s rad-1")
 
 
 def joint_motion_units(prismatic, shown=False):

@@ -240,10 +240,11 @@ class RecursiveModel:
             arrays[key] = np.array(spec[key], float)
             if arrays[key].shape != (n,):
                 raise InputError(f"expected {n} numbers", path, column=f"{where}.{key}")
-        by_part = np.array([spec["bound_by_part"][p] for p in BOUND_PARTS], float)
-        if by_part.shape != (len(BOUND_PARTS), n):
+        lists = [spec["bound_by_part"][p] for p in BOUND_PARTS]
+        if any(len(v) != n for v in lists):         # ragged lists make no array: check first
             raise InputError(f"expected {len(BOUND_PARTS)} lists of {n} numbers", path,
                              column=f"{where}.bound_by_part")
+        by_part = np.array(lists, float)
         return cls(names=names, beta=base.beta, dropped=dropped, scale=arrays["scale"],
                    bound=arrays["bound"], bound_by_part=by_part,
                    round_off=masks.get("round_off"))
