@@ -10,6 +10,8 @@ Stanford arm (a prismatic joint 3) and the UR5.
 import numpy as np
 import pytest
 from conftest import ROOT
+from figure_checks import code_names, column_twins, draw, smallest_type, texts
+from figure_checks import collisions as _collisions
 
 from gd_analyze import load_robot
 from gd_analyze.core.selection.ranking import ROUND_OFF, is_round_off
@@ -23,8 +25,6 @@ from gd_analyze.workflows.analyze import analyze_to_file
 from gd_analyze.workflows.options import AnalysisOptions
 
 ROBOTS = ("puma560", "stanford", "ur5")
-#: Overlap below this many points is antialiasing, not a collision.
-SLACK = 0.5
 
 
 @pytest.fixture(scope="module", params=ROBOTS)
@@ -40,68 +40,17 @@ def figures(request, tmp_path_factory):
     return name, ds, figs
 
 
-def _drawn_tick_labels(ax):
-    """The tick labels the axes draws: of ticks within its view, shown (as Axis.draw picks
-    them; a located tick outside the limits is not drawn)."""
-    out = []
-    for axis in (ax.xaxis, ax.yaxis):
-        for tick in axis._update_ticks():
-            out += [lab for lab in (tick.label1, tick.label2) if lab.get_visible()]
-    return out
-
-
 def _texts(fig):
-    """(owner, text) of every visible non-empty text: tick labels, axis labels, titles,
-    panel texts, legends, figure texts; the owner is the axes (or the figure)."""
-    out = []
-    for ax in fig.axes:
-        items = ([ax.title, ax._left_title, ax._right_title, ax.xaxis.label, ax.yaxis.label]
-                 + list(ax.texts) + _drawn_tick_labels(ax))
-        legend = ax.get_legend()
-        if legend is not None:
-            items += legend.get_texts()
-        out += [(ax, t) for t in items]
-    items = list(fig.texts) + [t for lg in fig.legends for t in lg.get_texts()]
-    if fig._suptitle is not None and fig._suptitle not in items:
-        items.append(fig._suptitle)
-    out += [(fig, t) for t in items]
-    return [(o, t) for o, t in out if t.get_visible() and t.get_text().strip()]
+    return texts(fig)
 
 
 def _draw(fig):
     """Draw the figure as the report does (fixed layout) and give its renderer."""
-    import matplotlib
-    from matplotlib.backends.backend_agg import FigureCanvasAgg
-
-    canvas = FigureCanvasAgg(fig)
-    with matplotlib.rc_context(report.FIG_RC):
-        canvas.draw()
-    return canvas.get_renderer()
-
-
-def _overlap(a, b):
-    w = min(a.x1, b.x1) - max(a.x0, b.x0)
-    h = min(a.y1, b.y1) - max(a.y0, b.y0)
-    return min(w, h)
+    return draw(fig, report.FIG_RC)
 
 
 def collisions(fig):
-    """Pairs of labels of a drawn figure whose extents overlap, and labels that run into the
-    plotting area of a panel they do not belong to; as readable strings."""
-    renderer = _draw(fig)
-    px = fig.dpi / 72.0 * SLACK
-    boxes = [(o, t, t.get_window_extent(renderer)) for o, t in _texts(fig)]
-    found = []
-    for k, (oa, ta, a) in enumerate(boxes):
-        for ob, tb, b in boxes[k + 1:]:
-            if _overlap(a, b) > px:
-                found.append(f"{ta.get_text()!r} / {tb.get_text()!r}")
-        for ax in fig.axes:
-            if ax is oa or not ax.get_visible() or not ax.axison:
-                continue
-            if _overlap(a, ax.get_window_extent(renderer)) > px:
-                found.append(f"{ta.get_text()!r} runs into panel {ax.get_title()!r}")
-    return found
+    return _collisions(fig, report.FIG_RC)
 
 
 def test_no_label_collides_at_page_or_column_width(figures):
@@ -151,12 +100,15 @@ def _markers_shown(line):
     return len(np.arange(n)[every])
 
 
-def test_at_most_about_12_markers_per_line(figures):
+def test_at_most_about_12_markers_per_panel(figures):
+    """All lines of a panel together: at most MAX_MARKERS (issue 18: "at most about 12 per
+    panel"); every line with a marker keeps at least two, to show which it is."""
     name, _, figs = figures
     for key in ("D", "h", "joints", "D_column", "h_column", "joints_column"):
         for ax in figs[key].axes:
-            for line in ax.lines:
-                assert _markers_shown(line) <= MAX_MARKERS, (name, key, ax.get_title())
+            shown = [_markers_shown(line) for line in ax.lines]
+            assert sum(shown) <= MAX_MARKERS, (name, key, ax.get_title(), shown)
+            assert all(k >= 2 for k in shown if k), (name, key, ax.get_title(), shown)
 
 
 def test_the_combined_curve_is_drawn_first_and_thinner(figures):
@@ -173,14 +125,42 @@ def test_the_combined_curve_is_drawn_first_and_thinner(figures):
 def test_one_tick_notation_per_figure(figures):
     _, _, figs = figures
     for key in ("D", "h", "D_column", "h_column", "torque", "torque_column", "joints"):
-        styles = set()
         assert any(tick_texts(ax, "y") for ax in figs[key].axes), key
         for ax in figs[key].axes:
-            for _, lab in tick_texts(ax, "y"):
-                text = lab.get_text()
-                if text and text != "0":
-                    styles.add("sci" if "e" in text else "fixed")
-        assert len(styles) <= 1, (key, styles)
+            for value, lab in tick_texts(ax, "y") + tick_texts(ax, "x"):
+                assert "e" not in lab.get_text(), (key, lab.get_text())   # fixed notation
+
+
+def _power(label):
+    """k of a "10ᵏ" in an axis label, 0 if none."""
+    import re
+
+    digits = "\u2070\u00b9\u00b2\u00b3\u2074\u2075\u2076\u2077\u2078\u2079"
+    m = re.search(f"10(\u207b?)([{digits}]+)", label)
+    if not m:
+        return 0
+    value = int("".join(str(digits.index(c)) for c in m.group(2)))
+    return -value if m.group(1) else value
+
+
+def test_every_tick_label_reads_back_its_tick(figures):
+    """Oracle: the tick's own position. Each label, times the power of ten its axis label
+    states (units of 10ᵏ), gives back the tick within 1e-9 of the axis' largest tick."""
+    name, _, figs = figures
+    scaled = 0
+    for key, fig in figs.items():
+        for ax in fig.axes:
+            texts = [t for t in ax.texts if t.get_text() and t.get_rotation() == 90.0]
+            label = " ".join(t.get_text() for t in texts)
+            k = _power(label)
+            scaled += k != 0
+            ticks = tick_texts(ax, "y")
+            big = max((abs(v) for v, _ in ticks), default=0.0)
+            for value, lab in ticks:
+                shown = float(lab.get_text().replace("\u2212", "-")) * 10.0 ** k
+                assert abs(shown - value) <= 1e-9 * big, (key, lab.get_text(), k, value)
+    if name == "puma560":                   # D and h of the wrist are below 1e-3
+        assert scaled > 0
 
 
 def test_round_off_is_never_drawn_as_data(figures):
@@ -226,3 +206,97 @@ def test_seven_joints_differ_in_line_style_and_marker():
     markers = [s["marker"] for s in styles]
     assert len(set(dashes)) == 7 and len(set(markers)) == 7
     assert len(JOINT_STYLES) >= 7
+
+
+# --------------------------------------------------------------------------------------------
+# Mathematics in the lettering; the payload figure; a column twin of every figure file
+# --------------------------------------------------------------------------------------------
+
+def test_figures_letter_mathematics_not_code_names(figures):
+    """Titles, axis labels, legends and keys write D₁₂, hᵢ, τₛ − τ: no D12, D_ij, share_tran,
+    tau_s (mathtext spans count as mathematics)."""
+    name, _, figs = figures
+    bad = {key: code_names(fig) for key, fig in figs.items()}
+    bad = {k: v[:4] for k, v in bad.items() if v}
+    assert not bad, f"{name}: {bad}"
+
+
+@pytest.fixture(scope="module", params=ROBOTS)
+def payload_figures(request):
+    from gd_analyze.reports.figures import COLUMN_WIDTH, payload_figure
+    from gd_analyze.workflows.payload import payload_sweep
+
+    name = request.param
+    robot = load_robot(name)
+    traj = read_trajectory(ROOT / "data" / f"{name}_trajectory.csv", robot.n)
+    ds = payload_sweep(robot, traj, [0.0, 0.5, 1.0, 2.0])
+    return name, {"payload": payload_figure(ds), "payload_column": payload_figure(ds, COLUMN_WIDTH),
+                  "data": ds}
+
+
+def test_payload_figure_at_page_and_column_width(payload_figures):
+    """The payload figure (main job with --payload-sweep, sweep report) has a 3.5-in version
+    with type of at least 7 pt; neither collides, both letter elements as mathematics."""
+    name, figs = payload_figures
+    figs = {k: v for k, v in figs.items() if k != "data"}
+    assert figs["payload"].get_size_inches()[0] == pytest.approx(7.2)
+    assert figs["payload_column"].get_size_inches()[0] == pytest.approx(3.5)
+    for key, fig in figs.items():
+        assert not collisions(fig), (name, key, collisions(fig)[:4])
+        assert smallest_type(fig, report.FIG_RC) >= 7.0, (name, key)
+        assert not code_names(fig), (name, key, code_names(fig)[:4])
+    heat = figs["payload_column"].axes[0]               # elements down, one row each
+    assert [t.get_text() for t in heat.get_yticklabels()][:2] == ["D\u2081\u2081",
+                                                                  "D\u2081\u2082"]
+
+
+def test_every_figure_file_of_the_main_job_has_a_column_twin(tmp_path):
+    """The main job with a payload sweep writes each figure at page width and as
+    <name>_column, 3.5 in wide (the PDF's MediaBox)."""
+    from gd_analyze.cli import main
+
+    out = tmp_path / "o"
+    assert main(["puma560", str(ROOT / "data" / "puma560_trajectory.csv"), "-o", str(out),
+                 "--payload-sweep", "0:1:0.5", "--no-verify", "-q"]) == 0
+    folder = out / "figures"
+    assert (folder / "fig_payload_dominance_column.pdf").is_file()
+    assert not column_twins(folder), column_twins(folder)
+
+
+def test_payload_figure_draws_no_share_of_round_off(payload_figures):
+    """An element whose every part is round-off of its scale has a share of noise: the payload
+    sweep flags it (``round_off``) and the heat map leaves its cells grey (masked), at page and
+    at column width; every other cell keeps its share. D45 and D56 of the PUMA 560 are zero
+    in every part (the wrist's axes 4, 5, 6 meet and the point load sits on axis 6, at the
+    flange's origin), with any load."""
+    name, figs = payload_figures
+    from gd_analyze.core.selection.ranking import element_labels
+
+    ds = figs["data"]
+    flag = ds["round_off"].values.astype(bool)                   # (payload, element)
+    labels = element_labels(ds.sizes["joint"])
+    if name == "puma560":
+        assert {lab for lab, f in zip(labels, flag.all(axis=0)) if f} == {"D45", "D56"}
+        assert not flag[:, [lab not in ("D45", "D56") for lab in labels]].any()
+    for key in ("payload", "payload_column"):
+        masked = np.ma.getmaskarray(figs[key].axes[0].images[0].get_array())
+        per_payload = masked if key == "payload" else masked.T       # (payload, element)
+        np.testing.assert_array_equal(per_payload, flag | ~np.isfinite(ds["share_tran"].values))
+
+
+def test_payload_figure_gives_each_torque_axis_one_unit(payload_figures):
+    """Peak |τ| against the payload: a joint's units from its type (N m revolute, N
+    prismatic); a mixed arm (Stanford, joint 3 prismatic) gets a panel per unit, never N m and
+    N on one axis."""
+    name, figs = payload_figures
+    prismatic = load_robot(name).prismatic
+    for key in ("payload", "payload_column"):
+        axes = [ax for ax in figs[key].axes if ax.get_ylabel().startswith("peak")]
+        assert len(axes) == len(set(prismatic))
+        drawn = []
+        for ax in axes:
+            joints = [int(ln.get_label().split()[1]) - 1 for ln in ax.lines]
+            units = {"N" if prismatic[j] else "N m" for j in joints}
+            assert len(units) == 1 and ax.get_ylabel() == f"peak |\u03c4| [{units.pop()}]"
+            drawn += joints
+        assert sorted(drawn) == list(range(len(prismatic)))

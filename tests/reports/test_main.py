@@ -370,6 +370,7 @@ def test_make_figures_panels(any_report):
     n = ds.sizes["joint"]
     dom = dict(zip(strings(ds["element"].values), strings(ds["dominance"].values)))
     from gd_analyze.reports.main_figures import SHORT_CLASS
+    from gd_analyze.reports.markup import label as shown
 
     figs = report.make_figures(ds)
     assert set(figs) == {"joints", "D", "h", "torque"} | {
@@ -384,11 +385,11 @@ def test_make_figures_panels(any_report):
         for j in range(i, n):
             label = f"D{i + 1}{j + 1}"
             if zero[label]:
-                ax = titles[f"{label}: \u2261 0"]
+                ax = titles[f"{shown(label)}: \u2261 0"]
                 assert not ax.get_lines()                  # noise is not drawn as data
                 assert np.abs(ds["D"].values[:, i, j]).max() < 1e-12
                 continue
-            ax = titles[f"{label}: {SHORT_CLASS[dom[label]]}"]
+            ax = titles[f"{shown(label)}: {SHORT_CLASS[dom[label]]}"]
             by_label = {ln.get_label(): ln for ln in ax.get_lines()}
             lines = [by_label[k] for k in ("translational", "rotational", "combined")]
             assert [ln.get_marker() for ln in lines] == ["o", "x", "^"]
@@ -401,7 +402,7 @@ def test_make_figures_panels(any_report):
                 y = ln.get_ydata()
                 assert lo < y.min() and y.max() < hi
     h_titles = [ax.get_title() for ax in figs["h"].axes if ax.get_visible() and ax.get_title()]
-    assert h_titles == [f"h{i + 1}: " + ("\u2261 0" if zero[f"h{i + 1}"]
+    assert h_titles == [shown(f"h{i + 1}") + ": " + ("\u2261 0" if zero[f"h{i + 1}"]
                                           else SHORT_CLASS[dom[f"h{i + 1}"]]) for i in range(n)]
     # one panel size for D and h, and type of at least 7 pt at the printed size (7.2 in)
     size = {tuple(np.round(ax.get_position().size * figs[k].get_size_inches(), 3))
@@ -416,7 +417,9 @@ def test_make_figures_panels(any_report):
     q_ax = figs["joints"].axes[0]
     assert "[deg]" in q_ax.get_ylabel()
     np.testing.assert_allclose(q_ax.get_lines()[0].get_ydata(), np.degrees(ds["q"].values[:, 0]))
-    assert all("[N m]" in ax.get_ylabel() for ax in figs["torque"].axes if ax.get_visible())
+    power = re.compile("(?<=\\[)10\u207b?[\u2070\u00b9\u00b2\u00b3\u2074-\u2079]+ ")
+    assert all("[N m]" in power.sub("", ax.get_ylabel())        # [10⁻³ N m] is N m too
+               for ax in figs["torque"].axes if ax.get_visible())
 
 
 def test_zero_velocity_has_no_nan_share(tmp_path, puma):
@@ -599,10 +602,12 @@ def test_formulations_section_from_the_stored_counts(tmp_path, puma):
     ds = open_results(results)
     costs = next(t for t in tables_of(html) if t and t[0][:2] == ["formulation", "multiplications"])
     by_name = {row[0]: row for row in costs[1:]}
+    shown = {"lagrange-euler": "Lagrange-Euler", "newton-euler": "Newton-Euler",
+             "gd": "G-D, compiled engine"}          # names in words, not dataset keys
     for name in ("lagrange-euler", "newton-euler", "gd"):
         stored = ds.op_multiplications.sel(dof=6, formulation=name).item()
-        assert by_name[name][1] == f"{stored:.0f}"
-        assert by_name[name][3] == f"{ds.op_multiplications_table_3_5.sel(dof=6, formulation=name).item():.0f}"
+        assert by_name[shown[name]][1] == f"{stored:.0f}"
+        assert by_name[shown[name]][3] == f"{ds.op_multiplications_table_3_5.sel(dof=6, formulation=name).item():.0f}"
     assert html.count("<svg") == 5          # joints, D, h, torque, formulations
 
 
@@ -618,6 +623,7 @@ def test_fig_3_10_analogue_grows_to_n_by_n(n):
 
     from gd_analyze.core.selection.ranking import element_label
     from gd_analyze.reports.main_figures import RC, PlotData, fig_D, fig_h
+    from gd_analyze.reports.markup import label as shown
 
     rng = np.random.default_rng(n)
     M = 21
@@ -632,9 +638,10 @@ def test_fig_3_10_analogue_grows_to_n_by_n(n):
         figh = fig_h(data, {}, {})
     titles = [ax.get_title() for ax in fig.axes]
     assert len(titles) == n * (n + 1) // 2
-    assert titles == [f"{lab}: both" for lab in labels]
-    if n >= 10:
-        assert "D1,10: both" in titles and "D10,10: both" in titles
+    assert titles == [f"{shown(lab)}: both" for lab in labels]     # D12 -> D₁₂
+    if n >= 10:                     # the comma of the label rule stays
+        assert "D\u2081,\u2081\u2080: both" in titles
+        assert "D\u2081\u2080,\u2081\u2080: both" in titles
     assert len(figh.axes) == n
     sizes = {tuple(np.round(ax.get_position().size * f.get_size_inches(), 3))
              for f in (fig, figh) for ax in f.axes}

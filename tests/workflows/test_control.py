@@ -12,6 +12,7 @@ import numpy as np
 import pytest
 import xarray as xr
 from conftest import SHIPPED
+from figure_checks import code_names, collisions, column_twins, smallest_type
 
 from gd_analyze import gd_terms, load_robot
 from gd_analyze.core.selection.ranking import element_labels
@@ -219,6 +220,7 @@ def test_control_report_is_written(result, tmp_path):
         f"fig_control_{name}{width}.{ext}" for width in ("", "_column")
         for name in ("tracking_error", "torque_difference", "applied_torque")
         for ext in ("pdf", "svg")]
+    assert not column_twins(tmp_path / "out" / "figures")        # 3.5-in MediaBox each
     html = html_path.read_text(encoding="utf-8")
     assert "Verdict: the simplified model" in html
     assert html.startswith("<!DOCTYPE html>") and html.count("<svg") >= 3
@@ -268,3 +270,22 @@ def test_integrator_noise_is_not_drawn_and_units_follow_joint_types(result):
         assert ax.get_ylim()[0] == pytest.approx(rtol * scale[j])
         assert ax.get_ylabel().endswith("[rad]")
     assert any("noise on every joint" in t.get_text() for t in fig.texts)
+
+
+def test_control_figures_letter_mathematics_at_print_size(result):
+    """The control figures at page and column width: q_d, tau_s, tau_f as mathematics
+    (mathtext), no label collisions or text past the edge, column type of at least 7 pt."""
+    from gd_analyze.reports.control import _RC, make_control_figures
+    from gd_analyze.reports.control_figures import COLUMN_WIDTH, control_figures
+
+    ds = control_dataset(result)
+    figs = {**make_control_figures(ds),
+            **{f"{k}_column": f for k, f in control_figures(ds, COLUMN_WIDTH).items()}}
+    for key, fig in figs.items():
+        assert not code_names(fig), (key, code_names(fig)[:4])
+        assert not collisions(fig, _RC), (key, collisions(fig, _RC)[:4])
+        if key.endswith("_column"):
+            assert fig.get_size_inches()[0] == pytest.approx(3.5)
+            assert smallest_type(fig, _RC) >= 7.0, key
+    labels = [ax.get_ylabel() for ax in figs["error"].axes if ax.get_visible()]
+    assert labels and all(lab.startswith("$") for lab in labels)

@@ -7,6 +7,7 @@ import itertools
 import numpy as np
 import pytest
 from conftest import SHIPPED
+from figure_checks import code_names, collisions, column_twins, smallest_type
 
 from gd_analyze import InputError, gd_terms
 from gd_analyze.cli import parse_range
@@ -286,9 +287,10 @@ def test_sweep_report(sweep, puma, shipped, tmp_path):
     assert html_path.name == "sweep_report.html" and pdf_path.name == "sweep_report.pdf"
     page = ("sweep_share_D", "sweep_share_h", "payload_dominance", "sweep_class_fractions",
             "sweep_torque_error")
-    column = tuple(f"{name}_column" for name in page if name != "payload_dominance")
+    column = tuple(f"{name}_column" for name in page)
     assert {p.name for p in out[2:]} == {f"fig_{name}.{ext}" for ext in ("pdf", "svg")
                                          for name in page + column}
+    assert not column_twins(tmp_path / "report" / "figures")     # 3.5-in MediaBox each
     html = html_path.read_text(encoding="utf-8")
     # the summary leads with the worst cases: the trajectory of the largest merged error
     rel = sweep["merged_tau_error_relative_peak"].values
@@ -460,13 +462,38 @@ def test_round_off_elements_have_no_share_box(sweep, serial):
                           for k in range(len(labels))] for ds in serial])
     np.testing.assert_array_equal(sweep["round_off"].values.astype(bool), expected)
     assert {lab for lab, z in zip(labels, expected.all(axis=0)) if z} >= {"D45", "D56"}
+    from gd_analyze.reports.markup import label as shown
+
     fig = make_sweep_figures(sweep)["D"]
+    titled = {shown(lab): lab for lab in labels}        # D₁₂ -> D12
+    panels = 0
     for ax in fig.axes:
-        element = ax.get_title().split(" ")[0].rstrip(":")
-        if element not in labels:
+        element = titled.get(ax.get_title().split(" ")[0].rstrip(":"))
+        if element is None:
             continue
+        panels += 1
         if expected[:, labels.index(element)].all():
-            assert ax.get_title() == f"{element}: \u2261 0"
+            assert ax.get_title() == f"{shown(element)}: \u2261 0"
             assert not ax.lines and not ax.patches          # no box, no threshold lines
         else:
             assert len(ax.lines) > 2                        # thresholds, whiskers, median
+    assert panels == sum(lab.startswith("D") for lab in labels)
+
+
+def test_sweep_figures_letter_mathematics_at_print_size(sweep, puma, shipped):
+    """Every sweep figure, at page width and as its 3.5-in column twin (payload included):
+    elements lettered D₁₂, h₃ (no D12, share_tran), no label collisions or text past the
+    edge, type of at least 7 pt in the column versions."""
+    from gd_analyze.reports.sweep import _RC
+    from gd_analyze.reports.sweep_figures import make_sweep_figures
+
+    pay = payload_sweep(puma, shipped, [0.0, 1.0])
+    figs = make_sweep_figures(sweep, pay, column=True)
+    assert {k for k in figs if not k.endswith("_column")} == {
+        k[:-len("_column")] for k in figs if k.endswith("_column")}
+    for key, fig in figs.items():
+        assert not code_names(fig), (key, code_names(fig)[:4])
+        assert not collisions(fig, _RC), (key, collisions(fig, _RC)[:4])
+        if key.endswith("_column"):
+            assert fig.get_size_inches()[0] == pytest.approx(3.5)
+            assert smallest_type(fig, _RC) >= 7.0, key

@@ -72,9 +72,16 @@ from .lagrange_euler import _constants as _le_constants
 from .lagrange_euler import _le_core, _tau, joint_q_matrices
 from .newton_euler import _cross, _ne_core, link_constants
 
-__all__ = ["OpCount", "METHODS", "TABLE_3_5", "random_chain", "count_operations",
-           "operation_counts", "book_counts", "table"]
+__all__ = ["OpCount", "METHODS", "TABLE_3_5", "FORMULATION_NAMES", "FORMULATION_ABBR",
+           "random_chain", "count_operations", "operation_counts", "book_counts", "table"]
 
+#: How tables and figures name each formulation and implementation (the key is the name in the
+#: datasets), in full and abbreviated.
+FORMULATION_NAMES = {"lagrange-euler": "Lagrange-Euler", "newton-euler": "Newton-Euler",
+                     "gd": "G-D, compiled engine", "gd-numpy": "G-D, array engine",
+                     "pinocchio": "Pinocchio"}
+FORMULATION_ABBR = {"lagrange-euler": "L-E", "newton-euler": "N-E", "gd": "G-D",
+                    "gd-numpy": "G-D np", "pinocchio": "Pinocchio"}
 #: The implementations counted, in table order ("gd" is the compiled G-D engine).
 METHODS = ("lagrange-euler", "newton-euler", "gd", "gd-numpy")
 
@@ -478,7 +485,7 @@ def table(n_max=10):
 
     if n_max < 1:
         raise ValueError(f"n_max must be >= 1, got {n_max}")
-    abbr = {"lagrange-euler": "L-E", "newton-euler": "N-E", "gd": "G-D", "gd-numpy": "G-D np"}
+    abbr = FORMULATION_ABBR
     rows = []
     for n in range(1, n_max + 1):
         got, book = operation_counts(n), book_counts(n)

@@ -222,8 +222,7 @@ def sweep_dataset(robot, trajectories, results, merged, merged_stats, dominance,
                                           "merged model: RMS error / peak |tau|, over all "
                                           "trajectories"),
     }
-    data_vars["joint_type"] = var(("joint",), np.array(robot.joint_types, dtype=str), "1",
-                                  "joint type: revolute (q in rad) or prismatic (q in m)")
+    data_vars["joint_type"] = _joint_type_var(robot)
     coords = element_coords(n, robot.prismatic)
     coords["trajectory"] = ("trajectory", np.arange(K),
                             {"long_name": "trajectory index", "units": "1"})
@@ -291,13 +290,14 @@ def payload_dataset(robot, trajectory, masses, com, inertia, results, dominance,
         "tau_peak": var(("payload", "joint"),
                          np.array([r["summary"]["tau_peak"] for r in results]), torque,
                          "peak |tau| of the full model along the trajectory"),
+        "round_off": _round_off_var(np.array([is_round_off(
+            np.max([r["peaks"][k] for k in ("peak_tran", "peak_rot", "peak_total")], axis=0),
+            r["peaks"]["scale"]) for r in results]), "along the trajectory"),
         "tau_error_relative_peak": var(
             ("payload", "joint"),
             np.array([r["summary"]["error"]["relative_peak_error"] for r in results]), "1",
-            "own simplified model: peak |tau_simplified - tau| / peak |tau|"),
-        "joint_type": var(("joint",), np.array(robot.joint_types, dtype=str), "1",
-                          "joint type: revolute (tau in N m) or prismatic (tau in N)"),
-    }
+            "own simplified model: peak |tau_simplified - tau| / peak |tau|"),    }
+    data_vars["joint_type"] = _joint_type_var(robot)
     coords = element_coords(n, robot.prismatic)
     coords["payload"] = ("payload", masses, {"long_name": "payload mass on the last link",
                                              "units": "kg"})
@@ -337,7 +337,8 @@ def sweep_payloads_dataset(robot, n_trajectories, masses, com, inertia, parts, d
         Load principal moments [kg m^2].
     parts : list of tuple
         Per mass: class fractions (M, 4), median share_tran (M,), most frequent class (M,),
-        merged choice (M,), peak |tau| over all trajectories (n,) [N m].
+        merged choice (M,), peak |tau| over all trajectories (n,) [N m], and optionally
+        round-off on every trajectory (M,) bool (stored as ``round_off``).
     dominance, negligible : float
         s and e of the ranking.
 
@@ -348,12 +349,16 @@ def sweep_payloads_dataset(robot, n_trajectories, masses, com, inertia, parts, d
     """
     import xarray as xr
 
-    frac, share, dom, choice, tau = (np.array(x) for x in zip(*parts))
+    frac, share, dom, choice, tau = (np.array(x) for x in list(zip(*parts))[:5])
     n = robot.n
     torque = _torque_units(robot)
+    extra = ({"round_off": _round_off_var(np.array([p[5] for p in parts]),
+                                          "on every trajectory")}
+             if all(len(p) > 5 for p in parts) else {})
 
     return xr.Dataset(
-        {"class_fraction": var(("payload", "element", "class"), frac, "1",
+        {**extra,
+         "class_fraction": var(("payload", "element", "class"), frac, "1",
                                "fraction of the trajectories in each class"),
          "share_tran": var(("payload", "element"), share, "1",
                            "median translational share over the trajectories"),
@@ -362,7 +367,8 @@ def sweep_payloads_dataset(robot, n_trajectories, masses, com, inertia, parts, d
          "choice": var(("payload", "element"), choice.astype(str), "1",
                        "merged share-based choice (chapter rule, no error bound)"),
          "tau_peak": var(("payload", "joint"), tau, torque,
-                         "peak |tau| over all trajectories")},
+                         "peak |tau| over all trajectories"),
+         "joint_type": _joint_type_var(robot)},
         coords={"payload": ("payload", np.asarray(masses, float),
                             {"units": "kg", "long_name": "load mass on the last link"}),
                 "element": ("element", np.array(element_labels(n), dtype=str),
@@ -381,6 +387,21 @@ def sweep_payloads_dataset(robot, n_trajectories, masses, com, inertia, parts, d
                "payload_inertia_units": "kg m2 (principal moments)"})
 
 
+def _joint_type_var(robot):
+    """Each joint's type (the units of its q and tau follow from it)."""
+    return var(("joint",), np.array(robot.joint_types, dtype=str), "1",
+               "joint type: revolute (q in rad) or prismatic (q in m)")
+
+
+def _round_off_var(flags, where):
+    """The (payload, element) flag: every part of the element is round-off (its share is
+    noise, :func:`gd_analyze.core.selection.ranking.is_round_off`)."""
+    return var(("payload", "element"), np.asarray(flags, bool).astype(np.int8), "1",
+               f"every part of the element is round-off {where} (1: at most 1e-12 of its "
+               "scale; its share_tran is noise), else 0",
+               flag_values=np.array([0, 1], dtype=np.int8), flag_meanings="data round_off")
+
+
 def embed_payload(payload):
     """A payload sweep as variables ``payload_<name>`` to store beside the main analysis.
 
@@ -396,10 +417,11 @@ def embed_payload(payload):
     Returns
     -------
     xarray.Dataset
-        The same variables, each prefixed ``payload_``; the ``element_units`` coordinate (already
-        in the main analysis) dropped.
+        The same variables, each prefixed ``payload_``; the ``element_units`` coordinate and
+        ``joint_type`` (already in the main analysis) dropped.
     """
-    renamed = payload.rename({v: f"payload_{v}" for v in payload.data_vars})
+    renamed = payload.drop_vars([v for v in ("joint_type",) if v in payload.variables])
+    renamed = renamed.rename({v: f"payload_{v}" for v in renamed.data_vars})
     return renamed.drop_vars([c for c in ("element_units",) if c in renamed.coords])
 
 
@@ -414,12 +436,15 @@ def payload_part(results):
     Returns
     -------
     xarray.Dataset
-        The ``payload_*`` variables over dim ``payload``, without the prefix (empty if the run
-        had no payload sweep).
+        The ``payload_*`` variables over dim ``payload``, without the prefix, and the
+        analysis' ``joint_type`` (empty if the run had no payload sweep).
     """
     names = [v for v in results.data_vars
              if v.startswith("payload_") and "payload" in results[v].dims]
-    return results[names].rename({v: v[len("payload_"):] for v in names})
+    part = results[names].rename({v: v[len("payload_"):] for v in names})
+    if names and "joint_type" in results.variables:     # the main analysis' joint types
+        part["joint_type"] = results["joint_type"]
+    return part
 
 
 def beyond_the_floor(ds):

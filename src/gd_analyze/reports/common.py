@@ -25,7 +25,8 @@ A4_LANDSCAPE = (11.69, 8.27)
 __all__ = ["CLASS_COLOURS", "BASE_RC", "SUPTITLE_RC", "A4", "A4_LANDSCAPE", "style", "utc_now",
            "keep_units",
            "strings", "fmt", "pct", "attr", "thresholds", "check", "table", "grid_shape",
-           "joint_colours", "joint_style", "JOINT_STYLES", "MAX_MARKERS", "markevery",
+           "joint_colours", "joint_style", "JOINT_STYLES", "MAX_MARKERS", "MIN_MARKERS",
+           "markevery", "panel_markevery",
            "gridspec", "svg", "inline_svgs", "render_template", "check_formats",
            "prismatic_joints", "torque_units", "element_units_of", "units_text",
            "units_said_once"]
@@ -330,7 +331,7 @@ JOINT_STYLES = (("-", "o"), ((0, (4.0, 1.6)), "s"), ((0, (1.0, 1.3)), "^"),
                 ((0, (6.0, 1.5, 1.0, 1.5, 1.0, 1.5)), "x"), ((0, (8.0, 2.0)), "+"))
 
 
-def joint_style(j, n_lines=1):
+def joint_style(j, n_lines=1, in_panel=1):
     """Colour, line style and marker of joint ``j`` (0-based): distinct for up to 7 joints.
 
     Parameters
@@ -338,8 +339,10 @@ def joint_style(j, n_lines=1):
     j : int
         The joint, 0-based.
     n_lines : int, optional
-        Set points on the line, to place at most about 12 markers on it
-        (:func:`markevery`).
+        Set points on the line.
+    in_panel : int, optional
+        Lines on the panel: together they carry at most about :data:`MAX_MARKERS` markers
+        (:func:`panel_markevery`).
 
     Returns
     -------
@@ -352,14 +355,41 @@ def joint_style(j, n_lines=1):
     colours = ("#000000", "#0072B2", "#D55E00", "#009E73", "#CC79A7", "#E69F00", "#56B4E9")
     ls, marker = JOINT_STYLES[j % len(JOINT_STYLES)]
     colour = colours[j] if j < len(colours) else joint_colours(j + 1)[j]
-    every = markevery(n_lines)
+    every = panel_markevery(n_lines, in_panel)
     offset = (j * max(1, every // 7)) % every if every > 1 else 0
     return {"color": colour, "linestyle": ls, "marker": marker, "markevery": (offset, every),
             "markersize": 3.0, "markerfacecolor": "none", "markeredgewidth": 0.7}
 
 
-#: The most markers drawn on one line of a panel: more merge into a band at print size.
+#: The most markers drawn on one panel, all its lines together: more merge into a band at
+#: print size (each line keeps at least :data:`MIN_MARKERS`).
 MAX_MARKERS = 12
+#: The fewest markers of a line that has any: enough to tell its marker.
+MIN_MARKERS = 2
+
+
+def panel_markevery(m, lines):
+    """The stride of the markers of each of ``lines`` lines of ``m`` points on one panel.
+
+    Parameters
+    ----------
+    m : int
+        Points on each line.
+    lines : int
+        Lines with markers on the panel.
+
+    Returns
+    -------
+    int
+        :func:`markevery` for at most ``max(MIN_MARKERS, MAX_MARKERS // lines)`` markers a
+        line: at most about :data:`MAX_MARKERS` on the panel.
+
+    Examples
+    --------
+    >>> panel_markevery(31, 3), panel_markevery(31, 6), panel_markevery(8, 1)
+    (8, 16, 1)
+    """
+    return markevery(m, max(MIN_MARKERS, MAX_MARKERS // max(1, int(lines))))
 
 
 def markevery(m, most=MAX_MARKERS):

@@ -28,6 +28,11 @@ _STYLES = {"full": "-", "simplified": "--", "pd_gravity": "-."}
 CONTROLLER_LABELS = _LABELS = {"full": "computed torque, full model", "simplified": "computed torque, simplified "
            "model", "pd_gravity": "PD + gravity"}
 _MAX_LINE_POINTS = 600
+#: Axis labels ({u}: the joint's units) in mathematics: q_d (desired) and tau_s, tau_f (the
+#: simplified- and the full-model controller) have subscripts that Unicode has no character
+#: for, so mathtext writes them, in the regular (upright) font of the other labels.
+_TRACKING_ERROR = "$\\mathregular{{|q_d - q|}}$ [{u}]"
+_TAU_DIFFERENCE = "$\\mathregular{{\\tau_s - \\tau_f}}$ [{u}]"
 _RC = {**BASE_RC, "legend.fontsize": 7.5, "lines.markersize": 3.0}
 _fmt = functools.partial(fmt, digits=3, sci_outside=(1e-3, 1e5))
 
@@ -55,7 +60,7 @@ def _joint_panels(ds, values, ylabel, title, log=False, scale=None, which="q",
     """
     from matplotlib.figure import Figure
 
-    from .common import markevery
+    from .common import panel_markevery
     from .ticks import label_axes, set_ticks
 
     t = np.asarray(ds["time"].values, dtype=float)
@@ -78,7 +83,7 @@ def _joint_panels(ds, values, ylabel, title, log=False, scale=None, which="q",
     keep = np.zeros(t.size, dtype=bool)
     keep[::k] = True
     keep |= is_set
-    every = markevery(int(is_set.sum()))
+    every = panel_markevery(int(is_set.sum()), len(values))
     tol, floor = _noise_floor(ds, scale) if scale is not None else (None, None)
     handles = {}
     quiet = {}                          # controller -> [(joint, peak)] of noise-only curves
@@ -207,12 +212,11 @@ def control_figures(ds, width=PAGE_WIDTH):
     with _style(_RC):
         figs = {"error": _joint_panels(
             ds, {c: ds["error"].sel(controller=c).values for c in names},
-            "|$\\mathregular{{q_d}}$ \u2212 q| [{u}]", "Tracking error per joint", log=True, scale=q_scale,
+            _TRACKING_ERROR, "Tracking error per joint", log=True, scale=q_scale,
             width=width)}
         if "tau_difference" in ds:
             figs["tau_difference"] = _joint_panels(
-                ds, {"simplified": ds["tau_difference"].values}, "$\\mathregular{{\\tau_s}}$ \u2212 "
-                "$\\mathregular{{\\tau_f}}$ [{u}]",
+                ds, {"simplified": ds["tau_difference"].values}, _TAU_DIFFERENCE,
                 "Closed-loop torque difference: simplified-model minus full-model computed "
                 "torque", scale=tau_scale, which="tau", width=width)
         figs["tau"] = _joint_panels(ds, {c: ds["tau"].sel(controller=c).values for c in names},

@@ -6,6 +6,8 @@ report both show it. Source: Sec. 3.4.1 of Fu, Gonzalez & Lee (1987).
 
 from __future__ import annotations
 
+import textwrap
+
 import numpy as np
 
 from .common import (
@@ -18,11 +20,14 @@ from .common import (
     thresholds,
     torque_units,
 )
+from .markup import label
 
-__all__ = ["payload_figure", "PAYLOAD_REQUIRED", "CLASS_LETTER", "PAGE_WIDTH"]
+__all__ = ["payload_figure", "PAYLOAD_REQUIRED", "CLASS_LETTER", "PAGE_WIDTH", "COLUMN_WIDTH"]
 
 #: Width of the figures: the text of a page [in] (the reports' figures go into papers unscaled).
 PAGE_WIDTH = 7.2
+#: Width of a one-column figure [in].
+COLUMN_WIDTH = 3.5
 
 #: The variables :func:`payload_figure` reads.
 PAYLOAD_REQUIRED = ("share_tran", "dominance", "choice", "tau_peak")
@@ -31,24 +36,31 @@ PAYLOAD_REQUIRED = ("share_tran", "dominance", "choice", "tau_peak")
 CLASS_LETTER = {"translational": "T", "rotational": "R", "both": "B", "negligible": "N"}
 
 
-def payload_figure(ds):
-    """share_tran and dominance class of every element vs payload, and peak |tau| vs payload.
+def payload_figure(ds, width=PAGE_WIDTH):
+    """Translational share and dominance class of every element vs payload, and peak |tau| vs
+    payload.
 
     Parameters
     ----------
     ds : xarray.Dataset
         A payload sweep from :func:`gd_analyze.workflows.payload.payload_sweep`: coordinate ``payload``
         (P,) [kg]; ``share_tran`` and ``dominance`` (payload, element); ``tau_peak``
-        (payload, joint) [N m or N] and ``joint_type`` (joint; all revolute if absent).
+        (payload, joint) [N m].
+    width : float, optional
+        :data:`PAGE_WIDTH` (payload down, elements across) or :data:`COLUMN_WIDTH` [in]
+        (elements down, payload across: a row of 7-pt element labels per element).
 
     Returns
     -------
     matplotlib.figure.Figure
-        Top: a heat map of share_tran over (payload, element) from rotational (0, orange)
-        through 0.5 (white) to translational (1, blue), each cell marked with its class (T, R,
-        B or N) and with a bold frame where the class differs from that at the first payload.
-        Bottom: peak |tau| per joint vs payload [N m, or N for a prismatic joint: in the key
-        when the joints differ]. A plain Figure (no pyplot state).
+        ``width`` wide, type of at least 7 pt. Top: a heat map of the translational share
+        over (payload, element) from rotational (0, orange) through 0.5 (white) to
+        translational (1, blue), each cell marked with its class (T, R, B or N) and with a
+        bold frame where the class differs from that at the first payload; grey where the
+        element is round-off in every part (``round_off``: its share is noise); elements lettered
+        as mathematics (D\u2081\u2082, :func:`gd_analyze.reports.markup.label`).
+        Bottom: peak |tau| per joint vs payload [N m, N for a prismatic joint]. A plain
+        Figure (no pyplot state).
 
     Raises
     ------
@@ -65,51 +77,98 @@ def payload_figure(ds):
     from matplotlib.patches import Rectangle
 
     check(ds, PAYLOAD_REQUIRED, "payload sweep")
+    column = width < PAGE_WIDTH
     with style(SUPTITLE_RC):
         masses = ds["payload"].values
-        labels = strings(ds["element"].values)
+        labels = [label(lab) for lab in strings(ds["element"].values)]
         share = ds["share_tran"].values
+        if "round_off" in ds.variables:         # a share of round-off is noise: not drawn
+            share = np.where(ds["round_off"].values.astype(bool), np.nan, share)
         dom = np.array(strings(ds["dominance"].values)).reshape(share.shape)
         P, M = share.shape
         n = ds.sizes["joint"]
-        W = PAGE_WIDTH
-        heat_h = max(1.4, 0.3 * P)
-        H = heat_h + 4.6
+        W = width
+        s, e = thresholds(ds)
+        title = (f"Dominance against the payload on the last link (s = {s:g}, e = {e:g})\n"
+                 "T/R/B/N = translational/rotational/both/negligible; framed: class "
+                 "differs from the first payload\ngrey: \u2261 0 (round-off in every part), no "
+                 "share drawn")
+        if column:                      # bold 8 pt: about 44 characters a line
+            title = textwrap.fill(title.replace("\n", "; "), 44)
+        if column:                      # elements down: one 7-pt row each
+            heat_h, top, left = 0.15 * M, 0.22 + 0.15 * (title.count("\n") + 1), 0.5
+            tau_h, legend_h = 1.5, 0.2 + 0.16 * -(-n // 3)
+            H = top + heat_h + 0.5 + tau_h + 0.42 + legend_h
+            heat_w = W - left - 1.0
+        else:
+            heat_h, top, left = max(1.4, 0.3 * P), 0.75, 0.9
+            tau_h = 2.6
+            H = heat_h + 4.6
+            heat_w = W - 2.0
         fig = Figure(figsize=(W, H))
-        ax = fig.add_axes((0.9 / W, (H - 0.75 - heat_h) / H, (W - 2.0) / W, heat_h / H))
+        ax = fig.add_axes((left / W, (H - top - heat_h) / H, heat_w / W, heat_h / H))
         cmap = LinearSegmentedColormap.from_list(
             "rot_tran", [CLASS_COLOURS["rotational"], "#FFFFFF",
                          CLASS_COLOURS["translational"]]).with_extremes(bad="0.8")
-        im = ax.imshow(np.ma.masked_invalid(share), aspect="auto", cmap=cmap, vmin=0, vmax=1,
+        grid = share.T if column else share
+        im = ax.imshow(np.ma.masked_invalid(grid), aspect="auto", cmap=cmap, vmin=0, vmax=1,
                        interpolation="nearest")
         for p in range(P):
             for k in range(M):
                 v = share[p, k]
                 dark = np.isfinite(v) and abs(v - 0.5) > 0.33
-                ax.text(k, p, CLASS_LETTER.get(dom[p, k], "?"), ha="center", va="center",
+                x, y = (p, k) if column else (k, p)
+                ax.text(x, y, CLASS_LETTER.get(dom[p, k], "?"), ha="center", va="center",
                         fontsize=7, color="white" if dark else "black")
                 if dom[p, k] != dom[0, k]:
-                    ax.add_patch(Rectangle((k - 0.5, p - 0.5), 1, 1, fill=False, lw=1.4,
+                    ax.add_patch(Rectangle((x - 0.5, y - 0.5), 1, 1, fill=False, lw=1.4,
                                            ec="black"))
-        ax.set_xticks(np.arange(M), labels, rotation=90, fontsize=7)
-        ax.set_yticks(np.arange(P), [f"{m:g}" for m in masses], fontsize=7)
-        ax.set_ylabel("payload [kg]")
+        mass_ticks = [f"{m:g}" for m in masses]
+        if column:
+            ax.set_yticks(np.arange(M), labels, fontsize=7)
+            ax.set_xticks(np.arange(P), mass_ticks, fontsize=7)
+            ax.set_xlabel("payload [kg]", labelpad=1.0)
+        else:
+            ax.set_xticks(np.arange(M), labels, rotation=90, fontsize=7)
+            ax.set_yticks(np.arange(P), mass_ticks, fontsize=7)
+            ax.set_ylabel("payload [kg]")
+        ax.tick_params(length=2.0, pad=1.5)
         ax.grid(False)
-        cax = fig.add_axes(((W - 0.95) / W, (H - 0.75 - heat_h) / H, 0.12 / W, heat_h / H))
+        cax = fig.add_axes(((left + heat_w + 0.12 if column else W - 0.95) / W,
+                            (H - top - heat_h) / H, 0.12 / W, heat_h / H))
         cb = fig.colorbar(im, cax=cax)
         cb.set_label("translational share [1]")
-        bx = fig.add_axes((0.9 / W, 0.6 / H, (W - 2.0) / W, 2.6 / H))
+        cb.ax.tick_params(labelsize=7)
+        cb.ax.grid(False)                   # no grid lines across the colour scale
+        bottom = 0.42 + legend_h if column else 0.6
         tau = ds["tau_peak"].values
-        units = torque_units(ds)            # N m, N on a prismatic joint
-        mixed = len(set(units)) > 1
-        for j in range(n):                  # told apart by line style and marker too
-            bx.plot(masses, tau[:, j], linewidth=0.9, **joint_style(j, len(masses)),
-                    label=f"joint {j + 1}" + (f" [{units[j]}]" if mixed else ""))
-        bx.set_xlabel("payload [kg]")
-        bx.set_ylabel("peak |\u03c4|" + ("" if mixed else f" [{units[0]}]"))
-        bx.legend(loc="center left", bbox_to_anchor=(1.01, 0.5), frameon=False, fontsize=7)
-        s, e = thresholds(ds)
-        fig.suptitle(f"Dominance against the payload on the last link (s = {s:g}, e = {e:g})\n"
-                     "T/R/B/N = translational/rotational/both/negligible; framed: class "
-                     "differs from the first payload", y=1 - 0.08 / H, va="top", fontsize=8.5)
+        units = torque_units(ds)
+        kinds = list(dict.fromkeys(units))  # one panel per unit: never N m and N on one axis
+        gap = 0.3
+        each = (tau_h - gap * (len(kinds) - 1)) / len(kinds)
+        handles, names = [], []
+        for k, unit in enumerate(kinds):
+            y0 = bottom + (len(kinds) - 1 - k) * (each + gap)
+            bx = fig.add_axes((left / W, y0 / H, (heat_w if column else W - 2.0) / W, each / H))
+            for j in (j for j in range(n) if units[j] == unit):    # style and marker differ
+                line, = bx.plot(masses, tau[:, j], label=f"joint {j + 1}", linewidth=0.9,
+                                **joint_style(j, len(masses), sum(u == unit for u in units)))
+                handles.append(line)
+                names.append(line.get_label())
+            if k == len(kinds) - 1:
+                bx.set_xlabel("payload [kg]", labelpad=1.0)
+            else:
+                bx.tick_params(labelbottom=False)
+            bx.set_ylabel(f"peak |\u03c4| [{unit}]")
+            bx.tick_params(labelsize=7)
+        order = np.argsort([int(name.split()[1]) for name in names])
+        handles, names = [handles[o] for o in order], [names[o] for o in order]
+        if column:
+            fig.legend(handles, names, loc="upper center", ncol=3, frameon=False, fontsize=7,
+                       handlelength=2.6, bbox_to_anchor=(0.5, legend_h / H))
+        else:
+            fig.legend(handles, names, loc="center left", frameon=False, fontsize=7,
+                       bbox_to_anchor=((W - 1.05) / W, (bottom + tau_h / 2) / H))
+        fig.suptitle(title, y=1 - 0.08 / H, va="top", fontsize=8 if column else 8.5)
         return fig
+

@@ -136,7 +136,7 @@ FIGURE_FILES = {"joints": "fig_joints_q_qd_qdd", "D": "fig_3_10_D", "h": "fig_3_
 _FIGURE_ORDER = ("joints", "D", "h", "torque", "payload", "formulations")
 #: Figures also made 3.5 in wide for a one-column layout, as ``<key>_column``, written to
 #: ``figures/<name>_column.pdf`` and ``.svg`` beside the page-width files (not in the report).
-COLUMN_FIGURES = ("joints", "D", "h", "torque", "formulations")
+COLUMN_FIGURES = ("joints", "D", "h", "torque", "payload", "formulations")
 FIGURE_FILES.update({f"{k}_column": f"{FIGURE_FILES[k]}_column" for k in COLUMN_FIGURES})
 _FILE_ORDER = _FIGURE_ORDER + tuple(f"{k}_column" for k in COLUMN_FIGURES)
 
@@ -197,6 +197,7 @@ def make_figures(ds, data=None, keys=None):
               "torque_column": lambda: _fig_error(ds, data, COLUMN_WIDTH)}
     if "payload_share_tran" in ds.variables:
         makers["payload"] = lambda: _fig_payload(ds)
+        makers["payload_column"] = lambda: _fig_payload(ds, COLUMN_WIDTH)
     if "op_multiplications" in ds.variables:
         makers["formulations"] = lambda: _fig_formulations(ds)
         makers["formulations_column"] = lambda: _fig_formulations(ds, COLUMN_WIDTH)
@@ -216,10 +217,10 @@ def _fig_error(ds, data, width=PAGE_WIDTH):
                       prismatic_joints(ds))
 
 
-def _fig_payload(ds):
+def _fig_payload(ds, width=PAGE_WIDTH):
     from .figures import payload_figure
 
-    return payload_figure(payload_part(ds))
+    return payload_figure(payload_part(ds), width)
 
 
 _FORMULATION_STYLE = {"lagrange-euler": ("L-E", "#0072B2", "o", "-"),

@@ -33,6 +33,7 @@ from .main_figures import identically_zero
 from .main_provenance import provenance_rows
 from .main_text import captions, conclusion, disagreement_cause, element_scale, gravity_clause
 from .markup import element as _el
+from .markup import tau
 from .simplified_section import ROUND_OFF, has_simplified, simplified_caption, simplified_context
 
 __all__ = ["ENVELOPE_THRESHOLD", "ENVELOPE_COLUMNS", "prismatic_joints", "zero_mask",
@@ -51,7 +52,7 @@ _REQUIRED = ("t", "q", "qd", "qdd", "D_tran", "D_rot", "D", "h_tran", "h_rot", "
              "dh_alpha", "dh_offset", "link_mass", "link_com", "link_inertia")
 
 _DERIVATIVES = {
-    "file": "read from the file (columns qd1..qdn, qdd1..qddn)",
+    "file": "read from the file (its velocity and acceleration columns)",
     "cubic-spline": "derived from q by a not-a-knot cubic spline",
     "quintic": "analytic derivatives of a planned quintic motion",
 }
@@ -595,8 +596,13 @@ def _formulations_context(ds):
     quantities = _strings(ds["quantity"].values)
     pairs = _strings(ds["formulation_pair"].values)
     dis = ds["formulation_disagreement"].values
-    agreement = _table(["pair"] + [f"{q}" for q in quantities],
-                       [[p] + [f"{v:.2e}" for v in dis[i]] for i, p in enumerate(pairs)],
+    from ..formulations.opcount import FORMULATION_ABBR, FORMULATION_NAMES
+
+    def pair(p):                            # "lagrange-euler vs gd" -> "L-E vs G-D"
+        return " vs ".join(FORMULATION_ABBR.get(f, f) for f in p.split(" vs "))
+
+    agreement = _table(["pair"] + [tau() if q == "tau" else q for q in quantities],
+                       [[pair(p)] + [f"{v:.2e}" for v in dis[i]] for i, p in enumerate(pairs)],
                        align=["left"] + ["right"] * len(quantities))
     n = int(ds.attrs.get("formulations_n", ds.sizes["joint"]))
     names = _strings(ds["formulation"].values)
@@ -608,7 +614,8 @@ def _formulations_context(ds):
             mul, add = ds["op_multiplications"].values[k, j], ds["op_additions"].values[k, j]
             bm = ds["op_multiplications_table_3_5"].values[k, j]
             ba = ds["op_additions_table_3_5"].values[k, j]
-            rows.append([name, f"{mul:.0f}", f"{add:.0f}", f"{bm:.0f}", f"{ba:.0f}"])
+            rows.append([FORMULATION_NAMES.get(name, name), f"{mul:.0f}", f"{add:.0f}",
+                         f"{bm:.0f}", f"{ba:.0f}"])
     costs = _table(["formulation", "multiplications", "additions", "mult. Table 3.5",
                     "add. Table 3.5"], rows, align=["left"] + ["right"] * 4)
     worst = float(np.max(dis)) if dis.size else float("nan")
@@ -616,8 +623,9 @@ def _formulations_context(ds):
             f"probing), the G-D equations (Sec. 3.4) and Pinocchio (crba, rnea) were run on "
             f"{ds.attrs.get('formulations_setpoints', '?')} set points of the trajectory; the "
             f"largest relative disagreement of any pair is {worst:.1e}. Operation counts are "
-            f"per set point, counted on the code as implemented (gd: compiled G-D engine, "
-            f"gd-numpy: array engine), beside the formulas of Table 3.5, for n = {n}.")
+            f"per set point, counted on the code as implemented (the G-D equations by the "
+            f"compiled and by the array engine), beside the formulas of Table 3.5, for "
+            f"n = {n}; pairs: L-E Lagrange-Euler, N-E Newton-Euler, G-D the G-D equations.")
     return {"applicable": True, "note": note, "agreement": agreement, "costs": costs}
 
 

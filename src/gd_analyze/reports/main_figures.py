@@ -30,7 +30,8 @@ from ..core.selection.ranking import (
     joint_motion_units,
     joint_torque_units,
 )
-from .common import joint_style, markevery
+from .common import joint_style, panel_markevery
+from .markup import label as _math
 from .plot_data import (  # noqa: F401
     DERIVED,
     ENVELOPE_COLUMNS,
@@ -87,7 +88,7 @@ _FULL, _SIMPLIFIED = "#000000", "#009E73"
 _ALL_MARKERS, _FEW_MARKERS = 100, 40
 
 # Panel geometry of D and h [in].
-_LEFT, _RIGHT, _WGAP, _HGAP, _TOP, _BOTTOM = 0.5, 0.06, 0.49, 0.3, 0.2, 0.36
+_LEFT, _RIGHT, _WGAP, _HGAP, _TOP, _BOTTOM = 0.53, 0.06, 0.49, 0.3, 0.2, 0.36
 _MIN_PANEL_W = 0.55
 
 
@@ -125,14 +126,16 @@ _PART_ORDER = ("total", "tran", "rot")
 
 
 def _plot(ax, x, y, part, enveloped):
-    """One part of an element; at most :data:`gd_analyze.reports.common.MAX_MARKERS` markers
-    (every k-th set point, the line through all of them)."""
+    """One part of an element: the tran, rot and total curves of a panel together carry at
+    most about :data:`gd_analyze.reports.common.MAX_MARKERS` markers (every k-th set point,
+    :func:`gd_analyze.reports.common.panel_markevery`; the line through all of them); the
+    armature curve has none (told apart by its colour and dash-dot line)."""
     style = PART_STYLE[part]
     kw = {"color": style["color"], "linestyle": style["linestyle"], "label": style["label"],
           "linewidth": _PART_WIDTH[part],
           "zorder": {"total": 2, "tran": 3, "rot": 4, "arm": 3}[part]}
-    if not enveloped:
-        every = markevery(x.size)
+    if not enveloped and part != "arm":
+        every = panel_markevery(x.size, len(_PART_ORDER))
         kw["marker"] = style["marker"]
         start = {"tran": 0, "rot": every // 3, "total": (2 * every) // 3,
                  "arm": every // 2}[part]
@@ -153,7 +156,7 @@ def _time_axis(ax, x, labels, nbins=3):
 
 
 def _zero_panel(ax, x, title):
-    ax.set_title(f"{title}: \u2261 0", color=_CLASS_COLOURS["negligible"], loc="center")
+    ax.set_title(f"{_math(title)}: \u2261 0", color=_CLASS_COLOURS["negligible"], loc="center")
     ax.text(0.5, 0.5, "\u2261 0", transform=ax.transAxes, ha="center", va="center",
             fontsize=10, color="0.35")
     ax.set_ylim(-1, 1)
@@ -172,7 +175,7 @@ def _element_panel(ax, x, parts, title, cls, enveloped, nbins=3):
     ax.set_ylim(lo, hi)
     pad = (hi - lo) / 1.2 * 0.1
     set_ticks(ax.yaxis, lo + pad, hi - pad, nbins, labels=False)
-    ax.set_title(f"{title}: {SHORT_CLASS.get(cls, cls)}", color=_CLASS_COLOURS.get(cls, "black"))
+    ax.set_title(f"{_math(title)}: {SHORT_CLASS.get(cls, cls)}", color=_CLASS_COLOURS.get(cls, "black"))
 
 
 def _gaps(per_panel_units):
@@ -264,10 +267,10 @@ def fig_D(data, dominance, zero, s, e, prismatic=None, width=PAGE_WIDTH, armatur
         place = {element_label("D", i, j): (i, j) for i in range(n) for j in range(i, n)}
         W = _LEFT + _RIGHT + n * w + (n - 1) * wgap
         H_panels = _TOP + _BOTTOM + n * h + (n - 1) * _HGAP
-    key = ("D\u1d62\u2c7c against time t [s]"
+    key = (f"{_math('D_ij')} against time t [s]"
            + ("; units on each panel's axis" if mixed else
               f" [{_shown(next(iter(units.values())))}]")
-           + ("" if column else "; panel D\u1d62\u2c7c in row i, column j")
+           + ("" if column else f"; panel {_math('D_ij')} in row i, column j")
            + f". Title: element and its class: tran(slational), rot(ational), both, "
            f"negl(igible) (s = {s:g}, e = {e:g}); \u2261\u00a00: zero in every part "
            f"(below 1e-12 of its scale).")
@@ -447,7 +450,7 @@ def fig_joints(data, prismatic=None, width=PAGE_WIDTH):
         ax = _axes(fig, left + c * (w + gap), top + r * (row_h + gap_h), w, row_h)
         y = data.series[name][:, joints] * scale
         for col, jn in enumerate(joints):
-            style = joint_style(int(jn), 1 if data.enveloped else y.shape[0])
+            style = joint_style(int(jn), 1 if data.enveloped else y.shape[0], len(joints))
             if data.enveloped:
                 style = {k2: v for k2, v in style.items() if not k2.startswith("marker")}
             ax.plot(data.x, y[:, col], linewidth=0.9, label=f"joint {jn + 1}", **style)
@@ -511,7 +514,7 @@ def fig_torque(data, peak_error, rel_error, prismatic=None):
         _time_axis(ax, data.x, True)
         ax.set_xlabel("t [s]", labelpad=1.0)
         units = joint_torque_units(bool(prismatic[i])) if prismatic is not None else "N m"
-        ax.set_ylabel(f"\u03c4{i + 1} [{units}]", labelpad=1.0)
+        ax.set_ylabel(_math("\u03c4" + str(i + 1)) + f" [{units}]", labelpad=1.0)
         rel = f"{100 * rel_error[i]:.2g} %" if np.isfinite(rel_error[i]) else "n/a"
         ax.set_title(f"joint {i + 1}: peak error {rel}")
     label_axes([ax.yaxis for ax in fig.axes])

@@ -335,12 +335,12 @@ def captions(enveloped, N, s, e, units=None):
                "time columns, without markers; lines: translational solid, rotational dashed, "
                "combined dotted")
     else:
-        from .common import markevery
+        from .common import panel_markevery
 
-        k = markevery(N)
+        k = panel_markevery(N, 3)
         where = (f"Markers at each of the {N} set points" if k == 1 else
                  f"Lines through all {N} set points, a marker at one set point in {k} "
-                 f"(at most {-(-N // k)} per line)")
+                 f"(at most {-(-N // k)} per line, staggered)")
         how = (f"{where}: translational \u25cb (solid line), rotational \u00d7 (dashed), "
                "combined \u25b3 (dotted, thin, drawn first)")
     u = {"joints": "deg, deg/s, deg/s\u00b2", "D": "kg m\u00b2", "tau": "N m", **(units or {})}

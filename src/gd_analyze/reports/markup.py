@@ -29,16 +29,16 @@ from __future__ import annotations
 import re
 
 __all__ = ["SUB", "SUP", "END", "sub", "sup", "element", "tau", "html", "unicode", "runs",
-           "plain", "clean", "RUN_SIZE", "RUN_SHIFT"]
+           "plain", "clean", "label", "TRAN", "ROT", "RUN_SIZE", "RUN_SHIFT"]
 
 #: Start of a subscript, start of a superscript, end of either (Unicode private use area).
 SUB, SUP, END = "\ue000", "\ue001", "\ue002"
 _MARKS = re.compile(f"([{SUB}{SUP}])([^{END}]*){END}")
-_SUBSCRIPT = dict(zip("0123456789ijsnkmtxaeorplhuv+-=()\u2212",
+_SUBSCRIPT = dict(zip("0123456789ijsnkmtxaeorplhuv+-=()\u2212,",
                       "\u2080\u2081\u2082\u2083\u2084\u2085\u2086\u2087\u2088\u2089"
                       "\u1d62\u2c7c\u209b\u2099\u2096\u2098\u209c\u2093\u2090\u2091\u2092"
                       "\u1d63\u209a\u2097\u2095\u1d64\u1d65\u208a\u208b\u208c\u208d\u208e"
-                      "\u208b"))
+                      "\u208b,"))
 _SUPERSCRIPT = dict(zip("0123456789tranoi+-\u2212",
                         "\u2070\u00b9\u00b2\u00b3\u2074\u2075\u2076\u2077\u2078\u2079"
                         "\u1d57\u02b3\u1d43\u207f\u1d52\u2071\u207a\u207b\u207b"))
@@ -107,6 +107,38 @@ def tau(index=None, simplified=False):
     str
     """
     return "\u03c4" + (sub("s") if simplified else "") + (sub(index) if index else "")
+
+
+def label(text):
+    """An element's label as figures letter it: mathematics in Unicode sub- and superscript
+    characters (no mathtext to parse), from the label of
+    :func:`gd_analyze.core.selection.labels.element_label`.
+
+    Parameters
+    ----------
+    text : str
+        ``"D12"``, ``"D1,10"`` (n >= 10: the comma of the label rule stays), ``"h3"``, or a
+        symbol with its part and index, ``"D_ij^tran"`` (index after ``_``, part after ``^``).
+
+    Returns
+    -------
+    str
+        ``"D\u2081\u2082"``, ``"D\u2081,\u2081\u2080"``, ``"h\u2083"``,
+        ``"D\u1d62\u2c7c\u1d57\u02b3\u1d43\u207f"``; any other text unchanged.
+
+    Examples
+    --------
+    >>> label("D12"), label("D1,10"), label("h3"), label("D_ij^tran"), label("joint 1")
+    ('D₁₂', 'D₁,₁₀', 'h₃', 'Dᵢⱼᵗʳᵃⁿ', 'joint 1')
+    """
+    m = _LABEL.fullmatch(str(text))
+    if m is None:
+        return str(text)
+    return unicode(element(m.group(1), m.group(2) or m.group(3) or "", m.group(4)))
+
+
+_LABEL = re.compile(r"([Dhc\u03c4X])(?:([1-9][0-9]*(?:,[1-9][0-9]*)?)|_([a-z0-9,]+))?"
+                    r"(?:\^(tran|rot))?")
 
 
 def html(text):
@@ -221,3 +253,7 @@ def clean(text):
     str
     """
     return str(text).replace(SUB, "").replace(SUP, "").replace(END, "")
+
+
+#: The translational and rotational parts of an element X, as figures letter them.
+TRAN, ROT = label("X^tran"), label("X^rot")

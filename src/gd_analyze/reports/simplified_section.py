@@ -325,7 +325,6 @@ def error_figure(ds, size=(8.27, 9.0), data=None):
     title = ("Torque error of the simplified model, \u03c4\u209b \u2212 \u03c4 "
              f"[{units_said_once(ds, 'tau')}], and its bound")
     if column:
-        title = ("Simplified model: \u03c4\u209b \u2212 \u03c4 "
-                 f"[{units_said_once(ds, 'tau')}] and its bound")
+        title = "Simplified model: \u03c4\u209b \u2212 \u03c4 and its bound"  # units: on each axis
     fig.suptitle(title, fontsize=9 if not column else 8, y=1 - 0.1 / H, va="top")
     return fig

@@ -426,7 +426,7 @@ _FIGURE_FILES = {"D": "fig_sweep_share_D", "h": "fig_sweep_share_h",
 #: Column-width (3.5 in) versions: ``figures/<name>_column.pdf`` and ``.svg`` (not in the
 #: report).
 _FIGURE_FILES.update({f"{k}_column": f"{_FIGURE_FILES[k]}_column"
-                      for k in ("D", "h", "classes", "error")})
+                      for k in ("D", "h", "classes", "error", "payload")})
 
 
 def render_sweep_pdf(ds, path, payload=None, figures=None, paper="a4"):

@@ -22,6 +22,9 @@ from .common import style as _style
 from .common import thresholds as _thresholds
 from .figures import CLASS_LETTER as _LETTER
 from .figures import payload_figure
+from .markup import ROT as _ROT
+from .markup import TRAN as _TRAN
+from .markup import label as _math
 
 __all__ = ["make_sweep_figures", "REQUIRED"]
 
@@ -67,7 +70,7 @@ def _zero_share_panel(ax, label, merged):
     ax.yaxis.set_major_formatter("{x:.2g}")
     ax.tick_params(length=2.0, pad=1.5)
     ax.grid(False)
-    ax.set_title(f"{label}: \u2261 0", color=_CHOICE_COLOURS.get(merged, "black"), pad=2.5)
+    ax.set_title(f"{_math(label)}: \u2261 0", color=_CHOICE_COLOURS.get(merged, "black"), pad=2.5)
 
 
 def _share_panel(ax, values, label, merged, fractions, s, small, zero=None):
@@ -103,7 +106,7 @@ def _share_panel(ax, values, label, merged, fractions, s, small, zero=None):
     ax.set_yticks([0.0, 0.5, 1.0])
     ax.yaxis.set_major_formatter("{x:.2g}")
     ax.tick_params(length=2.0, pad=1.5)
-    ax.set_title(f"{label} \u2192 {merged}", color=_CHOICE_COLOURS.get(merged, "black"), pad=2.5)
+    ax.set_title(f"{_math(label)} \u2192 {merged}", color=_CHOICE_COLOURS.get(merged, "black"), pad=2.5)
     ax.set_xlabel(_fraction_text(fractions), fontsize=7.0, labelpad=1.5,
                   color="0.15")
 
@@ -111,8 +114,8 @@ def _share_panel(ax, values, label, merged, fractions, s, small, zero=None):
 def _key_text(ds, K):
     s, e = _thresholds(ds)
     return textwrap.fill(
-        f"Box: translational share \u03a3|tran| / (\u03a3|tran| + \u03a3|rot|) of the element over the "
-        f"{K} trajectories (box: quartiles; whiskers: min and max; coloured bar: median). "
+        f"Box: translational share \u03a3|{_TRAN}| / (\u03a3|{_TRAN}| + \u03a3|{_ROT}|) of the "
+        f"element X over the {K} trajectories (box: quartiles; whiskers: min and max; coloured bar: median). "
         f"Dashed lines: s = {s:g} and 1 \u2212 s; blue band: translational, orange band: "
         f"rotational. Title: element \u2192 choice of the merged model. Bottom: fraction of "
         f"trajectories per class (T translational, R rotational, B both, N negligible, "
@@ -236,18 +239,18 @@ def _fig_classes(ds, width=_PAGE_WIDTH):
     merged = _strings(ds["merged_choice"].values)
     M = len(labels)
     column = width < _PAGE_WIDTH
-    W, H = width, (1.75 if column else 1.5) + 0.17 * M
+    W, H = width, (1.9 if column else 1.5) + 0.17 * M
     fig = Figure(figsize=(W, H))
     ax = fig.add_axes(((0.45 if column else 1.0) / W, (1.05 if column else 0.8) / H,
                        (W - (1.4 if column else 2.6)) / W,
-                       (H - (1.45 if column else 1.4)) / H))
+                       (H - (1.6 if column else 1.4)) / H))
     y = np.arange(M)
     left = np.zeros(M)
     for c_idx, cls in enumerate(CLASSES):
         ax.barh(y, frac[:, c_idx], left=left, color=_CLASS_COLOURS[cls], height=0.75,
                 label=cls, edgecolor="white", linewidth=0.3)
         left += frac[:, c_idx]
-    ax.set_yticks(y, labels)
+    ax.set_yticks(y, [_math(lab) for lab in labels])
     ax.set_ylim(M - 0.5, -0.5)
     ax.set_xlim(0, 1)
     ax.set_xlabel("fraction of trajectories [1]")
@@ -258,7 +261,8 @@ def _fig_classes(ds, width=_PAGE_WIDTH):
     fig.legend(handles=[Patch(color=_CLASS_COLOURS[c], label=c) for c in CLASSES],
                loc="lower center", ncol=2 if column else 4, frameon=False,
                bbox_to_anchor=(0.5, 0.0), fontsize=7 if column else None)
-    fig.suptitle(f"Dominance class per element over {ds.sizes['trajectory']} trajectories",
+    fig.suptitle(f"Dominance class per element{chr(10) if column else ' '}over "
+                 f"{ds.sizes['trajectory']} trajectories",
                  y=1 - 0.12 / H, va="top", fontsize=9 if column else None)
     return fig
 
@@ -332,7 +336,8 @@ def make_sweep_figures(ds, payload=None, column=False):
     payload : xarray.Dataset, optional
         A payload sweep from :func:`gd_analyze.workflows.payload.payload_sweep`.
     column : bool, optional
-        Also make ``"<key>_column"``, 3.5 in wide, of ``D``, ``h``, ``classes``, ``error``.
+        Also make ``"<key>_column"``, 3.5 in wide, of ``D``, ``h``, ``classes``, ``error``
+        and (with a payload sweep) ``payload``.
 
     Returns
     -------
@@ -357,4 +362,6 @@ def make_sweep_figures(ds, payload=None, column=False):
                           ("error", _fig_error))})
     if payload is not None:
         figs["payload"] = payload_figure(payload)
+        if column:
+            figs["payload_column"] = payload_figure(payload, COLUMN_WIDTH)
     return figs

@@ -15,7 +15,7 @@ import math
 import numpy as np
 
 __all__ = ["tick_labels", "ticks_once", "tick_texts", "nice_ticks", "set_ticks",
-           "formatter", "MINUS", "notation", "label_axes"]
+           "formatter", "MINUS", "notation", "label_axes", "with_power"]
 
 #: The minus sign of the labels (U+2212, as wide as the plus sign).
 MINUS = "\u2212"
@@ -24,6 +24,9 @@ MINUS = "\u2212"
 _REL = 1e-9
 #: Fixed notation between these magnitudes of the largest |tick|, scientific outside.
 _FIXED = (1e-3, 1e5)
+#: :func:`label_axes` writes ticks as they are between these magnitudes of the largest |tick|,
+#: in units of a power of ten outside (no 0.0015, no 20000 on a small panel).
+_PLAIN = (1e-2, 1e4)
 
 
 def _exact(texts, values, tol):
@@ -135,25 +138,70 @@ def notation(values):
 
 
 def label_axes(axes):
-    """Write the tick labels of several axes of one figure in one notation.
+    """Write the tick labels of several axes of one figure in one notation: fixed.
 
     Parameters
     ----------
     axes : iterable of matplotlib.axis.Axis
-        Axes whose ticks are placed (:func:`set_ticks` with ``labels=False`` or ``True``).
+        Axes whose ticks are placed (:func:`set_ticks` with ``labels=False`` or ``True``) and
+        whose axis label, if any, is written.
 
     Returns
     -------
     str
-        The notation used: ``"sci"`` for every axis if any one needs it (a figure never mixes
-        2e−5 and 0.0015), else ``"fixed"``.
+        ``"fixed"``: no label of the figure is written like ``1.5e−5`` (a figure never mixes
+        2e−5 and 0.0015). An axis whose largest |tick| is outside [0.01, 10⁴), or whose ticks
+        :func:`tick_labels` would write that way, is labelled in units of a power of ten,
+        10^k with 1 <= max|tick| / 10^k < 10: its ticks read 0, 1.5, 3 and its axis label
+        says the power (:func:`with_power`).
     """
-    axes = [a for a in axes if len(a.get_ticklocs())]
-    style = "sci" if any(notation(a.get_ticklocs()) == "sci" for a in axes) else "fixed"
     for a in axes:
-        ticks = a.get_ticklocs()
-        _place(a, ticks, tick_labels(ticks, style))
-    return style
+        ticks = np.asarray(a.get_ticklocs(), float)
+        if not len(ticks):
+            continue
+        finite = np.abs(ticks[np.isfinite(ticks)])
+        big = float(finite.max()) if finite.size else 0.0
+        k = 0
+        if big > 0 and (not _PLAIN[0] <= big < _PLAIN[1] or notation(ticks) == "sci"):
+            k = int(math.floor(math.log10(big)))
+        _place(a, ticks, tick_labels(ticks / 10.0 ** k, "fixed"))
+        if k:
+            a.set_label_text(with_power(a.label.get_text(), k))
+    return "fixed"
+
+
+_SUPERSCRIPT = str.maketrans("-0123456789", "\u207b\u2070\u00b9\u00b2\u00b3\u2074\u2075\u2076"
+                                             "\u2077\u2078\u2079")
+
+
+def with_power(label, k):
+    """An axis label in units of 10^k: ``"[kg m²]"`` reads ``"[10⁻⁵ kg m²]"``.
+
+    Parameters
+    ----------
+    label : str
+        The axis label: with its units in brackets, or without units, or empty.
+    k : int
+        The power of ten the ticks are written in.
+
+    Returns
+    -------
+    str
+        The power written into the last brackets, or appended as ``"[×10ᵏ]"`` (``"×10ᵏ"``
+        alone for an empty label).
+
+    Examples
+    --------
+    >>> with_power("[kg m\u00b2]", -5), with_power("", 3), with_power("t [s]", 0)
+    ('[10⁻⁵ kg m²]', '×10³', 't [s]')
+    """
+    if not k:
+        return label
+    power = "10" + str(int(k)).translate(_SUPERSCRIPT)
+    at = label.rfind("[")
+    if at >= 0 and label.endswith("]"):
+        return f"{label[:at + 1]}{power} {label[at + 1:]}"
+    return f"{label} [\u00d7{power}]" if label else f"\u00d7{power}"
 
 
 def nice_ticks(lo, hi, nbins=3):

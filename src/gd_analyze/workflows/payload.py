@@ -43,7 +43,9 @@ def payload_sweep(robot, trajectory, masses, com=(0.0, 0.0, 0.0), inertia=(0.0, 
     -------
     xarray.Dataset
         Dims ``payload`` (P; coordinate = masses [kg]), ``element`` (M), ``joint`` (n):
-        ``share_tran``, ``dominance``, ``choice`` and ``peak_total`` (payload, element);
+        ``share_tran``, ``dominance``, ``choice``, ``peak_total`` and ``round_off`` (1 where
+        every part of the element is round-off of its scale: its share is noise) (payload,
+        element);
         ``tau_peak`` = peak |tau| [N m] and ``tau_error_relative_peak`` of each payload's own
         simplified model (payload, joint). Units and long names on every variable; global
         attributes as for :func:`run_sweep`, plus the payload's com and inertia and the
@@ -106,7 +108,8 @@ def sweep_payloads(robot, trajectories, masses, com=(0.0, 0.0, 0.0), inertia=(0.
         Dims ``payload`` (P), ``element`` (M), ``class``, ``joint``: ``class_fraction``
         (payload, element, class), ``share_tran`` (payload, element) = the median over the
         trajectories, ``dominance`` (payload, element) = the most frequent class, ``choice``
-        (payload, element) = the merged choice of the chapter rule, ``tau_peak`` (payload, joint) =
+        (payload, element) = the merged choice of the chapter rule, ``round_off`` (payload,
+        element) = round-off on every trajectory, ``tau_peak`` (payload, joint) =
         peak |tau| over all trajectories [N m].
 
     Raises
@@ -132,6 +135,7 @@ def sweep_payloads(robot, trajectories, masses, com=(0.0, 0.0, 0.0), inertia=(0.
         parts.append((frac, ds["share_tran_median"].values,
                       np.array(CLASSES)[np.argmax(frac, axis=1)],
                       np.asarray(ds["merged_choice"].values, dtype=str),
-                      ds["merged_error_tau_peak"].values))
+                      ds["merged_error_tau_peak"].values,
+                      ds["round_off"].values.astype(bool).all(axis=0)))
     return sweep_payloads_dataset(robot, len(trajectories), masses, com, inertia, parts,
                                   dominance, negligible)

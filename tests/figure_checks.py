@@ -1,0 +1,135 @@
+"""Checks of a drawn figure at print size, shared by the figure tests of every report: label
+collisions from the text extents the renderer gives, text left outside the figure, the
+smallest type, and code names lettered where mathematics belongs.
+
+Collisions are measured on the drawn figure: every text's extent from the renderer
+(``Text.get_window_extent``) against every other text's, and against the plotting area of every
+other panel; a text that runs past the figure's edge is cut off in print and counts too.
+"""
+
+import re
+
+#: Overlap below this many points is antialiasing, not a collision.
+SLACK = 0.5
+
+
+def drawn_tick_labels(ax):
+    """The tick labels the axes draws: of ticks within its view, shown (as Axis.draw picks
+    them; a located tick outside the limits is not drawn)."""
+    out = []
+    for axis in (ax.xaxis, ax.yaxis):
+        for tick in axis._update_ticks():
+            out += [lab for lab in (tick.label1, tick.label2) if lab.get_visible()]
+    return out
+
+
+def texts(fig):
+    """(owner, text) of every visible non-empty text: tick labels, axis labels, titles,
+    panel texts, legends, figure texts; the owner is the axes (or the figure)."""
+    out = []
+    for ax in fig.axes:
+        if not ax.get_visible():
+            continue
+        items = ([ax.title, ax._left_title, ax._right_title, ax.xaxis.label, ax.yaxis.label]
+                 + list(ax.texts) + drawn_tick_labels(ax))
+        legend = ax.get_legend()
+        if legend is not None:
+            items += legend.get_texts()
+        out += [(ax, t) for t in items]
+    items = list(fig.texts) + [t for lg in fig.legends for t in lg.get_texts()]
+    for extra in (fig._suptitle, getattr(fig, "_supylabel", None),
+                  getattr(fig, "_supxlabel", None)):
+        if extra is not None and extra not in items:
+            items.append(extra)
+    out += [(fig, t) for t in items]
+    return [(o, t) for o, t in out if t.get_visible() and t.get_text().strip()]
+
+
+def draw(fig, rc=None):
+    """Draw the figure as the reports do (fixed layout, ``rc`` settings) and give its
+    renderer."""
+    import matplotlib
+    from matplotlib.backends.backend_agg import FigureCanvasAgg
+
+    canvas = FigureCanvasAgg(fig)
+    with matplotlib.rc_context(rc or {}):
+        canvas.draw()
+    return canvas.get_renderer()
+
+
+def _overlap(a, b):
+    w = min(a.x1, b.x1) - max(a.x0, b.x0)
+    h = min(a.y1, b.y1) - max(a.y0, b.y0)
+    return min(w, h)
+
+
+def collisions(fig, rc=None):
+    """Pairs of labels of a drawn figure whose extents overlap, labels that run into the
+    plotting area of a panel they do not belong to, and labels cut by the figure's edge; as
+    readable strings."""
+    renderer = draw(fig, rc)
+    px = fig.dpi / 72.0 * SLACK
+    page = fig.bbox
+    boxes = [(o, t, t.get_window_extent(renderer)) for o, t in texts(fig)]
+    found = []
+    for k, (oa, ta, a) in enumerate(boxes):
+        if (a.x0 < page.x0 - px or a.x1 > page.x1 + px or a.y0 < page.y0 - px
+                or a.y1 > page.y1 + px):
+            found.append(f"{ta.get_text()!r} runs past the figure's edge")
+        for ob, tb, b in boxes[k + 1:]:
+            if _overlap(a, b) > px:
+                found.append(f"{ta.get_text()!r} / {tb.get_text()!r}")
+        for ax in fig.axes:
+            if ax is oa or not ax.get_visible() or not ax.axison:
+                continue
+            if _overlap(a, ax.get_window_extent(renderer)) > px:
+                found.append(f"{ta.get_text()!r} runs into panel {ax.get_title()!r}")
+    return found
+
+
+def smallest_type(fig, rc=None):
+    """The smallest font size [pt] of the drawn figure's texts (the figure is drawn at the
+    size it is printed at)."""
+    draw(fig, rc)
+    return min(t.get_fontsize() for _, t in texts(fig))
+
+
+#: Code names where mathematics belongs: an identifier with an underscore (D_ij, share_tran,
+#: tau_s, q_d), an element label with plain digits (D12, h3, D1,10), a spelled-out Greek
+#: letter (tau), an ASCII "EPS x".
+_CODE = re.compile(r"[A-Za-z]_[A-Za-z0-9{]|\b[Dh][0-9]|\b(?:tau|EPS|eps)\b")
+_MATHTEXT = re.compile(r"(?<!\\)\$.*?(?<!\\)\$")
+
+
+def code_names(fig):
+    """Texts of the figure (drawn or not yet) that letter mathematics as code: as readable
+    strings. Mathtext spans (``$...$``) are mathematics and not checked."""
+    draw(fig)
+    found = []
+    for _, t in texts(fig):
+        plain = _MATHTEXT.sub("", t.get_text())
+        m = _CODE.search(plain)
+        if m:
+            found.append(f"{m.group(0)!r} in {t.get_text()[:60]!r}")
+    return found
+
+
+def column_twins(folder, width=3.5):
+    """Problems of a figures/ folder: a figure without its ``<name>_column`` twin (PDF and
+    SVG), and a column PDF whose page (MediaBox, read with pypdf) is not ``width`` [in] wide;
+    as readable strings (none: all well)."""
+    from pypdf import PdfReader
+
+    names = {p.name for p in folder.iterdir()}
+    found = []
+    for name in sorted(names):
+        stem, ext = name.rsplit(".", 1)
+        if stem.endswith("_column"):
+            if ext == "pdf":
+                box = PdfReader(folder / name).pages[0].mediabox
+                w = (float(box[2]) - float(box[0])) / 72.0
+                if abs(w - width) > 0.005:
+                    found.append(f"{name} is {w:.3f} in wide")
+        elif f"{stem}_column.{ext}" not in names:
+            found.append(f"{name} has no {stem}_column.{ext}")
+    return found
