@@ -155,8 +155,8 @@ def test_no_statement_of_gravity_kept_whole_without_a_check():
 def test_control_verdict_names_its_torque_difference_closed_loop():
     """The control verdict's torque is a difference of two closed-loop runs, not the main
     report's open-loop error: the sentence says so."""
-    from gd_analyze.reports.control import _verdict
+    from gd_analyze.reports.control import control_verdict
 
-    ds = xr.Dataset({"tau_difference_peak": ("joint", np.array([0.152, 0.01]))})
-    text = _verdict({"full": 1e-4, "simplified": 2e-4}, ds).replace("\u00a0", " ")  # no-break
+    text = control_verdict({"full": np.array([1e-4, 1e-5]), "simplified": np.array([2e-4, 0.0])},
+                           np.zeros(2, bool), np.array([0.152, 0.01])).replace("\u00a0", " ")
     assert "closed-loop torque differs" in text and "0.152 N m" in text

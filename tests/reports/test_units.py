@@ -237,7 +237,8 @@ def test_every_unit_of_the_control_report_follows_the_joint_types(stanford_contr
         if c == "full":                 # integrator noise on every joint: no number, no unit
             assert f"{label}: peak |e| \u2261 0 (integrator noise)" in text
             continue
-        assert re.search(rf"{re.escape(label)}: peak \|e\| \S+ {unit}\b", text), (c, unit)
+        # each joint type apart, in its own unit: never one maximum across rad and m
+        assert re.search(rf"{re.escape(label)}: peak \|e\| \S+ rad, \S+ m\b", text), (c, unit)
     setup = dict(r for t in tables_of(html) if t and t[0] == ["item", "value"] for r in t[1:])
     offset = next(v for k, v in setup.items() if k.startswith("initial offset"))
     assert [u.split()[-1] for u in offset.replace("\u00a0", " ").split(", ")] == [

@@ -472,11 +472,13 @@ def _cmd_compare(args):
 def _cmd_control(args):
     import json
 
+    import numpy as np
+
     from ..files import file_sha256
     from ..io.control_dataset import write_control_dataset
     from ..io.staging import staged_output, writing
     from ..io.trajectory import read_trajectory
-    from ..reports.control import CONTROL_REPORT_FILES
+    from ..reports.control import CONTROL_REPORT_FILES, control_verdict
     from ..workflows.control import CONTROL_FILE, run_control
 
     model = load_model(args.model)
@@ -488,7 +490,8 @@ def _cmd_control(args):
     try:
         result = run_control(model, traj, wn=args.wn, zeta=args.zeta, q0_offset=args.offset,
                              model_path=args.model, model_sha256=file_sha256(args.model),
-                             plant=_apply_mounting(model.robot, args))
+                             plant=_apply_mounting(model.robot, args),
+                             verdict_tolerance=args.verdict_tolerance)
     except ValueError as exc:
         raise InputError(str(exc)) from None
     with staged_output(outdir, (CONTROL_FILE, *CONTROL_REPORT_FILES, "figures"),
@@ -518,5 +521,9 @@ def _cmd_control(args):
                                                for v in summary["tau_difference"]["peak"])
                   + "   peak |tau_simplified - tau_full| "
                     f"[{_joint_units(model.robot, 'tau')}]")
+        print(control_verdict({c: np.array(f["peak_grid"]) for c, f in summary["tracking"].items()},
+                              np.array(model.robot.prismatic, bool),
+                              None if not summary["tau_difference"] else
+                              np.array(summary["tau_difference"]["peak"]), args.verdict_tolerance))
         print("wrote " + ", ".join(str(p) for p in written))
     return EXIT_OK

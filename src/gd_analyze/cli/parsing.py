@@ -116,6 +116,16 @@ def _angles(text):
     return vals
 
 
+def _verdict_tolerance(text):
+    """RAD or RAD,M: the control verdict's tolerance for revolute [rad] and prismatic [m]
+    joints (one number: both)."""
+    vals = _angles(text)
+    if len(vals) not in (1, 2) or not all(0 < v <= 1e3 for v in vals):
+        raise argparse.ArgumentTypeError(f"--verdict-tolerance needs 1 or 2 numbers in (0, 1e3], "
+                                         f"got {text!r}")
+    return (vals[0], vals[-1])
+
+
 def _vector3(name):
     def parse(text):
         vals = _angles(text)
@@ -360,6 +370,13 @@ def _control_parser():
                                                              "--offset", False),
                    default=0.0, help="initial position error on every joint [rad; m on a "
                                      "prismatic joint], within [-2 pi, 2 pi] (default 0)")
+    rad, metre = defaults["verdict_tolerance"]
+    p.add_argument("--verdict-tolerance", metavar="RAD[,M]", type=_verdict_tolerance,
+                   default=tuple(defaults["verdict_tolerance"]),
+                   help="the report's verdict: the simplified-model controller is good enough "
+                        "if its peak tracking error is within this, or twice the full-model "
+                        f"controller's, on every revolute joint [rad] and prismatic joint [m] "
+                        f"(default {rad:g},{metre:g}; one number for both)")
     p.add_argument("--no-report", action="store_true", help="skip the HTML and PDF report")
     _add_paper_argument(p)
     p.add_argument("--json", action="store_true", help="print the figures as one JSON object")

@@ -198,11 +198,15 @@ def control_dataset(result):
         "grid_points": int(prov.get("grid_points", 0)),
         "setpoints": int(result.is_setpoint.sum()),
         "samples": int(result.t.size),
+        # what the simplified model is (workflows.control.model_facts), for the report's text
+        **{f"model_{k}": v for k, v in prov.get("model", {}).items()},
     })
+    if "verdict_tolerance" in prov:
+        attrs.update(verdict_tolerance_revolute=float(prov["verdict_tolerance"][0]),
+                     verdict_tolerance_prismatic=float(prov["verdict_tolerance"][1]))
     if cost:
         attrs.update(cost_dropped_parts=int(cost["dropped"]), cost_parts=int(cost["parts"]),
-                     cost_parts_what=str(cost.get("what", "")),
-                     model_dropped_pairs=str(cost.get("dropped_pairs", "")))
+                     cost_parts_what=str(cost.get("what", "")))
     return xr.Dataset(data_vars, coords=coords, attrs=attrs)
 
 

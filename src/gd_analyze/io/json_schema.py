@@ -388,6 +388,8 @@ _RECURSIVE_SCHEMA = Obj({
                           "velocity": ListOf(Num(0.0, math.inf)),
                           "gravity": ListOf(Num(0.0, math.inf)),
                           "whole": ListOf(Num(0.0, math.inf))}),
+    # the pairs whose contribution was round-off where the model was built (absent before)
+    "round_off": Field(ListOf(ListOf(Str(max_len=16))), required=False),
 })
 
 #: The layout of simplified_model.json (schema_version 2; 1 lacks the keys of issue 8). The element keys of ``choices`` are

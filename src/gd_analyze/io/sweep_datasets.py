@@ -237,6 +237,8 @@ def sweep_dataset(robot, trajectories, results, merged, merged_stats, dominance,
                            "any keeps rot (rot or both); merged = both/tran/rot/none "
                            "(chapter rule: no error bound)")
     attrs["merged_rule"] = "chapter"
+    # each trajectory's own simplified model (tau_error_*): the chapter's share-based classes
+    attrs["own_model_rule"] = "chapter"
     return xr.Dataset(data_vars, coords=coords, attrs=attrs)
 
 

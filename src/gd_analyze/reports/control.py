@@ -22,8 +22,14 @@ from pathlib import Path
 
 import numpy as np
 
-from ..core.selection.ranking import element_label, is_round_off
-from .common import attr, fmt, render_template, utc_now
+from ..config import defaults
+from ..core.selection.ranking import (
+    element_label,
+    is_round_off,
+    joint_motion_units,
+    joint_torque_units,
+)
+from .common import attr, fmt, prismatic_joints, render_template, utc_now
 from .common import strings as _strings
 from .common import table as _table
 from .control_figures import (
@@ -36,11 +42,13 @@ from .control_figures import (
     noise_scales,
 )
 from .drawing import draw_figures, figure_svg, write_figure_files
+from .main_provenance import gravity_row, run_row, software_row
+from .main_text import gravity_clause, model_sentence
 from .markup import sub as _sub
 from .pages import PAPER, Document
 from .sections import Outline, to_document
 
-__all__ = ["CONTROL_REPORT_FILES", "REQUIRED_VARIABLES", "make_control_figures",
+__all__ = ["CONTROL_REPORT_FILES", "REQUIRED_VARIABLES", "VERDICT_TOLERANCE", "control_verdict", "make_control_figures",
            "render_control_html", "render_control_pdf", "write_control_report"]
 
 #: Names of the files written into the output folder.
@@ -108,27 +116,29 @@ def _context(ds):
     desc = (_strings(ds["controller_description"].values) if "controller_description" in ds
             else names)
     peak_grid = ds["error_peak_grid"]
-    worst = {c: float(np.nanmax(peak_grid.sel(controller=c).values)) for c in names}
+    prismatic = prismatic_joints(ds)
+    peaks = {c: peak_grid.sel(controller=c).values for c in names}
     q_units = _joint_units(ds, "q")
-    unit = {c: q_units[int(np.nanargmax(peak_grid.sel(controller=c).values))]
-            if np.isfinite(peak_grid.sel(controller=c).values).any() else "" for c in names}
     tol, q_scale, tau_scale = noise_scales(ds)
-    quiet = {c: bool(is_round_off(peak_grid.sel(controller=c).values, q_scale, tol).all())
+    quiet = {c: bool(is_round_off(peaks[c], q_scale, tol).all())
              for c in names}           # every joint's error is integrator noise: not data
     summary = "; ".join(f"{_LABELS.get(c, c)}: peak |e| "
-                        + (_NOISE if quiet[c] else _value(worst[c], unit[c]))
+                        + (_NOISE if quiet[c] else _by_type_text(peaks[c], prismatic, "q"))
                         for c in names)
     summary = summary[:1].upper() + summary[1:]
     summary = (f"{_attr(ds, 'robot')} along {_attr(ds, 'trajectory_file')}, "
                f"\u03c9{_sub('n')} = {_attr(ds, 'wn')} rad/s, \u03b6 = {_attr(ds, 'zeta')}. "
                f"{summary}.")
-    if "tau_difference_peak" in ds:
+    diff = ds["tau_difference_peak"].values if "tau_difference_peak" in ds else None
+    if diff is not None:
         summary += (" Largest closed-loop torque difference, simplified-model controller "
                     "minus full-model controller (two closed-loop runs, each along its own "
-                    f"motion): {_tau_difference_peak(ds)}; not the "
+                    f"motion): {_by_type_text(diff, prismatic, 'tau')}; not the "
                     "open-loop error \u03c4" + _sub("s") + " \u2212 \u03c4 of the main "
                     "report (one model against the other along the desired trajectory).")
-    verdict = _verdict(worst, ds, unit, quiet)
+    tolerance = tuple(float(ds.attrs.get(f"verdict_tolerance_{k}", d)) for k, d in
+                      zip(("revolute", "prismatic"), VERDICT_TOLERANCE))
+    verdict = control_verdict(peaks, prismatic, diff, tolerance, quiet)
     setup = _table(["item", "value"], [
         ["robot", f"{_attr(ds, 'robot')} (SHA-256 {_attr(ds, 'robot_sha256')})"],
         ["trajectory", f"{_attr(ds, 'trajectory_file')} (SHA-256 "
@@ -198,21 +208,11 @@ def _context(ds):
                       [[e, str(int(mul[k])), str(int(add[k])), str(int(mul[k] + add[k])),
                         f"{(mul[k] + add[k]) / (mul[ref] + add[ref]):.3f}"]
                        for k, e in enumerate(ev)], align="right")
-    what = str(ds.attrs.get("cost_parts_what", "")) or \
-        "translational/rotational parts of D and h"
-    recursive = what.startswith("(base parameter")
     cost_note = ("Operations per set point, counted (not timed): the emitted models on their "
-                 "expressions (constants and structural 0/±1 free, a square one "
+                 "expressions (constants and structural 0/\u00b11 free, a square one "
                  "multiplication), the project's Newton-Euler on its counting scalar "
-                 "(gd_analyze.formulations.opcount). The simplified model drops "
-                 f"{_attr(ds, 'cost_dropped_parts')} of {_attr(ds, 'cost_parts')} {what}.")
-    model_note = (
-        "The simplified model is the customized recursive Newton-Euler model on the base "
-        "parameters; it keeps every element of D and h and drops these (base parameter, part) "
-        "pairs: " + (str(ds.attrs.get("model_dropped_pairs", "")) or "none (exact)") + "."
-        if recursive else
-        "Part of each element of D (i \u2264 j, mirrored) and h kept by the simplified model, "
-        "which keeps the terms of c its rule keeps.")
+                 "(gd_analyze.formulations.opcount).")
+    model_note, recursive = _model_note(ds)
     labels = _strings(ds["element"].values)
     choice = dict(zip(labels, _strings(ds["choice"].values)))
     rows = [[f"D, row {i + 1}"] + [choice.get(element_label("D", i, j), "") if j >= i else ""
@@ -221,10 +221,7 @@ def _context(ds):
     choices = None if recursive else _table(["element"] + [f"column {j + 1}"
                                                           for j in range(n)], rows,
                                            align=["left"] * (n + 1))
-    prov = _table(["item", "value"],
-                  [[label, {"1": "yes", "0": "no"}.get(_attr(ds, k), _attr(ds, k))
-                    if k == "trajectory_is_models" else _attr(ds, k)]
-                   for label, k in _PROVENANCE if k in ds.attrs], align=["left", "left"])
+    prov = _table(["item", "value"], _provenance(ds, __version__), align=["left", "left"])
     floor = ("Integrator noise (at most the integrator's rtol times the joint's scale) is not "
              "drawn: a log axis starts at that floor.")
     return {
@@ -262,6 +259,48 @@ def _context(ds):
                      f"{_attr(ds, 'trajectory_sha256')}; model {_attr(ds, 'model_file')} sha256 "
                      f"{_attr(ds, 'model_sha256')}"),
     }
+
+
+def _model_note(ds):
+    """Sec. 5's text: what the simplified model keeps, its rule and guarantee, generated from
+    the model's facts stored by the control run (:func:`gd_analyze.workflows.control.model_facts`)
+    in the words of the main report (:func:`gd_analyze.reports.main_text.model_sentence`).
+    Returns (text, whether the model has the recursive form)."""
+    a = ds.attrs
+    form, rule = str(a.get("model_form", "")), str(a.get("model_rule", ""))
+    if form not in ("recursive", "explicit"):
+        return ("The control dataset does not record what the simplified model keeps.",
+                False)
+    recursive = form == "recursive"
+    if recursive:
+        dropped_g = [v for v in str(a.get("model_gravity_dropped", "")).split(", ") if v]
+        gravity = gravity_clause(rule, gravity_dropped=dropped_g)
+        facts = (int(a.get("model_base_parameters", 0)), int(a.get("model_pairs_dropped", 0)),
+                 int(a.get("model_pairs", 0)))
+        own = str(a.get("trajectory_is_models")) == "1"
+        where = "this trajectory" if own else "the trajectory the model was built on"
+        if str(a.get("model_pairs_known", "1")) == "0":
+            where += (" (or are structurally 0: the model file does not record which pairs "
+                      "act)")
+        text = model_sentence(recursive=facts, gravity=gravity, trajectory=where)
+        if facts[1]:
+            text += f" The dropped pairs: {a.get('model_dropped_pairs', '')}."
+    else:
+        kept, full = int(a.get("model_c_terms_kept", -1)), int(a.get("model_c_terms", -1))
+        gravity = gravity_clause(rule, c_terms=(kept, full) if min(kept, full) >= 0 else None)
+        text = model_sentence(choice=_strings(ds["choice"].values), gravity=gravity)
+    eps = float(a.get("model_tolerance", np.nan))
+    if rule == "budget":
+        text += (f" Rule: error budget, \u03b5\u00a0=\u00a0{eps:g}: the open-loop error "
+                 "\u03c4\u209b \u2212 \u03c4 is guaranteed within \u03b5\u00b7s\u1d62 on the "
+                 "trajectory the model was built on" + (" (this one)." if
+                                                         str(a.get("trajectory_is_models"))
+                                                         == "1" else
+                                                         ", not on this one."))
+    elif rule == "chapter":
+        text += (" Rule: the chapter's share-based classes (Sec. 3.4.1): each element keeps "
+                 "its dominant part; there is no error bound.")
+    return text, recursive
 
 
 #: Stored units of the gains (:func:`gd_analyze.core.selection.labels.joint_gain_units`) and
@@ -313,66 +352,161 @@ _D, _KP, _KV, _WN = _sub("d"), "K" + _sub("p"), "K" + _sub("v"), "\u03c9" + _sub
 
 #: The provenance rows of the control report: (item, attribute), each setting once (the gains
 #: and the control laws are in Sec. 1, the robot, trajectory and model files in Table 1.1).
-_PROVENANCE = (("gd-analyze version", "gd_analyze_version"), ("run", "history"),
-               ("trajectory path", "trajectory_path"),
+_PROVENANCE = (("trajectory path", "trajectory_path"),
                ("trajectory derivatives", "trajectory_derivatives"),
                ("model path", "model_path"),
                ("trajectory the model was built on (SHA-256)", "model_trajectory_sha256"),
                ("model built on this trajectory", "trajectory_is_models"),
-               ("method", "references"), ("conventions", "Conventions"))
-
-#: The simplified model "holds" if its peak tracking error is within this [rad] or within twice
-#: the full model's.
-VERDICT_TOLERANCE = 1e-3
+               ("method", "references"))
 
 
+def _provenance(ds, version):
+    """The provenance rows, each setting once and in words: the software and the run as the
+    main report says them (:mod:`gd_analyze.reports.main_provenance`), gravity, the files,
+    the verdict's tolerance."""
+    rows = [list(software_row(ds, version)), list(run_row(ds, "run")),
+            list(gravity_row(ds))]
+    for label, k in _PROVENANCE:
+        if k in ds.attrs:
+            value = _attr(ds, k)
+            if k == "trajectory_is_models":
+                value = {"1": "yes", "0": "no"}.get(value, value)
+            rows.append([label, value])
+    if "verdict_tolerance_revolute" in ds.attrs:
+        kinds = set(prismatic_joints(ds).tolist())
+        said = [f"{_attr(ds, 'verdict_tolerance_revolute')} rad"
+                + (" (revolute joints)" if len(kinds) > 1 else "")] * (False in kinds) + \
+            [f"{_attr(ds, 'verdict_tolerance_prismatic')} m"
+             + (" (prismatic joints)" if len(kinds) > 1 else "")] * (True in kinds)
+        rows.append(["verdict tolerance", ", ".join(said)])
+    return rows
+
+#: Default tolerance of the verdict on the simplified-model controller's peak tracking error:
+#: (revolute joints [rad], prismatic joints [m]) (:data:`gd_analyze.config.defaults`); the
+#: verdict takes the larger of it and twice the full-model controller's error (its integrator
+#: floor); ``control --verdict-tolerance`` sets it.
+VERDICT_TOLERANCE = tuple(defaults["verdict_tolerance"])
 #: A tracking error that is integrator noise on every joint, as the text says it.
 _NOISE = "\u2261 0 (integrator noise)"
-
-
-def _verdict(worst, ds, unit=None, quiet=None):
-    """One sentence: does the simplified model control the arm as well as the full one?
-    ``unit``: per controller, the units of the joint of its peak error (rad or m);
-    ``quiet``: per controller, whether its error is integrator noise on every joint."""
-    unit, quiet = unit or {}, quiet or {}
-
-    def said(c, value):
-        return _NOISE if quiet.get(c) else _value(value, unit.get(c, "rad"))
-
-    full, simp = worst.get("full"), worst.get("simplified")
-    if full is None or simp is None:
-        return "Verdict: not available (the run lacks the full or the simplified controller)."
-    pd = worst.get("pd_gravity")
-    bound = max(2.0 * full, VERDICT_TOLERANCE)
-    u = unit.get("simplified", "rad")
-    tail = ""
-    if "tau_difference_peak" in ds:
-        tail = (f"; its closed-loop torque differs from the full-model controller's (two "
-                f"closed-loop runs) by at most {_tau_difference_peak(ds)}")
-    pd_text = f", PD + gravity {said('pd_gravity', pd)}" if pd is not None else ""
-    if simp <= bound:
-        head = ("Verdict: the simplified model is good enough for computed-torque control "
-                "along this trajectory")
-    elif pd is not None and simp < pd:
-        head = ("Verdict: the simplified model degrades tracking beyond the tolerance, though "
-                "it still beats PD + gravity")
-    else:
-        head = "Verdict: the simplified model is NOT good enough for computed-torque control"
-    return (f"{head}: peak tracking error {said('simplified', simp)} against "
-            f"{said('full', full)} with the full model{pd_text} (tolerance: {_fmt(bound)} "
-            f"{u}, the larger of {VERDICT_TOLERANCE:g} {u} and twice the full model's){tail}.")
-
-
-def _tau_difference_peak(ds):
-    """The largest closed-loop torque difference over the joints, with its joint's units."""
-    peak = np.asarray(ds["tau_difference_peak"].values, float)
-    j = int(np.nanargmax(peak)) if np.isfinite(peak).any() else 0
-    return _value(float(peak[j]), _joint_units(ds, "tau")[j])
 
 
 def _value(value, unit):
     """A number and its unit, never split over two lines."""
     return f"{_fmt(value)}\u00a0{unit}".replace(" ", "\u00a0")
+
+
+def _by_type(values, prismatic, which):
+    """Each joint type present, as (unit, largest value, one-based joints), revolute first."""
+    values, prismatic = np.asarray(values, float), np.asarray(prismatic, bool)
+    out = []
+    for kind in (False, True):
+        ks = np.nonzero(prismatic == kind)[0]
+        if ks.size:
+            unit = (joint_torque_units(kind) if which == "tau" else
+                    joint_motion_units(kind)[0])
+            out.append((unit, float(np.nanmax(values[ks])), [int(k) + 1 for k in ks]))
+    return out
+
+
+def _by_type_text(values, prismatic, which, limits=None):
+    """``"2.63e-04 rad"``, or per joint type ``"2.63e-04 rad, 6.20e-05 m"`` (revolute, then
+    prismatic joints): a maximum is never taken across units."""
+    groups = _by_type(values, prismatic, which)
+    if limits is not None:
+        groups = [(u, lim, js) for (u, _, js), lim in zip(groups, limits)]
+    return ", ".join(_value(v, u) for u, v, _ in groups)
+
+
+def _joint_types(prismatic):
+    """For a mixed arm, which joints are revolute and which prismatic, said once; else ""."""
+    groups = _by_type(np.zeros(len(prismatic)), prismatic, "q")
+    if len(groups) < 2:
+        return ""
+    return ("; ".join(f"joint{'s' if len(js) > 1 else ''} {', '.join(map(str, js))} "
+                      f"{'prismatic' if kind else 'revolute'} ({u}, "
+                      f"{joint_torque_units(kind)})"
+                      for (u, _, js), kind in zip(groups, (False, True))) + ": ")
+
+
+def control_verdict(peaks, prismatic, tau_difference=None,
+                    tolerance=VERDICT_TOLERANCE, quiet=None):
+    """One sentence: does the simplified model control the arm as well as the full one?
+
+    Parameters
+    ----------
+    peaks : dict of str to ndarray, shape (n,)
+        Per controller (``"full"``, ``"simplified"``, ``"pd_gravity"``), each joint's peak
+        tracking error |q_d - q| [rad, or m for a prismatic joint].
+    prismatic : ndarray of bool, shape (n,)
+        Which joints are prismatic.
+    tau_difference : ndarray, shape (n,), optional
+        Each joint's peak closed-loop torque difference, simplified-model controller minus
+        full-model controller [N m, or N for a prismatic joint].
+    tolerance : tuple of (float, float), optional
+        Revolute [rad] and prismatic [m] tolerance
+        (:data:`VERDICT_TOLERANCE`).
+    quiet : dict of str to bool, optional
+        Per controller, whether its error is integrator noise on every joint: said as
+        "\u2261 0 (integrator noise)" instead of its digits.
+
+    Returns
+    -------
+    str
+        The verdict: the simplified model holds if, for every joint type, its largest peak
+        error is within the larger of the tolerance and twice the full model's. Errors of
+        revolute and prismatic joints are stated apart, each in its unit.
+
+    Examples
+    --------
+    >>> v = control_verdict({"full": np.array([1e-9, 1e-9]),
+    ...                      "simplified": np.array([2e-4, 5e-4])}, np.array([False, True]))
+    >>> print(v[:v.index(" (tolerance")])
+    Verdict: the simplified model is good enough for computed-torque control along this trajectory: joint 1 revolute (rad, N m); joint 2 prismatic (m, N): peak tracking error 2.00e-04\xa0rad, 5.00e-04\xa0m against 1.00e-09\xa0rad, 1.00e-09\xa0m with the full model
+    """
+    full, simp = peaks.get("full"), peaks.get("simplified")
+    if full is None or simp is None:
+        return "Verdict: not available (the run lacks the full or the simplified controller)."
+    pd = peaks.get("pd_gravity")
+    quiet = quiet or {}
+
+    def said(c, values):
+        return _NOISE if quiet.get(c) else _by_type_text(values, prismatic, "q")
+
+    groups = {k: _by_type(v, prismatic, "q") for k, v in peaks.items()}
+    tol = {False: tolerance[0], True: tolerance[1]}
+    kinds = [u != joint_motion_units(False)[0] for u, _, _ in groups["full"]]
+    bounds = [max(2.0 * f, tol[kind]) for (_, f, _), kind in zip(groups["full"], kinds)]
+    holds = all(s <= b for (_, s, _), b in zip(groups["simplified"], bounds))
+    beats_pd = pd is not None and all(s < p for (_, s, _), (_, p, _) in
+                                      zip(groups["simplified"], groups["pd_gravity"]))
+    tail = ""
+    if tau_difference is not None:
+        tail = (f"; its closed-loop torque differs from the full-model controller's (two "
+                f"closed-loop runs) by at most {_by_type_text(tau_difference, prismatic, 'tau')}")
+    pd_text = f", PD + gravity {said('pd_gravity', pd)}" if pd is not None else ""
+    if holds:
+        head = ("Verdict: the simplified model is good enough for computed-torque control "
+                "along this trajectory")
+    elif beats_pd:
+        head = ("Verdict: the simplified model degrades tracking beyond the tolerance, though "
+                "it still beats PD + gravity")
+    else:
+        head = "Verdict: the simplified model is NOT good enough for computed-torque control"
+    if len(kinds) == 1:
+        (u, _, _), kind = groups["full"][0], kinds[0]
+        tolerance_text = (f"{_fmt(bounds[0])} {u}, the larger of {tol[kind]:g} {u} and twice "
+                          "the full model's")
+    else:
+        tolerance_text = (" and ".join(
+            f"{_fmt(b)} {u} ({'prismatic' if kind else 'revolute'})"
+            for b, (u, _, _), kind in zip(bounds, groups["full"], kinds))
+            + ", each the larger of " + " or ".join(
+                f"{tol[kind]:g} {u}" for (u, _, _), kind in zip(groups["full"], kinds))
+            + " and twice the full model's")
+    return (f"{head}: {_joint_types(prismatic)}"
+            f"peak tracking error {said('simplified', simp)} against "
+            f"{said('full', full)} with the full model{pd_text} (tolerance: "
+            f"{tolerance_text}){tail}.")
 
 
 # --------------------------------------------------------------------------------------------

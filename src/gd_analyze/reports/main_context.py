@@ -31,7 +31,7 @@ from .common import thresholds as _thresholds
 from .effort import effort_rows
 from .main_figures import identically_zero
 from .main_provenance import provenance_rows
-from .main_text import captions, conclusion, disagreement_cause, element_scale
+from .main_text import captions, conclusion, disagreement_cause, element_scale, gravity_clause
 from .markup import element as _el
 from .markup import tau
 from .simplified_section import ROUND_OFF, has_simplified, simplified_caption, simplified_context
@@ -281,23 +281,14 @@ def _gravity_fact(ds, form):
         names = [nm for nm, d, r in zip(_strings(ds["base_parameter"].values),
                                         ds["base_parameter_dropped"].values[:, g], rel)
                  if d and r >= ROUND_OFF]
-        if not names:
-            return "keeps c whole (no gravity part is dropped)"
-        return (f"drops the gravity part of {len(names)} base parameter"
-                f"{'s' if len(names) > 1 else ''} from c ({', '.join(names)})")
+        return gravity_clause("budget", gravity_dropped=names)
     if "simplified_bound_gravity" not in ds:
         return None
     bound = ds["simplified_bound_gravity"].values
-    if not np.all(np.isfinite(bound)):               # no budget: the chapter rule's model
-        return ("keeps c whole (the chapter rule drops parts of D and h only)"
-                if ds.attrs.get("simplified_rule") == "chapter" else None)
-    if not np.any(bound > 0):
-        return "keeps c whole (no term of c is dropped)"
-    units = torque_units(ds)
-    return ("drops terms of c, worth at most "
-            + ", ".join(f"{b:.3g} {units[i]} at joint {i + 1}" for i, b in enumerate(bound)
-                        if b > 0))
-
+    rule = str(ds.attrs.get("simplified_rule", ""))
+    if not np.all(np.isfinite(bound)) and rule != "chapter":    # no budget, rule unknown
+        return None
+    return gravity_clause(rule, c_bound=bound, units=torque_units(ds))
 
 def report_context(ds):
     """Every number, table and paragraph of the main report, for the HTML and the PDF alike.

@@ -16,7 +16,7 @@ from .common import attr as _attr
 from .common import fmt as _fmt
 from .common import prismatic_joints
 
-__all__ = ["provenance_rows"]
+__all__ = ["provenance_rows", "software_row", "run_row", "gravity_row"]
 
 #: Attributes shown in other sections or rows, or results printed in Secs. 5 and 7.
 _ELSEWHERE = {
@@ -118,3 +118,70 @@ def provenance_rows(ds, created, version, verification):
         rows.append((key.replace("_", " "), value))
     rows += [("conventions", _attr(ds, "Conventions")), ("method", _attr(ds, "references"))]
     return rows
+
+
+# Rows shared with the sweep and control reports' provenance (each setting once, in words).
+
+def software_row(ds, version):
+    """("software", ...): the version that computed the stored results and the one that
+    writes the report, once when they agree (as the main report's provenance says it).
+
+    Parameters
+    ----------
+    ds : xarray.Dataset
+        A stored results, sweep or control dataset (attribute ``gd_analyze_version``).
+    version : str
+        The version of gd-analyze that writes the report.
+
+    Returns
+    -------
+    tuple of (str, str)
+    """
+    computed = _attr(ds, "gd_analyze_version")
+    return ("software", f"gd-analyze {version}" if computed == version else
+            f"computed by gd-analyze {computed}, report by gd-analyze {version}")
+
+
+def run_row(ds, label="computed"):
+    """(label, when): the time the stored results were computed, from the CF ``history``
+    attribute without its repeated software version.
+
+    Parameters
+    ----------
+    ds : xarray.Dataset
+    label : str, optional
+        The row's item.
+
+    Returns
+    -------
+    tuple of (str, str)
+    """
+    return (label, _attr(ds, "history").split(" created by ")[0])
+
+
+def gravity_row(ds):
+    """("gravity and mounting", ...): gravity in the base frame and how the arm is mounted,
+    said once from ``gravity`` and the ``mounting_*`` attributes (the sweep stored both, the
+    same gravity twice).
+
+    Parameters
+    ----------
+    ds : xarray.Dataset
+
+    Returns
+    -------
+    tuple of (str, str)
+    """
+    def vector(key):
+        return ", ".join(f"{float(v):g}" for v in np.atleast_1d(ds.attrs[key]))
+
+    key = "mounting_gravity_base" if "mounting_gravity_base" in ds.attrs else "gravity"
+    text = f"{vector(key)} m/s\u00b2 in the base frame" if key in ds.attrs else "not recorded"
+    if "mounting_gravity_world" in ds.attrs:
+        text += f" (given as {vector('mounting_gravity_world')} m/s\u00b2 in the world)"
+    rpy = np.atleast_1d(ds.attrs.get("mounting_base_rpy_deg", [0.0]))
+    if np.any(np.asarray(rpy, float) != 0):
+        text += f"; base turned by roll, pitch, yaw {vector('mounting_base_rpy_deg')} deg"
+    elif "mounting_base_rpy_deg" in ds.attrs:
+        text += "; base as in the robot file"
+    return ("gravity and mounting", text)

@@ -10,7 +10,7 @@ import numpy as np
 
 from ..core.selection.ranking import element_label, parse_element_label
 
-__all__ = ["conclusion", "disagreement_cause", "captions", "element_scale"]
+__all__ = ["conclusion", "model_sentence", "gravity_clause", "disagreement_cause", "captions", "element_scale"]
 
 _CLASSES = ("translational", "rotational", "both", "negligible")
 
@@ -115,22 +115,7 @@ def conclusion(labels, dominance, zero, choice, rel_peak, abs_peak, tau_peak, co
                      + ")")
         parts.append(text + f" \u2014 {lead} effects lead")
     first = "Dominance: " + "; ".join(parts) + "."
-    if recursive is not None:
-        b, dropped, pairs = recursive
-        second = (f"The simplified model is the recursive Newton-Euler model on {b} base "
-                  "parameters" + (": it is exact, nothing is dropped." if dropped == 0 else
-                                  f"; of the {pairs} inertial, velocity and gravity parts of "
-                                  "their contributions that act on this trajectory, it drops "
-                                  f"{dropped}" + (f", and {gravity}" if gravity else "")
-                                  + "."))
-    else:
-        kept = {c: sum(1 for v in choice if v == c) for c in ("tran", "rot", "both", "none")}
-        terms = kept["tran"] + kept["rot"] + 2 * kept["both"]
-        second = (f"The simplified model keeps only the translational part of {kept['tran']} "
-                  f"elements, only the rotational part of {kept['rot']}, both parts of "
-                  f"{kept['both']} and drops {kept['none']}: it evaluates {terms} of the "
-                  f"{2 * len(labels)} parts of D and h, and "
-                  + (f"{gravity}." if gravity else "its rule's terms of c."))
+    second = model_sentence(recursive=recursive, choice=choice, gravity=gravity)
     rel = np.asarray(rel_peak, float)
     if not np.any(np.isfinite(rel)):
         return first + " " + second + " Its torque error is not defined (no torque)."
@@ -167,6 +152,107 @@ def conclusion(labels, dominance, zero, choice, rel_peak, abs_peak, tau_peak, co
         if len(cost) > 4 and not full:
             third += " (the full explicit model was not derived, so it has no count)"
     return first + " " + second + " " + third + "."
+
+
+def model_sentence(recursive=None, choice=None, gravity=None, trajectory="this trajectory"):
+    """The sentence on what the simplified model keeps, the same in every report.
+
+    Parameters
+    ----------
+    recursive : tuple of (int, int, int), optional
+        For a model of the recursive form: its number of base parameters, of dropped
+        (parameter, part) pairs and of pairs that contribute on the trajectories it was built
+        on (:meth:`gd_analyze.core.symbolic.recursive_model.RecursiveModel.stated_facts`).
+    choice : list of str, optional
+        For a model of the explicit form: the part kept of each element of D and h
+        (``tran``, ``rot``, ``both``, ``none``).
+    gravity : str, optional
+        :func:`gravity_clause` of the model; the sentence ends with it.
+    trajectory : str, optional
+        The trajectories the model was built on, as the sentence names them.
+
+    Returns
+    -------
+    str
+        One sentence (Fu, Gonzalez & Lee 1987, Sec. 3.4.1: the parts of D and h kept).
+
+    Examples
+    --------
+    >>> model_sentence(recursive=(36, 4, 40), gravity="keeps c whole (no gravity part is "
+    ...                "dropped)")[-80:]
+    ' on this trajectory, it drops 4, and keeps c whole (no gravity part is dropped).'
+    """
+    if recursive is not None:
+        b, dropped, pairs = recursive
+        return (f"The simplified model is the recursive Newton-Euler model on {b} base "
+                "parameters" + (": it is exact, nothing is dropped." if dropped == 0 else
+                                f"; of the {pairs} inertial, velocity and gravity parts of "
+                                f"their contributions that act on {trajectory}, it drops "
+                                f"{dropped}" + (f", and {gravity}" if gravity else "")
+                                + "."))
+    choice = list(choice or [])
+    kept = {c: sum(1 for v in choice if v == c) for c in ("tran", "rot", "both", "none")}
+    terms = kept["tran"] + kept["rot"] + 2 * kept["both"]
+    return (f"The simplified model keeps only the translational part of {kept['tran']} "
+            f"elements, only the rotational part of {kept['rot']}, both parts of "
+            f"{kept['both']} and drops {kept['none']}: it evaluates {terms} of the "
+            f"{2 * len(choice)} parts of D and h, and "
+            + (f"{gravity}." if gravity else "its rule's terms of c."))
+
+
+def gravity_clause(rule, gravity_dropped=None, c_bound=None, units=None, c_terms=None):
+    """What a simplified model does with the gravity loading c, as a clause.
+
+    Parameters
+    ----------
+    rule : str
+        ``"budget"`` or ``"chapter"``.
+    gravity_dropped : list of str, optional
+        A recursive model: the base parameters whose contributing gravity part it drops.
+    c_bound : ndarray, shape (n,), optional
+        An explicit model: the bound on what its dropped terms of c add to each joint's
+        torque [N m or N] (not finite: no budget).
+    units : list of str, optional
+        Each joint's torque unit, for ``c_bound``.
+    c_terms : tuple of (int, int), optional
+        An explicit model without ``c_bound``: its terms of c kept and the full model's.
+
+    Returns
+    -------
+    str or None
+        E.g. ``"keeps c whole (no gravity part is dropped)"``; None when nothing says.
+
+    Examples
+    --------
+    >>> gravity_clause("budget", gravity_dropped=["MX2", "MY3"])
+    'drops the gravity part of 2 base parameters from c (MX2, MY3)'
+    >>> gravity_clause("chapter", c_bound=np.full(2, np.nan))
+    'keeps c whole (the chapter rule drops parts of D and h only)'
+    """
+    if gravity_dropped is not None:
+        names = list(gravity_dropped)
+        if not names:
+            return "keeps c whole (no gravity part is dropped)"
+        return (f"drops the gravity part of {len(names)} base parameter"
+                f"{'s' if len(names) > 1 else ''} from c ({', '.join(names)})")
+    if rule == "chapter":
+        return "keeps c whole (the chapter rule drops parts of D and h only)"
+    if c_bound is not None:
+        bound = np.asarray(c_bound, float)
+        if not np.all(np.isfinite(bound)):
+            return None
+        if not np.any(bound > 0):
+            return "keeps c whole (no term of c is dropped)"
+        units = list(units) if units is not None else ["N m"] * bound.size
+        return ("drops terms of c, worth at most "
+                + ", ".join(f"{b:.3g} {units[i]} at joint {i + 1}" for i, b in enumerate(bound)
+                            if b > 0))
+    if c_terms is not None:
+        kept, full = c_terms
+        if kept >= full:
+            return "keeps c whole (no term of c is dropped)"
+        return f"drops {full - kept} of the {full} terms of c"
+    return None
 
 
 def disagreement_cause(label, ours, theirs, share, zero, s, robot_name):

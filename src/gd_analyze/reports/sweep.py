@@ -42,6 +42,7 @@ from .common import table as _table
 from .common import thresholds as _thresholds
 from .drawing import draw_figures, figure_svg, write_figure_files
 from .figures import PAYLOAD_REQUIRED as _PAYLOAD_REQUIRED
+from .main_provenance import gravity_row, run_row, software_row
 from .markup import element as _el
 from .markup import sub as _sub
 from .pages import PAPER, Document
@@ -80,44 +81,7 @@ def _context(ds, payload=None):
         inputs = f"{K} trajectories ({kind or 'given'})"
     durations = ds["duration"].values
     setpoints = ds["setpoints"].values if "setpoints" in ds.variables else np.array([])
-    settings = [
-        ("robot", robot), ("robot description", _attr(ds, "robot_description")),
-        ("robot reference", _attr(ds, "robot_reference")),
-        ("robot source", _attr(ds, "robot_source")), ("robot SHA-256", _attr(ds, "robot_sha256")),
-        ("gravity [m/s\u00b2]", _attr(ds, "gravity")),
-        ("dominance threshold s", f"{s:g}"), ("negligibility threshold e", f"{e:g}"),
-        ("inputs", inputs), ("seed", _attr(ds, "seed")),
-        ("input files", _attr(ds, "input_files")),
-        ("SHA-256 of all inputs", _attr(ds, "inputs_sha256")),
-        ("set points", f"{_attr(ds, 'setpoints_total')} in all"
-                       + (f" ({int(setpoints.min())}\u2013{int(setpoints.max())} per trajectory)"
-                          if setpoints.size else "")),
-        ("duration [s]", f"{_fmt(np.min(durations))} \u2013 {_fmt(np.max(durations))} "
-                         f"(median {_fmt(np.median(durations))})"),
-        ("merge rule", f"{ds.attrs.get('merged_rule', 'chapter')} rule (Sec. 5)"
-                       + (f", \u03b5 = {_attr(ds, 'merged_tolerance')}, torque floor "
-                          f"{_attr(ds, 'merged_torque_floor', '0')} N m"
-                          if "merged_tolerance" in ds.attrs else "")),
-        ("payload on the last link [kg]", _attr(ds, "payload_mass", "0")),
-        ("random accelerations limited by", _attr(ds, "random_qdd_max_source")),
-        ("cluster", f"{_attr(ds, 'cluster')}; {_attr(ds, 'n_workers')} worker(s) at "
-                    f"{_attr(ds, 'scheduler_address')}"),
-        ("tasks", f"{_attr(ds, 'n_tasks')} ({_attr(ds, 'batch_size')} trajectories per task)"),
-        ("elapsed [s]", f"{_attr(ds, 'elapsed_s')} (computing {_attr(ds, 'compute_s')})"),
-        ("computed", _attr(ds, "history")),
-        ("gd-analyze version", _attr(ds, "gd_analyze_version")),
-        ("conventions", _attr(ds, "Conventions")),
-    ]
-    extra = sorted(set(ds.attrs) - {
-        "robot", "robot_description", "robot_source", "robot_sha256", "gravity",
-        "gravity_units", "dominance_threshold", "negligible_threshold", "seed", "input_files",
-        "inputs_sha256", "setpoints_total", "merge_rule", "cluster", "n_workers",
-        "scheduler_address", "n_tasks", "batch_size", "elapsed_s", "compute_s", "history",
-        "gd_analyze_version", "Conventions", "title", "source", "references", "input_kind",
-        "trajectories", "started", "robot_reference", "merged_rule", "merged_tolerance",
-        "merged_torque_floor", "merged_worst_scaled_error", "payload_mass",
-        "random_qdd_max_source"})
-    settings += [(key.replace("_", " "), _attr(ds, key)) for key in extra]
+    settings = _settings(ds, inputs, setpoints, durations, __version__)
     zero = (ds["round_off"].values.astype(bool).all(axis=0) if "round_off" in ds
             else np.zeros(len(labels), bool))
     envelope = _table(
@@ -133,7 +97,7 @@ def _context(ds, payload=None):
     err = _table(
         ["joint", "peak |\u03c4|", "peak error", "RMS error",
          "peak error / peak |\u03c4|", "RMS error / peak |\u03c4|",
-         "own models (worst)", "units"],
+         f"own models, {_own_rule(ds)} rule (worst)", "units"],
         [[str(j + 1), _fmt(ds["merged_error_tau_peak"].values[j])]
          + (["\u2261 0 (round-off)"] * 2 + ["\u2261 0"] * 2 if merged_off[j] else
             [_fmt(ds["merged_error_peak"].values[j]), _fmt(ds["merged_error_rms"].values[j]),
@@ -170,14 +134,15 @@ def _context(ds, payload=None):
     summary = (f"{robot}: translational share of the {len(labels)} ranked elements of D and h over "
                f"{inputs}, s = {s:g}, e = {e:g}. {name} keeps both parts "
                f"of {counts['both']} elements, one part of {single}, and drops "
-               f"{len(labels) - kept}; it is {claim}.")
+               f"{len(labels) - kept}; it is {claim}. {_own_sentence(ds)}")
     ctx = {"version": __version__, "title": f"G-D dominance sweep: {robot}, {K} trajectories",
            "summary": summary, "settings": _table(["item", "value"], settings),
            "merged_heading": heading, "merged_text": merged_text,
            "worst": worst,
            "intro": _INTRO.format(K=K, created=utc_now().isoformat(), version=__version__),
            "envelope": envelope, "error": err,
-           "error_text": _ERROR_TEXT.format(units=units_said_once(ds, "tau")),
+           "error_text": _error_text(ds),
+           "captions": _captions(ds),
            "counts": counts, "s": f"{s:g}", "e": f"{e:g}",
            "K": K,
            "created": utc_now().isoformat(),
@@ -203,6 +168,74 @@ def _context(ds, payload=None):
             "changed": ", ".join(changed) if changed else "none",
         }
     return ctx
+
+
+#: Attributes the settings table says in its own rows (or the report elsewhere), or that
+#: are results; any other attribute is a setting added later and gets a row of its own.
+_SAID = {
+    "robot", "robot_description", "robot_source", "robot_sha256", "gravity", "gravity_units",
+    "dominance_threshold", "negligible_threshold", "seed", "input_files", "inputs_sha256",
+    "setpoints_total", "merge_rule", "cluster", "n_workers", "scheduler_address", "n_tasks",
+    "batch_size", "elapsed_s", "compute_s", "history", "gd_analyze_version", "Conventions",
+    "title", "source", "references", "input_kind", "trajectories", "started",
+    "robot_reference", "merged_rule", "merged_tolerance", "merged_torque_floor",
+    "merged_worst_scaled_error", "payload_mass", "random_qdd_max_source", "command",
+    "mounting_base_rpy_deg", "mounting_gravity_base", "mounting_gravity_world",
+    "own_model_rule"}
+
+
+def _settings(ds, inputs, setpoints, durations, version):
+    """The settings and provenance of the sweep, each once and in words
+    (:mod:`gd_analyze.reports.main_provenance` rows for the software, the run and gravity)."""
+    K = int(ds.sizes["trajectory"])
+    s, e = _thresholds(ds)
+    batch, tasks = int(ds.attrs.get("batch_size", 0)), int(ds.attrs.get("n_tasks", 0))
+    batches = -(-K // batch) if batch else 0
+    rows = [
+        software_row(ds, version),
+        ("command", _attr(ds, "command")),
+        run_row(ds),
+        ("robot", f"{_attr(ds, 'robot')}: {_attr(ds, 'robot_description')} "
+                  f"({_attr(ds, 'robot_reference')})"),
+        ("robot file", f"{_attr(ds, 'robot_source')} (SHA-256 {_attr(ds, 'robot_sha256')})"),
+        gravity_row(ds),
+        ("dominance threshold s, negligibility threshold e", f"{s:g}, {e:g}"),
+        ("inputs", inputs),
+    ]
+    if "input_files" in ds.attrs:
+        rows.append(("input files", _attr(ds, "input_files")))
+    rows += [
+        ("SHA-256 of all inputs", _attr(ds, "inputs_sha256")),
+        ("set points", f"{_attr(ds, 'setpoints_total')} in all"
+                       + ((f" ({int(setpoints.min())} per trajectory)"
+                           if setpoints.min() == setpoints.max() else
+                           f" ({int(setpoints.min())}\u2013{int(setpoints.max())} per "
+                           "trajectory)") if setpoints.size else "")),
+        ("duration [s]", f"{_fmt(np.min(durations))} \u2013 {_fmt(np.max(durations))} "
+                         f"(median {_fmt(np.median(durations))})"),
+        ("merge rule", f"{ds.attrs.get('merged_rule', 'chapter')} rule (Sec. 5)"
+                       + (f", \u03b5 = {_attr(ds, 'merged_tolerance')}, torque floor "
+                          f"{_attr(ds, 'merged_torque_floor', '0')} N m"
+                          if "merged_tolerance" in ds.attrs else "")),
+        ("payload on the last link", f"{_attr(ds, 'payload_mass', '0')} kg"
+         if float(ds.attrs.get("payload_mass", 0.0) or 0.0) else "none"),
+    ]
+    if "random_qdd_max_source" in ds.attrs:
+        rows.append(("random accelerations limited by",
+                     {"robot": "the robot's acceleration limits"}.get(
+                         str(ds.attrs["random_qdd_max_source"]),
+                         _attr(ds, "random_qdd_max_source"))))
+    rows += [
+        ("computed on", f"dask, {_attr(ds, 'cluster')}: {_attr(ds, 'n_workers')} "
+                        f"worker{'s' if str(ds.attrs.get('n_workers')) != '1' else ''} at "
+                        f"{_attr(ds, 'scheduler_address')}; {tasks} tasks (the {K} "
+                        f"trajectories in {batches} batch{'es' if batches != 1 else ''} of "
+                        f"at most {batch}, each batch once to rank and once to check the "
+                        "merged model)"),
+        ("time [s]", f"{_attr(ds, 'elapsed_s')} in all, {_attr(ds, 'compute_s')} computing"),
+    ]
+    rows += [(key.replace("_", " "), _attr(ds, key)) for key in sorted(set(ds.attrs) - _SAID)]
+    return rows
 
 
 def _merged_rule(ds):
@@ -328,13 +361,14 @@ def _outline(ctx, figures):
             size=7)
     o.section("2", "Translational share of the elements of D (layout of Fig. 3.10)", "D")
     o.paragraph(_SHARE_TEXT.format(s=ctx["s"], e=ctx["e"]), "note")
-    o.figure("D", _CAPTIONS["D"])
+    o.figure("D", ctx["captions"]["D"])
     o.section("3", "Translational share of the elements of h (layout of Fig. 3.11)", "h")
-    o.figure("h", _CAPTIONS["h"])
+    o.figure("h", ctx["captions"]["h"])
     o.section("4", "Envelope per element", "envelope")
     o.paragraph("Fraction of the trajectories in which each class holds, and the smallest, "
-                "median and largest translational share over the trajectories.", "note")
-    o.figure("classes", _CAPTIONS["classes"])
+                "median and largest translational share over the trajectories. "
+                + ctx["captions"]["none"], "note")
+    o.figure("classes", ctx["captions"]["classes"])
     o.table(ctx["envelope"], "Fraction of the trajectories per class, the range of the "
                              "translational share, and the merged model's choice. A share is "
                              "0 or 1 where one part is round-off (at most 1e-12 of the "
@@ -349,7 +383,7 @@ def _outline(ctx, figures):
     o.table(ctx["error"], "Torque error of the merged model per joint, over all set points "
                           "of all trajectories; \u2261 0: round-off (at most 1e-12 of the "
                           "peak |\u03c4|), not data.")
-    o.figure("error", _CAPTIONS["error"])
+    o.figure("error", ctx["captions"]["error"])
     if ctx["payload"] is not None:
         o.section("6", "Payload sweep", "payload")
         o.table(ctx["payload"]["settings"], "Settings of the payload sweep.", kv=True)
@@ -454,13 +488,71 @@ _MERGED_TEXT = ("Each trajectory has its own simplified model (keep the dominant
                 "valid for the whole sweep: a part of an element is dropped only where every "
                 "trajectory's model drops it. The chapter rule drops parts of D and h only, "
                 "never a term of gravity: \u03c4\u209b = D\u209b q\u0308 + h\u209b + c.")
-_ERROR_TEXT = ("Per joint, over all set points of all trajectories: peak and RMS of "
-               "the merged model's torque error |\u03c4" + _sub("s") + " \u2212 \u03c4| "
-               "[{units}], and both relative to the peak |\u03c4| "
-               "over all trajectories. Column \u201cown models (worst)\u201d: the largest "
-               "relative peak error of any trajectory's own simplified model along that "
-               "trajectory.")
+def _own_rule(ds):
+    """The rule of each trajectory's own simplified model, as the dataset records it."""
+    return str(ds.attrs.get("own_model_rule", "chapter"))
 
+
+def _models(ds):
+    """What the own and the merged models are, and which carries a guarantee, in words
+    generated from the dataset's rules: (own, merged)."""
+    own_rule, rule = _own_rule(ds), str(ds.attrs.get("merged_rule", "chapter"))
+    bound = {"chapter": "share-based classes of Sec. 3.4.1, no error bound",
+             "budget": "guaranteed within \u03b5\u00b7" + _SI + " on its own trajectory"}
+    own = f"each trajectory's own simplified model ({own_rule} rule: {bound[own_rule]})"
+    if rule == "budget":
+        merged = (f"the merged model (budget rule, \u03b5 = "
+                  f"{float(ds.attrs['merged_tolerance']):g}: guaranteed within "
+                  f"\u03b5\u00b7{_SI} on every swept trajectory)")
+    else:
+        merged = "the merged model (chapter rule: no error bound)"
+    return own, merged
+
+
+def _own_sentence(ds):
+    """The own models' worst relative peak error, named with their rule (they carry no
+    bound under the chapter rule)."""
+    rel = np.asarray(ds["tau_error_relative_peak"].values, float)
+    rel = np.where(is_round_off(ds["tau_error_peak"].values, ds["tau_peak"].values), 0.0, rel)
+    if not np.isfinite(rel).any() or not np.nanmax(rel) > 0:
+        return ""
+    k, j = np.unravel_index(np.nanargmax(np.where(np.isfinite(rel), rel, -np.inf)), rel.shape)
+    own, _ = _models(ds)
+    return (f"For comparison, {own} errs by up to {_pct(rel[k, j])} of peak |{_TAU_I}| "
+            f"(joint {j + 1}); it is not the model written.")
+
+
+def _error_text(ds):
+    """Sec. 5.1's note: the table's columns, each model named with its rule."""
+    own, merged = _models(ds)
+    return ("Per joint, over all set points of all trajectories: peak and RMS of the torque "
+            "error |\u03c4" + _sub("s") + " \u2212 \u03c4| "
+            f"[{units_said_once(ds, 'tau')}] of {merged}, and both relative to the peak |\u03c4| "
+            f"over all trajectories. Column \u201cown models, {_own_rule(ds)} rule "
+            f"(worst)\u201d: the largest relative peak error of {own} along that "
+            "trajectory, shown for comparison; it is not the merged model"
+            + (" and has no bound." if _own_rule(ds) == "chapter" else "."))
+
+
+def _captions(ds):
+    """The figure captions, with the models and the merged choice "none" said from the
+    dataset's rules."""
+    own, merged = _models(ds)
+    dots = (" Grey dots beside each box: the share on each trajectory, one dot per "
+            "trajectory (spread sideways to stay apart; not drawn beyond 60 trajectories).")
+    none = ("The merged model's choice \u201cnone\u201d: it keeps neither part of the "
+            "element (" + ("both parts dropped within the budget \u03b5, or \u2261 0"
+                           if str(ds.attrs.get("merged_rule", "chapter")) == "budget" else
+                           "negligible, or \u2261 0, on every trajectory") + ").")
+    return {
+        **_CAPTIONS,
+        "D": f"{_CAPTIONS['D']}{dots}",
+        "h": f"{_CAPTIONS['h']}{dots}",
+        "classes": f"{_CAPTIONS['classes']} {none}", "none": none,
+        "error": (f"Relative peak torque error per joint, per trajectory: of {own} (green) "
+                  f"and of {merged} (black); diamond: the merged model over all "
+                  "trajectories."),
+    }
 
 def write_sweep_report(sweep_path, outdir, payload=None, formats=SWEEP_REPORT_FORMATS,
                        paper="a4", fonts="type3"):

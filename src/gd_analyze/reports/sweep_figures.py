@@ -121,7 +121,8 @@ def _key_text(ds, K):
         f"trajectories per class (T translational, R rotational, B both, N negligible, "
         f"e = {e:g}). \u2261 0: round-off (below 1e-12 of its scale) in every part on every "
         f"trajectory, no share drawn; on the trajectories where an element is round-off its "
-        f"share is left out of the box.", 52)
+        f"share is left out of the box. Grey dots: the share on each trajectory, one dot per "
+        f"trajectory (up to 60).", 52)
 
 
 def _fig_D(ds, width=_PAGE_WIDTH):
@@ -304,13 +305,18 @@ def _fig_error(ds, width=_PAGE_WIDTH):
         ax.set_xlabel("joint", labelpad=1.0)
     ax.set_xlim(0.4, n + 0.6)
     ax.set_ylabel("peak |\u03c4\u209b \u2212 \u03c4| / peak |\u03c4| [1]")
-    ax.legend(handles=[Line2D([], [], color=_OWN_COLOUR, label="own simplified model, per "
-                              "trajectory"),
-                       Line2D([], [], color=_MERGED_COLOUR, label="merged model, per trajectory"),
+    own_rule, rule = (str(ds.attrs.get(k, "chapter")) for k in ("own_model_rule", "merged_rule"))
+    no_bound = {"chapter": ", no bound"}
+    merged_rule = (f"budget rule, \u03b5 = {float(ds.attrs['merged_tolerance']):g}"
+                   if rule == "budget" else f"{rule} rule{no_bound.get(rule, '')}")
+    ax.legend(handles=[Line2D([], [], color=_OWN_COLOUR, label=f"own models ({own_rule} rule"
+                              f"{no_bound.get(own_rule, '')}), per trajectory"),
+                       Line2D([], [], color=_MERGED_COLOUR,
+                              label=f"merged model ({merged_rule}), per trajectory"),
                        Line2D([], [], color="#CC79A7", marker="D", ls="none",
                               label="merged model, over all trajectories")],
               loc="upper center", bbox_to_anchor=(0.5, -0.2 if column else -0.08),
-              ncol=1 if column else 3, frameon=False, fontsize=7)
+              ncol=1 if column else 2, frameon=False, fontsize=7)
     fig.suptitle("Relative peak torque error per joint\n(box: quartiles, whiskers: min/max;\n"
                  f"round-off, at most {_ERROR_FLOOR:g}, not drawn)" if column else
                  "Relative peak torque error per joint (box: quartiles, whiskers: min/max;\n"

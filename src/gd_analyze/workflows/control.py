@@ -83,7 +83,8 @@ from .tracking import (
     track,
 )
 
-__all__ = ["DEFAULT_GRID_POINTS", "CONTROL_FILE", "ControlResult", "run_control", "model_cost"]
+__all__ = ["DEFAULT_GRID_POINTS", "CONTROL_FILE", "ControlResult", "run_control", "model_cost",
+           "model_facts"]
 
 #: Default number of evenly spaced samples of the fine grid (set points are added).
 DEFAULT_GRID_POINTS = 2001
@@ -250,13 +251,12 @@ def model_cost(model):
     names = [name for name, _ in counted]
     mults = [int(c["multiplications"]) for _, c in counted]
     adds = [int(c["additions"]) for _, c in counted]
+    facts = model_facts(model)
     if model.recursive is not None:
         return {"evaluators": names, "multiplications": mults, "additions": adds,
-                "dropped": int(model.recursive.dropped.sum()),
-                "parts": int(model.recursive.dropped.size),
+                "dropped": facts["pairs_dropped"], "parts": facts["pairs"],
                 "what": "(base parameter, part) pairs of the recursive model",
-                "dropped_pairs": ", ".join(f"{a} ({b})"
-                                           for a, b in model.recursive.dropped_pairs())}
+                "dropped_pairs": facts["dropped_pairs"]}
     Mt, Mr, mt, mr = choice_masks(model.choices, robot.n)
     parts = 2 * (robot.n * (robot.n + 1) // 2 + robot.n)
     kept = int(np.triu(Mt).sum() + np.triu(Mr).sum() + mt.sum() + mr.sum())
@@ -264,6 +264,47 @@ def model_cost(model):
             "dropped": parts - kept, "parts": parts,
             "what": "translational/rotational parts of D and h", "dropped_pairs": ""}
 
+
+def model_facts(model):
+    """What the reports state about a simplified model, read from the model itself.
+
+    Parameters
+    ----------
+    model : SimplifiedModel
+        A model as built, or read from ``simplified_model.json``.
+
+    Returns
+    -------
+    dict
+        ``form`` (recursive or explicit), ``rule`` (budget or chapter), ``tolerance``;
+        for the recursive form ``base_parameters`` (count), ``pairs`` and ``pairs_dropped``
+        (the (parameter, part) pairs that contribute on the trajectories the model was built
+        on, and those dropped), ``dropped_pairs`` (``"XY2 (inertial), ..."``) and
+        ``gravity_dropped`` (the parameters whose gravity part is dropped, comma-separated),
+        ``pairs_known`` (1 if the model records which pairs contribute, else every pair counts)
+        (:meth:`gd_analyze.core.symbolic.recursive_model.RecursiveModel.stated_facts`, the
+        count of the main report); for the explicit form of the budget rule ``c_terms_kept``
+        and ``c_terms`` (its terms of c and the full model's; -1 when the full model is not
+        derived). Sources: Fu, Gonzalez & Lee (1987), Sec. 3.4.1 and Eq. (3.4-24).
+    """
+    out = {"form": model.form, "rule": str(model.rule), "tolerance": float(model.tolerance),
+           "base_parameters": -1, "pairs": -1, "pairs_dropped": -1, "dropped_pairs": "",
+           "gravity_dropped": "", "pairs_known": 0, "c_terms_kept": -1, "c_terms": -1}
+    if model.recursive is not None:
+        f = model.recursive.stated_facts()
+        out.update(base_parameters=len(model.recursive.names), pairs=f["pairs"],
+                   pairs_dropped=f["dropped"],
+                   dropped_pairs=", ".join(f"{a} ({b})" for a, b in f["dropped_pairs"]),
+                   gravity_dropped=", ".join(f["gravity_dropped"]), pairs_known=int(f["known"]))
+    elif model.rule == "budget" and model.terms is not None:
+        from ..core.symbolic.explicit_estimate import is_expensive
+        from ..io.explicit_cache import explicit_terms
+
+        out["c_terms_kept"] = int(np.sum(np.asarray(model.terms.kind) == "c"))
+        if not is_expensive(model.robot):
+            full, _ = explicit_terms(model.robot)
+            out["c_terms"] = int(np.sum(np.asarray(full.kind) == "c"))
+    return out
 
 def _sample_times(t_set, grid_points):
     """Set-point times and an even grid, merged; grid points within 1e-9 T of a set point go."""
@@ -279,7 +320,8 @@ def _sample_times(t_set, grid_points):
 def run_control(model, trajectory, wn=DEFAULT_WN, zeta=DEFAULT_ZETA, q0_offset=0.0,
                 controllers=CONTROLLERS, grid_points=DEFAULT_GRID_POINTS, rtol=DEFAULT_RTOL,
                 atol=DEFAULT_ATOL, method=DEFAULT_METHOD, t_end=None, cost=True,
-                model_path=None, model_sha256=None, plant=None):
+                model_path=None, model_sha256=None, plant=None,
+                verdict_tolerance=None):
     """Track a trajectory with the full-model, simplified-model and PD + gravity controllers.
 
     Parameters
@@ -315,6 +357,11 @@ def run_control(model, trajectory, wn=DEFAULT_WN, zeta=DEFAULT_ZETA, q0_offset=0
         The controlled arm, which the full-model and PD + gravity controllers also use
         (default: the model's robot), e.g. mounted otherwise
         (:func:`gd_analyze.core.model.mounting.with_mounting`); the simplified model keeps its own.
+    verdict_tolerance : tuple of (float, float), optional
+        The report's verdict tolerance on the simplified-model controller's peak tracking
+        error: revolute joints [rad], prismatic joints [m] (recorded for the report, not used
+        here; default: not recorded, the report's
+        :data:`gd_analyze.reports.control.VERDICT_TOLERANCE`).
 
     Returns
     -------
@@ -395,7 +442,10 @@ def run_control(model, trajectory, wn=DEFAULT_WN, zeta=DEFAULT_ZETA, q0_offset=0
         "grid_points": int(grid_points), "q0_offset": offset.tolist(),
         "t_end": float(t[-1]),
         "gravity_base": [float(v) for v in robot.gravity],
+        "model": model_facts(model),
     }
+    if verdict_tolerance is not None:
+        provenance["verdict_tolerance"] = [float(v) for v in verdict_tolerance]
     return ControlResult(robot=robot, choices=dict(model.choices), gains=gains, t=t,
                          is_setpoint=is_set, q_d=desired(t), qd_d=desired(t, 1),
                          qdd_d=desired(t, 2), runs=runs, cost=cost_figures,

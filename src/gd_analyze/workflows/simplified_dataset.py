@@ -9,7 +9,6 @@ from __future__ import annotations
 
 import numpy as np
 
-from ..core.selection.ranking import ROUND_OFF
 from ..core.symbolic.recursive_model import PART_NAMES
 
 __all__ = ["AKB_COSTS", "cost_rows", "simplified_dataset"]
@@ -204,9 +203,7 @@ def simplified_dataset(model, selection, other=None, ladder_rows=None, cost_tabl
                                          "EPS of the error budget")
     ds = xr.Dataset(dv, coords=coords)
     # the (parameter, part) pairs that contribute on the trajectory (round-off excluded)
-    live = None if model.recursive is None else (
-        np.ones(model.recursive.dropped.shape, bool) if model.recursive.relative_peak is None
-        else model.recursive.relative_peak >= ROUND_OFF)
+    facts = None if model.recursive is None else model.recursive.stated_facts()
     cost = model.cost
     ds.attrs.update({
         "simplified_rule": model.rule, "simplified_tolerance": model.tolerance,
@@ -214,12 +211,10 @@ def simplified_dataset(model, selection, other=None, ladder_rows=None, cost_tabl
         "simplified_files": ", ".join(files),
         "simplified_form": model.form,
         "simplified_terms_kept": -1 if model.terms is None else len(model.terms),
-        "simplified_pairs_dropped": -1 if model.recursive is None else
-        int((model.recursive.dropped & live).sum()),
-        "simplified_pairs": -1 if model.recursive is None else int(live.sum()),
-        "simplified_dropped_pairs": "" if model.recursive is None else
-        ", ".join(f"{model.recursive.names[k]} ({PART_NAMES[p]})"
-                  for k, p in zip(*np.nonzero(model.recursive.dropped & live))),
+        "simplified_pairs_dropped": -1 if facts is None else facts["dropped"],
+        "simplified_pairs": -1 if facts is None else facts["pairs"],
+        "simplified_dropped_pairs": "" if facts is None else
+        ", ".join(f"{a} ({b})" for a, b in facts["dropped_pairs"]),
         "simplified_multiplications": cost["multiplications"],
         "simplified_additions": cost["additions"], "simplified_sin": cost["sin"],
         "simplified_cos": cost["cos"],

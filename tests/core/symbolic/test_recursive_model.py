@@ -95,6 +95,29 @@ def test_model_file_round_trip():
                                   python_function(model.program(arm))(q, qd, qdd))
 
 
+
+def test_stated_facts_leave_out_structurally_zero_pairs_and_survive_the_file():
+    """Gravity acts on the mass and the first moments only (g enters Y_b through the
+    linear accelerations), so the gravity part of every second moment (XX..ZZ) contributes
+    nothing: such pairs are neither kept nor dropped in what the reports state, also after
+    the model has been written to a file and read back."""
+    arm, _, _, model = case(0.05, 20.0)
+    live = model.contributing()
+    gravity = list(PART_NAMES).index("gravity")
+    second = [k for k, name in enumerate(model.names) if name[:2] in
+              ("XX", "XY", "XZ", "YY", "YZ", "ZZ")]
+    assert second and not live[second, gravity].any()
+    facts = model.stated_facts()
+    assert facts["known"] and facts["pairs"] == int(live.sum()) < live.size
+    assert facts["dropped"] == int((model.dropped & live).sum())
+    assert all(model.names.index(n) not in second for n in facts["gravity_dropped"])
+    back = RecursiveModel.from_dict(model.to_dict(), arm)
+    np.testing.assert_array_equal(back.contributing(), live)
+    assert back.stated_facts() == facts
+    old = {k: v for k, v in model.to_dict().items() if k != "round_off"}   # an older file
+    assert not RecursiveModel.from_dict(old, arm).stated_facts()["known"]
+
+
 def _edit(path, value):
     def mutate(spec):
         *keys, last = path

@@ -53,6 +53,9 @@ class RecursiveModel:
         Per pair, its largest peak contribution on the trajectory relative to the joint's
         scale, max_i peak_i / scale_i [1] (0: the part contributes nothing); None for a model
         read from a file.
+    round_off : ndarray of bool, shape (b, 3), optional
+        For a model read from a file: the pairs whose contribution was round-off on the
+        trajectories the model was built on (stored as ``round_off``); None if not stored.
 
     Notes
     -----
@@ -68,6 +71,47 @@ class RecursiveModel:
     bound: np.ndarray
     bound_by_part: np.ndarray
     relative_peak: np.ndarray = None
+    round_off: np.ndarray = None
+
+    def contributing(self):
+        """Which (parameter, part) pairs contribute on the trajectories the model was built on.
+
+        Returns
+        -------
+        ndarray of bool, shape (b, 3)
+            True where the pair's peak contribution is at least
+            :data:`gd_analyze.core.selection.ranking.ROUND_OFF` of the joint's scale (a pair
+            below it, e.g. the gravity part of a product of inertia, is structurally 0 and
+            neither kept nor dropped); all True when the model does not know.
+        """
+        from ..selection.ranking import ROUND_OFF
+
+        if self.relative_peak is not None:
+            return np.asarray(self.relative_peak) >= ROUND_OFF
+        if self.round_off is not None:
+            return ~np.asarray(self.round_off, bool)
+        return np.ones(np.shape(self.dropped), bool)
+
+    def stated_facts(self):
+        """What the reports state about the model, counted once for all of them.
+
+        Returns
+        -------
+        dict
+            ``pairs``: contributing (parameter, part) pairs; ``dropped``: those dropped;
+            ``dropped_pairs``: list of (parameter name, part name) dropped and contributing;
+            ``gravity_dropped``: names of the parameters whose contributing gravity part
+            (a term of c, Eq. (3.4-24)) is dropped; ``known``: False for a model read from a
+            file that does not record which pairs contribute (every pair then counts).
+        """
+        live = self.contributing()
+        gone = np.asarray(self.dropped, bool) & live
+        g = PART_NAMES.index("gravity")
+        return {"pairs": int(live.sum()), "dropped": int(gone.sum()),
+                "dropped_pairs": [(self.names[k], PART_NAMES[p])
+                                  for k, p in zip(*np.nonzero(gone))],
+                "gravity_dropped": [self.names[k] for k in np.nonzero(gone[:, g])[0]],
+                "known": self.relative_peak is not None or self.round_off is not None}
 
     def base(self, robot):
         """The :class:`.base_parameters.BaseParameters` these names and values stand for.
@@ -129,13 +173,17 @@ class RecursiveModel:
         -------
         dict
         """
-        return {"base_parameters": list(self.names),
-                "beta": [float(v) for v in self.beta],
-                "dropped": [[a, b] for a, b in self.dropped_pairs()],
-                "scale": [float(v) for v in self.scale],
-                "bound": [float(v) for v in self.bound],
-                "bound_by_part": {name: [float(v) for v in self.bound_by_part[p]]
-                                  for p, name in enumerate(BOUND_PARTS)}}
+        out = {"base_parameters": list(self.names),
+               "beta": [float(v) for v in self.beta],
+               "dropped": [[a, b] for a, b in self.dropped_pairs()],
+               "scale": [float(v) for v in self.scale],
+               "bound": [float(v) for v in self.bound],
+               "bound_by_part": {name: [float(v) for v in self.bound_by_part[p]]
+                                 for p, name in enumerate(BOUND_PARTS)}}
+        if self.relative_peak is not None or self.round_off is not None:
+            idle = ~self.contributing()
+            out["round_off"] = [[self.names[k], PART_NAMES[p]] for k, p in zip(*np.nonzero(idle))]
+        return out
 
     @classmethod
     def from_dict(cls, spec, robot, path="<model>"):
@@ -175,12 +223,17 @@ class RecursiveModel:
             raise InputError("the base parameter values differ from those of the robot "
                              "(edited after the model was written?)", path,
                              column=f"{where}.beta")
-        dropped = np.zeros((len(names), len(PARTS)), bool)
-        for pair in spec["dropped"]:
-            if len(pair) != 2 or pair[0] not in names or pair[1] not in PART_NAMES:
-                raise InputError(f"unknown dropped pair {pair!r}"[:120], path,
-                                 column=f"{where}.dropped")
-            dropped[names.index(pair[0]), PART_NAMES.index(pair[1])] = True
+        masks = {}
+        for key in ("dropped", "round_off"):
+            if key not in spec:
+                continue
+            masks[key] = np.zeros((len(names), len(PARTS)), bool)
+            for pair in spec[key]:
+                if len(pair) != 2 or pair[0] not in names or pair[1] not in PART_NAMES:
+                    raise InputError(f"unknown {key.replace('_', '-')} pair {pair!r}"[:120],
+                                     path, column=f"{where}.{key}")
+                masks[key][names.index(pair[0]), PART_NAMES.index(pair[1])] = True
+        dropped = masks["dropped"]
         n = robot.n
         arrays = {}
         for key in ("scale", "bound"):
@@ -193,7 +246,8 @@ class RecursiveModel:
                              column=f"{where}.bound_by_part")
         by_part = np.array(lists, float)
         return cls(names=names, beta=base.beta, dropped=dropped, scale=arrays["scale"],
-                   bound=arrays["bound"], bound_by_part=by_part)
+                   bound=arrays["bound"], bound_by_part=by_part,
+                   round_off=masks.get("round_off"))
 
 
 def recursive_model(robot, q, qd, qdd, tolerance, torque_floor=0.0, base=None):

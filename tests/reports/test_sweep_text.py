@@ -1,0 +1,93 @@
+"""The sweep report says what each model is and which carries a guarantee, explains its
+figures' marks and states each setting once (review 23, defects 7, 8 and 17).
+
+Sweeps under both merge rules; the text is checked against the stored rules (changing the
+stored rule changes the words: they are generated, not fixed) and the stored errors.
+"""
+
+import re
+from html import unescape
+
+import numpy as np
+import pytest
+import xarray as xr
+
+from gd_analyze import __version__
+from gd_analyze.cli import main
+from gd_analyze.io.schema import write_dataset
+from gd_analyze.reports.sweep import write_sweep_report
+
+
+def _text(html):
+    html = re.sub(r"<svg.*?</svg>", "", html, flags=re.S)
+    return unescape(re.sub(r"\s+", " ", re.sub(r"<[^>]+>", " ", html)))
+
+
+def _rows(html, anchor):
+    table = html[html.index(f'id="{anchor}"'):]
+    table = table[:table.index("</table>")]
+    return [[unescape(re.sub(r"<[^>]+>", "", c)).strip() for c in
+             re.findall(r"<t[dh][^>]*>(.*?)</t[dh]>", row, flags=re.S)]
+            for row in re.findall(r"<tr[^>]*>(.*?)</tr>", table, flags=re.S)][1:]
+
+
+@pytest.fixture(scope="module", params=["budget", "chapter"])
+def swept(request, tmp_path_factory):
+    out = tmp_path_factory.mktemp(request.param)
+    assert main(["sweep", "puma560", "--random", "3", "--seed", "1", "--workers", "1",
+                 "--held-out", "0", "--rule", request.param, "-o", str(out), "-q"]) == 0
+    return request.param, out
+
+
+def test_each_model_is_named_with_its_rule_and_guarantee(swept, tmp_path):
+    rule, out = swept
+    text = _text((out / "sweep_report.html").read_text())
+    with xr.open_dataset(out / "sweep.h5") as ds:
+        own = str(ds.attrs["own_model_rule"])
+        worst = float(np.nanmax(ds["tau_error_relative_peak"].values))
+        stored = ds.load()
+    assert own == "chapter"                       # the per-trajectory models: share-based
+    error_sec = text[text.index("5.1 Torque error"):]
+    assert f"own models, {own} rule (worst)" in error_sec
+    assert "own simplified model (chapter rule: share-based classes of Sec. 3.4.1, no error " \
+           "bound)" in error_sec
+    summary = text[text.index("puma560: translational share"):text.index("The generalized")]
+    said = float(re.search(r"errs by up to ([0-9.]+) %", summary).group(1))
+    assert abs(said - 100 * worst) <= 0.01 * 100 * worst           # the stored worst case
+    assert "no error bound" in summary
+    assert ("guaranteed within" in summary) == (rule == "budget")
+    caption = error_sec[error_sec.index("Relative peak torque error per joint, per"):]
+    assert "(chapter rule: share-based" in caption
+    assert ("merged model (budget rule" in caption) == (rule == "budget")
+    # the words follow the stored rule: a dataset saying otherwise reads otherwise
+    stored.attrs["own_model_rule"] = "budget"
+    write_dataset(stored, tmp_path / "sweep.h5")
+    html = write_sweep_report(tmp_path / "sweep.h5", tmp_path / "r", formats=["html"])[0]
+    other = _text(html.read_text())
+    assert "own models, budget rule (worst)" in other and "own models, chapter rule" not in other
+
+
+def test_figure_marks_and_merged_none_are_explained(swept):
+    rule, out = swept
+    text = _text((out / "sweep_report.html").read_text())
+    for fig in ("Figure 1.", "Figure 2."):
+        caption = text[text.index(fig):][:900]
+        assert "Grey dots" in caption and "one dot per trajectory" in caption
+    classes = text[text.index("Figure 3."):][:600]
+    assert "\u201cnone\u201d: it keeps neither part" in classes
+    assert ("within the budget" in classes) == (rule == "budget")
+
+
+def test_settings_state_each_setting_once_in_words(swept):
+    _, out = swept
+    html = (out / "sweep_report.html").read_text()
+    rows = _rows(html, "settings")
+    items = [r[0] for r in rows]
+    values = " | ".join(r[1] for r in rows if len(r) > 1 and r[0] != "command")
+    assert len(items) == len(set(items))
+    assert not any("_" in item or item.startswith("mounting") for item in items)
+    assert values.count("seed 1") == 1 and "seed" not in items
+    assert values.count(f"gd-analyze {__version__}") == 1                  # one version
+    assert values.count("9.8") == 1                                         # gravity once
+    assert "conventions" not in items and "CF-1" not in values
+    assert "trajectories per task" not in values
