@@ -162,3 +162,49 @@ def test_sweep_report_and_dataset_give_n_for_the_prismatic_joint(tmp_path):
         assert stored == dict(EXPECTED)
         assert [k for k in ds.variables if "joint" in ds[k].dims
                 and ds[k].attrs.get("units") in ("N m", "N")] == []
+
+
+def test_dh_table_gives_the_joint_variable_per_joint_type(stanford):
+    """A revolute joint turns (theta = q + offset, d fixed); a prismatic one slides (d = q +
+    offset, theta fixed): the Stanford file gives joint 3 theta_deg = -90 and no d."""
+    html = (stanford / "report.html").read_text()
+    dh = next(t for t in tables_of(html) if t and t[0][:4] == ["joint", "d [m]", "a [m]",
+                                                                "\u03b1 [deg]"])
+    assert dh[0][4] == "\u03b8 [deg]"
+    for k, row in enumerate(dh[1:]):
+        d, theta = row[1], row[4]
+        if PRISMATIC[k]:
+            assert d.startswith("q") and float(theta.replace("\u2212", "-")) == -90.0
+        else:
+            assert theta.startswith("q") and not d.startswith("q")
+    assert "offset [deg]" not in html and "\u03b8 = q + offset" not in html
+    assert "the offset d of a prismatic one" in unescape(html)
+
+
+def test_stored_drive_and_limit_units_follow_the_joint_types(stanford):
+    with xr.open_dataset(stanford / "results.h5") as ds:
+        assert ds["D_arm"].attrs["units"] == "kg m2 or kg by joint type (per joint: joint_type)"
+        assert ds["viscous"].attrs["units"] == (
+            "N m s rad-1 or N s m-1 by joint type (per joint: joint_type)")
+        for name, per_joint in (("q_min", "q_units"), ("qd_max", "qd_units"),
+                                ("qdd_max", "qdd_units")):
+            assert ds[name].attrs["units"].endswith(f"(per joint: {per_joint})"), name
+        assert "prismatic" in ds["dh_offset"].attrs["long_name"]
+
+
+def test_newton_euler_count_is_the_arms_own(stanford):
+    """The costs set against Newton-Euler use the count of this arm (joint 3 prismatic), the
+    count the control report uses: the arm itself counted directly, not an all-revolute chain."""
+    from gd_analyze import load_robot
+    from gd_analyze.formulations.opcount import count_operations
+
+    mul, add = count_operations(load_robot("stanford"), "newton-euler")[:2]
+    with xr.open_dataset(stanford / "results.h5") as ds:
+        k = [str(v) for v in ds["cost_model"].values].index("project N-E as implemented")
+        assert (ds["cost_multiplications"].values[k], ds["cost_additions"].values[k]) == (
+            mul, add)
+        j = [str(v) for v in ds["formulation"].values].index("newton-euler")
+        assert (ds["op_multiplications_arm"].values[j], ds["op_additions_arm"].values[j]) == (
+            mul, add)
+    text = unescape((stanford / "report.html").read_text())
+    assert f"{mul + add:,}" in text and "joint 3 is prismatic" in text

@@ -31,7 +31,13 @@ from .common import thresholds as _thresholds
 from .effort import effort_rows
 from .main_figures import identically_zero
 from .main_provenance import provenance_rows
-from .main_text import captions, conclusion, disagreement_cause, element_scale
+from .main_text import (
+    captions,
+    conclusion,
+    disagreement_cause,
+    element_scale,
+    prismatic_count_note,
+)
 from .markup import element as _el
 from .simplified_section import ROUND_OFF, has_simplified, simplified_caption, simplified_context
 
@@ -182,10 +188,18 @@ def _robot_geometry(ds):
     n = ds.sizes["joint"]
     dh_rows = np.stack([ds[v].values for v in ("dh_d", "dh_a", "dh_alpha", "dh_offset")])
     if np.all(np.isfinite(dh_rows)) or "joint_rotation" not in ds.variables:
+        pris = prismatic_joints(ds)
+
+        def cell(value, variable):            # the joint variable q where it moves: q + offset
+            if not variable:
+                return _fmt(value)
+            sign = "+" if value > 0 else "\u2212"
+            return "q" if value == 0 else f"q {sign} {_fmt(abs(value))}"
+
         dh = _table(
-            ["joint", "d [m]", "a [m]", "\u03b1 [deg]", "offset [deg]"],
-            [[str(k + 1), _fmt(dh_rows[0, k]), _fmt(dh_rows[1, k]),
-              _fmt(np.degrees(dh_rows[2, k])), _fmt(np.degrees(dh_rows[3, k]))]
+            ["joint", "d [m]", "a [m]", "\u03b1 [deg]", "\u03b8 [deg]"],
+            [[str(k + 1), cell(dh_rows[0, k], pris[k]), _fmt(dh_rows[1, k]),
+              _fmt(np.degrees(dh_rows[2, k])), cell(np.degrees(dh_rows[3, k]), not pris[k])]
              for k in range(n)],
             align=["left"] + ["right"] * 4, widths=[0.8, 1, 1, 1, 1])
         return dh, None
@@ -611,10 +625,14 @@ def _formulations_context(ds):
     names = _strings(ds["formulation"].values)
     dof = list(ds["dof"].values)
     rows = []
+    arm = "op_multiplications_arm" in ds.variables
     if n in dof:
         k = dof.index(n)
         for j, name in enumerate(names):
-            mul, add = ds["op_multiplications"].values[k, j], ds["op_additions"].values[k, j]
+            if arm:                           # the arm's own joint types (prismatic joints)
+                mul, add = ds["op_multiplications_arm"].values[j], ds["op_additions_arm"].values[j]
+            else:
+                mul, add = ds["op_multiplications"].values[k, j], ds["op_additions"].values[k, j]
             bm = ds["op_multiplications_table_3_5"].values[k, j]
             ba = ds["op_additions_table_3_5"].values[k, j]
             rows.append([name, f"{mul:.0f}", f"{add:.0f}", f"{bm:.0f}", f"{ba:.0f}"])
@@ -626,7 +644,8 @@ def _formulations_context(ds):
             f"{ds.attrs.get('formulations_setpoints', '?')} set points of the trajectory; the "
             f"largest relative disagreement of any pair is {worst:.1e}. Operation counts are "
             f"per set point, counted on the code as implemented (gd: compiled G-D engine, "
-            f"gd-numpy: array engine), beside the formulas of Table 3.5, for n = {n}.")
+            f"gd-numpy: array engine), beside the formulas of Table 3.5, for n = {n}."
+            + prismatic_count_note(str(ds.attrs.get("formulations_joint_types", ""))))
     return {"applicable": True, "note": note, "agreement": agreement, "costs": costs}
 
 

@@ -26,7 +26,10 @@ RANKING_TEXT = (
     "translational if its share is at least s = {s}, rotational if at most 1 \u2212 s, and "
     "both in between. \u2261 0: zero in every part (below 1e-12 of its scale); its share is "
     "rounding noise and is not shown.")
-_DH_CAPTION = "Denavit-Hartenberg parameters (standard form, \u03b8 = q + offset)."
+_DH_CAPTION = "Denavit-Hartenberg parameters (standard form); q is joint i's variable, {what}."
+_DH_VARIABLE = {False: "the angle \u03b8 (revolute joints)",
+                True: "the angle \u03b8 of a revolute joint, the offset d of a prismatic one, "
+                      "whose \u03b8 is fixed"}
 _PLACEMENT_CAPTION = (
     "Joint placements, as the model holds them: frame i in body frame i \u2212 1, translation "
     "x, y, z [m] and rotation as roll, pitch, yaw [deg] (R = Rz(yaw) Ry(pitch) Rx(roll), as in "
@@ -74,7 +77,8 @@ def main_outline(ctx, figures):
     o.section("1.1", "Robot")
     o.table(ctx["robot_kv"], "The robot.", kv=True)
     if ctx["dh"] is not None:
-        o.table(ctx["dh"], _DH_CAPTION)
+        prismatic = any(row[1].startswith("q") for row in ctx["dh"]["rows"])
+        o.table(ctx["dh"], _DH_CAPTION.format(what=_DH_VARIABLE[prismatic]))
     if ctx.get("placements") is not None:
         o.table(ctx["placements"], _PLACEMENT_CAPTION)
     o.table(ctx["link"], _LINK_CAPTION)

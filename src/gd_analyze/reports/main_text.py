@@ -10,7 +10,7 @@ import numpy as np
 
 from ..core.selection.ranking import element_label, parse_element_label
 
-__all__ = ["conclusion", "disagreement_cause", "captions", "element_scale"]
+__all__ = ["conclusion", "disagreement_cause", "captions", "element_scale", "prismatic_count_note"]
 
 _CLASSES = ("translational", "rotational", "both", "negligible")
 
@@ -281,3 +281,35 @@ def captions(enveloped, N, s, e, units=None):
                         "joints n (logarithmic vertical axis): counted on the code as implemented (solid) and "
                         "the formulas of Table 3.5 (dashed).",
     }
+
+
+def prismatic_count_note(types):
+    """The sentence saying that the operation counts are this arm's, not Table 3.5's.
+
+    Parameters
+    ----------
+    types : str
+        Joint types, "R" revolute and "P" prismatic, base first
+        (:func:`gd_analyze.formulations.opcount.joint_types`).
+
+    Returns
+    -------
+    str
+        Empty for an all-revolute arm (Table 3.5's case); else one sentence, with a leading
+        space, naming the prismatic joints.
+
+    Examples
+    --------
+    >>> prismatic_count_note("RRRRRR")
+    ''
+    >>> prismatic_count_note("RRPRRR")[:40]
+    " The counts are this arm's: joint 3 is p"
+    """
+    pris = [str(i + 1) for i, t in enumerate(types) if t == "P"]
+    if not pris:
+        return ""
+    which = (f"joint {pris[0]} is" if len(pris) == 1
+             else f"joints {', '.join(pris[:-1])} and {pris[-1]} are")
+    return (f" The counts are this arm's: {which} prismatic, while Table 3.5 assumes n "
+            "revolute joints (a prismatic joint has a constant rotation and no joint rate in "
+            "its angular velocity, so its N-E step is cheaper).")
