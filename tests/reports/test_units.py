@@ -208,3 +208,25 @@ def test_newton_euler_count_is_the_arms_own(stanford):
             mul, add)
     text = unescape((stanford / "report.html").read_text())
     assert f"{mul + add:,}" in text and "joint 3 is prismatic" in text
+
+
+def test_joint_6_round_off_is_never_tabulated(stanford):
+    """Joint 6's tau_s - tau (nothing dropped there) is round-off of the arm's torques
+    (core.selection.ranking.is_round_off, tested against Pinocchio): the tables, the CLI
+    summary and Fig. 4 all say so, none prints its digits."""
+    from gd_analyze.cli.commands import _format_summary
+
+    html = (stanford / "report.html").read_text()
+    tables = tables_of(html)
+    err = next(t for t in tables if t and t[0][0] == "joint" and t[0][2].startswith("RMS"))
+    assert err[6][1].startswith("\u2261 0") and err[6][4] == "\u2261 0", err[6]
+    ranking = next(t for t in tables if t and t[0][:2] == ["element", "translational share"])
+    h6 = next(r for r in ranking if r[0] == "h6")
+    assert h6[1] in ("0", "\u2261 0") and h6[3] == "\u2261 0", h6
+    bound = next(t for t in tables if t and t[0][0] == "joint" and t[0][3] == "bound")
+    assert bound[6][-1] == "\u2261 0" and bound[6][-2] == "\u2261 0", bound[6]
+    with xr.open_dataset(stanford / "results.h5") as ds:
+        summary = _format_summary(ds).splitlines()
+    row = next(line for line in summary[summary.index(
+        "simplified model torque error per joint:") + 2:] if line.startswith("6 "))
+    assert row.split()[1] == "\u2261" and "e-16" not in row, row

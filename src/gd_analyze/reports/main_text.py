@@ -200,11 +200,10 @@ def disagreement_cause(label, ours, theirs, share, zero, s, robot_name):
                 "negligible class")
     rot = 1.0 - share
     if ours == "both":
-        if theirs == "translational":
-            cause = f"rotational share {100 * rot:.1f} % > 1 \u2212 s = {100 * (1 - s):.0f} %"
+        if theirs == "translational":          # shares as fractions, as in Sec. 4
+            cause = f"rotational share {rot:.3f} > 1 \u2212 s = {1 - s:g}"
         else:
-            cause = (f"translational share {100 * share:.1f} % > 1 \u2212 s = "
-                     f"{100 * (1 - s):.0f} %")
+            cause = f"translational share {share:.3f} > 1 \u2212 s = {1 - s:g}"
     elif ours == "translational":
         cause = f"translational share {share:.3f} \u2265 s = {s:g}"
     else:
@@ -245,23 +244,26 @@ def captions(enveloped, N, s, e, units=None):
     from .markup import element
 
     if enveloped:
-        how = (f"The {N} set points are drawn as their min/max envelope over about 400 equal "
+        how = (f"The {N:,} set points are drawn as their min/max envelope over about 400 equal "
                "time columns, without markers; lines: translational solid, rotational dashed, "
                "combined dotted")
     else:
         from .common import markevery
 
         k = markevery(N)
-        where = (f"Markers at each of the {N} set points" if k == 1 else
-                 f"Lines through all {N} set points, a marker at one set point in {k} "
+        where = (f"Markers at each of the {N:,} set points" if k == 1 else
+                 f"Lines through all {N:,} set points, a marker at one set point in {k} "
                  f"(at most {-(-N // k)} per line)")
         how = (f"{where}: translational \u25cb (solid line), rotational \u00d7 (dashed), "
                "combined \u25b3 (dotted, thin, drawn first)")
     u = {"joints": "deg, deg/s, deg/s\u00b2", "D": "kg m\u00b2", "tau": "N m", **(units or {})}
+    # what Fig. 1 draws (main_figures.joints_figure): markers only when not enveloped
+    joint_lines = ("each joint in its own colour and line style, without markers: the min/max "
+                   f"envelope of its {N:,} set points over about 400 equal time columns"
+                   if enveloped else "each joint in its own colour, line style and marker")
     return {
         "joints": "Joint positions q, velocities q\u0307 and accelerations q\u0308 against time "
-                  f"[{u['joints']}], each joint in its own colour, line style and marker; the "
-                  "dataset stores SI units (rad or m).",
+                  f"[{u['joints']}], {joint_lines}; the dataset stores SI units (rad or m).",
         "D": f"Elements {element('D', 'ij')} (i \u2264 j) of the inertia matrix against time "
              f"[{u['D']}], "
              f"split into their translational and rotational parts (analogue of Fig. 3.10). "

@@ -444,7 +444,7 @@ def _simplify(robot, trajectory, ranking, part_peaks, options, provenance):
                                 program_cache=model.program())
     table = cost_rows(robot.n, model, other=other, ladder_rows=rows, formulation_counts=counts)
     extra = simplified_dataset(model, sel, other=other, ladder_rows=rows, cost_table=table,
-                               other_error=other_error)
+                               other_error=other_error, full_terms=terms if derive else None)
     if skipped:
         extra.attrs["simplified_ladder_skipped"] = skipped
     return model, extra
