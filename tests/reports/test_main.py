@@ -281,7 +281,7 @@ def test_html_robot_trajectory_and_provenance(puma_report):
     version = f"gd-analyze {ds.attrs['gd_analyze_version']}"
     assert sum(version in v for v in values) == 1, values     # the version once
     assert "mounting_base_rpy_deg" not in ds.attrs or prov["mounting"].startswith(
-        "base as the robot file places it")
+        "base not turned")
     assert "CF conventions, version" in prov["file format"]
     assert not [k for k in prov if k.startswith(("mounting ", "conventions"))]
 

@@ -31,6 +31,7 @@ _ELSEWHERE = {
     "payload_mass", "payload_com", "payload_inertia", "simplified_files",
     "mounting_base_rpy_deg", "mounting_gravity_base", "mounting_gravity_world",
     "full_harmonics", "full_coefficients", "other_rule_harmonics", "other_rule_coefficients",
+    "formulations_joint_types",
 }
 #: The ``explicit`` setting in words.
 _EXPLICIT = {"auto": "derived when its estimated size is cheap (auto)",
@@ -77,14 +78,23 @@ def _mounting(ds):
     if rpy is None and world is None:
         return None
     if rpy is None or not np.any(rpy):
-        base = "base as the robot file places it (not turned)"
+        base = "base not turned"
     else:
         base = ("base turned by roll, pitch, yaw " + ", ".join(_fmt(v, 6) for v in rpy)
                 + " deg")
     if world is None:
-        return base + "; gravity as the robot file gives it (Sec. 1.1, in the base frame)"
+        return base + "; gravity as the robot file gives it (Sec. 1.1)"
     return (base + "; gravity (" + ", ".join(_fmt(v, 6) for v in world) + ") m/s\u00b2 in "
             "the world, in the base frame as Sec. 1.1 gives it")
+
+
+def _prismatic_joints(ds):
+    """", joint 3 prismatic" when the operation counts are for an arm with prismatic joints."""
+    types = str(ds.attrs.get("formulations_joint_types", ""))
+    pris = [str(k + 1) for k, t in enumerate(types) if t == "P"]
+    if not pris:
+        return ""
+    return f", joint{'s' if len(pris) > 1 else ''} {', '.join(pris)} prismatic"
 
 
 def _analysis_time(ds):
@@ -122,8 +132,8 @@ def provenance_rows(ds, created, version, verification):
         ("software", f"gd-analyze {version}" if analysis == version else
          f"analysis by gd-analyze {analysis}, report by gd-analyze {version}"),
         ("command", _attr(ds, "command")),
-        *([("analysis run and report created", created)] if _analysis_time(ds) == created
-          else [("analysis run", _analysis_time(ds)), ("report created", created)]),
+        ("analysis run, report created", created if _analysis_time(ds) == created
+         else f"{_analysis_time(ds)}, {created}"),
         ("trajectory file", f"{_attr(ds, 'input_path')} (SHA-256 {sha_in})"),
         ("robot file", f"{_attr(ds, 'robot_source')} (SHA-256 {_attr(ds, 'robot_sha256')})"),
         ("dominance threshold s, negligibility threshold e",
@@ -149,7 +159,7 @@ def provenance_rows(ds, created, version, verification):
     if "formulations_setpoints" in ds.attrs:
         rows.append(("formulations compared on",
                      f"{_attr(ds, 'formulations_setpoints')} set points, for "
-                     f"n = {_attr(ds, 'formulations_n')}"))
+                     f"n = {_attr(ds, 'formulations_n')}" + _prismatic_joints(ds)))
     if "simplified_files" in ds.attrs:
         rows.append(("emitted source files", _attr(ds, "simplified_files")))
     engine = _attr(ds, "verification_engine", "Pinocchio")
