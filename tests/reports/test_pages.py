@@ -186,3 +186,20 @@ def test_a_split_table_puts_at_least_three_rows_on_its_last_page(words):
     rows = [r for r in rows if r]
     assert sum(rows) == 70
     assert len(rows) == 1 or rows[-1] >= 3, rows
+
+
+def test_a_heading_is_not_left_behind_a_floating_figure():
+    """A figure floats past text, but a heading whose own figure must follow the float moves
+    with them: it never ends a page whose next page starts with the float."""
+    doc = Document("x")
+    doc.paragraph("word " * 300)
+    doc.heading("2. Big figure")
+    doc.paragraph("lead " * 150)                   # long: the heading keeps 3 lines of it
+    doc.figure(_figure(7.2, 0.8 * doc.body), (7.2, 0.8 * doc.body), "big")
+    doc.heading("3. Small figure")
+    doc.figure(_figure(7.2, 1.2), (7.2, 1.2), "small")
+    pages, bookmarks = doc._layout()
+    page_of = {text: page for text, _, page in bookmarks}
+    big = next(k for k, p in enumerate(pages) if any(
+        op[0] == "text" and op[1][1].startswith("Figure 1.") for op in p.ops))
+    assert page_of["3. Small figure"] >= big

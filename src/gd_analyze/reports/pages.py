@@ -347,6 +347,10 @@ class Document:
                 h = len(lines) * size * 1.45 / 72 + 0.05
                 follow = self._first_height(blocks[k + 1:]) if k + 1 < len(blocks) else 0.0
                 follow = min(follow, body - _TOP_GROUP)    # a page-high figure shrinks
+                if pending and any(b[0] == "figure" for b in blocks[k + 1:k + 3]):
+                    # its figure comes after the floating one: both below the heading, or
+                    # the heading under the float on the next page, never alone at the foot
+                    follow += sum(self._figure_box(*f[1], f[2])[4] for f in pending)
                 if lead + h + follow > room() and page.used > 0:
                     new_page()
                     page = pages[-1]
