@@ -13,6 +13,7 @@ from gd_analyze.formulations.opcount import (
     _gd_mirror,
     book_counts,
     count_operations,
+    joint_types,
     operation_counts,
     random_chain,
     table,
@@ -88,9 +89,49 @@ def test_gd_mirror_reproduces_gd_terms(robot):
 
 
 def test_counts_depend_on_n_only():
-    puma = operation_counts(load_robot("puma560"))   # zero parameters counted like any other
-    assert puma == operation_counts(6) == operation_counts(random_chain(6, seed=9))
+    puma = load_robot("puma560")                      # zero parameters counted like any other
+    assert operation_counts(puma) == operation_counts(6) == operation_counts(random_chain(6, 9))
+    for method in ("newton-euler", "gd"):             # the arm itself, counted directly
+        assert count_operations(puma, method)[:2] == tuple(operation_counts(6)[method].values())
     assert operation_counts(load_robot("two-link")) == operation_counts(2)
+
+
+def test_an_arm_with_a_prismatic_joint_gets_its_own_count():
+    stanford = load_robot("stanford")                 # joint 3 slides
+    assert joint_types(stanford) == "RRPRRR"
+    counts = operation_counts(stanford)
+    for method in ("newton-euler", "gd"):             # the arm itself, counted directly
+        assert count_operations(stanford, method)[:2] == tuple(counts[method].values())
+        assert count_operations(random_chain(6, 4, "RRPRRR"), method)[:2] == tuple(
+            counts[method].values())
+    assert counts["newton-euler"] != operation_counts(6)["newton-euler"]
+
+
+@pytest.mark.parametrize("i", range(1, 6))
+def test_a_prismatic_joint_saves_what_the_recursion_says(i):
+    """Derivation (opcount module docstring, Table 3.3): a revolute joint i costs 12
+    multiplications and 6 additions in ^{i-1}R_i, 2 and 3 in wd_i's "z0 qdd + u x z0 qd", 1
+    addition in w_i's "+ z0 qd"; a prismatic one 3 and 3 in its origin t + q P z0, 3 and 3 in
+    vd_i's "+ z0 qdd + 2 w x z0 qd". So a prismatic joint saves 8 multiplications and 4
+    additions; as joint 2, 2 multiplications more (its constant rotation times the constant
+    component of vd_1 along joint 1's axis, gravity's, is a robot constant)."""
+    n = 6
+    types = "R" * i + "P" + "R" * (n - i - 1)
+    got = operation_counts(random_chain(n, 0, types))["newton-euler"]
+    revolute = operation_counts(n)["newton-euler"]
+    assert revolute["multiplications"] - got["multiplications"] == (10 if i == 1 else 8)
+    assert revolute["additions"] - got["additions"] == 4
+    many = "RR" + "P" * (n - 2)                       # the savings add up, joint by joint
+    got = operation_counts(random_chain(n, 0, many))["newton-euler"]
+    assert revolute["multiplications"] - got["multiplications"] == 8 * (n - 2)
+    assert revolute["additions"] - got["additions"] == 4 * (n - 2)
+
+
+def test_random_chain_refuses_bad_joint_types():
+    with pytest.raises(ValueError, match="letters R or P"):
+        random_chain(3, types="RRX")
+    with pytest.raises(ValueError, match="letters R or P"):
+        random_chain(3, types="RR")
 
 
 def test_newton_euler_is_linear_in_n():
@@ -162,19 +203,19 @@ def test_disk_cache_is_keyed_by_the_counted_source(tmp_path, monkeypatch):
 
     monkeypatch.delenv("GD_ANALYZE_NO_CACHE", raising=False)
     monkeypatch.setenv("XDG_CACHE_HOME", str(tmp_path))
-    opcount._counts_for_n.cache_clear()
-    fresh = opcount._counts_for_n(3)
+    opcount._counts_for.cache_clear()
+    fresh = opcount._counts_for("RRR")
     path = opcount._cache_file()
     assert path.parent == tmp_path / "gd-analyze" and path.is_file()
     assert json.loads(path.read_text())["3"] == {m: list(v) for m, v in fresh.items()}
     # a planted value is read back: the cache is really used ...
     planted = {m: [1, 2] for m in fresh}
     path.write_text(json.dumps({"3": planted}))
-    opcount._counts_for_n.cache_clear()
-    assert opcount._counts_for_n(3)["gd"] == (1, 2)
+    opcount._counts_for.cache_clear()
+    assert opcount._counts_for("RRR")["gd"] == (1, 2)
     # ... but only under the key of the current source: other code, other file
     monkeypatch.setattr(opcount, "_COUNTED_MODULES", opcount._COUNTED_MODULES[:-1])
     assert opcount._cache_file() != path
-    opcount._counts_for_n.cache_clear()
-    assert opcount._counts_for_n(3) == fresh
-    opcount._counts_for_n.cache_clear()
+    opcount._counts_for.cache_clear()
+    assert opcount._counts_for("RRR") == fresh
+    opcount._counts_for.cache_clear()

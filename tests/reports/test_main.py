@@ -2,6 +2,7 @@
 
 import ast
 import re
+from html import unescape
 from html.parser import HTMLParser
 from pathlib import Path
 
@@ -278,6 +279,12 @@ def test_html_robot_trajectory_and_provenance(puma_report):
     assert not [k for k in prov if "_" in k]
     values = [v for v in prov.values()]
     assert len(set(values)) == len(values), values
+    version = f"gd-analyze {ds.attrs['gd_analyze_version']}"
+    assert sum(version in v for v in values) == 1, values     # the version once
+    assert "mounting_base_rpy_deg" not in ds.attrs or prov["mounting"].startswith(
+        "base not turned")
+    assert "CF conventions, version" in prov["file format"]
+    assert not [k for k in prov if k.startswith(("mounting ", "conventions"))]
 
 
 def test_html_chapter_comparison_puma(puma_report):
@@ -295,7 +302,10 @@ def test_html_chapter_comparison_puma(puma_report):
 def test_html_chapter_comparison_not_for_two_link(two_link_report):
     html = (two_link_report["out"] / "report.html").read_text(encoding="utf-8")
     assert table_with_header(html, ["element", "our class", "chapter's class"]) is None
-    assert "not meaningful" in html and "has 2 joints" in html
+    assert "Comparison with the chapter" not in html      # the section only for the PUMA 560
+    assert "not compared" not in html and "not meaningful" not in html
+    numbers = [int(m) for m in re.findall(r"<h2[^>]*>\s*(\d+)[ .]", html)]
+    assert numbers == list(range(1, len(numbers) + 1)), numbers   # no gap where it was
 
 
 def test_html_escapes_dataset_text(tmp_path, puma_report):
@@ -544,7 +554,7 @@ def test_long_trajectory_html_under_5mb(tmp_path, puma):
     size = html_path.stat().st_size
     assert size < 5_000_000, f"report.html is {size / 1e6:.2f} MB"
     html = html_path.read_text(encoding="utf-8")
-    assert "min/max envelope" in html and ">100000<" in html
+    assert "min/max envelope" in html and ">100,000<" in html
     assert "not run" in html                        # no verification without check
     for lab in ("D11", "D66", "h6"):
         assert math_label(lab) in html
@@ -663,3 +673,21 @@ def test_round_off_is_never_tabulated_as_data(puma_report):
             continue                                    # the formulations' agreement
         for row in t[1:]:
             assert not any(tiny.match(cell.strip()) for cell in row), row
+
+
+def test_chapter_model_dearer_than_full_is_explained(puma_report):
+    """Table 5.4: the chapter rule's explicit model costs more than the full one (issue 18);
+    Sec. 5.3 says so and why, with the stored counts."""
+    ds = puma_report["ds"]
+    costs = dict(zip(strings(ds["cost_model"].values), ds["cost_total"].values))
+    chapter, full = int(costs["explicit, chapter"]), int(costs["explicit, full"])
+    html = unescape((puma_report["out"] / "report.html").read_text(encoding="utf-8"))
+    if chapter <= full:
+        assert "costs more than the full explicit model" not in html
+        return
+    assert (f"costs more than the full explicit model ({chapter:,} against {full:,} "
+            "operations)") in html
+    a = ds.attrs
+    assert a["other_rule_harmonics"] <= a["full_harmonics"]        # it keeps fewer terms ...
+    assert f"keeps {a['other_rule_harmonics']:,} of the full model's {a['full_harmonics']:,}" in html
+    assert a["other_rule_coefficients"] > a["full_coefficients"]  # ... with less in common

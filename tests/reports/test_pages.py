@@ -145,3 +145,61 @@ def test_a_heading_stays_with_its_short_table(lead):
         assert where and rows and where[0] == rows[0], words
         moved += where[0] > 0 and words < 1000
     assert moved       # some placements did push the group to a new page
+
+
+def test_a_figure_that_does_not_fit_floats_past_the_text():
+    """A figure taller than the room left (three quarters of the page) no longer leaves that
+    room blank: the table after it fills the page, the figure heads the next page."""
+    doc = Document("x")
+    doc.paragraph("word " * 300)                       # about a quarter of the body
+    first = doc._layout()[0][0].used
+    assert 0.1 * doc.body < first < 0.5 * doc.body
+    doc.figure(_figure(7.2, 0.8 * doc.body), (7.2, 0.8 * doc.body), "a tall figure")
+    doc.table(table(["a", "b"], [[str(i), "x"] for i in range(80)]))
+    pages, _ = doc._layout()
+    assert not pages[0].figures and pages[0].used > 0.9 * doc.body
+    assert pages[1].figures and pages[1].figures[0][2] <= 0.06        # at the top
+    rows_after = [op for op in pages[1].ops if op[0] == "row"]
+    assert rows_after and min(op[1][0] for op in rows_after) > pages[1].figures[0][2]
+
+
+def test_floating_figures_keep_their_order():
+    doc = Document("x")
+    doc.paragraph("word " * 300)
+    for k in range(3):
+        doc.figure(_figure(7.2, 0.6 * doc.body), (7.2, 0.6 * doc.body), f"figure {k}")
+    doc.paragraph("word " * 100)
+    pages, _ = doc._layout()
+    captions = [op[1][1] for p in pages for op in p.ops
+                if op[0] == "text" and op[1][1].startswith("Figure ")]
+    assert captions == [f"Figure {k + 1}. figure {k}" for k in range(3)]
+    assert sum(len(p.figures) for p in pages) == 3
+
+
+@pytest.mark.parametrize("words", [*range(0, 1400, 53), 700, 720])
+def test_a_split_table_puts_at_least_three_rows_on_its_last_page(words):
+    doc = Document("x")
+    doc.paragraph("word " * (words + 1))
+    doc.table(table(["item", "value"], [[f"row {i}", "v"] for i in range(70)]))
+    pages, _ = doc._layout()
+    rows = [sum(op[0] == "row" and not op[1][2] for op in p.ops) for p in pages]
+    rows = [r for r in rows if r]
+    assert sum(rows) == 70
+    assert len(rows) == 1 or rows[-1] >= 3, rows
+
+
+def test_a_heading_is_not_left_behind_a_floating_figure():
+    """A figure floats past text, but a heading whose own figure must follow the float moves
+    with them: it never ends a page whose next page starts with the float."""
+    doc = Document("x")
+    doc.paragraph("word " * 300)
+    doc.heading("2. Big figure")
+    doc.paragraph("lead " * 150)                   # long: the heading keeps 3 lines of it
+    doc.figure(_figure(7.2, 0.8 * doc.body), (7.2, 0.8 * doc.body), "big")
+    doc.heading("3. Small figure")
+    doc.figure(_figure(7.2, 1.2), (7.2, 1.2), "small")
+    pages, bookmarks = doc._layout()
+    page_of = {text: page for text, _, page in bookmarks}
+    big = next(k for k, p in enumerate(pages) if any(
+        op[0] == "text" and op[1][1].startswith("Figure 1.") for op in p.ops))
+    assert page_of["3. Small figure"] >= big

@@ -249,7 +249,7 @@ def test_urdf_robot_shows_its_joint_placements(reports):
 def test_dh_robot_keeps_its_dh_table(reports):
     html, _ = _files(reports, "puma")
     headers = [h for _, h, _ in _tables(html)]
-    assert ["joint", "d [m]", "a [m]", "\u03b1 [deg]", "offset [deg]"] in headers
+    assert ["joint", "d [m]", "a [m]", "\u03b1 [deg]", "\u03b8 [deg]"] in headers
     assert not [h for h in headers if h[:3] == ["joint", "type", "x [m]"]]
 
 

@@ -267,3 +267,71 @@ def test_payload_figure_gives_n_for_the_prismatic_joint():
             by_unit[unit] = sorted(int(ln.get_label().split()[1]) - 1 for ln in ax.lines)
     assert by_unit == {u: [i for i in range(N_JOINTS) if _tau_units(i) == u]
                        for u in {_tau_units(i) for i in range(N_JOINTS)}}
+
+
+def test_dh_table_gives_the_joint_variable_per_joint_type(stanford):
+    """A revolute joint turns (theta = q + offset, d fixed); a prismatic one slides (d = q +
+    offset, theta fixed): the Stanford file gives joint 3 theta_deg = -90 and no d."""
+    html = (stanford / "report.html").read_text()
+    dh = next(t for t in tables_of(html) if t and t[0][:4] == ["joint", "d [m]", "a [m]",
+                                                                "\u03b1 [deg]"])
+    assert dh[0][4] == "\u03b8 [deg]"
+    for k, row in enumerate(dh[1:]):
+        d, theta = row[1], row[4]
+        if PRISMATIC[k]:
+            assert d.startswith("q") and float(theta.replace("\u2212", "-")) == -90.0
+        else:
+            assert theta.startswith("q") and not d.startswith("q")
+    assert "offset [deg]" not in html and "\u03b8 = q + offset" not in html
+    assert "the offset d of a prismatic one" in unescape(html)
+
+
+def test_stored_drive_and_limit_units_follow_the_joint_types(stanford):
+    with xr.open_dataset(stanford / "results.h5") as ds:
+        assert ds["D_arm"].attrs["units"] == "kg m2 or kg by joint type (per joint: joint_type)"
+        assert ds["viscous"].attrs["units"] == (
+            "N m s rad-1 or N s m-1 by joint type (per joint: joint_type)")
+        for name, per_joint in (("q_min", "q_units"), ("qd_max", "qd_units"),
+                                ("qdd_max", "qdd_units")):
+            assert ds[name].attrs["units"].endswith(f"(per joint: {per_joint})"), name
+        assert "prismatic" in ds["dh_offset"].attrs["long_name"]
+
+
+def test_newton_euler_count_is_the_arms_own(stanford):
+    """The costs set against Newton-Euler use the count of this arm (joint 3 prismatic), the
+    count the control report uses: the arm itself counted directly, not an all-revolute chain."""
+    from gd_analyze import load_robot
+    from gd_analyze.formulations.opcount import count_operations
+
+    mul, add = count_operations(load_robot("stanford"), "newton-euler")[:2]
+    with xr.open_dataset(stanford / "results.h5") as ds:
+        k = [str(v) for v in ds["cost_model"].values].index("project N-E as implemented")
+        assert (ds["cost_multiplications"].values[k], ds["cost_additions"].values[k]) == (
+            mul, add)
+        j = [str(v) for v in ds["formulation"].values].index("newton-euler")
+        assert (ds["op_multiplications_arm"].values[j], ds["op_additions_arm"].values[j]) == (
+            mul, add)
+    text = unescape((stanford / "report.html").read_text())
+    assert f"{mul + add:,}" in text and "joint 3 is prismatic" in text
+
+
+def test_joint_6_round_off_is_never_tabulated(stanford):
+    """Joint 6's tau_s - tau (nothing dropped there) is round-off of the arm's torques
+    (core.selection.ranking.is_round_off, tested against Pinocchio): the tables, the CLI
+    summary and Fig. 4 all say so, none prints its digits."""
+    from gd_analyze.cli.commands import _format_summary
+
+    html = (stanford / "report.html").read_text()
+    tables = tables_of(html)
+    err = next(t for t in tables if t and t[0][0] == "joint" and t[0][2].startswith("RMS"))
+    assert err[6][1].startswith("\u2261 0") and err[6][4] == "\u2261 0", err[6]
+    ranking = next(t for t in tables if t and t[0][:2] == ["element", "translational share"])
+    h6 = next(r for r in ranking if r[0] == label("h6"))        # lettered h₆
+    assert h6[1] in ("0", "\u2261 0") and h6[3] == "\u2261 0", h6
+    bound = next(t for t in tables if t and t[0][0] == "joint" and t[0][3] == "bound")
+    assert bound[6][-1] == "\u2261 0" and bound[6][-2] == "\u2261 0", bound[6]
+    with xr.open_dataset(stanford / "results.h5") as ds:
+        summary = _format_summary(ds).splitlines()
+    row = next(line for line in summary[summary.index(
+        "simplified model torque error per joint:") + 2:] if line.startswith("6 "))
+    assert row.split()[1] == "\u2261" and "e-16" not in row, row

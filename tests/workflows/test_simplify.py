@@ -195,3 +195,25 @@ def test_akb_anchors_only_for_the_puma(tmp_path, capsys):
         labels = [str(v) for v in ds["cost_model"].values]
     assert ds.sizes["joint"] == 6 and "project N-E as implemented" in labels
     assert not any(lab.startswith("AKB") for lab in labels)
+
+
+def test_coefficient_structure_counts_harmonics_and_equal_magnitudes():
+    """Hand count: D_11 = 2 (tran) + 1 (rot) cos q1 + 3 sin q1 and D_12 = -3 cos q2 give
+    three harmonic terms (the two parts of D_11's constant add to one) with the
+    magnitudes 3, 3 and 3 (one distinct); keeping only D_11's tran part leaves 2 and 3:
+    two distinct."""
+    from gd_analyze.core.symbolic.explicit import Term
+    from gd_analyze.workflows.simplified_dataset import coefficient_structure
+
+    def terms(rows):
+        kind, part, i, j, K, S, C = zip(*rows)
+        return Term(np.array(kind), np.array(part), np.array(i), np.array(j),
+                    np.full(len(rows), -1), np.array(K).reshape(-1, 2), np.array(S, bool),
+                    np.array(C, float))
+
+    full = terms([("D", "tran", 0, 0, (0, 0), False, 2.0),
+                  ("D", "rot", 0, 0, (0, 0), False, 1.0),
+                  ("D", "tran", 0, 0, (1, 0), True, 3.0),
+                  ("D", "tran", 0, 1, (0, 1), False, -3.0)])
+    assert coefficient_structure(full) == (3, 1)
+    assert coefficient_structure(full.subset(np.array([True, False, True, True]))) == (3, 2)

@@ -180,9 +180,11 @@ def _format_summary(ds):
 
     header, ends = _torque_table_header(prismatic_joints(ds))
     lines += ["", "simplified model torque error per joint:", header]
-    from ..core.selection.ranking import is_round_off
+    from ..core.selection.ranking import arm_scales, is_round_off
+    from ..reports.common import torque_units
 
-    off = is_round_off(ds.tau_error_peak.values, ds.tau_peak.values)
+    off = is_round_off(ds.tau_error_peak.values, ds.tau_peak.values,
+                       arm_scale=arm_scales(ds.tau_peak.values, torque_units(ds)))
     for j in range(ds.sizes["joint"]):
         if off[j]:                      # round-off of the joint's torque: not data
             lines.append(f"{j + 1:<6}{ZERO_MARK:>12}{ZERO_MARK:>12}"

@@ -26,7 +26,7 @@ from ..core.model.drives import rigid_links
 from ..core.model.kinematics import as_states
 from .lagrange_euler import le_terms
 from .newton_euler import ne_tau, ne_terms
-from .opcount import book_counts, operation_counts
+from .opcount import book_counts, joint_types, operation_counts
 from .pinocchio import pinocchio_model, relative_error
 
 __all__ = ["METHODS", "DynamicsResult", "dynamics", "inverse_dynamics", "compare",
@@ -360,8 +360,10 @@ def formulations_dataset(robot, q, qd, qdd, n_max=10, max_setpoints=FORMULATIONS
         pair of L-E, N-E, G-D and Pinocchio for D, h, c and tau; ``op_multiplications`` and
         ``op_additions`` (dof, formulation): counts per set point as implemented;
         ``op_multiplications_table_3_5`` and ``op_additions_table_3_5`` (dof, formulation):
-        the formulas of Table 3.5. Attributes ``formulations_setpoints`` and
-        ``formulations_n``.
+        the formulas of Table 3.5 (n revolute joints); ``op_multiplications_arm`` and
+        ``op_additions_arm`` (formulation): the counts for this arm's joint types. Attributes
+        ``formulations_setpoints``, ``formulations_n`` and ``formulations_joint_types`` (e.g.
+        "RRPRRR").
 
     Raises
     ------
@@ -384,6 +386,7 @@ def formulations_dataset(robot, q, qd, qdd, n_max=10, max_setpoints=FORMULATIONS
     methods = list(operation_counts(1))
     dofs = np.arange(1, n_max + 1)
     got = [operation_counts(int(n)) for n in dofs]
+    arm = operation_counts(robot)
     book = [book_counts(int(n)) for n in dofs]
 
     def grid(source, op):
@@ -401,6 +404,12 @@ def formulations_dataset(robot, q, qd, qdd, n_max=10, max_setpoints=FORMULATIONS
                                       "multiplications per set point, as implemented"),
             "op_additions": var(("dof", "formulation"), grid(got, "additions"),
                                 "additions per set point, as implemented"),
+            "op_multiplications_arm": var(("formulation",), np.array(
+                [float(arm[m]["multiplications"]) for m in methods]),
+                "multiplications per set point for this arm's joint types, as implemented"),
+            "op_additions_arm": var(("formulation",), np.array(
+                [float(arm[m]["additions"]) for m in methods]),
+                "additions per set point for this arm's joint types, as implemented"),
             "op_multiplications_table_3_5": var(("dof", "formulation"),
                                                 grid(book, "multiplications"),
                                                 "multiplications per set point, Table 3.5"),
@@ -417,7 +426,8 @@ def formulations_dataset(robot, q, qd, qdd, n_max=10, max_setpoints=FORMULATIONS
                             {"units": "1", "long_name": "formulation (gd: compiled G-D engine, "
                                                         "gd-numpy: array G-D engine)"}),
         },
-        attrs={"formulations_setpoints": int(idx.size), "formulations_n": robot.n},
+        attrs={"formulations_setpoints": int(idx.size), "formulations_n": robot.n,
+               "formulations_joint_types": joint_types(robot)},
     )
 
 

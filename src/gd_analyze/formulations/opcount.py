@@ -25,7 +25,24 @@ Counting rule
   pseudo-inertias, gravity) are general numbers: an operation on parameters only is done once
   per robot and not counted; an operation with at least one set-point-dependent operand is.
   Parameters that happen to be 0 or 1 are counted like any other value, so the counts depend on
-  n only, not on the robot.
+  n and the joint types only, not on the robot's numbers: :func:`operation_counts` counts a
+  :func:`random_chain` with the arm's joint types, once per pattern of joint types (one count
+  per arm, which the main report, the control report and ``compare`` all read).
+
+Prismatic joints
+----------------
+Table 3.5 counts n revolute joints. A prismatic joint i changes the N-E recursion (Table 3.3)
+thus: its rotation ^{i-1}R_i is the constant placement (a revolute joint's costs 12
+multiplications and 6 additions: two columns of P_i Rz(q_i), each entry c P + s P) while its
+origin becomes t_i + q_i P_i z0 (3 multiplications, 3 additions); w_i = ^iR_{i-1} w_{i-1}
+loses "+ z0 qd_i" (1 addition) and wd_i loses "+ z0 qdd_i + w x z0 qd_i" (2 multiplications,
+3 additions); vd_i gains "+ z0 qdd_i + 2 w_i x z0 qd_i" (3 multiplications, 3 additions);
+tau_i = f_i . z0 in place of n_i . z0 costs the same. A prismatic joint with a moving frame
+after a turning one (i > 2) so saves 12 + 2 - 3 - 3 = 8 multiplications and 6 + 1 + 3 - 3 - 3
+= 4 additions. At i = 2 it saves 2 multiplications more: the component of vd_1 along joint 1's
+axis is gravity's, a robot constant, which the constant ^1R_2 multiplies at no counted cost.
+A prismatic first joint saves far more (its frame does not turn: w_1 = wd_1 = 0, whose zeros
+spread). The tests check these savings against the counted run.
 - Structural constants of the algorithm (the 0 and 1 entries of Q, z0, identity matrices, the
   last row of homogeneous matrices, zero initial conditions w_0 = wd_0 = 0, p_0 = 0) are exact
   0 and 1: multiplying by 0 or +-1 and adding 0 cost nothing. A negation costs nothing; a
@@ -72,7 +89,7 @@ from .lagrange_euler import _constants as _le_constants
 from .lagrange_euler import _le_core, _tau, joint_q_matrices
 from .newton_euler import _cross, _ne_core, link_constants
 
-__all__ = ["OpCount", "METHODS", "TABLE_3_5", "random_chain", "count_operations",
+__all__ = ["OpCount", "METHODS", "TABLE_3_5", "joint_types", "random_chain", "count_operations",
            "operation_counts", "book_counts", "table"]
 
 #: The implementations counted, in table order ("gd" is the compiled G-D engine).
@@ -106,8 +123,24 @@ tau : ndarray, shape (n,)
 """
 
 
-def random_chain(n, seed=0):
-    """A random n-joint revolute chain with general parameters (none 0 or 1).
+def joint_types(robot):
+    """The joint types of an arm as one string, "R" revolute and "P" prismatic, base first.
+
+    Parameters
+    ----------
+    robot : Robot
+        The arm, with n joints.
+
+    Returns
+    -------
+    str
+        Length n, e.g. ``"RRPRRR"`` for the Stanford arm.
+    """
+    return "".join("P" if p else "R" for p in robot.prismatic)
+
+
+def random_chain(n, seed=0, types=None):
+    """A random n-joint chain with general parameters (none 0 or 1).
 
     Parameters
     ----------
@@ -115,6 +148,9 @@ def random_chain(n, seed=0):
         Number of joints, >= 1.
     seed : int, optional
         Seed of :func:`numpy.random.default_rng`.
+    types : str, optional
+        Joint types, "R" revolute and "P" prismatic, length n (:func:`joint_types`); all
+        revolute by default.
 
     Returns
     -------
@@ -126,13 +162,16 @@ def random_chain(n, seed=0):
     Raises
     ------
     ValueError
-        If n < 1.
+        If n < 1 or types is not n letters R or P.
     """
     if n < 1:
         raise ValueError(f"n must be >= 1, got {n}")
+    types = "R" * n if types is None else types
+    if len(types) != n or set(types) - {"R", "P"}:
+        raise ValueError(f"types must be {n} letters R or P, got {types!r}")
     rng = np.random.default_rng(seed)
     links = []
-    for _ in range(n):
+    for kind in types:
         B = rng.normal(size=(3, 3)) * 0.1
         S = B @ B.T                                # second moment about the centre of mass
         I = np.trace(S) * np.eye(3) - S            # always satisfies the triangle inequality
@@ -145,8 +184,14 @@ def random_chain(n, seed=0):
                         float(I[0, 1]), float(I[0, 2]), float(I[1, 2])],
             "q_limits_deg": [-170.0, 170.0], "qd_max_deg": 180.0, "qdd_max_deg": 360.0,
         })
-    return robot_from_dict({"name": f"random-{n}", "gravity": [0.0, 0.0, -9.8062],
-                            "link": links}, source=f"<random_chain({n}, {seed})>")
+        if kind == "P":                        # d is the joint variable, theta fixed
+            link = links[-1]
+            link["joint"], link["theta_deg"] = "prismatic", link.pop("offset_deg")
+            del link["d"], link["q_limits_deg"], link["qd_max_deg"], link["qdd_max_deg"]
+            link.update({"q_limits": [0.1, 1.0], "qd_max": 0.5, "qdd_max": 1.0})
+    name = f"random-{n}" if "P" not in types else f"random-{types}"
+    return robot_from_dict({"name": name, "gravity": [0.0, 0.0, -9.8062],
+                            "link": links}, source=f"<random_chain({n}, {seed}, {types!r})>")
 
 
 def _counted_transforms(robot, led, q, homogeneous=False):
@@ -354,9 +399,11 @@ def _cache_file():
 
 
 @cache
-def _counts_for_n(n):
+def _counts_for(types):
+    """Counts of every method for a random chain with joint types ``types`` (cached on disk)."""
     import json
 
+    n = len(types)
     path = _cache_file()
     cached = {}
     if path is not None:
@@ -364,10 +411,10 @@ def _counts_for_n(n):
             cached = json.loads(path.read_text())
         except (OSError, ValueError):
             cached = {}
-    key = str(n)
+    key = str(n) if "P" not in types else types
     if key in cached:
         return {m: tuple(v) for m, v in cached[key].items()}
-    robot = random_chain(n)
+    robot = random_chain(n, types=types)
     counts = {m: tuple(int(x) for x in count_operations(robot, m)[:2]) for m in METHODS}
     if path is not None:
         try:
@@ -389,8 +436,9 @@ def operation_counts(robot_or_n):
     Parameters
     ----------
     robot_or_n : Robot or int
-        The arm, or its number of joints n (a :func:`random_chain` is counted; the counts
-        depend on n only).
+        The arm, or a number of joints n (n revolute joints, as in Table 3.5). A
+        :func:`random_chain` with the arm's joint types (:func:`joint_types`) is counted: the
+        counts depend on n and the joint types only, so every arm gets one count.
 
     Returns
     -------
@@ -411,11 +459,11 @@ def operation_counts(robot_or_n):
     Fu, Gonzalez & Lee (1987) for comparison.
     """
     if isinstance(robot_or_n, Robot):
-        counts = {m: count_operations(robot_or_n, m)[:2] for m in METHODS}
+        counts = _counts_for(joint_types(robot_or_n))
     elif isinstance(robot_or_n, numbers.Integral):
         if robot_or_n < 1:
             raise ValueError(f"n must be >= 1, got {robot_or_n}")
-        counts = _counts_for_n(int(robot_or_n))
+        counts = _counts_for("R" * int(robot_or_n))
     else:
         raise TypeError(f"expected a Robot or an int, got {type(robot_or_n).__name__}")
     return {m: {"multiplications": mu, "additions": ad} for m, (mu, ad) in counts.items()}

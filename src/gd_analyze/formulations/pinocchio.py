@@ -21,6 +21,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from ..core.model.kinematics import as_states
+from ..core.selection.ranking import ROUND_OFF_EPS
 
 __all__ = ["pinocchio_model", "ReferenceTerms", "reference_terms", "relative_error",
            "natural_scales", "natural_relative_error"]
@@ -176,8 +177,9 @@ def relative_error(value, reference):
 
 
 #: The absolute floor of :func:`natural_relative_error`, in units of machine epsilon times the
-#: overall scale of the quantity.
-FLOOR_EPS = 64.0
+#: overall scale of the quantity: the round-off rule's
+#: (:data:`gd_analyze.core.selection.ranking.ROUND_OFF_EPS`).
+FLOOR_EPS = ROUND_OFF_EPS
 
 
 def natural_scales(robot, ref, qd, qdd=None):

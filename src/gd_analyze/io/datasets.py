@@ -85,18 +85,22 @@ def joint_units(prismatic, which):
     prismatic : sequence of bool, shape (n,)
         The prismatic joints.
     which : str
-        ``"q"``, ``"qd"``, ``"qdd"`` or ``"tau"`` (also h, c and the torque errors).
+        ``"q"``, ``"qd"``, ``"qdd"``, ``"tau"`` (also h, c and the torque errors),
+        ``"armature"`` or ``"viscous"``.
 
     Returns
     -------
     list of str, length n
-        From :func:`gd_analyze.core.selection.labels.joint_motion_units` and
-        :func:`gd_analyze.core.selection.labels.joint_torque_units`.
+        From :func:`gd_analyze.core.selection.labels.joint_motion_units`,
+        :func:`gd_analyze.core.selection.labels.joint_torque_units` and
+        :func:`gd_analyze.core.selection.labels.joint_drive_units`.
     """
-    from ..core.selection.labels import joint_motion_units, joint_torque_units
+    from ..core.selection.labels import joint_drive_units, joint_motion_units, joint_torque_units
 
     if which == "tau":
         return [joint_torque_units(bool(p)) for p in prismatic]
+    if which in ("armature", "viscous"):
+        return [joint_drive_units(bool(p))[which == "viscous"] for p in prismatic]
     k = ("q", "qd", "qdd").index(which)
     return [joint_motion_units(bool(p))[k] for p in prismatic]
 
@@ -226,6 +230,10 @@ def summary_dataset(robot, trajectory, ranking, choices, error, verification=Non
     puma = is_chapter_puma(robot.name, n)
     prismatic = np.asarray(robot.prismatic, bool)
     torque = units_attribute(joint_units(prismatic, "tau"), "tau_units")
+
+    def by_type(which, coord):
+        return units_attribute(joint_units(prismatic, which), coord)
+
     data_vars = {
         "share_tran": var(("element",), ranking.share_tran, "1",
                            "translational share sum|tran| / (sum|tran| + sum|rot|)"),
@@ -259,10 +267,13 @@ def summary_dataset(robot, trajectory, ranking, choices, error, verification=Non
                                        "RMS |tau_simplified - tau| / peak |tau|"),
         "joint_type": var(("joint",), np.array(robot.joint_types, dtype=str), "1",
                           "joint type: revolute (q in rad) or prismatic (q in m)"),
-        "dh_d": var(("joint",), robot.d, "m", "DH link offset d"),
+        "dh_d": var(("joint",), robot.d, "m",
+                    "DH link offset d (prismatic joint: its constant part, d = q + dh_d)"),
         "dh_a": var(("joint",), robot.a, "m", "DH link length a"),
         "dh_alpha": var(("joint",), robot.alpha, "rad", "DH twist angle alpha"),
-        "dh_offset": var(("joint",), robot.offset, "rad", "joint angle offset, theta = q + offset"),
+        "dh_offset": var(("joint",), robot.offset, "rad",
+                         "DH joint angle: revolute joint theta = q + dh_offset; prismatic joint "
+                         "theta = dh_offset, fixed"),
         "joint_translation": var(("joint", "xyz"), robot.translation, "m",
                                  "translation of joint i's placement in body frame i-1"),
         "joint_rotation": var(("joint", "xyz", "xyz_k"), robot.rotation, "1",
@@ -272,15 +283,20 @@ def summary_dataset(robot, trajectory, ranking, choices, error, verification=Non
         "link_com": var(("joint", "xyz"), robot.com, "m", "centre of mass in link frame"),
         "link_inertia": var(("joint", "xyz", "xyz_k"), robot.inertia, "kg m2",
                              "inertia tensor about the centre of mass, link-frame axes"),
-        "q_min": var(("joint",), robot.q_min, "rad", "lower joint position limit"),
-        "q_max": var(("joint",), robot.q_max, "rad", "upper joint position limit"),
-        "qd_max": var(("joint",), robot.qd_max, "rad s-1", "joint velocity limit"),
-        "qdd_max": var(("joint",), robot.qdd_max, "rad s-2", "joint acceleration limit"),
-        "D_arm": var(("joint",), robot.armature, "kg m2",
+        "q_min": var(("joint",), robot.q_min, by_type("q", "q_units"),
+                     "lower joint position limit"),
+        "q_max": var(("joint",), robot.q_max, by_type("q", "q_units"),
+                     "upper joint position limit"),
+        "qd_max": var(("joint",), robot.qd_max, by_type("qd", "qd_units"),
+                      "joint velocity limit"),
+        "qdd_max": var(("joint",), robot.qdd_max, by_type("qdd", "qdd_units"),
+                       "joint acceleration limit"),
+        "D_arm": var(("joint",), robot.armature, by_type("armature", "joint_type"),
                      "armature part of D: its diagonal, the drive's reflected rotor inertia "
                      "rotor_inertia * gear_ratio^2 (D_arm = diag of this)"),
-        "viscous": var(("joint",), robot.viscous, "N m s rad-1",
-                       "viscous friction coefficient (N s m-1 for a prismatic joint)"),
+        "viscous": var(("joint",), robot.viscous, by_type("viscous", "joint_type"),
+                       "viscous friction coefficient (N m s rad-1 revolute, N s m-1 "
+                       "prismatic)"),
         "coulomb": var(("joint",), robot.coulomb, torque, "Coulomb friction torque"),
     }
     if getattr(ranking, "rigid_dominance", None) is not None:

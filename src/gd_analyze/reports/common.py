@@ -24,9 +24,9 @@ A4_LANDSCAPE = (11.69, 8.27)
 #: Colour-blind-safe colours (Okabe & Ito) of the dominance classes, the same in every report.
 __all__ = ["CLASS_COLOURS", "BASE_RC", "SUPTITLE_RC", "A4", "A4_LANDSCAPE", "style", "utc_now",
            "keep_units",
-           "strings", "fmt", "pct", "attr", "thresholds", "check", "table", "grid_shape",
-           "joint_colours", "joint_style", "JOINT_STYLES", "MAX_MARKERS", "MIN_MARKERS",
-           "markevery", "panel_markevery",
+           "strings", "fmt", "pct", "pct_column", "attr", "thresholds", "check", "table",
+           "grid_shape", "joint_colours", "joint_style", "JOINT_STYLES", "MAX_MARKERS",
+           "MIN_MARKERS", "markevery", "panel_markevery",
            "gridspec", "svg", "inline_svgs", "render_template", "check_formats",
            "prismatic_joints", "torque_units", "FORMULATION_NAMES", "FORMULATION_ABBR",
            "element_units_of", "units_text", "units_said_once"]
@@ -149,6 +149,40 @@ def pct(value):
     if v == 0 or abs(v) >= 0.01:
         return f"{v:.2f} %"
     return f"{v:.1e} %"
+
+
+def pct_column(values, off=None):
+    """A column of fractions as percentages in one format (issue 18: one format per column).
+
+    Parameters
+    ----------
+    values : array_like, shape (M,)
+        The fractions [1].
+    off : array_like of bool, shape (M,), optional
+        Entries that are round-off or exactly zero by the caller's rule
+        (:func:`gd_analyze.core.selection.ranking.is_round_off`): shown as "\u2261 0"; an exact
+        0 is always shown so.
+
+    Returns
+    -------
+    list of str
+        Two decimals ("1.23 %") when every shown value is at least 0.01 %, else one
+        significant decimal in exponent form for all ("1.2e-02 %"); "n/a" where not finite.
+
+    Examples
+    --------
+    >>> pct_column([0.0123, 0.5])
+    ['1.23 %', '50.00 %']
+    >>> pct_column([2e-4, 6.4e-5, 0.0], off=[False, False, True])
+    ['2.0e-02 %', '6.4e-03 %', '\u2261 0']
+    """
+    v = 100.0 * np.asarray(values, dtype=float).ravel()
+    hide = (v == 0) | (np.zeros(v.shape, bool) if off is None
+                       else np.asarray(off, bool).ravel())
+    shown = v[~hide & np.isfinite(v)]
+    fixed = bool(np.all(np.abs(shown) >= 0.01))
+    return ["\u2261 0" if h else "n/a" if not math.isfinite(x) else
+            f"{x:.2f} %" if fixed else f"{x:.1e} %" for x, h in zip(v, hide)]
 
 
 def attr(ds, key, default="\u2014", *, parens=True, bools=False, sci_outside=None):

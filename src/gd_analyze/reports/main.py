@@ -391,7 +391,7 @@ def _document(ctx, sizes, paper="a4", fonts="type3"):
                                .replace("T", "")[:14] + "Z",
     }
     doc = Document(ctx["title"], paper=paper, metadata=metadata, fonts=fonts,
-                   footer=f"gd-analyze {ctx['version']}: {ctx['robot_name']}, {ctx['N']} set "
+                   footer=f"gd-analyze {ctx['version']}: {ctx['robot_name']}, {ctx['N']:,} set "
                           "points")
     return to_document(main_outline(ctx, sizes), doc, sizes)
 

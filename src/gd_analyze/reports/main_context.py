@@ -10,7 +10,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from ..core.selection.ranking import is_round_off
+from ..core.selection.ranking import arm_scales, is_round_off
 from ..io.sweep_datasets import payload_part
 from .common import CLASS_COLOURS as _CLASS_COLOURS
 from .common import attr as _attr
@@ -24,14 +24,21 @@ from .common import (
     utc_now,
 )
 from .common import fmt as _fmt
-from .common import pct as _pct
+from .common import pct_column as _pct_column
 from .common import strings as _strings
 from .common import table as _table
 from .common import thresholds as _thresholds
 from .effort import effort_rows
 from .main_figures import identically_zero
 from .main_provenance import provenance_rows
-from .main_text import captions, conclusion, disagreement_cause, element_scale, gravity_clause
+from .main_text import (
+    captions,
+    conclusion,
+    disagreement_cause,
+    element_scale,
+    gravity_clause,
+    prismatic_count_note,
+)
 from .markup import element as _el
 from .markup import tau
 from .simplified_section import ROUND_OFF, has_simplified, simplified_caption, simplified_context
@@ -183,10 +190,18 @@ def _robot_geometry(ds):
     n = ds.sizes["joint"]
     dh_rows = np.stack([ds[v].values for v in ("dh_d", "dh_a", "dh_alpha", "dh_offset")])
     if np.all(np.isfinite(dh_rows)) or "joint_rotation" not in ds.variables:
+        pris = prismatic_joints(ds)
+
+        def cell(value, variable):            # the joint variable q where it moves: q + offset
+            if not variable:
+                return _fmt(value)
+            sign = "+" if value > 0 else "\u2212"
+            return "q" if value == 0 else f"q {sign} {_fmt(abs(value))}"
+
         dh = _table(
-            ["joint", "d [m]", "a [m]", "\u03b1 [deg]", "offset [deg]"],
-            [[str(k + 1), _fmt(dh_rows[0, k]), _fmt(dh_rows[1, k]),
-              _fmt(np.degrees(dh_rows[2, k])), _fmt(np.degrees(dh_rows[3, k]))]
+            ["joint", "d [m]", "a [m]", "\u03b1 [deg]", "\u03b8 [deg]"],
+            [[str(k + 1), cell(dh_rows[0, k], pris[k]), _fmt(dh_rows[1, k]),
+              _fmt(np.degrees(dh_rows[2, k])), cell(np.degrees(dh_rows[3, k]), not pris[k])]
              for k in range(n)],
             align=["left"] + ["right"] * 4, widths=[0.8, 1, 1, 1, 1])
         return dh, None
@@ -356,7 +371,7 @@ def _report_context_base(ds):
     traj_kv = _kv([
         ("source file", _attr(ds, "input_file")), ("path", _attr(ds, "input_path")),
         ("SHA-256", sha_in or "\u2014 (not read from a file)"),
-        ("set points N", str(N)),
+        ("set points N", f"{N:,}"),
         ("duration [s]",
          f"{_fmt(t[-1] - t[0], 6)}  (t = {_fmt(t[0], 6)} \u2026 {_fmt(t[-1], 6)})"),
         ("derivatives", f"{derivatives}: {_DERIVATIVES.get(derivatives, 'as recorded')}"
@@ -386,8 +401,9 @@ def _report_context_base(ds):
     zero = zero_mask(ds)[1]
     pt, pr, ptot = ds["peak_tran"].values, ds["peak_rot"].values, ds["peak_total"].values
     scale = _scales(ds)[1]
-    off = {name: is_round_off(v, scale) for name, v in (("tran", pt), ("rot", pr),
-                                                         ("total", ptot))}
+    arm = arm_scales(scale, el_units)            # round-off follows the arm's scale too
+    off = {name: is_round_off(v, scale, arm_scale=arm)
+           for name, v in (("tran", pt), ("rot", pr), ("total", ptot))}
 
     def peak(name, k, v):                        # round-off of the element's scale: not data
         return "\u2261 0" if off[name][k] else _fmt(v[k])
@@ -413,7 +429,10 @@ def _report_context_base(ds):
             [[lab, dominance[k], choice[k], _CHOICE_TEXT.get(choice[k], "")]
              for k, lab in enumerate(labels)],
             widths=[0.8, 1.2, 0.8, 2.2], colour_cols=[1])
-    err_off = is_round_off(ds["tau_error_peak"].values, ds["tau_peak"].values)
+    err_off = is_round_off(ds["tau_error_peak"].values, ds["tau_peak"].values,
+                           arm_scale=arm_scales(ds["tau_peak"].values, tau_units))
+    rel_peak = _pct_column(ds["tau_error_relative_peak"].values, err_off)   # one format
+    rel_rms = _pct_column(ds["tau_error_relative_rms"].values, err_off)     # per column
     err = _table(
         ["joint", "peak |\u03c4\u209b\u00a0\u2212\u00a0\u03c4|",
          "RMS |\u03c4\u209b\u00a0\u2212\u00a0\u03c4|",
@@ -421,10 +440,7 @@ def _report_context_base(ds):
         [[str(k + 1)] + (["\u2261 0 (round-off)"] * 2 if err_off[k] else
                          [_fmt(ds["tau_error_peak"].values[k]),
                           _fmt(ds["tau_error_rms"].values[k])])
-         + [_fmt(ds["tau_peak"].values[k])]
-         + (["\u2261 0"] * 2 if err_off[k] else
-            [_pct(ds["tau_error_relative_peak"].values[k]),
-             _pct(ds["tau_error_relative_rms"].values[k])]) + [tau_units[k]]
+         + [_fmt(ds["tau_peak"].values[k]), rel_peak[k], rel_rms[k], tau_units[k]]
          for k in range(n)],
         align=["left"] + ["right"] * 5 + ["left"], widths=[0.6, 1.2, 1.2, 1, 1.2, 1.2, 0.6])
     rel_peak = ds["tau_error_relative_peak"].values
@@ -482,7 +498,7 @@ def _report_context_base(ds):
                          ds["tau_error_peak"].values, ds["tau_peak"].values, _model_cost(ds),
                          recursive=_recursive_facts(ds) if form == "recursive" else None,
                          gravity=_gravity_fact(ds, form), units=tau_units)
-    facts = (f"{robot_name}, {n} joints, {N} set points over {_fmt(t[-1] - t[0], 4)} s; "
+    facts = (f"{robot_name}, {n} joints, {N:,} set points over {_fmt(t[-1] - t[0], 4)} s; "
              f"{len(labels)} elements ranked with s = {s:g}, e = {e:g}: "
              + ", ".join(f"{counts[c]} {c}" for c in _CLASS_COLOURS)
              + f". Verification against Pinocchio: {verified}.")
@@ -504,7 +520,7 @@ def _report_context_base(ds):
                     "n_agree": n_agree, "n_compared": n_compared},
         "provenance": _kv(prov), "enveloped": enveloped,
         "formulations": formulations, "payload": payload,
-        "envelope_note": (f"The trajectory has {N} set points: curves are drawn as their "
+        "envelope_note": (f"The trajectory has {N:,} set points: curves are drawn as their "
                           "min/max envelope over about 400 equal time columns per panel, "
                           "without markers (the report reads the stored series in chunks)."
                           if enveloped else ""),
@@ -608,10 +624,14 @@ def _formulations_context(ds):
     names = _strings(ds["formulation"].values)
     dof = list(ds["dof"].values)
     rows = []
+    arm = "op_multiplications_arm" in ds.variables
     if n in dof:
         k = dof.index(n)
         for j, name in enumerate(names):
-            mul, add = ds["op_multiplications"].values[k, j], ds["op_additions"].values[k, j]
+            if arm:                           # the arm's own joint types (prismatic joints)
+                mul, add = ds["op_multiplications_arm"].values[j], ds["op_additions_arm"].values[j]
+            else:
+                mul, add = ds["op_multiplications"].values[k, j], ds["op_additions"].values[k, j]
             bm = ds["op_multiplications_table_3_5"].values[k, j]
             ba = ds["op_additions_table_3_5"].values[k, j]
             rows.append([FORMULATION_NAMES.get(name, name), f"{mul:.0f}", f"{add:.0f}",
@@ -625,7 +645,8 @@ def _formulations_context(ds):
             f"largest relative disagreement of any pair is {worst:.1e}. Operation counts are "
             f"per set point, counted on the code as implemented (the G-D equations by the "
             f"compiled and by the array engine), beside the formulas of Table 3.5, for "
-            f"n = {n}; pairs: L-E Lagrange-Euler, N-E Newton-Euler, G-D the G-D equations.")
+            f"n = {n}; pairs: L-E Lagrange-Euler, N-E Newton-Euler, G-D the G-D equations."
+            + prismatic_count_note(str(ds.attrs.get("formulations_joint_types", ""))))
     return {"applicable": True, "note": note, "agreement": agreement, "costs": costs}
 
 

@@ -26,7 +26,10 @@ RANKING_TEXT = (
     "translational if its share is at least s = {s}, rotational if at most 1 \u2212 s, and "
     "both in between. \u2261 0: zero in every part (below 1e-12 of its scale); its share is "
     "rounding noise and is not shown.")
-_DH_CAPTION = "Denavit-Hartenberg parameters (standard form, \u03b8 = q + offset)."
+_DH_CAPTION = "Denavit-Hartenberg parameters (standard form); q is joint i's variable, {what}."
+_DH_VARIABLE = {False: "the angle \u03b8 (revolute joints)",
+                True: "the angle \u03b8 of a revolute joint, the offset d of a prismatic one, "
+                      "whose \u03b8 is fixed"}
 _PLACEMENT_CAPTION = (
     "Joint placements, as the model holds them: frame i in body frame i \u2212 1, translation "
     "x, y, z [m] and rotation as roll, pitch, yaw [deg] (R = Rz(yaw) Ry(pitch) Rx(roll), as in "
@@ -57,7 +60,9 @@ def main_outline(ctx, figures):
     Returns
     -------
     Outline
-        Title block, then Secs. 1 to 8 (6.1 only with a payload sweep).
+        Title block, then Secs. 1 to 8: Sec. 6, the comparison with the chapter, only for
+        the chapter's PUMA 560 (the payload sweep is 6.1 there, else Sec. 6; the later
+        sections move up when neither is there).
 
     Notes
     -----
@@ -74,7 +79,8 @@ def main_outline(ctx, figures):
     o.section("1.1", "Robot")
     o.table(ctx["robot_kv"], "The robot.", kv=True)
     if ctx["dh"] is not None:
-        o.table(ctx["dh"], _DH_CAPTION)
+        prismatic = any(row[1].startswith("q") for row in ctx["dh"]["rows"])
+        o.table(ctx["dh"], _DH_CAPTION.format(what=_DH_VARIABLE[prismatic]))
     if ctx.get("placements") is not None:
         o.table(ctx["placements"], _PLACEMENT_CAPTION)
     o.table(ctx["link"], _LINK_CAPTION)
@@ -85,7 +91,7 @@ def main_outline(ctx, figures):
     o.table(ctx["traj_kv"], "The trajectory.", kv=True)
     o.table(ctx["joints"], "Range of motion per joint.")
     if ctx.get("effort"):
-        o.paragraph(ctx["effort_text"], "body")
+        o.paragraph(ctx["effort_text"], "note")
         o.table(ctx["effort"], "Peak |\u03c4| of the full model against each joint's effort "
                                "limit.")
     o.paragraph(ctx["envelope_note"], "note")
@@ -132,34 +138,37 @@ def main_outline(ctx, figures):
         o.paragraph("Emitted source files: " + ", ".join(sm["files"]) + _FILES_TEXT, "note")
 
     compare = ctx["compare"]
-    o.section("6", "Comparison with the chapter's PUMA 560", "chapter")
-    o.paragraph(compare["note"], "note")
+    top = 6                                  # the chapter comparison only for its PUMA 560
     if compare["applicable"]:
+        o.section("6", "Comparison with the chapter's PUMA 560", "chapter")
+        o.paragraph(compare["note"], "note")
         o.paragraph(f"Agreement: {compare['n_agree']} of {compare['n_compared']} elements.",
                     "strong")
         o.table(compare["table"], "Our class of each element against the class the chapter "
                                   "reads off Figs. 3.10 and 3.11.")
     payload = ctx["payload"]
     if payload["applicable"]:
-        o.section("6.1", "Dominance against the payload", "payload", level=1)
+        o.section(f"{top}.1" if compare["applicable"] else str(top),
+                  "Dominance against the payload", "payload", level=1)
         o.paragraph(payload["note"], "note")
         if payload["table"]["rows"]:
             o.table(payload["table"], "Elements whose class changes with the payload.")
         o.figure("payload", caps["payload"])
+    top += compare["applicable"] or payload["applicable"]
 
     forms = ctx["formulations"]
-    o.section("7", "Formulations: Lagrange-Euler, Newton-Euler, G-D", "formulations")
+    o.section(str(top), "Formulations: Lagrange-Euler, Newton-Euler, G-D", "formulations")
     o.paragraph(forms["note"], "note")
     if forms["applicable"]:
-        o.section("7.1", "Largest relative disagreement per pair")
+        o.section(f"{top}.1", "Largest relative disagreement per pair")
         o.table(forms["agreement"], "Largest relative disagreement of each pair of "
                                     "formulations over the checked set points.")
-        o.section("7.2", "Operations per set point")
+        o.section(f"{top}.2", "Operations per set point")
         o.table(forms["costs"], "Operations per set point: as implemented, and by the "
                                 "formulas of Table 3.5.")
         o.figure("formulations", caps["formulations"])
 
-    o.section("8", "Provenance", "provenance")
+    o.section(str(top + 1), "Provenance", "provenance")
     o.table(ctx["provenance"], "Provenance: each setting of the analysis and the report once.",
             kv=True, size=7)
     return o

@@ -29,7 +29,13 @@ _ELSEWHERE = {
     "simplified_sin", "simplified_cos", "other_rule_multiplications", "other_rule_additions",
     "simplified_ladder_skipped", "formulations_n", "formulations_setpoints",
     "payload_mass", "payload_com", "payload_inertia", "simplified_files",
+    "mounting_base_rpy_deg", "mounting_gravity_base", "mounting_gravity_world",
+    "full_harmonics", "full_coefficients", "other_rule_harmonics", "other_rule_coefficients",
+    "formulations_joint_types",
 }
+#: The ``explicit`` setting in words.
+_EXPLICIT = {"auto": "derived when its estimated size is cheap (auto)",
+             "always": "always derived", "never": "never derived"}
 #: (row, setting asked for, what the model records it was built with), in the order shown.
 _SETTINGS = (
     ("simplification rule", "rule", "simplified_rule"),
@@ -58,6 +64,50 @@ def _payload(ds):
             f"inertia diagonal {_attr(ds, 'payload_inertia')} kg m\u00b2")
 
 
+def _vector(ds, key):
+    """A stored 3-vector attribute as numbers, or None."""
+    if key not in ds.attrs:
+        return None
+    v = np.asarray(ds.attrs[key], dtype=float).ravel()
+    return v if v.size == 3 else None
+
+
+def _mounting(ds):
+    """The mounting in words: how the base is turned, and where gravity comes from."""
+    rpy, world = _vector(ds, "mounting_base_rpy_deg"), _vector(ds, "mounting_gravity_world")
+    if rpy is None and world is None:
+        return None
+    if rpy is None or not np.any(rpy):
+        base = "base not turned"
+    else:
+        base = ("base turned by roll, pitch, yaw " + ", ".join(_fmt(v, 6) for v in rpy)
+                + " deg")
+    if world is None:
+        return base + "; gravity as the robot file gives it (Sec. 1.1)"
+    return (base + "; gravity (" + ", ".join(_fmt(v, 6) for v in world) + ") m/s\u00b2 in "
+            "the world, in the base frame as Sec. 1.1 gives it")
+
+
+def _prismatic_joints(ds):
+    """", joint 3 prismatic" when the operation counts are for an arm with prismatic joints."""
+    types = str(ds.attrs.get("formulations_joint_types", ""))
+    pris = [str(k + 1) for k, t in enumerate(types) if t == "P"]
+    if not pris:
+        return ""
+    return f", joint{'s' if len(pris) > 1 else ''} {', '.join(pris)} prismatic"
+
+
+def _analysis_time(ds):
+    """When the analysis ran, from the CF ``history`` ("<time> created by gd-analyze X")."""
+    return _attr(ds, "history").split(" created by ")[0]
+
+
+def _conventions(ds):
+    """The results file's format in words."""
+    cf = _attr(ds, "Conventions").replace("CF-", "")
+    return f"results.h5: HDF5 (netCDF-4) with metadata after the CF conventions, version {cf}"
+
+
 def provenance_rows(ds, created, version, verification):
     """The rows (item, value) of the main report's provenance table, each setting once.
 
@@ -82,8 +132,8 @@ def provenance_rows(ds, created, version, verification):
         ("software", f"gd-analyze {version}" if analysis == version else
          f"analysis by gd-analyze {analysis}, report by gd-analyze {version}"),
         ("command", _attr(ds, "command")),
-        ("analysis run", _attr(ds, "history")),
-        ("report created", created),
+        ("analysis run, report created", created if _analysis_time(ds) == created
+         else f"{_analysis_time(ds)}, {created}"),
         ("trajectory file", f"{_attr(ds, 'input_path')} (SHA-256 {sha_in})"),
         ("robot file", f"{_attr(ds, 'robot_source')} (SHA-256 {_attr(ds, 'robot_sha256')})"),
         ("dominance threshold s, negligibility threshold e",
@@ -95,15 +145,21 @@ def provenance_rows(ds, created, version, verification):
         value = _setting(ds, asked, built)
         used.update((asked, built))
         if value is not None and asked == "torque_floor":
-            value += " N m" + (", or N for a prismatic joint" if prismatic_joints(ds).any()
-                               else "")
+            value = ("none: each joint's scale is its own peak |\u03c4|" if value == "0" else
+                     value + " N m" + (", or N for a prismatic joint"
+                                       if prismatic_joints(ds).any() else ""))
+        if value is not None and asked == "explicit":
+            value = _EXPLICIT.get(value, value)
         if value is not None:
             rows.append((label, value))
+    mounting = _mounting(ds)
+    if mounting is not None:
+        rows.append(("mounting", mounting))
     rows.append(("payload on the last link", _payload(ds)))
     if "formulations_setpoints" in ds.attrs:
         rows.append(("formulations compared on",
                      f"{_attr(ds, 'formulations_setpoints')} set points, for "
-                     f"n = {_attr(ds, 'formulations_n')}"))
+                     f"n = {_attr(ds, 'formulations_n')}" + _prismatic_joints(ds)))
     if "simplified_files" in ds.attrs:
         rows.append(("emitted source files", _attr(ds, "simplified_files")))
     engine = _attr(ds, "verification_engine", "Pinocchio")
@@ -116,7 +172,7 @@ def provenance_rows(ds, created, version, verification):
         if twin in ds.attrs and _attr(ds, twin) == value:
             continue                                        # each setting once
         rows.append((key.replace("_", " "), value))
-    rows += [("conventions", _attr(ds, "Conventions")), ("method", _attr(ds, "references"))]
+    rows += [("file format", _conventions(ds)), ("method", _attr(ds, "references"))]
     return rows
 
 

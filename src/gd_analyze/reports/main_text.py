@@ -10,7 +10,8 @@ import numpy as np
 
 from ..core.selection.ranking import element_label, parse_element_label
 
-__all__ = ["conclusion", "model_sentence", "gravity_clause", "disagreement_cause", "captions", "element_scale"]
+__all__ = ["conclusion", "model_sentence", "gravity_clause", "disagreement_cause", "captions",
+           "element_scale", "prismatic_count_note"]
 
 _CLASSES = ("translational", "rotational", "both", "negligible")
 
@@ -286,11 +287,10 @@ def disagreement_cause(label, ours, theirs, share, zero, s, robot_name):
                 "negligible class")
     rot = 1.0 - share
     if ours == "both":
-        if theirs == "translational":
-            cause = f"rotational share {100 * rot:.1f} % > 1 \u2212 s = {100 * (1 - s):.0f} %"
+        if theirs == "translational":          # shares as fractions, as in Sec. 4
+            cause = f"rotational share {rot:.3f} > 1 \u2212 s = {1 - s:g}"
         else:
-            cause = (f"translational share {100 * share:.1f} % > 1 \u2212 s = "
-                     f"{100 * (1 - s):.0f} %")
+            cause = f"translational share {share:.3f} > 1 \u2212 s = {1 - s:g}"
     elif ours == "translational":
         cause = f"translational share {share:.3f} \u2265 s = {s:g}"
     else:
@@ -331,23 +331,26 @@ def captions(enveloped, N, s, e, units=None):
     from .markup import element
 
     if enveloped:
-        how = (f"The {N} set points are drawn as their min/max envelope over about 400 equal "
+        how = (f"The {N:,} set points are drawn as their min/max envelope over about 400 equal "
                "time columns, without markers; lines: translational solid, rotational dashed, "
                "combined dotted")
     else:
         from .common import panel_markevery
 
         k = panel_markevery(N, 3)
-        where = (f"Markers at each of the {N} set points" if k == 1 else
-                 f"Lines through all {N} set points, a marker at one set point in {k} "
+        where = (f"Markers at each of the {N:,} set points" if k == 1 else
+                 f"Lines through all {N:,} set points, a marker at one set point in {k} "
                  f"(at most {-(-N // k)} per line, staggered)")
         how = (f"{where}: translational \u25cb (solid line), rotational \u00d7 (dashed), "
                "combined \u25b3 (dotted, thin, drawn first)")
     u = {"joints": "deg, deg/s, deg/s\u00b2", "D": "kg m\u00b2", "tau": "N m", **(units or {})}
+    # what Fig. 1 draws (main_figures.joints_figure): markers only when not enveloped
+    joint_lines = ("each joint in its own colour and line style, without markers: the min/max "
+                   f"envelope of its {N:,} set points over about 400 equal time columns"
+                   if enveloped else "each joint in its own colour, line style and marker")
     return {
         "joints": "Joint positions q, velocities q\u0307 and accelerations q\u0308 against time "
-                  f"[{u['joints']}], each joint in its own colour, line style and marker; the "
-                  "dataset stores SI units (rad or m).",
+                  f"[{u['joints']}], {joint_lines}; the dataset stores SI units (rad or m).",
         "D": f"Elements {element('D', 'ij')} (i \u2264 j) of the inertia matrix against time "
              f"[{u['D']}], "
              f"split into their translational and rotational parts (analogue of Fig. 3.10). "
@@ -367,3 +370,35 @@ def captions(enveloped, N, s, e, units=None):
                         "joints n (logarithmic vertical axis): counted on the code as implemented (solid) and "
                         "the formulas of Table 3.5 (dashed).",
     }
+
+
+def prismatic_count_note(types):
+    """The sentence saying that the operation counts are this arm's, not Table 3.5's.
+
+    Parameters
+    ----------
+    types : str
+        Joint types, "R" revolute and "P" prismatic, base first
+        (:func:`gd_analyze.formulations.opcount.joint_types`).
+
+    Returns
+    -------
+    str
+        Empty for an all-revolute arm (Table 3.5's case); else one sentence, with a leading
+        space, naming the prismatic joints.
+
+    Examples
+    --------
+    >>> prismatic_count_note("RRRRRR")
+    ''
+    >>> prismatic_count_note("RRPRRR")[:40]
+    " The counts are this arm's: joint 3 is p"
+    """
+    pris = [str(i + 1) for i, t in enumerate(types) if t == "P"]
+    if not pris:
+        return ""
+    which = (f"joint {pris[0]} is" if len(pris) == 1
+             else f"joints {', '.join(pris[:-1])} and {pris[-1]} are")
+    return (f" The counts are this arm's: {which} prismatic, while Table 3.5 assumes n "
+            "revolute joints (a prismatic joint has a constant rotation and no joint rate in "
+            "its angular velocity, so its N-E step is cheaper).")

@@ -39,10 +39,15 @@ PAGE_RC = {"pdf.fonttype": 3, "font.family": "DejaVu Sans", "path.simplify": Tru
 FIGURE_FONTS = {"type3": 3, "truetype": 42}
 
 _MARGIN_X, _MARGIN_TOP, _MARGIN_BOTTOM = 0.53, 0.6, 0.75
-_CHAR = 0.55
+_CHAR = 0.55            # mean character width of DejaVu Sans [em]
 #: Headings and a lead-in at the top of a page [in]: a figure below them shrinks to fit
 #: rather than leave them alone on the page.
-_TOP_GROUP = 1.0            # mean character width of DejaVu Sans [em]
+_TOP_GROUP = 1.0
+#: A figure that does not fit floats past the following text when more than this fraction of
+#: the page's body would otherwise stay blank.
+_FLOAT_ROOM = 0.25
+#: A table split over pages puts at least this many rows on its last page.
+_MIN_ROWS = 3
 _HEADING = {1: 13.0, 2: 10.5, 0: 15.0}
 
 
@@ -318,18 +323,46 @@ class Document:
         return textwrap.wrap(text, chars) or [""]
 
     def _layout(self):
+        """Pages of placed blocks, and the bookmarks.
+
+        A figure that does not fit the room left on a page, where that room is more than
+        :data:`_FLOAT_ROOM` of the body, floats: the text and tables after it fill the page,
+        and the figure goes to the top of the next page (figures keep their order), as LaTeX
+        places a float; a page is not left three-quarters blank.
+        """
         pages = [_Page()]
         bookmarks = []
         body = self.body
+        pending = []                                   # a floating figure, at most one
 
         def room():
             return body - pages[-1].used
 
         def new_page():
             pages.append(_Page())
+            while pending:                             # the float at the top of the page
+                place(pending.pop(0), defer=False)
 
-        def text_height(lines, size):
-            return len(lines) * size * 1.38 / 72
+        def place(payload, defer):
+            pdf_bytes, (w, h), caption = payload
+            lines = self._wrap(caption, 8.0)
+            pw, ph, scale, rotate, need = self._figure_box(w, h, caption)
+            page = pages[-1]
+            if need > room() and page.used > _TOP_GROUP:
+                if defer and room() > _FLOAT_ROOM * body:
+                    pending.append(payload)
+                    return
+                new_page()
+                page = pages[-1]
+            if need > room():            # under its heading at the top: shrink to fit
+                pw, ph, scale, rotate, need = self._figure_box(w, h, caption, room())
+            x = _MARGIN_X + (self.width - pw * scale) / 2
+            page.figures.append((pdf_bytes, x, page.used + 0.05, pw, ph, scale, rotate))
+            page.used += ph * scale + 0.1
+            for line in lines:
+                page.ops.append(("text", (page.used, line, 8.0, False, "0.15")))
+                page.used += 8.0 * 1.38 / 72
+            page.used += 0.15
 
         blocks = self.blocks
         for k, (kind, payload) in enumerate(blocks):
@@ -342,10 +375,14 @@ class Document:
                 h = len(lines) * size * 1.45 / 72 + 0.05
                 follow = self._first_height(blocks[k + 1:]) if k + 1 < len(blocks) else 0.0
                 follow = min(follow, body - _TOP_GROUP)    # a page-high figure shrinks
+                if pending and any(b[0] == "figure" for b in blocks[k + 1:k + 3]):
+                    # its figure comes after the floating one: both below the heading, or
+                    # the heading under the float on the next page, never alone at the foot
+                    follow += sum(self._figure_box(*f[1], f[2])[4] for f in pending)
                 if lead + h + follow > room() and page.used > 0:
                     new_page()
                     page = pages[-1]
-                    lead = 0.0
+                    lead = 0.0 if page.used == 0 else lead
                 page.used += lead
                 for line in lines:
                     page.ops.append(("text", (page.used, line, size, True, "black")))
@@ -366,21 +403,11 @@ class Document:
             elif kind == "table":
                 self._layout_table(payload, pages, new_page)
             elif kind == "figure":
-                pdf_bytes, (w, h), caption = payload
-                lines = self._wrap(caption, 8.0)
-                pw, ph, scale, rotate, need = self._figure_box(w, h, caption)
-                if need > room() and page.used > _TOP_GROUP:
-                    new_page()
-                    page = pages[-1]
-                if need > room():            # under its heading at the top: shrink to fit
-                    pw, ph, scale, rotate, need = self._figure_box(w, h, caption, room())
-                x = _MARGIN_X + (self.width - pw * scale) / 2
-                page.figures.append((pdf_bytes, x, page.used + 0.05, pw, ph, scale, rotate))
-                page.used += ph * scale + 0.1
-                for line in lines:
-                    page.ops.append(("text", (page.used, line, 8.0, False, "0.15")))
-                    page.used += 8.0 * 1.38 / 72
-                page.used += 0.15
+                if pending:                                    # figures keep their order
+                    place(pending.pop(0), defer=False)
+                place(payload, defer=True)
+        while pending:
+            place(pending.pop(0), defer=False)
         return pages, bookmarks
 
     def _figure_box(self, w, h, caption, room=None):
@@ -459,8 +486,14 @@ class Document:
         page.ops.append(("row", (page.used, header[0], True, False, spec)))
         page.used += header[1]
         page.ops.append(("rule", (page.used, 0.5)))
+        on_page = 0
         for k, (cells, h) in enumerate(rows):
-            if page.used + h > self.body:
+            tail = rows[k:]
+            # no last page of one or two rows: the last three rows stay together
+            widow = (len(tail) == _MIN_ROWS and on_page >= _MIN_ROWS
+                     and page.used + sum(r[1] for r in tail) > self.body)
+            if page.used + h > self.body or widow:
+                on_page = 0
                 page.ops.append(("rule", (page.used, 0.8)))
                 new_page()
                 page = pages[-1]
@@ -470,6 +503,7 @@ class Document:
                 page.ops.append(("rule", (page.used, 0.5)))
             page.ops.append(("row", (page.used, cells, False, k % 2 == 1, spec)))
             page.used += h
+            on_page += 1
         page.ops.append(("rule", (page.used, 0.8)))
         page.used += 0.16
 

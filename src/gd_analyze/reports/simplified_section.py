@@ -11,8 +11,8 @@ from __future__ import annotations
 
 import numpy as np
 
-from ..core.selection.ranking import ROUND_OFF, is_round_off
-from .common import fmt, pct, prismatic_joints, strings, table, torque_units, units_said_once
+from ..core.selection.ranking import ROUND_OFF, arm_scales, is_round_off
+from .common import fmt, pct, pct_column, strings, table, torque_units, units_said_once
 from .markup import element as _el
 from .markup import sub as _sub
 
@@ -119,7 +119,7 @@ def simplified_context(ds):
         text += (f" Side by side, the {other} rule's model costs "
                  f"{a.get('other_rule_multiplications')} multiplications and "
                  f"{a.get('other_rule_additions')} additions, worst error {pct(worst)} of "
-                 "peak |\u03c4|.")
+                 "peak |\u03c4|." + _dearer_than_full(ds, other))
     measured = ds["tau_error_peak"].values
     parts = ("from D", "from h", "from c") if form != "recursive" else (
         "inertial (D)", "velocity (h)", "gravity (c)", "whole parameters")
@@ -127,9 +127,17 @@ def simplified_context(ds):
     units = torque_units(ds)
     scale = ds["simplified_scale"].values
 
-    def num(v, i):                   # round-off of joint i's scale is not data (issue 18)
-        return "\u2261 0" if is_round_off(v, scale[i]) and v != 0 else _num(v)
+    arm = arm_scales(scale, units)
 
+    def off(v, i):                   # round-off of joint i's or the arm's scale (issue 18)
+        return bool(is_round_off(v, scale[i], arm_scale=arm[i]))
+
+    def num(v, i):                   # a bound that is round-off bounds nothing: 0, as an
+        return "0" if off(v, i) else _num(v)      # exact 0 (one mark per column)
+
+    measured_off = np.array([off(measured[i], i) for i in range(n)], bool)
+    with np.errstate(divide="ignore", invalid="ignore"):
+        ratio = pct_column(np.where(scale > 0, measured / scale, np.nan), measured_off)
     bound = table(
         ["joint", "units", f"scale {_S_I}", "bound", *parts,
          "measured peak |\u03c4\u209b\u00a0\u2212\u00a0\u03c4|", f"measured / {_S_I}"],
@@ -138,9 +146,9 @@ def simplified_context(ds):
           num(ds["simplified_bound_inertia"].values[i], i),
           num(ds["simplified_bound_coriolis"].values[i], i),
           num(ds["simplified_bound_gravity"].values[i], i),
-          *([] if whole is None else [num(whole[i], i)]), num(measured[i], i),
-          ("\u2261 0" if is_round_off(measured[i], scale[i]) else
-           pct(measured[i] / scale[i])) if scale[i] > 0 else "\u2014"] for i in range(n)],
+          *([] if whole is None else [num(whole[i], i)]),
+          "\u2261 0" if measured_off[i] or measured[i] == 0 else _num(measured[i]),
+          ratio[i] if scale[i] > 0 else "\u2014"] for i in range(n)],
         align=["left", "left"] + ["right"] * (7 + (whole is not None)))
     costs = ladder = None
     if "cost_total" in ds.variables:
@@ -153,9 +161,11 @@ def simplified_context(ds):
     if "ladder_operations" in ds.variables:
         ladder = table(["\u03b5", "operations", "sin + cos", "worst error on this trajectory "
                         "(guaranteed \u2264 \u03b5)"],
-                       [[f"{e:g}", str(int(o)), str(int(tr)), pct(w)] for e, o, tr, w in
+                       [[f"{e:g}", str(int(o)), str(int(tr)), w] for e, o, tr, w in
                         zip(ds["ladder_tolerance"].values, ds["ladder_operations"].values,
-                            ds["ladder_trig"].values, ds["ladder_worst_error"].values)],
+                            ds["ladder_trig"].values, pct_column(   # relative: own scale 1
+                                ds["ladder_worst_error"].values,
+                                is_round_off(ds["ladder_worst_error"].values, 1.0)))],
                        align=["right"] * 4)
     skipped = str(ds.attrs.get("simplified_ladder_skipped", "")) if ladder is None else ""
     return {"text": text, "bound": bound, "costs": costs, "ladder": ladder, "files": files,
@@ -192,33 +202,40 @@ def _recursive_text(ds, eps, floor):
                    "that sum: the bound below is guaranteed, on this trajectory only.")
 
 
-def _round_off(diff, bound, scale, arm_scale=None):
-    """Whether a joint's tau_s - tau is floating-point round-off only
-    (:func:`gd_analyze.core.selection.ranking.is_round_off`).
+def _dearer_than_full(ds, other):
+    """Why the other rule's explicit model costs more than the full one, from the stored
+    counts (:func:`gd_analyze.workflows.simplified_dataset.coefficient_structure`), or ""."""
+    a = ds.attrs
+    keys = ("full_harmonics", "full_coefficients", "other_rule_harmonics",
+            "other_rule_coefficients")
+    if "cost_total" not in ds.variables or not all(k in a for k in keys):
+        return ""
+    costs = dict(zip(strings(ds["cost_model"].values), ds["cost_total"].values))
+    full = costs.get("explicit, full")
+    mine = int(a.get("other_rule_multiplications", -1)) + int(a.get("other_rule_additions", -1))
+    if full is None or mine <= full:
+        return ""
+    fh, fc, oh, oc = (int(a[k]) for k in keys)
+    return (f" It costs more than the full explicit model ({mine:,} against {int(full):,} "
+            f"operations) although it keeps {oh:,} of the full model's {fh:,} harmonic terms: "
+            "where an element keeps one part, its coefficients are that part's, not the sum "
+            f"of both; the full model's {fc} distinct coefficient magnitudes become {oc}, so "
+            "the code generator's factoring (a x + a y = a (x + y), and a cos(A + B) + b "
+            "cos(A \u2212 B) in one product where a = \u00b1b) finds less to share."
+            + (" The budget rule falls back to the full model in that case; the chapter rule "
+               "has no such fallback." if other == "chapter" else ""))
 
-    Its bound (what was dropped for the joint) must be round-off of the joint's own scale,
-    and its peak round-off of ``arm_scale``: the largest scale among the joints of the same
-    type (same units). Both models evaluate the same recursion over the whole chain, whose
-    round-off follows the chain's largest torques, not the joint's own: joint 6 of the PUMA
-    (scale 1.2e-4 N m) differs by 2e-16 N m, 1.8e-12 of its own scale.
-    """
+
+def _round_off(diff, bound, scale, arm_scale=None):
+    """Whether a joint's tau_s - tau is floating-point round-off only: its bound (what was
+    dropped for the joint) and its peak both by the one rule
+    (:func:`gd_analyze.core.selection.ranking.is_round_off`), with ``arm_scale`` the largest
+    scale among the joints of the same units
+    (:func:`gd_analyze.core.selection.ranking.arm_scales`)."""
     if diff.size == 0 or not np.isfinite(diff).all() or not np.isfinite(bound):
         return False
-    ref = scale if arm_scale is None else max(float(scale), float(arm_scale))
-    return bool(is_round_off(bound, scale)
-                and is_round_off(float(np.max(np.abs(diff))), ref))
-
-
-def _arm_scales(scale, prismatic):
-    """The largest scale among the joints of each joint's type [N m or N]."""
-    scale = np.asarray(scale, float)
-    out = np.empty_like(scale)
-    for kind in (False, True):
-        same = np.asarray(prismatic, bool) == kind
-        if same.any():
-            finite = scale[same][np.isfinite(scale[same])]
-            out[same] = finite.max() if finite.size else np.nan
-    return out
+    return bool(is_round_off(bound, scale, arm_scale=arm_scale)
+                and is_round_off(float(np.max(np.abs(diff))), scale, arm_scale=arm_scale))
 
 
 def error_figure(ds, size=(8.27, 9.0), data=None):
@@ -240,7 +257,8 @@ def error_figure(ds, size=(8.27, 9.0), data=None):
     -------
     matplotlib.figure.Figure
         Panels on a fixed grid (no layout engine: the margins are set for the 7-pt tick
-        labels, the 8-pt axis labels and the titles); ticks placed once, in one notation for
+        labels, the 8-pt axis labels and the panel titles; no figure title, which the
+        numbered caption gives); ticks placed once, in one notation for
         the figure (:func:`gd_analyze.reports.ticks.label_axes`), every y range padded so that
         neither the error nor the bound touches the frame; the legend above the panels,
         clear of every curve. A joint whose difference and bound are round-off
@@ -260,14 +278,14 @@ def error_figure(ds, size=(8.27, 9.0), data=None):
         diff = ds["tau_simplified"].values - ds["tau"].values
     bound = ds["simplified_bound"].values
     scale = ds["simplified_scale"].values if "simplified_scale" in ds else ds["tau_peak"].values
-    arm = _arm_scales(scale, prismatic_joints(ds) if "joint" in ds.sizes else np.zeros(n, bool))
+    arm = arm_scales(scale, units)
     W, H = size
     column = W < 5.0
     cols = 2 if n > 1 and not column else 1
     rows = -(-n // cols)
-    left, right, gap, top, bottom, hgap = 0.62, 0.1, 0.75, 0.72, 0.42, 0.62
+    left, right, gap, top, bottom, hgap = 0.62, 0.1, 0.75, 0.5, 0.42, 0.62
     if column:
-        top, hgap = 0.7, 0.5
+        top, hgap = 0.45, 0.5
     w = (W - left - right - (cols - 1) * gap) / cols
     h = (H - top - bottom - (rows - 1) * hgap) / rows
     fig = Figure(figsize=size)
@@ -321,10 +339,5 @@ def error_figure(ds, size=(8.27, 9.0), data=None):
     if handles:                     # above the panels: no curve or bound runs through it
         fig.legend(handles, [hd.get_label() for hd in handles], loc="upper center", ncol=2,
                    frameon=False, fontsize=7, handlelength=2.6,
-                   bbox_to_anchor=(0.5, 1 - (0.4 if not column else 0.3) / H))
-    title = ("Torque error of the simplified model, \u03c4\u209b \u2212 \u03c4 "
-             f"[{units_said_once(ds, 'tau')}], and its bound")
-    if column:
-        title = "Simplified model: \u03c4\u209b \u2212 \u03c4 and its bound"  # units: on each axis
-    fig.suptitle(title, fontsize=9 if not column else 8, y=1 - 0.1 / H, va="top")
-    return fig
+                   bbox_to_anchor=(0.5, 1 - 0.08 / H))
+    return fig                      # no title inside: the numbered caption says it

@@ -406,7 +406,7 @@ def _simplify(robot, trajectory, ranking, part_peaks, options, provenance):
     explicit, form = options.explicit, options.form
     q, qd, qdd = trajectory.q, trajectory.qd, trajectory.qdd
     common = dict(ranking=ranking, trajectory_sha256=trajectory.sha256, provenance=provenance)
-    counts = operation_counts(robot.n)
+    counts = operation_counts(robot)
     rec, rec_sel = build_recursive(robot, q, qd, qdd, tolerance=tolerance,
                                    torque_floor=torque_floor, **common)
     exact = rec.costs["exact recursive"]
@@ -444,7 +444,7 @@ def _simplify(robot, trajectory, ranking, part_peaks, options, provenance):
                                 program_cache=model.program())
     table = cost_rows(robot.n, model, other=other, ladder_rows=rows, formulation_counts=counts)
     extra = simplified_dataset(model, sel, other=other, ladder_rows=rows, cost_table=table,
-                               other_error=other_error)
+                               other_error=other_error, full_terms=terms if derive else None)
     if skipped:
         extra.attrs["simplified_ladder_skipped"] = skipped
     return model, extra

@@ -221,7 +221,8 @@ def model_cost(model):
         (:func:`gd_analyze.core.symbolic.recursive.recursive_program`), the full explicit model
         (unless the model is recursive and the expansion expensive,
         :func:`gd_analyze.core.symbolic.explicit_estimate.is_expensive`) and the project's Newton-Euler
-        as implemented (:func:`gd_analyze.formulations.opcount.count_operations`), last;
+        as implemented (:func:`gd_analyze.formulations.opcount.operation_counts`, the arm's one
+        count), last;
         ``dropped`` of ``parts``: what the model drops, ``what`` names them (parts of D and h,
         or (base parameter, part) pairs), ``dropped_pairs`` lists the pairs of a recursive model.
 
@@ -234,7 +235,7 @@ def model_cost(model):
     from ..core.model.drives import with_drives
     from ..core.symbolic.explicit_estimate import is_expensive
     from ..core.symbolic.recursive import recursive_program
-    from ..formulations.opcount import count_operations
+    from ..formulations.opcount import operation_counts
     from ..io.explicit_cache import explicit_terms
     from .simplify import full_program
 
@@ -245,9 +246,7 @@ def model_cost(model):
     if model.form == "explicit" or not is_expensive(robot):
         terms, _ = explicit_terms(robot)
         counted.append(("full explicit model", full_program(robot, terms).cost()))
-    ne = count_operations(robot, "newton-euler")
-    counted.append(("Newton-Euler (as implemented)",
-                    {"multiplications": ne[0], "additions": ne[1]}))
+    counted.append(("Newton-Euler (as implemented)", operation_counts(robot)["newton-euler"]))
     names = [name for name, _ in counted]
     mults = [int(c["multiplications"]) for _, c in counted]
     adds = [int(c["additions"]) for _, c in counted]

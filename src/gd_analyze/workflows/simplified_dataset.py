@@ -11,7 +11,7 @@ import numpy as np
 
 from ..core.symbolic.recursive_model import PART_NAMES
 
-__all__ = ["AKB_COSTS", "cost_rows", "simplified_dataset"]
+__all__ = ["AKB_COSTS", "coefficient_structure", "cost_rows", "simplified_dataset"]
 
 #: Armstrong, Khatib & Burdick (ICRA 1986), PUMA 560: explicit model costs
 #: (multiplications, additions, total); the split of the simplified model is not given.
@@ -85,8 +85,31 @@ def cost_rows(n, model, other=None, ladder_rows=None, formulation_counts=None):
     return rows
 
 
+def coefficient_structure(terms):
+    """How many harmonic terms an explicit model has, and how many distinct coefficients.
+
+    Parameters
+    ----------
+    terms : gd_analyze.core.symbolic.explicit.Term
+        Its terms (tran and rot of one element and harmonic are added, as the code generator
+        adds them, :func:`gd_analyze.core.symbolic.explicit.merge_parts`).
+
+    Returns
+    -------
+    (int, int)
+        The harmonic terms, and the distinct coefficient magnitudes among them (to 12
+        significant digits): equal magnitudes are what the code generator's factoring writes
+        once (:mod:`gd_analyze.core.symbolic.factoring`).
+    """
+    from ..core.symbolic.explicit import merge_parts
+
+    merged = merge_parts(terms)
+    return len(merged), len({float(f"{abs(c):.12g}") for c in merged.C})
+
+
 def simplified_dataset(model, selection, other=None, ladder_rows=None, cost_table=None,
-                       files=("simplified_model.c", "simplified_model.py"), other_error=None):
+                       files=("simplified_model.c", "simplified_model.py"), other_error=None,
+                       full_terms=None):
     """The variables the report's "Simplified model" section reads.
 
     Parameters
@@ -103,6 +126,11 @@ def simplified_dataset(model, selection, other=None, ladder_rows=None, cost_tabl
     other_error : dict, optional
         The other model's error along the trajectory
         (:func:`~gd_analyze.workflows.simplify.validate`).
+    full_terms : Term, optional
+        All terms of the full explicit model: with an explicit ``other``, the attributes
+        ``full_harmonics``, ``full_coefficients``, ``other_rule_harmonics`` and
+        ``other_rule_coefficients`` (:func:`coefficient_structure`) say why a pruned model can
+        cost more than the full one.
 
     Returns
     -------
@@ -222,4 +250,9 @@ def simplified_dataset(model, selection, other=None, ladder_rows=None, cost_tabl
         "other_rule_multiplications": -1 if other is None else other.cost["multiplications"],
         "other_rule_additions": -1 if other is None else other.cost["additions"],
     })
+    if full_terms is not None and other is not None and other.terms is not None:
+        (ds.attrs["full_harmonics"], ds.attrs["full_coefficients"]) = coefficient_structure(
+            full_terms)
+        (ds.attrs["other_rule_harmonics"],
+         ds.attrs["other_rule_coefficients"]) = coefficient_structure(other.terms)
     return ds

@@ -19,6 +19,7 @@ import re
 
 __all__ = ["element_index", "element_label", "element_labels", "parse_element_label",
            "element_units", "joint_torque_units", "joint_motion_units", "joint_gain_units",
+           "joint_drive_units",
            "joint_units_text"]
 
 _PATTERN = re.compile(r"D([1-9])([1-9])|D([1-9][0-9]*),([1-9][0-9]*)|h([1-9][0-9]*)")
@@ -287,3 +288,29 @@ def joint_units_text(units, what="joint"):
         ks = [str(k + 1) for k, v in enumerate(units) if v == u]
         parts.append(f"{u} ({what}{'s' if len(ks) > 1 else ''} {', '.join(ks)})")
     return ", ".join(parts)
+
+
+def joint_drive_units(prismatic):
+    """The units of a joint's drive parameters: armature (D_ii's part) and viscous friction.
+
+    The armature adds to D_ii, so it has D_ii's units (kg m^2 for a revolute joint, kg for a
+    prismatic one, as :func:`element_units`); viscous friction is a generalized force per joint
+    rate: N m / (rad/s) for a revolute joint, N / (m/s) for a prismatic one. Coulomb friction
+    is a generalized force (:func:`joint_torque_units`).
+
+    Parameters
+    ----------
+    prismatic : bool
+        True for a prismatic joint.
+
+    Returns
+    -------
+    tuple of str
+        (armature, viscous) in UDUNITS spelling, as stored.
+
+    Examples
+    --------
+    >>> joint_drive_units(False), joint_drive_units(True)
+    (('kg m2', 'N m s rad-1'), ('kg', 'N s m-1'))
+    """
+    return ("kg", "N s m-1") if prismatic else ("kg m2", "N m s rad-1")
