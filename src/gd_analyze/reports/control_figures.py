@@ -136,13 +136,11 @@ def _joint_panels(ds, values, ylabel, title, log=False, scale=None, which="q",
                  fontweight="bold", y=1 - 0.12 / height, va="top")
     if floor is not None:
         notes = [f"Integrator noise (at most {tol:g} of the joint's scale) is not drawn"]
-        for name, where in quiet.items():
-            jmax, peak = max(where, key=lambda item: item[1])      # with its joint's units
+        for name, where in quiet.items():            # said as noise: its digits are not data
             joints = ("every joint" if len(where) == n else
                       "joint" + ("s " if len(where) > 1 else " ")
                       + ", ".join(str(j + 1) for j, _ in where))
-            notes.append(f"{_LABELS.get(name, name)}: noise on {joints} (peak "
-                         f"{_fmt(peak)} {units[jmax]})")
+            notes.append(f"{_LABELS.get(name, name)}: \u2261 0 on {joints} (integrator noise)")
         note = "; ".join(notes) + "."
         fig.text(0.5, 1 - (0.62 if column else 0.36) / height,
                  textwrap.fill(note, 70) if column else note, ha="center", va="top",
