@@ -365,9 +365,14 @@ def test_round_off_is_never_tabulated_in_the_sweep_and_control_reports(reports, 
     # nor in a sentence: the summary and the verdict say noise, not its digits
     with xr.open_dataset(folder / "control.h5") as ds:
         digits = f"{float(ds['error_peak_grid'].sel(controller='full').max()):.2e}"
-    for where in (_text(html), text):
-        assert digits not in where and "full model: peak |e| \u2261 0 (integrator noise)" in \
-            where.replace("\n", " ")
+    said = "full model: peak |e| \u2261 0 (integrator noise)"
+    assert digits not in _text(html) and said in _text(html).replace("\n", " ")
+    # the PDF's text as pypdf extracts it: matplotlib 3.10 draws a Type 3 glyph outside
+    # Latin-1 (the ≡) as a drawing, which text extraction does not see; the words around it
+    # and the absence of the digits are checked whatever the version
+    assert digits not in text
+    assert re.search(r"full model: peak \|e\| +(\u2261 )?0 \(integrator noise\)",
+                     text.replace("\n", " ")), text[:400]
 
 
 #: A code name: letters or digits joined by "_" (q_d, Y_b, share_tran, pd_gravity, tau_s).
