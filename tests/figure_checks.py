@@ -133,3 +133,24 @@ def column_twins(folder, width=3.5):
         elif f"{stem}_column.{ext}" not in names:
             found.append(f"{name} has no {stem}_column.{ext}")
     return found
+
+
+def check_print_ready(figs, rc=None):
+    """Assert what every figure a command writes must hold at print size: no code names, no
+    label collisions, and each ``<key>_column`` twin 3.5 in wide with type of at least 7 pt.
+
+    Parameters
+    ----------
+    figs : dict of str to matplotlib.figure.Figure
+        The figures by file key.
+    rc : dict, optional
+        rcParams to draw with.
+    """
+    import pytest
+
+    for key, fig in figs.items():
+        assert not code_names(fig), (key, code_names(fig)[:4])
+        assert not collisions(fig, rc), (key, collisions(fig, rc)[:4])
+        if key.endswith("_column"):
+            assert fig.get_size_inches()[0] == pytest.approx(3.5)
+            assert smallest_type(fig, rc) >= 7.0, key

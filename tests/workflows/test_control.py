@@ -12,7 +12,7 @@ import numpy as np
 import pytest
 import xarray as xr
 from conftest import SHIPPED
-from figure_checks import code_names, collisions, column_twins, smallest_type
+from figure_checks import check_print_ready, column_twins
 
 from gd_analyze import gd_terms, load_robot
 from gd_analyze.core.selection.ranking import element_labels
@@ -285,11 +285,6 @@ def test_control_figures_letter_mathematics_at_print_size(result):
     ds = control_dataset(result)
     figs = {**make_control_figures(ds),
             **{f"{k}_column": f for k, f in control_figures(ds, COLUMN_WIDTH).items()}}
-    for key, fig in figs.items():
-        assert not code_names(fig), (key, code_names(fig)[:4])
-        assert not collisions(fig, _RC), (key, collisions(fig, _RC)[:4])
-        if key.endswith("_column"):
-            assert fig.get_size_inches()[0] == pytest.approx(3.5)
-            assert smallest_type(fig, _RC) >= 7.0, key
+    check_print_ready(figs, _RC)
     labels = [ax.get_ylabel() for ax in figs["error"].axes if ax.get_visible()]
     assert labels and all(lab.startswith("$") for lab in labels)

@@ -7,7 +7,7 @@ import itertools
 import numpy as np
 import pytest
 from conftest import SHIPPED
-from figure_checks import code_names, collisions, column_twins, smallest_type
+from figure_checks import check_print_ready, column_twins
 
 from gd_analyze import InputError, gd_terms
 from gd_analyze.cli import parse_range
@@ -493,9 +493,4 @@ def test_sweep_figures_letter_mathematics_at_print_size(sweep, puma, shipped):
     figs = make_sweep_figures(sweep, pay, column=True)
     assert {k for k in figs if not k.endswith("_column")} == {
         k[:-len("_column")] for k in figs if k.endswith("_column")}
-    for key, fig in figs.items():
-        assert not code_names(fig), (key, code_names(fig)[:4])
-        assert not collisions(fig, _RC), (key, collisions(fig, _RC)[:4])
-        if key.endswith("_column"):
-            assert fig.get_size_inches()[0] == pytest.approx(3.5)
-            assert smallest_type(fig, _RC) >= 7.0, key
+    check_print_ready(figs, _RC)

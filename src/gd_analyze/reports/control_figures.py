@@ -6,14 +6,13 @@ column's (3.5 in). Integrator noise is never drawn as data
 
 from __future__ import annotations
 
-import functools
 import math
 import textwrap
 
 import numpy as np
 
 from ..core.selection.ranking import ROUND_OFF, is_round_off
-from .common import BASE_RC, fmt, grid_shape, prismatic_joints
+from .common import BASE_RC, grid_shape, prismatic_joints
 from .common import strings as _strings
 from .common import style as _style
 
@@ -34,7 +33,6 @@ _MAX_LINE_POINTS = 600
 _TRACKING_ERROR = "$\\mathregular{{|q_d - q|}}$ [{u}]"
 _TAU_DIFFERENCE = "$\\mathregular{{\\tau_s - \\tau_f}}$ [{u}]"
 _RC = {**BASE_RC, "legend.fontsize": 7.5, "lines.markersize": 3.0}
-_fmt = functools.partial(fmt, digits=3, sci_outside=(1e-3, 1e5))
 
 
 def _stride(m):
