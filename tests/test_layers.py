@@ -27,7 +27,7 @@ SHARED_REPORTS = {"reports.common", "reports.figures", "reports.pages", "reports
 REPORT_CORE = {"core.selection.ranking", "core.selection.labels"}
 
 # the one section list of the three reports and what it is built with (issue 19 item 6)
-SHARED_REPORTS |= {"reports.markup", "reports.sections", "reports.table_layout",
+SHARED_REPORTS |= {"reports.markup", "reports.sections", "reports.table_layout", "reports.text_pages",
                    "reports.main_outline", "reports.main_provenance"}
 
 

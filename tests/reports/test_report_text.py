@@ -9,7 +9,7 @@
 - a URDF robot gets its joint placements (xyz, rpy) and axes, no DH table and no "n/a"; the
   printed placements rebuild the model's rotations with Pinocchio's rpyToMatrix (oracle);
 - ``--figure-fonts truetype`` gives a report.pdf without a Type 3 font (font dictionaries
-  read with pypdf), the default gives Type 3 text pages;
+  read with pypdf), the default gives Type 3 figures; the text pages are TrueType either way;
 - one section list per report: the HTML headings and the PDF bookmarks are the same, in order,
   for the main, sweep and control reports.
 """
@@ -277,7 +277,7 @@ def _font_subtypes(pdf):
 def test_truetype_report_has_no_type3_font(reports):
     fonts = _font_subtypes(_files(reports, "puma")[1])
     assert fonts and "/Type3" not in fonts, fonts
-    assert "/Type3" in _font_subtypes(_files(reports, "ur5")[1])   # the default: fast Type 3
+    assert "/Type3" in _font_subtypes(_files(reports, "ur5")[1])   # the default: Type 3 figures
 
 
 def _outline_titles(outline, level=1):

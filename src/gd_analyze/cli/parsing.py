@@ -215,9 +215,10 @@ def _add_paper_argument(p):
                    help="page size of the PDF report (default a4)")
     p.add_argument("--figure-fonts", choices=("type3", "truetype"),
                    default=defaults["figure_fonts"],
-                   help="font embedding of the PDF report and of the figures' PDFs: type3 "
-                        "(default, fast) or truetype (no Type 3 font anywhere, for journals "
-                        "that refuse them, e.g. IEEE PDF eXpress; slower)")
+                   help="font embedding of the figures' PDFs, in the PDF report and in "
+                        "figures/: type3 (default, fast) or truetype (no Type 3 font "
+                        "anywhere, for journals that refuse them, e.g. IEEE PDF eXpress; "
+                        "slower); the text pages always embed a TrueType subset")
 
 
 def _analyze_parser():

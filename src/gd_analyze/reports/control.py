@@ -651,12 +651,12 @@ def render_control_pdf(ds, path, figures=None, paper="a4"):
     return _pdf(ctx, draw_figures(figures, _RC), path, paper)
 
 
-def _pdf(ctx, drawn, path, paper="a4", fonts="type3"):
+def _pdf(ctx, drawn, path, paper="a4"):
     metadata = {"Author": f"gd-analyze {ctx['version']}",
                 "Subject": "Computed-torque control with the simplified G-D model (Fu, Gonzalez "
                            "& Lee 1987, Sec. 3.4.1 and Ch. 5)",
                 "Keywords": ctx["keywords"], "Creator": f"gd-analyze {ctx['version']}"}
-    doc = Document(ctx["title"], paper=paper, metadata=metadata, fonts=fonts,
+    doc = Document(ctx["title"], paper=paper, metadata=metadata,
                    footer=f"gd-analyze {ctx['version']}: control report")
     to_document(_outline(ctx, drawn), doc, {k: d[2] for k, d in drawn.items()})
     return doc.write(path, {k: d[1] for k, d in drawn.items()})
@@ -718,5 +718,5 @@ def write_control_report(control_path, outdir, paper="a4", fonts="type3"):
         drawn = {k: drawn[k] for k in figures}          # the report shows the page versions
         Path(stack.enter_context(atomic_path(html_path))).write_text(_html(ctx, drawn),
                                                                      encoding="utf-8")
-        _pdf(ctx, drawn, stack.enter_context(atomic_path(pdf_path)), paper, fonts)
+        _pdf(ctx, drawn, stack.enter_context(atomic_path(pdf_path)), paper)
     return [html_path, pdf_path] + files

@@ -373,12 +373,12 @@ def render_pdf(ds, path, figures=None, paper="a4"):
     return _pdf(ctx, _drawn(_in_report(figures)), path, paper)
 
 
-def _pdf(ctx, drawn, path, paper="a4", fonts="type3"):
+def _pdf(ctx, drawn, path, paper="a4"):
     sizes = {k: size for k, (_, _, size) in drawn.items()}
-    return _document(ctx, sizes, paper, fonts).write(path, {k: d[1] for k, d in drawn.items()})
+    return _document(ctx, sizes, paper).write(path, {k: d[1] for k, d in drawn.items()})
 
 
-def _document(ctx, sizes, paper="a4", fonts="type3"):
+def _document(ctx, sizes, paper="a4"):
     """The PDF report as a page-engine document, from the one section list of the report
     (:func:`gd_analyze.reports.main_outline.main_outline`); each figure block holds its key
     and size (the figures' PDFs are given when it is written)."""
@@ -390,7 +390,7 @@ def _document(ctx, sizes, paper="a4", fonts="type3"):
         "CreationDate": "D:" + ctx["created"].replace("-", "").replace(":", "")
                                .replace("T", "")[:14] + "Z",
     }
-    doc = Document(ctx["title"], paper=paper, metadata=metadata, fonts=fonts,
+    doc = Document(ctx["title"], paper=paper, metadata=metadata,
                    footer=f"gd-analyze {ctx['version']}: {ctx['robot_name']}, {ctx['N']:,} set "
                           "points")
     return to_document(main_outline(ctx, sizes), doc, sizes)
@@ -473,5 +473,5 @@ def _write(ds, outdir, formats, paper, progress, fonts="type3"):
             with open(tmp["html"], "w", encoding="utf-8") as fh:
                 fh.write(_html(ctx, drawn))
         if "pdf" in tmp:
-            _pdf(ctx, drawn, tmp["pdf"], paper, fonts)
+            _pdf(ctx, drawn, tmp["pdf"], paper)
     return [paths[fmt] for fmt in formats] + files

@@ -5,7 +5,7 @@ A :class:`Document` is filled with headings, paragraphs, tables and figures, the
 :meth:`Document.write` lays them out on pages of one size (A4 or US letter): text and tables
 flow from page to page (a heading stays with what follows it, a long table repeats its header),
 a figure goes where it fits, or on the next page if it does not. The text pages are drawn
-with matplotlib; each figure is drawn once, as its own PDF (the file the report also writes in
+with fpdf2 (:mod:`gd_analyze.reports.text_pages`); each figure is drawn once, as its own PDF (the file the report also writes in
 ``figures/``), and placed unscaled on its page with pypdf, which also writes the bookmarks
 (one per heading) and the document information.
 """
@@ -16,9 +16,10 @@ import io
 import textwrap
 from dataclasses import dataclass, field
 
-from .markup import RUN_SHIFT, RUN_SIZE, SUB, SUP, plain, runs
+from .markup import plain
 from .table_layout import column_widths as _column_widths
 from .table_layout import wrap_cell as _wrap_cell
+from .text_pages import draw_text_pages, text_width
 
 __all__ = ["PAPER", "PAGE_RC", "FIGURE_FONTS", "Document", "TABLE_COLOURS"]
 
@@ -30,8 +31,8 @@ TABLE_COLOURS = {"translational": "#0072B2", "rotational": "#D55E00", "both": "#
                  "passed": "#007A4D", "FAILED": "#B00020", "tran": "#0072B2",
                  "rot": "#D55E00", "none": "#555555"}
 
-#: matplotlib settings of the text pages: Type 3 fonts (embedded without a font subsetter: about
-#: ten times faster to write than TrueType subsets).
+#: matplotlib settings of every figure's PDF: DejaVu Sans, the text pages' font (the font type
+#: is set by :data:`FIGURE_FONTS`).
 PAGE_RC = {"pdf.fonttype": 3, "font.family": "DejaVu Sans", "path.simplify": True}
 #: How the figures' PDFs embed their font, by name: ``type3`` (glyphs as drawings: fast, the
 #: default) or ``truetype`` (a TrueType subset, Type 42: what journals that refuse Type 3
@@ -87,96 +88,10 @@ def _place(writer, target, pdf_bytes, name, x, y, scale, turned_width=None):
         target[NameObject("/Contents")] = ArrayObject([old, op_ref])
 
 
-def _strings_artist():
-    from matplotlib.artist import Artist
-
-    class Strings(Artist):
-        """Many one-line strings of a text page drawn straight onto the renderer: no Text
-        artist (its layout and bounding boxes) per string. Positions are the tops of the lines
-        [in from the page's top left]; a right-aligned string ends at its x."""
-
-        def __init__(self, page_height):
-            super().__init__()
-            self.set_zorder(5)                  # over the shading of table rows
-            self.H = page_height
-            self.items = []
-
-        def add(self, x, y, s, size, colour, weight, ha):
-            self.items.append((x, y, s, size, colour, weight, ha))
-
-        def draw(self, renderer):
-            from matplotlib.colors import to_rgba
-            from matplotlib.font_manager import FontProperties
-
-            dpi = self.figure.dpi
-            props = {}
-            gc = renderer.new_gc()
-            for x, y, s, size, colour, weight, ha in self.items:
-                if not s:
-                    continue
-                prop = props.get((size, weight))
-                if prop is None:
-                    prop = props[(size, weight)] = FontProperties(
-                        family="DejaVu Sans", size=size, weight=weight)
-                baseline = (self.H - y) * dpi - 0.93 * size * dpi / 72     # ascent of DejaVu
-                gc.set_foreground(to_rgba(colour))
-                px = x * dpi
-                if SUB in s or SUP in s:            # sub- and superscript runs (markup.runs)
-                    self._draw_runs(renderer, gc, px, baseline, s, size, weight, ha, props)
-                    continue
-                if ha == "right":
-                    px -= renderer.get_text_width_height_descent(s, prop, ismath=False)[0]
-                renderer.draw_text(gc, px, baseline, s, prop, 0.0, ismath=False)
-            gc.restore()
-
-        def _draw_runs(self, renderer, gc, px, baseline, s, size, weight, ha, props):
-            """One line holding runs: each piece at its size, a run lowered or raised."""
-            from matplotlib.font_manager import FontProperties
-
-            dpi = self.figure.dpi
-            pieces = []
-            for text, kind in runs(s):
-                at = size * (RUN_SIZE if kind else 1.0)
-                prop = props.get((at, weight))
-                if prop is None:
-                    prop = props[(at, weight)] = FontProperties(
-                        family="DejaVu Sans", size=at, weight=weight)
-                w = renderer.get_text_width_height_descent(text, prop, ismath=False)[0]
-                pieces.append((text, prop, w, RUN_SHIFT.get(kind, 0.0) * size * dpi / 72))
-            if ha == "right":
-                px -= sum(w for _, _, w, _ in pieces)
-            for text, prop, w, shift in pieces:
-                renderer.draw_text(gc, px, baseline + shift, text, prop, 0.0, ismath=False)
-                px += w
-
-    return Strings
-
-
-def _Strings(page_height):
-    global _STRINGS
-    if _STRINGS is None:
-        _STRINGS = _strings_artist()
-    return _STRINGS(page_height)
-
-
-_STRINGS = None
-
-
 def _line_width(s, size):
     """Drawn width [in] of one line of DejaVu Sans at ``size`` [pt] (its glyphs' advances;
-    sub- and superscript runs at their size)."""
-    import warnings
-
-    if SUB in s or SUP in s:
-        return sum(_line_width(t, size * (RUN_SIZE if k else 1.0)) for t, k in runs(s) if t)
-
-    from matplotlib.font_manager import FontProperties
-    from matplotlib.textpath import text_to_path
-
-    with warnings.catch_warnings():
-        warnings.simplefilter("ignore")                 # glyphs missing from the font
-        return text_to_path.get_text_width_height_descent(
-            s, FontProperties(family="DejaVu Sans", size=size), ismath=False)[0] / 72
+    sub- and superscript runs at their size), as :mod:`gd_analyze.reports.text_pages` draws it."""
+    return text_width(s, size)
 
 
 def _fit_line(s, size, width):
@@ -211,24 +126,23 @@ class Document:
         PDF document information: ``Author``, ``Subject``, ``Keywords``, ``Creator`` ...
     footer : str, optional
         Text at the foot of every page, before "page k of K".
-    fonts : {"type3", "truetype"}, optional
-        How the text pages embed their font (:data:`FIGURE_FONTS`): Type 3 (the default,
-        fast) or TrueType subsets (Type 42), so that a report asked for with
-        ``--figure-fonts truetype`` holds no Type 3 font at all.
 
     Raises
     ------
     ValueError
-        If ``paper`` is not a key of :data:`PAPER`, or ``fonts`` not one of
-        :data:`FIGURE_FONTS`.
+        If ``paper`` is not a key of :data:`PAPER`.
+
+    Notes
+    -----
+    The text pages embed DejaVu Sans as a TrueType subset
+    (:func:`gd_analyze.reports.text_pages.draw_text_pages`); how a figure embeds its font is
+    the figure's own (:data:`FIGURE_FONTS`), so a report whose figures are drawn with
+    ``--figure-fonts truetype`` holds no Type 3 font at all.
     """
 
-    def __init__(self, title, paper="a4", metadata=None, footer=None, fonts="type3"):
+    def __init__(self, title, paper="a4", metadata=None, footer=None):
         if paper not in PAPER:
             raise ValueError(f"paper must be one of {sorted(PAPER)}, got {paper!r}")
-        if fonts not in FIGURE_FONTS:
-            raise ValueError(f"fonts must be one of {sorted(FIGURE_FONTS)}, got {fonts!r}")
-        self.fonts = fonts
         self.title = title
         self.paper = paper
         self.W, self.H = PAPER[paper]
@@ -509,37 +423,25 @@ class Document:
 
     # ---- drawing -----------------------------------------------------------------------
     def _draw(self, page, number, total, footer):
-        from matplotlib.figure import Figure
-        from matplotlib.lines import Line2D
-        from matplotlib.patches import Rectangle
+        """The drawing operations of one page (:func:`gd_analyze.reports.text_pages.draw_text_pages`)."""
+        ops = []
 
-        W, H = self.W, self.H
-        fig = Figure(figsize=(W, H))
-        strings = _Strings(H)
-        fig.add_artist(strings)
-
-        def text(x, y, s, fontsize, color="black", fontweight="normal", ha="left"):
-            strings.add(x, _MARGIN_TOP + y, s, fontsize, color, fontweight, ha)
+        def text(x, y, s, size, colour="black", bold=False, right=False):
+            ops.append(("text", x, _MARGIN_TOP + y, s, size, colour, bold, right))
 
         for kind, p in page.ops:
             if kind == "text":
                 y, s, size, bold, colour = p
-                text(_MARGIN_X, y, s, fontsize=size, color=colour,
-                     fontweight="bold" if bold else "normal")
+                text(_MARGIN_X, y, s, size, colour, bold)
             elif kind == "rule":
                 y, lw = p
-                yy = 1 - (_MARGIN_TOP + y) / H
-                fig.add_artist(Line2D([_MARGIN_X / W, 1 - _MARGIN_X / W], [yy, yy],
-                                      transform=fig.transFigure, color="black", linewidth=lw))
+                ops.append(("rule", _MARGIN_X, self.W - _MARGIN_X, _MARGIN_TOP + y, lw))
             elif kind == "row":
                 y, cells, bold, shade, spec = p
                 widths, pad, lh = spec["widths"], spec["pad"], spec["lh"]
                 height = max(len(c) for c in cells) * lh + 2 * pad
                 if shade:
-                    fig.add_artist(Rectangle(
-                        (_MARGIN_X / W, 1 - (_MARGIN_TOP + y + height) / H), self.width / W,
-                        height / H, transform=fig.transFigure, facecolor="0.94",
-                        edgecolor="none", zorder=0))
+                    ops.append(("rect", _MARGIN_X, _MARGIN_TOP + y, self.width, height, 0.94))
                 x = _MARGIN_X
                 for k, (lines, w) in enumerate(zip(cells, widths)):
                     right = spec["align"][k] == "right"
@@ -548,14 +450,12 @@ class Document:
                         colour = TABLE_COLOURS.get(lines[0], "black")
                     for m, line in enumerate(lines):
                         text(x + (w - pad if right else pad), y + pad + m * lh, line,
-                             fontsize=spec["size"], ha="right" if right else "left",
-                             color=colour, fontweight="bold" if bold else "normal")
+                             spec["size"], colour, bold, right)
                     x += w
-        foot = H - 0.4 - 7 * 1.2 / 72 - _MARGIN_TOP
-        text(_MARGIN_X, foot, footer, fontsize=7, color="0.4")
-        text(W - _MARGIN_X, foot, f"page {number} of {total}", fontsize=7, color="0.4",
-             ha="right")
-        return fig
+        foot = self.H - 0.4 - 7 * 1.2 / 72 - _MARGIN_TOP
+        text(_MARGIN_X, foot, footer, 7, "0.4")
+        text(self.W - _MARGIN_X, foot, f"page {number} of {total}", 7, "0.4", right=True)
+        return ops
 
     def write(self, path, figures=None):
         """Lay out, draw and write the document.
@@ -578,18 +478,12 @@ class Document:
 
     def _text_pages(self, pages):
         """The text, rules and shading of every page (no figures) as PDF bytes."""
-        import matplotlib
-        from matplotlib.backends.backend_pdf import PdfPages
-
-        buf = io.BytesIO()
         K = len(pages)
         last = f"page {K} of {K}"                   # the widest page number (digits: one width)
         footer = _fit_line(self.footer, 7, self.width - _line_width(last, 7) - 0.15)
-        with matplotlib.rc_context({**PAGE_RC, "pdf.fonttype": FIGURE_FONTS[self.fonts]}), \
-                PdfPages(buf, metadata={"CreationDate": None}) as pdf:
-            for k, page in enumerate(pages):
-                pdf.savefig(self._draw(page, k + 1, K, footer))
-        return buf.getvalue()
+        return draw_text_pages([self._draw(page, k + 1, K, footer)
+                                for k, page in enumerate(pages)], (self.W, self.H),
+                               plain(self.title))
 
     def _finish(self, text_pdf, pages, bookmarks, path, figures=None):
         """Place the figures on the text pages, add bookmarks and information, write."""

@@ -463,12 +463,12 @@ def render_sweep_pdf(ds, path, payload=None, figures=None, paper="a4"):
     return _pdf(ctx, draw_figures(figures, _RC), path, paper)
 
 
-def _pdf(ctx, drawn, path, paper="a4", fonts="type3"):
+def _pdf(ctx, drawn, path, paper="a4"):
     metadata = {"Author": f"gd-analyze {ctx['version']}",
                 "Subject": "Dominance of the translational and rotational G-D terms over a "
                            "sweep of trajectories (Fu, Gonzalez & Lee 1987, Sec. 3.4.1)",
                 "Creator": f"gd-analyze {ctx['version']}"}
-    doc = Document(ctx["title"], paper=paper, metadata=metadata, fonts=fonts,
+    doc = Document(ctx["title"], paper=paper, metadata=metadata,
                    footer=f"gd-analyze {ctx['version']}: {ctx['title']}")
     sizes = {k: d[2] for k, d in drawn.items()}
     to_document(_outline(ctx, drawn), doc, sizes)
@@ -622,6 +622,6 @@ def write_sweep_report(sweep_path, outdir, payload=None, formats=SWEEP_REPORT_FO
                 with open(tmp, "w", encoding="utf-8") as fh:
                     fh.write(_html(ctx, drawn))
             else:
-                _pdf(ctx, drawn, tmp, paper, fonts)
+                _pdf(ctx, drawn, tmp, paper)
             written.append(path)
     return written + files

@@ -31,25 +31,13 @@ def word_width(word, size, bold):
     Returns
     -------
     float
-        The width [in] of the word in DejaVu Sans, its glyphs' advances and kerning; a
-        sub- or superscript run (:func:`gd_analyze.reports.markup.runs`) at its smaller size.
+        The width [in] of the word in DejaVu Sans, its glyphs' advances as the text pages draw
+        them (:func:`gd_analyze.reports.text_pages.text_width`); a sub- or superscript run
+        (:func:`gd_analyze.reports.markup.runs`) at its smaller size.
     """
-    import warnings
+    from .text_pages import text_width
 
-    from . import markup
-
-    if markup.SUB in word or markup.SUP in word:
-        return sum(word_width(t, size * (markup.RUN_SIZE if k else 1.0), bold)
-                   for t, k in markup.runs(word) if t)
-
-    from matplotlib.font_manager import FontProperties
-    from matplotlib.textpath import text_to_path
-
-    with warnings.catch_warnings():
-        warnings.simplefilter("ignore")                 # glyphs missing from the font
-        return text_to_path.get_text_width_height_descent(
-            word, FontProperties(family="DejaVu Sans", size=size,
-                                 weight="bold" if bold else "normal"), ismath=False)[0] / 72
+    return text_width(word, size, bold)
 
 
 def words(text):
