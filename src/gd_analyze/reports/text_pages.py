@@ -50,16 +50,25 @@ def font_files():
 
 
 @functools.cache
-def _advances(bold):
-    """Advance width of each character [1/1000 em] of the regular or bold face."""
-    from fontTools.ttLib import TTFont
+def _face(bold):
+    """matplotlib's FreeType face of the regular or bold font, and its units per em."""
+    from matplotlib.ft2font import FT2Font
 
-    font = TTFont(font_files()["B" if bold else ""], lazy=True)
-    scale = 1000.0 / font["head"].unitsPerEm
-    hmtx = font["hmtx"].metrics
-    missing = hmtx[".notdef"][0] * scale
-    widths = {code: hmtx[name][0] * scale for code, name in font.getBestCmap().items()}
-    return widths, missing
+    font = FT2Font(str(font_files()["B" if bold else ""]))
+    return font, font.units_per_EM
+
+
+@functools.cache
+def _advance(char, bold):
+    """Advance width of one character [em], read unscaled from the font (its missing-glyph
+    box for a character the font lacks)."""
+    from matplotlib import ft2font
+
+    flags = getattr(ft2font, "LoadFlags", None)
+    no_scale = flags.NO_SCALE if flags is not None else ft2font.LOAD_NO_SCALE
+    font, units = _face(bold)
+    index = font.get_char_index(ord(char))          # 0: the missing-glyph box
+    return font.load_glyph(index, flags=no_scale).horiAdvance / units
 
 
 def text_width(s, size, bold=False):
@@ -83,15 +92,15 @@ def text_width(s, size, bold=False):
 
     Examples
     --------
-    >>> round(text_width("m", 10.0) * 72, 3)                # the advance of "m" [pt]
+    >>> round(text_width("m", 10.0) * 72, 2)                # the advance of "m" [pt]
     9.74
     >>> text_width("ab", 9.0) == text_width("a", 9.0) + text_width("b", 9.0)
     True
     """
     if SUB in s or SUP in s:
         return sum(text_width(t, size * (RUN_SIZE if k else 1.0), bold) for t, k in runs(s) if t)
-    widths, missing = _advances(bool(bold))
-    return sum(widths.get(ord(c), missing) for c in s) * size / 1000.0 / 72.0
+    bold = bool(bold)
+    return sum(_advance(c, bold) for c in s) * size / 72.0
 
 
 def _rgb(colour):
