@@ -80,7 +80,8 @@ def build_recursive(robot, q, qd, qdd, tolerance=DEFAULT_TOLERANCE, torque_floor
 
 
 def replace_cost(model, cost):
-    """The model with its ``cost`` set, its program kept (a new frozen value).
+    """The model with its ``cost`` set (a new frozen value; its ``program_cache`` field, and
+    so a program built before, is carried over by :func:`dataclasses.replace`).
 
     Parameters
     ----------
@@ -94,8 +95,4 @@ def replace_cost(model, cost):
     """
     import dataclasses
 
-    program = model.__dict__.get("_program")
-    out = dataclasses.replace(model, cost=dict(cost))
-    if program is not None:
-        out.__dict__["_program"] = program
-    return out
+    return dataclasses.replace(model, cost=dict(cost))
