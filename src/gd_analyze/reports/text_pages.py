@@ -13,7 +13,6 @@ page.
 from __future__ import annotations
 
 import functools
-import io
 
 from .markup import RUN_SHIFT, RUN_SIZE, SUB, SUP, runs
 
@@ -165,9 +164,7 @@ def draw_text_pages(pages, size, title=""):
                     _, x, y, s, pt, colour, bold, right = op
                     if s:
                         _text(pdf, x, y, s, pt, colour, bold, right)
-    out = io.BytesIO()
-    pdf.output(out)
-    return out.getvalue()
+    return bytes(pdf.output())
 
 
 def _text(pdf, x, y, s, size, colour, bold, right):
