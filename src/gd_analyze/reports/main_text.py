@@ -10,7 +10,7 @@ import numpy as np
 
 from ..core.selection.ranking import element_label, parse_element_label
 
-__all__ = ["conclusion", "model_sentence", "gravity_clause", "disagreement_cause", "captions",
+__all__ = ["conclusion", "model_sentence", "gravity_clause", "simplified_intro", "disagreement_cause", "captions",
            "element_scale", "prismatic_count_note"]
 
 _CLASSES = ("translational", "rotational", "both", "negligible")
@@ -199,6 +199,41 @@ def model_sentence(recursive=None, choice=None, gravity=None, trajectory="this t
             f"{kept['both']} and drops {kept['none']}: it evaluates {terms} of the "
             f"{2 * len(choice)} parts of D and h, and "
             + (f"{gravity}." if gravity else "its rule's terms of c."))
+
+
+def simplified_intro(form, gravity=None):
+    """Section 5's opening sentence: the deployed model's form and what its rule leaves out.
+
+    Parameters
+    ----------
+    form : str
+        ``"explicit"`` or ``"recursive"``.
+    gravity : str, optional
+        :func:`gravity_clause` of the model: an explicit model's sentence names c among what is
+        left out only when the model drops terms of c (the chapter rule never does).
+
+    Returns
+    -------
+    str
+
+    Examples
+    --------
+    >>> simplified_intro("explicit", gravity_clause("chapter")).split("; ")[-1]
+    'it keeps c whole: τₛ = Dₛ q̈ + hₛ + c.'
+    """
+    if form == "recursive":
+        return ("The simplified model is the customized recursive Newton-Euler model on the "
+                "base inertial parameters, with parts of the parameters' contributions left "
+                "out by the error budget (Sec. 5.3); it keeps the elements of D and h as sums "
+                "over the parameters, not element by element.")
+    head = ("The simplified model is the explicit G-D model (Eq. (3.4-24)) with parts of the "
+            "elements of D (mirrored to the lower triangle)")
+    if gravity and gravity.startswith("keeps c whole"):
+        return (head + " and h left out by its rule (Sec. 5.3); it keeps c whole: "
+                "\u03c4\u209b = D\u209b q\u0308 + h\u209b + c.")
+    what = ", h and terms of c" if gravity else ", h and c"
+    return (head + what + " left out by its rule (Sec. 5.3): "
+            "\u03c4\u209b = D\u209b q\u0308 + h\u209b + c\u209b.")
 
 
 def gravity_clause(rule, gravity_dropped=None, c_bound=None, units=None, c_terms=None):
