@@ -113,6 +113,17 @@ def test_every_table_has_a_numbered_caption_in_html_and_pdf(reports, which):
     assert [(int(a), int(b)) for a, b in found] == keys
 
 
+@pytest.mark.parametrize("which", ALL)
+def test_html_breaks_prose_only_between_words(reports, which):
+    """The provenance cell read "every diff / erence" in Chromium: ``word-break: break-all``
+    breaks any word anywhere. ``overflow-wrap: anywhere`` breaks inside a word only when the
+    word alone is wider than its cell (a SHA-256)."""
+    html, _ = _files(reports, which)
+    style = " ".join(re.findall(r"<style[^>]*>(.*?)</style>", html, flags=re.S))
+    assert "break-all" not in style
+    assert "overflow-wrap: anywhere" in style
+
+
 def _text_pages(reports, which):
     """The text of the PDF's own pages, without the figures placed on them (the figures'
     lettering is the figures' business): the report's document laid out without figures."""

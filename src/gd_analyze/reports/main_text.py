@@ -55,6 +55,12 @@ def _names(labels):
     return ", ".join(labels[:5]) + f" and {len(labels) - 5} more"
 
 
+def _qty(value, unit):
+    """A number and its unit joined by no-break spaces ("4.9\u00a0N\u00a0m"): a line never
+    ends between them (the Stanford summary broke "4.9 N" / "m")."""
+    return f"{value:.3g}\u00a0" + str(unit).replace(" ", "\u00a0")
+
+
 def conclusion(labels, dominance, zero, choice, rel_peak, abs_peak, tau_peak, cost=None,
                recursive=None, gravity=None, units=None):
     """The report's conclusion in three sentences.
@@ -124,16 +130,16 @@ def conclusion(labels, dominance, zero, choice, rel_peak, abs_peak, tau_peak, co
     others = np.delete(rel, worst)
     unit = list(units) if units is not None else ["N m"] * rel.size
     third = (f"Its largest open-loop torque error (\u03c4\u209b \u2212 \u03c4 along the "
-             f"trajectory) is {100 * rel[worst]:.3g} % of peak |\u03c4| at joint "
-             f"{worst + 1} ({abs_peak[worst]:.3g} {unit[worst]} of {tau_peak[worst]:.3g} "
-             f"{unit[worst]})")
+             f"trajectory) is {_qty(100 * rel[worst], '%')} of peak |\u03c4| at joint "
+             f"{worst + 1} ({_qty(abs_peak[worst], unit[worst])} of "
+             f"{_qty(tau_peak[worst], unit[worst])})")
     big = float(np.nanmax(tau_peak))
     if tau_peak[worst] < 0.01 * big:
         at = int(np.nanargmax(tau_peak))
-        third += (f": that joint's own torque is under 1 % of the largest joint's "
-                  f"({big:.3g} {unit[at]}), so a tiny absolute error is a large share of it")
+        third += (f": that joint's own torque is under 1\u00a0% of the largest joint's "
+                  f"({_qty(big, unit[at])}), so a tiny absolute error is a large share of it")
     if others.size and np.any(np.isfinite(others)):
-        third += f"; every other joint is within {100 * np.nanmax(others):.3g} %"
+        third += f"; every other joint is within {_qty(100 * np.nanmax(others), '%')}"
     if cost is not None:
         mult, add, ne = cost[:3]
         exact, full = (tuple(cost[3:5]) + (None, None))[:2]
