@@ -28,6 +28,21 @@ def test_pct():
     assert rp.pct(0) == "0.00 %" and rp.pct(np.inf) == "n/a"
 
 
+@pytest.mark.parametrize("values", [[7.84e-4, 1.29e-4, 2.65e-4], [4.33e-4, 6.38e-5, 1.55e-4],
+                                    [2.39e-3, 2.36e-3, 1.7e-3, 4.45e-3, 3.01e-4],
+                                    [1.31e-3, 5.79e-5, 1.48e-3, 1.58e-3]])
+def test_pct_column_fixed_notation_two_significant_digits(values):
+    """Table 5.1 printed RMS errors as "4.3e-02 %" beside "0.08 %", and 0.0129 % as "0.01 %"
+    (one significant digit): a column is in fixed notation, one number of decimals, and every
+    entry reads back its value to at least two significant digits."""
+    cells = rp.pct_column(values)
+    decimals = {len(c.split()[0].split(".")[1]) for c in cells}
+    assert len(decimals) == 1 and not any("e" in c for c in cells), cells
+    for cell, v in zip(cells, values):
+        shown = float(cell.split()[0])
+        assert abs(shown - 100 * v) <= 0.051 * abs(100 * v), (cell, v)   # two digits
+
+
 def test_attr_variants():
     ds = xr.Dataset(attrs={"arr": np.array([1.0, 2.5]), "flag": np.bool_(True), "empty": "",
                            "tiny": 1.5e-7, "name": b"puma"})

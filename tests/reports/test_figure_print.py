@@ -71,6 +71,19 @@ def test_column_versions_are_a_column_wide_with_7_pt_type(figures):
         assert min(sizes) >= 7.0
 
 
+#: Text height of a letter page with 1-in margins [in] (A4's is taller): a figure must fit it.
+PAGE_TEXT_HEIGHT = 9.0
+
+
+def test_every_figure_fits_a_page(figures):
+    """A column figure taller than a page cannot be printed on one (the Stanford arm's D figure
+    was 13.3 in tall: its per-panel units put it two panels a row)."""
+    name, _, figs = figures
+    tall = {k: round(fig.get_size_inches()[1], 2) for k, fig in figs.items()
+            if fig.get_size_inches()[1] > PAGE_TEXT_HEIGHT}
+    assert not tall, f"{name}: {tall}"
+
+
 def test_minus_signs_survive(figures):
     """A negative tick is written with its minus sign (U+2212) and no tick label is cut by
     a neighbouring panel (checked above); here: every negative tick's label starts with it."""

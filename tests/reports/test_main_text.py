@@ -1,5 +1,7 @@
 """The report's sentences (gd_analyze.reports.main_text): the conclusion's cost clause."""
 
+import re
+
 import numpy as np
 
 from gd_analyze.reports.main_text import conclusion
@@ -20,3 +22,18 @@ def test_cost_against_newton_euler_both_ways_and_without():
     assert "costs" not in conclusion(*ARGS)
     for text in (cheaper, dearer, unknown):
         assert text.count(". ") == 2 and text.endswith(".")      # still three sentences
+
+
+def test_a_value_and_its_unit_are_never_split_over_two_lines():
+    """The Stanford summary's "(0.0218 N m of 4.9 N m)" broke after "4.9 N" in the PDF: in the
+    conclusion every number is joined to its unit, and a unit's words to each other, by
+    no-break spaces (Unicode line breaking never breaks at U+00A0)."""
+    text = conclusion(["D11", "h1", "h2"], ["translational"] * 3, np.zeros(3, bool),
+                      ["tran"] * 3, np.array([0.00445, 0.00239]), np.array([0.0218, 0.157]),
+                      np.array([4.9, 92.9]), units=["N m", "N"])
+    assert "4.9\u00a0N\u00a0m" in text and "0.0218\u00a0N\u00a0m" in text
+    assert not re.search(r"\d (N|m|kg|%)(\W|$)", text), text
+    assert "N m" not in text
+    small = conclusion(*ARGS[:4], np.array([0.5, 1e-4]), np.array([1e-4, 1e-3]),
+                       np.array([2e-4, 10.0]), units=["N m", "N m"])
+    assert "(10\u00a0N\u00a0m)" in small and not re.search(r"\d (N|m|%)(\W|$)", small), small

@@ -113,6 +113,40 @@ def test_every_table_has_a_numbered_caption_in_html_and_pdf(reports, which):
     assert [(int(a), int(b)) for a, b in found] == keys
 
 
+@pytest.mark.parametrize("which", ALL)
+def test_html_breaks_prose_only_between_words(reports, which):
+    """The provenance cell read "every diff / erence" in Chromium: ``word-break: break-all``
+    breaks any word anywhere. ``overflow-wrap: anywhere`` breaks inside a word only when the
+    word alone is wider than its cell (a SHA-256)."""
+    html, _ = _files(reports, which)
+    style = " ".join(re.findall(r"<style[^>]*>(.*?)</style>", html, flags=re.S))
+    assert "break-all" not in style
+    assert "overflow-wrap: anywhere" in style
+
+
+def test_operation_count_axes_write_powers_of_ten(reports):
+    """Fig. 5 labelled its logarithmic axes "1e2 ... 1e6", code for 10², ..., 10⁶. Oracle:
+    each label, read as a power of ten, gives back its tick."""
+    from gd_analyze.io.schema import open_results
+    from gd_analyze.reports import main as report
+    from gd_analyze.reports.ticks import tick_texts
+
+    digits = "\u2070\u00b9\u00b2\u00b3\u2074\u2075\u2076\u2077\u2078\u2079"
+    folder, _ = reports["puma"]
+    with open_results(folder / "results.h5", lazy=True) as ds:
+        figs = report.make_figures(ds.load(), keys=("formulations", "formulations_column"))
+    assert set(figs) == {"formulations", "formulations_column"}
+    for key, fig in figs.items():
+        labels = [(v, t.get_text()) for ax in fig.axes for v, t in tick_texts(ax, "y")
+                  if t.get_text()]
+        assert len(labels) >= 4, key
+        for value, text in labels:
+            m = re.fullmatch(f"10(\u207b?)([{digits}]+)", text)
+            assert m, (key, text)
+            k = int("".join(str(digits.index(c)) for c in m.group(2)))
+            assert value == pytest.approx(10.0 ** (-k if m.group(1) else k)), (key, text)
+
+
 def _text_pages(reports, which):
     """The text of the PDF's own pages, without the figures placed on them (the figures'
     lettering is the figures' business): the report's document laid out without figures."""

@@ -109,6 +109,11 @@ def test_text_matches_the_model_under_each_rule_and_form(puma):
     assert ("keeps c whole" in summary) == whole, (name, error, summary)
     assert bool(re.search(r"drops[^.;]* of c\b|from c\b", summary)) == (not whole), summary
     assert name != "gravity-dropped" or not whole        # the case is really exercised
+    text = _text((folder / "report.html").read_text())   # Sec. 5's opening sentence
+    intro = text[text.index("5. Simplified model"):text.index("5.1 Torque error")]
+    if "explicit G-D model" in intro:
+        assert ("keeps c whole" in intro) == whole, (name, intro)
+        assert bool(re.search(r"\bc left out|terms of c left out", intro)) == (not whole), intro
 
 
 def test_chapter_comparison_only_for_the_puma_560(stanford, puma):

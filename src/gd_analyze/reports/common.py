@@ -166,23 +166,29 @@ def pct_column(values, off=None):
     Returns
     -------
     list of str
-        Two decimals ("1.23 %") when every shown value is at least 0.01 %, else one
-        significant decimal in exponent form for all ("1.2e-02 %"); "n/a" where not finite.
+        Fixed notation with one number of decimals for the whole column, at least two and
+        enough for two significant digits of its smallest shown value ("0.078 %", "0.013 %");
+        exponent form for all ("1.2e-05 %") only when that value is below 1e-4 %; "n/a" where
+        not finite.
 
     Examples
     --------
     >>> pct_column([0.0123, 0.5])
     ['1.23 %', '50.00 %']
     >>> pct_column([2e-4, 6.4e-5, 0.0], off=[False, False, True])
-    ['2.0e-02 %', '6.4e-03 %', '\u2261 0']
+    ['0.0200 %', '0.0064 %', '\u2261 0']
     """
     v = 100.0 * np.asarray(values, dtype=float).ravel()
     hide = (v == 0) | (np.zeros(v.shape, bool) if off is None
                        else np.asarray(off, bool).ravel())
-    shown = v[~hide & np.isfinite(v)]
-    fixed = bool(np.all(np.abs(shown) >= 0.01))
-    return ["\u2261 0" if h else "n/a" if not math.isfinite(x) else
-            f"{x:.2f} %" if fixed else f"{x:.1e} %" for x, h in zip(v, hide)]
+    shown = np.abs(v[~hide & np.isfinite(v)])
+    least = float(shown.min()) if shown.size else 1.0
+    if least < 1e-4:
+        form = "{:.1e} %"
+    else:
+        form = "{:." + str(max(2, 1 - math.floor(math.log10(least)))) + "f} %"
+    return ["\u2261 0" if h else "n/a" if not math.isfinite(x) else form.format(x)
+            for x, h in zip(v, hide)]
 
 
 def attr(ds, key, default="\u2014", *, parens=True, bools=False, sci_outside=None):

@@ -232,6 +232,7 @@ def _fig_formulations(ds, width=PAGE_WIDTH):
     from matplotlib.figure import Figure
     from matplotlib.ticker import FixedLocator, LogLocator, NullFormatter
 
+    from .ticks import decade_formatter
     from .ticks import formatter as tick_formatter
 
     n = ds["dof"].values
@@ -258,7 +259,8 @@ def _fig_formulations(ds, width=PAGE_WIDTH):
         ax.xaxis.set_major_locator(FixedLocator(n))
         ax.yaxis.set_minor_locator(LogLocator(subs=(2.0, 5.0)))
         for axis in (ax.xaxis, ax.yaxis):       # plain labels: no mathtext to parse
-            axis.set_major_formatter(tick_formatter())
+            axis.set_major_formatter(tick_formatter() if axis is ax.xaxis
+                                     else decade_formatter())      # 10⁶, not 1e6
             axis.set_minor_formatter(NullFormatter())
         ax.set_title(f"{op} per set point")
         ax.set_xlabel("number of joints n", labelpad=1.0)

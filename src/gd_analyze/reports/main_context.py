@@ -38,6 +38,7 @@ from .main_text import (
     element_scale,
     gravity_clause,
     prismatic_count_note,
+    simplified_intro,
 )
 from .markup import element as _el
 from .markup import tau
@@ -67,16 +68,6 @@ _DERIVATIVES = {
 _CHOICE_TEXT = {"tran": "translational part only", "rot": "rotational part only",
                 "both": "translational + rotational", "none": "dropped (negligible)"}
 
-#: Section 5's opening paragraph, per form of the deployed model.
-_SIMPLIFIED_INTRO = {
-    "explicit": ("The simplified model is the explicit G-D model (Eq. (3.4-24)) with parts of "
-                 "the elements of D (mirrored to the lower triangle), h and c left out by its "
-                 "rule (Sec. 5.3): \u03c4\u209b = D\u209b q\u0308 + h\u209b + c\u209b."),
-    "recursive": ("The simplified model is the customized recursive Newton-Euler model on the "
-                  "base inertial parameters, with parts of the parameters' contributions left "
-                  "out by the error budget (Sec. 5.3); it keeps the elements of D and h as "
-                  "sums over the parameters, not element by element."),
-}
 _CHOICES_HEADING = {"explicit": "5.2 Choice per element",
                     "recursive": "5.2 Base parameters and the parts kept"}
 _MODEL_HEADING = {"explicit": "5.3 Explicit model: rule, bound, cost",
@@ -513,7 +504,8 @@ def _report_context_base(ds):
         "traj_kv": traj_kv, "joints": joints,
         "effort": effort, "effort_text": _effort_text(efforts), "drives": drives,
         "ranking": ranking, "counts": counts, "choices": choices, "error": err,
-        "simplified_intro": _SIMPLIFIED_INTRO[form] + _zero_parameters(ds),
+        "simplified_intro": (simplified_intro(form, _gravity_fact(ds, form))
+                             + _zero_parameters(ds)),
         "choices_heading": _CHOICES_HEADING[form],
         "model_heading": _MODEL_HEADING[form],
         "compare": {"applicable": applicable, "note": note, "table": compare,

@@ -90,6 +90,9 @@ _ALL_MARKERS, _FEW_MARKERS = 100, 40
 # Panel geometry of D and h [in].
 _LEFT, _RIGHT, _WGAP, _HGAP, _TOP, _BOTTOM = 0.53, 0.06, 0.49, 0.3, 0.2, 0.36
 _MIN_PANEL_W = 0.55
+#: Least panel width of the column-width D figure [in]: three a row even with each panel's
+#: units on its axis (a mixed arm), so that the figure fits a page (two a row: 13 in tall).
+_MIN_COLUMN_PANEL_W = 0.5
 
 
 
@@ -256,7 +259,7 @@ def fig_D(data, dominance, zero, s, e, prismatic=None, width=PAGE_WIDTH, armatur
     column = width < PAGE_WIDTH and n > 2
     if column:                          # three a row: said-once units leave room for it
         wgap = _gaps(mixed)
-        cols, w, h = _grid(len(units), width, wgap)
+        cols, w, h = _grid(len(units), width, wgap, _MIN_COLUMN_PANEL_W)
         rows = math.ceil(len(units) / cols)
         place = {lab: divmod(k, cols) for k, lab in enumerate(units)}
         H_panels = _TOP + rows * h + (rows - 1) * _HGAP + _BOTTOM

@@ -10,7 +10,7 @@ import numpy as np
 
 from ..core.selection.ranking import element_label, parse_element_label
 
-__all__ = ["conclusion", "model_sentence", "gravity_clause", "disagreement_cause", "captions",
+__all__ = ["conclusion", "model_sentence", "gravity_clause", "simplified_intro", "disagreement_cause", "captions",
            "element_scale", "prismatic_count_note"]
 
 _CLASSES = ("translational", "rotational", "both", "negligible")
@@ -53,6 +53,12 @@ def _names(labels):
     if len(labels) <= 6:
         return ", ".join(labels)
     return ", ".join(labels[:5]) + f" and {len(labels) - 5} more"
+
+
+def _qty(value, unit):
+    """A number and its unit joined by no-break spaces ("4.9\u00a0N\u00a0m"): a line never
+    ends between them (the Stanford summary broke "4.9 N" / "m")."""
+    return f"{value:.3g}\u00a0" + str(unit).replace(" ", "\u00a0")
 
 
 def conclusion(labels, dominance, zero, choice, rel_peak, abs_peak, tau_peak, cost=None,
@@ -124,16 +130,16 @@ def conclusion(labels, dominance, zero, choice, rel_peak, abs_peak, tau_peak, co
     others = np.delete(rel, worst)
     unit = list(units) if units is not None else ["N m"] * rel.size
     third = (f"Its largest open-loop torque error (\u03c4\u209b \u2212 \u03c4 along the "
-             f"trajectory) is {100 * rel[worst]:.3g} % of peak |\u03c4| at joint "
-             f"{worst + 1} ({abs_peak[worst]:.3g} {unit[worst]} of {tau_peak[worst]:.3g} "
-             f"{unit[worst]})")
+             f"trajectory) is {_qty(100 * rel[worst], '%')} of peak |\u03c4| at joint "
+             f"{worst + 1} ({_qty(abs_peak[worst], unit[worst])} of "
+             f"{_qty(tau_peak[worst], unit[worst])})")
     big = float(np.nanmax(tau_peak))
     if tau_peak[worst] < 0.01 * big:
         at = int(np.nanargmax(tau_peak))
-        third += (f": that joint's own torque is under 1 % of the largest joint's "
-                  f"({big:.3g} {unit[at]}), so a tiny absolute error is a large share of it")
+        third += (f": that joint's own torque is under 1\u00a0% of the largest joint's "
+                  f"({_qty(big, unit[at])}), so a tiny absolute error is a large share of it")
     if others.size and np.any(np.isfinite(others)):
-        third += f"; every other joint is within {100 * np.nanmax(others):.3g} %"
+        third += f"; every other joint is within {_qty(100 * np.nanmax(others), '%')}"
     if cost is not None:
         mult, add, ne = cost[:3]
         exact, full = (tuple(cost[3:5]) + (None, None))[:2]
@@ -199,6 +205,41 @@ def model_sentence(recursive=None, choice=None, gravity=None, trajectory="this t
             f"{kept['both']} and drops {kept['none']}: it evaluates {terms} of the "
             f"{2 * len(choice)} parts of D and h, and "
             + (f"{gravity}." if gravity else "its rule's terms of c."))
+
+
+def simplified_intro(form, gravity=None):
+    """Section 5's opening sentence: the deployed model's form and what its rule leaves out.
+
+    Parameters
+    ----------
+    form : str
+        ``"explicit"`` or ``"recursive"``.
+    gravity : str, optional
+        :func:`gravity_clause` of the model: an explicit model's sentence names c among what is
+        left out only when the model drops terms of c (the chapter rule never does).
+
+    Returns
+    -------
+    str
+
+    Examples
+    --------
+    >>> simplified_intro("explicit", gravity_clause("chapter")).split("; ")[-1]
+    'it keeps c whole: τₛ = Dₛ q̈ + hₛ + c.'
+    """
+    if form == "recursive":
+        return ("The simplified model is the customized recursive Newton-Euler model on the "
+                "base inertial parameters, with parts of the parameters' contributions left "
+                "out by the error budget (Sec. 5.3); it keeps the elements of D and h as sums "
+                "over the parameters, not element by element.")
+    head = ("The simplified model is the explicit G-D model (Eq. (3.4-24)) with parts of the "
+            "elements of D (mirrored to the lower triangle)")
+    if gravity and gravity.startswith("keeps c whole"):
+        return (head + " and h left out by its rule (Sec. 5.3); it keeps c whole: "
+                "\u03c4\u209b = D\u209b q\u0308 + h\u209b + c.")
+    what = ", h and terms of c" if gravity else ", h and c"
+    return (head + what + " left out by its rule (Sec. 5.3): "
+            "\u03c4\u209b = D\u209b q\u0308 + h\u209b + c\u209b.")
 
 
 def gravity_clause(rule, gravity_dropped=None, c_bound=None, units=None, c_terms=None):

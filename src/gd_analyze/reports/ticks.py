@@ -261,6 +261,45 @@ def formatter():
     return _Formatter()
 
 
+#: Superscript digits and minus, for a power of ten written without mathtext.
+_SUPERSCRIPT = str.maketrans("0123456789-", "\u2070\u00b9\u00b2\u00b3\u2074\u2075\u2076\u2077"
+                             "\u2078\u2079\u207b")
+
+
+def decade_label(x):
+    """A decade of a logarithmic axis as a power of ten, in Unicode superscripts.
+
+    Parameters
+    ----------
+    x : float
+        The tick [data units].
+
+    Returns
+    -------
+    str
+        ``"10⁶"`` for 1e6 (never the code-like ``"1e6"``); ``""`` for a tick that is no power
+        of ten.
+
+    Examples
+    --------
+    >>> decade_label(1e6), decade_label(0.01), decade_label(300.0)
+    ('10⁶', '10⁻²', '')
+    """
+    if not x > 0:
+        return ""
+    k = round(math.log10(x))
+    if abs(x / 10.0 ** k - 1.0) > 1e-9:
+        return ""
+    return "10" + str(k).translate(_SUPERSCRIPT)
+
+
+def decade_formatter():
+    """A :class:`matplotlib.ticker.Formatter` writing :func:`decade_label` (no mathtext)."""
+    from matplotlib.ticker import FuncFormatter
+
+    return FuncFormatter(lambda x, pos=None: decade_label(x))
+
+
 def set_ticks(axis, lo, hi, nbins=3, labels=True):
     """Fixed ticks and labels on one axis of a plot.
 
