@@ -8,6 +8,7 @@ import ast
 import hashlib
 import string
 
+import pytest
 from hypothesis import example, given, settings
 from hypothesis import strategies as st
 
@@ -83,3 +84,19 @@ def test_header_lines_make_keys_and_values_safe():
     for line, (key, value) in zip(lines, header.items()):
         assert line == f"{comment_safe(key)}: {comment_safe(value)}"
         _python_is_harmless(line)
+
+
+@pytest.mark.parametrize("length", [1, 120, 150, 199, 200, 201, 500])
+def test_a_header_entry_keeps_the_whole_digest_of_a_long_name(length):
+    """The digest names the raw text: the header's own pass never cuts it off (a 150-character
+    name's digested comment is longer than MAX_LENGTH)."""
+    import hashlib
+
+    from gd_analyze.core.symbolic.safe_text import MAX_LENGTH, comment_safe, header_lines
+
+    name = ("a*/" * length)[:length]
+    entry = comment_safe(name, digest=True)
+    (line,) = header_lines({"robot": entry})
+    assert line == f"robot: {entry}"
+    assert hashlib.sha256(name.encode()).hexdigest() in line
+    assert len(entry.split(" (sha256 ")[0]) <= MAX_LENGTH

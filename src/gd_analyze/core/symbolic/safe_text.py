@@ -13,7 +13,7 @@ from __future__ import annotations
 import hashlib
 import string
 
-__all__ = ["comment_safe", "header_lines", "SAFE_CHARACTERS"]
+__all__ = ["comment_safe", "header_lines", "SAFE_CHARACTERS", "MAX_LENGTH", "DIGEST_LENGTH"]
 
 #: The characters kept: printable ASCII without ``*`` (``/*``, ``*/``), backslash (line splices,
 #: escapes), ``?`` (the trigraph ``??/`` is a backslash), quotes and backquote (strings,
@@ -23,9 +23,11 @@ SAFE_CHARACTERS = frozenset(string.ascii_letters + string.digits + " _-.,:;+=()[
 
 #: Longest sanitised text (the SHA-256 still names the whole of it).
 MAX_LENGTH = 200
+#: Length of the `` (sha256 <hex>)`` that ``comment_safe(text, digest=True)`` appends.
+DIGEST_LENGTH = len(" (sha256 )") + 64
 
 
-def comment_safe(text, digest=False):
+def comment_safe(text, digest=False, limit=MAX_LENGTH):
     """The text with every character outside :data:`SAFE_CHARACTERS` replaced by ``_``.
 
     Parameters
@@ -35,11 +37,13 @@ def comment_safe(text, digest=False):
     digest : bool, optional
         Append `` (sha256 <hex>)``: the SHA-256 of the raw text's UTF-8 bytes (lone surrogates
         escaped), which identifies it whatever was replaced.
+    limit : int, optional
+        Longest result before the digest (default :data:`MAX_LENGTH`).
 
     Returns
     -------
     str
-        At most :data:`MAX_LENGTH` safe characters (longer text is cut and ends in ``...``),
+        At most ``limit`` safe characters (longer text is cut and ends in ``...``),
         plus the digest if asked. It cannot contain ``*/``, ``/*``, ``\"\"\"``, ``'''``, a
         backslash, ``??/``, ``#`` or any line break, so it can stand in a C block comment, a
         C or Python line comment, or a Python string literal of either quote.
@@ -58,8 +62,8 @@ def comment_safe(text, digest=False):
     """
     text = str(text)
     safe = "".join(ch if ch in SAFE_CHARACTERS else "_" for ch in text)
-    if len(safe) > MAX_LENGTH:
-        safe = safe[:MAX_LENGTH - 3] + "..."
+    if len(safe) > limit:
+        safe = safe[:limit - 3] + "..."
     if not digest:
         return safe
     raw = text.encode("utf-8", "backslashreplace")
@@ -78,11 +82,14 @@ def header_lines(header):
     -------
     list of str
         One line per entry, through :func:`comment_safe` (no digest added: give the entries
-        that come from input ``comment_safe(text, digest=True)`` beforehand).
+        that come from input ``comment_safe(text, digest=True)`` beforehand; a value is cut
+        only past :data:`MAX_LENGTH` plus :data:`DIGEST_LENGTH` characters, so such an entry
+        keeps its digest whole).
 
     Examples
     --------
     >>> header_lines({"robot": "x */ y", "tolerance": 0.01})
     ['robot: x _/ y', 'tolerance: 0.01']
     """
-    return [f"{comment_safe(k)}: {comment_safe(v)}" for k, v in header.items()]
+    return [f"{comment_safe(k)}: {comment_safe(v, limit=MAX_LENGTH + DIGEST_LENGTH)}"
+            for k, v in header.items()]
