@@ -39,7 +39,7 @@ import numpy as np
 import pinocchio as pin
 
 from gd_analyze import load_robot
-from gd_analyze.core.symbolic.codegen import emit_c
+from gd_analyze.core.symbolic.emit import emit_c
 from gd_analyze.core.symbolic.recursive import recursive_program
 from gd_analyze.core.symbolic.safe_text import comment_safe
 from gd_analyze.formulations.pinocchio import pinocchio_model

@@ -199,7 +199,7 @@ def c_model(outdir, n, build):
 def exact_model_error(path, tip, chain):
     """The exact recursive model (EPS = 0) against rnea on random states: worst relative error."""
     from gd_analyze.core.symbolic.base_parameters import random_states
-    from gd_analyze.core.symbolic.codegen import python_function
+    from gd_analyze.core.symbolic.emit import python_function
     from gd_analyze.core.symbolic.recursive import recursive_program
     from gd_analyze.io.robots import load_robot
 

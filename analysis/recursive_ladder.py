@@ -28,7 +28,7 @@ import numpy as np
 import pinocchio as pin
 
 from gd_analyze.core.symbolic.base_parameters import base_parameters
-from gd_analyze.core.symbolic.codegen import python_function
+from gd_analyze.core.symbolic.emit import python_function
 from gd_analyze.core.symbolic.recursive import recursive_program
 from gd_analyze.core.symbolic.recursive_model import recursive_model
 from gd_analyze.formulations.opcount import book_counts, operation_counts

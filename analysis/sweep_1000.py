@@ -58,7 +58,8 @@ def main(argv=None):
     from gd_analyze.io.schema import write_dataset
     from gd_analyze.reports.sweep import write_sweep_report
     from gd_analyze.workflows.payload import payload_sweep
-    from gd_analyze.workflows.sweep import merged_model, run_sweep
+    from gd_analyze.workflows.sweep import run_sweep
+    from gd_analyze.workflows.sweep_merged import merged_model
 
     t_start = time.perf_counter()
     outdir = Path(args.outdir) if args.outdir else Path(tempfile.mkdtemp(prefix="gd-sweep-"))

@@ -13,6 +13,7 @@ import pytest
 
 from gd_analyze.cli import main
 from gd_analyze.errors import InputError
+from gd_analyze.workflows import dask_cluster
 from gd_analyze.workflows import sweep as sweep_module
 
 
@@ -35,7 +36,7 @@ def test_an_error_of_the_sweep_is_not_a_scheduler_error(tmp_path, capsys, monkey
     def failing(*args, **kwargs):
         raise raised
 
-    monkeypatch.setattr(sweep_module, "dask_client", _no_cluster)
+    monkeypatch.setattr(dask_cluster, "dask_client", _no_cluster)
     monkeypatch.setattr(sweep_module, "run_sweep", failing)
     got, err = _sweep(tmp_path, capsys)
     assert got == code, err
@@ -48,7 +49,7 @@ def test_an_unreachable_scheduler_is_still_named(tmp_path, capsys, monkeypatch):
         raise OSError("connection refused")
         yield
 
-    monkeypatch.setattr(sweep_module, "dask_client", refused)
+    monkeypatch.setattr(dask_cluster, "dask_client", refused)
     code = main(["sweep", "puma560", "--random", "2", "--no-report", "--scheduler",
                  "tcp://127.0.0.1:1", "-o", str(tmp_path / "o")])
     err = capsys.readouterr().err

@@ -21,7 +21,8 @@ from gd_analyze.io.trajectory import read_trajectory
 from gd_analyze.workflows.analyze import analyze
 from gd_analyze.workflows.options import AnalysisOptions, SimplifyOptions
 from gd_analyze.workflows.payload import payload_sweep
-from gd_analyze.workflows.sweep import analyze_one, merged_model, run_sweep
+from gd_analyze.workflows.sweep import analyze_one, run_sweep
+from gd_analyze.workflows.sweep_merged import merged_model
 
 K = 6
 
@@ -427,7 +428,7 @@ _OWN = "chapter rule: share-based classes of Sec. 3.4.1, no error bound"
 def test_sweep_report_wording_follows_the_rule(sweep, puma, trajectories, tmp_path):
     from gd_analyze.reports.sweep import write_sweep_report
     from gd_analyze.workflows.simplify import sweep_model
-    from gd_analyze.workflows.sweep import with_budget_model
+    from gd_analyze.workflows.sweep_merged import with_budget_model
 
     write_sweep(sweep, tmp_path / "chapter.h5")
     html = write_sweep_report(tmp_path / "chapter.h5", tmp_path / "rc",

@@ -33,7 +33,7 @@ def _sweep_model(robot, trajectories, args, outdir, settings, ds):
     with this model's errors)."""
     from ..io.planning import random_trajectories
     from ..workflows.simplify import sweep_model
-    from ..workflows.sweep import with_budget_model
+    from ..workflows.sweep_merged import with_budget_model
 
     if args.held_out < 0:
         raise InputError("--held-out must be >= 0")
@@ -94,8 +94,10 @@ def _cmd_sweep(args):
     from ..io.planning import random_trajectories
     from ..io.schema import write_dataset
     from ..io.trajectory import read_trajectory
+    from ..workflows.dask_cluster import dask_client
     from ..workflows.payload import sweep_payloads
-    from ..workflows.sweep import dask_client, merged_model, run_sweep
+    from ..workflows.sweep import run_sweep
+    from ..workflows.sweep_merged import merged_model
 
     robot = _load_robot(args)
     if (args.random is None) == (not args.csv):

@@ -100,7 +100,7 @@ def sweep_payloads(robot, trajectories, masses, com=(0.0, 0.0, 0.0), inertia=(0.
     dominance, negligible : float, optional
         s and e of the ranking.
     client : distributed.Client
-        The cluster to run on (see :func:`~gd_analyze.workflows.sweep.dask_client`).
+        The cluster to run on (see :func:`~gd_analyze.workflows.dask_cluster.dask_client`).
 
     Returns
     -------

@@ -240,7 +240,7 @@ def full_torque(robot, terms):
         Equal to the G-D model's tau = D qdd + h + c to rounding (the tests check it against
         Pinocchio rnea to 1e-10), without computing the G-D terms again.
     """
-    from ..core.symbolic.codegen import python_function
+    from ..core.symbolic.emit import python_function
 
     return python_function(_program(robot, terms, terms))
 

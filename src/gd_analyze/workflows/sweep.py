@@ -11,14 +11,16 @@ trajectories and reports, per ranked element (``"D11"`` .. ``"Dnn"``, ``"h1"`` .
   negligible) holds;
 - one merged simplified model for the whole sweep. By default (budget rule) it is the explicit
   model of :func:`gd_analyze.workflows.simplify.sweep_model`, guaranteed within EPS x scale_i
-  on every swept trajectory (:func:`with_budget_model` puts it into the dataset); with the
-  chapter rule a part of an element is dropped only where every trajectory's own share-based
-  model drops it (:func:`gd_analyze.core.selection.simplified.merge_choices`), which bounds nothing.
+  on every swept trajectory (:func:`gd_analyze.workflows.sweep_merged.with_budget_model` puts
+  it into the dataset); with the chapter rule a part of an element is dropped only where every
+  trajectory's own share-based model drops it
+  (:func:`gd_analyze.core.selection.simplified.merge_choices`), which bounds nothing.
 
 The per-trajectory work (:func:`analyze_one`) is a pure function of small arguments, run in
-batches on a dask.distributed cluster by :func:`run_sweep`. The dataset's schema is in
-:mod:`gd_analyze.io.sweep_datasets`; random trajectories come from
-:func:`gd_analyze.io.planning.random_trajectories`; payload sweeps are in
+batches on a dask.distributed cluster (:mod:`gd_analyze.workflows.dask_cluster`) by
+:func:`run_sweep`. The dataset's schema is in :mod:`gd_analyze.io.sweep_datasets`; the merged
+models read from it are in :mod:`gd_analyze.workflows.sweep_merged`; random trajectories come
+from :func:`gd_analyze.io.planning.random_trajectories`; payload sweeps are in
 :mod:`gd_analyze.workflows.payload`.
 """
 
@@ -27,28 +29,25 @@ from __future__ import annotations
 import contextlib
 import datetime
 import math
-import os
-import tempfile
 import time
 
 import numpy as np
 
 from ..core.dynamics.dalembert import COMPILED_MIN_SETPOINTS, DEFAULT_CHUNK, gd_terms
-from ..core.selection.ranking import DEFAULT_DOMINANCE, DEFAULT_NEGLIGIBLE, element_labels
+from ..core.selection.ranking import DEFAULT_DOMINANCE, DEFAULT_NEGLIGIBLE
 from ..core.selection.simplified import (
     TorqueErrorAccumulator,
-    choice_masks,
     merge_choices,
     simplified_torque,
 )
-from ..errors import InputError
-from ..io.schema import attribute_value, strings
+from ..io.schema import attribute_value
 from ..io.sweep_datasets import sweep_dataset
 from .analyze import analysis_pass
+from .dask_cluster import dask_client
 from .options import AnalysisOptions
 
-__all__ = ["DEFAULT_BATCH_MAX", "dask_client", "analyze_one", "run_sweep", "merged_model",
-           "check_thresholds", "check_trajectory", "with_budget_model"]
+__all__ = ["DEFAULT_BATCH_MAX", "analyze_one", "run_sweep", "check_thresholds",
+           "check_trajectory"]
 
 #: Largest number of trajectories per dask task chosen automatically by :func:`run_sweep`.
 DEFAULT_BATCH_MAX = 50
@@ -56,9 +55,6 @@ DEFAULT_BATCH_MAX = 50
 _TASKS_PER_WORKER = 4
 #: Set points of consecutive trajectories whose G-D terms are computed in one call.
 _GROUP_SETPOINTS = 4096
-#: Scheduler options of the local cluster: no dashboard, and its small HTTP server (health
-#: checks) on a free loopback port rather than the shared default 8787.
-_NO_DASHBOARD = {"dashboard": False, "dashboard_address": "127.0.0.1:0"}
 
 
 def check_thresholds(dominance, negligible):
@@ -106,11 +102,6 @@ def check_trajectory(robot, trajectory):
                              f"expected ({N}, {robot.n}) for {robot.name}")
     if q.shape[0] < 2:
         raise ValueError(f"{trajectory.source or 'trajectory'}: fewer than 2 set points")
-
-
-# --------------------------------------------------------------------------------------------
-# Trajectories
-# --------------------------------------------------------------------------------------------
 
 
 # --------------------------------------------------------------------------------------------
@@ -249,137 +240,12 @@ def _error_batch(robot, trajectories, choices):
 
 
 # --------------------------------------------------------------------------------------------
-# Merging
-# --------------------------------------------------------------------------------------------
-
-
-# --------------------------------------------------------------------------------------------
 # The sweep on dask.distributed
 # --------------------------------------------------------------------------------------------
 
 def _auto_batch(k, n_workers):
     per_task = math.ceil(k / (_TASKS_PER_WORKER * max(1, n_workers)))
     return int(min(DEFAULT_BATCH_MAX, max(1, per_task)))
-
-
-@contextlib.contextmanager
-def dask_client(scheduler=None, n_workers=None):
-    """A dask.distributed client: connected to ``scheduler``, or on a new LocalCluster.
-
-    Parameters
-    ----------
-    scheduler : str, optional
-        Address of a running scheduler, e.g. ``"tcp://10.0.0.5:8786"``.
-    n_workers : int, optional
-        Workers of the LocalCluster started when no scheduler is given (one process and one
-        thread each); default ``os.cpu_count() or 2``.
-
-    Yields
-    ------
-    (distributed.Client, str)
-        The client and a description of the cluster; both are closed on exit.
-
-    Notes
-    -----
-    The LocalCluster's processes (workers, multiprocessing's resource tracker) start without
-    the current folder on ``sys.path``.
-
-    Raises
-    ------
-    ImportError
-        If dask.distributed is missing from the environment (it is a dependency).
-    OSError
-        If the scheduler cannot be reached.
-    """
-    try:
-        from distributed import Client, LocalCluster
-    except ImportError as exc:  # pragma: no cover - the extra is installed for the tests
-        raise ImportError("sweeps need dask.distributed (a dependency of gd-analyze): "
-                          "pip install 'dask[distributed]'") from exc
-    cluster = None
-    with contextlib.ExitStack() as env:
-        if scheduler is not None:
-            client, how = Client(scheduler), "connected by address"
-        else:
-            import dask
-
-            workers = int(n_workers) if n_workers else (os.cpu_count() or 2)
-            env.enter_context(_safe_path_children())
-            # The workers' statistical profiler samples every thread's stack every 10 ms while
-            # holding the GIL; for these many short numpy calls it costs about 40 % of the
-            # time, so the cluster started here runs without it.
-            empty = env.enter_context(tempfile.TemporaryDirectory(prefix="gd-analyze-dask-"))
-            with dask.config.set({"distributed.worker.profile.enabled": False}), \
-                    _working_folder(empty):
-                cluster = LocalCluster(n_workers=workers, threads_per_worker=1, processes=True,
-                                       dashboard_address=None, scheduler_kwargs=_NO_DASHBOARD)
-            client, how = Client(cluster), "LocalCluster started by gd-analyze"
-        try:
-            yield client, how
-        finally:
-            client.close()
-            if cluster is not None:
-                cluster.close()
-
-
-@contextlib.contextmanager
-def _working_folder(folder):
-    """Run the block in ``folder`` (an empty private one), then return to the current folder.
-
-    The interpreters that multiprocessing starts inside the block (dask's workers and its
-    resource tracker, as ``python -c ...``) put their working folder first on ``sys.path``
-    before anything else runs; started here, that is an empty folder on every Python version
-    (``PYTHONSAFEPATH`` of :func:`_safe_path_children` needs Python >= 3.11). The block only
-    starts the cluster: the parent uses no relative path inside it.
-
-    Parameters
-    ----------
-    folder : str
-        An existing folder that lives at least as long as the processes started here.
-
-    Yields
-    ------
-    None
-    """
-    back = os.open(".", os.O_RDONLY)
-    try:
-        os.chdir(folder)
-        try:
-            yield
-        finally:
-            os.fchdir(back)
-    finally:
-        os.close(back)
-
-
-@contextlib.contextmanager
-def _safe_path_children():
-    """Keep the current folder off the sys.path of the child interpreters started inside the
-    block: ``PYTHONSAFEPATH=1`` (Python >= 3.11), restored afterwards.
-
-    multiprocessing starts dask's workers and its resource tracker as ``python -c ...``,
-    which puts the current folder first on ``sys.path`` and imports ``pickle``, ``socket``
-    and more before the parent's path is restored: a ``pickle.py`` in the folder where the
-    sweep starts would run in each of them. ``PYTHONSAFEPATH`` (``-P``) leaves that entry
-    out; the spawned workers then take the parent's ``sys.path`` as multiprocessing passes
-    it. The block spans the cluster's life, so workers the nanny restarts are covered too.
-
-    Yields
-    ------
-    None
-    """
-    before = os.environ.get("PYTHONSAFEPATH")
-    if before:
-        yield
-        return
-    os.environ["PYTHONSAFEPATH"] = "1"
-    try:
-        yield
-    finally:
-        if before is None:
-            os.environ.pop("PYTHONSAFEPATH", None)
-        else:
-            os.environ["PYTHONSAFEPATH"] = before
 
 
 def run_sweep(robot, trajectories, dominance=DEFAULT_DOMINANCE, negligible=DEFAULT_NEGLIGIBLE,
@@ -514,171 +380,3 @@ def run_sweep(robot, trajectories, dominance=DEFAULT_DOMINANCE, negligible=DEFAU
         ds.attrs[key] = attribute_value(value)
     ds.attrs["elapsed_s"] = round(time.perf_counter() - t0, 4)
     return ds
-
-
-def merged_model(robot, sweep_ds):
-    """The sweep's merged simplified model of the chapter rule (no error bound).
-
-    Parameters
-    ----------
-    robot : Robot
-        The arm the sweep was run on (checked against the dataset's ``robot_sha256`` and
-        number of elements).
-    sweep_ds : xarray.Dataset
-        A sweep dataset from :func:`run_sweep` (or read back with
-        :func:`~gd_analyze.io.schema.open_sweep`).
-
-    Returns
-    -------
-    SimplifiedModel
-        ``choices`` = the dataset's ``merged_choice``; ``validation`` = its torque error over
-        all the sweep's trajectories, per joint: ``peak_abs_error``, ``rms_error``,
-        ``peak_tau`` [N m] and ``relative_peak_error``, ``relative_rms_error`` (relative to
-        the peak |tau| over all trajectories), plus ``trajectories`` (K) and ``setpoints``
-        (total); ``trajectory_sha256`` = the digest of all inputs (``inputs_sha256``).
-
-    Raises
-    ------
-    InputError
-        If the dataset is not a sweep dataset, or was computed for another robot.
-
-    Notes
-    -----
-    The validation is computed by :func:`run_sweep` along every trajectory and stored in the
-    dataset; nothing is recomputed here. Source: Sec. 3.4.1 of Fu, Gonzalez & Lee (1987).
-    """
-    from .._version import __version__
-    from ..core.selection.simplified import SimplifiedModel
-
-    needed = ("merged_choice", "merged_error_peak", "merged_error_rms", "merged_error_tau_peak",
-              "merged_error_relative_peak", "merged_error_relative_rms")
-    missing = [v for v in needed if v not in sweep_ds.variables]
-    if missing:
-        raise InputError("not a gd-analyze sweep dataset: missing " + ", ".join(missing))
-    sha = sweep_ds.attrs.get("robot_sha256", "")
-    if sha and robot.sha256 and sha != robot.sha256:
-        raise InputError(f"the sweep was computed for robot {sweep_ds.attrs.get('robot')!r} "
-                         f"(sha256 {sha[:12]}...), not for {robot.name!r} "
-                         f"(sha256 {robot.sha256[:12]}...)")
-    labels = strings(sweep_ds["element"].values)
-    if labels != element_labels(robot.n):
-        raise InputError(f"the sweep's elements do not match a {robot.n}-joint robot")
-    choices = dict(zip(labels, strings(sweep_ds["merged_choice"].values)))
-    choice_masks(choices, robot.n)
-    validation = {
-        "peak_abs_error": sweep_ds["merged_error_peak"].values.tolist(),
-        "rms_error": sweep_ds["merged_error_rms"].values.tolist(),
-        "peak_tau": sweep_ds["merged_error_tau_peak"].values.tolist(),
-        "relative_peak_error": sweep_ds["merged_error_relative_peak"].values.tolist(),
-        "relative_rms_error": sweep_ds["merged_error_relative_rms"].values.tolist(),
-        "trajectories": int(sweep_ds.sizes.get("trajectory", 0)),
-        "setpoints": int(sweep_ds.attrs.get("setpoints_total", 0)),
-    }
-    provenance = {"gd_analyze_version": __version__, "kind": "merged model of a sweep",
-                  "sweep_version": str(sweep_ds.attrs.get("gd_analyze_version", "")),
-                  "merge_rule": str(sweep_ds.attrs.get("merge_rule", "")),
-                  "input_kind": str(sweep_ds.attrs.get("input_kind", ""))}
-    if "seed" in sweep_ds.attrs:
-        provenance["seed"] = int(sweep_ds.attrs["seed"])
-    return SimplifiedModel(
-        robot=robot, choices=choices,
-        dominance_threshold=float(sweep_ds.attrs.get("dominance_threshold", DEFAULT_DOMINANCE)),
-        negligible_threshold=float(sweep_ds.attrs.get("negligible_threshold",
-                                                      DEFAULT_NEGLIGIBLE)),
-        trajectory_sha256=str(sweep_ds.attrs.get("inputs_sha256", "")),
-        validation=validation, provenance=provenance)
-
-
-def with_budget_model(sweep_ds, model):
-    """The sweep dataset with the budget rule's merged model in place of the chapter merge.
-
-    Parameters
-    ----------
-    sweep_ds : xarray.Dataset
-        From :func:`run_sweep` (K trajectories, n joints).
-    model : SimplifiedModel
-        From :func:`gd_analyze.workflows.simplify.sweep_model` on the same trajectories, in
-        the same order (its ``validation["per_trajectory"]``).
-
-    Returns
-    -------
-    xarray.Dataset
-        A copy: ``merged_choice`` = the model's whole-part choices; ``merged_tau_error_peak``
-        (trajectory, joint) [N m] and ``merged_tau_error_relative_peak`` (divided by that
-        trajectory's scale_{t,i} = max(peak |tau_i|, TAU), guaranteed <= EPS);
-        ``merged_scale`` (trajectory, joint) [N m]; ``merged_error_*`` over all trajectories
-        (relative to the peak |tau| over all of them); attributes ``merged_rule`` = "budget",
-        ``merged_tolerance`` (EPS), ``merged_torque_floor`` (TAU) [N m],
-        ``merged_worst_scaled_error`` and ``merge_rule`` (the rule in words).
-
-    Raises
-    ------
-    ValueError
-        If the model's per-trajectory errors do not match the dataset's trajectories.
-
-    Notes
-    -----
-    The guarantee is that of :mod:`gd_analyze.core.selection.budget` over several trajectories.
-    """
-    from ..core.selection.ranking import element_labels
-
-    torque = sweep_ds["tau_peak"].attrs.get("units", "N m") if "tau_peak" in sweep_ds else "N m"
-
-    v = model.validation
-    per = v["per_trajectory"]
-    peak = np.asarray(per["peak_abs_error"], float)
-    scale = np.asarray(per["scale"], float)
-    if peak.shape != (sweep_ds.sizes["trajectory"], sweep_ds.sizes["joint"]):
-        raise ValueError(f"the model's errors have shape {peak.shape}, the sweep has "
-                         f"{sweep_ds.sizes['trajectory']} trajectories and "
-                         f"{sweep_ds.sizes['joint']} joints")
-    with np.errstate(invalid="ignore", divide="ignore"):
-        rel = np.where(peak > 0, peak / np.where(scale > 0, scale, 0.0), 0.0)
-    ds = sweep_ds.copy()
-    eps = f"{model.tolerance:g}"
-
-    def put(name, dims, data, units, desc):
-        ds[name] = (dims, np.asarray(data), {"units": units, "long_name": desc})
-
-    labels = element_labels(sweep_ds.sizes["joint"])
-    put("merged_choice", ("element",), np.array([model.choices[k] for k in labels], dtype=str),
-        "1", f"whole parts kept by the budget rule (EPS = {eps}) on every swept trajectory")
-    put("merged_tau_error_peak", ("trajectory", "joint"), peak, torque,
-        "merged model: peak |tau_merged - tau| along the trajectory")
-    put("merged_scale", ("trajectory", "joint"), scale, torque,
-        "scale_i = max(peak |tau_i|, torque floor) along the trajectory")
-    put("merged_tau_error_relative_peak", ("trajectory", "joint"), np.nan_to_num(rel, nan=np.inf),
-        "1", f"merged model: peak |tau_merged - tau| / scale_i along the trajectory "
-             f"(guaranteed <= {eps})")
-    for key, name, units, desc in (
-            ("peak_abs_error", "merged_error_peak", torque,
-             "merged model: peak |tau_merged - tau| over all trajectories"),
-            ("rms_error", "merged_error_rms", torque, "merged model: RMS of |tau_merged - tau| "
-                                                     "over all set points of all trajectories"),
-            ("peak_tau", "merged_error_tau_peak", torque, "peak |tau| over all trajectories"),
-            ("relative_peak_error", "merged_error_relative_peak", "1",
-             "merged model: peak error / peak |tau|, over all trajectories"),
-            ("relative_rms_error", "merged_error_relative_rms", "1",
-             "merged model: RMS error / peak |tau|, over all trajectories")):
-        put(name, ("joint",), np.array([np.nan if x is None else x for x in v[key]], float),
-            units, desc)
-    ds.attrs.update({
-        "merged_rule": "budget", "merged_tolerance": float(model.tolerance),
-        "merged_torque_floor": float(model.torque_floor),
-        "merged_worst_scaled_error": float(v["worst_scaled_error"]),
-        "merge_rule": f"budget rule: one explicit model whose dropped terms' peaks, each "
-                      f"divided by its trajectory's scale_i = max(peak |tau_i|, "
-                      f"{model.torque_floor:g} N m), sum to at most EPS = {eps}: guaranteed "
-                      f"within {eps} x scale_i on every swept trajectory"})
-    return ds
-
-
-# --------------------------------------------------------------------------------------------
-# Payload sweep
-# --------------------------------------------------------------------------------------------
-
-
-# --------------------------------------------------------------------------------------------
-# Files
-# --------------------------------------------------------------------------------------------
-

@@ -22,7 +22,8 @@ from gd_analyze.core.selection.budget import (
 )
 from gd_analyze.core.selection.choices import full_choices, simplified_torque
 from gd_analyze.core.selection.labels import element_labels
-from gd_analyze.core.symbolic.codegen import build_program, python_function
+from gd_analyze.core.symbolic.codegen import build_program
+from gd_analyze.core.symbolic.emit import python_function
 from gd_analyze.core.symbolic.explicit import derive, model_terms, term_peaks
 from gd_analyze.formulations.pinocchio import pinocchio_model, reference_terms
 from gd_analyze.io.robots import load_robot

@@ -1,13 +1,23 @@
-"""Helpers of the symbolic-model tests: the arms, Pinocchio's rnea of them, and an
-independent count of the operations of emitted C."""
+"""Helpers of the symbolic-model tests: the arms, Pinocchio's rnea of them, the explicit
+programs of two small arms, their symbolic evaluation, their compiled C, and an independent
+count of the operations of emitted C."""
 
+import ctypes
 import re
+import shutil
+import subprocess
+from functools import cache
 
+import chapter_two_link
 import numpy as np
 import pinocchio as pin
+import symengine as se
 from scipy.spatial.transform import Rotation
 
 from gd_analyze.core.model.robot_spec import robot_from_chain, robot_from_dict
+from gd_analyze.core.symbolic.codegen import build_program
+from gd_analyze.core.symbolic.emit import C_FUNCTION, emit_c
+from gd_analyze.core.symbolic.explicit import derive, model_terms
 from gd_analyze.formulations.opcount import random_chain
 from gd_analyze.formulations.pinocchio import pinocchio_model
 from gd_analyze.io.robots import load_robot
@@ -103,3 +113,65 @@ def count_c(src):
                 kind = op
             prev = kind
     return tally
+
+
+#: The chapter's two-link arm of the explicit-program tests: m1, m2 [kg], l [m], g [m/s^2].
+TWO_LINK = (1.1, 0.7, 0.9, 9.81)
+
+
+def two_link(offsets=(0.0, 0.0)):
+    """The chapter's two-link arm (:data:`TWO_LINK`), with joint offsets [deg]."""
+    spec = chapter_two_link.spec(*TWO_LINK)
+    for link, off in zip(spec["link"], offsets):
+        link["offset_deg"] = off
+    return robot_from_dict(spec)
+
+
+@cache
+def explicit_program(name, trig_mode="products"):
+    """The arm ("two-link" or "mixed") and the program of its whole explicit model."""
+    arm = {"two-link": two_link, "mixed": lambda: mixed_chain(3, seed=2)}[name]()
+    prog = build_program(model_terms(derive(arm)), arm.n, np.zeros(arm.n), trig_mode=trig_mode,
+                         prismatic=arm.prismatic)
+    return arm, prog
+
+
+def symbolic_tau(prog, q, qd, qdd):
+    """Evaluate a program's expression: every assignment substituted in order, then the
+    outputs at each state (symengine's own arithmetic, no printer involved)."""
+    n = prog.n
+    out = np.empty(q.shape)
+    for k in range(q.shape[0]):
+        env = {}
+        for i in range(n):
+            env[se.Symbol(f"q{i}")] = q[k, i]
+            env[se.Symbol(f"qd{i}")] = qd[k, i]
+            env[se.Symbol(f"qdd{i}")] = qdd[k, i]
+        for sym, expr in prog.assignments:
+            env[sym] = float(expr.subs(env))
+        out[k] = [float(e.subs(env)) for e in prog.outputs]
+    return out
+
+
+def compile_c(tmp_path, prog, name="m"):
+    """The program's emitted C compiled by the machine's cc (-std=c99 -pedantic -Wall -Wextra
+    -Werror) and loaded: tau(q, qd, qdd) on arrays of shape (N, n)."""
+    cc = shutil.which("cc")
+    assert cc, "the machine's C compiler (cc) is required"
+    src = tmp_path / f"{name}.c"
+    src.write_text(emit_c(prog, {"robot": "test"}))
+    lib = tmp_path / f"lib{name}.so"
+    subprocess.run([cc, "-O1", "-shared", "-fPIC", "-std=c99", "-pedantic", "-Wall", "-Wextra",
+                    "-Werror", "-o", str(lib), str(src), "-lm"], check=True)
+    fn = getattr(ctypes.CDLL(str(lib)), C_FUNCTION)
+    dp = ctypes.POINTER(ctypes.c_double)
+    fn.argtypes, fn.restype = [dp, dp, dp, dp], None
+
+    def tau(q, qd, qdd):
+        res = np.empty_like(q)
+        for k in range(q.shape[0]):
+            args = [np.ascontiguousarray(x[k]) for x in (q, qd, qdd)] + [np.empty(prog.n)]
+            fn(*(a.ctypes.data_as(dp) for a in args))
+            res[k] = args[-1]
+        return res
+    return tau

@@ -14,8 +14,10 @@ from conftest import SHIPPED, random_states
 from gd_analyze import load_robot
 from gd_analyze.core.dynamics.dalembert import gd_terms
 from gd_analyze.core.selection.budget import PartPeaks, budget_choices, part_index, select_terms
-from gd_analyze.core.symbolic.codegen import build_program, count_operations, emit_c, emit_python
+from gd_analyze.core.symbolic.codegen import build_program
+from gd_analyze.core.symbolic.emit import emit_c, emit_python
 from gd_analyze.core.symbolic.explicit import budget_drop, derive, model_terms, term_peaks
+from gd_analyze.core.symbolic.operation_count import count_operations
 from gd_analyze.core.symbolic.trigpoly import TrigPoly
 from gd_analyze.formulations.pinocchio import pinocchio_model
 from gd_analyze.io.planning import plan_quintic

@@ -19,7 +19,8 @@ from gd_analyze import load_robot
 from gd_analyze.core.dynamics.dalembert import gd_terms
 from gd_analyze.core.model.robot_spec import robot_from_chain
 from gd_analyze.core.selection.budget import PartPeaks, select_terms
-from gd_analyze.core.symbolic.codegen import build_program, emit_c
+from gd_analyze.core.symbolic.codegen import build_program
+from gd_analyze.core.symbolic.emit import emit_c
 from gd_analyze.core.symbolic.explicit import derive, model_terms, term_peaks
 from gd_analyze.core.symbolic.trigpoly import TrigPoly
 from gd_analyze.io.trajectory import read_trajectory

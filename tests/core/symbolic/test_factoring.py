@@ -14,7 +14,8 @@ from hypothesis import strategies as st
 
 from gd_analyze import load_robot
 from gd_analyze.core.symbolic import codegen
-from gd_analyze.core.symbolic.codegen import build_program, count_operations, emit_c
+from gd_analyze.core.symbolic.codegen import build_program
+from gd_analyze.core.symbolic.emit import emit_c
 from gd_analyze.core.symbolic.explicit import derive, model_terms
 from gd_analyze.core.symbolic.factoring import (
     expand_pairs,
@@ -23,6 +24,7 @@ from gd_analyze.core.symbolic.factoring import (
     prune_dead,
     sum_to_product,
 )
+from gd_analyze.core.symbolic.operation_count import count_operations
 
 SYMS = se.symbols("a b c d e f")
 

@@ -16,7 +16,8 @@ import symengine as se
 from symbolic_helpers import robot, states
 
 from gd_analyze.core.symbolic.base_parameters import standard_parameters
-from gd_analyze.core.symbolic.codegen import Program, python_function
+from gd_analyze.core.symbolic.codegen import Program
+from gd_analyze.core.symbolic.emit import python_function
 from gd_analyze.core.symbolic.newton_euler import (
     FORMS,
     PARTS,

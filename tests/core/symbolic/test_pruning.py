@@ -9,7 +9,7 @@ import pytest
 from symbolic_helpers import count_c, rnea, robot, states
 
 from gd_analyze.core.symbolic.base_parameters import base_parameters
-from gd_analyze.core.symbolic.codegen import emit_c, python_function
+from gd_analyze.core.symbolic.emit import emit_c, python_function
 from gd_analyze.core.symbolic.pruning import part_contributions, prune, pruned_program
 from gd_analyze.core.symbolic.recursive import recursive_program
 from gd_analyze.io.trajectory import read_trajectory

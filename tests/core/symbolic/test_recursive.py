@@ -11,7 +11,7 @@ import numpy as np
 import pytest
 from symbolic_helpers import ROBOTS, count_c, rnea, robot, states
 
-from gd_analyze.core.symbolic.codegen import C_FUNCTION, emit_c, python_function
+from gd_analyze.core.symbolic.emit import C_FUNCTION, emit_c, python_function
 from gd_analyze.core.symbolic.recursive import recursive_program
 
 TOL = 1e-10

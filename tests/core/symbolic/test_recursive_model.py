@@ -14,7 +14,7 @@ import pytest
 from symbolic_helpers import rnea, robot, states
 
 from gd_analyze.core.symbolic.base_parameters import PARAMETER_NAMES, base_parameters
-from gd_analyze.core.symbolic.codegen import python_function
+from gd_analyze.core.symbolic.emit import python_function
 from gd_analyze.core.symbolic.recursive_model import (
     BOUND_PARTS,
     PART_NAMES,

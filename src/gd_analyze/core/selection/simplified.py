@@ -5,7 +5,8 @@ A :class:`SimplifiedModel` is of one of two forms (issue 17):
 - explicit: the kept terms of the explicit G-D model (:mod:`gd_analyze.core.symbolic.explicit`), pruned
   by the error budget (:mod:`gd_analyze.core.selection.budget`) or chosen per element by the chapter's
   rule (:mod:`gd_analyze.core.selection.choices`, Sec. 3.4.1), compiled to straight-line code
-  (:mod:`gd_analyze.core.symbolic.codegen`);
+  (:mod:`gd_analyze.core.symbolic.codegen`) and printed as C or Python
+  (:mod:`gd_analyze.core.symbolic.emit`);
 - recursive: the customized recursive Newton-Euler model on the base parameters with parts of
   their contributions dropped (:mod:`gd_analyze.core.symbolic.recursive_model`).
 
@@ -259,18 +260,18 @@ class SimplifiedModel:
 
     def c_source(self):
         """C99 source of the model (``void gd_simplified_tau(q, qd, qdd, tau)``)."""
-        from ..symbolic.codegen import emit_c
+        from ..symbolic.emit import emit_c
 
         return emit_c(self.program(), self.header())
 
     def python_source(self):
         """numpy source of the model (``tau(q, qd, qdd)``, vectorised over set points)."""
-        from ..symbolic.codegen import emit_python
+        from ..symbolic.emit import emit_python
 
         return emit_python(self.program(), self.header())
 
     def _python_tau(self):
-        from ..symbolic.codegen import python_function
+        from ..symbolic.emit import python_function
 
         return python_function(self.program())
 

@@ -1,4 +1,4 @@
-"""Straight-line code for an explicit G-D model: C99, numpy Python, and its operation count.
+"""Straight-line program of an explicit G-D model: its kept terms assembled in the AKB style.
 
 The program (:func:`build_program`) is assembled with symengine from the kept terms of an
 explicit model (:mod:`gd_analyze.core.symbolic.explicit`) in the AKB style (Armstrong, Khatib & Burdick,
@@ -14,13 +14,12 @@ ICRA 1986), keeping the structure instead of expanding it:
   cos(A +- B), sin(A +- B) of a sum are written in their shared products and common factors
   are taken out (:mod:`gd_analyze.core.symbolic.factoring`);
 - tau_i = sum_j D_ij qdd_j + sum_{j<=k} C_ijk (qd_j qd_k) + c_i, Eq. (3.4-24), factored;
-- unused assignments are dropped, common subexpressions eliminated (symengine ``cse``).
+- unused assignments are dropped, common subexpressions eliminated
+  (:mod:`gd_analyze.core.symbolic.subexpressions`).
 
-Counting rule (that of :mod:`gd_analyze.formulations.opcount`): operations between numeric
-constants are free, multiplying by +-1 and adding 0 are free, a negation is free, a
-subtraction is an
-addition, a square is one multiplication; the calls to cos and sin are listed separately.
-The count is taken on the very expressions that are printed.
+A :class:`Program` is printed as C99 or numpy Python by :mod:`gd_analyze.core.symbolic.emit`;
+its :meth:`Program.cost` is :func:`gd_analyze.core.symbolic.operation_count.count_operations` of
+the very expressions that are printed.
 """
 
 from __future__ import annotations
@@ -32,14 +31,12 @@ from functools import cached_property
 import numpy as np
 import symengine as se
 
+from .emit import emit_python
 from .factoring import expand_pairs, factor_sum, private_products, prune_dead, sum_to_product
-from .safe_text import header_lines
+from .operation_count import count_operations
+from .subexpressions import eliminate
 
-__all__ = ["Program", "build_program", "count_operations", "emit_c", "emit_python",
-           "python_function", "C_FUNCTION"]
-
-#: The exported C function.
-C_FUNCTION = "gd_simplified_tau"
+__all__ = ["Program", "build_program"]
 
 
 @dataclass(frozen=True, eq=False)
@@ -73,68 +70,6 @@ class Program:
         ns = {}
         exec(compile(emit_python(self, {}), "<simplified_model.py>", "exec"), ns)
         return ns["tau"]
-
-
-def _num(x):
-    return isinstance(x, se.Number) or getattr(x, "is_Number", False)
-
-
-def _count(e, tally):
-    if e.is_Symbol or _num(e):
-        return
-    args = e.args
-    if e.is_Add:
-        tally["additions"] += len(args) - 1
-    elif e.is_Mul:
-        coeff = [a for a in args if _num(a)]
-        rest = len(args) - len(coeff)
-        tally["multiplications"] += max(rest - 1, 0)
-        if coeff and abs(float(coeff[0])) != 1.0:
-            tally["multiplications"] += 1
-    elif e.is_Pow:
-        base, ex = args
-        if not (_num(ex) and float(ex) == int(float(ex)) and int(float(ex)) >= 2):
-            raise ValueError(f"unexpected power {e}")
-        tally["multiplications"] += int(float(ex)) - 1
-        _count(base, tally)
-        return
-    elif isinstance(e, se.cos):
-        tally["cos"] += 1
-    elif isinstance(e, se.sin):
-        tally["sin"] += 1
-    elif isinstance(e, se.sign):        # friction's sign(qd): two comparisons, no arithmetic
-        pass
-    else:
-        raise ValueError(f"unexpected expression {e}")
-    for a in args:
-        _count(a, tally)
-
-
-def count_operations(assignments, outputs):
-    """Count the operations of a straight-line program (rule in the module docstring).
-
-    Parameters
-    ----------
-    assignments : list of (Symbol, expression)
-    outputs : list of expression
-
-    Returns
-    -------
-    dict
-        ``multiplications``, ``additions``, ``sin``, ``cos`` (ints).
-
-    Examples
-    --------
-    >>> x, y = se.symbols("x y")
-    >>> count_operations([], [2.0 * x * y + x**2 - y])
-    {'multiplications': 3, 'additions': 2, 'sin': 0, 'cos': 0}
-    """
-    tally = {"multiplications": 0, "additions": 0, "sin": 0, "cos": 0}
-    for _, e in assignments:
-        _count(e, tally)
-    for e in outputs:
-        _count(e, tally)
-    return tally
 
 
 def _key(K, S):
@@ -384,7 +319,7 @@ def build_program(terms, n, offset, trig_mode="products", prismatic=None):
         elif kind == "c":
             tau[i].append(group_value((kind, i, j, k), f"g{i}"))
     outputs = [factor_sum(t) if t else se.Integer(0) for t in tau]
-    assignments, outputs = _cse(prune_dead(assignments, outputs), outputs)
+    assignments, outputs = eliminate(prune_dead(assignments, outputs), outputs)
     if late:
         assignments = [(s, factor_sum(list(e.args), by_sym) if e.is_Add else e)
                        for s, e in assignments]
@@ -397,217 +332,3 @@ def _coef(c):
     if c == -1.0:
         return se.Integer(-1)
     return se.RealDouble(c)
-
-
-def _cse(assignments, outputs):
-    """Eliminate what common subexpressions remain (symengine cse), keeping the order."""
-    exprs = [e for _, e in assignments] + list(outputs)
-    reps, reduced = se.cse(exprs)
-    out = []
-    for i, (sym, e) in enumerate(reps):
-        out.append((se.Symbol(f"x{i}"), e))
-    rename = {s: se.Symbol(f"x{i}") for i, (s, _) in enumerate(reps) if s.name != f"x{i}"}
-    body = [(s, e.xreplace(rename) if rename else e) for (s, _), e in
-            zip(assignments, reduced[:len(assignments)])]
-    outs = [e.xreplace(rename) if rename else e for e in reduced[len(assignments):]]
-    # cse temporaries may depend on earlier assignments: place each before first use
-    return _order(out, body), outs
-
-
-def _order(cse_defs, body):
-    """Topological order of the assignments (each after the temporaries it uses).
-
-    The order is that of rounds: round 0 holds the assignments that use no temporary, round r
-    those whose temporaries are all in earlier rounds; within a round the given order is kept.
-    An assignment's round is therefore 1 + the largest round of the temporaries it uses, which
-    is computed once per assignment (linear time) instead of by repeated scans.
-    """
-    pending = list(cse_defs) + list(body)
-    index = {s: k for k, (s, _) in enumerate(pending)}
-    deps = [[index[x] for x in e.free_symbols if x in index] for _, e in pending]
-    level = [-1] * len(pending)
-    for start in range(len(pending)):
-        if level[start] >= 0:
-            continue
-        stack, open_ = [start], set()
-        while stack:
-            v = stack[-1]
-            if level[v] >= 0:
-                stack.pop()
-                continue
-            todo = [d for d in deps[v] if level[d] < 0]
-            if not todo:
-                level[v] = 1 + max((level[d] for d in deps[v]), default=-1)
-                open_.discard(v)
-                stack.pop()
-            elif v in open_:
-                raise RuntimeError("cyclic program")
-            else:
-                open_.add(v)
-                stack.extend(todo)
-    return [pending[k] for k in sorted(range(len(pending)), key=lambda k: (level[k], k))]
-
-
-def _fmt_num(x):
-    v = float(x)
-    return repr(v) if v == v else "NAN"
-
-
-def _print(e, lang, prec=0):
-    """Print an expression; prec: 0 top/sum, 1 product operand, 2 atom."""
-    if e.is_Symbol:
-        return _ref(e.name, lang)
-    if _num(e):
-        s = _fmt_num(e)
-        return f"({s})" if s.startswith("-") and prec > 0 else s
-    if e.is_Add:
-        terms = list(e.args)
-        terms.sort(key=lambda t: _num(t))             # constants last
-        return _print_sum(terms, lang, prec)
-    if e.is_Mul:
-        neg, body = _split_sign(e)
-        factors = list(body.args) if body.is_Mul else [body]
-        factors.sort(key=lambda t: not _num(t))       # constant first
-        s = "*".join(_print(f, lang, 2) for f in factors)
-        if neg:
-            s = f"-{s}"
-            return f"({s})" if prec > 0 else s
-        return s
-    if e.is_Pow:
-        base, ex = e.args
-        b = _print(base, lang, 2)
-        return "(" + "*".join([b] * int(float(ex))) + ")"
-    if isinstance(e, se.sign):          # sign(0) = 0, as numpy's
-        x = _print(e.args[0], lang, 2)
-        return f"np.sign({x})" if lang == "py" else f"({x} > 0 ? 1.0 : {x} < 0 ? -1.0 : 0.0)"
-    if isinstance(e, (se.sin, se.cos)):
-        fn = "sin" if isinstance(e, se.sin) else "cos"
-        fn = f"np.{fn}" if lang == "py" else fn
-        return f"{fn}({_print(e.args[0], lang, 0)})"
-    raise ValueError(f"cannot print {e}")
-
-
-#: Longest run of terms printed as one flat sum (Python's compiler nests binary operators).
-_SUM_CHUNK = 32
-
-
-def _print_sum(terms, lang, prec):
-    if len(terms) > _SUM_CHUNK:
-        chunks = [terms[a:a + _SUM_CHUNK] for a in range(0, len(terms), _SUM_CHUNK)]
-        out = " + ".join(_print_sum(c, lang, 1) for c in chunks)
-        return f"({out})" if prec > 0 else out
-    out = ""
-    for t in terms:
-        neg, body = _split_sign(t)
-        s = _print(body, lang, 1)
-        out += (" - " if neg else " + ") + s if out else ("-" + s if neg else s)
-    return f"({out})" if prec > 0 or len(terms) > 1 and prec > 0 else out
-
-
-def _split_sign(t):
-    """(negative?, |t|) for a product with a negative numeric coefficient."""
-    if t.is_Mul:
-        coeff = [a for a in t.args if _num(a)]
-        if coeff and float(coeff[0]) < 0:
-            c = -float(coeff[0])
-            rest = [a for a in t.args if not _num(a)]
-            body = se.Mul(*rest) if c == 1.0 else se.Mul(se.RealDouble(c), *rest)
-            if c == 1.0 and len(rest) == 1:
-                body = rest[0]
-            return True, body
-    if _num(t) and float(t) < 0:
-        return True, se.RealDouble(-float(t))
-    return False, t
-
-
-def _ref(name, lang):
-    for prefix, arr in (("qdd", "qdd"), ("qd", "qd"), ("q", "q")):
-        if name.startswith(prefix) and name[len(prefix):].isdigit():
-            idx = int(name[len(prefix):])
-            return f"{arr}[{idx}]" if lang == "c" else f"{arr}[:, {idx}]"
-    return name
-
-
-def emit_c(program, header):
-    """C99 source of the program: ``void gd_simplified_tau(q, qd, qdd, tau)``.
-
-    Parameters
-    ----------
-    program : Program
-    header : dict
-        Lines of the header comment (robot, SHA-256s, tolerance, counts, version); keys and
-        values are written through :func:`~gd_analyze.core.symbolic.safe_text.header_lines`.
-
-    Returns
-    -------
-    str
-        Standalone C99 that includes only math.h; arrays of n doubles in SI units. Its only
-        external symbol is ``gd_simplified_tau``.
-    """
-    lines = ["/*"] + [f" * {ln}" for ln in header_lines(header)] + [" */",
-             "#include <math.h>", "",
-             f"void {C_FUNCTION}(const double *q, const double *qd, const double *qdd, "
-             "double *tau)", "{"]
-    for s, e in program.assignments:
-        lines.append(f"    const double {s.name} = {_print(e, 'c')};")
-    for i, e in enumerate(program.outputs):
-        lines.append(f"    tau[{i}] = {_print(e, 'c')};")
-    lines += ["}", ""]
-    return "\n".join(lines)
-
-
-def python_function(program):
-    """The program's ``tau(q, qd, qdd)`` as a Python function, compiled once per program.
-
-    Parameters
-    ----------
-    program : Program
-
-    Returns
-    -------
-    callable
-        ``tau`` of :func:`emit_python` (the header does not change what it computes):
-        arrays of shape (N, n) [rad, rad/s, rad/s^2; m, m/s, m/s^2 for a prismatic joint]
-        to shape (N, n) [N m; N].
-    """
-    return program._tau_function
-
-
-#: The emitted Python module's docstring: fixed text, the header follows as comments.
-_PY_DOC = '"""Simplified G-D model emitted by gd-analyze: tau(q, qd, qdd); header below."""'
-
-
-def emit_python(program, header):
-    """numpy source of the program: ``tau(q, qd, qdd)`` vectorised over set points.
-
-    Parameters
-    ----------
-    program : Program
-    header : dict
-        Lines of the header, written as ``#`` comments from the third line on (after a fixed
-        docstring, so that no input text can be a PEP 263 coding line), keys and values
-        through :func:`~gd_analyze.core.symbolic.safe_text.header_lines`.
-
-    Returns
-    -------
-    str
-        A module that imports only numpy; ``tau(q, qd, qdd)`` takes arrays of shape (N, n)
-        (or (n,)) [rad, rad/s, rad/s^2] and returns shape (N, n) [N m].
-    """
-    lines = [_PY_DOC, ""] + [f"# {ln}" for ln in header_lines(header)] + [
-             "", "import numpy as np", "",
-             f"N_JOINTS = {program.n}", "", "",
-             "def tau(q, qd, qdd):",
-             '    """Joint torques [N m], shape (N, n), of q, qd, qdd of shape (N, n)."""',
-             "    q, qd, qdd = (np.atleast_2d(np.asarray(x, dtype=float)) for x in "
-             "(q, qd, qdd))",
-             "    out = np.zeros(np.broadcast_shapes(q.shape, qd.shape, qdd.shape))",
-             "    if out.shape[-1] != N_JOINTS:",
-             "        raise ValueError(f'expected {N_JOINTS} joints, got shape {out.shape}')"]
-    for s, e in program.assignments:
-        lines.append(f"    {s.name} = {_print(e, 'py')}")
-    for i, e in enumerate(program.outputs):
-        lines.append(f"    out[:, {i}] = {_print(e, 'py')}")
-    lines += ["    return out", ""]
-    return "\n".join(lines)
-

@@ -7,7 +7,7 @@ tau needs is kept; sums used once are merged into their user, common factors are
 (:func:`gd_analyze.core.symbolic.factoring.factor_sum`) and common subexpressions eliminated. Per link,
 the form of the inertial moment (:data:`.newton_euler.FORMS`) is chosen by the count. The
 result is a :class:`gd_analyze.core.symbolic.codegen.Program` for the emitters of
-:mod:`gd_analyze.core.symbolic.codegen`. Programs with per-part parameter values serve the pruned
+:mod:`gd_analyze.core.symbolic.emit`. Programs with per-part parameter values serve the pruned
 models of :mod:`.pruning`.
 """
 
@@ -17,9 +17,10 @@ import numpy as np
 import symengine as se
 
 from .base_parameters import base_parameters
-from .codegen import Program, _cse
+from .codegen import Program
 from .factoring import factor_sum, prune_dead
 from .newton_euler import ALL, FORMS, PARTS, _is_num, _link_constants, _Recursion, _torques
+from .subexpressions import eliminate
 
 __all__ = ["recursive_program", "exact_program", "parts_program", "PARTS"]
 
@@ -27,7 +28,7 @@ def _finish(rec, tau, cse):
     assignments, outputs = _inline_sums(prune_dead(rec.b.assignments, tau), list(tau))
     assignments = [(sym, _factored(e)) for sym, e in assignments]
     if cse:
-        assignments, outputs = _cse(assignments, outputs)
+        assignments, outputs = eliminate(assignments, outputs)
     assignments = [(sym, _factored(e)) for sym, e in assignments]
     outputs = [_factored(e) for e in outputs]
     return Program(n=rec.n, assignments=assignments, outputs=outputs)

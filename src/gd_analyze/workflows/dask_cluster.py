@@ -1,0 +1,142 @@
+"""The dask.distributed cluster of a sweep, its child interpreters kept off the current folder.
+
+:func:`dask_client` connects to a running scheduler or starts a LocalCluster (one process and
+one thread per worker, no dashboard, no statistical profiler) on which
+:func:`gd_analyze.workflows.sweep.run_sweep` and
+:func:`gd_analyze.workflows.payload.sweep_payloads` run their tasks. The interpreters that
+multiprocessing starts for the LocalCluster (workers, resource tracker) would put the current
+folder first on their ``sys.path``; :func:`_safe_path_children` and :func:`_working_folder`
+keep it off, so that a ``pickle.py`` where the sweep starts cannot run in them.
+"""
+
+from __future__ import annotations
+
+import contextlib
+import os
+import tempfile
+
+__all__ = ["dask_client"]
+
+#: Scheduler options of the local cluster: no dashboard, and its small HTTP server (health
+#: checks) on a free loopback port rather than the shared default 8787.
+_NO_DASHBOARD = {"dashboard": False, "dashboard_address": "127.0.0.1:0"}
+
+
+@contextlib.contextmanager
+def dask_client(scheduler=None, n_workers=None):
+    """A dask.distributed client: connected to ``scheduler``, or on a new LocalCluster.
+
+    Parameters
+    ----------
+    scheduler : str, optional
+        Address of a running scheduler, e.g. ``"tcp://10.0.0.5:8786"``.
+    n_workers : int, optional
+        Workers of the LocalCluster started when no scheduler is given (one process and one
+        thread each); default ``os.cpu_count() or 2``.
+
+    Yields
+    ------
+    (distributed.Client, str)
+        The client and a description of the cluster; both are closed on exit.
+
+    Notes
+    -----
+    The LocalCluster's processes (workers, multiprocessing's resource tracker) start without
+    the current folder on ``sys.path``.
+
+    Raises
+    ------
+    ImportError
+        If dask.distributed is missing from the environment (it is a dependency).
+    OSError
+        If the scheduler cannot be reached.
+    """
+    try:
+        from distributed import Client, LocalCluster
+    except ImportError as exc:  # pragma: no cover - the extra is installed for the tests
+        raise ImportError("sweeps need dask.distributed (a dependency of gd-analyze): "
+                          "pip install 'dask[distributed]'") from exc
+    cluster = None
+    with contextlib.ExitStack() as env:
+        if scheduler is not None:
+            client, how = Client(scheduler), "connected by address"
+        else:
+            import dask
+
+            workers = int(n_workers) if n_workers else (os.cpu_count() or 2)
+            env.enter_context(_safe_path_children())
+            # The workers' statistical profiler samples every thread's stack every 10 ms while
+            # holding the GIL; for these many short numpy calls it costs about 40 % of the
+            # time, so the cluster started here runs without it.
+            empty = env.enter_context(tempfile.TemporaryDirectory(prefix="gd-analyze-dask-"))
+            with dask.config.set({"distributed.worker.profile.enabled": False}), \
+                    _working_folder(empty):
+                cluster = LocalCluster(n_workers=workers, threads_per_worker=1, processes=True,
+                                       dashboard_address=None, scheduler_kwargs=_NO_DASHBOARD)
+            client, how = Client(cluster), "LocalCluster started by gd-analyze"
+        try:
+            yield client, how
+        finally:
+            client.close()
+            if cluster is not None:
+                cluster.close()
+
+
+@contextlib.contextmanager
+def _working_folder(folder):
+    """Run the block in ``folder`` (an empty private one), then return to the current folder.
+
+    The interpreters that multiprocessing starts inside the block (dask's workers and its
+    resource tracker, as ``python -c ...``) put their working folder first on ``sys.path``
+    before anything else runs; started here, that is an empty folder on every Python version
+    (``PYTHONSAFEPATH`` of :func:`_safe_path_children` needs Python >= 3.11). The block only
+    starts the cluster: the parent uses no relative path inside it.
+
+    Parameters
+    ----------
+    folder : str
+        An existing folder that lives at least as long as the processes started here.
+
+    Yields
+    ------
+    None
+    """
+    back = os.open(".", os.O_RDONLY)
+    try:
+        os.chdir(folder)
+        try:
+            yield
+        finally:
+            os.fchdir(back)
+    finally:
+        os.close(back)
+
+
+@contextlib.contextmanager
+def _safe_path_children():
+    """Keep the current folder off the sys.path of the child interpreters started inside the
+    block: ``PYTHONSAFEPATH=1`` (Python >= 3.11), restored afterwards.
+
+    multiprocessing starts dask's workers and its resource tracker as ``python -c ...``,
+    which puts the current folder first on ``sys.path`` and imports ``pickle``, ``socket``
+    and more before the parent's path is restored: a ``pickle.py`` in the folder where the
+    sweep starts would run in each of them. ``PYTHONSAFEPATH`` (``-P``) leaves that entry
+    out; the spawned workers then take the parent's ``sys.path`` as multiprocessing passes
+    it. The block spans the cluster's life, so workers the nanny restarts are covered too.
+
+    Yields
+    ------
+    None
+    """
+    before = os.environ.get("PYTHONSAFEPATH")
+    if before:
+        yield
+        return
+    os.environ["PYTHONSAFEPATH"] = "1"
+    try:
+        yield
+    finally:
+        if before is None:
+            os.environ.pop("PYTHONSAFEPATH", None)
+        else:
+            os.environ["PYTHONSAFEPATH"] = before

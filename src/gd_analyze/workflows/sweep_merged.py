@@ -1,0 +1,177 @@
+"""The merged simplified model of a sweep: the chapter rule's read from the dataset, the budget rule's put into it.
+
+A sweep (:func:`gd_analyze.workflows.sweep.run_sweep`) stores one merged model for all its
+trajectories. :func:`merged_model` reads the chapter rule's merge (a part of an element dropped
+only where every trajectory's own model drops it, no error bound) and its validation back from
+the dataset as a :class:`~gd_analyze.core.selection.simplified.SimplifiedModel`;
+:func:`with_budget_model` puts the budget rule's explicit model
+(:func:`gd_analyze.workflows.simplify.sweep_model`, within EPS x scale_i on every swept
+trajectory) and its errors into the dataset in place of the chapter merge. Source: Sec. 3.4.1
+of Fu, Gonzalez & Lee (1987).
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from ..core.selection.ranking import DEFAULT_DOMINANCE, DEFAULT_NEGLIGIBLE, element_labels
+from ..core.selection.simplified import choice_masks
+from ..errors import InputError
+from ..io.schema import strings
+
+__all__ = ["merged_model", "with_budget_model"]
+
+
+def merged_model(robot, sweep_ds):
+    """The sweep's merged simplified model of the chapter rule (no error bound).
+
+    Parameters
+    ----------
+    robot : Robot
+        The arm the sweep was run on (checked against the dataset's ``robot_sha256`` and
+        number of elements).
+    sweep_ds : xarray.Dataset
+        A sweep dataset from :func:`~gd_analyze.workflows.sweep.run_sweep` (or read back with
+        :func:`~gd_analyze.io.schema.open_sweep`).
+
+    Returns
+    -------
+    SimplifiedModel
+        ``choices`` = the dataset's ``merged_choice``; ``validation`` = its torque error over
+        all the sweep's trajectories, per joint: ``peak_abs_error``, ``rms_error``,
+        ``peak_tau`` [N m] and ``relative_peak_error``, ``relative_rms_error`` (relative to
+        the peak |tau| over all trajectories), plus ``trajectories`` (K) and ``setpoints``
+        (total); ``trajectory_sha256`` = the digest of all inputs (``inputs_sha256``).
+
+    Raises
+    ------
+    InputError
+        If the dataset is not a sweep dataset, or was computed for another robot.
+
+    Notes
+    -----
+    The validation is computed by :func:`~gd_analyze.workflows.sweep.run_sweep` along every
+    trajectory and stored in the dataset; nothing is recomputed here. Source: Sec. 3.4.1 of Fu, Gonzalez & Lee (1987).
+    """
+    from .._version import __version__
+    from ..core.selection.simplified import SimplifiedModel
+
+    needed = ("merged_choice", "merged_error_peak", "merged_error_rms", "merged_error_tau_peak",
+              "merged_error_relative_peak", "merged_error_relative_rms")
+    missing = [v for v in needed if v not in sweep_ds.variables]
+    if missing:
+        raise InputError("not a gd-analyze sweep dataset: missing " + ", ".join(missing))
+    sha = sweep_ds.attrs.get("robot_sha256", "")
+    if sha and robot.sha256 and sha != robot.sha256:
+        raise InputError(f"the sweep was computed for robot {sweep_ds.attrs.get('robot')!r} "
+                         f"(sha256 {sha[:12]}...), not for {robot.name!r} "
+                         f"(sha256 {robot.sha256[:12]}...)")
+    labels = strings(sweep_ds["element"].values)
+    if labels != element_labels(robot.n):
+        raise InputError(f"the sweep's elements do not match a {robot.n}-joint robot")
+    choices = dict(zip(labels, strings(sweep_ds["merged_choice"].values)))
+    choice_masks(choices, robot.n)
+    validation = {
+        "peak_abs_error": sweep_ds["merged_error_peak"].values.tolist(),
+        "rms_error": sweep_ds["merged_error_rms"].values.tolist(),
+        "peak_tau": sweep_ds["merged_error_tau_peak"].values.tolist(),
+        "relative_peak_error": sweep_ds["merged_error_relative_peak"].values.tolist(),
+        "relative_rms_error": sweep_ds["merged_error_relative_rms"].values.tolist(),
+        "trajectories": int(sweep_ds.sizes.get("trajectory", 0)),
+        "setpoints": int(sweep_ds.attrs.get("setpoints_total", 0)),
+    }
+    provenance = {"gd_analyze_version": __version__, "kind": "merged model of a sweep",
+                  "sweep_version": str(sweep_ds.attrs.get("gd_analyze_version", "")),
+                  "merge_rule": str(sweep_ds.attrs.get("merge_rule", "")),
+                  "input_kind": str(sweep_ds.attrs.get("input_kind", ""))}
+    if "seed" in sweep_ds.attrs:
+        provenance["seed"] = int(sweep_ds.attrs["seed"])
+    return SimplifiedModel(
+        robot=robot, choices=choices,
+        dominance_threshold=float(sweep_ds.attrs.get("dominance_threshold", DEFAULT_DOMINANCE)),
+        negligible_threshold=float(sweep_ds.attrs.get("negligible_threshold",
+                                                      DEFAULT_NEGLIGIBLE)),
+        trajectory_sha256=str(sweep_ds.attrs.get("inputs_sha256", "")),
+        validation=validation, provenance=provenance)
+
+
+def with_budget_model(sweep_ds, model):
+    """The sweep dataset with the budget rule's merged model in place of the chapter merge.
+
+    Parameters
+    ----------
+    sweep_ds : xarray.Dataset
+        From :func:`~gd_analyze.workflows.sweep.run_sweep` (K trajectories, n joints).
+    model : SimplifiedModel
+        From :func:`gd_analyze.workflows.simplify.sweep_model` on the same trajectories, in
+        the same order (its ``validation["per_trajectory"]``).
+
+    Returns
+    -------
+    xarray.Dataset
+        A copy: ``merged_choice`` = the model's whole-part choices; ``merged_tau_error_peak``
+        (trajectory, joint) [N m] and ``merged_tau_error_relative_peak`` (divided by that
+        trajectory's scale_{t,i} = max(peak |tau_i|, TAU), guaranteed <= EPS);
+        ``merged_scale`` (trajectory, joint) [N m]; ``merged_error_*`` over all trajectories
+        (relative to the peak |tau| over all of them); attributes ``merged_rule`` = "budget",
+        ``merged_tolerance`` (EPS), ``merged_torque_floor`` (TAU) [N m],
+        ``merged_worst_scaled_error`` and ``merge_rule`` (the rule in words).
+
+    Raises
+    ------
+    ValueError
+        If the model's per-trajectory errors do not match the dataset's trajectories.
+
+    Notes
+    -----
+    The guarantee is that of :mod:`gd_analyze.core.selection.budget` over several trajectories.
+    """
+    torque = sweep_ds["tau_peak"].attrs.get("units", "N m") if "tau_peak" in sweep_ds else "N m"
+
+    v = model.validation
+    per = v["per_trajectory"]
+    peak = np.asarray(per["peak_abs_error"], float)
+    scale = np.asarray(per["scale"], float)
+    if peak.shape != (sweep_ds.sizes["trajectory"], sweep_ds.sizes["joint"]):
+        raise ValueError(f"the model's errors have shape {peak.shape}, the sweep has "
+                         f"{sweep_ds.sizes['trajectory']} trajectories and "
+                         f"{sweep_ds.sizes['joint']} joints")
+    with np.errstate(invalid="ignore", divide="ignore"):
+        rel = np.where(peak > 0, peak / np.where(scale > 0, scale, 0.0), 0.0)
+    ds = sweep_ds.copy()
+    eps = f"{model.tolerance:g}"
+
+    def put(name, dims, data, units, desc):
+        ds[name] = (dims, np.asarray(data), {"units": units, "long_name": desc})
+
+    labels = element_labels(sweep_ds.sizes["joint"])
+    put("merged_choice", ("element",), np.array([model.choices[k] for k in labels], dtype=str),
+        "1", f"whole parts kept by the budget rule (EPS = {eps}) on every swept trajectory")
+    put("merged_tau_error_peak", ("trajectory", "joint"), peak, torque,
+        "merged model: peak |tau_merged - tau| along the trajectory")
+    put("merged_scale", ("trajectory", "joint"), scale, torque,
+        "scale_i = max(peak |tau_i|, torque floor) along the trajectory")
+    put("merged_tau_error_relative_peak", ("trajectory", "joint"), np.nan_to_num(rel, nan=np.inf),
+        "1", f"merged model: peak |tau_merged - tau| / scale_i along the trajectory "
+             f"(guaranteed <= {eps})")
+    for key, name, units, desc in (
+            ("peak_abs_error", "merged_error_peak", torque,
+             "merged model: peak |tau_merged - tau| over all trajectories"),
+            ("rms_error", "merged_error_rms", torque, "merged model: RMS of |tau_merged - tau| "
+                                                     "over all set points of all trajectories"),
+            ("peak_tau", "merged_error_tau_peak", torque, "peak |tau| over all trajectories"),
+            ("relative_peak_error", "merged_error_relative_peak", "1",
+             "merged model: peak error / peak |tau|, over all trajectories"),
+            ("relative_rms_error", "merged_error_relative_rms", "1",
+             "merged model: RMS error / peak |tau|, over all trajectories")):
+        put(name, ("joint",), np.array([np.nan if x is None else x for x in v[key]], float),
+            units, desc)
+    ds.attrs.update({
+        "merged_rule": "budget", "merged_tolerance": float(model.tolerance),
+        "merged_torque_floor": float(model.torque_floor),
+        "merged_worst_scaled_error": float(v["worst_scaled_error"]),
+        "merge_rule": f"budget rule: one explicit model whose dropped terms' peaks, each "
+                      f"divided by its trajectory's scale_i = max(peak |tau_i|, "
+                      f"{model.torque_floor:g} N m), sum to at most EPS = {eps}: guaranteed "
+                      f"within {eps} x scale_i on every swept trajectory"})
+    return ds
