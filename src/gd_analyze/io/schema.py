@@ -238,6 +238,7 @@ def open_results(path, lazy=False):
     -------
     xarray.Dataset
         Loaded into memory and the file closed; or, if ``lazy``, open and read on access.
+        Read by xarray's h5netcdf backend, as ``engine="h5netcdf"`` reads it.
 
     Raises
     ------
@@ -245,13 +246,17 @@ def open_results(path, lazy=False):
         If the file is missing or not a readable netCDF4/HDF5 file.
     """
     import xarray as xr
+    from xarray.backends import H5netcdfBackendEntrypoint
 
     if not os.path.isfile(path):
         raise InputError("no such file", path)
+    # the backend given as its entry-point class (xarray's documented alternative to the name):
+    # the name would have xarray list every installed package's backends first
+    engine = H5netcdfBackendEntrypoint
     try:
         if lazy:
-            return xr.open_dataset(path, engine="h5netcdf")
-        with xr.open_dataset(path, engine="h5netcdf") as ds:
+            return xr.open_dataset(path, engine=engine)
+        with xr.open_dataset(path, engine=engine) as ds:
             return ds.load()
     except (OSError, ValueError) as exc:
         raise InputError(f"not a gd-analyze results file: {exc}", path) from None
