@@ -31,7 +31,7 @@ from .figure_style import (
     style,
     svg,
 )
-from .numbers import count, fmt, pct, pct_column
+from .numbers import count, fmt, pct, pct_column, share
 from .units import (
     element_units_of,
     keep_units,
@@ -43,7 +43,7 @@ from .units import (
 
 __all__ = ["CLASS_COLOURS", "BASE_RC", "SUPTITLE_RC", "A4", "A4_LANDSCAPE", "style", "utc_now",
            "keep_units",
-           "strings", "fmt", "count", "pct", "pct_column", "attr", "thresholds", "check", "table",
+           "strings", "fmt", "count", "share", "pct", "pct_column", "attr", "thresholds", "check", "table",
            "grid_shape", "joint_colours", "joint_style", "JOINT_STYLES", "MAX_MARKERS",
            "MIN_MARKERS", "markevery", "panel_markevery",
            "gridspec", "svg", "inline_svgs", "render_template", "check_formats",
@@ -107,6 +107,7 @@ def attr(ds, key, default="\u2014", *, parens=True, bools=False, sci_outside=Non
     Returns
     -------
     str
+        An integer as a count with thousands separators (:func:`count`).
     """
     value = ds.attrs.get(key, None)
     if value is None:
@@ -116,6 +117,8 @@ def attr(ds, key, default="\u2014", *, parens=True, bools=False, sci_outside=Non
     if isinstance(value, np.ndarray):
         text = ", ".join(fmt(v, 6, sci_outside) for v in value.ravel())
         return f"({text})" if parens else text
+    if isinstance(value, (np.integer, int)) and not isinstance(value, (bool, np.bool_)):
+        return count(value)             # a count, as every count: 1,212
     if isinstance(value, (np.generic, float, int)) and (
             bools or not isinstance(value, (bool, np.bool_))):
         return fmt(value, 6, sci_outside)

@@ -16,6 +16,7 @@ from .common import CLASS_COLOURS as _CLASS_COLOURS
 from .common import attr as _attr
 from .common import check as _check
 from .common import (
+    count,
     element_units_of,
     prismatic_joints,
     torque_units,
@@ -25,12 +26,13 @@ from .common import (
 )
 from .common import fmt as _fmt
 from .common import pct_column as _pct_column
+from .common import share as _share
 from .common import strings as _strings
 from .common import table as _table
 from .common import thresholds as _thresholds
 from .main_figures import identically_zero
 from .main_provenance import provenance_rows
-from .main_robot import robot_section
+from .main_robot import alike_joints, robot_section
 from .main_text import (
     captions,
     conclusion,
@@ -142,12 +144,13 @@ def _scales(ds):
 
 def _share_text(share, tran_off, rot_off):
     """The translational share as printed: 0 or 1 where the other part is round-off of the
-    element's scale (a share of 4e-14 is round-off, not data), else three digits."""
+    element's scale (a share of 4e-14 is round-off, not data), else three digits, never rounded
+    to 0 or 1 (:func:`gd_analyze.reports.numbers.share`)."""
     if tran_off and not rot_off:
         return "0"
     if rot_off and not tran_off:
         return "1"
-    return _fmt(share, 3) if np.isfinite(share) else "n/a"
+    return _share(share)                # never "1" or "0" unless it is
 
 
 def _caption_units(ds):
@@ -367,7 +370,7 @@ def _report_context_base(ds):
                          ds["tau_error_peak"].values, ds["tau_peak"].values, _model_cost(ds),
                          recursive=_recursive_facts(ds) if form == "recursive" else None,
                          gravity=_gravity_fact(ds, form), units=tau_units)
-    facts = (f"{robot_name}, {n} joints, {N:,} set points over {_fmt(t[-1] - t[0], 4)} s; "
+    facts = (f"{robot_name}, {n} joints, {count(N)} set points over {_fmt(t[-1] - t[0], 4)} s; "
              f"{len(labels)} elements ranked with s = {s:g}, e = {e:g}: "
              + ", ".join(f"{counts[c]} {c}" for c in _CLASS_COLOURS)
              + f". Verification against Pinocchio: {verified}.")
@@ -375,7 +378,8 @@ def _report_context_base(ds):
     return {
         "version": __version__, "title": title, "summary": summary, "robot_name": robot_name,
         "facts": facts, "intro": _INTRO.format(created=now.isoformat(), version=__version__),
-        "captions": captions(enveloped, N, f"{s:g}", f"{e:g}", units=_caption_units(ds)),
+        "captions": captions(enveloped, N, f"{s:g}", f"{e:g}", units=_caption_units(ds),
+                             alike=alike_joints(ds)),
         "D_text": _D_TEXT.format(s=f"{s:g}", e=f"{e:g}", units=units_said_once(ds, "D")),
         "n": n, "N": N, "s": f"{s:g}", "e": f"{e:g}", "created": now.isoformat(),
         **robot,
@@ -388,7 +392,7 @@ def _report_context_base(ds):
                     "n_agree": n_agree, "n_compared": n_compared},
         "provenance": _kv(prov), "enveloped": enveloped,
         "formulations": formulations, "payload": payload,
-        "envelope_note": (f"The trajectory has {N:,} set points: curves are drawn as their "
+        "envelope_note": (f"The trajectory has {count(N)} set points: curves are drawn as their "
                           "min/max envelope over about 400 equal time columns per panel, "
                           "without markers (the report reads the stored series in chunks)."
                           if enveloped else ""),
@@ -435,7 +439,7 @@ def _verification(ds, keys, N):
         return "not run", "not run (analysis without check)"
     passed = bool(int(ds.attrs["verification_passed"]))
     checked = int(ds.attrs.get("verification_setpoints", N))
-    verdict = (f"{'passed' if passed else 'FAILED'} on {checked:,} of {N:,} set points"
+    verdict = (f"{'passed' if passed else 'FAILED'} on {count(checked)} of {count(N)} set points"
                + ("" if checked == N else " (evenly spread)"))
     worst = {_quantity(k[len("verification_max_rel_error_"):]): float(ds.attrs[k])
              for k in keys}
@@ -502,8 +506,8 @@ def _formulations_context(ds):
                 mul, add = ds["op_multiplications"].values[k, j], ds["op_additions"].values[k, j]
             bm = ds["op_multiplications_table_3_5"].values[k, j]
             ba = ds["op_additions_table_3_5"].values[k, j]
-            rows.append([FORMULATION_NAMES.get(name, name), f"{mul:.0f}", f"{add:.0f}",
-                         f"{bm:.0f}", f"{ba:.0f}"])
+            rows.append([FORMULATION_NAMES.get(name, name), count(mul), count(add),
+                         count(bm), count(ba)])
     costs = _table(["formulation", "multiplications", "additions", "mult. Table 3.5",
                     "add. Table 3.5"], rows, align=["left"] + ["right"] * 4)
     worst = float(np.max(dis)) if dis.size else float("nan")

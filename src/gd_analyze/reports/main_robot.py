@@ -7,19 +7,72 @@ from __future__ import annotations
 
 import numpy as np
 
+from ..core.selection.ranking import joint_motion_units
 from .common import attr as _attr
 from .common import count, prismatic_joints, strings
 from .common import fmt as _fmt
+from .common import share as share_text
 from .common import table as _table
 from .effort import effort_rows
 
-__all__ = ["robot_section"]
+__all__ = ["robot_section", "alike_joints", "ALIKE"]
 
 _DERIVATIVES = {
     "file": "read from the file (its velocity and acceleration columns)",
     "cubic-spline": "derived from q by a not-a-knot cubic spline",
     "quintic": "analytic derivatives of a planned quintic motion",
 }
+
+
+#: Two joints move alike when q, q\u0307 and q\u0308 differ by at most this fraction of their
+#: scale (the larger peak of the two): round-off, their curves drawn one over the other.
+ALIKE = 1e-12
+
+
+def alike_joints(ds):
+    """The groups of joints whose stored motions are equal to round-off: their curves in
+    Fig. 1 coincide, the one drawn last hiding the others.
+
+    Parameters
+    ----------
+    ds : xarray.Dataset
+        With ``q``, ``qd`` and ``qdd`` of shape (N, n) and, optionally, ``joint_type``.
+
+    Returns
+    -------
+    list of list of int
+        Each group's joints, 1-based and ascending, of one joint type (a revolute and a
+        prismatic joint are drawn on different panels); groups of two or more only, in the
+        order of their first joint.
+
+    Notes
+    -----
+    Joints i and j move alike when, for each of q, q\u0307 and q\u0308, the largest
+    difference of their columns is at most :data:`ALIKE` times the larger peak of the two
+    columns (both columns 0: alike).
+    """
+    prismatic = prismatic_joints(ds)
+    series = [np.asarray(ds[v].values, float) for v in ("q", "qd", "qdd")]
+    n = prismatic.size
+
+    def alike(i, j):
+        if prismatic[i] != prismatic[j]:
+            return False
+        for x in series:
+            scale = max(np.max(np.abs(x[:, i])), np.max(np.abs(x[:, j])))
+            if np.max(np.abs(x[:, i] - x[:, j])) > ALIKE * scale:
+                return False
+        return True
+
+    groups, placed = [], set()
+    for i in range(n):
+        if i in placed:
+            continue
+        group = [i] + [j for j in range(i + 1, n) if j not in placed and alike(i, j)]
+        if len(group) > 1:
+            placed.update(group)
+            groups.append([k + 1 for k in group])
+    return groups
 
 
 def _kv(rows):
@@ -76,13 +129,14 @@ def robot_section(ds, robot_name):
          if derivatives else "\u2014"),
     ])
     prismatic = prismatic_joints(ds)
-    scale = np.where(prismatic, 1.0, np.degrees(1.0))
+    # the units of Fig. 1 (joint_motion_units shown): deg, or mm for a prismatic joint
+    scale = np.where(prismatic, 1000.0, np.degrees(1.0))
     q, qd, qdd = (ds[v].values * scale for v in ("q", "qd", "qdd"))
     joints = _table(
         ["joint", "type", "q min", "q max", "peak |q\u0307|", "peak |q\u0308|", "units"],
         [[str(k + 1), "prismatic" if prismatic[k] else "revolute", _fmt(q[:, k].min()),
           _fmt(q[:, k].max()), _fmt(np.abs(qd[:, k]).max()), _fmt(np.abs(qdd[:, k]).max()),
-          "m, m/s, m/s\u00b2" if prismatic[k] else "deg, deg/s, deg/s\u00b2"]
+          ", ".join(joint_motion_units(bool(prismatic[k]), shown=True))]
          for k in range(n)],
         align=["left", "left"] + ["right"] * 4 + ["left"], widths=[0.6, 0.9, 1, 1, 1, 1, 1.5])
 
@@ -160,7 +214,7 @@ def _drives_context(ds, labels):
         ["joint", "armature", "viscous", "Coulomb", "peak |τ_f|", "armature share of D_ii",
          "units"],
         [[str(k + 1), _fmt(arm[k]), _fmt(fv[k]), _fmt(fc[k]), _fmt(peak_f[k]),
-          _fmt(share[diag[k]], 3) if diag[k] is not None else "—",
+          share_text(share[diag[k]]) if diag[k] is not None else "—",
           "kg, N s/m, N, N" if pris[k] else "kg m², N m s/rad, N m, N m"]
          for k in range(n)],
         align=["left"] + ["right"] * 5 + ["left"], widths=[0.5, 0.9, 0.9, 0.9, 0.9, 1, 2])
@@ -172,8 +226,6 @@ def _drives_context(ds, labels):
     return {"table": table, "note": note}
 
 
-
-
 def _effort_text(rows):
     """The sentence over the effort-limit table: which joints exceed their limit, if any."""
     if not rows:
@@ -183,4 +235,5 @@ def _effort_text(rows):
                f"{'' if len(over) > 1 else 's'} {'their' if len(over) > 1 else 'its'} limit "
                "along this trajectory" if over else "every joint stays within its limit")
     return ("Peak |\u03c4| of the full model against the effort limits the robot gives "
-            f"(URDF <limit effort>, robot file tau_max): {verdict}.")
+            "(the effort attribute of a URDF joint's limit, or the maximum joint torques and "
+            f"forces of a robot file): {verdict}.")

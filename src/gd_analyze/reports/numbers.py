@@ -10,7 +10,7 @@ import math
 
 import numpy as np
 
-__all__ = ["fmt", "count", "pct", "pct_column"]
+__all__ = ["fmt", "count", "share", "pct", "pct_column"]
 
 
 def fmt(value, digits=4, sci_outside=None):
@@ -29,7 +29,13 @@ def fmt(value, digits=4, sci_outside=None):
     Returns
     -------
     str
-        ``"n/a"`` for NaN and infinities, ``"0"`` for zero.
+        ``"n/a"`` for NaN and infinities, ``"0"`` for zero; a comma between thousands, as
+        in every count (:func:`count`).
+
+    Examples
+    --------
+    >>> fmt(1474.2), fmt(0.8302), fmt(12744.0, 6), fmt(2.5e-5)
+    ('1,474', '0.8302', '12,744', '2.5e-05')
     """
     try:
         v = float(value)
@@ -41,7 +47,7 @@ def fmt(value, digits=4, sci_outside=None):
         return "0"
     if sci_outside is not None and not sci_outside[0] <= abs(v) < sci_outside[1]:
         return f"{v:.{digits - 1}e}"
-    return f"{v:.{digits}g}"
+    return f"{v:,.{digits}g}"
 
 
 def count(value):
@@ -70,6 +76,41 @@ def count(value):
     if not math.isfinite(v) or v != round(v):
         return fmt(value)
     return f"{int(round(v)):,}"
+
+
+def share(value, digits=3):
+    """A fraction in [0, 1] (a translational share) that prints as 1 or 0 only when it is.
+
+    Parameters
+    ----------
+    value : float
+        The fraction [1].
+    digits : int, optional
+        Significant digits where they do not round it to 0 or 1.
+
+    Returns
+    -------
+    str
+        ``"1"`` and ``"0"`` for exactly 1 and 0; ``"> 0.9999"`` within 1e-4 below 1,
+        ``"< 0.0001"`` below 1e-4 above 0; else ``digits`` significant digits, or four
+        decimals where those would round to 1; ``"n/a"`` if not finite.
+
+    Examples
+    --------
+    >>> share(0.99993), share(0.9996), share(0.25), share(1.0), share(3e-5)
+    ('> 0.9999', '0.9996', '0.25', '1', '< 0.0001')
+    """
+    v = float(value)
+    if not math.isfinite(v):
+        return "n/a"
+    if v in (0.0, 1.0):
+        return f"{v:g}"
+    if 0 < 1 - v < 1e-4:
+        return "> 0.9999"
+    if 0 < v < 1e-4:
+        return "< 0.0001"
+    text = fmt(v, digits)
+    return f"{v:.4f}" if float(text) == 1 else text
 
 
 def pct(value):
