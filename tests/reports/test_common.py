@@ -11,7 +11,7 @@ from gd_analyze.reports.control import _fmt as control_fmt
 
 
 def test_fmt_plain_and_scientific():
-    assert rp.fmt(1234.5678) == "1235"
+    assert rp.fmt(1234.5678) == "1,235"            # thousands separated, as every count
     assert rp.fmt(1.5e-7) == "1.5e-07"
     assert rp.fmt(0.0) == "0" and rp.fmt(np.nan) == "n/a" and rp.fmt("abc") == "abc"
     # the control report: 3 digits, e-notation outside [1e-3, 1e5)

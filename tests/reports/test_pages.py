@@ -203,3 +203,25 @@ def test_a_heading_is_not_left_behind_a_floating_figure():
     big = next(k for k, p in enumerate(pages) if any(
         op[0] == "text" and op[1][1].startswith("Figure 1.") for op in p.ops))
     assert page_of["3. Small figure"] >= big
+
+
+def test_a_table_continued_on_the_next_page_says_so(tmp_path):
+    """Issue 18 review: a table split over pages repeats its header under "Table k.m
+    (continued)", on every page it continues on, and nowhere else."""
+    from pypdf import PdfReader
+
+    doc = Document("A test document")
+    doc.heading("3. Results")
+    doc.table(table(["row", "value"], [[f"r{i}", str(i)] for i in range(200)]),
+              caption="Table 3.1: A long table.")
+    doc.table(table(["a", "b"], [["1", "2"]]), caption="Table 3.2: A short table.")
+    path = tmp_path / "doc.pdf"
+    doc.write(path)
+    pages = [p.extract_text() for p in PdfReader(path).pages]
+    assert len(pages) >= 3                                   # 200 rows: three pages or more
+    assert "Table 3.1: A long table." in pages[0] and "(continued)" not in pages[0]
+    for text in pages[1:]:                                   # the table runs to the end
+        assert "Table 3.1 (continued)" in text
+        # the caption stands above the repeated header
+        assert text.index("Table 3.1 (continued)") < text.index("row")
+    assert "Table 3.2 (continued)" not in "".join(pages)

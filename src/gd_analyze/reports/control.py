@@ -29,7 +29,7 @@ from ..core.selection.ranking import (
     joint_motion_units,
     joint_torque_units,
 )
-from .common import attr, fmt, prismatic_joints, render_template, utc_now
+from .common import attr, count, fmt, prismatic_joints, render_template, utc_now
 from .common import strings as _strings
 from .common import table as _table
 from .control_figures import (
@@ -205,7 +205,7 @@ def _context(ds):
         ref = len(ev) - 1            # the last: Newton-Euler, the recursive reference
         cost = _table(["evaluator", "multiplications", "additions", "operations",
                        "operations vs Newton-Euler"],
-                      [[e, str(int(mul[k])), str(int(add[k])), str(int(mul[k] + add[k])),
+                      [[e, count(mul[k]), count(add[k]), count(mul[k] + add[k]),
                         f"{(mul[k] + add[k]) / (mul[ref] + add[ref]):.3f}"]
                        for k, e in enumerate(ev)], align="right")
     cost_note = ("Operations per set point, counted (not timed): the emitted models on their "

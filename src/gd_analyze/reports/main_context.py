@@ -16,6 +16,7 @@ from .common import CLASS_COLOURS as _CLASS_COLOURS
 from .common import attr as _attr
 from .common import check as _check
 from .common import (
+    count,
     element_units_of,
     prismatic_joints,
     torque_units,
@@ -25,12 +26,13 @@ from .common import (
 )
 from .common import fmt as _fmt
 from .common import pct_column as _pct_column
+from .common import share as _share
 from .common import strings as _strings
 from .common import table as _table
 from .common import thresholds as _thresholds
-from .effort import effort_rows
 from .main_figures import identically_zero
 from .main_provenance import provenance_rows
+from .main_robot import alike_joints, robot_section
 from .main_text import (
     captions,
     conclusion,
@@ -58,12 +60,6 @@ _REQUIRED = ("t", "q", "qd", "qdd", "D_tran", "D_rot", "D", "h_tran", "h_rot", "
              "peak_tran", "peak_rot", "peak_total", "tau_error_peak", "tau_error_rms",
              "tau_peak", "tau_error_relative_peak", "tau_error_relative_rms", "dh_d", "dh_a",
              "dh_alpha", "dh_offset", "link_mass", "link_com", "link_inertia")
-
-_DERIVATIVES = {
-    "file": "read from the file (its velocity and acceleration columns)",
-    "cubic-spline": "derived from q by a not-a-knot cubic spline",
-    "quintic": "analytic derivatives of a planned quintic motion",
-}
 
 _CHOICE_TEXT = {"tran": "translational part only", "rot": "rotational part only",
                 "both": "translational + rotational", "none": "dropped (negligible)"}
@@ -148,12 +144,13 @@ def _scales(ds):
 
 def _share_text(share, tran_off, rot_off):
     """The translational share as printed: 0 or 1 where the other part is round-off of the
-    element's scale (a share of 4e-14 is round-off, not data), else three digits."""
+    element's scale (a share of 4e-14 is round-off, not data), else three digits, never rounded
+    to 0 or 1 (:func:`gd_analyze.reports.numbers.share`)."""
     if tran_off and not rot_off:
         return "0"
     if rot_off and not tran_off:
         return "1"
-    return _fmt(share, 3) if np.isfinite(share) else "n/a"
+    return _share(share)                # never "1" or "0" unless it is
 
 
 def _caption_units(ds):
@@ -171,78 +168,6 @@ def _caption_units(ds):
                              f"{', '.join(joints)}" if prismatic.any() else ""))
     return {"joints": "; ".join(motion), "D": units_said_once(ds, "D"),
             "tau": units_said_once(ds, "tau")}
-
-
-def _robot_geometry(ds):
-    """(DH table, None) for a robot given by DH rows; (None, placements table) for a URDF or
-    chain robot, whose DH parameters are not defined: each joint's fixed placement in body frame
-    i-1 (translation xyz [m], rotation as roll-pitch-yaw [deg], R = Rz(yaw) Ry(pitch)
-    Rx(roll) as in URDF) and its axis, the z column of the rotation."""
-    n = ds.sizes["joint"]
-    dh_rows = np.stack([ds[v].values for v in ("dh_d", "dh_a", "dh_alpha", "dh_offset")])
-    if np.all(np.isfinite(dh_rows)) or "joint_rotation" not in ds.variables:
-        pris = prismatic_joints(ds)
-
-        def cell(value, variable):            # the joint variable q where it moves: q + offset
-            if not variable:
-                return _fmt(value)
-            sign = "+" if value > 0 else "\u2212"
-            return "q" if value == 0 else f"q {sign} {_fmt(abs(value))}"
-
-        dh = _table(
-            ["joint", "d [m]", "a [m]", "\u03b1 [deg]", "\u03b8 [deg]"],
-            [[str(k + 1), cell(dh_rows[0, k], pris[k]), _fmt(dh_rows[1, k]),
-              _fmt(np.degrees(dh_rows[2, k])), cell(np.degrees(dh_rows[3, k]), not pris[k])]
-             for k in range(n)],
-            align=["left"] + ["right"] * 4, widths=[0.8, 1, 1, 1, 1])
-        return dh, None
-    import warnings
-
-    from scipy.spatial.transform import Rotation
-
-    R = np.asarray(ds["joint_rotation"].values, float)
-    t = np.asarray(ds["joint_translation"].values, float)
-    with warnings.catch_warnings():             # pitch of +-90 deg: yaw 0, roll takes it all
-        warnings.simplefilter("ignore", UserWarning)
-        rpy = Rotation.from_matrix(R).as_euler("xyz", degrees=True)  # extrinsic: URDF's rpy
-
-    def num(v):
-        return _fmt(0.0 if abs(v) < 1e-12 else v)                    # no -0, no 1e-17
-
-    placements = _table(
-        ["joint", "type", "x [m]", "y [m]", "z [m]", "roll [deg]", "pitch [deg]", "yaw [deg]",
-         "axis in frame i\u22121"],
-        [[str(k + 1), str(ds["joint_type"].values[k]) if "joint_type" in ds else "",
-          *(num(v) for v in t[k]), *(num(v) for v in rpy[k]),
-          "(" + ", ".join(num(v) for v in R[k, :, 2]) + ")"] for k in range(n)],
-        align=["left", "left"] + ["right"] * 6 + ["left"],
-        widths=[0.6, 0.9, 0.9, 0.9, 0.9, 0.9, 0.9, 0.9, 1.6])
-    return None, placements
-def _drives_context(ds, labels):
-    """The drives' table and its note, or None when the robot has no drives."""
-    names = ("D_arm", "viscous", "coulomb")
-    if not all(v in ds for v in names) or not any(np.any(ds[v].values) for v in names):
-        return None
-    arm, fv, fc = (ds[v].values for v in names)
-    n = arm.shape[0]
-    pris = prismatic_joints(ds)
-    peak_f = (np.abs(ds["tau_f"].values).max(axis=0) if "tau_f" in ds else np.zeros(n))
-    share = ds["share_arm"].values if "share_arm" in ds else np.zeros(len(labels))
-    diag = [list(labels).index(f"D{k + 1}{k + 1}") if n < 10 else None for k in range(n)]
-    table = _table(
-        ["joint", "armature", "viscous", "Coulomb", "peak |τ_f|", "armature share of D_ii",
-         "units"],
-        [[str(k + 1), _fmt(arm[k]), _fmt(fv[k]), _fmt(fc[k]), _fmt(peak_f[k]),
-          _fmt(share[diag[k]], 3) if diag[k] is not None else "—",
-          "kg, N s/m, N, N" if pris[k] else "kg m², N m s/rad, N m, N m"]
-         for k in range(n)],
-        align=["left"] + ["right"] * 5 + ["left"], widths=[0.5, 0.9, 0.9, 0.9, 0.9, 1, 2])
-    note = ("Drives: the armature (rotor inertia × gear ratio²) adds diag(armature) "
-            "to D, a third part D^arm beside D^tran and D^rot, counted on the rotational side "
-            "of the translational share; friction τ_f = viscous "
-            "· q̇ + Coulomb · sign(q̇) adds to τ. The simplified model "
-            "keeps both whole.")
-    return {"table": table, "note": note}
 
 
 def _is_puma560(name):
@@ -340,52 +265,8 @@ def _report_context_base(ds):
     now = utc_now()
 
     # 1. robot and trajectory
-    robot_kv = _kv([
-        ("name", robot_name), ("description", _attr(ds, "robot_description")),
-        ("reference", _attr(ds, "robot_reference")), ("robot file", _attr(ds, "robot_source")),
-        ("robot file SHA-256", _attr(ds, "robot_sha256")), ("joints n", str(n)),
-        ("gravity g [m/s\u00b2]", _attr(ds, "gravity")),
-    ])
-    com = ds["link_com"].values
-    inertia = ds["link_inertia"].values
-    dh, placements = _robot_geometry(ds)
-    link = _table(
-        ["joint", "mass [kg]", "com x [m]", "com y [m]", "com z [m]", "Ixx [kg m\u00b2]",
-         "Iyy [kg m\u00b2]", "Izz [kg m\u00b2]"],
-        [[str(k + 1), _fmt(ds["link_mass"].values[k]), _fmt(com[k, 0]), _fmt(com[k, 1]),
-          _fmt(com[k, 2]), _fmt(inertia[k, 0, 0]), _fmt(inertia[k, 1, 1]),
-          _fmt(inertia[k, 2, 2])] for k in range(n)],
-        align=["left"] + ["right"] * 7, widths=[0.7] + [1] * 7)
-    drives = _drives_context(ds, labels)
-    derivatives = str(ds.attrs.get("derivatives", ""))
+    robot = robot_section(ds, robot_name)
     sha_in = _attr(ds, "input_sha256", "")
-    traj_kv = _kv([
-        ("source file", _attr(ds, "input_file")), ("path", _attr(ds, "input_path")),
-        ("SHA-256", sha_in or "\u2014 (not read from a file)"),
-        ("set points N", f"{N:,}"),
-        ("duration [s]",
-         f"{_fmt(t[-1] - t[0], 6)}  (t = {_fmt(t[0], 6)} \u2026 {_fmt(t[-1], 6)})"),
-        ("derivatives", f"{derivatives}: {_DERIVATIVES.get(derivatives, 'as recorded')}"
-         if derivatives else "\u2014"),
-    ])
-    prismatic = prismatic_joints(ds)
-    scale = np.where(prismatic, 1.0, np.degrees(1.0))
-    q, qd, qdd = (ds[v].values * scale for v in ("q", "qd", "qdd"))
-    joints = _table(
-        ["joint", "type", "q min", "q max", "peak |q\u0307|", "peak |q\u0308|", "units"],
-        [[str(k + 1), "prismatic" if prismatic[k] else "revolute", _fmt(q[:, k].min()),
-          _fmt(q[:, k].max()), _fmt(np.abs(qd[:, k]).max()), _fmt(np.abs(qdd[:, k]).max()),
-          "m, m/s, m/s\u00b2" if prismatic[k] else "deg, deg/s, deg/s\u00b2"]
-         for k in range(n)],
-        align=["left", "left"] + ["right"] * 4 + ["left"], widths=[0.6, 0.9, 1, 1, 1, 1, 1.5])
-
-    efforts = effort_rows(ds)
-    effort = _table(
-        ["joint", "peak |\u03c4|", "effort limit", "peak / limit", "flag", "units"],
-        [[str(j), _fmt(peak), _fmt(limit), _fmt(ratio, 3), flag, unit]
-         for j, peak, limit, ratio, flag, unit in efforts],
-        align=["left", "right", "right", "right", "left", "left"],
-        widths=[0.6, 1, 1, 1, 1, 0.6]) if efforts else None
 
     # 4. ranking
     share = ds["share_tran"].values
@@ -489,7 +370,7 @@ def _report_context_base(ds):
                          ds["tau_error_peak"].values, ds["tau_peak"].values, _model_cost(ds),
                          recursive=_recursive_facts(ds) if form == "recursive" else None,
                          gravity=_gravity_fact(ds, form), units=tau_units)
-    facts = (f"{robot_name}, {n} joints, {N:,} set points over {_fmt(t[-1] - t[0], 4)} s; "
+    facts = (f"{robot_name}, {n} joints, {count(N)} set points over {_fmt(t[-1] - t[0], 4)} s; "
              f"{len(labels)} elements ranked with s = {s:g}, e = {e:g}: "
              + ", ".join(f"{counts[c]} {c}" for c in _CLASS_COLOURS)
              + f". Verification against Pinocchio: {verified}.")
@@ -497,12 +378,11 @@ def _report_context_base(ds):
     return {
         "version": __version__, "title": title, "summary": summary, "robot_name": robot_name,
         "facts": facts, "intro": _INTRO.format(created=now.isoformat(), version=__version__),
-        "captions": captions(enveloped, N, f"{s:g}", f"{e:g}", units=_caption_units(ds)),
+        "captions": captions(enveloped, N, f"{s:g}", f"{e:g}", units=_caption_units(ds),
+                             alike=alike_joints(ds)),
         "D_text": _D_TEXT.format(s=f"{s:g}", e=f"{e:g}", units=units_said_once(ds, "D")),
         "n": n, "N": N, "s": f"{s:g}", "e": f"{e:g}", "created": now.isoformat(),
-        "robot_kv": robot_kv, "dh": dh, "placements": placements, "link": link,
-        "traj_kv": traj_kv, "joints": joints,
-        "effort": effort, "effort_text": _effort_text(efforts), "drives": drives,
+        **robot,
         "ranking": ranking, "counts": counts, "choices": choices, "error": err,
         "simplified_intro": (simplified_intro(form, _gravity_fact(ds, form))
                              + _zero_parameters(ds)),
@@ -512,7 +392,7 @@ def _report_context_base(ds):
                     "n_agree": n_agree, "n_compared": n_compared},
         "provenance": _kv(prov), "enveloped": enveloped,
         "formulations": formulations, "payload": payload,
-        "envelope_note": (f"The trajectory has {N:,} set points: curves are drawn as their "
+        "envelope_note": (f"The trajectory has {count(N)} set points: curves are drawn as their "
                           "min/max envelope over about 400 equal time columns per panel, "
                           "without markers (the report reads the stored series in chunks)."
                           if enveloped else ""),
@@ -559,7 +439,7 @@ def _verification(ds, keys, N):
         return "not run", "not run (analysis without check)"
     passed = bool(int(ds.attrs["verification_passed"]))
     checked = int(ds.attrs.get("verification_setpoints", N))
-    verdict = (f"{'passed' if passed else 'FAILED'} on {checked:,} of {N:,} set points"
+    verdict = (f"{'passed' if passed else 'FAILED'} on {count(checked)} of {count(N)} set points"
                + ("" if checked == N else " (evenly spread)"))
     worst = {_quantity(k[len("verification_max_rel_error_"):]): float(ds.attrs[k])
              for k in keys}
@@ -626,8 +506,8 @@ def _formulations_context(ds):
                 mul, add = ds["op_multiplications"].values[k, j], ds["op_additions"].values[k, j]
             bm = ds["op_multiplications_table_3_5"].values[k, j]
             ba = ds["op_additions_table_3_5"].values[k, j]
-            rows.append([FORMULATION_NAMES.get(name, name), f"{mul:.0f}", f"{add:.0f}",
-                         f"{bm:.0f}", f"{ba:.0f}"])
+            rows.append([FORMULATION_NAMES.get(name, name), count(mul), count(add),
+                         count(bm), count(ba)])
     costs = _table(["formulation", "multiplications", "additions", "mult. Table 3.5",
                     "add. Table 3.5"], rows, align=["left"] + ["right"] * 4)
     worst = float(np.max(dis)) if dis.size else float("nan")
@@ -640,15 +520,3 @@ def _formulations_context(ds):
             f"n = {n}; pairs: L-E Lagrange-Euler, N-E Newton-Euler, G-D the G-D equations."
             + prismatic_count_note(str(ds.attrs.get("formulations_joint_types", ""))))
     return {"applicable": True, "note": note, "agreement": agreement, "costs": costs}
-
-
-def _effort_text(rows):
-    """The sentence over the effort-limit table: which joints exceed their limit, if any."""
-    if not rows:
-        return ""
-    over = [str(r[0]) for r in rows if r.exceeded]
-    verdict = (f"joint{'s' if len(over) > 1 else ''} {', '.join(over)} exceed"
-               f"{'' if len(over) > 1 else 's'} {'their' if len(over) > 1 else 'its'} limit "
-               "along this trajectory" if over else "every joint stays within its limit")
-    return ("Peak |\u03c4| of the full model against the effort limits the robot gives "
-            f"(URDF <limit effort>, robot file tau_max): {verdict}.")

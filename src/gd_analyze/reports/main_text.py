@@ -11,7 +11,7 @@ import numpy as np
 from ..core.selection.ranking import element_label, parse_element_label
 
 __all__ = ["conclusion", "model_sentence", "gravity_clause", "simplified_intro", "disagreement_cause", "captions",
-           "element_scale", "prismatic_count_note"]
+           "element_scale", "prismatic_count_note", "alike_sentence"]
 
 _CLASSES = ("translational", "rotational", "both", "negligible")
 
@@ -349,7 +349,7 @@ def disagreement_cause(label, ours, theirs, share, zero, s, robot_name):
     return cause
 
 
-def captions(enveloped, N, s, e, units=None):
+def captions(enveloped, N, s, e, units=None, alike=()):
     """Captions of the main report's figures, the same in the HTML and the PDF.
 
     Parameters
@@ -363,6 +363,9 @@ def captions(enveloped, N, s, e, units=None):
     units : dict of str to str, optional
         The units as the captions state them, from the joint types: ``joints`` (q, qd, qdd
         per joint type), ``D`` and ``tau``; an all-revolute arm's if not given.
+    alike : sequence of sequence of int, optional
+        Groups of joints (1-based) that move alike, whose curves in Fig. 1 coincide
+        (:func:`gd_analyze.reports.main_robot.alike_joints`): named in its caption.
 
     Returns
     -------
@@ -391,7 +394,8 @@ def captions(enveloped, N, s, e, units=None):
                    if enveloped else "each joint in its own colour, line style and marker")
     return {
         "joints": "Joint positions q, velocities q\u0307 and accelerations q\u0308 against time "
-                  f"[{u['joints']}], {joint_lines}; the dataset stores SI units (rad or m).",
+                  f"[{u['joints']}], {joint_lines}; the dataset stores SI units (rad or m)."
+                  + alike_sentence(alike),
         "D": f"Elements {element('D', 'ij')} (i \u2264 j) of the inertia matrix against time "
              f"[{u['D']}], "
              f"split into their translational and rotational parts (analogue of Fig. 3.10). "
@@ -411,6 +415,34 @@ def captions(enveloped, N, s, e, units=None):
                         "joints n (logarithmic vertical axis): counted on the code as implemented (solid) and "
                         "the formulas of Table 3.5 (dashed).",
     }
+
+
+def alike_sentence(groups):
+    """The sentence of Fig. 1's caption naming the joints whose curves coincide.
+
+    Parameters
+    ----------
+    groups : sequence of sequence of int
+        Groups of joints (1-based) that move alike.
+
+    Returns
+    -------
+    str
+        Empty without a group; else, with a leading space, one sentence per group.
+
+    Examples
+    --------
+    >>> alike_sentence([[1, 5]])
+    ' Joints 1 and 5 move alike: their curves coincide.'
+    >>> alike_sentence([[1, 3, 6]])
+    ' Joints 1, 3 and 6 move alike: their curves coincide.'
+    """
+    out = ""
+    for group in groups:
+        names = [str(j) for j in group]
+        out += (f" Joints {', '.join(names[:-1])} and {names[-1]} move alike: their curves "
+                "coincide.")
+    return out
 
 
 def prismatic_count_note(types):

@@ -13,6 +13,7 @@ with fpdf2 (:mod:`gd_analyze.reports.text_pages`); each figure is drawn once, as
 from __future__ import annotations
 
 import io
+import re
 import textwrap
 from dataclasses import dataclass, field
 
@@ -21,7 +22,8 @@ from .table_layout import column_widths as _column_widths
 from .table_layout import wrap_cell as _wrap_cell
 from .text_pages import draw_text_pages, text_width
 
-__all__ = ["PAPER", "PAGE_RC", "FIGURE_FONTS", "Document", "TABLE_COLOURS"]
+__all__ = ["PAPER", "PAGE_RC", "FIGURE_FONTS", "Document", "TABLE_COLOURS",
+           "continued_caption"]
 
 #: Page sizes [in].
 PAPER = {"a4": (8.27, 11.69), "letter": (8.5, 11.0)}
@@ -50,6 +52,33 @@ _FLOAT_ROOM = 0.25
 #: A table split over pages puts at least this many rows on its last page.
 _MIN_ROWS = 3
 _HEADING = {1: 13.0, 2: 10.5, 0: 15.0}
+#: The number of a table's caption ("Table 5.2"), repeated on each page the table continues on.
+_TABLE_NUMBER = re.compile(r"^(Table\s+[0-9A-Za-z.]*[0-9A-Za-z])[:.]?(\s|$)")
+
+
+def continued_caption(caption):
+    """The caption over a table's rows on the pages after its first: ``"Table 5.2
+    (continued)"``.
+
+    Parameters
+    ----------
+    caption : str
+        The table's caption, e.g. ``"Table 5.2: Ranking ..."``; empty for a table without.
+
+    Returns
+    -------
+    str
+        Its number and "(continued)"; a caption without a number: "(continued)" alone.
+
+    Examples
+    --------
+    >>> continued_caption("Table 5.2: Ranking of the elements.")
+    'Table 5.2 (continued)'
+    >>> continued_caption("")
+    '(continued)'
+    """
+    match = _TABLE_NUMBER.match(plain(caption or "").strip())
+    return f"{match.group(1)} (continued)" if match else "(continued)"
 
 
 def _place(writer, target, pdf_bytes, name, x, y, scale, turned_width=None):
@@ -203,7 +232,7 @@ class Document:
             colour_cols: class and yes/no cells drawn in their colour).
         size : float, optional
             Type size [pt]. A short table stays on one page; a long one repeats its header on
-            each page.
+            each page, under "Table k.m (continued)" (:func:`continued_caption`).
         caption : str, optional
             "Table 5.2: ...", kept on the page of the table's first rows.
         """
@@ -411,6 +440,9 @@ class Document:
                 page.ops.append(("rule", (page.used, 0.8)))
                 new_page()
                 page = pages[-1]
+                page.ops.append(("text", (page.used, continued_caption(caption), 8.0, False,
+                                          "0.15")))
+                page.used += 8.0 * 1.38 / 72 + 0.04
                 page.ops.append(("rule", (page.used, 0.8)))
                 page.ops.append(("row", (page.used, header[0], True, False, spec)))
                 page.used += header[1]

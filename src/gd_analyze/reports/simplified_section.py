@@ -12,7 +12,7 @@ from __future__ import annotations
 import numpy as np
 
 from ..core.selection.ranking import ROUND_OFF, arm_scales, is_round_off
-from .common import fmt, pct, pct_column, strings, table, torque_units, units_said_once
+from .common import count, fmt, pct, pct_column, strings, table, torque_units, units_said_once
 from .markup import element as _el
 from .markup import sub as _sub
 
@@ -63,6 +63,11 @@ _D_IJ = _el("D", "ij")
 _QDD_I, _QDD_J = "q\u0308" + _sub("i"), "q\u0308" + _sub("j")
 
 
+def _int(v):
+    """A count as every table prints it (1,212), "\u2014" where it was not counted."""
+    return count(v) if np.isfinite(float(v)) else "\u2014"
+
+
 def _num(v, digits=4):
     v = float(v)
     return "\u2014" if not np.isfinite(v) else fmt(v, digits)
@@ -108,17 +113,18 @@ def simplified_context(ds):
         text = ("Rule: the chapter's share-based classes (Sec. 3.4.1): each element keeps its "
                 "dominant part, no term is pruned; there is no error bound.")
     if form != "recursive":
-        text += (f" Kept: {int(a.get('simplified_terms_kept', 0))} terms of the explicit "
+        text += (f" Kept: {count(a.get('simplified_terms_kept', 0))} terms of the explicit "
                  f"model; {dropped} of {2 * len(choice)} element parts dropped as whole parts.")
-    text += (f" The emitted code costs {a.get('simplified_multiplications')} multiplications and "
-             f"{a.get('simplified_additions')} additions per set point "
-             f"({a.get('simplified_sin')} sin, {a.get('simplified_cos')} cos).")
+    text += (f" The emitted code costs {count(a.get('simplified_multiplications'))} "
+             f"multiplications and {count(a.get('simplified_additions'))} additions per set "
+             f"point ({count(a.get('simplified_sin'))} sin, {count(a.get('simplified_cos'))} "
+             "cos).")
     other = str(a.get("other_rule", ""))
     if other and "other_rule_error_relative_peak" in ds.variables:
         worst = np.nanmax(ds["other_rule_error_relative_peak"].values)
         text += (f" Side by side, the {other} rule's model costs "
-                 f"{a.get('other_rule_multiplications')} multiplications and "
-                 f"{a.get('other_rule_additions')} additions, worst error {pct(worst)} of "
+                 f"{count(a.get('other_rule_multiplications'))} multiplications and "
+                 f"{count(a.get('other_rule_additions'))} additions, worst error {pct(worst)} of "
                  "peak |\u03c4|." + _dearer_than_full(ds, other))
     measured = ds["tau_error_peak"].values
     parts = ("from D", "from h", "from c") if form != "recursive" else (
@@ -153,15 +159,15 @@ def simplified_context(ds):
     costs = ladder = None
     if "cost_total" in ds.variables:
         costs = table(["model", "multiplications", "additions", "total"],
-                      [[str(lab).replace("EPS=", "\u03b5 = "), _num(m, 6), _num(ad, 6),
-                        _num(tot, 6)] for lab, m, ad, tot in
+                      [[str(lab).replace("EPS=", "\u03b5 = "), _int(m), _int(ad),
+                        _int(tot)] for lab, m, ad, tot in
                        zip(strings(ds["cost_model"].values), ds["cost_multiplications"].values,
                            ds["cost_additions"].values, ds["cost_total"].values)],
                       align=["left", "right", "right", "right"], widths=[3, 1, 1, 1])
     if "ladder_operations" in ds.variables:
         ladder = table(["\u03b5", "operations", "sin + cos", "worst error on this trajectory "
                         "(guaranteed \u2264 \u03b5)"],
-                       [[f"{e:g}", str(int(o)), str(int(tr)), w] for e, o, tr, w in
+                       [[f"{e:g}", _int(o), _int(tr), w] for e, o, tr, w in
                         zip(ds["ladder_tolerance"].values, ds["ladder_operations"].values,
                             ds["ladder_trig"].values, pct_column(   # relative: own scale 1
                                 ds["ladder_worst_error"].values,
@@ -219,7 +225,7 @@ def _dearer_than_full(ds, other):
     return (f" It costs more than the full explicit model ({mine:,} against {int(full):,} "
             f"operations) although it keeps {oh:,} of the full model's {fh:,} harmonic terms: "
             "where an element keeps one part, its coefficients are that part's, not the sum "
-            f"of both; the full model's {fc} distinct coefficient magnitudes become {oc}, so "
+            f"of both; the full model's {fc:,} distinct coefficient magnitudes become {oc:,}, so "
             "the code generator's factoring (a x + a y = a (x + y), and a cos(A + B) + b "
             "cos(A \u2212 B) in one product where a = \u00b1b) finds less to share."
             + (" The budget rule falls back to the full model in that case; the chapter rule "

@@ -34,9 +34,10 @@ from .common import CLASS_COLOURS as _CLASS_COLOURS
 from .common import SUPTITLE_RC as _RC
 from .common import attr as _attr
 from .common import check as _check
-from .common import check_formats, render_template, torque_units, units_said_once, utc_now
+from .common import check_formats, count, render_template, torque_units, units_said_once, utc_now
 from .common import fmt as _fmt
 from .common import pct as _pct
+from .common import share as _share_text
 from .common import strings as _strings
 from .common import table as _table
 from .common import thresholds as _thresholds
@@ -206,10 +207,10 @@ def _settings(ds, inputs, setpoints, durations, version):
         rows.append(("input files", _attr(ds, "input_files")))
     rows += [
         ("SHA-256 of all inputs", _attr(ds, "inputs_sha256")),
-        ("set points", f"{_attr(ds, 'setpoints_total')} in all"
-                       + ((f" ({int(setpoints.min())} per trajectory)"
+        ("set points", f"{count(ds.attrs.get('setpoints_total', '-'))} in all"
+                       + ((f" ({count(setpoints.min())} per trajectory)"
                            if setpoints.min() == setpoints.max() else
-                           f" ({int(setpoints.min())}\u2013{int(setpoints.max())} per "
+                           f" ({count(setpoints.min())}\u2013{count(setpoints.max())} per "
                            "trajectory)") if setpoints.size else "")),
         ("duration [s]", f"{_fmt(np.min(durations))} \u2013 {_fmt(np.max(durations))} "
                          f"(median {_fmt(np.median(durations))})"),
@@ -261,7 +262,7 @@ def _merged_rule(ds):
 def _share(value, zero):
     """A share of the envelope as printed: "\u2261 0" for an element that is round-off on
     every trajectory (its share is noise: NaN in the dataset), else three digits."""
-    return "\u2261 0" if zero or not np.isfinite(value) else _fmt(value, 3)
+    return "\u2261 0" if zero or not np.isfinite(value) else _share_text(value)
 
 
 def _own_worst(ds, j):
@@ -292,8 +293,8 @@ def _worst_cases(ds, labels):
     spread = ds["share_tran_max"].values - ds["share_tran_min"].values
     top = [k for k in np.argsort(np.nan_to_num(spread, nan=-1.0))[::-1][:3]
            if np.isfinite(spread[k])]
-    elems = [f"{labels[k]} ({_fmt(ds['share_tran_min'].values[k], 3)}\u2013"
-             f"{_fmt(ds['share_tran_max'].values[k], 3)})" for k in top]
+    elems = [f"{labels[k]} ({_share_text(ds['share_tran_min'].values[k])}\u2013"
+             f"{_share_text(ds['share_tran_max'].values[k])})" for k in top]
     text = "Worst cases: "
     text += ("the merged model's largest torque errors are on " + "; ".join(parts) + ". "
              if parts else "no torque error is defined. ")

@@ -1,0 +1,262 @@
+"""Figure style of the reports: matplotlib settings, joint line styles and markers, fixed
+grids, and figures as inline SVG.
+
+Private to the reports (:mod:`gd_analyze.reports.common` re-exports these names).
+"""
+
+from __future__ import annotations
+
+import contextlib
+import io
+import math
+import re
+
+__all__ = ["BASE_RC", "SUPTITLE_RC", "style", "grid_shape", "joint_colours", "joint_style",
+           "JOINT_STYLES", "MAX_MARKERS", "MIN_MARKERS", "markevery", "panel_markevery",
+           "gridspec", "svg", "inline_svgs"]
+
+#: matplotlib settings every report uses; each adds its own to them (see :func:`style`).
+BASE_RC = {
+    "font.size": 8.0,
+    "axes.titlesize": 8.5,
+    "axes.labelsize": 8.0,
+    "xtick.labelsize": 7.0,
+    "ytick.labelsize": 7.0,
+    "axes.grid": True,
+    "grid.color": "0.88",
+    "grid.linewidth": 0.5,
+    "lines.linewidth": 1.0,
+    "svg.fonttype": "none",      # text stays text in the SVG: searchable and small
+    "pdf.fonttype": 42,          # embed TrueType fonts in the PDF
+    "path.simplify": True,
+}
+#: :data:`BASE_RC` with bold 11 pt figure titles, 8 pt legends and thin axes lines (the
+#: analysis and the sweep report).
+SUPTITLE_RC = {**BASE_RC, "legend.fontsize": 8.0, "figure.titlesize": 11.0,
+               "figure.titleweight": "bold", "axes.linewidth": 0.6}
+
+
+def style(rc):
+    """A context in which matplotlib draws with the settings ``rc``.
+
+    Parameters
+    ----------
+    rc : dict
+        rcParams to set, e.g. :data:`SUPTITLE_RC`; the others keep their current values.
+
+    Returns
+    -------
+    contextlib.AbstractContextManager
+        :func:`matplotlib.rc_context` of ``rc``.
+    """
+    import matplotlib
+
+    return matplotlib.rc_context(rc)
+
+
+def grid_shape(n, max_cols):
+    """Rows and columns of a grid of n panels, at most ``max_cols`` a row.
+
+    Parameters
+    ----------
+    n : int
+        Number of panels.
+    max_cols : int
+        Most columns.
+
+    Returns
+    -------
+    rows, cols : int
+    """
+    cols = max(1, min(max_cols, n))
+    return math.ceil(n / cols), cols
+
+
+def joint_colours(n):
+    """One colour per joint from the tab10 colour map.
+
+    Parameters
+    ----------
+    n : int
+        How many colours.
+
+    Returns
+    -------
+    list of tuple
+        RGBA, the ten of tab10 in turn.
+    """
+    from matplotlib import colormaps
+
+    cmap = colormaps["tab10"]
+    return [cmap(k % 10) for k in range(n)]
+
+
+#: Line style and marker of joints 1..7: no two joints share either, so that seven lines are
+#: told apart in greyscale (dash patterns as (offset, (on, off, ...)) in points).
+JOINT_STYLES = (("-", "o"), ((0, (4.0, 1.6)), "s"), ((0, (1.0, 1.3)), "^"),
+                ((0, (5.0, 1.5, 1.0, 1.5)), "D"), ((0, (2.2, 1.4)), "v"),
+                ((0, (6.0, 1.5, 1.0, 1.5, 1.0, 1.5)), "x"), ((0, (8.0, 2.0)), "+"))
+
+
+def joint_style(j, n_lines=1, in_panel=1):
+    """Colour, line style and marker of joint ``j`` (0-based): distinct for up to 7 joints.
+
+    Parameters
+    ----------
+    j : int
+        The joint, 0-based.
+    n_lines : int, optional
+        Set points on the line.
+    in_panel : int, optional
+        Lines on the panel: together they carry at most about :data:`MAX_MARKERS` markers
+        (:func:`panel_markevery`).
+
+    Returns
+    -------
+    dict
+        Keyword arguments of :meth:`matplotlib.axes.Axes.plot`: ``color`` (Okabe & Ito
+        colour-blind-safe set, then tab10), ``linestyle``, ``marker`` (open), ``markevery``,
+        ``markersize``; the markers of joint j start at an offset so that two joints' markers
+        do not fall on the same set points.
+    """
+    colours = ("#000000", "#0072B2", "#D55E00", "#009E73", "#CC79A7", "#E69F00", "#56B4E9")
+    ls, marker = JOINT_STYLES[j % len(JOINT_STYLES)]
+    colour = colours[j] if j < len(colours) else joint_colours(j + 1)[j]
+    every = panel_markevery(n_lines, in_panel)
+    offset = (j * max(1, every // 7)) % every if every > 1 else 0
+    return {"color": colour, "linestyle": ls, "marker": marker, "markevery": (offset, every),
+            "markersize": 3.0, "markerfacecolor": "none", "markeredgewidth": 0.7}
+
+
+#: The most markers drawn on one panel, all its lines together: more merge into a band at
+#: print size (each line keeps at least :data:`MIN_MARKERS`).
+MAX_MARKERS = 12
+#: The fewest markers of a line that has any: enough to tell its marker.
+MIN_MARKERS = 2
+
+
+def panel_markevery(m, lines):
+    """The stride of the markers of each of ``lines`` lines of ``m`` points on one panel.
+
+    Parameters
+    ----------
+    m : int
+        Points on each line.
+    lines : int
+        Lines with markers on the panel.
+
+    Returns
+    -------
+    int
+        :func:`markevery` for at most ``max(MIN_MARKERS, MAX_MARKERS // lines)`` markers a
+        line: at most about :data:`MAX_MARKERS` on the panel.
+
+    Examples
+    --------
+    >>> panel_markevery(31, 3), panel_markevery(31, 6), panel_markevery(8, 1)
+    (8, 16, 1)
+    """
+    return markevery(m, max(MIN_MARKERS, MAX_MARKERS // max(1, int(lines))))
+
+
+def markevery(m, most=MAX_MARKERS):
+    """The stride that leaves at most ``most`` markers on a line of ``m`` points.
+
+    Parameters
+    ----------
+    m : int
+        Points on the line.
+    most : int, optional
+        The most markers (:data:`MAX_MARKERS`).
+
+    Returns
+    -------
+    int
+        k >= 1 with ceil(m / k) <= most (markers at points 0, k, 2k, ...).
+
+    Examples
+    --------
+    >>> markevery(31), markevery(12), markevery(0)
+    (3, 1, 1)
+    """
+    return max(1, -(-int(m) // max(1, int(most))))
+
+
+def gridspec(fig, rows, cols, left, right, top, bottom, wgap, hgap):
+    """A gridspec with margins and gaps in inches (a fixed layout: no layout engine).
+
+    Parameters
+    ----------
+    fig : matplotlib.figure.Figure
+        The figure.
+    rows, cols : int
+        Grid shape.
+    left, right, top, bottom : float
+        Margins [in].
+    wgap, hgap : float
+        Gaps between columns and between rows [in].
+
+    Returns
+    -------
+    matplotlib.gridspec.GridSpec
+    """
+    W, H = fig.get_size_inches()
+    aw = (W - left - right - (cols - 1) * wgap) / cols
+    ah = (H - top - bottom - (rows - 1) * hgap) / max(rows, 1)
+    return fig.add_gridspec(rows, cols, left=left / W, right=1 - right / W, bottom=bottom / H,
+                            top=1 - top / H, wspace=wgap / aw, hspace=hgap / ah)
+
+
+def svg(fig, prefix=None, rc=None):
+    """A figure as an inline ``<svg>`` element.
+
+    Parameters
+    ----------
+    fig : matplotlib.figure.Figure
+        The figure.
+    prefix : str, optional
+        Put before every id, and the references to it, so that several figures can share one
+        HTML document without clashing ids.
+    rc : dict, optional
+        rcParams to draw with (:func:`style`).
+
+    Returns
+    -------
+    str
+        The SVG without XML declaration and DOCTYPE (whose DTD is an external resource) and
+        without date or creator metadata.
+    """
+    buf = io.StringIO()
+    with style(rc) if rc is not None else contextlib.nullcontext():
+        fig.savefig(buf, format="svg",
+                    metadata={"Date": None, "Creator": None, "Format": None, "Type": None})
+    text = buf.getvalue()
+    start = text.find("<svg")
+    text = text[start:] if start >= 0 else text
+    if prefix is None:
+        return text
+    text = re.sub(r'\bid="', f'id="{prefix}-', text)
+    text = re.sub(r'\bhref="#', f'href="#{prefix}-', text)
+    return re.sub(r"url\(#", f"url(#{prefix}-", text)
+
+
+def inline_svgs(figures, rc, prefix_ids=True):
+    """Figures as inline SVG markup for a template.
+
+    Parameters
+    ----------
+    figures : dict of str to matplotlib.figure.Figure
+        The figures by name.
+    rc : dict
+        rcParams to draw with.
+    prefix_ids : bool, optional
+        Prefix the ids of each figure with ``fig-<name>`` (:func:`svg`).
+
+    Returns
+    -------
+    dict of str to markupsafe.Markup
+    """
+    from markupsafe import Markup
+
+    return {name: Markup(svg(fig, f"fig-{name}" if prefix_ids else None, rc))
+            for name, fig in figures.items()}

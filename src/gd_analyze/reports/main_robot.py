@@ -1,0 +1,239 @@
+"""The main report's robot section: the robot's geometry (DH rows, or a URDF arm's joint
+placements and axes), its links, its drives, the trajectory, each joint's range of motion and
+its effort limits, read from the stored dataset.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from ..core.selection.ranking import joint_motion_units
+from .common import attr as _attr
+from .common import count, prismatic_joints, strings
+from .common import fmt as _fmt
+from .common import share as share_text
+from .common import table as _table
+from .effort import effort_rows
+
+__all__ = ["robot_section", "alike_joints", "ALIKE"]
+
+_DERIVATIVES = {
+    "file": "read from the file (its velocity and acceleration columns)",
+    "cubic-spline": "derived from q by a not-a-knot cubic spline",
+    "quintic": "analytic derivatives of a planned quintic motion",
+}
+
+
+#: Two joints move alike when q, q\u0307 and q\u0308 differ by at most this fraction of their
+#: scale (the larger peak of the two): round-off, their curves drawn one over the other.
+ALIKE = 1e-12
+
+
+def alike_joints(ds):
+    """The groups of joints whose stored motions are equal to round-off: their curves in
+    Fig. 1 coincide, the one drawn last hiding the others.
+
+    Parameters
+    ----------
+    ds : xarray.Dataset
+        With ``q``, ``qd`` and ``qdd`` of shape (N, n) and, optionally, ``joint_type``.
+
+    Returns
+    -------
+    list of list of int
+        Each group's joints, 1-based and ascending, of one joint type (a revolute and a
+        prismatic joint are drawn on different panels); groups of two or more only, in the
+        order of their first joint.
+
+    Notes
+    -----
+    Joints i and j move alike when, for each of q, q\u0307 and q\u0308, the largest
+    difference of their columns is at most :data:`ALIKE` times the larger peak of the two
+    columns (both columns 0: alike).
+    """
+    prismatic = prismatic_joints(ds)
+    series = [np.asarray(ds[v].values, float) for v in ("q", "qd", "qdd")]
+    n = prismatic.size
+
+    def alike(i, j):
+        if prismatic[i] != prismatic[j]:
+            return False
+        for x in series:
+            scale = max(np.max(np.abs(x[:, i])), np.max(np.abs(x[:, j])))
+            if np.max(np.abs(x[:, i] - x[:, j])) > ALIKE * scale:
+                return False
+        return True
+
+    groups, placed = [], set()
+    for i in range(n):
+        if i in placed:
+            continue
+        group = [i] + [j for j in range(i + 1, n) if j not in placed and alike(i, j)]
+        if len(group) > 1:
+            placed.update(group)
+            groups.append([k + 1 for k in group])
+    return groups
+
+
+def _kv(rows):
+    return _table(["item", "value"], rows, widths=[1.2, 3.4])
+
+
+def robot_section(ds, robot_name):
+    """The tables and sentences of the robot and trajectory section.
+
+    Parameters
+    ----------
+    ds : xarray.Dataset
+        A results dataset as stored by the main job.
+    robot_name : str
+        The robot's name as printed.
+
+    Returns
+    -------
+    dict
+        ``robot_kv``, ``dh`` and ``placements`` (one of them None), ``link``, ``drives``
+        (None without drives), ``traj_kv``, ``joints``, ``effort`` (None without limits) and
+        ``effort_text``: the entries of the report's context.
+    """
+    n = ds.sizes["joint"]
+    t = ds["t"].values
+    N = t.size
+    labels = strings(ds["element"].values)
+    robot_kv = _kv([
+        ("name", robot_name), ("description", _attr(ds, "robot_description")),
+        ("reference", _attr(ds, "robot_reference")), ("robot file", _attr(ds, "robot_source")),
+        ("robot file SHA-256", _attr(ds, "robot_sha256")), ("joints n", str(n)),
+        ("gravity g [m/s\u00b2]", _attr(ds, "gravity")),
+    ])
+    com = ds["link_com"].values
+    inertia = ds["link_inertia"].values
+    dh, placements = _robot_geometry(ds)
+    link = _table(
+        ["joint", "mass [kg]", "com x [m]", "com y [m]", "com z [m]", "Ixx [kg m\u00b2]",
+         "Iyy [kg m\u00b2]", "Izz [kg m\u00b2]"],
+        [[str(k + 1), _fmt(ds["link_mass"].values[k]), _fmt(com[k, 0]), _fmt(com[k, 1]),
+          _fmt(com[k, 2]), _fmt(inertia[k, 0, 0]), _fmt(inertia[k, 1, 1]),
+          _fmt(inertia[k, 2, 2])] for k in range(n)],
+        align=["left"] + ["right"] * 7, widths=[0.7] + [1] * 7)
+    drives = _drives_context(ds, labels)
+    derivatives = str(ds.attrs.get("derivatives", ""))
+    sha_in = _attr(ds, "input_sha256", "")
+    traj_kv = _kv([
+        ("source file", _attr(ds, "input_file")), ("path", _attr(ds, "input_path")),
+        ("SHA-256", sha_in or "\u2014 (not read from a file)"),
+        ("set points N", count(N)),
+        ("duration [s]",
+         f"{_fmt(t[-1] - t[0], 6)}  (t = {_fmt(t[0], 6)} \u2026 {_fmt(t[-1], 6)})"),
+        ("derivatives", f"{derivatives}: {_DERIVATIVES.get(derivatives, 'as recorded')}"
+         if derivatives else "\u2014"),
+    ])
+    prismatic = prismatic_joints(ds)
+    # the units of Fig. 1 (joint_motion_units shown): deg, or mm for a prismatic joint
+    scale = np.where(prismatic, 1000.0, np.degrees(1.0))
+    q, qd, qdd = (ds[v].values * scale for v in ("q", "qd", "qdd"))
+    joints = _table(
+        ["joint", "type", "q min", "q max", "peak |q\u0307|", "peak |q\u0308|", "units"],
+        [[str(k + 1), "prismatic" if prismatic[k] else "revolute", _fmt(q[:, k].min()),
+          _fmt(q[:, k].max()), _fmt(np.abs(qd[:, k]).max()), _fmt(np.abs(qdd[:, k]).max()),
+          ", ".join(joint_motion_units(bool(prismatic[k]), shown=True))]
+         for k in range(n)],
+        align=["left", "left"] + ["right"] * 4 + ["left"], widths=[0.6, 0.9, 1, 1, 1, 1, 1.5])
+
+    efforts = effort_rows(ds)
+    effort = _table(
+        ["joint", "peak |\u03c4|", "effort limit", "peak / limit", "flag", "units"],
+        [[str(j), _fmt(peak), _fmt(limit), _fmt(ratio, 3), flag, unit]
+         for j, peak, limit, ratio, flag, unit in efforts],
+        align=["left", "right", "right", "right", "left", "left"],
+        widths=[0.6, 1, 1, 1, 1, 0.6]) if efforts else None
+    return {"robot_kv": robot_kv, "dh": dh, "placements": placements, "link": link,
+            "traj_kv": traj_kv, "joints": joints, "effort": effort,
+            "effort_text": _effort_text(efforts), "drives": drives}
+
+
+def _robot_geometry(ds):
+    """(DH table, None) for a robot given by DH rows; (None, placements table) for a URDF or
+    chain robot, whose DH parameters are not defined: each joint's fixed placement in body frame
+    i-1 (translation xyz [m], rotation as roll-pitch-yaw [deg], R = Rz(yaw) Ry(pitch)
+    Rx(roll) as in URDF) and its axis, the z column of the rotation."""
+    n = ds.sizes["joint"]
+    dh_rows = np.stack([ds[v].values for v in ("dh_d", "dh_a", "dh_alpha", "dh_offset")])
+    if np.all(np.isfinite(dh_rows)) or "joint_rotation" not in ds.variables:
+        pris = prismatic_joints(ds)
+
+        def cell(value, variable):            # the joint variable q where it moves: q + offset
+            if not variable:
+                return _fmt(value)
+            sign = "+" if value > 0 else "\u2212"
+            return "q" if value == 0 else f"q {sign} {_fmt(abs(value))}"
+
+        dh = _table(
+            ["joint", "d [m]", "a [m]", "\u03b1 [deg]", "\u03b8 [deg]"],
+            [[str(k + 1), cell(dh_rows[0, k], pris[k]), _fmt(dh_rows[1, k]),
+              _fmt(np.degrees(dh_rows[2, k])), cell(np.degrees(dh_rows[3, k]), not pris[k])]
+             for k in range(n)],
+            align=["left"] + ["right"] * 4, widths=[0.8, 1, 1, 1, 1])
+        return dh, None
+    import warnings
+
+    from scipy.spatial.transform import Rotation
+
+    R = np.asarray(ds["joint_rotation"].values, float)
+    t = np.asarray(ds["joint_translation"].values, float)
+    with warnings.catch_warnings():             # pitch of +-90 deg: yaw 0, roll takes it all
+        warnings.simplefilter("ignore", UserWarning)
+        rpy = Rotation.from_matrix(R).as_euler("xyz", degrees=True)  # extrinsic: URDF's rpy
+
+    def num(v):
+        return _fmt(0.0 if abs(v) < 1e-12 else v)                    # no -0, no 1e-17
+
+    placements = _table(
+        ["joint", "type", "x [m]", "y [m]", "z [m]", "roll [deg]", "pitch [deg]", "yaw [deg]",
+         "axis in frame i\u22121"],
+        [[str(k + 1), str(ds["joint_type"].values[k]) if "joint_type" in ds else "",
+          *(num(v) for v in t[k]), *(num(v) for v in rpy[k]),
+          "(" + ", ".join(num(v) for v in R[k, :, 2]) + ")"] for k in range(n)],
+        align=["left", "left"] + ["right"] * 6 + ["left"],
+        widths=[0.6, 0.9, 0.9, 0.9, 0.9, 0.9, 0.9, 0.9, 1.6])
+    return None, placements
+
+
+def _drives_context(ds, labels):
+    """The drives' table and its note, or None when the robot has no drives."""
+    names = ("D_arm", "viscous", "coulomb")
+    if not all(v in ds for v in names) or not any(np.any(ds[v].values) for v in names):
+        return None
+    arm, fv, fc = (ds[v].values for v in names)
+    n = arm.shape[0]
+    pris = prismatic_joints(ds)
+    peak_f = (np.abs(ds["tau_f"].values).max(axis=0) if "tau_f" in ds else np.zeros(n))
+    share = ds["share_arm"].values if "share_arm" in ds else np.zeros(len(labels))
+    diag = [list(labels).index(f"D{k + 1}{k + 1}") if n < 10 else None for k in range(n)]
+    table = _table(
+        ["joint", "armature", "viscous", "Coulomb", "peak |τ_f|", "armature share of D_ii",
+         "units"],
+        [[str(k + 1), _fmt(arm[k]), _fmt(fv[k]), _fmt(fc[k]), _fmt(peak_f[k]),
+          share_text(share[diag[k]]) if diag[k] is not None else "—",
+          "kg, N s/m, N, N" if pris[k] else "kg m², N m s/rad, N m, N m"]
+         for k in range(n)],
+        align=["left"] + ["right"] * 5 + ["left"], widths=[0.5, 0.9, 0.9, 0.9, 0.9, 1, 2])
+    note = ("Drives: the armature (rotor inertia × gear ratio²) adds diag(armature) "
+            "to D, a third part D^arm beside D^tran and D^rot, counted on the rotational side "
+            "of the translational share; friction τ_f = viscous "
+            "· q̇ + Coulomb · sign(q̇) adds to τ. The simplified model "
+            "keeps both whole.")
+    return {"table": table, "note": note}
+
+
+def _effort_text(rows):
+    """The sentence over the effort-limit table: which joints exceed their limit, if any."""
+    if not rows:
+        return ""
+    over = [str(r[0]) for r in rows if r.exceeded]
+    verdict = (f"joint{'s' if len(over) > 1 else ''} {', '.join(over)} exceed"
+               f"{'' if len(over) > 1 else 's'} {'their' if len(over) > 1 else 'its'} limit "
+               "along this trajectory" if over else "every joint stays within its limit")
+    return ("Peak |\u03c4| of the full model against the effort limits the robot gives "
+            "(the effort attribute of a URDF joint's limit, or the maximum joint torques and "
+            f"forces of a robot file): {verdict}.")

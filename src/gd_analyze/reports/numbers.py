@@ -1,0 +1,174 @@
+"""Numbers as the reports print them: significant digits, percentages in one format per
+column, and counts with a thousands separator.
+
+Private to the reports (:mod:`gd_analyze.reports.common` re-exports these names).
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+
+__all__ = ["fmt", "count", "share", "pct", "pct_column"]
+
+
+def fmt(value, digits=4, sci_outside=None):
+    """A number as short text.
+
+    Parameters
+    ----------
+    value : float or object
+        A number; anything ``float()`` rejects is returned as ``str(value)``.
+    digits : int, optional
+        Significant digits.
+    sci_outside : (float, float), optional
+        If given, magnitudes outside ``[lo, hi)`` are written as ``d.dde+XX`` with
+        ``digits - 1`` decimals; else ``'g'`` format decides.
+
+    Returns
+    -------
+    str
+        ``"n/a"`` for NaN and infinities, ``"0"`` for zero; a comma between thousands, as
+        in every count (:func:`count`).
+
+    Examples
+    --------
+    >>> fmt(1474.2), fmt(0.8302), fmt(12744.0, 6), fmt(2.5e-5)
+    ('1,474', '0.8302', '12,744', '2.5e-05')
+    """
+    try:
+        v = float(value)
+    except (TypeError, ValueError):
+        return str(value)
+    if not math.isfinite(v):
+        return "n/a"
+    if v == 0:
+        return "0"
+    if sci_outside is not None and not sci_outside[0] <= abs(v) < sci_outside[1]:
+        return f"{v:.{digits - 1}e}"
+    return f"{v:,.{digits}g}"
+
+
+def count(value):
+    """A count (operations, set points, elements) as the reports print every integer: with a
+    comma between thousands.
+
+    Parameters
+    ----------
+    value : int or float or object
+        A whole number; one that is not whole, or not a number, is written by :func:`fmt`.
+
+    Returns
+    -------
+    str
+        ``"1,212"``, ``"22,911"``, ``"608"``; ``"n/a"`` if not finite.
+
+    Examples
+    --------
+    >>> count(22911), count(1178.0), count(608), count(-12345)
+    ('22,911', '1,178', '608', '-12,345')
+    """
+    try:
+        v = float(value)
+    except (TypeError, ValueError):
+        return str(value)
+    if not math.isfinite(v) or v != round(v):
+        return fmt(value)
+    return f"{int(round(v)):,}"
+
+
+def share(value, digits=3):
+    """A fraction in [0, 1] (a translational share) that prints as 1 or 0 only when it is.
+
+    Parameters
+    ----------
+    value : float
+        The fraction [1].
+    digits : int, optional
+        Significant digits where they do not round it to 0 or 1.
+
+    Returns
+    -------
+    str
+        ``"1"`` and ``"0"`` for exactly 1 and 0; ``"> 0.9999"`` within 1e-4 below 1,
+        ``"< 0.0001"`` below 1e-4 above 0; else ``digits`` significant digits, or four
+        decimals where those would round to 1; ``"n/a"`` if not finite.
+
+    Examples
+    --------
+    >>> share(0.99993), share(0.9996), share(0.25), share(1.0), share(3e-5)
+    ('> 0.9999', '0.9996', '0.25', '1', '< 0.0001')
+    """
+    v = float(value)
+    if not math.isfinite(v):
+        return "n/a"
+    if v in (0.0, 1.0):
+        return f"{v:g}"
+    if 0 < 1 - v < 1e-4:
+        return "> 0.9999"
+    if 0 < v < 1e-4:
+        return "< 0.0001"
+    text = fmt(v, digits)
+    return f"{v:.4f}" if float(text) == 1 else text
+
+
+def pct(value):
+    """A fraction as a percentage, e.g. ``0.0123`` as ``"1.23 %"``.
+
+    Parameters
+    ----------
+    value : float
+        The fraction [1].
+
+    Returns
+    -------
+    str
+        Two decimals, or ``1.2e-03 %`` style below 0.01 %; ``"n/a"`` if not finite.
+    """
+    v = 100.0 * float(value)
+    if not math.isfinite(v):
+        return "n/a"
+    if v == 0 or abs(v) >= 0.01:
+        return f"{v:.2f} %"
+    return f"{v:.1e} %"
+
+
+def pct_column(values, off=None):
+    """A column of fractions as percentages in one format (issue 18: one format per column).
+
+    Parameters
+    ----------
+    values : array_like, shape (M,)
+        The fractions [1].
+    off : array_like of bool, shape (M,), optional
+        Entries that are round-off or exactly zero by the caller's rule
+        (:func:`gd_analyze.core.selection.ranking.is_round_off`): shown as "\u2261 0"; an exact
+        0 is always shown so.
+
+    Returns
+    -------
+    list of str
+        Fixed notation with one number of decimals for the whole column, at least two and
+        enough for two significant digits of its smallest shown value ("0.078 %", "0.013 %");
+        exponent form for all ("1.2e-05 %") only when that value is below 1e-4 %; "n/a" where
+        not finite.
+
+    Examples
+    --------
+    >>> pct_column([0.0123, 0.5])
+    ['1.23 %', '50.00 %']
+    >>> pct_column([2e-4, 6.4e-5, 0.0], off=[False, False, True])
+    ['0.0200 %', '0.0064 %', '\u2261 0']
+    """
+    v = 100.0 * np.asarray(values, dtype=float).ravel()
+    hide = (v == 0) | (np.zeros(v.shape, bool) if off is None
+                       else np.asarray(off, bool).ravel())
+    shown = np.abs(v[~hide & np.isfinite(v)])
+    least = float(shown.min()) if shown.size else 1.0
+    if least < 1e-4:
+        form = "{:.1e} %"
+    else:
+        form = "{:." + str(max(2, 1 - math.floor(math.log10(least)))) + "f} %"
+    return ["\u2261 0" if h else "n/a" if not math.isfinite(x) else form.format(x)
+            for x, h in zip(v, hide)]
