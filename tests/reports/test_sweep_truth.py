@@ -18,6 +18,7 @@ import xarray as xr
 from gd_analyze.cli import main
 from gd_analyze.io.schema import write_dataset
 from gd_analyze.reports.sweep import write_sweep_report
+from gd_analyze.reports.sweep_figures import make_sweep_figures
 
 
 def _text(html):
@@ -118,7 +119,13 @@ def test_merged_error_below_the_arms_round_off_is_not_data(stanford, tmp_path):
         ds[name].values[5] = noise
     ds["merged_error_relative_peak"].values[5] = noise / tau6
     ds["merged_error_relative_rms"].values[5] = noise / tau6
+    ds["merged_tau_error_peak"].values[:, 5] = noise
+    ds["merged_tau_error_relative_peak"].values[:, 5] = noise / ds["tau_peak"].values[:, 5]
     write_dataset(ds, tmp_path / "sweep.h5")
     html = write_sweep_report(tmp_path / "sweep.h5", tmp_path / "r", formats=["html"])[0]
     row = [r for r in _table_rows(html.read_text(), "Table 5.1") if r[0] == "6"][0]
     assert row[2] == "\u2261 0 (round-off)" and row[4] == "\u2261 0"
+    # nor drawn: nothing of the merged model at joint 6 (its box and diamond sit at x = 6.18)
+    ax = make_sweep_figures(ds)["error"].axes[0]
+    xs = np.concatenate([np.ravel(line.get_xdata()) for line in ax.get_lines()])
+    assert not np.any(np.abs(xs.astype(float) - 6.18) < 0.2)

@@ -103,7 +103,7 @@ def _outline(ctx, figures):
     o.table(ctx["envelope"], "Fraction of the trajectories per class, the range of the "
                              "translational share, and the merged model's choice. A share is "
                              "0 or 1 where one part is round-off (at most 1e-12 of the "
-                             "element's scale); \u2261 0: the element is round-off on every "
+                             "element's scale or 64 \u03b5 of the arm's); \u2261 0: the element is round-off on every "
                              "trajectory, it has no share.")
     number, title = ctx["merged_heading"].split(" ", 1)
     o.section(number.rstrip("."), title, "merged")
@@ -113,7 +113,7 @@ def _outline(ctx, figures):
     o.paragraph(ctx["error_text"], "note")
     o.table(ctx["error"], "Torque error of the merged model per joint, over all set points "
                           "of all trajectories; \u2261 0: round-off (at most 1e-12 of the "
-                          "peak |\u03c4|), not data.")
+                          "joint's peak |\u03c4| or 64 \u03b5 of the arm's), not data.")
     o.figure("error", ctx["captions"]["error"])
     if ctx["payload"] is not None:
         o.section("6", "Payload sweep", "payload")

@@ -6,7 +6,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from ..core.selection.ranking import CLASSES, arm_scales, is_round_off, joint_units_text
+from ..core.selection.ranking import CLASSES, joint_units_text
 from ..io.sweep_datasets import beyond_the_floor
 from .common import attr as _attr
 from .common import check as _check
@@ -21,6 +21,7 @@ from .main_provenance import gravity_row, run_row, software_row
 from .markup import element as _el
 from .markup import sub as _sub
 from .sweep_figures import REQUIRED as _REQUIRED
+from .sweep_figures import ROUND_OFF_WORDS, torque_error_round_off
 
 __all__ = ["sweep_context"]
 
@@ -81,7 +82,7 @@ def sweep_context(ds, payload=None):
           merged[k]] for k, lab in enumerate(labels)],
         align=["left"] + ["right"] * 7 + ["left"], colour_cols=[8])
     units = torque_units(ds)
-    merged_off = _off(ds, ds["merged_error_peak"].values, ds["merged_error_tau_peak"].values)
+    merged_off = torque_error_round_off(ds, ds["merged_error_peak"].values, ds["merged_error_tau_peak"].values)
     rel_peak = pct_column(ds["merged_error_relative_peak"].values, merged_off)   # one format
     rel_rms = pct_column(ds["merged_error_relative_rms"].values, merged_off)     # per column
     err = _table(
@@ -258,7 +259,7 @@ def _own_worst(ds, j):
     round-off of that trajectory's peak |\u03c4| counted as 0 ("\u2261 0" if it is round-off on
     every trajectory, :func:`gd_analyze.core.selection.ranking.is_round_off`)."""
     rel = np.asarray(ds["tau_error_relative_peak"].values[:, j], float)
-    off = _off(ds, ds["tau_error_peak"].values, ds["tau_peak"].values)[:, j]
+    off = torque_error_round_off(ds, ds["tau_error_peak"].values, ds["tau_peak"].values)[:, j]
     if off.all():
         return "\u2261 0"
     rel = np.where(off, 0.0, rel)
@@ -295,17 +296,6 @@ def _element(label):
     """An element's label ("D14", "h2", "D1,10") as mathematics: D with its index as a
     subscript."""
     return _el(label[0], label[1:])
-
-
-def _off(ds, peak, tau_peak):
-    """Round-off of a torque error, by the reports' one rule: against the joint's own peak
-    |tau| and against the arm's (64 eps of the largest peak |tau| of the joints of that type,
-    :func:`gd_analyze.core.selection.ranking.arm_scales`), per trajectory if 2-D."""
-    peak, tau_peak = np.asarray(peak, float), np.asarray(tau_peak, float)
-    units = torque_units(ds)
-    arm = (arm_scales(tau_peak, units) if tau_peak.ndim == 1 else
-           np.array([arm_scales(row, units) for row in tau_peak]))
-    return is_round_off(peak, tau_peak, arm_scale=arm)
 
 
 def _floor(ds):
@@ -383,7 +373,7 @@ def _own_sentence(ds):
     """The own models' worst relative peak error, named with their rule (they carry no
     bound under the chapter rule)."""
     rel = np.asarray(ds["tau_error_relative_peak"].values, float)
-    rel = np.where(_off(ds, ds["tau_error_peak"].values, ds["tau_peak"].values), 0.0, rel)
+    rel = np.where(torque_error_round_off(ds, ds["tau_error_peak"].values, ds["tau_peak"].values), 0.0, rel)
     if not np.isfinite(rel).any() or not np.nanmax(rel) > 0:
         return ""
     k, j = np.unravel_index(np.nanargmax(np.where(np.isfinite(rel), rel, -np.inf)), rel.shape)
@@ -421,5 +411,5 @@ def _captions(ds):
         "classes": f"{_CAPTIONS['classes']} {none}", "none": none,
         "error": (f"Relative peak torque error per joint, per trajectory: of {own} (green) "
                   f"and of {merged} (black); diamond: the merged model over all "
-                  "trajectories."),
+                  f"trajectories. Round-off ({ROUND_OFF_WORDS} peak |\u03c4|) is not drawn."),
     }
