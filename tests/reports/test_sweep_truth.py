@@ -129,3 +129,18 @@ def test_merged_error_below_the_arms_round_off_is_not_data(stanford, tmp_path):
     ax = make_sweep_figures(ds)["error"].axes[0]
     xs = np.concatenate([np.ravel(line.get_xdata()) for line in ax.get_lines()])
     assert not np.any(np.abs(xs.astype(float) - 6.18) < 0.2)
+
+
+def test_one_duration_said_once(tmp_path):
+    # the same motion sampled at 31 and at 61 set points: one duration, not "4.16 – 4.16"
+    csvs = []
+    for k in (31, 61):
+        path = tmp_path / f"p{k}.csv"
+        assert main(["plan", "puma560", "-o", str(path), "--setpoints", str(k)]) == 0
+        csvs.append(str(path))
+    out = tmp_path / "sweep"
+    assert main(["sweep", "puma560", *csvs, "--workers", "1", "--held-out", "0", "-o", str(out),
+                 "-q"]) == 0
+    html = (out / "sweep_report.html").read_text()
+    row = [r for r in _table_rows(html, "Table 1.1") if r[0] == "duration [s]"][0]
+    assert "\u2013" not in row[1] and "every trajectory" in row[1], row

@@ -201,8 +201,10 @@ def _settings(ds, inputs, setpoints, durations, version):
                            if setpoints.min() == setpoints.max() else
                            f" ({int(setpoints.min())}\u2013{int(setpoints.max())} per "
                            "trajectory)") if setpoints.size else "")),
-        ("duration [s]", f"{_fmt(np.min(durations))} \u2013 {_fmt(np.max(durations))} "
-                         f"(median {_fmt(np.median(durations))})"),
+        ("duration [s]", (f"{_fmt(np.min(durations))} (every trajectory)"
+                          if _fmt(np.min(durations)) == _fmt(np.max(durations)) else
+                          f"{_fmt(np.min(durations))} \u2013 {_fmt(np.max(durations))} "
+                          f"(median {_fmt(np.median(durations))})")),
         ("merge rule", f"{ds.attrs.get('merged_rule', 'chapter')} rule (Sec. 5)"
                        + (f", \u03b5 = {_attr(ds, 'merged_tolerance')}, torque floor "
                           f"{_floor(ds)}"
