@@ -148,3 +148,12 @@ def test_intro_names_the_models_rule_and_provenance_says_each_file_once(built):
         assert "simplified model (the chapter's share-based classes, Sec. 3.4.1)" in intro
     # the model was built on this trajectory: its SHA-256 once (Table 1.1), not again
     assert control.count(sha) == 1, control.count(sha)
+
+
+def test_no_code_names_in_the_control_text(built):
+    # issue 18: code names stand in for words ("gd_analyze.formulations.opcount", tau_s, D_ij)
+    _, folder = built
+    control = _text((folder / "control" / "control_report.html").read_text())
+    body = control[:control.index("6. Provenance")]
+    code = r"gd_analyze\.\w+|\b(?:tau|share|scale|D|h|c|q|qd|qdd|Kp|Kv|wn)_\w+|\bEPS\b"
+    assert not re.search(code, body), re.findall(code, body)   # file names may have "_"

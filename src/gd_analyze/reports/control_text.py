@@ -135,8 +135,8 @@ def control_context(ds):
                        for k, e in enumerate(ev)], align="right")
     cost_note = ("Operations per set point, counted (not timed): the emitted models on their "
                  "expressions (constants and structural 0/\u00b11 free, a square one "
-                 "multiplication), the project's Newton-Euler on its counting scalar "
-                 "(gd_analyze.formulations.opcount).")
+                 "multiplication), the project's Newton-Euler with every multiplication and "
+                 "addition of one run counted.")
     model_note, recursive = _model_note(ds)
     labels = _strings(ds["element"].values)
     choice = dict(zip(labels, _strings(ds["choice"].values)))
