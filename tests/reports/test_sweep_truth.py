@@ -57,7 +57,7 @@ def test_chapter_merged_model_claims_no_validity_it_lacks(chapter):
         worst = float(np.nanmax(ds["merged_error_relative_peak"].values))
     assert worst > 0.01                       # the chapter rule's merged model errs widely ...
     summary = text[text.index("puma560: translational share"):text.index("The generalized")]
-    section = text[text.index("5. Merged model"):text.index("5.1 Torque error")]
+    section = text[text.index("5. Merged model"):text.index("5.1 Open-loop torque error")]
     for said in (summary, section):           # ... so nothing may call it valid or safe
         for word in ("valid", "conservative", "guarantee"):
             assert word not in said.replace("not guaranteed", ""), (word, said)
@@ -144,3 +144,13 @@ def test_one_duration_said_once(tmp_path):
     html = (out / "sweep_report.html").read_text()
     row = [r for r in _table_rows(html, "Table 1.1") if r[0] == "duration [s]"][0]
     assert "\u2013" not in row[1] and "every trajectory" in row[1], row
+
+
+def test_open_loop_error_named_as_such(stanford):
+    # issue 18: the merged model's |tau_s - tau| is an open-loop error (two models along one
+    # desired motion), not the closed-loop difference of the control report
+    text = _text((stanford / "sweep_report.html").read_text())
+    sec = text[text.index("5.1 Open-loop torque error over all trajectories"):]
+    assert "open-loop torque error |\u03c4 s \u2212 \u03c4|" in sec
+    assert "Table 5.1: Open-loop torque error of the merged model" in sec
+    assert "Relative peak open-loop torque error per joint" in sec

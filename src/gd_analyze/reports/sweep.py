@@ -109,9 +109,9 @@ def _outline(ctx, figures):
     o.section(number.rstrip("."), title, "merged")
     o.paragraph(ctx["merged_text"], "note")
     o.counts(ctx["counts"])
-    o.section("5.1", "Torque error over all trajectories")
+    o.section("5.1", "Open-loop torque error over all trajectories")
     o.paragraph(ctx["error_text"], "note")
-    o.table(ctx["error"], "Torque error of the merged model per joint, over all set points "
+    o.table(ctx["error"], "Open-loop torque error of the merged model per joint, over all set points "
                           "of all trajectories; \u2261 0: round-off (at most 1e-12 of the "
                           "joint's peak |\u03c4| or 64 \u03b5 of the arm's), not data.")
     o.figure("error", ctx["captions"]["error"])

@@ -387,8 +387,9 @@ def _own_sentence(ds):
 def _error_text(ds):
     """Sec. 5.1's note: the table's columns, each model named with its rule."""
     own, merged = _models(ds)
-    return ("Per joint, over all set points of all trajectories: peak and RMS of the torque "
-            "error |\u03c4" + _sub("s") + " \u2212 \u03c4| "
+    return ("Per joint, over all set points of all trajectories: peak and RMS of the "
+            "open-loop torque error |\u03c4" + _sub("s") + " \u2212 \u03c4| (the simplified "
+            "and the full model's torques along the same desired motion, no controller) "
             f"[{units_said_once(ds, 'tau')}] of {merged}, and both relative to the peak |\u03c4| "
             f"over all trajectories. Column \u201cown models, {_own_rule(ds)} rule "
             f"(worst)\u201d: the largest relative peak error of {own} along that "
@@ -411,7 +412,8 @@ def _captions(ds):
         "D": f"{_CAPTIONS['D']}{dots}",
         "h": f"{_CAPTIONS['h']}{dots}",
         "classes": f"{_CAPTIONS['classes']} {none}", "none": none,
-        "error": (f"Relative peak torque error per joint, per trajectory: of {own} (green) "
+        "error": (f"Relative peak open-loop torque error per joint, per trajectory: of {own} "
+                  "(green) "
                   f"and of {merged} (black); diamond: the merged model over all "
                   f"trajectories. Round-off ({ROUND_OFF_WORDS} peak |\u03c4|) is not drawn."),
     }
