@@ -85,6 +85,7 @@ def sweep_context(ds, payload=None):
     merged_off = torque_error_round_off(ds, ds["merged_error_peak"].values, ds["merged_error_tau_peak"].values)
     rel_peak = pct_column(ds["merged_error_relative_peak"].values, merged_off)   # one format
     rel_rms = pct_column(ds["merged_error_relative_rms"].values, merged_off)     # per column
+    own_worst = _own_worst(ds)
     err = _table(
         ["joint", "peak |\u03c4|", "peak error", "RMS error",
          "peak error / peak |\u03c4|", "RMS error / peak |\u03c4|",
@@ -93,7 +94,7 @@ def sweep_context(ds, payload=None):
          + (["\u2261 0 (round-off)"] * 2 + ["\u2261 0"] * 2 if merged_off[j] else
             [_fmt(ds["merged_error_peak"].values[j]), _fmt(ds["merged_error_rms"].values[j]),
              rel_peak[j], rel_rms[j]])
-         + [_own_worst(ds, j), units[j]] for j in range(n)],
+         + [own_worst[j], units[j]] for j in range(n)],
         align=["left"] + ["right"] * 6 + ["left"])
     counts = {c: sum(_CHOICE_CLASS[m] == c for m in merged) for c in CLASSES}
     kept = sum(m != "none" for m in merged)
@@ -256,16 +257,16 @@ def _share(value, zero):
     return "\u2261 0" if zero or not np.isfinite(value) else _fmt(value, 3)
 
 
-def _own_worst(ds, j):
-    """The largest relative peak torque error of the trajectories' own models on joint j,
-    round-off of that trajectory's peak |\u03c4| counted as 0 ("\u2261 0" if it is round-off on
-    every trajectory, :func:`gd_analyze.core.selection.ranking.is_round_off`)."""
-    rel = np.asarray(ds["tau_error_relative_peak"].values[:, j], float)
-    off = torque_error_round_off(ds, ds["tau_error_peak"].values, ds["tau_peak"].values)[:, j]
-    if off.all():
-        return "\u2261 0"
+def _own_worst(ds):
+    """The largest relative peak torque error of the trajectories' own models per joint, as
+    one column in one format (:func:`gd_analyze.reports.common.pct_column`): round-off of that
+    trajectory's peak |\u03c4| counted as 0, "\u2261 0" where it is round-off on every
+    trajectory (:func:`gd_analyze.core.selection.ranking.is_round_off`)."""
+    rel = np.asarray(ds["tau_error_relative_peak"].values, float)
+    off = torque_error_round_off(ds, ds["tau_error_peak"].values, ds["tau_peak"].values)
     rel = np.where(off, 0.0, rel)
-    return _pct(np.nanmax(rel)) if np.isfinite(rel).any() else _pct(np.nan)
+    worst = np.array([np.nanmax(col) if np.isfinite(col).any() else np.nan for col in rel.T])
+    return pct_column(worst, off.all(axis=0))
 
 
 def _worst_cases(ds, labels):
