@@ -6,8 +6,8 @@ import xarray as xr
 
 from gd_analyze.errors import InputError
 from gd_analyze.reports import common as rp
-from gd_analyze.reports.control import _attr as control_attr
-from gd_analyze.reports.control import _fmt as control_fmt
+from gd_analyze.reports.control_verdict import _attr as control_attr
+from gd_analyze.reports.control_verdict import _fmt as control_fmt
 
 
 def test_fmt_plain_and_scientific():
@@ -15,7 +15,7 @@ def test_fmt_plain_and_scientific():
     assert rp.fmt(1.5e-7) == "1.5e-07"
     assert rp.fmt(0.0) == "0" and rp.fmt(np.nan) == "n/a" and rp.fmt("abc") == "abc"
     # the control report: 3 digits, e-notation outside [1e-3, 1e5)
-    assert control_fmt(1234.5678) == "1.23e+03"
+    assert control_fmt(1234.5678) == "1,235"         # inside the range: no e-notation
     assert control_fmt(12.3456) == "12.3"
     assert control_fmt(1.5e-7) == "1.50e-07"
     assert control_fmt(123456.0) == "1.23e+05"
@@ -93,3 +93,16 @@ def test_svg_with_and_without_prefix():
     assert plain.startswith("<svg") and prefixed.startswith("<svg")
     assert 'id="fig-a-' in prefixed and 'id="fig-a-' not in plain
     assert "url(#fig-a-" in prefixed or 'href="#fig-a-' in prefixed
+
+
+def test_fmt_inside_the_range_is_never_e_notation():
+    # issue 18: a gain of 34,780 N m/rad printed as 3.478e+04 beside 6071 in one column,
+    # although sci_outside promises e-notation only outside [1e-3, 1e5)
+    from gd_analyze.reports.common import fmt
+
+    for v in (34780.2, 99999.0, 1234.5, 0.00123, 12.5):
+        text = fmt(v, digits=4, sci_outside=(1e-3, 1e5))
+        assert "e" not in text, (v, text)
+        assert abs(float(text.replace(",", "")) - v) <= 0.5 + 1e-3 * abs(v)
+    assert "e" in fmt(2e5, digits=4, sci_outside=(1e-3, 1e5))
+    assert "e" in fmt(4e-4, digits=4, sci_outside=(1e-3, 1e5))

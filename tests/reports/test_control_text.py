@@ -130,3 +130,30 @@ def test_verdict_tolerance_option_reaches_the_report(tmp_path):
     text = _text((tmp_path / "control" / "control_report.html").read_text())
     assert "the larger of 0.002 rad and twice the full model's" in text     # all revolute
     assert "verdict tolerance 0.002 rad" in text and "0.004" not in text
+
+
+def test_intro_names_the_models_rule_and_provenance_says_each_file_once(built):
+    # issue 18: the intro said "the simplified model of Sec. 3.4.1" for a budget-rule model
+    name, folder = built
+    control = _text((folder / "control" / "control_report.html").read_text())
+    intro = control[control.index("The arm, simulated"):control.index("1. Set-up")]
+    with xr.open_dataset(folder / "main" / "results.h5") as ds:
+        rule = str(ds.attrs["simplified_rule"])
+        eps = float(ds.attrs["simplified_tolerance"]) if rule == "budget" else None
+        sha = str(ds.attrs["input_sha256"])
+    if rule == "budget":
+        assert f"simplified model (error-budget rule, \u03b5 = {eps:g})" in intro, intro
+        assert "3.4.1" not in intro
+    else:
+        assert "simplified model (the chapter's share-based classes, Sec. 3.4.1)" in intro
+    # the model was built on this trajectory: its SHA-256 once (Table 1.1), not again
+    assert control.count(sha) == 1, control.count(sha)
+
+
+def test_no_code_names_in_the_control_text(built):
+    # issue 18: code names stand in for words ("gd_analyze.formulations.opcount", tau_s, D_ij)
+    _, folder = built
+    control = _text((folder / "control" / "control_report.html").read_text())
+    body = control[:control.index("6. Provenance")]
+    code = r"gd_analyze\.\w+|\b(?:tau|share|scale|D|h|c|q|qd|qdd|Kp|Kv|wn)_\w+|\bEPS\b"
+    assert not re.search(code, body), re.findall(code, body)   # file names may have "_"

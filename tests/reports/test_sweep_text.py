@@ -47,7 +47,7 @@ def test_each_model_is_named_with_its_rule_and_guarantee(swept, tmp_path):
         worst = float(np.nanmax(ds["tau_error_relative_peak"].values))
         stored = ds.load()
     assert own == "chapter"                       # the per-trajectory models: share-based
-    error_sec = text[text.index("5.1 Torque error"):]
+    error_sec = text[text.index("5.1 Open-loop torque error"):]
     assert f"own models, {own} rule (worst)" in error_sec
     assert "own simplified model (chapter rule: share-based classes of Sec. 3.4.1, no error " \
            "bound)" in error_sec
@@ -56,7 +56,7 @@ def test_each_model_is_named_with_its_rule_and_guarantee(swept, tmp_path):
     assert abs(said - 100 * worst) <= 0.01 * 100 * worst           # the stored worst case
     assert "no error bound" in summary
     assert ("guaranteed within" in summary) == (rule == "budget")
-    caption = error_sec[error_sec.index("Relative peak torque error per joint, per"):]
+    caption = error_sec[error_sec.index("Relative peak open-loop torque error per joint, per"):]
     assert "(chapter rule: share-based" in caption
     assert ("merged model (budget rule" in caption) == (rule == "budget")
     # the words follow the stored rule: a dataset saying otherwise reads otherwise

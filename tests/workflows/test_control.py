@@ -226,7 +226,7 @@ def test_control_report_is_written(result, tmp_path):
     assert html.startswith("<!DOCTYPE html>") and html.count("<svg") >= 3
     assert "<link" not in html and " src=" not in html and "<script" not in html
     assert "puma560_trajectory.csv" in html and "multiplications" in html
-    from gd_analyze.reports.control import _fmt
+    from gd_analyze.reports.control_verdict import _fmt
 
     for c in CONTROLLERS:                             # the stored figures, as read back
         peak = result.error_figures(c)["peak_grid"][5]

@@ -15,7 +15,14 @@ from pathlib import Path
 
 import numpy as np
 
-from ..core.selection.ranking import CLASSES, element_labels, is_round_off
+from ..core.selection.ranking import (
+    CLASSES,
+    arm_scales,
+    element_labels,
+    element_units,
+    is_round_off,
+    parse_element_label,
+)
 from .schema import MIXED_UNITS, element_coords, global_attributes, var
 
 __all__ = ["inputs_attributes", "sweep_dataset", "payload_dataset", "sweep_payloads_dataset",
@@ -30,7 +37,7 @@ _REFERENCES = "Fu, Gonzalez & Lee (1987), Robotics, Sec. 3.4.1; Lee, Lee & Nigam
 
 #: How the envelope of the shares treats round-off (:func:`is_round_off`).
 _AS_DATA = ("; 0 or 1 on a trajectory where a part is round-off (at most 1e-12 of the element's "
-            "scale), a trajectory where the element is round-off left out (NaN: on every one)")
+            "scale or 64 eps of the arm's), a trajectory where the element is round-off left out (NaN: on every one)")
 
 
 def _torque_units(robot):
@@ -81,6 +88,30 @@ def inputs_attributes(trajectories):
     return attrs
 
 
+def element_arm_scales(scale, labels, prismatic):
+    """The arm's scale of every ranked element on every trajectory: the largest scale among the
+    elements of the same units on that trajectory
+    (:func:`gd_analyze.core.selection.ranking.arm_scales`), so that the sweep tells round-off
+    from data by the same rule as the main report.
+
+    Parameters
+    ----------
+    scale : array_like, shape (K, M)
+        Each element's own scale per trajectory.
+    labels : sequence of str, shape (M,)
+        The element labels.
+    prismatic : sequence of bool, shape (n,)
+        The joint types.
+
+    Returns
+    -------
+    ndarray, shape (K, M)
+    """
+    n = len(prismatic)
+    units = [element_units(*parse_element_label(str(lab), n), prismatic) for lab in labels]
+    return np.array([arm_scales(row, units) for row in np.atleast_2d(scale)])
+
+
 def sweep_dataset(robot, trajectories, results, merged, merged_stats, dominance, negligible):
     """The sweep dataset (``sweep.h5``) from the per-trajectory results.
 
@@ -117,10 +148,13 @@ def sweep_dataset(robot, trajectories, results, merged, merged_stats, dominance,
     peak_part = np.max([[r["peaks"][k] for k in ("peak_tran", "peak_rot", "peak_total")]
                         for r in results], axis=1)
     scale = np.array([r["peaks"]["scale"] for r in results])
-    round_off = is_round_off(peak_part, scale)
-    # the share as data: 0 or 1 where one part is round-off of the element's scale (a share of
-    # 4e-14 is round-off, not data), left out where the element is round-off on a trajectory
-    tran_off, rot_off = (is_round_off(np.array([r["peaks"][k] for r in results]), scale)
+    arm = element_arm_scales(scale, labels, robot.prismatic)
+    round_off = is_round_off(peak_part, scale, arm_scale=arm)
+    # the share as data: 0 or 1 where one part is round-off of the element's scale or of the
+    # arm's (a share of 4e-14 or of 2e-12 is round-off, not data), left out where the element
+    # is round-off on a trajectory
+    tran_off, rot_off = (is_round_off(np.array([r["peaks"][k] for r in results]), scale,
+                                      arm_scale=arm)
                          for k in ("peak_tran", "peak_rot"))
     share_data = np.where(tran_off & ~rot_off, 0.0, np.where(rot_off & ~tran_off, 1.0, share))
     share_data = np.where(round_off, np.nan, share_data)
@@ -292,7 +326,9 @@ def payload_dataset(robot, trajectory, masses, com, inertia, results, dominance,
                          "peak |tau| of the full model along the trajectory"),
         "round_off": _round_off_var(np.array([is_round_off(
             np.max([r["peaks"][k] for k in ("peak_tran", "peak_rot", "peak_total")], axis=0),
-            r["peaks"]["scale"]) for r in results]), "along the trajectory"),
+            r["peaks"]["scale"], arm_scale=element_arm_scales(
+                r["peaks"]["scale"], labels, robot.prismatic)[0]) for r in results]),
+            "along the trajectory"),
         "tau_error_relative_peak": var(
             ("payload", "joint"),
             np.array([r["summary"]["error"]["relative_peak_error"] for r in results]), "1",

@@ -47,6 +47,8 @@ def fmt(value, digits=4, sci_outside=None):
         return "0"
     if sci_outside is not None and not sci_outside[0] <= abs(v) < sci_outside[1]:
         return f"{v:.{digits - 1}e}"
+    if sci_outside is not None and abs(v) >= 10.0 ** digits:
+        return f"{v:,.0f}"          # inside the range: never e-notation (34,780, not 3.478e+04)
     return f"{v:,.{digits}g}"
 
 

@@ -21,296 +21,26 @@ Jinja2 template is ``templates/sweep_report.html.j2``). ``sweep_report.pdf`` is 
 matplotlib's PdfPages. Both are written atomically (:func:`gd_analyze.files.atomic_path`).
 """
 
+
 from __future__ import annotations
 
 import contextlib
 from pathlib import Path
 
-import numpy as np
-
-from ..core.selection.ranking import CLASSES, is_round_off
-from ..io.sweep_datasets import beyond_the_floor
 from .common import CLASS_COLOURS as _CLASS_COLOURS
 from .common import SUPTITLE_RC as _RC
-from .common import attr as _attr
-from .common import check as _check
-from .common import check_formats, count, render_template, torque_units, units_said_once, utc_now
-from .common import fmt as _fmt
-from .common import pct as _pct
-from .common import share as _share_text
-from .common import strings as _strings
-from .common import table as _table
-from .common import thresholds as _thresholds
+from .common import check_formats, render_template
 from .drawing import draw_figures, figure_svg, write_figure_files
-from .figures import PAYLOAD_REQUIRED as _PAYLOAD_REQUIRED
-from .main_provenance import gravity_row, run_row, software_row
-from .markup import element as _el
-from .markup import sub as _sub
 from .pages import PAPER, Document
 from .sections import Outline, to_document
-from .sweep_figures import REQUIRED as _REQUIRED
 from .sweep_figures import make_sweep_figures
+from .sweep_text import _CAPTIONS, SHARE_TEXT
+from .sweep_text import sweep_context as _context
 
 __all__ = ["SWEEP_REPORT_FORMATS", "render_sweep_html", "render_sweep_pdf", "write_sweep_report"]
 
 #: The formats :func:`write_sweep_report` can write.
 SWEEP_REPORT_FORMATS = ("html", "pdf")
-
-_CHOICE_CLASS = {"tran": "translational", "rot": "rotational", "both": "both",
-                 "none": "negligible"}
-
-
-# --------------------------------------------------------------------------------------------
-# Content shared by the HTML and the PDF
-# --------------------------------------------------------------------------------------------
-
-def _context(ds, payload=None):
-    from .._version import __version__
-
-    _check(ds, _REQUIRED, "sweep")
-    K = ds.sizes["trajectory"]
-    n = ds.sizes["joint"]
-    labels = _strings(ds["element"].values)
-    frac = ds["class_fraction"].values
-    merged = _strings(ds["merged_choice"].values)
-    s, e = _thresholds(ds)
-    robot = _attr(ds, "robot")
-    kind = str(ds.attrs.get("input_kind", ""))
-    if kind == "random" and "seed" in ds.attrs:
-        inputs = f"{K} random quintic trajectories (seed {_attr(ds, 'seed')})"
-    else:
-        inputs = f"{K} trajectories ({kind or 'given'})"
-    durations = ds["duration"].values
-    setpoints = ds["setpoints"].values if "setpoints" in ds.variables else np.array([])
-    settings = _settings(ds, inputs, setpoints, durations, __version__)
-    zero = (ds["round_off"].values.astype(bool).all(axis=0) if "round_off" in ds
-            else np.zeros(len(labels), bool))
-    envelope = _table(
-        ["element", "translational", "rotational", "both", "negligible", "min share",
-         "median share", "max share", "merged choice"],
-        [[lab, *(f"{f:.3f}" for f in frac[k]),
-          *(_share(ds[f"share_tran_{w}"].values[k], zero[k]) for w in ("min", "median", "max")),
-          merged[k]] for k, lab in enumerate(labels)],
-        align=["left"] + ["right"] * 7 + ["left"], colour_cols=[8])
-    units = torque_units(ds)
-    merged_off = is_round_off(ds["merged_error_peak"].values,
-                              ds["merged_error_tau_peak"].values)
-    err = _table(
-        ["joint", "peak |\u03c4|", "peak error", "RMS error",
-         "peak error / peak |\u03c4|", "RMS error / peak |\u03c4|",
-         f"own models, {_own_rule(ds)} rule (worst)", "units"],
-        [[str(j + 1), _fmt(ds["merged_error_tau_peak"].values[j])]
-         + (["\u2261 0 (round-off)"] * 2 + ["\u2261 0"] * 2 if merged_off[j] else
-            [_fmt(ds["merged_error_peak"].values[j]), _fmt(ds["merged_error_rms"].values[j]),
-             _pct(ds["merged_error_relative_peak"].values[j]),
-             _pct(ds["merged_error_relative_rms"].values[j])])
-         + [_own_worst(ds, j), units[j]] for j in range(n)],
-        align=["left"] + ["right"] * 6 + ["left"])
-    counts = {c: sum(_CHOICE_CLASS[m] == c for m in merged) for c in CLASSES}
-    kept = sum(m != "none" for m in merged)
-    single = sum(m in ("tran", "rot") for m in merged)
-    worst = _worst_cases(ds, labels)
-    rule, heading, merged_text = _merged_rule(ds)
-    if rule == "budget":
-        eps = f"{float(ds.attrs['merged_tolerance']):g}"
-        claim = (f"guaranteed within \u03b5\u00b7{_SI} (\u03b5 = {eps}) on every swept "
-                 f"trajectory ({_SI} = max(that trajectory's peak |{_TAU_I}|, "
-                 f"{float(ds.attrs.get('merged_torque_floor', 0.0)):g} N m)); its largest "
-                 f"measured peak error is "
-                 f"{_pct(float(ds.attrs.get('merged_worst_scaled_error', np.nan)))} of {_SI}")
-        beyond = beyond_the_floor(ds)
-        if beyond is not None:
-            rel, j, over = beyond
-            claim += (f". Relative to peak |\u03c4{_sub('i')}| itself, below the torque floor, "
-                      f"nothing is guaranteed: the error reaches {_pct(rel)} (joint {j}; above "
-                      f"\u03b5 on joint{'s' if len(over) > 1 else ''} "
-                      f"{', '.join(map(str, over))})")
-        name = f"The merged model (budget rule, \u03b5 = {eps})"
-    else:
-        claim = ("no error bound: its largest peak torque error over all trajectories is "
-                 f"{_pct(np.nanmax(ds['merged_error_relative_peak'].values))} of that joint's "
-                 f"peak |\u03c4| over all of them (joint "
-                 f"{int(np.nanargmax(ds['merged_error_relative_peak'].values)) + 1})")
-        name = "The merged model of the chapter rule"
-    summary = (f"{robot}: translational share of the {len(labels)} ranked elements of D and h over "
-               f"{inputs}, s = {s:g}, e = {e:g}. {name} keeps both parts "
-               f"of {counts['both']} elements, one part of {single}, and drops "
-               f"{len(labels) - kept}; it is {claim}. {_own_sentence(ds)}")
-    ctx = {"version": __version__, "title": f"G-D dominance sweep: {robot}, {K} trajectories",
-           "summary": summary, "settings": _table(["item", "value"], settings),
-           "merged_heading": heading, "merged_text": merged_text,
-           "worst": worst,
-           "intro": _INTRO.format(K=K, created=utc_now().isoformat(), version=__version__),
-           "envelope": envelope, "error": err,
-           "error_text": _error_text(ds),
-           "captions": _captions(ds),
-           "counts": counts, "s": f"{s:g}", "e": f"{e:g}",
-           "K": K,
-           "created": utc_now().isoformat(),
-           "payload": None}
-    if payload is not None:
-        _check(payload, _PAYLOAD_REQUIRED, "payload sweep")
-        masses = payload["payload"].values
-        plabels = _strings(payload["element"].values)
-        dom = np.array(_strings(payload["dominance"].values)).reshape(payload["share_tran"].shape)
-        rows = [[lab, *(dom[p, k] for p in range(len(masses)))] for k, lab in enumerate(plabels)]
-        changed = [lab for k, lab in enumerate(plabels) if len(set(dom[:, k])) > 1]
-        ctx["payload"] = {
-            "table": _table(["element", *(f"{m:g} kg" for m in masses)], rows,
-                            colour_cols=list(range(1, len(masses) + 1))),
-            "settings": _table(["item", "value"], [
-                ("trajectory", _attr(payload, "input_file")),
-                ("trajectory SHA-256", _attr(payload, "input_sha256")),
-                ("payload masses [kg]", ", ".join(f"{m:g}" for m in masses)),
-                ("payload centre of mass [m]", _attr(payload, "payload_com")),
-                ("payload inertia [kg m\u00b2]", _attr(payload, "payload_inertia")),
-                ("s, e", f"{_attr(payload, 'dominance_threshold')}, "
-                         f"{_attr(payload, 'negligible_threshold')}")]),
-            "changed": ", ".join(changed) if changed else "none",
-        }
-    return ctx
-
-
-#: Attributes the settings table says in its own rows (or the report elsewhere), or that
-#: are results; any other attribute is a setting added later and gets a row of its own.
-_SAID = {
-    "robot", "robot_description", "robot_source", "robot_sha256", "gravity", "gravity_units",
-    "dominance_threshold", "negligible_threshold", "seed", "input_files", "inputs_sha256",
-    "setpoints_total", "merge_rule", "cluster", "n_workers", "scheduler_address", "n_tasks",
-    "batch_size", "elapsed_s", "compute_s", "history", "gd_analyze_version", "Conventions",
-    "title", "source", "references", "input_kind", "trajectories", "started",
-    "robot_reference", "merged_rule", "merged_tolerance", "merged_torque_floor",
-    "merged_worst_scaled_error", "payload_mass", "random_qdd_max_source", "command",
-    "mounting_base_rpy_deg", "mounting_gravity_base", "mounting_gravity_world",
-    "own_model_rule"}
-
-
-def _settings(ds, inputs, setpoints, durations, version):
-    """The settings and provenance of the sweep, each once and in words
-    (:mod:`gd_analyze.reports.main_provenance` rows for the software, the run and gravity)."""
-    K = int(ds.sizes["trajectory"])
-    s, e = _thresholds(ds)
-    batch, tasks = int(ds.attrs.get("batch_size", 0)), int(ds.attrs.get("n_tasks", 0))
-    batches = -(-K // batch) if batch else 0
-    rows = [
-        software_row(ds, version),
-        ("command", _attr(ds, "command")),
-        run_row(ds),
-        ("robot", f"{_attr(ds, 'robot')}: {_attr(ds, 'robot_description')} "
-                  f"({_attr(ds, 'robot_reference')})"),
-        ("robot file", f"{_attr(ds, 'robot_source')} (SHA-256 {_attr(ds, 'robot_sha256')})"),
-        gravity_row(ds),
-        ("dominance threshold s, negligibility threshold e", f"{s:g}, {e:g}"),
-        ("inputs", inputs),
-    ]
-    if "input_files" in ds.attrs:
-        rows.append(("input files", _attr(ds, "input_files")))
-    rows += [
-        ("SHA-256 of all inputs", _attr(ds, "inputs_sha256")),
-        ("set points", f"{count(ds.attrs.get('setpoints_total', '-'))} in all"
-                       + ((f" ({count(setpoints.min())} per trajectory)"
-                           if setpoints.min() == setpoints.max() else
-                           f" ({count(setpoints.min())}\u2013{count(setpoints.max())} per "
-                           "trajectory)") if setpoints.size else "")),
-        ("duration [s]", f"{_fmt(np.min(durations))} \u2013 {_fmt(np.max(durations))} "
-                         f"(median {_fmt(np.median(durations))})"),
-        ("merge rule", f"{ds.attrs.get('merged_rule', 'chapter')} rule (Sec. 5)"
-                       + (f", \u03b5 = {_attr(ds, 'merged_tolerance')}, torque floor "
-                          f"{_attr(ds, 'merged_torque_floor', '0')} N m"
-                          if "merged_tolerance" in ds.attrs else "")),
-        ("payload on the last link", f"{_attr(ds, 'payload_mass', '0')} kg"
-         if float(ds.attrs.get("payload_mass", 0.0) or 0.0) else "none"),
-    ]
-    if "random_qdd_max_source" in ds.attrs:
-        rows.append(("random accelerations limited by",
-                     {"robot": "the robot's acceleration limits"}.get(
-                         str(ds.attrs["random_qdd_max_source"]),
-                         _attr(ds, "random_qdd_max_source"))))
-    rows += [
-        ("computed on", f"dask, {_attr(ds, 'cluster')}: {_attr(ds, 'n_workers')} "
-                        f"worker{'s' if str(ds.attrs.get('n_workers')) != '1' else ''} at "
-                        f"{_attr(ds, 'scheduler_address')}; {tasks} tasks (the {K} "
-                        f"trajectories in {batches} batch{'es' if batches != 1 else ''} of "
-                        f"at most {batch}, each batch once to rank and once to check the "
-                        "merged model)"),
-        ("time [s]", f"{_attr(ds, 'elapsed_s')} in all, {_attr(ds, 'compute_s')} computing"),
-    ]
-    rows += [(key.replace("_", " "), _attr(ds, key)) for key in sorted(set(ds.attrs) - _SAID)]
-    return rows
-
-
-def _merged_rule(ds):
-    """The merged model's rule, the heading of its section and its description, in words that
-    follow the rule: a bound only for the budget rule."""
-    rule = str(ds.attrs.get("merged_rule", "chapter"))
-    if rule == "budget":
-        eps = f"{float(ds.attrs['merged_tolerance']):g}"
-        return rule, f"5. Merged model (budget rule, \u03b5 = {eps}) and its torque error", (
-            "One explicit model for the whole sweep, by the budget rule: every term's peak "
-            f"contribution on each trajectory is divided by that trajectory's {_SI} = "
-            f"max(peak |{_TAU_I}|, torque floor), and terms are dropped, smallest first, while "
-            f"these ratios sum to at most \u03b5 = {eps} for every joint. By the triangle "
-            f"inequality its torque error is guaranteed within \u03b5\u00b7{_SI} on every "
-            "swept trajectory (not on others). The choices per element are the whole parts "
-            "the same budget drops; the model prunes term by term within it. Gravity c is "
-            "pruned the same way.")
-    return rule, "5. Merged model (chapter rule, no error bound) and its torque error", (
-        _MERGED_TEXT + " This rule has no error bound: the errors below are measured, not "
-                       "guaranteed.")
-
-
-def _share(value, zero):
-    """A share of the envelope as printed: "\u2261 0" for an element that is round-off on
-    every trajectory (its share is noise: NaN in the dataset), else three digits."""
-    return "\u2261 0" if zero or not np.isfinite(value) else _share_text(value)
-
-
-def _own_worst(ds, j):
-    """The largest relative peak torque error of the trajectories' own models on joint j,
-    round-off of that trajectory's peak |\u03c4| counted as 0 ("\u2261 0" if it is round-off on
-    every trajectory, :func:`gd_analyze.core.selection.ranking.is_round_off`)."""
-    rel = np.asarray(ds["tau_error_relative_peak"].values[:, j], float)
-    off = is_round_off(ds["tau_error_peak"].values[:, j], ds["tau_peak"].values[:, j])
-    if off.all():
-        return "\u2261 0"
-    rel = np.where(off, 0.0, rel)
-    return _pct(np.nanmax(rel)) if np.isfinite(rel).any() else _pct(np.nan)
-
-
-def _worst_cases(ds, labels):
-    """The sweep's worst cases, first: trajectories with the largest merged-model error, and
-    the elements whose share_tran varies most over the trajectories."""
-    rel = ds["merged_tau_error_relative_peak"].values          # (K, n)
-    sources = _strings(ds["source"].values)
-    per_traj = np.where(np.isfinite(rel), rel, -np.inf).max(axis=1)
-    order = [k for k in np.argsort(per_traj)[::-1][:3] if np.isfinite(per_traj[k])]
-    parts = []
-    for k in order:
-        j = int(np.nanargmax(rel[k]))
-        parts.append(f"{sources[k]} ({_pct(rel[k, j])} of its own "
-                     f"{_SI if 'merged_scale' in ds.variables else 'peak |τ|'} at joint "
-                     f"{j + 1})")
-    spread = ds["share_tran_max"].values - ds["share_tran_min"].values
-    top = [k for k in np.argsort(np.nan_to_num(spread, nan=-1.0))[::-1][:3]
-           if np.isfinite(spread[k])]
-    elems = [f"{labels[k]} ({_share_text(ds['share_tran_min'].values[k])}\u2013"
-             f"{_share_text(ds['share_tran_max'].values[k])})" for k in top]
-    text = "Worst cases: "
-    text += ("the merged model's largest torque errors are on " + "; ".join(parts) + ". "
-             if parts else "no torque error is defined. ")
-    text += ("The classes vary most for " + ", ".join(elems) + " (range of the translational "
-             "share over the trajectories)." if elems else "")
-    return text
-
-
-_SI = "s" + _sub("i")
-_TAU_I = "\u03c4" + _sub("i")
-_INTRO = ("The generalized d'Alembert (G-D) equations of motion split the inertia matrix D and "
-          "the Coriolis and centrifugal vector h into a translational and a rotational part (Fu, "
-          "Gonzalez & Lee 1987, Robotics, Sec. 3.4). Sec. 3.4.1 ranks which part dominates each "
-          "element along one trajectory and notes that the simplification depends on the "
-          "trajectory; this report repeats the ranking over {K} trajectories. Report created "
-          "{created} by gd-analyze {version} from the stored sweep; nothing was recomputed.")
 
 
 # --------------------------------------------------------------------------------------------
@@ -361,7 +91,7 @@ def _outline(ctx, figures):
     o.table(ctx["settings"], "Settings of the sweep and its provenance, each once.", kv=True,
             size=7)
     o.section("2", "Translational share of the elements of D (layout of Fig. 3.10)", "D")
-    o.paragraph(_SHARE_TEXT.format(s=ctx["s"], e=ctx["e"]), "note")
+    o.paragraph(SHARE_TEXT.format(s=ctx["s"], e=ctx["e"]), "note")
     o.figure("D", ctx["captions"]["D"])
     o.section("3", "Translational share of the elements of h (layout of Fig. 3.11)", "h")
     o.figure("h", ctx["captions"]["h"])
@@ -373,17 +103,17 @@ def _outline(ctx, figures):
     o.table(ctx["envelope"], "Fraction of the trajectories per class, the range of the "
                              "translational share, and the merged model's choice. A share is "
                              "0 or 1 where one part is round-off (at most 1e-12 of the "
-                             "element's scale); \u2261 0: the element is round-off on every "
+                             "element's scale or 64 \u03b5 of the arm's); \u2261 0: the element is round-off on every "
                              "trajectory, it has no share.")
     number, title = ctx["merged_heading"].split(" ", 1)
     o.section(number.rstrip("."), title, "merged")
     o.paragraph(ctx["merged_text"], "note")
     o.counts(ctx["counts"])
-    o.section("5.1", "Torque error over all trajectories")
+    o.section("5.1", "Open-loop torque error over all trajectories")
     o.paragraph(ctx["error_text"], "note")
-    o.table(ctx["error"], "Torque error of the merged model per joint, over all set points "
+    o.table(ctx["error"], "Open-loop torque error of the merged model per joint, over all set points "
                           "of all trajectories; \u2261 0: round-off (at most 1e-12 of the "
-                          "peak |\u03c4|), not data.")
+                          "joint's peak |\u03c4| or 64 \u03b5 of the arm's), not data.")
     o.figure("error", ctx["captions"]["error"])
     if ctx["payload"] is not None:
         o.section("6", "Payload sweep", "payload")
@@ -404,23 +134,6 @@ def _html(ctx, figures):
                            {"class_colours": _CLASS_COLOURS})
 
 
-#: Captions of the sweep report's figures (the same in the HTML and the PDF).
-_CAPTIONS = {
-    "D": "Distribution of the translational share of the elements of D over the sweep (layout of Fig. 3.10): "
-         "box of the quartiles, whiskers at the minimum and maximum, coloured bar at the median, "
-         "thresholds s and 1 \u2212 s dashed. Panel title: element and the merged model's "
-         "choice; bottom line: fraction of trajectories per class.",
-    "h": "Distribution of the translational share of the Coriolis and centrifugal elements "
-         + _el("h", "i") + " over the "
-         "sweep (layout of Fig. 3.11); same conventions as for D.",
-    "classes": "Fraction of the trajectories in each class, per element; the merged model's "
-               "choice on the right.",
-    "error": "Relative peak torque error per joint: of each trajectory's own simplified model "
-             "(green) and of the merged model (black), per trajectory; diamond: merged model over "
-             "all trajectories.",
-    "payload": "Translational share of every element against the payload mass on the last link, with "
-               "the class of each cell (T, R, B, N); below, peak |\u03c4| per joint.",
-}
 _FIGURE_FILES = {"D": "fig_sweep_share_D", "h": "fig_sweep_share_h",
                  "classes": "fig_sweep_class_fractions", "error": "fig_sweep_torque_error",
                  "payload": "fig_payload_dominance"}
@@ -475,85 +188,6 @@ def _pdf(ctx, drawn, path, paper="a4"):
     to_document(_outline(ctx, drawn), doc, sizes)
     return doc.write(path, {k: d[1] for k, d in drawn.items()})
 
-
-_SHARE_TEXT = ("For each trajectory and element X, the translational share is \u03a3|"
-               + _el("X", "", "tran") + "| / (\u03a3|" + _el("X", "", "tran") + "| + \u03a3|"
-               + _el("X", "", "rot") + "|) over its set points. One panel per element "
-               + _el("D", "ij") + " with i \u2264 j (row i, column j): a box of the share over "
-               "the trajectories (quartiles; whiskers at the minimum and maximum; the coloured "
-               "bar is the median), with the thresholds s and 1 \u2212 s dashed. A share above s = {s} is translational, below "
-               "1 \u2212 s rotational, in between both, unless the element is negligible (peak "
-               "below e = {e} times its scale).")
-_MERGED_TEXT = ("Each trajectory has its own simplified model (keep the dominant part of each "
-                "element, both if neither dominates, nothing if negligible). The merged model is "
-                "valid for the whole sweep: a part of an element is dropped only where every "
-                "trajectory's model drops it. The chapter rule drops parts of D and h only, "
-                "never a term of gravity: \u03c4\u209b = D\u209b q\u0308 + h\u209b + c.")
-def _own_rule(ds):
-    """The rule of each trajectory's own simplified model, as the dataset records it."""
-    return str(ds.attrs.get("own_model_rule", "chapter"))
-
-
-def _models(ds):
-    """What the own and the merged models are, and which carries a guarantee, in words
-    generated from the dataset's rules: (own, merged)."""
-    own_rule, rule = _own_rule(ds), str(ds.attrs.get("merged_rule", "chapter"))
-    bound = {"chapter": "share-based classes of Sec. 3.4.1, no error bound",
-             "budget": "guaranteed within \u03b5\u00b7" + _SI + " on its own trajectory"}
-    own = f"each trajectory's own simplified model ({own_rule} rule: {bound[own_rule]})"
-    if rule == "budget":
-        merged = (f"the merged model (budget rule, \u03b5 = "
-                  f"{float(ds.attrs['merged_tolerance']):g}: guaranteed within "
-                  f"\u03b5\u00b7{_SI} on every swept trajectory)")
-    else:
-        merged = "the merged model (chapter rule: no error bound)"
-    return own, merged
-
-
-def _own_sentence(ds):
-    """The own models' worst relative peak error, named with their rule (they carry no
-    bound under the chapter rule)."""
-    rel = np.asarray(ds["tau_error_relative_peak"].values, float)
-    rel = np.where(is_round_off(ds["tau_error_peak"].values, ds["tau_peak"].values), 0.0, rel)
-    if not np.isfinite(rel).any() or not np.nanmax(rel) > 0:
-        return ""
-    k, j = np.unravel_index(np.nanargmax(np.where(np.isfinite(rel), rel, -np.inf)), rel.shape)
-    own, _ = _models(ds)
-    return (f"For comparison, {own} errs by up to {_pct(rel[k, j])} of peak |{_TAU_I}| "
-            f"(joint {j + 1}); it is not the model written.")
-
-
-def _error_text(ds):
-    """Sec. 5.1's note: the table's columns, each model named with its rule."""
-    own, merged = _models(ds)
-    return ("Per joint, over all set points of all trajectories: peak and RMS of the torque "
-            "error |\u03c4" + _sub("s") + " \u2212 \u03c4| "
-            f"[{units_said_once(ds, 'tau')}] of {merged}, and both relative to the peak |\u03c4| "
-            f"over all trajectories. Column \u201cown models, {_own_rule(ds)} rule "
-            f"(worst)\u201d: the largest relative peak error of {own} along that "
-            "trajectory, shown for comparison; it is not the merged model"
-            + (" and has no bound." if _own_rule(ds) == "chapter" else "."))
-
-
-def _captions(ds):
-    """The figure captions, with the models and the merged choice "none" said from the
-    dataset's rules."""
-    own, merged = _models(ds)
-    dots = (" Grey dots beside each box: the share on each trajectory, one dot per "
-            "trajectory (spread sideways to stay apart; not drawn beyond 60 trajectories).")
-    none = ("The merged model's choice \u201cnone\u201d: it keeps neither part of the "
-            "element (" + ("both parts dropped within the budget \u03b5, or \u2261 0"
-                           if str(ds.attrs.get("merged_rule", "chapter")) == "budget" else
-                           "negligible, or \u2261 0, on every trajectory") + ").")
-    return {
-        **_CAPTIONS,
-        "D": f"{_CAPTIONS['D']}{dots}",
-        "h": f"{_CAPTIONS['h']}{dots}",
-        "classes": f"{_CAPTIONS['classes']} {none}", "none": none,
-        "error": (f"Relative peak torque error per joint, per trajectory: of {own} (green) "
-                  f"and of {merged} (black); diamond: the merged model over all "
-                  "trajectories."),
-    }
 
 def write_sweep_report(sweep_path, outdir, payload=None, formats=SWEEP_REPORT_FORMATS,
                        paper="a4", fonts="type3"):

@@ -11,11 +11,11 @@ import textwrap
 
 import numpy as np
 
-from ..core.selection.ranking import CLASSES, ROUND_OFF, element_label
+from ..core.selection.ranking import CLASSES, ROUND_OFF, arm_scales, element_label, is_round_off
 from .common import CLASS_COLOURS as _CLASS_COLOURS
 from .common import SUPTITLE_RC as _RC
 from .common import check as _check
-from .common import grid_shape
+from .common import grid_shape, torque_units
 from .common import gridspec as _gridspec
 from .common import strings as _strings
 from .common import style as _style
@@ -43,6 +43,33 @@ _OWN_COLOUR, _MERGED_COLOUR = "#009E73", "#000000"
 _PAGE_WIDTH, COLUMN_WIDTH = 7.2, 3.5
 #: Relative torque errors at or below this are round-off (:data:`ROUND_OFF`): not drawn.
 _ERROR_FLOOR = ROUND_OFF
+
+
+#: The reports' rule for round-off, in words (:func:`gd_analyze.core.selection.ranking.is_round_off`).
+ROUND_OFF_WORDS = "at most 1e-12 of its own scale or 64 \u03b5 of the arm's"
+
+
+def torque_error_round_off(ds, peak, tau_peak):
+    """Whether a torque error is round-off, by the reports' one rule: at most 1e-12 of the
+    joint's own peak |tau| or 64 machine epsilons of the arm's (the largest peak |tau| among the
+    joints of the same type, :func:`gd_analyze.core.selection.ranking.arm_scales`).
+
+    Parameters
+    ----------
+    ds : xarray.Dataset
+        The sweep (for the joint types).
+    peak, tau_peak : array_like, shape (n,) or (K, n)
+        Peak error and peak |tau| per joint (per trajectory if 2-D), in N m or N.
+
+    Returns
+    -------
+    ndarray of bool, the shape of ``peak``
+    """
+    peak, tau_peak = np.asarray(peak, float), np.asarray(tau_peak, float)
+    units = torque_units(ds)
+    arm = (arm_scales(tau_peak, units) if tau_peak.ndim == 1 else
+           np.array([arm_scales(row, units) for row in tau_peak]))
+    return is_round_off(peak, tau_peak, arm_scale=arm)
 
 
 def _round_off(ds):
@@ -119,7 +146,7 @@ def _key_text(ds, K):
         f"Dashed lines: s = {s:g} and 1 \u2212 s; blue band: translational, orange band: "
         f"rotational. Title: element \u2192 choice of the merged model. Bottom: fraction of "
         f"trajectories per class (T translational, R rotational, B both, N negligible, "
-        f"e = {e:g}). \u2261 0: round-off (below 1e-12 of its scale) in every part on every "
+        f"e = {e:g}). \u2261 0: round-off ({ROUND_OFF_WORDS}) in every part on every "
         f"trajectory, no share drawn; on the trajectories where an element is round-off its "
         f"share is left out of the box. Grey dots: the share on each trajectory, one dot per "
         f"trajectory (up to 60).", 52)
@@ -280,6 +307,12 @@ def _fig_error(ds, width=_PAGE_WIDTH):
     fig = Figure(figsize=(W, H))
     ax = fig.add_axes((0.75 / W, (1.25 if column else 0.9) / H, (W - 0.95) / W,
                        (H - (2.05 if column else 1.6)) / H))
+    tau = ds["tau_peak"].values
+    own = np.where(torque_error_round_off(ds, ds["tau_error_peak"].values, tau), 0.0, own)
+    merged = np.where(torque_error_round_off(ds, ds["merged_tau_error_peak"].values, tau), 0.0,
+                      merged)
+    overall = np.where(torque_error_round_off(ds, ds["merged_error_peak"].values,
+                                              ds["merged_error_tau_peak"].values), 0.0, overall)
     for j in range(n):
         for off, data, colour in ((-0.18, own[:, j], _OWN_COLOUR),
                                   (0.18, merged[:, j], _MERGED_COLOUR)):
@@ -318,9 +351,9 @@ def _fig_error(ds, width=_PAGE_WIDTH):
               loc="upper center", bbox_to_anchor=(0.5, -0.2 if column else -0.08),
               ncol=1 if column else 2, frameon=False, fontsize=7)
     fig.suptitle("Relative peak torque error per joint\n(box: quartiles, whiskers: min/max;\n"
-                 f"round-off, at most {_ERROR_FLOOR:g}, not drawn)" if column else
+                 "round-off not drawn)" if column else
                  "Relative peak torque error per joint (box: quartiles, whiskers: min/max;\n"
-                 f"round-off, at most {_ERROR_FLOOR:g}, not drawn)", y=1 - 0.08 / H,
+                 f"round-off, {ROUND_OFF_WORDS}, not drawn)", y=1 - 0.08 / H,
                  va="top", fontsize=8.5)
     return fig
 

@@ -1,0 +1,322 @@
+"""The control report's words and tables: set-up, gains, errors, torques, cost, the model's
+rule and what it keeps, and the provenance, generated from the stored control dataset
+(:mod:`gd_analyze.reports.control` renders them as HTML and PDF)."""
+
+from __future__ import annotations
+
+import numpy as np
+
+from ..core.selection.ranking import element_label, is_round_off
+from .common import count, prismatic_joints, utc_now
+from .common import strings as _strings
+from .common import table as _table
+from .control_figures import _LABELS, _joint_units, noise_scales
+from .control_verdict import _NOISE, VERDICT_TOLERANCE, _attr, _by_type_text, _fmt, control_verdict
+from .main_provenance import gravity_row, run_row, software_row
+from .main_text import gravity_clause, model_sentence
+from .markup import sub as _sub
+
+__all__ = ["control_context"]
+
+
+
+def control_context(ds):
+    """Everything the control report says, from the stored control dataset.
+
+    Parameters
+    ----------
+    ds : xarray.Dataset
+        A control dataset (:func:`gd_analyze.io.control_dataset.write_control_dataset`).
+
+    Returns
+    -------
+    dict
+        The report's context, the same for the HTML and the PDF.
+    """
+    from .._version import __version__
+
+    names = _strings(ds["controller"].values)
+    n = int(ds.sizes["joint"])
+    joints = [f"J{j + 1}" for j in range(n)]
+    desc = (_strings(ds["controller_description"].values) if "controller_description" in ds
+            else names)
+    peak_grid = ds["error_peak_grid"]
+    prismatic = prismatic_joints(ds)
+    peaks = {c: peak_grid.sel(controller=c).values for c in names}
+    q_units = _joint_units(ds, "q")
+    tol, q_scale, tau_scale = noise_scales(ds)
+    quiet = {c: bool(is_round_off(peaks[c], q_scale, tol).all())
+             for c in names}           # every joint's error is integrator noise: not data
+    summary = "; ".join(f"{_LABELS.get(c, c)}: peak |e| "
+                        + (_NOISE if quiet[c] else _by_type_text(peaks[c], prismatic, "q"))
+                        for c in names)
+    summary = summary[:1].upper() + summary[1:]
+    summary = (f"{_attr(ds, 'robot')} along {_attr(ds, 'trajectory_file')}, "
+               f"\u03c9{_sub('n')} = {_attr(ds, 'wn')} rad/s, \u03b6 = {_attr(ds, 'zeta')}. "
+               f"{summary}.")
+    diff = ds["tau_difference_peak"].values if "tau_difference_peak" in ds else None
+    if diff is not None:
+        summary += (" Largest closed-loop torque difference, simplified-model controller "
+                    "minus full-model controller (two closed-loop runs, each along its own "
+                    f"motion): {_by_type_text(diff, prismatic, 'tau')}; not the "
+                    "open-loop error \u03c4" + _sub("s") + " \u2212 \u03c4 of the main "
+                    "report (one model against the other along the desired trajectory).")
+    tolerance = tuple(float(ds.attrs.get(f"verdict_tolerance_{k}", d)) for k, d in
+                      zip(("revolute", "prismatic"), VERDICT_TOLERANCE))
+    verdict = control_verdict(peaks, prismatic, diff, tolerance, quiet)
+    setup = _table(["item", "value"], [
+        ["robot", f"{_attr(ds, 'robot')} (SHA-256 {_attr(ds, 'robot_sha256')})"],
+        ["trajectory", f"{_attr(ds, 'trajectory_file')} (SHA-256 "
+                       f"{_attr(ds, 'trajectory_sha256')})"],
+        ["simplified model", f"{_attr(ds, 'model_file')} (SHA-256 {_attr(ds, 'model_sha256')})"],
+        ["plant", _plant(ds)],
+        ["controllers", "; ".join(_LABELS.get(c, d) for c, d in zip(names, desc))
+         + " (control laws below)"],
+        ["desired motion", _attr(ds, "interpolation")],
+        ["integrator", f"{_attr(ds, 'integrator')}, rtol = {_attr(ds, 'rtol')}, "
+                       f"atol = {_attr(ds, 'atol')}"],
+        ["samples", f"{_attr(ds, 'samples')} ({_attr(ds, 'setpoints')} set points + fine grid "
+                    f"of {_attr(ds, 'grid_points')})"],
+        ["initial offset q(0) \u2212 q" + _sub("d") + "(0)",
+         ", ".join(f"{_fmt(v)}\u00a0{u}" for v, u in zip(ds["q0_offset"].values, q_units))
+         if "q0_offset" in ds else "0"],
+    ], align=["left", "left"])
+    gains = _gains_table(ds, joints)
+    def noise(values, peaks, scale):     # integrator noise of the joint's scale: not data
+        off = is_round_off(peaks, scale, tol)
+        return ["\u2261 0" if o else _fmt(v) for v, o in zip(values, off)]
+
+    err_rows = []
+    for c in names:
+        for key, where in (("setpoints", "set points"), ("grid", "fine grid")):
+            pk = ds[f"error_peak_{key}"].sel(controller=c).values
+            rm = ds[f"error_rms_{key}"].sel(controller=c).values
+            err_rows.append([_SHORT.get(c, c), where, "peak"] + noise(pk, pk, q_scale))
+            err_rows.append([_SHORT.get(c, c), where, "RMS"] + noise(rm, pk, q_scale))
+    q_u, tau_u = _joint_units(ds, "q"), _joint_units(ds, "tau")
+    errors = _table(["controller", "sampled at", "figure"]
+                    + [f"{j} [{u}]" for j, u in zip(joints, q_u)],
+                    err_rows, align=["left", "left", "left"] + ["right"] * n)
+    tau_diff = _table(["figure"] + [f"{j} [{u}]" for j, u in zip(joints, tau_u)], [],
+                      align="right")
+
+    def fmt_all(name, **sel):
+        return [_fmt(v) for v in ds[name].sel(**sel).values]
+
+    def diff(name, peak):
+        return noise(ds[name].values, ds[peak].values, tau_scale)
+
+    if "tau_difference_peak" in ds:
+        tau_diff["rows"] = [["peak, fine grid"] + diff("tau_difference_peak",
+                                                       "tau_difference_peak"),
+                            ["RMS, fine grid"] + diff("tau_difference_rms",
+                                                      "tau_difference_peak")]
+        if "tau_difference_peak_setpoints" in ds:
+            at = "tau_difference_peak_setpoints"
+            tau_diff["rows"] += [["peak, set points"] + diff(at, at),
+                                 ["RMS, set points"] + diff("tau_difference_rms_setpoints", at)]
+    tau_rows = []
+    for c in names:
+        if "tau_peak" in ds:
+            tau_rows.append([_SHORT.get(c, c), "peak |\u03c4|"] + fmt_all("tau_peak", controller=c))
+            tau_rows.append([_SHORT.get(c, c), "RMS \u03c4"] + fmt_all("tau_rms", controller=c))
+    tau_table = _table(["controller", "figure"] + [f"{j} [{u}]" for j, u in zip(joints, tau_u)],
+                       tau_rows,
+                       align=["left", "left"] + ["right"] * n)
+    cost = None
+    if "evaluator" in ds.dims:
+        ev = _strings(ds["evaluator"].values)
+        mul, add = ds["multiplications"].values, ds["additions"].values
+        ref = len(ev) - 1            # the last: Newton-Euler, the recursive reference
+        cost = _table(["evaluator", "multiplications", "additions", "operations",
+                       "operations vs Newton-Euler"],
+                      [[e, count(mul[k]), count(add[k]), count(mul[k] + add[k]),
+                        f"{(mul[k] + add[k]) / (mul[ref] + add[ref]):.3f}"]
+                       for k, e in enumerate(ev)], align="right")
+    cost_note = ("Operations per set point, counted (not timed): the emitted models on their "
+                 "expressions (constants and structural 0/\u00b11 free, a square one "
+                 "multiplication), the project's Newton-Euler with every multiplication and "
+                 "addition of one run counted.")
+    model_note, recursive = _model_note(ds)
+    labels = _strings(ds["element"].values)
+    choice = dict(zip(labels, _strings(ds["choice"].values)))
+    rows = [[f"D, row {i + 1}"] + [choice.get(element_label("D", i, j), "") if j >= i else ""
+                                   for j in range(n)] for i in range(n)]
+    rows.append(["h"] + [choice.get(element_label("h", j), "") for j in range(n)])
+    choices = None if recursive else _table(["element"] + [f"column {j + 1}"
+                                                          for j in range(n)], rows,
+                                           align=["left"] * (n + 1))
+    prov = _table(["item", "value"], _provenance(ds, __version__), align=["left", "left"])
+    floor = ("Integrator noise (at most the integrator's rtol times the joint's scale) is not "
+             "drawn: a log axis starts at that floor.")
+    return {
+        "version": __version__,
+        "created": utc_now().isoformat(),
+        "title": f"Computed-torque control with the simplified G-D model: {_attr(ds, 'robot')}",
+        "summary": summary, "verdict": verdict,
+        "intro": ("The arm, simulated with its full generalized d'Alembert dynamics (Fu, Gonzalez "
+                  "& Lee 1987, Eq. 3.4-24), tracks the trajectory under computed-torque control "
+                  f"(Ch. 5) with the full model, with the simplified model ({_rule_words(ds)}), "
+                  "and under PD control with gravity compensation."),
+        "setup": setup, "gains": gains,
+        "gains_note": (f"Computed torque: v = q\u0308{_D} + {_KV} (q\u0307{_D} \u2212 q\u0307) + "
+                       f"{_KP} (q{_D} \u2212 q), {_KP} = {_WN}\u00b2, {_KV} = 2\u03b6{_WN}, so "
+                       f"the full-model closed loop is \u00eb + {_KV} \u0117 + {_KP} e = 0 "
+                       f"(e = q{_D} \u2212 q, q{_D} the desired motion). PD + gravity: \u03c4 = "
+                       f"{_KP} e + {_KV} \u0117 + c with the PD gains, scaled by the diagonal "
+                       f"of D at the start of the motion (D{_sub('ii')} at the start)."),
+        "errors": errors,
+        "error_note": (f"Tracking error e = q{_D} \u2212 q per joint, peak |e| and RMS, at the "
+                       "set points of the trajectory and on the fine grid (set points "
+                       "included)."),
+        "floor_note": floor, "noise_tol": f"{tol:g}",
+        "tau_diff": tau_diff,
+        "diff_note": ("Closed-loop torque difference: torque of the simplified-model "
+                      "computed-torque controller minus that of the full-model one, each along "
+                      "its own closed-loop run, at the same times. It is not the open-loop "
+                      "error of the main report (\u03c4\u209b \u2212 \u03c4 of the two models "
+                      "along the desired trajectory)."),
+        "tau_table": tau_table,
+        "cost": cost, "cost_note": cost_note,
+        "choices": choices, "model_note": model_note, "provenance": prov,
+        "keywords": (f"robot {_attr(ds, 'robot')} sha256 {_attr(ds, 'robot_sha256')}; "
+                     f"trajectory {_attr(ds, 'trajectory_file')} sha256 "
+                     f"{_attr(ds, 'trajectory_sha256')}; model {_attr(ds, 'model_file')} sha256 "
+                     f"{_attr(ds, 'model_sha256')}"),
+    }
+
+
+def _rule_words(ds):
+    """The simplified model's rule as the intro names it, from the stored rule: the error
+    budget (with its epsilon) or the chapter's share-based classes of Sec. 3.4.1."""
+    rule = str(ds.attrs.get("model_rule", ""))
+    if rule == "budget":
+        eps = float(ds.attrs.get("model_tolerance", np.nan))
+        return f"error-budget rule, \u03b5\u00a0=\u00a0{eps:g}"
+    if rule == "chapter":
+        return "the chapter's share-based classes, Sec. 3.4.1"
+    return "its rule is not recorded"
+
+
+def _model_note(ds):
+    """Sec. 5's text: what the simplified model keeps, its rule and guarantee, generated from
+    the model's facts stored by the control run (:func:`gd_analyze.workflows.control.model_facts`)
+    in the words of the main report (:func:`gd_analyze.reports.main_text.model_sentence`).
+    Returns (text, whether the model has the recursive form)."""
+    a = ds.attrs
+    form, rule = str(a.get("model_form", "")), str(a.get("model_rule", ""))
+    if form not in ("recursive", "explicit"):
+        return ("The control dataset does not record what the simplified model keeps.",
+                False)
+    recursive = form == "recursive"
+    if recursive:
+        dropped_g = [v for v in str(a.get("model_gravity_dropped", "")).split(", ") if v]
+        gravity = gravity_clause(rule, gravity_dropped=dropped_g)
+        facts = (int(a.get("model_base_parameters", 0)), int(a.get("model_pairs_dropped", 0)),
+                 int(a.get("model_pairs", 0)))
+        own = str(a.get("trajectory_is_models")) == "1"
+        where = "this trajectory" if own else "the trajectory the model was built on"
+        if str(a.get("model_pairs_known", "1")) == "0":
+            where += (" (or are structurally 0: the model file does not record which pairs "
+                      "act)")
+        text = model_sentence(recursive=facts, gravity=gravity, trajectory=where)
+        if facts[1]:
+            text += f" The dropped pairs: {a.get('model_dropped_pairs', '')}."
+    else:
+        kept, full = int(a.get("model_c_terms_kept", -1)), int(a.get("model_c_terms", -1))
+        gravity = gravity_clause(rule, c_terms=(kept, full) if min(kept, full) >= 0 else None)
+        text = model_sentence(choice=_strings(ds["choice"].values), gravity=gravity)
+    eps = float(a.get("model_tolerance", np.nan))
+    if rule == "budget":
+        text += (f" Rule: error budget, \u03b5\u00a0=\u00a0{eps:g}: the open-loop error "
+                 "\u03c4\u209b \u2212 \u03c4 is guaranteed within \u03b5\u00b7s\u1d62 on the "
+                 "trajectory the model was built on" + (" (this one)." if
+                                                         str(a.get("trajectory_is_models"))
+                                                         == "1" else
+                                                         ", not on this one."))
+    elif rule == "chapter":
+        text += (" Rule: the chapter's share-based classes (Sec. 3.4.1): each element keeps "
+                 "its dominant part; there is no error bound.")
+    return text, recursive
+
+
+#: Stored units of the gains (:func:`gd_analyze.core.selection.labels.joint_gain_units`) and
+#: of D_ii, as printed.
+_GAIN_UNITS = {"N m rad-1": "N m/rad", "N m s rad-1": "N m s/rad", "N m-1": "N/m",
+               "N s m-1": "N s/m", "kg m2": "kg m\u00b2", "kg": "kg"}
+
+
+def _gains_table(ds, joints):
+    """The gains per joint. D_ii and the PD gains carry the units of their joint's type
+    (the stored ``<name>_units`` per joint): in the header where every joint agrees, else in
+    each cell."""
+    from .common import prismatic_joints
+
+    prismatic = prismatic_joints(ds)
+    header = ["joint", "\u03c9" + _sub("n") + " [rad/s]", "\u03b6",
+              "K" + _sub("p") + " [1/s\u00b2]", "K" + _sub("v") + " [1/s]"]
+    per_joint = {}
+    for name, title in (("inertia_scale", "D" + _sub("ii") + " at the start"),
+                        ("Kp_pd", "PD K" + _sub("p")), ("Kv_pd", "PD K" + _sub("v"))):
+        if f"{name}_units" in ds.coords:
+            units = [_GAIN_UNITS.get(u, u) for u in _strings(ds[f"{name}_units"].values)]
+        else:                               # an older file: units from the joint types
+            from ..io.control_dataset import _gain_units
+
+            units = [_GAIN_UNITS.get(u, u) for u in _gain_units(prismatic)[name]]
+        same = len(set(units)) == 1
+        header.append(f"{title} [{units[0]}]" if same else title)
+        per_joint[name] = ([""] * len(units) if same else
+                           ["\u00a0" + u.replace(" ", "\u00a0") for u in units])
+    rows = [[joints[j]] + [_fmt(ds[v].values[j], digits=4) for v in ("wn", "zeta", "Kp", "Kv")]
+            + [_fmt(ds[v].values[j], digits=4) + per_joint[v][j]
+               for v in ("inertia_scale", "Kp_pd", "Kv_pd")] for j in range(len(joints))]
+    return _table(header, rows, align="right")
+
+
+def _plant(ds):
+    """The simulated plant: the full G-D model's forward dynamics, written as mathematics."""
+    plant = _attr(ds, "plant")
+    if plant.startswith("full G-D model"):
+        return "full G-D model, q\u0308 = D\u207b\u00b9 (\u03c4 \u2212 h \u2212 c) (Eq. 3.4-24)"
+    return plant
+
+
+#: The controllers as a table's rows name them (the figures' keys: ``CONTROLLER_LABELS``).
+_SHORT = {"full": "full model", "simplified": "simplified model", "pd_gravity": "PD + gravity"}
+
+_D, _KP, _KV, _WN = _sub("d"), "K" + _sub("p"), "K" + _sub("v"), "\u03c9" + _sub("n")
+
+#: The provenance rows of the control report: (item, attribute), each setting once (the gains
+#: and the control laws are in Sec. 1, the robot, trajectory and model files in Table 1.1).
+_PROVENANCE = (("trajectory path", "trajectory_path"),
+               ("trajectory derivatives", "trajectory_derivatives"),
+               ("model path", "model_path"),
+               ("trajectory the model was built on (SHA-256)", "model_trajectory_sha256"),
+               ("model built on this trajectory", "trajectory_is_models"),
+               ("method", "references"))
+
+
+def _provenance(ds, version):
+    """The provenance rows, each setting once and in words: the software and the run as the
+    main report says them (:mod:`gd_analyze.reports.main_provenance`), gravity, the files,
+    the verdict's tolerance."""
+    rows = [list(software_row(ds, version)), list(run_row(ds, "run")),
+            list(gravity_row(ds))]
+    own = str(ds.attrs.get("trajectory_is_models")) == "1"
+    for label, k in _PROVENANCE:
+        if k == "model_trajectory_sha256" and own:
+            continue                    # the trajectory's own SHA-256, said in Table 1.1
+        if k in ds.attrs:
+            value = _attr(ds, k)
+            if k == "trajectory_is_models":
+                value = {"1": "yes", "0": "no"}.get(value, value)
+            rows.append([label, value])
+    if "verdict_tolerance_revolute" in ds.attrs:
+        kinds = set(prismatic_joints(ds).tolist())
+        said = [f"{_attr(ds, 'verdict_tolerance_revolute')} rad"
+                + (" (revolute joints)" if len(kinds) > 1 else "")] * (False in kinds) + \
+            [f"{_attr(ds, 'verdict_tolerance_prismatic')} m"
+             + (" (prismatic joints)" if len(kinds) > 1 else "")] * (True in kinds)
+        rows.append(["verdict tolerance", ", ".join(said)])
+    return rows
