@@ -155,6 +155,8 @@ def test_ticks_once_draws_the_same_picture_as_matplotlibs_ticks(scale):
     ticks_once(fig)
     assert all(not len(ax.xaxis.get_majorticklocs()) and not len(ax.yaxis.get_majorticklocs())
                for ax in fig.axes)
-    assert sum(isinstance(c, LineCollection) for ax in fig.axes for c in ax.collections) == 4
+    # per Axes: the x and y grids, and the frame drawn in place of the four spines
+    assert sum(isinstance(c, LineCollection) for ax in fig.axes for c in ax.collections) == 6
+    assert not any(s.get_visible() for ax in fig.axes for s in ax.spines.values())
     assert all(tick_texts(ax, "x") and tick_texts(ax, "y") for ax in fig.axes)
     assert np.array_equal(pixels(fig), reference)

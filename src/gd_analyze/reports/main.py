@@ -27,6 +27,7 @@ for 100,000 set points of a 6-joint arm).
 from __future__ import annotations
 
 import contextlib
+import functools
 import re
 from pathlib import Path
 
@@ -48,7 +49,7 @@ from .simplified_section import error_figure, has_simplified
 
 __all__ = [
     "REPORT_FORMATS", "ENVELOPE_THRESHOLD", "ENVELOPE_COLUMNS", "FIGURE_FILES", "envelope",
-    "COLUMN_FIGURES", "make_figures", "render_html", "render_pdf", "write_report",
+    "COLUMN_FIGURES", "make_figures", "figure_makers", "render_html", "render_pdf", "write_report",
 ]
 
 #: The formats :func:`write_report` can write.
@@ -171,12 +172,39 @@ def make_figures(ds, data=None, keys=None):
 
     Notes
     -----
+    All the figures at once, as :func:`figure_makers` makes them one by one.
     Source: Sec. 3.4.1 and Figs. 3.10-3.11 of Fu, Gonzalez & Lee (1987).
     """
-    import matplotlib
+    return {k: make() for k, make in figure_makers(ds, data, keys).items()}
 
-    from .ticks import ticks_once
 
+def figure_makers(ds, data=None, keys=None):
+    """The report's figures as makers, in file order: each figure made when it is called.
+
+    A caller that draws each figure as soon as it is made (:func:`_write`) holds one figure
+    at a time, not all of them (fewer live objects for the garbage collector to walk).
+
+    Parameters
+    ----------
+    ds, data, keys
+        As for :func:`make_figures`.
+
+    Returns
+    -------
+    dict of str to callable
+        By figure key (:data:`FIGURE_FILES`), a function of no arguments returning that
+        figure (:class:`matplotlib.figure.Figure`), made with the report's rcParams and its
+        ticks built once (:func:`gd_analyze.reports.ticks.ticks_once`).
+
+    Raises
+    ------
+    KeyError
+        If a variable the figures need is missing from ``ds``.
+
+    Notes
+    -----
+    Source: Sec. 3.4.1 and Figs. 3.10-3.11 of Fu, Gonzalez & Lee (1987).
+    """
     if data is None:
         data = plot_data(ds)
     labels, zero = zero_mask(ds)
@@ -185,15 +213,15 @@ def make_figures(ds, data=None, keys=None):
     s, e = _thresholds(ds)
     wanted = set(_FILE_ORDER if keys is None else keys)
     arm = ds["D_arm"].values if "D_arm" in ds else None
-    makers = {"joints": lambda: fig_joints(data, prismatic_joints(ds)),
-              "D": lambda: fig_D(data, dom, zero, s, e, prismatic_joints(ds),
-                                 armature=arm),
-              "h": lambda: fig_h(data, dom, zero, prismatic_joints(ds)),
+    prismatic = prismatic_joints(ds)
+    makers = {"joints": lambda: fig_joints(data, prismatic),
+              "D": lambda: fig_D(data, dom, zero, s, e, prismatic, armature=arm),
+              "h": lambda: fig_h(data, dom, zero, prismatic),
               "torque": lambda: _fig_error(ds, data),
-              "joints_column": lambda: fig_joints(data, prismatic_joints(ds), COLUMN_WIDTH),
-              "D_column": lambda: fig_D(data, dom, zero, s, e, prismatic_joints(ds),
-                                        COLUMN_WIDTH, armature=arm),
-              "h_column": lambda: fig_h(data, dom, zero, prismatic_joints(ds), COLUMN_WIDTH),
+              "joints_column": lambda: fig_joints(data, prismatic, COLUMN_WIDTH),
+              "D_column": lambda: fig_D(data, dom, zero, s, e, prismatic, COLUMN_WIDTH,
+                                        armature=arm),
+              "h_column": lambda: fig_h(data, dom, zero, prismatic, COLUMN_WIDTH),
               "torque_column": lambda: _fig_error(ds, data, COLUMN_WIDTH)}
     if "payload_share_tran" in ds.variables:
         makers["payload"] = lambda: _fig_payload(ds)
@@ -201,10 +229,18 @@ def make_figures(ds, data=None, keys=None):
     if "op_multiplications" in ds.variables:
         makers["formulations"] = lambda: _fig_formulations(ds)
         makers["formulations_column"] = lambda: _fig_formulations(ds, COLUMN_WIDTH)
+    return {k: functools.partial(_made, makers[k]) for k in _FILE_ORDER
+            if k in makers and k in wanted}
+
+
+def _made(make):
+    """One figure made with the report's rcParams, its ticks built once."""
+    import matplotlib
+
+    from .ticks import ticks_once
+
     with matplotlib.rc_context(FIG_RC):
-        figures = {k: ticks_once(make()) for k, make in makers.items()
-                   if k in wanted}
-    return {k: figures[k] for k in _FILE_ORDER if k in figures}
+        return ticks_once(make())
 
 
 def _fig_error(ds, data, width=PAGE_WIDTH):
@@ -464,8 +500,9 @@ def _write(ds, outdir, formats, paper, progress, fonts="type3"):
     ctx = report_context(ds)            # fails early on a dataset that is not ours
     (outdir / "figures").mkdir(parents=True, exist_ok=True)
     data = plot_data(ds, progress=progress)
-    drawn = _drawn(make_figures(ds, data), fonts=fonts)
-    drawn = {k: drawn[k] for k in _FILE_ORDER if k in drawn}
+    drawn = {}
+    for key, make in figure_makers(ds, data).items():     # one figure alive at a time
+        drawn.update(_drawn({key: make()}, fonts=fonts))
     with contextlib.ExitStack() as stack:
         paths = {fmt: outdir / f"report.{fmt}" for fmt in formats}
         files = write_figure_files(stack, drawn, outdir / "figures", FIGURE_FILES)

@@ -439,7 +439,35 @@ def ticks_once(fig):
             axis.set_major_locator(NullLocator())
             axis.set_minor_locator(NullLocator())
             _move_label(ax, axis, name, texts)
+        _frame(ax)
     return fig
+
+
+def _frame(ax):
+    """Four alike visible spines as one line collection: one artist where matplotlib draws
+    four (the same segments, colour, width, caps and z-order)."""
+    from matplotlib.collections import LineCollection
+    from matplotlib.colors import same_color
+
+    sides = ("left", "right", "bottom", "top")
+    spines = [ax.spines.get(side) for side in sides]
+    if any(s is None or not s.get_visible() for s in spines):
+        return
+    first = spines[0]
+    if any(s.get_linewidth() != first.get_linewidth()
+           or not same_color(s.get_edgecolor(), first.get_edgecolor())
+           or s.get_linestyle() != first.get_linestyle()
+           or s.get_zorder() != first.get_zorder() for s in spines):
+        return
+    segments = [((0.0, 0.0), (0.0, 1.0)), ((1.0, 0.0), (1.0, 1.0)),
+                ((0.0, 0.0), (1.0, 0.0)), ((0.0, 1.0), (1.0, 1.0))]
+    ax.add_collection(LineCollection(
+        segments, colors=[first.get_edgecolor()], linewidths=first.get_linewidth(),
+        linestyles=first.get_linestyle(), capstyle=first.get_capstyle(),
+        joinstyle=first.get_joinstyle(), zorder=first.get_zorder(), transform=ax.transAxes,
+        clip_on=False), autolim=False)
+    for s in spines:
+        s.set_visible(False)
 
 
 def _grid(ax, name, locs, line, zorder):
