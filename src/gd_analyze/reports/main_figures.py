@@ -202,7 +202,7 @@ def _shown(units):
 
 def _unit_label(ax, units):
     """The panel's units on its y axis, e.g. ``[kg m]`` (a mixed arm's panels differ)."""
-    ax.set_ylabel(f"[{_shown(units)}]", fontsize=7, labelpad=0.5)
+    ax.set_ylabel(f"[{_shown(units)}]", fontsize=7, labelpad=1.0)
 
 
 def _legend_order(ax):
