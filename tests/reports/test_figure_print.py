@@ -69,6 +69,18 @@ def test_axis_labels_stand_clear_of_their_tick_labels(figures):
     assert not bad, f"{name}: {bad}"
 
 
+def test_fig_2_key_in_mathematics(figures):
+    """The key of Fig. 2 states the round-off threshold as 10⁻¹² (not 1e-12) and a single
+    unit beside the element, "Dᵢⱼ [kg m²] against time t [s]" (not "t [s] [kg m²]")."""
+    name, _, figs = figures
+    for key in ("D", "D_column"):
+        words = " ".join(t.get_text() for t in figs[key].texts)
+        assert "10\u207b\u00b9\u00b2 of its scale" in words and "1e-12" not in words, words
+        assert "] [" not in words, (name, key, words)
+        if name != "stanford":                      # one unit for all elements
+            assert "D\u1d62\u2c7c [kg m\u00b2] against time t [s]" in words, words
+
+
 def test_column_versions_are_a_column_wide_with_7_pt_type(figures):
     _, _, figs = figures
     assert {"joints_column", "D_column", "h_column", "torque_column"} <= set(figs)

@@ -60,3 +60,20 @@ def test_summary_letters_elements_as_mathematics_with_agreeing_verbs():
     assert "0 need both" in plain(text)
     assert "0 of 2 elements are dominated" in plain(text) and "1 needs both" in plain(text)
     assert "D₂₂\u00a0\u2261\u00a00" in shown
+
+
+def test_round_off_threshold_is_written_as_a_power_of_ten():
+    """Sec. 4 states the ranking's round-off threshold (core ROUND_OFF) as mathematics,
+    10⁻¹², not as the code literal 1e-12."""
+    import math
+
+    from gd_analyze.core.selection.ranking import ROUND_OFF
+    from gd_analyze.reports.main_outline import RANKING_TEXT
+    from gd_analyze.reports.markup import unicode
+
+    k = round(math.log10(ROUND_OFF))
+    power = "10" + "".join("\u207b" if c == "-" else "\u2070\u00b9\u00b2\u00b3\u2074\u2075"
+                           "\u2076\u2077\u2078\u2079"[int(c)] for c in str(k))
+    text = unicode(RANKING_TEXT)
+    assert f"below {power} of its scale" in text, text
+    assert not re.search(r"\de-?\d", text), text
