@@ -87,6 +87,35 @@ def collisions(fig, rc=None):
     return found
 
 
+def crowded_axis_labels(fig, rc=None, gap=1.0):
+    """Axis labels of a drawn figure closer than ``gap`` [pt] to a tick label of their own
+    axes on the side they face: not overlapping, yet read as one word in print ("[kg]5.0").
+    As readable strings (none: all well)."""
+    renderer = draw(fig, rc)
+    pt = fig.dpi / 72.0
+    found = []
+    for ax in fig.axes:
+        if not ax.get_visible():
+            continue
+        ticks = [(t, t.get_window_extent(renderer)) for t in drawn_tick_labels(ax)]
+        ticks += [(t, t.get_window_extent(renderer)) for t in ax.texts
+                  if getattr(t, "axis_name", None) in ("x", "y")]
+        labels = [t for t in ax.texts if not hasattr(t, "axis_name")
+                  and t.get_rotation() in (90.0, 270.0) and t.get_text().strip()]
+        labels += [ax.yaxis.label] if ax.yaxis.label.get_visible() else []
+        for label in labels:
+            if not label.get_text().strip():
+                continue
+            b = label.get_window_extent(renderer)
+            for tick, c in ticks:
+                if c.y1 <= b.y0 or c.y0 >= b.y1 or c.x1 < b.x0:
+                    continue                    # not beside the label, or on its far side
+                if (c.x0 - b.x1) / pt < gap - 0.01:     # float slack on a 1-pt pad
+                    found.append(f"{label.get_text()!r} / {tick.get_text()!r}: "
+                                 f"{(c.x0 - b.x1) / pt:.2f} pt")
+    return found
+
+
 def smallest_type(fig, rc=None):
     """The smallest font size [pt] of the drawn figure's texts (the figure is drawn at the
     size it is printed at)."""

@@ -10,7 +10,7 @@ Stanford arm (a prismatic joint 3) and the UR5.
 import numpy as np
 import pytest
 from conftest import ROOT
-from figure_checks import code_names, column_twins, draw, smallest_type, texts
+from figure_checks import code_names, column_twins, crowded_axis_labels, draw, smallest_type, texts
 from figure_checks import collisions as _collisions
 
 from gd_analyze import load_robot
@@ -58,6 +58,27 @@ def test_no_label_collides_at_page_or_column_width(figures):
     bad = {key: collisions(fig) for key, fig in figs.items()}
     bad = {k: v[:4] for k, v in bad.items() if v}
     assert not bad, f"{name}: {bad}"
+
+
+def test_axis_labels_stand_clear_of_their_tick_labels(figures):
+    """A panel's units ("[kg]", "[10⁻⁴ kg m²]") at least 1 pt from its tick labels: the
+    Stanford Fig. 2 read "[kg]5.0" and "[kg m²]2" at 0.5 pt, at page and column width."""
+    name, _, figs = figures
+    bad = {key: crowded_axis_labels(fig, report.FIG_RC) for key, fig in figs.items()}
+    bad = {k: v[:3] for k, v in bad.items() if v}
+    assert not bad, f"{name}: {bad}"
+
+
+def test_fig_2_key_in_mathematics(figures):
+    """The key of Fig. 2 states the round-off threshold as 10⁻¹² (not 1e-12) and a single
+    unit beside the element, "Dᵢⱼ [kg m²] against time t [s]" (not "t [s] [kg m²]")."""
+    name, _, figs = figures
+    for key in ("D", "D_column"):
+        words = " ".join(t.get_text() for t in figs[key].texts)
+        assert "10\u207b\u00b9\u00b2 of its scale" in words and "1e-12" not in words, words
+        assert "] [" not in words, (name, key, words)
+        if name != "stanford":                      # one unit for all elements
+            assert "D\u1d62\u2c7c [kg m\u00b2] against time t [s]" in words, words
 
 
 def test_column_versions_are_a_column_wide_with_7_pt_type(figures):

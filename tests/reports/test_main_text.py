@@ -37,3 +37,43 @@ def test_a_value_and_its_unit_are_never_split_over_two_lines():
     small = conclusion(*ARGS[:4], np.array([0.5, 1e-4]), np.array([1e-4, 1e-3]),
                        np.array([2e-4, 10.0]), units=["N m", "N m"])
     assert "(10\u00a0N\u00a0m)" in small and not re.search(r"\d (N|m|%)(\W|$)", small), small
+
+
+def test_summary_letters_elements_as_mathematics_with_agreeing_verbs():
+    """Oracle: the labels and classes given. Each element is D₁₂ (subscript marked, as Table
+    4.1 and the figures letter it), never the code name D12; "1 of 6 elements is", "1 needs";
+    "≡ 0" stays on the line of its last element (the PUMA summary broke "D56 ≡" / "0")."""
+    from gd_analyze.reports.markup import html, plain, unicode
+
+    labels = ["D11", "D12", "D22", "h1", "h2"]
+    text = conclusion(labels, ["translational", "negligible", "both", "rotational", "both"],
+                      np.array([False, False, True, False, False]),
+                      ["tran", "none", "none", "rot", "both"], np.array([0.01, 0.02]),
+                      np.array([0.1, 0.2]), np.array([1.0, 2.0]))
+    shown = unicode(text)
+    assert not re.search(r"\b[Dh][0-9]", shown), shown
+    for lab in ("D₁₁", "D₁₂", "D₂₂", "h₁"):
+        assert lab in shown, (lab, shown)
+    assert "D<sub>12</sub>" in str(html(text))
+    assert "1 of 3 elements is dominated" in plain(text)
+    assert "2 are negligible (D12; D22\u00a0\u2261\u00a00)" in plain(text)
+    assert "0 need both" in plain(text)
+    assert "0 of 2 elements are dominated" in plain(text) and "1 needs both" in plain(text)
+    assert "D₂₂\u00a0\u2261\u00a00" in shown
+
+
+def test_round_off_threshold_is_written_as_a_power_of_ten():
+    """Sec. 4 states the ranking's round-off threshold (core ROUND_OFF) as mathematics,
+    10⁻¹², not as the code literal 1e-12."""
+    import math
+
+    from gd_analyze.core.selection.ranking import ROUND_OFF
+    from gd_analyze.reports.main_outline import RANKING_TEXT
+    from gd_analyze.reports.markup import unicode
+
+    k = round(math.log10(ROUND_OFF))
+    power = "10" + "".join("\u207b" if c == "-" else "\u2070\u00b9\u00b2\u00b3\u2074\u2075"
+                           "\u2076\u2077\u2078\u2079"[int(c)] for c in str(k))
+    text = unicode(RANKING_TEXT)
+    assert f"below {power} of its scale" in text, text
+    assert not re.search(r"\de-?\d", text), text

@@ -75,7 +75,8 @@ def _check_summary_against_dataset(folder):
         form = str(ds.attrs["simplified_form"])
     for lab, cls in zip(labels, dominance):              # every negligible element named
         if cls == "negligible":
-            assert re.search(rf"\b{lab}\b", summary), (lab, summary)
+            # lettered D<sub>12</sub>: "D 12" once the tags are stripped
+            assert re.search(rf"\b{lab[0]} ?{lab[1:]}\b", summary), (lab, summary)
     negligible = re.findall(r"(\d+) are negligible", summary)
     assert sum(map(int, negligible)) == dominance.count("negligible")
     for key in ("recursive N-E, exact", "explicit, full", "project N-E as implemented"):
@@ -165,3 +166,27 @@ def test_control_verdict_names_its_torque_difference_closed_loop():
     text = control_verdict({"full": np.array([1e-4, 1e-5]), "simplified": np.array([2e-4, 0.0])},
                            np.zeros(2, bool), np.array([0.152, 0.01])).replace("\u00a0", " ")
     assert "closed-loop torque differs" in text and "0.152 N m" in text
+
+
+@pytest.mark.parametrize("setpoints", [31, 2101])
+def test_section_2_names_the_marks_fig_2_draws(tmp_path, setpoints):
+    """Oracle: the drawn Fig. 2. A 2,101-set-point run draws its curves as envelopes without
+    markers, so Sec. 2 must not point the reader to ○, × and △ (the 5,000-set-point PUMA
+    report did); a 31-set-point run draws them, and Sec. 2 names them."""
+    from gd_analyze.reports.main_figures import plot_data
+
+    robot = load_robot("two-link")
+    trajectory = plan_quintic(robot, [0.0, 0.0], [np.pi / 2, np.pi / 3],
+                              n_setpoints=setpoints)
+    ds = analyze(robot, trajectory, AnalysisOptions(formulations=False)).dataset
+    write_dataset(ds, tmp_path / "results.h5")
+    report.write_report(tmp_path / "results.h5", tmp_path / "out", formats=("html",))
+    text = _text((tmp_path / "out" / "report.html").read_text())
+    section = text[text.index("One panel per element"):text.index("Figure 2.")]
+    fig = report.make_figures(ds, plot_data(ds))["D"]
+    marked = {ln.get_label(): ln.get_marker() not in (None, "None", "", " ")
+              for ax in fig.axes for ln in ax.lines}
+    assert set(marked) >= {"translational", "rotational", "combined"}
+    for part, mark in (("translational", "\u25cb"), ("rotational", "\u00d7"),
+                       ("combined", "\u25b3")):
+        assert (mark in section) == marked[part], (setpoints, part, section)

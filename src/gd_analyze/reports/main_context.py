@@ -380,7 +380,8 @@ def _report_context_base(ds):
         "facts": facts, "intro": _INTRO.format(created=now.isoformat(), version=__version__),
         "captions": captions(enveloped, N, f"{s:g}", f"{e:g}", units=_caption_units(ds),
                              alike=alike_joints(ds)),
-        "D_text": _D_TEXT.format(s=f"{s:g}", e=f"{e:g}", units=units_said_once(ds, "D")),
+        "D_text": _D_TEXT.format(s=f"{s:g}", e=f"{e:g}", units=units_said_once(ds, "D"),
+                                 **_D_PARTS[enveloped]),
         "n": n, "N": N, "s": f"{s:g}", "e": f"{e:g}", "created": now.isoformat(),
         **robot,
         "ranking": ranking, "counts": counts, "choices": choices, "error": err,
@@ -412,12 +413,16 @@ _INTRO = ("Generalized d'Alembert (G-D) equations of motion split the inertia ma
 
 
 _D_TEXT = ("One panel per element " + _el("D", "ij") + " with i \u2264 j (row i, column j): "
-           "translational part " + _el("D", "ij", "tran") + " (\u25cb, blue), rotational part "
-           + _el("D", "ij", "rot") + " (\u00d7, orange) and " + _el("D", "ij")
+           "translational part " + _el("D", "ij", "tran") + " ({tran}), rotational part "
+           + _el("D", "ij", "rot") + " ({rot}) and " + _el("D", "ij")
            + " = " + _el("D", "ij", "tran") + " + " + _el("D", "ij", "rot")
-           + " (\u25b3, black) "
+           + " ({total}) "
            "against time [{units}]. The title gives the element and its dominance class "
            "(s = {s}, e = {e}).")
+#: How Fig. 2 draws each part (main_figures): marker and colour, or, for a long trajectory
+#: drawn as its envelope without markers, line style and colour.
+_D_PARTS = {False: {"tran": "\u25cb, blue", "rot": "\u00d7, orange", "total": "\u25b3, black"},
+            True: {"tran": "solid, blue", "rot": "dashed, orange", "total": "dotted, black"}}
 
 
 #: The verification's absolute floor (gd_analyze.formulations.pinocchio.FLOOR_EPS machine

@@ -40,7 +40,7 @@ from .plot_data import (  # noqa: F401
     PlotData,
     plot_data,
 )
-from .ticks import label_axes, set_ticks
+from .ticks import decade_label, label_axes, set_ticks
 
 __all__ = ["PAGE_WIDTH", "COLUMN_WIDTH", "ZERO_TOL", "PART_STYLE", "SHORT_CLASS", "PlotData", "plot_data",
            "identically_zero", "fig_D", "fig_h", "fig_joints", "fig_torque",
@@ -202,7 +202,7 @@ def _shown(units):
 
 def _unit_label(ax, units):
     """The panel's units on its y axis, e.g. ``[kg m]`` (a mixed arm's panels differ)."""
-    ax.set_ylabel(f"[{_shown(units)}]", fontsize=7, labelpad=0.5)
+    ax.set_ylabel(f"[{_shown(units)}]", fontsize=7, labelpad=1.0)
 
 
 def _legend_order(ax):
@@ -270,13 +270,13 @@ def fig_D(data, dominance, zero, s, e, prismatic=None, width=PAGE_WIDTH, armatur
         place = {element_label("D", i, j): (i, j) for i in range(n) for j in range(i, n)}
         W = _LEFT + _RIGHT + n * w + (n - 1) * wgap
         H_panels = _TOP + _BOTTOM + n * h + (n - 1) * _HGAP
-    key = (f"{_math('D_ij')} against time t [s]"
-           + ("; units on each panel's axis" if mixed else
-              f" [{_shown(next(iter(units.values())))}]")
+    key = (f"{_math('D_ij')}"
+           + ("" if mixed else f" [{_shown(next(iter(units.values())))}]")
+           + " against time t [s]" + ("; units on each panel's axis" if mixed else "")
            + ("" if column else f"; panel {_math('D_ij')} in row i, column j")
            + f". Title: element and its class: tran(slational), rot(ational), both, "
            f"negl(igible) (s = {s:g}, e = {e:g}); \u2261\u00a00: zero in every part "
-           f"(below 1e-12 of its scale).")
+           f"(below {decade_label(ROUND_OFF)} of its scale).")
     H = H_panels + (1.05 if column else 0.0)
     fig = _figure(W, H)
     x = data.x

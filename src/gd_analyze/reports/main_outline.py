@@ -7,8 +7,10 @@ with numbered captions, figures with numbered captions.
 
 from __future__ import annotations
 
+from ..core.selection.ranking import ROUND_OFF
 from .markup import element, sub
 from .sections import Outline
+from .ticks import decade_label
 
 __all__ = ["main_outline", "RANKING_TEXT"]
 
@@ -24,7 +26,8 @@ RANKING_TEXT = (
     + element("D", "ii") + " " + element("D", "jj") + ") for " + element("D", "ij")
     + ", peak |\u03c4" + sub("i") + "| for " + element("h", "i") + "); otherwise "
     "translational if its share is at least s = {s}, rotational if at most 1 \u2212 s, and "
-    "both in between. \u2261 0: zero in every part (below 1e-12 of its scale); its share is "
+    "both in between. \u2261 0: zero in every part (below " + decade_label(ROUND_OFF)
+    + " of its scale); its share is "
     "rounding noise and is not shown.")
 _DH_CAPTION = "Denavit-Hartenberg parameters (standard form); q is joint i's variable, {what}."
 _DH_VARIABLE = {False: "the angle \u03b8 (revolute joints)",

@@ -47,12 +47,24 @@ def element_scale(labels, peak_total, tau_peak):
     return out
 
 
+def _math(label):
+    """An element's label as mathematics, its index a subscript: "D12" -> D₁₂ (marked)."""
+    from .markup import element
+
+    return element(label[0], label[1:])
+
+
 def _names(labels):
     if not labels:
         return "none"
     if len(labels) <= 6:
-        return ", ".join(labels)
-    return ", ".join(labels[:5]) + f" and {len(labels) - 5} more"
+        return ", ".join(map(_math, labels))
+    return ", ".join(map(_math, labels[:5])) + f" and {len(labels) - 5} more"
+
+
+def _are(k):
+    """The verb after "k of m elements": "1 of 6 elements is", "4 of 21 elements are"."""
+    return "is" if k == 1 else "are"
 
 
 def _qty(value, unit):
@@ -111,14 +123,18 @@ def conclusion(labels, dominance, zero, choice, rel_peak, abs_peak, tau_peak, co
         by = {c: [labels[k] for k in ks if dominance[k] == c and not zero[k]] for c in _CLASSES}
         z = [labels[k] for k in ks if zero[k]]
         lead = max(("translational", "rotational", "both"), key=lambda c: len(by[c]))
-        text = (f"in {name}, {len(by['translational'])} of {len(ks)} elements are dominated by "
+        k_tran, k_both, k_negl = (len(by["translational"]), len(by["both"]),
+                                  len(by["negligible"]) + len(z))
+        text = (f"in {name}, {k_tran} of {len(ks)} elements {_are(k_tran)} dominated by "
                 f"the translational part ({_names(by['translational'])}), "
                 f"{len(by['rotational'])} by the rotational part ({_names(by['rotational'])}) "
-                f"and {len(by['both'])} need both")
-        if by["negligible"] or z:
-            text += (f"; {len(by['negligible']) + len(z)} are negligible ("
-                     + "; ".join(filter(None, [", ".join(by["negligible"]),
-                                               ", ".join(z) + " \u2261 0" if z else ""]))
+                f"and {k_both} need{'s' if k_both == 1 else ''} both")
+        if k_negl:
+            # "≡ 0" is kept with its last element on one line (no-break spaces)
+            text += (f"; {k_negl} {_are(k_negl)} negligible ("
+                     + "; ".join(filter(None, [", ".join(map(_math, by["negligible"])),
+                                               ", ".join(map(_math, z)) + "\u00a0\u2261\u00a00"
+                                               if z else ""]))
                      + ")")
         parts.append(text + f" \u2014 {lead} effects lead")
     first = "Dominance: " + "; ".join(parts) + "."
@@ -201,7 +217,8 @@ def model_sentence(recursive=None, choice=None, gravity=None, trajectory="this t
     kept = {c: sum(1 for v in choice if v == c) for c in ("tran", "rot", "both", "none")}
     terms = kept["tran"] + kept["rot"] + 2 * kept["both"]
     return (f"The simplified model keeps only the translational part of {kept['tran']} "
-            f"elements, only the rotational part of {kept['rot']}, both parts of "
+            f"element{'' if kept['tran'] == 1 else 's'}, only the rotational part of "
+            f"{kept['rot']}, both parts of "
             f"{kept['both']} and drops {kept['none']}: it evaluates {terms} of the "
             f"{2 * len(choice)} parts of D and h, and "
             + (f"{gravity}." if gravity else "its rule's terms of c."))
