@@ -199,11 +199,11 @@ def figure_makers(ds, data=None, keys=None):
     Raises
     ------
     KeyError
-        If a variable the figures need is missing from ``ds``.
+        As :func:`make_figures`: a variable the figures need is missing.
 
     Notes
     -----
-    Source: Sec. 3.4.1 and Figs. 3.10-3.11 of Fu, Gonzalez & Lee (1987).
+    The figures of Sec. 3.4.1, Figs. 3.10-3.11 (Fu, Gonzalez & Lee 1987), and the report's.
     """
     if data is None:
         data = plot_data(ds)

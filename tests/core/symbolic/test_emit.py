@@ -10,6 +10,7 @@ import ast
 import numpy as np
 import pytest
 import symengine as se
+from scales import joint_relative_error
 from symbolic_helpers import compile_c, explicit_program, rnea, states, symbolic_tau
 
 from gd_analyze.core.symbolic.codegen import Program
@@ -20,14 +21,6 @@ TOL = 1e-10
 q0, q1, qd0, qd1, qdd0, qdd1 = se.symbols("q0 q1 qd0 qd1 qdd0 qdd1")
 #: Coefficients of the long sum of the hand-written program: alternating signs.
 COEF = [(-1.0) ** k * (0.5 + 0.01 * k) for k in range(1, 41)]
-
-
-def _rel(a, b):
-    scale = np.abs(b).max(axis=0)
-    assert (scale > 0).all()
-    err = np.abs(a - b).max(axis=0) / scale
-    assert np.isfinite(err).all()
-    return float(err.max())
 
 
 def _hand_program():
@@ -88,8 +81,8 @@ def test_a_very_long_sum_compiles_in_python_and_c(tmp_path):
     q, qd, qdd = rng.uniform(-1, 1, (3, 6, 1))
     want = (c * np.cos(np.outer(qd[:, 0], np.arange(1, 3001)))).sum(axis=1)[:, None] * q ** 2 \
         + 0.5 * qdd
-    assert _rel(python_function(prog)(q, qd, qdd), want) < 1e-12
-    assert _rel(compile_c(tmp_path, prog, "long")(q, qd, qdd), want) < 1e-12
+    assert joint_relative_error(python_function(prog)(q, qd, qdd), want) < 1e-12
+    assert joint_relative_error(compile_c(tmp_path, prog, "long")(q, qd, qdd), want) < 1e-12
 
 
 @pytest.mark.parametrize("name", ["two-link", "mixed"])
@@ -97,8 +90,8 @@ def test_compiled_c_equals_the_symbolic_expression_and_rnea(tmp_path, name):
     arm, prog = explicit_program(name)
     q, qd, qdd = states(arm, 8, 5)
     tau_c = compile_c(tmp_path, prog)(q, qd, qdd)
-    assert _rel(tau_c, symbolic_tau(prog, q, qd, qdd)) < 1e-13
-    assert _rel(tau_c, rnea(arm, q, qd, qdd)) < TOL
+    assert joint_relative_error(tau_c, symbolic_tau(prog, q, qd, qdd)) < 1e-13
+    assert joint_relative_error(tau_c, rnea(arm, q, qd, qdd)) < TOL
 
 
 def test_emitted_c_includes_only_math_h_and_defines_one_function():
