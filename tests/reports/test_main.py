@@ -715,3 +715,22 @@ def test_envelope_text_gives_the_drawn_column_count(tmp_path, two_link):
             for m in re.findall(r"over (?:about )?([\d,]+) equal time columns", t)]
     assert len(said) >= 2 and set(said) == drawn, (said, drawn)
     assert report.envelope.__defaults__[0] == drawn.pop()
+
+
+def test_torque_caption_describes_the_drawn_figure(puma_report):
+    """Fig. 4's caption says what the figure drawn for the file shows (oracle: the drawn
+    lines' colours and styles): with the simplified-model variables, τₛ − τ and its bound, no
+    "green, dashed" τₛ; without them (results of analyze() without simplify), the fallback
+    figure of τ (black, solid) and τₛ (green, dashed), as its caption says."""
+    from gd_analyze.reports.main_context import report_context
+
+    ds = puma_report["ds"].load()
+    bare = ds.drop_vars([v for v in ds.variables if str(v).startswith("simplified")])
+    for data, simplified in ((ds, True), (bare, False)):
+        caption = report_context(data)["captions"]["torque"]
+        fig = report.make_figures(data, keys=["torque"])["torque"]
+        drawn = {(line.get_color().lower(), line.get_linestyle()) for ax in fig.axes
+                 for line in ax.lines if len(line.get_xdata()) > 2}
+        green_dashed = ("#009e73", "--") in drawn
+        assert green_dashed == ("green, dashed" in caption) == (not simplified), caption
+        assert ("black, solid" in caption) == (("#000000", "-") in drawn)

@@ -388,7 +388,12 @@ def captions(enveloped, N, s, e, units=None, alike=()):
     Returns
     -------
     dict of str to str
-        By figure key.
+        By figure key. ``torque`` is the caption of
+        :func:`gd_analyze.reports.main_figures.fig_torque` (τ and τₛ), the figure of a results
+        file without the simplified-model variables; for one with them the report draws
+        τₛ − τ and its bound and takes that figure's caption
+        (:func:`gd_analyze.reports.simplified_section.simplified_caption`), as
+        :func:`gd_analyze.reports.main_context.report_context` does.
     """
     from .markup import element
 
