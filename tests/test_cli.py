@@ -404,3 +404,26 @@ def test_a_sub_command_may_import_dask(tmp_path):
                           env={**os.environ, "MPLBACKEND": "Agg"}, timeout=600)
     assert proc.returncode == 0, proc.stderr
     assert proc.stderr.splitlines()[-1] == "atexit ran; dask imported: True"
+
+
+def test_summary_says_how_many_set_points_were_verified(tmp_path, capsys):
+    """Issue 18 item 1: on a 5,000-set-point run the printout says "on 2,000 of 5,000 set
+    points" (thousands separators as the report's counts), not "on 2000 set points"; on a
+    short run, where every set point is checked, the plain count. Oracle: the trajectory file's
+    own row count and the stored attribute."""
+    from gd_analyze.workflows.analyze import VERIFY_MAX_SETPOINTS
+
+    N = 5000
+    t = np.linspace(0, 5, N)
+    path = tmp_path / "long.csv"
+    path.write_text("t,q1,q2\n" + "".join(f"{v:.17g},{np.sin(v):.17g},{np.cos(v):.17g}\n" for v in t))
+    assert main(["two-link", str(path), "-o", str(tmp_path / "o"), "--no-report"]) == 0
+    line = next(x for x in capsys.readouterr().out.splitlines() if x.startswith("verified"))
+    with xr.open_dataset(tmp_path / "o" / "results.h5") as ds:
+        checked = int(ds.attrs["verification_setpoints"])
+    assert checked == VERIFY_MAX_SETPOINTS < N
+    assert line.startswith(f"verified against Pinocchio on {checked:,} of {N:,} set points:")
+    short = _two_link_csv(tmp_path)
+    assert main(["two-link", str(short), "-o", str(tmp_path / "s"), "--no-report"]) == 0
+    line = next(x for x in capsys.readouterr().out.splitlines() if x.startswith("verified"))
+    assert line.startswith("verified against Pinocchio on 11 set points:")

@@ -334,3 +334,24 @@ def test_payload_figure_gives_each_torque_axis_one_unit(payload_figures):
             assert len(units) == 1 and ax.get_ylabel() == f"peak |\u03c4| [{units.pop()}]"
             drawn += joints
         assert sorted(drawn) == list(range(len(prismatic)))
+
+
+def test_one_tick_form_per_figure(figures):
+    """Issue 18 item 3, one tick format per figure (ticks.label_axes' rule): when any panel of
+    a figure is written in units of 10ᵏ, every panel whose ticks are all below 1 in magnitude
+    is too; no panel reads "0.01" beside a panel reading "5" in units of 10⁻³ (PUMA Fig. 4,
+    UR5 Fig. 2 D₁₆). Oracle: the drawn labels and the ticks' own positions."""
+    name, _, figs = figures
+    for key, fig in figs.items():
+        axes = []
+        for ax in fig.axes:
+            ticks = tick_texts(ax, "y")
+            if not ticks:
+                continue
+            label = " ".join(t.get_text() for t in ax.texts
+                             if t.get_text() and t.get_rotation() == 90.0)
+            big = max(abs(v) for v, _ in ticks)
+            axes.append((_power(label), big, [lab.get_text() for _, lab in ticks]))
+        if any(k for k, _, _ in axes):
+            plain_small = [labs for k, big, labs in axes if k == 0 and 0 < big < 1]
+            assert not plain_small, (name, key, plain_small)

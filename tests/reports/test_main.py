@@ -693,3 +693,44 @@ def test_chapter_model_dearer_than_full_is_explained(puma_report):
     assert a["other_rule_harmonics"] <= a["full_harmonics"]        # it keeps fewer terms ...
     assert f"keeps {a['other_rule_harmonics']:,} of the full model's {a['full_harmonics']:,}" in html
     assert a["other_rule_coefficients"] > a["full_coefficients"]  # ... with less in common
+
+
+def test_envelope_text_gives_the_drawn_column_count(tmp_path, two_link):
+    """One fact in one place (issue 18): on a 5,000-set-point run, the number of envelope
+    columns the text and the captions give equals the columns of the drawn figure's curves
+    (oracle: the distinct abscissae of the drawn lines); the context said "about 400" while
+    it defined 1000 of its own."""
+    from gd_analyze.reports.main_context import report_context
+
+    trajectory = plan_quintic(two_link, [0.0, 0.0], [np.pi / 2, np.pi / 3], n_setpoints=5000)
+    with open_results(make_results(two_link, trajectory, tmp_path, check=False)) as ds:
+        ds = ds.load()
+    ctx = report_context(ds)
+    fig = report.make_figures(ds, report.plot_data(ds))["D"]
+    drawn = {np.unique(line.get_xdata()).size for ax in fig.axes for line in ax.lines
+             if len(line.get_xdata()) > 2}
+    assert len(drawn) == 1
+    texts = [ctx["envelope_note"], *ctx["captions"].values()]
+    said = [int(m.replace(",", "")) for t in texts
+            for m in re.findall(r"over (?:about )?([\d,]+) equal time columns", t)]
+    assert len(said) >= 2 and set(said) == drawn, (said, drawn)
+    assert report.envelope.__defaults__[0] == drawn.pop()
+
+
+def test_torque_caption_describes_the_drawn_figure(puma_report):
+    """Fig. 4's caption says what the figure drawn for the file shows (oracle: the drawn
+    lines' colours and styles): with the simplified-model variables, τₛ − τ and its bound, no
+    "green, dashed" τₛ; without them (results of analyze() without simplify), the fallback
+    figure of τ (black, solid) and τₛ (green, dashed), as its caption says."""
+    from gd_analyze.reports.main_context import report_context
+
+    ds = puma_report["ds"].load()
+    bare = ds.drop_vars([v for v in ds.variables if str(v).startswith("simplified")])
+    for data, simplified in ((ds, True), (bare, False)):
+        caption = report_context(data)["captions"]["torque"]
+        fig = report.make_figures(data, keys=["torque"])["torque"]
+        drawn = {(line.get_color().lower(), line.get_linestyle()) for ax in fig.axes
+                 for line in ax.lines if len(line.get_xdata()) > 2}
+        green_dashed = ("#009e73", "--") in drawn
+        assert green_dashed == ("green, dashed" in caption) == (not simplified), caption
+        assert ("black, solid" in caption) == (("#000000", "-") in drawn)

@@ -225,3 +225,30 @@ def test_a_table_continued_on_the_next_page_says_so(tmp_path):
         # the caption stands above the repeated header
         assert text.index("Table 3.1 (continued)") < text.index("row")
     assert "Table 3.2 (continued)" not in "".join(pages)
+
+
+
+@pytest.mark.parametrize("words", range(100, 1000, 40))
+def test_no_page_ends_with_a_heading_whose_figure_is_on_a_later_page(words):
+    """Keep with next (issue 18 review, the Stanford report): a figure that floats to the top
+    of the next page (Fig. 1) must not push the next section's heading and its lead-in to the
+    foot of that page with the section's own figure (Fig. 2) a page later. The heading, its
+    lead-in and its figure share a page, wherever the text before them ends; no page's last
+    text is a heading."""
+    doc = Document("x")
+    doc.paragraph("word " * words)
+    doc.figure(_figure(7.2, 0.43 * doc.body), (7.2, 0.43 * doc.body), "first figure, " * 12)
+    doc.heading("2. Second section")
+    doc.paragraph("A lead-in to the second figure, " * 8)
+    doc.figure(_figure(7.2, 0.49 * doc.body), (7.2, 0.49 * doc.body), "second figure, " * 16)
+    doc.heading("3. Third section")
+    doc.figure(_figure(7.2, 1.3), (7.2, 1.3), "third figure")
+    pages, bookmarks = doc._layout()
+    page_of = {text: page for text, _, page in bookmarks}
+    figure_page = {op[1][1].split(".")[0]: k for k, p in enumerate(pages) for op in p.ops
+                   if op[0] == "text" and op[1][1].startswith("Figure ")}
+    assert page_of["2. Second section"] == figure_page["Figure 2"], (words, page_of, figure_page)
+    assert page_of["3. Third section"] == figure_page["Figure 3"]
+    for k, page in enumerate(pages):
+        texts = [op[1] for op in page.ops if op[0] == "text"]
+        assert not texts or not texts[-1][3], (words, k, texts[-1])      # bold: a heading

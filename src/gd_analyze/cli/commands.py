@@ -161,8 +161,10 @@ def _effort_lines(ds):
 
 
 def _format_summary(ds):
+    from ..reports.numbers import count
+
     lines = [f"{ds.attrs['robot']} along {ds.attrs['input_file']}: "
-             f"{ds.attrs['setpoints']} set points, s = {ds.attrs['dominance_threshold']:g}, "
+             f"{count(ds.attrs['setpoints'])} set points, s = {ds.attrs['dominance_threshold']:g}, "
              f"e = {ds.attrs['negligible_threshold']:g}", "",
              f"{'element':<8}{'share_tran':>11}  {'class':<14}{'peak_total':>12}  units"]
     from ..reports.main_figures import identically_zero
@@ -201,7 +203,10 @@ def _format_summary(ds):
 
         worst = float(np.max([v for k, v in ds.attrs.items()
                               if k.startswith("verification_max_rel")]))
-        where = f"verified against Pinocchio on {ds.attrs['verification_setpoints']} set points"
+        checked, total = int(ds.attrs["verification_setpoints"]), int(ds.attrs["setpoints"])
+        where = ("verified against Pinocchio on "
+                 + (f"{count(checked)} of {count(total)}" if checked < total else count(checked))
+                 + " set points")
         lines += ["", f"{where}: every difference within round-off (64 eps of its scale)"
                   if worst == 0 else
                   f"{where}: largest difference beyond round-off {worst:.2e} of its natural scale"]

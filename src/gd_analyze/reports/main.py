@@ -39,11 +39,12 @@ from .common import check_formats, prismatic_joints, render_template
 from .common import strings as _strings
 from .common import thresholds as _thresholds
 from .drawing import draw_figures, write_figure_files
-from .main_context import ENVELOPE_COLUMNS, ENVELOPE_THRESHOLD, report_context, zero_mask
+from .main_context import report_context, zero_mask
 from .main_figures import COLUMN_WIDTH, PAGE_WIDTH, fig_D, fig_h, fig_joints, fig_torque, plot_data
 from .main_figures import RC as FIG_RC
 from .main_outline import main_outline
 from .pages import FIGURE_FONTS, PAPER, Document
+from .plot_data import ENVELOPE_COLUMNS, ENVELOPE_THRESHOLD
 from .sections import to_document
 from .simplified_section import error_figure, has_simplified
 

@@ -25,6 +25,7 @@ from .common import (
     utc_now,
 )
 from .common import fmt as _fmt
+from .common import fmt_column as _column
 from .common import pct_column as _pct_column
 from .common import share as _share
 from .common import strings as _strings
@@ -44,16 +45,10 @@ from .main_text import (
 )
 from .markup import element as _el
 from .markup import tau
+from .plot_data import ENVELOPE_COLUMNS, ENVELOPE_THRESHOLD
 from .simplified_section import ROUND_OFF, has_simplified, simplified_caption, simplified_context
 
-__all__ = ["ENVELOPE_THRESHOLD", "ENVELOPE_COLUMNS", "prismatic_joints", "zero_mask",
-           "report_context"]
-
-#: Series longer than this are drawn as a min/max envelope, without markers.
-ENVELOPE_THRESHOLD = 2000
-
-#: Columns of the min/max envelope (at most two points each).
-ENVELOPE_COLUMNS = 1000
+__all__ = ["prismatic_joints", "zero_mask", "report_context"]
 
 _REQUIRED = ("t", "q", "qd", "qdd", "D_tran", "D_rot", "D", "h_tran", "h_rot", "h", "tau",
              "tau_simplified", "share_tran", "dominance", "chapter_dominance", "choice",
@@ -85,10 +80,11 @@ def _base_parameter_table(ds):
         return "dropped" if dropped[k, p] else "kept"
 
     value = ds["base_parameter_value"].values
+    listed = [k for k in range(len(names)) if value[k] != 0]
     return _table(["base parameter", "value", "units", *parts],
-                  [[name, _fmt(value[k]), units_text(units[k]),
+                  [[names[k], text, units_text(units[k]),
                     *(cell(k, p) for p in range(len(parts)))]
-                   for k, name in enumerate(names) if value[k] != 0],
+                   for k, text in zip(listed, _column(value[listed]))],
                   align=["left", "right", "left", "left", "left", "left"],
                   widths=[1.0, 1.0, 0.7, 0.8, 0.8, 0.8])
 
@@ -277,14 +273,14 @@ def _report_context_base(ds):
     off = {name: is_round_off(v, scale, arm_scale=arm)
            for name, v in (("tran", pt), ("rot", pr), ("total", ptot))}
 
-    def peak(name, k, v):                        # round-off of the element's scale: not data
-        return "\u2261 0" if off[name][k] else _fmt(v[k])
+    shown = {name: _column(v, off=off[name])     # round-off of the element's scale: not data
+             for name, v in (("tran", pt), ("rot", pr), ("total", ptot))}
 
     ranking = _table(
         ["element", "translational share", "class", f"peak |{_el('X', '', 'tran')}|",
          f"peak |{_el('X', '', 'rot')}|", "peak |X|", "units"],
         [[lab, "\u2261 0" if zero[k] else _share_text(share[k], off["tran"][k], off["rot"][k]),
-          dominance[k], peak("tran", k, pt), peak("rot", k, pr), peak("total", k, ptot),
+          dominance[k], shown["tran"][k], shown["rot"][k], shown["total"][k],
           el_units[k]]
          for k, lab in enumerate(labels)],
         align=["left", "right", "left", "right", "right", "right", "left"],
@@ -305,14 +301,16 @@ def _report_context_base(ds):
                            arm_scale=arm_scales(ds["tau_peak"].values, tau_units))
     rel_peak = _pct_column(ds["tau_error_relative_peak"].values, err_off)   # one format
     rel_rms = _pct_column(ds["tau_error_relative_rms"].values, err_off)     # per column
+    err_peak, err_rms, tau_peak = (
+        _column(ds[v].values, off=err_off if v != "tau_peak" else None)
+        for v in ("tau_error_peak", "tau_error_rms", "tau_peak"))
     err = _table(
         ["joint", "peak |\u03c4\u209b\u00a0\u2212\u00a0\u03c4|",
          "RMS |\u03c4\u209b\u00a0\u2212\u00a0\u03c4|",
          "peak |\u03c4|", "peak error / peak |\u03c4|", "RMS error / peak |\u03c4|", "units"],
         [[str(k + 1)] + (["\u2261 0 (round-off)"] * 2 if err_off[k] else
-                         [_fmt(ds["tau_error_peak"].values[k]),
-                          _fmt(ds["tau_error_rms"].values[k])])
-         + [_fmt(ds["tau_peak"].values[k]), rel_peak[k], rel_rms[k], tau_units[k]]
+                         [err_peak[k], err_rms[k]])
+         + [tau_peak[k], rel_peak[k], rel_rms[k], tau_units[k]]
          for k in range(n)],
         align=["left"] + ["right"] * 5 + ["left"], widths=[0.6, 1.2, 1.2, 1, 1.2, 1.2, 0.6])
     rel_peak = ds["tau_error_relative_peak"].values
@@ -394,7 +392,7 @@ def _report_context_base(ds):
         "provenance": _kv(prov), "enveloped": enveloped,
         "formulations": formulations, "payload": payload,
         "envelope_note": (f"The trajectory has {count(N)} set points: curves are drawn as their "
-                          "min/max envelope over about 400 equal time columns per panel, "
+                          f"min/max envelope over {count(ENVELOPE_COLUMNS)} equal time columns per panel, "
                           "without markers (the report reads the stored series in chunks)."
                           if enveloped else ""),
         "keywords": (f"generalized d'Alembert; G-D dynamics; dominance; {robot_name}; "

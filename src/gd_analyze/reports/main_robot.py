@@ -11,6 +11,7 @@ from ..core.selection.ranking import joint_motion_units
 from .common import attr as _attr
 from .common import count, prismatic_joints, strings
 from .common import fmt as _fmt
+from .common import fmt_column as _column
 from .common import share as share_text
 from .common import table as _table
 from .effort import effort_rows
@@ -112,9 +113,8 @@ def robot_section(ds, robot_name):
     link = _table(
         ["joint", "mass [kg]", "com x [m]", "com y [m]", "com z [m]", "Ixx [kg m\u00b2]",
          "Iyy [kg m\u00b2]", "Izz [kg m\u00b2]"],
-        [[str(k + 1), _fmt(ds["link_mass"].values[k]), _fmt(com[k, 0]), _fmt(com[k, 1]),
-          _fmt(com[k, 2]), _fmt(inertia[k, 0, 0]), _fmt(inertia[k, 1, 1]),
-          _fmt(inertia[k, 2, 2])] for k in range(n)],
+        _rows(range(1, n + 1), ds["link_mass"].values, *com.T,
+              *(inertia[:, i, i] for i in range(3))),
         align=["left"] + ["right"] * 7, widths=[0.7] + [1] * 7)
     drives = _drives_context(ds, labels)
     derivatives = str(ds.attrs.get("derivatives", ""))
@@ -134,22 +134,31 @@ def robot_section(ds, robot_name):
     q, qd, qdd = (ds[v].values * scale for v in ("q", "qd", "qdd"))
     joints = _table(
         ["joint", "type", "q min", "q max", "peak |q\u0307|", "peak |q\u0308|", "units"],
-        [[str(k + 1), "prismatic" if prismatic[k] else "revolute", _fmt(q[:, k].min()),
-          _fmt(q[:, k].max()), _fmt(np.abs(qd[:, k]).max()), _fmt(np.abs(qdd[:, k]).max()),
+        [[row[0], "prismatic" if prismatic[k] else "revolute", *row[1:],
           ", ".join(joint_motion_units(bool(prismatic[k]), shown=True))]
-         for k in range(n)],
+         for k, row in enumerate(_rows(range(1, n + 1), q.min(axis=0), q.max(axis=0),
+                                       np.abs(qd).max(axis=0), np.abs(qdd).max(axis=0)))],
         align=["left", "left"] + ["right"] * 4 + ["left"], widths=[0.6, 0.9, 1, 1, 1, 1, 1.5])
 
     efforts = effort_rows(ds)
     effort = _table(
         ["joint", "peak |\u03c4|", "effort limit", "peak / limit", "flag", "units"],
-        [[str(j), _fmt(peak), _fmt(limit), _fmt(ratio, 3), flag, unit]
-         for j, peak, limit, ratio, flag, unit in efforts],
+        [[*row, flag, unit] for row, (*_, flag, unit) in zip(
+            _rows([e[0] for e in efforts], [e[1] for e in efforts], [e[2] for e in efforts],
+                  ([e[3] for e in efforts], 3)), efforts)],
         align=["left", "right", "right", "right", "left", "left"],
         widths=[0.6, 1, 1, 1, 1, 0.6]) if efforts else None
     return {"robot_kv": robot_kv, "dh": dh, "placements": placements, "link": link,
             "traj_kv": traj_kv, "joints": joints, "effort": effort,
             "effort_text": _effort_text(efforts), "drives": drives}
+
+
+def _rows(first, *columns):
+    """Table rows: ``first`` as text, then each column of numbers in one notation
+    (:func:`gd_analyze.reports.numbers.fmt_column`); a column given as ``(values, digits)``
+    keeps that many significant digits."""
+    cols = [_column(*c) if isinstance(c, tuple) else _column(c) for c in columns]
+    return [[str(f), *cells] for f, *cells in zip(first, *cols)]
 
 
 def _robot_geometry(ds):
@@ -188,12 +197,14 @@ def _robot_geometry(ds):
     def num(v):
         return _fmt(0.0 if abs(v) < 1e-12 else v)                    # no -0, no 1e-17
 
+    xyz = np.where(np.abs(t) < 1e-12, 0.0, t)
+    angles = np.where(np.abs(rpy) < 1e-12, 0.0, rpy)
     placements = _table(
         ["joint", "type", "x [m]", "y [m]", "z [m]", "roll [deg]", "pitch [deg]", "yaw [deg]",
          "axis in frame i\u22121"],
         [[str(k + 1), str(ds["joint_type"].values[k]) if "joint_type" in ds else "",
-          *(num(v) for v in t[k]), *(num(v) for v in rpy[k]),
-          "(" + ", ".join(num(v) for v in R[k, :, 2]) + ")"] for k in range(n)],
+          *row[1:], "(" + ", ".join(num(v) for v in R[k, :, 2]) + ")"]
+         for k, row in enumerate(_rows(range(n), *xyz.T, *angles.T))],
         align=["left", "left"] + ["right"] * 6 + ["left"],
         widths=[0.6, 0.9, 0.9, 0.9, 0.9, 0.9, 0.9, 0.9, 1.6])
     return None, placements
@@ -213,10 +224,9 @@ def _drives_context(ds, labels):
     table = _table(
         ["joint", "armature", "viscous", "Coulomb", "peak |τ_f|", "armature share of D_ii",
          "units"],
-        [[str(k + 1), _fmt(arm[k]), _fmt(fv[k]), _fmt(fc[k]), _fmt(peak_f[k]),
-          share_text(share[diag[k]]) if diag[k] is not None else "—",
+        [[*row, share_text(share[diag[k]]) if diag[k] is not None else "—",
           "kg, N s/m, N, N" if pris[k] else "kg m², N m s/rad, N m, N m"]
-         for k in range(n)],
+         for k, row in enumerate(_rows(range(1, n + 1), arm, fv, fc, peak_f))],
         align=["left"] + ["right"] * 5 + ["left"], widths=[0.5, 0.9, 0.9, 0.9, 0.9, 1, 2])
     note = ("Drives: the armature (rotor inertia × gear ratio²) adds diag(armature) "
             "to D, a third part D^arm beside D^tran and D^rot, counted on the rotational side "

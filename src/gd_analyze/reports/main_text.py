@@ -9,6 +9,7 @@ from __future__ import annotations
 import numpy as np
 
 from ..core.selection.ranking import element_label, parse_element_label
+from .plot_data import ENVELOPE_COLUMNS
 
 __all__ = ["conclusion", "model_sentence", "gravity_clause", "simplified_intro", "disagreement_cause", "captions",
            "element_scale", "prismatic_count_note", "alike_sentence"]
@@ -387,13 +388,18 @@ def captions(enveloped, N, s, e, units=None, alike=()):
     Returns
     -------
     dict of str to str
-        By figure key.
+        By figure key. ``torque`` is the caption of
+        :func:`gd_analyze.reports.main_figures.fig_torque` (τ and τₛ), the figure of a results
+        file without the simplified-model variables; for one with them the report draws
+        τₛ − τ and its bound and takes that figure's caption
+        (:func:`gd_analyze.reports.simplified_section.simplified_caption`), as
+        :func:`gd_analyze.reports.main_context.report_context` does.
     """
     from .markup import element
 
     if enveloped:
-        how = (f"The {N:,} set points are drawn as their min/max envelope over about 400 equal "
-               "time columns, without markers; lines: translational solid, rotational dashed, "
+        how = (f"The {N:,} set points are drawn as their min/max envelope over "
+               f"{ENVELOPE_COLUMNS:,} equal time columns, without markers; lines: translational solid, rotational dashed, "
                "combined dotted")
     else:
         from .common import panel_markevery
@@ -407,7 +413,7 @@ def captions(enveloped, N, s, e, units=None, alike=()):
     u = {"joints": "deg, deg/s, deg/s\u00b2", "D": "kg m\u00b2", "tau": "N m", **(units or {})}
     # what Fig. 1 draws (main_figures.joints_figure): markers only when not enveloped
     joint_lines = ("each joint in its own colour and line style, without markers: the min/max "
-                   f"envelope of its {N:,} set points over about 400 equal time columns"
+                   f"envelope of its {N:,} set points over {ENVELOPE_COLUMNS:,} equal time columns"
                    if enveloped else "each joint in its own colour, line style and marker")
     return {
         "joints": "Joint positions q, velocities q\u0307 and accelerations q\u0308 against time "

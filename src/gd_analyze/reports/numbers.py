@@ -10,7 +10,12 @@ import math
 
 import numpy as np
 
-__all__ = ["fmt", "count", "share", "pct", "pct_column"]
+__all__ = ["fmt", "fmt_column", "count", "share", "pct", "pct_column"]
+
+#: :func:`fmt_column` writes a column in fixed notation with at most this many decimals and
+#: this many digits more than its significant ones in its widest entry (magnitudes over three
+#: decades); in exponent form beyond.
+_COLUMN_DECIMALS, _COLUMN_SPAN = 6, 3
 
 
 def fmt(value, digits=4, sci_outside=None):
@@ -50,6 +55,72 @@ def fmt(value, digits=4, sci_outside=None):
     if sci_outside is not None and abs(v) >= 10.0 ** digits:
         return f"{v:,.0f}"          # inside the range: never e-notation (34,780, not 3.478e+04)
     return f"{v:,.{digits}g}"
+
+
+def _close(texts, values, digits):
+    """Each text, read back, within half a unit of its value's last significant digit."""
+    for t, v in zip(texts, values):
+        unit = 10.0 ** (math.floor(math.log10(abs(v))) - digits + 1)
+        if abs(float(t.replace(",", "")) - v) > 0.5 * unit * (1 + 1e-9):
+            return False
+    return True
+
+
+def fmt_column(values, digits=4, off=None):
+    """A column of numbers in one notation (issue 18: one format per column).
+
+    Parameters
+    ----------
+    values : array_like, shape (M,)
+        The numbers [any one unit].
+    digits : int, optional
+        Significant digits each entry keeps, at least.
+    off : array_like of bool, shape (M,), optional
+        Entries that are round-off by the caller's rule: shown as "≡ 0".
+
+    Returns
+    -------
+    list of str
+        ``"0"`` for zero, ``"n/a"`` if not finite. The others all in fixed notation with one
+        number of decimals, the fewest that keep ``digits`` significant digits of every entry
+        (of the smallest above all), with a comma between thousands (as :func:`fmt`), if that
+        takes at most 6 decimals and ``digits + 3`` digits in the widest entry; else all in exponent form
+        ``d.dde-05`` with one number of mantissa decimals, the fewest that keep ``digits``
+        significant digits of every entry. So no column shows "0.00015" beside "4e-05".
+
+    Examples
+    --------
+    >>> fmt_column([0.00015, 4e-05, 0.0])
+    ['0.00015', '0.00004', '0']
+    >>> fmt_column([0.0008908, 7.829e-05, 3.696])
+    ['8.908e-04', '7.829e-05', '3.696e+00']
+    >>> fmt_column([15.6, 8.1, 0.34])
+    ['15.60', '8.10', '0.34']
+    >>> fmt_column([1474.2, 0.8302])
+    ['1.474e+03', '8.302e-01']
+    """
+    v = np.asarray(values, dtype=float).ravel()
+    hide = (np.zeros(v.shape, bool) if off is None else np.asarray(off, bool).ravel())
+    shown = v[~hide & np.isfinite(v) & (v != 0)]
+    texts = None
+    if shown.size:
+        big = float(np.abs(shown).max())
+        for d in range(_COLUMN_DECIMALS + 1):
+            if math.floor(math.log10(big)) + 1 + d > digits + _COLUMN_SPAN:
+                break
+            cand = [f"{x:,.{d}f}" for x in shown]
+            if _close(cand, shown, digits):
+                texts = cand
+                break
+        if texts is None:
+            for d in range(digits):
+                cand = [f"{x:.{d}e}" for x in shown]
+                if _close(cand, shown, digits):
+                    texts = cand
+                    break
+    it = iter(texts or [])
+    return ["\u2261 0" if h else "n/a" if not math.isfinite(x) else "0" if x == 0
+            else next(it) for x, h in zip(v, hide)]
 
 
 def count(value):

@@ -272,6 +272,12 @@ class Document:
         :data:`_FLOAT_ROOM` of the body, floats: the text and tables after it fill the page,
         and the figure goes to the top of the next page (figures keep their order), as LaTeX
         places a float; a page is not left three-quarters blank.
+
+        A heading keeps with what follows it (keep with next): with the start of its first
+        block, a short lead-in paragraph with the figure or table after it
+        (:meth:`_first_height`). If that group does not fit below a float placed at the top
+        of the next page, it starts the page after: no page ends with a heading and its
+        lead-in whose figure or table is on a later page.
         """
         pages = [_Page()]
         bookmarks = []
@@ -318,14 +324,21 @@ class Document:
                 h = len(lines) * size * 1.45 / 72 + 0.05
                 follow = self._first_height(blocks[k + 1:]) if k + 1 < len(blocks) else 0.0
                 follow = min(follow, body - _TOP_GROUP)    # a page-high figure shrinks
+                floats = 0.0
                 if pending and any(b[0] == "figure" for b in blocks[k + 1:k + 3]):
                     # its figure comes after the floating one: both below the heading, or
                     # the heading under the float on the next page, never alone at the foot
-                    follow += sum(self._figure_box(*f[1], f[2])[4] for f in pending)
-                if lead + h + follow > room() and page.used > 0:
+                    floats = sum(self._figure_box(*f[1], f[2])[4] for f in pending)
+                if lead + h + follow + floats > room() and page.used > 0:
                     new_page()
                     page = pages[-1]
                     lead = 0.0 if page.used == 0 else lead
+                    # keep with next: the float placed at the top of the new page may leave
+                    # no room for the heading's group; then the group starts the page after
+                    if lead + h + follow > room() and page.used > 0:
+                        new_page()
+                        page = pages[-1]
+                        lead = 0.0
                 page.used += lead
                 for line in lines:
                     page.ops.append(("text", (page.used, line, size, True, "black")))

@@ -138,7 +138,7 @@ def notation(values):
 
 
 def label_axes(axes):
-    """Write the tick labels of several axes of one figure in one notation: fixed.
+    """Write the tick labels of several axes of one figure in one notation and one form.
 
     Parameters
     ----------
@@ -150,19 +150,37 @@ def label_axes(axes):
     -------
     str
         ``"fixed"``: no label of the figure is written like ``1.5e−5`` (a figure never mixes
-        2e−5 and 0.0015). An axis whose largest |tick| is outside [0.01, 10⁴), or whose ticks
-        :func:`tick_labels` would write that way, is labelled in units of a power of ten,
-        10^k with 1 <= max|tick| / 10^k < 10: its ticks read 0, 1.5, 3 and its axis label
-        says the power (:func:`with_power`).
+        2e−5 and 0.0015).
+
+    Notes
+    -----
+    The rule, one form for the whole figure (issue 18 item 3, "one tick format per figure"):
+
+    - *plain*, if every axis can be written as its ticks are: largest |tick| in [0.01, 10⁴)
+      and :func:`tick_labels` writes them in fixed notation. Every axis then reads, e.g.,
+      0, 0.25, 0.5 or 0, 20, 40.
+    - *in units of a power of ten* otherwise: every axis whose largest |tick| is below 1 or at
+      least 10⁴ (or whose ticks :func:`tick_labels` writes like ``1.5e−5``) is labelled in
+      units of its own 10^k, 1 <= max|tick| / 10^k < 10: its ticks read 0, 1.5, 3 and its axis
+      label says the power (:func:`with_power`). An axis whose largest |tick| is in [1, 10⁴)
+      keeps its ticks as they are (0, 2.5, 5 or 0, 20, 40: no leading "0.", as the scaled
+      ones). So no figure shows "0.01" on one panel beside "5 [×10⁻³]" on the next.
+
+    Every label, times its axis' 10^k, gives back its tick (:func:`tick_labels`).
     """
+    placed = []
     for a in axes:
         ticks = np.asarray(a.get_ticklocs(), float)
         if not len(ticks):
             continue
         finite = np.abs(ticks[np.isfinite(ticks)])
         big = float(finite.max()) if finite.size else 0.0
+        odd = big > 0 and (not _PLAIN[0] <= big < _PLAIN[1] or notation(ticks) == "sci")
+        placed.append((a, ticks, big, odd))
+    scaled = any(odd for *_, odd in placed)
+    for a, ticks, big, odd in placed:
         k = 0
-        if big > 0 and (not _PLAIN[0] <= big < _PLAIN[1] or notation(ticks) == "sci"):
+        if odd or (scaled and 0 < big < 1.0):
             k = int(math.floor(math.log10(big)))
         _place(a, ticks, tick_labels(ticks / 10.0 ** k, "fixed"))
         if k:

@@ -1,0 +1,94 @@
+"""One number format per table column (issue 18, as for the percentages): Table 1.3 printed
+Izz "0.00015" beside "4e-05", Table 4.1 "0.0008908" beside "7.829e-05". Checked on the report
+context of the PUMA 560 and the Stanford arm (joint 3 prismatic): no column of any table mixes
+exponent form with fixed notation, and each printed value reads back within its four
+significant digits of the value stored in results.h5 (the oracle)."""
+
+import math
+import re
+
+import numpy as np
+import pytest
+from conftest import ROOT
+
+from gd_analyze import load_robot
+from gd_analyze.io.schema import open_results
+from gd_analyze.io.trajectory import read_trajectory
+from gd_analyze.reports.main_context import report_context
+from gd_analyze.reports.markup import plain
+from gd_analyze.workflows.analyze import analyze_to_file
+from gd_analyze.workflows.options import AnalysisOptions
+
+NUMBER = re.compile(r"^[\u2212-]?[\d,]*\.?\d+(e[+-]\d+)?$")
+
+
+@pytest.fixture(scope="module", params=("puma560", "stanford"))
+def context(request, tmp_path_factory):
+    name = request.param
+    robot = load_robot(name)
+    traj = read_trajectory(ROOT / "data" / f"{name}_trajectory.csv", robot.n)
+    path = tmp_path_factory.mktemp(name) / "results.h5"
+    analyze_to_file(robot, traj, path, AnalysisOptions(formulations=False))
+    with open_results(path, lazy=True) as ds:
+        ds = ds.load()
+    return name, ds, report_context(ds)
+
+
+def _tables(obj, where=""):
+    """Every table (a dict with header and rows) anywhere in the context."""
+    if isinstance(obj, dict):
+        if "header" in obj and "rows" in obj:
+            yield where, obj
+        for k, v in obj.items():
+            yield from _tables(v, f"{where}.{k}")
+    elif isinstance(obj, (list, tuple)):
+        for k, v in enumerate(obj):
+            yield from _tables(v, f"{where}[{k}]")
+
+
+def _number(cell):
+    text = plain(str(cell)).replace("\u2212", "-").replace(",", "")
+    return float(text) if NUMBER.match(text.strip()) else None
+
+
+def test_no_column_mixes_exponent_and_fixed(context):
+    name, _, ctx = context
+    tables = list(_tables(ctx))
+    assert len(tables) >= 5
+    for where, table in tables:
+        for c, head in enumerate(table["header"]):
+            cells = [plain(str(row[c])) for row in table["rows"] if c < len(row)]
+            nums = [t for t in cells if _number(t) is not None and _number(t) != 0]
+            sci = {("e" in t) for t in nums}
+            assert len(sci) <= 1, (name, where, head, nums)
+
+
+def _reads_back(text, value, digits=4):
+    shown = _number(text)
+    assert shown is not None, text
+    if value == 0:
+        assert shown == 0
+        return
+    unit = 10.0 ** (math.floor(math.log10(abs(value))) - digits + 1)
+    assert abs(shown - value) <= 0.5 * unit * (1 + 1e-9), (text, value)
+
+
+def test_printed_values_read_back_within_their_digits(context):
+    """Table 1.3 (link inertial parameters) and Table 4.1 (peaks), against results.h5."""
+    name, ds, ctx = context
+    link = ctx["link"]
+    inertia = ds["link_inertia"].values
+    stored = np.column_stack([ds["link_mass"].values, ds["link_com"].values,
+                              inertia[:, 0, 0], inertia[:, 1, 1], inertia[:, 2, 2]])
+    for row, values in zip(link["rows"], stored):
+        for text, value in zip(row[1:], values):
+            _reads_back(text, value)
+    ranking = ctx["ranking"]
+    peaks = [ds[v].values for v in ("peak_tran", "peak_rot", "peak_total")]
+    checked = 0
+    for k, row in enumerate(ranking["rows"]):
+        for text, v in zip(row[3:6], peaks):
+            if "\u2261" not in text:
+                _reads_back(text, v[k])
+                checked += 1
+    assert checked > 20
