@@ -92,3 +92,29 @@ def test_printed_values_read_back_within_their_digits(context):
                 _reads_back(text, v[k])
                 checked += 1
     assert checked > 20
+
+
+def test_share_columns_have_one_number_of_decimals(context):
+    """Table 4.1 printed the PUMA's shares as "0.27" beside "0.746" and "0.9996": a column
+    of shares writes every share that is not exactly 0 or 1 with the same decimals, and each
+    reads back within half a unit of its last decimal of the stored share_tran."""
+    name, ds, ctx = context
+    found = 0
+    for where, table in _tables(ctx):
+        for c, head in enumerate(table["header"]):
+            if "share" not in plain(str(head)):
+                continue
+            cells = [plain(str(row[c])) for row in table["rows"] if c < len(row)]
+            decimals = {len(t.split(".")[1]) for t in cells
+                        if _number(t) is not None and "." in t}
+            assert len(decimals) <= 1, (name, where, head, cells)
+            found += 1
+    assert found >= 1
+    share = ds["share_tran"].values
+    table = next(t for _, t in _tables(ctx) if any("share" in plain(str(h))
+                                                     for h in t["header"]))
+    col = next(c for c, h in enumerate(table["header"]) if "share" in plain(str(h)))
+    for k, row in enumerate(table["rows"]):
+        shown = _number(plain(str(row[col])))
+        if shown is not None and shown not in (0.0, 1.0):
+            assert abs(shown - share[k]) <= 0.5e-4 * (1 + 1e-9), (row, share[k])

@@ -140,7 +140,7 @@ def _scales(ds):
 
 def _share_text(share, tran_off, rot_off):
     """The translational share as printed: 0 or 1 where the other part is round-off of the
-    element's scale (a share of 4e-14 is round-off, not data), else three digits, never rounded
+    element's scale (a share of 4e-14 is round-off, not data), else four decimals, never rounded
     to 0 or 1 (:func:`gd_analyze.reports.numbers.share`)."""
     if tran_off and not rot_off:
         return "0"

@@ -151,27 +151,26 @@ def count(value):
     return f"{int(round(v)):,}"
 
 
-def share(value, digits=3):
-    """A fraction in [0, 1] (a translational share) that prints as 1 or 0 only when it is.
+def share(value):
+    """A fraction in [0, 1] (a translational share) that prints as 1 or 0 only when it is, in
+    one format for every share of a table (issue 18: one format per column).
 
     Parameters
     ----------
     value : float
         The fraction [1].
-    digits : int, optional
-        Significant digits where they do not round it to 0 or 1.
 
     Returns
     -------
     str
         ``"1"`` and ``"0"`` for exactly 1 and 0; ``"> 0.9999"`` within 1e-4 below 1,
-        ``"< 0.0001"`` below 1e-4 above 0; else ``digits`` significant digits, or four
-        decimals where those would round to 1; ``"n/a"`` if not finite.
+        ``"< 0.0001"`` below 1e-4 above 0; else four decimals (so a column of shares never
+        shows "0.27" beside "0.746"); ``"n/a"`` if not finite.
 
     Examples
     --------
-    >>> share(0.99993), share(0.9996), share(0.25), share(1.0), share(3e-5)
-    ('> 0.9999', '0.9996', '0.25', '1', '< 0.0001')
+    >>> share(0.99993), share(0.9996), share(0.27), share(1.0), share(3e-5)
+    ('> 0.9999', '0.9996', '0.2700', '1', '< 0.0001')
     """
     v = float(value)
     if not math.isfinite(v):
@@ -182,8 +181,7 @@ def share(value, digits=3):
         return "> 0.9999"
     if 0 < v < 1e-4:
         return "< 0.0001"
-    text = fmt(v, digits)
-    return f"{v:.4f}" if float(text) == 1 else text
+    return f"{v:.4f}"
 
 
 def pct(value):

@@ -254,7 +254,7 @@ def _merged_rule(ds):
 
 def _share(value, zero):
     """A share of the envelope as printed: "\u2261 0" for an element that is round-off on
-    every trajectory (its share is noise: NaN in the dataset), else three digits."""
+    every trajectory (its share is noise: NaN in the dataset), else four decimals."""
     return "\u2261 0" if zero or not np.isfinite(value) else _share_text(value)
 
 
