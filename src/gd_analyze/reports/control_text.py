@@ -7,7 +7,7 @@ from __future__ import annotations
 import numpy as np
 
 from ..core.selection.ranking import element_label, is_round_off
-from .common import count, prismatic_joints, utc_now
+from .common import cost_table, prismatic_joints, utc_now
 from .common import strings as _strings
 from .common import table as _table
 from .control_figures import _LABELS, _joint_units, noise_scales
@@ -123,16 +123,7 @@ def control_context(ds):
     tau_table = _table(["controller", "figure"] + [f"{j} [{u}]" for j, u in zip(joints, tau_u)],
                        tau_rows,
                        align=["left", "left"] + ["right"] * n)
-    cost = None
-    if "evaluator" in ds.dims:
-        ev = _strings(ds["evaluator"].values)
-        mul, add = ds["multiplications"].values, ds["additions"].values
-        ref = len(ev) - 1            # the last: Newton-Euler, the recursive reference
-        cost = _table(["evaluator", "multiplications", "additions", "operations",
-                       "operations vs Newton-Euler"],
-                      [[e, count(mul[k]), count(add[k]), count(mul[k] + add[k]),
-                        f"{(mul[k] + add[k]) / (mul[ref] + add[ref]):.3f}"]
-                       for k, e in enumerate(ev)], align="right")
+    cost = cost_table(ds)
     cost_note = ("Operations per set point, counted (not timed): the emitted models on their "
                  "expressions (constants and structural 0/\u00b11 free, a square one "
                  "multiplication), the project's Newton-Euler with every multiplication and "
