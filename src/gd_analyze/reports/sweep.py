@@ -115,7 +115,7 @@ def _outline(ctx, figures):
     o.paragraph(ctx["error_text"], "note")
     o.table(ctx["error"], "Open-loop torque error of the merged model per joint, over all set points "
                           "of all trajectories; \u2261 0: round-off (at most 1e-12 of the "
-                          "joint's peak |\u03c4| or 64 \u03b5 of the arm's), not data.")
+                          "joint's peak |\u03c4| or of the arm's), not data.")
     o.figure("error", ctx["captions"]["error"])
     if ctx["cost"] is not None:
         o.section("5.2", "Evaluation cost of the merged model")

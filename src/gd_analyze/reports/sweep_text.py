@@ -23,7 +23,7 @@ from .main_text import gravity_clause, model_sentence
 from .markup import element as _el
 from .markup import sub as _sub
 from .sweep_figures import REQUIRED as _REQUIRED
-from .sweep_figures import ROUND_OFF_WORDS, torque_error_round_off
+from .sweep_figures import TORQUE_ROUND_OFF_WORDS, torque_error_round_off
 
 __all__ = ["sweep_context"]
 
@@ -468,5 +468,5 @@ def _captions(ds):
         "error": (f"Relative peak open-loop torque error per joint, per trajectory: of {own} "
                   "(green) "
                   f"and of {merged} (black); diamond: the merged model over all "
-                  f"trajectories. Round-off ({ROUND_OFF_WORDS} peak |\u03c4|) is not drawn."),
+                  f"trajectories. Round-off ({TORQUE_ROUND_OFF_WORDS} peak |\u03c4|) is not drawn."),
     }
