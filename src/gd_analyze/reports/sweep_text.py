@@ -175,7 +175,7 @@ _SAID = {
     "robot_reference", "merged_rule", "merged_tolerance", "merged_torque_floor",
     "merged_worst_scaled_error", "payload_mass", "random_qdd_max_source", "command",
     "mounting_base_rpy_deg", "mounting_gravity_base", "mounting_gravity_world",
-    "own_model_rule"}
+    "own_model_rule", "merged_form", "merged_c_terms", "merged_c_terms_kept"}
 
 
 def _settings(ds, inputs, setpoints, durations, version):
