@@ -240,7 +240,8 @@ def cost_table(ds):
                   "operations vs Newton-Euler"],
                  [[e, count(mul[k]), count(add[k]), count(mul[k] + add[k]),
                    f"{(mul[k] + add[k]) / (mul[ref] + add[ref]):.3f}"]
-                  for k, e in enumerate(names)], align=["left"] + ["right"] * 4)
+                  for k, e in enumerate(names)], align=["left"] + ["right"] * 4,
+                 widths=[2.2, 1, 1, 1, 1.2])          # the evaluators' names on one line
 
 
 def render_template(name, context, env_globals=None):
