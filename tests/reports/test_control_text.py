@@ -157,6 +157,7 @@ def test_no_code_names_in_the_control_text(built):
     body = control[:control.index("6. Provenance")]
     code = r"gd_analyze\.\w+|\b(?:tau|share|scale|D|h|c|q|qd|qdd|Kp|Kv|wn)_\w+|\bEPS\b"
     assert not re.search(code, body), re.findall(code, body)   # file names may have "_"
+    assert not re.search(r"\bqd{1,2}\b", body), re.findall(r".{30}\bqd{1,2}\b.{10}", body)
 
 
 def test_settings_said_once_and_markers_as_drawn(tmp_path):

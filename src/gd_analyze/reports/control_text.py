@@ -76,7 +76,8 @@ def control_context(ds):
         ["plant", _plant(ds)],
         ["controllers", "; ".join(_LABELS.get(c, d) for c, d in zip(names, desc))
          + " (control laws below)"],
-        ["desired motion", _attr(ds, "interpolation")],
+        ["desired motion", _attr(ds, "interpolation").replace(
+            "(q, qd, qdd)", "(q, q\u0307, q\u0308)")],        # the stored words, as mathematics
         ["integrator", f"{_attr(ds, 'integrator')}, rtol = {float(ds.attrs['rtol']):g}, "
                        f"atol = {float(ds.attrs['atol']):g}"],
         ["samples", f"{_attr(ds, 'samples')} ({_attr(ds, 'setpoints')} set points + fine grid "
