@@ -127,7 +127,7 @@ def sweep_context(ds, payload=None):
     summary = (f"{robot}: translational share of the {len(labels)} ranked elements of D and h over "
                f"{inputs}, s = {s:g}, e = {e:g}. {name} keeps both parts "
                f"of {counts['both']} elements, one part of {single}, and drops "
-               f"{len(labels) - kept}; it {claim}. {_gravity(ds)}"
+               f"{len(labels) - kept}; it {claim}. {_held_out(ds)}{_gravity(ds)}"
                f"{_cost_sentence(ds)}{_own_sentence(ds)}").strip()
     ctx = {"version": __version__, "title": f"G-D dominance sweep: {robot}, {K} trajectories",
            "summary": summary, "settings": _table(["item", "value"], settings),
@@ -175,7 +175,8 @@ _SAID = {
     "robot_reference", "merged_rule", "merged_tolerance", "merged_torque_floor",
     "merged_worst_scaled_error", "payload_mass", "random_qdd_max_source", "command",
     "mounting_base_rpy_deg", "mounting_gravity_base", "mounting_gravity_world",
-    "own_model_rule", "merged_form", "merged_c_terms", "merged_c_terms_kept"}
+    "own_model_rule", "merged_form", "merged_c_terms", "merged_c_terms_kept",
+    "held_out_trajectories"}
 
 
 def _settings(ds, inputs, setpoints, durations, version):
@@ -263,6 +264,26 @@ def _keeps(ds):
     gravity = gravity_clause(rule, c_terms=(kept, full) if min(kept, full) >= 0 else None)
     text = model_sentence(choice=_strings(ds["merged_choice"].values), gravity=gravity)
     return text.replace("The simplified model", "The merged model", 1)
+
+
+def _held_out(ds):
+    """The merged model's largest error on the held-out trajectories (measured, not
+    guaranteed), relative to their s_i as the guarantee is, as a sentence; "" if none."""
+    if "held_out_error_peak" not in ds.variables:
+        return ""
+    peak = np.asarray(ds["held_out_error_peak"].values, float)
+    tau = np.asarray(ds["held_out_tau_peak"].values, float)
+    floor = float(ds.attrs.get("merged_torque_floor", 0.0) or 0.0)
+    with np.errstate(divide="ignore", invalid="ignore"):
+        rel = peak / np.maximum(tau, floor)
+    rel = np.where(torque_error_round_off(ds, peak, tau) | ~np.isfinite(rel), 0.0, rel)
+    j = int(np.argmax(rel))
+    k = int(ds.attrs.get("held_out_trajectories", 0))
+    scale = (f"peak |{_TAU_I}| over them" if floor == 0 else
+             f"max(peak |{_TAU_I}| over them, {_floor(ds)})")
+    return (f"On {count(k)} held-out random trajector{'y' if k == 1 else 'ies'} (another seed, "
+            f"not swept) the merged model's error is measured, not guaranteed: at most "
+            f"{_pct(rel[j])} of {scale} (joint {j + 1}). ")
 
 
 def _gravity(ds):
@@ -440,14 +461,15 @@ def _own_sentence(ds):
 def _error_text(ds):
     """Sec. 5.1's note: the table's columns, each model named with its rule."""
     own, merged = _models(ds)
-    return ("Per joint, over all set points of all trajectories: peak and RMS of the "
+    return ("Per joint, over all set points of all swept trajectories: peak and RMS of the "
             "open-loop torque error |\u03c4" + _sub("s") + " \u2212 \u03c4| (the simplified "
             "and the full model's torques along the same desired motion, no controller) "
             f"[{units_said_once(ds, 'tau')}] of {merged}, and both relative to the peak |\u03c4| "
             f"over all trajectories. Column \u201cown models, {_own_rule(ds)} rule "
             f"(worst)\u201d: the largest relative peak error of {own} along that "
             "trajectory, shown for comparison; it is not the merged model"
-            + (" and has no bound." if _own_rule(ds) == "chapter" else "."))
+            + (" and has no bound." if _own_rule(ds) == "chapter" else ".")
+            + (" " + _held_out(ds).strip() if _held_out(ds) else ""))
 
 
 def _captions(ds):

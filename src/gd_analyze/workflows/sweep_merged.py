@@ -116,7 +116,9 @@ def with_budget_model(sweep_ds, model):
         ``merged_scale`` (trajectory, joint) [N m]; ``merged_error_*`` over all trajectories
         (relative to the peak |tau| over all of them); attributes ``merged_rule`` = "budget",
         ``merged_tolerance`` (EPS), ``merged_torque_floor`` (TAU) [N m],
-        ``merged_worst_scaled_error`` and ``merge_rule`` (the rule in words).
+        ``merged_worst_scaled_error`` and ``merge_rule`` (the rule in words); where the model
+        was measured on held-out trajectories, ``held_out_error_peak`` and
+        ``held_out_tau_peak`` (joint) [N m or N] and ``held_out_trajectories`` (their number).
 
     Raises
     ------
@@ -167,6 +169,14 @@ def with_budget_model(sweep_ds, model):
              "merged model: RMS error / peak |tau|, over all trajectories")):
         put(name, ("joint",), np.array([np.nan if x is None else x for x in v[key]], float),
             units, desc)
+    held = v.get("held_out") or {}
+    if held:                            # measured off the sweep, not guaranteed
+        put("held_out_error_peak", ("joint",), np.array(held["peak_abs_error"], float), torque,
+            "merged model: peak |tau_merged - tau| over the held-out trajectories (not "
+            "guaranteed)")
+        put("held_out_tau_peak", ("joint",), np.array(held["peak_tau"], float), torque,
+            "peak |tau| over the held-out trajectories")
+        ds.attrs["held_out_trajectories"] = int(v.get("held_out_trajectories", 0))
     ds.attrs.update({
         "merged_rule": "budget", "merged_tolerance": float(model.tolerance),
         "merged_torque_floor": float(model.torque_floor),
