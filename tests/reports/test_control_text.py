@@ -157,3 +157,50 @@ def test_no_code_names_in_the_control_text(built):
     body = control[:control.index("6. Provenance")]
     code = r"gd_analyze\.\w+|\b(?:tau|share|scale|D|h|c|q|qd|qdd|Kp|Kv|wn)_\w+|\bEPS\b"
     assert not re.search(code, body), re.findall(code, body)   # file names may have "_"
+    assert not re.search(r"\bqd{1,2}\b", body), re.findall(r".{30}\bqd{1,2}\b.{10}", body)
+
+
+def test_settings_said_once_and_markers_as_drawn(tmp_path):
+    # issue 18 (presentation): the summary listed "20, 20, 20, ... rad/s", the integrator row
+    # printed "rtol = 1.00000e-08", Fig. 2's caption said "markers: set points" where every
+    # k-th is marked, and the noise scale was "the joint's scale" in one place and "the
+    # joint's range of motion" in another
+    from gd_analyze.reports.control_figures import control_figures
+
+    csv = tmp_path / "two.csv"
+    assert main(["plan", "two-link", "-o", str(csv), "--setpoints", "200"]) == 0
+    assert main(["two-link", str(csv), "-o", str(tmp_path / "main"), "-q", "--no-report"]) == 0
+    assert main(["control", str(tmp_path / "main" / "simplified_model.json"), str(csv),
+                 "-o", str(tmp_path / "control"), "-q"]) == 0
+    with xr.open_dataset(tmp_path / "control" / "control.h5") as ds:
+        ds = ds.load()
+    assert np.all(ds.attrs["wn"] == 20) and np.all(ds.attrs["zeta"] == 1)   # README defaults
+    text = _text((tmp_path / "control" / "control_report.html").read_text())
+    summary = text[text.index("two-link along"):text.index("The arm, simulated")]
+    assert "\u03c9 n = 20 rad/s on every joint, \u03b6 = 1 on every joint." in summary, summary
+    assert f"rtol = {float(ds.attrs['rtol']):g}, atol = {float(ds.attrs['atol']):g}" in text
+    assert "range of motion" not in text
+    # the torque difference is integrator noise on every joint here (Table 3.1 says so), so
+    # neither the summary nor the verdict gives its digits
+    table = text[text.index("Table 3.1:"):text.index("Figure 2.")]
+    assert table.count("\u2261 0") >= 2 * len(ds["joint"]) and "e-0" not in table.split("data.")[1]
+    for said in (summary, text[:text.index("two-link along")]):
+        assert re.search(r"torque differ[^;.]*: \u2261 0 \(integrator noise\)|by at most "
+                         r"\u2261 0 \(integrator noise\)", said), said
+    scale = "the joint's scale, max(range, peak |q d |)"
+    tol = f"{max(float(ds.attrs['rtol']), 1e-12):g}"
+    for where in ("Table 2.1:", "Figure 1."):
+        said = text[text.index(where):][:400]
+        assert f"at most {tol} of {scale}" in said, said
+    figures = control_figures(ds)
+    for key, number in (("error", 1), ("tau_difference", 2), ("tau", 3)):
+        caption = text[text.index(f"Figure {number}."):][:300]
+        k = int(re.search(r"markers: every (\d+)\w\w set point", caption).group(1))
+        drawn = {line.get_markevery() for ax in figures[key].axes for line in ax.get_lines()
+                 if line.get_marker() == "o"}
+        if key == "tau_difference" and not drawn:     # nothing dropped: all integrator noise
+            assert "\u2261 0 on every joint (integrator noise)" in " ".join(
+                t.get_text() for t in figures[key].texts)
+            continue
+        assert drawn == {k}, (key, drawn, k)
+        assert -(-200 // k) <= 12                     # at most 12 markers a line

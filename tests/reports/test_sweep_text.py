@@ -85,9 +85,95 @@ def test_settings_state_each_setting_once_in_words(swept):
     items = [r[0] for r in rows]
     values = " | ".join(r[1] for r in rows if len(r) > 1 and r[0] != "command")
     assert len(items) == len(set(items))
-    assert not any("_" in item or item.startswith("mounting") for item in items)
+    assert not any("_" in item or item.startswith(("mounting", "merged ")) for item in items)
     assert values.count("seed 1") == 1 and "seed" not in items
     assert values.count(f"gd-analyze {__version__}") == 1                  # one version
     assert values.count("9.8") == 1                                         # gravity once
     assert "conventions" not in items and "CF-1" not in values
     assert "trajectories per task" not in values
+
+
+def _table(html, caption_start):
+    rest = html[html.index(caption_start):]
+    table = rest[:rest.index("</table>")]
+    return [[unescape(re.sub(r"<[^>]+>", "", c)).strip() for c in
+             re.findall(r"<t[dh][^>]*>(.*?)</t[dh]>", row, flags=re.S)]
+            for row in re.findall(r"<tr[^>]*>(.*?)</tr>", table, flags=re.S)]
+
+
+def test_counts_are_the_merged_choices_in_the_tables_words(swept):
+    # issue 18: the counts under Sec. 5 called the budget rule's dropped elements
+    # "negligible" (the Stanford sweep's D23, translational on every trajectory, among them)
+    _, out = swept
+    html = (out / "sweep_report.html").read_text()
+    line = re.search(r'<p class="counts">(.*?)</p>', html, flags=re.S).group(1)
+    said = {k: int(v) for k, v in re.findall(r">\s*(\w+): (\d+)\s*<", line)}
+    rows = _table(html, "Table 4.1: ")
+    choice = [r[-1] for r in rows[1:]]
+    assert said == {c: choice.count(c) for c in ("tran", "rot", "both", "none")}, said
+
+
+def test_merged_model_cost_and_gravity_said_against_the_models(swept):
+    # issue 18 item 1: what the model keeps of c, and its cost against the exact recursive
+    # model, the full explicit model and Newton-Euler, from the model written beside the report
+    import json
+
+    from gd_analyze.formulations.opcount import operation_counts
+    from gd_analyze.io.explicit_cache import explicit_terms
+    from gd_analyze.io.model_file import load_model
+
+    rule, out = swept
+    html = (out / "sweep_report.html").read_text()
+    text = _text(html)
+    model = load_model(out / "merged_model.json")
+    sec5 = text[text.index("5. Merged model"):text.index("5.1 Open-loop torque error")]
+    summary = text[text.index("puma560: translational share"):text.index("The generalized")]
+    full_terms, _ = explicit_terms(model.robot)
+    full_c = int(np.sum(np.asarray(full_terms.kind) == "c"))
+    if rule == "budget":
+        kept_c = int(np.sum(np.asarray(model.terms.kind) == "c"))
+        said = ("keeps c whole" if kept_c == full_c else
+                f"drops {full_c - kept_c} of the {full_c} terms of c")
+    else:
+        said = "keeps c whole (the chapter rule drops parts of D and h only)"
+    assert said in sec5 and said in summary
+    rows = {r[0]: r for r in _table(html, "Table 5.2: ")[1:]}
+    ne = operation_counts(model.robot)["newton-euler"]
+    assert rows["Newton-Euler (as implemented)"][1:3] == [f"{int(ne['multiplications']):,}",
+                                                          f"{int(ne['additions']):,}"]
+    assert {"merged model (explicit form)", "exact recursive model",
+            "full explicit model"} <= set(rows)
+    stored = json.loads((out / "merged_model.json").read_text())
+    if rule == "budget":
+        for name, key in (("merged model (explicit form)", "cost"),
+                          ("full explicit model", "full_cost")):
+            assert rows[name][1:3] == [f"{stored[key]['multiplications']:,}",
+                                       f"{stored[key]['additions']:,}"]
+    for words in ("exact recursive model:", "full explicit model:", "Newton-Euler"):
+        assert words in summary and words in sec5
+    ops = {k: int(r[3].replace(",", "")) for k, r in rows.items()}
+    mine = ops["merged model (explicit form)"]
+    assert ("more than the full explicit model" in sec5) == (mine > ops["full explicit model"])
+    assert ("more than the exact recursive model" in sec5) == (
+        mine > ops["exact recursive model"])
+
+
+def test_held_out_error_is_reported_as_measured(tmp_path):
+    # the sweep measured its merged model on held-out trajectories (merged_model.json) but the
+    # report never said so: "guaranteed ... (not on others)" and nothing on the others
+    import json
+
+    out = tmp_path / "sweep"
+    assert main(["sweep", "puma560", "--random", "2", "--seed", "1", "--workers", "1",
+                 "--held-out", "2", "-o", str(out), "-q"]) == 0
+    held = json.loads((out / "merged_model.json").read_text())["validation"]["held_out"]
+    rel = np.asarray(held["peak_abs_error"]) / np.asarray(held["peak_tau"])
+    rel[5] = 0.0                               # joint 6: round-off (the arm's 2e-16)
+    text = _text((out / "sweep_report.html").read_text())
+    summary = text[text.index("puma560: translational share"):text.index("The generalized")]
+    sec = text[text.index("5.1 Open-loop torque error"):]
+    j = int(np.argmax(rel))
+    said = (f"On 2 held-out random trajectories (another seed, not swept) the merged model's "
+            f"error is measured, not guaranteed: at most {100 * rel[j]:.2f} % of peak |\u03c4 i "
+            f"| over them (joint {j + 1}).")
+    assert said in summary and said in sec, (said, summary)

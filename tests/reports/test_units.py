@@ -172,6 +172,13 @@ def test_sweep_report_and_dataset_give_n_for_the_prismatic_joint(tmp_path):
         assert stored == dict(EXPECTED)
         assert [k for k in ds.variables if "joint" in ds[k].dims
                 and ds[k].attrs.get("units") in ("N m", "N")] == []
+        # issue 18: the start and goal positions were stored in "rad", joint 3's in m
+        assert [k for k in ds.variables if "joint" in ds[k].dims
+                and ds[k].attrs.get("units") in ("rad", "m")] == []
+        for k in ("q_start", "q_goal"):
+            assert ds[k].attrs["units"] == "rad or m by joint type (per joint: joint_type)"
+            assert [str(v) for v in ds["joint_type"].values] == [
+                "prismatic" if p else "revolute" for p in PRISMATIC]
 
 
 def _gain_units(i):

@@ -97,7 +97,7 @@ def _cmd_sweep(args):
     from ..workflows.dask_cluster import dask_client
     from ..workflows.payload import sweep_payloads
     from ..workflows.sweep import run_sweep
-    from ..workflows.sweep_merged import merged_model
+    from ..workflows.sweep_merged import merged_model, with_model_cost
 
     robot = _load_robot(args)
     if (args.random is None) == (not args.csv):
@@ -162,7 +162,9 @@ def _cmd_sweep(args):
             files, ds = _sweep_model(loaded, trajectories, args, stage, settings, ds)
         else:
             files = [stage / "merged_model.json"]
-            save_model(merged_model(loaded, ds), files[0])
+            model = merged_model(loaded, ds)
+            ds = with_model_cost(ds, model)
+            save_model(model, files[0])
             if not args.quiet:
                 print("merged model (chapter rule): a part is dropped only where every "
                       "trajectory's share-based model drops it; no error bound")

@@ -40,11 +40,12 @@ _AS_DATA = ("; 0 or 1 on a trajectory where a part is round-off (at most 1e-12 o
             "scale or 64 eps of the arm's), a trajectory where the element is round-off left out (NaN: on every one)")
 
 
-def _torque_units(robot):
-    """The ``units`` of a per-joint torque variable: N m, N, or both with where to read them."""
+def _torque_units(robot, which="tau"):
+    """The ``units`` of a per-joint torque (``which="tau"``) or position (``"q"``) variable:
+    N m, N (rad, m), or both with where to read them."""
     from .datasets import joint_units, units_attribute
 
-    return units_attribute(joint_units(robot.prismatic, "tau"), "joint_type")
+    return units_attribute(joint_units(robot.prismatic, which), "joint_type")
 
 
 def inputs_attributes(trajectories):
@@ -183,7 +184,7 @@ def sweep_dataset(robot, trajectories, results, merged, merged_stats, dominance,
         warnings.simplefilter("ignore", RuntimeWarning)     # all-NaN columns
         s_min, s_med, s_max = (np.nanmin(share_data, axis=0),
                                np.nanmedian(share_data, axis=0), np.nanmax(share_data, axis=0))
-    torque = _torque_units(robot)
+    torque, position = _torque_units(robot), _torque_units(robot, "q")
     data_vars = {
         "share_tran": var(("trajectory", "element"), share, "1",
                            "translational share sum|tran| / (sum|tran| + sum|rot|)"),
@@ -207,9 +208,9 @@ def sweep_dataset(robot, trajectories, results, merged, merged_stats, dominance,
                          "trajectory duration"),
         "setpoints": var(("trajectory",), np.array([s["setpoints"] for s in summ]), "1",
                           "number of set points"),
-        "q_start": var(("trajectory", "joint"), np.array([s["q_start"] for s in summ]), "rad",
+        "q_start": var(("trajectory", "joint"), np.array([s["q_start"] for s in summ]), position,
                         "joint position at the first set point"),
-        "q_goal": var(("trajectory", "joint"), np.array([s["q_goal"] for s in summ]), "rad",
+        "q_goal": var(("trajectory", "joint"), np.array([s["q_goal"] for s in summ]), position,
                        "joint position at the last set point"),
         "tau_peak": var(("trajectory", "joint"), np.array([s["tau_peak"] for s in summ]),
                          torque, "peak |tau| of the full model along the trajectory"),

@@ -48,7 +48,7 @@ __all__ = ["CLASS_COLOURS", "BASE_RC", "SUPTITLE_RC", "A4", "A4_LANDSCAPE", "sty
            "MIN_MARKERS", "markevery", "panel_markevery",
            "gridspec", "svg", "inline_svgs", "render_template", "check_formats",
            "prismatic_joints", "torque_units", "FORMULATION_NAMES", "FORMULATION_ABBR",
-           "element_units_of", "units_text", "units_said_once"]
+           "element_units_of", "units_text", "units_said_once", "cost_table"]
 
 #: A4 portrait and landscape [in].
 A4 = (8.27, 11.69)
@@ -213,6 +213,35 @@ def table(header, rows, align=None, widths=None, colour_cols=()):
             "align": list(align or ["left"] * len(header)),
             "widths": list(widths or [1] * len(header)), "colour_cols": list(colour_cols)}
 
+
+
+def cost_table(ds):
+    """The operations per set point of each evaluator a dataset stores, as a table.
+
+    Parameters
+    ----------
+    ds : xarray.Dataset
+        With ``multiplications`` and ``additions`` over dim ``evaluator``, Newton-Euler last
+        (the control dataset, :func:`gd_analyze.workflows.control.model_cost`; the sweep,
+        :func:`gd_analyze.workflows.sweep_merged.with_model_cost`).
+
+    Returns
+    -------
+    dict or None
+        :func:`table` of evaluator, multiplications, additions, operations and operations
+        relative to Newton-Euler; None if the dataset stores no counts.
+    """
+    if "evaluator" not in ds.dims:
+        return None
+    names = strings(ds["evaluator"].values)
+    mul, add = ds["multiplications"].values, ds["additions"].values
+    ref = len(names) - 1                 # the last: Newton-Euler, the recursive reference
+    return table(["evaluator", "multiplications", "additions", "operations",
+                  "operations vs Newton-Euler"],
+                 [[e, count(mul[k]), count(add[k]), count(mul[k] + add[k]),
+                   f"{(mul[k] + add[k]) / (mul[ref] + add[ref]):.3f}"]
+                  for k, e in enumerate(names)], align=["left"] + ["right"] * 4,
+                 widths=[2.2, 1, 1, 1, 1.2])          # the evaluators' names on one line
 
 
 def render_template(name, context, env_globals=None):

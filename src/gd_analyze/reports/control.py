@@ -20,11 +20,10 @@ import contextlib
 from pathlib import Path
 
 from .common import render_template
-from .control_figures import _RC, COLUMN_WIDTH, PAGE_WIDTH, control_figures
+from .control_figures import _RC, COLUMN_WIDTH, PAGE_WIDTH, control_figures, noise_words
 from .control_text import control_context as _context
 from .control_verdict import VERDICT_TOLERANCE, control_verdict
 from .drawing import draw_figures, figure_svg, write_figure_files
-from .markup import sub as _sub
 from .pages import PAPER, Document
 from .sections import Outline, to_document
 
@@ -110,19 +109,6 @@ def render_control_html(ds, figures=None):
     return _html(ctx, {k: (figure_svg(f, _RC), None, None) for k, f in figures.items()})
 
 
-_CAPTIONS = {
-    "error": "Tracking error |q" + _sub("d") + " \u2212 q| per joint along the run, log scale "
-             "(markers: set points, at most 12 per line). Integrator noise, at most the "
-             "integrator's rtol times the joint's range of motion, is not drawn: the axis "
-             "starts there, and a controller whose error is all noise is named above the "
-             "panels.",
-    "tau_difference": "Closed-loop torque difference: torque of the simplified-model "
-                      "controller minus torque of the full-model controller, each along its "
-                      "own closed-loop run, per joint (markers: set points); a joint whose "
-                      "difference is integrator noise (at most rtol times the full "
-                      "controller's peak |\u03c4|) reads so instead of a curve.",
-    "tau": "Torques applied by the three controllers, per joint.",
-}
 _FIGURE_FILES = {"error": "fig_control_tracking_error",
                  "tau_difference": "fig_control_torque_difference",
                  "tau": "fig_control_applied_torque"}
@@ -147,21 +133,21 @@ def _outline(ctx, figures):
     o.section("2", "Tracking error", "tracking")
     o.paragraph(ctx["error_note"], "note")
     o.table(ctx["errors"], "Tracking error per controller and joint; \u2261 0: integrator "
-                           f"noise (at most {ctx['noise_tol']} of the joint's range of "
-                           "motion), not data.", size=7)
-    o.figure("error", _CAPTIONS["error"])
+                           f"noise (at most {ctx['noise_tol']} of {noise_words('q')}), not "
+                           "data.", size=7)
+    o.figure("error", ctx["captions"]["error"])
     o.section("3", "Torques", "torque")
     o.paragraph(ctx["diff_note"], "note")
     o.table(ctx["tau_diff"], "Closed-loop torque difference per joint, simplified-model "
                              "controller minus full-model controller; \u2261 0: integrator "
-                             f"noise (at most {ctx['noise_tol']} of the full-model controller's "
-                             "peak |\u03c4|), not data.")
+                             f"noise (at most {ctx['noise_tol']} of {noise_words('tau')}), "
+                             "not data.")
     if "tau_difference" in o.available:
-        o.figure("tau_difference", _CAPTIONS["tau_difference"])
+        o.figure("tau_difference", ctx["captions"]["tau_difference"])
     else:
         o.paragraph("No torque difference stored.", "body")
     o.table(ctx["tau_table"], "Applied torques per controller and joint.", size=7)
-    o.figure("tau", _CAPTIONS["tau"])
+    o.figure("tau", ctx["captions"]["tau"])
     o.section("4", "Evaluation cost of the model", "cost")
     o.paragraph(ctx["cost_note"], "note")
     if ctx["cost"]:

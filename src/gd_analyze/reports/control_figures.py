@@ -15,8 +15,10 @@ from ..core.selection.ranking import ROUND_OFF, is_round_off
 from .common import BASE_RC, grid_shape, prismatic_joints
 from .common import strings as _strings
 from .common import style as _style
+from .markup import sub
 
-__all__ = ["control_figures", "noise_scales", "PAGE_WIDTH", "COLUMN_WIDTH", "CONTROLLER_LABELS"]
+__all__ = ["control_figures", "noise_scales", "PAGE_WIDTH", "COLUMN_WIDTH", "CONTROLLER_LABELS",
+           "marker_stride", "markers_words", "noise_words"]
 
 #: Figure widths [in]: the text of a page, one column.
 PAGE_WIDTH, COLUMN_WIDTH = 7.2, 3.5
@@ -58,7 +60,6 @@ def _joint_panels(ds, values, ylabel, title, log=False, scale=None, which="q",
     """
     from matplotlib.figure import Figure
 
-    from .common import panel_markevery
     from .ticks import label_axes, set_ticks
 
     t = np.asarray(ds["time"].values, dtype=float)
@@ -67,8 +68,8 @@ def _joint_panels(ds, values, ylabel, title, log=False, scale=None, which="q",
     units = _joint_units(ds, which)
     column = width < PAGE_WIDTH
     rows, cols = grid_shape(n, 1 if column else 2)
-    top = (0.5 if scale is None else 0.72) + ((0.25 if scale is None else 0.42) if column
-                                              else 0.0)
+    top = (0.5 if scale is None else 0.72) + ((0.25 if scale is None else 0.54) if column
+                                              else 0.0)     # column: a note of 3 lines
     bottom = 0.62 + 0.14 * len(values) if column else 0.85     # the key, one entry a line
     height = (1.35 if column else 1.9) * rows + bottom - 0.35 + top
     W = width
@@ -81,7 +82,7 @@ def _joint_panels(ds, values, ylabel, title, log=False, scale=None, which="q",
     keep = np.zeros(t.size, dtype=bool)
     keep[::k] = True
     keep |= is_set
-    every = panel_markevery(int(is_set.sum()), len(values))
+    every = marker_stride(ds, len(values))
     tol, floor = _noise_floor(ds, scale) if scale is not None else (None, None)
     handles = {}
     quiet = {}                          # controller -> [(joint, peak)] of noise-only curves
@@ -133,17 +134,88 @@ def _joint_panels(ds, values, ylabel, title, log=False, scale=None, which="q",
     fig.suptitle(textwrap.fill(title, 48) if column else title, fontsize=9 if column else 10,
                  fontweight="bold", y=1 - 0.12 / height, va="top")
     if floor is not None:
-        notes = [f"Integrator noise (at most {tol:g} of the joint's scale) is not drawn"]
+        notes = [f"Integrator noise (at most {tol:g} of {noise_words(which, figure=True)}) is "
+                 "not drawn"]
         for name, where in quiet.items():            # said as noise: its digits are not data
             joints = ("every joint" if len(where) == n else
                       "joint" + ("s " if len(where) > 1 else " ")
                       + ", ".join(str(j + 1) for j, _ in where))
             notes.append(f"{_LABELS.get(name, name)}: \u2261 0 on {joints} (integrator noise)")
         note = "; ".join(notes) + "."
-        fig.text(0.5, 1 - (0.62 if column else 0.36) / height,
-                 textwrap.fill(note, 70) if column else note, ha="center", va="top",
+        if column:                      # wrapped by the width drawn: mathtext as its glyphs
+            math = "$\\mathregular{q_d}$"
+            note = textwrap.fill(note.replace(math, "q_d"), 70).replace("q_d", math)
+        fig.text(0.5, 1 - (0.62 if column else 0.36) / height, note, ha="center", va="top",
                  fontsize=7, color="0.3")
     return fig
+
+
+def noise_words(which, figure=False):
+    """What a closed-loop quantity's integrator noise is measured against (:func:`noise_scales`),
+    in the words of every caption, table and figure note.
+
+    Parameters
+    ----------
+    which : {"q", "tau"}
+        A tracking error's scale (the larger of the range and the peak |q_d| of the joint) or a
+        torque difference's (the full-model controller's peak |tau|).
+    figure : bool, optional
+        The short form of a figure's note, with matplotlib's mathtext for q_d, instead of
+        the reports' markup.
+
+    Returns
+    -------
+    str
+    """
+    if which == "tau":
+        return "the full-model controller's peak |\u03c4|"
+    if figure:                          # short: the note is one line at page width
+        return "max(range, peak |$\\mathregular{q_d}$|)"
+    return f"the joint's scale, max(range, peak |q{sub('d')}|)"
+
+
+def marker_stride(ds, lines):
+    """The set points between two markers on a line of a figure with ``lines`` lines a panel
+    (:func:`gd_analyze.reports.figure_style.panel_markevery`), for the figures and their
+    captions alike.
+
+    Parameters
+    ----------
+    ds : xarray.Dataset
+        A control dataset (``is_setpoint`` along ``time``).
+    lines : int
+        Lines with markers on each panel.
+
+    Returns
+    -------
+    int
+        k >= 1: a marker at every k-th set point.
+    """
+    from .common import panel_markevery
+
+    return panel_markevery(int(np.asarray(ds["is_setpoint"].values).astype(bool).sum()), lines)
+
+
+def markers_words(ds, lines):
+    """What a figure's markers are, in words.
+
+    Parameters
+    ----------
+    ds : xarray.Dataset
+        A control dataset.
+    lines : int
+        Lines with markers on each panel (:func:`marker_stride`).
+
+    Returns
+    -------
+    str
+        "markers: every set point", or "markers: every 8th set point, the first included".
+    """
+    k = marker_stride(ds, lines)
+    if k == 1:
+        return "markers: every set point"
+    suffix = "th" if 10 <= k % 100 <= 20 else {1: "st", 2: "nd", 3: "rd"}.get(k % 10, "th")
+    return f"markers: every {k}{suffix} set point, the first included"
 
 
 def _joint_units(ds, which):

@@ -7,10 +7,10 @@ from __future__ import annotations
 import numpy as np
 
 from ..core.selection.ranking import element_label, is_round_off
-from .common import count, prismatic_joints, utc_now
+from .common import cost_table, prismatic_joints, utc_now
 from .common import strings as _strings
 from .common import table as _table
-from .control_figures import _LABELS, _joint_units, noise_scales
+from .control_figures import _LABELS, _joint_units, markers_words, noise_scales, noise_words
 from .control_verdict import _NOISE, VERDICT_TOLERANCE, _attr, _by_type_text, _fmt, control_verdict
 from .main_provenance import gravity_row, run_row, software_row
 from .main_text import gravity_clause, model_sentence
@@ -52,13 +52,17 @@ def control_context(ds):
                         for c in names)
     summary = summary[:1].upper() + summary[1:]
     summary = (f"{_attr(ds, 'robot')} along {_attr(ds, 'trajectory_file')}, "
-               f"\u03c9{_sub('n')} = {_attr(ds, 'wn')} rad/s, \u03b6 = {_attr(ds, 'zeta')}. "
-               f"{summary}.")
+               f"\u03c9{_sub('n')} = {_per_joint(ds, 'wn', ' rad/s')}, "
+               f"\u03b6 = {_per_joint(ds, 'zeta')}. {summary}.")
     diff = ds["tau_difference_peak"].values if "tau_difference_peak" in ds else None
-    if diff is not None:
+    if diff is not None:                 # a joint's integrator noise is not its largest value
+        off = is_round_off(diff, tau_scale, tol)
+        quiet["tau_difference"] = bool(off.all())
+        diff = np.where(off, 0.0, diff)
         summary += (" Largest closed-loop torque difference, simplified-model controller "
                     "minus full-model controller (two closed-loop runs, each along its own "
-                    f"motion): {_by_type_text(diff, prismatic, 'tau')}; not the "
+                    "motion): " + (_NOISE if quiet["tau_difference"] else
+                                   _by_type_text(diff, prismatic, 'tau')) + "; not the "
                     "open-loop error \u03c4" + _sub("s") + " \u2212 \u03c4 of the main "
                     "report (one model against the other along the desired trajectory).")
     tolerance = tuple(float(ds.attrs.get(f"verdict_tolerance_{k}", d)) for k, d in
@@ -72,9 +76,10 @@ def control_context(ds):
         ["plant", _plant(ds)],
         ["controllers", "; ".join(_LABELS.get(c, d) for c, d in zip(names, desc))
          + " (control laws below)"],
-        ["desired motion", _attr(ds, "interpolation")],
-        ["integrator", f"{_attr(ds, 'integrator')}, rtol = {_attr(ds, 'rtol')}, "
-                       f"atol = {_attr(ds, 'atol')}"],
+        ["desired motion", _attr(ds, "interpolation").replace(
+            "(q, qd, qdd)", "(q, q\u0307, q\u0308)")],        # the stored words, as mathematics
+        ["integrator", f"{_attr(ds, 'integrator')}, rtol = {float(ds.attrs['rtol']):g}, "
+                       f"atol = {float(ds.attrs['atol']):g}"],
         ["samples", f"{_attr(ds, 'samples')} ({_attr(ds, 'setpoints')} set points + fine grid "
                     f"of {_attr(ds, 'grid_points')})"],
         ["initial offset q(0) \u2212 q" + _sub("d") + "(0)",
@@ -123,16 +128,7 @@ def control_context(ds):
     tau_table = _table(["controller", "figure"] + [f"{j} [{u}]" for j, u in zip(joints, tau_u)],
                        tau_rows,
                        align=["left", "left"] + ["right"] * n)
-    cost = None
-    if "evaluator" in ds.dims:
-        ev = _strings(ds["evaluator"].values)
-        mul, add = ds["multiplications"].values, ds["additions"].values
-        ref = len(ev) - 1            # the last: Newton-Euler, the recursive reference
-        cost = _table(["evaluator", "multiplications", "additions", "operations",
-                       "operations vs Newton-Euler"],
-                      [[e, count(mul[k]), count(add[k]), count(mul[k] + add[k]),
-                        f"{(mul[k] + add[k]) / (mul[ref] + add[ref]):.3f}"]
-                       for k, e in enumerate(ev)], align="right")
+    cost = cost_table(ds)
     cost_note = ("Operations per set point, counted (not timed): the emitted models on their "
                  "expressions (constants and structural 0/\u00b11 free, a square one "
                  "multiplication), the project's Newton-Euler with every multiplication and "
@@ -147,8 +143,22 @@ def control_context(ds):
                                                           for j in range(n)], rows,
                                            align=["left"] * (n + 1))
     prov = _table(["item", "value"], _provenance(ds, __version__), align=["left", "left"])
-    floor = ("Integrator noise (at most the integrator's rtol times the joint's scale) is not "
-             "drawn: a log axis starts at that floor.")
+    floor = (f"Integrator noise (at most the integrator's rtol times {noise_words('q')}) is "
+             "not drawn: a log axis starts at that floor.")
+    controllers = len(names)
+    captions = {
+        "error": (f"Tracking error |q{_D} \u2212 q| per joint along the run, log scale "
+                  f"({markers_words(ds, controllers)}). Integrator noise, at most {tol:g} of "
+                  f"{noise_words('q')}, is not drawn: the axis starts there, and a controller "
+                  "whose error is all noise is named above the panels."),
+        "tau_difference": ("Closed-loop torque difference: torque of the simplified-model "
+                           "controller minus torque of the full-model controller, each along "
+                           f"its own closed-loop run, per joint ({markers_words(ds, 1)}); a "
+                           "joint whose difference is integrator noise (at most "
+                           f"{tol:g} of {noise_words('tau')}) reads so instead of a curve."),
+        "tau": (f"Torques applied by the three controllers, per joint "
+                f"({markers_words(ds, controllers)})."),
+    }
     return {
         "version": __version__,
         "created": utc_now().isoformat(),
@@ -169,7 +179,7 @@ def control_context(ds):
         "error_note": (f"Tracking error e = q{_D} \u2212 q per joint, peak |e| and RMS, at the "
                        "set points of the trajectory and on the fine grid (set points "
                        "included)."),
-        "floor_note": floor, "noise_tol": f"{tol:g}",
+        "floor_note": floor, "noise_tol": f"{tol:g}", "captions": captions,
         "tau_diff": tau_diff,
         "diff_note": ("Closed-loop torque difference: torque of the simplified-model "
                       "computed-torque controller minus that of the full-model one, each along "
@@ -184,6 +194,15 @@ def control_context(ds):
                      f"{_attr(ds, 'trajectory_sha256')}; model {_attr(ds, 'model_file')} sha256 "
                      f"{_attr(ds, 'model_sha256')}"),
     }
+
+
+def _per_joint(ds, key, unit=""):
+    """A per-joint setting as the summary says it: once where every joint has the same value
+    ("20 rad/s on every joint"), else the list ("20, 30, 20 rad/s")."""
+    values = np.atleast_1d(np.asarray(ds.attrs.get(key, np.nan), float))
+    if values.size > 1 and np.all(values == values[0]):
+        return f"{values[0]:g}{unit} on every joint"
+    return ", ".join(f"{v:g}" for v in values) + unit
 
 
 def _rule_words(ds):

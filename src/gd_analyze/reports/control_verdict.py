@@ -86,7 +86,8 @@ def control_verdict(peaks, prismatic, tau_difference=None,
         Revolute [rad] and prismatic [m] tolerance
         (:data:`VERDICT_TOLERANCE`).
     quiet : dict of str to bool, optional
-        Per controller, whether its error is integrator noise on every joint: said as
+        Per controller, whether its error is integrator noise on every joint, and under
+        ``"tau_difference"`` whether the torque difference is: said as
         "\u2261 0 (integrator noise)" instead of its digits.
 
     Returns
@@ -121,8 +122,10 @@ def control_verdict(peaks, prismatic, tau_difference=None,
                                       zip(groups["simplified"], groups["pd_gravity"]))
     tail = ""
     if tau_difference is not None:
-        tail = (f"; its closed-loop torque differs from the full-model controller's (two "
-                f"closed-loop runs) by at most {_by_type_text(tau_difference, prismatic, 'tau')}")
+        tail = ("; its closed-loop torque differs from the full-model controller's (two "
+                "closed-loop runs) by at most "
+                + (_NOISE if quiet.get("tau_difference") else
+                   _by_type_text(tau_difference, prismatic, 'tau')))
     pd_text = f", PD + gravity {said('pd_gravity', pd)}" if pd is not None else ""
     if holds:
         head = ("Verdict: the simplified model is good enough for computed-torque control "

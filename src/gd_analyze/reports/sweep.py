@@ -12,7 +12,9 @@ attributes. The report has these parts:
 4. the envelope: per element the fraction of trajectories in each dominance class and the
    min/median/max share, as a figure and a table;
 5. the merged simplified model (budget rule: guaranteed within EPS x scale_i on every swept
-   trajectory; chapter rule: no error bound): its choice per element and its torque error;
+   trajectory; chapter rule: no error bound): what it keeps of D, h and c, its torque error
+   and its operations per set point against the exact recursive model, the full explicit
+   model and Newton-Euler;
 6. optionally, a payload sweep (:func:`gd_analyze.workflows.payload.payload_sweep`): share_tran and class
    of every element vs payload (:func:`gd_analyze.reports.figures.payload_figure`).
 
@@ -113,8 +115,13 @@ def _outline(ctx, figures):
     o.paragraph(ctx["error_text"], "note")
     o.table(ctx["error"], "Open-loop torque error of the merged model per joint, over all set points "
                           "of all trajectories; \u2261 0: round-off (at most 1e-12 of the "
-                          "joint's peak |\u03c4| or 64 \u03b5 of the arm's), not data.")
+                          "joint's peak |\u03c4| or of the arm's), not data.")
     o.figure("error", ctx["captions"]["error"])
+    if ctx["cost"] is not None:
+        o.section("5.2", "Evaluation cost of the merged model")
+        o.table(ctx["cost"], "Operations per set point of the merged model, the exact "
+                             "recursive model, the full explicit model and the project's "
+                             "Newton-Euler, counted on their code (not timed).")
     if ctx["payload"] is not None:
         o.section("6", "Payload sweep", "payload")
         o.table(ctx["payload"]["settings"], "Settings of the payload sweep.", kv=True)

@@ -6,11 +6,11 @@ from __future__ import annotations
 
 import numpy as np
 
-from ..core.selection.ranking import CLASSES, joint_units_text
+from ..core.selection.ranking import joint_units_text
 from ..io.sweep_datasets import beyond_the_floor
 from .common import attr as _attr
 from .common import check as _check
-from .common import count, pct_column, torque_units, units_said_once, utc_now
+from .common import cost_table, count, pct_column, torque_units, units_said_once, utc_now
 from .common import fmt as _fmt
 from .common import pct as _pct
 from .common import share as _share_text
@@ -19,15 +19,16 @@ from .common import table as _table
 from .common import thresholds as _thresholds
 from .figures import PAYLOAD_REQUIRED as _PAYLOAD_REQUIRED
 from .main_provenance import gravity_row, run_row, software_row
+from .main_text import gravity_clause, model_sentence
 from .markup import element as _el
 from .markup import sub as _sub
 from .sweep_figures import REQUIRED as _REQUIRED
-from .sweep_figures import ROUND_OFF_WORDS, torque_error_round_off
+from .sweep_figures import TORQUE_ROUND_OFF_WORDS, torque_error_round_off
 
 __all__ = ["sweep_context"]
 
-_CHOICE_CLASS = {"tran": "translational", "rot": "rotational", "both": "both",
-                 "none": "negligible"}
+#: The merged model's choices per element, in the words of Table 4.1 and the counts line.
+_CHOICES = ("tran", "rot", "both", "none")
 
 
 # --------------------------------------------------------------------------------------------
@@ -97,7 +98,7 @@ def sweep_context(ds, payload=None):
              rel_peak[j], rel_rms[j]])
          + [own_worst[j], units[j]] for j in range(n)],
         align=["left"] + ["right"] * 6 + ["left"])
-    counts = {c: sum(_CHOICE_CLASS[m] == c for m in merged) for c in CLASSES}
+    counts = {c: sum(m == c for m in merged) for c in _CHOICES}   # the table's words
     kept = sum(m != "none" for m in merged)
     single = sum(m in ("tran", "rot") for m in merged)
     worst = _worst_cases(ds, labels)
@@ -126,13 +127,14 @@ def sweep_context(ds, payload=None):
     summary = (f"{robot}: translational share of the {len(labels)} ranked elements of D and h over "
                f"{inputs}, s = {s:g}, e = {e:g}. {name} keeps both parts "
                f"of {counts['both']} elements, one part of {single}, and drops "
-               f"{len(labels) - kept}; it {claim}. {_own_sentence(ds)}")
+               f"{len(labels) - kept}; it {claim}. {_held_out(ds)}{_gravity(ds)}"
+               f"{_cost_sentence(ds)}{_own_sentence(ds)}").strip()
     ctx = {"version": __version__, "title": f"G-D dominance sweep: {robot}, {K} trajectories",
            "summary": summary, "settings": _table(["item", "value"], settings),
            "merged_heading": heading, "merged_text": merged_text,
            "worst": worst,
            "intro": _INTRO.format(K=K, created=utc_now().isoformat(), version=__version__),
-           "envelope": envelope, "error": err,
+           "envelope": envelope, "error": err, "cost": cost_table(ds),
            "error_text": _error_text(ds),
            "captions": _captions(ds),
            "counts": counts, "s": f"{s:g}", "e": f"{e:g}",
@@ -173,7 +175,8 @@ _SAID = {
     "robot_reference", "merged_rule", "merged_tolerance", "merged_torque_floor",
     "merged_worst_scaled_error", "payload_mass", "random_qdd_max_source", "command",
     "mounting_base_rpy_deg", "mounting_gravity_base", "mounting_gravity_world",
-    "own_model_rule"}
+    "own_model_rule", "merged_form", "merged_c_terms", "merged_c_terms_kept",
+    "held_out_trajectories"}
 
 
 def _settings(ds, inputs, setpoints, durations, version):
@@ -244,12 +247,81 @@ def _merged_rule(ds):
             f"max(peak |{_TAU_I}|, torque floor), and terms are dropped, smallest first, while "
             f"these ratios sum to at most \u03b5 = {eps} for every joint. By the triangle "
             f"inequality its torque error is guaranteed within \u03b5\u00b7{_SI} on every "
-            "swept trajectory (not on others). The choices per element are the whole parts "
-            "the same budget drops; the model prunes term by term within it. Gravity c is "
-            "pruned the same way.")
+            "swept trajectory (not on others). " + _keeps(ds) + " The budget weighs single "
+            "terms too, so a part it keeps may lose some of its terms. "
+            + _cost_sentence(ds, table=True))
     return rule, "5. Merged model (chapter rule, no error bound) and its torque error", (
         _MERGED_TEXT + " This rule has no error bound: the errors below are measured, not "
-                       "guaranteed.")
+                       "guaranteed. " + _keeps(ds) + " " + _cost_sentence(ds, table=True))
+
+
+def _keeps(ds):
+    """What the merged model keeps of D, h and c, in the words of the main and the control
+    reports (:func:`gd_analyze.reports.main_text.model_sentence`), from the stored choices and
+    counts of its terms of c (:func:`gd_analyze.workflows.sweep_merged.with_model_cost`)."""
+    rule = str(ds.attrs.get("merged_rule", "chapter"))
+    kept, full = (int(ds.attrs.get(k, -1)) for k in ("merged_c_terms_kept", "merged_c_terms"))
+    gravity = gravity_clause(rule, c_terms=(kept, full) if min(kept, full) >= 0 else None)
+    text = model_sentence(choice=_strings(ds["merged_choice"].values), gravity=gravity)
+    return text.replace("The simplified model", "The merged model", 1)
+
+
+def _held_out(ds):
+    """The merged model's largest error on the held-out trajectories (measured, not
+    guaranteed), relative to their s_i as the guarantee is, as a sentence; "" if none."""
+    if "held_out_error_peak" not in ds.variables:
+        return ""
+    peak = np.asarray(ds["held_out_error_peak"].values, float)
+    tau = np.asarray(ds["held_out_tau_peak"].values, float)
+    floor = float(ds.attrs.get("merged_torque_floor", 0.0) or 0.0)
+    with np.errstate(divide="ignore", invalid="ignore"):
+        rel = peak / np.maximum(tau, floor)
+    rel = np.where(torque_error_round_off(ds, peak, tau) | ~np.isfinite(rel), 0.0, rel)
+    j = int(np.argmax(rel))
+    k = int(ds.attrs.get("held_out_trajectories", 0))
+    scale = (f"peak |{_TAU_I}| over them" if floor == 0 else
+             f"max(peak |{_TAU_I}| over them, {_floor(ds)})")
+    return (f"On {count(k)} held-out random trajector{'y' if k == 1 else 'ies'} (another seed, "
+            f"not swept) the merged model's error is measured, not guaranteed: at most "
+            f"{_pct(rel[j])} of {scale} (joint {j + 1}). ")
+
+
+def _gravity(ds):
+    """The merged model's terms of c as a sentence ("It drops 8 of the 28 terms of c. "), or
+    "" where the dataset does not count them."""
+    rule = str(ds.attrs.get("merged_rule", "chapter"))
+    kept, full = (int(ds.attrs.get(k, -1)) for k in ("merged_c_terms_kept", "merged_c_terms"))
+    if rule == "budget" and min(kept, full) < 0:
+        return ""
+    return f"It {gravity_clause(rule, c_terms=(kept, full))}. "
+
+
+def _cost_sentence(ds, table=False):
+    """The merged model's operations per set point against the exact recursive model, the full
+    explicit model and Newton-Euler, counted on the models (stored by
+    :func:`gd_analyze.workflows.sweep_merged.with_model_cost`), with a word on why where it
+    costs more than one of them; "" for a file without the counts."""
+    if "evaluator" not in ds.dims:
+        return ""
+    names = _strings(ds["evaluator"].values)
+    ops = dict(zip(names, (ds["multiplications"].values + ds["additions"].values).tolist()))
+    mine = ops[names[0]]
+    mul, add = int(ds["multiplications"].values[0]), int(ds["additions"].values[0])
+    others = [(n, ops[n]) for n in names[1:]]
+    text = (f"It costs {count(mine)} operations per set point ({count(mul)} multiplications, "
+            f"{count(add)} additions); " + ", ".join(f"{n}: {count(o)}" for n, o in others)
+            + (" (Table 5.2, counted, not timed)." if table else "."))
+    recursive, full = ops.get("exact recursive model"), ops.get("full explicit model")
+    if recursive is not None and mine > recursive and names[0].endswith("(explicit form)"):
+        text += (" It costs more than the exact recursive model: a sweep builds its merged "
+                 "model in the explicit form only.")
+    if full is not None and mine > full:
+        text += (" It costs more than the full explicit model: where an element keeps one "
+                 "part, its coefficients are that part's, not the sum of both, so the code "
+                 "generator's factoring finds less to share"
+                 + ("; the chapter rule has no fallback to the full model."
+                    if str(ds.attrs.get("merged_rule", "chapter")) == "chapter" else "."))
+    return text + " "
 
 
 def _share(value, zero):
@@ -389,14 +461,15 @@ def _own_sentence(ds):
 def _error_text(ds):
     """Sec. 5.1's note: the table's columns, each model named with its rule."""
     own, merged = _models(ds)
-    return ("Per joint, over all set points of all trajectories: peak and RMS of the "
+    return ("Per joint, over all set points of all swept trajectories: peak and RMS of the "
             "open-loop torque error |\u03c4" + _sub("s") + " \u2212 \u03c4| (the simplified "
             "and the full model's torques along the same desired motion, no controller) "
             f"[{units_said_once(ds, 'tau')}] of {merged}, and both relative to the peak |\u03c4| "
             f"over all trajectories. Column \u201cown models, {_own_rule(ds)} rule "
             f"(worst)\u201d: the largest relative peak error of {own} along that "
             "trajectory, shown for comparison; it is not the merged model"
-            + (" and has no bound." if _own_rule(ds) == "chapter" else "."))
+            + (" and has no bound." if _own_rule(ds) == "chapter" else ".")
+            + (" " + _held_out(ds).strip() if _held_out(ds) else ""))
 
 
 def _captions(ds):
@@ -417,5 +490,5 @@ def _captions(ds):
         "error": (f"Relative peak open-loop torque error per joint, per trajectory: of {own} "
                   "(green) "
                   f"and of {merged} (black); diamond: the merged model over all "
-                  f"trajectories. Round-off ({ROUND_OFF_WORDS} peak |\u03c4|) is not drawn."),
+                  f"trajectories. Round-off ({TORQUE_ROUND_OFF_WORDS} peak |\u03c4|) is not drawn."),
     }

@@ -6,8 +6,9 @@ only where every trajectory's own model drops it, no error bound) and its valida
 the dataset as a :class:`~gd_analyze.core.selection.simplified.SimplifiedModel`;
 :func:`with_budget_model` puts the budget rule's explicit model
 (:func:`gd_analyze.workflows.simplify.sweep_model`, within EPS x scale_i on every swept
-trajectory) and its errors into the dataset in place of the chapter merge. Source: Sec. 3.4.1
-of Fu, Gonzalez & Lee (1987).
+trajectory) and its errors into the dataset in place of the chapter merge;
+:func:`with_model_cost` puts what the merged model costs and keeps of c beside it. Source:
+Sec. 3.4.1 of Fu, Gonzalez & Lee (1987).
 """
 
 from __future__ import annotations
@@ -19,7 +20,7 @@ from ..core.selection.simplified import choice_masks
 from ..errors import InputError
 from ..io.schema import strings
 
-__all__ = ["merged_model", "with_budget_model"]
+__all__ = ["merged_model", "with_budget_model", "with_model_cost"]
 
 
 def merged_model(robot, sweep_ds):
@@ -115,7 +116,9 @@ def with_budget_model(sweep_ds, model):
         ``merged_scale`` (trajectory, joint) [N m]; ``merged_error_*`` over all trajectories
         (relative to the peak |tau| over all of them); attributes ``merged_rule`` = "budget",
         ``merged_tolerance`` (EPS), ``merged_torque_floor`` (TAU) [N m],
-        ``merged_worst_scaled_error`` and ``merge_rule`` (the rule in words).
+        ``merged_worst_scaled_error`` and ``merge_rule`` (the rule in words); where the model
+        was measured on held-out trajectories, ``held_out_error_peak`` and
+        ``held_out_tau_peak`` (joint) [N m or N] and ``held_out_trajectories`` (their number).
 
     Raises
     ------
@@ -166,6 +169,14 @@ def with_budget_model(sweep_ds, model):
              "merged model: RMS error / peak |tau|, over all trajectories")):
         put(name, ("joint",), np.array([np.nan if x is None else x for x in v[key]], float),
             units, desc)
+    held = v.get("held_out") or {}
+    if held:                            # measured off the sweep, not guaranteed
+        put("held_out_error_peak", ("joint",), np.array(held["peak_abs_error"], float), torque,
+            "merged model: peak |tau_merged - tau| over the held-out trajectories (not "
+            "guaranteed)")
+        put("held_out_tau_peak", ("joint",), np.array(held["peak_tau"], float), torque,
+            "peak |tau| over the held-out trajectories")
+        ds.attrs["held_out_trajectories"] = int(v.get("held_out_trajectories", 0))
     ds.attrs.update({
         "merged_rule": "budget", "merged_tolerance": float(model.tolerance),
         "merged_torque_floor": float(model.torque_floor),
@@ -174,4 +185,53 @@ def with_budget_model(sweep_ds, model):
                       f"divided by its trajectory's scale_i = max(peak |tau_i|, "
                       f"{model.torque_floor:g} N m), sum to at most EPS = {eps}: guaranteed "
                       f"within {eps} x scale_i on every swept trajectory"})
+    return with_model_cost(ds, model)
+
+
+def with_model_cost(sweep_ds, model):
+    """The sweep dataset with its merged model's cost and gravity terms, counted on the model.
+
+    Parameters
+    ----------
+    sweep_ds : xarray.Dataset
+        A sweep dataset (:func:`~gd_analyze.workflows.sweep.run_sweep`).
+    model : SimplifiedModel
+        The merged model written beside it (budget rule: :func:`with_budget_model`'s; chapter
+        rule: :func:`merged_model`'s).
+
+    Returns
+    -------
+    xarray.Dataset
+        A copy with ``multiplications`` and ``additions`` (evaluator) [1]: operations per set
+        point of the merged model, the exact recursive model, the full explicit model (where
+        derived) and the project's Newton-Euler, last
+        (:func:`gd_analyze.workflows.control.model_cost`, counted, never timed); attributes
+        ``merged_form`` (recursive or explicit), ``merged_c_terms_kept`` and
+        ``merged_c_terms`` (its terms of c and the full explicit model's; -1 when not
+        counted: the chapter rule keeps c whole, :func:`gd_analyze.workflows.control.model_facts`).
+
+    Notes
+    -----
+    Source: Sec. 3.4.1 of Fu, Gonzalez & Lee (1987) (a simplified model "at a reduced
+    computation time"); Table 3.5 for Newton-Euler.
+    """
+    from .control import model_cost, model_facts
+
+    cost = model_cost(model)
+    facts = model_facts(model)
+    names = [("merged model" + name[len("simplified model"):])
+             if name.startswith("simplified model") else name for name in cost["evaluators"]]
+    ds = sweep_ds.copy()
+    ds = ds.assign_coords(evaluator=("evaluator", np.array(names, dtype=str),
+                                     {"long_name": "evaluator of tau at one set point",
+                                      "units": "1"}))
+    ds["multiplications"] = (("evaluator",), np.array(cost["multiplications"], np.int64),
+                             {"units": "1", "long_name": "multiplications per set point "
+                                                         "(counted)"})
+    ds["additions"] = (("evaluator",), np.array(cost["additions"], np.int64),
+                       {"units": "1", "long_name": "additions and subtractions per set point "
+                                                   "(counted)"})
+    ds.attrs.update({"merged_form": str(facts["form"]),
+                     "merged_c_terms_kept": int(facts["c_terms_kept"]),
+                     "merged_c_terms": int(facts["c_terms"])})
     return ds
