@@ -427,3 +427,15 @@ def test_summary_says_how_many_set_points_were_verified(tmp_path, capsys):
     assert main(["two-link", str(short), "-o", str(tmp_path / "s"), "--no-report"]) == 0
     line = next(x for x in capsys.readouterr().out.splitlines() if x.startswith("verified"))
     assert line.startswith("verified against Pinocchio on 11 set points:")
+
+
+@pytest.mark.parametrize("option", [["--form", "recursive"], ["--explicit", "never"]])
+def test_sweep_refuses_the_options_its_merged_model_ignores(tmp_path, capsys, option):
+    """The sweep's merged model is always explicit (workflows.simplify.sweep_model): --form and
+    --explicit were accepted and ignored; now one line, exit 2, nothing written."""
+    out_dir = tmp_path / "sweep"
+    code, out, err = _run(["sweep", "two-link", "--random", "2", "-o", out_dir, *option],
+                          capsys)
+    assert code == 2
+    assert option[0] in err and len(err.strip().splitlines()) == 1, err
+    assert not out_dir.exists()

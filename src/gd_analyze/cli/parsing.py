@@ -184,7 +184,9 @@ def _add_payload_sweep_argument(group):
                             "--payload-inertia for the load's shape (stored with dim 'payload')")
 
 
-def _add_budget_arguments(p, rule=True, where="on the analysed trajectory"):
+def _add_budget_arguments(p, rule=True, where="on the analysed trajectory", form=True):
+    """The simplified model's options; ``form``: also --explicit and --form (not for the
+    sweep, whose merged model is always explicit)."""
     g = p.add_argument_group("simplified model (error budget, issue 8)")
     g.add_argument("--tolerance", metavar="EPS", type=_fraction(0.0, math.inf, "--tolerance",
                                                                 False), default=defaults["tolerance"],
@@ -199,6 +201,7 @@ def _add_budget_arguments(p, rule=True, where="on the analysed trajectory"):
         g.add_argument("--rule", choices=("budget", "chapter"), default=defaults["rule"],
                        help="budget: by torque contribution within EPS (default); chapter: "
                             "the share-based classes of Sec. 3.4.1 (no bound)")
+    if rule and form:
         g.add_argument("--explicit", choices=("auto", "always", "never"),
                        default=defaults["explicit"],
                        help="derive the explicit G-D model too: auto (default) where its "
@@ -415,7 +418,7 @@ def _sweep_parser():
                    default=defaults["negligible"], help=f"default {defaults['negligible']}")
     _add_budget_arguments(p, where="on every swept trajectory, scale_i = max(that "
                                    "trajectory's peak |tau_i|, TAU); the merged model "
-                                   "merged_model.json/.c/.py")
+                                   "merged_model.json/.c/.py", form=False)
     p.add_argument("--held-out", metavar="K", type=int, default=20,
                    help="random trajectories (another seed) to measure the merged model of the "
                         "budget rule on, not guaranteed (default 20)")
