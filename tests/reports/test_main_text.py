@@ -77,3 +77,32 @@ def test_round_off_threshold_is_written_as_a_power_of_ten():
     text = unicode(RANKING_TEXT)
     assert f"below {power} of its scale" in text, text
     assert not re.search(r"\de-?\d", text), text
+
+
+def test_chapter_disagreement_causes_state_true_inequalities():
+    """Table 6.1's causes: every share they quote is the element's own (four decimals, as the
+    table), every inequality they state holds for it, and the PUMA 560's disagreements are put
+    down to its parameters and trajectory not being the chapter's (the old 'rotor-side
+    inertias lumped into the links' was refuted by the puma560-drives run, README)."""
+    from gd_analyze.reports.main_text import disagreement_cause
+    from gd_analyze.reports.numbers import share as share_text
+
+    s = 0.9
+    cases = [("D11", "both", "translational", 0.7462), ("D24", "translational", "both", 0.9709),
+             ("D46", "rotational", "both", 0.0123), ("D55", "both", "rotational", 0.1435),
+             ("h1", "both", "translational", 0.8717)]
+    ops = {">": lambda a, b: a > b, "\u2265": lambda a, b: a >= b,
+           "\u2264": lambda a, b: a <= b}
+    for label, ours, theirs, sh in cases:
+        text = disagreement_cause(label, ours, theirs, sh, False, s, "puma560")
+        m = re.match(r"(translational|rotational) share (\S+) (\S) (?:1 \u2212 )?s = (\S+);",
+                     text)
+        assert m, text
+        part, shown, op, bound = m.groups()
+        value = sh if part == "translational" else 1.0 - sh
+        assert shown == share_text(value), text
+        threshold = 1 - s if "1 \u2212 s" in text.split(";")[0] else s
+        assert abs(float(bound) - threshold) < 1e-12
+        assert ops[op](value, threshold), text
+        if label.startswith("D"):
+            assert "not the chapter's" in text and "rotor" not in text, text

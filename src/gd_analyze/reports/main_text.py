@@ -9,6 +9,7 @@ from __future__ import annotations
 import numpy as np
 
 from ..core.selection.ranking import element_label, parse_element_label
+from .numbers import share as _share
 from .plot_data import ENVELOPE_COLUMNS
 
 __all__ = ["conclusion", "model_sentence", "gravity_clause", "simplified_intro", "disagreement_cause", "captions",
@@ -329,7 +330,10 @@ def disagreement_cause(label, ours, theirs, share, zero, s, robot_name):
     s : float
         The dominance threshold.
     robot_name : str
-        The robot (the PUMA 560 parameters' lumped rotor inertias are named as a cause).
+        The robot: for ``puma560`` a class the chapter does not share is put down to what
+        differs (its parameters and trajectory are not the chapter's, which it does not give),
+        not to a cause the measurements do not support (README, "How the ranking compares
+        with the chapter": the drives do not bring the classes closer).
 
     Returns
     -------
@@ -347,20 +351,19 @@ def disagreement_cause(label, ours, theirs, share, zero, s, robot_name):
     rot = 1.0 - share
     if ours == "both":
         if theirs == "translational":          # shares as fractions, as in Sec. 4
-            cause = f"rotational share {rot:.3f} > 1 \u2212 s = {1 - s:g}"
+            cause = f"rotational share {_share(rot)} > 1 \u2212 s = {1 - s:g}"
         else:
-            cause = f"translational share {share:.3f} > 1 \u2212 s = {1 - s:g}"
+            cause = f"translational share {_share(share)} > 1 \u2212 s = {1 - s:g}"
     elif ours == "translational":
-        cause = f"translational share {share:.3f} \u2265 s = {s:g}"
+        cause = f"translational share {_share(share)} \u2265 s = {s:g}"
     else:
-        cause = f"translational share {share:.3f} \u2264 1 \u2212 s = {1 - s:g}"
+        cause = f"translational share {_share(share)} \u2264 1 \u2212 s = {1 - s:g}"
     if label.startswith("h"):
         cause += ("; h depends on q\u0307 and the chapter's trajectory is not given, so it is "
                   "compared on another motion")
-    elif robot_name.lower().replace(" ", "").replace("-", "") == "puma560" and \
-            (ours == "rotational" or (ours == "both" and theirs == "translational")):
-        cause += ("; these PUMA 560 parameters lump rotor-side inertias into the links, "
-                  "so the rotational part is larger than the chapter's")
+    elif robot_name.lower().replace(" ", "").replace("-", "") == "puma560":
+        cause += ("; these PUMA 560 parameters (Armstrong, Khatib & Burdick) and this "
+                  "trajectory are not the chapter's, which it does not give")
     elif robot_name == "puma560-drives" and label[1] == label[2] and \
             ours in ("rotational", "both") and theirs == "translational":
         cause += "; the drive's armature counts on the rotational side"
