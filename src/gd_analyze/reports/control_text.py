@@ -317,11 +317,14 @@ _PROVENANCE = (("trajectory path", "trajectory_path"),
 
 
 def _provenance(ds, version):
-    """The provenance rows, each setting once and in words: the software and the run as the
-    main report says them (:mod:`gd_analyze.reports.main_provenance`), gravity, the files,
-    the verdict's tolerance."""
-    rows = [list(software_row(ds, version)), list(run_row(ds, "run")),
-            list(gravity_row(ds))]
+    """The provenance rows, each setting once and in words: the software, the command line as
+    :func:`gd_analyze.cli.main` was given it (stored by the command line; an older file has
+    none), the run as the main report says them (:mod:`gd_analyze.reports.main_provenance`),
+    gravity, the files, the verdict's tolerance."""
+    rows = [list(software_row(ds, version))]
+    if "command" in ds.attrs:           # an older control.h5 has none
+        rows.append(["command", _attr(ds, "command")])
+    rows += [list(run_row(ds, "run")), list(gravity_row(ds))]
     own = str(ds.attrs.get("trajectory_is_models")) == "1"
     for label, k in _PROVENANCE:
         if k == "model_trajectory_sha256" and own:
