@@ -175,7 +175,9 @@ def test_fig3_markers_of_the_controllers_never_coincide(runs):
                 assert not marked[a] & marked[b], (ax.get_title(), a, b)
     assert panels == ds.sizes["joint"]
     caption = runs["control_ctx"]["captions"]["tau"]
-    said = re.search(r"first at set point ([\d, ]+) and (\d+)", caption)
-    assert said, caption
-    numbers = [int(v) for v in said.group(1).split(", ")] + [int(said.group(2))]
-    assert numbers == sorted(s + 1 for s in starts)
+    said = caption[caption.index("first at set point"):]
+    labels = {"full": "computed torque, full model",
+              "simplified": "computed torque, simplified model", "pd_gravity": "PD + gravity"}
+    numbers = [int(re.search(rf"(\d+) \({re.escape(labels[str(c)])}\)", said).group(1))
+               for c in ds["controller"].values]          # each controller by its key label
+    assert numbers == sorted(s + 1 for s in starts), caption

@@ -231,26 +231,31 @@ def markers_words(ds, lines):
     ----------
     ds : xarray.Dataset
         A control dataset.
-    lines : int
-        Lines with markers on each panel (:func:`marker_stride`).
+    lines : int or sequence of str
+        Lines with markers on each panel (:func:`marker_stride`), or the controllers drawn, in
+        the order they are drawn (:data:`CONTROLLER_LABELS` names them).
 
     Returns
     -------
     str
         "markers: every set point", "markers: every 8th set point, the first included", or
         for several lines "markers: every 8th set point, staggered so that no two controllers
-        mark the same one: the first at set point 1, 3 and 6, in the key's order"
-        (:func:`marker_starts`).
+        mark the same one; the first at set point 1 (computed torque, full model), 3 (...) and
+        6 (...)" (:func:`marker_starts`).
     """
-    k = marker_stride(ds, lines)
+    names = None if isinstance(lines, int) else [str(c) for c in lines]
+    count = len(names) if names is not None else int(lines)
+    k = marker_stride(ds, count)
     if k == 1:
         return "markers: every set point"
-    if lines <= 1:
+    if count <= 1:
         return f"markers: every {_ordinal(k)} set point, the first included"
-    starts = [str(s + 1) for s in marker_starts(k, lines)]
+    starts = [str(s + 1) for s in marker_starts(k, count)]
+    if names is not None:
+        starts = [f"{s} ({_LABELS.get(c, c)})" for s, c in zip(starts, names)]
     return (f"markers: every {_ordinal(k)} set point, staggered so that no two controllers "
-            f"mark the same one: the first at set point {', '.join(starts[:-1])} and "
-            f"{starts[-1]}, in the key's order")
+            f"mark the same one; the first at set point {', '.join(starts[:-1])} and "
+            f"{starts[-1]}")
 
 
 def _ordinal(k):

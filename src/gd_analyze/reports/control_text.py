@@ -144,10 +144,9 @@ def control_context(ds):
     prov = _table(["item", "value"], _provenance(ds, __version__), align=["left", "left"])
     floor = (f"Integrator noise (at most the integrator's rtol times {noise_words('q')}) is "
              "not drawn: a log axis starts at that floor.")
-    controllers = len(names)
     captions = {
         "error": (f"Tracking error |q{_D} \u2212 q| per joint along the run, log scale "
-                  f"({markers_words(ds, controllers)}). Integrator noise, at most {tol:g} of "
+                  f"({markers_words(ds, names)}). Integrator noise, at most {tol:g} of "
                   f"{noise_words('q')}, is not drawn: the axis starts there, and a controller "
                   "whose error is all noise is named above the panels."),
         "tau_difference": ("Closed-loop torque difference: torque of the simplified-model "
@@ -156,7 +155,7 @@ def control_context(ds):
                            "joint whose difference is integrator noise (at most "
                            f"{tol:g} of {noise_words('tau')}) reads so instead of a curve."),
         "tau": (f"Torques applied by the three controllers, per joint "
-                f"({markers_words(ds, controllers)})."),
+                f"({markers_words(ds, names)})."),
     }
     return {
         "version": __version__,
