@@ -43,6 +43,35 @@ def test_pct_column_fixed_notation_two_significant_digits(values):
         assert abs(shown - 100 * v) <= 0.051 * abs(100 * v), (cell, v)   # two digits
 
 
+def _significant(cell):
+    """Significant digits of a fixed-notation cell ("31.88 %": 4, "0.0064 %": 2)."""
+    return len(cell.split()[0].replace(".", "").lstrip("0"))
+
+
+@pytest.mark.parametrize("values", [[0.3188459, 1.2e-6, 0.0123], [2.0273, 0.0051, 0.31],
+                                    [0.3188459, 4.2e-9], [12.5, 0.5, 3e-3]])
+def test_pct_column_keeps_four_digits_of_its_largest(values):
+    """A long sweep printed "31.88459 %" beside "0.00012 %": the decimals of a column are
+    capped so that its largest entry keeps at most four significant digits; still one number
+    of decimals and no exponent form in the column; an entry too small for those decimals is
+    a true bound ("< 0.01 %"), every other entry reads back within half a unit of its last
+    decimal."""
+    cells = rp.pct_column(values)
+    numbers = [c for c in cells if not c.startswith("<")]
+    figures = [c.lstrip("< ").split()[0] for c in cells]
+    decimals = {len(f.split(".")[1]) if "." in f else 0 for f in figures}
+    assert len(decimals) == 1 and not any("e" in c for c in cells), cells
+    d = decimals.pop()
+    big = int(np.argmax(values))
+    assert _significant(cells[big]) <= 4, cells
+    for cell, v in zip(cells, values):
+        if cell.startswith("<"):
+            assert 100 * v < float(cell.split()[1]) == 10.0 ** -d, (cell, v)
+        else:
+            assert abs(float(cell.split()[0]) - 100 * v) <= 0.5 * 10.0 ** -d * (1 + 1e-9)
+    assert numbers
+
+
 def test_attr_variants():
     ds = xr.Dataset(attrs={"arr": np.array([1.0, 2.5]), "flag": np.bool_(True), "empty": "",
                            "tiny": 1.5e-7, "name": b"puma"})

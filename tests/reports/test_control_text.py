@@ -9,6 +9,7 @@ generalized gravity against the emitted model at rest (q̇ = q̈ = 0) for what i
 
 import importlib.util
 import re
+import shlex
 from html import unescape
 
 import numpy as np
@@ -122,13 +123,17 @@ def test_verdict_tolerance_option_reaches_the_report(tmp_path):
     csv = tmp_path / "two.csv"
     assert main(["plan", "two-link", "-o", str(csv)]) == 0
     assert main(["two-link", str(csv), "-o", str(tmp_path / "main"), "-q", "--no-report"]) == 0
-    assert main(["control", str(tmp_path / "main" / "simplified_model.json"), str(csv),
-                 "-o", str(tmp_path / "control"), "-q", "--verdict-tolerance", "0.002,0.004"]) == 0
+    argv = ["control", str(tmp_path / "main" / "simplified_model.json"), str(csv),
+            "-o", str(tmp_path / "control"), "-q", "--verdict-tolerance", "0.002,0.004"]
+    assert main(list(argv)) == 0
     with xr.open_dataset(tmp_path / "control" / "control.h5") as ds:
         assert (float(ds.attrs["verdict_tolerance_revolute"]),
                 float(ds.attrs["verdict_tolerance_prismatic"])) == (0.002, 0.004)
     text = _text((tmp_path / "control" / "control_report.html").read_text())
     assert "the larger of 0.002 rad and twice the full model's" in text     # all revolute
+    command = shlex.join(["gd-analyze", *argv])        # the provenance's command line, as given
+    assert text.count(command) == 1
+    text = text.replace(command, "")
     assert "verdict tolerance 0.002 rad" in text and "0.004" not in text
 
 
@@ -202,5 +207,6 @@ def test_settings_said_once_and_markers_as_drawn(tmp_path):
             assert "\u2261 0 on every joint (integrator noise)" in " ".join(
                 t.get_text() for t in figures[key].texts)
             continue
-        assert drawn == {k}, (key, drawn, k)
+        strides = {m[1] if isinstance(m, tuple) else m for m in drawn}   # (start, k): staggered
+        assert strides == {k}, (key, drawn, k)
         assert -(-200 // k) <= 12                     # at most 12 markers a line

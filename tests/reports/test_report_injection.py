@@ -130,3 +130,44 @@ def test_long_footer_is_cut_before_the_page_number(tmp_path):
     for text, x, number in footers:
         assert text.startswith("gd-analyze: <script>") and len(text) < len(footer)
         assert x + _width(text, 7) < number
+
+
+#: Folders in a command line: quotes, a script element, mathtext, a PDF string's end.
+HOSTILE_DIR = "x'\" <script>alert(2)</script><gdinjected3 onload=\"y\"> $\\frac{1}{0}$ ) Tj"
+
+
+@pytest.fixture(scope="module")
+def hostile_control(tmp_path_factory):
+    """The control report of a run whose trajectory lies in a hostile folder: its command line
+    (stored in control.h5 and shown in the provenance) and paths carry the hostile text."""
+    import shlex
+
+    from gd_analyze.cli import main
+
+    tmp = tmp_path_factory.mktemp("control")
+    folder = tmp / HOSTILE_DIR                   # "</script>" makes a sub-folder: the path
+    folder.mkdir(parents=True)                   # still reads "<script>...</script>"
+    csv = str(folder / "traj.csv")
+    assert main(["plan", "two-link", "-o", csv, "--setpoints", "11"]) == 0
+    assert main(["two-link", csv, "-o", str(tmp / "main"), "-q", "--no-report"]) == 0
+    argv = ["control", str(tmp / "main" / "simplified_model.json"), csv,
+            "-o", str(tmp / "control"), "-q"]
+    assert main(list(argv)) == 0
+    return tmp / "control", shlex.join(["gd-analyze", *argv])
+
+
+def test_control_report_shows_a_hostile_command_line_as_text(hostile_control):
+    from pypdf import PdfReader
+
+    out, command = hostile_control
+    assert "<script>" in command and "$" in command
+    html = (out / "control_report.html").read_text(encoding="utf-8")
+    parser = _Collect()
+    parser.feed(html)
+    tags = {t for t, _ in parser.tags}
+    assert "script" not in tags and "gdinjected3" not in tags
+    assert not any(name.startswith("on") for _, attrs in parser.tags for name, _ in attrs)
+    assert command in "".join(parser.text)               # whole, as text, after unescaping
+    reader = PdfReader(out / "control_report.pdf")
+    whole = re.sub(r"\s+", "", "".join(p.extract_text() for p in reader.pages))
+    assert re.sub(r"\s+", "", command) in whole          # literal (no mathtext), wrapped

@@ -4,12 +4,10 @@ context of the PUMA 560 and the Stanford arm (joint 3 prismatic): no column of a
 exponent form with fixed notation, and each printed value reads back within its four
 significant digits of the value stored in results.h5 (the oracle)."""
 
-import math
-import re
-
 import numpy as np
 import pytest
 from conftest import ROOT
+from table_checks import number, reads_back, tables
 
 from gd_analyze import load_robot
 from gd_analyze.io.schema import open_results
@@ -18,8 +16,6 @@ from gd_analyze.reports.main_context import report_context
 from gd_analyze.reports.markup import plain
 from gd_analyze.workflows.analyze import analyze_to_file
 from gd_analyze.workflows.options import AnalysisOptions
-
-NUMBER = re.compile(r"^[\u2212-]?[\d,]*\.?\d+(e[+-]\d+)?$")
 
 
 @pytest.fixture(scope="module", params=("puma560", "stanford"))
@@ -34,43 +30,16 @@ def context(request, tmp_path_factory):
     return name, ds, report_context(ds)
 
 
-def _tables(obj, where=""):
-    """Every table (a dict with header and rows) anywhere in the context."""
-    if isinstance(obj, dict):
-        if "header" in obj and "rows" in obj:
-            yield where, obj
-        for k, v in obj.items():
-            yield from _tables(v, f"{where}.{k}")
-    elif isinstance(obj, (list, tuple)):
-        for k, v in enumerate(obj):
-            yield from _tables(v, f"{where}[{k}]")
-
-
-def _number(cell):
-    text = plain(str(cell)).replace("\u2212", "-").replace(",", "")
-    return float(text) if NUMBER.match(text.strip()) else None
-
-
 def test_no_column_mixes_exponent_and_fixed(context):
     name, _, ctx = context
-    tables = list(_tables(ctx))
-    assert len(tables) >= 5
-    for where, table in tables:
+    found = list(tables(ctx))
+    assert len(found) >= 5
+    for where, table in found:
         for c, head in enumerate(table["header"]):
             cells = [plain(str(row[c])) for row in table["rows"] if c < len(row)]
-            nums = [t for t in cells if _number(t) is not None and _number(t) != 0]
+            nums = [t for t in cells if number(t) is not None and number(t) != 0]
             sci = {("e" in t) for t in nums}
             assert len(sci) <= 1, (name, where, head, nums)
-
-
-def _reads_back(text, value, digits=4):
-    shown = _number(text)
-    assert shown is not None, text
-    if value == 0:
-        assert shown == 0
-        return
-    unit = 10.0 ** (math.floor(math.log10(abs(value))) - digits + 1)
-    assert abs(shown - value) <= 0.5 * unit * (1 + 1e-9), (text, value)
 
 
 def test_printed_values_read_back_within_their_digits(context):
@@ -82,14 +51,14 @@ def test_printed_values_read_back_within_their_digits(context):
                               inertia[:, 0, 0], inertia[:, 1, 1], inertia[:, 2, 2]])
     for row, values in zip(link["rows"], stored):
         for text, value in zip(row[1:], values):
-            _reads_back(text, value)
+            reads_back(text, value)
     ranking = ctx["ranking"]
     peaks = [ds[v].values for v in ("peak_tran", "peak_rot", "peak_total")]
     checked = 0
     for k, row in enumerate(ranking["rows"]):
         for text, v in zip(row[3:6], peaks):
             if "\u2261" not in text:
-                _reads_back(text, v[k])
+                reads_back(text, v[k])
                 checked += 1
     assert checked > 20
 
@@ -100,21 +69,21 @@ def test_share_columns_have_one_number_of_decimals(context):
     reads back within half a unit of its last decimal of the stored share_tran."""
     name, ds, ctx = context
     found = 0
-    for where, table in _tables(ctx):
+    for where, table in tables(ctx):
         for c, head in enumerate(table["header"]):
             if "share" not in plain(str(head)):
                 continue
             cells = [plain(str(row[c])) for row in table["rows"] if c < len(row)]
             decimals = {len(t.split(".")[1]) for t in cells
-                        if _number(t) is not None and "." in t}
+                        if number(t) is not None and "." in t}
             assert len(decimals) <= 1, (name, where, head, cells)
             found += 1
     assert found >= 1
     share = ds["share_tran"].values
-    table = next(t for _, t in _tables(ctx) if any("share" in plain(str(h))
+    table = next(t for _, t in tables(ctx) if any("share" in plain(str(h))
                                                      for h in t["header"]))
     col = next(c for c, h in enumerate(table["header"]) if "share" in plain(str(h)))
     for k, row in enumerate(table["rows"]):
-        shown = _number(plain(str(row[col])))
+        shown = number(plain(str(row[col])))
         if shown is not None and shown not in (0.0, 1.0):
             assert abs(shown - share[k]) <= 0.5e-4 * (1 + 1e-9), (row, share[k])

@@ -504,7 +504,7 @@ def _cmd_control(args):
     with staged_output(outdir, (CONTROL_FILE, *CONTROL_REPORT_FILES, "figures"),
                        "control") as stage, writing(outdir, stage):
         path = stage / CONTROL_FILE
-        write_control_dataset(result, path)
+        write_control_dataset(result, path, {"command": _command_line(args)})
         written = [path]
         if not args.no_report:
             from ..reports.control import write_control_report

@@ -30,13 +30,16 @@ def _gain_units(prismatic):
             "Kp_pd": [kp for kp, _ in gains], "Kv_pd": [kv for _, kv in gains]}
 
 
-def control_dataset(result):
+def control_dataset(result, settings=None):
     """The closed-loop comparison as an xarray Dataset.
 
     Parameters
     ----------
     result : ControlResult
         As :func:`gd_analyze.workflows.control.run_control` returns it.
+    settings : dict of str to (str or float or int), optional
+        Extra global attributes, e.g. ``{"command": ...}``: the command line as
+        :func:`gd_analyze.cli.main` was given it, as the main job and the sweep store it.
 
     Returns
     -------
@@ -56,7 +59,8 @@ def control_dataset(result):
     ``tau_difference_peak``, ``tau_difference_rms`` (joint) when both computed-torque
     controllers ran; the gains (joint); ``is_setpoint`` (time); ``choice`` (element);
     ``multiplications``, ``additions`` (evaluator) when the cost was
-    measured. The attribute ``trajectory_is_models`` is 1 if the tracked trajectory is the one
+    measured. The attribute ``command`` holds the command line when ``settings`` gives it.
+    The attribute ``trajectory_is_models`` is 1 if the tracked trajectory is the one
     the simplified model was derived on (same SHA-256), else 0.
     """
     import xarray as xr
@@ -207,10 +211,11 @@ def control_dataset(result):
     if cost:
         attrs.update(cost_dropped_parts=int(cost["dropped"]), cost_parts=int(cost["parts"]),
                      cost_parts_what=str(cost.get("what", "")))
+    attrs.update(settings or {})
     return xr.Dataset(data_vars, coords=coords, attrs=attrs)
 
 
-def write_control_dataset(result, path):
+def write_control_dataset(result, path, settings=None):
     """Write :func:`control_dataset` of a result to HDF5/netCDF4 (h5netcdf), atomically.
 
     Parameters
@@ -219,6 +224,8 @@ def write_control_dataset(result, path):
         As :func:`gd_analyze.workflows.control.run_control` returns it.
     path : str or os.PathLike
         Destination, e.g. ``control.h5``.
+    settings : dict, optional
+        Extra global attributes (:func:`control_dataset`), e.g. the command line.
 
     Returns
     -------
@@ -230,6 +237,6 @@ def write_control_dataset(result, path):
     OSError
         If the file cannot be written.
     """
-    ds = control_dataset(result)
+    ds = control_dataset(result, settings)
     write_dataset(ds, path)
     return ds

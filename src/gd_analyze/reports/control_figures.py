@@ -18,7 +18,7 @@ from .common import style as _style
 from .markup import sub
 
 __all__ = ["control_figures", "noise_scales", "PAGE_WIDTH", "COLUMN_WIDTH", "CONTROLLER_LABELS",
-           "marker_stride", "markers_words", "noise_words"]
+           "marker_starts", "marker_stride", "markers_words", "noise_words"]
 
 #: Figure widths [in]: the text of a page, one column.
 PAGE_WIDTH, COLUMN_WIDTH = 7.2, 3.5
@@ -93,7 +93,7 @@ def _joint_panels(ds, values, ylabel, title, log=False, scale=None, which="q",
             ax.set_visible(False)
             continue
         drawn = 0
-        for name, y in values.items():
+        for order, (name, y) in enumerate(values.items()):
             yj = np.asarray(y[:, j], dtype=float)
             if log:
                 yj = np.abs(yj)
@@ -108,8 +108,10 @@ def _joint_panels(ds, values, ylabel, title, log=False, scale=None, which="q",
                   "label": _LABELS.get(name, name)}
             line, = ax.plot(t[keep], yj[keep], **kw)
             handles.setdefault(kw["label"], line)
+            start = marker_starts(every, len(values))[order]   # staggered: none coincide
             ax.plot(t[is_set], yj[is_set], linestyle="none", marker="o", markersize=2.5,
-                    color=kw["color"], mfc="none", markevery=every)
+                    color=kw["color"], mfc="none",
+                    markevery=(start, every) if every > 1 else 1)
         if log:
             ax.set_yscale("log")
             if floor is not None and floor[j] > 0:
@@ -196,6 +198,32 @@ def marker_stride(ds, lines):
     return panel_markevery(int(np.asarray(ds["is_setpoint"].values).astype(bool).sum()), lines)
 
 
+def marker_starts(every, lines):
+    """The set point of each line's first marker on a panel of ``lines`` lines with a marker
+    at every ``every``-th set point: staggered, so that no two lines mark the same set point
+    (as :func:`gd_analyze.reports.main_figures._plot` staggers the parts of an element).
+
+    Parameters
+    ----------
+    every : int
+        The stride (:func:`marker_stride`).
+    lines : int
+        Lines with markers on each panel.
+
+    Returns
+    -------
+    list of int, length ``lines``
+        0-based indices of the first marked set point: ``i * every // lines``; all 0 when
+        ``every`` is 1 (every line marks every set point).
+
+    Examples
+    --------
+    >>> marker_starts(8, 3), marker_starts(16, 1), marker_starts(1, 3)
+    ([0, 2, 5], [0], [0, 0, 0])
+    """
+    return [i * every // max(1, lines) for i in range(max(1, lines))]
+
+
 def markers_words(ds, lines):
     """What a figure's markers are, in words.
 
@@ -203,19 +231,37 @@ def markers_words(ds, lines):
     ----------
     ds : xarray.Dataset
         A control dataset.
-    lines : int
-        Lines with markers on each panel (:func:`marker_stride`).
+    lines : int or sequence of str
+        Lines with markers on each panel (:func:`marker_stride`), or the controllers drawn, in
+        the order they are drawn (:data:`CONTROLLER_LABELS` names them).
 
     Returns
     -------
     str
-        "markers: every set point", or "markers: every 8th set point, the first included".
+        "markers: every set point", "markers: every 8th set point, the first included", or
+        for several lines "markers: every 8th set point, staggered so that no two controllers
+        mark the same one; the first at set point 1 (computed torque, full model), 3 (...) and
+        6 (...)" (:func:`marker_starts`).
     """
-    k = marker_stride(ds, lines)
+    names = None if isinstance(lines, int) else [str(c) for c in lines]
+    count = len(names) if names is not None else int(lines)
+    k = marker_stride(ds, count)
     if k == 1:
         return "markers: every set point"
+    if count <= 1:
+        return f"markers: every {_ordinal(k)} set point, the first included"
+    starts = [str(s + 1) for s in marker_starts(k, count)]
+    if names is not None:
+        starts = [f"{s} ({_LABELS.get(c, c)})" for s, c in zip(starts, names)]
+    return (f"markers: every {_ordinal(k)} set point, staggered so that no two controllers "
+            f"mark the same one; the first at set point {', '.join(starts[:-1])} and "
+            f"{starts[-1]}")
+
+
+def _ordinal(k):
+    """1st, 2nd, 3rd, 8th, 11th ..."""
     suffix = "th" if 10 <= k % 100 <= 20 else {1: "st", 2: "nd", 3: "rd"}.get(k % 10, "th")
-    return f"markers: every {k}{suffix} set point, the first included"
+    return f"{k}{suffix}"
 
 
 def _joint_units(ds, which):

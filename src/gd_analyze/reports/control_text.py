@@ -7,7 +7,7 @@ from __future__ import annotations
 import numpy as np
 
 from ..core.selection.ranking import element_label, is_round_off
-from .common import cost_table, prismatic_joints, utc_now
+from .common import cost_table, fmt_column, prismatic_joints, utc_now
 from .common import strings as _strings
 from .common import table as _table
 from .control_figures import _LABELS, _joint_units, markers_words, noise_scales, noise_words
@@ -87,46 +87,45 @@ def control_context(ds):
          if "q0_offset" in ds else "0"],
     ], align=["left", "left"])
     gains = _gains_table(ds, joints)
-    def noise(values, peaks, scale):     # integrator noise of the joint's scale: not data
-        off = is_round_off(peaks, scale, tol)
-        return ["\u2261 0" if o else _fmt(v) for v, o in zip(values, off)]
+    def noisy(peaks, scale):            # integrator noise of the joint's scale: not data
+        return is_round_off(peaks, scale, tol)
 
-    err_rows = []
+    err_rows, err_values, err_off = [], [], []
     for c in names:
         for key, where in (("setpoints", "set points"), ("grid", "fine grid")):
             pk = ds[f"error_peak_{key}"].sel(controller=c).values
             rm = ds[f"error_rms_{key}"].sel(controller=c).values
-            err_rows.append([_SHORT.get(c, c), where, "peak"] + noise(pk, pk, q_scale))
-            err_rows.append([_SHORT.get(c, c), where, "RMS"] + noise(rm, pk, q_scale))
+            for fig, v in (("peak", pk), ("RMS", rm)):
+                err_rows.append([_SHORT.get(c, c), where, fig])
+                err_values.append(v)
+                err_off.append(noisy(pk, q_scale))
     q_u, tau_u = _joint_units(ds, "q"), _joint_units(ds, "tau")
     errors = _table(["controller", "sampled at", "figure"]
                     + [f"{j} [{u}]" for j, u in zip(joints, q_u)],
-                    err_rows, align=["left", "left", "left"] + ["right"] * n)
-    tau_diff = _table(["figure"] + [f"{j} [{u}]" for j, u in zip(joints, tau_u)], [],
-                      align="right")
-
-    def fmt_all(name, **sel):
-        return [_fmt(v) for v in ds[name].sel(**sel).values]
-
-    def diff(name, peak):
-        return noise(ds[name].values, ds[peak].values, tau_scale)
-
+                    _with_columns(err_rows, err_values, err_off),
+                    align=["left", "left", "left"] + ["right"] * n)
+    diff_rows, diff_values, diff_off = [], [], []
     if "tau_difference_peak" in ds:
-        tau_diff["rows"] = [["peak, fine grid"] + diff("tau_difference_peak",
-                                                       "tau_difference_peak"),
-                            ["RMS, fine grid"] + diff("tau_difference_rms",
-                                                      "tau_difference_peak")]
+        pairs = [("peak, fine grid", "tau_difference_peak", "tau_difference_peak"),
+                 ("RMS, fine grid", "tau_difference_rms", "tau_difference_peak")]
         if "tau_difference_peak_setpoints" in ds:
             at = "tau_difference_peak_setpoints"
-            tau_diff["rows"] += [["peak, set points"] + diff(at, at),
-                                 ["RMS, set points"] + diff("tau_difference_rms_setpoints", at)]
-    tau_rows = []
+            pairs += [("peak, set points", at, at),
+                      ("RMS, set points", "tau_difference_rms_setpoints", at)]
+        for fig, name, peak in pairs:
+            diff_rows.append([fig])
+            diff_values.append(ds[name].values)
+            diff_off.append(noisy(ds[peak].values, tau_scale))
+    tau_diff = _table(["figure"] + [f"{j} [{u}]" for j, u in zip(joints, tau_u)],
+                      _with_columns(diff_rows, diff_values, diff_off), align="right")
+    tau_rows, tau_values = [], []
     for c in names:
         if "tau_peak" in ds:
-            tau_rows.append([_SHORT.get(c, c), "peak |\u03c4|"] + fmt_all("tau_peak", controller=c))
-            tau_rows.append([_SHORT.get(c, c), "RMS \u03c4"] + fmt_all("tau_rms", controller=c))
+            for fig, name in (("peak |\u03c4|", "tau_peak"), ("RMS \u03c4", "tau_rms")):
+                tau_rows.append([_SHORT.get(c, c), fig])
+                tau_values.append(ds[name].sel(controller=c).values)
     tau_table = _table(["controller", "figure"] + [f"{j} [{u}]" for j, u in zip(joints, tau_u)],
-                       tau_rows,
+                       _with_columns(tau_rows, tau_values),
                        align=["left", "left"] + ["right"] * n)
     cost = cost_table(ds)
     cost_note = ("Operations per set point, counted (not timed): the emitted models on their "
@@ -145,10 +144,9 @@ def control_context(ds):
     prov = _table(["item", "value"], _provenance(ds, __version__), align=["left", "left"])
     floor = (f"Integrator noise (at most the integrator's rtol times {noise_words('q')}) is "
              "not drawn: a log axis starts at that floor.")
-    controllers = len(names)
     captions = {
         "error": (f"Tracking error |q{_D} \u2212 q| per joint along the run, log scale "
-                  f"({markers_words(ds, controllers)}). Integrator noise, at most {tol:g} of "
+                  f"({markers_words(ds, names)}). Integrator noise, at most {tol:g} of "
                   f"{noise_words('q')}, is not drawn: the axis starts there, and a controller "
                   "whose error is all noise is named above the panels."),
         "tau_difference": ("Closed-loop torque difference: torque of the simplified-model "
@@ -157,7 +155,7 @@ def control_context(ds):
                            "joint whose difference is integrator noise (at most "
                            f"{tol:g} of {noise_words('tau')}) reads so instead of a curve."),
         "tau": (f"Torques applied by the three controllers, per joint "
-                f"({markers_words(ds, controllers)})."),
+                f"({markers_words(ds, names)})."),
     }
     return {
         "version": __version__,
@@ -194,6 +192,34 @@ def control_context(ds):
                      f"{_attr(ds, 'trajectory_sha256')}; model {_attr(ds, 'model_file')} sha256 "
                      f"{_attr(ds, 'model_sha256')}"),
     }
+
+
+def _with_columns(rows, values, off=None, digits=3):
+    """Table rows: each row's leading cells, then its numbers per joint, each joint's column in
+    one notation (:func:`gd_analyze.reports.numbers.fmt_column`, issue 18: one format per
+    column).
+
+    Parameters
+    ----------
+    rows : list of list of str, length R
+        The leading cells of each row.
+    values : list of array_like, shape (R, n)
+        The numbers of each row, one per joint [that column's units].
+    off : list of array_like of bool, shape (R, n), optional
+        Integrator noise by the report's rule: "\u2261 0".
+    digits : int, optional
+        Significant digits each entry keeps, at least.
+
+    Returns
+    -------
+    list of list of str
+    """
+    if not rows:
+        return []
+    v = np.asarray(values, float)
+    hide = np.zeros(v.shape, bool) if off is None else np.asarray(off, bool)
+    cols = [fmt_column(v[:, j], digits, hide[:, j]) for j in range(v.shape[1])]
+    return [list(r) + list(c) for r, c in zip(rows, zip(*cols))]
 
 
 def _per_joint(ds, key, unit=""):
@@ -287,9 +313,11 @@ def _gains_table(ds, joints):
         header.append(f"{title} [{units[0]}]" if same else title)
         per_joint[name] = ([""] * len(units) if same else
                            ["\u00a0" + u.replace(" ", "\u00a0") for u in units])
-    rows = [[joints[j]] + [_fmt(ds[v].values[j], digits=4) for v in ("wn", "zeta", "Kp", "Kv")]
-            + [_fmt(ds[v].values[j], digits=4) + per_joint[v][j]
-               for v in ("inertia_scale", "Kp_pd", "Kv_pd")] for j in range(len(joints))]
+    cols = {v: fmt_column(ds[v].values, 4) for v in ("wn", "zeta", "Kp", "Kv", "inertia_scale",
+                                                    "Kp_pd", "Kv_pd")}   # one per column
+    rows = [[joints[j]] + [cols[v][j] for v in ("wn", "zeta", "Kp", "Kv")]
+            + [cols[v][j] + per_joint[v][j] for v in ("inertia_scale", "Kp_pd", "Kv_pd")]
+            for j in range(len(joints))]
     return _table(header, rows, align="right")
 
 
@@ -317,11 +345,14 @@ _PROVENANCE = (("trajectory path", "trajectory_path"),
 
 
 def _provenance(ds, version):
-    """The provenance rows, each setting once and in words: the software and the run as the
-    main report says them (:mod:`gd_analyze.reports.main_provenance`), gravity, the files,
-    the verdict's tolerance."""
-    rows = [list(software_row(ds, version)), list(run_row(ds, "run")),
-            list(gravity_row(ds))]
+    """The provenance rows, each setting once and in words: the software, the command line as
+    :func:`gd_analyze.cli.main` was given it (stored by the command line; an older file has
+    none), the run as the main report says them (:mod:`gd_analyze.reports.main_provenance`),
+    gravity, the files, the verdict's tolerance."""
+    rows = [list(software_row(ds, version))]
+    if "command" in ds.attrs:           # an older control.h5 has none
+        rows.append(["command", _attr(ds, "command")])
+    rows += [list(run_row(ds, "run")), list(gravity_row(ds))]
     own = str(ds.attrs.get("trajectory_is_models")) == "1"
     for label, k in _PROVENANCE:
         if k == "model_trajectory_sha256" and own:

@@ -16,6 +16,9 @@ __all__ = ["fmt", "fmt_column", "count", "share", "pct", "pct_column"]
 #: this many digits more than its significant ones in its widest entry (magnitudes over three
 #: decades); in exponent form beyond.
 _COLUMN_DECIMALS, _COLUMN_SPAN = 6, 3
+#: :func:`pct_column` keeps at most this many significant digits of a column's largest
+#: percentage.
+_PCT_DIGITS = 4
 
 
 def fmt(value, digits=4, sci_outside=None):
@@ -220,10 +223,13 @@ def pct_column(values, off=None):
     Returns
     -------
     list of str
-        Fixed notation with one number of decimals for the whole column, at least two and
-        enough for two significant digits of its smallest shown value ("0.078 %", "0.013 %");
-        exponent form for all ("1.2e-05 %") only when that value is below 1e-4 %; "n/a" where
-        not finite.
+        Fixed notation with one number of decimals for the whole column: enough for two
+        significant digits of its smallest shown value ("0.078 %", "0.013 %"), at least two,
+        but no more than leave its largest value :data:`_PCT_DIGITS` significant digits
+        ("31.88 %", not "31.88459 %"; "202.7 %"). An entry that rounds to 0 with those
+        decimals is shown as a bound ("< 0.01 %"). Exponent form for all ("1.2e-05 %") only
+        when the smallest value is below 1e-4 % and the largest is small enough to keep its
+        four digits in it. "n/a" where not finite.
 
     Examples
     --------
@@ -231,15 +237,28 @@ def pct_column(values, off=None):
     ['1.23 %', '50.00 %']
     >>> pct_column([2e-4, 6.4e-5, 0.0], off=[False, False, True])
     ['0.0200 %', '0.0064 %', '\u2261 0']
+    >>> pct_column([0.3188459, 0.0123, 4.2e-6])
+    ['31.88 %', '1.23 %', '< 0.01 %']
+    >>> pct_column([2.0273, 0.0051])
+    ['202.7 %', '0.5 %']
     """
     v = 100.0 * np.asarray(values, dtype=float).ravel()
     hide = (v == 0) | (np.zeros(v.shape, bool) if off is None
                        else np.asarray(off, bool).ravel())
     shown = np.abs(v[~hide & np.isfinite(v)])
     least = float(shown.min()) if shown.size else 1.0
-    if least < 1e-4:
-        form = "{:.1e} %"
-    else:
-        form = "{:." + str(max(2, 1 - math.floor(math.log10(least)))) + "f} %"
-    return ["\u2261 0" if h else "n/a" if not math.isfinite(x) else form.format(x)
+    most = float(shown.max()) if shown.size else 1.0
+    need = max(2, 1 - math.floor(math.log10(least)))            # two digits of the smallest
+    cap = max(0, _PCT_DIGITS - 1 - math.floor(math.log10(most)))  # four of the largest
+    if least < 1e-4 and need <= cap:
+        return ["\u2261 0" if h else "n/a" if not math.isfinite(x) else f"{x:.1e} %"
+                for x, h in zip(v, hide)]
+    d = min(need, cap)
+
+    def cell(x):
+        if abs(x) < 0.5 * 10.0 ** -d:                          # rounds to 0: a bound
+            return f"< {10.0 ** -d:.{d}f} %"
+        return f"{x:.{d}f} %"
+
+    return ["\u2261 0" if h else "n/a" if not math.isfinite(x) else cell(x)
             for x, h in zip(v, hide)]

@@ -10,7 +10,15 @@ from ..core.selection.ranking import joint_units_text
 from ..io.sweep_datasets import beyond_the_floor
 from .common import attr as _attr
 from .common import check as _check
-from .common import cost_table, count, pct_column, torque_units, units_said_once, utc_now
+from .common import (
+    cost_table,
+    count,
+    fmt_column,
+    pct_column,
+    torque_units,
+    units_said_once,
+    utc_now,
+)
 from .common import fmt as _fmt
 from .common import pct as _pct
 from .common import share as _share_text
@@ -88,14 +96,16 @@ def sweep_context(ds, payload=None):
     rel_peak = pct_column(ds["merged_error_relative_peak"].values, merged_off)   # one format
     rel_rms = pct_column(ds["merged_error_relative_rms"].values, merged_off)     # per column
     own_worst = _own_worst(ds)
+    tau_peak = fmt_column(ds["merged_error_tau_peak"].values)     # one notation per column
+    peak, rms = (fmt_column(ds[v].values, off=merged_off)
+                 for v in ("merged_error_peak", "merged_error_rms"))
     err = _table(
         ["joint", "peak |\u03c4|", "peak error", "RMS error",
          "peak error / peak |\u03c4|", "RMS error / peak |\u03c4|",
          f"own models, {_own_rule(ds)} rule (worst)", "units"],
-        [[str(j + 1), _fmt(ds["merged_error_tau_peak"].values[j])]
+        [[str(j + 1), tau_peak[j]]
          + (["\u2261 0 (round-off)"] * 2 + ["\u2261 0"] * 2 if merged_off[j] else
-            [_fmt(ds["merged_error_peak"].values[j]), _fmt(ds["merged_error_rms"].values[j]),
-             rel_peak[j], rel_rms[j]])
+            [peak[j], rms[j], rel_peak[j], rel_rms[j]])
          + [own_worst[j], units[j]] for j in range(n)],
         align=["left"] + ["right"] * 6 + ["left"])
     counts = {c: sum(m == c for m in merged) for c in _CHOICES}   # the table's words
