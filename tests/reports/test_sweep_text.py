@@ -177,3 +177,17 @@ def test_held_out_error_is_reported_as_measured(tmp_path):
             f"error is measured, not guaranteed: at most {100 * rel[j]:.2f} % of peak |\u03c4 i "
             f"| over them (joint {j + 1}).")
     assert said in summary and said in sec, (said, summary)
+
+
+def test_round_off_threshold_in_mathematics(swept):
+    """The sweep's captions and figures wrote the round-off rule as the code-like "1e-12";
+    every place writes it as the main report does, 10⁻¹² (the ranking's ROUND_OFF)."""
+    from gd_analyze.core.selection.ranking import ROUND_OFF
+    from gd_analyze.reports.ticks import decade_label
+
+    _, out = swept
+    html = (out / "sweep_report.html").read_text()
+    text = _text(html)
+    assert decade_label(ROUND_OFF) == "10\u207b\u00b9\u00b2"
+    assert "1e-12" not in html and "1e\u221212" not in html
+    assert text.count("at most 10\u207b\u00b9\u00b2 of") >= 2, text

@@ -29,6 +29,7 @@ from __future__ import annotations
 import contextlib
 from pathlib import Path
 
+from ..core.selection.ranking import ROUND_OFF
 from .common import CLASS_COLOURS as _CLASS_COLOURS
 from .common import SUPTITLE_RC as _RC
 from .common import check_formats, render_template
@@ -38,6 +39,10 @@ from .sections import Outline, to_document
 from .sweep_figures import make_sweep_figures
 from .sweep_text import _CAPTIONS, SHARE_TEXT
 from .sweep_text import sweep_context as _context
+from .ticks import decade_label
+
+#: The round-off threshold as the text writes it (10⁻¹², not the code-like 1e-12).
+_TINY = decade_label(ROUND_OFF)
 
 __all__ = ["SWEEP_REPORT_FORMATS", "render_sweep_html", "render_sweep_pdf", "write_sweep_report"]
 
@@ -104,9 +109,10 @@ def _outline(ctx, figures):
     o.figure("classes", ctx["captions"]["classes"])
     o.table(ctx["envelope"], "Fraction of the trajectories per class, the range of the "
                              "translational share, and the merged model's choice. A share is "
-                             "0 or 1 where one part is round-off (at most 1e-12 of the "
-                             "element's scale or 64 \u03b5 of the arm's); \u2261 0: the element is round-off on every "
-                             "trajectory, it has no share.")
+                             "0 or 1 where one part is round-off (at most "
+                             f"{_TINY} of the element's scale or 64 \u03b5 of the arm's); "
+                             "\u2261 0: the element is round-off on every trajectory, it has no "
+                             "share.")
     number, title = ctx["merged_heading"].split(" ", 1)
     o.section(number.rstrip("."), title, "merged")
     o.paragraph(ctx["merged_text"], "note")
@@ -114,8 +120,8 @@ def _outline(ctx, figures):
     o.section("5.1", "Open-loop torque error over all trajectories")
     o.paragraph(ctx["error_text"], "note")
     o.table(ctx["error"], "Open-loop torque error of the merged model per joint, over all set points "
-                          "of all trajectories; \u2261 0: round-off (at most 1e-12 of the "
-                          "joint's peak |\u03c4| or of the arm's), not data.")
+                          "of all trajectories; \u2261 0: round-off (at most "
+                          f"{_TINY} of the joint's peak |\u03c4| or of the arm's), not data.")
     o.figure("error", ctx["captions"]["error"])
     if ctx["cost"] is not None:
         o.section("5.2", "Evaluation cost of the merged model")

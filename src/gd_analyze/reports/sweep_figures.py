@@ -25,6 +25,7 @@ from .figures import payload_figure
 from .markup import ROT as _ROT
 from .markup import TRAN as _TRAN
 from .markup import label as _math
+from .ticks import decade_label
 
 __all__ = ["make_sweep_figures", "REQUIRED"]
 
@@ -46,9 +47,9 @@ _ERROR_FLOOR = ROUND_OFF
 
 
 #: The reports' rule for round-off, in words (:func:`gd_analyze.core.selection.ranking.is_round_off`).
-ROUND_OFF_WORDS = "at most 1e-12 of its own scale or 64 \u03b5 of the arm's"
+ROUND_OFF_WORDS = f"at most {decade_label(ROUND_OFF)} of its own scale or 64 \u03b5 of the arm's"
 #: The rule for a torque error's round-off, in words (:func:`torque_error_round_off`).
-TORQUE_ROUND_OFF_WORDS = "at most 1e-12 of its own scale or of the arm's"
+TORQUE_ROUND_OFF_WORDS = f"at most {decade_label(ROUND_OFF)} of its own scale or of the arm's"
 
 
 def torque_error_round_off(ds, peak, tau_peak):
