@@ -61,8 +61,9 @@ def dataset_verdict(ds):
         summary += (" Largest closed-loop torque difference, simplified-model controller "
                     "minus full-model controller (two closed-loop runs, each along its own "
                     "motion): " + (_NOISE if quiet["tau_difference"] else
-                                   _by_type_text(diff, prismatic, 'tau')) + " (integrator "
-                    f"noise, \u2261 0: {rule['tau']}); not the "
+                                   _by_type_text(diff, prismatic, 'tau')) + " (a joint's "
+                    "value counts as integrator noise, \u2261 0, where it is "
+                    f"{rule['tau']}); not the "
                     "open-loop error \u03c4" + _sub("s") + " \u2212 \u03c4 of the main "
                     "report (one model against the other along the desired trajectory).")
     tolerance = tuple(float(ds.attrs.get(f"verdict_tolerance_{k}", d)) for k, d in
@@ -108,6 +109,12 @@ def control_context(ds):
             "(q, qd, qdd)", "(q, q\u0307, q\u0308)")],        # the stored words, as mathematics
         ["integrator", f"{_attr(ds, 'integrator')}, rtol = {float(ds.attrs['rtol']):g}, "
                        f"atol = {float(ds.attrs['atol']):g}"],
+        *([["integrator noise of \u03c4" + _sub("s") + " \u2212 \u03c4" + _sub("f"),
+            f"measured: both computed-torque runs again with rtol = "
+            f"{float(ds.attrs['noise_rtol']):g}, atol = {float(ds.attrs['noise_atol']):g} "
+            f"({int(ds.attrs.get('noise_nfev', 0)):,} evaluations); noise floor "
+            f"{float(ds.attrs.get('noise_factor', np.nan)):g} \u00d7 the largest change "
+            "(Table 3.1)"]] if "noise_rtol" in ds.attrs else []),
         ["samples", f"{_attr(ds, 'samples')} ({_attr(ds, 'setpoints')} set points + fine grid "
                     f"of {_attr(ds, 'grid_points')})"],
         ["initial offset q(0) \u2212 q" + _sub("d") + "(0)",

@@ -131,7 +131,8 @@ def control_verdict(peaks, prismatic, tau_difference=None,
                 + (_NOISE if quiet.get("tau_difference") else
                    _by_type_text(tau_difference, prismatic, 'tau')))
         if noise_rule:
-            tail += f" (integrator noise, \u2261 0: {noise_rule})"
+            tail += (f" (a joint's value counts as integrator noise, \u2261 0, where it is "
+                     f"{noise_rule})")
     pd_text = f", PD + gravity {said('pd_gravity', pd)}" if pd is not None else ""
     if holds:
         head = ("Verdict: the simplified model is good enough for computed-torque control "
