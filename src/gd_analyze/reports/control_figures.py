@@ -173,7 +173,8 @@ def noise_words(ds, which, figure=False):
     str
         E.g. "at most 1e-08 of the joint's scale, max(range, peak |q_d|)" or "at most twice
         the largest change the difference shows when both runs are integrated again with rtol
-        and atol / 100".
+        and atol / 100, or 1e-08 of the full-model controller's peak |tau| where that is
+        larger".
     """
     tol = noise_scales(ds)[0]
     if which == "tau":
@@ -183,9 +184,11 @@ def noise_words(ds, which, figure=False):
         tighten = float(ds.attrs["rtol"]) / float(ds.attrs.get("noise_rtol", np.nan))
         times = {1.0: "", 2.0: "twice "}.get(factor, f"{factor:g} times ")
         if figure:                      # short: the note is one line at page width
-            return f"at most {times}its change with rtol and atol / {tighten:g}"
+            return (f"at most {times}its change with rtol and atol / {tighten:g}, or {tol:g} "
+                    "of peak |\u03c4|")
         return (f"at most {times}the largest change the difference shows when both runs are "
-                f"integrated again with rtol and atol / {tighten:g}")
+                f"integrated again with rtol and atol / {tighten:g}, or {tol:g} of the "
+                "full-model controller's peak |\u03c4| where that is larger")
     if figure:                          # short: the note is one line at page width
         return f"at most {tol:g} of max(range, peak |$\\mathregular{{q_d}}$|)"
     return f"at most {tol:g} of the joint's scale, max(range, peak |q{sub('d')}|)"

@@ -113,8 +113,9 @@ def control_context(ds):
             f"measured: both computed-torque runs again with rtol = "
             f"{float(ds.attrs['noise_rtol']):g}, atol = {float(ds.attrs['noise_atol']):g} "
             f"({int(ds.attrs.get('noise_nfev', 0)):,} evaluations); noise floor "
-            f"{float(ds.attrs.get('noise_factor', np.nan)):g} \u00d7 the largest change "
-            "(Table 3.1)"]] if "noise_rtol" in ds.attrs else []),
+            f"{float(ds.attrs.get('noise_factor', np.nan)):g} \u00d7 the largest change, at "
+            f"least {float(ds.attrs['rtol']):g} \u00d7 the full-model controller's peak "
+            "|\u03c4| (Table 3.1)"]] if "noise_rtol" in ds.attrs else []),
         ["samples", f"{_attr(ds, 'samples')} ({_attr(ds, 'setpoints')} set points + fine grid "
                     f"of {_attr(ds, 'grid_points')})"],
         ["initial offset q(0) \u2212 q" + _sub("d") + "(0)",
