@@ -186,9 +186,12 @@ def test_settings_said_once_and_markers_as_drawn(tmp_path):
     assert f"rtol = {float(ds.attrs['rtol']):g}, atol = {float(ds.attrs['atol']):g}" in text
     assert "range of motion" not in text
     # the torque difference is integrator noise on every joint here (Table 3.1 says so), so
-    # neither the summary nor the verdict gives its digits
+    # neither the summary nor the verdict gives its digits (the table's last row is the
+    # noise floor itself)
     table = text[text.index("Table 3.1:"):text.index("Figure 2.")]
-    assert table.count("\u2261 0") >= 2 * len(ds["joint"]) and "e-0" not in table.split("data.")[1]
+    rows = table.split("data.")[1].split("noise floor")
+    assert table.count("\u2261 0") >= 2 * len(ds["joint"]) and "e-0" not in rows[0]
+    assert len(rows) == 2 and "e-0" in rows[1]
     for said in (summary, text[:text.index("two-link along")]):
         assert re.search(r"torque differ[^;.]*: \u2261 0 \(integrator noise\)|by at most "
                          r"\u2261 0 \(integrator noise\)", said), said

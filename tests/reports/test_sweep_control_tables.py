@@ -115,9 +115,12 @@ def test_control_tables_read_back(runs):
                 _reads_back(text, v, 3)
                 checked += 1
     for row in ctx["tau_diff"]["rows"]:
-        fig, where = row[0].split(", ")
-        stored = ds["tau_difference_" + fig.lower()
-                    + ("_setpoints" if where == "set points" else "")].values
+        if row[0].startswith("noise floor"):         # the measured floor, as stored
+            stored = ds["tau_difference_floor"].values
+        else:
+            fig, where = row[0].split(", ")
+            stored = ds["tau_difference_" + fig.lower()
+                        + ("_setpoints" if where == "set points" else "")].values
         for text, v in zip(row[1:], stored):
             if "\u2261" not in text:
                 _reads_back(text, v, 3)

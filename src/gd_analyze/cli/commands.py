@@ -479,13 +479,12 @@ def _cmd_compare(args):
 def _cmd_control(args):
     import json
 
-    import numpy as np
-
     from ..files import file_sha256
-    from ..io.control_dataset import write_control_dataset
+    from ..io.control_dataset import control_dataset, write_control_dataset
     from ..io.staging import staged_output, writing
     from ..io.trajectory import read_trajectory
-    from ..reports.control import CONTROL_REPORT_FILES, control_verdict
+    from ..reports.control import CONTROL_REPORT_FILES
+    from ..reports.control_text import dataset_verdict
     from ..workflows.control import CONTROL_FILE, run_control
 
     model = load_model(args.model)
@@ -524,13 +523,14 @@ def _cmd_control(args):
             print(f"{name:<12}" + "".join(f"{v:>11.3e}" for v in fig["peak_grid"])
                   + f"   peak |e| [{_joint_units(model.robot, 'q')}]")
         if summary["tau_difference"]:
-            print(f"{'tau diff':<12}" + "".join(f"{v:>11.3e}"
-                                               for v in summary["tau_difference"]["peak"])
+            floor = result.tau_noise_floor
+            print(f"{'tau diff':<12}" + "".join(
+                f"{ZERO_MARK if v <= f else format(v, '.3e'):>11}"
+                for v, f in zip(summary["tau_difference"]["peak"], floor))
                   + "   peak |tau_simplified - tau_full| "
                     f"[{_joint_units(model.robot, 'tau')}]")
-        print(control_verdict({c: np.array(f["peak_grid"]) for c, f in summary["tracking"].items()},
-                              np.array(model.robot.prismatic, bool),
-                              None if not summary["tau_difference"] else
-                              np.array(summary["tau_difference"]["peak"]), args.verdict_tolerance))
+            print(f"{'noise floor':<12}" + "".join(f"{v:>11.3e}" for v in floor)
+                  + "   integrator noise of tau diff (measured), \u2261 0 at or below")
+        print(dataset_verdict(control_dataset(result))["verdict"])
         print("wrote " + ", ".join(str(p) for p in written))
     return EXIT_OK

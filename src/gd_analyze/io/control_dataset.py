@@ -56,8 +56,9 @@ def control_dataset(result, settings=None):
     (controller, time, joint); ``error_peak_setpoints``, ``error_rms_setpoints``,
     ``error_peak_grid``, ``error_rms_grid``, ``tau_peak``, ``tau_rms`` (controller, joint);
     ``nfev``, ``success`` (controller); ``tau_difference`` (time, joint) and its
-    ``tau_difference_peak``, ``tau_difference_rms`` (joint) when both computed-torque
-    controllers ran; the gains (joint); ``is_setpoint`` (time); ``choice`` (element);
+    ``tau_difference_peak``, ``tau_difference_rms``, its measured integrator noise
+    ``tau_difference_noise`` and noise floor ``tau_difference_floor`` (joint) when both
+    computed-torque controllers ran; the gains (joint); ``is_setpoint`` (time); ``choice`` (element);
     ``multiplications``, ``additions`` (evaluator) when the cost was
     measured. The attribute ``command`` holds the command line when ``settings`` gives it.
     The attribute ``trajectory_is_models`` is 1 if the tracked trajectory is the one
@@ -143,6 +144,19 @@ def control_dataset(result, settings=None):
             tau_difference_rms_setpoints=var(("joint",), rs, U["tau"],
                                               "RMS of tau_simplified - tau_full at the set "
                                               "points"))
+    if diff is not None and result.tau_noise is not None:
+        tight = f"rtol/{prov['rtol'] / prov['noise_rtol']:g}, atol/{prov['atol'] / prov['noise_atol']:g}"
+        data_vars.update(
+            tau_difference_noise=var(("joint",), np.asarray(result.tau_noise, float), U["tau"],
+                                      "integrator noise of tau_simplified - tau_full, measured: "
+                                      "peak over the run of its change when both runs are "
+                                      f"integrated again at {tight}"),
+            tau_difference_floor=var(("joint",), result.tau_noise_floor, U["tau"],
+                                      "noise floor of tau_simplified - tau_full: "
+                                      f"{prov['noise_factor']:g} x tau_difference_noise, at "
+                                      "least max(rtol, 1e-12) x the full-model controller's "
+                                      "peak |tau|; a difference at or below it is integrator "
+                                      "noise, not data"))
     coords = {
         "controller": ("controller", np.array(names, dtype=str),
                        {"long_name": "controller", "units": "1"}),
@@ -200,6 +214,8 @@ def control_dataset(result, settings=None):
         "integrator": f"scipy.integrate.solve_ivp {prov.get('method', '')}",
         "rtol": float(prov.get("rtol", np.nan)), "atol": float(prov.get("atol", np.nan)),
         "grid_points": int(prov.get("grid_points", 0)),
+        **{k: prov[k] for k in ("noise_rtol", "noise_atol", "noise_factor", "noise_nfev")
+           if k in prov},
         "setpoints": int(result.is_setpoint.sum()),
         "samples": int(result.t.size),
         # what the simplified model is (workflows.control.model_facts), for the report's text

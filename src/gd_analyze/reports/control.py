@@ -20,7 +20,7 @@ import contextlib
 from pathlib import Path
 
 from .common import render_template
-from .control_figures import _RC, COLUMN_WIDTH, PAGE_WIDTH, control_figures, noise_words
+from .control_figures import _RC, COLUMN_WIDTH, PAGE_WIDTH, control_figures
 from .control_text import control_context as _context
 from .control_verdict import VERDICT_TOLERANCE, control_verdict
 from .drawing import draw_figures, figure_svg, write_figure_files
@@ -133,15 +133,13 @@ def _outline(ctx, figures):
     o.section("2", "Tracking error", "tracking")
     o.paragraph(ctx["error_note"], "note")
     o.table(ctx["errors"], "Tracking error per controller and joint; \u2261 0: integrator "
-                           f"noise (at most {ctx['noise_tol']} of {noise_words('q')}), not "
-                           "data.", size=7)
+                           f"noise ({ctx['noise_rule']['q']}), not data.", size=7)
     o.figure("error", ctx["captions"]["error"])
     o.section("3", "Torques", "torque")
     o.paragraph(ctx["diff_note"], "note")
     o.table(ctx["tau_diff"], "Closed-loop torque difference per joint, simplified-model "
                              "controller minus full-model controller; \u2261 0: integrator "
-                             f"noise (at most {ctx['noise_tol']} of {noise_words('tau')}), "
-                             "not data.")
+                             f"noise ({ctx['noise_rule']['tau']}), not data.")
     if "tau_difference" in o.available:
         o.figure("tau_difference", ctx["captions"]["tau_difference"])
     else:

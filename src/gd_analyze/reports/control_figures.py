@@ -1,7 +1,10 @@
 """The control report's figures: tracking error, closed-loop torque difference and applied
 torques per joint, drawn from a stored control dataset at a page's width (7.2 in) or a
 column's (3.5 in). Integrator noise is never drawn as data
-(:func:`gd_analyze.core.selection.ranking.is_round_off` with the integrator's rtol).
+(:func:`gd_analyze.core.selection.ranking.is_round_off` against :func:`noise_floors`): a tracking
+error at or below the integrator's rtol times the joint's scale, a torque difference at or
+below its measured noise floor (``tau_difference_floor``,
+:attr:`gd_analyze.workflows.control.ControlResult.tau_noise_floor`).
 """
 
 from __future__ import annotations
@@ -17,8 +20,8 @@ from .common import strings as _strings
 from .common import style as _style
 from .markup import sub
 
-__all__ = ["control_figures", "noise_scales", "PAGE_WIDTH", "COLUMN_WIDTH", "CONTROLLER_LABELS",
-           "marker_starts", "marker_stride", "markers_words", "noise_words"]
+__all__ = ["control_figures", "noise_scales", "noise_floors", "PAGE_WIDTH", "COLUMN_WIDTH",
+           "CONTROLLER_LABELS", "marker_starts", "marker_stride", "markers_words", "noise_words"]
 
 #: Figure widths [in]: the text of a page, one column.
 PAGE_WIDTH, COLUMN_WIDTH = 7.2, 3.5
@@ -34,6 +37,8 @@ _MAX_LINE_POINTS = 600
 #: for, so mathtext writes them, in the regular (upright) font of the other labels.
 _TRACKING_ERROR = "$\\mathregular{{|q_d - q|}}$ [{u}]"
 _TAU_DIFFERENCE = "$\\mathregular{{\\tau_s - \\tau_f}}$ [{u}]"
+#: The key's entry of the shaded band within +-floor of a torque difference.
+_BAND = "integrator noise floor (\u00b1): not drawn"
 _RC = {**BASE_RC, "legend.fontsize": 7.5, "lines.markersize": 3.0}
 
 
@@ -41,22 +46,14 @@ def _stride(m):
     return max(1, int(math.ceil(m / _MAX_LINE_POINTS)))
 
 
-def _noise_floor(ds, scale):
-    """Per joint, the level at or below which a closed-loop quantity is the integrator's
-    noise, not data: ``max(rtol, ROUND_OFF)`` times the joint's scale
-    (:func:`gd_analyze.core.selection.ranking.is_round_off` applies it)."""
-    rtol = float(ds.attrs.get("rtol", 0.0))
-    tol = max(rtol if np.isfinite(rtol) else 0.0, ROUND_OFF)
-    return tol, tol * np.abs(np.asarray(scale, float))
-
-
-def _joint_panels(ds, values, ylabel, title, log=False, scale=None, which="q",
+def _joint_panels(ds, values, ylabel, title, log=False, floor=None, which="q",
                   width=PAGE_WIDTH):
     """A figure with one panel per joint; values: name -> (M, n) array along ds.time.
 
-    ``ylabel`` is formatted with each joint's units (``{u}``). With ``scale`` (n,), a
-    controller whose curve on a joint is integrator noise (:func:`_noise_floor`) is not drawn
-    there: the panel says so; on a log axis the axis starts at the noise floor.
+    ``ylabel`` is formatted with each joint's units (``{u}``). With ``floor`` (n,)
+    (:func:`noise_floors`), no point at or below a joint's floor is drawn, and a controller
+    whose curve on a joint is all integrator noise is not drawn there: the panel says so; a
+    log axis starts at the floor, a linear one shades the band within +-floor.
     """
     from matplotlib.figure import Figure
 
@@ -68,7 +65,7 @@ def _joint_panels(ds, values, ylabel, title, log=False, scale=None, which="q",
     units = _joint_units(ds, which)
     column = width < PAGE_WIDTH
     rows, cols = grid_shape(n, 1 if column else 2)
-    top = (0.5 if scale is None else 0.72) + ((0.25 if scale is None else 0.54) if column
+    top = (0.5 if floor is None else 0.72) + ((0.25 if floor is None else 0.54) if column
                                               else 0.0)     # column: a note of 3 lines
     bottom = 0.62 + 0.14 * len(values) if column else 0.85     # the key, one entry a line
     height = (1.35 if column else 1.9) * rows + bottom - 0.35 + top
@@ -83,7 +80,6 @@ def _joint_panels(ds, values, ylabel, title, log=False, scale=None, which="q",
     keep[::k] = True
     keep |= is_set
     every = marker_stride(ds, len(values))
-    tol, floor = _noise_floor(ds, scale) if scale is not None else (None, None)
     handles = {}
     quiet = {}                          # controller -> [(joint, peak)] of noise-only curves
     linear = []
@@ -98,12 +94,14 @@ def _joint_panels(ds, values, ylabel, title, log=False, scale=None, which="q",
             if log:
                 yj = np.abs(yj)
             peak = float(np.nanmax(np.abs(yj))) if yj.size else 0.0
-            if floor is not None and is_round_off(peak, scale[j], tol):
+            if floor is not None and is_round_off(peak, floor[j], 1.0):
                 quiet.setdefault(name, []).append((j, peak))
                 continue
             drawn += 1
-            if log:
-                yj = np.where(yj > (floor[j] if floor is not None else 0.0), yj, np.nan)
+            if floor is not None:       # a point at or below the floor is noise: a gap
+                yj = np.where(is_round_off(yj, floor[j], 1.0), np.nan, yj)
+            elif log:
+                yj = np.where(yj > 0.0, yj, np.nan)
             kw = {"color": _COLOURS.get(name, "#0072B2"), "linestyle": _STYLES.get(name, "-"),
                   "label": _LABELS.get(name, name)}
             line, = ax.plot(t[keep], yj[keep], **kw)
@@ -117,6 +115,10 @@ def _joint_panels(ds, values, ylabel, title, log=False, scale=None, which="q",
             if floor is not None and floor[j] > 0:
                 ax.set_ylim(bottom=floor[j])
         elif drawn:                     # round ticks, labelled below in one notation
+            if floor is not None and floor[j] > 0:
+                band = ax.axhspan(-floor[j], floor[j], color="0.85", linewidth=0, zorder=0,
+                                  label=_BAND)
+                handles.setdefault(_BAND, band)
             lo, hi = ax.get_ylim()
             set_ticks(ax.yaxis, lo, hi, 4, labels=False)
             linear.append(ax.yaxis)
@@ -136,8 +138,7 @@ def _joint_panels(ds, values, ylabel, title, log=False, scale=None, which="q",
     fig.suptitle(textwrap.fill(title, 48) if column else title, fontsize=9 if column else 10,
                  fontweight="bold", y=1 - 0.12 / height, va="top")
     if floor is not None:
-        notes = [f"Integrator noise (at most {tol:g} of {noise_words(which, figure=True)}) is "
-                 "not drawn"]
+        notes = [f"Integrator noise ({noise_words(ds, which, figure=True)}) is not drawn"]
         for name, where in quiet.items():            # said as noise: its digits are not data
             joints = ("every joint" if len(where) == n else
                       "joint" + ("s " if len(where) > 1 else " ")
@@ -152,15 +153,19 @@ def _joint_panels(ds, values, ylabel, title, log=False, scale=None, which="q",
     return fig
 
 
-def noise_words(which, figure=False):
-    """What a closed-loop quantity's integrator noise is measured against (:func:`noise_scales`),
-    in the words of every caption, table and figure note.
+def noise_words(ds, which, figure=False):
+    """The rule by which a closed-loop quantity is integrator noise (:func:`noise_floors`), in
+    the words of every caption, table, figure note and the verdict.
 
     Parameters
     ----------
+    ds : xarray.Dataset
+        A control dataset (its ``rtol``, and the attributes of the measured noise floor).
     which : {"q", "tau"}
-        A tracking error's scale (the larger of the range and the peak |q_d| of the joint) or a
-        torque difference's (the full-model controller's peak |tau|).
+        A tracking error (at most rtol times the larger of the range and the peak |q_d| of
+        the joint) or the closed-loop torque difference (at most its stored noise floor,
+        ``tau_difference_floor``; in a file without one, rtol times the full-model
+        controller's peak |tau|).
     figure : bool, optional
         The short form of a figure's note, with matplotlib's mathtext for q_d, instead of
         the reports' markup.
@@ -168,12 +173,27 @@ def noise_words(which, figure=False):
     Returns
     -------
     str
+        E.g. "at most 1e-08 of the joint's scale, max(range, peak |q_d|)" or "at most twice
+        the largest change the difference shows when both runs are integrated again with rtol
+        and atol / 100, or 1e-08 of the full-model controller's peak |tau| where that is
+        larger".
     """
+    tol = noise_scales(ds)[0]
     if which == "tau":
-        return "the full-model controller's peak |\u03c4|"
+        if "tau_difference_floor" not in ds:
+            return f"at most {tol:g} of the full-model controller's peak |\u03c4|"
+        factor = float(ds.attrs.get("noise_factor", np.nan))
+        tighten = float(ds.attrs["rtol"]) / float(ds.attrs.get("noise_rtol", np.nan))
+        times = {1.0: "", 2.0: "twice "}.get(factor, f"{factor:g} times ")
+        if figure:                      # short: the note is one line at page width
+            return (f"at most {times}its change with rtol and atol / {tighten:g}, or {tol:g} "
+                    "of peak |\u03c4|")
+        return (f"at most {times}the largest change the difference shows when both runs are "
+                f"integrated again with rtol and atol / {tighten:g}, or {tol:g} of the "
+                "full-model controller's peak |\u03c4| where that is larger")
     if figure:                          # short: the note is one line at page width
-        return "max(range, peak |$\\mathregular{q_d}$|)"
-    return f"the joint's scale, max(range, peak |q{sub('d')}|)"
+        return f"at most {tol:g} of max(range, peak |$\\mathregular{{q_d}}$|)"
+    return f"at most {tol:g} of the joint's scale, max(range, peak |q{sub('d')}|)"
 
 
 def marker_stride(ds, lines):
@@ -277,7 +297,7 @@ def _joint_units(ds, which):
 
 def noise_scales(ds):
     """The scales against which a closed-loop quantity is integrator noise
-    (:func:`_noise_floor`), the same for the figures and the tables.
+    (:func:`noise_floors`), the same for the figures and the tables.
 
     Parameters
     ----------
@@ -298,7 +318,33 @@ def noise_scales(ds):
     q_scale = np.maximum(np.ptp(q_d, axis=0), np.abs(q_d).max(axis=0))
     full = names.index("full") if "full" in names else 0
     tau_scale = np.nanmax(np.abs(np.asarray(ds["tau"].values, float)[full]), axis=0)
-    return _noise_floor(ds, q_scale)[0], q_scale, tau_scale
+    rtol = float(ds.attrs.get("rtol", 0.0))
+    return max(rtol if np.isfinite(rtol) else 0.0, ROUND_OFF), q_scale, tau_scale
+
+
+def noise_floors(ds):
+    """Per joint, the level at or below which a closed-loop quantity is integrator noise, not
+    data: the same for the figures, the tables and the verdict.
+
+    Parameters
+    ----------
+    ds : xarray.Dataset
+        A control dataset.
+
+    Returns
+    -------
+    q_floor : ndarray, shape (n,)
+        A tracking error's: max(rtol, 1e-12) times the joint's scale (:func:`noise_scales`)
+        [rad or m].
+    tau_floor : ndarray, shape (n,)
+        The closed-loop torque difference's: the stored ``tau_difference_floor`` (measured,
+        :attr:`gd_analyze.workflows.control.ControlResult.tau_noise_floor`); in a file without
+        one, max(rtol, 1e-12) times the full-model controller's peak |tau| [N m or N].
+    """
+    tol, q_scale, tau_scale = noise_scales(ds)
+    if "tau_difference_floor" in ds:
+        return tol * q_scale, np.asarray(ds["tau_difference_floor"].values, float)
+    return tol * q_scale, tol * tau_scale
 
 
 def control_figures(ds, width=PAGE_WIDTH):
@@ -317,22 +363,21 @@ def control_figures(ds, width=PAGE_WIDTH):
     dict of str to matplotlib.figure.Figure
         ``"error"`` (|q_d - q| per joint, log scale [rad or m]), ``"tau_difference"`` (tau of
         the simplified-model controller minus the full-model one [N m or N]; absent if not
-        stored) and ``"tau"`` (applied torques [N m or N]). Integrator noise (at most the
-        integrator's rtol times the joint's scale: the range of q_d for an error, the full
-        controller's peak |tau| for a torque difference) is never drawn as data.
+        stored) and ``"tau"`` (applied torques [N m or N]). Integrator noise (at or below
+        :func:`noise_floors`) is never drawn as data.
     """
     names = _strings(ds["controller"].values)
-    _, q_scale, tau_scale = noise_scales(ds)
+    q_floor, tau_floor = noise_floors(ds)
     with _style(_RC):
         figs = {"error": _joint_panels(
             ds, {c: ds["error"].sel(controller=c).values for c in names},
-            _TRACKING_ERROR, "Tracking error per joint", log=True, scale=q_scale,
+            _TRACKING_ERROR, "Tracking error per joint", log=True, floor=q_floor,
             width=width)}
         if "tau_difference" in ds:
             figs["tau_difference"] = _joint_panels(
                 ds, {"simplified": ds["tau_difference"].values}, _TAU_DIFFERENCE,
                 "Closed-loop torque difference: simplified-model minus full-model computed "
-                "torque", scale=tau_scale, which="tau", width=width)
+                "torque", floor=tau_floor, which="tau", width=width)
         figs["tau"] = _joint_panels(ds, {c: ds["tau"].sel(controller=c).values for c in names},
                                     "\u03c4 [{u}]", "Applied joint torques", which="tau",
                                     width=width)

@@ -10,14 +10,67 @@ from ..core.selection.ranking import element_label, is_round_off
 from .common import cost_table, fmt_column, prismatic_joints, utc_now
 from .common import strings as _strings
 from .common import table as _table
-from .control_figures import _LABELS, _joint_units, markers_words, noise_scales, noise_words
+from .control_figures import _LABELS, _joint_units, markers_words, noise_floors, noise_words
 from .control_verdict import _NOISE, VERDICT_TOLERANCE, _attr, _by_type_text, _fmt, control_verdict
 from .main_provenance import gravity_row, run_row, software_row
 from .main_text import gravity_clause, model_sentence
 from .markup import sub as _sub
 
-__all__ = ["control_context"]
+__all__ = ["control_context", "dataset_verdict"]
 
+
+
+def dataset_verdict(ds):
+    """The control report's verdict and summary, from the stored control dataset: the same
+    words for the report and the command line.
+
+    Parameters
+    ----------
+    ds : xarray.Dataset
+        A control dataset (:func:`gd_analyze.io.control_dataset.control_dataset`).
+
+    Returns
+    -------
+    dict
+        ``verdict`` and ``summary`` (str), ``rule`` (``"q"``, ``"tau"`` -> the integrator-noise
+        rule in words, :func:`~gd_analyze.reports.control_figures.noise_words`) and ``floors``
+        (:func:`~gd_analyze.reports.control_figures.noise_floors`: per joint [rad or m],
+        [N m or N]). A tracking error or torque difference at or below its joint's floor is
+        integrator noise, said as "\u2261 0 (integrator noise)".
+    """
+    names = _strings(ds["controller"].values)
+    peak_grid = ds["error_peak_grid"]
+    prismatic = prismatic_joints(ds)
+    peaks = {c: peak_grid.sel(controller=c).values for c in names}
+    q_floor, tau_floor = noise_floors(ds)
+    rule = {k: noise_words(ds, k) for k in ("q", "tau")}     # the rules, said everywhere
+    quiet = {c: bool(is_round_off(peaks[c], q_floor, 1.0).all())
+             for c in names}           # every joint's error is integrator noise: not data
+    summary = "; ".join(f"{_LABELS.get(c, c)}: peak |e| "
+                        + (_NOISE if quiet[c] else _by_type_text(peaks[c], prismatic, "q"))
+                        for c in names)
+    summary = summary[:1].upper() + summary[1:]
+    summary = (f"{_attr(ds, 'robot')} along {_attr(ds, 'trajectory_file')}, "
+               f"\u03c9{_sub('n')} = {_per_joint(ds, 'wn', ' rad/s')}, "
+               f"\u03b6 = {_per_joint(ds, 'zeta')}. {summary}.")
+    diff = ds["tau_difference_peak"].values if "tau_difference_peak" in ds else None
+    if diff is not None:                 # a joint's integrator noise is not its largest value
+        off = is_round_off(diff, tau_floor, 1.0)
+        quiet["tau_difference"] = bool(off.all())
+        diff = np.where(off, 0.0, diff)
+        summary += (" Largest closed-loop torque difference, simplified-model controller "
+                    "minus full-model controller (two closed-loop runs, each along its own "
+                    "motion): " + (_NOISE if quiet["tau_difference"] else
+                                   _by_type_text(diff, prismatic, 'tau')) + " (a joint's "
+                    "value counts as integrator noise, \u2261 0, where it is "
+                    f"{rule['tau']}); not the "
+                    "open-loop error \u03c4" + _sub("s") + " \u2212 \u03c4 of the main "
+                    "report (one model against the other along the desired trajectory).")
+    tolerance = tuple(float(ds.attrs.get(f"verdict_tolerance_{k}", d)) for k, d in
+                      zip(("revolute", "prismatic"), VERDICT_TOLERANCE))
+    verdict = control_verdict(peaks, prismatic, diff, tolerance, quiet, rule["tau"])
+    return {"verdict": verdict, "summary": summary, "rule": rule,
+            "floors": (q_floor, tau_floor)}
 
 
 def control_context(ds):
@@ -40,34 +93,10 @@ def control_context(ds):
     joints = [f"J{j + 1}" for j in range(n)]
     desc = (_strings(ds["controller_description"].values) if "controller_description" in ds
             else names)
-    peak_grid = ds["error_peak_grid"]
-    prismatic = prismatic_joints(ds)
-    peaks = {c: peak_grid.sel(controller=c).values for c in names}
     q_units = _joint_units(ds, "q")
-    tol, q_scale, tau_scale = noise_scales(ds)
-    quiet = {c: bool(is_round_off(peaks[c], q_scale, tol).all())
-             for c in names}           # every joint's error is integrator noise: not data
-    summary = "; ".join(f"{_LABELS.get(c, c)}: peak |e| "
-                        + (_NOISE if quiet[c] else _by_type_text(peaks[c], prismatic, "q"))
-                        for c in names)
-    summary = summary[:1].upper() + summary[1:]
-    summary = (f"{_attr(ds, 'robot')} along {_attr(ds, 'trajectory_file')}, "
-               f"\u03c9{_sub('n')} = {_per_joint(ds, 'wn', ' rad/s')}, "
-               f"\u03b6 = {_per_joint(ds, 'zeta')}. {summary}.")
-    diff = ds["tau_difference_peak"].values if "tau_difference_peak" in ds else None
-    if diff is not None:                 # a joint's integrator noise is not its largest value
-        off = is_round_off(diff, tau_scale, tol)
-        quiet["tau_difference"] = bool(off.all())
-        diff = np.where(off, 0.0, diff)
-        summary += (" Largest closed-loop torque difference, simplified-model controller "
-                    "minus full-model controller (two closed-loop runs, each along its own "
-                    "motion): " + (_NOISE if quiet["tau_difference"] else
-                                   _by_type_text(diff, prismatic, 'tau')) + "; not the "
-                    "open-loop error \u03c4" + _sub("s") + " \u2212 \u03c4 of the main "
-                    "report (one model against the other along the desired trajectory).")
-    tolerance = tuple(float(ds.attrs.get(f"verdict_tolerance_{k}", d)) for k, d in
-                      zip(("revolute", "prismatic"), VERDICT_TOLERANCE))
-    verdict = control_verdict(peaks, prismatic, diff, tolerance, quiet)
+    judged = dataset_verdict(ds)
+    summary, verdict, rule = judged["summary"], judged["verdict"], judged["rule"]
+    q_floor, tau_floor = judged["floors"]
     setup = _table(["item", "value"], [
         ["robot", f"{_attr(ds, 'robot')} (SHA-256 {_attr(ds, 'robot_sha256')})"],
         ["trajectory", f"{_attr(ds, 'trajectory_file')} (SHA-256 "
@@ -80,6 +109,13 @@ def control_context(ds):
             "(q, qd, qdd)", "(q, q\u0307, q\u0308)")],        # the stored words, as mathematics
         ["integrator", f"{_attr(ds, 'integrator')}, rtol = {float(ds.attrs['rtol']):g}, "
                        f"atol = {float(ds.attrs['atol']):g}"],
+        *([["integrator noise of \u03c4" + _sub("s") + " \u2212 \u03c4" + _sub("f"),
+            f"measured: both computed-torque runs again with rtol = "
+            f"{float(ds.attrs['noise_rtol']):g}, atol = {float(ds.attrs['noise_atol']):g} "
+            f"({int(ds.attrs.get('noise_nfev', 0)):,} evaluations); noise floor "
+            f"{float(ds.attrs.get('noise_factor', np.nan)):g} \u00d7 the largest change, at "
+            f"least {float(ds.attrs['rtol']):g} \u00d7 the full-model controller's peak "
+            "|\u03c4| (Table 3.1)"]] if "noise_rtol" in ds.attrs else []),
         ["samples", f"{_attr(ds, 'samples')} ({_attr(ds, 'setpoints')} set points + fine grid "
                     f"of {_attr(ds, 'grid_points')})"],
         ["initial offset q(0) \u2212 q" + _sub("d") + "(0)",
@@ -87,8 +123,8 @@ def control_context(ds):
          if "q0_offset" in ds else "0"],
     ], align=["left", "left"])
     gains = _gains_table(ds, joints)
-    def noisy(peaks, scale):            # integrator noise of the joint's scale: not data
-        return is_round_off(peaks, scale, tol)
+    def noisy(peaks, floor):             # at or below the joint's noise floor: not data
+        return is_round_off(peaks, floor, 1.0)
 
     err_rows, err_values, err_off = [], [], []
     for c in names:
@@ -98,7 +134,7 @@ def control_context(ds):
             for fig, v in (("peak", pk), ("RMS", rm)):
                 err_rows.append([_SHORT.get(c, c), where, fig])
                 err_values.append(v)
-                err_off.append(noisy(pk, q_scale))
+                err_off.append(noisy(pk, q_floor))
     q_u, tau_u = _joint_units(ds, "q"), _joint_units(ds, "tau")
     errors = _table(["controller", "sampled at", "figure"]
                     + [f"{j} [{u}]" for j, u in zip(joints, q_u)],
@@ -115,7 +151,10 @@ def control_context(ds):
         for fig, name, peak in pairs:
             diff_rows.append([fig])
             diff_values.append(ds[name].values)
-            diff_off.append(noisy(ds[peak].values, tau_scale))
+            diff_off.append(noisy(ds[peak].values, tau_floor))
+        diff_rows.append(["noise floor (\u2261 0 at or below)"])
+        diff_values.append(np.asarray(tau_floor, float))
+        diff_off.append(np.zeros(n, bool))
     tau_diff = _table(["figure"] + [f"{j} [{u}]" for j, u in zip(joints, tau_u)],
                       _with_columns(diff_rows, diff_values, diff_off), align="right")
     tau_rows, tau_values = [], []
@@ -142,18 +181,20 @@ def control_context(ds):
                                                           for j in range(n)], rows,
                                            align=["left"] * (n + 1))
     prov = _table(["item", "value"], _provenance(ds, __version__), align=["left", "left"])
-    floor = (f"Integrator noise (at most the integrator's rtol times {noise_words('q')}) is "
-             "not drawn: a log axis starts at that floor.")
+    floor = (f"Integrator noise ({rule['q']}) is not drawn: a log axis starts at that "
+             "floor.")
     captions = {
         "error": (f"Tracking error |q{_D} \u2212 q| per joint along the run, log scale "
-                  f"({markers_words(ds, names)}). Integrator noise, at most {tol:g} of "
-                  f"{noise_words('q')}, is not drawn: the axis starts there, and a controller "
-                  "whose error is all noise is named above the panels."),
+                  f"({markers_words(ds, names)}). Integrator noise, {rule['q']}, is not "
+                  "drawn: the axis starts there, and a controller whose error is all noise is "
+                  "named above the panels."),
         "tau_difference": ("Closed-loop torque difference: torque of the simplified-model "
                            "controller minus torque of the full-model controller, each along "
-                           f"its own closed-loop run, per joint ({markers_words(ds, 1)}); a "
-                           "joint whose difference is integrator noise (at most "
-                           f"{tol:g} of {noise_words('tau')}) reads so instead of a curve."),
+                           f"its own closed-loop run, per joint ({markers_words(ds, 1)}). "
+                           f"Integrator noise, {rule['tau']}, is not drawn: "
+                           "the curve breaks off inside the grey band of \u00b1 the noise "
+                           "floor (the noise-floor row of the torque-difference table), and a joint whose difference is "
+                           "all noise reads so instead of a curve."),
         "tau": (f"Torques applied by the three controllers, per joint "
                 f"({markers_words(ds, names)})."),
     }
@@ -177,7 +218,7 @@ def control_context(ds):
         "error_note": (f"Tracking error e = q{_D} \u2212 q per joint, peak |e| and RMS, at the "
                        "set points of the trajectory and on the fine grid (set points "
                        "included)."),
-        "floor_note": floor, "noise_tol": f"{tol:g}", "captions": captions,
+        "floor_note": floor, "noise_rule": rule, "captions": captions,
         "tau_diff": tau_diff,
         "diff_note": ("Closed-loop torque difference: torque of the simplified-model "
                       "computed-torque controller minus that of the full-model one, each along "

@@ -69,7 +69,7 @@ def _joint_types(prismatic):
 
 
 def control_verdict(peaks, prismatic, tau_difference=None,
-                    tolerance=VERDICT_TOLERANCE, quiet=None):
+                    tolerance=VERDICT_TOLERANCE, quiet=None, noise_rule=None):
     """One sentence: does the simplified model control the arm as well as the full one?
 
     Parameters
@@ -89,6 +89,10 @@ def control_verdict(peaks, prismatic, tau_difference=None,
         Per controller, whether its error is integrator noise on every joint, and under
         ``"tau_difference"`` whether the torque difference is: said as
         "\u2261 0 (integrator noise)" instead of its digits.
+    noise_rule : str, optional
+        The rule by which a joint's torque difference is integrator noise, in words
+        (:func:`gd_analyze.reports.control_figures.noise_words`), said after the torque
+        difference.
 
     Returns
     -------
@@ -126,6 +130,9 @@ def control_verdict(peaks, prismatic, tau_difference=None,
                 "closed-loop runs) by at most "
                 + (_NOISE if quiet.get("tau_difference") else
                    _by_type_text(tau_difference, prismatic, 'tau')))
+        if noise_rule:
+            tail += (f" (a joint's value counts as integrator noise, \u2261 0, where it is "
+                     f"{noise_rule})")
     pd_text = f", PD + gravity {said('pd_gravity', pd)}" if pd is not None else ""
     if holds:
         head = ("Verdict: the simplified model is good enough for computed-torque control "
