@@ -125,3 +125,29 @@ def test_a_real_difference_is_still_drawn(dense):
         assert np.isin(shown, drawn[j]).all(), j
     assert drawn[0].size and np.abs(drawn[0]).max() == pytest.approx(
         np.abs(result.tau_difference[:, 0]).max(), rel=0.05)
+
+
+def test_a_noise_measurement_that_cannot_finish_falls_back_to_the_rtol_floor(puma,
+                                                                             monkeypatch):
+    """When the tighter runs fail (e.g. too many steps), the check still writes its report:
+    no measured floor is stored, the report applies the rtol floor and says why it was not
+    measured (it stopped with an error before)."""
+    import gd_analyze.workflows.control as control
+    from gd_analyze.reports.control_text import control_context
+
+    def fails(*args, **kwargs):
+        raise ValueError("the full controller's run failed: too many steps")
+
+    monkeypatch.setattr(control, "difference_noise", fails)
+    model = analyze(puma, read_trajectory(SHIPPED, n_joints=6),
+                    AnalysisOptions(verify=False, formulations=False)).model
+    result = run_control(model, read_trajectory(SHIPPED, n_joints=6),
+                         controllers=("full", "simplified"), cost=False, t_end=0.5,
+                         grid_points=21)
+    assert result.tau_noise is None
+    assert "too many steps" in result.provenance["noise_unmeasured"]
+    ds = control_dataset(result)
+    assert "tau_difference_floor" not in ds and "too many steps" in ds.attrs["noise_unmeasured"]
+    setup = control_context(ds)["setup"]["rows"]
+    said = [r[1] for r in setup if "integrator noise" in r[0]]
+    assert said and "not measured" in said[0] and "too many steps" in said[0], setup

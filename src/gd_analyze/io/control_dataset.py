@@ -214,8 +214,8 @@ def control_dataset(result, settings=None):
         "integrator": f"scipy.integrate.solve_ivp {prov.get('method', '')}",
         "rtol": float(prov.get("rtol", np.nan)), "atol": float(prov.get("atol", np.nan)),
         "grid_points": int(prov.get("grid_points", 0)),
-        **{k: prov[k] for k in ("noise_rtol", "noise_atol", "noise_factor", "noise_nfev")
-           if k in prov},
+        **{k: prov[k] for k in ("noise_rtol", "noise_atol", "noise_factor", "noise_nfev",
+                                 "noise_unmeasured") if k in prov},
         "setpoints": int(result.is_setpoint.sum()),
         "samples": int(result.t.size),
         # what the simplified model is (workflows.control.model_facts), for the report's text

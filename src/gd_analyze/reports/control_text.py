@@ -116,6 +116,10 @@ def control_context(ds):
             f"{float(ds.attrs.get('noise_factor', np.nan)):g} \u00d7 the largest change, at "
             f"least {float(ds.attrs['rtol']):g} \u00d7 the full-model controller's peak "
             "|\u03c4| (Table 3.1)"]] if "noise_rtol" in ds.attrs else []),
+        *([["integrator noise of \u03c4" + _sub("s") + " \u2212 \u03c4" + _sub("f"),
+            "not measured (" + str(ds.attrs["noise_unmeasured"]) + "): the floor is rtol "
+            "\u00d7 the full-model controller's peak |\u03c4|"]]
+          if "noise_unmeasured" in ds.attrs else []),
         ["samples", f"{_attr(ds, 'samples')} ({_attr(ds, 'setpoints')} set points + fine grid "
                     f"of {_attr(ds, 'grid_points')})"],
         ["initial offset q(0) \u2212 q" + _sub("d") + "(0)",
