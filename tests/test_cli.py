@@ -439,3 +439,29 @@ def test_sweep_refuses_the_options_its_merged_model_ignores(tmp_path, capsys, op
     assert code == 2
     assert option[0] in err and len(err.strip().splitlines()) == 1, err
     assert not out_dir.exists()
+
+
+def test_control_printout_marks_integrator_noise_as_the_report_does(tmp_path, capsys):
+    """The printed table gave the full-model controller's tracking error as digits
+    (1.476e-11 rad), which the report and the verdict call integrator noise, ≡ 0: each printed
+    cell is "≡ 0" exactly where the stored error is at or below the report's floor."""
+    from gd_analyze.io.schema import open_results
+    from gd_analyze.reports.control_text import dataset_verdict
+
+    out_dir = tmp_path / "o"
+    assert _run(["puma560", SHIPPED, "-o", out_dir, "--no-report", "-q"], capsys)[0] == 0
+    code, out, err = _run(["control", out_dir / "simplified_model.json", SHIPPED, "-o",
+                           tmp_path / "c", "--no-report"], capsys)
+    assert code == 0, err
+    ds = open_results(tmp_path / "c" / "control.h5")
+    q_floor = dataset_verdict(ds)["floors"][0]
+    rows = {line.split()[0]: line for line in out.splitlines() if "peak |e|" in line}
+    assert set(rows) == {"full", "simplified", "pd_gravity"}
+    for c, line in rows.items():
+        cells = line.split("peak |e|")[0].split()[1:]
+        cells = [a for a in " ".join(cells).replace("\u2261 0", "\u22610").split()]
+        stored = ds["error_peak_grid"].sel(controller=c).values
+        assert len(cells) == len(stored)
+        for text, v, f in zip(cells, stored, q_floor):
+            assert (text == "\u22610") == bool(v <= f), (c, text, v, f)
+    assert rows["full"].count("\u2261 0") == 6
