@@ -21,6 +21,33 @@ def two_link():
     return load_robot("two-link")
 
 
+@pytest.fixture(scope="session")
+def shipped_dataset(tmp_path_factory):
+    """The stored dataset of a built-in robot's shipped trajectory, by robot name.
+
+    A function of the name: the main analysis (without the formulations) written by
+    ``analyze_to_file`` and read back from its results.h5, loaded; one analysis per robot a
+    session. Shared: tests must not modify it.
+    """
+    from gd_analyze.io.schema import open_results
+    from gd_analyze.io.trajectory import read_trajectory
+    from gd_analyze.workflows.analyze import analyze_to_file
+    from gd_analyze.workflows.options import AnalysisOptions
+
+    stored = {}
+
+    def get(name):
+        if name not in stored:
+            robot = load_robot(name)
+            traj = read_trajectory(ROOT / "data" / f"{name}_trajectory.csv", robot.n)
+            path = tmp_path_factory.mktemp(name) / "results.h5"
+            analyze_to_file(robot, traj, path, AnalysisOptions(formulations=False))
+            with open_results(path, lazy=True) as ds:
+                stored[name] = ds.load()
+        return stored[name]
+    return get
+
+
 def random_states(robot, count, seed):
     """Random (q, qd, qdd), shape (count, n): q within [-pi, pi], qd, qdd within +-3."""
     rng = np.random.default_rng(seed)

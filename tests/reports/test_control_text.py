@@ -10,12 +10,12 @@ generalized gravity against the emitted model at rest (q̇ = q̈ = 0) for what i
 import importlib.util
 import re
 import shlex
-from html import unescape
 
 import numpy as np
 import pytest
 import xarray as xr
 from conftest import SHIPPED
+from html_checks import html_text
 
 from gd_analyze import load_robot
 from gd_analyze.cli import main
@@ -33,8 +33,7 @@ CONFIGS = {"budget-recursive": ["--rule", "budget", "--form", "recursive"],
 
 
 def _text(html):
-    html = re.sub(r"<svg.*?</svg>", "", html, flags=re.S)
-    return unescape(re.sub(r"\s+", " ", re.sub(r"<[^>]+>", " ", html))).replace("\u00a0", " ")
+    return html_text(html, nbsp=True)
 
 
 @pytest.fixture(scope="module", params=list(CONFIGS))
@@ -112,7 +111,6 @@ def test_control_verdict_keeps_revolute_and_prismatic_joints_apart():
     revolute = control_verdict({k: v[:2] for k, v in peaks.items()},
                                prismatic[:2]).replace("\u00a0", " ")
     assert " m " not in revolute and "joint" not in revolute
-
 
 
 def test_verdict_tolerance_option_reaches_the_report(tmp_path):

@@ -15,27 +15,19 @@ from figure_checks import collisions as _collisions
 
 from gd_analyze import load_robot
 from gd_analyze.core.selection.ranking import ROUND_OFF, is_round_off
-from gd_analyze.io.schema import open_results
 from gd_analyze.io.trajectory import read_trajectory
 from gd_analyze.reports import main as report
 from gd_analyze.reports.common import JOINT_STYLES, MAX_MARKERS, joint_style
 from gd_analyze.reports.main_figures import plot_data
 from gd_analyze.reports.ticks import tick_texts
-from gd_analyze.workflows.analyze import analyze_to_file
-from gd_analyze.workflows.options import AnalysisOptions
 
 ROBOTS = ("puma560", "stanford", "ur5")
 
 
 @pytest.fixture(scope="module", params=ROBOTS)
-def figures(request, tmp_path_factory):
+def figures(request, shipped_dataset):
     name = request.param
-    robot = load_robot(name)
-    traj = read_trajectory(ROOT / "data" / f"{name}_trajectory.csv", robot.n)
-    path = tmp_path_factory.mktemp(name) / "results.h5"
-    analyze_to_file(robot, traj, path, AnalysisOptions(formulations=False))
-    with open_results(path, lazy=True) as ds:
-        ds = ds.load()
+    ds = shipped_dataset(name)
     figs = report.make_figures(ds, plot_data(ds))
     return name, ds, figs
 

@@ -20,6 +20,7 @@ from html import unescape
 import numpy as np
 import pytest
 from conftest import ROOT
+from html_checks import html_text, table_rows, without_figures
 from pypdf import PdfReader
 
 from gd_analyze import load_robot
@@ -31,6 +32,10 @@ DATA = ROOT / "data"
 CODE_NAMES = re.compile(r"\b(share_tran|peak_tran|peak_rot|peak_total|tau_s|tau_f|tau_i|"
                         r"tau_simplified|tau_full|scale_i|EPS|D_ij|D_ii|D_jj|h_i|D_tran|D_rot|"
                         r"h_tran|h_rot|qdd_d|Kp_pd|Kv_pd)\b")
+
+
+def _text(html):
+    return html_text(html, nbsp=True)
 
 
 #: Subscript digits back to digits (tables letter D45 as D₄₅).
@@ -63,19 +68,8 @@ def _files(reports, which):
     return (folder / f"{stem}.html").read_text(encoding="utf-8"), folder / f"{stem}.pdf"
 
 
-def _text(html):
-    """The document's text outside the figures, tags stripped, entities decoded."""
-    html = re.sub(r"<svg.*?</svg>", "", html, flags=re.S)
-    return unescape(re.sub(r"\s+", " ", re.sub(r"<[^>]+>", " ", html))).replace("\u00a0", " ")
-
-
 def _pdf_text(path):
     return "\n".join(page.extract_text() for page in PdfReader(path).pages)
-
-
-def _cells(fragment):
-    return [unescape(re.sub(r"<[^>]+>", "", c)).replace("\u00a0", " ").strip()
-            for c in re.findall(r"<t[dh][^>]*>(.*?)</t[dh]>", fragment, flags=re.S)]
 
 
 def _tables(html):
@@ -83,7 +77,7 @@ def _tables(html):
     out = []
     for cap, t in re.findall(r"<figure class=\"table\">\s*(?:<figcaption>(.*?)</figcaption>)?"
                              r"\s*<table[^>]*>(.*?)</table>", html, flags=re.S):
-        rows = [_cells(r) for r in re.findall(r"<tr[^>]*>(.*?)</tr>", t, flags=re.S)]
+        rows = table_rows(t, nbsp=True)
         out.append((unescape(re.sub(r"<[^>]+>", "", cap)).strip() if cap else None,
                     rows[0], rows[1:]))
     return out
@@ -102,7 +96,7 @@ def test_every_table_has_a_numbered_caption_in_html_and_pdf(reports, which):
     keys = [(int(m.group(1)), int(m.group(2))) for m in numbers]
     assert len(set(keys)) == len(keys)                          # unique
     # numbered within the section they sit in, from 1, in order
-    body = re.sub(r"<svg.*?</svg>", "", html, flags=re.S)
+    body = without_figures(html)
     for m, (sec, k) in zip(re.finditer(r"<figcaption>Table (\d+)\.(\d+):", body), keys):
         heading = re.findall(r"<h2[^>]*>(\d+)\.", body[:m.start()])[-1]
         assert int(heading) == sec
@@ -327,7 +321,7 @@ def _outline_titles(outline, level=1):
 @pytest.mark.parametrize("which", ALL)
 def test_html_and_pdf_headings_are_one_list(reports, which):
     html, pdf = _files(reports, which)
-    body = re.sub(r"<svg.*?</svg>", "", html, flags=re.S)
+    body = without_figures(html)
     headings = [unescape(re.sub(r"<[^>]+>", "", h)).strip()
                 for h in re.findall(r"<h[23][^>]*>(.*?)</h[23]>", body, flags=re.S)]
     bookmarks = _outline_titles(PdfReader(pdf).outline)

@@ -6,11 +6,12 @@ stored rule changes the words: they are generated, not fixed) and the stored err
 """
 
 import re
-from html import unescape
 
 import numpy as np
 import pytest
 import xarray as xr
+from html_checks import html_table as _table
+from html_checks import html_text as _text
 
 from gd_analyze import __version__
 from gd_analyze.cli import main
@@ -18,17 +19,8 @@ from gd_analyze.io.schema import write_dataset
 from gd_analyze.reports.sweep import write_sweep_report
 
 
-def _text(html):
-    html = re.sub(r"<svg.*?</svg>", "", html, flags=re.S)
-    return unescape(re.sub(r"\s+", " ", re.sub(r"<[^>]+>", " ", html)))
-
-
 def _rows(html, anchor):
-    table = html[html.index(f'id="{anchor}"'):]
-    table = table[:table.index("</table>")]
-    return [[unescape(re.sub(r"<[^>]+>", "", c)).strip() for c in
-             re.findall(r"<t[dh][^>]*>(.*?)</t[dh]>", row, flags=re.S)]
-            for row in re.findall(r"<tr[^>]*>(.*?)</tr>", table, flags=re.S)][1:]
+    return _table(html, f'id="{anchor}"')[1:]
 
 
 @pytest.fixture(scope="module", params=["budget", "chapter"])
@@ -91,14 +83,6 @@ def test_settings_state_each_setting_once_in_words(swept):
     assert values.count("9.8") == 1                                         # gravity once
     assert "conventions" not in items and "CF-1" not in values
     assert "trajectories per task" not in values
-
-
-def _table(html, caption_start):
-    rest = html[html.index(caption_start):]
-    table = rest[:rest.index("</table>")]
-    return [[unescape(re.sub(r"<[^>]+>", "", c)).strip() for c in
-             re.findall(r"<t[dh][^>]*>(.*?)</t[dh]>", row, flags=re.S)]
-            for row in re.findall(r"<tr[^>]*>(.*?)</tr>", table, flags=re.S)]
 
 
 def test_counts_are_the_merged_choices_in_the_tables_words(swept):

@@ -14,24 +14,13 @@ from html import unescape
 import numpy as np
 import pytest
 import xarray as xr
+from html_checks import html_table as _table_rows
+from html_checks import html_text as _text
 
 from gd_analyze.cli import main
 from gd_analyze.io.schema import write_dataset
 from gd_analyze.reports.sweep import write_sweep_report
 from gd_analyze.reports.sweep_figures import make_sweep_figures
-
-
-def _text(html):
-    html = re.sub(r"<svg.*?</svg>", "", html, flags=re.S)
-    return unescape(re.sub(r"\s+", " ", re.sub(r"<[^>]+>", " ", html)))
-
-
-def _table_rows(html, caption_start):
-    rest = html[html.index(caption_start):]
-    table = rest[:rest.index("</table>")]
-    return [[unescape(re.sub(r"<[^>]+>", "", c)).strip() for c in
-             re.findall(r"<t[dh][^>]*>(.*?)</t[dh]>", row, flags=re.S)]
-            for row in re.findall(r"<tr[^>]*>(.*?)</tr>", table, flags=re.S)]
 
 
 def _sweep(tmp_path_factory, robot, rule):

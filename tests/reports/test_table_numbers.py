@@ -6,27 +6,16 @@ significant digits of the value stored in results.h5 (the oracle)."""
 
 import numpy as np
 import pytest
-from conftest import ROOT
 from table_checks import number, reads_back, tables
 
-from gd_analyze import load_robot
-from gd_analyze.io.schema import open_results
-from gd_analyze.io.trajectory import read_trajectory
 from gd_analyze.reports.main_context import report_context
 from gd_analyze.reports.markup import plain
-from gd_analyze.workflows.analyze import analyze_to_file
-from gd_analyze.workflows.options import AnalysisOptions
 
 
 @pytest.fixture(scope="module", params=("puma560", "stanford"))
-def context(request, tmp_path_factory):
+def context(request, shipped_dataset):
     name = request.param
-    robot = load_robot(name)
-    traj = read_trajectory(ROOT / "data" / f"{name}_trajectory.csv", robot.n)
-    path = tmp_path_factory.mktemp(name) / "results.h5"
-    analyze_to_file(robot, traj, path, AnalysisOptions(formulations=False))
-    with open_results(path, lazy=True) as ds:
-        ds = ds.load()
+    ds = shipped_dataset(name)
     return name, ds, report_context(ds)
 
 

@@ -9,12 +9,13 @@ ranking, cost table and verification attributes for the counts the text states.
 
 import importlib.util
 import re
-from html import unescape
 
 import numpy as np
 import pytest
 import xarray as xr
 from conftest import ROOT, SHIPPED
+from html_checks import html_table
+from html_checks import html_text as _text
 
 from gd_analyze import load_robot
 from gd_analyze.cli import main
@@ -37,21 +38,12 @@ def _run(robot, csv, folder, extra=()):
     return folder
 
 
-def _text(html):
-    """The document's text outside the figures, tags stripped, entities decoded."""
-    html = re.sub(r"<svg.*?</svg>", "", html, flags=re.S)
-    return unescape(re.sub(r"\s+", " ", re.sub(r"<[^>]+>", " ", html)))
+def _provenance(html):
+    return html_table(html, 'id="provenance"', cell="td")[1:]
 
 
 def _summary(text):
     return text[text.index("Dominance: "):text.index(" set points over ")]
-
-
-def _provenance(html):
-    table = html[html.index('id="provenance"'):]
-    return [[unescape(re.sub(r"<[^>]+>", "", c)).strip() for c in
-             re.findall(r"<td[^>]*>(.*?)</td>", row, flags=re.S)]
-            for row in re.findall(r"<tr[^>]*>(.*?)</tr>", table, flags=re.S)][1:]
 
 
 @pytest.fixture(scope="module")

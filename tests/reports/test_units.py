@@ -12,6 +12,8 @@ import numpy as np
 import pytest
 import xarray as xr
 from conftest import ROOT
+from html_checks import html_tables as tables_of
+from html_checks import without_figures as _html_without_svg
 
 from gd_analyze.cli import main
 from gd_analyze.reports.markup import label
@@ -43,20 +45,8 @@ def stanford(tmp_path_factory):
     return out
 
 
-def tables_of(html):
-    """Every <table> as a list of rows of cell texts (tags stripped)."""
-    return [[[unescape(re.sub(r"<[^>]+>", "", c)).strip()
-              for c in re.findall(r"<t[dh][^>]*>(.*?)</t[dh]>", row, flags=re.S)]
-             for row in re.findall(r"<tr[^>]*>(.*?)</tr>", table, flags=re.S)]
-            for table in re.findall(r"<table.*?</table>", html, flags=re.S)]
-
-
 def _svg_texts(svg):
     return [unescape(t).strip() for t in re.findall(r"<text[^>]*>([^<]*)", svg)]
-
-
-def _html_without_svg(html):
-    return re.sub(r"<svg.*?</svg>", "", html, flags=re.S)
 
 
 def test_ranking_table_gives_each_element_its_units(stanford):
