@@ -21,7 +21,7 @@ from itertools import combinations
 
 import numpy as np
 
-from ..core.dynamics.dalembert import gd_terms
+from ..core.dynamics.dalembert import assemble_tau, gd_terms
 from ..core.model.drives import rigid_links
 from ..core.model.kinematics import as_states
 from .lagrange_euler import le_terms
@@ -81,8 +81,7 @@ class DynamicsResult:
         ValueError
             If qdd cannot be reshaped to (N, n).
         """
-        qdd = np.asarray(qdd, dtype=float).reshape(self.c.shape)
-        return np.einsum("kij,kj->ki", self.D, qdd) + self.h + self.c
+        return assemble_tau(self.D, self.h, self.c, qdd)
 
 
 def _check_method(method):

@@ -31,6 +31,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from ..core.dynamics.dalembert import assemble_tau
 from ..core.model.kinematics import as_states, joint_transforms
 
 __all__ = ["Q_REVOLUTE", "Q_PRISMATIC", "joint_q_matrices", "DEFAULT_CHUNK", "LETerms", "pseudo_inertia", "u_matrices", "le_terms"]
@@ -106,8 +107,7 @@ class LETerms:
         ValueError
             If qdd cannot be reshaped to (N, n).
         """
-        qdd = np.asarray(qdd, dtype=float).reshape(self.c.shape)
-        return _tau(self.D, self.h, self.c, qdd)
+        return assemble_tau(self.D, self.h, self.c, qdd)
 
 
 def pseudo_inertia(robot, frame="link"):
@@ -222,11 +222,6 @@ def _le_core(A, Q, J, gm, rbar, qd):
     Hq = (H @ qd[:, None, :, None])[..., 0]                    # sum_m h_ikm qd_m
     h = (Hq @ qd[:, :, None])[..., 0]                          # Eq. (3.2-32)
     return D, H, h, c
-
-
-def _tau(D, h, c, qdd):
-    """tau = D qdd + h + c, Eq. (3.2-26); D (N, n, n), h, c, qdd (N, n)."""
-    return (D @ qdd[..., None])[..., 0] + h + c
 
 
 def _constants(robot):

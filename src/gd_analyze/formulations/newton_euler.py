@@ -35,7 +35,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from ..core.model.kinematics import as_states, transforms_core
+from ..core.model.kinematics import as_states, joint_frames
 
 __all__ = ["ne_tau", "ne_terms", "link_constants", "joint_frames"]
 
@@ -122,26 +122,6 @@ def _ne_core(R, p, prismatic, qd, qdd, k, f_end=None, n_end=None, b=None):
         t = f[:, 2] if prismatic[i] else nm[:, 2]                # f_i . z0 or n_i . z0
         tau[i] = t if b is None else t + b[i] * qd[:, i]         # Eq. (3.3-58)
     return np.stack(tau, axis=-1)
-
-
-def joint_frames(robot, q):
-    """^{i-1}R_i and ^{i-1}p_i of every joint, the kinematic inputs of :func:`_ne_core`.
-
-    Parameters
-    ----------
-    robot : Robot
-        The arm, with n joints.
-    q : ndarray, shape (N, n)
-        Joint positions [rad or m].
-
-    Returns
-    -------
-    R : ndarray, shape (N, n, 3, 3)
-    p : ndarray, shape (N, n, 3)
-        [m].
-    """
-    return transforms_core(robot.rotation, robot.translation, robot.prismatic, np.cos(q),
-                           np.sin(q), q)
 
 
 def _load(x, N, name):

@@ -86,7 +86,7 @@ from ..core.model.robot import Robot
 from ..core.model.robot_spec import robot_from_dict
 from .counting import OpLedger, _consts, _value, _vars, counting_clone
 from .lagrange_euler import _constants as _le_constants
-from .lagrange_euler import _le_core, _tau, joint_q_matrices
+from .lagrange_euler import _le_core, joint_q_matrices
 from .newton_euler import _cross, _ne_core, link_constants
 
 __all__ = ["OpCount", "METHODS", "TABLE_3_5", "joint_types", "random_chain", "count_operations",
@@ -192,6 +192,15 @@ def random_chain(n, seed=0, types=None):
     name = f"random-{n}" if "P" not in types else f"random-{types}"
     return robot_from_dict({"name": name, "gravity": [0.0, 0.0, -9.8062],
                             "link": links}, source=f"<random_chain({n}, {seed}, {types!r})>")
+
+
+def _tau(D, h, c, qdd):
+    """tau = D qdd + h + c, Eq. (3.2-26), on counting scalars; D (N, n, n), h, c, qdd (N, n).
+
+    The counted mirror of :func:`gd_analyze.core.dynamics.dalembert.assemble_tau` (whose
+    ``float`` conversion counting scalars refuse).
+    """
+    return (D @ qdd[..., None])[..., 0] + h + c
 
 
 def _counted_transforms(robot, led, q, homogeneous=False):

@@ -20,6 +20,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from ..core.dynamics.dalembert import assemble_tau
 from ..core.model.kinematics import as_states
 from ..core.selection.ranking import ROUND_OFF_EPS
 
@@ -216,7 +217,7 @@ def natural_scales(robot, ref, qd, qdd=None):
     diag = np.abs(np.diagonal(D, axis1=1, axis2=2))                  # (N, n)
     s_D = np.max(np.sqrt(diag[:, :, None] * diag[:, None, :]), axis=0)
     qdd = np.zeros_like(ref.h) if qdd is None else np.asarray(qdd, dtype=float)
-    tau = np.einsum("kij,kj->ki", D, qdd) + ref.h + ref.c
+    tau = assemble_tau(D, ref.h, ref.c, qdd)
     s_tau = np.max(np.abs(tau), axis=0)
     qd2 = np.max(np.asarray(qd, dtype=float) ** 2)
     # the arm's reach: DH lengths, or the placements' translations of a general chain (whose

@@ -37,8 +37,8 @@ import numpy as np
 from ..model.drives import friction_torque
 from ..model.kinematics import as_states, body_frames
 
-__all__ = ["forward_dynamics", "GDTerms", "gd_terms", "allocate_terms", "kernel_arguments",
-           "DEFAULT_CHUNK", "ENGINES", "COMPILED_MIN_SETPOINTS"]
+__all__ = ["assemble_tau", "forward_dynamics", "GDTerms", "gd_terms", "allocate_terms",
+           "kernel_arguments", "DEFAULT_CHUNK", "ENGINES", "COMPILED_MIN_SETPOINTS"]
 
 #: Set points per chunk of the numpy engine: bounds its temporaries to a few tens of MB.
 DEFAULT_CHUNK = 8192
@@ -47,6 +47,37 @@ ENGINES = ("auto", "numpy", "compiled")
 #: With engine="auto", trajectories of at least this many set points use the compiled engine;
 #: shorter ones use numpy and so never pay for importing numba or loading compiled code.
 COMPILED_MIN_SETPOINTS = 2000
+
+
+def assemble_tau(D, h, c, qdd):
+    """Joint torques tau = D qdd + h + c at N set points, Eq. (3.2-26) / Eq. (3.4-24).
+
+    The one assembly of the equations of motion from their terms, whatever the formulation
+    that computed them (G-D, L-E, N-E probing, Pinocchio) or the simplified model's D_s, h_s.
+
+    Parameters
+    ----------
+    D : ndarray, shape (N, n, n)
+        Inertia matrix [kg m^2].
+    h : ndarray, shape (N, n)
+        Coriolis and centrifugal torques [N m].
+    c : ndarray, shape (N, n)
+        Gravity loading [N m].
+    qdd : array_like, shape (N, n)
+        Joint accelerations [rad/s^2].
+
+    Returns
+    -------
+    ndarray, shape (N, n)
+        Joint torques [N m].
+
+    Raises
+    ------
+    ValueError
+        If qdd cannot be reshaped to (N, n).
+    """
+    qdd = np.asarray(qdd, dtype=float).reshape(np.shape(c))
+    return np.einsum("kij,kj->ki", D, qdd) + h + c
 
 
 @dataclass(frozen=True, eq=False)
@@ -156,8 +187,7 @@ class GDTerms:
             Joint torques [N m], with the drives' armature and friction where the robot has
             them.
         """
-        qdd = np.asarray(qdd, dtype=float).reshape(self.c.shape)
-        tau = np.einsum("kij,kj->ki", self.D, qdd) + self.h + self.c
+        tau = assemble_tau(self.D, self.h, self.c, qdd)
         if self.tau_f is not None:
             tau += self.tau_f
         return tau

@@ -16,8 +16,8 @@ from __future__ import annotations
 
 import numpy as np
 
-__all__ = ["as_states", "transforms_core", "joint_transforms", "body_frames", "link_matrices",
-           "frames", "centres_of_mass"]
+__all__ = ["as_states", "transforms_core", "joint_frames", "joint_transforms", "body_frames",
+           "link_matrices", "frames", "centres_of_mass"]
 
 
 def as_states(robot, *arrays):
@@ -95,6 +95,27 @@ def transforms_core(P, t, prismatic, c, s, q):
     return R, p
 
 
+def joint_frames(robot, q):
+    """^{i-1}R_i and ^{i-1}p_i of every joint: :func:`transforms_core` for a robot.
+
+    Parameters
+    ----------
+    robot : Robot
+        The arm, with n joints.
+    q : ndarray, shape (N, n)
+        Joint positions [rad or m], already checked (see :func:`as_states`).
+
+    Returns
+    -------
+    R : ndarray, shape (N, n, 3, 3)
+        ^{i-1}R_i.
+    p : ndarray, shape (N, n, 3)
+        Origin of body frame i in body frame i-1 [m].
+    """
+    return transforms_core(robot.rotation, robot.translation, robot.prismatic, np.cos(q),
+                           np.sin(q), q)
+
+
 def joint_transforms(robot, q):
     """The transforms ^{i-1}T_i between consecutive body frames.
 
@@ -122,13 +143,7 @@ def joint_transforms(robot, q):
     motions of the joint matrices Q of Eqs. (3.2-8a) and (3.2-8b).
     """
     (q,) = as_states(robot, q)
-    R, p = transforms_core(robot.rotation, robot.translation, robot.prismatic, np.cos(q),
-                           np.sin(q), q)
-    T = np.zeros(q.shape + (4, 4))
-    T[..., :3, :3] = R
-    T[..., :3, 3] = p
-    T[..., 3, 3] = 1.0
-    return T
+    return _homogeneous(*joint_frames(robot, q))
 
 
 def body_frames(robot, q):
@@ -154,8 +169,7 @@ def body_frames(robot, q):
         If q does not have n columns.
     """
     (q,) = as_states(robot, q)
-    Rr, pr = transforms_core(robot.rotation, robot.translation, robot.prismatic, np.cos(q),
-                             np.sin(q), q)
+    Rr, pr = joint_frames(robot, q)
     N, n = q.shape
     R = np.empty((N, n, 3, 3))
     o = np.empty((N, n, 3))

@@ -15,6 +15,7 @@ from __future__ import annotations
 
 import numpy as np
 
+from ..dynamics.dalembert import assemble_tau
 from .labels import element_index, element_labels
 
 __all__ = ["CHOICES", "choice_masks", "simplified_torque", "merge_choices", "full_choices"]
@@ -92,7 +93,7 @@ def simplified_torque(terms, choices, qdd):
     D_s = Mt * terms.D_tran + Mr * terms.D_rot
     h_s = mt * terms.h_tran + mr * terms.h_rot
     qdd = np.asarray(qdd, dtype=float).reshape(terms.c.shape)
-    tau = np.einsum("kij,kj->ki", D_s, qdd) + h_s + terms.c
+    tau = assemble_tau(D_s, h_s, terms.c, qdd)
     if terms.armature is not None:
         tau += terms.armature * qdd
     if terms.tau_f is not None:

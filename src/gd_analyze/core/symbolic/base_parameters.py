@@ -22,7 +22,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ..model.kinematics import as_states, transforms_core
+from ..model.kinematics import as_states, joint_frames
 
 __all__ = ["PARAMETER_NAMES", "standard_parameters", "regressor", "BaseParameters",
            "base_parameters", "random_states"]
@@ -88,8 +88,7 @@ def _skew(v):
 def _forward(robot, q, qd, qdd, gravity):
     """Body-frame w, wd, vd (N, n, 3) and the transforms R (N, n, 3, 3), p (N, n, 3)."""
     N, n = q.shape
-    R, p = transforms_core(robot.rotation, robot.translation, robot.prismatic, np.cos(q),
-                           np.sin(q), q)
+    R, p = joint_frames(robot, q)
     w = np.zeros((N, n, 3))
     wd = np.zeros((N, n, 3))
     vd = np.zeros((N, n, 3))
