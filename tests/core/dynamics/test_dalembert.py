@@ -6,7 +6,7 @@ import pytest
 from conftest import SHIPPED, random_states
 
 from gd_analyze import gd_terms, load_robot
-from gd_analyze.core.dynamics.dalembert import forward_dynamics
+from gd_analyze.core.dynamics.dalembert import assemble_tau, forward_dynamics
 from gd_analyze.formulations.pinocchio import reference_terms, relative_error
 from gd_analyze.io.trajectory import read_trajectory
 
@@ -200,3 +200,27 @@ def test_forward_dynamics_matches_pinocchio_aba(name):
     back = forward_dynamics(robot, q, qd, gd_terms(robot, q, qd).tau(qdd))
     np.testing.assert_allclose(back, qdd, rtol=1e-9, atol=1e-9)
     assert forward_dynamics(robot, q[0], qd[0], tau[0]).shape == (1, robot.n)
+
+
+@pytest.mark.parametrize("name", ["puma560", "stanford"])
+def test_assemble_tau_of_pinocchio_terms_is_pinocchio_rnea(name):
+    # oracle: Pinocchio's own D (crba), h + c (nonLinearEffects) and c (generalized gravity)
+    # assembled by Eq. (3.2-26) must give its inverse dynamics (rnea); a wrong contraction or a
+    # dropped term fails (the Stanford arm's joint 3 is prismatic: tau_3 is a force)
+    pin = pytest.importorskip("pinocchio")
+    from gd_analyze.formulations.pinocchio import pinocchio_model
+
+    robot = load_robot(name)
+    q, qd, qdd = random_states(robot, 20, seed=5)
+    model = pinocchio_model(robot)
+    data = model.createData()
+    D = np.stack([np.triu(pin.crba(model, data, a)) + np.triu(pin.crba(model, data, a), 1).T
+                  for a in q])
+    nle = np.stack([pin.nonLinearEffects(model, data, a, b) for a, b in zip(q, qd)])
+    c = np.stack([pin.computeGeneralizedGravity(model, data, a) for a in q])
+    ref = np.stack([pin.rnea(model, data, a, b, d) for a, b, d in zip(q, qd, qdd)])
+    tau = assemble_tau(D, nle - c, c, qdd)
+    scale = np.abs(ref).max(axis=0)
+    assert np.all(np.abs(tau - ref) <= 1e-12 * scale)
+    with pytest.raises(ValueError):
+        assemble_tau(D, nle - c, c, qdd[:, :-1])

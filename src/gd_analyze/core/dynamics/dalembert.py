@@ -58,23 +58,31 @@ def assemble_tau(D, h, c, qdd):
     Parameters
     ----------
     D : ndarray, shape (N, n, n)
-        Inertia matrix [kg m^2].
+        Inertia matrix [kg m^2 between revolute joints, kg m between a revolute and a
+        prismatic one, kg between prismatic ones].
     h : ndarray, shape (N, n)
-        Coriolis and centrifugal torques [N m].
+        Coriolis and centrifugal torques [N m, or N at a prismatic joint].
     c : ndarray, shape (N, n)
-        Gravity loading [N m].
+        Gravity loading [N m, or N at a prismatic joint].
     qdd : array_like, shape (N, n)
-        Joint accelerations [rad/s^2].
+        Joint accelerations [rad/s^2, or m/s^2 at a prismatic joint].
 
     Returns
     -------
     ndarray, shape (N, n)
-        Joint torques [N m].
+        Joint torques [N m], forces [N] at prismatic joints.
 
     Raises
     ------
     ValueError
         If qdd cannot be reshaped to (N, n).
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> assemble_tau(np.eye(2)[None], np.array([[1.0, 0.0]]), np.array([[0.0, 2.0]]),
+    ...              [[3.0, 4.0]])
+    array([[4., 6.]])
     """
     qdd = np.asarray(qdd, dtype=float).reshape(np.shape(c))
     return np.einsum("kij,kj->ki", D, qdd) + h + c

@@ -108,9 +108,21 @@ def joint_frames(robot, q):
     Returns
     -------
     R : ndarray, shape (N, n, 3, 3)
-        ^{i-1}R_i.
+        ^{i-1}R_i [1].
     p : ndarray, shape (N, n, 3)
         Origin of body frame i in body frame i-1 [m].
+
+    Raises
+    ------
+    ValueError
+        If q does not have n columns (numpy's broadcasting error); check q with
+        :func:`as_states` first.
+
+    Notes
+    -----
+    The rotation and translation parts of ^{i-1}T_i, the joint matrices of Eqs. (3.2-8a) and
+    (3.2-8b) of Fu, Gonzalez & Lee (1987): P_i Rot(z, q_i) for a revolute joint, P_i Trans(0,
+    0, q_i) for a prismatic one.
     """
     return transforms_core(robot.rotation, robot.translation, robot.prismatic, np.cos(q),
                            np.sin(q), q)
