@@ -375,6 +375,27 @@ _TERMS_SCHEMA = Obj({
     "coef": ListOf(Num()),
 })
 
+_NUMS = ListOf(Num())
+_NONNEG = ListOf(Num(0.0, math.inf))
+#: Where a model's bound holds (issue 29): ``"region"`` (proved over the joint-limit region,
+#: :mod:`gd_analyze.core.selection.region`) or ``"trajectory"`` (the trajectories it was built
+#: on); lengths are checked by :meth:`gd_analyze.core.selection.guarantee.Guarantee.from_dict`.
+_GUARANTEE_SCHEMA = Obj({
+    "kind": Str(choices=("region", "trajectory")),
+    "statement": Field(Str(max_len=400), required=False),
+    "q_min": Field(_NUMS, required=False), "q_max": Field(_NUMS, required=False),
+    "qd_max": Field(_NONNEG, required=False), "qdd_max": Field(_NONNEG, required=False),
+    "scale": Field(_NONNEG, required=False),
+    "scale_state": Field(ListOf(_NUMS), required=False),
+    "bound": _NONNEG,
+    "sampled_error": Field(_NONNEG, required=False),
+    "method": Field(Str(max_len=2000), required=False),
+    "trajectory_sha256": Field(Str(pattern=r"[0-9a-f]{64}|"), required=False),
+    "trajectories_sha256": Field(ListOf(Str(pattern=r"[0-9a-f]{64}|")), required=False),
+    "region_sampled_error": Field(AnyJSON(), required=False),
+    "region_missing": Field(Str(max_len=400), required=False),
+})
+
 #: A model of the recursive form (issue 17): its base parameters, the dropped (parameter,
 #: part) pairs and its bound; checked against the robot by
 #: :meth:`gd_analyze.core.symbolic.recursive_model.RecursiveModel.from_dict`.
@@ -423,4 +444,6 @@ MODEL_SCHEMA = Obj({
     "form": Field(Str(choices=("explicit", "recursive")), required=False),
     "recursive": Field(_RECURSIVE_SCHEMA, required=False),
     "costs": Field(MapOf(COST_SCHEMA), required=False),
+    # the key of issue 29: where the bound holds (a region of states, or one trajectory)
+    "guarantee": Field(_GUARANTEE_SCHEMA, required=False),
 })

@@ -441,13 +441,26 @@ def _simplify(robot, trajectory, ranking, part_peaks, options, provenance):
                    "pay (give --explicit always to derive it)")
     model = dataclasses.replace(model, costs=costs,
                                 full_cost=dict(costs.get("explicit, full", model.full_cost)),
-                                program_cache=model.program())
+                                program_cache=model.program(),
+                                guarantee=_trajectory_guarantee(model, sel, trajectory))
     table = cost_rows(robot.n, model, other=other, ladder_rows=rows, formulation_counts=counts)
     extra = simplified_dataset(model, sel, other=other, ladder_rows=rows, cost_table=table,
                                other_error=other_error, full_terms=terms if derive else None)
     if skipped:
         extra.attrs["simplified_ladder_skipped"] = skipped
     return model, extra
+
+
+def _trajectory_guarantee(model, sel, trajectory):
+    """The budget model's guarantee on the trajectory it was built on (None: chapter rule)."""
+    from ..core.selection.guarantee import Guarantee
+
+    if model.rule != "budget":
+        return None
+    return Guarantee("trajectory", float(model.tolerance), bound=np.asarray(model.bound, float),
+                     scale=np.asarray(sel.scale, float), trajectory_sha256=trajectory.sha256,
+                     method="sum of the dropped pairs' peak contributions on the trajectory "
+                            "(triangle inequality)")
 
 
 def _ops(cost):

@@ -162,6 +162,10 @@ class SimplifiedModel:
     costs : dict
         Counted operations of the other models, by label (``"exact recursive"``,
         ``"explicit, budget"``, ``"explicit, full"``, ``"newton-euler"``), for comparison.
+    guarantee : Guarantee or None
+        Where the bound holds (:class:`~gd_analyze.core.selection.guarantee.Guarantee`):
+        over the joint-limit region (proved) or on the trajectory only; None for the chapter
+        rule and for files written before issue 29.
     program_cache : Program or None
         The model's program where its builder already has it (not written to the file);
         otherwise :meth:`program` builds it once, on first use.
@@ -188,6 +192,7 @@ class SimplifiedModel:
     bound: list = field(default_factory=list)
     recursive: object = None
     costs: dict = field(default_factory=dict)
+    guarantee: object = None
     program_cache: object = field(default=None, repr=False, compare=False)
 
     @property
@@ -252,6 +257,7 @@ class SimplifiedModel:
             "rule": self.rule, "tolerance": f"{self.tolerance:g}",
             "torque floor [N m]": f"{self.torque_floor:g}",
             "trajectory sha256": self.trajectory_sha256,
+            "guarantee": self.scope(),
             "operations": f"{cost['multiplications']} multiplications, {cost['additions']} "
                           f"additions, {cost['sin']} sin, {cost['cos']} cos",
             "gd-analyze version": self.provenance.get("gd_analyze_version", ""),
@@ -337,7 +343,24 @@ class SimplifiedModel:
             out["tolerance"] = self.tolerance
         if self.full_cost:
             out["full_cost"] = dict(self.full_cost)
+        if self.guarantee is not None:
+            out["guarantee"] = self.guarantee.to_dict()
         return out
+
+    def scope(self):
+        """Where the model's bound holds, in one sentence (issue 29 item 4).
+
+        Returns
+        -------
+        str
+            :meth:`~gd_analyze.core.selection.guarantee.Guarantee.statement`, or for a model
+            without a guarantee (chapter rule, older files) that it has none.
+        """
+        if self.guarantee is not None:
+            return self.guarantee.statement()
+        if self.rule == "chapter":
+            return "no bound: share-based classes of the chapter (Sec. 3.4.1)"
+        return "on the trajectory it was built on only (an older model file: no region check)"
 
     @classmethod
     def from_dict(cls, spec, robot, path="<dict>"):
@@ -398,6 +421,13 @@ class SimplifiedModel:
             recursive = RecursiveModel.from_dict(spec["recursive"], robot, path)
             terms = None
         tolerance = spec.get("tolerance")
+        guarantee = None
+        if spec.get("guarantee") is not None:
+            from .guarantee import Guarantee
+
+            guarantee = Guarantee.from_dict(spec["guarantee"], robot.n,
+                                            float("nan") if tolerance is None
+                                            else float(tolerance), path)
         return cls(robot=robot, choices=dict(choices),
                    dominance_threshold=float(spec["dominance_threshold"]),
                    negligible_threshold=float(spec["negligible_threshold"]),
@@ -410,7 +440,8 @@ class SimplifiedModel:
                    cost={}, full_cost={},
                    bound=[float("nan") if v is None else float(v)
                           for v in spec.get("bound") or []],
-                   recursive=recursive, costs=dict(spec.get("costs") or {}))
+                   recursive=recursive, costs=dict(spec.get("costs") or {}),
+                   guarantee=guarantee)
 
 
 

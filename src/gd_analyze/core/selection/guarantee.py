@@ -1,0 +1,232 @@
+"""Where a simplified model's bound holds: over the joint-limit region (proved), or on the
+trajectories it was built on only (issue 29).
+
+A :class:`Guarantee` travels with every simplified model: in ``simplified_model.json`` (key
+``guarantee``), in the headers of the emitted code, in the CLI summary and in the reports. Its
+:meth:`Guarantee.statement` is the one sentence all of them print, generated from the model's
+own numbers.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+from ...errors import InputError
+
+__all__ = ["Guarantee", "KINDS", "ROUND_OFF_EPS"]
+
+#: The two scopes of a bound.
+KINDS = ("region", "trajectory")
+#: Floating-point round-off allowed on top of a bound, in machine epsilons of the joint's scale
+#: (the verification's floor): the pruned and the exact program round differently.
+ROUND_OFF_EPS = 64
+
+
+def _floats(values):
+    return None if values is None else [None if v is None or not np.isfinite(v) else float(v)
+                                        for v in np.asarray(values, float).reshape(-1)]
+
+
+@dataclass(frozen=True, eq=False)
+class Guarantee:
+    """The scope of a simplified model's bound |tau_s - tau| <= bound_i <= EPS s_i.
+
+    Attributes
+    ----------
+    kind : {"region", "trajectory"}
+        ``"region"``: proved at every state of R = {q_min <= q <= q_max, |qd| <= qd_max,
+        |qdd| <= qdd_max}; ``"trajectory"``: on the trajectories the model was built on only.
+    tolerance : float
+        EPS [1].
+    bound : ndarray, shape (n,)
+        The bound per joint [N m or N].
+    scale : ndarray, shape (n,)
+        s_i [N m or N]: over R, max(largest |tau_i| found, torque floor); on trajectories,
+        max(peak |tau_i|, torque floor).
+    q_min, q_max, qd_max, qdd_max : ndarray, shape (n,), optional
+        The region (region kind) [rad, m; rad/s, m/s; rad/s^2, m/s^2]; a continuous joint
+        is given as [-pi, pi].
+    scale_state : ndarray, shape (n, 3 n), optional
+        Per joint, the state (q, qd, qdd) where |tau_i| = scale_i was found.
+    sampled_error : ndarray, shape (n,), optional
+        Region kind: the worst |tau_s - tau| found by sampling R [N m or N].
+    region_sampled_error : ndarray, shape (n,), optional
+        Trajectory kind: the worst error found by sampling the robot's R, relative to s_i
+        over R [1]; None when the robot gives no limits.
+    method : str
+        How the bound and the scale were obtained.
+    trajectory_sha256 : str
+        The trajectory file (trajectory kind; "" for several).
+    trajectories_sha256 : tuple of str
+        The trajectory files of a sweep's merged model.
+    region_missing : str
+        Why there is no region guarantee (trajectory kind), e.g. "joint 2 has no velocity
+        limit"; "" if the region was not asked for.
+
+    Notes
+    -----
+    The bound follows from the triangle inequality over the dropped (base parameter, part)
+    pairs of tau = Y_b beta (Khalil & Kleinfinger 1987; Gautier 1990), each pair's
+    |contribution| bounded from above; Armstrong, Khatib & Burdick (1986) judged each term's
+    significance over the workspace in the same way.
+    """
+
+    kind: str
+    tolerance: float
+    bound: np.ndarray
+    scale: np.ndarray
+    q_min: np.ndarray = None
+    q_max: np.ndarray = None
+    qd_max: np.ndarray = None
+    qdd_max: np.ndarray = None
+    scale_state: np.ndarray = None
+    sampled_error: np.ndarray = None
+    region_sampled_error: np.ndarray = None
+    method: str = ""
+    trajectory_sha256: str = ""
+    trajectories_sha256: tuple = ()
+    region_missing: str = ""
+
+    def __post_init__(self):
+        if self.kind not in KINDS:
+            raise ValueError(f"kind must be one of {KINDS}, got {self.kind!r}")
+
+    @property
+    def proved(self):
+        """bool: the bound holds at every state of the region (kind ``"region"``)."""
+        return self.kind == "region"
+
+    def sampled_percent(self):
+        """The largest sampled error over the region relative to s_i [%], or None.
+
+        Returns
+        -------
+        float or None
+            Region kind: max_i sampled_error_i / scale_i; trajectory kind: max_i of
+            ``region_sampled_error``; None when not measured.
+        """
+        if self.kind == "region":
+            if self.sampled_error is None:
+                return None
+            scale = np.asarray(self.scale, float)
+            rel = np.asarray(self.sampled_error, float) / np.where(scale > 0, scale, np.inf)
+            return float(100.0 * rel.max(initial=0.0))
+        if self.region_sampled_error is None:
+            return None
+        rel = np.asarray(self.region_sampled_error, float)
+        return float(100.0 * np.nanmax(rel)) if np.isfinite(rel).any() else None
+
+    def statement(self):
+        """The scope of the bound in one sentence, as every output prints it.
+
+        Returns
+        -------
+        str
+            ``"within EPS x s_i at every state of the region (proved)"`` or ``"on this
+            trajectory only; sampled over the region: X %"`` with the model's numbers.
+
+        Examples
+        --------
+        >>> g = Guarantee("trajectory", 0.01, np.zeros(1), np.ones(1),
+        ...               region_sampled_error=np.array([0.0513]))
+        >>> g.statement()
+        'within 1 % of s_i on this trajectory only; sampled over the region: 5.13 % of s_i'
+        """
+        eps = f"{100.0 * self.tolerance:.4g} %"
+        if self.kind == "region":
+            return (f"within {eps} of s_i at every state of the region (proved; up to "
+                    f"round-off, {ROUND_OFF_EPS} eps of s_i)")
+        where = ("on this trajectory only" if not self.trajectories_sha256 else
+                 f"on the {len(self.trajectories_sha256)} swept trajectories only")
+        pct = self.sampled_percent()
+        if pct is None:
+            tail = f"not checked over a region ({self.region_missing})" if self.region_missing \
+                else "not checked over a region"
+        else:
+            tail = f"sampled over the region: {pct:.3g} % of s_i"
+        return f"within {eps} of s_i {where}; {tail}"
+
+    def to_dict(self):
+        """The ``guarantee`` key of ``simplified_model.json`` (SI units).
+
+        Returns
+        -------
+        dict
+        """
+        out = {"kind": self.kind, "statement": self.statement(),
+               "bound": _floats(self.bound), "scale": _floats(self.scale),
+               "method": self.method}
+        if self.kind == "region":
+            out.update(q_min=_floats(self.q_min), q_max=_floats(self.q_max),
+                       qd_max=_floats(self.qd_max), qdd_max=_floats(self.qdd_max),
+                       scale_state=[_floats(row) for row in np.asarray(self.scale_state)],
+                       sampled_error=_floats(self.sampled_error))
+        else:
+            out["trajectory_sha256"] = self.trajectory_sha256
+            if self.trajectories_sha256:
+                out["trajectories_sha256"] = list(self.trajectories_sha256)
+            out["region_sampled_error"] = _floats(self.region_sampled_error)
+            if self.region_missing:
+                out["region_missing"] = self.region_missing
+        return out
+
+    @classmethod
+    def from_dict(cls, spec, n, tolerance, path="<model>"):
+        """Read the ``guarantee`` key of a model file (already checked by the schema).
+
+        Parameters
+        ----------
+        spec : dict
+            As :meth:`to_dict` writes it.
+        n : int
+            The robot's number of joints.
+        tolerance : float
+            The model's EPS.
+        path : str, optional
+            The file, for messages.
+
+        Returns
+        -------
+        Guarantee
+
+        Raises
+        ------
+        InputError
+            If a list has not n entries (``scale_state``: n lists of 3 n), a region key is
+            missing, or a stored bound exceeds EPS s_i. One line naming the key.
+        """
+        def arr(key, width=None, required=True):
+            if key not in spec or spec[key] is None:
+                if required:
+                    raise InputError("missing for a guarantee of this kind", path,
+                                     column=f"guarantee.{key}")
+                return None
+            if not isinstance(spec[key], list) or not all(
+                    x is None or isinstance(x, (int, float, list)) for x in spec[key]):
+                raise InputError("expected a list of numbers", path, column=f"guarantee.{key}")
+            v = np.array([np.nan if x is None else x for x in spec[key]], float) \
+                if width is None else spec[key]
+            if width is not None:
+                if len(v) != n or any(not isinstance(r, list) or len(r) != width for r in v):
+                    raise InputError(f"expected {n} lists of {width} numbers", path,
+                                     column=f"guarantee.{key}")
+                return np.array(v, float)
+            if v.shape != (n,):
+                raise InputError(f"expected {n} numbers", path, column=f"guarantee.{key}")
+            return v
+        kind = spec["kind"]
+        bound, scale = arr("bound"), arr("scale")
+        if np.isfinite(tolerance) and not np.all(bound <= tolerance * scale * (1 + 1e-12)):
+            raise InputError("a bound exceeds tolerance x scale", path, column="guarantee.bound")
+        common = dict(kind=kind, tolerance=float(tolerance), bound=bound, scale=scale,
+                      method=spec.get("method", ""))
+        if kind == "region":
+            return cls(**common, q_min=arr("q_min"), q_max=arr("q_max"), qd_max=arr("qd_max"),
+                       qdd_max=arr("qdd_max"), scale_state=arr("scale_state", 3 * n),
+                       sampled_error=arr("sampled_error", required=False))
+        return cls(**common, trajectory_sha256=spec.get("trajectory_sha256", ""),
+                   trajectories_sha256=tuple(spec.get("trajectories_sha256") or ()),
+                   region_sampled_error=arr("region_sampled_error", required=False),
+                   region_missing=spec.get("region_missing", ""))

@@ -1,0 +1,46 @@
+"""The guarantee of a simplified model (issue 29): its statement and its file form."""
+import numpy as np
+import pytest
+
+from gd_analyze.core.selection.guarantee import Guarantee
+from gd_analyze.errors import InputError
+
+
+def _region(bound=(0.01, 0.0)):
+    return Guarantee("region", 0.01, bound=np.array(bound), scale=np.array([2.0, 1.0]),
+                     q_min=-np.ones(2), q_max=np.ones(2), qd_max=np.ones(2),
+                     qdd_max=np.ones(2), scale_state=np.zeros((2, 6)),
+                     sampled_error=np.array([0.004, 0.0]), method="interval")
+
+
+def test_region_statement_says_proved_and_round_trips():
+    g = _region()
+    assert "every state of the region (proved" in g.statement()
+    back = Guarantee.from_dict(g.to_dict(), 2, 0.01)
+    assert back.kind == "region" and np.array_equal(back.bound, g.bound)
+    assert np.array_equal(back.scale_state, g.scale_state)
+    assert back.sampled_percent() == pytest.approx(0.2)
+
+
+def test_trajectory_statement_gives_the_sampled_region_error():
+    g = Guarantee("trajectory", 0.01, bound=np.zeros(2), scale=np.ones(2),
+                  region_sampled_error=np.array([0.135, 0.02]))
+    text = g.statement()
+    assert text.startswith("within 1 % of s_i on this trajectory only")
+    assert "13.5 %" in text
+    missing = Guarantee("trajectory", 0.01, bound=np.zeros(2), scale=np.ones(2),
+                        region_missing="joint 2 has no velocity limit")
+    assert "joint 2 has no velocity limit" in missing.statement()
+    assert Guarantee.from_dict(missing.to_dict(), 2, 0.01).region_sampled_error is None
+
+
+def test_a_file_whose_bound_exceeds_its_promise_is_refused():
+    spec = _region(bound=(0.03, 0.0)).to_dict()         # 0.03 > 0.01 x 2.0
+    with pytest.raises(InputError, match="guarantee.bound"):
+        Guarantee.from_dict(spec, 2, 0.01)
+    spec = _region().to_dict()
+    spec["scale_state"] = [[0.0] * 6]
+    with pytest.raises(InputError, match="guarantee.scale_state"):
+        Guarantee.from_dict(spec, 2, 0.01)
+    with pytest.raises(ValueError):
+        Guarantee("anywhere", 0.01, np.zeros(1), np.ones(1))
