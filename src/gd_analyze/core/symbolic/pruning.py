@@ -25,7 +25,7 @@ from .base_parameters import regressor
 from .recursive import PARTS, exact_program, parts_program
 
 __all__ = ["part_contributions", "contribution_peaks", "Pruning", "prune", "pruned_program",
-           "STRATEGIES", "CRITERIA", "PEAK_CHUNK"]
+           "STRATEGIES", "CRITERIA", "PEAK_CHUNK", "prune_bounds"]
 
 
 def part_contributions(robot, base, q, qd, qdd):
@@ -372,3 +372,48 @@ def pruned_program(robot, base, dropped, cse=True, exact=None):
 def _total(program):
     c = program.cost()
     return c["multiplications"] + c["additions"]
+
+
+def prune_bounds(robot, base, scale, peak, whole_peak, eps, strategy="cost"):
+    """Choose the pairs to drop from given upper bounds of their contributions.
+
+    Parameters
+    ----------
+    robot : Robot
+        The arm, with n joints.
+    base : BaseParameters
+        Its base parameters (b of them).
+    scale : ndarray, shape (n,)
+        s_i [N m or N].
+    peak : ndarray, shape (b, 3, n)
+        Upper bound of each pair's |contribution| to each tau_i where the model must hold
+        (e.g. proved over the joint-limit region, :func:`gd_analyze.core.selection.certify.
+        certify`) [N m or N].
+    whole_peak : ndarray, shape (b, n)
+        Upper bound of each parameter's whole |contribution|.
+    eps : float
+        Tolerance >= 0.
+    strategy : {"cost", "peak"}, optional
+        As :func:`prune`.
+
+    Returns
+    -------
+    Pruning
+        With criterion "peaks": every joint's sum of dropped bounds is within eps scale_i,
+        so by the triangle inequality |tau_s - tau| <= bound_i wherever the bounds hold.
+
+    Raises
+    ------
+    ValueError
+        If eps is negative or not finite, or the strategy unknown.
+    """
+    if not (np.isfinite(eps) and eps >= 0):
+        raise ValueError(f"eps must be a finite number >= 0, got {eps!r}")
+    if strategy not in STRATEGIES:
+        raise ValueError(f"strategy must be one of {STRATEGIES}, got {strategy!r}")
+    scale = np.asarray(scale, float)
+    sel = _Selection(robot, base, None, peak, whole_peak, eps * scale, "peaks")
+    dropped, whole = sel.by_peak() if strategy == "peak" else sel.by_cost()
+    return Pruning(eps=float(eps), dropped=_normalize(dropped, sel.live), peak=peak,
+                   whole_peak=whole_peak, whole=whole, bound=sel.bound(dropped, whole),
+                   scale=scale, criterion="peaks")
