@@ -439,13 +439,25 @@ def _simplify(robot, trajectory, ranking, part_peaks, options, provenance):
         if rule == "chapter" or form == "explicit" or (
                 form == "cheapest" and not proved and _ops(ex.cost) < _ops(rec.cost)):
             model, sel = ex, ex_sel
+        elif proved and form == "cheapest" and _ops(ex.full_cost) < _ops(rec.cost):
+            # the exact explicit model holds everywhere: proved with a bound of 0
+            full, sel = build_model(robot, terms, peaks, tolerance=0.0, rule="budget",
+                                    torque_floor=torque_floor,
+                                    chapter_choices=ranking.choices(), **common)
+            g = rec.guarantee
+            model = dataclasses.replace(
+                full, tolerance=float(tolerance), bound=[0.0] * robot.n,
+                guarantee=dataclasses.replace(
+                    g, bound=np.zeros(robot.n), sampled_error=np.zeros(robot.n),
+                    method="the exact explicit G-D model (nothing dropped), cheaper than the "
+                           "recursive model pruned over the region; scale: " + g.method))
     else:
         skipped = ("not built: the explicit G-D model of this arm is estimated too large to "
                    "pay (give --explicit always to derive it)")
     model = dataclasses.replace(model, costs=costs,
                                 full_cost=dict(costs.get("explicit, full", model.full_cost)),
                                 program_cache=model.program(),
-                                guarantee=model.guarantee if model.recursive is not None
+                                guarantee=model.guarantee if model.guarantee is not None
                                 else _trajectory_guarantee(model, sel, trajectory, missing))
     table = cost_rows(robot.n, model, other=other, ladder_rows=rows, formulation_counts=counts)
     extra = simplified_dataset(model, sel, other=other, ladder_rows=rows, cost_table=table,

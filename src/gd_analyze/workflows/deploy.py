@@ -99,10 +99,12 @@ def region_model(robot, base, region, tolerance, torque_floor=0.0):
     from ..core.symbolic.recursive_model import RecursiveModel
 
     pb = certified(robot, base, region, torque_floor)
-    pr = prune_bounds(robot, base, pb.scale, pb.bound, pb.bound.sum(axis=1), tolerance)
+    pr = prune_bounds(robot, base, pb.scale, pb.bound, pb.leaves.sum(axis=1).max(axis=1),
+                      tolerance, pieces=pb.leaves)
     single = pr.dropped & ~pr.whole[:, None]
-    by_part = np.concatenate([(pr.peak * single[:, :, None]).sum(axis=0),
-                              pr.whole_peak[pr.whole].sum(axis=0)[None, :]], axis=0)
+    by_part = np.stack([np.einsum("bln,b->ln", pb.leaves[:, p], single[:, p]).max(axis=0)
+                        for p in range(3)]
+                       + [np.einsum("bpln,b->ln", pb.leaves, pr.whole).max(axis=0)])
     safe = np.where(pb.scale > 0, pb.scale, 1.0)
     rel = np.where(pb.scale > 0, pb.bound / safe, np.where(pb.bound > 0, np.inf, 0.0)).max(2)
     rec = RecursiveModel(names=tuple(base.names()), beta=np.array(base.beta, float),

@@ -42,3 +42,26 @@ def test_box_bounds_enclose_every_sampled_contribution():
             assert np.all(np.abs(W).max(axis=0) <= U[b, p] + 1e-12), p
     with pytest.raises(ValueError):
         pair_magnitudes(robot, hi, lo, cols, robot.qd_max, robot.qdd_max)
+
+
+@pytest.mark.parametrize("arithmetic", ["ball", "box"])
+def test_both_arithmetics_enclose_the_sampled_peaks_on_boxes(arithmetic):
+    """Every pair's bound over a box is at least its largest value sampled inside the box
+    (velocity at the vertices of the limits, where the quadratic form can peak)."""
+    from gd_analyze.core.selection.certify import pair_peaks_at
+
+    robot = load_robot("puma560")
+    n = robot.n
+    rng = np.random.default_rng(2)
+    lo = rng.uniform(robot.q_min, robot.q_max, (4, n))
+    hi = np.minimum(lo + rng.uniform(0.05, 1.0, (4, n)), robot.q_max)
+    cols = np.arange(10 * n)
+    U = pair_magnitudes(robot, lo, hi, cols, robot.qd_max, robot.qdd_max,
+                        arithmetic=arithmetic)
+    for b in range(4):
+        q = rng.uniform(lo[b], hi[b], (300, n))
+        peaks = pair_peaks_at(point_channels(robot, q, cols), np.ones(cols.size),
+                              robot.qd_max, robot.qdd_max)          # (m, 3, n)
+        assert np.all(peaks.transpose(1, 2, 0) <= U[b] * (1 + 1e-12) + 1e-12)
+    with pytest.raises(ValueError):
+        pair_magnitudes(robot, lo, hi, cols, robot.qd_max, robot.qdd_max, arithmetic="x")

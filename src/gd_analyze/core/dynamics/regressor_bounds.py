@@ -15,8 +15,11 @@ encloses every coefficient over its box; with degenerate boxes it evaluates them
 
 from __future__ import annotations
 
+import itertools
+
 import numpy as np
 
+from . import balls
 from . import intervals as iv
 
 __all__ = ["channel_count", "channel_values", "pair_magnitudes"]
@@ -41,17 +44,118 @@ def channel_count(n):
     return 1 + n + n * n
 
 
-def _zeros(shape):
-    z = np.zeros(shape)
-    return z, z.copy()
+class _Box:
+    """Interval boxes (:mod:`.intervals`): a vector is (lo, hi), each (..., 3)."""
+
+    add, scale, cross = staticmethod(iv.add), staticmethod(iv.scale), staticmethod(iv.cross)
+    matvec, point = staticmethod(iv.matvec), staticmethod(iv.point)
+
+    @staticmethod
+    def zeros(shape):
+        z = np.zeros(tuple(shape) + (3,))
+        return z, z.copy()
+
+    @staticmethod
+    def unit_z(a, index):
+        a[0][:, index, 2] += 1.0
+        a[1][:, index, 2] += 1.0
+
+    @staticmethod
+    def put_point(a, index, value):
+        a[0][:, index] = value
+        a[1][:, index] = value
+
+    @staticmethod
+    def sym(a, ab):
+        """E x for the symmetric unit matrix E of the index pair ab (||E||_2 = 1)."""
+        i, j = ab
+        out = []
+        for x in a:
+            y = np.zeros_like(x)
+            y[..., i] = x[..., j]
+            if i != j:
+                y[..., j] = x[..., i]
+            out.append(y)
+        return tuple(out)
+
+    @staticmethod
+    def z(a):
+        return a[0][..., 2], a[1][..., 2]
+
+    def __init__(self, q_lo, q_hi):
+        self.cs = iv.cos_sin(q_lo, q_hi)
+        self.q = (q_lo, q_hi)
+
+    def rotz(self, k, v, transpose):
+        (clo, chi), (slo, shi) = self.cs
+        return _rotz((clo[:, k], chi[:, k]), (slo[:, k], shi[:, k]), v, transpose)
+
+    def slide(self, k, t, dz):
+        ql, qh = self.q[0][:, k, None, None], self.q[1][:, k, None, None]
+        base = np.broadcast_to(t, ql.shape[:1] + (1, 3))
+        return iv.add((base, base), (np.minimum(ql * dz, qh * dz), np.maximum(ql * dz, qh * dz)))
+
+    def fixed(self, t, B):
+        base = np.broadcast_to(t, (B, 1, 3))
+        return base, base
+
+
+class _Ball:
+    """Midpoint-radius balls (:mod:`.balls`): a vector is (centre (..., 3), radius (...))."""
+
+    add, scale = staticmethod(balls.add), staticmethod(balls.scale)
+    cross, matvec, point = (staticmethod(balls.cross), staticmethod(balls.matvec),
+                            staticmethod(balls.point))
+
+    @staticmethod
+    def zeros(shape):
+        return balls.zeros(shape)
+
+    @staticmethod
+    def unit_z(a, index):
+        a[0][:, index, 2] += 1.0
+
+    @staticmethod
+    def put_point(a, index, value):
+        a[0][:, index] = value
+        a[1][:, index] = 0.0
+
+    @staticmethod
+    def sym(a, ab):
+        i, j = ab
+        y = np.zeros_like(a[0])
+        y[..., i] = a[0][..., j]
+        if i != j:
+            y[..., j] = a[0][..., i]
+        return y, a[1]
+
+    z = staticmethod(balls.z_interval)
+
+    def __init__(self, q_lo, q_hi):
+        self.mid = 0.5 * (q_lo + q_hi)
+        self.half = 0.5 * (q_hi - q_lo) * (1 + 1e-15) + 1e-300
+        self.q = (q_lo, q_hi)
+
+    def rotz(self, k, v, transpose):
+        return balls.rot_z(v, self.mid[:, k], self.half[:, k], transpose)
+
+    def slide(self, k, t, dz):
+        c = t + self.mid[:, k, None, None] * dz                       # (B, 1, 3)
+        r = self.half[:, k, None] * np.linalg.norm(dz) * (1 + 1e-15)
+        return c, r + 1e-15 * np.linalg.norm(c, axis=-1)
+
+    def fixed(self, t, B):
+        c = np.broadcast_to(t, (B, 1, 3))
+        return c, np.zeros((B, 1))
 
 
 def _take(a, index):
-    return a[0][:, index], a[1][:, index]
+    return tuple(x[:, index] for x in a)
 
 
 def _put(a, index, value):
-    a[0][:, index], a[1][:, index] = value
+    for x, v in zip(a, value):
+        x[:, index] = v
 
 
 def _rotz(c, s, v, transpose):
@@ -70,46 +174,32 @@ def _rotz(c, s, v, transpose):
 
 
 class _Chain:
-    """The joint geometry over a batch of boxes: R_k v, R_k^T v and p_k as intervals."""
+    """The joint geometry over a batch of boxes: R_k v, R_k^T v and p_k as enclosures."""
 
-    def __init__(self, robot, q_lo, q_hi):
+    def __init__(self, robot, q_lo, q_hi, algebra):
         self.robot = robot
+        self.A = algebra(q_lo, q_hi)
         self.P = np.asarray(robot.rotation, float)
         self.t = np.asarray(robot.translation, float)
         self.pris = np.asarray(robot.prismatic, bool)
-        self.cs = iv.cos_sin(q_lo, q_hi)
-        self.q = (q_lo, q_hi)
-
-    def _trig(self, k):
-        (clo, chi), (slo, shi) = self.cs
-        return (clo[:, k], chi[:, k]), (slo[:, k], shi[:, k])
+        self.B = q_lo.shape[0]
 
     def rot_t(self, k, v):
         """R_k^T v = Rz(q_k)^T P_k^T v (revolute) or P_k^T v (prismatic)."""
-        u = iv.matvec(self.P[k].T, v)
-        if self.pris[k]:
-            return u
-        c, s = self._trig(k)
-        return _rotz(c, s, u, transpose=True)
+        u = self.A.matvec(self.P[k].T, v)
+        return u if self.pris[k] else self.A.rotz(k, u, True)
 
     def rot(self, k, v):
         """R_k v = P_k Rz(q_k) v (revolute) or P_k v (prismatic)."""
         if not self.pris[k]:
-            c, s = self._trig(k)
-            v = _rotz(c, s, v, transpose=False)
-        return iv.matvec(self.P[k], v)
+            v = self.A.rotz(k, v, False)
+        return self.A.matvec(self.P[k], v)
 
     def p(self, k):
         """p_k, shape (B, 1, 3): t_k, plus q_k P_k z for a prismatic joint."""
-        B = self.q[0].shape[0]
-        base = np.broadcast_to(self.t[k], (B, 1, 3))
         if not self.pris[k]:
-            return base, base
-        dz = self.P[k][:, 2]
-        ql, qh = self.q[0][:, k, None, None], self.q[1][:, k, None, None]
-        lo = np.minimum(ql * dz, qh * dz)
-        hi = np.maximum(ql * dz, qh * dz)
-        return iv.add((base, base), (lo, hi))
+            return self.A.fixed(self.t[k], self.B)
+        return self.A.slide(k, self.t[k], self.P[k][:, 2])
 
 
 def _unit(c):
@@ -120,71 +210,61 @@ def _unit(c):
 
 def _forward(chain, gravity):
     """Per link k: w (B, n, 3) per velocity j, and wd, vd (B, C, 3) per channel."""
-    robot = chain.robot
-    n = robot.n
-    B = chain.q[0].shape[0]
+    A = chain.A
+    n = chain.robot.n
+    B = chain.B
     C = channel_count(n)
     jj, ll = np.divmod(np.arange(n * n), n)
     vel = 1 + n + np.arange(n * n)
-    z = np.array([0.0, 0.0, 1.0])
-    w = _zeros((B, n, 3))
-    wd = _zeros((B, C, 3))
-    vd = _zeros((B, C, 3))
+    w = A.zeros((B, n))
+    wd = A.zeros((B, C))
+    vd = A.zeros((B, C))
     g = -np.asarray(gravity, float)
-    vd[0][:, 0], vd[1][:, 0] = g, g
+    A.put_point(vd, 0, g)
     out = []
     for k in range(n):
         p = chain.p(k)
-        a = iv.add(vd, iv.cross(wd, p))
+        a = A.add(vd, A.cross(wd, p))
         wj, wl = _take(w, jj), _take(w, ll)
-        _put(a, vel, iv.add(_take(a, vel), iv.cross(wj, iv.cross(wl, p))))
+        _put(a, vel, A.add(_take(a, vel), A.cross(wj, A.cross(wl, p))))
         vd = chain.rot_t(k, a)
         wp = chain.rot_t(k, w)
         wd = chain.rot_t(k, wd)
-        zk = iv.cross(_take(wp, jj[ll == k]), iv.point(z))      # (R^T w^(j)) x z, channel (j, k)
+        zk = A.cross(_take(wp, jj[ll == k]), A.point(np.array([0.0, 0.0, 1.0])))
         target = vel[ll == k]
         if chain.pris[k]:
-            vd[0][:, 1 + k, 2] += 1.0
-            vd[1][:, 1 + k, 2] += 1.0
-            _put(vd, target, iv.add(_take(vd, target), iv.scale(zk, 2.0)))
-            w = wp
+            A.unit_z(vd, 1 + k)
+            _put(vd, target, A.add(_take(vd, target), A.scale(zk, 2.0)))
         else:
-            wd[0][:, 1 + k, 2] += 1.0
-            wd[1][:, 1 + k, 2] += 1.0
-            _put(wd, target, iv.add(_take(wd, target), zk))
-            wp[0][:, k, 2] += 1.0
-            wp[1][:, k, 2] += 1.0
-            w = wp
+            A.unit_z(wd, 1 + k)
+            _put(wd, target, A.add(_take(wd, target), zk))
+            A.unit_z(wp, k)
+        w = wp
         out.append((w, wd, vd))
     return out
 
 
-def _wrench(c, w, wd, vd, jj, ll, vel):
+def _wrench(A, c, w, wd, vd, jj, ll, vel):
     """Force and moment of a link per unit standard parameter c, per channel (B, C, 3)."""
-    zero = _zeros(wd[0].shape)
-    wa = _zeros(wd[0].shape)
-    wb = _zeros(wd[0].shape)
+    shape = wd[0].shape[:2]
+    zero = A.zeros(shape)
+    wa, wb = A.zeros(shape), A.zeros(shape)
     _put(wa, vel, _take(w, jj))
     _put(wb, vel, _take(w, ll))
     if c < 6:
-        a, b = ((0, 0), (0, 1), (0, 2), (1, 1), (1, 2), (2, 2))[c]
-
-        def E(x):                        # E x for the symmetric unit E of (a, b)
-            lo, hi = np.zeros_like(x[0]), np.zeros_like(x[1])
-            lo[..., a], hi[..., a] = x[0][..., b], x[1][..., b]
-            if a != b:
-                lo[..., b], hi[..., b] = x[0][..., a], x[1][..., a]
-            return lo, hi
-        return zero, iv.add(E(wd), iv.cross(wa, E(wb)))
+        ab = ((0, 0), (0, 1), (0, 2), (1, 1), (1, 2), (2, 2))[c]
+        return zero, A.add(A.sym(wd, ab), A.cross(wa, A.sym(wb, ab)))
     if c < 9:
-        e = iv.point(_unit(c - 6))
-        force = iv.add(iv.cross(wd, e), iv.cross(wa, iv.cross(wb, e)))
-        return force, iv.cross(e, vd)
+        e = A.point(_unit(c - 6))
+        force = A.add(A.cross(wd, e), A.cross(wa, A.cross(wb, e)))
+        return force, A.cross(e, vd)
     return vd, zero
 
 
-def _columns(robot, q_lo, q_hi, columns, gravity, reduce):
-    chain = _Chain(robot, q_lo, q_hi)
+def _columns(robot, q_lo, q_hi, columns, gravity, algebra=_Box):
+    """(column m, joint i, enclosure of the column's torque at joint i per channel (B, C))."""
+    chain = _Chain(robot, q_lo, q_hi, algebra)
+    A = chain.A
     n = robot.n
     links = _forward(chain, robot.gravity if gravity is None else gravity)
     jj, ll = np.divmod(np.arange(n * n), n)
@@ -192,13 +272,55 @@ def _columns(robot, q_lo, q_hi, columns, gravity, reduce):
     for m, col in enumerate(np.asarray(columns, int)):
         k, c = divmod(int(col), 10)
         w, wd, vd = links[k]
-        f, mom = _wrench(c, w, wd, vd, jj, ll, vel)
+        f, mom = _wrench(A, c, w, wd, vd, jj, ll, vel)
         for i in range(k, -1, -1):
-            yield m, i, (mom if not chain.pris[i] else f)
+            yield m, i, A.z(mom if not chain.pris[i] else f)
             if i == 0:
                 break
             f = chain.rot(i, f)
-            mom = iv.add(chain.rot(i, mom), iv.cross(chain.p(i), f))
+            mom = A.add(chain.rot(i, mom), A.cross(chain.p(i), f))
+
+
+class _QuadraticBound:
+    """max |qd^T C qd| over |qd_j| <= a_j for interval coefficients C_jl (j, l = 1..n).
+
+    qd^T C qd = sum_j C_jj qd_j^2 + sum_{j < l} S_jl qd_j qd_l with S_jl = C_jl + C_lj. The
+    off-diagonal part is affine in each qd_j, so its extremes over the box are at vertices
+    (half of them: v and -v give the same value); the diagonal part lies within
+    [sum min(0, C_jj) a_j^2, sum max(0, C_jj) a_j^2]. Each is taken over the intervals.
+    """
+
+    def __init__(self, n, a):
+        jj, ll = np.divmod(np.arange(n * n), n)
+        off = np.flatnonzero(jj < ll)
+        self.off, self.mirror = off, ll[off] * n + jj[off]
+        self.diag = np.arange(n) * (n + 1)
+        a = np.asarray(a, float)
+        signs = np.array(list(itertools.product([-1.0, 1.0], repeat=max(n - 1, 0))))
+        signs = np.hstack([np.ones((signs.shape[0], 1)), signs])[:, :n] if n > 1 else \
+            np.ones((1, 1))
+        if n > 13:                                      # too many vertices: no vertex search
+            signs = None
+        self.prod = None if signs is None else \
+            (signs[:, jj[off]] * signs[:, ll[off]]) * (a[jj[off]] * a[ll[off]])[None, :]
+        self.w_off = a[jj[off]] * a[ll[off]]
+        self.w_diag = a * a
+
+    def __call__(self, lo, hi):
+        """lo, hi (B, n^2): the channels C_jl; returns (B,) upper bounds."""
+        s_lo = lo[:, self.off] + lo[:, self.mirror]
+        s_hi = hi[:, self.off] + hi[:, self.mirror]
+        mid, rad = 0.5 * (s_lo + s_hi), 0.5 * (s_hi - s_lo)
+        d_hi = np.maximum(hi[:, self.diag], 0.0) @ self.w_diag
+        d_lo = np.minimum(lo[:, self.diag], 0.0) @ self.w_diag
+        spread = rad @ self.w_off
+        if self.prod is None:
+            top = np.abs(mid) @ self.w_off
+            return (top + spread + np.maximum(d_hi, -d_lo)) * (1 + 1e-12)
+        centre = mid @ self.prod.T                                  # (B, vertices)
+        top = (centre.max(axis=1) + spread + d_hi)
+        bottom = (centre.min(axis=1) - spread + d_lo)
+        return np.maximum(top, -bottom) * (1 + 1e-12) + 1e-300
 
 
 def channel_values(robot, q, columns, gravity=None):
@@ -236,12 +358,13 @@ def channel_values(robot, q, columns, gravity=None):
         raise ValueError(f"q must have shape (B, {robot.n}), got {q.shape}")
     columns = np.asarray(columns, int)
     out = np.zeros((q.shape[0], channel_count(robot.n), robot.n, columns.size))
-    for m, i, val in _columns(robot, q, q, columns, gravity, False):
-        out[:, :, i, m] = 0.5 * (val[0][..., 2] + val[1][..., 2])
+    for m, i, (lo, hi) in _columns(robot, q, q, columns, gravity):
+        out[:, :, i, m] = 0.5 * (lo + hi)
     return out
 
 
-def pair_magnitudes(robot, q_lo, q_hi, columns, qd_max, qdd_max, gravity=None):
+def pair_magnitudes(robot, q_lo, q_hi, columns, qd_max, qdd_max, gravity=None,
+                    arithmetic="ball"):
     """Upper bounds of each column's three parts over boxes of q and the velocity and
     acceleration limits, per joint.
 
@@ -257,14 +380,17 @@ def pair_magnitudes(robot, q_lo, q_hi, columns, qd_max, qdd_max, gravity=None):
         Velocity and acceleration limits [rad/s, m/s; rad/s^2, m/s^2].
     gravity : array_like, shape (3,), optional
         [m/s^2]; default the robot's.
+    arithmetic : {"ball", "box"}, optional
+        Midpoint-radius balls (:mod:`.balls`, default: rotations do not wrap) or interval
+        boxes (:mod:`.intervals`).
 
     Returns
     -------
     ndarray, shape (B, 3, n, m)
         ``U[b, p, i, m]`` >= |part p of column m at joint i| for every q in box b, |qd| <=
         qd_max and |qdd| <= qdd_max: p = 0 inertial, sum_j max|A_j| qdd_max_j; p = 1
-        velocity, sum_{j <= l} max|C_jl + C_lj (j < l), C_jj| qd_max_j qd_max_l; p = 2 gravity,
-        max|G| [N m or N per unit parameter].
+        velocity, max over the velocity box of |qd^T C qd| (:class:`_QuadraticBound`); p = 2
+        gravity, max|G| [N m or N per unit parameter].
 
     Raises
     ------
@@ -283,21 +409,15 @@ def pair_magnitudes(robot, q_lo, q_hi, columns, qd_max, qdd_max, gravity=None):
         raise ValueError(f"boxes must have shape (B, {n})")
     if np.any(q_lo > q_hi):
         raise ValueError("a box has lo > hi")
+    if arithmetic not in ("ball", "box"):
+        raise ValueError(f"arithmetic must be 'ball' or 'box', got {arithmetic!r}")
     qd_max, qdd_max = np.asarray(qd_max, float), np.asarray(qdd_max, float)
     columns = np.asarray(columns, int)
-    jj, ll = np.divmod(np.arange(n * n), n)
-    upper = jj <= ll
-    sym = np.flatnonzero(upper)
-    mirror = ll[sym] * n + jj[sym]                      # C_lj for each j <= l
-    weight_v = qd_max[jj[sym]] * qd_max[ll[sym]]
+    quad = _QuadraticBound(n, qd_max)
     out = np.zeros((q_lo.shape[0], 3, n, columns.size))
-    for m, i, val in _columns(robot, q_lo, q_hi, columns, gravity, True):
-        lo, hi = val[0][..., 2], val[1][..., 2]                   # (B, C)
+    algebra = {"ball": _Ball, "box": _Box}[arithmetic]
+    for m, i, (lo, hi) in _columns(robot, q_lo, q_hi, columns, gravity, algebra):
         out[:, 2, i, m] = iv.magnitude((lo[:, 0], hi[:, 0]))
         out[:, 0, i, m] = iv.magnitude((lo[:, 1:1 + n], hi[:, 1:1 + n])) @ qdd_max
-        v = (lo[:, 1 + n:], hi[:, 1 + n:])
-        both = iv.add((v[0][:, sym], v[1][:, sym]), (v[0][:, mirror], v[1][:, mirror]))
-        diag = jj[sym] == ll[sym]
-        mag = np.where(diag, iv.magnitude((v[0][:, sym], v[1][:, sym])), iv.magnitude(both))
-        out[:, 1, i, m] = mag @ weight_v
+        out[:, 1, i, m] = quad(lo[:, 1 + n:], hi[:, 1 + n:])
     return out * (1.0 + 8 * iv.ROUNDING * (2 * n + 2))

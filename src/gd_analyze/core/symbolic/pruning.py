@@ -374,7 +374,7 @@ def _total(program):
     return c["multiplications"] + c["additions"]
 
 
-def prune_bounds(robot, base, scale, peak, whole_peak, eps, strategy="cost"):
+def prune_bounds(robot, base, scale, peak, whole_peak, eps, strategy="cost", pieces=None):
     """Choose the pairs to drop from given upper bounds of their contributions.
 
     Parameters
@@ -395,12 +395,17 @@ def prune_bounds(robot, base, scale, peak, whole_peak, eps, strategy="cost"):
         Tolerance >= 0.
     strategy : {"cost", "peak"}, optional
         As :func:`prune`.
+    pieces : ndarray, shape (b, 3, L, n), optional
+        Bounds of each pair on L pieces that cover where the model must hold (the boxes of
+        a branch and bound): a dropped set's bound is then the largest over the pieces of
+        the sum of its pairs' bounds there (criterion "error"), never above the sum of their
+        overall bounds.
 
     Returns
     -------
     Pruning
-        With criterion "peaks": every joint's sum of dropped bounds is within eps scale_i,
-        so by the triangle inequality |tau_s - tau| <= bound_i wherever the bounds hold.
+        Every joint's bound is within eps scale_i, so by the triangle inequality |tau_s -
+        tau| <= bound_i wherever the bounds hold.
 
     Raises
     ------
@@ -412,8 +417,11 @@ def prune_bounds(robot, base, scale, peak, whole_peak, eps, strategy="cost"):
     if strategy not in STRATEGIES:
         raise ValueError(f"strategy must be one of {STRATEGIES}, got {strategy!r}")
     scale = np.asarray(scale, float)
-    sel = _Selection(robot, base, None, peak, whole_peak, eps * scale, "peaks")
+    criterion = "peaks" if pieces is None else "error"
+    C = None if pieces is None else np.asarray(pieces, float).transpose(1, 2, 3, 0)
+    sel = _Selection(robot, base, C, peak, whole_peak, eps * scale, criterion)
     dropped, whole = sel.by_peak() if strategy == "peak" else sel.by_cost()
-    return Pruning(eps=float(eps), dropped=_normalize(dropped, sel.live), peak=peak,
-                   whole_peak=whole_peak, whole=whole, bound=sel.bound(dropped, whole),
-                   scale=scale, criterion="peaks")
+    dropped = _normalize(dropped, sel.live)
+    return Pruning(eps=float(eps), dropped=dropped, peak=peak, whole_peak=whole_peak,
+                   whole=whole, bound=sel.bound(dropped, whole), scale=scale,
+                   criterion=criterion)
