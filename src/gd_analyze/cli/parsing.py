@@ -418,7 +418,7 @@ def _sweep_parser():
                    default=defaults["negligible"], help=f"default {defaults['negligible']}")
     _add_budget_arguments(p, where="on every swept trajectory, scale_i = max(that "
                                    "trajectory's peak |tau_i|, TAU); the merged model "
-                                   "merged_model.json/.c/.py", form=False)
+                                   "merged_model.json/.c/.py")
     p.add_argument("--held-out", metavar="K", type=int, default=20,
                    help="random trajectories (another seed) to measure the merged model of the "
                         "budget rule on, not guaranteed (default 20)")
