@@ -5,6 +5,7 @@ rnea, and every figure it prints and stores counted on the model written."""
 import contextlib
 import io
 import json
+import re
 
 import numpy as np
 import pinocchio as pin
@@ -48,8 +49,16 @@ def test_the_merged_model_is_recursive_and_said_so(swept):
         scale = ds["merged_scale"].values
         err = ds["merged_tau_error_peak"].values
     assert np.all(err <= bound + 1e-9 * scale.max()) and np.all(bound <= 0.01 * scale)
-    assert "merged_model.c" in printed and "gd_simplified_tau" in (
-        out / "merged_model.c").read_text()
+    for name in ("merged_model.c", "merged_model.py"):     # the emitted files say it too
+        text = (out / name).read_text()
+        assert (f"exact recursive model: {exact['multiplications']} multiplications, "
+                f"{exact['additions']} additions") in text
+        said = re.search(r"bound on each swept trajectory: .*?, b = ([0-9e., +-]+)\n", text)
+        b = np.array([float(v) for v in said.group(1).split(",")])
+        with np.errstate(divide="ignore", invalid="ignore"):
+            rel = np.where(bound > 0, bound / scale, 0.0).max(axis=0)
+        assert np.all(b >= rel) and np.all(b <= rel * 1.01)          # 3 digits, rounded up
+        assert np.all(b <= 0.01 * (1 + 1e-9))
 
 
 def test_evaluate_reads_the_merged_model_and_pinocchio_agrees(swept, tmp_path, capsys):
