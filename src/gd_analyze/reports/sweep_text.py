@@ -272,8 +272,8 @@ def _merged_rule(ds):
             f"triangle inequality its torque error is guaranteed within \u03b5\u00b7{_SI} on "
             "every swept trajectory (not on others)"
             + (f"; the bound on each trajectory, the sum of the dropped "
-               f"{'pairs' if recursive else 'terms'}' peaks there, is stored as merged_bound "
-               f"in sweep.h5 and is at most {_worst_bound(ds)}. "
+               f"{'pairs' if recursive else 'terms'}' peaks there, is stored per trajectory "
+               f"and joint in sweep.h5 and is at most {_worst_bound(ds)}. "
                if "merged_bound" in ds.variables else ". ")
             + _keeps(ds) + ("" if recursive else " The budget weighs single terms too, so a "
                             "part it keeps may lose some of its terms.") + " "
