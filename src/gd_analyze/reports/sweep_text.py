@@ -271,9 +271,11 @@ def _merged_rule(ds):
             f"dropped while these ratios sum to at most \u03b5 = {eps} for every joint. By the "
             f"triangle inequality its torque error is guaranteed within \u03b5\u00b7{_SI} on "
             "every swept trajectory (not on others)"
-            + (f"; the bound on each trajectory, the sum of the dropped "
-               f"{'pairs' if recursive else 'terms'}' peaks there, is stored per trajectory "
-               f"and joint in sweep.h5 and is at most {_worst_bound(ds)}. "
+            + ("; the bound on each trajectory, "
+               + ("the sum of the dropped pairs' peaks there" if recursive else
+                  f"the sum of the dropped terms' largest ratios times its {_SI}")
+               + f", is stored per trajectory and joint in sweep.h5 and is at most "
+               f"{_worst_bound(ds)}. "
                if "merged_bound" in ds.variables else ". ")
             + _keeps(ds) + ("" if recursive else " The budget weighs single terms too, so a "
                             "part it keeps may lose some of its terms.") + " "

@@ -163,8 +163,8 @@ def with_budget_model(sweep_ds, model):
         "scale_i = max(peak |tau_i|, torque floor) along the trajectory")
     if "bound" in per:                  # the guarantee on each trajectory
         put("merged_bound", ("trajectory", "joint"), np.asarray(per["bound"], float), torque,
-            "merged model: guaranteed bound on |tau_merged - tau| along the trajectory (sum "
-            "of the dropped units' peaks there; <= EPS x scale_i)")
+            "merged model: guaranteed bound on |tau_merged - tau| along the trajectory "
+            "(<= EPS x scale_i)")
     put("merged_tau_error_relative_peak", ("trajectory", "joint"), np.nan_to_num(rel, nan=np.inf),
         "1", f"merged model: peak |tau_merged - tau| / scale_i along the trajectory "
              f"(guaranteed <= {eps})")
