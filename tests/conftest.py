@@ -21,6 +21,36 @@ def two_link():
     return load_robot("two-link")
 
 
+@pytest.fixture(scope="module")
+def cluster():
+    """A dask LocalCluster of 2 worker processes and its client, for the sweep tests."""
+    distributed = pytest.importorskip("distributed")
+    with distributed.LocalCluster(n_workers=2, threads_per_worker=1, processes=True,
+                                  dashboard_address=None,
+                                  scheduler_kwargs={"dashboard_address": "127.0.0.1:0"}) as cl:
+        with distributed.Client(cl) as client:
+            yield cl, client
+
+
+@pytest.fixture(scope="session")
+def mixed(puma, shipped):
+    """PUMA 560 trajectories whose joint scales differ by orders of magnitude: fast random
+    moves, the shipped trajectory and a slow small move."""
+    from gd_analyze.io.planning import plan_quintic, random_trajectories
+
+    slow = plan_quintic(puma, np.radians([0, 45, -90, 0, 30, 0]),
+                        np.radians([2, 46, -89, 1, 31, 1]), duration=4.0)
+    return [*random_trajectories(puma, 3, seed=11), shipped, slow]
+
+
+@pytest.fixture(scope="session")
+def shipped():
+    """The shipped PUMA 560 trajectory (31 set points), read from its CSV file."""
+    from gd_analyze.io.trajectory import read_trajectory
+
+    return read_trajectory(SHIPPED, n_joints=6)
+
+
 @pytest.fixture(scope="session")
 def shipped_dataset(tmp_path_factory):
     """The stored dataset of a built-in robot's shipped trajectory, by robot name.

@@ -430,15 +430,32 @@ def test_summary_says_how_many_set_points_were_verified(tmp_path, capsys):
 
 
 @pytest.mark.parametrize("option", [["--form", "recursive"], ["--explicit", "never"]])
-def test_sweep_refuses_the_options_its_merged_model_ignores(tmp_path, capsys, option):
-    """The sweep's merged model is always explicit (workflows.simplify.sweep_model): --form and
-    --explicit were accepted and ignored; now one line, exit 2, nothing written."""
+def test_sweep_refuses_the_options_the_chapter_merge_ignores(tmp_path, capsys, option):
+    """The chapter rule's merge is explicit (issue 29: the budget rule's merge takes --form and
+    --explicit): one line, exit 2, nothing written."""
     out_dir = tmp_path / "sweep"
-    code, out, err = _run(["sweep", "two-link", "--random", "2", "-o", out_dir, *option],
-                          capsys)
+    code, out, err = _run(["sweep", "two-link", "--random", "2", "-o", out_dir, "--rule",
+                           "chapter", *option], capsys)
     assert code == 2
     assert option[0] in err and len(err.strip().splitlines()) == 1, err
     assert not out_dir.exists()
+
+
+@pytest.mark.parametrize("form", ["recursive", "explicit"])
+def test_sweep_writes_the_form_asked_for(tmp_path, capsys, form):
+    """--form of the budget rule's merge: the model file, sweep.h5 and the printout say the
+    form written (issue 29)."""
+    import json
+
+    import xarray as xr
+
+    out_dir = tmp_path / "sweep"
+    code, out, _ = _run(["sweep", "two-link", "--random", "2", "--workers", "1", "--held-out",
+                         "0", "--no-report", "-o", out_dir, "--form", form], capsys)
+    assert code == 0 and f"{form} form" in out
+    assert json.loads((out_dir / "merged_model.json").read_text())["form"] == form
+    with xr.open_dataset(out_dir / "sweep.h5") as ds:
+        assert ds.attrs["merged_form"] == form
 
 
 def test_control_printout_marks_integrator_noise_as_the_report_does(tmp_path, capsys):

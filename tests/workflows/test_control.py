@@ -42,11 +42,6 @@ FULL_MODEL_BOUND = 1e-6
 
 
 @pytest.fixture(scope="module")
-def shipped():
-    return read_trajectory(SHIPPED, n_joints=6)
-
-
-@pytest.fixture(scope="module")
 def model(puma, shipped):
     return analyze(puma, shipped, AnalysisOptions(verify=False, formulations=False)).model
 

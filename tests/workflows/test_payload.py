@@ -4,19 +4,13 @@ import itertools
 
 import numpy as np
 import pytest
-from conftest import SHIPPED, random_states
+from conftest import random_states
 
 from gd_analyze import InputError, gd_terms
 from gd_analyze.core.model.robot import with_payload
-from gd_analyze.io.trajectory import read_trajectory
 from gd_analyze.workflows.analyze import analyze
 from gd_analyze.workflows.options import AnalysisOptions, SimplifyOptions
 from gd_analyze.workflows.payload import payload_sweep
-
-
-@pytest.fixture(scope="module")
-def shipped(puma):
-    return read_trajectory(SHIPPED, puma.n)
 
 
 def test_payload_sweep_equals_plain_analyses(puma, shipped):

@@ -37,16 +37,6 @@ K = 6
 # --------------------------------------------------------------------------------------------
 
 @pytest.fixture(scope="module")
-def cluster():
-    distributed = pytest.importorskip("distributed")
-    with distributed.LocalCluster(n_workers=2, threads_per_worker=1, processes=True,
-                                  dashboard_address=None,
-                                  scheduler_kwargs={"dashboard_address": "127.0.0.1:0"}) as cl:
-        with distributed.Client(cl) as client:
-            yield cl, client
-
-
-@pytest.fixture(scope="module")
 def trajectories(puma):
     return random_trajectories(puma, K, seed=5)
 
@@ -264,11 +254,6 @@ def test_sweep_file_round_trip(sweep, tmp_path):
 # --------------------------------------------------------------------------------------------
 
 
-@pytest.fixture(scope="module")
-def shipped(puma):
-    return read_trajectory(SHIPPED, puma.n)
-
-
 def test_sweep_report(sweep, puma, shipped, tmp_path):
     from matplotlib.figure import Figure
 
@@ -346,15 +331,6 @@ def _rnea(robot, q, qd, qdd):
     model = pinocchio_model(robot)
     data = model.createData()
     return np.array([pin.rnea(model, data, a, b, c) for a, b, c in zip(q, qd, qdd)])
-
-
-@pytest.fixture(scope="module")
-def mixed(puma, shipped):
-    """Fast random moves, the shipped trajectory and a slow small move: joint scales that
-    differ by orders of magnitude between trajectories."""
-    slow = plan_quintic(puma, np.radians([0, 45, -90, 0, 30, 0]),
-                        np.radians([2, 46, -89, 1, 31, 1]), duration=4.0)
-    return [*random_trajectories(puma, 3, seed=11), shipped, slow]
 
 
 @pytest.mark.parametrize("eps, floor", [(0.002, 0.0), (0.01, 0.0), (0.05, 0.0), (0.01, 1.0)])

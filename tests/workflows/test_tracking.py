@@ -2,16 +2,10 @@
 
 import numpy as np
 import pytest
-from conftest import SHIPPED
 
 from gd_analyze import gd_terms
-from gd_analyze.io.trajectory import Trajectory, read_trajectory
+from gd_analyze.io.trajectory import Trajectory
 from gd_analyze.workflows.tracking import control_gains, desired_motion
-
-
-@pytest.fixture(scope="module")
-def shipped(puma):
-    return read_trajectory(SHIPPED, n_joints=6)
 
 
 def test_desired_motion_interpolates_q_qd_qdd(shipped):

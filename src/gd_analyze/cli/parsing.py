@@ -184,9 +184,10 @@ def _add_payload_sweep_argument(group):
                             "--payload-inertia for the load's shape (stored with dim 'payload')")
 
 
-def _add_budget_arguments(p, rule=True, where="on the analysed trajectory", form=True):
-    """The simplified model's options; ``form``: also --explicit and --form (not for the
-    sweep, whose merged model is always explicit)."""
+def _add_budget_arguments(p, rule=True, where="on the analysed trajectory", form=True,
+                          guarantee=True):
+    """The simplified model's options; ``form``: also --explicit and --form; ``guarantee``:
+    also --guarantee (not for the sweep, whose merged model holds on the swept trajectories)."""
     g = p.add_argument_group("simplified model (error budget, issue 8)")
     g.add_argument("--tolerance", metavar="EPS", type=_fraction(0.0, math.inf, "--tolerance",
                                                                 False), default=defaults["tolerance"],
@@ -201,10 +202,11 @@ def _add_budget_arguments(p, rule=True, where="on the analysed trajectory", form
         g.add_argument("--rule", choices=("budget", "chapter"), default=defaults["rule"],
                        help="budget: by torque contribution within EPS (default); chapter: "
                             "the share-based classes of Sec. 3.4.1 (no bound)")
-    g.add_argument("--guarantee", choices=("region", "trajectory"), default="auto",
-                   help="where the bound must hold: proved over the robot's joint-limit region "
-                        "(default when the robot gives position and velocity limits for every "
-                        "joint) or on the trajectory only")
+    if guarantee:
+        g.add_argument("--guarantee", choices=("region", "trajectory"), default="auto",
+                       help="where the bound must hold: proved over the robot's joint-limit "
+                            "region (default when the robot gives position and velocity limits "
+                            "for every joint) or on the trajectory only")
     if rule and form:
         g.add_argument("--explicit", choices=("auto", "always", "never"),
                        default=defaults["explicit"],
@@ -422,7 +424,7 @@ def _sweep_parser():
                    default=defaults["negligible"], help=f"default {defaults['negligible']}")
     _add_budget_arguments(p, where="on every swept trajectory, scale_i = max(that "
                                    "trajectory's peak |tau_i|, TAU); the merged model "
-                                   "merged_model.json/.c/.py", form=False)
+                                   "merged_model.json/.c/.py", guarantee=False)
     p.add_argument("--held-out", metavar="K", type=int, default=20,
                    help="random trajectories (another seed) to measure the merged model of the "
                         "budget rule on, not guaranteed (default 20)")

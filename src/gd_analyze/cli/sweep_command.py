@@ -32,16 +32,17 @@ def _sweep_model(robot, trajectories, args, outdir, settings, ds):
     Writes merged_model.json/.c/.py into outdir; returns (written paths, the sweep dataset
     with this model's errors)."""
     from ..io.planning import random_trajectories
-    from ..workflows.simplify import sweep_model
+    from ..workflows.sweep_budget import budget_sweep_model
     from ..workflows.sweep_merged import with_budget_model
 
     if args.held_out < 0:
         raise InputError("--held-out must be >= 0")
     held = random_trajectories(robot, args.held_out, seed=args.seed + 1_000_003) \
         if args.held_out else []
-    model, _ = sweep_model(robot, trajectories, tolerance=args.tolerance,
-                           torque_floor=args.torque_floor, held_out=held,
-                           provenance={"gd_analyze_version": _version(), **settings})
+    model = budget_sweep_model(robot, trajectories, ds, tolerance=args.tolerance,
+                               torque_floor=args.torque_floor, held_out=held,
+                               provenance={"gd_analyze_version": _version(), **settings},
+                               explicit=args.explicit, form=args.form)
     ds = with_budget_model(ds, model)
     model.validation.pop("per_trajectory")          # in sweep.h5; K x n lists
     written = [outdir / "merged_model.json"]
@@ -75,9 +76,12 @@ def _sweep_model(robot, trajectories, args, outdir, settings, ds):
                       f"{args.torque_floor:g} N m, not guaranteed: up to {rel:.2e} (joint {j}; "
                       f"above {eps:g} on joint{'s' if len(over) > 1 else ''} "
                       f"{', '.join(map(str, over))})")
-        print(f"merged model (budget rule, EPS = {eps:g}): {model.cost['multiplications']} "
-              f"mult + {model.cost['additions']} add (full explicit: "
-              f"{model.full_cost['multiplications']} + {model.full_cost['additions']}); worst "
+        others = "; ".join(f"{name}: {c['multiplications'] + c['additions']:,}" for name, c in
+                           model.costs.items() if name in ("exact recursive", "explicit, full"))
+        print(f"merged model (budget rule, EPS = {eps:g}, {model.form} form): "
+              f"{model.cost['multiplications'] + model.cost['additions']:,} operations "
+              f"({model.cost['multiplications']} mult + {model.cost['additions']} add; "
+              f"{others}); worst "
               f"error on the {v['trajectories']} swept trajectories {worst:.2e} of each "
               f"trajectory's {floor} ({claim}){caveat}" + ("" if held_err is None else
                                            f", on {v['held_out_trajectories']} held-out "
@@ -112,6 +116,10 @@ def _cmd_sweep(args):
                              column="--scheduler")
     if args.workers is not None and args.workers < 1:
         raise InputError("--workers must be >= 1")
+    if args.rule == "chapter" and (args.form == "recursive" or args.explicit == "never"):
+        option = "--form recursive" if args.form == "recursive" else "--explicit never"
+        raise InputError(f"{option} does not apply to --rule chapter, whose merge keeps parts "
+                         "of the explicit model's elements")
     if args.csv:
         trajectories = [read_trajectory(path, n_joints=robot.n) for path in args.csv]
     else:
@@ -150,7 +158,8 @@ def _cmd_sweep(args):
             raise InputError(f"cannot reach the dask scheduler: {exc}",
                              args.scheduler) from None
         ds = run_sweep(loaded, trajectories, args.dominance, args.negligible, client=client,
-                       settings=settings, progress=not args.quiet and sys.stderr.isatty())
+                       settings=settings, progress=not args.quiet and sys.stderr.isatty(),
+                       recursive_peaks=args.rule == "budget")
         payload = None if masses is None else sweep_payloads(
             robot, trajectories, masses, args.payload_com, args.payload_inertia,
             args.dominance, args.negligible, client=client)

@@ -26,7 +26,7 @@ from ..core.selection.ranking import (
 from .schema import MIXED_UNITS, element_coords, global_attributes, var
 
 __all__ = ["inputs_attributes", "sweep_dataset", "payload_dataset", "sweep_payloads_dataset",
-           "embed_payload", "payload_part", "beyond_the_floor"]
+           "embed_payload", "payload_part", "beyond_the_floor", "embed_pair_peaks"]
 
 #: At most this many input files are listed by name in the global attributes (all are in the
 #: per-trajectory variables ``source`` and ``input_sha256``); HDF5 attributes stay small.
@@ -126,9 +126,11 @@ def sweep_dataset(robot, trajectories, results, merged, merged_stats, dominance,
         Per trajectory, as :func:`gd_analyze.workflows.sweep.analyze_one` returns it.
     merged : dict
         Element label -> the merged choice of the chapter rule (no error bound).
-    merged_stats : list of dict
+    merged_stats : list of dict or None
         Per trajectory, the merged model's accumulated torque error: ``peak``, ``sum_sq``,
-        ``count``, ``peak_tau`` [N m].
+        ``count``, ``peak_tau`` [N m]. None: not measured (the budget rule's model is put in
+        later, :func:`gd_analyze.workflows.sweep_merged.with_budget_model`), the merged
+        model's error variables are NaN.
     dominance, negligible : float
         s and e of the ranking.
 
@@ -165,6 +167,9 @@ def sweep_dataset(robot, trajectories, results, merged, merged_stats, dominance,
     def per_joint(key):
         return np.array([e[key] for e in err], dtype=float)
 
+    if merged_stats is None:
+        nan = np.full(robot.n, np.nan)
+        merged_stats = [{"peak": nan, "peak_tau": nan, "sum_sq": nan, "count": 0}] * K
     m_peak = np.array([s["peak"] for s in merged_stats])
     m_tau = np.array([s["peak_tau"] for s in merged_stats])
     with np.errstate(invalid="ignore", divide="ignore"):
@@ -437,6 +442,52 @@ def _round_off_var(flags, where):
                f"every part of the element is round-off {where} (1: at most 1e-12 of its "
                "scale; its share_tran is noise), else 0",
                flag_values=np.array([0, 1], dtype=np.int8), flag_meanings="data round_off")
+
+
+def embed_pair_peaks(ds, names, tau_peak, peak, whole_peak):
+    """A sweep dataset with each trajectory's peaks of the recursive model's contributions.
+
+    Parameters
+    ----------
+    ds : xarray.Dataset
+        A sweep dataset (:func:`sweep_dataset`), K trajectories, n joints.
+    names : sequence of str, length b
+        The base parameters (:meth:`gd_analyze.core.symbolic.base_parameters.BaseParameters.names`).
+    tau_peak : ndarray, shape (K, n)
+        Peak |tau_i| of each trajectory, from the contributions [N m or N].
+    peak : ndarray, shape (K, b, 3, n)
+        Peak |contribution| of each (base parameter, part) on each trajectory [N m or N].
+    whole_peak : ndarray, shape (K, b, n)
+        The same per base parameter, all parts together [N m or N].
+
+    Returns
+    -------
+    xarray.Dataset
+        A copy with ``pair_tau_peak``, ``pair_peak`` and ``parameter_peak``, coordinates
+        ``base_parameter`` and ``part`` (inertial, velocity, gravity): what the budget rule's
+        merge prunes on (:mod:`gd_analyze.workflows.sweep_budget`, which removes them again).
+
+    Raises
+    ------
+    ValueError
+        If a shape does not match the dataset.
+    """
+    K, n = ds.sizes["trajectory"], ds.sizes["joint"]
+    tau_peak, peak, whole_peak = (np.asarray(x, float) for x in (tau_peak, peak, whole_peak))
+    b = len(names)
+    if tau_peak.shape != (K, n) or peak.shape != (K, b, 3, n) or whole_peak.shape != (K, b, n):
+        raise ValueError(f"peaks of shapes {tau_peak.shape}, {peak.shape}, {whole_peak.shape} "
+                         f"do not fit {K} trajectories, {b} base parameters, {n} joints")
+    torque = ds["tau_peak"].attrs.get("units", "N m")
+    out = ds.assign_coords(base_parameter=("base_parameter", np.array(list(names), dtype=str)),
+                           part=("part", np.array(["inertial", "velocity", "gravity"])))
+    out["pair_tau_peak"] = var(("trajectory", "joint"), tau_peak, torque,
+                               "peak |tau_i|, the sum of the base-parameter contributions")
+    out["pair_peak"] = var(("trajectory", "base_parameter", "part", "joint"), peak, torque,
+                           "peak |contribution| of a (base parameter, part) to tau_i")
+    out["parameter_peak"] = var(("trajectory", "base_parameter", "joint"), whole_peak, torque,
+                                "peak |contribution| of a base parameter (all parts) to tau_i")
+    return out
 
 
 def embed_payload(payload):

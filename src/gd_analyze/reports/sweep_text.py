@@ -117,7 +117,7 @@ def sweep_context(ds, payload=None):
         eps = f"{float(ds.attrs['merged_tolerance']):g}"
         claim = (f"is guaranteed within \u03b5\u00b7{_SI} (\u03b5 = {eps}) on every swept "
                  f"trajectory ({_SI} = max(that trajectory's peak |{_TAU_I}|, "
-                 f"{_floor(ds)})); its largest "
+                 f"{_floor(ds)})); {_bound_clause(ds)}its largest "
                  f"measured peak error is "
                  f"{_pct(float(ds.attrs.get('merged_worst_scaled_error', np.nan)))} of {_SI}")
         beyond = beyond_the_floor(ds)
@@ -135,9 +135,11 @@ def sweep_context(ds, payload=None):
                  f"{int(np.nanargmax(ds['merged_error_relative_peak'].values)) + 1})")
         name = "The merged model of the chapter rule"
     summary = (f"{robot}: translational share of the {len(labels)} ranked elements of D and h over "
-               f"{inputs}, s = {s:g}, e = {e:g}. {name} keeps both parts "
-               f"of {counts['both']} elements, one part of {single}, and drops "
-               f"{len(labels) - kept}; it {claim}. {_held_out(ds)}{_gravity(ds)}"
+               f"{inputs}, s = {s:g}, e = {e:g}. {name} "
+               + (_recursive_clause(ds) if _form(ds) == "recursive" else
+                  f"keeps both parts of {counts['both']} elements, one part of {single}, and "
+                  f"drops {len(labels) - kept}")
+               + f"; it {claim}. {_held_out(ds)}{_gravity(ds)}"
                f"{_cost_sentence(ds)}{_own_sentence(ds)}").strip()
     ctx = {"version": __version__, "title": f"G-D dominance sweep: {robot}, {K} trajectories",
            "summary": summary, "settings": _table(["item", "value"], settings),
@@ -186,7 +188,8 @@ _SAID = {
     "merged_worst_scaled_error", "payload_mass", "random_qdd_max_source", "command",
     "mounting_base_rpy_deg", "mounting_gravity_base", "mounting_gravity_world",
     "own_model_rule", "merged_form", "merged_c_terms", "merged_c_terms_kept",
-    "held_out_trajectories"}
+    "held_out_trajectories", "merged_base_parameters", "merged_pairs", "merged_pairs_dropped",
+    "merged_dropped_pairs", "merged_gravity_dropped"}
 
 
 def _settings(ds, inputs, setpoints, durations, version):
@@ -237,8 +240,12 @@ def _settings(ds, inputs, setpoints, durations, version):
                         f"worker{'s' if str(ds.attrs.get('n_workers')) != '1' else ''} at "
                         f"{_attr(ds, 'scheduler_address')}; {tasks} tasks (the {K} "
                         f"trajectories in {batches} batch{'es' if batches != 1 else ''} of "
-                        f"at most {batch}, each batch once to rank and once to check the "
-                        "merged model)"),
+                        f"at most {batch}, "
+                        + ("each batch once to rank and once to check the merged model)"
+                           if tasks > batches else
+                           "each batch once to rank and to find the peaks of the recursive "
+                           "model's contributions; the merged model was built and checked on "
+                           "the client)")),
         ("time [s]", f"{_attr(ds, 'elapsed_s')} in all, {_attr(ds, 'compute_s')} computing"),
     ]
     rows += [(key.replace("_", " "), _attr(ds, key)) for key in sorted(set(ds.attrs) - _SAID)]
@@ -251,14 +258,27 @@ def _merged_rule(ds):
     rule = str(ds.attrs.get("merged_rule", "chapter"))
     if rule == "budget":
         eps = f"{float(ds.attrs['merged_tolerance']):g}"
+        recursive = _form(ds) == "recursive"
+        what = ("One customized recursive Newton-Euler model on the base inertial parameters "
+                "for the whole sweep, by the budget rule: the peak contribution of every (base "
+                "parameter, part) pair (inertial, velocity, gravity), computed per trajectory "
+                "by the dask workers," if recursive else
+                "One explicit model for the whole sweep, by the budget rule: every term's peak "
+                "contribution")
         return rule, f"5. Merged model (budget rule, \u03b5 = {eps}) and its torque error", (
-            "One explicit model for the whole sweep, by the budget rule: every term's peak "
-            f"contribution on each trajectory is divided by that trajectory's {_SI} = "
-            f"max(peak |{_TAU_I}|, torque floor), and terms are dropped, smallest first, while "
-            f"these ratios sum to at most \u03b5 = {eps} for every joint. By the triangle "
-            f"inequality its torque error is guaranteed within \u03b5\u00b7{_SI} on every "
-            "swept trajectory (not on others). " + _keeps(ds) + " The budget weighs single "
-            "terms too, so a part it keeps may lose some of its terms. "
+            f"{what} on each trajectory is divided by that trajectory's {_SI} = "
+            f"max(peak |{_TAU_I}|, torque floor), and {'pairs' if recursive else 'terms'} are "
+            f"dropped while these ratios sum to at most \u03b5 = {eps} for every joint. By the "
+            f"triangle inequality its torque error is guaranteed within \u03b5\u00b7{_SI} on "
+            "every swept trajectory (not on others)"
+            + ("; the bound on each trajectory, "
+               + ("the sum of the dropped pairs' peaks there" if recursive else
+                  f"the sum of the dropped terms' largest ratios times its {_SI}")
+               + f", is stored per trajectory and joint in sweep.h5 and is at most "
+               f"{_worst_bound(ds)}. "
+               if "merged_bound" in ds.variables else ". ")
+            + _keeps(ds) + ("" if recursive else " The budget weighs single terms too, so a "
+                            "part it keeps may lose some of its terms.") + " "
             + _cost_sentence(ds, table=True))
     return rule, "5. Merged model (chapter rule, no error bound) and its torque error", (
         _MERGED_TEXT + " This rule has no error bound: the errors below are measured, not "
@@ -270,10 +290,66 @@ def _keeps(ds):
     reports (:func:`gd_analyze.reports.main_text.model_sentence`), from the stored choices and
     counts of its terms of c (:func:`gd_analyze.workflows.sweep_merged.with_model_cost`)."""
     rule = str(ds.attrs.get("merged_rule", "chapter"))
+    if _form(ds) == "recursive":
+        text = model_sentence(recursive=tuple(int(ds.attrs[f"merged_{k}"]) for k in
+                                              ("base_parameters", "pairs_dropped", "pairs")),
+                              gravity=_recursive_gravity(ds),
+                              trajectory="the swept trajectories")
+        return text.replace("The simplified model", "The merged model", 1) + (
+            " It keeps every element of D and h as a sum over the base parameters (choice "
+            "\u201cboth\u201d in the tables).")
     kept, full = (int(ds.attrs.get(k, -1)) for k in ("merged_c_terms_kept", "merged_c_terms"))
     gravity = gravity_clause(rule, c_terms=(kept, full) if min(kept, full) >= 0 else None)
     text = model_sentence(choice=_strings(ds["merged_choice"].values), gravity=gravity)
     return text.replace("The simplified model", "The merged model", 1)
+
+
+def _form(ds):
+    """The merged model's form as the dataset records it (recursive or explicit)."""
+    return str(ds.attrs.get("merged_form", "explicit"))
+
+
+def _recursive_gravity(ds):
+    """gravity_clause of a recursive merged model, from the names stored with it."""
+    names = [x.strip() for x in str(ds.attrs.get("merged_gravity_dropped", "")).split(",")]
+    return gravity_clause("budget", gravity_dropped=[x for x in names if x])
+
+
+def _recursive_clause(ds):
+    """What a recursive merged model is and drops, for the summary: "is the ... model on 36
+    base parameters and drops 5 of the 80 (parameter, part) pairs that act on the swept
+    trajectories"."""
+    b, dropped, pairs = (int(ds.attrs[f"merged_{k}"]) for k in
+                         ("base_parameters", "pairs_dropped", "pairs"))
+    head = f"is the customized recursive Newton-Euler model on {b} base parameters"
+    if dropped == 0:
+        return head + ", exact: it drops nothing"
+    return (f"{head} and drops {dropped} of the {pairs} (parameter, part) pairs that act on "
+            "the swept trajectories")
+
+
+def _worst_bound(ds):
+    """The largest guaranteed bound over the trajectories relative to their s_i, in words
+    ("0.41 % of s_i (joint 2)", "0 (nothing dropped contributes)"); None without
+    merged_bound."""
+    if "merged_bound" not in ds.variables or "merged_scale" not in ds.variables:
+        return None
+    bound = np.asarray(ds["merged_bound"].values, float)
+    scale = np.asarray(ds["merged_scale"].values, float)
+    with np.errstate(divide="ignore", invalid="ignore"):
+        rel = np.where(bound > 0, bound / scale, 0.0)
+    rel = np.where(np.isfinite(rel), rel, np.inf)
+    if not rel.size or not rel.max() > 0:
+        return "0 (nothing dropped contributes)"
+    k, j = np.unravel_index(np.argmax(rel), rel.shape)
+    return f"{_pct(rel[k, j])} of {_SI} (joint {j + 1})"
+
+
+def _bound_clause(ds):
+    """The summary's clause on the bound per trajectory ("its bound there is at most 0.41 %
+    of s_i (joint 2), "); "" without merged_bound."""
+    worst = _worst_bound(ds)
+    return "" if worst is None else f"its bound there is at most {worst}, "
 
 
 def _held_out(ds):
@@ -300,6 +376,8 @@ def _gravity(ds):
     """The merged model's terms of c as a sentence ("It drops 8 of the 28 terms of c. "), or
     "" where the dataset does not count them."""
     rule = str(ds.attrs.get("merged_rule", "chapter"))
+    if rule == "budget" and _form(ds) == "recursive":
+        return f"It {_recursive_gravity(ds)}. "
     kept, full = (int(ds.attrs.get(k, -1)) for k in ("merged_c_terms_kept", "merged_c_terms"))
     if rule == "budget" and min(kept, full) < 0:
         return ""
@@ -322,9 +400,11 @@ def _cost_sentence(ds, table=False):
             f"{count(add)} additions); " + ", ".join(f"{n}: {count(o)}" for n, o in others)
             + (" (Table 5.2, counted, not timed)." if table else "."))
     recursive, full = ops.get("exact recursive model"), ops.get("full explicit model")
-    if recursive is not None and mine > recursive and names[0].endswith("(explicit form)"):
-        text += (" It costs more than the exact recursive model: a sweep builds its merged "
-                 "model in the explicit form only.")
+    if (recursive is not None and mine > recursive and names[0].endswith("(explicit form)")
+            and str(ds.attrs.get("merged_rule", "chapter")) == "chapter"):
+        text += (" It costs more than the exact recursive model: the chapter rule's merge "
+                 "keeps parts of the explicit model's elements, so it is of the explicit form "
+                 "only.")
     if full is not None and mine > full:
         text += (" It costs more than the full explicit model: where an element keeps one "
                  "part, its coefficients are that part's, not the sum of both, so the code "

@@ -390,6 +390,7 @@ def _simplify(robot, trajectory, ranking, part_peaks, options, provenance):
     from ..core.symbolic.explicit_estimate import is_expensive
     from ..formulations.opcount import operation_counts
     from ..io.explicit_cache import explicit_terms
+    from .deploy import robot_region
     from .simplify import (
         build_model,
         build_recursive,
@@ -407,7 +408,7 @@ def _simplify(robot, trajectory, ranking, part_peaks, options, provenance):
     q, qd, qdd = trajectory.q, trajectory.qd, trajectory.qdd
     common = dict(ranking=ranking, trajectory_sha256=trajectory.sha256, provenance=provenance)
     counts = operation_counts(robot)
-    region, missing = _region(robot, options) if rule == "budget" else (None, "")
+    region, missing = robot_region(robot) if rule == "budget" else (None, "")
     proved = region is not None and options.guarantee != "trajectory"
     rec, rec_sel = build_recursive(robot, q, qd, qdd, tolerance=tolerance,
                                    torque_floor=torque_floor, region=region if proved else None,
@@ -465,25 +466,6 @@ def _simplify(robot, trajectory, ranking, part_peaks, options, provenance):
     if skipped:
         extra.attrs["simplified_ladder_skipped"] = skipped
     return model, extra
-
-
-def _region(robot, options):
-    """The robot's joint-limit region for the model's guarantee, or None and why not.
-
-    ``guarantee="trajectory"`` still gets the region (the trajectory model's error is sampled
-    on it); ``"region"`` or ``"auto"`` without a limit: None and the missing limit.
-    """
-    from ..core.selection.region import joint_region, missing_limits
-    from ..io.planning import acceleration_limits
-
-    why = missing_limits(robot)
-    if why:
-        return None, why
-    try:
-        qdd_max, _ = acceleration_limits(robot)
-    except ValueError as exc:
-        return None, str(exc)
-    return joint_region(robot, qdd_max), ""
 
 
 def _trajectory_guarantee(model, sel, trajectory, missing=""):

@@ -13,8 +13,8 @@ from ..core.selection.budget import DEFAULT_TOLERANCE
 from ..core.selection.ranking import DEFAULT_DOMINANCE, DEFAULT_NEGLIGIBLE
 from ..core.selection.simplified import SimplifiedModel
 
-__all__ = ["build_recursive", "replace_cost", "region_model", "trajectory_guarantee",
-           "certified", "REGION_SAMPLES"]
+__all__ = ["build_recursive", "recursive_simplified", "replace_cost", "region_model",
+           "trajectory_guarantee", "certified", "robot_region", "REGION_SAMPLES"]
 
 #: Positions sampled over the region for a model's sampled error (its velocity and
 #: acceleration at the worst vertices).
@@ -26,6 +26,35 @@ REGION_SAMPLES = 1000
 #: arm in one session (a payload sweep, a test run) does not repeat it.
 _CERTIFIED = {}
 _CERTIFIED_MAX = 2
+
+
+def robot_region(robot):
+    """The robot's joint-limit region for a model's guarantee, or None and why not.
+
+    Parameters
+    ----------
+    robot : Robot
+
+    Returns
+    -------
+    region : Region or None
+        Its own position and velocity limits, the acceleration limits of
+        :func:`gd_analyze.io.planning.acceleration_limits` (the robot's, or the planner's
+        default where it has none); None when a limit is missing.
+    missing : str
+        The missing limit (:func:`gd_analyze.core.selection.region.missing_limits`), or "".
+    """
+    from ..core.selection.region import joint_region, missing_limits
+    from ..io.planning import acceleration_limits
+
+    why = missing_limits(robot)
+    if why:
+        return None, why
+    try:
+        qdd_max, _ = acceleration_limits(robot)
+    except ValueError as exc:
+        return None, str(exc)
+    return joint_region(robot, qdd_max), ""
 
 
 def certified(robot, base, region, torque_floor=0.0):
@@ -204,11 +233,8 @@ def build_recursive(robot, q, qd, qdd, tolerance=DEFAULT_TOLERANCE, torque_floor
     Fu, Gonzalez & Lee (1987), Algorithm 3.1 on the base parameters (Khalil & Kleinfinger
     1987; Gautier 1990), pruned as :func:`gd_analyze.core.symbolic.recursive_model.recursive_model`.
     """
-    from ..core.model.drives import with_drives
     from ..core.selection.budget import Selection
-    from ..core.selection.ranking import element_labels
     from ..core.symbolic.base_parameters import base_parameters
-    from ..core.symbolic.recursive import recursive_program
     from ..core.symbolic.recursive_model import recursive_model
 
     base = base_parameters(robot)
@@ -218,6 +244,59 @@ def build_recursive(robot, q, qd, qdd, tolerance=DEFAULT_TOLERANCE, torque_floor
         rec = recursive_model(robot, q, qd, qdd, tolerance, torque_floor, base=base)
         guarantee = trajectory_guarantee(robot, base, rec, tolerance, trajectory_sha256,
                                          sample_region, region_missing)
+    model = recursive_simplified(robot, rec, base, tolerance=tolerance,
+                                 torque_floor=torque_floor, ranking=ranking,
+                                 trajectory_sha256=trajectory_sha256, provenance=provenance,
+                                 guarantee=guarantee)
+    sel = Selection(rule="budget", tolerance=float(tolerance), choices=model.choices,
+                    kept=None, scale=rec.scale, bound=rec.bound,
+                    bound_by_kind={"D": rec.bound_by_part[0], "h": rec.bound_by_part[1],
+                                   "c": rec.bound_by_part[2], "whole": rec.bound_by_part[3]},
+                    element_bound=np.full(robot.n, np.nan))
+    return model, sel
+
+
+def recursive_simplified(robot, rec, base, tolerance=DEFAULT_TOLERANCE, torque_floor=0.0,
+                         ranking=None, trajectory_sha256="", provenance=None, guarantee=None):
+    """A pruned recursive model as a :class:`SimplifiedModel`, its program and counts built.
+
+    Parameters
+    ----------
+    robot : Robot
+        The arm, with n joints.
+    rec : RecursiveModel
+        The pruned model (:func:`gd_analyze.core.symbolic.recursive_model.recursive_model`, or
+        :func:`~gd_analyze.core.symbolic.recursive_model.sweep_recursive_model` for a sweep).
+    base : BaseParameters
+        The robot's base parameters, those of ``rec``.
+    tolerance : float, optional
+        EPS.
+    torque_floor : float, optional
+        TAU [N m].
+    ranking : Ranking, optional
+        For the thresholds s and e recorded with the model.
+    trajectory_sha256 : str, optional
+    provenance : dict, optional
+    guarantee : Guarantee, optional
+        Where its bound holds (:class:`gd_analyze.core.selection.guarantee.Guarantee`).
+
+    Returns
+    -------
+    SimplifiedModel
+        Of the recursive form, ``validation`` empty, ``bound`` = ``rec.bound`` [N m];
+        ``cost`` counted on its program (the exact recursive program when pruning would
+        cost more, :func:`gd_analyze.core.symbolic.pruning.pruned_program`), and
+        ``costs["exact recursive"]`` the exact recursive model's count.
+
+    Notes
+    -----
+    Fu, Gonzalez & Lee (1987), Algorithm 3.1 on the base parameters (Khalil & Kleinfinger
+    1987; Gautier 1990).
+    """
+    from ..core.model.drives import with_drives
+    from ..core.selection.ranking import element_labels
+    from ..core.symbolic.recursive import recursive_program
+
     exact_program = recursive_program(robot, base.values)
     exact = with_drives(exact_program, robot).cost()
     program = with_drives(rec.program(robot, exact=exact_program), robot)
@@ -229,14 +308,9 @@ def build_recursive(robot, q, qd, qdd, tolerance=DEFAULT_TOLERANCE, torque_floor
         trajectory_sha256=trajectory_sha256, provenance=dict(provenance or {}), rule="budget",
         tolerance=float(tolerance), torque_floor=float(torque_floor), terms=None,
         recursive=rec, bound=[float(v) for v in rec.bound],
-        costs={"exact recursive": exact}, program_cache=program, guarantee=guarantee)
-    model = replace_cost(model, program.cost())
-    sel = Selection(rule="budget", tolerance=float(tolerance), choices=choices, kept=None,
-                    scale=rec.scale, bound=rec.bound,
-                    bound_by_kind={"D": rec.bound_by_part[0], "h": rec.bound_by_part[1],
-                                   "c": rec.bound_by_part[2], "whole": rec.bound_by_part[3]},
-                    element_bound=np.full(robot.n, np.nan))
-    return model, sel
+        costs={"exact recursive": exact}, program_cache=program,
+        guarantee=guarantee)
+    return replace_cost(model, program.cost())
 
 
 def replace_cost(model, cost):

@@ -392,15 +392,8 @@ def sweep_model(robot, trajectories, tolerance=DEFAULT_TOLERANCE, torque_floor=0
     Returns
     -------
     model : SimplifiedModel
-        ``bound`` is the relative bound times the largest scale_i [N m]. ``validation`` holds
-        the error over the swept trajectories together (as :func:`validate`), plus
-        ``relative_bound`` (n,): the guaranteed bound on peak |tau_s - tau| / scale_{t,i} on
-        every swept trajectory (<= EPS); ``worst_scaled_error``: the largest measured
-        peak |tau_s - tau| / scale_{t,i} over trajectories and joints (<= relative_bound);
-        ``per_trajectory``: ``peak_abs_error``, ``rms_error``, ``peak_tau`` and ``scale``,
-        (K, n) lists [N m] (large: remove it before saving a big sweep's model);
-        ``trajectories`` (K); ``held_out`` (the error on the held-out ones, or an empty dict)
-        and ``held_out_trajectories``.
+        ``bound`` is the relative bound times the largest scale_i [N m]; ``validation`` as
+        :func:`sweep_validation` gives it.
     selection : Selection
         ``scale`` is the largest scale_i over the trajectories.
 
@@ -409,8 +402,70 @@ def sweep_model(robot, trajectories, tolerance=DEFAULT_TOLERANCE, torque_floor=0
     ValueError
         If there are no trajectories.
     """
+    trajectories = list(trajectories)
+    model, sel, scales, relative, terms = explicit_sweep_model(robot, trajectories, tolerance,
+                                                               torque_floor, provenance)
+    validation = sweep_validation(model, trajectories, scales, relative, held_out=held_out,
+                                  reference=full_torque(robot, terms))
+    return dataclasses.replace(model, validation=validation), sel
+
+
+def trajectories_sha256(trajectories):
+    """One SHA-256 of a sweep's trajectories: their files' digests, or the arrays of planned
+    trajectories.
+
+    Parameters
+    ----------
+    trajectories : sequence of Trajectory
+        Each with ``sha256`` (of its file; empty for a planned one) and q, qd, qdd (N, n).
+
+    Returns
+    -------
+    str
+        64 hex digits.
+    """
     import hashlib
 
+    h = hashlib.sha256()
+    for tr in trajectories:
+        h.update(tr.sha256.encode() if tr.sha256 else
+                 b"".join(np.ascontiguousarray(x, float).tobytes() for x in (tr.q, tr.qd, tr.qdd)))
+    return h.hexdigest()
+
+
+def explicit_sweep_model(robot, trajectories, tolerance=DEFAULT_TOLERANCE, torque_floor=0.0,
+                         provenance=None):
+    """The explicit model of :func:`sweep_model`, not yet validated.
+
+    Parameters
+    ----------
+    robot : Robot
+    trajectories : sequence of Trajectory
+        K >= 1 swept trajectories.
+    tolerance : float, optional
+        EPS.
+    torque_floor : float, optional
+        TAU [N m].
+    provenance : dict, optional
+
+    Returns
+    -------
+    model : SimplifiedModel
+        ``validation`` empty.
+    selection : Selection
+    scales : ndarray, shape (K, n)
+        scale_{t,i} = max(peak |tau_i| on t, TAU) [N m].
+    relative_bound : ndarray, shape (n,)
+        The guaranteed bound on peak |tau_s - tau| / scale_{t,i} on every swept trajectory
+        (<= EPS).
+    terms : Term
+        All the robot's explicit terms (for :func:`full_torque`).
+
+    Raises
+    ------
+    ValueError
+        If there are no trajectories.
+    """
     trajectories = list(trajectories)
     if not trajectories:
         raise ValueError("no trajectories")
@@ -422,37 +477,70 @@ def sweep_model(robot, trajectories, tolerance=DEFAULT_TOLERANCE, torque_floor=0
         p = p.relative(scales[-1])
         peaks = p if peaks is None else peaks.merge(p)
     scales = np.array(scales)
-    h = hashlib.sha256()
-    for tr in trajectories:               # file digests, or the arrays of planned trajectories
-        h.update(tr.sha256.encode() if tr.sha256 else
-                 b"".join(np.ascontiguousarray(x, float).tobytes() for x in (tr.q, tr.qd, tr.qdd)))
-    digest = h.hexdigest()
     top = scales.max(axis=0)
     model, sel = build_model(robot, terms, peaks, tolerance=tolerance,
-                             torque_floor=torque_floor, trajectory_sha256=digest,
+                             torque_floor=torque_floor,
+                             trajectory_sha256=trajectories_sha256(trajectories),
                              provenance={**(provenance or {}), "kind": "sweep model",
                                          "trajectories": len(trajectories)},
                              relative_to=top)
-    ref = full_torque(robot, terms)
-    per = [validate(model, [(t.q, t.qd, t.qdd)], reference=ref) for t in trajectories]
+    relative = np.where(top > 0, sel.bound / np.where(top > 0, top, 1.0), 0.0)
+    return model, sel, scales, relative, terms
+
+
+def sweep_validation(model, trajectories, scales, relative_bound, held_out=(), reference=None,
+                     bound=None):
+    """A sweep model's errors on each swept trajectory, over all of them and on held-out ones.
+
+    Parameters
+    ----------
+    model : SimplifiedModel
+    trajectories : sequence of Trajectory
+        The K swept trajectories.
+    scales : ndarray, shape (K, n)
+        scale_{t,i} [N m].
+    relative_bound : ndarray, shape (n,)
+        The guaranteed bound on peak |tau_s - tau| / scale_{t,i} (<= EPS).
+    held_out : sequence of Trajectory, optional
+        Trajectories not swept (measured, not guaranteed).
+    reference : callable, optional
+        tau_full(q, qd, qdd), as :func:`validate` takes it (default: the G-D terms).
+    bound : ndarray, shape (K, n), optional
+        The guaranteed bound on each trajectory [N m]; default ``relative_bound`` x scales.
+
+    Returns
+    -------
+    dict
+        The error over the swept trajectories together (as :func:`validate`), plus
+        ``relative_bound`` (n,); ``worst_scaled_error``: the largest measured
+        peak |tau_s - tau| / scale_{t,i} over trajectories and joints (<= relative_bound);
+        ``per_trajectory``: ``peak_abs_error``, ``rms_error``, ``peak_tau``, ``scale`` and
+        ``bound``, (K, n) lists [N m] (large: remove it before saving a big sweep's model);
+        ``trajectories`` (K); ``held_out`` (the error on the held-out ones, or an empty dict)
+        and ``held_out_trajectories``.
+    """
+    scales = np.asarray(scales, float)
+    relative_bound = np.asarray(relative_bound, float)
+    bound = relative_bound * scales if bound is None else np.asarray(bound, float)
+    per = [validate(model, [(t.q, t.qd, t.qdd)], reference=reference) for t in trajectories]
     peak = np.array([v["peak_abs_error"] for v in per])
     with np.errstate(divide="ignore", invalid="ignore"):
         scaled = np.where(peak > 0, peak / np.where(scales > 0, scales, 0.0), 0.0)
-    validation = validate(model, [(t.q, t.qd, t.qdd) for t in trajectories], reference=ref)
+    validation = validate(model, [(t.q, t.qd, t.qdd) for t in trajectories],
+                          reference=reference)
     validation.update({
-        "relative_bound": [float(v) for v in np.where(top > 0, sel.bound / np.where(
-            top > 0, top, 1.0), 0.0)],
+        "relative_bound": [float(v) for v in relative_bound],
         "worst_scaled_error": float(np.nan_to_num(scaled, nan=np.inf).max()),
         "per_trajectory": {"peak_abs_error": peak.tolist(),
                            "rms_error": [v["rms_error"] for v in per],
                            "peak_tau": [v["peak_tau"] for v in per],
-                           "scale": scales.tolist()},
+                           "scale": scales.tolist(), "bound": bound.tolist()},
         "trajectories": len(trajectories),
-        "held_out": validate(model, [(t.q, t.qd, t.qdd) for t in held_out], reference=ref)
-        if held_out else {},
+        "held_out": validate(model, [(t.q, t.qd, t.qdd) for t in held_out],
+                             reference=reference) if held_out else {},
         "held_out_trajectories": len(held_out),
     })
-    return dataclasses.replace(model, validation=validation), sel
+    return validation
 
 
-__all__.append("sweep_model")
+__all__ += ["sweep_model", "explicit_sweep_model", "sweep_validation", "trajectories_sha256"]

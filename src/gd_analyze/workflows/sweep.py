@@ -9,10 +9,12 @@ trajectories and reports, per ranked element (``"D11"`` .. ``"Dnn"``, ``"h1"`` .
   (min, median, max);
 - the fraction of trajectories in which each class (translational, rotational, both,
   negligible) holds;
-- one merged simplified model for the whole sweep. By default (budget rule) it is the explicit
-  model of :func:`gd_analyze.workflows.simplify.sweep_model`, guaranteed within EPS x scale_i
-  on every swept trajectory (:func:`gd_analyze.workflows.sweep_merged.with_budget_model` puts
-  it into the dataset); with the chapter rule a part of an element is dropped only where every
+- one merged simplified model for the whole sweep. By default (budget rule) it is the cheaper
+  of the pruned recursive and explicit models of
+  :func:`gd_analyze.workflows.sweep_budget.budget_sweep_model`, pruned on the peaks the workers
+  compute per trajectory (``recursive_peaks=True``) and guaranteed within EPS x scale_i on every
+  swept trajectory (:func:`gd_analyze.workflows.sweep_merged.with_budget_model` puts it into
+  the dataset); with the chapter rule a part of an element is dropped only where every
   trajectory's own share-based model drops it
   (:func:`gd_analyze.core.selection.simplified.merge_choices`), which bounds nothing.
 
@@ -41,7 +43,7 @@ from ..core.selection.simplified import (
     simplified_torque,
 )
 from ..io.schema import attribute_value
-from ..io.sweep_datasets import sweep_dataset
+from ..io.sweep_datasets import embed_pair_peaks, sweep_dataset
 from .analyze import analysis_pass
 from .dask_cluster import dask_client
 from .options import AnalysisOptions
@@ -229,10 +231,19 @@ def _ranking_only(dominance, negligible):
                            formulations=False, simplify=None)
 
 
-def _analyze_batch(robot, trajectories, dominance, negligible):
+def _analyze_batch(robot, trajectories, dominance, negligible, base=None):
     options = _ranking_only(dominance, negligible)
-    return [_summary(tr, analysis_pass(robot, tr, options, chunk=tr.q.shape[0], terms=terms))
-            for tr, terms in _batch_terms(robot, trajectories)]
+    out = [_summary(tr, analysis_pass(robot, tr, options, chunk=tr.q.shape[0], terms=terms))
+           for tr, terms in _batch_terms(robot, trajectories)]
+    if base is not None:        # the recursive model's peaks, per trajectory (issue 29)
+        from ..core.symbolic.pruning import stacked_peaks
+
+        stack = [np.concatenate([np.asarray(getattr(tr, k), float) for tr in trajectories])
+                 for k in ("q", "qd", "qdd")]
+        peaks = stacked_peaks(robot, base, *stack, [np.shape(tr.q)[0] for tr in trajectories])
+        for k, r in enumerate(out):
+            r["recursive_peaks"] = tuple(p[k] for p in peaks)
+    return out
 
 
 def _error_batch(robot, trajectories, choices):
@@ -250,7 +261,7 @@ def _auto_batch(k, n_workers):
 
 def run_sweep(robot, trajectories, dominance=DEFAULT_DOMINANCE, negligible=DEFAULT_NEGLIGIBLE,
               client=None, scheduler=None, batch=None, n_workers=None, settings=None,
-              progress=False):
+              progress=False, recursive_peaks=False):
     """Rank K trajectories on a dask.distributed cluster and merge their simplified models.
 
     Parameters
@@ -279,6 +290,15 @@ def run_sweep(robot, trajectories, dominance=DEFAULT_DOMINANCE, negligible=DEFAU
         Extra global attributes (strings or numbers), e.g. the command line.
     progress : bool, optional
         Show a tqdm progress bar of the tasks on stderr.
+    recursive_peaks : bool, optional
+        Also compute, in the workers, each trajectory's peaks of the recursive model's
+        (base parameter, part) contributions (:func:`gd_analyze.core.symbolic.pruning.stacked_peaks`),
+        for the budget rule's merge (:mod:`gd_analyze.workflows.sweep_budget`): variables
+        ``pair_tau_peak`` (trajectory, joint), ``pair_peak`` (trajectory, base_parameter, part,
+        joint) and ``parameter_peak`` (trajectory, base_parameter, joint) [N m or N]
+        (:func:`gd_analyze.io.sweep_datasets.embed_pair_peaks`). The chapter merge's error is
+        then not measured (its variables are NaN; one pass of tasks, not two): the budget
+        rule's model replaces it (:func:`gd_analyze.workflows.sweep_merged.with_budget_model`).
 
     Returns
     -------
@@ -345,9 +365,17 @@ def run_sweep(robot, trajectories, dominance=DEFAULT_DOMINANCE, negligible=DEFAU
         size = int(batch) if batch is not None else _auto_batch(len(trajectories), n_w)
         batches = [trajectories[a:a + size] for a in range(0, len(trajectories), size)]
         t_compute = time.perf_counter()
+        base = None
+        if recursive_peaks:
+            from ..core.symbolic.base_parameters import base_parameters
+
+            base = base_parameters(robot)
         scattered = {"robot": client.scatter(robot, broadcast=True, hash=False),
-                     "batches": client.scatter(batches, hash=False)}
-        bar = tqdm(total=2 * len(batches), unit="task", disable=not progress,
+                     "batches": client.scatter(batches, hash=False),
+                     "base": None if base is None else client.scatter(base, broadcast=True,
+                                                                      hash=False)}
+        passes = 1 if recursive_peaks else 2
+        bar = tqdm(total=passes * len(batches), unit="task", disable=not progress,
                    desc="sweep: ranking", leave=False)
 
         def run(fn, *args):
@@ -359,10 +387,12 @@ def run_sweep(robot, trajectories, dominance=DEFAULT_DOMINANCE, negligible=DEFAU
                 bar.update(1)
             return [item for part in out for item in part]
 
-        results = run(_analyze_batch, float(dominance), float(negligible))
+        results = run(_analyze_batch, float(dominance), float(negligible), scattered["base"])
         merged = merge_choices([r["choices"] for r in results])
-        bar.set_description("sweep: merged model")
-        merged_stats = run(_error_batch, merged)
+        merged_stats = None             # the budget rule's model replaces the chapter merge
+        if base is None:
+            bar.set_description("sweep: merged model")
+            merged_stats = run(_error_batch, merged)
         bar.close()
         compute_s = time.perf_counter() - t_compute
         scattered.clear()              # the scattered data may go from the workers
@@ -370,9 +400,13 @@ def run_sweep(robot, trajectories, dominance=DEFAULT_DOMINANCE, negligible=DEFAU
         own.close()
     ds = sweep_dataset(robot, trajectories, results, merged, merged_stats, dominance,
                         negligible)
+    if base is not None:
+        ds = embed_pair_peaks(ds, base.names(), *(np.array([r["recursive_peaks"][k]
+                                                            for r in results])
+                                                  for k in range(3)))
     ds.attrs.update({
         "scheduler_address": address, "n_workers": n_w, "batch_size": size,
-        "n_tasks": 2 * len(batches),
+        "n_tasks": passes * len(batches),
         "cluster": how,
         "compute_s": round(compute_s, 4), "started": started.isoformat(),
     })

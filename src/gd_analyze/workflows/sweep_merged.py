@@ -4,9 +4,10 @@ A sweep (:func:`gd_analyze.workflows.sweep.run_sweep`) stores one merged model f
 trajectories. :func:`merged_model` reads the chapter rule's merge (a part of an element dropped
 only where every trajectory's own model drops it, no error bound) and its validation back from
 the dataset as a :class:`~gd_analyze.core.selection.simplified.SimplifiedModel`;
-:func:`with_budget_model` puts the budget rule's explicit model
-(:func:`gd_analyze.workflows.simplify.sweep_model`, within EPS x scale_i on every swept
-trajectory) and its errors into the dataset in place of the chapter merge;
+:func:`with_budget_model` puts the budget rule's model
+(:func:`gd_analyze.workflows.sweep_budget.budget_sweep_model`, the cheaper of a pruned recursive
+and a pruned explicit model, within EPS x scale_i on every swept trajectory) and its errors and
+bounds into the dataset in place of the chapter merge;
 :func:`with_model_cost` puts what the merged model costs and keeps of c beside it. Source:
 Sec. 3.4.1 of Fu, Gonzalez & Lee (1987).
 """
@@ -104,13 +105,18 @@ def with_budget_model(sweep_ds, model):
     sweep_ds : xarray.Dataset
         From :func:`~gd_analyze.workflows.sweep.run_sweep` (K trajectories, n joints).
     model : SimplifiedModel
-        From :func:`gd_analyze.workflows.simplify.sweep_model` on the same trajectories, in
-        the same order (its ``validation["per_trajectory"]``).
+        From :func:`gd_analyze.workflows.sweep_budget.budget_sweep_model` (recursive or
+        explicit form) or :func:`gd_analyze.workflows.simplify.sweep_model` on the same
+        trajectories, in the same order (its ``validation["per_trajectory"]``).
 
     Returns
     -------
     xarray.Dataset
-        A copy: ``merged_choice`` = the model's whole-part choices; ``merged_tau_error_peak``
+        A copy without the recursive peaks the merge pruned on (``pair_peak`` ...); with
+        ``merged_choice`` = the model's whole-part choices (``both`` everywhere for the
+        recursive form, which drops parameter parts, not element parts);
+        ``merged_bound`` (trajectory, joint) [N m], the guaranteed bound on each trajectory,
+        where the model gives it; ``merged_tau_error_peak``
         (trajectory, joint) [N m] and ``merged_tau_error_relative_peak`` (divided by that
         trajectory's scale_{t,i} = max(peak |tau_i|, TAU), guaranteed <= EPS);
         ``merged_scale`` (trajectory, joint) [N m]; ``merged_error_*`` over all trajectories
@@ -141,7 +147,8 @@ def with_budget_model(sweep_ds, model):
                          f"{sweep_ds.sizes['joint']} joints")
     with np.errstate(invalid="ignore", divide="ignore"):
         rel = np.where(peak > 0, peak / np.where(scale > 0, scale, 0.0), 0.0)
-    ds = sweep_ds.copy()
+    ds = sweep_ds.drop_vars([v for v in ("pair_tau_peak", "pair_peak", "parameter_peak",
+                                         "base_parameter", "part") if v in sweep_ds.variables])
     eps = f"{model.tolerance:g}"
 
     def put(name, dims, data, units, desc):
@@ -154,6 +161,10 @@ def with_budget_model(sweep_ds, model):
         "merged model: peak |tau_merged - tau| along the trajectory")
     put("merged_scale", ("trajectory", "joint"), scale, torque,
         "scale_i = max(peak |tau_i|, torque floor) along the trajectory")
+    if "bound" in per:                  # the guarantee on each trajectory
+        put("merged_bound", ("trajectory", "joint"), np.asarray(per["bound"], float), torque,
+            "merged model: guaranteed bound on |tau_merged - tau| along the trajectory "
+            "(<= EPS x scale_i)")
     put("merged_tau_error_relative_peak", ("trajectory", "joint"), np.nan_to_num(rel, nan=np.inf),
         "1", f"merged model: peak |tau_merged - tau| / scale_i along the trajectory "
              f"(guaranteed <= {eps})")
@@ -181,11 +192,17 @@ def with_budget_model(sweep_ds, model):
         "merged_rule": "budget", "merged_tolerance": float(model.tolerance),
         "merged_torque_floor": float(model.torque_floor),
         "merged_worst_scaled_error": float(v["worst_scaled_error"]),
-        "merge_rule": f"budget rule: one explicit model whose dropped terms' peaks, each "
-                      f"divided by its trajectory's scale_i = max(peak |tau_i|, "
-                      f"{model.torque_floor:g} N m), sum to at most EPS = {eps}: guaranteed "
-                      f"within {eps} x scale_i on every swept trajectory"})
+        "merge_rule": f"budget rule: one {_WHAT[model.form]} whose dropped "
+                      f"{_UNITS[model.form]}' peaks, each divided by its trajectory's scale_i "
+                      f"= max(peak |tau_i|, {model.torque_floor:g} N m), sum to at most EPS = "
+                      f"{eps}: guaranteed within {eps} x scale_i on every swept trajectory"})
     return with_model_cost(ds, model)
+
+
+#: The merged model of each form, and what its budget drops, in the words of ``merge_rule``.
+_WHAT = {"recursive": "customized recursive Newton-Euler model on the base parameters",
+         "explicit": "explicit G-D model"}
+_UNITS = {"recursive": "(base parameter, part) pairs", "explicit": "terms"}
 
 
 def with_model_cost(sweep_ds, model):
@@ -208,7 +225,11 @@ def with_model_cost(sweep_ds, model):
         (:func:`gd_analyze.workflows.control.model_cost`, counted, never timed); attributes
         ``merged_form`` (recursive or explicit), ``merged_c_terms_kept`` and
         ``merged_c_terms`` (its terms of c and the full explicit model's; -1 when not
-        counted: the chapter rule keeps c whole, :func:`gd_analyze.workflows.control.model_facts`).
+        counted: the chapter rule keeps c whole, :func:`gd_analyze.workflows.control.model_facts`);
+        for the recursive form ``merged_base_parameters``, ``merged_pairs`` and
+        ``merged_pairs_dropped`` (the (parameter, part) pairs that contribute on the swept
+        trajectories, and those dropped), ``merged_dropped_pairs`` and
+        ``merged_gravity_dropped`` (names, comma-separated).
 
     Notes
     -----
@@ -234,4 +255,10 @@ def with_model_cost(sweep_ds, model):
     ds.attrs.update({"merged_form": str(facts["form"]),
                      "merged_c_terms_kept": int(facts["c_terms_kept"]),
                      "merged_c_terms": int(facts["c_terms"])})
+    if facts["form"] == "recursive":
+        ds.attrs.update({"merged_base_parameters": int(facts["base_parameters"]),
+                         "merged_pairs": int(facts["pairs"]),
+                         "merged_pairs_dropped": int(facts["pairs_dropped"]),
+                         "merged_dropped_pairs": str(facts["dropped_pairs"]),
+                         "merged_gravity_dropped": str(facts["gravity_dropped"])})
     return ds

@@ -97,11 +97,11 @@ def test_the_model_prunes_on_the_proved_bound_not_the_sampled_peak():
     assert looser.any()                     # a pair whose sampled peak is below its bound
     assert np.all(pb.bound >= pb.sampled)
     rec, guarantee = region_model(robot, base, region, 0.05)
-    single = rec.dropped
-    # the stored bound is the sum of the dropped pairs' proved bounds (whole parameters
-    # counted by the sum of their parts), never of their sampled peaks
-    by_bound = (pb.bound * single[:, :, None]).sum(axis=(0, 1))
-    by_sample = (pb.sampled * single[:, :, None]).sum(axis=(0, 1))
+    # the stored bound is, per joint, the largest over the branch and bound's final boxes of
+    # the dropped pairs' proved bounds there, never their sampled peaks
+    by_bound = np.einsum("bpln,bp->ln", pb.leaves, rec.dropped.astype(float)).max(axis=0)
+    by_sample = (pb.sampled * rec.dropped[:, :, None]).sum(axis=(0, 1))
     assert np.allclose(guarantee.bound, by_bound, rtol=1e-12, atol=0)
+    assert np.all(by_bound <= (pb.bound * rec.dropped[:, :, None]).sum(axis=(0, 1)) * (1 + 1e-12))
     assert np.any(by_bound > by_sample * 1.01)
     assert np.all(guarantee.sampled_error <= guarantee.bound * (1 + 1e-12))

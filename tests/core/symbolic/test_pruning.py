@@ -173,3 +173,74 @@ def test_peaks_in_chunks_equal_the_whole_contributions():
     np.testing.assert_array_equal(tau_peak, np.abs(C.sum(axis=(0, 3))).max(axis=0))
     np.testing.assert_array_equal(peak, np.abs(C).max(axis=1).transpose(2, 0, 1))
     np.testing.assert_array_equal(whole, np.abs(C.sum(axis=0)).max(axis=0).T)
+
+
+def _sweep_case(name):
+    """Three random states sets and one slow, small move: joint scales that differ by orders
+    of magnitude between the 'trajectories'."""
+    arm = robot(name)
+    sets = [states(arm, 40, seed) for seed in (1, 2, 3)]
+    q, qd, qdd = states(arm, 30, 4)
+    sets.append((q, qd * 1e-3, qdd * 1e-3))
+    return arm, base_parameters(arm), sets
+
+
+@pytest.mark.parametrize("name, eps", [("puma560", 0.01), ("puma560", 0.05),
+                                       ("mixed-chain", 0.02), ("panda", 0.01)])
+def test_pruning_on_several_trajectories_holds_on_each(name, eps):
+    """prune_on_peaks: on every trajectory t the pruned program's error against Pinocchio's
+    rnea is within EPS x that trajectory's own scale (not the largest one), and within the
+    bound dropped_peaks gives on t; the program costs no more than the exact one."""
+    from gd_analyze.core.symbolic.pruning import dropped_peaks, prune_on_peaks, stacked_peaks
+
+    arm, base, sets = _sweep_case(name)
+    cat = [np.concatenate([s[k] for s in sets]) for k in range(3)]
+    tau_peak, peak, whole = stacked_peaks(arm, base, *cat, [len(s[0]) for s in sets])
+    pr = prune_on_peaks(arm, base, tau_peak, peak, whole, eps)
+    assert pr.dropped.any() and np.all(pr.bound <= eps)
+    each = dropped_peaks(peak, whole, pr.dropped, pr.whole).sum(axis=1)     # (K, n)
+    prog = pruned_program(arm, base, pr.dropped)
+    f = python_function(prog)
+    for k, (q, qd, qdd) in enumerate(sets):
+        ref = rnea(arm, q, qd, qdd)                                        # the oracle
+        scale = np.abs(ref).max(axis=0)
+        err = np.abs(f(q, qd, qdd) - ref).max(axis=0)
+        assert np.all(err <= each[k] + 1e-10 * scale.max()), (k, err, each[k])
+        assert np.all(err <= eps * scale * (1 + 1e-9) + 1e-10 * scale.max()), (k, err / scale)
+    assert _total(prog.cost()) <= _total(recursive_program(arm).cost())
+
+
+def test_stacked_peaks_are_each_trajectorys_own():
+    from gd_analyze.core.symbolic.pruning import contribution_peaks, stacked_peaks
+
+    arm, base, sets = _sweep_case("stanford")
+    cat = [np.concatenate([s[k] for s in sets]) for k in range(3)]
+    got = stacked_peaks(arm, base, *cat, [len(s[0]) for s in sets], chunk=50)
+    for k, (q, qd, qdd) in enumerate(sets):
+        for a, b in zip(got, contribution_peaks(arm, base, q, qd, qdd)):
+            np.testing.assert_allclose(a[k], b, rtol=1e-13, atol=0)
+    with pytest.raises(ValueError, match="lengths"):
+        stacked_peaks(arm, base, *cat, [10, 10])
+
+
+def test_a_joint_without_torque_on_a_trajectory_keeps_what_moves_it():
+    """A trajectory where a joint's scale is 0 (torque floor 0): any pair with a positive
+    peak on that joint there has an infinite ratio and is kept, whatever EPS; a region bound
+    (larger peaks) is taken as given."""
+    from gd_analyze.core.symbolic.pruning import prune_on_peaks
+
+    arm, base, sets = _sweep_case("puma560")
+    from gd_analyze.core.symbolic.pruning import contribution_peaks
+
+    peaks = [contribution_peaks(arm, base, *s) for s in sets[:2]]
+    scale = np.array([p[0] for p in peaks])
+    peak = np.array([p[1] for p in peaks])
+    whole = np.array([p[2] for p in peaks])
+    scale[1, 2] = 0.0
+    pr = prune_on_peaks(arm, base, scale, peak, whole, 0.5)
+    moves = peak[1, :, :, 2] > 0
+    assert pr.dropped.any() and not (pr.dropped & moves).any()
+    with pytest.raises(ValueError, match="expected scale"):
+        prune_on_peaks(arm, base, scale[0], peak, whole, 0.01)
+    with pytest.raises(ValueError, match="eps"):
+        prune_on_peaks(arm, base, scale, peak, whole, float("nan"))

@@ -48,6 +48,20 @@ def _units(robot):
     return text
 
 
+def _rounded_up(value):
+    """A bound in three significant digits, rounded up so that it still bounds.
+
+    >>> _rounded_up(1.8145e-05), _rounded_up(0.005), _rounded_up(0.0)
+    ('1.82e-05', '0.005', '0')
+    """
+    v = float(value)
+    if not (np.isfinite(v) and v > 0):
+        return f"{v:g}"
+    step = 10.0 ** (np.floor(np.log10(v)) - 2)
+    up = np.ceil(v / step * (1 - 1e-12)) * step
+    return f"{up:.3g}" if float(f"{up:.3g}") >= v else f"{np.nextafter(up, np.inf):.4g}"
+
+
 class TorqueErrorAccumulator:
     """Accumulate a simplified model's per-joint torque error chunk by chunk.
 
@@ -243,9 +257,20 @@ class SimplifiedModel:
         dict
             The robot's name (input text) only as
             :func:`~gd_analyze.core.symbolic.safe_text.comment_safe` gives it, with the SHA-256 of the
-            raw name; then the SHA-256 of the robot file.
+            raw name; then the SHA-256 of the robot file; the exact recursive model's count where
+            ``costs`` holds it, and for a sweep's model (``validation["relative_bound"]``) its
+            bound on each swept trajectory relative to that trajectory's scale_i.
         """
         cost = self.cost or self.program().cost()
+        exact = self.costs.get("exact recursive")
+        compared = {} if not exact else {"exact recursive model": (
+            f"{exact['multiplications']} multiplications, {exact['additions']} additions")}
+        relative = self.validation.get("relative_bound") if self.validation else None
+        if relative:                    # a sweep's model: the bound on each swept trajectory
+            compared["bound on each swept trajectory"] = (
+                "|tau_s,i - tau_i| <= b_i x scale_i (that trajectory's max(peak |tau_i|, "
+                "torque floor)), b = "
+                + ", ".join(_rounded_up(v) for v in relative))
         return {
             "gd-analyze simplified model": (
                 "tau = D_s qdd + h_s + c (Fu, Gonzalez & Lee 1987, Eq. 3.4-24), explicit form"
@@ -260,6 +285,7 @@ class SimplifiedModel:
             "guarantee": self.scope(),
             "operations": f"{cost['multiplications']} multiplications, {cost['additions']} "
                           f"additions, {cost['sin']} sin, {cost['cos']} cos",
+            **compared,
             "gd-analyze version": self.provenance.get("gd_analyze_version", ""),
             "units": _units(self.robot),
         }

@@ -11,7 +11,10 @@ Y_p[:, i, k] beta_k; dropping a set of pairs changes tau_i by at most the sum of
 |contributions| on the trajectory (triangle inequality). :func:`prune` drops pairs in
 increasing order of their peak contribution (relative to the joint scales) while every
 joint's sum of dropped peaks stays within EPS scale_i, and :func:`pruned_program` generates the
-recursive program without them (:mod:`.recursive`).
+recursive program without them (:mod:`.recursive`). :func:`prune_on_peaks` makes the same
+choice for many trajectories at once (a sweep), from each trajectory's peaks and scales, so that
+the budget holds on every one of them; :func:`stacked_peaks` gives those peaks for trajectories
+stacked in one array.
 """
 
 from __future__ import annotations
@@ -24,8 +27,9 @@ from ..model.kinematics import as_states
 from .base_parameters import regressor
 from .recursive import PARTS, exact_program, parts_program
 
-__all__ = ["part_contributions", "contribution_peaks", "Pruning", "prune", "pruned_program",
-           "STRATEGIES", "CRITERIA", "PEAK_CHUNK", "prune_bounds"]
+__all__ = ["part_contributions", "contribution_peaks", "stacked_peaks", "Pruning", "prune",
+           "prune_on_peaks", "prune_bounds", "dropped_peaks", "pruned_program", "STRATEGIES",
+           "CRITERIA", "PEAK_CHUNK"]
 
 
 def part_contributions(robot, base, q, qd, qdd):
@@ -110,6 +114,80 @@ def _peaks_of(C):
     """(tau_peak (n,), peak (b, 3, n), whole_peak (b, n)) of contributions C (3, N, n, b)."""
     return (np.abs(C.sum(axis=(0, 3))).max(axis=0), np.abs(C).max(axis=1).transpose(2, 0, 1),
             np.abs(C.sum(axis=0)).max(axis=0).T)
+
+
+def stacked_peaks(robot, base, q, qd, qdd, lengths, chunk=PEAK_CHUNK):
+    """:func:`contribution_peaks` of each of K trajectories stacked in one array.
+
+    Consecutive short trajectories share one regressor evaluation (at most ``chunk`` set
+    points at a time), which saves the per-call overhead for a sweep's many short ones.
+
+    Parameters
+    ----------
+    robot : Robot
+        The arm, with n joints.
+    base : BaseParameters
+        Its base parameters (b of them).
+    q, qd, qdd : array_like, shape (N, n)
+        The K trajectories one after the other, N = sum(lengths) [rad, rad/s, rad/s^2; m,
+        m/s, m/s^2].
+    lengths : sequence of int
+        The set points of each trajectory, each >= 1.
+    chunk : int, optional
+        Set points at once.
+
+    Returns
+    -------
+    tau_peak : ndarray, shape (K, n)
+        Peak |tau_i| on each trajectory [N m or N].
+    peak : ndarray, shape (K, b, 3, n)
+        Peak |contribution| of each (base parameter, part) on each trajectory [N m or N].
+    whole_peak : ndarray, shape (K, b, n)
+        The same for each base parameter, all parts together [N m or N].
+
+    Raises
+    ------
+    ValueError
+        If the arrays are not (N, n) or the lengths do not add up to N.
+
+    Examples
+    --------
+    >>> from gd_analyze import load_robot
+    >>> from gd_analyze.core.symbolic.base_parameters import base_parameters
+    >>> robot = load_robot("two-link")
+    >>> base = base_parameters(robot)
+    >>> q = np.linspace(0, 1, 10)[:, None] * [1.0, -1.0]
+    >>> tau, peak, whole = stacked_peaks(robot, base, q, q, q, [4, 6])
+    >>> one = contribution_peaks(robot, base, q[4:], q[4:], q[4:])
+    >>> all(np.allclose(x[1], y) for x, y in zip((tau, peak, whole), one))
+    True
+    """
+    q, qd, qdd = as_states(robot, q, qd, qdd)
+    lengths = [int(k) for k in lengths]
+    if min(lengths, default=1) < 1 or sum(lengths) != q.shape[0]:
+        raise ValueError(f"the lengths {lengths[:5]}... do not split {q.shape[0]} set points")
+    starts = np.concatenate([[0], np.cumsum(lengths)])
+    K, n, b = len(lengths), robot.n, base.rank
+    tau_peak, peak = np.zeros((K, n)), np.zeros((K, b, len(PARTS), n))
+    whole_peak = np.zeros((K, b, n))
+    k = 0
+    while k < K:
+        if lengths[k] >= chunk:                       # a long one alone, in chunks
+            sl = slice(starts[k], starts[k + 1])
+            tau_peak[k], peak[k], whole_peak[k] = contribution_peaks(
+                robot, base, q[sl], qd[sl], qdd[sl], chunk=chunk)
+            k += 1
+            continue
+        end = k + 1                                   # short ones together, up to chunk
+        while end < K and lengths[end] < chunk and starts[end + 1] - starts[k] <= chunk:
+            end += 1
+        sl = slice(starts[k], starts[end])
+        C = part_contributions(robot, base, q[sl], qd[sl], qdd[sl])
+        for m in range(k, end):
+            part = C[:, starts[m] - starts[k]:starts[m + 1] - starts[k]]
+            tau_peak[m], peak[m], whole_peak[m] = _peaks_of(part)
+        k = end
+    return tau_peak, peak, whole_peak
 
 
 @dataclass(frozen=True, eq=False)
@@ -230,6 +308,129 @@ def prune(robot, base, q, qd, qdd, eps, torque_floor=0.0, strategy="cost",
                    scale=scale, criterion=criterion)
 
 
+def prune_on_peaks(robot, base, scale, peak, whole_peak, eps, strategy="cost"):
+    """Choose the pairs to drop within EPS on each of K trajectories at once (a sweep).
+
+    Each pair's peak on trajectory t is divided by that trajectory's scale_{t,i}, and the
+    largest ratio over the trajectories is what the budget weighs (scale 1, budget EPS): for
+    every t and joint i the dropped pairs' peaks on t sum to at most
+    scale_{t,i} x sum of their largest ratios <= EPS x scale_{t,i}.
+
+    Parameters
+    ----------
+    robot : Robot
+        The arm, with n joints.
+    base : BaseParameters
+        Its base parameters (b of them).
+    scale : array_like, shape (K, n)
+        scale_{t,i} = max(peak |tau_i| on t, torque floor) [N m or N].
+    peak : array_like, shape (K, b, 3, n)
+        A bound on |contribution| of each (base parameter, part) to each joint torque on
+        each trajectory [N m or N]: its peak there (:func:`stacked_peaks`), or any larger
+        bound, e.g. one proved on a region of states, which the guarantee then carries over.
+    whole_peak : array_like, shape (K, b, n)
+        The same for each base parameter, all parts together [N m or N].
+    eps : float
+        EPS >= 0.
+    strategy : {"cost", "peak"}, optional
+        As :func:`prune`.
+
+    Returns
+    -------
+    Pruning
+        In units of the scales: ``peak`` (b, 3, n) and ``whole_peak`` (b, n) are the largest
+        ratios over the trajectories [1], ``scale`` is ones, ``bound`` (n,) the sum of the
+        dropped units' ratios (<= eps); criterion "peaks". The bound on each trajectory in
+        N m is :func:`dropped_peaks` of the given peaks, summed over the parts.
+
+    Raises
+    ------
+    ValueError
+        If eps is negative or not finite, the strategy unknown, a scale negative or NaN, or
+        the shapes disagree.
+
+    Notes
+    -----
+    A ratio with scale 0 and a positive peak is infinite: that unit is never dropped. Source:
+    the budget of :mod:`gd_analyze.core.selection.budget` over several trajectories, applied
+    to the base-parameter contributions of the recursive model (Khalil & Kleinfinger 1987;
+    Gautier 1990).
+
+    Examples
+    --------
+    >>> from gd_analyze import load_robot
+    >>> from gd_analyze.core.symbolic.base_parameters import base_parameters, random_states
+    >>> arm = load_robot("puma560")
+    >>> b = base_parameters(arm)
+    >>> tau, peak, whole = stacked_peaks(arm, b, *random_states(arm, 20, 1), [5, 15])
+    >>> pr = prune_on_peaks(arm, b, tau, peak, whole, 0.05)
+    >>> each = dropped_peaks(peak, whole, pr.dropped, pr.whole).sum(axis=-2)   # (2, n)
+    >>> bool(pr.dropped.any() and np.all(each <= 0.05 * tau))
+    True
+    """
+    if not (np.isfinite(eps) and eps >= 0):
+        raise ValueError(f"eps must be a finite number >= 0, got {eps!r}")
+    if strategy not in STRATEGIES:
+        raise ValueError(f"strategy must be one of {STRATEGIES}, got {strategy!r}")
+    scale, peak = np.asarray(scale, float), np.asarray(peak, float)
+    whole_peak = np.asarray(whole_peak, float)
+    K, n, b = scale.shape[0] if scale.ndim == 2 else -1, robot.n, base.rank
+    if (scale.shape != (K, n) or peak.shape != (K, b, len(PARTS), n)
+            or whole_peak.shape != (K, b, n)):
+        raise ValueError(f"expected scale (K, {n}), peak (K, {b}, 3, {n}) and whole_peak "
+                         f"(K, {b}, {n}), got {scale.shape}, {peak.shape}, {whole_peak.shape}")
+    if not np.all(scale >= 0):
+        raise ValueError("every scale must be >= 0")
+    with np.errstate(divide="ignore", invalid="ignore"):
+        def ratio(x, s):
+            r = np.where(x > 0, x / np.where(s > 0, s, 0.0), 0.0)
+            return np.where(np.isnan(r), np.inf, r).max(axis=0, initial=0.0)
+
+        rel = ratio(peak, scale[:, None, None, :])
+        rel_whole = ratio(whole_peak, scale[:, None, :])
+    sel = _Selection(robot, base, None, rel, rel_whole, np.full(n, float(eps)), "peaks")
+    dropped, whole = sel.by_peak() if strategy == "peak" else sel.by_cost()
+    return Pruning(eps=float(eps), dropped=_normalize(dropped, sel.live), peak=rel,
+                   whole_peak=rel_whole, whole=whole, bound=sel.bound(dropped, whole),
+                   scale=np.ones(n), criterion="peaks")
+
+
+def dropped_peaks(peak, whole_peak, dropped, whole):
+    """The bound of a dropped set, split by part: the dropped units' peaks per joint.
+
+    Parameters
+    ----------
+    peak : array_like, shape (..., b, 3, n)
+        Peak |contribution| of each (base parameter, part) [N m or N], on one trajectory or
+        on each of several (leading dimensions).
+    whole_peak : array_like, shape (..., b, n)
+        The same for each base parameter, all parts together.
+    dropped : array_like of bool, shape (b, 3)
+        The pairs left out.
+    whole : array_like of bool, shape (b,)
+        The parameters dropped as a unit, counted by ``whole_peak``.
+
+    Returns
+    -------
+    ndarray, shape (..., 4, n)
+        The dropped single pairs' peaks summed per part (inertial, velocity, gravity), then the
+        parameters dropped whole; summed over this axis, the bound (triangle inequality).
+
+    Examples
+    --------
+    >>> peak = np.ones((2, 3, 1))
+    >>> dropped_peaks(peak, np.full((2, 1), 2.0), np.array([[1, 0, 1], [1, 1, 1]], bool),
+    ...               np.array([False, True]))[:, 0].tolist()
+    [1.0, 0.0, 1.0, 2.0]
+    """
+    peak, whole_peak = np.asarray(peak, float), np.asarray(whole_peak, float)
+    whole = np.asarray(whole, bool)
+    single = np.asarray(dropped, bool) & ~whole[:, None]
+    parts = np.where(single[:, :, None], peak, 0.0).sum(axis=-3)            # (..., 3, n)
+    wholes = np.where(whole[:, None], whole_peak, 0.0).sum(axis=-2)         # (..., n)
+    return np.concatenate([parts, wholes[..., None, :]], axis=-2)
+
+
 class _Selection:
     """The state of a selection: contributions, peaks, budget and the bound of a set."""
 
@@ -251,9 +452,7 @@ class _Selection:
                 return np.zeros(self.budget.shape)
             err = np.einsum("bpkn,bp->kn", self.C, dropped.astype(float))
             return np.abs(err).max(axis=0)
-        single = dropped & ~whole[:, None]
-        return ((self.peak * single[:, :, None]).sum(axis=(0, 1))
-                + self.whole_peak[whole].sum(axis=0))
+        return dropped_peaks(self.peak, self.whole_peak, dropped, whole).sum(axis=-2)
 
     def fits(self, dropped, whole):
         return bool(np.all(self.bound(dropped, whole) <= self.budget))

@@ -18,7 +18,8 @@ from ...errors import InputError
 from .base_parameters import BaseParameters, base_parameters
 from .recursive import PARTS
 
-__all__ = ["RecursiveModel", "recursive_model", "PART_NAMES", "BOUND_PARTS", "AGREEMENT"]
+__all__ = ["RecursiveModel", "recursive_model", "sweep_recursive_model", "PART_NAMES", "BOUND_PARTS",
+           "AGREEMENT"]
 
 #: What each part of a base parameter's contribution is, in the order of :data:`.recursive.PARTS`.
 PART_NAMES = ("inertial", "velocity", "gravity")
@@ -283,17 +284,71 @@ def recursive_model(robot, q, qd, qdd, tolerance, torque_floor=0.0, base=None):
     single parts' peaks per part and, last, the parameters dropped whole (by the peak of their
     whole contribution).
     """
-    from .pruning import prune
+    from .pruning import dropped_peaks, prune
 
     base = base_parameters(robot) if base is None else base
     pr = prune(robot, base, q, qd, qdd, tolerance, torque_floor=torque_floor)
-    single = pr.dropped & ~pr.whole[:, None]
-    by_part = np.concatenate([(pr.peak * single[:, :, None]).sum(axis=0),
-                              pr.whole_peak[pr.whole].sum(axis=0)[None, :]], axis=0) \
-        if pr.dropped.any() else np.zeros((len(PARTS) + 1, robot.n))
+    by_part = dropped_peaks(pr.peak, pr.whole_peak, pr.dropped, pr.whole)
     safe = np.where(pr.scale > 0, pr.scale, 1.0)
     rel = np.where(pr.scale > 0, pr.peak / safe, np.where(pr.peak > 0, np.inf, 0.0)).max(axis=2)
     return RecursiveModel(names=tuple(base.names()), beta=np.array(base.beta, float),
                           dropped=np.array(pr.dropped, bool), scale=np.array(pr.scale, float),
                           bound=np.array(pr.bound, float), bound_by_part=by_part,
                           relative_peak=rel)
+
+
+def sweep_recursive_model(robot, scale, peak, whole_peak, tolerance, base=None):
+    """Prune the recursive model within the error budget on each of K trajectories at once.
+
+    Parameters
+    ----------
+    robot : Robot
+        The arm, with n joints.
+    scale : array_like, shape (K, n)
+        scale_{t,i} = max(peak |tau_i| on trajectory t, torque floor) [N m or N].
+    peak : array_like, shape (K, b, 3, n)
+        Per trajectory, the peak |contribution| of each (base parameter, part)
+        (:func:`.pruning.stacked_peaks`), or any bound on it, e.g. one proved on a region of
+        states [N m or N].
+    whole_peak : array_like, shape (K, b, n)
+        The same per base parameter, all parts together [N m or N].
+    tolerance : float
+        EPS >= 0: on every trajectory t the dropped peaks of joint i add up to at most
+        EPS scale_{t,i}; EPS = 0 gives the exact model.
+    base : BaseParameters, optional
+        The robot's base parameters, if already derived (the peaks must be of these).
+
+    Returns
+    -------
+    model : RecursiveModel
+        ``scale`` and ``bound`` (n,) are the largest over the trajectories [N m or N] (the
+        bound holds on each); ``bound_by_part`` (4, n) is each part's largest over them (each
+        row a bound of that part's error on every trajectory; their sum may exceed ``bound``,
+        whose parts peak on different trajectories); ``relative_peak`` (b, 3) is each pair's
+        largest ratio peak / scale_{t,i} over trajectories and joints.
+    bound : ndarray, shape (K, 4, n)
+        The bound on each trajectory split by part (:func:`.pruning.dropped_peaks`) [N m or
+        N]: summed over the parts, at most EPS scale_{t,i}.
+
+    Raises
+    ------
+    ValueError
+        As :func:`.pruning.prune_on_peaks`.
+
+    Notes
+    -----
+    :func:`.pruning.prune_on_peaks`; by the triangle inequality the model's error on
+    trajectory t is within the bound on t. Source: the customized recursive Newton-Euler
+    model (Fu, Gonzalez & Lee 1987, Algorithm 3.1) on the base parameters (Khalil &
+    Kleinfinger 1987; Gautier 1990).
+    """
+    from .pruning import dropped_peaks, prune_on_peaks
+
+    base = base_parameters(robot) if base is None else base
+    pr = prune_on_peaks(robot, base, scale, peak, whole_peak, tolerance)
+    each = dropped_peaks(peak, whole_peak, pr.dropped, pr.whole)          # (K, 4, n)
+    return RecursiveModel(names=tuple(base.names()), beta=np.array(base.beta, float),
+                          dropped=np.array(pr.dropped, bool),
+                          scale=np.asarray(scale, float).max(axis=0),
+                          bound=each.sum(axis=1).max(axis=0), bound_by_part=each.max(axis=0),
+                          relative_peak=pr.peak.max(axis=2)), each
