@@ -20,90 +20,12 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ..model.kinematics import as_states
-from .base_parameters import regressor
 from .recursive import PARTS, exact_program, parts_program
+from .regressor_kernels import contribution_peaks, part_contributions
 
+#: part_contributions and contribution_peaks are the compiled ones of :mod:`.regressor_kernels`.
 __all__ = ["part_contributions", "contribution_peaks", "Pruning", "prune", "pruned_program",
-           "STRATEGIES", "CRITERIA", "PEAK_CHUNK"]
-
-
-def part_contributions(robot, base, q, qd, qdd):
-    """Contribution of every (part, base parameter) to every joint torque along a trajectory.
-
-    Parameters
-    ----------
-    robot : Robot
-        The arm, with n joints.
-    base : BaseParameters
-        Its base parameters (:func:`.base_parameters.base_parameters`).
-    q, qd, qdd : array_like, shape (N, n)
-        The trajectory [rad, rad/s, rad/s^2; m, m/s, m/s^2].
-
-    Returns
-    -------
-    ndarray, shape (3, N, n, b)
-        ``C[p, k, i, m]`` = Y_p[k, i, m] beta_m [N m or N] for the parts p of :data:`PARTS`
-        (inertial ``a``: Y_b(q, 0, qdd) with g = 0; velocity ``v``: Y_b(q, qd, 0) with g = 0;
-        gravity ``g``: Y_b(q, 0, 0)); summed over p and m it is tau.
-
-    Raises
-    ------
-    ValueError
-        If the arrays are not of shape (N, n).
-    """
-    q, qd, qdd = as_states(robot, q, qd, qdd)
-    zero = np.zeros_like(q)
-    B = base.independent.reshape(-1)
-    out = []
-    for a, b, c, g in ((q, zero, qdd, np.zeros(3)), (q, qd, zero, np.zeros(3)),
-                       (q, zero, zero, None)):
-        out.append(regressor(robot, a, b, c, gravity=g)[:, :, B] * base.beta)
-    return np.stack(out)
-
-
-#: Set points per chunk of :func:`contribution_peaks` (about 3 x 8 MB of regressor for 7 joints).
-PEAK_CHUNK = 2048
-
-
-def contribution_peaks(robot, base, q, qd, qdd, chunk=PEAK_CHUNK):
-    """Peaks of the joint torques and of every contribution along a trajectory, in chunks.
-
-    Parameters
-    ----------
-    robot : Robot
-        The arm, with n joints.
-    base : BaseParameters
-        Its base parameters.
-    q, qd, qdd : array_like, shape (N, n)
-        The trajectory [rad, rad/s, rad/s^2; m, m/s, m/s^2].
-    chunk : int, optional
-        Set points at once: memory stays O(chunk n^2) whatever N is.
-
-    Returns
-    -------
-    tau_peak : ndarray, shape (n,)
-        Peak |tau_i| [N m or N].
-    peak : ndarray, shape (b, 3, n)
-        Peak |contribution| of each (base parameter, part) to each joint torque.
-    whole_peak : ndarray, shape (b, n)
-        Peak |contribution| of each base parameter, all parts together.
-
-    Raises
-    ------
-    ValueError
-        If the arrays are not of shape (N, n).
-    """
-    q, qd, qdd = as_states(robot, q, qd, qdd)
-    n, b = robot.n, base.rank
-    tau_peak, peak, whole_peak = np.zeros(n), np.zeros((b, len(PARTS), n)), np.zeros((b, n))
-    for a in range(0, q.shape[0], max(1, int(chunk))):
-        sl = slice(a, a + max(1, int(chunk)))
-        t, p, w = _peaks_of(part_contributions(robot, base, q[sl], qd[sl], qdd[sl]))
-        np.maximum(tau_peak, t, out=tau_peak)
-        np.maximum(peak, p, out=peak)
-        np.maximum(whole_peak, w, out=whole_peak)
-    return tau_peak, peak, whole_peak
+           "STRATEGIES", "CRITERIA"]
 
 
 def _peaks_of(C):
