@@ -430,11 +430,17 @@ def _simplify(robot, trajectory, ranking, part_peaks, options, provenance):
         reference = full_torque(robot, terms)       # tau without computing the G-D terms again
         other_error = validate(other, [(q, qd, qdd)], reference=reference)
         costs.update({f"explicit, {rule}": dict(ex.cost), "explicit, full": dict(ex.full_cost)})
-        skipped = ladder_skipped(ex.full_cost, counts)
+        deployed = rule == "chapter" or form == "explicit" or (
+            form == "cheapest" and _ops(ex.cost) < _ops(rec.cost))
+        # the ladder is of the explicit form: built only where that form is deployed
+        skipped = ladder_skipped(ex.full_cost, counts) if deployed else (
+            f"not built: the deployed model is the pruned recursive one ({_ops(rec.cost):,} "
+            f"operations against the pruned explicit one's {_ops(ex.cost):,}"
+            f"{'' if form == 'cheapest' else ', --form recursive'}), and the ladder is of the "
+            "explicit form")
         rows = [] if skipped else ladder(robot, terms, peaks, [(q, qd, qdd)],
                                          torque_floor=torque_floor, reference=reference)
-        if rule == "chapter" or form == "explicit" or (
-                form == "cheapest" and _ops(ex.cost) < _ops(rec.cost)):
+        if deployed:
             model, sel = ex, ex_sel
     else:
         skipped = ("not built: the explicit G-D model of this arm is estimated too large to "
