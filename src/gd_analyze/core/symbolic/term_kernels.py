@@ -2,10 +2,11 @@
 
 :func:`gd_analyze.core.symbolic.explicit.term_peaks` reduces the contributions of the explicit
 terms (Fu, Gonzalez & Lee 1987, Eqs. (3.4-24) to (3.4-28) in their Fourier form,
-:mod:`.trigpoly`) to one peak per (atom, joint). :func:`atom_peaks_kernel` does it in one pass
-per set point without storing the (N, terms) contributions: the distinct cos or sin of the
-harmonics once, the velocity columns [qdd, qd_a qd_b, 1] once, then per (atom, joint) group
-the sum of its entries' coefficient x harmonic x velocity column, abs, max.
+:mod:`.trigpoly`) to one peak per (atom, joint). :func:`atom_peaks_kernel` does it without
+storing the (N, terms) contributions, a block of set points at a time: the cos and sin of the
+joint angles, the distinct harmonics from them by the angle-addition formulas, the velocity
+columns [qdd, qd_a qd_b, 1], then per (atom, joint) group the sum of its entries' coefficient
+x harmonic x velocity column, abs, max.
 """
 
 from __future__ import annotations
@@ -14,6 +15,9 @@ import numpy as np
 from numba import njit
 
 __all__ = ["atom_peaks_kernel"]
+
+#: Set points per block of :func:`atom_peaks_kernel`'s inner loops.
+_BLOCK = 64
 
 
 @njit(cache=True, fastmath=False, nogil=True)
@@ -49,35 +53,70 @@ def atom_peaks_kernel(theta, qd, qdd, Ku, Su, lin, hidx, coef, e_term, e_vcol, s
     H = Ku.shape[0]
     E = e_term.shape[0]
     G = starts.shape[0]
-    trig = np.empty(H)
+    B = _BLOCK
+    V = n + n * n + 1
     e_harm = np.empty(E, np.int64)            # per entry: its term's harmonic and coefficient
     e_coef = np.empty(E)
     for e in range(E):
         e_harm[e] = hidx[e_term[e]]
         e_coef[e] = coef[e_term[e]]
-    vel = np.empty(n + n * n + 1)
-    for k in range(N):
+    # a block of set points at a time: the innermost loops run over the block (SIMD)
+    trig = np.empty((H, B))
+    vel = np.empty((V, B))
+    acc = np.empty(B)
+    cj = np.empty((n, B))
+    sj = np.empty((n, B))
+    cs = np.empty(B)
+    sn = np.empty(B)
+    for k0 in range(0, N, B):
+        nb = min(B, N - k0)
+        # cos and sin of k . theta from the joints' by the angle-addition formulas
+        for m in range(n):
+            for b in range(nb):
+                cj[m, b] = np.cos(theta[k0 + b, m])
+                sj[m, b] = np.sin(theta[k0 + b, m])
         for h in range(H):
-            ang = 0.0
+            for b in range(nb):
+                cs[b] = 1.0
+                sn[b] = 0.0
             for m in range(n):
-                if not lin[m]:
-                    ang += Ku[h, m] * theta[k, m]
-            v = np.sin(ang) if Su[h] else np.cos(ang)
-            for m in range(n):
-                if lin[m]:
-                    for _ in range(Ku[h, m]):
-                        v *= theta[k, m]
-            trig[h] = v
+                km = Ku[h, m]
+                if lin[m]:                      # a power of a prismatic joint's length
+                    for _ in range(km):
+                        for b in range(nb):
+                            cs[b] *= theta[k0 + b, m]
+                            sn[b] *= theta[k0 + b, m]
+                    continue
+                sg = 1.0 if km > 0 else -1.0
+                for _ in range(abs(km)):
+                    for b in range(nb):
+                        c, t = cj[m, b], sg * sj[m, b]
+                        cs[b], sn[b] = cs[b] * c - sn[b] * t, sn[b] * c + cs[b] * t
+            if Su[h]:
+                for b in range(nb):
+                    trig[h, b] = sn[b]
+            else:
+                for b in range(nb):
+                    trig[h, b] = cs[b]
         for a in range(n):
-            vel[a] = qdd[k, a]
-            for b in range(n):
-                vel[n + a * n + b] = qd[k, a] * qd[k, b]
-        vel[n + n * n] = 1.0
+            for b in range(nb):
+                vel[a, b] = qdd[k0 + b, a]
+            for c in range(n):
+                for b in range(nb):
+                    vel[n + a * n + c, b] = qd[k0 + b, a] * qd[k0 + b, c]
+        for b in range(nb):
+            vel[V - 1, b] = 1.0
         for g in range(G):
             end = starts[g + 1] if g + 1 < G else E
-            s = 0.0
+            for b in range(nb):
+                acc[b] = 0.0
             for e in range(starts[g], end):
-                s += (trig[e_harm[e]] * e_coef[e]) * vel[e_vcol[e]]
-            s = abs(s)
-            if s > group_peak[g]:
-                group_peak[g] = s
+                th, cf, vc = e_harm[e], e_coef[e], e_vcol[e]
+                for b in range(nb):
+                    acc[b] += (trig[th, b] * cf) * vel[vc, b]
+            peak = group_peak[g]
+            for b in range(nb):
+                v = abs(acc[b])
+                if v > peak:
+                    peak = v
+            group_peak[g] = peak
