@@ -298,27 +298,32 @@ def analysis_pass(robot, trajectory, options=None, provenance=None, chunk=STREAM
         ranking = dataclasses.replace(ranking, rigid_dominance=rigid.result(
             dominance=options.dominance, negligible=options.negligible).dominance)
     choices = ranking.choices()
-    model = simplified = None
+    model = simplified = other = None
     if simplify is not None:
-        model, simplified = _simplify(robot, trajectory, ranking, parts, simplify,
-                                      provenance or {})
+        model, other, finish = _simplify(robot, trajectory, ranking, parts, simplify,
+                                         provenance or {})
         choices = model.choices
     bar.reset(total=N)
     bar.set_description("simplified model")
     errors = TorqueErrorAccumulator(n)
+    # the model of the other rule, compared side by side: its error in the same pass
+    other_errors = None if other is None else TorqueErrorAccumulator(n)
     tau_s_all = []
     for k, (a, b) in enumerate(ranges):
         if hold:
             terms, tau = held[k], held_tau[k]
-        else:
-            terms = GDTerms(*(writer.read(name, a, b)
-                              for name in ("D_tran", "D_rot", "h_tran", "h_rot", "c")),
-                            robot.armature if np.any(robot.armature) else None,
-                            writer.read("tau_f", a, b) if "tau_f" in writer.variables else None)
+        else:       # a built model needs only tau; the ranking's masks need the terms
+            terms = None if model is not None else GDTerms(
+                *(writer.read(name, a, b) for name in ("D_tran", "D_rot", "h_tran", "h_rot",
+                                                       "c")),
+                robot.armature if np.any(robot.armature) else None,
+                writer.read("tau_f", a, b) if "tau_f" in writer.variables else None)
             tau = writer.read("tau", a, b)
         tau_s = simplified_torque(terms, choices, qdd[a:b]) if model is None else \
             model.torque(q[a:b], qd[a:b], qdd[a:b])
         errors.update(tau_s, tau)
+        if other_errors is not None:
+            other_errors.update(other.torque(q[a:b], qd[a:b], qdd[a:b]), tau)
         if writer is not None:
             writer.write(a, {"tau_simplified": tau_s})
         else:
@@ -326,6 +331,8 @@ def analysis_pass(robot, trajectory, options=None, provenance=None, chunk=STREAM
         bar.update(b - a)
     if own:
         bar.close()
+    if simplify is not None:
+        simplified = finish(None if other_errors is None else other_errors.result())
     sample = _concat(samples)
     at = {i: k for k, i in enumerate(sample_idx)}
     verification = {}
@@ -380,6 +387,10 @@ def _with_costs(ds, costs):
 def _simplify(robot, trajectory, ranking, part_peaks, options, provenance):
     """The simplified model deployed (issue 17), the models compared with it, ladder, costs.
 
+    Returns the deployed model, the other rule's explicit model (or None) whose error the
+    caller measures in its pass over the trajectory, and ``finish(other_error)`` giving the
+    dataset of :func:`gd_analyze.workflows.simplify.simplified_dataset`.
+
     The pruned recursive model is always built; the explicit G-D model is derived when the
     chapter rule or ``form="explicit"`` asks for it, when ``explicit`` is ``"always"``, or
     (``"auto"``) when its estimated size is cheap
@@ -399,7 +410,6 @@ def _simplify(robot, trajectory, ranking, part_peaks, options, provenance):
         ladder,
         ladder_skipped,
         simplified_dataset,
-        validate,
     )
 
     tolerance, rule, torque_floor = options.tolerance, options.rule, options.torque_floor
@@ -414,7 +424,7 @@ def _simplify(robot, trajectory, ranking, part_peaks, options, provenance):
     ne = {"multiplications": int(ne["multiplications"]), "additions": int(ne["additions"])}
     derive = rule == "chapter" or form == "explicit" or explicit == "always" or (
         explicit == "auto" and not is_expensive(robot))
-    model, sel, other, other_error, rows, skipped = rec, rec_sel, None, None, [], ""
+    model, sel, other, rows, skipped = rec, rec_sel, None, [], ""
     costs = {"exact recursive": exact, "recursive, budget": dict(rec.cost),
              "newton-euler": ne}
     if derive:
@@ -427,8 +437,6 @@ def _simplify(robot, trajectory, ranking, part_peaks, options, provenance):
         other, _ = build_model(robot, terms, peaks, tolerance=tolerance, rule=other_rule,
                                torque_floor=torque_floor, chapter_choices=ranking.choices(),
                                **common)
-        reference = full_torque(robot, terms)       # tau without computing the G-D terms again
-        other_error = validate(other, [(q, qd, qdd)], reference=reference)
         costs.update({f"explicit, {rule}": dict(ex.cost), "explicit, full": dict(ex.full_cost)})
         deployed = rule == "chapter" or form == "explicit" or (
             form == "cheapest" and _ops(ex.cost) < _ops(rec.cost))
@@ -439,7 +447,8 @@ def _simplify(robot, trajectory, ranking, part_peaks, options, provenance):
             f"{'' if form == 'cheapest' else ', --form recursive'}), and the ladder is of the "
             "explicit form")
         rows = [] if skipped else ladder(robot, terms, peaks, [(q, qd, qdd)],
-                                         torque_floor=torque_floor, reference=reference)
+                                         torque_floor=torque_floor,
+                                         reference=full_torque(robot, terms))
         if deployed:
             model, sel = ex, ex_sel
     else:
@@ -449,11 +458,16 @@ def _simplify(robot, trajectory, ranking, part_peaks, options, provenance):
                                 full_cost=dict(costs.get("explicit, full", model.full_cost)),
                                 program_cache=model.program())
     table = cost_rows(robot.n, model, other=other, ladder_rows=rows, formulation_counts=counts)
-    extra = simplified_dataset(model, sel, other=other, ladder_rows=rows, cost_table=table,
-                               other_error=other_error, full_terms=terms if derive else None)
-    if skipped:
-        extra.attrs["simplified_ladder_skipped"] = skipped
-    return model, extra
+
+    def finish(other_error):
+        extra = simplified_dataset(model, sel, other=other, ladder_rows=rows, cost_table=table,
+                                   other_error=other_error,
+                                   full_terms=terms if derive else None)
+        if skipped:
+            extra.attrs["simplified_ladder_skipped"] = skipped
+        return extra
+
+    return model, other, finish
 
 
 def _ops(cost):
