@@ -193,6 +193,35 @@ def test_ladder_is_skipped_when_the_explicit_model_cannot_pay(tmp_path, monkeypa
         assert "simplified_ladder_skipped" not in ds.attrs
 
 
+def test_form_recursive_derives_no_explicit_model_and_says_so(tmp_path, capsys):
+    """Under --form recursive the explicit model cannot be deployed: --explicit auto does not
+    derive it (no explicit costs, no ladder), the report says it was not derived instead of
+    showing a count; the deployed model is the one of the default form (the recursive one is
+    the cheaper on the shipped trajectory). --explicit always still derives it."""
+    import xarray as xr
+
+    assert main(["puma560", str(SHIPPED), "-o", str(tmp_path / "rec"), "-q",
+                 "--form", "recursive"]) == 0
+    assert main(["puma560", str(SHIPPED), "-o", str(tmp_path / "default"), "-q",
+                 "--no-report"]) == 0
+    rec = json.loads((tmp_path / "rec" / "simplified_model.json").read_text())
+    default = json.loads((tmp_path / "default" / "simplified_model.json").read_text())
+    assert rec["form"] == default["form"] == "recursive"
+    assert rec["recursive"]["dropped"] == default["recursive"]["dropped"]
+    assert not any(k.startswith("explicit") for k in rec["costs"])
+    assert any(k.startswith("explicit") for k in default["costs"])
+    with xr.open_dataset(tmp_path / "rec" / "results.h5", engine="h5netcdf") as ds:
+        assert "not derived under --form recursive" in ds.attrs["simplified_ladder_skipped"]
+        assert not any(str(m).startswith("explicit") for m in ds["cost_model"].values)
+    html = (tmp_path / "rec" / "report.html").read_text(encoding="utf-8")
+    assert "the full explicit model was not derived" in html
+    assert "Tolerance ladder not built: the explicit G-D model is not derived" in html
+    assert main(["puma560", str(SHIPPED), "-o", str(tmp_path / "always"), "-q", "--no-report",
+                 "--form", "recursive", "--explicit", "always"]) == 0
+    always = json.loads((tmp_path / "always" / "simplified_model.json").read_text())
+    assert "explicit, full" in always["costs"]
+
+
 def test_akb_anchors_only_for_the_puma(tmp_path, capsys):
     """Armstrong, Khatib & Burdick's counts are the PUMA 560's: another six-joint arm's cost
     table does not list them."""

@@ -393,7 +393,8 @@ def _simplify(robot, trajectory, ranking, part_peaks, options, provenance):
 
     The pruned recursive model is always built; the explicit G-D model is derived when the
     chapter rule or ``form="explicit"`` asks for it, when ``explicit`` is ``"always"``, or
-    (``"auto"``) when its estimated size is cheap
+    (``"auto"``) when it may be deployed (``form`` is not ``"recursive"``) and its estimated
+    size is cheap
     (:func:`gd_analyze.core.symbolic.explicit_estimate.is_expensive`). Under the budget rule and
     ``form="cheapest"`` the cheaper of the pruned recursive and pruned explicit models is
     deployed (multiplications + additions; the recursive one on a tie).
@@ -422,8 +423,9 @@ def _simplify(robot, trajectory, ranking, part_peaks, options, provenance):
     exact = rec.costs["exact recursive"]
     ne = counts["newton-euler"]
     ne = {"multiplications": int(ne["multiplications"]), "additions": int(ne["additions"])}
+    # "auto": only where the explicit form may be deployed (not under --form recursive)
     derive = rule == "chapter" or form == "explicit" or explicit == "always" or (
-        explicit == "auto" and not is_expensive(robot))
+        explicit == "auto" and form != "recursive" and not is_expensive(robot))
     model, sel, other, rows, skipped = rec, rec_sel, None, [], ""
     costs = {"exact recursive": exact, "recursive, budget": dict(rec.cost),
              "newton-euler": ne}
@@ -453,7 +455,10 @@ def _simplify(robot, trajectory, ranking, part_peaks, options, provenance):
             model, sel = ex, ex_sel
     else:
         skipped = ("not built: the explicit G-D model of this arm is estimated too large to "
-                   "pay (give --explicit always to derive it)")
+                   "pay (give --explicit always to derive it)") if form != "recursive" or \
+            explicit == "never" else ("not built: the explicit G-D model is not derived under "
+                                      "--form recursive, where it cannot be deployed (give "
+                                      "--explicit always to derive it)")
     model = dataclasses.replace(model, costs=costs,
                                 full_cost=dict(costs.get("explicit, full", model.full_cost)),
                                 program_cache=model.program())
