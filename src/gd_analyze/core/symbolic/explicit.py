@@ -484,7 +484,8 @@ def term_peaks(terms, offset, q, qd, qdd, chunk=65536, prismatic=None):
         Joint positions [rad], velocities [rad/s] and accelerations [rad/s^2] (m, m/s and
         m/s^2 for a prismatic joint).
     chunk : int, optional
-        Set points at once (bounds memory).
+        Set points per call of the compiled kernel
+        (:func:`.term_kernels.atom_peaks_kernel`); memory is O(terms) whatever N is.
     prismatic : array_like of bool, shape (n,), optional
         The prismatic joints (their columns of K are powers of q_i [m]); default none.
 

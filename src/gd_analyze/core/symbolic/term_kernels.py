@@ -48,6 +48,31 @@ def atom_peaks_kernel(theta, qd, qdd, Ku, Su, lin, hidx, coef, e_term, e_vcol, s
         First entry of every group.
     group_peak : ndarray, shape (G,)
         Running peaks |sum of the group's entries| [N m or N], updated by maximum.
+
+    Raises
+    ------
+    None: compiled without bounds checks; the arrays must be consistent, as
+    :func:`.explicit.term_peaks` builds them.
+
+    Notes
+    -----
+    tau = D qdd + h + c, Eq. (3.4-24) of Fu, Gonzalez & Lee (1987), with every element a sum
+    of coefficient x cos/sin(k . theta) (:mod:`.trigpoly`); cos and sin of k . theta by the
+    angle-addition formulas, as the emitted programs form them (:mod:`.codegen`).
+
+    Examples
+    --------
+    One arm joint, one term 2 cos(theta_1) of c_1 (velocity columns [qdd_1, qd_1 qd_1, 1]:
+    the constant column 2); its peak over theta_1 = 0 and pi is 2:
+
+    >>> import numpy as np
+    >>> peak = np.zeros(1)
+    >>> atom_peaks_kernel(np.array([[0.0], [np.pi]]), np.zeros((2, 1)), np.zeros((2, 1)),
+    ...                   np.array([[1]]), np.array([False]), np.array([False]),
+    ...                   np.array([0]), np.array([2.0]), np.array([0]), np.array([2]),
+    ...                   np.array([0]), peak)
+    >>> peak
+    array([2.])
     """
     N, n = theta.shape
     H = Ku.shape[0]
