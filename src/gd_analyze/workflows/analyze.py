@@ -24,6 +24,7 @@ from ..core.dynamics.dalembert import GDTerms, allocate_terms, gd_terms
 from ..core.model.drives import has_drives
 from ..core.selection.simplified import SimplifiedModel, simplified_torque
 from ..formulations.compare import FORMULATIONS_MAX_SETPOINTS
+from .deploy import deploy_models
 from .options import AnalysisOptions
 
 __all__ = ["Analysis", "AnalysisPass", "analysis_pass", "analyze", "analyze_to_file", "verify",
@@ -240,6 +241,28 @@ def analysis_pass(robot, trajectory, options=None, provenance=None, chunk=STREAM
     -----
     Source: Sec. 3.4.1 of Fu, Gonzalez & Lee (1987); terms from Eqs. (3.4-24) to (3.4-28).
     """
+    from concurrent.futures import ThreadPoolExecutor
+
+    from .peak_jobs import start_peaks
+
+    args = (robot, trajectory, options, provenance, chunk, writer, progress, terms)
+    simplify = (AnalysisOptions() if options is None else options).simplify
+    if simplify is None:
+        return _analysis_pass(*args, background=None)
+    # the simplification's compiled peak passes need only the trajectory: they run in threads
+    # (the kernels release the GIL) beside the pass over the G-D terms, always
+    with ThreadPoolExecutor(max_workers=2, thread_name_prefix="gd-peaks") as pool:
+        background = start_peaks(pool, robot, trajectory, simplify)
+        try:
+            return _analysis_pass(*args, background=background)
+        finally:
+            for job in background.values():
+                job.cancel()
+
+
+def _analysis_pass(robot, trajectory, options, provenance, chunk, writer, progress, terms,
+                   background):
+    """:func:`analysis_pass` with the simplification's peak passes started (``background``)."""
     from ..core.selection.budget import PartPeaks
     from ..core.selection.ranking import RankingAccumulator
     from ..core.selection.simplified import TorqueErrorAccumulator
@@ -300,8 +323,8 @@ def analysis_pass(robot, trajectory, options=None, provenance=None, chunk=STREAM
     choices = ranking.choices()
     model = simplified = other = None
     if simplify is not None:
-        model, other, finish = _simplify(robot, trajectory, ranking, parts, simplify,
-                                         provenance or {})
+        model, other, finish = deploy_models(robot, trajectory, ranking, parts, simplify,
+                                             provenance or {}, background)
         choices = model.choices
     bar.reset(total=N)
     bar.set_description("simplified model")
@@ -382,101 +405,6 @@ def _with_costs(ds, costs):
         ds = ds.assign(costs.data_vars)
         ds.attrs.update(costs.attrs)
     return ds
-
-
-def _simplify(robot, trajectory, ranking, part_peaks, options, provenance):
-    """The simplified model deployed (issue 17), the models compared with it, ladder, costs.
-
-    Returns the deployed model, the other rule's explicit model (or None) whose error the
-    caller measures in its pass over the trajectory, and ``finish(other_error)`` giving the
-    dataset of :func:`gd_analyze.workflows.simplify.simplified_dataset`.
-
-    The pruned recursive model is always built; the explicit G-D model is derived when the
-    chapter rule or ``form="explicit"`` asks for it, when ``explicit`` is ``"always"``, or
-    (``"auto"``) when it may be deployed (``form`` is not ``"recursive"``) and its estimated
-    size is cheap
-    (:func:`gd_analyze.core.symbolic.explicit_estimate.is_expensive`). Under the budget rule and
-    ``form="cheapest"`` the cheaper of the pruned recursive and pruned explicit models is
-    deployed (multiplications + additions; the recursive one on a tie).
-    """
-    from ..core.symbolic.explicit_estimate import is_expensive
-    from ..formulations.opcount import operation_counts
-    from ..io.explicit_cache import explicit_terms
-    from .simplify import (
-        build_model,
-        build_recursive,
-        collect_peaks,
-        cost_rows,
-        full_torque,
-        ladder,
-        ladder_skipped,
-        simplified_dataset,
-    )
-
-    tolerance, rule, torque_floor = options.tolerance, options.rule, options.torque_floor
-    explicit, form = options.explicit, options.form
-    q, qd, qdd = trajectory.q, trajectory.qd, trajectory.qdd
-    common = dict(ranking=ranking, trajectory_sha256=trajectory.sha256, provenance=provenance)
-    counts = operation_counts(robot)
-    rec, rec_sel = build_recursive(robot, q, qd, qdd, tolerance=tolerance,
-                                   torque_floor=torque_floor, **common)
-    exact = rec.costs["exact recursive"]
-    ne = counts["newton-euler"]
-    ne = {"multiplications": int(ne["multiplications"]), "additions": int(ne["additions"])}
-    # "auto": only where the explicit form may be deployed (not under --form recursive)
-    derive = rule == "chapter" or form == "explicit" or explicit == "always" or (
-        explicit == "auto" and form != "recursive" and not is_expensive(robot))
-    model, sel, other, rows, skipped = rec, rec_sel, None, [], ""
-    costs = {"exact recursive": exact, "recursive, budget": dict(rec.cost),
-             "newton-euler": ne}
-    if derive:
-        terms, _ = explicit_terms(robot)
-        peaks = collect_peaks(robot, terms, q, qd, qdd, gd=part_peaks)
-        ex, ex_sel = build_model(robot, terms, peaks, tolerance=tolerance, rule=rule,
-                                 torque_floor=torque_floor,
-                                 chapter_choices=ranking.choices(), **common)
-        other_rule = "chapter" if rule == "budget" else "budget"
-        other, _ = build_model(robot, terms, peaks, tolerance=tolerance, rule=other_rule,
-                               torque_floor=torque_floor, chapter_choices=ranking.choices(),
-                               **common)
-        costs.update({f"explicit, {rule}": dict(ex.cost), "explicit, full": dict(ex.full_cost)})
-        deployed = rule == "chapter" or form == "explicit" or (
-            form == "cheapest" and _ops(ex.cost) < _ops(rec.cost))
-        # the ladder is of the explicit form: built only where that form is deployed
-        skipped = ladder_skipped(ex.full_cost, counts) if deployed else (
-            f"not built: the deployed model is the pruned recursive one ({_ops(rec.cost):,} "
-            f"operations against the pruned explicit one's {_ops(ex.cost):,}"
-            f"{'' if form == 'cheapest' else ', --form recursive'}), and the ladder is of the "
-            "explicit form")
-        rows = [] if skipped else ladder(robot, terms, peaks, [(q, qd, qdd)],
-                                         torque_floor=torque_floor,
-                                         reference=full_torque(robot, terms))
-        if deployed:
-            model, sel = ex, ex_sel
-    else:
-        skipped = ("not built: the explicit G-D model of this arm is estimated too large to "
-                   "pay (give --explicit always to derive it)") if form != "recursive" or \
-            explicit == "never" else ("not built: the explicit G-D model is not derived under "
-                                      "--form recursive, where it cannot be deployed (give "
-                                      "--explicit always to derive it)")
-    model = dataclasses.replace(model, costs=costs,
-                                full_cost=dict(costs.get("explicit, full", model.full_cost)),
-                                program_cache=model.program())
-    table = cost_rows(robot.n, model, other=other, ladder_rows=rows, formulation_counts=counts)
-
-    def finish(other_error):
-        extra = simplified_dataset(model, sel, other=other, ladder_rows=rows, cost_table=table,
-                                   other_error=other_error,
-                                   full_terms=terms if derive else None)
-        if skipped:
-            extra.attrs["simplified_ladder_skipped"] = skipped
-        return extra
-
-    return model, other, finish
-
-
-def _ops(cost):
-    return int(cost["multiplications"]) + int(cost["additions"])
 
 
 def analyze(robot, trajectory, options=None, settings=None):

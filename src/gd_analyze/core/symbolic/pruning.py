@@ -79,7 +79,7 @@ CRITERIA = ("peaks", "error")
 
 
 def prune(robot, base, q, qd, qdd, eps, torque_floor=0.0, strategy="cost",
-          criterion="peaks"):
+          criterion="peaks", peaks=None):
     """Choose the (base parameter, part) pairs to drop within the error budget EPS.
 
     Parameters
@@ -109,6 +109,10 @@ def prune(robot, base, q, qd, qdd, eps, torque_floor=0.0, strategy="cost",
         peak of its whole contribution). ``"error"``: the bound is the largest |sum of the
         dropped contributions| on the trajectory itself, i.e. the pruned model's error
         there (tighter: contributions peak at different set points or cancel).
+    peaks : tuple of ndarray, optional
+        For criterion "peaks": :func:`contribution_peaks` of these base parameters on this
+        trajectory, when the caller has computed them (e.g. while doing something else);
+        computed here otherwise.
 
     Returns
     -------
@@ -140,7 +144,8 @@ def prune(robot, base, q, qd, qdd, eps, torque_floor=0.0, strategy="cost",
         tau_peak, peak, whole_peak = _peaks_of(C)
     else:                                # peaks only, accumulated chunk by chunk
         C = None
-        tau_peak, peak, whole_peak = contribution_peaks(robot, base, q, qd, qdd)
+        tau_peak, peak, whole_peak = contribution_peaks(robot, base, q, qd, qdd) \
+            if peaks is None else peaks
     scale = np.maximum(tau_peak, torque_floor)
     sel = _Selection(robot, base, C, peak, whole_peak, eps * scale, criterion)
     if strategy == "peak":

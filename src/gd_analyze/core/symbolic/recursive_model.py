@@ -250,7 +250,7 @@ class RecursiveModel:
                    round_off=masks.get("round_off"))
 
 
-def recursive_model(robot, q, qd, qdd, tolerance, torque_floor=0.0, base=None):
+def recursive_model(robot, q, qd, qdd, tolerance, torque_floor=0.0, base=None, peaks=None):
     """Prune the recursive model within the error budget on a trajectory.
 
     Parameters
@@ -266,6 +266,9 @@ def recursive_model(robot, q, qd, qdd, tolerance, torque_floor=0.0, base=None):
         TAU [N m or N].
     base : BaseParameters, optional
         The robot's base parameters, if already derived.
+    peaks : tuple of ndarray, optional
+        :func:`.pruning.contribution_peaks` of ``base`` on the trajectory, if already
+        computed.
 
     Returns
     -------
@@ -286,7 +289,7 @@ def recursive_model(robot, q, qd, qdd, tolerance, torque_floor=0.0, base=None):
     from .pruning import prune
 
     base = base_parameters(robot) if base is None else base
-    pr = prune(robot, base, q, qd, qdd, tolerance, torque_floor=torque_floor)
+    pr = prune(robot, base, q, qd, qdd, tolerance, torque_floor=torque_floor, peaks=peaks)
     single = pr.dropped & ~pr.whole[:, None]
     by_part = np.concatenate([(pr.peak * single[:, :, None]).sum(axis=0),
                               pr.whole_peak[pr.whole].sum(axis=0)[None, :]], axis=0) \
