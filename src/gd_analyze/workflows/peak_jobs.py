@@ -41,7 +41,7 @@ def derives_explicit(robot, options):
 
 
 def contribution_job(robot, q, qd, qdd):
-    """The base parameters and their contribution peaks on a trajectory, for :func:`build_recursive`.
+    """The base parameters and their contribution peaks on a trajectory.
 
     Parameters
     ----------
@@ -60,6 +60,7 @@ def contribution_job(robot, q, qd, qdd):
 
     Notes
     -----
+    What :func:`gd_analyze.workflows.deploy.build_recursive` takes as ``contributions``.
     Compiled (:mod:`gd_analyze.core.symbolic.regressor_kernels`) and releasing the GIL, so the
     main job runs it in a thread beside its pass over the G-D terms (:func:`start_peaks`).
     """
