@@ -30,10 +30,11 @@ def test_reads_back_with_xarray(written, puma):
         assert set(REQUIRED) <= set(ds.data_vars)
         from gd_analyze.core.symbolic.base_parameters import base_parameters
 
-        # cost rows: exact and pruned recursive, explicit full and ladder (4) and this model,
-        # the chapter model, 3 formulations, Table 3.5 (3), AKB (2)
+        # cost rows: exact and pruned recursive (this model), explicit full, chapter and
+        # budget, 3 formulations, Table 3.5 (3), AKB (2); no ladder: the explicit form is not
+        # deployed (the recursive one is cheaper)
         assert ds.sizes == {"setpoint": 31, "joint": 6, "joint_k": 6, "element": 27, "xyz": 3,
-                            "xyz_k": 3, "cost_model": 16, "ladder_tolerance": 4,
+                            "xyz_k": 3, "cost_model": 13,
                             "base_parameter": base_parameters(puma).rank, "torque_part": 3}
         assert ds.D_tran.dims == ("setpoint", "joint", "joint_k")
         assert ds.element.values[0] == "D11" and ds.element.values[-1] == "h6"

@@ -148,7 +148,16 @@ def test_report_section_reads_the_stored_dataset(tmp_path, capsys):
     assert ctx["files"] == ["simplified_model.c", "simplified_model.py"]
     labels = [row[0] for row in ctx["costs"]["rows"]]
     assert "AKB 1986 simplified (1 %)" in labels and "project N-E as implemented" in labels
-    assert len(ctx["ladder"]["rows"]) == 4
+    # the recursive form is deployed (cheaper): the explicit form's ladder is not built, and
+    # the report says so instead of a table
+    assert ctx["ladder"] is None
+    total = dict(zip(ds["cost_model"].values, ds["cost_total"].values))
+    rec = total["recursive N-E, budget EPS=0.01 (this model)"]
+    ex = total["explicit, budget EPS=0.01"]
+    assert rec < ex
+    assert ctx["ladder_note"].startswith("Tolerance ladder not built: the deployed model is "
+                                         "the pruned recursive one")
+    assert f"{int(rec):,} operations" in ctx["ladder_note"] and f"{int(ex):,}" in ctx["ladder_note"]
     # the stored bound holds the measured error
     assert (ds["tau_error_peak"].values <= ds["simplified_bound"].values + 1e-12).all()
     assert (ds["simplified_bound"].values <= 0.01 * ds["simplified_scale"].values).all()
@@ -157,16 +166,18 @@ def test_report_section_reads_the_stored_dataset(tmp_path, capsys):
 
 
 def test_ladder_is_skipped_when_the_explicit_model_cannot_pay(tmp_path, monkeypatch, capsys):
-    """With the limit below the PUMA's full/N-E ratio (the full explicit model costs more than
-    half of Newton-Euler's 1,212) the ladder is not built: no ladder_* variables, the reason
-    stored and shown in both reports; the model itself, its bound and its cost table are still
-    there. With the default limit it is built."""
+    """The explicit form deployed (--form explicit): with the limit below the PUMA's full/N-E
+    ratio (the full explicit model costs more than half of Newton-Euler's 1,212) the ladder is
+    not built: no ladder_* variables, the reason stored and shown in both reports; the model
+    itself, its bound and its cost table are still there. With the default limit it is
+    built."""
     import xarray as xr
 
     import gd_analyze.workflows.simplify as simplify
 
     monkeypatch.setattr(simplify, "LADDER_COST_LIMIT", 0.5)
-    assert main(["puma560", str(SHIPPED), "-o", str(tmp_path / "skip"), "-q"]) == 0
+    assert main(["puma560", str(SHIPPED), "-o", str(tmp_path / "skip"), "-q",
+                 "--form", "explicit"]) == 0
     full = json.loads((tmp_path / "skip" / "simplified_model.json").read_text())["full_cost"]
     with xr.open_dataset(tmp_path / "skip" / "results.h5", engine="h5netcdf") as ds:
         assert "ladder_operations" not in ds and "cost_total" in ds
@@ -176,10 +187,39 @@ def test_ladder_is_skipped_when_the_explicit_model_cannot_pay(tmp_path, monkeypa
     assert "Tolerance ladder not built" in html
     monkeypatch.setattr(simplify, "LADDER_COST_LIMIT", 4.0)
     assert main(["puma560", str(SHIPPED), "-o", str(tmp_path / "built"), "-q",
-                 "--no-report"]) == 0
+                 "--no-report", "--form", "explicit"]) == 0
     with xr.open_dataset(tmp_path / "built" / "results.h5", engine="h5netcdf") as ds:
         assert ds.sizes["ladder_tolerance"] == 4
         assert "simplified_ladder_skipped" not in ds.attrs
+
+
+def test_form_recursive_derives_no_explicit_model_and_says_so(tmp_path, capsys):
+    """Under --form recursive the explicit model cannot be deployed: --explicit auto does not
+    derive it (no explicit costs, no ladder), the report says it was not derived instead of
+    showing a count; the deployed model is the one of the default form (the recursive one is
+    the cheaper on the shipped trajectory). --explicit always still derives it."""
+    import xarray as xr
+
+    assert main(["puma560", str(SHIPPED), "-o", str(tmp_path / "rec"), "-q",
+                 "--form", "recursive"]) == 0
+    assert main(["puma560", str(SHIPPED), "-o", str(tmp_path / "default"), "-q",
+                 "--no-report"]) == 0
+    rec = json.loads((tmp_path / "rec" / "simplified_model.json").read_text())
+    default = json.loads((tmp_path / "default" / "simplified_model.json").read_text())
+    assert rec["form"] == default["form"] == "recursive"
+    assert rec["recursive"]["dropped"] == default["recursive"]["dropped"]
+    assert not any(k.startswith("explicit") for k in rec["costs"])
+    assert any(k.startswith("explicit") for k in default["costs"])
+    with xr.open_dataset(tmp_path / "rec" / "results.h5", engine="h5netcdf") as ds:
+        assert "not derived under --form recursive" in ds.attrs["simplified_ladder_skipped"]
+        assert not any(str(m).startswith("explicit") for m in ds["cost_model"].values)
+    html = (tmp_path / "rec" / "report.html").read_text(encoding="utf-8")
+    assert "the full explicit model was not derived" in html
+    assert "Tolerance ladder not built: the explicit G-D model is not derived" in html
+    assert main(["puma560", str(SHIPPED), "-o", str(tmp_path / "always"), "-q", "--no-report",
+                 "--form", "recursive", "--explicit", "always"]) == 0
+    always = json.loads((tmp_path / "always" / "simplified_model.json").read_text())
+    assert "explicit, full" in always["costs"]
 
 
 def test_akb_anchors_only_for_the_puma(tmp_path, capsys):

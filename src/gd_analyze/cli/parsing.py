@@ -211,7 +211,8 @@ def _add_budget_arguments(p, rule=True, where="on the analysed trajectory", form
         g.add_argument("--explicit", choices=("auto", "always", "never"),
                        default=defaults["explicit"],
                        help="derive the explicit G-D model too: auto (default) where its "
-                            "estimated size is cheap, always, or never")
+                            "estimated size is cheap and it may be deployed (not with --form "
+                            "recursive), always, or never")
         g.add_argument("--form", choices=("cheapest", "recursive", "explicit"),
                        default=defaults["form"],
                        help="the simplified model written: the cheaper of the pruned recursive "

@@ -34,7 +34,7 @@ _ELSEWHERE = {
     "formulations_joint_types",
 }
 #: The ``explicit`` setting in words.
-_EXPLICIT = {"auto": "derived when its estimated size is cheap (auto)",
+_EXPLICIT = {"auto": "derived when its estimated size is cheap and it may be deployed (auto)",
              "always": "always derived", "never": "never derived"}
 #: (row, setting asked for, what the model records it was built with), in the order shown.
 _SETTINGS = (

@@ -24,6 +24,7 @@ from ..core.dynamics.dalembert import GDTerms, allocate_terms, gd_terms
 from ..core.model.drives import has_drives
 from ..core.selection.simplified import SimplifiedModel, simplified_torque
 from ..formulations.compare import FORMULATIONS_MAX_SETPOINTS
+from .deploy import deploy_models
 from .options import AnalysisOptions
 
 __all__ = ["Analysis", "AnalysisPass", "analysis_pass", "analyze", "analyze_to_file", "verify",
@@ -240,6 +241,28 @@ def analysis_pass(robot, trajectory, options=None, provenance=None, chunk=STREAM
     -----
     Source: Sec. 3.4.1 of Fu, Gonzalez & Lee (1987); terms from Eqs. (3.4-24) to (3.4-28).
     """
+    from concurrent.futures import ThreadPoolExecutor
+
+    from .peak_jobs import start_peaks
+
+    args = (robot, trajectory, options, provenance, chunk, writer, progress, terms)
+    simplify = (AnalysisOptions() if options is None else options).simplify
+    if simplify is None:
+        return _analysis_pass(*args, background=None)
+    # the simplification's compiled peak passes need only the trajectory: they run in threads
+    # (the kernels release the GIL) beside the pass over the G-D terms, always
+    with ThreadPoolExecutor(max_workers=2, thread_name_prefix="gd-peaks") as pool:
+        background = start_peaks(pool, robot, trajectory, simplify)
+        try:
+            return _analysis_pass(*args, background=background)
+        finally:
+            for job in background.values():
+                job.cancel()
+
+
+def _analysis_pass(robot, trajectory, options, provenance, chunk, writer, progress, terms,
+                   background):
+    """:func:`analysis_pass` with the simplification's peak passes started (``background``)."""
     from ..core.selection.budget import PartPeaks
     from ..core.selection.ranking import RankingAccumulator
     from ..core.selection.simplified import TorqueErrorAccumulator
@@ -298,27 +321,32 @@ def analysis_pass(robot, trajectory, options=None, provenance=None, chunk=STREAM
         ranking = dataclasses.replace(ranking, rigid_dominance=rigid.result(
             dominance=options.dominance, negligible=options.negligible).dominance)
     choices = ranking.choices()
-    model = simplified = None
+    model = simplified = other = None
     if simplify is not None:
-        model, simplified = _simplify(robot, trajectory, ranking, parts, simplify,
-                                      provenance or {})
+        model, other, finish = deploy_models(robot, trajectory, ranking, parts, simplify,
+                                             provenance or {}, background)
         choices = model.choices
     bar.reset(total=N)
     bar.set_description("simplified model")
     errors = TorqueErrorAccumulator(n)
+    # the model of the other rule, compared side by side: its error in the same pass
+    other_errors = None if other is None else TorqueErrorAccumulator(n)
     tau_s_all = []
     for k, (a, b) in enumerate(ranges):
         if hold:
             terms, tau = held[k], held_tau[k]
-        else:
-            terms = GDTerms(*(writer.read(name, a, b)
-                              for name in ("D_tran", "D_rot", "h_tran", "h_rot", "c")),
-                            robot.armature if np.any(robot.armature) else None,
-                            writer.read("tau_f", a, b) if "tau_f" in writer.variables else None)
+        else:       # a built model needs only tau; the ranking's masks need the terms
+            terms = None if model is not None else GDTerms(
+                *(writer.read(name, a, b) for name in ("D_tran", "D_rot", "h_tran", "h_rot",
+                                                       "c")),
+                robot.armature if np.any(robot.armature) else None,
+                writer.read("tau_f", a, b) if "tau_f" in writer.variables else None)
             tau = writer.read("tau", a, b)
         tau_s = simplified_torque(terms, choices, qdd[a:b]) if model is None else \
             model.torque(q[a:b], qd[a:b], qdd[a:b])
         errors.update(tau_s, tau)
+        if other_errors is not None:
+            other_errors.update(other.torque(q[a:b], qd[a:b], qdd[a:b]), tau)
         if writer is not None:
             writer.write(a, {"tau_simplified": tau_s})
         else:
@@ -326,6 +354,8 @@ def analysis_pass(robot, trajectory, options=None, provenance=None, chunk=STREAM
         bar.update(b - a)
     if own:
         bar.close()
+    if simplify is not None:
+        simplified = finish(None if other_errors is None else other_errors.result())
     sample = _concat(samples)
     at = {i: k for k, i in enumerate(sample_idx)}
     verification = {}
@@ -375,114 +405,6 @@ def _with_costs(ds, costs):
         ds = ds.assign(costs.data_vars)
         ds.attrs.update(costs.attrs)
     return ds
-
-
-def _simplify(robot, trajectory, ranking, part_peaks, options, provenance):
-    """The simplified model deployed (issue 17), the models compared with it, ladder, costs.
-
-    The pruned recursive model is always built; the explicit G-D model is derived when the
-    chapter rule or ``form="explicit"`` asks for it, when ``explicit`` is ``"always"``, or
-    (``"auto"``) when its estimated size is cheap
-    (:func:`gd_analyze.core.symbolic.explicit_estimate.is_expensive`). Under the budget rule and
-    ``form="cheapest"`` the cheaper of the pruned recursive and pruned explicit models is
-    deployed (multiplications + additions; the recursive one on a tie).
-    """
-    from ..core.symbolic.explicit_estimate import is_expensive
-    from ..formulations.opcount import operation_counts
-    from ..io.explicit_cache import explicit_terms
-    from .deploy import robot_region
-    from .simplify import (
-        build_model,
-        build_recursive,
-        collect_peaks,
-        cost_rows,
-        full_torque,
-        ladder,
-        ladder_skipped,
-        simplified_dataset,
-        validate,
-    )
-
-    tolerance, rule, torque_floor = options.tolerance, options.rule, options.torque_floor
-    explicit, form = options.explicit, options.form
-    q, qd, qdd = trajectory.q, trajectory.qd, trajectory.qdd
-    common = dict(ranking=ranking, trajectory_sha256=trajectory.sha256, provenance=provenance)
-    counts = operation_counts(robot)
-    region, missing = robot_region(robot) if rule == "budget" else (None, "")
-    proved = region is not None and options.guarantee != "trajectory"
-    rec, rec_sel = build_recursive(robot, q, qd, qdd, tolerance=tolerance,
-                                   torque_floor=torque_floor, region=region if proved else None,
-                                   sample_region=region, region_missing=missing, **common)
-    exact = rec.costs["exact recursive"]
-    ne = counts["newton-euler"]
-    ne = {"multiplications": int(ne["multiplications"]), "additions": int(ne["additions"])}
-    derive = rule == "chapter" or form == "explicit" or explicit == "always" or (
-        explicit == "auto" and not is_expensive(robot))
-    model, sel, other, other_error, rows, skipped = rec, rec_sel, None, None, [], ""
-    costs = {"exact recursive": exact, "recursive, budget": dict(rec.cost),
-             "newton-euler": ne}
-    if derive:
-        terms, _ = explicit_terms(robot)
-        peaks = collect_peaks(robot, terms, q, qd, qdd, gd=part_peaks)
-        ex, ex_sel = build_model(robot, terms, peaks, tolerance=tolerance, rule=rule,
-                                 torque_floor=torque_floor,
-                                 chapter_choices=ranking.choices(), **common)
-        other_rule = "chapter" if rule == "budget" else "budget"
-        other, _ = build_model(robot, terms, peaks, tolerance=tolerance, rule=other_rule,
-                               torque_floor=torque_floor, chapter_choices=ranking.choices(),
-                               **common)
-        reference = full_torque(robot, terms)       # tau without computing the G-D terms again
-        other_error = validate(other, [(q, qd, qdd)], reference=reference)
-        costs.update({f"explicit, {rule}": dict(ex.cost), "explicit, full": dict(ex.full_cost)})
-        skipped = ladder_skipped(ex.full_cost, counts)
-        rows = [] if skipped else ladder(robot, terms, peaks, [(q, qd, qdd)],
-                                         torque_floor=torque_floor, reference=reference)
-        if rule == "chapter" or form == "explicit" or (
-                form == "cheapest" and not proved and _ops(ex.cost) < _ops(rec.cost)):
-            model, sel = ex, ex_sel
-        elif proved and form == "cheapest" and _ops(ex.full_cost) < _ops(rec.cost):
-            # the exact explicit model holds everywhere: proved with a bound of 0
-            full, sel = build_model(robot, terms, peaks, tolerance=0.0, rule="budget",
-                                    torque_floor=torque_floor,
-                                    chapter_choices=ranking.choices(), **common)
-            g = rec.guarantee
-            model = dataclasses.replace(
-                full, tolerance=float(tolerance), bound=[0.0] * robot.n,
-                guarantee=dataclasses.replace(
-                    g, bound=np.zeros(robot.n), sampled_error=np.zeros(robot.n),
-                    method="the exact explicit G-D model (nothing dropped), cheaper than the "
-                           "recursive model pruned over the region; scale: " + g.method))
-    else:
-        skipped = ("not built: the explicit G-D model of this arm is estimated too large to "
-                   "pay (give --explicit always to derive it)")
-    model = dataclasses.replace(model, costs=costs,
-                                full_cost=dict(costs.get("explicit, full", model.full_cost)),
-                                program_cache=model.program(),
-                                guarantee=model.guarantee if model.guarantee is not None
-                                else _trajectory_guarantee(model, sel, trajectory, missing))
-    table = cost_rows(robot.n, model, other=other, ladder_rows=rows, formulation_counts=counts)
-    extra = simplified_dataset(model, sel, other=other, ladder_rows=rows, cost_table=table,
-                               other_error=other_error, full_terms=terms if derive else None)
-    if skipped:
-        extra.attrs["simplified_ladder_skipped"] = skipped
-    return model, extra
-
-
-def _trajectory_guarantee(model, sel, trajectory, missing=""):
-    """The explicit budget model's guarantee on its trajectory (None: chapter rule)."""
-    from ..core.selection.guarantee import Guarantee
-
-    if model.rule != "budget":
-        return None
-    return Guarantee("trajectory", float(model.tolerance), bound=np.asarray(model.bound, float),
-                     scale=np.asarray(sel.scale, float), trajectory_sha256=trajectory.sha256,
-                     region_missing=missing,
-                     method="sum of the dropped pairs' peak contributions on the trajectory "
-                            "(triangle inequality)")
-
-
-def _ops(cost):
-    return int(cost["multiplications"]) + int(cost["additions"])
 
 
 def analyze(robot, trajectory, options=None, settings=None):

@@ -1,11 +1,14 @@
-"""The recursive simplified model as the main job builds it (issue 17).
+"""The simplified model the main job deploys (issue 17), and the recursive one it builds.
 
 robot -> base parameters -> pruned recursive model within the budget on the trajectory ->
-SimplifiedModel of the recursive form, with the exact recursive model's count beside it.
-Nothing here prints or writes files.
+SimplifiedModel of the recursive form, with the exact recursive model's count beside it
+(:func:`build_recursive`); beside it the explicit models where derived, the cheaper deployed
+(:func:`deploy_models`). Nothing here prints or writes files.
 """
 
 from __future__ import annotations
+
+import dataclasses
 
 import numpy as np
 
@@ -14,7 +17,8 @@ from ..core.selection.ranking import DEFAULT_DOMINANCE, DEFAULT_NEGLIGIBLE
 from ..core.selection.simplified import SimplifiedModel
 
 __all__ = ["build_recursive", "recursive_simplified", "replace_cost", "region_model",
-           "trajectory_guarantee", "certified", "robot_region", "REGION_SAMPLES"]
+           "trajectory_guarantee", "certified", "robot_region", "deploy_models",
+           "REGION_SAMPLES"]
 
 #: Positions sampled over the region for a model's sampled error (its velocity and
 #: acceleration at the worst vertices).
@@ -192,7 +196,7 @@ def trajectory_guarantee(robot, base, rec, tolerance, trajectory_sha256="", regi
 
 def build_recursive(robot, q, qd, qdd, tolerance=DEFAULT_TOLERANCE, torque_floor=0.0,
                     ranking=None, trajectory_sha256="", provenance=None, region=None,
-                    sample_region=None, region_missing=""):
+                    sample_region=None, region_missing="", contributions=None):
     """The pruned customized recursive Newton-Euler model within the budget (issue 17).
 
     Parameters
@@ -218,6 +222,10 @@ def build_recursive(robot, q, qd, qdd, tolerance=DEFAULT_TOLERANCE, torque_floor
         (``region_sampled_error`` of its guarantee).
     region_missing : str, optional
         Why a trajectory model has no region (a missing limit), for its guarantee.
+    contributions : (BaseParameters, tuple of ndarray), optional
+        The robot's base parameters and their
+        :func:`gd_analyze.core.symbolic.pruning.contribution_peaks` on this trajectory, if the
+        caller computed them already (:func:`.peak_jobs.contribution_job`); computed here otherwise.
 
     Returns
     -------
@@ -237,11 +245,12 @@ def build_recursive(robot, q, qd, qdd, tolerance=DEFAULT_TOLERANCE, torque_floor
     from ..core.symbolic.base_parameters import base_parameters
     from ..core.symbolic.recursive_model import recursive_model
 
-    base = base_parameters(robot)
+    base, peaks = (base_parameters(robot), None) if contributions is None else contributions
     if region is not None:
         rec, guarantee = region_model(robot, base, region, tolerance, torque_floor)
     else:
-        rec = recursive_model(robot, q, qd, qdd, tolerance, torque_floor, base=base)
+        rec = recursive_model(robot, q, qd, qdd, tolerance, torque_floor, base=base,
+                              peaks=peaks)
         guarantee = trajectory_guarantee(robot, base, rec, tolerance, trajectory_sha256,
                                          sample_region, region_missing)
     model = recursive_simplified(robot, rec, base, tolerance=tolerance,
@@ -330,3 +339,153 @@ def replace_cost(model, cost):
     import dataclasses
 
     return dataclasses.replace(model, cost=dict(cost))
+
+
+def deploy_models(robot, trajectory, ranking, part_peaks, options, provenance, background):
+    """The simplified model deployed (issue 17), the models compared with it, ladder, costs.
+
+    Parameters
+    ----------
+    robot : Robot
+    trajectory : Trajectory
+        q, qd, qdd of shape (N, n).
+    ranking : Ranking
+    part_peaks : PartPeaks
+        Accumulated in the pass over the G-D terms.
+    options : SimplifyOptions
+    provenance : dict
+    background : dict of str to Future
+        The peak passes of :func:`.peak_jobs.start_peaks`.
+
+    Returns
+    -------
+    model : SimplifiedModel
+        The deployed model.
+    other : SimplifiedModel or None
+        The other rule's explicit model, whose error the caller measures in its pass over
+        the trajectory.
+    finish : callable
+        ``finish(other_error)``: the dataset of
+        :func:`gd_analyze.workflows.simplify.simplified_dataset`.
+
+    Notes
+    -----
+
+    The pruned recursive model is always built; the explicit G-D model is derived when the
+    chapter rule or ``form="explicit"`` asks for it, when ``explicit`` is ``"always"``, or
+    (``"auto"``) when it may be deployed (``form`` is not ``"recursive"``) and its estimated
+    size is cheap
+    (:func:`gd_analyze.core.symbolic.explicit_estimate.is_expensive`). Under the budget rule and
+    ``form="cheapest"`` the cheaper of the pruned recursive and pruned explicit models is
+    deployed (multiplications + additions; the recursive one on a tie).
+    """
+    from ..formulations.opcount import operation_counts
+    from .simplify import (
+        build_model,
+        build_recursive,
+        collect_peaks,
+        cost_rows,
+        full_torque,
+        ladder,
+        ladder_skipped,
+        simplified_dataset,
+    )
+
+    tolerance, rule, torque_floor = options.tolerance, options.rule, options.torque_floor
+    explicit, form = options.explicit, options.form
+    q, qd, qdd = trajectory.q, trajectory.qd, trajectory.qdd
+    common = dict(ranking=ranking, trajectory_sha256=trajectory.sha256, provenance=provenance)
+    counts = operation_counts(robot)
+    region, missing = robot_region(robot) if rule == "budget" else (None, "")
+    proved = region is not None and options.guarantee != "trajectory"
+    rec, rec_sel = build_recursive(robot, q, qd, qdd, tolerance=tolerance,
+                                   torque_floor=torque_floor,
+                                   contributions=background["recursive"].result(),
+                                   region=region if proved else None, sample_region=region,
+                                   region_missing=missing, **common)
+    exact = rec.costs["exact recursive"]
+    ne = counts["newton-euler"]
+    ne = {"multiplications": int(ne["multiplications"]), "additions": int(ne["additions"])}
+    derive = "explicit" in background
+    model, sel, other, rows, skipped = rec, rec_sel, None, [], ""
+    costs = {"exact recursive": exact, "recursive, budget": dict(rec.cost),
+             "newton-euler": ne}
+    if derive:
+        terms, term = background["explicit"].result()
+        peaks = collect_peaks(robot, terms, q, qd, qdd, gd=part_peaks, term=term)
+        ex, ex_sel = build_model(robot, terms, peaks, tolerance=tolerance, rule=rule,
+                                 torque_floor=torque_floor,
+                                 chapter_choices=ranking.choices(), **common)
+        other_rule = "chapter" if rule == "budget" else "budget"
+        other, _ = build_model(robot, terms, peaks, tolerance=tolerance, rule=other_rule,
+                               torque_floor=torque_floor, chapter_choices=ranking.choices(),
+                               **common)
+        costs.update({f"explicit, {rule}": dict(ex.cost), "explicit, full": dict(ex.full_cost)})
+        deployed = rule == "chapter" or form == "explicit" or (
+            form == "cheapest" and not proved and _ops(ex.cost) < _ops(rec.cost))
+        # proved over the region: the exact explicit model (bound 0) where it is cheaper
+        exact_explicit = (not deployed and proved and form == "cheapest"
+                          and _ops(ex.full_cost) < _ops(rec.cost))
+        # the ladder is of the explicit form: built only where that form is deployed
+        skipped = ladder_skipped(ex.full_cost, counts) if deployed else (
+            "not built: the deployed model is the exact explicit one, which holds over the "
+            "whole region, and the ladder prunes on the trajectory") if exact_explicit else (
+            f"not built: the deployed model is the pruned recursive one ({_ops(rec.cost):,} "
+            f"operations against the pruned explicit one's {_ops(ex.cost):,}"
+            f"{'' if form == 'cheapest' else ', --form recursive'}), and the ladder is of the "
+            "explicit form")
+        rows = [] if skipped else ladder(robot, terms, peaks, [(q, qd, qdd)],
+                                         torque_floor=torque_floor,
+                                         reference=full_torque(robot, terms))
+        if deployed:
+            model, sel = ex, ex_sel
+        elif exact_explicit:
+            full, sel = build_model(robot, terms, peaks, tolerance=0.0, rule="budget",
+                                    torque_floor=torque_floor,
+                                    chapter_choices=ranking.choices(), **common)
+            g = rec.guarantee
+            model = dataclasses.replace(
+                full, tolerance=float(tolerance), bound=[0.0] * robot.n,
+                guarantee=dataclasses.replace(
+                    g, bound=np.zeros(robot.n), sampled_error=np.zeros(robot.n),
+                    method="the exact explicit G-D model (nothing dropped), cheaper than the "
+                           "recursive model pruned over the region; scale: " + g.method))
+    else:
+        skipped = ("not built: the explicit G-D model of this arm is estimated too large to "
+                   "pay (give --explicit always to derive it)") if form != "recursive" or \
+            explicit == "never" else ("not built: the explicit G-D model is not derived under "
+                                      "--form recursive, where it cannot be deployed (give "
+                                      "--explicit always to derive it)")
+    model = dataclasses.replace(model, costs=costs,
+                                full_cost=dict(costs.get("explicit, full", model.full_cost)),
+                                program_cache=model.program(),
+                                guarantee=model.guarantee if model.guarantee is not None
+                                else _trajectory_guarantee(model, sel, trajectory, missing))
+    table = cost_rows(robot.n, model, other=other, ladder_rows=rows, formulation_counts=counts)
+
+    def finish(other_error):
+        extra = simplified_dataset(model, sel, other=other, ladder_rows=rows, cost_table=table,
+                                   other_error=other_error,
+                                   full_terms=terms if derive else None)
+        if skipped:
+            extra.attrs["simplified_ladder_skipped"] = skipped
+        return extra
+
+    return model, other, finish
+
+
+def _trajectory_guarantee(model, sel, trajectory, missing=""):
+    """The explicit budget model's guarantee on its trajectory (None: chapter rule)."""
+    from ..core.selection.guarantee import Guarantee
+
+    if model.rule != "budget":
+        return None
+    return Guarantee("trajectory", float(model.tolerance), bound=np.asarray(model.bound, float),
+                     scale=np.asarray(sel.scale, float), trajectory_sha256=trajectory.sha256,
+                     region_missing=missing,
+                     method="sum of the dropped terms' peak contributions on the trajectory "
+                            "(triangle inequality)")
+
+
+def _ops(cost):
+    return int(cost["multiplications"]) + int(cost["additions"])

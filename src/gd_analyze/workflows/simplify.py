@@ -123,7 +123,7 @@ class Peaks:
         return Peaks(parts=parts, terms=relative_peaks(self.terms, scale))
 
 
-def collect_peaks(robot, terms, q, qd, qdd, chunk=8192, gd=None):
+def collect_peaks(robot, terms, q, qd, qdd, chunk=8192, gd=None, term=None):
     """Peaks of the parts and of the explicit terms along one trajectory.
 
     Parameters
@@ -137,6 +137,9 @@ def collect_peaks(robot, terms, q, qd, qdd, chunk=8192, gd=None):
         Set points at once.
     gd : PartPeaks, optional
         Part peaks already accumulated (by a pass over the G-D terms); computed if not given.
+    term : ndarray, shape (A, n), optional
+        :func:`gd_analyze.core.symbolic.explicit.term_peaks` of these terms on this
+        trajectory, if already computed [N m].
 
     Returns
     -------
@@ -148,8 +151,9 @@ def collect_peaks(robot, terms, q, qd, qdd, chunk=8192, gd=None):
             sl = slice(a, a + chunk)
             t = gd_terms(robot, q[sl], qd[sl])
             gd.update(t.D_tran, t.D_rot, t.h_tran, t.h_rot, qdd[sl], t.tau(qdd[sl]))
-    return Peaks(parts=gd, terms=term_peaks(terms, np.zeros(robot.n), q, qd, qdd,
-                                                    prismatic=robot.prismatic))
+    if term is None:
+        term = term_peaks(terms, np.zeros(robot.n), q, qd, qdd, prismatic=robot.prismatic)
+    return Peaks(parts=gd, terms=term)
 
 
 def build_model(robot, terms, peaks, tolerance=DEFAULT_TOLERANCE, rule="budget",

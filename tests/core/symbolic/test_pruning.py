@@ -156,25 +156,6 @@ def test_pruned_counts_at_one_percent_within_the_targets():
         assert target is None or pruned <= target
 
 
-def test_peaks_in_chunks_equal_the_whole_contributions():
-    """The budget reads peaks accumulated chunk by chunk (memory independent of N); they are
-    the peaks of the contributions computed at once."""
-    import numpy as np
-
-    from gd_analyze import load_robot
-    from gd_analyze.core.symbolic.base_parameters import base_parameters, random_states
-    from gd_analyze.core.symbolic.pruning import contribution_peaks, part_contributions
-
-    robot = load_robot("stanford")
-    base = base_parameters(robot)
-    q, qd, qdd = random_states(robot, 50, 5)
-    C = part_contributions(robot, base, q, qd, qdd)
-    tau_peak, peak, whole = contribution_peaks(robot, base, q, qd, qdd, chunk=7)
-    np.testing.assert_array_equal(tau_peak, np.abs(C.sum(axis=(0, 3))).max(axis=0))
-    np.testing.assert_array_equal(peak, np.abs(C).max(axis=1).transpose(2, 0, 1))
-    np.testing.assert_array_equal(whole, np.abs(C.sum(axis=0)).max(axis=0).T)
-
-
 def _sweep_case(name):
     """Three random states sets and one slow, small move: joint scales that differ by orders
     of magnitude between the 'trajectories'."""
@@ -215,7 +196,7 @@ def test_stacked_peaks_are_each_trajectorys_own():
 
     arm, base, sets = _sweep_case("stanford")
     cat = [np.concatenate([s[k] for s in sets]) for k in range(3)]
-    got = stacked_peaks(arm, base, *cat, [len(s[0]) for s in sets], chunk=50)
+    got = stacked_peaks(arm, base, *cat, [len(s[0]) for s in sets])
     for k, (q, qd, qdd) in enumerate(sets):
         for a, b in zip(got, contribution_peaks(arm, base, q, qd, qdd)):
             np.testing.assert_allclose(a[k], b, rtol=1e-13, atol=0)

@@ -34,7 +34,8 @@ from functools import cached_property
 
 import numpy as np
 
-from .trigpoly import TrigPoly, evaluate_rows
+from .term_kernels import atom_peaks_kernel
+from .trigpoly import TrigPoly
 
 __all__ = ["ExplicitModel", "derive", "Term", "model_terms", "merge_parts", "atoms",
            "term_peaks", "budget_drop", "prune", "PART_KINDS"]
@@ -470,7 +471,7 @@ def _entries(terms, atom, n):
     return e_term[order], e_vcol[order], starts, key[starts] // n, key[starts] % n
 
 
-def term_peaks(terms, offset, q, qd, qdd, chunk=4096, prismatic=None):
+def term_peaks(terms, offset, q, qd, qdd, chunk=65536, prismatic=None):
     """Peak |contribution| of every atom of the terms to every joint torque on a trajectory.
 
     Parameters
@@ -483,7 +484,8 @@ def term_peaks(terms, offset, q, qd, qdd, chunk=4096, prismatic=None):
         Joint positions [rad], velocities [rad/s] and accelerations [rad/s^2] (m, m/s and
         m/s^2 for a prismatic joint).
     chunk : int, optional
-        Set points at once (bounds memory).
+        Set points per call of the compiled kernel
+        (:func:`.term_kernels.atom_peaks_kernel`); memory is O(terms) whatever N is.
     prismatic : array_like of bool, shape (n,), optional
         The prismatic joints (their columns of K are powers of q_i [m]); default none.
 
@@ -506,15 +508,15 @@ def term_peaks(terms, offset, q, qd, qdd, chunk=4096, prismatic=None):
     hidx = hidx.reshape(-1)
     Su, Ku = uniq[:, 0].astype(bool), uniq[:, 1:]
     e_term, e_vcol, starts, g_atom, g_joint = _entries(merged, atom, n)
-    for a in range(0, q.shape[0], chunk):
-        sl = slice(a, a + chunk)
-        trig = evaluate_rows(Ku, Su, q[sl] + offset, prismatic)           # (N, H)
-        val = trig[:, hidx] * merged.C                                   # (N, M)
-        vel = np.concatenate([qdd[sl], (qd[sl][:, :, None] * qd[sl][:, None, :])
-                              .reshape(-1, n * n), np.ones((trig.shape[0], 1))], axis=1)
-        contrib = val[:, e_term] * vel[:, e_vcol]                        # (N, E)
-        per = np.abs(np.add.reduceat(contrib, starts, axis=1)).max(axis=0)
-        np.maximum.at(peaks, (g_atom, g_joint), per)
+    lin = np.zeros(n, bool) if prismatic is None else np.asarray(prismatic, bool)
+    group_peak = np.zeros(starts.size)
+    c = np.ascontiguousarray
+    for a in range(0, q.shape[0], max(1, int(chunk))):
+        sl = slice(a, a + max(1, int(chunk)))
+        atom_peaks_kernel(c(q[sl] + offset), c(qd[sl]), c(qdd[sl]), c(Ku, np.int64), c(Su),
+                          lin, c(hidx, np.int64), c(merged.C, float), c(e_term, np.int64),
+                          c(e_vcol, np.int64), c(starts, np.int64), group_peak)
+    np.maximum.at(peaks, (g_atom, g_joint), group_peak)
     return peaks
 
 

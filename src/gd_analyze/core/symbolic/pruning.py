@@ -24,90 +24,13 @@ from dataclasses import dataclass
 import numpy as np
 
 from ..model.kinematics import as_states
-from .base_parameters import regressor
 from .recursive import PARTS, exact_program, parts_program
+from .regressor_kernels import contribution_peaks, part_contributions
 
+#: part_contributions and contribution_peaks are the compiled ones of :mod:`.regressor_kernels`.
 __all__ = ["part_contributions", "contribution_peaks", "stacked_peaks", "Pruning", "prune",
            "prune_on_peaks", "prune_bounds", "dropped_peaks", "pruned_program", "STRATEGIES",
-           "CRITERIA", "PEAK_CHUNK"]
-
-
-def part_contributions(robot, base, q, qd, qdd):
-    """Contribution of every (part, base parameter) to every joint torque along a trajectory.
-
-    Parameters
-    ----------
-    robot : Robot
-        The arm, with n joints.
-    base : BaseParameters
-        Its base parameters (:func:`.base_parameters.base_parameters`).
-    q, qd, qdd : array_like, shape (N, n)
-        The trajectory [rad, rad/s, rad/s^2; m, m/s, m/s^2].
-
-    Returns
-    -------
-    ndarray, shape (3, N, n, b)
-        ``C[p, k, i, m]`` = Y_p[k, i, m] beta_m [N m or N] for the parts p of :data:`PARTS`
-        (inertial ``a``: Y_b(q, 0, qdd) with g = 0; velocity ``v``: Y_b(q, qd, 0) with g = 0;
-        gravity ``g``: Y_b(q, 0, 0)); summed over p and m it is tau.
-
-    Raises
-    ------
-    ValueError
-        If the arrays are not of shape (N, n).
-    """
-    q, qd, qdd = as_states(robot, q, qd, qdd)
-    zero = np.zeros_like(q)
-    B = base.independent.reshape(-1)
-    out = []
-    for a, b, c, g in ((q, zero, qdd, np.zeros(3)), (q, qd, zero, np.zeros(3)),
-                       (q, zero, zero, None)):
-        out.append(regressor(robot, a, b, c, gravity=g)[:, :, B] * base.beta)
-    return np.stack(out)
-
-
-#: Set points per chunk of :func:`contribution_peaks` (about 3 x 8 MB of regressor for 7 joints).
-PEAK_CHUNK = 2048
-
-
-def contribution_peaks(robot, base, q, qd, qdd, chunk=PEAK_CHUNK):
-    """Peaks of the joint torques and of every contribution along a trajectory, in chunks.
-
-    Parameters
-    ----------
-    robot : Robot
-        The arm, with n joints.
-    base : BaseParameters
-        Its base parameters.
-    q, qd, qdd : array_like, shape (N, n)
-        The trajectory [rad, rad/s, rad/s^2; m, m/s, m/s^2].
-    chunk : int, optional
-        Set points at once: memory stays O(chunk n^2) whatever N is.
-
-    Returns
-    -------
-    tau_peak : ndarray, shape (n,)
-        Peak |tau_i| [N m or N].
-    peak : ndarray, shape (b, 3, n)
-        Peak |contribution| of each (base parameter, part) to each joint torque.
-    whole_peak : ndarray, shape (b, n)
-        Peak |contribution| of each base parameter, all parts together.
-
-    Raises
-    ------
-    ValueError
-        If the arrays are not of shape (N, n).
-    """
-    q, qd, qdd = as_states(robot, q, qd, qdd)
-    n, b = robot.n, base.rank
-    tau_peak, peak, whole_peak = np.zeros(n), np.zeros((b, len(PARTS), n)), np.zeros((b, n))
-    for a in range(0, q.shape[0], max(1, int(chunk))):
-        sl = slice(a, a + max(1, int(chunk)))
-        t, p, w = _peaks_of(part_contributions(robot, base, q[sl], qd[sl], qdd[sl]))
-        np.maximum(tau_peak, t, out=tau_peak)
-        np.maximum(peak, p, out=peak)
-        np.maximum(whole_peak, w, out=whole_peak)
-    return tau_peak, peak, whole_peak
+           "CRITERIA"]
 
 
 def _peaks_of(C):
@@ -116,11 +39,10 @@ def _peaks_of(C):
             np.abs(C.sum(axis=0)).max(axis=0).T)
 
 
-def stacked_peaks(robot, base, q, qd, qdd, lengths, chunk=PEAK_CHUNK):
+def stacked_peaks(robot, base, q, qd, qdd, lengths):
     """:func:`contribution_peaks` of each of K trajectories stacked in one array.
 
-    Consecutive short trajectories share one regressor evaluation (at most ``chunk`` set
-    points at a time), which saves the per-call overhead for a sweep's many short ones.
+    Each trajectory's peaks by the compiled kernel of :mod:`.regressor_kernels`.
 
     Parameters
     ----------
@@ -133,8 +55,6 @@ def stacked_peaks(robot, base, q, qd, qdd, lengths, chunk=PEAK_CHUNK):
         m/s, m/s^2].
     lengths : sequence of int
         The set points of each trajectory, each >= 1.
-    chunk : int, optional
-        Set points at once.
 
     Returns
     -------
@@ -170,23 +90,10 @@ def stacked_peaks(robot, base, q, qd, qdd, lengths, chunk=PEAK_CHUNK):
     K, n, b = len(lengths), robot.n, base.rank
     tau_peak, peak = np.zeros((K, n)), np.zeros((K, b, len(PARTS), n))
     whole_peak = np.zeros((K, b, n))
-    k = 0
-    while k < K:
-        if lengths[k] >= chunk:                       # a long one alone, in chunks
-            sl = slice(starts[k], starts[k + 1])
-            tau_peak[k], peak[k], whole_peak[k] = contribution_peaks(
-                robot, base, q[sl], qd[sl], qdd[sl], chunk=chunk)
-            k += 1
-            continue
-        end = k + 1                                   # short ones together, up to chunk
-        while end < K and lengths[end] < chunk and starts[end + 1] - starts[k] <= chunk:
-            end += 1
-        sl = slice(starts[k], starts[end])
-        C = part_contributions(robot, base, q[sl], qd[sl], qdd[sl])
-        for m in range(k, end):
-            part = C[:, starts[m] - starts[k]:starts[m + 1] - starts[k]]
-            tau_peak[m], peak[m], whole_peak[m] = _peaks_of(part)
-        k = end
+    for k in range(K):
+        sl = slice(starts[k], starts[k + 1])
+        tau_peak[k], peak[k], whole_peak[k] = contribution_peaks(robot, base, q[sl], qd[sl],
+                                                                 qdd[sl])
     return tau_peak, peak, whole_peak
 
 
@@ -235,7 +142,7 @@ CRITERIA = ("peaks", "error")
 
 
 def prune(robot, base, q, qd, qdd, eps, torque_floor=0.0, strategy="cost",
-          criterion="peaks"):
+          criterion="peaks", peaks=None):
     """Choose the (base parameter, part) pairs to drop within the error budget EPS.
 
     Parameters
@@ -265,6 +172,10 @@ def prune(robot, base, q, qd, qdd, eps, torque_floor=0.0, strategy="cost",
         peak of its whole contribution). ``"error"``: the bound is the largest |sum of the
         dropped contributions| on the trajectory itself, i.e. the pruned model's error
         there (tighter: contributions peak at different set points or cancel).
+    peaks : tuple of ndarray, optional
+        For criterion "peaks": :func:`contribution_peaks` of these base parameters on this
+        trajectory, when the caller has computed them (e.g. while doing something else);
+        computed here otherwise.
 
     Returns
     -------
@@ -296,7 +207,8 @@ def prune(robot, base, q, qd, qdd, eps, torque_floor=0.0, strategy="cost",
         tau_peak, peak, whole_peak = _peaks_of(C)
     else:                                # peaks only, accumulated chunk by chunk
         C = None
-        tau_peak, peak, whole_peak = contribution_peaks(robot, base, q, qd, qdd)
+        tau_peak, peak, whole_peak = contribution_peaks(robot, base, q, qd, qdd) \
+            if peaks is None else peaks
     scale = np.maximum(tau_peak, torque_floor)
     sel = _Selection(robot, base, C, peak, whole_peak, eps * scale, criterion)
     if strategy == "peak":

@@ -251,7 +251,7 @@ class RecursiveModel:
                    round_off=masks.get("round_off"))
 
 
-def recursive_model(robot, q, qd, qdd, tolerance, torque_floor=0.0, base=None):
+def recursive_model(robot, q, qd, qdd, tolerance, torque_floor=0.0, base=None, peaks=None):
     """Prune the recursive model within the error budget on a trajectory.
 
     Parameters
@@ -267,6 +267,9 @@ def recursive_model(robot, q, qd, qdd, tolerance, torque_floor=0.0, base=None):
         TAU [N m or N].
     base : BaseParameters, optional
         The robot's base parameters, if already derived.
+    peaks : tuple of ndarray, optional
+        :func:`.pruning.contribution_peaks` of ``base`` on the trajectory, if already
+        computed.
 
     Returns
     -------
@@ -287,7 +290,7 @@ def recursive_model(robot, q, qd, qdd, tolerance, torque_floor=0.0, base=None):
     from .pruning import dropped_peaks, prune
 
     base = base_parameters(robot) if base is None else base
-    pr = prune(robot, base, q, qd, qdd, tolerance, torque_floor=torque_floor)
+    pr = prune(robot, base, q, qd, qdd, tolerance, torque_floor=torque_floor, peaks=peaks)
     by_part = dropped_peaks(pr.peak, pr.whole_peak, pr.dropped, pr.whole)
     safe = np.where(pr.scale > 0, pr.scale, 1.0)
     rel = np.where(pr.scale > 0, pr.peak / safe, np.where(pr.peak > 0, np.inf, 0.0)).max(axis=2)

@@ -1,0 +1,122 @@
+"""The simplification's compiled peak passes, started beside the main job's G-D pass.
+
+The pruned recursive model needs the peaks of every base parameter's part contributions on
+the trajectory, the explicit model the peaks of its atoms: both depend on q, qd, qdd only,
+and both run compiled kernels that release the GIL. :func:`start_peaks` submits them to a
+thread pool before the pass over the G-D terms, which runs meanwhile; the simplification
+(:func:`gd_analyze.workflows.analyze.analysis_pass`) then takes their results. Nothing here
+prints or writes files.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+__all__ = ["derives_explicit", "contribution_job", "explicit_job", "start_peaks"]
+
+
+def derives_explicit(robot, options):
+    """Whether the main job derives the explicit G-D model.
+
+    Parameters
+    ----------
+    robot : Robot
+        The arm.
+    options : SimplifyOptions
+        ``rule``, ``explicit`` and ``form`` of the command line.
+
+    Returns
+    -------
+    bool
+        True when the chapter rule or ``form="explicit"`` asks for it, when ``explicit`` is
+        ``"always"``, or (``"auto"``) when it may be deployed (``form`` is not
+        ``"recursive"``) and its estimated size is cheap
+        (:func:`gd_analyze.core.symbolic.explicit_estimate.is_expensive`).
+    """
+    from ..core.symbolic.explicit_estimate import is_expensive
+
+    rule, explicit, form = options.rule, options.explicit, options.form
+    return rule == "chapter" or form == "explicit" or explicit == "always" or (
+        explicit == "auto" and form != "recursive" and not is_expensive(robot))
+
+
+def contribution_job(robot, q, qd, qdd):
+    """The base parameters and their contribution peaks on a trajectory.
+
+    Parameters
+    ----------
+    robot : Robot
+        The arm, with n joints.
+    q, qd, qdd : ndarray, shape (N, n)
+        The trajectory [rad, rad/s, rad/s^2; m, m/s, m/s^2].
+
+    Returns
+    -------
+    base : BaseParameters
+        :func:`gd_analyze.core.symbolic.base_parameters.base_parameters` of the robot.
+    peaks : tuple of ndarray
+        :func:`gd_analyze.core.symbolic.pruning.contribution_peaks`: tau_peak (n,), peak
+        (b, 3, n), whole_peak (b, n) [N m or N].
+
+    Notes
+    -----
+    What :func:`gd_analyze.workflows.deploy.build_recursive` takes as ``contributions``.
+    Compiled (:mod:`gd_analyze.core.symbolic.regressor_kernels`) and releasing the GIL, so the
+    main job runs it in a thread beside its pass over the G-D terms (:func:`start_peaks`).
+    """
+    from ..core.symbolic.base_parameters import base_parameters
+    from ..core.symbolic.pruning import contribution_peaks
+
+    base = base_parameters(robot)
+    return base, contribution_peaks(robot, base, q, qd, qdd)
+
+
+def explicit_job(robot, q, qd, qdd):
+    """The explicit terms of an arm and their atoms' peaks on a trajectory.
+
+    Parameters
+    ----------
+    robot : Robot
+        The arm, with n joints.
+    q, qd, qdd : ndarray, shape (N, n)
+        The trajectory [rad, rad/s, rad/s^2; m, m/s, m/s^2].
+
+    Returns
+    -------
+    terms : Term
+        :func:`gd_analyze.io.explicit_cache.explicit_terms` of the robot.
+    peaks : ndarray, shape (A, n)
+        :func:`gd_analyze.core.symbolic.explicit.term_peaks` [N m or N].
+    """
+    from ..core.symbolic.explicit import term_peaks
+    from ..io.explicit_cache import explicit_terms
+
+    terms, _ = explicit_terms(robot)
+    return terms, term_peaks(terms, np.zeros(robot.n), q, qd, qdd, prismatic=robot.prismatic)
+
+
+def start_peaks(pool, robot, trajectory, options):
+    """Submit the simplification's peak passes to a pool of threads.
+
+    Parameters
+    ----------
+    pool : concurrent.futures.Executor
+        Runs the jobs (threads: the kernels release the GIL).
+    robot : Robot
+        The arm.
+    trajectory : Trajectory
+        q, qd, qdd of shape (N, n).
+    options : SimplifyOptions
+        The simplification's options (:func:`derives_explicit`).
+
+    Returns
+    -------
+    dict of str to concurrent.futures.Future
+        ``"recursive"``: :func:`contribution_job`; ``"explicit"``: :func:`explicit_job`, only
+        where the explicit model is derived.
+    """
+    args = (robot, trajectory.q, trajectory.qd, trajectory.qdd)
+    jobs = {"recursive": pool.submit(contribution_job, *args)}
+    if derives_explicit(robot, options):
+        jobs["explicit"] = pool.submit(explicit_job, *args)
+    return jobs

@@ -1,0 +1,90 @@
+"""The compiled part contributions and their peaks against Pinocchio (rnea per part,
+computeJointTorqueRegressor) and against the numpy regressor they replace."""
+
+import numpy as np
+import pinocchio as pin
+import pytest
+from symbolic_helpers import ROBOTS, rnea, robot, states
+
+from gd_analyze.core.symbolic.base_parameters import base_parameters, regressor
+from gd_analyze.core.symbolic.regressor_kernels import contribution_peaks, part_contributions
+from gd_analyze.formulations.pinocchio import pinocchio_model
+
+#: Pinocchio's per-joint order (m, mc_x, mc_y, mc_z, Ixx, Ixy, Iyy, Ixz, Iyz, Izz) -> ours.
+PIN_ORDER = [4, 5, 7, 6, 8, 9, 1, 2, 3, 0]
+
+
+def _pin_base_columns(arm, base, q, qd, qdd, gravity):
+    """Pinocchio's joint-torque regressor on the independent columns, times beta."""
+    model = pinocchio_model(arm)
+    if not gravity:
+        model.gravity = pin.Motion.Zero()
+    data = model.createData()
+    W = np.array([pin.computeJointTorqueRegressor(model, data, a, b, c)
+                  for a, b, c in zip(q, qd, qdd)])
+    W = np.concatenate([W[..., 10 * j:10 * j + 10][..., PIN_ORDER] for j in range(arm.n)], -1)
+    return W[:, :, base.independent.reshape(-1)] * base.beta
+
+
+@pytest.mark.parametrize("name", ROBOTS)
+def test_each_part_is_pinocchios_regressor_of_that_part(name):
+    """Part p of every base parameter is Pinocchio's regressor column at the part's state
+    (qd = 0 and g = 0 for the inertial part, qdd = 0 and g = 0 for the velocity part, qd = qdd
+    = 0 for gravity), times beta; a wrong column, sign, frame or part fails."""
+    arm = robot(name)
+    base = base_parameters(arm)
+    q, qd, qdd = states(arm, 25, 7)
+    zero = np.zeros_like(q)
+    C = part_contributions(arm, base, q, qd, qdd)
+    assert C.shape == (3, 25, arm.n, base.rank)
+    for p, (a, b, c, g) in enumerate(((q, zero, qdd, False), (q, qd, zero, False),
+                                      (q, zero, zero, True))):
+        ref = _pin_base_columns(arm, base, a, b, c, g)
+        scale = max(np.abs(ref).max(), 1e-300)
+        assert np.abs(C[p] - ref).max() <= 1e-12 * scale, (name, p)
+
+
+@pytest.mark.parametrize("name", ROBOTS)
+def test_contributions_add_up_to_rnea_and_equal_the_numpy_regressor(name):
+    arm = robot(name)
+    base = base_parameters(arm)
+    q, qd, qdd = states(arm, 30, 3)
+    C = part_contributions(arm, base, q, qd, qdd)
+    tau = rnea(arm, q, qd, qdd)
+    scale = np.abs(tau).max()
+    assert np.abs(C.sum(axis=(0, 3)) - tau).max() <= 1e-10 * scale
+    cols = base.independent.reshape(-1)
+    zero = np.zeros_like(q)
+    for p, (a, b, c, g) in enumerate(((q, zero, qdd, np.zeros(3)), (q, qd, zero, np.zeros(3)),
+                                      (q, zero, zero, None))):
+        ref = regressor(arm, a, b, c, gravity=g)[:, :, cols] * base.beta
+        assert np.abs(C[p] - ref).max() <= 1e-13 * max(np.abs(ref).max(), 1e-300)
+
+
+@pytest.mark.parametrize("name", ("stanford", "mixed-chain"))
+def test_running_peaks_over_chunks_are_the_peaks_of_the_contributions(name):
+    """Peaks updated chunk by chunk (out=) are the abs max of the stored contributions: per
+    pair, per parameter (parts summed) and of tau = the sum of everything."""
+    arm = robot(name)
+    base = base_parameters(arm)
+    q, qd, qdd = states(arm, 41, 11)
+    C = part_contributions(arm, base, q, qd, qdd)
+    out = None
+    for a in range(0, 41, 9):
+        out = contribution_peaks(arm, base, q[a:a + 9], qd[a:a + 9], qdd[a:a + 9], out=out)
+    tau_peak, peak, whole = out
+    np.testing.assert_array_equal(peak, np.abs(C).max(axis=1).transpose(2, 0, 1))
+    np.testing.assert_array_equal(whole, np.abs(C.sum(axis=0)).max(axis=0).T)
+    tau = rnea(arm, q, qd, qdd)
+    np.testing.assert_allclose(tau_peak, np.abs(tau).max(axis=0), rtol=1e-10,
+                               atol=1e-12 * np.abs(tau).max())
+
+
+def test_bad_shapes_are_refused():
+    arm = robot("puma560")
+    base = base_parameters(arm)
+    q = np.zeros((3, arm.n))
+    with pytest.raises(ValueError):
+        part_contributions(arm, base, q[:, :4], q[:, :4], q[:, :4])
+    with pytest.raises(ValueError):
+        contribution_peaks(arm, base, q, q, q, out=(np.zeros(2), np.zeros(2), np.zeros(2)))

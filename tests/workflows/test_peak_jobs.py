@@ -1,0 +1,43 @@
+"""The simplification's peak passes started in threads: the same peaks as computed in line,
+the explicit model derived only where it may be deployed."""
+
+from concurrent.futures import ThreadPoolExecutor
+
+import numpy as np
+import pytest
+from conftest import SHIPPED
+
+from gd_analyze.core.symbolic.base_parameters import base_parameters, regressor
+from gd_analyze.io.trajectory import read_trajectory
+from gd_analyze.workflows.options import SimplifyOptions
+from gd_analyze.workflows.peak_jobs import derives_explicit, start_peaks
+
+
+@pytest.mark.parametrize("form, explicit, derived", [
+    ("cheapest", "auto", True), ("recursive", "auto", False), ("recursive", "always", True),
+    ("explicit", "never", True), ("cheapest", "never", False)])
+def test_explicit_derived_only_where_it_may_be_deployed(puma, form, explicit, derived):
+    assert derives_explicit(puma, SimplifyOptions(form=form, explicit=explicit)) is derived
+
+
+def test_threaded_peaks_are_the_peaks_of_the_numpy_regressor(puma):
+    """The recursive job's peaks against the numpy regressor (independent code) on the
+    shipped trajectory; the explicit job's atom peaks make up at least the joint torques'."""
+    traj = read_trajectory(SHIPPED, puma.n)
+    with ThreadPoolExecutor(max_workers=2) as pool:
+        jobs = start_peaks(pool, puma, traj, SimplifyOptions())
+        base, (tau_peak, peak, whole) = jobs["recursive"].result()
+        terms, term = jobs["explicit"].result()
+    assert base.names() == base_parameters(puma).names()
+    cols = base.independent.reshape(-1)
+    zero = np.zeros_like(traj.q)
+    C = np.stack([regressor(puma, traj.q, b, c, gravity=g)[:, :, cols] * base.beta
+                  for b, c, g in ((zero, traj.qdd, np.zeros(3)), (traj.qd, zero, np.zeros(3)),
+                                  (zero, zero, None))])
+    np.testing.assert_allclose(peak, np.abs(C).max(axis=1).transpose(2, 0, 1), rtol=1e-12,
+                               atol=1e-14 * tau_peak.max())
+    np.testing.assert_allclose(whole, np.abs(C.sum(axis=0)).max(axis=0).T, rtol=1e-12,
+                               atol=1e-14 * tau_peak.max())
+    np.testing.assert_allclose(tau_peak, np.abs(C.sum(axis=(0, 3))).max(axis=0), rtol=1e-12)
+    # triangle inequality: each joint's peak |tau| is at most the sum of its atoms' peaks
+    assert np.all(tau_peak <= term.sum(axis=0) * (1 + 1e-12))
