@@ -548,5 +548,8 @@ def _cmd_control(args):
             print(f"{'noise floor':<12}" + "".join(f"{v:>11.3e}" for v in floor)
                   + f"   integrator noise of tau diff ({how}), \u2261 0 at or below")
         print(judged["verdict"])
+        said = summary["guarantee"]
+        print(f"model's guarantee: {said['statement']}")
+        print(f"covers this trajectory: {'yes' if said['covered'] else 'no'}: {said['reason']}")
         print("wrote " + ", ".join(str(p) for p in written))
     return EXIT_OK
