@@ -198,6 +198,12 @@ def _format_summary(ds):
                      f"{ds.tau_error_relative_rms.values[j]:>10.2e}{ends[j]}")
     lines += _effort_lines(ds)
     lines += _cost_lines(ds)
+    from ..io.datasets import stored_guarantee
+
+    scope = stored_guarantee(ds)                # the model built, as results.h5 stores it
+    if scope is not None:
+        lines += ([] if lines[-1].startswith(("simplified model", "  it does")) else [""]) + [
+            f"guarantee: {scope['statement']}"]
     if "verification_passed" in ds.attrs:
         import numpy as np
 

@@ -14,6 +14,7 @@ from .control_figures import _LABELS, _joint_units, markers_words, noise_floors,
 from .control_verdict import _NOISE, VERDICT_TOLERANCE, _attr, _by_type_text, _fmt, control_verdict
 from .main_provenance import gravity_row, run_row, software_row
 from .main_text import gravity_clause, model_sentence
+from .markup import scope as scope_markup
 from .markup import sub as _sub
 
 __all__ = ["control_context", "dataset_verdict"]
@@ -358,7 +359,7 @@ def scope_sentences(attrs, eps):
     'trajectory. The open-loop error along this motion is not guaranteed.'
     """
     rule, kind = str(attrs.get("model_rule", "")), str(attrs.get("model_guarantee_kind", ""))
-    scope = str(attrs.get("model_scope", ""))
+    scope = scope_markup(str(attrs.get("model_scope", "")))
     if kind not in ("region", "trajectory"):
         if rule == "chapter":
             return ("Rule: the chapter's share-based classes (Sec. 3.4.1): each element keeps "
