@@ -37,8 +37,31 @@ def _ops(c):
 @pytest.fixture(scope="module")
 def puma_run(tmp_path_factory):
     out = tmp_path_factory.mktemp("deploy") / "puma"
-    assert main(["puma560", str(SHIPPED), "-o", str(out), "--no-report", "-q"]) == 0
+    assert main(["puma560", str(SHIPPED), "-o", str(out), "--no-report", "-q",
+                 "--guarantee", "trajectory"]) == 0
     return out, json.loads((out / "simplified_model.json").read_text())
+
+
+def test_region_model_by_default_bound_within_the_region_budget(tmp_path):
+    """The default PUMA model carries the region guarantee: its bound is within EPS of the
+    region's scale, holds on the shipped trajectory (inside the region) against rnea, and it
+    is cheaper than the exact recursive model."""
+    out = tmp_path / "puma"
+    assert main(["puma560", str(SHIPPED), "-o", str(out), "--no-report", "-q"]) == 0
+    spec = json.loads((out / "simplified_model.json").read_text())
+    g = spec["guarantee"]
+    assert g["kind"] == "region" and "(proved" in g["statement"]
+    assert spec["form"] == "recursive"
+    assert _ops(spec["cost"]) < _ops(spec["costs"]["exact recursive"])
+    scale, bound = np.array(g["scale"]), np.array(g["bound"])
+    assert np.all(bound <= 0.01 * scale * (1 + 1e-12))
+    robot = load_robot("puma560")
+    traj = read_trajectory(SHIPPED, 6)
+    ref = _rnea(robot, traj.q, traj.qd, traj.qdd)
+    assert np.all(np.abs(ref).max(axis=0) <= scale * (1 + 1e-9))   # the trajectory is inside
+    model = load_model(out / "simplified_model.json")
+    err = np.abs(model.torque(traj.q, traj.qd, traj.qdd) - ref).max(axis=0)
+    assert np.all(err <= bound + 64 * np.finfo(float).eps * scale.max())
 
 
 def test_deployed_model_is_the_cheapest_within_budget(puma_run):
@@ -161,8 +184,20 @@ def test_deployed_model_never_costs_more_than_a_model_within_budget(tmp_path):
     urdf = root / "finger_edu_description" / "robots" / "finger_edu.urdf"
     csv = tmp_path / "f.csv"
     assert main(["plan", str(urdf), "-o", str(csv)]) == 0
-    assert main([str(urdf), str(csv), "-o", str(tmp_path / "o"), "--no-report", "-q"]) == 0
+    assert main([str(urdf), str(csv), "-o", str(tmp_path / "o"), "--no-report", "-q",
+                 "--guarantee", "trajectory"]) == 0
     spec = json.loads((tmp_path / "o" / "simplified_model.json").read_text())
     assert spec["form"] in ("explicit", "recursive")
     within = [c for key, c in spec["costs"].items() if key != "newton-euler"]
     assert _ops(spec["cost"]) == min(_ops(c) for c in within)
+    # by default the model must hold over the region: the cheapest of the proved models
+    # (the recursive one pruned over the region, the exact explicit and recursive ones)
+    assert main([str(urdf), str(csv), "-o", str(tmp_path / "r"), "--no-report", "-q"]) == 0
+    spec = json.loads((tmp_path / "r" / "simplified_model.json").read_text())
+    assert spec["guarantee"]["kind"] == "region"
+    proved = [spec["costs"][k] for k in ("recursive, budget", "explicit, full", "exact recursive")]
+    assert _ops(spec["cost"]) == min(_ops(c) for c in proved)
+    model = load_model(tmp_path / "r" / "simplified_model.json")
+    q, qd, qdd = random_states(model.robot, 50, 4)
+    assert np.abs(model.torque(q, qd, qdd) - _rnea(model.robot, q, qd, qdd)).max() <= (
+        np.array(spec["guarantee"]["bound"]).max() + 1e-9)

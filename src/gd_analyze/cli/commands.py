@@ -240,7 +240,7 @@ def _options(args):
         compress=args.compress,
         simplify=SimplifyOptions(tolerance=args.tolerance, rule=args.rule,
                                  torque_floor=args.torque_floor, explicit=args.explicit,
-                                 form=args.form))
+                                 form=args.form, guarantee=args.guarantee))
 
 
 def _payload(args):

@@ -202,6 +202,10 @@ def _add_budget_arguments(p, rule=True, where="on the analysed trajectory", form
         g.add_argument("--rule", choices=("budget", "chapter"), default=defaults["rule"],
                        help="budget: by torque contribution within EPS (default); chapter: "
                             "the share-based classes of Sec. 3.4.1 (no bound)")
+    g.add_argument("--guarantee", choices=("region", "trajectory"), default="auto",
+                   help="where the bound must hold: proved over the robot's joint-limit region "
+                        "(default when the robot gives position and velocity limits for every "
+                        "joint) or on the trajectory only")
     if rule and form:
         g.add_argument("--explicit", choices=("auto", "always", "never"),
                        default=defaults["explicit"],

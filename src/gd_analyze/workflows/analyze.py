@@ -407,8 +407,11 @@ def _simplify(robot, trajectory, ranking, part_peaks, options, provenance):
     q, qd, qdd = trajectory.q, trajectory.qd, trajectory.qdd
     common = dict(ranking=ranking, trajectory_sha256=trajectory.sha256, provenance=provenance)
     counts = operation_counts(robot)
+    region, missing = _region(robot, options) if rule == "budget" else (None, "")
+    proved = region is not None and options.guarantee != "trajectory"
     rec, rec_sel = build_recursive(robot, q, qd, qdd, tolerance=tolerance,
-                                   torque_floor=torque_floor, **common)
+                                   torque_floor=torque_floor, region=region if proved else None,
+                                   sample_region=region, region_missing=missing, **common)
     exact = rec.costs["exact recursive"]
     ne = counts["newton-euler"]
     ne = {"multiplications": int(ne["multiplications"]), "additions": int(ne["additions"])}
@@ -434,15 +437,28 @@ def _simplify(robot, trajectory, ranking, part_peaks, options, provenance):
         rows = [] if skipped else ladder(robot, terms, peaks, [(q, qd, qdd)],
                                          torque_floor=torque_floor, reference=reference)
         if rule == "chapter" or form == "explicit" or (
-                form == "cheapest" and _ops(ex.cost) < _ops(rec.cost)):
+                form == "cheapest" and not proved and _ops(ex.cost) < _ops(rec.cost)):
             model, sel = ex, ex_sel
+        elif proved and form == "cheapest" and _ops(ex.full_cost) < _ops(rec.cost):
+            # the exact explicit model holds everywhere: proved with a bound of 0
+            full, sel = build_model(robot, terms, peaks, tolerance=0.0, rule="budget",
+                                    torque_floor=torque_floor,
+                                    chapter_choices=ranking.choices(), **common)
+            g = rec.guarantee
+            model = dataclasses.replace(
+                full, tolerance=float(tolerance), bound=[0.0] * robot.n,
+                guarantee=dataclasses.replace(
+                    g, bound=np.zeros(robot.n), sampled_error=np.zeros(robot.n),
+                    method="the exact explicit G-D model (nothing dropped), cheaper than the "
+                           "recursive model pruned over the region; scale: " + g.method))
     else:
         skipped = ("not built: the explicit G-D model of this arm is estimated too large to "
                    "pay (give --explicit always to derive it)")
     model = dataclasses.replace(model, costs=costs,
                                 full_cost=dict(costs.get("explicit, full", model.full_cost)),
                                 program_cache=model.program(),
-                                guarantee=_trajectory_guarantee(model, sel, trajectory))
+                                guarantee=model.guarantee if model.guarantee is not None
+                                else _trajectory_guarantee(model, sel, trajectory, missing))
     table = cost_rows(robot.n, model, other=other, ladder_rows=rows, formulation_counts=counts)
     extra = simplified_dataset(model, sel, other=other, ladder_rows=rows, cost_table=table,
                                other_error=other_error, full_terms=terms if derive else None)
@@ -451,14 +467,34 @@ def _simplify(robot, trajectory, ranking, part_peaks, options, provenance):
     return model, extra
 
 
-def _trajectory_guarantee(model, sel, trajectory):
-    """The budget model's guarantee on the trajectory it was built on (None: chapter rule)."""
+def _region(robot, options):
+    """The robot's joint-limit region for the model's guarantee, or None and why not.
+
+    ``guarantee="trajectory"`` still gets the region (the trajectory model's error is sampled
+    on it); ``"region"`` or ``"auto"`` without a limit: None and the missing limit.
+    """
+    from ..core.selection.region import joint_region, missing_limits
+    from ..io.planning import acceleration_limits
+
+    why = missing_limits(robot)
+    if why:
+        return None, why
+    try:
+        qdd_max, _ = acceleration_limits(robot)
+    except ValueError as exc:
+        return None, str(exc)
+    return joint_region(robot, qdd_max), ""
+
+
+def _trajectory_guarantee(model, sel, trajectory, missing=""):
+    """The explicit budget model's guarantee on its trajectory (None: chapter rule)."""
     from ..core.selection.guarantee import Guarantee
 
     if model.rule != "budget":
         return None
     return Guarantee("trajectory", float(model.tolerance), bound=np.asarray(model.bound, float),
                      scale=np.asarray(sel.scale, float), trajectory_sha256=trajectory.sha256,
+                     region_missing=missing,
                      method="sum of the dropped pairs' peak contributions on the trajectory "
                             "(triangle inequality)")
 

@@ -18,6 +18,7 @@ __all__ = ["SimplifyOptions", "AnalysisOptions", "ReportOptions"]
 RULES = ("budget", "chapter")
 EXPLICIT = ("auto", "always", "never")
 FORMS = ("cheapest", "recursive", "explicit")
+GUARANTEES = ("auto", "region", "trajectory")
 
 
 def _check_choice(name, value, allowed):
@@ -43,6 +44,10 @@ class SimplifyOptions:
         Whether the explicit G-D model is derived besides the recursive one.
     form : {"cheapest", "recursive", "explicit"}
         The form written.
+    guarantee : {"auto", "region", "trajectory"}
+        Where the budget model's bound must hold: proved over the robot's joint-limit region,
+        or on the analysed trajectory; ``"auto"``: the region when the robot gives position
+        and velocity limits for every joint (issue 29).
 
     Raises
     ------
@@ -60,6 +65,7 @@ class SimplifyOptions:
     torque_floor: float = defaults["torque_floor"]
     explicit: str = defaults["explicit"]
     form: str = defaults["form"]
+    guarantee: str = defaults["guarantee"]
 
     def __post_init__(self):
         if not self.tolerance >= 0.0 or not self.torque_floor >= 0.0:
@@ -67,6 +73,7 @@ class SimplifyOptions:
         _check_choice("rule", self.rule, RULES)
         _check_choice("explicit", self.explicit, EXPLICIT)
         _check_choice("form", self.form, FORMS)
+        _check_choice("guarantee", self.guarantee, GUARANTEES)
 
 
 @dataclass(frozen=True)

@@ -19,8 +19,9 @@ __all__ = ["Guarantee", "KINDS", "ROUND_OFF_EPS"]
 
 #: The two scopes of a bound.
 KINDS = ("region", "trajectory")
-#: Floating-point round-off allowed on top of a bound, in machine epsilons of the joint's scale
-#: (the verification's floor): the pruned and the exact program round differently.
+#: Floating-point round-off allowed on top of a bound, in machine epsilons of the arm's largest
+#: scale (the verification's floor): the pruned and the exact program round differently, and a
+#: small joint inherits the rounding of the large ones.
 ROUND_OFF_EPS = 64
 
 
@@ -137,7 +138,7 @@ class Guarantee:
         eps = f"{100.0 * self.tolerance:.4g} %"
         if self.kind == "region":
             return (f"within {eps} of s_i at every state of the region (proved; up to "
-                    f"round-off, {ROUND_OFF_EPS} eps of s_i)")
+                    f"round-off, {ROUND_OFF_EPS} eps of the largest s_i)")
         where = ("on this trajectory only" if not self.trajectories_sha256 else
                  f"on the {len(self.trajectories_sha256)} swept trajectories only")
         pct = self.sampled_percent()

@@ -25,7 +25,7 @@ from .base_parameters import regressor
 from .recursive import PARTS, exact_program, parts_program
 
 __all__ = ["part_contributions", "contribution_peaks", "Pruning", "prune", "pruned_program",
-           "STRATEGIES", "CRITERIA", "PEAK_CHUNK"]
+           "STRATEGIES", "CRITERIA", "PEAK_CHUNK", "prune_bounds"]
 
 
 def part_contributions(robot, base, q, qd, qdd):
@@ -372,3 +372,56 @@ def pruned_program(robot, base, dropped, cse=True, exact=None):
 def _total(program):
     c = program.cost()
     return c["multiplications"] + c["additions"]
+
+
+def prune_bounds(robot, base, scale, peak, whole_peak, eps, strategy="cost", pieces=None):
+    """Choose the pairs to drop from given upper bounds of their contributions.
+
+    Parameters
+    ----------
+    robot : Robot
+        The arm, with n joints.
+    base : BaseParameters
+        Its base parameters (b of them).
+    scale : ndarray, shape (n,)
+        s_i [N m or N].
+    peak : ndarray, shape (b, 3, n)
+        Upper bound of each pair's |contribution| to each tau_i where the model must hold
+        (e.g. proved over the joint-limit region, :func:`gd_analyze.core.selection.certify.
+        certify`) [N m or N].
+    whole_peak : ndarray, shape (b, n)
+        Upper bound of each parameter's whole |contribution|.
+    eps : float
+        Tolerance >= 0.
+    strategy : {"cost", "peak"}, optional
+        As :func:`prune`.
+    pieces : ndarray, shape (b, 3, L, n), optional
+        Bounds of each pair on L pieces that cover where the model must hold (the boxes of
+        a branch and bound): a dropped set's bound is then the largest over the pieces of
+        the sum of its pairs' bounds there (criterion "error"), never above the sum of their
+        overall bounds.
+
+    Returns
+    -------
+    Pruning
+        Every joint's bound is within eps scale_i, so by the triangle inequality |tau_s -
+        tau| <= bound_i wherever the bounds hold.
+
+    Raises
+    ------
+    ValueError
+        If eps is negative or not finite, or the strategy unknown.
+    """
+    if not (np.isfinite(eps) and eps >= 0):
+        raise ValueError(f"eps must be a finite number >= 0, got {eps!r}")
+    if strategy not in STRATEGIES:
+        raise ValueError(f"strategy must be one of {STRATEGIES}, got {strategy!r}")
+    scale = np.asarray(scale, float)
+    criterion = "peaks" if pieces is None else "error"
+    C = None if pieces is None else np.asarray(pieces, float).transpose(1, 2, 3, 0)
+    sel = _Selection(robot, base, C, peak, whole_peak, eps * scale, criterion)
+    dropped, whole = sel.by_peak() if strategy == "peak" else sel.by_cost()
+    dropped = _normalize(dropped, sel.live)
+    return Pruning(eps=float(eps), dropped=dropped, peak=peak, whole_peak=whole_peak,
+                   whole=whole, bound=sel.bound(dropped, whole), scale=scale,
+                   criterion=criterion)

@@ -1,0 +1,423 @@
+"""The regressor's coefficient functions of q, enclosed over boxes of joint positions.
+
+The joint torques are linear in the inertial parameters, tau = W(q, qd, qdd) phi
+(:func:`gd_analyze.core.symbolic.base_parameters.regressor`), and each column of W splits into
+
+    W(q, qd, qdd) = sum_j A_j(q) qdd_j + sum_{j, l} C_jl(q) qd_j qd_l + G(q)
+
+(inertial, velocity and gravity parts: the D qdd, h and c of Eq. (3.4-24)). This module runs
+the recursive Newton-Euler regressor recursion (Fu, Gonzalez & Lee 1987, Table 3.3; Khalil &
+Kleinfinger 1987) once per *channel*: gravity G (qd = qdd = 0), the inertial channels A_j
+(qdd = e_j, g = 0) and the bilinear velocity channels C_jl (the coefficient of qd_j qd_l,
+g = 0), in the interval arithmetic of :mod:`.intervals`, over a batch of boxes of q. The result
+encloses every coefficient over its box; with degenerate boxes it evaluates them at points.
+"""
+
+from __future__ import annotations
+
+import itertools
+
+import numpy as np
+
+from . import balls
+from . import intervals as iv
+
+__all__ = ["channel_count", "channel_values", "pair_magnitudes"]
+
+
+def channel_count(n):
+    """Number of channels of an n-joint arm: 1 gravity + n inertial + n^2 velocity.
+
+    Parameters
+    ----------
+    n : int
+
+    Returns
+    -------
+    int
+
+    Examples
+    --------
+    >>> channel_count(2)
+    7
+    """
+    return 1 + n + n * n
+
+
+class _Box:
+    """Interval boxes (:mod:`.intervals`): a vector is (lo, hi), each (..., 3)."""
+
+    add, scale, cross = staticmethod(iv.add), staticmethod(iv.scale), staticmethod(iv.cross)
+    matvec, point = staticmethod(iv.matvec), staticmethod(iv.point)
+
+    @staticmethod
+    def zeros(shape):
+        z = np.zeros(tuple(shape) + (3,))
+        return z, z.copy()
+
+    @staticmethod
+    def unit_z(a, index):
+        a[0][:, index, 2] += 1.0
+        a[1][:, index, 2] += 1.0
+
+    @staticmethod
+    def put_point(a, index, value):
+        a[0][:, index] = value
+        a[1][:, index] = value
+
+    @staticmethod
+    def sym(a, ab):
+        """E x for the symmetric unit matrix E of the index pair ab (||E||_2 = 1)."""
+        i, j = ab
+        out = []
+        for x in a:
+            y = np.zeros_like(x)
+            y[..., i] = x[..., j]
+            if i != j:
+                y[..., j] = x[..., i]
+            out.append(y)
+        return tuple(out)
+
+    @staticmethod
+    def z(a):
+        return a[0][..., 2], a[1][..., 2]
+
+    def __init__(self, q_lo, q_hi):
+        self.cs = iv.cos_sin(q_lo, q_hi)
+        self.q = (q_lo, q_hi)
+
+    def rotz(self, k, v, transpose):
+        (clo, chi), (slo, shi) = self.cs
+        return _rotz((clo[:, k], chi[:, k]), (slo[:, k], shi[:, k]), v, transpose)
+
+    def slide(self, k, t, dz):
+        ql, qh = self.q[0][:, k, None, None], self.q[1][:, k, None, None]
+        base = np.broadcast_to(t, ql.shape[:1] + (1, 3))
+        return iv.add((base, base), (np.minimum(ql * dz, qh * dz), np.maximum(ql * dz, qh * dz)))
+
+    def fixed(self, t, B):
+        base = np.broadcast_to(t, (B, 1, 3))
+        return base, base
+
+
+class _Ball:
+    """Midpoint-radius balls (:mod:`.balls`): a vector is (centre (..., 3), radius (...))."""
+
+    add, scale = staticmethod(balls.add), staticmethod(balls.scale)
+    cross, matvec, point = (staticmethod(balls.cross), staticmethod(balls.matvec),
+                            staticmethod(balls.point))
+
+    @staticmethod
+    def zeros(shape):
+        return balls.zeros(shape)
+
+    @staticmethod
+    def unit_z(a, index):
+        a[0][:, index, 2] += 1.0
+
+    @staticmethod
+    def put_point(a, index, value):
+        a[0][:, index] = value
+        a[1][:, index] = 0.0
+
+    @staticmethod
+    def sym(a, ab):
+        i, j = ab
+        y = np.zeros_like(a[0])
+        y[..., i] = a[0][..., j]
+        if i != j:
+            y[..., j] = a[0][..., i]
+        return y, a[1]
+
+    z = staticmethod(balls.z_interval)
+
+    def __init__(self, q_lo, q_hi):
+        self.mid = 0.5 * (q_lo + q_hi)
+        self.half = 0.5 * (q_hi - q_lo) * (1 + 1e-15) + 1e-300
+        self.q = (q_lo, q_hi)
+
+    def rotz(self, k, v, transpose):
+        return balls.rot_z(v, self.mid[:, k], self.half[:, k], transpose)
+
+    def slide(self, k, t, dz):
+        c = t + self.mid[:, k, None, None] * dz                       # (B, 1, 3)
+        r = self.half[:, k, None] * np.linalg.norm(dz) * (1 + 1e-15)
+        return c, r + 1e-15 * np.linalg.norm(c, axis=-1)
+
+    def fixed(self, t, B):
+        c = np.broadcast_to(t, (B, 1, 3))
+        return c, np.zeros((B, 1))
+
+
+def _take(a, index):
+    return tuple(x[:, index] for x in a)
+
+
+def _put(a, index, value):
+    for x, v in zip(a, value):
+        x[:, index] = v
+
+
+def _rotz(c, s, v, transpose):
+    """Rz(q) v or Rz(q)^T v for interval cos c and sin s of shape (B,), v (B, C, 3)."""
+    cb = (c[0][:, None], c[1][:, None])
+    sb = (s[0][:, None], s[1][:, None])
+    x, y = (v[0][..., 0], v[1][..., 0]), (v[0][..., 1], v[1][..., 1])
+    if transpose:
+        nx = iv.add(iv.mul(cb, x), iv.mul(sb, y))
+        ny = iv.sub(iv.mul(cb, y), iv.mul(sb, x))
+    else:
+        nx = iv.sub(iv.mul(cb, x), iv.mul(sb, y))
+        ny = iv.add(iv.mul(sb, x), iv.mul(cb, y))
+    return (np.stack([nx[0], ny[0], v[0][..., 2]], -1),
+            np.stack([nx[1], ny[1], v[1][..., 2]], -1))
+
+
+class _Chain:
+    """The joint geometry over a batch of boxes: R_k v, R_k^T v and p_k as enclosures."""
+
+    def __init__(self, robot, q_lo, q_hi, algebra):
+        self.robot = robot
+        self.A = algebra(q_lo, q_hi)
+        self.P = np.asarray(robot.rotation, float)
+        self.t = np.asarray(robot.translation, float)
+        self.pris = np.asarray(robot.prismatic, bool)
+        self.B = q_lo.shape[0]
+
+    def rot_t(self, k, v):
+        """R_k^T v = Rz(q_k)^T P_k^T v (revolute) or P_k^T v (prismatic)."""
+        u = self.A.matvec(self.P[k].T, v)
+        return u if self.pris[k] else self.A.rotz(k, u, True)
+
+    def rot(self, k, v):
+        """R_k v = P_k Rz(q_k) v (revolute) or P_k v (prismatic)."""
+        if not self.pris[k]:
+            v = self.A.rotz(k, v, False)
+        return self.A.matvec(self.P[k], v)
+
+    def p(self, k):
+        """p_k, shape (B, 1, 3): t_k, plus q_k P_k z for a prismatic joint."""
+        if not self.pris[k]:
+            return self.A.fixed(self.t[k], self.B)
+        return self.A.slide(k, self.t[k], self.P[k][:, 2])
+
+
+def _unit(c):
+    e = np.zeros(3)
+    e[c] = 1.0
+    return e
+
+
+def _forward(chain, gravity):
+    """Per link k: w (B, n, 3) per velocity j, and wd, vd (B, C, 3) per channel."""
+    A = chain.A
+    n = chain.robot.n
+    B = chain.B
+    C = channel_count(n)
+    jj, ll = np.divmod(np.arange(n * n), n)
+    vel = 1 + n + np.arange(n * n)
+    w = A.zeros((B, n))
+    wd = A.zeros((B, C))
+    vd = A.zeros((B, C))
+    g = -np.asarray(gravity, float)
+    A.put_point(vd, 0, g)
+    out = []
+    for k in range(n):
+        p = chain.p(k)
+        a = A.add(vd, A.cross(wd, p))
+        wj, wl = _take(w, jj), _take(w, ll)
+        _put(a, vel, A.add(_take(a, vel), A.cross(wj, A.cross(wl, p))))
+        vd = chain.rot_t(k, a)
+        wp = chain.rot_t(k, w)
+        wd = chain.rot_t(k, wd)
+        zk = A.cross(_take(wp, jj[ll == k]), A.point(np.array([0.0, 0.0, 1.0])))
+        target = vel[ll == k]
+        if chain.pris[k]:
+            A.unit_z(vd, 1 + k)
+            _put(vd, target, A.add(_take(vd, target), A.scale(zk, 2.0)))
+        else:
+            A.unit_z(wd, 1 + k)
+            _put(wd, target, A.add(_take(wd, target), zk))
+            A.unit_z(wp, k)
+        w = wp
+        out.append((w, wd, vd))
+    return out
+
+
+def _wrench(A, c, w, wd, vd, jj, ll, vel):
+    """Force and moment of a link per unit standard parameter c, per channel (B, C, 3)."""
+    shape = wd[0].shape[:2]
+    zero = A.zeros(shape)
+    wa, wb = A.zeros(shape), A.zeros(shape)
+    _put(wa, vel, _take(w, jj))
+    _put(wb, vel, _take(w, ll))
+    if c < 6:
+        ab = ((0, 0), (0, 1), (0, 2), (1, 1), (1, 2), (2, 2))[c]
+        return zero, A.add(A.sym(wd, ab), A.cross(wa, A.sym(wb, ab)))
+    if c < 9:
+        e = A.point(_unit(c - 6))
+        force = A.add(A.cross(wd, e), A.cross(wa, A.cross(wb, e)))
+        return force, A.cross(e, vd)
+    return vd, zero
+
+
+def _columns(robot, q_lo, q_hi, columns, gravity, algebra=_Box):
+    """(column m, joint i, enclosure of the column's torque at joint i per channel (B, C))."""
+    chain = _Chain(robot, q_lo, q_hi, algebra)
+    A = chain.A
+    n = robot.n
+    links = _forward(chain, robot.gravity if gravity is None else gravity)
+    jj, ll = np.divmod(np.arange(n * n), n)
+    vel = 1 + n + np.arange(n * n)
+    for m, col in enumerate(np.asarray(columns, int)):
+        k, c = divmod(int(col), 10)
+        w, wd, vd = links[k]
+        f, mom = _wrench(A, c, w, wd, vd, jj, ll, vel)
+        for i in range(k, -1, -1):
+            yield m, i, A.z(mom if not chain.pris[i] else f)
+            if i == 0:
+                break
+            f = chain.rot(i, f)
+            mom = A.add(chain.rot(i, mom), A.cross(chain.p(i), f))
+
+
+class _QuadraticBound:
+    """max |qd^T C qd| over |qd_j| <= a_j for interval coefficients C_jl (j, l = 1..n).
+
+    qd^T C qd = sum_j C_jj qd_j^2 + sum_{j < l} S_jl qd_j qd_l with S_jl = C_jl + C_lj. The
+    off-diagonal part is affine in each qd_j, so its extremes over the box are at vertices
+    (half of them: v and -v give the same value); the diagonal part lies within
+    [sum min(0, C_jj) a_j^2, sum max(0, C_jj) a_j^2]. Each is taken over the intervals.
+    """
+
+    def __init__(self, n, a):
+        jj, ll = np.divmod(np.arange(n * n), n)
+        off = np.flatnonzero(jj < ll)
+        self.off, self.mirror = off, ll[off] * n + jj[off]
+        self.diag = np.arange(n) * (n + 1)
+        a = np.asarray(a, float)
+        signs = np.array(list(itertools.product([-1.0, 1.0], repeat=max(n - 1, 0))))
+        signs = np.hstack([np.ones((signs.shape[0], 1)), signs])[:, :n] if n > 1 else \
+            np.ones((1, 1))
+        if n > 13:                                      # too many vertices: no vertex search
+            signs = None
+        self.prod = None if signs is None else \
+            (signs[:, jj[off]] * signs[:, ll[off]]) * (a[jj[off]] * a[ll[off]])[None, :]
+        self.w_off = a[jj[off]] * a[ll[off]]
+        self.w_diag = a * a
+
+    def __call__(self, lo, hi):
+        """lo, hi (B, n^2): the channels C_jl; returns (B,) upper bounds."""
+        s_lo = lo[:, self.off] + lo[:, self.mirror]
+        s_hi = hi[:, self.off] + hi[:, self.mirror]
+        mid, rad = 0.5 * (s_lo + s_hi), 0.5 * (s_hi - s_lo)
+        d_hi = np.maximum(hi[:, self.diag], 0.0) @ self.w_diag
+        d_lo = np.minimum(lo[:, self.diag], 0.0) @ self.w_diag
+        spread = rad @ self.w_off
+        if self.prod is None:
+            top = np.abs(mid) @ self.w_off
+            return (top + spread + np.maximum(d_hi, -d_lo)) * (1 + 1e-12)
+        centre = mid @ self.prod.T                                  # (B, vertices)
+        top = (centre.max(axis=1) + spread + d_hi)
+        bottom = (centre.min(axis=1) - spread + d_lo)
+        return np.maximum(top, -bottom) * (1 + 1e-12) + 1e-300
+
+
+def channel_values(robot, q, columns, gravity=None):
+    """The coefficient functions at points q: every channel, joint and column.
+
+    Parameters
+    ----------
+    robot : Robot
+        The arm, with n joints.
+    q : ndarray, shape (B, n)
+        Joint positions [rad or m].
+    columns : array_like of int, shape (m,)
+        Flat standard-parameter indices 10 k + c (link k, :data:`PARAMETER_NAMES` c).
+    gravity : array_like, shape (3,), optional
+        [m/s^2]; default the robot's.
+
+    Returns
+    -------
+    ndarray, shape (B, C, n, m)
+        Channel 0: G(q) [N m or N per unit parameter]; channel 1 + j: A_j(q); channel
+        1 + n + n j + l: C_jl(q) (not symmetrized), C = :func:`channel_count`.
+
+    Raises
+    ------
+    ValueError
+        If q does not have n columns.
+
+    Notes
+    -----
+    W(q, qd, qdd) = sum_j A_j qdd_j + sum_{j, l} C_jl qd_j qd_l + G, with the regressor W of
+    :func:`gd_analyze.core.symbolic.base_parameters.regressor`.
+    """
+    q = np.asarray(q, float)
+    if q.ndim != 2 or q.shape[1] != robot.n:
+        raise ValueError(f"q must have shape (B, {robot.n}), got {q.shape}")
+    columns = np.asarray(columns, int)
+    out = np.zeros((q.shape[0], channel_count(robot.n), robot.n, columns.size))
+    for m, i, (lo, hi) in _columns(robot, q, q, columns, gravity):
+        out[:, :, i, m] = 0.5 * (lo + hi)
+    return out
+
+
+def pair_magnitudes(robot, q_lo, q_hi, columns, qd_max, qdd_max, gravity=None,
+                    arithmetic="ball"):
+    """Upper bounds of each column's three parts over boxes of q and the velocity and
+    acceleration limits, per joint.
+
+    Parameters
+    ----------
+    robot : Robot
+        The arm, with n joints.
+    q_lo, q_hi : ndarray, shape (B, n)
+        The boxes [rad or m], q_lo <= q_hi.
+    columns : array_like of int, shape (m,)
+        Flat standard-parameter indices 10 k + c.
+    qd_max, qdd_max : array_like, shape (n,)
+        Velocity and acceleration limits [rad/s, m/s; rad/s^2, m/s^2].
+    gravity : array_like, shape (3,), optional
+        [m/s^2]; default the robot's.
+    arithmetic : {"ball", "box"}, optional
+        Midpoint-radius balls (:mod:`.balls`, default: rotations do not wrap) or interval
+        boxes (:mod:`.intervals`).
+
+    Returns
+    -------
+    ndarray, shape (B, 3, n, m)
+        ``U[b, p, i, m]`` >= |part p of column m at joint i| for every q in box b, |qd| <=
+        qd_max and |qdd| <= qdd_max: p = 0 inertial, sum_j max|A_j| qdd_max_j; p = 1
+        velocity, max over the velocity box of |qd^T C qd| (:class:`_QuadraticBound`); p = 2
+        gravity, max|G| [N m or N per unit parameter].
+
+    Raises
+    ------
+    ValueError
+        If the boxes do not have n columns or lo > hi somewhere.
+
+    Notes
+    -----
+    qdd enters linearly and qd quadratically, so both enter through their bounds exactly;
+    over q the bound is the interval enclosure of :mod:`.intervals` (Moore, Kearfott & Cloud
+    2009), rounded outward.
+    """
+    q_lo, q_hi = np.asarray(q_lo, float), np.asarray(q_hi, float)
+    n = robot.n
+    if q_lo.shape != q_hi.shape or q_lo.ndim != 2 or q_lo.shape[1] != n:
+        raise ValueError(f"boxes must have shape (B, {n})")
+    if np.any(q_lo > q_hi):
+        raise ValueError("a box has lo > hi")
+    if arithmetic not in ("ball", "box"):
+        raise ValueError(f"arithmetic must be 'ball' or 'box', got {arithmetic!r}")
+    qd_max, qdd_max = np.asarray(qd_max, float), np.asarray(qdd_max, float)
+    columns = np.asarray(columns, int)
+    quad = _QuadraticBound(n, qd_max)
+    out = np.zeros((q_lo.shape[0], 3, n, columns.size))
+    algebra = {"ball": _Ball, "box": _Box}[arithmetic]
+    for m, i, (lo, hi) in _columns(robot, q_lo, q_hi, columns, gravity, algebra):
+        out[:, 2, i, m] = iv.magnitude((lo[:, 0], hi[:, 0]))
+        out[:, 0, i, m] = iv.magnitude((lo[:, 1:1 + n], hi[:, 1:1 + n])) @ qdd_max
+        out[:, 1, i, m] = quad(lo[:, 1 + n:], hi[:, 1 + n:])
+    return out * (1.0 + 8 * iv.ROUNDING * (2 * n + 2))

@@ -1,0 +1,67 @@
+"""The interval regressor recursion: at points it is the regressor, over boxes it encloses it."""
+import numpy as np
+import pytest
+
+from gd_analyze import load_robot
+from gd_analyze.core.dynamics.regressor_bounds import channel_values, pair_magnitudes
+from gd_analyze.core.selection.region import channel_values as point_channels
+from gd_analyze.core.symbolic.base_parameters import regressor
+
+
+@pytest.mark.parametrize("name", ["puma560", "stanford"])
+def test_channels_at_points_are_the_regressor(name):
+    robot = load_robot(name)
+    n = robot.n
+    rng = np.random.default_rng(0)
+    q, qd, qdd = rng.uniform(-2, 2, (3, 20, n))
+    cols = np.arange(10 * n)
+    for V in (channel_values(robot, q, cols), point_channels(robot, q, cols)):
+        W = (np.einsum("bjim,bj->bim", V[:, 1:1 + n], qdd) + V[:, 0]
+             + np.einsum("bcim,bc->bim", V[:, 1 + n:],
+                         (qd[:, :, None] * qd[:, None, :]).reshape(20, -1)))
+        ref = regressor(robot, q, qd, qdd)
+        assert np.abs(W - ref).max() <= 1e-12 * np.abs(ref).max()
+
+
+def test_box_bounds_enclose_every_sampled_contribution():
+    robot = load_robot("stanford")          # a prismatic joint: its position is an interval too
+    n = robot.n
+    rng = np.random.default_rng(1)
+    lo = rng.uniform(robot.q_min, robot.q_max, (3, n))
+    hi = np.minimum(lo + 0.4 * (robot.q_max - robot.q_min), robot.q_max)
+    cols = np.arange(10 * n)
+    U = pair_magnitudes(robot, lo, hi, cols, robot.qd_max, robot.qdd_max)
+    for b in range(3):
+        q = rng.uniform(lo[b], hi[b], (200, n))
+        qd = rng.choice([-1.0, 1.0], (200, n)) * robot.qd_max * rng.uniform(0, 1, (200, 1))
+        qdd = rng.uniform(-1, 1, (200, n)) * robot.qdd_max
+        z = np.zeros_like(q)
+        parts = (regressor(robot, q, z, qdd, gravity=np.zeros(3)),
+                 regressor(robot, q, qd, z, gravity=np.zeros(3)), regressor(robot, q, z, z))
+        for p, W in enumerate(parts):
+            assert np.all(np.abs(W).max(axis=0) <= U[b, p] + 1e-12), p
+    with pytest.raises(ValueError):
+        pair_magnitudes(robot, hi, lo, cols, robot.qd_max, robot.qdd_max)
+
+
+@pytest.mark.parametrize("arithmetic", ["ball", "box"])
+def test_both_arithmetics_enclose_the_sampled_peaks_on_boxes(arithmetic):
+    """Every pair's bound over a box is at least its largest value sampled inside the box
+    (velocity at the vertices of the limits, where the quadratic form can peak)."""
+    from gd_analyze.core.selection.certify import pair_peaks_at
+
+    robot = load_robot("puma560")
+    n = robot.n
+    rng = np.random.default_rng(2)
+    lo = rng.uniform(robot.q_min, robot.q_max, (4, n))
+    hi = np.minimum(lo + rng.uniform(0.05, 1.0, (4, n)), robot.q_max)
+    cols = np.arange(10 * n)
+    U = pair_magnitudes(robot, lo, hi, cols, robot.qd_max, robot.qdd_max,
+                        arithmetic=arithmetic)
+    for b in range(4):
+        q = rng.uniform(lo[b], hi[b], (300, n))
+        peaks = pair_peaks_at(point_channels(robot, q, cols), np.ones(cols.size),
+                              robot.qd_max, robot.qdd_max)          # (m, 3, n)
+        assert np.all(peaks.transpose(1, 2, 0) <= U[b] * (1 + 1e-12) + 1e-12)
+    with pytest.raises(ValueError):
+        pair_magnitudes(robot, lo, hi, cols, robot.qd_max, robot.qdd_max, arithmetic="x")
