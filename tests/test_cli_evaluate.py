@@ -33,7 +33,8 @@ def ur10(tmp_path_factory):
     assert main(["plan", str(UR10), "-o", str(own)]) == 0
     assert main(["plan", str(UR10), "-o", str(other), "--start", "0,-80,170,0,0,0",
                  "--goal", "60,-80,-130,0,0,0"]) == 0
-    assert main([str(UR10), str(own), "-o", str(folder / "out"), "--no-report", "-q"]) == 0
+    assert main([str(UR10), str(own), "-o", str(folder / "out"), "--no-report", "-q",
+                 "--guarantee", "trajectory"]) == 0
     return folder / "out" / "simplified_model.json", own, other
 
 
@@ -129,3 +130,30 @@ def test_zero_reference_torque_is_measured_against_s_i(ur10, capsys, tmp_path):
     worst = int(np.argmax(err / s))
     assert code == 3 and f"joint {worst + 1}'s relative torque error" in stderr
     assert "(of s_i)" in stderr
+
+
+def test_region_model_covers_planned_motions_and_keeps_its_promise(ur10, tmp_path, capsys):
+    """The default (region) model of the UR10: a plan within the limits lies in its region,
+    its error there is within EPS s_i against the oracle and evaluate exits 0; a motion
+    faster than the velocity limit is named as outside."""
+    _, own, other = ur10
+    out = tmp_path / "region"
+    assert main([str(UR10), str(own), "-o", str(out), "--no-report", "-q"]) == 0
+    model_path = out / "simplified_model.json"
+    g = load_model(model_path).guarantee
+    assert g.kind == "region"
+    err, _, _ = _oracle_error(model_path, other)
+    assert np.all(err <= g.tolerance * g.scale * (1 + 1e-9) + 1e-12)
+    code, out_text, stderr = _run(capsys, "evaluate", model_path, other, "--json")
+    report = json.loads(out_text)
+    assert code == 0, stderr
+    assert report["guarantee"]["covered"] and report["guarantee"]["statement"] == g.statement()
+    fast = tmp_path / "fast.csv"
+    assert main(["plan", str(UR10), "-o", str(fast), "--duration", "0.5",
+                 "--ignore-limits"]) == 0
+    traj = read_trajectory(fast, n_joints=6)
+    over = np.abs(traj.qd).max(axis=0) > g.qd_max           # the oracle: the limits as given
+    assert over.any()
+    code, out_text, _ = _run(capsys, "evaluate", model_path, fast, "--json")
+    said = json.loads(out_text)["guarantee"]
+    assert not said["covered"] and "outside the model's region" in said["reason"]

@@ -175,8 +175,12 @@ def coverage(model, trajectory, plant=None):
         return {**out, "covered": False,
                 "reason": "the reference arm is not the model's robot (a payload or another "
                           "mounting): the guarantee is for the model's own robot"}
-    continuous = ~np.asarray(robot.prismatic, bool) & ~(np.isfinite(robot.q_min)
-                                                        & np.isfinite(robot.q_max))
+    # a revolute joint without limits, or with more than a turn, has the full circle
+    # [-pi, pi] in the region (core.selection.region): its q counts modulo 2 pi
+    lo, hi = np.asarray(robot.q_min, float), np.asarray(robot.q_max, float)
+    with np.errstate(invalid="ignore"):
+        continuous = ~np.asarray(robot.prismatic, bool) & (
+            ~(np.isfinite(lo) & np.isfinite(hi)) | (hi - lo > 2 * np.pi))
     covered, reason = g.covers(trajectory.q, trajectory.qd, trajectory.qdd,
                                trajectory_sha256=trajectory.sha256, continuous=continuous)
     return {**out, "covered": bool(covered), "reason": reason}
