@@ -242,7 +242,10 @@ def test_evaluate_under_a_payload(tmp_path, capsys):
     bare = json.loads(out)
     code, out, _ = _run(["evaluate", model, SHIPPED, "--json", "--payload", "2.5"], capsys)
     loaded = json.loads(out)
-    assert code == 0 and loaded["payload_mass"] == 2.5
+    # the model's own promise (EPS s_i) is the default gate: an unknown load breaks it, and the
+    # guarantee (for the model's own robot) does not cover the loaded arm
+    assert code == 3 and loaded["payload_mass"] == 2.5 and loaded["exceeded"]
+    assert bare["guarantee"]["covered"] and not loaded["guarantee"]["covered"]
     # the model knows nothing of the load: its error grows, most at the shoulder and elbow
     assert loaded["peak_abs_error"][1] > 50 * bare["peak_abs_error"][1]
 

@@ -126,7 +126,8 @@ def main(argv=None):
     -------
     int
         The exit status: 0 ok, 1 verification failed, 2 bad input or unusable output location,
-        3 error above --max-error, 4 internal error.
+        3 evaluate's gate (an error above the model's tolerance x s_i, or above --max-error),
+        4 internal error.
     """
     from ..io.staging import Terminated, install_signal_handlers
 

@@ -198,6 +198,12 @@ def _format_summary(ds):
                      f"{ds.tau_error_relative_rms.values[j]:>10.2e}{ends[j]}")
     lines += _effort_lines(ds)
     lines += _cost_lines(ds)
+    from ..io.datasets import stored_guarantee
+
+    scope = stored_guarantee(ds)                # the model built, as results.h5 stores it
+    if scope is not None:
+        lines += ([] if lines[-1].startswith(("simplified model", "  it does")) else [""]) + [
+            f"guarantee: {scope['statement']}"]
     if "verification_passed" in ds.attrs:
         import numpy as np
 
@@ -427,8 +433,9 @@ def _warn_provenance(csv_path, robot):
 def _cmd_evaluate(args):
     import json
 
+    from ..core.selection.simplified import json_safe
     from ..io.trajectory import read_trajectory
-    from ..workflows.evaluate import evaluate
+    from ..workflows.evaluate import coverage, evaluate, gate
 
     model = load_model(args.model)
     traj = read_trajectory(args.trajectory, n_joints=model.robot.n)
@@ -436,15 +443,17 @@ def _cmd_evaluate(args):
     plant = _apply_payload(_apply_mounting(model.robot, args), args)
     err = evaluate(model, traj, plant=plant)
     worst = err.pop("max_relative_peak_error")
-    exceeded = args.max_error is not None and worst > args.max_error
+    scope, verdict = coverage(model, traj, plant=plant), gate(err, model, args.max_error)
     if args.json:
         out = {"model": args.model, "trajectory": args.trajectory,
                "trajectory_sha256": traj.sha256, "robot": model.robot.name,
                "setpoints": traj.n_setpoints, "payload_mass": float(args.payload or 0.0),
                **_mounting_settings(args, plant),
-               "max_relative_peak_error": worst,
-               "max_error": args.max_error, "exceeded": exceeded, **err}
-        print(json.dumps(out, allow_nan=False, default=str).replace("NaN", "null"))
+               "max_relative_peak_error": worst, "guarantee": scope,
+               "max_error": args.max_error, "gate": verdict["by"],
+               "gate_limit": verdict["limit"], "worst_joint": verdict["worst_joint"],
+               "exceeded": verdict["exceeded"], **err}
+        print(json.dumps(json_safe(out), allow_nan=False, default=str))
     else:
         print(f"{model.robot.name} simplified model on {args.trajectory} "
               f"({traj.n_setpoints} set points)")
@@ -453,11 +462,19 @@ def _cmd_evaluate(args):
         for j in range(model.robot.n):
             print(f"{j + 1:<6}{err['peak_abs_error'][j]:>12.4g}{err['rms_error'][j]:>12.4g}"
                   f"{err['peak_tau'][j]:>12.4g}{err['relative_peak_error'][j]:>10.2e}"
-                  f"{err['relative_rms_error'][j]:>10.2e}{ends[j]}")
+                  f"{err['relative_rms_error'][j]:>10.2e}{ends[j]}"
+                  + ("  (relative to s_i: no torque here)" if err["relative_to"][j] == "s_i"
+                     else "  (no torque, no s_i)" if err["relative_to"][j] == "none" else ""))
         print(f"largest relative peak error: {worst:.3e}")
-    if exceeded:
-        print(f"{PROG}: relative torque error {worst:.3e} exceeds --max-error "
-              f"{args.max_error:g}", file=sys.stderr)
+        print(f"model's guarantee: {scope['statement']}")
+        print(f"covers this trajectory: {'yes' if scope['covered'] else 'no'}: "
+              f"{scope['reason']}")
+        print("gate: " + (f"--max-error {args.max_error:g}" if args.max_error is not None
+                          else "the model's tolerance x scale (EPS s_i) per joint"
+                          if verdict["by"] else
+                          "none (the model carries no guarantee; --max-error sets one)"))
+    if verdict["exceeded"]:
+        print(f"{PROG}: {verdict['message']}", file=sys.stderr)
         return EXIT_TOLERANCE
     return EXIT_OK
 
@@ -537,5 +554,8 @@ def _cmd_control(args):
             print(f"{'noise floor':<12}" + "".join(f"{v:>11.3e}" for v in floor)
                   + f"   integrator noise of tau diff ({how}), \u2261 0 at or below")
         print(judged["verdict"])
+        said = summary["guarantee"]
+        print(f"model's guarantee: {said['statement']}")
+        print(f"covers this trajectory: {'yes' if said['covered'] else 'no'}: {said['reason']}")
         print("wrote " + ", ".join(str(p) for p in written))
     return EXIT_OK

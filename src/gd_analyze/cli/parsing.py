@@ -25,7 +25,8 @@ EXIT_OK, EXIT_VERIFY, EXIT_INPUT, EXIT_TOLERANCE, EXIT_INTERNAL = 0, 1, 2, 3, 4
 
 
 EXIT_STATUS_HELP = ("Exit status: 0 ok, 1 verification failed, 2 bad input or unusable output "
-                    "location, 3 error above --max-error, 4 internal error (--debug shows the "
+                    "location, 3 evaluate's gate: an error above the model's tolerance x s_i or "
+                    "--max-error, 4 internal error (--debug shows the "
                     "traceback).")
 
 
@@ -330,13 +331,17 @@ def _plan_parser():
 
 def _evaluate_parser():
     p = _Parser(prog=f"{PROG} evaluate",
-                description="Report a simplified model's torque error on another trajectory.")
+                description="Report a simplified model's torque error on another trajectory, "
+                            "the model's guarantee and whether it covers the trajectory.")
     p.add_argument("model", metavar="MODEL.json")
     p.add_argument("trajectory", metavar="TRAJECTORY.csv")
     p.add_argument("--max-error", metavar="REL", type=_fraction(0.0, math.inf, "--max-error",
                                                                 False),
                    help="exit with status 3 if the peak relative torque error of any joint "
-                        "exceeds REL")
+                        "(relative to its peak |tau| on the trajectory; to the model's s_i "
+                        "where that is 0) exceeds REL (default: exit 3 if any joint's error "
+                        "exceeds the model's tolerance x s_i, the scale of its guarantee; no "
+                        "gate for a model without one)")
     p.add_argument("--json", action="store_true", help="print one JSON object")
     _add_payload_arguments(p)
     _add_mounting_arguments(p, "the reference arm")

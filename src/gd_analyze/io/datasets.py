@@ -23,7 +23,8 @@ import numpy as np
 from .schema import MIXED_UNITS, element_coords, global_attributes, var
 
 __all__ = ["build_dataset", "summary_dataset", "setpoint_arrays", "SetpointWriter",
-           "SETPOINT_VARIABLES", "FRICTION_VARIABLE", "setpoint_variables", "setpoint_units", "joint_units", "units_attribute"]
+           "SETPOINT_VARIABLES", "FRICTION_VARIABLE", "setpoint_variables", "setpoint_units", "joint_units", "units_attribute",
+           "guarantee_fields", "stored_guarantee"]
 
 
 #: Per-set-point variables: name -> (dims, units, long_name). Used by both writers.
@@ -75,6 +76,67 @@ _JOINT_UNIT_COORDS = {"q_units": ("q", "units of q of the joint (rad or m)"),
                       "qd_units": ("qd", "units of qd of the joint (rad s-1 or m s-1)"),
                       "qdd_units": ("qdd", "units of qdd of the joint (rad s-2 or m s-2)"),
                       "tau_units": ("tau", "units of tau, h and c of the joint (N m or N)")}
+
+
+def guarantee_fields(model, torque_units="N m"):
+    """The simplified model's guarantee as the results dataset stores it (issue 29 item 4).
+
+    Parameters
+    ----------
+    model : SimplifiedModel
+        The model built; its ``guarantee``
+        (:class:`~gd_analyze.core.selection.guarantee.Guarantee`) may be None (chapter rule).
+    torque_units : str, optional
+        The ``units`` attribute of a joint torque (``"N m"``, or the mixed-units marker).
+
+    Returns
+    -------
+    variables : dict
+        ``simplified_guarantee_bound`` and ``simplified_guarantee_scale`` (dim joint) [N m or
+        N]: the guarantee's bound and s_i; empty without a guarantee.
+    attrs : dict
+        ``simplified_guarantee_kind`` (``"region"``, ``"trajectory"`` or ``"none"``),
+        ``simplified_guarantee_statement`` (:meth:`SimplifiedModel.scope`, the one sentence
+        every output prints) and, with a guarantee, ``simplified_guarantee_tolerance`` (EPS).
+    """
+    g = model.guarantee
+    attrs = {"simplified_guarantee_kind": "none" if g is None else g.kind,
+             "simplified_guarantee_statement": model.scope()}
+    if g is None:
+        return {}, attrs
+    attrs["simplified_guarantee_tolerance"] = float(g.tolerance)
+    where = "over the region" if g.kind == "region" else "on the trajectory"
+    return {"simplified_guarantee_bound": var(("joint",), np.asarray(g.bound, float),
+                                              torque_units, f"the guarantee's bound on "
+                                              f"|tau_s - tau| {where}"),
+            "simplified_guarantee_scale": var(("joint",), np.asarray(g.scale, float),
+                                              torque_units, f"the guarantee's scale s_i {where}")
+            }, attrs
+
+
+def stored_guarantee(ds):
+    """The guarantee of the model built, read back from a results dataset.
+
+    Parameters
+    ----------
+    ds : xarray.Dataset
+        As the main job stores it (:func:`guarantee_fields`).
+
+    Returns
+    -------
+    dict or None
+        ``kind``, ``statement``, ``tolerance`` (NaN without a guarantee), ``bound`` and
+        ``scale`` (ndarray (n,), or None); None for a dataset written before issue 29.
+    """
+    a = ds.attrs
+    if "simplified_guarantee_statement" not in a:
+        return None
+    return {"kind": str(a.get("simplified_guarantee_kind", "none")),
+            "statement": str(a["simplified_guarantee_statement"]),
+            "tolerance": float(a.get("simplified_guarantee_tolerance", np.nan)),
+            **{k: (np.asarray(ds[f"simplified_guarantee_{k}"].values, float)
+                   if f"simplified_guarantee_{k}" in ds.variables else None)
+               for k in ("bound", "scale")}}
 
 
 def joint_units(prismatic, which):

@@ -14,6 +14,7 @@ from .control_figures import _LABELS, _joint_units, markers_words, noise_floors,
 from .control_verdict import _NOISE, VERDICT_TOLERANCE, _attr, _by_type_text, _fmt, control_verdict
 from .main_provenance import gravity_row, run_row, software_row
 from .main_text import gravity_clause, model_sentence
+from .markup import scope as scope_markup
 from .markup import sub as _sub
 
 __all__ = ["control_context", "dataset_verdict"]
@@ -317,7 +318,9 @@ def _model_note(ds):
         gravity = gravity_clause(rule, c_terms=(kept, full) if min(kept, full) >= 0 else None)
         text = model_sentence(choice=_strings(ds["choice"].values), gravity=gravity)
     eps = float(a.get("model_tolerance", np.nan))
-    if rule == "budget":
+    if "model_scope" in a:              # issue 29: the scope stored from the model itself
+        return text + " " + scope_sentences(a, eps), recursive
+    if rule == "budget":                # an older control.h5
         text += (f" Rule: error budget, \u03b5\u00a0=\u00a0{eps:g}: the open-loop error "
                  "\u03c4\u209b \u2212 \u03c4 is guaranteed within \u03b5\u00b7s\u1d62 on the "
                  "trajectory the model was built on" + (" (this one)." if
@@ -328,6 +331,50 @@ def _model_note(ds):
         text += (" Rule: the chapter's share-based classes (Sec. 3.4.1): each element keeps "
                  "its dominant part; there is no error bound.")
     return text, recursive
+
+
+def scope_sentences(attrs, eps):
+    """The model's rule, its guarantee as the model states it, and whether that covers the
+    tracked motion, from the attributes the control run stored (``model_scope``,
+    ``model_guarantee_kind``, ``model_guarantee_covered``, ``model_guarantee_coverage``).
+
+    Parameters
+    ----------
+    attrs : dict
+        The control dataset's attributes.
+    eps : float
+        The model's tolerance EPS [1].
+
+    Returns
+    -------
+    str
+        Sentences; "guaranteed" only where the guarantee covers the motion.
+
+    Examples
+    --------
+    >>> scope_sentences({"model_rule": "budget", "model_guarantee_kind": "trajectory",
+    ...                  "model_scope": "within 1 % of s_i on this trajectory only",
+    ...                  "model_guarantee_covered": 0,
+    ...                  "model_guarantee_coverage": "it is not the trajectory"}, 0.01)[-68:]
+    'trajectory. The open-loop error along this motion is not guaranteed.'
+    """
+    rule, kind = str(attrs.get("model_rule", "")), str(attrs.get("model_guarantee_kind", ""))
+    scope = scope_markup(str(attrs.get("model_scope", "")))
+    if kind not in ("region", "trajectory"):
+        if rule == "chapter":
+            return ("Rule: the chapter's share-based classes (Sec. 3.4.1): each element keeps "
+                    f"its dominant part; there is no error bound (the model's scope: {scope}).")
+        return f"The model's guarantee: {scope}."
+    where = " (stated for the trajectory it was built on)" if kind == "trajectory" else ""
+    text = (f"Rule: error budget, \u03b5\u00a0=\u00a0{eps:g}. The model's guarantee{where}: "
+            f"{scope}.")
+    reason = str(attrs.get("model_guarantee_coverage", ""))
+    if str(attrs.get("model_guarantee_covered")) == "1":
+        return (text + f" It covers this motion: {reason}. The open-loop error "
+                "\u03c4\u209b \u2212 \u03c4 along the desired motion is guaranteed within "
+                "\u03b5\u00b7s\u1d62.")
+    return (text + f" It does not cover this motion: {reason}. The open-loop error along this "
+            "motion is not guaranteed.")
 
 
 #: Stored units of the gains (:func:`gd_analyze.core.selection.labels.joint_gain_units`) and
@@ -386,6 +433,7 @@ _PROVENANCE = (("trajectory path", "trajectory_path"),
                ("model path", "model_path"),
                ("trajectory the model was built on (SHA-256)", "model_trajectory_sha256"),
                ("model built on this trajectory", "trajectory_is_models"),
+               ("model's guarantee covers this motion", "model_guarantee_covered"),
                ("method", "references"))
 
 
@@ -404,7 +452,7 @@ def _provenance(ds, version):
             continue                    # the trajectory's own SHA-256, said in Table 1.1
         if k in ds.attrs:
             value = _attr(ds, k)
-            if k == "trajectory_is_models":
+            if k in ("trajectory_is_models", "model_guarantee_covered"):
                 value = {"1": "yes", "0": "no"}.get(value, value)
             rows.append([label, value])
     if "verdict_tolerance_revolute" in ds.attrs:

@@ -11,6 +11,7 @@ from __future__ import annotations
 import numpy as np
 
 from ..core.selection.ranking import arm_scales, is_round_off
+from ..io.datasets import stored_guarantee
 from ..io.sweep_datasets import payload_part
 from .common import CLASS_COLOURS as _CLASS_COLOURS
 from .common import attr as _attr
@@ -44,6 +45,7 @@ from .main_text import (
     simplified_intro,
 )
 from .markup import element as _el
+from .markup import scope as _scope
 from .markup import tau
 from .plot_data import ENVELOPE_COLUMNS, ENVELOPE_THRESHOLD
 from .simplified_section import ROUND_OFF, has_simplified, simplified_caption, simplified_context
@@ -367,7 +369,8 @@ def _report_context_base(ds):
     summary = conclusion(labels, dominance, zero, choice, rel_peak,
                          ds["tau_error_peak"].values, ds["tau_peak"].values, _model_cost(ds),
                          recursive=_recursive_facts(ds) if form == "recursive" else None,
-                         gravity=_gravity_fact(ds, form), units=tau_units)
+                         gravity=_gravity_fact(ds, form), units=tau_units,
+                         scope=_scope((stored_guarantee(ds) or {}).get("statement") or ""))
     facts = (f"{robot_name}, {n} joints, {count(N)} set points over {_fmt(t[-1] - t[0], 4)} s; "
              f"{len(labels)} elements ranked with s = {s:g}, e = {e:g}: "
              + ", ".join(f"{counts[c]} {c}" for c in _CLASS_COLOURS)

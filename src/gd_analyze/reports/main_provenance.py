@@ -15,6 +15,7 @@ import numpy as np
 from .common import attr as _attr
 from .common import fmt as _fmt
 from .common import prismatic_joints
+from .markup import scope as scope_markup
 
 __all__ = ["provenance_rows", "software_row", "run_row", "gravity_row"]
 
@@ -31,7 +32,8 @@ _ELSEWHERE = {
     "payload_mass", "payload_com", "payload_inertia", "simplified_files",
     "mounting_base_rpy_deg", "mounting_gravity_base", "mounting_gravity_world",
     "full_harmonics", "full_coefficients", "other_rule_harmonics", "other_rule_coefficients",
-    "formulations_joint_types",
+    "formulations_joint_types", "simplified_guarantee_kind", "simplified_guarantee_statement",
+    "simplified_guarantee_tolerance",
 }
 #: The ``explicit`` setting in words.
 _EXPLICIT = {"auto": "derived when its estimated size is cheap and it may be deployed (auto)",
@@ -162,6 +164,10 @@ def provenance_rows(ds, created, version, verification):
                      f"n = {_attr(ds, 'formulations_n')}" + _prismatic_joints(ds)))
     if "simplified_files" in ds.attrs:
         rows.append(("emitted source files", _attr(ds, "simplified_files")))
+    if "simplified_guarantee_statement" in ds.attrs:        # issue 29: the model's scope
+        rows.append(("guarantee of the model built",
+                     f"{_attr(ds, 'simplified_guarantee_kind')} kind: "
+                     + scope_markup(_attr(ds, 'simplified_guarantee_statement'))))
     engine = _attr(ds, "verification_engine", "Pinocchio")
     rows.append(("verification against " + engine.replace("pinocchio", "Pinocchio"),
                  verification))

@@ -76,7 +76,7 @@ def _qty(value, unit):
 
 
 def conclusion(labels, dominance, zero, choice, rel_peak, abs_peak, tau_peak, cost=None,
-               recursive=None, gravity=None, units=None):
+               recursive=None, gravity=None, units=None, scope=None):
     """The report's conclusion in three sentences.
 
     Parameters
@@ -100,6 +100,10 @@ def conclusion(labels, dominance, zero, choice, rel_peak, abs_peak, tau_peak, co
         ``"drops terms of c ..."``); the sentence on the model ends with it.
     units : list of str, optional
         Units of each joint's torque (N m, or N for a prismatic joint); N m if not given.
+    scope : str, optional
+        The model's guarantee in one sentence
+        (:meth:`~gd_analyze.core.selection.guarantee.Guarantee.statement`, as stored), said
+        after the error and cost (issue 29 item 4).
 
     Returns
     -------
@@ -108,7 +112,7 @@ def conclusion(labels, dominance, zero, choice, rel_peak, abs_peak, tau_peak, co
         keeps, c included; at what open-loop torque error (tau_s - tau along the given
         trajectory), with the reason when the worst relative error sits on a joint whose own
         torque is small, and at what counted cost against the exact model, the full explicit
-        model and Newton-Euler.
+        model and Newton-Euler; then the scope of its guarantee, if given.
 
     Examples
     --------
@@ -142,8 +146,9 @@ def conclusion(labels, dominance, zero, choice, rel_peak, abs_peak, tau_peak, co
     first = "Dominance: " + "; ".join(parts) + "."
     second = model_sentence(recursive=recursive, choice=choice, gravity=gravity)
     rel = np.asarray(rel_peak, float)
+    said = f" Its guarantee: {scope}." if scope else ""
     if not np.any(np.isfinite(rel)):
-        return first + " " + second + " Its torque error is not defined (no torque)."
+        return first + " " + second + " Its torque error is not defined (no torque)." + said
     worst = int(np.nanargmax(rel))
     others = np.delete(rel, worst)
     unit = list(units) if units is not None else ["N m"] * rel.size
@@ -176,7 +181,7 @@ def conclusion(labels, dominance, zero, choice, rel_peak, abs_peak, tau_peak, co
             third += f" against {' and '.join(others)}"
         if len(cost) > 4 and not full:
             third += " (the full explicit model was not derived, so it has no count)"
-    return first + " " + second + " " + third + "."
+    return first + " " + second + " " + third + "." + said
 
 
 def model_sentence(recursive=None, choice=None, gravity=None, trajectory="this trajectory"):

@@ -29,7 +29,7 @@ from __future__ import annotations
 import re
 
 __all__ = ["SUB", "SUP", "END", "sub", "sup", "element", "tau", "html", "unicode", "runs",
-           "plain", "clean", "label", "TRAN", "ROT", "RUN_SIZE", "RUN_SHIFT"]
+           "plain", "clean", "label", "scope", "TRAN", "ROT", "RUN_SIZE", "RUN_SHIFT"]
 
 #: Start of a subscript, start of a superscript, end of either (Unicode private use area).
 SUB, SUP, END = "\ue000", "\ue001", "\ue002"
@@ -70,6 +70,26 @@ def sup(text):
     str
     """
     return f"{SUP}{text}{END}"
+
+
+def scope(statement):
+    """A guarantee's statement (plain text, ``s_i``) as the reports write it: s with subscript i.
+
+    Parameters
+    ----------
+    statement : str
+        :meth:`~gd_analyze.core.selection.guarantee.Guarantee.statement`.
+
+    Returns
+    -------
+    str
+
+    Examples
+    --------
+    >>> scope("within 1 % of s_i") == "within 1 % of s" + sub("i")
+    True
+    """
+    return re.sub(r"\bs_i\b", sub("i").join(("s", "")), statement)
 
 
 def element(symbol, index, part=None):

@@ -14,6 +14,7 @@ import numpy as np
 from ..core.selection.ranking import ROUND_OFF, arm_scales, is_round_off
 from .common import count, fmt, pct, pct_column, strings, table, torque_units, units_said_once
 from .markup import element as _el
+from .markup import scope as scope_markup
 from .markup import sub as _sub
 
 __all__ = ["has_simplified", "simplified_context", "error_figure", "SIMPLIFIED_CAPTION", "ROUND_OFF",
@@ -107,8 +108,8 @@ def simplified_context(ds):
                 f"{_TAU_I}); terms are dropped in order of increasing peak contribution while, "
                 f"for every joint, the dropped peaks sum to at most {_EPS_S} ({_S_I} = peak "
                 f"|{_TAU_I}|, raised to the floor). By the triangle "
-                "inequality the error on this trajectory is within that sum: the bound below is "
-                "guaranteed, on this trajectory only.")
+                "inequality the error on this trajectory is within that sum: "
+                + _scope(ds))
     else:
         text = ("Rule: the chapter's share-based classes (Sec. 3.4.1): each element keeps its "
                 "dominant part, no term is pruned; there is no error bound.")
@@ -196,7 +197,8 @@ def _recursive_text(ds, eps, floor):
     if dropped == 0:
         return text + (f"Rule: error budget, \u03b5\u00a0=\u00a0{eps:g}: no part is dropped, "
                        "the model is "
-                       "exact (its difference from the full torque is round-off).")
+                       "exact (its difference from the full torque is round-off)."
+                       + _scope(ds, exact=True))
     return text + (f"Rule: error budget, \u03b5\u00a0=\u00a0{eps:g}"
                    + (f", torque floor {floor:g} N m" if floor else "")
                    + f". Of the {pairs} (parameter, part) pairs that contribute on this "
@@ -205,7 +207,20 @@ def _recursive_text(ds, eps, floor):
                    "increasing peak contribution, while for every joint the dropped peaks sum "
                    f"to at most {_EPS_S} ({_S_I} = peak |{_TAU_I}|, raised to the "
                    "floor); by the triangle inequality the error on this trajectory is within "
-                   "that sum: the bound below is guaranteed, on this trajectory only.")
+                   "that sum: " + _scope(ds))
+
+
+def _scope(ds, exact=False):
+    """Where the bound holds: on this trajectory (the table's bound), and the model's
+    guarantee as stored from the model built (:func:`gd_analyze.io.datasets.stored_guarantee`);
+    an older dataset's sentence where none is stored."""
+    from ..io.datasets import stored_guarantee
+
+    g = stored_guarantee(ds)
+    if g is None:
+        return "" if exact else "the bound below is guaranteed, on this trajectory only."
+    said = f"The model's guarantee: {scope_markup(g['statement'])}."
+    return " " + said if exact else f"the bound below holds on this trajectory. {said}"
 
 
 def _dearer_than_full(ds, other):

@@ -79,7 +79,7 @@ import numpy as np
 
 from ..core.dynamics.dalembert import gd_terms
 from ..core.selection.simplified import choice_masks
-from .evaluate import model_torque
+from .evaluate import coverage, model_torque
 from .tracking import (
     CONTROLLER_DESCRIPTIONS,
     CONTROLLERS,
@@ -228,8 +228,9 @@ class ControlResult:
         -------
         dict
             ``robot``, ``wn``, ``zeta``, ``tracking`` (controller -> :meth:`error_figures`
-            [rad]), ``tau_difference`` (``peak``, ``rms`` per joint [N m], or None) and
-            ``cost`` (or None).
+            [rad]), ``tau_difference`` (``peak``, ``rms`` per joint [N m], or None),
+            ``cost`` (or None) and ``guarantee`` (the model's ``scope`` sentence, its
+            ``kind`` and whether it ``covered`` the desired motion, with the ``reason``).
         """
         diff = self.tau_difference
         td = None
@@ -240,7 +241,11 @@ class ControlResult:
                 "zeta": self.gains.zeta.tolist(),
                 "tracking": {c: self.error_figures(c) for c in self.runs},
                 "nfev": {c: r.nfev for c, r in self.runs.items()},
-                "tau_difference": td, "cost": self.cost}
+                "tau_difference": td, "cost": self.cost,
+                "guarantee": {k: m.get(f) for k, f in (
+                    ("statement", "scope"), ("kind", "guarantee_kind"),
+                    ("covered", "guarantee_covered"), ("reason", "guarantee_coverage"))
+                    if (m := self.provenance.get("model", {})) is not None}}
 
 
 def model_cost(model):
@@ -324,9 +329,14 @@ def model_facts(model):
         (:meth:`gd_analyze.core.symbolic.recursive_model.RecursiveModel.stated_facts`, the
         count of the main report); for the explicit form of the budget rule ``c_terms_kept``
         and ``c_terms`` (its terms of c and the full model's; -1 when the full model is not
-        derived). Sources: Fu, Gonzalez & Lee (1987), Sec. 3.4.1 and Eq. (3.4-24).
+        derived); ``scope``, the model's guarantee in one sentence
+        (:meth:`~gd_analyze.core.selection.simplified.SimplifiedModel.scope`), and
+        ``guarantee_kind`` (``"region"``, ``"trajectory"`` or ``"none"``). Sources: Fu,
+        Gonzalez & Lee (1987), Sec. 3.4.1 and Eq. (3.4-24).
     """
     out = {"form": model.form, "rule": str(model.rule), "tolerance": float(model.tolerance),
+           "scope": model.scope(),
+           "guarantee_kind": "none" if model.guarantee is None else model.guarantee.kind,
            "base_parameters": -1, "pairs": -1, "pairs_dropped": -1, "dropped_pairs": "",
            "gravity_dropped": "", "pairs_known": 0, "c_terms_kept": -1, "c_terms": -1}
     if model.recursive is not None:
@@ -477,6 +487,7 @@ def run_control(model, trajectory, wn=DEFAULT_WN, zeta=DEFAULT_ZETA, q0_offset=0
         except ValueError as err:       # the tighter runs did not finish: the rtol floor
             unmeasured = str(err)
     cost_figures = model_cost(model) if cost else None
+    covers = coverage(model, trajectory, plant=robot)
     provenance = {
         "trajectory_file": Path(trajectory.source).name if trajectory.source else "",
         "trajectory_path": str(trajectory.source), "trajectory_sha256": trajectory.sha256,
@@ -488,7 +499,8 @@ def run_control(model, trajectory, wn=DEFAULT_WN, zeta=DEFAULT_ZETA, q0_offset=0
         "grid_points": int(grid_points), "q0_offset": offset.tolist(),
         "t_end": float(t[-1]),
         "gravity_base": [float(v) for v in robot.gravity],
-        "model": model_facts(model),
+        "model": {**model_facts(model), "guarantee_covered": int(covers["covered"]),
+                  "guarantee_coverage": covers["reason"]},     # the desired motion, this plant
     }
     if unmeasured:
         provenance["noise_unmeasured"] = unmeasured

@@ -4,6 +4,11 @@
 another, optionally with the arm carrying a load the model does not know. Source: Sec. 3.4.1 of
 Fu, Gonzalez & Lee (1987), whose simplified model "depends on the specific trajectory being
 considered"; terms from Eqs. (3.4-24) to (3.4-28).
+
+The gate (issue 29): by default the model's own promise, |tau_s - tau| <= EPS s_i on every
+joint with s_i the scale of its guarantee (:class:`~gd_analyze.core.selection.guarantee.Guarantee`);
+``--max-error REL`` replaces it by a relative error. Round-off
+(:func:`~gd_analyze.core.selection.ranking.is_round_off`) passes; NaN or inf never does.
 """
 
 from __future__ import annotations
@@ -12,10 +17,12 @@ import numpy as np
 
 from ..core.dynamics.dalembert import gd_terms
 from ..core.model.limits import check_finite
-from ..core.selection.simplified import torque_error
+from ..core.selection.labels import joint_torque_units
+from ..core.selection.ranking import arm_scales, is_round_off
+from ..core.selection.simplified import parameters_sha256, torque_error
 from ..errors import InputError
 
-__all__ = ["evaluate", "model_torque"]
+__all__ = ["evaluate", "model_torque", "model_scale", "coverage", "gate"]
 
 
 def model_torque(model, q, qd, qdd):
@@ -73,8 +80,11 @@ def evaluate(model, trajectory, plant=None):
     dict
         :func:`gd_analyze.core.selection.simplified.torque_error` of the model's torque against the
         plant's full torque (per joint ``peak_abs_error``, ``rms_error``, ``peak_tau`` [N m],
-        ``relative_peak_error``, ``relative_rms_error``), plus ``max_relative_peak_error``, the
-        largest relative peak error over the joints (0 if no joint has a defined one).
+        ``relative_peak_error``, ``relative_rms_error``), with ``scale``, the model's s_i
+        (:func:`model_scale`; None without one), ``relative_to`` per joint (``"peak |tau|"``;
+        ``"s_i"`` where the reference torque is 0 along the trajectory; ``"none"`` where s_i is
+        0 or unknown too: the relative error is then 0 for round-off, else inf, never 0/0), and
+        ``max_relative_peak_error``, the largest relative peak error over the joints.
 
     Raises
     ------
@@ -89,6 +99,146 @@ def evaluate(model, trajectory, plant=None):
     full = gd_terms(plant, trajectory.q, trajectory.qd)
     err = torque_error(model_torque(model, trajectory.q, trajectory.qd, trajectory.qdd),
                        check_finite("tau", full.tau(trajectory.qdd)))
-    rel = np.array([np.nan if v is None else v for v in err["relative_peak_error"]], float)
-    err["max_relative_peak_error"] = float(np.nanmax(rel)) if np.isfinite(rel).any() else 0.0
+    peak, rms = (np.asarray(err[k], float) for k in ("peak_abs_error", "rms_error"))
+    peak_tau = np.asarray(err["peak_tau"], float)
+    scale = model_scale(model)
+    s = np.zeros(robot.n) if scale is None else scale
+    denominator = np.where(peak_tau > 0, peak_tau, np.where(s > 0, s, 0.0))
+    off = _round_off(peak, denominator, np.maximum(peak_tau, s), robot)
+    with np.errstate(divide="ignore", invalid="ignore"):
+        rel = np.where(denominator > 0, peak / denominator, np.where(off, 0.0, np.inf))
+        rel_rms = np.where(denominator > 0, rms / denominator, np.where(off, 0.0, np.inf))
+    err.update(relative_peak_error=rel.tolist(), relative_rms_error=rel_rms.tolist(),
+               relative_to=["peak |tau|" if p > 0 else "s_i" if v > 0 else "none"
+                            for p, v in zip(peak_tau, s)],
+               scale=None if scale is None else scale.tolist(),
+               max_relative_peak_error=float(rel.max(initial=0.0)))
     return err
+
+
+def _round_off(peak, scale, arm, robot):
+    """Per joint, whether an error is round-off of its scale or of the arm's largest scale in
+    the same units (:func:`~gd_analyze.core.selection.ranking.is_round_off`)."""
+    units = [joint_torque_units(bool(p)) for p in robot.prismatic]
+    return np.asarray(is_round_off(peak, scale, arm_scale=arm_scales(arm, units)), bool)
+
+
+def model_scale(model):
+    """The model's scale s_i per joint: what its tolerance is relative to.
+
+    Parameters
+    ----------
+    model : SimplifiedModel
+
+    Returns
+    -------
+    ndarray, shape (n,), or None
+        The guarantee's ``scale`` [N m or N]; for a model without a guarantee (chapter rule,
+        older files), max(peak |tau_i| on the trajectory it was built on, torque floor) from
+        its ``validation``; None if it records neither.
+    """
+    if model.guarantee is not None:
+        return np.asarray(model.guarantee.scale, float)
+    peak = (model.validation or {}).get("peak_tau")
+    if not peak or len(peak) != model.robot.n:
+        return None
+    peak = np.array([np.nan if v is None else v for v in peak], float)
+    return np.maximum(peak, float(model.torque_floor))
+
+
+def coverage(model, trajectory, plant=None):
+    """Whether the model's guarantee covers a trajectory, and its scope in words.
+
+    Parameters
+    ----------
+    model : SimplifiedModel
+    trajectory : Trajectory
+        q, qd, qdd (N, n) and the file's ``sha256``.
+    plant : Robot, optional
+        The reference arm; a guarantee holds for the model's own robot only (not with a
+        payload or another mounting).
+
+    Returns
+    -------
+    dict
+        ``kind`` (``"region"``, ``"trajectory"`` or None without a guarantee), ``statement``
+        (:meth:`~gd_analyze.core.selection.simplified.SimplifiedModel.scope`), ``covered``
+        (bool) and ``reason`` (a clause, :meth:`~gd_analyze.core.selection.guarantee.Guarantee.covers`).
+    """
+    g = model.guarantee
+    out = {"kind": None if g is None else g.kind, "statement": model.scope()}
+    if g is None:
+        return {**out, "covered": False, "reason": "the model carries no guarantee"}
+    robot = model.robot
+    if plant is not None and plant is not robot and \
+            parameters_sha256(plant.to_dict()) != parameters_sha256(robot.to_dict()):
+        return {**out, "covered": False,
+                "reason": "the reference arm is not the model's robot (a payload or another "
+                          "mounting): the guarantee is for the model's own robot"}
+    # a revolute joint without limits, or with more than a turn, has the full circle
+    # [-pi, pi] in the region (core.selection.region): its q counts modulo 2 pi
+    lo, hi = np.asarray(robot.q_min, float), np.asarray(robot.q_max, float)
+    with np.errstate(invalid="ignore"):
+        continuous = ~np.asarray(robot.prismatic, bool) & (
+            ~(np.isfinite(lo) & np.isfinite(hi)) | (hi - lo > 2 * np.pi))
+    covered, reason = g.covers(trajectory.q, trajectory.qd, trajectory.qdd,
+                               trajectory_sha256=trajectory.sha256, continuous=continuous)
+    return {**out, "covered": bool(covered), "reason": reason}
+
+
+def gate(err, model, max_error=None):
+    """The evaluate gate: does the model's error on a trajectory pass?
+
+    Parameters
+    ----------
+    err : dict
+        :func:`evaluate`'s result.
+    model : SimplifiedModel
+    max_error : float, optional
+        ``--max-error``: every joint's relative peak error at most this (``relative_to`` says
+        relative to what). Default: the model's promise, peak |tau_s - tau| <= EPS s_i with
+        s_i its guarantee's scale; no gate for a model without a guarantee.
+
+    Returns
+    -------
+    dict
+        ``by`` (``"model"``, ``"--max-error"`` or None), ``limit`` per joint (EPS s_i [N m or
+        N], or ``max_error`` [1]; None without a gate), ``exceeded`` (bool), ``worst_joint``
+        (1-based, the joint furthest beyond its limit; None if none exceeds) and ``message``
+        (one line naming it, "" if none). Round-off passes; NaN or inf fails.
+    """
+    robot = model.robot
+    peak = np.asarray(err["peak_abs_error"], float)
+    units = [joint_torque_units(bool(p)) for p in robot.prismatic]
+    g = model.guarantee
+    if max_error is None and g is None:
+        return {"by": None, "limit": None, "exceeded": False, "worst_joint": None,
+                "message": ""}
+    s = np.asarray(g.scale if max_error is None else (err.get("scale") or np.zeros(robot.n)),
+                   float)
+    own = np.maximum(np.asarray(err["peak_tau"], float), s)
+    off = _round_off(peak, own, own, robot)
+    if max_error is None:
+        limit = g.tolerance * s
+        measure, bound = peak, limit * (1 + 1e-12)
+    else:
+        limit = np.full(robot.n, float(max_error))
+        measure, bound = np.asarray(err["relative_peak_error"], float), limit
+    fails = ~(measure <= bound) & ~off                      # NaN never passes
+    out = {"by": "model" if max_error is None else "--max-error", "limit": limit.tolist(),
+           "exceeded": bool(fails.any()), "worst_joint": None, "message": ""}
+    if not fails.any():
+        return out
+    with np.errstate(divide="ignore", invalid="ignore"):
+        over = np.where(fails, np.nan_to_num(measure / bound, nan=np.inf, posinf=np.inf), -1.0)
+    j = int(np.argmax(over))
+    u = units[j]
+    if max_error is None:
+        out["message"] = (f"joint {j + 1}'s torque error {peak[j]:.4g} {u} exceeds the model's "
+                          f"tolerance x scale, {g.tolerance:g} x {s[j]:.4g} {u} = "
+                          f"{limit[j]:.4g} {u}")
+    else:
+        out["message"] = (f"joint {j + 1}'s relative torque error {measure[j]:.3e} (of "
+                          f"{err['relative_to'][j]}) exceeds --max-error {max_error:g}")
+    out["worst_joint"] = j + 1
+    return out

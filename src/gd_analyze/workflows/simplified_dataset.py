@@ -140,11 +140,12 @@ def simplified_dataset(model, selection, other=None, ladder_rows=None, cost_tabl
         ``simplified_element_bound`` (dim joint) [N m]; ``cost_*`` (dim cost_model);
         ``ladder_*`` (dim ladder_tolerance); ``other_rule_*``; attributes ``simplified_rule``,
         ``simplified_tolerance``, ``simplified_torque_floor``, ``simplified_files``,
-        ``simplified_terms_kept``.
+        ``simplified_terms_kept``; the model's guarantee
+        (:func:`gd_analyze.io.datasets.guarantee_fields`: ``simplified_guarantee_*``).
     """
     import xarray as xr
 
-    from ..io.datasets import joint_units, units_attribute
+    from ..io.datasets import guarantee_fields, joint_units, units_attribute
 
     robot = getattr(model, "robot", None)
     torque = ("N m" if robot is None else
@@ -167,6 +168,8 @@ def simplified_dataset(model, selection, other=None, ladder_rows=None, cost_tabl
         "simplified_element_bound": var(("joint",), selection.element_bound, torque,
                                         "bound of the whole-part (element) choices"),
     }
+    scope_vars, scope_attrs = guarantee_fields(model, torque)
+    dv.update({k: xr.Variable(*v) for k, v in scope_vars.items()})
     if "whole" in selection.bound_by_kind:
         dv["simplified_bound_whole"] = var(("joint",), selection.bound_by_kind["whole"], torque,
                                            "share of the bound from base parameters dropped "
@@ -249,6 +252,7 @@ def simplified_dataset(model, selection, other=None, ladder_rows=None, cost_tabl
         "other_rule": "" if other is None else other.rule,
         "other_rule_multiplications": -1 if other is None else other.cost["multiplications"],
         "other_rule_additions": -1 if other is None else other.cost["additions"],
+        **scope_attrs,
     })
     if full_terms is not None and other is not None and other.terms is not None:
         (ds.attrs["full_harmonics"], ds.attrs["full_coefficients"]) = coefficient_structure(

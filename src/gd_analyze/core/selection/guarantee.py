@@ -149,6 +149,65 @@ class Guarantee:
             tail = f"sampled over the region: {pct:.3g} % of s_i"
         return f"within {eps} of s_i {where}; {tail}"
 
+    def covers(self, q, qd, qdd, trajectory_sha256="", continuous=None):
+        """Whether the bound holds along a trajectory, and why (issue 29 item 3).
+
+        Parameters
+        ----------
+        q, qd, qdd : array_like, shape (N, n)
+            The trajectory's set points [rad, m; rad/s, m/s; rad/s^2, m/s^2].
+        trajectory_sha256 : str, optional
+            SHA-256 of the trajectory file (what a trajectory-kind bound is tied to).
+        continuous : array_like of bool, shape (n,), optional
+            Joints without position limits, whose region is [-pi, pi]: their q is taken
+            modulo 2 pi (the torque is periodic in it).
+
+        Returns
+        -------
+        covered : bool
+            Region kind: every set point lies in R (a state may exceed a limit by 4 machine
+            epsilons of it, the round-off of a planner that ends exactly on the limit);
+            trajectory kind: the file is one the model was built on (by SHA-256).
+        reason : str
+            One clause saying why, naming the first joint and quantity outside R.
+
+        Examples
+        --------
+        >>> g = Guarantee("region", 0.01, np.zeros(1), np.ones(1), q_min=np.array([-1.0]),
+        ...               q_max=np.array([1.0]), qd_max=np.array([2.0]),
+        ...               qdd_max=np.array([5.0]), scale_state=np.zeros((1, 3)))
+        >>> g.covers([[0.5]], [[2.5]], [[0.0]])
+        (False, "outside the model's region: joint 1's |qd| reaches 2.5 (limit 2)")
+        """
+        if self.kind == "trajectory":
+            own = (self.trajectory_sha256,) if not self.trajectories_sha256 else \
+                tuple(self.trajectories_sha256)
+            if trajectory_sha256 and trajectory_sha256 in own:
+                return True, "it is a trajectory the model was built on (same SHA-256)"
+            return False, ("it is not the trajectory the model was built on (SHA-256 "
+                           "differs): a trajectory-kind bound holds there only")
+        q, qd, qdd = (np.atleast_2d(np.asarray(v, float)) for v in (q, qd, qdd))
+        if continuous is not None:
+            wrap = np.asarray(continuous, bool)
+            q = np.where(wrap, np.mod(q + np.pi, 2 * np.pi) - np.pi, q)
+        slack = 4 * np.finfo(float).eps
+        checks = (("q", q, self.q_min, self.q_max), ("|qd|", np.abs(qd), None, self.qd_max),
+                  ("|qdd|", np.abs(qdd), None, self.qdd_max))
+        for name, x, lo, hi in checks:
+            hi = np.asarray(hi, float)
+            above = ~(x <= hi + slack * np.abs(hi))
+            below = np.zeros_like(above) if lo is None else \
+                ~(x >= np.asarray(lo, float) - slack * np.abs(np.asarray(lo, float)))
+            for bad, which, limit in ((below, "below", lo), (above, "above", hi)):
+                if bad.any():
+                    k, j = (int(v[0]) for v in np.nonzero(bad))
+                    if lo is None:
+                        return False, (f"outside the model's region: joint {j + 1}'s {name} "
+                                       f"reaches {x[k, j]:.6g} (limit {hi[j]:.6g})")
+                    return False, (f"outside the model's region: joint {j + 1}'s q is "
+                                   f"{x[k, j]:.6g}, {which} its limit {limit[j]:.6g}")
+        return True, "every set point lies in the model's region (q, qd, qdd within its limits)"
+
     def to_dict(self):
         """The ``guarantee`` key of ``simplified_model.json`` (SI units).
 

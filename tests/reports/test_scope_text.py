@@ -1,0 +1,43 @@
+"""Every output of the main job states the scope of the model built (issue 29 item 4): the CLI
+summary, results.h5, the report's summary, Sec. 5 and provenance, and simplified_model.json,
+each compared with ``Guarantee.statement()`` of the model read back from its file."""
+
+import json
+import re
+
+import numpy as np
+from conftest import SHIPPED
+from html_checks import html_text
+
+from gd_analyze.cli import main
+from gd_analyze.io.datasets import stored_guarantee
+from gd_analyze.io.model_file import load_model
+from gd_analyze.io.schema import open_results
+
+
+def test_the_main_jobs_outputs_state_the_models_scope(tmp_path, capsys):
+    out = tmp_path / "o"
+    assert main(["puma560", str(SHIPPED), "-o", str(out)]) == 0
+    printed = capsys.readouterr().out.splitlines()
+    g = load_model(out / "simplified_model.json").guarantee
+    statement = g.statement()
+    # the CLI summary: the line right after the model's cost line
+    k = next(i for i, line in enumerate(printed) if line.startswith("simplified model ("))
+    assert printed[k + 1] == f"guarantee: {statement}"
+    # the JSON
+    spec = json.loads((out / "simplified_model.json").read_text())
+    assert spec["guarantee"]["statement"] == statement
+    # the dataset the report reads
+    with open_results(out / "results.h5", lazy=True) as ds:
+        stored = stored_guarantee(ds)
+        assert stored["statement"] == statement and stored["kind"] == g.kind
+        assert stored["tolerance"] == g.tolerance
+        np.testing.assert_array_equal(stored["scale"], g.scale)
+        np.testing.assert_array_equal(stored["bound"], g.bound)
+    # the report: summary, Sec. 5 and provenance (s_i drawn as s with subscript i)
+    text = re.sub(r" ([).])", r"\1", html_text((out / "report.html").read_text(), nbsp=True))
+    said = statement.replace("s_i", "s i")
+    assert f"Its guarantee: {said}." in text                      # the summary
+    assert f"The model's guarantee: {said}." in text              # Sec. 5
+    assert f"guarantee of the model built {g.kind} kind: {said}" in text
+    assert "is guaranteed, on this trajectory only" not in text

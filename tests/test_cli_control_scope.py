@@ -1,0 +1,45 @@
+"""``gd-analyze control`` states the model's guarantee, read back from the model file
+(issue 29 item 3): in its printout, its JSON and its report, and never "guaranteed" along a
+motion the guarantee does not cover."""
+
+import json
+import re
+
+from conftest import SHIPPED
+from html_checks import html_text
+
+from gd_analyze.cli import main
+from gd_analyze.io.model_file import load_model
+
+
+def _run(capsys, *args):
+    code = main([str(a) for a in args])
+    out, err = capsys.readouterr()
+    return code, out, err
+
+
+def test_control_states_the_models_scope(tmp_path, capsys):
+    assert _run(capsys, "puma560", SHIPPED, "-o", tmp_path / "m", "--no-report", "-q",
+                "--guarantee", "trajectory")[0] == 0
+    model = tmp_path / "m" / "simplified_model.json"
+    statement = load_model(model).guarantee.statement()
+    # its own trajectory: covered
+    code, out, err = _run(capsys, "control", model, SHIPPED, "-o", tmp_path / "own",
+                          "--no-report")
+    assert code == 0, err
+    assert f"model's guarantee: {statement}\n" in out
+    assert "covers this trajectory: yes" in out
+    # another motion: not covered, and the report does not say "guaranteed" of it
+    other = tmp_path / "other.csv"
+    assert _run(capsys, "plan", "puma560", "-o", other, "--start", "0,45,-90,0,30,0",
+                "--goal", "90,100,-30,45,-30,90")[0] == 0
+    code, out, err = _run(capsys, "control", model, other, "-o", tmp_path / "c", "--json")
+    assert code == 0, err
+    said = json.loads(out)["guarantee"]
+    assert said["statement"] == statement and said["kind"] == "trajectory"
+    assert said["covered"] == 0 and "not the trajectory" in said["reason"]
+    text = re.sub(r" ([).;])", r"\1",
+                  html_text((tmp_path / "c" / "control_report.html").read_text(), nbsp=True))
+    assert statement.replace("s_i", "s i") in text     # s_i drawn as s with subscript i
+    assert "It does not cover this motion" in text and "is not guaranteed" in text
+    assert "is guaranteed" not in text

@@ -1,0 +1,159 @@
+"""``gd-analyze evaluate``'s gate and scope (issue 29 item 3), against the URDF's own
+Pinocchio model (``pin.rnea``) as the oracle of the reference torque.
+
+The default gate is the model's promise, peak |tau_s - tau_i| <= EPS s_i, with EPS and s_i
+read back from the stored model's guarantee; a joint without torque is measured against s_i."""
+
+import importlib.metadata
+import json
+
+import numpy as np
+import pinocchio as pin
+import pytest
+
+from gd_analyze.cli import main
+from gd_analyze.io.model_file import load_model
+from gd_analyze.io.trajectory import read_trajectory
+
+UR10 = importlib.metadata.distribution("example-robot-data").locate_file(
+    "cmeel.prefix/share/example-robot-data/robots/ur_description/urdf/ur10_robot.urdf")
+
+
+def _run(capsys, *args):
+    code = main([str(a) for a in args])
+    out, err = capsys.readouterr()
+    return code, out, err
+
+
+@pytest.fixture(scope="module")
+def ur10(tmp_path_factory):
+    """The main job's model of the UR10 on its default plan, and a second plan."""
+    folder = tmp_path_factory.mktemp("ur10")
+    own, other = folder / "own.csv", folder / "other.csv"
+    assert main(["plan", str(UR10), "-o", str(own)]) == 0
+    assert main(["plan", str(UR10), "-o", str(other), "--start", "0,-80,170,0,0,0",
+                 "--goal", "60,-80,-130,0,0,0"]) == 0
+    assert main([str(UR10), str(own), "-o", str(folder / "out"), "--no-report", "-q",
+                 "--guarantee", "trajectory"]) == 0
+    return folder / "out" / "simplified_model.json", own, other
+
+
+def _oracle_error(model_path, csv, gravity=None):
+    """peak |tau_s - tau| per joint, tau from Pinocchio's rnea on the URDF itself."""
+    model = load_model(model_path)
+    traj = read_trajectory(csv, n_joints=model.robot.n)
+    urdf = pin.buildModelFromUrdf(str(UR10))
+    assert urdf.nq == model.robot.n == 6
+    if gravity is not None:
+        urdf.gravity.linear = np.asarray(gravity, float)
+    data = urdf.createData()
+    tau = np.array([pin.rnea(urdf, data, q, qd, qdd)
+                    for q, qd, qdd in zip(traj.q, traj.qd, traj.qdd)])
+    return np.abs(model.torque(traj.q, traj.qd, traj.qdd) - tau).max(axis=0), tau, model
+
+
+def test_default_gate_is_the_models_own_promise(ur10, capsys):
+    model_path, own, other = ur10
+    g = load_model(model_path).guarantee
+    assert g.kind == "trajectory"
+    limit = g.tolerance * g.scale
+    # on its own trajectory the model keeps its bound: exit 0, and the printout says so
+    err, _, _ = _oracle_error(model_path, own)
+    assert np.all(err <= limit * (1 + 1e-9) + 1e-12)
+    code, out, stderr = _run(capsys, "evaluate", model_path, own)
+    assert code == 0, stderr
+    assert f"model's guarantee: {g.statement()}" in out
+    assert "covers this trajectory: yes" in out
+    # on the other plan it does not: exit 3, one line naming the worst joint
+    err, _, _ = _oracle_error(model_path, other)
+    ratio = err / limit
+    assert ratio.max() > 1.5                  # clearly beyond, not a rounding question
+    worst = int(np.argmax(ratio))
+    code, out, stderr = _run(capsys, "evaluate", model_path, other)
+    assert code == 3
+    line = stderr.strip()
+    assert len(line.splitlines()) == 1
+    assert f"joint {worst + 1}'s torque error {err[worst]:.4g} N m" in line
+    assert f"{g.tolerance:g} x {g.scale[worst]:.4g} N m = {limit[worst]:.4g} N m" in line
+    assert "covers this trajectory: no" in out and "not the trajectory" in out
+    # --max-error overrides the model's gate, both ways
+    rel = err / np.abs(_oracle_error(model_path, other)[1]).max(axis=0)
+    assert _run(capsys, "evaluate", model_path, other, "--max-error", rel.max() * 2)[0] == 0
+    assert _run(capsys, "evaluate", model_path, own, "--max-error", 1e-9)[0] == 3
+
+
+def test_json_states_scope_coverage_and_gate(ur10, capsys):
+    model_path, own, other = ur10
+    g = load_model(model_path).guarantee
+    for csv, covered, code_expected in ((own, True, 0), (other, False, 3)):
+        code, out, _ = _run(capsys, "evaluate", model_path, csv, "--json")
+        assert code == code_expected
+        report = json.loads(out)
+        assert report["guarantee"]["statement"] == g.statement()
+        assert report["guarantee"]["kind"] == "trajectory"
+        assert report["guarantee"]["covered"] is covered
+        assert report["gate"] == "model" and report["exceeded"] is (code_expected == 3)
+        np.testing.assert_allclose(report["gate_limit"], g.tolerance * g.scale, rtol=1e-15)
+        np.testing.assert_allclose(report["scale"], g.scale, rtol=1e-15)
+
+
+def _held_pose_csv(path, q_deg, rows=5):
+    q = np.radians(q_deg)
+    head = ["t"] + [f"{v}{j}" for v in ("q", "qd", "qdd") for j in range(1, 7)]
+    lines = [",".join(head)] + [",".join(repr(float(v)) for v in [0.1 * k, *q, *[0.0] * 12])
+                                for k in range(rows)]
+    path.write_text("\n".join(lines) + "\n")
+    return path
+
+
+def test_zero_reference_torque_is_measured_against_s_i(ur10, capsys, tmp_path):
+    """A held pose without gravity: the reference torque is 0 on every joint; the model (its
+    own gravity kept) errs by its gravity torque, which is measured against s_i and gated,
+    never 0/0 (before: --json exited 4, --max-error 0.01 passed a 75 N m error)."""
+    model_path, _, _ = ur10
+    held = _held_pose_csv(tmp_path / "held.csv", [0, -60, 80, 0, 45, 0])
+    err, tau, model = _oracle_error(model_path, held, gravity=(0.0, 0.0, 0.0))
+    assert np.abs(tau).max() < 1e-12                   # the oracle: no torque at all
+    s = model.guarantee.scale
+    assert err.max() > 10.0
+    code, out, stderr = _run(capsys, "evaluate", model_path, held, "--gravity", "0,0,0",
+                             "--json")
+    assert code == 3 and len(stderr.strip().splitlines()) == 1
+    report = json.loads(out)
+    assert report["relative_to"] == ["s_i"] * 6
+    moved = err > 1e-9
+    np.testing.assert_allclose(np.array(report["relative_peak_error"])[moved],
+                               (err / s)[moved], rtol=1e-9)
+    assert report["guarantee"]["covered"] is False       # another mounting than the model's
+    code, _, stderr = _run(capsys, "evaluate", model_path, held, "--gravity", "0,0,0",
+                           "--max-error", "0.01")
+    worst = int(np.argmax(err / s))
+    assert code == 3 and f"joint {worst + 1}'s relative torque error" in stderr
+    assert "(of s_i)" in stderr
+
+
+def test_region_model_covers_planned_motions_and_keeps_its_promise(ur10, tmp_path, capsys):
+    """The default (region) model of the UR10: a plan within the limits lies in its region,
+    its error there is within EPS s_i against the oracle and evaluate exits 0; a motion
+    faster than the velocity limit is named as outside."""
+    _, own, other = ur10
+    out = tmp_path / "region"
+    assert main([str(UR10), str(own), "-o", str(out), "--no-report", "-q"]) == 0
+    model_path = out / "simplified_model.json"
+    g = load_model(model_path).guarantee
+    assert g.kind == "region"
+    err, _, _ = _oracle_error(model_path, other)
+    assert np.all(err <= g.tolerance * g.scale * (1 + 1e-9) + 1e-12)
+    code, out_text, stderr = _run(capsys, "evaluate", model_path, other, "--json")
+    report = json.loads(out_text)
+    assert code == 0, stderr
+    assert report["guarantee"]["covered"] and report["guarantee"]["statement"] == g.statement()
+    fast = tmp_path / "fast.csv"
+    assert main(["plan", str(UR10), "-o", str(fast), "--duration", "0.5",
+                 "--ignore-limits"]) == 0
+    traj = read_trajectory(fast, n_joints=6)
+    over = np.abs(traj.qd).max(axis=0) > g.qd_max           # the oracle: the limits as given
+    assert over.any()
+    code, out_text, _ = _run(capsys, "evaluate", model_path, fast, "--json")
+    said = json.loads(out_text)["guarantee"]
+    assert not said["covered"] and "outside the model's region" in said["reason"]
