@@ -1,0 +1,78 @@
+"""The joint-limit region: its limits, the worst states over it, and the torque scale."""
+import numpy as np
+import pinocchio as pin
+import pytest
+
+from gd_analyze import load_robot
+from gd_analyze.core.selection.region import (
+    channel_values,
+    joint_region,
+    missing_limits,
+    qd_vertices,
+    region_scale,
+    sample_positions,
+    worst_states,
+)
+from gd_analyze.core.symbolic.base_parameters import base_parameters
+from gd_analyze.formulations.pinocchio import pinocchio_model
+
+
+def _rnea(robot, q, qd, qdd):
+    model = pinocchio_model(robot)
+    data = model.createData()
+    return np.array([pin.rnea(model, data, a, b, c) for a, b, c in zip(q, qd, qdd)])
+
+
+def test_region_of_the_robots_limits_and_the_missing_ones():
+    robot = load_robot("ur5")                   # +-2 pi: more than a turn is the full circle
+    region = joint_region(robot, np.full(6, 3.0))
+    assert np.all(region.q_min[[0, 1, 3, 4, 5]] == -np.pi) and region.q_max[2] == np.pi
+    assert missing_limits(load_robot("puma560")) == ""
+    spec = load_robot("two-link")
+    from dataclasses import replace
+    assert missing_limits(replace(spec, qd_max=np.array([1.0, np.nan]))) == \
+        "joint 2 has no velocity limit"
+    with pytest.raises(ValueError, match="joint 2"):
+        joint_region(replace(spec, qd_max=np.array([1.0, np.nan])), np.ones(2))
+    q = sample_positions(region, 50)
+    ok = region.contains(q, np.zeros_like(q), np.zeros_like(q))
+    assert ok.all() and not region.contains(q + 10, q * 0, q * 0)[0].all()
+
+
+def test_worst_states_are_states_of_the_region_and_the_largest_over_the_vertices():
+    """At each sampled position, the torque at the state worst_states returns equals its value
+    (Pinocchio's rnea), and no vertex of the velocity and acceleration limits gives more."""
+    robot = load_robot("puma560")
+    base = base_parameters(robot)
+    region = joint_region(robot, robot.qdd_max)
+    cols = np.flatnonzero(base.independent.reshape(-1))
+    q = sample_positions(region, 20, seed=3)[:20]
+    V = channel_values(robot, q, cols)
+    value, qd, qdd = worst_states(V, np.tile(base.beta, (3, 1)), region.qd_max, region.qdd_max)
+    n = robot.n
+    for i in range(n):
+        tau = _rnea(robot, q, qd[:, i], qdd[:, i])[:, i]
+        np.testing.assert_allclose(np.abs(tau), value[:, i], rtol=1e-9)
+    rng = np.random.default_rng(0)
+    verts = qd_vertices(region.qd_max)
+    for _ in range(20):
+        sd = verts[rng.integers(len(verts))]
+        sdd = rng.choice([-1.0, 1.0], n) * region.qdd_max
+        tau = _rnea(robot, q, np.tile(sd, (20, 1)), np.tile(sdd, (20, 1)))
+        assert np.all(np.abs(tau) <= value * (1 + 1e-9))
+
+
+def test_the_scale_is_reached_where_it_says():
+    robot = load_robot("stanford")             # a prismatic joint
+    base = base_parameters(robot)
+    region = joint_region(robot, robot.qdd_max)
+    cols = np.flatnonzero(base.independent.reshape(-1))
+    scale, state = region_scale(robot, region, cols, base.beta, samples=200)
+    n = robot.n
+    tau = _rnea(robot, state[:, :n], state[:, n:2 * n], state[:, 2 * n:])
+    np.testing.assert_allclose(np.abs(tau[np.arange(n), np.arange(n)]), scale, rtol=1e-9)
+    assert np.all(state[:, :n] >= region.q_min - 1e-12) and np.all(state[:, :n] <= region.q_max)
+    assert np.all(np.abs(state[:, n:2 * n]) <= region.qd_max * (1 + 1e-12))
+    floor = region_scale(robot, region, cols, base.beta, torque_floor=1e6, samples=20,
+                         refine=0)[0]
+    assert np.all(floor == 1e6)
