@@ -57,12 +57,14 @@ def shipped_dataset(tmp_path_factory):
 
     A function of the name: the main analysis (without the formulations) written by
     ``analyze_to_file`` and read back from its results.h5, loaded; one analysis per robot a
-    session. Shared: tests must not modify it.
+    session. Shared: tests must not modify it. The model is pruned on the trajectory
+    (``guarantee="trajectory"``), so that the figures and tables have errors to draw on every
+    arm (the UR5's region model drops nothing).
     """
     from gd_analyze.io.schema import open_results
     from gd_analyze.io.trajectory import read_trajectory
     from gd_analyze.workflows.analyze import analyze_to_file
-    from gd_analyze.workflows.options import AnalysisOptions
+    from gd_analyze.workflows.options import AnalysisOptions, SimplifyOptions
 
     stored = {}
 
@@ -71,7 +73,9 @@ def shipped_dataset(tmp_path_factory):
             robot = load_robot(name)
             traj = read_trajectory(ROOT / "data" / f"{name}_trajectory.csv", robot.n)
             path = tmp_path_factory.mktemp(name) / "results.h5"
-            analyze_to_file(robot, traj, path, AnalysisOptions(formulations=False))
+            options = AnalysisOptions(formulations=False,
+                                      simplify=SimplifyOptions(guarantee="trajectory"))
+            analyze_to_file(robot, traj, path, options)
             with open_results(path, lazy=True) as ds:
                 stored[name] = ds.load()
         return stored[name]

@@ -28,8 +28,10 @@ from gd_analyze.workflows.control import run_control
 
 CONFIGS = {"budget-recursive": ["--rule", "budget", "--form", "recursive"],
            "chapter": ["--rule", "chapter"],
-           "gravity-dropped-recursive": ["--form", "recursive", "--tolerance", "0.05"],
-           "gravity-dropped-explicit": ["--form", "explicit", "--tolerance", "0.05"]}
+           "gravity-dropped-recursive": ["--form", "recursive", "--tolerance", "0.05",
+                                         "--guarantee", "trajectory"],
+           "gravity-dropped-explicit": ["--form", "explicit", "--tolerance", "0.05",
+                                        "--guarantee", "trajectory"]}
 
 
 def _text(html):

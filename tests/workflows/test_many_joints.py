@@ -56,7 +56,8 @@ def test_every_command_on_a_chain_of_n_joints(n, tmp_path, monkeypatch, capsys):
     # the reports (their figures and tables are keyed by the labels) on 10 joints only: they
     # take as long as the rest
     reports = [] if n == 10 else ["--no-report"]
-    code, _, err = _run([robot_file, "t.csv", "-o", "main", "-q", *reports], capsys)
+    code, _, err = _run([robot_file, "t.csv", "-o", "main", "-q", "--guarantee", "trajectory",
+                         *reports], capsys)
     assert code == 0, err
     for name in ("results.h5", "simplified_model.json") + \
             ("report.html", "report.pdf") * (n == 10):

@@ -96,7 +96,7 @@ def guarantee_fields(model, torque_units="N m"):
         N]: the guarantee's bound and s_i; empty without a guarantee.
     attrs : dict
         ``simplified_guarantee_kind`` (``"region"``, ``"trajectory"`` or ``"none"``),
-        ``simplified_guarantee_statement`` (:meth:`SimplifiedModel.scope`, the one sentence
+        ``simplified_guarantee_statement`` (:meth:`gd_analyze.core.selection.simplified.SimplifiedModel.scope`, the one sentence
         every output prints) and, with a guarantee, ``simplified_guarantee_tolerance`` (EPS).
     """
     g = model.guarantee

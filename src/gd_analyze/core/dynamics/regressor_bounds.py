@@ -333,7 +333,7 @@ def channel_values(robot, q, columns, gravity=None):
     q : ndarray, shape (B, n)
         Joint positions [rad or m].
     columns : array_like of int, shape (m,)
-        Flat standard-parameter indices 10 k + c (link k, :data:`PARAMETER_NAMES` c).
+        Flat standard-parameter indices 10 k + c (link k, :data:`gd_analyze.core.symbolic.base_parameters.PARAMETER_NAMES` c).
     gravity : array_like, shape (3,), optional
         [m/s^2]; default the robot's.
 

@@ -2,9 +2,10 @@
 by branch and bound on interval enclosures (issue 29).
 
 For the pair (base parameter m, part p) and joint i the contribution to tau_i over the region R
-is |beta_m| times the part's coefficient function of q (:mod:`gd_analyze.core.dynamics.
-regressor_bounds`), through the velocity and acceleration limits exactly. Its maximum over the
-box of positions is bounded from above by interval evaluation of the recursion on sub-boxes,
+is |beta_m| times the part's coefficient function of q
+(:mod:`gd_analyze.core.dynamics.regressor_bounds`), through the velocity and acceleration limits
+exactly. Its maximum over the box of positions is bounded from above by ball (midpoint-radius)
+evaluation of the recursion on sub-boxes,
 each box split where its enclosure could still exceed what sampling found (branch and bound;
 Moore, Kearfott & Cloud 2009, Ch. 6). Joints no coefficient depends on are never split (joint 1
 about the gravity axis). The sampled peaks are lower bounds of the same maxima, so

@@ -206,7 +206,7 @@ class Guarantee:
                                        f"reaches {x[k, j]:.6g} (limit {hi[j]:.6g})")
                     return False, (f"outside the model's region: joint {j + 1}'s q is "
                                    f"{x[k, j]:.6g}, {which} its limit {limit[j]:.6g}")
-        return True, "every set point lies in the model's region (q, qd, qdd within its limits)"
+        return True, "every set point lies in the model's region (positions, velocities and accelerations within its limits)"
 
     def to_dict(self):
         """The ``guarantee`` key of ``simplified_model.json`` (SI units).

@@ -213,8 +213,18 @@ def sample_positions(region, count, seed=0):
 
 
 def qd_vertices(qd_max):
-    """The vertices of the velocity box, (K, n) [rad/s or m/s]: all 2^n sign patterns, or
-    4,096 random ones beyond 12 joints."""
+    """The vertices of the velocity box.
+
+    Parameters
+    ----------
+    qd_max : ndarray, shape (n,)
+        Velocity limits [rad/s or m/s].
+
+    Returns
+    -------
+    ndarray, shape (K, n)
+        All 2^n sign patterns times qd_max, or 4,096 random ones beyond 12 joints.
+    """
     n = qd_max.size
     if n > 12:                                       # 4,096 vertices at most: random signs
         signs = np.random.default_rng(0).choice([-1.0, 1.0], (4096, n))

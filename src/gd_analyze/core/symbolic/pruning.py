@@ -498,8 +498,8 @@ def prune_bounds(robot, base, scale, peak, whole_peak, eps, strategy="cost", pie
         s_i [N m or N].
     peak : ndarray, shape (b, 3, n)
         Upper bound of each pair's |contribution| to each tau_i where the model must hold
-        (e.g. proved over the joint-limit region, :func:`gd_analyze.core.selection.certify.
-        certify`) [N m or N].
+        (e.g. proved over the joint-limit region by
+        :func:`gd_analyze.core.selection.certify.certify`) [N m or N].
     whole_peak : ndarray, shape (b, n)
         Upper bound of each parameter's whole |contribution|.
     eps : float
