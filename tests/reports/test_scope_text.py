@@ -41,3 +41,25 @@ def test_the_main_jobs_outputs_state_the_models_scope(tmp_path, capsys):
     assert f"The model's guarantee: {said}." in text              # Sec. 5
     assert f"guarantee of the model built {g.kind} kind: {said}" in text
     assert "is guaranteed, on this trajectory only" not in text
+
+
+def test_sec5_says_how_a_region_model_was_pruned(tmp_path):
+    """A region model's Sec. 5 describes the proved bounds over the region and s_i over the
+    region (the scale the table prints), never 'the bound holds on this trajectory' or
+    s_i = peak |tau_i| of the trajectory; a trajectory model's says the trajectory."""
+    texts = {}
+    for kind in ("region", "trajectory"):
+        out = tmp_path / kind
+        assert main(["puma560", str(SHIPPED), "-o", str(out), "-q", "--guarantee", kind]) == 0
+        with open_results(out / "results.h5", lazy=True) as ds:
+            assert stored_guarantee(ds)["kind"] == kind
+        text = html_text((out / "report.html").read_text(), nbsp=True)
+        start = text.index("Recursive model: rule, bound, cost")
+        texts[kind] = text[start:text.index("Table 5.3", start)]
+    region, trajectory = texts["region"], texts["trajectory"]
+    assert "contribute over the joint-limit region" in region
+    assert "the error at every state of the region is within that sum" in region
+    assert "holds on this trajectory" not in region
+    assert "= peak |τ" not in region and "= peak |τ" in trajectory
+    assert "contribute on this trajectory" in trajectory
+    assert "the bound below holds on this trajectory" in trajectory

@@ -199,15 +199,32 @@ def _recursive_text(ds, eps, floor):
                        "the model is "
                        "exact (its difference from the full torque is round-off)."
                        + _scope(ds, exact=True))
-    return text + (f"Rule: error budget, \u03b5\u00a0=\u00a0{eps:g}"
-                   + (f", torque floor {floor:g} N m" if floor else "")
-                   + f". Of the {pairs} (parameter, part) pairs that contribute on this "
+    rule = (f"Rule: error budget, \u03b5\u00a0=\u00a0{eps:g}"
+            + (f", torque floor {floor:g} N m" if floor else ""))
+    if _kind(ds) == "region":
+        return text + (rule + f". Of the {pairs} (parameter, part) pairs that contribute "
+                       f"over the joint-limit region, {dropped} are dropped (alone or with "
+                       "their whole parameter), in order of increasing proved bound, while for "
+                       "every joint the largest over the region of the sum of their proved "
+                       f"bounds stays within {_EPS_S} ({_S_I} = the largest |{_TAU_I}| found "
+                       "over the region, raised to the floor); by the triangle inequality the "
+                       "error at every state of the region is within that sum, the bound "
+                       "below." + _scope(ds, exact=True))
+    return text + (rule + f". Of the {pairs} (parameter, part) pairs that contribute on this "
                    f"trajectory, {dropped} are dropped (alone or with their whole parameter), "
                    "in order of "
                    "increasing peak contribution, while for every joint the dropped peaks sum "
                    f"to at most {_EPS_S} ({_S_I} = peak |{_TAU_I}|, raised to the "
                    "floor); by the triangle inequality the error on this trajectory is within "
                    "that sum: " + _scope(ds))
+
+
+def _kind(ds):
+    """The stored guarantee's kind ("region", "trajectory"), or "none"."""
+    from ..io.datasets import stored_guarantee
+
+    g = stored_guarantee(ds)
+    return "none" if g is None else g["kind"]
 
 
 def _scope(ds, exact=False):
