@@ -54,6 +54,8 @@ def test_sec5_says_how_a_region_model_was_pruned(tmp_path):
         with open_results(out / "results.h5", lazy=True) as ds:
             assert stored_guarantee(ds)["kind"] == kind
         text = html_text((out / "report.html").read_text(), nbsp=True)
+        where = "the joint-limit region" if kind == "region" else "this trajectory"
+        assert f"gravity parts of their contributions that act on {where}, it drops" in text
         start = text.index("Recursive model: rule, bound, cost")
         texts[kind] = text[start:text.index("Table 5.3", start)]
     region, trajectory = texts["region"], texts["trajectory"]

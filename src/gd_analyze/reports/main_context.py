@@ -370,7 +370,9 @@ def _report_context_base(ds):
                          ds["tau_error_peak"].values, ds["tau_peak"].values, _model_cost(ds),
                          recursive=_recursive_facts(ds) if form == "recursive" else None,
                          gravity=_gravity_fact(ds, form), units=tau_units,
-                         scope=_scope((stored_guarantee(ds) or {}).get("statement") or ""))
+                         scope=_scope((stored_guarantee(ds) or {}).get("statement") or ""),
+                         where="the joint-limit region" if (stored_guarantee(ds) or {}).get(
+                             "kind") == "region" else "this trajectory")
     facts = (f"{robot_name}, {n} joints, {count(N)} set points over {_fmt(t[-1] - t[0], 4)} s; "
              f"{len(labels)} elements ranked with s = {s:g}, e = {e:g}: "
              + ", ".join(f"{counts[c]} {c}" for c in _CLASS_COLOURS)

@@ -76,7 +76,7 @@ def _qty(value, unit):
 
 
 def conclusion(labels, dominance, zero, choice, rel_peak, abs_peak, tau_peak, cost=None,
-               recursive=None, gravity=None, units=None, scope=None):
+               recursive=None, gravity=None, units=None, scope=None, where="this trajectory"):
     """The report's conclusion in three sentences.
 
     Parameters
@@ -100,6 +100,9 @@ def conclusion(labels, dominance, zero, choice, rel_peak, abs_peak, tau_peak, co
         ``"drops terms of c ..."``); the sentence on the model ends with it.
     units : list of str, optional
         Units of each joint's torque (N m, or N for a prismatic joint); N m if not given.
+    where : str, optional
+        Where the recursive model's pairs were judged: ``"this trajectory"``, or ``"the
+        joint-limit region"`` for a model pruned over the region.
     scope : str, optional
         The model's guarantee in one sentence
         (:meth:`~gd_analyze.core.selection.guarantee.Guarantee.statement`, as stored), said
@@ -144,7 +147,8 @@ def conclusion(labels, dominance, zero, choice, rel_peak, abs_peak, tau_peak, co
                      + ")")
         parts.append(text + f" \u2014 {lead} effects lead")
     first = "Dominance: " + "; ".join(parts) + "."
-    second = model_sentence(recursive=recursive, choice=choice, gravity=gravity)
+    second = model_sentence(recursive=recursive, choice=choice, gravity=gravity,
+                            trajectory=where)
     rel = np.asarray(rel_peak, float)
     said = f" Its guarantee: {scope}." if scope else ""
     if not np.any(np.isfinite(rel)):
