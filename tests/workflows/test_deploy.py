@@ -166,8 +166,10 @@ def test_report_text_follows_the_model(tmp_path):
         if dropped:
             assert f"of the {pairs} inertial, velocity and gravity parts" in ctx["summary"]
             assert f"it drops {dropped}," in ctx["summary"]      # then what it does with c
-            assert f"Of the {pairs} (parameter, part) pairs that contribute on this " \
-                f"trajectory, {dropped} are dropped" in ctx["simplified_model"]["text"]
+            where = "over the joint-limit region" if a.model.guarantee.kind == "region" \
+                else "on this trajectory"
+            assert f"Of the {pairs} (parameter, part) pairs that contribute {where}, " \
+                f"{dropped} are dropped" in ctx["simplified_model"]["text"]
         else:
             assert "it is exact, nothing is dropped" in ctx["summary"]
             assert "no part is dropped" in ctx["simplified_model"]["text"]

@@ -307,6 +307,8 @@ def _model_note(ds):
                  int(a.get("model_pairs", 0)))
         own = str(a.get("trajectory_is_models")) == "1"
         where = "this trajectory" if own else "the trajectory the model was built on"
+        if str(a.get("model_guarantee_kind", "")) == "region":
+            where = "the joint-limit region"           # pruned on bounds over the region
         if str(a.get("model_pairs_known", "1")) == "0":
             where += (" (or are structurally 0: the model file does not record which pairs "
                       "act)")
