@@ -20,19 +20,11 @@ from gd_analyze.cli import main
 from gd_analyze.core.model.robot import with_payload
 from gd_analyze.core.symbolic.explicit import derive, model_terms
 from gd_analyze.formulations.pinocchio import pinocchio_model
-from gd_analyze.io import explicit_cache
+from gd_analyze.io.cache_files import checksum
 from gd_analyze.io.explicit_cache import CacheWarning, cache_path, explicit_terms
 from gd_analyze.io.trajectory import read_trajectory
 
 FIELDS = ("kind", "part", "i", "j", "k", "K", "S", "C")
-
-
-@pytest.fixture
-def cache(tmp_path, monkeypatch):
-    monkeypatch.delenv("GD_ANALYZE_NO_CACHE", raising=False)
-    folder = tmp_path / "cache"
-    monkeypatch.setenv("GD_ANALYZE_CACHE_DIR", str(folder))
-    return folder
 
 
 @pytest.fixture(scope="module")
@@ -70,7 +62,7 @@ def _forge(path, arrays, key=None):
     entry.update(arrays)
     if key is not None:
         entry["key"] = key
-    entry["checksum"] = np.array(explicit_cache._checksum({f: entry[f] for f in FIELDS}))
+    entry["checksum"] = np.array(checksum({f: entry[f] for f in FIELDS}, FIELDS))
     _write_npz(path, entry)
 
 

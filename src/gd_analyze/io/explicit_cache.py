@@ -8,8 +8,9 @@ derivation's settings. The folder is ``$GD_ANALYZE_CACHE_DIR`` if set, else
 ``$XDG_CACHE_HOME/gd-analyze`` or ``~/.cache/gd-analyze``; ``GD_ANALYZE_NO_CACHE=1`` disables
 it.
 
-The cache is not trusted. An entry (``explicit-<sha>.npz``, plain arrays: nothing is ever
-unpickled) stores its key and a SHA-256 of its arrays, and is used only if
+The cache is not trusted (:mod:`.cache_files`). An entry (``explicit-<sha>.npz``, plain
+arrays: nothing is ever unpickled) stores its key and a SHA-256 of its arrays, and is used only
+if
 
 - it is a regular file (a symbolic link is not followed) that numpy reads without pickles,
 - its stored key equals the robot's key and its checksum its arrays, and
@@ -27,18 +28,12 @@ An unwritable cache folder is silent: the model is derived each time.
 
 from __future__ import annotations
 
-import hashlib
-import json
-import os
-import stat
-import tempfile
 import warnings
-from importlib import resources
-from pathlib import Path
 
 import numpy as np
 
-from ..errors import InputWarning, _one_line
+from ..errors import _one_line
+from .cache_files import CacheWarning, cache_dir, entry_path, read_entry, source_sha256, write_entry
 
 __all__ = ["cache_dir", "cache_path", "cache_key", "explicit_terms", "CacheWarning",
            "SELF_CHECK_TOLERANCE"]
@@ -51,26 +46,6 @@ _FORMAT = 2
 SELF_CHECK_TOLERANCE = 1e-10
 #: Largest entry read [bytes] (the PUMA 560's is about 100 kB).
 _MAX_BYTES = 256 * 2**20
-
-
-class CacheWarning(InputWarning):
-    """A cache entry that was ignored (unreadable, of another key, or failing its checks);
-    the command line prints it as one ``gd-analyze: warning: ...`` line."""
-
-
-def cache_dir():
-    """The cache folder, or None when caching is disabled.
-
-    Returns
-    -------
-    pathlib.Path or None
-    """
-    if os.environ.get("GD_ANALYZE_NO_CACHE"):
-        return None
-    if os.environ.get("GD_ANALYZE_CACHE_DIR"):
-        return Path(os.environ["GD_ANALYZE_CACHE_DIR"])
-    base = os.environ.get("XDG_CACHE_HOME") or os.path.join(os.path.expanduser("~"), ".cache")
-    return Path(base) / "gd-analyze"
 
 
 def cache_key(robot):
@@ -91,19 +66,12 @@ def cache_key(robot):
     from .._version import __version__
     from ..core.selection.simplified import parameters_sha256
 
-    code = hashlib.sha256()
-    for name in _DERIVING:
-        code.update(resources.files("gd_analyze").joinpath(name).read_bytes())
     return {"format": _FORMAT, "robot_sha256": str(robot.sha256),
             "parameters_sha256": parameters_sha256(robot.to_dict()),
-            "code": {"version": str(__version__), "sha256": code.hexdigest()},
+            "code": {"version": str(__version__), "sha256": source_sha256(_DERIVING)},
             "settings": {"n": int(robot.n),
                          "prismatic": [bool(p) for p in robot.prismatic],
                          "offsets_in": "placements", "fields": list(_FIELDS)}}
-
-
-def _canonical(key):
-    return json.dumps(key, sort_keys=True, separators=(",", ":"))
 
 
 def cache_path(robot):
@@ -118,21 +86,9 @@ def cache_path(robot):
     pathlib.Path or None
         ``<folder>/explicit-<first 40 hex digits of the key's SHA-256>.npz``.
     """
-    folder = cache_dir()
-    if folder is None:
+    if cache_dir() is None:
         return None
-    digest = hashlib.sha256(_canonical(cache_key(robot)).encode()).hexdigest()
-    return folder / f"explicit-{digest[:40]}.npz"
-
-
-def _checksum(arrays):
-    """SHA-256 of the arrays: each field's name, dtype, shape and bytes."""
-    digest = hashlib.sha256()
-    for f in _FIELDS:
-        a = np.ascontiguousarray(arrays[f])
-        digest.update(f"{f}:{a.dtype.str}:{a.shape};".encode())
-        digest.update(a.tobytes())
-    return digest.hexdigest()
+    return entry_path("explicit", cache_key(robot))
 
 
 #: The dtype of each stored array.
@@ -151,30 +107,9 @@ def _read(path, key, robot):
     from ..core.symbolic.explicit import Term
     from ..core.symbolic.explicit_check import terms_disagreement
 
-    try:
-        fd = os.open(path, os.O_RDONLY | getattr(os, "O_NOFOLLOW", 0) | os.O_NONBLOCK)
-    except OSError as exc:          # no entry (or no folder) is no warning
-        return f"cannot be read ({exc.strerror or exc})" if os.path.lexists(path) else None
-    try:
-        info = os.fstat(fd)
-        if not stat.S_ISREG(info.st_mode):
-            return "is not a regular file"
-        if info.st_size > _MAX_BYTES:
-            return f"is larger than {_MAX_BYTES} bytes"
-        with os.fdopen(fd, "rb") as fh:
-            fd = None
-            with np.load(fh, allow_pickle=False) as z:
-                stored = {name: z[name] for name in (*_FIELDS, "key", "checksum")}
-    except Exception as exc:  # noqa: BLE001 - any damage of the file: not used, derived again
-        return f"cannot be read ({type(exc).__name__}: {' '.join(str(exc).split())[:120]})"
-    finally:
-        if fd is not None:
-            os.close(fd)
-    if str(stored["key"]) != _canonical(key):
-        return "was stored for another robot, code version or setting"
-    arrays = {f: stored[f] for f in _FIELDS}
-    if str(stored["checksum"]) != _checksum(arrays):
-        return "does not match its checksum"
+    arrays = read_entry(path, key, _FIELDS, _MAX_BYTES)
+    if arrays is None or isinstance(arrays, str):
+        return arrays
     U = arrays["C"].shape[:1]
     if any(arrays[f].dtype != _DTYPES[f] or arrays[f].shape[:1] != U
            or arrays[f].ndim != (2 if f == "K" else 1) for f in _FIELDS):
@@ -185,32 +120,6 @@ def _read(path, key, robot):
         return (f"fails its self-check (its terms differ from the G-D engine by {worst:.2g} "
                 f"of their scale at the check states)")
     return terms
-
-
-def _write(path, key, terms):
-    """Write the entry atomically (an unpredictable temporary name, then a rename); silent
-    when the folder is not writable."""
-    arrays = _arrays(terms)
-    tmp = None
-    try:
-        path.parent.mkdir(mode=0o700, parents=True, exist_ok=True)
-        fd, tmp = tempfile.mkstemp(prefix=f".{path.name}.", suffix=".tmp",
-                                   dir=path.parent)
-        with os.fdopen(fd, "wb") as fh:
-            np.savez(fh, key=np.array(_canonical(key)), checksum=np.array(_checksum(arrays)),
-                     **arrays)
-            fh.flush()
-            os.fsync(fh.fileno())
-        os.replace(tmp, path)
-        tmp = None
-    except OSError:
-        pass        # read-only cache: derive again next time
-    finally:
-        if tmp is not None:
-            try:
-                os.unlink(tmp)
-            except OSError:
-                pass
 
 
 def explicit_terms(robot):
@@ -257,5 +166,5 @@ def explicit_terms(robot):
     terms = model_terms(derive(robot))
     seconds = time.perf_counter() - t0
     if path is not None:
-        _write(path, key, terms)
+        write_entry(path, key, _arrays(terms))
     return terms, seconds

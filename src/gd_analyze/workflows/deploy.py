@@ -62,7 +62,8 @@ def robot_region(robot):
 
 
 def certified(robot, base, region, torque_floor=0.0):
-    """:func:`gd_analyze.core.selection.certify.certify` of an arm, once per process.
+    """:func:`gd_analyze.core.selection.certify.certify` of an arm, once per process, and
+    kept in the derivation cache (:func:`gd_analyze.io.certification_cache.certification`).
 
     Parameters
     ----------
@@ -79,8 +80,8 @@ def certified(robot, base, region, torque_floor=0.0):
     import hashlib
     import json
 
-    from ..core.selection.certify import certify
     from ..core.selection.simplified import json_safe
+    from ..io.certification_cache import certification
 
     text = json.dumps(json_safe(robot.to_dict()), sort_keys=True)
     key = hashlib.sha256(text.encode() + b"".join(
@@ -90,8 +91,8 @@ def certified(robot, base, region, torque_floor=0.0):
     if key not in _CERTIFIED:
         while len(_CERTIFIED) >= _CERTIFIED_MAX:
             _CERTIFIED.pop(next(iter(_CERTIFIED)))
-        _CERTIFIED[key] = certify(robot, base, region, torque_floor=torque_floor,
-                                  samples=REGION_SAMPLES)
+        _CERTIFIED[key] = certification(robot, base, region, torque_floor=torque_floor,
+                                        samples=REGION_SAMPLES)
     return _CERTIFIED[key]
 
 

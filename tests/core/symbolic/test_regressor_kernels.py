@@ -7,7 +7,11 @@ import pytest
 from symbolic_helpers import ROBOTS, rnea, robot, states
 
 from gd_analyze.core.symbolic.base_parameters import base_parameters, regressor
-from gd_analyze.core.symbolic.regressor_kernels import contribution_peaks, part_contributions
+from gd_analyze.core.symbolic.regressor_kernels import (
+    contribution_peaks,
+    part_contributions,
+    part_regressor,
+)
 from gd_analyze.formulations.pinocchio import pinocchio_model
 
 #: Pinocchio's per-joint order (m, mc_x, mc_y, mc_z, Ixx, Ixy, Iyy, Ixz, Iyz, Izz) -> ours.
@@ -88,3 +92,30 @@ def test_bad_shapes_are_refused():
         part_contributions(arm, base, q[:, :4], q[:, :4], q[:, :4])
     with pytest.raises(ValueError):
         contribution_peaks(arm, base, q, q, q, out=(np.zeros(2), np.zeros(2), np.zeros(2)))
+
+
+@pytest.mark.parametrize("name", ROBOTS)
+def test_part_regressor_sums_to_pinocchios_regressor(name):
+    """part_regressor at unit beta: its parts sum to Pinocchio's computeJointTorqueRegressor
+    on every standard column; its gravity part is the regressor at rest."""
+    arm = robot(name)
+    q, qd, qdd = states(arm, 4, 11)
+    cols = np.arange(10 * arm.n)
+    W = part_regressor(arm, cols, q, qd, qdd)
+    model = pinocchio_model(arm)
+    data = model.createData()
+    ref = np.array([pin.computeJointTorqueRegressor(model, data, a, b, c)
+                    for a, b, c in zip(q, qd, qdd)])
+    ref = np.concatenate([ref[..., 10 * j:10 * j + 10][..., PIN_ORDER] for j in range(arm.n)],
+                         -1)
+    scale = np.abs(ref).max()
+    assert np.abs(W.sum(axis=1) - ref).max() <= 1e-10 * scale
+    z = np.zeros_like(q)
+    assert np.abs(W[:, 2] - regressor(arm, q, z, z)).max() <= 1e-10 * scale
+
+
+def test_part_regressor_refuses_columns_beyond_the_links():
+    arm = robot("two-link")
+    z = np.zeros((1, 2))
+    with pytest.raises(ValueError, match="columns"):
+        part_regressor(arm, [20], z, z, z)

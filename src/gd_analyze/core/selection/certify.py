@@ -22,7 +22,7 @@ import numpy as np
 from ..dynamics.regressor_bounds import pair_magnitudes
 from .region import channel_values, qd_vertices, region_scale, sample_positions
 
-__all__ = ["PairBounds", "certify", "pair_peaks_at", "METHOD"]
+__all__ = ["PairBounds", "certify", "pair_peaks_at", "pair_magnitudes_at", "METHOD"]
 
 #: How the bounds are obtained, in words (stored with every region model).
 METHOD = ("per (base parameter, part) pair: |beta| x upper bound of its coefficient over the "
@@ -57,6 +57,8 @@ class PairBounds:
     leaves : ndarray, shape (b, 3, L, n)
         The bounds on each of the L final boxes, which cover the region: a set of pairs
         changes tau_i by at most max over the boxes of the sum of its pairs' bounds there.
+    leaf_boxes : ndarray, shape (L, 2, n)
+        The final boxes' lower and upper position limits [rad or m].
     seconds : float
         Wall time of the certification [s].
     """
@@ -69,11 +71,12 @@ class PairBounds:
     values: np.ndarray
     boxes: int
     leaves: np.ndarray
+    leaf_boxes: np.ndarray
     seconds: float
 
 
-def pair_peaks_at(V, beta, qd_max, qdd_max):
-    """Each pair's largest |contribution| at the given positions, over the velocity and
+def pair_magnitudes_at(V, beta, qd_max, qdd_max):
+    """Each pair's largest |contribution| at each given position, over the velocity and
     acceleration limits.
 
     Parameters
@@ -83,24 +86,39 @@ def pair_peaks_at(V, beta, qd_max, qdd_max):
     beta : ndarray, shape (b,)
         Base parameter values.
     qd_max, qdd_max : ndarray, shape (n,)
+        [rad/s, rad/s^2; m/s, m/s^2].
+
+    Returns
+    -------
+    ndarray, shape (B, b, 3, n)
+        Inertial: sum_j |A_j| qdd_max_j |beta| (reached); velocity: max over the vertices of
+        qd of |qd^T C qd| |beta|; gravity: |G| |beta| [N m or N].
+    """
+    B, C, n, b = V.shape
+    out = np.zeros((B, b, 3, n))
+    out[:, :, 0] = (np.abs(V[:, 1:1 + n]) * qdd_max[None, :, None, None]).sum(1).transpose(
+        0, 2, 1)
+    out[:, :, 2] = np.abs(V[:, 0]).transpose(0, 2, 1)
+    verts = qd_vertices(np.asarray(qd_max, float))
+    Cq = V[:, 1 + n:].reshape(B, n * n, n * b)
+    for a in range(0, verts.shape[0], 64):
+        vv = verts[a:a + 64]
+        outer = (vv[:, :, None] * vv[:, None, :]).reshape(-1, n * n)     # (K, n n)
+        quad = np.abs(outer @ Cq).max(axis=1).reshape(B, n, b)          # qd^T C qd
+        out[:, :, 1] = np.maximum(out[:, :, 1], quad.transpose(0, 2, 1))
+    return out * np.abs(beta)[None, :, None, None]
+
+
+def pair_peaks_at(V, beta, qd_max, qdd_max):
+    """The largest of :func:`pair_magnitudes_at` (same arguments) over the positions.
 
     Returns
     -------
     ndarray, shape (b, 3, n)
-        Inertial: max_q sum_j |A_j| qdd_max_j |beta| (reached); velocity: max over q and the
-        vertices of qd of |qd^T C qd| |beta|; gravity: max_q |G| |beta| [N m or N].
+        Each pair's largest |contribution| over the positions and the velocity and
+        acceleration limits [N m or N].
     """
-    B, C, n, b = V.shape
-    out = np.zeros((b, 3, n))
-    out[:, 0] = (np.abs(V[:, 1:1 + n]) * qdd_max[None, :, None, None]).sum(1).max(0).T
-    out[:, 2] = np.abs(V[:, 0]).max(0).T
-    verts = qd_vertices(np.asarray(qd_max, float))
-    Cq = V[:, 1 + n:].reshape(B, n, n, n, b)
-    for a in range(0, verts.shape[0], 64):
-        vv = verts[a:a + 64]
-        quad = np.abs(np.einsum("bjlim,kj,kl->bkim", Cq, vv, vv)).max(axis=(0, 1))
-        out[:, 1] = np.maximum(out[:, 1], quad.T)
-    return out * np.abs(beta)[:, None, None]
+    return pair_magnitudes_at(V, beta, qd_max, qdd_max).max(axis=0)
 
 
 def _relevant(robot):
@@ -161,7 +179,7 @@ def certify(robot, base, region, torque_floor=0.0, max_boxes=1024, samples=1000,
     hi = region.q_max[None, :].copy()
     rel = _relevant(robot)
     done_u = np.zeros((3, n, cols.size))
-    leaves = []
+    leaves, boxes = [], []
     inherited = np.full((1, 3, n, cols.size), np.inf)
     evaluated = 0
     target = (1 + rtol) * sampled.transpose(1, 2, 0) + 1e-9 * scale[None, :, None]
@@ -176,10 +194,12 @@ def certify(robot, base, region, torque_floor=0.0, max_boxes=1024, samples=1000,
         if not split.any() or evaluated + 2 * split.sum() > max_boxes:
             done_u = upper
             leaves.append(U)
+            boxes.append(np.stack([lo, hi], axis=1))
             break
         if (~split).any():
             done_u = np.maximum(done_u, U[~split].max(axis=0))
             leaves.append(U[~split])
+            boxes.append(np.stack([lo[~split], hi[~split]], axis=1))
         lo, hi, U = lo[split], hi[split], U[split]
         width = np.where(rel[None, :], hi - lo, -1.0)
         d = width.argmax(axis=1)
@@ -194,5 +214,6 @@ def certify(robot, base, region, torque_floor=0.0, max_boxes=1024, samples=1000,
     leaf = np.concatenate(leaves).transpose(3, 1, 0, 2)          # (b, 3, L, n)
     return PairBounds(bound=bound, sampled=sampled, scale=scale, scale_state=state,
                       positions=q, values=V, boxes=evaluated, leaves=leaf,
+                      leaf_boxes=np.concatenate(boxes),
                       seconds=time.perf_counter() - t0)
 

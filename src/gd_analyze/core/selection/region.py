@@ -19,7 +19,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from ..dynamics.regressor_bounds import channel_count
-from ..symbolic.base_parameters import regressor
+from ..symbolic.regressor_kernels import part_regressor
 
 __all__ = ["Region", "joint_region", "missing_limits", "sample_positions", "channel_values",
            "worst_states", "region_scale", "qd_vertices"]
@@ -37,7 +37,7 @@ def channel_values(robot, q, columns, chunk=512):
     columns : array_like of int, shape (m,)
         Flat standard-parameter indices 10 k + c.
     chunk : int, optional
-        Positions per regressor call (memory O(chunk n^3 m)).
+        Positions per compiled call (memory O(chunk n^3 m)).
 
     Returns
     -------
@@ -53,37 +53,39 @@ def channel_values(robot, q, columns, chunk=512):
 
     Notes
     -----
-    Evaluated with :func:`gd_analyze.core.symbolic.base_parameters.regressor` at unit
-    accelerations (A_j = W(q, 0, e_j), g = 0), unit velocities (C_jj = W(q, e_j, 0)) and their
-    sums (C_jl + C_lj = W(q, e_j + e_l, 0) - C_jj - C_ll), g = 0; G = W(q, 0, 0).
+    The regressor (:func:`gd_analyze.core.symbolic.base_parameters.regressor`, compiled as
+    :func:`gd_analyze.core.symbolic.regressor_kernels.part_regressor`) split into parts, at
+    n (n + 1) / 2 states per point: (qd, qdd) = (e_j, e_j) gives C_jj and the inertial
+    channel A_j (g = 0), qd = e_j + e_l (j < l) gives C_jl + C_lj + C_jj + C_ll (g = 0), and
+    any of them the gravity channel G = W(q, 0, 0).
     """
     q = np.asarray(q, float)
     n = robot.n
     if q.ndim != 2 or q.shape[1] != n:
         raise ValueError(f"q must have shape (B, {n}), got {q.shape}")
     columns = np.asarray(columns, int)
-    C = channel_count(n)
     eye = np.eye(n)
-    jj, ll = np.divmod(np.arange(n * n), n)
+    jj, ll = np.triu_indices(n)                               # j <= l; the diagonal first
+    order = np.argsort(jj != ll, kind="stable")
+    jj, ll = jj[order], ll[order]
     qd_units = eye[jj] + eye[ll] * (jj != ll)[:, None]        # e_j + e_l, or e_j
-    out = np.empty((q.shape[0], C, n, columns.size))
-    zero3 = np.zeros(3)
+    qdd_units = eye[jj] * (jj == ll)[:, None]                 # e_j on the diagonal
+    S = jj.size
+    out = np.empty((q.shape[0], channel_count(n), n, columns.size))
     for a in range(0, q.shape[0], chunk):
         qc = q[a:a + chunk]
         B = qc.shape[0]
-        rep = np.repeat(qc, n, axis=0)
-        z = np.zeros((B, n))
-        G = regressor(robot, qc, z, z)[:, :, columns]
-        A = regressor(robot, rep, np.zeros_like(rep), np.tile(eye, (B, 1)),
-                      gravity=zero3)[:, :, columns].reshape(B, n, n, -1)
-        repv = np.repeat(qc, n * n, axis=0)
-        Wv = regressor(robot, repv, np.tile(qd_units, (B, 1)), np.zeros_like(repv),
-                       gravity=zero3)[:, :, columns].reshape(B, n, n, n, -1)
-        diag = Wv[:, np.arange(n), np.arange(n)]                # (B, n, n_joint, m)
-        Cm = 0.5 * (Wv - diag[:, :, None] - diag[:, None, :])
+        W = part_regressor(robot, columns, np.repeat(qc, S, axis=0),
+                           np.tile(qd_units, (B, 1)), np.tile(qdd_units, (B, 1)))
+        W = W.reshape(B, S, 3, n, -1)                         # (B, state, part, i, m)
+        diag = W[:, :n, 1]                                    # C_jj: (B, j, i, m)
+        Cm = np.empty((B, n, n) + diag.shape[2:])
         Cm[:, np.arange(n), np.arange(n)] = diag
-        out[a:a + B, 0] = G
-        out[a:a + B, 1:1 + n] = A
+        off = 0.5 * (W[:, n:, 1] - diag[:, jj[n:]] - diag[:, ll[n:]])
+        Cm[:, jj[n:], ll[n:]] = off
+        Cm[:, ll[n:], jj[n:]] = off
+        out[a:a + B, 0] = W[:, 0, 2]
+        out[a:a + B, 1:1 + n] = W[:, :n, 0]
         out[a:a + B, 1 + n:] = Cm.reshape(B, n * n, n, -1)
     return out
 
@@ -259,9 +261,10 @@ def worst_states(V, weights, qd_max, qdd_max):
     B, C, n, m = V.shape
     g = V[:, 0] @ weights[2]                                    # (B, n)
     a = np.einsum("bjim,m->bij", V[:, 1:1 + n], weights[0])     # (B, n, n)
-    Cq = np.einsum("bcim,m->bic", V[:, 1 + n:], weights[1]).reshape(B, n, n, n)
+    Cq = V[:, 1 + n:] @ weights[1]                              # (B, n n, n)
     verts = qd_vertices(np.asarray(qd_max, float))                # (K, n)
-    quad = np.einsum("bijl,kj,kl->bik", Cq, verts, verts) + g[:, :, None]
+    outer = (verts[:, :, None] * verts[:, None, :]).reshape(-1, n * n)
+    quad = np.swapaxes(outer @ Cq, 1, 2) + g[:, :, None]        # (B, n, K): qd^T C_i qd
     k = np.abs(quad).argmax(axis=2)                             # (B, n)
     lin = np.abs(a) @ qdd_max
     value = np.take_along_axis(np.abs(quad), k[:, :, None], 2)[:, :, 0] + lin

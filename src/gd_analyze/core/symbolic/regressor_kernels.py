@@ -22,7 +22,7 @@ from numba import njit
 
 from ..model.kinematics import as_states
 
-__all__ = ["part_contributions", "contribution_peaks"]
+__all__ = ["part_contributions", "contribution_peaks", "part_regressor"]
 
 #: (row, column) of the inertia-tensor entry of the parameters XX, XY, XZ, YY, YZ, ZZ.
 _JA = np.array([0, 0, 0, 1, 1, 2], np.int64)
@@ -192,15 +192,65 @@ def _contributions_kernel(q, qd, qdd, Rp, tp, pris, gravity, link, param, beta,
                 tau_peak[i] = t
 
 
-def _arguments(robot, base, q, qd, qdd):
+def _arguments(robot, columns, beta, q, qd, qdd):
     """The kernel's arguments but the outputs, with the states checked."""
     q, qd, qdd = as_states(robot, q, qd, qdd)
-    cols = np.flatnonzero(base.independent.reshape(-1))
+    columns = np.asarray(columns, np.int64).reshape(-1)
     c = np.ascontiguousarray
     return (c(q, float), c(qd, float), c(qdd, float), c(robot.rotation, float),
             c(robot.translation, float), np.asarray(robot.prismatic, np.int64),
-            c(robot.gravity, float), (cols // 10).astype(np.int64),
-            (cols % 10).astype(np.int64), c(base.beta, float))
+            c(robot.gravity, float), columns // 10, columns % 10, c(beta, float))
+
+
+def part_regressor(robot, columns, q, qd, qdd):
+    """Columns of the regressor, split into parts, compiled: the contributions at unit beta.
+
+    Parameters
+    ----------
+    robot : Robot
+        The arm, with n joints (its inertial parameters are not read).
+    columns : array_like of int, shape (m,)
+        Flat standard-parameter indices 10 k + c (link k, parameter c of
+        :data:`.base_parameters.PARAMETER_NAMES`).
+    q, qd, qdd : array_like, shape (N, n)
+        Joint positions, velocities and accelerations [rad, rad/s, rad/s^2; m, m/s, m/s^2].
+
+    Returns
+    -------
+    ndarray, shape (N, 3, n, m)
+        ``W[k, p, i, c]``: torque of joint i [N m or N] per unit parameter ``columns[c]`` in
+        part p (inertial: W(q, 0, qdd) with g = 0; velocity: W(q, qd, 0) with g = 0;
+        gravity: W(q, 0, 0) with the robot's gravity); summed over p it is
+        :func:`.base_parameters.regressor`'s ``W[k, i, columns[c]]``.
+
+    Raises
+    ------
+    ValueError
+        If the arrays are not of shape (N, n), or a column is out of range.
+
+    Notes
+    -----
+    The recursion of :func:`part_contributions` (Khalil & Kleinfinger 1987) with beta = 1.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from gd_analyze import load_robot
+    >>> robot = load_robot("two-link")
+    >>> z = np.zeros((1, 2))
+    >>> W = part_regressor(robot, [9, 19], z, z, z)     # the two link masses
+    >>> W.shape, bool(np.all(W[:, :2] == 0))
+    ((1, 3, 2, 2), True)
+    """
+    columns = np.asarray(columns, np.int64).reshape(-1)
+    if columns.size and (columns.min() < 0 or columns.max() >= 10 * robot.n):
+        raise ValueError(f"columns must lie in [0, {10 * robot.n}), got {columns.tolist()}")
+    args = _arguments(robot, columns, np.ones(columns.size), q, qd, qdd)
+    N, n = args[0].shape
+    m = columns.size
+    out = np.empty((N, 3, n, m))
+    _contributions_kernel(*args, True, out, np.zeros(n), np.zeros((m, 3, n)), np.zeros((m, n)))
+    return out
 
 
 def part_contributions(robot, base, q, qd, qdd):
@@ -245,7 +295,8 @@ def part_contributions(robot, base, q, qd, qdd):
     >>> part_contributions(robot, base, z, z, z).shape == (3, 4, 2, base.rank)
     True
     """
-    args = _arguments(robot, base, q, qd, qdd)
+    args = _arguments(robot, np.flatnonzero(base.independent.reshape(-1)), base.beta, q, qd,
+                      qdd)
     N, n = args[0].shape
     b = base.rank
     out = np.empty((N, 3, n, b))
@@ -302,7 +353,8 @@ def contribution_peaks(robot, base, q, qd, qdd, out=None):
     >>> peak.shape == (base.rank, 3, 2), bool(np.all(peak[:, :2] == 0))   # at rest: gravity
     (True, True)
     """
-    args = _arguments(robot, base, q, qd, qdd)
+    args = _arguments(robot, np.flatnonzero(base.independent.reshape(-1)), base.beta, q, qd,
+                      qdd)
     n, b = robot.n, base.rank
     if out is None:
         out = (np.zeros(n), np.zeros((b, 3, n)), np.zeros((b, n)))

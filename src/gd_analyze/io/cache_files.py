@@ -1,0 +1,207 @@
+"""Entries of the derivation cache: where they live, how they are read and written.
+
+The derivation cache holds results that are pure functions of a robot's parameters and of the
+code that computes them (the explicit G-D model, :mod:`.explicit_cache`; the region
+certification, :mod:`.certification_cache`). Its folder is ``$GD_ANALYZE_CACHE_DIR`` if set,
+else ``$XDG_CACHE_HOME/gd-analyze`` or ``~/.cache/gd-analyze``; ``GD_ANALYZE_NO_CACHE=1``
+disables it.
+
+An entry is a ``.npz`` of plain arrays (nothing is ever unpickled) named by the SHA-256 of its
+key, and stores the key and a SHA-256 of its arrays. :func:`read_entry` opens it without
+following a symbolic link and without blocking on a FIFO, refuses anything but a regular file
+of bounded size, and checks the key and the checksum; each cache then checks the content
+itself against an independent computation before using it. :func:`write_entry` writes
+atomically: an unpredictable temporary name in the cache folder (:func:`tempfile.mkstemp`,
+created exclusively, so a planted symbolic link is never followed), then a rename over the
+entry (which replaces a link at the entry's name, not its target). An unwritable cache folder
+is silent.
+"""
+
+from __future__ import annotations
+
+import hashlib
+import json
+import os
+import stat
+import tempfile
+from importlib import resources
+from pathlib import Path
+
+import numpy as np
+
+from ..errors import InputWarning
+
+__all__ = ["CacheWarning", "cache_dir", "entry_path", "canonical", "checksum", "source_sha256", "read_entry",
+           "write_entry"]
+
+
+class CacheWarning(InputWarning):
+    """A cache entry that was ignored (unreadable, of another key, or failing its checks);
+    the command line prints it as one ``gd-analyze: warning: ...`` line."""
+
+
+def cache_dir():
+    """The cache folder, or None when caching is disabled.
+
+    Returns
+    -------
+    pathlib.Path or None
+    """
+    if os.environ.get("GD_ANALYZE_NO_CACHE"):
+        return None
+    if os.environ.get("GD_ANALYZE_CACHE_DIR"):
+        return Path(os.environ["GD_ANALYZE_CACHE_DIR"])
+    base = os.environ.get("XDG_CACHE_HOME") or os.path.join(os.path.expanduser("~"), ".cache")
+    return Path(base) / "gd-analyze"
+
+
+def canonical(key):
+    """The key as canonical JSON text (sorted keys, no spaces).
+
+    Parameters
+    ----------
+    key : dict
+        JSON-serialisable.
+
+    Returns
+    -------
+    str
+    """
+    return json.dumps(key, sort_keys=True, separators=(",", ":"))
+
+
+def entry_path(prefix, key):
+    """Where the entry of a key lives, or None when caching is disabled.
+
+    Parameters
+    ----------
+    prefix : str
+        The kind of entry (``"explicit"``, ``"region"``).
+    key : dict
+        What the entry must store to be used.
+
+    Returns
+    -------
+    pathlib.Path or None
+        ``<folder>/<prefix>-<first 40 hex digits of the key's SHA-256>.npz``.
+    """
+    folder = cache_dir()
+    if folder is None:
+        return None
+    digest = hashlib.sha256(canonical(key).encode()).hexdigest()
+    return folder / f"{prefix}-{digest[:40]}.npz"
+
+
+def source_sha256(names):
+    """SHA-256 of the package's modules that compute an entry.
+
+    Parameters
+    ----------
+    names : sequence of str
+        Paths inside the package, e.g. ``"core/symbolic/explicit.py"``.
+
+    Returns
+    -------
+    str
+    """
+    code = hashlib.sha256()
+    for name in names:
+        code.update(resources.files("gd_analyze").joinpath(name).read_bytes())
+    return code.hexdigest()
+
+
+def checksum(arrays, fields):
+    """SHA-256 of arrays: each field's name, dtype, shape and bytes, in the given order.
+
+    Parameters
+    ----------
+    arrays : mapping of str to ndarray
+    fields : sequence of str
+
+    Returns
+    -------
+    str
+    """
+    digest = hashlib.sha256()
+    for f in fields:
+        a = np.ascontiguousarray(arrays[f])
+        digest.update(f"{f}:{a.dtype.str}:{a.shape};".encode())
+        digest.update(a.tobytes())
+    return digest.hexdigest()
+
+
+def read_entry(path, key, fields, max_bytes):
+    """The stored arrays of an entry whose key and checksum match, or why it is not used.
+
+    Parameters
+    ----------
+    path : pathlib.Path
+    key : dict
+        The key the entry must store.
+    fields : sequence of str
+        The arrays it must hold.
+    max_bytes : int
+        Largest file read [bytes].
+
+    Returns
+    -------
+    dict of str to ndarray, str or None
+        The arrays; a reason (one phrase, e.g. ``"is not a regular file"``) when the entry
+        exists but is not used; None when there is no entry.
+    """
+    try:
+        fd = os.open(path, os.O_RDONLY | getattr(os, "O_NOFOLLOW", 0) | os.O_NONBLOCK)
+    except OSError as exc:          # no entry (or no folder) is no warning
+        return f"cannot be read ({exc.strerror or exc})" if os.path.lexists(path) else None
+    try:
+        info = os.fstat(fd)
+        if not stat.S_ISREG(info.st_mode):
+            return "is not a regular file"
+        if info.st_size > max_bytes:
+            return f"is larger than {max_bytes} bytes"
+        with os.fdopen(fd, "rb") as fh:
+            fd = None
+            with np.load(fh, allow_pickle=False) as z:
+                stored = {name: z[name] for name in (*fields, "key", "checksum")}
+    except Exception as exc:  # noqa: BLE001 - any damage of the file: not used, computed again
+        return f"cannot be read ({type(exc).__name__}: {' '.join(str(exc).split())[:120]})"
+    finally:
+        if fd is not None:
+            os.close(fd)
+    if str(stored["key"]) != canonical(key):
+        return "was stored for another robot, code version or setting"
+    arrays = {f: stored[f] for f in fields}
+    if str(stored["checksum"]) != checksum(arrays, fields):
+        return "does not match its checksum"
+    return arrays
+
+
+def write_entry(path, key, arrays):
+    """Write an entry atomically; silent when the folder is not writable.
+
+    Parameters
+    ----------
+    path : pathlib.Path
+    key : dict
+    arrays : dict of str to ndarray
+        Plain (not object) arrays, stored in this order with their checksum.
+    """
+    tmp = None
+    try:
+        path.parent.mkdir(mode=0o700, parents=True, exist_ok=True)
+        fd, tmp = tempfile.mkstemp(prefix=f".{path.name}.", suffix=".tmp", dir=path.parent)
+        with os.fdopen(fd, "wb") as fh:
+            np.savez(fh, key=np.array(canonical(key)),
+                     checksum=np.array(checksum(arrays, list(arrays))), **arrays)
+            fh.flush()
+            os.fsync(fh.fileno())
+        os.replace(tmp, path)
+        tmp = None
+    except OSError:
+        pass        # read-only cache: computed again next time
+    finally:
+        if tmp is not None:
+            try:
+                os.unlink(tmp)
+            except OSError:
+                pass

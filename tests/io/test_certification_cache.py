@@ -1,0 +1,145 @@
+"""The region certification in the derivation cache: used only when it passes its checks.
+
+The oracle is a fresh certification (core.selection.certify.certify): an entry that is used
+must give exactly its bounds and scale; an entry forged with a matching key and checksum but
+bounds of another robot, bounds scaled down, a wrong scale or boxes that miss part of the
+region must be refused with one warning line and certified again.
+"""
+
+import os
+import warnings
+
+import numpy as np
+import pytest
+
+from gd_analyze import load_robot
+from gd_analyze.core.selection import certify as certify_module
+from gd_analyze.core.selection.region import joint_region
+from gd_analyze.core.symbolic.base_parameters import base_parameters
+from gd_analyze.io.cache_files import CacheWarning, checksum
+from gd_analyze.io.certification_cache import certification
+
+SAMPLES = 200
+FIELDS = ("scale", "scale_state", "leaves", "leaf_boxes", "boxes", "seconds")
+
+
+@pytest.fixture(scope="module")
+def arm():
+    robot = load_robot("stanford")              # six joints, one prismatic
+    return robot, base_parameters(robot), joint_region(robot, robot.qdd_max)
+
+
+@pytest.fixture(scope="module")
+def fresh(arm):
+    robot, base, region = arm
+    return certify_module.certify(robot, base, region, samples=SAMPLES)
+
+
+def _call(arm):
+    robot, base, region = arm
+    with warnings.catch_warnings(record=True) as seen:
+        warnings.simplefilter("always")
+        pb = certification(robot, base, region, samples=SAMPLES)
+    return pb, [str(w.message) for w in seen if issubclass(w.category, CacheWarning)]
+
+
+def _same(a, b):
+    for f in ("bound", "sampled", "scale", "scale_state", "leaves", "leaf_boxes", "positions"):
+        np.testing.assert_array_equal(getattr(a, f), getattr(b, f), err_msg=f)
+
+
+def _entry(folder):
+    (path,) = folder.glob("region-*.npz")
+    return path
+
+
+def _forge(path, **change):
+    """Rewrite the entry with some arrays changed and a checksum that matches them: a forger
+    who knows the layout."""
+    with np.load(path, allow_pickle=False) as z:
+        entry = {name: z[name] for name in z.files}
+    entry.update(change)
+    entry["checksum"] = np.array(checksum(entry, FIELDS))
+    with open(path, "wb") as fh:
+        np.savez(fh, **entry)
+
+
+def test_a_stored_certification_is_used_and_equals_a_fresh_one(arm, fresh, cache, monkeypatch):
+    first, w1 = _call(arm)
+    _same(first, fresh)
+    assert not w1 and _entry(cache).is_file()
+
+    def refuse(*args, **kwargs):
+        raise AssertionError("certified again although the entry is sound")
+    monkeypatch.setattr(certify_module, "certify", refuse)
+    second, w2 = _call(arm)
+    assert not w2
+    _same(second, fresh)
+    assert second.seconds == first.seconds
+
+
+@pytest.mark.parametrize("damage", ["bounds halved", "another region's boxes", "scale doubled",
+                                    "scale state moved", "a box dropped", "leaves of zeros"])
+def test_a_forged_entry_is_refused_and_certified_again(arm, fresh, cache, damage):
+    _call(arm)
+    path = _entry(cache)
+    with np.load(path, allow_pickle=False) as z:
+        leaves, boxes = z["leaves"], z["leaf_boxes"]
+        scale, state = z["scale"], z["scale_state"]
+    if damage == "bounds halved":
+        change = {"leaves": leaves * 0.5}
+    elif damage == "another region's boxes":
+        shrunk = boxes.copy()
+        shrunk[:, :, 1] = 0.5 * shrunk[:, :, 1]          # joint 2 over half its range
+        change = {"leaf_boxes": shrunk}
+    elif damage == "scale doubled":
+        change = {"scale": scale * 2}
+    elif damage == "scale state moved":
+        moved = state.copy()
+        moved[:, 1] = 0.5 * (moved[:, 1] + arm[2].q_min[1])
+        change = {"scale_state": moved}
+    elif damage == "a box dropped":
+        change = {"leaves": leaves[:, :, 1:], "leaf_boxes": boxes[1:]}
+    else:
+        change = {"leaves": np.zeros_like(leaves)}
+    _forge(path, **change)
+    again, seen = _call(arm)
+    assert len(seen) == 1 and "ignored, the region is certified again" in seen[0], seen
+    _same(again, fresh)
+    third, seen3 = _call(arm)                        # rewritten: used without a warning
+    assert not seen3
+    _same(third, fresh)
+
+
+@pytest.mark.parametrize("kind", ["symlink", "fifo", "garbage", "checksum"])
+def test_an_unusable_file_is_one_warning_and_never_followed(arm, fresh, cache, tmp_path, kind):
+    _call(arm)
+    path = _entry(cache)
+    target = tmp_path / "elsewhere.npz"
+    if kind == "symlink":
+        os.replace(path, target)
+        os.symlink(target, path)
+    elif kind == "fifo":
+        path.unlink()
+        os.mkfifo(path)                              # opening it must not block
+    elif kind == "garbage":
+        path.write_bytes(b"\x93NUMPY" + b"\x00" * 100)
+    else:
+        with np.load(path, allow_pickle=False) as z:
+            entry = {name: z[name] for name in z.files}
+        entry["scale"] = entry["scale"] * 0.5        # the checksum no longer matches
+        with open(path, "wb") as fh:
+            np.savez(fh, **entry)
+    again, seen = _call(arm)
+    assert len(seen) == 1, seen
+    _same(again, fresh)
+    if kind == "symlink":
+        assert not path.is_symlink() and target.is_file()     # replaced, target untouched
+
+
+def test_no_cache_writes_nothing(arm, fresh, tmp_path, monkeypatch):
+    monkeypatch.setenv("GD_ANALYZE_NO_CACHE", "1")
+    monkeypatch.setenv("GD_ANALYZE_CACHE_DIR", str(tmp_path / "cache"))
+    pb, seen = _call(arm)
+    _same(pb, fresh)
+    assert not seen and not (tmp_path / "cache").exists()
