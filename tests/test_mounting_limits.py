@@ -8,6 +8,7 @@ import numpy as np
 import pinocchio as pin
 import pytest
 import xarray as xr
+from robot_files import toml_without_limits
 from urdf_oracle import UrdfOracle, worst_relative
 
 from gd_analyze.cli import main
@@ -163,21 +164,8 @@ def test_double_pendulums_analyse_a_given_trajectory(tmp_path, capsys, urdf):
     assert "joint 1 ('joint1') has no velocity limit" in err
 
 
-def _toml_without_limits(tmp_path):
-    """The shipped two-link.toml without its position, velocity and acceleration limits."""
-    from importlib import resources
-
-    text = resources.files("gd_analyze").joinpath("data", "two-link.toml").read_text()
-    kept = [line for line in text.splitlines()
-            if not line.startswith(("q_limits_deg", "qd_max_deg", "qdd_max_deg"))]
-    assert len(kept) == len(text.splitlines()) - 6
-    path = tmp_path / "free.toml"
-    path.write_text("\n".join(kept) + "\n")
-    return path
-
-
 def test_toml_robot_without_velocity_limits_analyses_a_given_trajectory(tmp_path, capsys):
-    path = _toml_without_limits(tmp_path)
+    path = toml_without_limits(tmp_path)
     csv = _smooth_csv(tmp_path / "tl.csv", 2)
     code, _, err = _run(capsys, path, csv, "-o", tmp_path / "out", "--no-report", "-q")
     assert code == 0, err

@@ -11,6 +11,7 @@ import numpy as np
 import pinocchio as pin
 import pytest
 import xarray as xr
+from robot_files import toml_without_limits
 
 from gd_analyze.cli import main
 from gd_analyze.core.symbolic.recursive import recursive_program
@@ -22,12 +23,14 @@ from gd_analyze.io.trajectory import write_trajectory
 
 @pytest.fixture(scope="module")
 def swept(tmp_path_factory):
-    """A PUMA 560 sweep of 3 random trajectories by the command, and what it printed."""
+    """A PUMA 560 sweep of 3 random trajectories by the command, merged on the trajectories,
+    and what it printed."""
     out = tmp_path_factory.mktemp("sweep")
     buf = io.StringIO()
     with contextlib.redirect_stdout(buf):
         assert main(["sweep", "puma560", "--random", "3", "--seed", "4", "--workers", "1",
-                     "--held-out", "0", "--no-report", "-o", str(out)]) == 0
+                     "--held-out", "0", "--no-report", "-o", str(out),
+                     "--guarantee", "trajectory"]) == 0
     return out, buf.getvalue()
 
 
@@ -77,3 +80,109 @@ def test_evaluate_reads_the_merged_model_and_pinocchio_agrees(swept, tmp_path, c
     err = np.abs(model.torque(tr.q, tr.qd, tr.qdd) - ref).max(axis=0)
     got = np.array(said["peak_abs_error"], float)
     np.testing.assert_allclose(got, err, rtol=1e-6, atol=1e-9 * np.abs(ref).max())
+
+
+def _sweep(args, capsys):
+    """Run the command; (exit status, stdout and stderr together)."""
+    capsys.readouterr()
+    code = main(["sweep", *map(str, args)])
+    out = capsys.readouterr()
+    return code, out.out + out.err
+
+
+def test_guarantee_region_the_files_say_it_and_it_holds(tmp_path, capsys):
+    """--guarantee region: the merged model file, sweep.h5, the emitted code, the printed
+    lines and the report state the region guarantee in the model's one sentence; its error on
+    each swept trajectory (inside the region) is within its proved bound against rnea."""
+    import xarray as xr
+    from html_checks import html_text
+
+    out = tmp_path / "region"
+    code, printed = _sweep(["puma560", "--random", "3", "--seed", "4", "--workers", "1",
+                            "--held-out", "2", "--guarantee", "region", "-o", out], capsys)
+    assert code == 0, printed
+    spec = json.loads((out / "merged_model.json").read_text())
+    g = spec["guarantee"]
+    assert g["kind"] == "region" and "at every state of the region (proved" in g["statement"]
+    assert f"guarantee: {g['statement']}\n" in printed
+    line = next(x for x in printed.splitlines() if x.startswith("merged model (budget"))
+    assert "of s_i over the joint-limit region (guaranteed <= 0.01)" in line
+    assert "2 of them inside the region" in line and "not covered" not in printed
+    for name in ("merged_model.c", "merged_model.py"):
+        text = (out / name).read_text()
+        assert f"guarantee: {g['statement']}" in text
+        assert "bound on each swept trajectory" not in text
+    with xr.open_dataset(out / "sweep.h5") as ds:
+        assert ds.attrs["merged_guarantee_kind"] == "region"
+        assert ds.attrs["merged_guarantee_statement"] == g["statement"]
+        assert ds["merged_covered"].values.tolist() == [1, 1, 1]
+    text = html_text((out / "sweep_report.html").read_text(encoding="utf-8"))
+    assert "on every swept trajectory" not in text
+    assert "at every state of the region (proved" in text
+    model = load_model(out / "merged_model.json")
+    bound, scale = np.array(g["bound"]), np.array(g["scale"])
+    assert np.all(bound <= 0.01 * scale * (1 + 1e-12))
+    pm = pinocchio_model(model.robot)
+    data = pm.createData()
+    for tr in random_trajectories(model.robot, 3, seed=4):      # the swept ones, planned again
+        ref = np.array([pin.rnea(pm, data, *s) for s in zip(tr.q, tr.qd, tr.qdd)])
+        err = np.abs(model.torque(tr.q, tr.qd, tr.qdd) - ref).max(axis=0)
+        assert np.all(err <= bound + 1e-9 * scale)
+
+
+def test_default_guarantee_region_with_limits_trajectory_without(tmp_path, capsys):
+    """The default (auto): region on the PUMA 560 (it gives every limit); on an arm without
+    limits the trajectory guarantee, and the missing limit said in one line, once."""
+    from gd_analyze import load_robot
+    from gd_analyze.core.selection.region import missing_limits
+
+    code, printed = _sweep(["puma560", "--random", "2", "--workers", "1", "--held-out", "0",
+                            "--no-report", "-o", tmp_path / "puma"], capsys)
+    assert code == 0, printed
+    spec = json.loads((tmp_path / "puma" / "merged_model.json").read_text())
+    assert spec["guarantee"]["kind"] == "region"
+    free = toml_without_limits(tmp_path)
+    assert missing_limits(load_robot(str(free))) == "joint 1 has no velocity limit"
+    csvs = []
+    for k, tr in enumerate(random_trajectories(load_robot("two-link"), 2, seed=3)):
+        csvs.append(tmp_path / f"t{k}.csv")
+        write_trajectory(tr, csvs[-1])
+    for extra in ([], ["--guarantee", "region"]):    # no region to prove over: trajectory
+        out = tmp_path / f"free{len(extra)}"
+        code, printed = _sweep([free, *csvs, "--workers", "1", "--held-out", "0",
+                                "--no-report", "-o", out, *extra], capsys)
+        assert code == 0, printed
+        spec = json.loads((out / "merged_model.json").read_text())
+        assert spec["guarantee"]["kind"] == "trajectory"
+        assert spec["guarantee"]["region_missing"] == "joint 1 has no velocity limit"
+        assert printed.count("no velocity limit") == 1, printed
+        line = next(x for x in printed.splitlines() if "no velocity limit" in x)
+        assert line == f"guarantee: {spec['guarantee']['statement']}"
+        assert "on the 2 swept trajectories only" in line
+
+
+def test_a_swept_trajectory_outside_the_region_is_reported(tmp_path, capsys):
+    """A plan run twice as fast (qd x 2, qdd x 4: beyond the PUMA's limits) is swept with two
+    plans: the command names it as not covered by the region guarantee, the others not."""
+    import dataclasses
+
+    from gd_analyze import load_robot
+
+    robot = load_robot("puma560")
+    plans = random_trajectories(robot, 2, seed=5)
+    fast = dataclasses.replace(plans[0], t=plans[0].t / 2, qd=2 * plans[0].qd,
+                               qdd=4 * plans[0].qdd)
+    assert (np.abs(fast.qd) > robot.qd_max).any()                # the oracle: outside
+    csvs = []
+    for name, tr in (("a", plans[0]), ("b", plans[1]), ("fast", fast)):
+        csvs.append(tmp_path / f"{name}.csv")
+        write_trajectory(tr, csvs[-1])
+    code, printed = _sweep(["puma560", *csvs, "--workers", "1", "--held-out", "0",
+                            "--no-report", "-o", tmp_path / "out"], capsys)
+    assert code == 0, printed
+    line = next(x for x in printed.splitlines() if x.startswith("not covered by the region"))
+    assert "(1 swept trajectory outside the region)" in line
+    assert "fast.csv: outside the model's region" in line
+    assert "a.csv" not in line and "b.csv" not in line
+    merged = next(x for x in printed.splitlines() if x.startswith("merged model (budget"))
+    assert "on the 2 of 3 swept trajectories inside the region" in merged

@@ -24,9 +24,11 @@ from gd_analyze.reports.sweep_figures import make_sweep_figures
 
 
 def _sweep(tmp_path_factory, robot, rule):
+    """A sweep whose budget rule merges on the swept trajectories (their scales s_i)."""
     out = tmp_path_factory.mktemp(f"{robot}-{rule}")
     assert main(["sweep", robot, "--random", "3", "--seed", "1", "--workers", "1",
-                 "--held-out", "0", "--rule", rule, "-o", str(out), "-q"]) == 0
+                 "--held-out", "0", "--rule", rule, "-o", str(out), "-q",
+                 "--guarantee", "trajectory"]) == 0
     return out
 
 
@@ -169,7 +171,8 @@ def test_ur5_errors_from_the_urdfs_decimals_are_round_off(tmp_path_factory):
     for name, robot in (("as-written", "ur5"), ("exact", str(exact))):
         out = tmp_path_factory.mktemp(name)
         assert main(["sweep", robot, "--random", "6", "--seed", "1", "--workers", "1",
-                     "--held-out", "0", "-o", str(out), "-q", "--form", "explicit"]) == 0
+                     "--held-out", "0", "-o", str(out), "-q", "--form", "explicit",
+                     "--guarantee", "trajectory"]) == 0       # the pruned explicit merge
         with xr.open_dataset(out / "sweep.h5") as ds:
             runs[name] = (out, ds.load())
     eps = np.finfo(float).eps

@@ -366,7 +366,8 @@ def test_sweep_command_rule_budget_by_default_and_chapter_says_no_bound(tmp_path
     capsys.readouterr()
     out_b = tmp_path / "budget"
     assert main(["sweep", "puma560", *csvs, "-o", str(out_b), "--workers", "1",
-                 "--tolerance", "0.01", "--torque-floor", "1", "--held-out", "0"]) == 0
+                 "--tolerance", "0.01", "--torque-floor", "1", "--held-out", "0",
+                 "--guarantee", "trajectory"]) == 0              # the merge on each trajectory
     printed = capsys.readouterr().out
     spec = json.loads((out_b / "merged_model.json").read_text())
     assert spec["rule"] == "budget" and spec["tolerance"] == 0.01

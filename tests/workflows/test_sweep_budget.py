@@ -70,7 +70,8 @@ def test_merged_model_costs_no_more_than_the_exact_recursive_and_holds_on_each(n
     robot = load_robot(name)
     trajectories = random_trajectories(robot, 3, seed=7)
     ds = run_sweep(robot, trajectories, client=client, batch=2, recursive_peaks=True)
-    model = budget_sweep_model(robot, trajectories, ds, tolerance=0.01)
+    model = budget_sweep_model(robot, trajectories, ds, tolerance=0.01,
+                               guarantee="trajectory")
     assert ops(model.cost) <= exact_count(robot)                       # counted afresh
     assert ops(model.program().cost()) == ops(model.cost)
     if name == "panda":                 # the explicit expansion is not started for it
@@ -91,7 +92,8 @@ def mixed_sweep(puma, mixed, client):
 def test_each_trajectory_is_held_to_its_own_scale(puma, mixed, mixed_sweep, eps, floor):
     """The slow move's torques are far below the fast ones': a merge on the largest scale
     would break the budget on it."""
-    model = budget_sweep_model(puma, mixed, mixed_sweep, tolerance=eps, torque_floor=floor)
+    model = budget_sweep_model(puma, mixed, mixed_sweep, tolerance=eps, torque_floor=floor,
+                               guarantee="trajectory")
     worst = check_on_each(model, mixed, oracle(puma, "puma560"), eps, floor)
     # the stored figure (against the G-D terms) is the oracle's, to round-off of small scales
     assert model.validation["worst_scaled_error"] == pytest.approx(worst, rel=1e-6, abs=1e-9)
@@ -114,9 +116,10 @@ def test_forms_and_the_file(puma, mixed, mixed_sweep, tmp_path):
     """form="explicit" deploys the explicit model, "recursive" the recursive one, the default
     the cheaper; the recursive model's file reads back with the same torques, and the dataset
     says what was built, with the bound on each trajectory."""
-    rec = budget_sweep_model(puma, mixed, mixed_sweep, tolerance=0.01, form="recursive")
-    ex = budget_sweep_model(puma, mixed, mixed_sweep, tolerance=0.01, form="explicit")
-    cheap = budget_sweep_model(puma, mixed, mixed_sweep, tolerance=0.01)
+    on = dict(tolerance=0.01, guarantee="trajectory")        # the merge on the trajectories
+    rec = budget_sweep_model(puma, mixed, mixed_sweep, form="recursive", **on)
+    ex = budget_sweep_model(puma, mixed, mixed_sweep, form="explicit", **on)
+    cheap = budget_sweep_model(puma, mixed, mixed_sweep, **on)
     assert (rec.form, ex.form) == ("recursive", "explicit")
     assert ops(cheap.cost) == min(ops(rec.cost), ops(ex.cost))
     check_on_each(ex, mixed, oracle(puma, "puma560"), 0.01, 0.0)
@@ -134,6 +137,6 @@ def test_forms_and_the_file(puma, mixed, mixed_sweep, tmp_path):
     assert int(ds.attrs["merged_pairs_dropped"]) == rec.recursive.stated_facts()["dropped"] > 0
     assert "recursive Newton-Euler" in ds.attrs["merge_rule"]
     with pytest.raises(ValueError, match="form"):
-        budget_sweep_model(puma, mixed, mixed_sweep, form="fastest")
+        budget_sweep_model(puma, mixed, mixed_sweep, form="fastest", guarantee="trajectory")
     with pytest.raises(ValueError, match="trajectories"):
-        budget_sweep_model(puma, mixed[:2], mixed_sweep)
+        budget_sweep_model(puma, mixed[:2], mixed_sweep, guarantee="trajectory")

@@ -186,9 +186,9 @@ def _add_payload_sweep_argument(group):
 
 
 def _add_budget_arguments(p, rule=True, where="on the analysed trajectory", form=True,
-                          guarantee=True):
+                          guarantee="the trajectory only"):
     """The simplified model's options; ``form``: also --explicit and --form; ``guarantee``:
-    also --guarantee (not for the sweep, whose merged model holds on the swept trajectories)."""
+    also --guarantee, its second choice in these words (None: no --guarantee)."""
     g = p.add_argument_group("simplified model (error budget, issue 8)")
     g.add_argument("--tolerance", metavar="EPS", type=_fraction(0.0, math.inf, "--tolerance",
                                                                 False), default=defaults["tolerance"],
@@ -204,10 +204,11 @@ def _add_budget_arguments(p, rule=True, where="on the analysed trajectory", form
                        help="budget: by torque contribution within EPS (default); chapter: "
                             "the share-based classes of Sec. 3.4.1 (no bound)")
     if guarantee:
-        g.add_argument("--guarantee", choices=("region", "trajectory"), default="auto",
+        g.add_argument("--guarantee", choices=("region", "trajectory"),
+                       default=defaults["guarantee"],
                        help="where the bound must hold: proved over the robot's joint-limit "
                             "region (default when the robot gives position and velocity limits "
-                            "for every joint) or on the trajectory only")
+                            f"for every joint) or on {guarantee}")
     if rule and form:
         g.add_argument("--explicit", choices=("auto", "always", "never"),
                        default=defaults["explicit"],
@@ -407,7 +408,8 @@ def _sweep_parser():
     p = _Parser(prog=f"{PROG} sweep",
                 description="Rank the G-D elements over many trajectories on dask, give the "
                             "envelope of the ranking per element and one merged simplified model "
-                            "(budget rule: guaranteed within EPS x scale_i on every swept "
+                            "(budget rule: within EPS x s_i, proved over the robot's joint-limit "
+                            "region by default, or on every swept trajectory with --guarantee "
                             "trajectory; --rule chapter: no error bound); write sweep.h5, "
                             "merged_model.json and sweep_report.html/.pdf.")
     p.add_argument("robot", metavar="ROBOT", help=_robot_help())
@@ -428,9 +430,10 @@ def _sweep_parser():
     p.add_argument("--negligible", metavar="E",
                    type=_fraction(0.0, 1.0, "--negligible", False),
                    default=defaults["negligible"], help=f"default {defaults['negligible']}")
-    _add_budget_arguments(p, where="on every swept trajectory, scale_i = max(that "
-                                   "trajectory's peak |tau_i|, TAU); the merged model "
-                                   "merged_model.json/.c/.py", guarantee=False)
+    _add_budget_arguments(p, where="over the joint-limit region (see --guarantee) or on every "
+                                   "swept trajectory (scale_i = max(that trajectory's peak "
+                                   "|tau_i|, TAU)); the merged model merged_model.json/.c/.py",
+                          guarantee="the swept trajectories only")
     p.add_argument("--held-out", metavar="K", type=int, default=20,
                    help="random trajectories (another seed) to measure the merged model of the "
                         "budget rule on, not guaranteed (default 20)")

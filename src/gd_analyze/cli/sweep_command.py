@@ -27,7 +27,8 @@ __all__ = []
 
 
 def _sweep_model(robot, trajectories, args, outdir, settings, ds):
-    """The sweep's merged model of the budget rule, within EPS x scale_i on every trajectory.
+    """The sweep's merged model of the budget rule, within EPS x s_i over the joint-limit
+    region or on every swept trajectory (``--guarantee``).
 
     Writes merged_model.json/.c/.py into outdir; returns (written paths, the sweep dataset
     with this model's errors)."""
@@ -42,7 +43,8 @@ def _sweep_model(robot, trajectories, args, outdir, settings, ds):
     model = budget_sweep_model(robot, trajectories, ds, tolerance=args.tolerance,
                                torque_floor=args.torque_floor, held_out=held,
                                provenance={"gd_analyze_version": _version(), **settings},
-                               explicit=args.explicit, form=args.form)
+                               explicit=args.explicit, form=args.form,
+                               guarantee=args.guarantee)
     ds = with_budget_model(ds, model)
     model.validation.pop("per_trajectory")          # in sweep.h5; K x n lists
     written = [outdir / "merged_model.json"]
@@ -52,42 +54,74 @@ def _sweep_model(robot, trajectories, args, outdir, settings, ds):
         (outdir / name).write_text(text, encoding="utf-8")
         written.append(outdir / name)
     if not args.quiet:
-        v = model.validation
-        worst, eps = v["worst_scaled_error"], args.tolerance
-        held_err = None
-        if v["held_out"]:                # relative to max(peak |tau_i|, TAU) over them all
-            import numpy as np
-
-            h = v["held_out"]
-            with np.errstate(divide="ignore", invalid="ignore"):
-                held_err = np.asarray(h["peak_abs_error"], float) / np.maximum(
-                    np.asarray(h["peak_tau"], float), args.torque_floor)
-        floor = f"max(peak |tau_i|, {args.torque_floor:g} N m)" if args.torque_floor else \
-            "peak |tau_i|"
-        claim = f"guaranteed <= {eps:g}" if worst <= eps * (1 + 1e-9) else \
-            f"ABOVE the guarantee {eps:g}: please report this bug"
-        from ..io.sweep_datasets import beyond_the_floor
-
-        beyond = beyond_the_floor(ds)
-        caveat = ""
-        if beyond is not None:
-            rel, j, over = beyond
-            caveat = (f"; relative to peak |tau_i| itself, where it is below "
-                      f"{args.torque_floor:g} N m, not guaranteed: up to {rel:.2e} (joint {j}; "
-                      f"above {eps:g} on joint{'s' if len(over) > 1 else ''} "
-                      f"{', '.join(map(str, over))})")
-        others = "; ".join(f"{name}: {c['multiplications'] + c['additions']:,}" for name, c in
-                           model.costs.items() if name in ("exact recursive", "explicit, full"))
-        print(f"merged model (budget rule, EPS = {eps:g}, {model.form} form): "
-              f"{model.cost['multiplications'] + model.cost['additions']:,} operations "
-              f"({model.cost['multiplications']} mult + {model.cost['additions']} add; "
-              f"{others}); worst "
-              f"error on the {v['trajectories']} swept trajectories {worst:.2e} of each "
-              f"trajectory's {floor} ({claim}){caveat}" + ("" if held_err is None else
-                                           f", on {v['held_out_trajectories']} held-out "
-                                           f"{np.nanmax(held_err):.2e} of their {floor} "
-                                           "(not guaranteed)"))
+        for line in _model_lines(model, ds, args):
+            print(line)
     return written, ds
+
+
+def _model_lines(model, ds, args):
+    """What the command prints of the merged model: its cost, its worst error where its
+    guarantee covers the swept trajectories, the ones it does not cover, and the guarantee
+    as the model states it (:meth:`gd_analyze.core.selection.guarantee.Guarantee.statement`)."""
+    import numpy as np
+
+    from ..io.sweep_datasets import beyond_the_floor
+    from ..io.sweep_guarantee import merged_guarantee
+
+    v = model.validation
+    eps = args.tolerance
+    said = merged_guarantee(ds)
+    region = said["kind"] == "region"
+    worst = said["worst"]
+    floor = f"max(peak |tau_i|, {args.torque_floor:g} N m)" if args.torque_floor else \
+        "peak |tau_i|"
+    scale = "s_i over the joint-limit region" if region else f"each trajectory's {floor}"
+    held_err = None
+    if v["held_out"]:   # relative to max(peak |tau_i|, TAU) over them all, or to s_i over R
+        h = v["held_out"]
+        with np.errstate(divide="ignore", invalid="ignore"):
+            held_err = np.asarray(h["peak_abs_error"], float) / (
+                np.asarray(model.guarantee.scale, float) if region else
+                np.maximum(np.asarray(h["peak_tau"], float), args.torque_floor))
+    claim = f"guaranteed <= {eps:g}" if worst <= eps * (1 + 1e-9) or np.isnan(worst) else \
+        f"ABOVE the guarantee {eps:g}: please report this bug"
+    beyond = beyond_the_floor(ds)
+    caveat = ""
+    if beyond is not None:
+        rel, j, over = beyond
+        caveat = (f"; relative to peak |tau_i| itself, where it is below "
+                  f"{args.torque_floor:g} N m, not guaranteed: up to {rel:.2e} (joint {j}; "
+                  f"above {eps:g} on joint{'s' if len(over) > 1 else ''} "
+                  f"{', '.join(map(str, over))})")
+    outside = said["outside"]
+    inside = v["trajectories"] - len(outside)
+    where = (f"on the {v['trajectories']} swept trajectories" if not outside else
+             f"on the {inside} of {v['trajectories']} swept trajectories inside the region")
+    error = (f"worst error {where} {worst:.2e} of {scale} ({claim}){caveat}" if inside else
+             f"none of the {v['trajectories']} swept trajectories lies inside the region")
+    if outside:
+        error += (f"; on the {len(outside)} outside it (not covered by the proof) "
+                  f"{max(w for _, _, w in outside):.2e}")
+    if held_err is not None:
+        covered = ("not guaranteed" if not region else
+                   f"measured; {said['held_out_inside']} of them inside the region, where "
+                   "the bound is proved")
+        error += (f", on {v['held_out_trajectories']} held-out {np.nanmax(held_err):.2e} of "
+                  f"{'s_i' if region else 'their ' + floor} ({covered})")
+    others = "; ".join(f"{name}: {c['multiplications'] + c['additions']:,}" for name, c in
+                       model.costs.items() if name in ("exact recursive", "explicit, full"))
+    lines = [f"merged model (budget rule, EPS = {eps:g}, {model.form} form): "
+             f"{model.cost['multiplications'] + model.cost['additions']:,} operations "
+             f"({model.cost['multiplications']} mult + {model.cost['additions']} add; "
+             f"{others}); {error}"]
+    if outside:
+        lines.append(f"not covered by the region guarantee ({len(outside)} swept "
+                     f"trajector{'y' if len(outside) == 1 else 'ies'} outside the region): "
+                     + "; ".join(f"{src}: {why}" for src, why, _ in outside[:5])
+                     + ("" if len(outside) <= 5 else f"; and {len(outside) - 5} more "
+                        "(merged_covered in sweep.h5)"))
+    lines.append(f"guarantee: {said['statement']}")
+    return lines
 
 
 SWEEP_OUTPUTS = ("sweep.h5", "merged_model.json", "payload_sweep.h5", "sweep_report.html",
@@ -149,6 +183,10 @@ def _cmd_sweep(args):
             settings["random_qdd_max_source"] = acceleration_limits(robot)[1]
         except ValueError as exc:
             raise InputError(str(exc), robot.source) from None
+    from ..workflows.deploy import guarantee_region
+
+    # over the region the merge needs no per-trajectory peaks of the recursive model
+    proved = guarantee_region(loaded, args.guarantee)[2]
     with contextlib.ExitStack() as stack:
         try:                            # only the connection: the sweep's errors are its own
             client, _ = stack.enter_context(dask_client(args.scheduler, args.workers))
@@ -159,7 +197,7 @@ def _cmd_sweep(args):
                              args.scheduler) from None
         ds = run_sweep(loaded, trajectories, args.dominance, args.negligible, client=client,
                        settings=settings, progress=not args.quiet and sys.stderr.isatty(),
-                       recursive_peaks=args.rule == "budget")
+                       recursive_peaks=args.rule == "budget" and not proved)
         payload = None if masses is None else sweep_payloads(
             robot, trajectories, masses, args.payload_com, args.payload_inertia,
             args.dominance, args.negligible, client=client)

@@ -553,9 +553,11 @@ def beyond_the_floor(ds):
     tuple or None
         (worst relative error, its joint from 1, the joints above EPS) when some joint's peak
         error exceeds EPS times its own peak |tau_i| on some trajectory; None otherwise (or
-        without a budget-rule model).
+        without a budget-rule model, or for a model proved over the joint-limit region, whose
+        guarantee is relative to s_i over the region, never to a trajectory's peak).
     """
-    if "merged_tau_error_peak" not in ds.variables or "merged_tolerance" not in ds.attrs:
+    if "merged_tau_error_peak" not in ds.variables or "merged_tolerance" not in ds.attrs \
+            or ds.attrs.get("merged_guarantee_kind") == "region":
         return None
     err = np.asarray(ds["merged_tau_error_peak"].values, float)
     peak = np.asarray(ds["tau_peak"].values, float)

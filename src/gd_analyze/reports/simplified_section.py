@@ -18,7 +18,7 @@ from .markup import scope as scope_markup
 from .markup import sub as _sub
 
 __all__ = ["has_simplified", "simplified_context", "error_figure", "SIMPLIFIED_CAPTION", "ROUND_OFF",
-           "simplified_caption"]
+           "simplified_caption", "region_pruning"]
 
 #: Caption of the torque-error figure; ``{units}`` as :func:`simplified_caption` fills it.
 SIMPLIFIED_CAPTION = ("Torque error of the simplified model, \u03c4\u209b \u2212 \u03c4 "
@@ -202,14 +202,7 @@ def _recursive_text(ds, eps, floor):
     rule = (f"Rule: error budget, \u03b5\u00a0=\u00a0{eps:g}"
             + (f", torque floor {floor:g} N m" if floor else ""))
     if _kind(ds) == "region":
-        return text + (rule + f". Of the {pairs} (parameter, part) pairs that contribute "
-                       f"over the joint-limit region, {dropped} are dropped (alone or with "
-                       "their whole parameter), in order of increasing proved bound, while for "
-                       "every joint the largest over the region of the sum of their proved "
-                       f"bounds stays within {_EPS_S} ({_S_I} = the largest |{_TAU_I}| found "
-                       "over the region, raised to the floor); by the triangle inequality the "
-                       "error at every state of the region is within that sum, the bound "
-                       "below." + _scope(ds, exact=True))
+        return text + rule + ". " + region_pruning(pairs, dropped) + _scope(ds, exact=True)
     return text + (rule + f". Of the {pairs} (parameter, part) pairs that contribute on this "
                    f"trajectory, {dropped} are dropped (alone or with their whole parameter), "
                    "in order of "
@@ -217,6 +210,30 @@ def _recursive_text(ds, eps, floor):
                    f"to at most {_EPS_S} ({_S_I} = peak |{_TAU_I}|, raised to the "
                    "floor); by the triangle inequality the error on this trajectory is within "
                    "that sum: " + _scope(ds))
+
+
+def region_pruning(pairs, dropped, bound="the bound below"):
+    """How a recursive model was pruned over the joint-limit region, in the words of every
+    report (the main report's Sec. 5.3, the sweep report's Sec. 5).
+
+    Parameters
+    ----------
+    pairs, dropped : int
+        The (parameter, part) pairs that contribute over the region, and those dropped.
+    bound : str, optional
+        The bound, named where the sentence ends.
+
+    Returns
+    -------
+    str
+        One sentence.
+    """
+    return (f"Of the {pairs} (parameter, part) pairs that contribute over the joint-limit "
+            f"region, {dropped} are dropped (alone or with their whole parameter), in order of "
+            "increasing proved bound, while for every joint the largest over the region of the "
+            f"sum of their proved bounds stays within {_EPS_S} ({_S_I} = the largest "
+            f"|{_TAU_I}| found over the region, raised to the floor); by the triangle "
+            f"inequality the error at every state of the region is within that sum, {bound}.")
 
 
 def _kind(ds):

@@ -11,8 +11,9 @@ attributes. The report has these parts:
 3. the same for the elements of h (layout of Fig. 3.11);
 4. the envelope: per element the fraction of trajectories in each dominance class and the
    min/median/max share, as a figure and a table;
-5. the merged simplified model (budget rule: guaranteed within EPS x scale_i on every swept
-   trajectory; chapter rule: no error bound): what it keeps of D, h and c, its torque error
+5. the merged simplified model (budget rule: within EPS x s_i, proved at every state of the
+   robot's joint-limit region, the swept trajectories outside it named, or guaranteed on every
+   swept trajectory; chapter rule: no error bound): what it keeps of D, h and c, its torque error
    and its operations per set point against the exact recursive model, the full explicit
    model and Newton-Euler;
 6. optionally, a payload sweep (:func:`gd_analyze.workflows.payload.payload_sweep`): share_tran and class

@@ -6,8 +6,6 @@ from __future__ import annotations
 
 import numpy as np
 
-from ..core.selection.ranking import joint_units_text
-from ..io.sweep_datasets import beyond_the_floor
 from .common import attr as _attr
 from .common import check as _check
 from .common import (
@@ -27,11 +25,26 @@ from .common import table as _table
 from .common import thresholds as _thresholds
 from .figures import PAYLOAD_REQUIRED as _PAYLOAD_REQUIRED
 from .main_provenance import gravity_row, run_row, software_row
-from .main_text import gravity_clause, model_sentence
+from .main_text import gravity_clause
 from .markup import element as _el
+from .markup import scope as scope_markup
 from .markup import sub as _sub
 from .sweep_figures import REQUIRED as _REQUIRED
 from .sweep_figures import TORQUE_ROUND_OFF_WORDS, torque_error_round_off
+from .sweep_merged_text import (
+    _SI,
+    _TAU_I,
+    _cost_sentence,
+    _floor,
+    _form,
+    _held_out,
+    _merged_rule,
+    _models,
+    _own_rule,
+    _recursive_clause,
+    _recursive_gravity,
+    merged_claim,
+)
 
 __all__ = ["sweep_context"]
 
@@ -115,18 +128,7 @@ def sweep_context(ds, payload=None):
     rule, heading, merged_text = _merged_rule(ds)
     if rule == "budget":
         eps = f"{float(ds.attrs['merged_tolerance']):g}"
-        claim = (f"is guaranteed within \u03b5\u00b7{_SI} (\u03b5 = {eps}) on every swept "
-                 f"trajectory ({_SI} = max(that trajectory's peak |{_TAU_I}|, "
-                 f"{_floor(ds)})); {_bound_clause(ds)}its largest "
-                 f"measured peak error is "
-                 f"{_pct(float(ds.attrs.get('merged_worst_scaled_error', np.nan)))} of {_SI}")
-        beyond = beyond_the_floor(ds)
-        if beyond is not None:
-            rel, j, over = beyond
-            claim += (f". Relative to peak |\u03c4{_sub('i')}| itself, below the torque floor, "
-                      f"nothing is guaranteed: the error reaches {_pct(rel)} (joint {j}; above "
-                      f"\u03b5 on joint{'s' if len(over) > 1 else ''} "
-                      f"{', '.join(map(str, over))})")
+        claim = merged_claim(ds)
         name = f"The merged model (budget rule, \u03b5 = {eps})"
     else:
         claim = ("has no error bound: its largest peak torque error over all trajectories is "
@@ -189,7 +191,8 @@ _SAID = {
     "mounting_base_rpy_deg", "mounting_gravity_base", "mounting_gravity_world",
     "own_model_rule", "merged_form", "merged_c_terms", "merged_c_terms_kept",
     "held_out_trajectories", "merged_base_parameters", "merged_pairs", "merged_pairs_dropped",
-    "merged_dropped_pairs", "merged_gravity_dropped"}
+    "merged_dropped_pairs", "merged_gravity_dropped", "merged_guarantee_kind",
+    "merged_guarantee_statement", "held_out_inside_region"}
 
 
 def _settings(ds, inputs, setpoints, durations, version):
@@ -230,6 +233,10 @@ def _settings(ds, inputs, setpoints, durations, version):
         ("payload on the last link", f"{_attr(ds, 'payload_mass', '0')} kg"
          if float(ds.attrs.get("payload_mass", 0.0) or 0.0) else "none"),
     ]
+    if "merged_guarantee_statement" in ds.attrs:        # issue 29: the merged model's scope
+        rows.append(("guarantee of the merged model",
+                     f"{_attr(ds, 'merged_guarantee_kind')} kind: "
+                     + scope_markup(_attr(ds, 'merged_guarantee_statement'))))
     if "random_qdd_max_source" in ds.attrs:
         rows.append(("random accelerations limited by",
                      {"robot": "the robot's acceleration limits"}.get(
@@ -252,126 +259,6 @@ def _settings(ds, inputs, setpoints, durations, version):
     return rows
 
 
-def _merged_rule(ds):
-    """The merged model's rule, the heading of its section and its description, in words that
-    follow the rule: a bound only for the budget rule."""
-    rule = str(ds.attrs.get("merged_rule", "chapter"))
-    if rule == "budget":
-        eps = f"{float(ds.attrs['merged_tolerance']):g}"
-        recursive = _form(ds) == "recursive"
-        what = ("One customized recursive Newton-Euler model on the base inertial parameters "
-                "for the whole sweep, by the budget rule: the peak contribution of every (base "
-                "parameter, part) pair (inertial, velocity, gravity), computed per trajectory "
-                "by the dask workers," if recursive else
-                "One explicit model for the whole sweep, by the budget rule: every term's peak "
-                "contribution")
-        return rule, f"5. Merged model (budget rule, \u03b5 = {eps}) and its torque error", (
-            f"{what} on each trajectory is divided by that trajectory's {_SI} = "
-            f"max(peak |{_TAU_I}|, torque floor), and {'pairs' if recursive else 'terms'} are "
-            f"dropped while these ratios sum to at most \u03b5 = {eps} for every joint. By the "
-            f"triangle inequality its torque error is guaranteed within \u03b5\u00b7{_SI} on "
-            "every swept trajectory (not on others)"
-            + ("; the bound on each trajectory, "
-               + ("the sum of the dropped pairs' peaks there" if recursive else
-                  f"the sum of the dropped terms' largest ratios times its {_SI}")
-               + f", is stored per trajectory and joint in sweep.h5 and is at most "
-               f"{_worst_bound(ds)}. "
-               if "merged_bound" in ds.variables else ". ")
-            + _keeps(ds) + ("" if recursive else " The budget weighs single terms too, so a "
-                            "part it keeps may lose some of its terms.") + " "
-            + _cost_sentence(ds, table=True))
-    return rule, "5. Merged model (chapter rule, no error bound) and its torque error", (
-        _MERGED_TEXT + " This rule has no error bound: the errors below are measured, not "
-                       "guaranteed. " + _keeps(ds) + " " + _cost_sentence(ds, table=True))
-
-
-def _keeps(ds):
-    """What the merged model keeps of D, h and c, in the words of the main and the control
-    reports (:func:`gd_analyze.reports.main_text.model_sentence`), from the stored choices and
-    counts of its terms of c (:func:`gd_analyze.workflows.sweep_merged.with_model_cost`)."""
-    rule = str(ds.attrs.get("merged_rule", "chapter"))
-    if _form(ds) == "recursive":
-        text = model_sentence(recursive=tuple(int(ds.attrs[f"merged_{k}"]) for k in
-                                              ("base_parameters", "pairs_dropped", "pairs")),
-                              gravity=_recursive_gravity(ds),
-                              trajectory="the swept trajectories")
-        return text.replace("The simplified model", "The merged model", 1) + (
-            " It keeps every element of D and h as a sum over the base parameters (choice "
-            "\u201cboth\u201d in the tables).")
-    kept, full = (int(ds.attrs.get(k, -1)) for k in ("merged_c_terms_kept", "merged_c_terms"))
-    gravity = gravity_clause(rule, c_terms=(kept, full) if min(kept, full) >= 0 else None)
-    text = model_sentence(choice=_strings(ds["merged_choice"].values), gravity=gravity)
-    return text.replace("The simplified model", "The merged model", 1)
-
-
-def _form(ds):
-    """The merged model's form as the dataset records it (recursive or explicit)."""
-    return str(ds.attrs.get("merged_form", "explicit"))
-
-
-def _recursive_gravity(ds):
-    """gravity_clause of a recursive merged model, from the names stored with it."""
-    names = [x.strip() for x in str(ds.attrs.get("merged_gravity_dropped", "")).split(",")]
-    return gravity_clause("budget", gravity_dropped=[x for x in names if x])
-
-
-def _recursive_clause(ds):
-    """What a recursive merged model is and drops, for the summary: "is the ... model on 36
-    base parameters and drops 5 of the 80 (parameter, part) pairs that act on the swept
-    trajectories"."""
-    b, dropped, pairs = (int(ds.attrs[f"merged_{k}"]) for k in
-                         ("base_parameters", "pairs_dropped", "pairs"))
-    head = f"is the customized recursive Newton-Euler model on {b} base parameters"
-    if dropped == 0:
-        return head + ", exact: it drops nothing"
-    return (f"{head} and drops {dropped} of the {pairs} (parameter, part) pairs that act on "
-            "the swept trajectories")
-
-
-def _worst_bound(ds):
-    """The largest guaranteed bound over the trajectories relative to their s_i, in words
-    ("0.41 % of s_i (joint 2)", "0 (nothing dropped contributes)"); None without
-    merged_bound."""
-    if "merged_bound" not in ds.variables or "merged_scale" not in ds.variables:
-        return None
-    bound = np.asarray(ds["merged_bound"].values, float)
-    scale = np.asarray(ds["merged_scale"].values, float)
-    with np.errstate(divide="ignore", invalid="ignore"):
-        rel = np.where(bound > 0, bound / scale, 0.0)
-    rel = np.where(np.isfinite(rel), rel, np.inf)
-    if not rel.size or not rel.max() > 0:
-        return "0 (nothing dropped contributes)"
-    k, j = np.unravel_index(np.argmax(rel), rel.shape)
-    return f"{_pct(rel[k, j])} of {_SI} (joint {j + 1})"
-
-
-def _bound_clause(ds):
-    """The summary's clause on the bound per trajectory ("its bound there is at most 0.41 %
-    of s_i (joint 2), "); "" without merged_bound."""
-    worst = _worst_bound(ds)
-    return "" if worst is None else f"its bound there is at most {worst}, "
-
-
-def _held_out(ds):
-    """The merged model's largest error on the held-out trajectories (measured, not
-    guaranteed), relative to their s_i as the guarantee is, as a sentence; "" if none."""
-    if "held_out_error_peak" not in ds.variables:
-        return ""
-    peak = np.asarray(ds["held_out_error_peak"].values, float)
-    tau = np.asarray(ds["held_out_tau_peak"].values, float)
-    floor = float(ds.attrs.get("merged_torque_floor", 0.0) or 0.0)
-    with np.errstate(divide="ignore", invalid="ignore"):
-        rel = peak / np.maximum(tau, floor)
-    rel = np.where(torque_error_round_off(ds, peak, tau) | ~np.isfinite(rel), 0.0, rel)
-    j = int(np.argmax(rel))
-    k = int(ds.attrs.get("held_out_trajectories", 0))
-    scale = (f"peak |{_TAU_I}| over them" if floor == 0 else
-             f"max(peak |{_TAU_I}| over them, {_floor(ds)})")
-    return (f"On {count(k)} held-out random trajector{'y' if k == 1 else 'ies'} (another seed, "
-            f"not swept) the merged model's error is measured, not guaranteed: at most "
-            f"{_pct(rel[j])} of {scale} (joint {j + 1}). ")
-
-
 def _gravity(ds):
     """The merged model's terms of c as a sentence ("It drops 8 of the 28 terms of c. "), or
     "" where the dataset does not count them."""
@@ -382,36 +269,6 @@ def _gravity(ds):
     if rule == "budget" and min(kept, full) < 0:
         return ""
     return f"It {gravity_clause(rule, c_terms=(kept, full))}. "
-
-
-def _cost_sentence(ds, table=False):
-    """The merged model's operations per set point against the exact recursive model, the full
-    explicit model and Newton-Euler, counted on the models (stored by
-    :func:`gd_analyze.workflows.sweep_merged.with_model_cost`), with a word on why where it
-    costs more than one of them; "" for a file without the counts."""
-    if "evaluator" not in ds.dims:
-        return ""
-    names = _strings(ds["evaluator"].values)
-    ops = dict(zip(names, (ds["multiplications"].values + ds["additions"].values).tolist()))
-    mine = ops[names[0]]
-    mul, add = int(ds["multiplications"].values[0]), int(ds["additions"].values[0])
-    others = [(n, ops[n]) for n in names[1:]]
-    text = (f"It costs {count(mine)} operations per set point ({count(mul)} multiplications, "
-            f"{count(add)} additions); " + ", ".join(f"{n}: {count(o)}" for n, o in others)
-            + (" (Table 5.2, counted, not timed)." if table else "."))
-    recursive, full = ops.get("exact recursive model"), ops.get("full explicit model")
-    if (recursive is not None and mine > recursive and names[0].endswith("(explicit form)")
-            and str(ds.attrs.get("merged_rule", "chapter")) == "chapter"):
-        text += (" It costs more than the exact recursive model: the chapter rule's merge "
-                 "keeps parts of the explicit model's elements, so it is of the explicit form "
-                 "only.")
-    if full is not None and mine > full:
-        text += (" It costs more than the full explicit model: where an element keeps one "
-                 "part, its coefficients are that part's, not the sum of both, so the code "
-                 "generator's factoring finds less to share"
-                 + ("; the chapter rule has no fallback to the full model."
-                    if str(ds.attrs.get("merged_rule", "chapter")) == "chapter" else "."))
-    return text + " "
 
 
 def _share(value, zero):
@@ -442,9 +299,9 @@ def _worst_cases(ds, labels):
     parts = []
     for k in order:
         j = int(np.nanargmax(rel[k]))
-        parts.append(f"{sources[k]} ({_pct(rel[k, j])} of its own "
-                     f"{_SI if 'merged_scale' in ds.variables else 'peak |τ|'} at joint "
-                     f"{j + 1})")
+        scale = (f"{_SI} over the region" if ds.attrs.get("merged_guarantee_kind") == "region"
+                 else f"its own {_SI}" if "merged_scale" in ds.variables else "its own peak |τ|")
+        parts.append(f"{sources[k]} ({_pct(rel[k, j])} of {scale} at joint {j + 1})")
     spread = ds["share_tran_max"].values - ds["share_tran_min"].values
     top = [k for k in np.argsort(np.nan_to_num(spread, nan=-1.0))[::-1][:3]
            if np.isfinite(spread[k])]
@@ -464,15 +321,6 @@ def _element(label):
     return _el(label[0], label[1:])
 
 
-def _floor(ds):
-    """The torque floor with the units of every joint type ("0 N m", or "0 N m (joints 1, 2),
-    0 N (joint 3)" on a mixed arm)."""
-    floor = f"{float(ds.attrs.get('merged_torque_floor', 0.0) or 0.0):g}"
-    return joint_units_text([f"{floor} {u}" for u in torque_units(ds)])
-
-
-_SI = "s" + _sub("i")
-_TAU_I = "\u03c4" + _sub("i")
 _INTRO = ("The generalized d'Alembert (G-D) equations of motion split the inertia matrix D and "
           "the Coriolis and centrifugal vector h into a translational and a rotational part (Fu, "
           "Gonzalez & Lee 1987, Robotics, Sec. 3.4). Sec. 3.4.1 ranks which part dominates each "
@@ -507,32 +355,6 @@ SHARE_TEXT = ("For each trajectory and element X, the translational share is \u0
                "bar is the median), with the thresholds s and 1 \u2212 s dashed. A share above s = {s} is translational, below "
                "1 \u2212 s rotational, in between both, unless the element is negligible (peak "
                "below e = {e} times its scale).")
-_MERGED_TEXT = ("Each trajectory has its own simplified model (keep the dominant part of each "
-                "element, both if neither dominates, nothing if negligible). The merged model is "
-                "one model for the whole sweep: a part of an element is dropped only where every "
-                "trajectory's model drops it. The chapter rule drops parts of D and h only, "
-                "never a term of gravity: \u03c4\u209b = D\u209b q\u0308 + h\u209b + c.")
-
-
-def _own_rule(ds):
-    """The rule of each trajectory's own simplified model, as the dataset records it."""
-    return str(ds.attrs.get("own_model_rule", "chapter"))
-
-
-def _models(ds):
-    """What the own and the merged models are, and which carries a guarantee, in words
-    generated from the dataset's rules: (own, merged)."""
-    own_rule, rule = _own_rule(ds), str(ds.attrs.get("merged_rule", "chapter"))
-    bound = {"chapter": "share-based classes of Sec. 3.4.1, no error bound",
-             "budget": "guaranteed within \u03b5\u00b7" + _SI + " on its own trajectory"}
-    own = f"each trajectory's own simplified model ({own_rule} rule: {bound[own_rule]})"
-    if rule == "budget":
-        merged = (f"the merged model (budget rule, \u03b5 = "
-                  f"{float(ds.attrs['merged_tolerance']):g}: guaranteed within "
-                  f"\u03b5\u00b7{_SI} on every swept trajectory)")
-    else:
-        merged = "the merged model (chapter rule: no error bound)"
-    return own, merged
 
 
 def _own_sentence(ds):
@@ -566,6 +388,7 @@ def _captions(ds):
     """The figure captions, with the models and the merged choice "none" said from the
     dataset's rules."""
     own, merged = _models(ds)
+    region = ds.attrs.get("merged_guarantee_kind") == "region"
     dots = (" Grey dots beside each box: the share on each trajectory, one dot per "
             "trajectory (spread sideways to stay apart; not drawn beyond 60 trajectories).")
     none = ("The merged model's choice \u201cnone\u201d: it keeps neither part of the "
@@ -579,6 +402,9 @@ def _captions(ds):
         "classes": f"{_CAPTIONS['classes']} {none}", "none": none,
         "error": (f"Relative peak open-loop torque error per joint, per trajectory: of {own} "
                   "(green) "
-                  f"and of {merged} (black); diamond: the merged model over all "
-                  f"trajectories. Round-off ({TORQUE_ROUND_OFF_WORDS} peak |\u03c4|) is not drawn."),
+                  f"and of {merged} (black"
+                  + (f", relative to {_SI} over the region" if region else "")
+                  + "); diamond: the merged model over all trajectories"
+                  + (" (relative to peak |\u03c4| over them)" if region else "")
+                  + f". Round-off ({TORQUE_ROUND_OFF_WORDS} peak |\u03c4|) is not drawn."),
     }

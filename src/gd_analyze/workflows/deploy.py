@@ -17,8 +17,8 @@ from ..core.selection.ranking import DEFAULT_DOMINANCE, DEFAULT_NEGLIGIBLE
 from ..core.selection.simplified import SimplifiedModel
 
 __all__ = ["build_recursive", "recursive_simplified", "replace_cost", "region_model",
-           "trajectory_guarantee", "certified", "robot_region", "deploy_models",
-           "REGION_SAMPLES"]
+           "trajectory_guarantee", "certified", "robot_region", "guarantee_region",
+           "exact_explicit_wins", "exact_explicit_model", "deploy_models", "REGION_SAMPLES"]
 
 #: Positions sampled over the region for a model's sampled error (its velocity and
 #: acceleration at the worst vertices).
@@ -59,6 +59,32 @@ def robot_region(robot):
     except ValueError as exc:
         return None, str(exc)
     return joint_region(robot, qdd_max), ""
+
+
+def guarantee_region(robot, guarantee="auto"):
+    """The robot's region, and whether a budget model's bound is proved over it (issue 29).
+
+    Parameters
+    ----------
+    robot : Robot
+    guarantee : {"auto", "region", "trajectory"}, optional
+        The ``--guarantee`` choice: ``"trajectory"`` never proves over the region; ``"auto"``
+        and ``"region"`` do where the robot gives position and velocity limits for every
+        joint, and fall back to the trajectory otherwise (the guarantee then names the
+        missing limit).
+
+    Returns
+    -------
+    region : Region or None
+        :func:`robot_region`'s (also under ``"trajectory"``: a trajectory model's error is
+        sampled on it); None when a limit is missing.
+    missing : str
+        The missing limit, or "".
+    proved : bool
+        Prune on bounds proved over ``region`` (a guarantee of kind ``"region"``).
+    """
+    region, missing = robot_region(robot)
+    return region, missing, region is not None and guarantee != "trajectory"
 
 
 def certified(robot, base, region, torque_floor=0.0):
@@ -397,8 +423,8 @@ def deploy_models(robot, trajectory, ranking, part_peaks, options, provenance, b
     q, qd, qdd = trajectory.q, trajectory.qd, trajectory.qdd
     common = dict(ranking=ranking, trajectory_sha256=trajectory.sha256, provenance=provenance)
     counts = operation_counts(robot)
-    region, missing = robot_region(robot) if rule == "budget" else (None, "")
-    proved = region is not None and options.guarantee != "trajectory"
+    region, missing, proved = guarantee_region(robot, options.guarantee) \
+        if rule == "budget" else (None, "", False)
     rec, rec_sel = build_recursive(robot, q, qd, qdd, tolerance=tolerance,
                                    torque_floor=torque_floor,
                                    contributions=background["recursive"].result(),
@@ -426,7 +452,7 @@ def deploy_models(robot, trajectory, ranking, part_peaks, options, provenance, b
             form == "cheapest" and not proved and _ops(ex.cost) < _ops(rec.cost))
         # proved over the region: the exact explicit model (bound 0) where it is cheaper
         exact_explicit = (not deployed and proved and form == "cheapest"
-                          and _ops(ex.full_cost) < _ops(rec.cost))
+                          and exact_explicit_wins(rec.cost, ex.full_cost))
         # the ladder is of the explicit form: built only where that form is deployed
         skipped = ladder_skipped(ex.full_cost, counts) if deployed else (
             "not built: the deployed model is the exact explicit one, which holds over the "
@@ -444,13 +470,7 @@ def deploy_models(robot, trajectory, ranking, part_peaks, options, provenance, b
             full, sel = build_model(robot, terms, peaks, tolerance=0.0, rule="budget",
                                     torque_floor=torque_floor,
                                     chapter_choices=ranking.choices(), **common)
-            g = rec.guarantee
-            model = dataclasses.replace(
-                full, tolerance=float(tolerance), bound=[0.0] * robot.n,
-                guarantee=dataclasses.replace(
-                    g, bound=np.zeros(robot.n), sampled_error=np.zeros(robot.n),
-                    method="the exact explicit G-D model (nothing dropped), cheaper than the "
-                           "recursive model pruned over the region; scale: " + g.method))
+            model = exact_explicit_model(full, rec.guarantee, tolerance)
     else:
         skipped = ("not built: the explicit G-D model of this arm is estimated too large to "
                    "pay (give --explicit always to derive it)") if form != "recursive" or \
@@ -473,6 +493,55 @@ def deploy_models(robot, trajectory, ranking, part_peaks, options, provenance, b
         return extra
 
     return model, other, finish
+
+
+def exact_explicit_wins(recursive_cost, full_cost):
+    """Under a region guarantee (``form="cheapest"``): whether the exact explicit model is
+    deployed rather than the recursive model pruned over the region.
+
+    Parameters
+    ----------
+    recursive_cost, full_cost : dict
+        ``multiplications`` and ``additions`` of the region's recursive model (never dearer
+        than the exact recursive one) and of the full explicit model.
+
+    Returns
+    -------
+    bool
+        The full explicit model counts fewer operations (the recursive one wins a tie).
+    """
+    return _ops(full_cost) < _ops(recursive_cost)
+
+
+def exact_explicit_model(full, guarantee, tolerance,
+                   why="cheaper than the recursive model pruned over the region"):
+    """The exact explicit model deployed under a region guarantee (bound 0).
+
+    Parameters
+    ----------
+    full : SimplifiedModel
+        The explicit model at EPS = 0 (nothing dropped that contributes).
+    guarantee : Guarantee
+        The region guarantee of the recursive model pruned over the same region
+        (:func:`region_model`): its region and scale s_i are kept.
+    tolerance : float
+        EPS asked for.
+    why : str, optional
+        Why it is deployed, for the guarantee's ``method``.
+
+    Returns
+    -------
+    SimplifiedModel
+        ``full`` with ``tolerance`` EPS, bound 0 on every joint and the region guarantee with
+        bound and sampled error 0.
+    """
+    n = full.robot.n
+    return dataclasses.replace(
+        full, tolerance=float(tolerance), bound=[0.0] * n,
+        guarantee=dataclasses.replace(
+            guarantee, bound=np.zeros(n), sampled_error=np.zeros(n),
+            method=f"the exact explicit G-D model (nothing dropped), {why}; scale: "
+                   + guarantee.method))
 
 
 def _trajectory_guarantee(model, sel, trajectory, missing=""):

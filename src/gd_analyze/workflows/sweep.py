@@ -9,12 +9,14 @@ trajectories and reports, per ranked element (``"D11"`` .. ``"Dnn"``, ``"h1"`` .
   (min, median, max);
 - the fraction of trajectories in which each class (translational, rotational, both,
   negligible) holds;
-- one merged simplified model for the whole sweep. By default (budget rule) it is the cheaper
-  of the pruned recursive and explicit models of
-  :func:`gd_analyze.workflows.sweep_budget.budget_sweep_model`, pruned on the peaks the workers
-  compute per trajectory (``recursive_peaks=True``) and guaranteed within EPS x scale_i on every
-  swept trajectory (:func:`gd_analyze.workflows.sweep_merged.with_budget_model` puts it into
-  the dataset); with the chapter rule a part of an element is dropped only where every
+- one merged simplified model for the whole sweep. By default (budget rule) it is the model
+  of :func:`gd_analyze.workflows.sweep_budget.budget_sweep_model`: where the robot gives its
+  limits, the main job's model proved within EPS x s_i over its joint-limit region, checked on
+  every swept trajectory; else (or with ``guarantee="trajectory"``) the cheaper of the pruned
+  recursive and explicit models, pruned on the peaks the workers compute per trajectory
+  (``recursive_peaks=True``) and guaranteed within EPS x scale_i on every swept trajectory
+  (:func:`gd_analyze.workflows.sweep_merged.with_budget_model` puts it into the dataset); with
+  the chapter rule a part of an element is dropped only where every
   trajectory's own share-based model drops it
   (:func:`gd_analyze.core.selection.simplified.merge_choices`), which bounds nothing.
 

@@ -1,4 +1,5 @@
-"""The budget rule's merged model of a sweep: the cheapest form within EPS on every swept trajectory.
+"""The budget rule's merged model of a sweep: the cheapest form within EPS, proved over the
+joint-limit region or on every swept trajectory.
 
 Issue 29: the sweep used to merge in the explicit G-D form only, which costs more than the
 exact customized recursive Newton-Euler model on every arm measured (the Panda's 97,074
@@ -12,6 +13,11 @@ its expansion is estimated cheap (:func:`gd_analyze.core.symbolic.explicit_estim
 as the main job does, and deployed only where it counts fewer operations
 (:func:`budget_sweep_model`). The deployed model never costs more than the exact recursive
 model: at worst it is that model (:func:`gd_analyze.core.symbolic.pruning.pruned_program`).
+
+Under a region guarantee (``guarantee="region"``, or ``"auto"`` where the robot gives its
+limits, as the main job's ``--guarantee``) the region does not depend on the trajectories: the
+merged model is the main job's region model (:func:`region_sweep_model`), checked on every
+swept trajectory, each said to lie inside the region or not.
 """
 
 from __future__ import annotations
@@ -20,11 +26,13 @@ import dataclasses
 
 import numpy as np
 
+from ..config import defaults
 from ..core.selection.budget import DEFAULT_TOLERANCE
 from ..errors import InputError
-from .options import EXPLICIT, FORMS
+from .options import EXPLICIT, FORMS, GUARANTEES
 
-__all__ = ["pair_peaks", "recursive_sweep_model", "budget_sweep_model"]
+__all__ = ["pair_peaks", "recursive_sweep_model", "budget_sweep_model", "region_sweep_model",
+           "sweep_guarantee"]
 
 
 def pair_peaks(sweep_ds):
@@ -116,24 +124,27 @@ def recursive_sweep_model(robot, scale, peak, whole_peak, tolerance=DEFAULT_TOLE
 
 def budget_sweep_model(robot, trajectories, sweep_ds, tolerance=DEFAULT_TOLERANCE,
                        torque_floor=0.0, held_out=(), provenance=None, explicit="auto",
-                       form="cheapest"):
-    """The sweep's merged model of the budget rule: the cheapest form within EPS on each
-    swept trajectory.
+                       form="cheapest", guarantee=defaults["guarantee"]):
+    """The sweep's merged model of the budget rule: the cheapest form within EPS, proved over
+    the joint-limit region or on each swept trajectory.
 
     Parameters
     ----------
     robot : Robot
-        The arm the sweep ran on (with its payload, if any).
+        The arm the sweep ran on (with its payload, if any), with n joints.
     trajectories : sequence of Trajectory
         The K swept trajectories, in the dataset's order.
     sweep_ds : xarray.Dataset
-        The sweep (:func:`gd_analyze.workflows.sweep.run_sweep` with ``recursive_peaks=True``).
+        The sweep (:func:`gd_analyze.workflows.sweep.run_sweep`; with ``recursive_peaks=True``
+        for a trajectory guarantee).
     tolerance : float, optional
         EPS >= 0.
     torque_floor : float, optional
-        TAU [N m]: scale_{t,i} = max(peak |tau_i| on t, TAU).
+        TAU [N m]: scale_{t,i} = max(peak |tau_i| on t, TAU); over the region, s_i =
+        max(largest |tau_i| found there, TAU).
     held_out : sequence of Trajectory, optional
-        Trajectories not swept: the error there is measured, not guaranteed.
+        Trajectories not swept: the error there is measured, not guaranteed by the sweep
+        (a region model's proof covers those inside its region).
     provenance : dict, optional
     explicit : {"auto", "always", "never"}, optional
         Derive the explicit model too: where its expansion is estimated cheap (default),
@@ -141,32 +152,47 @@ def budget_sweep_model(robot, trajectories, sweep_ds, tolerance=DEFAULT_TOLERANC
     form : {"cheapest", "recursive", "explicit"}, optional
         The model returned: the cheaper of the two (default), or that form (explicit: derived
         whatever ``explicit`` says), as the main job's ``--form``.
+    guarantee : {"auto", "region", "trajectory"}, optional
+        Where the bound must hold, as the main job's ``--guarantee``
+        (:func:`gd_analyze.workflows.deploy.guarantee_region`): over the robot's joint-limit
+        region (``"auto"``, the default, where the robot gives position and velocity limits
+        for every joint) or on the swept trajectories.
 
     Returns
     -------
     SimplifiedModel
-        With ``form="cheapest"`` the recursive model, or the explicit one where it counts
-        fewer operations (multiplications + additions; the recursive one on a tie), so never
-        more than the exact recursive model; ``costs`` holds the
-        counts of both candidates, the exact recursive model and Newton-Euler; ``validation``
-        as :func:`gd_analyze.workflows.simplify.sweep_validation`, ``per_trajectory["bound"]``
-        the bound on each trajectory [N m].
+        Over the region (:func:`region_sweep_model`): the recursive model pruned on bounds
+        proved there (never dearer than the exact recursive model), or the exact explicit
+        model where that counts fewer operations (``form="cheapest"``) or is asked for
+        (``form="explicit"``); its guarantee of kind ``"region"``. On the trajectories: with
+        ``form="cheapest"`` the recursive model, or the explicit one where it counts fewer
+        operations (multiplications + additions; the recursive one on a tie), so never more
+        than the exact recursive model; its guarantee of kind ``"trajectory"``
+        (:func:`sweep_guarantee`). ``costs`` holds the counts of the candidates, the exact
+        recursive model and Newton-Euler; ``validation`` as
+        :func:`gd_analyze.workflows.simplify.sweep_validation`, ``per_trajectory["bound"]``
+        the bound on each trajectory [N m] and ``per_trajectory["scale"]`` the scale it is
+        relative to (s_i over the region for a region model) [N m]; a region model's
+        ``per_trajectory["covered"]`` and ``["coverage"]`` say whether each swept trajectory
+        lies inside the region, and why (:func:`gd_analyze.workflows.evaluate.coverage`),
+        ``held_out_inside_region`` how many held-out ones do.
 
     Raises
     ------
     InputError
-        If the dataset holds no recursive peaks.
+        If a trajectory guarantee is asked for and the dataset holds no recursive peaks.
     ValueError
-        If ``explicit`` or ``form`` is unknown, or the trajectories do not match the dataset.
+        If ``explicit``, ``form`` or ``guarantee`` is unknown, or the trajectories do not
+        match the dataset.
 
     Notes
     -----
     Source: the budget of :mod:`gd_analyze.core.selection.budget` over several trajectories;
     Sec. 3.4.1 of Fu, Gonzalez & Lee (1987) (a simplified model "at a reduced computation
-    time").
+    time"); the region's bounds as :func:`gd_analyze.workflows.deploy.region_model`.
     """
     from ..core.symbolic.explicit_estimate import is_expensive
-    from ..formulations.opcount import operation_counts
+    from .deploy import guarantee_region
     from .simplify import (
         _ops,
         explicit_sweep_model,
@@ -179,25 +205,29 @@ def budget_sweep_model(robot, trajectories, sweep_ds, tolerance=DEFAULT_TOLERANC
         raise ValueError(f"explicit must be one of {EXPLICIT}, got {explicit!r}")
     if form not in FORMS:
         raise ValueError(f"form must be one of {FORMS}, got {form!r}")
+    if guarantee not in GUARANTEES:
+        raise ValueError(f"guarantee must be one of {GUARANTEES}, got {guarantee!r}")
     trajectories = list(trajectories)
-    tau_peak, peak, whole_peak = pair_peaks(sweep_ds)
-    if tau_peak.shape[0] != len(trajectories):
-        raise ValueError(f"{len(trajectories)} trajectories for a sweep of {tau_peak.shape[0]}")
+    if sweep_ds.sizes["trajectory"] != len(trajectories):
+        raise ValueError(f"{len(trajectories)} trajectories for a sweep of "
+                         f"{sweep_ds.sizes['trajectory']}")
     provenance = {**(provenance or {}), "kind": "sweep model", "trajectories": len(trajectories)}
     digest = trajectories_sha256(trajectories)
+    derive = form == "explicit" or explicit == "always" or (
+        explicit == "auto" and not is_expensive(robot))
+    region, missing, proved = guarantee_region(robot, guarantee)
+    if proved:
+        return region_sweep_model(robot, trajectories, region, tolerance, torque_floor,
+                                  held_out, provenance, digest, derive, form)
+    tau_peak, peak, whole_peak = pair_peaks(sweep_ds)
     scales = np.maximum(tau_peak, float(torque_floor))
     model, bound = recursive_sweep_model(robot, scales, peak, whole_peak, tolerance,
                                          torque_floor, digest, provenance)
     with np.errstate(divide="ignore", invalid="ignore"):
         relative = np.where(bound > 0, bound / scales, 0.0).max(axis=0)
-    ne = operation_counts(robot)["newton-euler"]
-    costs = {"exact recursive": model.costs["exact recursive"],
-             "recursive, budget": dict(model.cost),
-             "newton-euler": {"multiplications": int(ne["multiplications"]),
-                              "additions": int(ne["additions"])}}
+    costs = _recursive_costs(robot, model)
     reference = None                           # the G-D terms, D qdd + h + c
-    if form == "explicit" or explicit == "always" or (
-            explicit == "auto" and not is_expensive(robot)):
+    if derive:
         ex, _, ex_scales, ex_relative, terms = explicit_sweep_model(
             robot, trajectories, tolerance, torque_floor, provenance)
         costs.update({"explicit, budget": dict(ex.cost), "explicit, full": dict(ex.full_cost)})
@@ -210,10 +240,113 @@ def budget_sweep_model(robot, trajectories, sweep_ds, tolerance=DEFAULT_TOLERANC
                                   reference=reference, bound=bound)
     return dataclasses.replace(model, validation=validation,
                                guarantee=sweep_guarantee(robot, model, trajectories, scales,
-                                                         relative, tolerance))
+                                                         relative, tolerance, region, missing))
 
 
-def sweep_guarantee(robot, model, trajectories, scales, relative, tolerance):
+def region_sweep_model(robot, trajectories, region, tolerance, torque_floor=0.0, held_out=(),
+                       provenance=None, digest="", derive=True, form="cheapest"):
+    """The sweep's merged model under a region guarantee: the main job's region model,
+    checked on every swept trajectory (issue 29).
+
+    Parameters
+    ----------
+    robot : Robot
+        The arm, with n joints.
+    trajectories : sequence of Trajectory
+        The K swept trajectories.
+    region : Region
+        The robot's joint-limit region (:func:`gd_analyze.workflows.deploy.robot_region`).
+    tolerance : float
+        EPS >= 0.
+    torque_floor : float, optional
+        TAU [N m].
+    held_out : sequence of Trajectory, optional
+        Trajectories not swept (measured; the proof covers those inside the region).
+    provenance : dict, optional
+    digest : str, optional
+        :func:`gd_analyze.workflows.simplify.trajectories_sha256` of the trajectories.
+    derive : bool, optional
+        Whether the explicit model may be derived (its full cost compared).
+    form : {"cheapest", "recursive", "explicit"}, optional
+
+    Returns
+    -------
+    SimplifiedModel
+        The recursive model pruned on bounds proved over the region
+        (:func:`gd_analyze.workflows.deploy.region_model`, as the main job prunes it; its
+        cost never above the exact recursive model's), or the exact explicit model
+        (:func:`gd_analyze.workflows.deploy.exact_explicit_model`) where ``form="cheapest"`` and it
+        counts fewer operations (:func:`gd_analyze.workflows.deploy.exact_explicit_wins`) or
+        ``form="explicit"``; a trajectory-pruned model never. Its guarantee is of kind
+        ``"region"``; ``validation`` as :func:`budget_sweep_model` says, every error relative
+        to the region's s_i, the bound the proved bound_i [N m] on every trajectory.
+
+    Notes
+    -----
+    The bound holds at every state of the region, so on a swept trajectory only where every
+    set point lies in it (:meth:`gd_analyze.core.selection.guarantee.Guarantee.covers`);
+    one outside is reported, not covered.
+    """
+    from ..core.symbolic.base_parameters import base_parameters
+    from ..io.explicit_cache import explicit_terms
+    from .deploy import (
+        exact_explicit_model,
+        exact_explicit_wins,
+        recursive_simplified,
+        region_model,
+    )
+    from .evaluate import coverage
+    from .simplify import explicit_sweep_model, full_program, full_torque, sweep_validation
+
+    base = base_parameters(robot)
+    rec, g = region_model(robot, base, region, tolerance, torque_floor)
+    model = recursive_simplified(robot, rec, base, tolerance=tolerance,
+                                 torque_floor=torque_floor, trajectory_sha256=digest,
+                                 provenance=provenance, guarantee=g)
+    costs = _recursive_costs(robot, model)
+    reference = None                           # the G-D terms, D qdd + h + c
+    if derive:
+        terms, _ = explicit_terms(robot)
+        costs["explicit, full"] = dict(full_program(robot, terms).cost())
+        if form == "explicit" or (form == "cheapest" and exact_explicit_wins(
+                model.cost, costs["explicit, full"])):
+            full = explicit_sweep_model(robot, trajectories, 0.0, torque_floor, provenance)[0]
+            model = exact_explicit_model(full, g, tolerance) if form == "cheapest" else \
+                exact_explicit_model(full, g, tolerance, why="asked for (--form explicit): the "
+                               "explicit model proved over the region")
+            reference = full_torque(robot, terms)
+    model = dataclasses.replace(model, costs=costs,
+                                full_cost=dict(costs.get("explicit, full", model.full_cost)))
+    K, n = len(trajectories), robot.n
+    scale = np.asarray(model.guarantee.scale, float)
+    bound = np.asarray(model.guarantee.bound, float)
+    with np.errstate(divide="ignore", invalid="ignore"):
+        relative = np.where(bound > 0, bound / scale, 0.0)
+    validation = sweep_validation(model, trajectories, np.broadcast_to(scale, (K, n)),
+                                  relative, held_out=held_out, reference=reference,
+                                  bound=np.broadcast_to(bound, (K, n)))
+    said = [coverage(model, tr) for tr in trajectories]
+    validation["per_trajectory"].update(covered=[c["covered"] for c in said],
+                                        coverage=[c["reason"] for c in said])
+    validation["held_out_inside_region"] = sum(coverage(model, tr)["covered"]
+                                               for tr in held_out)
+    return dataclasses.replace(model, validation=validation)
+
+
+def _recursive_costs(robot, model):
+    """The ``costs`` of a merged model built as recursive: the exact recursive model, this
+    pruned one and Newton-Euler as implemented (multiplications, additions)."""
+    from ..formulations.opcount import operation_counts
+
+    ne = operation_counts(robot)["newton-euler"]
+    return {"exact recursive": model.costs["exact recursive"],
+            "recursive, budget": dict(model.cost),
+            "newton-euler": {"multiplications": int(ne["multiplications"]),
+                             "additions": int(ne["additions"])}}
+
+
+def sweep_guarantee(robot, model, trajectories, scales, relative, tolerance, region=None,
+                    missing=None):
     """The merged model's guarantee: on the swept trajectories only (issue 29).
 
     Parameters
@@ -229,6 +362,11 @@ def sweep_guarantee(robot, model, trajectories, scales, relative, tolerance):
         max over t of bound_{t,i} / scale_{t,i} [1].
     tolerance : float
         EPS.
+    region : Region, optional
+        The robot's region, if the caller has it (with ``missing``; otherwise
+        :func:`gd_analyze.workflows.deploy.robot_region` is asked).
+    missing : str, optional
+        Why the robot has no region, or "".
 
     Returns
     -------
@@ -247,7 +385,8 @@ def sweep_guarantee(robot, model, trajectories, scales, relative, tolerance):
     shas = tuple(getattr(t, "sha256", "") or "" for t in trajectories)
     method = ("the dropped pairs' (or terms') largest peaks relative to each swept "
               "trajectory's scale_i, summed (triangle inequality)")
-    region, missing = robot_region(robot)
+    if missing is None:
+        region, missing = robot_region(robot)
     sampled = None
     if model.recursive is not None and region is not None:
         sampled = trajectory_guarantee(robot, base_parameters(robot), model.recursive,

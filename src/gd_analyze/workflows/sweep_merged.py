@@ -5,9 +5,11 @@ trajectories. :func:`merged_model` reads the chapter rule's merge (a part of an 
 only where every trajectory's own model drops it, no error bound) and its validation back from
 the dataset as a :class:`~gd_analyze.core.selection.simplified.SimplifiedModel`;
 :func:`with_budget_model` puts the budget rule's model
-(:func:`gd_analyze.workflows.sweep_budget.budget_sweep_model`, the cheaper of a pruned recursive
-and a pruned explicit model, within EPS x scale_i on every swept trajectory) and its errors and
-bounds into the dataset in place of the chapter merge;
+(:func:`gd_analyze.workflows.sweep_budget.budget_sweep_model`: the region's model, within EPS
+x s_i at every state of the robot's joint-limit region, or the cheaper of a pruned recursive
+and a pruned explicit model, within EPS x scale_i on every swept trajectory), its errors and
+bounds, its guarantee and which swept trajectories that covers into the dataset in place of the
+chapter merge;
 :func:`with_model_cost` puts what the merged model costs and keeps of c beside it. Source:
 Sec. 3.4.1 of Fu, Gonzalez & Lee (1987).
 """
@@ -118,13 +120,22 @@ def with_budget_model(sweep_ds, model):
         ``merged_bound`` (trajectory, joint) [N m], the guaranteed bound on each trajectory,
         where the model gives it; ``merged_tau_error_peak``
         (trajectory, joint) [N m] and ``merged_tau_error_relative_peak`` (divided by that
-        trajectory's scale_{t,i} = max(peak |tau_i|, TAU), guaranteed <= EPS);
-        ``merged_scale`` (trajectory, joint) [N m]; ``merged_error_*`` over all trajectories
+        trajectory's scale_{t,i} = max(peak |tau_i|, TAU), guaranteed <= EPS; for a model
+        proved over the joint-limit region, by its s_i over the region, the same on every
+        trajectory, and proved <= EPS where the trajectory lies in the region);
+        ``merged_scale`` (trajectory, joint) [N m]; for a region model ``merged_covered``
+        (trajectory) [1] (1 where every set point lies in the region) and
+        ``merged_coverage`` (trajectory), why (:func:`gd_analyze.workflows.evaluate.coverage`);
+        ``merged_error_*`` over all trajectories
         (relative to the peak |tau| over all of them); attributes ``merged_rule`` = "budget",
         ``merged_tolerance`` (EPS), ``merged_torque_floor`` (TAU) [N m],
-        ``merged_worst_scaled_error`` and ``merge_rule`` (the rule in words); where the model
+        ``merged_worst_scaled_error``, ``merge_rule`` (the rule in words) and, where the model
+        carries a guarantee, ``merged_guarantee_kind`` (region or trajectory) and
+        ``merged_guarantee_statement`` (its
+        :meth:`~gd_analyze.core.selection.guarantee.Guarantee.statement`); where the model
         was measured on held-out trajectories, ``held_out_error_peak`` and
-        ``held_out_tau_peak`` (joint) [N m or N] and ``held_out_trajectories`` (their number).
+        ``held_out_tau_peak`` (joint) [N m or N] and ``held_out_trajectories`` (their number),
+        for a region model ``held_out_inside_region`` (how many lie in the region).
 
     Raises
     ------
@@ -133,7 +144,8 @@ def with_budget_model(sweep_ds, model):
 
     Notes
     -----
-    The guarantee is that of :mod:`gd_analyze.core.selection.budget` over several trajectories.
+    The guarantee is that of :mod:`gd_analyze.core.selection.budget` over several trajectories,
+    or that of the joint-limit region (:func:`gd_analyze.workflows.deploy.region_model`).
     """
     torque = sweep_ds["tau_peak"].attrs.get("units", "N m") if "tau_peak" in sweep_ds else "N m"
 
@@ -150,24 +162,29 @@ def with_budget_model(sweep_ds, model):
     ds = sweep_ds.drop_vars([v for v in ("pair_tau_peak", "pair_peak", "parameter_peak",
                                          "base_parameter", "part") if v in sweep_ds.variables])
     eps = f"{model.tolerance:g}"
+    region = model.guarantee is not None and model.guarantee.kind == "region"
+    words = _REGION_WORDS if region else _TRAJECTORY_WORDS
 
     def put(name, dims, data, units, desc):
         ds[name] = (dims, np.asarray(data), {"units": units, "long_name": desc})
 
     labels = element_labels(sweep_ds.sizes["joint"])
     put("merged_choice", ("element",), np.array([model.choices[k] for k in labels], dtype=str),
-        "1", f"whole parts kept by the budget rule (EPS = {eps}) on every swept trajectory")
+        "1", f"whole parts kept by the budget rule (EPS = {eps}) {words['where']}")
     put("merged_tau_error_peak", ("trajectory", "joint"), peak, torque,
         "merged model: peak |tau_merged - tau| along the trajectory")
-    put("merged_scale", ("trajectory", "joint"), scale, torque,
-        "scale_i = max(peak |tau_i|, torque floor) along the trajectory")
+    put("merged_scale", ("trajectory", "joint"), scale, torque, words["scale"])
     if "bound" in per:                  # the guarantee on each trajectory
         put("merged_bound", ("trajectory", "joint"), np.asarray(per["bound"], float), torque,
-            "merged model: guaranteed bound on |tau_merged - tau| along the trajectory "
-            "(<= EPS x scale_i)")
+            words["bound"])
     put("merged_tau_error_relative_peak", ("trajectory", "joint"), np.nan_to_num(rel, nan=np.inf),
-        "1", f"merged model: peak |tau_merged - tau| / scale_i along the trajectory "
-             f"(guaranteed <= {eps})")
+        "1", words["relative"].format(eps=eps))
+    if region:                          # the proof holds where the trajectory lies in R
+        put("merged_covered", ("trajectory",), np.asarray(per["covered"], np.int8), "1",
+            "1 if every set point of the trajectory lies in the merged model's region, where "
+            "its bound is proved; 0 if not (not covered)")
+        put("merged_coverage", ("trajectory",), np.array(per["coverage"], dtype=str), "1",
+            "why the trajectory lies in the merged model's region or not")
     for key, name, units, desc in (
             ("peak_abs_error", "merged_error_peak", torque,
              "merged model: peak |tau_merged - tau| over all trajectories"),
@@ -184,19 +201,58 @@ def with_budget_model(sweep_ds, model):
     if held:                            # measured off the sweep, not guaranteed
         put("held_out_error_peak", ("joint",), np.array(held["peak_abs_error"], float), torque,
             "merged model: peak |tau_merged - tau| over the held-out trajectories (not "
-            "guaranteed)")
+            "guaranteed)" if not region else "merged model: peak |tau_merged - tau| over the "
+            "held-out trajectories (measured; proved only on those inside the region)")
         put("held_out_tau_peak", ("joint",), np.array(held["peak_tau"], float), torque,
             "peak |tau| over the held-out trajectories")
         ds.attrs["held_out_trajectories"] = int(v.get("held_out_trajectories", 0))
+        if region:
+            ds.attrs["held_out_inside_region"] = int(v.get("held_out_inside_region", 0))
     ds.attrs.update({
         "merged_rule": "budget", "merged_tolerance": float(model.tolerance),
         "merged_torque_floor": float(model.torque_floor),
         "merged_worst_scaled_error": float(v["worst_scaled_error"]),
-        "merge_rule": f"budget rule: one {_WHAT[model.form]} whose dropped "
-                      f"{_UNITS[model.form]}' peaks, each divided by its trajectory's scale_i "
-                      f"= max(peak |tau_i|, {model.torque_floor:g} N m), sum to at most EPS = "
-                      f"{eps}: guaranteed within {eps} x scale_i on every swept trajectory"})
+        "merge_rule": _merge_rule(model)})
+    if model.guarantee is not None:     # its scope, in the model's one sentence
+        ds.attrs.update({"merged_guarantee_kind": model.guarantee.kind,
+                         "merged_guarantee_statement": model.guarantee.statement()})
     return with_model_cost(ds, model)
+
+
+def _merge_rule(model):
+    """The budget rule of a merged model in words (the ``merge_rule`` attribute): how it was
+    pruned, and its guarantee as the model states it
+    (:meth:`gd_analyze.core.selection.guarantee.Guarantee.statement`) for a region model."""
+    eps, floor = f"{model.tolerance:g}", f"{model.torque_floor:g}"
+    g = model.guarantee
+    if g is not None and g.kind == "region":
+        how = (f"one {_WHAT[model.form]}, exact (nothing dropped)" if model.form == "explicit"
+               else f"one {_WHAT[model.form]} whose dropped {_UNITS[model.form]}' bounds "
+                    f"proved over the joint-limit region sum to at most EPS = {eps} x s_i "
+                    f"(s_i = max(largest |tau_i| found over the region, {floor} N m))")
+        return f"budget rule over the joint-limit region: {how}; {model.scope()}"
+    return (f"budget rule: one {_WHAT[model.form]} whose dropped "
+            f"{_UNITS[model.form]}' peaks, each divided by its trajectory's scale_i "
+            f"= max(peak |tau_i|, {floor} N m), sum to at most EPS = "
+            f"{eps}: guaranteed within {eps} x scale_i on every swept trajectory")
+
+
+#: The descriptions of the per-trajectory variables of a merged model, by its guarantee.
+_TRAJECTORY_WORDS = {
+    "where": "on every swept trajectory",
+    "scale": "scale_i = max(peak |tau_i|, torque floor) along the trajectory",
+    "bound": "merged model: guaranteed bound on |tau_merged - tau| along the trajectory "
+             "(<= EPS x scale_i)",
+    "relative": "merged model: peak |tau_merged - tau| / scale_i along the trajectory "
+                "(guaranteed <= {eps})"}
+_REGION_WORDS = {
+    "where": "over the joint-limit region",
+    "scale": "s_i = max(largest |tau_i| found over the joint-limit region, torque floor), the "
+             "guarantee's scale (the same on every trajectory)",
+    "bound": "merged model: bound on |tau_merged - tau| proved at every state of the "
+             "joint-limit region (<= EPS x s_i), on the trajectory where it lies in the region",
+    "relative": "merged model: peak |tau_merged - tau| / s_i along the trajectory (proved "
+                "<= {eps} where the trajectory lies in the region, merged_covered)"}
 
 
 #: The merged model of each form, and what its budget drops, in the words of ``merge_rule``.

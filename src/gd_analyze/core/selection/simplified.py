@@ -258,14 +258,17 @@ class SimplifiedModel:
             The robot's name (input text) only as
             :func:`~gd_analyze.core.symbolic.safe_text.comment_safe` gives it, with the SHA-256 of the
             raw name; then the SHA-256 of the robot file; the exact recursive model's count where
-            ``costs`` holds it, and for a sweep's model (``validation["relative_bound"]``) its
-            bound on each swept trajectory relative to that trajectory's scale_i.
+            ``costs`` holds it, and for a sweep's model of a trajectory guarantee
+            (``validation["relative_bound"]``) its bound on each swept trajectory relative to
+            that trajectory's scale_i (a region model's bound is in its guarantee line).
         """
         cost = self.cost or self.program().cost()
         exact = self.costs.get("exact recursive")
         compared = {} if not exact else {"exact recursive model": (
             f"{exact['multiplications']} multiplications, {exact['additions']} additions")}
         relative = self.validation.get("relative_bound") if self.validation else None
+        if self.guarantee is not None and self.guarantee.proved:
+            relative = None             # the region's bound: the guarantee line says it
         if relative:                    # a sweep's model: the bound on each swept trajectory
             compared["bound on each swept trajectory"] = (
                 "|tau_s,i - tau_i| <= b_i x scale_i (that trajectory's max(peak |tau_i|, "

@@ -1,0 +1,155 @@
+"""The sweep's merged model under a region guarantee (issue 29 item 1): the main job's region
+model, whatever the swept trajectories, checked on each of them and each said to lie inside the
+robot's joint-limit region or not.
+
+Oracles: Pinocchio's rnea (the torques), the main job's own model on the shipped trajectory
+(its dropped pairs), and the robot's limits read directly (which trajectory leaves the region).
+"""
+
+import dataclasses
+
+import numpy as np
+import pinocchio as pin
+import pytest
+
+from gd_analyze.formulations.pinocchio import pinocchio_model
+from gd_analyze.io.planning import acceleration_limits, random_trajectories
+from gd_analyze.io.sweep_guarantee import merged_guarantee
+from gd_analyze.workflows.analyze import analyze
+from gd_analyze.workflows.options import AnalysisOptions, SimplifyOptions
+from gd_analyze.workflows.sweep import run_sweep
+from gd_analyze.workflows.sweep_budget import budget_sweep_model
+from gd_analyze.workflows.sweep_merged import with_budget_model
+
+
+@pytest.fixture(scope="module")
+def client(cluster):
+    return cluster[1]
+
+
+@pytest.fixture(scope="module")
+def planned(puma):
+    """Three random PUMA 560 plans (shortest duration within its limits: inside its region)."""
+    return random_trajectories(puma, 3, seed=21)
+
+
+@pytest.fixture(scope="module")
+def fast(planned):
+    """The first plan run twice as fast: the same path, qd x 2 and qdd x 4."""
+    tr = planned[0]
+    return dataclasses.replace(tr, t=tr.t / 2, qd=2 * tr.qd, qdd=4 * tr.qdd,
+                               source="twice-as-fast")
+
+
+@pytest.fixture(scope="module")
+def swept(puma, planned, fast, client):
+    """The sweep (ranking only: a region merge needs no per-trajectory peaks) of the plans and
+    the fast one."""
+    return run_sweep(puma, [*planned, fast], client=client, batch=2)
+
+
+def _rnea(robot, tr):
+    model = pinocchio_model(robot)
+    data = model.createData()
+    return np.array([pin.rnea(model, data, *s).copy() for s in zip(tr.q, tr.qd, tr.qdd)])
+
+
+def _outside(robot, tr):
+    """Whether a trajectory leaves the robot's limits (read from the robot, not the model)."""
+    qdd_max, _ = acceleration_limits(robot)
+    slack = 1e-12
+    return bool((tr.q < robot.q_min - slack).any() or (tr.q > robot.q_max + slack).any()
+                or (np.abs(tr.qd) > robot.qd_max * (1 + slack)).any()
+                or (np.abs(tr.qdd) > np.asarray(qdd_max) * (1 + slack)).any())
+
+
+@pytest.mark.parametrize("eps", [0.01, 0.05])
+def test_region_merge_is_the_main_jobs_region_model_and_holds_on_each(puma, planned, fast,
+                                                                       swept, shipped, eps):
+    trajectories = [*planned, fast]
+    model = budget_sweep_model(puma, trajectories, swept, tolerance=eps, guarantee="region",
+                               explicit="never")
+    g = model.guarantee
+    assert g.kind == "region" and model.form == "recursive"
+    # the main job's model on the shipped trajectory drops the same pairs: the region does
+    # not depend on the trajectories
+    main = analyze(puma, shipped, AnalysisOptions(verify=False, formulations=False,
+                                                  simplify=SimplifyOptions(tolerance=eps,
+                                                                           explicit="never")))
+    assert main.model.guarantee.kind == "region"
+    np.testing.assert_array_equal(model.recursive.dropped, main.model.recursive.dropped)
+    assert model.recursive.dropped.any()
+    bound, scale = np.asarray(g.bound), np.asarray(g.scale)
+    assert np.all(bound <= eps * scale * (1 + 1e-12))
+    np.testing.assert_allclose(bound, main.model.guarantee.bound, rtol=1e-12, atol=0)
+    per = model.validation["per_trajectory"]
+    for k, tr in enumerate(trajectories):
+        if _outside(puma, tr):
+            continue                                   # not covered: reported, not checked
+        err = np.abs(model.torque(tr.q, tr.qd, tr.qdd) - _rnea(puma, tr)).max(axis=0)
+        assert np.all(err <= bound + 1e-9 * scale), (tr.source, err, bound)
+        np.testing.assert_allclose(per["bound"][k], bound, rtol=0, atol=0)
+        np.testing.assert_allclose(per["scale"][k], scale, rtol=0, atol=0)
+    assert "bound on each swept trajectory" not in model.c_source()
+    assert f"guarantee: {g.statement()}" in model.c_source()
+
+
+def test_a_trajectory_outside_the_region_is_reported_not_covered(puma, planned, fast, swept,
+                                                                 tmp_path):
+    trajectories = [*planned, fast]
+    outside = [_outside(puma, tr) for tr in trajectories]
+    assert outside == [False, False, False, True]                 # the oracle's verdict
+    model = budget_sweep_model(puma, trajectories, swept, tolerance=0.01, guarantee="region",
+                               explicit="never", held_out=[fast, planned[1]])
+    per = model.validation["per_trajectory"]
+    assert per["covered"] == [not o for o in outside]
+    assert "outside the model's region" in per["coverage"][3]
+    assert model.validation["held_out_inside_region"] == 1
+    ds = with_budget_model(swept, model)
+    np.testing.assert_array_equal(ds["merged_covered"].values, [1, 1, 1, 0])
+    said = merged_guarantee(ds)
+    assert [src for src, _, _ in said["outside"]] == ["twice-as-fast"]
+    assert said["statement"] == model.guarantee.statement()
+    # the guaranteed figure is over the three inside the region only
+    rel = ds["merged_tau_error_relative_peak"].values
+    assert said["worst"] == pytest.approx(rel[:3].max(), rel=1e-12)
+    # the report says which is not covered, and never that the bound holds on every swept one
+    from gd_analyze.io.schema import write_dataset
+    from gd_analyze.reports.sweep_text import sweep_context
+
+    ctx = sweep_context(ds)
+    assert "twice-as-fast" in ctx["summary"] and "not covered by the proof" in ctx["summary"]
+    assert "3 of the 4 swept trajectories lie in the region" in ctx["summary"]
+    for text in (ctx["summary"], ctx["merged_text"], ctx["error_text"], *ctx["captions"].values()):
+        assert "on every swept trajectory" not in text
+    write_dataset(ds, tmp_path / "sweep.h5")                       # stores and reads back
+    import xarray as xr
+
+    with xr.open_dataset(tmp_path / "sweep.h5") as back:
+        assert merged_guarantee(back)["outside"] == said["outside"]
+
+
+def test_default_is_region_where_the_robot_gives_limits(puma, planned, fast, swept):
+    model = budget_sweep_model(puma, [*planned, fast], swept, tolerance=0.01, explicit="never")
+    assert model.guarantee.kind == "region"
+    # --guarantee trajectory keeps the merge on the trajectories (it needs their peaks)
+    from gd_analyze.errors import InputError
+
+    with pytest.raises(InputError, match="recursive_peaks"):
+        budget_sweep_model(puma, [*planned, fast], swept, guarantee="trajectory")
+    with pytest.raises(ValueError, match="guarantee"):
+        budget_sweep_model(puma, [*planned, fast], swept, guarantee="everywhere")
+
+
+def test_form_explicit_over_the_region_is_the_exact_model(puma, planned, swept, fast):
+    """Never a pruned explicit model under a region guarantee: --form explicit gives the
+    exact one, bound 0, equal to rnea to round-off."""
+    trajectories = [*planned, fast]
+    model = budget_sweep_model(puma, trajectories, swept, tolerance=0.05, form="explicit",
+                               guarantee="region")
+    assert model.form == "explicit" and model.guarantee.kind == "region"
+    assert np.all(np.asarray(model.guarantee.bound) == 0) and model.bound == [0.0] * puma.n
+    scale = np.asarray(model.guarantee.scale)
+    for tr in trajectories[:3]:
+        err = np.abs(model.torque(tr.q, tr.qd, tr.qdd) - _rnea(puma, tr)).max(axis=0)
+        assert np.all(err <= 1e-9 * scale)
