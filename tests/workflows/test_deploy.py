@@ -203,3 +203,32 @@ def test_deployed_model_never_costs_more_than_a_model_within_budget(tmp_path):
     q, qd, qdd = random_states(model.robot, 50, 4)
     assert np.abs(model.torque(q, qd, qdd) - _rnea(model.robot, q, qd, qdd)).max() <= (
         np.array(spec["guarantee"]["bound"]).max() + 1e-9)
+
+
+def test_the_exact_explicit_model_keeps_terms_idle_on_its_trajectory():
+    """Under a region guarantee the exact explicit model keeps every term, also those whose
+    peak is 0 on the trajectory it was built on (joint 6 at rest there, which EPS = 0 on its
+    peaks may drop), and equals rnea at random states of the region."""
+    from gd_analyze.io.explicit_cache import explicit_terms
+    from gd_analyze.io.planning import default_motion, plan_quintic
+    from gd_analyze.workflows.deploy import exact_explicit_model, region_model, robot_region
+    from gd_analyze.workflows.simplify import build_model, collect_peaks
+
+    puma = load_robot("puma560")
+    tr = plan_quintic(puma, *default_motion(puma))
+    q, qd, qdd = tr.q.copy(), tr.qd.copy(), tr.qdd.copy()
+    q[:, 5], qd[:, 5], qdd[:, 5] = 0.3, 0.0, 0.0
+    terms, _ = explicit_terms(puma)
+    full, _ = build_model(puma, terms, collect_peaks(puma, terms, q, qd, qdd), tolerance=0.0)
+    region, _ = robot_region(puma)
+    _, guarantee = region_model(puma, base_parameters(puma), region, 0.01)
+    model = exact_explicit_model(full, guarantee, 0.01)
+    rng = np.random.default_rng(4)
+    states = (rng.uniform(region.q_min, region.q_max, (200, 6)),
+              rng.uniform(-1, 1, (200, 6)) * region.qd_max,
+              rng.uniform(-1, 1, (200, 6)) * region.qdd_max)
+    ref = _rnea(puma, *states)
+    scale = np.asarray(guarantee.scale)
+    assert len(full.terms) < len(terms) and len(model.terms) == len(terms)
+    assert np.all(np.abs(model.torque(*states) - ref).max(axis=0) <= 1e-9 * scale)
+    assert model.bound == [0.0] * 6 and set(model.choices.values()) == {"both"}

@@ -532,12 +532,20 @@ def exact_explicit_model(full, guarantee, tolerance,
     Returns
     -------
     SimplifiedModel
-        ``full`` with ``tolerance`` EPS, bound 0 on every joint and the region guarantee with
-        bound and sampled error 0.
+        ``full`` with every explicit term kept (a term whose peak is 0 on the trajectories
+        ``full`` was built on need not be 0 elsewhere in the region), ``tolerance`` EPS, bound
+        0 on every joint and the region guarantee with bound and sampled error 0.
     """
+    from ..core.selection.choices import full_choices
+    from ..io.explicit_cache import explicit_terms
+    from .simplify import full_program
+
     n = full.robot.n
+    terms, _ = explicit_terms(full.robot)
+    program = full_program(full.robot, terms)
     return dataclasses.replace(
-        full, tolerance=float(tolerance), bound=[0.0] * n,
+        full, tolerance=float(tolerance), bound=[0.0] * n, terms=terms,
+        choices=full_choices(n), cost=program.cost(), program_cache=program,
         guarantee=dataclasses.replace(
             guarantee, bound=np.zeros(n), sampled_error=np.zeros(n),
             method=f"the exact explicit G-D model (nothing dropped), {why}; scale: "
