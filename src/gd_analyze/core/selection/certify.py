@@ -110,7 +110,14 @@ def pair_magnitudes_at(V, beta, qd_max, qdd_max):
 
 
 def pair_peaks_at(V, beta, qd_max, qdd_max):
-    """The largest of :func:`pair_magnitudes_at` (same arguments) over the positions.
+    """The largest of :func:`pair_magnitudes_at` over the positions.
+
+    Parameters
+    ----------
+    V, beta, qd_max, qdd_max
+        As :func:`pair_magnitudes_at` takes them: the channel values, shape (B, C, n, b), the
+        base parameters' values, shape (b,), and the velocity and acceleration limits, shape
+        (n,) [rad/s, rad/s^2; m/s, m/s^2].
 
     Returns
     -------
