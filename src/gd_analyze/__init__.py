@@ -7,8 +7,9 @@ against Pinocchio, ranks which part dominates each element, and writes a simplif
 
 The Python API, for a notebook: :func:`load_robot` (a built-in name, a TOML or URDF file, URDF
 text or a ``pinocchio.Model``), :func:`read_trajectory`, :func:`analyze` (the main job's results
-dataset, in memory), :class:`AnalysisOptions`, :func:`regressor` (the base regressor Y_b and
-beta), :func:`gd_terms`.
+dataset, in memory), :class:`AnalysisOptions` and :class:`SimplifyOptions` (its settings, with
+the command line's defaults), :func:`regressor` (the base regressor Y_b and beta),
+:func:`gd_terms`.
 """
 
 from ._version import __version__
@@ -18,7 +19,8 @@ from .errors import InputError
 from .io.robots import load_robot
 
 __all__ = ["__version__", "GDTerms", "gd_terms", "InputError", "Robot", "load_robot",
-           "SimplifiedModel", "load_model", "save_model", "regressor"]
+           "SimplifiedModel", "load_model", "save_model", "regressor", "analyze",
+           "read_trajectory", "AnalysisOptions", "SimplifyOptions"]
 
 #: Public names imported on first use: name -> (module, attribute).
 _LAZY = {
@@ -27,6 +29,10 @@ _LAZY = {
     "load_model": ("io.model_file", "load_model"),
     "save_model": ("io.model_file", "save_model"),
     "regressor": ("core.symbolic.base_parameters", "base_regressor"),
+    "analyze": ("workflows.run", "results_dataset"),
+    "read_trajectory": ("io.trajectory", "read_trajectory"),
+    "AnalysisOptions": ("workflows.options", "AnalysisOptions"),
+    "SimplifyOptions": ("workflows.options", "SimplifyOptions"),
 }
 
 
