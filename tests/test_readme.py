@@ -187,3 +187,16 @@ def test_quoted_costs_agree_with_the_sample_and_the_counts():
     for label, method in (("G-D", "gd"), ("L-E", "lagrange-euler")):
         total = sum(counted[method].values())
         assert f"{label} {total:,}" in README, (label, total)
+
+
+def test_python_api_example_runs_as_a_doctest(monkeypatch):
+    """The README's notebook example (issue 30 item 6), every line of it, as a doctest from the
+    repository's folder; it is where the usage starts, after the first screen's commands."""
+    import doctest
+
+    assert README.index("## Python API") < README.index("## Commands")
+    assert README.index("pip install -e . && gd-analyze puma560") < 1500
+    monkeypatch.chdir(ROOT)
+    result = doctest.testfile(str(ROOT / "README.md"), module_relative=False,
+                              optionflags=doctest.ELLIPSIS, verbose=False, report=True)
+    assert result.attempted >= 10 and result.failed == 0

@@ -506,7 +506,7 @@ def test_plot_data_reads_long_series_in_chunks():
     t = np.linspace(0.0, 5.0, N)
     y = np.sin(t)[:, None] + 0.1 * rng.standard_normal((N, 2))
     y[123, 1] = 9.0
-    ds = xr.Dataset({"t": ("setpoint", t), "q": (("setpoint", "joint"), y)})
+    ds = xr.Dataset({"t": ("t", t), "q": (("t", "joint"), y)})
     col = np.minimum((t / 5.0 * columns).astype(int), columns - 1)
     for chunk in (997, 50_000):
         data = plot_data(ds, names=("q",), columns=columns, chunk=chunk)
@@ -517,7 +517,7 @@ def test_plot_data_reads_long_series_in_chunks():
             np.testing.assert_array_equal(hi[c], y[col == c].max(axis=0))
         assert data.series["q"].max() == 9.0
         assert np.all(np.diff(data.x) >= 0) and data.x[0] >= 0 and data.x[-1] <= 5.0
-    short = plot_data(ds.isel(setpoint=slice(0, 31)), names=("q",))
+    short = plot_data(ds.isel(t=slice(0, 31)), names=("q",))
     assert not short.enveloped and short.series["q"].shape == (31, 2)
 
 
@@ -533,8 +533,8 @@ def test_plot_data_envelope_of_the_torque_error():
     t = np.linspace(0.0, 2.0, N)
     tau = np.cos(3 * t)[:, None] * np.ones((1, 2)) + 0.01 * rng.standard_normal((N, 2))
     tau_s = tau + 1e-3 * rng.standard_normal((N, 2))
-    ds = xr.Dataset({"t": ("setpoint", t), "tau": (("setpoint", "joint"), tau),
-                     "tau_simplified": (("setpoint", "joint"), tau_s)})
+    ds = xr.Dataset({"t": ("t", t), "tau": (("t", "joint"), tau),
+                     "tau_simplified": (("t", "joint"), tau_s)})
     col = np.minimum((t / 2.0 * columns).astype(int), columns - 1)
     diff = tau_s - tau
     for chunk in (777, N):
@@ -543,7 +543,7 @@ def test_plot_data_envelope_of_the_torque_error():
         for c in range(columns):
             np.testing.assert_array_equal(lo[c], diff[col == c].min(axis=0))
             np.testing.assert_array_equal(hi[c], diff[col == c].max(axis=0))
-    short = plot_data(ds.isel(setpoint=slice(0, 40)), names=("tau_error",))
+    short = plot_data(ds.isel(t=slice(0, 40)), names=("tau_error",))
     np.testing.assert_array_equal(short.series["tau_error"], diff[:40])
 
 

@@ -10,8 +10,8 @@ def _ds(diff, bound, scale):
     N, n = diff.shape
     t = np.linspace(0.0, 2.0, N)
     tau = np.sin(t)[:, None] * scale[None, :]
-    return xr.Dataset({"t": ("setpoint", t), "tau": (("setpoint", "joint"), tau),
-                       "tau_simplified": (("setpoint", "joint"), tau + diff),
+    return xr.Dataset({"t": ("t", t), "tau": (("t", "joint"), tau),
+                       "tau_simplified": (("t", "joint"), tau + diff),
                        "simplified_bound": ("joint", bound),
                        "simplified_scale": ("joint", scale)})
 

@@ -24,7 +24,7 @@ def test_streamed_file_equals_the_in_memory_analysis(tmp_path, puma):
             assert ds[name].attrs["units"] == whole[name].attrs["units"]
         assert list(ds.dominance.values) == list(whole.dominance.values)
         assert list(ds.choice.values) == list(whole.choice.values)
-        assert ds.sizes["setpoint"] == 1001
+        assert ds.sizes["t"] == 1001
     assert [p.name for p in tmp_path.iterdir()] == ["results.h5"]
 
 

@@ -53,9 +53,11 @@ def _mistyped_command(argv):
     import difflib
 
     from ..io.robots import builtin_robots, unknown_robot  # the TOML and URDF built-ins
+    from ..io.urdf import is_urdf_text
 
     word = argv[0]
-    if word.startswith("-") or word in builtin_robots() or os.path.exists(word):
+    if (word.startswith("-") or word in builtin_robots() or os.path.exists(word)
+            or is_urdf_text(word)):
         return None
     if len(argv) > 1 and _looks_like_trajectory(argv[1]):
         return unknown_robot(word)

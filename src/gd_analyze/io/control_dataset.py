@@ -10,7 +10,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from .schema import global_attributes, var, write_dataset
+from .schema import global_attributes, joint_coordinate, var, write_dataset
 
 __all__ = ["control_dataset", "write_control_dataset"]
 
@@ -166,7 +166,7 @@ def control_dataset(result, settings=None):
                                    {"long_name": "control law", "units": "1"}),
         "time": ("time", result.t, {"long_name": "time", "units": "s",
                                     "standard_name": "time"}),
-        "joint": ("joint", np.arange(1, n + 1), {"long_name": "joint", "units": "1"}),
+        "joint": joint_coordinate(robot.joint_names()),
         **{name: ("joint", np.array(joint_units(prismatic, which), dtype=str),
                   {"long_name": long_name, "units": "1"})
            for name, (which, long_name) in _JOINT_UNIT_COORDS.items()},

@@ -4,9 +4,11 @@ The plumbing every gd-analyze dataset shares (one ``var``, one block of CF globa
 one writer and one reader) is in :mod:`gd_analyze.io.schema`; the sweep and closed-loop schemas
 are in :mod:`gd_analyze.io.sweep_datasets` and :mod:`gd_analyze.io.control_dataset`.
 
-Dimensions: ``setpoint``, ``joint`` and ``joint_k`` (the column index of D), ``element`` (the
-ranked elements ``"D11"`` .. ``"hn"``, string labels) and ``xyz``/``xyz_k`` for the link
-parameters. Every variable carries ``units`` and ``long_name``; the global attributes follow
+Dimensions: ``t``, the set points, whose coordinate is the time [s] (so that
+``ds.D_tran.sel(joint=..., joint_k=...).plot()`` draws against time), ``joint`` and ``joint_k``
+(the rows and columns of D), whose coordinates are the joints' names
+(:meth:`gd_analyze.core.model.robot.Robot.joint_names`), ``element`` (the ranked elements
+``"D11"`` .. ``"hn"``, string labels) and ``xyz``/``xyz_k`` for the link parameters. Every variable carries ``units`` and ``long_name``; the global attributes follow
 the CF conventions and carry the provenance: tool version, robot and its SHA-256, gravity,
 thresholds, and the input file's name and SHA-256.
 
@@ -20,38 +22,41 @@ from pathlib import Path
 
 import numpy as np
 
-from .schema import MIXED_UNITS, element_coords, global_attributes, var
+from .schema import MIXED_UNITS, element_coords, global_attributes, joint_coordinate, var
 
-__all__ = ["build_dataset", "summary_dataset", "setpoint_arrays", "SetpointWriter",
+__all__ = ["build_dataset", "summary_dataset", "setpoint_arrays", "SetpointWriter", "SETPOINT_DIM",
            "SETPOINT_VARIABLES", "FRICTION_VARIABLE", "setpoint_variables", "setpoint_units", "joint_units", "units_attribute",
            "guarantee_fields", "stored_guarantee"]
 
 
-#: Per-set-point variables: name -> (dims, units, long_name). Used by both writers.
+#: The set points' dimension; its coordinate variable is the time t [s].
+SETPOINT_DIM = "t"
+#: Per-set-point variables: name -> (dims, units, long_name). Used by both writers; ``t`` is
+#: the coordinate of :data:`SETPOINT_DIM`.
 SETPOINT_VARIABLES = {
-    "t": (("setpoint",), "s", "time"),
-    "q": (("setpoint", "joint"), "rad", "joint position"),
-    "qd": (("setpoint", "joint"), "rad s-1", "joint velocity"),
-    "qdd": (("setpoint", "joint"), "rad s-2", "joint acceleration"),
-    "D_tran": (("setpoint", "joint", "joint_k"), "kg m2",
+    "t": (("t",), "s", "time"),
+    "q": (("t", "joint"), "rad", "joint position"),
+    "qd": (("t", "joint"), "rad s-1", "joint velocity"),
+    "qdd": (("t", "joint"), "rad s-2", "joint acceleration"),
+    "D_tran": (("t", "joint", "joint_k"), "kg m2",
                "inertia matrix, translational part (Eq. 3.4-25)"),
-    "D_rot": (("setpoint", "joint", "joint_k"), "kg m2",
+    "D_rot": (("t", "joint", "joint_k"), "kg m2",
               "inertia matrix, rotational part (Eq. 3.4-25)"),
-    "D": (("setpoint", "joint", "joint_k"), "kg m2",
+    "D": (("t", "joint", "joint_k"), "kg m2",
           "inertia matrix D = D_tran + D_rot + diag(armature)"),
-    "h_tran": (("setpoint", "joint"), "N m",
+    "h_tran": (("t", "joint"), "N m",
                "Coriolis and centrifugal torque, translational part (Eq. 3.4-26)"),
-    "h_rot": (("setpoint", "joint"), "N m",
+    "h_rot": (("t", "joint"), "N m",
               "Coriolis and centrifugal torque, rotational part (Eq. 3.4-27)"),
-    "h": (("setpoint", "joint"), "N m", "Coriolis and centrifugal torque h = h_tran + h_rot"),
-    "c": (("setpoint", "joint"), "N m", "gravity loading (Eq. 3.4-28)"),
-    "tau": (("setpoint", "joint"), "N m",
+    "h": (("t", "joint"), "N m", "Coriolis and centrifugal torque h = h_tran + h_rot"),
+    "c": (("t", "joint"), "N m", "gravity loading (Eq. 3.4-28)"),
+    "tau": (("t", "joint"), "N m",
             "joint torque of the full model, D qdd + h + c + tau_f (Eq. 3.4-24)"),
-    "tau_simplified": (("setpoint", "joint"), "N m",
+    "tau_simplified": (("t", "joint"), "N m",
                        "joint torque of the simplified model, D_s qdd + h_s + c + tau_f"),
 }
 #: The per-set-point variable of a robot with friction only (core/model/drives.py).
-FRICTION_VARIABLE = {"tau_f": (("setpoint", "joint"), "N m",
+FRICTION_VARIABLE = {"tau_f": (("t", "joint"), "N m",
                                "joint friction torque viscous qd + coulomb sign(qd)")}
 
 
@@ -280,7 +285,8 @@ def summary_dataset(robot, trajectory, ranking, choices, error, verification=Non
     Returns
     -------
     xarray.Dataset
-        Dims ``element``, ``joint``, ``xyz``, ``xyz_k``; CF-style global attributes.
+        Dims ``element``, ``joint`` (coordinate: the joints' names), ``xyz``, ``xyz_k``;
+        CF-style global attributes.
     """
     import xarray as xr
 
@@ -370,8 +376,7 @@ def summary_dataset(robot, trajectory, ranking, choices, error, verification=Non
             ("element",), ranking.share_arm, "1",
             "armature share sum|arm| / (sum|tran| + sum|rot + arm|), diagonal of D only")
     coords = element_coords(n, prismatic)
-    coords["joint"] = ("joint", np.arange(1, n + 1), {"long_name": "joint (row of D)",
-                                                      "units": "1"})
+    coords["joint"] = joint_coordinate(robot.joint_names(), long_name="joint (row of D)")
     for name, (which, long_name) in _JOINT_UNIT_COORDS.items():
         units = joint_units(prismatic, which)
         coords[name] = ("joint", np.array(units, dtype=str), {"long_name": long_name,
@@ -419,28 +424,24 @@ def build_dataset(robot, trajectory, terms, ranking, tau, tau_simplified, choice
     Returns
     -------
     xarray.Dataset
-        The per-set-point variables of :data:`SETPOINT_VARIABLES` and the
-        :func:`summary_dataset`.
+        The per-set-point variables of :data:`SETPOINT_VARIABLES` over dim ``t`` (its
+        coordinate: the time [s]) and the :func:`summary_dataset`.
     """
     ds = summary_dataset(robot, trajectory, ranking, choices, error, verification, settings)
     arrays = setpoint_arrays(trajectory, terms, tau, tau_simplified)
     prismatic = np.asarray(robot.prismatic, bool)
     for name, (dims, _, long_name) in setpoint_variables("tau_f" in arrays).items():
         ds[name] = var(dims, arrays[name], setpoint_units(name, prismatic), long_name)
-    N, n = trajectory.q.shape
-    ds = ds.assign_coords(
-        setpoint=("setpoint", np.arange(N), {"long_name": "set point index", "units": "1"}),
-        joint_k=("joint_k", np.arange(1, n + 1), {"long_name": "joint (column of D)",
-                                                  "units": "1"}))
-    return ds
+    return ds.assign_coords(joint_k=joint_coordinate(robot.joint_names(), "joint_k",
+                                                     "joint (column of D)"))
 
 
 class SetpointWriter:
     """Stream the per-set-point variables into a new netCDF4/HDF5 file, chunk by chunk.
 
-    The file gets dims ``setpoint`` (N), ``joint`` and ``joint_k`` (n), their coordinate
-    variables, and every variable of :data:`SETPOINT_VARIABLES` with ``units`` and
-    ``long_name``. Add the summary afterwards with
+    The file gets dims ``t`` (N), ``joint`` and ``joint_k`` (n), their coordinate variables
+    (the time t [s], written with the other per-set-point variables, and the joints' names),
+    and every variable of :data:`SETPOINT_VARIABLES` with ``units`` and ``long_name``. Add the summary afterwards with
     ``summary.to_netcdf(path, mode="a", engine="h5netcdf")``.
 
     Parameters
@@ -461,26 +462,29 @@ class SetpointWriter:
         The prismatic joints, for the ``units`` of each variable (:func:`setpoint_units`).
     friction : bool, optional
         Whether the robot has friction: then ``tau_f`` is stored too.
+    joints : sequence of str, length n, optional
+        The joints' names (default ``"joint1"`` .. ``"jointn"``).
     """
 
-    def __init__(self, path, N, n, chunk=8192, compress=0, prismatic=None, friction=False):
+    def __init__(self, path, N, n, chunk=8192, compress=0, prismatic=None, friction=False,
+                 joints=None):
         import h5netcdf
+        import h5py
 
         self._file = h5netcdf.File(path, "w")
         f = self._file
-        f.dimensions = {"setpoint": N, "joint": n, "joint_k": n}
+        f.dimensions = {SETPOINT_DIM: N, "joint": n, "joint_k": n}
         rows = max(1, min(int(chunk), N))
-        for name, dims, values, long_name in (
-                ("setpoint", ("setpoint",), np.arange(N), "set point index"),
-                ("joint", ("joint",), np.arange(1, n + 1), "joint (row of D)"),
-                ("joint_k", ("joint_k",), np.arange(1, n + 1), "joint (column of D)")):
-            v = f.create_variable(name, dims, "i8")
-            v[:] = values
-            v.attrs.update(units="1", long_name=long_name)
+        names = [f"joint{i}" for i in range(1, n + 1)] if joints is None else joints
+        for dim, long_name in (("joint", "joint (row of D)"), ("joint_k", "joint (column of D)")):
+            _, values, attrs = joint_coordinate(names, dim, long_name)
+            v = f.create_variable(dim, (dim,), dtype=h5py.string_dtype())
+            v[:] = values.astype(object)
+            v.attrs.update(attrs)
         self.variables = {}
         for name, (dims, _, long_name) in setpoint_variables(friction).items():
             units = setpoint_units(name, prismatic)
-            shape = tuple({"setpoint": rows, "joint": n, "joint_k": n}[d] for d in dims)
+            shape = tuple({SETPOINT_DIM: rows, "joint": n, "joint_k": n}[d] for d in dims)
             opts = {"compression": "gzip", "compression_opts": int(compress)} if compress else {}
             v = f.create_variable(name, dims, "f8", chunks=shape, **opts)
             v.attrs.update(units=units, long_name=long_name)

@@ -1,21 +1,24 @@
-"""Loading a robot from any source: a built-in name, a TOML robot file or a URDF file.
+"""Loading a robot from any source: a built-in name, a TOML or URDF file, URDF text, a Pinocchio
+model.
 
 TOML robot files and the TOML built-ins are read by :func:`load_toml_robot` (the layout is
 checked by :func:`gd_analyze.core.model.robot_spec.robot_from_dict`); URDF
 files (suffix ``.urdf``) and the URDF built-ins (``panda``, ``ur5``) by
 :func:`gd_analyze.io.urdf.load_urdf`, which needs Pinocchio's parser and therefore lives above
-the core.
+the core; URDF text (a ``robot_description``) by :func:`gd_analyze.io.urdf.load_urdf_text` and a
+``pinocchio.Model`` by :func:`gd_analyze.io.urdf.load_pinocchio_model`.
 """
 
 from __future__ import annotations
 
 import hashlib
+import os
 from importlib import resources
 from pathlib import Path
 
 from ..core.model.robot_spec import robot_from_dict
 from ..errors import InputError
-from .urdf import URDF_BUILTIN, load_urdf
+from .urdf import URDF_BUILTIN, is_urdf_text, load_pinocchio_model, load_urdf, load_urdf_text
 
 try:  # Python >= 3.11
     import tomllib
@@ -90,19 +93,24 @@ def unknown_robot(name):
     """
     import difflib
 
-    close = difflib.get_close_matches(str(name), builtin_robots(), n=1, cutoff=0.6)
+    name = str(name)
+    close = difflib.get_close_matches(name, builtin_robots(), n=1, cutoff=0.6)
     guess = f": did you mean {close[0]!r}?" if close else ""
-    return InputError(f"unknown robot {str(name)!r}{guess} (no such file; built-in: "
+    shown = name if len(name) <= 80 else name[:77] + "..."
+    return InputError(f"unknown robot {shown!r}{guess} (no such file; built-in: "
                       f"{robots_text()}; or a TOML or URDF robot file)")
 
 
 def load_robot(name_or_path, base=None, tip=None):
-    """Load a built-in robot by name, a TOML robot file or a URDF file (dispatch on ``.urdf``).
+    """Load a robot: a built-in name, a TOML or URDF file, URDF text or a Pinocchio model.
 
     Parameters
     ----------
-    name_or_path : str or os.PathLike
-        A built-in name (:func:`builtin_robots`), a TOML robot file or a ``.urdf`` file.
+    name_or_path : str, os.PathLike or pinocchio.Model
+        A built-in name (:func:`builtin_robots`); a TOML robot file or a ``.urdf`` file; a URDF
+        document as text (after optional blanks, an XML declaration and comments, ``<robot``:
+        :func:`gd_analyze.io.urdf.is_urdf_text`), read as a URDF file is; or a
+        ``pinocchio.Model`` (:func:`gd_analyze.io.urdf.load_pinocchio_model`).
     base, tip : str, optional
         A URDF chain's base and tip links (``--base``, ``--tip``).
 
@@ -113,20 +121,54 @@ def load_robot(name_or_path, base=None, tip=None):
     Raises
     ------
     InputError
-        If the name is neither a built-in robot nor a file (:func:`unknown_robot`), the robot
-        cannot be read (see :func:`load_toml_robot` and
-        :func:`gd_analyze.io.urdf.read_urdf_chain`), or base or tip is given for a robot that is
-        not a URDF.
+        If the argument is none of these (:func:`unknown_robot`), the robot cannot be read
+        (see :func:`load_toml_robot` and :func:`gd_analyze.io.urdf.read_urdf_chain`), or base
+        or tip is given for a robot that is not a URDF or a Pinocchio model.
+
+    Examples
+    --------
+    >>> load_robot('<robot name="arm"><link name="a"/></robot>')
+    Traceback (most recent call last):
+    ...
+    gd_analyze.errors.InputError: URDF text: --base: no moving joint below the base link 'a'
     """
+    if _is_pinocchio_model(name_or_path):
+        return load_pinocchio_model(name_or_path, base, tip)
+    if is_urdf_text(name_or_path):
+        return load_urdf_text(name_or_path, base, tip)
+    if not isinstance(name_or_path, (str, os.PathLike)):
+        raise InputError(f"a robot is a built-in name, a TOML or URDF file, URDF text or a "
+                         f"pinocchio.Model, not a {type(name_or_path).__name__}")
+    if str(name_or_path).lstrip().startswith("<"):
+        raise InputError("not URDF text: a URDF document must begin with <robot (after "
+                         "optional blanks, an XML declaration and comments)")
     if is_urdf(name_or_path):
         return load_urdf(name_or_path, base, tip)
     key = str(name_or_path)
-    if key not in TOML_BUILTIN and not Path(key).exists():
+    if key not in TOML_BUILTIN and not _exists(key):
         raise unknown_robot(key)
     if base is not None or tip is not None:
         raise InputError("--base and --tip apply to a URDF robot only", str(name_or_path),
                          column="--base" if base is not None else "--tip")
     return load_toml_robot(name_or_path)
+
+
+def _exists(path):
+    """Whether a path exists (False for one the system cannot even look up: too long, NUL)."""
+    try:
+        return Path(path).exists()
+    except (OSError, ValueError):
+        return False
+
+
+def _is_pinocchio_model(value):
+    """Whether a value is a ``pinocchio.Model`` (without importing Pinocchio for a name)."""
+    module = type(value).__module__ or ""
+    if not module.startswith("pinocchio"):
+        return False
+    import pinocchio
+
+    return isinstance(value, pinocchio.Model)
 
 
 def load_toml_robot(name_or_path):

@@ -18,7 +18,7 @@ from ..errors import InputError
 from ..files import atomic_path
 
 __all__ = ["CONVENTIONS", "MIXED_UNITS", "var", "attribute_value", "global_attributes",
-           "element_coords", "strings", "write_dataset", "append_dataset", "open_results",
+           "element_coords", "joint_coordinate", "strings", "write_dataset", "append_dataset", "open_results",
            "open_sweep"]
 
 #: The CF conventions the datasets follow.
@@ -154,7 +154,35 @@ def global_attributes(robot, title, references="Fu, Gonzalez & Lee (1987), Robot
     return attrs
 
 
-def element_coords(n, prismatic=None):
+def joint_coordinate(names, dim="joint", long_name="joint"):
+    """The coordinate of a joint dimension: the joints' names.
+
+    Parameters
+    ----------
+    names : sequence of str, length n
+        The joints' names (:meth:`gd_analyze.core.model.robot.Robot.joint_names`: a URDF's
+        own, else ``"joint1"`` .. ``"jointn"``).
+    dim : str, optional
+        The dimension (``"joint"``, or ``"joint_k"`` for the columns of D).
+    long_name : str, optional
+        Its ``long_name``.
+
+    Returns
+    -------
+    tuple
+        ``(dim, values, attrs)`` as xarray takes it, the names as str (stored as netCDF4
+        strings).
+
+    Examples
+    --------
+    >>> joint_coordinate(["joint1", "joint2"])[1].tolist()
+    ['joint1', 'joint2']
+    """
+    return (dim, np.array([str(v) for v in names], dtype=str),
+            {"long_name": long_name, "units": "1"})
+
+
+def element_coords(n, prismatic=None, joints=None):
     """Coordinates ``element`` (with ``element_units``) and ``joint`` for an n-joint robot.
 
     Parameters
@@ -163,6 +191,9 @@ def element_coords(n, prismatic=None):
         Number of joints.
     prismatic : sequence of bool, shape (n,), optional
         The prismatic joints, for the units (all revolute if not given).
+    joints : sequence of str, length n, optional
+        The joints' names (default ``"joint1"`` .. ``"jointn"``, as
+        :meth:`gd_analyze.core.model.robot.Robot.joint_names` names a robot without its own).
 
     Returns
     -------
@@ -170,7 +201,7 @@ def element_coords(n, prismatic=None):
         name -> (dims, values, attrs): the M = n (n + 1) / 2 + n ranked element labels
         ``"D11"`` .. ``"hn"``, their units from the joint types
         (:func:`gd_analyze.core.selection.labels.element_units`: kg m2, kg m or kg for D; N m or N for
-        h) and joints 1 .. n.
+        h) and the joints (:func:`joint_coordinate`).
     """
     from ..core.selection.labels import element_index, element_units
     from ..core.selection.ranking import element_labels
@@ -183,7 +214,8 @@ def element_coords(n, prismatic=None):
         "element_units": ("element",
                           np.array(units, dtype=str),
                           {"long_name": "units of the element", "units": "1"}),
-        "joint": ("joint", np.arange(1, n + 1), {"long_name": "joint", "units": "1"}),
+        "joint": joint_coordinate(joints if joints is not None else
+                                  [f"joint{i}" for i in range(1, n + 1)]),
     }
 
 

@@ -23,7 +23,7 @@ from ..core.selection.ranking import (
     is_round_off,
     parse_element_label,
 )
-from .schema import MIXED_UNITS, element_coords, global_attributes, var
+from .schema import MIXED_UNITS, element_coords, global_attributes, joint_coordinate, var
 
 __all__ = ["inputs_attributes", "sweep_dataset", "payload_dataset", "sweep_payloads_dataset",
            "embed_payload", "payload_part", "beyond_the_floor", "embed_pair_peaks"]
@@ -263,7 +263,7 @@ def sweep_dataset(robot, trajectories, results, merged, merged_stats, dominance,
                                           "trajectories"),
     }
     data_vars["joint_type"] = _joint_type_var(robot)
-    coords = element_coords(n, robot.prismatic)
+    coords = element_coords(n, robot.prismatic, robot.joint_names())
     coords["trajectory"] = ("trajectory", np.arange(K),
                             {"long_name": "trajectory index", "units": "1"})
     coords["class"] = ("class", np.array(CLASSES, dtype=str),
@@ -340,7 +340,7 @@ def payload_dataset(robot, trajectory, masses, com, inertia, results, dominance,
             np.array([r["summary"]["error"]["relative_peak_error"] for r in results]), "1",
             "own simplified model: peak |tau_simplified - tau| / peak |tau|"),    }
     data_vars["joint_type"] = _joint_type_var(robot)
-    coords = element_coords(n, robot.prismatic)
+    coords = element_coords(n, robot.prismatic, robot.joint_names())
     coords["payload"] = ("payload", masses, {"long_name": "payload mass on the last link",
                                              "units": "kg"})
     attrs = global_attributes(robot, f"G-D dominance of {robot.name} vs payload along "
@@ -417,7 +417,7 @@ def sweep_payloads_dataset(robot, n_trajectories, masses, com, inertia, parts, d
                             {"units": "1", "long_name": "ranked element of D (i <= j) or h"}),
                 "class": ("class", np.array(CLASSES, dtype=str),
                           {"units": "1", "long_name": "dominance class"}),
-                "joint": ("joint", np.arange(1, n + 1), {"units": "1", "long_name": "joint"})},
+                "joint": joint_coordinate(robot.joint_names())},
         attrs={**global_attributes(robot, f"G-D dominance of {robot.name} vs payload over "
                                           f"{n_trajectories} trajectories",
                                    references=_REFERENCES, dominance_threshold=float(dominance),

@@ -52,7 +52,8 @@ class Trajectory:
         Joint accelerations [rad/s^2].
     derivatives : str
         ``"file"`` if qd and qdd were read, ``"cubic-spline"`` if they were derived from q,
-        ``"quintic"`` if planned.
+        ``"quintic"`` if planned, ``"arrays"`` if given as arrays
+        (:func:`trajectory_from_arrays`).
     source : str
         The file read, or a description of how the trajectory was made.
     sha256 : str
@@ -171,21 +172,156 @@ def read_trajectory(path, n_joints=None):
         qd, qdd = values[:, n + 1:2 * n + 1], values[:, 2 * n + 1:]
         how = "file"
     else:
-        from scipy.interpolate import CubicSpline
-
-        with np.errstate(all="ignore"):
-            spline = CubicSpline(t, q, axis=0, bc_type="not-a-knot")
-            qd, qdd = spline(t, 1), spline(t, 2)
-        for name, arr in (("qd", qd), ("qdd", qdd)):
-            bad = first_beyond(arr, LIMITS[name])
-            if bad is not None:
-                raise InputError(f"the {name} derived by the cubic spline exceeds "
-                                 f"{LIMITS[name]:g} in magnitude (time steps too short for "
-                                 f"the positions?)", path, row=bad[0] + 2,
-                                 column=f"q{bad[1] + 1}")
+        qd, qdd = _spline(t, q, path, row_of=lambda k: k + 2)
         how = "cubic-spline"
     return Trajectory(t=t, q=q, qd=qd, qdd=qdd, derivatives=how, source=path,
                       sha256=sha256)
+
+
+def _spline(t, q, path, row_of):
+    """qd and qdd of a not-a-knot cubic spline through the positions, within LIMITS."""
+    from scipy.interpolate import CubicSpline
+
+    with np.errstate(all="ignore"):
+        spline = CubicSpline(t, q, axis=0, bc_type="not-a-knot")
+        qd, qdd = spline(t, 1), spline(t, 2)
+    for name, arr in (("qd", qd), ("qdd", qdd)):
+        bad = first_beyond(arr, LIMITS[name])
+        if bad is not None:
+            raise InputError(f"the {name} derived by the cubic spline exceeds "
+                             f"{LIMITS[name]:g} in magnitude (time steps too short for "
+                             f"the positions?)", path, row=row_of(bad[0]),
+                             column=f"q{bad[1] + 1}")
+    return qd, qdd
+
+
+#: What errors call a trajectory given as arrays.
+ARRAYS = "trajectory arrays"
+
+
+def trajectory_from_arrays(t, q, qd=None, qdd=None, n_joints=None):
+    """A trajectory from arrays, checked as a trajectory file is.
+
+    Parameters
+    ----------
+    t : array_like, shape (N,)
+        Time of each set point, strictly increasing [s]; N >= 2.
+    q : array_like, shape (N, n)
+        Joint positions [rad; m for a prismatic joint].
+    qd, qdd : array_like, shape (N, n), optional
+        Joint velocities [rad/s] and accelerations [rad/s^2]; both or neither: without them,
+        from a not-a-knot cubic spline through q, as for a file with positions only.
+    n_joints : int, optional
+        The robot's number of joints n.
+
+    Returns
+    -------
+    Trajectory
+        ``derivatives`` ``"arrays"`` (or ``"cubic-spline"``), ``source`` ``"trajectory
+        arrays"``, ``sha256`` "" (not read from a file).
+
+    Raises
+    ------
+    InputError
+        If a shape is wrong, only one of qd and qdd is given, there are fewer than 2 set
+        points, time is not strictly increasing, a value is not finite or beyond
+        :data:`gd_analyze.core.model.limits.LIMITS`, or the joint count is not n_joints. The
+        message names the array and the set point (from 0).
+
+    Examples
+    --------
+    >>> traj = trajectory_from_arrays([0.0, 0.5, 1.0], np.zeros((3, 2)))
+    >>> traj.derivatives, traj.qdd.shape
+    ('cubic-spline', (3, 2))
+    """
+    if (qd is None) != (qdd is None):
+        raise InputError("give both qd and qdd, or neither (then a cubic spline through q)",
+                         ARRAYS)
+    try:
+        t = np.array(t, dtype=float)
+        arrays = {k: np.array(v, dtype=float) for k, v in (("q", q), ("qd", qd), ("qdd", qdd))
+                  if v is not None}
+    except (TypeError, ValueError) as exc:
+        raise InputError(f"not numeric arrays: {exc}", ARRAYS) from None
+    if t.ndim != 1 or t.size < 2:
+        raise InputError(f"t must have shape (N,) with N >= 2, got {t.shape}", ARRAYS,
+                         column="t")
+    N = t.size
+    n = arrays["q"].shape[1] if arrays["q"].ndim == 2 else -1
+    for name, x in arrays.items():
+        if x.ndim != 2 or x.shape[0] != N or x.shape[1] != n or n < 1:
+            raise InputError(f"{name} must have shape (N, n) = ({N}, n), got {x.shape}",
+                             ARRAYS, column=name)
+    if n_joints is not None and n != n_joints:
+        raise InputError(f"the arrays have {n} joints, the robot has {n_joints}", ARRAYS)
+    for name, x in (("t", t), *arrays.items()):
+        bad = first_beyond(x, LIMITS[name])
+        if bad is not None:
+            raise InputError(f"{float(x[bad]):g} at set point {bad[0]} is not finite or beyond "
+                             f"the supported magnitude {LIMITS[name]:g} of {name}", ARRAYS,
+                             column=name)
+    step = np.nonzero(np.diff(t) <= 0)[0]
+    if step.size:
+        k = int(step[0]) + 1
+        raise InputError(f"time not strictly increasing ({t[k]} at set point {k} after "
+                         f"{t[k - 1]})", ARRAYS, column="t")
+    if qd is None:
+        qd, qdd = _spline(t, arrays["q"], ARRAYS, row_of=lambda k: None)
+        how = "cubic-spline"
+    else:
+        qd, qdd, how = arrays["qd"], arrays["qdd"], "arrays"
+    return Trajectory(t=t, q=arrays["q"], qd=qd, qdd=qdd, derivatives=how, source=ARRAYS)
+
+
+def as_trajectory(value, n_joints=None):
+    """A trajectory from what a notebook holds: a Trajectory, a CSV file, or arrays.
+
+    Parameters
+    ----------
+    value : Trajectory, str, os.PathLike, mapping or sequence
+        A :class:`Trajectory`; a trajectory CSV file (:func:`read_trajectory`); a mapping
+        with keys ``t``, ``q`` and optionally ``qd``, ``qdd``; or a sequence ``(t, q)`` or
+        ``(t, q, qd, qdd)`` (:func:`trajectory_from_arrays`).
+    n_joints : int, optional
+        The robot's number of joints n.
+
+    Returns
+    -------
+    Trajectory
+
+    Raises
+    ------
+    InputError
+        If the value is none of these, or fails the checks of :func:`read_trajectory` or
+        :func:`trajectory_from_arrays`, or has not n_joints joints.
+
+    Examples
+    --------
+    >>> as_trajectory({"t": [0, 1], "q": [[0], [1]], "qd": [[1], [1]], "qdd": [[0], [0]]}).n_setpoints
+    2
+    """
+    from collections.abc import Mapping
+
+    if isinstance(value, Trajectory):
+        if n_joints is not None and value.q.shape[1] != n_joints:
+            raise InputError(f"the trajectory has {value.q.shape[1]} joints, the robot has "
+                             f"{n_joints}", value.source or ARRAYS)
+        return value
+    if isinstance(value, (str, os.PathLike)):
+        return read_trajectory(value, n_joints=n_joints)
+    if isinstance(value, Mapping):
+        unknown = sorted(set(map(str, value)) - {"t", "q", "qd", "qdd"})
+        if unknown or "t" not in value or "q" not in value:
+            raise InputError("a trajectory mapping has the keys t, q and optionally qd, qdd"
+                             + (f" (unknown: {', '.join(unknown)})" if unknown else ""), ARRAYS)
+        return trajectory_from_arrays(**value, n_joints=n_joints)
+    if isinstance(value, (tuple, list)) and len(value) in (2, 4):
+        return trajectory_from_arrays(*value, n_joints=n_joints)
+    raise InputError("a trajectory is a Trajectory, a CSV file, a mapping of t, q[, qd, qdd] "
+                     f"or a sequence (t, q[, qd, qdd]), not a {type(value).__name__}", ARRAYS)
+
+
+__all__ += ["trajectory_from_arrays", "as_trajectory"]
 
 
 _BOM = b"\xef\xbb\xbf"

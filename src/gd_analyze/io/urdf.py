@@ -26,6 +26,7 @@ from __future__ import annotations
 
 import hashlib
 import math
+import re
 from dataclasses import dataclass, field
 from importlib import resources
 from pathlib import Path
@@ -163,7 +164,6 @@ def axis_rotation(axis):
 
 
 def _read_model(path):
-    pin = _pin()
     p = Path(path)
     if not p.is_file():
         raise InputError("no such file", path)
@@ -171,19 +171,26 @@ def _read_model(path):
         raw = p.read_bytes()
     except OSError as exc:
         raise InputError(f"cannot read: {exc.strerror}", path) from None
-    doc = read_urdf_xml(raw, str(path))
+    return _parse_model(raw, str(path))
+
+
+def _parse_model(raw, label):
+    """Pinocchio's model of a URDF document's bytes, and the document as read by
+    :mod:`gd_analyze.io.urdf_xml`; ``label`` names the document in errors."""
+    pin = _pin()
+    doc = read_urdf_xml(raw, label)
     try:
         text = raw.decode("utf-8-sig")
     except UnicodeDecodeError as exc:
-        raise InputError(f"not UTF-8 text (byte {exc.start + 1})", path) from None
+        raise InputError(f"not UTF-8 text (byte {exc.start + 1})", label) from None
     try:
         # the bytes just checked, not the file again (it could have changed since)
         model = pin.buildModelFromXML(text)
     except (ValueError, RuntimeError, OSError) as exc:
         msg = str(exc).strip().splitlines()
         raise InputError(f"not a valid URDF file: {msg[0] if msg else type(exc).__name__}",
-                         path) from None
-    check_inertias(doc, model, str(path))
+                         label) from None
+    check_inertias(doc, model, label)
     return model, raw, doc
 
 
@@ -297,16 +304,29 @@ def read_urdf_chain(path, base=None, tip=None, name=None, description=None, refe
     Source: the URDF specification (wiki.ros.org/urdf/XML) and Pinocchio's parser; the joint
     model is the fixed placement plus a motion about z described in this module's docstring.
     """
-    pin = _pin()
     model, raw, doc = _read_model(path)
+    return _chain(model, doc, hashlib.sha256(raw).hexdigest(), base, tip, str(path),
+                  name or model.name or Path(path).stem, description,
+                  reference if reference is not None else
+                  f"URDF {Path(path).name} read with pinocchio.buildModelFromUrdf "
+                  f"(Pinocchio {_pin().__version__})",
+                  str(source if source is not None else path))
+
+
+def _chain(model, doc, sha256, base, tip, label, robot_name, description, reference, source,
+           origin="URDF"):
+    """The chain from base to tip of a Pinocchio model (doc: the URDF read by
+    :mod:`gd_analyze.io.urdf_xml`, None for a model given as it is)."""
+    pin = _pin()
     links = _body_frames(model)
-    chain, base, tip = _select_chain(model, links, base, tip, str(path))
+    chain, base, tip = _select_chain(model, links, base, tip, label)
     locked = [j for j in range(1, model.njoints) if j not in chain]
-    check_mimic(doc, [model.names[j] for j in chain], [model.names[j] for j in locked],
-                str(path))
+    if doc is not None:
+        check_mimic(doc, [model.names[j] for j in chain], [model.names[j] for j in locked],
+                    label)
     data = model.createData()
     pin.forwardKinematics(model, data, pin.neutral(model))
-    kinds = [_joint_kind(model, data, j, str(path)) for j in chain]
+    kinds = [_joint_kind(model, data, j, label) for j in chain]
     reduced = pin.buildReducedModel(model, locked, pin.neutral(model)) if locked else model
     ids = [reduced.getJointId(model.names[j]) for j in chain]
     if ids != list(range(1, len(chain) + 1)):  # pragma: no cover - Pinocchio's ordering
@@ -324,7 +344,7 @@ def read_urdf_chain(path, base=None, tip=None, name=None, description=None, refe
         R = A.rotation
         iq, iv = model.idx_qs[j], model.idx_vs[j]
         lo, hi = ((-math.inf, math.inf) if continuous else
-                  (float(model.lowerPositionLimit[iq]), float(model.upperPositionLimit[iq])))
+                  (_bound(model.lowerPositionLimit[iq]), _bound(model.upperPositionLimit[iq])))
         if not lo < hi:                     # ROS's "unset" lower = upper (= 0): not given
             lo, hi = -math.inf, math.inf
         joints.append({
@@ -344,23 +364,24 @@ def read_urdf_chain(path, base=None, tip=None, name=None, description=None, refe
     joint_names = tuple(model.names[j] for j in chain)
     link_names = tuple(_joint_body(model, links, j) for j in chain)
     locked_names = tuple(model.names[j] for j in locked if chain[0] in list(model.supports[j]))
-    robot_name = name or model.name or Path(path).stem
     if description is None:
-        description = (f"{robot_name} from URDF: {len(chain)} joints "
+        description = (f"{robot_name} from {origin}: {len(chain)} joints "
                        f"({', '.join(joint_names)}), base {base}, tip {tip}; fixed joints "
                        "merged into their links")
         if locked_names:
             description += f"; {', '.join(locked_names)} locked at q = 0 and merged"
-    if reference is None:
-        reference = (f"URDF {Path(path).name} read with pinocchio.buildModelFromUrdf "
-                     f"(Pinocchio {pin.__version__})")
-    metadata = {"description": description, "reference": reference,
-                "source": str(source if source is not None else path),
-                "sha256": hashlib.sha256(raw).hexdigest(), "base_link": base, "tip_link": tip,
+    metadata = {"description": description, "reference": reference, "source": source,
+                "sha256": sha256, "base_link": base, "tip_link": tip,
                 "urdf_joints": list(joint_names), "locked_joints": list(locked_names)}
     return UrdfChain(name=robot_name, joints=tuple(joints), gravity=gravity,
                      joint_names=joint_names, link_names=link_names, base=base, tip=tip,
                      locked=locked_names, metadata=metadata)
+
+
+def _bound(limit):
+    """A position limit, infinite where Pinocchio holds the largest float (no limit given)."""
+    v = float(limit)
+    return math.copysign(math.inf, v) if abs(v) >= 1e300 else v
 
 
 def _given(limit):
@@ -415,8 +436,6 @@ def load_urdf(path, base=None, tip=None):
     InputError
         As :func:`read_urdf_chain`.
     """
-    from ..core.model.robot_spec import robot_from_chain
-
     key = str(path)
     if key in URDF_BUILTIN:
         spec = URDF_BUILTIN[key]
@@ -426,5 +445,135 @@ def load_urdf(path, base=None, tip=None):
                                 source=key)
     else:
         chain = read_urdf_chain(path, base, tip)
+    return _robot(chain)
+
+
+def _robot(chain):
+    from ..core.model.robot_spec import robot_from_chain
+
     return robot_from_chain(chain.name, [dict(j) for j in chain.joints], chain.gravity,
                             **chain.metadata)
+
+
+#: What errors call a URDF given as text.
+URDF_TEXT = "URDF text"
+#: A URDF given as text: optional blanks, XML declaration and comments, then ``<robot``.
+_URDF_TEXT = re.compile(r"\A\ufeff?\s*(?:<\?xml[^>]*\?>\s*)?(?:<!--.*?-->\s*)*<robot(?:[\s>/]|\Z)",
+                        re.DOTALL)
+
+
+def is_urdf_text(value):
+    """Whether a robot argument is a URDF document given as text (a ``robot_description``).
+
+    Parameters
+    ----------
+    value : object
+        A robot argument.
+
+    Returns
+    -------
+    bool
+        True for a str that begins, after optional blanks, an XML declaration and comments,
+        with ``<robot``.
+
+    Examples
+    --------
+    >>> is_urdf_text('<?xml version="1.0"?>\\n<robot name="arm"></robot>'), is_urdf_text("panda")
+    (True, False)
+    """
+    return isinstance(value, str) and _URDF_TEXT.match(value) is not None
+
+
+def load_urdf_text(text, base=None, tip=None):
+    """A robot from a URDF document given as text, e.g. a ROS ``robot_description``.
+
+    Parameters
+    ----------
+    text : str
+        The URDF document (:func:`is_urdf_text`); read as a URDF file's bytes are, with the
+        same checks (:func:`read_urdf_chain`).
+    base, tip : str, optional
+        The chain's base and tip links.
+
+    Returns
+    -------
+    Robot
+        Named by the ``<robot name>`` (``"urdf"`` if empty); ``source`` is ``"URDF text"`` and
+        ``sha256`` that of the text's UTF-8 bytes without its leading blanks.
+
+    Raises
+    ------
+    InputError
+        As :func:`read_urdf_chain`, the document named ``URDF text``.
+    """
+    try:
+        # an XML declaration must open the document: the blanks before it go
+        raw = str(text).lstrip("\ufeff \t\r\n").encode("utf-8")
+    except UnicodeEncodeError:
+        raise InputError("not UTF-8 text (a lone surrogate)", URDF_TEXT) from None
+    model, raw, doc = _parse_model(raw, URDF_TEXT)
+    name = model.name or "urdf"
+    return _robot(_chain(model, doc, hashlib.sha256(raw).hexdigest(), base, tip, URDF_TEXT,
+                         name, None, f"URDF text read with pinocchio.buildModelFromXML "
+                         f"(Pinocchio {_pin().__version__})", URDF_TEXT))
+
+
+def _with_frames(model):
+    """A copy of a Pinocchio model with a JOINT frame for every joint, a BODY frame after it
+    (named as the joint where it has none) and a BODY frame on the universe (``"universe"``),
+    as a model built from a URDF has them."""
+    pin = _pin()
+    model = model.copy()
+    frames = {(f.name, f.type) for f in model.frames}
+    if not any(f.type == pin.FrameType.BODY and f.parentJoint == 0 and f.parentFrame == 0
+               for f in model.frames):
+        model.addBodyFrame("universe", 0, pin.SE3.Identity(), 0)
+    for j in range(1, model.njoints):
+        name = model.names[j]
+        if (name, pin.FrameType.JOINT) not in frames:
+            parent = model.parents[j]
+            above = (model.getFrameId(model.names[parent], pin.FrameType.JOINT)
+                     if parent else 0)
+            model.addJointFrame(j, above)
+        jf = model.getFrameId(name, pin.FrameType.JOINT)
+        if not any(f.type == pin.FrameType.BODY and f.parentFrame == jf for f in model.frames):
+            body = name if (name, pin.FrameType.BODY) not in frames else f"{name}_body"
+            model.addBodyFrame(body, j, pin.SE3.Identity(), jf)
+    return model
+
+
+def load_pinocchio_model(model, base=None, tip=None):
+    """A robot from a Pinocchio model, e.g. one a notebook built or loaded itself.
+
+    Parameters
+    ----------
+    model : pinocchio.Model
+        Revolute, continuous or prismatic joints on the chain; the model is not changed.
+        Limits it does not give (Pinocchio's defaults, the largest float) are "not given".
+    base, tip : str, optional
+        The chain's base and tip links (BODY frames); a model without frames has one link per
+        joint, named as the joint, and the base link ``"universe"``.
+
+    Returns
+    -------
+    Robot
+        Named by ``model.name`` (``"pinocchio"`` if empty), joints named by ``model.names``;
+        ``source`` is ``"pinocchio.Model"`` and ``sha256`` that of the model's serialisation
+        (``model.saveToString()``).
+
+    Raises
+    ------
+    InputError
+        As :func:`read_urdf_chain` (a link is unknown, a joint is not revolute, continuous or
+        prismatic, a mass or inertia is invalid); the model is named ``pinocchio.Model``.
+    """
+    label = "pinocchio.Model"
+    model = _with_frames(model)
+    sha256 = hashlib.sha256(model.saveToString().encode("utf-8")).hexdigest()
+    name = model.name or "pinocchio"
+    return _robot(_chain(model, None, sha256, base, tip, label, name, None,
+                         f"pinocchio.Model (Pinocchio {_pin().__version__})", label,
+                         origin="a Pinocchio model"))
+
+
+__all__ += ["is_urdf_text", "load_urdf_text", "load_pinocchio_model", "URDF_TEXT"]

@@ -22,6 +22,7 @@ _DERIVATIVES = {
     "file": "read from the file (its velocity and acceleration columns)",
     "cubic-spline": "derived from q by a not-a-knot cubic spline",
     "quintic": "analytic derivatives of a planned quintic motion",
+    "arrays": "given as arrays (the Python API)",
 }
 
 

@@ -507,7 +507,8 @@ def analyze_to_file(robot, trajectory, path, options=None, settings=None, chunk=
         with contextlib.closing(SetpointWriter(
                 tmp, N, n, chunk=min(max(1, int(chunk)), 8192), compress=options.compress,
                 prismatic=robot.prismatic,
-                friction=bool(np.any(robot.viscous) or np.any(robot.coulomb)))) as out:
+                friction=bool(np.any(robot.viscous) or np.any(robot.coulomb)),
+                joints=robot.joint_names())) as out:
             out.write(0, {"t": trajectory.t, "q": trajectory.q, "qd": trajectory.qd,
                           "qdd": trajectory.qdd})
             result = analysis_pass(robot, trajectory, options,

@@ -6,7 +6,8 @@ verification against Pinocchio, the ranking and the simplified model
 ``results.h5``, ``simplified_model.json`` with its emitted C and numpy sources, and the report,
 all written aside and moved into the output folder together
 (:func:`gd_analyze.io.staging.staged_output`). The command line only parses, calls this and
-prints.
+prints. :func:`results_dataset` is the same analysis with the same settings, in memory: the
+Python API's ``gd_analyze.analyze``.
 """
 
 from __future__ import annotations
@@ -17,11 +18,11 @@ from pathlib import Path
 
 from ..io.model_file import save_model
 from ..io.staging import check_free_space, staged_output, writing
-from .analyze import analyze_to_file
+from .analyze import analyze, analyze_to_file
 from .options import AnalysisOptions
 
 __all__ = ["ANALYZE_OUTPUTS", "AnalysisOutputs", "Payload", "run_analysis",
-           "results_size"]
+           "results_size", "results_dataset"]
 
 #: The files and folders the main job writes into its output folder.
 ANALYZE_OUTPUTS = ("results.h5", "simplified_model.json", "simplified_model.c",
@@ -185,3 +186,65 @@ def run_analysis(robot, trajectory, options, outdir, report=None, settings=None,
             written += report(results, stage, progress)
     files = tuple(outdir / Path(p).relative_to(stage) for p in written)
     return AnalysisOutputs(outdir=outdir, files=files, analysis=analysis)
+
+
+def results_dataset(robot, trajectory, options=None):
+    """The main job's results dataset, in memory: what ``results.h5`` holds, no file written.
+
+    The same analysis as :func:`run_analysis` (:func:`gd_analyze.workflows.analyze.analysis_pass`
+    with the same provenance settings); ``gd_analyze.analyze`` is this function.
+
+    Parameters
+    ----------
+    robot : Robot
+        The arm, n joints (:func:`gd_analyze.load_robot`).
+    trajectory : Trajectory, str, os.PathLike, mapping or sequence
+        A :class:`~gd_analyze.io.trajectory.Trajectory` (:func:`gd_analyze.read_trajectory`), a
+        trajectory CSV file, or arrays: ``(t, q)`` or ``(t, q, qd, qdd)``, or a mapping of
+        them, t of shape (N,) [s], the others (N, n) [rad, rad/s, rad/s^2; m, m/s, m/s^2]
+        (:func:`gd_analyze.io.trajectory.as_trajectory`).
+    options : AnalysisOptions, optional
+        As the main job's (default: its defaults, :data:`gd_analyze.config.defaults`).
+
+    Returns
+    -------
+    xarray.Dataset
+        Dims ``t`` (the set points; coordinate: time [s]), ``joint`` and ``joint_k`` (rows and
+        columns of D; coordinates: the joints' names), ``element`` (``"D11"`` .. ``"hn"``) and
+        the model's own: D_tran, D_rot, D (N, n, n) [kg m2], h_tran, h_rot, h, c, tau,
+        tau_simplified (N, n) [N m], the ranking (share_tran, dominance, ...), the simplified
+        model's error and guarantee, the robot, and the provenance and the verification
+        against Pinocchio (``verification_passed``) in the attributes
+        (:mod:`gd_analyze.io.datasets`). The same variables, coordinates and values as the
+        ``results.h5`` of :func:`run_analysis`.
+
+    Raises
+    ------
+    InputError
+        If the trajectory cannot be read or does not fit the robot.
+    ValueError
+        If an option is out of range.
+
+    Notes
+    -----
+    Source: Sec. 3.4.1 of Fu, Gonzalez & Lee (1987); terms from Eqs. (3.4-24) to (3.4-28).
+    The simplified model itself (to evaluate or save) is
+    :func:`gd_analyze.workflows.analyze.analyze`'s ``model``.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> import gd_analyze as gd
+    >>> robot = gd.load_robot("two-link")
+    >>> t = np.linspace(0.0, 1.0, 5)
+    >>> ds = gd.analyze(robot, (t, np.outer(t, [1.0, -0.5])), gd.AnalysisOptions(
+    ...     formulations=False))
+    >>> dict(ds.D.sizes), ds.t.attrs["units"], ds.joint.values.tolist()
+    ({'t': 5, 'joint': 2, 'joint_k': 2}, 's', ['joint1', 'joint2'])
+    """
+    from ..io.trajectory import as_trajectory
+
+    options = AnalysisOptions() if options is None else options
+    trajectory = as_trajectory(trajectory, robot.n)
+    return analyze(robot, trajectory, options,
+                   settings=_settings(options, None, Payload())).dataset

@@ -223,3 +223,20 @@ def test_comment_safe_keeps_only_inert_ascii(text):
     assert len(safe) <= 200 and comment_safe(safe) == safe
     raw = text.encode("utf-8", "backslashreplace")
     assert comment_safe(text, digest=True) == f"{safe} (sha256 {hashlib.sha256(raw).hexdigest()})"
+
+
+@pytest.mark.parametrize("name", [C_CONSTRUCTOR, PY_DOCSTRING, LONG_NAME])
+@pytest.mark.parametrize("given_as", ["URDF text", "pinocchio.Model"])
+def test_urdf_text_and_pinocchio_model_name_stays_in_comments(tmp_path_factory, name, given_as):
+    """A robot given to load_robot as URDF text or a pinocchio.Model (issue 30 item 6)."""
+    import pinocchio
+
+    text = TWO_LINK_URDF.format(name=quoteattr(name))
+    if given_as == "URDF text":
+        robot = load_robot(text)
+    else:
+        model = pinocchio.buildModelFromXML(TWO_LINK_URDF.format(name=quoteattr("x")))
+        model.name = name
+        robot = load_robot(model)
+    assert robot.name == name and robot.source == given_as
+    _check_emitted(robot, tmp_path_factory.mktemp("given"))

@@ -301,13 +301,19 @@ class Robot:
         return LR @ self.inertia @ np.swapaxes(LR, -1, -2)
 
     def joint_names(self):
-        """Joint labels ``["1", ..., "n"]``.
+        """The joints' names: a URDF's or Pinocchio model's own, else ``"joint1"`` .. ``"jointn"``.
 
         Returns
         -------
-        list of str
+        list of str, length n
+            ``metadata["urdf_joints"]`` where the robot was read from a URDF or a
+            ``pinocchio.Model``; otherwise ``"joint1"``, ... as Pinocchio names the joints of
+            :func:`gd_analyze.formulations.pinocchio.pinocchio_model`.
         """
-        return [str(i + 1) for i in range(self.n)]
+        names = list(self.metadata.get("urdf_joints") or ())
+        if len(names) == self.n:
+            return [str(v) for v in names]
+        return [f"joint{i + 1}" for i in range(self.n)]
 
     def to_dict(self):
         """The robot as a dictionary in the robot-file layout.

@@ -25,7 +25,7 @@ import numpy as np
 from ..model.kinematics import as_states, joint_frames
 
 __all__ = ["PARAMETER_NAMES", "standard_parameters", "regressor", "BaseParameters",
-           "base_parameters", "random_states"]
+           "base_parameters", "random_states", "base_regressor"]
 
 #: The ten standard inertial parameters of a link, in the order of phi_i.
 PARAMETER_NAMES = ("XX", "XY", "XZ", "YY", "YZ", "ZZ", "MX", "MY", "MZ", "M")
@@ -339,3 +339,61 @@ def base_parameters(robot, count=None, seed=0, tol=1e-8):
     beta = np.where(np.abs(beta) <= SNAP * np.maximum(terms, scale[B]), 0.0, beta)
     return BaseParameters(standard=phi, independent=independent.reshape(n, 10), K=K,
                           beta=beta, rank=int(B.size))
+
+
+#: Set points per block of :func:`base_regressor` (bounds the full regressor's memory).
+REGRESSOR_BLOCK = 4096
+
+
+def base_regressor(robot, q, qd, qdd, base=None):
+    """The base regressor Y_b and the base parameters beta, with tau = Y_b beta.
+
+    Parameters
+    ----------
+    robot : Robot
+        The arm, with n joints.
+    q, qd, qdd : array_like, shape (N, n) or (n,)
+        Joint positions, velocities and accelerations [rad, rad/s, rad/s^2; m, m/s, m/s^2 for
+        a prismatic joint].
+    base : BaseParameters, optional
+        The arm's base parameters (:func:`base_parameters`), if already computed.
+
+    Returns
+    -------
+    Y : ndarray, shape (N, n, b)
+        ``Y[k, i, m]``: torque of joint i [N m or N] per unit base parameter m at set point k
+        (the independent columns of :func:`regressor`, with the robot's gravity); a single
+        state (n,) gives N = 1.
+    beta : ndarray, shape (b,)
+        The base parameter values [kg m^2, kg m, kg], named by
+        ``base_parameters(robot).names()``.
+
+    Raises
+    ------
+    ValueError
+        If the arrays are not of shape (N, n) or (n,).
+
+    Notes
+    -----
+    ``Y @ beta`` is the torque of the rigid links, Pinocchio's ``rnea``: a robot's drives
+    (armature, friction; :mod:`gd_analyze.core.model.drives`) are not in it. Source: Khalil &
+    Kleinfinger (1987) for the regressor, Gautier (1990) for the base parameters
+    (:func:`base_parameters`). Computed in blocks of :data:`REGRESSOR_BLOCK` set points.
+
+    Examples
+    --------
+    >>> from gd_analyze import load_robot
+    >>> robot = load_robot("puma560")
+    >>> Y, beta = base_regressor(robot, np.zeros((3, 6)), np.zeros((3, 6)), np.zeros((3, 6)))
+    >>> Y.shape, beta.shape
+    ((3, 6, 36), (36,))
+    """
+    base = base_parameters(robot) if base is None else base
+    q, qd, qdd = as_states(robot, q, qd, qdd)
+    columns = np.flatnonzero(base.independent.reshape(-1))
+    N = q.shape[0]
+    Y = np.empty((N, robot.n, columns.size))
+    for a in range(0, N, REGRESSOR_BLOCK):
+        b = slice(a, a + REGRESSOR_BLOCK)
+        Y[b] = regressor(robot, q[b], qd[b], qdd[b])[:, :, columns]
+    return Y, base.beta
