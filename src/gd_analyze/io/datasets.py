@@ -446,8 +446,8 @@ class SetpointWriter:
     Parameters
     ----------
     path : str or os.PathLike
-        The file to create (write it under a temporary name: see
-        :func:`gd_analyze.files.atomic_path`).
+        The file to create, new: it must not exist (write it under a temporary name left free
+        by :func:`gd_analyze.files.atomic_path` with ``create=False``).
     N : int
         Number of set points.
     n : int
@@ -466,7 +466,7 @@ class SetpointWriter:
     def __init__(self, path, N, n, chunk=8192, compress=0, prismatic=None, friction=False):
         import h5netcdf
 
-        self._file = h5netcdf.File(path, "w")
+        self._file = h5netcdf.File(path, "x")     # O_EXCL: no write-back on close
         f = self._file
         f.dimensions = {"setpoint": N, "joint": n, "joint_k": n}
         rows = max(1, min(int(chunk), N))

@@ -503,7 +503,7 @@ def analyze_to_file(robot, trajectory, path, options=None, settings=None, chunk=
 
     options = AnalysisOptions() if options is None else options
     N, n = trajectory.q.shape
-    with atomic_path(path) as tmp:
+    with atomic_path(path, create=False) as tmp:
         with contextlib.closing(SetpointWriter(
                 tmp, N, n, chunk=min(max(1, int(chunk)), 8192), compress=options.compress,
                 prismatic=robot.prismatic,
