@@ -79,6 +79,48 @@ def test_atomic_path_leaves_nothing_on_failure(tmp_path):
     assert [p.name for p in tmp_path.iterdir()] == ["out.txt"]
 
 
+def test_atomic_path_can_leave_the_name_free_for_an_exclusive_writer(tmp_path):
+    import os
+
+    target = tmp_path / "out.bin"
+    with atomic_path(target, create=False) as tmp:
+        assert not os.path.lexists(tmp) and os.path.dirname(tmp) == str(tmp_path)
+        fd = os.open(tmp, os.O_WRONLY | os.O_CREAT | os.O_EXCL, 0o666)
+        os.write(fd, b"new")
+        os.close(fd)
+    assert target.read_bytes() == b"new"
+    with pytest.raises(RuntimeError):
+        with atomic_path(target, create=False):
+            raise RuntimeError("boom")               # before the writer created it
+    assert [p.name for p in tmp_path.iterdir()] == ["out.bin"]
+
+
+def test_the_results_file_is_created_new_with_the_usual_mode(tmp_path, puma):
+    """results.h5 is created exclusively (never over an existing file or through a link),
+    with mode 0666 less the umask as atomic_path gives its files."""
+    import os
+    import stat
+
+    from gd_analyze.io.datasets import SetpointWriter
+    from gd_analyze.workflows.analyze import analyze_to_file
+
+    traj = read_trajectory(SHIPPED, 6)
+    path = tmp_path / "results.h5"
+    analyze_to_file(puma, traj, path, AnalysisOptions(verify=False, formulations=False))
+    with atomic_path(tmp_path / "other.txt"):
+        pass
+    mode = stat.S_IMODE(os.stat(tmp_path / "other.txt").st_mode)
+    assert stat.S_IMODE(os.stat(path).st_mode) == mode
+    with pytest.raises(OSError):
+        SetpointWriter(path, 3, 6)                  # exists: refused, left as it was
+    (tmp_path / "link.h5").symlink_to(tmp_path / "nowhere.h5")
+    with pytest.raises(OSError):
+        SetpointWriter(tmp_path / "link.h5", 3, 6)
+    assert not (tmp_path / "nowhere.h5").exists()
+    with xr.open_dataset(path, engine="h5netcdf") as ds:
+        assert ds.sizes["setpoint"] == traj.n_setpoints
+
+
 def test_main_job_stores_the_formulations(tmp_path, puma):
     from gd_analyze.formulations.opcount import book_counts
     from gd_analyze.workflows.analyze import analyze_to_file

@@ -548,3 +548,15 @@ def test_case7_no_folder_is_created_through_a_dangling_link(tmp_path, where):
         with staged_output(tmp_path / where):
             pass
     assert not elsewhere.exists()
+
+
+@pytest.mark.parametrize("size", [0, 1, (1 << 20) - 1, 1 << 20, (1 << 20) + 1, 3 << 20])
+def test_file_digest_is_hashlib_of_the_bytes(tmp_path, size):
+    """The manifest's SHA-256, read in blocks into one buffer, around the block size."""
+    import hashlib
+
+    from gd_analyze.files import file_sha256
+
+    data = os.urandom(size)
+    (tmp_path / "f.bin").write_bytes(data)
+    assert file_sha256(tmp_path / "f.bin") == hashlib.sha256(data).hexdigest()

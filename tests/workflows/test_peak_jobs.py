@@ -10,7 +10,7 @@ from conftest import SHIPPED
 from gd_analyze.core.symbolic.base_parameters import base_parameters, regressor
 from gd_analyze.io.trajectory import read_trajectory
 from gd_analyze.workflows.options import SimplifyOptions
-from gd_analyze.workflows.peak_jobs import derives_explicit, start_peaks
+from gd_analyze.workflows.peak_jobs import derives_explicit, proves_over_region, start_peaks
 
 
 @pytest.mark.parametrize("form, explicit, derived", [
@@ -20,12 +20,33 @@ def test_explicit_derived_only_where_it_may_be_deployed(puma, form, explicit, de
     assert derives_explicit(puma, SimplifyOptions(form=form, explicit=explicit)) is derived
 
 
+@pytest.mark.parametrize("rule, guarantee, proved", [
+    ("budget", "auto", True), ("budget", "region", True), ("budget", "trajectory", False),
+    ("chapter", "auto", False)])
+def test_a_model_proved_over_the_region_needs_no_trajectory_peaks(puma, rule, guarantee,
+                                                                   proved):
+    options = SimplifyOptions(rule=rule, guarantee=guarantee)
+    assert proves_over_region(puma, options) is proved
+    traj = read_trajectory(SHIPPED, puma.n)
+    with ThreadPoolExecutor(max_workers=2) as pool:
+        base, peaks = start_peaks(pool, puma, traj, options)["recursive"].result()
+    assert base.names() == base_parameters(puma).names()
+    assert (peaks is None) is proved
+
+
+def test_no_region_without_limits(puma):
+    import dataclasses
+
+    bare = dataclasses.replace(puma, qd_max=np.full(puma.n, np.nan))
+    assert not proves_over_region(bare, SimplifyOptions())
+
+
 def test_threaded_peaks_are_the_peaks_of_the_numpy_regressor(puma):
     """The recursive job's peaks against the numpy regressor (independent code) on the
     shipped trajectory; the explicit job's atom peaks make up at least the joint torques'."""
     traj = read_trajectory(SHIPPED, puma.n)
     with ThreadPoolExecutor(max_workers=2) as pool:
-        jobs = start_peaks(pool, puma, traj, SimplifyOptions())
+        jobs = start_peaks(pool, puma, traj, SimplifyOptions(guarantee="trajectory"))
         base, (tau_peak, peak, whole) = jobs["recursive"].result()
         terms, term = jobs["explicit"].result()
     assert base.names() == base_parameters(puma).names()

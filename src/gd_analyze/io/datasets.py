@@ -447,8 +447,8 @@ class SetpointWriter:
     Parameters
     ----------
     path : str or os.PathLike
-        The file to create (write it under a temporary name: see
-        :func:`gd_analyze.files.atomic_path`).
+        The file to create, new: it must not exist (write it under a temporary name left free
+        by :func:`gd_analyze.files.atomic_path` with ``create=False``).
     N : int
         Number of set points.
     n : int
@@ -471,7 +471,7 @@ class SetpointWriter:
         import h5netcdf
         import h5py
 
-        self._file = h5netcdf.File(path, "w")
+        self._file = h5netcdf.File(path, "x")     # O_EXCL: no write-back on close
         f = self._file
         f.dimensions = {SETPOINT_DIM: N, "joint": n, "joint_k": n}
         rows = max(1, min(int(chunk), N))

@@ -293,7 +293,8 @@ def _analysis_pass(robot, trajectory, options, provenance, chunk, writer, progre
     for a, b in ranges:
         terms = (gd_terms(robot, q[a:b], qd[a:b], out=buf) if given is None
                  else given.rows(slice(a, b)))
-        tau = terms.tau(qdd[a:b])
+        D, h = terms.D, terms.h                 # formed once: for tau and the file
+        tau = terms.tau(qdd[a:b], D=D, h=h)
         _check_finite(terms, tau)
         ranker.update(terms.D_tran, terms.D_rot, terms.h_tran, terms.h_rot, tau,
                       armature=terms.armature)
@@ -308,8 +309,8 @@ def _analysis_pass(robot, trajectory, options, provenance, chunk, writer, progre
         if rows.size:
             samples.append(terms.rows(rows))
         if writer is not None:
-            writer.write(a, {"D_tran": terms.D_tran, "D_rot": terms.D_rot, "D": terms.D,
-                             "h_tran": terms.h_tran, "h_rot": terms.h_rot, "h": terms.h,
+            writer.write(a, {"D_tran": terms.D_tran, "D_rot": terms.D_rot, "D": D,
+                             "h_tran": terms.h_tran, "h_rot": terms.h_rot, "h": h,
                              "c": terms.c, "tau": tau,
                              **({} if terms.tau_f is None else {"tau_f": terms.tau_f})})
         if hold:
@@ -503,7 +504,7 @@ def analyze_to_file(robot, trajectory, path, options=None, settings=None, chunk=
 
     options = AnalysisOptions() if options is None else options
     N, n = trajectory.q.shape
-    with atomic_path(path) as tmp:
+    with atomic_path(path, create=False) as tmp:
         with contextlib.closing(SetpointWriter(
                 tmp, N, n, chunk=min(max(1, int(chunk)), 8192), compress=options.compress,
                 prismatic=robot.prismatic,

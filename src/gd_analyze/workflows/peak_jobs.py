@@ -1,8 +1,9 @@
 """The simplification's compiled peak passes, started beside the main job's G-D pass.
 
 The pruned recursive model needs the peaks of every base parameter's part contributions on
-the trajectory, the explicit model the peaks of its atoms: both depend on q, qd, qdd only,
-and both run compiled kernels that release the GIL. :func:`start_peaks` submits them to a
+the trajectory (unless it is pruned on bounds proved over the joint-limit region:
+:func:`proves_over_region`), the explicit model the peaks of its atoms: both depend on q, qd,
+qdd only, and both run compiled kernels that release the GIL. :func:`start_peaks` submits them to a
 thread pool before the pass over the G-D terms, which runs meanwhile; the simplification
 (:func:`gd_analyze.workflows.analyze.analysis_pass`) then takes their results. Nothing here
 prints or writes files.
@@ -12,7 +13,8 @@ from __future__ import annotations
 
 import numpy as np
 
-__all__ = ["derives_explicit", "contribution_job", "explicit_job", "start_peaks"]
+__all__ = ["derives_explicit", "proves_over_region", "contribution_job", "explicit_job",
+           "start_peaks"]
 
 
 def derives_explicit(robot, options):
@@ -40,7 +42,31 @@ def derives_explicit(robot, options):
         explicit == "auto" and form != "recursive" and not is_expensive(robot))
 
 
-def contribution_job(robot, q, qd, qdd):
+def proves_over_region(robot, options):
+    """Whether the main job prunes the recursive model on bounds proved over the robot's
+    joint-limit region, as :func:`gd_analyze.workflows.deploy.deploy_models` decides it.
+
+    Parameters
+    ----------
+    robot : Robot
+        The arm.
+    options : SimplifyOptions
+        ``rule`` and ``guarantee`` of the command line.
+
+    Returns
+    -------
+    bool
+        True under the budget rule, unless ``guarantee`` is ``"trajectory"``, when the robot
+        has a region (:func:`gd_analyze.workflows.deploy.robot_region`). The model then needs
+        no contribution peaks on the trajectory.
+    """
+    from .deploy import robot_region
+
+    return (options.rule == "budget" and options.guarantee != "trajectory"
+            and robot_region(robot)[0] is not None)
+
+
+def contribution_job(robot, q, qd, qdd, peaks=True):
     """The base parameters and their contribution peaks on a trajectory.
 
     Parameters
@@ -49,14 +75,16 @@ def contribution_job(robot, q, qd, qdd):
         The arm, with n joints.
     q, qd, qdd : ndarray, shape (N, n)
         The trajectory [rad, rad/s, rad/s^2; m, m/s, m/s^2].
+    peaks : bool, optional
+        False: the base parameters only (a model proved over the region needs no peaks).
 
     Returns
     -------
     base : BaseParameters
         :func:`gd_analyze.core.symbolic.base_parameters.base_parameters` of the robot.
-    peaks : tuple of ndarray
+    peaks : tuple of ndarray or None
         :func:`gd_analyze.core.symbolic.pruning.contribution_peaks`: tau_peak (n,), peak
-        (b, 3, n), whole_peak (b, n) [N m or N].
+        (b, 3, n), whole_peak (b, n) [N m or N]; None if not asked for.
 
     Notes
     -----
@@ -68,7 +96,7 @@ def contribution_job(robot, q, qd, qdd):
     from ..core.symbolic.pruning import contribution_peaks
 
     base = base_parameters(robot)
-    return base, contribution_peaks(robot, base, q, qd, qdd)
+    return base, contribution_peaks(robot, base, q, qd, qdd) if peaks else None
 
 
 def explicit_job(robot, q, qd, qdd):
@@ -112,11 +140,13 @@ def start_peaks(pool, robot, trajectory, options):
     Returns
     -------
     dict of str to concurrent.futures.Future
-        ``"recursive"``: :func:`contribution_job`; ``"explicit"``: :func:`explicit_job`, only
-        where the explicit model is derived.
+        ``"recursive"``: :func:`contribution_job`, without the peaks where the model is
+        proved over the region (:func:`proves_over_region`); ``"explicit"``:
+        :func:`explicit_job`, only where the explicit model is derived.
     """
     args = (robot, trajectory.q, trajectory.qd, trajectory.qdd)
-    jobs = {"recursive": pool.submit(contribution_job, *args)}
+    jobs = {"recursive": pool.submit(contribution_job, *args,
+                                     peaks=not proves_over_region(robot, options))}
     if derives_explicit(robot, options):
         jobs["explicit"] = pool.submit(explicit_job, *args)
     return jobs

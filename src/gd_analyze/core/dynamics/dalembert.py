@@ -181,13 +181,15 @@ class GDTerms:
         """ndarray, shape (N, n): Coriolis and centrifugal torques h = h_tran + h_rot [N m]."""
         return self.h_tran + self.h_rot
 
-    def tau(self, qdd):
+    def tau(self, qdd, D=None, h=None):
         """Joint torques tau = D qdd + h + c, Eq. (3.4-24).
 
         Parameters
         ----------
         qdd : array_like, shape (N, n)
             Joint accelerations [rad/s^2].
+        D, h : ndarray, optional
+            :attr:`D` and :attr:`h`, if the caller holds them already (not formed again).
 
         Returns
         -------
@@ -195,7 +197,8 @@ class GDTerms:
             Joint torques [N m], with the drives' armature and friction where the robot has
             them.
         """
-        tau = assemble_tau(self.D, self.h, self.c, qdd)
+        tau = assemble_tau(self.D if D is None else D, self.h if h is None else h, self.c,
+                           qdd)
         if self.tau_f is not None:
             tau += self.tau_f
         return tau

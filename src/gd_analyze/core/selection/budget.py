@@ -116,6 +116,11 @@ class PartPeaks:
         self.index = part_index(n)
         self.peaks = np.zeros((len(self.index), n))
         self.tau_peak = np.zeros(n)
+        # the index as the kernel takes it: rotational part, i, and j (-1 for h_i)
+        self._rot = np.array([p == "rot" for _, p, _, _, _ in self.index], bool)
+        self._i = np.array([i for _, _, _, i, _ in self.index], np.int64)
+        self._j = np.array([j if kind == "D" else -1 for _, _, kind, _, j in self.index],
+                           np.int64)
 
     def update(self, D_tran, D_rot, h_tran, h_rot, qdd, tau):
         """Add a chunk of set points.
@@ -131,20 +136,18 @@ class PartPeaks:
         tau : ndarray, shape (N, n)
             Full-model torques [N m].
         """
+        from .kernels import part_peaks_kernel
+
         qdd = np.asarray(qdd, float)
         if qdd.shape[0] == 0:
             return
-        parts = {"tran": (D_tran, h_tran), "rot": (D_rot, h_rot)}
-        for r, (_, p, kind, i, j) in enumerate(self.index):
-            D, h = parts[p]
-            if kind == "D":
-                self.peaks[r, i] = max(self.peaks[r, i], np.abs(D[:, i, j] * qdd[:, j]).max())
-                if i != j:
-                    self.peaks[r, j] = max(self.peaks[r, j],
-                                           np.abs(D[:, i, j] * qdd[:, i]).max())
-            else:
-                self.peaks[r, i] = max(self.peaks[r, i], np.abs(h[:, i]).max())
-        np.maximum(self.tau_peak, np.abs(tau).max(axis=0), out=self.tau_peak)
+        # one compiled pass over the chunk: per part its chunk peak, kept where it exceeds
+        # the running one (a NaN chunk peak is not), and the running peak |tau|
+        c = np.ascontiguousarray
+        part_peaks_kernel(c(D_tran, dtype=float), c(D_rot, dtype=float),
+                          c(h_tran, dtype=float), c(h_rot, dtype=float), c(qdd),
+                          c(tau, dtype=float), self._rot, self._i, self._j, self.peaks,
+                          self.tau_peak)
 
     def merge(self, other):
         """Combine with the peaks of other set points (another chunk or trajectory).

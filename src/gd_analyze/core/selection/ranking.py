@@ -419,25 +419,20 @@ class RankingAccumulator:
             raise ValueError(f"D parts must be (N, {n}, {n}) and h parts and tau (N, {n})")
         if N == 0:
             return
-        tran, rot = element_series(D_tran, D_rot, h_tran, h_rot)
-        at, ar = np.abs(tran), np.abs(rot)
+        from .kernels import ranking_kernel
+
         arm_d = np.zeros(n) if armature is None else np.asarray(armature, float)
         if arm_d.any():             # Ia_i on the diagonal elements D_ii only
             iu = np.triu_indices(n)
             self.arm[:iu[0].size] = np.where(iu[0] == iu[1], arm_d[iu[0]], 0.0)
             self.sum_arm += N * self.arm
-            ar = np.abs(rot + self.arm)
-        self.sum_tran += at.sum(axis=0)
-        self.sum_rot += ar.sum(axis=0)
-        np.maximum(self.peak_tran, at.max(axis=0), out=self.peak_tran)
-        np.maximum(self.peak_rot, np.abs(rot).max(axis=0), out=self.peak_rot)
-        np.maximum(self.peak_total, np.abs(tran + rot + self.arm).max(axis=0),
-                   out=self.peak_total)
-        diag = np.clip(np.diagonal(D_tran + D_rot, axis1=1, axis2=2) + arm_d, 0.0, None)
-        iu = np.triu_indices(n)
-        np.maximum(self.scale_D, np.sqrt(diag[:, iu[0]] * diag[:, iu[1]]).max(axis=0),
-                   out=self.scale_D)
-        np.maximum(self.peak_tau, np.abs(tau).max(axis=0), out=self.peak_tau)
+        # one compiled pass over the chunk, the numpy formulation's values bit for bit: sums of
+        # |tran| and |rot + arm| (the chunk's in row order, then added), peaks of |tran|,
+        # |rot|, |tran + rot + arm|, sqrt(D_ii D_jj) (D_ii + Ia_i clipped at 0) and |tau|
+        c = np.ascontiguousarray
+        ranking_kernel(c(D_tran), c(D_rot), c(h_tran), c(h_rot), c(tau), self.arm, c(arm_d),
+                       self.sum_tran, self.sum_rot, self.peak_tran, self.peak_rot,
+                       self.peak_total, self.scale_D, self.peak_tau)
         self.count += N
 
     def result(self, dominance=DEFAULT_DOMINANCE, negligible=DEFAULT_NEGLIGIBLE):
