@@ -121,22 +121,6 @@ def test_crlf_spaces_tabs_and_a_last_line_without_newline():
     np.testing.assert_array_equal(got, [[1.5, -2.0], [3.0, 40.0], [5.0, 6.0]])
 
 
-@pytest.mark.parametrize("lines", [1, 2, 3, 4, 11])
-@pytest.mark.parametrize("end", ["", "\n", "\r\n"])
-def test_the_two_halves_give_every_line_whatever_the_count_and_the_last_line_end(lines, end):
-    """The body is parsed in two halves cut after a line end past the middle (none past the
-    middle: one half); subnormals are left to float() in both."""
-    rows = [[f"{k}.5", f"-{k + 1}e-320"] for k in range(lines)]
-    raw = ("t,q1\n" + "\n".join(",".join(r) for r in rows) + end).encode("ascii")
-    got = parse_body(raw, 5, 2)
-    assert np.array_equal(_bits(got), _bits(_oracle(rows)))
-    for k in (0, lines - 1):                    # a fault in the first or the last line
-        bad = [list(r) for r in rows]
-        bad[k][1] = "1x"
-        raw = ("t,q1\n" + "\n".join(",".join(r) for r in bad) + end).encode("ascii")
-        assert parse_body(raw, 5, 2) is None
-
-
 @pytest.mark.parametrize("body", [
     b"1,2\n\n3,4\n", b"1,2\r3,4\n", b"1,2\n3\n", b"1,2,3\n", b'1,"2"\n', b"1,2\n3,4,\n",
     b"1,,\n", b"1,2e\n", b"1,.\n", b"1,e5\n", b"1,2x\n", b"1,1_0\n", b"1,inf\n", b"1,nan\n",

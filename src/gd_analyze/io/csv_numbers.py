@@ -1,9 +1,8 @@
 """Compiled parsing of a regular CSV body of plain decimal numbers, correctly rounded.
 
 :func:`parse_body` reads the lines after the header of a trajectory CSV file (bytes) into a
-float array in one pass (two halves, cut after a line end, in two threads), checking as it
-goes that every line has the same number of fields and every field is a plain decimal number
-with nothing else but spaces and tabs around it::
+float array in one pass, checking as it goes that every line has the same number of fields and
+every field is a plain decimal number with nothing else but spaces and tabs around it::
 
     [ \\t]* [+-]? (digits [. digits*] | . digits) [(e|E) [+-]? digits] [ \\t]*
 
@@ -269,35 +268,18 @@ def parse_body(raw, start, fields):
         field; None if a line is not ``fields`` plain decimal numbers (module docstring), or
         there is no line.
     """
-    from concurrent.futures import ThreadPoolExecutor
-
     buf = np.frombuffer(raw, np.uint8)
-    if len(raw) <= start:
+    body = len(raw) - start
+    if body <= 0:
         return None
-    # two halves, cut after the line end nearest past the middle, in two threads (the
-    # kernels release the GIL); the second is empty where there is no such line end
-    mid = raw.find(b"\n", start + (len(raw) - start) // 2)
-    cut = len(raw) if mid < 0 else mid + 1
-    halves = ((start, cut), (cut, len(raw)))
-    with ThreadPoolExecutor(max_workers=2, thread_name_prefix="gd-csv") as pool:
-        lines = list(pool.map(lambda h: int(count_lines(buf[:h[1]], h[0])), halves))
-        lines[1 if cut < len(raw) else 0] += raw[-1:] != b"\n"   # a last line without end
-        out = np.empty((fields, sum(lines)))
-        first = (0, lines[0], lines[0] + lines[1])
-        done = list(pool.map(lambda k: _parse_part(raw, buf[:halves[k][1]], halves[k][0],
-                                                   out[:, first[k]:first[k + 1]]), (0, 1)))
-    return out.T if all(done) and out.shape[1] > 0 else None
-
-
-def _parse_part(raw, buf, start, out):
-    """Parse buf[start:] into out (F, rows), the fields left to float() included; whether
-    it was regular and filled every row."""
+    rows = int(count_lines(buf, start)) + (raw[-1:] != b"\n")
+    out = np.empty((fields, rows))
     hi5, lo5, p10 = _tables()
-    hard = np.empty((max(HARD_CELLS, out.shape[0]), 4), np.int64)
-    bits = out.view(np.uint64)
+    hard = np.empty((max(HARD_CELLS, fields), 4), np.int64)
     status, row, pos = _FULL, 0, start
     while status == _FULL:
-        status, row, pos, nh = _parse(buf, pos, row, out, bits, hi5, lo5, p10, hard)
+        status, row, pos, nh = _parse(buf, pos, row, out, out.view(np.uint64), hi5, lo5, p10,
+                                      hard)
         for s, e, f, r in hard[:nh].tolist():
             out[f, r] = float(raw[s:e])
-    return status == _DONE and row == out.shape[1]
+    return out.T if status == _DONE and row == rows else None
