@@ -164,24 +164,18 @@ def _parse(buf, pos, row, out, bits, hi5, lo5, p10, hard):  # pragma: no cover -
             digits = 0
             more = False                    # a nonzero digit beyond the 19th
             point = False                   # past the decimal point
-            # leading zeros (and the point among them): no significant digit yet
-            while pos < n and (buf[pos] == 48 or (buf[pos] == 46 and not point)):
-                if buf[pos] == 46:
-                    point = True
-                else:
-                    q -= point
-                    digits += 1
-                pos += 1
             while pos < n:
                 c = buf[pos]
                 if 48 <= c <= 57:
+                    d = _U(c - 48)
                     if taken < 19:
-                        w = w * _TEN + _U(c - 48)
-                        taken += 1
+                        if w != _U(0) or d != _U(0):
+                            w = w * _TEN + d
+                            taken += 1
                         q -= point
                     else:
                         q += not point
-                        more = more or c != 48
+                        more = more or d != _U(0)
                     digits += 1
                 elif c == 46 and not point:
                     point = True
