@@ -26,24 +26,6 @@ def test_write_read_round_trip(tmp_path, puma):
     assert list(tmp_path.iterdir()) == [path]          # no temporary left behind
 
 
-@pytest.mark.parametrize("setpoints, bom", [(31, False), (31, True), (12001, False),
-                                             (12001, True)])
-def test_the_digest_is_of_the_file_bytes(tmp_path, puma, setpoints, bom):
-    """sha256 is the file's, BOM included, for the cell-by-cell and the compiled parser."""
-    import hashlib
-    import warnings
-
-    path = tmp_path / "traj.csv"
-    write_trajectory(_default_plan(puma, n=setpoints), path)
-    if bom:
-        path.write_bytes(b"\xef\xbb\xbf" + path.read_bytes())
-    with warnings.catch_warnings():
-        warnings.simplefilter("ignore")
-        back = read_trajectory(path, 6)
-    assert back.sha256 == hashlib.sha256(path.read_bytes()).hexdigest()
-    assert back.n_setpoints == setpoints
-
-
 def test_positions_only_uses_a_cubic_spline(tmp_path, puma):
     plan = _default_plan(puma, n=201)
     path = tmp_path / "pos.csv"

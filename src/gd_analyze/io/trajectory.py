@@ -158,21 +158,15 @@ def read_trajectory(path, n_joints=None):
         names the file, the row (header = row 1) and the column.
     """
     path = str(path)
-    from concurrent.futures import ThreadPoolExecutor
-
     raw = _read_bytes(path)
-    # the file's digest beside the parse: hashlib and the compiled parser release the GIL
-    with ThreadPoolExecutor(max_workers=1, thread_name_prefix="gd-sha256") as pool:
-        digest = pool.submit(_sha256, raw)
-        if raw.startswith(_BOM):
-            warnings.warn(f"{path}: stripped the UTF-8 byte-order mark at the start of the "
-                          f"file", InputNote, stacklevel=2)
-            digest.result()             # then the file is not held twice
-            raw = raw[len(_BOM):]
-        parsed = _fast_values(raw, path, n_joints) if len(raw) > FAST_PARSE_BYTES else None
-        values, names, n = parsed if parsed is not None else _validated_values(raw, path,
-                                                                                n_joints)
-        sha256 = digest.result()
+    sha256 = hashlib.sha256(raw).hexdigest()
+    if raw.startswith(_BOM):
+        warnings.warn(f"{path}: stripped the UTF-8 byte-order mark at the start of the file",
+                      InputNote, stacklevel=2)
+        raw = raw[len(_BOM):]
+    parsed = _fast_values(raw, path, n_joints) if len(raw) > FAST_PARSE_BYTES else None
+    values, names, n = parsed if parsed is not None else _validated_values(raw, path,
+                                                                            n_joints)
     t = values[:, 0]
     q = values[:, 1:n + 1]
     if len(names) == 3 * n + 1:
@@ -336,10 +330,6 @@ _BOM = b"\xef\xbb\xbf"
 _FLOAT = re.compile(r"[+-]?(?:[0-9]+(?:\.[0-9]*)?|\.[0-9]+)(?:[eE][+-]?[0-9]+)?")
 #: Longest cell accepted [characters].
 MAX_CELL = 1000
-
-
-def _sha256(raw):
-    return hashlib.sha256(raw).hexdigest()
 
 
 def _read_bytes(path):
