@@ -1,5 +1,5 @@
-"""Speed of the one CSV reader: the compiled path (io/csv_numbers.py) against the cell-by-cell
-parser, and against a plain ``pandas.read_csv`` (the unchecked path of earlier versions).
+"""Speed of the one CSV reader: the checked pandas path against the cell-by-cell parser, and
+against a plain ``pandas.read_csv`` (the unchecked path of earlier versions).
 
 Both parse the same file (a planned PUMA 560 trajectory, N set points, full header); runs are
 interleaved, the same number on each side; the median and range of each and of their ratio are
@@ -17,14 +17,13 @@ from pathlib import Path
 import numpy as np
 
 from gd_analyze import load_robot
-from gd_analyze.io import planning
 from gd_analyze.io import trajectory as tr
 
 
 def main(n_setpoints=200_000, repeats=5):
     robot = load_robot("puma560")
-    traj = planning.plan_quintic(robot, np.radians(planning.DEFAULT_START_DEG),
-                                 np.radians(planning.DEFAULT_GOAL_DEG), n_setpoints)
+    traj = tr.plan_quintic(robot, np.radians(tr.DEFAULT_START_DEG),
+                           np.radians(tr.DEFAULT_GOAL_DEG), n_setpoints)
     with tempfile.TemporaryDirectory() as tmp:
         path = Path(tmp) / "t.csv"
         tr.write_trajectory(traj, path)
@@ -45,7 +44,7 @@ def main(n_setpoints=200_000, repeats=5):
         assert a is not None and np.array_equal(a[0], b[0])
     ratios = [s / f for f, s in zip(fast, slow)]
     print(f"{n_setpoints} set points, {len(raw) / 1e6:.1f} MB, {repeats} interleaved runs each")
-    print(f"compiled path: median {statistics.median(fast):.3f} s "
+    print(f"checked pandas path: median {statistics.median(fast):.3f} s "
           f"(range {min(fast):.3f}-{max(fast):.3f})")
     print(f"cell-by-cell parser: median {statistics.median(slow):.3f} s "
           f"(range {min(slow):.3f}-{max(slow):.3f})")
@@ -53,7 +52,7 @@ def main(n_setpoints=200_000, repeats=5):
     print(f"plain pandas.read_csv: median {statistics.median(plain):.3f} s "
           f"(range {min(plain):.3f}-{max(plain):.3f}); checked / plain: median "
           f"{statistics.median(over):.2f} (range {min(over):.2f}-{max(over):.2f})")
-    print(f"cell-by-cell / compiled: median {statistics.median(ratios):.1f} "
+    print(f"cell-by-cell / pandas: median {statistics.median(ratios):.1f} "
           f"(range {min(ratios):.1f}-{max(ratios):.1f}); identical arrays: yes")
 
 

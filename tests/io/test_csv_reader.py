@@ -1,8 +1,7 @@
 """Issue 9: one CSV reader whatever the size, checked against an independent reference parser.
 
 Cases 1, 8 (CSV crashes), 9 (messages) and 10 (1_0, full-width digits) of issue 9, and a
-hypothesis fuzz test on small files and on files large enough for the compiled parser
-(io/csv_numbers.py).
+hypothesis fuzz test on small files and on files large enough for the pandas path.
 """
 
 import csv
@@ -98,8 +97,7 @@ def _big_plan(two_link, tmp_path, setpoints=5000):
 
 
 def test_case1_extra_cell_per_row_in_a_large_file_is_refused(tmp_path, two_link):
-    """Case 1: the pandas path of an earlier version took the first column as an index and
-    shifted every column."""
+    """Case 1: the pandas path took the first column as an index and shifted every column."""
     _, path = _big_plan(two_link, tmp_path)
     lines = path.read_text().splitlines()
     bad = tmp_path / "x.csv"
@@ -242,7 +240,7 @@ def test_fuzz_small_files_match_the_reference(tmp_path_factory, data, n, rows, f
           phases=[Phase.explicit, Phase.reuse, Phase.generate])
 @given(data=st.data(), mutation=_MUTATIONS)
 def test_fuzz_large_files_match_the_reference(tmp_path_factory, data, mutation):
-    """Files over FAST_PARSE_BYTES take the compiled parser when regular; same answers."""
+    """Files over FAST_PARSE_BYTES take the pandas path when regular; same answers."""
     tmp = tmp_path_factory.mktemp("fzl")
     header, body = _table(data, 2, 6, True)
     body = [[repr(k * 0.001)] + body[k % 6][1:] for k in range(12_000)]

@@ -90,8 +90,7 @@ def test_joint_limit_warning(tmp_path, two_link):
     (None, None, None), ("nan", 5002, "q3"), ("ragged", 7002, None), ("text", 9002, "qd2"),
     ("time", 3002, "t")])
 def test_large_files_parse_fast_and_errors_stay_exact(tmp_path, puma, defect, row, column):
-    """Files above FAST_PARSE_BYTES go through the compiled parser; a fault is still located
-    exactly."""
+    """Files above FAST_PARSE_BYTES go through pandas; a fault is still located exactly."""
     from gd_analyze.io.trajectory import FAST_PARSE_BYTES
 
     plan = _default_plan(puma, n=12001)

@@ -11,6 +11,7 @@ Rows are counted as a spreadsheet counts them: the header is row 1, the first se
 from __future__ import annotations
 
 import csv
+import functools
 import hashlib
 import math
 import os
@@ -26,9 +27,8 @@ from ..errors import InputError, InputNote
 __all__ = ["Trajectory", "read_trajectory", "write_trajectory", "trajectory_columns",
            "JointLimitWarning", "check_joint_limits", "FAST_PARSE_BYTES", "MAX_CELL"]
 
-#: Files larger than this [bytes] are parsed by the compiled parser first when they are regular
-#: (:mod:`gd_analyze.io.csv_numbers`); the cell-by-cell parser runs on smaller ones, on irregular
-#: ones, and to locate an error.
+#: Files larger than this [bytes] are parsed by pandas first when they are regular; the
+#: cell-by-cell parser runs on smaller ones, on irregular ones, and to locate an error.
 FAST_PARSE_BYTES = 1 << 18
 
 
@@ -126,11 +126,10 @@ def _parse_header(header, path):
 def read_trajectory(path, n_joints=None):
     """Read and validate a trajectory CSV file.
 
-    One reader for every size: a file is parsed by the compiled parser of
-    :mod:`gd_analyze.io.csv_numbers` when it is regular (every line the header's number of
-    plain numbers, no quotes, no blank line), and cell by cell otherwise, or whenever the
-    result fails a check; the cell-by-cell parse then names the first faulty row and column.
-    Both accept exactly the same files and give the same values, ``float()`` of each cell.
+    One reader for every size: a file is parsed by pandas when it is regular (every line has
+    the header's number of fields, only the bytes of plain numbers, no quotes), and cell by cell
+    otherwise, or whenever pandas' result fails a check; the cell-by-cell parse then names the
+    first faulty row and column. Both accept exactly the same files and give the same values.
 
     Parameters
     ----------
@@ -328,6 +327,8 @@ __all__ += ["trajectory_from_arrays", "as_trajectory"]
 _BOM = b"\xef\xbb\xbf"
 #: The plain float grammar of a cell (after stripping spaces and tabs).
 _FLOAT = re.compile(r"[+-]?(?:[0-9]+(?:\.[0-9]*)?|\.[0-9]+)(?:[eE][+-]?[0-9]+)?")
+#: Bytes a regular file's body may hold to be parsed by pandas.
+_PLAIN_BYTES = b"0123456789.eE+-, \t\r\n"
 #: Longest cell accepted [characters].
 MAX_CELL = 1000
 
@@ -363,17 +364,24 @@ def _check_magnitudes(values, names, path, row_of):
                              row=row_of(bad[0]), column=names[j])
 
 
+@functools.lru_cache(maxsize=1)
+def _exact_floats():
+    """read_csv options for correctly rounded floats, as Python's float() gives them: pandas
+    before 3.0 parses with its own, not always correctly rounded, routine by default."""
+    import pandas as pd
+
+    return {} if int(pd.__version__.split(".")[0]) >= 3 else {"float_precision": "round_trip"}
+
+
 def _fast_values(raw, path, n_joints):
-    """Parse a large, regular file with the compiled parser
-    (:func:`gd_analyze.io.csv_numbers.parse_body`: every line the header's number of plain
-    numbers, correctly rounded); None if anything is off (then the cell-by-cell parser gives
-    the answer, or the exact error)."""
-    from .csv_numbers import parse_body
+    """Parse a large, regular file with pandas; None if anything is off (then the cell-by-cell
+    parser gives the answer, or the exact error)."""
+    import io
+
+    import pandas as pd
 
     head_end = raw.find(b"\n")
-    header_bytes = raw[:head_end + 1]
-    if (head_end < 0 or b'"' in header_bytes
-            or header_bytes.count(b"\r") != header_bytes.count(b"\r\n")):
+    if head_end < 0 or b'"' in raw or raw.count(b"\r") != raw.count(b"\r\n"):
         return None
     try:
         header = raw[:head_end].decode("utf-8").rstrip("\r").split(",")
@@ -382,8 +390,26 @@ def _fast_values(raw, path, n_joints):
         return None
     if n_joints is not None and n != n_joints:
         return None
-    values = parse_body(raw, head_end + 1, len(names))
-    if (values is None or values.shape[0] < 2 or not np.isfinite(values).all()
+    header_bytes = raw[:head_end + 1]
+    if raw.translate(None, _PLAIN_BYTES) != header_bytes.translate(None, _PLAIN_BYTES):
+        return None                               # the body holds more than plain numbers
+    # The field count of every line is checked: the commas must total the header's count per
+    # line; pandas then refuses a line with more fields than the first, the shape check a first
+    # line with more fields than the header, and the finite check (NaN fill) a line with fewer,
+    # which any surplus elsewhere implies.
+    lines = raw.count(b"\n") - 1 + (not raw.endswith(b"\n"))
+    if lines < 2 or raw.count(b",") - header_bytes.count(b",") != (len(names) - 1) * lines:
+        return None
+    try:
+        with warnings.catch_warnings():
+            warnings.simplefilter("ignore")
+            frame = pd.read_csv(io.BytesIO(raw), header=0, dtype=float, engine="c",
+                                skipinitialspace=True, skip_blank_lines=False, index_col=False,
+                                **_exact_floats())
+    except (ValueError, pd.errors.ParserError):
+        return None
+    values = frame.to_numpy()
+    if (values.shape != (lines, len(names)) or not np.isfinite(values).all()
             or not (np.diff(values[:, 0]) > 0).all()):
         return None
     _check_magnitudes(values, names, path, lambda k: k + 2)
