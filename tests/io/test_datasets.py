@@ -118,7 +118,7 @@ def test_the_results_file_is_created_new_with_the_usual_mode(tmp_path, puma):
         SetpointWriter(tmp_path / "link.h5", 3, 6)
     assert not (tmp_path / "nowhere.h5").exists()
     with xr.open_dataset(path, engine="h5netcdf") as ds:
-        assert ds.sizes["setpoint"] == traj.n_setpoints
+        assert ds.sizes["t"] == traj.n_setpoints
 
 
 def test_main_job_stores_the_formulations(tmp_path, puma):
