@@ -6,7 +6,7 @@ translational and a rotational part. gd-analyze computes the split along a traje
 against Pinocchio, ranks which part dominates each element, and writes a simplified model.
 """
 
-from ._version import __version__
+from ._version import VERSION as __version__
 from .core.dynamics.dalembert import GDTerms, gd_terms
 from .core.model.robot import Robot
 from .errors import InputError

@@ -221,14 +221,14 @@ def test_control_report_is_written(result, tmp_path):
     assert html.startswith("<!DOCTYPE html>") and html.count("<svg") >= 3
     assert "<link" not in html and " src=" not in html and "<script" not in html
     assert "puma560_trajectory.csv" in html and "multiplications" in html
-    from gd_analyze.reports.control_verdict import _fmt
+    from gd_analyze.reports.control_verdict import fmt_number
 
     for c in CONTROLLERS:                             # the stored figures, as read back
         peak = result.error_figures(c)["peak_grid"][5]
         if c == "full":                               # integrator noise: no digits of it
-            assert _fmt(peak) not in html
+            assert fmt_number(peak) not in html
         else:
-            assert _fmt(peak) in html
+            assert fmt_number(peak) in html
     assert pdf_path.read_bytes()[:5] == b"%PDF-"
     from pypdf import PdfReader
 

@@ -232,7 +232,7 @@ def _add_paper_argument(p):
                         "slower); the text pages always embed a TrueType subset")
 
 
-def _analyze_parser():
+def analyze_parser():
     
     p = _Parser(
         prog=PROG,
@@ -273,20 +273,20 @@ def _analyze_parser():
                    help="skip the verification against Pinocchio")
     p.add_argument("-q", "--quiet", action="store_true",
                    help="print nothing but warnings and errors (no summary, no progress bar)")
-    p.add_argument("--version", action="version", version=f"%(prog)s {_version()}")
+    p.add_argument("--version", action="version", version=f"%(prog)s {tool_version()}")
     _add_chain_arguments(p)
     _add_mounting_arguments(p)
     _add_payload_sweep_argument(_add_payload_arguments(p))
     return p
 
 
-def _version():
-    from .._version import __version__
+def tool_version():
+    from .._version import VERSION as __version__
 
     return __version__
 
 
-def _plan_parser():
+def plan_parser():
     from ..io.planning import (
         DEFAULT_GOAL_DEG,
         DEFAULT_QDD_PER_QD,
@@ -329,7 +329,7 @@ def _plan_parser():
     return p
 
 
-def _evaluate_parser():
+def evaluate_parser():
     p = _Parser(prog=f"{PROG} evaluate",
                 description="Report a simplified model's torque error on another trajectory, "
                             "the model's guarantee and whether it covers the trajectory.")
@@ -351,7 +351,7 @@ def _evaluate_parser():
     return p
 
 
-def _compare_parser():
+def compare_parser():
     p = _Parser(prog=f"{PROG} compare",
                 description="Run Lagrange-Euler, Newton-Euler, G-D and Pinocchio on every set "
                             "point and print their largest relative disagreements and the "
@@ -364,7 +364,7 @@ def _compare_parser():
     return p
 
 
-def _control_parser():
+def control_parser():
     from ..workflows.tracking import DEFAULT_WN, DEFAULT_ZETA
 
     p = _Parser(prog=f"{PROG} control",
@@ -402,7 +402,7 @@ def _control_parser():
     return p
 
 
-def _sweep_parser():
+def sweep_parser():
     
     p = _Parser(prog=f"{PROG} sweep",
                 description="Rank the G-D elements over many trajectories on dask, give the "

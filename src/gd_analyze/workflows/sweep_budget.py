@@ -168,10 +168,10 @@ def budget_sweep_model(robot, trajectories, sweep_ds, tolerance=DEFAULT_TOLERANC
     from ..core.symbolic.explicit_estimate import is_expensive
     from ..formulations.opcount import operation_counts
     from .simplify import (
-        _ops,
         explicit_sweep_model,
         full_torque,
         sweep_validation,
+        total_operations,
         trajectories_sha256,
     )
 
@@ -201,7 +201,7 @@ def budget_sweep_model(robot, trajectories, sweep_ds, tolerance=DEFAULT_TOLERANC
         ex, _, ex_scales, ex_relative, terms = explicit_sweep_model(
             robot, trajectories, tolerance, torque_floor, provenance)
         costs.update({"explicit, budget": dict(ex.cost), "explicit, full": dict(ex.full_cost)})
-        if form == "explicit" or (form == "cheapest" and _ops(ex.cost) < _ops(model.cost)):
+        if form == "explicit" or (form == "cheapest" and total_operations(ex.cost) < total_operations(model.cost)):
             model, scales, relative, bound = ex, ex_scales, ex_relative, None
             reference = full_torque(robot, terms)
     model = dataclasses.replace(model, costs=costs,

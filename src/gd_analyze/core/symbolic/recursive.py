@@ -19,7 +19,7 @@ import symengine as se
 from .base_parameters import base_parameters
 from .codegen import Program
 from .factoring import factor_sum, prune_dead
-from .newton_euler import ALL, FORMS, PARTS, _is_num, _link_constants, _Recursion, _torques
+from .newton_euler import ALL, FORMS, PARTS, Recursion, is_num, link_constants, link_torques
 from .subexpressions import eliminate
 
 __all__ = ["recursive_program", "exact_program", "parts_program", "PARTS"]
@@ -52,7 +52,7 @@ def _inline_sums(assignments, outputs):
         out = []
         for t in _terms(e):
             coef, sym = (se.Integer(1), t)
-            if t.is_Mul and len(t.args) == 2 and _is_num(t.args[0]) and t.args[1].is_Symbol:
+            if t.is_Mul and len(t.args) == 2 and is_num(t.args[0]) and t.args[1].is_Symbol:
                 coef, sym = t.args
             if sym.is_Symbol and uses.get(sym) == 1 and sym in defs and defs[sym].is_Add:
                 merged.add(sym)
@@ -79,9 +79,9 @@ def _terms(e):
         return [t for a in e.args for t in _terms(a)]
     if e.is_Mul and len(e.args) == 2:
         a, b = e.args
-        if _is_num(a) and b.is_Add:
+        if is_num(a) and b.is_Add:
             return [a * t for t in _terms(b)]
-        if _is_num(b) and a.is_Add:
+        if is_num(b) and a.is_Add:
             return [b * t for t in _terms(a)]
     return [e]
 
@@ -141,7 +141,7 @@ def recursive_program(robot, values=None, cse=True):
     if values.shape != (robot.n, 10) or not np.isfinite(values).all():
         raise ValueError(f"values must be finite, of shape ({robot.n}, 10), got "
                          f"{values.shape}")
-    consts = _link_constants(values)
+    consts = link_constants(values)
     return _choose(robot, [[(ALL, consts[j])] for j in range(robot.n)],
                    _last_joint_free(robot, values), cse)
 
@@ -198,7 +198,7 @@ def parts_program(robot, values, cse=True, search=True):
             else:
                 for p in kept:
                     by_set.setdefault(frozenset(p), np.zeros(10))[c] = col[PARTS.index(p)]
-        groups.append([(S, _link_constants(phi[None, :])[0])
+        groups.append([(S, link_constants(phi[None, :])[0])
                        for S, phi in sorted(by_set.items(), key=lambda t: sorted(t[0]))])
     lock = all(_last_joint_free(robot, values[p]) for p in range(len(PARTS)))
     return _choose(robot, groups, lock, cse, search)
@@ -213,8 +213,8 @@ def _choose(robot, groups, lock, cse, search=True):
     """The cheapest program over the links' forms of :data:`FORMS`, by a greedy pass from
     the product form: each link switched to another form where that lowers the count."""
     def build(forms):
-        rec = _Recursion(robot, lock_last=lock, direct=forms)
-        return _finish(rec, _torques(rec, groups), cse)
+        rec = Recursion(robot, lock_last=lock, direct=forms)
+        return _finish(rec, link_torques(rec, groups), cse)
     forms = {}
     best = build(forms)
     for j in range(robot.n if search else 0):
