@@ -278,7 +278,8 @@ def cmd_analyze(args):
                                                    Path(args.trajectory).stem),
         report=report, settings={"command": command_line(args), **chain_settings(args),
                                  **mounting_settings(args, robot)},
-        payload=_payload(args), payload_masses=payload_mass_list(args), progress=bar)
+        payload=_payload(args), payload_masses=payload_mass_list(args), progress=bar,
+        prefix=args.prefix)
     bar.close()
     analysis = outputs.analysis
     if not args.quiet:

@@ -264,6 +264,10 @@ def analyze_parser():
                         f"{defaults['negligible']})")
     _add_budget_arguments(p)
     p.add_argument("--no-report", action="store_true", help="skip report.html and report.pdf")
+    p.add_argument("--prefix", metavar="NAME", type=_prefix, default=None,
+                   help="prefix of the emitted model's C symbols and CasADi functions, a C "
+                        "identifier (default: the robot's name made one, plus _, e.g. "
+                        "puma560_)")
     _add_paper_argument(p)
     p.add_argument("--compress", metavar="LEVEL", type=int, choices=range(10),
                    default=defaults["compress"],
@@ -278,6 +282,16 @@ def analyze_parser():
     _add_mounting_arguments(p)
     _add_payload_sweep_argument(_add_payload_arguments(p))
     return p
+
+
+def _prefix(text):
+    """--prefix: a C identifier (:func:`gd_analyze.core.symbolic.safe_text.check_prefix`)."""
+    from ..core.symbolic.safe_text import check_prefix
+
+    try:
+        return check_prefix(text)
+    except ValueError as exc:
+        raise argparse.ArgumentTypeError(str(exc)) from None
 
 
 def tool_version():

@@ -10,6 +10,9 @@ import contextlib
 import sys
 from pathlib import Path
 
+from ..core.selection.positive_definite import with_inertia_check
+from ..core.symbolic.emit_model import artefact_names
+from ..core.symbolic.safe_text import c_prefix
 from ..errors import InputError
 from ..io.model_file import save_model
 from .commands import (
@@ -29,7 +32,7 @@ __all__ = []
 def _sweep_model(robot, trajectories, args, outdir, settings, ds):
     """The sweep's merged model of the budget rule, within EPS x scale_i on every trajectory.
 
-    Writes merged_model.json/.c/.py into outdir; returns (written paths, the sweep dataset
+    Writes merged_model.json and its emitted files (prefix ROBOT_merged_) into outdir; returns (written paths, the sweep dataset
     with this model's errors)."""
     from ..io.planning import random_trajectories
     from ..workflows.sweep_budget import budget_sweep_model
@@ -45,10 +48,12 @@ def _sweep_model(robot, trajectories, args, outdir, settings, ds):
                                explicit=args.explicit, form=args.form)
     ds = with_budget_model(ds, model)
     model.validation.pop("per_trajectory")          # in sweep.h5; K x n lists
+    import numpy as np
+
+    model = with_inertia_check(model, np.concatenate([t.q for t in trajectories]))
     written = [outdir / "merged_model.json"]
     save_model(model, written[0])
-    for name, text in (("merged_model.c", model.c_source()),
-                       ("merged_model.py", model.python_source())):
+    for name, text in model.sources(MERGED_STEM, c_prefix(robot.name) + "merged_").items():
         (outdir / name).write_text(text, encoding="utf-8")
         written.append(outdir / name)
     if not args.quiet:
@@ -90,8 +95,10 @@ def _sweep_model(robot, trajectories, args, outdir, settings, ds):
     return written, ds
 
 
+#: The stem of the merged model's emitted files (merged_model.h, .c, .py, _casadi.py).
+MERGED_STEM = "merged_model"
 SWEEP_OUTPUTS = ("sweep.h5", "merged_model.json", "payload_sweep.h5", "sweep_report.html",
-                 "sweep_report.pdf", "figures", "merged_model.c", "merged_model.py")
+                 "sweep_report.pdf", "figures", *artefact_names(MERGED_STEM))
 
 
 def cmd_sweep(args):

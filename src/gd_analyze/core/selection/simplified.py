@@ -17,6 +17,7 @@ the model keeps, so ``gd_analyze.load_model(path).torque(q, qd, qdd)`` works on 
 
 from __future__ import annotations
 
+import dataclasses
 import json
 from dataclasses import dataclass, field
 from functools import cached_property
@@ -37,6 +38,10 @@ __all__ = ["SCHEMA_VERSION", "CHOICES", "SimplifiedModel", "choice_masks", "merg
 SCHEMA_VERSION = 2
 #: Older layouts still read (their model is rebuilt from the choices, without pruning).
 READABLE_SCHEMAS = (1, 2)
+#: The stem of the main job's emitted files (``simplified_model.h``, ``.c``, ...).
+SOURCE_STEM = "simplified_model"
+
+
 def _units(robot):
     """The units line of the emitted files (prismatic joints in m and N)."""
     pris = [i + 1 for i, p in enumerate(getattr(robot, "prismatic", ())) if p]
@@ -183,6 +188,10 @@ class SimplifiedModel:
     program_cache : Program or None
         The model's program where its builder already has it (not written to the file);
         otherwise :meth:`program` builds it once, on first use.
+    inertia_check : dict or None
+        Whether D_s is positive definite where the bound holds, sampled
+        (:func:`~gd_analyze.core.selection.positive_definite.with_inertia_check`); None when
+        not checked.
 
     Notes
     -----
@@ -208,6 +217,7 @@ class SimplifiedModel:
     costs: dict = field(default_factory=dict)
     guarantee: object = None
     program_cache: object = field(default=None, repr=False, compare=False)
+    inertia_check: dict = None
 
     @property
     def form(self):
@@ -242,7 +252,7 @@ class SimplifiedModel:
         from ..model.drives import with_drives
 
         if self.recursive is not None:
-            return with_drives(self.recursive.program(self.robot), self.robot)
+            return with_drives(self._choice[0], self.robot)
         from ..symbolic.codegen import build_program
 
         return with_drives(build_program(self.explicit_terms(), self.robot.n,
@@ -286,21 +296,74 @@ class SimplifiedModel:
             "operations": f"{cost['multiplications']} multiplications, {cost['additions']} "
                           f"additions, {cost['sin']} sin, {cost['cos']} cos",
             **compared,
+            **({} if not self.inertia_check else {"inertia matrix D_s": (
+                f"positive definite: {self.inertia_check['positive_definite']}, at "
+                f"{self.inertia_check['samples']} sampled positions of the "
+                f"{self.inertia_check['where']} (sampled, not proved)")}),
             "gd-analyze version": self.provenance.get("gd_analyze_version", ""),
             "units": _units(self.robot),
         }
 
-    def c_source(self):
-        """C99 source of the model (``void gd_simplified_tau(q, qd, qdd, tau)``)."""
-        from ..symbolic.emit import emit_c
+    def functions(self):
+        """The deployed model's five functions (tau, D_s, h_s, c_s, Y_s) as programs.
 
-        return emit_c(self.program(), self.header())
+        Returns
+        -------
+        gd_analyze.core.symbolic.model_functions.ModelFunctions
+            Built once, from the same kept terms as :meth:`program`: D_s qdd + h_s + c_s =
+            tau_s and Y_s beta_s = tau_s (:mod:`gd_analyze.core.symbolic.model_functions`).
+        """
+        return self._functions
 
-    def python_source(self):
-        """numpy source of the model (``tau(q, qd, qdd)``, vectorised over set points)."""
-        from ..symbolic.emit import emit_python
+    @cached_property
+    def _functions(self):
+        from ..symbolic.model_functions import explicit_functions, recursive_functions
 
-        return emit_python(self.program(), self.header())
+        if self.recursive is None:
+            return explicit_functions(self.robot, self.explicit_terms(), self.program())
+        return recursive_functions(self.robot, self.recursive.base(self.robot),
+                                   self._choice[1], self.program())
+
+    @cached_property
+    def _choice(self):
+        """(program, pairs it leaves out) of the recursive form, built once."""
+        return self.recursive.choice(self.robot)
+
+    def with_inertia_check(self, check):
+        """The model (its built program and functions kept) with an ``inertia_check``: a dict
+        as :func:`~gd_analyze.core.selection.positive_definite.with_inertia_check` makes it."""
+        out = dataclasses.replace(self, inertia_check=check)
+        for key in ("_program", "_functions"):          # the same model: built once
+            if key in self.__dict__:
+                out.__dict__[key] = self.__dict__[key]
+        return out
+
+    def sources(self, stem=SOURCE_STEM, prefix=None):
+        """The emitted files' texts (:data:`gd_analyze.core.symbolic.emit_model.ARTEFACTS`).
+
+        Parameters
+        ----------
+        stem : str, optional
+            ``simplified_model`` (main job) or ``merged_model`` (sweep).
+        prefix : str, optional
+            Of the C symbols and CasADi functions, a C identifier; default the robot's name
+            made one (:func:`~gd_analyze.core.symbolic.safe_text.c_prefix`).
+
+        Returns
+        -------
+        dict
+            File name -> text: ``STEM.h``, ``STEM.c``, ``STEM.py``, ``STEM_casadi.py``.
+
+        Raises
+        ------
+        ValueError
+            If the prefix is not a C identifier.
+        """
+        from ..symbolic.emit_model import render
+        from ..symbolic.safe_text import c_prefix
+
+        prefix = c_prefix(self.robot.name) if prefix is None else prefix
+        return render(self.functions(), self.header(), prefix, stem)
 
     def _python_tau(self):
         from ..symbolic.emit import python_function
@@ -371,6 +434,8 @@ class SimplifiedModel:
             out["full_cost"] = dict(self.full_cost)
         if self.guarantee is not None:
             out["guarantee"] = self.guarantee.to_dict()
+        if self.inertia_check is not None:
+            out["inertia_check"] = dict(self.inertia_check)
         return out
 
     def scope(self):
@@ -467,10 +532,7 @@ class SimplifiedModel:
                    bound=[float("nan") if v is None else float(v)
                           for v in spec.get("bound") or []],
                    recursive=recursive, costs=dict(spec.get("costs") or {}),
-                   guarantee=guarantee)
-
-
-
+                   guarantee=guarantee, inertia_check=spec.get("inertia_check"))
 
 def parameters_sha256(parameters):
     """SHA-256 of a robot's parameters as stored in a model file (canonical JSON).

@@ -170,7 +170,7 @@ class ExplicitProgram:
         self.expanded = self.private = None
 
     # --- stage 2: trig values --------------------------------------------------------------
-    def split(self, key):
+    def _split(self, key):
         """(trig key with the polynomial columns zeroed, powers of the prismatic q)."""
         if not self.has_lin:
             return key, None
@@ -178,7 +178,7 @@ class ExplicitProgram:
         return ((key[0],) + tuple(0 if lin[m] else v for m, v in enumerate(kv)),
                 tuple(v if lin[m] else 0 for m, v in enumerate(kv)))
 
-    def prod(self, a, b):
+    def _prod(self, a, b):
         """The product a b of two trig values, each formed once."""
         pk = (a, b) if a.name <= b.name else (b, a)
         if pk not in self.prod_cache:
@@ -188,7 +188,7 @@ class ExplicitProgram:
             self.factors[sym] = pk
         return self.prod_cache[pk]
 
-    def angle(self, kvec):
+    def _angle(self, kvec):
         """The compound angle k . theta, each formed once (by its last joint's term)."""
         kvec = tuple(kvec)
         if kvec in self.angle_cache:
@@ -197,7 +197,7 @@ class ExplicitProgram:
         for v in kvec:
             g = math.gcd(g, abs(v))
         if g > 1:
-            expr = g * self.angle(tuple(v // g for v in kvec))
+            expr = g * self._angle(tuple(v // g for v in kvec))
         else:
             nz = [m for m, v in enumerate(kvec) if v]
             if len(nz) == 1:
@@ -207,13 +207,13 @@ class ExplicitProgram:
             m = nz[-1]
             head = list(kvec)
             head[m] = 0
-            expr = self.angle(tuple(head)) + kvec[m] * self.theta[m]
+            expr = self._angle(tuple(head)) + kvec[m] * self.theta[m]
         sym = se.Symbol(f"a{len(self.angle_cache)}")
         self.assignments.append((sym, expr))
         self.angle_cache[kvec] = sym
         return sym
 
-    def trig(self, key):
+    def _trig(self, key):
         """cos or sin of a harmonic key (is_sin, k...): a call, or the angle-addition formula
         from products of two trig values formed once."""
         if key in self.trig_cache:
@@ -223,7 +223,7 @@ class ExplicitProgram:
             return se.Integer(1)
         nz = [m for m, v in enumerate(kvec) if v]
         if self.trig_mode == "calls" or (len(nz) == 1 and kvec[nz[0]] == 1):
-            a = self.angle(kvec)
+            a = self._angle(kvec)
             expr = se.sin(a) if is_sin else se.cos(a)
         else:
             expr = se.Add(*[_coef(sg) * p for sg, p in self._addition(key, kvec, nz)])
@@ -236,7 +236,7 @@ class ExplicitProgram:
 
     def _addition(self, key, kvec, nz):
         """The recipe of cos/sin(a + b) = ca cb -+ sa sb, sa cb +- ca sb for k = a + b."""
-        is_sin, trig, prod = key[0], self.trig, self.prod
+        is_sin, trig, prod = key[0], self._trig, self._prod
         g = 0
         for v in kvec:
             g = math.gcd(g, abs(v))
@@ -266,15 +266,15 @@ class ExplicitProgram:
         expanded into products of pairs (:mod:`.factoring`) and the private products found."""
         for g in self.groups.values():
             for key in sorted(g):
-                self.trig(self.split(key)[0])
+                self._trig(self._split(key)[0])
         self.expanded = {gk: self._expand(g) for gk, g in self.groups.items()}
-        self.private = private_products([[a if a[0] == "p" else self.trig(a) for a, _, _ in ex]
+        self.private = private_products([[a if a[0] == "p" else self._trig(a) for a, _, _ in ex]
                                          for ex in self.expanded.values()], self.by_sym,
                                         self.factors)
 
     def _pairs(self, items):
         rest, prods = sum_to_product(items, self.trig_cache.__contains__)
-        rest += [(("p", self.prod(self.trig(ka), self.trig(kb))), c) for c, ka, kb in prods]
+        rest += [(("p", self._prod(self._trig(ka), self._trig(kb))), c) for c, ka, kb in prods]
         return expand_pairs(rest, self.recipe)
 
     def _expand(self, g):
@@ -283,17 +283,17 @@ class ExplicitProgram:
             return [(a, None, c) for a, c in self._pairs(sorted(g.items()))]
         by_pw = {}
         for key, c in sorted(g.items()):
-            th, pw = self.split(key)
+            th, pw = self._split(key)
             by_pw.setdefault(pw, []).append((th, c))
         return [(a, pw, c) for pw, items in by_pw.items() for a, c in self._pairs(items)]
 
-    def atom(self, h):
+    def _atom(self, h):
         """A term's trig value: a harmonic, a product, or a private product's two factors."""
         if h[0] != "p":
-            return self.trig(h)
+            return self._trig(h)
         return se.Mul(*self.factors[h[1]]) if h[1] in self.private else h[1]
 
-    def mono(self, pvec):
+    def _mono(self, pvec):
         """prod q_m^p_m over the prismatic joints, each power formed once."""
         if pvec is None or not any(pvec):
             return se.Integer(1)
@@ -306,10 +306,10 @@ class ExplicitProgram:
         head = tuple(v - 1 if i == m else v for i, v in enumerate(pvec))
         sym = se.Symbol(f"m{len(self.mono_cache)}")
         self.mono_cache[pvec] = sym                 # reserve the name before the recursion
-        self.assignments.append((sym, self.mono(head) * self.q[m]))
+        self.assignments.append((sym, self._mono(head) * self.q[m]))
         return sym
 
-    def vel(self, j, k):
+    def _vel(self, j, k):
         """The velocity product qd_j qd_k, formed once."""
         if (j, k) not in self.vel_cache:
             sym = se.Symbol(f"v{j}{k}" if self.n < 10 else f"v{j}_{k}")
@@ -319,7 +319,20 @@ class ExplicitProgram:
 
     # --- stage 3: groups ------------------------------------------------------------------
     def group_value(self, gk, name):
-        """A symbol (or constant) for sum coef x trig, reusing a proportional earlier group."""
+        """A symbol (or constant) for sum coef x trig, reusing a proportional earlier group.
+
+        Parameters
+        ----------
+        gk : tuple
+            The group's key (kind ``"D"``, ``"h"`` or ``"c"``, i, j, k).
+        name : str
+            The name of its temporary, e.g. ``D01``.
+
+        Returns
+        -------
+        symengine.Basic
+            The temporary, a constant, or a multiple of an earlier proportional group's.
+        """
         g = self.groups[gk]
         items = sorted(g.items())
         if len(items) == 1 and not any(items[0][0][1:]):
@@ -334,7 +347,7 @@ class ExplicitProgram:
         by_atom = {}                                # per trig value: a polynomial in q
         for a, pw, c in self.expanded[gk]:
             by_atom.setdefault(a, []).append((pw, c))
-        expr = [se.Add(*[_coef(c) * self.mono(pw) for pw, c in poly]) * self.atom(a)
+        expr = [se.Add(*[_coef(c) * self._mono(pw) for pw, c in poly]) * self._atom(a)
                 for a, poly in by_atom.items()]
         expr = se.Add(*expr) if self.late else factor_sum(expr, self.by_sym)
         sym = se.Symbol(name)
@@ -368,7 +381,7 @@ class ExplicitProgram:
         for (kind, i, j, k) in sorted(self.groups):
             if kind == "h":
                 val = self.group_value((kind, i, j, k), self._name(kind, i, j, k))
-                tau[i].append(val * self.vel(j, k))
+                tau[i].append(val * self._vel(j, k))
             elif kind == "c":
                 tau[i].append(self.group_value((kind, i, j, k), self._name(kind, i, j, k)))
         return tau
@@ -401,6 +414,82 @@ class ExplicitProgram:
         self.trig_values()
         tau = self.assemble_tau()
         return self.finish([factor_sum(t) if t else se.Integer(0) for t in tau])
+
+    def inertia(self):
+        """The program of D(q) from the D groups: outputs D_ij row-major (n x n) [kg m^2].
+
+        Returns
+        -------
+        Program
+            D_ij = D_ji, each group written once (Eq. (3.4-25) in the explicit form); the other
+            kinds of terms are ignored.
+        """
+        self.trig_values()
+        out = [se.Integer(0)] * (self.n * self.n)
+        for (kind, i, j, k) in sorted(self.groups):
+            if kind == "D":
+                val = self.group_value((kind, i, j, k), self._name(kind, i, j, k))
+                out[i * self.n + j] = out[j * self.n + i] = val
+        return self.finish(out)
+
+    def regressor(self):
+        """The model as tau = Y beta with one parameter per kept coefficient.
+
+        Returns
+        -------
+        program : Program
+            Outputs Y[i, m] row-major (n x M): column m is the kept term's function (its cos or
+            sin, times the powers of prismatic q) times qdd_j (D_ij, in rows i and j), qd_j
+            qd_k (C_ijk) or 1 (c_i).
+        names : list of str, length M
+            E.g. ``"D12 cos(q2+q3)"`` (joints from 1).
+        values : ndarray, shape (M,)
+            The coefficients [kg m^2 for D and h, N m for c]: tau = Y values.
+
+        Notes
+        -----
+        The explicit form keeps coefficients, not inertial parameters, so its parameters are
+        these coefficients (merged over the tran and rot parts, as :meth:`tau` adds them): Y
+        values is the model's tau, Eq. (3.4-24) term by term. They are not a minimal set:
+        Khalil & Kleinfinger's base parameters (1987) are those of the recursive form.
+        """
+        self.trig_values()
+        rows = [[] for _ in range(self.n)]
+        names, values = [], []
+        for (kind, i, j, k), g in sorted(self.groups.items()):
+            for key, c in sorted(g.items()):
+                th, pw = self._split(key)
+                f = self._trig(th) * self._mono(pw)
+                m = len(values)
+                if kind == "D":
+                    rows[i].append((m, f * self.qdd[j]))
+                    if i != j:
+                        rows[j].append((m, f * self.qdd[i]))
+                elif kind == "h":
+                    rows[i].append((m, f * self._vel(j, k)))
+                else:
+                    rows[i].append((m, f))
+                label = self._name(kind, i + 1, j + 1, k + 1).replace("g", "c")
+                powers = "".join(f" q{m + 1}^{v}" for m, v in enumerate(pw or ()) if v)
+                names.append(f"{label} {_harmonic_text(th)}{powers}")
+                values.append(c)
+        out = [se.Integer(0)] * (self.n * len(values))
+        for i, row in enumerate(rows):
+            for m, e in row:
+                out[i * len(values) + m] = e
+        return self.finish(out), names, np.array(values, float)
+
+
+def _harmonic_text(key):
+    """``cos(q2+q3)``, ``sin(2q1)``, ``1``: a harmonic key (is_sin, k...) as text."""
+    parts = []
+    for m, v in enumerate(key[1:]):
+        if v:
+            sign = "-" if v < 0 else ("+" if parts else "")
+            parts.append(f"{sign}{abs(v) if abs(v) != 1 else ''}q{m + 1}")
+    if not parts:
+        return "1"
+    return f"{'sin' if key[0] else 'cos'}({''.join(parts)})"
 
 
 def _coef(c):
