@@ -113,7 +113,8 @@ def _restore(model, k):
     dropped = np.array(rec.dropped, bool)
     dropped[k] = False
     rec = dataclasses.replace(rec, dropped=dropped)
-    return dataclasses.replace(model, recursive=rec, program_cache=None, cost={})
+    return dataclasses.replace(model, recursive=rec, program_cache=None, functions_cache=None,
+                               cost={})
 
 
 def with_inertia_check(model, q=None, count=SAMPLES, seed=0):

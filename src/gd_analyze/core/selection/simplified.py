@@ -17,9 +17,8 @@ the model keeps, so ``gd_analyze.load_model(path).torque(q, qd, qdd)`` works on 
 
 from __future__ import annotations
 
-import dataclasses
 import json
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 from functools import cached_property
 
 import numpy as np
@@ -28,6 +27,7 @@ from ...errors import InputError
 from ..symbolic.safe_text import comment_safe
 from .choices import CHOICES, choice_masks, full_choices, merge_choices, simplified_torque  # noqa: F401
 from .labels import element_labels
+from .torque_error import TorqueErrorAccumulator, torque_error  # noqa: F401 (re-exported)
 
 __all__ = ["SCHEMA_VERSION", "CHOICES", "SimplifiedModel", "choice_masks", "merge_choices",
            "full_choices",
@@ -65,77 +65,6 @@ def _rounded_up(value):
     step = 10.0 ** (np.floor(np.log10(v)) - 2)
     up = np.ceil(v / step * (1 - 1e-12)) * step
     return f"{up:.3g}" if float(f"{up:.3g}") >= v else f"{np.nextafter(up, np.inf):.4g}"
-
-
-class TorqueErrorAccumulator:
-    """Accumulate a simplified model's per-joint torque error chunk by chunk.
-
-    Parameters
-    ----------
-    n : int
-        Number of joints.
-    """
-
-    def __init__(self, n):
-        self.peak = np.zeros(n)
-        self.sum_sq = np.zeros(n)
-        self.peak_tau = np.zeros(n)
-        self.count = 0
-
-    def update(self, tau_simplified, tau_full):
-        """Add a chunk of set points.
-
-        Parameters
-        ----------
-        tau_simplified, tau_full : ndarray, shape (N, n)
-            Torques of the simplified and the full model [N m].
-        """
-        err = np.abs(np.asarray(tau_simplified, float) - np.asarray(tau_full, float))
-        if err.shape[0] == 0:
-            return
-        np.maximum(self.peak, err.max(axis=0), out=self.peak)
-        self.sum_sq += (err**2).sum(axis=0)
-        np.maximum(self.peak_tau, np.abs(tau_full).max(axis=0), out=self.peak_tau)
-        self.count += err.shape[0]
-
-    def result(self):
-        """The error figures.
-
-        Returns
-        -------
-        dict
-            Lists of n floats: ``peak_abs_error`` and ``rms_error`` of |tau_s - tau| [N m],
-            ``peak_tau`` = peak |tau| [N m], and ``relative_peak_error`` and
-            ``relative_rms_error`` (the errors divided by peak |tau|; NaN for a joint whose
-            torque is zero throughout).
-        """
-        rms = np.sqrt(self.sum_sq / max(self.count, 1))
-        pt = self.peak_tau
-        with np.errstate(invalid="ignore", divide="ignore"):
-            rel_peak = np.where(pt > 0, self.peak / np.where(pt > 0, pt, 1), np.nan)
-            rel_rms = np.where(pt > 0, rms / np.where(pt > 0, pt, 1), np.nan)
-        return {"peak_abs_error": self.peak.tolist(), "rms_error": rms.tolist(),
-                "peak_tau": pt.tolist(), "relative_peak_error": rel_peak.tolist(),
-                "relative_rms_error": rel_rms.tolist()}
-
-
-def torque_error(tau_simplified, tau_full):
-    """Per-joint torque error of a simplified model along a trajectory.
-
-    Parameters
-    ----------
-    tau_simplified, tau_full : ndarray, shape (N, n)
-        Torques [N m].
-
-    Returns
-    -------
-    dict
-        As :meth:`TorqueErrorAccumulator.result`.
-    """
-    tau_full = np.asarray(tau_full, float)
-    acc = TorqueErrorAccumulator(tau_full.shape[1])
-    acc.update(tau_simplified, tau_full)
-    return acc.result()
 
 
 @dataclass(frozen=True, eq=False)
@@ -192,6 +121,8 @@ class SimplifiedModel:
         Whether D_s is positive definite where the bound holds, sampled
         (:func:`~gd_analyze.core.selection.positive_definite.with_inertia_check`); None when
         not checked.
+    functions_cache : ModelFunctions or None
+        As ``program_cache``, for :meth:`functions`.
 
     Notes
     -----
@@ -218,6 +149,7 @@ class SimplifiedModel:
     guarantee: object = None
     program_cache: object = field(default=None, repr=False, compare=False)
     inertia_check: dict = None
+    functions_cache: object = field(default=None, repr=False, compare=False)
 
     @property
     def form(self):
@@ -319,6 +251,8 @@ class SimplifiedModel:
     def _functions(self):
         from ..symbolic.model_functions import explicit_functions, recursive_functions
 
+        if self.functions_cache is not None:
+            return self.functions_cache
         if self.recursive is None:
             return explicit_functions(self.robot, self.explicit_terms(), self.program())
         return recursive_functions(self.robot, self.recursive.base(self.robot),
@@ -330,13 +264,19 @@ class SimplifiedModel:
         return self.recursive.choice(self.robot)
 
     def with_inertia_check(self, check):
-        """The model (its built program and functions kept) with an ``inertia_check``: a dict
-        as :func:`~gd_analyze.core.selection.positive_definite.with_inertia_check` makes it."""
-        out = dataclasses.replace(self, inertia_check=check)
-        for key in ("_program", "_functions"):          # the same model: built once
-            if key in self.__dict__:
-                out.__dict__[key] = self.__dict__[key]
-        return out
+        """The model with an ``inertia_check``, its program and functions built once.
+
+        Parameters
+        ----------
+        check : dict
+            As :func:`~gd_analyze.core.selection.positive_definite.with_inertia_check` makes it.
+
+        Returns
+        -------
+        SimplifiedModel
+        """
+        return replace(self, inertia_check=check, program_cache=self.program(),
+                       functions_cache=self.functions())
 
     def sources(self, stem=SOURCE_STEM, prefix=None):
         """The emitted files' texts (:data:`gd_analyze.core.symbolic.emit_model.ARTEFACTS`).
