@@ -10,7 +10,6 @@ import contextlib
 import sys
 from pathlib import Path
 
-from ..core.selection.positive_definite import with_inertia_check
 from ..core.symbolic.emit_model import artefact_names
 from ..core.symbolic.safe_text import c_prefix
 from ..errors import InputError
@@ -48,9 +47,6 @@ def _sweep_model(robot, trajectories, args, outdir, settings, ds):
                                explicit=args.explicit, form=args.form)
     ds = with_budget_model(ds, model)
     model.validation.pop("per_trajectory")          # in sweep.h5; K x n lists
-    import numpy as np
-
-    model = with_inertia_check(model, np.concatenate([t.q for t in trajectories]))
     written = [outdir / "merged_model.json"]
     save_model(model, written[0])
     for name, text in model.sources(MERGED_STEM, c_prefix(robot.name) + "merged_").items():

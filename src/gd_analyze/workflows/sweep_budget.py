@@ -165,6 +165,7 @@ def budget_sweep_model(robot, trajectories, sweep_ds, tolerance=DEFAULT_TOLERANC
     Sec. 3.4.1 of Fu, Gonzalez & Lee (1987) (a simplified model "at a reduced computation
     time").
     """
+    from ..core.selection.positive_definite import with_inertia_check
     from ..core.symbolic.explicit_estimate import is_expensive
     from ..formulations.opcount import operation_counts
     from .simplify import (
@@ -206,6 +207,8 @@ def budget_sweep_model(robot, trajectories, sweep_ds, tolerance=DEFAULT_TOLERANC
             reference = full_torque(robot, terms)
     model = dataclasses.replace(model, costs=costs,
                                 full_cost=dict(costs.get("explicit, full", model.full_cost)))
+    # D_s positive definite on the swept positions (issue 30), before the model is measured
+    model = with_inertia_check(model, np.concatenate([t.q for t in trajectories]))
     validation = sweep_validation(model, trajectories, scales, relative, held_out=held_out,
                                   reference=reference, bound=bound)
     return dataclasses.replace(model, validation=validation,
