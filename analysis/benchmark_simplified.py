@@ -1,7 +1,7 @@
 """Time the compiled exact and EPS models against Pinocchio rnea, side by side, per robot.
 
 For each robot (default the PUMA 560 and the Panda, on their shipped trajectories
-data/<robot>_trajectory.csv) two models are emitted as C (``gd_simplified_tau``) and compiled
+data/<robot>_trajectory.csv) two models are emitted as C (``gd_tau``) and compiled
 with ``cc -O2 -shared -fPIC`` together with a batch loop over set points:
 
 - the exact customized recursive Newton-Euler model on base parameters
@@ -56,14 +56,14 @@ void gd_simplified_batch(long count, const double *q, const double *qd, const do
                          double *tau)
 {{
     for (long k = 0; k < count; ++k)
-        gd_simplified_tau(q + {n} * k, qd + {n} * k, qdd + {n} * k, tau + {n} * k);
+        gd_tau(q + {n} * k, qd + {n} * k, qdd + {n} * k, tau + {n} * k);
 }}
 """
 DP = ctypes.POINTER(ctypes.c_double)
 
 
 def compile_batch(source, n, folder, name):
-    """Compile C source of ``gd_simplified_tau`` plus a batch loop; return the batch function."""
+    """Compile C source of ``gd_tau`` plus a batch loop; return the batch function."""
     c_file, lib = folder / f"{name}.c", folder / f"lib{name}.so"
     c_file.write_text(source + BATCH.format(n=n))
     subprocess.run(["cc", "-O2", "-shared", "-fPIC", "-o", str(lib), str(c_file), "-lm"],
@@ -104,7 +104,7 @@ def bench_robot(name, args):
               "robot": comment_safe(robot.name, digest=True),
               "robot file sha256": robot.sha256}
     c_fn = {"exact": compile_batch(emit_c(exact, header), n, tmp, "exact"),
-            "eps": compile_batch(model.c_source(), n, tmp, "eps")}
+            "eps": compile_batch(emit_c(deployed, header), n, tmp, "eps")}
 
     q, qd, qdd, qdd_source = random_set_points(robot, N)
     pmodel = pinocchio_model(robot)

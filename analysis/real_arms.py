@@ -36,6 +36,7 @@ import ctypes
 import json
 import os
 import platform
+import re
 import shutil
 import signal
 import subprocess
@@ -179,7 +180,8 @@ def c_model(outdir, n, build):
     seconds = time.perf_counter() - t0
     if done.returncode != 0:
         raise RuntimeError(f"cc failed: {done.stderr.strip().splitlines()[-1:]}")
-    fn = ctypes.CDLL(str(lib)).gd_simplified_tau
+    prefix = re.search(r"void (\w*)tau\(", (outdir / "simplified_model.h").read_text()).group(1)
+    fn = getattr(ctypes.CDLL(str(lib)), prefix + "tau")
     ptr = ctypes.POINTER(ctypes.c_double)
     fn.argtypes, fn.restype = [ptr] * 4, None
 

@@ -32,3 +32,26 @@ def joint_relative_error(tau, ref):
     err = np.abs(tau - ref).max(axis=0) / scale
     assert np.isfinite(err).all()
     return float(err.max())
+
+
+def identity_errors(ns, q, qd, qdd):
+    """How far a deployed model's functions are from its identities (issue 30).
+
+    Parameters
+    ----------
+    ns : mapping
+        The emitted numpy module's namespace: ``tau``, ``inertia``, ``velocity_terms``,
+        ``gravity``, ``regressor`` and ``BASE_PARAMETERS``.
+    q, qd, qdd : ndarray, shape (N, n)
+        States [rad, rad/s, rad/s^2; m, m/s, m/s^2].
+
+    Returns
+    -------
+    (float, float)
+        max |D qdd + h + c - tau| and max |Y beta - tau|, each joint by its peak |tau_i|.
+    """
+    tau = ns["tau"](q, qd, qdd)
+    parts = np.einsum("kij,kj->ki", ns["inertia"](q), qdd) + ns["velocity_terms"](q, qd) \
+        + ns["gravity"](q)
+    ybeta = np.einsum("kib,b->ki", ns["regressor"](q, qd, qdd), ns["BASE_PARAMETERS"])
+    return joint_relative_error(parts, tau), joint_relative_error(ybeta, tau)

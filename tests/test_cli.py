@@ -28,8 +28,10 @@ def test_main_job_without_report(tmp_path, capsys):
     assert code == 0, err
     assert sorted(p.name for p in out_dir.iterdir()) == [".gd-analyze-manifest-analyze.json",
                                                          "results.h5", "simplified_model.c",
+                                                         "simplified_model.h",
                                                          "simplified_model.json",
-                                                         "simplified_model.py"]
+                                                         "simplified_model.py",
+                                                         "simplified_model_casadi.py"]
     assert "D11" in out and "h6" in out and "torque error" in out
     with xr.open_dataset(out_dir / "results.h5", engine="h5netcdf") as ds:
         assert ds.attrs["dominance_threshold"] == 0.9
@@ -361,7 +363,7 @@ def test_program_exits_with_its_status_and_all_its_output(tmp_path):
                           capture_output=True, text=True)
     assert proc.returncode == 0, proc.stderr
     last = proc.stdout.rstrip("\n").splitlines()[-1]        # the last line made it out whole
-    assert last.startswith("wrote ") and last.endswith("simplified_model.py")
+    assert last.startswith("wrote ") and last.endswith("simplified_model_casadi.py")
 
 
 _AT_EXIT = """

@@ -16,8 +16,8 @@ README = (ROOT / "README.md").read_text(encoding="utf-8")
 
 
 def test_every_option_of_every_command_is_in_its_table():
-    parsers = {"analyze": cli._analyze_parser()}
-    parsers.update({name: getattr(cli, f"_{name}_parser")() for name in cli.COMMANDS
+    parsers = {"analyze": cli.analyze_parser()}
+    parsers.update({name: getattr(cli, f"{name}_parser")() for name in cli.COMMANDS
                     if name != "analyze"})
     start = README.index("### Options of every command")
     section = README[start:README.index("\n#", start + 10)]

@@ -12,7 +12,7 @@ the command line's defaults), :func:`regressor` (the base regressor Y_b and beta
 :func:`gd_terms`.
 """
 
-from ._version import __version__
+from ._version import VERSION as __version__
 from .core.dynamics.dalembert import GDTerms, gd_terms
 from .core.model.robot import Robot
 from .errors import InputError

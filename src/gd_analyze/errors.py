@@ -32,10 +32,10 @@ class InputError(ValueError):
     """
 
     def __init__(self, message, path=None, row=None, column=None):
-        self.message = _one_line(str(message).replace("\n", " "))
-        self.path = None if path is None else _one_line(path)
+        self.message = one_line(str(message).replace("\n", " "))
+        self.path = None if path is None else one_line(path)
         self.row = row
-        self.column = None if column is None else _one_line(column)
+        self.column = None if column is None else one_line(column)
         super().__init__(self.__str__())
 
     def __str__(self):
@@ -56,7 +56,7 @@ class InputError(ValueError):
         return ": ".join(where + [self.message])
 
 
-def _one_line(text):
+def one_line(text):
     """``text`` with every unprintable character (line breaks, controls, unassigned code
     points) written as its escape, so that a file name or key cannot break the line."""
     text = str(text)

@@ -186,3 +186,24 @@ def test_a_swept_trajectory_outside_the_region_is_reported(tmp_path, capsys):
     assert "a.csv" not in line and "b.csv" not in line
     merged = next(x for x in printed.splitlines() if x.startswith("merged model (budget"))
     assert "on the 2 of 3 swept trajectories inside the region" in merged
+
+
+def test_the_merged_model_emits_every_file_with_its_own_prefix(swept):
+    """Issue 30 item 7: merged_model.h, .c, .py and _casadi.py, prefix puma560_merged_; the
+    numpy functions keep D_s qdd + h_s + c_s = tau_s = Y_s beta_s; D_s checked on the sweep."""
+    from scales import identity_errors
+
+    from gd_analyze.core.symbolic.emit_model import artefact_names
+
+    out, _ = swept
+    assert set(artefact_names("merged_model")) <= {p.name for p in out.iterdir()}
+    assert "void puma560_merged_tau(const double *q" in (out / "merged_model.h").read_text()
+    ns = {}
+    exec((out / "merged_model.py").read_text(), ns)
+    model = load_model(out / "merged_model.json")
+    q, qd, qdd = (np.random.default_rng(2).uniform(-2, 2, (3, 20, 6)))
+    assert max(identity_errors(ns, q, qd, qdd)) < 1e-12
+    tau = ns["tau"](q, qd, qdd)
+    assert np.abs(model.torque(q, qd, qdd) - tau).max() <= 1e-12 * np.abs(tau).max()
+    check = json.loads((out / "merged_model.json").read_text())["inertia_check"]
+    assert check["positive_definite"] and check["where"] == "trajectory"

@@ -6,8 +6,8 @@ import xarray as xr
 
 from gd_analyze.errors import InputError
 from gd_analyze.reports import common as rp
-from gd_analyze.reports.control_verdict import _attr as control_attr
-from gd_analyze.reports.control_verdict import _fmt as control_fmt
+from gd_analyze.reports.control_verdict import dataset_attr as control_attr
+from gd_analyze.reports.control_verdict import fmt_number as control_fmt
 
 
 def test_fmt_plain_and_scientific():

@@ -408,11 +408,11 @@ _CODE = re.compile(r"[^\s(|]*[A-Za-z0-9]_[A-Za-z0-9][^\s,;)|]*")
 
 
 def _is_code(token, names=""):
-    """File and module names, the emitted C function and the robot file's key tau_max are
-    code written as code; names read from the robot's files (URDF links, packages) are
-    names."""
-    return ("." in token or "/" in token or token.startswith("gd_simplified_tau")
-            or token == "tau_max" or token in names)
+    """File and module names, the emitted functions (PREFIX_tau, velocity_terms) and the robot
+    file's key tau_max are code written as code; names read from the robot's files (URDF
+    links, packages) are names."""
+    return ("." in token or "/" in token or token.startswith("PREFIX_")
+            or token in ("tau_max", "velocity_terms") or token in names)
 
 
 def _names(reports, which):

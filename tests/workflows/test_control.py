@@ -221,14 +221,14 @@ def test_control_report_is_written(result, tmp_path):
     assert html.startswith("<!DOCTYPE html>") and html.count("<svg") >= 3
     assert "<link" not in html and " src=" not in html and "<script" not in html
     assert "puma560_trajectory.csv" in html and "multiplications" in html
-    from gd_analyze.reports.control_verdict import _fmt
+    from gd_analyze.reports.control_verdict import fmt_number
 
     for c in CONTROLLERS:                             # the stored figures, as read back
         peak = result.error_figures(c)["peak_grid"][5]
         if c == "full":                               # integrator noise: no digits of it
-            assert _fmt(peak) not in html
+            assert fmt_number(peak) not in html
         else:
-            assert _fmt(peak) in html
+            assert fmt_number(peak) in html
     assert pdf_path.read_bytes()[:5] == b"%PDF-"
     from pypdf import PdfReader
 
@@ -274,12 +274,12 @@ def test_integrator_noise_is_not_drawn_and_units_follow_joint_types(result):
 def test_control_figures_letter_mathematics_at_print_size(result):
     """The control figures at page and column width: q_d, tau_s, tau_f as mathematics
     (mathtext), no label collisions or text past the edge, column type of at least 7 pt."""
-    from gd_analyze.reports.control import _RC, make_control_figures
+    from gd_analyze.reports.control import FIGURE_RC, make_control_figures
     from gd_analyze.reports.control_figures import COLUMN_WIDTH, control_figures
 
     ds = control_dataset(result)
     figs = {**make_control_figures(ds),
             **{f"{k}_column": f for k, f in control_figures(ds, COLUMN_WIDTH).items()}}
-    check_print_ready(figs, _RC)
+    check_print_ready(figs, FIGURE_RC)
     labels = [ax.get_ylabel() for ax in figs["error"].axes if ax.get_visible()]
     assert labels and all(lab.startswith("$") for lab in labels)

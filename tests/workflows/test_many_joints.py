@@ -87,7 +87,8 @@ def test_every_command_on_a_chain_of_n_joints(n, tmp_path, monkeypatch, capsys):
     code, _, err = _run(["sweep", robot_file, "t.csv", "-o", "sweep", "--workers", "1",
                          "--tolerance", str(EPS), "--held-out", "0", "-q", *reports], capsys)
     assert code == 0, err
-    for name in ("sweep.h5", "merged_model.json", "merged_model.c", "merged_model.py") + \
+    for name in ("sweep.h5", "merged_model.json", "merged_model.h", "merged_model.c",
+                 "merged_model.py", "merged_model_casadi.py") + \
             ("sweep_report.html",) * (n == 10):
         assert (tmp_path / "sweep" / name).is_file(), name
     merged = load_model(tmp_path / "sweep" / "merged_model.json")

@@ -53,10 +53,11 @@ def test_main_job_model_within_tolerance_and_cheaper_than_newton_euler(tmp_path,
                 load_model(tmp_path / "simplified_model.json").torque(
                     traj.q, traj.qd, traj.qdd)):
         assert (np.abs(tau - ref).max(axis=0) <= float(eps) * scale * (1 + 1e-9)).all()
-    header = (tmp_path / "simplified_model.c").read_text().split("*/")[0]
-    for needle in (robot.sha256, traj.sha256, f"tolerance: {float(eps):g}",
-                   f"{cost['multiplications']} multiplications", "gd-analyze version"):
-        assert needle in header
+    for name in ("simplified_model.c", "simplified_model.h"):
+        header = (tmp_path / name).read_text().split("*/")[0]
+        for needle in (robot.sha256, traj.sha256, f"tolerance: {float(eps):g}",
+                       f"{cost['multiplications']} multiplications", "gd-analyze version"):
+            assert needle in header
     # evaluate uses the explicit model: within EPS on its own trajectory, exit 0
     code, out, err = _run(["evaluate", tmp_path / "simplified_model.json", SHIPPED,
                            "--max-error", eps, "--json"], capsys)
@@ -65,7 +66,8 @@ def test_main_job_model_within_tolerance_and_cheaper_than_newton_euler(tmp_path,
 
 
 def test_stanford_main_job_emits_the_simplified_model(tmp_path, capsys):
-    """A prismatic joint: the main job writes simplified_model.c and .py like every robot,
+    """A prismatic joint: the main job writes simplified_model.h, .c, .py and _casadi.py like
+    every robot,
     verification passes, and the emitted model is within EPS of rnea on the trajectory."""
     from conftest import ROOT
 
@@ -74,7 +76,8 @@ def test_stanford_main_job_emits_the_simplified_model(tmp_path, capsys):
     assert code == 0, err
     assert sorted(p.name for p in tmp_path.iterdir()) == [
         ".gd-analyze-manifest-analyze.json", "results.h5", "simplified_model.c",
-        "simplified_model.json", "simplified_model.py"]
+        "simplified_model.h", "simplified_model.json", "simplified_model.py",
+        "simplified_model_casadi.py"]
     robot = load_robot("stanford")
     traj = read_trajectory(csv, robot.n)
     ref = _rnea(robot, traj.q, traj.qd, traj.qdd)
@@ -145,7 +148,8 @@ def test_report_section_reads_the_stored_dataset(tmp_path, capsys):
         ds = ds.load()
     ctx = simplified_context(ds)
     assert ctx["rule"] == "budget" and ctx["tolerance"] == 0.01
-    assert ctx["files"] == ["simplified_model.c", "simplified_model.py"]
+    assert ctx["files"] == ["simplified_model.h", "simplified_model.c", "simplified_model.py",
+                            "simplified_model_casadi.py"]
     labels = [row[0] for row in ctx["costs"]["rows"]]
     assert "AKB 1986 simplified (1 %)" in labels and "project N-E as implemented" in labels
     # the recursive form is deployed (cheaper): the explicit form's ladder is not built, and

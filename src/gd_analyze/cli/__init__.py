@@ -16,22 +16,22 @@ import sys
 import warnings
 
 from ..errors import InputError, InputNote, InputWarning
-from .commands import _cmd_analyze, _cmd_compare, _cmd_control, _cmd_evaluate, _cmd_plan
+from .commands import cmd_analyze, cmd_compare, cmd_control, cmd_evaluate, cmd_plan
 from .parsing import (
     COMMANDS,
     EXIT_INPUT,
     EXIT_INTERNAL,
     EXIT_OK,
     PROG,
-    _analyze_parser,
-    _compare_parser,
-    _control_parser,
-    _evaluate_parser,
-    _plan_parser,
-    _sweep_parser,
+    analyze_parser,
+    compare_parser,
+    control_parser,
+    evaluate_parser,
     parse_range,
+    plan_parser,
+    sweep_parser,
 )
-from .sweep_command import _cmd_sweep
+from .sweep_command import cmd_sweep
 
 __all__ = ["main", "run", "parse_range"]
 
@@ -140,11 +140,11 @@ def main(argv=None):
     command = argv[0] if argv and argv[0] in COMMANDS else "analyze"
     if argv and argv[0] == command:
         argv = argv[1:]
-    parsers = {"analyze": (_analyze_parser, _cmd_analyze), "plan": (_plan_parser, _cmd_plan),
-               "evaluate": (_evaluate_parser, _cmd_evaluate),
-               "compare": (_compare_parser, _cmd_compare),
-               "control": (_control_parser, _cmd_control),
-               "sweep": (_sweep_parser, _cmd_sweep)}
+    parsers = {"analyze": (analyze_parser, cmd_analyze), "plan": (plan_parser, cmd_plan),
+               "evaluate": (evaluate_parser, cmd_evaluate),
+               "compare": (compare_parser, cmd_compare),
+               "control": (control_parser, cmd_control),
+               "sweep": (sweep_parser, cmd_sweep)}
     make_parser, run = parsers[command]
     try:
         import threading

@@ -18,7 +18,7 @@ from .parsing import EXIT_OK, EXIT_TOLERANCE, EXIT_VERIFY, PROG, parse_range
 
 __all__ = []
 
-def _command_line(args):
+def command_line(args):
     """The command as :func:`gd_analyze.cli.main` was given it, for the provenance (a shell
     could run it: each argument quoted as needed)."""
     import shlex
@@ -26,7 +26,7 @@ def _command_line(args):
     return shlex.join([PROG] + [str(a) for a in getattr(args, "given_argv", ())])
 
 
-def _load_robot(args):
+def load_robot_arg(args):
     from ..io.robots import load_robot
 
     return _apply_mounting(load_robot(args.robot, args.base, args.tip), args)
@@ -39,7 +39,7 @@ def _apply_mounting(robot, args):
     return with_mounting(robot, getattr(args, "gravity", None), getattr(args, "base_rpy", None))
 
 
-def _mounting_settings(args, robot):
+def mounting_settings(args, robot):
     """The mounting, for the provenance: the options as given and the gravity they give in the
     base frame [m/s^2]."""
     out = {"mounting_base_rpy_deg": [float(v) for v in (args.base_rpy or (0.0, 0.0, 0.0))],
@@ -49,13 +49,13 @@ def _mounting_settings(args, robot):
     return out
 
 
-def _chain_settings(args):
+def chain_settings(args):
     """The URDF chain options and the mounting, for the provenance of a run's outputs."""
     return {k: v for k, v in (("robot_base", getattr(args, "base", None)),
                               ("robot_tip", getattr(args, "tip", None))) if v}
 
 
-def _apply_payload(robot, args):
+def apply_payload(robot, args):
     """The robot with the --payload options' load, if any (Sec. 3.4.1's loaded arm)."""
     from ..core.model.robot import with_payload
 
@@ -64,7 +64,7 @@ def _apply_payload(robot, args):
                                                       payload.inertia)
 
 
-def _outdir(args_outdir, *parts):
+def output_folder(args_outdir, *parts):
     """The output folder: -o as given, or reports/<sanitised parts joined by '-'>."""
     from ..io.staging import safe_name
 
@@ -76,7 +76,7 @@ def _outdir(args_outdir, *parts):
 def _load(args, csv_arg):
     from ..io.trajectory import read_trajectory
 
-    robot = _load_robot(args)
+    robot = load_robot_arg(args)
     return robot, read_trajectory(csv_arg, n_joints=robot.n)
 
 
@@ -219,7 +219,7 @@ def _format_summary(ds):
     return "\n".join(lines)
 
 
-def _payload_masses(args):
+def payload_mass_list(args):
     if args.payload_sweep is None:
         return None
     from ..core.model.limits import LIMITS
@@ -255,7 +255,7 @@ def _payload(args):
                    tuple(float(v) for v in args.payload_inertia))
 
 
-def _cmd_analyze(args):
+def cmd_analyze(args):
     from ..workflows.analyze import progress_bar
     from ..workflows.run import run_analysis
 
@@ -274,11 +274,12 @@ def _cmd_analyze(args):
             return write_report(results, folder, paper=args.paper, progress=bar.update,
                                 fonts=args.figure_fonts)
     outputs = run_analysis(
-        robot, trajectory, _options(args), _outdir(args.outdir, robot.name,
+        robot, trajectory, _options(args), output_folder(args.outdir, robot.name,
                                                    Path(args.trajectory).stem),
-        report=report, settings={"command": _command_line(args), **_chain_settings(args),
-                                 **_mounting_settings(args, robot)},
-        payload=_payload(args), payload_masses=_payload_masses(args), progress=bar)
+        report=report, settings={"command": command_line(args), **chain_settings(args),
+                                 **mounting_settings(args, robot)},
+        payload=_payload(args), payload_masses=payload_mass_list(args), progress=bar,
+        prefix=args.prefix)
     bar.close()
     analysis = outputs.analysis
     if not args.quiet:
@@ -325,8 +326,8 @@ def _check_plan(robot, start, goal, duration):
                                  f"--ignore-limits to plan anyway)", column="--duration")
 
 
-def _cmd_plan(args):
-    from .._version import __version__
+def cmd_plan(args):
+    from .._version import VERSION as __version__
     from ..io.planning import (
         acceleration_limits,
         check_velocity_limits,
@@ -337,7 +338,7 @@ def _cmd_plan(args):
     )
     from ..io.trajectory import write_trajectory
 
-    robot = _load_robot(args)
+    robot = load_robot_arg(args)
     if args.duration is None or not args.ignore_limits:     # the plan needs the limits
         placeholder = check_velocity_limits(robot)
         if placeholder:
@@ -390,9 +391,9 @@ def _cmd_plan(args):
         return EXIT_OK
     record = {
         "tool": "gd-analyze", "version": __version__,
-        "command": _command_line(args),
+        "command": command_line(args),
         "robot": robot.name, "robot_source": robot.source, "robot_sha256": robot.sha256,
-        **_chain_settings(args), **_mounting_settings(args, robot),
+        **chain_settings(args), **mounting_settings(args, robot),
         "start": [float(v) for v in start], "goal": [float(v) for v in goal],
         "start_goal_units": "rad (m for a prismatic joint)",
         "setpoints": traj.n_setpoints, "duration_s": float(traj.t[-1]),
@@ -430,7 +431,7 @@ def _warn_provenance(csv_path, robot):
         warnings.warn(message, InputWarning)
 
 
-def _cmd_evaluate(args):
+def cmd_evaluate(args):
     import json
 
     from ..core.selection.simplified import json_safe
@@ -440,7 +441,7 @@ def _cmd_evaluate(args):
     model = load_model(args.model)
     traj = read_trajectory(args.trajectory, n_joints=model.robot.n)
     _warn_provenance(args.trajectory, model.robot)
-    plant = _apply_payload(_apply_mounting(model.robot, args), args)
+    plant = apply_payload(_apply_mounting(model.robot, args), args)
     err = evaluate(model, traj, plant=plant)
     worst = err.pop("max_relative_peak_error")
     scope, verdict = coverage(model, traj, plant=plant), gate(err, model, args.max_error)
@@ -448,7 +449,7 @@ def _cmd_evaluate(args):
         out = {"model": args.model, "trajectory": args.trajectory,
                "trajectory_sha256": traj.sha256, "robot": model.robot.name,
                "setpoints": traj.n_setpoints, "payload_mass": float(args.payload or 0.0),
-               **_mounting_settings(args, plant),
+               **mounting_settings(args, plant),
                "max_relative_peak_error": worst, "guarantee": scope,
                "max_error": args.max_error, "gate": verdict["by"],
                "gate_limit": verdict["limit"], "worst_joint": verdict["worst_joint"],
@@ -479,7 +480,7 @@ def _cmd_evaluate(args):
     return EXIT_OK
 
 
-def _cmd_compare(args):
+def cmd_compare(args):
     import json
 
     from ..formulations.compare import compare_report, format_compare
@@ -487,13 +488,13 @@ def _cmd_compare(args):
     robot, traj = _load(args, args.trajectory)
     report = compare_report(robot, traj.q, traj.qd, traj.qdd)
     if args.json:
-        print(json.dumps({**report, **_mounting_settings(args, robot)}))
+        print(json.dumps({**report, **mounting_settings(args, robot)}))
     else:
         print(format_compare(report))
     return EXIT_OK
 
 
-def _cmd_control(args):
+def cmd_control(args):
     import json
 
     from ..files import file_sha256
@@ -507,7 +508,7 @@ def _cmd_control(args):
     model = load_model(args.model)
     traj = read_trajectory(args.trajectory, n_joints=model.robot.n)
     _warn_provenance(args.trajectory, model.robot)
-    outdir = _outdir(args.outdir, model.robot.name, Path(args.trajectory).stem, "control")
+    outdir = output_folder(args.outdir, model.robot.name, Path(args.trajectory).stem, "control")
     if outdir.exists() and not outdir.is_dir():
         raise InputError("exists and is not a folder", outdir)
     try:
@@ -520,7 +521,7 @@ def _cmd_control(args):
     with staged_output(outdir, (CONTROL_FILE, *CONTROL_REPORT_FILES, "figures"),
                        "control") as stage, writing(outdir, stage):
         path = stage / CONTROL_FILE
-        write_control_dataset(result, path, {"command": _command_line(args)})
+        write_control_dataset(result, path, {"command": command_line(args)})
         written = [path]
         if not args.no_report:
             from ..reports.control import write_control_report

@@ -233,7 +233,7 @@ def _add_paper_argument(p):
                         "slower); the text pages always embed a TrueType subset")
 
 
-def _analyze_parser():
+def analyze_parser():
     
     p = _Parser(
         prog=PROG,
@@ -265,6 +265,10 @@ def _analyze_parser():
                         f"{defaults['negligible']})")
     _add_budget_arguments(p)
     p.add_argument("--no-report", action="store_true", help="skip report.html and report.pdf")
+    p.add_argument("--prefix", metavar="NAME", type=_prefix, default=None,
+                   help="prefix of the emitted model's C symbols and CasADi functions, a C "
+                        "identifier (default: the robot's name made one, plus _, e.g. "
+                        "puma560_)")
     _add_paper_argument(p)
     p.add_argument("--compress", metavar="LEVEL", type=int, choices=range(10),
                    default=defaults["compress"],
@@ -274,20 +278,30 @@ def _analyze_parser():
                    help="skip the verification against Pinocchio")
     p.add_argument("-q", "--quiet", action="store_true",
                    help="print nothing but warnings and errors (no summary, no progress bar)")
-    p.add_argument("--version", action="version", version=f"%(prog)s {_version()}")
+    p.add_argument("--version", action="version", version=f"%(prog)s {tool_version()}")
     _add_chain_arguments(p)
     _add_mounting_arguments(p)
     _add_payload_sweep_argument(_add_payload_arguments(p))
     return p
 
 
-def _version():
-    from .._version import __version__
+def _prefix(text):
+    """--prefix: a C identifier (:func:`gd_analyze.core.symbolic.safe_text.check_prefix`)."""
+    from ..core.symbolic.safe_text import check_prefix
+
+    try:
+        return check_prefix(text)
+    except ValueError as exc:
+        raise argparse.ArgumentTypeError(str(exc)) from None
+
+
+def tool_version():
+    from .._version import VERSION as __version__
 
     return __version__
 
 
-def _plan_parser():
+def plan_parser():
     from ..io.planning import (
         DEFAULT_GOAL_DEG,
         DEFAULT_QDD_PER_QD,
@@ -330,7 +344,7 @@ def _plan_parser():
     return p
 
 
-def _evaluate_parser():
+def evaluate_parser():
     p = _Parser(prog=f"{PROG} evaluate",
                 description="Report a simplified model's torque error on another trajectory, "
                             "the model's guarantee and whether it covers the trajectory.")
@@ -352,7 +366,7 @@ def _evaluate_parser():
     return p
 
 
-def _compare_parser():
+def compare_parser():
     p = _Parser(prog=f"{PROG} compare",
                 description="Run Lagrange-Euler, Newton-Euler, G-D and Pinocchio on every set "
                             "point and print their largest relative disagreements and the "
@@ -365,7 +379,7 @@ def _compare_parser():
     return p
 
 
-def _control_parser():
+def control_parser():
     from ..workflows.tracking import DEFAULT_WN, DEFAULT_ZETA
 
     p = _Parser(prog=f"{PROG} control",
@@ -403,7 +417,7 @@ def _control_parser():
     return p
 
 
-def _sweep_parser():
+def sweep_parser():
     
     p = _Parser(prog=f"{PROG} sweep",
                 description="Rank the G-D elements over many trajectories on dask, give the "

@@ -1,6 +1,6 @@
 """The ``sweep`` command: many trajectories on dask, the merged model, and their files.
 
-``_cmd_sweep(args)`` takes the parsed arguments of :mod:`gd_analyze.cli.parsing` and returns the
+``cmd_sweep(args)`` takes the parsed arguments of :mod:`gd_analyze.cli.parsing` and returns the
 exit status; bad input raises :class:`gd_analyze.errors.InputError` (exit status 2).
 """
 
@@ -10,18 +10,20 @@ import contextlib
 import sys
 from pathlib import Path
 
+from ..core.symbolic.emit_model import artefact_names
+from ..core.symbolic.safe_text import c_prefix
 from ..errors import InputError
 from ..io.model_file import save_model
 from .commands import (
-    _apply_payload,
-    _chain_settings,
-    _command_line,
-    _load_robot,
-    _mounting_settings,
-    _outdir,
-    _payload_masses,
+    apply_payload,
+    chain_settings,
+    command_line,
+    load_robot_arg,
+    mounting_settings,
+    output_folder,
+    payload_mass_list,
 )
-from .parsing import EXIT_OK, _version
+from .parsing import EXIT_OK, tool_version
 
 __all__ = []
 
@@ -30,7 +32,7 @@ def _sweep_model(robot, trajectories, args, outdir, settings, ds):
     """The sweep's merged model of the budget rule, within EPS x s_i over the joint-limit
     region or on every swept trajectory (``--guarantee``).
 
-    Writes merged_model.json/.c/.py into outdir; returns (written paths, the sweep dataset
+    Writes merged_model.json and its emitted files (prefix ROBOT_merged_) into outdir; returns (written paths, the sweep dataset
     with this model's errors)."""
     from ..io.planning import random_trajectories
     from ..workflows.sweep_budget import budget_sweep_model
@@ -42,15 +44,14 @@ def _sweep_model(robot, trajectories, args, outdir, settings, ds):
         if args.held_out else []
     model = budget_sweep_model(robot, trajectories, ds, tolerance=args.tolerance,
                                torque_floor=args.torque_floor, held_out=held,
-                               provenance={"gd_analyze_version": _version(), **settings},
+                               provenance={"gd_analyze_version": tool_version(), **settings},
                                explicit=args.explicit, form=args.form,
                                guarantee=args.guarantee)
     ds = with_budget_model(ds, model)
     model.validation.pop("per_trajectory")          # in sweep.h5; K x n lists
     written = [outdir / "merged_model.json"]
     save_model(model, written[0])
-    for name, text in (("merged_model.c", model.c_source()),
-                       ("merged_model.py", model.python_source())):
+    for name, text in model.sources(MERGED_STEM, c_prefix(robot.name) + "merged_").items():
         (outdir / name).write_text(text, encoding="utf-8")
         written.append(outdir / name)
     if not args.quiet:
@@ -124,11 +125,13 @@ def _model_lines(model, ds, args):
     return lines
 
 
+#: The stem of the merged model's emitted files (merged_model.h, .c, .py, _casadi.py).
+MERGED_STEM = "merged_model"
 SWEEP_OUTPUTS = ("sweep.h5", "merged_model.json", "payload_sweep.h5", "sweep_report.html",
-                 "sweep_report.pdf", "figures", "merged_model.c", "merged_model.py")
+                 "sweep_report.pdf", "figures", *artefact_names(MERGED_STEM))
 
 
-def _cmd_sweep(args):
+def cmd_sweep(args):
     from ..io.planning import random_trajectories
     from ..io.schema import write_dataset
     from ..io.trajectory import read_trajectory
@@ -137,7 +140,7 @@ def _cmd_sweep(args):
     from ..workflows.sweep import run_sweep
     from ..workflows.sweep_merged import merged_model, with_model_cost
 
-    robot = _load_robot(args)
+    robot = load_robot_arg(args)
     if (args.random is None) == (not args.csv):
         raise InputError("give either --random K or trajectory CSV files")
     if args.random is not None and not 1 <= args.random <= 10**6:
@@ -167,14 +170,14 @@ def _cmd_sweep(args):
 
             warnings.warn(placeholder, InputWarning)
         trajectories = random_trajectories(robot, args.random, seed=args.seed)
-    masses = _payload_masses(args)
-    loaded = _apply_payload(robot, args)
-    outdir = _outdir(args.outdir, robot.name, "sweep")
+    masses = payload_mass_list(args)
+    loaded = apply_payload(robot, args)
+    outdir = output_folder(args.outdir, robot.name, "sweep")
     if outdir.exists() and not outdir.is_dir():
         raise InputError("exists and is not a folder", outdir)
-    settings = {"command": _command_line(args),
-                "payload_mass": float(args.payload or 0.0), **_chain_settings(args),
-                **_mounting_settings(args, robot)}
+    settings = {"command": command_line(args),
+                "payload_mass": float(args.payload or 0.0), **chain_settings(args),
+                **mounting_settings(args, robot)}
     if args.random is not None:
         from ..io.planning import acceleration_limits
 

@@ -160,13 +160,13 @@ class Counted:
         return (-self) + other
 
 
-def _consts(led, x):
+def count_consts(led, x):
     """Object array of parameter scalars with the shape of x."""
     x = np.asarray(x, dtype=float)
     return np.array([led.const(v) for v in x.ravel()], dtype=object).reshape(x.shape)
 
 
-def _vars(led, x):
+def count_vars(led, x):
     x = np.asarray(x, dtype=float)
     return np.array([led.var(v) for v in x.ravel()], dtype=object).reshape(x.shape)
 
@@ -220,5 +220,5 @@ def counting_clone(fn):
     return types.FunctionType(py.__code__, env, py.__name__, py.__defaults__, py.__closure__)
 
 
-def _value(x):
+def count_value(x):
     return x.value if isinstance(x, Counted) else float(x)

@@ -20,7 +20,7 @@ joint matrix of Eq. (3.2-8a) (revolute) or Eq. (3.2-8b) (prismatic), J_j the 4x4
 pseudo-inertia matrix of link j, Eq. (3.2-18), g = (g_x, g_y, g_z, 0) the gravity row vector
 and rbar_j = (r_j, 1) the centre of mass of link j, both in body frame j.
 
-The algorithm core (:func:`_le_core`) uses nothing but array indexing, ``@``, ``+`` and ``*``,
+The algorithm core (:func:`le_core`) uses nothing but array indexing, ``@``, ``+`` and ``*``,
 so the very same code also runs on object arrays of counting scalars: that is how
 :mod:`gd_analyze.formulations.opcount` measures its cost per set point.
 """
@@ -197,7 +197,7 @@ def _u_core(A, Q):
     return U, U3
 
 
-def _le_core(A, Q, J, gm, rbar, qd):
+def le_core(A, Q, J, gm, rbar, qd):
     """D, h_ikm, h and c of Eqs. (3.2-31) to (3.2-34) for body transforms A (N, n, 4, 4).
 
     Q (n, 4, 4): joint matrices; J (n, 4, 4): pseudo-inertias; gm (n, 4): the row vectors
@@ -224,7 +224,7 @@ def _le_core(A, Q, J, gm, rbar, qd):
     return D, H, h, c
 
 
-def _constants(robot):
+def le_constants(robot):
     """Per-robot constants of the L-E core: J (n, 4, 4), -m g^T (n, 4), rbar (n, 4)."""
     g = np.append(np.asarray(robot.gravity, dtype=float), 0.0)
     gm = -robot.mass[:, None] * g
@@ -299,13 +299,13 @@ def le_terms(robot, q, qd, chunk=DEFAULT_CHUNK):
     """
     q, qd = as_states(robot, q, qd)
     N, n = q.shape
-    J, gm, rbar = _constants(robot)
+    J, gm, rbar = le_constants(robot)
     Q = joint_q_matrices(robot)
     out = (np.empty((N, n, n)), np.empty((N, n)), np.empty((N, n)), np.empty((N, n, n, n)))
     chunk = max(1, int(chunk))
     for start in range(0, N, chunk):
         sl = slice(start, start + chunk)
-        D, H, h, c = _le_core(joint_transforms(robot, q[sl]), Q, J, gm, rbar, qd[sl])
+        D, H, h, c = le_core(joint_transforms(robot, q[sl]), Q, J, gm, rbar, qd[sl])
         for dst, src in zip(out, (D, h, c, H)):
             dst[sl] = src
     return LETerms(*out)

@@ -27,7 +27,7 @@ Backward recursion, i = n..1 (f_{n+1}, n_{n+1}: force and moment the hand exerts
     n_i = R_{i+1} n_{i+1} + p_{i+1} x (R_{i+1} f_{i+1}) + sbar_i x F_i + N_i        (3.3-57)
     tau_i = n_i . z0 + b_i qd_i (revolute),  f_i . z0 + b_i qd_i (prismatic)       (3.3-58)
 
-The recursion core (:func:`_ne_core`) uses only indexing, ``@``, ``+``, ``-`` and ``*``, so it
+The recursion core (:func:`ne_core`) uses only indexing, ``@``, ``+``, ``-`` and ``*``, so it
 runs unchanged on object arrays of counting scalars (:mod:`gd_analyze.formulations.opcount`).
 """
 
@@ -40,7 +40,7 @@ from ..core.model.kinematics import as_states, joint_frames
 __all__ = ["ne_tau", "ne_terms", "link_constants", "joint_frames"]
 
 
-def _cross(a, b):
+def ne_cross(a, b):
     """a x b along the last axis (broadcasting), for float and object arrays."""
     return np.stack([a[..., 1] * b[..., 2] - a[..., 2] * b[..., 1],
                      a[..., 2] * b[..., 0] - a[..., 0] * b[..., 2],
@@ -78,7 +78,7 @@ def link_constants(robot):
             "vd0": -np.asarray(robot.gravity, dtype=float)}
 
 
-def _ne_core(R, p, prismatic, qd, qdd, k, f_end=None, n_end=None, b=None):
+def ne_core(R, p, prismatic, qd, qdd, k, f_end=None, n_end=None, b=None):
     """Table 3.3 for rotations R (N, n, 3, 3) = ^{i-1}R_i and origins p (N, n, 3) = ^{i-1}p_i.
 
     prismatic: n bools; qd, qdd (N, n); constants k. Returns tau (N, n). Works on float and on
@@ -95,29 +95,29 @@ def _ne_core(R, p, prismatic, qd, qdd, k, f_end=None, n_end=None, b=None):
     for i in range(n):                                           # forward, i = 1..n
         Rt = np.swapaxes(R[:, i], -1, -2)                        # ^iR_{i-1}
         pi = p[:, i]
-        vd = _mv(Rt, vd + _cross(wd, pi) + _cross(w, _cross(w, pi)))    # Eq. (3.3-52)
+        vd = _mv(Rt, vd + ne_cross(wd, pi) + ne_cross(w, ne_cross(w, pi)))    # Eq. (3.3-52)
         u = _mv(Rt, w)
         if prismatic[i]:
             w = u
             wd = _mv(Rt, wd)
-            vd = vd + z0 * qdd[:, i, None] + _cross(w, z0 * (2 * qd[:, i, None]))
+            vd = vd + z0 * qdd[:, i, None] + ne_cross(w, z0 * (2 * qd[:, i, None]))
         else:
             zq = z0 * qd[:, i, None]
-            wd = _mv(Rt, wd) + z0 * qdd[:, i, None] + _cross(u, zq)      # Eq. (3.3-51)
+            wd = _mv(Rt, wd) + z0 * qdd[:, i, None] + ne_cross(u, zq)      # Eq. (3.3-51)
             w = u + zq                                                   # Eq. (3.3-50)
         s = k["sbar"][i]
-        abar = _cross(wd, s) + _cross(w, _cross(w, s)) + vd              # Eq. (3.3-53)
+        abar = ne_cross(wd, s) + ne_cross(w, ne_cross(w, s)) + vd              # Eq. (3.3-53)
         I = k["inertia"][i]
         F.append(k["mass"][i] * abar)                                    # Eq. (3.3-54)
-        NN.append(_mv(I, wd) + _cross(w, _mv(I, w)))                     # Eq. (3.3-55)
+        NN.append(_mv(I, wd) + ne_cross(w, _mv(I, w)))                     # Eq. (3.3-55)
     f = np.zeros((N, 3), dtype=dt) if f_end is None else f_end
     nm = np.zeros((N, 3), dtype=dt) if n_end is None else n_end
     tau = [None] * n
     for i in range(n - 1, -1, -1):                               # backward, i = n..1
         if i < n - 1:                                            # R_{n+1} is the identity
             f, nm = _mv(R[:, i + 1], f), _mv(R[:, i + 1], nm)
-            nm = nm + _cross(p[:, i + 1], f)
-        nm = nm + _cross(k["sbar"][i], F[i]) + NN[i]                                 # (3.3-57)
+            nm = nm + ne_cross(p[:, i + 1], f)
+        nm = nm + ne_cross(k["sbar"][i], F[i]) + NN[i]                                 # (3.3-57)
         f = f + F[i]                                                                 # (3.3-56)
         t = f[:, 2] if prismatic[i] else nm[:, 2]                # f_i . z0 or n_i . z0
         tau[i] = t if b is None else t + b[i] * qd[:, i]         # Eq. (3.3-58)
@@ -195,7 +195,7 @@ def ne_tau(robot, q, qd, qdd, b=None, f_load=None, n_load=None):
         LR, Lt = robot.link_rotation[-1], robot.link_translation[-1]
         f_end = np.zeros((N, 3)) if f_end is None else f_end @ LR.T
         n_end = (np.zeros((N, 3)) if n_end is None else n_end @ LR.T) + np.cross(Lt, f_end)
-    return _ne_core(R, p, robot.prismatic, qd, qdd, link_constants(robot), f_end, n_end, b)
+    return ne_core(R, p, robot.prismatic, qd, qdd, link_constants(robot), f_end, n_end, b)
 
 
 def ne_terms(robot, q, qd):
@@ -237,11 +237,11 @@ def ne_terms(robot, q, qd):
     k = link_constants(robot)
     pr = robot.prismatic
     zero = np.zeros((N, n))
-    c = _ne_core(R, p, pr, zero, zero, k)
-    h = _ne_core(R, p, pr, qd, zero, k) - c
+    c = ne_core(R, p, pr, zero, zero, k)
+    h = ne_core(R, p, pr, qd, zero, k) - c
     D = np.empty((N, n, n))
     for j in range(n):
         e = np.zeros((N, n))
         e[:, j] = 1.0
-        D[:, :, j] = _ne_core(R, p, pr, zero, e, k) - c
+        D[:, :, j] = ne_core(R, p, pr, zero, e, k) - c
     return D, h, c

@@ -4,7 +4,7 @@ The counts are measured, not derived: the algorithms run on one set point whose 
 :class:`~gd_analyze.formulations.counting.Counted` scalars, which count every multiplication and addition they take part in.
 
 - L-E and N-E: the counted run calls the very cores that :func:`~gd_analyze.formulations.lagrange_euler.le_terms`
-  and :func:`~gd_analyze.formulations.newton_euler.ne_tau` run on float arrays (``_le_core``, ``_ne_core``),
+  and :func:`~gd_analyze.formulations.newton_euler.ne_tau` run on float arrays (``le_core``, ``ne_core``),
   on object arrays with a set-point axis of length 1. The counts cannot drift from that code.
 - G-D, ``"gd"``: :func:`~gd_analyze.core.dynamics.dalembert.gd_terms` has two engines. Its compiled engine
   (``gd_analyze.core.dynamics.kernels``, one pass per set point, used for long trajectories) is counted by
@@ -84,10 +84,10 @@ import numpy as np
 from ..core.model.kinematics import as_states, transforms_core
 from ..core.model.robot import Robot
 from ..core.model.robot_spec import robot_from_dict
-from .counting import OpLedger, _consts, _value, _vars, counting_clone
-from .lagrange_euler import _constants as _le_constants
-from .lagrange_euler import _le_core, joint_q_matrices
-from .newton_euler import _cross, _ne_core, link_constants
+from .counting import OpLedger, count_consts, count_value, count_vars, counting_clone
+from .lagrange_euler import joint_q_matrices, le_core
+from .lagrange_euler import le_constants as _le_constants
+from .newton_euler import link_constants, ne_core, ne_cross
 
 __all__ = ["OpCount", "METHODS", "TABLE_3_5", "joint_types", "random_chain", "count_operations",
            "operation_counts", "book_counts", "table"]
@@ -209,9 +209,9 @@ def _counted_transforms(robot, led, q, homogeneous=False):
     homogeneous ^{i-1}T_i (1, n, 4, 4) with exact 0 and 1 in the last row."""
     n = robot.n
     q = np.asarray(q, dtype=float)[None]
-    R, p = transforms_core(_consts(led, robot.rotation), _consts(led, robot.translation),
-                           robot.prismatic, _vars(led, np.cos(q)), _vars(led, np.sin(q)),
-                           _vars(led, q))
+    R, p = transforms_core(count_consts(led, robot.rotation), count_consts(led, robot.translation),
+                           robot.prismatic, count_vars(led, np.cos(q)), count_vars(led, np.sin(q)),
+                           count_vars(led, q))
     if not homogeneous:
         return R, p
     T = np.zeros((1, n, 4, 4), dtype=object)
@@ -255,7 +255,7 @@ def _gd_mirror(R, o, pris, m, com, inertia, gravity, qd, qdd):
     Jv = np.zeros((n, n, 3), dtype=dt)
     for s in range(n):
         for j in range(n):
-            col = _cross(z[j], rbar[s] - o[j])
+            col = ne_cross(z[j], rbar[s] - o[j])
             col = z[j] if pris[j] else col
             if j <= s:
                 Jv[s, j] = col
@@ -269,26 +269,26 @@ def _gd_mirror(R, o, pris, m, com, inertia, gravity, qd, qdd):
     wz = [qd[j] * zr[j] for j in range(n)]
     w = cumsum(wz)
     w_prev = shift(w)
-    wd = cumsum([_cross(w_prev[s], wz[s]) for s in range(n)])
+    wd = cumsum([ne_cross(w_prev[s], wz[s]) for s in range(n)])
     wd_prev = shift(wd)
     o_prev = shift(o)
     dp = [o[s] - o_prev[s] for s in range(n)]
-    slide = [(2.0 * _cross(w_prev[s], qd[s] * z[s])) * pris[s] for s in range(n)]
-    ap = cumsum([_cross(wd_prev[s], dp[s]) + _cross(w_prev[s], _cross(w_prev[s], dp[s]))
+    slide = [(2.0 * ne_cross(w_prev[s], qd[s] * z[s])) * pris[s] for s in range(n)]
+    ap = cumsum([ne_cross(wd_prev[s], dp[s]) + ne_cross(w_prev[s], ne_cross(w_prev[s], dp[s]))
                  + slide[s] for s in range(n)])
     rc = [rbar[s] - o[s] for s in range(n)]
-    abar = [ap[s] + _cross(wd[s], rc[s]) + _cross(w[s], _cross(w[s], rc[s])) for s in range(n)]
+    abar = [ap[s] + ne_cross(wd[s], rc[s]) + ne_cross(w[s], ne_cross(w[s], rc[s])) for s in range(n)]
 
     def along_axes(F):
         S = suffix(F)
-        M = suffix([_cross(rbar[s], F[s]) for s in range(n)])
-        M = [M[j] - _cross(o[j], S[j]) for j in range(n)]
+        M = suffix([ne_cross(rbar[s], F[s]) for s in range(n)])
+        M = [M[j] - ne_cross(o[j], S[j]) for j in range(n)]
         return np.array([z[j] @ (S[j] if pris[j] else M[j]) for j in range(n)])
 
     h_tran = along_axes([m[s] * abar[s] for s in range(n)])
     c = -along_axes([m[s] * gravity for s in range(n)])
     Iw = [Ib[s] @ w[s] for s in range(n)]
-    f = [Ib[s] @ wd[s] + _cross(w[s], Iw[s]) for s in range(n)]
+    f = [Ib[s] @ wd[s] + ne_cross(w[s], Iw[s]) for s in range(n)]
     fs = suffix(f)
     h_rot = np.array([zr[j] @ fs[j] for j in range(n)])
     D = D_tran + D_rot                                        # GDTerms.D, .h, .tau
@@ -309,10 +309,10 @@ def _gd_kernel_counted(robot, led, q, qd):
     out = [np.zeros((1, n, n), dtype=object), np.zeros((1, n, n), dtype=object)]
     out += [np.zeros((1, n), dtype=object) for _ in range(3)]
     # q is the input: cos q and sin q are not counted (the rule)
-    kernel(_vars(led, q)[None], qd, _consts(led, robot.rotation),
-           _consts(led, robot.translation), np.asarray(robot.prismatic, dtype=np.int64),
-           _consts(led, robot.mass), _consts(led, robot.body_com),
-           _consts(led, robot.body_inertia), _consts(led, robot.gravity), *out)
+    kernel(count_vars(led, q)[None], qd, count_consts(led, robot.rotation),
+           count_consts(led, robot.translation), np.asarray(robot.prismatic, dtype=np.int64),
+           count_consts(led, robot.mass), count_consts(led, robot.body_com),
+           count_consts(led, robot.body_inertia), count_consts(led, robot.gravity), *out)
     return tuple(x[0] for x in out)
 
 
@@ -353,18 +353,18 @@ def count_operations(robot, method, q=None, qd=None, qdd=None):
     q, qd, qdd = (rng.uniform(-1, 1, n) if x is None else x for x in (q, qd, qdd))
     q, qd, qdd = (x[0] for x in as_states(robot, q, qd, qdd))
     led = OpLedger()
-    qd_c, qdd_c = _vars(led, qd)[None], _vars(led, qdd)[None]
+    qd_c, qdd_c = count_vars(led, qd)[None], count_vars(led, qdd)[None]
     if method == "lagrange-euler":
         J, gm, rbar = _le_constants(robot)
-        gm = np.concatenate([_consts(led, gm[:, :3]), np.zeros((n, 1), dtype=object)], axis=1)
-        rbar = np.concatenate([_consts(led, rbar[:, :3]), np.ones((n, 1), dtype=object)], axis=1)
+        gm = np.concatenate([count_consts(led, gm[:, :3]), np.zeros((n, 1), dtype=object)], axis=1)
+        rbar = np.concatenate([count_consts(led, rbar[:, :3]), np.ones((n, 1), dtype=object)], axis=1)
         A = _counted_transforms(robot, led, q, homogeneous=True)
-        D, _, h, c = _le_core(A, joint_q_matrices(robot), _consts(led, J), gm, rbar, qd_c)
+        D, _, h, c = le_core(A, joint_q_matrices(robot), count_consts(led, J), gm, rbar, qd_c)
         tau = _tau(D, h, c, qdd_c)[0]
     elif method == "newton-euler":
-        k = {key: _consts(led, val) for key, val in link_constants(robot).items()}
+        k = {key: count_consts(led, val) for key, val in link_constants(robot).items()}
         R, p = _counted_transforms(robot, led, q)
-        tau = _ne_core(R, p, robot.prismatic, qd_c, qdd_c, k)[0]
+        tau = ne_core(R, p, robot.prismatic, qd_c, qdd_c, k)[0]
     elif method == "gd":
         D_tran, D_rot, h_tran, h_rot, c = _gd_kernel_counted(robot, led, q, qd_c)
         tau = _tau(D_tran + D_rot, h_tran + h_rot, c, qdd_c[0])   # GDTerms.D, .h and .tau
@@ -374,11 +374,11 @@ def count_operations(robot, method, q=None, qd=None, qdd=None):
         for i in range(1, n):
             o.append(o[-1] + R[-1] @ pr[0, i])
             R.append(R[-1] @ Rr[0, i])
-        tau = _gd_mirror(np.array(R), np.array(o), robot.prismatic, _consts(led, robot.mass),
-                         _consts(led, robot.body_com), _consts(led, robot.body_inertia),
-                         _consts(led, robot.gravity), qd_c[0], qdd_c[0])[0]
+        tau = _gd_mirror(np.array(R), np.array(o), robot.prismatic, count_consts(led, robot.mass),
+                         count_consts(led, robot.body_com), count_consts(led, robot.body_inertia),
+                         count_consts(led, robot.gravity), qd_c[0], qdd_c[0])[0]
     return OpCount(int(led.multiplications), int(led.additions),
-                   np.array([_value(t) for t in tau]))
+                   np.array([count_value(t) for t in tau]))
 
 
 #: Modules whose code the counts depend on: the cache key is the hash of their source.

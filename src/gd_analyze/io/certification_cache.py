@@ -32,7 +32,7 @@ import warnings
 
 import numpy as np
 
-from ..errors import _one_line
+from ..errors import one_line
 from .cache_files import (
     CacheWarning,
     entry_path,
@@ -79,7 +79,7 @@ def certification_key(robot, region, settings):
         ``format``, ``robot_sha256``, ``parameters_sha256``, ``code`` (version and the SHA-256
         of the certifying modules), ``region`` (exact hex floats) and ``settings``.
     """
-    from .._version import __version__
+    from .._version import VERSION as __version__
     from ..core.selection.simplified import parameters_sha256
 
     return {"format": _FORMAT, "robot_sha256": str(robot.sha256),
@@ -189,7 +189,7 @@ def certification(robot, base, region, torque_floor=0.0, samples=1000, seed=0):
             if not isinstance(found, str):
                 return found
         if isinstance(found, str):
-            warnings.warn(_one_line(f"{path}: derivation cache entry {found}: ignored, the "
+            warnings.warn(one_line(f"{path}: derivation cache entry {found}: ignored, the "
                                     "region is certified again"), CacheWarning, stacklevel=2)
     pb = certify(robot, base, region, torque_floor=torque_floor, samples=samples, seed=seed)
     if path is not None:

@@ -20,7 +20,7 @@ def _peak_rms(x, axis=0):
     return np.abs(x).max(axis=axis), np.sqrt((x**2).mean(axis=axis))
 
 
-def _gain_units(prismatic):
+def gain_units(prismatic):
     """Per joint, the units of the PD gains and of D_ii (which scales them), from the joint
     types (:func:`gd_analyze.core.selection.labels.joint_gain_units`, ``element_units``)."""
     from ..core.selection.labels import element_units, joint_gain_units
@@ -67,7 +67,7 @@ def control_dataset(result, settings=None):
     import xarray as xr
 
     from ..core.selection.ranking import element_labels
-    from .datasets import _JOINT_UNIT_COORDS, joint_units, units_attribute
+    from .datasets import JOINT_UNIT_COORDS, joint_units, units_attribute
 
     robot, g, prov = result.robot, result.gains, result.provenance
     n = robot.n
@@ -81,7 +81,7 @@ def control_dataset(result, settings=None):
     prismatic = np.asarray(robot.prismatic, bool)
     U = {k: units_attribute(joint_units(prismatic, k), f"{k}_units")
          for k in ("q", "qd", "qdd", "tau")}
-    per_joint = _gain_units(prismatic)
+    per_joint = gain_units(prismatic)
     U.update({k: units_attribute(v, f"{k}_units") for k, v in per_joint.items()})
     data_vars = {
         "is_setpoint": var(("time",), result.is_setpoint.astype(np.int8), "1",
@@ -169,7 +169,7 @@ def control_dataset(result, settings=None):
         "joint": joint_coordinate(robot.joint_names()),
         **{name: ("joint", np.array(joint_units(prismatic, which), dtype=str),
                   {"long_name": long_name, "units": "1"})
-           for name, (which, long_name) in _JOINT_UNIT_COORDS.items()},
+           for name, (which, long_name) in JOINT_UNIT_COORDS.items()},
         **{f"{k}_units": ("joint", np.array(v, dtype=str),
                           {"long_name": f"units of {k} of the joint", "units": "1"})
            for k, v in per_joint.items()},

@@ -77,7 +77,7 @@ def setpoint_variables(friction=False):
 
 
 #: Per-joint unit coordinates: name -> (quantity of :func:`joint_units`, long_name).
-_JOINT_UNIT_COORDS = {"q_units": ("q", "units of q of the joint (rad or m)"),
+JOINT_UNIT_COORDS = {"q_units": ("q", "units of q of the joint (rad or m)"),
                       "qd_units": ("qd", "units of qd of the joint (rad s-1 or m s-1)"),
                       "qdd_units": ("qdd", "units of qdd of the joint (rad s-2 or m s-2)"),
                       "tau_units": ("tau", "units of tau, h and c of the joint (N m or N)")}
@@ -377,7 +377,7 @@ def summary_dataset(robot, trajectory, ranking, choices, error, verification=Non
             "armature share sum|arm| / (sum|tran| + sum|rot + arm|), diagonal of D only")
     coords = element_coords(n, prismatic)
     coords["joint"] = joint_coordinate(robot.joint_names(), long_name="joint (row of D)")
-    for name, (which, long_name) in _JOINT_UNIT_COORDS.items():
+    for name, (which, long_name) in JOINT_UNIT_COORDS.items():
         units = joint_units(prismatic, which)
         coords[name] = ("joint", np.array(units, dtype=str), {"long_name": long_name,
                                                               "units": "1"})

@@ -32,7 +32,7 @@ import warnings
 
 import numpy as np
 
-from ..errors import _one_line
+from ..errors import one_line
 from .cache_files import CacheWarning, cache_dir, entry_path, read_entry, source_sha256, write_entry
 
 __all__ = ["cache_dir", "cache_path", "cache_key", "explicit_terms", "CacheWarning",
@@ -63,7 +63,7 @@ def cache_key(robot):
         package version and the SHA-256 of the deriving modules' source); ``settings`` (what
         the derivation depends on besides the parameters: the joint types, the fields).
     """
-    from .._version import __version__
+    from .._version import VERSION as __version__
     from ..core.selection.simplified import parameters_sha256
 
     return {"format": _FORMAT, "robot_sha256": str(robot.sha256),
@@ -160,7 +160,7 @@ def explicit_terms(robot):
         if found is not None and not isinstance(found, str):
             return found, 0.0
         if isinstance(found, str):
-            warnings.warn(_one_line(f"{path}: derivation cache entry {found}: ignored, the "
+            warnings.warn(one_line(f"{path}: derivation cache entry {found}: ignored, the "
                                     "model is derived again"), CacheWarning, stacklevel=2)
     t0 = time.perf_counter()
     terms = model_terms(derive(robot))

@@ -413,6 +413,19 @@ _RECURSIVE_SCHEMA = Obj({
     "round_off": Field(ListOf(ListOf(Str(max_len=16))), required=False),
 })
 
+#: Whether D_s is positive definite where the bound holds, sampled (issue 30, item 3;
+#: :func:`gd_analyze.core.selection.positive_definite.with_inertia_check`).
+_INERTIA_CHECK_SCHEMA = Obj({
+    "where": Str(choices=("region", "trajectory")),
+    "samples": Int(0, 10**9),
+    "positive_definite": Consts(True, False),
+    "gershgorin_proved": Int(0, 10**9),
+    "min_eigenvalue": Num(),
+    "min_relative_eigenvalue": Num(),
+    "restored": ListOf(Str(max_len=16)),
+    "method": Str(max_len=2000),
+})
+
 #: The layout of simplified_model.json (schema_version 2; 1 lacks the keys of issue 8). The element keys of ``choices`` are
 #: checked against the robot's n by the loader; the robot's parameters by
 #: :func:`gd_analyze.core.model.robot_spec.robot_from_dict`.
@@ -446,4 +459,6 @@ MODEL_SCHEMA = Obj({
     "costs": Field(MapOf(COST_SCHEMA), required=False),
     # the key of issue 29: where the bound holds (a region of states, or one trajectory)
     "guarantee": Field(_GUARANTEE_SCHEMA, required=False),
+    # the key of issue 30: D_s positive definite where the bound holds (sampled)
+    "inertia_check": Field(_INERTIA_CHECK_SCHEMA, required=False),
 })

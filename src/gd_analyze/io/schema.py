@@ -132,7 +132,7 @@ def global_attributes(robot, title, references="Fu, Gonzalez & Lee (1987), Robot
         ``gd_analyze_version``, ``robot``, ``robot_description``, ``robot_reference``,
         ``robot_source``, ``robot_sha256``, ``gravity``, ``gravity_units``, then ``extra``.
     """
-    from .._version import __version__
+    from .._version import VERSION as __version__
 
     now = datetime.datetime.now(datetime.timezone.utc).replace(microsecond=0).isoformat()
     attrs = {

@@ -445,7 +445,7 @@ def staged_output(target, outputs=(), command="output"):
 
 @contextlib.contextmanager
 def _staged(real, target, command, mount):
-    from .._version import __version__
+    from .._version import VERSION as __version__
 
     owner = os.getpid()
     inside = real.is_dir() and (mount or _in_place(real))

@@ -20,7 +20,7 @@ import contextlib
 from pathlib import Path
 
 from .common import render_template
-from .control_figures import _RC, COLUMN_WIDTH, PAGE_WIDTH, control_figures
+from .control_figures import COLUMN_WIDTH, FIGURE_RC, PAGE_WIDTH, control_figures
 from .control_text import control_context as _context
 from .control_verdict import VERDICT_TOLERANCE, control_verdict
 from .drawing import draw_figures, figure_svg, write_figure_files
@@ -106,7 +106,7 @@ def render_control_html(ds, figures=None):
     ctx = _context(ds)
     if figures is None:
         figures = make_control_figures(ds)
-    return _html(ctx, {k: (figure_svg(f, _RC), None, None) for k, f in figures.items()})
+    return _html(ctx, {k: (figure_svg(f, FIGURE_RC), None, None) for k, f in figures.items()})
 
 
 _FIGURE_FILES = {"error": "fig_control_tracking_error",
@@ -201,7 +201,7 @@ def render_control_pdf(ds, path, figures=None, paper="a4"):
     ctx = _context(ds)
     if figures is None:
         figures = make_control_figures(ds)
-    return _pdf(ctx, draw_figures(figures, _RC), path, paper)
+    return _pdf(ctx, draw_figures(figures, FIGURE_RC), path, paper)
 
 
 def _pdf(ctx, drawn, path, paper="a4"):
@@ -262,7 +262,7 @@ def write_control_report(control_path, outdir, paper="a4", fonts="type3"):
     (outdir / "figures").mkdir(parents=True, exist_ok=True)
     figures = make_control_figures(ds)
     column = control_figures(ds, COLUMN_WIDTH)
-    drawn = draw_figures({**figures, **{f"{k}_column": f for k, f in column.items()}}, _RC,
+    drawn = draw_figures({**figures, **{f"{k}_column": f for k, f in column.items()}}, FIGURE_RC,
                          fonts=fonts)
     html_path, pdf_path = (outdir / name for name in CONTROL_REPORT_FILES)
     files = []

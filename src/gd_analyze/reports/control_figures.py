@@ -29,7 +29,7 @@ PAGE_WIDTH, COLUMN_WIDTH = 7.2, 3.5
 # Okabe & Ito colours, the same in every figure.
 _COLOURS = {"full": "#000000", "simplified": "#009E73", "pd_gravity": "#D55E00"}
 _STYLES = {"full": "-", "simplified": "--", "pd_gravity": "-."}
-CONTROLLER_LABELS = _LABELS = {"full": "computed torque, full model", "simplified": "computed torque, simplified "
+CONTROLLER_LABELS = CONTROL_LABELS = {"full": "computed torque, full model", "simplified": "computed torque, simplified "
            "model", "pd_gravity": "PD + gravity"}
 _MAX_LINE_POINTS = 600
 #: Axis labels ({u}: the joint's units) in mathematics: q_d (desired) and tau_s, tau_f (the
@@ -39,7 +39,7 @@ _TRACKING_ERROR = "$\\mathregular{{|q_d - q|}}$ [{u}]"
 _TAU_DIFFERENCE = "$\\mathregular{{\\tau_s - \\tau_f}}$ [{u}]"
 #: The key's entry of the shaded band within +-floor of a torque difference.
 _BAND = "integrator noise floor (\u00b1): not drawn"
-_RC = {**BASE_RC, "legend.fontsize": 7.5, "lines.markersize": 3.0}
+FIGURE_RC = {**BASE_RC, "legend.fontsize": 7.5, "lines.markersize": 3.0}
 
 
 def _stride(m):
@@ -62,7 +62,7 @@ def _joint_panels(ds, values, ylabel, title, log=False, floor=None, which="q",
     t = np.asarray(ds["time"].values, dtype=float)
     is_set = np.asarray(ds["is_setpoint"].values).astype(bool)
     n = int(ds.sizes["joint"])
-    units = _joint_units(ds, which)
+    units = joint_units_of(ds, which)
     column = width < PAGE_WIDTH
     rows, cols = grid_shape(n, 1 if column else 2)
     top = (0.5 if floor is None else 0.72) + ((0.25 if floor is None else 0.54) if column
@@ -103,7 +103,7 @@ def _joint_panels(ds, values, ylabel, title, log=False, floor=None, which="q",
             elif log:
                 yj = np.where(yj > 0.0, yj, np.nan)
             kw = {"color": _COLOURS.get(name, "#0072B2"), "linestyle": _STYLES.get(name, "-"),
-                  "label": _LABELS.get(name, name)}
+                  "label": CONTROL_LABELS.get(name, name)}
             line, = ax.plot(t[keep], yj[keep], **kw)
             handles.setdefault(kw["label"], line)
             start = marker_starts(every, len(values))[order]   # staggered: none coincide
@@ -143,7 +143,7 @@ def _joint_panels(ds, values, ylabel, title, log=False, floor=None, which="q",
             joints = ("every joint" if len(where) == n else
                       "joint" + ("s " if len(where) > 1 else " ")
                       + ", ".join(str(j + 1) for j, _ in where))
-            notes.append(f"{_LABELS.get(name, name)}: \u2261 0 on {joints} (integrator noise)")
+            notes.append(f"{CONTROL_LABELS.get(name, name)}: \u2261 0 on {joints} (integrator noise)")
         note = "; ".join(notes) + "."
         if column:                      # wrapped by the width drawn: mathtext as its glyphs
             math = "$\\mathregular{q_d}$"
@@ -272,7 +272,7 @@ def markers_words(ds, lines):
         return f"markers: every {_ordinal(k)} set point, the first included"
     starts = [str(s + 1) for s in marker_starts(k, count)]
     if names is not None:
-        starts = [f"{s} ({_LABELS.get(c, c)})" for s, c in zip(starts, names)]
+        starts = [f"{s} ({CONTROL_LABELS.get(c, c)})" for s, c in zip(starts, names)]
     return (f"markers: every {_ordinal(k)} set point, staggered so that no two controllers "
             f"mark the same one; the first at set point {', '.join(starts[:-1])} and "
             f"{starts[-1]}")
@@ -284,7 +284,7 @@ def _ordinal(k):
     return f"{k}{suffix}"
 
 
-def _joint_units(ds, which):
+def joint_units_of(ds, which):
     """Units of q (``"q"``) or tau (``"tau"``) per joint, from the stored joint types
     (:func:`gd_analyze.core.selection.labels.joint_motion_units`, ``joint_torque_units``)."""
     from ..core.selection.ranking import joint_motion_units, joint_torque_units
@@ -368,7 +368,7 @@ def control_figures(ds, width=PAGE_WIDTH):
     """
     names = _strings(ds["controller"].values)
     q_floor, tau_floor = noise_floors(ds)
-    with _style(_RC):
+    with _style(FIGURE_RC):
         figs = {"error": _joint_panels(
             ds, {c: ds["error"].sel(controller=c).values for c in names},
             _TRACKING_ERROR, "Tracking error per joint", log=True, floor=q_floor,

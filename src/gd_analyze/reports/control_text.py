@@ -10,8 +10,21 @@ from ..core.selection.ranking import element_label, is_round_off
 from .common import cost_table, fmt_column, prismatic_joints, utc_now
 from .common import strings as _strings
 from .common import table as _table
-from .control_figures import _LABELS, _joint_units, markers_words, noise_floors, noise_words
-from .control_verdict import _NOISE, VERDICT_TOLERANCE, _attr, _by_type_text, _fmt, control_verdict
+from .control_figures import (
+    CONTROL_LABELS,
+    joint_units_of,
+    markers_words,
+    noise_floors,
+    noise_words,
+)
+from .control_verdict import (
+    NOISE,
+    VERDICT_TOLERANCE,
+    by_type_text,
+    control_verdict,
+    dataset_attr,
+    fmt_number,
+)
 from .main_provenance import gravity_row, run_row, software_row
 from .main_text import gravity_clause, model_sentence
 from .markup import scope as scope_markup
@@ -47,11 +60,11 @@ def dataset_verdict(ds):
     rule = {k: noise_words(ds, k) for k in ("q", "tau")}     # the rules, said everywhere
     quiet = {c: bool(is_round_off(peaks[c], q_floor, 1.0).all())
              for c in names}           # every joint's error is integrator noise: not data
-    summary = "; ".join(f"{_LABELS.get(c, c)}: peak |e| "
-                        + (_NOISE if quiet[c] else _by_type_text(peaks[c], prismatic, "q"))
+    summary = "; ".join(f"{CONTROL_LABELS.get(c, c)}: peak |e| "
+                        + (NOISE if quiet[c] else by_type_text(peaks[c], prismatic, "q"))
                         for c in names)
     summary = summary[:1].upper() + summary[1:]
-    summary = (f"{_attr(ds, 'robot')} along {_attr(ds, 'trajectory_file')}, "
+    summary = (f"{dataset_attr(ds, 'robot')} along {dataset_attr(ds, 'trajectory_file')}, "
                f"\u03c9{_sub('n')} = {_per_joint(ds, 'wn', ' rad/s')}, "
                f"\u03b6 = {_per_joint(ds, 'zeta')}. {summary}.")
     diff = ds["tau_difference_peak"].values if "tau_difference_peak" in ds else None
@@ -61,8 +74,8 @@ def dataset_verdict(ds):
         diff = np.where(off, 0.0, diff)
         summary += (" Largest closed-loop torque difference, simplified-model controller "
                     "minus full-model controller (two closed-loop runs, each along its own "
-                    "motion): " + (_NOISE if quiet["tau_difference"] else
-                                   _by_type_text(diff, prismatic, 'tau')) + " (a joint's "
+                    "motion): " + (NOISE if quiet["tau_difference"] else
+                                   by_type_text(diff, prismatic, 'tau')) + " (a joint's "
                     "value counts as integrator noise, \u2261 0, where it is "
                     f"{rule['tau']}); not the "
                     "open-loop error \u03c4" + _sub("s") + " \u2212 \u03c4 of the main "
@@ -87,28 +100,28 @@ def control_context(ds):
     dict
         The report's context, the same for the HTML and the PDF.
     """
-    from .._version import __version__
+    from .._version import VERSION as __version__
 
     names = _strings(ds["controller"].values)
     n = int(ds.sizes["joint"])
     joints = [f"J{j + 1}" for j in range(n)]
     desc = (_strings(ds["controller_description"].values) if "controller_description" in ds
             else names)
-    q_units = _joint_units(ds, "q")
+    q_units = joint_units_of(ds, "q")
     judged = dataset_verdict(ds)
     summary, verdict, rule = judged["summary"], judged["verdict"], judged["rule"]
     q_floor, tau_floor = judged["floors"]
     setup = _table(["item", "value"], [
-        ["robot", f"{_attr(ds, 'robot')} (SHA-256 {_attr(ds, 'robot_sha256')})"],
-        ["trajectory", f"{_attr(ds, 'trajectory_file')} (SHA-256 "
-                       f"{_attr(ds, 'trajectory_sha256')})"],
-        ["simplified model", f"{_attr(ds, 'model_file')} (SHA-256 {_attr(ds, 'model_sha256')})"],
+        ["robot", f"{dataset_attr(ds, 'robot')} (SHA-256 {dataset_attr(ds, 'robot_sha256')})"],
+        ["trajectory", f"{dataset_attr(ds, 'trajectory_file')} (SHA-256 "
+                       f"{dataset_attr(ds, 'trajectory_sha256')})"],
+        ["simplified model", f"{dataset_attr(ds, 'model_file')} (SHA-256 {dataset_attr(ds, 'model_sha256')})"],
         ["plant", _plant(ds)],
-        ["controllers", "; ".join(_LABELS.get(c, d) for c, d in zip(names, desc))
+        ["controllers", "; ".join(CONTROL_LABELS.get(c, d) for c, d in zip(names, desc))
          + " (control laws below)"],
-        ["desired motion", _attr(ds, "interpolation").replace(
+        ["desired motion", dataset_attr(ds, "interpolation").replace(
             "(q, qd, qdd)", "(q, q\u0307, q\u0308)")],        # the stored words, as mathematics
-        ["integrator", f"{_attr(ds, 'integrator')}, rtol = {float(ds.attrs['rtol']):g}, "
+        ["integrator", f"{dataset_attr(ds, 'integrator')}, rtol = {float(ds.attrs['rtol']):g}, "
                        f"atol = {float(ds.attrs['atol']):g}"],
         *([["integrator noise of \u03c4" + _sub("s") + " \u2212 \u03c4" + _sub("f"),
             f"measured: both computed-torque runs again with rtol = "
@@ -121,10 +134,10 @@ def control_context(ds):
             "not measured (" + str(ds.attrs["noise_unmeasured"]) + "): the floor is rtol "
             "\u00d7 the full-model controller's peak |\u03c4|"]]
           if "noise_unmeasured" in ds.attrs else []),
-        ["samples", f"{_attr(ds, 'samples')} ({_attr(ds, 'setpoints')} set points + fine grid "
-                    f"of {_attr(ds, 'grid_points')})"],
+        ["samples", f"{dataset_attr(ds, 'samples')} ({dataset_attr(ds, 'setpoints')} set points + fine grid "
+                    f"of {dataset_attr(ds, 'grid_points')})"],
         ["initial offset q(0) \u2212 q" + _sub("d") + "(0)",
-         ", ".join(f"{_fmt(v)}\u00a0{u}" for v, u in zip(ds["q0_offset"].values, q_units))
+         ", ".join(f"{fmt_number(v)}\u00a0{u}" for v, u in zip(ds["q0_offset"].values, q_units))
          if "q0_offset" in ds else "0"],
     ], align=["left", "left"])
     gains = _gains_table(ds, joints)
@@ -140,7 +153,7 @@ def control_context(ds):
                 err_rows.append([_SHORT.get(c, c), where, fig])
                 err_values.append(v)
                 err_off.append(noisy(pk, q_floor))
-    q_u, tau_u = _joint_units(ds, "q"), _joint_units(ds, "tau")
+    q_u, tau_u = joint_units_of(ds, "q"), joint_units_of(ds, "tau")
     errors = _table(["controller", "sampled at", "figure"]
                     + [f"{j} [{u}]" for j, u in zip(joints, q_u)],
                     _with_columns(err_rows, err_values, err_off),
@@ -206,7 +219,7 @@ def control_context(ds):
     return {
         "version": __version__,
         "created": utc_now().isoformat(),
-        "title": f"Computed-torque control with the simplified G-D model: {_attr(ds, 'robot')}",
+        "title": f"Computed-torque control with the simplified G-D model: {dataset_attr(ds, 'robot')}",
         "summary": summary, "verdict": verdict,
         "intro": ("The arm, simulated with its full generalized d'Alembert dynamics (Fu, Gonzalez "
                   "& Lee 1987, Eq. 3.4-24), tracks the trajectory under computed-torque control "
@@ -233,10 +246,10 @@ def control_context(ds):
         "tau_table": tau_table,
         "cost": cost, "cost_note": cost_note,
         "choices": choices, "model_note": model_note, "provenance": prov,
-        "keywords": (f"robot {_attr(ds, 'robot')} sha256 {_attr(ds, 'robot_sha256')}; "
-                     f"trajectory {_attr(ds, 'trajectory_file')} sha256 "
-                     f"{_attr(ds, 'trajectory_sha256')}; model {_attr(ds, 'model_file')} sha256 "
-                     f"{_attr(ds, 'model_sha256')}"),
+        "keywords": (f"robot {dataset_attr(ds, 'robot')} sha256 {dataset_attr(ds, 'robot_sha256')}; "
+                     f"trajectory {dataset_attr(ds, 'trajectory_file')} sha256 "
+                     f"{dataset_attr(ds, 'trajectory_sha256')}; model {dataset_attr(ds, 'model_file')} sha256 "
+                     f"{dataset_attr(ds, 'model_sha256')}"),
     }
 
 
@@ -400,9 +413,9 @@ def _gains_table(ds, joints):
         if f"{name}_units" in ds.coords:
             units = [_GAIN_UNITS.get(u, u) for u in _strings(ds[f"{name}_units"].values)]
         else:                               # an older file: units from the joint types
-            from ..io.control_dataset import _gain_units
+            from ..io.control_dataset import gain_units
 
-            units = [_GAIN_UNITS.get(u, u) for u in _gain_units(prismatic)[name]]
+            units = [_GAIN_UNITS.get(u, u) for u in gain_units(prismatic)[name]]
         same = len(set(units)) == 1
         header.append(f"{title} [{units[0]}]" if same else title)
         per_joint[name] = ([""] * len(units) if same else
@@ -417,7 +430,7 @@ def _gains_table(ds, joints):
 
 def _plant(ds):
     """The simulated plant: the full G-D model's forward dynamics, written as mathematics."""
-    plant = _attr(ds, "plant")
+    plant = dataset_attr(ds, "plant")
     if plant.startswith("full G-D model"):
         return "full G-D model, q\u0308 = D\u207b\u00b9 (\u03c4 \u2212 h \u2212 c) (Eq. 3.4-24)"
     return plant
@@ -446,22 +459,22 @@ def _provenance(ds, version):
     gravity, the files, the verdict's tolerance."""
     rows = [list(software_row(ds, version))]
     if "command" in ds.attrs:           # an older control.h5 has none
-        rows.append(["command", _attr(ds, "command")])
+        rows.append(["command", dataset_attr(ds, "command")])
     rows += [list(run_row(ds, "run")), list(gravity_row(ds))]
     own = str(ds.attrs.get("trajectory_is_models")) == "1"
     for label, k in _PROVENANCE:
         if k == "model_trajectory_sha256" and own:
             continue                    # the trajectory's own SHA-256, said in Table 1.1
         if k in ds.attrs:
-            value = _attr(ds, k)
+            value = dataset_attr(ds, k)
             if k in ("trajectory_is_models", "model_guarantee_covered"):
                 value = {"1": "yes", "0": "no"}.get(value, value)
             rows.append([label, value])
     if "verdict_tolerance_revolute" in ds.attrs:
         kinds = set(prismatic_joints(ds).tolist())
-        said = [f"{_attr(ds, 'verdict_tolerance_revolute')} rad"
+        said = [f"{dataset_attr(ds, 'verdict_tolerance_revolute')} rad"
                 + (" (revolute joints)" if len(kinds) > 1 else "")] * (False in kinds) + \
-            [f"{_attr(ds, 'verdict_tolerance_prismatic')} m"
+            [f"{dataset_attr(ds, 'verdict_tolerance_prismatic')} m"
              + (" (prismatic joints)" if len(kinds) > 1 else "")] * (True in kinds)
         rows.append(["verdict tolerance", ", ".join(said)])
     return rows

@@ -17,8 +17,8 @@ __all__ = ["VERDICT_TOLERANCE", "control_verdict"]
 # Numbers in e-notation outside [1e-3, 1e5), 3 significant digits unless told; attributes
 # with 6 digits, arrays without parentheses, booleans as 0/1.
 _SCI = (1e-3, 1e5)
-_fmt = functools.partial(fmt, digits=3, sci_outside=_SCI)
-_attr = functools.partial(attr, parens=False, bools=True, sci_outside=_SCI)
+fmt_number = functools.partial(fmt, digits=3, sci_outside=_SCI)
+dataset_attr = functools.partial(attr, parens=False, bools=True, sci_outside=_SCI)
 
 
 #: Default tolerance of the verdict on the simplified-model controller's peak tracking error:
@@ -27,12 +27,12 @@ _attr = functools.partial(attr, parens=False, bools=True, sci_outside=_SCI)
 #: floor); ``control --verdict-tolerance`` sets it.
 VERDICT_TOLERANCE = tuple(defaults["verdict_tolerance"])
 #: A tracking error that is integrator noise on every joint, as the text says it.
-_NOISE = "\u2261 0 (integrator noise)"
+NOISE = "\u2261 0 (integrator noise)"
 
 
 def _value(value, unit):
     """A number and its unit, never split over two lines."""
-    return f"{_fmt(value)}\u00a0{unit}".replace(" ", "\u00a0")
+    return f"{fmt_number(value)}\u00a0{unit}".replace(" ", "\u00a0")
 
 
 def _by_type(values, prismatic, which):
@@ -48,7 +48,7 @@ def _by_type(values, prismatic, which):
     return out
 
 
-def _by_type_text(values, prismatic, which, limits=None):
+def by_type_text(values, prismatic, which, limits=None):
     """``"2.63e-04 rad"``, or per joint type ``"2.63e-04 rad, 6.20e-05 m"`` (revolute, then
     prismatic joints): a maximum is never taken across units."""
     groups = _by_type(values, prismatic, which)
@@ -115,7 +115,7 @@ def control_verdict(peaks, prismatic, tau_difference=None,
     quiet = quiet or {}
 
     def said(c, values):
-        return _NOISE if quiet.get(c) else _by_type_text(values, prismatic, "q")
+        return NOISE if quiet.get(c) else by_type_text(values, prismatic, "q")
 
     groups = {k: _by_type(v, prismatic, "q") for k, v in peaks.items()}
     tol = {False: tolerance[0], True: tolerance[1]}
@@ -128,8 +128,8 @@ def control_verdict(peaks, prismatic, tau_difference=None,
     if tau_difference is not None:
         tail = ("; its closed-loop torque differs from the full-model controller's (two "
                 "closed-loop runs) by at most "
-                + (_NOISE if quiet.get("tau_difference") else
-                   _by_type_text(tau_difference, prismatic, 'tau')))
+                + (NOISE if quiet.get("tau_difference") else
+                   by_type_text(tau_difference, prismatic, 'tau')))
         if noise_rule:
             tail += (f" (a joint's value counts as integrator noise, \u2261 0, where it is "
                      f"{noise_rule})")
@@ -144,11 +144,11 @@ def control_verdict(peaks, prismatic, tau_difference=None,
         head = "Verdict: the simplified model is NOT good enough for computed-torque control"
     if len(kinds) == 1:
         (u, _, _), kind = groups["full"][0], kinds[0]
-        tolerance_text = (f"{_fmt(bounds[0])} {u}, the larger of {tol[kind]:g} {u} and twice "
+        tolerance_text = (f"{fmt_number(bounds[0])} {u}, the larger of {tol[kind]:g} {u} and twice "
                           "the full model's")
     else:
         tolerance_text = (" and ".join(
-            f"{_fmt(b)} {u} ({'prismatic' if kind else 'revolute'})"
+            f"{fmt_number(b)} {u} ({'prismatic' if kind else 'revolute'})"
             for b, (u, _, _), kind in zip(bounds, groups["full"], kinds))
             + ", each the larger of " + " or ".join(
                 f"{tol[kind]:g} {u}" for (u, _, _), kind in zip(groups["full"], kinds))

@@ -246,7 +246,7 @@ def report_context(ds):
 
 def _report_context_base(ds):
     """Everything both reports print, as strings and tables (no figures)."""
-    from .._version import __version__
+    from .._version import VERSION as __version__
 
     _check(ds, _REQUIRED, "results")
     n = ds.sizes["joint"]

@@ -40,8 +40,10 @@ _PLACEMENT_CAPTION = (
     "frame i \u2212 1 is the last column. The robot has no Denavit-Hartenberg parameters.")
 _LINK_CAPTION = ("Link inertial parameters: mass, centre of mass (com) in link frame i, and "
                  "the diagonal of the inertia tensor about the centre of mass.")
-_FILES_TEXT = (" (C99 with void gd_simplified_tau(const double *q, const double *qd, const "
-               "double *qdd, double *tau); numpy tau(q, qd, qdd) over arrays of shape (N, n)).")
+_FILES_TEXT = (" (a C header and C99 source with PREFIX_tau, PREFIX_inertia, "
+               "PREFIX_velocity_terms, PREFIX_gravity and PREFIX_regressor, PREFIX the robot's "
+               "name or --prefix; numpy tau, inertia, velocity_terms, gravity and regressor over "
+               "arrays of shape (N, n); CasADi functions() of the same).")
 
 
 def _split(heading):

@@ -38,7 +38,7 @@ from .drawing import draw_figures, figure_svg, write_figure_files
 from .pages import PAPER, Document
 from .sections import Outline, to_document
 from .sweep_figures import make_sweep_figures
-from .sweep_text import _CAPTIONS, SHARE_TEXT
+from .sweep_text import SHARE_TEXT, SWEEP_CAPTIONS
 from .sweep_text import sweep_context as _context
 from .ticks import decade_label
 
@@ -134,7 +134,7 @@ def _outline(ctx, figures):
         o.table(ctx["payload"]["settings"], "Settings of the payload sweep.", kv=True)
         o.paragraph("Elements whose class changes with the payload: "
                     f"{ctx['payload']['changed']}.", "strong")
-        o.figure("payload", _CAPTIONS["payload"])
+        o.figure("payload", SWEEP_CAPTIONS["payload"])
         o.table(ctx["payload"]["table"], "Class of each element per payload mass.")
     return o
 

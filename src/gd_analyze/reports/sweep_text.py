@@ -77,7 +77,7 @@ def sweep_context(ds, payload=None):
     InputError
         If a dataset lacks a variable the report needs.
     """
-    from .._version import __version__
+    from .._version import VERSION as __version__
 
     _check(ds, _REQUIRED, "sweep")
     K = ds.sizes["trajectory"]
@@ -330,7 +330,7 @@ _INTRO = ("The generalized d'Alembert (G-D) equations of motion split the inerti
 
 
 #: Captions of the sweep report's figures (the same in the HTML and the PDF).
-_CAPTIONS = {
+SWEEP_CAPTIONS = {
     "D": "Distribution of the translational share of the elements of D over the sweep (layout of Fig. 3.10): "
          "box of the quartiles, whiskers at the minimum and maximum, coloured bar at the median, "
          "thresholds s and 1 \u2212 s dashed. Panel title: element and the merged model's "
@@ -396,10 +396,10 @@ def _captions(ds):
                            if str(ds.attrs.get("merged_rule", "chapter")) == "budget" else
                            "negligible, or \u2261 0, on every trajectory") + ").")
     return {
-        **_CAPTIONS,
-        "D": f"{_CAPTIONS['D']}{dots}",
-        "h": f"{_CAPTIONS['h']}{dots}",
-        "classes": f"{_CAPTIONS['classes']} {none}", "none": none,
+        **SWEEP_CAPTIONS,
+        "D": f"{SWEEP_CAPTIONS['D']}{dots}",
+        "h": f"{SWEEP_CAPTIONS['h']}{dots}",
+        "classes": f"{SWEEP_CAPTIONS['classes']} {none}", "none": none,
         "error": (f"Relative peak open-loop torque error per joint, per trajectory: of {own} "
                   "(green) "
                   f"and of {merged} (black"

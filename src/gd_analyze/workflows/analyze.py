@@ -19,7 +19,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from .._version import __version__
+from .._version import VERSION as __version__
 from ..core.dynamics.dalembert import GDTerms, allocate_terms, gd_terms
 from ..core.model.drives import has_drives
 from ..core.selection.simplified import SimplifiedModel, simplified_torque

@@ -13,6 +13,7 @@ import dataclasses
 import numpy as np
 
 from ..core.selection.budget import DEFAULT_TOLERANCE
+from ..core.selection.positive_definite import with_inertia_check
 from ..core.selection.ranking import DEFAULT_DOMINANCE, DEFAULT_NEGLIGIBLE
 from ..core.selection.simplified import SimplifiedModel
 
@@ -482,6 +483,7 @@ def deploy_models(robot, trajectory, ranking, part_peaks, options, provenance, b
                                 program_cache=model.program(),
                                 guarantee=model.guarantee if model.guarantee is not None
                                 else _trajectory_guarantee(model, sel, trajectory, missing))
+    model = with_inertia_check(model, q)            # D_s positive definite where it holds
     table = cost_rows(robot.n, model, other=other, ladder_rows=rows, formulation_counts=counts)
 
     def finish(other_error):

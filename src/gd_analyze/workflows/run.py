@@ -3,7 +3,8 @@
 :func:`run_analysis` is what ``gd-analyze ROBOT TRAJECTORY.csv`` runs: the G-D terms, their
 verification against Pinocchio, the ranking and the simplified model
 (:func:`gd_analyze.workflows.analyze.analyze_to_file`), an optional payload sweep, then
-``results.h5``, ``simplified_model.json`` with its emitted C and numpy sources, and the report,
+``results.h5``, ``simplified_model.json`` with its emitted C header and source, numpy and CasADi
+modules, and the report,
 all written aside and moved into the output folder together
 (:func:`gd_analyze.io.staging.staged_output`). The command line only parses, calls this and
 prints. :func:`results_dataset` is the same analysis with the same settings, in memory: the
@@ -16,6 +17,8 @@ import dataclasses
 from dataclasses import dataclass
 from pathlib import Path
 
+from ..core.selection.simplified import SOURCE_STEM
+from ..core.symbolic.emit_model import artefact_names
 from ..io.model_file import save_model
 from ..io.staging import check_free_space, staged_output, writing
 from .analyze import analyze, analyze_to_file
@@ -25,8 +28,8 @@ __all__ = ["ANALYZE_OUTPUTS", "AnalysisOutputs", "Payload", "run_analysis",
            "results_size", "results_dataset"]
 
 #: The files and folders the main job writes into its output folder.
-ANALYZE_OUTPUTS = ("results.h5", "simplified_model.json", "simplified_model.c",
-                   "simplified_model.py", "report.html", "report.pdf", "figures")
+ANALYZE_OUTPUTS = ("results.h5", "simplified_model.json", *artefact_names(SOURCE_STEM),
+                   "report.html", "report.pdf", "figures")
 
 
 @dataclass(frozen=True)
@@ -100,7 +103,7 @@ def _settings(options, base_settings, payload):
 
 
 def run_analysis(robot, trajectory, options, outdir, report=None, settings=None, payload=None,
-                 payload_masses=None, progress=False):
+                 payload_masses=None, progress=False, prefix=None):
     """Analyse a trajectory and write the main job's output folder.
 
     Parameters
@@ -132,6 +135,9 @@ def run_analysis(robot, trajectory, options, outdir, report=None, settings=None,
         before anything is written.
     progress : bool or tqdm.tqdm, optional
         As for :func:`gd_analyze.workflows.analyze.analysis_pass`.
+    prefix : str, optional
+        Prefix of the emitted C symbols and CasADi functions, a C identifier; default the
+        robot's name made one (:meth:`~gd_analyze.core.selection.simplified.SimplifiedModel.sources`).
 
     Returns
     -------
@@ -178,8 +184,7 @@ def run_analysis(robot, trajectory, options, outdir, report=None, settings=None,
         model = analysis.model
         save_model(model, stage / "simplified_model.json")
         written = [results, stage / "simplified_model.json"]
-        for name, text in (("simplified_model.c", model.c_source()),
-                           ("simplified_model.py", model.python_source())):
+        for name, text in model.sources(SOURCE_STEM, prefix).items():
             (stage / name).write_text(text, encoding="utf-8")
             written.append(stage / name)
         if report is not None:

@@ -9,6 +9,8 @@ from __future__ import annotations
 
 import numpy as np
 
+from ..core.selection.simplified import SOURCE_STEM
+from ..core.symbolic.emit_model import artefact_names
 from ..core.symbolic.recursive_model import PART_NAMES
 
 __all__ = ["AKB_COSTS", "coefficient_structure", "cost_rows", "simplified_dataset"]
@@ -108,7 +110,7 @@ def coefficient_structure(terms):
 
 
 def simplified_dataset(model, selection, other=None, ladder_rows=None, cost_table=None,
-                       files=("simplified_model.c", "simplified_model.py"), other_error=None,
+                       files=artefact_names(SOURCE_STEM), other_error=None,
                        full_terms=None):
     """The variables the report's "Simplified model" section reads.
 

@@ -209,7 +209,7 @@ def build_model(robot, terms, peaks, tolerance=DEFAULT_TOLERANCE, rule="budget",
     sel = select(tolerance)
     program = _program(robot, terms, sel.kept)
     full = full_program(robot, terms).cost()
-    if rule == "budget" and _ops(program.cost()) > _ops(full):
+    if rule == "budget" and total_operations(program.cost()) > total_operations(full):
         # dropping terms can cost more (the factoring and the CSE find less to share): the
         # full model (nothing dropped, bound 0) is then the cheapest one within the budget
         sel = select(0.0)
@@ -225,7 +225,7 @@ def build_model(robot, terms, peaks, tolerance=DEFAULT_TOLERANCE, rule="budget",
     return model, sel
 
 
-def _ops(cost):
+def total_operations(cost):
     return int(cost["multiplications"]) + int(cost["additions"])
 
 

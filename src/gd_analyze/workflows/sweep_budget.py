@@ -191,13 +191,14 @@ def budget_sweep_model(robot, trajectories, sweep_ds, tolerance=DEFAULT_TOLERANC
     Sec. 3.4.1 of Fu, Gonzalez & Lee (1987) (a simplified model "at a reduced computation
     time"); the region's bounds as :func:`gd_analyze.workflows.deploy.region_model`.
     """
+    from ..core.selection.positive_definite import with_inertia_check
     from ..core.symbolic.explicit_estimate import is_expensive
     from .deploy import guarantee_region
     from .simplify import (
-        _ops,
         explicit_sweep_model,
         full_torque,
         sweep_validation,
+        total_operations,
         trajectories_sha256,
     )
 
@@ -231,11 +232,13 @@ def budget_sweep_model(robot, trajectories, sweep_ds, tolerance=DEFAULT_TOLERANC
         ex, _, ex_scales, ex_relative, terms = explicit_sweep_model(
             robot, trajectories, tolerance, torque_floor, provenance)
         costs.update({"explicit, budget": dict(ex.cost), "explicit, full": dict(ex.full_cost)})
-        if form == "explicit" or (form == "cheapest" and _ops(ex.cost) < _ops(model.cost)):
+        if form == "explicit" or (form == "cheapest" and total_operations(ex.cost) < total_operations(model.cost)):
             model, scales, relative, bound = ex, ex_scales, ex_relative, None
             reference = full_torque(robot, terms)
     model = dataclasses.replace(model, costs=costs,
                                 full_cost=dict(costs.get("explicit, full", model.full_cost)))
+    # D_s positive definite on the swept positions (issue 30), before the model is measured
+    model = with_inertia_check(model, np.concatenate([t.q for t in trajectories]))
     validation = sweep_validation(model, trajectories, scales, relative, held_out=held_out,
                                   reference=reference, bound=bound)
     return dataclasses.replace(model, validation=validation,

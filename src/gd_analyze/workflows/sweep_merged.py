@@ -57,7 +57,7 @@ def merged_model(robot, sweep_ds):
     The validation is computed by :func:`~gd_analyze.workflows.sweep.run_sweep` along every
     trajectory and stored in the dataset; nothing is recomputed here. Source: Sec. 3.4.1 of Fu, Gonzalez & Lee (1987).
     """
-    from .._version import __version__
+    from .._version import VERSION as __version__
     from ..core.selection.simplified import SimplifiedModel
 
     needed = ("merged_choice", "merged_error_peak", "merged_error_rms", "merged_error_tau_peak",

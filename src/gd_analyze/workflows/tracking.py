@@ -13,7 +13,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ..core.dynamics.dalembert import _qdd_from_terms, gd_terms
+from ..core.dynamics.dalembert import gd_terms, qdd_from_terms
 
 __all__ = ["CONTROLLERS", "CONTROLLER_DESCRIPTIONS", "DEFAULT_WN", "DEFAULT_ZETA",
            "DEFAULT_RTOL", "DEFAULT_ATOL", "DEFAULT_METHOD", "MAX_STIFFNESS_STEPS",
@@ -449,7 +449,7 @@ def track(robot, controller, gains, desired, t_eval, q0_offset=0.0, choices=None
         terms = gd_terms(robot, q, qd, engine="compiled")
         tau = controller_torque(controller, robot, gains, desired(t)[None], d1(t)[None],
                                 d2(t)[None], q, qd, choices=choices, terms=terms)
-        return np.concatenate([y[n:], _qdd_from_terms(terms, tau)[0]])
+        return np.concatenate([y[n:], qdd_from_terms(terms, tau)[0]])
 
     t0 = t_eval[0]
     y0 = np.concatenate([desired(t0) + np.broadcast_to(np.asarray(q0_offset, float), (n,)),

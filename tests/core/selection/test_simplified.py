@@ -11,7 +11,6 @@ from gd_analyze.core.selection.simplified import (
     choice_masks,
     merge_choices,
     simplified_torque,
-    torque_error,
 )
 from gd_analyze.formulations.pinocchio import pinocchio_model
 from gd_analyze.io.model_file import load_model, save_model
@@ -78,14 +77,6 @@ def test_masks_are_symmetric_and_complete():
     del choices["h3"]
     with pytest.raises(ValueError, match="h3"):
         choice_masks(choices, 3)
-
-
-def test_torque_error():
-    tau = np.array([[1.0, -4.0], [-2.0, 0.0]])
-    err = torque_error(tau + np.array([[0.1, 0.0], [-0.3, 0.0]]), tau)
-    np.testing.assert_allclose(err["peak_abs_error"], [0.3, 0.0])
-    np.testing.assert_allclose(err["rms_error"], [np.sqrt((0.01 + 0.09) / 2), 0.0])
-    np.testing.assert_allclose(err["relative_peak_error"], [0.15, 0.0])
 
 
 def test_save_load_and_reuse_on_new_states(tmp_path, puma):

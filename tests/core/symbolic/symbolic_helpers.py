@@ -16,7 +16,7 @@ from scipy.spatial.transform import Rotation
 
 from gd_analyze.core.model.robot_spec import robot_from_chain, robot_from_dict
 from gd_analyze.core.symbolic.codegen import build_program
-from gd_analyze.core.symbolic.emit import C_FUNCTION, emit_c
+from gd_analyze.core.symbolic.emit import emit_c
 from gd_analyze.core.symbolic.explicit import derive, model_terms
 from gd_analyze.formulations.opcount import random_chain
 from gd_analyze.formulations.pinocchio import pinocchio_model
@@ -163,7 +163,7 @@ def compile_c(tmp_path, prog, name="m"):
     lib = tmp_path / f"lib{name}.so"
     subprocess.run([cc, "-O1", "-shared", "-fPIC", "-std=c99", "-pedantic", "-Wall", "-Wextra",
                     "-Werror", "-o", str(lib), str(src), "-lm"], check=True)
-    fn = getattr(ctypes.CDLL(str(lib)), C_FUNCTION)
+    fn = ctypes.CDLL(str(lib)).gd_tau
     dp = ctypes.POINTER(ctypes.c_double)
     fn.argtypes, fn.restype = [dp, dp, dp, dp], None
 

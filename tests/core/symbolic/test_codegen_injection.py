@@ -1,17 +1,20 @@
-"""Hostile robot names cannot reach the code of the emitted model (issue 16, item 1).
+"""Hostile robot names cannot reach the code of the emitted model (issue 16, item 1; issue 30).
 
 A name from a TOML robot file, a URDF ``<robot name>`` or the API is put into the header of
-``simplified_model.c`` and ``simplified_model.py`` (and the sweep's ``sweep_model.*``, the
-same emitters). Oracles: the C compiles under ``-Wall -Wextra -Werror``, its object defines
-exactly one symbol, ``gd_simplified_tau``, and its preprocessed text (comments removed by the
-compiler itself) is that of a harmless name; the Python's syntax tree is that of a harmless
-name; loading the library and importing the module in a child interpreter leaves no marker
-file behind; the header names the robot by the SHA-256 of its raw name.
+every emitted file: ``simplified_model.h``, ``.c``, ``.py`` and ``_casadi.py`` (and the sweep's
+``merged_model.*``, the same emitters). Oracles: the C compiles under ``-Wall -Wextra
+-Werror``, its object defines exactly the six prefixed symbols, and its preprocessed text
+(comments removed by the compiler itself, the header included) is that of a harmless name; the
+two Python modules' syntax trees are those of a harmless name; loading the library and
+importing both modules in a child interpreter leaves no marker file behind; every file names
+the robot by the SHA-256 of its raw name; the default prefix made of the name is a plain C
+identifier.
 """
 
 import ast
 import dataclasses
 import hashlib
+import re
 import shutil
 import subprocess
 import sys
@@ -24,7 +27,7 @@ from hypothesis import strategies as st
 
 from gd_analyze import SimplifiedModel, load_robot
 from gd_analyze.core.selection.ranking import element_labels
-from gd_analyze.core.symbolic.safe_text import comment_safe
+from gd_analyze.core.symbolic.safe_text import c_prefix, comment_safe
 from gd_analyze.io.urdf import load_urdf
 
 #: The attacks quoted in issue 16: a constructor that runs a command when the controller loads
@@ -80,11 +83,15 @@ CHILD = textwrap.dedent("""
     lib = ctypes.CDLL(str(here / "libmodel.so"))
     n = {n}
     arr = ctypes.c_double * n
-    lib.gd_simplified_tau(arr(*[0.1] * n), arr(*[0.2] * n), arr(*[0.3] * n), arr())
-    spec = importlib.util.spec_from_file_location("emitted", here / "model.py")
-    mod = importlib.util.module_from_spec(spec)
-    spec.loader.exec_module(mod)
-    mod.tau([[0.1] * n], [[0.2] * n], [[0.3] * n])
+    lib.gd_tau(arr(*[0.1] * n), arr(*[0.2] * n), arr(*[0.3] * n), arr())
+    for name in ("simplified_model", "simplified_model_casadi"):
+        spec = importlib.util.spec_from_file_location(name, here / (name + ".py"))
+        mod = importlib.util.module_from_spec(spec)
+        spec.loader.exec_module(mod)
+        if name == "simplified_model":
+            mod.tau([[0.1] * n], [[0.2] * n], [[0.3] * n])
+        else:
+            mod.functions()["tau"]([0.1] * n, [0.2] * n, [0.3] * n)
 """)
 
 
@@ -106,27 +113,36 @@ def _preprocessed(cc, path):
     return out
 
 
+#: The symbols the emitted object defines, with the prefix the test gives.
+SYMBOLS = sorted(f"gd_{k}" for k in ("tau", "inertia", "velocity_terms", "gravity", "regressor",
+                                     "base_parameters"))
+
+
 def _check_emitted(robot, folder):
-    """The emitted C and Python of ``robot``'s model carry its name only as comment text."""
+    """The emitted files of ``robot``'s model carry its name only as comment text."""
     folder.mkdir(parents=True, exist_ok=True)
+    (folder / "ref").mkdir(exist_ok=True)
     cc = _cc()
     model = _model(robot)
     reference = _model(dataclasses.replace(robot, name="reference"))
-    c_src, py_src = model.c_source(), model.python_source()
-    (folder / "model.c").write_text(c_src, encoding="utf-8")
-    (folder / "model.py").write_text(py_src, encoding="utf-8")
-    (folder / "reference.c").write_text(reference.c_source(), encoding="utf-8")
-    # the header still names the robot: its sanitised name and the SHA-256 of the raw name
+    files, ref = model.sources(prefix="gd_"), reference.sources(prefix="gd_")
+    for name, text in files.items():
+        (folder / name).write_text(text, encoding="utf-8")
+        (folder / "ref" / name).write_text(ref[name], encoding="utf-8")
+    # every file still names the robot: its sanitised name and the SHA-256 of the raw name
     digest = hashlib.sha256(robot.name.encode("utf-8", "backslashreplace")).hexdigest()
-    for src in (c_src, py_src):
+    for src in files.values():
         assert comment_safe(robot.name, digest=True) in src and digest in src
-    # C: compiles strictly, exactly one defined symbol
+    # C: compiles strictly, exactly the six prefixed symbols
+    c_file = folder / "simplified_model.c"
     subprocess.run([cc, "-std=c99", "-Wall", "-Wextra", "-Werror", "-fPIC", "-c",
-                    str(folder / "model.c"), "-o", str(folder / "model.o")], check=True)
+                    str(c_file), "-o", str(folder / "model.o")], check=True)
     for flags in (["--defined-only"], ["-g", "--defined-only"]):
         nm = subprocess.run(["nm", *flags, str(folder / "model.o")], check=True,
                             capture_output=True, text=True).stdout.split()
-        assert nm[1::3] == ["T"] and nm[2::3] == ["gd_simplified_tau"], nm
+        kinds = dict(zip(nm[2::3], nm[1::3]))
+        assert sorted(s for s, k in kinds.items() if k.isupper()) == SYMBOLS, nm
+        assert {s for s, k in kinds.items() if k.islower()} <= {"gd_JOINT_NAMES"}, nm
     subprocess.run([cc, "-shared", "-o", str(folder / "libmodel.so"),
                     str(folder / "model.o"), "-lm"], check=True)
     # loading and importing in a child interpreter runs nothing planted in the name
@@ -134,9 +150,14 @@ def _check_emitted(robot, folder):
                           capture_output=True, text=True)
     assert not (folder / "PWNED").exists()
     assert proc.returncode == 0, proc.stderr
-    # the code is that of a harmless name: C after the preprocessor, Python's syntax tree
-    assert _preprocessed(cc, folder / "model.c") == _preprocessed(cc, folder / "reference.c")
-    assert ast.dump(ast.parse(py_src)) == ast.dump(ast.parse(reference.python_source()))
+    # the code is that of a harmless name: C after the preprocessor (header included), the
+    # Python modules' syntax trees
+    assert _preprocessed(cc, c_file) == _preprocessed(cc, folder / "ref" / c_file.name)
+    for name in ("simplified_model.py", "simplified_model_casadi.py"):
+        assert ast.dump(ast.parse(files[name])) == ast.dump(ast.parse(ref[name]))
+    # the default prefix, made of the name, is a plain C identifier
+    assert re.fullmatch(r"[A-Za-z][A-Za-z0-9_]*_", c_prefix(robot.name))
+    assert model.sources()["simplified_model.h"].count(f"void {c_prefix(robot.name)}tau(") == 1
 
 
 @pytest.fixture(scope="module")
@@ -193,18 +214,21 @@ def test_urdf_robot_name_stays_in_comments(tmp_path_factory, name):
 
 
 def test_sweep_model_uses_the_same_header(two_link):
-    """sweep_model.c/.py come from the same SimplifiedModel emitters: one hostile sweep model."""
+    """merged_model.* come from the same SimplifiedModel emitters: one hostile sweep model."""
     from gd_analyze.io.planning import plan_quintic
     from gd_analyze.workflows.simplify import sweep_model
 
     robot = dataclasses.replace(two_link, name=C_CONSTRUCTOR)
     traj = plan_quintic(robot, [0.0, 0.0], [1.0, 0.5], n_setpoints=11)
     model, _ = sweep_model(robot, [traj])
-    c_src, py_src = model.c_source(), model.python_source()
-    ref = dataclasses.replace(model, robot=dataclasses.replace(robot, name="reference"))
-    assert c_src.count("/*") == c_src.count("*/") == 1
-    assert ast.dump(ast.parse(py_src)) == ast.dump(ast.parse(ref.python_source()))
-    for src in (c_src, py_src):
+    files = model.sources("merged_model", "gd_merged_")
+    ref = dataclasses.replace(model, robot=dataclasses.replace(robot, name="reference")).sources(
+        "merged_model", "gd_merged_")
+    for name in ("merged_model.c", "merged_model.h"):
+        assert files[name].count("/*") == files[name].count("*/") == ref[name].count("*/")
+    for name in ("merged_model.py", "merged_model_casadi.py"):
+        assert ast.dump(ast.parse(files[name])) == ast.dump(ast.parse(ref[name]))
+    for src in files.values():
         assert '"touch PWNED"' not in src and comment_safe(C_CONSTRUCTOR, digest=True) in src
 
 

@@ -14,7 +14,7 @@ from scales import joint_relative_error
 from symbolic_helpers import compile_c, explicit_program, rnea, states, symbolic_tau
 
 from gd_analyze.core.symbolic.codegen import Program
-from gd_analyze.core.symbolic.emit import C_FUNCTION, emit_c, emit_python, python_function
+from gd_analyze.core.symbolic.emit import emit_c, emit_python, python_function
 
 TOL = 1e-10
 
@@ -101,7 +101,7 @@ def test_emitted_c_includes_only_math_h_and_defines_one_function():
     assert " * robot: two-link" in src.splitlines()
     top = [ln for ln in src.splitlines() if ln and not ln[0].isspace()
            and not ln.startswith(("/*", " *", "#", "{", "}"))]
-    assert top == [f"void {C_FUNCTION}(const double *q, const double *qd, const double *qdd, "
+    assert top == ["void gd_tau(const double *q, const double *qd, const double *qdd, "
                    "double *tau)"]
 
 

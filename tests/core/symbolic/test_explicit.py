@@ -264,7 +264,7 @@ def test_emitted_c_compiles_and_agrees_with_python_and_rnea(tmp_path, puma_model
     subprocess.run([cc, "-O2", "-shared", "-fPIC", "-std=c99", "-Wall", "-Werror",
                     "-o", str(lib), str(tmp_path / "m.c"), "-lm"], check=True)
     dll = ctypes.CDLL(str(lib))
-    fn = dll.gd_simplified_tau
+    fn = dll.gd_tau
     dp = ctypes.POINTER(ctypes.c_double)
     fn.argtypes, fn.restype = [dp, dp, dp, dp], None
     q, qd, qdd = traj.q, traj.qd, traj.qdd

@@ -79,7 +79,7 @@ def _compile(tmp_path, program, n):
     lib = tmp_path / "libm_prismatic.so"
     subprocess.run([cc, "-O2", "-shared", "-fPIC", "-std=c99", "-Wall", "-Werror",
                     "-o", str(lib), str(tmp_path / "m.c"), "-lm"], check=True)
-    fn = ctypes.CDLL(str(lib)).gd_simplified_tau
+    fn = ctypes.CDLL(str(lib)).gd_tau
     dp = ctypes.POINTER(ctypes.c_double)
     fn.argtypes, fn.restype = [dp, dp, dp, dp], None
 

@@ -21,11 +21,11 @@ from gd_analyze.core.symbolic.emit import python_function
 from gd_analyze.core.symbolic.newton_euler import (
     FORMS,
     PARTS,
+    Recursion,
     _Builder,
     _const,
-    _link_constants,
-    _Recursion,
-    _torques,
+    link_constants,
+    link_torques,
 )
 from gd_analyze.formulations.pinocchio import pinocchio_model
 
@@ -41,9 +41,9 @@ def arm(name):
 
 def program(robot, parts, forms=None, lock_last=False):
     """tau of the given parts with the standard parameters, every link in one group."""
-    rec = _Recursion(robot, lock_last=lock_last, direct=forms)
-    consts = _link_constants(standard_parameters(robot))
-    tau = _torques(rec, [[(frozenset(parts), consts[j])] for j in range(robot.n)])
+    rec = Recursion(robot, lock_last=lock_last, direct=forms)
+    consts = link_constants(standard_parameters(robot))
+    tau = link_torques(rec, [[(frozenset(parts), consts[j])] for j in range(robot.n)])
     return Program(n=robot.n, assignments=list(rec.b.assignments), outputs=list(tau))
 
 

@@ -120,7 +120,7 @@ def test_error_criterion_bound_is_the_error_and_no_looser():
 def test_parts_program_computes_exactly_the_kept_pairs(name):
     """Each part alone is its rnea; random dropped sets equal the regressor's sum of the kept
     (parameter, part) contributions to 1e-10 (the split recursions are exact)."""
-    from gd_analyze.core.symbolic.pruning import _part_values
+    from gd_analyze.core.symbolic.pruning import part_values
     from gd_analyze.core.symbolic.recursive import parts_program
 
     arm = robot(name)
@@ -132,7 +132,7 @@ def test_parts_program_computes_exactly_the_kept_pairs(name):
     sets = [np.tile(np.arange(3) != p, (base.rank, 1)) for p in range(3)]
     sets += [rng.random((base.rank, 3)) < 0.3 for _ in range(3)]
     for dropped in sets:
-        prog = parts_program(arm, _part_values(base, dropped), search=False)
+        prog = parts_program(arm, part_values(base, dropped), search=False)
         want = (C * ~dropped.T[:, None, None, :]).sum(axis=(0, 3))
         got = python_function(prog)(q, qd, qdd)
         assert (np.abs(got - want).max(axis=0) <= 1e-10 * scale).all()

@@ -12,7 +12,7 @@ import pytest
 from scales import joint_relative_error
 from symbolic_helpers import ROBOTS, count_c, rnea, robot, states
 
-from gd_analyze.core.symbolic.emit import C_FUNCTION, emit_c, python_function
+from gd_analyze.core.symbolic.emit import emit_c, python_function
 from gd_analyze.core.symbolic.recursive import recursive_program
 
 TOL = 1e-10
@@ -40,7 +40,7 @@ def _compile(tmp_path, prog, n):
     lib = tmp_path / "libm_recursive.so"
     subprocess.run([cc, "-O2", "-shared", "-fPIC", "-std=c99", "-Wall", "-Werror", "-o",
                     str(lib), str(src), "-lm"], check=True)
-    fn = getattr(ctypes.CDLL(str(lib)), C_FUNCTION)
+    fn = ctypes.CDLL(str(lib)).gd_tau
     dp = ctypes.POINTER(ctypes.c_double)
     fn.argtypes, fn.restype = [dp, dp, dp, dp], None
 

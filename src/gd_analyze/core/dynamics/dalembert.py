@@ -396,7 +396,7 @@ def gd_terms(robot, q, qd, chunk=DEFAULT_CHUNK, engine="auto", out=None):
     return GDTerms(*res, arm, friction_torque(robot, qd))
 
 
-def _qdd_from_terms(terms, tau):
+def qdd_from_terms(terms, tau):
     rhs = np.asarray(tau, dtype=float) - terms.h - terms.c
     if terms.tau_f is not None:
         rhs = rhs - terms.tau_f
@@ -438,4 +438,4 @@ def forward_dynamics(robot, q, qd, tau, engine="auto"):
     point, batched.
     """
     q, qd, tau = as_states(robot, q, qd, tau)
-    return _qdd_from_terms(gd_terms(robot, q, qd, engine=engine), tau)
+    return qdd_from_terms(gd_terms(robot, q, qd, engine=engine), tau)

@@ -18,7 +18,7 @@ the model keeps, so ``gd_analyze.load_model(path).torque(q, qd, qdd)`` works on 
 from __future__ import annotations
 
 import json
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 from functools import cached_property
 
 import numpy as np
@@ -27,6 +27,7 @@ from ...errors import InputError
 from ..symbolic.safe_text import comment_safe
 from .choices import CHOICES, choice_masks, full_choices, merge_choices, simplified_torque  # noqa: F401
 from .labels import element_labels
+from .torque_error import TorqueErrorAccumulator, torque_error  # noqa: F401 (re-exported)
 
 __all__ = ["SCHEMA_VERSION", "CHOICES", "SimplifiedModel", "choice_masks", "merge_choices",
            "full_choices",
@@ -41,6 +42,10 @@ SCHEMA_VERSION = 2
 TORQUE_BLOCK = 8192
 #: Older layouts still read (their model is rebuilt from the choices, without pruning).
 READABLE_SCHEMAS = (1, 2)
+#: The stem of the main job's emitted files (``simplified_model.h``, ``.c``, ...).
+SOURCE_STEM = "simplified_model"
+
+
 def _units(robot):
     """The units line of the emitted files (prismatic joints in m and N)."""
     pris = [i + 1 for i, p in enumerate(getattr(robot, "prismatic", ())) if p]
@@ -64,77 +69,6 @@ def _rounded_up(value):
     step = 10.0 ** (np.floor(np.log10(v)) - 2)
     up = np.ceil(v / step * (1 - 1e-12)) * step
     return f"{up:.3g}" if float(f"{up:.3g}") >= v else f"{np.nextafter(up, np.inf):.4g}"
-
-
-class TorqueErrorAccumulator:
-    """Accumulate a simplified model's per-joint torque error chunk by chunk.
-
-    Parameters
-    ----------
-    n : int
-        Number of joints.
-    """
-
-    def __init__(self, n):
-        self.peak = np.zeros(n)
-        self.sum_sq = np.zeros(n)
-        self.peak_tau = np.zeros(n)
-        self.count = 0
-
-    def update(self, tau_simplified, tau_full):
-        """Add a chunk of set points.
-
-        Parameters
-        ----------
-        tau_simplified, tau_full : ndarray, shape (N, n)
-            Torques of the simplified and the full model [N m].
-        """
-        err = np.abs(np.asarray(tau_simplified, float) - np.asarray(tau_full, float))
-        if err.shape[0] == 0:
-            return
-        np.maximum(self.peak, err.max(axis=0), out=self.peak)
-        self.sum_sq += (err**2).sum(axis=0)
-        np.maximum(self.peak_tau, np.abs(tau_full).max(axis=0), out=self.peak_tau)
-        self.count += err.shape[0]
-
-    def result(self):
-        """The error figures.
-
-        Returns
-        -------
-        dict
-            Lists of n floats: ``peak_abs_error`` and ``rms_error`` of |tau_s - tau| [N m],
-            ``peak_tau`` = peak |tau| [N m], and ``relative_peak_error`` and
-            ``relative_rms_error`` (the errors divided by peak |tau|; NaN for a joint whose
-            torque is zero throughout).
-        """
-        rms = np.sqrt(self.sum_sq / max(self.count, 1))
-        pt = self.peak_tau
-        with np.errstate(invalid="ignore", divide="ignore"):
-            rel_peak = np.where(pt > 0, self.peak / np.where(pt > 0, pt, 1), np.nan)
-            rel_rms = np.where(pt > 0, rms / np.where(pt > 0, pt, 1), np.nan)
-        return {"peak_abs_error": self.peak.tolist(), "rms_error": rms.tolist(),
-                "peak_tau": pt.tolist(), "relative_peak_error": rel_peak.tolist(),
-                "relative_rms_error": rel_rms.tolist()}
-
-
-def torque_error(tau_simplified, tau_full):
-    """Per-joint torque error of a simplified model along a trajectory.
-
-    Parameters
-    ----------
-    tau_simplified, tau_full : ndarray, shape (N, n)
-        Torques [N m].
-
-    Returns
-    -------
-    dict
-        As :meth:`TorqueErrorAccumulator.result`.
-    """
-    tau_full = np.asarray(tau_full, float)
-    acc = TorqueErrorAccumulator(tau_full.shape[1])
-    acc.update(tau_simplified, tau_full)
-    return acc.result()
 
 
 @dataclass(frozen=True, eq=False)
@@ -187,6 +121,12 @@ class SimplifiedModel:
     program_cache : Program or None
         The model's program where its builder already has it (not written to the file);
         otherwise :meth:`program` builds it once, on first use.
+    inertia_check : dict or None
+        Whether D_s is positive definite where the bound holds, sampled
+        (:func:`~gd_analyze.core.selection.positive_definite.with_inertia_check`); None when
+        not checked.
+    functions_cache : ModelFunctions or None
+        As ``program_cache``, for :meth:`functions`.
 
     Notes
     -----
@@ -212,6 +152,8 @@ class SimplifiedModel:
     costs: dict = field(default_factory=dict)
     guarantee: object = None
     program_cache: object = field(default=None, repr=False, compare=False)
+    inertia_check: dict = None
+    functions_cache: object = field(default=None, repr=False, compare=False)
 
     @property
     def form(self):
@@ -246,7 +188,7 @@ class SimplifiedModel:
         from ..model.drives import with_drives
 
         if self.recursive is not None:
-            return with_drives(self.recursive.program(self.robot), self.robot)
+            return with_drives(self._choice[0], self.robot)
         from ..symbolic.codegen import build_program
 
         return with_drives(build_program(self.explicit_terms(), self.robot.n,
@@ -293,21 +235,82 @@ class SimplifiedModel:
             "operations": f"{cost['multiplications']} multiplications, {cost['additions']} "
                           f"additions, {cost['sin']} sin, {cost['cos']} cos",
             **compared,
+            **({} if not self.inertia_check else {"inertia matrix D_s": (
+                f"positive definite: {self.inertia_check['positive_definite']}, at "
+                f"{self.inertia_check['samples']} sampled positions of the "
+                f"{self.inertia_check['where']} (sampled, not proved)")}),
             "gd-analyze version": self.provenance.get("gd_analyze_version", ""),
             "units": _units(self.robot),
         }
 
-    def c_source(self):
-        """C99 source of the model (``void gd_simplified_tau(q, qd, qdd, tau)``)."""
-        from ..symbolic.emit import emit_c
+    def functions(self):
+        """The deployed model's five functions (tau, D_s, h_s, c_s, Y_s) as programs.
 
-        return emit_c(self.program(), self.header())
+        Returns
+        -------
+        gd_analyze.core.symbolic.model_functions.ModelFunctions
+            Built once, from the same kept terms as :meth:`program`: D_s qdd + h_s + c_s =
+            tau_s and Y_s beta_s = tau_s (:mod:`gd_analyze.core.symbolic.model_functions`).
+        """
+        return self._functions
 
-    def python_source(self):
-        """numpy source of the model (``tau(q, qd, qdd)``, vectorised over set points)."""
-        from ..symbolic.emit import emit_python
+    @cached_property
+    def _functions(self):
+        from ..symbolic.model_functions import explicit_functions, recursive_functions
 
-        return emit_python(self.program(), self.header())
+        if self.functions_cache is not None:
+            return self.functions_cache
+        if self.recursive is None:
+            return explicit_functions(self.robot, self.explicit_terms(), self.program())
+        return recursive_functions(self.robot, self.recursive.base(self.robot),
+                                   self._choice[1], self.program())
+
+    @cached_property
+    def _choice(self):
+        """(program, pairs it leaves out) of the recursive form, built once."""
+        return self.recursive.choice(self.robot)
+
+    def with_inertia_check(self, check):
+        """The model with an ``inertia_check``, its program and functions built once.
+
+        Parameters
+        ----------
+        check : dict
+            As :func:`~gd_analyze.core.selection.positive_definite.with_inertia_check` makes it.
+
+        Returns
+        -------
+        SimplifiedModel
+        """
+        return replace(self, inertia_check=check, program_cache=self.program(),
+                       functions_cache=self.functions())
+
+    def sources(self, stem=SOURCE_STEM, prefix=None):
+        """The emitted files' texts (:data:`gd_analyze.core.symbolic.emit_model.ARTEFACTS`).
+
+        Parameters
+        ----------
+        stem : str, optional
+            ``simplified_model`` (main job) or ``merged_model`` (sweep).
+        prefix : str, optional
+            Of the C symbols and CasADi functions, a C identifier; default the robot's name
+            made one (:func:`~gd_analyze.core.symbolic.safe_text.c_prefix`).
+
+        Returns
+        -------
+        dict
+            File name -> text: ``STEM.h``, ``STEM.c``, ``STEM.py``, ``STEM_casadi.py``.
+
+        Raises
+        ------
+        ValueError
+            If the prefix is not a C identifier.
+        """
+        from ..symbolic.emit_model import render
+        from ..symbolic.safe_text import c_prefix
+
+        prefix = c_prefix(self.robot.name) if prefix is None else prefix
+        return render(self.functions(), self.header(), prefix, stem)
 
     def _python_tau(self):
         from ..symbolic.emit import python_function
@@ -383,6 +386,8 @@ class SimplifiedModel:
             out["full_cost"] = dict(self.full_cost)
         if self.guarantee is not None:
             out["guarantee"] = self.guarantee.to_dict()
+        if self.inertia_check is not None:
+            out["inertia_check"] = dict(self.inertia_check)
         return out
 
     def scope(self):
@@ -479,10 +484,7 @@ class SimplifiedModel:
                    bound=[float("nan") if v is None else float(v)
                           for v in spec.get("bound") or []],
                    recursive=recursive, costs=dict(spec.get("costs") or {}),
-                   guarantee=guarantee)
-
-
-
+                   guarantee=guarantee, inertia_check=spec.get("inertia_check"))
 
 def parameters_sha256(parameters):
     """SHA-256 of a robot's parameters as stored in a model file (canonical JSON).

@@ -36,7 +36,7 @@ from .factoring import expand_pairs, factor_sum, private_products, prune_dead, s
 from .operation_count import count_operations
 from .subexpressions import eliminate
 
-__all__ = ["Program", "build_program"]
+__all__ = ["Program", "build_program", "ExplicitProgram"]
 
 
 @dataclass(frozen=True, eq=False)
@@ -108,222 +108,388 @@ def build_program(terms, n, offset, trig_mode="products", prismatic=None):
     Returns
     -------
     Program
+        tau [N m or N] of q, qd, qdd (:meth:`ExplicitProgram.tau`).
 
     Notes
     -----
     tau = D qdd + h + c, Eq. (3.4-24) of Fu, Gonzalez & Lee (1987), with D, h, c in the explicit
     forms of :mod:`gd_analyze.core.symbolic.explicit`.
     """
-    q = [se.Symbol(f"q{i}") for i in range(n)]
-    qd = [se.Symbol(f"qd{i}") for i in range(n)]
-    qdd = [se.Symbol(f"qdd{i}") for i in range(n)]
-    assignments = []
-    # merge the kept terms per group and harmonic
-    groups = {}
-    for kind, i, j, k, K, S, C in zip(terms.kind, terms.i, terms.j, terms.k, terms.K,
-                                      terms.S, terms.C):
-        g = groups.setdefault((str(kind), int(i), int(j), int(k)), {})
-        key = _key(K, S)
-        g[key] = g.get(key, 0.0) + float(C)
-    groups = {gk: {h: c for h, c in g.items() if c != 0.0} for gk, g in groups.items()}
-    groups = {gk: g for gk, g in groups.items() if g}
-    lin = np.zeros(n, bool) if prismatic is None else np.asarray(prismatic, bool)
-    late = len(terms) > LATE_FACTORING
-    has_lin = bool(lin.any())
+    return ExplicitProgram(terms, n, offset, trig_mode, prismatic).tau()
 
-    def split(key):
+
+class ExplicitProgram:
+    """The explicit model's program, built in stages (one method each).
+
+    1. :meth:`__init__` merges the kept terms per group and harmonic;
+    2. :meth:`trig_values` forms the angles, their cos and sin (and products of two);
+    3. :meth:`group_value` writes one group (D_ij, C_ijk or c_i) as a sum of coefficient x
+       cos/sin, factored;
+    4. :meth:`assemble_tau` adds up tau_i = sum_j D_ij qdd_j + sum_{j<=k} C_ijk qd_j qd_k + c_i,
+       Eq. (3.4-24);
+    5. :meth:`finish` drops unused assignments and eliminates common subexpressions.
+
+    :meth:`tau` runs them in order. One instance builds one program (its caches fill the
+    assignments in the order of use).
+
+    Parameters
+    ----------
+    terms, n, offset, trig_mode, prismatic
+        As :func:`build_program`.
+    """
+
+    def __init__(self, terms, n, offset, trig_mode="products", prismatic=None):
+        self.n, self.trig_mode = n, trig_mode
+        self.q = [se.Symbol(f"q{i}") for i in range(n)]
+        self.qd = [se.Symbol(f"qd{i}") for i in range(n)]
+        self.qdd = [se.Symbol(f"qdd{i}") for i in range(n)]
+        self.assignments = []
+        groups = {}                                 # merge the kept terms per group, harmonic
+        for kind, i, j, k, K, S, C in zip(terms.kind, terms.i, terms.j, terms.k, terms.K,
+                                          terms.S, terms.C):
+            g = groups.setdefault((str(kind), int(i), int(j), int(k)), {})
+            key = _key(K, S)
+            g[key] = g.get(key, 0.0) + float(C)
+        groups = {gk: {h: c for h, c in g.items() if c != 0.0} for gk, g in groups.items()}
+        self.groups = {gk: g for gk, g in groups.items() if g}
+        self.lin = np.zeros(n, bool) if prismatic is None else np.asarray(prismatic, bool)
+        self.late = len(terms) > LATE_FACTORING
+        self.has_lin = bool(self.lin.any())
+        self.theta = []
+        for i in range(n):
+            off = float(offset[i])
+            if off:
+                t = se.Symbol(f"th{i}")
+                self.assignments.append((t, self.q[i] + off))
+                self.theta.append(t)
+            else:
+                self.theta.append(self.q[i])
+        self.angle_cache, self.trig_cache, self.prod_cache = {}, {}, {}
+        self.recipe, self.by_sym, self.factors = {}, {}, {}
+        self.mono_cache, self.vel_cache, self.shared = {}, {}, {}
+        self.expanded = self.private = None
+
+    # --- stage 2: trig values --------------------------------------------------------------
+    def _split(self, key):
         """(trig key with the polynomial columns zeroed, powers of the prismatic q)."""
-        if not has_lin:
+        if not self.has_lin:
             return key, None
-        kv = key[1:]
+        kv, lin = key[1:], self.lin
         return ((key[0],) + tuple(0 if lin[m] else v for m, v in enumerate(kv)),
                 tuple(v if lin[m] else 0 for m, v in enumerate(kv)))
-    # angles, compound angles and their cos/sin
-    theta = []
-    for i in range(n):
-        off = float(offset[i])
-        if off:
-            t = se.Symbol(f"th{i}")
-            assignments.append((t, q[i] + off))
-            theta.append(t)
-        else:
-            theta.append(q[i])
-    angle_cache, trig_cache, prod_cache, recipe, by_sym, factors = {}, {}, {}, {}, {}, {}
 
-    def prod(a, b):
+    def _prod(self, a, b):
         """The product a b of two trig values, each formed once."""
         pk = (a, b) if a.name <= b.name else (b, a)
-        if pk not in prod_cache:
-            sym = se.Symbol(f"p{len(prod_cache)}")
-            assignments.append((sym, a * a if a == b else a * b))
-            prod_cache[pk] = sym
-            factors[sym] = pk
-        return prod_cache[pk]
+        if pk not in self.prod_cache:
+            sym = se.Symbol(f"p{len(self.prod_cache)}")
+            self.assignments.append((sym, a * a if a == b else a * b))
+            self.prod_cache[pk] = sym
+            self.factors[sym] = pk
+        return self.prod_cache[pk]
 
-    def angle(kvec):
+    def _angle(self, kvec):
+        """The compound angle k . theta, each formed once (by its last joint's term)."""
         kvec = tuple(kvec)
-        if kvec in angle_cache:
-            return angle_cache[kvec]
+        if kvec in self.angle_cache:
+            return self.angle_cache[kvec]
         g = 0
         for v in kvec:
             g = math.gcd(g, abs(v))
         if g > 1:
-            base = angle(tuple(v // g for v in kvec))
-            expr = g * base
+            expr = g * self._angle(tuple(v // g for v in kvec))
         else:
             nz = [m for m, v in enumerate(kvec) if v]
             if len(nz) == 1:
-                angle_cache[kvec] = theta[nz[0]]
-                return theta[nz[0]]
+                self.angle_cache[kvec] = self.theta[nz[0]]
+                return self.theta[nz[0]]
             # split off the last joint: k . theta = (k without m) . theta + k_m theta_m
             m = nz[-1]
             head = list(kvec)
             head[m] = 0
-            expr = angle(tuple(head)) + kvec[m] * theta[m]
-        sym = se.Symbol(f"a{len(angle_cache)}")
-        assignments.append((sym, expr))
-        angle_cache[kvec] = sym
+            expr = self._angle(tuple(head)) + kvec[m] * self.theta[m]
+        sym = se.Symbol(f"a{len(self.angle_cache)}")
+        self.assignments.append((sym, expr))
+        self.angle_cache[kvec] = sym
         return sym
 
-    def trig(key):
-        if key in trig_cache:
-            return trig_cache[key]
+    def _trig(self, key):
+        """cos or sin of a harmonic key (is_sin, k...): a call, or the angle-addition formula
+        from products of two trig values formed once."""
+        if key in self.trig_cache:
+            return self.trig_cache[key]
         is_sin, kvec = key[0], tuple(key[1:])
         if not any(kvec):
             return se.Integer(1)
         nz = [m for m, v in enumerate(kvec) if v]
-        if trig_mode == "calls" or (len(nz) == 1 and kvec[nz[0]] == 1):
-            a = angle(kvec)
+        if self.trig_mode == "calls" or (len(nz) == 1 and kvec[nz[0]] == 1):
+            a = self._angle(kvec)
             expr = se.sin(a) if is_sin else se.cos(a)
         else:
-            # angle addition: k = a + b, cos(a+b) = ca cb - sa sb, sin(a+b) = sa cb + ca sb
-            g = 0
-            for v in kvec:
-                g = math.gcd(g, abs(v))
-            if g > 1:
-                unit = tuple(v // g for v in kvec)
-                ka, kb = unit, tuple(v * (g - 1) for v in unit)
-                sign_b = 1
-            else:
-                m = nz[-1]
-                ka = tuple(0 if i == m else v for i, v in enumerate(kvec))
-                sign_b = 1 if kvec[m] > 0 else -1
-                kb = tuple(abs(kvec[m]) if i == m else 0 for i in range(len(kvec)))
-            ca, sa = trig((False,) + ka), trig((True,) + ka)
-            cb, sb = trig((False,) + kb), trig((True,) + kb)
-            if ka == kb and not is_sin:
-                recipe[key] = ((1, prod(ca, ca)), (-1, prod(sa, sa)))
-            elif ka == kb:
-                recipe[key] = ((2, prod(sa, ca)),)
-            elif not is_sin:
-                recipe[key] = ((1, prod(ca, cb)), (-sign_b, prod(sa, sb)))
-            else:
-                recipe[key] = ((1, prod(sa, cb)), (sign_b, prod(ca, sb)))
-            expr = se.Add(*[_coef(sg) * p for sg, p in recipe[key]])
-        sym = se.Symbol(f"{'s' if is_sin else 'c'}{len(trig_cache)}")
-        assignments.append((sym, expr))
-        trig_cache[key] = sym
-        if key in recipe:
-            by_sym[sym] = recipe[key]
+            expr = se.Add(*[_coef(sg) * p for sg, p in self._addition(key, kvec, nz)])
+        sym = se.Symbol(f"{'s' if is_sin else 'c'}{len(self.trig_cache)}")
+        self.assignments.append((sym, expr))
+        self.trig_cache[key] = sym
+        if key in self.recipe:
+            self.by_sym[sym] = self.recipe[key]
         return sym
 
-    for g in groups.values():                       # trig values first, in a stable order
-        for key in sorted(g):
-            trig(split(key)[0])
-    def pairs(items):
-        rest, prods = sum_to_product(items, trig_cache.__contains__)
-        rest += [(("p", prod(trig(ka), trig(kb))), c) for c, ka, kb in prods]
-        return expand_pairs(rest, recipe)
+    def _addition(self, key, kvec, nz):
+        """The recipe of cos/sin(a + b) = ca cb -+ sa sb, sa cb +- ca sb for k = a + b."""
+        is_sin, trig, prod = key[0], self._trig, self._prod
+        g = 0
+        for v in kvec:
+            g = math.gcd(g, abs(v))
+        if g > 1:
+            unit = tuple(v // g for v in kvec)
+            ka, kb = unit, tuple(v * (g - 1) for v in unit)
+            sign_b = 1
+        else:
+            m = nz[-1]
+            ka = tuple(0 if i == m else v for i, v in enumerate(kvec))
+            sign_b = 1 if kvec[m] > 0 else -1
+            kb = tuple(abs(kvec[m]) if i == m else 0 for i in range(len(kvec)))
+        ca, sa = trig((False,) + ka), trig((True,) + ka)
+        cb, sb = trig((False,) + kb), trig((True,) + kb)
+        if ka == kb and not is_sin:
+            self.recipe[key] = ((1, prod(ca, ca)), (-1, prod(sa, sa)))
+        elif ka == kb:
+            self.recipe[key] = ((2, prod(sa, ca)),)
+        elif not is_sin:
+            self.recipe[key] = ((1, prod(ca, cb)), (-sign_b, prod(sa, sb)))
+        else:
+            self.recipe[key] = ((1, prod(sa, cb)), (sign_b, prod(ca, sb)))
+        return self.recipe[key]
 
-    def expand(g):
+    def trig_values(self):
+        """Stage 2: every group's trig values (in a stable order), then each group's items
+        expanded into products of pairs (:mod:`.factoring`) and the private products found."""
+        for g in self.groups.values():
+            for key in sorted(g):
+                self._trig(self._split(key)[0])
+        self.expanded = {gk: self._expand(g) for gk, g in self.groups.items()}
+        self.private = private_products([[a if a[0] == "p" else self._trig(a) for a, _, _ in ex]
+                                         for ex in self.expanded.values()], self.by_sym,
+                                        self.factors)
+
+    def _pairs(self, items):
+        rest, prods = sum_to_product(items, self.trig_cache.__contains__)
+        rest += [(("p", self._prod(self._trig(ka), self._trig(kb))), c) for c, ka, kb in prods]
+        return expand_pairs(rest, self.recipe)
+
+    def _expand(self, g):
         """[(trig value or product key, powers of the prismatic q, coef)]: pairs in products."""
-        if not has_lin:
-            return [(a, None, c) for a, c in pairs(sorted(g.items()))]
+        if not self.has_lin:
+            return [(a, None, c) for a, c in self._pairs(sorted(g.items()))]
         by_pw = {}
         for key, c in sorted(g.items()):
-            th, pw = split(key)
+            th, pw = self._split(key)
             by_pw.setdefault(pw, []).append((th, c))
-        return [(a, pw, c) for pw, items in by_pw.items() for a, c in pairs(items)]
-    expanded = {gk: expand(g) for gk, g in groups.items()}
-    private = private_products([[a if a[0] == "p" else trig(a) for a, _, _ in ex]
-                                for ex in expanded.values()], by_sym, factors)
+        return [(a, pw, c) for pw, items in by_pw.items() for a, c in self._pairs(items)]
 
-    def atom(h):
+    def _atom(self, h):
         """A term's trig value: a harmonic, a product, or a private product's two factors."""
         if h[0] != "p":
-            return trig(h)
-        return se.Mul(*factors[h[1]]) if h[1] in private else h[1]
-    mono_cache = {}
+            return self._trig(h)
+        return se.Mul(*self.factors[h[1]]) if h[1] in self.private else h[1]
 
-    def mono(pvec):
+    def _mono(self, pvec):
         """prod q_m^p_m over the prismatic joints, each power formed once."""
         if pvec is None or not any(pvec):
             return se.Integer(1)
-        if pvec in mono_cache:
-            return mono_cache[pvec]
+        if pvec in self.mono_cache:
+            return self.mono_cache[pvec]
         nz = [m for m, v in enumerate(pvec) if v]
         if len(nz) == 1 and pvec[nz[0]] == 1:
-            return q[nz[0]]
+            return self.q[nz[0]]
         m = nz[-1]
         head = tuple(v - 1 if i == m else v for i, v in enumerate(pvec))
-        sym = se.Symbol(f"m{len(mono_cache)}")
-        mono_cache[pvec] = sym                      # reserve the name before the recursion
-        assignments.append((sym, mono(head) * q[m]))
+        sym = se.Symbol(f"m{len(self.mono_cache)}")
+        self.mono_cache[pvec] = sym                 # reserve the name before the recursion
+        self.assignments.append((sym, self._mono(head) * self.q[m]))
         return sym
-    vel_cache = {}
 
-    def vel(j, k):
-        if (j, k) not in vel_cache:
-            sym = se.Symbol(f"v{j}{k}" if n < 10 else f"v{j}_{k}")
-            assignments.append((sym, qd[j] * qd[k]))
-            vel_cache[(j, k)] = sym
-        return vel_cache[(j, k)]
+    def _vel(self, j, k):
+        """The velocity product qd_j qd_k, formed once."""
+        if (j, k) not in self.vel_cache:
+            sym = se.Symbol(f"v{j}{k}" if self.n < 10 else f"v{j}_{k}")
+            self.assignments.append((sym, self.qd[j] * self.qd[k]))
+            self.vel_cache[(j, k)] = sym
+        return self.vel_cache[(j, k)]
 
-    shared = {}
+    # --- stage 3: groups ------------------------------------------------------------------
+    def group_value(self, gk, name):
+        """A symbol (or constant) for sum coef x trig, reusing a proportional earlier group.
 
-    def group_value(gk, name):
-        """A symbol (or constant) for sum coef x trig, reusing a proportional earlier group."""
-        g = groups[gk]
+        Parameters
+        ----------
+        gk : tuple
+            The group's key (kind ``"D"``, ``"h"`` or ``"c"``, i, j, k).
+        name : str
+            The name of its temporary, e.g. ``D01``.
+
+        Returns
+        -------
+        symengine.Basic
+            The temporary, a constant, or a multiple of an earlier proportional group's.
+        """
+        g = self.groups[gk]
         items = sorted(g.items())
         if len(items) == 1 and not any(items[0][0][1:]):
             return se.RealDouble(items[0][1])            # a constant group
         ref = max(items, key=lambda t: abs(t[1]))[1]
         norm = tuple((h, round(c / ref, 12)) for h, c in items)
-        if norm in shared:
-            sym, ref0 = shared[norm]
+        if norm in self.shared:
+            sym, ref0 = self.shared[norm]
             factor = ref / ref0
             return sym if factor == 1.0 else (-sym if factor == -1.0 else
                                                se.RealDouble(factor) * sym)
         by_atom = {}                                # per trig value: a polynomial in q
-        for a, pw, c in expanded[gk]:
+        for a, pw, c in self.expanded[gk]:
             by_atom.setdefault(a, []).append((pw, c))
-        expr = [se.Add(*[_coef(c) * mono(pw) for pw, c in poly]) * atom(a)
+        expr = [se.Add(*[_coef(c) * self._mono(pw) for pw, c in poly]) * self._atom(a)
                 for a, poly in by_atom.items()]
-        expr = se.Add(*expr) if late else factor_sum(expr, by_sym)
+        expr = se.Add(*expr) if self.late else factor_sum(expr, self.by_sym)
         sym = se.Symbol(name)
-        assignments.append((sym, expr))
-        shared[norm] = (sym, ref)
+        self.assignments.append((sym, expr))
+        self.shared[norm] = (sym, ref)
         return sym
 
-    tau = [[] for _ in range(n)]
-    for (kind, i, j, k), g in sorted(groups.items()):
+    def _name(self, kind, i, j, k):
+        n = self.n
         if kind == "D":
-            val = group_value((kind, i, j, k), f"D{i}{j}" if n < 10 else f"D{i}_{j}")
-            tau[i].append(val * qdd[j])
-            if i != j:
-                tau[j].append(val * qdd[i])
-    for (kind, i, j, k), g in sorted(groups.items()):
+            return f"D{i}{j}" if n < 10 else f"D{i}_{j}"
         if kind == "h":
-            val = group_value((kind, i, j, k), f"C{i}{j}{k}" if n < 10 else f"C{i}_{j}_{k}")
-            tau[i].append(val * vel(j, k))
-        elif kind == "c":
-            tau[i].append(group_value((kind, i, j, k), f"g{i}"))
-    outputs = [factor_sum(t) if t else se.Integer(0) for t in tau]
-    assignments, outputs = eliminate(prune_dead(assignments, outputs), outputs)
-    if late:
-        assignments = [(s, factor_sum(list(e.args), by_sym) if e.is_Add else e)
-                       for s, e in assignments]
-    return Program(n=n, assignments=assignments, outputs=outputs)
+            return f"C{i}{j}{k}" if n < 10 else f"C{i}_{j}_{k}"
+        return f"g{i}"
+
+    # --- stage 4: tau assembly -----------------------------------------------------------------
+    def assemble_tau(self):
+        """Stage 4: the terms of each tau_i, Eq. (3.4-24): D groups first, then h and c.
+
+        Returns
+        -------
+        list of list of symengine.Basic, length n
+        """
+        tau = [[] for _ in range(self.n)]
+        for (kind, i, j, k) in sorted(self.groups):
+            if kind == "D":
+                val = self.group_value((kind, i, j, k), self._name(kind, i, j, k))
+                tau[i].append(val * self.qdd[j])
+                if i != j:
+                    tau[j].append(val * self.qdd[i])
+        for (kind, i, j, k) in sorted(self.groups):
+            if kind == "h":
+                val = self.group_value((kind, i, j, k), self._name(kind, i, j, k))
+                tau[i].append(val * self._vel(j, k))
+            elif kind == "c":
+                tau[i].append(self.group_value((kind, i, j, k), self._name(kind, i, j, k)))
+        return tau
+
+    # --- stage 5: cse ---------------------------------------------------------------------------
+    def finish(self, outputs):
+        """Stage 5: unused assignments dropped, common subexpressions eliminated.
+
+        Parameters
+        ----------
+        outputs : list of symengine.Basic
+
+        Returns
+        -------
+        Program
+        """
+        assignments, outputs = eliminate(prune_dead(self.assignments, outputs), outputs)
+        if self.late:
+            assignments = [(s, factor_sum(list(e.args), self.by_sym) if e.is_Add else e)
+                           for s, e in assignments]
+        return Program(n=self.n, assignments=assignments, outputs=outputs)
+
+    def tau(self):
+        """The program of tau [N m or N] of q, qd, qdd: the stages in order.
+
+        Returns
+        -------
+        Program
+        """
+        self.trig_values()
+        tau = self.assemble_tau()
+        return self.finish([factor_sum(t) if t else se.Integer(0) for t in tau])
+
+    def inertia(self):
+        """The program of D(q) from the D groups: outputs D_ij row-major (n x n) [kg m^2].
+
+        Returns
+        -------
+        Program
+            D_ij = D_ji, each group written once (Eq. (3.4-25) in the explicit form); the other
+            kinds of terms are ignored.
+        """
+        self.trig_values()
+        out = [se.Integer(0)] * (self.n * self.n)
+        for (kind, i, j, k) in sorted(self.groups):
+            if kind == "D":
+                val = self.group_value((kind, i, j, k), self._name(kind, i, j, k))
+                out[i * self.n + j] = out[j * self.n + i] = val
+        return self.finish(out)
+
+    def regressor(self):
+        """The model as tau = Y beta with one parameter per kept coefficient.
+
+        Returns
+        -------
+        program : Program
+            Outputs Y[i, m] row-major (n x M): column m is the kept term's function (its cos or
+            sin, times the powers of prismatic q) times qdd_j (D_ij, in rows i and j), qd_j
+            qd_k (C_ijk) or 1 (c_i).
+        names : list of str, length M
+            E.g. ``"D12 cos(q2+q3)"`` (joints from 1).
+        values : ndarray, shape (M,)
+            The coefficients [kg m^2 for D and h, N m for c]: tau = Y values.
+
+        Notes
+        -----
+        The explicit form keeps coefficients, not inertial parameters, so its parameters are
+        these coefficients (merged over the tran and rot parts, as :meth:`tau` adds them): Y
+        values is the model's tau, Eq. (3.4-24) term by term. They are not a minimal set:
+        Khalil & Kleinfinger's base parameters (1987) are those of the recursive form.
+        """
+        self.trig_values()
+        rows = [[] for _ in range(self.n)]
+        names, values = [], []
+        for (kind, i, j, k), g in sorted(self.groups.items()):
+            for key, c in sorted(g.items()):
+                th, pw = self._split(key)
+                f = self._trig(th) * self._mono(pw)
+                m = len(values)
+                if kind == "D":
+                    rows[i].append((m, f * self.qdd[j]))
+                    if i != j:
+                        rows[j].append((m, f * self.qdd[i]))
+                elif kind == "h":
+                    rows[i].append((m, f * self._vel(j, k)))
+                else:
+                    rows[i].append((m, f))
+                label = self._name(kind, i + 1, j + 1, k + 1).replace("g", "c")
+                powers = "".join(f" q{m + 1}^{v}" for m, v in enumerate(pw or ()) if v)
+                names.append(f"{label} {_harmonic_text(th)}{powers}")
+                values.append(c)
+        out = [se.Integer(0)] * (self.n * len(values))
+        for i, row in enumerate(rows):
+            for m, e in row:
+                out[i * len(values) + m] = e
+        return self.finish(out), names, np.array(values, float)
+
+
+def _harmonic_text(key):
+    """``cos(q2+q3)``, ``sin(2q1)``, ``1``: a harmonic key (is_sin, k...) as text."""
+    parts = []
+    for m, v in enumerate(key[1:]):
+        if v:
+            sign = "-" if v < 0 else ("+" if parts else "")
+            parts.append(f"{sign}{abs(v) if abs(v) != 1 else ''}q{m + 1}")
+    if not parts:
+        return "1"
+    return f"{'sin' if key[0] else 'cos'}({''.join(parts)})"
 
 
 def _coef(c):

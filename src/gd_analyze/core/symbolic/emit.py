@@ -1,82 +1,189 @@
-"""C99 and numpy Python source of a straight-line program, and its Python function.
+"""Printers of straight-line programs: one per language (C99, numpy, CasADi), one pipeline.
 
-:func:`emit_c` writes ``void gd_simplified_tau(q, qd, qdd, tau)`` (only math.h included, one
-external symbol), :func:`emit_python` a module whose ``tau(q, qd, qdd)`` is vectorised over set
-points (only numpy imported); :func:`python_function` is that function compiled once per
-program. Both print the very expressions of the program that
+A program (:class:`~gd_analyze.core.symbolic.codegen.Program`: temporaries, then outputs) has
+its common subexpressions already eliminated (:mod:`.subexpressions`); a :class:`Printer` writes
+each temporary as one statement and each output into its slot of the result, in the style of
+SymPyBotics (Sousa & Cortesao 2014: a model's expressions, then cse, then a code printer per
+language). The three printers differ only in how they name an input, call a function and write
+a statement:
+
+- :data:`C`: ``const double x0 = cos(q[1]);`` and ``D[7] = x0;``, only math.h;
+- :data:`NUMPY`: ``x0 = np.cos(q[:, 1])`` over a batch of N set points, ``out[:, 1, 1] = x0``;
+- :data:`CASADI`: ``x0 = ca.cos(q[1])`` on ``casadi.SX`` symbols, outputs returned as a list.
+
+All print the very expressions that
 :func:`gd_analyze.core.symbolic.operation_count.count_operations` counts: sums of more than a
-few terms are printed flat (in chunks, as Python's compiler nests binary operators), negative
-coefficients as subtractions, powers as products, ``sign`` as numpy's (``sign(0) = 0``). The
-header's text passes through :func:`gd_analyze.core.symbolic.safe_text.header_lines`.
+few terms flat (in runs, as Python's compiler nests binary operators), negative coefficients as
+subtractions, powers as products, ``sign`` as numpy's (``sign(0) = 0``). :func:`emit_c` and
+:func:`emit_python` print one program computing tau (a test bench, and
+:func:`python_function`); the deployed model's files are :mod:`.emit_model`'s. Headers pass
+through :func:`gd_analyze.core.symbolic.safe_text.header_lines`.
 """
 
 from __future__ import annotations
+
+from dataclasses import dataclass
 
 import symengine as se
 
 from .operation_count import is_number
 from .safe_text import header_lines
 
-__all__ = ["C_FUNCTION", "emit_c", "emit_python", "python_function"]
-
-#: The exported C function.
-C_FUNCTION = "gd_simplified_tau"
+__all__ = ["Printer", "C", "NUMPY", "CASADI", "emit_c", "emit_python", "python_function"]
 
 
-def _fmtis_number(x):
-    v = float(x)
-    return repr(v) if v == v else "NAN"
+@dataclass(frozen=True)
+class Printer:
+    """How one language writes the expressions of a program.
 
+    Attributes
+    ----------
+    name : str
+        ``"c"``, ``"numpy"`` or ``"casadi"``.
+    index : str
+        How an input is indexed, a format of ``name`` and ``i``: ``"{name}[{i}]"`` (one set
+        point) or ``"{name}[:, {i}]"`` (a batch, one row per set point).
+    module : str
+        Prefix of sin, cos and sign (``""``, ``"np."``, ``"ca."``).
+    temporary : str
+        A temporary's statement, a format of ``name`` and ``expr``.
+    """
 
-def _print(e, lang, prec=0):
-    """Print an expression; prec: 0 top/sum, 1 product operand, 2 atom."""
-    if e.is_Symbol:
-        return _ref(e.name, lang)
-    if is_number(e):
-        s = _fmtis_number(e)
-        return f"({s})" if s.startswith("-") and prec > 0 else s
-    if e.is_Add:
-        terms = list(e.args)
-        terms.sort(key=lambda t: is_number(t))             # constants last
-        return _print_sum(terms, lang, prec)
-    if e.is_Mul:
-        neg, body = _split_sign(e)
-        factors = list(body.args) if body.is_Mul else [body]
-        factors.sort(key=lambda t: not is_number(t))       # constant first
-        s = "*".join(_print(f, lang, 2) for f in factors)
-        if neg:
-            s = f"-{s}"
-            return f"({s})" if prec > 0 else s
-        return s
-    if e.is_Pow:
-        base, ex = e.args
-        b = _print(base, lang, 2)
-        return "(" + "*".join([b] * int(float(ex))) + ")"
-    if isinstance(e, se.sign):          # sign(0) = 0, as numpy's
-        x = _print(e.args[0], lang, 2)
-        return f"np.sign({x})" if lang == "py" else f"({x} > 0 ? 1.0 : {x} < 0 ? -1.0 : 0.0)"
-    if isinstance(e, (se.sin, se.cos)):
-        fn = "sin" if isinstance(e, se.sin) else "cos"
-        fn = f"np.{fn}" if lang == "py" else fn
-        return f"{fn}({_print(e.args[0], lang, 0)})"
-    raise ValueError(f"cannot print {e}")
+    name: str
+    index: str
+    module: str
+    temporary: str
+
+    def symbol(self, name):
+        """A symbol's text.
+
+        Parameters
+        ----------
+        name : str
+            An input (``q3``, ``qd0``, ``qdd1``) or a temporary's name.
+
+        Returns
+        -------
+        str
+            The input as an indexed array (:attr:`index`), or the name.
+        """
+        for prefix in ("qdd", "qd", "q"):
+            if name.startswith(prefix) and name[len(prefix):].isdigit():
+                return self.index.format(name=prefix, i=int(name[len(prefix):]))
+        return name
+
+    def sign(self, x):
+        """sign(x) with sign(0) = 0.
+
+        Parameters
+        ----------
+        x : str
+            The argument's text.
+
+        Returns
+        -------
+        str
+        """
+        if self.name == "c":
+            return f"({x} > 0 ? 1.0 : {x} < 0 ? -1.0 : 0.0)"
+        return f"{self.module}sign({x})"
+
+    def expression(self, e, prec=0):
+        """An expression's text.
+
+        Parameters
+        ----------
+        e : symengine.Basic
+        prec : int, optional
+            Where it stands: 0 at the top or in a sum, 1 a product's operand, 2 an atom
+            (parentheses as needed).
+
+        Returns
+        -------
+        str
+
+        Raises
+        ------
+        ValueError
+            For an expression outside the straight-line programs' kinds (sums, products,
+            integer powers, cos, sin, sign).
+        """
+        if e.is_Symbol:
+            return self.symbol(e.name)
+        if is_number(e):
+            s = _number(e)
+            return f"({s})" if s.startswith("-") and prec > 0 else s
+        if e.is_Add:
+            terms = sorted(e.args, key=is_number)            # constants last
+            return self._sum(terms, prec)
+        if e.is_Mul:
+            neg, body = _split_sign(e)
+            factors = list(body.args) if body.is_Mul else [body]
+            factors.sort(key=lambda t: not is_number(t))     # constant first
+            s = "*".join(self.expression(f, 2) for f in factors)
+            if neg:
+                s = f"-{s}"
+                return f"({s})" if prec > 0 else s
+            return s
+        if e.is_Pow:
+            base, ex = e.args
+            b = self.expression(base, 2)
+            return "(" + "*".join([b] * int(float(ex))) + ")"
+        if isinstance(e, se.sign):
+            return self.sign(self.expression(e.args[0], 2))
+        if isinstance(e, (se.sin, se.cos)):
+            fn = "sin" if isinstance(e, se.sin) else "cos"
+            return f"{self.module}{fn}({self.expression(e.args[0], 0)})"
+        raise ValueError(f"cannot print {e}")
+
+    def _sum(self, terms, prec):
+        if len(terms) > _SUM_CHUNK:
+            chunks = [terms[a:a + _SUM_CHUNK] for a in range(0, len(terms), _SUM_CHUNK)]
+            out = " + ".join(self._sum(c, 1) for c in chunks)
+            return f"({out})" if prec > 0 else out
+        out = ""
+        for t in terms:
+            neg, body = _split_sign(t)
+            s = self.expression(body, 1)
+            out += (" - " if neg else " + ") + s if out else ("-" + s if neg else s)
+        return f"({out})" if prec > 0 else out
+
+    def body(self, program, target, indent="    "):
+        """The statements of a program: its temporaries, then each output into its slot.
+
+        Parameters
+        ----------
+        program : Program
+        target : callable
+            Output index -> the text it is assigned to (``"tau[2]"``, ``"out[:, 0, 1]"``);
+            None for a printer that collects the outputs itself (:data:`CASADI`).
+        indent : str, optional
+
+        Returns
+        -------
+        list of str
+        """
+        lines = [indent + self.temporary.format(name=s.name, expr=self.expression(e))
+                 for s, e in program.assignments]
+        end = ";" if self.name == "c" else ""
+        if target is None:
+            return lines
+        return lines + [f"{indent}{target(k)} = {self.expression(e)}{end}"
+                        for k, e in enumerate(program.outputs)]
 
 
 #: Longest run of terms printed as one flat sum (Python's compiler nests binary operators).
 _SUM_CHUNK = 32
 
+#: The three printers.
+C = Printer("c", "{name}[{i}]", "", "const double {name} = {expr};")
+NUMPY = Printer("numpy", "{name}[:, {i}]", "np.", "{name} = {expr}")
+CASADI = Printer("casadi", "{name}[{i}]", "ca.", "{name} = {expr}")
 
-def _print_sum(terms, lang, prec):
-    if len(terms) > _SUM_CHUNK:
-        chunks = [terms[a:a + _SUM_CHUNK] for a in range(0, len(terms), _SUM_CHUNK)]
-        out = " + ".join(_print_sum(c, lang, 1) for c in chunks)
-        return f"({out})" if prec > 0 else out
-    out = ""
-    for t in terms:
-        neg, body = _split_sign(t)
-        s = _print(body, lang, 1)
-        out += (" - " if neg else " + ") + s if out else ("-" + s if neg else s)
-    return f"({out})" if prec > 0 or len(terms) > 1 and prec > 0 else out
+
+def _number(x):
+    v = float(x)
+    return repr(v) if v == v else "NAN"
 
 
 def _split_sign(t):
@@ -95,40 +202,31 @@ def _split_sign(t):
     return False, t
 
 
-def _ref(name, lang):
-    for prefix, arr in (("qdd", "qdd"), ("qd", "qd"), ("q", "q")):
-        if name.startswith(prefix) and name[len(prefix):].isdigit():
-            idx = int(name[len(prefix):])
-            return f"{arr}[{idx}]" if lang == "c" else f"{arr}[:, {idx}]"
-    return name
-
-
-def emit_c(program, header):
-    """C99 source of the program: ``void gd_simplified_tau(q, qd, qdd, tau)``.
+def emit_c(program, header, prefix="gd_"):
+    """C99 source of one program: ``void <prefix>tau(q, qd, qdd, tau)`` (a test bench).
 
     Parameters
     ----------
     program : Program
     header : dict
-        Lines of the header comment (robot, SHA-256s, tolerance, counts, version); keys and
-        values are written through :func:`~gd_analyze.core.symbolic.safe_text.header_lines`.
+        Lines of the header comment, keys and values through
+        :func:`~gd_analyze.core.symbolic.safe_text.header_lines`.
+    prefix : str, optional
+        Prefix of the function's name (a C identifier; not checked here).
 
     Returns
     -------
     str
-        Standalone C99 that includes only math.h; arrays of n doubles in SI units. Its only
-        external symbol is ``gd_simplified_tau``.
+        Standalone C99 that includes only math.h; arrays of n doubles in SI units. The
+        deployed model's files are :func:`.emit_model.c_source` and
+        :func:`.emit_model.c_header`.
     """
     lines = ["/*"] + [f" * {ln}" for ln in header_lines(header)] + [" */",
              "#include <math.h>", "",
-             f"void {C_FUNCTION}(const double *q, const double *qd, const double *qdd, "
+             f"void {prefix}tau(const double *q, const double *qd, const double *qdd, "
              "double *tau)", "{"]
-    for s, e in program.assignments:
-        lines.append(f"    const double {s.name} = {_print(e, 'c')};")
-    for i, e in enumerate(program.outputs):
-        lines.append(f"    tau[{i}] = {_print(e, 'c')};")
-    lines += ["}", ""]
-    return "\n".join(lines)
+    lines += C.body(program, lambda k: f"tau[{k}]")
+    return "\n".join(lines + ["}", ""])
 
 
 def python_function(program):
@@ -148,12 +246,12 @@ def python_function(program):
     return program._tau_function
 
 
-#: The emitted Python module's docstring: fixed text, the header follows as comments.
+#: The docstring of :func:`emit_python`'s module: fixed text, the header follows as comments.
 _PY_DOC = '"""Simplified G-D model emitted by gd-analyze: tau(q, qd, qdd); header below."""'
 
 
 def emit_python(program, header):
-    """numpy source of the program: ``tau(q, qd, qdd)`` vectorised over set points.
+    """numpy source of one program: ``tau(q, qd, qdd)`` vectorised over set points.
 
     Parameters
     ----------
@@ -179,9 +277,5 @@ def emit_python(program, header):
              "    out = np.zeros(np.broadcast_shapes(q.shape, qd.shape, qdd.shape))",
              "    if out.shape[-1] != N_JOINTS:",
              "        raise ValueError(f'expected {N_JOINTS} joints, got shape {out.shape}')"]
-    for s, e in program.assignments:
-        lines.append(f"    {s.name} = {_print(e, 'py')}")
-    for i, e in enumerate(program.outputs):
-        lines.append(f"    out[:, {i}] = {_print(e, 'py')}")
-    lines += ["    return out", ""]
-    return "\n".join(lines)
+    lines += NUMPY.body(program, lambda k: f"out[:, {k}]")
+    return "\n".join(lines + ["    return out", ""])

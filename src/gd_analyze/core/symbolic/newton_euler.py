@@ -47,18 +47,18 @@ def _const(x, scale=1.0):
     return se.RealDouble(x)
 
 
-def _is_num(e):
+def is_num(e):
     return isinstance(e, se.Number)
 
 
 def _atomic(e):
     """Left as it is (no temporary): a number, a symbol or a number times a symbol (its
     multiplication, when not by +-1, is counted where it is used, or merges with others)."""
-    if _is_num(e) or e.is_Symbol:
+    if is_num(e) or e.is_Symbol:
         return True
     if e.is_Mul and len(e.args) == 2:
         a, b = e.args
-        return (_is_num(a) and b.is_Symbol) or (_is_num(b) and a.is_Symbol)
+        return (is_num(a) and b.is_Symbol) or (is_num(b) and a.is_Symbol)
     return False
 
 
@@ -87,7 +87,7 @@ class _Builder:
 ZERO3 = (se.Integer(0),) * 3
 
 
-class _Recursion:
+class Recursion:
     """Memoized symbolic quantities of the recursion for one arm."""
 
     def __init__(self, robot, lock_last=False, direct=None):
@@ -344,7 +344,7 @@ class _Recursion:
         return F, N
 
 
-def _link_constants(values):
+def link_constants(values):
     """(n, 10) parameter values as symengine constants, rounding noise snapped to 0."""
     values = np.asarray(values, float)
     out = []
@@ -353,7 +353,7 @@ def _link_constants(values):
     return out
 
 
-def _torques(rec, groups):
+def link_torques(rec, groups):
     """tau from the link wrenches of groups[j] = [(parts, phi constants), ...]."""
     n = rec.n
     f_next = n_next = None

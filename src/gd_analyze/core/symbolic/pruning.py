@@ -29,7 +29,8 @@ from .regressor_kernels import contribution_peaks, part_contributions
 
 #: part_contributions and contribution_peaks are the compiled ones of :mod:`.regressor_kernels`.
 __all__ = ["part_contributions", "contribution_peaks", "stacked_peaks", "Pruning", "prune",
-           "prune_on_peaks", "prune_bounds", "dropped_peaks", "pruned_program", "STRATEGIES",
+           "prune_on_peaks", "prune_bounds", "dropped_peaks", "pruned_program", "pruned_choice",
+           "part_values", "STRATEGIES",
            "CRITERIA"]
 
 
@@ -425,8 +426,22 @@ def _normalize(dropped, live):
     return np.where(live, dropped, gone[:, None])
 
 
-def _part_values(base, dropped):
-    """(3, n, 10): per part, the base parameters without the dropped ones."""
+def part_values(base, dropped):
+    """Per part, the base parameters' values without the dropped ones.
+
+    Parameters
+    ----------
+    base : BaseParameters
+        The b base parameters.
+    dropped : ndarray of bool, shape (b, 3)
+        The pairs left out.
+
+    Returns
+    -------
+    ndarray, shape (3, n, 10)
+        Per part (inertial, velocity, gravity), per link, beta in the independent slots of the
+        kept pairs, 0 elsewhere [kg m^2, kg m, kg].
+    """
     values = np.zeros((len(PARTS),) + base.standard.shape)
     for p in range(len(PARTS)):
         flat = np.zeros(base.standard.size)
@@ -437,7 +452,7 @@ def _part_values(base, dropped):
 
 def _count(robot, base, dropped):
     """Multiplications + additions of the pruned program (quick: no cse, one form)."""
-    return _total(parts_program(robot, _part_values(base, dropped), cse=False, search=False))
+    return _total(parts_program(robot, part_values(base, dropped), cse=False, search=False))
 
 
 def pruned_program(robot, base, dropped, cse=True, exact=None):
@@ -469,15 +484,40 @@ def pruned_program(robot, base, dropped, cse=True, exact=None):
     from the kinematic quantities of its kept parts (inertial and gravity parts by their own
     recursions, the others as the whole minus those; :mod:`.recursive`).
     """
+    return pruned_choice(robot, base, dropped, cse, exact)[0]
+
+
+def pruned_choice(robot, base, dropped, cse=True, exact=None):
+    """:func:`pruned_program` and the pairs its program actually leaves out.
+
+    Parameters
+    ----------
+    robot, base, dropped, cse, exact
+        As :func:`pruned_program`.
+
+    Returns
+    -------
+    program : gd_analyze.core.symbolic.codegen.Program
+        :func:`pruned_program`'s.
+    left_out : ndarray of bool, shape (b, 3)
+        ``dropped``, or all False where the exact program was the cheaper one.
+
+    Raises
+    ------
+    ValueError
+        If ``dropped`` is not of shape (b, 3).
+    """
     dropped = np.asarray(dropped, bool)
     if dropped.shape != (base.rank, len(PARTS)):
         raise ValueError(f"dropped must have shape ({base.rank}, 3), got {dropped.shape}")
     if exact is None:
         exact = exact_program(robot, base.values, cse=cse)
     if not dropped.any():
-        return exact
-    pruned = parts_program(robot, _part_values(base, dropped), cse=cse)
-    return pruned if _total(pruned) <= _total(exact) else exact
+        return exact, dropped
+    pruned = parts_program(robot, part_values(base, dropped), cse=cse)
+    if _total(pruned) <= _total(exact):
+        return pruned, dropped
+    return exact, np.zeros_like(dropped)
 
 
 def _total(program):

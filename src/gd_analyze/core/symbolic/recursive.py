@@ -18,72 +18,15 @@ import symengine as se
 
 from .base_parameters import base_parameters
 from .codegen import Program
-from .factoring import factor_sum, prune_dead
-from .newton_euler import ALL, FORMS, PARTS, _is_num, _link_constants, _Recursion, _torques
-from .subexpressions import eliminate
+from .factoring import prune_dead
+from .newton_euler import ALL, FORMS, PARTS, Recursion, link_constants, link_torques
+from .transform import finish_program, jacobian, substitute
 
-__all__ = ["recursive_program", "exact_program", "parts_program", "PARTS"]
+__all__ = ["recursive_program", "exact_program", "parts_program", "regressor_program",
+           "finish_program", "PARTS"]
 
 def _finish(rec, tau, cse):
-    assignments, outputs = _inline_sums(prune_dead(rec.b.assignments, tau), list(tau))
-    assignments = [(sym, _factored(e)) for sym, e in assignments]
-    if cse:
-        assignments, outputs = eliminate(assignments, outputs)
-    assignments = [(sym, _factored(e)) for sym, e in assignments]
-    outputs = [_factored(e) for e in outputs]
-    return Program(n=rec.n, assignments=assignments, outputs=outputs)
-
-
-def _inline_sums(assignments, outputs):
-    """Sums used once, as a term of another sum, merged into it (one flat sum to factor)."""
-    uses = {}
-
-    def count(e):
-        if e.is_Symbol:
-            uses[e] = uses.get(e, 0) + 1
-        for a in e.args:
-            count(a)
-    for e in [e for _, e in assignments] + list(outputs):
-        count(e)
-    defs = dict(assignments)
-    merged = set()
-
-    def expand(e):
-        out = []
-        for t in _terms(e):
-            coef, sym = (se.Integer(1), t)
-            if t.is_Mul and len(t.args) == 2 and _is_num(t.args[0]) and t.args[1].is_Symbol:
-                coef, sym = t.args
-            if sym.is_Symbol and uses.get(sym) == 1 and sym in defs and defs[sym].is_Add:
-                merged.add(sym)
-                out += [coef * u for u in expand(defs[sym])]
-            else:
-                out.append(t)
-        return out
-
-    def flat(e):
-        return se.Add(*expand(e)) if e.is_Add else e
-    new = [(sym, flat(e)) for sym, e in assignments]
-    outs = [flat(e) for e in outputs]
-    return [(sym, e) for sym, e in new if sym not in merged], outs
-
-
-def _factored(e):
-    """A sum with its common factors (symbols, equal coefficients) taken out."""
-    return factor_sum(_terms(e)) if e.is_Add else e
-
-
-def _terms(e):
-    """The terms of a sum, nested sums (also negated ones, as cse leaves them) flattened."""
-    if e.is_Add:
-        return [t for a in e.args for t in _terms(a)]
-    if e.is_Mul and len(e.args) == 2:
-        a, b = e.args
-        if _is_num(a) and b.is_Add:
-            return [a * t for t in _terms(b)]
-        if _is_num(b) and a.is_Add:
-            return [b * t for t in _terms(a)]
-    return [e]
+    return finish_program(rec.b.assignments, tau, rec.n, cse)
 
 
 def _last_joint_free(robot, values):
@@ -141,7 +84,7 @@ def recursive_program(robot, values=None, cse=True):
     if values.shape != (robot.n, 10) or not np.isfinite(values).all():
         raise ValueError(f"values must be finite, of shape ({robot.n}, 10), got "
                          f"{values.shape}")
-    consts = _link_constants(values)
+    consts = link_constants(values)
     return _choose(robot, [[(ALL, consts[j])] for j in range(robot.n)],
                    _last_joint_free(robot, values), cse)
 
@@ -198,7 +141,7 @@ def parts_program(robot, values, cse=True, search=True):
             else:
                 for p in kept:
                     by_set.setdefault(frozenset(p), np.zeros(10))[c] = col[PARTS.index(p)]
-        groups.append([(S, _link_constants(phi[None, :])[0])
+        groups.append([(S, link_constants(phi[None, :])[0])
                        for S, phi in sorted(by_set.items(), key=lambda t: sorted(t[0]))])
     lock = all(_last_joint_free(robot, values[p]) for p in range(len(PARTS)))
     return _choose(robot, groups, lock, cse, search)
@@ -213,8 +156,8 @@ def _choose(robot, groups, lock, cse, search=True):
     """The cheapest program over the links' forms of :data:`FORMS`, by a greedy pass from
     the product form: each link switched to another form where that lowers the count."""
     def build(forms):
-        rec = _Recursion(robot, lock_last=lock, direct=forms)
-        return _finish(rec, _torques(rec, groups), cse)
+        rec = Recursion(robot, lock_last=lock, direct=forms)
+        return _finish(rec, link_torques(rec, groups), cse)
     forms = {}
     best = build(forms)
     for j in range(robot.n if search else 0):
@@ -223,3 +166,50 @@ def _choose(robot, groups, lock, cse, search=True):
             if _total(trial) < _total(best):
                 best, forms = trial, {**forms, j: form}
     return best
+
+
+def regressor_program(robot, base, kept):
+    """The regressor of the kept (base parameter, part) pairs as a straight-line program.
+
+    Parameters
+    ----------
+    robot : Robot
+        The arm, with n joints.
+    base : BaseParameters
+        Its b base parameters.
+    kept : array_like of bool, shape (b, 3)
+        ``kept[k, p]``: part p (:data:`PARTS`: inertial, velocity, gravity) of parameter k is
+        in the model (a pruned model's pairs not dropped; all True for the exact model).
+
+    Returns
+    -------
+    gd_analyze.core.symbolic.codegen.Program
+        Outputs Y[i, k], row-major (n x b): d tau_i / d beta_k of the model that keeps those
+        pairs [N m per unit of beta_k: kg m^2, kg m or kg], so tau = Y beta; Y[:, k] is the sum
+        of the kept parts of the k-th column of Y_b = Y_b(q, 0, qdd; g = 0) + Y_b(q, qd, 0; g = 0)
+        + Y_b(q, 0, 0; g).
+
+    Notes
+    -----
+    The recursion of :mod:`.newton_euler` (Fu, Gonzalez & Lee 1987, Algorithm 3.1) with the
+    base parameters as symbols beta_k, each in the parts it is kept in (per link, grouped by
+    that set of parts as :func:`parts_program` groups them), differentiated by them in forward
+    mode (:func:`.transform.jacobian`): tau is linear in beta (Khalil & Kleinfinger 1987;
+    Gautier 1990), so the derivatives are the regressor's columns. No joint angle is locked: a
+    column may depend on the last angle even where beta's values do not.
+    """
+    kept = np.asarray(kept, bool)
+    n, b = robot.n, base.rank
+    if kept.shape != (b, len(PARTS)):
+        raise ValueError(f"kept must have shape ({b}, 3), got {kept.shape}")
+    beta = [se.Symbol(f"beta{k}") for k in range(b)]
+    groups = [{} for _ in range(n)]
+    for k, (j, c) in enumerate(np.argwhere(base.independent)):
+        parts = frozenset(p for p, keep in zip(PARTS, kept[k]) if keep)
+        if parts:
+            groups[j].setdefault(parts, [se.Integer(0)] * 10)[c] = beta[k]
+    rec = Recursion(robot)
+    tau = link_torques(rec, [sorted(g.items(), key=lambda t: sorted(t[0])) for g in groups])
+    raw = Program(n, prune_dead(rec.b.assignments, tau), tau)
+    assignments, outputs = jacobian(raw, beta, [(i, k) for i in range(n) for k in range(b)])
+    return substitute(Program(n, assignments, outputs), dict.fromkeys(beta, 0))

@@ -154,9 +154,26 @@ class RecursiveModel:
         Program
             tau [N m or N] of q, qd, qdd; the exact recursive program when nothing is dropped.
         """
-        from .pruning import pruned_program
+        return self.choice(robot, exact)[0]
 
-        return pruned_program(robot, self.base(robot), self.dropped, exact=exact)
+    def choice(self, robot, exact=None):
+        """:meth:`program` and the pairs it leaves out (:func:`.pruning.pruned_choice`).
+
+        Parameters
+        ----------
+        robot : Robot
+        exact : Program, optional
+            As :meth:`program`.
+
+        Returns
+        -------
+        program : Program
+        left_out : ndarray of bool, shape (b, 3)
+            ``dropped``, or none where the exact program is the cheaper one.
+        """
+        from .pruning import pruned_choice
+
+        return pruned_choice(robot, self.base(robot), self.dropped, exact=exact)
 
     def dropped_pairs(self):
         """The dropped pairs as (parameter name, part name), in parameter order.

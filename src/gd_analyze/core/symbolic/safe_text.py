@@ -11,9 +11,11 @@ identified. (HTML and PDF reports show the raw text: Jinja2 autoescape and liter
 from __future__ import annotations
 
 import hashlib
+import re
 import string
 
-__all__ = ["comment_safe", "header_lines", "SAFE_CHARACTERS", "MAX_LENGTH", "DIGEST_LENGTH"]
+__all__ = ["comment_safe", "header_lines", "joint_label", "c_prefix", "check_prefix",
+           "SAFE_CHARACTERS", "MAX_LENGTH", "DIGEST_LENGTH", "PREFIX_PATTERN"]
 
 #: The characters kept: printable ASCII without ``*`` (``/*``, ``*/``), backslash (line splices,
 #: escapes), ``?`` (the trigraph ``??/`` is a backslash), quotes and backquote (strings,
@@ -93,3 +95,85 @@ def header_lines(header):
     """
     return [f"{comment_safe(k)}: {comment_safe(v, limit=MAX_LENGTH + DIGEST_LENGTH)}"
             for k, v in header.items()]
+
+
+#: A prefix of the emitted C symbols: a letter, then letters, digits and underscores (never a
+#: reserved identifier: no leading underscore), at most 64 characters.
+PREFIX_PATTERN = re.compile(r"[A-Za-z][A-Za-z0-9_]{0,63}")
+
+
+def joint_label(text, limit=64):
+    """A joint's name for a string literal of emitted code: only ``[A-Za-z0-9_.-]``.
+
+    Parameters
+    ----------
+    text : str
+        Any text, e.g. a URDF ``<joint name>``.
+    limit : int, optional
+        Longest result.
+
+    Returns
+    -------
+    str
+        Every other character replaced by ``_``, cut to ``limit``; ``"_"`` for empty text. It
+        cannot end a C or Python string literal, escape, hold a trigraph or a printf ``%``.
+
+    Examples
+    --------
+    >>> joint_label('j1"; system("x'), joint_label("panda_joint1")
+    ('j1___system__x', 'panda_joint1')
+    """
+    safe = "".join(ch if ch.isascii() and (ch.isalnum() or ch in "_.-") else "_"
+                   for ch in str(text))[:limit]
+    return safe or "_"
+
+
+def c_prefix(name):
+    """The default prefix of the emitted C symbols: a robot's name as a C identifier, plus ``_``.
+
+    Parameters
+    ----------
+    name : str
+        Any text (input: a robot's name).
+
+    Returns
+    -------
+    str
+        Runs of characters outside ``[A-Za-z0-9]`` become one ``_``, leading and trailing ones
+        are dropped, ``gd_`` is put before a leading digit (``model`` stands for nothing left),
+        cut to 40 characters, then ``_``: it matches :data:`PREFIX_PATTERN` whatever the name,
+        so the name itself never becomes code.
+
+    Examples
+    --------
+    >>> c_prefix("puma560"), c_prefix("560 arm */"), c_prefix("*/")
+    ('puma560_', 'gd_560_arm_', 'model_')
+    """
+    core = re.sub(r"[^A-Za-z0-9]+", "_", str(name)).strip("_")[:40].strip("_") or "model"
+    if core[0].isdigit():
+        core = f"gd_{core}"[:40]
+    return core + "_"
+
+
+def check_prefix(prefix):
+    """A prefix given by the user, checked.
+
+    Parameters
+    ----------
+    prefix : str
+
+    Returns
+    -------
+    str
+        The prefix, unchanged.
+
+    Raises
+    ------
+    ValueError
+        If it does not match :data:`PREFIX_PATTERN` (a letter, then letters, digits and
+        underscores, at most 64 characters).
+    """
+    if not isinstance(prefix, str) or not PREFIX_PATTERN.fullmatch(prefix):
+        raise ValueError(f"the prefix {str(prefix)[:70]!r} is not a C identifier of a letter "
+                         "then letters, digits and underscores (at most 64)")
+    return prefix

@@ -1,0 +1,99 @@
+"""D_s stays positive definite where the model's bound holds (core/selection/positive_definite.py).
+
+Oracles: matrices whose definiteness is known by hand (diagonally dominant, positive definite
+but not dominant, indefinite); numpy's eigenvalues of D_s; a model whose pruning is made to drop
+the last link's inertia (D_s singular) and is restored; forward dynamics through D_s against
+Pinocchio's aba at EPS = 0; the model file's schema."""
+
+import dataclasses
+
+import numpy as np
+import pinocchio as pin
+import pytest
+
+from gd_analyze import SimplifiedModel, load_robot
+from gd_analyze.core.selection.labels import element_labels
+from gd_analyze.core.selection.positive_definite import (
+    check_inertia,
+    sample_positions,
+    with_inertia_check,
+)
+from gd_analyze.core.symbolic.base_parameters import random_states
+from gd_analyze.core.symbolic.recursive_model import recursive_model
+from gd_analyze.formulations.pinocchio import pinocchio_model
+from gd_analyze.io.json_schema import MODEL_SCHEMA
+
+
+def _model(robot, rec):
+    return SimplifiedModel(robot=robot, choices={k: "both" for k in element_labels(robot.n)},
+                           dominance_threshold=0.9, negligible_threshold=0.01, rule="budget",
+                           tolerance=0.01, recursive=rec)
+
+
+@pytest.fixture(scope="module")
+def puma():
+    robot = load_robot("puma560")
+    q, qd, qdd = random_states(robot, 60, 2)
+    return robot, q, qd, qdd, recursive_model(robot, q, qd, qdd, 0.0)
+
+
+def test_check_inertia_on_known_matrices():
+    mats = np.array([[[4.0, 1.0, 0.5], [1.0, 3.0, 0.2], [0.5, 0.2, 2.0]],    # dominant
+                     [[1.0, 0.9, 0.9], [0.9, 1.0, 0.9], [0.9, 0.9, 1.0]],    # PD, not dominant
+                     [[1.0, 2.0, 0.0], [2.0, 1.0, 0.0], [0.0, 0.0, 1.0]]])   # indefinite
+    got = check_inertia(lambda q: mats[q[:, 0].astype(int)], np.array([[0], [1]]))
+    assert got["positive_definite"] and got["gershgorin_proved"] == 1 and got["samples"] == 2
+    assert got["min_eigenvalue"] == pytest.approx(0.1)                   # 1 - 0.9 of the second
+    bad = check_inertia(lambda q: mats[q[:, 0].astype(int)], np.array([[0], [2]]))
+    assert not bad["positive_definite"] and bad["min_eigenvalue"] == pytest.approx(-1.0)
+
+
+def test_the_exact_puma_model_is_positive_definite_and_recorded(puma):
+    robot, q, _, _, rec = puma
+    model = with_inertia_check(_model(robot, rec), q)
+    check = model.inertia_check
+    assert check["where"] == "trajectory" and check["samples"] == len(q)
+    assert check["positive_definite"] and check["restored"] == []
+    D = model.functions().numpy()["inertia"](q)
+    assert check["min_eigenvalue"] == np.linalg.eigvalsh(D)[:, 0].min()
+    spec = model.to_dict()
+    MODEL_SCHEMA.check(spec, "<test>")
+    assert SimplifiedModel.from_dict(spec, robot).inertia_check == check
+    with pytest.raises(ValueError, match="no region"):
+        sample_positions(_model(robot, rec))
+
+
+def test_a_model_that_drops_the_wrists_inertia_is_restored(puma):
+    """Dropping every base parameter of links 5 and 6 whole makes D_s singular (the pruned
+    program is the cheaper one, so it is deployed); the check restores those parameters,
+    largest inertial contribution first, until D_s is positive definite."""
+    robot, q, _, _, rec = puma
+    dropped = np.zeros_like(rec.dropped)
+    last = [k for k, name in enumerate(rec.names) if name[-1] in "56"]
+    dropped[last] = True
+    broken = _model(robot, dataclasses.replace(rec, dropped=dropped))
+    D = broken.functions().numpy()["inertia"](q)
+    assert np.linalg.eigvalsh(D)[:, 0].min() <= 1e-12 * np.abs(D).max()
+    fixed = with_inertia_check(broken, q)
+    check = fixed.inertia_check
+    assert check["positive_definite"] and check["restored"]
+    assert set(check["restored"]) <= {rec.names[k] for k in last}
+    kept = [rec.names.index(name) for name in check["restored"]]
+    assert not fixed.recursive.dropped[kept].any()
+    D = fixed.functions().numpy()["inertia"](q)
+    assert np.linalg.eigvalsh(D)[:, 0].min() > 0
+    assert fixed.cost == fixed.program().cost()
+
+
+def test_forward_dynamics_through_d_s_is_pinocchios_aba(puma):
+    """EPS = 0: qdd = D_s^-1 (tau - h_s - c_s) equals aba(q, qd, tau) for tau = rnea."""
+    robot, q, qd, qdd, rec = puma
+    ns = _model(robot, rec).functions().numpy()
+    pm = pinocchio_model(robot)
+    data = pm.createData()
+    tau = np.array([pin.rnea(pm, data, *x) for x in zip(q, qd, qdd)])
+    got = np.linalg.solve(ns["inertia"](q), (tau - ns["velocity_terms"](q, qd)
+                                             - ns["gravity"](q))[:, :, None])[:, :, 0]
+    want = np.array([pin.aba(pm, data, a, b, c) for a, b, c in zip(q, qd, tau)])
+    assert np.abs(got - want).max() <= 1e-8 * np.abs(want).max()
+    assert np.abs(got - qdd).max() <= 1e-8 * np.abs(qdd).max()
