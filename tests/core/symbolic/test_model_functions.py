@@ -105,7 +105,7 @@ def test_pruned_model_with_drives_keeps_the_identities():
 
 @pytest.mark.parametrize("urdf, want", [
     (["j 1", 'x"; puts("y'], ("j_1", "x___puts__y")),
-    ([], ("1", "2")),
+    ([], ("joint1", "joint2")),
 ])
 def test_joint_labels_are_sanitised(urdf, want):
     import dataclasses

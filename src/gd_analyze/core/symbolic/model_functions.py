@@ -159,15 +159,12 @@ def joint_labels(robot):
     Returns
     -------
     tuple of str, length n
-        The URDF joint names where the robot has them (``metadata["urdf_joints"]``), else
-        :meth:`~gd_analyze.core.model.robot.Robot.joint_names`, each through
+        :meth:`~gd_analyze.core.model.robot.Robot.joint_names` (the URDF's or Pinocchio
+        model's names, else ``joint1`` .. ``jointn``), each through
         :func:`~gd_analyze.core.symbolic.safe_text.joint_label` (only ``[A-Za-z0-9_.-]``:
         a hostile name cannot end a string literal nor be a printf format).
     """
-    names = list((robot.metadata or {}).get("urdf_joints") or robot.joint_names())
-    if len(names) != robot.n:
-        names = robot.joint_names()
-    return tuple(joint_label(v) for v in names)
+    return tuple(joint_label(v) for v in robot.joint_names())
 
 
 def _symbols(n, name):
