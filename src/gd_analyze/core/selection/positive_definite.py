@@ -109,7 +109,7 @@ def check_inertia(inertia, q):
 
 
 def _restore(model, k):
-    """The recursive model with base parameter k kept whole."""
+    """The recursive model with base parameter k kept, all its parts."""
     rec = model.recursive
     dropped = np.array(rec.dropped, bool)
     dropped[k] = False
@@ -135,9 +135,9 @@ def with_inertia_check(model, q=None, count=SAMPLES, seed=0):
     -------
     SimplifiedModel
         With ``inertia_check``: :func:`check_inertia`'s figures, ``where`` (``"region"`` or
-        ``"trajectory"``), ``restored`` (the base parameters kept whole to restore positive
-        definiteness, a recursive model only) and ``method``; a recursive model whose D_s was
-        not positive definite has those parameters kept (its program, cost and functions built
+        ``"trajectory"``), ``restored`` (the base parameters restored with all their parts for
+        positive definiteness, a recursive model only) and ``method``; a recursive model whose D_s
+        was not positive definite has those parameters kept (its program, cost and functions built
         again; bound unchanged). A model with no region and no positions is returned as it is.
 
     Notes
