@@ -12,6 +12,7 @@ at EPS = 0; at EPS = 0.01 the identities D_s qdd + h_s + c_s = tau_s and Y_s bet
 not a skip.
 """
 
+import ast
 import dataclasses
 import importlib.util
 import re
@@ -229,6 +230,13 @@ def test_files_and_header(built):
                         check=True, capture_output=True, text=True).stdout.split()
     assert sorted(nm[2::3]) == sorted(f"puma_{k}" for k in (
         "tau", "inertia", "velocity_terms", "gravity", "regressor", "base_parameters"))
+    for name, allowed in (("simplified_model.py", ["numpy"]),
+                          ("simplified_model_casadi.py", ["casadi"])):
+        tree = ast.parse((folder / name).read_text())
+        assert [a.name for node in ast.walk(tree) if isinstance(node, (ast.Import,
+                ast.ImportFrom)) for a in node.names] == allowed, name
+    assert re.findall(r"#include\s*(\S+)", (folder / "simplified_model.c").read_text()) == [
+        "<math.h>", '"simplified_model.h"']
     assert dataclasses.replace(model, robot=dataclasses.replace(robot, name="x y")).sources()[
         "simplified_model.h"].count("void x_y_tau(") == 1              # the default prefix
 

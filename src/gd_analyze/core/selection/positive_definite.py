@@ -12,8 +12,9 @@ the region: the JSON says so, with the number of samples and of those Gershgorin
 
 Where the check fails for a model of the recursive form, the parameters whose inertial part
 was dropped are restored, whole and largest inertial contribution first, until D_s is positive
-definite at every sample: restoring a parameter whole removes whole units from the dropped
-set, so the model's bound (the sum of the dropped units' peaks, :mod:`.budget`) still holds.
+definite at every sample, and those not needed for it are then dropped again: restoring a
+parameter whole removes whole units from the dropped set, so the model's bound (the sum of the
+dropped units' peaks, :mod:`.budget`) still holds.
 Pure: no files.
 """
 
@@ -108,7 +109,7 @@ def check_inertia(inertia, q):
 
 
 def _restore(model, k):
-    """The recursive model with base parameter k kept whole."""
+    """The recursive model with base parameter k kept, all its parts."""
     rec = model.recursive
     dropped = np.array(rec.dropped, bool)
     dropped[k] = False
@@ -134,9 +135,9 @@ def with_inertia_check(model, q=None, count=SAMPLES, seed=0):
     -------
     SimplifiedModel
         With ``inertia_check``: :func:`check_inertia`'s figures, ``where`` (``"region"`` or
-        ``"trajectory"``), ``restored`` (the base parameters kept whole to restore positive
-        definiteness, a recursive model only) and ``method``; a recursive model whose D_s was
-        not positive definite has those parameters kept (its program, cost and functions built
+        ``"trajectory"``), ``restored`` (the base parameters restored with all their parts for
+        positive definiteness, a recursive model only) and ``method``; a recursive model whose D_s
+        was not positive definite has those parameters kept (its program, cost and functions built
         again; bound unchanged). A model with no region and no positions is returned as it is.
 
     Notes
@@ -159,15 +160,24 @@ def with_inertia_check(model, q=None, count=SAMPLES, seed=0):
         inertial = np.where(dropped[:, 0], 1.0, -1.0) * (
             np.ones(len(rec.names)) if rec.relative_peak is None
             else np.asarray(rec.relative_peak, float)[:, 0] + 1e-300)
+        def definite(left_out):                     # a quick D_s of a candidate
+            D = with_armature(recursive_inertia(model.robot, base, left_out, search=False),
+                              model.robot)
+            return check_inertia(numpy_function(FUNCTIONS[1], D, (n, n)), qs)[
+                "positive_definite"]
         for k in np.argsort(-inertial, kind="stable"):
             if inertial[k] < 0:
                 break
-            dropped[k] = False                      # a quick D_s of the candidate
-            restored.append(rec.names[k])
-            D = with_armature(recursive_inertia(model.robot, base, dropped, search=False),
-                              model.robot)
-            if check_inertia(numpy_function(FUNCTIONS[1], D, (n, n)), qs)["positive_definite"]:
+            dropped[k] = False
+            restored.append(k)
+            if definite(dropped):
                 break
+        for k in list(restored[:-1]):               # then drop again what is not needed
+            trial = dropped.copy()
+            trial[k] = rec.dropped[k]
+            if definite(trial):
+                dropped, restored = trial, [j for j in restored if j != k]
+        restored = [rec.names[k] for k in restored]
         for name in restored:
             model = _restore(model, rec.names.index(name))
         if restored:
