@@ -27,6 +27,23 @@ def command_line(args):
 
 
 def load_robot_arg(args):
+    """The robot named by ``args.robot`` (with ``--base``, ``--tip``), mounted by ``--gravity``
+    and ``--base-rpy``.
+
+    Parameters
+    ----------
+    args : argparse.Namespace
+        The parsed arguments of :mod:`gd_analyze.cli.parsing`.
+
+    Returns
+    -------
+    Robot
+
+    Raises
+    ------
+    gd_analyze.errors.InputError
+        If the robot cannot be read (:func:`gd_analyze.io.robots.load_robot`).
+    """
     from ..io.robots import load_robot
 
     return _apply_mounting(load_robot(args.robot, args.base, args.tip), args)
@@ -220,6 +237,23 @@ def _format_summary(ds):
 
 
 def payload_mass_list(args):
+    """The payload masses of ``--payload-sweep`` [kg], or None without it.
+
+    Parameters
+    ----------
+    args : argparse.Namespace
+        The parsed arguments of :mod:`gd_analyze.cli.parsing`.
+
+    Returns
+    -------
+    list of float or None
+        Increasing masses [kg].
+
+    Raises
+    ------
+    gd_analyze.errors.InputError
+        If the range is malformed or a mass exceeds the supported limit.
+    """
     if args.payload_sweep is None:
         return None
     from ..core.model.limits import LIMITS
@@ -256,6 +290,24 @@ def _payload(args):
 
 
 def cmd_analyze(args):
+    """The main job: G-D terms, verification, ranking, simplified model, files and report.
+
+    Parameters
+    ----------
+    args : argparse.Namespace
+        The parsed arguments of :mod:`gd_analyze.cli.parsing`.
+
+    Returns
+    -------
+    int
+        The exit status: 0 ok, 1 verification failed, 2 bad input, 3 evaluate gate, 4 internal
+        error (:mod:`gd_analyze.cli.parsing`).
+
+    Raises
+    ------
+    gd_analyze.errors.InputError
+        On bad input; the command line prints it as one line and exits 2.
+    """
     from ..workflows.analyze import progress_bar
     from ..workflows.run import run_analysis
 
@@ -327,6 +379,24 @@ def _check_plan(robot, start, goal, duration):
 
 
 def cmd_plan(args):
+    """``plan``: a quintic rest-to-rest trajectory within the robot's limits, written as CSV.
+
+    Parameters
+    ----------
+    args : argparse.Namespace
+        The parsed arguments of :mod:`gd_analyze.cli.parsing`.
+
+    Returns
+    -------
+    int
+        The exit status: 0 ok, 1 verification failed, 2 bad input, 3 evaluate gate, 4 internal
+        error (:mod:`gd_analyze.cli.parsing`).
+
+    Raises
+    ------
+    gd_analyze.errors.InputError
+        On bad input; the command line prints it as one line and exits 2.
+    """
     from .._version import VERSION as __version__
     from ..io.planning import (
         acceleration_limits,
@@ -432,6 +502,24 @@ def _warn_provenance(csv_path, robot):
 
 
 def cmd_evaluate(args):
+    """``evaluate``: a simplified model's torque error on a trajectory, gated by its guarantee.
+
+    Parameters
+    ----------
+    args : argparse.Namespace
+        The parsed arguments of :mod:`gd_analyze.cli.parsing`.
+
+    Returns
+    -------
+    int
+        The exit status: 0 ok, 1 verification failed, 2 bad input, 3 evaluate gate, 4 internal
+        error (:mod:`gd_analyze.cli.parsing`).
+
+    Raises
+    ------
+    gd_analyze.errors.InputError
+        On bad input; the command line prints it as one line and exits 2.
+    """
     import json
 
     from ..core.selection.simplified import json_safe
@@ -481,6 +569,24 @@ def cmd_evaluate(args):
 
 
 def cmd_compare(args):
+    """``compare``: L-E, N-E, G-D and Pinocchio on every set point, and their costs (Table 3.5).
+
+    Parameters
+    ----------
+    args : argparse.Namespace
+        The parsed arguments of :mod:`gd_analyze.cli.parsing`.
+
+    Returns
+    -------
+    int
+        The exit status: 0 ok, 1 verification failed, 2 bad input, 3 evaluate gate, 4 internal
+        error (:mod:`gd_analyze.cli.parsing`).
+
+    Raises
+    ------
+    gd_analyze.errors.InputError
+        On bad input; the command line prints it as one line and exits 2.
+    """
     import json
 
     from ..formulations.compare import compare_report, format_compare
@@ -495,6 +601,24 @@ def cmd_compare(args):
 
 
 def cmd_control(args):
+    """``control``: computed-torque tracking with the exact and the simplified model.
+
+    Parameters
+    ----------
+    args : argparse.Namespace
+        The parsed arguments of :mod:`gd_analyze.cli.parsing`.
+
+    Returns
+    -------
+    int
+        The exit status: 0 ok, 1 verification failed, 2 bad input, 3 evaluate gate, 4 internal
+        error (:mod:`gd_analyze.cli.parsing`).
+
+    Raises
+    ------
+    gd_analyze.errors.InputError
+        On bad input; the command line prints it as one line and exits 2.
+    """
     import json
 
     from ..files import file_sha256

@@ -234,7 +234,13 @@ def _add_paper_argument(p):
 
 
 def analyze_parser():
-    
+    """The main job's parser (``gd-analyze ROBOT TRAJECTORY``).
+
+    Returns
+    -------
+    argparse.ArgumentParser
+        Its options, defaults from :data:`gd_analyze.config.defaults`.
+    """
     p = _Parser(
         prog=PROG,
         description="Rank the translational and rotational parts of a robot arm's inertia "
@@ -296,12 +302,25 @@ def _prefix(text):
 
 
 def tool_version():
+    """The package's version, for ``--version`` and the provenance.
+
+    Returns
+    -------
+    str
+    """
     from .._version import VERSION as __version__
 
     return __version__
 
 
 def plan_parser():
+    """``plan``'s parser.
+
+    Returns
+    -------
+    argparse.ArgumentParser
+        Its options, defaults from :data:`gd_analyze.config.defaults`.
+    """
     from ..io.planning import (
         DEFAULT_GOAL_DEG,
         DEFAULT_QDD_PER_QD,
@@ -345,6 +364,13 @@ def plan_parser():
 
 
 def evaluate_parser():
+    """``evaluate``'s parser.
+
+    Returns
+    -------
+    argparse.ArgumentParser
+        Its options, defaults from :data:`gd_analyze.config.defaults`.
+    """
     p = _Parser(prog=f"{PROG} evaluate",
                 description="Report a simplified model's torque error on another trajectory, "
                             "the model's guarantee and whether it covers the trajectory.")
@@ -367,6 +393,13 @@ def evaluate_parser():
 
 
 def compare_parser():
+    """``compare``'s parser.
+
+    Returns
+    -------
+    argparse.ArgumentParser
+        Its options, defaults from :data:`gd_analyze.config.defaults`.
+    """
     p = _Parser(prog=f"{PROG} compare",
                 description="Run Lagrange-Euler, Newton-Euler, G-D and Pinocchio on every set "
                             "point and print their largest relative disagreements and the "
@@ -380,6 +413,13 @@ def compare_parser():
 
 
 def control_parser():
+    """``control``'s parser.
+
+    Returns
+    -------
+    argparse.ArgumentParser
+        Its options, defaults from :data:`gd_analyze.config.defaults`.
+    """
     from ..workflows.tracking import DEFAULT_WN, DEFAULT_ZETA
 
     p = _Parser(prog=f"{PROG} control",
@@ -418,7 +458,13 @@ def control_parser():
 
 
 def sweep_parser():
-    
+    """``sweep``'s parser.
+
+    Returns
+    -------
+    argparse.ArgumentParser
+        Its options, defaults from :data:`gd_analyze.config.defaults`.
+    """
     p = _Parser(prog=f"{PROG} sweep",
                 description="Rank the G-D elements over many trajectories on dask, give the "
                             "envelope of the ranking per element and one merged simplified model "

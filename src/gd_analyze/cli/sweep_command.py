@@ -132,6 +132,24 @@ SWEEP_OUTPUTS = ("sweep.h5", "merged_model.json", "payload_sweep.h5", "sweep_rep
 
 
 def cmd_sweep(args):
+    """``sweep``: the ranking over many trajectories on dask, and the merged model.
+
+    Parameters
+    ----------
+    args : argparse.Namespace
+        The parsed arguments of :mod:`gd_analyze.cli.parsing`.
+
+    Returns
+    -------
+    int
+        The exit status: 0 ok, 1 verification failed, 2 bad input, 3 evaluate gate, 4 internal
+        error (:mod:`gd_analyze.cli.parsing`).
+
+    Raises
+    ------
+    gd_analyze.errors.InputError
+        On bad input; the command line prints it as one line and exits 2.
+    """
     from ..io.planning import random_trajectories
     from ..io.schema import write_dataset
     from ..io.trajectory import read_trajectory
