@@ -408,7 +408,7 @@ _CODE = re.compile(r"[^\s(|]*[A-Za-z0-9]_[A-Za-z0-9][^\s,;)|]*")
 
 
 def _is_code(token, names=""):
-    """File and module names, the emitted functions (PREFIX_tau, velocity_terms) and the robot
+    """File and module names, the emitted functions (puma560_tau, velocity_terms) and the robot
     file's key tau_max are code written as code; names read from the robot's files (URDF
     links, packages) are names."""
     return ("." in token or "/" in token or token.startswith("PREFIX_")
@@ -422,8 +422,11 @@ def _names(reports, which):
     folder, _ = reports[which]
     name = {"sweep": "sweep.h5", "control": "control.h5"}.get(which, "results.h5")
     with xr.open_dataset(folder / name) as ds:
-        return " ".join(str(ds.attrs.get(k, "")) for k in ("robot_description",
-                                                          "robot_reference"))
+        names = " ".join(str(ds.attrs.get(k, "")) for k in ("robot_description",
+                                                           "robot_reference"))
+        prefix = str(ds.attrs.get("c_prefix", ""))      # the emitted C functions' names
+        return names + "".join(f" {prefix}{f}" for f in ("tau", "inertia", "velocity_terms",
+                                                          "gravity", "regressor") if prefix)
 
 
 @pytest.mark.parametrize("which", ALL)

@@ -57,3 +57,24 @@ def test_nan_is_never_round_off():
     diff = np.full((N, 1), np.nan)
     fig = error_figure(_ds(diff, np.zeros(1), np.ones(1)))
     assert "nothing dropped" not in _texts(fig.axes[0])
+
+
+def test_the_inertia_check_sentence_is_the_stored_check():
+    """Issue 30 item 3: the report says what the stored check found, for each outcome."""
+    from gd_analyze.reports.markup import plain
+    from gd_analyze.reports.simplified_section import inertia_check_text
+    from gd_analyze.workflows.simplified_dataset import inertia_check_attrs
+
+    base = {"where": "region", "samples": 200, "gershgorin_proved": 150,
+            "min_relative_eigenvalue": 0.0123, "restored": []}
+    ok = plain(inertia_check_text(inertia_check_attrs({**base, "positive_definite": True})))
+    assert "is positive definite at 200 positions sampled uniformly over the joint-limit" in ok
+    assert "0.0123" in ok and "at 150)" in ok and "not proved between" in ok
+    bad = plain(inertia_check_text(inertia_check_attrs(
+        {**base, "where": "trajectory", "samples": 31, "positive_definite": False})))
+    assert "is not positive definite at the 31 positions of the trajectory" in bad
+    kept = plain(inertia_check_text(inertia_check_attrs(
+        {**base, "positive_definite": True, "restored": ["XX2", "ZZ3"]})))
+    assert kept.endswith("kept with all parts: XX2, ZZ3.")
+    assert inertia_check_text({}) == ""
+

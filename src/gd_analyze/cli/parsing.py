@@ -471,7 +471,8 @@ def sweep_parser():
                             "(budget rule: within EPS x s_i, proved over the robot's joint-limit "
                             "region by default, or on every swept trajectory with --guarantee "
                             "trajectory; --rule chapter: no error bound); write sweep.h5, "
-                            "merged_model.json and sweep_report.html/.pdf.")
+                            "merged_model.json with its emitted C, numpy and CasADi sources, and "
+                            "sweep_report.html/.pdf.")
     p.add_argument("robot", metavar="ROBOT", help=_robot_help())
     p.add_argument("csv", metavar="CSV", nargs="*", help="trajectory files (or use --random)")
     p.add_argument("--random", metavar="K", type=int,
@@ -492,7 +493,8 @@ def sweep_parser():
                    default=defaults["negligible"], help=f"default {defaults['negligible']}")
     _add_budget_arguments(p, where="over the joint-limit region (see --guarantee) or on every "
                                    "swept trajectory (scale_i = max(that trajectory's peak "
-                                   "|tau_i|, TAU)); the merged model merged_model.json/.c/.py",
+                                   "|tau_i|, TAU)); the merged model merged_model.json and its emitted "
+                                   "sources",
                           guarantee="the swept trajectories only")
     p.add_argument("--held-out", metavar="K", type=int, default=20,
                    help="random trajectories (another seed) to measure the merged model of the "

@@ -40,10 +40,13 @@ _PLACEMENT_CAPTION = (
     "frame i \u2212 1 is the last column. The robot has no Denavit-Hartenberg parameters.")
 _LINK_CAPTION = ("Link inertial parameters: mass, centre of mass (com) in link frame i, and "
                  "the diagonal of the inertia tensor about the centre of mass.")
-_FILES_TEXT = (" (a C header and C99 source with PREFIX_tau, PREFIX_inertia, "
-               "PREFIX_velocity_terms, PREFIX_gravity and PREFIX_regressor, PREFIX the robot's "
-               "name or --prefix; numpy tau, inertia, velocity_terms, gravity and regressor over "
-               "arrays of shape (N, n); CasADi functions() of the same).")
+def _files_text(prefix):
+    """What the emitted source files hold, with the C prefix the run used (stored setting
+    ``c_prefix``; an older file without it: the placeholder PREFIX)."""
+    p = prefix or "PREFIX"
+    return (f" (a C header and C99 source with {p}tau, {p}inertia, {p}velocity_terms, "
+            f"{p}gravity and {p}regressor; numpy tau, inertia, velocity_terms, gravity and "
+            "regressor over arrays of shape (N, n); CasADi functions() of the same).")
 
 
 def _split(heading):
@@ -140,7 +143,8 @@ def main_outline(ctx, figures):
                                       "tolerance \u03b5.")
             else:
                 o.paragraph(sm["ladder_note"], "note")
-        o.paragraph("Emitted source files: " + ", ".join(sm["files"]) + _FILES_TEXT, "note")
+        o.paragraph("Emitted source files: " + ", ".join(sm["files"])
+                    + _files_text(sm["prefix"]), "note")
 
     compare = ctx["compare"]
     top = 6                                  # the chapter comparison only for its PUMA 560

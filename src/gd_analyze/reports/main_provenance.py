@@ -29,7 +29,7 @@ _ELSEWHERE = {
     "simplified_dropped_pairs", "simplified_multiplications", "simplified_additions",
     "simplified_sin", "simplified_cos", "other_rule_multiplications", "other_rule_additions",
     "simplified_ladder_skipped", "formulations_n", "formulations_setpoints",
-    "payload_mass", "payload_com", "payload_inertia", "simplified_files",
+    "payload_mass", "payload_com", "payload_inertia", "simplified_files", "c_prefix",
     "mounting_base_rpy_deg", "mounting_gravity_base", "mounting_gravity_world",
     "full_harmonics", "full_coefficients", "other_rule_harmonics", "other_rule_coefficients",
     "formulations_joint_types", "simplified_guarantee_kind", "simplified_guarantee_statement",

@@ -74,6 +74,45 @@ def _num(v, digits=4):
     return "\u2014" if not np.isfinite(v) else fmt(v, digits)
 
 
+def inertia_check_text(attrs):
+    """The sentence on the check that D_s is positive definite, from the stored figures.
+
+    Parameters
+    ----------
+    attrs : dict
+        A results dataset's attributes (``simplified_inertia_check_*``, written by
+        :func:`gd_analyze.workflows.simplified_dataset.inertia_check_attrs`).
+
+    Returns
+    -------
+    str
+        " " and the sentence, or "" when no check is stored.
+
+    Examples
+    --------
+    >>> inertia_check_text({})
+    ''
+    """
+    key = "simplified_inertia_check_"
+    if key + "samples" not in attrs:
+        return ""
+    samples, where = int(attrs[key + "samples"]), str(attrs[key + "where"])
+    d_s = "D" + _sub("s")
+    at = (f"at {count(samples)} positions sampled uniformly over the joint-limit region"
+          if where == "region" else f"at the {count(samples)} positions of the trajectory")
+    if int(attrs[key + "positive_definite"]):
+        restored = str(attrs.get(key + "restored", ""))
+        text = (f" The inertia matrix of the model, {d_s}, is positive definite {at} (smallest "
+                f"eigenvalue ratio {fmt(float(attrs[key + 'min_relative_eigenvalue']), 3)}; "
+                f"Gershgorin discs prove it at {count(int(attrs[key + 'gershgorin_proved']))})"
+                "; sampled, not proved between the samples.")
+        if restored:
+            text += f" To keep it so, these base parameters were kept with all parts: {restored}."
+        return text
+    return (f" The inertia matrix of the model, {d_s}, is not positive definite {at}: forward "
+            "dynamics with it is not safe there.")
+
+
 def simplified_context(ds):
     """Tables and text of the "Simplified model" section.
 
@@ -86,7 +125,8 @@ def simplified_context(ds):
     -------
     dict
         ``text`` (str), ``bound`` (table: per joint scale, bound, its split by D/h/c, measured
-        error), ``costs`` (table), ``ladder`` (table), ``files`` (list of str), ``rule``,
+        error), ``costs`` (table), ``ladder`` (table), ``files`` (list of str), ``prefix``
+        (the emitted C symbols' prefix, setting ``c_prefix``; "" if not stored), ``rule``,
         ``tolerance``.
     """
     a = ds.attrs
@@ -120,6 +160,7 @@ def simplified_context(ds):
              f"multiplications and {count(a.get('simplified_additions'))} additions per set "
              f"point ({count(a.get('simplified_sin'))} sin, {count(a.get('simplified_cos'))} "
              "cos).")
+    text += inertia_check_text(a)
     other = str(a.get("other_rule", ""))
     if other and "other_rule_error_relative_peak" in ds.variables:
         worst = np.nanmax(ds["other_rule_error_relative_peak"].values)
@@ -176,6 +217,7 @@ def simplified_context(ds):
                        align=["right"] * 4)
     skipped = str(ds.attrs.get("simplified_ladder_skipped", "")) if ladder is None else ""
     return {"text": text, "bound": bound, "costs": costs, "ladder": ladder, "files": files,
+            "prefix": str(a.get("c_prefix", "")),
             "rule": rule, "tolerance": eps,
             "ladder_heading": "5.5 Tolerance ladder" + (" of the explicit form"
                                                          if form == "recursive" else ""),

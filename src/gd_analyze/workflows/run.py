@@ -175,7 +175,11 @@ def run_analysis(robot, trajectory, options, outdir, report=None, settings=None,
         from ..core.model.robot import with_payload
 
         robot = with_payload(robot, payload.mass, payload.com, payload.inertia)
-    settings = _settings(options, settings, Payload() if payload is None else payload)
+    from ..core.symbolic.safe_text import c_prefix, check_prefix
+
+    prefix = c_prefix(robot.name) if prefix is None else check_prefix(prefix)
+    settings = {**_settings(options, settings, Payload() if payload is None else payload),
+                "c_prefix": prefix}
     with staged_output(outdir, ANALYZE_OUTPUTS, "analyze") as stage, writing(outdir, stage):
         check_free_space(stage, results_size(trajectory.n_setpoints, robot.n), "results.h5")
         results = stage / "results.h5"

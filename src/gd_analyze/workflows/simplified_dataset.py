@@ -109,6 +109,43 @@ def coefficient_structure(terms):
     return len(merged), len({float(f"{abs(c):.12g}") for c in merged.C})
 
 
+def inertia_check_attrs(check):
+    """The stored figures of the check that D_s is positive definite (issue 30 item 3).
+
+    Parameters
+    ----------
+    check : dict or None
+        :attr:`SimplifiedModel.inertia_check
+        <gd_analyze.core.selection.simplified.SimplifiedModel.inertia_check>`.
+
+    Returns
+    -------
+    dict
+        ``simplified_inertia_check_where`` ("region" or "trajectory"), ``..._samples``,
+        ``..._positive_definite`` (1 or 0), ``..._gershgorin_proved`` (positions proved by the
+        discs), ``..._min_relative_eigenvalue`` (lambda_min / lambda_max [1]) and
+        ``..._restored`` (base parameters kept whole for it, comma-separated); empty without a
+        check.
+
+    Examples
+    --------
+    >>> inertia_check_attrs(None)
+    {}
+    >>> inertia_check_attrs({"where": "region", "samples": 4, "positive_definite": True,
+    ...     "gershgorin_proved": 3, "min_relative_eigenvalue": 0.25, "restored": []})[
+    ...     "simplified_inertia_check_positive_definite"]
+    1
+    """
+    if not check:
+        return {}
+    key = "simplified_inertia_check_"
+    return {key + "where": str(check["where"]), key + "samples": int(check["samples"]),
+            key + "positive_definite": int(bool(check["positive_definite"])),
+            key + "gershgorin_proved": int(check["gershgorin_proved"]),
+            key + "min_relative_eigenvalue": float(check["min_relative_eigenvalue"]),
+            key + "restored": ", ".join(check.get("restored", ()))}
+
+
 def simplified_dataset(model, selection, other=None, ladder_rows=None, cost_table=None,
                        files=artefact_names(SOURCE_STEM), other_error=None,
                        full_terms=None):
@@ -255,6 +292,7 @@ def simplified_dataset(model, selection, other=None, ladder_rows=None, cost_tabl
         "other_rule_multiplications": -1 if other is None else other.cost["multiplications"],
         "other_rule_additions": -1 if other is None else other.cost["additions"],
         **scope_attrs,
+        **inertia_check_attrs(model.inertia_check),
     })
     if full_terms is not None and other is not None and other.terms is not None:
         (ds.attrs["full_harmonics"], ds.attrs["full_coefficients"]) = coefficient_structure(

@@ -1,0 +1,66 @@
+"""The main job's output folder (gd_analyze.workflows.run): the emitted sources' C prefix is
+the one the run used, stored, and named by the report."""
+
+import re
+
+import numpy as np
+import pytest
+
+import gd_analyze as gd
+from gd_analyze.io.schema import open_results
+from gd_analyze.io.trajectory import trajectory_from_arrays
+from gd_analyze.reports.main_context import report_context
+from gd_analyze.reports.main_outline import main_outline
+from gd_analyze.workflows.run import run_analysis
+
+_FUNCTIONS = ("tau", "inertia", "velocity_terms", "gravity", "regressor")
+
+
+def _run(folder, prefix, outputs=None):
+    robot = gd.load_robot("two-link")
+    t = np.linspace(0.0, 2.0, 21)
+    q = np.column_stack([np.sin(t), 0.5 * np.cos(t)])
+    options = gd.AnalysisOptions(formulations=False,
+                                 simplify=gd.SimplifyOptions(guarantee="trajectory"))
+    written = run_analysis(robot, trajectory_from_arrays(t, q, n_joints=2), options, folder,
+                           report=None, prefix=prefix)
+    if outputs is not None:
+        outputs.update(q=q, model=written.analysis.model)
+    return open_results(folder / "results.h5")
+
+
+def _files_paragraph(ds):
+    outline = main_outline(report_context(ds), ())
+    texts = [b.content for s in outline.sections for b in s.blocks
+             if b.kind == "paragraph" and b.content.startswith("Emitted source files:")]
+    assert len(texts) == 1
+    return texts[0]
+
+
+@pytest.mark.parametrize("prefix, expected", [(None, "two_link_"), ("arm_a_", "arm_a_")])
+def test_the_report_names_the_prefix_the_header_uses(tmp_path, prefix, expected):
+    ds = _run(tmp_path, prefix)
+    header = (tmp_path / "simplified_model.h").read_text()
+    declared = set(re.findall(r"void (\w+)\(", header))
+    assert declared == {expected + f for f in _FUNCTIONS}
+    assert ds.attrs["c_prefix"] == expected
+    paragraph = _files_paragraph(ds)
+    for f in _FUNCTIONS:
+        assert expected + f in paragraph
+    assert "PREFIX" not in paragraph
+
+
+def test_the_stored_inertia_check_is_that_of_the_deployed_model(tmp_path):
+    """Issue 30 item 3: results.h5 holds the figures of the check of the deployed D_s, and the
+    two-link arm's D_s (nothing pruned that D needs) is positive definite as D is."""
+    from gd_analyze.core.selection.positive_definite import check_inertia, sample_positions
+
+    got = {}
+    ds = _run(tmp_path, None, got)
+    where, qs = sample_positions(got["model"], got["q"])
+    check = check_inertia(got["model"].functions().numpy()["inertia"], qs)
+    key = "simplified_inertia_check_"
+    assert ds.attrs[key + "where"] == where == "trajectory"
+    assert ds.attrs[key + "samples"] == check["samples"] == len(qs)
+    assert ds.attrs[key + "positive_definite"] == int(check["positive_definite"]) == 1
+    assert ds.attrs[key + "min_relative_eigenvalue"] == check["min_relative_eigenvalue"] > 0
