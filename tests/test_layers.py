@@ -9,8 +9,6 @@ import ast
 import pathlib
 import sys
 
-import pytest
-
 import gd_analyze
 
 SRC = pathlib.Path(gd_analyze.__file__).parent
@@ -104,9 +102,10 @@ def check(path):
 MODULES = sorted(p for p in SRC.rglob("*.py"))
 
 
-@pytest.mark.parametrize("path", MODULES, ids=lambda p: _module_name(p) or "gd_analyze")
-def test_imports_run_down_the_layers(path):
-    assert check(path) == []
+def test_imports_run_down_the_layers():
+    """Every module at once, every wrong import listed."""
+    bad = [b for path in MODULES for b in check(path)]
+    assert bad == [], "\n".join(bad)
 
 
 def test_the_check_can_fail(tmp_path, monkeypatch):
@@ -155,12 +154,16 @@ def _file_io(path):
 CORE_MODULES = sorted(p for p in (SRC / "core").rglob("*.py") if p.name != "__init__.py")
 
 
-@pytest.mark.parametrize("path", CORE_MODULES, ids=_module_name)
-def test_core_is_split_by_concept_and_reads_no_files(path):
-    parts = path.relative_to(SRC / "core").parts
-    assert len(parts) == 2 and parts[0] in CORE_CONCEPTS, \
-        f"{_module_name(path)}: a core module lives in core/<{'|'.join(sorted(CORE_CONCEPTS))}>/"
-    assert _file_io(path) == []
+def test_core_is_split_by_concept_and_reads_no_files():
+    """Every core module at once, every misplaced module and file call listed."""
+    bad = []
+    for path in CORE_MODULES:
+        parts = path.relative_to(SRC / "core").parts
+        if not (len(parts) == 2 and parts[0] in CORE_CONCEPTS):
+            bad.append(f"{_module_name(path)}: a core module lives in "
+                       f"core/<{'|'.join(sorted(CORE_CONCEPTS))}>/")
+        bad += [f"{_module_name(path)}: {call}" for call in _file_io(path)]
+    assert bad == [], "\n".join(bad)
 
 
 def test_the_file_io_check_can_fail(tmp_path):

@@ -158,6 +158,13 @@ def test_case3_a_second_run_into_the_same_folder_is_refused(tmp_path):
     assert _leftovers(tmp_path) == []
 
 
+#: How long a child holds its state once it has said so [s]: far longer than any wait here, so
+#: that only the signal ends it (the tests wait for the child's line, not for seconds).
+HOLD = 900
+#: A safety net only: how long a signalled child may take to exit, even at load 10 [s].
+EXIT_WAIT = 300
+
+
 def _writer_script(target, hold):
     return textwrap.dedent(f"""
         import sys, time
@@ -181,21 +188,21 @@ def _start(script):
 @pytest.mark.parametrize("sig", [signal.SIGTERM, signal.SIGINT])
 def test_case8_signals_remove_the_temporary_files(tmp_path, sig):
     target = tmp_path / "out"
-    proc = _start(_writer_script(target, 30))
+    proc = _start(_writer_script(target, HOLD))
     assert _leftovers(tmp_path)                      # lock and staging folder exist
     proc.send_signal(sig)
-    proc.wait(timeout=20)
+    proc.wait(timeout=EXIT_WAIT)
     assert _leftovers(tmp_path) == [] and not target.exists()
 
 
 def test_case8_a_killed_run_is_cleaned_by_the_next(tmp_path):
     target = tmp_path / "out"
-    proc = _start(_writer_script(target, 30))
+    proc = _start(_writer_script(target, HOLD))
     with pytest.raises(InputError, match="another run is writing here"):
         with staged_output(target):
             pass
     proc.kill()                                      # SIGKILL: no clean-up possible
-    proc.wait(timeout=20)
+    proc.wait(timeout=EXIT_WAIT)
     assert any(TMP_MARK in n for n in _leftovers(tmp_path))
     target.mkdir()
     (target / f"{TMP_MARK}abc").mkdir()                       # a staging folder inside it
@@ -386,10 +393,10 @@ def _old_set(target, monkeypatch, mount):
                                         (signal.SIGINT, False), (signal.SIGTERM, True)])
 def test_case8_an_interrupted_move_leaves_one_whole_set(tmp_path, sig, mount, monkeypatch):
     target = _old_set(tmp_path / "out", monkeypatch, mount)
-    proc = _start(_mover_script(target, 30 if sig == signal.SIGKILL else 2, mount))
+    proc = _start(_mover_script(target, HOLD if sig == signal.SIGKILL else 2, mount))
     assert proc.stdout.readline().strip() == "moved"
     proc.send_signal(sig)
-    proc.wait(timeout=30)
+    proc.wait(timeout=EXIT_WAIT)
     assert _set(target) in (OLD, NEW)
     with staged_output(target, ("a.txt",)) as stage:          # the next run cleans up
         (stage / "a.txt").write_text("next")
@@ -529,10 +536,10 @@ def test_case8_a_mount_point_killed_mid_exchange_is_replaced_whole_by_the_next_r
     """In a mount point the entries are exchanged one by one: SIGKILL between two can split
     the set, but the manifest then knows both sets, so the next run is not refused."""
     target = _old_set(tmp_path / "vol", monkeypatch, mount=True)
-    proc = _start(_mover_script(target, 30, mount=True))
+    proc = _start(_mover_script(target, HOLD, mount=True))
     assert proc.stdout.readline().strip() == "moved"
     proc.kill()
-    proc.wait(timeout=30)
+    proc.wait(timeout=EXIT_WAIT)
     assert set(_set(target)) == set(OLD)                 # every file there, old or new
     with staged_output(target, ("a.txt",)) as stage:
         (stage / "a.txt").write_text("next")

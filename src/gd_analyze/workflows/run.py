@@ -94,12 +94,16 @@ def results_size(N, n):
     return 8 * N * (1 + 9 * n + 3 * n * n) + (1 << 20)
 
 
-def _settings(options, base_settings, payload):
-    """The provenance of a run: each setting once."""
+def _settings(options, base_settings, payload, robot, prefix=None):
+    """The provenance of a run: each setting once, with the C prefix of the emitted sources
+    (the robot's name made one unless given)."""
+    from ..core.symbolic.safe_text import c_prefix, check_prefix
+
     return {**(base_settings or {}), "payload_mass": float(payload.mass),
             "payload_com": [float(v) for v in payload.com],
             "payload_inertia": [float(v) for v in payload.inertia],
-            **dataclasses.asdict(options.simplify)}
+            **dataclasses.asdict(options.simplify),
+            "c_prefix": c_prefix(robot.name) if prefix is None else check_prefix(prefix)}
 
 
 def run_analysis(robot, trajectory, options, outdir, report=None, settings=None, payload=None,
@@ -175,11 +179,9 @@ def run_analysis(robot, trajectory, options, outdir, report=None, settings=None,
         from ..core.model.robot import with_payload
 
         robot = with_payload(robot, payload.mass, payload.com, payload.inertia)
-    from ..core.symbolic.safe_text import c_prefix, check_prefix
-
-    prefix = c_prefix(robot.name) if prefix is None else check_prefix(prefix)
-    settings = {**_settings(options, settings, Payload() if payload is None else payload),
-                "c_prefix": prefix}
+    settings = _settings(options, settings, Payload() if payload is None else payload, robot,
+                         prefix)
+    prefix = settings["c_prefix"]
     with staged_output(outdir, ANALYZE_OUTPUTS, "analyze") as stage, writing(outdir, stage):
         check_free_space(stage, results_size(trajectory.n_setpoints, robot.n), "results.h5")
         results = stage / "results.h5"
@@ -256,4 +258,4 @@ def results_dataset(robot, trajectory, options=None):
     options = AnalysisOptions() if options is None else options
     trajectory = as_trajectory(trajectory, robot.n)
     return analyze(robot, trajectory, options,
-                   settings=_settings(options, None, Payload())).dataset
+                   settings=_settings(options, None, Payload(), robot)).dataset

@@ -124,7 +124,8 @@ def inertia_check_attrs(check):
         ``simplified_inertia_check_where`` ("region" or "trajectory"), ``..._samples``,
         ``..._positive_definite`` (1 or 0), ``..._gershgorin_proved`` (positions proved by the
         discs), ``..._min_relative_eigenvalue`` (lambda_min / lambda_max [1]) and
-        ``..._restored`` (base parameters kept whole for it, comma-separated); empty without a
+        ``..._restored`` (base parameters restored with all their parts for it,
+        comma-separated); empty without a
         check.
 
     Examples
