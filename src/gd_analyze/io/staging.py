@@ -42,7 +42,6 @@ import shutil
 import signal
 import stat
 import sys
-import tempfile
 from pathlib import Path
 
 from ..errors import InputError
@@ -53,6 +52,8 @@ __all__ = ["safe_name", "staged_output", "writing", "check_free_space", "check_o
 
 LOCK_SUFFIX = ".gd-lock"
 TMP_MARK = ".gd-tmp-"
+#: Largest lock record read [bytes]: a pid and a few temporary names.
+RECORD_LIMIT = 1 << 16
 #: Free space kept besides the estimate [bytes].
 SPACE_MARGIN = 16 << 20
 
@@ -233,14 +234,40 @@ def _lock(lock_path, target):
         os.close(fd)
     owner = os.getpid()
     try:
+        before = os.pread(fd, RECORD_LIMIT, 0).decode("utf-8", "replace")
         os.ftruncate(fd, 0)
         os.write(fd, f"{owner}\n".encode())
-        yield
+        yield _Record(fd, before)
     finally:
         if os.getpid() == owner:
             with contextlib.suppress(OSError):
                 os.unlink(lock_path)
         os.close(fd)
+
+
+class _Record:
+    """The lock file's record of the temporary names a run creates, written before each is
+    created: the next run removes only the names a killed run registered, never a user's file
+    that merely looks like one."""
+
+    def __init__(self, fd, before):
+        self.fd = fd
+        self.before = [line.split(" ", 1) for line in before.splitlines()[1:]
+                       if line.count(" ") == 1]
+
+    def register(self, where, name):
+        """Record ``name`` (``beside`` the target, or ``inside`` it) before it is created."""
+        os.write(self.fd, f"{where} {name}\n".encode())
+
+    def stale(self, where, pattern):
+        """The names the previous holder registered ``where`` that match ``pattern``."""
+        return [n for w, n in self.before if w == where and re.fullmatch(pattern, n)]
+
+
+def _token():
+    import secrets
+
+    return secrets.token_hex(8)
 
 
 RENAME_NOREPLACE, RENAME_EXCHANGE = 1, 2
@@ -348,20 +375,30 @@ def _carry(real, stage, owners, command, tops=None):
             shutil.copy2(real / path, dst, follow_symlinks=False)
 
 
-def _remove_stale(parent, name, real, mount):
-    """Undo what a killed run left (called with the lock held: no live run owns it)."""
-    if not mount:
-        prev = parent / f".{name}.gd-prev"
-        if prev.is_dir() and not prev.is_symlink():
-            if not os.path.lexists(real):
-                os.rename(prev, real)       # killed between the two renames: the old set back
-            else:
-                shutil.rmtree(prev, ignore_errors=True)
-        for p in parent.glob(f".{glob_escape(name)}{TMP_MARK}*"):
-            shutil.rmtree(p, ignore_errors=True)
-    if real.is_dir():
-        for p in real.glob(f"{TMP_MARK}*"):
-            shutil.rmtree(p, ignore_errors=True)
+def _stale_names(record, name):
+    """The temporaries a killed run registered: beside the target, and inside it."""
+    beside = re.escape(f".{name}{TMP_MARK}") + r"[0-9a-f]{16}"
+    return (record.stale("beside", beside), record.stale("prev", beside),
+            record.stale("inside", re.escape(TMP_MARK) + r"[0-9a-f]{16}"))
+
+
+def _restore_prev(parent, real, prev_names):
+    """A run killed between its two renames (no ``renameat2``): put the old set back."""
+    for prev in prev_names:
+        p = parent / prev
+        if p.is_dir() and not p.is_symlink() and not os.path.lexists(real):
+            os.rename(p, real)
+
+
+def _remove_stale(parent, real, stale):
+    """Remove the temporaries a killed run registered in its lock record (called with the lock
+    held, after the folder's check: no live run owns them, and a refused run removes nothing)."""
+    beside, prev, inside = stale
+    for folder, names in ((parent, [*beside, *prev]), (real, inside)):
+        for n in names:
+            p = folder / n
+            if p.is_dir() and not p.is_symlink():
+                shutil.rmtree(p, ignore_errors=True)
 
 
 def _in_place(real):
@@ -430,11 +467,15 @@ def staged_output(target, outputs=(), command="output"):
                                                              *([real] if real.is_dir() else [])}):
             raise InputError("cannot write the output folder: permission denied", target)
         lock = real / LOCK_SUFFIX if mount else parent / f".{name}{LOCK_SUFFIX}"
-        with _lock(lock, target):
+        with _lock(lock, target) as record:
+            stale = _stale_names(record, name)
             with writing(target):
-                _remove_stale(parent, name, real, mount)
-            folder_owners(real, command, target)        # refuse before the run computes
-            with _staged(real, target, command, mount) as stage:
+                _restore_prev(parent, real, stale[1])
+            skip = {*stale[2], *([LOCK_SUFFIX] if mount else [])}
+            folder_owners(real, command, target, skip)     # refuse before the run computes
+            with writing(target):
+                _remove_stale(parent, real, stale)
+            with _staged(real, target, command, mount, record) as stage:
                 yield stage
     except BaseException:
         for a in missing:                   # the folders this run created, deepest first
@@ -444,20 +485,18 @@ def staged_output(target, outputs=(), command="output"):
 
 
 @contextlib.contextmanager
-def _staged(real, target, command, mount):
+def _staged(real, target, command, mount, record):
     from .._version import VERSION as __version__
 
     owner = os.getpid()
     inside = real.is_dir() and (mount or _in_place(real))
-    where = real if inside else real.parent
-    try:
-        stage = Path(tempfile.mkdtemp(prefix=TMP_MARK if inside else f".{real.name}{TMP_MARK}",
-                                      dir=where))
-    except OSError as exc:
-        raise _oserror(exc, target) from None
+    stage = _new_temporary(real if inside else real.parent,
+                           TMP_MARK if inside else f".{real.name}{TMP_MARK}",
+                           record, "inside" if inside else "beside", target)
     try:
         yield stage
-        owners = folder_owners(real, command, target)   # files added while the run computed
+        skip = {stage.name, *([LOCK_SUFFIX] if mount else [])}
+        owners = folder_owners(real, command, target, skip)   # files added meanwhile
         with writing(target):
             new = write_manifest(stage, command, __version__)
         clash = _conflicts(new, owners)
@@ -469,13 +508,28 @@ def _staged(real, target, command, mount):
             if inside:
                 _swap_entries(real, stage, owners, command, new)
             else:
-                _swap_folder(real, stage, owners, command)
+                _swap_folder(real, stage, owners, command, record)
     finally:
         if os.getpid() == owner:
             shutil.rmtree(stage, ignore_errors=True)
 
 
-def _swap_folder(real, stage, owners, command):
+def _new_temporary(where, prefix, record, kind, target):
+    """Create the folder ``<prefix><random>`` (mode 0700) in ``where``, registered first."""
+    for _ in range(16):
+        path = Path(where) / f"{prefix}{_token()}"
+        try:
+            record.register(kind, path.name)
+            path.mkdir(mode=0o700)
+            return path
+        except FileExistsError:
+            continue
+        except OSError as exc:
+            raise _oserror(exc, target) from None
+    raise InputError("cannot write the output folder: no free temporary name", target)
+
+
+def _swap_folder(real, stage, owners, command, record):
     """Put the staged folder in the target's place in one exchange; the old set ends in stage."""
     _carry(real, stage, owners, command)
     mode = stat.S_IMODE(os.stat(real).st_mode) if real.is_dir() else 0o777 & ~_umask()
@@ -485,9 +539,14 @@ def _swap_folder(real, stage, owners, command):
             if not _renameat2(stage, real, RENAME_NOREPLACE):
                 os.rename(stage, real)      # fails on a folder created meanwhile, not empty
         elif not _renameat2(stage, real, RENAME_EXCHANGE):
-            prev = real.parent / f".{real.name}.gd-prev"
+            prev = real.parent / f".{real.name}{TMP_MARK}{_token()}"
+            record.register("prev", prev.name)
             os.rename(real, prev)           # no exchange here: two renames, undone if killed
-            os.rename(stage, real)
+            try:
+                os.rename(stage, real)
+            except OSError:
+                os.rename(prev, real)
+                raise
             os.rename(prev, stage)
 
 
