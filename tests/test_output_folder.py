@@ -10,6 +10,7 @@ import hashlib
 import json
 import os
 import shutil
+import stat
 from pathlib import Path
 
 import pytest
@@ -163,3 +164,36 @@ def test_case10_only_write_errors_are_write_errors(job, capsys, monkeypatch, err
     else:
         assert code == 2
     assert _tree(job / "out") == before
+
+
+def _special(job, kind):
+    """A FIFO (never the real /dev), a link to one, or a link to a regular file."""
+    os.mkfifo(job / "pipe")
+    (job / "file.csv").write_text("the user's\n")
+    if kind == "fifo":
+        return job / "pipe"
+    link = job / "link"
+    link.symlink_to(job / ("pipe" if kind == "link_to_fifo" else "file.csv"))
+    return link
+
+
+@pytest.mark.parametrize("kind", ["fifo", "link_to_fifo", "link_to_file"])
+@pytest.mark.parametrize("command", ["plan", "main", "control", "sweep"])
+def test_issue32_an_output_that_is_a_special_file_or_link_is_refused(job, capsys, command,
+                                                                     kind):
+    """plan -o /dev/null made /dev/null a regular file: only regular files are written; -o
+    FILE as a symbolic link is refused too (never written through, never replaced)."""
+    out = _special(job, kind)
+    args = {"plan": ["plan", "two-link", "-o", out],
+            "main": ["two-link", job / "p.csv", "-o", out, "-q"],
+            "control": ["control", job / "out" / "simplified_model.json", job / "p.csv", "-o",
+                        out, "-q"],
+            "sweep": ["sweep", "two-link", job / "p.csv", "-o", out, "-q"]}[command]
+    before = sorted(os.listdir(job))
+    code, _, err = _run(args, capsys)
+    assert code == 2 and err.count("\n") == 1, err
+    assert str(out) in err
+    assert os.path.islink(out) == (kind != "fifo")
+    assert stat.S_ISFIFO(os.stat(job / "pipe").st_mode)
+    assert (job / "file.csv").read_text() == "the user's\n"
+    assert sorted(os.listdir(job)) == before               # no sidecar, no temporary

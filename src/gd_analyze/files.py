@@ -128,7 +128,8 @@ def atomic_path(path, create=True):
     """
     path = Path(path)
     # mkstemp: an unpredictable name, created new (O_EXCL), never through a symbolic link
-    fd, tmp = tempfile.mkstemp(prefix=f".{path.name}.", suffix=".tmp", dir=path.parent or ".")
+    fd, tmp = tempfile.mkstemp(prefix=f".{path.name}.gd-tmp-", suffix=".tmp",
+                               dir=path.parent or ".")
     try:
         umask = os.umask(0)
         os.umask(umask)

@@ -108,7 +108,8 @@ def safe_name(name, fallback="robot"):
 
 
 def check_output_file(path):
-    """Check that a single output file can be written at ``path``.
+    """Check that a single output file can be written at ``path``: only a regular file is ever
+    replaced.
 
     Parameters
     ----------
@@ -118,11 +119,23 @@ def check_output_file(path):
     Raises
     ------
     InputError
-        If path is a folder, its folder does not exist or is not a folder, or is not writable.
+        If path is a folder; a device, FIFO or socket (``/dev/null``: the atomic rename would
+        replace it); a symbolic link (to anything: a link is neither written through nor
+        replaced); or its folder does not exist, is not a folder, or is not writable.
     """
     p = Path(path)
-    if p.is_dir():
+    try:
+        mode = os.lstat(p).st_mode
+    except OSError:
+        mode = None
+    if mode is not None and stat.S_ISLNK(mode):
+        raise InputError("is a symbolic link: give the file itself or a new name (a link is "
+                         "never written through or replaced)", path)
+    if mode is not None and stat.S_ISDIR(mode):
         raise InputError("is a folder: give a file name", path)
+    if mode is not None and not stat.S_ISREG(mode):
+        raise InputError("is not a regular file (a device, FIFO or socket): give a file name",
+                         path)
     parent = p.parent if str(p.parent) else Path(".")
     if not parent.is_dir():
         raise InputError("its folder does not exist" if not parent.exists() else
