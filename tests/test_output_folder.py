@@ -7,6 +7,7 @@ hashlib against the files themselves.
 
 import errno
 import hashlib
+import io
 import json
 import os
 import shutil
@@ -197,3 +198,50 @@ def test_issue32_an_output_that_is_a_special_file_or_link_is_refused(job, capsys
     assert stat.S_ISFIFO(os.stat(job / "pipe").st_mode)
     assert (job / "file.csv").read_text() == "the user's\n"
     assert sorted(os.listdir(job)) == before               # no sidecar, no temporary
+
+
+class _FullDisk(io.FileIO):
+    """A file on a disk that fills after 20 kB (ENOSPC), as h5py's file-object driver sees it."""
+
+    def write(self, data):
+        if self.tell() + len(data) > 20_000:
+            raise OSError(errno.ENOSPC, "No space left on device")
+        return super().write(data)
+
+
+def _hdf5_error(result, path, settings=None):
+    """A RuntimeError raised inside h5py's code, as HDF5's "Can't decrement id ref count"."""
+    exec(compile("raise RuntimeError(\"Can't decrement id ref count (unable to flush file)\")",
+                 "/site-packages/h5py/_hl/files.py", "exec"))
+
+
+def _full_disk(result, path, settings=None):
+    """The real control dataset written through h5py onto a disk that fills."""
+    from gd_analyze.io.control_dataset import control_dataset
+
+    control_dataset(result, settings).to_netcdf(_FullDisk(path, "w+"), engine="h5netcdf")
+
+
+def _enospc(result, path, settings=None):
+    raise OSError(errno.ENOSPC, "No space left on device", str(path))
+
+
+@pytest.mark.parametrize("writer, expect", [
+    (_enospc, "no space left on the device"), (_full_disk, "no space left on the device"),
+    (_hdf5_error, "HDF5 error: Can't decrement id ref count")])
+@pytest.mark.parametrize("existing", [False, True])
+def test_issue32_control_on_a_full_disk_is_one_line_and_leaves_nothing(job, capsys, monkeypatch,
+                                                                      writer, expect, existing):
+    """control -o on a nearly full disk segfaulted after 450 lines of h5py tracebacks, leaving
+    the lock, the staging folder and a partial control.h5."""
+    import gd_analyze.io.control_dataset as control_dataset
+
+    out = job / "out" if existing else job / "new" / "ctl"
+    before = _tree(job)
+    monkeypatch.setattr(control_dataset, "write_control_dataset", writer)
+    code, printed, err = _run(["control", job / "out" / "simplified_model.json", job / "p.csv",
+                               "-o", out, "-q"], capsys)
+    assert code == 2 and err.count("\n") == 1 and expect in err, err
+    assert f"{out}: cannot write the output folder" in err
+    assert _tree(job) == before                           # no lock, stage or control.h5
+    assert sorted(os.listdir(job)) == ["out", "p.csv"]

@@ -197,7 +197,10 @@ def writing(target, stage=None):
     Raises
     ------
     InputError
-        On an :class:`OSError` of a write (h5py's write errors name no file).
+        On an :class:`OSError` of a write (h5py's write errors name no file); on an error of
+        the HDF5 library (an ``OSError`` or ``RuntimeError`` raised inside h5py or h5netcdf,
+        such as the one a full disk gives when the file is closed); on any error that a full
+        disk (ENOSPC, EDQUOT, EFBIG) caused.
     """
     try:
         yield
@@ -205,7 +208,56 @@ def writing(target, stage=None):
         names = [n for n in (exc.filename, exc.filename2) if n is not None]
         if stage is not None and names and not any(_inside(n, stage) for n in names):
             raise
-        raise _oserror(exc, target) from None
+        _disarm_hdf5()
+        raise _oserror(_disk_full(exc) or exc, target) from None
+    except Exception as exc:
+        _disarm_hdf5()
+        full = _disk_full(exc)
+        if full is not None:
+            raise _oserror(full, target) from None
+        if isinstance(exc, RuntimeError) and _from_hdf5(exc):
+            raise InputError("cannot write the output folder: HDF5 error: "
+                             + " ".join(str(exc).split())[:160], target) from None
+        raise
+
+
+def _disarm_hdf5():
+    """After a failed write: mark the h5netcdf files open for writing that a failed close left
+    half-open as closed, so that their finalizers (and xarray's) do not flush again into a file
+    HDF5 has torn down: on a full disk that second flush was a SIGSEGV. (Every file a command
+    writes is in its staging folder, which the failed run removes.)"""
+    import gc
+
+    h5netcdf = sys.modules.get("h5netcdf")
+    if h5netcdf is None:
+        return
+    for obj in gc.get_objects():
+        if (isinstance(obj, h5netcdf.File) and not getattr(obj, "_closed", True)
+                and getattr(obj, "_mode", "r") != "r"):
+            obj._closed = True      # h5netcdf's own flag: close() and __del__ then do nothing
+
+
+_FULL = (errno.ENOSPC, getattr(errno, "EDQUOT", errno.ENOSPC), errno.EFBIG)
+
+
+def _disk_full(exc):
+    """The OSError of a full disk in the exception's chain (its causes and contexts), or None."""
+    seen = set()
+    while exc is not None and id(exc) not in seen:
+        seen.add(id(exc))
+        if isinstance(exc, OSError) and (exc.errno in _FULL or "errno = 28" in str(exc)):
+            return exc if exc.errno in _FULL else OSError(errno.ENOSPC, "")
+        exc = exc.__cause__ or exc.__context__
+    return None
+
+
+def _from_hdf5(exc):
+    """Whether the exception was raised inside h5py or h5netcdf (an HDF5 library error)."""
+    import traceback
+
+    frames = traceback.extract_tb(exc.__traceback__)
+    return bool(frames) and any(part in frames[-1].filename.replace("\\", "/")
+                                for part in ("h5py/", "h5netcdf/"))
 
 
 def glob_escape(text):
