@@ -9,8 +9,9 @@
 - the folder's manifests (:mod:`gd_analyze.io.manifest`) must list every file it holds: a
   file gd-analyze did not write is never replaced or deleted; the run is refused, with one line
   and exit status 2, before it computes anything, and nothing is touched;
-- every file of the run is written into a fresh staging folder (``tempfile.mkdtemp``: an
-  unpredictable name, mode 0700) beside the target; it also receives, as hard links, the files
+- every file of the run is written into a fresh staging folder (``.<name>.gd-tmp-<random>``:
+  an unpredictable name, mode 0700, registered in the lock file before it is created) beside
+  the target; it also receives, as hard links, the files
   of the other commands' manifests, so that ``control`` and the main job can share a folder
   and neither replaces the other's files; the command's manifest (paths, sizes, SHA-256, tool
   version) is written there too;
@@ -23,12 +24,16 @@
   manifest that knows both sets is in place meanwhile, so the next run replaces it whole). Without
   ``renameat2`` (other systems, old C libraries) the target is renamed aside and the new
   folder renamed in; a run killed between the two renames is undone by the next run;
-- on an error, SIGINT or SIGTERM the staging folder is removed; the staging folders of a
-  killed run (SIGKILL) are removed by the next run into the same folder;
+- on an error, SIGINT or SIGTERM the staging folder is removed; the temporaries of a killed
+  run (SIGKILL) are removed by the next run into the same folder, only those its lock file
+  registered and only once the folder passed its check: a refused run removes nothing, and a
+  name that merely looks like gd-analyze's (``.gd-notes.txt``) is a user's file;
 - an output location that cannot be created or written gives an
   :class:`~gd_analyze.errors.InputError` (exit status 2) and leaves nothing behind. Inside a
-  run, :func:`writing` turns the write errors (and only those) of the calls it wraps into
-  one line.
+  run, :func:`writing` turns the write errors (and only those: a full disk, an HDF5 error) of
+  the calls it wraps into one line;
+- a single output file (``plan -o``) is written only over a regular file or a new name
+  (:func:`check_output_file`).
 """
 
 from __future__ import annotations
