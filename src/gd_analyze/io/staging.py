@@ -51,6 +51,7 @@ from pathlib import Path
 
 from ..errors import InputError
 from .manifest import folder_owners, manifest_name, write_manifest, write_transition
+from .write_errors import is_inside, write_error, writing
 
 __all__ = ["safe_name", "staged_output", "writing", "check_free_space", "check_output_file",
            "install_signal_handlers", "Terminated", "LOCK_SUFFIX", "TMP_MARK"]
@@ -172,104 +173,6 @@ def check_free_space(folder, need_bytes, what="the results"):
                          f"needed, {free / 1e6:.0f} MB free", folder)
 
 
-def _oserror(exc, path):
-    reason = exc.strerror or str(exc)
-    if exc.errno == errno.ENOSPC:
-        reason = "no space left on the device"
-    return InputError(f"cannot write the output folder: {reason}", path)
-
-
-def _inside(name, folder):
-    try:
-        return os.path.commonpath([os.path.abspath(os.fsdecode(name)),
-                                   os.path.abspath(folder)]) == os.path.abspath(folder)
-    except (TypeError, ValueError):
-        return False
-
-
-@contextlib.contextmanager
-def writing(target, stage=None):
-    """Report the write errors of the enclosed calls as "cannot write the output folder".
-
-    Parameters
-    ----------
-    target : str or os.PathLike
-        The output folder, as the message names it.
-    stage : str or os.PathLike, optional
-        The staging folder the calls write in: an :class:`OSError` naming a file outside it
-        (a file the calls read) is not a write error and propagates unchanged.
-
-    Raises
-    ------
-    InputError
-        On an :class:`OSError` of a write (h5py's write errors name no file); on an error of
-        the HDF5 library (an ``OSError`` or ``RuntimeError`` raised inside h5py or h5netcdf,
-        such as the one a full disk gives when the file is closed); on any error that a full
-        disk (ENOSPC, EDQUOT, EFBIG) caused.
-    """
-    try:
-        yield
-    except OSError as exc:
-        names = [n for n in (exc.filename, exc.filename2) if n is not None]
-        if stage is not None and names and not any(_inside(n, stage) for n in names):
-            raise
-        _disarm_hdf5()
-        raise _oserror(_disk_full(exc) or exc, target) from None
-    except Exception as exc:
-        _disarm_hdf5()
-        full = _disk_full(exc)
-        if full is not None:
-            raise _oserror(full, target) from None
-        if isinstance(exc, RuntimeError) and _from_hdf5(exc):
-            raise InputError("cannot write the output folder: HDF5 error: "
-                             + " ".join(str(exc).split())[:160], target) from None
-        raise
-
-
-def _disarm_hdf5():
-    """After a failed write: mark the h5netcdf files open for writing that a failed close left
-    half-open as closed, so that their finalizers (and xarray's) do not flush again into a file
-    HDF5 has torn down: on a full disk that second flush was a SIGSEGV. (Every file a command
-    writes is in its staging folder, which the failed run removes.)"""
-    import gc
-
-    h5netcdf = sys.modules.get("h5netcdf")
-    if h5netcdf is None:
-        return
-    for obj in gc.get_objects():
-        if (isinstance(obj, h5netcdf.File) and not getattr(obj, "_closed", True)
-                and getattr(obj, "_mode", "r") != "r"):
-            obj._closed = True      # h5netcdf's own flag: close() and __del__ then do nothing
-
-
-_FULL = (errno.ENOSPC, getattr(errno, "EDQUOT", errno.ENOSPC), errno.EFBIG)
-
-
-def _disk_full(exc):
-    """The OSError of a full disk in the exception's chain (its causes and contexts), or None."""
-    seen = set()
-    while exc is not None and id(exc) not in seen:
-        seen.add(id(exc))
-        if isinstance(exc, OSError) and (exc.errno in _FULL or "errno = 28" in str(exc)):
-            return exc if exc.errno in _FULL else OSError(errno.ENOSPC, "")
-        exc = exc.__cause__ or exc.__context__
-    return None
-
-
-def _from_hdf5(exc):
-    """Whether the exception was raised inside h5py or h5netcdf (an HDF5 library error)."""
-    import traceback
-
-    frames = traceback.extract_tb(exc.__traceback__)
-    return bool(frames) and any(part in frames[-1].filename.replace("\\", "/")
-                                for part in ("h5py/", "h5netcdf/"))
-
-
-def glob_escape(text):
-    """Escape glob's special characters."""
-    return re.sub(r"([*?\[])", r"[\1]", text)
-
-
 @contextlib.contextmanager
 def _lock(lock_path, target):
     import fcntl
@@ -282,7 +185,7 @@ def _lock(lock_path, target):
             if exc.errno == errno.ELOOP:
                 raise InputError(f"cannot write the output folder: its lock file {lock_path} "
                                  "is a symbolic link", target) from None
-            raise _oserror(exc, target) from None
+            raise write_error(exc, target) from None
         st = os.fstat(fd)
         if not stat.S_ISREG(st.st_mode) or st.st_nlink != 1:     # a FIFO, a hard link
             os.close(fd)
@@ -476,7 +379,7 @@ def _in_place(real):
     if os.path.ismount(real):
         return True
     try:
-        return _inside(os.path.realpath(os.getcwd()), real)
+        return is_inside(os.path.realpath(os.getcwd()), real)
     except OSError:
         return False
 
@@ -530,7 +433,7 @@ def staged_output(target, outputs=(), command="output"):
     try:
         parent.mkdir(parents=True, exist_ok=True)
     except OSError as exc:
-        raise _oserror(exc, target) from None
+        raise write_error(exc, target) from None
     mount = real.is_dir() and os.path.ismount(real)
     try:
         if not all(os.access(a, os.W_OK | os.X_OK) for a in {real if mount else parent,
@@ -595,7 +498,7 @@ def _new_temporary(where, prefix, record, kind, target):
         except FileExistsError:
             continue
         except OSError as exc:
-            raise _oserror(exc, target) from None
+            raise write_error(exc, target) from None
     raise InputError("cannot write the output folder: no free temporary name", target)
 
 
