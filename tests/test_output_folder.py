@@ -14,6 +14,7 @@ import shutil
 import stat
 from pathlib import Path
 
+import numpy as np
 import pytest
 
 from gd_analyze import __version__
@@ -245,3 +246,23 @@ def test_issue32_control_on_a_full_disk_is_one_line_and_leaves_nothing(job, caps
     assert f"{out}: cannot write the output folder" in err
     assert _tree(job) == before                           # no lock, stage or control.h5
     assert sorted(os.listdir(job)) == ["out", "p.csv"]
+
+
+@pytest.mark.parametrize("writer", [_hdf5_error, _full_disk])
+def test_issue32_the_main_job_on_a_full_disk_is_one_line_and_leaves_nothing(job, capsys,
+                                                                            monkeypatch, writer):
+    import gd_analyze.workflows.run as run
+
+    def analyze_to_file(robot, trajectory, path, *args, **kw):
+        if writer is _full_disk:                # any dataset, through h5py onto a full disk
+            import xarray as xr
+
+            xr.Dataset({"x": (("t", "j"), np.ones((5000, 6)))}).to_netcdf(
+                _FullDisk(path, "w+"), engine="h5netcdf")
+        _hdf5_error(None, path)
+
+    monkeypatch.setattr(run, "analyze_to_file", analyze_to_file)
+    before = _tree(job)
+    code, _, err = _run(["two-link", job / "p.csv", "-o", job / "out", "-q"], capsys)
+    assert code == 2 and err.count("\n") == 1 and "cannot write the output folder" in err, err
+    assert _tree(job) == before and sorted(os.listdir(job)) == ["out", "p.csv"]
