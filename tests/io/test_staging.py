@@ -611,3 +611,22 @@ def test_issue32_a_users_gd_names_are_never_deleted(tmp_path, name):
     _run_as(target, "analyze", {"a.txt": "m2"})          # a normal rerun
     assert all((tmp_path / n / "keep.txt").read_text() == "user"
                for n in (".out.gd-prev", ".out.gd-tmp-xyz"))
+
+
+def test_issue32_a_refused_run_keeps_a_killed_runs_temporaries_for_the_next(tmp_path):
+    target = tmp_path / "out"
+    proc = _start(_writer_script(target, 30))
+    proc.kill()                                      # SIGKILL: its staging folder stays
+    proc.wait(timeout=20)
+    left = _leftovers(tmp_path)
+    assert any(TMP_MARK in n for n in left)
+    target.mkdir()
+    (target / "notes.txt").write_text("the user's")
+    with pytest.raises(InputError, match="did not write: notes.txt"):
+        with staged_output(target):
+            pass
+    assert _leftovers(tmp_path) == left              # refused: nothing removed, still known
+    (target / "notes.txt").unlink()
+    with staged_output(target) as stage:
+        (stage / "a.txt").write_text("1")
+    assert _leftovers(tmp_path) == []

@@ -205,14 +205,15 @@ def _lock(lock_path, target):
         if same:
             break
         os.close(fd)
-    owner = os.getpid()
+    owner, record = os.getpid(), None
     try:
         before = os.pread(fd, RECORD_LIMIT, 0).decode("utf-8", "replace")
         os.ftruncate(fd, 0)
         os.write(fd, f"{owner}\n".encode())
-        yield _Record(fd, before)
+        record = _Record(fd, before)
+        yield record
     finally:
-        if os.getpid() == owner:
+        if os.getpid() == owner and not (record is not None and record.pending):
             with contextlib.suppress(OSError):
                 os.unlink(lock_path)
         os.close(fd)
@@ -227,6 +228,9 @@ class _Record:
         self.fd = fd
         self.before = [line.split(" ", 1) for line in before.splitlines()[1:]
                        if line.count(" ") == 1]
+        self.pending = bool(self.before)    # kept until removed: a refused run keeps them
+        for where, name in self.before:
+            self.register(where, name)
 
     def register(self, where, name):
         """Record ``name`` (``beside`` the target, or ``inside`` it) before it is created."""
@@ -363,7 +367,7 @@ def _restore_prev(parent, real, prev_names):
             os.rename(p, real)
 
 
-def _remove_stale(parent, real, stale):
+def _remove_stale(parent, real, stale, record):
     """Remove the temporaries a killed run registered in its lock record (called with the lock
     held, after the folder's check: no live run owns them, and a refused run removes nothing)."""
     beside, prev, inside = stale
@@ -372,6 +376,7 @@ def _remove_stale(parent, real, stale):
             p = folder / n
             if p.is_dir() and not p.is_symlink():
                 shutil.rmtree(p, ignore_errors=True)
+    record.pending = False
 
 
 def _in_place(real):
@@ -447,7 +452,7 @@ def staged_output(target, outputs=(), command="output"):
             skip = {*stale[2], *([LOCK_SUFFIX] if mount else [])}
             folder_owners(real, command, target, skip)     # refuse before the run computes
             with writing(target):
-                _remove_stale(parent, real, stale)
+                _remove_stale(parent, real, stale, record)
             with _staged(real, target, command, mount, record) as stage:
                 yield stage
     except BaseException:
