@@ -7,11 +7,14 @@ hashlib against the files themselves.
 
 import errno
 import hashlib
+import io
 import json
 import os
 import shutil
+import stat
 from pathlib import Path
 
+import numpy as np
 import pytest
 
 from gd_analyze import __version__
@@ -163,3 +166,103 @@ def test_case10_only_write_errors_are_write_errors(job, capsys, monkeypatch, err
     else:
         assert code == 2
     assert _tree(job / "out") == before
+
+
+def _special(job, kind):
+    """A FIFO (never the real /dev), a link to one, or a link to a regular file."""
+    os.mkfifo(job / "pipe")
+    (job / "file.csv").write_text("the user's\n")
+    if kind == "fifo":
+        return job / "pipe"
+    link = job / "link"
+    link.symlink_to(job / ("pipe" if kind == "link_to_fifo" else "file.csv"))
+    return link
+
+
+@pytest.mark.parametrize("kind", ["fifo", "link_to_fifo", "link_to_file"])
+@pytest.mark.parametrize("command", ["plan", "main", "control", "sweep"])
+def test_issue32_an_output_that_is_a_special_file_or_link_is_refused(job, capsys, command,
+                                                                     kind):
+    """plan -o /dev/null made /dev/null a regular file: only regular files are written; -o
+    FILE as a symbolic link is refused too (never written through, never replaced)."""
+    out = _special(job, kind)
+    args = {"plan": ["plan", "two-link", "-o", out],
+            "main": ["two-link", job / "p.csv", "-o", out, "-q"],
+            "control": ["control", job / "out" / "simplified_model.json", job / "p.csv", "-o",
+                        out, "-q"],
+            "sweep": ["sweep", "two-link", job / "p.csv", "-o", out, "-q"]}[command]
+    before = sorted(os.listdir(job))
+    code, _, err = _run(args, capsys)
+    assert code == 2 and err.count("\n") == 1, err
+    assert str(out) in err
+    assert os.path.islink(out) == (kind != "fifo")
+    assert stat.S_ISFIFO(os.stat(job / "pipe").st_mode)
+    assert (job / "file.csv").read_text() == "the user's\n"
+    assert sorted(os.listdir(job)) == before               # no sidecar, no temporary
+
+
+class _FullDisk(io.FileIO):
+    """A file on a disk that fills after 20 kB (ENOSPC), as h5py's file-object driver sees it."""
+
+    def write(self, data):
+        if self.tell() + len(data) > 20_000:
+            raise OSError(errno.ENOSPC, "No space left on device")
+        return super().write(data)
+
+
+def _hdf5_error(result, path, settings=None):
+    """A RuntimeError raised inside h5py's code, as HDF5's "Can't decrement id ref count"."""
+    exec(compile("raise RuntimeError(\"Can't decrement id ref count (unable to flush file)\")",
+                 "/site-packages/h5py/_hl/files.py", "exec"))
+
+
+def _full_disk(result, path, settings=None):
+    """The real control dataset written through h5py onto a disk that fills."""
+    from gd_analyze.io.control_dataset import control_dataset
+
+    control_dataset(result, settings).to_netcdf(_FullDisk(path, "w+"), engine="h5netcdf")
+
+
+def _enospc(result, path, settings=None):
+    raise OSError(errno.ENOSPC, "No space left on device", str(path))
+
+
+@pytest.mark.parametrize("writer, expect", [
+    (_enospc, "no space left on the device"), (_full_disk, "no space left on the device"),
+    (_hdf5_error, "HDF5 error: Can't decrement id ref count")])
+@pytest.mark.parametrize("existing", [False, True])
+def test_issue32_control_on_a_full_disk_is_one_line_and_leaves_nothing(job, capsys, monkeypatch,
+                                                                      writer, expect, existing):
+    """control -o on a nearly full disk segfaulted after 450 lines of h5py tracebacks, leaving
+    the lock, the staging folder and a partial control.h5."""
+    import gd_analyze.io.control_dataset as control_dataset
+
+    out = job / "out" if existing else job / "new" / "ctl"
+    before = _tree(job)
+    monkeypatch.setattr(control_dataset, "write_control_dataset", writer)
+    code, printed, err = _run(["control", job / "out" / "simplified_model.json", job / "p.csv",
+                               "-o", out, "-q"], capsys)
+    assert code == 2 and err.count("\n") == 1 and expect in err, err
+    assert f"{out}: cannot write the output folder" in err
+    assert _tree(job) == before                           # no lock, stage or control.h5
+    assert sorted(os.listdir(job)) == ["out", "p.csv"]
+
+
+@pytest.mark.parametrize("writer", [_hdf5_error, _full_disk])
+def test_issue32_the_main_job_on_a_full_disk_is_one_line_and_leaves_nothing(job, capsys,
+                                                                            monkeypatch, writer):
+    import gd_analyze.workflows.run as run
+
+    def analyze_to_file(robot, trajectory, path, *args, **kw):
+        if writer is _full_disk:                # any dataset, through h5py onto a full disk
+            import xarray as xr
+
+            xr.Dataset({"x": (("t", "j"), np.ones((5000, 6)))}).to_netcdf(
+                _FullDisk(path, "w+"), engine="h5netcdf")
+        _hdf5_error(None, path)
+
+    monkeypatch.setattr(run, "analyze_to_file", analyze_to_file)
+    before = _tree(job)
+    code, _, err = _run(["two-link", job / "p.csv", "-o", job / "out", "-q"], capsys)
+    assert code == 2 and err.count("\n") == 1 and "cannot write the output folder" in err, err
+    assert _tree(job) == before and sorted(os.listdir(job)) == ["out", "p.csv"]

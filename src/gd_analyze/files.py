@@ -12,7 +12,7 @@ import os
 import tempfile
 from pathlib import Path
 
-__all__ = ["atomic_path", "file_sha256"]
+__all__ = ["atomic_path", "file_sha256", "read_regular", "TooLarge"]
 
 
 def file_sha256(path):
@@ -42,6 +42,60 @@ def file_sha256(path):
         while size := fh.readinto(block):
             digest.update(view[:size])
     return digest.hexdigest()
+
+
+class TooLarge(ValueError):
+    """A file read with :func:`read_regular` is larger than its limit."""
+
+
+def read_regular(path, limit, follow=True):
+    """The bytes of a regular file of at most ``limit`` bytes, read without blocking.
+
+    A FIFO, socket or device (or a symbolic link to one: ``/dev/zero``) is never read, so a
+    reader neither hangs on a FIFO nor fills the memory from a device.
+
+    Parameters
+    ----------
+    path : str or os.PathLike
+        The file.
+    limit : int
+        Largest size accepted [bytes].
+    follow : bool, optional
+        False: a symbolic link is refused too (``O_NOFOLLOW``).
+
+    Returns
+    -------
+    bytes
+
+    Raises
+    ------
+    OSError
+        If the file cannot be opened or read, or is not a regular file (``EINVAL``).
+    TooLarge
+        If it holds more than ``limit`` bytes (a ``ValueError``).
+
+    Examples
+    --------
+    >>> read_regular("/dev/zero", 10)
+    Traceback (most recent call last):
+    ...
+    OSError: [Errno 22] not a regular file: '/dev/zero'
+    """
+    import errno
+    import stat
+
+    flags = os.O_RDONLY | os.O_NONBLOCK | os.O_CLOEXEC | (0 if follow else os.O_NOFOLLOW)
+    fd = os.open(path, flags)
+    with os.fdopen(fd, "rb", buffering=0) as fh:
+        st = os.fstat(fd)
+        if not stat.S_ISREG(st.st_mode):
+            raise OSError(errno.EINVAL, "not a regular file", os.fspath(path))
+        if st.st_size > limit:
+            raise TooLarge(f"{os.fspath(path)}: larger than {limit} bytes")
+        data = fh.read(limit + 1)
+    if len(data) > limit:
+        raise TooLarge(f"{os.fspath(path)}: larger than {limit} bytes")
+    return data
 
 
 @contextlib.contextmanager
@@ -74,7 +128,8 @@ def atomic_path(path, create=True):
     """
     path = Path(path)
     # mkstemp: an unpredictable name, created new (O_EXCL), never through a symbolic link
-    fd, tmp = tempfile.mkstemp(prefix=f".{path.name}.", suffix=".tmp", dir=path.parent or ".")
+    fd, tmp = tempfile.mkstemp(prefix=f".{path.name}.gd-tmp-", suffix=".tmp",
+                               dir=path.parent or ".")
     try:
         umask = os.umask(0)
         os.umask(umask)

@@ -197,6 +197,7 @@ def test_table():
 
 
 def test_disk_cache_is_keyed_by_the_counted_source(tmp_path, monkeypatch):
+    import hashlib
     import json
 
     from gd_analyze.formulations import opcount
@@ -207,10 +208,16 @@ def test_disk_cache_is_keyed_by_the_counted_source(tmp_path, monkeypatch):
     fresh = opcount._counts_for("RRR")
     path = opcount._cache_file()
     assert path.parent == tmp_path / "gd-analyze" and path.is_file()
-    assert json.loads(path.read_text())["3"] == {m: list(v) for m, v in fresh.items()}
-    # a planted value is read back: the cache is really used ...
+    data = json.loads(path.read_text())
+    assert data["entries"]["3"]["counts"] == {m: list(v) for m, v in fresh.items()}
+    # a planted value with its checksum (SHA-256 of format, code, key, counts) is read back:
+    # the cache is really used ...
     planted = {m: [1, 2] for m in fresh}
-    path.write_text(json.dumps({"3": planted}))
+    text = json.dumps({"format": data["format"], "code": data["code"], "key": "3",
+                       "counts": planted}, sort_keys=True, separators=(",", ":"))
+    data["entries"]["3"] = {"counts": planted, "checksum": hashlib.sha256(text.encode())
+                            .hexdigest()}
+    path.write_text(json.dumps(data))
     opcount._counts_for.cache_clear()
     assert opcount._counts_for("RRR")["gd"] == (1, 2)
     # ... but only under the key of the current source: other code, other file

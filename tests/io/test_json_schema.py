@@ -180,3 +180,17 @@ def test_fuzz_model_loader(tmp_path_factory, model_doc, data, action, value, reh
         np.testing.assert_array_equal(model.robot.mass, [lk["mass"] for lk in
                                                          doc["robot"]["parameters"]["link"]])
     assert set(os.listdir(tmp)) == before
+
+
+@pytest.mark.parametrize("body", ['"' + '\\"' * 500_000, '["' + '\\\\' * 500_000 + '"]'])
+def test_issue32_the_nesting_check_is_linear_on_1_mb(tmp_path, body):
+    """A run of escaped quotes with no closing quote made the nesting check's regex quadratic
+    (48 KB: 30 s; 1 MB: hours)."""
+    path = tmp_path / "m.json"
+    path.write_text(body)
+    assert path.stat().st_size > 1_000_000
+    if body.endswith("]"):
+        assert load_json(path) == ["\\" * 500_000]
+    else:
+        with pytest.raises(InputError, match="not a JSON file: Unterminated string"):
+            load_json(path)

@@ -131,3 +131,34 @@ def test_default_motion_rule_and_infinite_limits():
     # [-0.1, 0.3] m
     np.testing.assert_allclose(np.degrees([s[0], g[0]]), [-72.0, 62.4])
     np.testing.assert_allclose([s[2], g[2]], [0.012, 0.188])
+
+
+_READ_SIDECAR = """
+import resource, sys
+resource.setrlimit(resource.RLIMIT_AS, (3 << 30, 3 << 30))   # old code: MemoryError, not a
+from gd_analyze.io.planning import read_provenance           # full machine
+print(read_provenance(sys.argv[1]))
+"""
+
+
+@pytest.mark.parametrize("kind", ["fifo", "link_to_fifo", "dev_zero", "large"])
+def test_issue32_a_sidecar_is_read_only_if_a_small_regular_file(tmp_path, kind):
+    """A FIFO sidecar would hang evaluate and control; /dev/zero would fill the memory."""
+    import os
+    import subprocess
+    import sys
+
+    side = tmp_path / "t.provenance.json"
+    if kind == "fifo":
+        os.mkfifo(side)
+    elif kind == "link_to_fifo":
+        os.mkfifo(tmp_path / "pipe")
+        side.symlink_to(tmp_path / "pipe")
+    elif kind == "dev_zero":
+        side.symlink_to("/dev/zero")
+    else:
+        side.write_text('{"robot": "' + "x" * (2 << 20) + '"}')
+    env = dict(os.environ, PYTHONPATH=os.pathsep.join(sys.path), OPENBLAS_NUM_THREADS="1")
+    run = subprocess.run([sys.executable, "-c", _READ_SIDECAR, str(tmp_path / "t.csv")],
+                         capture_output=True, text=True, env=env, timeout=60)  # a safety net
+    assert (run.returncode, run.stdout) == (0, "None\n"), run.stderr[-500:]

@@ -1,6 +1,7 @@
 """Issue 9, cases 3, 6 and 8 (output locations): staged output folders with a lock."""
 
 import os
+import re
 import shutil
 import signal
 import stat
@@ -204,8 +205,6 @@ def test_case8_a_killed_run_is_cleaned_by_the_next(tmp_path):
     proc.kill()                                      # SIGKILL: no clean-up possible
     proc.wait(timeout=EXIT_WAIT)
     assert any(TMP_MARK in n for n in _leftovers(tmp_path))
-    target.mkdir()
-    (target / f"{TMP_MARK}abc").mkdir()                       # a staging folder inside it
     with staged_output(target, ("big.bin",)) as stage:        # the lock is free again
         (stage / "big.bin").write_text("ok")
     assert _leftovers(tmp_path) == []
@@ -457,16 +456,28 @@ def test_case8_the_current_folder_is_kept(tmp_path, monkeypatch):
     assert os.stat(tmp_path).st_ino == inode and _set(tmp_path) == {"a.txt": "2"}
 
 
-def test_case8_without_renameat2_a_killed_swap_is_undone(tmp_path, monkeypatch):
-    from gd_analyze.io import staging
-
-    monkeypatch.setattr(staging, "_libc_renameat2", lambda: None)
+def test_case8_without_renameat2_a_killed_swap_is_undone(tmp_path):
     target = tmp_path / "out"
-    for text in ("1", "2"):
-        with staged_output(target) as stage:
-            (stage / "a.txt").write_text(text)
-    assert _set(target) == {"a.txt": "2"}
-    os.rename(target, tmp_path / ".out.gd-prev")      # killed between the two renames
+    script = textwrap.dedent(f"""
+        import os, signal
+        from gd_analyze.io import staging
+        staging._libc_renameat2 = lambda: None
+        target = {str(target)!r}
+        for text in ("1", "2"):
+            with staging.staged_output(target) as stage:
+                (stage / "a.txt").write_text(text)
+        rename = os.rename
+        def killed_after(src, dst):          # killed between the two renames
+            rename(src, dst)
+            if os.fspath(src) == target:
+                os.kill(os.getpid(), signal.SIGKILL)
+        os.rename = killed_after
+        with staging.staged_output(target) as stage:
+            (stage / "a.txt").write_text("3")
+        """)
+    env = dict(os.environ, PYTHONPATH=os.pathsep.join(sys.path))
+    run = subprocess.run([sys.executable, "-c", script], env=env, timeout=60)
+    assert run.returncode == -signal.SIGKILL and not target.exists()
     with staged_output(target) as stage:
         (stage / "b.txt").write_text("3")
     assert _set(target) == {"b.txt": "3"} and _leftovers(tmp_path) == []
@@ -567,3 +578,62 @@ def test_file_digest_is_hashlib_of_the_bytes(tmp_path, size):
     data = os.urandom(size)
     (tmp_path / "f.bin").write_bytes(data)
     assert file_sha256(tmp_path / "f.bin") == hashlib.sha256(data).hexdigest()
+
+
+def _gd_lookalikes(tmp_path, target):
+    """Names that look like gd-analyze's own, made by a user: none is the tool's to remove."""
+    (target / ".gd-tmp-abc").mkdir()
+    (target / ".gd-tmp-abc" / "keep.txt").write_text("user")
+    (tmp_path / ".out.gd-prev").mkdir()
+    (tmp_path / ".out.gd-prev" / "keep.txt").write_text("user")
+    (tmp_path / ".out.gd-tmp-xyz").mkdir()
+    (tmp_path / ".out.gd-tmp-xyz" / "keep.txt").write_text("user")
+
+
+def test_issue32_a_refused_run_removes_nothing(tmp_path):
+    target = tmp_path / "out"
+    _run_as(target, "analyze", {"a.txt": "m"})
+    _gd_lookalikes(tmp_path, target)
+    (target / "notes.txt").write_text("the user's")
+    before, beside = _tree(target), _tree(tmp_path)
+    with pytest.raises(InputError, match="did not write: .gd-tmp-abc/keep.txt, notes.txt;"):
+        _run_as(target, "analyze", {"a.txt": "m2"})
+    assert _tree(target) == before and _tree(tmp_path) == beside
+
+
+@pytest.mark.parametrize("name", [".gd-notes.txt", ".gd-backup/old.txt", ".gd-lock"])
+def test_issue32_a_users_gd_names_are_never_deleted(tmp_path, name):
+    """A top-level name starting .gd- that gd-analyze did not create is a user's file: the run
+    is refused and the file kept; temporaries beside the folder that no run registered stay."""
+    target = tmp_path / "out"
+    _run_as(target, "analyze", {"a.txt": "m"})
+    (target / name).parent.mkdir(exist_ok=True)
+    (target / name).write_text("the user's")
+    with pytest.raises(InputError, match=f"did not write: {re.escape(name)};"):
+        _run_as(target, "analyze", {"a.txt": "m2"})
+    assert (target / name).read_text() == "the user's"
+    (target / name).unlink()
+    _gd_lookalikes(tmp_path, target)
+    shutil.rmtree(target / ".gd-tmp-abc")
+    _run_as(target, "analyze", {"a.txt": "m2"})          # a normal rerun
+    assert all((tmp_path / n / "keep.txt").read_text() == "user"
+               for n in (".out.gd-prev", ".out.gd-tmp-xyz"))
+
+
+def test_issue32_a_refused_run_keeps_a_killed_runs_temporaries_for_the_next(tmp_path):
+    target = tmp_path / "out"
+    proc = _start(_writer_script(target, 30))
+    proc.kill()                                      # SIGKILL: its staging folder stays
+    proc.wait(timeout=20)
+    left = _leftovers(tmp_path)
+    assert any(TMP_MARK in n for n in left)
+    target.mkdir()
+    (target / "notes.txt").write_text("the user's")
+    with pytest.raises(InputError, match="did not write: notes.txt"):
+        with staged_output(target):
+            pass
+    assert _leftovers(tmp_path) == left              # refused: nothing removed, still known
+    (target / "notes.txt").unlink()
+    with staged_output(target) as stage:
+        (stage / "a.txt").write_text("1")
+    assert _leftovers(tmp_path) == []

@@ -428,9 +428,11 @@ def cmd_plan(args):
         raise InputError(f"must be a number of seconds in [{LIMITS['min_duration']:g}, "
                          f"{LIMITS['duration']:g}], got {args.duration:g}", column="--duration")
     if args.output != "-":
+        from ..io.planning import provenance_path
         from ..io.staging import check_output_file
 
         check_output_file(args.output)
+        check_output_file(provenance_path(args.output))
     qdd_arg = args.qdd_max
     if qdd_arg is not None and len(qdd_arg) == 1:
         qdd_arg = qdd_arg * robot.n

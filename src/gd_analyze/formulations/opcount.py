@@ -387,55 +387,39 @@ _COUNTED_MODULES = ("formulations/opcount", "formulations/counting", "formulatio
                     "core/model/robot")
 
 
-def _cache_file():
-    """The on-disk cache of the counts, or None when disabled (GD_ANALYZE_NO_CACHE=1).
-
-    The counts are a pure function of the counted code, so the file name carries the SHA-256
-    of that code's source: any change to it gives a new file, and a stale count cannot be read.
-    """
+def _code_sha256():
+    """SHA-256 of the counted modules' source: the counts' version."""
     import hashlib
-    import os
     from importlib import resources
-    from pathlib import Path
 
-    if os.environ.get("GD_ANALYZE_NO_CACHE"):
-        return None
     digest = hashlib.sha256()
     for name in _COUNTED_MODULES:
         digest.update(resources.files("gd_analyze").joinpath(f"{name}.py").read_bytes())
-    base = os.environ.get("XDG_CACHE_HOME") or os.path.join(os.path.expanduser("~"), ".cache")
-    return Path(base) / "gd-analyze" / f"opcounts-{digest.hexdigest()[:32]}.json"
+    return digest.hexdigest()
+
+
+def _cache_file():
+    """The on-disk cache of the counts (:mod:`.opcount_cache`), or None when disabled."""
+    from .opcount_cache import cache_file
+
+    return cache_file(_code_sha256())
 
 
 @cache
 def _counts_for(types):
     """Counts of every method for a random chain with joint types ``types`` (cached on disk)."""
-    import json
+    from .opcount_cache import read_counts, store_counts
 
     n = len(types)
-    path = _cache_file()
-    cached = {}
-    if path is not None:
-        try:
-            cached = json.loads(path.read_text())
-        except (OSError, ValueError):
-            cached = {}
+    path, code = _cache_file(), _code_sha256()
     key = str(n) if "P" not in types else types
-    if key in cached:
-        return {m: tuple(v) for m, v in cached[key].items()}
+    cached = None if path is None else read_counts(path, code, key, METHODS)
+    if cached is not None:
+        return cached
     robot = random_chain(n, types=types)
     counts = {m: tuple(int(x) for x in count_operations(robot, m)[:2]) for m in METHODS}
     if path is not None:
-        try:
-            from ..files import atomic_path
-
-            path.parent.mkdir(parents=True, exist_ok=True)
-            cached[key] = counts
-            with atomic_path(path) as tmp:
-                with open(tmp, "w") as fh:
-                    json.dump(cached, fh)
-        except OSError:
-            pass        # a read-only home: count again next time
+        store_counts(path, code, key, counts)
     return counts
 
 

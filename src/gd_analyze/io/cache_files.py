@@ -130,6 +130,51 @@ def checksum(arrays, fields):
     return digest.hexdigest()
 
 
+class _Refused(ValueError):
+    """An entry that is not read at all (its reason is the message)."""
+
+
+def _load_stored(fh, names, max_bytes):
+    """The arrays ``names`` of an ``.npz`` as :func:`write_entry` writes it, with bounded cost.
+
+    Every member must be stored uncompressed (as :func:`numpy.savez` writes it) and its array
+    header must describe no more bytes than the member holds, so that no entry ever makes more
+    than ``max_bytes`` of memory: a 1 MB file of deflated zeros once inflated to 2 GiB.
+    """
+    import zipfile
+
+    from numpy.lib import format as npy
+
+    out, total = {}, 0
+    with zipfile.ZipFile(fh) as z:
+        for name in names:
+            info = z.getinfo(f"{name}.npy")
+            total += info.file_size
+            if info.compress_type != zipfile.ZIP_STORED:
+                raise _Refused("holds a compressed array (gd-analyze stores its entries "
+                               "uncompressed)")
+            if total > max_bytes:
+                raise _Refused(f"holds more than {max_bytes} bytes of arrays")
+            with z.open(info) as member:
+                version = npy.read_magic(member)
+                if version not in ((1, 0), (2, 0)):
+                    raise _Refused(f"holds an array of format {version}")
+                header = (npy.read_array_header_1_0 if version == (1, 0)
+                          else npy.read_array_header_2_0)
+                shape, fortran, dtype = header(member, max_header_size=4096)
+                count = 1
+                for d in shape:
+                    count *= int(d)
+                if dtype.hasobject or count * dtype.itemsize > info.file_size:
+                    raise _Refused(f"holds an array {name} larger than its file")
+                data = member.read(count * dtype.itemsize)
+                if len(data) != count * dtype.itemsize:
+                    raise _Refused(f"holds a truncated array {name}")
+            out[name] = np.frombuffer(bytearray(data), dtype).reshape(
+                shape, order="F" if fortran else "C")
+    return out
+
+
 def read_entry(path, key, fields, max_bytes):
     """The stored arrays of an entry whose key and checksum match, or why it is not used.
 
@@ -161,8 +206,9 @@ def read_entry(path, key, fields, max_bytes):
             return f"is larger than {max_bytes} bytes"
         with os.fdopen(fd, "rb") as fh:
             fd = None
-            with np.load(fh, allow_pickle=False) as z:
-                stored = {name: z[name] for name in (*fields, "key", "checksum")}
+            stored = _load_stored(fh, (*fields, "key", "checksum"), max_bytes)
+    except _Refused as exc:
+        return str(exc)
     except Exception as exc:  # noqa: BLE001 - any damage of the file: not used, computed again
         return f"cannot be read ({type(exc).__name__}: {' '.join(str(exc).split())[:120]})"
     finally:
@@ -189,7 +235,8 @@ def write_entry(path, key, arrays):
     tmp = None
     try:
         path.parent.mkdir(mode=0o700, parents=True, exist_ok=True)
-        fd, tmp = tempfile.mkstemp(prefix=f".{path.name}.", suffix=".tmp", dir=path.parent)
+        fd, tmp = tempfile.mkstemp(prefix=f".{path.name}.gd-tmp-", suffix=".tmp",
+                                   dir=path.parent)
         with os.fdopen(fd, "wb") as fh:
             np.savez(fh, key=np.array(canonical(key)),
                      checksum=np.array(checksum(arrays, list(arrays))), **arrays)

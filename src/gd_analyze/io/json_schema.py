@@ -298,13 +298,28 @@ MAX_DEPTH = 64
 
 
 def _depth(text):
-    """The deepest nesting of [ and { outside strings (an upper bound if the text is not JSON)."""
+    """The deepest nesting of [ and { outside strings (an upper bound if the text is not JSON).
+
+    Linear in the text's length: a quote ends a string unless an odd run of backslashes
+    precedes it; no regular expression, whose backtracking over a run of escaped quotes with
+    no closing one is quadratic (48 KB took 30 s).
+    """
     import numpy as np
 
-    bare = re.sub(r'"(?:[^"\\]|\\.)*"', '""', text).encode("utf-8", "replace")
-    codes = np.frombuffer(bare, np.uint8)
-    steps = np.isin(codes, (91, 123)).astype(np.int64) - np.isin(codes, (93, 125))
-    return int(np.cumsum(steps).max()) if steps.size else 0
+    codes = np.frombuffer(text.encode("utf-8", "replace"), np.uint8)
+    if not codes.size:
+        return 0
+    index = np.arange(codes.size)
+    slash = codes == 92
+    last_other = np.maximum.accumulate(np.where(slash, -1, index))   # last non-backslash
+    run = np.zeros(codes.size, np.int64)                 # backslashes just before each byte
+    run[1:] = index[:-1] - last_other[:-1]
+    quote = (codes == 34) & (run % 2 == 0)
+    inside = (np.cumsum(quote) - quote) % 2 == 1         # within a string (its quotes: out)
+    outside = ~inside & ~quote
+    steps = (outside & ((codes == 91) | (codes == 123))).astype(np.int64) \
+        - (outside & ((codes == 93) | (codes == 125)))
+    return int(np.cumsum(steps).max())
 
 
 def load_json(path, what="JSON"):

@@ -21,15 +21,19 @@ from dataclasses import dataclass, field
 from pathlib import Path
 
 from ..errors import InputError
-from ..files import file_sha256
+from ..files import file_sha256, read_regular
 
 __all__ = ["MANIFEST_PREFIX", "RESERVED_PREFIX", "FolderOwners", "manifest_name",
            "folder_owners", "write_manifest", "write_transition", "walk_files"]
 
 MANIFEST_PREFIX = ".gd-analyze-manifest-"
-#: Top-level names of the output folder that belong to the machinery (the lock and staging
-#: folders of a run in a folder that is a mount point), never to a run's set.
+#: The prefix of gd-analyze's own names: its manifests (inside the folder), its lock and its
+#: temporaries (``.gd-lock``, ``.gd-tmp-<random>`` inside a folder that is a mount point;
+#: ``.<folder>.gd-lock``, ``.<folder>.gd-tmp-<random>`` beside it). A name with the prefix that
+#: gd-analyze did not register is a user's file like any other.
 RESERVED_PREFIX = ".gd-"
+#: Largest manifest read [bytes].
+MANIFEST_LIMIT = 64 << 20
 #: Foreign files named in the refusal, at most (the walk stops after one more).
 SHOWN = 8
 _COMMAND = re.compile(r"[a-z][a-z0-9_-]{0,40}")
@@ -86,10 +90,10 @@ class FolderOwners:
     empty_dirs: list = field(default_factory=list)
 
 
-def walk_files(root, empty_dirs=None):
-    """The entries under ``root`` that are not folders, in sorted order, without following a
-    symbolic link; the top-level names starting with ``.gd-`` (manifests, lock, staging
-    folders) are left out.
+def walk_files(root, empty_dirs=None, skip=()):
+    """The entries under ``root`` that are not folders (each folder's in sorted order), without following a
+    symbolic link; the manifests (top-level names starting ``.gd-analyze-manifest-``) and the
+    top-level names in ``skip`` (the run's lock and registered temporaries) are left out.
 
     Parameters
     ----------
@@ -97,6 +101,8 @@ def walk_files(root, empty_dirs=None):
         A folder.
     empty_dirs : list, optional
         Receives the relative paths of the folders that hold nothing.
+    skip : collection of str, optional
+        Top-level names to leave out.
 
     Yields
     ------
@@ -110,36 +116,31 @@ def walk_files(root, empty_dirs=None):
     OSError
         If a folder cannot be listed.
     """
-    def walk(folder, rel):
+    todo = [(os.fspath(root), "")]         # a stack, not recursion: any depth of folders
+    while todo:
+        folder, rel = todo.pop()
         with os.scandir(folder) as it:
             entries = sorted(it, key=lambda e: e.name)
         if rel and not entries and empty_dirs is not None:
             empty_dirs.append(rel)
+        subfolders = []
         for e in entries:
-            if not rel and e.name.startswith(RESERVED_PREFIX):
+            if not rel and (e.name.startswith(MANIFEST_PREFIX) or e.name in skip):
                 continue
             path = f"{rel}/{e.name}" if rel else e.name
             st = e.stat(follow_symlinks=False)
             if stat.S_ISDIR(st.st_mode):
-                yield from walk(e.path, path)
+                subfolders.append((e.path, path))
             else:
                 yield path, st
-
-    yield from walk(os.fspath(root), "")
+        todo.extend(reversed(subfolders))
 
 
 def _read_manifest(folder, name):
     """The manifest's ``(command, files)``, or None if it is not a manifest gd-analyze wrote."""
     try:
-        fd = os.open(os.path.join(folder, name), os.O_RDONLY | os.O_NOFOLLOW | os.O_NONBLOCK)
-    except OSError:
-        return None
-    try:
-        with os.fdopen(fd, "rb") as fh:
-            if not stat.S_ISREG(os.fstat(fh.fileno()).st_mode):
-                return None
-            data = json.loads(fh.read(64 << 20))
-    except (OSError, ValueError):
+        data = json.loads(read_regular(os.path.join(folder, name), MANIFEST_LIMIT, follow=False))
+    except (OSError, ValueError, RecursionError):     # RecursionError: nested 100,000 deep
         return None
     files = data.get("files") if isinstance(data, dict) else None
     command = data.get("command") if isinstance(data, dict) else None
@@ -176,13 +177,12 @@ def _unchanged(folder, path, entry, st):
     accepted = [e for e in [entry, *entry.get("also", [])] if e["size"] == st.st_size]
     if not stat.S_ISREG(st.st_mode) or not accepted:
         return False
-    if any(e.get("mtime_ns") == st.st_mtime_ns for e in accepted):
-        return True                         # not written since: skip re-reading a large file
+    # Always the SHA-256: a same-size edit with its mtime put back (cp -p, touch -r) changed it.
     digest = file_sha256(os.path.join(folder, path))
     return any(e["sha256"] == digest for e in accepted)
 
 
-def folder_owners(folder, command, shown_as=None):
+def folder_owners(folder, command, shown_as=None, skip=()):
     """Read the manifests of an output folder and check that gd-analyze wrote every file.
 
     Parameters
@@ -193,6 +193,8 @@ def folder_owners(folder, command, shown_as=None):
         The command about to write it.
     shown_as : str, optional
         The folder as the user named it, for the message.
+    skip : collection of str, optional
+        Top-level names that are the run's own lock and registered temporaries.
 
     Returns
     -------
@@ -218,7 +220,7 @@ def folder_owners(folder, command, shown_as=None):
             owners.manifests.append(name)
             for path, entry in read[1].items():
                 listed.setdefault(path, (read[0], entry))
-        for path, st in walk_files(folder, owners.empty_dirs):
+        for path, st in walk_files(folder, owners.empty_dirs, skip):
             cmd, entry = listed.get(path, (None, None))
             if cmd is not None and cmd != command:
                 owners.others[path] = cmd
@@ -267,7 +269,7 @@ def write_manifest(folder, command, version):
         if not stat.S_ISREG(st.st_mode):
             continue                            # a run writes regular files only
         entries[path] = {"sha256": file_sha256(os.path.join(folder, path)),
-                         "size": st.st_size, "mtime_ns": st.st_mtime_ns}
+                         "size": st.st_size}
     _write_new(os.path.join(folder, manifest_name(command)),
                {"tool": "gd-analyze", "format": 1, "version": str(version),
                 "command": command, "files": entries})
@@ -306,7 +308,7 @@ def write_transition(folder, command, old, name):
         data = json.load(fh)
     files = data["files"]
     for path, entry in old.items():
-        base = {k: entry[k] for k in ("sha256", "size", "mtime_ns") if k in entry}
+        base = {k: entry[k] for k in ("sha256", "size")}
         if path not in files:
             files[path] = base
         elif files[path]["sha256"] != base["sha256"]:

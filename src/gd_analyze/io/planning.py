@@ -15,7 +15,7 @@ from pathlib import Path
 
 import numpy as np
 
-from ..files import atomic_path, file_sha256
+from ..files import atomic_path, file_sha256, read_regular
 from .trajectory import Trajectory
 
 __all__ = ["DEFAULT_START_DEG", "DEFAULT_GOAL_DEG", "DEFAULT_SETPOINTS", "DEFAULT_QDD_PER_QD",
@@ -411,6 +411,10 @@ def provenance_path(csv_path):
     return p.with_name(p.stem + ".provenance.json")
 
 
+#: Largest provenance sidecar read [bytes]; the tool's own are about 2 KB.
+PROVENANCE_LIMIT = 1 << 20
+
+
 def read_provenance(csv_path):
     """The provenance written beside a planned trajectory, if there is a readable one.
 
@@ -422,15 +426,16 @@ def read_provenance(csv_path):
     Returns
     -------
     dict or None
-        The record of :func:`write_provenance`, or None when there is no such file or it is
-        not a JSON object (a provenance is advice, never a reason to refuse a trajectory).
+        The record of :func:`write_provenance`, or None when there is no such file, it is not
+        a regular file of at most :data:`PROVENANCE_LIMIT` bytes (a FIFO would hang the run,
+        ``/dev/zero`` fill its memory) or it is not a JSON object (a provenance is advice,
+        never a reason to refuse a trajectory).
     """
     import json
 
     side = provenance_path(csv_path)
     try:
-        with open(side, encoding="utf-8") as fh:
-            record = json.load(fh)
+        record = json.loads(read_regular(side, PROVENANCE_LIMIT).decode("utf-8"))
     except (OSError, ValueError, RecursionError):
         return None
     return record if isinstance(record, dict) else None

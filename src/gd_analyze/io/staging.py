@@ -9,8 +9,9 @@
 - the folder's manifests (:mod:`gd_analyze.io.manifest`) must list every file it holds: a
   file gd-analyze did not write is never replaced or deleted; the run is refused, with one line
   and exit status 2, before it computes anything, and nothing is touched;
-- every file of the run is written into a fresh staging folder (``tempfile.mkdtemp``: an
-  unpredictable name, mode 0700) beside the target; it also receives, as hard links, the files
+- every file of the run is written into a fresh staging folder (``.<name>.gd-tmp-<random>``:
+  an unpredictable name, mode 0700, registered in the lock file before it is created) beside
+  the target; it also receives, as hard links, the files
   of the other commands' manifests, so that ``control`` and the main job can share a folder
   and neither replaces the other's files; the command's manifest (paths, sizes, SHA-256, tool
   version) is written there too;
@@ -23,12 +24,16 @@
   manifest that knows both sets is in place meanwhile, so the next run replaces it whole). Without
   ``renameat2`` (other systems, old C libraries) the target is renamed aside and the new
   folder renamed in; a run killed between the two renames is undone by the next run;
-- on an error, SIGINT or SIGTERM the staging folder is removed; the staging folders of a
-  killed run (SIGKILL) are removed by the next run into the same folder;
+- on an error, SIGINT or SIGTERM the staging folder is removed; the temporaries of a killed
+  run (SIGKILL) are removed by the next run into the same folder, only those its lock file
+  registered and only once the folder passed its check: a refused run removes nothing, and a
+  name that merely looks like gd-analyze's (``.gd-notes.txt``) is a user's file;
 - an output location that cannot be created or written gives an
   :class:`~gd_analyze.errors.InputError` (exit status 2) and leaves nothing behind. Inside a
-  run, :func:`writing` turns the write errors (and only those) of the calls it wraps into
-  one line.
+  run, :func:`writing` turns the write errors (and only those: a full disk, an HDF5 error) of
+  the calls it wraps into one line;
+- a single output file (``plan -o``) is written only over a regular file or a new name
+  (:func:`check_output_file`).
 """
 
 from __future__ import annotations
@@ -42,17 +47,19 @@ import shutil
 import signal
 import stat
 import sys
-import tempfile
 from pathlib import Path
 
 from ..errors import InputError
 from .manifest import folder_owners, manifest_name, write_manifest, write_transition
+from .write_errors import is_inside, write_error, writing
 
 __all__ = ["safe_name", "staged_output", "writing", "check_free_space", "check_output_file",
            "install_signal_handlers", "Terminated", "LOCK_SUFFIX", "TMP_MARK"]
 
 LOCK_SUFFIX = ".gd-lock"
 TMP_MARK = ".gd-tmp-"
+#: Largest lock record read [bytes]: a pid and a few temporary names.
+RECORD_LIMIT = 1 << 16
 #: Free space kept besides the estimate [bytes].
 SPACE_MARGIN = 16 << 20
 
@@ -107,7 +114,8 @@ def safe_name(name, fallback="robot"):
 
 
 def check_output_file(path):
-    """Check that a single output file can be written at ``path``.
+    """Check that a single output file can be written at ``path``: only a regular file is ever
+    replaced.
 
     Parameters
     ----------
@@ -117,11 +125,23 @@ def check_output_file(path):
     Raises
     ------
     InputError
-        If path is a folder, its folder does not exist or is not a folder, or is not writable.
+        If path is a folder; a device, FIFO or socket (``/dev/null``: the atomic rename would
+        replace it); a symbolic link (to anything: a link is neither written through nor
+        replaced); or its folder does not exist, is not a folder, or is not writable.
     """
     p = Path(path)
-    if p.is_dir():
+    try:
+        mode = os.lstat(p).st_mode
+    except OSError:
+        mode = None
+    if mode is not None and stat.S_ISLNK(mode):
+        raise InputError("is a symbolic link: give the file itself or a new name (a link is "
+                         "never written through or replaced)", path)
+    if mode is not None and stat.S_ISDIR(mode):
         raise InputError("is a folder: give a file name", path)
+    if mode is not None and not stat.S_ISREG(mode):
+        raise InputError("is not a regular file (a device, FIFO or socket): give a file name",
+                         path)
     parent = p.parent if str(p.parent) else Path(".")
     if not parent.is_dir():
         raise InputError("its folder does not exist" if not parent.exists() else
@@ -153,52 +173,6 @@ def check_free_space(folder, need_bytes, what="the results"):
                          f"needed, {free / 1e6:.0f} MB free", folder)
 
 
-def _oserror(exc, path):
-    reason = exc.strerror or str(exc)
-    if exc.errno == errno.ENOSPC:
-        reason = "no space left on the device"
-    return InputError(f"cannot write the output folder: {reason}", path)
-
-
-def _inside(name, folder):
-    try:
-        return os.path.commonpath([os.path.abspath(os.fsdecode(name)),
-                                   os.path.abspath(folder)]) == os.path.abspath(folder)
-    except (TypeError, ValueError):
-        return False
-
-
-@contextlib.contextmanager
-def writing(target, stage=None):
-    """Report the write errors of the enclosed calls as "cannot write the output folder".
-
-    Parameters
-    ----------
-    target : str or os.PathLike
-        The output folder, as the message names it.
-    stage : str or os.PathLike, optional
-        The staging folder the calls write in: an :class:`OSError` naming a file outside it
-        (a file the calls read) is not a write error and propagates unchanged.
-
-    Raises
-    ------
-    InputError
-        On an :class:`OSError` of a write (h5py's write errors name no file).
-    """
-    try:
-        yield
-    except OSError as exc:
-        names = [n for n in (exc.filename, exc.filename2) if n is not None]
-        if stage is not None and names and not any(_inside(n, stage) for n in names):
-            raise
-        raise _oserror(exc, target) from None
-
-
-def glob_escape(text):
-    """Escape glob's special characters."""
-    return re.sub(r"([*?\[])", r"[\1]", text)
-
-
 @contextlib.contextmanager
 def _lock(lock_path, target):
     import fcntl
@@ -211,7 +185,7 @@ def _lock(lock_path, target):
             if exc.errno == errno.ELOOP:
                 raise InputError(f"cannot write the output folder: its lock file {lock_path} "
                                  "is a symbolic link", target) from None
-            raise _oserror(exc, target) from None
+            raise write_error(exc, target) from None
         st = os.fstat(fd)
         if not stat.S_ISREG(st.st_mode) or st.st_nlink != 1:     # a FIFO, a hard link
             os.close(fd)
@@ -231,16 +205,46 @@ def _lock(lock_path, target):
         if same:
             break
         os.close(fd)
-    owner = os.getpid()
+    owner, record = os.getpid(), None
     try:
+        before = os.pread(fd, RECORD_LIMIT, 0).decode("utf-8", "replace")
         os.ftruncate(fd, 0)
         os.write(fd, f"{owner}\n".encode())
-        yield
+        record = _Record(fd, before)
+        yield record
     finally:
-        if os.getpid() == owner:
+        if os.getpid() == owner and not (record is not None and record.pending):
             with contextlib.suppress(OSError):
                 os.unlink(lock_path)
         os.close(fd)
+
+
+class _Record:
+    """The lock file's record of the temporary names a run creates, written before each is
+    created: the next run removes only the names a killed run registered, never a user's file
+    that merely looks like one."""
+
+    def __init__(self, fd, before):
+        self.fd = fd
+        self.before = [line.split(" ", 1) for line in before.splitlines()[1:]
+                       if line.count(" ") == 1]
+        self.pending = bool(self.before)    # kept until removed: a refused run keeps them
+        for where, name in self.before:
+            self.register(where, name)
+
+    def register(self, where, name):
+        """Record ``name`` (``beside`` the target, or ``inside`` it) before it is created."""
+        os.write(self.fd, f"{where} {name}\n".encode())
+
+    def stale(self, where, pattern):
+        """The names the previous holder registered ``where`` that match ``pattern``."""
+        return [n for w, n in self.before if w == where and re.fullmatch(pattern, n)]
+
+
+def _token():
+    import secrets
+
+    return secrets.token_hex(8)
 
 
 RENAME_NOREPLACE, RENAME_EXCHANGE = 1, 2
@@ -348,20 +352,31 @@ def _carry(real, stage, owners, command, tops=None):
             shutil.copy2(real / path, dst, follow_symlinks=False)
 
 
-def _remove_stale(parent, name, real, mount):
-    """Undo what a killed run left (called with the lock held: no live run owns it)."""
-    if not mount:
-        prev = parent / f".{name}.gd-prev"
-        if prev.is_dir() and not prev.is_symlink():
-            if not os.path.lexists(real):
-                os.rename(prev, real)       # killed between the two renames: the old set back
-            else:
-                shutil.rmtree(prev, ignore_errors=True)
-        for p in parent.glob(f".{glob_escape(name)}{TMP_MARK}*"):
-            shutil.rmtree(p, ignore_errors=True)
-    if real.is_dir():
-        for p in real.glob(f"{TMP_MARK}*"):
-            shutil.rmtree(p, ignore_errors=True)
+def _stale_names(record, name):
+    """The temporaries a killed run registered: beside the target, and inside it."""
+    beside = re.escape(f".{name}{TMP_MARK}") + r"[0-9a-f]{16}"
+    return (record.stale("beside", beside), record.stale("prev", beside),
+            record.stale("inside", re.escape(TMP_MARK) + r"[0-9a-f]{16}"))
+
+
+def _restore_prev(parent, real, prev_names):
+    """A run killed between its two renames (no ``renameat2``): put the old set back."""
+    for prev in prev_names:
+        p = parent / prev
+        if p.is_dir() and not p.is_symlink() and not os.path.lexists(real):
+            os.rename(p, real)
+
+
+def _remove_stale(parent, real, stale, record):
+    """Remove the temporaries a killed run registered in its lock record (called with the lock
+    held, after the folder's check: no live run owns them, and a refused run removes nothing)."""
+    beside, prev, inside = stale
+    for folder, names in ((parent, [*beside, *prev]), (real, inside)):
+        for n in names:
+            p = folder / n
+            if p.is_dir() and not p.is_symlink():
+                shutil.rmtree(p, ignore_errors=True)
+    record.pending = False
 
 
 def _in_place(real):
@@ -369,7 +384,7 @@ def _in_place(real):
     if os.path.ismount(real):
         return True
     try:
-        return _inside(os.path.realpath(os.getcwd()), real)
+        return is_inside(os.path.realpath(os.getcwd()), real)
     except OSError:
         return False
 
@@ -423,18 +438,22 @@ def staged_output(target, outputs=(), command="output"):
     try:
         parent.mkdir(parents=True, exist_ok=True)
     except OSError as exc:
-        raise _oserror(exc, target) from None
+        raise write_error(exc, target) from None
     mount = real.is_dir() and os.path.ismount(real)
     try:
         if not all(os.access(a, os.W_OK | os.X_OK) for a in {real if mount else parent,
                                                              *([real] if real.is_dir() else [])}):
             raise InputError("cannot write the output folder: permission denied", target)
         lock = real / LOCK_SUFFIX if mount else parent / f".{name}{LOCK_SUFFIX}"
-        with _lock(lock, target):
+        with _lock(lock, target) as record:
+            stale = _stale_names(record, name)
             with writing(target):
-                _remove_stale(parent, name, real, mount)
-            folder_owners(real, command, target)        # refuse before the run computes
-            with _staged(real, target, command, mount) as stage:
+                _restore_prev(parent, real, stale[1])
+            skip = {*stale[2], *([LOCK_SUFFIX] if mount else [])}
+            folder_owners(real, command, target, skip)     # refuse before the run computes
+            with writing(target):
+                _remove_stale(parent, real, stale, record)
+            with _staged(real, target, command, mount, record) as stage:
                 yield stage
     except BaseException:
         for a in missing:                   # the folders this run created, deepest first
@@ -444,20 +463,18 @@ def staged_output(target, outputs=(), command="output"):
 
 
 @contextlib.contextmanager
-def _staged(real, target, command, mount):
+def _staged(real, target, command, mount, record):
     from .._version import VERSION as __version__
 
     owner = os.getpid()
     inside = real.is_dir() and (mount or _in_place(real))
-    where = real if inside else real.parent
-    try:
-        stage = Path(tempfile.mkdtemp(prefix=TMP_MARK if inside else f".{real.name}{TMP_MARK}",
-                                      dir=where))
-    except OSError as exc:
-        raise _oserror(exc, target) from None
+    stage = _new_temporary(real if inside else real.parent,
+                           TMP_MARK if inside else f".{real.name}{TMP_MARK}",
+                           record, "inside" if inside else "beside", target)
     try:
         yield stage
-        owners = folder_owners(real, command, target)   # files added while the run computed
+        skip = {stage.name, *([LOCK_SUFFIX] if mount else [])}
+        owners = folder_owners(real, command, target, skip)   # files added meanwhile
         with writing(target):
             new = write_manifest(stage, command, __version__)
         clash = _conflicts(new, owners)
@@ -469,13 +486,28 @@ def _staged(real, target, command, mount):
             if inside:
                 _swap_entries(real, stage, owners, command, new)
             else:
-                _swap_folder(real, stage, owners, command)
+                _swap_folder(real, stage, owners, command, record)
     finally:
         if os.getpid() == owner:
             shutil.rmtree(stage, ignore_errors=True)
 
 
-def _swap_folder(real, stage, owners, command):
+def _new_temporary(where, prefix, record, kind, target):
+    """Create the folder ``<prefix><random>`` (mode 0700) in ``where``, registered first."""
+    for _ in range(16):
+        path = Path(where) / f"{prefix}{_token()}"
+        try:
+            record.register(kind, path.name)
+            path.mkdir(mode=0o700)
+            return path
+        except FileExistsError:
+            continue
+        except OSError as exc:
+            raise write_error(exc, target) from None
+    raise InputError("cannot write the output folder: no free temporary name", target)
+
+
+def _swap_folder(real, stage, owners, command, record):
     """Put the staged folder in the target's place in one exchange; the old set ends in stage."""
     _carry(real, stage, owners, command)
     mode = stat.S_IMODE(os.stat(real).st_mode) if real.is_dir() else 0o777 & ~_umask()
@@ -485,9 +517,14 @@ def _swap_folder(real, stage, owners, command):
             if not _renameat2(stage, real, RENAME_NOREPLACE):
                 os.rename(stage, real)      # fails on a folder created meanwhile, not empty
         elif not _renameat2(stage, real, RENAME_EXCHANGE):
-            prev = real.parent / f".{real.name}.gd-prev"
+            prev = real.parent / f".{real.name}{TMP_MARK}{_token()}"
+            record.register("prev", prev.name)
             os.rename(real, prev)           # no exchange here: two renames, undone if killed
-            os.rename(stage, real)
+            try:
+                os.rename(stage, real)
+            except OSError:
+                os.rename(prev, real)
+                raise
             os.rename(prev, stage)
 
 

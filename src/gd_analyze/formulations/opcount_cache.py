@@ -1,0 +1,148 @@
+"""The on-disk cache of the measured operation counts: ``opcounts-<code>.json``.
+
+The counts (:mod:`gd_analyze.formulations.opcount`) are a pure function of the counted code, so
+the file lives in ``$XDG_CACHE_HOME/gd-analyze`` (or ``~/.cache/gd-analyze``; none when
+``GD_ANALYZE_NO_CACHE=1``) under a name that carries the SHA-256 of that code. The file
+records its own format, the code's SHA-256 and, for each pattern of joint types (the key), the
+counts and a SHA-256 of (format, code, key, counts). It is read only if it is a regular file of
+at most :data:`LIMIT` bytes (never through a symbolic link, never blocking on a FIFO). A file
+or an entry that fails (not JSON, of another type, format or code, a count that is not a
+non-negative integer, a checksum that does not match: a hand-edited "Newton-Euler: 1") is
+never used: one warning line says so, and the counts are measured again and stored.
+"""
+
+from __future__ import annotations
+
+import hashlib
+import json
+import os
+import warnings
+from pathlib import Path
+
+from ..errors import InputWarning, one_line
+from ..files import atomic_path, read_regular
+
+__all__ = ["FORMAT", "LIMIT", "cache_file", "read_counts", "store_counts"]
+
+#: Layout of the file.
+FORMAT = 2
+#: Largest file read [bytes] (a few hundred bytes a pattern of joint types).
+LIMIT = 1 << 20
+
+
+def cache_file(code_sha256):
+    """The cache file of the counted code, or None when caching is disabled.
+
+    Parameters
+    ----------
+    code_sha256 : str
+        SHA-256 of the counted modules' source (64 hexadecimal digits).
+
+    Returns
+    -------
+    pathlib.Path or None
+        ``<cache folder>/opcounts-<first 32 digits>.json``.
+    """
+    if os.environ.get("GD_ANALYZE_NO_CACHE"):
+        return None
+    base = os.environ.get("XDG_CACHE_HOME") or os.path.join(os.path.expanduser("~"), ".cache")
+    return Path(base) / "gd-analyze" / f"opcounts-{code_sha256[:32]}.json"
+
+
+def _checksum(code, key, counts):
+    text = json.dumps({"format": FORMAT, "code": code, "key": key, "counts": counts},
+                      sort_keys=True, separators=(",", ":"))
+    return hashlib.sha256(text.encode()).hexdigest()
+
+
+def _entries(path, code):
+    """The file's entries, or the reason it is not used (a str); {} when there is none."""
+    try:
+        data = json.loads(read_regular(path, LIMIT, follow=False))
+    except FileNotFoundError:
+        return {}
+    except (OSError, ValueError, RecursionError) as exc:
+        return f"cannot be read ({' '.join(str(exc).split())[:120]})"
+    if not (isinstance(data, dict) and data.get("format") == FORMAT
+            and data.get("code") == code and isinstance(data.get("entries"), dict)):
+        return "is not a gd-analyze operation-count file of this format and code"
+    return data["entries"]
+
+
+def _valid_counts(counts, methods):
+    return (isinstance(counts, dict) and set(counts) == set(methods)
+            and all(isinstance(v, list) and len(v) == 2
+                    and all(type(x) is int and x >= 0 for x in v) for v in counts.values()))
+
+
+def read_counts(path, code, key, methods):
+    """The stored counts of ``key``, or None (with one warning line if an entry failed).
+
+    Parameters
+    ----------
+    path : pathlib.Path
+        :func:`cache_file`.
+    code : str
+        The counted code's SHA-256, which the file must record.
+    key : str
+        The pattern of joint types.
+    methods : sequence of str
+        The methods every entry must count.
+
+    Returns
+    -------
+    dict of str to tuple of int or None
+        ``{method: (multiplications, additions)}``.
+
+    Warns
+    -----
+    InputWarning
+        When the file or the entry exists but fails: it is counted again.
+    """
+    entries = _entries(path, code)
+    entry = entries.get(key) if isinstance(entries, dict) else None
+    if isinstance(entries, str):
+        reason = entries
+    elif entry is None:
+        return None
+    elif not (isinstance(entry, dict) and _valid_counts(entry.get("counts"), methods)
+              and entry.get("checksum") == _checksum(code, key, entry["counts"])):
+        reason = f"entry {key[:40]!r} fails its checksum"
+    else:
+        return {m: tuple(v) for m, v in entry["counts"].items()}
+    warnings.warn(one_line(f"{path}: operation-count cache {reason}: ignored, the operations "
+                           "are counted again"), InputWarning, stacklevel=2)
+    return None
+
+
+def store_counts(path, code, key, counts):
+    """Add ``key``'s counts to the file atomically; silent when it cannot be written.
+
+    Parameters
+    ----------
+    path : pathlib.Path
+    code : str
+    key : str
+    counts : dict of str to tuple of int
+    """
+    import stat
+
+    try:
+        if not stat.S_ISREG(os.lstat(path).st_mode):
+            return                  # a link, a FIFO, a device: never replaced
+    except FileNotFoundError:
+        pass
+    except OSError:
+        return
+    entries = _entries(path, code)
+    entries = entries if isinstance(entries, dict) else {}
+    plain = {m: [int(x) for x in v] for m, v in counts.items()}
+    entries[key] = {"counts": plain, "checksum": _checksum(code, key, plain)}
+    try:
+        path.parent.mkdir(parents=True, exist_ok=True)
+        with atomic_path(path) as tmp:
+            with open(tmp, "w", encoding="utf-8") as fh:
+                json.dump({"tool": "gd-analyze", "format": FORMAT, "code": code,
+                           "entries": entries}, fh)
+    except OSError:
+        pass        # a read-only home: count again next time

@@ -1,0 +1,67 @@
+"""Issue 32: the operation-count cache is never trusted blindly."""
+
+import json
+import os
+import stat
+import warnings
+
+import pytest
+
+from gd_analyze.errors import InputWarning
+from gd_analyze.formulations import opcount
+
+
+@pytest.fixture
+def cache(tmp_path, monkeypatch):
+    """A fresh count of "RRR" (measured without a cache) and the cache file's path."""
+    monkeypatch.setenv("GD_ANALYZE_NO_CACHE", "1")
+    opcount._counts_for.cache_clear()
+    fresh = opcount._counts_for("RRR")
+    monkeypatch.delenv("GD_ANALYZE_NO_CACHE")
+    monkeypatch.setenv("XDG_CACHE_HOME", str(tmp_path))
+    opcount._counts_for.cache_clear()
+    path = opcount._cache_file()
+    path.parent.mkdir(parents=True)
+    yield fresh, path
+    opcount._counts_for.cache_clear()
+
+
+def _counts_with_warnings():
+    opcount._counts_for.cache_clear()
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always")
+        counts = opcount._counts_for("RRR")
+    return counts, [str(w.message) for w in caught if issubclass(w.category, InputWarning)]
+
+
+@pytest.mark.parametrize("planted", [
+    {"3": {"lagrange-euler": [1, 1], "newton-euler": [1, 1], "gd": [1, 1],
+           "gd-numpy": [1, 1]}},                               # "Newton-Euler: 1", as measured
+    {"3": 5}, [], "x", {"format": 2, "entries": {"3": 7}}])   # of the wrong JSON type
+def test_issue32_an_edited_or_wrong_file_is_counted_again_with_one_warning(cache, planted):
+    fresh, path = cache
+    path.write_text(json.dumps(planted))
+    counts, warned = _counts_with_warnings()
+    assert counts == fresh
+    assert len(warned) == 1 and "\n" not in warned[0] and "counted again" in warned[0]
+    assert str(path) in warned[0]
+    counts, warned = _counts_with_warnings()                 # stored again, whole: no warning
+    assert counts == fresh and warned == []
+
+
+def test_issue32_an_entry_edited_without_its_checksum_is_counted_again(cache):
+    fresh, path = cache
+    assert _counts_with_warnings() == (fresh, [])            # written
+    data = json.loads(path.read_text())
+    data["entries"]["3"]["counts"]["newton-euler"] = [1, 1]
+    path.write_text(json.dumps(data))
+    counts, warned = _counts_with_warnings()
+    assert counts == fresh and len(warned) == 1 and "fails its checksum" in warned[0]
+
+
+def test_issue32_a_cache_file_that_is_a_fifo_is_not_read(cache):
+    fresh, path = cache
+    os.mkfifo(path)
+    counts, warned = _counts_with_warnings()
+    assert counts == fresh and len(warned) == 1
+    assert stat.S_ISFIFO(os.lstat(path).st_mode)              # never replaced
