@@ -476,7 +476,7 @@ def test_case8_without_renameat2_a_killed_swap_is_undone(tmp_path):
             (stage / "a.txt").write_text("3")
         """)
     env = dict(os.environ, PYTHONPATH=os.pathsep.join(sys.path))
-    run = subprocess.run([sys.executable, "-c", script], env=env, timeout=60)
+    run = subprocess.run([sys.executable, "-c", script], env=env, timeout=EXIT_WAIT)
     assert run.returncode == -signal.SIGKILL and not target.exists()
     with staged_output(target) as stage:
         (stage / "b.txt").write_text("3")
@@ -622,9 +622,9 @@ def test_issue32_a_users_gd_names_are_never_deleted(tmp_path, name):
 
 def test_issue32_a_refused_run_keeps_a_killed_runs_temporaries_for_the_next(tmp_path):
     target = tmp_path / "out"
-    proc = _start(_writer_script(target, 30))
+    proc = _start(_writer_script(target, HOLD))
     proc.kill()                                      # SIGKILL: its staging folder stays
-    proc.wait(timeout=20)
+    proc.wait(timeout=EXIT_WAIT)
     left = _leftovers(tmp_path)
     assert any(TMP_MARK in n for n in left)
     target.mkdir()
