@@ -27,7 +27,7 @@ from .markup import TRAN as _TRAN
 from .markup import label as _math
 from .ticks import decade_label
 
-__all__ = ["make_sweep_figures", "REQUIRED"]
+__all__ = ["make_sweep_figures", "REQUIRED", "KEPT"]
 
 #: The variables of a sweep dataset the figures and the report read.
 REQUIRED = ("share_tran", "dominance", "choice", "source", "duration", "tau_peak",
@@ -39,6 +39,9 @@ REQUIRED = ("share_tran", "dominance", "choice", "source", "duration", "tau_peak
 # The choices of the merged model in the colours of their classes.
 _CHOICE_COLOURS = {"tran": _CLASS_COLOURS["translational"], "rot": _CLASS_COLOURS["rotational"],
                    "both": _CLASS_COLOURS["both"], "none": _CLASS_COLOURS["negligible"]}
+#: Panel titles: the part of the element the merged model keeps, said as such (issue 31: "D16
+#: → rot" read as a class).
+KEPT = {"tran": "keeps tran", "rot": "keeps rot", "both": "keeps both", "none": "dropped"}
 _OWN_COLOUR, _MERGED_COLOUR = "#009E73", "#000000"
 #: Width of every figure: the text of a page [in]; the column versions' [in].
 _PAGE_WIDTH, COLUMN_WIDTH = 7.2, 3.5
@@ -143,7 +146,8 @@ def _share_panel(ax, values, label, merged, fractions, s, small, zero=None):
     ax.set_yticks([0.0, 0.5, 1.0])
     ax.yaxis.set_major_formatter("{x:.2g}")
     ax.tick_params(length=2.0, pad=1.5)
-    ax.set_title(f"{_math(label)} \u2192 {merged}", color=_CHOICE_COLOURS.get(merged, "black"), pad=2.5)
+    ax.set_title(f"{_math(label)}: {KEPT.get(merged, merged)}",
+                 color=_CHOICE_COLOURS.get(merged, "black"), pad=2.5)
     ax.set_xlabel(_fraction_text(fractions), fontsize=7.0, labelpad=1.5,
                   color="0.15")
 
@@ -154,7 +158,8 @@ def _key_text(ds, K):
         f"Box: translational share \u03a3|{_TRAN}| / (\u03a3|{_TRAN}| + \u03a3|{_ROT}|) of the "
         f"element X over the {K} trajectories (box: quartiles; whiskers: min and max; coloured bar: median). "
         f"Dashed lines: s = {s:g} and 1 \u2212 s; blue band: translational, orange band: "
-        f"rotational. Title: element \u2192 choice of the merged model. Bottom: fraction of "
+        f"rotational. Title: element and the part the merged model keeps (keeps tran, "
+        f"keeps rot, keeps both, or dropped). Bottom: fraction of "
         f"trajectories per class (T translational, R rotational, B both, N negligible, "
         f"e = {e:g}). \u2261 0: round-off ({ROUND_OFF_WORDS}) in every part on every "
         f"trajectory, no share drawn; on the trajectories where an element is round-off its "
