@@ -9,7 +9,7 @@ from conftest import ROOT
 from gd_analyze import load_robot
 from gd_analyze.reports import main as report
 from gd_analyze.reports.main_context import zero_mask
-from gd_analyze.reports.main_figures import MIN_PANEL_W, PART_STYLE
+from gd_analyze.reports.main_figures import PART_STYLE
 from gd_analyze.reports.markup import label as shown
 from gd_analyze.reports.plot_data import plot_data
 
@@ -34,7 +34,7 @@ def test_panels_at_least_1_1_in_wide_at_page_width(name, shipped_dataset):
         assert fig.get_size_inches()[0] == pytest.approx(7.2)
         assert fig.get_size_inches()[1] <= 9.0, (name, key)
         widths = [w for w, _ in _panel_sizes(fig)]
-        assert widths and min(widths) >= MIN_PANEL_W >= 1.1, (name, key, min(widths))
+        assert widths and min(widths) >= 1.1, (name, key, min(widths))
 
 
 def test_no_panel_of_an_element_zero_in_every_part(shipped_dataset):

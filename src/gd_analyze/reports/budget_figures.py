@@ -340,9 +340,7 @@ def fig_cost_ladder(ds, width=_PAGE):
         relative error [%]; the ladder's models joined by a line; each point numbered, the
         numbers named in a key below.
     """
-    from matplotlib.ticker import FixedLocator, NullFormatter
-
-    from .ticks import formatter
+    from matplotlib.ticker import FixedLocator, FuncFormatter, NullFormatter
 
     points = cost_points(ds)
     column = width < _PAGE
@@ -388,7 +386,7 @@ def fig_cost_ladder(ds, width=_PAGE):
                                         int(math.ceil(math.log10(hi))) + 1)]
     ticks = [v * m for v in decades for m in (1, 2, 5) if lo <= v * m <= hi]
     ax.xaxis.set_major_locator(FixedLocator(ticks))
-    ax.xaxis.set_major_formatter(formatter())
+    ax.xaxis.set_major_formatter(FuncFormatter(lambda v, pos=None: f"{v:,.0f}"))  # 1,000
     ax.xaxis.set_minor_formatter(NullFormatter())
     ax.set_ylim(-0.06 * top, top)
     set_ticks(ax.yaxis, 0, top / 1.35, 4)
