@@ -113,7 +113,7 @@ def _zero_share_panel(ax, label, merged):
     ax.set_title(f"{_math(label)}: \u2261 0", color=_CHOICE_COLOURS.get(merged, "black"), pad=2.5)
 
 
-def _share_panel(ax, values, label, merged, fractions, s, small, zero=None):
+def _share_panel(ax, values, label, merged, fractions, s, small, zero=None, two_lines=False):
     """One element: a box of its share_tran over the trajectories, thresholds s and 1 - s;
     trajectories on which the element is round-off (``zero``) are left out of the box."""
     if zero is not None:
@@ -146,8 +146,9 @@ def _share_panel(ax, values, label, merged, fractions, s, small, zero=None):
     ax.set_yticks([0.0, 0.5, 1.0])
     ax.yaxis.set_major_formatter("{x:.2g}")
     ax.tick_params(length=2.0, pad=1.5)
-    ax.set_title(f"{_math(label)}: {KEPT.get(merged, merged)}",
-                 color=_CHOICE_COLOURS.get(merged, "black"), pad=2.5)
+    ax.set_title(f"{_math(label)}:{chr(10) if two_lines else ' '}{KEPT.get(merged, merged)}",
+                 color=_CHOICE_COLOURS.get(merged, "black"), pad=2.5,
+                 linespacing=1.0)           # a narrow (column) panel: two lines
     ax.set_xlabel(_fraction_text(fractions), fontsize=7.0, labelpad=1.5,
                   color="0.15")
 
@@ -217,15 +218,15 @@ def _fig_D_column(ds, W):
     elements = [element_label("D", i, j) for i in range(n) for j in range(i, n)]
     cols = 3
     rows = -(-len(elements) // cols)
-    H = 0.62 + rows * 0.95 + 1.55
+    H = 0.74 + rows * 1.08 + 1.55           # titles of two lines
     fig = Figure(figsize=(W, H))
-    gs = _gridspec(fig, rows, cols, left=0.55, right=0.08, top=0.62, bottom=1.75, wgap=0.3,
-                   hgap=0.42)
+    gs = _gridspec(fig, rows, cols, left=0.55, right=0.08, top=0.74, bottom=1.75, wgap=0.3,
+                   hgap=0.55)
     for m, label in enumerate(elements):
         k = labels.index(label)
         ax = fig.add_subplot(gs[m // cols, m % cols])
         _share_panel(ax, share[:, k], label, merged[label], frac[k], s, small=True,
-                     zero=zero[:, k])
+                     zero=zero[:, k], two_lines=True)
         ax.tick_params(labelleft=(m % cols == 0))
     fig.text(0.1 / W, 1.5 / H, textwrap.fill(_key_text(ds, ds.sizes["trajectory"])
                                              .replace("\n", " "), 68),
