@@ -316,8 +316,11 @@ def cost_points(ds):
         elif "exact" in label or "full" in label or "N-E as implemented" in label:
             points.append((label, ops, 0.0, "exact"))
     if "ladder_tolerance" in ds.variables:
+        built = {(p[1], round(p[2], 12)) for p in points if p[3] == "model"}
         for tol, ops, err in zip(ds["ladder_tolerance"].values, ds["ladder_operations"].values,
                                  ds["ladder_worst_error"].values):
+            if (float(ops), round(float(err), 12)) in built:   # the model built: said once
+                continue
             points.append((f"explicit, budget \u03b5 = {float(tol):g}", float(ops), float(err),
                            "ladder"))
     return points
@@ -353,9 +356,10 @@ def fig_cost_ladder(ds, width=_PAGE):
              "bound": "budget model (its bound, not measured)",
              "akb": "Armstrong, Khatib & Burdick 1986 (stated)"}
     seen = set()
-    ladder = sorted((p for p in points if p[3] == "ladder"), key=lambda p: p[1])
-    if ladder:
-        ax.plot([p[1] for p in ladder], [100 * p[2] for p in ladder], color="#0072B2",
+    if "ladder_tolerance" in ds.variables:        # the rungs joined, the model built among them
+        order = np.argsort(ds["ladder_operations"].values)
+        ax.plot(ds["ladder_operations"].values[order],
+                100 * ds["ladder_worst_error"].values[order], color="#0072B2",
                 linewidth=0.8, linestyle="--")
     top = max([100 * p[2] for p in points] + [0.1]) * 1.35
     points = sorted(points, key=lambda p: (p[1], -p[2]))
