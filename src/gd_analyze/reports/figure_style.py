@@ -184,7 +184,7 @@ def element_markevery(m, lines=3):
     Examples
     --------
     >>> element_markevery(31), element_markevery(50), element_markevery(51)
-    (1, 1, 9)
+    (1, 1, 13)
     """
     return 1 if int(m) <= MARK_EVERY_POINT else panel_markevery(m, lines)
 
