@@ -176,7 +176,8 @@ def make_figures(ds, data=None, keys=None, column=False):
         The series to draw (:func:`gd_analyze.reports.main_figures.plot_data`); read from
         ``ds`` if not given.
     keys : collection of str, optional
-        Make only these of the figures below (those the dataset holds); all if not given.
+        Make only these of the figures below (those the dataset holds), column-width ones
+        included if named; all page-width ones if not given.
     column : bool, optional
         Also make the 3.5-in column-width versions (``"<key>_column"``) of
         :data:`COLUMN_FIGURES`.
@@ -238,7 +239,7 @@ def figure_makers(ds, data=None, keys=None, column=False):
     zero = dict(zip(labels, zero))
     dom = dict(zip(labels, _strings(ds["dominance"].values)))
     s, e = _thresholds(ds)
-    order = _FILE_ORDER if column else _FIGURE_ORDER
+    order = _FILE_ORDER if column or keys is not None else _FIGURE_ORDER   # keys: as named
     wanted = set(order if keys is None else keys)
     arm = ds["D_arm"].values if "D_arm" in ds else None
     prismatic = prismatic_joints(ds)
