@@ -229,16 +229,19 @@ def element_parts(labels, width=PAGE_WIDTH):
     Returns
     -------
     list of list of str
-        One list per figure part (one part if all fit; ``[[]]`` for none).
+        One list per figure part (one part if all fit; ``[[]]`` for none), the parts as
+        few as the rows allow and of about one size, in whole rows.
 
     Examples
     --------
     >>> [len(p) for p in element_parts([f"D{k}" for k in range(30)])]
-    [24, 6]
+    [16, 14]
     """
     cols = panel_grid(len(labels), width)[0]
-    per = cols * MAX_ROWS["page" if width >= PAGE_WIDTH else "column"]
+    most = cols * MAX_ROWS["page" if width >= PAGE_WIDTH else "column"]
     labels = list(labels)
+    parts = max(1, -(-len(labels) // most))
+    per = cols * -(-len(labels) // (parts * cols))       # balanced, in whole rows
     return [labels[k:k + per] for k in range(0, len(labels), per)] or [[]]
 
 
