@@ -90,6 +90,23 @@ def random_states(robot, count, seed):
             rng.uniform(-3, 3, (count, n)))
 
 
+def two_link_control(folder, setpoints):
+    """Plan a two-link trajectory of ``setpoints`` set points, build its simplified model
+    (main job, no report) and run the control command on it, in ``folder``; the control
+    dataset, loaded."""
+    import xarray as xr
+
+    from gd_analyze.cli import main
+
+    csv = folder / "two.csv"
+    assert main(["plan", "two-link", "-o", str(csv), "--setpoints", str(setpoints)]) == 0
+    assert main(["two-link", str(csv), "-o", str(folder / "main"), "-q", "--no-report"]) == 0
+    assert main(["control", str(folder / "main" / "simplified_model.json"), str(csv),
+                 "-o", str(folder / "control"), "-q"]) == 0
+    with xr.open_dataset(folder / "control" / "control.h5") as ds:
+        return ds.load()
+
+
 def pytest_configure(config):
     """Tests always count operations afresh (no on-disk cache of the counts)."""
     import os

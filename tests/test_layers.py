@@ -22,7 +22,8 @@ SHARED_REPORTS = {"reports.common", "reports.figures", "reports.pages", "reports
                   "reports.main_context", "reports.plot_data", "reports.control_figures",
                   "reports.effort", "reports.sweep_text", "reports.sweep_merged_text",
                   "reports.control_text",
-                  "reports.control_verdict", "reports.numbers"}
+                  "reports.control_verdict", "reports.numbers",
+                  "reports.budget_figures"}     # the main report's figures of the budget
 # the core modules a report may read: names and labels of the ranking's classes and elements
 REPORT_CORE = {"core.selection.ranking", "core.selection.labels"}
 

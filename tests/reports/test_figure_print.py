@@ -7,6 +7,7 @@ other panel, at page width (7.2 in) and at column width (3.5 in), for the PUMA 5
 Stanford arm (a prismatic joint 3) and the UR5.
 """
 
+import matplotlib
 import numpy as np
 import pytest
 from conftest import ROOT
@@ -19,7 +20,7 @@ from gd_analyze.io.trajectory import read_trajectory
 from gd_analyze.reports import main as report
 from gd_analyze.reports.common import JOINT_STYLES, MAX_MARKERS, joint_style
 from gd_analyze.reports.main_figures import plot_data
-from gd_analyze.reports.ticks import tick_texts
+from gd_analyze.reports.ticks import tick_texts, ticks_once
 
 ROBOTS = ("puma560", "stanford", "ur5")
 
@@ -28,7 +29,9 @@ ROBOTS = ("puma560", "stanford", "ur5")
 def figures(request, shipped_dataset):
     name = request.param
     ds = shipped_dataset(name)
-    figs = report.make_figures(ds, plot_data(ds))
+    figs = report.make_figures(ds, plot_data(ds), column=True)
+    with matplotlib.rc_context(report.FIG_RC):      # as write_report draws them
+        figs = {k: ticks_once(f) for k, f in figs.items()}
     return name, ds, figs
 
 
@@ -62,15 +65,21 @@ def test_axis_labels_stand_clear_of_their_tick_labels(figures):
 
 
 def test_fig_2_key_in_mathematics(figures):
-    """The key of Fig. 2 states the round-off threshold as 10⁻¹² (not 1e-12) and a single
-    unit beside the element, "Dᵢⱼ [kg m²] against time t [s]" (not "t [s] [kg m²]")."""
+    """The key of Fig. 2 states the round-off threshold as 10⁻¹² (not 1e-12); every panel's
+    y axis gives its units with its power of ten ("[10⁻³ kg m²]": one label style in Figs. 2
+    and 3, never a bare "×10⁻³"), kg m² for an all-revolute arm."""
     name, _, figs = figures
     for key in ("D", "D_column"):
-        words = " ".join(t.get_text() for t in figs[key].texts)
+        words = " ".join(t.get_text().replace("\n", " ") for t in figs[key].texts)
         assert "10\u207b\u00b9\u00b2 of its scale" in words and "1e-12" not in words, words
         assert "] [" not in words, (name, key, words)
-        if name != "stanford":                      # one unit for all elements
-            assert "D\u1d62\u2c7c [kg m\u00b2] against time t [s]" in words, words
+        assert "D\u1d62\u2c7c against time t [s]" in words, words
+        for ax in figs[key].axes:
+            label = ax.get_ylabel()
+            assert label.startswith("[") and label.endswith("]") and "kg" in label, label
+            assert "\u00d7" not in label
+            if name != "stanford":                  # one unit for all elements
+                assert label.endswith("kg m\u00b2]"), label
 
 
 def test_column_versions_are_a_column_wide_with_7_pt_type(figures):
@@ -126,11 +135,24 @@ def _markers_shown(line):
     return len(np.arange(n)[every])
 
 
+def test_a_marker_at_every_set_point_of_figs_2_and_3(figures):
+    """Up to 50 set points (the shipped trajectories have 31), every line of Figs. 2 and 3
+    has a marker at every set point, as the chapter's Figs. 3.10 and 3.11 do (issue 31: the
+    curves could not be told apart in black and white with a marker at every 8th)."""
+    name, ds, figs = figures
+    N = ds.sizes["t"]
+    assert N <= 50
+    for key in ("D", "h", "D_column", "h_column"):
+        for ax in figs[key].axes:
+            shown = [_markers_shown(line) for line in ax.lines if len(line.get_xdata()) == N]
+            assert shown and all(k == N for k in shown), (name, key, ax.get_title(), shown)
+
+
 def test_at_most_about_12_markers_per_panel(figures):
-    """All lines of a panel together: at most MAX_MARKERS (issue 18: "at most about 12 per
-    panel"); every line with a marker keeps at least two, to show which it is."""
+    """All lines of a panel of Fig. 1 together: at most MAX_MARKERS (issue 18: "at most
+    about 12 per panel"); every line with a marker keeps at least two, to show which it is."""
     name, _, figs = figures
-    for key in ("D", "h", "joints", "D_column", "h_column", "joints_column"):
+    for key in ("joints", "joints_column"):
         for ax in figs[key].axes:
             shown = [_markers_shown(line) for line in ax.lines]
             assert sum(shown) <= MAX_MARKERS, (name, key, ax.get_title(), shown)
@@ -283,7 +305,7 @@ def test_every_figure_file_of_the_main_job_has_a_column_twin(tmp_path):
 
     out = tmp_path / "o"
     assert main(["puma560", str(ROOT / "data" / "puma560_trajectory.csv"), "-o", str(out),
-                 "--payload-sweep", "0:1:0.5", "--no-verify", "-q"]) == 0
+                 "--payload-sweep", "0:1:0.5", "--no-verify", "-q", "--column-figures"]) == 0
     folder = out / "figures"
     assert (folder / "fig_payload_dominance_column.pdf").is_file()
     assert not column_twins(folder), column_twins(folder)

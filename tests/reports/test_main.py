@@ -113,11 +113,13 @@ def any_report(request, puma_report, two_link_report):
 # Files
 # ------------------------------------------------------------------------------------------
 
-FIGURES = ("fig_joints_q_qd_qdd", "fig_3_10_D", "fig_3_11_h", "fig_torque_full_vs_simplified")
-FIGURES = FIGURES + tuple(f"{name}_column" for name in FIGURES)      # 3.5-in versions
+FIGURES = ("fig_joints_q_qd_qdd", "fig_3_10_D", "fig_3_11_h", "fig_torque_contributions",
+           "fig_torque_full_vs_simplified", "fig_error_budget", "fig_cost_ladder")
 
 
 def test_both_files_written_and_returned(any_report):
+    """Page-width figures only: the column-width ones are written on request
+    (``column_figures``)."""
     out = any_report["out"]
     figures = [out / "figures" / f"{name}.{ext}" for name in FIGURES for ext in ("pdf", "svg")]
     assert any_report["written"] == [out / "report.html", out / "report.pdf"] + figures
@@ -386,20 +388,22 @@ def test_make_figures_panels(any_report):
     from gd_analyze.reports.markup import label as shown
 
     figs = report.make_figures(ds)
-    assert set(figs) == {"joints", "D", "h", "torque"} | {
-        f"{k}_column" for k in ("joints", "D", "h", "torque")}
+    assert set(figs) == {"joints", "D", "h", "torque", "contributions", "budget", "cost_ladder"}
+    assert set(report.make_figures(ds, column=True)) == set(figs) | {
+        f"{k}_column" for k in figs}
     figs = {k: figs[k] for k in ("joints", "D", "h", "torque")}
     labels, zero = zero_mask(ds)
     zero = dict(zip(labels, zero))
     titles = {ax.get_title(): ax for ax in figs["D"].axes if ax.get_title()}
-    assert len(titles) == n * (n + 1) // 2
+    assert len(titles) == n * (n + 1) // 2 - sum(zero[k] for k in zero if k[0] == "D")
+    note = " ".join(t.get_text() for t in figs["D"].texts)
     t = ds["t"].values
     for i in range(n):
         for j in range(i, n):
             label = f"D{i + 1}{j + 1}"
-            if zero[label]:
-                ax = titles[f"{shown(label)}: \u2261 0"]
-                assert not ax.get_lines()                  # noise is not drawn as data
+            if zero[label]:                 # noise is not drawn as data: named in the note
+                assert not any(k.startswith(shown(label) + ":") for k in titles)
+                assert shown(label) in note.split("not drawn:")[1]
                 assert np.abs(ds["D"].values[:, i, j]).max() < 1e-12
                 continue
             ax = titles[f"{shown(label)}: {SHORT_CLASS[dom[label]]}"]
@@ -415,8 +419,8 @@ def test_make_figures_panels(any_report):
                 y = ln.get_ydata()
                 assert lo < y.min() and y.max() < hi
     h_titles = [ax.get_title() for ax in figs["h"].axes if ax.get_visible() and ax.get_title()]
-    assert h_titles == [shown(f"h{i + 1}") + ": " + ("\u2261 0" if zero[f"h{i + 1}"]
-                                          else SHORT_CLASS[dom[f"h{i + 1}"]]) for i in range(n)]
+    assert h_titles == [shown(f"h{i + 1}") + ": " + SHORT_CLASS[dom[f"h{i + 1}"]]
+                        for i in range(n) if not zero[f"h{i + 1}"]]
     # one panel size for D and h, and type of at least 7 pt at the printed size (7.2 in)
     size = {tuple(np.round(ax.get_position().size * figs[k].get_size_inches(), 3))
             for k in ("D", "h") for ax in figs[k].axes}
@@ -621,7 +625,8 @@ def test_formulations_section_from_the_stored_counts(tmp_path, puma):
         stored = ds.op_multiplications.sel(dof=6, formulation=name).item()
         assert by_name[shown[name]][1] == f"{stored:,.0f}"
         assert by_name[shown[name]][3] == f"{ds.op_multiplications_table_3_5.sel(dof=6, formulation=name).item():,.0f}"
-    assert html.count("<svg") == 5          # joints, D, h, torque, formulations
+    # joints, D, h, contributions, torque, budget, cost ladder, formulations
+    assert html.count("<svg") == 8
 
 
 def test_report_without_formulations_says_so(puma_report):
@@ -635,7 +640,7 @@ def test_fig_3_10_analogue_grows_to_n_by_n(n):
     import matplotlib
 
     from gd_analyze.core.selection.ranking import element_label
-    from gd_analyze.reports.main_figures import RC, PlotData, fig_D, fig_h
+    from gd_analyze.reports.main_figures import RC, PlotData, element_parts, fig_D, fig_h
     from gd_analyze.reports.markup import label as shown
 
     rng = np.random.default_rng(n)
@@ -646,10 +651,13 @@ def test_fig_3_10_analogue_grows_to_n_by_n(n):
                     series={"D_tran": D, "D_rot": 0.5 * D, "D": 1.5 * D, "h_tran": h,
                             "h_rot": h, "h": 2 * h})
     labels = [element_label("D", i, j) for i in range(n) for j in range(i, n)]
-    with matplotlib.rc_context(RC):
-        fig = fig_D(data, {lab: "both" for lab in labels}, {}, 0.9, 0.01)
+    with matplotlib.rc_context(RC):             # in parts of at most six rows of four
+        parts = [fig_D(data, {lab: "both" for lab in labels}, {}, 0.9, 0.01, part=k)
+                 for k in range(len(element_parts(labels)))]
         figh = fig_h(data, {}, {})
-    titles = [ax.get_title() for ax in fig.axes]
+    assert len(parts) == -(-len(labels) // 24)
+    fig = parts[0]
+    titles = [ax.get_title() for f in parts for ax in f.axes]
     assert len(titles) == n * (n + 1) // 2
     assert titles == [f"{shown(lab)}: both" for lab in labels]     # D12 -> D₁₂
     if n >= 10:                     # the comma of the label rule stays
@@ -657,9 +665,10 @@ def test_fig_3_10_analogue_grows_to_n_by_n(n):
         assert "D\u2081\u2080,\u2081\u2080: both" in titles
     assert len(figh.axes) == n
     sizes = {tuple(np.round(ax.get_position().size * f.get_size_inches(), 3))
-             for f in (fig, figh) for ax in f.axes}
+             for f in (*parts, figh) for ax in f.axes}
     assert len(sizes) == 1                          # one panel size for D and h
-    assert fig.get_size_inches()[0] >= 7.2 - 1e-9
+    assert fig.get_size_inches()[0] == pytest.approx(7.2)
+    assert min(w for w, _ in sizes) >= 1.1          # at least 1.1 in wide at page width
 
 
 def test_round_off_is_never_tabulated_as_data(puma_report):

@@ -460,6 +460,28 @@ def test_round_off_elements_have_no_share_box(sweep, serial):
     assert panels == sum(lab.startswith("D") for lab in labels)
 
 
+def test_sweep_panel_titles_say_the_part_kept(sweep):
+    """A panel's title says which part of the element the merged model keeps ("D₁₆: keeps
+    rot"), not "D₁₆ → rot", which read as a class (issue 31)."""
+    from gd_analyze.reports.markup import label as shown
+    from gd_analyze.reports.sweep_figures import make_sweep_figures
+
+    labels = [str(v) for v in sweep["element"].values]
+    choice = dict(zip(labels, (str(v) for v in sweep["merged_choice"].values)))
+    words = {"tran": "keeps tran", "rot": "keeps rot", "both": "keeps both", "none": "dropped"}
+    figs = make_sweep_figures(sweep)
+    titles = [ax.get_title() for key in ("D", "h") for ax in figs[key].axes if ax.get_title()]
+    checked = 0
+    for lab in labels:
+        title = next((t for t in titles if t.startswith(shown(lab) + ":")), None)
+        if title is None or title.endswith("\u2261 0"):
+            continue
+        assert title == f"{shown(lab)}: {words[choice[lab]]}", title
+        checked += 1
+    assert checked >= len(labels) - 4
+    assert not any("\u2192" in t for t in titles)
+
+
 def test_sweep_figures_letter_mathematics_at_print_size(sweep, puma, shipped):
     """Every sweep figure, at page width and as its 3.5-in column twin (payload included):
     elements lettered D₁₂, h₃ (no D12, share_tran), no label collisions or text past the

@@ -324,7 +324,7 @@ def cmd_analyze(args):
             bar.reset(total=trajectory.n_setpoints)
             bar.set_description("report")
             return write_report(results, folder, paper=args.paper, progress=bar.update,
-                                fonts=args.figure_fonts)
+                                fonts=args.figure_fonts, column_figures=args.column_figures)
     outputs = run_analysis(
         robot, trajectory, _options(args), output_folder(args.outdir, robot.name,
                                                    Path(args.trajectory).stem),

@@ -21,14 +21,21 @@ from .common import style as _style
 from .markup import sub
 
 __all__ = ["control_figures", "noise_scales", "noise_floors", "PAGE_WIDTH", "COLUMN_WIDTH",
-           "CONTROLLER_LABELS", "marker_starts", "marker_stride", "markers_words", "noise_words"]
+           "CONTROLLER_LABELS", "CONTROLLER_STYLES", "marker_starts", "marker_stride", "markers_words", "noise_words"]
 
 #: Figure widths [in]: the text of a page, one column.
 PAGE_WIDTH, COLUMN_WIDTH = 7.2, 3.5
 
-# Okabe & Ito colours, the same in every figure.
+# Okabe & Ito colours, the same in every figure; line style, width and marker differ too, so
+# that the three controllers are told apart in black and white, where their curves coincide
+# too (the full-model controller's wide solid line under the others).
 _COLOURS = {"full": "#000000", "simplified": "#009E73", "pd_gravity": "#D55E00"}
-_STYLES = {"full": "-", "simplified": "--", "pd_gravity": "-."}
+#: Line style (dash pattern in points), width [pt] and marker of each controller.
+CONTROLLER_STYLES = {"full": ("-", 1.6, "o"), "simplified": ((0, (4.0, 2.0)), 1.0, "s"),
+                     "pd_gravity": ((0, (1.0, 1.6)), 1.1, "^")}
+#: A band within +-floor is in the key only where it shows: at least this share of a panel's
+#: y range (a thinner one is invisible at print size).
+_VISIBLE_BAND = 0.01
 CONTROLLER_LABELS = CONTROL_LABELS = {"full": "computed torque, full model", "simplified": "computed torque, simplified "
            "model", "pd_gravity": "PD + gravity"}
 _MAX_LINE_POINTS = 600
@@ -56,8 +63,10 @@ def _joint_panels(ds, values, ylabel, title, log=False, floor=None, which="q",
     log axis starts at the floor, a linear one shades the band within +-floor.
     """
     from matplotlib.figure import Figure
+    from matplotlib.lines import Line2D
+    from matplotlib.ticker import LogLocator, NullFormatter
 
-    from .ticks import label_axes, set_ticks
+    from .ticks import decade_formatter, label_axes, set_ticks
 
     t = np.asarray(ds["time"].values, dtype=float)
     is_set = np.asarray(ds["is_setpoint"].values).astype(bool)
@@ -102,24 +111,30 @@ def _joint_panels(ds, values, ylabel, title, log=False, floor=None, which="q",
                 yj = np.where(is_round_off(yj, floor[j], 1.0), np.nan, yj)
             elif log:
                 yj = np.where(yj > 0.0, yj, np.nan)
-            kw = {"color": _COLOURS.get(name, "#0072B2"), "linestyle": _STYLES.get(name, "-"),
-                  "label": CONTROL_LABELS.get(name, name)}
-            line, = ax.plot(t[keep], yj[keep], **kw)
-            handles.setdefault(kw["label"], line)
+            ls, lw, marker = CONTROLLER_STYLES.get(name, ("-", 1.0, "o"))
+            kw = {"color": _COLOURS.get(name, "#0072B2"), "linestyle": ls, "linewidth": lw,
+                  "label": CONTROL_LABELS.get(name, name), "zorder": 2 + order}
+            ax.plot(t[keep], yj[keep], **kw)
+            handles.setdefault(kw["label"], Line2D(
+                [], [], marker=marker, markersize=3.5, mfc="none", markeredgewidth=0.8, **kw))
             start = marker_starts(every, len(values))[order]   # staggered: none coincide
-            ax.plot(t[is_set], yj[is_set], linestyle="none", marker="o", markersize=2.5,
-                    color=kw["color"], mfc="none",
+            ax.plot(t[is_set], yj[is_set], linestyle="none", marker=marker, markersize=3.0,
+                    color=kw["color"], mfc="none", markeredgewidth=0.8, zorder=5 + order,
                     markevery=(start, every) if every > 1 else 1)
         if log:
             ax.set_yscale("log")
             if floor is not None and floor[j] > 0:
                 ax.set_ylim(bottom=floor[j])
+            # decades written 10⁻⁶ in the tick labels' own 7 pt (mathtext's exponents: 4.9 pt)
+            ax.yaxis.set_major_locator(LogLocator(numticks=6))
+            ax.yaxis.set_major_formatter(decade_formatter())
+            ax.yaxis.set_minor_formatter(NullFormatter())
         elif drawn:                     # round ticks, labelled below in one notation
-            if floor is not None and floor[j] > 0:
-                band = ax.axhspan(-floor[j], floor[j], color="0.85", linewidth=0, zorder=0,
-                                  label=_BAND)
-                handles.setdefault(_BAND, band)
             lo, hi = ax.get_ylim()
+            if floor is not None and floor[j] > 0:
+                band = ax.axhspan(-floor[j], floor[j], color="0.85", linewidth=0, zorder=0)
+                if 2 * floor[j] >= _VISIBLE_BAND * (hi - lo):     # in the key if it shows
+                    handles.setdefault(_BAND, band)
             set_ticks(ax.yaxis, lo, hi, 4, labels=False)
             linear.append(ax.yaxis)
         if not drawn and floor is not None:

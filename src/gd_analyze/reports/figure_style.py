@@ -13,6 +13,7 @@ import re
 
 __all__ = ["BASE_RC", "SUPTITLE_RC", "style", "grid_shape", "joint_colours", "joint_style",
            "JOINT_STYLES", "MAX_MARKERS", "MIN_MARKERS", "markevery", "panel_markevery",
+           "MARK_EVERY_POINT", "element_markevery",
            "gridspec", "svg", "inline_svgs"]
 
 #: matplotlib settings every report uses; each adds its own to them (see :func:`style`).
@@ -157,6 +158,35 @@ def panel_markevery(m, lines):
     (8, 16, 1)
     """
     return markevery(m, max(MIN_MARKERS, MAX_MARKERS // max(1, int(lines))))
+
+
+#: Runs of up to this many set points get a marker at every set point on every line, as the
+#: chapter's Figs. 3.10 and 3.11 do; longer runs a thinned set (:func:`panel_markevery`).
+MARK_EVERY_POINT = 50
+
+
+def element_markevery(m, lines=3):
+    """The stride of the markers on the element panels (Figs. 3.10 and 3.11 analogues).
+
+    Parameters
+    ----------
+    m : int
+        Set points on each line.
+    lines : int, optional
+        Lines with markers on a panel.
+
+    Returns
+    -------
+    int
+        1 (a marker at every set point) for ``m <= MARK_EVERY_POINT``; else
+        :func:`panel_markevery`.
+
+    Examples
+    --------
+    >>> element_markevery(31), element_markevery(50), element_markevery(51)
+    (1, 1, 13)
+    """
+    return 1 if int(m) <= MARK_EVERY_POINT else panel_markevery(m, lines)
 
 
 def markevery(m, most=MAX_MARKERS):

@@ -40,7 +40,17 @@ from .common import strings as _strings
 from .common import thresholds as _thresholds
 from .drawing import draw_figures, write_figure_files
 from .main_context import report_context, zero_mask
-from .main_figures import COLUMN_WIDTH, PAGE_WIDTH, fig_D, fig_h, fig_joints, fig_torque, plot_data
+from .main_figures import (
+    COLUMN_WIDTH,
+    PAGE_WIDTH,
+    d_panels,
+    element_parts,
+    fig_D,
+    fig_h,
+    fig_joints,
+    fig_torque,
+    plot_data,
+)
 from .main_figures import RC as FIG_RC
 from .main_outline import main_outline
 from .pages import FIGURE_FONTS, PAPER, Document
@@ -50,7 +60,7 @@ from .simplified_section import error_figure, has_simplified
 
 __all__ = [
     "REPORT_FORMATS", "ENVELOPE_THRESHOLD", "ENVELOPE_COLUMNS", "FIGURE_FILES", "envelope",
-    "COLUMN_FIGURES", "make_figures", "figure_makers", "render_html", "render_pdf", "write_report",
+    "COLUMN_FIGURES", "FIGURE_PARTS", "make_figures", "figure_makers", "render_html", "render_pdf", "write_report",
 ]
 
 #: The formats :func:`write_report` can write.
@@ -134,16 +144,26 @@ def envelope(x, y, columns=ENVELOPE_COLUMNS):
 #: File names (without extension) of the figures in ``OUTDIR/figures/``, by figure key.
 FIGURE_FILES = {"joints": "fig_joints_q_qd_qdd", "D": "fig_3_10_D", "h": "fig_3_11_h",
                 "torque": "fig_torque_full_vs_simplified", "payload": "fig_payload_dominance",
-                "formulations": "fig_table_3_5_operation_counts"}
-_FIGURE_ORDER = ("joints", "D", "h", "torque", "payload", "formulations")
-#: Figures also made 3.5 in wide for a one-column layout, as ``<key>_column``, written to
-#: ``figures/<name>_column.pdf`` and ``.svg`` beside the page-width files (not in the report).
-COLUMN_FIGURES = ("joints", "D", "h", "torque", "payload", "formulations")
+                "formulations": "fig_table_3_5_operation_counts",
+                "contributions": "fig_torque_contributions", "budget": "fig_error_budget",
+                "cost_ladder": "fig_cost_ladder"}
+#: Further parts of the D and h figures when their panels fill more than a page
+#: (:func:`gd_analyze.reports.main_figures.element_parts`): ``D_2`` is
+#: ``fig_3_10_D_part2``, ...
+FIGURE_PARTS = tuple(f"{k}_{p}" for k in ("D", "h") for p in range(2, 6))
+FIGURE_FILES.update({k: f"{FIGURE_FILES[k[0]]}_part{k[2:]}" for k in FIGURE_PARTS})
+_FIGURE_ORDER = ("joints", "D", *FIGURE_PARTS[:4], "h", *FIGURE_PARTS[4:], "contributions",
+                 "torque", "budget", "cost_ladder", "payload", "formulations")
+#: Figures also made 3.5 in wide for a one-column layout when asked for
+#: (``--column-figures``), as ``<key>_column``, written to ``figures/<name>_column.pdf`` and
+#: ``.svg`` beside the page-width files (not in the report).
+COLUMN_FIGURES = ("joints", "D", "h", "contributions", "torque", "budget", "cost_ladder",
+                  "payload", "formulations")
 FIGURE_FILES.update({f"{k}_column": f"{FIGURE_FILES[k]}_column" for k in COLUMN_FIGURES})
 _FILE_ORDER = _FIGURE_ORDER + tuple(f"{k}_column" for k in COLUMN_FIGURES)
 
 
-def make_figures(ds, data=None, keys=None):
+def make_figures(ds, data=None, keys=None, column=False):
     """Make the report's figures from a stored analysis.
 
     Parameters
@@ -151,20 +171,26 @@ def make_figures(ds, data=None, keys=None):
     ds : xarray.Dataset
         A dataset as :func:`gd_analyze.io.datasets.build_dataset` makes it (N set points, n joints):
         t (N,) [s]; q, qd, qdd (N, n) [rad, rad/s, rad/s^2]; D_tran, D_rot, D (N, n, n)
-        [kg m^2]; h_tran, h_rot, h, tau, tau_simplified (N, n) [N m]; the ranking (M,).
+        [kg m^2]; h_tran, h_rot, h, c, tau, tau_simplified (N, n) [N m]; the ranking (M,).
     data : PlotData, optional
         The series to draw (:func:`gd_analyze.reports.main_figures.plot_data`); read from
         ``ds`` if not given.
     keys : collection of str, optional
-        Make only these of the figures below (those the dataset holds); all if not given.
+        Make only these of the figures below (those the dataset holds), column-width ones
+        included if named; all page-width ones if not given.
+    column : bool, optional
+        Also make the 3.5-in column-width versions (``"<key>_column"``) of
+        :data:`COLUMN_FIGURES`.
 
     Returns
     -------
     dict of str to matplotlib.figure.Figure
-        ``"joints"``, ``"D"`` (analogue of Fig. 3.10: the n x n upper triangle of D_ij),
-        ``"h"`` (Fig. 3.11), ``"torque"``, and ``"payload"`` and ``"formulations"`` if the
-        dataset holds them; sized for print (7.2 in wide, type >= 7 pt), time [s] on x;
-        then ``"<key>_column"`` for :data:`COLUMN_FIGURES`, 3.5 in wide (type >= 7 pt).
+        ``"joints"``, ``"D"`` (analogue of Fig. 3.10, with ``"D_2"``, ... if its panels fill
+        more than a page), ``"h"`` (Fig. 3.11), ``"contributions"``, ``"torque"``,
+        ``"budget"`` and ``"cost_ladder"`` (of a model that drops terms),  and ``"payload"``
+        and ``"formulations"`` if the dataset holds them; sized for print (7.2 in wide,
+        type >= 7 pt), time [s] on x. Plain figures with matplotlib's own ticks, free to be
+        restyled (the report draws its ticks once, :func:`write_report`).
 
     Raises
     ------
@@ -176,10 +202,10 @@ def make_figures(ds, data=None, keys=None):
     All the figures at once, as :func:`figure_makers` makes them one by one.
     Source: Sec. 3.4.1 and Figs. 3.10-3.11 of Fu, Gonzalez & Lee (1987).
     """
-    return {k: make() for k, make in figure_makers(ds, data, keys).items()}
+    return {k: make() for k, make in figure_makers(ds, data, keys, column).items()}
 
 
-def figure_makers(ds, data=None, keys=None):
+def figure_makers(ds, data=None, keys=None, column=False):
     """The report's figures as makers, in file order: each figure made when it is called.
 
     A caller that draws each figure as soon as it is made (:func:`_write`) holds one figure
@@ -187,15 +213,14 @@ def figure_makers(ds, data=None, keys=None):
 
     Parameters
     ----------
-    ds, data, keys
+    ds, data, keys, column
         As for :func:`make_figures`.
 
     Returns
     -------
     dict of str to callable
         By figure key (:data:`FIGURE_FILES`), a function of no arguments returning that
-        figure (:class:`matplotlib.figure.Figure`), made with the report's rcParams and its
-        ticks built once (:func:`gd_analyze.reports.ticks.ticks_once`).
+        figure (:class:`matplotlib.figure.Figure`), made with the report's rcParams.
 
     Raises
     ------
@@ -206,17 +231,19 @@ def figure_makers(ds, data=None, keys=None):
     -----
     The figures of Sec. 3.4.1, Figs. 3.10-3.11 (Fu, Gonzalez & Lee 1987), and the report's.
     """
+    from .budget_figures import budget_makers
+
     if data is None:
         data = plot_data(ds)
     labels, zero = zero_mask(ds)
     zero = dict(zip(labels, zero))
     dom = dict(zip(labels, _strings(ds["dominance"].values)))
     s, e = _thresholds(ds)
-    wanted = set(_FILE_ORDER if keys is None else keys)
+    order = _FILE_ORDER if column or keys is not None else _FIGURE_ORDER   # keys: as named
+    wanted = set(order if keys is None else keys)
     arm = ds["D_arm"].values if "D_arm" in ds else None
     prismatic = prismatic_joints(ds)
     makers = {"joints": lambda: fig_joints(data, prismatic),
-              "D": lambda: fig_D(data, dom, zero, s, e, prismatic, armature=arm),
               "h": lambda: fig_h(data, dom, zero, prismatic),
               "torque": lambda: _fig_error(ds, data),
               "joints_column": lambda: fig_joints(data, prismatic, COLUMN_WIDTH),
@@ -224,32 +251,32 @@ def figure_makers(ds, data=None, keys=None):
                                         armature=arm),
               "h_column": lambda: fig_h(data, dom, zero, prismatic, COLUMN_WIDTH),
               "torque_column": lambda: _fig_error(ds, data, COLUMN_WIDTH)}
+    d_labels = [p[0] for p in d_panels(data, dom, zero, prismatic, arm)[0]]
+    for k in range(len(element_parts(d_labels))):
+        makers["D" if k == 0 else f"D_{k + 1}"] = functools.partial(
+            fig_D, data, dom, zero, s, e, prismatic, armature=arm, part=k)
+    makers.update(budget_makers(ds, data))
     if "payload_share_tran" in ds.variables:
         makers["payload"] = lambda: _fig_payload(ds)
         makers["payload_column"] = lambda: _fig_payload(ds, COLUMN_WIDTH)
     if "op_multiplications" in ds.variables:
         makers["formulations"] = lambda: _fig_formulations(ds)
         makers["formulations_column"] = lambda: _fig_formulations(ds, COLUMN_WIDTH)
-    return {k: functools.partial(_made, makers[k]) for k in _FILE_ORDER
+    return {k: functools.partial(_made, makers[k]) for k in order
             if k in makers and k in wanted}
 
 
 def _made(make):
-    """One figure made with the report's rcParams, its ticks built once."""
+    """One figure made with the report's rcParams."""
     import matplotlib
 
-    from .ticks import ticks_once
-
     with matplotlib.rc_context(FIG_RC):
-        return ticks_once(make())
+        return make()
 
 
 def _fig_error(ds, data, width=PAGE_WIDTH):
     if has_simplified(ds):                      # issue 8: tau_s - tau and its bound
-        if width < PAGE_WIDTH:
-            n = ds.sizes["joint"]
-            return error_figure(ds, size=(width, 1.0 + 1.25 * n), data=data)
-        return error_figure(ds, size=(PAGE_WIDTH, 7.5), data=data)
+        return error_figure(ds, width, data=data)
     return fig_torque(data, ds["tau_error_peak"].values, ds["tau_error_relative_peak"].values,
                       prismatic_joints(ds))
 
@@ -440,7 +467,7 @@ def _document(ctx, sizes, paper="a4"):
 # --------------------------------------------------------------------------------------------
 
 def write_report(results_path, outdir, formats=REPORT_FORMATS, paper="a4", progress=None,
-                 fonts="type3"):
+                 fonts="type3", column_figures=False):
     """Write report.html and/or report.pdf, and every figure as PDF and SVG, for an analysis.
 
     Parameters
@@ -459,6 +486,9 @@ def write_report(results_path, outdir, formats=REPORT_FORMATS, paper="a4", progr
     fonts : {"type3", "truetype"}, optional
         How the figures' PDFs embed their font
         (:data:`gd_analyze.reports.pages.FIGURE_FONTS`).
+    column_figures : bool, optional
+        Also write the 3.5-in column-width figures (:data:`COLUMN_FIGURES`,
+        ``figures/<name>_column.pdf`` and ``.svg``).
 
     Returns
     -------
@@ -479,8 +509,8 @@ def write_report(results_path, outdir, formats=REPORT_FORMATS, paper="a4", progr
 
     Notes
     -----
-    Each figure is drawn once as SVG (inlined in the HTML and written to ``figures/``) and
-    once as PDF (written to ``figures/`` and placed in the report). Every file is written to a
+    Each figure's ticks are built once (:func:`gd_analyze.reports.ticks.ticks_once`), then it
+    is drawn once as SVG (inlined in the HTML and written to ``figures/``) and once as PDF (written to ``figures/`` and placed in the report). Every file is written to a
     temporary name beside its destination and renamed (:func:`gd_analyze.files.atomic_path`).
     Source: Sec. 3.4.1 and Figs. 3.10-3.11 of Fu, Gonzalez & Lee (1987).
     """
@@ -492,18 +522,19 @@ def write_report(results_path, outdir, formats=REPORT_FORMATS, paper="a4", progr
     if fonts not in FIGURE_FONTS:
         raise ValueError(f"fonts must be one of {sorted(FIGURE_FONTS)}, got {fonts!r}")
     with open_results(results_path, lazy=True) as ds:       # long series: in chunks
-        return _write(ds, Path(outdir), formats, paper, progress, fonts)
+        return _write(ds, Path(outdir), formats, paper, progress, fonts, column_figures)
 
 
-def _write(ds, outdir, formats, paper, progress, fonts="type3"):
+def _write(ds, outdir, formats, paper, progress, fonts="type3", column=False):
     from ..files import atomic_path
+    from .ticks import ticks_once
 
     ctx = report_context(ds)            # fails early on a dataset that is not ours
     (outdir / "figures").mkdir(parents=True, exist_ok=True)
     data = plot_data(ds, progress=progress)
     drawn = {}
-    for key, make in figure_makers(ds, data).items():     # one figure alive at a time
-        drawn.update(_drawn({key: make()}, fonts=fonts))
+    for key, make in figure_makers(ds, data, column=column).items():   # one figure alive
+        drawn.update(_drawn({key: ticks_once(make())}, fonts=fonts))
     with contextlib.ExitStack() as stack:
         paths = {fmt: outdir / f"report.{fmt}" for fmt in formats}
         files = write_figure_files(stack, drawn, outdir / "figures", FIGURE_FILES)

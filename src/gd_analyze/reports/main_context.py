@@ -415,7 +415,9 @@ _INTRO = ("Generalized d'Alembert (G-D) equations of motion split the inertia ma
           "gd-analyze {version} from the stored results; nothing was recomputed.")
 
 
-_D_TEXT = ("One panel per element " + _el("D", "ij") + " with i \u2264 j (row i, column j): "
+_D_TEXT = ("One panel per element " + _el("D", "ij") + " with i \u2264 j, in reading order "
+           "(" + _el("D", "11") + ", " + _el("D", "12") + ", \u2026), but for an element "
+           "zero in every part, which the note below the panels names: "
            "translational part " + _el("D", "ij", "tran") + " ({tran}), rotational part "
            + _el("D", "ij", "rot") + " ({rot}) and " + _el("D", "ij")
            + " = " + _el("D", "ij", "tran") + " + " + _el("D", "ij", "rot")

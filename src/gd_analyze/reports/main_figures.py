@@ -7,13 +7,14 @@ column, which :func:`plot_data` reads from the stored file in chunks. They never
 dataset and never recompute the dynamics.
 
 - ``joints``: q, qd, qdd against time [deg, deg/s, deg/s^2];
-- ``D``: the n x n upper triangle of D_ij, translational (o), rotational (x) and combined (^)
-  against time: the analogue of Fig. 3.10 of Fu, Gonzalez & Lee (1987), Sec. 3.4.1;
+- ``D``: the elements D_ij, i <= j, translational (o), rotational (x) and combined (^)
+  against time, in reading order on panels at least 1.1 in wide: the analogue of Fig. 3.10
+  of Fu, Gonzalez & Lee (1987), Sec. 3.4.1;
 - ``h``: the n elements h_i the same way, on panels of the same size (Fig. 3.11);
 - ``torque``: tau and tau_s against time per joint.
 
-An element whose parts are all zero to rounding (:func:`identically_zero`) is drawn as an empty
-panel reading "≡ 0": its share_tran is rounding noise and is not shown.
+An element whose parts are all zero to rounding (:func:`identically_zero`) is not drawn: a note
+below the panels names it ("≡ 0"); its share_tran is rounding noise.
 """
 
 from __future__ import annotations
@@ -30,7 +31,8 @@ from ..core.selection.ranking import (
     joint_motion_units,
     joint_torque_units,
 )
-from .common import joint_style, panel_markevery
+from .common import joint_style, units_text
+from .figure_style import element_markevery
 from .markup import label as _math
 from .plot_data import (  # noqa: F401
     DERIVED,
@@ -42,8 +44,9 @@ from .plot_data import (  # noqa: F401
 )
 from .ticks import decade_label, label_axes, set_ticks
 
-__all__ = ["PAGE_WIDTH", "COLUMN_WIDTH", "ZERO_TOL", "PART_STYLE", "SHORT_CLASS", "PlotData", "plot_data",
-           "identically_zero", "fig_D", "fig_h", "fig_joints", "fig_torque",
+__all__ = ["PAGE_WIDTH", "COLUMN_WIDTH", "ZERO_TOL", "PART_STYLE", "PART_ZORDER", "SHORT_CLASS",
+           "PlotData", "plot_data", "identically_zero", "fig_D", "fig_h", "fig_joints",
+           "fig_torque", "d_panels", "panel_grid", "element_parts", "MIN_PANEL_W", "MAX_ROWS",
            "RC"]
 
 #: Width of a figure spanning the text of a page [in] (two-column journals: 7.0-7.3).
@@ -85,16 +88,16 @@ _CLASS_COLOURS = {"translational": "#0072B2", "rotational": "#D55E00", "both": "
 SHORT_CLASS = {"translational": "tran", "rotational": "rot", "both": "both",
                "negligible": "negl"}
 _FULL, _SIMPLIFIED = "#000000", "#009E73"
-_ALL_MARKERS, _FEW_MARKERS = 100, 40
-
-# Panel geometry of D and h [in].
-_LEFT, _RIGHT, _WGAP, _HGAP, _TOP, _BOTTOM = 0.53, 0.06, 0.49, 0.3, 0.2, 0.36
-_MIN_PANEL_W = 0.55
-#: Least panel width of the column-width D figure [in]: three a row even with each panel's
-#: units on its axis (a mixed arm), so that the figure fits a page (two a row: 13 in tall).
+# Panel geometry of D and h [in]: margins, the gap between columns (tick labels and each
+# panel's unit label) and between rows (x tick labels and the next row's titles).
+_LEFT, _RIGHT, _WGAP, _HGAP, _TOP = 0.5, 0.06, 0.6, 0.44, 0.22
+#: Least panel width of the D and h figures at page width [in]: four panels a row.
+MIN_PANEL_W = 1.1
+#: Least panel width of the column-width D and h figures [in]: three a row.
 _MIN_COLUMN_PANEL_W = 0.5
-
-
+#: Most rows of panels in one figure (a page); more panels go to further parts
+#: (:func:`element_parts`).
+MAX_ROWS = {"page": 6, "column": 8}
 
 
 def _figure(w, h):
@@ -122,29 +125,32 @@ def _limits(*arrays):
     return lo - pad, hi + pad
 
 
-#: Line widths of the parts: the combined curve thin, under the two parts it sums.
+#: Line widths of the parts: the combined curve thin, under the parts it sums.
 _PART_WIDTH = {"tran": 0.8, "rot": 0.8, "total": 0.55, "arm": 0.8}
-#: Drawing order: the combined curve first, so that o and x stay visible on top of it.
-_PART_ORDER = ("total", "tran", "rot")
+#: Drawing order (z-order) of the parts: the combined curve first, so that o and x stay
+#: visible on top of it; the drives' armature last, above the combined curve that includes it.
+PART_ZORDER = {"total": 2, "tran": 3, "rot": 4, "arm": 5}
+#: Marker size of each part [pt]: small enough for a marker at every one of 50 set points
+#: on a 1.1-in panel.
+_PART_MARKER = {"tran": 2.6, "rot": 2.8, "total": 2.4, "arm": 2.4}
 
 
-def _plot(ax, x, y, part, enveloped):
-    """One part of an element: the tran, rot and total curves of a panel together carry at
-    most about :data:`gd_analyze.reports.common.MAX_MARKERS` markers (every k-th set point,
-    :func:`gd_analyze.reports.common.panel_markevery`; the line through all of them); the
-    armature curve has none (told apart by its colour and dash-dot line)."""
+def _plot(ax, x, y, part, enveloped, lines):
+    """One part of an element: a marker at every set point for up to
+    :data:`gd_analyze.reports.figure_style.MARK_EVERY_POINT` of them, else at every k-th
+    (:func:`gd_analyze.reports.figure_style.element_markevery`, staggered between the parts);
+    none on a min/max envelope."""
     style = PART_STYLE[part]
     kw = {"color": style["color"], "linestyle": style["linestyle"], "label": style["label"],
-          "linewidth": _PART_WIDTH[part],
-          "zorder": {"total": 2, "tran": 3, "rot": 4, "arm": 3}[part]}
-    if not enveloped and part != "arm":
-        every = panel_markevery(x.size, len(_PART_ORDER))
+          "linewidth": _PART_WIDTH[part], "zorder": PART_ZORDER[part]}
+    if not enveloped:
+        every = element_markevery(x.size, lines)
         kw["marker"] = style["marker"]
         start = {"tran": 0, "rot": every // 3, "total": (2 * every) // 3,
                  "arm": every // 2}[part]
         kw["markevery"] = (start, every) if every > 1 else 1
-        kw["markersize"] = 2.6 if part == "total" else 3.2
-        kw["markeredgewidth"] = 0.6 if part == "total" else 0.8    # open, not a blot
+        kw["markersize"] = _PART_MARKER[part]
+        kw["markeredgewidth"] = 0.5 if part in ("total", "arm") else 0.6   # open, not a blot
         if style["mfc"] is not None:
             kw["markerfacecolor"] = style["mfc"]
     return ax.plot(x, y, **kw)
@@ -158,51 +164,18 @@ def _time_axis(ax, x, labels, nbins=3):
     set_ticks(ax.xaxis, t0 - pad, t1 + pad, nbins, labels)
 
 
-def _zero_panel(ax, x, title):
-    ax.set_title(f"{_math(title)}: \u2261 0", color=_CLASS_COLOURS["negligible"], loc="center")
-    ax.text(0.5, 0.5, "\u2261 0", transform=ax.transAxes, ha="center", va="center",
-            fontsize=10, color="0.35")
-    ax.set_ylim(-1, 1)
-    ax.yaxis.set_ticks([])
-    ax.grid(False)
-
-
 def _element_panel(ax, x, parts, title, cls, enveloped, nbins=3):
     """Parts (tran, rot, total and, on a diagonal panel of an arm with drives, arm) of one
     element; y ticks placed, labelled by the figure
     (:func:`gd_analyze.reports.ticks.label_axes`: one notation per figure)."""
-    by_part = dict(zip(("tran", "rot", "total", "arm"), parts))
-    for part in _PART_ORDER + (("arm",) if "arm" in by_part else ()):
-        _plot(ax, x, by_part[part], part, enveloped)
-    lo, hi = _limits(*parts)
+    for part, y in parts.items():
+        _plot(ax, x, y, part, enveloped, len(parts))
+    lo, hi = _limits(*parts.values())
     ax.set_ylim(lo, hi)
     pad = (hi - lo) / 1.2 * 0.1
     set_ticks(ax.yaxis, lo + pad, hi - pad, nbins, labels=False)
-    ax.set_title(f"{_math(title)}: {SHORT_CLASS.get(cls, cls)}", color=_CLASS_COLOURS.get(cls, "black"))
-
-
-def _gaps(per_panel_units):
-    """Horizontal gap between panels [in]: room for 7-char tick labels (``−2.5e−3``) and, when
-    the panels' units differ (a mixed arm), each panel's unit label."""
-    return _WGAP + (0.15 if per_panel_units else 0.0)
-
-
-def _panel_width(n, width=PAGE_WIDTH, wgap=_WGAP):
-    free = width - _LEFT - _RIGHT - (n - 1) * wgap
-    return max(_MIN_PANEL_W, free / max(n, 1))
-
-
-def _panel_height(w):
-    return float(np.clip(0.7 * w, 0.5, 0.9))
-
-
-def _shown(units):
-    return units.replace("m2", "m\u00b2")
-
-
-def _unit_label(ax, units):
-    """The panel's units on its y axis, e.g. ``[kg m]`` (a mixed arm's panels differ)."""
-    ax.set_ylabel(f"[{_shown(units)}]", fontsize=7, labelpad=1.0)
+    ax.set_title(f"{_math(title)}: {SHORT_CLASS.get(cls, cls)}",
+                 color=_CLASS_COLOURS.get(cls, "black"))
 
 
 def _legend_order(ax):
@@ -212,15 +185,166 @@ def _legend_order(ax):
     return [p[0] for p in pairs], [p[1] for p in pairs]
 
 
-def _grid(count, width, wgap, min_w=0.55):
-    """Columns and panel size [in] of ``count`` panels in reading order within ``width``."""
-    cols = max(1, min(count, int((width - _LEFT - _RIGHT + wgap) / (min_w + wgap))))
-    w = (width - _LEFT - _RIGHT - (cols - 1) * wgap) / cols
-    return cols, w, _panel_height(w)
+def panel_grid(count, width=PAGE_WIDTH):
+    """Columns and panel size of the D and h figures.
+
+    Parameters
+    ----------
+    count : int
+        Panels to lay out (at least one column).
+    width : float, optional
+        Figure width [in]: :data:`PAGE_WIDTH` gives panels of at least :data:`MIN_PANEL_W`.
+
+    Returns
+    -------
+    cols : int
+    w, h : float
+        Panel width and height [in].
+
+    Examples
+    --------
+    >>> cols, w, h = panel_grid(19)
+    >>> cols, w >= MIN_PANEL_W
+    (4, True)
+    """
+    min_w = MIN_PANEL_W if width >= PAGE_WIDTH else _MIN_COLUMN_PANEL_W
+    fit = int((width - _LEFT - _RIGHT + _WGAP) / (min_w + _WGAP) + 1e-9)
+    cols = max(1, min(max(count, 1), fit))
+    if width >= PAGE_WIDTH:             # one panel size for D and h: as many as D has
+        cols = max(1, fit)
+    w = (width - _LEFT - _RIGHT - (cols - 1) * _WGAP) / cols
+    return cols, w, float(np.clip(0.68 * w, 0.5, 0.85))
 
 
-def fig_D(data, dominance, zero, s, e, prismatic=None, width=PAGE_WIDTH, armature=None):
-    """The analogue of Fig. 3.10: one panel per D_ij, i <= j, on an n x n grid.
+def element_parts(labels, width=PAGE_WIDTH):
+    """The panels of a D or h figure split into parts of at most :data:`MAX_ROWS` rows.
+
+    Parameters
+    ----------
+    labels : sequence of str
+        The elements drawn, in reading order.
+    width : float, optional
+        Figure width [in].
+
+    Returns
+    -------
+    list of list of str
+        One list per figure part (one part if all fit; ``[[]]`` for none), the parts as
+        few as the rows allow and of about one size, in whole rows.
+
+    Examples
+    --------
+    >>> [len(p) for p in element_parts([f"D{k}" for k in range(30)])]
+    [16, 14]
+    """
+    cols = panel_grid(len(labels), width)[0]
+    most = cols * MAX_ROWS["page" if width >= PAGE_WIDTH else "column"]
+    labels = list(labels)
+    parts = max(1, -(-len(labels) // most))
+    per = cols * -(-len(labels) // (parts * cols))       # balanced, in whole rows
+    return [labels[k:k + per] for k in range(0, len(labels), per)] or [[]]
+
+
+def _title_key(fig, y, W, H):
+    """A legend of the panel titles' colours: one coloured square per class."""
+    from matplotlib.patches import Patch
+
+    handles = [Patch(facecolor=_CLASS_COLOURS[c], edgecolor="none") for c in _CLASS_COLOURS]
+    names = [f"{SHORT_CLASS[c]}" + ("" if SHORT_CLASS[c] == c else f" ({c})")
+             for c in _CLASS_COLOURS]
+    fig.legend(handles, names, loc="upper center", ncol=4 if W >= PAGE_WIDTH else 2,
+               frameon=False, fontsize=7,
+               handlelength=1.0, handleheight=0.7, columnspacing=1.2, borderaxespad=0.0,
+               title="panel title: element and its class, in the class's colour"
+               if W >= PAGE_WIDTH else "panel title: element and class, in its colour",
+               title_fontsize=7, bbox_to_anchor=(0.5, 1 - y / H))
+
+
+def _element_figure(x, panels, enveloped, width, key, kind):
+    """Panels in reading order, the parts' legend, the title colours' key and a note below.
+
+    ``panels``: (label, parts dict, class, units) per panel drawn; ``key``: the note."""
+    import textwrap
+
+    cols, w, h = panel_grid(len(panels), width)
+    rows = max(1, math.ceil(len(panels) / cols))
+    chars = max(30, int((width - 0.2) / (7.0 * 0.5 / 72)))
+    note = textwrap.fill(key, chars)
+    legend_h = 0.22 + 0.16 * (width < PAGE_WIDTH and any("arm" in p[1] for p in panels))
+    title_h = 0.4 + 0.14 * (width < PAGE_WIDTH)     # the title colours' key: two rows
+    panels_h = _TOP + rows * h + (rows - 1) * _HGAP + 0.3 if panels else 0.0
+    H = panels_h + (legend_h + title_h if panels else 0.0) + 0.14 * (note.count("\n") + 1) + 0.12
+    fig = _figure(width, H)
+    first, ys = None, []
+    for k, (label, parts, cls, units) in enumerate(panels):
+        r, c = divmod(k, cols)
+        ax = _axes(fig, _LEFT + c * (w + _WGAP), _TOP + r * (h + _HGAP), w, h)
+        _element_panel(ax, x, parts, label, cls, enveloped, 2 if h < 0.6 else 3)
+        if first is None or len(parts) > len(first[1]):
+            first = (ax, parts)
+        ys.append(ax.yaxis)
+        ax.set_ylabel(f"[{units_text(units)}]", fontsize=7, labelpad=1.0)
+        _time_axis(ax, x, labels=True, nbins=2 if w < 0.7 else 3)
+        if k + cols >= len(panels):         # the lowest panel of its column
+            ax.set_xlabel("t [s]", labelpad=1.0)
+    label_axes(ys)
+    y = panels_h
+    if first is not None:
+        fig.legend(*_legend_order(first[0]), loc="upper center", frameon=False, fontsize=7,
+                   ncol=4 if width >= PAGE_WIDTH else 2, handlelength=2.6,
+                   columnspacing=1.2, borderaxespad=0.0, bbox_to_anchor=(0.5, 1 - y / H))
+        _title_key(fig, y + legend_h, width, H)
+        y += legend_h + title_h
+    fig.text(0.1 / width, 1 - (y + 0.04) / H, note, fontsize=7, va="top", ha="left",
+             linespacing=1.25)
+    return fig
+
+
+def _zero_note(kind, zero_labels):
+    """The sentence naming the elements that are ≡ 0 in every part (not drawn)."""
+    if not zero_labels:
+        return ""
+    names = ", ".join(_math(z) for z in zero_labels)
+    return (f" \u2261\u00a00 (zero in every part, below {decade_label(ROUND_OFF)} of its "
+            f"scale), not drawn: {names}.")
+
+
+def d_panels(data, dominance, zero, prismatic=None, armature=None):
+    """The panels of :func:`fig_D`: every D_ij, i <= j, that is not ≡ 0.
+
+    Parameters
+    ----------
+    data, dominance, zero, prismatic, armature
+        As for :func:`fig_D`.
+
+    Returns
+    -------
+    panels : list of (str, dict, str, str)
+        Label, parts (``tran``, ``rot``, ``total`` and, on a diagonal with armature,
+        ``arm``: arrays (M,)), class and stored units, in reading order (row by row).
+    zero_labels : list of str
+        The elements left out.
+    """
+    Dt, Dr, D = (data.series[k] for k in ("D_tran", "D_rot", "D"))
+    n = D.shape[1]
+    panels, zeros = [], []
+    for i in range(n):
+        for j in range(i, n):
+            label = element_label("D", i, j)
+            if zero.get(label, False):
+                zeros.append(label)
+                continue
+            parts = {"tran": Dt[:, i, j], "rot": Dr[:, i, j], "total": D[:, i, j]}
+            if i == j and armature is not None and armature[i] > 0:
+                parts["arm"] = np.full(np.shape(Dt[:, i, j]), float(armature[i]))
+            panels.append((label, parts, dominance.get(label, ""),
+                           element_units("D", i, j, prismatic)))
+    return panels, zeros
+
+
+def fig_D(data, dominance, zero, s, e, prismatic=None, width=PAGE_WIDTH, armature=None,
+          part=0):
+    """The analogue of Fig. 3.10: one panel per D_ij, i <= j, that is not ≡ 0.
 
     Parameters
     ----------
@@ -229,127 +353,47 @@ def fig_D(data, dominance, zero, s, e, prismatic=None, width=PAGE_WIDTH, armatur
     dominance : dict of str to str
         Class of each element label (``"D12"`` -> ``"both"``).
     zero : dict of str to bool
-        Elements drawn as "≡ 0" panels (round-off in every part, :func:`identically_zero`).
+        Elements zero in every part (round-off, :func:`identically_zero`): not drawn, named
+        in the note below the panels.
     s, e : float
         Thresholds of the ranking, for the key.
     prismatic : ndarray of bool, shape (n,), optional
         Prismatic joints: each panel's y axis gives its units
-        (:func:`gd_analyze.core.selection.labels.element_units`: kg m², kg m or kg); with one unit for
-        all panels it is said once, in the key.
+        (:func:`gd_analyze.core.selection.labels.element_units`: kg m², kg m or kg).
     width : float, optional
-        :data:`PAGE_WIDTH` (the upper triangle, panel D_ij in row i, column j) or
-        :data:`COLUMN_WIDTH` [in] (the panels in reading order, three a row, the key below).
+        :data:`PAGE_WIDTH` (panels of at least :data:`MIN_PANEL_W`, four a row) or
+        :data:`COLUMN_WIDTH` [in] (three a row).
     armature : ndarray, shape (n,), optional
         The drives' armature [kg m^2]: drawn as a fourth part on the diagonal panels where
-        nonzero (the combined curve includes it).
+        nonzero, above the combined curve (which includes it).
+    part : int, optional
+        Which part of :func:`element_parts` to draw (0: the first).
 
     Returns
     -------
     matplotlib.figure.Figure
-        ``width`` wide (wider for n >= 8 at page width, with panels of at least 0.55 in);
-        at most :data:`gd_analyze.reports.common.MAX_MARKERS` markers per line; the combined
-        curve drawn first and thin; y tick labels in one notation for the whole figure.
+        ``width`` wide, the panels in reading order (D11, D12, ..., D22, ...), each y axis
+        labelled with its units and power of ten (``[10⁻³ kg m²]``); a marker at every set
+        point for up to :data:`gd_analyze.reports.figure_style.MARK_EVERY_POINT` of them;
+        below, the parts' legend, the key of the title colours and a note naming the ≡ 0
+        elements.
     """
-    Dt, Dr, D = (data.series[k] for k in ("D_tran", "D_rot", "D"))
-    n = D.shape[1]
-    units = {element_label("D", i, j): element_units("D", i, j, prismatic)
-             for i in range(n) for j in range(i, n)}
-    mixed = len(set(units.values())) > 1
-    wgap = _gaps(True)                  # as fig_h's: panels of one size in both figures
-    column = width < PAGE_WIDTH and n > 2
-    if column:                          # three a row: said-once units leave room for it
-        wgap = _gaps(mixed)
-        cols, w, h = _grid(len(units), width, wgap, _MIN_COLUMN_PANEL_W)
-        rows = math.ceil(len(units) / cols)
-        place = {lab: divmod(k, cols) for k, lab in enumerate(units)}
-        H_panels = _TOP + rows * h + (rows - 1) * _HGAP + _BOTTOM
-        W = width
-    else:
-        w = _panel_width(n, width, wgap)
-        h = _panel_height(w)
-        place = {element_label("D", i, j): (i, j) for i in range(n) for j in range(i, n)}
-        W = _LEFT + _RIGHT + n * w + (n - 1) * wgap
-        H_panels = _TOP + _BOTTOM + n * h + (n - 1) * _HGAP
-    key = (f"{_math('D_ij')}"
-           + ("" if mixed else f" [{_shown(next(iter(units.values())))}]")
-           + " against time t [s]" + ("; units on each panel's axis" if mixed else "")
-           + ("" if column else f"; panel {_math('D_ij')} in row i, column j")
-           + f". Title: element and its class: tran(slational), rot(ational), both, "
-           f"negl(igible) (s = {s:g}, e = {e:g}); \u2261\u00a00: zero in every part "
-           f"(below {decade_label(ROUND_OFF)} of its scale).")
-    H = H_panels + (1.05 if column else 0.0)
-    fig = _figure(W, H)
-    x = data.x
-    first = None
-    ys = []
-    nb = 2 if h < 0.6 else 3
-    for i in range(n):
-        for j in range(i, n):
-            label = element_label("D", i, j)
-            r, c = place[label]
-            ax = _axes(fig, _LEFT + c * (w + wgap), _TOP + r * (h + _HGAP), w, h)
-            if zero.get(label, False):
-                _zero_panel(ax, x, label)
-            else:
-                parts = (Dt[:, i, j], Dr[:, i, j], D[:, i, j])
-                if i == j and armature is not None and armature[i] > 0:
-                    parts += (np.full(np.shape(Dt[:, i, j]), float(armature[i])),)
-                _element_panel(ax, x, parts, label, dominance.get(label, ""), data.enveloped,
-                               nb)
-                first = first or ax
-                ys.append(ax.yaxis)
-            if mixed:
-                _unit_label(ax, units[label])
-            bottom = i == j
-            if column:                  # the lowest panel of its column
-                bottom = not any(cc == c and rr == r + 1 for rr, cc in place.values())
-            _time_axis(ax, x, labels=bottom, nbins=2 if w < 0.7 else 3)
-            if bottom:
-                ax.set_xlabel("t [s]", labelpad=1.0)
-    label_axes(ys)
-    if column:
-        _key_below(fig, first, W, H, H_panels, key)
-    else:
-        _key(fig, first, n, w, h, W, H, key, wgap)
-    return fig
-
-
-def _key_below(fig, source, W, H, top, text):
-    """Legend and key under the panels of a column-width figure."""
-    import textwrap
-
-    if source is None:
-        return
-    fig.legend(*_legend_order(source), loc="upper center", ncol=3, frameon=False,
-               handlelength=2.4, columnspacing=1.0, bbox_to_anchor=(0.5, 1 - (top - 0.05) / H),
-               borderaxespad=0.0, fontsize=7)
-    chars = max(24, int((W - 0.2) / (7.0 * 0.52 / 72)))
-    fig.text(0.1 / W, 1 - (top + 0.22) / H, textwrap.fill(text, chars), fontsize=7, va="top",
-             ha="left", linespacing=1.25)
-
-
-def _key(fig, source, n, w, h, W, H, text, wgap=_WGAP):
-    import textwrap
-
-    if source is None:
-        return
-    handles, labels = _legend_order(source)
-    if n >= 3:
-        width = (n // 2) * (w + wgap)
-        y = _TOP + (n - n // 2) * (h + _HGAP) + 0.1
-        fig.legend(handles, labels, loc="upper left", frameon=False, handlelength=2.6,
-                   bbox_to_anchor=(0.05 / W, 1 - y / H), borderaxespad=0.0)
-        chars = max(24, int(width / (7.0 * 0.55 / 72)))
-        below = 0.62 + 0.16 * max(0, len(handles) - 3)     # the legend's height [in]
-        fig.text(0.08 / W, 1 - (y + below) / H, textwrap.fill(text, chars), fontsize=7,
-                 va="top", ha="left", linespacing=1.3)
-    else:
-        fig.legend(handles, labels, loc="lower center", ncol=3, frameon=False,
-                   handlelength=2.6, bbox_to_anchor=(0.5, 0.0))
+    panels, zeros = d_panels(data, dominance, zero, prismatic, armature)
+    chunks = element_parts([p[0] for p in panels], width)
+    drawn = [p for p in panels if p[0] in set(chunks[part])]
+    arm = any("arm" in p[1] for p in panels)
+    key = (f"{_math('D_ij')} against time t [s], i \u2264 j, in reading order; each y axis "
+           "in the panel's units, times the power of ten it shows. Classes with "
+           f"s\u00a0=\u00a0{s:g}, e\u00a0=\u00a0{e:g}."
+           + (" The combined curve includes the armature." if arm else "")
+           + _zero_note("D", zeros)
+           + (f" Part {part + 1} of {len(chunks)}." if len(chunks) > 1 else ""))
+    return _element_figure(data.x, drawn, data.enveloped, width, key, "D")
 
 
 def fig_h(data, dominance, zero, prismatic=None, width=PAGE_WIDTH):
-    """The analogue of Fig. 3.11: one panel per h_i, as large as the panels of :func:`fig_D`.
+    """The analogue of Fig. 3.11: one panel per h_i that is not ≡ 0, as large as those of
+    :func:`fig_D`.
 
     Parameters
     ----------
@@ -365,45 +409,20 @@ def fig_h(data, dominance, zero, prismatic=None, width=PAGE_WIDTH):
     Returns
     -------
     matplotlib.figure.Figure
-        n panels in rows (up to 7 a row at page width, 3 at column width), legend below; one
-        tick notation per figure; at most about 12 markers per line.
+        As :func:`fig_D`: panels in rows, legend, title colours' key and the note below.
     """
     ht, hr, hh = (data.series[k] for k in ("h_tran", "h_rot", "h"))
-    n = hh.shape[1]
-    units = [element_units("h", i, None, prismatic) for i in range(n)]
-    wgap = _gaps(True)
-    if width < PAGE_WIDTH:
-        cols, w, h = _grid(n, width, wgap)
-    else:
-        w = _panel_width(n, width, wgap)
-        h = _panel_height(w)
-        cols = min(n, max(1, int((width - _LEFT - _RIGHT + wgap) / (w + wgap) + 1e-6)))
-    rows = math.ceil(n / cols)
-    W = max(width, _LEFT + _RIGHT + cols * w + (cols - 1) * wgap)
-    hgap = _HGAP + 0.28
-    H = _TOP + 0.62 + rows * h + (rows - 1) * hgap
-    fig = _figure(W, H)
-    first = None
-    ys = []
-    for i in range(n):
-        r, c = divmod(i, cols)
-        ax = _axes(fig, _LEFT + c * (w + wgap), _TOP + r * (h + hgap), w, h)
+    panels, zeros = [], []
+    for i in range(hh.shape[1]):
         label = element_label("h", i)
         if zero.get(label, False):
-            _zero_panel(ax, data.x, label)
-        else:
-            _element_panel(ax, data.x, (ht[:, i], hr[:, i], hh[:, i]), label,
-                           dominance.get(label, ""), data.enveloped, 2 if h < 0.6 else 3)
-            first = first or ax
-            ys.append(ax.yaxis)
-        _unit_label(ax, units[i])
-        _time_axis(ax, data.x, labels=True, nbins=2 if w < 0.7 else 3)
-        ax.set_xlabel("t [s]", labelpad=1.0)
-    label_axes(ys)
-    if first is not None:
-        fig.legend(*_legend_order(first), loc="lower center", ncol=3,
-                   frameon=False, handlelength=2.6, bbox_to_anchor=(0.5, 0.02 / H))
-    return fig
+            zeros.append(label)
+            continue
+        panels.append((label, {"tran": ht[:, i], "rot": hr[:, i], "total": hh[:, i]},
+                       dominance.get(label, ""), element_units("h", i, None, prismatic)))
+    key = (f"{_math('h_i')} against time t [s]; each y axis in the panel's units, times the "
+           "power of ten it shows." + _zero_note("h", zeros))
+    return _element_figure(data.x, panels, data.enveloped, width, key, "h")
 
 
 def fig_joints(data, prismatic=None, width=PAGE_WIDTH):

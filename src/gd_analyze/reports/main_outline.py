@@ -8,6 +8,7 @@ with numbered captions, figures with numbered captions.
 from __future__ import annotations
 
 from ..core.selection.ranking import ROUND_OFF
+from .budget_figures import BUDGET_CAPTIONS
 from .markup import element, sub
 from .sections import Outline
 from .ticks import decade_label
@@ -108,6 +109,8 @@ def main_outline(ctx, figures):
     o.section("2", "Acceleration-related elements of D (analogue of Fig. 3.10)", "D")
     o.paragraph(ctx["D_text"], "note")
     o.figure("D", caps["D"])
+    for part in range(2, 6):            # the panels that did not fit on one page
+        o.figure(f"D_{part}", f"{caps['D']} (Part {part}.)")
     o.section("3", "Coriolis and centrifugal elements of h (analogue of Fig. 3.11)", "h")
     o.figure("h", caps["h"])
 
@@ -119,6 +122,7 @@ def main_outline(ctx, figures):
 
     o.section("5", "Simplified model and torque error", "simplified")
     o.paragraph(ctx["simplified_intro"], "note")
+    o.figure("contributions", BUDGET_CAPTIONS["contributions"])
     o.section("5.1", "Torque error along the trajectory")
     o.table(ctx["error"], "Open-loop torque error of the simplified model per joint, "
                           "\u03c4" + sub("s") + " \u2212 \u03c4 along the trajectory.")
@@ -133,9 +137,11 @@ def main_outline(ctx, figures):
         o.paragraph(sm["text"], "note")
         o.table(sm["bound"], "Bound on the torque error per joint, split by where the dropped "
                              "terms sit, beside the measured peak error.")
+        o.figure("budget", BUDGET_CAPTIONS["budget"])
         if sm["costs"]:
             o.section("5.4", "Cost per set point (counted)")
             o.table(sm["costs"], "Operations per set point, counted on each model's code.")
+            o.figure("cost_ladder", BUDGET_CAPTIONS["cost_ladder"])
         if sm["ladder"] or sm["ladder_note"]:
             o.section(*_split(sm["ladder_heading"]))
             if sm["ladder"]:

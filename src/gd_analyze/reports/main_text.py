@@ -414,9 +414,9 @@ def captions(enveloped, N, s, e, units=None, alike=()):
                f"{ENVELOPE_COLUMNS:,} equal time columns, without markers; lines: translational solid, rotational dashed, "
                "combined dotted")
     else:
-        from .common import panel_markevery
+        from .figure_style import element_markevery
 
-        k = panel_markevery(N, 3)
+        k = element_markevery(N, 3)
         where = (f"Markers at each of the {N:,} set points" if k == 1 else
                  f"Lines through all {N:,} set points, a marker at one set point in {k} "
                  f"(at most {-(-N // k)} per line, staggered)")
@@ -434,8 +434,9 @@ def captions(enveloped, N, s, e, units=None, alike=()):
         "D": f"Elements {element('D', 'ij')} (i \u2264 j) of the inertia matrix against time "
              f"[{u['D']}], "
              f"split into their translational and rotational parts (analogue of Fig. 3.10). "
-             f"{how}. Panel title: element and its class (s = {s}, e = {e}); \u2261 0 marks "
-             "an element that is zero in every part, whose share is not defined.",
+             f"{how}. Panel title: element and its class (s = {s}, e = {e}), in the class's "
+             "colour (key below the panels); an element that is zero in every part (\u2261 0), "
+             "whose share is not defined, has no panel: the note below names it.",
         "h": f"Coriolis and centrifugal elements {element('h', 'i')} against time "
              f"[{u['tau']}] (analogue of "
              "Fig. 3.11), "

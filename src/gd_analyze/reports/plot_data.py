@@ -12,7 +12,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-__all__ = ["PlotData", "plot_data", "DERIVED", "ENVELOPE_THRESHOLD", "ENVELOPE_COLUMNS",
+__all__ = ["PlotData", "plot_data", "DERIVED", "OPTIONAL", "ENVELOPE_THRESHOLD", "ENVELOPE_COLUMNS",
            "READ_CHUNK"]
 
 #: Series longer than this are read and drawn as a min/max envelope per column.
@@ -34,8 +34,9 @@ class PlotData:
     enveloped : bool
         True if the series are min/max envelopes (no markers are drawn).
     series : dict of str to ndarray
-        ``q``, ``qd``, ``qdd``, ``h_tran``, ``h_rot``, ``h``, ``tau``, ``tau_simplified``
-        (M, n) and ``D_tran``, ``D_rot``, ``D`` (M, n, n).
+        ``q``, ``qd``, ``qdd``, ``h_tran``, ``h_rot``, ``h``, ``c``, ``tau``,
+        ``tau_simplified``, ``tau_error``, ``D_tran_qdd``, ``D_rot_qdd`` (M, n) and
+        ``D_tran``, ``D_rot``, ``D`` (M, n, n).
     N : int
         Set points stored.
     """
@@ -50,19 +51,38 @@ def _read(var, a, b):
     return np.asarray(var[a:b].values, dtype=float)
 
 
-#: Series computed from stored ones as they are read: name -> (a, b), meaning a - b.
-DERIVED = {"tau_error": ("tau_simplified", "tau")}
+def _difference(a, b):
+    return a - b
+
+
+def _times_qdd(D, qdd):
+    return np.einsum("tij,tj->ti", D, qdd)
+
+
+#: Series computed from stored ones as they are read, per chunk: name -> (stored variables,
+#: function of their chunks). ``tau_error`` = tau_s - tau; ``D_tran_qdd`` and ``D_rot_qdd``
+#: = D^tran qdd and D^rot qdd (N, n), the inertial contributions to tau (Eq. (3.4-25)).
+DERIVED = {"tau_error": (("tau_simplified", "tau"), _difference),
+           "D_tran_qdd": (("D_tran", "qdd"), _times_qdd),
+           "D_rot_qdd": (("D_rot", "qdd"), _times_qdd)}
+#: Series read only if the dataset holds what they need (the torque contributions' figure).
+OPTIONAL = ("c", "D_tran_qdd", "D_rot_qdd")
 
 
 def _chunk(ds, v, a, b):
     if v in DERIVED:
-        first, second = DERIVED[v]
-        return _read(ds[first], a, b) - _read(ds[second], a, b)
+        inputs, f = DERIVED[v]
+        return f(*(_read(ds[k], a, b) for k in inputs))
     return _read(ds[v], a, b)
 
 
+def _held(ds, v):
+    return all(k in ds.variables for k in (DERIVED[v][0] if v in DERIVED else (v,)))
+
+
 def plot_data(ds, names=("q", "qd", "qdd", "D_tran", "D_rot", "D", "h_tran", "h_rot", "h",
-                          "tau", "tau_simplified", "tau_error"), columns=ENVELOPE_COLUMNS,
+                          "tau", "tau_simplified", "tau_error", *OPTIONAL),
+              columns=ENVELOPE_COLUMNS,
               threshold=ENVELOPE_THRESHOLD, chunk=READ_CHUNK, progress=None):
     """Read the series to plot from a stored analysis, reduced if long.
 
@@ -72,8 +92,9 @@ def plot_data(ds, names=("q", "qd", "qdd", "D_tran", "D_rot", "D", "h_tran", "h_
         An opened results file (lazily loaded: only chunks are read) with ``t`` (N,) [s] and
         the variables ``names`` with first dimension ``setpoint``.
     names : sequence of str, optional
-        The variables to read; ``tau_error`` is tau_simplified - tau (:data:`DERIVED`), taken
-        per chunk before the envelope.
+        The variables to read; ``tau_error``, ``D_tran_qdd`` and ``D_rot_qdd`` are derived
+        from stored ones (:data:`DERIVED`), per chunk before the envelope; those of
+        :data:`OPTIONAL` are left out if the dataset lacks what they need.
     columns : int, optional
         Columns of the envelope of a long series.
     threshold : int, optional
@@ -90,6 +111,7 @@ def plot_data(ds, names=("q", "qd", "qdd", "D_tran", "D_rot", "D", "h_tran", "h_
         at the column's mid-time, in time order (2 * columns points); memory stays a few chunks
         whatever N is.
     """
+    names = [v for v in names if v not in OPTIONAL or _held(ds, v)]
     t = np.asarray(ds["t"].values, dtype=float)
     N = t.size
     if N <= threshold:

@@ -24,9 +24,9 @@ __all__ = ["has_simplified", "simplified_context", "error_figure", "SIMPLIFIED_C
 SIMPLIFIED_CAPTION = ("Torque error of the simplified model, \u03c4\u209b \u2212 \u03c4 "
                       "[{units}], "
                       "per joint against time, with the guaranteed bound \u00b1 (dotted; on "
-                      "this trajectory only). A joint whose model drops nothing (bound 0) reads "
-                      "\u201c\u03c4\u209b = \u03c4\u201d: its difference is floating-point "
-                      "round-off, not drawn.")
+                      "this trajectory only). The joints whose model drops nothing (bound 0) "
+                      "get no panel: the note below names them; their difference is "
+                      "floating-point round-off.")
 
 def simplified_caption(ds):
     """The caption of :func:`error_figure`, with the units of each joint's torque.
@@ -335,15 +335,15 @@ def _round_off(diff, bound, scale, arm_scale=None):
                 and is_round_off(float(np.max(np.abs(diff))), scale, arm_scale=arm_scale))
 
 
-def error_figure(ds, size=(8.27, 9.0), data=None):
+def error_figure(ds, width=7.2, data=None):
     """Per-joint plots of tau_s - tau against time, with the guaranteed band +- bound.
 
     Parameters
     ----------
     ds : xarray.Dataset
         With ``t``, ``tau``, ``tau_simplified`` (N, n) [N m] and ``simplified_bound`` (n,).
-    size : tuple, optional
-        Figure size [in]; narrower than 5 in (a 3.5-in column) gives one panel a row, else
+    width : float, optional
+        Figure width [in]; narrower than 5 in (a 3.5-in column) gives one panel a row, else
         two.
     data : gd_analyze.reports.main_figures.PlotData, optional
         The series as the report reads them, with ``tau_error`` (tau_s - tau per set point,
@@ -353,14 +353,15 @@ def error_figure(ds, size=(8.27, 9.0), data=None):
     Returns
     -------
     matplotlib.figure.Figure
-        Panels on a fixed grid (no layout engine: the margins are set for the 7-pt tick
-        labels, the 8-pt axis labels and the panel titles; no figure title, which the
-        numbered caption gives); ticks placed once, in one notation for
-        the figure (:func:`gd_analyze.reports.ticks.label_axes`), every y range padded so that
-        neither the error nor the bound touches the frame; the legend above the panels,
-        clear of every curve. A joint whose difference and bound are round-off
-        (:func:`_round_off`, :data:`gd_analyze.core.selection.ranking.ROUND_OFF`) reads "τₛ = τ"
-        instead of a curve of noise.
+        One panel per joint whose difference is not round-off, on a fixed grid (no layout
+        engine: the margins are set for the 7-pt tick labels, the 8-pt axis labels and the
+        panel titles; no figure title, which the numbered caption gives); ticks placed once,
+        in one notation for the figure (:func:`gd_analyze.reports.ticks.label_axes`), every y
+        range padded so that neither the error nor the bound touches the frame; the legend
+        above the panels, clear of every curve. The joints whose difference and bound are
+        round-off (:func:`_round_off`, :data:`gd_analyze.core.selection.ranking.ROUND_OFF`)
+        get no panel: a note below names them ("nothing dropped: τₛ = τ up to round-off")
+        with their peak difference.
     """
     from matplotlib.figure import Figure
 
@@ -376,16 +377,20 @@ def error_figure(ds, size=(8.27, 9.0), data=None):
     bound = ds["simplified_bound"].values
     scale = ds["simplified_scale"].values if "simplified_scale" in ds else ds["tau_peak"].values
     arm = arm_scales(scale, units)
-    W, H = size
+    quiet = [i for i in range(n) if _round_off(diff[:, i], bound[i], scale[i], arm[i])]
+    shown = [i for i in range(n) if i not in quiet]
+    W = width
     column = W < 5.0
-    cols = 2 if n > 1 and not column else 1
-    rows = -(-n // cols)
+    cols = 2 if len(shown) > 1 and not column else 1
+    rows = -(-len(shown) // cols)
     left, right, gap, top, bottom, hgap = 0.62, 0.1, 0.75, 0.5, 0.42, 0.62
     if column:
         top, hgap = 0.45, 0.5
+    h = 1.0 if column else 1.6
+    note_h = (0.3 if not column else 0.5) if quiet else 0.0
+    H = (top + rows * h + (rows - 1) * hgap + bottom if shown else 0.1) + note_h
     w = (W - left - right - (cols - 1) * gap) / cols
-    h = (H - top - bottom - (rows - 1) * hgap) / rows
-    fig = Figure(figsize=size)
+    fig = Figure(figsize=(W, H))
     if data is not None and data.enveloped:     # the set points' range, not the columns'
         t = np.asarray(t, float)
         t0, t1 = float(ds["t"][0]), float(ds["t"][-1])
@@ -393,8 +398,8 @@ def error_figure(ds, size=(8.27, 9.0), data=None):
         t0, t1 = (float(t[0]), float(t[-1])) if t.size else (0.0, 1.0)
     handles = None
     ys = []
-    for i in range(n):
-        r, c = divmod(i, cols)
+    for k, i in enumerate(shown):
+        r, c = divmod(k, cols)
         x0, y0 = left + c * (w + gap), top + r * (h + hgap)
         ax = fig.add_axes((x0 / W, 1 - (y0 + h) / H, w / W, h / H))
         ax.set_xlim(t0, t1 if t1 > t0 else t0 + 1.0)
@@ -405,14 +410,6 @@ def error_figure(ds, size=(8.27, 9.0), data=None):
         which = "" if column else f" (joint {i + 1})"   # a column's panels are short
         ax.set_ylabel(f"\u03c4\u209b \u2212 \u03c4{which} [{units[i]}]", fontsize=8,
                       labelpad=1.0)
-        if _round_off(diff[:, i], bound[i], scale[i], arm[i]):
-            peak = f"{float(np.max(np.abs(diff[:, i]))):.1e}".replace("-", MINUS)
-            ax.text(0.5, 0.5, f"nothing dropped: \u03c4\u209b = \u03c4\nup to round-off "
-                    f"(peak {peak} {units[i]})", transform=ax.transAxes,
-                    ha="center", va="center", fontsize=7, color="0.35", linespacing=1.5)
-            ax.set_ylim(-1, 1)
-            ax.yaxis.set_ticks([])
-            continue
         line, = ax.plot(t, diff[:, i], color="#D55E00", linewidth=1.1,
                         label="\u03c4\u209b \u2212 \u03c4")
         span = [0.0]
@@ -437,4 +434,17 @@ def error_figure(ds, size=(8.27, 9.0), data=None):
         fig.legend(handles, [hd.get_label() for hd in handles], loc="upper center", ncol=2,
                    frameon=False, fontsize=7, handlelength=2.6,
                    bbox_to_anchor=(0.5, 1 - 0.08 / H))
+    if quiet:
+        peaks = "; ".join(
+            f"{i + 1}: "
+            + f"{float(np.max(np.abs(diff[:, i]))):.1e}".replace("-", MINUS) + f" {units[i]}"
+            for i in quiet)
+        import textwrap
+
+        what = ("joint " if len(quiet) == 1 else "joints ") + ", ".join(
+            str(i + 1) for i in quiet)
+        text = (f"Nothing dropped for {what} (bound 0): \u03c4\u209b = \u03c4 up to "
+                f"round-off, not drawn (peak |\u03c4\u209b \u2212 \u03c4|, joint {peaks}).")
+        fig.text(0.1 / W, (note_h - 0.06) / H, textwrap.fill(text, int((W - 0.2) / 0.058)),
+                 fontsize=7, va="top", ha="left", color="0.25")
     return fig                      # no title inside: the numbered caption says it

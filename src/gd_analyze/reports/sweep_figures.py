@@ -27,7 +27,7 @@ from .markup import TRAN as _TRAN
 from .markup import label as _math
 from .ticks import decade_label
 
-__all__ = ["make_sweep_figures", "REQUIRED"]
+__all__ = ["make_sweep_figures", "REQUIRED", "KEPT"]
 
 #: The variables of a sweep dataset the figures and the report read.
 REQUIRED = ("share_tran", "dominance", "choice", "source", "duration", "tau_peak",
@@ -39,6 +39,9 @@ REQUIRED = ("share_tran", "dominance", "choice", "source", "duration", "tau_peak
 # The choices of the merged model in the colours of their classes.
 _CHOICE_COLOURS = {"tran": _CLASS_COLOURS["translational"], "rot": _CLASS_COLOURS["rotational"],
                    "both": _CLASS_COLOURS["both"], "none": _CLASS_COLOURS["negligible"]}
+#: Panel titles: the part of the element the merged model keeps, said as such (issue 31: "D16
+#: → rot" read as a class).
+KEPT = {"tran": "keeps tran", "rot": "keeps rot", "both": "keeps both", "none": "dropped"}
 _OWN_COLOUR, _MERGED_COLOUR = "#009E73", "#000000"
 #: Width of every figure: the text of a page [in]; the column versions' [in].
 _PAGE_WIDTH, COLUMN_WIDTH = 7.2, 3.5
@@ -110,7 +113,7 @@ def _zero_share_panel(ax, label, merged):
     ax.set_title(f"{_math(label)}: \u2261 0", color=_CHOICE_COLOURS.get(merged, "black"), pad=2.5)
 
 
-def _share_panel(ax, values, label, merged, fractions, s, small, zero=None):
+def _share_panel(ax, values, label, merged, fractions, s, small, zero=None, two_lines=False):
     """One element: a box of its share_tran over the trajectories, thresholds s and 1 - s;
     trajectories on which the element is round-off (``zero``) are left out of the box."""
     if zero is not None:
@@ -143,7 +146,9 @@ def _share_panel(ax, values, label, merged, fractions, s, small, zero=None):
     ax.set_yticks([0.0, 0.5, 1.0])
     ax.yaxis.set_major_formatter("{x:.2g}")
     ax.tick_params(length=2.0, pad=1.5)
-    ax.set_title(f"{_math(label)} \u2192 {merged}", color=_CHOICE_COLOURS.get(merged, "black"), pad=2.5)
+    ax.set_title(f"{_math(label)}:{chr(10) if two_lines else ' '}{KEPT.get(merged, merged)}",
+                 color=_CHOICE_COLOURS.get(merged, "black"), pad=2.5,
+                 linespacing=1.0)           # a narrow (column) panel: two lines
     ax.set_xlabel(_fraction_text(fractions), fontsize=7.0, labelpad=1.5,
                   color="0.15")
 
@@ -154,7 +159,8 @@ def _key_text(ds, K):
         f"Box: translational share \u03a3|{_TRAN}| / (\u03a3|{_TRAN}| + \u03a3|{_ROT}|) of the "
         f"element X over the {K} trajectories (box: quartiles; whiskers: min and max; coloured bar: median). "
         f"Dashed lines: s = {s:g} and 1 \u2212 s; blue band: translational, orange band: "
-        f"rotational. Title: element \u2192 choice of the merged model. Bottom: fraction of "
+        f"rotational. Title: element and the part the merged model keeps (keeps tran, "
+        f"keeps rot, keeps both, or dropped). Bottom: fraction of "
         f"trajectories per class (T translational, R rotational, B both, N negligible, "
         f"e = {e:g}). \u2261 0: round-off ({ROUND_OFF_WORDS}) in every part on every "
         f"trajectory, no share drawn; on the trajectories where an element is round-off its "
@@ -212,15 +218,15 @@ def _fig_D_column(ds, W):
     elements = [element_label("D", i, j) for i in range(n) for j in range(i, n)]
     cols = 3
     rows = -(-len(elements) // cols)
-    H = 0.62 + rows * 0.95 + 1.55
+    H = 0.74 + rows * 1.08 + 1.55           # titles of two lines
     fig = Figure(figsize=(W, H))
-    gs = _gridspec(fig, rows, cols, left=0.55, right=0.08, top=0.62, bottom=1.75, wgap=0.3,
-                   hgap=0.42)
+    gs = _gridspec(fig, rows, cols, left=0.55, right=0.08, top=0.74, bottom=1.75, wgap=0.3,
+                   hgap=0.55)
     for m, label in enumerate(elements):
         k = labels.index(label)
         ax = fig.add_subplot(gs[m // cols, m % cols])
         _share_panel(ax, share[:, k], label, merged[label], frac[k], s, small=True,
-                     zero=zero[:, k])
+                     zero=zero[:, k], two_lines=True)
         ax.tick_params(labelleft=(m % cols == 0))
     fig.text(0.1 / W, 1.5 / H, textwrap.fill(_key_text(ds, ds.sizes["trajectory"])
                                              .replace("\n", " "), 68),
