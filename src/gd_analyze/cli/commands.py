@@ -56,6 +56,24 @@ def _apply_mounting(robot, args):
     return with_mounting(robot, getattr(args, "gravity", None), getattr(args, "base_rpy", None))
 
 
+def model_mounting(model_robot, args, path):
+    """The reference arm of ``evaluate`` and ``control``: the model's robot mounted by
+    ``--gravity`` and ``--base-rpy`` in the world, in place of the mounting it was built with
+    (never on top of it); an option equal to that mounting changes nothing, with one note."""
+    import numpy as np
+
+    from ..core.model.mounting import mounting_of
+
+    rpy, g_world = mounting_of(model_robot)
+    for opt, given, own in (("--gravity", args.gravity, g_world),
+                            ("--base-rpy", args.base_rpy, rpy)):
+        if given is not None and np.array_equal(np.asarray(given, float), own):
+            warnings.warn(f"{opt} {','.join(f'{float(v):g}' for v in own)} is the mounting "
+                          f"{path} was built with (recorded in it): applied once, not again",
+                          InputWarning)
+    return _apply_mounting(model_robot, args)
+
+
 def mounting_settings(args, robot):
     """The mounting, for the provenance: the options as given and the gravity they give in the
     base frame [m/s^2]."""
@@ -529,7 +547,7 @@ def cmd_evaluate(args):
     model = load_model(args.model)
     traj = read_trajectory(args.trajectory, n_joints=model.robot.n)
     _warn_provenance(args.trajectory, model.robot)
-    plant = apply_payload(_apply_mounting(model.robot, args), args)
+    plant = apply_payload(model_mounting(model.robot, args, args.model), args)
     err = evaluate(model, traj, plant=plant)
     worst = err.pop("max_relative_peak_error")
     scope, verdict = coverage(model, traj, plant=plant), gate(err, model, args.max_error)
@@ -638,7 +656,7 @@ def cmd_control(args):
     try:
         result = run_control(model, traj, wn=args.wn, zeta=args.zeta, q0_offset=args.offset,
                              model_path=args.model, model_sha256=file_sha256(args.model),
-                             plant=_apply_mounting(model.robot, args),
+                             plant=model_mounting(model.robot, args, args.model),
                              verdict_tolerance=args.verdict_tolerance)
     except ValueError as exc:
         raise InputError(str(exc)) from None

@@ -362,6 +362,7 @@ class SimplifiedModel:
             "robot": {"name": self.robot.name, "sha256": self.robot.sha256,
                       "parameters_sha256": parameters_sha256(self.robot.to_dict()),
                       "source": self.robot.source, "parameters": self.robot.to_dict()},
+            "mounting": self._mounting(),
             "dominance_threshold": self.dominance_threshold,
             "negligible_threshold": self.negligible_threshold,
             "choices": dict(self.choices),
@@ -389,6 +390,14 @@ class SimplifiedModel:
         if self.inertia_check is not None:
             out["inertia_check"] = dict(self.inertia_check)
         return out
+
+    def _mounting(self):
+        """The mounting the model was built with, for the file (``mounting``)."""
+        from ..model.mounting import mounting_of
+
+        rpy, g_world = mounting_of(self.robot)
+        return {"base_rpy_deg": [float(v) for v in rpy],
+                "gravity_world": [float(v) for v in g_world]}
 
     def scope(self):
         """Where the model's bound holds, in one sentence (issue 29 item 4).
