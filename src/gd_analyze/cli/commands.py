@@ -437,7 +437,7 @@ def cmd_plan(args):
             raise InputError(f"{name}: {len(vals)} values for {robot.n} joints")
     start = start if args.start is None else user_positions(robot, args.start)
     goal = goal if args.goal is None else user_positions(robot, args.goal)
-    from ..core.model.limits import LIMITS, first_beyond
+    from ..core.model.limits import LIMITS, exact_text, first_beyond
 
     if not 2 <= args.setpoints <= 10**8:
         raise InputError("--setpoints: a trajectory needs 2 to 10^8 set points")
@@ -467,6 +467,12 @@ def cmd_plan(args):
         traj = plan_quintic(planning, start, goal, args.setpoints, args.duration)
     except ValueError as exc:
         raise InputError(str(exc)) from None
+    if first_beyond(traj.t, LIMITS["t"]) is not None:       # the CSV reader's rule
+        raise InputError(f"the planned duration, {exact_text(traj.t[-1])} s, is beyond the "
+                         f"supported magnitude {LIMITS['t']:g} s of t: the acceleration or "
+                         f"velocity limits ({qdd_source}) are too small to plan with",
+                         column=None if args.duration is not None or qdd_arg is None
+                         else "--qdd-max")
     for name in ("q", "qd", "qdd"):
         if first_beyond(getattr(traj, name), LIMITS[name]) is not None:
             raise InputError(f"the planned {name} exceeds the supported magnitude "

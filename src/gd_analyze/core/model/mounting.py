@@ -20,7 +20,7 @@ import types
 import numpy as np
 
 from ...errors import InputError
-from .limits import LIMITS
+from .limits import LIMITS, exact_text
 
 __all__ = ["rpy_matrix", "with_mounting", "mounting_of", "as_mounted", "MOUNTING_KEY"]
 
@@ -146,7 +146,7 @@ def _checked(opt, raw, lim):
         raise InputError(f"expected 3 numbers, got {raw!r}", column=opt) from None
     if not (np.isfinite(v).all() and (np.abs(v) <= lim).all()):
         raise InputError(f"expected 3 finite numbers of magnitude at most {lim:g}, got "
-                         f"{', '.join(f'{float(x):g}' for x in v)}", column=opt)
+                         f"{', '.join(exact_text(x) for x in v)}", column=opt)
     return v + 0.0
 
 
