@@ -101,11 +101,24 @@ def apply_payload(robot, args):
 
 def output_folder(args_outdir, *parts):
     """The output folder: -o as given, or reports/<sanitised parts joined by '-'>."""
+    import os
+
     from ..io.staging import safe_name
 
-    if args_outdir:
-        return Path(args_outdir)
-    return Path("reports") / "-".join(safe_name(p) for p in parts)
+    folder = Path(args_outdir) if args_outdir else \
+        Path("reports") / "-".join(safe_name(p) for p in parts)
+    base = folder.absolute()
+    while not os.path.exists(base) and base != base.parent:
+        base = base.parent
+    try:
+        limit = os.pathconf(base, "PC_NAME_MAX")
+    except (OSError, ValueError):
+        limit = 255
+    for part in folder.parts:
+        if len(os.fsencode(part)) > limit:
+            raise InputError(f"a name of {len(os.fsencode(part))} bytes in the path is longer "
+                             f"than the file system allows ({limit})", folder)
+    return folder
 
 
 def _load(args, csv_arg):

@@ -348,16 +348,58 @@ def _carry(real, stage, owners, command, tops=None):
             shutil.copy2(real / path, dst, follow_symlinks=False)
 
 
+#: The longest suffix a sibling name adds to the folder's: ``.`` + ``.gd-tmp-`` + mkdtemp's 8
+#: random characters.
+_SIBLING_EXTRA = 1 + len(TMP_MARK) + 8
+
+
+def sibling_stem(parent, name):
+    """The folder's name as it appears in the names of its siblings (lock, staging, previous
+    set): the name itself, or where that would make a sibling's name longer than the file
+    system allows, its first characters and the SHA-256 of the whole name.
+
+    Parameters
+    ----------
+    parent : pathlib.Path
+        The folder that holds the output folder.
+    name : str
+        The output folder's name.
+
+    Returns
+    -------
+    str
+
+    Examples
+    --------
+    >>> len(sibling_stem(Path("/tmp"), "f" * 245)) <= 255 - _SIBLING_EXTRA
+    True
+    >>> sibling_stem(Path("/tmp"), "out")
+    'out'
+    """
+    try:
+        limit = os.pathconf(parent, "PC_NAME_MAX")
+    except (OSError, ValueError):
+        limit = 255
+    room = limit - _SIBLING_EXTRA
+    if len(os.fsencode(name)) <= room:
+        return name
+    import hashlib
+
+    digest = hashlib.sha256(os.fsencode(name)).hexdigest()[:16]
+    head = os.fsencode(name)[:max(room - 17, 1)].decode(errors="ignore")
+    return f"{head}-{digest}"
+
+
 def _remove_stale(parent, name, real, mount):
     """Undo what a killed run left (called with the lock held: no live run owns it)."""
     if not mount:
-        prev = parent / f".{name}.gd-prev"
+        prev = parent / f".{sibling_stem(parent, name)}.gd-prev"
         if prev.is_dir() and not prev.is_symlink():
             if not os.path.lexists(real):
                 os.rename(prev, real)       # killed between the two renames: the old set back
             else:
                 shutil.rmtree(prev, ignore_errors=True)
-        for p in parent.glob(f".{glob_escape(name)}{TMP_MARK}*"):
+        for p in parent.glob(f".{glob_escape(sibling_stem(parent, name))}{TMP_MARK}*"):
             shutil.rmtree(p, ignore_errors=True)
     if real.is_dir():
         for p in real.glob(f"{TMP_MARK}*"):
@@ -429,7 +471,8 @@ def staged_output(target, outputs=(), command="output"):
         if not all(os.access(a, os.W_OK | os.X_OK) for a in {real if mount else parent,
                                                              *([real] if real.is_dir() else [])}):
             raise InputError("cannot write the output folder: permission denied", target)
-        lock = real / LOCK_SUFFIX if mount else parent / f".{name}{LOCK_SUFFIX}"
+        lock = real / LOCK_SUFFIX if mount else \
+            parent / f".{sibling_stem(parent, name)}{LOCK_SUFFIX}"
         with _lock(lock, target):
             with writing(target):
                 _remove_stale(parent, name, real, mount)
@@ -451,8 +494,8 @@ def _staged(real, target, command, mount):
     inside = real.is_dir() and (mount or _in_place(real))
     where = real if inside else real.parent
     try:
-        stage = Path(tempfile.mkdtemp(prefix=TMP_MARK if inside else f".{real.name}{TMP_MARK}",
-                                      dir=where))
+        stem = TMP_MARK if inside else f".{sibling_stem(where, real.name)}{TMP_MARK}"
+        stage = Path(tempfile.mkdtemp(prefix=stem, dir=where))
     except OSError as exc:
         raise _oserror(exc, target) from None
     try:
@@ -485,7 +528,7 @@ def _swap_folder(real, stage, owners, command):
             if not _renameat2(stage, real, RENAME_NOREPLACE):
                 os.rename(stage, real)      # fails on a folder created meanwhile, not empty
         elif not _renameat2(stage, real, RENAME_EXCHANGE):
-            prev = real.parent / f".{real.name}.gd-prev"
+            prev = real.parent / f".{sibling_stem(real.parent, real.name)}.gd-prev"
             os.rename(real, prev)           # no exchange here: two renames, undone if killed
             os.rename(stage, real)
             os.rename(prev, stage)
