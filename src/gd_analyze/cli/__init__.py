@@ -141,10 +141,14 @@ def run():
     SystemExit
         With the exit status.
     """
+    from ..io.signals import after_run
+
     argv = sys.argv[1:]
     if _main_job(argv):
         _without_dask()
-    sys.exit(main(argv))
+    code = main(argv)
+    after_run(PROG)             # a signal during the interpreter's shutdown: no traceback
+    sys.exit(code)
 
 
 def _main_job(argv):
@@ -188,7 +192,8 @@ def main(argv=None):
 
 
 def _main(argv):
-    from ..io.staging import Terminated, install_signal_handlers
+    from ..io.signals import install
+    from ..io.staging import Terminated
 
     argv = list(sys.argv[1:] if argv is None else argv)
     given = list(argv)
@@ -207,7 +212,8 @@ def _main(argv):
         import threading
 
         if threading.current_thread() is threading.main_thread():
-            install_signal_handlers()
+            install()                   # SIGINT, SIGTERM, SIGHUP: one handler
+
         with warnings.catch_warnings():
             warnings.simplefilter("always", InputWarning)
             warnings.showwarning = _show_warning
@@ -228,12 +234,10 @@ def _main(argv):
         devnull = os.open(os.devnull, os.O_WRONLY)
         os.dup2(devnull, sys.stdout.fileno())
         return EXIT_OK
-    except KeyboardInterrupt:
-        print(f"{PROG}: interrupted", file=sys.stderr)
-        return 130
-    except Terminated as exc:
-        print(f"{PROG}: terminated", file=sys.stderr)
-        return 128 + int(exc.args[0]) if exc.args else 143
+    except (KeyboardInterrupt, Terminated) as exc:      # one path for every signal
+        interrupted = isinstance(exc, KeyboardInterrupt)
+        print(f"{PROG}: {'interrupted' if interrupted else 'terminated'}", file=sys.stderr)
+        return 130 if interrupted else 128 + int(exc.args[0]) if exc.args else 143
     except Exception as exc:  # noqa: BLE001 - the last line of defence: exit 4, one line
         if debug:
             import traceback

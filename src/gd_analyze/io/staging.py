@@ -61,18 +61,14 @@ class Terminated(BaseException):
     """Raised in the main thread on SIGTERM (or SIGHUP), so that clean-up code runs."""
 
 
-def _raise_terminated(signum, frame):
-    raise Terminated(signum)
-
-
 def install_signal_handlers():
-    """Turn SIGTERM and SIGHUP into :class:`Terminated` so that ``finally`` blocks run.
-
-    SIGINT already raises KeyboardInterrupt. Call from the main thread only.
+    """Turn SIGTERM and SIGHUP into :class:`Terminated` and SIGINT into KeyboardInterrupt so
+    that ``finally`` blocks run: the one handler of :func:`gd_analyze.io.signals.install`.
+    Call from the main thread only.
     """
-    for sig in (signal.SIGTERM, getattr(signal, "SIGHUP", None)):
-        if sig is not None:
-            signal.signal(sig, _raise_terminated)
+    from .signals import install
+
+    install()
 
 
 def safe_name(name, fallback="robot"):
