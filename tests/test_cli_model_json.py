@@ -57,6 +57,7 @@ def test_a_coefficient_beyond_a_float_gives_exit_2(made, tmp_path, capsys):
 
     def edit(d):
         d["explicit_terms"]["coef"] = [1e308] * len(d["explicit_terms"]["coef"])
+        del d["cost"]           # else refused as another program's count (issue 32)
     model = _edited(tmp_path, doc, edit)
     _refused(["evaluate", model, traj, "--json"], capsys, "not finite")
     _refused(["evaluate", model, traj], capsys, "not finite")
@@ -66,13 +67,19 @@ def test_a_coefficient_beyond_a_float_gives_exit_2(made, tmp_path, capsys):
 
 
 def test_the_cost_is_counted_not_read(made, tmp_path, capsys):
+    """A stored cost is never shown: one that is not the program's count is refused (the file
+    was edited, issue 32); an edited full_cost is not read."""
     path, traj, doc = made
     counted = load_model(path).program().cost()
 
     def edit(d):
         d["cost"] = {"multiplications": 1, "additions": 2, "sin": 0, "cos": 0}
+    _refused(["control", _edited(tmp_path, doc, edit), traj, "-o", tmp_path / "c",
+              "--no-report"], capsys, "not the cost the file states")
+
+    def edit_full(d):
         d["full_cost"] = {"multiplications": 3, "additions": 4, "sin": 0, "cos": 0}
-    model = _edited(tmp_path, doc, edit)
+    model = _edited(tmp_path, doc, edit_full)
     assert load_model(model).to_dict()["cost"] == counted
     assert load_model(model).header()["operations"].startswith(
         f"{counted['multiplications']} multiplications, {counted['additions']} additions")

@@ -218,3 +218,19 @@ def test_evaluate_warns_when_the_trajectory_was_planned_for_another_robot(tmp_pa
     capsys.readouterr()
     code, out, err = _run(capsys, "evaluate", model, tmp_path / "p.csv")
     assert code == 0 and "warning" not in err
+
+
+# --- issue 32: no numpy warning for a motion without torque ------------------------------------
+
+def test_all_zero_motion_gives_no_numpy_warning(tmp_path, capsys):
+    """At rest without gravity every torque is 0 and every relative error 0/0: the report
+    says there is none to measure, and numpy's 'All-NaN slice' never reaches the terminal."""
+    csv = tmp_path / "rest.csv"
+    csv.write_text("t,q1,q2,qd1,qd2,qdd1,qdd2\n" + "".join(f"{k},0,0,0,0,0,0\n"
+                                                       for k in range(4)))
+    code, out, err = _run(capsys, "two-link", csv, "-o", tmp_path / "out", "--gravity",
+                          "0,0,0")
+    assert code == 0, err
+    assert "All-NaN" not in err and "warning" not in err
+    html = (tmp_path / "out" / "report.html").read_text()
+    assert "no relative error (no joint has torque on this trajectory)" in html

@@ -266,3 +266,25 @@ def test_issue32_the_main_job_on_a_full_disk_is_one_line_and_leaves_nothing(job,
     code, _, err = _run(["two-link", job / "p.csv", "-o", job / "out", "-q"], capsys)
     assert code == 2 and err.count("\n") == 1 and "cannot write the output folder" in err, err
     assert _tree(job) == before and sorted(os.listdir(job)) == ["out", "p.csv"]
+
+
+# --- issue 32: a folder name as long as the file system allows ----------------------------------
+
+def test_a_folder_name_as_long_as_the_file_system_allows(tmp_path, capsys):
+    """245 characters were refused: the lock and staging names beside the folder add their
+    suffixes to its name; they now shorten it (with its SHA-256) where that would not fit.
+    One byte beyond the file system's limit is refused with one line."""
+    limit = os.pathconf(tmp_path, "PC_NAME_MAX")
+    csv = tmp_path / "plan.csv"
+    assert main(["plan", "two-link", "-o", str(csv)]) == 0
+    for length in (245, limit):
+        out = tmp_path / ("f" * length)
+        for _ in range(2):                          # a first run, and a rerun that replaces
+            assert main(["two-link", str(csv), "-o", str(out), "-q", "--no-report"]) == 0
+        assert (out / "results.h5").is_file()
+    assert sorted(p.name for p in tmp_path.iterdir() if p.name.startswith(".")) == \
+        sorted(p.name for p in tmp_path.iterdir() if p.name.endswith(".gd-lock"))
+    capsys.readouterr()
+    code = main(["two-link", str(csv), "-o", str(tmp_path / ("f" * (limit + 1))), "-q"])
+    err = capsys.readouterr().err
+    assert code == 2 and len(err.strip().splitlines()) == 1 and "longer than the file" in err

@@ -11,7 +11,9 @@ Nothing in the package imports this package.
 
 from __future__ import annotations
 
+import contextlib
 import os
+import re
 import sys
 import warnings
 
@@ -33,7 +35,56 @@ from .parsing import (
 )
 from .sweep_command import cmd_sweep
 
-__all__ = ["main", "run", "parse_range"]
+__all__ = ["main", "run", "parse_range", "escape_control"]
+
+
+#: Control characters never written to the terminal as they are (C0 but newline, tab and
+#: carriage return, which a progress bar needs; DEL; C1): an ESC from a robot file, a URDF or
+#: a file name would start a terminal escape sequence (issue 32).
+_CONTROL = re.compile("[\x00-\x08\x0b\x0c\x0e-\x1f\x7f-\x9f]")
+
+
+def escape_control(text):
+    """Text with its control characters written as ``\\xNN`` escapes (:data:`_CONTROL`).
+
+    Parameters
+    ----------
+    text : str
+
+    Returns
+    -------
+    str
+
+    Examples
+    --------
+    >>> escape_control("evil \x1b[31mred\x1b[0m\n")
+    'evil \\x1b[31mred\\x1b[0m\n'
+    """
+    return _CONTROL.sub(lambda m: f"\\x{ord(m.group()):02x}", text)
+
+
+class _Escaping:
+    """A text stream that writes through another with :func:`escape_control`."""
+
+    def __init__(self, stream):
+        self._stream = stream
+
+    def write(self, text):
+        return self._stream.write(escape_control(text))
+
+    def __getattr__(self, name):
+        return getattr(self._stream, name)
+
+
+@contextlib.contextmanager
+def _escaped_output():
+    """sys.stdout and sys.stderr written through :class:`_Escaping` inside the block."""
+    out, err = sys.stdout, sys.stderr
+    sys.stdout, sys.stderr = _Escaping(out), _Escaping(err)
+    try:
+        yield
+    finally:
+        sys.stdout, sys.stderr = out, err
 
 
 def _show_warning(message, category, filename, lineno, file=None, line=None):
@@ -90,10 +141,14 @@ def run():
     SystemExit
         With the exit status.
     """
+    from ..io.signals import after_run
+
     argv = sys.argv[1:]
     if _main_job(argv):
         _without_dask()
-    sys.exit(main(argv))
+    code = main(argv)
+    after_run(PROG)             # a signal during the interpreter's shutdown: no traceback
+    sys.exit(code)
 
 
 def _main_job(argv):
@@ -129,9 +184,16 @@ def main(argv=None):
     int
         The exit status: 0 ok, 1 verification failed, 2 bad input or unusable output location,
         3 evaluate's gate (an error above the model's tolerance x s_i, or above --max-error),
-        4 internal error.
+        4 internal error. Control characters of the output (an ESC from an input file) are
+        written as escapes (:func:`escape_control`).
     """
-    from ..io.staging import Terminated, install_signal_handlers
+    with _escaped_output():          # no control character reaches the terminal
+        return _main(argv)
+
+
+def _main(argv):
+    from ..io.signals import install
+    from ..io.staging import Terminated
 
     argv = list(sys.argv[1:] if argv is None else argv)
     given = list(argv)
@@ -150,7 +212,8 @@ def main(argv=None):
         import threading
 
         if threading.current_thread() is threading.main_thread():
-            install_signal_handlers()
+            install()                   # SIGINT, SIGTERM, SIGHUP: one handler
+
         with warnings.catch_warnings():
             warnings.simplefilter("always", InputWarning)
             warnings.showwarning = _show_warning
@@ -171,12 +234,10 @@ def main(argv=None):
         devnull = os.open(os.devnull, os.O_WRONLY)
         os.dup2(devnull, sys.stdout.fileno())
         return EXIT_OK
-    except KeyboardInterrupt:
-        print(f"{PROG}: interrupted", file=sys.stderr)
-        return 130
-    except Terminated as exc:
-        print(f"{PROG}: terminated", file=sys.stderr)
-        return 128 + int(exc.args[0]) if exc.args else 143
+    except (KeyboardInterrupt, Terminated) as exc:      # one path for every signal
+        interrupted = isinstance(exc, KeyboardInterrupt)
+        print(f"{PROG}: {'interrupted' if interrupted else 'terminated'}", file=sys.stderr)
+        return 130 if interrupted else 128 + int(exc.args[0]) if exc.args else 143
     except Exception as exc:  # noqa: BLE001 - the last line of defence: exit 4, one line
         if debug:
             import traceback

@@ -56,6 +56,24 @@ def _apply_mounting(robot, args):
     return with_mounting(robot, getattr(args, "gravity", None), getattr(args, "base_rpy", None))
 
 
+def model_mounting(model_robot, args, path):
+    """The reference arm of ``evaluate`` and ``control``: the model's robot mounted by
+    ``--gravity`` and ``--base-rpy`` in the world, in place of the mounting it was built with
+    (never on top of it); an option equal to that mounting changes nothing, with one note."""
+    import numpy as np
+
+    from ..core.model.mounting import mounting_of
+
+    rpy, g_world = mounting_of(model_robot)
+    for opt, given, own in (("--gravity", args.gravity, g_world),
+                            ("--base-rpy", args.base_rpy, rpy)):
+        if given is not None and np.array_equal(np.asarray(given, float), own):
+            warnings.warn(f"{opt} {','.join(f'{float(v):g}' for v in own)} is the mounting "
+                          f"{path} was built with (recorded in it): applied once, not again",
+                          InputWarning)
+    return _apply_mounting(model_robot, args)
+
+
 def mounting_settings(args, robot):
     """The mounting, for the provenance: the options as given and the gravity they give in the
     base frame [m/s^2]."""
@@ -83,11 +101,24 @@ def apply_payload(robot, args):
 
 def output_folder(args_outdir, *parts):
     """The output folder: -o as given, or reports/<sanitised parts joined by '-'>."""
+    import os
+
     from ..io.staging import safe_name
 
-    if args_outdir:
-        return Path(args_outdir)
-    return Path("reports") / "-".join(safe_name(p) for p in parts)
+    folder = Path(args_outdir) if args_outdir else \
+        Path("reports") / "-".join(safe_name(p) for p in parts)
+    base = folder.absolute()
+    while not os.path.exists(base) and base != base.parent:
+        base = base.parent
+    try:
+        limit = os.pathconf(base, "PC_NAME_MAX")
+    except (OSError, ValueError):
+        limit = 255
+    for part in folder.parts:
+        if len(os.fsencode(part)) > limit:
+            raise InputError(f"a name of {len(os.fsencode(part))} bytes in the path is longer "
+                             f"than the file system allows ({limit})", folder)
+    return folder
 
 
 def _load(args, csv_arg):
@@ -419,7 +450,7 @@ def cmd_plan(args):
             raise InputError(f"{name}: {len(vals)} values for {robot.n} joints")
     start = start if args.start is None else user_positions(robot, args.start)
     goal = goal if args.goal is None else user_positions(robot, args.goal)
-    from ..core.model.limits import LIMITS, first_beyond
+    from ..core.model.limits import LIMITS, exact_text, first_beyond
 
     if not 2 <= args.setpoints <= 10**8:
         raise InputError("--setpoints: a trajectory needs 2 to 10^8 set points")
@@ -451,6 +482,12 @@ def cmd_plan(args):
         traj = plan_quintic(planning, start, goal, args.setpoints, args.duration)
     except ValueError as exc:
         raise InputError(str(exc)) from None
+    if first_beyond(traj.t, LIMITS["t"]) is not None:       # the CSV reader's rule
+        raise InputError(f"the planned duration, {exact_text(traj.t[-1])} s, is beyond the "
+                         f"supported magnitude {LIMITS['t']:g} s of t: the acceleration or "
+                         f"velocity limits ({qdd_source}) are too small to plan with",
+                         column=None if args.duration is not None or qdd_arg is None
+                         else "--qdd-max")
     for name in ("q", "qd", "qdd"):
         if first_beyond(getattr(traj, name), LIMITS[name]) is not None:
             raise InputError(f"the planned {name} exceeds the supported magnitude "
@@ -531,7 +568,7 @@ def cmd_evaluate(args):
     model = load_model(args.model)
     traj = read_trajectory(args.trajectory, n_joints=model.robot.n)
     _warn_provenance(args.trajectory, model.robot)
-    plant = apply_payload(_apply_mounting(model.robot, args), args)
+    plant = apply_payload(model_mounting(model.robot, args, args.model), args)
     err = evaluate(model, traj, plant=plant)
     worst = err.pop("max_relative_peak_error")
     scope, verdict = coverage(model, traj, plant=plant), gate(err, model, args.max_error)
@@ -640,7 +677,7 @@ def cmd_control(args):
     try:
         result = run_control(model, traj, wn=args.wn, zeta=args.zeta, q0_offset=args.offset,
                              model_path=args.model, model_sha256=file_sha256(args.model),
-                             plant=_apply_mounting(model.robot, args),
+                             plant=model_mounting(model.robot, args, args.model),
                              verdict_tolerance=args.verdict_tolerance)
     except ValueError as exc:
         raise InputError(str(exc)) from None

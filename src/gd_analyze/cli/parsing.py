@@ -9,6 +9,7 @@ from __future__ import annotations
 import argparse
 import decimal
 import math
+import re
 
 from ..config import defaults
 from ..errors import InputError
@@ -16,6 +17,8 @@ from ..errors import InputError
 __all__ = ["parse_range", "PROG", "COMMANDS", "EXIT_STATUS_HELP"]
 
 PROG = "gd-analyze"
+#: A value that starts like a negative number (``-9.81,0,0``, ``-.5``, ``-1e3``).
+_NEGATIVE = re.compile(r"-[0-9.]")
 
 
 COMMANDS = ("analyze", "plan", "evaluate", "compare", "control", "sweep")
@@ -31,11 +34,29 @@ EXIT_STATUS_HELP = ("Exit status: 0 ok, 1 verification failed, 2 bad input or un
 
 
 class _Parser(argparse.ArgumentParser):
-    """argparse that reports usage errors as one line with exit status 2."""
+    """argparse that reports usage errors as one line with exit status 2, and takes a value
+    that starts with a minus sign (``--gravity -9.81,0,0``) as the option's value."""
 
     def error(self, message):
         sub = self.prog[len(PROG):].strip()
         raise InputError(f"{sub}: {message}" if sub else message)
+
+    def parse_intermixed_args(self, args=None, namespace=None):
+        return super().parse_intermixed_args(self._joined(args), namespace)
+
+    def _joined(self, args):
+        """``--opt -1.5,2`` as ``--opt=-1.5,2`` for an option taking one value: argparse
+        reads only ``-1`` or ``-.5`` alone as a negative number, not a list of them."""
+        takes = {o for a in self._actions if a.option_strings and a.nargs is None
+                 and a.type is not None for o in a.option_strings}
+        out, args = [], list(args or [])
+        for k, a in enumerate(args):
+            if out and out[-1] in takes and _NEGATIVE.match(a) and \
+                    (k < 2 or "=" not in args[k - 1]):
+                out[-1] = f"{out[-1]}={a}"
+            else:
+                out.append(a)
+        return out
 
 
 def parse_range(text, name="--payload-sweep"):
@@ -92,12 +113,30 @@ def parse_range(text, name="--payload-sweep"):
     return [float(start + k * step) for k in range(count)]
 
 
+def _number(text, integer=False):
+    """A number of the command line by the trajectory CSV's rules
+    (:func:`gd_analyze.io.trajectory.parse_number`): plain decimal, finite."""
+    from ..io.trajectory import parse_number
+
+    try:
+        return parse_number(text.strip(" "), integer=integer)
+    except ValueError as exc:
+        raise argparse.ArgumentTypeError(str(exc)) from None
+
+
+def _whole(name, lo=0):
+    """A whole number of at least lo, by the CSV's rules (no ``1_0``, no other digits)."""
+    def parse(text):
+        v = _number(text, integer=True)
+        if v < lo:
+            raise argparse.ArgumentTypeError(f"{name} must be at least {lo}, got {v}")
+        return v
+    return parse
+
+
 def _fraction(lo, hi, name, lo_open=True):
     def parse(text):
-        try:
-            v = float(text)
-        except ValueError:
-            raise argparse.ArgumentTypeError(f"{name} must be a number, got {text!r}") from None
+        v = _number(text)
         ok = (lo < v if lo_open else lo <= v) and v <= hi and math.isfinite(v)
         if not ok:
             bracket = "(" if lo_open else "["
@@ -108,13 +147,10 @@ def _fraction(lo, hi, name, lo_open=True):
 
 def _angles(text):
     try:
-        vals = [float(v) for v in text.split(",")]
-    except ValueError:
-        raise argparse.ArgumentTypeError(f"expected comma-separated numbers, got {text!r}") \
-            from None
-    if not all(math.isfinite(v) for v in vals):
-        raise argparse.ArgumentTypeError(f"expected finite numbers, got {text!r}")
-    return vals
+        return [_number(v) for v in text.split(",")]
+    except argparse.ArgumentTypeError as exc:
+        raise argparse.ArgumentTypeError(f"expected comma-separated numbers, got {text!r}: "
+                                         f"{exc}") from None
 
 
 def _verdict_tolerance(text):
@@ -279,7 +315,7 @@ def analyze_parser():
                         "identifier (default: the robot's name made one, plus _, e.g. "
                         "puma560_)")
     _add_paper_argument(p)
-    p.add_argument("--compress", metavar="LEVEL", type=int, choices=range(10),
+    p.add_argument("--compress", metavar="LEVEL", type=_whole("--compress"), choices=range(10),
                    default=defaults["compress"],
                    help="gzip level 0-9 for the per-set-point variables of results.h5 "
                         "(default 0: uncompressed, fastest)")
@@ -348,9 +384,9 @@ def plan_parser():
                         f"{','.join(f'{v:g}' for v in DEFAULT_GOAL_DEG)}; for other robots "
                         "the other end of the start's span: even joints move up, odd joints "
                         "down)")
-    p.add_argument("--setpoints", metavar="N", type=int, default=DEFAULT_SETPOINTS,
+    p.add_argument("--setpoints", metavar="N", type=_whole("--setpoints"), default=DEFAULT_SETPOINTS,
                    help=f"number of set points, both ends included (default {DEFAULT_SETPOINTS})")
-    p.add_argument("--duration", metavar="T", type=float,
+    p.add_argument("--duration", metavar="T", type=_number,
                    help="duration [s] (default: the shortest within the limits)")
     p.add_argument("--ignore-limits", action="store_true",
                    help="plan even if the duration, start or goal breaks the robot's joint "
@@ -478,7 +514,7 @@ def sweep_parser():
                             "sweep_report.html/.pdf.")
     p.add_argument("robot", metavar="ROBOT", help=_robot_help())
     p.add_argument("csv", metavar="CSV", nargs="*", help="trajectory files (or use --random)")
-    p.add_argument("--random", metavar="K", type=int,
+    p.add_argument("--random", metavar="K", type=_whole("--random"),
                    help="plan K random quintic trajectories (start and goal uniform in the "
                         "joint limits, shortest duration within the limits, 31 set points)")
     p.add_argument("--seed", metavar="S", type=_seed, default=0,
@@ -487,7 +523,7 @@ def sweep_parser():
                    help="output folder (default: reports/<robot>-sweep/)")
     p.add_argument("--scheduler", metavar="ADDRESS",
                    help="address of a running dask scheduler (default: start a LocalCluster)")
-    p.add_argument("--workers", metavar="N", type=int,
+    p.add_argument("--workers", metavar="N", type=_whole("--workers", 1),
                    help="workers of the LocalCluster (default: one per core)")
     p.add_argument("--dominance", metavar="S", type=_fraction(0.5, 1.0, "--dominance"),
                    default=defaults["dominance"], help=f"default {defaults['dominance']}")
@@ -499,7 +535,7 @@ def sweep_parser():
                                    "|tau_i|, TAU)); the merged model merged_model.json and its emitted "
                                    "sources",
                           guarantee="the swept trajectories only")
-    p.add_argument("--held-out", metavar="K", type=int, default=20,
+    p.add_argument("--held-out", metavar="K", type=_whole("--held-out"), default=20,
                    help="random trajectories (another seed) to measure the merged model of the "
                         "budget rule on, not guaranteed (default 20)")
     p.add_argument("--no-report", action="store_true", help="skip the HTML and PDF report")
@@ -512,10 +548,7 @@ def sweep_parser():
 
 
 def _seed(text):
-    try:
-        v = int(text)
-    except ValueError:
-        raise argparse.ArgumentTypeError(f"--seed must be an integer, got {text!r}") from None
+    v = _number(text, integer=True)
     if not 0 <= v < 2**63:
         raise argparse.ArgumentTypeError(f"--seed must be in [0, 2^63), got {text}")
     return v

@@ -454,6 +454,8 @@ MODEL_SCHEMA = Obj({
         "source": Field(Str(max_len=4096), required=False),
         "parameters": Obj({}, open_keys=True),
     }),
+    # the key of issue 32: the mounting the model was built with (its gravity is turned)
+    "mounting": Field(Obj({"base_rpy_deg": _NUMS, "gravity_world": _NUMS}), required=False),
     "dominance_threshold": Num(0.5, 1.0, lo_open=True),
     "negligible_threshold": Num(0.0, 1.0),
     "choices": MapOf(Str(choices=("tran", "rot", "both", "none"))),

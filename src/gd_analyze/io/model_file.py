@@ -92,4 +92,25 @@ def load_model(path):
                          "the model was written?)", path, column="robot.parameters_sha256")
     robot = robot_from_dict(rob["parameters"], source=f"{path}#robot",
                             sha256=rob["sha256"] or None)
+    robot = _recorded_mounting(robot, spec, path)
     return SimplifiedModel.from_dict(spec, robot, path)
+
+
+def _recorded_mounting(robot, spec, path):
+    """The model's robot with the mounting it was built with recorded (key ``mounting``; in
+    files written before it, the provenance's ``mounting_base_rpy_deg``), so that a
+    ``--base-rpy`` or ``--gravity`` is not applied on top of it
+    (:func:`gd_analyze.core.model.mounting.with_mounting`)."""
+    from ..core.model.mounting import as_mounted
+
+    said = spec.get("mounting")
+    if said is None:
+        rpy = (spec.get("provenance") or {}).get("mounting_base_rpy_deg", (0.0, 0.0, 0.0))
+        said, key = {"base_rpy_deg": rpy, "gravity_world": None}, "provenance"
+    else:
+        key = "mounting"
+    try:
+        return as_mounted(robot, said["base_rpy_deg"], said["gravity_world"])
+    except (TypeError, ValueError) as exc:
+        raise InputError(f"the mounting the model was built with is not usable: {exc}"[:200],
+                         path, column=key) from None

@@ -68,18 +68,14 @@ class Terminated(BaseException):
     """Raised in the main thread on SIGTERM (or SIGHUP), so that clean-up code runs."""
 
 
-def _raise_terminated(signum, frame):
-    raise Terminated(signum)
-
-
 def install_signal_handlers():
-    """Turn SIGTERM and SIGHUP into :class:`Terminated` so that ``finally`` blocks run.
-
-    SIGINT already raises KeyboardInterrupt. Call from the main thread only.
+    """Turn SIGTERM and SIGHUP into :class:`Terminated` and SIGINT into KeyboardInterrupt so
+    that ``finally`` blocks run: the one handler of :func:`gd_analyze.io.signals.install`.
+    Call from the main thread only.
     """
-    for sig in (signal.SIGTERM, getattr(signal, "SIGHUP", None)):
-        if sig is not None:
-            signal.signal(sig, _raise_terminated)
+    from .signals import install
+
+    install()
 
 
 def safe_name(name, fallback="robot"):
@@ -352,6 +348,48 @@ def _carry(real, stage, owners, command, tops=None):
             shutil.copy2(real / path, dst, follow_symlinks=False)
 
 
+#: The longest suffix a sibling name adds to the folder's: ``.`` + ``.gd-tmp-`` + the 16 hex
+#: digits of a temporary's token.
+_SIBLING_EXTRA = 1 + len(TMP_MARK) + 16
+
+
+def sibling_stem(parent, name):
+    """The folder's name as it appears in the names of its siblings (lock, staging, previous
+    set): the name itself, or where that would make a sibling's name longer than the file
+    system allows, its first characters and the SHA-256 of the whole name.
+
+    Parameters
+    ----------
+    parent : pathlib.Path
+        The folder that holds the output folder.
+    name : str
+        The output folder's name.
+
+    Returns
+    -------
+    str
+
+    Examples
+    --------
+    >>> len(sibling_stem(Path("/tmp"), "f" * 245)) <= 255 - _SIBLING_EXTRA
+    True
+    >>> sibling_stem(Path("/tmp"), "out")
+    'out'
+    """
+    try:
+        limit = os.pathconf(parent, "PC_NAME_MAX")
+    except (OSError, ValueError):
+        limit = 255
+    room = limit - _SIBLING_EXTRA
+    if len(os.fsencode(name)) <= room:
+        return name
+    import hashlib
+
+    digest = hashlib.sha256(os.fsencode(name)).hexdigest()[:16]
+    head = os.fsencode(name)[:max(room - 17, 1)].decode(errors="ignore")
+    return f"{head}-{digest}"
+
+
 def _stale_names(record, name):
     """The temporaries a killed run registered: beside the target, and inside it."""
     beside = re.escape(f".{name}{TMP_MARK}") + r"[0-9a-f]{16}"
@@ -444,9 +482,10 @@ def staged_output(target, outputs=(), command="output"):
         if not all(os.access(a, os.W_OK | os.X_OK) for a in {real if mount else parent,
                                                              *([real] if real.is_dir() else [])}):
             raise InputError("cannot write the output folder: permission denied", target)
-        lock = real / LOCK_SUFFIX if mount else parent / f".{name}{LOCK_SUFFIX}"
+        stem = sibling_stem(parent, name)
+        lock = real / LOCK_SUFFIX if mount else parent / f".{stem}{LOCK_SUFFIX}"
         with _lock(lock, target) as record:
-            stale = _stale_names(record, name)
+            stale = _stale_names(record, stem)
             with writing(target):
                 _restore_prev(parent, real, stale[1])
             skip = {*stale[2], *([LOCK_SUFFIX] if mount else [])}
@@ -469,7 +508,8 @@ def _staged(real, target, command, mount, record):
     owner = os.getpid()
     inside = real.is_dir() and (mount or _in_place(real))
     stage = _new_temporary(real if inside else real.parent,
-                           TMP_MARK if inside else f".{real.name}{TMP_MARK}",
+                           TMP_MARK if inside else
+                           f".{sibling_stem(real.parent, real.name)}{TMP_MARK}",
                            record, "inside" if inside else "beside", target)
     try:
         yield stage
@@ -517,7 +557,7 @@ def _swap_folder(real, stage, owners, command, record):
             if not _renameat2(stage, real, RENAME_NOREPLACE):
                 os.rename(stage, real)      # fails on a folder created meanwhile, not empty
         elif not _renameat2(stage, real, RENAME_EXCHANGE):
-            prev = real.parent / f".{real.name}{TMP_MARK}{_token()}"
+            prev = real.parent / f".{sibling_stem(real.parent, real.name)}{TMP_MARK}{_token()}"
             record.register("prev", prev.name)
             os.rename(real, prev)           # no exchange here: two renames, undone if killed
             try:

@@ -21,7 +21,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ..core.model.limits import LIMITS, first_beyond
+from ..core.model.limits import LIMITS, exact_text, first_beyond
 from ..errors import InputError, InputNote
 
 __all__ = ["Trajectory", "read_trajectory", "write_trajectory", "trajectory_columns",
@@ -321,12 +321,14 @@ def as_trajectory(value, n_joints=None):
                      f"or a sequence (t, q[, qd, qdd]), not a {type(value).__name__}", ARRAYS)
 
 
-__all__ += ["trajectory_from_arrays", "as_trajectory"]
+__all__ += ["trajectory_from_arrays", "as_trajectory", "parse_number"]
 
 
 _BOM = b"\xef\xbb\xbf"
 #: The plain float grammar of a cell (after stripping spaces and tabs).
 _FLOAT = re.compile(r"[+-]?(?:[0-9]+(?:\.[0-9]*)?|\.[0-9]+)(?:[eE][+-]?[0-9]+)?")
+#: A whole number of the command line (counts, seeds).
+_INTEGER = re.compile(r"[+-]?[0-9]+")
 #: Bytes a regular file's body may hold to be parsed by pandas.
 _PLAIN_BYTES = b"0123456789.eE+-, \t\r\n"
 #: Longest cell accepted [characters].
@@ -359,7 +361,7 @@ def _check_magnitudes(values, names, path, row_of):
         bad = first_beyond(values[:, cols], LIMITS[kind])
         if bad is not None:
             j = cols.start + bad[1]
-            raise InputError(f"{float(values[bad[0], j]):g} is beyond the supported magnitude "
+            raise InputError(f"{exact_text(values[bad[0], j])} is beyond the supported magnitude "
                              f"{LIMITS[kind]:g} of {kind} (see the README, Limits)", path,
                              row=row_of(bad[0]), column=names[j])
 
@@ -470,18 +472,60 @@ def _cell_value(cell, path, row_no, column):
     if len(text) > MAX_CELL:
         raise InputError(f"a cell of {len(text)} characters is not a number", path, row=row_no,
                          column=column)
-    if _FLOAT.fullmatch(text):
-        return float(text)
+    try:
+        return parse_number(text)
+    except ValueError as exc:
+        raise InputError(str(exc), path, row=row_no, column=column) from None
+
+
+def parse_number(text, integer=False):
+    """A number by the rules of a trajectory cell: plain decimal, finite.
+
+    Parameters
+    ----------
+    text : str
+        E.g. ``"-1.5e-3"`` (no ``1_0``, no digits other than 0-9, no ``inf`` or ``nan``).
+    integer : bool, optional
+        Accept only ``[+-]digits``, and return an int.
+
+    Returns
+    -------
+    float or int
+
+    Raises
+    ------
+    ValueError
+        One clause naming the text and what it holds.
+
+    Examples
+    --------
+    >>> parse_number("-9.81"), parse_number("12", integer=True)
+    (-9.81, 12)
+    >>> parse_number("1_0")
+    Traceback (most recent call last):
+    ...
+    ValueError: not a number: '1_0' (it holds an underscore; write plain decimal numbers like -1.5e-3)
+    """
+    text = str(text)
+    if integer and _INTEGER.fullmatch(text):
+        return int(text)
+    if not integer and _FLOAT.fullmatch(text):
+        v = float(text)
+        if math.isfinite(v):
+            return v
+        raise ValueError(f"not a finite number: {text!r} (beyond the range of a float)")
     try:
         v = float(text)
     except ValueError:
         v = None
     if v is not None and not math.isfinite(v):
-        raise InputError(f"not a finite number: {text!r}", path, row=row_no, column=column)
+        raise ValueError(f"not a finite number: {text!r}")
     what = ("digits other than 0-9" if any(c.isdigit() and c not in "0123456789" for c in text)
             else "an underscore" if "_" in text else None)
-    hint = f" (it holds {what}; write plain decimal numbers like -1.5e-3)" if what else ""
-    raise InputError(f"not a number: {text!r}{hint}", path, row=row_no, column=column)
+    plain = "whole numbers like 12" if integer else "decimal numbers like -1.5e-3"
+    hint = f" (it holds {what}; write plain {plain})" if what else \
+        " (write a whole number)" if integer and v is not None else ""
+    raise ValueError(f"not {'a whole' if integer else 'a'} number: {text!r}{hint}")
 
 
 def check_joint_limits(robot, trajectory):

@@ -33,6 +33,7 @@ from pathlib import Path
 
 import numpy as np
 
+from ..core.model.limits import exact_text
 from ..errors import InputError
 from .urdf_xml import check_inertias, check_mimic, read_urdf_xml
 
@@ -345,6 +346,9 @@ def _chain(model, doc, sha256, base, tip, label, robot_name, description, refere
         iq, iv = model.idx_qs[j], model.idx_vs[j]
         lo, hi = ((-math.inf, math.inf) if continuous else
                   (_bound(model.lowerPositionLimit[iq]), _bound(model.upperPositionLimit[iq])))
+        if lo > hi:
+            raise InputError(f"joint {model.names[j]!r} <limit>: lower {exact_text(lo)} is above "
+                             f"upper {exact_text(hi)}", label)
         if not lo < hi:                     # ROS's "unset" lower = upper (= 0): not given
             lo, hi = -math.inf, math.inf
         joints.append({

@@ -163,11 +163,14 @@ def simplified_context(ds):
     text += inertia_check_text(a)
     other = str(a.get("other_rule", ""))
     if other and "other_rule_error_relative_peak" in ds.variables:
-        worst = np.nanmax(ds["other_rule_error_relative_peak"].values)
+        rel = np.asarray(ds["other_rule_error_relative_peak"].values, float)
+        rel = rel[np.isfinite(rel)]     # a joint without torque has no relative error
+        worst = (f"worst error {pct(rel.max())} of peak |\u03c4|" if rel.size else
+                 "no relative error (no joint has torque on this trajectory)")
         text += (f" Side by side, the {other} rule's model costs "
                  f"{count(a.get('other_rule_multiplications'))} multiplications and "
-                 f"{count(a.get('other_rule_additions'))} additions, worst error {pct(worst)} of "
-                 "peak |\u03c4|." + _dearer_than_full(ds, other))
+                 f"{count(a.get('other_rule_additions'))} additions, {worst}."
+                 + _dearer_than_full(ds, other))
     measured = ds["tau_error_peak"].values
     parts = ("from D", "from h", "from c") if form != "recursive" else (
         "inertial (D)", "velocity (h)", "gravity (c)", "whole parameters")

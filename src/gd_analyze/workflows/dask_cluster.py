@@ -15,15 +15,64 @@ import contextlib
 import os
 import tempfile
 
-__all__ = ["dask_client"]
+__all__ = ["dask_client", "check_scheduler", "HANDSHAKE_TIMEOUT"]
+
+#: Seconds a scheduler at ``--scheduler`` has to answer the connection's handshake: a server
+#: that accepts and stays silent is refused after it, not waited for (issue 32).
+HANDSHAKE_TIMEOUT = 10.0
+#: Seconds the client and the local cluster have to close after an interruption or an error.
+CLOSE_TIMEOUT = 2.0
 
 #: Scheduler options of the local cluster: no dashboard, and its small HTTP server (health
 #: checks) on a free loopback port rather than the shared default 8787.
 _NO_DASHBOARD = {"dashboard": False, "dashboard_address": "127.0.0.1:0"}
 
 
+def check_scheduler(address, timeout=HANDSHAKE_TIMEOUT):
+    """Check that a dask scheduler answers at an address: its comm handshake, within a time.
+
+    Parameters
+    ----------
+    address : str
+        E.g. ``"tcp://10.0.0.5:8786"``.
+    timeout : float, optional
+        Seconds for the connection and the handshake together (default
+        :data:`HANDSHAKE_TIMEOUT`).
+
+    Raises
+    ------
+    ConnectionError
+        One line: nothing answers, the server stays silent, or what answers is not a dask
+        scheduler (its bytes are not dask's handshake, e.g. an HTTP server whose reply would
+        read as a frame of exbibytes).
+
+    Notes
+    -----
+    ``distributed.Client(address, timeout=...)`` bounds the TCP connection only; its
+    handshake waits as long as the server keeps the connection open.
+    """
+    import asyncio
+
+    from distributed.comm import connect
+
+    async def probe():
+        comm = await connect(address, timeout=timeout)        # reads the handshake
+        await comm.close()
+
+    try:
+        asyncio.run(asyncio.wait_for(probe(), timeout))
+    except asyncio.TimeoutError:
+        raise ConnectionError(f"no dask scheduler answered within {timeout:g} s (the server "
+                              "accepted the connection and stayed silent)") from None
+    except OSError as exc:
+        raise ConnectionError(" ".join(str(exc).split())[:200]) from None
+    except Exception as exc:  # noqa: BLE001 - any answer that is not dask's handshake
+        raise ConnectionError(f"what answered is not a dask scheduler ({type(exc).__name__}: "
+                              f"{' '.join(str(exc).split())[:120]})") from None
+
+
 @contextlib.contextmanager
-def dask_client(scheduler=None, n_workers=None):
+def dask_client(scheduler=None, n_workers=None, timeout=HANDSHAKE_TIMEOUT):
     """A dask.distributed client: connected to ``scheduler``, or on a new LocalCluster.
 
     Parameters
@@ -33,6 +82,8 @@ def dask_client(scheduler=None, n_workers=None):
     n_workers : int, optional
         Workers of the LocalCluster started when no scheduler is given (one process and one
         thread each); default ``os.cpu_count() or 2``.
+    timeout : float, optional
+        Seconds the scheduler has to answer (:func:`check_scheduler`).
 
     Yields
     ------
@@ -49,7 +100,8 @@ def dask_client(scheduler=None, n_workers=None):
     ImportError
         If dask.distributed is missing from the environment (it is a dependency).
     OSError
-        If the scheduler cannot be reached.
+        If the scheduler cannot be reached, stays silent or is not a dask scheduler
+        (:func:`check_scheduler`: ConnectionError).
     """
     try:
         from distributed import Client, LocalCluster
@@ -59,7 +111,8 @@ def dask_client(scheduler=None, n_workers=None):
     cluster = None
     with contextlib.ExitStack() as env:
         if scheduler is not None:
-            client, how = Client(scheduler), "connected by address"
+            check_scheduler(scheduler, timeout)
+            client, how = Client(scheduler, timeout=timeout), "connected by address"
         else:
             import dask
 
@@ -76,10 +129,24 @@ def dask_client(scheduler=None, n_workers=None):
             client, how = Client(cluster), "LocalCluster started by gd-analyze"
         try:
             yield client, how
-        finally:
-            client.close()
-            if cluster is not None:
-                cluster.close()
+        except BaseException:
+            # interrupted or failed: close without waiting on the workers' graceful exit (it
+            # took 44 s after a SIGTERM); the nanny processes are ended by their cluster
+            _close_quickly(client, cluster)
+            raise
+        client.close()
+        if cluster is not None:
+            cluster.close()
+
+
+def _close_quickly(client, cluster):
+    """Close the client, then the cluster, within :data:`CLOSE_TIMEOUT` seconds each; their
+    errors give way to the one being raised."""
+    with contextlib.suppress(Exception):
+        client.close(timeout=CLOSE_TIMEOUT)
+    if cluster is not None:
+        with contextlib.suppress(Exception):
+            cluster.close(timeout=CLOSE_TIMEOUT)
 
 
 @contextlib.contextmanager

@@ -67,7 +67,7 @@ def drive_values(link, path, where):
     Raises
     ------
     InputError
-        If a value is not a finite number >= 0, if ``armature`` is given together with
+        If a value is not a finite number >= 0 (``gear_ratio``: not 0), if ``armature`` is given together with
         ``rotor_inertia`` or ``gear_ratio``, or if only one of those two is given. One line
         naming the key.
 
@@ -89,6 +89,11 @@ def drive_values(link, path, where):
     if given:
         jm = _value(link, "rotor_inertia", path, f"{where}.rotor_inertia")
         g = _value(link, "gear_ratio", path, f"{where}.gear_ratio", lo=-math.inf)
+        if g == 0.0:
+            raise InputError("a gear ratio of 0 turns the motor not at all (armature = "
+                             "rotor_inertia * gear_ratio^2 would be 0): give the ratio of "
+                             "motor turns per joint turn, or leave the drive out", path,
+                             column=f"{where}.gear_ratio")
         armature = jm * g * g
         if armature > LIMITS["inertia"]:
             raise InputError(f"armature rotor_inertia * gear_ratio^2 = {armature:g} is beyond "

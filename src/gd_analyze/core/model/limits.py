@@ -15,7 +15,7 @@ import numpy as np
 
 from ...errors import InputError
 
-__all__ = ["LIMITS", "check_finite", "first_beyond"]
+__all__ = ["LIMITS", "check_finite", "first_beyond", "exact_text"]
 
 #: Largest accepted magnitude of each input quantity, in SI units.
 LIMITS = {
@@ -31,6 +31,31 @@ LIMITS = {
     "min_duration": 1e-6,   # shortest planned duration [s]
     "angle_deg": 1e6,   # |an angle or angular limit given in degrees| [deg]
 }
+
+
+def exact_text(value):
+    """A number in as few significant digits as give it back exactly (at least 6), so that a
+    value just beyond a limit never prints as the limit.
+
+    Parameters
+    ----------
+    value : float
+
+    Returns
+    -------
+    str
+
+    Examples
+    --------
+    >>> exact_text(1.0000001e8), exact_text(1e8), exact_text(0.1)
+    ('1.0000001e+08', '1e+08', '0.1')
+    """
+    v = float(value)
+    for digits in range(6, 18):
+        text = f"{v:.{digits}g}"
+        if float(text) == v or not np.isfinite(v):
+            return text
+    return repr(v)
 
 
 def first_beyond(values, limit):

@@ -18,7 +18,7 @@ import numpy as np
 
 from ...errors import InputError, InputWarning
 from .drives import DRIVE_KEYS, drive_values
-from .limits import LIMITS
+from .limits import LIMITS, exact_text
 from .robot import CONVENTIONS, JOINT_TYPES, make_robot
 
 __all__ = ["robot_from_dict", "robot_from_chain"]
@@ -39,8 +39,8 @@ def _number(value, path, column, finite=True, limit=None):
     if finite and not math.isfinite(v):
         raise InputError(f"expected a finite number, got {v:g}", path, column=column)
     if limit is not None and math.isfinite(v) and abs(v) > LIMITS[limit]:
-        raise InputError(f"{v:g} is beyond the supported magnitude {LIMITS[limit]:g} (see the "
-                         f"README, Limits)", path, column=column)
+        raise InputError(f"{exact_text(v)} is beyond the supported magnitude "
+                         f"{LIMITS[limit]:g} (see the README, Limits)", path, column=column)
     return v
 
 
@@ -159,10 +159,10 @@ def _effort(link, path, where):
     value = link.get("tau_max")
     v = (math.nan if value is None else
          _number(value, path, f"{where}.tau_max", finite=False, limit="mass"))
-    if math.isnan(v):
+    if value is None:
         return math.nan
-    if math.isinf(v):
-        raise InputError("expected a finite number, got inf (leave the key out where there "
+    if not math.isfinite(v):            # NaN is not "no limit": leave the key out for that
+        raise InputError(f"expected a finite number, got {v:g} (leave the key out where there "
                          "is no limit)", path, column=f"{where}.tau_max")
     if v <= 0:
         raise InputError(f"limit must be positive, got {v:g} (leave the key out where there "

@@ -362,6 +362,7 @@ class SimplifiedModel:
             "robot": {"name": self.robot.name, "sha256": self.robot.sha256,
                       "parameters_sha256": parameters_sha256(self.robot.to_dict()),
                       "source": self.robot.source, "parameters": self.robot.to_dict()},
+            "mounting": self._mounting(),
             "dominance_threshold": self.dominance_threshold,
             "negligible_threshold": self.negligible_threshold,
             "choices": dict(self.choices),
@@ -389,6 +390,14 @@ class SimplifiedModel:
         if self.inertia_check is not None:
             out["inertia_check"] = dict(self.inertia_check)
         return out
+
+    def _mounting(self):
+        """The mounting the model was built with, for the file (``mounting``)."""
+        from ..model.mounting import mounting_of
+
+        rpy, g_world = mounting_of(self.robot)
+        return {"base_rpy_deg": [float(v) for v in rpy],
+                "gravity_world": [float(v) for v in g_world]}
 
     def scope(self):
         """Where the model's bound holds, in one sentence (issue 29 item 4).
@@ -427,14 +436,15 @@ class SimplifiedModel:
         ------
         InputError
             If the robot's name differs from ``robot.name``, the choices do not name exactly
-            the elements of an n-joint robot, or the explicit or recursive terms are invalid.
-            One line naming the key.
+            the elements of an n-joint robot, the explicit or recursive terms are invalid, or
+            the program rebuilt from the stored pairs or terms is not the file's (a dropped
+            pair it keeps, another ``cost``). One line naming the key.
 
         Notes
         -----
-        The document's ``cost`` and ``full_cost`` are not read: a claim is not a count. The
-        model's cost is counted from its terms (:meth:`program`) wherever it is shown or
-        written.
+        The document's ``cost`` and ``full_cost`` are not read as counts: a claim is not a
+        count. The model's cost is counted from its terms (:meth:`program`) wherever it is
+        shown or written; the stored ``cost`` is only compared with it.
         """
         rob = spec["robot"]
         if robot.name != rob["name"]:
@@ -471,7 +481,7 @@ class SimplifiedModel:
             guarantee = Guarantee.from_dict(spec["guarantee"], robot.n,
                                             float("nan") if tolerance is None
                                             else float(tolerance), path)
-        return cls(robot=robot, choices=dict(choices),
+        model = cls(robot=robot, choices=dict(choices),
                    dominance_threshold=float(spec["dominance_threshold"]),
                    negligible_threshold=float(spec["negligible_threshold"]),
                    trajectory_sha256=spec.get("trajectory_sha256", ""),
@@ -485,6 +495,11 @@ class SimplifiedModel:
                           for v in spec.get("bound") or []],
                    recursive=recursive, costs=dict(spec.get("costs") or {}),
                    guarantee=guarantee, inertia_check=spec.get("inertia_check"))
+        from .consistency import check_program
+
+        check_program(model, spec.get("cost"), path)
+        return model
+
 
 def parameters_sha256(parameters):
     """SHA-256 of a robot's parameters as stored in a model file (canonical JSON).

@@ -122,7 +122,9 @@ def terms_disagreement(robot, terms):
         max over the :data:`CHECK_STATES` states, the parts and the elements of
         |terms - engine| / scale: sqrt(D_ii D_jj) for D_ij (of the whole D), and for h_i and
         c_i the largest |h_i| (|c_i|) over the states (tran and rot added in magnitude), with
-        a floor of 1e-6 of the largest such scale of the quantity. ``inf`` if a value is not
+        a floor of 1e-6 of the arm's torque scale there (the largest of D's scale times
+        max(1, qd^2), |h| and |c|: a one-joint arm's h or a massless link's parts are zero up
+        to round-off, never measured against that round-off). ``inf`` if a value is not
         finite, a row's index is out of range or the terms' shape does not fit the robot.
         Terms derived for the robot give round-off (about 1e-15).
 
@@ -157,9 +159,15 @@ def terms_disagreement(robot, terms):
     worst = 0.0
     for g, w in zip(got[:2], want[:2]):
         worst = max(worst, _ratio(np.abs(g - w), d_scale))
-    for parts_got, parts_want in ((got[2:4], want[2:4]), (got[4:], want[4:])):
-        scale = sum(np.abs(w) for w in parts_want).max(axis=0)             # (n,)
-        scale = np.maximum(scale, _FLOOR * scale.max(initial=0.0))
+    # the arm's torque at the check states: D times 1 rad/s^2 or its largest qd^2, h, c; a
+    # quantity that is zero up to round-off (h of a one-joint arm, c along a joint axis, a
+    # massless link's parts) is measured against it, not against its own round-off
+    parts = [sum(np.abs(w) for w in group).max(axis=0) for group in (want[2:4], want[4:])]
+    arm = max(float(d_scale.max(initial=0.0)) * max(1.0, float(np.abs(qd).max()) ** 2),
+              *(float(p.max(initial=0.0)) for p in parts))
+    for parts_got, parts_want, scale in ((got[2:4], want[2:4], parts[0]),
+                                         (got[4:], want[4:], parts[1])):
+        scale = np.maximum(scale, _FLOOR * arm)
         for g, w in zip(parts_got, parts_want):
             worst = max(worst, _ratio(np.abs(g - w), scale))
     return worst

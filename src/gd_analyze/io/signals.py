@@ -1,0 +1,115 @@
+"""One handler for SIGINT, SIGTERM and SIGHUP in every command (issue 32).
+
+:func:`install` makes each signal raise in the main thread (SIGINT KeyboardInterrupt, SIGTERM
+and SIGHUP :class:`~gd_analyze.io.staging.Terminated`), so that clean-up code runs and the
+command line (:func:`gd_analyze.cli.main`) exits with 128 + the signal's number (130, 143) and one line. Two
+places would lose the signal:
+
+- Python code that the interpreter runs on its own (a ``gc.callbacks`` entry such as
+  distributed's GC diagnosis, a ``__del__`` method) reports an exception raised in it as
+  "Exception ignored" and goes on: the sweep then ran to its end and exited 0. The handler
+  does not raise there; it delivers the signal again to the main thread once that code has
+  returned (:func:`_deliver_later`).
+- After the command returned, during the interpreter's shutdown (joining threads, atexit
+  handlers), a KeyboardInterrupt printed a traceback after "wrote" with exit status 0.
+  :func:`after_run` makes a signal then end the process at once with 128 + its number and
+  one line: the run's files are complete.
+"""
+
+from __future__ import annotations
+
+import gc
+import os
+import signal
+import sys
+import threading
+
+__all__ = ["install", "after_run", "pending", "SIGNALS"]
+
+#: The signals handled: interrupt, terminate, hang-up.
+SIGNALS = tuple(s for s in (signal.SIGINT, signal.SIGTERM, getattr(signal, "SIGHUP", None))
+                if s is not None)
+#: Seconds before a deferred signal is delivered again (it waits for the interpreter's own
+#: callback to return; not a test's wait).
+_AGAIN = 0.02
+_PENDING = []
+
+
+def pending():
+    """The signals received since :func:`install`, in order (one deferred out of a gc
+    callback is counted at each delivery).
+
+    Returns
+    -------
+    tuple of int
+    """
+    return tuple(_PENDING)
+
+
+def _exception(signum):
+    from .staging import Terminated
+
+    return KeyboardInterrupt() if signum == signal.SIGINT else Terminated(signum)
+
+
+def _in_interpreter_callback(frame):
+    """Whether the interrupted code runs inside a gc callback or a ``__del__`` method, where
+    an exception would be reported as ignored and the signal lost."""
+    codes = {getattr(getattr(cb, "__func__", cb), "__code__", None) for cb in gc.callbacks}
+    while frame is not None:
+        if frame.f_code in codes or frame.f_code.co_name == "__del__":
+            return True
+        frame = frame.f_back
+    return False
+
+
+def _deliver_later(signum):
+    main = threading.main_thread().ident
+
+    def again():
+        threading.Event().wait(_AGAIN)
+        signal.pthread_kill(main, signum)
+    threading.Thread(target=again, name="gd-analyze-signal", daemon=True).start()
+
+
+def _on_signal(signum, frame):
+    _PENDING.append(signum)
+    if _in_interpreter_callback(frame):
+        _deliver_later(signum)
+        return
+    raise _exception(signum)
+
+
+def install():
+    """Handle SIGINT, SIGTERM and SIGHUP by :func:`_on_signal` (main thread only).
+
+    Raises
+    ------
+    ValueError
+        If called from another thread than the main one (``signal.signal``).
+    """
+    for sig in SIGNALS:
+        signal.signal(sig, _on_signal)
+
+
+def after_run(prog):
+    """From now on (the command returned), a signal ends the process at once with status
+    128 + its number and one line, without a traceback (main thread only).
+
+    Parameters
+    ----------
+    prog : str
+        The program's name, for the line.
+    """
+    for stream in (sys.stdout, sys.stderr):     # the run's output, before any os._exit
+        try:
+            stream.flush()
+        except (OSError, ValueError, AttributeError):
+            pass
+
+    def after(signum, frame):
+        os.write(sys.stderr.fileno(), f"{prog}: interrupted after the run had finished (its "
+                                      "files are complete)\n".encode())
+        os._exit(128 + signum)
+    for sig in SIGNALS:
+        signal.signal(sig, after)

@@ -1,0 +1,117 @@
+"""Inputs refused with one line each by the trajectory CSV's number rules (issue 32): a URDF
+whose lower limit is above its upper one, a plan the main job could not read back, a gear ratio
+of 0, an effort limit of NaN, ``1_0`` and full-width digits in an option; a value starting with
+a minus sign is the option's value; a number just beyond a limit is printed with the digits
+that show it."""
+
+import json
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+from gd_analyze import load_robot
+from gd_analyze.cli import main
+from gd_analyze.core.model.mounting import rpy_matrix
+
+ROOT = Path(__file__).resolve().parents[1]
+DATA_DIR = ROOT / "src" / "gd_analyze" / "data"
+TWO_LINK = DATA_DIR / "two-link.toml"
+
+
+def _refused(capsys, args, match):
+    code = main([str(a) for a in args])
+    out, err = capsys.readouterr()
+    assert code == 2, err
+    lines = err.strip().splitlines()
+    assert len(lines) == 1 and lines[0].startswith("gd-analyze: error: ") and match in lines[0]
+    return out
+
+
+@pytest.fixture(scope="module")
+def plan(tmp_path_factory):
+    path = tmp_path_factory.mktemp("plan") / "two.csv"
+    assert main(["plan", "two-link", "-o", str(path)]) == 0
+    return path
+
+
+@pytest.mark.parametrize("value, said", [("1_0,0,0", "underscore"),
+                                         ("\uff11,0,0", "digits other than 0-9"),
+                                         ("nan,0,0", "not a finite number"),
+                                         ("1e999,0,0", "not a finite number")])
+def test_an_option_takes_the_csv_number_rules(plan, capsys, value, said):
+    _refused(capsys, ["compare", "two-link", plan, "--gravity", value], said)
+
+
+@pytest.mark.parametrize("args, said", [(["--setpoints", "1_0"], "underscore"),
+                                        (["--setpoints", "\uff11\uff10"], "digits other")])
+def test_a_count_takes_the_csv_number_rules(tmp_path, capsys, args, said):
+    _refused(capsys, ["plan", "two-link", "-o", tmp_path / "x.csv", *args], said)
+    assert not (tmp_path / "x.csv").exists()
+
+
+def test_a_value_with_a_minus_sign_is_the_options(plan, capsys):
+    """--gravity -9.81,0,0 is gravity along -x: the torque of a turned arm (Pinocchio's
+    identity: a gravity of R^T g in the base frame)."""
+    code = main(["compare", "two-link", str(plan), "--gravity", "-9.81,0,0", "--json"])
+    out, err = capsys.readouterr()
+    assert code == 0, err
+    said = json.loads(out)
+    assert said["mounting_gravity_world"] == [-9.81, 0.0, 0.0]
+    assert said["mounting_gravity_base"] == (rpy_matrix(0, 0, 0).T @ [-9.81, 0, 0]).tolist()
+    code = main(["compare", "two-link", str(plan), "--base-rpy", "-90,0,0", "--json"])
+    out, err = capsys.readouterr()
+    g = np.asarray(load_robot("two-link").gravity)
+    assert code == 0 and np.allclose(json.loads(out)["mounting_gravity_base"],
+                                     rpy_matrix(-90, 0, 0, degrees=True).T @ g, atol=1e-15)
+
+
+def test_held_out_below_zero_is_refused_before_a_cluster_starts(capsys):
+    _refused(capsys, ["sweep", "two-link", "--random", "2", "--held-out", "-1",
+                      "--scheduler", "tcp://192.0.2.1:9"], "--held-out must be at least 0")
+
+
+def test_a_urdf_with_lower_above_upper_is_refused(tmp_path, plan, capsys):
+    text = (DATA_DIR / "ur5.urdf").read_text()
+    limit = 'lower="-6.28318530718" upper="6.28318530718"'
+    assert limit in text
+    bad = tmp_path / "bad.urdf"
+    bad.write_text(text.replace(limit, 'lower="1" upper="-1"', 1))
+    _refused(capsys, ["plan", bad, "-o", tmp_path / "x.csv"], "lower 1 is above upper -1")
+    _refused(capsys, [bad, ROOT / "data" / "ur5_trajectory.csv", "-o",
+                      tmp_path / "out"], "lower 1 is above upper -1")
+    assert not (tmp_path / "x.csv").exists() and not (tmp_path / "out").exists()
+
+
+def _robot_file(tmp_path, old, new):
+    text = TWO_LINK.read_text()
+    assert old in text
+    path = tmp_path / "robot.toml"
+    path.write_text(text.replace(old, new))
+    return path
+
+
+def test_a_plan_the_main_job_cannot_read_is_not_written(tmp_path, capsys):
+    robot = _robot_file(tmp_path, "qdd_max_deg = ", "qdd_max_deg = 1e-300 # ")
+    _refused(capsys, ["plan", robot, "-o", tmp_path / "x.csv"], "beyond the supported")
+    assert not (tmp_path / "x.csv").exists()
+    _refused(capsys, ["plan", "two-link", "-o", tmp_path / "x.csv", "--qdd-max", "1e-300"],
+             "--qdd-max")
+
+
+def test_an_effort_limit_of_nan_is_refused(tmp_path, plan, capsys):
+    robot = _robot_file(tmp_path, "qdd_max_deg = ", "tau_max = nan\nqdd_max_deg = ")
+    _refused(capsys, ["compare", robot, plan], "tau_max: expected a finite number, got nan")
+
+
+def test_a_gear_ratio_of_zero_is_refused(tmp_path, plan, capsys):
+    robot = _robot_file(tmp_path, "qdd_max_deg = ",
+                        "rotor_inertia = 1e-4\ngear_ratio = 0\nqdd_max_deg = ")
+    _refused(capsys, ["compare", robot, plan], "gear_ratio: a gear ratio of 0")
+
+
+def test_a_number_just_beyond_a_limit_shows_its_digits(tmp_path, capsys):
+    csv = tmp_path / "fast.csv"
+    csv.write_text("t,q1,q2,qd1,qd2,qdd1,qdd2\n0,0,0,0,0,1.0000001e8,0\n1,0,0,0,0,0,0\n")
+    _refused(capsys, ["compare", "two-link", csv],
+             "1.0000001e+08 is beyond the supported magnitude 1e+08")
