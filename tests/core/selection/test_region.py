@@ -54,9 +54,8 @@ def test_worst_states_are_states_of_the_region_and_the_largest_over_the_vertices
         tau = _rnea(robot, q, qd[:, i], qdd[:, i])[:, i]
         np.testing.assert_allclose(np.abs(tau), value[:, i], rtol=1e-9)
     rng = np.random.default_rng(0)
-    verts = qd_vertices(region.qd_max)
-    for _ in range(20):
-        sd = verts[rng.integers(len(verts))]
+    for _ in range(20):                     # every vertex, not only qd_vertices' half
+        sd = rng.choice([-1.0, 1.0], n) * region.qd_max
         sdd = rng.choice([-1.0, 1.0], n) * region.qdd_max
         tau = _rnea(robot, q, np.tile(sd, (20, 1)), np.tile(sdd, (20, 1)))
         assert np.all(np.abs(tau) <= value * (1 + 1e-9))
@@ -76,3 +75,13 @@ def test_the_scale_is_reached_where_it_says():
     floor = region_scale(robot, region, cols, base.beta, torque_floor=1e6, samples=20,
                          refine=0)[0]
     assert np.all(floor == 1e6)
+
+
+def test_the_vertices_are_one_of_each_opposite_pair():
+    """Half the box's vertices, one of each pair x, -x: together with their negatives, all."""
+    qd_max = np.array([1.0, 2.0, 0.5, 3.0])
+    verts = qd_vertices(qd_max)
+    both = {tuple(v) for v in np.vstack([verts, -verts])}
+    assert len(verts) == 8 and len(both) == 16
+    assert both == {tuple(np.array(s) * qd_max) for s in
+                    __import__("itertools").product([-1.0, 1.0], repeat=4)}

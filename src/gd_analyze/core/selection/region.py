@@ -215,7 +215,7 @@ def sample_positions(region, count, seed=0):
 
 
 def qd_vertices(qd_max):
-    """The vertices of the velocity box.
+    """The vertices of the velocity box, one of each pair x, -x.
 
     Parameters
     ----------
@@ -225,13 +225,22 @@ def qd_vertices(qd_max):
     Returns
     -------
     ndarray, shape (K, n)
-        All 2^n sign patterns times qd_max, or 4,096 random ones beyond 12 joints.
+        The 2^(n-1) sign patterns whose first sign is + times qd_max, or 4,096 random ones
+        beyond 13 joints. A quadratic form takes the same value at x and -x
+        (x^T C x = (-x)^T C (-x)), so its largest |value| over the vertices is reached at
+        one of these: the velocity terms h are such forms in qd (Eq. (3.4-27)).
+
+    Examples
+    --------
+    >>> qd_vertices(np.array([1.0, 2.0])).tolist()
+    [[1.0, -2.0], [1.0, 2.0]]
     """
     n = qd_max.size
-    if n > 12:                                       # 4,096 vertices at most: random signs
+    if n > 13:                                       # 4,096 vertices at most: random signs
         signs = np.random.default_rng(0).choice([-1.0, 1.0], (4096, n))
     else:
-        signs = np.array(list(itertools.product([-1.0, 1.0], repeat=n)))
+        signs = np.array(list(itertools.product([-1.0, 1.0], repeat=n - 1))).reshape(-1, n - 1)
+        signs = np.hstack([np.ones((signs.shape[0], 1)), signs])
     return signs * qd_max
 
 
