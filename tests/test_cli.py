@@ -363,7 +363,13 @@ def test_program_exits_with_its_status_and_all_its_output(tmp_path):
                           capture_output=True, text=True)
     assert proc.returncode == 0, proc.stderr
     last = proc.stdout.rstrip("\n").splitlines()[-1]        # the last line made it out whole
+    assert last == f"wrote 6 files to {out}"               # the count, not every path
+    listed = subprocess.run([sys.executable, "-m", "gd_analyze.cli", "two-link",
+                             str(tmp_path / "t.csv"), "-o", str(out), "--no-report", "-v"],
+                            capture_output=True, text=True)
+    last = listed.stdout.rstrip("\n").splitlines()[-1]      # -v: every file, whole
     assert last.startswith("wrote ") and last.endswith("simplified_model_casadi.py")
+    assert last.count(str(out)) == 6
 
 
 _AT_EXIT = """

@@ -90,6 +90,34 @@ def output_folder(args_outdir, *parts):
     return Path("reports") / "-".join(safe_name(p) for p in parts)
 
 
+def wrote_line(files, folder, verbose):
+    """The last line a command prints: ``wrote 26 files to DIR``, or with ``-v`` every file.
+
+    Parameters
+    ----------
+    files : sequence of pathlib.Path
+        The files written, in ``folder`` or below it.
+    folder : pathlib.Path
+        The output folder.
+    verbose : bool
+        List each file (comma-separated) instead of their count.
+
+    Returns
+    -------
+    str
+
+    Examples
+    --------
+    >>> wrote_line([Path("o/a.h5"), Path("o/figures/b.pdf")], Path("o"), False)
+    'wrote 2 files to o'
+    >>> wrote_line([Path("o/a.h5"), Path("o/figures/b.pdf")], Path("o"), True)
+    'wrote o/a.h5, o/figures/b.pdf'
+    """
+    if verbose:
+        return "wrote " + ", ".join(str(p) for p in files)
+    return f"wrote {len(files)} file{'s' if len(files) != 1 else ''} to {folder}"
+
+
 def _load(args, csv_arg):
     from ..io.trajectory import read_trajectory
 
@@ -337,7 +365,7 @@ def cmd_analyze(args):
     if not args.quiet:
         print(_format_summary(analysis.dataset))
         print()
-        print("wrote " + ", ".join(str(p) for p in outputs.files))
+        print(wrote_line(outputs.files, outputs.outdir, args.verbose))
     if analysis.verification and not analysis.verification["passed"]:
         print(f"{PROG}: error: the G-D terms disagree with Pinocchio beyond "
               f"{analysis.verification['tolerance']:g} (see results.h5 attributes)",
@@ -682,5 +710,5 @@ def cmd_control(args):
         said = summary["guarantee"]
         print(f"model's guarantee: {said['statement']}")
         print(f"covers this trajectory: {'yes' if said['covered'] else 'no'}: {said['reason']}")
-        print("wrote " + ", ".join(str(p) for p in written))
+        print(wrote_line(written, outdir, args.verbose))
     return EXIT_OK

@@ -22,6 +22,7 @@ from .commands import (
     mounting_settings,
     output_folder,
     payload_mass_list,
+    wrote_line,
 )
 from .parsing import EXIT_OK, tool_version
 
@@ -259,5 +260,5 @@ def cmd_sweep(args):
             print(f"{lab:<8}" + "".join(f"{v:>7.3f}" for v in frac)
                   + f"{ds.share_tran_min.values[k]:>8.3f}{ds.share_tran_median.values[k]:>8.3f}"
                   + f"{ds.share_tran_max.values[k]:>8.3f}  {ds.merged_choice.values[k]}")
-        print("wrote " + ", ".join(str(p) for p in written))
+        print(wrote_line(written, outdir, args.verbose))
     return EXIT_OK
