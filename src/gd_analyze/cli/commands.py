@@ -253,7 +253,7 @@ def _format_summary(ds):
         import numpy as np
 
         worst = float(np.max([v for k, v in ds.attrs.items()
-                              if k.startswith("verification_max_rel")]))
+                              if k.startswith("verification_max_rel_excess")] or [np.nan]))
         checked, total = int(ds.attrs["verification_setpoints"]), int(ds.attrs["setpoints"])
         where = ("verified against Pinocchio on "
                  + (f"{count(checked)} of {count(total)}" if checked < total else count(checked))

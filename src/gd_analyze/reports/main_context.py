@@ -442,25 +442,29 @@ def _quantity(name):
 def _verification(ds, keys, N):
     """(verdict for the summary, the one provenance row) of the check against Pinocchio: how
     many of the N set points it checked, its tolerance once, and its largest errors, which are
-    the differences past the round-off floor (smaller than any raw difference of Sec. 7.1)."""
+    as measured, and whether they are past the round-off floor."""
     if "verification_passed" not in ds.attrs:
         return "not run", "not run (analysis without check)"
     passed = bool(int(ds.attrs["verification_passed"]))
     checked = int(ds.attrs.get("verification_setpoints", N))
     verdict = (f"{'passed' if passed else 'FAILED'} on {count(checked)} of {count(N)} set points"
                + ("" if checked == N else " (evenly spread)"))
-    worst = {_quantity(k[len("verification_max_rel_error_"):]): float(ds.attrs[k])
-             for k in keys}
+    measured = {_quantity(k[len("verification_max_rel_error_"):]): float(ds.attrs[k])
+                for k in keys}
+    past = {q: float(ds.attrs.get(k.replace("_error_", "_excess_"), np.nan))
+            for q, k in zip(measured, keys)}
     floor = _ROUND_OFF_FLOOR
-    if worst and max(worst.values()) == 0:
-        errors = (f"every difference within the round-off floor ({floor} of its scale), "
-                  "so none is counted")
+    largest = ("largest relative difference: "
+               + ", ".join(f"{k} {_fmt(v, 2, (1e-3, 1e3))}" for k, v in measured.items()))
+    if past and all(v == 0 for v in past.values()):
+        errors = f"{largest}; each within the round-off floor ({floor} of its scale)"
+    elif past and all(np.isnan(v) for v in past.values()):       # a file of before the excess
+        errors = largest
     else:
-        errors = ("largest relative difference past the round-off floor "
-                  f"({floor} of its scale): "
-                  + ", ".join(f"{k} {_fmt(v, 3)}" for k, v in worst.items()))
+        errors = (f"{largest}; past the round-off floor ({floor} of its scale): "
+                  + ", ".join(f"{k} {_fmt(v, 2, (1e-3, 1e3))}" for k, v in past.items()))
     row = (f"{verdict}; tolerance {_attr(ds, 'verification_tolerance')} of each element's "
-           f"scale on {', '.join(worst) or 'D, h and c'}; {errors}")
+           f"scale on {', '.join(measured) or 'D, h and c'}; {errors}")
     return verdict, row
 
 

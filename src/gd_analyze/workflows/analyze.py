@@ -102,16 +102,23 @@ def _concat(parts):
 
 def _verify_sample(robot, q, qd, terms, qdd=None):
     """The verification of :func:`verify` on given set points and their G-D terms."""
-    from ..formulations.pinocchio import natural_relative_error, natural_scales, reference_terms
+    from ..formulations.pinocchio import (
+        measured_relative_error,
+        natural_relative_error,
+        natural_scales,
+        reference_terms,
+    )
 
     ref = reference_terms(robot, q, qd)
     scales = natural_scales(robot, ref, qd, qdd)
-    out = {}
+    out, excess = {}, {}
     for name in ("D_tran", "D_rot", "h_tran", "h_rot", "D", "h", "c"):
         kind = "D" if name.startswith("D") else "tau"
-        out[f"max_rel_error_{name}"] = natural_relative_error(
-            getattr(terms, name), getattr(ref, name), scales[kind], scales[f"floor_{kind}"])
-    worst = np.max(np.array(list(out.values())))         # NaN propagates: a NaN fails
+        args = (getattr(terms, name), getattr(ref, name), scales[kind], scales[f"floor_{kind}"])
+        out[f"max_rel_error_{name}"] = measured_relative_error(*args)
+        excess[f"max_rel_excess_{name}"] = natural_relative_error(*args)
+    worst = np.max(np.array(list(excess.values())))      # NaN propagates: a NaN fails
+    out.update(excess)
     out.update(setpoints=int(q.shape[0]), tolerance=VERIFY_TOLERANCE,
                engine="pinocchio", passed=int(bool(worst <= VERIFY_TOLERANCE)))
     return out
@@ -138,9 +145,12 @@ def verify(robot, q, qd, terms=None, max_setpoints=VERIFY_MAX_SETPOINTS, qdd=Non
     dict
         ``max_rel_error_<term>`` for D_tran, D_rot, h_tran, h_rot, D, h and c: the largest
         difference from Pinocchio relative to the element's natural scale over the checked set
-        points (:func:`gd_analyze.formulations.pinocchio.natural_relative_error`): sqrt(D_ii D_jj)
+        points, as measured, round-off included
+        (:func:`gd_analyze.formulations.pinocchio.measured_relative_error`): sqrt(D_ii D_jj)
         for D_ij, peak |tau_i| for h_i and c_i, with an absolute floor of a few machine epsilons
-        times the overall scale; ``setpoints`` checked, ``tolerance`` and ``passed`` (1 if all are
+        times the overall scale; ``max_rel_excess_<term>``: the same past that floor
+        (:func:`~gd_analyze.formulations.pinocchio.natural_relative_error`), what the check
+        judges; ``setpoints`` checked, ``tolerance`` and ``passed`` (1 if every excess is
         within tolerance, else 0; a NaN anywhere fails).
 
     Notes
