@@ -282,12 +282,8 @@ def measured_relative_error(value, reference, scale, floor):
 
     Parameters
     ----------
-    value, reference : array_like, shape (N, ...)
-        The arrays to compare, set points first.
-    scale : array_like, shape (...)
-        The natural scale of each element (see :func:`natural_scales`), >= 0.
-    floor : float
-        Absolute floor: no scale is taken below it.
+    value, reference, scale, floor
+        As :func:`natural_relative_error` (no scale is taken below ``floor``).
 
     Returns
     -------
