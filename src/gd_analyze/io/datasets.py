@@ -290,7 +290,7 @@ def summary_dataset(robot, trajectory, ranking, choices, error, verification=Non
     """
     import xarray as xr
 
-    from ..core.selection.ranking import CHAPTER_DOMINANCE, is_chapter_puma
+    from ..core.selection.ranking import CHAPTER_DOMINANCE, identically_zero, is_chapter_puma
 
     n = robot.n
     labels = list(ranking.labels)
@@ -302,9 +302,13 @@ def summary_dataset(robot, trajectory, ranking, choices, error, verification=Non
     def by_type(which, coord):
         return units_attribute(joint_units(prismatic, which), coord)
 
+    # an element zero in every part has no share: its ratio of round-off is not data (NaN)
+    zero = identically_zero(ranking.peak_tran, ranking.peak_rot, ranking.peak_total,
+                            ranking.scale)
     data_vars = {
-        "share_tran": var(("element",), ranking.share_tran, "1",
-                           "translational share sum|tran| / (sum|tran| + sum|rot|)"),
+        "share_tran": var(("element",), np.where(zero, np.nan, ranking.share_tran), "1",
+                           "translational share sum|tran| / (sum|tran| + sum|rot|); NaN "
+                           "where the element is zero in every part (round-off)"),
         "dominance": var(("element",), np.array(ranking.dominance, dtype=str), "1",
                           "dominance class (translational, rotational, both, negligible)"),
         "chapter_dominance": var(("element",),

@@ -10,6 +10,7 @@ from __future__ import annotations
 
 import numpy as np
 
+from ..core.selection.labels import element_label
 from ..core.selection.ranking import arm_scales, is_round_off
 from ..io.datasets import stored_guarantee
 from ..io.sweep_datasets import payload_part
@@ -27,6 +28,7 @@ from .common import (
 )
 from .common import fmt as _fmt
 from .common import fmt_column as _column
+from .common import fmt_columns as _columns
 from .common import pct_column as _pct_column
 from .common import share as _share
 from .common import strings as _strings
@@ -59,12 +61,32 @@ _REQUIRED = ("t", "q", "qd", "qdd", "D_tran", "D_rot", "D", "h_tran", "h_rot", "
              "dh_alpha", "dh_offset", "link_mass", "link_com", "link_inertia")
 
 _CHOICE_TEXT = {"tran": "translational part only", "rot": "rotational part only",
-                "both": "translational + rotational", "none": "dropped (negligible)"}
+                "both": "translational + rotational"}
 
 _CHOICES_HEADING = {"explicit": "5.2 Choice per element",
                     "recursive": "5.2 Base parameters and the parts kept"}
 _MODEL_HEADING = {"explicit": "5.3 Explicit model: rule, bound, cost",
                   "recursive": "5.3 Recursive model: rule, bound, cost"}
+
+
+def _choice_table(ds, labels, dominance, choice):
+    """Sec. 5.2 of an explicit model: the part of each element kept, and for an arm with drives
+    the armature, which the model keeps whole (a column of its own: an element whose link
+    parts are dropped keeps its armature)."""
+    arm = has_armature(ds)
+    diag = _diagonal(int(ds.sizes.get("joint", 0)))
+
+    def meaning(k, lab):
+        if choice[k] != "none":
+            return _CHOICE_TEXT.get(choice[k], "")
+        what = "link parts dropped" if arm and lab in diag else "dropped"
+        return what + (" (negligible)" if dominance[k] == "negligible" else " (within the budget)")
+
+    return _table(
+        ["element", "class", "kept part", *(["armature"] if arm else []), "meaning"],
+        [[lab, dominance[k], choice[k], *(["kept" if lab in diag else "\u2014"] if arm else []),
+          meaning(k, lab)] for k, lab in enumerate(labels)],
+        widths=[0.8, 1.2, 0.8, *([0.8] if arm else []), 2.2], colour_cols=[1])
 
 
 def _base_parameter_table(ds):
@@ -275,18 +297,28 @@ def _report_context_base(ds):
     off = {name: is_round_off(v, scale, arm_scale=arm)
            for name, v in (("tran", pt), ("rot", pr), ("total", ptot))}
 
-    shown = {name: _column(v, off=off[name])     # round-off of the element's scale: not data
-             for name, v in (("tran", pt), ("rot", pr), ("total", ptot))}
+    arm_cols = _armature_columns(ds, labels, zero)
+    # the peaks of the parts are one quantity: one format for the four columns (issue 31)
+    texts = _columns([pt, pr, ptot, arm_cols["peak"]],            # round-off: not data
+                     off=[off["tran"], off["rot"], off["total"], None])
+    shown = dict(zip(("tran", "rot", "total"), texts))
+    arm_peak = iter(texts[3])
+    arm_cols["rows"] = [row[:1] + ([next(arm_peak)] if row[1:] == ["."] else row[1:])
+                        for row in arm_cols["rows"]]
 
     ranking = _table(
-        ["element", "translational share", "class", f"peak |{_el('X', '', 'tran')}|",
-         f"peak |{_el('X', '', 'rot')}|", "peak |X|", "units"],
+        ["element", "translational share", *arm_cols["header"][:1], "class",
+         f"peak |{_el('X', '', 'tran')}|", f"peak |{_el('X', '', 'rot')}|",
+         *arm_cols["header"][1:], "peak |X|", "units"],
         [[lab, "\u2261 0" if zero[k] else _share_text(share[k], off["tran"][k], off["rot"][k]),
-          dominance[k], shown["tran"][k], shown["rot"][k], shown["total"][k],
-          el_units[k]]
+          *arm_cols["rows"][k][:1], dominance[k], shown["tran"][k], shown["rot"][k],
+          *arm_cols["rows"][k][1:], shown["total"][k], el_units[k]]
          for k, lab in enumerate(labels)],
-        align=["left", "right", "left", "right", "right", "right", "left"],
-        widths=[0.8, 0.9, 1.2, 1, 1, 1, 0.8], colour_cols=[2])
+        align=["left", "right", *["right"] * len(arm_cols["header"][:1]), "left", "right",
+               "right", *["right"] * len(arm_cols["header"][1:]), "right", "left"],
+        widths=[0.8, 0.9, *[0.9] * len(arm_cols["header"][:1]), 1.2, 1, 1,
+                *[1] * len(arm_cols["header"][1:]), 1, 0.8],
+        colour_cols=[2 + len(arm_cols["header"][:1])])
     counts = {c: dominance.count(c) for c in _CLASS_COLOURS}
 
     # 5. simplified model and torque error
@@ -294,11 +326,7 @@ def _report_context_base(ds):
     if form == "recursive":
         choices = _base_parameter_table(ds)
     else:
-        choices = _table(
-            ["element", "class", "kept part", "meaning"],
-            [[lab, dominance[k], choice[k], _CHOICE_TEXT.get(choice[k], "")]
-             for k, lab in enumerate(labels)],
-            widths=[0.8, 1.2, 0.8, 2.2], colour_cols=[1])
+        choices = _choice_table(ds, labels, dominance, choice)
     err_off = is_round_off(ds["tau_error_peak"].values, ds["tau_peak"].values,
                            arm_scale=arm_scales(ds["tau_peak"].values, tau_units))
     rel_peak = _pct_column(ds["tau_error_relative_peak"].values, err_off)   # one format
@@ -383,8 +411,7 @@ def _report_context_base(ds):
         "facts": facts, "intro": _INTRO.format(created=now.isoformat(), version=__version__),
         "captions": captions(enveloped, N, f"{s:g}", f"{e:g}", units=_caption_units(ds),
                              alike=alike_joints(ds)),
-        "D_text": _D_TEXT.format(s=f"{s:g}", e=f"{e:g}", units=units_said_once(ds, "D"),
-                                 **_D_PARTS[enveloped]),
+        "D_text": _d_text(ds, s, e, enveloped), "armature": has_armature(ds),
         "n": n, "N": N, "s": f"{s:g}", "e": f"{e:g}", "created": now.isoformat(),
         **robot,
         "ranking": ranking, "counts": counts, "choices": choices, "error": err,
@@ -417,15 +444,52 @@ _INTRO = ("Generalized d'Alembert (G-D) equations of motion split the inertia ma
 
 _D_TEXT = ("One panel per element " + _el("D", "ij") + " with i \u2264 j (row i, column j): "
            "translational part " + _el("D", "ij", "tran") + " ({tran}), rotational part "
-           + _el("D", "ij", "rot") + " ({rot}) and " + _el("D", "ij")
-           + " = " + _el("D", "ij", "tran") + " + " + _el("D", "ij", "rot")
+           + _el("D", "ij", "rot") + " ({rot}){armature} and " + _el("D", "ij")
+           + " = " + _el("D", "ij", "tran") + " + " + _el("D", "ij", "rot") + "{plus_arm}"
            + " ({total}) "
            "against time [{units}]. The title gives the element and its dominance class "
            "(s = {s}, e = {e}).")
 #: How Fig. 2 draws each part (main_figures): marker and colour, or, for a long trajectory
-#: drawn as its envelope without markers, line style and colour.
+#: drawn as its envelope without markers, line style and colour; the armature has no marker.
 _D_PARTS = {False: {"tran": "\u25cb, blue", "rot": "\u00d7, orange", "total": "\u25b3, black"},
             True: {"tran": "solid, blue", "rot": "dashed, orange", "total": "dotted, black"}}
+#: What the combined curve of a diagonal panel adds for an arm with drives (Table 1.4).
+_D_ARMATURE = {"armature": ", on a diagonal panel the drives' armature " + _el("D", "ii", "arm")
+                           + " (dash-dot, pink; a constant; " + _el("D", "ij", "arm")
+                           + " = 0 off the diagonal)",
+               "plus_arm": " + " + _el("D", "ij", "arm")}
+
+
+def _armature_columns(ds, labels, zero):
+    """Sec. 4's columns of an arm with drives: the armature share and peak |X^arm| (the
+    armature on D_ii, "—" elsewhere); none without drives."""
+    if not has_armature(ds):
+        return {"header": [], "rows": [[] for _ in labels], "peak": []}
+    arm = np.asarray(ds["D_arm"].values, float)
+    share = (ds["share_arm"].values if "share_arm" in ds
+             else np.full(len(labels), np.nan))
+    diag = _diagonal(arm.size)
+    rows = [[("\u2261 0" if zero[k] else _share(share[k])) if lab in diag else "\u2014",
+             "." if lab in diag else "\u2014"] for k, lab in enumerate(labels)]
+    return {"header": ["armature share", f"peak |{_el('X', '', 'arm')}|"], "rows": rows,
+            "peak": [arm[diag[lab]] for lab in labels if lab in diag]}
+
+
+def _diagonal(n):
+    """The labels of D's diagonal elements, each with its joint's index (0-based)."""
+    return {element_label("D", k, k): k for k in range(n)}
+
+
+def has_armature(ds):
+    """Whether the arm has drives whose armature adds to the diagonal of D (Table 1.4)."""
+    return "D_arm" in ds and bool(np.any(ds["D_arm"].values > 0))
+
+
+def _d_text(ds, s, e, enveloped):
+    """Fig. 2's lead-in: the parts drawn and what the combined curve sums."""
+    arm = _D_ARMATURE if has_armature(ds) else {"armature": "", "plus_arm": ""}
+    return _D_TEXT.format(s=f"{s:g}", e=f"{e:g}", units=units_said_once(ds, "D"),
+                          **_D_PARTS[enveloped], **arm)
 
 
 #: The verification's absolute floor (gd_analyze.formulations.pinocchio.FLOOR_EPS machine

@@ -10,7 +10,7 @@ import math
 
 import numpy as np
 
-__all__ = ["fmt", "fmt_column", "count", "share", "pct", "pct_column"]
+__all__ = ["fmt", "fmt_column", "fmt_columns", "count", "share", "pct", "pct_column"]
 
 #: :func:`fmt_column` writes a column in fixed notation with at most this many decimals and
 #: this many digits more than its significant ones in its widest entry (magnitudes over three
@@ -124,6 +124,40 @@ def fmt_column(values, digits=4, off=None):
     it = iter(texts or [])
     return ["\u2261 0" if h else "n/a" if not math.isfinite(x) else "0" if x == 0
             else next(it) for x, h in zip(v, hide)]
+
+
+def fmt_columns(columns, digits=4, off=None):
+    """Several columns of one quantity (the peaks of an element's parts, in one unit) in one
+    notation, as if they were one column (:func:`fmt_column`; issue 31: one format per
+    quantity, never "0.7840" beside "4.480e+00").
+
+    Parameters
+    ----------
+    columns : sequence of array_like, each shape (M,)
+        The numbers [one unit for all].
+    digits : int, optional
+        Significant digits each entry keeps, at least.
+    off : sequence of (array_like of bool, shape (M,), or None), optional
+        Per column, the entries that are round-off ("≡ 0").
+
+    Returns
+    -------
+    list of list of str
+        One list per column.
+
+    Examples
+    --------
+    >>> fmt_columns([[2.835, 0.8302], [0.784, 0.0]])
+    [['2.8350', '0.8302'], ['0.7840', '0']]
+    >>> fmt_columns([[4.48, 3.976e-05], [0.784, 0.0]])
+    [['4.480e+00', '3.976e-05'], ['7.840e-01', '0']]
+    """
+    arrays = [np.asarray(c, dtype=float).ravel() for c in columns]
+    offs = [np.zeros(a.shape, bool) if o is None else np.asarray(o, bool).ravel()
+            for a, o in zip(arrays, off or [None] * len(arrays))]
+    texts = fmt_column(np.concatenate(arrays), digits, np.concatenate(offs))
+    ends = np.cumsum([a.size for a in arrays])
+    return [texts[e - a.size:e] for a, e in zip(arrays, ends)]
 
 
 def count(value):
