@@ -37,7 +37,9 @@ def dask_client(scheduler=None, n_workers=None):
     Yields
     ------
     (distributed.Client, str)
-        The client and a description of the cluster; both are closed on exit.
+        The client and what it runs on, as the provenance says it ("a LocalCluster of 2
+        worker processes started by gd-analyze on this machine", "the running scheduler at
+        tcp://10.0.0.5:8786"); the client, and a cluster started here, are closed on exit.
 
     Notes
     -----
@@ -59,7 +61,7 @@ def dask_client(scheduler=None, n_workers=None):
     cluster = None
     with contextlib.ExitStack() as env:
         if scheduler is not None:
-            client, how = Client(scheduler), "connected by address"
+            client, how = Client(scheduler), f"the running scheduler at {scheduler}"
         else:
             import dask
 
@@ -73,7 +75,9 @@ def dask_client(scheduler=None, n_workers=None):
                     _working_folder(empty):
                 cluster = LocalCluster(n_workers=workers, threads_per_worker=1, processes=True,
                                        dashboard_address=None, scheduler_kwargs=_NO_DASHBOARD)
-            client, how = Client(cluster), "LocalCluster started by gd-analyze"
+            client = Client(cluster)
+            how = (f"a LocalCluster of {workers} worker process{'es' if workers != 1 else ''} "
+                   "started by gd-analyze on this machine")
         try:
             yield client, how
         finally:
