@@ -157,3 +157,16 @@ def test_no_share_is_stored_for_an_element_zero_in_every_part(shipped_dataset):
             assert np.abs(ds[part].values[:, i, j]).max() <= 1e-12 * scale
         assert np.isnan(share[labels.index(lab)]), lab
     assert np.isfinite(np.delete(share, [labels.index("D45"), labels.index("D56")])).all()
+
+
+def test_round_off_torque_errors_are_marked_as_such(shipped_dataset):
+    """Issue 31: results.h5 stored joints 3 to 6's torque errors (1e-16 to 4e-15 N m) as
+    numbers like any other. They are flagged round-off (the report's "≡ 0"): at most 1e-12 of
+    the joint's peak |tau| or 64 eps of the arm's largest."""
+    ds = shipped_dataset("puma560")
+    peak, tau = ds["tau_error_peak"].values, ds["tau_peak"].values
+    oracle = peak <= np.maximum(1e-12 * tau, 64 * np.finfo(float).eps * tau.max())
+    flags = ds["tau_error_round_off"].values.astype(bool)
+    assert oracle.any() and not oracle.all()                     # the case at hand
+    np.testing.assert_array_equal(flags, oracle)
+    assert ds["tau_error_round_off"].attrs["flag_meanings"] == "data round_off"

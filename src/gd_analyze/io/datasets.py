@@ -337,6 +337,10 @@ def summary_dataset(robot, trajectory, ranking, choices, error, verification=Non
                                         "peak |tau_simplified - tau| / peak |tau|"),
         "tau_error_relative_rms": var(("joint",), np.array(error["relative_rms_error"]), "1",
                                        "RMS |tau_simplified - tau| / peak |tau|"),
+        **({} if "round_off" not in error else {"tau_error_round_off": var(
+            ("joint",), np.array(error["round_off"], dtype=np.int8), "1",
+            "1 where the torque error is floating-point round-off (shown as \u2261 0), not data",
+            flag_values=np.array([0, 1], dtype=np.int8), flag_meanings="data round_off")}),
         "joint_type": var(("joint",), np.array(robot.joint_types, dtype=str), "1",
                           "joint type: revolute (q in rad) or prismatic (q in m)"),
         "dh_d": var(("joint",), robot.d, "m",

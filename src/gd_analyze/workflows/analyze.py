@@ -380,12 +380,26 @@ def _analysis_pass(robot, trajectory, options, provenance, chunk, writer, progre
 
         costs = formulations_dataset(robot, q[idx_form], qd[idx_form], qdd[idx_form],
                                      gd=sample.rows([at[i] for i in idx_form]))
-    return AnalysisPass(ranking=ranking, choices=choices, error=errors.result(),
+    return AnalysisPass(ranking=ranking, choices=choices, error=_marked(errors.result(), robot),
                  verification=verification, costs=costs,
                  terms=_concat(held) if writer is None else None,
                  tau=np.concatenate(held_tau) if writer is None else None,
                  tau_simplified=np.concatenate(tau_s_all) if writer is None else None,
                  model=model, simplified=simplified)
+
+
+def _marked(error, robot):
+    """The torque error with ``round_off`` per joint: True where its peak is floating-point
+    round-off by the reports' one rule (:func:`gd_analyze.core.selection.ranking.is_round_off`
+    of peak |tau_i| and of the arm's), so the stored numbers are never read as data."""
+    from ..core.selection.labels import joint_torque_units
+    from ..core.selection.ranking import arm_scales, is_round_off
+
+    units = [joint_torque_units(bool(p)) for p in robot.prismatic]
+    tau = np.asarray(error["peak_tau"], float)
+    off = is_round_off(np.asarray(error["peak_abs_error"], float), tau,
+                       arm_scale=arm_scales(tau, units))
+    return {**error, "round_off": [bool(v) for v in np.atleast_1d(off)]}
 
 
 def _provenance(trajectory, settings):
