@@ -113,6 +113,33 @@ def _base_parameter_table(ds):
                   widths=[1.0, 1.0, 0.7, 0.8, 0.8, 0.8])
 
 
+_BASE_NOTE = (
+    "Base parameters (Khalil & Kleinfinger 1987; Gautier 1990), per link j in its joint frame j "
+    "(origin on joint j's axis, z along it; the frame joint j moves, not the link frame of "
+    "Table 1.3): XXj, XYj, XZj, YZj, ZZj [kg m\u00b2] are entries of the link's inertia "
+    "tensor about that origin, MXj, MYj [kg m] its first moment m r, each with the parameters "
+    "that do not act on their own regrouped into it (for a revolute joint the link's YY, MZ "
+    "and m go to the links before it, XXj stands for XX \u2212 YY).")
+
+
+def _base_note(ds):
+    """The note defining the base parameters' names and frame, with an example of a first
+    moment that is 0 in the joint frame while Table 1.3's centre of mass has that coordinate."""
+    if "base_parameter_value" not in ds or "link_com" not in ds:
+        return ""
+    values = dict(zip(_strings(ds["base_parameter"].values), ds["base_parameter_value"].values))
+    com = ds["link_com"].values
+    if not np.isfinite(ds["dh_a"].values).all():    # a URDF arm: its link frame is the body's
+        return _BASE_NOTE
+    for j in range(com.shape[0]):
+        for axis, c in (("X", 0), ("Y", 1)):
+            if values.get(f"M{axis}{j + 1}", None) == 0 and com[j, c] != 0:
+                return (_BASE_NOTE + f" So M{axis}{j + 1} = 0 beside a centre of mass "
+                        f"{axis.lower()} of {_fmt(com[j, c])} m of link {j + 1} in Table 1.3: "
+                        "the two frames differ.")
+    return _BASE_NOTE
+
+
 def _zero_parameters(ds):
     """The sentence naming the base parameters whose value is 0 (not listed in Sec. 5.2)."""
     if "base_parameter_value" not in ds:
@@ -418,6 +445,7 @@ def _report_context_base(ds):
         "simplified_intro": (simplified_intro(form, _gravity_fact(ds, form))
                              + _zero_parameters(ds)),
         "choices_heading": _CHOICES_HEADING[form],
+        "choices_note": _base_note(ds) if form == "recursive" else "",
         "model_heading": _MODEL_HEADING[form],
         "compare": {"applicable": applicable, "note": note, "table": compare,
                     "n_agree": n_agree, "n_compared": n_compared},

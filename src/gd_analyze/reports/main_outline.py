@@ -128,6 +128,7 @@ def main_outline(ctx, figures):
                           "\u03c4" + sub("s") + " \u2212 \u03c4 along the trajectory.")
     o.figure("torque", caps["torque"])
     o.section(*_split(ctx["choices_heading"]))
+    o.paragraph(ctx.get("choices_note", ""), "note")
     o.table(ctx["choices"], "Base parameters and the parts of their contributions the model "
                             "keeps." if ctx["choices"]["header"][0] == "base parameter" else
             "The part of each element the simplified model keeps.")
