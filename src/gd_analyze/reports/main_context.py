@@ -44,6 +44,7 @@ from .main_text import (
     element_scale,
     gravity_clause,
     prismatic_count_note,
+    shared_causes,
     simplified_intro,
 )
 from .markup import element as _el
@@ -408,6 +409,10 @@ def _report_context_base(ds):
                  f"τ) {n_agree} of {n_compared} classes agree with the chapter's; its "
                  f"rigid links alone (drives left out, the chapter's model) {n_rigid} of "
                  f"{n_compared}.")
+    causes, said_once = shared_causes([row[-1] for row in compare_rows])
+    compare_rows = [row[:-1] + [cause] for row, cause in zip(compare_rows, causes)]
+    if said_once:
+        note += f" Causes shared by several rows of Table 6.1, said once: {said_once}"
     compare = _table(["element", "our class", "chapter's class", "agree", "translational share",
                       "cause"],
                      compare_rows, align=["left"] * 4 + ["right", "left"],

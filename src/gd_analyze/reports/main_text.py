@@ -12,7 +12,7 @@ from ..core.selection.ranking import element_label, parse_element_label
 from .numbers import share as _share
 from .plot_data import ENVELOPE_COLUMNS
 
-__all__ = ["conclusion", "model_sentence", "gravity_clause", "simplified_intro", "disagreement_cause", "captions",
+__all__ = ["conclusion", "model_sentence", "gravity_clause", "simplified_intro", "disagreement_cause", "shared_causes", "captions",
            "element_scale", "prismatic_count_note", "alike_sentence"]
 
 _CLASSES = ("translational", "rotational", "both", "negligible")
@@ -377,6 +377,44 @@ def disagreement_cause(label, ours, theirs, share, zero, s, robot_name):
             ours in ("rotational", "both") and theirs == "translational":
         cause += "; the drive's armature counts on the rotational side"
     return cause
+
+
+def shared_causes(causes):
+    """Causes said once (issue 31: Table 6.1 repeated one cause in every row): each clause
+    (``"; "``-separated) that more than one row gives becomes a note, marked (a), (b), ... in
+    those rows.
+
+    Parameters
+    ----------
+    causes : sequence of str
+        One cause per row, as :func:`disagreement_cause` writes it ("" where none).
+
+    Returns
+    -------
+    rows : list of str
+        The causes with each shared clause replaced by its mark.
+    note : str
+        "(a) ... (b) ..." in order of first use, a row's shared clauses together under one
+        mark; "" if no clause is shared.
+
+    Examples
+    --------
+    >>> shared_causes(["x 1; no class; by eye", "no class; by eye", "y 2; other", ""])
+    (['x 1 (a)', '(a)', 'y 2; other', ''], '(a) no class; by eye.')
+    """
+    split = [[c for c in cause.split("; ") if c] for cause in causes]
+    seen = {}
+    for clauses in split:
+        for c in clauses:
+            seen[c] = seen.get(c, 0) + 1
+    marks, rows = {}, []
+    for clauses in split:          # a row's shared clauses, together, are one note
+        shared = "; ".join(c for c in clauses if seen[c] > 1)
+        if shared and shared not in marks:
+            marks[shared] = f"({chr(ord('a') + len(marks))})"
+        own = "; ".join(c for c in clauses if seen[c] == 1)
+        rows.append(" ".join(t for t in (own, marks.get(shared, "")) if t))
+    return rows, " ".join(f"{m} {c}." for c, m in marks.items())
 
 
 def captions(enveloped, N, s, e, units=None, alike=()):
