@@ -61,8 +61,12 @@ def cost_rows(n, model, other=None, ladder_rows=None, formulation_counts=None):
         rows["explicit, full"] = row(model.full_cost)
     elif "explicit, full" in rec:
         rows["explicit, full"] = row(rec["explicit, full"])
+    same = {row(model.full_cost)} if model.full_cost else set()     # a rung that is the full
+    if model.form == "explicit" and model.rule == "budget":          # model or this one is
+        same.add(row(model.cost))                                    # listed once, as such
     for r in ladder_rows or []:
-        rows[f"explicit, budget EPS={r['tolerance']:g}"] = row(r)
+        if not ((r["tolerance"] == 0 or r["tolerance"] == model.tolerance) and row(r) in same):
+            rows[f"explicit, budget EPS={r['tolerance']:g}"] = row(r)
     for m in (model, other):
         if m is not None and m.form == "explicit":
             eps = "" if m.rule == "chapter" else f" EPS={m.tolerance:g}"
