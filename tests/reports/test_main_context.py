@@ -19,3 +19,16 @@ def test_base_parameter_names_are_defined_with_their_frame(shipped_dataset):
                       ds["base_parameter_value"].values))
     assert values["MY4"] == 0 and np.isclose(ds["link_com"].values[3, 1], 0.019)
     assert "So MY4 = 0 beside a centre of mass y of 0.019 m of link 4 in Table 1.3" in note
+
+
+def test_dh_table_prints_the_parameters_as_the_robot_file_gives_them(shipped_dataset):
+    """Issue 31: d3 = 0.15005 m was printed 0.15. Oracle: the robot file's numbers (the
+    loaded robot's), read back from the table's text, exactly."""
+    from gd_analyze import load_robot
+
+    ds = shipped_dataset("puma560")
+    robot = load_robot("puma560")
+    rows = report_context(ds)["dh"]["rows"]
+    assert rows[2][1] == "0.15005"
+    for row, d, a in zip(rows, robot.d, robot.a):
+        assert float(row[1]) == d and float(row[2]) == a, row

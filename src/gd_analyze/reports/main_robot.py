@@ -9,7 +9,7 @@ import numpy as np
 
 from ..core.selection.ranking import joint_motion_units
 from .common import attr as _attr
-from .common import count, prismatic_joints, strings
+from .common import count, given, prismatic_joints, strings
 from .common import fmt as _fmt
 from .common import fmt_column as _column
 from .common import share as share_text
@@ -175,14 +175,14 @@ def _robot_geometry(ds):
 
         def cell(value, variable):            # the joint variable q where it moves: q + offset
             if not variable:
-                return _fmt(value)
+                return given(value)
             sign = "+" if value > 0 else "\u2212"
-            return "q" if value == 0 else f"q {sign} {_fmt(abs(value))}"
+            return "q" if value == 0 else f"q {sign} {given(abs(value))}"
 
-        dh = _table(
+        dh = _table(                        # as the robot file gives them (issue 31)
             ["joint", "d [m]", "a [m]", "\u03b1 [deg]", "\u03b8 [deg]"],
-            [[str(k + 1), cell(dh_rows[0, k], pris[k]), _fmt(dh_rows[1, k]),
-              _fmt(np.degrees(dh_rows[2, k])), cell(np.degrees(dh_rows[3, k]), not pris[k])]
+            [[str(k + 1), cell(dh_rows[0, k], pris[k]), given(dh_rows[1, k]),
+              given(np.degrees(dh_rows[2, k])), cell(np.degrees(dh_rows[3, k]), not pris[k])]
              for k in range(n)],
             align=["left"] + ["right"] * 4, widths=[0.8, 1, 1, 1, 1])
         return dh, None

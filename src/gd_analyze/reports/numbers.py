@@ -10,7 +10,7 @@ import math
 
 import numpy as np
 
-__all__ = ["fmt", "fmt_column", "fmt_columns", "count", "share", "pct", "pct_column"]
+__all__ = ["fmt", "fmt_column", "fmt_columns", "given", "count", "share", "pct", "pct_column"]
 
 #: :func:`fmt_column` writes a column in fixed notation with at most this many decimals and
 #: this many digits more than its significant ones in its widest entry (magnitudes over three
@@ -58,6 +58,37 @@ def fmt(value, digits=4, sci_outside=None):
     if sci_outside is not None and abs(v) >= 10.0 ** digits:
         return f"{v:,.0f}"          # inside the range: never e-notation (34,780, not 3.478e+04)
     return f"{v:,.{digits}g}"
+
+
+#: Significant digits that reproduce a parameter as a robot file gives it (its decimals), and
+#: hide the rounding of a unit conversion (pi/2 rad printed as 90 deg).
+_GIVEN_DIGITS = 12
+
+
+def given(value):
+    """A parameter the robot file gives (a DH length or angle) as given: every decimal it
+    has, never rounded to a few digits (issue 31: d3 = 0.15005 was printed 0.15).
+
+    Parameters
+    ----------
+    value : float
+        The parameter [m or deg].
+
+    Returns
+    -------
+    str
+        The shortest text of :data:`_GIVEN_DIGITS` significant digits; "0" for zero (no
+        "-0"); "n/a" if not finite.
+
+    Examples
+    --------
+    >>> given(0.15005), given(0.4318), given(90.00000000000001), given(-0.0)
+    ('0.15005', '0.4318', '90', '0')
+    """
+    v = float(value)
+    if not math.isfinite(v):
+        return "n/a"
+    return "0" if v == 0 else f"{v:.{_GIVEN_DIGITS}g}"
 
 
 def _close(texts, values, digits):
