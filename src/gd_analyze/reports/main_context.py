@@ -29,7 +29,7 @@ from .common import (
 from .common import fmt as _fmt
 from .common import fmt_column as _column
 from .common import fmt_columns as _columns
-from .common import pct_column as _pct_column
+from .common import pct_columns as _pct_columns
 from .common import share as _share
 from .common import strings as _strings
 from .common import table as _table
@@ -357,11 +357,14 @@ def _report_context_base(ds):
         choices = _choice_table(ds, labels, dominance, choice)
     err_off = is_round_off(ds["tau_error_peak"].values, ds["tau_peak"].values,
                            arm_scale=arm_scales(ds["tau_peak"].values, tau_units))
-    rel_peak = _pct_column(ds["tau_error_relative_peak"].values, err_off)   # one format
-    rel_rms = _pct_column(ds["tau_error_relative_rms"].values, err_off)     # per column
-    err_peak, err_rms, tau_peak = (
-        _column(ds[v].values, off=err_off if v != "tau_peak" else None)
-        for v in ("tau_error_peak", "tau_error_rms", "tau_peak"))
+    rel_peak, rel_rms = _pct_columns([ds["tau_error_relative_peak"].values,  # one format
+                                      ds["tau_error_relative_rms"].values],   # for both
+                                     off=[err_off, err_off])
+    # the errors and peak |tau| are one quantity [N m or N]: one format (issue 31)
+    err_peak, err_rms, tau_peak = _columns(
+        [ds[v].values for v in ("tau_error_peak", "tau_error_rms", "tau_peak")],
+        off=[err_off, err_off, None])
+    said = {"rel": rel_peak, "abs": err_peak, "tau": tau_peak}   # the summary quotes them
     err = _table(
         ["joint", "peak |\u03c4\u209b\u00a0\u2212\u00a0\u03c4|",
          "RMS |\u03c4\u209b\u00a0\u2212\u00a0\u03c4|",
@@ -432,7 +435,7 @@ def _report_context_base(ds):
                          gravity=_gravity_fact(ds, form), units=tau_units,
                          scope=_scope((stored_guarantee(ds) or {}).get("statement") or ""),
                          where="the joint-limit region" if (stored_guarantee(ds) or {}).get(
-                             "kind") == "region" else "this trajectory")
+                             "kind") == "region" else "this trajectory", shown=said)
     facts = (f"{robot_name}, {n} joints, {count(N)} set points over {_fmt(t[-1] - t[0], 4)} s; "
              f"{len(labels)} elements ranked with s = {s:g}, e = {e:g}: "
              + ", ".join(f"{counts[c]} {c}" for c in _CLASS_COLOURS)

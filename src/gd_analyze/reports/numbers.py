@@ -10,7 +10,8 @@ import math
 
 import numpy as np
 
-__all__ = ["fmt", "fmt_column", "fmt_columns", "given", "count", "share", "pct", "pct_column"]
+__all__ = ["fmt", "fmt_column", "fmt_columns", "given", "count", "share", "pct", "pct_column",
+           "pct_columns"]
 
 #: :func:`fmt_column` writes a column in fixed notation with at most this many decimals and
 #: this many digits more than its significant ones in its widest entry (magnitudes over three
@@ -183,12 +184,40 @@ def fmt_columns(columns, digits=4, off=None):
     >>> fmt_columns([[4.48, 3.976e-05], [0.784, 0.0]])
     [['4.480e+00', '3.976e-05'], ['7.840e-01', '0']]
     """
+    return _as_one(lambda v, o: fmt_column(v, digits, o), columns, off)
+
+
+def _as_one(column, columns, off):
+    """``column(values, off)`` applied to several columns as one, split back."""
     arrays = [np.asarray(c, dtype=float).ravel() for c in columns]
     offs = [np.zeros(a.shape, bool) if o is None else np.asarray(o, bool).ravel()
             for a, o in zip(arrays, off or [None] * len(arrays))]
-    texts = fmt_column(np.concatenate(arrays), digits, np.concatenate(offs))
+    texts = column(np.concatenate(arrays), np.concatenate(offs))
     ends = np.cumsum([a.size for a in arrays])
     return [texts[e - a.size:e] for a, e in zip(arrays, ends)]
+
+
+def pct_columns(columns, off=None):
+    """Several columns of one relative quantity as percentages in one format, as if one column
+    (:func:`pct_column`; issue 31: never "0.363 %" beside "0.1827 %").
+
+    Parameters
+    ----------
+    columns : sequence of array_like, each shape (M,)
+        The fractions [1].
+    off : sequence of (array_like of bool, shape (M,), or None), optional
+        Per column, the entries that are round-off ("≡ 0").
+
+    Returns
+    -------
+    list of list of str
+
+    Examples
+    --------
+    >>> pct_columns([[0.00363, 0.00012], [0.001827, 0.000055]])
+    [['0.3630 %', '0.0120 %'], ['0.1827 %', '0.0055 %']]
+    """
+    return _as_one(pct_column, columns, off)
 
 
 def count(value):
