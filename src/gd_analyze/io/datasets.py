@@ -317,7 +317,9 @@ def summary_dataset(robot, trajectory, ranking, choices, error, verification=Non
                                   "dominance reported in Sec. 3.4.1 for the chapter's PUMA 560 "
                                   "(empty unless the robot is a PUMA 560)"),
         "choice": var(("element",), np.array([choices[lab] for lab in labels], dtype=str), "1",
-                       "part kept by the simplified model (tran, rot, both, none)"),
+                       "part kept by the simplified model (tran, rot, both, none; for the "
+                       "recursive form both, or pruned where its dropped base-parameter "
+                       "terms change the element)"),
         "peak_tran": var(("element",), ranking.peak_tran, mixed,
                           "peak |translational part| along the trajectory"),
         "peak_rot": var(("element",), ranking.peak_rot, mixed,

@@ -105,7 +105,7 @@ def control_context(ds):
 
     names = _strings(ds["controller"].values)
     n = int(ds.sizes["joint"])
-    joints = [f"J{j + 1}" for j in range(n)]
+    joints = [f"joint {j + 1}" for j in range(n)]      # as the main report names them
     desc = (_strings(ds["controller_description"].values) if "controller_description" in ds
             else names)
     q_units = joint_units_of(ds, "q")

@@ -380,12 +380,23 @@ def _analysis_pass(robot, trajectory, options, provenance, chunk, writer, progre
 
         costs = formulations_dataset(robot, q[idx_form], qd[idx_form], qdd[idx_form],
                                      gd=sample.rows([at[i] for i in idx_form]))
+    if model is not None and model.recursive is not None:
+        from .simplified_dataset import recursive_choices
+
+        pick = _subsample(N, _CHOICE_SETPOINTS)
+        choices = recursive_choices(model, q[pick], qd[pick], gd_terms(robot, q[pick], qd[pick]),
+                                    ranking)
     return AnalysisPass(ranking=ranking, choices=choices, error=_marked(errors.result(), robot),
                  verification=verification, costs=costs,
                  terms=_concat(held) if writer is None else None,
                  tau=np.concatenate(held_tau) if writer is None else None,
                  tau_simplified=np.concatenate(tau_s_all) if writer is None else None,
                  model=model, simplified=simplified)
+
+
+#: Set points (evenly spread) on which a recursive model's D_s and h_s are compared with D
+#: and h, element by element, for the stored ``choice``.
+_CHOICE_SETPOINTS = 64
 
 
 def _marked(error, robot):
