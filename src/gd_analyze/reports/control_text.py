@@ -6,8 +6,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from ..core.selection.guarantee import ROUND_OFF_CLAUSE
-from ..core.selection.ranking import element_label, is_round_off
+from ..core.selection.ranking import ROUND_OFF_CLAUSE, element_label, is_round_off
 from .common import cost_table, fmt_column, prismatic_joints, utc_now
 from .common import strings as _strings
 from .common import table as _table

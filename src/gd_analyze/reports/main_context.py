@@ -10,7 +10,6 @@ from __future__ import annotations
 
 import numpy as np
 
-from ..core.selection.labels import element_label
 from ..core.selection.ranking import arm_scales, is_round_off
 from ..io.datasets import stored_guarantee
 from ..io.sweep_datasets import payload_part
@@ -23,11 +22,9 @@ from .common import (
     prismatic_joints,
     torque_units,
     units_said_once,
-    units_text,
     utc_now,
 )
 from .common import fmt as _fmt
-from .common import fmt_column as _column
 from .common import fmt_columns as _columns
 from .common import pct_columns as _pct_columns
 from .common import share as _share
@@ -35,6 +32,15 @@ from .common import strings as _strings
 from .common import table as _table
 from .common import thresholds as _thresholds
 from .main_figures import identically_zero
+from .main_parts import (
+    armature_columns,
+    base_note,
+    base_parameter_table,
+    choice_table,
+    d_text,
+    has_armature,
+    zero_parameters,
+)
 from .main_provenance import provenance_rows
 from .main_robot import alike_joints, robot_section
 from .main_text import (
@@ -61,98 +67,10 @@ _REQUIRED = ("t", "q", "qd", "qdd", "D_tran", "D_rot", "D", "h_tran", "h_rot", "
              "tau_peak", "tau_error_relative_peak", "tau_error_relative_rms", "dh_d", "dh_a",
              "dh_alpha", "dh_offset", "link_mass", "link_com", "link_inertia")
 
-_CHOICE_TEXT = {"tran": "translational part only", "rot": "rotational part only",
-                "both": "translational + rotational"}
-
 _CHOICES_HEADING = {"explicit": "5.2 Choice per element",
                     "recursive": "5.2 Base parameters and the parts kept"}
 _MODEL_HEADING = {"explicit": "5.3 Explicit model: rule, bound, cost",
                   "recursive": "5.3 Recursive model: rule, bound, cost"}
-
-
-def _choice_table(ds, labels, dominance, choice):
-    """Sec. 5.2 of an explicit model: the part of each element kept, and for an arm with drives
-    the armature, which the model keeps whole (a column of its own: an element whose link
-    parts are dropped keeps its armature)."""
-    arm = has_armature(ds)
-    diag = _diagonal(int(ds.sizes.get("joint", 0)))
-
-    def meaning(k, lab):
-        if choice[k] != "none":
-            return _CHOICE_TEXT.get(choice[k], "")
-        what = "link parts dropped" if arm and lab in diag else "dropped"
-        return what + (" (negligible)" if dominance[k] == "negligible" else " (within the budget)")
-
-    return _table(
-        ["element", "class", "kept part", *(["armature"] if arm else []), "meaning"],
-        [[lab, dominance[k], choice[k], *(["kept" if lab in diag else "\u2014"] if arm else []),
-          meaning(k, lab)] for k, lab in enumerate(labels)],
-        widths=[0.8, 1.2, 0.8, *([0.8] if arm else []), 2.2], colour_cols=[1])
-
-
-def _base_parameter_table(ds):
-    """The base parameters of a recursive model, their values and which parts are kept."""
-    names = _strings(ds["base_parameter"].values)
-    parts = _strings(ds["torque_part"].values)
-    dropped = ds["base_parameter_dropped"].values
-    units = _strings(ds["base_parameter_units"].values)
-    rel = (ds["base_parameter_relative_peak"].values if "base_parameter_relative_peak" in ds
-           else np.ones(dropped.shape))
-
-    def cell(k, p):
-        if rel[k, p] < ROUND_OFF:
-            return "\u2261 0"            # contributes nothing on this trajectory
-        return "dropped" if dropped[k, p] else "kept"
-
-    value = ds["base_parameter_value"].values
-    listed = [k for k in range(len(names)) if value[k] != 0]
-    return _table(["base parameter", "value", "units", *parts],
-                  [[names[k], text, units_text(units[k]),
-                    *(cell(k, p) for p in range(len(parts)))]
-                   for k, text in zip(listed, _column(value[listed]))],
-                  align=["left", "right", "left", "left", "left", "left"],
-                  widths=[1.0, 1.0, 0.7, 0.8, 0.8, 0.8])
-
-
-_BASE_NOTE = (
-    "Base parameters (Khalil & Kleinfinger 1987; Gautier 1990), per link j in its joint frame j "
-    "(origin on joint j's axis, z along it; the frame joint j moves, not the link frame of "
-    "Table 1.3): XXj, XYj, XZj, YZj, ZZj [kg m\u00b2] are entries of the link's inertia "
-    "tensor about that origin, MXj, MYj [kg m] its first moment m r, each with the parameters "
-    "that do not act on their own regrouped into it (for a revolute joint the link's YY, MZ "
-    "and m go to the links before it, XXj stands for XX \u2212 YY).")
-
-
-def _base_note(ds):
-    """The note defining the base parameters' names and frame, with an example of a first
-    moment that is 0 in the joint frame while Table 1.3's centre of mass has that coordinate."""
-    if "base_parameter_value" not in ds or "link_com" not in ds:
-        return ""
-    values = dict(zip(_strings(ds["base_parameter"].values), ds["base_parameter_value"].values))
-    com = ds["link_com"].values
-    if not np.isfinite(ds["dh_a"].values).all():    # a URDF arm: its link frame is the body's
-        return _BASE_NOTE
-    for j in range(com.shape[0]):
-        for axis, c in (("X", 0), ("Y", 1)):
-            if values.get(f"M{axis}{j + 1}", None) == 0 and com[j, c] != 0:
-                return (_BASE_NOTE + f" So M{axis}{j + 1} = 0 beside a centre of mass "
-                        f"{axis.lower()} of {_fmt(com[j, c])} m of link {j + 1} in Table 1.3: "
-                        "the two frames differ.")
-    return _BASE_NOTE
-
-
-def _zero_parameters(ds):
-    """The sentence naming the base parameters whose value is 0 (not listed in Sec. 5.2)."""
-    if "base_parameter_value" not in ds:
-        return ""
-    zero = [n for n, v in zip(_strings(ds["base_parameter"].values),
-                              ds["base_parameter_value"].values) if v == 0]
-    if not zero:
-        return ""
-    return (f" Of the {ds.sizes['base_parameter']} base parameters, {len(zero)} are 0 for this "
-            f"robot and are not listed: {', '.join(zero)}.")
-
-
 
 
 def _recursive_facts(ds):
@@ -269,6 +187,7 @@ def _gravity_fact(ds, form):
         return None
     return gravity_clause(rule, c_bound=bound, units=torque_units(ds))
 
+
 def report_context(ds):
     """Every number, table and paragraph of the main report, for the HTML and the PDF alike.
 
@@ -325,7 +244,7 @@ def _report_context_base(ds):
     off = {name: is_round_off(v, scale, arm_scale=arm)
            for name, v in (("tran", pt), ("rot", pr), ("total", ptot))}
 
-    arm_cols = _armature_columns(ds, labels, zero)
+    arm_cols = armature_columns(ds, labels, zero)
     # the peaks of the parts are one quantity: one format for the four columns (issue 31)
     texts = _columns([pt, pr, ptot, arm_cols["peak"]],            # round-off: not data
                      off=[off["tran"], off["rot"], off["total"], None])
@@ -352,9 +271,9 @@ def _report_context_base(ds):
     # 5. simplified model and torque error
     form = str(ds.attrs.get("simplified_form", "explicit"))
     if form == "recursive":
-        choices = _base_parameter_table(ds)
+        choices = base_parameter_table(ds)
     else:
-        choices = _choice_table(ds, labels, dominance, choice)
+        choices = choice_table(ds, labels, dominance, choice)
     err_off = is_round_off(ds["tau_error_peak"].values, ds["tau_peak"].values,
                            arm_scale=arm_scales(ds["tau_peak"].values, tau_units))
     rel_peak, rel_rms = _pct_columns([ds["tau_error_relative_peak"].values,  # one format
@@ -446,14 +365,14 @@ def _report_context_base(ds):
         "facts": facts, "intro": _INTRO.format(created=now.isoformat(), version=__version__),
         "captions": captions(enveloped, N, f"{s:g}", f"{e:g}", units=_caption_units(ds),
                              alike=alike_joints(ds)),
-        "D_text": _d_text(ds, s, e, enveloped), "armature": has_armature(ds),
+        "D_text": d_text(ds, s, e, enveloped), "armature": has_armature(ds),
         "n": n, "N": N, "s": f"{s:g}", "e": f"{e:g}", "created": now.isoformat(),
         **robot,
         "ranking": ranking, "counts": counts, "choices": choices, "error": err,
         "simplified_intro": (simplified_intro(form, _gravity_fact(ds, form))
-                             + _zero_parameters(ds)),
+                             + zero_parameters(ds)),
         "choices_heading": _CHOICES_HEADING[form],
-        "choices_note": _base_note(ds) if form == "recursive" else "",
+        "choices_note": base_note(ds) if form == "recursive" else "",
         "model_heading": _MODEL_HEADING[form],
         "compare": {"applicable": applicable, "note": note, "table": compare,
                     "n_agree": n_agree, "n_compared": n_compared},
@@ -476,56 +395,6 @@ _INTRO = ("Generalized d'Alembert (G-D) equations of motion split the inertia ma
           "Eqs. 3.4-24 to 3.4-28). This report ranks which part dominates each element along "
           "the trajectory (Sec. 3.4.1, Figs. 3.10 and 3.11). Report created {created} by "
           "gd-analyze {version} from the stored results; nothing was recomputed.")
-
-
-_D_TEXT = ("One panel per element " + _el("D", "ij") + " with i \u2264 j (row i, column j): "
-           "translational part " + _el("D", "ij", "tran") + " ({tran}), rotational part "
-           + _el("D", "ij", "rot") + " ({rot}){armature} and " + _el("D", "ij")
-           + " = " + _el("D", "ij", "tran") + " + " + _el("D", "ij", "rot") + "{plus_arm}"
-           + " ({total}) "
-           "against time [{units}]. The title gives the element and its dominance class "
-           "(s = {s}, e = {e}).")
-#: How Fig. 2 draws each part (main_figures): marker and colour, or, for a long trajectory
-#: drawn as its envelope without markers, line style and colour; the armature has no marker.
-_D_PARTS = {False: {"tran": "\u25cb, blue", "rot": "\u00d7, orange", "total": "\u25b3, black"},
-            True: {"tran": "solid, blue", "rot": "dashed, orange", "total": "dotted, black"}}
-#: What the combined curve of a diagonal panel adds for an arm with drives (Table 1.4).
-_D_ARMATURE = {"armature": ", on a diagonal panel the drives' armature " + _el("D", "ii", "arm")
-                           + " (dash-dot, pink; a constant; " + _el("D", "ij", "arm")
-                           + " = 0 off the diagonal)",
-               "plus_arm": " + " + _el("D", "ij", "arm")}
-
-
-def _armature_columns(ds, labels, zero):
-    """Sec. 4's columns of an arm with drives: the armature share and peak |X^arm| (the
-    armature on D_ii, "—" elsewhere); none without drives."""
-    if not has_armature(ds):
-        return {"header": [], "rows": [[] for _ in labels], "peak": []}
-    arm = np.asarray(ds["D_arm"].values, float)
-    share = (ds["share_arm"].values if "share_arm" in ds
-             else np.full(len(labels), np.nan))
-    diag = _diagonal(arm.size)
-    rows = [[("\u2261 0" if zero[k] else _share(share[k])) if lab in diag else "\u2014",
-             "." if lab in diag else "\u2014"] for k, lab in enumerate(labels)]
-    return {"header": ["armature share", f"peak |{_el('X', '', 'arm')}|"], "rows": rows,
-            "peak": [arm[diag[lab]] for lab in labels if lab in diag]}
-
-
-def _diagonal(n):
-    """The labels of D's diagonal elements, each with its joint's index (0-based)."""
-    return {element_label("D", k, k): k for k in range(n)}
-
-
-def has_armature(ds):
-    """Whether the arm has drives whose armature adds to the diagonal of D (Table 1.4)."""
-    return "D_arm" in ds and bool(np.any(ds["D_arm"].values > 0))
-
-
-def _d_text(ds, s, e, enveloped):
-    """Fig. 2's lead-in: the parts drawn and what the combined curve sums."""
-    arm = _D_ARMATURE if has_armature(ds) else {"armature": "", "plus_arm": ""}
-    return _D_TEXT.format(s=f"{s:g}", e=f"{e:g}", units=units_said_once(ds, "D"),
-                          **_D_PARTS[enveloped], **arm)
 
 
 #: The verification's absolute floor (gd_analyze.formulations.pinocchio.FLOOR_EPS machine

@@ -11,8 +11,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from ..core.selection.guarantee import ROUND_OFF_CLAUSE
-from ..core.selection.ranking import ROUND_OFF, arm_scales, is_round_off
+from ..core.selection.ranking import ROUND_OFF, ROUND_OFF_CLAUSE, arm_scales, is_round_off
 from .common import count, fmt, pct, pct_column, strings, table, torque_units, units_said_once
 from .markup import element as _el
 from .markup import scope as scope_markup

@@ -8,8 +8,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from ..core.selection.guarantee import ROUND_OFF_CLAUSE
-from ..core.selection.ranking import joint_units_text
+from ..core.selection.ranking import ROUND_OFF_CLAUSE, joint_units_text
 from ..io.sweep_guarantee import merged_guarantee
 from .common import count, torque_units
 from .common import pct as _pct

@@ -14,6 +14,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from ...errors import InputError
+from .ranking import ROUND_OFF_CLAUSE
 
 __all__ = ["Guarantee", "KINDS", "ROUND_OFF_EPS", "ROUND_OFF_CLAUSE", "within_bound"]
 
@@ -23,8 +24,6 @@ KINDS = ("region", "trajectory")
 #: scale (the verification's floor): the pruned and the exact program round differently, and a
 #: small joint inherits the rounding of the large ones.
 ROUND_OFF_EPS = 64
-#: How every text that calls a bound guaranteed says the round-off it allows (issue 31).
-ROUND_OFF_CLAUSE = f"up to floating-point round-off ({ROUND_OFF_EPS} eps of the scale)"
 
 
 def within_bound(error, bound, scale):
