@@ -127,7 +127,7 @@ def base_note(ds):
         for axis, c in (("X", 0), ("Y", 1)):
             if values.get(f"M{axis}{j + 1}", None) == 0 and com[j, c] != 0:
                 return (_BASE_NOTE + f" So M{axis}{j + 1} = 0 beside a centre of mass "
-                        f"{axis.lower()} of {_fmt(com[j, c])} m of link {j + 1} in Table 1.3: "
+                        f"{axis.lower()} of {_fmt(com[j, c])} m of link {j + 1} in Table 1.3, for "
                         "the two frames differ.")
     return _BASE_NOTE
 
