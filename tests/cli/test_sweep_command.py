@@ -34,6 +34,23 @@ def swept(tmp_path_factory):
     return out, buf.getvalue()
 
 
+def test_provenance_says_what_cluster_ran(swept):
+    """Issue 31: a plain command-line sweep said "client given by the caller". It says what
+    ran: here the local cluster the command started, with its one worker (--workers 1)."""
+    import xarray as xr
+
+    from gd_analyze.reports.sweep_text import sweep_context
+
+    out, printed = swept
+    with xr.open_dataset(out / "sweep.h5") as ds:
+        ds = ds.load()
+    said = "a LocalCluster of 1 worker process started by gd-analyze on this machine"
+    assert ds.attrs["cluster"] == said and int(ds.attrs["n_workers"]) == 1
+    rows = dict(sweep_context(ds, None)["settings"]["rows"])
+    assert rows["computed on"].startswith(f"dask, {said} (1 worker joined; scheduler at "), rows
+    assert "caller" not in rows["computed on"]
+
+
 def test_the_merged_model_is_recursive_and_said_so(swept):
     out, printed = swept
     model = load_model(out / "merged_model.json")

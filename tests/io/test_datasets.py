@@ -141,3 +141,32 @@ def test_main_job_stores_the_formulations(tmp_path, puma):
         assert np.allclose(np.diff(ne[1:], 2), 0)     # linear for n >= 2
         le = ds.op_multiplications.sel(formulation="lagrange-euler").values
         assert le[9] / le[4] > 8
+
+
+def test_no_share_is_stored_for_an_element_zero_in_every_part(shipped_dataset):
+    """Issue 31: results.h5 stored shares of 0.40 and 0.78 for D45 and D56 of the PUMA 560,
+    ratios of round-off. Oracle: the stored series themselves (every part of the element
+    within 1e-12 of sqrt(D_44 D_55) at every set point)."""
+    ds = shipped_dataset("puma560")
+    labels = [str(v) for v in ds["element"].values]
+    share = ds["share_tran"].values
+    for lab in ("D45", "D56"):
+        i, j = int(lab[1]) - 1, int(lab[2]) - 1
+        scale = np.sqrt(np.abs(ds["D"].values[:, i, i] * ds["D"].values[:, j, j])).max()
+        for part in ("D_tran", "D_rot"):
+            assert np.abs(ds[part].values[:, i, j]).max() <= 1e-12 * scale
+        assert np.isnan(share[labels.index(lab)]), lab
+    assert np.isfinite(np.delete(share, [labels.index("D45"), labels.index("D56")])).all()
+
+
+def test_round_off_torque_errors_are_marked_as_such(shipped_dataset):
+    """Issue 31: results.h5 stored joints 3 to 6's torque errors (1e-16 to 4e-15 N m) as
+    numbers like any other. They are flagged round-off (the report's "≡ 0"): at most 1e-12 of
+    the joint's peak |tau| or 64 eps of the arm's largest."""
+    ds = shipped_dataset("puma560")
+    peak, tau = ds["tau_error_peak"].values, ds["tau_peak"].values
+    oracle = peak <= np.maximum(1e-12 * tau, 64 * np.finfo(float).eps * tau.max())
+    flags = ds["tau_error_round_off"].values.astype(bool)
+    assert oracle.any() and not oracle.all()                     # the case at hand
+    np.testing.assert_array_equal(flags, oracle)
+    assert ds["tau_error_round_off"].attrs["flag_meanings"] == "data round_off"

@@ -163,6 +163,9 @@ def test_no_code_names_in_the_control_text(built):
     code = r"gd_analyze\.\w+|\b(?:tau|share|scale|D|h|c|q|qd|qdd|Kp|Kv|wn)_\w+|\bEPS\b"
     assert not re.search(code, body), re.findall(code, body)   # file names may have "_"
     assert not re.search(r"\bqd{1,2}\b", body), re.findall(r".{30}\bqd{1,2}\b.{10}", body)
+    # issue 31: joints named as the main report names them ("joint 1"), never "J1"
+    assert not re.search(r"\bJ\d\b", control), re.findall(r".{20}\bJ\d\b", control)
+    assert "joint 1 [rad]" in control
 
 
 def test_settings_said_once_and_markers_as_drawn(tmp_path):

@@ -64,4 +64,6 @@ def test_sec5_says_how_a_region_model_was_pruned(tmp_path):
     assert "holds on this trajectory" not in region
     assert "= peak |τ" not in region and "= peak |τ" in trajectory
     assert "contribute on this trajectory" in trajectory
-    assert "the bound below holds on this trajectory" in trajectory
+    # issue 31: a guaranteed bound says the round-off it allows, in the one wording
+    assert ("the bound below is guaranteed on this trajectory, up to floating-point "
+            "round-off (64 eps of the scale)") in trajectory

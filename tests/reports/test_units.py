@@ -79,7 +79,9 @@ def test_report_text_claims_no_single_unit_for_mixed_quantities(stanford):
     assert "/s/s" not in text and "/s\u00b2/s\u00b2" not in text
     for m in re.finditer(r"\[kg m\u00b2\]", text):
         before = text[max(0, m.start() - 4):m.start()]
-        assert re.search(r"I[xyz]{2} $", before), text[max(0, m.start() - 80):m.end()]
+        # an inertia tensor's element, or a base parameter's inertia name (XXj .. ZZj)
+        assert re.search(r"(I[xyz]{2}|[XYZ]{2}j) $", before), \
+            text[max(0, m.start() - 80):m.end()]
     caption = re.search(r"Figure 1\.[^<]*", text).group(0)
     assert "deg/s\u00b2" in caption and "mm/s\u00b2" in caption and "joint 3" in caption
 

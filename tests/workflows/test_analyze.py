@@ -58,6 +58,33 @@ def test_verify_flags_a_wrong_term(puma):
     assert result["passed"] == 0 and result["max_rel_error_h_rot"] > 1e-7
 
 
+def test_verification_stores_the_measured_differences(puma):
+    """Issue 31: results.h5 stored the verification errors as exactly 0.0 (the differences
+    past the round-off floor). The stored value is the true largest difference against
+    Pinocchio's crba, relative to sqrt(D_ii D_jj); the excess past the floor is stored apart."""
+    import pinocchio as pin
+
+    from gd_analyze import gd_terms
+    from gd_analyze.formulations.pinocchio import pinocchio_model
+
+    traj = read_trajectory(SHIPPED, 6)
+    t = gd_terms(puma, traj.q, traj.qd)
+    result = verify(puma, traj.q, traj.qd, t, qdd=traj.qdd)
+    model = pinocchio_model(puma)
+    data = model.createData()
+    crba = []
+    for q in traj.q:
+        M = pin.crba(model, data, q).copy()
+        crba.append(np.triu(M) + np.triu(M, 1).T)
+    crba = np.array(crba)
+    diag = np.abs(np.diagonal(crba, axis1=1, axis2=2))
+    scale = np.max(np.sqrt(diag[:, :, None] * diag[:, None, :]), axis=0)
+    oracle = np.max(np.max(np.abs(t.D - crba), axis=0) / scale)
+    assert 0 < result["max_rel_error_D"] < 1e-13
+    np.testing.assert_allclose(result["max_rel_error_D"], oracle, rtol=1e-6)
+    assert result["max_rel_excess_D"] == 0 and result["passed"] == 1
+
+
 def test_progress_bar_on_request_and_silent_otherwise(tmp_path, puma, capsys, monkeypatch):
     import gd_analyze.workflows.analyze as pipeline
 

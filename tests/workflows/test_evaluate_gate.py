@@ -82,3 +82,30 @@ def test_zero_torque_joint_is_relative_to_the_models_scale(two_link):
     assert err["relative_peak_error"][0] == gravity[0] / 5.0
     assert err["relative_peak_error"][1] == np.inf
     assert gate(err, model)["exceeded"] and gate(err, model, 1e6)["exceeded"]
+
+
+def test_the_gate_allows_the_round_off_the_guarantee_states(puma):
+    """Issue 31: a joint's stored error exceeded its bound by 6e-15 N m (0.002400359948032
+    against 0.002400359948026) and joints dropping nothing showed 1e-16 N m against a bound
+    of 0: round-off, which the guarantee allows ("up to floating-point round-off (64 eps of
+    the scale)"); a real excess still fails."""
+    from gd_analyze.core.selection.guarantee import ROUND_OFF_CLAUSE, within_bound
+
+    assert ROUND_OFF_CLAUSE == "up to floating-point round-off (64 eps of the scale)"
+    scale = np.array([15.6, 50.5, 0.24, 0.055, 0.063, 0.00088])
+    bound = np.array([0.068, 0.066, 0.002400359948026, 0.0, 0.0, 0.0])
+    error = np.array([0.0086, 0.0052, 0.002400359948032, 1.1e-16, 6.7e-16, 1.1e-16])
+    assert within_bound(error, bound, scale).all()
+    error[2] = bound[2] * (1 + 1e-9)                     # 2.4e-12 N m over: not round-off
+    assert within_bound(error, bound, scale).tolist() == [True, True, False, True, True, True]
+    assert not within_bound([np.nan], [1.0], [1.0]).any()
+    # the evaluate gate judges by the same rule: tolerance x s_i, up to that round-off
+    g = Guarantee("trajectory", 0.01, np.zeros(6), scale)
+    model = SimplifiedModel(puma, full_choices(6), 0.9, 0.01, rule="budget", tolerance=0.01,
+                            guarantee=g)
+    limit = 0.01 * scale
+    err = {"peak_abs_error": list(limit + [0, 0, 6e-15, 0, 0, 0]), "peak_tau": list(scale),
+           "relative_peak_error": [0.01] * 6, "relative_to": ["peak |tau|"] * 6}
+    assert not gate(err, model)["exceeded"]
+    err["peak_abs_error"][2] = limit[2] * (1 + 1e-9)
+    assert gate(err, model)["worst_joint"] == 3

@@ -121,6 +121,34 @@ def output_folder(args_outdir, *parts):
     return folder
 
 
+def wrote_line(files, folder, verbose):
+    """The last line a command prints: ``wrote 26 files to DIR``, or with ``-v`` every file.
+
+    Parameters
+    ----------
+    files : sequence of pathlib.Path
+        The files written, in ``folder`` or below it.
+    folder : pathlib.Path
+        The output folder.
+    verbose : bool
+        List each file (comma-separated) instead of their count.
+
+    Returns
+    -------
+    str
+
+    Examples
+    --------
+    >>> wrote_line([Path("o/a.h5"), Path("o/figures/b.pdf")], Path("o"), False)
+    'wrote 2 files to o'
+    >>> wrote_line([Path("o/a.h5"), Path("o/figures/b.pdf")], Path("o"), True)
+    'wrote o/a.h5, o/figures/b.pdf'
+    """
+    if verbose:
+        return "wrote " + ", ".join(str(p) for p in files)
+    return f"wrote {len(files)} file{'s' if len(files) != 1 else ''} to {folder}"
+
+
 def _load(args, csv_arg):
     from ..io.trajectory import read_trajectory
 
@@ -256,7 +284,7 @@ def _format_summary(ds):
         import numpy as np
 
         worst = float(np.max([v for k, v in ds.attrs.items()
-                              if k.startswith("verification_max_rel")]))
+                              if k.startswith("verification_max_rel_excess")] or [np.nan]))
         checked, total = int(ds.attrs["verification_setpoints"]), int(ds.attrs["setpoints"])
         where = ("verified against Pinocchio on "
                  + (f"{count(checked)} of {count(total)}" if checked < total else count(checked))
@@ -368,7 +396,7 @@ def cmd_analyze(args):
     if not args.quiet:
         print(_format_summary(analysis.dataset))
         print()
-        print("wrote " + ", ".join(str(p) for p in outputs.files))
+        print(wrote_line(outputs.files, outputs.outdir, args.verbose))
     if analysis.verification and not analysis.verification["passed"]:
         print(f"{PROG}: error: the G-D terms disagree with Pinocchio beyond "
               f"{analysis.verification['tolerance']:g} (see results.h5 attributes)",
@@ -721,5 +749,5 @@ def cmd_control(args):
         said = summary["guarantee"]
         print(f"model's guarantee: {said['statement']}")
         print(f"covers this trajectory: {'yes' if said['covered'] else 'no'}: {said['reason']}")
-        print("wrote " + ", ".join(str(p) for p in written))
+        print(wrote_line(written, outdir, args.verbose))
     return EXIT_OK

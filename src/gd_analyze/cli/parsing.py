@@ -258,6 +258,11 @@ def _add_budget_arguments(p, rule=True, where="on the analysed trajectory", form
                             "whatever --explicit says)")
 
 
+def _add_verbose_argument(p):
+    p.add_argument("-v", "--verbose", action="store_true",
+                   help="list every file written (default: how many, and the folder)")
+
+
 def _add_paper_argument(p):
     p.add_argument("--paper", choices=("a4", "letter"), default=defaults["paper"],
                    help="page size of the PDF report (default a4)")
@@ -323,6 +328,7 @@ def analyze_parser():
                    help="skip the verification against Pinocchio")
     p.add_argument("-q", "--quiet", action="store_true",
                    help="print nothing but warnings and errors (no summary, no progress bar)")
+    _add_verbose_argument(p)
     p.add_argument("--version", action="version", version=f"%(prog)s {tool_version()}")
     _add_chain_arguments(p)
     _add_mounting_arguments(p)
@@ -491,6 +497,7 @@ def control_parser():
     _add_paper_argument(p)
     p.add_argument("--json", action="store_true", help="print the figures as one JSON object")
     p.add_argument("-q", "--quiet", action="store_true", help="print nothing but errors")
+    _add_verbose_argument(p)
     _add_mounting_arguments(p, "the controlled arm (the plant, and the full-model and PD + "
                                "gravity controllers; the simplified model keeps its own)")
     return p
@@ -541,6 +548,7 @@ def sweep_parser():
     p.add_argument("--no-report", action="store_true", help="skip the HTML and PDF report")
     _add_paper_argument(p)
     p.add_argument("-q", "--quiet", action="store_true", help="print nothing but errors")
+    _add_verbose_argument(p)
     _add_chain_arguments(p)
     _add_mounting_arguments(p)
     _add_payload_sweep_argument(_add_payload_arguments(p))

@@ -22,6 +22,7 @@ from .commands import (
     mounting_settings,
     output_folder,
     payload_mass_list,
+    wrote_line,
 )
 from .parsing import EXIT_OK, tool_version
 
@@ -210,7 +211,7 @@ def cmd_sweep(args):
     proved = guarantee_region(loaded, args.guarantee)[2]
     with contextlib.ExitStack() as stack:
         try:                            # only the connection: the sweep's errors are its own
-            client, _ = stack.enter_context(dask_client(args.scheduler, args.workers))
+            client, cluster = stack.enter_context(dask_client(args.scheduler, args.workers))
         except (OSError, ValueError, TypeError) as exc:
             if args.scheduler is None:
                 raise InputError(f"cannot start a local dask cluster: {exc}") from None
@@ -218,7 +219,7 @@ def cmd_sweep(args):
                              args.scheduler) from None
         ds = run_sweep(loaded, trajectories, args.dominance, args.negligible, client=client,
                        settings=settings, progress=not args.quiet and sys.stderr.isatty(),
-                       recursive_peaks=args.rule == "budget" and not proved)
+                       recursive_peaks=args.rule == "budget" and not proved, cluster=cluster)
         payload = None if masses is None else sweep_payloads(
             robot, trajectories, masses, args.payload_com, args.payload_inertia,
             args.dominance, args.negligible, client=client)
@@ -259,5 +260,5 @@ def cmd_sweep(args):
             print(f"{lab:<8}" + "".join(f"{v:>7.3f}" for v in frac)
                   + f"{ds.share_tran_min.values[k]:>8.3f}{ds.share_tran_median.values[k]:>8.3f}"
                   + f"{ds.share_tran_max.values[k]:>8.3f}  {ds.merged_choice.values[k]}")
-        print("wrote " + ", ".join(str(p) for p in written))
+        print(wrote_line(written, outdir, args.verbose))
     return EXIT_OK

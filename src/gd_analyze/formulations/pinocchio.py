@@ -25,7 +25,7 @@ from ..core.model.kinematics import as_states
 from ..core.selection.ranking import ROUND_OFF_EPS
 
 __all__ = ["pinocchio_model", "ReferenceTerms", "reference_terms", "relative_error",
-           "natural_scales", "natural_relative_error"]
+           "natural_scales", "natural_relative_error", "measured_relative_error"]
 
 
 def _pin():
@@ -260,10 +260,42 @@ def natural_relative_error(value, reference, scale, floor):
     >>> natural_relative_error(np.array([[1.0, np.nan]]), np.zeros((1, 2)), np.ones(2), 0.0)
     nan
     """
+    return _relative(value, reference, scale, floor, past_floor=True)
+
+
+def _relative(value, reference, scale, floor, past_floor):
     value = np.asarray(value, dtype=float)
     reference = np.asarray(reference, dtype=float)
     if value.size == 0:
         return 0.0
     diff = np.max(np.abs(value - reference), axis=0)                 # NaN propagates
     floor = max(float(floor), np.finfo(float).tiny)
-    return float(np.max(np.maximum(diff - floor, 0.0) / np.maximum(scale, floor)))
+    if past_floor:
+        diff = np.maximum(diff - floor, 0.0)
+    return float(np.max(diff / np.maximum(scale, floor)))
+
+
+def measured_relative_error(value, reference, scale, floor):
+    """Largest difference over the set points relative to each element's natural scale, as
+    measured: round-off included (:func:`natural_relative_error` counts only what is past the
+    floor).
+
+    Parameters
+    ----------
+    value, reference, scale, floor
+        As :func:`natural_relative_error` (no scale is taken below ``floor``).
+
+    Returns
+    -------
+    float
+        ``max over elements of max_k |value - reference| / max(scale, floor)``; NaN if any
+        value is NaN; 0 for empty arrays.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> measured_relative_error(np.array([[1.0, 1e-20]]), np.array([[1.0, 0.0]]),
+    ...                         np.array([2.0, 2.0]), 1e-14)
+    5e-21
+    """
+    return _relative(value, reference, scale, floor, past_floor=False)

@@ -290,7 +290,7 @@ def summary_dataset(robot, trajectory, ranking, choices, error, verification=Non
     """
     import xarray as xr
 
-    from ..core.selection.ranking import CHAPTER_DOMINANCE, is_chapter_puma
+    from ..core.selection.ranking import CHAPTER_DOMINANCE, identically_zero, is_chapter_puma
 
     n = robot.n
     labels = list(ranking.labels)
@@ -302,9 +302,13 @@ def summary_dataset(robot, trajectory, ranking, choices, error, verification=Non
     def by_type(which, coord):
         return units_attribute(joint_units(prismatic, which), coord)
 
+    # an element zero in every part has no share: its ratio of round-off is not data (NaN)
+    zero = identically_zero(ranking.peak_tran, ranking.peak_rot, ranking.peak_total,
+                            ranking.scale)
     data_vars = {
-        "share_tran": var(("element",), ranking.share_tran, "1",
-                           "translational share sum|tran| / (sum|tran| + sum|rot|)"),
+        "share_tran": var(("element",), np.where(zero, np.nan, ranking.share_tran), "1",
+                           "translational share sum|tran| / (sum|tran| + sum|rot|); NaN "
+                           "where the element is zero in every part (round-off)"),
         "dominance": var(("element",), np.array(ranking.dominance, dtype=str), "1",
                           "dominance class (translational, rotational, both, negligible)"),
         "chapter_dominance": var(("element",),
@@ -313,7 +317,9 @@ def summary_dataset(robot, trajectory, ranking, choices, error, verification=Non
                                   "dominance reported in Sec. 3.4.1 for the chapter's PUMA 560 "
                                   "(empty unless the robot is a PUMA 560)"),
         "choice": var(("element",), np.array([choices[lab] for lab in labels], dtype=str), "1",
-                       "part kept by the simplified model (tran, rot, both, none)"),
+                       "part kept by the simplified model (tran, rot, both, none; for the "
+                       "recursive form both, or pruned where its dropped base-parameter "
+                       "terms change the element)"),
         "peak_tran": var(("element",), ranking.peak_tran, mixed,
                           "peak |translational part| along the trajectory"),
         "peak_rot": var(("element",), ranking.peak_rot, mixed,
@@ -333,6 +339,10 @@ def summary_dataset(robot, trajectory, ranking, choices, error, verification=Non
                                         "peak |tau_simplified - tau| / peak |tau|"),
         "tau_error_relative_rms": var(("joint",), np.array(error["relative_rms_error"]), "1",
                                        "RMS |tau_simplified - tau| / peak |tau|"),
+        **({} if "round_off" not in error else {"tau_error_round_off": var(
+            ("joint",), np.array(error["round_off"], dtype=np.int8), "1",
+            "1 where the torque error is floating-point round-off (shown as \u2261 0), not data",
+            flag_values=np.array([0, 1], dtype=np.int8), flag_meanings="data round_off")}),
         "joint_type": var(("joint",), np.array(robot.joint_types, dtype=str), "1",
                           "joint type: revolute (q in rad) or prismatic (q in m)"),
         "dh_d": var(("joint",), robot.d, "m",

@@ -426,6 +426,9 @@ _RECURSIVE_SCHEMA = Obj({
                           "whole": ListOf(Num(0.0, math.inf))}),
     # the pairs whose contribution was round-off where the model was built (absent before)
     "round_off": Field(ListOf(ListOf(Str(max_len=16))), required=False),
+    # the round-off pairs left out with their dropped parameter; "dropped" names only pairs
+    # that contribute, as the reports do (issue 31; absent before: "dropped" held both)
+    "dropped_round_off": Field(ListOf(ListOf(Str(max_len=16))), required=False),
 })
 
 #: Whether D_s is positive definite where the bound holds, sampled (issue 30, item 3;

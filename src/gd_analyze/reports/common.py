@@ -31,7 +31,17 @@ from .figure_style import (
     style,
     svg,
 )
-from .numbers import count, fmt, fmt_column, pct, pct_column, share
+from .numbers import (
+    count,
+    fmt,
+    fmt_column,
+    fmt_columns,
+    given,
+    pct,
+    pct_column,
+    pct_columns,
+    share,
+)
 from .units import (
     element_units_of,
     keep_units,
@@ -43,7 +53,7 @@ from .units import (
 
 __all__ = ["CLASS_COLOURS", "BASE_RC", "SUPTITLE_RC", "A4", "A4_LANDSCAPE", "style", "utc_now",
            "keep_units",
-           "strings", "fmt", "fmt_column", "count", "share", "pct", "pct_column", "attr", "thresholds", "check", "table",
+           "strings", "fmt", "fmt_column", "fmt_columns", "given", "count", "share", "pct", "pct_column", "pct_columns", "attr", "thresholds", "check", "table",
            "grid_shape", "joint_colours", "joint_style", "JOINT_STYLES", "MAX_MARKERS",
            "MIN_MARKERS", "markevery", "panel_markevery",
            "gridspec", "svg", "inline_svgs", "render_template", "check_formats",

@@ -6,7 +6,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from ..core.selection.ranking import element_label, is_round_off
+from ..core.selection.ranking import ROUND_OFF_CLAUSE, element_label, is_round_off
 from .common import cost_table, fmt_column, prismatic_joints, utc_now
 from .common import strings as _strings
 from .common import table as _table
@@ -337,8 +337,9 @@ def _model_note(ds):
         return text + " " + scope_sentences(a, eps), recursive
     if rule == "budget":                # an older control.h5
         text += (f" Rule: error budget, \u03b5\u00a0=\u00a0{eps:g}: the open-loop error "
-                 "\u03c4\u209b \u2212 \u03c4 is guaranteed within \u03b5\u00b7s\u1d62 on the "
-                 "trajectory the model was built on" + (" (this one)." if
+                 "\u03c4\u209b \u2212 \u03c4 is guaranteed within \u03b5\u00b7s\u1d62, "
+                 f"{ROUND_OFF_CLAUSE}, on the trajectory the model was built on"
+                 + (" (this one)." if
                                                          str(a.get("trajectory_is_models"))
                                                          == "1" else
                                                          ", not on this one."))
@@ -387,7 +388,7 @@ def scope_sentences(attrs, eps):
     if str(attrs.get("model_guarantee_covered")) == "1":
         return (text + f" It covers this motion: {reason}. The open-loop error "
                 "\u03c4\u209b \u2212 \u03c4 along the desired motion is guaranteed within "
-                "\u03b5\u00b7s\u1d62.")
+                f"\u03b5\u00b7s\u1d62, {ROUND_OFF_CLAUSE}.")
     return (text + f" It does not cover this motion: {reason}. The open-loop error along this "
             "motion is not guaranteed.")
 

@@ -22,17 +22,25 @@ from .common import (
     prismatic_joints,
     torque_units,
     units_said_once,
-    units_text,
     utc_now,
 )
 from .common import fmt as _fmt
-from .common import fmt_column as _column
-from .common import pct_column as _pct_column
+from .common import fmt_columns as _columns
+from .common import pct_columns as _pct_columns
 from .common import share as _share
 from .common import strings as _strings
 from .common import table as _table
 from .common import thresholds as _thresholds
 from .main_figures import identically_zero
+from .main_parts import (
+    armature_columns,
+    base_note,
+    base_parameter_table,
+    choice_table,
+    d_text,
+    has_armature,
+    zero_parameters,
+)
 from .main_provenance import provenance_rows
 from .main_robot import alike_joints, robot_section
 from .main_text import (
@@ -42,6 +50,7 @@ from .main_text import (
     element_scale,
     gravity_clause,
     prismatic_count_note,
+    shared_causes,
     simplified_intro,
 )
 from .markup import element as _el
@@ -58,51 +67,10 @@ _REQUIRED = ("t", "q", "qd", "qdd", "D_tran", "D_rot", "D", "h_tran", "h_rot", "
              "tau_peak", "tau_error_relative_peak", "tau_error_relative_rms", "dh_d", "dh_a",
              "dh_alpha", "dh_offset", "link_mass", "link_com", "link_inertia")
 
-_CHOICE_TEXT = {"tran": "translational part only", "rot": "rotational part only",
-                "both": "translational + rotational", "none": "dropped (negligible)"}
-
 _CHOICES_HEADING = {"explicit": "5.2 Choice per element",
                     "recursive": "5.2 Base parameters and the parts kept"}
 _MODEL_HEADING = {"explicit": "5.3 Explicit model: rule, bound, cost",
                   "recursive": "5.3 Recursive model: rule, bound, cost"}
-
-
-def _base_parameter_table(ds):
-    """The base parameters of a recursive model, their values and which parts are kept."""
-    names = _strings(ds["base_parameter"].values)
-    parts = _strings(ds["torque_part"].values)
-    dropped = ds["base_parameter_dropped"].values
-    units = _strings(ds["base_parameter_units"].values)
-    rel = (ds["base_parameter_relative_peak"].values if "base_parameter_relative_peak" in ds
-           else np.ones(dropped.shape))
-
-    def cell(k, p):
-        if rel[k, p] < ROUND_OFF:
-            return "\u2261 0"            # contributes nothing on this trajectory
-        return "dropped" if dropped[k, p] else "kept"
-
-    value = ds["base_parameter_value"].values
-    listed = [k for k in range(len(names)) if value[k] != 0]
-    return _table(["base parameter", "value", "units", *parts],
-                  [[names[k], text, units_text(units[k]),
-                    *(cell(k, p) for p in range(len(parts)))]
-                   for k, text in zip(listed, _column(value[listed]))],
-                  align=["left", "right", "left", "left", "left", "left"],
-                  widths=[1.0, 1.0, 0.7, 0.8, 0.8, 0.8])
-
-
-def _zero_parameters(ds):
-    """The sentence naming the base parameters whose value is 0 (not listed in Sec. 5.2)."""
-    if "base_parameter_value" not in ds:
-        return ""
-    zero = [n for n, v in zip(_strings(ds["base_parameter"].values),
-                              ds["base_parameter_value"].values) if v == 0]
-    if not zero:
-        return ""
-    return (f" Of the {ds.sizes['base_parameter']} base parameters, {len(zero)} are 0 for this "
-            f"robot and are not listed: {', '.join(zero)}.")
-
-
 
 
 def _recursive_facts(ds):
@@ -219,6 +187,7 @@ def _gravity_fact(ds, form):
         return None
     return gravity_clause(rule, c_bound=bound, units=torque_units(ds))
 
+
 def report_context(ds):
     """Every number, table and paragraph of the main report, for the HTML and the PDF alike.
 
@@ -275,37 +244,46 @@ def _report_context_base(ds):
     off = {name: is_round_off(v, scale, arm_scale=arm)
            for name, v in (("tran", pt), ("rot", pr), ("total", ptot))}
 
-    shown = {name: _column(v, off=off[name])     # round-off of the element's scale: not data
-             for name, v in (("tran", pt), ("rot", pr), ("total", ptot))}
+    arm_cols = armature_columns(ds, labels, zero)
+    # the peaks of the parts are one quantity: one format for the four columns (issue 31)
+    texts = _columns([pt, pr, ptot, arm_cols["peak"]],            # round-off: not data
+                     off=[off["tran"], off["rot"], off["total"], None])
+    shown = dict(zip(("tran", "rot", "total"), texts))
+    arm_peak = iter(texts[3])
+    arm_cols["rows"] = [row[:1] + ([next(arm_peak)] if row[1:] == ["."] else row[1:])
+                        for row in arm_cols["rows"]]
 
     ranking = _table(
-        ["element", "translational share", "class", f"peak |{_el('X', '', 'tran')}|",
-         f"peak |{_el('X', '', 'rot')}|", "peak |X|", "units"],
+        ["element", "translational share", *arm_cols["header"][:1], "class",
+         f"peak |{_el('X', '', 'tran')}|", f"peak |{_el('X', '', 'rot')}|",
+         *arm_cols["header"][1:], "peak |X|", "units"],
         [[lab, "\u2261 0" if zero[k] else _share_text(share[k], off["tran"][k], off["rot"][k]),
-          dominance[k], shown["tran"][k], shown["rot"][k], shown["total"][k],
-          el_units[k]]
+          *arm_cols["rows"][k][:1], dominance[k], shown["tran"][k], shown["rot"][k],
+          *arm_cols["rows"][k][1:], shown["total"][k], el_units[k]]
          for k, lab in enumerate(labels)],
-        align=["left", "right", "left", "right", "right", "right", "left"],
-        widths=[0.8, 0.9, 1.2, 1, 1, 1, 0.8], colour_cols=[2])
+        align=["left", "right", *["right"] * len(arm_cols["header"][:1]), "left", "right",
+               "right", *["right"] * len(arm_cols["header"][1:]), "right", "left"],
+        widths=[0.8, 0.9, *[0.9] * len(arm_cols["header"][:1]), 1.2, 1, 1,
+                *[1] * len(arm_cols["header"][1:]), 1, 0.8],
+        colour_cols=[2 + len(arm_cols["header"][:1])])
     counts = {c: dominance.count(c) for c in _CLASS_COLOURS}
 
     # 5. simplified model and torque error
     form = str(ds.attrs.get("simplified_form", "explicit"))
     if form == "recursive":
-        choices = _base_parameter_table(ds)
+        choices = base_parameter_table(ds)
     else:
-        choices = _table(
-            ["element", "class", "kept part", "meaning"],
-            [[lab, dominance[k], choice[k], _CHOICE_TEXT.get(choice[k], "")]
-             for k, lab in enumerate(labels)],
-            widths=[0.8, 1.2, 0.8, 2.2], colour_cols=[1])
+        choices = choice_table(ds, labels, dominance, choice)
     err_off = is_round_off(ds["tau_error_peak"].values, ds["tau_peak"].values,
                            arm_scale=arm_scales(ds["tau_peak"].values, tau_units))
-    rel_peak = _pct_column(ds["tau_error_relative_peak"].values, err_off)   # one format
-    rel_rms = _pct_column(ds["tau_error_relative_rms"].values, err_off)     # per column
-    err_peak, err_rms, tau_peak = (
-        _column(ds[v].values, off=err_off if v != "tau_peak" else None)
-        for v in ("tau_error_peak", "tau_error_rms", "tau_peak"))
+    rel_peak, rel_rms = _pct_columns([ds["tau_error_relative_peak"].values,  # one format
+                                      ds["tau_error_relative_rms"].values],   # for both
+                                     off=[err_off, err_off])
+    # the errors and peak |tau| are one quantity [N m or N]: one format (issue 31)
+    err_peak, err_rms, tau_peak = _columns(
+        [ds[v].values for v in ("tau_error_peak", "tau_error_rms", "tau_peak")],
+        off=[err_off, err_off, None])
+    said = {"rel": rel_peak, "abs": err_peak, "tau": tau_peak}   # the summary quotes them
     err = _table(
         ["joint", "peak |\u03c4\u209b\u00a0\u2212\u00a0\u03c4|",
          "RMS |\u03c4\u209b\u00a0\u2212\u00a0\u03c4|",
@@ -353,6 +331,10 @@ def _report_context_base(ds):
                  f"τ) {n_agree} of {n_compared} classes agree with the chapter's; its "
                  f"rigid links alone (drives left out, the chapter's model) {n_rigid} of "
                  f"{n_compared}.")
+    causes, said_once = shared_causes([row[-1] for row in compare_rows])
+    compare_rows = [row[:-1] + [cause] for row, cause in zip(compare_rows, causes)]
+    if said_once:
+        note += f" Causes shared by several rows of Table 6.1, said once: {said_once}"
     compare = _table(["element", "our class", "chapter's class", "agree", "translational share",
                       "cause"],
                      compare_rows, align=["left"] * 4 + ["right", "left"],
@@ -372,7 +354,7 @@ def _report_context_base(ds):
                          gravity=_gravity_fact(ds, form), units=tau_units,
                          scope=_scope((stored_guarantee(ds) or {}).get("statement") or ""),
                          where="the joint-limit region" if (stored_guarantee(ds) or {}).get(
-                             "kind") == "region" else "this trajectory")
+                             "kind") == "region" else "this trajectory", shown=said)
     facts = (f"{robot_name}, {n} joints, {count(N)} set points over {_fmt(t[-1] - t[0], 4)} s; "
              f"{len(labels)} elements ranked with s = {s:g}, e = {e:g}: "
              + ", ".join(f"{counts[c]} {c}" for c in _CLASS_COLOURS)
@@ -383,14 +365,14 @@ def _report_context_base(ds):
         "facts": facts, "intro": _INTRO.format(created=now.isoformat(), version=__version__),
         "captions": captions(enveloped, N, f"{s:g}", f"{e:g}", units=_caption_units(ds),
                              alike=alike_joints(ds)),
-        "D_text": _D_TEXT.format(s=f"{s:g}", e=f"{e:g}", units=units_said_once(ds, "D"),
-                                 **_D_PARTS[enveloped]),
+        "D_text": d_text(ds, s, e, enveloped), "armature": has_armature(ds),
         "n": n, "N": N, "s": f"{s:g}", "e": f"{e:g}", "created": now.isoformat(),
         **robot,
         "ranking": ranking, "counts": counts, "choices": choices, "error": err,
         "simplified_intro": (simplified_intro(form, _gravity_fact(ds, form))
-                             + _zero_parameters(ds)),
+                             + zero_parameters(ds)),
         "choices_heading": _CHOICES_HEADING[form],
+        "choices_note": base_note(ds) if form == "recursive" else "",
         "model_heading": _MODEL_HEADING[form],
         "compare": {"applicable": applicable, "note": note, "table": compare,
                     "n_agree": n_agree, "n_compared": n_compared},
@@ -415,21 +397,6 @@ _INTRO = ("Generalized d'Alembert (G-D) equations of motion split the inertia ma
           "gd-analyze {version} from the stored results; nothing was recomputed.")
 
 
-_D_TEXT = ("One panel per element " + _el("D", "ij") + " with i \u2264 j, in reading order "
-           "(" + _el("D", "11") + ", " + _el("D", "12") + ", \u2026), but for an element "
-           "zero in every part, which the note below the panels names: "
-           "translational part " + _el("D", "ij", "tran") + " ({tran}), rotational part "
-           + _el("D", "ij", "rot") + " ({rot}) and " + _el("D", "ij")
-           + " = " + _el("D", "ij", "tran") + " + " + _el("D", "ij", "rot")
-           + " ({total}) "
-           "against time [{units}]. The title gives the element and its dominance class "
-           "(s = {s}, e = {e}).")
-#: How Fig. 2 draws each part (main_figures): marker and colour, or, for a long trajectory
-#: drawn as its envelope without markers, line style and colour.
-_D_PARTS = {False: {"tran": "\u25cb, blue", "rot": "\u00d7, orange", "total": "\u25b3, black"},
-            True: {"tran": "solid, blue", "rot": "dashed, orange", "total": "dotted, black"}}
-
-
 #: The verification's absolute floor (gd_analyze.formulations.pinocchio.FLOOR_EPS machine
 #: epsilons of the overall scale), as the text names it; a report imports no formulation.
 _ROUND_OFF_FLOOR = "64 eps"
@@ -444,25 +411,29 @@ def _quantity(name):
 def _verification(ds, keys, N):
     """(verdict for the summary, the one provenance row) of the check against Pinocchio: how
     many of the N set points it checked, its tolerance once, and its largest errors, which are
-    the differences past the round-off floor (smaller than any raw difference of Sec. 7.1)."""
+    as measured, and whether they are past the round-off floor."""
     if "verification_passed" not in ds.attrs:
         return "not run", "not run (analysis without check)"
     passed = bool(int(ds.attrs["verification_passed"]))
     checked = int(ds.attrs.get("verification_setpoints", N))
     verdict = (f"{'passed' if passed else 'FAILED'} on {count(checked)} of {count(N)} set points"
                + ("" if checked == N else " (evenly spread)"))
-    worst = {_quantity(k[len("verification_max_rel_error_"):]): float(ds.attrs[k])
-             for k in keys}
+    measured = {_quantity(k[len("verification_max_rel_error_"):]): float(ds.attrs[k])
+                for k in keys}
+    past = {q: float(ds.attrs.get(k.replace("_error_", "_excess_"), np.nan))
+            for q, k in zip(measured, keys)}
     floor = _ROUND_OFF_FLOOR
-    if worst and max(worst.values()) == 0:
-        errors = (f"every difference within the round-off floor ({floor} of its scale), "
-                  "so none is counted")
+    largest = ("largest relative difference: "
+               + ", ".join(f"{k} {_fmt(v, 2, (1e-3, 1e3))}" for k, v in measured.items()))
+    if past and all(v == 0 for v in past.values()):
+        errors = f"{largest}; each within the round-off floor ({floor} of its scale)"
+    elif past and all(np.isnan(v) for v in past.values()):       # a file of before the excess
+        errors = largest
     else:
-        errors = ("largest relative difference past the round-off floor "
-                  f"({floor} of its scale): "
-                  + ", ".join(f"{k} {_fmt(v, 3)}" for k, v in worst.items()))
+        errors = (f"{largest}; past the round-off floor ({floor} of its scale): "
+                  + ", ".join(f"{k} {_fmt(v, 2, (1e-3, 1e3))}" for k, v in past.items()))
     row = (f"{verdict}; tolerance {_attr(ds, 'verification_tolerance')} of each element's "
-           f"scale on {', '.join(worst) or 'D, h and c'}; {errors}")
+           f"scale on {', '.join(measured) or 'D, h and c'}; {errors}")
     return verdict, row
 
 

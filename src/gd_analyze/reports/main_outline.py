@@ -21,15 +21,21 @@ _X = "X"
 RANKING_TEXT = (
     "For each element X (" + element("D", "ij") + " or " + element("h", "i") + "), the "
     "translational share is \u03a3|" + element(_X, "", "tran") + "| / (\u03a3|"
-    + element(_X, "", "tran") + "| + \u03a3|" + element(_X, "", "rot") + "|) over the set "
-    "points. An element is negligible if its peak |" + element(_X, "", "tran") + " + "
-    + element(_X, "", "rot") + "| is below e = {e} times its scale (peak \u221a("
+    + element(_X, "", "tran") + "| + \u03a3|" + element(_X, "", "rot") + "{arm}|) over the set "
+    "points{arm_said}. An element is negligible if its peak |" + element(_X, "", "tran") + " + "
+    + element(_X, "", "rot") + "{arm}| is below e = {e} times its scale (peak \u221a("
     + element("D", "ii") + " " + element("D", "jj") + ") for " + element("D", "ij")
     + ", peak |\u03c4" + sub("i") + "| for " + element("h", "i") + "); otherwise "
     "translational if its share is at least s = {s}, rotational if at most 1 \u2212 s, and "
     "both in between. \u2261 0: zero in every part (below " + decade_label(ROUND_OFF)
     + " of its scale); its share is "
     "rounding noise and is not shown.")
+#: The armature's term in :data:`RANKING_TEXT`, for an arm with drives (Table 1.4).
+_ARMATURE_TERMS = {"arm": " + " + element(_X, "", "arm"),
+                   "arm_said": ", the drives' armature " + element(_X, "", "arm") + " (on "
+                   + element("D", "ii") + " only) counted on the rotational side; the armature "
+                   "share \u03a3|" + element(_X, "", "arm") + "| over the same sum is its own "
+                   "column"}
 _DH_CAPTION = "Denavit-Hartenberg parameters (standard form); q is joint i's variable, {what}."
 _DH_VARIABLE = {False: "the angle \u03b8 (revolute joints)",
                 True: "the angle \u03b8 of a revolute joint, the offset d of a prismatic one, "
@@ -115,7 +121,8 @@ def main_outline(ctx, figures):
     o.figure("h", caps["h"])
 
     o.section("4", "Dominance ranking", "ranking")
-    o.paragraph(RANKING_TEXT.format(s=ctx["s"], e=ctx["e"]), "note")
+    o.paragraph(RANKING_TEXT.format(s=ctx["s"], e=ctx["e"], **(
+        _ARMATURE_TERMS if ctx.get("armature") else dict.fromkeys(_ARMATURE_TERMS, ""))), "note")
     o.counts(ctx["counts"])
     o.table(ctx["ranking"], "Dominance of each element: translational share, class and the "
                             "peaks of its parts along the trajectory.")
@@ -128,6 +135,7 @@ def main_outline(ctx, figures):
                           "\u03c4" + sub("s") + " \u2212 \u03c4 along the trajectory.")
     o.figure("torque", caps["torque"])
     o.section(*_split(ctx["choices_heading"]))
+    o.paragraph(ctx.get("choices_note", ""), "note")
     o.table(ctx["choices"], "Base parameters and the parts of their contributions the model "
                             "keeps." if ctx["choices"]["header"][0] == "base parameter" else
             "The part of each element the simplified model keeps.")

@@ -9,12 +9,13 @@ import numpy as np
 
 from ..core.selection.ranking import joint_motion_units
 from .common import attr as _attr
-from .common import count, prismatic_joints, strings
+from .common import count, given, prismatic_joints, strings
 from .common import fmt as _fmt
 from .common import fmt_column as _column
 from .common import share as share_text
 from .common import table as _table
 from .effort import effort_rows
+from .markup import element, tau
 
 __all__ = ["robot_section", "alike_joints", "ALIKE"]
 
@@ -174,14 +175,14 @@ def _robot_geometry(ds):
 
         def cell(value, variable):            # the joint variable q where it moves: q + offset
             if not variable:
-                return _fmt(value)
+                return given(value)
             sign = "+" if value > 0 else "\u2212"
-            return "q" if value == 0 else f"q {sign} {_fmt(abs(value))}"
+            return "q" if value == 0 else f"q {sign} {given(abs(value))}"
 
-        dh = _table(
+        dh = _table(                        # as the robot file gives them (issue 31)
             ["joint", "d [m]", "a [m]", "\u03b1 [deg]", "\u03b8 [deg]"],
-            [[str(k + 1), cell(dh_rows[0, k], pris[k]), _fmt(dh_rows[1, k]),
-              _fmt(np.degrees(dh_rows[2, k])), cell(np.degrees(dh_rows[3, k]), not pris[k])]
+            [[str(k + 1), cell(dh_rows[0, k], pris[k]), given(dh_rows[1, k]),
+              given(np.degrees(dh_rows[2, k])), cell(np.degrees(dh_rows[3, k]), not pris[k])]
              for k in range(n)],
             align=["left"] + ["right"] * 4, widths=[0.8, 1, 1, 1, 1])
         return dh, None
@@ -223,15 +224,16 @@ def _drives_context(ds, labels):
     share = ds["share_arm"].values if "share_arm" in ds else np.zeros(len(labels))
     diag = [list(labels).index(f"D{k + 1}{k + 1}") if n < 10 else None for k in range(n)]
     table = _table(
-        ["joint", "armature", "viscous", "Coulomb", "peak |τ_f|", "armature share of D_ii",
-         "units"],
+        ["joint", "armature", "viscous", "Coulomb", f"peak |{tau('f')}|",
+         f"armature share of {element('D', 'ii')}", "units"],
         [[*row, share_text(share[diag[k]]) if diag[k] is not None else "—",
           "kg, N s/m, N, N" if pris[k] else "kg m², N m s/rad, N m, N m"]
          for k, row in enumerate(_rows(range(1, n + 1), arm, fv, fc, peak_f))],
         align=["left"] + ["right"] * 5 + ["left"], widths=[0.5, 0.9, 0.9, 0.9, 0.9, 1, 2])
     note = ("Drives: the armature (rotor inertia × gear ratio²) adds diag(armature) "
-            "to D, a third part D^arm beside D^tran and D^rot, counted on the rotational side "
-            "of the translational share; friction τ_f = viscous "
+            f"to D, a third part {element('D', '', 'arm')} beside {element('D', '', 'tran')} "
+            f"and {element('D', '', 'rot')}, counted on the rotational side of the "
+            f"translational share (Sec. 4); friction {tau('f')} = viscous "
             "· q̇ + Coulomb · sign(q̇) adds to τ. The simplified model "
             "keeps both whole.")
     return {"table": table, "note": note}

@@ -12,7 +12,7 @@ from ..core.selection.ranking import element_label, parse_element_label
 from .numbers import share as _share
 from .plot_data import ENVELOPE_COLUMNS
 
-__all__ = ["conclusion", "model_sentence", "gravity_clause", "simplified_intro", "disagreement_cause", "captions",
+__all__ = ["conclusion", "model_sentence", "gravity_clause", "simplified_intro", "disagreement_cause", "shared_causes", "captions",
            "element_scale", "prismatic_count_note", "alike_sentence"]
 
 _CLASSES = ("translational", "rotational", "both", "negligible")
@@ -75,8 +75,14 @@ def _qty(value, unit):
     return f"{value:.3g}\u00a0" + str(unit).replace(" ", "\u00a0")
 
 
+def _qty_text(text, unit):
+    """A number already formatted and its unit, joined as :func:`_qty` joins them."""
+    return f"{text}\u00a0" + str(unit).replace(" ", "\u00a0")
+
+
 def conclusion(labels, dominance, zero, choice, rel_peak, abs_peak, tau_peak, cost=None,
-               recursive=None, gravity=None, units=None, scope=None, where="this trajectory"):
+               recursive=None, gravity=None, units=None, scope=None, where="this trajectory",
+               shown=None):
     """The report's conclusion in three sentences.
 
     Parameters
@@ -87,6 +93,9 @@ def conclusion(labels, dominance, zero, choice, rel_peak, abs_peak, tau_peak, co
         Elements zero in every part (:func:`gd_analyze.reports.main_figures.identically_zero`).
     rel_peak, abs_peak, tau_peak : ndarray, shape (n,)
         Per joint: peak |tau_s - tau| / peak |tau| [1], peak |tau_s - tau| [N m], peak |tau|.
+    shown : dict of str to list of str, optional
+        Those numbers as the error table prints them (``rel``, ``abs``, ``tau``), quoted so
+        that the text and the table agree digit for digit (issue 31); else 3 digits.
     cost : tuple of (int, int, int or None[, int or None, int or None]), optional
         The emitted model's multiplications and additions per set point, Newton-Euler's
         operations as implemented (None if not counted), and optionally the operations of the
@@ -156,17 +165,26 @@ def conclusion(labels, dominance, zero, choice, rel_peak, abs_peak, tau_peak, co
     worst = int(np.nanargmax(rel))
     others = np.delete(rel, worst)
     unit = list(units) if units is not None else ["N m"] * rel.size
+    def cell(kind, k, value, u):                   # as Table 5.1 prints it, if given
+        if shown is None:
+            return _qty(value, u)
+        text = str(shown[kind][k])
+        return text.replace(" ", "\u00a0") if kind == "rel" else _qty_text(text, u)
+
     third = (f"Its largest open-loop torque error (\u03c4\u209b \u2212 \u03c4 along the "
-             f"trajectory) is {_qty(100 * rel[worst], '%')} of peak |\u03c4| at joint "
-             f"{worst + 1} ({_qty(abs_peak[worst], unit[worst])} of "
-             f"{_qty(tau_peak[worst], unit[worst])})")
+             f"trajectory) is {cell('rel', worst, 100 * rel[worst], '%')} of peak |\u03c4| at "
+             f"joint {worst + 1} ({cell('abs', worst, abs_peak[worst], unit[worst])} of "
+             f"{cell('tau', worst, tau_peak[worst], unit[worst])})")
     big = float(np.nanmax(tau_peak))
     if tau_peak[worst] < 0.01 * big:
         at = int(np.nanargmax(tau_peak))
         third += (f": that joint's own torque is under 1\u00a0% of the largest joint's "
                   f"({_qty(big, unit[at])}), so a tiny absolute error is a large share of it")
     if others.size and np.any(np.isfinite(others)):
-        third += f"; every other joint is within {_qty(100 * np.nanmax(others), '%')}"
+        second_worst = int(np.nanargmax(np.where(np.arange(rel.size) == worst, -np.inf,
+                                                 np.nan_to_num(rel, nan=-np.inf))))
+        third += (f"; every other joint is within "
+                  f"{cell('rel', second_worst, 100 * rel[second_worst], '%')}")
     if cost is not None:
         mult, add, ne = cost[:3]
         exact, full = (tuple(cost[3:5]) + (None, None))[:2]
@@ -377,6 +395,44 @@ def disagreement_cause(label, ours, theirs, share, zero, s, robot_name):
             ours in ("rotational", "both") and theirs == "translational":
         cause += "; the drive's armature counts on the rotational side"
     return cause
+
+
+def shared_causes(causes):
+    """Causes said once (issue 31: Table 6.1 repeated one cause in every row): each clause
+    (``"; "``-separated) that more than one row gives becomes a note, marked (a), (b), ... in
+    those rows.
+
+    Parameters
+    ----------
+    causes : sequence of str
+        One cause per row, as :func:`disagreement_cause` writes it ("" where none).
+
+    Returns
+    -------
+    rows : list of str
+        The causes with each shared clause replaced by its mark.
+    note : str
+        "(a) ... (b) ..." in order of first use, a row's shared clauses together under one
+        mark; "" if no clause is shared.
+
+    Examples
+    --------
+    >>> shared_causes(["x 1; no class; by eye", "no class; by eye", "y 2; other", ""])
+    (['x 1 (a)', '(a)', 'y 2; other', ''], '(a) no class; by eye.')
+    """
+    split = [[c for c in cause.split("; ") if c] for cause in causes]
+    seen = {}
+    for clauses in split:
+        for c in clauses:
+            seen[c] = seen.get(c, 0) + 1
+    marks, rows = {}, []
+    for clauses in split:          # a row's shared clauses, together, are one note
+        shared = "; ".join(c for c in clauses if seen[c] > 1)
+        if shared and shared not in marks:
+            marks[shared] = f"({chr(ord('a') + len(marks))})"
+        own = "; ".join(c for c in clauses if seen[c] == 1)
+        rows.append(" ".join(t for t in (own, marks.get(shared, "")) if t))
+    return rows, " ".join(f"{m} {c}." for c, m in marks.items())
 
 
 def captions(enveloped, N, s, e, units=None, alike=()):

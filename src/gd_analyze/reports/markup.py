@@ -39,9 +39,9 @@ _SUBSCRIPT = dict(zip("0123456789ijsnkmtxaeorplhuv+-=()\u2212,",
                       "\u1d62\u2c7c\u209b\u2099\u2096\u2098\u209c\u2093\u2090\u2091\u2092"
                       "\u1d63\u209a\u2097\u2095\u1d64\u1d65\u208a\u208b\u208c\u208d\u208e"
                       "\u208b,"))
-_SUPERSCRIPT = dict(zip("0123456789tranoi+-\u2212",
+_SUPERSCRIPT = dict(zip("0123456789tranoim+-\u2212",
                         "\u2070\u00b9\u00b2\u00b3\u2074\u2075\u2076\u2077\u2078\u2079"
-                        "\u1d57\u02b3\u1d43\u207f\u1d52\u2071\u207a\u207b\u207b"))
+                        "\u1d57\u02b3\u1d43\u207f\u1d52\u2071\u1d50\u207a\u207b\u207b"))
 
 
 def sub(text):
@@ -101,8 +101,9 @@ def element(symbol, index, part=None):
         ``"D"``, ``"h"``, ``"c"`` or ``"\u03c4"``.
     index : str
         ``"ij"``, ``"i"``, ``"12"`` ... (a label's digits, "1,10" for n >= 10).
-    part : {None, "tran", "rot"}, optional
-        The G-D part (Eqs. (3.4-25) to (3.4-28) of Fu, Gonzalez & Lee 1987).
+    part : {None, "tran", "rot", "arm"}, optional
+        The G-D part (Eqs. (3.4-25) to (3.4-28) of Fu, Gonzalez & Lee 1987), or the drives'
+        armature.
 
     Returns
     -------

@@ -10,7 +10,8 @@ import math
 
 import numpy as np
 
-__all__ = ["fmt", "fmt_column", "count", "share", "pct", "pct_column"]
+__all__ = ["fmt", "fmt_column", "fmt_columns", "given", "count", "share", "pct", "pct_column",
+           "pct_columns"]
 
 #: :func:`fmt_column` writes a column in fixed notation with at most this many decimals and
 #: this many digits more than its significant ones in its widest entry (magnitudes over three
@@ -58,6 +59,37 @@ def fmt(value, digits=4, sci_outside=None):
     if sci_outside is not None and abs(v) >= 10.0 ** digits:
         return f"{v:,.0f}"          # inside the range: never e-notation (34,780, not 3.478e+04)
     return f"{v:,.{digits}g}"
+
+
+#: Significant digits that reproduce a parameter as a robot file gives it (its decimals), and
+#: hide the rounding of a unit conversion (pi/2 rad printed as 90 deg).
+_GIVEN_DIGITS = 12
+
+
+def given(value):
+    """A parameter the robot file gives (a DH length or angle) as given: every decimal it
+    has, never rounded to a few digits (issue 31: d3 = 0.15005 was printed 0.15).
+
+    Parameters
+    ----------
+    value : float
+        The parameter [m or deg].
+
+    Returns
+    -------
+    str
+        The shortest text of :data:`_GIVEN_DIGITS` significant digits; "0" for zero (no
+        "-0"); "n/a" if not finite.
+
+    Examples
+    --------
+    >>> given(0.15005), given(0.4318), given(90.00000000000001), given(-0.0)
+    ('0.15005', '0.4318', '90', '0')
+    """
+    v = float(value)
+    if not math.isfinite(v):
+        return "n/a"
+    return "0" if v == 0 else f"{v:.{_GIVEN_DIGITS}g}"
 
 
 def _close(texts, values, digits):
@@ -124,6 +156,68 @@ def fmt_column(values, digits=4, off=None):
     it = iter(texts or [])
     return ["\u2261 0" if h else "n/a" if not math.isfinite(x) else "0" if x == 0
             else next(it) for x, h in zip(v, hide)]
+
+
+def fmt_columns(columns, digits=4, off=None):
+    """Several columns of one quantity (the peaks of an element's parts, in one unit) in one
+    notation, as if they were one column (:func:`fmt_column`; issue 31: one format per
+    quantity, never "0.7840" beside "4.480e+00").
+
+    Parameters
+    ----------
+    columns : sequence of array_like, each shape (M,)
+        The numbers [one unit for all].
+    digits : int, optional
+        Significant digits each entry keeps, at least.
+    off : sequence of (array_like of bool, shape (M,), or None), optional
+        Per column, the entries that are round-off ("≡ 0").
+
+    Returns
+    -------
+    list of list of str
+        One list per column.
+
+    Examples
+    --------
+    >>> fmt_columns([[2.835, 0.8302], [0.784, 0.0]])
+    [['2.8350', '0.8302'], ['0.7840', '0']]
+    >>> fmt_columns([[4.48, 3.976e-05], [0.784, 0.0]])
+    [['4.480e+00', '3.976e-05'], ['7.840e-01', '0']]
+    """
+    return _as_one(lambda v, o: fmt_column(v, digits, o), columns, off)
+
+
+def _as_one(column, columns, off):
+    """``column(values, off)`` applied to several columns as one, split back."""
+    arrays = [np.asarray(c, dtype=float).ravel() for c in columns]
+    offs = [np.zeros(a.shape, bool) if o is None else np.asarray(o, bool).ravel()
+            for a, o in zip(arrays, off or [None] * len(arrays))]
+    texts = column(np.concatenate(arrays), np.concatenate(offs))
+    ends = np.cumsum([a.size for a in arrays])
+    return [texts[e - a.size:e] for a, e in zip(arrays, ends)]
+
+
+def pct_columns(columns, off=None):
+    """Several columns of one relative quantity as percentages in one format, as if one column
+    (:func:`pct_column`; issue 31: never "0.363 %" beside "0.1827 %").
+
+    Parameters
+    ----------
+    columns : sequence of array_like, each shape (M,)
+        The fractions [1].
+    off : sequence of (array_like of bool, shape (M,), or None), optional
+        Per column, the entries that are round-off ("≡ 0").
+
+    Returns
+    -------
+    list of list of str
+
+    Examples
+    --------
+    >>> pct_columns([[0.00363, 0.00012], [0.001827, 0.000055]])
+    [['0.3630 %', '0.0120 %'], ['0.1827 %', '0.0055 %']]
+    """
+    return _as_one(pct_column, columns, off)
 
 
 def count(value):

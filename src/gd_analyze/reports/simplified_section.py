@@ -11,7 +11,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from ..core.selection.ranking import ROUND_OFF, arm_scales, is_round_off
+from ..core.selection.ranking import ROUND_OFF, ROUND_OFF_CLAUSE, arm_scales, is_round_off
 from .common import count, fmt, pct, pct_column, strings, table, torque_units, units_said_once
 from .markup import element as _el
 from .markup import scope as scope_markup
@@ -23,10 +23,10 @@ __all__ = ["has_simplified", "simplified_context", "error_figure", "SIMPLIFIED_C
 #: Caption of the torque-error figure; ``{units}`` as :func:`simplified_caption` fills it.
 SIMPLIFIED_CAPTION = ("Torque error of the simplified model, \u03c4\u209b \u2212 \u03c4 "
                       "[{units}], "
-                      "per joint against time, with the guaranteed bound \u00b1 (dotted; on "
-                      "this trajectory only). The joints whose model drops nothing (bound 0) "
-                      "get no panel: the note below names them; their difference is "
-                      "floating-point round-off.")
+                      "per joint against time, with the bound \u00b1 (dotted), guaranteed on "
+                      "this trajectory only, " + ROUND_OFF_CLAUSE + ". The joints whose model "
+                      "drops nothing (bound 0) get no panel: the note below names them; their "
+                      "difference is floating-point round-off.")
 
 def simplified_caption(ds):
     """The caption of :func:`error_figure`, with the units of each joint's torque.
@@ -297,9 +297,11 @@ def _scope(ds, exact=False):
 
     g = stored_guarantee(ds)
     if g is None:
-        return "" if exact else "the bound below is guaranteed, on this trajectory only."
+        return "" if exact else (f"the bound below is guaranteed {ROUND_OFF_CLAUSE}, on this "
+                                 "trajectory only.")
     said = f"The model's guarantee: {scope_markup(g['statement'])}."
-    return " " + said if exact else f"the bound below holds on this trajectory. {said}"
+    return " " + said if exact else (f"the bound below is guaranteed on this trajectory, "
+                                     f"{ROUND_OFF_CLAUSE}. {said}")
 
 
 def _dearer_than_full(ds, other):

@@ -8,7 +8,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from ..core.selection.ranking import joint_units_text
+from ..core.selection.ranking import ROUND_OFF_CLAUSE, joint_units_text
 from ..io.sweep_guarantee import merged_guarantee
 from .common import count, torque_units
 from .common import pct as _pct
@@ -46,7 +46,8 @@ def merged_claim(ds):
         return (f"is guaranteed {scope_markup(said['statement'])} ({_SI} = the largest "
                 f"|{_TAU_I}| found over the region, at least {_floor(ds)}); "
                 f"{_bound_clause(ds)}{coverage(ds)}")
-    claim = (f"is guaranteed within \u03b5\u00b7{_SI} (\u03b5 = {eps}) on every swept "
+    claim = (f"is guaranteed within \u03b5\u00b7{_SI} (\u03b5 = {eps}), {ROUND_OFF_CLAUSE}, "
+             "on every swept "
              f"trajectory ({_SI} = max(that trajectory's peak |{_TAU_I}|, "
              f"{_floor(ds)})); {_bound_clause(ds)}its largest "
              f"measured peak error is "
@@ -151,8 +152,8 @@ def _merged_rule(ds):
             f"{what} on each trajectory is divided by that trajectory's {_SI} = "
             f"max(peak |{_TAU_I}|, torque floor), and {'pairs' if recursive else 'terms'} are "
             f"dropped while these ratios sum to at most \u03b5 = {eps} for every joint. By the "
-            f"triangle inequality its torque error is guaranteed within \u03b5\u00b7{_SI} on "
-            "every swept trajectory (not on others)"
+            f"triangle inequality its torque error is guaranteed within \u03b5\u00b7{_SI}, "
+            f"{ROUND_OFF_CLAUSE}, on every swept trajectory (not on others)"
             + ("; the bound on each trajectory, "
                + ("the sum of the dropped pairs' peaks there" if recursive else
                   f"the sum of the dropped terms' largest ratios times its {_SI}")
@@ -314,7 +315,8 @@ def _models(ds):
     generated from the dataset's rules: (own, merged)."""
     own_rule, rule = _own_rule(ds), str(ds.attrs.get("merged_rule", "chapter"))
     bound = {"chapter": "share-based classes of Sec. 3.4.1, no error bound",
-             "budget": "guaranteed within \u03b5\u00b7" + _SI + " on its own trajectory"}
+             "budget": "guaranteed within \u03b5\u00b7" + _SI + f", {ROUND_OFF_CLAUSE}, on its "
+                       "own trajectory"}
     own = f"each trajectory's own simplified model ({own_rule} rule: {bound[own_rule]})"
     if rule == "budget" and _region(ds):
         merged = (f"the merged model (budget rule, \u03b5 = "
@@ -323,7 +325,7 @@ def _models(ds):
     elif rule == "budget":
         merged = (f"the merged model (budget rule, \u03b5 = "
                   f"{float(ds.attrs['merged_tolerance']):g}: guaranteed within "
-                  f"\u03b5\u00b7{_SI} on every swept trajectory)")
+                  f"\u03b5\u00b7{_SI}, {ROUND_OFF_CLAUSE}, on every swept trajectory)")
     else:
         merged = "the merged model (chapter rule: no error bound)"
     return own, merged

@@ -243,9 +243,10 @@ def _settings(ds, inputs, setpoints, durations, version):
                          str(ds.attrs["random_qdd_max_source"]),
                          _attr(ds, "random_qdd_max_source"))))
     rows += [
-        ("computed on", f"dask, {_attr(ds, 'cluster')}: {_attr(ds, 'n_workers')} "
-                        f"worker{'s' if str(ds.attrs.get('n_workers')) != '1' else ''} at "
-                        f"{_attr(ds, 'scheduler_address')}; {tasks} tasks (the {K} "
+        ("computed on", f"dask, {_attr(ds, 'cluster')} ({_attr(ds, 'n_workers')} "
+                        f"worker{'s' if str(ds.attrs.get('n_workers')) != '1' else ''} "
+                        f"joined; scheduler at {_attr(ds, 'scheduler_address')}); {tasks} "
+                        f"tasks (the {K} "
                         f"trajectories in {batches} batch{'es' if batches != 1 else ''} of "
                         f"at most {batch}, "
                         + ("each batch once to rank and once to check the merged model)"

@@ -102,16 +102,23 @@ def _concat(parts):
 
 def _verify_sample(robot, q, qd, terms, qdd=None):
     """The verification of :func:`verify` on given set points and their G-D terms."""
-    from ..formulations.pinocchio import natural_relative_error, natural_scales, reference_terms
+    from ..formulations.pinocchio import (
+        measured_relative_error,
+        natural_relative_error,
+        natural_scales,
+        reference_terms,
+    )
 
     ref = reference_terms(robot, q, qd)
     scales = natural_scales(robot, ref, qd, qdd)
-    out = {}
+    out, excess = {}, {}
     for name in ("D_tran", "D_rot", "h_tran", "h_rot", "D", "h", "c"):
         kind = "D" if name.startswith("D") else "tau"
-        out[f"max_rel_error_{name}"] = natural_relative_error(
-            getattr(terms, name), getattr(ref, name), scales[kind], scales[f"floor_{kind}"])
-    worst = np.max(np.array(list(out.values())))         # NaN propagates: a NaN fails
+        args = (getattr(terms, name), getattr(ref, name), scales[kind], scales[f"floor_{kind}"])
+        out[f"max_rel_error_{name}"] = measured_relative_error(*args)
+        excess[f"max_rel_excess_{name}"] = natural_relative_error(*args)
+    worst = np.max(np.array(list(excess.values())))      # NaN propagates: a NaN fails
+    out.update(excess)
     out.update(setpoints=int(q.shape[0]), tolerance=VERIFY_TOLERANCE,
                engine="pinocchio", passed=int(bool(worst <= VERIFY_TOLERANCE)))
     return out
@@ -138,9 +145,12 @@ def verify(robot, q, qd, terms=None, max_setpoints=VERIFY_MAX_SETPOINTS, qdd=Non
     dict
         ``max_rel_error_<term>`` for D_tran, D_rot, h_tran, h_rot, D, h and c: the largest
         difference from Pinocchio relative to the element's natural scale over the checked set
-        points (:func:`gd_analyze.formulations.pinocchio.natural_relative_error`): sqrt(D_ii D_jj)
+        points, as measured, round-off included
+        (:func:`gd_analyze.formulations.pinocchio.measured_relative_error`): sqrt(D_ii D_jj)
         for D_ij, peak |tau_i| for h_i and c_i, with an absolute floor of a few machine epsilons
-        times the overall scale; ``setpoints`` checked, ``tolerance`` and ``passed`` (1 if all are
+        times the overall scale; ``max_rel_excess_<term>``: the same past that floor
+        (:func:`~gd_analyze.formulations.pinocchio.natural_relative_error`), what the check
+        judges; ``setpoints`` checked, ``tolerance`` and ``passed`` (1 if every excess is
         within tolerance, else 0; a NaN anywhere fails).
 
     Notes
@@ -370,12 +380,37 @@ def _analysis_pass(robot, trajectory, options, provenance, chunk, writer, progre
 
         costs = formulations_dataset(robot, q[idx_form], qd[idx_form], qdd[idx_form],
                                      gd=sample.rows([at[i] for i in idx_form]))
-    return AnalysisPass(ranking=ranking, choices=choices, error=errors.result(),
+    if model is not None and model.recursive is not None:
+        from .simplified_dataset import recursive_choices
+
+        pick = _subsample(N, _CHOICE_SETPOINTS)
+        choices = recursive_choices(model, q[pick], qd[pick], gd_terms(robot, q[pick], qd[pick]),
+                                    ranking)
+    return AnalysisPass(ranking=ranking, choices=choices, error=_marked(errors.result(), robot),
                  verification=verification, costs=costs,
                  terms=_concat(held) if writer is None else None,
                  tau=np.concatenate(held_tau) if writer is None else None,
                  tau_simplified=np.concatenate(tau_s_all) if writer is None else None,
                  model=model, simplified=simplified)
+
+
+#: Set points (evenly spread) on which a recursive model's D_s and h_s are compared with D
+#: and h, element by element, for the stored ``choice``.
+_CHOICE_SETPOINTS = 64
+
+
+def _marked(error, robot):
+    """The torque error with ``round_off`` per joint: True where its peak is floating-point
+    round-off by the reports' one rule (:func:`gd_analyze.core.selection.ranking.is_round_off`
+    of peak |tau_i| and of the arm's), so the stored numbers are never read as data."""
+    from ..core.selection.labels import joint_torque_units
+    from ..core.selection.ranking import arm_scales, is_round_off
+
+    units = [joint_torque_units(bool(p)) for p in robot.prismatic]
+    tau = np.asarray(error["peak_tau"], float)
+    off = is_round_off(np.asarray(error["peak_abs_error"], float), tau,
+                       arm_scale=arm_scales(tau, units))
+    return {**error, "round_off": [bool(v) for v in np.atleast_1d(off)]}
 
 
 def _provenance(trajectory, settings):

@@ -88,7 +88,9 @@ def dask_client(scheduler=None, n_workers=None, timeout=HANDSHAKE_TIMEOUT):
     Yields
     ------
     (distributed.Client, str)
-        The client and a description of the cluster; both are closed on exit.
+        The client and what it runs on, as the provenance says it ("a LocalCluster of 2
+        worker processes started by gd-analyze on this machine", "the running scheduler at
+        tcp://10.0.0.5:8786"); the client, and a cluster started here, are closed on exit.
 
     Notes
     -----
@@ -112,7 +114,7 @@ def dask_client(scheduler=None, n_workers=None, timeout=HANDSHAKE_TIMEOUT):
     with contextlib.ExitStack() as env:
         if scheduler is not None:
             check_scheduler(scheduler, timeout)
-            client, how = Client(scheduler, timeout=timeout), "connected by address"
+            client, how = Client(scheduler, timeout=timeout), f"the running scheduler at {scheduler}"
         else:
             import dask
 
@@ -126,7 +128,9 @@ def dask_client(scheduler=None, n_workers=None, timeout=HANDSHAKE_TIMEOUT):
                     _working_folder(empty):
                 cluster = LocalCluster(n_workers=workers, threads_per_worker=1, processes=True,
                                        dashboard_address=None, scheduler_kwargs=_NO_DASHBOARD)
-            client, how = Client(cluster), "LocalCluster started by gd-analyze"
+            client = Client(cluster)
+            how = (f"a LocalCluster of {workers} worker process{'es' if workers != 1 else ''} "
+                   "started by gd-analyze on this machine")
         try:
             yield client, how
         except BaseException:

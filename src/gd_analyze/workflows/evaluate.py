@@ -17,6 +17,7 @@ import numpy as np
 
 from ..core.dynamics.dalembert import gd_terms
 from ..core.model.limits import check_finite
+from ..core.selection.guarantee import within_bound
 from ..core.selection.labels import joint_torque_units
 from ..core.selection.ranking import arm_scales, is_round_off
 from ..core.selection.simplified import parameters_sha256, torque_error
@@ -220,11 +221,13 @@ def gate(err, model, max_error=None):
     off = _round_off(peak, own, own, robot)
     if max_error is None:
         limit = g.tolerance * s
-        measure, bound = peak, limit * (1 + 1e-12)
+        measure, bound = peak, limit
+        within = within_bound(peak, limit, s)               # up to round-off, as guaranteed
     else:
         limit = np.full(robot.n, float(max_error))
         measure, bound = np.asarray(err["relative_peak_error"], float), limit
-    fails = ~(measure <= bound) & ~off                      # NaN never passes
+        within = measure <= bound
+    fails = ~within & ~off                                  # NaN never passes
     out = {"by": "model" if max_error is None else "--max-error", "limit": limit.tolist(),
            "exceeded": bool(fails.any()), "worst_joint": None, "message": ""}
     if not fails.any():

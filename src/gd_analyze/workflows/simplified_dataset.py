@@ -61,8 +61,12 @@ def cost_rows(n, model, other=None, ladder_rows=None, formulation_counts=None):
         rows["explicit, full"] = row(model.full_cost)
     elif "explicit, full" in rec:
         rows["explicit, full"] = row(rec["explicit, full"])
+    same = {row(model.full_cost)} if model.full_cost else set()     # a rung that is the full
+    if model.form == "explicit" and model.rule == "budget":          # model or this one is
+        same.add(row(model.cost))                                    # listed once, as such
     for r in ladder_rows or []:
-        rows[f"explicit, budget EPS={r['tolerance']:g}"] = row(r)
+        if not ((r["tolerance"] == 0 or r["tolerance"] == model.tolerance) and row(r) in same):
+            rows[f"explicit, budget EPS={r['tolerance']:g}"] = row(r)
     for m in (model, other):
         if m is not None and m.form == "explicit":
             eps = "" if m.rule == "chapter" else f" EPS={m.tolerance:g}"
@@ -85,6 +89,44 @@ def cost_rows(n, model, other=None, ladder_rows=None, formulation_counts=None):
     if getattr(model.robot, "name", "") == "puma560" and n == 6:     # AKB's arm only
         rows.update({k: tuple(float(x) for x in v) for k, v in AKB_COSTS.items()})
     return rows
+
+
+def recursive_choices(model, q, qd, terms, ranking):
+    """A recursive model's choice per element, as results.h5 stores it: "pruned" where the
+    (base parameter, part) pairs it drops change the element, else "both" (issue 31: "both"
+    for every element although XY2's terms are dropped).
+
+    Parameters
+    ----------
+    model : SimplifiedModel
+        Of the recursive form.
+    q, qd : ndarray, shape (N, n)
+        Set points to compare on [rad, rad/s; m, m/s].
+    terms : GDTerms
+        The G-D terms there (the full model's D, with the armature, and h).
+    ranking : Ranking
+        Its ``labels`` (D's upper triangle, then h) and each element's ``scale``.
+
+    Returns
+    -------
+    dict of str to str
+        "pruned" where max |D_s - D| or max |h_s + friction - h - friction| over the set points
+        is not round-off of the element's scale (:func:`gd_analyze.core.selection.ranking.is_round_off`,
+        with the arm's scale of D or of h), else "both".
+    """
+    from ..core.selection.ranking import arm_scales, is_round_off
+
+    n = model.robot.n
+    fns = model.functions().numpy()
+    D_s = np.asarray(fns["inertia"](q), float).reshape(-1, n, n)
+    h_s = np.asarray(fns["velocity_terms"](q, qd), float).reshape(-1, n)
+    h = terms.h + (0.0 if terms.tau_f is None else terms.tau_f)     # h_s holds the friction
+    iu = np.triu_indices(n)
+    diff = np.concatenate([np.abs(D_s - terms.D).max(axis=0)[iu], np.abs(h_s - h).max(axis=0)])
+    scale = np.asarray(ranking.scale, float)
+    kind = ["D"] * iu[0].size + ["h"] * n
+    off = is_round_off(diff, scale, arm_scale=arm_scales(scale, kind))
+    return {lab: "both" if o else "pruned" for lab, o in zip(ranking.labels, off)}
 
 
 def coefficient_structure(terms):

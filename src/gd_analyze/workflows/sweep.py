@@ -263,7 +263,7 @@ def _auto_batch(k, n_workers):
 
 def run_sweep(robot, trajectories, dominance=DEFAULT_DOMINANCE, negligible=DEFAULT_NEGLIGIBLE,
               client=None, scheduler=None, batch=None, n_workers=None, settings=None,
-              progress=False, recursive_peaks=False):
+              progress=False, recursive_peaks=False, cluster=None):
     """Rank K trajectories on a dask.distributed cluster and merge their simplified models.
 
     Parameters
@@ -279,6 +279,10 @@ def run_sweep(robot, trajectories, dominance=DEFAULT_DOMINANCE, negligible=DEFAU
         e, >= 0: the negligibility threshold.
     client : distributed.Client, optional
         Run on this client's cluster (left open).
+    cluster : str, optional
+        What ``client`` runs on, for the provenance (the description
+        :func:`gd_analyze.workflows.dask_cluster.dask_client` yields); default "a client
+        given by the caller".
     scheduler : str, optional
         Address of a running scheduler, e.g. ``"tcp://10.0.0.5:8786"``; a client is connected
         to it and closed at the end. Ignored if ``client`` is given.
@@ -355,7 +359,7 @@ def run_sweep(robot, trajectories, dominance=DEFAULT_DOMINANCE, negligible=DEFAU
     if client is None:
         client, how = own.enter_context(dask_client(scheduler, n_workers))
     else:
-        how = "client given by the caller"
+        how = cluster or "a client given by the caller"
     try:
         try:
             client.wait_for_workers(1, timeout=60)

@@ -118,6 +118,22 @@ def test_stated_facts_leave_out_structurally_zero_pairs_and_survive_the_file():
     assert not RecursiveModel.from_dict(old, arm).stated_facts()["known"]
 
 
+def test_model_file_names_the_dropped_pairs_the_reports_name():
+    """Issue 31: simplified_model.json listed 8 dropped pairs where the report named 4 (the
+    round-off pairs of a dropped parameter were listed as dropped). The file's "dropped" is
+    the reports' list; the ≡ 0 pairs left out with their parameter are listed apart."""
+    arm, (q, qd, qdd), _, model = case(0.05, 20.0)
+    live = model.contributing()
+    assert (model.dropped & ~live).any() and (model.dropped & live).any()   # the case at hand
+    spec = model.to_dict()
+    assert [tuple(p) for p in spec["dropped"]] == model.stated_facts()["dropped_pairs"]
+    round_off = {tuple(p) for p in spec["round_off"]}
+    assert not round_off & {tuple(p) for p in spec["dropped"]}
+    assert {tuple(p) for p in spec["dropped_round_off"]} <= round_off
+    back = RecursiveModel.from_dict(spec, arm)
+    np.testing.assert_array_equal(back.dropped, model.dropped)     # the same model code
+
+
 def _edit(path, value):
     def mutate(spec):
         *keys, last = path

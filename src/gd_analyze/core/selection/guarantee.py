@@ -14,8 +14,9 @@ from dataclasses import dataclass
 import numpy as np
 
 from ...errors import InputError
+from .ranking import ROUND_OFF_CLAUSE
 
-__all__ = ["Guarantee", "KINDS", "ROUND_OFF_EPS"]
+__all__ = ["Guarantee", "KINDS", "ROUND_OFF_EPS", "ROUND_OFF_CLAUSE", "within_bound"]
 
 #: The two scopes of a bound.
 KINDS = ("region", "trajectory")
@@ -23,6 +24,35 @@ KINDS = ("region", "trajectory")
 #: scale (the verification's floor): the pruned and the exact program round differently, and a
 #: small joint inherits the rounding of the large ones.
 ROUND_OFF_EPS = 64
+
+
+def within_bound(error, bound, scale):
+    """Whether errors are within their bounds up to floating-point round-off: the one test by
+    which every check of a guaranteed bound judges (:data:`ROUND_OFF_CLAUSE`).
+
+    Parameters
+    ----------
+    error, bound : array_like, shape (n,)
+        Peak |tau_s - tau| and its bound per joint [N m or N].
+    scale : array_like, shape (n,)
+        The joints' scales s_i [N m or N]; the allowance is :data:`ROUND_OFF_EPS` machine
+        epsilons of the largest.
+
+    Returns
+    -------
+    ndarray of bool, shape (n,)
+        ``error <= bound + 64 eps max_i s_i``; NaN never passes.
+
+    Examples
+    --------
+    >>> within_bound([0.002400359948032, 1.1e-16], [0.002400359948026, 0.0], [0.24, 50.5])
+    array([ True,  True])
+    >>> within_bound([0.0025], [0.0024], [50.5])
+    array([False])
+    """
+    s = np.abs(np.asarray(scale, float))
+    allowance = ROUND_OFF_EPS * np.finfo(float).eps * (float(s.max()) if s.size else 0.0)
+    return np.asarray(error, float) <= np.asarray(bound, float) + allowance
 
 
 def _floats(values):

@@ -57,7 +57,7 @@ __all__ = [
     "element_index", "element_label", "parse_element_label", "rank_dominance",
     "CHAPTER_DOMINANCE", "CHAPTER_PUMA", "is_chapter_puma", "element_units",
     "joint_torque_units", "joint_motion_units",
-    "joint_units_text", "ROUND_OFF", "ROUND_OFF_EPS", "arm_scales", "is_round_off", "ZERO_TOL",
+    "joint_units_text", "ROUND_OFF", "ROUND_OFF_EPS", "ROUND_OFF_CLAUSE", "arm_scales", "is_round_off", "ZERO_TOL",
     "identically_zero",
 ]
 
@@ -125,6 +125,9 @@ ROUND_OFF = 1e-12
 #: largest scale in the same units): the absolute floor of the verification against Pinocchio
 #: (:data:`gd_analyze.formulations.pinocchio.FLOOR_EPS`).
 ROUND_OFF_EPS = 64.0
+#: How every text that calls a bound guaranteed says the round-off it allows (issue 31);
+#: :func:`gd_analyze.core.selection.guarantee.within_bound` judges by the same allowance.
+ROUND_OFF_CLAUSE = f"up to floating-point round-off ({ROUND_OFF_EPS:g} eps of the scale)"
 
 
 def arm_scales(scale, units):

@@ -191,16 +191,21 @@ class RecursiveModel:
         -------
         dict
         """
+        live = self.contributing()
+        gone = np.asarray(self.dropped, bool)
+        pairs = [[self.names[k], PART_NAMES[p]] for k, p in zip(*np.nonzero(gone & live))]
         out = {"base_parameters": list(self.names),
                "beta": [float(v) for v in self.beta],
-               "dropped": [[a, b] for a, b in self.dropped_pairs()],
+               "dropped": pairs,          # the pairs the reports name (issue 31)
                "scale": [float(v) for v in self.scale],
                "bound": [float(v) for v in self.bound],
                "bound_by_part": {name: [float(v) for v in self.bound_by_part[p]]
                                  for p, name in enumerate(BOUND_PARTS)}}
         if self.relative_peak is not None or self.round_off is not None:
-            idle = ~self.contributing()
-            out["round_off"] = [[self.names[k], PART_NAMES[p]] for k, p in zip(*np.nonzero(idle))]
+            out["round_off"] = [[self.names[k], PART_NAMES[p]] for k, p in zip(*np.nonzero(~live))]
+            # ≡ 0 pairs left out with their dropped parameter: listed apart, as round-off
+            out["dropped_round_off"] = [[self.names[k], PART_NAMES[p]]
+                                        for k, p in zip(*np.nonzero(gone & ~live))]
         return out
 
     @classmethod
@@ -242,7 +247,7 @@ class RecursiveModel:
                              "(edited after the model was written?)", path,
                              column=f"{where}.beta")
         masks = {}
-        for key in ("dropped", "round_off"):
+        for key in ("dropped", "round_off", "dropped_round_off"):
             if key not in spec:
                 continue
             masks[key] = np.zeros((len(names), len(PARTS)), bool)
@@ -251,7 +256,7 @@ class RecursiveModel:
                     raise InputError(f"unknown {key.replace('_', '-')} pair {pair!r}"[:120],
                                      path, column=f"{where}.{key}")
                 masks[key][names.index(pair[0]), PART_NAMES.index(pair[1])] = True
-        dropped = masks["dropped"]
+        dropped = masks["dropped"] | masks.get("dropped_round_off", False)
         n = robot.n
         arrays = {}
         for key in ("scale", "bound"):
