@@ -1,4 +1,4 @@
-"""The main report's sections, once, for the HTML template and the PDF page engine alike.
+"""The main report's sections, once, for the HTML template and the PDF typesetter alike.
 
 :func:`main_outline` turns the context of :func:`gd_analyze.reports.main_context.report_context`
 into an :class:`gd_analyze.reports.sections.Outline`: numbered sections, paragraphs, tables
@@ -8,7 +8,7 @@ with numbered captions, figures with numbered captions.
 from __future__ import annotations
 
 from ..core.selection.ranking import ROUND_OFF
-from .markup import element, sub
+from .markup import code, element, sub
 from .sections import Outline
 from .ticks import decade_label
 
@@ -40,10 +40,13 @@ _PLACEMENT_CAPTION = (
     "frame i \u2212 1 is the last column. The robot has no Denavit-Hartenberg parameters.")
 _LINK_CAPTION = ("Link inertial parameters: mass, centre of mass (com) in link frame i, and "
                  "the diagonal of the inertia tensor about the centre of mass.")
-_FILES_TEXT = (" (a C header and C99 source with PREFIX_tau, PREFIX_inertia, "
-               "PREFIX_velocity_terms, PREFIX_gravity and PREFIX_regressor, PREFIX the robot's "
-               "name or --prefix; numpy tau, inertia, velocity_terms, gravity and regressor over "
-               "arrays of shape (N, n); CasADi functions() of the same).")
+_FILES_TEXT = (" (a C header and C99 source with " + code("PREFIX_tau") + ", "
+               + code("PREFIX_inertia") + ", " + code("PREFIX_velocity_terms") + ", "
+               + code("PREFIX_gravity") + " and " + code("PREFIX_regressor") + ", "
+               + code("PREFIX") + " the robot's name or " + code("--prefix") + "; numpy "
+               + code("tau") + ", " + code("inertia") + ", " + code("velocity_terms") + ", "
+               + code("gravity") + " and " + code("regressor") + " over arrays of shape (N, n); "
+               "CasADi " + code("functions()") + " of the same).")
 
 
 def _split(heading):
@@ -140,7 +143,8 @@ def main_outline(ctx, figures):
                                       "tolerance \u03b5.")
             else:
                 o.paragraph(sm["ladder_note"], "note")
-        o.paragraph("Emitted source files: " + ", ".join(sm["files"]) + _FILES_TEXT, "note")
+        o.paragraph("Emitted source files: " + ", ".join(code(f) for f in sm["files"])
+                    + _FILES_TEXT, "note")
 
     compare = ctx["compare"]
     top = 6                                  # the chapter comparison only for its PUMA 560
