@@ -72,7 +72,7 @@ def test_typst_numbers_sections_tables_and_figures(tmp_path):
     assert "Table 1" not in data and "Figure 1" not in data         # no number typed
     path, _ = _write(tmp_path, o, figures)
     flat = re.sub(r"\s+", " ", text(path))
-    for s in ("1 First", "1.1 Sub", "2 Second", "Table 1.1: first table",
+    for s in ("1. First", "1.1 Sub", "2. Second", "Table 1.1: first table",
               "Table 1.2: second table", "Table 2.1: third table", "Figure 1. first figure",
               "Figure 2. second figure"):
         assert s in flat, s
