@@ -236,6 +236,23 @@ def test_typst_typesets_every_report_without_type3_fonts(reports, which):
     assert fonts and "Type 3" not in fonts.values(), fonts
 
 
+@pytest.mark.parametrize("which", ALL)
+def test_pdf_keeps_the_provenance(reports, which):
+    """The PDF's document information names the version and the robot file's SHA-256 (the
+    sweep's also the SHA-256 of all its inputs), as the dataset stores them."""
+    import xarray as xr
+
+    import gd_analyze
+
+    folder, _ = reports[which]
+    name = {"sweep": "sweep.h5", "control": "control.h5"}.get(which, "results.h5")
+    with xr.open_dataset(folder / name) as ds:
+        shas = [str(ds.attrs[k]) for k in ("robot_sha256", "inputs_sha256") if k in ds.attrs]
+    meta = pdf_checks.info(_files(reports, which)[1])
+    assert shas and all(sha in meta["Keywords"] for sha in shas), meta
+    assert meta["Author"] == f"gd-analyze {gd_analyze.__version__}"
+
+
 def test_pages_are_full_unless_a_tall_figure_follows(reports):
     """Issue 31: no page of the PUMA 560 report but the last ends above 60 % of its height,
     unless the next page starts with a figure taller than the room left on it."""

@@ -31,6 +31,7 @@ import contextlib
 from pathlib import Path
 
 from ..core.selection.ranking import ROUND_OFF
+from . import markup
 from .common import CLASS_COLOURS as _CLASS_COLOURS
 from .common import SUPTITLE_RC as _RC
 from .common import check_formats, render_template
@@ -191,11 +192,24 @@ def render_sweep_pdf(ds, path, payload=None, figures=None, paper="a4"):
     return _pdf(ctx, draw_figures(figures, _RC), path, paper)
 
 
+#: The settings of the sweep whose values are the PDF's keywords: its provenance.
+_KEYWORD_ROWS = ("robot file", "dominance threshold s, negligibility threshold e",
+                 "SHA-256 of all inputs", "merge rule")
+
+
+def _keywords(ctx):
+    """The provenance in the PDF's document information: the inputs' SHA-256 and the
+    settings, from the settings table (one fact in one place)."""
+    rows = dict((markup.plain(k), markup.plain(v)) for k, v in ctx["settings"]["rows"])
+    return "; ".join(["G-D dominance sweep", f"gd-analyze {ctx['version']}"]
+                     + [f"{k}: {rows[k]}" for k in _KEYWORD_ROWS if k in rows])
+
+
 def _pdf(ctx, drawn, path, paper="a4"):
     metadata = {"Author": f"gd-analyze {ctx['version']}",
                 "Subject": "Dominance of the translational and rotational G-D terms over a "
                            "sweep of trajectories (Fu, Gonzalez & Lee 1987, Sec. 3.4.1)",
-                "Keywords": ctx.get("keywords", "")}
+                "Keywords": _keywords(ctx)}
     return write_pdf(_outline(ctx, drawn), {k: (d[0], d[2]) for k, d in drawn.items()}, path,
                      paper, metadata, footer=f"gd-analyze {ctx['version']}: {ctx['title']}")
 
