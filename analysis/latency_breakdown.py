@@ -48,8 +48,7 @@ TIMED = (
     ("gd_analyze.reports.main", "write_report", "write_report"),
     ("gd_analyze.io.schema", "open_results", "report_read_results"),
     ("gd_analyze.reports.main", "_html", "report_html"),
-    ("gd_analyze.reports.pages", "Document._text_pages", "report_pdf_text"),
-    ("gd_analyze.reports.pages", "Document._finish", "report_pdf_assembly"),
+    ("gd_analyze.reports.main", "_pdf", "report_pdf"),
     ("gd_analyze.reports.main", "write_figure_files", "report_figure_files"),
 )
 
@@ -163,9 +162,9 @@ def phases(record):
     p = record["phases"]
     get = p.get
     fig = {k: v for k, v in p.items() if k.startswith("report_figures_")}
-    report_parts = sum(get(k, 0.0) for k in ("report_read_results", "report_html",
-                                             "report_pdf_text", "report_pdf_assembly",
-                                             "report_figure_files")) + sum(fig.values())
+    report_parts = (sum(get(k, 0.0) for k in ("report_read_results", "report_html",
+                                             "report_pdf", "report_figure_files"))
+                    + sum(fig.values()))
     out = {
         "imports_bare_set": record["imports_bare_set"],
         "imports_rest": record["imports_rest"],
@@ -180,8 +179,7 @@ def phases(record):
                                         "report_figures_make_column",
                                         "report_figures_draw_column")},
         "report_html": get("report_html", 0.0),
-        "report_pdf_text": get("report_pdf_text", 0.0),
-        "report_pdf_assembly": get("report_pdf_assembly", 0.0),
+        "report_pdf": get("report_pdf", 0.0),
         "report_figure_files": get("report_figure_files", 0.0),
         "report_other": get("write_report", 0.0) - report_parts,
         "cli_and_staging": record["job"] - get("run_analysis", 0.0),

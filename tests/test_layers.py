@@ -15,8 +15,8 @@ SRC = pathlib.Path(gd_analyze.__file__).parent
 LAYERS = ["core", "formulations", "io", "workflows", "reports", "cli"]
 LEAVES = {"errors", "files", "_version", "config"}
 # the shared report modules, and the main report's own parts (figures and sentences) and the
-# page engine and tick labels of all three (issue 12)
-SHARED_REPORTS = {"reports.common", "reports.figures", "reports.pages", "reports.drawing",
+# PDF typesetter and tick labels of all three (issue 12, issue 31)
+SHARED_REPORTS = {"reports.common", "reports.figures", "reports.typeset", "reports.drawing",
                   "reports.ticks", "reports.main_figures", "reports.main_text",
                   "reports.sweep_figures", "reports.simplified_section",
                   "reports.main_context", "reports.plot_data", "reports.control_figures",
@@ -28,7 +28,7 @@ SHARED_REPORTS = {"reports.common", "reports.figures", "reports.pages", "reports
 REPORT_CORE = {"core.selection.ranking", "core.selection.labels"}
 
 # the one section list of the three reports and what it is built with (issue 19 item 6)
-SHARED_REPORTS |= {"reports.markup", "reports.sections", "reports.table_layout", "reports.text_pages",
+SHARED_REPORTS |= {"reports.markup", "reports.sections",
                    "reports.numbers", "reports.units", "reports.figure_style", "reports.main_robot",
                    "reports.main_outline", "reports.main_provenance", "reports.main_parts"}
 

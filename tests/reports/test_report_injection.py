@@ -1,8 +1,9 @@
 """Hostile robot names and descriptions in the HTML and PDF reports (issue 16, item 1).
 
 The HTML shows them as text only (autoescape: no element or attribute comes from them); the
-PDF shows them as literal text (no mathtext), whole in its text and metadata, and a long one
-cannot push the footer over the page number.
+PDF shows them as literal text (no mathtext, no Typst markup: the name reaches the template as
+data), whole in its text and metadata, and a long one cannot push the footer over the page
+number.
 """
 
 import json
@@ -12,19 +13,22 @@ from importlib import resources
 
 import numpy as np
 import pytest
+from pdf_checks import info, words
 
 from gd_analyze import load_robot
 from gd_analyze.io.planning import plan_quintic
 from gd_analyze.io.schema import write_dataset
 from gd_analyze.reports import main as report
-from gd_analyze.reports.pages import Document
+from gd_analyze.reports.sections import Outline
+from gd_analyze.reports.typeset import write_pdf
 from gd_analyze.workflows.analyze import analyze
 from gd_analyze.workflows.options import AnalysisOptions
 
 #: A name that would open a script element, end an attribute, run mathtext, escape a PDF
-#: string and end a C comment, long enough that the footer cannot hold it.
+#: string, end a C comment and run Typst (a panic, strong text, mathematics, a closing
+#: bracket), long enough that the footer cannot hold it.
 NAME = ('<script>alert(1)</script><gdinjected onload="x"> \' " */ $\\frac{1}{0}$ ( ) \\ '
-        '&amp; ??/ ' + "W" * 110)
+        '&amp; ??/ #panic("x") *bold* $x$ ] ' + "W" * 80)
 DESCRIPTION = "line 1\nline 2 <gdinjected2> </td></tr></table> $x^$ \u2028 \\) Tj"
 
 
@@ -42,34 +46,25 @@ class _Collect(HTMLParser):
         self.text.append(data)
 
 
-def _footers(path):
-    """Per page: (footer text, its x, the page number's x) [pt], from the PDF's text objects."""
+def _pdf_text(path):
+    """The PDF's text as pypdf extracts it: a hyphen that ends a line is kept (pdftotext
+    joins the line to the next without it)."""
     from pypdf import PdfReader
 
+    return "".join(page.extract_text() for page in PdfReader(path).pages)
+
+
+def _footers(path):
+    """Per page: the words of the footer's visible line and the x where "page k of K" starts
+    [pt], from the words' boxes (pdftotext -bbox)."""
     pages = []
-    for page in PdfReader(path).pages:
-        runs = []
-        page.extract_text(visitor_text=lambda text, cm, tm, font, size: runs.append(
-            (text, cm[4] + tm[4], cm[5] + tm[5], size)) if text.strip() else None)
-        number, bottom = [(x, y) for t, x, y, _ in runs
-                          if re.fullmatch(r"page \d+ of \d+", t.strip())][-1]
-        foot = sorted((x, t) for t, x, y, s in runs
-                      if abs(y - bottom) < 0.5 and s == 7 and x < number)
-        pages.append(("".join(t for _, t in foot), foot[0][0], number))
+    for w, h, ws in words(path):
+        number = [(x0, y0) for k, (word, x0, y0, _, _) in enumerate(ws)
+                  if word == "page" and y0 > h - 72 and re.fullmatch(r"\d+", ws[k + 1][0])][-1]
+        foot = sorted((x0, word, x1) for word, x0, y0, x1, _ in ws
+                      if abs(y0 - number[1]) < 0.5 and x0 < number[0])
+        pages.append((foot, number[0]))
     return pages
-
-
-def _width(text, size):
-    """Drawn width [pt] of a line of DejaVu Sans (the text pages' font), from its glyphs."""
-    import warnings
-
-    from matplotlib.font_manager import FontProperties
-    from matplotlib.textpath import text_to_path
-
-    with warnings.catch_warnings():
-        warnings.simplefilter("ignore")
-        return text_to_path.get_text_width_height_descent(
-            text, FontProperties(family="DejaVu Sans", size=size), ismath=False)[0]
 
 
 @pytest.fixture(scope="module")
@@ -101,35 +96,30 @@ def test_html_shows_hostile_text_as_text_only(hostile_report):
 
 
 def test_pdf_shows_hostile_text_whole_and_the_footer_fits(hostile_report):
-    from pypdf import PdfReader
-
-    reader = PdfReader(hostile_report / "report.pdf")
-    assert NAME in reader.metadata["/Title"] and NAME in reader.metadata["/Keywords"]
-    whole = re.sub(r"\s+", "", "".join(p.extract_text() for p in reader.pages))
+    meta = info(hostile_report / "report.pdf")
+    assert NAME in meta["Title"] and NAME in meta["Keywords"]
+    assert meta["Creator"].startswith("Typst ")
+    whole = re.sub(r"\s+", "", _pdf_text(hostile_report / "report.pdf"))
     assert re.sub(r"\s+", "", NAME) in whole             # wrapped in the text, but whole
-    for text, x, number in _footers(hostile_report / "report.pdf"):
-        assert text.startswith("gd-analyze") and "<script>" in text
-        assert x + _width(text, 7) < number              # stops before "page k of K"
+    for foot, number in _footers(hostile_report / "report.pdf"):
+        assert [word for _, word, _ in foot[:2]] == ["gd-analyze", "0.1.0:"] or \
+            foot[0][1] == "gd-analyze"
+        assert max(x1 for _, _, x1 in foot) < number    # stops before "page k of K"
 
 
-def test_long_footer_is_cut_before_the_page_number(tmp_path):
-    from gd_analyze.reports.pages import _fit_line
-
+def test_long_footer_stops_before_the_page_number(tmp_path):
     footer = "gd-analyze: " + NAME + " " + "M" * 200
-    doc = Document("A title", footer=footer)
-    doc.heading("1. Section")
-    doc.paragraph("word " * 2000)
-    K = doc.write(tmp_path / "doc.pdf")
+    o = Outline("A title")
+    o.section("1", "Section")
+    for _ in range(8):
+        o.paragraph("word " * 300)
+    K = write_pdf(o, {}, tmp_path / "doc.pdf", footer=footer)
     footers = _footers(tmp_path / "doc.pdf")
     assert len(footers) == K > 1
-    # the line drawn is the footer cut and ended by an ellipsis (the extracted glyphs of the
-    # embedded font subset differ between matplotlib versions, so the cut is checked on the
-    # line itself and the extracted text only for its start and its extent)
-    cut = _fit_line(footer, 7, 5.0)
-    assert cut.endswith("\u2026") and footer.startswith(cut[:-1]) and len(cut) < len(footer)
-    for text, x, number in footers:
-        assert text.startswith("gd-analyze: <script>") and len(text) < len(footer)
-        assert x + _width(text, 7) < number
+    for foot, number in footers:
+        assert foot[0][1] == "gd-analyze:" and "<script>alert(1)</script><gdinjected" in \
+            "".join(word for _, word, _ in foot)
+        assert max(x1 for _, _, x1 in foot) < number
 
 
 #: Folders in a command line: quotes, a script element, mathtext, a PDF string's end.
@@ -157,8 +147,6 @@ def hostile_control(tmp_path_factory):
 
 
 def test_control_report_shows_a_hostile_command_line_as_text(hostile_control):
-    from pypdf import PdfReader
-
     out, command = hostile_control
     assert "<script>" in command and "$" in command
     html = (out / "control_report.html").read_text(encoding="utf-8")
@@ -168,6 +156,5 @@ def test_control_report_shows_a_hostile_command_line_as_text(hostile_control):
     assert "script" not in tags and "gdinjected3" not in tags
     assert not any(name.startswith("on") for _, attrs in parser.tags for name, _ in attrs)
     assert command in "".join(parser.text)               # whole, as text, after unescaping
-    reader = PdfReader(out / "control_report.pdf")
-    whole = re.sub(r"\s+", "", "".join(p.extract_text() for p in reader.pages))
+    whole = re.sub(r"\s+", "", _pdf_text(out / "control_report.pdf"))
     assert re.sub(r"\s+", "", command) in whole          # literal (no mathtext), wrapped

@@ -4,12 +4,13 @@
   and the PDF carries the same captions in the same order;
 - no code name stands in for mathematics (share_tran, EPS, scale_i, tau_s, D_ij ...), in the
   HTML or the PDF text;
-- a table's wrapped cells are whole words, each line as wide as its column at most (measured
-  with the font's own advances), so no heading breaks mid-word or runs into its neighbour;
+- no word of a PDF table or paragraph runs past the page's margins (Typst sets the columns);
 - a URDF robot gets its joint placements (xyz, rpy) and axes, no DH table and no "n/a"; the
   printed placements rebuild the model's rotations with Pinocchio's rpyToMatrix (oracle);
-- ``--figure-fonts truetype`` gives a report.pdf without a Type 3 font (font dictionaries
-  read with pypdf), the default gives Type 3 figures; the text pages are TrueType either way;
+- every report.pdf is typeset by Typst (pdfinfo names it) and holds no Type 3 font (pdffonts),
+  whatever ``--figure-fonts`` (the figures are embedded from their SVG);
+- no page of the PUMA 560 report but the last ends above 60 % of its height, unless the next
+  page starts with a figure taller than the room left;
 - one section list per report: the HTML headings and the PDF bookmarks are the same, in order,
   for the main, sweep and control reports.
 """
@@ -18,6 +19,7 @@ import re
 from html import unescape
 
 import numpy as np
+import pdf_checks
 import pytest
 from conftest import ROOT
 from html_checks import html_text, table_rows, without_figures
@@ -25,7 +27,7 @@ from pypdf import PdfReader
 
 from gd_analyze import load_robot
 from gd_analyze.cli import main
-from gd_analyze.reports.pages import Document
+from gd_analyze.reports.typeset import MARGINS, write_pdf
 
 DATA = ROOT / "data"
 #: Code names that must not stand in for mathematics in a report's text.
@@ -142,38 +144,35 @@ def test_operation_count_axes_write_powers_of_ten(reports):
             assert value == pytest.approx(10.0 ** (-k if m.group(1) else k)), (key, text)
 
 
-def _text_pages(reports, which):
-    """The text of the PDF's own pages, without the figures placed on them (the figures'
-    lettering is the figures' business): the report's document laid out without figures."""
-    import io
-
+def _typeset_text(reports, which, tmp_path):
+    """The text of the PDF typeset without its figures (the figures' lettering is the figures'
+    business): the report's outline written again with no figure."""
     import xarray as xr
 
     from gd_analyze.reports import control, sweep
-    from gd_analyze.reports.main import _document
     from gd_analyze.reports.main_context import report_context
-    from gd_analyze.reports.sections import to_document
+    from gd_analyze.reports.main_outline import main_outline
 
     folder, _ = reports[which]
     if which in ("puma", "ur5"):
         with xr.open_dataset(folder / "results.h5") as ds:
-            doc = _document(report_context(ds.load()), {})
+            outline = main_outline(report_context(ds.load()), {})
     else:
         module, name = (sweep, "sweep.h5") if which == "sweep" else (control, "control.h5")
         with xr.open_dataset(folder / name) as ds:
             ds = ds.load()
             ctx = module._context(ds) if which == "control" else module._context(ds, None)
-        doc = to_document(module._outline(ctx, {}), Document("t"), {})
-    pages, _ = doc._layout()
-    return _pdf_text(io.BytesIO(doc._text_pages(pages)))
+        outline = module._outline(ctx, {})
+    write_pdf(outline, {}, tmp_path / "text.pdf")
+    return pdf_checks.text(tmp_path / "text.pdf")
 
 
 @pytest.mark.parametrize("which", ALL)
-def test_no_code_names_in_the_text(reports, which):
+def test_no_code_names_in_the_text(reports, which, tmp_path):
     html, _ = _files(reports, which)
     text = _text(html)
     assert not CODE_NAMES.findall(text), sorted(set(CODE_NAMES.findall(text)))
-    text = _text_pages(reports, which)
+    text = _typeset_text(reports, which, tmp_path)
     assert not CODE_NAMES.findall(text), sorted(set(CODE_NAMES.findall(text)))
 
 
@@ -181,74 +180,20 @@ def test_mathematics_is_typeset(reports):
     html, pdf = _files(reports, "puma")
     assert "D<sub>ij</sub><sup>tran</sup>" in html and "D<sub>ij</sub><sup>rot</sup>" in html
     assert "\u03c4\u209b \u2212 \u03c4" in _text(html)
-    text = _pdf_text(pdf)
-    assert "D\u1d62\u2c7c\u1d57\u02b3\u1d43\u207f" in text           # D_ij^tran in Unicode
+    text = pdf_checks.text(pdf)
+    # sub- and superscripts set as such (tests/reports/test_typeset.py): no markup, no "^"
+    assert "Dijtran" in re.sub(r"\s+", "", text) and "^" not in text
     assert "\u03b5\u00b7s" in text or "\u03b5\u00b7s" in _text(html)
 
 
-def _header_words_ok(header, lines):
-    words = header.split()
-    return all(w in words for line in lines for w in line.split())
-
-
-def _measured(doc):
-    """For every table block of a laid-out document: its wrapped header and cells, with their
-    drawn widths [in] (the font's advances, bold for the header) and the column widths."""
-    from matplotlib.font_manager import FontProperties
-    from matplotlib.textpath import text_to_path
-
-    def width(s, size, bold):
-        prop = FontProperties(family="DejaVu Sans", size=size,
-                              weight="bold" if bold else "normal")
-        return text_to_path.get_text_width_height_descent(s, prop, ismath=False)[0] / 72
-
-    out = []
-    for kind, payload in doc.blocks:
-        if kind != "table":
-            continue
-        widths, header, rows, _ = doc._table_rows(payload)
-        size = payload[1]
-        for cells, bold in [(header[0], True)] + [(r[0], False) for r in rows]:
-            for k, lines in enumerate(cells):
-                out.append((payload[0]["header"][k] if bold else None, lines,
-                            widths[k] - 2 * 0.035, max(width(x, size, bold) for x in lines)))
-    return out
-
-
-def test_table_headings_break_only_between_words():
-    doc = Document("t")
-    doc.table({"header": ["element", "translational", "peak error [N\u00a0m]", "from c",
-                          "measured peak |\u03c4\u209b \u2212 \u03c4|"],
-               "rows": [["D11", "0.5", "1.0", "2.0", "3.0"]], "align": ["left"] * 5,
-               "widths": [0.3, 0.3, 0.3, 0.3, 0.3], "colour_cols": []}, size=7.5)
-    doc.table({"header": ["a"] * 14 + ["translational"], "rows": [["1"] * 15],
-               "align": ["left"] * 15, "widths": [1] * 15, "colour_cols": []})
-    doc.W = 5.0                              # a narrow page: every column is tight
-    measured = _measured(doc)
-    assert any(len(lines) > 1 for h, lines, _, _ in measured if h)    # headings do wrap
-    for header, lines, room, drawn in measured:
-        if header is not None:
-            assert _header_words_ok(header, lines), (header, lines)
-        assert drawn <= room + 1e-3, (header, lines, drawn, room)
-
-
-@pytest.mark.parametrize("which", ["puma", "ur5"])
-def test_report_tables_fit_their_columns(reports, which):
-    """Every line of every table of the main report is as wide as its column at most, and
-    every wrapped heading is made of whole words of the heading."""
-    import xarray as xr
-
-    from gd_analyze.reports.main import _document
-    from gd_analyze.reports.main_context import report_context
-
-    folder = reports[which][0]
-    with xr.open_dataset(folder / "results.h5") as ds:
-        ctx = report_context(ds.load())
-    doc = _document(ctx, {})
-    for header, lines, room, drawn in _measured(doc):
-        assert drawn <= room + 1e-3, (header, lines, drawn, room)
-        if header is not None:
-            assert _header_words_ok(header, lines), (header, lines)
+@pytest.mark.parametrize("which", ALL)
+def test_no_word_runs_past_the_margins(reports, which):
+    """Typst sets the tables' columns: every word of every page lies within the page's
+    margins (a table too wide for the page would run past the right one), but for the
+    punctuation Typst hangs into the right margin of justified lines (about 2 pt)."""
+    for w, h, ws in pdf_checks.words(_files(reports, which)[1]):
+        for word, x0, y0, x1, y1 in ws:
+            assert x0 >= 72 * MARGINS[0] - 1 and x1 <= w - 72 * MARGINS[0] + 3, (word, x1)
 
 
 def test_urdf_robot_shows_its_joint_placements(reports):
@@ -282,31 +227,48 @@ def test_dh_robot_keeps_its_dh_table(reports):
     assert not [h for h in headers if h[:3] == ["joint", "type", "x [m]"]]
 
 
-def _font_subtypes(pdf):
-    """The /Subtype of every font the PDF's pages and their form XObjects use."""
-    seen, out = set(), []
-
-    def walk(resources):
-        resources = resources.get_object() if resources is not None else {}
-        for font in (resources.get("/Font") or {}).values():
-            font = font.get_object()
-            if id(font) not in seen:
-                seen.add(id(font))
-                out.append(str(font["/Subtype"]))
-        for xobj in (resources.get("/XObject") or {}).values():
-            xobj = xobj.get_object()
-            if xobj.get("/Subtype") == "/Form" and "/Resources" in xobj:
-                walk(xobj["/Resources"])
-
-    for page in PdfReader(pdf).pages:
-        walk(page.get("/Resources"))
-    return out
+@pytest.mark.parametrize("which", ALL)
+def test_typst_typesets_every_report_without_type3_fonts(reports, which):
+    """Issue 31: Typst typesets the main (with ``--figure-fonts truetype`` and the default
+    Type 3 figure files), sweep and control reports; no Type 3 font in any."""
+    pdf = _files(reports, which)[1]
+    assert pdf_checks.info(pdf)["Creator"].startswith("Typst ")
+    fonts = pdf_checks.font_types(pdf)
+    assert fonts and "Type 3" not in fonts.values(), fonts
 
 
-def test_truetype_report_has_no_type3_font(reports):
-    fonts = _font_subtypes(_files(reports, "puma")[1])
-    assert fonts and "/Type3" not in fonts, fonts
-    assert "/Type3" in _font_subtypes(_files(reports, "ur5")[1])   # the default: Type 3 figures
+@pytest.mark.parametrize("which", ALL)
+def test_pdf_keeps_the_provenance(reports, which):
+    """The PDF's document information names the version and the robot file's SHA-256 (the
+    sweep's also the SHA-256 of all its inputs), as the dataset stores them."""
+    import xarray as xr
+
+    import gd_analyze
+
+    folder, _ = reports[which]
+    name = {"sweep": "sweep.h5", "control": "control.h5"}.get(which, "results.h5")
+    with xr.open_dataset(folder / name) as ds:
+        shas = [str(ds.attrs[k]) for k in ("robot_sha256", "inputs_sha256") if k in ds.attrs]
+    meta = pdf_checks.info(_files(reports, which)[1])
+    assert shas and all(sha in meta["Keywords"] for sha in shas), meta
+    assert meta["Author"] == f"gd-analyze {gd_analyze.__version__}"
+
+
+def test_pages_are_full_unless_a_tall_figure_follows(reports):
+    """Issue 31: no page of the PUMA 560 report but the last ends above 60 % of its height,
+    unless the next page starts with a figure taller than the room left on it."""
+    pages = pdf_checks.words(_files(reports, "puma")[1])
+    assert len(pages) > 2
+    for k, (w, h, ws) in enumerate(pages[:-1]):
+        foot = h - 72 * MARGINS[2]
+        bottom = max(y1 for _, _, _, _, y1 in ws if y1 < foot)
+        if bottom >= 0.6 * h:
+            continue
+        _, _, nxt = pages[k + 1]
+        seq = [(word, y0) for word, _, y0, _, y1 in nxt if y1 < foot]     # reading order
+        caption = next(y for (word, y), (n, _) in zip(seq, seq[1:])
+                       if word == "Figure" and re.fullmatch(r"\d+\.", n))
+        assert caption - min(y for _, y in seq) > foot - bottom, (k + 1, bottom / h)
 
 
 def _outline_titles(outline, level=1):
@@ -335,7 +297,7 @@ def test_markup_escapes_and_renders():
 
     s = "<b>" + markup.element("D", "12", "tran") + " & " + markup.sub("d")
     assert str(markup.html(s)) == "&lt;b&gt;D<sub>12</sub><sup>tran</sup> &amp; <sub>d</sub>"
-    # d has no Unicode subscript: the span stays marked, a run for the PDF page engine
+    # d has no Unicode subscript: the span stays marked (figures letter the Unicode ones)
     assert markup.unicode(s) == "<b>D\u2081\u2082\u1d57\u02b3\u1d43\u207f & " + markup.sub("d")
     assert markup.plain(s) == "<b>D12tran & d"
 
@@ -357,7 +319,8 @@ _TINY = re.compile(r"(?<![\w.])-?[0-9.]+e-(1[3-9]|[2-9][0-9])(?![\w])")
 
 
 @pytest.mark.parametrize("which", ("sweep", "control"))
-def test_round_off_is_never_tabulated_in_the_sweep_and_control_reports(reports, which):
+def test_round_off_is_never_tabulated_in_the_sweep_and_control_reports(reports, which,
+                                                                       tmp_path):
     """Issue 18: round-off of a quantity's own scale reads "≡ 0" in every table of the sweep
     and control reports, in the HTML and in the PDF's text pages. The sweep's D45 and D56
     (zero for the PUMA 560 in every part: an axis intersection) have no share, D16 (rotational
@@ -371,7 +334,7 @@ def test_round_off_is_never_tabulated_in_the_sweep_and_control_reports(reports, 
     for caption, header, rows in _tables(html):
         for row in rows:
             assert not any(_TINY.search(c) for c in row), (caption, row)
-    text = _text_pages(reports, which)
+    text = _typeset_text(reports, which, tmp_path)
     assert not _TINY.findall(text), sorted(set(_TINY.findall(text)))
     folder, _ = reports[which]
     if which == "sweep":
@@ -396,11 +359,8 @@ def test_round_off_is_never_tabulated_in_the_sweep_and_control_reports(reports, 
         digits = f"{float(ds['error_peak_grid'].sel(controller='full').max()):.2e}"
     said = "full model: peak |e| \u2261 0 (integrator noise)"
     assert digits not in _text(html) and said in _text(html).replace("\n", " ")
-    # the PDF's text as pypdf extracts it: matplotlib 3.10 draws a Type 3 glyph outside
-    # Latin-1 (the ≡) as a drawing, which text extraction does not see; the words around it
-    # and the absence of the digits are checked whatever the version
     assert digits not in text
-    assert re.search(r"full model: peak \|e\| +(\u2261 )?0 \(integrator noise\)",
+    assert re.search(r"full model: peak \|e\| +\u2261 0 \(integrator noise\)",
                      text.replace("\n", " ")), text[:400]
 
 
@@ -432,46 +392,12 @@ def _names(reports, which):
 
 @pytest.mark.parametrize("which", ALL)
 def test_no_code_subscript_reaches_the_pdf_or_the_html(reports, which):
-    """Issue 18: mathematics, not code names, in the whole PDF as pypdf extracts it (text
-    pages and figures: q_d is q with a subscript d, drawn as a run of smaller glyphs, never
-    "q_d") and in the HTML's text; file and module names excepted."""
+    """Issues 18 and 31: mathematics, not code names, in the whole PDF as pdftotext extracts it
+    (text and figures: q_d is q with a subscript d, never "q_d"; no "^") and in the HTML's
+    text; file and module names excepted."""
     html, pdf = _files(reports, which)
     names = _names(reports, which)
-    for where, text in (("pdf", _pdf_text(pdf)), ("html", _text(html))):
+    for where, text in (("pdf", pdf_checks.text(pdf)), ("html", _text(html))):
         bad = sorted({t for t in _CODE.findall(text) if not _is_code(t, names)})
         assert not bad, (where, bad)
-
-
-def test_subscript_runs_are_drawn_smaller_and_lowered():
-    """A span without Unicode subscripts (the d of q_d) is drawn as a run: its glyphs at
-    markup.RUN_SIZE of the line's size, lowered, measured at that size; the line's text reads
-    "qd(0)" and no "_"."""
-    import io
-
-    from gd_analyze.reports import markup
-    from gd_analyze.reports.pages import _line_width
-    from gd_analyze.reports.table_layout import word_width
-
-    s = markup.unicode("q" + markup.sub("d") + "(0)")
-    assert "_" not in s and markup.runs(s) == [("q", None), ("d", "sub"), ("(0)", None)]
-    assert word_width(s, 9.0, False) == pytest.approx(
-        word_width("q", 9.0, False) + word_width("d", 9.0 * markup.RUN_SIZE, False)
-        + word_width("(0)", 9.0, False))
-    assert _line_width(s, 9.0) < _line_width("qd(0)", 9.0)
-    doc = Document("t")
-    doc.paragraph("offset " + s)
-    pages, _ = doc._layout()
-    reader = PdfReader(io.BytesIO(doc._text_pages(pages)))
-    sizes = []
-
-    def visit(text, cm, tm, font, size):
-        if text.strip():
-            y = tm[5] * cm[3] + tm[4] * cm[1] + cm[5]         # the baseline on the page
-            sizes.append((text.strip(), round(size * tm[0], 2), round(y, 2)))
-
-    text = reader.pages[0].extract_text(visitor_text=visit)
-    assert "_" not in text and "q" in text and "d" in text
-    d = [s for s in sizes if s[0] == "d"]
-    q = [s for s in sizes if s[0].endswith("q") or s[0] == "q"]
-    assert d and q, sizes
-    assert d[0][1] < q[0][1] and d[0][2] < q[0][2], sizes          # smaller, lower
+        assert "^" not in text, where

@@ -268,10 +268,10 @@ def _add_paper_argument(p):
                    help="page size of the PDF report (default a4)")
     p.add_argument("--figure-fonts", choices=("type3", "truetype"),
                    default=defaults["figure_fonts"],
-                   help="font embedding of the figures' PDFs, in the PDF report and in "
-                        "figures/: type3 (default, fast) or truetype (no Type 3 font "
-                        "anywhere, for journals that refuse them, e.g. IEEE PDF eXpress; "
-                        "slower); the text pages always embed a TrueType subset")
+                   help="font embedding of the figures' PDF files in figures/: type3 "
+                        "(default, fast) or truetype (for journals that refuse Type 3 fonts, "
+                        "e.g. IEEE PDF eXpress; slower); the PDF report, typeset by Typst, "
+                        "embeds the figures' SVG and holds no Type 3 font either way")
 
 
 def analyze_parser():

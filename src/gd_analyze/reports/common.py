@@ -279,8 +279,9 @@ def render_template(name, context, env_globals=None):
         return resources.files("gd_analyze.reports").joinpath(f"templates/{template}") \
             .read_text(encoding="utf-8")
 
-    def finalize(value):                # sub- and superscripts as tags, the rest escaped
-        if isinstance(value, str) and (markup.SUB in value or markup.SUP in value):
+    def finalize(value):                # sub-, superscripts and code as tags, the rest escaped
+        if isinstance(value, str) and any(m in value for m in (markup.SUB, markup.SUP,
+                                                                markup.CODE)):
             return markup.html(value)
         return value
 

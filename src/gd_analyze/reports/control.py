@@ -9,9 +9,9 @@ computed-torque controllers, the applied torques, the evaluation cost of the sim
 against the full one, the model's choices and the provenance.
 
 ``control_report.html`` has no external resources (inline CSS, inline SVG figures, Jinja2
-template ``templates/control_report.html.j2``); ``control_report.pdf`` is written with
-matplotlib's PdfPages from :class:`matplotlib.figure.Figure` objects (no pyplot). Both are
-written atomically (:func:`gd_analyze.files.atomic_path`).
+template ``templates/control_report.html.j2``); ``control_report.pdf`` is typeset by
+Typst from the same section list (:mod:`gd_analyze.reports.typeset`). Both are written
+atomically (:func:`gd_analyze.files.atomic_path`).
 """
 
 from __future__ import annotations
@@ -24,8 +24,8 @@ from .control_figures import COLUMN_WIDTH, FIGURE_RC, PAGE_WIDTH, control_figure
 from .control_text import control_context as _context
 from .control_verdict import VERDICT_TOLERANCE, control_verdict
 from .drawing import draw_figures, figure_svg, write_figure_files
-from .pages import PAPER, Document
-from .sections import Outline, to_document
+from .sections import Outline
+from .typeset import PAPER, write_pdf
 
 __all__ = ["CONTROL_REPORT_FILES", "REQUIRED_VARIABLES", "VERDICT_TOLERANCE", "control_verdict", "make_control_figures",
            "render_control_html", "render_control_pdf", "write_control_report"]
@@ -208,11 +208,9 @@ def _pdf(ctx, drawn, path, paper="a4"):
     metadata = {"Author": f"gd-analyze {ctx['version']}",
                 "Subject": "Computed-torque control with the simplified G-D model (Fu, Gonzalez "
                            "& Lee 1987, Sec. 3.4.1 and Ch. 5)",
-                "Keywords": ctx["keywords"], "Creator": f"gd-analyze {ctx['version']}"}
-    doc = Document(ctx["title"], paper=paper, metadata=metadata,
-                   footer=f"gd-analyze {ctx['version']}: control report")
-    to_document(_outline(ctx, drawn), doc, {k: d[2] for k, d in drawn.items()})
-    return doc.write(path, {k: d[1] for k, d in drawn.items()})
+                "Keywords": ctx["keywords"]}
+    return write_pdf(_outline(ctx, drawn), {k: (d[0], d[2]) for k, d in drawn.items()}, path,
+                     paper, metadata, footer=f"gd-analyze {ctx['version']}: control report")
 
 
 def write_control_report(control_path, outdir, paper="a4", fonts="type3"):
@@ -229,7 +227,7 @@ def write_control_report(control_path, outdir, paper="a4", fonts="type3"):
         Page size of the PDF.
     fonts : {"type3", "truetype"}, optional
         How the figures' PDFs embed their font
-        (:data:`gd_analyze.reports.pages.FIGURE_FONTS`).
+        (:data:`gd_analyze.reports.drawing.FIGURE_FONTS`).
 
     Returns
     -------

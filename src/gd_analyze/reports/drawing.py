@@ -1,17 +1,25 @@
 """Drawing the reports' figures: once, for both the HTML (SVG) and the PDF, and as files.
 
 :func:`draw_figures` renders each matplotlib figure a single time into both formats (a tee of
-the renderer); :func:`write_figure_files` writes them to ``OUTDIR/figures/``. The page engine
-(:mod:`gd_analyze.reports.pages`) places the PDF of each figure on its page.
+the renderer); :func:`write_figure_files` writes them to ``OUTDIR/figures/``. The PDF reports
+(:mod:`gd_analyze.reports.typeset`) embed the SVG of each figure.
 """
 
 from __future__ import annotations
 
 import io
 
-from .pages import FIGURE_FONTS, PAGE_RC
+__all__ = ["FIGURE_FONTS", "PAGE_RC", "figure_pdf", "figure_svg", "draw_figures",
+           "write_figure_files"]
 
-__all__ = ["figure_pdf", "figure_svg", "draw_figures", "write_figure_files"]
+#: matplotlib settings of every figure's PDF file (``figures/*.pdf``): DejaVu Sans (the font
+#: type is set by :data:`FIGURE_FONTS`).
+PAGE_RC = {"pdf.fonttype": 3, "font.family": "DejaVu Sans", "path.simplify": True}
+#: How the figures' PDF files embed their font, by name: ``type3`` (glyphs as drawings: fast,
+#: the default) or ``truetype`` (a TrueType subset, Type 42: what journals that refuse Type 3
+#: fonts, e.g. IEEE PDF eXpress, ask for; each figure takes about 0.15 s more). The reports'
+#: PDFs embed the figures' SVG, whose text is set in a TrueType subset either way.
+FIGURE_FONTS = {"type3": 3, "truetype": 42}
 
 
 def _save(fig, fmt, rc, metadata):
@@ -73,7 +81,7 @@ def draw_figures(figures, rc, svg=True, pdf=True, fonts="type3"):
     svg, pdf : bool, optional
         Which formats to make.
     fonts : {"type3", "truetype"}, optional
-        How the PDFs embed their font (:data:`gd_analyze.reports.pages.FIGURE_FONTS`).
+        How the PDFs embed their font (:data:`FIGURE_FONTS`).
 
     Returns
     -------
@@ -90,7 +98,7 @@ def draw_figures(figures, rc, svg=True, pdf=True, fonts="type3"):
     Raises
     ------
     ValueError
-        If ``fonts`` is not one of :data:`gd_analyze.reports.pages.FIGURE_FONTS`.
+        If ``fonts`` is not one of :data:`FIGURE_FONTS`.
     """
     if fonts not in FIGURE_FONTS:
         raise ValueError(f"fonts must be one of {sorted(FIGURE_FONTS)}, got {fonts!r}")

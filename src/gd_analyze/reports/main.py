@@ -14,8 +14,8 @@ attributes. It has seven parts:
 7. the provenance.
 
 ``report.html`` is one file with no external resources: the figures are inline SVG and the style
-sheet is inline. ``report.pdf`` is written with matplotlib's PdfPages; its text pages are
-matplotlib figures too. Both are written atomically (:func:`gd_analyze.files.atomic_path`).
+sheet is inline. ``report.pdf`` is typeset by Typst from the same section list, the figures
+embedded from their SVG (:mod:`gd_analyze.reports.typeset`). Both are written atomically (:func:`gd_analyze.files.atomic_path`).
 
 Long trajectories are drawn through one helper that reduces a series of more than
 :data:`ENVELOPE_THRESHOLD` points to its min/max envelope (:func:`envelope`), one pair per pixel
@@ -38,7 +38,7 @@ from .common import CLASS_COLOURS as _CLASS_COLOURS
 from .common import check_formats, prismatic_joints, render_template
 from .common import strings as _strings
 from .common import thresholds as _thresholds
-from .drawing import draw_figures, write_figure_files
+from .drawing import FIGURE_FONTS, draw_figures, write_figure_files
 from .main_context import report_context, zero_mask
 from .main_figures import (
     COLUMN_WIDTH,
@@ -53,10 +53,9 @@ from .main_figures import (
 )
 from .main_figures import RC as FIG_RC
 from .main_outline import main_outline
-from .pages import FIGURE_FONTS, PAPER, Document
 from .plot_data import ENVELOPE_COLUMNS, ENVELOPE_THRESHOLD
-from .sections import to_document
 from .simplified_section import error_figure, has_simplified
+from .typeset import PAPER, write_pdf
 
 __all__ = [
     "REPORT_FORMATS", "ENVELOPE_THRESHOLD", "ENVELOPE_COLUMNS", "FIGURE_FILES", "envelope",
@@ -430,7 +429,7 @@ def render_pdf(ds, path, figures=None, paper="a4"):
     Notes
     -----
     The same sections and numbers as the HTML, numbered figures with captions, a bookmark per
-    section (:class:`gd_analyze.reports.pages.Document`). Source: Sec. 3.4.1 and Figs.
+    section, typeset by Typst (:func:`gd_analyze.reports.typeset.write_pdf`). Source: Sec. 3.4.1 and Figs.
     3.10-3.11 of Fu, Gonzalez & Lee (1987).
     """
     ctx = report_context(ds)
@@ -440,26 +439,19 @@ def render_pdf(ds, path, figures=None, paper="a4"):
 
 
 def _pdf(ctx, drawn, path, paper="a4"):
-    sizes = {k: size for k, (_, _, size) in drawn.items()}
-    return _document(ctx, sizes, paper).write(path, {k: d[1] for k, d in drawn.items()})
-
-
-def _document(ctx, sizes, paper="a4"):
-    """The PDF report as a page-engine document, from the one section list of the report
-    (:func:`gd_analyze.reports.main_outline.main_outline`); each figure block holds its key
-    and size (the figures' PDFs are given when it is written)."""
+    """Typeset the report (:func:`gd_analyze.reports.typeset.write_pdf`) from the one section
+    list of the report (:func:`gd_analyze.reports.main_outline.main_outline`), with the
+    provenance in the document information; the number of pages."""
     metadata = {
         "Author": f"gd-analyze {ctx['version']}",
         "Subject": "Translational and rotational dominance of the generalized d'Alembert "
                    "dynamics (Fu, Gonzalez & Lee 1987, Sec. 3.4.1, Figs. 3.10-3.11)",
-        "Keywords": ctx["keywords"], "Creator": f"gd-analyze {ctx['version']}",
-        "CreationDate": "D:" + ctx["created"].replace("-", "").replace(":", "")
-                               .replace("T", "")[:14] + "Z",
+        "Keywords": ctx["keywords"],
     }
-    doc = Document(ctx["title"], paper=paper, metadata=metadata,
-                   footer=f"gd-analyze {ctx['version']}: {ctx['robot_name']}, {ctx['N']:,} set "
-                          "points")
-    return to_document(main_outline(ctx, sizes), doc, sizes)
+    return write_pdf(main_outline(ctx, drawn), {k: (d[0], d[2]) for k, d in drawn.items()},
+                     path, paper, metadata,
+                     footer=f"gd-analyze {ctx['version']}: {ctx['robot_name']}, {ctx['N']:,} "
+                            "set points", created=ctx["created"])
 
 
 # --------------------------------------------------------------------------------------------
@@ -485,7 +477,7 @@ def write_report(results_path, outdir, formats=REPORT_FORMATS, paper="a4", progr
         Called with a number of set points read (for a progress bar).
     fonts : {"type3", "truetype"}, optional
         How the figures' PDFs embed their font
-        (:data:`gd_analyze.reports.pages.FIGURE_FONTS`).
+        (:data:`gd_analyze.reports.drawing.FIGURE_FONTS`).
     column_figures : bool, optional
         Also write the 3.5-in column-width figures (:data:`COLUMN_FIGURES`,
         ``figures/<name>_column.pdf`` and ``.svg``).

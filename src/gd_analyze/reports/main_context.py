@@ -1,6 +1,6 @@
 """The main report's content: every number, table and paragraph, read from the stored dataset.
 
-:func:`report_context` builds the context that both the HTML template and the PDF page engine
+:func:`report_context` builds the context that both the HTML template and the PDF typesetter
 render (the same sections and numbers in both): robot and trajectory, the ranking, the
 simplified model, the comparison with the chapter (Sec. 3.4.1 of Fu, Gonzalez & Lee 1987), the
 payload sweep, the formulations (Table 3.5) and the provenance. Nothing is recomputed.
@@ -199,7 +199,7 @@ def report_context(ds):
     Returns
     -------
     dict
-        The context the template and the page engine render.
+        The context the template and the PDF typesetter render.
 
     Raises
     ------

@@ -1,4 +1,4 @@
-"""The main report's sections, once, for the HTML template and the PDF page engine alike.
+"""The main report's sections, once, for the HTML template and the PDF typesetter alike.
 
 :func:`main_outline` turns the context of :func:`gd_analyze.reports.main_context.report_context`
 into an :class:`gd_analyze.reports.sections.Outline`: numbered sections, paragraphs, tables
@@ -9,7 +9,7 @@ from __future__ import annotations
 
 from ..core.selection.ranking import ROUND_OFF
 from .budget_figures import BUDGET_CAPTIONS
-from .markup import element, sub
+from .markup import code, element, sub
 from .sections import Outline
 from .ticks import decade_label
 
@@ -49,11 +49,14 @@ _LINK_CAPTION = ("Link inertial parameters: mass, centre of mass (com) in link f
                  "the diagonal of the inertia tensor about the centre of mass.")
 def _files_text(prefix):
     """What the emitted source files hold, with the C prefix the run used (stored setting
-    ``c_prefix``; an older file without it: the placeholder PREFIX)."""
+    ``c_prefix``; an older file without it: the placeholder PREFIX), code set as code."""
     p = prefix or "PREFIX"
-    return (f" (a C header and C99 source with {p}tau, {p}inertia, {p}velocity_terms, "
-            f"{p}gravity and {p}regressor; numpy tau, inertia, velocity_terms, gravity and "
-            "regressor over arrays of shape (N, n); CasADi functions() of the same).")
+    return (" (a C header and C99 source with " + code(f"{p}tau") + ", "
+            + code(f"{p}inertia") + ", " + code(f"{p}velocity_terms") + ", "
+            + code(f"{p}gravity") + " and " + code(f"{p}regressor") + "; numpy "
+            + code("tau") + ", " + code("inertia") + ", " + code("velocity_terms") + ", "
+            + code("gravity") + " and " + code("regressor") + " over arrays of shape (N, n); "
+            "CasADi " + code("functions()") + " of the same).")
 
 
 def _split(heading):
@@ -157,7 +160,7 @@ def main_outline(ctx, figures):
                                       "tolerance \u03b5.")
             else:
                 o.paragraph(sm["ladder_note"], "note")
-        o.paragraph("Emitted source files: " + ", ".join(sm["files"])
+        o.paragraph("Emitted source files: " + ", ".join(code(f) for f in sm["files"])
                     + _files_text(sm["prefix"]), "note")
 
     compare = ctx["compare"]

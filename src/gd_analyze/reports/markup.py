@@ -1,15 +1,14 @@
-"""Mathematics in the reports' text: subscripts and superscripts, written once, shown as HTML
-tags in ``report.html`` and in ``report.pdf`` as Unicode sub- and superscript characters, or,
-for a span with a letter that has none (the d of q_d, the b of Y_b), as a run of smaller,
-lowered or raised glyphs that the PDF page engine draws (:func:`runs`).
+"""Mathematics and code in the reports' text: subscripts, superscripts and code, written once,
+shown as HTML tags in ``report.html`` and typeset as such by Typst in ``report.pdf``
+(:func:`spans`); figures letter them as Unicode sub- and superscript characters (:func:`label`).
 
-A string of a report's context may hold spans marked with :func:`sub` and :func:`sup` (private
-use characters; :func:`clean` drops them from the dataset's text attributes that
-:func:`gd_analyze.reports.common.attr` reads, such as robot and file names). The HTML
-renderer turns them into ``<sub>``/``<sup>`` (:func:`html`, every other character escaped);
-the PDF page engine into the Unicode characters of DejaVu Sans where every character of the
-span has one (:func:`unicode`), else it keeps the span marked and draws it as a run
-(:func:`runs`); :func:`plain` drops the marks (tests, search).
+A string of a report's context may hold spans marked with :func:`sub`, :func:`sup` and
+:func:`code` (private use characters; :func:`clean` drops them from the dataset's text
+attributes that :func:`gd_analyze.reports.common.attr` reads, such as robot and file names).
+The HTML renderer turns them into ``<sub>``/``<sup>``/``<code>`` (:func:`html`, every other
+character escaped); the PDF renderer (:mod:`gd_analyze.reports.typeset`) takes the spans of
+:func:`spans` as data; :func:`unicode` gives the Unicode characters of a span where every
+character has one (figures); :func:`plain` drops the marks (tests, search).
 
 Examples
 --------
@@ -20,20 +19,22 @@ Examples
 'peak |Dᵢⱼᵗʳᵃⁿ|'
 >>> str(html(s))
 'peak |D<sub>ij</sub><sup>tran</sup>|'
->>> runs(unicode("q" + sub("d") + "(0)"))
-[('q', None), ('d', 'sub'), ('(0)', None)]
+>>> spans("q" + sub("d") + "(0) in " + code("PREFIX_tau"))
+[('q', None), ('d', 'sub'), ('(0) in ', None), ('PREFIX_tau', 'code')]
 """
 
 from __future__ import annotations
 
 import re
 
-__all__ = ["SUB", "SUP", "END", "sub", "sup", "element", "tau", "html", "unicode", "runs",
-           "plain", "clean", "label", "scope", "TRAN", "ROT", "RUN_SIZE", "RUN_SHIFT"]
+__all__ = ["SUB", "SUP", "CODE", "END", "sub", "sup", "code", "element", "tau", "html",
+           "unicode", "spans", "plain", "clean", "label", "scope", "TRAN", "ROT"]
 
-#: Start of a subscript, start of a superscript, end of either (Unicode private use area).
-SUB, SUP, END = "\ue000", "\ue001", "\ue002"
-_MARKS = re.compile(f"([{SUB}{SUP}])([^{END}]*){END}")
+#: Start of a subscript, of a superscript, end of either, start of code (Unicode private use
+#: area).
+SUB, SUP, END, CODE = "\ue000", "\ue001", "\ue002", "\ue006"
+_MARKS = re.compile(f"([{SUB}{SUP}{CODE}])([^{END}]*){END}")
+_KIND = {SUB: "sub", SUP: "sup", CODE: "code"}
 _SUBSCRIPT = dict(zip("0123456789ijsnkmtxaeorplhuv+-=()\u2212,",
                       "\u2080\u2081\u2082\u2083\u2084\u2085\u2086\u2087\u2088\u2089"
                       "\u1d62\u2c7c\u209b\u2099\u2096\u2098\u209c\u2093\u2090\u2091\u2092"
@@ -70,6 +71,27 @@ def sup(text):
     str
     """
     return f"{SUP}{text}{END}"
+
+
+def code(text):
+    """``text`` marked as code: an identifier, a file name or a command, set in monospace.
+
+    Parameters
+    ----------
+    text : str
+        Set as it is: no sub- or superscripts inside.
+
+    Returns
+    -------
+    str
+        The marked span.
+
+    Examples
+    --------
+    >>> str(html("in " + code("PREFIX_tau"))), plain(code("PREFIX_tau"))
+    ('in <code>PREFIX_tau</code>', 'PREFIX_tau')
+    """
+    return f"{CODE}{text}{END}"
 
 
 def scope(statement):
@@ -178,23 +200,17 @@ def html(text):
     out, pos = [], 0
     for m in _MARKS.finditer(text):
         out.append(str(escape(text[pos:m.start()])))
-        tag = "sub" if m.group(1) == SUB else "sup"
+        tag = _KIND[m.group(1)]
         out.append(f"<{tag}>{escape(m.group(2))}</{tag}>")
         pos = m.end()
     out.append(str(escape(text[pos:])))
-    return Markup("".join(out).replace(SUB, "").replace(SUP, "").replace(END, ""))
-
-
-#: A run's type size, a fraction of its line's, and its baseline shift [fraction of the
-#: line's size]: subscripts lowered, superscripts raised (as LaTeX's \scriptsize runs).
-RUN_SIZE = 0.7
-RUN_SHIFT = {"sub": -0.22, "sup": 0.38}
+    return Markup(clean("".join(out)))
 
 
 def unicode(text):
     """The marked string with its marked spans as Unicode sub- and superscript characters; a
-    span with a character that has none (such as the d of q_d) stays marked, for the PDF page
-    engine to draw as a run of smaller glyphs (:func:`runs`), never as ``_d``.
+    span with a character that has none (such as the d of q_d) stays marked (its marks, never
+    ``_d``); code stays as it is.
 
     Parameters
     ----------
@@ -205,15 +221,17 @@ def unicode(text):
     str
     """
     if SUB not in text and SUP not in text:
-        return text.replace(END, "")
+        return clean(text)
 
     def one(m):
+        if m.group(1) == CODE:
+            return m.group(2)
         table = _SUBSCRIPT if m.group(1) == SUB else _SUPERSCRIPT
         if all(c in table for c in m.group(2)):
             return "".join(table[c] for c in m.group(2))
-        return _KEEP[m.group(1)] + m.group(2) + _KEEP[END]       # no such characters: a run
+        return _KEEP[m.group(1)] + m.group(2) + _KEEP[END]       # no such characters: kept marked
 
-    out = _MARKS.sub(one, text).replace(SUB, "").replace(SUP, "").replace(END, "")
+    out = clean(_MARKS.sub(one, text))
     return out.translate({ord(v): k for k, v in _KEEP.items()})
 
 
@@ -221,30 +239,26 @@ def unicode(text):
 _KEEP = {SUB: "\ue003", SUP: "\ue004", END: "\ue005"}
 
 
-def runs(text):
-    """The pieces of a string as the PDF page engine draws them.
+def spans(text):
+    """The pieces of a marked string, as the PDF renderer typesets them.
 
     Parameters
     ----------
     text : str
-        As :func:`unicode` returns it (marked spans left only where Unicode has no
-        characters).
 
     Returns
     -------
-    list of (str, {None, "sub", "sup"})
-        The text in order: plain pieces, and sub- or superscript runs (drawn at
-        :data:`RUN_SIZE` of the line's size, shifted by :data:`RUN_SHIFT`).
+    list of (str, {None, "sub", "sup", "code"})
+        The text in order: plain pieces, and sub- and superscripts and code; stray marks
+        dropped, empty pieces left out.
     """
     out, pos = [], 0
     for m in _MARKS.finditer(text):
-        if m.start() > pos:
-            out.append((clean(text[pos:m.start()]), None))
-        out.append((m.group(2), "sub" if m.group(1) == SUB else "sup"))
+        out.append((clean(text[pos:m.start()]), None))
+        out.append((clean(m.group(2)), _KIND[m.group(1)]))
         pos = m.end()
-    if pos < len(text) or not out:
-        out.append((clean(text[pos:]), None))
-    return [(t, k) for t, k in out if t] or [("", None)]
+    out.append((clean(text[pos:]), None))
+    return [(t, k) for t, k in out if t]
 
 
 def plain(text):
@@ -273,7 +287,10 @@ def clean(text):
     -------
     str
     """
-    return str(text).replace(SUB, "").replace(SUP, "").replace(END, "")
+    return str(text).translate(_DROP)
+
+
+_DROP = dict.fromkeys(map(ord, SUB + SUP + END + CODE))
 
 
 #: The translational and rotational parts of an element X, as figures letter them.

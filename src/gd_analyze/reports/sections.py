@@ -1,24 +1,22 @@
-"""One list of sections per report, rendered by the Jinja template and by the PDF page engine.
+"""One list of sections per report, rendered by the Jinja template and typeset by Typst.
 
 A report (main, sweep, control) builds its structure once as an :class:`Outline`: the title
 block, then sections (number, title, level) each holding blocks: paragraphs, tables with a
 numbered caption ("Table 5.2: ..."), figures with a numbered caption ("Figure 3. ..."), and
-class counts. :func:`to_document` lays the outline out as a PDF
-(:class:`gd_analyze.reports.pages.Document`); the HTML templates render the same outline with
-the macros of ``templates/sections.j2``. Text may hold the sub- and superscript marks of
-:mod:`gd_analyze.reports.markup`.
+class counts. :func:`gd_analyze.reports.typeset.write_pdf` typesets the outline as a PDF
+(Typst numbers its sections, tables and figures, and checks them against the outline's); the
+HTML templates render the same outline with the macros of ``templates/sections.j2``. Text may
+hold the sub-, superscript and code marks of :mod:`gd_analyze.reports.markup`.
 """
 
 from __future__ import annotations
 
 from dataclasses import dataclass, field
 
-from . import markup
-from .common import keep_units
+__all__ = ["Block", "Section", "Outline", "PARAGRAPH_SIZE"]
 
-__all__ = ["Block", "Section", "Outline", "to_document", "PARAGRAPH_SIZE"]
-
-#: Type size [pt] of each paragraph style in the PDF; the HTML styles have the same names.
+#: The paragraph styles and their type size [pt] (the PDF sets its own, by the same names:
+#: ``templates/report.typ``; the HTML's classes have the same names).
 PARAGRAPH_SIZE = {"lead": 9.5, "summary": 9.5, "body": 9.0, "note": 8.5, "strong": 9.0}
 
 
@@ -192,45 +190,3 @@ class Outline:
         list of str
         """
         return [s.heading for s in self.sections if s.level > 0]
-
-
-def to_document(outline, document, sizes):
-    """Fill a PDF page-engine document with an outline.
-
-    Parameters
-    ----------
-    outline : Outline
-    document : gd_analyze.reports.pages.Document
-        Empty; filled in the outline's order.
-    sizes : dict of str to (float, float)
-        The size [in] of each drawn figure; its block holds its key (the figure's PDF is given
-        to :meth:`gd_analyze.reports.pages.Document.write`).
-
-    Returns
-    -------
-    gd_analyze.reports.pages.Document
-        ``document``.
-    """
-    u = markup.unicode
-    for section in outline.sections:
-        document.heading(u(section.heading), level=section.level)
-        for b in section.blocks:
-            if b.kind == "paragraph":
-                document.paragraph(keep_units(u(b.content)),
-                                   size=PARAGRAPH_SIZE.get(b.style, 9.0),
-                                   bold=b.style in ("lead", "strong"),
-                                   colour="0.25" if b.style == "note" else "black")
-            elif b.kind == "table":
-                t = b.content
-                document.table({**t, "header": [u(h) for h in t["header"]],
-                                "rows": [[u(c) for c in row] for row in t["rows"]]},
-                               size=b.size, caption=u(b.caption))
-            elif b.kind == "figure":
-                number = document.figure(b.content, sizes[b.content],
-                                         u(b.caption.split(". ", 1)[1]))
-                if not b.caption.startswith(f"Figure {number}. "):     # one numbering
-                    raise RuntimeError(f"figure {number} is {b.caption[:12]!r} in the HTML")
-            elif b.kind == "counts":
-                document.paragraph("   ".join(f"{c}: {k}" for c, k in b.content.items()),
-                                   size=8.5, bold=True)
-    return document

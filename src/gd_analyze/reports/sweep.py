@@ -20,8 +20,8 @@ attributes. The report has these parts:
    of every element vs payload (:func:`gd_analyze.reports.figures.payload_figure`).
 
 ``sweep_report.html`` has no external resources (inline SVG figures, inline style sheet; the
-Jinja2 template is ``templates/sweep_report.html.j2``). ``sweep_report.pdf`` is written with
-matplotlib's PdfPages. Both are written atomically (:func:`gd_analyze.files.atomic_path`).
+Jinja2 template is ``templates/sweep_report.html.j2``). ``sweep_report.pdf`` is typeset by
+Typst from the same section list (:mod:`gd_analyze.reports.typeset`). Both are written atomically (:func:`gd_analyze.files.atomic_path`).
 """
 
 
@@ -31,16 +31,17 @@ import contextlib
 from pathlib import Path
 
 from ..core.selection.ranking import ROUND_OFF
+from . import markup
 from .common import CLASS_COLOURS as _CLASS_COLOURS
 from .common import SUPTITLE_RC as _RC
 from .common import check_formats, render_template
 from .drawing import draw_figures, figure_svg, write_figure_files
-from .pages import PAPER, Document
-from .sections import Outline, to_document
+from .sections import Outline
 from .sweep_figures import make_sweep_figures
 from .sweep_text import SHARE_TEXT, SWEEP_CAPTIONS
 from .sweep_text import sweep_context as _context
 from .ticks import decade_label
+from .typeset import PAPER, write_pdf
 
 #: The round-off threshold as the text writes it (10⁻¹², not the code-like 1e-12).
 _TINY = decade_label(ROUND_OFF)
@@ -191,16 +192,26 @@ def render_sweep_pdf(ds, path, payload=None, figures=None, paper="a4"):
     return _pdf(ctx, draw_figures(figures, _RC), path, paper)
 
 
+#: The settings of the sweep whose values are the PDF's keywords: its provenance.
+_KEYWORD_ROWS = ("robot file", "dominance threshold s, negligibility threshold e",
+                 "SHA-256 of all inputs", "merge rule")
+
+
+def _keywords(ctx):
+    """The provenance in the PDF's document information: the inputs' SHA-256 and the
+    settings, from the settings table (one fact in one place)."""
+    rows = dict((markup.plain(k), markup.plain(v)) for k, v in ctx["settings"]["rows"])
+    return "; ".join(["G-D dominance sweep", f"gd-analyze {ctx['version']}"]
+                     + [f"{k}: {rows[k]}" for k in _KEYWORD_ROWS if k in rows])
+
+
 def _pdf(ctx, drawn, path, paper="a4"):
     metadata = {"Author": f"gd-analyze {ctx['version']}",
                 "Subject": "Dominance of the translational and rotational G-D terms over a "
                            "sweep of trajectories (Fu, Gonzalez & Lee 1987, Sec. 3.4.1)",
-                "Creator": f"gd-analyze {ctx['version']}"}
-    doc = Document(ctx["title"], paper=paper, metadata=metadata,
-                   footer=f"gd-analyze {ctx['version']}: {ctx['title']}")
-    sizes = {k: d[2] for k, d in drawn.items()}
-    to_document(_outline(ctx, drawn), doc, sizes)
-    return doc.write(path, {k: d[1] for k, d in drawn.items()})
+                "Keywords": _keywords(ctx)}
+    return write_pdf(_outline(ctx, drawn), {k: (d[0], d[2]) for k, d in drawn.items()}, path,
+                     paper, metadata, footer=f"gd-analyze {ctx['version']}: {ctx['title']}")
 
 
 def write_sweep_report(sweep_path, outdir, payload=None, formats=SWEEP_REPORT_FORMATS,
@@ -224,7 +235,7 @@ def write_sweep_report(sweep_path, outdir, payload=None, formats=SWEEP_REPORT_FO
         Page size of the PDF.
     fonts : {"type3", "truetype"}, optional
         How the figures' PDFs embed their font
-        (:data:`gd_analyze.reports.pages.FIGURE_FONTS`).
+        (:data:`gd_analyze.reports.drawing.FIGURE_FONTS`).
 
     Returns
     -------
