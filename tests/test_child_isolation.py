@@ -48,6 +48,7 @@ def _run(planted, args, **env):
     return done, marker.read_text() if marker.exists() else ""
 
 
+@pytest.mark.slow
 def test_planted_pickle_does_not_run_in_the_sweeps_dask_workers(planted):
     done, marker = _run(planted, ["sweep", "puma560", "--random", "2", "--workers", "1",
                                   "--no-report", "-o", "out", "-q"])

@@ -193,6 +193,7 @@ def test_compare_json(capsys):
     assert code == 0 and "gd vs pinocchio" in out
 
 
+@pytest.mark.slow
 def test_payload_changes_the_torques_and_is_recorded(tmp_path, capsys):
     plain, loaded = tmp_path / "plain", tmp_path / "loaded"
     assert _run(["puma560", SHIPPED, "-o", plain, "--no-report", "-q"], capsys)[0] == 0
@@ -213,6 +214,7 @@ def test_payload_changes_the_torques_and_is_recorded(tmp_path, capsys):
     assert code == 2 and "3 comma-separated" in err
 
 
+@pytest.mark.slow
 def test_control_command(tmp_path, capsys):
     out_dir = tmp_path / "o"
     assert _run(["puma560", SHIPPED, "-o", out_dir, "--no-report", "-q"], capsys)[0] == 0
@@ -252,6 +254,7 @@ def test_evaluate_under_a_payload(tmp_path, capsys):
     assert loaded["peak_abs_error"][1] > 50 * bare["peak_abs_error"][1]
 
 
+@pytest.mark.slow
 def test_sweep_command_on_csv_files(tmp_path, capsys):
     other = tmp_path / "other.csv"
     assert _run(["plan", "puma560", "-o", other, "--start", "0,45,-90,0,30,0", "--goal",
@@ -388,6 +391,7 @@ run()
 """
 
 
+@pytest.mark.slow
 def test_main_job_exits_normally_without_importing_dask(tmp_path):
     """The console script returns through sys.exit: the interpreter's teardown and atexit
     handlers run (no os._exit), and the main job with its report never imports dask."""
@@ -472,6 +476,7 @@ def test_sweep_writes_the_form_asked_for(tmp_path, capsys, form):
         assert ds.attrs["merged_form"] == form
 
 
+@pytest.mark.slow
 def test_control_printout_marks_integrator_noise_as_the_report_does(tmp_path, capsys):
     """The printed table gave the full-model controller's tracking error as digits
     (1.476e-11 rad), which the report and the verdict call integrator noise, ≡ 0: each printed

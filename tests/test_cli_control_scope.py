@@ -5,6 +5,7 @@ motion the guarantee does not cover."""
 import json
 import re
 
+import pytest
 from conftest import SHIPPED
 from html_checks import html_text
 
@@ -18,6 +19,7 @@ def _run(capsys, *args):
     return code, out, err
 
 
+@pytest.mark.slow
 def test_control_states_the_models_scope(tmp_path, capsys):
     assert _run(capsys, "puma560", SHIPPED, "-o", tmp_path / "m", "--no-report", "-q",
                 "--guarantee", "trajectory")[0] == 0

@@ -68,6 +68,7 @@ def test_summary_and_dataset_give_peak_tau_against_the_urdf_effort(tmp_path, cap
         assert np.array_equal(ds["tau_max"].values, limit)
 
 
+@pytest.mark.slow
 def test_report_has_the_effort_table(tmp_path, capsys, weak_ur5):
     out_dir = tmp_path / "out"
     code = main([str(weak_ur5), str(UR5_CSV), "-o", str(out_dir)])

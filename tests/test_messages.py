@@ -174,6 +174,7 @@ def test_sweep_says_where_the_floor_voids_the_guarantee():
     assert beyond_the_floor(ds) is None
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize("guarantee", ["trajectory", "region"])
 def test_sweep_summary_never_claims_a_guarantee_that_does_not_hold(tmp_path, capsys, guarantee):
     csvs = [DATA / "puma560_trajectory.csv"]

@@ -9,6 +9,8 @@ gives.
 import re
 from pathlib import Path
 
+import pytest
+
 from gd_analyze import cli
 
 ROOT = Path(__file__).resolve().parents[1]
@@ -78,6 +80,7 @@ def _code_block_after(heading):
     raise AssertionError(f"no code block after {heading!r}")
 
 
+@pytest.mark.slow
 def test_sample_output_is_what_the_main_job_prints(tmp_path):
     """The README's sample block, line by line, against a run of the main job.
 
@@ -192,6 +195,7 @@ def test_quoted_costs_agree_with_the_sample_and_the_counts():
         assert f"{label} {total:,}" in README, (label, total)
 
 
+@pytest.mark.slow
 def test_python_api_example_runs_as_a_doctest(monkeypatch):
     """The README's notebook example (issue 30 item 6), every line of it, as a doctest from the
     repository's folder; it is where the usage starts, after the first screen's commands."""

@@ -107,6 +107,7 @@ def _sweep(args, capsys):
     return code, out.out + out.err
 
 
+@pytest.mark.slow
 def test_guarantee_region_the_files_say_it_and_it_holds(tmp_path, capsys):
     """--guarantee region: the merged model file, sweep.h5, the emitted code, the printed
     lines and the report state the region guarantee in the model's one sentence; its error on
@@ -147,6 +148,7 @@ def test_guarantee_region_the_files_say_it_and_it_holds(tmp_path, capsys):
         assert np.all(err <= bound + 1e-9 * scale)
 
 
+@pytest.mark.slow
 def test_default_guarantee_region_with_limits_trajectory_without(tmp_path, capsys):
     """The default (auto): region on the PUMA 560 (it gives every limit); on an arm without
     limits the trajectory guarantee, and the missing limit said in one line, once."""

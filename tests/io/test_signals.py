@@ -125,6 +125,7 @@ SWEEP = """
 """
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize("sig", [signal.SIGTERM, signal.SIGINT])
 def test_a_signal_during_a_sweep_ends_it_with_its_status(tmp_path, sig):
     proc = _start(SWEEP, tmp_path / "out")

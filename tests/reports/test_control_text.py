@@ -26,6 +26,9 @@ from gd_analyze.io.trajectory import read_trajectory
 from gd_analyze.reports.control import write_control_report
 from gd_analyze.workflows.control import run_control
 
+#: Over 5 s on an idle machine (the module's fixtures): run on one interpreter in CI.
+pytestmark = pytest.mark.slow
+
 CONFIGS = {"budget-recursive": ["--rule", "budget", "--form", "recursive"],
            "chapter": ["--rule", "chapter"],
            "gravity-dropped-recursive": ["--form", "recursive", "--tolerance", "0.05",

@@ -22,6 +22,9 @@ from gd_analyze.reports.common import JOINT_STYLES, MAX_MARKERS, joint_style
 from gd_analyze.reports.main_figures import plot_data
 from gd_analyze.reports.ticks import tick_texts, ticks_once
 
+#: Over 5 s on an idle machine (the module's fixtures): run on one interpreter in CI.
+pytestmark = pytest.mark.slow
+
 ROBOTS = ("puma560", "stanford", "ur5")
 
 

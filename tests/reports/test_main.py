@@ -21,6 +21,9 @@ from gd_analyze.reports.markup import label as math_label
 from gd_analyze.workflows.analyze import analyze
 from gd_analyze.workflows.options import AnalysisOptions
 
+#: Over 5 s on an idle machine (the module's fixtures): run on one interpreter in CI.
+pytestmark = pytest.mark.slow
+
 PAGE = re.compile(rb"/Type\s*/Page(?![a-zA-Z])")
 
 

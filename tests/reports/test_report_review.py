@@ -23,6 +23,9 @@ from pypdf import PdfReader
 
 from gd_analyze.cli import main
 
+#: Over 5 s on an idle machine (the module's fixtures): run on one interpreter in CI.
+pytestmark = pytest.mark.slow
+
 DATA = ROOT / "data"
 MAIN = {"puma": ("puma560", "puma560_trajectory.csv"),
         "stanford": ("stanford", "stanford_trajectory.csv"),

@@ -29,6 +29,9 @@ from gd_analyze import load_robot
 from gd_analyze.cli import main
 from gd_analyze.reports.typeset import MARGINS, write_pdf
 
+#: Over 5 s on an idle machine (the module's fixtures): run on one interpreter in CI.
+pytestmark = pytest.mark.slow
+
 DATA = ROOT / "data"
 #: Code names that must not stand in for mathematics in a report's text.
 CODE_NAMES = re.compile(r"\b(share_tran|peak_tran|peak_rot|peak_total|tau_s|tau_f|tau_i|"

@@ -6,6 +6,7 @@ import json
 import re
 
 import numpy as np
+import pytest
 from conftest import SHIPPED
 from html_checks import html_text
 
@@ -43,6 +44,7 @@ def test_the_main_jobs_outputs_state_the_models_scope(tmp_path, capsys):
     assert "is guaranteed, on this trajectory only" not in text
 
 
+@pytest.mark.slow
 def test_sec5_says_how_a_region_model_was_pruned(tmp_path):
     """A region model's Sec. 5 describes the proved bounds over the region and s_i over the
     region (the scale the table prints), never 'the bound holds on this trajectory' or

@@ -26,6 +26,9 @@ from gd_analyze.reports.control_text import control_context
 from gd_analyze.reports.markup import plain
 from gd_analyze.reports.sweep_text import sweep_context
 
+#: Over 5 s on an idle machine (the module's fixtures): run on one interpreter in CI.
+pytestmark = pytest.mark.slow
+
 
 @pytest.fixture(scope="module", params=("puma560", "stanford"))
 def runs(request, tmp_path_factory):

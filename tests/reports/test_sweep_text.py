@@ -18,6 +18,9 @@ from gd_analyze.cli import main
 from gd_analyze.io.schema import write_dataset
 from gd_analyze.reports.sweep import write_sweep_report
 
+#: Over 5 s on an idle machine (the module's fixtures): run on one interpreter in CI.
+pytestmark = pytest.mark.slow
+
 
 def _rows(html, anchor):
     return _table(html, f'id="{anchor}"')[1:]

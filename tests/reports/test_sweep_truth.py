@@ -22,6 +22,9 @@ from gd_analyze.io.schema import write_dataset
 from gd_analyze.reports.sweep import write_sweep_report
 from gd_analyze.reports.sweep_figures import make_sweep_figures
 
+#: Over 5 s on an idle machine (the module's fixtures): run on one interpreter in CI.
+pytestmark = pytest.mark.slow
+
 
 def _sweep(tmp_path_factory, robot, rule):
     """A sweep whose budget rule merges on the swept trajectories (their scales s_i)."""

@@ -26,6 +26,9 @@ from gd_analyze.reports import main as report
 from gd_analyze.workflows.analyze import analyze
 from gd_analyze.workflows.options import AnalysisOptions
 
+#: Over 5 s on an idle machine (the module's fixtures): run on one interpreter in CI.
+pytestmark = pytest.mark.slow
+
 STANFORD = ROOT / "data" / "stanford_trajectory.csv"
 CONFIGS = {"budget-recursive": ["--rule", "budget", "--form", "recursive"],
            "chapter": ["--rule", "chapter"],

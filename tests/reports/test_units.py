@@ -18,6 +18,9 @@ from html_checks import without_figures as _html_without_svg
 from gd_analyze.cli import main
 from gd_analyze.reports.markup import label
 
+#: Over 5 s on an idle machine (the module's fixtures): run on one interpreter in CI.
+pytestmark = pytest.mark.slow
+
 PRISMATIC = [False, False, True, False, False, False]          # Stanford: joint 3 slides
 N_JOINTS = len(PRISMATIC)
 

@@ -1,4 +1,5 @@
 import numpy as np
+import pytest
 import xarray as xr
 from conftest import SHIPPED
 
@@ -9,6 +10,7 @@ from gd_analyze.workflows.analyze import analyze, analyze_to_file, verify
 from gd_analyze.workflows.options import AnalysisOptions
 
 
+@pytest.mark.slow
 def test_streamed_file_equals_the_in_memory_analysis(tmp_path, puma):
     traj = plan_quintic(puma, np.radians([-60, 20, -150, -80, -60, -120]),
                         np.radians([60, 110, -60, 80, 60, 120]), n_setpoints=1001)

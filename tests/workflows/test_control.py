@@ -29,6 +29,9 @@ from gd_analyze.workflows.control import run_control
 from gd_analyze.workflows.options import AnalysisOptions
 from gd_analyze.workflows.tracking import CONTROLLERS
 
+#: Over 5 s on an idle machine (the module's fixtures): run on one interpreter in CI.
+pytestmark = pytest.mark.slow
+
 #: Bound on the tracking error of the full-model computed-torque controller started on the
 #: trajectory [rad]. With the exact model the closed loop is e'' + Kv e' + Kp e = 0 with
 #: e(0) = e'(0) = 0, so e = 0 exactly; what remains is the integrator's error. DOP853 keeps the

@@ -32,6 +32,9 @@ from gd_analyze.workflows.control import run_control
 from gd_analyze.workflows.options import AnalysisOptions
 from gd_analyze.workflows.tracking import desired_motion, track
 
+#: Over 5 s on an idle machine (the module's fixtures): run on one interpreter in CI.
+pytestmark = pytest.mark.slow
+
 #: The reference runs' tolerances are the report's over this.
 REFERENCE = 1000.0
 

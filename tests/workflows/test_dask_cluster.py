@@ -68,6 +68,7 @@ def test_sweep_at_a_server_that_is_not_dask_exits_2_with_one_line(server, tmp_pa
     assert not (tmp_path / "out").exists()
 
 
+@pytest.mark.slow
 def test_a_dask_scheduler_passes(cluster):
     cl, _ = cluster
     check_scheduler(cl.scheduler_address, timeout=HANDSHAKE_TIMEOUT)

@@ -127,6 +127,7 @@ def test_explicit_option(explicit, tmp_path):
         assert spec["form"] == "recursive"
 
 
+@pytest.mark.slow
 def test_seven_joints_skip_the_expansion_and_stay_exact_at_eps_0(tmp_path, monkeypatch):
     """The Panda: no explicit expansion by default (its estimate is expensive), and at
     --tolerance 0 the deployed model is exact off the trajectory too."""

@@ -13,6 +13,7 @@ from gd_analyze.workflows.options import AnalysisOptions, SimplifyOptions
 from gd_analyze.workflows.payload import payload_sweep
 
 
+@pytest.mark.slow
 def test_payload_sweep_equals_plain_analyses(puma, shipped):
     com, inertia = (0.01, -0.02, 0.06), (2e-3, 3e-3, 1e-3)
     ds = payload_sweep(puma, shipped, [0.0, 1.5], com=com, inertia=inertia)

@@ -108,6 +108,7 @@ def test_rule_chapter_and_bad_tolerance(tmp_path, capsys):
     assert code == 2 and "Traceback" not in err
 
 
+@pytest.mark.slow
 def test_torque_floor_lowers_the_cost(tmp_path, capsys):
     """A floor drops more pairs, unless what it would drop makes D_s singular (issue 30: the
     PUMA's ZZ6 at 1 N m, restored by the inertia check), and never costs more."""
@@ -173,6 +174,7 @@ def test_report_section_reads_the_stored_dataset(tmp_path, capsys):
     assert len(fig.axes) == int((ds["simplified_bound"].values > 0).sum()) == 2
 
 
+@pytest.mark.slow
 def test_ladder_is_skipped_when_the_explicit_model_cannot_pay(tmp_path, monkeypatch, capsys):
     """The explicit form deployed (--form explicit): with the limit below the PUMA's full/N-E
     ratio (the full explicit model costs more than half of Newton-Euler's 1,212) the ladder is
@@ -201,6 +203,7 @@ def test_ladder_is_skipped_when_the_explicit_model_cannot_pay(tmp_path, monkeypa
         assert "simplified_ladder_skipped" not in ds.attrs
 
 
+@pytest.mark.slow
 def test_form_recursive_derives_no_explicit_model_and_says_so(tmp_path, capsys):
     """Under --form recursive the explicit model cannot be deployed: --explicit auto does not
     derive it (no explicit costs, no ladder), the report says it was not derived instead of

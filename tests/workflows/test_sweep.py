@@ -24,6 +24,9 @@ from gd_analyze.workflows.payload import payload_sweep
 from gd_analyze.workflows.sweep import analyze_one, run_sweep
 from gd_analyze.workflows.sweep_merged import merged_model
 
+#: Over 5 s on an idle machine (the module's fixtures): run on one interpreter in CI.
+pytestmark = pytest.mark.slow
+
 K = 6
 
 

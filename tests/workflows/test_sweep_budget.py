@@ -65,6 +65,7 @@ def ops(cost):
     return cost["multiplications"] + cost["additions"]
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize("name", ["puma560", "ur5", "panda"])
 def test_merged_model_costs_no_more_than_the_exact_recursive_and_holds_on_each(name, client):
     robot = load_robot(name)
@@ -88,6 +89,7 @@ def mixed_sweep(puma, mixed, client):
     return run_sweep(puma, mixed, client=client, batch=3, recursive_peaks=True)
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize("eps, floor", [(0.002, 0.0), (0.05, 0.0), (0.01, 1.0)])
 def test_each_trajectory_is_held_to_its_own_scale(puma, mixed, mixed_sweep, eps, floor):
     """The slow move's torques are far below the fast ones': a merge on the largest scale
@@ -112,6 +114,7 @@ def test_peaks_computed_by_the_workers_are_each_trajectorys(puma, mixed, mixed_s
         assert np.all(whole[k] <= peak[k].sum(axis=1) * (1 + 1e-12) + 1e-15)
 
 
+@pytest.mark.slow
 def test_forms_and_the_file(puma, mixed, mixed_sweep, tmp_path):
     """form="explicit" deploys the explicit model, "recursive" the recursive one, the default
     the cheaper; the recursive model's file reads back with the same torques, and the dataset

@@ -70,6 +70,7 @@ def test_hand_program_c_equals_numpy(tmp_path):
     assert np.abs(got - _hand_numpy(q, qd, qdd)).max() < 1e-12
 
 
+@pytest.mark.slow
 def test_a_very_long_sum_compiles_in_python_and_c(tmp_path):
     """3,000 terms in one output: printed in runs, so Python's compiler does not nest them all."""
     rng = np.random.default_rng(3)
