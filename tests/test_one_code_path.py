@@ -42,10 +42,17 @@ def _offences(tree):
                 yield node.lineno, "the figure worker"
 
 
+#: The one allowed ``os._exit``: a signal after the command has returned and flushed its output
+#: ends the process with 128 + its number (issue 32: no KeyboardInterrupt traceback after
+#: "wrote"); it skips no work, so the code path stays one.
+ALLOWED = {("io/signals.py", "os._exit")}
+
+
 @pytest.mark.parametrize("path", MODULES, ids=lambda p: str(p.relative_to(SRC)))
 def test_no_mutation_of_frozen_values_and_no_second_code_path(path):
     tree = ast.parse(path.read_text(encoding="utf-8"))
-    assert list(_offences(tree)) == []
+    where = str(path.relative_to(SRC))
+    assert [o for o in _offences(tree) if (where, o[1]) not in ALLOWED] == []
 
 
 def test_the_check_finds_what_it_looks_for():

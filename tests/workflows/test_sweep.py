@@ -3,6 +3,7 @@ and the sweep report."""
 
 import dataclasses
 import itertools
+import re
 
 import numpy as np
 import pytest
@@ -61,8 +62,9 @@ def test_sweep_equals_serial_analysis(sweep, serial, puma, trajectories):
     assert sweep.sizes == {"trajectory": K, "element": len(labels), "joint": 6, "class": 4}
     assert list(sweep["element"].values) == labels
     for k, ref in enumerate(serial):
-        np.testing.assert_allclose(sweep["share_tran"].values[k], ref["share_tran"].values,
-                                   rtol=0, atol=1e-12)
+        stored = np.isfinite(ref["share_tran"].values)     # results.h5: NaN where ≡ 0
+        np.testing.assert_allclose(sweep["share_tran"].values[k][stored],
+                                   ref["share_tran"].values[stored], rtol=0, atol=1e-12)
         assert list(sweep["dominance"].values[k]) == list(ref["dominance"].values)
         assert list(sweep["choice"].values[k]) == list(ref["choice"].values)
         np.testing.assert_allclose(sweep["tau_peak"].values[k], ref["tau_peak"].values,
@@ -188,8 +190,9 @@ def test_sweep_by_scheduler_address_and_file_inputs(sweep, puma, trajectories, c
     np.testing.assert_allclose(ds["share_tran"].values[0], sweep["share_tran"].values[1],
                                rtol=0, atol=1e-12)
     ref = analyze(puma, shipped, AnalysisOptions(verify=False, formulations=False, simplify=SimplifyOptions(rule="chapter"))).dataset
-    np.testing.assert_allclose(ds["share_tran"].values[1], ref["share_tran"].values, rtol=0,
-                               atol=1e-12)
+    stored = np.isfinite(ref["share_tran"].values)         # results.h5: NaN where ≡ 0
+    np.testing.assert_allclose(ds["share_tran"].values[1][stored],
+                               ref["share_tran"].values[stored], rtol=0, atol=1e-12)
     assert ds.attrs["scheduler_address"] == cl.scheduler_address
     assert ds.attrs["input_kind"] == "mixed" and "seed" in ds.attrs
     assert shipped.sha256 in ds.attrs["input_files"]
@@ -217,7 +220,7 @@ def test_big_batches_and_long_trajectories_equal_one_by_one(puma, cluster):
 def test_sweep_starts_and_closes_its_own_cluster(puma, trajectories):
     ds = run_sweep(puma, trajectories[:2], n_workers=1)
     assert ds.attrs["n_workers"] == 1
-    assert ds.attrs["cluster"].startswith("LocalCluster")
+    assert ds.attrs["cluster"].startswith("a LocalCluster of 1 worker process")
     np.testing.assert_allclose(ds["share_tran"].values[1],
                                analyze_one(puma, trajectories[1])["share_tran"], rtol=0,
                                atol=1e-12)
@@ -390,8 +393,8 @@ def test_sweep_command_rule_budget_by_default_and_chapter_says_no_bound(tmp_path
     line = next(x for x in printed.splitlines() if x.startswith("merged model (budget"))
     assert f"{worst:.2e}" in line and "(guaranteed <= 0.01)" in line
     html = (out_b / "sweep_report.html").read_text(encoding="utf-8")
-    assert ("guaranteed within \u03b5\u00b7s<sub>i</sub> (\u03b5 = 0.01) on every swept "
-            "trajectory") in html
+    assert re.search("guaranteed within \u03b5\u00b7s<sub>i</sub>[^.]{0,160}on every swept "
+                     "trajectory", html) and "\u03b5 = 0.01" in html
     # "no error bound" only of the per-trajectory models of the chapter rule, never the merged
     assert "onservative" not in html and html.count("no error bound") == html.count(_OWN)
     out_c = tmp_path / "chapter"
@@ -422,8 +425,8 @@ def test_sweep_report_wording_follows_the_rule(sweep, puma, trajectories, tmp_pa
     write_sweep(ds, tmp_path / "budget.h5")
     html = write_sweep_report(tmp_path / "budget.h5", tmp_path / "rb",
                               formats=["html"])[0].read_text(encoding="utf-8")
-    assert ("guaranteed within \u03b5\u00b7s<sub>i</sub> (\u03b5 = 0.02) on every swept "
-            "trajectory") in html
+    assert re.search("guaranteed within \u03b5\u00b7s<sub>i</sub>[^.]{0,160}on every swept "
+                     "trajectory", html) and "\u03b5 = 0.02" in html
     assert html.count("no error bound") == html.count(_OWN) and "onservative" not in html
     with pytest.raises(ValueError, match="trajectories"):
         with_budget_model(sweep.isel(trajectory=slice(0, 2)), model)

@@ -45,7 +45,7 @@ _CONTROL = re.compile("[\x00-\x08\x0b\x0c\x0e-\x1f\x7f-\x9f]")
 
 
 def escape_control(text):
-    """Text with its control characters written as ``\\xNN`` escapes (:data:`_CONTROL`).
+    r"""Text with its control characters written as ``\xNN`` escapes (:data:`_CONTROL`).
 
     Parameters
     ----------
@@ -57,8 +57,8 @@ def escape_control(text):
 
     Examples
     --------
-    >>> escape_control("evil \x1b[31mred\x1b[0m\n")
-    'evil \\x1b[31mred\\x1b[0m\n'
+    >>> print(escape_control("evil \x1b[31mred\x1b[0m"))
+    evil \x1b[31mred\x1b[0m
     """
     return _CONTROL.sub(lambda m: f"\\x{ord(m.group()):02x}", text)
 

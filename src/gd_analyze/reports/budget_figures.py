@@ -310,7 +310,8 @@ def cost_points(ds):
         elif "chapter" in label and "other_rule_error_relative_peak" in ds.variables:
             rel = np.asarray(ds["other_rule_error_relative_peak"].values, float)
             err = rel * np.asarray(ds["tau_peak"].values, float) / safe
-            points.append((label, ops, float(np.nanmax(err)), "chapter"))
+            if np.isfinite(err).any():          # no torque at all: nothing measured
+                points.append((label, ops, float(np.nanmax(err)), "chapter"))
         elif "budget" in label and "ladder_tolerance" not in ds.variables:
             points.append((label + " (bound)", ops, eps, "bound"))
         elif "exact" in label or "full" in label or "N-E as implemented" in label:
@@ -345,7 +346,9 @@ def fig_cost_ladder(ds, width=_PAGE):
     """
     from matplotlib.ticker import FixedLocator, FuncFormatter, NullFormatter
 
-    points = cost_points(ds)
+    # a log axis: a model of no operations (nothing to compute) or an error not measured has
+    # no place on it
+    points = [p for p in cost_points(ds) if p[1] > 0 and np.isfinite(p[2])]
     column = width < _PAGE
     H, top, bottom = (3.2, 0.5, 0.8) if not column else (4.6, 1.0, 1.5)
     fig = _figure(width, H)
@@ -383,7 +386,7 @@ def fig_cost_ladder(ds, width=_PAGE):
                     for k, p in enumerate(points))
     fig.text((0.1 if column else 0.7) / width, 0.05 / H, textwrap.fill(key, int((width - 0.3) / 0.058)), fontsize=7,
              va="bottom", ha="left", color="0.2", linespacing=1.2)
-    ops = [p[1] for p in points]
+    ops = [p[1] for p in points] or [10.0]
     lo, hi = min(ops) / 1.6, max(ops) * 2.2
     ax.set_xlim(lo, hi)
     decades = [10.0 ** k for k in range(int(math.floor(math.log10(lo))),

@@ -286,7 +286,10 @@ def _analysis_pass(robot, trajectory, options, provenance, chunk, writer, progre
     hold = writer is None or len(ranges) == 1
     idx_verify = _subsample(N, VERIFY_MAX_SETPOINTS) if check else np.zeros(0, int)
     idx_form = _subsample(N, FORMULATIONS_MAX_SETPOINTS) if formulations else np.zeros(0, int)
-    sample_idx = np.union1d(idx_verify, idx_form).astype(int)
+    # the set points where a recursive model's choice per element is read (kept from the pass:
+    # the terms are computed once)
+    idx_choice = _subsample(N, _CHOICE_SETPOINTS) if simplify is not None else np.zeros(0, int)
+    sample_idx = np.union1d(np.union1d(idx_verify, idx_form), idx_choice).astype(int)
     samples, held, held_tau = [], [], []
     ranker = RankingAccumulator(n)
     # an arm with drives is also ranked as its rigid links alone (the chapter's model), in
@@ -383,9 +386,8 @@ def _analysis_pass(robot, trajectory, options, provenance, chunk, writer, progre
     if model is not None and model.recursive is not None:
         from .simplified_dataset import recursive_choices
 
-        pick = _subsample(N, _CHOICE_SETPOINTS)
-        choices = recursive_choices(model, q[pick], qd[pick], gd_terms(robot, q[pick], qd[pick]),
-                                    ranking)
+        choices = recursive_choices(model, q[idx_choice], qd[idx_choice],
+                                    sample.rows([at[i] for i in idx_choice]), ranking)
     return AnalysisPass(ranking=ranking, choices=choices, error=_marked(errors.result(), robot),
                  verification=verification, costs=costs,
                  terms=_concat(held) if writer is None else None,
