@@ -167,6 +167,21 @@ def count_consts(led, x):
 
 
 def count_vars(led, x):
+    """Set-point-dependent values as :class:`Counted` scalars of one ledger.
+
+    Parameters
+    ----------
+    led : Ledger
+        The operation ledger (its ``var``).
+    x : array_like, any shape
+        The values (q, qd, qdd [rad, rad/s, rad/s^2; m, m/s, m/s^2]).
+
+    Returns
+    -------
+    ndarray of object, the shape of ``x``
+        One :class:`Counted` per value; the operations they take part in are counted as in
+        Table 3.5.
+    """
     x = np.asarray(x, dtype=float)
     return np.array([led.var(v) for v in x.ravel()], dtype=object).reshape(x.shape)
 
@@ -221,4 +236,19 @@ def counting_clone(fn):
 
 
 def count_value(x):
+    """The float value of a :class:`Counted` scalar, or of a plain number.
+
+    Parameters
+    ----------
+    x : Counted or float
+
+    Returns
+    -------
+    float
+
+    Examples
+    --------
+    >>> count_value(2.5)
+    2.5
+    """
     return x.value if isinstance(x, Counted) else float(x)

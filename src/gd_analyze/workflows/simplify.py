@@ -226,6 +226,22 @@ def build_model(robot, terms, peaks, tolerance=DEFAULT_TOLERANCE, rule="budget",
 
 
 def total_operations(cost):
+    """Multiplications plus additions of a counted cost (Table 3.5's measure).
+
+    Parameters
+    ----------
+    cost : mapping
+        With ``multiplications`` and ``additions``.
+
+    Returns
+    -------
+    int
+
+    Examples
+    --------
+    >>> total_operations({"multiplications": 169, "additions": 143})
+    312
+    """
     return int(cost["multiplications"]) + int(cost["additions"])
 
 

@@ -397,6 +397,30 @@ def gd_terms(robot, q, qd, chunk=DEFAULT_CHUNK, engine="auto", out=None):
 
 
 def qdd_from_terms(terms, tau):
+    """Joint accelerations from G-D terms already computed, qdd = D^-1 (tau - h - c - tau_f).
+
+    Parameters
+    ----------
+    terms : GDTerms
+        At N set points: D of shape (N, n, n) [kg m^2; kg], h, c (and tau_f) of shape (N, n)
+        [N m or N].
+    tau : ndarray, shape (N, n)
+        Joint torques [N m; N for a prismatic joint].
+
+    Returns
+    -------
+    ndarray, shape (N, n)
+        qdd [rad/s^2; m/s^2].
+
+    Raises
+    ------
+    numpy.linalg.LinAlgError
+        If D is singular at a set point.
+
+    Notes
+    -----
+    The equations of motion tau = D(q) qdd + h(q, qd) + c(q), Eq. (3.4-25), solved for qdd.
+    """
     rhs = np.asarray(tau, dtype=float) - terms.h - terms.c
     if terms.tau_f is not None:
         rhs = rhs - terms.tau_f

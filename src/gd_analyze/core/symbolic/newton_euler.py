@@ -48,6 +48,22 @@ def _const(x, scale=1.0):
 
 
 def is_num(e):
+    """Whether a symengine expression is a number (a constant folded at generation time).
+
+    Parameters
+    ----------
+    e : symengine.Basic
+
+    Returns
+    -------
+    bool
+
+    Examples
+    --------
+    >>> import symengine as se
+    >>> is_num(se.Integer(2)), is_num(se.Symbol("q1"))
+    (True, False)
+    """
     return isinstance(e, se.Number)
 
 
