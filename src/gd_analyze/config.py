@@ -3,7 +3,7 @@
 Every default a command-line option, a workflow or a core function uses is read from
 :data:`defaults` (in the style of python-control's ``control.config.defaults``): the ranking's
 thresholds s and e (Sec. 3.4.1 of Fu, Gonzalez & Lee 1987), the simplified model's error budget
-EPS and torque floor TAU, the rule and form of the model, the report's paper and fonts, and
+EPS and torque floor TAU, the rule and form of the model, the report's paper, and
 the control report's verdict tolerance.
 A leaf module: it imports nothing of the package, so every layer may read it.
 
@@ -41,7 +41,6 @@ defaults = types.MappingProxyType({
     "formulations": True,
     "compress": 0,
     "paper": "a4",
-    "figure_fonts": "type3",
     # the control report's verdict: the simplified-model controller's peak tracking error
     # within this (or twice the full-model controller's) on every revolute joint [rad] and
     # prismatic joint [m]: 1 mrad, and 1 mm, the same 1 mrad seen at a 1 m lever arm

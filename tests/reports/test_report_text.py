@@ -7,8 +7,8 @@
 - no word of a PDF table or paragraph runs past the page's margins (Typst sets the columns);
 - a URDF robot gets its joint placements (xyz, rpy) and axes, no DH table and no "n/a"; the
   printed placements rebuild the model's rotations with Pinocchio's rpyToMatrix (oracle);
-- every report.pdf is typeset by Typst (pdfinfo names it) and holds no Type 3 font (pdffonts),
-  whatever ``--figure-fonts`` (the figures are embedded from their SVG);
+- every report.pdf and every figure file ``figures/*.pdf`` is typeset by Typst (pdfinfo names
+  it) and holds no Type 3 font (pdffonts): the figures are typeset from their SVG;
 - no page of the PUMA 560 report but the last ends above 60 % of its height, unless the next
   page starts with a figure taller than the room left;
 - one section list per report: the HTML headings and the PDF bookmarks are the same, in order,
@@ -54,11 +54,10 @@ def _run(args, folder):
 
 @pytest.fixture(scope="module")
 def reports(tmp_path_factory):
-    """The main job on the PUMA 560 (truetype fonts) and the UR5 (default), the sweep and the
-    control report on the PUMA."""
+    """The main job on the PUMA 560 and the UR5, the sweep and the control report on the
+    PUMA."""
     tmp = tmp_path_factory.mktemp("text")
-    puma = _run(["puma560", str(DATA / "puma560_trajectory.csv"), "--figure-fonts",
-                 "truetype"], tmp / "puma")
+    puma = _run(["puma560", str(DATA / "puma560_trajectory.csv")], tmp / "puma")
     ur5 = _run(["ur5", str(DATA / "ur5_trajectory.csv")], tmp / "ur5")
     csv = str(DATA / "puma560_trajectory.csv")
     sweep = _run(["sweep", "puma560", csv, csv, "--workers", "1", "--held-out", "0"],
@@ -232,12 +231,15 @@ def test_dh_robot_keeps_its_dh_table(reports):
 
 @pytest.mark.parametrize("which", ALL)
 def test_typst_typesets_every_report_without_type3_fonts(reports, which):
-    """Issue 31: Typst typesets the main (with ``--figure-fonts truetype`` and the default
-    Type 3 figure files), sweep and control reports; no Type 3 font in any."""
+    """Issue 31: Typst typesets the main, sweep and control reports and every figure file
+    of each (``figures/*.pdf``, typeset from the figure's SVG); no Type 3 font in any."""
     pdf = _files(reports, which)[1]
-    assert pdf_checks.info(pdf)["Creator"].startswith("Typst ")
-    fonts = pdf_checks.font_types(pdf)
-    assert fonts and "Type 3" not in fonts.values(), fonts
+    figures = sorted((reports[which][0] / "figures").glob("*.pdf"))
+    assert len(figures) >= 3
+    for one in [pdf, *figures]:
+        assert pdf_checks.info(one)["Creator"].startswith("Typst "), one
+        fonts = pdf_checks.font_types(one)
+        assert fonts and "Type 3" not in fonts.values(), (one, fonts)
 
 
 @pytest.mark.parametrize("which", ALL)

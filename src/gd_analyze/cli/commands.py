@@ -383,7 +383,7 @@ def cmd_analyze(args):
             bar.reset(total=trajectory.n_setpoints)
             bar.set_description("report")
             return write_report(results, folder, paper=args.paper, progress=bar.update,
-                                fonts=args.figure_fonts, column_figures=args.column_figures)
+                                column_figures=args.column_figures)
     outputs = run_analysis(
         robot, trajectory, _options(args), output_folder(args.outdir, robot.name,
                                                    Path(args.trajectory).stem),
@@ -717,8 +717,7 @@ def cmd_control(args):
         if not args.no_report:
             from ..reports.control import write_control_report
 
-            written += list(write_control_report(path, stage, paper=args.paper,
-                                                 fonts=args.figure_fonts))
+            written += list(write_control_report(path, stage, paper=args.paper))
     written = [outdir / Path(p).relative_to(stage) for p in written]
     summary = result.summary()
     if args.json:

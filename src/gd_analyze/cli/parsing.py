@@ -266,12 +266,6 @@ def _add_verbose_argument(p):
 def _add_paper_argument(p):
     p.add_argument("--paper", choices=("a4", "letter"), default=defaults["paper"],
                    help="page size of the PDF report (default a4)")
-    p.add_argument("--figure-fonts", choices=("type3", "truetype"),
-                   default=defaults["figure_fonts"],
-                   help="font embedding of the figures' PDF files in figures/: type3 "
-                        "(default, fast) or truetype (for journals that refuse Type 3 fonts, "
-                        "e.g. IEEE PDF eXpress; slower); the PDF report, typeset by Typst, "
-                        "embeds the figures' SVG and holds no Type 3 font either way")
 
 
 def analyze_parser():

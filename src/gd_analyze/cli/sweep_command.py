@@ -246,7 +246,7 @@ def cmd_sweep(args):
             from ..reports.sweep import write_sweep_report
 
             written += list(write_sweep_report(written[0], stage, payload=payload,
-                                               paper=args.paper, fonts=args.figure_fonts))
+                                               paper=args.paper))
     written = [outdir / Path(p).relative_to(stage) for p in written]
     if not args.quiet:
         print(f"{robot.name}: {ds.sizes['trajectory']} trajectories in "

@@ -213,7 +213,7 @@ def _pdf(ctx, drawn, path, paper="a4"):
                      paper, metadata, footer=f"gd-analyze {ctx['version']}: control report")
 
 
-def write_control_report(control_path, outdir, paper="a4", fonts="type3"):
+def write_control_report(control_path, outdir, paper="a4"):
     """Write control_report.html and control_report.pdf for a stored control dataset.
 
     Parameters
@@ -225,9 +225,6 @@ def write_control_report(control_path, outdir, paper="a4", fonts="type3"):
         Output folder; made if missing.
     paper : {"a4", "letter"}, optional
         Page size of the PDF.
-    fonts : {"type3", "truetype"}, optional
-        How the figures' PDFs embed their font
-        (:data:`gd_analyze.reports.drawing.FIGURE_FONTS`).
 
     Returns
     -------
@@ -260,8 +257,7 @@ def write_control_report(control_path, outdir, paper="a4", fonts="type3"):
     (outdir / "figures").mkdir(parents=True, exist_ok=True)
     figures = make_control_figures(ds)
     column = control_figures(ds, COLUMN_WIDTH)
-    drawn = draw_figures({**figures, **{f"{k}_column": f for k, f in column.items()}}, FIGURE_RC,
-                         fonts=fonts)
+    drawn = draw_figures({**figures, **{f"{k}_column": f for k, f in column.items()}}, FIGURE_RC)
     html_path, pdf_path = (outdir / name for name in CONTROL_REPORT_FILES)
     files = []
     with contextlib.ExitStack() as stack:

@@ -38,7 +38,7 @@ from .common import CLASS_COLOURS as _CLASS_COLOURS
 from .common import check_formats, prismatic_joints, render_template
 from .common import strings as _strings
 from .common import thresholds as _thresholds
-from .drawing import FIGURE_FONTS, draw_figures, write_figure_files
+from .drawing import draw_figures, write_figure_files
 from .main_context import report_context, zero_mask
 from .main_figures import (
     COLUMN_WIDTH,
@@ -344,9 +344,9 @@ def _fig_formulations(ds, width=PAGE_WIDTH):
 # Drawing once, HTML and PDF
 # --------------------------------------------------------------------------------------------
 
-def _drawn(figures, pdf=True, fonts="type3"):
-    """Each figure drawn once as SVG and (if asked) once as PDF: {key: (svg, pdf, size)}."""
-    return draw_figures(figures, FIG_RC, pdf=pdf, fonts=fonts)
+def _drawn(figures, pdf=True, created=None):
+    """Each figure drawn once as SVG and (if asked) typeset as PDF: {key: (svg, pdf, size)}."""
+    return draw_figures(figures, FIG_RC, pdf=pdf, created=created)
 
 
 def _in_report(figures):
@@ -459,7 +459,7 @@ def _pdf(ctx, drawn, path, paper="a4"):
 # --------------------------------------------------------------------------------------------
 
 def write_report(results_path, outdir, formats=REPORT_FORMATS, paper="a4", progress=None,
-                 fonts="type3", column_figures=False):
+                 column_figures=False):
     """Write report.html and/or report.pdf, and every figure as PDF and SVG, for an analysis.
 
     Parameters
@@ -475,9 +475,6 @@ def write_report(results_path, outdir, formats=REPORT_FORMATS, paper="a4", progr
         Page size of the PDF.
     progress : callable, optional
         Called with a number of set points read (for a progress bar).
-    fonts : {"type3", "truetype"}, optional
-        How the figures' PDFs embed their font
-        (:data:`gd_analyze.reports.drawing.FIGURE_FONTS`).
     column_figures : bool, optional
         Also write the 3.5-in column-width figures (:data:`COLUMN_FIGURES`,
         ``figures/<name>_column.pdf`` and ``.svg``).
@@ -494,15 +491,16 @@ def write_report(results_path, outdir, formats=REPORT_FORMATS, paper="a4", progr
     InputError
         If the results file is missing, unreadable or not a gd-analyze dataset.
     ValueError
-        If a format is not one of :data:`REPORT_FORMATS`, none is given, or the paper or the
-        fonts are unknown.
+        If a format is not one of :data:`REPORT_FORMATS`, none is given, or the paper is
+        unknown.
     OSError
         If a file cannot be written.
 
     Notes
     -----
     Each figure's ticks are built once (:func:`gd_analyze.reports.ticks.ticks_once`), then it
-    is drawn once as SVG (inlined in the HTML and written to ``figures/``) and once as PDF (written to ``figures/`` and placed in the report). Every file is written to a
+    is drawn once as SVG: inlined in the HTML, embedded in the PDF report and written to
+    ``figures/``, with its PDF typeset from it by Typst. Every file is written to a
     temporary name beside its destination and renamed (:func:`gd_analyze.files.atomic_path`).
     Source: Sec. 3.4.1 and Figs. 3.10-3.11 of Fu, Gonzalez & Lee (1987).
     """
@@ -511,13 +509,11 @@ def write_report(results_path, outdir, formats=REPORT_FORMATS, paper="a4", progr
     formats = check_formats(formats, REPORT_FORMATS)
     if paper not in PAPER:
         raise ValueError(f"paper must be one of {sorted(PAPER)}, got {paper!r}")
-    if fonts not in FIGURE_FONTS:
-        raise ValueError(f"fonts must be one of {sorted(FIGURE_FONTS)}, got {fonts!r}")
     with open_results(results_path, lazy=True) as ds:       # long series: in chunks
-        return _write(ds, Path(outdir), formats, paper, progress, fonts, column_figures)
+        return _write(ds, Path(outdir), formats, paper, progress, column_figures)
 
 
-def _write(ds, outdir, formats, paper, progress, fonts="type3", column=False):
+def _write(ds, outdir, formats, paper, progress, column=False):
     from ..files import atomic_path
     from .ticks import ticks_once
 
@@ -526,7 +522,7 @@ def _write(ds, outdir, formats, paper, progress, fonts="type3", column=False):
     data = plot_data(ds, progress=progress)
     drawn = {}
     for key, make in figure_makers(ds, data, column=column).items():   # one figure alive
-        drawn.update(_drawn({key: ticks_once(make())}, fonts=fonts))
+        drawn.update(_drawn({key: ticks_once(make())}, created=ctx["created"]))
     with contextlib.ExitStack() as stack:
         paths = {fmt: outdir / f"report.{fmt}" for fmt in formats}
         files = write_figure_files(stack, drawn, outdir / "figures", FIGURE_FILES)

@@ -64,7 +64,7 @@ RC = {
     "axes.linewidth": 0.6, "axes.grid": True, "grid.color": "0.88", "grid.linewidth": 0.5,
     "lines.linewidth": 0.9, "lines.markersize": 3.2, "xtick.major.size": 2.5,
     "ytick.major.size": 2.5, "xtick.major.pad": 1.5, "ytick.major.pad": 1.5,
-    "axes.titlepad": 2.5, "axes.titley": 1.0, "svg.fonttype": "none", "pdf.fonttype": 3,
+    "axes.titlepad": 2.5, "axes.titley": 1.0, "svg.fonttype": "none",
     "path.simplify": True, "svg.hashsalt": "gd-analyze", "axes.xmargin": 0.0,
     # every line is given its colour: a one-colour cycle makes each new axes cheaper
     "axes.prop_cycle": __import__("cycler").cycler(color=["#000000"]),

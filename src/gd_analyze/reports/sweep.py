@@ -215,7 +215,7 @@ def _pdf(ctx, drawn, path, paper="a4"):
 
 
 def write_sweep_report(sweep_path, outdir, payload=None, formats=SWEEP_REPORT_FORMATS,
-                       paper="a4", fonts="type3"):
+                       paper="a4"):
     """Write sweep_report.html and sweep_report.pdf for a stored sweep.
 
     Parameters
@@ -233,9 +233,6 @@ def write_sweep_report(sweep_path, outdir, payload=None, formats=SWEEP_REPORT_FO
         Any of ``"html"`` and ``"pdf"``.
     paper : {"a4", "letter"}, optional
         Page size of the PDF.
-    fonts : {"type3", "truetype"}, optional
-        How the figures' PDFs embed their font
-        (:data:`gd_analyze.reports.drawing.FIGURE_FONTS`).
 
     Returns
     -------
@@ -268,7 +265,7 @@ def write_sweep_report(sweep_path, outdir, payload=None, formats=SWEEP_REPORT_FO
     if payload is not None and not hasattr(payload, "data_vars"):
         payload = open_sweep(payload, "payload")
     ctx = _context(ds, payload)
-    drawn = draw_figures(make_sweep_figures(ds, payload, column=True), _RC, fonts=fonts)
+    drawn = draw_figures(make_sweep_figures(ds, payload, column=True), _RC)
     outdir = Path(outdir)
     (outdir / "figures").mkdir(parents=True, exist_ok=True)
     written, files = [], []

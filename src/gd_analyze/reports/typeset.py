@@ -26,7 +26,8 @@ import re
 from . import markup
 from .common import keep_units
 
-__all__ = ["PAPER", "TABLE_COLOURS", "PARAGRAPH_STYLES", "document_data", "write_pdf"]
+__all__ = ["PAPER", "TABLE_COLOURS", "PARAGRAPH_STYLES", "document_data", "write_pdf",
+           "figure_pdfs"]
 
 #: Page sizes [in] and their Typst names.
 PAPER = {"a4": (210 / 25.4, 297 / 25.4), "letter": (8.5, 11.0)}
@@ -47,10 +48,33 @@ _CAPTION = re.compile(r"^(Table|Figure) ([0-9]+(?:\.[0-9]+)?)[:.] (.*)$", re.S)
 
 
 @functools.cache
-def _template():
+def _template(name="report.typ"):
     from importlib import resources
 
-    return resources.files("gd_analyze.reports").joinpath("templates/report.typ").read_bytes()
+    return resources.files("gd_analyze.reports").joinpath(f"templates/{name}").read_bytes()
+
+
+@functools.cache
+def _fonts():
+    """The fonts every Typst document of a process is set in, loaded once: Typst's own
+    (Libertinus Serif, New Computer Modern) and matplotlib's DejaVu folder; never the
+    system's."""
+    import typst
+
+    return typst.Fonts(include_system_fonts=False, include_embedded_fonts=True,
+                       font_paths=[_font_folder()])
+
+
+def _compile(template, inputs, created):
+    """PDF bytes of a fixed template compiled with the given sys.inputs (all data)."""
+    import typst
+
+    compiler = typst.Compiler(font_paths=_fonts(), ignore_system_fonts=True)
+    try:
+        return compiler.compile(input=_template(template), sys_inputs=inputs,
+                                timestamp=_timestamp(created))
+    except typst.TypstError as exc:
+        raise RuntimeError(f"typst: {exc.message}") from None
 
 
 def _font_folder():
@@ -191,20 +215,48 @@ def write_pdf(outline, figures, path, paper="a4", metadata=None, footer="", crea
     OSError
         If the file cannot be written.
     """
-    import typst
-
     data = document_data(outline, {k: size for k, (_, size) in figures.items()}, paper,
                          metadata, footer)
     inputs = {"gd-data": json.dumps(data, ensure_ascii=False)}
     inputs.update({f"gd-figure-{k}": svg for k, (svg, _) in figures.items()})
-    try:
-        pdf = typst.compile(_template(), sys_inputs=inputs, ignore_system_fonts=True,
-                            font_paths=[_font_folder()], timestamp=_timestamp(created))
-    except typst.TypstError as exc:
-        raise RuntimeError(f"typst: {exc.message}") from None
+    pdf = _compile("report.typ", inputs, created)
     with open(path, "wb") as fh:
         fh.write(pdf)
     return len(re.findall(rb"/Type\s*/Page\b", pdf))
+
+
+def figure_pdfs(figures, created=None):
+    """Each figure as a one-page PDF of its own size, typeset by Typst from its SVG.
+
+    Parameters
+    ----------
+    figures : dict of str to (str, (float, float))
+        Each figure's SVG text (from :func:`gd_analyze.reports.drawing.figure_svg`) and its
+        size [in], by key; the key is the PDF's title.
+    created : str, optional
+        The creation time, ISO 8601 UTC; the time of the run if not given.
+
+    Returns
+    -------
+    dict of str to bytes
+        The PDF of each figure: the SVG embedded as vector graphics, as the reports embed it,
+        its text set in DejaVu Sans (the font matplotlib measured it in) as a TrueType subset,
+        so that no figure file holds a Type 3 font.
+
+    Raises
+    ------
+    RuntimeError
+        If Typst fails (an SVG it cannot read).
+
+    Notes
+    -----
+    The fixed template ``templates/figure.typ`` reads the SVG, the size and the title as data
+    (``sys.inputs``); the fonts are loaded once per process (:func:`_fonts`).
+    """
+    return {k: _compile("figure.typ", {"gd-figure": svg, "gd-width": repr(float(size[0])),
+                                       "gd-height": repr(float(size[1])), "gd-title": str(k)},
+                        created)
+            for k, (svg, size) in figures.items()}
 
 
 def _timestamp(created):

@@ -336,7 +336,8 @@ def recursive_simplified(robot, rec, base, tolerance=DEFAULT_TOLERANCE, torque_f
 
     exact_program = recursive_program(robot, base.values)
     exact = with_drives(exact_program, robot).cost()
-    program = with_drives(rec.program(robot, exact=exact_program), robot)
+    choice = rec.choice(robot, exact=exact_program)         # built once, kept with the model
+    program = with_drives(choice[0], robot)
     choices = {lab: "both" for lab in element_labels(robot.n)}
     model = SimplifiedModel(
         robot=robot, choices=choices,
@@ -345,7 +346,7 @@ def recursive_simplified(robot, rec, base, tolerance=DEFAULT_TOLERANCE, torque_f
         trajectory_sha256=trajectory_sha256, provenance=dict(provenance or {}), rule="budget",
         tolerance=float(tolerance), torque_floor=float(torque_floor), terms=None,
         recursive=rec, bound=[float(v) for v in rec.bound],
-        costs={"exact recursive": exact}, program_cache=program,
+        costs={"exact recursive": exact}, program_cache=program, choice_cache=choice,
         guarantee=guarantee)
     return replace_cost(model, program.cost())
 

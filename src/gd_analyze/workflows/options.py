@@ -133,8 +133,6 @@ class ReportOptions:
         Write report.html, report.pdf and figures/.
     paper : {"a4", "letter"}
         Page size of the PDF.
-    fonts : {"type3", "truetype"}
-        Font embedding of the figures' PDFs.
 
     Examples
     --------
@@ -144,4 +142,3 @@ class ReportOptions:
 
     enabled: bool = True
     paper: str = defaults["paper"]
-    fonts: str = defaults["figure_fonts"]

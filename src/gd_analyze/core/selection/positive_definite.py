@@ -115,7 +115,7 @@ def _restore(model, k):
     dropped[k] = False
     rec = dataclasses.replace(rec, dropped=dropped)
     return dataclasses.replace(model, recursive=rec, program_cache=None, functions_cache=None,
-                               cost={})
+                               choice_cache=None, cost={})
 
 
 def with_inertia_check(model, q=None, count=SAMPLES, seed=0):

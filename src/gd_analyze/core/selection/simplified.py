@@ -127,6 +127,10 @@ class SimplifiedModel:
         not checked.
     functions_cache : ModelFunctions or None
         As ``program_cache``, for :meth:`functions`.
+    choice_cache : (Program, ndarray) or None
+        Of the recursive form, where its builder already has them: the program without the
+        drives and the pairs it leaves out (:meth:`.RecursiveModel.choice`), so that
+        :meth:`functions` does not build them again.
 
     Notes
     -----
@@ -154,6 +158,7 @@ class SimplifiedModel:
     program_cache: object = field(default=None, repr=False, compare=False)
     inertia_check: dict = None
     functions_cache: object = field(default=None, repr=False, compare=False)
+    choice_cache: object = field(default=None, repr=False, compare=False)
 
     @property
     def form(self):
@@ -268,6 +273,8 @@ class SimplifiedModel:
     @cached_property
     def _choice(self):
         """(program, pairs it leaves out) of the recursive form, built once."""
+        if self.choice_cache is not None:
+            return self.choice_cache
         return self.recursive.choice(self.robot)
 
     def with_inertia_check(self, check):
