@@ -153,15 +153,27 @@ def region_model(robot, base, region, tolerance, torque_floor=0.0):
     The triangle inequality over the dropped pairs of tau = Y_b beta (Khalil & Kleinfinger
     1987; Gautier 1990); bounds by :func:`gd_analyze.core.selection.certify.certify`.
     """
+    pb = certified(robot, base, region, torque_floor)
+    return _region_model(robot, base, region, tolerance, pb, _region_pruning(base, pb, robot,
+                                                                            tolerance))
+
+
+def _region_pruning(base, pb, robot, tolerance, chosen=None):
+    """:func:`~gd_analyze.core.symbolic.pruning.prune_bounds` on a region's certification
+    (``chosen``: an earlier search's pairs, checked against the budget; ValueError if over)."""
+    from ..core.symbolic.pruning import prune_bounds
+
+    return prune_bounds(robot, base, pb.scale, pb.bound, pb.leaves.sum(axis=1).max(axis=1),
+                        tolerance, pieces=pb.leaves, chosen=chosen)
+
+
+def _region_model(robot, base, region, tolerance, pb, pr):
+    """:func:`region_model`'s model and guarantee from the certification and the pruning."""
     from ..core.selection.certify import METHOD
     from ..core.selection.guarantee import Guarantee
     from ..core.selection.region import worst_states
-    from ..core.symbolic.pruning import prune_bounds
     from ..core.symbolic.recursive_model import RecursiveModel
 
-    pb = certified(robot, base, region, torque_floor)
-    pr = prune_bounds(robot, base, pb.scale, pb.bound, pb.leaves.sum(axis=1).max(axis=1),
-                      tolerance, pieces=pb.leaves)
     single = pr.dropped & ~pr.whole[:, None]
     by_part = np.stack([np.einsum("bln,b->ln", pb.leaves[:, p], single[:, p]).max(axis=0)
                         for p in range(3)]
@@ -274,8 +286,9 @@ def build_recursive(robot, q, qd, qdd, tolerance=DEFAULT_TOLERANCE, torque_floor
     from ..core.symbolic.recursive_model import recursive_model
 
     base, peaks = (base_parameters(robot), None) if contributions is None else contributions
+    forms, store = None, None
     if region is not None:
-        rec, guarantee = region_model(robot, base, region, tolerance, torque_floor)
+        rec, guarantee, forms, store = _searched(robot, base, region, tolerance, torque_floor)
     else:
         rec = recursive_model(robot, q, qd, qdd, tolerance, torque_floor, base=base,
                               peaks=peaks)
@@ -284,7 +297,7 @@ def build_recursive(robot, q, qd, qdd, tolerance=DEFAULT_TOLERANCE, torque_floor
     model = recursive_simplified(robot, rec, base, tolerance=tolerance,
                                  torque_floor=torque_floor, ranking=ranking,
                                  trajectory_sha256=trajectory_sha256, provenance=provenance,
-                                 guarantee=guarantee)
+                                 guarantee=guarantee, forms=forms, searched=store)
     sel = Selection(rule="budget", tolerance=float(tolerance), choices=model.choices,
                     kept=None, scale=rec.scale, bound=rec.bound,
                     bound_by_kind={"D": rec.bound_by_part[0], "h": rec.bound_by_part[1],
@@ -294,7 +307,8 @@ def build_recursive(robot, q, qd, qdd, tolerance=DEFAULT_TOLERANCE, torque_floor
 
 
 def recursive_simplified(robot, rec, base, tolerance=DEFAULT_TOLERANCE, torque_floor=0.0,
-                         ranking=None, trajectory_sha256="", provenance=None, guarantee=None):
+                         ranking=None, trajectory_sha256="", provenance=None, guarantee=None,
+                         forms=None, searched=None):
     """A pruned recursive model as a :class:`SimplifiedModel`, its program and counts built.
 
     Parameters
@@ -316,6 +330,13 @@ def recursive_simplified(robot, rec, base, tolerance=DEFAULT_TOLERANCE, torque_f
     provenance : dict, optional
     guarantee : Guarantee, optional
         Where its bound holds (:class:`gd_analyze.core.selection.guarantee.Guarantee`).
+    forms : (sequence of str, sequence of str or None), optional
+        The forms of the links' inertial moments of the exact and of the pruned program
+        (:attr:`gd_analyze.core.symbolic.codegen.Program.forms`) from an earlier search with
+        the same inputs: the programs are built with them, without the searches.
+    searched : callable, optional
+        Called with those forms of the programs built (the pruned program's None when the
+        exact one is deployed).
 
     Returns
     -------
@@ -334,9 +355,13 @@ def recursive_simplified(robot, rec, base, tolerance=DEFAULT_TOLERANCE, torque_f
     from ..core.selection.ranking import element_labels
     from ..core.symbolic.recursive import recursive_program
 
-    exact_program = recursive_program(robot, base.values)
+    exact_forms, pruned_forms = forms if forms is not None else (None, None)
+    exact_program = recursive_program(robot, base.values, forms=exact_forms)
     exact = with_drives(exact_program, robot).cost()
-    choice = rec.choice(robot, exact=exact_program)         # built once, kept with the model
+    choice = rec.choice(robot, exact=exact_program,          # built once, kept with the model
+                        forms=pruned_forms if rec.dropped.any() else None)
+    if searched is not None:
+        searched(exact_program.forms, None if choice[0] is exact_program else choice[0].forms)
     program = with_drives(choice[0], robot)
     choices = {lab: "both" for lab in element_labels(robot.n)}
     model = SimplifiedModel(
@@ -349,6 +374,37 @@ def recursive_simplified(robot, rec, base, tolerance=DEFAULT_TOLERANCE, torque_f
         costs={"exact recursive": exact}, program_cache=program, choice_cache=choice,
         guarantee=guarantee)
     return replace_cost(model, program.cost())
+
+
+def _searched(robot, base, region, tolerance, torque_floor):
+    """:func:`region_model` with its searches taken from the derivation cache when an entry
+    passes its checks (:mod:`gd_analyze.io.search_cache`): (model, guarantee, forms or None,
+    a callable that keeps the searches' outcome or None)."""
+    import warnings
+
+    from ..errors import one_line
+    from ..io.cache_files import CacheWarning, entry_path
+    from ..io.search_cache import read_search, search_key, write_search
+
+    pb = certified(robot, base, region, torque_floor)
+    key = search_key(robot, region, tolerance, torque_floor, REGION_SAMPLES)
+    found = read_search(key, robot.n, base.rank)
+    if isinstance(found, dict):
+        try:
+            pr = _region_pruning(base, pb, robot, tolerance, (found["dropped"], found["whole"]))
+        except ValueError:
+            found = "holds dropped pairs over the budget"
+        else:
+            return (*_region_model(robot, base, region, tolerance, pb, pr),
+                    (found["exact_forms"], found["pruned_forms"]), None)
+    if isinstance(found, str):
+        warnings.warn(one_line(f"{entry_path('search', key)}: derivation cache entry {found}: "
+                               "ignored, the model is searched again"), CacheWarning,
+                      stacklevel=2)
+    pr = _region_pruning(base, pb, robot, tolerance)
+    return (*_region_model(robot, base, region, tolerance, pb, pr), None,
+            lambda exact_forms, pruned_forms: write_search(key, pr.dropped, pr.whole,
+                                                           exact_forms, pruned_forms))
 
 
 def replace_cost(model, cost):

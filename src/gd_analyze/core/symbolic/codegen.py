@@ -51,11 +51,17 @@ class Program:
         Temporaries, in order.
     outputs : list of symengine.Basic, length n
         tau_i [N m].
+    forms : tuple of str
+        For a program of the customized recursive model (:mod:`.recursive`): the form of each
+        link's inertial moment (:data:`.newton_euler.FORMS`) it was built with, length n; empty
+        otherwise. Given back to :func:`.recursive.recursive_program` or
+        :func:`.recursive.parts_program` it builds the same program without the search.
     """
 
     n: int
     assignments: list
     outputs: list
+    forms: tuple = ()
 
     def cost(self):
         """Operation counts: dict with ``multiplications``, ``additions``, ``sin``, ``cos``."""

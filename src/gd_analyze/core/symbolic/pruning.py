@@ -487,13 +487,17 @@ def pruned_program(robot, base, dropped, cse=True, exact=None):
     return pruned_choice(robot, base, dropped, cse, exact)[0]
 
 
-def pruned_choice(robot, base, dropped, cse=True, exact=None):
+def pruned_choice(robot, base, dropped, cse=True, exact=None, forms=None):
     """:func:`pruned_program` and the pairs its program actually leaves out.
 
     Parameters
     ----------
     robot, base, dropped, cse, exact
         As :func:`pruned_program`.
+    forms : sequence of str, optional
+        The pruned program's forms of the links' inertial moments
+        (:attr:`~gd_analyze.core.symbolic.codegen.Program.forms` of an earlier build): built
+        with these, without the search.
 
     Returns
     -------
@@ -514,7 +518,7 @@ def pruned_choice(robot, base, dropped, cse=True, exact=None):
         exact = exact_program(robot, base.values, cse=cse)
     if not dropped.any():
         return exact, dropped
-    pruned = parts_program(robot, part_values(base, dropped), cse=cse)
+    pruned = parts_program(robot, part_values(base, dropped), cse=cse, forms=forms)
     if _total(pruned) <= _total(exact):
         return pruned, dropped
     return exact, np.zeros_like(dropped)
@@ -525,7 +529,8 @@ def _total(program):
     return c["multiplications"] + c["additions"]
 
 
-def prune_bounds(robot, base, scale, peak, whole_peak, eps, strategy="cost", pieces=None):
+def prune_bounds(robot, base, scale, peak, whole_peak, eps, strategy="cost", pieces=None,
+                 chosen=None):
     """Choose the pairs to drop from given upper bounds of their contributions.
 
     Parameters
@@ -551,6 +556,10 @@ def prune_bounds(robot, base, scale, peak, whole_peak, eps, strategy="cost", pie
         a branch and bound): a dropped set's bound is then the largest over the pieces of
         the sum of its pairs' bounds there (criterion "error"), never above the sum of their
         overall bounds.
+    chosen : (ndarray of bool, ndarray of bool), optional
+        The dropped pairs, shape (b, 3), and the parameters dropped whole, shape (b,), of an
+        earlier search with the same inputs (the derivation cache): taken as they are, without
+        the search, after the same check of the budget.
 
     Returns
     -------
@@ -571,7 +580,14 @@ def prune_bounds(robot, base, scale, peak, whole_peak, eps, strategy="cost", pie
     criterion = "peaks" if pieces is None else "error"
     C = None if pieces is None else np.asarray(pieces, float).transpose(1, 2, 3, 0)
     sel = _Selection(robot, base, C, peak, whole_peak, eps * scale, criterion)
-    dropped, whole = sel.by_peak() if strategy == "peak" else sel.by_cost()
+    if chosen is not None:
+        dropped, whole = (np.asarray(a) for a in chosen)
+        if dropped.shape != sel.live.shape or whole.shape != sel.live.shape[:1] \
+                or dropped.dtype != bool or whole.dtype != bool \
+                or not sel.fits(dropped, whole):
+            raise ValueError("chosen pairs of another shape, or over the budget")
+    else:
+        dropped, whole = sel.by_peak() if strategy == "peak" else sel.by_cost()
     dropped = _normalize(dropped, sel.live)
     return Pruning(eps=float(eps), dropped=dropped, peak=peak, whole_peak=whole_peak,
                    whole=whole, bound=sel.bound(dropped, whole), scale=scale,

@@ -13,6 +13,8 @@ models of :mod:`.pruning`.
 
 from __future__ import annotations
 
+import dataclasses
+
 import numpy as np
 import symengine as se
 
@@ -38,7 +40,7 @@ def _last_joint_free(robot, values):
     return bool(XX == YY and XY == XZ == YZ == MX == MY == 0.0)
 
 
-def recursive_program(robot, values=None, cse=True):
+def recursive_program(robot, values=None, cse=True, forms=None):
     """The exact customized recursive Newton-Euler model of an arm as a straight-line program.
 
     Parameters
@@ -51,16 +53,21 @@ def recursive_program(robot, values=None, cse=True):
         (:attr:`.base_parameters.BaseParameters.values`), which give the same torques.
     cse : bool, optional
         Run symengine's common-subexpression elimination on the result (default True).
+    forms : sequence of str, optional
+        The form of each link's inertial moment (:data:`.newton_euler.FORMS`, length n), as
+        a program's ``forms`` records them: the program is built with these, without the
+        search (the same program when they are the ones the search chose).
 
     Returns
     -------
     gd_analyze.core.symbolic.codegen.Program
-        tau [N m or N] from the symbols ``q0, qd0, qdd0, ...``; ``Program.cost()`` counts it.
+        tau [N m or N] from the symbols ``q0, qd0, qdd0, ...``; ``Program.cost()`` counts it;
+        ``forms`` the forms chosen.
 
     Raises
     ------
     ValueError
-        If values is not a finite array of shape (n, 10).
+        If values is not a finite array of shape (n, 10), or forms are not n names of FORMS.
 
     Notes
     -----
@@ -86,14 +93,14 @@ def recursive_program(robot, values=None, cse=True):
                          f"{values.shape}")
     consts = link_constants(values)
     return _choose(robot, [[(ALL, consts[j])] for j in range(robot.n)],
-                   _last_joint_free(robot, values), cse)
+                   _last_joint_free(robot, values), cse, forms=forms)
 
 
 #: The exact program: :func:`recursive_program` (the name the pruning module uses).
 exact_program = recursive_program
 
 
-def parts_program(robot, values, cse=True, search=True):
+def parts_program(robot, values, cse=True, search=True, forms=None):
     """The recursive program with different parameter values per part of the torque.
 
     Parameters
@@ -108,16 +115,19 @@ def parts_program(robot, values, cse=True, search=True):
     search : bool, optional
         Choose each link's form of the inertial moment (:data:`.newton_euler.FORMS`) by
         the count (default True); False: the product form everywhere (quicker).
+    forms : sequence of str, optional
+        As :func:`recursive_program`: these forms, no search (``search`` is then ignored).
 
     Returns
     -------
     gd_analyze.core.symbolic.codegen.Program
-        tau = sum over the parts p of the part p of the torque of values[p] [N m or N].
+        tau = sum over the parts p of the part p of the torque of values[p] [N m or N];
+        ``forms`` the forms chosen.
 
     Raises
     ------
     ValueError
-        If values is not of shape (3, n, 10).
+        If values is not of shape (3, n, 10), or forms are not n names of FORMS.
 
     Notes
     -----
@@ -144,7 +154,7 @@ def parts_program(robot, values, cse=True, search=True):
         groups.append([(S, link_constants(phi[None, :])[0])
                        for S, phi in sorted(by_set.items(), key=lambda t: sorted(t[0]))])
     lock = all(_last_joint_free(robot, values[p]) for p in range(len(PARTS)))
-    return _choose(robot, groups, lock, cse, search)
+    return _choose(robot, groups, lock, cse, search, forms)
 
 
 def _total(program):
@@ -152,19 +162,27 @@ def _total(program):
     return c["multiplications"] + c["additions"]
 
 
-def _choose(robot, groups, lock, cse, search=True):
+def _choose(robot, groups, lock, cse, search=True, forms=None):
     """The cheapest program over the links' forms of :data:`FORMS`, by a greedy pass from
-    the product form: each link switched to another form where that lowers the count."""
-    def build(forms):
-        rec = Recursion(robot, lock_last=lock, direct=forms)
-        return _finish(rec, link_torques(rec, groups), cse)
-    forms = {}
-    best = build(forms)
+    the product form: each link switched to another form where that lowers the count; or
+    the program of the given forms. The program records the forms (``Program.forms``)."""
+    def build(chosen):
+        rec = Recursion(robot, lock_last=lock, direct=chosen)
+        program = _finish(rec, link_torques(rec, groups), cse)
+        return dataclasses.replace(program, forms=tuple(chosen.get(j, FORMS[0])
+                                                        for j in range(robot.n)))
+    if forms is not None:
+        forms = tuple(forms)
+        if len(forms) != robot.n or not set(forms) <= set(FORMS):
+            raise ValueError(f"forms must be {robot.n} names of {FORMS}, got {forms!r}")
+        return build({j: f for j, f in enumerate(forms) if f != FORMS[0]})
+    chosen = {}
+    best = build(chosen)
     for j in range(robot.n if search else 0):
         for form in FORMS[1:]:
-            trial = build({**forms, j: form})
+            trial = build({**chosen, j: form})
             if _total(trial) < _total(best):
-                best, forms = trial, {**forms, j: form}
+                best, chosen = trial, {**chosen, j: form}
     return best
 
 

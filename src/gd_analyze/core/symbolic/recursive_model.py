@@ -156,7 +156,7 @@ class RecursiveModel:
         """
         return self.choice(robot, exact)[0]
 
-    def choice(self, robot, exact=None):
+    def choice(self, robot, exact=None, forms=None):
         """:meth:`program` and the pairs it leaves out (:func:`.pruning.pruned_choice`).
 
         Parameters
@@ -164,6 +164,8 @@ class RecursiveModel:
         robot : Robot
         exact : Program, optional
             As :meth:`program`.
+        forms : sequence of str, optional
+            The pruned program's forms (:func:`.pruning.pruned_choice`).
 
         Returns
         -------
@@ -173,7 +175,7 @@ class RecursiveModel:
         """
         from .pruning import pruned_choice
 
-        return pruned_choice(robot, self.base(robot), self.dropped, exact=exact)
+        return pruned_choice(robot, self.base(robot), self.dropped, exact=exact, forms=forms)
 
     def dropped_pairs(self):
         """The dropped pairs as (parameter name, part name), in parameter order.
