@@ -11,12 +11,13 @@ import warnings
 
 import numpy as np
 import pytest
+from cache_checks import forge
 
 from gd_analyze import load_robot
 from gd_analyze.core.selection import certify as certify_module
 from gd_analyze.core.selection.region import joint_region
 from gd_analyze.core.symbolic.base_parameters import base_parameters
-from gd_analyze.io.cache_files import CacheWarning, checksum
+from gd_analyze.io.cache_files import CacheWarning
 from gd_analyze.io.certification_cache import certification
 
 SAMPLES = 200
@@ -54,14 +55,7 @@ def _entry(folder):
 
 
 def _forge(path, **change):
-    """Rewrite the entry with some arrays changed and a checksum that matches them: a forger
-    who knows the layout."""
-    with np.load(path, allow_pickle=False) as z:
-        entry = {name: z[name] for name in z.files}
-    entry.update(change)
-    entry["checksum"] = np.array(checksum(entry, FIELDS))
-    with open(path, "wb") as fh:
-        np.savez(fh, **entry)
+    forge(path, FIELDS, **change)
 
 
 def test_a_stored_certification_is_used_and_equals_a_fresh_one(arm, fresh, cache, monkeypatch):

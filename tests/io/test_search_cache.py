@@ -11,13 +11,14 @@ import warnings
 
 import numpy as np
 import pytest
+from cache_checks import forge
 
 from gd_analyze import load_robot
 from gd_analyze.core.selection.region import joint_region
 from gd_analyze.core.symbolic import recursive as recursive_module
 from gd_analyze.core.symbolic.base_parameters import random_states
 from gd_analyze.core.symbolic.newton_euler import FORMS
-from gd_analyze.io.cache_files import CacheWarning, checksum
+from gd_analyze.io.cache_files import CacheWarning
 from gd_analyze.io.search_cache import SEARCH_FIELDS, search_key
 from gd_analyze.workflows.deploy import REGION_SAMPLES, build_recursive
 
@@ -56,13 +57,7 @@ def _entry(folder):
 
 
 def _forge(path, **change):
-    """Rewrite the entry with some arrays changed and a checksum that matches them."""
-    with np.load(path, allow_pickle=False) as z:
-        entry = {name: z[name] for name in z.files}
-    entry.update(change)
-    entry["checksum"] = np.array(checksum(entry, SEARCH_FIELDS))
-    with open(path, "wb") as fh:
-        np.savez(fh, **entry)
+    forge(path, SEARCH_FIELDS, **change)
 
 
 def _torques(model, robot):
