@@ -235,3 +235,26 @@ def test_the_exact_explicit_model_keeps_terms_idle_on_its_trajectory():
     assert len(full.terms) < len(terms) and len(model.terms) == len(terms)
     assert np.all(np.abs(model.torque(*states) - ref).max(axis=0) <= 1e-9 * scale)
     assert model.bound == [0.0] * 6 and set(model.choices.values()) == {"both"}
+
+
+def test_a_cheaper_explicit_model_not_deployed_is_explained(tmp_path):
+    """Issue 31: the drives arm's pruned explicit model counts fewer operations than the
+    deployed recursive one; the stored sentence says why it is not deployed (its bound holds
+    on the trajectory only; the recursive model's is proved over the region), as the model
+    file's guarantee (oracle) says."""
+    import re
+
+    import xarray as xr
+
+    out = tmp_path / "drives"
+    assert main(["puma560-drives", str(SHIPPED), "-o", str(out), "--no-report", "-q"]) == 0
+    with xr.open_dataset(out / "results.h5") as ds:
+        said = str(ds.attrs["simplified_ladder_skipped"])
+    spec = json.loads((out / "simplified_model.json").read_text())
+    assert spec["form"] == "recursive" and spec["guarantee"]["kind"] == "region"
+    rec, ex = (int(v.replace(",", "")) for v in re.search(
+        r"recursive one \(([\d,]+) operations against the pruned explicit one's ([\d,]+)",
+        said).groups())
+    assert ex < rec                     # the case: a cheaper model left out
+    assert "holds on this trajectory only" in said and "proved over the joint-limit region" \
+        in said, said

@@ -517,8 +517,11 @@ def deploy_models(robot, trajectory, ranking, part_peaks, options, provenance, b
             "whole region, and the ladder prunes on the trajectory") if exact_explicit else (
             f"not built: the deployed model is the pruned recursive one ({_ops(rec.cost):,} "
             f"operations against the pruned explicit one's {_ops(ex.cost):,}"
-            f"{'' if form == 'cheapest' else ', --form recursive'}), and the ladder is of the "
-            "explicit form")
+            + (", --form recursive" if form != "cheapest" else
+               ", whose bound holds on this trajectory only, while the recursive one's is "
+               "proved over the joint-limit region" if proved and _ops(ex.cost) < _ops(rec.cost)
+               else "")
+            + "), and the ladder is of the explicit form")
         rows = [] if skipped else ladder(robot, terms, peaks, [(q, qd, qdd)],
                                          torque_floor=torque_floor,
                                          reference=full_torque(robot, terms))
