@@ -258,3 +258,39 @@ def test_a_cheaper_explicit_model_not_deployed_is_explained(tmp_path):
     assert ex < rec                     # the case: a cheaper model left out
     assert "holds on this trajectory only" in said and "proved over the joint-limit region" \
         in said, said
+
+
+def test_the_model_file_s_choices_are_those_of_results_h5(puma_run, tmp_path):
+    """Issue 31: simplified_model.json said "both" for every element of the recursive model
+    while results.h5 said "pruned" where its dropped pairs change the element. Oracle: D_s
+    of the model against Pinocchio's crba, element by element, on the trajectory."""
+    import pinocchio as pin
+    import xarray as xr
+
+    from gd_analyze.formulations.pinocchio import pinocchio_model
+
+    out, spec = puma_run
+    with xr.open_dataset(out / "results.h5") as ds:
+        stored = dict(zip((str(v) for v in ds["element"].values),
+                          (str(v) for v in ds["choice"].values)))
+    assert spec["form"] == "recursive" and spec["choices"] == stored
+    assert "pruned" in stored.values() and "both" in stored.values()
+    robot = load_robot("puma560")
+    model = load_model(out / "simplified_model.json")
+    traj = read_trajectory(SHIPPED, 6)
+    D_s = np.asarray(model.functions().numpy()["inertia"](traj.q), float).reshape(-1, 6, 6)
+    pm = pinocchio_model(robot)
+    data = pm.createData()
+    D = np.array([pin.crba(pm, data, q) for q in traj.q])
+    D = np.triu(D) + np.triu(D, 1).transpose(0, 2, 1)
+    scale = np.sqrt(np.einsum("kii,kjj->ij", D, D) / len(D))        # sqrt(D_ii D_jj)
+    for i in range(6):
+        for j in range(i, 6):
+            changed = np.abs(D_s[:, i, j] - D[:, i, j]).max() > 1e-9 * scale[i, j]
+            assert changed == (stored[f"D{i + 1}{j + 1}"] == "pruned"), (i, j)
+    spec["form"] = "explicit"
+    spec.pop("recursive")
+    bad = tmp_path / "explicit.json"
+    bad.write_text(json.dumps(spec))
+    with pytest.raises(Exception, match="pruned"):
+        load_model(bad)

@@ -461,7 +461,7 @@ MODEL_SCHEMA = Obj({
     "mounting": Field(Obj({"base_rpy_deg": _NUMS, "gravity_world": _NUMS}), required=False),
     "dominance_threshold": Num(0.5, 1.0, lo_open=True),
     "negligible_threshold": Num(0.0, 1.0),
-    "choices": MapOf(Str(choices=("tran", "rot", "both", "none"))),
+    "choices": MapOf(Str(choices=("tran", "rot", "both", "none", "pruned"))),
     "trajectory_sha256": Field(Str(pattern=r"[0-9a-f]{64}|"), required=False),
     "validation": Field(Obj({}, open_keys=True), required=False),
     "provenance": Field(Obj({}, open_keys=True), required=False),

@@ -429,6 +429,9 @@ def _with_simplified(ds, extra):
 
 def _model(robot, trajectory, result, options, settings):
     if result.model is not None:                 # the explicit simplified model (issue 8)
+        if result.model.recursive is not None:   # its choices as results.h5 stores them
+            return dataclasses.replace(result.model, validation=result.error,
+                                       choices=dict(result.choices))
         return dataclasses.replace(result.model, validation=result.error)
     provenance = _provenance(trajectory, settings)
     return SimplifiedModel(robot=robot, choices=result.choices,

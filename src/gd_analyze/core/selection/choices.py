@@ -18,11 +18,16 @@ import numpy as np
 from ..dynamics.dalembert import assemble_tau
 from .labels import element_index, element_labels
 
-__all__ = ["CHOICES", "choice_masks", "simplified_torque", "merge_choices", "full_choices"]
+__all__ = ["CHOICES", "PRUNED", "choice_masks", "simplified_torque", "merge_choices",
+           "full_choices"]
 
 #: What a simplified model keeps of an element: its translational part, its rotational part,
 #: both, or nothing.
 CHOICES = ("tran", "rot", "both", "none")
+#: The choice of an element of a model of the recursive form that the (base parameter, part)
+#: pairs it drops change: both parts kept, each less the dropped pairs' terms (issue 31: not
+#: "both", which says the element is exact). Its masks are those of "both".
+PRUNED = "pruned"
 
 
 def choice_masks(choices, n):
@@ -32,7 +37,8 @@ def choice_masks(choices, n):
     ----------
     choices : dict
         Element label (``"D11"`` .. ``"Dnn"`` with i <= j, ``"h1"`` .. ``"hn"``) -> ``"tran"``,
-        ``"rot"``, ``"both"`` or ``"none"``.
+        ``"rot"``, ``"both"``, ``"none"`` or (a recursive model's) :data:`PRUNED`, masked as
+        ``"both"``.
     n : int
         Number of joints.
 
@@ -46,7 +52,7 @@ def choice_masks(choices, n):
     Raises
     ------
     ValueError
-        If an element is missing or a choice is not one of the four.
+        If an element is missing or a choice is not one of the five.
     """
     Mt, Mr = np.zeros((n, n)), np.zeros((n, n))
     mt, mr = np.zeros(n), np.zeros(n)
@@ -54,9 +60,10 @@ def choice_masks(choices, n):
         if label not in choices:
             raise ValueError(f"no choice for element {label}")
         ch = choices[label]
-        if ch not in CHOICES:
-            raise ValueError(f"element {label}: choice must be one of {CHOICES}, got {ch!r}")
-        keep_t, keep_r = ch in ("tran", "both"), ch in ("rot", "both")
+        if ch not in CHOICES + (PRUNED,):
+            raise ValueError(f"element {label}: choice must be one of {CHOICES + (PRUNED,)}, "
+                             f"got {ch!r}")
+        keep_t, keep_r = ch in ("tran", "both", PRUNED), ch in ("rot", "both", PRUNED)
         if kind == "D":
             Mt[i, j] = Mt[j, i] = keep_t
             Mr[i, j] = Mr[j, i] = keep_r

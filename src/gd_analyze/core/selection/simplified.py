@@ -80,7 +80,9 @@ class SimplifiedModel:
     robot : Robot
         The arm, with n joints.
     choices : dict
-        Element label -> ``"tran"``, ``"rot"``, ``"both"`` or ``"none"``.
+        Element label -> ``"tran"``, ``"rot"``, ``"both"`` or ``"none"``; for the recursive
+        form ``"both"``, or ``"pruned"`` where its dropped pairs change the element (as
+        results.h5 stores it).
     dominance_threshold : float
         s used for the ranking.
     negligible_threshold : float
@@ -466,6 +468,9 @@ class SimplifiedModel:
                               f"missing element {missing[0]!r}")
                              + f" (a {robot.n}-joint robot has {labels[0]}..{labels[-1]})",
                              path, column="choices")
+        if "pruned" in choices.values() and spec.get("form") != "recursive":
+            raise InputError("choice 'pruned' belongs to a model of the recursive form", path,
+                             column="choices")
         try:
             terms = _terms_from_json(spec.get("explicit_terms"), robot.n)
         except (ValueError, TypeError) as exc:
