@@ -25,7 +25,8 @@ def _offences(tree):
             if (isinstance(f, ast.Attribute) and f.attr == "__setattr__"
                     and isinstance(f.value, ast.Name) and f.value.id == "object"):
                 yield node.lineno, "object.__setattr__"
-            if isinstance(f, ast.Attribute) and f.attr in ("_exit", "disable") and \
+            if isinstance(f, ast.Attribute) and f.attr in ("_exit", "disable", "freeze",
+                                                            "set_threshold") and \
                     isinstance(f.value, ast.Name) and f.value.id in ("os", "gc"):
                 yield node.lineno, f"{f.value.id}.{f.attr}"
         elif isinstance(node, (ast.Assign, ast.AugAssign)):
@@ -45,7 +46,10 @@ def _offences(tree):
 #: The one allowed ``os._exit``: a signal after the command has returned and flushed its output
 #: ends the process with 128 + its number (issue 32: no KeyboardInterrupt traceback after
 #: "wrote"); it skips no work, so the code path stays one.
-ALLOWED = {("io/signals.py", "os._exit")}
+#: The one allowed ``gc.freeze()``: the console script's, after the imports, on every run of
+#: every command (issue 31: "gc.freeze() after the imports is allowed ... documented and
+#: unconditional"); no other collector setting anywhere.
+ALLOWED = {("io/signals.py", "os._exit"), ("cli/__init__.py", "gc.freeze")}
 
 
 @pytest.mark.parametrize("path", MODULES, ids=lambda p: str(p.relative_to(SRC)))
@@ -57,7 +61,41 @@ def test_no_mutation_of_frozen_values_and_no_second_code_path(path):
 
 def test_the_check_finds_what_it_looks_for():
     code = ("object.__setattr__(self, 'x', 1)\nout.__dict__['_p'] = p\nos._exit(0)\n"
-            "gc.disable()\nf._character_tracker = t\nfrom .main_worker import draw\n")
+            "gc.disable()\nf._character_tracker = t\nfrom .main_worker import draw\n"
+            "gc.set_threshold(10**6)\ngc.freeze()\n")
     found = [what for _, what in sorted(_offences(ast.parse(code)))]
     assert found == ["object.__setattr__", "assignment into __dict__", "os._exit",
-                     "gc.disable", "matplotlib's private _character_tracker", "the figure worker"]
+                     "gc.disable", "matplotlib's private _character_tracker", "the figure worker",
+                     "gc.set_threshold", "gc.freeze"]
+
+
+def test_the_console_script_freezes_after_the_main_job_s_imports(tmp_path):
+    """Issue 31: ``gc.freeze()`` once, unconditional, after the imports: the console script's
+    main job has its libraries imported and the start-up objects frozen before the command
+    runs; a library call of ``main`` neither imports ahead nor freezes."""
+    import json
+    import os
+    import subprocess
+    import sys
+
+    probe = ("import gc, json, sys\nimport gd_analyze.cli as cli\n"
+             "seen = {}\n"
+             "def main(argv):\n"
+             "    seen['frozen'] = gc.get_freeze_count()\n"
+             "    seen['loaded'] = [m for m in cli.MAIN_JOB_IMPORTS + cli.REPORT_IMPORTS\n"
+             "                      if m in sys.modules]\n"
+             "    return 0\n"
+             "cli.main = main\nsys.argv = ['gd-analyze'] + sys.argv[1:]\n"
+             "try:\n    cli.run()\nexcept SystemExit:\n    pass\nprint(json.dumps(seen))\n")
+    env = {**os.environ, "PYTHONPATH": str(SRC.parent), "MPLBACKEND": "Agg"}
+    out = {}
+    for args in (["puma560", "x.csv"], ["puma560", "x.csv", "--no-report"], ["plan", "x"]):
+        done = subprocess.run([sys.executable, "-c", probe, *args], cwd=tmp_path, env=env,
+                              capture_output=True, text=True, check=True)
+        out[args[-1]] = json.loads(done.stdout)
+    from gd_analyze.cli import MAIN_JOB_IMPORTS, REPORT_IMPORTS
+
+    assert out["x.csv"]["frozen"] > 0 and out["x.csv"]["loaded"] == list(
+        MAIN_JOB_IMPORTS + REPORT_IMPORTS)
+    assert out["--no-report"]["loaded"] == list(MAIN_JOB_IMPORTS)
+    assert out["x"]["frozen"] > 0           # every command: frozen after the CLI's imports
