@@ -1,4 +1,4 @@
-"""Compiled regressor recursion: the kernel behind :mod:`.regressor_kernels`' compiled engine.
+"""Compiled regressor recursion: the numba kernel of the regressor contributions' compiled engine.
 
 :func:`_contributions_kernel` is a numba loop over set points of the recursion of
 :func:`.base_parameters.regressor` (Khalil & Kleinfinger 1987; Fu, Gonzalez & Lee 1987, Table
