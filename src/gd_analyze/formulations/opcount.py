@@ -84,7 +84,14 @@ import numpy as np
 from ..core.model.kinematics import as_states, transforms_core
 from ..core.model.robot import Robot
 from ..core.model.robot_spec import robot_from_dict
-from .counting import OpLedger, count_consts, count_value, count_vars, counting_clone
+from .counting import (
+    OpLedger,
+    count_consts,
+    count_value,
+    count_vars,
+    counting_clone,
+    python_kernels,
+)
 from .lagrange_euler import joint_q_matrices, le_core
 from .lagrange_euler import le_constants as _le_constants
 from .newton_euler import link_constants, ne_core, ne_cross
@@ -301,10 +308,10 @@ def _gd_kernel_counted(robot, led, q, qd):
     """Run the compiled G-D engine's Python source on one set point of counting scalars.
 
     Returns (D_tran, D_rot, h_tran, h_rot, c) as object arrays of shapes (n, n) and (n,).
+    The kernel's module runs as Python (:func:`.counting.python_kernels`): counting never
+    imports numba.
     """
-    from ..core.dynamics.kernels import gd_kernel
-
-    kernel = counting_clone(gd_kernel)
+    kernel = counting_clone(python_kernels("gd_analyze.core.dynamics.kernels")["gd_kernel"])
     n = robot.n
     out = [np.zeros((1, n, n), dtype=object), np.zeros((1, n, n), dtype=object)]
     out += [np.zeros((1, n), dtype=object) for _ in range(3)]

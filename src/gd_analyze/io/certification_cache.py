@@ -47,7 +47,7 @@ __all__ = ["certification", "certification_key", "SELF_CHECK_TOLERANCE"]
 _CERTIFYING = ("core/selection/certify.py", "core/selection/region.py",
                "core/dynamics/regressor_bounds.py", "core/dynamics/balls.py",
                "core/dynamics/intervals.py", "core/symbolic/regressor_kernels.py",
-               "core/symbolic/base_parameters.py")
+               "core/symbolic/regressor_compiled.py", "core/symbolic/base_parameters.py")
 _FIELDS = ("scale", "scale_state", "leaves", "leaf_boxes", "boxes", "seconds")
 #: Layout of an entry.
 _FORMAT = 1

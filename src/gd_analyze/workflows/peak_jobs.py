@@ -1,9 +1,10 @@
-"""The simplification's compiled peak passes, started beside the main job's G-D pass.
+"""The simplification's peak passes, started beside the main job's G-D pass.
 
 The pruned recursive model needs the peaks of every base parameter's part contributions on
 the trajectory (unless it is pruned on bounds proved over the joint-limit region:
 :func:`proves_over_region`), the explicit model the peaks of its atoms: both depend on q, qd,
-qdd only, and both run compiled kernels that release the GIL. :func:`start_peaks` submits them to a
+qdd only, and both run kernels that release the GIL (compiled ones on long trajectories, array
+code on short ones, which never imports numba). :func:`start_peaks` submits them to a
 thread pool before the pass over the G-D terms, which runs meanwhile; the simplification
 (:func:`gd_analyze.workflows.analyze.analysis_pass`) then takes their results. Nothing here
 prints or writes files.
@@ -89,7 +90,8 @@ def contribution_job(robot, q, qd, qdd, peaks=True):
     Notes
     -----
     What :func:`gd_analyze.workflows.deploy.build_recursive` takes as ``contributions``.
-    Compiled (:mod:`gd_analyze.core.symbolic.regressor_kernels`) and releasing the GIL, so the
+    Compiled or array code by the trajectory's length
+    (:mod:`gd_analyze.core.symbolic.regressor_kernels`), releasing the GIL, so the
     main job runs it in a thread beside its pass over the G-D terms (:func:`start_peaks`).
     """
     from ..core.symbolic.base_parameters import base_parameters

@@ -224,3 +224,14 @@ def test_assemble_tau_of_pinocchio_terms_is_pinocchio_rnea(name):
     assert np.all(np.abs(tau - ref) <= 1e-12 * scale)
     with pytest.raises(ValueError):
         assemble_tau(D, nle - c, c, qdd[:, :-1])
+
+
+def test_the_engine_rule_depends_on_the_size_only():
+    from gd_analyze.core.dynamics.dalembert import COMPILED_MIN_SETPOINTS, compiled_engine
+
+    assert not compiled_engine("auto", COMPILED_MIN_SETPOINTS - 1)
+    assert compiled_engine("auto", COMPILED_MIN_SETPOINTS)
+    assert compiled_engine("compiled", 0) and not compiled_engine("numpy", 10 ** 7)
+    assert not compiled_engine("auto", 10 ** 6, threshold=10 ** 7)
+    with pytest.raises(ValueError, match="engine"):
+        compiled_engine("fortran", 1)

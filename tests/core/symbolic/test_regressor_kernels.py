@@ -1,21 +1,26 @@
-"""The compiled part contributions and their peaks against Pinocchio (rnea per part,
-computeJointTorqueRegressor) and against the numpy regressor they replace."""
+"""The part contributions and their peaks, both engines (array code and the compiled kernel),
+against Pinocchio (rnea per part, computeJointTorqueRegressor), against the numpy regressor of
+base_parameters, and against each other (the same values to round-off, NaN kept out of the
+peaks alike)."""
 
 import numpy as np
 import pinocchio as pin
 import pytest
 from symbolic_helpers import ROBOTS, rnea, robot, states
 
+from gd_analyze.core.symbolic import regressor_kernels
 from gd_analyze.core.symbolic.base_parameters import base_parameters, regressor
 from gd_analyze.core.symbolic.regressor_kernels import (
     contribution_peaks,
     part_contributions,
     part_regressor,
+    regressor_columns,
 )
 from gd_analyze.formulations.pinocchio import pinocchio_model
 
 #: Pinocchio's per-joint order (m, mc_x, mc_y, mc_z, Ixx, Ixy, Iyy, Ixz, Iyz, Izz) -> ours.
 PIN_ORDER = [4, 5, 7, 6, 8, 9, 1, 2, 3, 0]
+ENGINES = ("numpy", "compiled")
 
 
 def _pin_base_columns(arm, base, q, qd, qdd, gravity):
@@ -30,8 +35,9 @@ def _pin_base_columns(arm, base, q, qd, qdd, gravity):
     return W[:, :, base.independent.reshape(-1)] * base.beta
 
 
+@pytest.mark.parametrize("engine", ENGINES)
 @pytest.mark.parametrize("name", ROBOTS)
-def test_each_part_is_pinocchios_regressor_of_that_part(name):
+def test_each_part_is_pinocchios_regressor_of_that_part(name, engine):
     """Part p of every base parameter is Pinocchio's regressor column at the part's state
     (qd = 0 and g = 0 for the inertial part, qdd = 0 and g = 0 for the velocity part, qd = qdd
     = 0 for gravity), times beta; a wrong column, sign, frame or part fails."""
@@ -39,7 +45,7 @@ def test_each_part_is_pinocchios_regressor_of_that_part(name):
     base = base_parameters(arm)
     q, qd, qdd = states(arm, 25, 7)
     zero = np.zeros_like(q)
-    C = part_contributions(arm, base, q, qd, qdd)
+    C = part_contributions(arm, base, q, qd, qdd, engine=engine)
     assert C.shape == (3, 25, arm.n, base.rank)
     for p, (a, b, c, g) in enumerate(((q, zero, qdd, False), (q, qd, zero, False),
                                       (q, zero, zero, True))):
@@ -48,12 +54,13 @@ def test_each_part_is_pinocchios_regressor_of_that_part(name):
         assert np.abs(C[p] - ref).max() <= 1e-12 * scale, (name, p)
 
 
+@pytest.mark.parametrize("engine", ENGINES)
 @pytest.mark.parametrize("name", ROBOTS)
-def test_contributions_add_up_to_rnea_and_equal_the_numpy_regressor(name):
+def test_contributions_add_up_to_rnea_and_equal_the_numpy_regressor(name, engine):
     arm = robot(name)
     base = base_parameters(arm)
     q, qd, qdd = states(arm, 30, 3)
-    C = part_contributions(arm, base, q, qd, qdd)
+    C = part_contributions(arm, base, q, qd, qdd, engine=engine)
     tau = rnea(arm, q, qd, qdd)
     scale = np.abs(tau).max()
     assert np.abs(C.sum(axis=(0, 3)) - tau).max() <= 1e-10 * scale
@@ -65,17 +72,19 @@ def test_contributions_add_up_to_rnea_and_equal_the_numpy_regressor(name):
         assert np.abs(C[p] - ref).max() <= 1e-13 * max(np.abs(ref).max(), 1e-300)
 
 
+@pytest.mark.parametrize("engine", ENGINES)
 @pytest.mark.parametrize("name", ("stanford", "mixed-chain"))
-def test_running_peaks_over_chunks_are_the_peaks_of_the_contributions(name):
+def test_running_peaks_over_chunks_are_the_peaks_of_the_contributions(name, engine):
     """Peaks updated chunk by chunk (out=) are the abs max of the stored contributions: per
     pair, per parameter (parts summed) and of tau = the sum of everything."""
     arm = robot(name)
     base = base_parameters(arm)
     q, qd, qdd = states(arm, 41, 11)
-    C = part_contributions(arm, base, q, qd, qdd)
+    C = part_contributions(arm, base, q, qd, qdd, engine=engine)
     out = None
     for a in range(0, 41, 9):
-        out = contribution_peaks(arm, base, q[a:a + 9], qd[a:a + 9], qdd[a:a + 9], out=out)
+        out = contribution_peaks(arm, base, q[a:a + 9], qd[a:a + 9], qdd[a:a + 9], out=out,
+                                 engine=engine)
     tau_peak, peak, whole = out
     np.testing.assert_array_equal(peak, np.abs(C).max(axis=1).transpose(2, 0, 1))
     np.testing.assert_array_equal(whole, np.abs(C.sum(axis=0)).max(axis=0).T)
@@ -92,16 +101,22 @@ def test_bad_shapes_are_refused():
         part_contributions(arm, base, q[:, :4], q[:, :4], q[:, :4])
     with pytest.raises(ValueError):
         contribution_peaks(arm, base, q, q, q, out=(np.zeros(2), np.zeros(2), np.zeros(2)))
+    for call in (lambda e: part_contributions(arm, base, q, q, q, engine=e),
+                 lambda e: contribution_peaks(arm, base, q, q, q, engine=e),
+                 lambda e: part_regressor(arm, [0], q, q, q, engine=e)):
+        with pytest.raises(ValueError, match="engine"):
+            call("fortran")
 
 
+@pytest.mark.parametrize("engine", ENGINES)
 @pytest.mark.parametrize("name", ROBOTS)
-def test_part_regressor_sums_to_pinocchios_regressor(name):
+def test_part_regressor_sums_to_pinocchios_regressor(name, engine):
     """part_regressor at unit beta: its parts sum to Pinocchio's computeJointTorqueRegressor
     on every standard column; its gravity part is the regressor at rest."""
     arm = robot(name)
     q, qd, qdd = states(arm, 4, 11)
     cols = np.arange(10 * arm.n)
-    W = part_regressor(arm, cols, q, qd, qdd)
+    W = part_regressor(arm, cols, q, qd, qdd, engine=engine)
     model = pinocchio_model(arm)
     data = model.createData()
     ref = np.array([pin.computeJointTorqueRegressor(model, data, a, b, c)
@@ -114,8 +129,51 @@ def test_part_regressor_sums_to_pinocchios_regressor(name):
     assert np.abs(W[:, 2] - regressor(arm, q, z, z)).max() <= 1e-10 * scale
 
 
-def test_part_regressor_refuses_columns_beyond_the_links():
+@pytest.mark.parametrize("engine", ENGINES)
+def test_part_regressor_refuses_columns_beyond_the_links(engine):
     arm = robot("two-link")
     z = np.zeros((1, 2))
     with pytest.raises(ValueError, match="columns"):
-        part_regressor(arm, [20], z, z, z)
+        part_regressor(arm, [20], z, z, z, engine=engine)
+    with pytest.raises(ValueError, match="columns"):
+        regressor_columns(arm, [-1], z, z, z)
+
+
+@pytest.mark.parametrize("name", ("puma560", "stanford"))
+def test_the_engines_agree_on_every_output(name, monkeypatch):
+    """Array code and compiled kernel: the part regressor (columns in any order, repeated),
+    the contributions and their running peaks within 1e-12 of their scale, over several
+    blocks of the array code (BLOCK made small) and a prismatic joint (Stanford)."""
+    monkeypatch.setattr(regressor_kernels, "BLOCK", 16)
+    arm = robot(name)
+    base = base_parameters(arm)
+    q, qd, qdd = states(arm, 70, 21)
+    cols = np.r_[np.arange(10 * arm.n)[::-1], 3, 3]
+    a, b = (part_regressor(arm, cols, q, qd, qdd, engine=e) for e in ENGINES)
+    assert np.abs(a - b).max() <= 1e-12 * np.abs(b).max()
+    a, b = (part_contributions(arm, base, q, qd, qdd, engine=e) for e in ENGINES)
+    assert np.abs(a - b).max() <= 1e-12 * np.abs(b).max()
+    a, b = (contribution_peaks(arm, base, q, qd, qdd, engine=e) for e in ENGINES)
+    for x, y in zip(a, b):
+        assert np.abs(x - y).max() <= 1e-12 * np.abs(y).max()
+    # one part of the numpy engine is the numpy regressor of base_parameters, column by column
+    z = np.zeros_like(q)
+    ref = regressor(arm, q, z, qdd, gravity=np.zeros(3))[:, :, cols]
+    W = regressor_columns(arm, cols, q, z, qdd, gravity=np.zeros(3))
+    assert np.abs(W - ref).max() <= 1e-12 * np.abs(ref).max()
+
+
+def test_the_engines_keep_nan_out_of_the_peaks_alike():
+    """A set point with NaN velocities: its contributions are NaN, never a peak; both engines
+    give the peaks of the other set points (the kernel's ``if v > peak``)."""
+    arm = robot("stanford")
+    base = base_parameters(arm)
+    q, qd, qdd = states(arm, 12, 4)
+    qd[5, 1] = np.nan
+    a, b = (contribution_peaks(arm, base, q, qd, qdd, engine=e) for e in ENGINES)
+    clean = contribution_peaks(arm, base, np.delete(q, 5, 0), np.delete(qd, 5, 0),
+                               np.delete(qdd, 5, 0), engine="compiled")
+    for x, y, c in zip(a, b, clean):
+        assert not np.isnan(x).any() and not np.isnan(y).any()
+        assert np.abs(x - y).max() <= 1e-12 * np.abs(y).max()
+        assert np.all(x >= c - 1e-12 * np.abs(c).max())         # the others' peaks are kept

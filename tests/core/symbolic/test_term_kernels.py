@@ -1,5 +1,6 @@
-"""The compiled atom peaks (term_peaks through term_kernels.atom_peaks_kernel) against the
-definition evaluated term by term, and their contributions against Pinocchio's rnea."""
+"""The atom peaks (term_peaks through term_kernels.atom_peaks_kernel, compiled, or
+term_arrays.atom_peaks_arrays, array code) against the definition evaluated term by term, and
+their contributions against Pinocchio's rnea."""
 
 import numpy as np
 import pytest
@@ -34,8 +35,9 @@ def _contributions(arm, merged, atom, q, qd, qdd):
     return out
 
 
+@pytest.mark.parametrize("engine", ("numpy", "compiled"))
 @pytest.mark.parametrize("name", ("puma560", "stanford"))
-def test_atom_peaks_are_the_peaks_of_the_term_by_term_contributions(name):
+def test_atom_peaks_are_the_peaks_of_the_term_by_term_contributions(name, engine):
     arm = robot(name)
     terms, _ = explicit_terms(arm)
     merged, atom = atoms(terms)
@@ -44,5 +46,6 @@ def test_atom_peaks_are_the_peaks_of_the_term_by_term_contributions(name):
     tau = rnea(arm, q, qd, qdd)
     scale = np.abs(tau).max()
     assert np.abs(C.sum(axis=1) - tau).max() <= 1e-9 * scale      # the atoms make up tau
-    peaks = term_peaks(terms, np.zeros(arm.n), q, qd, qdd, chunk=7, prismatic=arm.prismatic)
+    peaks = term_peaks(terms, np.zeros(arm.n), q, qd, qdd, chunk=7, prismatic=arm.prismatic,
+                       engine=engine)
     np.testing.assert_allclose(peaks, np.abs(C).max(axis=0), rtol=1e-12, atol=1e-13 * scale)

@@ -38,7 +38,8 @@ from ..model.drives import friction_torque
 from ..model.kinematics import as_states, body_frames
 
 __all__ = ["assemble_tau", "forward_dynamics", "GDTerms", "gd_terms", "allocate_terms",
-           "kernel_arguments", "DEFAULT_CHUNK", "ENGINES", "COMPILED_MIN_SETPOINTS"]
+           "kernel_arguments", "DEFAULT_CHUNK", "ENGINES", "COMPILED_MIN_SETPOINTS",
+           "compiled_engine"]
 
 #: Set points per chunk of the numpy engine: bounds its temporaries to a few tens of MB.
 DEFAULT_CHUNK = 8192
@@ -47,6 +48,43 @@ ENGINES = ("auto", "numpy", "compiled")
 #: With engine="auto", trajectories of at least this many set points use the compiled engine;
 #: shorter ones use numpy and so never pay for importing numba or loading compiled code.
 COMPILED_MIN_SETPOINTS = 2000
+
+
+def compiled_engine(engine, count, threshold=COMPILED_MIN_SETPOINTS):
+    """Whether a computation on ``count`` set points runs compiled (numba) or as array code.
+
+    The one rule of every kernel with two engines: the choice depends on the data's size
+    only, never on the load or the environment.
+
+    Parameters
+    ----------
+    engine : {"auto", "numpy", "compiled"}
+        ``"auto"`` runs compiled from ``threshold`` set points on: a short input never
+        imports numba nor loads compiled code (about 0.45 s the first time in a process).
+    count : int
+        Set points (rows) of the input.
+    threshold : int, optional
+        The size from which ``"auto"`` runs compiled; :data:`COMPILED_MIN_SETPOINTS` by
+        default.
+
+    Returns
+    -------
+    bool
+        True for the compiled engine.
+
+    Raises
+    ------
+    ValueError
+        If the engine is not one of :data:`ENGINES`.
+
+    Examples
+    --------
+    >>> compiled_engine("auto", 31), compiled_engine("auto", 5000), compiled_engine("compiled", 1)
+    (False, True, True)
+    """
+    if engine not in ENGINES:
+        raise ValueError(f"engine must be one of {ENGINES}, got {engine!r}")
+    return engine == "compiled" or (engine == "auto" and int(count) >= threshold)
 
 
 def assemble_tau(D, h, c, qdd):
@@ -375,13 +413,12 @@ def gd_terms(robot, q, qd, chunk=DEFAULT_CHUNK, engine="auto", out=None):
     """
     q, qd = as_states(robot, q, qd)
     N, n = q.shape
-    if engine not in ENGINES:
-        raise ValueError(f"engine must be one of {ENGINES}, got {engine!r}")
+    compiled = compiled_engine(engine, N)
     if out is None:
         res = _check_out(allocate_terms(N, n), N, n)
     else:
         res = _check_out(out, N, n)
-    if engine == "compiled" or (engine == "auto" and N >= COMPILED_MIN_SETPOINTS):
+    if compiled:
         from .kernels import gd_kernel
 
         c = np.ascontiguousarray

@@ -13,6 +13,10 @@ numpy formulation's bit for bit:
   in :func:`part_peaks_kernel`, whose running peaks ignore a chunk whose peak is NaN, as the
   built-in ``max(peak, chunk_peak)`` of the numpy formulation did;
 - ``np.clip(x, 0, None)`` is ``np.maximum(x, 0.0)``: x where ``x >= 0`` or x is NaN, else 0.
+
+Chunks shorter than :data:`gd_analyze.core.dynamics.dalembert.COMPILED_MIN_SETPOINTS` run the
+numpy formulation instead (``engine="auto"`` of the two ``update`` methods), so that a short
+trajectory never imports numba; this module is imported only by the compiled engine.
 """
 
 from __future__ import annotations

@@ -18,14 +18,15 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from ..dynamics.dalembert import compiled_engine
 from ..dynamics.regressor_bounds import channel_count
-from ..symbolic.regressor_kernels import part_regressor
+from ..symbolic.regressor_kernels import part_regressor, regressor_columns
 
 __all__ = ["Region", "joint_region", "missing_limits", "sample_positions", "channel_values",
            "worst_states", "region_scale", "qd_vertices"]
 
 
-def channel_values(robot, q, columns, chunk=512):
+def channel_values(robot, q, columns, chunk=512, engine="auto"):
     """The coefficient functions of the regressor at points q, every channel.
 
     Parameters
@@ -37,7 +38,13 @@ def channel_values(robot, q, columns, chunk=512):
     columns : array_like of int, shape (m,)
         Flat standard-parameter indices 10 k + c.
     chunk : int, optional
-        Positions per compiled call (memory O(chunk n^3 m)).
+        Positions per call of the regressor (memory O(chunk n^3 m)).
+    engine : {"auto", "numpy", "compiled"}, optional
+        ``"auto"``: compiled from
+        :data:`gd_analyze.core.dynamics.dalembert.COMPILED_MIN_SETPOINTS` positions B on,
+        else array code (:func:`gd_analyze.core.symbolic.regressor_kernels.regressor_columns`,
+        each part only at the states it is read at), which never imports numba; the same
+        values to round-off.
 
     Returns
     -------
@@ -49,11 +56,11 @@ def channel_values(robot, q, columns, chunk=512):
     Raises
     ------
     ValueError
-        If q does not have n columns.
+        If q does not have n columns, or the engine is unknown.
 
     Notes
     -----
-    The regressor (:func:`gd_analyze.core.symbolic.base_parameters.regressor`, compiled as
+    The regressor (:func:`gd_analyze.core.symbolic.base_parameters.regressor`, as
     :func:`gd_analyze.core.symbolic.regressor_kernels.part_regressor`) split into parts, at
     n (n + 1) / 2 states per point: (qd, qdd) = (e_j, e_j) gives C_jj and the inertial
     channel A_j (g = 0), qd = e_j + e_l (j < l) gives C_jl + C_lj + C_jj + C_ll (g = 0), and
@@ -72,22 +79,44 @@ def channel_values(robot, q, columns, chunk=512):
     qdd_units = eye[jj] * (jj == ll)[:, None]                 # e_j on the diagonal
     S = jj.size
     out = np.empty((q.shape[0], channel_count(n), n, columns.size))
+    compiled = compiled_engine(engine, q.shape[0])
     for a in range(0, q.shape[0], chunk):
         qc = q[a:a + chunk]
         B = qc.shape[0]
-        W = part_regressor(robot, columns, np.repeat(qc, S, axis=0),
-                           np.tile(qd_units, (B, 1)), np.tile(qdd_units, (B, 1)))
-        W = W.reshape(B, S, 3, n, -1)                         # (B, state, part, i, m)
-        diag = W[:, :n, 1]                                    # C_jj: (B, j, i, m)
+        if compiled:
+            W = part_regressor(robot, columns, np.repeat(qc, S, axis=0),
+                               np.tile(qd_units, (B, 1)), np.tile(qdd_units, (B, 1)),
+                               engine="compiled").reshape(B, S, 3, n, -1)
+            grav, inertial, velocity = W[:, 0, 2], W[:, :n, 0], W[:, :, 1]
+        else:       # each part at the states it is read at only: 1 + n + S per position
+            grav, inertial, velocity = _channel_parts(robot, columns, qc, qd_units, qdd_units)
+        diag = velocity[:, :n]                                # C_jj: (B, j, i, m)
         Cm = np.empty((B, n, n) + diag.shape[2:])
         Cm[:, np.arange(n), np.arange(n)] = diag
-        off = 0.5 * (W[:, n:, 1] - diag[:, jj[n:]] - diag[:, ll[n:]])
+        off = 0.5 * (velocity[:, n:] - diag[:, jj[n:]] - diag[:, ll[n:]])
         Cm[:, jj[n:], ll[n:]] = off
         Cm[:, ll[n:], jj[n:]] = off
-        out[a:a + B, 0] = W[:, 0, 2]
-        out[a:a + B, 1:1 + n] = W[:, :n, 0]
+        out[a:a + B, 0] = grav
+        out[a:a + B, 1:1 + n] = inertial
         out[a:a + B, 1 + n:] = Cm.reshape(B, n * n, n, -1)
     return out
+
+
+def _channel_parts(robot, columns, qc, qd_units, qdd_units):
+    """The numpy engine of :func:`channel_values` on B positions: the gravity part at rest
+    (B, n, m), the inertial part at qdd = e_j (B, n, n, m) and the velocity part at every
+    state's qd (B, S, n, m), all with g = 0 but gravity's."""
+    B, n = qc.shape
+    S = qd_units.shape[0]
+    z, g0 = np.zeros((B * S, n)), np.zeros(3)
+    grav = regressor_columns(robot, columns, qc, z[:B], z[:B])
+    qn = np.repeat(qc, n, axis=0)
+    inertial = regressor_columns(robot, columns, qn, z[:B * n], np.tile(qdd_units[:n], (B, 1)),
+                                 gravity=g0)
+    velocity = regressor_columns(robot, columns, np.repeat(qc, S, axis=0),
+                                 np.tile(qd_units, (B, 1)), z, gravity=g0)
+    m = columns.size
+    return grav, inertial.reshape(B, n, n, m), velocity.reshape(B, S, n, m)
 
 
 @dataclass(frozen=True, eq=False)

@@ -34,7 +34,7 @@ from functools import cached_property
 
 import numpy as np
 
-from .term_kernels import atom_peaks_kernel
+from .term_arrays import peaks_kernel
 from .trigpoly import TrigPoly
 
 __all__ = ["ExplicitModel", "derive", "Term", "model_terms", "merge_parts", "atoms",
@@ -471,7 +471,7 @@ def _entries(terms, atom, n):
     return e_term[order], e_vcol[order], starts, key[starts] // n, key[starts] % n
 
 
-def term_peaks(terms, offset, q, qd, qdd, chunk=65536, prismatic=None):
+def term_peaks(terms, offset, q, qd, qdd, chunk=65536, prismatic=None, engine="auto"):
     """Peak |contribution| of every atom of the terms to every joint torque on a trajectory.
 
     Parameters
@@ -484,18 +484,26 @@ def term_peaks(terms, offset, q, qd, qdd, chunk=65536, prismatic=None):
         Joint positions [rad], velocities [rad/s] and accelerations [rad/s^2] (m, m/s and
         m/s^2 for a prismatic joint).
     chunk : int, optional
-        Set points per call of the compiled kernel
-        (:func:`.term_kernels.atom_peaks_kernel`); memory is O(terms) whatever N is.
+        Set points per call of the kernel; memory is O(terms) whatever N is.
     prismatic : array_like of bool, shape (n,), optional
         The prismatic joints (their columns of K are powers of q_i [m]); default none.
+    engine : {"auto", "numpy", "compiled"}, optional
+        The kernel, compiled or array code, the same values (:func:`.term_arrays.peaks_kernel`:
+        "auto" keeps a short trajectory from importing numba).
 
     Returns
     -------
     ndarray, shape (A, n)
         Peaks [N m] of |sum of the atom's terms' contributions| (D_ij qdd_j to tau_i and
         D_ij qdd_i to tau_j, the h and c terms to tau_i); they combine over trajectories and
-        chunks by taking the maximum.
+        chunks by taking the maximum; a NaN contribution is never a peak.
+
+    Raises
+    ------
+    ValueError
+        If the engine is unknown.
     """
+    kernel = peaks_kernel(engine, np.atleast_2d(q).shape[0])
     merged, atom = atoms(terms)
     q, qd, qdd = (np.atleast_2d(np.asarray(x, float)) for x in (q, qd, qdd))
     n = q.shape[1]
@@ -513,9 +521,9 @@ def term_peaks(terms, offset, q, qd, qdd, chunk=65536, prismatic=None):
     c = np.ascontiguousarray
     for a in range(0, q.shape[0], max(1, int(chunk))):
         sl = slice(a, a + max(1, int(chunk)))
-        atom_peaks_kernel(c(q[sl] + offset), c(qd[sl]), c(qdd[sl]), c(Ku, np.int64), c(Su),
-                          lin, c(hidx, np.int64), c(merged.C, float), c(e_term, np.int64),
-                          c(e_vcol, np.int64), c(starts, np.int64), group_peak)
+        kernel(c(q[sl] + offset), c(qd[sl]), c(qdd[sl]), c(Ku, np.int64), c(Su), lin,
+               c(hidx, np.int64), c(merged.C, float), c(e_term, np.int64),
+               c(e_vcol, np.int64), c(starts, np.int64), group_peak)
     np.maximum.at(peaks, (g_atom, g_joint), group_peak)
     return peaks
 

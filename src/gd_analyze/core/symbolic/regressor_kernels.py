@@ -1,4 +1,4 @@
-"""Compiled regressor recursion: the base parameters' part contributions, or their peaks.
+"""The regressor recursion: the base parameters' part contributions, or their peaks.
 
 The torques are linear in the base parameters, tau = Y_b(q, qd, qdd) beta, and each column of
 Y_b splits into an inertial part Y_b(q, 0, qdd; g = 0), a velocity part Y_b(q, qd, 0; g = 0)
@@ -6,190 +6,241 @@ and a gravity part Y_b(q, 0, 0; g) (:mod:`.pruning`). :func:`part_contributions`
 contributions Y_p[k, i, m] beta_m of a batch of set points, :func:`contribution_peaks` their
 running peaks (abs max) without storing them, so that memory stays O(n b) whatever N is.
 
-Both run :func:`_contributions_kernel`, a numba loop over set points of the recursion of
-:func:`.base_parameters.regressor` (Khalil & Kleinfinger 1987; Fu, Gonzalez & Lee 1987, Table
-3.3), restricted to the independent columns: per part, the outward recursion of w, wd, vd in
-body frames (base acceleration -g for the gravity part, Eq. (3.3-46)), the wrench of every
-link per unit base parameter, F = M vd + U MS, N = J wd + w x (J w) + MS x vd with
+Both evaluate the recursion of :func:`.base_parameters.regressor` (Khalil & Kleinfinger 1987;
+Fu, Gonzalez & Lee 1987, Table 3.3) on the asked columns only: per part, the outward recursion
+of w, wd, vd in body frames (base acceleration -g for the gravity part, Eq. (3.3-46)), the
+wrench of every link per unit parameter, F = M vd + U MS, N = J wd + w x (J w) + MS x vd with
 U = skew(wd) + skew(w)^2, carried inward f_{i-1} = R_i f_i, n_{i-1} = R_i n_i + p_i x f_{i-1}
-and read on every joint's axis.
+and read on every joint's axis. Two engines, the same arithmetic:
+
+- ``"numpy"``: array code over blocks of :data:`BLOCK` set points (:func:`regressor_columns`,
+  every column of a link carried inward together);
+- ``"compiled"``: the numba loop :func:`.regressor_compiled._contributions_kernel`, imported
+  only when it runs.
+
+With ``engine="auto"`` (the default) inputs of at least
+:data:`gd_analyze.core.dynamics.dalembert.COMPILED_MIN_SETPOINTS` set points run compiled,
+shorter ones as array code, which never imports numba nor loads compiled code.
 """
 
 from __future__ import annotations
 
 import numpy as np
-from numba import njit
 
+from ..dynamics.dalembert import compiled_engine
 from ..model.kinematics import as_states
 
-__all__ = ["part_contributions", "contribution_peaks", "part_regressor"]
+__all__ = ["part_contributions", "contribution_peaks", "part_regressor", "regressor_columns",
+           "BLOCK"]
 
+#: Set points per block of the numpy engine: bounds its temporaries (O(BLOCK n m) floats).
+BLOCK = 2048
 #: (row, column) of the inertia-tensor entry of the parameters XX, XY, XZ, YY, YZ, ZZ.
-_JA = np.array([0, 0, 0, 1, 1, 2], np.int64)
-_JB = np.array([0, 1, 2, 1, 2, 2], np.int64)
+_JA = (0, 0, 0, 1, 1, 2)
+_JB = (0, 1, 2, 1, 2, 2)
 
 
-@njit(cache=True, fastmath=False, nogil=True)
-def _contributions_kernel(q, qd, qdd, Rp, tp, pris, gravity, link, param, beta,
-                          store, contrib, tau_peak, peak, whole_peak):  # pragma: no cover
-    """Contributions of every (set point, part, joint, base parameter), or their peaks.
+def _frames(robot, q):
+    """Per joint ^{i-1}R_i (3 x 3 entries) and ^{i-1}p_i (3 entries), each (N,) or a float."""
+    Rp = np.asarray(robot.rotation, float)
+    tp = np.asarray(robot.translation, float)
+    out = []
+    for i in range(robot.n):
+        P = Rp[i]
+        if robot.prismatic[i]:
+            R = [[P[r, 0], P[r, 1], P[r, 2]] for r in range(3)]
+            p = [tp[i, r] + q[:, i] * P[r, 2] for r in range(3)]
+        else:
+            ci, si = np.cos(q[:, i]), np.sin(q[:, i])
+            R = [[ci * P[r, 0] + si * P[r, 1], ci * P[r, 1] - si * P[r, 0], P[r, 2]]
+                 for r in range(3)]
+            p = [tp[i, r] for r in range(3)]
+        out.append((R, p))
+    return out
+
+
+def _outward(frames, prismatic, qd, qdd, gravity):
+    """Body-frame w, wd, vd of every link, each a list of 3 arrays (N,)."""
+    N = qd.shape[0]
+    z = np.zeros(N)
+    w0, e0 = [z, z, z], [z, z, z]
+    v0 = [np.full(N, -float(g)) for g in gravity]
+    out = []
+    for j, (R, p) in enumerate(frames):
+        px, py, pz = p
+        cx = w0[1] * pz - w0[2] * py
+        cy = w0[2] * px - w0[0] * pz
+        cz = w0[0] * py - w0[1] * px
+        a = (v0[0] + (e0[1] * pz - e0[2] * py) + (w0[1] * cz - w0[2] * cy),
+             v0[1] + (e0[2] * px - e0[0] * pz) + (w0[2] * cx - w0[0] * cz),
+             v0[2] + (e0[0] * py - e0[1] * px) + (w0[0] * cy - w0[1] * cx))
+        vd = [R[0][r] * a[0] + R[1][r] * a[1] + R[2][r] * a[2] for r in range(3)]
+        w = [R[0][r] * w0[0] + R[1][r] * w0[1] + R[2][r] * w0[2] for r in range(3)]
+        wd = [R[0][r] * e0[0] + R[1][r] * e0[1] + R[2][r] * e0[2] for r in range(3)]
+        u, acc = qd[:, j], qdd[:, j]
+        if prismatic[j]:
+            vd[2] = vd[2] + acc
+            vd[0] = vd[0] + 2.0 * (w[1] * u)
+            vd[1] = vd[1] + 2.0 * (-(w[0] * u))
+        else:
+            wd[0] = wd[0] + w[1] * u
+            wd[1] = wd[1] + (-(w[0] * u))
+            wd[2] = wd[2] + acc
+            w[2] = w[2] + u
+        out.append((w, wd, vd))
+        w0, e0, v0 = w, wd, vd
+    return out
+
+
+def _wrench(w, wd, vd, prm, z):
+    """The wrench (f, m) of a link per unit standard parameter ``prm`` (0..9), in its frame."""
+    wx, wy, wz = w
+    ex, ey, ez = wd
+    if prm < 6:                 # inertia tensor entry: N = E wd + w x (E w)
+        ia, ib = _JA[prm], _JB[prm]
+        m, a = [z, z, z], [z, z, z]
+        m[ia], m[ib] = wd[ib], wd[ia]
+        a[ia], a[ib] = w[ib], w[ia]
+        m = [m[0] + (wy * a[2] - wz * a[1]), m[1] + (wz * a[0] - wx * a[2]),
+             m[2] + (wx * a[1] - wy * a[0])]
+        return [z, z, z], m
+    if prm == 6:                # first moment: F = U e, N = e x vd
+        return ([-(wy * wy) - wz * wz, ez + wx * wy, -ey + wx * wz], [z, -vd[2], vd[1]])
+    if prm == 7:
+        return ([-ez + wx * wy, -(wx * wx) - wz * wz, ex + wy * wz], [vd[2], z, -vd[0]])
+    if prm == 8:
+        return ([ey + wx * wz, -ex + wy * wz, -(wx * wx) - wy * wy], [-vd[1], vd[0], z])
+    return list(vd), [z, z, z]  # mass: F = vd
+
+
+def _block_columns(robot, frames, link, param, qd, qdd, gravity):
+    """:func:`regressor_columns` of one block, columns sorted by link, laid out (n, m, N)."""
+    N, n = qd.shape
+    m = link.size
+    z = np.zeros(N)
+    motion = _outward(frames, robot.prismatic, qd, qdd, gravity)
+    F = np.empty((3, m, N))                 # a column's rows contiguous
+    M = np.empty((3, m, N))
+    for c in range(m):
+        f, mo = _wrench(*motion[link[c]], param[c], z)
+        for r in range(3):
+            F[r, c] = f[r]
+            M[r, c] = mo[r]
+    W = np.zeros((n, m, N))
+    first = np.searchsorted(link, np.arange(n))            # the columns of links >= i
+    for i in range(n - 1, -1, -1):
+        s = first[i]
+        if s == m:
+            continue
+        f, mo = F[:, s:], M[:, s:]
+        W[i, s:] = f[2] if robot.prismatic[i] else mo[2]
+        if i == 0:
+            break
+        R, (px, py, pz) = frames[i]
+        f0 = R[0][0] * f[0] + R[0][1] * f[1] + R[0][2] * f[2]
+        f1 = R[1][0] * f[0] + R[1][1] * f[1] + R[1][2] * f[2]
+        f2 = R[2][0] * f[0] + R[2][1] * f[1] + R[2][2] * f[2]
+        m0 = R[0][0] * mo[0] + R[0][1] * mo[1] + R[0][2] * mo[2]
+        m1 = R[1][0] * mo[0] + R[1][1] * mo[1] + R[1][2] * mo[2]
+        m2 = R[2][0] * mo[0] + R[2][1] * mo[1] + R[2][2] * mo[2]
+        M[0, s:] = m0 + (py * f2 - pz * f1)
+        M[1, s:] = m1 + (pz * f0 - px * f2)
+        M[2, s:] = m2 + (px * f1 - py * f0)
+        F[0, s:], F[1, s:], F[2, s:] = f0, f1, f2
+    return W
+
+
+def _sorted(columns):
+    """The columns sorted by link: (link, parameter, where each column went, or None)."""
+    order = np.argsort(columns // 10, kind="stable")
+    back = None if np.all(order == np.arange(columns.size)) else np.argsort(order)
+    return columns[order] // 10, columns[order] % 10, back
+
+
+def _put(dst, W, back):
+    """Write W (n, m, N), columns sorted, into dst (N, n, m) in the columns' own order."""
+    if back is not None:
+        W = W[:, back]
+    dst[...] = W.transpose(2, 0, 1)
+
+
+def _checked_columns(robot, columns):
+    """The columns as int64, checked against the links."""
+    columns = np.asarray(columns, np.int64).reshape(-1)
+    if columns.size and (columns.min() < 0 or columns.max() >= 10 * robot.n):
+        raise ValueError(f"columns must lie in [0, {10 * robot.n}), got {columns.tolist()}")
+    return columns
+
+
+def _numpy_parts(robot, columns, q, qd, qdd, out):
+    """The numpy engine of :func:`part_regressor` into ``out`` (N, 3, n, m), by blocks."""
+    link, param, back = _sorted(columns)
+    N = q.shape[0]
+    zero, g0 = np.zeros((min(N, BLOCK), robot.n)), np.zeros(3)
+    for a in range(0, N, BLOCK):
+        sl = slice(a, a + BLOCK)
+        B = q[sl].shape[0]
+        frames = _frames(robot, q[sl])
+        z = zero[:B]
+        for part, (u, acc, g) in enumerate(((z, qdd[sl], g0), (qd[sl], z, g0),
+                                            (z, z, robot.gravity))):
+            _put(out[sl, part], _block_columns(robot, frames, link, param, u, acc, g), back)
+    return out
+
+
+def regressor_columns(robot, columns, q, qd, qdd, gravity=None):
+    """Columns of the joint-torque regressor at N states, as array code (no numba).
 
     Parameters
     ----------
-    q, qd, qdd : ndarray, shape (N, n)
-        Joint positions, velocities, accelerations [rad, rad/s, rad/s^2; m, m/s, m/s^2].
-    Rp, tp : ndarray, shape (n, 3, 3), (n, 3)
-        Placement rotations and translations [m] of the joint model.
-    pris : ndarray of int, shape (n,)
-        1 for a prismatic joint.
-    gravity : ndarray, shape (3,)
-        Gravity in the base frame [m/s^2].
-    link, param : ndarray of int, shape (b,)
-        Link (0-based) and standard parameter (0..9) of every base parameter, link-major.
-    beta : ndarray, shape (b,)
-        Base parameter values.
-    store : bool
-        Write ``contrib``; else only the peaks are updated.
-    contrib : ndarray, shape (N, 3, n, b)
-        Output if ``store`` (else any array).
-    tau_peak, peak, whole_peak : ndarray, shape (n,), (b, 3, n), (b, n)
-        Running peaks, updated in place by maximum.
+    robot : Robot
+        The arm, with n joints (its inertial parameters are not read).
+    columns : array_like of int, shape (m,)
+        Flat standard-parameter indices 10 k + c (link k, parameter c of
+        :data:`.base_parameters.PARAMETER_NAMES`).
+    q, qd, qdd : array_like, shape (N, n)
+        Joint positions, velocities and accelerations [rad, rad/s, rad/s^2; m, m/s, m/s^2].
+    gravity : array_like, shape (3,), optional
+        Gravity in the base frame [m/s^2]; default the robot's.
+
+    Returns
+    -------
+    ndarray, shape (N, n, m)
+        ``W[k, i, c]``: torque of joint i [N m or N] per unit parameter ``columns[c]``, i.e.
+        :func:`.base_parameters.regressor`'s ``W[k, i, columns[c]]``.
+
+    Raises
+    ------
+    ValueError
+        If the arrays are not of shape (N, n), or a column is out of range.
+
+    Notes
+    -----
+    The recursion of :func:`.base_parameters.regressor` (Khalil & Kleinfinger 1987; Fu,
+    Gonzalez & Lee 1987, Table 3.3) in the arithmetic of the compiled kernel, over blocks of
+    :data:`BLOCK` set points, every asked column of a link carried inward at once.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from gd_analyze import load_robot
+    >>> robot = load_robot("two-link")
+    >>> z = np.zeros((1, 2))
+    >>> W = regressor_columns(robot, [9, 19], z, z, z)   # the masses at rest: gravity only
+    >>> W.shape
+    (1, 2, 2)
     """
-    N, n = q.shape
-    b = beta.shape[0]
-    R = np.empty((n, 3, 3))
-    p = np.empty((n, 3))
-    w = np.empty((n, 3))
-    wd = np.empty((n, 3))
-    vd = np.empty((n, 3))
-    f = np.empty(3)
-    m = np.empty(3)
-    a = np.empty(3)
-    val = np.empty((3, n, b))
-    for k in range(N):
-        # joint frames ^{i-1}R_i, ^{i-1}p_i (kinematics.transforms_core)
-        for i in range(n):
-            if pris[i] != 0:
-                for r in range(3):
-                    for u in range(3):
-                        R[i, r, u] = Rp[i, r, u]
-                    p[i, r] = tp[i, r] + q[k, i] * Rp[i, r, 2]
-            else:
-                ci, si = np.cos(q[k, i]), np.sin(q[k, i])
-                for r in range(3):
-                    R[i, r, 0] = ci * Rp[i, r, 0] + si * Rp[i, r, 1]
-                    R[i, r, 1] = ci * Rp[i, r, 1] - si * Rp[i, r, 0]
-                    R[i, r, 2] = Rp[i, r, 2]
-                    p[i, r] = tp[i, r]
-        for part in range(3):
-            # outward recursion (base_parameters._forward)
-            w0x = w0y = w0z = e0x = e0y = e0z = 0.0
-            if part == 2:
-                v0x, v0y, v0z = -gravity[0], -gravity[1], -gravity[2]
-            else:
-                v0x = v0y = v0z = 0.0
-            for j in range(n):
-                px, py, pz = p[j, 0], p[j, 1], p[j, 2]
-                cx = w0y * pz - w0z * py
-                cy = w0z * px - w0x * pz
-                cz = w0x * py - w0y * px
-                a[0] = v0x + (e0y * pz - e0z * py) + (w0y * cz - w0z * cy)
-                a[1] = v0y + (e0z * px - e0x * pz) + (w0z * cx - w0x * cz)
-                a[2] = v0z + (e0x * py - e0y * px) + (w0x * cy - w0y * cx)
-                for r in range(3):
-                    vd[j, r] = R[j, 0, r] * a[0] + R[j, 1, r] * a[1] + R[j, 2, r] * a[2]
-                    w[j, r] = R[j, 0, r] * w0x + R[j, 1, r] * w0y + R[j, 2, r] * w0z
-                    wd[j, r] = R[j, 0, r] * e0x + R[j, 1, r] * e0y + R[j, 2, r] * e0z
-                u = qd[k, j] if part == 1 else 0.0
-                acc = qdd[k, j] if part == 0 else 0.0
-                if pris[j] != 0:
-                    vd[j, 2] += acc
-                    vd[j, 0] += 2.0 * (w[j, 1] * u)
-                    vd[j, 1] += 2.0 * (-(w[j, 0] * u))
-                else:
-                    wd[j, 0] += w[j, 1] * u
-                    wd[j, 1] += -(w[j, 0] * u)
-                    wd[j, 2] += acc
-                    w[j, 2] += u
-                w0x, w0y, w0z = w[j, 0], w[j, 1], w[j, 2]
-                e0x, e0y, e0z = wd[j, 0], wd[j, 1], wd[j, 2]
-                v0x, v0y, v0z = vd[j, 0], vd[j, 1], vd[j, 2]
-            # per base parameter: its link's wrench per unit parameter, carried inward
-            for c in range(b):
-                j, prm = link[c], param[c]
-                wx, wy, wz = w[j, 0], w[j, 1], w[j, 2]
-                ex, ey, ez = wd[j, 0], wd[j, 1], wd[j, 2]
-                if prm < 6:             # inertia tensor entry: N = E wd + w x (E w)
-                    ia, ib = _JA[prm], _JB[prm]
-                    for r in range(3):
-                        f[r] = 0.0
-                        m[r] = 0.0
-                        a[r] = 0.0
-                    m[ia] = wd[j, ib]
-                    m[ib] = wd[j, ia]
-                    a[ia] = w[j, ib]
-                    a[ib] = w[j, ia]
-                    m[0] += wy * a[2] - wz * a[1]
-                    m[1] += wz * a[0] - wx * a[2]
-                    m[2] += wx * a[1] - wy * a[0]
-                elif prm < 9:           # first moment: F = U e, N = e x vd
-                    e = prm - 6
-                    # U = skew(wd) + skew(w) skew(w), column e
-                    if e == 0:
-                        f[0] = -(wy * wy) - wz * wz
-                        f[1] = ez + wx * wy
-                        f[2] = -ey + wx * wz
-                        m[0], m[1], m[2] = 0.0, -vd[j, 2], vd[j, 1]
-                    elif e == 1:
-                        f[0] = -ez + wx * wy
-                        f[1] = -(wx * wx) - wz * wz
-                        f[2] = ex + wy * wz
-                        m[0], m[1], m[2] = vd[j, 2], 0.0, -vd[j, 0]
-                    else:
-                        f[0] = ey + wx * wz
-                        f[1] = -ex + wy * wz
-                        f[2] = -(wx * wx) - wy * wy
-                        m[0], m[1], m[2] = -vd[j, 1], vd[j, 0], 0.0
-                else:                   # mass: F = vd
-                    f[0], f[1], f[2] = vd[j, 0], vd[j, 1], vd[j, 2]
-                    m[0] = m[1] = m[2] = 0.0
-                for i in range(n):
-                    val[part, i, c] = 0.0
-                for i in range(j, -1, -1):
-                    val[part, i, c] = (f[2] if pris[i] != 0 else m[2]) * beta[c]
-                    if i == 0:
-                        break
-                    f0 = R[i, 0, 0] * f[0] + R[i, 0, 1] * f[1] + R[i, 0, 2] * f[2]
-                    f1 = R[i, 1, 0] * f[0] + R[i, 1, 1] * f[1] + R[i, 1, 2] * f[2]
-                    f2 = R[i, 2, 0] * f[0] + R[i, 2, 1] * f[1] + R[i, 2, 2] * f[2]
-                    m0 = R[i, 0, 0] * m[0] + R[i, 0, 1] * m[1] + R[i, 0, 2] * m[2]
-                    m1 = R[i, 1, 0] * m[0] + R[i, 1, 1] * m[1] + R[i, 1, 2] * m[2]
-                    m2 = R[i, 2, 0] * m[0] + R[i, 2, 1] * m[1] + R[i, 2, 2] * m[2]
-                    px, py, pz = p[i, 0], p[i, 1], p[i, 2]
-                    m[0] = m0 + (py * f2 - pz * f1)
-                    m[1] = m1 + (pz * f0 - px * f2)
-                    m[2] = m2 + (px * f1 - py * f0)
-                    f[0], f[1], f[2] = f0, f1, f2
-        if store:
-            for part in range(3):
-                for i in range(n):
-                    for c in range(b):
-                        contrib[k, part, i, c] = val[part, i, c]
-        for i in range(n):
-            t = 0.0
-            for c in range(b):
-                s = val[0, i, c] + val[1, i, c] + val[2, i, c]
-                t += s
-                v = abs(s)
-                if v > whole_peak[c, i]:
-                    whole_peak[c, i] = v
-                for part in range(3):
-                    v = abs(val[part, i, c])
-                    if v > peak[c, part, i]:
-                        peak[c, part, i] = v
-            t = abs(t)
-            if t > tau_peak[i]:
-                tau_peak[i] = t
+    columns = _checked_columns(robot, columns)
+    q, qd, qdd = as_states(robot, q, qd, qdd)
+    g = np.asarray(robot.gravity if gravity is None else gravity, float).reshape(3)
+    link, param, back = _sorted(columns)
+    N = q.shape[0]
+    out = np.empty((N, robot.n, columns.size))
+    for a in range(0, N, BLOCK):
+        sl = slice(a, a + BLOCK)
+        _put(out[sl], _block_columns(robot, _frames(robot, q[sl]), link, param, qd[sl],
+                                     qdd[sl], g), back)
+    return out
 
 
 def _arguments(robot, columns, beta, q, qd, qdd):
@@ -202,8 +253,8 @@ def _arguments(robot, columns, beta, q, qd, qdd):
             c(robot.gravity, float), columns // 10, columns % 10, c(beta, float))
 
 
-def part_regressor(robot, columns, q, qd, qdd):
-    """Columns of the regressor, split into parts, compiled: the contributions at unit beta.
+def part_regressor(robot, columns, q, qd, qdd, engine="auto"):
+    """Columns of the regressor, split into parts: the contributions at unit beta.
 
     Parameters
     ----------
@@ -214,6 +265,10 @@ def part_regressor(robot, columns, q, qd, qdd):
         :data:`.base_parameters.PARAMETER_NAMES`).
     q, qd, qdd : array_like, shape (N, n)
         Joint positions, velocities and accelerations [rad, rad/s, rad/s^2; m, m/s, m/s^2].
+    engine : {"auto", "numpy", "compiled"}, optional
+        ``"auto"``: compiled from :data:`gd_analyze.core.dynamics.dalembert.COMPILED_MIN_SETPOINTS`
+        set points on, array code below (no numba import); the two give the same values to
+        round-off.
 
     Returns
     -------
@@ -226,7 +281,8 @@ def part_regressor(robot, columns, q, qd, qdd):
     Raises
     ------
     ValueError
-        If the arrays are not of shape (N, n), or a column is out of range.
+        If the arrays are not of shape (N, n), a column is out of range, or the engine is
+        unknown.
 
     Notes
     -----
@@ -242,19 +298,21 @@ def part_regressor(robot, columns, q, qd, qdd):
     >>> W.shape, bool(np.all(W[:, :2] == 0))
     ((1, 3, 2, 2), True)
     """
-    columns = np.asarray(columns, np.int64).reshape(-1)
-    if columns.size and (columns.min() < 0 or columns.max() >= 10 * robot.n):
-        raise ValueError(f"columns must lie in [0, {10 * robot.n}), got {columns.tolist()}")
+    columns = _checked_columns(robot, columns)
     args = _arguments(robot, columns, np.ones(columns.size), q, qd, qdd)
     N, n = args[0].shape
     m = columns.size
     out = np.empty((N, 3, n, m))
+    if not compiled_engine(engine, N):
+        return _numpy_parts(robot, columns, *args[:3], out)
+    from .regressor_compiled import _contributions_kernel
+
     _contributions_kernel(*args, True, out, np.zeros(n), np.zeros((m, 3, n)), np.zeros((m, n)))
     return out
 
 
-def part_contributions(robot, base, q, qd, qdd):
-    """Contribution of every (part, base parameter) to every joint torque, compiled.
+def part_contributions(robot, base, q, qd, qdd, engine="auto"):
+    """Contribution of every (part, base parameter) to every joint torque.
 
     Parameters
     ----------
@@ -264,6 +322,8 @@ def part_contributions(robot, base, q, qd, qdd):
         Its base parameters, b of them (:func:`.base_parameters.base_parameters`).
     q, qd, qdd : array_like, shape (N, n)
         Joint positions, velocities and accelerations [rad, rad/s, rad/s^2; m, m/s, m/s^2].
+    engine : {"auto", "numpy", "compiled"}, optional
+        As for :func:`part_regressor`.
 
     Returns
     -------
@@ -276,13 +336,12 @@ def part_contributions(robot, base, q, qd, qdd):
     Raises
     ------
     ValueError
-        If the arrays are not of shape (N, n).
+        If the arrays are not of shape (N, n), or the engine is unknown.
 
     Notes
     -----
     The regressor of :func:`.base_parameters.regressor` (Khalil & Kleinfinger 1987; Fu,
-    Gonzalez & Lee 1987, Table 3.3) on the independent columns, times beta (Gautier 1990),
-    in one compiled pass per set point.
+    Gonzalez & Lee 1987, Table 3.3) on the independent columns, times beta (Gautier 1990).
 
     Examples
     --------
@@ -300,13 +359,39 @@ def part_contributions(robot, base, q, qd, qdd):
     N, n = args[0].shape
     b = base.rank
     out = np.empty((N, 3, n, b))
+    if not compiled_engine(engine, N):
+        _numpy_parts(robot, args[7] * 10 + args[8], *args[:3], out)
+        out *= args[9]
+        return out.transpose(1, 0, 2, 3)
+    from .regressor_compiled import _contributions_kernel
+
     _contributions_kernel(*args, True, out, np.zeros(n), np.zeros((b, 3, n)),
                           np.zeros((b, n)))
     return out.transpose(1, 0, 2, 3)
 
 
-def contribution_peaks(robot, base, q, qd, qdd, out=None):
-    """Running peaks of the joint torques and of every part contribution, compiled.
+def _numpy_peaks(robot, args, out):
+    """The numpy engine of :func:`contribution_peaks`: the peaks of blocks of contributions."""
+    q, qd, qdd = args[:3]
+    columns, beta = args[7] * 10 + args[8], args[9]
+    tau_peak, peak, whole_peak = out
+    n, b = robot.n, beta.size
+    buf = np.empty((min(q.shape[0], BLOCK), 3, n, b))
+    for a in range(0, q.shape[0], BLOCK):
+        sl = slice(a, a + BLOCK)
+        B = q[sl].shape[0]
+        val = _numpy_parts(robot, columns, q[sl], qd[sl], qdd[sl], buf[:B])
+        val *= beta
+        s = (val[:, 0] + val[:, 1]) + val[:, 2]                          # (B, n, b)
+        # a NaN is never a peak (the kernel's ``if v > peak``): fmax skips it
+        np.fmax(tau_peak, np.fmax.reduce(np.abs(s.sum(axis=2)), axis=0), out=tau_peak)
+        np.fmax(whole_peak, np.fmax.reduce(np.abs(s), axis=0).T, out=whole_peak)
+        np.fmax(peak, np.fmax.reduce(np.abs(val), axis=0).transpose(2, 0, 1), out=peak)
+    return out
+
+
+def contribution_peaks(robot, base, q, qd, qdd, out=None, engine="auto"):
+    """Running peaks of the joint torques and of every part contribution.
 
     Parameters
     ----------
@@ -320,6 +405,8 @@ def contribution_peaks(robot, base, q, qd, qdd, out=None):
     out : tuple of ndarray, optional
         ``(tau_peak, peak, whole_peak)`` from an earlier call (earlier chunks), updated in
         place by maximum; new zero arrays by default.
+    engine : {"auto", "numpy", "compiled"}, optional
+        As for :func:`part_regressor` (N set points of this call).
 
     Returns
     -------
@@ -333,13 +420,15 @@ def contribution_peaks(robot, base, q, qd, qdd, out=None):
     Raises
     ------
     ValueError
-        If the arrays are not of shape (N, n), or ``out`` has the wrong shapes.
+        If the arrays are not of shape (N, n), ``out`` has the wrong shapes, or the engine is
+        unknown.
 
     Notes
     -----
-    The contributions of :func:`part_contributions`, reduced per set point as they are
-    computed, so memory is O(n b) whatever N is. Peaks combine over chunks (and over
-    trajectories) by maximum.
+    The contributions of :func:`part_contributions`, reduced as they are computed (per set
+    point compiled, per block of :data:`BLOCK` set points as array code), so memory is
+    O(n b) whatever N is. Peaks combine over chunks (and over trajectories) by maximum; a NaN
+    contribution is never kept as a peak.
 
     Examples
     --------
@@ -361,5 +450,9 @@ def contribution_peaks(robot, base, q, qd, qdd, out=None):
     shapes = ((n,), (b, 3, n), (b, n))
     if len(out) != 3 or any(np.shape(x) != s for x, s in zip(out, shapes)):
         raise ValueError(f"out must be arrays of shapes {shapes}")
+    if not compiled_engine(engine, args[0].shape[0]):
+        return _numpy_peaks(robot, args, out)
+    from .regressor_compiled import _contributions_kernel
+
     _contributions_kernel(*args, False, np.empty((0, 3, n, b)), *out)
     return out
