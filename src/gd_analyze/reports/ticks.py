@@ -412,8 +412,12 @@ def ticks_once(fig):
     """
     from matplotlib.lines import Line2D
     from matplotlib.ticker import NullLocator
+    from matplotlib.transforms import TransformedPatchPath
 
     for ax in fig.axes:
+        # the Axes' clip path, made once: Axes.add_artist gives every artist without one a
+        # transform of its own (these artists are not clipped: clip_on=False)
+        clip = TransformedPatchPath(ax.patch)
         for name, axis in (("x", ax.xaxis), ("y", ax.yaxis)):
             texts = {1: [], 2: []}              # labels and marks of each side
             for which in ("major", "minor"):
@@ -433,7 +437,7 @@ def ticks_once(fig):
                             markersize=mark.get_markersize(),
                             markeredgewidth=mark.get_markeredgewidth(),
                             markeredgecolor=mark.get_markeredgecolor(), clip_on=False,
-                            zorder=mark.get_zorder(),
+                            clip_path=clip, zorder=mark.get_zorder(),
                             transform=(ax.get_xaxis_transform() if name == "x"
                                        else ax.get_yaxis_transform()))))
                         ax.add_artist(texts[side][-1])
@@ -453,7 +457,8 @@ def ticks_once(fig):
                             *xy, s, transform=transform, va=va, ha=ha,
                             fontproperties=label.get_fontproperties(),
                             color=label.get_color(), rotation=label.get_rotation(),
-                            clip_on=False, axis_name=name, value=float(v))))
+                            clip_on=False, clip_path=clip, axis_name=name,
+                            value=float(v))))
             axis.set_major_locator(NullLocator())
             axis.set_minor_locator(NullLocator())
             _move_label(ax, axis, name, texts)
@@ -578,6 +583,8 @@ def _artists():
             super().__init__()
             self.line = line
             self.set_zorder(line.get_zorder())
+            if line.get_clip_path() is not None:        # the line's (one per Axes)
+                self.set_clip_path(line.get_clip_path())
 
         def set_figure(self, fig):
             super().set_figure(fig)
