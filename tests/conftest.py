@@ -82,6 +82,27 @@ def shipped_dataset(tmp_path_factory):
     return get
 
 
+@pytest.fixture(scope="session")
+def shared_reports(tmp_path_factory):
+    """The UR5's main report and the PUMA 560's sweep report, for the report tests that read
+    both (tests/reports/test_report_review.py, test_report_text.py): built once a worker.
+
+    ``{"ur5": (folder, "report"), "sweep": (folder, "sweep_report")}``: the main job on the
+    UR5's shipped trajectory, and the sweep of the PUMA 560 over its shipped trajectory twice
+    (one worker, none held out), each with its report, all defaults. Shared: tests must not
+    modify them.
+    """
+    from gd_analyze.cli import main
+
+    tmp = tmp_path_factory.mktemp("shared_reports")
+    csv = str(SHIPPED)
+    assert main(["ur5", str(ROOT / "data" / "ur5_trajectory.csv"), "-o", str(tmp / "ur5"),
+                 "-q"]) == 0
+    assert main(["sweep", "puma560", csv, csv, "--workers", "1", "--held-out", "0", "-o",
+                 str(tmp / "sweep"), "-q"]) == 0
+    return {"ur5": (tmp / "ur5", "report"), "sweep": (tmp / "sweep", "sweep_report")}
+
+
 def random_states(robot, count, seed):
     """Random (q, qd, qdd), shape (count, n): q within [-pi, pi], qd, qdd within +-3."""
     rng = np.random.default_rng(seed)
