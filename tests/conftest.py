@@ -82,6 +82,27 @@ def shipped_dataset(tmp_path_factory):
     return get
 
 
+@pytest.fixture(scope="session")
+def shared_reports(tmp_path_factory):
+    """The UR5's main report and the PUMA 560's sweep report, for the report tests that read
+    both (tests/reports/test_report_review.py, test_report_text.py): built once a worker.
+
+    ``{"ur5": (folder, "report"), "sweep": (folder, "sweep_report")}``: the main job on the
+    UR5's shipped trajectory, and the sweep of the PUMA 560 over its shipped trajectory twice
+    (one worker, none held out), each with its report, all defaults. Shared: tests must not
+    modify them.
+    """
+    from gd_analyze.cli import main
+
+    tmp = tmp_path_factory.mktemp("shared_reports")
+    csv = str(SHIPPED)
+    assert main(["ur5", str(ROOT / "data" / "ur5_trajectory.csv"), "-o", str(tmp / "ur5"),
+                 "-q"]) == 0
+    assert main(["sweep", "puma560", csv, csv, "--workers", "1", "--held-out", "0", "-o",
+                 str(tmp / "sweep"), "-q"]) == 0
+    return {"ur5": (tmp / "ur5", "report"), "sweep": (tmp / "sweep", "sweep_report")}
+
+
 def random_states(robot, count, seed):
     """Random (q, qd, qdd), shape (count, n): q within [-pi, pi], qd, qdd within +-3."""
     rng = np.random.default_rng(seed)
@@ -108,7 +129,64 @@ def two_link_control(folder, setpoints):
 
 
 def pytest_configure(config):
-    """Tests always count operations afresh (no on-disk cache of the counts)."""
-    import os
+    """One derivation cache for the whole test session, shared by the xdist workers.
 
-    os.environ["GD_ANALYZE_NO_CACHE"] = "1"
+    The controller (or the only process, without xdist) makes an empty temporary folder and
+    points ``XDG_CACHE_HOME`` at it before the workers start, so that every worker and every
+    command a test runs in a child process inherits it: the derivation cache
+    (``<folder>/gd-analyze``: the explicit models, :mod:`gd_analyze.io.explicit_cache`, and the
+    region certifications, :mod:`gd_analyze.io.certification_cache`, each derived once a
+    session instead of once a test) and the operation counts
+    (:mod:`gd_analyze.formulations.opcount_cache`) live there, never in the user's own cache,
+    and the folder is removed when the session ends. ``GD_ANALYZE_NO_CACHE`` and
+    ``GD_ANALYZE_CACHE_DIR`` are cleared, so a developer's settings do not change the suite.
+
+    Still safe: an entry is a pure function of the robot, the settings and the source of the
+    code that computes it (its name is the SHA-256 of that key), written by this session's code,
+    atomically (a private temporary name renamed over the entry, so concurrent workers never
+    see half a file), and checked before use: its stored key and checksum, then its content
+    against an independent computation (the explicit terms against the G-D engine at fixed
+    states; a certification's boxes, bounds and scales against the torques at its sampled
+    positions). Tests about a cache itself, or that need a cold one, set their own folder
+    (``tests/io/conftest.py``'s ``cache``) or ``GD_ANALYZE_NO_CACHE`` (the tests that count the
+    G-D engine's set points, ``tests/workflows/test_analyze.py``: a cache read adds its
+    self-check's); the operation-count tests count afresh
+    (``tests/formulations/test_opcount.py``).
+    """
+    import os
+    import tempfile
+
+    if hasattr(config, "workerinput"):          # an xdist worker: the controller's folder
+        return
+    folder = tempfile.mkdtemp(prefix="gd-analyze-tests-")
+    config._gd_cache_folder = folder
+    os.environ["XDG_CACHE_HOME"] = folder
+    for name in ("GD_ANALYZE_NO_CACHE", "GD_ANALYZE_CACHE_DIR"):
+        os.environ.pop(name, None)
+
+
+def pytest_unconfigure(config):
+    """Remove the session's cache folder (:func:`pytest_configure`)."""
+    import shutil
+
+    folder = getattr(config, "_gd_cache_folder", None)
+    if folder is not None:
+        shutil.rmtree(folder, ignore_errors=True)
+
+
+
+#: The module of the longest test (every command on a 10-joint chain with its reports, about
+#: 2 min alone on an idle machine): it starts first.
+LONGEST = "tests/workflows/test_many_joints.py"
+
+
+def pytest_collection_modifyitems(config, items):
+    """:data:`LONGEST` first, then the modules holding a test marked ``slow``, then the rest;
+    each module's tests together and in their order.
+
+    pytest-xdist hands the tests to its workers in this order; a long test collected last
+    would otherwise leave one worker alone with it at the end while the other waits. Every test
+    still runs.
+    """
+    slow = {item.path for item in items if item.get_closest_marker("slow")}
+    items.sort(key=lambda item: (item.nodeid.split("::")[0] != LONGEST, item.path not in slow))

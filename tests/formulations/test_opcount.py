@@ -20,6 +20,18 @@ from gd_analyze.formulations.opcount import (
 )
 
 
+@pytest.fixture(autouse=True)
+def counted_afresh(monkeypatch):
+    """Every test here counts the operations itself: no on-disk cache of the counts (the
+    session's shared cache, tests/conftest.py), and none kept in memory from an earlier test."""
+    from gd_analyze.formulations import opcount
+
+    monkeypatch.setenv("GD_ANALYZE_NO_CACHE", "1")
+    opcount._counts_for.cache_clear()
+    yield
+    opcount._counts_for.cache_clear()
+
+
 def _counts(method, op, ns):
     return np.array([operation_counts(n)[method][op] for n in ns])
 

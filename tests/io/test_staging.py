@@ -1,32 +1,25 @@
-"""Issue 9, cases 3, 6 and 8 (output locations): staged output folders with a lock."""
+"""Issue 9, cases 2, 3, 6 and 7 (output locations): staged output folders with a lock; whose
+files a folder holds, and no write through a symbolic link. Interrupted runs and mount points
+(case 8): test_staging_interrupted.py."""
 
 import os
 import re
 import shutil
-import signal
 import stat
-import subprocess
-import sys
-import textwrap
 from pathlib import Path
 
 import pytest
+from staging_checks import leftovers, tree, visible
 
 from gd_analyze.errors import InputError
 from gd_analyze.io.manifest import manifest_name
 from gd_analyze.io.staging import (
     LOCK_SUFFIX,
-    TMP_MARK,
     check_free_space,
     check_output_file,
     safe_name,
     staged_output,
 )
-
-
-def _leftovers(parent):
-    return sorted(p.name for p in Path(parent).iterdir() if LOCK_SUFFIX in p.name
-                  or TMP_MARK in p.name or p.name.endswith(".tmp"))
 
 
 @pytest.mark.parametrize("name, expect", [("../../x", "x"), ("/etc/passwd", "etc_passwd"),
@@ -39,16 +32,6 @@ def test_case6_safe_name(name, expect):
     assert "/" not in out and ".." not in out and not out.startswith((".", "-"))
 
 
-def _tree(folder):
-    """Every file under folder (hidden ones too) with its bytes."""
-    return {p.relative_to(folder).as_posix(): p.read_bytes()
-            for p in sorted(Path(folder).rglob("*")) if p.is_file() or p.is_symlink()}
-
-
-def _visible(folder):
-    return {k: v for k, v in _tree(folder).items() if not k.startswith(".gd-")}
-
-
 def test_the_set_is_moved_in_together_and_old_files_go(tmp_path):
     target = tmp_path / "out"
     with staged_output(target, ("a.txt", "b.txt")) as stage:
@@ -58,8 +41,8 @@ def test_the_set_is_moved_in_together_and_old_files_go(tmp_path):
     assert sorted(os.listdir(target)) == [manifest_name("output"), "a.txt", "b.txt"]
     with staged_output(target, ("a.txt", "b.txt")) as stage:
         (stage / "a.txt").write_text("2")          # this run writes no b.txt: ours, it goes
-    assert _visible(target) == {"a.txt": b"2"}
-    assert _leftovers(tmp_path) == []
+    assert visible(target) == {"a.txt": b"2"}
+    assert leftovers(tmp_path) == []
 
 
 def _foreign_message(target, names):
@@ -79,7 +62,7 @@ def test_case2_a_users_files_are_never_touched(tmp_path, ours):
     (target / "figures").mkdir(parents=True, exist_ok=True)
     (target / "figures" / "thesis_fig1.png").write_bytes(b"the user's")
     (target / "report.html").write_text("the user's own")
-    before = _tree(target)
+    before = tree(target)
     entered = []
     with pytest.raises(InputError) as err:
         with staged_output(target, ("report.html", "figures"), command="analyze") as stage:
@@ -87,7 +70,7 @@ def test_case2_a_users_files_are_never_touched(tmp_path, ours):
     assert str(err.value) == _foreign_message(target, ["figures/thesis_fig1.png",
                                                        "report.html"])
     assert not entered
-    assert _tree(target) == before
+    assert tree(target) == before
     assert sorted(os.listdir(tmp_path)) == ["out"]
 
 
@@ -117,11 +100,11 @@ def test_case2_commands_keep_each_others_files(tmp_path):
     control = {"control.h5": "c", "control_report.html": "c", "figures/fig_control.svg": "c"}
     _run_as(target, "analyze", main)
     _run_as(target, "control", control)
-    assert _visible(target) == {k: v.encode() for k, v in {**main, **control}.items()}
+    assert visible(target) == {k: v.encode() for k, v in {**main, **control}.items()}
     _run_as(target, "control", {"control.h5": "c2"})            # control --no-report
-    assert _visible(target) == {k: v.encode() for k, v in {**main, "control.h5": "c2"}.items()}
+    assert visible(target) == {k: v.encode() for k, v in {**main, "control.h5": "c2"}.items()}
     _run_as(target, "analyze", {"results.h5": "m2"})            # main job --no-report
-    assert _visible(target) == {"results.h5": b"m2", "control.h5": b"c2"}
+    assert visible(target) == {"results.h5": b"m2", "control.h5": b"c2"}
     assert {manifest_name("analyze"), manifest_name("control")} <= set(os.listdir(target))
 
 
@@ -129,11 +112,11 @@ def test_case2_commands_keep_each_others_files(tmp_path):
 def test_case2_a_command_never_replaces_another_commands_file(tmp_path, path):
     target = tmp_path / "out"
     _run_as(target, "analyze", {"results.h5": "m", "figures/fig_3_10_D.svg": "m"})
-    before = _tree(target)
+    before = tree(target)
     with pytest.raises(InputError, match="a command never replaces another command's files"):
         _run_as(target, "sweep", {path: "s"})
-    assert _tree(target) == before
-    assert _leftovers(tmp_path) == []
+    assert tree(target) == before
+    assert leftovers(tmp_path) == []
 
 
 def test_case3_a_failed_run_leaves_the_old_set_and_nothing_else(tmp_path):
@@ -145,7 +128,7 @@ def test_case3_a_failed_run_leaves_the_old_set_and_nothing_else(tmp_path):
             (stage / "a.txt").write_text("new")
             raise RuntimeError("interrupted")
     assert (target / "a.txt").read_text() == "old"
-    assert _leftovers(tmp_path) == []
+    assert leftovers(tmp_path) == []
 
 
 def test_case3_a_second_run_into_the_same_folder_is_refused(tmp_path):
@@ -155,60 +138,8 @@ def test_case3_a_second_run_into_the_same_folder_is_refused(tmp_path):
             with staged_output(target):
                 pass
         (stage / "a.txt").write_text("1")
-    assert _visible(target) == {"a.txt": b"1"}
-    assert _leftovers(tmp_path) == []
-
-
-#: How long a child holds its state once it has said so [s]: far longer than any wait here, so
-#: that only the signal ends it (the tests wait for the child's line, not for seconds).
-HOLD = 900
-#: A safety net only: how long a signalled child may take to exit, even at load 10 [s].
-EXIT_WAIT = 300
-
-
-def _writer_script(target, hold):
-    return textwrap.dedent(f"""
-        import sys, time
-        from gd_analyze.io.staging import install_signal_handlers, staged_output
-        install_signal_handlers()
-        with staged_output({str(target)!r}, ("big.bin",)) as stage:
-            (stage / "big.bin").write_bytes(b"x" * 100000)
-            print("staged", flush=True)
-            time.sleep({hold})
-        """)
-
-
-def _start(script):
-    env = dict(os.environ, PYTHONPATH=os.pathsep.join(sys.path))
-    proc = subprocess.Popen([sys.executable, "-c", script], stdout=subprocess.PIPE, env=env,
-                            text=True)
-    assert proc.stdout.readline().strip() == "staged"
-    return proc
-
-
-@pytest.mark.parametrize("sig", [signal.SIGTERM, signal.SIGINT])
-def test_case8_signals_remove_the_temporary_files(tmp_path, sig):
-    target = tmp_path / "out"
-    proc = _start(_writer_script(target, HOLD))
-    assert _leftovers(tmp_path)                      # lock and staging folder exist
-    proc.send_signal(sig)
-    proc.wait(timeout=EXIT_WAIT)
-    assert _leftovers(tmp_path) == [] and not target.exists()
-
-
-def test_case8_a_killed_run_is_cleaned_by_the_next(tmp_path):
-    target = tmp_path / "out"
-    proc = _start(_writer_script(target, HOLD))
-    with pytest.raises(InputError, match="another run is writing here"):
-        with staged_output(target):
-            pass
-    proc.kill()                                      # SIGKILL: no clean-up possible
-    proc.wait(timeout=EXIT_WAIT)
-    assert any(TMP_MARK in n for n in _leftovers(tmp_path))
-    with staged_output(target, ("big.bin",)) as stage:        # the lock is free again
-        (stage / "big.bin").write_text("ok")
-    assert _leftovers(tmp_path) == []
-    assert sorted(os.listdir(target)) == [manifest_name("output"), "big.bin"]
+    assert visible(target) == {"a.txt": b"1"}
+    assert leftovers(tmp_path) == []
 
 
 @pytest.mark.parametrize("where", ["proc", "under_file", "file"])
@@ -304,8 +235,8 @@ def test_case7_an_alias_of_the_folder_takes_the_same_lock(tmp_path):
         (stage / "a.txt").write_text("1")
     with staged_output(tmp_path / "alias") as stage:       # the link names the real folder
         (stage / "a.txt").write_text("2")
-    assert (tmp_path / "alias").is_symlink() and _visible(real) == {"a.txt": b"2"}
-    assert _leftovers(tmp_path) == []
+    assert (tmp_path / "alias").is_symlink() and visible(real) == {"a.txt": b"2"}
+    assert leftovers(tmp_path) == []
 
 
 def test_case7_staging_names_are_unpredictable_and_private(tmp_path):
@@ -328,160 +259,6 @@ def test_case7_atomic_path_never_writes_through_a_link(tmp_path):
         Path(tmp).write_text("new")
     assert victim.read_text() == "precious" and not dest.is_symlink()
     assert dest.read_text() == "new"
-
-
-# --- issue 16 item 8: the set is exchanged whole ----------------------------------------------
-
-OLD = {"a.txt": "old-a", "b.txt": "old-b", "figures/f.svg": "old-f"}
-NEW = {"a.txt": "new-a", "b.txt": "new-b", "figures/f.svg": "new-f"}
-
-
-def _mover_script(target, hold, mount=False):
-    """A run that pauses just after its first rename into target (old code: per file)."""
-    return textwrap.dedent(f"""
-        import os, time
-        from gd_analyze.io import staging
-        from gd_analyze.io.staging import install_signal_handlers, staged_output
-        install_signal_handlers()
-        target = os.path.realpath({str(target)!r})
-        if {mount!r}:
-            ismount = os.path.ismount
-            os.path.ismount = lambda p: os.path.realpath(p) == target or ismount(p)
-        moved = []
-        def pause(fn):
-            def wrapper(*args, **kw):
-                out = fn(*args, **kw)
-                dst = os.path.realpath(os.fspath(args[1]))
-                if not moved and (dst == target or dst.startswith(target + os.sep)) \
-                        and not os.path.basename(dst).startswith(".gd-"):
-                    moved.append(1)
-                    print("moved", flush=True)
-                    time.sleep({hold})
-                return out
-            return wrapper
-        os.replace, os.rename = pause(os.replace), pause(os.rename)
-        if hasattr(staging, "_renameat2"):
-            staging._renameat2 = pause(staging._renameat2)
-        with staged_output(target, ("a.txt", "b.txt", "figures")) as stage:
-            for path, text in {NEW!r}.items():
-                (stage / path).parent.mkdir(parents=True, exist_ok=True)
-                (stage / path).write_text(text)
-            print("staged", flush=True)
-        """)
-
-
-def _set(target):
-    return {k: v.decode() for k, v in _visible(target).items()}
-
-
-def _old_set(target, monkeypatch, mount):
-    """A folder holding the OLD set, written by a run; optionally seen as a mount point."""
-    target.mkdir()
-    if mount:
-        ismount = os.path.ismount
-        monkeypatch.setattr(os.path, "ismount",
-                            lambda p: Path(p).resolve() == target.resolve() or ismount(p))
-    with staged_output(target, ("a.txt", "b.txt", "figures")) as stage:
-        for path, text in OLD.items():
-            (stage / path).parent.mkdir(parents=True, exist_ok=True)
-            (stage / path).write_text(text)
-    return target
-
-
-@pytest.mark.parametrize("sig, mount", [(signal.SIGKILL, False), (signal.SIGTERM, False),
-                                        (signal.SIGINT, False), (signal.SIGTERM, True)])
-def test_case8_an_interrupted_move_leaves_one_whole_set(tmp_path, sig, mount, monkeypatch):
-    target = _old_set(tmp_path / "out", monkeypatch, mount)
-    proc = _start(_mover_script(target, HOLD if sig == signal.SIGKILL else 2, mount))
-    assert proc.stdout.readline().strip() == "moved"
-    proc.send_signal(sig)
-    proc.wait(timeout=EXIT_WAIT)
-    assert _set(target) in (OLD, NEW)
-    with staged_output(target, ("a.txt",)) as stage:          # the next run cleans up
-        (stage / "a.txt").write_text("next")
-    assert _set(target) == {"a.txt": "next"}
-    assert _leftovers(tmp_path) == [] and not any(TMP_MARK in n for n in os.listdir(target))
-
-
-def _refuse_renaming(monkeypatch, folder):
-    """The kernel's answers for a mount point (a Docker volume at /out): no rename of it, or
-    across it."""
-    import errno
-
-    from gd_analyze.io import staging
-
-    real = os.path.realpath(folder)
-
-    def on_volume(path):
-        path = os.path.realpath(path)
-        return path == real or path.startswith(real + os.sep)
-
-    def guard(fn):
-        def wrapper(src, dst, *args, **kw):
-            if real in (os.path.realpath(src), os.path.realpath(dst)) or \
-                    on_volume(src) != on_volume(dst):
-                raise OSError(errno.EXDEV, "Invalid cross-device link", str(src))
-            return fn(src, dst, *args, **kw)
-        return wrapper
-
-    monkeypatch.setattr(os, "replace", guard(os.replace))
-    monkeypatch.setattr(os, "rename", guard(os.rename))
-    if hasattr(staging, "_renameat2"):
-        monkeypatch.setattr(staging, "_renameat2", guard(staging._renameat2))
-    ismount = os.path.ismount
-    monkeypatch.setattr(os.path, "ismount", lambda p: os.path.realpath(p) == real or ismount(p))
-
-
-def test_case8_a_mount_point_is_written_inside(tmp_path, monkeypatch):
-    target = tmp_path / "vol"
-    target.mkdir()
-    _refuse_renaming(monkeypatch, target)
-    for text in ("1", "2"):
-        with staged_output(target, ("a.txt", "figures")) as stage:
-            (stage / "a.txt").write_text(text)
-            (stage / "figures").mkdir()
-            (stage / "figures" / f"f{text}.svg").write_text(text)
-    assert _set(target) == {"a.txt": "2", "figures/f2.svg": "2"}
-    assert os.listdir(tmp_path) == ["vol"]                  # nothing beside the mount point
-    assert not any(TMP_MARK in n for n in os.listdir(target))
-
-
-def test_case8_the_current_folder_is_kept(tmp_path, monkeypatch):
-    """-o . : the folder is not replaced under the user's shell; its entries are."""
-    monkeypatch.chdir(tmp_path)
-    inode = os.stat(tmp_path).st_ino
-    for text in ("1", "2"):
-        with staged_output(".", ("a.txt",)) as stage:
-            (stage / "a.txt").write_text(text)
-    assert os.stat(tmp_path).st_ino == inode and _set(tmp_path) == {"a.txt": "2"}
-
-
-def test_case8_without_renameat2_a_killed_swap_is_undone(tmp_path):
-    target = tmp_path / "out"
-    script = textwrap.dedent(f"""
-        import os, signal
-        from gd_analyze.io import staging
-        staging._libc_renameat2 = lambda: None
-        target = {str(target)!r}
-        for text in ("1", "2"):
-            with staging.staged_output(target) as stage:
-                (stage / "a.txt").write_text(text)
-        rename = os.rename
-        def killed_after(src, dst):          # killed between the two renames
-            rename(src, dst)
-            if os.fspath(src) == target:
-                os.kill(os.getpid(), signal.SIGKILL)
-        os.rename = killed_after
-        with staging.staged_output(target) as stage:
-            (stage / "a.txt").write_text("3")
-        """)
-    env = dict(os.environ, PYTHONPATH=os.pathsep.join(sys.path))
-    run = subprocess.run([sys.executable, "-c", script], env=env, timeout=EXIT_WAIT)
-    assert run.returncode == -signal.SIGKILL and not target.exists()
-    with staged_output(target) as stage:
-        (stage / "b.txt").write_text("3")
-    assert _set(target) == {"b.txt": "3"} and _leftovers(tmp_path) == []
-    assert sorted(os.listdir(tmp_path)) == ["out"]
 
 
 def test_case7_a_lock_file_linked_to_another_file_is_refused(tmp_path):
@@ -524,9 +301,9 @@ def test_case8_a_folder_added_to_during_the_run_is_refused_untouched(tmp_path):
         with staged_output(target) as stage:
             (stage / "a.txt").write_text("2")
             (target / "notes.txt").write_text("the user's, written while the run computed")
-    assert _visible(target) == {"a.txt": b"1",
+    assert visible(target) == {"a.txt": b"1",
                                 "notes.txt": b"the user's, written while the run computed"}
-    assert _leftovers(tmp_path) == []
+    assert leftovers(tmp_path) == []
 
 
 def test_case2_a_wrong_folder_is_refused_without_reading_it_all(tmp_path):
@@ -540,22 +317,6 @@ def test_case2_a_wrong_folder_is_refused_without_reading_it_all(tmp_path):
             pass
     assert str(err.value) == _foreign_message(
         target, [f"d{k:02d}/notes.txt" for k in range(8)]).replace("; use", " and more; use")
-
-
-def test_case8_a_mount_point_killed_mid_exchange_is_replaced_whole_by_the_next_run(
-        tmp_path, monkeypatch):
-    """In a mount point the entries are exchanged one by one: SIGKILL between two can split
-    the set, but the manifest then knows both sets, so the next run is not refused."""
-    target = _old_set(tmp_path / "vol", monkeypatch, mount=True)
-    proc = _start(_mover_script(target, HOLD, mount=True))
-    assert proc.stdout.readline().strip() == "moved"
-    proc.kill()
-    proc.wait(timeout=EXIT_WAIT)
-    assert set(_set(target)) == set(OLD)                 # every file there, old or new
-    with staged_output(target, ("a.txt",)) as stage:
-        (stage / "a.txt").write_text("next")
-    assert _set(target) == {"a.txt": "next"}
-    assert not any(TMP_MARK in n for n in os.listdir(target))
 
 
 @pytest.mark.parametrize("where", ["out", "reports/out"])
@@ -595,10 +356,10 @@ def test_issue32_a_refused_run_removes_nothing(tmp_path):
     _run_as(target, "analyze", {"a.txt": "m"})
     _gd_lookalikes(tmp_path, target)
     (target / "notes.txt").write_text("the user's")
-    before, beside = _tree(target), _tree(tmp_path)
+    before, beside = tree(target), tree(tmp_path)
     with pytest.raises(InputError, match="did not write: .gd-tmp-abc/keep.txt, notes.txt;"):
         _run_as(target, "analyze", {"a.txt": "m2"})
-    assert _tree(target) == before and _tree(tmp_path) == beside
+    assert tree(target) == before and tree(tmp_path) == beside
 
 
 @pytest.mark.parametrize("name", [".gd-notes.txt", ".gd-backup/old.txt", ".gd-lock"])
@@ -618,22 +379,3 @@ def test_issue32_a_users_gd_names_are_never_deleted(tmp_path, name):
     _run_as(target, "analyze", {"a.txt": "m2"})          # a normal rerun
     assert all((tmp_path / n / "keep.txt").read_text() == "user"
                for n in (".out.gd-prev", ".out.gd-tmp-xyz"))
-
-
-def test_issue32_a_refused_run_keeps_a_killed_runs_temporaries_for_the_next(tmp_path):
-    target = tmp_path / "out"
-    proc = _start(_writer_script(target, HOLD))
-    proc.kill()                                      # SIGKILL: its staging folder stays
-    proc.wait(timeout=EXIT_WAIT)
-    left = _leftovers(tmp_path)
-    assert any(TMP_MARK in n for n in left)
-    target.mkdir()
-    (target / "notes.txt").write_text("the user's")
-    with pytest.raises(InputError, match="did not write: notes.txt"):
-        with staged_output(target):
-            pass
-    assert _leftovers(tmp_path) == left              # refused: nothing removed, still known
-    (target / "notes.txt").unlink()
-    with staged_output(target) as stage:
-        (stage / "a.txt").write_text("1")
-    assert _leftovers(tmp_path) == []

@@ -53,18 +53,15 @@ def _run(args, folder):
 
 
 @pytest.fixture(scope="module")
-def reports(tmp_path_factory):
-    """The main job on the PUMA 560 and the UR5, the sweep and the control report on the
-    PUMA."""
+def reports(tmp_path_factory, shared_reports):
+    """The main job on the PUMA 560 and the UR5 (shared), the sweep (shared) and the control
+    report on the PUMA."""
     tmp = tmp_path_factory.mktemp("text")
     puma = _run(["puma560", str(DATA / "puma560_trajectory.csv")], tmp / "puma")
-    ur5 = _run(["ur5", str(DATA / "ur5_trajectory.csv")], tmp / "ur5")
     csv = str(DATA / "puma560_trajectory.csv")
-    sweep = _run(["sweep", "puma560", csv, csv, "--workers", "1", "--held-out", "0"],
-                 tmp / "sweep")
     control = _run(["control", str(puma / "simplified_model.json"), csv], tmp / "control")
-    return {"puma": (puma, "report"), "ur5": (ur5, "report"),
-            "sweep": (sweep, "sweep_report"), "control": (control, "control_report")}
+    return {"puma": (puma, "report"), "ur5": shared_reports["ur5"],
+            "sweep": shared_reports["sweep"], "control": (control, "control_report")}
 
 
 def _files(reports, which):

@@ -117,7 +117,11 @@ class _CountingEngine:
 
 
 def _count_gd(monkeypatch):
+    """The G-D engine, counting its set points; the derivation cache off (its self-check
+    evaluates the engine at check states of its own, which are not the trajectory's)."""
     from gd_analyze.core.dynamics import dalembert, kernels
+
+    monkeypatch.setenv("GD_ANALYZE_NO_CACHE", "1")
 
     numpy_engine = _CountingEngine(dalembert._gd_chunk, 1)      # _gd_chunk(robot, q, qd)
     compiled = _CountingEngine(kernels.gd_kernel, 0)            # gd_kernel(q, qd, ...)
