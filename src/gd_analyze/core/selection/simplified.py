@@ -131,7 +131,8 @@ class SimplifiedModel:
         As ``program_cache``, for :meth:`functions`.
     choice_cache : (Program, ndarray) or None
         Of the recursive form, where its builder already has them: the program without the
-        drives and the pairs it leaves out (:meth:`.RecursiveModel.choice`), so that
+        drives and the pairs it leaves out
+        (:meth:`gd_analyze.core.symbolic.recursive_model.RecursiveModel.choice`), so that
         :meth:`functions` does not build them again.
 
     Notes
