@@ -92,3 +92,20 @@ def test_quintic_duration_uses_the_default_where_no_limit(no_qdd):
     slow = dataclasses.replace(no_qdd, qd_max=np.full(6, 100.0))   # acceleration-bound
     fast = dataclasses.replace(slow, qdd_max=np.array(slow.qdd_max) * 0 + 1e6)
     assert quintic_duration(slow, q0, q1) > quintic_duration(fast, q0, q1)
+
+
+def test_plan_without_velocity_limits_writes_null_not_nan(tmp_path):
+    """Issue 32: ``plan --duration T --ignore-limits`` on a robot without velocity limits wrote
+    the CSV, then failed (exit 4) on NaN in its provenance; JSON writes no limit as null."""
+    from conftest import ROOT
+
+    text = (ROOT / "data" / "robots" / "two-link.toml").read_text()
+    robot = tmp_path / "nolim.toml"
+    robot.write_text("\n".join(line for line in text.splitlines()
+                               if not line.startswith("qd_max_deg")) + "\n")
+    out = tmp_path / "t.csv"
+    assert main(["plan", str(robot), "-o", str(out), "--duration", "2", "--ignore-limits"]) == 0
+    prov = json.loads(provenance_path(out).read_text())
+    assert prov["qd_max"] == [None, None]
+    assert "null: no limit" in prov["limits_units"]
+    assert read_trajectory(out, 2).t[-1] == pytest.approx(2.0)

@@ -437,6 +437,12 @@ def _check_plan(robot, start, goal, duration):
                                  f"--ignore-limits to plan anyway)", column="--duration")
 
 
+def _limits(values):
+    """Per joint a limit as JSON writes it: a number, or None (null) where there is none (a
+    robot without that limit stores NaN or inf, which JSON cannot hold)."""
+    return [float(v) if math.isfinite(float(v)) else None for v in values]
+
+
 def cmd_plan(args):
     """``plan``: a quintic rest-to-rest trajectory within the robot's limits, written as CSV.
 
@@ -535,9 +541,9 @@ def cmd_plan(args):
         "start_goal_units": "rad (m for a prismatic joint)",
         "setpoints": traj.n_setpoints, "duration_s": float(traj.t[-1]),
         "duration_from": "--duration" if args.duration is not None else "limits",
-        "qd_max": [float(v) for v in robot.qd_max],
-        "qdd_max": [float(v) for v in qdd_max],
-        "limits_units": "rad/s, rad/s^2 (m/s, m/s^2 for a prismatic joint)",
+        "qd_max": _limits(robot.qd_max),
+        "qdd_max": _limits(qdd_max),
+        "limits_units": "rad/s, rad/s^2 (m/s, m/s^2 for a prismatic joint); null: no limit",
         "qdd_max_source": qdd_source,
         "trajectory": traj.source,
     }
