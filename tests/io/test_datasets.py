@@ -31,10 +31,10 @@ def test_reads_back_with_xarray(written, puma):
         from gd_analyze.core.symbolic.base_parameters import base_parameters
 
         # cost rows: exact and pruned recursive (this model), explicit full, chapter and
-        # budget, 3 formulations, Table 3.5 (3), AKB (2); no ladder: the explicit form is not
-        # deployed (the recursive one is cheaper)
+        # budget, 3 formulations, Table 3.5 (3), AKB (2), and the recursive ladder's rungs
+        # other than 0 and the model's EPS (2)
         assert ds.sizes == {"t": 31, "joint": 6, "joint_k": 6, "element": 27, "xyz": 3,
-                            "xyz_k": 3, "cost_model": 13,
+                            "xyz_k": 3, "cost_model": 15, "ladder_tolerance": 4,
                             "base_parameter": base_parameters(puma).rank, "torque_part": 3}
         assert ds.D_tran.dims == ("t", "joint", "joint_k")
         assert ds.element.values[0] == "D11" and ds.element.values[-1] == "h6"

@@ -249,7 +249,7 @@ def test_a_cheaper_explicit_model_not_deployed_is_explained(tmp_path):
     out = tmp_path / "drives"
     assert main(["puma560-drives", str(SHIPPED), "-o", str(out), "--no-report", "-q"]) == 0
     with xr.open_dataset(out / "results.h5") as ds:
-        said = str(ds.attrs["simplified_ladder_skipped"])
+        said = str(ds.attrs["simplified_form_note"])
     spec = json.loads((out / "simplified_model.json").read_text())
     assert spec["form"] == "recursive" and spec["guarantee"]["kind"] == "region"
     rec, ex = (int(v.replace(",", "")) for v in re.search(

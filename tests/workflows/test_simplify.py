@@ -157,16 +157,17 @@ def test_report_section_reads_the_stored_dataset(tmp_path, capsys):
                             "simplified_model_casadi.py"]
     labels = [row[0] for row in ctx["costs"]["rows"]]
     assert "AKB 1986 simplified (1 %)" in labels and "project N-E as implemented" in labels
-    # the recursive form is deployed (cheaper): the explicit form's ladder is not built, and
-    # the report says so instead of a table
-    assert ctx["ladder"] is None
+    # the recursive form is deployed (cheaper): the ladder is of that form, and the note
+    # beside the cost table says the explicit one is dearer
+    assert ctx["ladder"] is not None and not ctx["ladder_note"]
+    assert ctx["ladder_heading"] == "5.5 Tolerance ladder of the recursive form"
+    assert len(ctx["ladder"]["rows"]) == ds.sizes["ladder_tolerance"] == 4
     total = dict(zip(ds["cost_model"].values, ds["cost_total"].values))
     rec = total["recursive N-E, budget EPS=0.01 (this model)"]
     ex = total["explicit, budget EPS=0.01"]
     assert rec < ex
-    assert ctx["ladder_note"].startswith("Tolerance ladder not built: the deployed model is "
-                                         "the pruned recursive one")
-    assert f"{int(rec):,} operations" in ctx["ladder_note"] and f"{int(ex):,}" in ctx["ladder_note"]
+    assert ctx["form_note"].startswith("The deployed model is the pruned recursive one")
+    assert f"{int(rec):,} operations" in ctx["form_note"] and f"{int(ex):,}" in ctx["form_note"]
     # the stored bound holds the measured error
     assert (ds["tau_error_peak"].values <= ds["simplified_bound"].values + 1e-12).all()
     assert (ds["simplified_bound"].values <= 0.01 * ds["simplified_scale"].values).all()
@@ -206,9 +207,10 @@ def test_ladder_is_skipped_when_the_explicit_model_cannot_pay(tmp_path, monkeypa
 @pytest.mark.slow
 def test_form_recursive_derives_no_explicit_model_and_says_so(tmp_path, capsys):
     """Under --form recursive the explicit model cannot be deployed: --explicit auto does not
-    derive it (no explicit costs, no ladder), the report says it was not derived instead of
-    showing a count; the deployed model is the one of the default form (the recursive one is
-    the cheaper on the shipped trajectory). --explicit always still derives it."""
+    derive it (no explicit costs), the report says it was not derived instead of showing a
+    count, and the ladder is of the recursive form; the deployed model is the one of the
+    default form (the recursive one is the cheaper on the shipped trajectory). --explicit
+    always still derives it."""
     import xarray as xr
 
     assert main(["puma560", str(SHIPPED), "-o", str(tmp_path / "rec"), "-q",
@@ -222,11 +224,12 @@ def test_form_recursive_derives_no_explicit_model_and_says_so(tmp_path, capsys):
     assert not any(k.startswith("explicit") for k in rec["costs"])
     assert any(k.startswith("explicit") for k in default["costs"])
     with xr.open_dataset(tmp_path / "rec" / "results.h5", engine="h5netcdf") as ds:
-        assert "not derived under --form recursive" in ds.attrs["simplified_ladder_skipped"]
+        assert ds.attrs["simplified_ladder_form"] == "recursive"
+        assert "simplified_ladder_skipped" not in ds.attrs
         assert not any(str(m).startswith("explicit") for m in ds["cost_model"].values)
     html = (tmp_path / "rec" / "report.html").read_text(encoding="utf-8")
     assert "the full explicit model was not derived" in html
-    assert "Tolerance ladder not built: the explicit G-D model is not derived" in html
+    assert "Tolerance ladder of the recursive form" in html
     assert main(["puma560", str(SHIPPED), "-o", str(tmp_path / "always"), "-q", "--no-report",
                  "--form", "recursive", "--explicit", "always"]) == 0
     always = json.loads((tmp_path / "always" / "simplified_model.json").read_text())

@@ -271,6 +271,8 @@ def fig_error_budget(ds, width=_PAGE):
 
 #: Markers of the cost figure: measured worst error (filled) or a bound or stated figure
 #: (open).
+#: Below this worst error [%] the cost figure's y axis is linear (symmetric log above).
+_COST_LINEAR = 0.01
 _COST_STYLE = {"exact": ("o", "#000000"), "model": ("*", "#D55E00"),
                "ladder": ("s", "#0072B2"), "chapter": ("^", "#009E73"),
                "bound": ("s", "#0072B2"), "akb": ("P", "#CC79A7")}
@@ -299,6 +301,9 @@ def cost_points(ds):
     safe = np.where(scale > 0, scale, np.inf)
     worst = float(np.max(np.asarray(ds["tau_error_peak"].values, float) / safe))
     eps = float(ds.attrs.get("simplified_tolerance", np.nan))
+    laddered = "ladder_tolerance" in ds.variables
+    rungs = ("recursive N-E" if str(ds.attrs.get("simplified_ladder_form", "explicit"))
+             == "recursive" else "explicit") + ", budget"
     points = []
     for label, ops in total.items():
         if label.startswith(("Table 3.5", "project L-E", "project G-D")):
@@ -312,18 +317,26 @@ def cost_points(ds):
             err = rel * np.asarray(ds["tau_peak"].values, float) / safe
             if np.isfinite(err).any():          # no torque at all: nothing measured
                 points.append((label, ops, float(np.nanmax(err)), "chapter"))
-        elif "budget" in label and "ladder_tolerance" not in ds.variables:
+        elif "budget" in label and not (laddered and label.startswith(rungs)):
             points.append((label + " (bound)", ops, eps, "bound"))
         elif "exact" in label or "full" in label or "N-E as implemented" in label:
             points.append((label, ops, 0.0, "exact"))
-    if "ladder_tolerance" in ds.variables:
-        built = {(p[1], round(p[2], 12)) for p in points if p[3] == "model"}
+    if laddered:
+        built = {p[1] for p in points if p[3] == "model"}
+        exact = {p[1] for p in points if p[3] == "exact"}
         for tol, ops, err in zip(ds["ladder_tolerance"].values, ds["ladder_operations"].values,
                                  ds["ladder_worst_error"].values):
-            if (float(ops), round(float(err), 12)) in built:   # the model built: said once
-                continue
-            points.append((f"explicit, budget \u03b5 = {float(tol):g}", float(ops), float(err),
-                           "ladder"))
+            if (float(tol) == eps and float(ops) in built) or (float(tol) == 0
+                                                              and float(ops) in exact):
+                continue                  # the model built, or an exact one: said once
+            rung = f"{rungs} \u03b5 = {float(tol):g}"
+            same = [k for k, p in enumerate(points) if p[1] == float(ops)
+                    and abs(p[2] - float(err)) <= 1e-12]
+            if same:                      # the same model as a point drawn: one point
+                k = same[0]
+                points[k] = (f"{points[k][0]} (= {rung})", *points[k][1:])
+            else:
+                points.append((rung, float(ops), float(err), "ladder"))
     return points
 
 
@@ -341,7 +354,8 @@ def fig_cost_ladder(ds, width=_PAGE):
     -------
     matplotlib.figure.Figure
         x: operations per set point (multiplications + additions, log scale); y: worst
-        relative error [%]; the ladder's models joined by a line; each point numbered, the
+        relative error [%] (symmetric log: linear below 0.01 %); the ladder's models joined
+        by a line; each point numbered, the
         numbers named in a key below.
     """
     from matplotlib.ticker import FixedLocator, FuncFormatter, NullFormatter
@@ -364,7 +378,12 @@ def fig_cost_ladder(ds, width=_PAGE):
         ax.plot(ds["ladder_operations"].values[order],
                 100 * ds["ladder_worst_error"].values[order], color="#0072B2",
                 linewidth=0.8, linestyle="--")
-    top = max([100 * p[2] for p in points] + [0.1]) * 1.35
+    # a symmetric log axis: the ladder's small errors apart from the chapter rule's large one
+    # (linear below _COST_LINEAR %, where 0 sits)
+    ax.set_yscale("symlog", linthresh=_COST_LINEAR, linscale=0.5)
+    top = max([100 * p[2] for p in points] + [10 * _COST_LINEAR]) * 2.5
+    ty = ax.yaxis.get_transform().transform
+    span = float(ty(np.array([top]))[0] - ty(np.array([0.0]))[0])
     points = sorted(points, key=lambda p: (p[1], -p[2]))
     lift, last = 0, None
     for k, (label, ops, err, kind) in enumerate(points):
@@ -375,9 +394,10 @@ def fig_cost_ladder(ds, width=_PAGE):
                 markerfacecolor=colour if filled else "white", markeredgewidth=0.9,
                 label=names[kind] if kind not in seen else None, zorder=3)
         seen.add(kind)
-        near = last is not None and ops < 1.15 * last[0] and abs(100 * err - last[1]) < 0.1 * top
+        y = float(ty(np.array([100 * err]))[0])
+        near = last is not None and ops < 1.15 * last[0] and abs(y - last[1]) < 0.1 * span
         lift = lift + 1 if near else 0          # close points: numbers around them in turn
-        last = (ops, 100 * err)
+        last = (ops, y)
         dx, dy = ((5, 3), (-5, 3), (5, -11), (-5, -11))[lift % 4]
         ax.annotate(str(k + 1), (ops, 100 * err), xytext=(dx, dy + 12 * (lift // 4)),
                     textcoords="offset points", fontsize=7, color="0.15", va="bottom",
@@ -395,8 +415,11 @@ def fig_cost_ladder(ds, width=_PAGE):
     ax.xaxis.set_major_locator(FixedLocator(ticks))
     ax.xaxis.set_major_formatter(FuncFormatter(lambda v, pos=None: f"{v:,.0f}"))  # 1,000
     ax.xaxis.set_minor_formatter(NullFormatter())
-    ax.set_ylim(-0.06 * top, top)
-    set_ticks(ax.yaxis, 0, top / 1.35, 4)
+    ax.set_ylim(-0.25 * _COST_LINEAR, top)
+    ax.yaxis.set_major_locator(FixedLocator(
+        [0.0] + [_COST_LINEAR * 10.0 ** k for k in range(8) if _COST_LINEAR * 10.0 ** k < top]))
+    ax.yaxis.set_major_formatter(FuncFormatter(lambda v, pos=None: f"{v:g}"))
+    ax.yaxis.set_minor_locator(FixedLocator([]))
     ax.set_xlabel("operations per set point" + ("" if column else
                                                  " (multiplications + additions)"),
                   labelpad=1.0)

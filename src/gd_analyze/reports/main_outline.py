@@ -152,6 +152,8 @@ def main_outline(ctx, figures):
         if sm["costs"]:
             o.section("5.4", "Cost per set point (counted)")
             o.table(sm["costs"], "Operations per set point, counted on each model's code.")
+            if sm["form_note"]:
+                o.paragraph(sm["form_note"], "note")
             o.figure("cost_ladder", BUDGET_CAPTIONS["cost_ladder"])
         if sm["ladder"] or sm["ladder_note"]:
             o.section(*_split(sm["ladder_heading"]))

@@ -210,20 +210,31 @@ def simplified_context(ds):
                            ds["cost_additions"].values, ds["cost_total"].values)],
                       align=["left", "right", "right", "right"], widths=[3, 1, 1, 1])
     if "ladder_operations" in ds.variables:
-        ladder = table(["\u03b5", "operations", "sin + cos", "worst error on this trajectory "
-                        "(guaranteed \u2264 \u03b5)"],
-                       [[f"{e:g}", _int(o), _int(tr), w] for e, o, tr, w in
+        region = str(a.get("simplified_guarantee_kind", "")) == "region"
+        has_bound = "ladder_worst_bound" in ds.variables
+        ladder = table(["\u03b5", "operations", "sin + cos",
+                        f"worst measured peak |\u03c4\u209b\u00a0\u2212\u00a0\u03c4| / {_S_I} on "
+                        "this trajectory" + ("" if has_bound else " (guaranteed \u2264 \u03b5)")]
+                       + ([f"largest bound / {_S_I}, "
+                           + ("proved over the joint-limit region" if region else
+                              "on this trajectory") + " (\u2264 \u03b5)"] if has_bound else []),
+                       [[f"{e:g}", _int(o), _int(tr), w, *b] for e, o, tr, w, *b in
                         zip(ds["ladder_tolerance"].values, ds["ladder_operations"].values,
                             ds["ladder_trig"].values, pct_column(   # relative: own scale 1
                                 ds["ladder_worst_error"].values,
-                                is_round_off(ds["ladder_worst_error"].values, 1.0)))],
-                       align=["right"] * 4)
+                                is_round_off(ds["ladder_worst_error"].values, 1.0)),
+                            *([pct_column(ds["ladder_worst_bound"].values,
+                                          is_round_off(ds["ladder_worst_bound"].values, 1.0))]
+                              if has_bound else []))],
+                       align=["right"] * (4 + has_bound))
     skipped = str(ds.attrs.get("simplified_ladder_skipped", "")) if ladder is None else ""
+    ladder_form = str(a.get("simplified_ladder_form", "explicit"))
     return {"text": text, "bound": bound, "costs": costs, "ladder": ladder, "files": files,
             "prefix": str(a.get("c_prefix", "")),
             "rule": rule, "tolerance": eps,
-            "ladder_heading": "5.5 Tolerance ladder" + (" of the explicit form"
-                                                         if form == "recursive" else ""),
+            "form_note": str(a.get("simplified_form_note", "")),
+            "ladder_heading": "5.5 Tolerance ladder" + (
+                f" of the {ladder_form} form" if ladder is not None else ""),
             "ladder_note": f"Tolerance ladder {skipped}." if skipped else ""}
 
 

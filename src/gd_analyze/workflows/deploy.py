@@ -371,7 +371,8 @@ def recursive_simplified(robot, rec, base, tolerance=DEFAULT_TOLERANCE, torque_f
         trajectory_sha256=trajectory_sha256, provenance=dict(provenance or {}), rule="budget",
         tolerance=float(tolerance), torque_floor=float(torque_floor), terms=None,
         recursive=rec, bound=[float(v) for v in rec.bound],
-        costs={"exact recursive": exact}, program_cache=program, choice_cache=choice,
+        costs={"exact recursive": exact}, program_cache=program,
+        choice_cache=(*choice, exact_program),
         guarantee=guarantee)
     return replace_cost(model, program.cost())
 
@@ -462,10 +463,14 @@ def deploy_models(robot, trajectory, ranking, part_peaks, options, provenance, b
     size is cheap
     (:func:`gd_analyze.core.symbolic.explicit_estimate.is_expensive`). Under the budget rule and
     ``form="cheapest"`` the cheaper of the pruned recursive and pruned explicit models is
-    deployed (multiplications + additions; the recursive one on a tie).
+    deployed (multiplications + additions; the recursive one on a tie). The tolerance ladder
+    is of the form deployed (:func:`.recursive_ladder.recursive_ladder` for the recursive one,
+    pruned as it is).
     """
     from ..formulations.opcount import operation_counts
+    from .recursive_ladder import recursive_ladder
     from .simplify import (
+        LADDER,
         build_model,
         build_recursive,
         collect_peaks,
@@ -477,7 +482,7 @@ def deploy_models(robot, trajectory, ranking, part_peaks, options, provenance, b
     )
 
     tolerance, rule, torque_floor = options.tolerance, options.rule, options.torque_floor
-    explicit, form = options.explicit, options.form
+    form = options.form
     q, qd, qdd = trajectory.q, trajectory.qd, trajectory.qdd
     common = dict(ranking=ranking, trajectory_sha256=trajectory.sha256, provenance=provenance)
     counts = operation_counts(robot)
@@ -492,7 +497,7 @@ def deploy_models(robot, trajectory, ranking, part_peaks, options, provenance, b
     ne = counts["newton-euler"]
     ne = {"multiplications": int(ne["multiplications"]), "additions": int(ne["additions"])}
     derive = "explicit" in background
-    model, sel, other, rows, skipped = rec, rec_sel, None, [], ""
+    model, sel, other, rows, skipped, form_note = rec, rec_sel, None, [], "", ""
     costs = {"exact recursive": exact, "recursive, budget": dict(rec.cost),
              "newton-euler": ne}
     if derive:
@@ -511,33 +516,26 @@ def deploy_models(robot, trajectory, ranking, part_peaks, options, provenance, b
         # proved over the region: the exact explicit model (bound 0) where it is cheaper
         exact_explicit = (not deployed and proved and form == "cheapest"
                           and exact_explicit_wins(rec.cost, ex.full_cost))
-        # the ladder is of the explicit form: built only where that form is deployed
-        skipped = ladder_skipped(ex.full_cost, counts) if deployed else (
-            "not built: the deployed model is the exact explicit one, which holds over the "
-            "whole region, and the ladder prunes on the trajectory") if exact_explicit else (
-            f"not built: the deployed model is the pruned recursive one ({_ops(rec.cost):,} "
-            f"operations against the pruned explicit one's {_ops(ex.cost):,}"
-            + (", --form recursive" if form != "cheapest" else
-               ", whose bound holds on this trajectory only, while the recursive one's is "
-               "proved over the joint-limit region" if proved and _ops(ex.cost) < _ops(rec.cost)
-               else "")
-            + "), and the ladder is of the explicit form")
-        rows = [] if skipped else ladder(robot, terms, peaks, [(q, qd, qdd)],
-                                         torque_floor=torque_floor,
-                                         reference=full_torque(robot, terms))
-        if deployed:
+        if deployed:                            # the ladder of the form deployed
             model, sel = ex, ex_sel
+            skipped = ladder_skipped(ex.full_cost, counts)
+            rows = [] if skipped else ladder(robot, terms, peaks, [(q, qd, qdd)],
+                                             torque_floor=torque_floor,
+                                             reference=full_torque(robot, terms))
         elif exact_explicit:
             full, sel = build_model(robot, terms, peaks, tolerance=0.0, rule="budget",
                                     torque_floor=torque_floor,
                                     chapter_choices=ranking.choices(), **common)
             model = exact_explicit_model(full, rec.guarantee, tolerance)
-    else:
-        skipped = ("not built: the explicit G-D model of this arm is estimated too large to "
-                   "pay (give --explicit always to derive it)") if form != "recursive" or \
-            explicit == "never" else ("not built: the explicit G-D model is not derived under "
-                                      "--form recursive, where it cannot be deployed (give "
-                                      "--explicit always to derive it)")
+            skipped = ("not built: the deployed model is the exact explicit one, which holds "
+                       "over the whole region, and the ladder prunes on the trajectory")
+        else:
+            form_note = _not_deployed(rec, ex, form, proved)
+    if model is rec:                            # the recursive form's ladder
+        base, contributions = background["recursive"].result()
+        rows = recursive_ladder(robot, base, (q, qd, qdd), LADDER, torque_floor,
+                                region=region if proved else None, contributions=contributions,
+                                deployed=rec)
     model = dataclasses.replace(model, costs=costs,
                                 full_cost=dict(costs.get("explicit, full", model.full_cost)),
                                 program_cache=model.program(),
@@ -552,6 +550,10 @@ def deploy_models(robot, trajectory, ranking, part_peaks, options, provenance, b
                                    full_terms=terms if derive else None)
         if skipped:
             extra.attrs["simplified_ladder_skipped"] = skipped
+        if rows:
+            extra.attrs["simplified_ladder_form"] = model.form
+        if form_note:
+            extra.attrs["simplified_form_note"] = form_note
         return extra
 
     return model, other, finish
@@ -625,6 +627,15 @@ def _trajectory_guarantee(model, sel, trajectory, missing=""):
                      region_missing=missing,
                      method="sum of the dropped terms' peak contributions on the trajectory "
                             "(triangle inequality)")
+
+
+def _not_deployed(rec, ex, form, proved):
+    """Why the pruned explicit model is not deployed beside the recursive one (issue 31)."""
+    why = (", --form recursive" if form != "cheapest" else
+           ", whose bound holds on this trajectory only, while the recursive one's is proved "
+           "over the joint-limit region" if proved and _ops(ex.cost) < _ops(rec.cost) else "")
+    return (f"The deployed model is the pruned recursive one ({_ops(rec.cost):,} operations "
+            f"against the pruned explicit one's {_ops(ex.cost):,}{why}).")
 
 
 def _ops(cost):

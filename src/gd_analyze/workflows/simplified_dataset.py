@@ -33,7 +33,9 @@ def cost_rows(n, model, other=None, ladder_rows=None, formulation_counts=None):
     other : SimplifiedModel, optional
         The model of the other rule, side by side.
     ladder_rows : list of dict, optional
-        From :func:`~gd_analyze.workflows.simplify.ladder`.
+        From :func:`~gd_analyze.workflows.simplify.ladder`, or from
+        :func:`~gd_analyze.workflows.recursive_ladder.recursive_ladder` for a model of the
+        recursive form.
     formulation_counts : dict, optional
         :func:`gd_analyze.formulations.opcount.operation_counts` (as implemented); by default
         counted.
@@ -64,9 +66,12 @@ def cost_rows(n, model, other=None, ladder_rows=None, formulation_counts=None):
     same = {row(model.full_cost)} if model.full_cost else set()     # a rung that is the full
     if model.form == "explicit" and model.rule == "budget":          # model or this one is
         same.add(row(model.cost))                                    # listed once, as such
+    if model.form == "recursive" and "exact recursive" in rec:      # its ladder's ends
+        same |= {row(rec["exact recursive"]), row(model.cost)}
     for r in ladder_rows or []:
         if not ((r["tolerance"] == 0 or r["tolerance"] == model.tolerance) and row(r) in same):
-            rows[f"explicit, budget EPS={r['tolerance']:g}"] = row(r)
+            rows[("recursive N-E" if model.form == "recursive" else "explicit")
+                 + f", budget EPS={r['tolerance']:g}"] = row(r)
     for m in (model, other):
         if m is not None and m.form == "explicit":
             eps = "" if m.rule == "chapter" else f" EPS={m.tolerance:g}"
@@ -276,6 +281,10 @@ def simplified_dataset(model, selection, other=None, ladder_rows=None, cost_tabl
                                       "worst peak |tau_s - tau| / scale_i on the trajectory "
                                       "(guaranteed <= EPS)"),
         })
+        if all("worst_relative_bound" in r for r in ladder_rows):
+            dv["ladder_worst_bound"] = var(("ladder_tolerance",),
+                                           [r["worst_relative_bound"] for r in ladder_rows],
+                                           "1", "largest bound_i / scale_i (<= EPS)")
     if other is not None and other_error is not None:
         dv.update({
             "other_rule_choice": var(("element",), np.array(

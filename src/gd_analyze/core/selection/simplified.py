@@ -129,11 +129,12 @@ class SimplifiedModel:
         not checked.
     functions_cache : ModelFunctions or None
         As ``program_cache``, for :meth:`functions`.
-    choice_cache : (Program, ndarray) or None
+    choice_cache : tuple or None
         Of the recursive form, where its builder already has them: the program without the
         drives and the pairs it leaves out
         (:meth:`gd_analyze.core.symbolic.recursive_model.RecursiveModel.choice`), so that
-        :meth:`functions` does not build them again.
+        :meth:`functions` does not build them again; a third item, where built, is the exact
+        recursive program it was compared with.
 
     Notes
     -----

@@ -1,0 +1,98 @@
+"""The tolerance ladder of the pruned recursive model (issue 31): its cost and error per EPS.
+
+For each EPS of the ladder the recursive model is pruned as the deployed one is (on bounds
+proved over the joint-limit region, or on the trajectory's peaks), its program built and
+counted, and its torque error measured on the trajectory. Nothing here prints or writes files
+(the region searches go through the derivation cache, :mod:`gd_analyze.io.search_cache`).
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+__all__ = ["recursive_ladder"]
+
+
+def recursive_ladder(robot, base, trajectory, tolerances, torque_floor=0.0, region=None,
+                     contributions=None, deployed=None):
+    """The pruned recursive model's cost and measured worst error at each tolerance EPS.
+
+    Parameters
+    ----------
+    robot : Robot
+        The arm, with n joints.
+    base : BaseParameters
+        Its b base parameters.
+    trajectory : (ndarray, ndarray, ndarray)
+        q, qd, qdd, each of shape (N, n) [rad, rad/s, rad/s^2; m, m/s, m/s^2].
+    tolerances : sequence of float
+        EPS of each rung, each >= 0.
+    torque_floor : float, optional
+        TAU [N m or N].
+    region : Region, optional
+        Prune on bounds proved over this joint-limit region, as
+        :func:`gd_analyze.workflows.deploy.build_recursive` does (its searches kept in the
+        derivation cache); None: prune on the trajectory's peaks.
+    contributions : tuple of ndarray, optional
+        The pairs' peaks on the trajectory
+        (:func:`gd_analyze.core.symbolic.pruning.contribution_peaks`), when the caller has them.
+    deployed : SimplifiedModel, optional
+        The recursive model built at one of the tolerances
+        (:func:`gd_analyze.workflows.deploy.recursive_simplified`): its rung takes its program
+        instead of building it again, and every rung its exact program.
+
+    Returns
+    -------
+    list of dict
+        Per EPS: ``tolerance``; ``multiplications``, ``additions``, ``sin``, ``cos`` of the
+        rung's program with the drives (:func:`gd_analyze.core.model.drives.with_drives`);
+        ``worst_relative_error``: max over joints of peak |tau_s - tau| / s_i on the
+        trajectory, tau from the exact recursive program and s_i the rung's scale (over the
+        region, or the trajectory's peak |tau_i| with the floor); ``worst_relative_bound``: max over joints of
+        its bound / s_i (<= EPS).
+
+    Raises
+    ------
+    ValueError
+        If a tolerance is negative or not finite (:func:`.pruning.prune_bounds`).
+
+    Notes
+    -----
+    Fu, Gonzalez & Lee (1987), Algorithm 3.1 on the base parameters (Khalil & Kleinfinger
+    1987; Gautier 1990), pruned as :func:`gd_analyze.workflows.deploy.build_recursive`; the
+    error bound is the triangle inequality over the dropped pairs.
+    """
+    from ..core.model.drives import with_drives
+    from ..core.symbolic.emit import python_function
+    from ..core.symbolic.recursive import recursive_program
+    from ..core.symbolic.recursive_model import recursive_model
+    from .deploy import _searched
+
+    q, qd, qdd = trajectory
+    built = getattr(deployed, "choice_cache", None) or ()
+    exact = built[2] if len(built) > 2 else recursive_program(robot, base.values)
+    reference = python_function(exact)(q, qd, qdd)
+    rows = []
+    for eps in tolerances:
+        eps = float(eps)
+        if deployed is not None and eps == float(deployed.tolerance):
+            rec, program = deployed.recursive, deployed.choice_cache[0]
+        else:
+            if region is not None:
+                rec, _, forms, store = _searched(robot, base, region, eps, torque_floor)
+            else:
+                rec = recursive_model(robot, q, qd, qdd, eps, torque_floor, base=base,
+                                      peaks=contributions)
+                forms, store = None, None
+            program = rec.choice(robot, exact=exact, forms=forms[1] if forms and
+                                 rec.dropped.any() else None)[0]
+            if store is not None:
+                store(exact.forms, None if program is exact else program.forms)
+        tau = reference if program is exact else python_function(program)(q, qd, qdd)
+        scale = np.asarray(rec.scale, float)
+        safe = np.where(scale > 0, scale, np.inf)
+        err = np.abs(np.asarray(tau) - reference).max(axis=0) if len(q) else np.zeros(robot.n)
+        rows.append({"tolerance": eps, **with_drives(program, robot).cost(),
+                     "worst_relative_error": float(np.max(err / safe)),
+                     "worst_relative_bound": float(np.max(np.asarray(rec.bound, float) / safe))})
+    return rows

@@ -1,0 +1,97 @@
+"""The tolerance ladder of the pruned recursive model (issue 31: ``fig_cost_ladder`` had no
+ladder where the recursive model is deployed, the default).
+
+Oracles: Pinocchio's rnea (each rung's error, rebuilt independently from the pruning it
+states), and the budget (the measured error is within the bound, the bound within EPS s_i).
+"""
+
+import json
+
+import numpy as np
+import pytest
+from conftest import SHIPPED
+
+from gd_analyze import load_robot
+from gd_analyze.cli import main
+from gd_analyze.core.symbolic.base_parameters import base_parameters
+from gd_analyze.core.symbolic.emit import python_function
+from gd_analyze.core.symbolic.recursive_model import recursive_model
+from gd_analyze.io.trajectory import read_trajectory
+from gd_analyze.workflows.deploy import region_model, robot_region
+from gd_analyze.workflows.recursive_ladder import recursive_ladder
+from gd_analyze.workflows.simplify import LADDER
+
+
+def _rnea(robot, q, qd, qdd):
+    import pinocchio as pin
+
+    from gd_analyze.formulations.pinocchio import pinocchio_model
+
+    model = pinocchio_model(robot)
+    data = model.createData()
+    return np.array([pin.rnea(model, data, *x).copy() for x in zip(q, qd, qdd)])
+
+
+@pytest.fixture(scope="module")
+def puma():
+    robot = load_robot("puma560")
+    traj = read_trajectory(SHIPPED, 6)
+    states = (traj.q, traj.qd, traj.qdd)
+    return robot, base_parameters(robot), states, _rnea(robot, *states)
+
+
+@pytest.mark.parametrize("proved", [True, False], ids=["region", "trajectory"])
+def test_each_rung_s_error_is_that_of_its_model_against_rnea(puma, proved):
+    """Each rung's stored worst error is its own model's, rebuilt here from the pruning it
+    states (region or trajectory) and measured against Pinocchio's rnea, relative to that
+    model's s_i; its bound is within EPS s_i and holds the error; a larger EPS never costs
+    more operations on the PUMA 560."""
+    robot, base, states, ref = puma
+    region, _ = robot_region(robot)
+    rows = recursive_ladder(robot, base, states, LADDER, region=region if proved else None)
+    assert [r["tolerance"] for r in rows] == list(LADDER)
+    for r in rows:
+        eps = r["tolerance"]
+        rec = region_model(robot, base, region, eps)[0] if proved else \
+            recursive_model(robot, *states, eps, base=base)
+        program = rec.choice(robot)[0]
+        tau = python_function(program)(*states)
+        scale = np.asarray(rec.scale, float)
+        worst = float(np.max(np.abs(tau - ref).max(axis=0) / scale))
+        np.testing.assert_allclose(r["worst_relative_error"], worst, rtol=1e-6, atol=1e-12)
+        assert r["worst_relative_error"] <= r["worst_relative_bound"] + 1e-12
+        assert r["worst_relative_bound"] <= eps * (1 + 1e-12)
+    ops = [r["multiplications"] + r["additions"] for r in rows]
+    assert ops == sorted(ops, reverse=True) and ops[-1] < ops[0], ops
+
+
+def test_the_default_run_stores_and_draws_the_recursive_ladder(tmp_path):
+    """The default PUMA run deploys the recursive model pruned over the region; results.h5
+    holds its ladder (one rung per EPS, the deployed model's counts at its EPS, the exact
+    recursive model's at 0), the cost table lists the other rungs, and the report's Sec. 5.5
+    and Fig. 7's key name them."""
+    import xarray as xr
+
+    from gd_analyze.reports.budget_figures import cost_points
+
+    out = tmp_path / "puma"
+    assert main(["puma560", str(SHIPPED), "-o", str(out), "-q"]) == 0
+    spec = json.loads((out / "simplified_model.json").read_text())
+    assert spec["form"] == "recursive" and spec["guarantee"]["kind"] == "region"
+    with xr.open_dataset(out / "results.h5", engine="h5netcdf") as ds:
+        ds = ds.load()
+    assert ds.attrs["simplified_ladder_form"] == "recursive"
+    assert "simplified_ladder_skipped" not in ds.attrs
+    ops = dict(zip(ds["ladder_tolerance"].values.tolist(), ds["ladder_operations"].values))
+    assert list(ops) == list(LADDER)
+    cost = spec["cost"]["multiplications"] + spec["cost"]["additions"]
+    exact = spec["costs"]["exact recursive"]
+    assert ops[0.01] == cost and ops[0.0] == exact["multiplications"] + exact["additions"]
+    labels = [str(v) for v in ds["cost_model"].values]
+    assert "recursive N-E, budget EPS=0.05" in labels
+    keyed = [p[0] for p in cost_points(ds) if p[3] == "ladder"]
+    assert "recursive N-E, budget \u03b5 = 0.05" in keyed
+    assert not any("\u03b5 = 0.01" in k for k in keyed)     # the model built: said once
+    html = (out / "report.html").read_text(encoding="utf-8")
+    assert "Tolerance ladder of the recursive form" in html
+    assert "proved over the joint-limit region (\u2264 \u03b5)" in html
