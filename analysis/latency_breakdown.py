@@ -44,7 +44,7 @@ TIMED = (
     ("gd_analyze.workflows.run", "run_analysis", "run_analysis"),
     ("gd_analyze.workflows.analyze", "analyze_to_file", "analyze_to_file"),
     ("gd_analyze.workflows.analyze", "_verify_sample", "verify"),
-    ("gd_analyze.workflows.deploy", "deploy_models", "simplified_model"),
+    ("gd_analyze.workflows.deployment", "deploy_models", "simplified_model"),
     ("gd_analyze.reports.main", "write_report", "write_report"),
     ("gd_analyze.io.schema", "open_results", "report_read_results"),
     ("gd_analyze.reports.main", "_html", "report_html"),

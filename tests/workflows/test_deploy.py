@@ -214,7 +214,8 @@ def test_the_exact_explicit_model_keeps_terms_idle_on_its_trajectory():
     peaks may drop), and equals rnea at random states of the region."""
     from gd_analyze.io.explicit_cache import explicit_terms
     from gd_analyze.io.planning import default_motion, plan_quintic
-    from gd_analyze.workflows.deploy import exact_explicit_model, region_model, robot_region
+    from gd_analyze.workflows.deploy import region_model, robot_region
+    from gd_analyze.workflows.deployment import exact_explicit_model
     from gd_analyze.workflows.simplify import build_model, collect_peaks
 
     puma = load_robot("puma560")

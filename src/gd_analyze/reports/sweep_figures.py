@@ -355,14 +355,16 @@ def _fig_error(ds, width=_PAGE_WIDTH):
     ax.set_xlim(0.4, n + 0.6)
     region = ds.attrs.get("merged_guarantee_kind") == "region"     # merged: / s_i over R
     ax.set_ylabel("peak |\u03c4\u209b \u2212 \u03c4| / peak |\u03c4| [1]" if not region else
-                  "peak |\u03c4\u209b \u2212 \u03c4| / peak |\u03c4|, merged: / s\u1d62 [1]")
+                  "peak |\u03c4\u209b \u2212 \u03c4|, relative [1]")    # each curve's own scale
     own_rule, rule = (str(ds.attrs.get(k, "chapter")) for k in ("own_model_rule", "merged_rule"))
     no_bound = {"chapter": ", no bound"}
     merged_rule = (f"budget rule, \u03b5 = {float(ds.attrs['merged_tolerance']):g}"
                    + ("; / s\u1d62 over the region" if region else "")
                    if rule == "budget" else f"{rule} rule{no_bound.get(rule, '')}")
     ax.legend(handles=[Line2D([], [], color=_OWN_COLOUR, label=f"own models ({own_rule} rule"
-                              f"{no_bound.get(own_rule, '')}), per trajectory"),
+                              f"{no_bound.get(own_rule, '')}"
+                              + ("; / peak |\u03c4| of the trajectory" if region else "")
+                              + "), per trajectory"),
                        Line2D([], [], color=_MERGED_COLOUR,
                               label=f"merged model ({merged_rule}), per trajectory"),
                        Line2D([], [], color="#CC79A7", marker="D", ls="none",

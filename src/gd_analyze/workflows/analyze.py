@@ -24,7 +24,7 @@ from ..core.dynamics.dalembert import GDTerms, allocate_terms, gd_terms
 from ..core.model.drives import has_drives
 from ..core.selection.simplified import SimplifiedModel, simplified_torque
 from ..formulations.compare import FORMULATIONS_MAX_SETPOINTS
-from .deploy import deploy_models
+from .deployment import deploy_models
 from .options import AnalysisOptions
 
 __all__ = ["Analysis", "AnalysisPass", "analysis_pass", "analyze", "analyze_to_file", "verify",

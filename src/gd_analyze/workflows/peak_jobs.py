@@ -45,7 +45,7 @@ def derives_explicit(robot, options):
 
 def proves_over_region(robot, options):
     """Whether the main job prunes the recursive model on bounds proved over the robot's
-    joint-limit region, as :func:`gd_analyze.workflows.deploy.deploy_models` decides it.
+    joint-limit region, as :func:`gd_analyze.workflows.deployment.deploy_models` decides it.
 
     Parameters
     ----------

@@ -54,7 +54,7 @@ def recursive_ladder(robot, base, trajectory, tolerances, torque_floor=0.0, regi
     Raises
     ------
     ValueError
-        If a tolerance is negative or not finite (:func:`.pruning.prune_bounds`).
+        If a tolerance is negative or not finite (:func:`gd_analyze.core.symbolic.pruning.prune_bounds`).
 
     Notes
     -----
@@ -79,7 +79,8 @@ def recursive_ladder(robot, base, trajectory, tolerances, torque_floor=0.0, regi
             rec, program = deployed.recursive, deployed.choice_cache[0]
         else:
             if region is not None:
-                rec, _, forms, store = _searched(robot, base, region, eps, torque_floor)
+                rec, _, forms, store = _searched(robot, base, region, eps, torque_floor,
+                                                 sampled=False)
             else:
                 rec = recursive_model(robot, q, qd, qdd, eps, torque_floor, base=base,
                                       peaks=contributions)

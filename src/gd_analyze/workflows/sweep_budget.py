@@ -278,8 +278,8 @@ def region_sweep_model(robot, trajectories, region, tolerance, torque_floor=0.0,
         The recursive model pruned on bounds proved over the region
         (:func:`gd_analyze.workflows.deploy.region_model`, as the main job prunes it; its
         cost never above the exact recursive model's), or the exact explicit model
-        (:func:`gd_analyze.workflows.deploy.exact_explicit_model`) where ``form="cheapest"`` and it
-        counts fewer operations (:func:`gd_analyze.workflows.deploy.exact_explicit_wins`) or
+        (:func:`gd_analyze.workflows.deployment.exact_explicit_model`) where ``form="cheapest"`` and it
+        counts fewer operations (:func:`gd_analyze.workflows.deployment.exact_explicit_wins`) or
         ``form="explicit"``; a trajectory-pruned model never. Its guarantee is of kind
         ``"region"``; ``validation`` as :func:`budget_sweep_model` says, every error relative
         to the region's s_i, the bound the proved bound_i [N m] on every trajectory.
@@ -292,12 +292,8 @@ def region_sweep_model(robot, trajectories, region, tolerance, torque_floor=0.0,
     """
     from ..core.symbolic.base_parameters import base_parameters
     from ..io.explicit_cache import explicit_terms
-    from .deploy import (
-        exact_explicit_model,
-        exact_explicit_wins,
-        recursive_simplified,
-        region_model,
-    )
+    from .deploy import recursive_simplified, region_model
+    from .deployment import exact_explicit_model, exact_explicit_wins
     from .evaluate import coverage
     from .simplify import explicit_sweep_model, full_program, full_torque, sweep_validation
 

@@ -1,0 +1,230 @@
+"""Which simplified model the main job deploys (issue 17): the pruned recursive model, the
+pruned explicit one or the exact explicit one, and the tolerance ladder of the form deployed.
+
+Nothing here prints or writes files.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+
+import numpy as np
+
+from ..core.selection.positive_definite import with_inertia_check
+from .deploy import build_recursive, guarantee_region
+
+__all__ = ["deploy_models", "exact_explicit_wins", "exact_explicit_model"]
+
+
+def deploy_models(robot, trajectory, ranking, part_peaks, options, provenance, background):
+    """The simplified model deployed (issue 17), the models compared with it, ladder, costs.
+
+    Parameters
+    ----------
+    robot : Robot
+    trajectory : Trajectory
+        q, qd, qdd of shape (N, n).
+    ranking : Ranking
+    part_peaks : PartPeaks
+        Accumulated in the pass over the G-D terms.
+    options : SimplifyOptions
+    provenance : dict
+    background : dict of str to Future
+        The peak passes of :func:`.peak_jobs.start_peaks`.
+
+    Returns
+    -------
+    model : SimplifiedModel
+        The deployed model.
+    other : SimplifiedModel or None
+        The other rule's explicit model, whose error the caller measures in its pass over
+        the trajectory.
+    finish : callable
+        ``finish(other_error)``: the dataset of
+        :func:`gd_analyze.workflows.simplify.simplified_dataset`.
+
+    Notes
+    -----
+
+    The pruned recursive model is always built; the explicit G-D model is derived when the
+    chapter rule or ``form="explicit"`` asks for it, when ``explicit`` is ``"always"``, or
+    (``"auto"``) when it may be deployed (``form`` is not ``"recursive"``) and its estimated
+    size is cheap
+    (:func:`gd_analyze.core.symbolic.explicit_estimate.is_expensive`). Under the budget rule and
+    ``form="cheapest"`` the cheaper of the pruned recursive and pruned explicit models is
+    deployed (multiplications + additions; the recursive one on a tie). The tolerance ladder
+    is of the form deployed (:func:`.recursive_ladder.recursive_ladder` for the recursive one,
+    pruned as it is).
+    """
+    from ..formulations.opcount import operation_counts
+    from .recursive_ladder import recursive_ladder
+    from .simplify import (
+        LADDER,
+        build_model,
+        collect_peaks,
+        cost_rows,
+        full_torque,
+        ladder,
+        ladder_skipped,
+        simplified_dataset,
+    )
+
+    tolerance, rule, torque_floor = options.tolerance, options.rule, options.torque_floor
+    form = options.form
+    q, qd, qdd = trajectory.q, trajectory.qd, trajectory.qdd
+    common = dict(ranking=ranking, trajectory_sha256=trajectory.sha256, provenance=provenance)
+    counts = operation_counts(robot)
+    region, missing, proved = guarantee_region(robot, options.guarantee) \
+        if rule == "budget" else (None, "", False)
+    rec, rec_sel = build_recursive(robot, q, qd, qdd, tolerance=tolerance,
+                                   torque_floor=torque_floor,
+                                   contributions=background["recursive"].result(),
+                                   region=region if proved else None, sample_region=region,
+                                   region_missing=missing, **common)
+    exact = rec.costs["exact recursive"]
+    ne = counts["newton-euler"]
+    ne = {"multiplications": int(ne["multiplications"]), "additions": int(ne["additions"])}
+    derive = "explicit" in background
+    model, sel, other, rows, skipped, form_note = rec, rec_sel, None, [], "", ""
+    costs = {"exact recursive": exact, "recursive, budget": dict(rec.cost),
+             "newton-euler": ne}
+    if derive:
+        terms, term = background["explicit"].result()
+        peaks = collect_peaks(robot, terms, q, qd, qdd, gd=part_peaks, term=term)
+        ex, ex_sel = build_model(robot, terms, peaks, tolerance=tolerance, rule=rule,
+                                 torque_floor=torque_floor,
+                                 chapter_choices=ranking.choices(), **common)
+        other_rule = "chapter" if rule == "budget" else "budget"
+        other, _ = build_model(robot, terms, peaks, tolerance=tolerance, rule=other_rule,
+                               torque_floor=torque_floor, chapter_choices=ranking.choices(),
+                               **common)
+        costs.update({f"explicit, {rule}": dict(ex.cost), "explicit, full": dict(ex.full_cost)})
+        deployed = rule == "chapter" or form == "explicit" or (
+            form == "cheapest" and not proved and _ops(ex.cost) < _ops(rec.cost))
+        # proved over the region: the exact explicit model (bound 0) where it is cheaper
+        exact_explicit = (not deployed and proved and form == "cheapest"
+                          and exact_explicit_wins(rec.cost, ex.full_cost))
+        if deployed:                            # the ladder of the form deployed
+            model, sel = ex, ex_sel
+            skipped = ladder_skipped(ex.full_cost, counts)
+            rows = [] if skipped else ladder(robot, terms, peaks, [(q, qd, qdd)],
+                                             torque_floor=torque_floor,
+                                             reference=full_torque(robot, terms))
+        elif exact_explicit:
+            full, sel = build_model(robot, terms, peaks, tolerance=0.0, rule="budget",
+                                    torque_floor=torque_floor,
+                                    chapter_choices=ranking.choices(), **common)
+            model = exact_explicit_model(full, rec.guarantee, tolerance)
+            skipped = ("not built: the deployed model is the exact explicit one, which holds "
+                       "over the whole region, and the ladder prunes on the trajectory")
+        else:
+            form_note = _not_deployed(rec, ex, form, proved)
+    if model is rec:                            # the recursive form's ladder
+        base, contributions = background["recursive"].result()
+        rows = recursive_ladder(robot, base, (q, qd, qdd), LADDER, torque_floor,
+                                region=region if proved else None, contributions=contributions,
+                                deployed=rec)
+    model = dataclasses.replace(model, costs=costs,
+                                full_cost=dict(costs.get("explicit, full", model.full_cost)),
+                                program_cache=model.program(),
+                                guarantee=model.guarantee if model.guarantee is not None
+                                else _trajectory_guarantee(model, sel, trajectory, missing))
+    model = with_inertia_check(model, q)            # D_s positive definite where it holds
+    table = cost_rows(robot.n, model, other=other, ladder_rows=rows, formulation_counts=counts)
+
+    def finish(other_error):
+        extra = simplified_dataset(model, sel, other=other, ladder_rows=rows, cost_table=table,
+                                   other_error=other_error,
+                                   full_terms=terms if derive else None)
+        if skipped:
+            extra.attrs["simplified_ladder_skipped"] = skipped
+        if rows:
+            extra.attrs["simplified_ladder_form"] = model.form
+        if form_note:
+            extra.attrs["simplified_form_note"] = form_note
+        return extra
+
+    return model, other, finish
+
+
+def exact_explicit_wins(recursive_cost, full_cost):
+    """Under a region guarantee (``form="cheapest"``): whether the exact explicit model is
+    deployed rather than the recursive model pruned over the region.
+
+    Parameters
+    ----------
+    recursive_cost, full_cost : dict
+        ``multiplications`` and ``additions`` of the region's recursive model (never dearer
+        than the exact recursive one) and of the full explicit model.
+
+    Returns
+    -------
+    bool
+        The full explicit model counts fewer operations (the recursive one wins a tie).
+    """
+    return _ops(full_cost) < _ops(recursive_cost)
+
+
+def exact_explicit_model(full, guarantee, tolerance,
+                   why="cheaper than the recursive model pruned over the region"):
+    """The exact explicit model deployed under a region guarantee (bound 0).
+
+    Parameters
+    ----------
+    full : SimplifiedModel
+        The explicit model at EPS = 0 (nothing dropped that contributes).
+    guarantee : Guarantee
+        The region guarantee of the recursive model pruned over the same region
+        (:func:`.deploy.region_model`): its region and scale s_i are kept.
+    tolerance : float
+        EPS asked for.
+    why : str, optional
+        Why it is deployed, for the guarantee's ``method``.
+
+    Returns
+    -------
+    SimplifiedModel
+        ``full`` with every explicit term kept (a term whose peak is 0 on the trajectories
+        ``full`` was built on need not be 0 elsewhere in the region), ``tolerance`` EPS, bound
+        0 on every joint and the region guarantee with bound and sampled error 0.
+    """
+    from ..core.selection.choices import full_choices
+    from ..io.explicit_cache import explicit_terms
+    from .simplify import full_program
+
+    n = full.robot.n
+    terms, _ = explicit_terms(full.robot)
+    program = full_program(full.robot, terms)
+    return dataclasses.replace(
+        full, tolerance=float(tolerance), bound=[0.0] * n, terms=terms,
+        choices=full_choices(n), cost=program.cost(), program_cache=program,
+        guarantee=dataclasses.replace(
+            guarantee, bound=np.zeros(n), sampled_error=np.zeros(n),
+            method=f"the exact explicit G-D model (nothing dropped), {why}; scale: "
+                   + guarantee.method))
+
+
+def _trajectory_guarantee(model, sel, trajectory, missing=""):
+    """The explicit budget model's guarantee on its trajectory (None: chapter rule)."""
+    from ..core.selection.guarantee import Guarantee
+
+    if model.rule != "budget":
+        return None
+    return Guarantee("trajectory", float(model.tolerance), bound=np.asarray(model.bound, float),
+                     scale=np.asarray(sel.scale, float), trajectory_sha256=trajectory.sha256,
+                     region_missing=missing,
+                     method="sum of the dropped terms' peak contributions on the trajectory "
+                            "(triangle inequality)")
+
+
+def _not_deployed(rec, ex, form, proved):
+    """Why the pruned explicit model is not deployed beside the recursive one (issue 31)."""
+    why = (", --form recursive" if form != "cheapest" else
+           ", whose bound holds on this trajectory only, while the recursive one's is proved "
+           "over the joint-limit region" if proved and _ops(ex.cost) < _ops(rec.cost) else "")
+    return (f"The deployed model is the pruned recursive one ({_ops(rec.cost):,} operations "
+            f"against the pruned explicit one's {_ops(ex.cost):,}{why}).")
+
+
+def _ops(cost):
+    return int(cost["multiplications"]) + int(cost["additions"])
