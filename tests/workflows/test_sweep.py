@@ -474,7 +474,8 @@ def test_sweep_panel_titles_say_the_part_kept(sweep):
 
     labels = [str(v) for v in sweep["element"].values]
     choice = dict(zip(labels, (str(v) for v in sweep["merged_choice"].values)))
-    words = {"tran": "keeps tran", "rot": "keeps rot", "both": "keeps both", "none": "dropped"}
+    words = {"tran": "keeps tran", "rot": "keeps rot", "both": "keeps both", "none": "dropped",
+             "pruned": "pruned"}
     figs = make_sweep_figures(sweep)
     titles = [ax.get_title() for key in ("D", "h") for ax in figs[key].axes if ax.get_title()]
     checked = 0

@@ -143,10 +143,13 @@ def _outline(ctx, figures):
 def _html(ctx, figures):
     from markupsafe import Markup
 
+    from .typeset import TABLE_COLOURS
+
     svgs = {k: Markup(svg) for k, (svg, _, _) in figures.items()}
     return render_template("sweep_report.html.j2", {**ctx, "figures": svgs,
                                                     "outline": _outline(ctx, figures)},
-                           {"class_colours": _CLASS_COLOURS})
+                           {"class_colours": _CLASS_COLOURS,
+                            "pruned_colour": TABLE_COLOURS["pruned"]})
 
 
 _FIGURE_FILES = {"D": "fig_sweep_share_D", "h": "fig_sweep_share_h",

@@ -26,6 +26,7 @@ from .markup import ROT as _ROT
 from .markup import TRAN as _TRAN
 from .markup import label as _math
 from .ticks import decade_label
+from .typeset import TABLE_COLOURS
 
 __all__ = ["make_sweep_figures", "REQUIRED", "KEPT"]
 
@@ -38,10 +39,12 @@ REQUIRED = ("share_tran", "dominance", "choice", "source", "duration", "tau_peak
 
 # The choices of the merged model in the colours of their classes.
 _CHOICE_COLOURS = {"tran": _CLASS_COLOURS["translational"], "rot": _CLASS_COLOURS["rotational"],
-                   "both": _CLASS_COLOURS["both"], "none": _CLASS_COLOURS["negligible"]}
+                   "both": _CLASS_COLOURS["both"], "none": _CLASS_COLOURS["negligible"],
+                   "pruned": TABLE_COLOURS["pruned"]}
 #: Panel titles: the part of the element the merged model keeps, said as such (issue 31: "D16
 #: → rot" read as a class).
-KEPT = {"tran": "keeps tran", "rot": "keeps rot", "both": "keeps both", "none": "dropped"}
+KEPT = {"tran": "keeps tran", "rot": "keeps rot", "both": "keeps both", "none": "dropped",
+        "pruned": "pruned"}
 _OWN_COLOUR, _MERGED_COLOUR = "#009E73", "#000000"
 #: Width of every figure: the text of a page [in]; the column versions' [in].
 _PAGE_WIDTH, COLUMN_WIDTH = 7.2, 3.5
@@ -160,7 +163,9 @@ def _key_text(ds, K):
         f"element X over the {K} trajectories (box: quartiles; whiskers: min and max; coloured bar: median). "
         f"Dashed lines: s = {s:g} and 1 \u2212 s; blue band: translational, orange band: "
         f"rotational. Title: element and the part the merged model keeps (keeps tran, "
-        f"keeps rot, keeps both, or dropped). Bottom: fraction of "
+        f"keeps rot, keeps both, or dropped"
+        + ("; pruned: changed by dropped base-parameter parts" if "pruned" in
+           _strings(ds["merged_choice"].values) else "") + "). Bottom: fraction of "
         f"trajectories per class (T translational, R rotational, B both, N negligible, "
         f"e = {e:g}). \u2261 0: round-off ({ROUND_OFF_WORDS}) in every part on every "
         f"trajectory, no share drawn; on the trajectories where an element is round-off its "

@@ -178,9 +178,16 @@ def _keeps(ds):
                                               ("base_parameters", "pairs_dropped", "pairs")),
                               gravity=_recursive_gravity(ds),
                               trajectory=_acts_on(ds))
+        choice = _strings(ds["merged_choice"].values)
+        pruned = [lab for lab, c in zip(_strings(ds["element"].values), choice)
+                  if c == "pruned"]
         return text.replace("The simplified model", "The merged model", 1) + (
-            " It keeps every element of D and h as a sum over the base parameters (choice "
-            "\u201cboth\u201d in the tables).")
+            " It computes every element of D and h as a sum over the base parameters; "
+            + (f"the dropped parts change {len(pruned)} of them on the swept trajectories "
+               f"({', '.join(pruned)}: choice \u201cpruned\u201d in the tables), the others "
+               "are exact (\u201cboth\u201d)." if pruned else
+               "the dropped parts change none of them on the swept trajectories beyond "
+               "round-off (choice \u201cboth\u201d in the tables)."))
     kept, full = (int(ds.attrs.get(k, -1)) for k in ("merged_c_terms_kept", "merged_c_terms"))
     gravity = gravity_clause(rule, c_terms=(kept, full) if min(kept, full) >= 0 else None)
     text = model_sentence(choice=_strings(ds["merged_choice"].values), gravity=gravity)

@@ -121,7 +121,8 @@ def sweep_context(ds, payload=None):
             [peak[j], rms[j], rel_peak[j], rel_rms[j]])
          + [own_worst[j], units[j]] for j in range(n)],
         align=["left"] + ["right"] * 6 + ["left"])
-    counts = {c: sum(m == c for m in merged) for c in _CHOICES}   # the table's words
+    counts = {c: sum(m == c for m in merged) for c in _CHOICES    # the table's words
+              + (("pruned",) if "pruned" in merged else ())}
     kept = sum(m != "none" for m in merged)
     single = sum(m in ("tran", "rot") for m in merged)
     worst = _worst_cases(ds, labels)

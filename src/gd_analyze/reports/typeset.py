@@ -38,7 +38,7 @@ MARGINS = (0.75, 0.7, 0.85)
 TABLE_COLOURS = {"translational": "#0072B2", "rotational": "#D55E00", "both": "#6A3D9A",
                  "negligible": "#555555", "yes": "#007A4D", "no": "#B00020",
                  "passed": "#007A4D", "FAILED": "#B00020", "tran": "#0072B2",
-                 "rot": "#D55E00", "none": "#555555"}
+                 "rot": "#D55E00", "none": "#555555", "pruned": "#CC79A7"}
 #: The paragraph styles of the outline (the HTML's classes of the same names).
 PARAGRAPH_STYLES = ("lead", "summary", "body", "note", "strong")
 #: Room kept under a figure for its caption [in]: a figure is scaled down to leave it.

@@ -13,7 +13,8 @@ from ..core.selection.simplified import SOURCE_STEM
 from ..core.symbolic.emit_model import artefact_names
 from ..core.symbolic.recursive_model import PART_NAMES
 
-__all__ = ["AKB_COSTS", "coefficient_structure", "cost_rows", "simplified_dataset"]
+__all__ = ["AKB_COSTS", "coefficient_structure", "cost_rows", "simplified_dataset",
+           "recursive_choices", "sweep_choices"]
 
 #: Armstrong, Khatib & Burdick (ICRA 1986), PUMA 560: explicit model costs
 #: (multiplications, additions, total); the split of the simplified model is not given.
@@ -110,7 +111,8 @@ def recursive_choices(model, q, qd, terms, ranking):
     terms : GDTerms
         The G-D terms there (the full model's D, with the armature, and h).
     ranking : Ranking
-        Its ``labels`` (D's upper triangle, then h) and each element's ``scale``.
+        Its ``labels`` (D's upper triangle, then h) and each element's ``scale`` (any object
+        with these two).
 
     Returns
     -------
@@ -132,6 +134,52 @@ def recursive_choices(model, q, qd, terms, ranking):
     kind = ["D"] * iu[0].size + ["h"] * n
     off = is_round_off(diff, scale, arm_scale=arm_scales(scale, kind))
     return {lab: "both" if o else "pruned" for lab, o in zip(ranking.labels, off)}
+
+
+def sweep_choices(model, trajectories, setpoints=64):
+    """A recursive merged model's choice per element (:func:`recursive_choices`), compared on
+    set points spread evenly over the swept trajectories.
+
+    Parameters
+    ----------
+    model : SimplifiedModel
+        The merged model; one of the explicit form is returned as it is.
+    trajectories : sequence of Trajectory
+        The K swept trajectories (q, qd, qdd of shape (N_k, n)).
+    setpoints : int, optional
+        How many set points, evenly spread over the trajectories one after the other.
+
+    Returns
+    -------
+    SimplifiedModel
+        With ``choices`` "pruned" where its dropped pairs change D_ij or h_i at those set
+        points beyond round-off of the element's scale there (peak sqrt(D_ii D_jj) [kg m^2],
+        or peak |tau_i| [N m]), else "both".
+
+    Notes
+    -----
+    D and h are the G-D terms (Eqs. (3.4-25) to (3.4-33)) at those set points.
+    """
+    import dataclasses
+    from types import SimpleNamespace
+
+    from ..core.dynamics.dalembert import gd_terms
+    from ..core.selection.ranking import element_labels
+
+    if model.recursive is None or not trajectories:
+        return model
+    q, qd, qdd = (np.concatenate([np.asarray(getattr(t, k), float) for t in trajectories])
+                  for k in ("q", "qd", "qdd"))
+    at = np.unique(np.linspace(0, len(q) - 1, min(len(q), setpoints)).round().astype(int))
+    q, qd, qdd = q[at], qd[at], qdd[at]
+    terms = gd_terms(model.robot, q, qd)
+    n = model.robot.n
+    diag = np.sqrt(np.abs(np.einsum("kii->ki", terms.D)))
+    iu = np.triu_indices(n)
+    scale = np.concatenate([(diag[:, iu[0]] * diag[:, iu[1]]).max(axis=0),
+                            np.abs(terms.tau(qdd)).max(axis=0)])
+    ranking = SimpleNamespace(labels=element_labels(n), scale=scale)
+    return dataclasses.replace(model, choices=recursive_choices(model, q, qd, terms, ranking))
 
 
 def coefficient_structure(terms):

@@ -175,7 +175,9 @@ def budget_sweep_model(robot, trajectories, sweep_ds, tolerance=DEFAULT_TOLERANC
         relative to (s_i over the region for a region model) [N m]; a region model's
         ``per_trajectory["covered"]`` and ``["coverage"]`` say whether each swept trajectory
         lies inside the region, and why (:func:`gd_analyze.workflows.evaluate.coverage`),
-        ``held_out_inside_region`` how many held-out ones do.
+        ``held_out_inside_region`` how many held-out ones do. A recursive model's ``choices``
+        are "pruned" where its dropped pairs change the element on the swept trajectories
+        (:func:`gd_analyze.workflows.simplified_dataset.sweep_choices`), else "both".
 
     Raises
     ------
@@ -194,6 +196,7 @@ def budget_sweep_model(robot, trajectories, sweep_ds, tolerance=DEFAULT_TOLERANC
     from ..core.selection.positive_definite import with_inertia_check
     from ..core.symbolic.explicit_estimate import is_expensive
     from .deploy import guarantee_region
+    from .simplified_dataset import sweep_choices
     from .simplify import (
         explicit_sweep_model,
         full_torque,
@@ -218,8 +221,9 @@ def budget_sweep_model(robot, trajectories, sweep_ds, tolerance=DEFAULT_TOLERANC
         explicit == "auto" and not is_expensive(robot))
     region, missing, proved = guarantee_region(robot, guarantee)
     if proved:
-        return region_sweep_model(robot, trajectories, region, tolerance, torque_floor,
-                                  held_out, provenance, digest, derive, form)
+        return sweep_choices(region_sweep_model(robot, trajectories, region, tolerance,
+                                                torque_floor, held_out, provenance, digest,
+                                                derive, form), trajectories)
     tau_peak, peak, whole_peak = pair_peaks(sweep_ds)
     scales = np.maximum(tau_peak, float(torque_floor))
     model, bound = recursive_sweep_model(robot, scales, peak, whole_peak, tolerance,
@@ -241,9 +245,10 @@ def budget_sweep_model(robot, trajectories, sweep_ds, tolerance=DEFAULT_TOLERANC
     model = with_inertia_check(model, np.concatenate([t.q for t in trajectories]))
     validation = sweep_validation(model, trajectories, scales, relative, held_out=held_out,
                                   reference=reference, bound=bound)
-    return dataclasses.replace(model, validation=validation,
-                               guarantee=sweep_guarantee(robot, model, trajectories, scales,
-                                                         relative, tolerance, region, missing))
+    return sweep_choices(dataclasses.replace(
+        model, validation=validation, guarantee=sweep_guarantee(
+            robot, model, trajectories, scales, relative, tolerance, region, missing)),
+        trajectories)
 
 
 def region_sweep_model(robot, trajectories, region, tolerance, torque_floor=0.0, held_out=(),

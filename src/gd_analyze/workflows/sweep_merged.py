@@ -115,8 +115,9 @@ def with_budget_model(sweep_ds, model):
     -------
     xarray.Dataset
         A copy without the recursive peaks the merge pruned on (``pair_peak`` ...); with
-        ``merged_choice`` = the model's whole-part choices (``both`` everywhere for the
-        recursive form, which drops parameter parts, not element parts);
+        ``merged_choice`` = the model's whole-part choices (for the recursive form, which
+        drops parameter parts, not element parts: ``pruned`` where those change the element
+        on the swept trajectories, else ``both``);
         ``merged_bound`` (trajectory, joint) [N m], the guaranteed bound on each trajectory,
         where the model gives it; ``merged_tau_error_peak``
         (trajectory, joint) [N m] and ``merged_tau_error_relative_peak`` (divided by that
@@ -170,7 +171,9 @@ def with_budget_model(sweep_ds, model):
 
     labels = element_labels(sweep_ds.sizes["joint"])
     put("merged_choice", ("element",), np.array([model.choices[k] for k in labels], dtype=str),
-        "1", f"whole parts kept by the budget rule (EPS = {eps}) {words['where']}")
+        "1", f"whole parts kept by the budget rule (EPS = {eps}) {words['where']}"
+        if model.recursive is None else "pruned where the recursive model's dropped parts "
+        "change the element on the swept trajectories, else both")
     put("merged_tau_error_peak", ("trajectory", "joint"), peak, torque,
         "merged model: peak |tau_merged - tau| along the trajectory")
     put("merged_scale", ("trajectory", "joint"), scale, torque, words["scale"])
