@@ -92,6 +92,13 @@ def test_the_default_run_stores_and_draws_the_recursive_ladder(tmp_path):
     keyed = [p[0] for p in cost_points(ds) if p[3] == "ladder"]
     assert "recursive N-E, budget \u03b5 = 0.05" in keyed
     assert not any("\u03b5 = 0.01" in k for k in keyed)     # the model built: said once
+    err = dict(zip(ds["ladder_tolerance"].values.tolist(), ds["ladder_worst_error"].values))
+    named = [p[0] for p in cost_points(ds)]
+    rung = "recursive N-E, budget \u03b5 = 0.001"
+    if ops[0.001] == ops[0.0] and err[0.001] == 0:      # the same model as the exact one
+        assert "recursive N-E, exact (= " + rung + ")" in named and rung not in named
+    else:
+        assert rung in named
     html = (out / "report.html").read_text(encoding="utf-8")
     assert "Tolerance ladder of the recursive form" in html
     assert "proved over the joint-limit region (\u2264 \u03b5)" in html
