@@ -5,7 +5,7 @@ cache) and the region's samples (:func:`gd_analyze.core.selection.region.region_
 pure functions of the arm, the region, the torque floor and :data:`REGION_SAMPLES`, so a second
 analysis of the same arm in one session (a payload sweep, a sweep after the main job, a test
 run) does not repeat them. A trajectory model's sampled error needs only the samples, not the
-certification's branch and bound (seconds instead of minutes at 10 joints).
+certification's branch and bound; a certification after them reuses them.
 """
 
 from __future__ import annotations
