@@ -4,7 +4,9 @@ Every default a command-line option, a workflow or a core function uses is read 
 :data:`defaults` (in the style of python-control's ``control.config.defaults``): the ranking's
 thresholds s and e (Sec. 3.4.1 of Fu, Gonzalez & Lee 1987), the simplified model's error budget
 EPS and torque floor TAU, the rule and form of the model, the report's paper, and
-the control report's verdict tolerance.
+the control report's verdict tolerance; and the one rule of where the on-disk caches live
+(:func:`cache_dir`), which the derivation cache (:mod:`gd_analyze.io.cache_files`) and the
+operation-count cache (:mod:`gd_analyze.formulations.opcount_cache`) both read.
 A leaf module: it imports nothing of the package, so every layer may read it.
 
 Examples
@@ -15,9 +17,11 @@ Examples
 
 from __future__ import annotations
 
+import os
 import types
+from pathlib import Path
 
-__all__ = ["defaults"]
+__all__ = ["defaults", "cache_dir"]
 
 #: The defaults, read-only. Units: ``torque_floor`` [N m]; the others are fractions or names.
 defaults = types.MappingProxyType({
@@ -46,3 +50,25 @@ defaults = types.MappingProxyType({
     # prismatic joint [m]: 1 mrad, and 1 mm, the same 1 mrad seen at a 1 m lever arm
     "verdict_tolerance": (1e-3, 1e-3),
 })
+
+
+def cache_dir():
+    """The folder of every on-disk cache, or None when caching is disabled.
+
+    ``GD_ANALYZE_NO_CACHE`` (any non-empty value) disables the caches; else
+    ``GD_ANALYZE_CACHE_DIR`` names the folder; else it is ``$XDG_CACHE_HOME/gd-analyze``, or
+    ``~/.cache/gd-analyze`` when ``XDG_CACHE_HOME`` is unset or empty (the XDG Base Directory
+    Specification). The derivation cache's entries and the operation counts'
+    ``opcounts-<code>.json`` live there.
+
+    Returns
+    -------
+    pathlib.Path or None
+        Read from the environment at each call (not created).
+    """
+    if os.environ.get("GD_ANALYZE_NO_CACHE"):
+        return None
+    if os.environ.get("GD_ANALYZE_CACHE_DIR"):
+        return Path(os.environ["GD_ANALYZE_CACHE_DIR"])
+    base = os.environ.get("XDG_CACHE_HOME") or os.path.join(os.path.expanduser("~"), ".cache")
+    return Path(base) / "gd-analyze"

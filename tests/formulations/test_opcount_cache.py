@@ -65,3 +65,34 @@ def test_issue32_a_cache_file_that_is_a_fifo_is_not_read(cache):
     counts, warned = _counts_with_warnings()
     assert counts == fresh and len(warned) == 1
     assert stat.S_ISFIFO(os.lstat(path).st_mode)              # never replaced
+
+
+@pytest.mark.parametrize("setting", ["cache-dir", "xdg", "none"])
+def test_issue32_the_counts_live_in_the_derivation_cache_folder(tmp_path, monkeypatch, setting):
+    """One folder rule for both caches: ``GD_ANALYZE_CACHE_DIR`` moves the operation counts as
+    it moves the derivation cache (it was ignored: the counts went to ``$XDG_CACHE_HOME``)."""
+    from gd_analyze.io.cache_files import entry_path
+
+    chosen, xdg = tmp_path / "chosen", tmp_path / "xdg"
+    monkeypatch.setenv("XDG_CACHE_HOME", str(xdg))
+    monkeypatch.delenv("GD_ANALYZE_NO_CACHE", raising=False)
+    monkeypatch.delenv("GD_ANALYZE_CACHE_DIR", raising=False)
+    if setting == "cache-dir":
+        monkeypatch.setenv("GD_ANALYZE_CACHE_DIR", str(chosen))
+    elif setting == "none":
+        monkeypatch.setenv("GD_ANALYZE_CACHE_DIR", str(chosen))
+        monkeypatch.setenv("GD_ANALYZE_NO_CACHE", "1")
+    opcount._counts_for.cache_clear()
+    try:
+        opcount._counts_for("RRR")
+    finally:
+        opcount._counts_for.cache_clear()
+    written = sorted(p.relative_to(tmp_path).as_posix() for p in tmp_path.rglob("opcounts-*"))
+    expected = {"cache-dir": ["chosen/opcounts-"], "xdg": ["xdg/gd-analyze/opcounts-"],
+                "none": []}[setting]
+    assert [w[:len(e)] for w, e in zip(written, expected)] == expected
+    assert len(written) == len(expected)
+    derivation = entry_path("explicit", {"k": 1})
+    assert (derivation is None) == (setting == "none")
+    if written:                                              # the same folder as the derivations
+        assert (tmp_path / written[0]).parent == derivation.parent

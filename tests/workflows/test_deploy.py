@@ -295,3 +295,39 @@ def test_the_model_file_s_choices_are_those_of_results_h5(puma_run, tmp_path):
     bad.write_text(json.dumps(spec))
     with pytest.raises(Exception, match="pruned"):
         load_model(bad)
+
+
+def test_a_trajectory_model_s_sampled_error_is_pinocchios_over_the_samples():
+    """Issue 32: the stored ``region_sampled_error`` of a model pruned on a trajectory, found
+    by sampling only (no certification), is the largest error of the model against
+    Pinocchio's rnea over the sampled positions of the region, every vertex of the velocity
+    box and the worst acceleration in its box, relative to s_i there; s_i is |rnea_i| at the
+    state where it was found."""
+    import itertools
+
+    from gd_analyze.workflows.deploy import build_recursive, robot_region
+    from gd_analyze.workflows.region_memo import region_values
+
+    puma = load_robot("puma560")
+    traj = read_trajectory(SHIPPED, 6)
+    region, _ = robot_region(puma)
+    model, _ = build_recursive(puma, traj.q, traj.qd, traj.qdd, tolerance=0.05,
+                               sample_region=region)
+    stored = np.asarray(model.guarantee.region_sampled_error)
+    q, _, scale, where = region_values(puma, base_parameters(puma), region)
+    n, B = 6, q.shape[0]
+    verts = np.array(list(itertools.product([-1.0, 1.0], repeat=n))) * region.qd_max
+    zero, eye = np.zeros((B, n)), np.eye(n)
+
+    def err(qq, qd, qdd):
+        return model.torque(qq, qd, qdd) - _rnea(puma, qq, qd, qdd)
+
+    at_rest = err(q, zero, zero)                                   # gravity's error
+    inertial = sum(np.abs(err(q, zero, np.tile(eye[j], (B, 1))) - at_rest) * region.qdd_max[j]
+                   for j in range(n))                              # sum_j |M_ij| qdd_max_j
+    quad = np.max([np.abs(err(q, np.tile(v, (B, 1)), zero)) for v in verts], axis=0)
+    expected = (quad + inertial).max(axis=0) / scale
+    assert stored.max() > 1e-3                                     # pairs were dropped
+    np.testing.assert_allclose(stored, expected, rtol=1e-6, atol=1e-9)
+    ref = _rnea(puma, where[:, :n], where[:, n:2 * n], where[:, 2 * n:])
+    np.testing.assert_allclose(np.abs(ref[np.arange(n), np.arange(n)]), scale, rtol=1e-9)

@@ -1,8 +1,9 @@
 """The on-disk cache of the measured operation counts: ``opcounts-<code>.json``.
 
 The counts (:mod:`gd_analyze.formulations.opcount`) are a pure function of the counted code, so
-the file lives in ``$XDG_CACHE_HOME/gd-analyze`` (or ``~/.cache/gd-analyze``; none when
-``GD_ANALYZE_NO_CACHE=1``) under a name that carries the SHA-256 of that code. The file
+the file lives in the cache folder of :func:`gd_analyze.config.cache_dir` (the derivation
+cache's: ``$GD_ANALYZE_CACHE_DIR`` if set, else ``$XDG_CACHE_HOME/gd-analyze`` or
+``~/.cache/gd-analyze``; none when ``GD_ANALYZE_NO_CACHE=1``) under a name that carries the SHA-256 of that code. The file
 records its own format, the code's SHA-256 and, for each pattern of joint types (the key), the
 counts and a SHA-256 of (format, code, key, counts). It is read only if it is a regular file of
 at most :data:`LIMIT` bytes (never through a symbolic link, never blocking on a FIFO). A file
@@ -17,8 +18,8 @@ import hashlib
 import json
 import os
 import warnings
-from pathlib import Path
 
+from ..config import cache_dir
 from ..errors import InputWarning, one_line
 from ..files import atomic_path, read_regular
 
@@ -43,10 +44,8 @@ def cache_file(code_sha256):
     pathlib.Path or None
         ``<cache folder>/opcounts-<first 32 digits>.json``.
     """
-    if os.environ.get("GD_ANALYZE_NO_CACHE"):
-        return None
-    base = os.environ.get("XDG_CACHE_HOME") or os.path.join(os.path.expanduser("~"), ".cache")
-    return Path(base) / "gd-analyze" / f"opcounts-{code_sha256[:32]}.json"
+    folder = cache_dir()
+    return None if folder is None else folder / f"opcounts-{code_sha256[:32]}.json"
 
 
 def _checksum(code, key, counts):

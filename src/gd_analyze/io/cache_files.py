@@ -2,7 +2,8 @@
 
 The derivation cache holds results that are pure functions of a robot's parameters and of the
 code that computes them (the explicit G-D model, :mod:`.explicit_cache`; the region
-certification, :mod:`.certification_cache`). Its folder is ``$GD_ANALYZE_CACHE_DIR`` if set,
+certification, :mod:`.certification_cache`). Its folder is :func:`gd_analyze.config.cache_dir`
+(the one rule, shared with the operation-count cache): ``$GD_ANALYZE_CACHE_DIR`` if set,
 else ``$XDG_CACHE_HOME/gd-analyze`` or ``~/.cache/gd-analyze``; ``GD_ANALYZE_NO_CACHE=1``
 disables it.
 
@@ -25,10 +26,10 @@ import os
 import stat
 import tempfile
 from importlib import resources
-from pathlib import Path
 
 import numpy as np
 
+from ..config import cache_dir
 from ..errors import InputWarning
 
 __all__ = ["CacheWarning", "cache_dir", "entry_path", "canonical", "checksum", "source_sha256", "read_entry",
@@ -38,21 +39,6 @@ __all__ = ["CacheWarning", "cache_dir", "entry_path", "canonical", "checksum", "
 class CacheWarning(InputWarning):
     """A cache entry that was ignored (unreadable, of another key, or failing its checks);
     the command line prints it as one ``gd-analyze: warning: ...`` line."""
-
-
-def cache_dir():
-    """The cache folder, or None when caching is disabled.
-
-    Returns
-    -------
-    pathlib.Path or None
-    """
-    if os.environ.get("GD_ANALYZE_NO_CACHE"):
-        return None
-    if os.environ.get("GD_ANALYZE_CACHE_DIR"):
-        return Path(os.environ["GD_ANALYZE_CACHE_DIR"])
-    base = os.environ.get("XDG_CACHE_HOME") or os.path.join(os.path.expanduser("~"), ".cache")
-    return Path(base) / "gd-analyze"
 
 
 def canonical(key):

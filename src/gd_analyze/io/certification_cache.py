@@ -150,7 +150,7 @@ def _checked(robot, base, region, torque_floor, samples, seed, arrays):
                       leaf_boxes=boxes, seconds=float(arrays["seconds"]))
 
 
-def certification(robot, base, region, torque_floor=0.0, samples=1000, seed=0):
+def certification(robot, base, region, torque_floor=0.0, samples=1000, seed=0, values=None):
     """The region's certification, from the derivation cache or computed afresh.
 
     Parameters
@@ -159,6 +159,9 @@ def certification(robot, base, region, torque_floor=0.0, samples=1000, seed=0):
         As :func:`gd_analyze.core.selection.certify.certify` takes them: the arm, its base
         parameters, the joint-limit region, the least scale [N m or N], the number of
         uniform position samples and their seed.
+    values : tuple, optional
+        Those samples already drawn (:func:`gd_analyze.core.selection.region.region_samples`),
+        for a certification computed afresh.
 
     Returns
     -------
@@ -191,7 +194,8 @@ def certification(robot, base, region, torque_floor=0.0, samples=1000, seed=0):
         if isinstance(found, str):
             warnings.warn(one_line(f"{path}: derivation cache entry {found}: ignored, the "
                                     "region is certified again"), CacheWarning, stacklevel=2)
-    pb = certify(robot, base, region, torque_floor=torque_floor, samples=samples, seed=seed)
+    pb = certify(robot, base, region, torque_floor=torque_floor, samples=samples, seed=seed,
+                 values=values)
     if path is not None:
         write_entry(path, key, {"scale": np.asarray(pb.scale, float),
                                 "scale_state": np.asarray(pb.scale_state, float),

@@ -16,22 +16,11 @@ import numpy as np
 from ..core.selection.budget import DEFAULT_TOLERANCE
 from ..core.selection.ranking import DEFAULT_DOMINANCE, DEFAULT_NEGLIGIBLE
 from ..core.selection.simplified import SimplifiedModel
+from .region_memo import REGION_SAMPLES, certified, region_values
 
 __all__ = ["build_recursive", "recursive_simplified", "replace_cost", "region_model",
            "trajectory_guarantee", "certified", "robot_region", "guarantee_region",
            "REGION_SAMPLES"]
-
-#: Positions sampled over the region for a model's sampled error (its velocity and
-#: acceleration at the worst vertices).
-REGION_SAMPLES = 1000
-
-
-#: Certifications kept in this process (keyed by the robot's parameters, the region and the
-#: torque floor): a certification is a pure function of them, so a second analysis of the same
-#: arm in one session (a payload sweep, a test run) does not repeat it.
-_CERTIFIED = {}
-_CERTIFIED_MAX = 2
-
 
 def robot_region(robot):
     """The robot's joint-limit region for a model's guarantee, or None and why not.
@@ -86,41 +75,6 @@ def guarantee_region(robot, guarantee="auto"):
     """
     region, missing = robot_region(robot)
     return region, missing, region is not None and guarantee != "trajectory"
-
-
-def certified(robot, base, region, torque_floor=0.0):
-    """:func:`gd_analyze.core.selection.certify.certify` of an arm, once per process, and
-    kept in the derivation cache (:func:`gd_analyze.io.certification_cache.certification`).
-
-    Parameters
-    ----------
-    robot : Robot
-    base : BaseParameters
-    region : Region
-    torque_floor : float, optional
-        [N m or N].
-
-    Returns
-    -------
-    PairBounds
-    """
-    import hashlib
-    import json
-
-    from ..core.selection.simplified import json_safe
-    from ..io.certification_cache import certification
-
-    text = json.dumps(json_safe(robot.to_dict()), sort_keys=True)
-    key = hashlib.sha256(text.encode() + b"".join(
-        np.ascontiguousarray(a, float).tobytes() for a in (
-            region.q_min, region.q_max, region.qd_max, region.qdd_max,
-            np.array([torque_floor, REGION_SAMPLES], float)))).hexdigest()
-    if key not in _CERTIFIED:
-        while len(_CERTIFIED) >= _CERTIFIED_MAX:
-            _CERTIFIED.pop(next(iter(_CERTIFIED)))
-        _CERTIFIED[key] = certification(robot, base, region, torque_floor=torque_floor,
-                                        samples=REGION_SAMPLES)
-    return _CERTIFIED[key]
 
 
 def region_model(robot, base, region, tolerance, torque_floor=0.0):
@@ -219,17 +173,16 @@ def trajectory_guarantee(robot, base, rec, tolerance, trajectory_sha256="", regi
     -------
     Guarantee
         Of kind ``"trajectory"``; ``region_sampled_error``: the largest error found over the
-        region relative to s_i there (the largest |tau_i| found), or None.
+        region relative to s_i there (the largest |tau_i| found), or None
+        (:func:`gd_analyze.core.selection.region.sampled_error` at the positions of
+        :func:`.region_memo.region_values`: sampling only, no certification).
     """
     from ..core.selection.guarantee import Guarantee
-    from ..core.selection.region import worst_states
+    from ..core.selection.region import sampled_error
 
     sampled = None
     if region is not None:
-        pb = certified(robot, base, region)
-        weights = np.asarray(base.beta, float)[None, :] * np.asarray(rec.dropped).T
-        err = worst_states(pb.values, weights, region.qd_max, region.qdd_max)[0].max(axis=0)
-        sampled = err / np.where(pb.scale > 0, pb.scale, np.inf)
+        sampled = sampled_error(base, region, rec.dropped, region_values(robot, base, region))[0]
     return Guarantee("trajectory", float(tolerance), bound=np.asarray(rec.bound, float),
                      scale=np.asarray(rec.scale, float), trajectory_sha256=trajectory_sha256,
                      region_sampled_error=sampled, region_missing=region_missing,

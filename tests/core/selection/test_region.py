@@ -111,3 +111,68 @@ def test_channel_values_engines_agree_and_rebuild_rnea(name):
     assert np.abs(tau - ref).max() <= 1e-10 * np.abs(ref).max()
     with pytest.raises(ValueError, match="engine"):
         channel_values(robot, q, cols, engine="fortran")
+
+
+def _pinocchio_parts(robot, q, qd):
+    """Pinocchio's mass matrix M(q), velocity torque h(q, qd) (no gravity) and gravity g(q)."""
+    model = pinocchio_model(robot)
+    data = model.createData()
+    M = np.triu(pin.crba(model, data, q))
+    g = pin.computeGeneralizedGravity(model, data, q).copy()
+    model.gravity.linear = np.zeros(3)
+    h = pin.rnea(model, model.createData(), q, qd, np.zeros(robot.n)).copy()
+    return M + np.triu(M, 1).T, h, g
+
+
+@pytest.mark.parametrize("parts", [(0, 0, 1), (0, 1, 1), (1, 0, 0), (1, 1, 0), (1, 1, 1)])
+def test_the_sampled_error_of_dropped_parts_is_pinocchios_largest(parts):
+    """Issue 32: a trajectory model's ``region_sampled_error`` by sampling only. Dropping
+    whole parts (inertial, velocity, gravity) of every base parameter, the error at a
+    position is, by Pinocchio, sum_j |M_ij| qdd_max_j + the largest |h_i + g_i| over every
+    vertex of the velocity box; the function gives its largest value over the sampled
+    positions relative to s_i, and the state where it says it found it gives that error."""
+    import itertools
+
+    from gd_analyze.core.selection.region import region_samples, sampled_error
+
+    robot = load_robot("puma560")
+    base = base_parameters(robot)
+    region = joint_region(robot, robot.qdd_max)
+    values = region_samples(robot, base, region, samples=40, seed=5)
+    dropped = np.tile(np.array(parts, bool), (base.beta.size, 1))
+    error, state = sampled_error(base, region, dropped, values)
+    q, scale, n = values[0], values[2], robot.n
+    inertial, velocity, gravity = parts
+    verts = np.array(list(itertools.product([-1.0, 1.0], repeat=n))) * region.qd_max
+    worst = np.zeros(n)
+    for x in q:
+        M, _, g = _pinocchio_parts(robot, x, np.zeros(n))
+        quad = np.array([velocity * _pinocchio_parts(robot, x, v)[1] for v in verts]) + gravity * g
+        worst = np.maximum(worst, inertial * np.abs(M) @ region.qdd_max
+                           + np.abs(quad).max(axis=0))
+    np.testing.assert_allclose(error, worst / scale, rtol=1e-9, atol=1e-12)   # 0: round-off
+    for i in range(n):                       # the witness state gives the error it reports
+        x, xd, xdd = state[i, :n], state[i, n:2 * n], state[i, 2 * n:]
+        M, h, g = _pinocchio_parts(robot, x, xd)
+        tau = inertial * M @ xdd + velocity * h + gravity * g
+        np.testing.assert_allclose(abs(tau[i]), error[i] * scale[i], rtol=1e-9,
+                                   atol=1e-12 * scale[i])
+        assert np.all(np.abs(xdd) <= region.qdd_max * (1 + 1e-12))
+    full = _rnea(robot, values[3][:, :n], values[3][:, n:2 * n], values[3][:, 2 * n:])
+    np.testing.assert_allclose(np.abs(full[np.arange(n), np.arange(n)]), scale, rtol=1e-9)
+
+
+def test_the_samples_are_those_a_certification_draws():
+    """A certification made in the process is read in place of the samples
+    (:func:`gd_analyze.workflows.region_memo.region_values`): the same positions, values and
+    scale for the same count and seed."""
+    from gd_analyze.core.selection.certify import certify
+    from gd_analyze.core.selection.region import region_samples
+
+    robot = load_robot("puma560")
+    base = base_parameters(robot)
+    region = joint_region(robot, robot.qdd_max)
+    q, V, scale, state = region_samples(robot, base, region, samples=30)
+    pb = certify(robot, base, region, max_boxes=2, samples=30)
+    assert np.array_equal(pb.positions, q) and np.array_equal(pb.values, V)
+    assert np.array_equal(pb.scale, scale) and np.array_equal(pb.scale_state, state)

@@ -20,7 +20,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from ..dynamics.regressor_bounds import pair_magnitudes
-from .region import channel_values, qd_vertices, region_scale, sample_positions
+from .region import qd_vertices, region_samples
 
 __all__ = ["PairBounds", "certify", "pair_peaks_at", "pair_magnitudes_at", "METHOD"]
 
@@ -75,6 +75,10 @@ class PairBounds:
     seconds: float
 
 
+#: Elements of each velocity product of :func:`pair_magnitudes_at` (32 MB).
+_GEMM_ELEMENTS = 1 << 22
+
+
 def pair_magnitudes_at(V, beta, qd_max, qdd_max):
     """Each pair's largest |contribution| at each given position, over the velocity and
     acceleration limits.
@@ -100,12 +104,13 @@ def pair_magnitudes_at(V, beta, qd_max, qdd_max):
         0, 2, 1)
     out[:, :, 2] = np.abs(V[:, 0]).transpose(0, 2, 1)
     verts = qd_vertices(np.asarray(qd_max, float))
-    Cq = V[:, 1 + n:].reshape(B, n * n, n * b)
-    for a in range(0, verts.shape[0], 64):
-        vv = verts[a:a + 64]
-        outer = (vv[:, :, None] * vv[:, None, :]).reshape(-1, n * n)     # (K, n n)
-        quad = np.abs(outer @ Cq).max(axis=1).reshape(B, n, b)          # qd^T C qd
-        out[:, :, 1] = np.maximum(out[:, :, 1], quad.transpose(0, 2, 1))
+    outer = (verts[:, :, None] * verts[:, None, :]).reshape(-1, n * n)      # (K, n n)
+    rows = max(1, _GEMM_ELEMENTS // (outer.shape[0] * n * b))    # positions per product
+    for a in range(0, B, rows):             # one matrix product (K, n n) @ (n n, rows n b)
+        Cq = V[a:a + rows, 1 + n:].transpose(1, 0, 2, 3).reshape(n * n, -1)
+        quad = outer @ Cq                                               # qd^T C qd
+        peak = np.maximum(quad.max(axis=0), -quad.min(axis=0))         # max |.| over qd
+        out[a:a + rows, :, 1] = peak.reshape(-1, n, b).transpose(0, 2, 1)
     return out * np.abs(beta)[None, :, None, None]
 
 
@@ -141,7 +146,7 @@ def _relevant(robot):
 
 
 def certify(robot, base, region, torque_floor=0.0, max_boxes=1024, samples=1000, seed=0,
-            open_share=0.05, rtol=0.1):
+            open_share=0.05, rtol=0.1, values=None):
     """Proved upper bounds of every pair's contribution over the region, and the scale.
 
     Parameters
@@ -162,6 +167,9 @@ def certify(robot, base, region, torque_floor=0.0, max_boxes=1024, samples=1000,
         A pair is refined while its bound is at most this share of s_i (pairs above it are
         kept at any tolerance below it) and above (1 + rtol) its sampled peak.
     rtol : float, optional
+    values : tuple, optional
+        :func:`.region.region_samples` of these ``samples`` and ``seed``, if already drawn
+        (the same positions and values; the floor is applied here).
 
     Returns
     -------
@@ -177,9 +185,9 @@ def certify(robot, base, region, torque_floor=0.0, max_boxes=1024, samples=1000,
     n = robot.n
     cols = np.flatnonzero(base.independent.reshape(-1))
     beta = np.asarray(base.beta, float)
-    q = sample_positions(region, samples, seed)
-    V = channel_values(robot, q, cols)
-    scale, state = region_scale(robot, region, cols, beta, torque_floor, values=(q, V))
+    q, V, scale, state = values if values is not None else region_samples(
+        robot, base, region, samples, seed)
+    scale = np.maximum(scale, torque_floor)
     sampled = pair_peaks_at(V, beta, region.qd_max, region.qdd_max)
     absb = np.abs(beta)[None, None, :]                              # over (3, n, b)
     lo = region.q_min[None, :].copy()

@@ -23,7 +23,8 @@ from ..dynamics.regressor_bounds import channel_count
 from ..symbolic.regressor_kernels import part_regressor, regressor_columns
 
 __all__ = ["Region", "joint_region", "missing_limits", "sample_positions", "channel_values",
-           "worst_states", "region_scale", "qd_vertices"]
+           "worst_states", "region_scale", "qd_vertices", "region_samples",
+           "sampled_error"]
 
 
 def channel_values(robot, q, columns, chunk=512, engine="auto"):
@@ -376,3 +377,69 @@ def region_scale(robot, region, columns, beta, torque_floor=0.0, samples=1000, s
                 best[i] = v[0, i]
                 state[i] = np.concatenate([x, vqd[0, i], vqdd[0, i]])
     return np.maximum(best, torque_floor), state
+
+
+def region_samples(robot, base, region, samples=1000, seed=0):
+    """The sampled positions of a region, their channel values, and the scale found there.
+
+    Parameters
+    ----------
+    robot : Robot
+        The arm, with n joints.
+    base : BaseParameters
+        The base parameters whose columns and values are read (b of them).
+    region : Region
+    samples : int, optional
+        Uniform position samples (plus the extremes of :func:`sample_positions`).
+    seed : int, optional
+
+    Returns
+    -------
+    tuple
+        ``(positions (B, n) [rad or m], channel values (B, C, n, b)`` (:func:`channel_values`),
+        ``scale (n,) [N m or N], scale_state (n, 3 n))``: :func:`region_scale` without a
+        floor; what :func:`gd_analyze.core.selection.certify.certify` computes before its
+        branch and bound, for the same samples and seed.
+    """
+    cols = np.flatnonzero(base.independent.reshape(-1))
+    q = sample_positions(region, samples, seed)
+    V = channel_values(robot, q, cols)
+    scale, scale_state = region_scale(robot, region, cols, np.asarray(base.beta, float),
+                                      values=(q, V))
+    return q, V, scale, scale_state
+
+
+def sampled_error(base, region, dropped, values):
+    """The largest error of a pruned model found over the region, relative to s_i there.
+
+    Sampling only: no bound is proved (that is
+    :func:`gd_analyze.core.selection.certify.certify`, which samples the same positions).
+
+    Parameters
+    ----------
+    base : BaseParameters
+        The arm's b base parameters.
+    region : Region
+    dropped : ndarray of bool, shape (b, 3)
+        The pairs (base parameter, part: inertial, velocity, gravity) the model leaves out
+        (:class:`gd_analyze.core.symbolic.recursive_model.RecursiveModel`).
+    values : tuple
+        :func:`region_samples` (or the same from a certification with torque floor 0).
+
+    Returns
+    -------
+    error : ndarray, shape (n,)
+        max over the sampled positions, the velocity vertices and |qdd| <= qdd_max of
+        |tau_i - tau_s,i| (the dropped pairs' torque, tau = Y_b beta), divided by s_i, the
+        largest |tau_i| found over the region (a joint with s_i = 0 gives 0) [1]. A largest
+        value found: a lower bound of the true maximum, not a proved bound.
+    state : ndarray, shape (n, 3 n)
+        Per joint i, the state (q, qd, qdd) where that error was found.
+    """
+    q, V, scale, _ = values
+    weights = np.asarray(base.beta, float)[None, :] * np.asarray(dropped, float).T   # (3, b)
+    err, qd, qdd = worst_states(V, weights, region.qd_max, region.qdd_max)
+    k = err.argmax(axis=0)                                            # (n,)
+    joints = np.arange(q.shape[1])
+    state = np.hstack([q[k], qd[k, joints], qdd[k, joints]])
+    return err[k, joints] / np.where(scale > 0, scale, np.inf), state

@@ -1,0 +1,99 @@
+"""The region's certification and samples, each computed once per process (issue 29).
+
+A certification (:func:`gd_analyze.core.selection.certify.certify`, kept in the derivation
+cache) and the region's samples (:func:`gd_analyze.core.selection.region.region_samples`) are
+pure functions of the arm, the region, the torque floor and :data:`REGION_SAMPLES`, so a second
+analysis of the same arm in one session (a payload sweep, a sweep after the main job, a test
+run) does not repeat them. A trajectory model's sampled error needs only the samples, not the
+certification's branch and bound; a certification after them reuses them.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+__all__ = ["REGION_SAMPLES", "certified", "region_values"]
+
+#: Positions sampled over the region for a model's sampled error (its velocity and
+#: acceleration at the worst vertices).
+REGION_SAMPLES = 1000
+
+#: Certifications kept in this process (keyed by :func:`_region_key`).
+_CERTIFIED = {}
+#: The region samples kept in this process without a certification (the same key, floor 0).
+_SAMPLED = {}
+#: Entries each keeps (a 10-joint arm's channel values are about 300 MB).
+_CERTIFIED_MAX = 2
+
+
+def _keep(memo, key, make):
+    """``memo[key]``, made first if absent; the oldest entry goes beyond :data:`_CERTIFIED_MAX`."""
+    if key not in memo:
+        while len(memo) >= _CERTIFIED_MAX:
+            memo.pop(next(iter(memo)))
+        memo[key] = make()
+    return memo[key]
+
+
+def _region_key(robot, region, torque_floor):
+    """SHA-256 of the arm, the region, the floor and :data:`REGION_SAMPLES` (in-process keys)."""
+    import hashlib
+    import json
+
+    from ..core.selection.simplified import json_safe
+
+    text = json.dumps(json_safe(robot.to_dict()), sort_keys=True)
+    return hashlib.sha256(text.encode() + b"".join(
+        np.ascontiguousarray(a, float).tobytes() for a in (
+            region.q_min, region.q_max, region.qd_max, region.qdd_max,
+            np.array([torque_floor, REGION_SAMPLES], float)))).hexdigest()
+
+
+def certified(robot, base, region, torque_floor=0.0):
+    """:func:`gd_analyze.core.selection.certify.certify` of an arm, once per process, and
+    kept in the derivation cache (:func:`gd_analyze.io.certification_cache.certification`).
+
+    Parameters
+    ----------
+    robot : Robot
+    base : BaseParameters
+    region : Region
+    torque_floor : float, optional
+        [N m or N].
+
+    Returns
+    -------
+    PairBounds
+        Samples :func:`region_values` drew in this process are not drawn again.
+    """
+    from ..io.certification_cache import certification
+
+    drawn = _SAMPLED.get(_region_key(robot, region, 0.0))      # the same samples, if drawn
+    return _keep(_CERTIFIED, _region_key(robot, region, torque_floor),
+                 lambda: certification(robot, base, region, torque_floor=torque_floor,
+                                       samples=REGION_SAMPLES, values=drawn))
+
+
+def region_values(robot, base, region):
+    """The region's samples at :data:`REGION_SAMPLES` positions, torque floor 0.
+
+    Parameters
+    ----------
+    robot, base, region
+        The arm, its base parameters and its joint-limit region.
+
+    Returns
+    -------
+    tuple
+        :func:`gd_analyze.core.selection.region.region_samples`: positions, channel values,
+        scale s_i and where it was found. A certification of the same arm and region with
+        floor 0 already made in this process samples the same positions with the same seed
+        and gives these values; it is read instead.
+    """
+    from ..core.selection.region import region_samples
+
+    key = _region_key(robot, region, 0.0)
+    if key in _CERTIFIED:
+        pb = _CERTIFIED[key]
+        return pb.positions, pb.values, pb.scale, pb.scale_state
+    return _keep(_SAMPLED, key, lambda: region_samples(robot, base, region, REGION_SAMPLES))
