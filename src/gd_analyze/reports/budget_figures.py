@@ -369,7 +369,7 @@ def fig_cost_ladder(ds, width=_PAGE):
     ax = fig.add_axes((0.7 / width, bottom / H, (width - 0.9) / width, (H - bottom - top) / H))
     ax.set_xscale("log")
     names = {"exact": "exact model (error 0)", "model": "model built (measured)",
-             "ladder": "EPS ladder (measured)", "chapter": "chapter rule (measured)",
+             "ladder": "\u03b5 ladder (measured)", "chapter": "chapter rule (measured)",
              "bound": "budget model (its bound, not measured)",
              "akb": "Armstrong, Khatib & Burdick 1986 (stated)"}
     seen = set()
