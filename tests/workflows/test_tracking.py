@@ -36,3 +36,21 @@ def test_gains(puma, shipped):
     for bad in ({"wn": 0.0}, {"zeta": -1.0}, {"wn": [1.0, 2.0]}, {"wn": np.nan}):
         with pytest.raises(ValueError):
             control_gains(puma, shipped.q[0], **bad)
+
+
+def test_the_stacked_motion_is_exactly_the_desired_motion_and_its_derivatives():
+    """The closed loop evaluates q_d, qd_d and qdd_d as one piecewise polynomial: its values
+    are bit for bit those of the desired motion and its two derivatives (the padded leading
+    zeros add exactly), which interpolate the set points (the oracle)."""
+    from gd_analyze.workflows.tracking import _stacked
+
+    t = np.array([0.0, 0.4, 1.0, 1.7])
+    q = np.array([[0.0, 1.0], [0.3, 0.8], [0.2, 0.1], [-0.4, 0.0]])
+    qd = np.array([[0.0, 0.0], [0.5, -1.0], [-0.2, -0.6], [0.0, 0.0]])
+    qdd = np.array([[1.0, 0.0], [0.0, -2.0], [-1.0, 1.0], [0.0, 0.0]])
+    pp = desired_motion(Trajectory(t=t, q=q, qd=qd, qdd=qdd, source="test"))
+    d1, d2 = pp.derivative(1), pp.derivative(2)
+    motion = _stacked(pp, d1, d2)
+    ts = np.linspace(0.0, 1.7, 97)
+    np.testing.assert_array_equal(motion(ts), np.hstack([pp(ts), d1(ts), d2(ts)]))
+    np.testing.assert_allclose(motion(t), np.hstack([q, qd, qdd]), atol=1e-12)

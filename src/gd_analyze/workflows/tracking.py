@@ -13,7 +13,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ..core.dynamics.dalembert import gd_terms, qdd_from_terms
+from ..core.dynamics.dalembert import allocate_terms, gd_terms, kernel_arguments, qdd_from_terms
 
 __all__ = ["CONTROLLERS", "CONTROLLER_DESCRIPTIONS", "DEFAULT_WN", "DEFAULT_ZETA",
            "DEFAULT_RTOL", "DEFAULT_ATOL", "DEFAULT_METHOD", "MAX_STIFFNESS_STEPS",
@@ -439,6 +439,8 @@ def track(robot, controller, gains, desired, t_eval, q0_offset=0.0, choices=None
     if controller == "simplified" and not hasattr(choices, "torque"):
         raise ValueError("the simplified controller needs the simplified model")
     d1, d2 = desired.derivative(1), desired.derivative(2)
+    motion = _stacked(desired, d1, d2)             # q_d, qd_d, qdd_d: one evaluation a call
+    constants, buffers = kernel_arguments(robot), allocate_terms(1, n)
     calls = [0]
 
     def rhs(t, y):
@@ -446,9 +448,10 @@ def track(robot, controller, gains, desired, t_eval, q0_offset=0.0, choices=None
         if calls[0] > MAX_RHS_EVALS:
             raise _TooManyEvals
         q, qd = y[None, :n], y[None, n:]
-        terms = gd_terms(robot, q, qd, engine="compiled")
-        tau = controller_torque(controller, robot, gains, desired(t)[None], d1(t)[None],
-                                d2(t)[None], q, qd, choices=choices, terms=terms)
+        terms = gd_terms(robot, q, qd, engine="compiled", out=buffers, constants=constants)
+        m = motion(t)[None]
+        tau = controller_torque(controller, robot, gains, m[:, :n], m[:, n:2 * n],
+                                m[:, 2 * n:], q, qd, choices=choices, terms=terms)
         return np.concatenate([y[n:], qdd_from_terms(terms, tau)[0]])
 
     t0 = t_eval[0]
@@ -478,6 +481,17 @@ def track(robot, controller, gains, desired, t_eval, q0_offset=0.0, choices=None
                                     q[ok], qd[ok], choices=choices)
     return TrackingRun(controller=controller, t=t_eval, q=q, qd=qd, tau=tau, error=q_d - q,
                        nfev=int(sol.nfev), success=bool(sol.success), message=str(sol.message))
+
+
+def _stacked(*polys):
+    """One PPoly of the given PPolys' values side by side, on their common breakpoints: the
+    lower degrees padded with leading zero coefficients, so that its values are exactly
+    theirs (Horner's rule adds the zeros exactly)."""
+    from scipy.interpolate import PPoly
+
+    k = max(p.c.shape[0] for p in polys)
+    c = [np.concatenate([np.zeros((k - p.c.shape[0],) + p.c.shape[1:]), p.c]) for p in polys]
+    return PPoly(np.concatenate(c, axis=-1), polys[0].x)
 
 
 class _TooManyEvals(Exception):

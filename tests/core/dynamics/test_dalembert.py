@@ -235,3 +235,25 @@ def test_the_engine_rule_depends_on_the_size_only():
     assert not compiled_engine("auto", 10 ** 6, threshold=10 ** 7)
     with pytest.raises(ValueError, match="engine"):
         compiled_engine("fortran", 1)
+
+
+def test_constants_computed_once_give_the_same_terms_as_pinocchio():
+    """A simulation passes the robot's kernel constants once (``constants=``) and reuses its
+    buffers (``out=``): the terms are those of Pinocchio's crba and nonLinearEffects, and
+    bit for bit those of a plain call."""
+    from gd_analyze.core.dynamics.dalembert import allocate_terms, kernel_arguments
+
+    robot = load_robot("puma560")
+    q, qd, _ = random_states(robot, 5, seed=11)
+    constants, buffers = kernel_arguments(robot), allocate_terms(1, robot.n)
+    ref = reference_terms(robot, q, qd)
+    for k in range(5):
+        plain = gd_terms(robot, q[k:k + 1], qd[k:k + 1], engine="compiled")
+        once = gd_terms(robot, q[k:k + 1], qd[k:k + 1], engine="compiled", out=buffers,
+                        constants=constants)
+        np.testing.assert_array_equal(once.D, plain.D)
+        np.testing.assert_array_equal(once.h, plain.h)
+        np.testing.assert_array_equal(once.c, plain.c)
+        assert relative_error(once.D[0], ref.D[k]) < 1e-12
+        assert relative_error(once.h[0], ref.h[k]) < 1e-12
+        assert relative_error(once.c[0], ref.c[k]) < 1e-12

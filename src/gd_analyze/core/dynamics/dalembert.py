@@ -360,7 +360,7 @@ def _check_out(out, N, n):
     return tuple(arr[:N] for arr in arrays)
 
 
-def gd_terms(robot, q, qd, chunk=DEFAULT_CHUNK, engine="auto", out=None):
+def gd_terms(robot, q, qd, chunk=DEFAULT_CHUNK, engine="auto", out=None, constants=None):
     """The G-D terms D_tran, D_rot, h_tran, h_rot and c at N set points, and the drives'.
 
     Parameters
@@ -382,6 +382,9 @@ def gd_terms(robot, q, qd, chunk=DEFAULT_CHUNK, engine="auto", out=None):
         Buffers the caller owns (:func:`allocate_terms`), with at least N rows: the terms are
         written into their first N rows, and the result's arrays are views of them. Reuse them
         across the chunks of a stream to avoid fresh allocations.
+    constants : tuple, optional
+        :func:`kernel_arguments` of ``robot``, computed once by a caller that evaluates the
+        same robot many times (a simulation, one call per step); used by the compiled engine.
 
     Returns
     -------
@@ -422,7 +425,8 @@ def gd_terms(robot, q, qd, chunk=DEFAULT_CHUNK, engine="auto", out=None):
         from .kernels import gd_kernel
 
         c = np.ascontiguousarray
-        gd_kernel(c(q), c(qd), *kernel_arguments(robot), *res)
+        gd_kernel(c(q), c(qd), *(kernel_arguments(robot) if constants is None else constants),
+                  *res)
     else:
         chunk = max(1, int(chunk))
         for start in range(0, N, chunk):
