@@ -103,6 +103,25 @@ def shared_reports(tmp_path_factory):
     return {"ur5": (tmp / "ur5", "report"), "sweep": (tmp / "sweep", "sweep_report")}
 
 
+@pytest.fixture(scope="session")
+def shared_puma(tmp_path_factory):
+    """The PUMA 560's main job on its shipped trajectory and the control command on its model,
+    each with its report, all defaults: built once a worker for the tests that only read them
+    (tests/reports/test_report_review.py, test_report_text.py,
+    tests/workflows/test_recursive_ladder.py). Shared: tests must not modify them.
+
+    ``{"puma": (folder, "report"), "control": (folder, "control_report")}``.
+    """
+    from gd_analyze.cli import main
+
+    tmp = tmp_path_factory.mktemp("shared_puma")
+    csv = str(SHIPPED)
+    assert main(["puma560", csv, "-o", str(tmp / "puma"), "-q"]) == 0
+    assert main(["control", str(tmp / "puma" / "simplified_model.json"), csv, "-o",
+                 str(tmp / "control"), "-q"]) == 0
+    return {"puma": (tmp / "puma", "report"), "control": (tmp / "control", "control_report")}
+
+
 def random_states(robot, count, seed):
     """Random (q, qd, qdd), shape (count, n): q within [-pi, pi], qd, qdd within +-3."""
     rng = np.random.default_rng(seed)

@@ -38,16 +38,14 @@ def _run(args, folder):
 
 
 @pytest.fixture(scope="module")
-def reports(tmp_path_factory, shared_reports):
-    """The main report of the three robots (the UR5's shared); the sweep (shared) and the
-    control report on the PUMA."""
+def reports(tmp_path_factory, shared_reports, shared_puma):
+    """The main report of the three robots (the PUMA's and the UR5's shared); the sweep and
+    the control report on the PUMA (shared)."""
     tmp = tmp_path_factory.mktemp("review")
     out = {k: (_run([robot, str(DATA / csv)], tmp / k), "report")
-           for k, (robot, csv) in MAIN.items() if k != "ur5"}
+           for k, (robot, csv) in MAIN.items() if k not in ("ur5", "puma")}
     out["ur5"], out["sweep"] = shared_reports["ur5"], shared_reports["sweep"]
-    csv = str(DATA / "puma560_trajectory.csv")
-    out["control"] = (_run(["control", str(out["puma"][0] / "simplified_model.json"), csv],
-                           tmp / "control"), "control_report")
+    out["puma"], out["control"] = shared_puma["puma"], shared_puma["control"]
     return out
 
 

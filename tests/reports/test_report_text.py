@@ -26,7 +26,6 @@ from html_checks import html_text, table_rows, without_figures
 from pypdf import PdfReader
 
 from gd_analyze import load_robot
-from gd_analyze.cli import main
 from gd_analyze.reports.typeset import MARGINS, write_pdf
 
 #: Over 5 s on an idle machine (the module's fixtures): run on one interpreter in CI.
@@ -47,21 +46,12 @@ def _text(html):
 _PLAIN_DIGITS = str.maketrans("\u2080\u2081\u2082\u2083\u2084\u2085\u2086\u2087\u2088\u2089", "0123456789")
 
 
-def _run(args, folder):
-    assert main([*args, "-o", str(folder), "-q"]) == 0
-    return folder
-
-
 @pytest.fixture(scope="module")
-def reports(tmp_path_factory, shared_reports):
-    """The main job on the PUMA 560 and the UR5 (shared), the sweep (shared) and the control
-    report on the PUMA."""
-    tmp = tmp_path_factory.mktemp("text")
-    puma = _run(["puma560", str(DATA / "puma560_trajectory.csv")], tmp / "puma")
-    csv = str(DATA / "puma560_trajectory.csv")
-    control = _run(["control", str(puma / "simplified_model.json"), csv], tmp / "control")
-    return {"puma": (puma, "report"), "ur5": shared_reports["ur5"],
-            "sweep": shared_reports["sweep"], "control": (control, "control_report")}
+def reports(shared_reports, shared_puma):
+    """The main job on the PUMA 560 and the UR5, the sweep and the control report on the
+    PUMA (all shared)."""
+    return {"puma": shared_puma["puma"], "ur5": shared_reports["ur5"],
+            "sweep": shared_reports["sweep"], "control": shared_puma["control"]}
 
 
 def _files(reports, which):

@@ -12,7 +12,6 @@ import pytest
 from conftest import SHIPPED
 
 from gd_analyze import load_robot
-from gd_analyze.cli import main
 from gd_analyze.core.symbolic.base_parameters import base_parameters
 from gd_analyze.core.symbolic.emit import python_function
 from gd_analyze.core.symbolic.recursive_model import recursive_model
@@ -65,7 +64,7 @@ def test_each_rung_s_error_is_that_of_its_model_against_rnea(puma, proved):
     assert ops == sorted(ops, reverse=True) and ops[-1] < ops[0], ops
 
 
-def test_the_default_run_stores_and_draws_the_recursive_ladder(tmp_path):
+def test_the_default_run_stores_and_draws_the_recursive_ladder(shared_puma):
     """The default PUMA run deploys the recursive model pruned over the region; results.h5
     holds its ladder (one rung per EPS, the deployed model's counts at its EPS, the exact
     recursive model's at 0), the cost table lists the other rungs, and the report's Sec. 5.5
@@ -74,8 +73,7 @@ def test_the_default_run_stores_and_draws_the_recursive_ladder(tmp_path):
 
     from gd_analyze.reports.budget_figures import cost_points
 
-    out = tmp_path / "puma"
-    assert main(["puma560", str(SHIPPED), "-o", str(out), "-q"]) == 0
+    out = shared_puma["puma"][0]                  # the default run, with its report
     spec = json.loads((out / "simplified_model.json").read_text())
     assert spec["form"] == "recursive" and spec["guarantee"]["kind"] == "region"
     with xr.open_dataset(out / "results.h5", engine="h5netcdf") as ds:
