@@ -21,7 +21,6 @@ from html import unescape
 import numpy as np
 import pdf_checks
 import pytest
-from conftest import ROOT
 from html_checks import html_text, table_rows, without_figures
 from pypdf import PdfReader
 
@@ -31,7 +30,6 @@ from gd_analyze.reports.typeset import MARGINS, write_pdf
 #: Over 5 s on an idle machine (the module's fixtures): run on one interpreter in CI.
 pytestmark = pytest.mark.slow
 
-DATA = ROOT / "data"
 #: Code names that must not stand in for mathematics in a report's text.
 CODE_NAMES = re.compile(r"\b(share_tran|peak_tran|peak_rot|peak_total|tau_s|tau_f|tau_i|"
                         r"tau_simplified|tau_full|scale_i|EPS|D_ij|D_ii|D_jj|h_i|D_tran|D_rot|"
