@@ -40,11 +40,10 @@ __all__ = ["main", "run", "parse_range", "escape_control", "MAIN_JOB_IMPORTS", "
 #: The libraries the main job always uses, imported by :func:`run` before the job starts, so
 #: that ``gc.freeze()`` then moves their objects out of the collector's reach (the job's
 #: garbage collections no longer walk the modules' objects: about 0.3 s of the PUMA 560 job).
-MAIN_JOB_IMPORTS = ("numpy", "scipy.linalg", "xarray", "h5netcdf", "h5py", "pinocchio",
-                    "symengine", "jinja2")
-#: The libraries the main job's report uses (matplotlib's figures and SVG writer, Typst),
-#: imported likewise unless ``--no-report`` is given.
-REPORT_IMPORTS = ("matplotlib.figure", "matplotlib.backends.backend_svg", "typst")
+MAIN_JOB_IMPORTS = ("numpy", "xarray", "h5netcdf", "h5py", "pinocchio", "symengine")
+#: The libraries the main job's report uses (Jinja2's templates, matplotlib's figures and SVG
+#: writer, Typst), imported likewise unless ``--no-report`` is given.
+REPORT_IMPORTS = ("jinja2", "matplotlib.figure", "matplotlib.backends.backend_svg", "typst")
 
 
 #: Control characters never written to the terminal as they are (C0 but newline, tab and

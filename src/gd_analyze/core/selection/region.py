@@ -92,14 +92,13 @@ def channel_values(robot, q, columns, chunk=512, engine="auto"):
         else:       # each part at the states it is read at only: 1 + n + S per position
             grav, inertial, velocity = _channel_parts(robot, columns, qc, qd_units, qdd_units)
         diag = velocity[:, :n]                                # C_jj: (B, j, i, m)
-        Cm = np.empty((B, n, n) + diag.shape[2:])
+        Cm = out[a:a + B, 1 + n:].reshape((B, n, n) + diag.shape[2:])     # a view of out
         Cm[:, np.arange(n), np.arange(n)] = diag
         off = 0.5 * (velocity[:, n:] - diag[:, jj[n:]] - diag[:, ll[n:]])
         Cm[:, jj[n:], ll[n:]] = off
         Cm[:, ll[n:], jj[n:]] = off
         out[a:a + B, 0] = grav
         out[a:a + B, 1:1 + n] = inertial
-        out[a:a + B, 1 + n:] = Cm.reshape(B, n * n, n, -1)
     return out
 
 
