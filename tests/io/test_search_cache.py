@@ -66,6 +66,10 @@ def _torques(model, robot):
 
 
 def _count_builds(monkeypatch):
+    """Count the programs built from here on; the programs this process built before are
+    forgotten (:data:`gd_analyze.core.symbolic.recursive.PROGRAMS`), so each is built again."""
+    recursive_module.PROGRAMS.clear()
+    recursive_module.COUNTS.clear()
     built = []
     finish = recursive_module._finish
 

@@ -102,3 +102,76 @@ def test_standard_parameters_give_the_same_torques_with_more_operations():
     assert total[0] < total[1]
     with pytest.raises(ValueError, match="shape"):
         recursive_program(arm, standard_parameters(arm)[:-1])
+
+
+# ------------------------------------------------------------------------------------------
+# The programs kept in this process (recursive.PROGRAMS, recursive.COUNTS)
+# ------------------------------------------------------------------------------------------
+
+def _spec_with(arm, **link1):
+    from gd_analyze.core.model.robot_spec import robot_from_dict
+
+    spec = arm.to_dict()
+    spec["link"][1] = {**spec["link"][1], **link1}
+    return robot_from_dict(spec)
+
+
+def test_a_kept_program_is_the_one_a_fresh_build_gives():
+    """The second request is answered from the memo (the same object), and it is the program
+    a build in an empty memo gives: the same temporaries and outputs, text for text."""
+    from gd_analyze.core.symbolic import recursive
+
+    arm = robot("puma560")
+    first = recursive_program(arm)
+    assert recursive_program(arm) is first
+    recursive.PROGRAMS.clear()
+    fresh = recursive_program(arm)
+    assert fresh is not first
+    assert [str(e) for e in fresh.outputs] == [str(e) for e in first.outputs]
+    assert [(str(s), str(e)) for s, e in fresh.assignments] == \
+        [(str(s), str(e)) for s, e in first.assignments]
+    assert fresh.forms == first.forms
+
+
+@pytest.mark.parametrize("change", [{"a": 0.4318 + 1e-9}, {"mass": 17.4 + 1e-6},
+                                    {"alpha_deg": 1e-9}])
+def test_another_arm_never_gets_a_kept_program(change):
+    """An arm that differs in one number of its second link (a length by 1 nm, a mass by
+    1 mg, a twist by 1e-9 deg) gets its own program, with other constants, that equals
+    Pinocchio's rnea of that arm."""
+    arm = robot("puma560")
+    kept = recursive_program(arm)
+    other = _spec_with(arm, **change)
+    prog = recursive_program(other)
+    assert [str(e) for e in prog.assignments] != [str(e) for e in kept.assignments]
+    q, qd, qdd = states(other, 100, 3)
+    assert joint_relative_error(python_function(prog)(q, qd, qdd), rnea(other, q, qd, qdd)) \
+        < TOL
+
+
+def test_searched_forms_given_back_return_the_searched_program():
+    """parts_program with the forms its search chose is the searched program (kept under
+    both keys); parts_count is the count of the quick program, built afresh."""
+    from gd_analyze.core.symbolic import recursive
+    from gd_analyze.core.symbolic.base_parameters import base_parameters
+    from gd_analyze.core.symbolic.pruning import part_values
+
+    arm = robot("stanford")
+    base = base_parameters(arm)
+    dropped = np.zeros((base.rank, 3), bool)
+    dropped[0, 1] = True
+    values = part_values(base, dropped)
+    searched = recursive.parts_program(arm, values)
+    assert recursive.parts_program(arm, values, forms=searched.forms) is searched
+    recursive.COUNTS.clear()
+    quick = recursive.parts_program(arm, values, cse=False, search=False).cost()
+    assert recursive.parts_count(arm, values) == quick["multiplications"] + quick["additions"]
+    with pytest.raises(ValueError, match="shape"):
+        recursive.parts_count(arm, values[:2])
+
+
+def test_a_memo_of_size_0_is_refused():
+    from gd_analyze.core.symbolic.recursive import ProgramMemo
+
+    with pytest.raises(ValueError, match="at least 1"):
+        ProgramMemo(size=0)

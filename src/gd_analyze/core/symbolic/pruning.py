@@ -24,7 +24,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from ..model.kinematics import as_states
-from .recursive import PARTS, exact_program, parts_program
+from .recursive import PARTS, exact_program, parts_count, parts_program
 from .regressor_kernels import contribution_peaks, part_contributions
 
 #: part_contributions and contribution_peaks are the compiled ones of :mod:`.regressor_kernels`.
@@ -452,7 +452,7 @@ def part_values(base, dropped):
 
 def _count(robot, base, dropped):
     """Multiplications + additions of the pruned program (quick: no cse, one form)."""
-    return _total(parts_program(robot, part_values(base, dropped), cse=False, search=False))
+    return parts_count(robot, part_values(base, dropped))
 
 
 def pruned_program(robot, base, dropped, cse=True, exact=None):

@@ -14,6 +14,9 @@ models of :mod:`.pruning`.
 from __future__ import annotations
 
 import dataclasses
+import hashlib
+import threading
+from collections import OrderedDict
 
 import numpy as np
 import symengine as se
@@ -25,7 +28,116 @@ from .newton_euler import ALL, FORMS, PARTS, Recursion, link_constants, link_tor
 from .transform import finish_program, jacobian, substitute
 
 __all__ = ["recursive_program", "exact_program", "parts_program", "regressor_program",
-           "finish_program", "PARTS"]
+           "finish_program", "PARTS", "ProgramMemo", "PROGRAMS", "COUNTS", "program_key", "parts_count"]
+
+
+class ProgramMemo:
+    """Values of a pure function kept by key in this process, least recently used out.
+
+    Parameters
+    ----------
+    size : int
+        Entries kept (at least 1).
+
+    Raises
+    ------
+    ValueError
+        If size is below 1.
+
+    Notes
+    -----
+    A program of this module is a pure function of the arm's kinematics, the parameter values
+    and the settings (:func:`program_key`), and is never changed once built (a frozen
+    :class:`~gd_analyze.core.symbolic.codegen.Program`), so one build serves every caller: the
+    main job's tolerance ladder, the control command's model cost, a model file's check and a
+    sweep each ask for programs built before. Thread-safe; nothing is read from or written to
+    disk.
+
+    Examples
+    --------
+    >>> memo = ProgramMemo(size=1)
+    >>> memo.get("a", lambda: 1), memo.get("a", lambda: 2), memo.get("b", lambda: 3)
+    (1, 1, 3)
+    >>> memo.get("a", lambda: 4)            # "a" went out when "b" came in
+    4
+    """
+
+    def __init__(self, size):
+        if int(size) < 1:
+            raise ValueError(f"size must be at least 1, got {size!r}")
+        self.size = int(size)
+        self._kept = OrderedDict()
+        self._lock = threading.Lock()
+
+    def get(self, key, make, aliases=lambda value: ()):
+        """The value kept under a key, or made and kept.
+
+        Parameters
+        ----------
+        key : hashable
+            What the value is a pure function of (e.g. :func:`program_key`).
+        make : callable
+            ``make()`` makes the value when none is kept under ``key``.
+        aliases : callable, optional
+            ``aliases(value)``: other keys that give the same value; it is kept under them too.
+
+        Returns
+        -------
+        object
+            The kept or the new value (one object for every caller: never change it).
+        """
+        with self._lock:
+            if key in self._kept:
+                self._kept.move_to_end(key)
+                return self._kept[key]
+        value = make()
+        with self._lock:
+            for k in (key, *aliases(value)):
+                self._kept[k] = value
+                self._kept.move_to_end(k)
+            while len(self._kept) > self.size:
+                self._kept.popitem(last=False)
+        return value
+
+    def clear(self):
+        """Forget every entry."""
+        with self._lock:
+            self._kept.clear()
+
+
+#: The programs of :func:`recursive_program` and :func:`parts_program` built in this process
+#: (a PUMA 560 program is about 1 MB of symengine expressions; a 10-joint arm's about 5 MB).
+PROGRAMS = ProgramMemo(size=24)
+#: The operation counts of :func:`parts_count` (integers: the pruning's search compares
+#: hundreds of candidate programs and keeps none of them).
+COUNTS = ProgramMemo(size=4096)
+
+
+def program_key(kind, robot, values, *settings):
+    """SHA-256 of what a program of this module depends on.
+
+    Parameters
+    ----------
+    kind : str
+        Which builder.
+    robot : Robot
+        The arm: its joint types, the joint placements' rotations and translations and gravity
+        (all :class:`.newton_euler.Recursion` reads of it).
+    values : array_like
+        The parameter values [kg m^2, kg m, kg].
+    *settings
+        The builder's other arguments (their ``repr``).
+
+    Returns
+    -------
+    str
+        64 hexadecimal digits.
+    """
+    digest = hashlib.sha256(repr((kind, int(robot.n), [bool(p) for p in robot.prismatic],
+                                  np.shape(values), settings)).encode())
+    for array in (robot.rotation, robot.translation, robot.gravity, values):
+        digest.update(np.ascontiguousarray(array, float).tobytes())
+    return digest.hexdigest()
 
 def _finish(rec, tau, cse):
     return finish_program(rec.b.assignments, tau, rec.n, cse)
@@ -91,9 +203,14 @@ def recursive_program(robot, values=None, cse=True, forms=None):
     if values.shape != (robot.n, 10) or not np.isfinite(values).all():
         raise ValueError(f"values must be finite, of shape ({robot.n}, 10), got "
                          f"{values.shape}")
-    consts = link_constants(values)
-    return _choose(robot, [[(ALL, consts[j])] for j in range(robot.n)],
-                   _last_joint_free(robot, values), cse, forms=forms)
+    forms = None if forms is None else tuple(forms)
+
+    def build():
+        consts = link_constants(values)
+        return _choose(robot, [[(ALL, consts[j])] for j in range(robot.n)],
+                       _last_joint_free(robot, values), cse, forms=forms)
+    return PROGRAMS.get(program_key("exact", robot, values, cse, forms), build,
+                        lambda p: [program_key("exact", robot, values, cse, p.forms)])
 
 
 #: The exact program: :func:`recursive_program` (the name the pruning module uses).
@@ -138,6 +255,44 @@ def parts_program(robot, values, cse=True, search=True, forms=None):
     values = np.asarray(values, float)
     if values.shape != (len(PARTS), robot.n, 10):
         raise ValueError(f"values must have shape (3, {robot.n}, 10), got {values.shape}")
+    forms = None if forms is None else tuple(forms)
+    searched = search and forms is None
+    return PROGRAMS.get(program_key("parts", robot, values, cse, searched, forms),
+                        lambda: _parts_program(robot, values, cse, search, forms),
+                        lambda p: [program_key("parts", robot, values, cse, False, p.forms)]
+                        if searched else [])
+
+
+def parts_count(robot, values):
+    """Multiplications + additions of the quick program of per-part values.
+
+    Parameters
+    ----------
+    robot : Robot
+        The arm, with n joints.
+    values : array_like, shape (3, n, 10)
+        As :func:`parts_program` [kg m^2, kg m, kg].
+
+    Returns
+    -------
+    int
+        The count of ``parts_program(robot, values, cse=False, search=False)``: no common-
+        subexpression elimination, the product form on every link (the pruning's quick
+        comparison of candidates, :mod:`.pruning`).
+
+    Raises
+    ------
+    ValueError
+        If values is not of shape (3, n, 10).
+    """
+    values = np.asarray(values, float)
+    if values.shape != (len(PARTS), robot.n, 10):
+        raise ValueError(f"values must have shape (3, {robot.n}, 10), got {values.shape}")
+    return COUNTS.get(program_key("count", robot, values),
+                      lambda: _total(_parts_program(robot, values, False, False, None)))
+
+
+def _parts_program(robot, values, cse, search, forms):
     groups = []
     for j in range(robot.n):
         by_set = {}
