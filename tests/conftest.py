@@ -1,5 +1,7 @@
 """Shared fixtures: the built-in robots, random states, the shipped trajectory."""
 
+import os
+import shutil
 from pathlib import Path
 
 import numpy as np
@@ -51,15 +53,38 @@ def shipped():
     return read_trajectory(SHIPPED, n_joints=6)
 
 
+def built_once(name, build):
+    """A folder that ``build(folder)`` fills once a test session, shared by the xdist workers.
+
+    The folder lies in the session's cache folder (:func:`pytest_configure`), which every
+    worker inherits. A worker that asks while another builds it waits on the build's lock (an
+    event, not a time) and then uses the finished folder; a failed build leaves no marker, so
+    the next worker builds it again. Shared: tests must not modify what is in it.
+    """
+    import fcntl
+
+    root = Path(os.environ["XDG_CACHE_HOME"]) / "shared-fixtures"
+    root.mkdir(exist_ok=True)
+    folder, done = root / name, root / f"{name}.done"
+    with open(root / f"{name}.lock", "w") as lock:
+        fcntl.flock(lock, fcntl.LOCK_EX)
+        if not done.is_file():
+            shutil.rmtree(folder, ignore_errors=True)
+            folder.mkdir()
+            build(folder)
+            done.touch()
+    return folder
+
+
 @pytest.fixture(scope="session")
-def shipped_dataset(tmp_path_factory):
+def shipped_dataset():
     """The stored dataset of a built-in robot's shipped trajectory, by robot name.
 
     A function of the name: the main analysis (without the formulations) written by
     ``analyze_to_file`` and read back from its results.h5, loaded; one analysis per robot a
-    session. Shared: tests must not modify it. The model is pruned on the trajectory
-    (``guarantee="trajectory"``), so that the figures and tables have errors to draw on every
-    arm (the UR5's region model drops nothing).
+    session (:func:`built_once`). Shared: tests must not modify it. The model is pruned on the
+    trajectory (``guarantee="trajectory"``), so that the figures and tables have errors to
+    draw on every arm (the UR5's region model drops nothing).
     """
     from gd_analyze.io.schema import open_results
     from gd_analyze.io.trajectory import read_trajectory
@@ -68,24 +93,27 @@ def shipped_dataset(tmp_path_factory):
 
     stored = {}
 
+    def analysed(name, folder):
+        robot = load_robot(name)
+        traj = read_trajectory(ROOT / "data" / f"{name}_trajectory.csv", robot.n)
+        options = AnalysisOptions(formulations=False,
+                                  simplify=SimplifyOptions(guarantee="trajectory"))
+        analyze_to_file(robot, traj, folder / "results.h5", options)
+
     def get(name):
         if name not in stored:
-            robot = load_robot(name)
-            traj = read_trajectory(ROOT / "data" / f"{name}_trajectory.csv", robot.n)
-            path = tmp_path_factory.mktemp(name) / "results.h5"
-            options = AnalysisOptions(formulations=False,
-                                      simplify=SimplifyOptions(guarantee="trajectory"))
-            analyze_to_file(robot, traj, path, options)
-            with open_results(path, lazy=True) as ds:
+            folder = built_once(f"dataset-{name}", lambda f: analysed(name, f))
+            with open_results(folder / "results.h5", lazy=True) as ds:
                 stored[name] = ds.load()
         return stored[name]
     return get
 
 
 @pytest.fixture(scope="session")
-def shared_reports(tmp_path_factory):
+def shared_reports():
     """The UR5's main report and the PUMA 560's sweep report, for the report tests that read
-    both (tests/reports/test_report_review.py, test_report_text.py): built once a worker.
+    both (tests/reports/test_report_review.py, test_report_text.py): built once a session
+    (:func:`built_once`).
 
     ``{"ur5": (folder, "report"), "sweep": (folder, "sweep_report")}``: the main job on the
     UR5's shipped trajectory, and the sweep of the PUMA 560 over its shipped trajectory twice
@@ -94,31 +122,35 @@ def shared_reports(tmp_path_factory):
     """
     from gd_analyze.cli import main
 
-    tmp = tmp_path_factory.mktemp("shared_reports")
     csv = str(SHIPPED)
-    assert main(["ur5", str(ROOT / "data" / "ur5_trajectory.csv"), "-o", str(tmp / "ur5"),
-                 "-q"]) == 0
-    assert main(["sweep", "puma560", csv, csv, "--workers", "1", "--held-out", "0", "-o",
-                 str(tmp / "sweep"), "-q"]) == 0
+
+    def build(tmp):
+        assert main(["ur5", str(ROOT / "data" / "ur5_trajectory.csv"), "-o", str(tmp / "ur5"),
+                     "-q"]) == 0
+        assert main(["sweep", "puma560", csv, csv, "--workers", "1", "--held-out", "0", "-o",
+                     str(tmp / "sweep"), "-q"]) == 0
+    tmp = built_once("shared_reports", build)
     return {"ur5": (tmp / "ur5", "report"), "sweep": (tmp / "sweep", "sweep_report")}
 
 
 @pytest.fixture(scope="session")
-def shared_puma(tmp_path_factory):
+def shared_puma():
     """The PUMA 560's main job on its shipped trajectory and the control command on its model,
-    each with its report, all defaults: built once a worker for the tests that only read them
-    (tests/reports/test_report_review.py, test_report_text.py,
+    each with its report, all defaults: built once a session (:func:`built_once`) for the
+    tests that only read them (tests/reports/test_report_review.py, test_report_text.py,
     tests/workflows/test_recursive_ladder.py). Shared: tests must not modify them.
 
     ``{"puma": (folder, "report"), "control": (folder, "control_report")}``.
     """
     from gd_analyze.cli import main
 
-    tmp = tmp_path_factory.mktemp("shared_puma")
     csv = str(SHIPPED)
-    assert main(["puma560", csv, "-o", str(tmp / "puma"), "-q"]) == 0
-    assert main(["control", str(tmp / "puma" / "simplified_model.json"), csv, "-o",
-                 str(tmp / "control"), "-q"]) == 0
+
+    def build(tmp):
+        assert main(["puma560", csv, "-o", str(tmp / "puma"), "-q"]) == 0
+        assert main(["control", str(tmp / "puma" / "simplified_model.json"), csv, "-o",
+                     str(tmp / "control"), "-q"]) == 0
+    tmp = built_once("shared_puma", build)
     return {"puma": (tmp / "puma", "report"), "control": (tmp / "control", "control_report")}
 
 
@@ -172,7 +204,6 @@ def pytest_configure(config):
     self-check's); the operation-count tests count afresh
     (``tests/formulations/test_opcount.py``).
     """
-    import os
     import tempfile
 
     if hasattr(config, "workerinput"):          # an xdist worker: the controller's folder
@@ -186,7 +217,6 @@ def pytest_configure(config):
 
 def pytest_unconfigure(config):
     """Remove the session's cache folder (:func:`pytest_configure`)."""
-    import shutil
 
     folder = getattr(config, "_gd_cache_folder", None)
     if folder is not None:
