@@ -54,3 +54,30 @@ def test_the_stacked_motion_is_exactly_the_desired_motion_and_its_derivatives():
     ts = np.linspace(0.0, 1.7, 97)
     np.testing.assert_array_equal(motion(ts), np.hstack([pp(ts), d1(ts), d2(ts)]))
     np.testing.assert_allclose(motion(t), np.hstack([q, qd, qdd]), atol=1e-12)
+
+
+def test_the_closed_loop_on_one_state_floats_is_the_closed_loop_on_the_batch_model(puma,
+                                                                                   shipped):
+    """The simplified controller's run, its model evaluated at each right-hand-side call in
+    floats (torque_at), equals the run with the batch numpy model (an object without
+    torque_at) bit for bit: the same operations in the same order. The model is the PUMA 560's
+    pruned recursive one, with sines, cosines and products of every kind."""
+    from gd_analyze.workflows.analyze import analyze
+    from gd_analyze.workflows.options import AnalysisOptions
+    from gd_analyze.workflows.tracking import track
+
+    model = analyze(puma, shipped, AnalysisOptions(verify=False, formulations=False)).model
+
+    class BatchOnly:                       # the model without its one-state function
+        robot = model.robot
+
+        def torque(self, q, qd, qdd):
+            return model.torque(q, qd, qdd)
+
+    desired = desired_motion(shipped)
+    gains = control_gains(puma, shipped.q[0])
+    t = np.linspace(shipped.t[0], shipped.t[0] + 0.5, 21)
+    one, batch = (track(puma, "simplified", gains, desired, t, q0_offset=0.01, choices=c)
+                  for c in (model, BatchOnly()))
+    assert one.success and batch.success and one.nfev == batch.nfev > 50
+    assert np.array_equal(one.q, batch.q) and np.array_equal(one.tau, batch.tau)

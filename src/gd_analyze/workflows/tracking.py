@@ -299,7 +299,7 @@ def desired_motion(trajectory):
 
 
 def controller_torque(controller, robot, gains, q_d, qd_d, qdd_d, q, qd, choices=None,
-                      terms=None):
+                      terms=None, model_torque=None):
     """Torque a controller applies at given desired and actual states.
 
     Parameters
@@ -320,6 +320,10 @@ def controller_torque(controller, robot, gains, q_d, qd_d, qdd_d, q, qd, choices
     terms : GDTerms, optional
         The full G-D terms at (q, qd), if already computed (used by ``"full"`` and
         ``"pd_gravity"``).
+    model_torque : callable, optional
+        ``model_torque(q, qd, v)`` -> shape (N, n): the simplified model's torques, if not
+        ``choices.torque`` (the closed loop's one-state evaluation,
+        :meth:`~gd_analyze.core.selection.simplified.SimplifiedModel.torque_at`).
 
     Returns
     -------
@@ -351,7 +355,7 @@ def controller_torque(controller, robot, gains, q_d, qd_d, qdd_d, q, qd, choices
         return terms.tau(v)
     if choices is None or not hasattr(choices, "torque"):
         raise ValueError("the simplified controller needs the simplified model")
-    return choices.torque(q, qd, v)
+    return (model_torque or choices.torque)(q, qd, v)
 
 
 @dataclass(frozen=True, eq=False)
@@ -428,7 +432,10 @@ def track(robot, controller, gains, desired, t_eval, q0_offset=0.0, choices=None
     Plant: qdd = D^-1 (tau - h - c - tau_f), Eq. (3.4-24) with the drives' armature in D and
     friction tau_f (:mod:`gd_analyze.core.model.drives`); the G-D terms at the current state are
     computed once per right-hand-side call (compiled engine) and serve both the plant and the
-    full-model and PD laws.
+    full-model and PD laws; the simplified law evaluates its model at that one state in floats
+    (:meth:`~gd_analyze.core.selection.simplified.SimplifiedModel.torque_at`: its program's
+    operations in the same order as the emitted numpy model's). The torques returned at
+    ``t_eval`` are computed afterwards, for all samples at once, by ``choices.torque``.
     """
     from scipy.integrate import solve_ivp
 
@@ -442,6 +449,10 @@ def track(robot, controller, gains, desired, t_eval, q0_offset=0.0, choices=None
     motion = _stacked(desired, d1, d2)             # q_d, qd_d, qdd_d: one evaluation a call
     constants, buffers = kernel_arguments(robot), allocate_terms(1, n)
     calls = [0]
+    at = getattr(choices, "torque_at", None) if controller == "simplified" else None
+
+    def one_state(q, qd, v):           # the simplified model at the one state of a call
+        return at(q[0], qd[0], v[0])[None] if at is not None else choices.torque(q, qd, v)
 
     def rhs(t, y):
         calls[0] += 1
@@ -451,7 +462,8 @@ def track(robot, controller, gains, desired, t_eval, q0_offset=0.0, choices=None
         terms = gd_terms(robot, q, qd, engine="compiled", out=buffers, constants=constants)
         m = motion(t)[None]
         tau = controller_torque(controller, robot, gains, m[:, :n], m[:, n:2 * n],
-                                m[:, 2 * n:], q, qd, choices=choices, terms=terms)
+                                m[:, 2 * n:], q, qd, choices=choices, terms=terms,
+                                model_torque=one_state)
         return np.concatenate([y[n:], qdd_from_terms(terms, tau)[0]])
 
     t0 = t_eval[0]

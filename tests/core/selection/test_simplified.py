@@ -67,6 +67,27 @@ def test_torque_in_blocks_is_the_program_on_the_whole_arrays(puma, monkeypatch):
     assert np.array_equal(model.torque(q[3], qd[3], qdd[3]), whole[3:4])
 
 
+@pytest.mark.parametrize("choice", ["both", "tran"])
+def test_torque_at_one_state_is_the_half_model_rnea(puma, choice):
+    """torque_at, one state at a time: Pinocchio's rnea of the whole (both) and of the
+    zero-rotational-inertia (tran) model, as torque is; not finite in, NaN out; n entries."""
+    import pinocchio as pin
+
+    q, qd, qdd = random_states(puma, 20, 23)
+    qd[:3] = 0.0
+    simp = _model(puma, choice)
+    got = np.array([simp.torque_at(a, b, c) for a, b, c in zip(q, qd, qdd)])
+    model = pinocchio_model(puma, "tran" if choice == "tran" else "full")
+    data = model.createData()
+    ref = np.array([pin.rnea(model, data, a, b, c) for a, b, c in zip(q, qd, qdd)])
+    np.testing.assert_allclose(got, ref, rtol=0, atol=1e-10 * np.abs(ref).max())
+    bad = q[0].copy()
+    bad[2] = np.inf
+    assert np.isnan(simp.torque_at(bad, qd[0], qdd[0])).all()
+    with pytest.raises(ValueError, match="6 entries"):
+        simp.torque_at(q[0][:5], qd[0], qdd[0])
+
+
 def test_masks_are_symmetric_and_complete():
     choices = {lab: "none" for lab in element_labels(3)}
     choices.update(D13="tran", D23="rot", h2="both")

@@ -14,7 +14,13 @@ from scales import joint_relative_error
 from symbolic_helpers import compile_c, explicit_program, rnea, states, symbolic_tau
 
 from gd_analyze.core.symbolic.codegen import Program
-from gd_analyze.core.symbolic.emit import emit_c, emit_python, python_function
+from gd_analyze.core.symbolic.emit import (
+    emit_c,
+    emit_python,
+    emit_state_python,
+    python_function,
+    state_function,
+)
 
 TOL = 1e-10
 
@@ -61,6 +67,36 @@ def test_hand_program_python_equals_numpy():
     got = python_function(prog)(q, qd, qdd)
     assert np.abs(got - _hand_numpy(q, qd, qdd)).max() < 1e-12
     assert np.abs(got - symbolic_tau(prog, q, qd, qdd)).max() < 1e-12
+
+
+def _one_by_one(prog, q, qd, qdd):
+    one = state_function(prog)
+    return np.array([one(*(x.tolist() for x in s)) for s in zip(q, qd, qdd)])
+
+
+def test_hand_program_at_one_state_equals_numpy():
+    """The one-state function in floats: the hand-written numpy formulas (sign(0) = 0 among
+    them) and the symbolic expression, at each of 25 states."""
+    prog = _hand_program()
+    q, qd, qdd = _hand_states()
+    got = _one_by_one(prog, q, qd, qdd)
+    assert got.shape == (25, 2)
+    assert np.abs(got - _hand_numpy(q, qd, qdd)).max() < 1e-12
+    assert np.abs(got - symbolic_tau(prog, q, qd, qdd)).max() < 1e-12
+
+
+@pytest.mark.parametrize("name", ["two-link", "mixed"])
+def test_one_state_function_equals_rnea_and_imports_only_math(name):
+    """Explicit programs of two arms at one state at a time against Pinocchio's rnea; the
+    module imports only math and holds no header text."""
+    arm, prog = explicit_program(name)
+    q, qd, qdd = states(arm, 40, 5)
+    assert joint_relative_error(_one_by_one(prog, q, qd, qdd), rnea(arm, q, qd, qdd)) < 1e-10
+    tree = ast.parse(emit_state_python(prog))
+    imports = [a.name for node in ast.walk(tree) if isinstance(node, ast.Import)
+               for a in node.names]
+    assert imports == ["math"]
+    assert not any(isinstance(node, ast.ImportFrom) for node in ast.walk(tree))
 
 
 def test_hand_program_c_equals_numpy(tmp_path):

@@ -328,6 +328,49 @@ class SimplifiedModel:
 
         return python_function(self.program())
 
+    def torque_at(self, q, qd, qdd):
+        """Torques of the simplified model at one state, in Python floats.
+
+        Parameters
+        ----------
+        q, qd, qdd : array_like, shape (n,)
+            Joint positions, velocities and accelerations [rad, rad/s, rad/s^2; m, m/s, m/s^2
+            on a prismatic joint].
+
+        Returns
+        -------
+        ndarray, shape (n,)
+            tau_s [N m; N]: :meth:`torque` at that state, computed by the same program's
+            operations in the same order on floats
+            (:func:`~gd_analyze.core.symbolic.emit.state_function`), about ten times faster on
+            one state (the closed loop's right-hand side); NaN everywhere when an input is not
+            finite.
+
+        Raises
+        ------
+        ValueError
+            If an input does not have n entries.
+
+        Examples
+        --------
+        >>> import numpy as np
+        >>> from gd_analyze import load_robot
+        >>> model = SimplifiedModel(load_robot("two-link"), full_choices(2), 0.5, 0.01)
+        >>> s = (np.array([0.3, -0.2]), np.array([1.0, 0.5]), np.array([0.1, 2.0]))
+        >>> bool(np.allclose(model.torque_at(*s), model.torque(*s)[0], rtol=1e-13))
+        True
+        """
+        from ..symbolic.emit import state_function
+
+        n = self.robot.n
+        x = [np.asarray(v, dtype=float).reshape(-1) for v in (q, qd, qdd)]
+        if any(v.size != n for v in x):
+            raise ValueError(f"q, qd and qdd must have {n} entries each, got "
+                             f"{[v.size for v in x]}")
+        if not all(np.isfinite(v).all() for v in x):
+            return np.full(n, np.nan)
+        return np.array(state_function(self.program())(*(v.tolist() for v in x)))
+
     def torque(self, q, qd, qdd):
         """Torques of the simplified model, tau_s = D_s qdd + h_s + c, in explicit form.
 

@@ -31,7 +31,7 @@ from functools import cached_property
 import numpy as np
 import symengine as se
 
-from .emit import emit_python
+from .emit import emit_python, emit_state_python
 from .factoring import expand_pairs, factor_sum, private_products, prune_dead, sum_to_product
 from .operation_count import count_operations
 from .subexpressions import eliminate
@@ -75,6 +75,12 @@ class Program:
     def _tau_function(self):
         ns = {}
         exec(compile(emit_python(self, {}), "<simplified_model.py>", "exec"), ns)
+        return ns["tau"]
+
+    @cached_property
+    def _state_function(self):
+        ns = {}
+        exec(compile(emit_state_python(self), "<simplified_model_state.py>", "exec"), ns)
         return ns["tau"]
 
 

@@ -29,7 +29,8 @@ import symengine as se
 from .operation_count import is_number
 from .safe_text import header_lines
 
-__all__ = ["Printer", "C", "NUMPY", "CASADI", "emit_c", "emit_python", "python_function"]
+__all__ = ["Printer", "C", "NUMPY", "CASADI", "STATE", "emit_c", "emit_python",
+           "emit_state_python", "python_function", "state_function"]
 
 
 @dataclass(frozen=True)
@@ -39,12 +40,12 @@ class Printer:
     Attributes
     ----------
     name : str
-        ``"c"``, ``"numpy"`` or ``"casadi"``.
+        ``"c"``, ``"numpy"``, ``"casadi"`` or ``"state"`` (Python floats, one state).
     index : str
         How an input is indexed, a format of ``name`` and ``i``: ``"{name}[{i}]"`` (one set
         point) or ``"{name}[:, {i}]"`` (a batch, one row per set point).
     module : str
-        Prefix of sin, cos and sign (``""``, ``"np."``, ``"ca."``).
+        Prefix of sin, cos and sign (``""``, ``"np."``, ``"ca."``, ``"math."``).
     temporary : str
         A temporary's statement, a format of ``name`` and ``expr``.
     """
@@ -86,6 +87,8 @@ class Printer:
         """
         if self.name == "c":
             return f"({x} > 0 ? 1.0 : {x} < 0 ? -1.0 : 0.0)"
+        if self.name == "state":
+            return f"(({x} > 0) - ({x} < 0))"
         return f"{self.module}sign({x})"
 
     def expression(self, e, prec=0):
@@ -179,6 +182,7 @@ _SUM_CHUNK = 32
 C = Printer("c", "{name}[{i}]", "", "const double {name} = {expr};")
 NUMPY = Printer("numpy", "{name}[:, {i}]", "np.", "{name} = {expr}")
 CASADI = Printer("casadi", "{name}[{i}]", "ca.", "{name} = {expr}")
+STATE = Printer("state", "{name}[{i}]", "math.", "{name} = {expr}")
 
 
 def _number(x):
@@ -244,6 +248,44 @@ def python_function(program):
         to shape (N, n) [N m; N].
     """
     return program._tau_function
+
+
+def state_function(program):
+    """The program's torques at one state, in Python floats, compiled once per program.
+
+    Parameters
+    ----------
+    program : Program
+
+    Returns
+    -------
+    callable
+        ``tau(q, qd, qdd)``: three sequences of n floats [rad, rad/s, rad/s^2; m, m/s, m/s^2
+        for a prismatic joint] to a list of n floats [N m; N]; the same operations as
+        :func:`python_function` in the same order (:func:`emit_state_python`), without numpy's
+        per-call cost on one set point (the closed loop's right-hand side,
+        :mod:`gd_analyze.workflows.tracking`). A sine or cosine of an infinite angle raises
+        ``ValueError`` (Python's ``math``).
+    """
+    return program._state_function
+
+
+def emit_state_python(program):
+    """Python source of one program at one state: ``tau(q, qd, qdd)`` in floats.
+
+    Parameters
+    ----------
+    program : Program
+
+    Returns
+    -------
+    str
+        A module that imports only math; no header (nothing of the input's text).
+    """
+    lines = ["import math", "", "", "def tau(q, qd, qdd):",
+             f"    out = [0.0] * {int(program.n)}"]
+    lines += STATE.body(program, lambda k: f"out[{k}]")
+    return "\n".join(lines + ["    return out", ""])
 
 
 #: The docstring of :func:`emit_python`'s module: fixed text, the header follows as comments.
