@@ -143,11 +143,12 @@ def test_the_console_script_imports_ahead_only_what_the_job_loads_anyway(tmp_pat
              "from gd_analyze.cli import main\n"
              "assert main(sys.argv[1:]) == 0\n"
              "print(json.dumps(sorted(sys.modules)))\n")
-    env = {**os.environ, "PYTHONPATH": str(SRC.parent), "MPLBACKEND": "Agg",
-           "GD_ANALYZE_CACHE_DIR": str(tmp_path / "cache")}
+    # the session's derivation cache (tests/conftest.py): the first run fills it if no test
+    # has yet
+    env = {**os.environ, "PYTHONPATH": str(SRC.parent), "MPLBACKEND": "Agg"}
     env.pop("GD_ANALYZE_NO_CACHE", None)
     loaded = {}
-    for k, extra in enumerate([[], [], ["--no-report"]]):     # the first fills the cache
+    for k, extra in enumerate([[], [], ["--no-report"]]):
         done = subprocess.run([sys.executable, "-c", probe, "puma560", str(SHIPPED), "-q",
                                "-o", str(tmp_path / f"out{k}"), *extra], cwd=tmp_path,
                               env=env, capture_output=True, text=True, check=True)

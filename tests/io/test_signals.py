@@ -119,7 +119,9 @@ SWEEP = """
     sweep.run_sweep = announced
     import gd_analyze.cli.sweep_command as command
     command.run_sweep = announced
-    sys.argv = ["gd-analyze", "sweep", "puma560", "--random", "100000", "--workers", "1",
+    # 20,000 trajectories: minutes of sweeping after "sweeping", which the signal follows at
+    # once (planning 100,000 took 5 s before it)
+    sys.argv = ["gd-analyze", "sweep", "puma560", "--random", "20000", "--workers", "1",
                 "-o", sys.argv[1], "--no-report", "-q"]
     cli.run()
 """
