@@ -201,3 +201,23 @@ gear_ratio = 50
     assert code == 2
     assert len(err.splitlines()) == 1 and "Traceback" not in err
     assert "link[1].rotor_inertia" in err and "armature" in err
+
+
+@pytest.mark.parametrize("name, armature, friction", [("puma560", False, False),
+                                                      ("puma560-drives", True, True)])
+def test_a_robot_says_once_whether_it_has_drives(name, armature, friction):
+    """has_armature and has_friction, kept once per robot: the PUMA 560's rigid links have
+    neither, puma560-drives.toml both; and what the G-D terms carry follows them, also for a
+    robot built again with only its friction taken away."""
+    import dataclasses
+
+    robot = load_robot(name)
+    assert (robot.has_armature, robot.has_friction) == (armature, friction)
+    q, qd = np.full((2, 6), 0.3), np.full((2, 6), -0.5)
+    terms = gd_terms(robot, q, qd)
+    assert (terms.armature is not None, terms.tau_f is not None) == (armature, friction)
+    if friction:
+        np.testing.assert_array_equal(terms.tau_f, robot.viscous * qd - robot.coulomb)
+        still = dataclasses.replace(robot, viscous=np.zeros(6), coulomb=np.zeros(6))
+        assert robot.has_friction and not still.has_friction
+        assert friction_torque(still, qd) is None

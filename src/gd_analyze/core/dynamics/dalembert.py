@@ -433,7 +433,7 @@ def gd_terms(robot, q, qd, chunk=DEFAULT_CHUNK, engine="auto", out=None, constan
             sl = slice(start, start + chunk)
             for dst, src in zip(res, _gd_chunk(robot, q[sl], qd[sl])):
                 dst[sl] = src
-    arm = robot.armature if np.any(robot.armature) else None
+    arm = robot.armature if robot.has_armature else None
     return GDTerms(*res, arm, friction_torque(robot, qd))
 
 

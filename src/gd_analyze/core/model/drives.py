@@ -169,7 +169,7 @@ def friction_torque(robot, qd):
     >>> friction_torque(robot, np.zeros((1, 6))).tolist()
     [[0.0, 0.0, 0.0, 0.0, 0.0, 0.0]]
     """
-    if not (np.any(robot.viscous) or np.any(robot.coulomb)):
+    if not robot.has_friction:
         return None
     qd = np.asarray(qd, dtype=float)
     return robot.viscous * qd + robot.coulomb * np.sign(qd)

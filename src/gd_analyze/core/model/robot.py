@@ -40,6 +40,7 @@ import dataclasses
 import math
 import types
 from dataclasses import dataclass
+from functools import cached_property
 
 import numpy as np
 
@@ -277,6 +278,18 @@ class Robot:
     def n(self):
         """int: the number of joints (degrees of freedom)."""
         return int(self.mass.shape[0])
+
+    @cached_property
+    def has_armature(self):
+        """bool: True if a drive adds armature inertia to some joint (``armature`` not all
+        0); computed once per robot (a closed loop asks at every step)."""
+        return bool(np.any(self.armature))
+
+    @cached_property
+    def has_friction(self):
+        """bool: True if some joint has viscous or Coulomb friction (``viscous`` or
+        ``coulomb`` not all 0); computed once per robot."""
+        return bool(np.any(self.viscous) or np.any(self.coulomb))
 
     @property
     def is_dh(self):
