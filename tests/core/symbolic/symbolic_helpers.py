@@ -153,15 +153,15 @@ def symbolic_tau(prog, q, qd, qdd):
     return out
 
 
-def compile_c(tmp_path, prog, name="m"):
+def compile_c(tmp_path, prog, name="m", optimise="-O1"):
     """The program's emitted C compiled by the machine's cc (-std=c99 -pedantic -Wall -Wextra
-    -Werror) and loaded: tau(q, qd, qdd) on arrays of shape (N, n)."""
+    -Werror, ``optimise``) and loaded: tau(q, qd, qdd) on arrays of shape (N, n)."""
     cc = shutil.which("cc")
     assert cc, "the machine's C compiler (cc) is required"
     src = tmp_path / f"{name}.c"
     src.write_text(emit_c(prog, {"robot": "test"}))
     lib = tmp_path / f"lib{name}.so"
-    subprocess.run([cc, "-O1", "-shared", "-fPIC", "-std=c99", "-pedantic", "-Wall", "-Wextra",
+    subprocess.run([cc, optimise, "-shared", "-fPIC", "-std=c99", "-pedantic", "-Wall", "-Wextra",
                     "-Werror", "-o", str(lib), str(src), "-lm"], check=True)
     fn = ctypes.CDLL(str(lib)).gd_tau
     dp = ctypes.POINTER(ctypes.c_double)
