@@ -450,9 +450,8 @@ def track(robot, controller, gains, desired, t_eval, q0_offset=0.0, choices=None
     constants, buffers = kernel_arguments(robot), allocate_terms(1, n)
     calls = [0]
     at = getattr(choices, "torque_at", None) if controller == "simplified" else None
-
-    def one_state(q, qd, v):           # the simplified model at the one state of a call
-        return at(q[0], qd[0], v[0])[None] if at is not None else choices.torque(q, qd, v)
+    # the simplified model at the one state of a call (choices.torque without torque_at)
+    one_state = None if at is None else (lambda q, qd, v: at(q[0], qd[0], v[0])[None])
 
     def rhs(t, y):
         calls[0] += 1

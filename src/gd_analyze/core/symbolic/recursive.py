@@ -28,7 +28,8 @@ from .newton_euler import ALL, FORMS, PARTS, Recursion, link_constants, link_tor
 from .transform import finish_program, jacobian, substitute
 
 __all__ = ["recursive_program", "exact_program", "parts_program", "regressor_program",
-           "finish_program", "PARTS", "ProgramMemo", "PROGRAMS", "COUNTS", "program_key", "parts_count"]
+           "finish_program", "PARTS", "ProgramMemo", "PROGRAMS", "COUNTS", "program_key",
+           "parts_count"]
 
 
 class ProgramMemo:
@@ -105,8 +106,7 @@ class ProgramMemo:
             self._kept.clear()
 
 
-#: The programs of :func:`recursive_program` and :func:`parts_program` built in this process
-#: (a PUMA 560 program is about 1 MB of symengine expressions; a 10-joint arm's about 5 MB).
+#: The programs of :func:`recursive_program` and :func:`parts_program` built in this process.
 PROGRAMS = ProgramMemo(size=24)
 #: The operation counts of :func:`parts_count` (integers: the pruning's search compares
 #: hundreds of candidate programs and keeps none of them).
@@ -138,6 +138,7 @@ def program_key(kind, robot, values, *settings):
     for array in (robot.rotation, robot.translation, robot.gravity, values):
         digest.update(np.ascontiguousarray(array, float).tobytes())
     return digest.hexdigest()
+
 
 def _finish(rec, tau, cse):
     return finish_program(rec.b.assignments, tau, rec.n, cse)
