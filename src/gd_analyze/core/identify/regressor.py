@@ -1,0 +1,155 @@
+"""The identification regressor: the base regressor and per-joint drive columns.
+
+tau = Y_b(q, qd, qdd) beta + sum over the drive kinds of diag(x_kind) d_kind, with per joint i
+
+- armature Ia_i: x = qdd_i [kg m^2; kg prismatic];
+- viscous friction F_v,i: x = qd_i [N m s/rad; N s/m];
+- Coulomb friction F_c,i: x = sign(qd_i) [N m; N], not smoothed: the robot file's drive model
+  (:func:`gd_analyze.core.model.drives.friction_torque`, sign(0) = 0), so that the identified
+  robot file reproduces the identified model; rows at rest are left out of the fit instead
+  (:func:`moving_rows`);
+- offset o_i: x = 1 [N m; N], a constant torque (sensor or current offset).
+
+Y_b and beta are the package's base regressor (Gautier 1990;
+:func:`gd_analyze.core.symbolic.base_parameters.base_regressor`).
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from ..symbolic.base_parameters import base_regressor
+
+__all__ = ["DRIVE_KINDS", "drive_columns", "identification_regressor", "column_names",
+           "prior_values", "moving_rows", "IDLE_FRACTION"]
+
+#: The drive column kinds, in the order of the columns.
+DRIVE_KINDS = ("armature", "viscous", "coulomb", "offset")
+#: A joint is at rest in a sample when |qd_i| is below this fraction of its 99th percentile.
+IDLE_FRACTION = 0.02
+
+
+def drive_columns(qd, qdd, kinds):
+    """The drive columns of the regressor.
+
+    Parameters
+    ----------
+    qd, qdd : ndarray, shape (N, n)
+        Joint velocities and accelerations [rad/s, rad/s^2; m/s, m/s^2].
+    kinds : sequence of str
+        A subset of :data:`DRIVE_KINDS`, in that order.
+
+    Returns
+    -------
+    ndarray, shape (N, n, n len(kinds))
+        Column ``k n + j`` is kind k of joint j: nonzero in row j only.
+
+    Examples
+    --------
+    >>> drive_columns(np.array([[1.0, -2.0]]), np.zeros((1, 2)), ("viscous", "coulomb"))[0]
+    array([[ 1.,  0.,  1.,  0.],
+           [ 0., -2.,  0., -1.]])
+    """
+    qd, qdd = np.asarray(qd, float), np.asarray(qdd, float)
+    N, n = qd.shape
+    x = {"armature": qdd, "viscous": qd, "coulomb": np.sign(qd), "offset": np.ones((N, n))}
+    out = np.zeros((N, n, n * len(kinds)))
+    idx = np.arange(n)
+    for k, kind in enumerate(kinds):
+        out[:, idx, k * n + idx] = x[kind]
+    return out
+
+
+def column_names(base, n, kinds):
+    """Names and kinds of the identification regressor's columns.
+
+    Parameters
+    ----------
+    base : BaseParameters
+        The arm's base parameters.
+    n : int
+        Joints.
+    kinds : sequence of str
+        The drive kinds.
+
+    Returns
+    -------
+    names, column_kinds : tuple of str
+        ``("ZZ1", ..., "viscous_1", ...)`` and ``("base", ..., "viscous", ...)``.
+    """
+    names = list(base.names())
+    col_kinds = ["base"] * len(names)
+    for kind in kinds:
+        names += [f"{kind}_{j + 1}" for j in range(n)]
+        col_kinds += [kind] * n
+    return tuple(names), tuple(col_kinds)
+
+
+def prior_values(base, robot, kinds):
+    """The robot file's values of the columns: its beta and its drives (offset 0).
+
+    Parameters
+    ----------
+    base : BaseParameters
+    robot : Robot
+    kinds : sequence of str
+
+    Returns
+    -------
+    ndarray, shape (b + n len(kinds),)
+    """
+    parts = [np.asarray(base.beta, float)]
+    for kind in kinds:
+        parts.append(np.zeros(robot.n) if kind == "offset" else
+                     np.asarray(getattr(robot, kind), float))
+    return np.concatenate(parts)
+
+
+def identification_regressor(robot, q, qd, qdd, base, kinds):
+    """The regressor Y with tau = Y theta, theta = (beta, drive parameters).
+
+    Parameters
+    ----------
+    robot : Robot
+        The arm (its geometry and gravity; the inertial values are not read).
+    q, qd, qdd : ndarray, shape (N, n)
+        Joint positions, velocities, accelerations [rad, rad/s, rad/s^2; m, m/s, m/s^2].
+    base : BaseParameters
+        The arm's base parameters.
+    kinds : sequence of str
+        The drive kinds (:data:`DRIVE_KINDS`).
+
+    Returns
+    -------
+    ndarray, shape (N, n, b + n len(kinds))
+        [N m or N per unit parameter].
+    """
+    Y, _ = base_regressor(robot, q, qd, qdd, base)
+    if not kinds:
+        return Y
+    return np.concatenate([Y, drive_columns(qd, qdd, kinds)], axis=2)
+
+
+def moving_rows(qd, threshold=None):
+    """The rows (sample, joint) with the joint moving: |qd_i| >= its idle threshold.
+
+    At rest a joint's torque holds an unknown static friction anywhere in [-F_s, F_s], which
+    sign(qd) cannot model: those rows are left out of the fit (they still count in the
+    prediction errors).
+
+    Parameters
+    ----------
+    qd : ndarray, shape (N, n)
+        Velocities [rad/s or m/s].
+    threshold : ndarray, shape (n,), optional
+        The idle thresholds; default :data:`IDLE_FRACTION` x the 99th percentile of |qd_i|.
+
+    Returns
+    -------
+    used : ndarray of bool, shape (N, n)
+    threshold : ndarray, shape (n,)
+    """
+    qd = np.abs(np.asarray(qd, float))
+    if threshold is None:
+        threshold = IDLE_FRACTION * np.percentile(qd, 99, axis=0)
+    return qd >= np.maximum(threshold, 1e-300), np.asarray(threshold, float)

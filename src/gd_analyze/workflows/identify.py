@@ -1,0 +1,338 @@
+"""The identification job: recordings -> identified robot (``gd-analyze identify``).
+
+:func:`identify` reads and preprocesses the recordings (:mod:`gd_analyze.io.recording`,
+:mod:`gd_analyze.core.identify.preprocess`), stacks the identification regressor of the
+training recordings (:mod:`gd_analyze.core.identify.regressor`), estimates by ordinary then
+weighted least squares (:mod:`gd_analyze.core.identify.estimate`), chooses the standard
+parameters (:mod:`gd_analyze.core.identify.consistent`), and predicts every recording with the
+identified model and with the robot file as shipped. It returns a frozen
+:class:`~gd_analyze.io.identification_dataset.IdentificationResult`; it neither prints nor
+writes.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+from pathlib import Path
+
+import numpy as np
+
+from .._version import VERSION
+from ..core.identify.consistent import (
+    base_map,
+    closest_standard,
+    consistent_standard,
+    min_eigenvalues,
+    robot_with_standard,
+)
+from ..core.identify.estimate import combine_factors, joint_factors, least_squares
+from ..core.identify.preprocess import default_cutoff, preprocess
+from ..core.identify.regressor import (
+    DRIVE_KINDS,
+    column_names,
+    identification_regressor,
+    moving_rows,
+    prior_values,
+)
+from ..core.model.drives import friction_torque
+from ..core.symbolic.base_parameters import base_parameters, base_regressor
+from ..errors import InputError
+from ..io.identification_dataset import (
+    IdentificationResult,
+    ParameterTable,
+    RecordingFit,
+    group_names,
+)
+from ..io.recording import Recording, read_recording
+from ..io.robots import load_robot
+
+__all__ = ["IdentifyOptions", "identify", "model_torque", "DEFAULT_DRIVES"]
+
+#: The drive columns identified by default.
+DEFAULT_DRIVES = ("viscous", "coulomb", "offset")
+
+
+@dataclass(frozen=True)
+class IdentifyOptions:
+    """The settings of an identification.
+
+    Attributes
+    ----------
+    cutoff : float, "auto" or None
+        Low-pass cutoff [Hz]; ``"auto"``: chosen from the training recordings
+        (:func:`~gd_analyze.core.identify.preprocess.default_cutoff`, the largest over them,
+        used for every recording); None: no filter.
+    decimate : int
+        Keep every decimate-th sample after filtering.
+    drives : tuple of str
+        The drive columns, a subset of ``armature``, ``viscous``, ``coulomb``, ``offset``.
+    current : bool
+        The recordings hold motor currents [A]; ``drive_gains`` turn them into torque.
+    drive_gains : tuple of float or None
+        K_i [N m/A]: tau_i = K_i i_i.
+    consistent : bool
+        Physically consistent standard parameters (pseudo-inertias PSD).
+    simplify : bool
+        Build the simplified model of the identified robot (the CLI runs it).
+
+    Raises
+    ------
+    ValueError
+        On an unknown drive kind, a cutoff <= 0, decimate < 1, or currents without gains.
+    """
+
+    cutoff: object = "auto"
+    decimate: int = 1
+    drives: tuple = DEFAULT_DRIVES
+    current: bool = False
+    drive_gains: tuple = None
+    consistent: bool = False
+    simplify: bool = False
+
+    def __post_init__(self):
+        unknown = [k for k in self.drives if k not in DRIVE_KINDS]
+        if unknown:
+            raise ValueError(f"unknown drive column {unknown[0]!r} (known: "
+                             f"{', '.join(DRIVE_KINDS)})")
+        if len(set(self.drives)) != len(self.drives):
+            raise ValueError("a drive column is given twice")
+        object.__setattr__(self, "drives", tuple(k for k in DRIVE_KINDS if k in self.drives))
+        if not (self.cutoff is None or self.cutoff == "auto" or
+                (isinstance(self.cutoff, (int, float)) and math.isfinite(self.cutoff)
+                 and self.cutoff > 0)):
+            raise ValueError(f"cutoff must be a frequency > 0 [Hz], 'auto' or None, got "
+                             f"{self.cutoff!r}")
+        if int(self.decimate) != self.decimate or self.decimate < 1:
+            raise ValueError(f"decimate must be a whole number >= 1, got {self.decimate!r}")
+        if self.current and self.drive_gains is None:
+            raise ValueError("currents need the drive gains K (tau = K i)")
+        if self.drive_gains is not None:
+            gains = tuple(float(k) for k in self.drive_gains)
+            if not all(math.isfinite(k) and k != 0 for k in gains):
+                raise ValueError("drive gains must be finite and nonzero")
+            object.__setattr__(self, "drive_gains", gains)
+
+    def settings(self):
+        """dict: the options as plain values, for provenance."""
+        return {"cutoff_hz": self.cutoff, "decimate": int(self.decimate),
+                "drives": list(self.drives), "current": bool(self.current),
+                "drive_gains": None if self.drive_gains is None else list(self.drive_gains),
+                "consistent": bool(self.consistent), "simplify": bool(self.simplify),
+                "coulomb_model": "sign(qd)"}
+
+
+def model_torque(robot, offsets, q, qd, qdd, base=None):
+    """The torque of a robot with its drives and constant offsets.
+
+    Parameters
+    ----------
+    robot : Robot
+        The arm (rigid links, armature, viscous and Coulomb friction).
+    offsets : ndarray, shape (n,)
+        Constant torque offsets [N m or N].
+    q, qd, qdd : ndarray, shape (N, n)
+        [rad, rad/s, rad/s^2; m, m/s, m/s^2].
+    base : BaseParameters, optional
+
+    Returns
+    -------
+    ndarray, shape (N, n)
+        Y_b beta + Ia qdd + F_v qd + F_c sign(qd) + offsets [N m or N].
+    """
+    Y, beta = base_regressor(robot, q, qd, qdd, base)
+    tau = Y @ beta + np.asarray(robot.armature) * qdd
+    fr = friction_torque(robot, qd)
+    if fr is not None:
+        tau = tau + fr
+    return tau + np.asarray(offsets, float)
+
+
+def _recording(item, n, options, role):
+    if isinstance(item, Recording):
+        rec = item
+    else:
+        rec = read_recording(item, n_joints=n, current=options.current)
+    if rec.n != n:
+        raise InputError(f"the recording has {rec.n} joints, the robot has {n}", rec.source)
+    if options.current:
+        gains = options.drive_gains
+        if len(gains) != n:
+            raise InputError(f"{len(gains)} drive gains for {n} joints", column="--drive-gains")
+    return rec
+
+
+def _prepared(rec, cutoff, options, label):
+    tau = rec.tau * np.asarray(options.drive_gains) if options.current else rec.tau
+    try:
+        pre = preprocess(rec.t, rec.q, tau, rec.qd, rec.qdd, cutoff=cutoff,
+                         decimate=int(options.decimate), label=label)
+    except ValueError as exc:
+        raise InputError(str(exc), rec.source,
+                         column="--cutoff" if "cutoff" in str(exc) else None) from None
+    return pre
+
+
+def _loadable(robot_phi, drives_ok):
+    """Whether the standard parameters make a robot file the loader accepts."""
+    phi = robot_phi
+    m = phi[:, 9]
+    if (m < 0).any() or not drives_ok:
+        return False
+    c = np.divide(phi[:, 6:9], m[:, None], out=np.zeros((phi.shape[0], 3)),
+                  where=m[:, None] > 0)
+    if ((m == 0) & (np.abs(phi[:, 6:9]).max(axis=1) > 0)).any():
+        return False
+    J = np.empty((phi.shape[0], 3, 3))
+    for k, (a, b) in enumerate(((0, 0), (0, 1), (0, 2), (1, 1), (1, 2), (2, 2))):
+        J[:, a, b] = J[:, b, a] = phi[:, k]
+    Ic = J - m[:, None, None] * (np.einsum("ia,ia->i", c, c)[:, None, None] * np.eye(3)
+                                 - c[:, :, None] * c[:, None, :])
+    tol = 1e-10 * np.maximum(1.0, np.abs(Ic).max(axis=(1, 2)))
+    return bool((np.linalg.eigvalsh(Ic)[:, 0] >= -tol).all())
+
+
+def identify(robot, recordings, validate=(), options=None):
+    """Identify an arm's base parameters and drives from recorded torques.
+
+    Parameters
+    ----------
+    robot : Robot, str or os.PathLike
+        The robot file (the prior): a :class:`~gd_analyze.core.model.robot.Robot`, a built-in
+        name or a TOML or URDF file.
+    recordings : sequence of str, os.PathLike or Recording
+        The training recordings (:func:`~gd_analyze.io.recording.read_recording`).
+    validate : sequence of str, os.PathLike or Recording, optional
+        Recordings not used for fitting, on which the errors are reported.
+    options : IdentifyOptions, optional
+
+    Returns
+    -------
+    IdentificationResult
+        Its ``dataset`` is the store's content (``identification.h5``).
+
+    Raises
+    ------
+    InputError
+        On a recording that cannot be used (file, row, column), too few moving samples, or
+        options that do not fit the robot.
+
+    Notes
+    -----
+    Model: the base regressor (Gautier 1990) with per-joint drive columns
+    (:mod:`gd_analyze.core.identify.regressor`); ordinary then weighted least squares
+    (Gautier & Poignet 2001); physically consistent parameters after Wensing, Kim & Slotine
+    (2017).
+    """
+    options = IdentifyOptions() if options is None else options
+    prior = robot if not isinstance(robot, (str, Path)) else load_robot(robot)
+    n = prior.n
+    if not recordings:
+        raise InputError("no recording to identify from")
+    train = [_recording(r, n, options, "train") for r in recordings]
+    valid = [_recording(r, n, options, "validate") for r in validate]
+    names = group_names([Path(r.source).stem for r in train + valid])
+    notes = []
+    cutoff = options.cutoff
+    if cutoff == "auto":
+        cutoff = max(default_cutoff(r.t, r.q) for r in train)
+        notes.append(f"low-pass cutoff {cutoff:.3g} Hz chosen from the training data (5 x the "
+                     f"bandwidth holding 99% of the positions' power), used for every recording")
+    pres = [_prepared(r, cutoff, options, name) for r, name in zip(train + valid, names)]
+    base = base_parameters(prior)
+    kinds = options.drives
+    col_names, col_kinds = column_names(base, n, kinds)
+    theta0 = prior_values(base, prior, kinds)
+    # rows at rest: thresholds from all training data
+    qd_train = np.concatenate([p.qd for p in pres[:len(train)]])
+    _, threshold = moving_rows(qd_train)
+    notes.append("rows (sample, joint) with |qd_i| below 2% of the joint's 99th-percentile "
+                 "speed are left out of the fit: at rest the torque holds an unknown static "
+                 "friction (they count in the errors); Coulomb friction is F_c sign(qd), not "
+                 "smoothed, as in the robot file")
+    factors = None
+    for p in pres[:len(train)]:
+        Yr = identification_regressor(prior, p.q, p.qd, p.qdd, base, kinds)
+        f = joint_factors(Yr, p.tau, moving_rows(p.qd, threshold)[0])
+        del Yr
+        factors = f if factors is None else combine_factors(factors, f)
+    try:
+        est = least_squares(factors, theta0)
+    except ValueError as exc:
+        raise InputError(f"cannot identify: {exc}") from None
+    phi0 = base.standard
+    b = base.rank
+    drive_kind = col_kinds[b:]
+    theta = est.value
+    nonneg = np.array([k != "offset" for k in drive_kind], bool)
+    if options.consistent:
+        sol = consistent_standard(base, theta, est.identifiable, est.R, phi0, drive_kind,
+                                  theta0[b:])
+        phi, drives = sol.phi, sol.drives
+        theta = np.concatenate([base_map(base) @ phi.reshape(-1), drives])
+        method = (f"physically consistent (every pseudo-inertia >= 0, armature and friction "
+                  f">= 0; cvxpy with {sol.solver}): "
+                  + ("they reproduce the identified base parameters; among those, the closest "
+                     "to the robot file's" if sol.reproduces else
+                     f"no consistent parameters reproduce the identified ones: the closest fit "
+                     f"(weighted residual {sol.residual:.3g} of the fit's scale), and among "
+                     f"those the closest to the robot file's"))
+        file_phi, file_drives, file_note = phi, drives, None
+    else:
+        phi = closest_standard(base, theta[:b], phi0)
+        drives = theta[b:]
+        method = ("the standard parameters closest to the robot file's that reproduce the "
+                  "identified base parameters (least-norm deviation)")
+        file_phi, file_drives, file_note = phi, drives, None
+        if not _loadable(phi, bool((drives[nonneg] >= 0).all())):
+            sol = consistent_standard(base, theta, est.identifiable, est.R, phi0, drive_kind,
+                                      theta0[b:])
+            file_phi, file_drives = sol.phi, sol.drives
+            file_note = ("the least-squares parameters are not physically realisable (a "
+                         "link's inertia or mass, or a friction < 0), which a robot file cannot "
+                         "hold: identified_robot.toml holds the physically consistent "
+                         "parameters (as --consistent)"
+                         + ("" if sol.reproduces else ", which do not reproduce the identified "
+                            "ones exactly"))
+            notes.append(file_note)
+    per_kind = {k: np.zeros(n) for k in DRIVE_KINDS}
+    for k, kind in enumerate(drive_kind):
+        per_kind[kind][k % n] = file_drives[k]
+    identified = robot_with_standard(prior, file_phi, armature=per_kind["armature"],
+                                     viscous=per_kind["viscous"], coulomb=per_kind["coulomb"])
+    offsets = per_kind["offset"]
+    eig = min_eigenvalues(phi)
+    scaleJ = np.maximum(1e-300, np.abs(phi[:, :6]).max(axis=1))
+    consistent = eig >= -1e-10 * scaleJ
+    fits = []
+    for k, (p, name) in enumerate(zip(pres, names)):
+        is_train = k < len(train)
+        rec = (train + valid)[k]
+        Yr = identification_regressor(prior, p.q, p.qd, p.qdd, base, kinds)
+        pred = Yr @ theta
+        del Yr
+        tau_prior = model_torque(prior, np.zeros(n), p.q, p.qd, p.qdd, base)
+        used_r = moving_rows(p.qd, threshold)[0] if is_train else np.zeros(p.q.shape, bool)
+        fits.append(RecordingFit(
+            name=name, file=rec.source, sha256=rec.sha256,
+            role="train" if is_train else "validate", t=p.t, q=p.q, qd=p.qd, qdd=p.qdd,
+            tau_measured=p.tau, tau_predicted=pred, tau_prior=tau_prior, used=used_r,
+            notes=tuple(rec.notes) + tuple(p.notes)))
+    unident = [nm for nm, ok in zip(col_names, est.identifiable) if not ok]
+    if unident:
+        notes.append(f"not identifiable on these data (kept at the robot file's value): "
+                     f"{', '.join(unident)}")
+    table = ParameterTable(names=col_names, kinds=col_kinds, value=theta, std=est.std,
+                           ols_value=est.ols_value, prior=theta0,
+                           identifiable=est.identifiable)
+    settings = {**options.settings(), "cutoff_hz_used": cutoff,
+                "idle_threshold": threshold.tolist(), "standard_method": method,
+                "robot_file_note": file_note}
+    inputs = {r.source: r.sha256 for r in train + valid}
+    inputs[str(prior.source)] = prior.sha256
+    return IdentificationResult(
+        prior=prior, identified=identified, offsets=offsets, parameters=table,
+        condition_number=est.condition_number, rank=est.rank, standard=np.asarray(phi),
+        standard_prior=phi0, min_eigenvalue=eig, consistent=consistent,
+        standard_method=method, recordings=tuple(fits), settings=settings, inputs=inputs,
+        preprocessing=tuple(notes), version=VERSION, noise_std=est.noise_std)
