@@ -19,6 +19,7 @@ import warnings
 
 from ..errors import InputError, InputNote, InputWarning
 from .commands import cmd_analyze, cmd_compare, cmd_control, cmd_evaluate, cmd_plan
+from .identify_command import cmd_identify
 from .parsing import (
     COMMANDS,
     EXIT_INPUT,
@@ -29,6 +30,7 @@ from .parsing import (
     compare_parser,
     control_parser,
     evaluate_parser,
+    identify_parser,
     parse_range,
     plan_parser,
     sweep_parser,
@@ -224,7 +226,8 @@ def _main(argv):
                "evaluate": (evaluate_parser, cmd_evaluate),
                "compare": (compare_parser, cmd_compare),
                "control": (control_parser, cmd_control),
-               "sweep": (sweep_parser, cmd_sweep)}
+               "sweep": (sweep_parser, cmd_sweep),
+               "identify": (identify_parser, cmd_identify)}
     make_parser, run = parsers[command]
     try:
         import threading

@@ -14,14 +14,14 @@ import re
 from ..config import defaults
 from ..errors import InputError
 
-__all__ = ["parse_range", "PROG", "COMMANDS", "EXIT_STATUS_HELP"]
+__all__ = ["parse_range", "PROG", "COMMANDS", "EXIT_STATUS_HELP", "identify_parser"]
 
 PROG = "gd-analyze"
 #: A value that starts like a negative number (``-9.81,0,0``, ``-.5``, ``-1e3``).
 _NEGATIVE = re.compile(r"-[0-9.]")
 
 
-COMMANDS = ("analyze", "plan", "evaluate", "compare", "control", "sweep")
+COMMANDS = ("analyze", "plan", "evaluate", "compare", "control", "sweep", "identify")
 
 
 EXIT_OK, EXIT_VERIFY, EXIT_INPUT, EXIT_TOLERANCE, EXIT_INTERNAL = 0, 1, 2, 3, 4
@@ -554,3 +554,91 @@ def _seed(text):
     if not 0 <= v < 2**63:
         raise argparse.ArgumentTypeError(f"--seed must be in [0, 2^63), got {text}")
     return v
+
+
+def _cutoff(text):
+    """``--cutoff``: a frequency [Hz] > 0, ``auto`` or ``none``."""
+    word = text.strip().lower()
+    if word == "auto":
+        return "auto"
+    if word == "none":
+        return None
+    value = _number(text)
+    if not value > 0:
+        raise argparse.ArgumentTypeError(f"a cutoff must be > 0 Hz (or 'auto', 'none'), got "
+                                         f"{text!r}")
+    return value
+
+
+def _drive_list(text):
+    """``--drives``: comma-separated drive columns, or ``none``."""
+    from ..core.identify.regressor import DRIVE_KINDS
+
+    word = text.strip().lower()
+    if word == "none":
+        return ()
+    kinds = tuple(k.strip() for k in word.split(","))
+    bad = [k for k in kinds if k not in DRIVE_KINDS]
+    if bad:
+        raise argparse.ArgumentTypeError(f"unknown drive column {bad[0]!r} (known: "
+                                         f"{', '.join(DRIVE_KINDS)}, or none)")
+    return kinds
+
+
+def _gains(text):
+    """``--drive-gains``: comma-separated nonzero numbers [N m/A]."""
+    values = [_number(v) for v in text.split(",")]
+    if any(v == 0 for v in values):
+        raise argparse.ArgumentTypeError("a drive gain of 0 turns no current into torque")
+    return tuple(values)
+
+
+def identify_parser():
+    """``identify``'s parser.
+
+    Returns
+    -------
+    argparse.ArgumentParser
+        Its options.
+    """
+    from ..workflows.identify import DEFAULT_DRIVES
+
+    p = _Parser(prog=f"{PROG} identify",
+                description="Identify the robot's base parameters and drives (armature, "
+                            "viscous and Coulomb friction, offset) from recorded torques by "
+                            "weighted least squares, and write identification.h5 and "
+                            "identified_robot.toml.")
+    p.add_argument("robot", metavar="ROBOT", help=_robot_help() + "; its parameters are the "
+                   "prior and the comparison")
+    p.add_argument("recordings", metavar="RECORDING.csv", nargs="+",
+                   help="recordings to fit: t,q1..qn,tau1..taun[,qd1..qdn][,qdd1..qddn] in s, "
+                        "rad or m, N m or N")
+    p.add_argument("--validate", metavar="FILE.csv", nargs="+", action="extend", default=[],
+                   help="recordings not used for fitting, on which the errors are reported")
+    p.add_argument("-o", "--outdir", metavar="OUTDIR",
+                   help="output folder (default reports/ROBOT-STEM-identify)")
+    p.add_argument("--json", action="store_true",
+                   help="print one JSON object: the recordings' errors and the condition number")
+    p.add_argument("--cutoff", metavar="HZ", type=_cutoff, default="auto",
+                   help="low-pass cutoff [Hz] of the zero-phase filter on q and tau; 'auto' "
+                        "(default): 5 x the bandwidth holding 99%% of the positions' power; "
+                        "'none': no filter")
+    p.add_argument("--decimate", metavar="K", type=_whole("--decimate", lo=1), default=1,
+                   help="keep every K-th sample after filtering (default 1)")
+    p.add_argument("--drives", metavar="LIST", type=_drive_list, default=DEFAULT_DRIVES,
+                   help="drive columns identified, from armature, viscous, coulomb, offset, or "
+                        f"none (default {','.join(DEFAULT_DRIVES)})")
+    p.add_argument("--current", action="store_true",
+                   help="the torque columns hold motor currents [A]; give --drive-gains")
+    p.add_argument("--drive-gains", metavar="K1,..", type=_gains,
+                   help="per joint the gain K [N m/A] of tau = K i (with --current)")
+    p.add_argument("--consistent", action="store_true",
+                   help="physically consistent standard parameters (each link's pseudo-inertia "
+                        ">= 0; cvxpy with Clarabel or SCS)")
+    p.add_argument("--simplify", action="store_true",
+                   help="also build the simplified model of the identified robot and state its "
+                        "error on the validation recordings")
+    _add_chain_arguments(p)
+    p.add_argument("-q", "--quiet", action="store_true", help="print nothing but errors")
+    p.add_argument("-v", "--verbose", action="store_true", help="list every file written")
+    return p

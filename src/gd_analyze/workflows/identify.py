@@ -47,7 +47,7 @@ from ..io.identification_dataset import (
 from ..io.recording import Recording, read_recording
 from ..io.robots import load_robot
 
-__all__ = ["IdentifyOptions", "identify", "model_torque", "DEFAULT_DRIVES"]
+__all__ = ["IdentifyOptions", "identify", "model_torque", "simplified_fits", "DEFAULT_DRIVES"]
 
 #: The drive columns identified by default.
 DEFAULT_DRIVES = ("viscous", "coulomb", "offset")
@@ -336,3 +336,47 @@ def identify(robot, recordings, validate=(), options=None):
         standard_prior=phi0, min_eigenvalue=eig, consistent=consistent,
         standard_method=method, recordings=tuple(fits), settings=settings, inputs=inputs,
         preprocessing=tuple(notes), version=VERSION, noise_std=est.noise_std)
+
+
+def simplified_fits(result, options=None):
+    """The identification with the simplified model of the identified robot on every recording.
+
+    The main job's analysis (:func:`gd_analyze.workflows.analyze.analyze`) runs on the
+    identified robot along the first validation recording (the first training recording if
+    there is none) and builds the simplified model with its guarantee (over the joint-limit
+    region where the robot gives limits, issue 29); its torque plus the identified offsets is
+    then compared with the measured torque on every recording.
+
+    Parameters
+    ----------
+    result : IdentificationResult
+    options : AnalysisOptions, optional
+        The main job's options (default: its defaults, without the formulations' comparison).
+
+    Returns
+    -------
+    IdentificationResult
+        A new result whose recordings hold ``tau_simplified``, with the guarantee's statement
+        in ``settings["simplified_guarantee"]``.
+    """
+    import dataclasses
+
+    from ..io.trajectory import trajectory_from_arrays
+    from .analyze import analyze
+    from .evaluate import model_torque as simplified_torque
+    from .options import AnalysisOptions
+
+    options = AnalysisOptions(formulations=False) if options is None else options
+    fits = result.recordings
+    along = next((f for f in fits if f.role == "validate"), fits[0])
+    traj = trajectory_from_arrays(along.t, along.q, along.qd, along.qdd,
+                                  n_joints=result.prior.n)
+    model = analyze(result.identified, traj, options,
+                    settings={"identified_from": result.inputs}).model
+    new = tuple(dataclasses.replace(f, tau_simplified=simplified_torque(model, f.q, f.qd, f.qdd)
+                                    + result.offsets) for f in fits)
+    statement = model.guarantee.statement() if model.guarantee is not None else \
+        "no guarantee beyond the analysed recording"
+    return dataclasses.replace(result, recordings=new,
+                               settings={**result.settings, "simplified_guarantee": statement,
+                                         "simplified_along": along.name})

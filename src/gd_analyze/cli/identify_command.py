@@ -1,0 +1,126 @@
+"""The ``identify`` command: recordings -> identification.h5 and identified_robot.toml.
+
+``cmd_identify(args)`` takes the parsed arguments of :mod:`gd_analyze.cli.parsing` and returns
+the exit status; bad input raises :class:`gd_analyze.errors.InputError` (exit status 2). The
+job is :func:`gd_analyze.workflows.identify.identify`; the files are written into a staged
+output folder (:func:`gd_analyze.io.staging.staged_output`). No report is written yet.
+"""
+
+from __future__ import annotations
+
+import json
+from pathlib import Path
+
+from ..errors import InputError
+from ..io.identification_dataset import recordings_json, write_identification
+from ..io.robot_file import robot_toml
+from ..io.staging import staged_output, writing
+from ..io.urdf import is_urdf_text
+from ..workflows.identify import IdentifyOptions, identify, simplified_fits
+from .commands import command_line, load_robot_arg, output_folder, wrote_line
+from .parsing import EXIT_OK
+
+__all__ = ["cmd_identify", "IDENTIFY_FILES"]
+
+#: The files ``identify`` writes.
+IDENTIFY_FILES = ("identification.h5", "identified_robot.toml")
+
+
+def _options(args):
+    if args.current and args.drive_gains is None:
+        raise InputError("--current needs --drive-gains K1,.. (tau = K i)", column="--current")
+    if args.drive_gains is not None and not args.current:
+        raise InputError("--drive-gains applies to currents: give --current",
+                         column="--drive-gains")
+    return IdentifyOptions(cutoff=args.cutoff, decimate=args.decimate, drives=args.drives,
+                           current=args.current, drive_gains=args.drive_gains,
+                           consistent=args.consistent, simplify=args.simplify)
+
+
+def _comments(result, args):
+    lines = [f"identified by gd-analyze {result.version}: {command_line(args)}",
+             f"prior: {result.prior.source} (SHA-256 {result.prior.sha256})"]
+    lines += [f"recording: {f} (SHA-256 {h})" for f, h in result.inputs.items()
+              if f != str(result.prior.source)]
+    lines.append(f"standard parameters: {result.standard_method}")
+    if result.settings.get("robot_file_note"):
+        lines.append(str(result.settings["robot_file_note"]))
+    lines.append("constant torque offsets per joint [N m or N], not part of the robot-file "
+                 "format (add them to this file's torque to reproduce the identified model): "
+                 + ", ".join(repr(float(v)) for v in result.offsets))
+    return lines
+
+
+def _summary(result, outdir, written, args):
+    p = result.parameters
+    lines = [f"identified {result.prior.name} from {sum(f.role == 'train' for f in result.recordings)}"
+             f" recording(s): {len(p.names)} parameters, rank {result.rank}, condition number "
+             f"{result.condition_number:.4g} (column-scaled, weighted regressor)"]
+    unident = [nm for nm, ok in zip(p.names, p.identifiable) if not ok]
+    if unident:
+        lines.append(f"not identifiable on these data (kept at the robot file's value): "
+                     f"{', '.join(unident)}")
+    bad = [str(k + 1) for k, ok in enumerate(result.consistent) if not ok]
+    lines.append("standard parameters: every link physically consistent" if not bad else
+                 f"standard parameters: link(s) {', '.join(bad)} not physically consistent "
+                 f"(pseudo-inertia not >= 0)")
+    width = max([len("recording")] + [len(f.name) for f in result.recordings])
+    simplified = any(f.tau_simplified is not None for f in result.recordings)
+    head = f"{'recording':<{width}}  {'role':<8}  {'identified':>10}  {'robot file':>10}"
+    if simplified:
+        head += f"  {'simplified':>10}"
+    lines += [head + "   total relative torque error ||E||_F / ||T||_F"]
+    for f in result.recordings:
+        row = (f"{f.name:<{width}}  {f.role:<8}  {f.errors()[2]:>10.2%}  "
+               f"{f.errors('prior')[2]:>10.2%}")
+        if f.tau_simplified is not None:
+            row += f"  {f.errors('simplified')[2]:>10.2%}"
+        lines.append(row)
+    if simplified and result.settings.get("simplified_guarantee"):
+        lines.append(f"simplified model: {result.settings['simplified_guarantee']}")
+    lines.append(wrote_line(written, outdir, args.verbose))
+    return lines
+
+
+def cmd_identify(args):
+    """``identify``: identify the robot from recordings, write the store and the robot file.
+
+    Parameters
+    ----------
+    args : argparse.Namespace
+        The parsed arguments of :func:`gd_analyze.cli.parsing.identify_parser`.
+
+    Returns
+    -------
+    int
+        The exit status: 0 ok.
+
+    Raises
+    ------
+    gd_analyze.errors.InputError
+        On bad input; the command line prints it as one line and exits 2.
+    """
+    robot = load_robot_arg(args)
+    options = _options(args)
+    outdir = output_folder(args.outdir, robot.name, Path(args.recordings[0]).stem, "identify")
+    if outdir.exists() and not outdir.is_dir():
+        raise InputError("exists and is not a folder", outdir)
+    result = identify(robot, list(args.recordings), validate=list(args.validate),
+                      options=options)
+    if options.simplify:
+        result = simplified_fits(result)
+    urdf = str(args.robot).lower().endswith(".urdf") or is_urdf_text(str(args.robot))
+    with staged_output(outdir, IDENTIFY_FILES, "identify") as stage, writing(outdir, stage):
+        written = [write_identification(result, stage / "identification.h5")]
+        toml = stage / "identified_robot.toml"
+        toml.write_text(robot_toml(result.identified, _comments(result, args)),
+                        encoding="utf-8")
+        written.append(toml)
+    del urdf
+    written = [outdir / Path(p).relative_to(stage) for p in written]
+    if args.json:
+        print(json.dumps(recordings_json(result)))
+    elif not args.quiet:
+        for line in _summary(result, outdir, written, args):
+            print(line)
+    return EXIT_OK
