@@ -1,0 +1,172 @@
+"""The identification job against Pinocchio: recordings the tests make with a true arm (the
+robot file with other inertial parameters, friction and offsets; identify_recordings.py)."""
+
+import numpy as np
+import pinocchio as pin
+import pytest
+from identify_recordings import (
+    XARM7,
+    builtin_urdf,
+    fourier,
+    irregular_clock,
+    truth_for,
+)
+
+from gd_analyze import load_robot
+from gd_analyze.core.identify.consistent import base_map, pseudo_inertia
+from gd_analyze.core.symbolic.base_parameters import base_parameters
+from gd_analyze.errors import InputError
+from gd_analyze.formulations.pinocchio import pinocchio_model
+from gd_analyze.io.recording import recording_from_arrays
+from gd_analyze.io.robot_file import robot_toml
+from gd_analyze.workflows.identify import IdentifyOptions, identify
+from gd_analyze.workflows.run import results_dataset
+
+ARMS = [("puma560", None), ("panda", "panda"), ("xarm7", XARM7)]
+
+
+def _robot(name):
+    return load_robot(str(XARM7) if name == "xarm7" else name)
+
+
+def _urdf(name, urdf):
+    return builtin_urdf(urdf) if isinstance(urdf, str) else urdf
+
+
+def _record(truth, n, seconds, seed, noise=0.0, derivatives=True):
+    t = irregular_clock(seconds, seed)
+    q, qd, qdd = fourier(n, t, seed=seed)
+    tau = truth.torque(q, qd, qdd)
+    if noise:
+        rng = np.random.default_rng(seed + 7)
+        tau = tau + noise * tau.std(axis=0) * rng.normal(size=tau.shape)
+    rec = recording_from_arrays(t, q, tau, qd if derivatives else None,
+                                qdd if derivatives else None, source=f"rec{seed}")
+    return rec, (t, q, qd, qdd, truth.torque(q, qd, qdd))
+
+
+@pytest.mark.slow
+@pytest.mark.parametrize("name, urdf", ARMS, ids=[a[0] for a in ARMS])
+def test_noise_free_recordings_give_the_true_model_on_another_trajectory(name, urdf):
+    robot = _robot(name)
+    truth = truth_for(robot, urdf=_urdf(name, urdf))
+    train, _ = _record(truth, robot.n, 25, seed=2)
+    held, (t, q, qd, qdd, tau_true) = _record(truth, robot.n, 10, seed=5)
+    result = identify(robot, [train], validate=[held], options=IdentifyOptions(cutoff=None))
+    assert result.parameters.identifiable.all()
+    fit = result.recordings[1]
+    assert fit.role == "validate" and np.array_equal(fit.t, t)
+    scale = np.abs(tau_true).max()
+    err = np.abs(fit.tau_predicted - tau_true).max() / scale
+    assert np.isfinite(err) and err < 1e-8, err
+    # the robot file as shipped is far off: the test can fail
+    assert np.abs(fit.tau_prior - tau_true).max() / scale > 1e-2
+    # the identified drives are the true ones
+    n = robot.n
+    values = dict(zip(result.parameters.names, result.parameters.value))
+    for kind, true in (("viscous", truth.viscous), ("coulomb", truth.coulomb),
+                       ("offset", truth.offset)):
+        got = np.array([values[f"{kind}_{j + 1}"] for j in range(n)])
+        assert np.allclose(got, true, rtol=0, atol=1e-8 * scale)
+
+
+def _true_beta(robot, truth, base):
+    """The true base parameters: least squares of Pinocchio's rigid torque on random states
+    (the base regressor is exact, so the fit is too)."""
+    from gd_analyze.core.symbolic.base_parameters import base_regressor, random_states
+
+    q, qd, qdd = random_states(robot, 400, seed=11)
+    rigid = truth.torque(q, qd, qdd) - truth.viscous * qd - truth.coulomb * np.sign(qd) \
+        - truth.offset
+    Y, _ = base_regressor(robot, q, qd, qdd, base)
+    return np.linalg.lstsq(Y.reshape(-1, Y.shape[2]), rigid.reshape(-1), rcond=None)[0]
+
+
+@pytest.mark.slow
+def test_one_percent_noise_the_intervals_cover_the_true_base_parameters():
+    robot = _robot("puma560")
+    truth = truth_for(robot)
+    train, _ = _record(truth, robot.n, 40, seed=3, noise=0.01)
+    result = identify(robot, [train], options=IdentifyOptions(cutoff=None))
+    base = base_parameters(robot)
+    beta = _true_beta(robot, truth, base)
+    b = base.rank
+    value, std = result.parameters.value[:b], result.parameters.std[:b]
+    assert (std > 0).all() and np.isfinite(std).all()
+    z = np.abs(value - beta) / std
+    assert np.mean(z <= 1) >= 0.60, np.mean(z <= 1)
+    assert np.mean(z <= 3) >= 0.95, np.mean(z <= 3)
+    # the check can fail: intervals ten times too narrow cover far fewer
+    assert np.mean(z * 10 <= 1) < 0.6
+
+
+@pytest.mark.slow
+def test_consistent_parameters_have_psd_pseudo_inertias_and_the_same_held_out_error():
+    robot = _robot("panda")
+    truth = truth_for(robot, urdf=builtin_urdf("panda"))
+    train, _ = _record(truth, robot.n, 25, seed=2, noise=0.01)
+    held, _ = _record(truth, robot.n, 10, seed=5, noise=0.01)
+    plain = identify(robot, [train], validate=[held], options=IdentifyOptions(cutoff=None))
+    cons = identify(robot, [train], validate=[held],
+                    options=IdentifyOptions(cutoff=None, consistent=True))
+    eig = np.linalg.eigvalsh(pseudo_inertia(cons.standard))
+    assert (eig >= 0).all()
+    assert cons.consistent.all()
+    e_plain = plain.recordings[1].errors()[2]
+    e_cons = cons.recordings[1].errors()[2]
+    assert abs(e_cons - e_plain) <= 0.005, (e_plain, e_cons)
+    # the consistent standard parameters reproduce the base parameters the prediction uses
+    base = base_parameters(robot)
+    assert np.allclose(base_map(base) @ cons.standard.reshape(-1),
+                       cons.parameters.value[:base.rank], rtol=0, atol=1e-9)
+
+
+def _pinocchio_torque(robot, offsets, q, qd, qdd):
+    model = pinocchio_model(robot)
+    model.armature = np.zeros(robot.n)
+    data = model.createData()
+    rigid = np.array([pin.rnea(model, data, a, b, c) for a, b, c in zip(q, qd, qdd)])
+    return rigid + robot.armature * qdd + robot.viscous * qd + robot.coulomb * np.sign(qd) \
+        + offsets
+
+
+@pytest.mark.slow
+@pytest.mark.parametrize("consistent", [False, True])
+def test_identified_robot_file_reproduces_the_identified_model(tmp_path, consistent):
+    robot = _robot("panda")
+    truth = truth_for(robot, urdf=builtin_urdf("panda"))
+    train, _ = _record(truth, robot.n, 25, seed=2, noise=0.0 if not consistent else 0.01)
+    held, (t, q, qd, qdd, _) = _record(truth, robot.n, 5, seed=5)
+    result = identify(robot, [train], validate=[held],
+                      options=IdentifyOptions(cutoff=None, consistent=consistent))
+    assert result.settings["robot_file_note"] is None
+    path = tmp_path / "identified_robot.toml"
+    path.write_text(robot_toml(result.identified, ["test"]))
+    loaded = load_robot(str(path))
+    pred = result.recordings[1].tau_predicted
+    scale = np.abs(pred).max()
+    tau_pin = _pinocchio_torque(loaded, result.offsets, q, qd, qdd)
+    assert np.abs(tau_pin - pred).max() <= 1e-9 * scale
+    # the main job on the file: its full torque plus the offsets
+    ds = results_dataset(loaded, (t, q, qd, qdd))
+    tau_job = ds["tau"].values + result.offsets
+    assert np.abs(tau_job - pred).max() <= 1e-9 * scale
+
+
+def test_recordings_must_fit_the_robot():
+    robot = _robot("two-link")
+    t = np.arange(20) * 0.01
+    rec = recording_from_arrays(t, np.zeros((20, 3)), np.zeros((20, 3)), source="three")
+    with pytest.raises(InputError, match="3 joints, the robot has 2"):
+        identify(robot, [rec])
+    with pytest.raises(InputError, match="no recording"):
+        identify(robot, [])
+
+
+def test_options_are_checked():
+    with pytest.raises(ValueError, match="unknown drive column"):
+        IdentifyOptions(drives=("stiction",))
+    with pytest.raises(ValueError, match="cutoff"):
+        IdentifyOptions(cutoff=-1.0)
+    with pytest.raises(ValueError, match="drive gains"):
+        IdentifyOptions(current=True)
