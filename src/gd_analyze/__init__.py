@@ -9,7 +9,8 @@ The Python API, for a notebook: :func:`load_robot` (a built-in name, a TOML or U
 text or a ``pinocchio.Model``), :func:`read_trajectory`, :func:`analyze` (the main job's results
 dataset, in memory), :class:`AnalysisOptions` and :class:`SimplifyOptions` (its settings, with
 the command line's defaults), :func:`regressor` (the base regressor Y_b and beta),
-:func:`gd_terms`.
+:func:`gd_terms`; :func:`identify` (a robot's parameters from recorded torques: the result, with
+its ``dataset``), :func:`read_recording` and :class:`IdentifyOptions`.
 """
 
 from ._version import VERSION as __version__
@@ -20,7 +21,8 @@ from .io.robots import load_robot
 
 __all__ = ["__version__", "GDTerms", "gd_terms", "InputError", "Robot", "load_robot",
            "SimplifiedModel", "load_model", "save_model", "regressor", "analyze",
-           "read_trajectory", "AnalysisOptions", "SimplifyOptions"]
+           "read_trajectory", "AnalysisOptions", "SimplifyOptions", "identify",
+           "read_recording", "IdentifyOptions"]
 
 #: Public names imported on first use: name -> (module, attribute).
 _LAZY = {
@@ -33,6 +35,9 @@ _LAZY = {
     "read_trajectory": ("io.trajectory", "read_trajectory"),
     "AnalysisOptions": ("workflows.options", "AnalysisOptions"),
     "SimplifyOptions": ("workflows.options", "SimplifyOptions"),
+    "identify": ("workflows.identify", "identify"),
+    "read_recording": ("io.recording", "read_recording"),
+    "IdentifyOptions": ("workflows.identify", "IdentifyOptions"),
 }
 
 

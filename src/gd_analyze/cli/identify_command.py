@@ -15,8 +15,7 @@ from ..errors import InputError
 from ..io.identification_dataset import recordings_json, write_identification
 from ..io.robot_file import robot_toml
 from ..io.staging import staged_output, writing
-from ..io.urdf import is_urdf_text
-from ..workflows.identify import IdentifyOptions, identify, simplified_fits
+from ..workflows.identify import IdentifyOptions, identify
 from .commands import command_line, load_robot_arg, output_folder, wrote_line
 from .parsing import EXIT_OK
 
@@ -107,16 +106,12 @@ def cmd_identify(args):
         raise InputError("exists and is not a folder", outdir)
     result = identify(robot, list(args.recordings), validate=list(args.validate),
                       options=options)
-    if options.simplify:
-        result = simplified_fits(result)
-    urdf = str(args.robot).lower().endswith(".urdf") or is_urdf_text(str(args.robot))
     with staged_output(outdir, IDENTIFY_FILES, "identify") as stage, writing(outdir, stage):
         written = [write_identification(result, stage / "identification.h5")]
         toml = stage / "identified_robot.toml"
         toml.write_text(robot_toml(result.identified, _comments(result, args)),
                         encoding="utf-8")
         written.append(toml)
-    del urdf
     written = [outdir / Path(p).relative_to(stage) for p in written]
     if args.json:
         print(json.dumps(recordings_json(result)))

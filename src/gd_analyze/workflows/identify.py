@@ -46,8 +46,12 @@ from ..io.identification_dataset import (
 )
 from ..io.recording import Recording, read_recording
 from ..io.robots import load_robot
+from ..io.trajectory import trajectory_from_arrays
+from .analyze import analyze
+from .evaluate import model_torque as simplified_torque
+from .options import AnalysisOptions
 
-__all__ = ["IdentifyOptions", "identify", "model_torque", "simplified_fits", "DEFAULT_DRIVES"]
+__all__ = ["IdentifyOptions", "identify", "model_torque", "DEFAULT_DRIVES"]
 
 #: The drive columns identified by default.
 DEFAULT_DRIVES = ("viscous", "coulomb", "offset")
@@ -74,7 +78,8 @@ class IdentifyOptions:
     consistent : bool
         Physically consistent standard parameters (pseudo-inertias PSD).
     simplify : bool
-        Build the simplified model of the identified robot (the CLI runs it).
+        Build the simplified model of the identified robot (the main job's analysis) and
+        predict every recording with it too.
 
     Raises
     ------
@@ -204,7 +209,8 @@ def identify(robot, recordings, validate=(), options=None):
         The training recordings (:func:`~gd_analyze.io.recording.read_recording`).
     validate : sequence of str, os.PathLike or Recording, optional
         Recordings not used for fitting, on which the errors are reported.
-    options : IdentifyOptions, optional
+    options : IdentifyOptions or dict, optional
+        The settings (a dict: :class:`IdentifyOptions`' fields).
 
     Returns
     -------
@@ -224,7 +230,13 @@ def identify(robot, recordings, validate=(), options=None):
     (Gautier & Poignet 2001); physically consistent parameters after Wensing, Kim & Slotine
     (2017).
     """
-    options = IdentifyOptions() if options is None else options
+    if options is None:
+        options = IdentifyOptions()
+    elif isinstance(options, dict):
+        try:
+            options = IdentifyOptions(**options)
+        except (TypeError, ValueError) as exc:
+            raise InputError(f"options: {exc}") from None
     prior = robot if not isinstance(robot, (str, Path)) else load_robot(robot)
     n = prior.n
     if not recordings:
@@ -244,7 +256,7 @@ def identify(robot, recordings, validate=(), options=None):
     col_names, col_kinds = column_names(base, n, kinds)
     theta0 = prior_values(base, prior, kinds)
     # rows at rest: thresholds from all training data
-    qd_train = np.concatenate([p.qd for p in pres[:len(train)]])
+    qd_train = np.concatenate([p.qd[p.keep] for p in pres[:len(train)]])
     _, threshold = moving_rows(qd_train)
     notes.append("rows (sample, joint) with |qd_i| below 2% of the joint's 99th-percentile "
                  "speed are left out of the fit: at rest the torque holds an unknown static "
@@ -252,8 +264,8 @@ def identify(robot, recordings, validate=(), options=None):
                  "smoothed, as in the robot file")
     factors = None
     for p in pres[:len(train)]:
-        Yr = identification_regressor(prior, p.q, p.qd, p.qdd, base, kinds)
-        f = joint_factors(Yr, p.tau, moving_rows(p.qd, threshold)[0])
+        Yr = p.filtered(identification_regressor(prior, p.q, p.qd, p.qdd, base, kinds))[p.keep]
+        f = joint_factors(Yr, p.tau[p.keep], moving_rows(p.qd[p.keep], threshold)[0])
         del Yr
         factors = f if factors is None else combine_factors(factors, f)
     try:
@@ -304,20 +316,28 @@ def identify(robot, recordings, validate=(), options=None):
     eig = min_eigenvalues(phi)
     scaleJ = np.maximum(1e-300, np.abs(phi[:, :6]).max(axis=1))
     consistent = eig >= -1e-10 * scaleJ
+    simplified = _simplified_model(identified, pres, len(train), options) \
+        if options.simplify else None
     fits = []
     for k, (p, name) in enumerate(zip(pres, names)):
         is_train = k < len(train)
         rec = (train + valid)[k]
-        Yr = identification_regressor(prior, p.q, p.qd, p.qdd, base, kinds)
-        pred = Yr @ theta
-        del Yr
-        tau_prior = model_torque(prior, np.zeros(n), p.q, p.qd, p.qdd, base)
-        used_r = moving_rows(p.qd, threshold)[0] if is_train else np.zeros(p.q.shape, bool)
+        keep = p.keep
+        pred = p.filtered(identification_regressor(prior, p.q, p.qd, p.qdd, base, kinds)
+                          @ theta)[keep]
+        tau_prior = p.filtered(model_torque(prior, np.zeros(n), p.q, p.qd, p.qdd, base))[keep]
+        tau_s = None
+        if simplified is not None:
+            tau_s = p.filtered(simplified_torque(simplified[0], p.q, p.qd, p.qdd))[keep] \
+                + offsets
+        used_r = moving_rows(p.qd[keep], threshold)[0] if is_train else \
+            np.zeros(p.q[keep].shape, bool)
         fits.append(RecordingFit(
             name=name, file=rec.source, sha256=rec.sha256,
-            role="train" if is_train else "validate", t=p.t, q=p.q, qd=p.qd, qdd=p.qdd,
-            tau_measured=p.tau, tau_predicted=pred, tau_prior=tau_prior, used=used_r,
-            notes=tuple(rec.notes) + tuple(p.notes)))
+            role="train" if is_train else "validate", t=p.t[keep], q=p.q[keep],
+            qd=p.qd[keep], qdd=p.qdd[keep], tau_measured=p.tau[keep], tau_predicted=pred,
+            tau_prior=tau_prior, used=used_r, notes=tuple(rec.notes) + tuple(p.notes),
+            tau_simplified=tau_s))
     unident = [nm for nm, ok in zip(col_names, est.identifiable) if not ok]
     if unident:
         notes.append(f"not identifiable on these data (kept at the robot file's value): "
@@ -325,9 +345,13 @@ def identify(robot, recordings, validate=(), options=None):
     table = ParameterTable(names=col_names, kinds=col_kinds, value=theta, std=est.std,
                            ols_value=est.ols_value, prior=theta0,
                            identifiable=est.identifiable)
+    if simplified is not None:
+        notes.append(f"simplified model of the identified robot (the main job's analysis along "
+                     f"{names[simplified[2]]}): {simplified[1]}")
     settings = {**options.settings(), "cutoff_hz_used": cutoff,
                 "idle_threshold": threshold.tolist(), "standard_method": method,
-                "robot_file_note": file_note}
+                "robot_file_note": file_note,
+                "simplified_guarantee": None if simplified is None else simplified[1]}
     inputs = {r.source: r.sha256 for r in train + valid}
     inputs[str(prior.source)] = prior.sha256
     return IdentificationResult(
@@ -338,45 +362,17 @@ def identify(robot, recordings, validate=(), options=None):
         preprocessing=tuple(notes), version=VERSION, noise_std=est.noise_std)
 
 
-def simplified_fits(result, options=None):
-    """The identification with the simplified model of the identified robot on every recording.
 
-    The main job's analysis (:func:`gd_analyze.workflows.analyze.analyze`) runs on the
-    identified robot along the first validation recording (the first training recording if
-    there is none) and builds the simplified model with its guarantee (over the joint-limit
-    region where the robot gives limits, issue 29); its torque plus the identified offsets is
-    then compared with the measured torque on every recording.
-
-    Parameters
-    ----------
-    result : IdentificationResult
-    options : AnalysisOptions, optional
-        The main job's options (default: its defaults, without the formulations' comparison).
-
-    Returns
-    -------
-    IdentificationResult
-        A new result whose recordings hold ``tau_simplified``, with the guarantee's statement
-        in ``settings["simplified_guarantee"]``.
-    """
-    import dataclasses
-
-    from ..io.trajectory import trajectory_from_arrays
-    from .analyze import analyze
-    from .evaluate import model_torque as simplified_torque
-    from .options import AnalysisOptions
-
-    options = AnalysisOptions(formulations=False) if options is None else options
-    fits = result.recordings
-    along = next((f for f in fits if f.role == "validate"), fits[0])
-    traj = trajectory_from_arrays(along.t, along.q, along.qd, along.qdd,
-                                  n_joints=result.prior.n)
-    model = analyze(result.identified, traj, options,
-                    settings={"identified_from": result.inputs}).model
-    new = tuple(dataclasses.replace(f, tau_simplified=simplified_torque(model, f.q, f.qd, f.qdd)
-                                    + result.offsets) for f in fits)
+def _simplified_model(identified, pres, n_train, options):
+    """The simplified model of the identified robot: the main job's analysis
+    (:func:`gd_analyze.workflows.analyze.analyze`, its default options but the formulations'
+    comparison) along the first validation recording's kept samples (the first training
+    recording's if there is none). Returns (model, guarantee statement, recording index)."""
+    index = n_train if len(pres) > n_train else 0
+    p = pres[index]
+    traj = trajectory_from_arrays(p.t[p.keep], p.q[p.keep], p.qd[p.keep], p.qdd[p.keep],
+                                  n_joints=identified.n)
+    model = analyze(identified, traj, AnalysisOptions(formulations=False)).model
     statement = model.guarantee.statement() if model.guarantee is not None else \
         "no guarantee beyond the analysed recording"
-    return dataclasses.replace(result, recordings=new,
-                               settings={**result.settings, "simplified_guarantee": statement,
-                                         "simplified_along": along.name})
+    return model, statement, index

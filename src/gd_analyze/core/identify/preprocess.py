@@ -18,6 +18,12 @@ Steps, each stated in :attr:`Preprocessed.notes`:
    and the differences' start-up).
 6. Decimation: every k-th sample is kept (the low-pass is the anti-aliasing filter).
 
+The regressor built from the filtered states is filtered again by the same filter
+(:meth:`Preprocessed.filtered`) before the rows are kept, as the torque was: the *parallel
+filtering* of Gautier ("Dynamic identification of robots with power model", ICRA 1997), so that
+a term the model holds but the filter smooths (Coulomb friction's step at a reversal) is smoothed
+alike on both sides of tau = Y theta.
+
 The default cutoff is chosen from the data (:func:`default_cutoff`).
 """
 
@@ -28,7 +34,7 @@ from dataclasses import dataclass
 import numpy as np
 
 __all__ = ["Preprocessed", "preprocess", "default_cutoff", "edge_samples", "ORDER",
-           "GAP_STEPS", "CUTOFF_FACTOR", "ENERGY"]
+           "GAP_STEPS", "CUTOFF_FACTOR", "ENERGY", "EDGE_PERIODS"]
 
 #: Order of the Butterworth low-pass filter (run forwards and backwards).
 ORDER = 4
@@ -38,6 +44,9 @@ GAP_STEPS = 20
 CUTOFF_FACTOR = 5.0
 #: The motion's bandwidth holds this fraction of the power of the detrended positions.
 ENERGY = 0.99
+#: Periods of the cutoff dropped at each end of a segment (the filters' and the differences'
+#: start-up: the second difference of the filtered positions settles last).
+EDGE_PERIODS = 3.0
 
 
 @dataclass(frozen=True, eq=False)
@@ -58,6 +67,14 @@ class Preprocessed:
         The median time step of the input [s].
     notes : tuple of str
         What was done, one sentence each.
+    keep : ndarray of bool, shape (N,)
+        The samples kept (not at a segment's ends, and every decimate-th): the arrays above
+        hold every sample of the uniform clock, so that :meth:`filtered` runs on whole
+        segments.
+    segments : tuple of (int, int)
+        Start and stop index of each segment in the arrays.
+    sos : ndarray or None
+        The filter's second-order sections.
     """
 
     t: np.ndarray
@@ -68,6 +85,31 @@ class Preprocessed:
     cutoff: float
     step: float
     notes: tuple
+    keep: np.ndarray = None
+    segments: tuple = ()
+    sos: np.ndarray = None
+
+    def filtered(self, x):
+        """The same zero-phase filter on another signal of the same samples, segment by segment.
+
+        Parameters
+        ----------
+        x : ndarray, shape (N, ...)
+            A signal on the arrays' samples (e.g. the regressor, shape (N, n, p)).
+
+        Returns
+        -------
+        ndarray, shape (N, ...)
+            x filtered along axis 0 (x itself without a filter).
+        """
+        if self.sos is None:
+            return x
+        from scipy import signal
+
+        out = np.empty_like(x, dtype=float)
+        for a, b in self.segments:
+            out[a:b] = signal.sosfiltfilt(self.sos, x[a:b], axis=0)
+        return out
 
 
 def _segments(t):
@@ -128,7 +170,7 @@ def default_cutoff(t, q):
 
 
 def edge_samples(step, cutoff):
-    """Samples dropped at each end of a segment: half a period of the cutoff, at least 2.
+    """Samples dropped at each end of a segment: EDGE_PERIODS periods of the cutoff, at least 2.
 
     Parameters
     ----------
@@ -143,7 +185,7 @@ def edge_samples(step, cutoff):
     """
     if cutoff is None:
         return 0
-    return max(2, int(np.ceil(0.5 / (cutoff * step))))
+    return max(2, int(np.ceil(EDGE_PERIODS / (cutoff * step))))
 
 
 def preprocess(t, q, tau, qd=None, qdd=None, cutoff="auto", decimate=1, label="recording"):
@@ -199,7 +241,7 @@ def preprocess(t, q, tau, qd=None, qdd=None, cutoff="auto", decimate=1, label="r
     trim = edge_samples(step, cutoff)
     if cutoff is None and (qd is None or qdd is None):
         trim = 1                    # one-sided differences at the ends
-    out = {k: [] for k in ("t", "q", "qd", "qdd", "tau")}
+    out = {k: [] for k in ("t", "q", "qd", "qdd", "tau", "keep")}
     given = {"qd": qd, "qdd": qdd}
     sos = None if cutoff is None else signal.butter(ORDER, cutoff, fs=1.0 / step,
                                                     output="sos")
@@ -228,9 +270,11 @@ def preprocess(t, q, tau, qd=None, qdd=None, cutoff="auto", decimate=1, label="r
             spacing = ts
         qds = d["qd"] if d["qd"] is not None else np.gradient(qs, spacing, axis=0)
         qdds = d["qdd"] if d["qdd"] is not None else np.gradient(qds, spacing, axis=0)
-        keep = slice(trim, ts_out.size - trim, int(decimate))
-        for k, v in zip(("t", "q", "qd", "qdd", "tau"), (ts_out, qs, qds, qdds, taus)):
-            out[k].append(v[keep])
+        keep = np.zeros(ts_out.size, bool)
+        keep[slice(trim, ts_out.size - trim, int(decimate))] = True
+        for k, v in zip(("t", "q", "qd", "qdd", "tau", "keep"), (ts_out, qs, qds, qdds, taus,
+                                                                 keep)):
+            out[k].append(v)
     if not out["t"]:
         raise ValueError(f"{label}: no segment is long enough for the filter and the "
                          f"differences")
@@ -249,6 +293,12 @@ def preprocess(t, q, tau, qd=None, qdd=None, cutoff="auto", decimate=1, label="r
                      f"{'filtered ' if sos is not None else ''}signals")
     notes.append(f"{label}: {trim} samples dropped at each end of each segment"
                  + (f"; every {int(decimate)}th sample kept" if int(decimate) > 1 else ""))
+    if sos is not None:
+        notes.append(f"{label}: the regressor filtered by the same filter as the torque "
+                     f"(parallel filtering)")
     cat = {k: np.concatenate(v) for k, v in out.items()}
+    stops = np.cumsum([v.size for v in out["t"]])
+    segments = tuple((int(a), int(b)) for a, b in zip(np.concatenate([[0], stops[:-1]]), stops))
     return Preprocessed(t=cat["t"], q=cat["q"], qd=cat["qd"], qdd=cat["qdd"], tau=cat["tau"],
-                        cutoff=cutoff, step=step, notes=tuple(notes))
+                        cutoff=cutoff, step=step, notes=tuple(notes), keep=cat["keep"],
+                        segments=segments, sos=sos)

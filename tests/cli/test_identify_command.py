@@ -1,0 +1,121 @@
+"""``gd-analyze identify``: its files, its JSON, and bad input (one line, exit 2)."""
+
+import json
+
+import numpy as np
+import pytest
+from identify_recordings import fourier, irregular_clock, truth_for, write_recording
+
+from gd_analyze import load_robot
+from gd_analyze.cli import main
+from gd_analyze.io.identification_dataset import read_identification
+
+
+@pytest.fixture(scope="module")
+def recordings(tmp_path_factory):
+    """Two-link recordings of a true arm (Pinocchio), irregular clocks, no derivatives."""
+    folder = tmp_path_factory.mktemp("rec")
+    robot = load_robot("two-link")
+    truth = truth_for(robot, seed=4)
+    out = []
+    for name, seed, seconds in (("fit", 2, 20), ("held out", 5, 8)):
+        t = irregular_clock(seconds, seed)
+        q, qd, qdd = fourier(robot.n, t, seed=seed, harmonics=3, base_hz=0.2)
+        out.append(write_recording(folder / f"{name}.csv", t, q, truth.torque(q, qd, qdd)))
+    return out
+
+
+def test_json_and_files(recordings, tmp_path, capsys):
+    out = tmp_path / "out"
+    code = main(["identify", "two-link", str(recordings[0]), "--validate", str(recordings[1]),
+                 "-o", str(out), "--json"])
+    captured = capsys.readouterr()
+    assert code == 0, captured.err
+    doc = json.loads(captured.out)
+    assert set(doc) >= {"recordings", "condition_number"}
+    assert [r["role"] for r in doc["recordings"]] == ["train", "validate"]
+    assert [r["file"] for r in doc["recordings"]] == [str(p) for p in recordings]
+    tree = read_identification(out / "identification.h5")
+    assert set(tree) == {"/", "fit", "held_out"}
+    for rec, name in zip(doc["recordings"], ("fit", "held_out")):
+        ds = tree[name]
+        E = ds.tau_measured.values - ds.tau_predicted.values
+        T = ds.tau_measured.values
+        assert rec["total_relative_error"] == pytest.approx(np.linalg.norm(E) / np.linalg.norm(T))
+        assert rec["relative_error"] == pytest.approx(
+            (np.linalg.norm(E, axis=0) / np.linalg.norm(T, axis=0)).tolist())
+        assert ds.attrs["role"] == rec["role"]
+        # the file's own times, not shifted
+        assert ds.t.values[0] >= 0 and ds.t.values[-1] <= 20
+    # filtered, differentiated data of a noise-free arm: far better than the robot file
+    held = doc["recordings"][1]
+    assert held["total_relative_error"] < 0.2 * held["prior_total_relative_error"]
+    root = tree["/"]
+    assert root.attrs["condition_number"] == pytest.approx(doc["condition_number"])
+    assert json.loads(root.attrs["inputs"])[str(recordings[0])]
+    assert (out / "identified_robot.toml").is_file()
+    assert load_robot(str(out / "identified_robot.toml")).n == 2
+
+
+def _bad(tmp_path, text, name="bad.csv"):
+    path = tmp_path / name
+    path.write_text(text)
+    return path
+
+
+GOOD_ROWS = "".join(f"{k * 0.01},{0.1 * k},{0.2 * k},{k},{k}\n" for k in range(30))
+
+BAD = [
+    ("a word in a cell", "t,q1,q2,tau1,tau2\n" + GOOD_ROWS + "0.5,1,x,2,3\n", "row 32, column q2"),
+    ("nan", "t,q1,q2,tau1,tau2\n0,nan,0,0,0\n" + GOOD_ROWS, "row 2, column q1"),
+    ("no torque", "t,q1,q2\n" + "".join(f"{k * 0.01},{k},{k}\n" for k in range(30)),
+     "row 1, column tau1"),
+    ("unknown column", "t,q1,q2,tau1,tau2,foo\n", "row 1, column foo"),
+    ("ragged", "t,q1,q2,tau1,tau2\n" + GOOD_ROWS + "0.5,1,2\n", "row 32"),
+    ("too few", "t,q1,q2,tau1,tau2\n0,0,0,0,0\n0.1,0,0,0,0\n", "at least 10"),
+    ("three joints", "t,q1,q2,q3,tau1,tau2,tau3\n0,0,0,0,0,0,0\n", "row 1, column q"),
+]
+
+
+@pytest.mark.parametrize("what, text, where", BAD, ids=[b[0] for b in BAD])
+def test_bad_recordings_exit_2_naming_file_row_and_column(tmp_path, capsys, what, text, where):
+    path = _bad(tmp_path, text)
+    code = main(["identify", "two-link", str(path), "-o", str(tmp_path / "out")])
+    err = capsys.readouterr().err
+    assert code == 2
+    assert len(err.strip().splitlines()) == 1 and "Traceback" not in err
+    assert str(path) in err and where in err, err
+    assert not (tmp_path / "out").exists()
+
+
+@pytest.mark.parametrize("args, where", [
+    (["--current"], "--current"),
+    (["--drive-gains", "1,2"], "--drive-gains"),
+    (["--drives", "stiction"], "stiction"),
+    (["--cutoff", "-3"], "cutoff"),
+    (["--decimate", "0"], "--decimate"),
+])
+def test_bad_options_exit_2(recordings, tmp_path, capsys, args, where):
+    code = main(["identify", "two-link", str(recordings[0]), "-o", str(tmp_path / "o"), *args])
+    err = capsys.readouterr().err
+    assert code == 2 and where in err and len(err.strip().splitlines()) == 1
+
+
+def test_currents_times_gains_are_torques(recordings, tmp_path, capsys):
+    """A recording of currents i = tau / K with --current --drive-gains K gives the same fit."""
+    text = recordings[0].read_text().splitlines()
+    header = text[0].split(",")
+    K = np.array([2.0, 0.5])
+    rows = np.array([[float(v) for v in line.split(",")] for line in text[1:]])
+    rows[:, 3:5] /= K
+    cur = tmp_path / "current.csv"
+    cur.write_text(",".join(header[:3] + ["i1", "i2"]) + "\n"
+                   + "\n".join(",".join(repr(float(v)) for v in r) for r in rows) + "\n")
+    outs = []
+    for path, extra in ((recordings[0], []), (cur, ["--current", "--drive-gains", "2,0.5"])):
+        code = main(["identify", "two-link", str(path), "-o", str(tmp_path / path.stem),
+                     "--json", *extra])
+        assert code == 0
+        outs.append(json.loads(capsys.readouterr().out)["recordings"][0])
+    assert outs[1]["total_relative_error"] == pytest.approx(outs[0]["total_relative_error"],
+                                                            rel=1e-6)
