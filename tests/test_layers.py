@@ -125,7 +125,7 @@ def test_the_check_can_fail(tmp_path, monkeypatch):
 
 #: core/ holds one folder per concept (issue 19): the robot model, the numeric dynamics, the
 #: symbolic models with their code generation, and the selection.
-CORE_CONCEPTS = {"model", "dynamics", "symbolic", "selection"}
+CORE_CONCEPTS = {"model", "dynamics", "symbolic", "selection", "identify"}
 #: Calls that read or write files; none belongs in core/.
 FILE_CALLS = {"open", "read_text", "read_bytes", "write_text", "write_bytes", "mkdir",
               "unlink", "atomic_path"}

@@ -61,6 +61,9 @@ from pathlib import Path
 
 import numpy as np
 
+from .._version import VERSION
+from ..core.symbolic.base_parameters import PARAMETER_NAMES
+
 __all__ = ["ParameterTable", "RecordingFit", "IdentificationResult", "group_names",
            "identification_tree", "write_identification", "read_identification",
            "recordings_json"]
@@ -204,6 +207,9 @@ class IdentificationResult:
         What was done to the recordings, sentence by sentence.
     version : str
         gd-analyze's version.
+    noise_std : ndarray, shape (n,)
+        Per joint the residual standard deviation of the ordinary fit, the weighted fit's
+        weights [N m or N].
     """
 
     prior: object
@@ -305,13 +311,10 @@ def identification_tree(result):
     """
     import xarray as xr
 
-    from .._version import VERSION
-
     p = result.parameters
     n = result.prior.n
     joints = list(result.prior.joint_names())
     links = np.arange(1, n + 1)
-    from ..core.symbolic.base_parameters import PARAMETER_NAMES
 
     par = ("parameter",)
     root = xr.Dataset(

@@ -102,7 +102,6 @@ class IdentifyOptions:
                              f"{', '.join(DRIVE_KINDS)})")
         if len(set(self.drives)) != len(self.drives):
             raise ValueError("a drive column is given twice")
-        object.__setattr__(self, "drives", tuple(k for k in DRIVE_KINDS if k in self.drives))
         if not (self.cutoff is None or self.cutoff == "auto" or
                 (isinstance(self.cutoff, (int, float)) and math.isfinite(self.cutoff)
                  and self.cutoff > 0)):
@@ -112,17 +111,17 @@ class IdentifyOptions:
             raise ValueError(f"decimate must be a whole number >= 1, got {self.decimate!r}")
         if self.current and self.drive_gains is None:
             raise ValueError("currents need the drive gains K (tau = K i)")
-        if self.drive_gains is not None:
-            gains = tuple(float(k) for k in self.drive_gains)
-            if not all(math.isfinite(k) and k != 0 for k in gains):
-                raise ValueError("drive gains must be finite and nonzero")
-            object.__setattr__(self, "drive_gains", gains)
+        if self.drive_gains is not None and not all(
+                isinstance(k, (int, float)) and math.isfinite(k) and k != 0
+                for k in self.drive_gains):
+            raise ValueError("drive gains must be finite and nonzero numbers")
 
     def settings(self):
         """dict: the options as plain values, for provenance."""
         return {"cutoff_hz": self.cutoff, "decimate": int(self.decimate),
-                "drives": list(self.drives), "current": bool(self.current),
-                "drive_gains": None if self.drive_gains is None else list(self.drive_gains),
+                "drives": [k for k in DRIVE_KINDS if k in self.drives], "current": bool(self.current),
+                "drive_gains": None if self.drive_gains is None else
+                [float(k) for k in self.drive_gains],
                 "consistent": bool(self.consistent), "simplify": bool(self.simplify),
                 "coulomb_model": "sign(qd)"}
 
@@ -252,7 +251,7 @@ def identify(robot, recordings, validate=(), options=None):
                      f"bandwidth holding 99% of the positions' power), used for every recording")
     pres = [_prepared(r, cutoff, options, name) for r, name in zip(train + valid, names)]
     base = base_parameters(prior)
-    kinds = options.drives
+    kinds = tuple(k for k in DRIVE_KINDS if k in options.drives)     # the columns' order
     col_names, col_kinds = column_names(base, n, kinds)
     theta0 = prior_values(base, prior, kinds)
     # rows at rest: thresholds from all training data
