@@ -24,6 +24,7 @@ mass m is P = [[tr(J)/2 1 - J, h], [h^T, m]] (Wensing et al., Eq. (7)).
 from __future__ import annotations
 
 import dataclasses
+import warnings
 from dataclasses import dataclass
 
 import numpy as np
@@ -231,7 +232,9 @@ def consistent_standard(base, theta_hat, identifiable, R, phi0, drive_kinds, dri
     for name in ("CLARABEL", "SCS"):
         try:
             first = cp.Problem(cp.Minimize(resid), cons)
-            first.solve(solver=name)
+            with warnings.catch_warnings():         # the status is checked instead
+                warnings.simplefilter("ignore")
+                first.solve(solver=name)
             if first.status in ("optimal", "optimal_inaccurate"):
                 solver = name
                 break
@@ -244,7 +247,9 @@ def consistent_standard(base, theta_hat, identifiable, R, phi0, drive_kinds, dri
     second = cp.Problem(cp.Minimize(cp.sum_squares(u) + cp.sum_squares(
         cp.multiply(d_scale, v) + theta_hat[b:] - drive_prior) / 1.0 if nd else
         cp.sum_squares(u)), cons + [resid <= bound])
-    second.solve(solver=solver)
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        second.solve(solver=solver)
     if second.status not in ("optimal", "optimal_inaccurate"):
         raise RuntimeError(f"the consistency problem's second stage: {second.status}")
     phi_v = (phi0.reshape(-1) + S * u.value).reshape(n, 10)
