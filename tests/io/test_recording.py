@@ -62,3 +62,15 @@ def test_arrays_are_checked():
         recording_from_arrays(t, np.full((12, 1), np.nan), np.zeros((12, 1)))
     with pytest.raises(InputError, match="shape"):
         recording_from_arrays(t, np.zeros((12, 1)), np.zeros((11, 1)))
+
+
+def test_a_large_file_reads_as_a_small_one_and_names_a_bad_cell(tmp_path):
+    rows = [f"{0.001 * k},{np.sin(k)!r},{k}" for k in range(3000)]
+    good = _write(tmp_path / "big.csv", "t,q1,tau1\n" + "\n".join(rows) + "\n")
+    rec = read_recording(good)
+    assert rec.q.shape == (3000, 1) and rec.rows[-1] == 3001
+    assert rec.q[7, 0] == np.sin(7)
+    rows[2500] = "2.5,1_0,3"
+    bad = _write(tmp_path / "bad.csv", "t,q1,tau1\n" + "\n".join(rows) + "\n")
+    with pytest.raises(InputError, match="row 2502, column q1"):
+        read_recording(bad)

@@ -134,32 +134,11 @@ def _parse(raw, path, n_joints, current):
         raise InputError("not a UTF-8 text file", path) from None
     if "\x00" in text:
         raise InputError("not a text file (holds a NUL byte)", path)
-    try:
-        rows = list(csv.reader(io.StringIO(text, newline="")))
-    except csv.Error as exc:
-        raise InputError(f"not a CSV file: {exc}", path) from None
-    numbered = [(k + 1, r) for k, r in enumerate(rows) if any(c.strip() for c in r)]
-    if not numbered:
-        raise InputError("empty file", path)
-    names, cols, n = _columns(numbered[0][1], path, n_joints, current)
-    data = numbered[1:]
-    values = _fast(text, names, len(data))
-    if values is None:
-        values = np.empty((len(data), len(names)))
-        for k, (row_no, row) in enumerate(data):
-            if len(row) != len(names):
-                raise InputError(f"ragged row: {len(row)} cells, the header has {len(names)}",
-                                 path, row=row_no)
-            for j, cell in enumerate(row):
-                text_j = cell.strip(" \t")
-                if len(text_j) > MAX_CELL:
-                    raise InputError(f"a cell of {len(text_j)} characters is not a number", path,
-                                     row=row_no, column=names[j])
-                try:
-                    values[k, j] = parse_number(text_j)
-                except ValueError as exc:
-                    raise InputError(str(exc), path, row=row_no, column=names[j]) from None
-    row_no = np.array([r for r, _ in data], int)
+    quick = _quick(text, path, n_joints, current)
+    if quick is not None:
+        values, names, cols, n, row_no = quick
+    else:
+        values, names, cols, n, row_no = _cells(text, path, n_joints, current)
     limits = {"t": LIMITS["t"], "q": LIMITS["q"], "qd": LIMITS["qd"], "qdd": LIMITS["qdd"],
               "tau": TAU_LIMIT}
     for kind, idx in [("t", [0])] + list(cols.items()):
@@ -170,6 +149,48 @@ def _parse(raw, path, n_joints, current):
                              f"magnitude {limits[kind]:g}", path, row=int(row_no[bad[0]]),
                              column=names[j])
     return values, cols, n, row_no
+
+
+def _quick(text, path, n_joints, current):
+    """A large file without blank lines, parsed by pandas; None to parse cell by cell."""
+    end = text.find("\n")
+    if end <= 0 or "\n\n" in text or "\r\n\r\n" in text or text.count("\n") < 1000:
+        return None
+    names, cols, n = _columns(next(csv.reader([text[:end].rstrip("\r")])), path, n_joints,
+                              current)
+    lines = text.count("\n") - (1 if text.endswith("\n") else 0)
+    values = _fast(text, names, lines)
+    if values is None:
+        return None
+    return values, names, cols, n, np.arange(2, lines + 2)
+
+
+def _cells(text, path, n_joints, current):
+    """Cell by cell, naming the row and column of the first fault."""
+    try:
+        rows = list(csv.reader(io.StringIO(text, newline="")))
+    except csv.Error as exc:
+        raise InputError(f"not a CSV file: {exc}", path) from None
+    numbered = [(k + 1, r) for k, r in enumerate(rows) if any(c.strip() for c in r)]
+    if not numbered:
+        raise InputError("empty file", path)
+    names, cols, n = _columns(numbered[0][1], path, n_joints, current)
+    data = numbered[1:]
+    values = np.empty((len(data), len(names)))
+    for k, (row_no, row) in enumerate(data):
+        if len(row) != len(names):
+            raise InputError(f"ragged row: {len(row)} cells, the header has {len(names)}",
+                             path, row=row_no)
+        for j, cell in enumerate(row):
+            text_j = cell.strip(" \t")
+            if len(text_j) > MAX_CELL:
+                raise InputError(f"a cell of {len(text_j)} characters is not a number", path,
+                                 row=row_no, column=names[j])
+            try:
+                values[k, j] = parse_number(text_j)
+            except ValueError as exc:
+                raise InputError(str(exc), path, row=row_no, column=names[j]) from None
+    return values, names, cols, n, np.array([r for r, _ in data], int)
 
 
 def _fast(text, names, lines):

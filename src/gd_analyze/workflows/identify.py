@@ -145,11 +145,14 @@ def model_torque(robot, offsets, q, qd, qdd, base=None):
         Y_b beta + Ia qdd + F_v qd + F_c sign(qd) + offsets [N m or N].
     """
     Y, beta = base_regressor(robot, q, qd, qdd, base)
-    tau = Y @ beta + np.asarray(robot.armature) * qdd
+    return Y @ beta + _drive_torque(robot, qd, qdd) + np.asarray(offsets, float)
+
+
+def _drive_torque(robot, qd, qdd):
+    """Ia qdd + F_v qd + F_c sign(qd) of a robot's drives [N m or N]."""
+    tau = np.asarray(robot.armature) * qdd
     fr = friction_torque(robot, qd)
-    if fr is not None:
-        tau = tau + fr
-    return tau + np.asarray(offsets, float)
+    return tau if fr is None else tau + fr
 
 
 def _recording(item, n, options, role):
@@ -262,10 +265,11 @@ def identify(robot, recordings, validate=(), options=None):
                  "friction (they count in the errors); Coulomb friction is F_c sign(qd), not "
                  "smoothed, as in the robot file")
     factors = None
+    kept_Y = []          # the training recordings' filtered regressors, for their predictions
     for p in pres[:len(train)]:
         Yr = p.filtered(identification_regressor(prior, p.q, p.qd, p.qdd, base, kinds))[p.keep]
         f = joint_factors(Yr, p.tau[p.keep], moving_rows(p.qd[p.keep], threshold)[0])
-        del Yr
+        kept_Y.append(Yr)
         factors = f if factors is None else combine_factors(factors, f)
     try:
         est = least_squares(factors, theta0)
@@ -322,9 +326,13 @@ def identify(robot, recordings, validate=(), options=None):
         is_train = k < len(train)
         rec = (train + valid)[k]
         keep = p.keep
-        pred = p.filtered(identification_regressor(prior, p.q, p.qd, p.qdd, base, kinds)
-                          @ theta)[keep]
-        tau_prior = p.filtered(model_torque(prior, np.zeros(n), p.q, p.qd, p.qdd, base))[keep]
+        Yr = kept_Y[k] if is_train else \
+            p.filtered(identification_regressor(prior, p.q, p.qd, p.qdd, base, kinds))[keep]
+        pred = Yr @ theta
+        tau_prior = Yr[:, :, :b] @ base.beta + p.filtered(_drive_torque(prior, p.qd, p.qdd))[keep]
+        if is_train:
+            kept_Y[k] = None
+        del Yr
         tau_s = None
         if simplified is not None:
             tau_s = p.filtered(simplified_torque(simplified[0], p.q, p.qd, p.qdd))[keep] \
