@@ -65,7 +65,7 @@ def test_arrays_are_checked():
 
 
 def test_a_large_file_reads_as_a_small_one_and_names_a_bad_cell(tmp_path):
-    rows = [f"{0.001 * k},{np.sin(k)!r},{k}" for k in range(3000)]
+    rows = [f"{0.001 * k},{float(np.sin(k))!r},{k}" for k in range(3000)]
     good = _write(tmp_path / "big.csv", "t,q1,tau1\n" + "\n".join(rows) + "\n")
     rec = read_recording(good)
     assert rec.q.shape == (3000, 1) and rec.rows[-1] == 3001
