@@ -119,3 +119,33 @@ def test_currents_times_gains_are_torques(recordings, tmp_path, capsys):
         outs.append(json.loads(capsys.readouterr().out)["recordings"][0])
     assert outs[1]["total_relative_error"] == pytest.approx(outs[0]["total_relative_error"],
                                                             rel=1e-6)
+
+
+@pytest.mark.slow
+def test_urdf_input_writes_a_urdf_that_reproduces_the_identified_model(tmp_path, capsys):
+    import pinocchio as pin
+    from identify_recordings import builtin_urdf
+
+    robot = load_robot("panda")
+    truth = truth_for(robot, urdf=builtin_urdf("panda"))
+    files = []
+    for name, seed, seconds in (("fit", 2, 20), ("held", 5, 5)):
+        t = irregular_clock(seconds, seed)
+        q, qd, qdd = fourier(robot.n, t, seed=seed)
+        files.append(write_recording(tmp_path / f"{name}.csv", t, q, truth.torque(q, qd, qdd),
+                                     qd, qdd))
+    out = tmp_path / "out"
+    code = main(["identify", "panda", str(files[0]), "--validate", str(files[1]), "-o", str(out),
+                 "--cutoff", "none", "-q"])
+    assert code == 0, capsys.readouterr().err
+    tree = read_identification(out / "identification.h5")
+    held = tree["held"]
+    model = pin.buildModelFromUrdf(str(out / "identified_robot.urdf"))
+    data = model.createData()
+    drives = load_robot(str(out / "identified_robot.toml"))
+    q, qd, qdd = (held[k].values for k in ("q", "qd", "qdd"))
+    tau = np.array([pin.rnea(model, data, a, b, c) for a, b, c in zip(q, qd, qdd)])
+    tau += drives.armature * qdd + drives.viscous * qd + drives.coulomb * np.sign(qd)
+    tau += tree["/"]["offset"].values
+    pred = held.tau_predicted.values
+    assert np.abs(tau - pred).max() <= 1e-9 * np.abs(pred).max()

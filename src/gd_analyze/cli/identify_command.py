@@ -14,15 +14,17 @@ from pathlib import Path
 from ..errors import InputError
 from ..io.identification_dataset import recordings_json, write_identification
 from ..io.robot_file import robot_toml
+from ..io.robots import is_urdf
 from ..io.staging import staged_output, writing
+from ..io.urdf_writer import robot_urdf
 from ..workflows.identify import IdentifyOptions, identify
 from .commands import command_line, load_robot_arg, output_folder, wrote_line
 from .parsing import EXIT_OK
 
 __all__ = ["cmd_identify", "IDENTIFY_FILES"]
 
-#: The files ``identify`` writes.
-IDENTIFY_FILES = ("identification.h5", "identified_robot.toml")
+#: The files ``identify`` writes (the URDF where the robot was given as one).
+IDENTIFY_FILES = ("identification.h5", "identified_robot.toml", "identified_robot.urdf")
 
 
 def _options(args):
@@ -112,6 +114,13 @@ def cmd_identify(args):
         toml.write_text(robot_toml(result.identified, _comments(result, args)),
                         encoding="utf-8")
         written.append(toml)
+        if isinstance(args.robot, str) and is_urdf(args.robot):
+            urdf = stage / "identified_robot.urdf"
+            urdf.write_text(robot_urdf(result.identified, _comments(result, args) + [
+                "the drives (armature, viscous and Coulomb friction) are in "
+                "identified_robot.toml only: a URDF holds none that gd-analyze reads"]),
+                encoding="utf-8")
+            written.append(urdf)
     written = [outdir / Path(p).relative_to(stage) for p in written]
     if args.json:
         print(json.dumps(recordings_json(result)))
