@@ -23,6 +23,7 @@ Run from the repository's root (takes a few minutes)::
 """
 
 import json
+import os
 import pathlib
 import subprocess
 import sys
@@ -144,10 +145,15 @@ from gd_analyze.io.recording import read_recording
 from gd_analyze.workflows.identify import identify
 kind, path = sys.argv[1], sys.argv[2]
 robot = load_robot("panda")
+def cpu():
+    r = resource.getrusage(resource.RUSAGE_SELF)
+    return r.ru_utime + r.ru_stime
 if kind == "identify":
+    c0 = cpu()
     t0 = time.perf_counter()
     res = identify(robot, [path])
     elapsed = time.perf_counter() - t0
+    cpu_s = cpu() - c0
 else:
     from gd_analyze.core.identify.preprocess import preprocess
     from gd_analyze.core.identify.regressor import identification_regressor
@@ -158,10 +164,12 @@ else:
     Y = identification_regressor(robot, pre.q[k], pre.qd[k], pre.qdd[k], base_parameters(robot),
                                  ("viscous", "coulomb", "offset"))
     A, y = Y.reshape(-1, Y.shape[2]), pre.tau[k].reshape(-1)
+    c0 = cpu()
     t0 = time.perf_counter()
     np.linalg.lstsq(A, y, rcond=None)
     elapsed = time.perf_counter() - t0
-print(json.dumps({{"seconds": elapsed,
+    cpu_s = cpu() - c0
+print(json.dumps({{"seconds": elapsed, "cpu_seconds": cpu_s,
                   "peak_mib": resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024}}))
 """
 
@@ -186,13 +194,17 @@ def performance():
             runs[kind].append(json.loads(out.strip().splitlines()[-1]))
     print(f"## Performance: {t.size} samples of 7 joints (Panda), {REPEATS} interleaved runs "
           f"each\n")
-    print("| job | median [s] | range [s] | peak RSS [MiB] |")
-    print("|---|---|---|---|")
+    load = os.getloadavg()[0]
+    print(f"(load average {load:.1f} on {os.cpu_count()} cores at the start)\n")
+    print("| job | median wall [s] | range [s] | median CPU [s] | peak RSS [MiB] |")
+    print("|---|---|---|---|---|")
     for kind, label in (("identify", "gd.identify (read, preprocess, regressor, OLS+WLS)"),
                         ("lstsq", "numpy.linalg.lstsq on the same regressor (solve only)")):
         s = [r["seconds"] for r in runs[kind]]
         m = max(r["peak_mib"] for r in runs[kind])
-        print(f"| {label} | {np.median(s):.2f} | {min(s):.2f} to {max(s):.2f} | {m:.0f} |")
+        c = np.median([r["cpu_seconds"] for r in runs[kind]])
+        print(f"| {label} | {np.median(s):.2f} | {min(s):.2f} to {max(s):.2f} | {c:.2f} | "
+              f"{m:.0f} |")
     print()
 
 
