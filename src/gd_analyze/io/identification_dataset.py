@@ -390,6 +390,12 @@ def read_identification(path):
     return out
 
 
+def _finite(values):
+    """Numbers as JSON allows them: a non-finite one (a joint whose measured torque is all 0
+    has no relative error) as None."""
+    return [float(v) if np.isfinite(v) else None for v in np.atleast_1d(values)]
+
+
 def recordings_json(result):
     """The ``--json`` object: recordings with their errors, and the condition number.
 
@@ -402,19 +408,21 @@ def recordings_json(result):
     dict
         ``{"recordings": [{"file", "role", "relative_error", "total_relative_error",
         "prior_relative_error", "prior_total_relative_error"}, ...], "condition_number",
-        "rank", "unidentifiable"}`` (and ``simplified_*`` errors with a simplified model).
+        "rank", "unidentifiable"}`` (and ``simplified_*`` errors with a simplified model); an
+        error that is not finite (a joint whose measured torque is all 0) is None.
     """
     recs = []
     for fit in result.recordings:
         _, rel, total = fit.errors("predicted")
         _, prel, ptotal = fit.errors("prior")
-        item = {"file": fit.file, "role": fit.role, "relative_error": rel.tolist(),
-                "total_relative_error": total, "prior_relative_error": prel.tolist(),
-                "prior_total_relative_error": ptotal}
+        item = {"file": fit.file, "role": fit.role, "relative_error": _finite(rel),
+                "total_relative_error": _finite(total)[0],
+                "prior_relative_error": _finite(prel),
+                "prior_total_relative_error": _finite(ptotal)[0]}
         if fit.tau_simplified is not None:
             _, srel, stotal = fit.errors("simplified")
-            item.update(simplified_relative_error=srel.tolist(),
-                        simplified_total_relative_error=stotal)
+            item.update(simplified_relative_error=_finite(srel),
+                        simplified_total_relative_error=_finite(stotal)[0])
         recs.append(item)
     p = result.parameters
     return {"recordings": recs, "condition_number": float(result.condition_number),

@@ -277,12 +277,13 @@ def identify(robot, recordings, validate=(), options=None):
         est = least_squares(factors, theta0)
         # outliers: rows whose residual exceeds OUTLIER_SIGMAS x the joint's noise are left out
         # and the fit repeated once (a Gaussian residual exceeds 5 sigma once in 1.7 million)
-        dropped, refit = 0, None
+        dropped, refit, fit_rows = 0, None, []
         for p, Yr in zip(pres[:len(train)], kept_Y):
             used = moving_rows(p.qd[p.keep], threshold)[0]
             resid = np.abs(p.tau[p.keep] - Yr @ est.value)
             out = used & (resid > OUTLIER_SIGMAS * np.maximum(est.noise_std, 1e-300))
             dropped += int(out.sum())
+            fit_rows.append(used & ~out)
             f = joint_factors(Yr, p.tau[p.keep], used & ~out)
             refit = f if refit is None else combine_factors(refit, f)
         if dropped:
@@ -353,8 +354,7 @@ def identify(robot, recordings, validate=(), options=None):
         if simplified is not None:
             tau_s = p.filtered(simplified_torque(simplified[0], p.q, p.qd, p.qdd))[keep] \
                 + offsets
-        used_r = moving_rows(p.qd[keep], threshold)[0] if is_train else \
-            np.zeros(p.q[keep].shape, bool)
+        used_r = fit_rows[k] if is_train else np.zeros(p.q[keep].shape, bool)
         fits.append(RecordingFit(
             name=name, file=rec.source, sha256=rec.sha256,
             role="train" if is_train else "validate", t=p.t[keep], q=p.q[keep],
