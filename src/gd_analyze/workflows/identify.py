@@ -284,9 +284,10 @@ def identify(robot, recordings, validate=(), options=None):
             out = used & (resid > OUTLIER_SIGMAS * np.maximum(est.noise_std, 1e-300))
             dropped += int(out.sum())
             fit_rows.append(used & ~out)
-            f = joint_factors(Yr, p.tau[p.keep], used & ~out)
-            refit = f if refit is None else combine_factors(refit, f)
         if dropped:
+            for p, Yr, rows in zip(pres[:len(train)], kept_Y, fit_rows):
+                f = joint_factors(Yr, p.tau[p.keep], rows)
+                refit = f if refit is None else combine_factors(refit, f)
             est = least_squares(refit, theta0)
             notes.append(f"{dropped} outlier rows (residual above {OUTLIER_SIGMAS:g} x the "
                          f"joint's noise standard deviation) left out and the fit repeated")

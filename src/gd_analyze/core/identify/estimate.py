@@ -94,7 +94,7 @@ def joint_factors(Y, tau, used):
         M = np.hstack([Y[rows, i, :], np.asarray(tau, float)[rows, i, None]])
         counts[i] = M.shape[0]
         if M.shape[0]:
-            r = linalg.qr(M, mode="r", check_finite=False)[0]
+            r = linalg.qr(M, mode="r", overwrite_a=True, check_finite=False)[0]
             R[i, :r.shape[0]] = r[:p + 1]
     return R, counts
 
