@@ -293,8 +293,8 @@ def _kept_drives(columns, qd, qdd):
     return D[:, :, columns.drive_kept.reshape(-1)]
 
 
-def _extremes(Ws):
-    """Largest and smallest singular values of Ws and their singular vectors (u, v).
+def _singular(Ws):
+    """All singular values of Ws, descending, and the singular vectors: U (rows, p), V (p, p).
 
     From the eigenvalues of the p x p Gram matrix (summed without BLAS: a threaded SVD of the
     tall matrix is hundreds of times slower on a loaded machine), by the SVD itself when the
@@ -303,20 +303,25 @@ def _extremes(Ws):
     gram = np.einsum("ka,kb->ab", Ws, Ws)
     lam, V = np.linalg.eigh(gram)
     if lam[0] > 1e-12 * lam[-1]:
-        s = np.sqrt(lam[[-1, 0]])
-        v = V[:, [-1, 0]].T
-    else:
-        U, sv, Vt = np.linalg.svd(Ws, full_matrices=False)
-        s, v = sv[[0, -1]], Vt[[0, -1]]
-    u = np.einsum("kc,jc->jk", Ws, v) / np.where(s > 0, s, 1.0)[:, None]
-    return s, u, v
+        s, V = np.sqrt(lam[::-1]), V[:, ::-1]
+        return s, Ws @ V / s, V
+    U, s, Vt = np.linalg.svd(Ws, full_matrices=False)
+    return s, U, Vt.T
+
+
+#: Exponent P of the smooth objective: log of the ratio of the P-norm of the singular values
+#: to the P-norm of their inverses' inverse, log cond as P -> infinity.
+SMOOTH_POWER = 16.0
 
 
 def _log_condition_and_gradient(x, robot, columns, basis, step=1e-6):
-    """log of the scaled condition number at x, and its gradient with respect to x.
+    """A smooth log of the scaled condition number at x, and its gradient with respect to x.
 
-    The gradient of sigma = u^T W S v (S = diag(1 / ||W_c||)) with respect to column c of W is
-    s_c v_c (u - (u . w_c) w_c) with w_c = s_c W_c; the base regressor's derivatives with
+    The value is (1/P) log sum sigma_i^P + (1/P) log sum sigma_i^-P (P = SMOOTH_POWER), within
+    (2/P) log p above log(sigma_max / sigma_min) and smooth where the smallest singular values
+    cluster, as they do near the optimum. With d value / d sigma_i = c_i and sigma_i =
+    u_i^T W S v_i (S = diag(1 / ||W_c||)), the gradient with respect to column c of W is
+    s_c (m_c - (m_c . w_c) w_c) with m = U diag(c) V^T and w_c = s_c W_c; the base regressor's derivatives with
     respect to the states are forward differences (one per joint and state, every sample at
     once, in one call of the regressor), the drive columns' exact.
     """
@@ -339,12 +344,15 @@ def _log_condition_and_gradient(x, robot, columns, basis, step=1e-6):
     if not np.all(norms > 0):
         return math.inf, np.zeros_like(x)
     Ws = W / norms
-    s, u, v = _extremes(Ws)
-    if not s[1] > 0:
+    s, U, V = _singular(Ws)
+    if not s[-1] > 0:
         return math.inf, np.zeros_like(x)
-    G = np.zeros_like(W)
-    for k, sign in ((0, 1.0), (1, -1.0)):
-        G += sign / s[k] * (v[k] / norms) * (u[k][:, None] - (u[k] @ Ws) * Ws)
+    P = SMOOTH_POWER
+    up, down = (s / s[0]) ** P, (s[-1] / s) ** P
+    value = math.log(s[0] / s[-1]) + (math.log(up.sum()) + math.log(down.sum())) / P
+    c = up / (s * up.sum()) - down / (s * down.sum())        # d value / d sigma_i
+    Mg = (U * c) @ V.T                                          # d value / d Ws
+    G = (Mg - np.einsum("kc,kc->c", Mg, Ws) * Ws) / norms
     G = G.reshape(M, n, p)
     b = Yb.shape[2]
     dY = (Yall[1:] - Yb) / step                                 # (3 n, M, n, b)
@@ -365,7 +373,7 @@ def _log_condition_and_gradient(x, robot, columns, basis, step=1e-6):
                 grads[1][:, j] += G[:, j, col] / (vs * np.cosh(qd[:, j] / vs) ** 2)
             col += 1
     gX = sum(P.T @ gd for P, gd in zip(basis.P, grads))        # (2K - 1, n)
-    return float(np.log(s[0] / s[1])), gX.T.reshape(-1)
+    return value, gX.T.reshape(-1)
 
 
 def _limits(robot, qdd_max=None):
