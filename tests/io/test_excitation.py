@@ -138,8 +138,8 @@ def test_the_objective_is_the_scaled_condition_of_a_regressor_spanning_pinocchio
     n = robot.n
     drives = np.zeros((q.shape[0], n, 4 * n))
     for i in range(n):
-        drives[:, i, 4 * i:4 * i + 4] = np.stack([qdd[:, i], qd[:, i], np.sign(qd[:, i]),
-                                                  np.ones(q.shape[0])], -1)
+        drives[:, i, [i, n + i, 2 * n + i, 3 * n + i]] = np.stack(
+            [qdd[:, i], qd[:, i], np.sign(qd[:, i]), np.ones(q.shape[0])], -1)
     ref = np.concatenate([Wp, drives], 2).reshape(-1, 14 * n)
     Y = ex_module.identification_regressor(robot, q, qd, qdd, cols).reshape(-1, cols.count)
 
@@ -248,7 +248,7 @@ def test_cli_writes_the_excitation_and_its_provenance(tmp_path):
     cond = excitation_condition(robot, identification_columns(robot), series)
     assert ex["scaled_condition_number"] == pytest.approx(cond, rel=1e-9)
     assert ex["scaled_condition_number"] < min(ex["random_starts_scaled_condition_numbers"])
-    assert ex["drive_columns_regrouped"] == ["Ia1", "Ia2"]
+    assert ex["drive_columns_regrouped"] == ["armature_1", "armature_2"]
     assert record["robot_sha256"] == robot.sha256 and record["setpoints"] == 241
 
 

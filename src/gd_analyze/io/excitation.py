@@ -290,7 +290,7 @@ class _Basis:
 def _kept_drives(columns, qd, qdd):
     """The kept drive columns alone, shape (N, n, kept)."""
     D = drive_regressor(qd, qdd, columns.drives, columns.coulomb_velocity)
-    return D[:, :, columns.drive_kept.reshape(-1)]
+    return D[:, :, columns.drive_mask]
 
 
 def _singular(Ws):
@@ -361,8 +361,8 @@ def _log_condition_and_gradient(x, robot, columns, basis, step=1e-6):
     # the drive columns: d(qdd_j)/d(qdd_j) = 1, d(qd_j)/d(qd_j) = 1, tanh' or 0 for Coulomb
     col = b
     vs = columns.coulomb_velocity
-    for j in range(n):
-        for c, kind in enumerate(columns.drives):
+    for c, kind in enumerate(columns.drives):
+        for j in range(n):
             if not columns.drive_kept[j, c]:
                 continue
             if kind == "armature":

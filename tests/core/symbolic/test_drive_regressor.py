@@ -24,12 +24,13 @@ def _pin_regressor(arm, q, qd, qdd):
 
 
 def _reference_drives(qd, qdd):
-    """Per joint qdd_i, qd_i, sign(qd_i), 1 on joint i's row, built entry by entry."""
+    """qdd_i, qd_i, sign(qd_i), 1 on joint i's row, kind-major, built entry by entry."""
     N, n = qd.shape
     out = np.zeros((N, n, 4 * n))
     for s in range(N):
         for i in range(n):
-            out[s, i, 4 * i:4 * i + 4] = (qdd[s, i], qd[s, i], np.sign(qd[s, i]), 1.0)
+            out[s, i, [i, n + i, 2 * n + i, 3 * n + i]] = (qdd[s, i], qd[s, i],
+                                                          np.sign(qd[s, i]), 1.0)
     return out
 
 
@@ -82,7 +83,7 @@ def test_reproduces_rnea_with_armature_friction_and_offsets(name):
     names = cols.names()
     for j in range(n):
         for kind, values in (("viscous", Fv), ("coulomb", Fc), ("offset", tau0)):
-            label = {"viscous": "Fv", "coulomb": "Fc", "offset": "tau0"}[kind] + str(j + 1)
+            label = f"{kind}_{j + 1}"
             assert abs(theta[names.index(label)] - values[j]) <= 1e-8 * np.abs(T2).max()
 
 
@@ -91,7 +92,7 @@ def test_regrouped_armatures_of_the_puma():
     qdd_1 and qdd_2 on their own rows (Pinocchio's regressor), so Ia1 and Ia2 regroup."""
     arm = robot("puma560")
     cols = identification_columns(arm)
-    assert cols.dropped() == ["Ia1", "Ia2"]
+    assert cols.dropped() == ["armature_1", "armature_2"]
     q, qd, qdd = states(arm, 10, 1)
     W = _pin_regressor(arm, q, qd, qdd)
     zz = 9          # Pinocchio's Izz within a link's 10
@@ -109,7 +110,7 @@ def test_drive_columns_values_order_and_smoothing():
     D = drive_regressor(qd, qdd)
     np.testing.assert_array_equal(D, _reference_drives(qd, qdd))
     only = drive_regressor(qd, qdd, ("offset", "viscous"))          # taken in the fixed order
-    np.testing.assert_array_equal(only[0, 1], [0, 0, -2.0, 1.0, 0, 0])
+    np.testing.assert_array_equal(only[0, 1], [0, -2.0, 0, 0, 1.0, 0])
     smooth = drive_regressor(qd, qdd, ("coulomb",), coulomb_velocity=0.1)
     np.testing.assert_allclose(np.diagonal(smooth[0]), np.tanh(qd[0] / 0.1), rtol=1e-15)
     assert DRIVE_COLUMNS == ("armature", "viscous", "coulomb", "offset")

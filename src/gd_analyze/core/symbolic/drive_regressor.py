@@ -30,13 +30,12 @@ from ..model.kinematics import as_states
 from .base_parameters import BaseParameters, base_parameters, random_states
 from .regressor_kernels import regressor_columns
 
-__all__ = ["DRIVE_COLUMNS", "DRIVE_SYMBOLS", "drive_regressor", "IdentificationColumns",
+__all__ = ["DRIVE_COLUMNS", "drive_regressor", "IdentificationColumns",
            "identification_columns", "identification_regressor"]
 
-#: The drive columns of every joint, in their order within a joint.
+#: The drive column kinds, in the order of the columns (kind-major: every joint's armature,
+#: then every joint's viscous friction, ...).
 DRIVE_COLUMNS = ("armature", "viscous", "coulomb", "offset")
-#: The drive parameters' labels (``"Ia3"``: joint 3's armature).
-DRIVE_SYMBOLS = {"armature": "Ia", "viscous": "Fv", "coulomb": "Fc", "offset": "tau0"}
 
 
 def _checked_kinds(drives):
@@ -66,8 +65,8 @@ def drive_regressor(qd: np.ndarray, qdd: np.ndarray, drives=DRIVE_COLUMNS,
     Returns
     -------
     ndarray, shape (N, n, n k)
-        ``D[s, i, k_d j + c]``: torque of joint i [N m or N] per unit drive parameter c of
-        joint j (k_d = len(drives)), zero unless i = j; joint-major.
+        ``D[s, i, c n + j]``: torque of joint i [N m or N] per unit drive parameter c of
+        joint j, zero unless i = j; kind-major.
 
     Raises
     ------
@@ -82,8 +81,8 @@ def drive_regressor(qd: np.ndarray, qdd: np.ndarray, drives=DRIVE_COLUMNS,
     Examples
     --------
     >>> D = drive_regressor(np.array([[1.0, -2.0]]), np.array([[3.0, 4.0]]))
-    >>> D[0, 1, 4:].tolist()        # joint 2: Ia, Fv, Fc, tau0
-    [4.0, -2.0, -1.0, 1.0]
+    >>> D[0, 1].tolist()        # joint 2's row: Ia, Fv, Fc, offset of joints 1 and 2
+    [0.0, 4.0, 0.0, -2.0, 0.0, -1.0, 0.0, 1.0]
     """
     kinds = _checked_kinds(drives)
     qd = np.asarray(qd, float)
@@ -97,11 +96,10 @@ def drive_regressor(qd: np.ndarray, qdd: np.ndarray, drives=DRIVE_COLUMNS,
     values = {"armature": qdd, "viscous": qd,
               "coulomb": np.sign(qd) if v == 0 else np.tanh(qd / v),
               "offset": np.ones_like(qd)}
-    k = len(kinds)
-    out = np.zeros((N, n, n * k))
+    out = np.zeros((N, n, n * len(kinds)))
     rows = np.arange(n)
     for c, kind in enumerate(kinds):
-        out[:, rows, k * rows + c] = values[kind]
+        out[:, rows, c * n + rows] = values[kind]
     return out
 
 
@@ -134,16 +132,23 @@ class IdentificationColumns:
         return int(self.base.rank + self.drive_kept.sum())
 
     def names(self) -> list[str]:
-        """Labels of the columns: the base parameters', then e.g. ``"Fv3"`` (joint 3's viscous).
+        """Labels of the columns: the base parameters', then e.g. ``"viscous_3"``.
 
         Returns
         -------
         list of str, length p
         """
+        return self.base.names() + self._drive_names(True)
+
+    def _drive_names(self, kept):
         n = self.drive_kept.shape[0]
-        return self.base.names() + [f"{DRIVE_SYMBOLS[kind]}{j + 1}" for j in range(n)
-                                    for c, kind in enumerate(self.drives)
-                                    if self.drive_kept[j, c]]
+        return [f"{kind}_{j + 1}" for c, kind in enumerate(self.drives) for j in range(n)
+                if self.drive_kept[j, c] == kept]
+
+    @property
+    def drive_mask(self) -> np.ndarray:
+        """ndarray of bool, shape (n len(drives),): the kept drive columns, kind-major."""
+        return self.drive_kept.T.reshape(-1)
 
     def dropped(self) -> list[str]:
         """Labels of the drive columns left out as combinations of the others.
@@ -152,9 +157,7 @@ class IdentificationColumns:
         -------
         list of str
         """
-        n = self.drive_kept.shape[0]
-        return [f"{DRIVE_SYMBOLS[kind]}{j + 1}" for j in range(n)
-                for c, kind in enumerate(self.drives) if not self.drive_kept[j, c]]
+        return self._drive_names(False)
 
 
 def identification_columns(robot, drives=DRIVE_COLUMNS, base: BaseParameters | None = None,
@@ -200,7 +203,7 @@ def identification_columns(robot, drives=DRIVE_COLUMNS, base: BaseParameters | N
     >>> from gd_analyze import load_robot
     >>> cols = identification_columns(load_robot("puma560"))
     >>> cols.dropped()      # joint 1 about the vertical, joint 2 across it: in ZZ1's and ZZ2's
-    ['Ia1', 'Ia2']
+    ['armature_1', 'armature_2']
     """
     kinds = _checked_kinds(drives)
     base = base_parameters(robot) if base is None else base
@@ -216,7 +219,7 @@ def identification_columns(robot, drives=DRIVE_COLUMNS, base: BaseParameters | N
     diag = np.abs(np.diag(R))
     keep = diag > tol * max(diag.max(initial=0.0), 1e-300)
     return IdentificationColumns(base=base, drives=kinds,
-                                 drive_kept=keep[base.rank:].reshape(n, len(kinds)),
+                                 drive_kept=keep[base.rank:].reshape(len(kinds), n).T,
                                  coulomb_velocity=float(coulomb_velocity))
 
 
@@ -238,7 +241,7 @@ def identification_regressor(robot, q: np.ndarray, qd: np.ndarray, qdd: np.ndarr
     ndarray, shape (N, n, p)
         ``Y[s, i, m]``: torque of joint i [N m or N] per unit parameter m at set point s, in
         the order of ``columns.names()``: the base parameters (with the robot's gravity), then
-        the kept drive columns, joint-major.
+        the kept drive columns, kind-major.
 
     Raises
     ------
@@ -257,4 +260,4 @@ def identification_regressor(robot, q: np.ndarray, qd: np.ndarray, qdd: np.ndarr
     Yb = regressor_columns(robot, np.flatnonzero(columns.base.independent.reshape(-1)),
                            q, qd, qdd)
     D = drive_regressor(qd, qdd, columns.drives, columns.coulomb_velocity)
-    return np.concatenate([Yb, D[:, :, columns.drive_kept.reshape(-1)]], axis=2)
+    return np.concatenate([Yb, D[:, :, columns.drive_mask]], axis=2)
