@@ -17,7 +17,7 @@ from pdf_checks import info, text
 
 from gd_analyze.errors import InputError
 from gd_analyze.reports.identify import IDENTIFY_REPORT_FILES, write_identify_report
-from gd_analyze.reports.identify_figures import MAX_POINTS, identify_figures
+from gd_analyze.reports.identify_figures import MAX_POINTS, TITLE_CHARS, identify_figures
 from gd_analyze.reports.identify_text import identify_context
 from gd_analyze.reports.numbers import pct
 
@@ -173,7 +173,8 @@ def test_figures_show_the_validation_recordings_and_their_curves(report):
     held = groups["held_out"]
     ax = figs["torque_0"].axes[1]
     title = ax.title if ax.get_title(loc="left") == "" else ax._left_title
-    assert title.get_text() == f"joint 2: {HOSTILE}" and not title.get_parse_math()
+    assert title.get_text() == f"joint 2: {HOSTILE[:TITLE_CHARS - 1]}\u2026"
+    assert not title.get_parse_math()
     lines = ax.get_lines()
     assert len(lines) == 3                          # measured, identified, robot file
     np.testing.assert_array_equal(lines[0].get_ydata(), held["tau_measured"].values[:, 1])

@@ -19,7 +19,7 @@ from .markup import clean
 from .ticks import label_axes, set_ticks
 
 __all__ = ["identify_figures", "shown_recordings", "role_of", "figure_key", "PAGE_WIDTH", "MAX_POINTS",
-           "MODEL_STYLES", "FIGURE_RC", "stride"]
+           "MODEL_STYLES", "FIGURE_RC", "stride", "short", "TITLE_CHARS"]
 
 #: Figure width [in]: the text of a page.
 PAGE_WIDTH = 7.2
@@ -93,6 +93,32 @@ def figure_key(kind: str, k: int) -> str:
     return f"{kind}_{k}"
 
 
+#: The most characters of a joint's name in a panel title (a longer one is cut, with "...";
+#: the tables give it whole).
+TITLE_CHARS = 36
+
+
+def short(name: str) -> str:
+    """A joint's name cut to :data:`TITLE_CHARS` characters for a panel title.
+
+    Parameters
+    ----------
+    name : str
+
+    Returns
+    -------
+    str
+        The name, or its first characters and an ellipsis.
+
+    Examples
+    --------
+    >>> short("arm_1_joint")
+    'arm_1_joint'
+    """
+    name = str(name)
+    return name if len(name) <= TITLE_CHARS else name[:TITLE_CHARS - 1] + "\u2026"
+
+
 def stride(m: int) -> int:
     """Every how many samples a line of m samples is drawn.
 
@@ -135,7 +161,7 @@ def _panels(t, curves, joints, ylabel, width):
             ax.plot(t[::k], np.asarray(y, float)[::k, j], color=colour, linestyle=ls,
                     linewidth=lw)
             handles.setdefault(label, Line2D([], [], color=colour, linestyle=ls, linewidth=lw))
-        ax.set_title(f"joint {j + 1}: {joints[j]}", loc="left", parse_math=False)
+        ax.set_title(f"joint {j + 1}: {short(joints[j])}", loc="left", parse_math=False)
         lo, hi = ax.get_ylim()
         set_ticks(ax.yaxis, lo, hi, 4, labels=False)
         yaxes.append(ax.yaxis)

@@ -234,8 +234,7 @@ def _sentences(values):
     for v in values:
         text = clean(str(v)).strip()
         if text:
-            out.append(text[0].upper() + text[1:] + ("" if text.endswith((".", "!", "?"))
-                                                     else "."))
+            out.append(text + ("" if text.endswith((".", "!", "?")) else "."))
     return out
 
 
