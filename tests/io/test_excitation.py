@@ -118,6 +118,7 @@ def test_condition_number_at_least_3x_below_random_fourier_trajectories(planned,
     assert ours * 3 <= np.median(randoms) and ours * 2 <= min(randoms), (ours, randoms)
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize("name", ["puma560", "panda"])
 def test_the_objective_is_the_scaled_condition_of_a_regressor_spanning_pinocchios(name):
     """The objective's regressor (rigid columns, drive columns) spans what Pinocchio's
