@@ -23,7 +23,8 @@ SHARED_REPORTS = {"reports.common", "reports.figures", "reports.typeset", "repor
                   "reports.effort", "reports.sweep_text", "reports.sweep_merged_text",
                   "reports.control_text",
                   "reports.control_verdict", "reports.numbers",
-                  "reports.budget_figures"}     # the main report's figures of the budget
+                  "reports.budget_figures",     # the main report's figures of the budget
+                  "reports.identify_figures", "reports.identify_text"}    # the identify report's
 # the core modules a report may read: names and labels of the ranking's classes and elements
 REPORT_CORE = {"core.selection.ranking", "core.selection.labels"}
 

@@ -464,6 +464,7 @@ def cmd_plan(args):
     """
     from .._version import VERSION as __version__
     from ..io.planning import (
+        DEFAULT_SETPOINTS,
         acceleration_limits,
         check_velocity_limits,
         default_motion,
@@ -471,9 +472,15 @@ def cmd_plan(args):
         user_positions,
         write_provenance,
     )
-    from ..io.trajectory import write_trajectory
 
     robot = load_robot_arg(args)
+    if args.excitation:
+        return _plan_excitation(args, robot)
+    for name in ("harmonics", "base_frequency", "seed"):
+        if getattr(args, name) is not None:
+            raise InputError("only with --excitation", column=f"--{name.replace('_', '-')}")
+    if args.setpoints is None:
+        args.setpoints = DEFAULT_SETPOINTS
     if args.duration is None or not args.ignore_limits:     # the plan needs the limits
         placeholder = check_velocity_limits(robot)
         if placeholder:
@@ -492,17 +499,8 @@ def cmd_plan(args):
                                           <= LIMITS["duration"]):
         raise InputError(f"must be a number of seconds in [{LIMITS['min_duration']:g}, "
                          f"{LIMITS['duration']:g}], got {args.duration:g}", column="--duration")
-    if args.output != "-":
-        from ..io.planning import provenance_path
-        from ..io.staging import check_output_file
-
-        check_output_file(args.output)
-        check_output_file(provenance_path(args.output))
-    qdd_arg = args.qdd_max
-    if qdd_arg is not None and len(qdd_arg) == 1:
-        qdd_arg = qdd_arg * robot.n
-    if qdd_arg is not None and len(qdd_arg) != robot.n:
-        raise InputError(f"{len(qdd_arg)} values for {robot.n} joints", column="--qdd-max")
+    _check_outputs(args.output)
+    qdd_arg = _qdd_argument(args, robot)
     try:
         qdd_max, qdd_source = acceleration_limits(
             robot, None if qdd_arg is None else user_positions(robot, qdd_arg))
@@ -522,15 +520,7 @@ def cmd_plan(args):
                          f"velocity limits ({qdd_source}) are too small to plan with",
                          column=None if args.duration is not None or qdd_arg is None
                          else "--qdd-max")
-    for name in ("q", "qd", "qdd"):
-        if first_beyond(getattr(traj, name), LIMITS[name]) is not None:
-            raise InputError(f"the planned {name} exceeds the supported magnitude "
-                             f"{LIMITS[name]:g}: choose a longer --duration", column="--duration")
-    try:
-        write_trajectory(traj, args.output)
-    except OSError as exc:
-        raise InputError(f"cannot write: {exc.strerror or exc}", args.output) from None
-    if args.output == "-":
+    if not _write_plan(traj, args.output, ": choose a longer --duration"):
         return EXIT_OK
     record = {
         "tool": "gd-analyze", "version": __version__,
@@ -555,6 +545,161 @@ def cmd_plan(args):
     print(f"wrote {args.output}: {traj.n_setpoints} set points over {traj.t[-1]:.4f} s "
           f"({traj.source}); acceleration limits: {qdd_source}; provenance in {side}",
           file=sys.stderr)
+    return EXIT_OK
+
+
+def _write_plan(traj, output, advice):
+    """Write a planned trajectory after checking its values against the CSV reader's limits.
+
+    Returns False when it went to standard output (no provenance then)."""
+    from ..core.model.limits import LIMITS, first_beyond
+    from ..io.trajectory import write_trajectory
+
+    for name in ("q", "qd", "qdd"):
+        if first_beyond(getattr(traj, name), LIMITS[name]) is not None:
+            raise InputError(f"the planned {name} exceeds the supported magnitude "
+                             f"{LIMITS[name]:g}{advice}", column="--duration")
+    try:
+        write_trajectory(traj, output)
+    except OSError as exc:
+        raise InputError(f"cannot write: {exc.strerror or exc}", output) from None
+    return output != "-"
+
+
+def _check_outputs(output):
+    """Refuse an output CSV or provenance that this run may not write (io/staging.py)."""
+    if output != "-":
+        from ..io.planning import provenance_path
+        from ..io.staging import check_output_file
+
+        check_output_file(output)
+        check_output_file(provenance_path(output))
+
+
+def _qdd_argument(args, robot):
+    """--qdd-max as one value per joint (deg/s^2 or m/s^2), or None."""
+    qdd_arg = args.qdd_max
+    if qdd_arg is not None and len(qdd_arg) == 1:
+        qdd_arg = qdd_arg * robot.n
+    if qdd_arg is not None and len(qdd_arg) != robot.n:
+        raise InputError(f"{len(qdd_arg)} values for {robot.n} joints", column="--qdd-max")
+    return qdd_arg
+
+
+def _plan_excitation(args, robot):
+    """``plan --excitation``: a Fourier series excitation within the limits, written as CSV.
+
+    Parameters
+    ----------
+    args : argparse.Namespace
+        The parsed arguments of ``plan``.
+    robot : Robot
+        The arm, loaded and mounted.
+
+    Returns
+    -------
+    int
+        0; bad input raises :class:`~gd_analyze.errors.InputError`.
+    """
+    import numpy as np
+
+    from .._version import VERSION as __version__
+    from ..core.model.limits import LIMITS, first_beyond
+    from ..io.excitation import DEFAULT_HARMONICS, plan_excitation
+    from ..io.planning import check_velocity_limits, user_positions, write_provenance
+
+    for name in ("start", "goal"):
+        if getattr(args, name) is not None:
+            raise InputError("not with --excitation (a Fourier series has no start or goal)",
+                             column=f"--{name}")
+    if args.ignore_limits:
+        raise InputError("not with --excitation (an excitation always stays within the "
+                         "limits)", column="--ignore-limits")
+    placeholder = check_velocity_limits(robot)
+    if placeholder:
+        warnings.warn(placeholder, InputWarning)
+    if args.setpoints is not None and not 2 <= args.setpoints <= 10**8:
+        raise InputError("--setpoints: a trajectory needs 2 to 10^8 set points")
+    for name, value in (("--duration", args.duration), ("--base-frequency",
+                                                        args.base_frequency)):
+        if value is not None and not value > 0:
+            raise InputError(f"must be positive, got {value:g}", column=name)
+    if args.duration is not None and not (LIMITS["min_duration"] <= args.duration
+                                          <= LIMITS["duration"]):
+        raise InputError(f"must be a number of seconds in [{LIMITS['min_duration']:g}, "
+                         f"{LIMITS['duration']:g}], got {args.duration:g}", column="--duration")
+    if args.base_frequency is not None and not (1e-6 <= args.base_frequency <= 1e4):
+        raise InputError(f"must be in [1e-6, 1e4] rad/s, got {args.base_frequency:g}",
+                         column="--base-frequency")
+    _check_outputs(args.output)
+    qdd_arg = _qdd_argument(args, robot)
+    harmonics = DEFAULT_HARMONICS if args.harmonics is None else args.harmonics
+    if harmonics > 100:
+        raise InputError(f"at most 100 harmonics, got {harmonics}", column="--harmonics")
+    try:
+        ex = plan_excitation(robot, duration=args.duration, harmonics=harmonics,
+                             base_frequency=args.base_frequency, n_setpoints=args.setpoints,
+                             seed=0 if args.seed is None else args.seed,
+                             qdd_max=None if qdd_arg is None else user_positions(robot, qdd_arg))
+    except ValueError as exc:
+        column = ("--duration" if "duration" in str(exc) or "period" in str(exc)
+                  else "--qdd-max" if qdd_arg is not None and "acceleration" in str(exc)
+                  else None)
+        raise InputError(str(exc), column=column) from None
+    traj = ex.trajectory
+    if not 2 <= traj.n_setpoints <= 10**8:
+        raise InputError(f"{traj.n_setpoints} set points: give --setpoints (2 to 10^8)",
+                         column="--setpoints")
+    if first_beyond(traj.t, LIMITS["t"]) is not None:
+        raise InputError(f"the planned duration exceeds the supported magnitude "
+                         f"{LIMITS['t']:g} s", column="--duration")
+    if not _write_plan(traj, args.output, ""):
+        return EXIT_OK
+    series, limits = ex.series, ex.limits
+    record = {
+        "tool": "gd-analyze", "version": __version__,
+        "command": command_line(args),
+        "robot": robot.name, "robot_source": robot.source, "robot_sha256": robot.sha256,
+        **chain_settings(args), **mounting_settings(args, robot),
+        "trajectory": traj.source,
+        "excitation": {
+            "method": "finite Fourier series (Swevers et al. 1997), coefficients constrained to "
+                      "start and end at rest, optimised by SLSQP for the scaled condition "
+                      "number",
+            "harmonics": series.harmonics, "base_frequency_rad_s": series.wf,
+            "periods": ex.periods, "seed": 0 if args.seed is None else args.seed,
+            "q0": series.q0.tolist(), "a": series.a.tolist(), "b": series.b.tolist(),
+            "coefficients_units": "q0 rad, a and b rad/s (m, m/s for a prismatic joint)",
+            "regressor_columns": ex.columns.names(),
+            "drive_columns_regrouped": ex.columns.dropped(),
+            "scaled_condition_number": _limits([ex.condition])[0],
+            "random_starts_scaled_condition_numbers": _limits(ex.start_conditions),
+            "shrink": ex.shrink.tolist(),
+            "optimiser": list(ex.messages),
+            "seconds": ex.seconds,
+            "bounds": {"q_low": ex.bounds.q_low.tolist(), "q_high": ex.bounds.q_high.tolist(),
+                       "qd_peak": ex.bounds.qd_peak.tolist(),
+                       "qdd_peak": ex.bounds.qdd_peak.tolist(),
+                       "grid_points_per_period": ex.bounds.points},
+        },
+        "setpoints": traj.n_setpoints, "duration_s": float(traj.t[-1]),
+        "q_min": _limits(limits["q_min"]), "q_max": _limits(limits["q_max"]),
+        "qd_max": _limits(limits["qd_max"]),
+        "qdd_max": _limits(limits["qdd_max"]),
+        "limits_units": "rad, rad/s, rad/s^2 (m, m/s, m/s^2 for a prismatic joint)",
+        "qdd_max_source": limits["qdd_source"],
+    }
+    try:
+        side = write_provenance(args.output, record)
+    except OSError as exc:
+        raise InputError(f"cannot write its provenance: {exc.strerror or exc}",
+                         args.output) from None
+    best_start = float(np.min(ex.start_conditions))
+    print(f"wrote {args.output}: {traj.n_setpoints} set points over {traj.t[-1]:.4f} s "
+          f"({traj.source}); scaled condition number {ex.condition:.4g} of "
+          f"{ex.columns.count} columns (random starts: {best_start:.4g} at best), "
+          f"{ex.seconds:.1f} s; acceleration limits: {limits['qdd_source']}; provenance in "
+          f"{side}", file=sys.stderr)
     return EXIT_OK
 
 

@@ -360,6 +360,7 @@ def plan_parser():
     argparse.ArgumentParser
         Its options, defaults from :data:`gd_analyze.config.defaults`.
     """
+    from ..io.excitation import DEFAULT_DURATION, DEFAULT_HARMONICS, DEFAULT_SAMPLE_PERIOD
     from ..io.planning import (
         DEFAULT_GOAL_DEG,
         DEFAULT_QDD_PER_QD,
@@ -369,8 +370,9 @@ def plan_parser():
 
     p = _Parser(prog=f"{PROG} plan",
                 description="Write a quintic rest-to-rest joint trajectory at the shortest "
-                            "duration within the robot's velocity and acceleration limits, and "
-                            "its provenance beside it (FILE's stem + .provenance.json).")
+                            "duration within the robot's velocity and acceleration limits, or "
+                            "with --excitation a Fourier series excitation for identification, "
+                            "and its provenance beside it (FILE's stem + .provenance.json).")
     p.add_argument("robot", metavar="ROBOT", help=_robot_help())
     p.add_argument("-o", "--output", metavar="FILE", required=True,
                    help="CSV file to write ('-' for standard output)")
@@ -384,10 +386,28 @@ def plan_parser():
                         f"{','.join(f'{v:g}' for v in DEFAULT_GOAL_DEG)}; for other robots "
                         "the other end of the start's span: even joints move up, odd joints "
                         "down)")
-    p.add_argument("--setpoints", metavar="N", type=_whole("--setpoints"), default=DEFAULT_SETPOINTS,
-                   help=f"number of set points, both ends included (default {DEFAULT_SETPOINTS})")
+    p.add_argument("--setpoints", metavar="N", type=_whole("--setpoints"),
+                   help=f"number of set points, both ends included (default {DEFAULT_SETPOINTS}; "
+                        f"with --excitation one per {DEFAULT_SAMPLE_PERIOD * 1e3:g} ms)")
     p.add_argument("--duration", metavar="T", type=_number,
-                   help="duration [s] (default: the shortest within the limits)")
+                   help="duration [s] (default: the shortest within the limits; with "
+                        f"--excitation one period of the base frequency, {DEFAULT_DURATION:g} s "
+                        "without --base-frequency)")
+    p.add_argument("--excitation", action="store_true",
+                   help="plan an excitation for identification instead: a finite Fourier series "
+                        "(Swevers et al. 1997) from rest to rest, within the position, velocity "
+                        "and acceleration limits, minimising the condition number of the "
+                        "column-scaled base regressor with armature, viscous, Coulomb and "
+                        "offset columns")
+    p.add_argument("--harmonics", metavar="K", type=_whole("--harmonics", 2),
+                   help=f"with --excitation: harmonics of the series (default "
+                        f"{DEFAULT_HARMONICS})")
+    p.add_argument("--base-frequency", metavar="WF", type=_number,
+                   help="with --excitation: base frequency w_f [rad/s] (default 2 pi / T); "
+                        "T must be a whole number of periods 2 pi / w_f")
+    p.add_argument("--seed", metavar="S", type=_seed,
+                   help="with --excitation: seed of the optimiser's random starts, an integer "
+                        "in [0, 2^63) (default 0)")
     p.add_argument("--ignore-limits", action="store_true",
                    help="plan even if the duration, start or goal breaks the robot's joint "
                         "position, velocity or acceleration limits")

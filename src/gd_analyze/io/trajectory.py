@@ -52,7 +52,8 @@ class Trajectory:
         Joint accelerations [rad/s^2].
     derivatives : str
         ``"file"`` if qd and qdd were read, ``"cubic-spline"`` if they were derived from q,
-        ``"quintic"`` if planned, ``"arrays"`` if given as arrays
+        ``"quintic"`` if planned, ``"fourier"`` if an excitation
+        (:func:`gd_analyze.io.excitation.plan_excitation`), ``"arrays"`` if given as arrays
         (:func:`trajectory_from_arrays`).
     source : str
         The file read, or a description of how the trajectory was made.
