@@ -55,6 +55,20 @@ def test_json_and_files(recordings, tmp_path, capsys):
     assert json.loads(root.attrs["inputs"])[str(recordings[0])]
     assert (out / "identified_robot.toml").is_file()
     assert load_robot(str(out / "identified_robot.toml")).n == 2
+    # the report, with the held-out recording's figures, unless --no-report
+    html = (out / "report.html").read_text(encoding="utf-8")
+    assert "held out" in html or "held_out" in html
+    assert (out / "report.pdf").read_bytes().startswith(b"%PDF")
+    assert sorted(p.name for p in (out / "figures").iterdir())
+
+
+def test_no_report(recordings, tmp_path, capsys):
+    out = tmp_path / "out"
+    code = main(["identify", "two-link", str(recordings[0]), "-o", str(out), "--no-report",
+                 "-q"])
+    assert code == 0, capsys.readouterr().err
+    assert sorted(p.name for p in out.iterdir() if not p.name.startswith(".")) == [
+        "identification.h5", "identified_robot.toml"]
 
 
 def _bad(tmp_path, text, name="bad.csv"):

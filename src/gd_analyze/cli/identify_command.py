@@ -3,7 +3,8 @@
 ``cmd_identify(args)`` takes the parsed arguments of :mod:`gd_analyze.cli.parsing` and returns
 the exit status; bad input raises :class:`gd_analyze.errors.InputError` (exit status 2). The
 job is :func:`gd_analyze.workflows.identify.identify`; the files are written into a staged
-output folder (:func:`gd_analyze.io.staging.staged_output`). No report is written yet.
+output folder (:func:`gd_analyze.io.staging.staged_output`), with the report
+(:func:`gd_analyze.reports.identify.write_identify_report`) unless ``--no-report``.
 """
 
 from __future__ import annotations
@@ -12,11 +13,12 @@ import json
 from pathlib import Path
 
 from ..errors import InputError
-from ..io.identification_dataset import recordings_json, write_identification
+from ..io.identification_dataset import identification_tree, recordings_json, write_identification
 from ..io.robot_file import robot_toml
 from ..io.robots import is_urdf
 from ..io.staging import staged_output, writing
 from ..io.urdf_writer import robot_urdf
+from ..reports.identify import write_identify_report
 from ..workflows.identify import IdentifyOptions, identify
 from .commands import command_line, load_robot_arg, output_folder, wrote_line
 from .parsing import EXIT_OK
@@ -24,7 +26,8 @@ from .parsing import EXIT_OK
 __all__ = ["cmd_identify", "IDENTIFY_FILES"]
 
 #: The files ``identify`` writes (the URDF where the robot was given as one).
-IDENTIFY_FILES = ("identification.h5", "identified_robot.toml", "identified_robot.urdf")
+IDENTIFY_FILES = ("identification.h5", "identified_robot.toml", "identified_robot.urdf",
+                  "report.html", "report.pdf", "figures")
 
 
 def _options(args):
@@ -121,6 +124,10 @@ def cmd_identify(args):
                 "identified_robot.toml only: a URDF holds none that gd-analyze reads"]),
                 encoding="utf-8")
             written.append(urdf)
+        if not args.no_report:
+            tree = identification_tree(result)
+            root = tree.pop("/")
+            written += write_identify_report(root, tree, stage, paper=args.paper)
     written = [outdir / Path(p).relative_to(stage) for p in written]
     if args.json:
         print(json.dumps(recordings_json(result)))

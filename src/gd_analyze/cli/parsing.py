@@ -658,6 +658,8 @@ def identify_parser():
     p.add_argument("--simplify", action="store_true",
                    help="also build the simplified model of the identified robot and state its "
                         "error on the validation recordings")
+    p.add_argument("--no-report", action="store_true", help="skip report.html and report.pdf")
+    _add_paper_argument(p)
     _add_chain_arguments(p)
     p.add_argument("-q", "--quiet", action="store_true", help="print nothing but errors")
     p.add_argument("-v", "--verbose", action="store_true", help="list every file written")
