@@ -134,13 +134,15 @@ def deploy_models(robot, trajectory, ranking, part_peaks, options, provenance, b
     if (model.recursive is None and model.guarantee is not None and model.guarantee.proved
             and not model.inertia_check["proved"]):
         # an explicit model whose D_s is not proved is not deployed under a region guarantee
-        model = with_inertia_check(dataclasses.replace(
+        # where the recursive one's is
+        fallback = with_inertia_check(dataclasses.replace(
             rec, costs=costs, full_cost=dict(costs.get("explicit, full", rec.full_cost)),
             program_cache=rec.program()), q, rebuild=rebuild)
-        sel, skipped, form_note = rec_sel, "", (
-            "The deployed model is the pruned recursive one: the exact explicit model's D_s "
-            "was not proved positive definite over the region.")
-        ladder_recursive = True
+        if fallback.inertia_check["proved"]:
+            model, sel, skipped, form_note = fallback, rec_sel, "", (
+                "The deployed model is the pruned recursive one: the explicit model's D_s "
+                "was not proved positive definite over the region.")
+            ladder_recursive = True
     if model.recursive is not None and model.recursive is not rec.recursive:    # restored
         sel = dataclasses.replace(
             sel, scale=model.recursive.scale, bound=model.recursive.bound,

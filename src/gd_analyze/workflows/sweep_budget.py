@@ -332,7 +332,9 @@ def region_sweep_model(robot, trajectories, region, tolerance, torque_floor=0.0,
         costs=costs, full_cost=dict(costs.get("explicit, full", {})))
     model = with_inertia_check(model, rebuild=rebuild)
     if not model.inertia_check["proved"] and model.recursive is None:
-        model, reference = with_inertia_check(recursive, rebuild=rebuild), None
+        fallback = with_inertia_check(recursive, rebuild=rebuild)
+        if fallback.inertia_check["proved"]:
+            model, reference = fallback, None
     K, n = len(trajectories), robot.n
     scale = np.asarray(model.guarantee.scale, float)
     bound = np.asarray(model.guarantee.bound, float)

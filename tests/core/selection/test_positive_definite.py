@@ -18,7 +18,6 @@ from gd_analyze import SimplifiedModel, load_robot
 from gd_analyze.core.selection.labels import element_labels
 from gd_analyze.core.selection.positive_definite import (
     check_inertia,
-    gershgorin_lower,
     inertia_floor,
     prove_inertia,
     sample_positions,
@@ -83,36 +82,6 @@ def _default(key):
             q, qd, qdd, region=region, sample_region=region))
         _DEFAULT[key] = (robot, region, model, proved)
     return _DEFAULT[key]
-
-
-def test_gershgorin_lower_on_known_matrices():
-    """[[2, 1], [1, 2]]: eigenvalues 1 and 3, discs [1, 3]; [[1, 2], [2, 1]] is indefinite
-    (-1), its discs reach -1; weights w = (1, 2) move [[4, 1], [1, 1]]'s discs to 4 - 2 = 2
-    and 1 - 0.5 = 0.5, within its eigenvalue 0.697."""
-    A = np.array([[[2.0, 1.0], [1.0, 2.0]], [[1.0, 2.0], [2.0, 1.0]]])
-    got = gershgorin_lower(A, A)
-    assert got[0] == pytest.approx(1.0) and got[0] < 1.0 and got[1] < -1.0 + 1e-12
-    B = np.array([[[4.0, 1.0], [1.0, 1.0]]])
-    assert gershgorin_lower(B, B, np.array([1.0, 2.0]))[0] == pytest.approx(0.5)
-    assert gershgorin_lower(B, B)[0] == pytest.approx(0.0, abs=1e-12)
-    assert np.linalg.eigvalsh(B[0])[0] >= gershgorin_lower(B, B, np.array([1.0, 2.0]))[0]
-
-
-@pytest.mark.slow
-@pytest.mark.parametrize("key", ["panda", "erd-panda", "kinova", "puma560"])
-def test_the_floor_under_d_holds_at_100000_positions(key):
-    """D(q) - diag(f) is positive semidefinite (to round-off) at every sampled q: Pinocchio's
-    crba, so lambda_min(D) is never below min f, the bound the proof uses."""
-    robot = load_robot("puma560") if key == "puma560" else _robot(key)
-    f = inertia_floor(robot)
-    assert (f > 0).all() and np.isfinite(f).all()
-    region, _, _ = guarantee_region(robot)
-    q = np.random.default_rng(3).uniform(region.q_min, region.q_max, (SAMPLED, robot.n))
-    D = _crba(robot, q)
-    lam = np.linalg.eigvalsh(D - np.diag(f))[:, 0]
-    scale = np.abs(D).max(axis=(1, 2))
-    assert (lam >= -1e-13 * scale).all()
-    assert np.linalg.eigvalsh(D)[:, 0].min() >= f.min()
 
 
 def test_the_exact_puma_model_is_proved_and_recorded():
