@@ -4,11 +4,9 @@ Oracles: matrices whose Gershgorin discs are known by hand; Pinocchio's crba at 
 positions (D never below the floor diag(f) the proof uses); the exact model (nothing dropped:
 the proved bound is the floor) and numpy's eigenvalues at the box's samples."""
 
-import importlib.metadata
-
 import numpy as np
-import pinocchio as pin
 import pytest
+from robot_files import crba, inertia_arm
 
 from gd_analyze import load_robot
 from gd_analyze.core.selection.inertia_proof import (
@@ -17,34 +15,9 @@ from gd_analyze.core.selection.inertia_proof import (
     prove_inertia,
 )
 from gd_analyze.core.symbolic.base_parameters import base_parameters
-from gd_analyze.formulations.pinocchio import pinocchio_model
 from gd_analyze.workflows.deploy import guarantee_region
 
 SAMPLED = 100_000
-
-
-def _erd(path):
-    root = importlib.metadata.distribution("example-robot-data").locate_file(
-        "cmeel.prefix/share/example-robot-data/robots")
-    return str(root / path)
-
-
-ROBOTS = {"panda": ("panda", None), "erd-panda": (_erd("panda_description/urdf/panda.urdf"),
-                                                  "panda_hand"),
-          "kinova": (_erd("kinova_description/robots/kinova.urdf"), None),
-          "puma560": ("puma560", None)}
-
-
-def _robot(key):
-    path, tip = ROBOTS[key]
-    return load_robot(path, tip=tip) if tip else load_robot(path)
-
-
-def _crba(robot, q):
-    pm = pinocchio_model(robot)
-    data = pm.createData()
-    D = np.array([pin.crba(pm, data, x) for x in q])
-    return np.triu(D) + np.swapaxes(np.triu(D, 1), 1, 2)
 
 
 def test_gershgorin_lower_on_known_matrices():
@@ -65,12 +38,12 @@ def test_gershgorin_lower_on_known_matrices():
 def test_the_floor_under_d_holds_at_100000_positions(key):
     """D(q) - diag(f) is positive semidefinite (to round-off) at every sampled q: Pinocchio's
     crba, so lambda_min(D) is never below min f, the bound the proof uses."""
-    robot = _robot(key)
+    robot = inertia_arm(key)
     f = inertia_floor(robot)
     assert (f > 0).all() and np.isfinite(f).all()
     region, _, _ = guarantee_region(robot)
     q = np.random.default_rng(3).uniform(region.q_min, region.q_max, (SAMPLED, robot.n))
-    D = _crba(robot, q)
+    D = crba(robot, q)
     lam = np.linalg.eigvalsh(D - np.diag(f))[:, 0]
     scale = np.abs(D).max(axis=(1, 2))
     assert (lam >= -1e-13 * scale).all()
@@ -91,5 +64,5 @@ def test_the_exact_model_is_proved_by_the_floor(key):
     f = inertia_floor(robot)
     assert proof.proved and proof.boxes == 0 and proof.lower == pytest.approx(f.min())
     assert proof.lower < f.min()
-    assert np.linalg.eigvalsh(_crba(robot, proof.witness[None]))[0, 0] <= proof.d_upper
+    assert np.linalg.eigvalsh(crba(robot, proof.witness[None]))[0, 0] <= proof.d_upper
     assert 0 < proof.ratio <= 1 and proof.sampled_min >= proof.lower

@@ -8,11 +8,10 @@ hand-made model that drops the wrist's inertia (D_s singular: not proved, restor
 region certification's own leaves for the bound of the model finally deployed."""
 
 import dataclasses
-import importlib.metadata
 
 import numpy as np
-import pinocchio as pin
 import pytest
+from robot_files import crba, inertia_arm
 
 from gd_analyze import SimplifiedModel, load_robot
 from gd_analyze.core.selection.labels import element_labels
@@ -26,7 +25,6 @@ from gd_analyze.core.selection.positive_definite import (
 from gd_analyze.core.selection.region import worst_states
 from gd_analyze.core.symbolic.base_parameters import base_parameters, random_states
 from gd_analyze.core.symbolic.recursive_model import recursive_model
-from gd_analyze.formulations.pinocchio import pinocchio_model
 from gd_analyze.io.json_schema import MODEL_SCHEMA
 from gd_analyze.workflows.deploy import (
     build_recursive,
@@ -38,33 +36,10 @@ from gd_analyze.workflows.deploy import (
 SAMPLED = 100_000
 
 
-def _erd(path):
-    root = importlib.metadata.distribution("example-robot-data").locate_file(
-        "cmeel.prefix/share/example-robot-data/robots")
-    return str(root / path)
-
-
-ROBOTS = {"panda": ("panda", None), "erd-panda": (_erd("panda_description/urdf/panda.urdf"),
-                                                  "panda_hand"),
-          "kinova": (_erd("kinova_description/robots/kinova.urdf"), None)}
-
-
-def _robot(key):
-    path, tip = ROBOTS[key]
-    return load_robot(path, tip=tip) if tip else load_robot(path)
-
-
 def _model(robot, rec):
     return SimplifiedModel(robot=robot, choices={k: "both" for k in element_labels(robot.n)},
                            dominance_threshold=0.9, negligible_threshold=0.01, rule="budget",
                            tolerance=0.01, recursive=rec)
-
-
-def _crba(robot, q):
-    pm = pinocchio_model(robot)
-    data = pm.createData()
-    D = np.array([pin.crba(pm, data, x) for x in q])
-    return np.triu(D) + np.swapaxes(np.triu(D, 1), 1, 2)
 
 
 _DEFAULT = {}
@@ -73,7 +48,7 @@ _DEFAULT = {}
 def _default(key):
     """The robot's default region model (EPS = 1 %), before and after the proof."""
     if key not in _DEFAULT:
-        robot = _robot(key)
+        robot = inertia_arm(key)
         region, _, _ = guarantee_region(robot)
         q, qd, qdd = random_states(robot, 40, 1)
         model, _ = build_recursive(robot, q, qd, qdd, 0.01, region=region,
@@ -138,9 +113,9 @@ def test_the_default_model_is_proved_and_100000_positions_agree(key):
     q = np.random.default_rng(7).uniform(region.q_min, region.q_max, (SAMPLED, robot.n))
     D_s = model.functions().numpy()["inertia"](q)
     assert np.linalg.eigvalsh(D_s)[:, 0].min() >= check["lower_bound"]
-    D = _crba(robot, q)
+    D = crba(robot, q)
     assert np.linalg.eigvalsh(D)[:, 0].min() >= min(check["floor"])
-    at = _crba(robot, np.array([check["witness"]]))
+    at = crba(robot, np.array([check["witness"]]))
     assert np.linalg.eigvalsh(at)[0, 0] <= check["d_upper"]          # the ratio's denominator
 
 
