@@ -166,3 +166,20 @@ def test_the_stored_bound_and_sampled_error_are_the_restored_models():
     assert np.array_equal(np.asarray(model.guarantee.bound, float), bound)
     assert np.array_equal(model.recursive.bound, bound)
     assert (bound <= np.asarray(before.bound)).all() and (bound < np.asarray(before.bound)).any()
+
+
+def test_an_explicit_model_that_drops_terms_is_not_said_to_be_proved():
+    """Its dropped terms are not parameters: checked at the trajectory's positions only, and
+    every statement says "not proved" with numpy's smallest eigenvalue there."""
+    robot = load_robot("two-link")
+    choices = {k: "both" for k in element_labels(robot.n)}
+    choices["D12"] = "tran"
+    model = SimplifiedModel(robot=robot, choices=choices, dominance_threshold=0.9,
+                            negligible_threshold=0.01)
+    q = np.random.default_rng(0).uniform(-2, 2, (30, 2))
+    check = with_inertia_check(model, q).inertia_check
+    assert not check["proved"] and check["lower_bound"] is None and check["samples"] == 30
+    D = model.functions().numpy()["inertia"](q)
+    assert check["sampled_min_eigenvalue"] == np.linalg.eigvalsh(D)[:, 0].min()
+    assert check["statement"].startswith("not proved (an explicit model that drops terms")
+    assert "proved positive definite" not in check["statement"]

@@ -207,8 +207,10 @@ def inertia_floor(robot):
     ndarray, shape (n,)
         f_k = g_k / 4 + Ia_k [kg m^2; kg], rounded down: g_k the largest certified g with
         g (s_k^T V)^2 <= V^T M_k V and g (u_k^T V)^2 <= V^T M_(k-1) V for every V, u_k = X_k^T
-        s_k (the first link moves about its axis only: g_1 = s_1^T M_1 s_1); 0 where a link's
-        spatial inertia is not positive definite (a massless link).
+        s_k (the first link moves about its axis only: g_1 = s_1^T M_1 s_1); all 0 (no floor)
+        when a link's spatial inertia is not certified positive semidefinite in the direction
+        of its joint (a singular inertia, e.g. a point mass): the argument needs every
+        link's energy to be non-negative.
 
     Notes
     -----
@@ -246,7 +248,12 @@ def inertia_floor(robot):
             second = np.inf if c == 0 else (e / c if e > 0 else 0.0)
         else:
             second = _largest_g(prev, u)
-        g[k] = max(min(_largest_g(M, s), second), 0.0)
+        own = _largest_g(M, s)
+        if not own > 0:         # M_k not certified semidefinite: the sum's argument fails
+            return np.zeros(n)
+        g[k] = max(min(own, second), 0.0)
+    if not g[0] > 0:
+        return np.zeros(n)
     f = g / 4 * (1 - 4 * _U) + np.asarray(robot.armature, float)
     return np.nextafter(f, -np.inf).clip(min=0.0)
 
