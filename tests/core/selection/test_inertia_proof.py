@@ -35,11 +35,12 @@ def test_gershgorin_lower_on_known_matrices():
 
 @pytest.mark.slow
 @pytest.mark.parametrize("key", ["panda", "erd-panda", "kinova", "puma560"])
-def test_the_floor_under_d_holds_at_100000_positions(key):
+@pytest.mark.parametrize("kind", ["chain", "pairs"])
+def test_the_floor_under_d_holds_at_100000_positions(key, kind):
     """D(q) - diag(f) is positive semidefinite (to round-off) at every sampled q: Pinocchio's
     crba, so lambda_min(D) is never below min f, the bound the proof uses."""
     robot = inertia_arm(key)
-    f = inertia_floor(robot)
+    f = inertia_floor(robot, kind)
     assert (f > 0).all() and np.isfinite(f).all()
     region, _, _ = guarantee_region(robot)
     q = np.random.default_rng(3).uniform(region.q_min, region.q_max, (SAMPLED, robot.n))

@@ -8,7 +8,9 @@ Two parts, both rounded outward:
    Fu, Gonzalez & Lee 1987, Eq. 3.2-27 for the kinetic energy); with N_k = g_k s_k s_k^T,
    N_k <= M_k and X_k^T N_k X_k <= M_(k-1) (M_k: link k's spatial inertia), so that
    x_k^2 g_k <= 2 V_k^T M_k V_k + 2 V_(k-1)^T M_(k-1) V_(k-1), and summing over the links,
-   x^T D x >= sum_k (g_k / 4 + Ia_k) x_k^2. Both conditions read g_k u^T M^-1 u <= 1 for a
+   x^T D x >= sum_k (g_k / 4 + Ia_k) x_k^2 (or, with Young's inequality weighted along the
+   chain, x^T D x >= sum_k (t + Ia_k) x_k^2 for the largest t that keeps every link's energy
+   counted at most once). Both conditions read g_k u^T M^-1 u <= 1 for a
    vector u that depends on no joint position (X_k^T s_k is P_k z, or (t_k x P_k z, P_k z)
    for a prismatic joint), so f is a constant per joint; each g_k is checked by a
    preconditioned Gershgorin test of M - g_k u u^T (Horn & Johnson, *Matrix Analysis*, 2nd ed.
@@ -47,7 +49,7 @@ __all__ = ["SAMPLES", "MAX_BOXES", "InertiaProof", "inertia_floor", "gershgorin_
 #: Positions sampled for a counterexample and for the upper bound of min lambda_min(D).
 SAMPLES = 2000
 #: Boxes the branch and bound may evaluate.
-MAX_BOXES = 4096
+MAX_BOXES = 1024
 _U = iv.ROUNDING
 
 
@@ -194,46 +196,24 @@ def _largest_g(M, u):
     return 0.0
 
 
-def inertia_floor(robot):
-    """f with D(q) >= diag(f) at every q (Loewner order), from the links' own inertias.
-
-    Parameters
-    ----------
-    robot : Robot
-        The arm, with n joints.
-
-    Returns
-    -------
-    ndarray, shape (n,)
-        f_k = g_k / 4 + Ia_k [kg m^2; kg], rounded down: g_k the largest certified g with
-        g (s_k^T V)^2 <= V^T M_k V and g (u_k^T V)^2 <= V^T M_(k-1) V for every V, u_k = X_k^T
-        s_k (the first link moves about its axis only: g_1 = s_1^T M_1 s_1); all 0 (no floor)
-        when a link's spatial inertia is not certified positive semidefinite in the direction
-        of its joint (a singular inertia, e.g. a point mass): the argument needs every
-        link's energy to be non-negative.
-
-    Notes
-    -----
-    x^T D x = sum_k V_k^T M_k V_k + sum_k Ia_k x_k^2 (Fu, Gonzalez & Lee 1987, Eq. 3.2-27
-    with the drives' armature), and x_k s_k = V_k - X_k V_(k-1) gives x_k^2 g_k <=
-    2 V_k^T M_k V_k + 2 V_(k-1)^T M_(k-1) V_(k-1): each link's energy is counted twice, so
-    sum_k g_k x_k^2 <= 4 x^T D x.
-
-    Examples
-    --------
-    >>> from gd_analyze import load_robot
-    >>> bool((inertia_floor(load_robot("puma560")) > 0).all())
-    True
-    """
+def _link_capacities(robot):
+    """(A, B): A_k the largest certified g with g (s_k^T V)^2 <= V^T M_k V for every V
+    (A_1 = s_1^T M_1 s_1: the first link moves about its axis only), B_k the same for
+    (u_k^T V)^2 and M_(k-1), u_k = X_k^T s_k (B_1 on the line of s_1; inf where u_k is
+    orthogonal to it); None when a link's spatial inertia is not certified semidefinite along
+    its joint (the argument needs every link's energy to be non-negative)."""
     phi = standard_parameters(robot)
     n = robot.n
-    g = np.zeros(n)
+    A, B = np.zeros(n), np.full(n, np.inf)
     for k in range(n):
         s = np.zeros(6)
         s[5 if robot.prismatic[k] else 2] = 1.0
         M = _spatial(phi[k])
+        A[k] = float(np.nextafter(s @ M @ s * (1 - 4 * _U), 0.0)) if k == 0 else \
+            _largest_g(M, s)
+        if not A[k] > 0:
+            return None
         if k == 0:
-            g[k] = max(float(np.nextafter(s @ M @ s * (1 - 4 * _U), 0.0)), 0.0)
             continue
         P, t = np.asarray(robot.rotation[k], float), np.asarray(robot.translation[k], float)
         z = P[:, 2]
@@ -245,16 +225,90 @@ def inertia_floor(robot):
             s0[5 if robot.prismatic[0] else 2] = 1.0
             e = float(s0 @ prev @ s0) * (1 - 4 * _U)
             c = float(u @ s0) ** 2 * (1 + 4 * _U)
-            second = np.inf if c == 0 else (e / c if e > 0 else 0.0)
+            B[k] = np.inf if c == 0 else (e / c if e > 0 else 0.0)
         else:
-            second = _largest_g(prev, u)
-        own = _largest_g(M, s)
-        if not own > 0:         # M_k not certified semidefinite: the sum's argument fails
-            return np.zeros(n)
-        g[k] = max(min(own, second), 0.0)
-    if not g[0] > 0:
+            B[k] = _largest_g(prev, u)
+    return A, B
+
+
+def _chain_feasible(t, A, B):
+    """Whether x_k^2 t summed over k stays below the links' energies: Young's inequality
+    x_k^2 <= (1 + a_k) (s_k^T V_k)^2 + (1 + 1/a_k) (u_k^T V_(k-1))^2 with the least a_k each
+    link's remaining capacity allows, in chain order; every coefficient of a link's energy
+    at most 1 (rounded up)."""
+    up = 1 + 16 * _U
+    left = 1 - t / A[0] * up
+    for k in range(1, A.size):
+        if left < 0:
+            return False
+        if np.isinf(B[k]):
+            a = 1e-12
+        else:
+            room = left * B[k] / t / up
+            if room <= 1:
+                return False
+            a = 1 / (room - 1) * up
+        left = 1 - t * (1 + a) / A[k] * up
+    return left >= 0
+
+
+def inertia_floor(robot, kind="chain"):
+    """f with D(q) >= diag(f) at every q (Loewner order), from the links' own inertias.
+
+    Parameters
+    ----------
+    robot : Robot
+        The arm, with n joints.
+    kind : {"chain", "pairs"}, optional
+        ``"pairs"``: f_k = min(A_k, B_k) / 4 + Ia_k, each link's energy counted twice with
+        equal weights; ``"chain"`` (default): one f = t + Ia_k with the largest t for which
+        Young's inequality with weights chosen along the chain holds (bisection).
+
+    Returns
+    -------
+    ndarray, shape (n,)
+        [kg m^2; kg], rounded down: A_k the largest certified g with g (s_k^T V)^2 <= V^T M_k
+        V for every V, B_k the same for (u_k^T V)^2 <= V^T M_(k-1) V, u_k = X_k^T s_k (the
+        first link moves about its axis only: A_1 = s_1^T M_1 s_1); all 0 (no floor) when a
+        link's spatial inertia is not certified positive semidefinite in the direction of its
+        joint (a singular inertia, e.g. a point mass).
+
+    Raises
+    ------
+    ValueError
+        If ``kind`` is unknown.
+
+    Notes
+    -----
+    x^T D x = sum_k V_k^T M_k V_k + sum_k Ia_k x_k^2 (Fu, Gonzalez & Lee 1987, Eq. 3.2-27
+    with the drives' armature), and x_k = s_k^T V_k - u_k^T V_(k-1) (s_k a unit vector) gives
+    x_k^2 <= (1 + a) (s_k^T V_k)^2 + (1 + 1/a) (u_k^T V_(k-1))^2 <= (1 + a) V_k^T M_k V_k /
+    A_k + (1 + 1/a) V_(k-1)^T M_(k-1) V_(k-1) / B_k; summed with weights w_k, x^T D x >=
+    sum_k w_k x_k^2 wherever each link's energy gets a total coefficient of at most 1.
+
+    Examples
+    --------
+    >>> from gd_analyze import load_robot
+    >>> bool((inertia_floor(load_robot("puma560")) > 0).all())
+    True
+    """
+    if kind not in ("chain", "pairs"):
+        raise ValueError(f"kind must be 'chain' or 'pairs', got {kind!r}")
+    n = robot.n
+    arm = np.asarray(robot.armature, float)
+    caps = _link_capacities(robot)
+    if caps is None:
         return np.zeros(n)
-    f = g / 4 * (1 - 4 * _U) + np.asarray(robot.armature, float)
+    A, B = caps
+    if kind == "pairs":
+        g = np.minimum(A, B) / 4
+    else:
+        lo, hi = 0.0, float(A.min())
+        for _ in range(80):
+            mid = 0.5 * (lo + hi)
+            lo, hi = (mid, hi) if _chain_feasible(mid, A, B) else (lo, mid)
+        g = np.full(n, lo if lo > 0 and _chain_feasible(lo, A, B) else 0.0)
+    f = g * (1 - 4 * _U) + arm
     return np.nextafter(f, -np.inf).clip(min=0.0)
 
 
@@ -316,7 +370,9 @@ def inertia_context(robot, base, q_min, q_max, samples=SAMPLES, seed=0):
     Returns
     -------
     dict
-        ``floor`` (:func:`inertia_floor`), ``d_upper`` and ``witness`` (the Rayleigh bound of
+        ``floor`` (:func:`inertia_floor`), ``floors`` (it, the ``"pairs"`` floor and their
+        mean: each holds, so the proof takes the best on each box), ``d_upper`` and
+        ``witness`` (the Rayleigh bound of
         min lambda_min(D) and where), ``q`` (the sampled positions, with the box's corners
         q_min, q_max and its centre) and ``D`` (D at them, shape (M, n, n)).
     """
@@ -328,7 +384,9 @@ def inertia_context(robot, base, q_min, q_max, samples=SAMPLES, seed=0):
                     0.5 * (q_min + q_max)])
     d_upper, witness = _d_upper(robot, full, qs)
     lo, hi = inertia_enclosure(robot, qs, qs, full)
-    return {"floor": inertia_floor(robot), "d_upper": d_upper, "witness": witness, "q": qs,
+    chain, pairs = inertia_floor(robot), inertia_floor(robot, "pairs")
+    return {"floor": chain, "floors": np.stack([chain, pairs, 0.5 * (chain + pairs)]),
+            "d_upper": d_upper, "witness": witness, "q": qs,
             "D": 0.5 * (lo + hi)}
 
 
@@ -364,7 +422,8 @@ def prove_inertia(robot, base, left_out, q_min, q_max, max_boxes=MAX_BOXES, samp
 
     Notes
     -----
-    D_s = D - Delta D >= diag(f) - Delta D on each box, f of :func:`inertia_floor`,
+    D_s = D - Delta D >= diag(f) - Delta D on each box, f each of the floors of
+    :func:`inertia_context` (the best bound of the three on each box),
     Delta D enclosed by :func:`gd_analyze.core.dynamics.regressor_bounds.inertia_enclosure`;
     the smallest eigenvalue of diag(f) - Delta D is bounded by :func:`gershgorin_lower`
     with weights sqrt(f). The bound is the least over the final boxes, which tile the box.
@@ -376,6 +435,7 @@ def prove_inertia(robot, base, left_out, q_min, q_max, max_boxes=MAX_BOXES, samp
     ctx = context if context is not None else inertia_context(robot, base, q_min, q_max,
                                                                samples, seed)
     floor, d_upper, witness, qs = ctx["floor"], ctx["d_upper"], ctx["witness"], ctx["q"]
+    floors = ctx["floors"]
     Ds = ctx["D"]
     if np.any(drop):
         lo, hi = inertia_enclosure(robot, qs, qs, drop, armature=np.zeros(n))
@@ -394,16 +454,21 @@ def prove_inertia(robot, base, left_out, q_min, q_max, max_boxes=MAX_BOXES, samp
     if sampled <= 0:
         return result(False, -np.inf, np.nan, 0,
                       f"D_s has eigenvalue {sampled:.3g} at a sampled position")
-    weights = np.sqrt(floor)
     idx = np.arange(n)
 
     def bounds(a, b):
-        """Lower bounds of lambda_min(diag(f) - Delta D) over boxes, and of its norm part."""
+        """Lower bounds of lambda_min(diag(f) - Delta D) over boxes (the best of the floors,
+        each of which holds), and the magnitudes of Delta D."""
         dl, dh = inertia_enclosure(robot, a, b, drop, armature=np.zeros(n))
-        Alo, Ahi = -dh, -dl
-        Alo[:, idx, idx] = np.nextafter(Alo[:, idx, idx] + floor, -np.inf)
-        Ahi[:, idx, idx] = np.nextafter(Ahi[:, idx, idx] + floor, np.inf)
-        return gershgorin_lower(Alo, Ahi, weights), np.maximum(np.abs(dl), np.abs(dh))
+        best = np.full(a.shape[0], -np.inf)
+        for f in floors:
+            if not (f > 0).all():
+                continue
+            Alo, Ahi = -dh, -dl
+            Alo[:, idx, idx] = np.nextafter(Alo[:, idx, idx] + f, -np.inf)
+            Ahi[:, idx, idx] = np.nextafter(Ahi[:, idx, idx] + f, np.inf)
+            best = np.maximum(best, gershgorin_lower(Alo, Ahi, np.sqrt(f)))
+        return best, np.maximum(np.abs(dl), np.abs(dh))
 
     if not np.any(drop):
         lower = float(np.nextafter(floor.min(), -np.inf))

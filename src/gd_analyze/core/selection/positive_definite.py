@@ -33,9 +33,14 @@ from .inertia_proof import (  # noqa: F401 (re-exported)
     prove_inertia,
 )
 
-__all__ = ["SAMPLES", "MAX_BOXES", "InertiaProof", "inertia_floor", "gershgorin_lower",
-           "prove_inertia", "inertia_context", "check_inertia", "sample_positions", "with_inertia_check",
-           "inertia_statement", "dropped_inertia_values"]
+#: Boxes of a restore's trial proof (the model finally deployed is proved with the full
+#: budget).
+CANDIDATE_BOXES = 256
+
+__all__ = ["CANDIDATE_BOXES", "SAMPLES", "MAX_BOXES", "InertiaProof", "inertia_floor",
+           "gershgorin_lower", "prove_inertia", "inertia_context", "check_inertia",
+           "sample_positions", "with_inertia_check", "inertia_statement",
+           "dropped_inertia_values"]
 
 
 
@@ -220,9 +225,12 @@ def with_inertia_check(model, q=None, max_boxes=MAX_BOXES, samples=SAMPLES, seed
 
     context = inertia_context(robot, base, q_min, q_max, samples, seed)
 
-    def prove(left_out):
-        return prove_inertia(robot, base, left_out, q_min, q_max, max_boxes, samples, seed,
+    def prove(left_out, boxes=max_boxes):
+        return prove_inertia(robot, base, left_out, q_min, q_max, boxes, samples, seed,
                              context=context)
+
+    def candidate(left_out):        # a restore's trial: a smaller budget of boxes
+        return prove(left_out, min(max_boxes, CANDIDATE_BOXES)).proved
 
     proof = prove(left)
     restored = []
@@ -238,12 +246,12 @@ def with_inertia_check(model, q=None, max_boxes=MAX_BOXES, samples=SAMPLES, seed
                 break
             trial[k] = False
             restored.append(int(k))
-            if prove(trial).proved:
+            if candidate(trial):
                 break
         for k in list(restored[:-1]):               # then drop again what is not needed
             again = trial.copy()
             again[k] = dropped[k]
-            if prove(again).proved:
+            if candidate(again):
                 trial, restored = again, [j for j in restored if j != k]
         if restored:
             model = (rebuild or _default_rebuild)(model, trial)
