@@ -23,3 +23,60 @@ def toml_without_limits(folder):
     path = folder / "free.toml"
     path.write_text("\n".join(kept) + "\n")
     return path
+
+
+def erd_path(path):
+    """A file of example-robot-data's robots folder, as a string.
+
+    Parameters
+    ----------
+    path : str
+        Relative to ``robots``, e.g. ``kinova_description/robots/kinova.urdf``.
+
+    Returns
+    -------
+    str
+    """
+    import importlib.metadata
+
+    root = importlib.metadata.distribution("example-robot-data").locate_file(
+        "cmeel.prefix/share/example-robot-data/robots")
+    return str(root / path)
+
+
+#: Arms of the inertia proof's tests: (built-in name or URDF path, tip or None).
+INERTIA_ARMS = {"panda": ("panda", None),
+                "erd-panda": (erd_path("panda_description/urdf/panda.urdf"), "panda_hand"),
+                "kinova": (erd_path("kinova_description/robots/kinova.urdf"), None),
+                "puma560": ("puma560", None)}
+
+
+def inertia_arm(key):
+    """The robot of :data:`INERTIA_ARMS` ``key``."""
+    from gd_analyze import load_robot
+
+    path, tip = INERTIA_ARMS[key]
+    return load_robot(path, tip=tip) if tip else load_robot(path)
+
+
+def crba(robot, q):
+    """Pinocchio's joint-space inertia matrix at each position, both triangles filled.
+
+    Parameters
+    ----------
+    robot : Robot
+    q : ndarray, shape (N, n)
+
+    Returns
+    -------
+    ndarray, shape (N, n, n)
+    """
+    import numpy as np
+    import pinocchio as pin
+
+    from gd_analyze.formulations.pinocchio import pinocchio_model
+
+    pm = pinocchio_model(robot)
+    data = pm.createData()
+    D = np.array([pin.crba(pm, data, x) for x in q])
+    return np.triu(D) + np.swapaxes(np.triu(D, 1), 1, 2)

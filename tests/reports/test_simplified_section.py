@@ -84,20 +84,24 @@ def test_no_empty_panel_for_a_joint_with_nothing_dropped(shipped_dataset):
 
 
 def test_the_inertia_check_sentence_is_the_stored_check():
-    """Issue 30 item 3: the report says what the stored check found, for each outcome."""
+    """Issue 40 item 1: the report says what the stored proof found, for each outcome."""
     from gd_analyze.reports.markup import plain
     from gd_analyze.reports.simplified_section import inertia_check_text
     from gd_analyze.workflows.simplified_dataset import inertia_check_attrs
 
-    base = {"where": "region", "samples": 200, "gershgorin_proved": 150,
-            "min_relative_eigenvalue": 0.0123, "restored": []}
-    ok = plain(inertia_check_text(inertia_check_attrs({**base, "positive_definite": True})))
-    assert "is positive definite at 200 positions sampled uniformly over the joint-limit" in ok
-    assert "0.0123" in ok and "at 150)" in ok and "not proved between" in ok
+    base = {"where": "region", "samples": 200, "restored": [], "method": "m",
+            "sampled_min_eigenvalue": 0.02}
+    ok = plain(inertia_check_text(inertia_check_attrs(
+        {**base, "proved": True, "lower_bound": 0.0123, "ratio": 0.25, "statement": "s"})))
+    assert "is proved positive definite over the joint-limit region" in ok
+    assert "0.0123" in ok and "0.25 of the least" in ok and "sampled" not in ok
     bad = plain(inertia_check_text(inertia_check_attrs(
-        {**base, "where": "trajectory", "samples": 31, "positive_definite": False})))
-    assert "is not positive definite at the 31 positions of the trajectory" in bad
+        {**base, "where": "trajectory", "samples": 31, "proved": False,
+         "sampled_min_eigenvalue": -0.5, "statement": "not proved (why)"})))
+    assert "is not proved positive definite: not proved (why)." in bad
+    assert "the 31 sampled positions is -0.5: forward dynamics with it is not safe" in bad
     kept = plain(inertia_check_text(inertia_check_attrs(
-        {**base, "positive_definite": True, "restored": ["XX2", "ZZ3"]})))
+        {**base, "proved": True, "lower_bound": 0.1, "ratio": 0.5, "statement": "s",
+         "restored": ["XX2", "ZZ3"]})))
     assert kept.endswith("kept with all parts: XX2, ZZ3.")
     assert inertia_check_text({}) == ""

@@ -51,16 +51,20 @@ def test_the_report_names_the_prefix_the_header_uses(tmp_path, prefix, expected)
 
 
 def test_the_stored_inertia_check_is_that_of_the_deployed_model(tmp_path):
-    """Issue 30 item 3: results.h5 holds the figures of the check of the deployed D_s, and the
-    two-link arm's D_s (nothing pruned that D needs) is positive definite as D is."""
-    from gd_analyze.core.selection.positive_definite import check_inertia, sample_positions
-
+    """Issue 40 item 1: results.h5 holds the proof for the deployed D_s (over the trajectory's
+    bounding box of q for a trajectory model), and numpy's eigenvalues of D_s at the
+    trajectory's positions are never below the proved bound."""
     got = {}
     ds = _run(tmp_path, None, got)
-    where, qs = sample_positions(got["model"], got["q"])
-    check = check_inertia(got["model"].functions().numpy()["inertia"], qs)
+    check = got["model"].inertia_check
     key = "simplified_inertia_check_"
-    assert ds.attrs[key + "where"] == where == "trajectory"
-    assert ds.attrs[key + "samples"] == check["samples"] == len(qs)
-    assert ds.attrs[key + "positive_definite"] == int(check["positive_definite"]) == 1
-    assert ds.attrs[key + "min_relative_eigenvalue"] == check["min_relative_eigenvalue"] > 0
+    assert ds.attrs[key + "where"] == check["where"] == "trajectory"
+    assert ds.attrs[key + "proved"] == 1 and check["proved"]
+    assert ds.attrs[key + "lower_bound"] == check["lower_bound"] > 0
+    assert ds.attrs[key + "statement"] == check["statement"]
+    assert ds.attrs[key + "statement"].startswith(
+        "proved positive definite over the bounding box of the trajectory positions")
+    D = got["model"].functions().numpy()["inertia"](got["q"])
+    assert np.linalg.eigvalsh(D)[:, 0].min() >= check["lower_bound"]
+    header = (tmp_path / "simplified_model.h").read_text()
+    assert check["statement"] in header

@@ -111,7 +111,7 @@ def test_rule_chapter_and_bad_tolerance(tmp_path, capsys):
 @pytest.mark.slow
 def test_torque_floor_lowers_the_cost(tmp_path, capsys):
     """A floor drops more pairs, unless what it would drop makes D_s singular (issue 30: the
-    PUMA's ZZ6 at 1 N m, restored by the inertia check), and never costs more."""
+    PUMA's ZZ6 at 1 N m, restored for the proof that D_s is positive definite), and never costs more."""
     costs, checks = [], []
     for floor in ("0", "1"):
         out = tmp_path / floor
@@ -121,7 +121,7 @@ def test_torque_floor_lowers_the_cost(tmp_path, capsys):
         spec = json.loads((out / "simplified_model.json").read_text())
         costs.append(spec["cost"]["multiplications"] + spec["cost"]["additions"])
         checks.append(spec["inertia_check"])
-    assert costs[1] <= costs[0] and all(c["positive_definite"] for c in checks)
+    assert costs[1] <= costs[0] and all(c["proved"] and c["lower_bound"] > 0 for c in checks)
     assert costs[1] < costs[0] or checks[1]["restored"] and not checks[0]["restored"]
 
 

@@ -280,6 +280,9 @@ def _format_summary(ds):
     if scope is not None:
         lines += ([] if lines[-1].startswith(("simplified model", "  it does")) else [""]) + [
             f"guarantee: {scope['statement']}"]
+    if ds.attrs.get("simplified_inertia_check_statement"):     # the proof of the model built
+        lines += ([] if lines[-1].startswith("guarantee:") else [""]) + [
+            f"D_s: {ds.attrs['simplified_inertia_check_statement']}"]
     if "verification_passed" in ds.attrs:
         import numpy as np
 

@@ -431,18 +431,29 @@ _RECURSIVE_SCHEMA = Obj({
     "dropped_round_off": Field(ListOf(ListOf(Str(max_len=16))), required=False),
 })
 
-#: Whether D_s is positive definite where the bound holds, sampled (issue 30, item 3;
-#: :func:`gd_analyze.core.selection.positive_definite.with_inertia_check`).
+#: The proof that D_s is positive definite where the bound holds (issue 40 item 1;
+#: :func:`gd_analyze.core.selection.positive_definite.with_inertia_check`). Read but never
+#: believed: a model read from a file states no proof it has not made again. Files of issue
+#: 30's layout (a sampled ``positive_definite``) are still read.
+_OPT_NUM = Field(AnyJSON(), required=False)
 _INERTIA_CHECK_SCHEMA = Obj({
     "where": Str(choices=("region", "trajectory")),
+    "proved": Field(Consts(True, False), required=False),
+    "lower_bound": _OPT_NUM,
+    "ratio": _OPT_NUM,
+    "d_upper": _OPT_NUM,
+    "witness": Field(ListOf(AnyJSON()), required=False),
+    "floor": Field(ListOf(AnyJSON()), required=False),
+    "boxes": Field(Int(0, 10**9), required=False),
     "samples": Int(0, 10**9),
-    "positive_definite": Consts(True, False),
-    "gershgorin_proved": Int(0, 10**9),
-    "min_eigenvalue": Num(),
-    "min_relative_eigenvalue": Num(),
+    "sampled_min_eigenvalue": _OPT_NUM,
+    "seconds": _OPT_NUM,
+    "why": Field(Str(max_len=2000), required=False),
+    "unit": Field(Str(max_len=200), required=False),
+    "statement": Field(Str(max_len=2000), required=False),
     "restored": ListOf(Str(max_len=16)),
     "method": Str(max_len=2000),
-})
+}, open_keys=True)
 
 #: The layout of simplified_model.json (schema_version 2; 1 lacks the keys of issue 8). The element keys of ``choices`` are
 #: checked against the robot's n by the loader; the robot's parameters by
@@ -479,6 +490,6 @@ MODEL_SCHEMA = Obj({
     "costs": Field(MapOf(COST_SCHEMA), required=False),
     # the key of issue 29: where the bound holds (a region of states, or one trajectory)
     "guarantee": Field(_GUARANTEE_SCHEMA, required=False),
-    # the key of issue 30: D_s positive definite where the bound holds (sampled)
+    # the key of issue 30: D_s positive definite where the bound holds (proved, issue 40)
     "inertia_check": Field(_INERTIA_CHECK_SCHEMA, required=False),
 })

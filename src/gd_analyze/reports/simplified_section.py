@@ -75,7 +75,7 @@ def _num(v, digits=4):
 
 
 def inertia_check_text(attrs):
-    """The sentence on the check that D_s is positive definite, from the stored figures.
+    """The sentence on the proof that D_s is positive definite, from the stored figures.
 
     Parameters
     ----------
@@ -86,7 +86,7 @@ def inertia_check_text(attrs):
     Returns
     -------
     str
-        " " and the sentence, or "" when no check is stored.
+        " " and the sentences, or "" when no check is stored.
 
     Examples
     --------
@@ -94,23 +94,28 @@ def inertia_check_text(attrs):
     ''
     """
     key = "simplified_inertia_check_"
-    if key + "samples" not in attrs:
+    if key + "proved" not in attrs:
         return ""
-    samples, where = int(attrs[key + "samples"]), str(attrs[key + "where"])
     d_s = "D" + _sub("s")
-    at = (f"at {count(samples)} positions sampled uniformly over the joint-limit region"
-          if where == "region" else f"at the {count(samples)} positions of the trajectory")
-    if int(attrs[key + "positive_definite"]):
-        restored = str(attrs.get(key + "restored", ""))
-        text = (f" The inertia matrix of the model, {d_s}, is positive definite {at} (smallest "
-                f"eigenvalue ratio {fmt(float(attrs[key + 'min_relative_eigenvalue']), 3)}; "
-                f"Gershgorin discs prove it at {count(int(attrs[key + 'gershgorin_proved']))})"
-                "; sampled, not proved between the samples.")
+    where = ("over the joint-limit region" if str(attrs[key + "where"]) == "region" else
+             "over the trajectory's bounding box of joint positions")
+    restored = str(attrs.get(key + "restored", ""))
+    if int(attrs[key + "proved"]):
+        text = (f" The inertia matrix of the model, {d_s}, is proved positive definite {where} "
+                f"(interval arithmetic rounded outward): its smallest eigenvalue is at least "
+                f"{fmt(float(attrs[key + 'lower_bound']), 3)}, "
+                f"{fmt(float(attrs[key + 'ratio']), 3)} of the least smallest eigenvalue of D "
+                "over the same positions.")
         if restored:
-            text += f" To keep it so, these base parameters were kept with all parts: {restored}."
+            text += (f" To prove it, these base parameters were kept with all parts: "
+                     f"{restored}.")
         return text
-    return (f" The inertia matrix of the model, {d_s}, is not positive definite {at}: forward "
-            "dynamics with it is not safe there.")
+    sampled = float(attrs.get(key + "sampled_min_eigenvalue", float("nan")))
+    return (f" The inertia matrix of the model, {d_s}, is not proved positive definite: "
+            f"{attrs.get(key + 'statement', '')}. Its smallest eigenvalue at the "
+            f"{count(int(attrs[key + 'samples']))} sampled positions is {fmt(sampled, 3)}"
+            + (" (sampled, not proved between the samples)." if sampled > 0 else
+               ": forward dynamics with it is not safe there."))
 
 
 def simplified_context(ds):

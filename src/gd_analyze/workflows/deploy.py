@@ -20,7 +20,7 @@ from .region_memo import REGION_SAMPLES, certified, region_values
 
 __all__ = ["build_recursive", "recursive_simplified", "replace_cost", "region_model",
            "trajectory_guarantee", "certified", "robot_region", "guarantee_region",
-           "REGION_SAMPLES"]
+           "REGION_SAMPLES", "restored_rebuild"]
 
 def robot_region(robot):
     """The robot's joint-limit region for a model's guarantee, or None and why not.
@@ -381,3 +381,81 @@ def replace_cost(model, cost):
     """
 
     return dataclasses.replace(model, cost=dict(cost))
+
+
+def restored_rebuild(q, qd, qdd, region=None, sample_region=None, region_missing="",
+                     contributions=None):
+    """A ``rebuild`` for :func:`gd_analyze.core.selection.positive_definite.with_inertia_check`:
+    the recursive model with exactly the given pairs dropped, its bound, guarantee (bound and
+    sampled error) and cost derived again for them.
+
+    Parameters
+    ----------
+    q, qd, qdd : ndarray, shape (N, n)
+        The trajectory the model was built on [rad, rad/s, rad/s^2; m, m/s, m/s^2].
+    region : Region, optional
+        The region its bound is proved over (a region model), else None.
+    sample_region : Region, optional
+        A trajectory model's region of sampled errors.
+    region_missing : str, optional
+    contributions : (BaseParameters, tuple of ndarray), optional
+        As :func:`build_recursive` takes them.
+
+    Returns
+    -------
+    callable
+        ``rebuild(model, dropped)`` -> SimplifiedModel: the model's settings, provenance,
+        thresholds and compared costs kept, ``costs["recursive, budget"]`` its new count.
+
+    Notes
+    -----
+    Fewer pairs are dropped, so the pruning's budget still holds: the bound is that of
+    :func:`gd_analyze.core.symbolic.pruning.prune_bounds` for the chosen pairs (a parameter
+    counted whole where all its parts are dropped and that fits, else pair by pair).
+    """
+    def rebuild(model, dropped):
+        from ..core.symbolic.pruning import dropped_peaks, prune, prune_bounds
+        from ..core.symbolic.recursive_model import RecursiveModel
+
+        robot, tol, floor = model.robot, model.tolerance, model.torque_floor
+        base = model.recursive.base(robot) if contributions is None else contributions[0]
+        dropped = np.asarray(dropped, bool)
+
+        def chosen(select):
+            for whole in (dropped.all(axis=1), np.zeros(dropped.shape[0], bool)):
+                try:
+                    return select((dropped, whole))
+                except ValueError:
+                    continue
+            raise ValueError("the restored pairs do not fit the budget")
+        if region is not None:
+            pb = certified(robot, base, region, floor)
+            pr = chosen(lambda c: _region_pruning(base, pb, robot, tol, c))
+            rec, guarantee = _region_model(robot, base, region, tol, pb, pr)
+        else:
+            pr0 = prune(robot, base, q, qd, qdd, tol, torque_floor=floor,
+                        peaks=None if contributions is None else contributions[1])
+            pr = chosen(lambda c: prune_bounds(robot, base, pr0.scale, pr0.peak,
+                                               pr0.whole_peak, tol, chosen=c))
+            safe = np.where(pr.scale > 0, pr.scale, 1.0)
+            rel = np.where(pr.scale > 0, pr.peak / safe,
+                           np.where(pr.peak > 0, np.inf, 0.0)).max(axis=2)
+            rec = RecursiveModel(names=tuple(base.names()), beta=np.array(base.beta, float),
+                                 dropped=np.array(pr.dropped, bool),
+                                 scale=np.array(pr.scale, float),
+                                 bound=np.array(pr.bound, float),
+                                 bound_by_part=dropped_peaks(pr.peak, pr.whole_peak,
+                                                             pr.dropped, pr.whole),
+                                 relative_peak=rel)
+            guarantee = trajectory_guarantee(robot, base, rec, tol, model.trajectory_sha256,
+                                             sample_region, region_missing)
+        new = recursive_simplified(robot, rec, base, tolerance=tol, torque_floor=floor,
+                                   trajectory_sha256=model.trajectory_sha256,
+                                   provenance=model.provenance, guarantee=guarantee)
+        costs = {**model.costs, "recursive, budget": dict(new.cost)} if model.costs else \
+            dict(new.costs)
+        return dataclasses.replace(
+            new, dominance_threshold=model.dominance_threshold,
+            negligible_threshold=model.negligible_threshold, validation=model.validation,
+            costs=costs, full_cost=dict(model.full_cost), program_cache=new.program())
+    return rebuild

@@ -11,7 +11,7 @@ import dataclasses
 import numpy as np
 
 from ..core.selection.positive_definite import with_inertia_check
-from .deploy import build_recursive, guarantee_region
+from .deploy import build_recursive, guarantee_region, restored_rebuild
 
 __all__ = ["deploy_models", "exact_explicit_wins", "exact_explicit_model"]
 
@@ -119,17 +119,42 @@ def deploy_models(robot, trajectory, ranking, part_peaks, options, provenance, b
                        "over the whole region, and the ladder prunes on the trajectory")
         else:
             form_note = _not_deployed(rec, ex, form, proved)
-    if model is rec:                            # the recursive form's ladder
-        base, contributions = background["recursive"].result()
-        rows = recursive_ladder(robot, base, (q, qd, qdd), LADDER, torque_floor,
-                                region=region if proved else None, contributions=contributions,
-                                deployed=rec)
+    ladder_recursive = model is rec
     model = dataclasses.replace(model, costs=costs,
                                 full_cost=dict(costs.get("explicit, full", model.full_cost)),
                                 program_cache=model.program(),
                                 guarantee=model.guarantee if model.guarantee is not None
                                 else _trajectory_guarantee(model, sel, trajectory, missing))
-    model = with_inertia_check(model, q)            # D_s positive definite where it holds
+    # D_s proved positive definite where the bound holds; parameters restored where it is
+    # not, the bound and sampled error derived again for the model finally deployed
+    rebuild = restored_rebuild(q, qd, qdd, region=region if proved else None,
+                               sample_region=region, region_missing=missing,
+                               contributions=background["recursive"].result())
+    model = with_inertia_check(model, q, rebuild=rebuild)
+    if (model.recursive is None and model.guarantee is not None and model.guarantee.proved
+            and not model.inertia_check["proved"]):
+        # an explicit model whose D_s is not proved is not deployed under a region guarantee
+        # where the recursive one's is
+        fallback = with_inertia_check(dataclasses.replace(
+            rec, costs=costs, full_cost=dict(costs.get("explicit, full", rec.full_cost)),
+            program_cache=rec.program()), q, rebuild=rebuild)
+        if fallback.inertia_check["proved"]:
+            model, sel, skipped, form_note = fallback, rec_sel, "", (
+                "The deployed model is the pruned recursive one: the explicit model's D_s "
+                "was not proved positive definite over the region.")
+            ladder_recursive = True
+    if model.recursive is not None and model.recursive is not rec.recursive:    # restored
+        sel = dataclasses.replace(
+            sel, scale=model.recursive.scale, bound=model.recursive.bound,
+            bound_by_kind={"D": model.recursive.bound_by_part[0],
+                           "h": model.recursive.bound_by_part[1],
+                           "c": model.recursive.bound_by_part[2],
+                           "whole": model.recursive.bound_by_part[3]})
+    if ladder_recursive:                        # the recursive form's ladder
+        base, contributions = background["recursive"].result()
+        rows = recursive_ladder(robot, base, (q, qd, qdd), LADDER, torque_floor,
+                                region=region if proved else None, contributions=contributions,
+                                deployed=model)
     table = cost_rows(robot.n, model, other=other, ladder_rows=rows, formulation_counts=counts)
 
     def finish(other_error):

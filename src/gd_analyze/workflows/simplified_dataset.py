@@ -205,7 +205,7 @@ def coefficient_structure(terms):
 
 
 def inertia_check_attrs(check):
-    """The stored figures of the check that D_s is positive definite (issue 30 item 3).
+    """The stored figures of the proof that D_s is positive definite (issue 40 item 1).
 
     Parameters
     ----------
@@ -216,30 +216,37 @@ def inertia_check_attrs(check):
     Returns
     -------
     dict
-        ``simplified_inertia_check_where`` ("region" or "trajectory"), ``..._samples``,
-        ``..._positive_definite`` (1 or 0), ``..._gershgorin_proved`` (positions proved by the
-        discs), ``..._min_relative_eigenvalue`` (lambda_min / lambda_max [1]) and
-        ``..._restored`` (base parameters restored with all their parts for it,
-        comma-separated); empty without a
-        check.
+        ``simplified_inertia_check_where`` ("region" or "trajectory"), ``..._proved`` (1 or
+        0), ``..._lower_bound`` (the proved lower bound of lambda_min(D_s) [kg m^2], NaN when
+        not proved), ``..._ratio`` (that bound over the upper bound of min lambda_min(D) [1],
+        NaN when not proved), ``..._samples`` (positions sampled for a counterexample),
+        ``..._sampled_min_eigenvalue`` [kg m^2], ``..._restored`` (base parameters restored
+        with all their parts for the proof, comma-separated), ``..._statement`` (the
+        sentence every output states) and ``..._method``; empty without a check.
 
     Examples
     --------
     >>> inertia_check_attrs(None)
     {}
-    >>> inertia_check_attrs({"where": "region", "samples": 4, "positive_definite": True,
-    ...     "gershgorin_proved": 3, "min_relative_eigenvalue": 0.25, "restored": []})[
-    ...     "simplified_inertia_check_positive_definite"]
+    >>> inertia_check_attrs({"where": "region", "proved": True, "lower_bound": 0.5,
+    ...     "ratio": 0.25, "samples": 4, "sampled_min_eigenvalue": 2.0, "restored": [],
+    ...     "statement": "proved", "method": "m"})["simplified_inertia_check_proved"]
     1
     """
     if not check:
         return {}
     key = "simplified_inertia_check_"
-    return {key + "where": str(check["where"]), key + "samples": int(check["samples"]),
-            key + "positive_definite": int(bool(check["positive_definite"])),
-            key + "gershgorin_proved": int(check["gershgorin_proved"]),
-            key + "min_relative_eigenvalue": float(check["min_relative_eigenvalue"]),
-            key + "restored": ", ".join(check.get("restored", ()))}
+
+    def num(v):
+        return float("nan") if v is None else float(v)
+    return {key + "where": str(check["where"]), key + "proved": int(bool(check["proved"])),
+            key + "lower_bound": num(check.get("lower_bound")),
+            key + "ratio": num(check.get("ratio")),
+            key + "samples": int(check["samples"]),
+            key + "sampled_min_eigenvalue": num(check.get("sampled_min_eigenvalue")),
+            key + "restored": ", ".join(check.get("restored", ())),
+            key + "statement": str(check.get("statement", "")),
+            key + "method": str(check.get("method", ""))}
 
 
 def simplified_dataset(model, selection, other=None, ladder_rows=None, cost_table=None,

@@ -295,9 +295,10 @@ def region_sweep_model(robot, trajectories, region, tolerance, torque_floor=0.0,
     set point lies in it (:meth:`gd_analyze.core.selection.guarantee.Guarantee.covers`);
     one outside is reported, not covered.
     """
+    from ..core.selection.positive_definite import with_inertia_check
     from ..core.symbolic.base_parameters import base_parameters
     from ..io.explicit_cache import explicit_terms
-    from .deploy import recursive_simplified, region_model
+    from .deploy import recursive_simplified, region_model, restored_rebuild
     from .deployment import exact_explicit_model, exact_explicit_wins
     from .evaluate import coverage
     from .simplify import explicit_sweep_model, full_program, full_torque, sweep_validation
@@ -321,6 +322,19 @@ def region_sweep_model(robot, trajectories, region, tolerance, torque_floor=0.0,
             reference = full_torque(robot, terms)
     model = dataclasses.replace(model, costs=costs,
                                 full_cost=dict(costs.get("explicit, full", model.full_cost)))
+    # D_s proved positive definite over the region (issue 40), parameters restored where it
+    # is not (bound and sampled error derived again); an explicit model not proved is not
+    # deployed under the region guarantee
+    rebuild = restored_rebuild(None, None, None, region=region)
+    recursive = model if model.recursive is not None else dataclasses.replace(
+        recursive_simplified(robot, rec, base, tolerance=tolerance, torque_floor=torque_floor,
+                             trajectory_sha256=digest, provenance=provenance, guarantee=g),
+        costs=costs, full_cost=dict(costs.get("explicit, full", {})))
+    model = with_inertia_check(model, rebuild=rebuild)
+    if not model.inertia_check["proved"] and model.recursive is None:
+        fallback = with_inertia_check(recursive, rebuild=rebuild)
+        if fallback.inertia_check["proved"]:
+            model, reference = fallback, None
     K, n = len(trajectories), robot.n
     scale = np.asarray(model.guarantee.scale, float)
     bound = np.asarray(model.guarantee.bound, float)

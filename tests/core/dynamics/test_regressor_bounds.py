@@ -1,11 +1,18 @@
 """The interval regressor recursion: at points it is the regressor, over boxes it encloses it."""
 import numpy as np
+import pinocchio as pin
 import pytest
 
 from gd_analyze import load_robot
-from gd_analyze.core.dynamics.regressor_bounds import channel_values, pair_magnitudes
+from gd_analyze.core.dynamics.regressor_bounds import (
+    channel_values,
+    inertia_enclosure,
+    inertia_form_enclosure,
+    pair_magnitudes,
+)
 from gd_analyze.core.selection.region import channel_values as point_channels
-from gd_analyze.core.symbolic.base_parameters import regressor
+from gd_analyze.core.symbolic.base_parameters import regressor, standard_parameters
+from gd_analyze.formulations.pinocchio import pinocchio_model
 
 
 @pytest.mark.parametrize("name", ["puma560", "stanford"])
@@ -65,3 +72,36 @@ def test_both_arithmetics_enclose_the_sampled_peaks_on_boxes(arithmetic):
         assert np.all(peaks.transpose(1, 2, 0) <= U[b] * (1 + 1e-12) + 1e-12)
     with pytest.raises(ValueError):
         pair_magnitudes(robot, lo, hi, cols, robot.qd_max, robot.qdd_max, arithmetic="x")
+
+
+def _crba(robot, q):
+    pm = pinocchio_model(robot)
+    data = pm.createData()
+    D = np.array([pin.crba(pm, data, x) for x in q])
+    return np.triu(D) + np.swapaxes(np.triu(D, 1), 1, 2)
+
+
+@pytest.mark.parametrize("name", ["puma560", "panda", "stanford"])
+@pytest.mark.parametrize("arithmetic", ["ball", "box"])
+def test_inertia_enclosures_hold_pinocchios_d_on_boxes(name, arithmetic):
+    """Pinocchio's crba at points inside random boxes lies within the enclosure of D (both
+    arithmetics, the standard parameters), and X D X^T within the form's enclosure; at a
+    point the enclosures are round-off wide about crba."""
+    robot = load_robot(name)
+    phi = standard_parameters(robot)
+    rng = np.random.default_rng(4)
+    centre = rng.uniform(-2, 2, (6, robot.n))
+    half = rng.uniform(0.0, 0.4, (6, robot.n))
+    lo, hi = inertia_enclosure(robot, centre - half, centre + half, phi, arithmetic=arithmetic)
+    X = rng.normal(size=(6, 3, robot.n))
+    flo, fhi = inertia_form_enclosure(robot, centre - half, centre + half, phi, X)
+    for b in range(6):
+        q = rng.uniform(centre[b] - half[b], centre[b] + half[b], (200, robot.n))
+        D = _crba(robot, q)
+        assert ((lo[b] <= D) & (D <= hi[b])).all()
+        P = X[b] @ D @ X[b].T
+        assert ((flo[b] <= P) & (P <= fhi[b])).all()
+    D = _crba(robot, centre)
+    plo, phi_ = inertia_enclosure(robot, centre, centre, phi, arithmetic=arithmetic)
+    assert ((plo <= D) & (D <= phi_)).all()
+    assert (phi_ - plo).max() <= 1e-12 * np.abs(D).max()

@@ -22,7 +22,8 @@ import numpy as np
 from . import balls
 from . import intervals as iv
 
-__all__ = ["channel_count", "channel_values", "pair_magnitudes"]
+__all__ = ["channel_count", "channel_values", "pair_magnitudes", "inertia_enclosure",
+           "inertia_form_enclosure"]
 
 
 def channel_count(n):
@@ -363,6 +364,17 @@ def channel_values(robot, q, columns, gravity=None):
     return out
 
 
+def _boxes(robot, q_lo, q_hi):
+    """The boxes as float arrays, checked: shape (B, n) each, lo <= hi."""
+    q_lo, q_hi = np.asarray(q_lo, float), np.asarray(q_hi, float)
+    n = robot.n
+    if q_lo.shape != q_hi.shape or q_lo.ndim != 2 or q_lo.shape[1] != n:
+        raise ValueError(f"boxes must have shape (B, {n})")
+    if np.any(q_lo > q_hi):
+        raise ValueError("a box has lo > hi")
+    return q_lo, q_hi
+
+
 def pair_magnitudes(robot, q_lo, q_hi, columns, qd_max, qdd_max, gravity=None,
                     arithmetic="ball"):
     """Upper bounds of each column's three parts over boxes of q and the velocity and
@@ -403,12 +415,8 @@ def pair_magnitudes(robot, q_lo, q_hi, columns, qd_max, qdd_max, gravity=None,
     over q the bound is the interval enclosure of :mod:`.intervals` (Moore, Kearfott & Cloud
     2009), rounded outward.
     """
-    q_lo, q_hi = np.asarray(q_lo, float), np.asarray(q_hi, float)
+    q_lo, q_hi = _boxes(robot, q_lo, q_hi)
     n = robot.n
-    if q_lo.shape != q_hi.shape or q_lo.ndim != 2 or q_lo.shape[1] != n:
-        raise ValueError(f"boxes must have shape (B, {n})")
-    if np.any(q_lo > q_hi):
-        raise ValueError("a box has lo > hi")
     if arithmetic not in ("ball", "box"):
         raise ValueError(f"arithmetic must be 'ball' or 'box', got {arithmetic!r}")
     qd_max, qdd_max = np.asarray(qd_max, float), np.asarray(qdd_max, float)
@@ -421,3 +429,181 @@ def pair_magnitudes(robot, q_lo, q_hi, columns, qd_max, qdd_max, gravity=None,
         out[:, 0, i, m] = iv.magnitude((lo[:, 1:1 + n], hi[:, 1:1 + n])) @ qdd_max
         out[:, 1, i, m] = quad(lo[:, 1 + n:], hi[:, 1 + n:])
     return out * (1.0 + 8 * iv.ROUNDING * (2 * n + 2))
+
+
+def _inertial_forward(chain):
+    """Per link k: wd, vd (B, n, 3) of the inertial channels (qd = 0, qdd = e_j, g = 0)."""
+    A, n, B = chain.A, chain.robot.n, chain.B
+    wd, vd = A.zeros((B, n)), A.zeros((B, n))
+    out = []
+    for k in range(n):
+        a = A.add(vd, A.cross(wd, chain.p(k)))
+        vd, wd = chain.rot_t(k, a), chain.rot_t(k, wd)
+        A.unit_z(vd if chain.pris[k] else wd, k)
+        out.append((wd, vd))
+    return out
+
+
+def inertia_enclosure(robot, q_lo, q_hi, values, armature=None, arithmetic="ball"):
+    """Enclosures of the inertia matrix D(q) over boxes of joint positions.
+
+    Parameters
+    ----------
+    robot : Robot
+        The arm, with n joints.
+    q_lo, q_hi : ndarray, shape (B, n)
+        The boxes [rad or m], q_lo <= q_hi (q_lo = q_hi: D at points).
+    values : ndarray, shape (n, 10)
+        Per link, the inertial parameters the matrix is built of, in the order of
+        :data:`gd_analyze.core.symbolic.base_parameters.PARAMETER_NAMES` (XX, XY, XZ, YY, YZ,
+        ZZ about the link frame's origin [kg m^2], MX, MY, MZ [kg m], M [kg]): the standard
+        parameters give D, the base parameters in their independent slots the same D, and a
+        pruned model's kept inertial values its D_s.
+    armature : array_like, shape (n,), optional
+        Added on the diagonal [kg m^2 or kg]; default the robot's.
+    arithmetic : {"ball", "box"}, optional
+        As :func:`pair_magnitudes`.
+
+    Returns
+    -------
+    lo, hi : ndarray, shape (B, n, n)
+        lo <= D(q) <= hi element by element for every q in each box, symmetric [kg m^2; kg m;
+        kg].
+
+    Raises
+    ------
+    ValueError
+        If the boxes do not have n columns, lo > hi somewhere, or values is not (n, 10).
+
+    Notes
+    -----
+    Column j of D is the torque of the Newton-Euler recursion at qd = 0, qdd = e_j and g = 0
+    (Walker & Orin 1982, method 1; Fu, Gonzalez & Lee 1987, Table 3.3), run once for all
+    columns in the arithmetic chosen, rounded outward; each link's wrench is f = m vd +
+    wd x (m c) and n = I wd + (m c) x vd with its own parameters (Featherstone 2008, Eq. 2.63
+    at zero velocity), so the links' contributions are summed as wrenches before the joints
+    take their components. D_ij and D_ji are enclosed separately; their intersection is
+    returned.
+    """
+    q_lo, q_hi = _boxes(robot, q_lo, q_hi)
+    n = robot.n
+    values = np.asarray(values, float)
+    if values.shape != (n, 10):
+        raise ValueError(f"values must have shape ({n}, 10), got {values.shape}")
+    algebra = {"ball": _Ball, "box": _Box}[arithmetic]
+    chain = _Chain(robot, q_lo, q_hi, algebra)
+    A, B = chain.A, chain.B
+    links = _inertial_forward(chain)
+    lo, hi = np.zeros((B, n, n)), np.zeros((B, n, n))
+    f = m = None
+    for k in range(n - 1, -1, -1):
+        wd, vd = links[k]
+        p = values[k]
+        inertia = np.array([[p[0], p[1], p[2]], [p[1], p[3], p[4]], [p[2], p[4], p[5]]])
+        mc = A.point(p[6:9])
+        fk = A.add(A.scale(vd, p[9]), A.cross(wd, mc))
+        mk = A.add(A.matvec(inertia, wd), A.cross(mc, vd))
+        f, m = (fk, mk) if f is None else (A.add(fk, f), A.add(mk, m))
+        zl, zh = A.z(f if chain.pris[k] else m)
+        lo[:, k], hi[:, k] = zl, zh
+        if k:
+            f = chain.rot(k, f)
+            m = A.add(chain.rot(k, m), A.cross(chain.p(k), f))
+    arm = np.asarray(robot.armature if armature is None else armature, float)
+    idx = np.arange(n)
+    lo[:, idx, idx] = np.nextafter(lo[:, idx, idx] + arm, -np.inf)
+    hi[:, idx, idx] = np.nextafter(hi[:, idx, idx] + arm, np.inf)
+    return np.maximum(lo, np.swapaxes(lo, 1, 2)), np.minimum(hi, np.swapaxes(hi, 1, 2))
+
+
+def _ball_dots(a, b):
+    """Enclosures of a_k . b_l for balls a, b of shape (B, C, 3): (lo, hi) of shape (B, C, C)."""
+    ca, ra = a
+    cb, rb = b
+    na, nb = np.linalg.norm(ca, axis=-1), np.linalg.norm(cb, axis=-1)
+    c = ca @ np.swapaxes(cb, 1, 2)
+    r = (na[:, :, None] * rb[:, None, :] + ra[:, :, None] * nb[:, None, :]
+         + ra[:, :, None] * rb[:, None, :]) * (1 + 8 * iv.ROUNDING) \
+        + 8 * iv.ROUNDING * na[:, :, None] * nb[:, None, :]
+    return c - r, c + r
+
+
+def inertia_form_enclosure(robot, q_lo, q_hi, values, X, armature=None):
+    """Enclosures of X D(q) X^T over boxes of joint positions, for given matrices X.
+
+    Parameters
+    ----------
+    robot : Robot
+        The arm, with n joints.
+    q_lo, q_hi : ndarray, shape (B, n)
+        The boxes [rad or m], q_lo <= q_hi.
+    values : ndarray, shape (n, 10)
+        Per link, the inertial parameters D is built of (as :func:`inertia_enclosure`).
+    X : ndarray, shape (B, C, n)
+        Per box, C joint-velocity directions x_k (rows).
+    armature : array_like, shape (n,), optional
+        Added on D's diagonal [kg m^2 or kg]; default the robot's.
+
+    Returns
+    -------
+    lo, hi : ndarray, shape (B, C, C)
+        lo <= x_k^T D(q) x_l <= hi for every q in each box.
+
+    Raises
+    ------
+    ValueError
+        If the shapes do not match.
+
+    Notes
+    -----
+    x_k^T D x_l is the polarised kinetic energy (Fu, Gonzalez & Lee 1987, Eq. 3.2-27):
+    sum over links of V_k^T M V_l, with V_k = (omega, v) the link's angular velocity and the
+    velocity of its frame's origin at qd = x_k (the recursion of Table 3.3 without
+    accelerations) and M its spatial inertia about that origin: m v_k . v_l + v_k . (omega_l x
+    m c) + v_l . (omega_k x m c) + omega_k . I omega_l. The velocities are midpoint-radius
+    balls (:mod:`.balls`), so the cancellations of a direction x in which D is nearly
+    singular happen on vectors before any component is taken: the enclosure of x^T D x is
+    then narrow where D's elements' enclosures are wide.
+    """
+    q_lo, q_hi = np.asarray(q_lo, float), np.asarray(q_hi, float)
+    n = robot.n
+    X = np.asarray(X, float)
+    if q_lo.shape != q_hi.shape or q_lo.ndim != 2 or q_lo.shape[1] != n:
+        raise ValueError(f"boxes must have shape (B, {n})")
+    if np.any(q_lo > q_hi):
+        raise ValueError("a box has lo > hi")
+    if X.ndim != 3 or X.shape[0] != q_lo.shape[0] or X.shape[2] != n:
+        raise ValueError(f"X must have shape ({q_lo.shape[0]}, C, {n})")
+    values = np.asarray(values, float)
+    if values.shape != (n, 10):
+        raise ValueError(f"values must have shape ({n}, 10), got {values.shape}")
+    chain = _Chain(robot, q_lo, q_hi, _Ball)
+    A, B, C = chain.A, chain.B, X.shape[1]
+    w, v = A.zeros((B, C)), A.zeros((B, C))
+    lo, hi = np.zeros((B, C, C)), np.zeros((B, C, C))
+    for k in range(n):
+        v = chain.rot_t(k, A.add(v, A.cross(w, chain.p(k))))
+        w = chain.rot_t(k, w)
+        unit = np.zeros((B, C, 3))
+        unit[..., 2] = X[:, :, k]
+        if chain.pris[k]:
+            v = A.add(v, A.point(unit))
+        else:
+            w = A.add(w, A.point(unit))
+        p = values[k]
+        if not np.any(p):
+            continue
+        inertia = np.array([[p[0], p[1], p[2]], [p[1], p[3], p[4]], [p[2], p[4], p[5]]])
+        g = A.cross(w, A.point(p[6:9]))                           # omega x m c
+        vv = iv.scale(_ball_dots(v, v), p[9])
+        vg = _ball_dots(v, g)
+        term = iv.add(iv.add(vv, vg), (np.swapaxes(vg[0], 1, 2), np.swapaxes(vg[1], 1, 2)))
+        term = iv.add(term, _ball_dots(w, A.matvec(inertia, w)))
+        lo, hi = iv.add((lo, hi), term)
+    arm = np.asarray(robot.armature if armature is None else armature, float)
+    if np.any(arm):
+        Xa = X * arm[None, None, :]
+        c = Xa @ np.swapaxes(X, 1, 2)
+        r = 4 * (n + 2) * iv.ROUNDING * (np.abs(Xa) @ np.swapaxes(np.abs(X), 1, 2))
+        lo, hi = iv.add((lo, hi), (c - r, c + r))
+    return np.maximum(lo, np.swapaxes(lo, 1, 2)), np.minimum(hi, np.swapaxes(hi, 1, 2))

@@ -1,20 +1,17 @@
-"""The simplified model's inertia matrix D_s stays positive definite (issue 30, item 3).
+"""The simplified model's inertia matrix D_s, proved positive definite where its bound holds.
 
 Pruning drops inertial contributions, and a D_s that is not positive definite breaks forward
-dynamics (qdd = D_s^-1 (tau - h_s - c_s)) and every controller that inverts it. The check runs
-where the model's bound holds: over its joint-limit region (guarantee kind ``"region"``: q
-sampled uniformly in [q_min, q_max]) or on its trajectories (kind ``"trajectory"``: their
-positions). At each sampled q, D_s scaled to a unit diagonal, S D_s S with S = diag(D_ii^-1/2),
-is positive definite if every Gershgorin disc lies right of 0 (sum_j!=i |D_ij| / sqrt(D_ii
-D_jj) < 1; Horn & Johnson, *Matrix Analysis*, 2nd ed. 2013, Thm. 6.1.1 and 6.1.10); where the
-discs do not prove it, the smallest eigenvalue decides. It is a sampled check, not a proof over
-the region: the JSON says so, with the number of samples and of those Gershgorin proved.
+dynamics (qdd = D_s^-1 (tau - h_s - c_s)) and every controller that inverts it. The proof
+(:mod:`.inertia_proof`) runs over the model's region (guarantee kind ``"region"``) or over the
+bounding box of its trajectories' positions (kind ``"trajectory"``).
 
-Where the check fails for a model of the recursive form, the parameters whose inertial part
-was dropped are restored, whole and largest inertial contribution first, until D_s is positive
-definite at every sample, and those not needed for it are then dropped again: restoring a
-parameter whole removes whole units from the dropped set, so the model's bound (the sum of the
-dropped units' peaks, :mod:`.budget`) still holds.
+Where the proof fails for a model of the recursive form, the parameters whose inertial part
+was dropped are restored, whole and largest inertial contribution first, until it holds, and
+those not needed are then dropped again: restoring a parameter whole removes whole units from
+the dropped set, so a bound computed again for the pairs still dropped holds. The caller
+builds the restored model (``rebuild``) so that its bound and sampled error are those of the
+model deployed. An explicit model that drops terms is checked at sampled positions only, and
+says so. Samples never prove.
 Pure: no files.
 """
 
@@ -24,10 +21,27 @@ import dataclasses
 
 import numpy as np
 
-__all__ = ["SAMPLES", "sample_positions", "check_inertia", "with_inertia_check"]
+from ..symbolic.base_parameters import base_parameters
+from .inertia_proof import (  # noqa: F401 (re-exported)
+    MAX_BOXES,
+    SAMPLES,
+    InertiaProof,
+    dropped_inertia_values,
+    gershgorin_lower,
+    inertia_context,
+    inertia_floor,
+    prove_inertia,
+)
 
-#: Positions sampled over a region.
-SAMPLES = 2000
+#: Boxes of a restore's trial proof (the model finally deployed is proved with the full
+#: budget).
+CANDIDATE_BOXES = 256
+
+__all__ = ["CANDIDATE_BOXES", "SAMPLES", "MAX_BOXES", "InertiaProof", "inertia_floor",
+           "gershgorin_lower", "prove_inertia", "inertia_context", "check_inertia",
+           "sample_positions", "with_inertia_check", "inertia_statement",
+           "dropped_inertia_values"]
+
 
 
 def sample_positions(model, q=None, count=SAMPLES, seed=0):
@@ -67,7 +81,7 @@ def sample_positions(model, q=None, count=SAMPLES, seed=0):
 
 
 def check_inertia(inertia, q):
-    """Whether D(q) is positive definite at each position.
+    """Whether D(q) is positive definite at each given position (sampled: no proof).
 
     Parameters
     ----------
@@ -79,37 +93,26 @@ def check_inertia(inertia, q):
     Returns
     -------
     dict
-        ``samples`` (M), ``positive_definite`` (bool: at every position),
-        ``gershgorin_proved`` (positions where the scaled discs prove it),
-        ``min_eigenvalue`` (smallest eigenvalue over the positions [kg m^2]) and
-        ``min_relative_eigenvalue`` (smallest lambda_min / lambda_max over them [1]).
+        ``samples`` (M), ``positive_definite`` (bool: at every position) and
+        ``min_eigenvalue`` (smallest eigenvalue over the positions [kg m^2]).
 
     Examples
     --------
     >>> D = lambda q: np.array([[[2.0, q[0, 0]], [q[0, 0], 1.0]]])
-    >>> check_inertia(D, np.array([[0.5]]))["gershgorin_proved"]
-    1
+    >>> check_inertia(D, np.array([[0.5]]))["positive_definite"]
+    True
     >>> check_inertia(D, np.array([[2.0]]))["positive_definite"]
     False
     """
     D = np.asarray(inertia(q), float)
     D = 0.5 * (D + np.swapaxes(D, 1, 2))
-    diag = np.diagonal(D, axis1=1, axis2=2)
-    positive = (diag > 0).all(axis=1)
-    s = 1.0 / np.sqrt(np.where(diag > 0, diag, 1.0))
-    A = np.abs(D * s[:, :, None] * s[:, None, :])
-    off = A.sum(axis=2) - np.diagonal(A, axis1=1, axis2=2)
-    proved = positive & (off < 1.0).all(axis=1)
-    eig = np.linalg.eigvalsh(D)
-    lo, hi = eig[:, 0], np.abs(eig).max(axis=1)
-    return {"samples": int(q.shape[0]), "positive_definite": bool((lo > 0).all() and
-                                                                  positive.all()),
-            "gershgorin_proved": int(proved.sum()), "min_eigenvalue": float(lo.min()),
-            "min_relative_eigenvalue": float((lo / np.where(hi > 0, hi, 1.0)).min())}
+    lo = np.linalg.eigvalsh(D)[:, 0]
+    return {"samples": int(q.shape[0]), "positive_definite": bool((lo > 0).all()),
+            "min_eigenvalue": float(lo.min())}
 
 
-def _restore(model, k):
-    """The recursive model with base parameter k kept, all its parts."""
+def _restored(model, k):
+    """The recursive model with base parameter k kept, all its parts (bound not updated)."""
     rec = model.recursive
     dropped = np.array(rec.dropped, bool)
     dropped[k] = False
@@ -118,77 +121,184 @@ def _restore(model, k):
                                choice_cache=None, cost={})
 
 
-def with_inertia_check(model, q=None, count=SAMPLES, seed=0):
-    """The model with D_s checked (and kept) positive definite where its bound holds.
+def _box(model, q):
+    """The box D_s is proved over: the region's, else the trajectory's bounding box."""
+    g = model.guarantee
+    if g is not None and g.kind == "region":
+        return "region", np.asarray(g.q_min, float), np.asarray(g.q_max, float)
+    if q is None or np.size(q) == 0:
+        return None, None, None
+    q = np.atleast_2d(np.asarray(q, float))
+    return "trajectory", q.min(axis=0), q.max(axis=0)
+
+
+def inertia_statement(check):
+    """The sentence a model's outputs state about D_s, from its ``inertia_check``.
+
+    Parameters
+    ----------
+    check : dict or None
+        :attr:`SimplifiedModel.inertia_check
+        <gd_analyze.core.selection.simplified.SimplifiedModel.inertia_check>`.
+
+    Returns
+    -------
+    str
+        e.g. "proved positive definite over the region: lambda_min(D_s) >= 0.00012 kg m^2
+        (0.21 of min lambda_min(D))"; "" for None.
+
+    Examples
+    --------
+    >>> inertia_statement({"proved": False, "where": "trajectory", "samples": 40,
+    ...                    "sampled_min_eigenvalue": 0.5, "why": "explicit form"})
+    'not proved (explicit form); positive definite at the 40 sampled positions of the trajectory'
+    """
+    if not check:
+        return ""
+    where = {"region": "the region",
+             "trajectory": "the bounding box of the trajectory positions"}.get(
+        check.get("where"), str(check.get("where")))
+    if check.get("proved"):
+        return (f"proved positive definite over {where}: lambda_min(D_s) >= "
+                f"{check['lower_bound']:.3g} {check.get('unit', 'kg m^2')} "
+                f"({check['ratio']:.3g} of min lambda_min(D))")
+    sampled = check.get("sampled_min_eigenvalue")
+    tail = "" if sampled is None else (
+        f"; {'positive definite' if sampled > 0 else 'NOT positive definite'} at the "
+        f"{check.get('samples', 0)} sampled positions of the "
+        f"{'trajectory' if check.get('where') == 'trajectory' else 'region'}")
+    return f"not proved ({check.get('why', '')}){tail}"
+
+
+def _unit(robot):
+    return ("kg m^2" if not np.any(robot.prismatic) else
+            "SI units (kg m^2, kg m and kg mixed: q in rad and m)")
+
+
+def with_inertia_check(model, q=None, max_boxes=MAX_BOXES, samples=SAMPLES, seed=0,
+                       rebuild=None):
+    """The model with D_s proved positive definite where its bound holds, restored if needed.
 
     Parameters
     ----------
     model : SimplifiedModel
     q : array_like, shape (N, n), optional
-        The positions of the trajectories the model was built on [rad; m] (needed for a model
-        without a region guarantee; added to the samples otherwise).
-    count : int, optional
-        Samples over a region (:data:`SAMPLES`).
-    seed : int, optional
+        The positions of the trajectories the model was built on [rad; m]: a model without a
+        region guarantee is proved over their bounding box.
+    max_boxes, samples, seed
+        As :func:`prove_inertia`.
+    rebuild : callable, optional
+        ``rebuild(model, dropped)`` -> the model with exactly these pairs dropped, its bound,
+        guarantee and cost derived again for them; default: the recursive model with
+        ``dropped`` and its cost counted again (its bound is then that of the pairs dropped
+        before, which still bounds: fewer pairs are dropped).
 
     Returns
     -------
     SimplifiedModel
-        With ``inertia_check``: :func:`check_inertia`'s figures, ``where`` (``"region"`` or
-        ``"trajectory"``), ``restored`` (the base parameters restored with all their parts for
-        positive definiteness, a recursive model only) and ``method``; a recursive model whose D_s
-        was not positive definite has those parameters kept (its program, cost and functions built
-        again; bound unchanged). A model with no region and no positions is returned as it is.
-
-    Notes
-    -----
-    A sampled check (Gershgorin discs, Horn & Johnson 2013, Thm. 6.1.1; eigenvalues where the
-    discs do not prove it), not a proof over the region.
+        With ``inertia_check``: ``where`` (``"region"`` or ``"trajectory"``), ``proved``,
+        ``lower_bound`` [kg m^2], ``ratio``, ``d_upper``, ``floor``, ``boxes``,
+        ``samples``, ``sampled_min_eigenvalue``, ``restored`` (base parameters restored whole
+        for the proof), ``why``, ``unit``, ``method`` and ``statement``. An explicit model
+        that drops terms is not proved (its dropped terms are not parameters): it is
+        checked at the trajectory's positions only, and says so. A model with no region and
+        no positions is returned as it is.
     """
-    try:
-        where, qs = sample_positions(model, q, count, seed)
-    except ValueError:
+    where, q_min, q_max = _box(model, q)
+    if where is None:
         return model
-    restored = []
-    check = check_inertia(model.functions().numpy()["inertia"], qs)
+    robot = model.robot
     rec = model.recursive
-    if not check["positive_definite"] and rec is not None:
-        from ..symbolic.emit_model import numpy_function
-        from ..symbolic.model_functions import FUNCTIONS, recursive_inertia, with_armature
+    if rec is None and _drops_terms(model):
+        qs = np.atleast_2d(np.asarray(q, float)) if q is not None else \
+            sample_positions(model, None, samples, seed)[1]
+        check = check_inertia(model.functions().numpy()["inertia"], qs)
+        return model.with_inertia_check(_record(
+            model, where, None, [], samples=check["samples"],
+            sampled=check["min_eigenvalue"],
+            why="an explicit model that drops terms: its D_s is not proved",
+            method=("sampled: the smallest eigenvalue of D_s (numpy.linalg.eigvalsh) at the "
+                    f"{check['samples']} given positions; not a proof between them")))
+    base = base_parameters(robot) if rec is None else rec.base(robot)
+    left = np.zeros((len(base.beta), 3), bool) if rec is None else \
+        np.asarray(model.left_out(), bool)
 
-        base, dropped, n = rec.base(model.robot), np.array(rec.dropped, bool), model.robot.n
+    context = inertia_context(robot, base, q_min, q_max, samples, seed)
+
+    def prove(left_out, boxes=max_boxes):
+        return prove_inertia(robot, base, left_out, q_min, q_max, boxes, samples, seed,
+                             context=context)
+
+    def candidate(left_out):        # a restore's trial: a smaller budget of boxes
+        return prove(left_out, min(max_boxes, CANDIDATE_BOXES)).proved
+
+    proof = prove(left)
+    restored = []
+    # restore only where it can help: when D itself is proved (the floor under it positive)
+    if not proof.proved and rec is not None and (proof.floor > 0).all():
+        dropped = np.array(rec.dropped, bool)
         inertial = np.where(dropped[:, 0], 1.0, -1.0) * (
             np.ones(len(rec.names)) if rec.relative_peak is None
             else np.asarray(rec.relative_peak, float)[:, 0] + 1e-300)
-        def definite(left_out):                     # a quick D_s of a candidate
-            D = with_armature(recursive_inertia(model.robot, base, left_out, search=False),
-                              model.robot)
-            return check_inertia(numpy_function(FUNCTIONS[1], D, (n, n)), qs)[
-                "positive_definite"]
+        trial = dropped.copy()
         for k in np.argsort(-inertial, kind="stable"):
             if inertial[k] < 0:
                 break
-            dropped[k] = False
-            restored.append(k)
-            if definite(dropped):
+            trial[k] = False
+            restored.append(int(k))
+            if candidate(trial):
                 break
         for k in list(restored[:-1]):               # then drop again what is not needed
-            trial = dropped.copy()
-            trial[k] = rec.dropped[k]
-            if definite(trial):
-                dropped, restored = trial, [j for j in restored if j != k]
-        restored = [rec.names[k] for k in restored]
-        for name in restored:
-            model = _restore(model, rec.names.index(name))
+            again = trial.copy()
+            again[k] = dropped[k]
+            if candidate(again):
+                trial, restored = again, [j for j in restored if j != k]
         if restored:
-            check = check_inertia(model.functions().numpy()["inertia"], qs)
-            cost = dict(model.program().cost())
-            costs = {k: (cost if k == "recursive, budget" else v) for k, v in model.costs.items()}
-            model = dataclasses.replace(model, cost=cost, costs=costs)
-    method = ("sampled: D_s at each position scaled to a unit diagonal, positive definite where "
-              "every Gershgorin disc lies right of 0, else by its smallest eigenvalue; "
-              + ("uniform over the region [q_min, q_max]" if where == "region" else
-                 "the positions of the trajectories the model was built on")
-              + "; not a proof between the samples")
-    return model.with_inertia_check({"where": where, **check, "restored": restored,
-                                     "method": method})
+            model = (rebuild or _default_rebuild)(model, trial)
+            rec = model.recursive
+            proof = prove(np.asarray(model.left_out(), bool))
+    return model.with_inertia_check(_record(model, where, proof,
+                                            [rec.names[k] for k in restored]))
+
+
+def _default_rebuild(model, dropped):
+    rec = dataclasses.replace(model.recursive, dropped=np.asarray(dropped, bool))
+    model = dataclasses.replace(model, recursive=rec, program_cache=None, functions_cache=None,
+                                choice_cache=None, cost={})
+    cost = dict(model.program().cost())
+    costs = {k: (cost if k == "recursive, budget" else v) for k, v in model.costs.items()}
+    return dataclasses.replace(model, cost=cost, costs=costs)
+
+
+def _drops_terms(model):
+    """Whether an explicit model leaves out terms of D (the exact explicit one does not)."""
+    choices = set(model.choices.values())
+    return choices != {"both"}
+
+
+def _record(model, where, proof, restored, samples=None, sampled=None, why="", method=""):
+    unit = _unit(model.robot)
+    if proof is not None:
+        check = {"where": where, "proved": bool(proof.proved),
+                 "lower_bound": float(proof.lower) if proof.proved else None,
+                 "ratio": proof.ratio if proof.proved else None,
+                 "d_upper": float(proof.d_upper), "witness": [float(v) for v in proof.witness],
+                 "floor": [float(v) for v in proof.floor], "boxes": int(proof.boxes),
+                 "samples": int(proof.samples),
+                 "sampled_min_eigenvalue": float(proof.sampled_min),
+                 "why": proof.why, "restored": list(restored),
+                 "unit": unit,
+                 "method": (
+                     "proved: D(q) >= diag(f) at every q (f from each link's spatial inertia "
+                     "and its parent's, certified; x^T D x as the links' kinetic energies), and "
+                     "D - D_s (the dropped inertial parameters) enclosed over boxes of q by the "
+                     "Newton-Euler recursion in interval arithmetic rounded outward, split by "
+                     "branch and bound; lambda_min(diag(f) - (D - D_s)) bounded below by "
+                     "Gershgorin's discs weighted by sqrt(f); min lambda_min(D) bounded above by "
+                     "the Rayleigh quotient at the sampled position where it is least")}
+    else:
+        check = {"where": where, "proved": False, "lower_bound": None, "ratio": None,
+                 "samples": int(samples), "sampled_min_eigenvalue": float(sampled),
+                 "why": why, "restored": list(restored), "unit": unit, "method": method}
+    check["statement"] = inertia_statement(check)
+    return check

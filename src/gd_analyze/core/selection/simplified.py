@@ -27,6 +27,7 @@ from ...errors import InputError
 from ..symbolic.safe_text import comment_safe
 from .choices import CHOICES, choice_masks, full_choices, merge_choices, simplified_torque  # noqa: F401
 from .labels import element_labels
+from .positive_definite import inertia_statement
 from .torque_error import TorqueErrorAccumulator, torque_error  # noqa: F401 (re-exported)
 
 __all__ = ["SCHEMA_VERSION", "CHOICES", "SimplifiedModel", "choice_masks", "merge_choices",
@@ -124,9 +125,10 @@ class SimplifiedModel:
         The model's program where its builder already has it (not written to the file);
         otherwise :meth:`program` builds it once, on first use.
     inertia_check : dict or None
-        Whether D_s is positive definite where the bound holds, sampled
+        Whether D_s is proved positive definite where the bound holds
         (:func:`~gd_analyze.core.selection.positive_definite.with_inertia_check`); None when
-        not checked.
+        not checked, and for a model read from a file (a stored claim is not believed: it is
+        proved again where it is stated).
     functions_cache : ModelFunctions or None
         As ``program_cache``, for :meth:`functions`.
     choice_cache : tuple or None
@@ -244,10 +246,8 @@ class SimplifiedModel:
             "operations": f"{cost['multiplications']} multiplications, {cost['additions']} "
                           f"additions, {cost['sin']} sin, {cost['cos']} cos",
             **compared,
-            **({} if not self.inertia_check else {"inertia matrix D_s": (
-                f"positive definite: {self.inertia_check['positive_definite']}, at "
-                f"{self.inertia_check['samples']} sampled positions of the "
-                f"{self.inertia_check['where']} (sampled, not proved)")}),
+            **({} if not self.inertia_check else {
+                "inertia matrix D_s": inertia_statement(self.inertia_check)}),
             "gd-analyze version": self.provenance.get("gd_analyze_version", ""),
             "units": _units(self.robot),
         }
@@ -280,6 +280,24 @@ class SimplifiedModel:
         if self.choice_cache is not None:
             return self.choice_cache
         return self.recursive.choice(self.robot)
+
+    def left_out(self):
+        """The (base parameter, part) pairs the deployed program leaves out, recursive form.
+
+        Returns
+        -------
+        ndarray of bool, shape (b, 3)
+            ``recursive.dropped``, or none where the exact program is the cheaper one
+            (:meth:`gd_analyze.core.symbolic.recursive_model.RecursiveModel.choice`).
+
+        Raises
+        ------
+        ValueError
+            For a model of the explicit form.
+        """
+        if self.recursive is None:
+            raise ValueError("an explicit model has no base-parameter pairs")
+        return np.asarray(self._choice[1], bool)
 
     def with_inertia_check(self, check):
         """The model with an ``inertia_check``, its program and functions built once.
@@ -551,7 +569,7 @@ class SimplifiedModel:
                    bound=[float("nan") if v is None else float(v)
                           for v in spec.get("bound") or []],
                    recursive=recursive, costs=dict(spec.get("costs") or {}),
-                   guarantee=guarantee, inertia_check=spec.get("inertia_check"))
+                   guarantee=guarantee)
         from .consistency import check_program
 
         check_program(model, spec.get("cost"), path)
