@@ -236,6 +236,36 @@ def _effort_lines(ds):
     return lines
 
 
+def _guarantee_lines(ds, scope):
+    """The region (one line per limit kind), the guarantee line (saying when the analysed
+    trajectory leaves the region, which the guarantee then does not cover) and s_i per
+    joint in N m, from the stored dataset."""
+    from ..io.datasets import stored_region
+    from ..reports.common import prismatic_joints
+
+    region = stored_region(ds)
+    lines = [] if region is None else list(region["lines"])
+    statement = scope["statement"]
+    if region is not None and region["covered"] is False and scope["kind"] == "region":
+        statement += ("; this trajectory is not covered: it leaves the region (the guarantee "
+                      "holds in the region, not on this trajectory)")
+    lines.append(f"guarantee: {statement}")
+    if scope.get("scale") is not None and scope["kind"] != "none":
+        pris = prismatic_joints(ds)
+        mixed = any(pris) and not all(pris)
+        unit = "" if mixed else f" [{'N' if all(pris) else 'N m'}]"
+        where = ("the region's largest |tau_i|" if scope["kind"] == "region" else
+                 "max(peak |tau_i| on the trajectory, torque floor)")
+        eps = scope["tolerance"]
+        lines.append(f"s_i{unit} ({where}): " + ", ".join(
+            f"{j + 1} {v:.4g}" + ((" N" if pris[j] else " N m") if mixed else "")
+            for j, v in enumerate(scope["scale"]))
+            + (f"; {100 * eps:.4g} % of s_i: " + ", ".join(
+                f"{j + 1} {eps * v:.3g}" for j, v in enumerate(scope["scale"]))
+               if eps == eps else ""))
+    return lines
+
+
 def _format_summary(ds):
     from ..reports.numbers import count
 
@@ -278,8 +308,8 @@ def _format_summary(ds):
 
     scope = stored_guarantee(ds)                # the model built, as results.h5 stores it
     if scope is not None:
-        lines += ([] if lines[-1].startswith(("simplified model", "  it does")) else [""]) + [
-            f"guarantee: {scope['statement']}"]
+        lines += ([] if lines[-1].startswith(("simplified model", "  it does")) else [""])
+        lines += _guarantee_lines(ds, scope)
     if "verification_passed" in ds.attrs:
         import numpy as np
 
@@ -324,8 +354,60 @@ def payload_mass_list(args):
     return masses
 
 
-def _options(args):
-    """The main job's settings from its arguments."""
+def region_limits(args, robot):
+    """The user's region from ``--q-limits``, ``--qd-max`` and ``--qdd-max``, in SI units, or
+    None when none is given; its clipped limits printed as warnings.
+
+    Parameters
+    ----------
+    args : argparse.Namespace
+        The parsed arguments (degrees for a revolute joint, metres for a prismatic one).
+    robot : Robot
+        The arm the region is for.
+
+    Returns
+    -------
+    RegionLimits or None
+
+    Raises
+    ------
+    gd_analyze.errors.InputError
+        If an option has neither one nor n values, or a range lies wholly outside the robot's
+        limits: one line naming the option.
+    """
+    import numpy as np
+
+    from ..core.selection.region import RegionLimits
+    from ..workflows.deploy import robot_region
+
+    given = {k: getattr(args, k, None) for k in ("q_limits", "qd_max", "qdd_max")}
+    if all(v is None for v in given.values()):
+        return None
+    pris = np.asarray(robot.prismatic, bool)
+    out = {}
+    for key, vals in given.items():
+        if vals is None:
+            continue
+        option = f"--{key.replace('_', '-')}"
+        if len(vals) not in (1, robot.n):
+            raise InputError(f"{len(vals)} values for {robot.n} joints (give one for all or one "
+                             "per joint)", column=option)
+        v = np.asarray(vals * robot.n if len(vals) == 1 else vals, float)
+        v = np.where(pris[:, None] if v.ndim == 2 else pris, v, np.radians(v))
+        out[key] = tuple(map(tuple, v)) if v.ndim == 2 else tuple(v)
+    try:
+        limits = RegionLimits(**out)
+        region, _ = robot_region(robot, limits)
+    except ValueError as exc:
+        option, _, why = str(exc).partition(": ")
+        raise InputError(why or option, column=option if why else None) from None
+    for note in () if region is None else region.notes:
+        print(f"{PROG}: warning: the region: {note}", file=sys.stderr)
+    return limits
+
+
+def _options(args, robot=None):
+    """The main job's settings from its arguments (``robot``: for the region's options)."""
     from ..workflows.options import AnalysisOptions, SimplifyOptions
 
     return AnalysisOptions(
@@ -333,7 +415,8 @@ def _options(args):
         compress=args.compress,
         simplify=SimplifyOptions(tolerance=args.tolerance, rule=args.rule,
                                  torque_floor=args.torque_floor, explicit=args.explicit,
-                                 form=args.form, guarantee=args.guarantee))
+                                 form=args.form, guarantee=args.guarantee,
+                                 region=None if robot is None else region_limits(args, robot)))
 
 
 def _payload(args):
@@ -385,7 +468,7 @@ def cmd_analyze(args):
             return write_report(results, folder, paper=args.paper, progress=bar.update,
                                 column_figures=args.column_figures)
     outputs = run_analysis(
-        robot, trajectory, _options(args), output_folder(args.outdir, robot.name,
+        robot, trajectory, _options(args, robot), output_folder(args.outdir, robot.name,
                                                    Path(args.trajectory).stem),
         report=report, settings={"command": command_line(args), **chain_settings(args),
                                  **mounting_settings(args, robot)},
@@ -393,6 +476,12 @@ def cmd_analyze(args):
         prefix=args.prefix)
     bar.close()
     analysis = outputs.analysis
+    from ..io.datasets import stored_region
+
+    region = stored_region(analysis.dataset)
+    if region is not None and region["covered"] is False:
+        print(f"{PROG}: warning: the trajectory leaves the region: {region['coverage']}",
+              file=sys.stderr)
     if not args.quiet:
         print(_format_summary(analysis.dataset))
         print()
