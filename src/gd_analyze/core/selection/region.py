@@ -374,27 +374,17 @@ class Region:
                                                    bool(pris[j]))))
         return max(found, key=lambda f: f[0])[1]
 
-    def lines(self):
-        """The region in three lines, one per limit kind, as every output prints it.
+    def parts(self):
+        """The region per limit kind: a label with its units and the per-joint values.
 
         Returns
         -------
-        list of str
-            ``"region: q [deg] 1 [-160, 160], ..."``, ``"qd max [deg/s] 1 100, ..."`` and
-            ``"qdd max [deg/s^2] ..."``, the last saying which acceleration limits are
-            assumed; a revolute joint spanning a full turn is :data:`FULL_TURN`. Revolute
-            joints in degrees, prismatic ones in metres (each value with its unit when an arm
-            has both).
-
-        Examples
-        --------
-        >>> r = Region(np.array([-1.0, -np.pi]), np.array([1.0, np.pi]), np.array([2.0, 2.0]),
-        ...            np.array([4.0, 4.0]), qdd_assumed=np.array([True, True]),
-        ...            qdd_rule="2 s^-1 x qd max")
-        >>> print("\\n".join(r.lines()))
-        region: q [deg] 1 [-57.3, 57.3], 2 any angle (full turn)
-        qd max [deg/s] 1 114.6, 2 114.6
-        qdd max [deg/s^2] (assumed: 2 s^-1 x qd max) 1 229.2, 2 229.2
+        list of (str, str)
+            ``("q [deg]", "1 [-160, 160], ...")``, ``("qd max [deg/s]", ...)`` and
+            ``("qdd max [deg/s^2]", ...)``, the last label saying which acceleration limits
+            are assumed; a revolute joint spanning a full turn is :data:`FULL_TURN`.
+            Revolute joints in degrees, prismatic ones in metres (each value with its unit
+            when an arm has both).
         """
         pris = self.is_prismatic
         mixed = pris.any() and not pris.all()
@@ -426,8 +416,30 @@ class Region:
                     f"{', '.join(str(j + 1) for j in np.flatnonzero(assumed))}: {rule})")
         else:
             note = ""
-        return [f"region: {head('q', '')} {q}", f"{head('qd max', '/s')} {qd}",
-                f"{head('qdd max', '/s^2')}{note} {qdd}"]
+        return [(f"{head('q', '')}", q), (f"{head('qd max', '/s')}", qd),
+                (f"{head('qdd max', '/s^2')}{note}", qdd)]
+
+    def lines(self):
+        """The region in three lines, one per limit kind, as every output prints it.
+
+        Returns
+        -------
+        list of str
+            ``"region: q [deg] 1 [-160, 160], ..."``, ``"qd max [deg/s] 1 100, ..."`` and
+            ``"qdd max [deg/s^2] ..."`` (:meth:`parts`).
+
+        Examples
+        --------
+        >>> r = Region(np.array([-1.0, -np.pi]), np.array([1.0, np.pi]), np.array([2.0, 2.0]),
+        ...            np.array([4.0, 4.0]), qdd_assumed=np.array([True, True]),
+        ...            qdd_rule="2 s^-1 x qd max")
+        >>> print("\\n".join(r.lines()))
+        region: q [deg] 1 [-57.3, 57.3], 2 any angle (full turn)
+        qd max [deg/s] 1 114.6, 2 114.6
+        qdd max [deg/s^2] (assumed: 2 s^-1 x qd max) 1 229.2, 2 229.2
+        """
+        return [("region: " if k == 0 else "") + f"{label} {text}"
+                for k, (label, text) in enumerate(self.parts())]
 
     def to_dict(self):
         """The region as ``simplified_model.json`` stores it (SI units).
