@@ -551,6 +551,10 @@ def cmd_plan(args):
     gd_analyze.errors.InputError
         On bad input; the command line prints it as one line and exits 2.
     """
+    import dataclasses
+
+    import numpy as np
+
     from .._version import VERSION as __version__
     from ..io.planning import (
         acceleration_limits,
@@ -567,6 +571,20 @@ def cmd_plan(args):
         placeholder = check_velocity_limits(robot)
         if placeholder:
             warnings.warn(placeholder, InputWarning)
+    limits = region_limits(args, robot)
+    qdd_arg = None
+    if limits is not None:
+        from ..core.selection.region import joint_region
+
+        try:        # the user's position and velocity limits, within the robot's
+            own = joint_region(robot, np.ones(robot.n), limits)
+        except ValueError as exc:
+            option, _, why = str(exc).partition(": ")
+            raise InputError(why or option, column=option if why else None) from None
+        lo = np.where(own.full_turn, robot.q_min, own.q_min)
+        hi = np.where(own.full_turn, robot.q_max, own.q_max)
+        robot = dataclasses.replace(robot, q_min=lo, q_max=hi, qd_max=own.qd_max)
+        qdd_arg = None if limits.qdd_max is None else own.qdd_max      # clipped to the robot's
     start, goal = default_motion(robot)
     for name, vals in (("--start", args.start), ("--goal", args.goal)):
         if vals is not None and len(vals) != robot.n:
@@ -587,17 +605,13 @@ def cmd_plan(args):
 
         check_output_file(args.output)
         check_output_file(provenance_path(args.output))
-    qdd_arg = args.qdd_max
-    if qdd_arg is not None and len(qdd_arg) == 1:
-        qdd_arg = qdd_arg * robot.n
-    if qdd_arg is not None and len(qdd_arg) != robot.n:
-        raise InputError(f"{len(qdd_arg)} values for {robot.n} joints", column="--qdd-max")
     try:
-        qdd_max, qdd_source = acceleration_limits(
-            robot, None if qdd_arg is None else user_positions(robot, qdd_arg))
+        qdd_max, qdd_source = acceleration_limits(robot, qdd_arg)
     except ValueError as exc:
         raise InputError(str(exc), column="--qdd-max" if qdd_arg is not None else None) \
             from None
+    if limits is not None and limits.qd_max is not None and limits.qdd_max is None:
+        qdd_source = qdd_source.replace("qd_max", "the --qd-max given")
     planning = _replace_limits(robot, qdd_max)
     if not args.ignore_limits:
         _check_plan(planning, start, goal, args.duration)
@@ -630,9 +644,12 @@ def cmd_plan(args):
         "start_goal_units": "rad (m for a prismatic joint)",
         "setpoints": traj.n_setpoints, "duration_s": float(traj.t[-1]),
         "duration_from": "--duration" if args.duration is not None else "limits",
+        **({} if limits is None else {"region": limits.settings()}),
+        "q_min": _limits(robot.q_min), "q_max": _limits(robot.q_max),
         "qd_max": _limits(robot.qd_max),
         "qdd_max": _limits(qdd_max),
-        "limits_units": "rad/s, rad/s^2 (m/s, m/s^2 for a prismatic joint); null: no limit",
+        "limits_units": "rad, rad/s, rad/s^2 (m, m/s, m/s^2 for a prismatic joint); null: no "
+                        "limit",
         "qdd_max_source": qdd_source,
         "trajectory": traj.source,
     }
