@@ -44,3 +44,21 @@ def test_a_file_whose_bound_exceeds_its_promise_is_refused():
         Guarantee.from_dict(spec, 2, 0.01)
     with pytest.raises(ValueError):
         Guarantee("anywhere", 0.01, np.zeros(1), np.ones(1))
+
+
+def test_covers_reports_the_true_extreme_not_the_first_set_point_outside():
+    """A trajectory that first leaves the region at 3.217 and goes on to 6.283: the reason
+    names 6.283 (issue 40)."""
+    import numpy as np
+
+    from gd_analyze.core.selection.guarantee import Guarantee
+
+    g = Guarantee("region", 0.01, np.zeros(1), np.ones(1), q_min=np.array([-3.0]),
+                  q_max=np.array([3.0]), qd_max=np.array([10.0]), qdd_max=np.array([10.0]),
+                  scale_state=np.zeros((1, 3)))
+    q = np.array([[0.0], [3.217], [6.283], [4.0]])
+    covered, reason = g.covers(q, 0 * q, 0 * q)
+    assert not covered and "reaches 6.283" in reason and "3.217" not in reason
+    qd = np.array([[0.0], [-10.5], [-20.0], [11.0]])
+    covered, reason = g.covers(0 * qd, qd, 0 * qd)
+    assert not covered and "|qd| reaches 20 " in reason
