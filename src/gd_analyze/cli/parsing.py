@@ -241,7 +241,8 @@ def _positive_list(name):
     def parse(text):
         vals = _angles(text)
         if not all(v > 0 for v in vals):
-            raise argparse.ArgumentTypeError(f"{name} limits must be positive, got {text!r}")
+            raise argparse.ArgumentTypeError(f"{name} limits must be finite and positive, got "
+                                             f"{text!r}")
         return vals
     return parse
 
