@@ -8,7 +8,7 @@ against Pinocchio, ranks which part dominates each element, and writes a simplif
 The Python API, for a notebook: :func:`load_robot` (a built-in name, a TOML or URDF file, URDF
 text or a ``pinocchio.Model``), :func:`read_trajectory`, :func:`analyze` (the main job's results
 dataset, in memory), :class:`AnalysisOptions` and :class:`SimplifyOptions` (its settings, with
-the command line's defaults), :func:`regressor` (the base regressor Y_b and beta),
+the command line's defaults; :class:`RegionLimits` the user's region), :func:`regressor` (the base regressor Y_b and beta),
 :func:`gd_terms`.
 """
 
@@ -20,7 +20,7 @@ from .io.robots import load_robot
 
 __all__ = ["__version__", "GDTerms", "gd_terms", "InputError", "Robot", "load_robot",
            "SimplifiedModel", "load_model", "save_model", "regressor", "analyze",
-           "read_trajectory", "AnalysisOptions", "SimplifyOptions"]
+           "read_trajectory", "AnalysisOptions", "SimplifyOptions", "RegionLimits"]
 
 #: Public names imported on first use: name -> (module, attribute).
 _LAZY = {
@@ -33,6 +33,7 @@ _LAZY = {
     "read_trajectory": ("io.trajectory", "read_trajectory"),
     "AnalysisOptions": ("workflows.options", "AnalysisOptions"),
     "SimplifyOptions": ("workflows.options", "SimplifyOptions"),
+    "RegionLimits": ("core.selection.region", "RegionLimits"),
 }
 
 
