@@ -40,7 +40,7 @@ def test_trajectory_outside_the_region_is_flagged_stored_and_not_covered(tmp_pat
     stores coverage 0; the guarantee line says the trajectory is not covered (today's code
     printed the region guarantee without a word)."""
     csv = _fast_csv(tmp_path / "fast.csv")
-    code, out, err = _run(capsys, "two-link", csv, "-o", tmp_path / "out", "--no-report")
+    code, out, err = _run(capsys, "two-link", csv, "-o", tmp_path / "out")
     assert code == 0, err
     warn = [line for line in err.splitlines() if "leaves the region" in line]
     assert len(warn) == 1, err
@@ -60,6 +60,12 @@ def test_trajectory_outside_the_region_is_flagged_stored_and_not_covered(tmp_pat
     region = model["guarantee"]["region"]
     assert region["q"] == ["any angle (full turn)"] * 2
     assert region["qdd_max_assumed"] == [False, False]
+    from html_checks import html_text
+
+    text = html_text((tmp_path / "out" / "report.html").read_text(), nbsp=True)
+    assert "this trajectory is not covered: it leaves the region (joint 1 qd reaches 2x" in text
+    assert "This trajectory leaves the region: joint 1 qd reaches 2x its limit" in text
+    assert text.count("any angle (full turn)") >= 2
 
 
 @pytest.mark.slow
