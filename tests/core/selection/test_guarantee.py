@@ -62,3 +62,31 @@ def test_covers_reports_the_true_extreme_not_the_first_set_point_outside():
     qd = np.array([[0.0], [-10.5], [-20.0], [11.0]])
     covered, reason = g.covers(0 * qd, qd, 0 * qd)
     assert not covered and "|qd| reaches 20 " in reason
+
+
+def test_region_round_trips_and_a_region_that_disagrees_is_refused():
+    """The region stored beside a region guarantee's limits must be those limits: a file
+    whose region says otherwise (e.g. a wider velocity) is refused, naming the key."""
+    import numpy as np
+    import pytest
+
+    from gd_analyze.core.selection.guarantee import Guarantee
+    from gd_analyze.core.selection.region import Region
+    from gd_analyze.errors import InputError
+
+    region = Region(np.array([-1.0, -np.pi]), np.array([1.0, np.pi]), np.array([2.0, 3.0]),
+                    np.array([4.0, 6.0]), prismatic=np.array([False, False]),
+                    qdd_assumed=np.array([True, True]), qdd_rule="2 s^-1 x qd max")
+    g = Guarantee("region", 0.01, np.zeros(2), np.ones(2), q_min=region.q_min,
+                  q_max=region.q_max, qd_max=region.qd_max, qdd_max=region.qdd_max,
+                  scale_state=np.zeros((2, 6)), region=region)
+    spec = g.to_dict()
+    assert spec["region"]["q"] == [[-1.0, 1.0], "any angle (full turn)"]
+    back = Guarantee.from_dict(spec, 2, 0.01)
+    assert back.region.lines() == region.lines()
+    # joint 2 turns freely: any angle is covered; joint 1 is not
+    assert back.covers([[0.0, 7.0]], [[0.0, 0.0]], [[0.0, 0.0]])[0]
+    assert not back.covers([[1.5, 0.0]], [[0.0, 0.0]], [[0.0, 0.0]])[0]
+    spec["region"]["qd_max"] = [20.0, 3.0]
+    with pytest.raises(InputError, match="guarantee.region"):
+        Guarantee.from_dict(spec, 2, 0.01)

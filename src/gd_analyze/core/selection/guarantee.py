@@ -226,8 +226,9 @@ class Guarantee:
         wrap = np.zeros(q.shape[1], bool)
         if continuous is not None:
             wrap |= np.asarray(continuous, bool)
-        if self.region is not None:
-            wrap |= np.asarray(self.region.full_turn, bool)
+        if self.region is not None and self.q_min is not None:    # a turn of its own box
+            span = np.asarray(self.q_max, float) - np.asarray(self.q_min, float)
+            wrap |= np.asarray(self.region.full_turn, bool) & (span >= 2 * np.pi * (1 - 1e-12))
         if wrap.any():
             q = np.where(wrap, np.mod(q + np.pi, 2 * np.pi) - np.pi, q)
         slack = 4 * np.finfo(float).eps
@@ -334,8 +335,12 @@ class Guarantee:
         common = dict(kind=kind, tolerance=float(tolerance), bound=bound, scale=scale,
                       method=spec.get("method", ""), region=region)
         if kind == "region":
-            return cls(**common, q_min=arr("q_min"), q_max=arr("q_max"), qd_max=arr("qd_max"),
-                       qdd_max=arr("qdd_max"), scale_state=arr("scale_state", 3 * n),
+            limits = {k: arr(k) for k in ("q_min", "q_max", "qd_max", "qdd_max")}
+            if region is not None and not all(np.array_equal(getattr(region, k), v)
+                                              for k, v in limits.items()):
+                raise InputError("does not match the guarantee's q_min, q_max, qd_max and "
+                                 "qdd_max", path, column="guarantee.region")
+            return cls(**common, **limits, scale_state=arr("scale_state", 3 * n),
                        sampled_error=arr("sampled_error", required=False))
         return cls(**common, trajectory_sha256=spec.get("trajectory_sha256", ""),
                    trajectories_sha256=tuple(spec.get("trajectories_sha256") or ()),

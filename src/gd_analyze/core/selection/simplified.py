@@ -547,6 +547,10 @@ class SimplifiedModel:
             guarantee = Guarantee.from_dict(spec["guarantee"], robot.n,
                                             float("nan") if tolerance is None
                                             else float(tolerance), path)
+            if guarantee.region is not None and not np.array_equal(
+                    guarantee.region.is_prismatic, np.asarray(robot.prismatic, bool)):
+                raise InputError("its joint types are not the robot's",
+                                 path, column="guarantee.region.prismatic")
         model = cls(robot=robot, choices=dict(choices),
                    dominance_threshold=float(spec["dominance_threshold"]),
                    negligible_threshold=float(spec["negligible_threshold"]),
