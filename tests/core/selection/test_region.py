@@ -274,3 +274,16 @@ def test_narrower_region_gives_smaller_scale_against_rnea():
         assert (tau <= scale * (1 + 1e-9)).all(), (tau, scale)
         if region is narrow:
             assert (tau <= s_wide).all()
+
+
+def test_mixed_arm_prints_each_limit_with_its_unit():
+    """The Stanford arm's prismatic joint 3 in metres beside degrees (its TOML's limits)."""
+    from gd_analyze.workflows.deploy import robot_region
+
+    robot = load_robot("stanford")
+    region, _ = robot_region(robot)
+    q, qd, qdd = region.lines()
+    assert f"3 [{robot.q_min[2]:.4g}, {robot.q_max[2]:.4g}] m" in q
+    assert f"1 [{np.degrees(robot.q_min[0]):.4g}, {np.degrees(robot.q_max[0]):.4g}] deg" in q
+    assert f"3 {robot.qd_max[2]:.4g} m/s" in qd and f"3 {robot.qdd_max[2]:.4g} m/s^2" in qdd
+    assert not region.full_turn[2]
