@@ -157,8 +157,8 @@ class RegionLimits:
 
     Examples
     --------
-    >>> RegionLimits(qd_max=(1.0,)).qd_max
-    (1.0,)
+    >>> RegionLimits(qd_max=(1.0,)).settings()
+    {'region_qd_max': [1.0]}
     """
 
     q_limits: tuple = None
@@ -167,21 +167,18 @@ class RegionLimits:
 
     def __post_init__(self):
         if self.q_limits is not None:
-            pairs = tuple((float(lo), float(hi)) for lo, hi in self.q_limits)
-            if not pairs or not all(math.isfinite(lo) and math.isfinite(hi) for lo, hi in pairs):
+            pairs = np.asarray(self.q_limits, float).reshape(-1, 2)
+            if not pairs.size or not np.isfinite(pairs).all():
                 raise ValueError("--q-limits: every limit must be a finite number")
-            if not all(lo < hi for lo, hi in pairs):
+            if not (pairs[:, 0] < pairs[:, 1]).all():
                 raise ValueError("--q-limits: each range LO:HI needs LO < HI")
-            object.__setattr__(self, "q_limits", pairs)
         for name in ("qd_max", "qdd_max"):
-            v = getattr(self, name)
-            if v is None:
+            if getattr(self, name) is None:
                 continue
-            v = tuple(float(x) for x in np.atleast_1d(np.asarray(v, float)))
-            if not v or not all(math.isfinite(x) and x > 0 for x in v):
+            v = np.atleast_1d(np.asarray(getattr(self, name), float))
+            if not v.size or not (np.isfinite(v).all() and (v > 0).all()):
                 raise ValueError(f"--{name.replace('_', '-')}: every limit must be a finite "
                                  f"positive number, got {', '.join(f'{x:g}' for x in v)}")
-            object.__setattr__(self, name, v)
 
     def settings(self):
         """The limits as the provenance stores them (SI units; only those given).
@@ -193,10 +190,11 @@ class RegionLimits:
         """
         out = {}
         if self.q_limits is not None:
-            out["region_q_limits"] = [list(p) for p in self.q_limits]
+            out["region_q_limits"] = np.asarray(self.q_limits, float).reshape(-1, 2).tolist()
         for name in ("qd_max", "qdd_max"):
             if getattr(self, name) is not None:
-                out[f"region_{name}"] = list(getattr(self, name))
+                out[f"region_{name}"] = np.atleast_1d(
+                    np.asarray(getattr(self, name), float)).tolist()
         return out
 
 
@@ -598,7 +596,7 @@ def joint_region(robot, qdd_max, limits=None, qdd_assumed=None, qdd_rule=""):
     qd, qdd = np.asarray(robot.qd_max, float).copy(), qdd_max.copy()
     notes = []
     if limits is not None and limits.q_limits is not None:
-        pairs = _per_joint(limits.q_limits, n, "--q-limits")
+        pairs = _per_joint(np.asarray(limits.q_limits, float).reshape(-1, 2), n, "--q-limits")
         ulo, nlo = _clip(pairs[:, 0], robot.q_min, robot.q_max, "lower position limit", pris, "")
         uhi, nhi = _clip(pairs[:, 1], robot.q_min, robot.q_max, "upper position limit", pris, "")
         bad = np.flatnonzero(~(ulo < uhi))
@@ -607,12 +605,12 @@ def joint_region(robot, qdd_max, limits=None, qdd_assumed=None, qdd_rule=""):
                              "position limits")
         lo, hi, notes = ulo, uhi, notes + nlo + nhi
     if limits is not None and limits.qd_max is not None:
-        qd, more = _clip(_per_joint(limits.qd_max, n, "--qd-max"), np.full(n, np.nan),
+        qd, more = _clip(_per_joint(np.atleast_1d(limits.qd_max), n, "--qd-max"), np.full(n, np.nan),
                          np.asarray(robot.qd_max, float), "velocity limit", pris, "/s")
         notes += more
     if limits is not None and limits.qdd_max is not None:
         own = np.where(assumed, np.nan, np.asarray(robot.qdd_max, float))
-        qdd, more = _clip(_per_joint(limits.qdd_max, n, "--qdd-max"), np.full(n, np.nan), own,
+        qdd, more = _clip(_per_joint(np.atleast_1d(limits.qdd_max), n, "--qdd-max"), np.full(n, np.nan), own,
                           "acceleration limit", pris, "/s^2")
         notes += more
         assumed = np.zeros(n, bool)
