@@ -8,9 +8,10 @@ against Pinocchio, ranks which part dominates each element, and writes a simplif
 The Python API, for a notebook: :func:`load_robot` (a built-in name, a TOML or URDF file, URDF
 text or a ``pinocchio.Model``), :func:`read_trajectory`, :func:`analyze` (the main job's results
 dataset, in memory), :class:`AnalysisOptions` and :class:`SimplifyOptions` (its settings, with
-the command line's defaults), :func:`regressor` (the base regressor Y_b and beta),
-:func:`gd_terms`; :func:`identify` (a robot's parameters from recorded torques: the result, with
-its ``dataset``), :func:`read_recording` and :class:`IdentifyOptions`.
+the command line's defaults; :class:`RegionLimits` the user's region), :func:`regressor` (the
+base regressor Y_b and beta), :func:`gd_terms`; :func:`identify` (a robot's parameters from
+recorded torques: the result, with its ``dataset``), :func:`read_recording` and
+:class:`IdentifyOptions`.
 """
 
 from ._version import VERSION as __version__
@@ -21,7 +22,7 @@ from .io.robots import load_robot
 
 __all__ = ["__version__", "GDTerms", "gd_terms", "InputError", "Robot", "load_robot",
            "SimplifiedModel", "load_model", "save_model", "regressor", "analyze",
-           "read_trajectory", "AnalysisOptions", "SimplifyOptions", "identify",
+           "read_trajectory", "AnalysisOptions", "SimplifyOptions", "RegionLimits", "identify",
            "read_recording", "IdentifyOptions"]
 
 #: Public names imported on first use: name -> (module, attribute).
@@ -35,6 +36,7 @@ _LAZY = {
     "read_trajectory": ("io.trajectory", "read_trajectory"),
     "AnalysisOptions": ("workflows.options", "AnalysisOptions"),
     "SimplifyOptions": ("workflows.options", "SimplifyOptions"),
+    "RegionLimits": ("core.selection.region", "RegionLimits"),
     "identify": ("workflows.identify", "identify"),
     "read_recording": ("io.recording", "read_recording"),
     "IdentifyOptions": ("workflows.identify", "IdentifyOptions"),

@@ -226,3 +226,27 @@ def test_the_merged_model_emits_every_file_with_its_own_prefix(swept):
     assert np.abs(model.torque(q, qd, qdd) - tau).max() <= 1e-12 * np.abs(tau).max()
     check = json.loads((out / "merged_model.json").read_text())["inertia_check"]
     assert check["proved"] and check["where"] == "trajectory" and check["lower_bound"] > 0
+
+
+@pytest.mark.slow
+def test_users_region_is_printed_and_stored_by_the_sweep(tmp_path, capsys):
+    """--qd-max and --qdd-max (issue 40): the sweep proves the merged model over the user's
+    region, prints it one line per limit kind before the guarantee line, and sweep.h5 and
+    merged_model.json store it; the robot's random trajectories that leave it are not
+    covered."""
+    out = tmp_path / "user"
+    code, printed = _sweep(["two-link", "--random", "3", "--seed", "4", "--workers", "1",
+                            "--held-out", "0", "--no-report", "-o", out, "--qd-max", "30",
+                            "--qdd-max", "60"], capsys)
+    assert code == 0, printed
+    lines = printed.splitlines()
+    k = next(i for i, line in enumerate(lines) if line.startswith("guarantee: "))
+    assert lines[k - 3:k] == ["region: q [deg] 1 any angle (full turn), 2 any angle (full turn)",
+                              "qd max [deg/s] 1 30, 2 30", "qdd max [deg/s^2] 1 60, 2 60"]
+    with xr.open_dataset(out / "sweep.h5") as ds:
+        np.testing.assert_allclose(ds["region_qd_max"].values, np.radians([30, 30]))
+        np.testing.assert_allclose(ds["region_qdd_max"].values, np.radians([60, 60]))
+        assert ds.attrs["merged_guarantee_kind"] == "region"
+    spec = json.loads((out / "merged_model.json").read_text())
+    np.testing.assert_allclose(spec["guarantee"]["region"]["qd_max"], np.radians([30, 30]))
+    np.testing.assert_allclose(spec["guarantee"]["qd_max"], np.radians([30, 30]))

@@ -22,9 +22,11 @@ def test_the_main_jobs_outputs_state_the_models_scope(tmp_path, capsys):
     printed = capsys.readouterr().out.splitlines()
     g = load_model(out / "simplified_model.json").guarantee
     statement = g.statement()
-    # the CLI summary: the line right after the model's cost line
+    # the CLI summary: after the model's cost line, the region (one line per limit kind,
+    # as the model's region states it), then the guarantee
     k = next(i for i, line in enumerate(printed) if line.startswith("simplified model ("))
-    assert printed[k + 1] == f"guarantee: {statement}"
+    assert printed[k + 1:k + 4] == g.region.lines()
+    assert printed[k + 4] == f"guarantee: {statement}"
     # the JSON
     spec = json.loads((out / "simplified_model.json").read_text())
     assert spec["guarantee"]["statement"] == statement

@@ -105,3 +105,28 @@ def test_the_inertia_check_sentence_is_the_stored_check():
          "restored": ["XX2", "ZZ3"]})))
     assert kept.endswith("kept with all parts: XX2, ZZ3.")
     assert inertia_check_text({}) == ""
+
+
+def test_region_table_and_whether_this_trajectory_lies_in_it():
+    """The report's region table (issue 40): per joint the range in degrees or "any angle
+    (full turn)", qd max, qdd max and whether qdd max is assumed; a trajectory leaving the
+    region is said not covered, naming the joint and quantity."""
+    import gd_analyze as gd
+    from gd_analyze.reports.simplified_section import region_table
+
+    robot = gd.load_robot("two-link")
+    t = np.linspace(0.0, 1.0, 21)
+    q = np.column_stack([np.radians(50) * t, 0.1 * t])       # joint 1 at 50 deg/s
+    region = gd.RegionLimits(q_limits=((np.radians(-30), np.radians(60)),
+                                       (-np.pi, np.pi)), qd_max=(np.radians(40),))
+    options = gd.AnalysisOptions(formulations=False, verify=False,
+                                 simplify=gd.SimplifyOptions(region=region))
+    tab, text = region_table(gd.analyze(robot, (t, q), options))
+    assert [r[2] for r in tab["rows"]] == ["[-30, 60]", "any angle (full turn)"]
+    assert [r[3] for r in tab["rows"]] == ["40", "40"]
+    assert [r[4] for r in tab["rows"]] == ["360", "360"]           # the robot's, given
+    assert [r[5] for r in tab["rows"]] == ["given", "given"]
+    assert "This trajectory leaves the region: joint 1 qd reaches" in text
+    assert "it does not cover it" in text
+    inside = gd.analyze(robot, (t, 0.1 * q), options)
+    assert "Every set point of this trajectory lies in the region." in region_table(inside)[1]

@@ -236,6 +236,36 @@ def _effort_lines(ds):
     return lines
 
 
+def _guarantee_lines(ds, scope):
+    """The region (one line per limit kind), the guarantee line (saying when the analysed
+    trajectory leaves the region, which the guarantee then does not cover) and s_i per
+    joint in N m, from the stored dataset."""
+    from ..io.datasets import stored_region
+    from ..reports.common import prismatic_joints
+
+    region = stored_region(ds)
+    lines = [] if region is None else list(region["lines"])
+    statement = scope["statement"]
+    if region is not None and region["covered"] is False and scope["kind"] == "region":
+        statement += ("; this trajectory is not covered: it leaves the region (the guarantee "
+                      "holds in the region, not on this trajectory)")
+    lines.append(f"guarantee: {statement}")
+    if scope.get("scale") is not None and scope["kind"] != "none":
+        pris = prismatic_joints(ds)
+        mixed = any(pris) and not all(pris)
+        unit = "" if mixed else f" [{'N' if all(pris) else 'N m'}]"
+        where = ("the region's largest |tau_i|" if scope["kind"] == "region" else
+                 "max(peak |tau_i| on the trajectory, torque floor)")
+        eps = scope["tolerance"]
+        lines.append(f"s_i{unit} ({where}): " + ", ".join(
+            f"{j + 1} {v:.4g}" + ((" N" if pris[j] else " N m") if mixed else "")
+            for j, v in enumerate(scope["scale"]))
+            + (f"; {100 * eps:.4g} % of s_i: " + ", ".join(
+                f"{j + 1} {eps * v:.3g}" for j, v in enumerate(scope["scale"]))
+               if eps == eps else ""))
+    return lines
+
+
 def _format_summary(ds):
     from ..reports.numbers import count
 
@@ -278,10 +308,10 @@ def _format_summary(ds):
 
     scope = stored_guarantee(ds)                # the model built, as results.h5 stores it
     if scope is not None:
-        lines += ([] if lines[-1].startswith(("simplified model", "  it does")) else [""]) + [
-            f"guarantee: {scope['statement']}"]
+        lines += ([] if lines[-1].startswith(("simplified model", "  it does")) else [""])
+        lines += _guarantee_lines(ds, scope)
     if ds.attrs.get("simplified_inertia_check_statement"):     # the proof of the model built
-        lines += ([] if lines[-1].startswith("guarantee:") else [""]) + [
+        lines += ([] if lines[-1].startswith(("guarantee:", "s_i")) else [""]) + [
             f"D_s: {ds.attrs['simplified_inertia_check_statement']}"]
     if "verification_passed" in ds.attrs:
         import numpy as np
@@ -327,8 +357,60 @@ def payload_mass_list(args):
     return masses
 
 
-def _options(args):
-    """The main job's settings from its arguments."""
+def region_limits(args, robot):
+    """The user's region from ``--q-limits``, ``--qd-max`` and ``--qdd-max``, in SI units, or
+    None when none is given; its clipped limits printed as warnings.
+
+    Parameters
+    ----------
+    args : argparse.Namespace
+        The parsed arguments (degrees for a revolute joint, metres for a prismatic one).
+    robot : Robot
+        The arm the region is for.
+
+    Returns
+    -------
+    RegionLimits or None
+
+    Raises
+    ------
+    gd_analyze.errors.InputError
+        If an option has neither one nor n values, or a range lies wholly outside the robot's
+        limits: one line naming the option.
+    """
+    import numpy as np
+
+    from ..core.selection.region import RegionLimits
+    from ..workflows.deploy import robot_region
+
+    given = {k: getattr(args, k, None) for k in ("q_limits", "qd_max", "qdd_max")}
+    if all(v is None for v in given.values()):
+        return None
+    pris = np.asarray(robot.prismatic, bool)
+    out = {}
+    for key, vals in given.items():
+        if vals is None:
+            continue
+        option = f"--{key.replace('_', '-')}"
+        if len(vals) not in (1, robot.n):
+            raise InputError(f"{len(vals)} values for {robot.n} joints (give one for all or one "
+                             "per joint)", column=option)
+        v = np.asarray(vals * robot.n if len(vals) == 1 else vals, float)
+        v = np.where(pris[:, None] if v.ndim == 2 else pris, v, np.radians(v))
+        out[key] = tuple(map(tuple, v)) if v.ndim == 2 else tuple(v)
+    try:
+        limits = RegionLimits(**out)
+        region, _ = robot_region(robot, limits)
+    except ValueError as exc:
+        option, _, why = str(exc).partition(": ")
+        raise InputError(why or option, column=option if why else None) from None
+    for note in () if region is None else region.notes:
+        print(f"{PROG}: warning: the region: {note}", file=sys.stderr)
+    return limits
+
+
+def _options(args, robot=None):
+    """The main job's settings from its arguments (``robot``: for the region's options)."""
     from ..workflows.options import AnalysisOptions, SimplifyOptions
 
     return AnalysisOptions(
@@ -336,7 +418,8 @@ def _options(args):
         compress=args.compress,
         simplify=SimplifyOptions(tolerance=args.tolerance, rule=args.rule,
                                  torque_floor=args.torque_floor, explicit=args.explicit,
-                                 form=args.form, guarantee=args.guarantee))
+                                 form=args.form, guarantee=args.guarantee,
+                                 region=None if robot is None else region_limits(args, robot)))
 
 
 def _payload(args):
@@ -388,7 +471,7 @@ def cmd_analyze(args):
             return write_report(results, folder, paper=args.paper, progress=bar.update,
                                 column_figures=args.column_figures)
     outputs = run_analysis(
-        robot, trajectory, _options(args), output_folder(args.outdir, robot.name,
+        robot, trajectory, _options(args, robot), output_folder(args.outdir, robot.name,
                                                    Path(args.trajectory).stem),
         report=report, settings={"command": command_line(args), **chain_settings(args),
                                  **mounting_settings(args, robot)},
@@ -396,6 +479,12 @@ def cmd_analyze(args):
         prefix=args.prefix)
     bar.close()
     analysis = outputs.analysis
+    from ..io.datasets import stored_region
+
+    region = stored_region(analysis.dataset)
+    if region is not None and region["covered"] is False:
+        print(f"{PROG}: warning: the trajectory leaves the region: {region['coverage']}",
+              file=sys.stderr)
     if not args.quiet:
         print(_format_summary(analysis.dataset))
         print()
@@ -465,6 +554,10 @@ def cmd_plan(args):
     gd_analyze.errors.InputError
         On bad input; the command line prints it as one line and exits 2.
     """
+    import dataclasses
+
+    import numpy as np
+
     from .._version import VERSION as __version__
     from ..io.planning import (
         DEFAULT_SETPOINTS,
@@ -477,8 +570,9 @@ def cmd_plan(args):
     )
 
     robot = load_robot_arg(args)
+    robot, limits, qdd_arg = _planning_region(args, robot)
     if args.excitation:
-        return _plan_excitation(args, robot)
+        return _plan_excitation(args, robot, qdd_arg)
     for name in ("harmonics", "base_frequency", "seed"):
         if getattr(args, name) is not None:
             raise InputError("only with --excitation", column=f"--{name.replace('_', '-')}")
@@ -503,13 +597,13 @@ def cmd_plan(args):
         raise InputError(f"must be a number of seconds in [{LIMITS['min_duration']:g}, "
                          f"{LIMITS['duration']:g}], got {args.duration:g}", column="--duration")
     _check_outputs(args.output)
-    qdd_arg = _qdd_argument(args, robot)
     try:
-        qdd_max, qdd_source = acceleration_limits(
-            robot, None if qdd_arg is None else user_positions(robot, qdd_arg))
+        qdd_max, qdd_source = acceleration_limits(robot, qdd_arg)
     except ValueError as exc:
         raise InputError(str(exc), column="--qdd-max" if qdd_arg is not None else None) \
             from None
+    if limits is not None and limits.qd_max is not None and limits.qdd_max is None:
+        qdd_source = qdd_source.replace("qd_max", "the --qd-max given")
     planning = _replace_limits(robot, qdd_max)
     if not args.ignore_limits:
         _check_plan(planning, start, goal, args.duration)
@@ -534,9 +628,12 @@ def cmd_plan(args):
         "start_goal_units": "rad (m for a prismatic joint)",
         "setpoints": traj.n_setpoints, "duration_s": float(traj.t[-1]),
         "duration_from": "--duration" if args.duration is not None else "limits",
+        **({} if limits is None else {"region": limits.settings()}),
+        "q_min": _limits(robot.q_min), "q_max": _limits(robot.q_max),
         "qd_max": _limits(robot.qd_max),
         "qdd_max": _limits(qdd_max),
-        "limits_units": "rad/s, rad/s^2 (m/s, m/s^2 for a prismatic joint); null: no limit",
+        "limits_units": "rad, rad/s, rad/s^2 (m, m/s, m/s^2 for a prismatic joint); null: no "
+                        "limit",
         "qdd_max_source": qdd_source,
         "trajectory": traj.source,
     }
@@ -579,17 +676,31 @@ def _check_outputs(output):
         check_output_file(provenance_path(output))
 
 
-def _qdd_argument(args, robot):
-    """--qdd-max as one value per joint (deg/s^2 or m/s^2), or None."""
-    qdd_arg = args.qdd_max
-    if qdd_arg is not None and len(qdd_arg) == 1:
-        qdd_arg = qdd_arg * robot.n
-    if qdd_arg is not None and len(qdd_arg) != robot.n:
-        raise InputError(f"{len(qdd_arg)} values for {robot.n} joints", column="--qdd-max")
-    return qdd_arg
+def _planning_region(args, robot):
+    """The arm with the user's region (``--q-limits``, ``--qd-max``, clipped to the robot's) as
+    its limits, the region asked for (or None) and the user's acceleration limits [rad/s^2;
+    m/s^2] (or None)."""
+    import dataclasses
+
+    import numpy as np
+
+    limits = region_limits(args, robot)
+    if limits is None:
+        return robot, None, None
+    from ..core.selection.region import joint_region
+
+    try:        # the user's position and velocity limits, within the robot's
+        own = joint_region(robot, np.ones(robot.n), limits)
+    except ValueError as exc:
+        option, _, why = str(exc).partition(": ")
+        raise InputError(why or option, column=option if why else None) from None
+    lo = np.where(own.full_turn, robot.q_min, own.q_min)
+    hi = np.where(own.full_turn, robot.q_max, own.q_max)
+    robot = dataclasses.replace(robot, q_min=lo, q_max=hi, qd_max=own.qd_max)
+    return robot, limits, (None if limits.qdd_max is None else own.qdd_max)
 
 
-def _plan_excitation(args, robot):
+def _plan_excitation(args, robot, qdd_arg):
     """``plan --excitation``: a Fourier series excitation within the limits, written as CSV.
 
     Parameters
@@ -597,7 +708,10 @@ def _plan_excitation(args, robot):
     args : argparse.Namespace
         The parsed arguments of ``plan``.
     robot : Robot
-        The arm, loaded and mounted.
+        The arm, loaded and mounted, with the user's region as its limits.
+    qdd_arg : ndarray, shape (n,), or None
+        The user's acceleration limits [rad/s^2; m/s^2 for a prismatic joint], or None for the
+        robot's (or the assumed ones).
 
     Returns
     -------
@@ -635,7 +749,6 @@ def _plan_excitation(args, robot):
         raise InputError(f"must be in [1e-6, 1e4] rad/s, got {args.base_frequency:g}",
                          column="--base-frequency")
     _check_outputs(args.output)
-    qdd_arg = _qdd_argument(args, robot)
     harmonics = DEFAULT_HARMONICS if args.harmonics is None else args.harmonics
     if harmonics > 100:
         raise InputError(f"at most 100 harmonics, got {harmonics}", column="--harmonics")
@@ -643,7 +756,7 @@ def _plan_excitation(args, robot):
         ex = plan_excitation(robot, duration=args.duration, harmonics=harmonics,
                              base_frequency=args.base_frequency, n_setpoints=args.setpoints,
                              seed=0 if args.seed is None else args.seed,
-                             qdd_max=None if qdd_arg is None else user_positions(robot, qdd_arg))
+                             qdd_max=qdd_arg)
     except ValueError as exc:
         column = ("--duration" if "duration" in str(exc) or "period" in str(exc)
                   else "--qdd-max" if qdd_arg is not None and "acceleration" in str(exc)

@@ -221,11 +221,72 @@ def _add_payload_sweep_argument(group):
                             "--payload-inertia for the load's shape (stored with dim 'payload')")
 
 
-def _add_budget_arguments(p, rule=True, where="on the analysed trajectory", form=True,
+def _q_ranges(text):
+    """``LO:HI`` (one for all joints) or ``LO:HI,LO:HI,...`` (one per joint), as pairs."""
+    pairs = []
+    for part in text.split(","):
+        ends = part.split(":")
+        if len(ends) != 2:
+            raise argparse.ArgumentTypeError(f"expected LO:HI per joint (e.g. -90:90 or "
+                                             f"-90:90,0:45), got {text!r}")
+        lo, hi = (_number(e) for e in ends)
+        if not lo < hi:
+            raise argparse.ArgumentTypeError(f"each range LO:HI needs LO < HI, got {part!r}")
+        pairs.append((lo, hi))
+    return pairs
+
+
+def _positive_list(name):
+    """Comma-separated finite positive numbers (one for all joints or one per joint)."""
+    def parse(text):
+        vals = _angles(text)
+        if not all(v > 0 for v in vals):
+            raise argparse.ArgumentTypeError(f"{name} limits must be finite and positive, got "
+                                             f"{text!r}")
+        return vals
+    return parse
+
+
+#: What the region options say, for the main job, sweep and plan.
+_REGION_HELP = {
+    "q": "position range of the region [deg; m for a prismatic joint], LO:HI for all joints "
+         "or LO:HI,LO:HI,... one per joint (default: the robot's limits; a revolute joint "
+         "spanning 360 deg or more is any angle, a full turn). Beyond the robot's own limits a "
+         "range is clipped to them, with a warning",
+    "qd": "velocity limits of the region [deg/s; m/s for a prismatic joint], one for all "
+          "joints or one per joint (default: the robot's; above the robot's clipped to it, "
+          "with a warning)",
+    "qdd": "acceleration limits of the region [deg/s^2; m/s^2 for a prismatic joint], one for "
+           "all joints or one per joint (default: the robot's; where it has none, as in a "
+           "URDF, assumed {0:g} s^-1 times the velocity limit, i.e. full speed in 1/{0:g} s, "
+           "which the printed region says)",
+}
+
+
+def _add_region_arguments(p, what="the region over which the bound is proved (--guarantee "
+                                  "region) and the analysed trajectory is checked"):
+    """--q-limits, --qd-max, --qdd-max: the user's region (in degrees as the other options)."""
+    from ..io.planning import DEFAULT_QDD_PER_QD
+
+    g = p.add_argument_group(f"region ({what})")
+    g.add_argument("--q-limits", metavar="LO:HI[,...]", type=_q_ranges,
+                   help=_REGION_HELP["q"])
+    g.add_argument("--qd-max", metavar="V[,...]", type=_positive_list("--qd-max"),
+                   help=_REGION_HELP["qd"])
+    g.add_argument("--qdd-max", metavar="A[,...]", type=_positive_list("--qdd-max"),
+                   help=_REGION_HELP["qdd"].format(DEFAULT_QDD_PER_QD))
+    return g
+
+
+def _add_budget_arguments(p, rule=True, where=None, form=True,
                           guarantee="the trajectory only"):
     """The simplified model's options; ``form``: also --explicit and --form; ``guarantee``:
     also --guarantee, its second choice in these words (None: no --guarantee)."""
     g = p.add_argument_group("simplified model (error budget, issue 8)")
+    if where is None:
+        where = ("s_i: by default the largest |tau_i| over the region (see --guarantee and "
+                 "--q-limits), with --guarantee trajectory max(peak |tau_i| on the analysed "
+                 "trajectory, TAU)")
     g.add_argument("--tolerance", metavar="EPS", type=_fraction(0.0, math.inf, "--tolerance",
                                                                 False), default=defaults["tolerance"],
                    help="error budget: every joint's simplified torque stays within EPS times "
@@ -305,6 +366,7 @@ def analyze_parser():
                    help=f"an element below E times its scale is negligible (default "
                         f"{defaults['negligible']})")
     _add_budget_arguments(p)
+    _add_region_arguments(p)
     p.add_argument("--no-report", action="store_true", help="skip report.html and report.pdf")
     p.add_argument("--column-figures", action="store_true",
                    help="also write every report figure 3.5 in wide (one column) as "
@@ -363,7 +425,6 @@ def plan_parser():
     from ..io.excitation import DEFAULT_DURATION, DEFAULT_HARMONICS, DEFAULT_SAMPLE_PERIOD
     from ..io.planning import (
         DEFAULT_GOAL_DEG,
-        DEFAULT_QDD_PER_QD,
         DEFAULT_SETPOINTS,
         DEFAULT_START_DEG,
     )
@@ -411,12 +472,8 @@ def plan_parser():
     p.add_argument("--ignore-limits", action="store_true",
                    help="plan even if the duration, start or goal breaks the robot's joint "
                         "position, velocity or acceleration limits")
-    p.add_argument("--qdd-max", metavar="A[,...]", type=_angles,
-                   help="acceleration limits [deg/s^2; m/s^2 for a prismatic joint], one for "
-                        "all joints or one per joint (default: the robot's; where it has none, "
-                        f"as in a URDF, {DEFAULT_QDD_PER_QD:g} s^-1 times the velocity limit, "
-                        "i.e. full speed in 1/{0:g} s; the provenance says which)".format(
-                            DEFAULT_QDD_PER_QD))
+    _add_region_arguments(p, "the limits the plan keeps to, in place of the robot's; the "
+                             "provenance says which")
     _add_chain_arguments(p)
     _add_mounting_arguments(p)
     return p
@@ -556,6 +613,9 @@ def sweep_parser():
                                    "|tau_i|, TAU)); the merged model merged_model.json and its emitted "
                                    "sources",
                           guarantee="the swept trajectories only")
+    _add_region_arguments(p, "the region over which the merged model's bound is proved "
+                             "(--guarantee region), in place of the robot's limits; random "
+                             "trajectories keep to the robot's")
     p.add_argument("--held-out", metavar="K", type=_whole("--held-out"), default=20,
                    help="random trajectories (another seed) to measure the merged model of the "
                         "budget rule on, not guaranteed (default 20)")

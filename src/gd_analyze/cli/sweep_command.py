@@ -22,6 +22,7 @@ from .commands import (
     mounting_settings,
     output_folder,
     payload_mass_list,
+    region_limits,
     wrote_line,
 )
 from .parsing import EXIT_OK, tool_version
@@ -29,7 +30,7 @@ from .parsing import EXIT_OK, tool_version
 __all__ = []
 
 
-def _sweep_model(robot, trajectories, args, outdir, settings, ds):
+def _sweep_model(robot, trajectories, args, outdir, settings, ds, limits=None):
     """The sweep's merged model of the budget rule, within EPS x s_i over the joint-limit
     region or on every swept trajectory (``--guarantee``).
 
@@ -47,7 +48,7 @@ def _sweep_model(robot, trajectories, args, outdir, settings, ds):
                                torque_floor=args.torque_floor, held_out=held,
                                provenance={"gd_analyze_version": tool_version(), **settings},
                                explicit=args.explicit, form=args.form,
-                               guarantee=args.guarantee)
+                               guarantee=args.guarantee, region=limits)
     ds = with_budget_model(ds, model)
     model.validation.pop("per_trajectory")          # in sweep.h5; K x n lists
     written = [outdir / "merged_model.json"]
@@ -122,6 +123,8 @@ def _model_lines(model, ds, args):
                      + "; ".join(f"{src}: {why}" for src, why, _ in outside[:5])
                      + ("" if len(outside) <= 5 else f"; and {len(outside) - 5} more "
                         "(merged_covered in sweep.h5)"))
+    region = getattr(model.guarantee, "region", None)
+    lines += [] if region is None else region.lines()
     lines.append(f"guarantee: {said['statement']}")
     return lines
 
@@ -207,8 +210,10 @@ def cmd_sweep(args):
             raise InputError(str(exc), robot.source) from None
     from ..workflows.deploy import guarantee_region
 
+    limits = region_limits(args, loaded)
+    settings.update({} if limits is None else limits.settings())
     # over the region the merge needs no per-trajectory peaks of the recursive model
-    proved = guarantee_region(loaded, args.guarantee)[2]
+    proved = guarantee_region(loaded, args.guarantee, limits)[2]
     with contextlib.ExitStack() as stack:
         try:                            # only the connection: the sweep's errors are its own
             client, cluster = stack.enter_context(dask_client(args.scheduler, args.workers))
@@ -228,7 +233,7 @@ def cmd_sweep(args):
     with staged_output(outdir, SWEEP_OUTPUTS, "sweep") as stage, writing(outdir, stage):
         written = [stage / "sweep.h5"]
         if args.rule == "budget":
-            files, ds = _sweep_model(loaded, trajectories, args, stage, settings, ds)
+            files, ds = _sweep_model(loaded, trajectories, args, stage, settings, ds, limits)
         else:
             files = [stage / "merged_model.json"]
             model = merged_model(loaded, ds)

@@ -26,7 +26,7 @@ from .schema import MIXED_UNITS, element_coords, global_attributes, joint_coordi
 
 __all__ = ["build_dataset", "summary_dataset", "setpoint_arrays", "SetpointWriter", "SETPOINT_DIM",
            "SETPOINT_VARIABLES", "FRICTION_VARIABLE", "setpoint_variables", "setpoint_units", "joint_units", "units_attribute",
-           "guarantee_fields", "stored_guarantee"]
+           "guarantee_fields", "stored_guarantee", "region_fields", "stored_region"]
 
 
 #: The set points' dimension; its coordinate variable is the time t [s].
@@ -102,7 +102,8 @@ def guarantee_fields(model, torque_units="N m"):
     attrs : dict
         ``simplified_guarantee_kind`` (``"region"``, ``"trajectory"`` or ``"none"``),
         ``simplified_guarantee_statement`` (:meth:`gd_analyze.core.selection.simplified.SimplifiedModel.scope`, the one sentence
-        every output prints) and, with a guarantee, ``simplified_guarantee_tolerance`` (EPS).
+        every output prints) and, with a guarantee, ``simplified_guarantee_tolerance`` (EPS);
+        with a region, :func:`region_fields`' ``region_*``.
     """
     g = model.guarantee
     attrs = {"simplified_guarantee_kind": "none" if g is None else g.kind,
@@ -111,12 +112,100 @@ def guarantee_fields(model, torque_units="N m"):
         return {}, attrs
     attrs["simplified_guarantee_tolerance"] = float(g.tolerance)
     where = "over the region" if g.kind == "region" else "on the trajectory"
-    return {"simplified_guarantee_bound": var(("joint",), np.asarray(g.bound, float),
+    region_vars, region_attrs = region_fields(g.region)
+    attrs.update(region_attrs)
+    return {**region_vars, "simplified_guarantee_bound": var(("joint",), np.asarray(g.bound, float),
                                               torque_units, f"the guarantee's bound on "
                                               f"|tau_s - tau| {where}"),
             "simplified_guarantee_scale": var(("joint",), np.asarray(g.scale, float),
                                               torque_units, f"the guarantee's scale s_i {where}")
             }, attrs
+
+
+def region_fields(region):
+    """The region of a model's guarantee as the results dataset stores it.
+
+    Parameters
+    ----------
+    region : Region or None
+        :class:`gd_analyze.core.selection.region.Region` (None: nothing stored).
+
+    Returns
+    -------
+    variables : dict
+        Dim joint: ``region_q_min``, ``region_q_max`` [rad or m] (NaN for a revolute joint
+        that turns freely: ``region_q_full_turn`` 1, "any angle (full turn)"),
+        ``region_qd_max`` [rad/s or m/s], ``region_qdd_max`` [rad/s^2 or m/s^2],
+        ``region_qdd_max_assumed`` (1: assumed, the robot gives none and the user set none).
+    attrs : dict
+        ``region_summary``: the three lines every output prints
+        (:meth:`~gd_analyze.core.selection.region.Region.lines`); ``region_source``;
+        ``region_notes`` (the user's limits clipped to the robot's), where any.
+    """
+    if region is None:
+        return {}, {}
+    pris = region.is_prismatic
+    full = region.full_turn
+
+    def units(which):
+        return units_attribute(joint_units(pris, which), f"{which}_units")
+
+    flag = {"flag_values": np.array([0, 1], dtype=np.int8)}
+    out = {
+        "region_q_min": (("joint",), np.where(full, np.nan, region.q_min),
+                         {"units": units("q"), "long_name": "lower position limit of the "
+                          "guarantee's region (NaN: any angle, full turn)"}),
+        "region_q_max": (("joint",), np.where(full, np.nan, region.q_max),
+                         {"units": units("q"), "long_name": "upper position limit of the "
+                          "guarantee's region (NaN: any angle, full turn)"}),
+        "region_q_full_turn": (("joint",), full.astype(np.int8),
+                               {"units": "1", "long_name": "1: a revolute joint at any angle "
+                                "(its region spans a full turn)", **flag,
+                                "flag_meanings": "range full_turn"}),
+        "region_qd_max": (("joint",), np.asarray(region.qd_max, float),
+                          {"units": units("qd"), "long_name": "velocity limit of the "
+                           "guarantee's region"}),
+        "region_qdd_max": (("joint",), np.asarray(region.qdd_max, float),
+                           {"units": units("qdd"), "long_name": "acceleration limit of the "
+                            "guarantee's region"}),
+        "region_qdd_max_assumed": (("joint",), region.assumed.astype(np.int8),
+                                   {"units": "1", "long_name": "1: the acceleration limit is "
+                                    f"assumed ({region.qdd_rule or 'not given'}): the robot "
+                                    "gives none and none was set", **flag,
+                                    "flag_meanings": "given assumed"}),
+    }
+    attrs = {"region_summary": "\n".join(region.lines()), "region_source": region.source}
+    if region.notes:
+        attrs["region_notes"] = "; ".join(region.notes)
+    return out, attrs
+
+
+def stored_region(ds):
+    """The region of the model built, read back from a results dataset.
+
+    Parameters
+    ----------
+    ds : xarray.Dataset
+        As the main job stores it (:func:`region_fields`).
+
+    Returns
+    -------
+    dict or None
+        ``lines`` (list of str, as printed), ``q_min``, ``q_max`` (NaN: full turn),
+        ``full_turn``, ``qd_max``, ``qdd_max``, ``qdd_assumed`` (ndarray (n,)), ``covered``
+        (bool, or None when not checked) and ``coverage`` (the clause where not covered);
+        None without a region.
+    """
+    a = ds.attrs
+    if "region_summary" not in a or "region_qd_max" not in ds.variables:
+        return None
+    out = {"lines": str(a["region_summary"]).split("\n"),
+           **{k: np.asarray(ds[f"region_{k}"].values) for k in (
+               "q_min", "q_max", "q_full_turn", "qd_max", "qdd_max", "qdd_max_assumed")}}
+    out["covered"] = (bool(int(a["region_covers_trajectory"]))
+                      if "region_covers_trajectory" in a else None)
+    out["coverage"] = str(a.get("region_coverage", ""))
+    return out
 
 
 def stored_guarantee(ds):

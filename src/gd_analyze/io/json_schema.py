@@ -395,6 +395,22 @@ _NONNEG = ListOf(Num(0.0, math.inf))
 #: Where a model's bound holds (issue 29): ``"region"`` (proved over the joint-limit region,
 #: :mod:`gd_analyze.core.selection.region`) or ``"trajectory"`` (the trajectories it was built
 #: on); lengths are checked by :meth:`gd_analyze.core.selection.guarantee.Guarantee.from_dict`.
+#: The region of a guarantee (:meth:`gd_analyze.core.selection.region.Region.to_dict`): per
+#: joint a position range [lo, hi] or "any angle (full turn)", velocity and acceleration
+#: limits, which acceleration limits are assumed; ranges and lengths are checked by
+#: :meth:`gd_analyze.core.selection.region.Region.from_dict`.
+_REGION_SCHEMA = Obj({
+    "units": Field(Str(max_len=200), required=False),
+    "q": ListOf(AnyJSON()),
+    "qd_max": ListOf(Num(0.0, math.inf, lo_open=True)),
+    "qdd_max": ListOf(Num(0.0, math.inf, lo_open=True)),
+    "qdd_max_assumed": ListOf(Consts(True, False)),
+    "prismatic": ListOf(Consts(True, False)),
+    "qdd_rule": Field(Str(max_len=200), required=False),
+    "source": Field(Str(max_len=400), required=False),
+    "notes": Field(ListOf(Str(max_len=400), max_len=10_000), required=False),
+})
+
 _GUARANTEE_SCHEMA = Obj({
     "kind": Str(choices=("region", "trajectory")),
     "statement": Field(Str(max_len=400), required=False),
@@ -409,6 +425,7 @@ _GUARANTEE_SCHEMA = Obj({
     "trajectories_sha256": Field(ListOf(Str(pattern=r"[0-9a-f]{64}|")), required=False),
     "region_sampled_error": Field(AnyJSON(), required=False),
     "region_missing": Field(Str(max_len=400), required=False),
+    "region": Field(_REGION_SCHEMA, required=False),
 })
 
 #: A model of the recursive form (issue 17): its base parameters, the dropped (parameter,

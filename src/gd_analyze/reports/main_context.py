@@ -11,7 +11,7 @@ from __future__ import annotations
 import numpy as np
 
 from ..core.selection.ranking import arm_scales, is_round_off
-from ..io.datasets import stored_guarantee
+from ..io.datasets import stored_guarantee, stored_region
 from ..io.sweep_datasets import payload_part
 from .common import CLASS_COLOURS as _CLASS_COLOURS
 from .common import attr as _attr
@@ -72,6 +72,18 @@ _CHOICES_HEADING = {"explicit": "5.2 Choice per element",
 _MODEL_HEADING = {"explicit": "5.3 Explicit model: rule, bound, cost",
                   "recursive": "5.3 Recursive model: rule, bound, cost"}
 
+
+
+def _statement(ds):
+    """The model's guarantee as stored, and where this trajectory leaves its region (which
+    the region guarantee then does not cover); "" without a guarantee."""
+    g = stored_guarantee(ds) or {}
+    text = g.get("statement") or ""
+    region = stored_region(ds)
+    if text and g.get("kind") == "region" and region is not None and region["covered"] is False:
+        text += (f"; this trajectory is not covered: it leaves the region "
+                 f"({region['coverage']})")
+    return text
 
 def _recursive_facts(ds):
     """(base parameters, dropped pairs, all pairs) of a recursive model, for the summary."""
@@ -352,7 +364,7 @@ def _report_context_base(ds):
                          ds["tau_error_peak"].values, ds["tau_peak"].values, _model_cost(ds),
                          recursive=_recursive_facts(ds) if form == "recursive" else None,
                          gravity=_gravity_fact(ds, form), units=tau_units,
-                         scope=_scope((stored_guarantee(ds) or {}).get("statement") or ""),
+                         scope=_scope(_statement(ds)),
                          where="the joint-limit region" if (stored_guarantee(ds) or {}).get(
                              "kind") == "region" else "this trajectory", shown=said)
     facts = (f"{robot_name}, {n} joints, {count(N)} set points over {_fmt(t[-1] - t[0], 4)} s; "

@@ -148,6 +148,11 @@ def main_outline(ctx, figures):
         o.paragraph(sm["text"], "note")
         o.table(sm["bound"], "Bound on the torque error per joint, split by where the dropped "
                              "terms sit, beside the measured peak error.")
+        if sm.get("region"):
+            o.paragraph(sm["region_text"], "note")
+            o.table(sm["region"], "The region of the model's guarantee per joint: position "
+                                  "range, velocity and acceleration limits, and whether the "
+                                  "acceleration limit is assumed.")
         o.figure("budget", BUDGET_CAPTIONS["budget"])
         if sm["costs"]:
             o.section("5.4", "Cost per set point (counted)")

@@ -39,7 +39,8 @@ _ELSEWHERE = {
     "mounting_base_rpy_deg", "mounting_gravity_base", "mounting_gravity_world",
     "full_harmonics", "full_coefficients", "other_rule_harmonics", "other_rule_coefficients",
     "formulations_joint_types", "simplified_guarantee_kind", "simplified_guarantee_statement",
-    "simplified_guarantee_tolerance",
+    "simplified_guarantee_tolerance", "region_summary", "region_source", "region_notes",
+    "region_covers_trajectory", "region_coverage",
 }
 #: The ``explicit`` setting in words.
 _EXPLICIT = {"auto": "derived when its estimated size is cheap and it may be deployed (auto)",

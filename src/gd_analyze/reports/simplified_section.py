@@ -12,7 +12,17 @@ from __future__ import annotations
 import numpy as np
 
 from ..core.selection.ranking import ROUND_OFF, ROUND_OFF_CLAUSE, arm_scales, is_round_off
-from .common import count, fmt, pct, pct_column, strings, table, torque_units, units_said_once
+from .common import (
+    count,
+    fmt,
+    pct,
+    pct_column,
+    prismatic_joints,
+    strings,
+    table,
+    torque_units,
+    units_said_once,
+)
 from .markup import element as _el
 from .markup import scope as scope_markup
 from .markup import sub as _sub
@@ -233,14 +243,70 @@ def simplified_context(ds):
                               if has_bound else []))],
                        align=["right"] * (4 + has_bound))
     skipped = str(ds.attrs.get("simplified_ladder_skipped", "")) if ladder is None else ""
+    region, region_text = region_table(ds)
     ladder_form = str(a.get("simplified_ladder_form", "explicit"))
     return {"text": text, "bound": bound, "costs": costs, "ladder": ladder, "files": files,
             "prefix": str(a.get("c_prefix", "")),
+            "region": region, "region_text": region_text,
             "rule": rule, "tolerance": eps,
             "form_note": str(a.get("simplified_form_note", "")),
             "ladder_heading": "5.5 Tolerance ladder" + (
                 f" of the {ladder_form} form" if ladder is not None else ""),
             "ladder_note": f"Tolerance ladder {skipped}." if skipped else ""}
+
+
+def region_table(ds):
+    """The region of the model's guarantee as a table, and whether it covers this trajectory.
+
+    Parameters
+    ----------
+    ds : xarray.Dataset
+        A results dataset with the ``region_*`` variables
+        (:func:`gd_analyze.io.datasets.region_fields`).
+
+    Returns
+    -------
+    table : dict or None
+        Per joint the position range (degrees for a revolute joint, metres for a prismatic
+        one; "any angle (full turn)"), qd max, qdd max and whether qdd max is assumed; None
+        without a region.
+    text : str
+        Where the limits come from, which acceleration limits are assumed, and whether this
+        trajectory lies in the region (where not: the joint, the quantity and the amount, and
+        that the guarantee does not cover it); "" without a region.
+    """
+    import math
+
+    from ..io.datasets import stored_region
+
+    r = stored_region(ds)
+    if r is None:
+        return None, ""
+    pris = [bool(p) for p in prismatic_joints(ds)]
+    rows = []
+    for j in range(len(r["qd_max"])):
+        conv = (lambda v: v) if pris[j] else math.degrees
+        unit = "m" if pris[j] else "deg"
+        q = ("any angle (full turn)" if r["q_full_turn"][j] else
+             f"[{_num(conv(r['q_min'][j]))}, {_num(conv(r['q_max'][j]))}]")
+        rows.append([str(j + 1), unit, q, _num(conv(r["qd_max"][j])),
+                     _num(conv(r["qdd_max"][j])),
+                     "assumed" if r["qdd_max_assumed"][j] else "given"])
+    tab = table(["joint", "units of q", "q range", "qd max [/s]", "qdd max [/s²]",
+                 "qdd max"], rows, align=["left", "left", "left", "right", "right", "left"])
+    lines = r["lines"]
+    note = lines[-1].partition(" (")[2].partition(")")[0] if "(assumed" in lines[-1] else ""
+    text = (f"The region: {ds.attrs.get('region_source', 'the robot limits')}"
+            + (f"; acceleration limits {note}, not given by the robot" if note else "")
+            + (f"; clipped to the robot's limits: {ds.attrs['region_notes']}"
+               if ds.attrs.get("region_notes") else "") + ".")
+    if r["covered"] is True:
+        text += " Every set point of this trajectory lies in the region."
+    elif r["covered"] is False:
+        text += (f" This trajectory leaves the region: {r['coverage']}. "
+                 + ("The region's guarantee holds in the region, not on this trajectory: "
+                    "it does not cover it." if _kind(ds) == "region" else ""))
+    return tab, text
 
 
 def _recursive_text(ds, eps, floor):

@@ -22,46 +22,63 @@ __all__ = ["build_recursive", "recursive_simplified", "replace_cost", "region_mo
            "trajectory_guarantee", "certified", "robot_region", "guarantee_region",
            "REGION_SAMPLES", "restored_rebuild"]
 
-def robot_region(robot):
-    """The robot's joint-limit region for a model's guarantee, or None and why not.
+def robot_region(robot, limits=None):
+    """The region of a model's guarantee: the robot's limits, or the user's within them; or
+    None and why not.
 
     Parameters
     ----------
     robot : Robot
+    limits : RegionLimits, optional
+        The user's limits (:class:`gd_analyze.core.selection.region.RegionLimits`), each in
+        place of the robot's and clipped to them (the region's ``notes`` say which).
 
     Returns
     -------
     region : Region or None
-        Its own position and velocity limits, the acceleration limits of
+        The position and velocity limits, the acceleration limits of
         :func:`gd_analyze.io.planning.acceleration_limits` (the robot's, or the planner's
-        default where it has none); None when a limit is missing.
+        default where it has none, flagged as assumed) unless the user gives them; None when a
+        limit is missing.
     missing : str
         The missing limit (:func:`gd_analyze.core.selection.region.missing_limits`), or "".
+
+    Raises
+    ------
+    ValueError
+        If the user's limits do not fit the robot (one or n values; a position range wholly
+        outside the robot's), naming the option.
     """
     from ..core.selection.region import joint_region, missing_limits
-    from ..io.planning import acceleration_limits
+    from ..io.planning import DEFAULT_QDD_PER_QD, acceleration_limits
 
-    why = missing_limits(robot)
+    why = missing_limits(robot, limits)
     if why:
         return None, why
+    with_qd = robot if limits is None or limits.qd_max is None else dataclasses.replace(
+        robot, qd_max=joint_region(robot, np.ones(robot.n), limits).qd_max)
     try:
-        qdd_max, _ = acceleration_limits(robot)
+        qdd_max, _ = acceleration_limits(with_qd)
     except ValueError as exc:
         return None, str(exc)
-    return joint_region(robot, qdd_max), ""
+    assumed = ~np.isfinite(np.asarray(robot.qdd_max, float))
+    return joint_region(robot, qdd_max, limits, qdd_assumed=assumed,
+                        qdd_rule=f"{DEFAULT_QDD_PER_QD:g} s^-1 x qd max"), ""
 
 
-def guarantee_region(robot, guarantee="auto"):
-    """The robot's region, and whether a budget model's bound is proved over it (issue 29).
+def guarantee_region(robot, guarantee="auto", limits=None):
+    """The region, and whether a budget model's bound is proved over it (issue 29).
 
     Parameters
     ----------
     robot : Robot
     guarantee : {"auto", "region", "trajectory"}, optional
         The ``--guarantee`` choice: ``"trajectory"`` never proves over the region; ``"auto"``
-        and ``"region"`` do where the robot gives position and velocity limits for every
-        joint, and fall back to the trajectory otherwise (the guarantee then names the
-        missing limit).
+        and ``"region"`` do where the robot (or the user) gives position and velocity limits
+        for every joint, and fall back to the trajectory otherwise (the guarantee then names
+        the missing limit).
+    limits : RegionLimits, optional
+        The user's region (:func:`robot_region`).
 
     Returns
     -------
@@ -73,7 +90,7 @@ def guarantee_region(robot, guarantee="auto"):
     proved : bool
         Prune on bounds proved over ``region`` (a guarantee of kind ``"region"``).
     """
-    region, missing = robot_region(robot)
+    region, missing = robot_region(robot, limits)
     return region, missing, region is not None and guarantee != "trajectory"
 
 
@@ -146,7 +163,7 @@ def _region_model(robot, base, region, tolerance, pb, pr, sampled=True):
     guarantee = Guarantee(
         "region", float(tolerance), bound=rec.bound, scale=rec.scale, q_min=region.q_min,
         q_max=region.q_max, qd_max=region.qd_max, qdd_max=region.qdd_max,
-        scale_state=pb.scale_state, sampled_error=err,
+        scale_state=pb.scale_state, sampled_error=err, region=region,
         method=f"{METHOD}; {pb.boxes} boxes, {pb.positions.shape[0]} sampled positions")
     return rec, guarantee
 
@@ -186,6 +203,7 @@ def trajectory_guarantee(robot, base, rec, tolerance, trajectory_sha256="", regi
     return Guarantee("trajectory", float(tolerance), bound=np.asarray(rec.bound, float),
                      scale=np.asarray(rec.scale, float), trajectory_sha256=trajectory_sha256,
                      region_sampled_error=sampled, region_missing=region_missing,
+                     region=region,
                      method="sum of the dropped pairs' peak contributions on the trajectory "
                             "(triangle inequality)")
 

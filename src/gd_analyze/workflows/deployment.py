@@ -13,7 +13,7 @@ import numpy as np
 from ..core.selection.positive_definite import with_inertia_check
 from .deploy import build_recursive, guarantee_region, restored_rebuild
 
-__all__ = ["deploy_models", "exact_explicit_wins", "exact_explicit_model"]
+__all__ = ["deploy_models", "exact_explicit_wins", "exact_explicit_model", "region_coverage"]
 
 
 def deploy_models(robot, trajectory, ranking, part_peaks, options, provenance, background):
@@ -74,7 +74,7 @@ def deploy_models(robot, trajectory, ranking, part_peaks, options, provenance, b
     q, qd, qdd = trajectory.q, trajectory.qd, trajectory.qdd
     common = dict(ranking=ranking, trajectory_sha256=trajectory.sha256, provenance=provenance)
     counts = operation_counts(robot)
-    region, missing, proved = guarantee_region(robot, options.guarantee) \
+    region, missing, proved = guarantee_region(robot, options.guarantee, options.region) \
         if rule == "budget" else (None, "", False)
     rec, rec_sel = build_recursive(robot, q, qd, qdd, tolerance=tolerance,
                                    torque_floor=torque_floor,
@@ -124,7 +124,8 @@ def deploy_models(robot, trajectory, ranking, part_peaks, options, provenance, b
                                 full_cost=dict(costs.get("explicit, full", model.full_cost)),
                                 program_cache=model.program(),
                                 guarantee=model.guarantee if model.guarantee is not None
-                                else _trajectory_guarantee(model, sel, trajectory, missing))
+                                else _trajectory_guarantee(model, sel, trajectory, missing,
+                                                           region))
     # D_s proved positive definite where the bound holds; parameters restored where it is
     # not, the bound and sampled error derived again for the model finally deployed
     rebuild = restored_rebuild(q, qd, qdd, region=region if proved else None,
@@ -167,6 +168,7 @@ def deploy_models(robot, trajectory, ranking, part_peaks, options, provenance, b
             extra.attrs["simplified_ladder_form"] = model.form
         if form_note:
             extra.attrs["simplified_form_note"] = form_note
+        extra.attrs.update(region_coverage(region, trajectory))
         return extra
 
     return model, other, finish
@@ -229,7 +231,31 @@ def exact_explicit_model(full, guarantee, tolerance,
                    + guarantee.method))
 
 
-def _trajectory_guarantee(model, sel, trajectory, missing=""):
+def region_coverage(region, trajectory):
+    """Whether the analysed trajectory stays in the region, as results.h5 stores it.
+
+    Parameters
+    ----------
+    region : Region or None
+        The model's region (None: no region, nothing stored).
+    trajectory : Trajectory
+        q, qd, qdd of shape (N, n).
+
+    Returns
+    -------
+    dict
+        ``region_covers_trajectory`` (1 or 0) and ``region_coverage``: "" inside, else the
+        clause of :meth:`gd_analyze.core.selection.region.Excursion.text` (the joint, the
+        quantity and its extreme against the limit); empty without a region.
+    """
+    if region is None:
+        return {}
+    out = region.excursion(trajectory.q, trajectory.qd, trajectory.qdd)
+    return {"region_covers_trajectory": int(out is None),
+            "region_coverage": "" if out is None else out.text()}
+
+
+def _trajectory_guarantee(model, sel, trajectory, missing="", region=None):
     """The explicit budget model's guarantee on its trajectory (None: chapter rule)."""
     from ..core.selection.guarantee import Guarantee
 
@@ -237,7 +263,7 @@ def _trajectory_guarantee(model, sel, trajectory, missing=""):
         return None
     return Guarantee("trajectory", float(model.tolerance), bound=np.asarray(model.bound, float),
                      scale=np.asarray(sel.scale, float), trajectory_sha256=trajectory.sha256,
-                     region_missing=missing,
+                     region_missing=missing, region=region,
                      method="sum of the dropped terms' peak contributions on the trajectory "
                             "(triangle inequality)")
 

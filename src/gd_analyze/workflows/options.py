@@ -12,6 +12,7 @@ from __future__ import annotations
 from dataclasses import dataclass, field
 
 from ..config import defaults
+from ..core.selection.region import RegionLimits
 
 __all__ = ["SimplifyOptions", "AnalysisOptions", "ReportOptions"]
 
@@ -48,11 +49,17 @@ class SimplifyOptions:
         Where the budget model's bound must hold: proved over the robot's joint-limit region,
         or on the analysed trajectory; ``"auto"``: the region when the robot gives position
         and velocity limits for every joint (issue 29).
+    region : RegionLimits, optional
+        The user's region (:class:`gd_analyze.core.selection.region.RegionLimits`, SI units):
+        position ranges, velocity and acceleration limits, each in place of the robot's and
+        clipped to the robot's own limits; None: the robot's limits, with the acceleration
+        limits it lacks assumed (2 s^-1 x qd_max).
 
     Raises
     ------
     ValueError
-        If a value is out of range or not one of its choices.
+        If a value is out of range or not one of its choices, or ``region`` is not a
+        RegionLimits.
 
     Examples
     --------
@@ -66,8 +73,11 @@ class SimplifyOptions:
     explicit: str = defaults["explicit"]
     form: str = defaults["form"]
     guarantee: str = defaults["guarantee"]
+    region: RegionLimits = None
 
     def __post_init__(self):
+        if self.region is not None and not isinstance(self.region, RegionLimits):
+            raise ValueError("region must be a RegionLimits (or None: the robot's limits)")
         if not self.tolerance >= 0.0 or not self.torque_floor >= 0.0:
             raise ValueError("tolerance and torque_floor must be >= 0 (and not NaN)")
         _check_choice("rule", self.rule, RULES)

@@ -52,7 +52,7 @@ def proves_over_region(robot, options):
     robot : Robot
         The arm.
     options : SimplifyOptions
-        ``rule`` and ``guarantee`` of the command line.
+        ``rule``, ``guarantee`` and ``region`` of the command line.
 
     Returns
     -------
@@ -64,7 +64,7 @@ def proves_over_region(robot, options):
     from .deploy import robot_region
 
     return (options.rule == "budget" and options.guarantee != "trajectory"
-            and robot_region(robot)[0] is not None)
+            and robot_region(robot, getattr(options, "region", None))[0] is not None)
 
 
 def contribution_job(robot, q, qd, qdd, peaks=True):

@@ -99,10 +99,12 @@ def _settings(options, base_settings, payload, robot, prefix=None):
     (the robot's name made one unless given)."""
     from ..core.symbolic.safe_text import c_prefix, check_prefix
 
+    simplify = {k: v for k, v in dataclasses.asdict(options.simplify).items() if k != "region"}
+    region = {} if options.simplify.region is None else options.simplify.region.settings()
     return {**(base_settings or {}), "payload_mass": float(payload.mass),
             "payload_com": [float(v) for v in payload.com],
             "payload_inertia": [float(v) for v in payload.inertia],
-            **dataclasses.asdict(options.simplify),
+            **simplify, **region,
             "c_prefix": c_prefix(robot.name) if prefix is None else check_prefix(prefix)}
 
 

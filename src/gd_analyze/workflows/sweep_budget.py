@@ -124,7 +124,7 @@ def recursive_sweep_model(robot, scale, peak, whole_peak, tolerance=DEFAULT_TOLE
 
 def budget_sweep_model(robot, trajectories, sweep_ds, tolerance=DEFAULT_TOLERANCE,
                        torque_floor=0.0, held_out=(), provenance=None, explicit="auto",
-                       form="cheapest", guarantee=defaults["guarantee"]):
+                       form="cheapest", guarantee=defaults["guarantee"], region=None):
     """The sweep's merged model of the budget rule: the cheapest form within EPS, proved over
     the joint-limit region or on each swept trajectory.
 
@@ -157,6 +157,9 @@ def budget_sweep_model(robot, trajectories, sweep_ds, tolerance=DEFAULT_TOLERANC
         (:func:`gd_analyze.workflows.deploy.guarantee_region`): over the robot's joint-limit
         region (``"auto"``, the default, where the robot gives position and velocity limits
         for every joint) or on the swept trajectories.
+    region : RegionLimits, optional
+        The user's region in place of the robot's limits
+        (:func:`gd_analyze.workflows.deploy.robot_region`).
 
     Returns
     -------
@@ -219,7 +222,7 @@ def budget_sweep_model(robot, trajectories, sweep_ds, tolerance=DEFAULT_TOLERANC
     digest = trajectories_sha256(trajectories)
     derive = form == "explicit" or explicit == "always" or (
         explicit == "auto" and not is_expensive(robot))
-    region, missing, proved = guarantee_region(robot, guarantee)
+    region, missing, proved = guarantee_region(robot, guarantee, region)
     if proved:
         return sweep_choices(region_sweep_model(robot, trajectories, region, tolerance,
                                                 torque_floor, held_out, provenance, digest,
@@ -411,4 +414,4 @@ def sweep_guarantee(robot, model, trajectories, scales, relative, tolerance, reg
                                        tolerance, region=region).region_sampled_error
     return Guarantee("trajectory", float(tolerance), bound=bound, scale=scale,
                      trajectories_sha256=shas, region_sampled_error=sampled,
-                     region_missing=missing, method=method)
+                     region_missing=missing, method=method, region=region)

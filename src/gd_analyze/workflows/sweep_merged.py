@@ -21,6 +21,7 @@ import numpy as np
 from ..core.selection.ranking import DEFAULT_DOMINANCE, DEFAULT_NEGLIGIBLE, element_labels
 from ..core.selection.simplified import choice_masks
 from ..errors import InputError
+from ..io.datasets import region_fields
 from ..io.schema import strings
 
 __all__ = ["merged_model", "with_budget_model", "with_model_cost"]
@@ -219,6 +220,10 @@ def with_budget_model(sweep_ds, model):
     if model.guarantee is not None:     # its scope, in the model's one sentence
         ds.attrs.update({"merged_guarantee_kind": model.guarantee.kind,
                          "merged_guarantee_statement": model.guarantee.statement()})
+        region_vars, region_attrs = region_fields(model.guarantee.region)  # region_*
+        for name, (dims, data, attrs) in region_vars.items():
+            ds[name] = (dims, data, attrs)
+        ds.attrs.update(region_attrs)
     return with_model_cost(ds, model)
 
 

@@ -44,3 +44,49 @@ def test_a_file_whose_bound_exceeds_its_promise_is_refused():
         Guarantee.from_dict(spec, 2, 0.01)
     with pytest.raises(ValueError):
         Guarantee("anywhere", 0.01, np.zeros(1), np.ones(1))
+
+
+def test_covers_reports_the_true_extreme_not_the_first_set_point_outside():
+    """A trajectory that first leaves the region at 3.217 and goes on to 6.283: the reason
+    names 6.283 (issue 40)."""
+    import numpy as np
+
+    from gd_analyze.core.selection.guarantee import Guarantee
+
+    g = Guarantee("region", 0.01, np.zeros(1), np.ones(1), q_min=np.array([-3.0]),
+                  q_max=np.array([3.0]), qd_max=np.array([10.0]), qdd_max=np.array([10.0]),
+                  scale_state=np.zeros((1, 3)))
+    q = np.array([[0.0], [3.217], [6.283], [4.0]])
+    covered, reason = g.covers(q, 0 * q, 0 * q)
+    assert not covered and "reaches 6.283" in reason and "3.217" not in reason
+    qd = np.array([[0.0], [-10.5], [-20.0], [11.0]])
+    covered, reason = g.covers(0 * qd, qd, 0 * qd)
+    assert not covered and "|qd| reaches 20 " in reason
+
+
+def test_region_round_trips_and_a_region_that_disagrees_is_refused():
+    """The region stored beside a region guarantee's limits must be those limits: a file
+    whose region says otherwise (e.g. a wider velocity) is refused, naming the key."""
+    import numpy as np
+    import pytest
+
+    from gd_analyze.core.selection.guarantee import Guarantee
+    from gd_analyze.core.selection.region import Region
+    from gd_analyze.errors import InputError
+
+    region = Region(np.array([-1.0, -np.pi]), np.array([1.0, np.pi]), np.array([2.0, 3.0]),
+                    np.array([4.0, 6.0]), prismatic=np.array([False, False]),
+                    qdd_assumed=np.array([True, True]), qdd_rule="2 s^-1 x qd max")
+    g = Guarantee("region", 0.01, np.zeros(2), np.ones(2), q_min=region.q_min,
+                  q_max=region.q_max, qd_max=region.qd_max, qdd_max=region.qdd_max,
+                  scale_state=np.zeros((2, 6)), region=region)
+    spec = g.to_dict()
+    assert spec["region"]["q"] == [[-1.0, 1.0], "any angle (full turn)"]
+    back = Guarantee.from_dict(spec, 2, 0.01)
+    assert back.region.lines() == region.lines()
+    # joint 2 turns freely: any angle is covered; joint 1 is not
+    assert back.covers([[0.0, 7.0]], [[0.0, 0.0]], [[0.0, 0.0]])[0]
+    assert not back.covers([[1.5, 0.0]], [[0.0, 0.0]], [[0.0, 0.0]])[0]
+    spec["region"]["qd_max"] = [20.0, 3.0]
+    with pytest.raises(InputError, match="guarantee.region"):
+        Guarantee.from_dict(spec, 2, 0.01)

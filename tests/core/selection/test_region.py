@@ -36,7 +36,12 @@ def test_region_of_the_robots_limits_and_the_missing_ones():
         joint_region(replace(spec, qd_max=np.array([1.0, np.nan])), np.ones(2))
     q = sample_positions(region, 50)
     ok = region.contains(q, np.zeros_like(q), np.zeros_like(q))
-    assert ok.all() and not region.contains(q + 10, q * 0, q * 0)[0].all()
+    assert ok.all() and region.full_turn.all()      # every UR5 joint turns freely: any angle
+    assert region.contains(q + 10, q * 0, q * 0)[0].all()
+    puma = load_robot("puma560")
+    limited = joint_region(puma, puma.qdd_max)
+    q = sample_positions(limited, 50)
+    assert not limited.contains(q + 10, q * 0, q * 0)[0][:5].any()
 
 
 def test_worst_states_are_states_of_the_region_and_the_largest_over_the_vertices():
@@ -176,3 +181,109 @@ def test_the_samples_are_those_a_certification_draws():
     pb = certify(robot, base, region, max_boxes=2, samples=30)
     assert np.array_equal(pb.positions, q) and np.array_equal(pb.values, V)
     assert np.array_equal(pb.scale, scale) and np.array_equal(pb.scale_state, state)
+
+
+# --- issue 40 item 2: the user's region ----------------------------------------------------
+from gd_analyze.core.selection.region import FULL_TURN, Region, RegionLimits  # noqa: E402
+
+
+@pytest.mark.parametrize("kwargs, option", [
+    (dict(qd_max=(float("nan"),)), "--qd-max"), (dict(qd_max=(-1.0,)), "--qd-max"),
+    (dict(qdd_max=(float("inf"),)), "--qdd-max"), (dict(qdd_max=(0.0,)), "--qdd-max"),
+    (dict(q_limits=((1.0, float("nan")),)), "--q-limits"),
+    (dict(q_limits=((1.0, 0.5),)), "--q-limits")])
+def test_region_limits_refuse_nan_inf_and_negative_naming_the_option(kwargs, option):
+    with pytest.raises(ValueError, match=f"^{option}:"):
+        RegionLimits(**kwargs)
+
+
+def test_users_region_replaces_the_robots_and_is_clipped_to_its_limits():
+    robot = load_robot("puma560")               # joint 1 [-160, 160] deg, qd 100 deg/s
+    own = joint_region(robot, robot.qdd_max)
+    wide = joint_region(robot, robot.qdd_max, RegionLimits(
+        q_limits=((np.radians(-200), np.radians(30)),), qd_max=(np.radians(500),)))
+    assert wide.q_min[0] == robot.q_min[0] and wide.q_max[0] == pytest.approx(np.radians(30))
+    np.testing.assert_array_equal(wide.qd_max, own.qd_max)       # never above the robot's
+    assert any("joint 1's lower position limit -200 deg" in n and "clipped to -160" in n
+               for n in wide.notes)
+    assert any("velocity limit 500 deg/s" in n for n in wide.notes)
+    with pytest.raises(ValueError, match="--q-limits: joint 1's range lies outside"):
+        joint_region(robot, robot.qdd_max, RegionLimits(
+            q_limits=((np.radians(170), np.radians(180)),)))
+    with pytest.raises(ValueError, match="--qd-max: 2 values for 6 joints"):
+        joint_region(robot, robot.qdd_max, RegionLimits(qd_max=(1.0, 2.0)))
+
+
+def test_full_turn_and_assumed_accelerations_are_printed_and_stored():
+    robot = load_robot("ur5")                   # +-360 deg: a full turn; no qdd in a URDF
+    from gd_analyze.workflows.deploy import robot_region
+
+    region, missing = robot_region(robot)
+    assert missing == "" and region.full_turn[[0, 1, 3, 4, 5]].all()
+    assert region.assumed.all() and region.qdd_max == pytest.approx(2 * region.qd_max)
+    lines = region.lines()
+    assert lines[0].startswith("region: q [deg] 1 any angle (full turn), 2 any angle")
+    assert "[-180, 180]" not in lines[0] and "[-360, 360]" not in lines[0]
+    assert lines[2].startswith("qdd max [deg/s^2] (assumed: 2 s^-1 x qd max) 1 ")
+    spec = region.to_dict()
+    assert spec["q"][0] == FULL_TURN and spec["qdd_max_assumed"] == [True] * 6
+    back = Region.from_dict(spec, 6)
+    np.testing.assert_array_equal(back.q_min, region.q_min)
+    np.testing.assert_array_equal(back.full_turn, region.full_turn)
+    narrow, _ = robot_region(robot, RegionLimits(q_limits=((-1.0, 1.0),), qdd_max=(3.0,)))
+    assert not narrow.full_turn.any() and not narrow.assumed.any()
+    assert "assumed" not in narrow.lines()[2]
+
+
+def test_excursion_names_joint_quantity_and_true_extreme():
+    region = Region(np.array([-1.0, -np.pi]), np.array([1.0, np.pi]), np.array([2.0, 2.0]),
+                    np.array([50.0, 50.0]))
+    t = np.linspace(0, 1, 11)[:, None]
+    qd = np.hstack([4.1 * t, 0 * t])                  # joint 1 reaches 4.1 > 2 at the end
+    out = region.excursion(np.zeros((11, 2)), qd, np.zeros((11, 2)))
+    assert (out.joint, out.quantity) == (0, "qd") and out.value == pytest.approx(4.1)
+    assert out.ratio == pytest.approx(2.05)
+    assert out.text().startswith("joint 1 qd reaches 2.05x its limit (234.9 deg/s > 114.6")
+    q = np.hstack([0 * t, 7.0 * t])                   # joint 2 turns freely: inside
+    assert region.excursion(q, 0 * q, 0 * q) is None
+
+
+@pytest.mark.slow
+def test_narrower_region_gives_smaller_scale_against_rnea():
+    """s_i over a user's narrower region is below the robot's; Pinocchio's rnea at random
+    states of each region stays below its s_i (the scale is a largest |tau_i| found), and
+    the narrower region's sampled maximum below the wider region's s_i."""
+    from gd_analyze.workflows.deploy import certified, robot_region
+
+    robot = load_robot("puma560")
+    base = base_parameters(robot)
+    wide, _ = robot_region(robot)
+    narrow, _ = robot_region(robot, RegionLimits(qd_max=(np.radians(30),),
+                                                 qdd_max=(np.radians(20),)))
+    s_wide = certified(robot, base, wide).scale
+    s_narrow = certified(robot, base, narrow).scale
+    assert (s_narrow <= s_wide * (1 + 1e-9)).all() and (s_narrow < s_wide).any()
+    rng = np.random.default_rng(7)
+    for region, scale in ((wide, s_wide), (narrow, s_narrow)):
+        N = 3000
+        q = rng.uniform(region.q_min, region.q_max, (N, 6))
+        qd = rng.uniform(-1, 1, (N, 6)) * region.qd_max
+        qd[: N // 2] = np.sign(qd[: N // 2]) * region.qd_max        # vertices
+        qdd = np.sign(rng.uniform(-1, 1, (N, 6))) * region.qdd_max
+        tau = np.abs(_rnea(robot, q, qd, qdd)).max(axis=0)
+        assert (tau <= scale * (1 + 1e-9)).all(), (tau, scale)
+        if region is narrow:
+            assert (tau <= s_wide).all()
+
+
+def test_mixed_arm_prints_each_limit_with_its_unit():
+    """The Stanford arm's prismatic joint 3 in metres beside degrees (its TOML's limits)."""
+    from gd_analyze.workflows.deploy import robot_region
+
+    robot = load_robot("stanford")
+    region, _ = robot_region(robot)
+    q, qd, qdd = region.lines()
+    assert f"3 [{robot.q_min[2]:.4g}, {robot.q_max[2]:.4g}] m" in q
+    assert f"1 [{np.degrees(robot.q_min[0]):.4g}, {np.degrees(robot.q_max[0]):.4g}] deg" in q
+    assert f"3 {robot.qd_max[2]:.4g} m/s" in qd and f"3 {robot.qdd_max[2]:.4g} m/s^2" in qdd
+    assert not region.full_turn[2]

@@ -15,6 +15,7 @@ import numpy as np
 
 from ...errors import InputError
 from .ranking import ROUND_OFF_CLAUSE
+from .region import Region
 
 __all__ = ["Guarantee", "KINDS", "ROUND_OFF_EPS", "ROUND_OFF_CLAUSE", "within_bound"]
 
@@ -95,6 +96,10 @@ class Guarantee:
     region_missing : str
         Why there is no region guarantee (trajectory kind), e.g. "joint 2 has no velocity
         limit"; "" if the region was not asked for.
+    region : Region, optional
+        The region itself (:class:`gd_analyze.core.selection.region.Region`): the region kind's
+        R, or the region a trajectory kind's error was sampled over; with which acceleration
+        limits are assumed and which revolute joints span a full turn.
 
     Notes
     -----
@@ -119,6 +124,7 @@ class Guarantee:
     trajectory_sha256: str = ""
     trajectories_sha256: tuple = ()
     region_missing: str = ""
+    region: object = None
 
     def __post_init__(self):
         if self.kind not in KINDS:
@@ -217,8 +223,13 @@ class Guarantee:
             return False, ("it is not the trajectory the model was built on (SHA-256 "
                            "differs): a trajectory-kind bound holds there only")
         q, qd, qdd = (np.atleast_2d(np.asarray(v, float)) for v in (q, qd, qdd))
+        wrap = np.zeros(q.shape[1], bool)
         if continuous is not None:
-            wrap = np.asarray(continuous, bool)
+            wrap |= np.asarray(continuous, bool)
+        if self.region is not None and self.q_min is not None:    # a turn of its own box
+            span = np.asarray(self.q_max, float) - np.asarray(self.q_min, float)
+            wrap |= np.asarray(self.region.full_turn, bool) & (span >= 2 * np.pi * (1 - 1e-12))
+        if wrap.any():
             q = np.where(wrap, np.mod(q + np.pi, 2 * np.pi) - np.pi, q)
         slack = 4 * np.finfo(float).eps
         checks = (("q", q, self.q_min, self.q_max), ("|qd|", np.abs(qd), None, self.qd_max),
@@ -230,12 +241,14 @@ class Guarantee:
                 ~(x >= np.asarray(lo, float) - slack * np.abs(np.asarray(lo, float)))
             for bad, which, limit in ((below, "below", lo), (above, "above", hi)):
                 if bad.any():
-                    k, j = (int(v[0]) for v in np.nonzero(bad))
+                    j = int(np.nonzero(bad)[1][0])
+                    # the true extreme of that joint, not its first set point outside
+                    top = float(x[:, j].min() if which == "below" else x[:, j].max())
                     if lo is None:
                         return False, (f"outside the model's region: joint {j + 1}'s {name} "
-                                       f"reaches {x[k, j]:.6g} (limit {hi[j]:.6g})")
-                    return False, (f"outside the model's region: joint {j + 1}'s q is "
-                                   f"{x[k, j]:.6g}, {which} its limit {limit[j]:.6g}")
+                                       f"reaches {top:.6g} (limit {hi[j]:.6g})")
+                    return False, (f"outside the model's region: joint {j + 1}'s q reaches "
+                                   f"{top:.6g}, {which} its limit {limit[j]:.6g}")
         return True, "every set point lies in the model's region (positions, velocities and accelerations within its limits)"
 
     def to_dict(self):
@@ -260,6 +273,8 @@ class Guarantee:
             out["region_sampled_error"] = _floats(self.region_sampled_error)
             if self.region_missing:
                 out["region_missing"] = self.region_missing
+        if self.region is not None:
+            out["region"] = self.region.to_dict()
         return out
 
     @classmethod
@@ -307,14 +322,25 @@ class Guarantee:
                 raise InputError(f"expected {n} numbers", path, column=f"guarantee.{key}")
             return v
         kind = spec["kind"]
+        region = None
+        if spec.get("region") is not None:
+            try:
+                region = Region.from_dict(spec["region"], n)
+            except ValueError as exc:
+                key, _, why = str(exc).partition(": ")
+                raise InputError(why, path, column=f"guarantee.{key}") from None
         bound, scale = arr("bound"), arr("scale")
         if np.isfinite(tolerance) and not np.all(bound <= tolerance * scale * (1 + 1e-12)):
             raise InputError("a bound exceeds tolerance x scale", path, column="guarantee.bound")
         common = dict(kind=kind, tolerance=float(tolerance), bound=bound, scale=scale,
-                      method=spec.get("method", ""))
+                      method=spec.get("method", ""), region=region)
         if kind == "region":
-            return cls(**common, q_min=arr("q_min"), q_max=arr("q_max"), qd_max=arr("qd_max"),
-                       qdd_max=arr("qdd_max"), scale_state=arr("scale_state", 3 * n),
+            limits = {k: arr(k) for k in ("q_min", "q_max", "qd_max", "qdd_max")}
+            if region is not None and not all(np.array_equal(getattr(region, k), v)
+                                              for k, v in limits.items()):
+                raise InputError("does not match the guarantee's q_min, q_max, qd_max and "
+                                 "qdd_max", path, column="guarantee.region")
+            return cls(**common, **limits, scale_state=arr("scale_state", 3 * n),
                        sampled_error=arr("sampled_error", required=False))
         return cls(**common, trajectory_sha256=spec.get("trajectory_sha256", ""),
                    trajectories_sha256=tuple(spec.get("trajectories_sha256") or ()),

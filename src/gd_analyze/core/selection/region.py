@@ -14,6 +14,7 @@ model (Khalil & Kleinfinger 1987: tau = Y_b beta).
 from __future__ import annotations
 
 import itertools
+import math
 from dataclasses import dataclass
 
 import numpy as np
@@ -22,7 +23,7 @@ from ..dynamics.dalembert import compiled_engine
 from ..dynamics.regressor_bounds import channel_count
 from ..symbolic.regressor_kernels import part_regressor, regressor_columns
 
-__all__ = ["Region", "joint_region", "missing_limits", "sample_positions", "channel_values",
+__all__ = ["Region", "RegionLimits", "Excursion", "FULL_TURN", "joint_region", "missing_limits", "sample_positions", "channel_values",
            "worst_states", "region_scale", "qd_vertices", "region_samples",
            "sampled_error"]
 
@@ -119,6 +120,133 @@ def _channel_parts(robot, columns, qc, qd_units, qdd_units):
     return grav, inertial.reshape(B, n, n, m), velocity.reshape(B, S, n, m)
 
 
+#: How a revolute joint whose region spans a full turn (2 pi or more) is stored and printed.
+FULL_TURN = "any angle (full turn)"
+
+
+def _per_joint(values, n, name):
+    """A user's limits, one for all joints or one per joint, as an array of n."""
+    v = np.asarray(values, float)
+    if v.shape[0] == 1:
+        v = np.repeat(v, n, axis=0)
+    if v.shape[0] != n:
+        raise ValueError(f"{name}: {v.shape[0]} values for {n} joints (give one for all or one "
+                         "per joint)")
+    return v
+
+
+@dataclass(frozen=True)
+class RegionLimits:
+    """The region a user sets, in place of the robot's own limits (None: the robot's).
+
+    Attributes
+    ----------
+    q_limits : tuple of (float, float), optional
+        (lo, hi) per joint, or one pair for all joints [rad or m].
+    qd_max : tuple of float, optional
+        One per joint, or one for all [rad/s or m/s].
+    qdd_max : tuple of float, optional
+        One per joint, or one for all [rad/s^2 or m/s^2].
+
+    Raises
+    ------
+    ValueError
+        If a value is NaN or infinite, a velocity or acceleration limit is not positive, or
+        a position range has lo >= hi; the message names the option (``--q-limits``,
+        ``--qd-max``, ``--qdd-max``).
+
+    Examples
+    --------
+    >>> RegionLimits(qd_max=(1.0,)).settings()
+    {'region_qd_max': [1.0]}
+    """
+
+    q_limits: tuple = None
+    qd_max: tuple = None
+    qdd_max: tuple = None
+
+    def __post_init__(self):
+        if self.q_limits is not None:
+            pairs = np.asarray(self.q_limits, float).reshape(-1, 2)
+            if not pairs.size or not np.isfinite(pairs).all():
+                raise ValueError("--q-limits: every limit must be a finite number")
+            if not (pairs[:, 0] < pairs[:, 1]).all():
+                raise ValueError("--q-limits: each range LO:HI needs LO < HI")
+        for name in ("qd_max", "qdd_max"):
+            if getattr(self, name) is None:
+                continue
+            v = np.atleast_1d(np.asarray(getattr(self, name), float))
+            if not v.size or not (np.isfinite(v).all() and (v > 0).all()):
+                raise ValueError(f"--{name.replace('_', '-')}: every limit must be a finite "
+                                 f"positive number, got {', '.join(f'{x:g}' for x in v)}")
+
+    def settings(self):
+        """The limits as the provenance stores them (SI units; only those given).
+
+        Returns
+        -------
+        dict
+            ``region_q_limits`` [[lo, hi], ...], ``region_qd_max``, ``region_qdd_max``.
+        """
+        out = {}
+        if self.q_limits is not None:
+            out["region_q_limits"] = np.asarray(self.q_limits, float).reshape(-1, 2).tolist()
+        for name in ("qd_max", "qdd_max"):
+            if getattr(self, name) is not None:
+                out[f"region_{name}"] = np.atleast_1d(
+                    np.asarray(getattr(self, name), float)).tolist()
+        return out
+
+
+@dataclass(frozen=True)
+class Excursion:
+    """Where a trajectory leaves a region the most.
+
+    Attributes
+    ----------
+    joint : int
+        0-based.
+    quantity : {"q", "qd", "qdd"}
+    value : float
+        Its extreme along the trajectory (|qd|, |qdd|; q itself) [rad, m; /s; /s^2].
+    limit : float
+        The limit it passes (q: the bound on that side).
+    ratio : float
+        qd, qdd: value / limit; q: the excess over the bound relative to the range.
+    prismatic : bool
+    """
+
+    joint: int
+    quantity: str
+    value: float
+    limit: float
+    ratio: float
+    prismatic: bool = False
+
+    def text(self):
+        """One clause naming the joint, the quantity and the amount (degrees for a revolute
+        joint, as the summary prints the region).
+
+        Returns
+        -------
+        str
+
+        Examples
+        --------
+        >>> Excursion(0, "qd", 4.1, 2.05, 2.0).text()
+        'joint 1 qd reaches 2x its limit (234.9 deg/s > 117.5 deg/s)'
+        """
+        unit = {"q": "", "qd": "/s", "qdd": "/s^2"}[self.quantity]
+        unit = ("m" if self.prismatic else "deg") + unit
+        show = (lambda v: v) if self.prismatic else math.degrees
+        if self.quantity == "q":
+            side = ">" if self.value > self.limit else "<"
+            return (f"joint {self.joint + 1} q reaches {show(self.value):.4g} {unit}, beyond its "
+                    f"limit ({show(self.value):.4g} {unit} {side} {show(self.limit):.4g} {unit})")
+        return (f"joint {self.joint + 1} {self.quantity} reaches {self.ratio:.3g}x its limit "
+                f"({show(self.value):.4g} {unit} > {show(self.limit):.4g} {unit})")
+
+
 @dataclass(frozen=True, eq=False)
 class Region:
     """A box of joint positions with velocity and acceleration limits.
@@ -126,17 +254,56 @@ class Region:
     Attributes
     ----------
     q_min, q_max : ndarray, shape (n,)
-        [rad or m]; a continuous joint is [-pi, pi].
+        [rad or m]; a revolute joint whose range spans a full turn (2 pi or more) is given as
+        [-pi, pi] (the torque is 2 pi periodic in its q) and flagged :attr:`full_turn`.
     qd_max : ndarray, shape (n,)
         [rad/s or m/s].
     qdd_max : ndarray, shape (n,)
         [rad/s^2 or m/s^2].
+    prismatic : ndarray of bool, shape (n,), optional
+        The prismatic joints (None: all revolute).
+    qdd_assumed : ndarray of bool, shape (n,), optional
+        The acceleration limits assumed (the robot gives none and the user set none).
+    qdd_rule : str, optional
+        The rule of the assumed ones, e.g. ``"2 s^-1 x qd max"``.
+    source : str, optional
+        Where the limits come from, e.g. ``"the robot's limits"``.
+    notes : tuple of str, optional
+        The user's limits clipped to the robot's, one clause each.
     """
 
     q_min: np.ndarray
     q_max: np.ndarray
     qd_max: np.ndarray
     qdd_max: np.ndarray
+    prismatic: np.ndarray = None
+    qdd_assumed: np.ndarray = None
+    qdd_rule: str = ""
+    source: str = ""
+    notes: tuple = ()
+
+    @property
+    def n(self):
+        """int: the number of joints."""
+        return int(np.asarray(self.q_min).size)
+
+    @property
+    def is_prismatic(self):
+        """ndarray of bool, shape (n,): the prismatic joints."""
+        return np.zeros(self.n, bool) if self.prismatic is None else \
+            np.asarray(self.prismatic, bool)
+
+    @property
+    def assumed(self):
+        """ndarray of bool, shape (n,): the acceleration limits assumed."""
+        return np.zeros(self.n, bool) if self.qdd_assumed is None else \
+            np.asarray(self.qdd_assumed, bool)
+
+    @property
+    def full_turn(self):
+        """ndarray of bool, shape (n,): revolute joints whose range spans 2 pi or more."""
+        span = np.asarray(self.q_max, float) - np.asarray(self.q_min, float)
+        return ~self.is_prismatic & (span >= 2 * np.pi * (1 - 1e-12))
 
     def contains(self, q, qd, qdd, rtol=1e-9):
         """Whether every state lies in the region (up to rtol of each limit).
@@ -154,18 +321,205 @@ class Region:
             Per quantity (q, qd, qdd) and joint: all set points within the limit.
         """
         span = np.maximum(np.abs(self.q_max - self.q_min), 1e-300)
+        q = self._wrapped(q)
         return np.stack([
             np.all((q >= self.q_min - rtol * span) & (q <= self.q_max + rtol * span), axis=0),
             np.all(np.abs(qd) <= self.qd_max * (1 + rtol), axis=0),
             np.all(np.abs(qdd) <= self.qdd_max * (1 + rtol), axis=0)])
 
+    def _wrapped(self, q):
+        """q with a full-turn joint's angle taken modulo 2 pi into [-pi, pi)."""
+        q = np.atleast_2d(np.asarray(q, float))
+        return np.where(self.full_turn, np.mod(q + np.pi, 2 * np.pi) - np.pi, q)
 
-def missing_limits(robot):
+    def excursion(self, q, qd, qdd, rtol=1e-9):
+        """Where a trajectory leaves the region the most, or None if it stays in it.
+
+        Parameters
+        ----------
+        q, qd, qdd : ndarray, shape (N, n)
+            [rad, rad/s, rad/s^2; m, m/s, m/s^2].
+        rtol : float, optional
+            Relative slack for limits reached exactly (a planner ending on a limit).
+
+        Returns
+        -------
+        Excursion or None
+            The joint and quantity with the largest relative excess: |qd| / qd_max - 1 and
+            |qdd| / qdd_max - 1, or for q the excess over its bound divided by the range.
+            The value is the trajectory's true extreme (not its first set point outside).
+        """
+        inside = self.contains(q, qd, qdd, rtol)
+        if inside.all():
+            return None
+        q = self._wrapped(q)
+        pris = self.is_prismatic
+        found = []
+        span = np.maximum(self.q_max - self.q_min, 1e-300)
+        for j in np.flatnonzero(~inside[0]):
+            hi, lo = float(q[:, j].max()), float(q[:, j].min())
+            up, down = (hi - self.q_max[j]) / span[j], (self.q_min[j] - lo) / span[j]
+            value, limit, excess = (hi, self.q_max[j], up) if up >= down else \
+                (lo, self.q_min[j], down)
+            found.append((excess, Excursion(int(j), "q", value, float(limit), 1 + excess,
+                                            bool(pris[j]))))
+        for k, (name, x, lim) in enumerate((("qd", qd, self.qd_max), ("qdd", qdd, self.qdd_max))):
+            x = np.abs(np.atleast_2d(np.asarray(x, float)))
+            for j in np.flatnonzero(~inside[k + 1]):
+                top = float(x[:, j].max())
+                ratio = top / float(lim[j])
+                found.append((ratio - 1, Excursion(int(j), name, top, float(lim[j]), ratio,
+                                                   bool(pris[j]))))
+        return max(found, key=lambda f: f[0])[1]
+
+    def parts(self):
+        """The region per limit kind: a label with its units and the per-joint values.
+
+        Returns
+        -------
+        list of (str, str)
+            ``("q [deg]", "1 [-160, 160], ...")``, ``("qd max [deg/s]", ...)`` and
+            ``("qdd max [deg/s^2]", ...)``, the last label saying which acceleration limits
+            are assumed; a revolute joint spanning a full turn is :data:`FULL_TURN`.
+            Revolute joints in degrees, prismatic ones in metres (each value with its unit
+            when an arm has both).
+        """
+        pris = self.is_prismatic
+        mixed = pris.any() and not pris.all()
+
+        def show(j, v):
+            return f"{v:.4g}" if pris[j] else f"{math.degrees(v):.4g}"
+
+        def head(label, suffix):
+            if mixed:
+                return label
+            return f"{label} [{'m' if pris.all() else 'deg'}{suffix}]"
+
+        def unit(j, suffix):
+            return f" {'m' if pris[j] else 'deg'}{suffix}" if mixed else ""
+
+        full = self.full_turn
+        q = ", ".join(f"{j + 1} {FULL_TURN}" if full[j] else
+                      f"{j + 1} [{show(j, self.q_min[j])}, {show(j, self.q_max[j])}]{unit(j, '')}"
+                      for j in range(self.n))
+        qd = ", ".join(f"{j + 1} {show(j, self.qd_max[j])}{unit(j, '/s')}" for j in range(self.n))
+        qdd = ", ".join(f"{j + 1} {show(j, self.qdd_max[j])}{unit(j, '/s^2')}"
+                        for j in range(self.n))
+        assumed = self.assumed
+        rule = self.qdd_rule or "not given"
+        if assumed.all():
+            note = f" (assumed: {rule})"
+        elif assumed.any():
+            note = (f" (assumed for joint{'s' if assumed.sum() > 1 else ''} "
+                    f"{', '.join(str(j + 1) for j in np.flatnonzero(assumed))}: {rule})")
+        else:
+            note = ""
+        return [(f"{head('q', '')}", q), (f"{head('qd max', '/s')}", qd),
+                (f"{head('qdd max', '/s^2')}{note}", qdd)]
+
+    def lines(self):
+        """The region in three lines, one per limit kind, as every output prints it.
+
+        Returns
+        -------
+        list of str
+            ``"region: q [deg] 1 [-160, 160], ..."``, ``"qd max [deg/s] 1 100, ..."`` and
+            ``"qdd max [deg/s^2] ..."`` (:meth:`parts`).
+
+        Examples
+        --------
+        >>> r = Region(np.array([-1.0, -np.pi]), np.array([1.0, np.pi]), np.array([2.0, 2.0]),
+        ...            np.array([4.0, 4.0]), qdd_assumed=np.array([True, True]),
+        ...            qdd_rule="2 s^-1 x qd max")
+        >>> print("\\n".join(r.lines()))
+        region: q [deg] 1 [-57.3, 57.3], 2 any angle (full turn)
+        qd max [deg/s] 1 114.6, 2 114.6
+        qdd max [deg/s^2] (assumed: 2 s^-1 x qd max) 1 229.2, 2 229.2
+        """
+        return [("region: " if k == 0 else "") + f"{label} {text}"
+                for k, (label, text) in enumerate(self.parts())]
+
+    def to_dict(self):
+        """The region as ``simplified_model.json`` stores it (SI units).
+
+        Returns
+        -------
+        dict
+            ``q``: per joint [lo, hi] or :data:`FULL_TURN`; ``qd_max``, ``qdd_max``,
+            ``qdd_max_assumed``, ``prismatic``, ``units``, and ``qdd_rule``, ``source``,
+            ``notes`` where set.
+        """
+        full = self.full_turn
+        out = {"units": "rad, rad/s, rad/s^2 (m, m/s, m/s^2 for a prismatic joint)",
+               "q": [FULL_TURN if full[j] else [float(self.q_min[j]), float(self.q_max[j])]
+                     for j in range(self.n)],
+               "qd_max": [float(v) for v in self.qd_max],
+               "qdd_max": [float(v) for v in self.qdd_max],
+               "qdd_max_assumed": [bool(v) for v in self.assumed],
+               "prismatic": [bool(v) for v in self.is_prismatic]}
+        for key in ("qdd_rule", "source"):
+            if getattr(self, key):
+                out[key] = getattr(self, key)
+        if self.notes:
+            out["notes"] = list(self.notes)
+        return out
+
+    @classmethod
+    def from_dict(cls, spec, n):
+        """The region of :meth:`to_dict` (already checked by the schema).
+
+        Parameters
+        ----------
+        spec : dict
+        n : int
+            The robot's number of joints.
+
+        Returns
+        -------
+        Region
+
+        Raises
+        ------
+        ValueError
+            If a list has not n entries, a range is not [lo, hi] with lo < hi, or a limit is
+            not finite and positive; the message names the key.
+        """
+        def vec(key, kind=float):
+            v = spec.get(key)
+            if not isinstance(v, list) or len(v) != n:
+                raise ValueError(f"region.{key}: expected {n} entries")
+            return np.array(v, kind)
+        lo, hi = np.empty(n), np.empty(n)
+        q = spec.get("q")
+        if not isinstance(q, list) or len(q) != n:
+            raise ValueError(f"region.q: expected {n} entries")
+        for j, r in enumerate(q):
+            if r == FULL_TURN:
+                lo[j], hi[j] = -np.pi, np.pi
+            elif isinstance(r, list) and len(r) == 2 and all(
+                    isinstance(x, (int, float)) and math.isfinite(x) for x in r) and r[0] < r[1]:
+                lo[j], hi[j] = r
+            else:
+                raise ValueError(f"region.q: entry {j + 1} must be [lo, hi] with lo < hi or "
+                                 f"{FULL_TURN!r}")
+        qd, qdd = vec("qd_max"), vec("qdd_max")
+        for key, v in (("qd_max", qd), ("qdd_max", qdd)):
+            if not (np.isfinite(v).all() and (v > 0).all()):
+                raise ValueError(f"region.{key}: limits must be finite and positive")
+        return cls(q_min=lo, q_max=hi, qd_max=qd, qdd_max=qdd,
+                   prismatic=vec("prismatic", bool), qdd_assumed=vec("qdd_max_assumed", bool),
+                   qdd_rule=str(spec.get("qdd_rule", "")), source=str(spec.get("source", "")),
+                   notes=tuple(str(x) for x in spec.get("notes", ())))
+
+
+def missing_limits(robot, limits=None):
     """Why an arm has no region: the first joint without a position or velocity limit.
 
     Parameters
     ----------
     robot : Robot
+    limits : RegionLimits, optional
+        The user's limits, which fill what the robot lacks.
 
     Returns
     -------
@@ -173,17 +527,32 @@ def missing_limits(robot):
         e.g. "joint 2 has no velocity limit"; "" when every joint has both (a revolute joint
         without position limits is continuous and covers the full circle).
     """
+    given_q = limits is not None and limits.q_limits is not None
+    given_qd = limits is not None and limits.qd_max is not None
     for j in range(robot.n):
-        if robot.prismatic[j] and not (np.isfinite(robot.q_min[j])
-                                       and np.isfinite(robot.q_max[j])):
+        if robot.prismatic[j] and not given_q and not (np.isfinite(robot.q_min[j])
+                                                       and np.isfinite(robot.q_max[j])):
             return f"joint {j + 1} has no position limit"
-        if not (np.isfinite(robot.qd_max[j]) and robot.qd_max[j] > 0):
+        if not given_qd and not (np.isfinite(robot.qd_max[j]) and robot.qd_max[j] > 0):
             return f"joint {j + 1} has no velocity limit"
     return ""
 
 
-def joint_region(robot, qdd_max):
-    """The region of an arm's own limits.
+def _clip(values, lo, hi, what, prismatic, suffix):
+    """Values clipped into [lo, hi] (NaN bounds: none), and one clause per joint clipped."""
+    out = np.clip(values, np.where(np.isfinite(lo), lo, -np.inf),
+                  np.where(np.isfinite(hi), hi, np.inf))
+    notes = []
+    for j in np.flatnonzero(out != values):
+        unit = ("m" if prismatic[j] else "deg") + suffix
+        show = (lambda v: v) if prismatic[j] else math.degrees
+        notes.append(f"joint {j + 1}'s {what} {show(values[j]):.4g} {unit} is beyond the "
+                     f"robot's limit: clipped to {show(out[j]):.4g} {unit}")
+    return out, notes
+
+
+def joint_region(robot, qdd_max, limits=None, qdd_assumed=None, qdd_rule=""):
+    """The region of an arm's own limits, or of the user's within them.
 
     Parameters
     ----------
@@ -192,6 +561,14 @@ def joint_region(robot, qdd_max):
     qdd_max : array_like, shape (n,)
         Acceleration limits [rad/s^2 or m/s^2] (the robot's, or the planner's default where it
         has none: :func:`gd_analyze.io.planning.acceleration_limits`).
+    limits : RegionLimits, optional
+        The user's limits, each replacing the robot's. Those beyond the robot's own position,
+        velocity or (where it gives one) acceleration limits are clipped to them, and the
+        region's ``notes`` say so: the region never claims states beyond the robot's limits.
+    qdd_assumed : array_like of bool, shape (n,), optional
+        The joints whose ``qdd_max`` is assumed (the robot gives none); a user's limit is not.
+    qdd_rule : str, optional
+        The rule of the assumed limits, e.g. ``"2 s^-1 x qd max"``.
 
     Returns
     -------
@@ -200,22 +577,55 @@ def joint_region(robot, qdd_max):
     Raises
     ------
     ValueError
-        If a limit is missing (:func:`missing_limits`) or qdd_max is not finite and positive.
+        If a limit is missing (:func:`missing_limits`), qdd_max is not finite and positive,
+        a user's list has neither one nor n entries, or a user's position range lies wholly
+        outside the robot's (the message names the option).
     """
-    why = missing_limits(robot)
+    why = missing_limits(robot, limits)
     if why:
         raise ValueError(why)
+    n = robot.n
     qdd_max = np.asarray(qdd_max, float)
-    if qdd_max.shape != (robot.n,) or not (np.isfinite(qdd_max).all() and (qdd_max > 0).all()):
+    if qdd_max.shape != (n,) or not (np.isfinite(qdd_max).all() and (qdd_max > 0).all()):
         raise ValueError("acceleration limits must be finite and positive, one per joint")
-    lo = np.where(np.isfinite(robot.q_min), robot.q_min, -np.pi)
-    hi = np.where(np.isfinite(robot.q_max), robot.q_max, np.pi)
-    full = (hi - lo) > 2 * np.pi                    # more than a turn: the full circle
-    rev = ~np.asarray(robot.prismatic, bool)
-    lo = np.where(rev & full, -np.pi, lo)
-    hi = np.where(rev & full, np.pi, hi)
-    return Region(q_min=lo.astype(float), q_max=hi.astype(float),
-                  qd_max=np.asarray(robot.qd_max, float).copy(), qdd_max=qdd_max.copy())
+    pris = np.asarray(robot.prismatic, bool)
+    rev = ~pris
+    assumed = np.zeros(n, bool) if qdd_assumed is None else np.asarray(qdd_assumed, bool)
+    lo = np.where(np.isfinite(robot.q_min), robot.q_min, -np.pi).astype(float)
+    hi = np.where(np.isfinite(robot.q_max), robot.q_max, np.pi).astype(float)
+    qd, qdd = np.asarray(robot.qd_max, float).copy(), qdd_max.copy()
+    notes = []
+    if limits is not None and limits.q_limits is not None:
+        pairs = _per_joint(np.asarray(limits.q_limits, float).reshape(-1, 2), n, "--q-limits")
+        ulo, nlo = _clip(pairs[:, 0], robot.q_min, robot.q_max, "lower position limit", pris, "")
+        uhi, nhi = _clip(pairs[:, 1], robot.q_min, robot.q_max, "upper position limit", pris, "")
+        bad = np.flatnonzero(~(ulo < uhi))
+        if bad.size:
+            raise ValueError(f"--q-limits: joint {bad[0] + 1}'s range lies outside the robot's "
+                             "position limits")
+        lo, hi, notes = ulo, uhi, notes + nlo + nhi
+    if limits is not None and limits.qd_max is not None:
+        qd, more = _clip(_per_joint(np.atleast_1d(limits.qd_max), n, "--qd-max"), np.full(n, np.nan),
+                         np.asarray(robot.qd_max, float), "velocity limit", pris, "/s")
+        notes += more
+    if limits is not None and limits.qdd_max is not None:
+        own = np.where(assumed, np.nan, np.asarray(robot.qdd_max, float))
+        qdd, more = _clip(_per_joint(np.atleast_1d(limits.qdd_max), n, "--qdd-max"), np.full(n, np.nan), own,
+                          "acceleration limit", pris, "/s^2")
+        notes += more
+        assumed = np.zeros(n, bool)
+    full = rev & ((hi - lo) >= 2 * np.pi * (1 - 1e-12))     # a full turn: the whole circle
+    lo = np.where(full, -np.pi, lo)
+    hi = np.where(full, np.pi, hi)
+    given = [] if limits is None else [k for k, v in (("--q-limits", limits.q_limits),
+                                                      ("--qd-max", limits.qd_max),
+                                                      ("--qdd-max", limits.qdd_max))
+                                       if v is not None]
+    source = ("the robot's limits" if not given else
+              f"the user's {', '.join(given)}, the robot's limits otherwise")
+    return Region(q_min=lo.astype(float), q_max=hi.astype(float), qd_max=qd.astype(float),
+                  qdd_max=qdd.astype(float), prismatic=pris.copy(), qdd_assumed=assumed.copy(),
+                  qdd_rule=qdd_rule if assumed.any() else "", source=source, notes=tuple(notes))
 
 
 def sample_positions(region, count, seed=0):

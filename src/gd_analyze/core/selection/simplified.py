@@ -243,6 +243,7 @@ class SimplifiedModel:
             "torque floor [N m]": f"{self.torque_floor:g}",
             "trajectory sha256": self.trajectory_sha256,
             "guarantee": self.scope(),
+            **self._region_header(),
             "operations": f"{cost['multiplications']} multiplications, {cost['additions']} "
                           f"additions, {cost['sin']} sin, {cost['cos']} cos",
             **compared,
@@ -251,6 +252,14 @@ class SimplifiedModel:
             "gd-analyze version": self.provenance.get("gd_analyze_version", ""),
             "units": _units(self.robot),
         }
+
+    def _region_header(self):
+        """The guarantee's region as header lines: ``region q [deg]``, ``qd max [deg/s]``,
+        ``qdd max [deg/s^2]`` (:meth:`gd_analyze.core.selection.region.Region.lines`)."""
+        region = None if self.guarantee is None else self.guarantee.region
+        if region is None:
+            return {}
+        return {f"region {label}": text for label, text in region.parts()}
 
     def functions(self):
         """The deployed model's five functions (tau, D_s, h_s, c_s, Y_s) as programs.
@@ -556,6 +565,10 @@ class SimplifiedModel:
             guarantee = Guarantee.from_dict(spec["guarantee"], robot.n,
                                             float("nan") if tolerance is None
                                             else float(tolerance), path)
+            if guarantee.region is not None and not np.array_equal(
+                    guarantee.region.is_prismatic, np.asarray(robot.prismatic, bool)):
+                raise InputError("its joint types are not the robot's",
+                                 path, column="guarantee.region.prismatic")
         model = cls(robot=robot, choices=dict(choices),
                    dominance_threshold=float(spec["dominance_threshold"]),
                    negligible_threshold=float(spec["negligible_threshold"]),

@@ -1,0 +1,34 @@
+"""The main job's settings as values: the user's region through the Python API (issue 40)."""
+
+import numpy as np
+import pytest
+
+import gd_analyze as gd
+
+
+def test_region_limits_pass_through_the_api_into_the_dataset():
+    robot = gd.load_robot("two-link")
+    t = np.linspace(0.0, 1.0, 21)
+    q = np.column_stack([0.2 * np.sin(t), 0.1 * t])
+    region = gd.RegionLimits(q_limits=((-0.5, 0.5), (-1.0, 1.0)), qd_max=(1.0,),
+                             qdd_max=(2.0, 3.0))
+    options = gd.AnalysisOptions(formulations=False, verify=False,
+                                 simplify=gd.SimplifyOptions(region=region))
+    ds = gd.analyze(robot, (t, q), options)
+    np.testing.assert_array_equal(ds["region_q_min"].values, [-0.5, -1.0])
+    np.testing.assert_array_equal(ds["region_q_max"].values, [0.5, 1.0])
+    np.testing.assert_array_equal(ds["region_qd_max"].values, [1.0, 1.0])
+    np.testing.assert_array_equal(ds["region_qdd_max"].values, [2.0, 3.0])
+    assert ds["region_q_full_turn"].values.tolist() == [0, 0]
+    assert ds["region_qdd_max_assumed"].values.tolist() == [0, 0]
+    assert int(ds.attrs["region_covers_trajectory"]) == 1
+    assert ds.attrs["region_summary"].splitlines()[0] == \
+        "region: q [deg] 1 [-28.65, 28.65], 2 [-57.3, 57.3]"
+    assert ds.attrs["simplified_guarantee_kind"] == "region"
+
+
+def test_simplify_options_take_only_a_region_value():
+    with pytest.raises(ValueError, match="RegionLimits"):
+        gd.SimplifyOptions(region={"qd_max": 1.0})
+    with pytest.raises(ValueError, match="--qd-max"):
+        gd.RegionLimits(qd_max=(float("nan"),))
