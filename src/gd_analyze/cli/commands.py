@@ -554,9 +554,7 @@ def cmd_plan(args):
     gd_analyze.errors.InputError
         On bad input; the command line prints it as one line and exits 2.
     """
-    import dataclasses
 
-    import numpy as np
 
     from .._version import VERSION as __version__
     from ..io.planning import (
@@ -723,7 +721,7 @@ def _plan_excitation(args, robot, qdd_arg):
     from .._version import VERSION as __version__
     from ..core.model.limits import LIMITS, first_beyond
     from ..io.excitation import DEFAULT_HARMONICS, plan_excitation
-    from ..io.planning import check_velocity_limits, user_positions, write_provenance
+    from ..io.planning import check_velocity_limits, write_provenance
 
     for name in ("start", "goal"):
         if getattr(args, name) is not None:
