@@ -10,7 +10,11 @@ from __future__ import annotations
 
 import numpy as np
 
-__all__ = ["recursive_ladder"]
+__all__ = ["recursive_ladder", "LADDER_BLOCK"]
+
+#: Set points whose torques each rung evaluates at once (the blocks of
+#: :meth:`gd_analyze.core.selection.simplified.SimplifiedModel.torque`).
+LADDER_BLOCK = 8192
 
 
 def recursive_ladder(robot, base, trajectory, tolerances, torque_floor=0.0, region=None,
@@ -63,7 +67,6 @@ def recursive_ladder(robot, base, trajectory, tolerances, torque_floor=0.0, regi
     error bound is the triangle inequality over the dropped pairs.
     """
     from ..core.model.drives import with_drives
-    from ..core.symbolic.emit import python_function
     from ..core.symbolic.recursive import recursive_program
     from ..core.symbolic.recursive_model import recursive_model
     from .deploy import _searched
@@ -71,8 +74,7 @@ def recursive_ladder(robot, base, trajectory, tolerances, torque_floor=0.0, regi
     q, qd, qdd = trajectory
     built = getattr(deployed, "choice_cache", None) or ()
     exact = built[2] if len(built) > 2 else recursive_program(robot, base.values)
-    reference = python_function(exact)(q, qd, qdd)
-    rows = []
+    rungs = []
     for eps in tolerances:
         eps = float(eps)
         if deployed is not None and eps == float(deployed.tolerance):
@@ -89,11 +91,49 @@ def recursive_ladder(robot, base, trajectory, tolerances, torque_floor=0.0, regi
                                  rec.dropped.any() else None)[0]
             if store is not None:
                 store(exact.forms, None if program is exact else program.forms)
-        tau = reference if program is exact else python_function(program)(q, qd, qdd)
+        rungs.append((eps, rec, program))
+    err = _worst_errors(exact, [program for _, _, program in rungs], q, qd, qdd, robot.n)
+    rows = []
+    for (eps, rec, program), worst in zip(rungs, err):
         scale = np.asarray(rec.scale, float)
         safe = np.where(scale > 0, scale, np.inf)
-        err = np.abs(np.asarray(tau) - reference).max(axis=0) if len(q) else np.zeros(robot.n)
         rows.append({"tolerance": eps, **with_drives(program, robot).cost(),
-                     "worst_relative_error": float(np.max(err / safe)),
+                     "worst_relative_error": float(np.max(worst / safe)),
                      "worst_relative_bound": float(np.max(np.asarray(rec.bound, float) / safe))})
     return rows
+
+
+def _worst_errors(exact, programs, q, qd, qdd, n, block=LADDER_BLOCK):
+    """Peak |tau_s - tau| per joint of each program against the exact one, block by block.
+
+    Parameters
+    ----------
+    exact : Program
+        The exact recursive program (the reference tau).
+    programs : list of Program
+        The rungs' programs; one that is ``exact`` has error 0.
+    q, qd, qdd : ndarray, shape (N, n)
+        The trajectory [rad, rad/s, rad/s^2; m, m/s, m/s^2].
+    n : int
+        Joints.
+    block : int, optional
+        Set points evaluated at once: memory stays a few (block, n) temporaries of each
+        program whatever N is, and the peaks do not depend on it (every row is computed alone).
+
+    Returns
+    -------
+    ndarray, shape (len(programs), n)
+        [N m; N]; NaN where a torque is NaN.
+    """
+    from ..core.symbolic.emit import python_function
+
+    err = np.zeros((len(programs), n))
+    reference = python_function(exact)
+    for a in range(0, q.shape[0], max(1, int(block))):
+        rows = slice(a, a + block)
+        tau = reference(q[rows], qd[rows], qdd[rows])
+        for k, program in enumerate(programs):
+            if program is not exact:
+                got = python_function(program)(q[rows], qd[rows], qdd[rows])
+                np.maximum(err[k], np.abs(np.asarray(got) - tau).max(axis=0), out=err[k])
+    return err
