@@ -97,3 +97,66 @@ def test_forward_dynamics_through_d_s_is_pinocchios_aba(puma):
     want = np.array([pin.aba(pm, data, a, b, c) for a, b, c in zip(q, qd, tau)])
     assert np.abs(got - want).max() <= 1e-8 * np.abs(want).max()
     assert np.abs(got - qdd).max() <= 1e-8 * np.abs(qdd).max()
+
+
+def _smooth_path(N, shift=0.0, seed=3):
+    """Symmetric 5 x 5 matrices along a smooth path (a random walk smoothed), shifted by
+    ``shift`` I: positive definite or not, with neighbours that differ little (the case the
+    screening rules out) and a few jumps (the case it must not)."""
+    rng = np.random.default_rng(seed)
+    base = rng.normal(size=(5, 5))
+    base = base @ base.T + 0.5 * np.eye(5)
+    walk = np.cumsum(rng.normal(scale=2e-3, size=(N, 5, 5)), axis=0)
+    walk[rng.integers(0, N, 5)] += rng.normal(scale=0.5, size=(5, 5))
+    mats = base + walk + shift * np.eye(5)
+    return 0.5 * (mats + np.swapaxes(mats, 1, 2))           # symmetric to the last bit
+
+
+@pytest.mark.parametrize("shift", [0.0, -2.0], ids=["definite", "indefinite"])
+@pytest.mark.parametrize("block", [8192, 1000, 7])
+def test_check_inertia_s_minima_are_numpys_over_every_position(shift, block):
+    """The screened eigenvalues give the minima of numpy's eigvalsh over every position, bit
+    for bit, whatever the block; NaN never passes."""
+    mats = _smooth_path(20_000, shift)
+    got = check_inertia(lambda q: mats[q[:, 0].astype(int)],
+                        np.arange(len(mats), dtype=float)[:, None], block=block)
+    eig = np.linalg.eigvalsh(mats)
+    hi = np.abs(eig).max(axis=1)
+    assert got["min_eigenvalue"] == eig[:, 0].min()
+    assert got["min_relative_eigenvalue"] == (eig[:, 0] / hi).min()
+    assert got["positive_definite"] == bool((eig[:, 0] > 0).all())
+    assert got["samples"] == len(mats)
+    mats[123] = np.nan
+    bad = check_inertia(lambda q: mats[q[:, 0].astype(int)],
+                        np.arange(len(mats), dtype=float)[:, None], block=block)
+    assert not bad["positive_definite"] and np.isnan(bad["min_eigenvalue"])
+
+
+def test_the_shifted_definiteness_test_is_numpys():
+    """_definite (the L D L^T pivots) says positive definite exactly where the smallest
+    eigenvalue is clearly positive, on matrices on both sides of singular."""
+    from gd_analyze.core.selection.positive_definite import _definite
+
+    mats = _smooth_path(5000) - np.linspace(0.0, 1.0, 5000)[:, None, None] * np.eye(5)
+    lo = np.linalg.eigvalsh(mats)[:, 0]
+    clear = np.abs(lo) > 1e-9
+    assert (lo > 0).any() and (lo < 0).any()
+    np.testing.assert_array_equal(_definite(mats)[clear], lo[clear] > 0)
+
+
+def test_the_inertia_check_s_memory_is_flat_in_the_positions(puma):
+    """D_s is checked block by block: the largest allocation for 10^5 positions is less than
+    twice that for 10^4 (it held (N, n, n) arrays and their eigenvalues at once)."""
+    import tracemalloc
+
+    robot, q, _, _, rec = puma
+    inertia = _model(robot, rec).functions().numpy()["inertia"]
+    rng = np.random.default_rng(0)
+    peaks = []
+    for N in (10_000, 100_000):
+        qs = rng.uniform(robot.q_min, robot.q_max, (N, robot.n))
+        tracemalloc.start()
+        check_inertia(inertia, qs)
+        peaks.append(tracemalloc.get_traced_memory()[1])
+        tracemalloc.stop()
+    assert peaks[1] < 2 * peaks[0], peaks

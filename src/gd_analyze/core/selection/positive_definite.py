@@ -165,12 +165,12 @@ def _screened_eigenvalues(D, lo_min, ratio_min):
     """
     M, n = D.shape[0], D.shape[1]
     anchors = np.arange(0, M, ANCHOR_STEP)
-    eig = np.linalg.eigvalsh(D[anchors])
+    eig = _eigenvalues(D[anchors])
     lo = [eig[:, 0]]
     hi_a = np.abs(eig).max(axis=1)
     ratio = [eig[:, 0] / np.where(hi_a > 0, hi_a, 1.0)]
-    best_lo = min(lo_min, float(np.min(lo[0])))
-    best_ratio = min(ratio_min, float(np.min(ratio[0])))
+    best_lo = float(np.fmin.reduce(lo[0], initial=lo_min))          # NaN left aside here
+    best_ratio = float(np.fmin.reduce(ratio[0], initial=ratio_min))
     norm = np.sqrt((D ** 2).sum(axis=(1, 2)))       # ||D||_F >= max |lambda|
     which = np.arange(M) // ANCHOR_STEP              # the anchor before each position
     weyl = hi_a[which] + np.sqrt(((D - D[anchors][which]) ** 2).sum(axis=(1, 2)))
@@ -186,11 +186,30 @@ def _screened_eigenvalues(D, lo_min, ratio_min):
     out[anchors] = True
     rows = np.flatnonzero(~out)
     if rows.size:
-        eig = np.linalg.eigvalsh(D[rows])
+        eig = _eigenvalues(D[rows])
         hi = np.abs(eig).max(axis=1)
         lo.append(eig[:, 0])
         ratio.append(eig[:, 0] / np.where(hi > 0, hi, 1.0))
     return np.concatenate(lo), np.concatenate(ratio)
+
+
+def _eigenvalues(D):
+    """numpy's eigvalsh of each matrix, NaN for one that holds a NaN or an infinity.
+
+    Parameters
+    ----------
+    D : ndarray, shape (M, n, n)
+
+    Returns
+    -------
+    ndarray, shape (M, n)
+        Ascending.
+    """
+    out = np.full(D.shape[:2], np.nan)
+    finite = np.isfinite(D).all(axis=(1, 2))
+    if finite.any():
+        out[finite] = np.linalg.eigvalsh(D[finite])
+    return out
 
 
 def _definite(A):
