@@ -112,14 +112,22 @@ def _smooth_path(N, shift=0.0, seed=3):
     return 0.5 * (mats + np.swapaxes(mats, 1, 2))           # symmetric to the last bit
 
 
+@pytest.mark.parametrize("engine", ["numpy", "compiled"])
 @pytest.mark.parametrize("shift", [0.0, -2.0], ids=["definite", "indefinite"])
 @pytest.mark.parametrize("block", [8192, 1000, 7])
-def test_check_inertia_s_minima_are_numpys_over_every_position(shift, block):
+def test_check_inertia_s_minima_are_numpys_over_every_position(shift, block, engine):
     """The screened eigenvalues give the minima of numpy's eigvalsh over every position, bit
-    for bit, whatever the block; NaN never passes."""
+    for bit, whatever the block and the engine; the Gershgorin count is the array code's;
+    NaN never passes."""
     mats = _smooth_path(20_000, shift)
     got = check_inertia(lambda q: mats[q[:, 0].astype(int)],
-                        np.arange(len(mats), dtype=float)[:, None], block=block)
+                        np.arange(len(mats), dtype=float)[:, None], block=block, engine=engine)
+    diag = np.diagonal(mats, axis1=1, axis2=2)
+    s = 1.0 / np.sqrt(np.where(diag > 0, diag, 1.0))
+    A = np.abs(mats * s[:, :, None] * s[:, None, :])
+    discs = ((diag > 0).all(axis=1)
+             & (A.sum(axis=2) - np.diagonal(A, axis1=1, axis2=2) < 1.0).all(axis=1))
+    assert got["gershgorin_proved"] == int(discs.sum())
     eig = np.linalg.eigvalsh(mats)
     hi = np.abs(eig).max(axis=1)
     assert got["min_eigenvalue"] == eig[:, 0].min()
@@ -128,7 +136,7 @@ def test_check_inertia_s_minima_are_numpys_over_every_position(shift, block):
     assert got["samples"] == len(mats)
     mats[123] = np.nan
     bad = check_inertia(lambda q: mats[q[:, 0].astype(int)],
-                        np.arange(len(mats), dtype=float)[:, None], block=block)
+                        np.arange(len(mats), dtype=float)[:, None], block=block, engine=engine)
     assert not bad["positive_definite"] and np.isnan(bad["min_eigenvalue"])
 
 

@@ -24,6 +24,8 @@ import dataclasses
 
 import numpy as np
 
+from ..dynamics.dalembert import compiled_engine
+
 __all__ = ["SAMPLES", "CHECK_BLOCK", "sample_positions", "check_inertia",
            "with_inertia_check"]
 
@@ -75,7 +77,7 @@ def sample_positions(model, q=None, count=SAMPLES, seed=0):
     return "trajectory", extra
 
 
-def check_inertia(inertia, q, block=CHECK_BLOCK):
+def check_inertia(inertia, q, block=CHECK_BLOCK, engine="auto"):
     """Whether D(q) is positive definite at each position, block by block.
 
     Parameters
@@ -87,6 +89,10 @@ def check_inertia(inertia, q, block=CHECK_BLOCK):
     block : int, optional
         Positions evaluated at once (:data:`CHECK_BLOCK`): memory stays a few blocks of
         (block, n, n) whatever M is; the figures do not depend on it.
+    engine : {"auto", "numpy", "compiled"}, optional
+        The pass over each block as array code or compiled (numba; ``"auto"``: compiled from
+        :data:`gd_analyze.core.dynamics.dalembert.COMPILED_MIN_SETPOINTS` positions on,
+        :func:`~gd_analyze.core.dynamics.dalembert.compiled_engine`): the same figures.
 
     Returns
     -------
@@ -120,21 +126,17 @@ def check_inertia(inertia, q, block=CHECK_BLOCK):
     M = q.shape[0]
     if M == 0:
         raise ValueError("no positions to check")
+    compiled = compiled_engine(engine, M)
     block = max(1, int(block))
     positive, proved = True, 0
     lo_min, ratio_min = np.inf, np.inf
     nan = False
     for a in range(0, M, block):
         D = np.asarray(inertia(q[a:a + block]), float)
-        D = 0.5 * (D + np.swapaxes(D, 1, 2))
-        diag = np.diagonal(D, axis1=1, axis2=2)
-        pos = (diag > 0).all(axis=1)
-        s = 1.0 / np.sqrt(np.where(diag > 0, diag, 1.0))
-        A = np.abs(D * s[:, :, None] * s[:, None, :])
-        off = A.sum(axis=2) - np.diagonal(A, axis1=1, axis2=2)
-        proved += int((pos & (off < 1.0).all(axis=1)).sum())
+        pos, disc, D, norm = (_block_compiled if compiled else _block)(D)
+        proved += int((pos & disc).sum())
         positive = positive and bool(pos.all())
-        lo, ratio = _screened_eigenvalues(D, lo_min, ratio_min)
+        lo, ratio = _screened_eigenvalues(D, norm, lo_min, ratio_min, compiled)
         nan = nan or bool(np.isnan(lo).any() or np.isnan(ratio).any())
         if lo.size:
             lo_min = min(lo_min, float(lo.min()))
@@ -146,7 +148,30 @@ def check_inertia(inertia, q, block=CHECK_BLOCK):
             "min_relative_eigenvalue": float(ratio_min)}
 
 
-def _screened_eigenvalues(D, lo_min, ratio_min):
+def _block(D):
+    """A block's D symmetrized, which positions have a positive diagonal and which the scaled
+    Gershgorin discs prove positive definite, and ||D||_F (array code)."""
+    D = 0.5 * (D + np.swapaxes(D, 1, 2))
+    diag = np.diagonal(D, axis1=1, axis2=2)
+    pos = (diag > 0).all(axis=1)
+    s = 1.0 / np.sqrt(np.where(diag > 0, diag, 1.0))
+    A = np.abs(D * s[:, :, None] * s[:, None, :])
+    off = A.sum(axis=2) - np.diagonal(A, axis1=1, axis2=2)
+    return pos, pos & (off < 1.0).all(axis=1), D, np.sqrt((D ** 2).sum(axis=(1, 2)))
+
+
+def _block_compiled(D):
+    """:func:`_block` in one compiled pass (:func:`.kernels.inertia_block_kernel`)."""
+    from .kernels import inertia_block_kernel
+
+    D = np.ascontiguousarray(D)
+    S, M = np.empty_like(D), D.shape[0]
+    pos, disc, norm = np.empty(M, bool), np.empty(M, bool), np.empty(M)
+    inertia_block_kernel(D, S, pos, disc, norm)
+    return pos, disc, S, norm
+
+
+def _screened_eigenvalues(D, norm, lo_min, ratio_min, compiled=False):
     """lambda_min and lambda_min / max |lambda| of the positions of a block that may hold the
     minima: the anchors, and the positions a shifted definiteness test does not rule out
     (:func:`check_inertia`).
@@ -155,8 +180,13 @@ def _screened_eigenvalues(D, lo_min, ratio_min):
     ----------
     D : ndarray, shape (M, n, n)
         Symmetric matrices [kg m^2; kg].
+    norm : ndarray, shape (M,)
+        Their ||D||_F.
     lo_min, ratio_min : float
         The smallest lambda_min and ratio found so far (inf: none yet).
+    compiled : bool, optional
+        Test in one compiled pass (:func:`.kernels.inertia_screen_kernel`) instead of
+        array code.
 
     Returns
     -------
@@ -171,20 +201,29 @@ def _screened_eigenvalues(D, lo_min, ratio_min):
     ratio = [eig[:, 0] / np.where(hi_a > 0, hi_a, 1.0)]
     best_lo = float(np.fmin.reduce(lo[0], initial=lo_min))          # NaN left aside here
     best_ratio = float(np.fmin.reduce(ratio[0], initial=ratio_min))
-    norm = np.sqrt((D ** 2).sum(axis=(1, 2)))       # ||D||_F >= max |lambda|
-    which = np.arange(M) // ANCHOR_STEP              # the anchor before each position
-    weyl = hi_a[which] + np.sqrt(((D - D[anchors][which]) ** 2).sum(axis=(1, 2)))
-    margin = ROUND_OFF * norm
-    eye = np.eye(n)
-    # lambda_min(D_p) > best_lo + margin: D_p - (best_lo + margin) I is positive definite
-    out = _definite(D - (best_lo + margin)[:, None, None] * eye)
-    # lambda_min / max|lambda| > best_ratio: lambda_min > r B with B >= max|lambda| for r > 0
-    # (||D||_F, Weyl's bound from the anchor) and B <= max|lambda| for r <= 0 (max |D_ii|)
-    r = best_ratio + ROUND_OFF
-    bound = np.minimum(norm, weyl) if r > 0 else np.abs(np.diagonal(D, axis1=1, axis2=2)).max(1)
-    out &= _definite(D - (r * bound + margin)[:, None, None] * eye)
-    out[anchors] = True
-    rows = np.flatnonzero(~out)
+    if compiled:
+        from .kernels import inertia_screen_kernel
+
+        maybe = np.empty(M, bool)
+        inertia_screen_kernel(D, norm, hi_a, ANCHOR_STEP, best_lo, best_ratio, ROUND_OFF,
+                              maybe)
+        rows = np.flatnonzero(maybe)
+    else:
+        which = np.arange(M) // ANCHOR_STEP              # the anchor before each position
+        weyl = hi_a[which] + np.sqrt(((D - D[anchors][which]) ** 2).sum(axis=(1, 2)))
+        margin = ROUND_OFF * norm
+        eye = np.eye(n)
+        # lambda_min(D_p) > best_lo + margin: D_p - (best_lo + margin) I is positive definite
+        out = _definite(D - (best_lo + margin)[:, None, None] * eye)
+        # lambda_min / max|lambda| > best_ratio: lambda_min > r B with B >= max|lambda| for
+        # r > 0 (||D||_F, Weyl's bound from the anchor) and B <= max|lambda| for r <= 0
+        # (max |D_ii|)
+        r = best_ratio + ROUND_OFF
+        bound = np.minimum(norm, weyl) if r > 0 else \
+            np.abs(np.diagonal(D, axis1=1, axis2=2)).max(1)
+        out &= _definite(D - (r * bound + margin)[:, None, None] * eye)
+        out[anchors] = True
+        rows = np.flatnonzero(~out)
     if rows.size:
         eig = _eigenvalues(D[rows])
         hi = np.abs(eig).max(axis=1)
