@@ -119,26 +119,34 @@ def deploy_models(robot, trajectory, ranking, part_peaks, options, provenance, b
                        "over the whole region, and the ladder prunes on the trajectory")
         else:
             form_note = _not_deployed(rec, ex, form, proved)
+    pool = None
     if model is rec:                            # the recursive form's ladder
+        from concurrent.futures import ThreadPoolExecutor
+
         base, contributions = background["recursive"].result()
+        # measured over the trajectory in a thread, beside the D_s check and the error pass
+        pool = ThreadPoolExecutor(max_workers=1, thread_name_prefix="gd-ladder")
         rows = recursive_ladder(robot, base, (q, qd, qdd), LADDER, torque_floor,
                                 region=region if proved else None, contributions=contributions,
-                                deployed=rec)
+                                deployed=rec, pool=pool)
+        pool.shutdown(wait=False)               # the thread ends when its one job has
     model = dataclasses.replace(model, costs=costs,
                                 full_cost=dict(costs.get("explicit, full", model.full_cost)),
                                 program_cache=model.program(),
                                 guarantee=model.guarantee if model.guarantee is not None
                                 else _trajectory_guarantee(model, sel, trajectory, missing))
     model = with_inertia_check(model, q)            # D_s positive definite where it holds
-    table = cost_rows(robot.n, model, other=other, ladder_rows=rows, formulation_counts=counts)
 
     def finish(other_error):
-        extra = simplified_dataset(model, sel, other=other, ladder_rows=rows, cost_table=table,
+        rungs = rows.result() if pool is not None else rows
+        table = cost_rows(robot.n, model, other=other, ladder_rows=rungs,
+                          formulation_counts=counts)
+        extra = simplified_dataset(model, sel, other=other, ladder_rows=rungs, cost_table=table,
                                    other_error=other_error,
                                    full_terms=terms if derive else None)
         if skipped:
             extra.attrs["simplified_ladder_skipped"] = skipped
-        if rows:
+        if rungs:
             extra.attrs["simplified_ladder_form"] = model.form
         if form_note:
             extra.attrs["simplified_form_note"] = form_note

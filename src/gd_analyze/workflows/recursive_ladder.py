@@ -18,7 +18,7 @@ LADDER_BLOCK = 8192
 
 
 def recursive_ladder(robot, base, trajectory, tolerances, torque_floor=0.0, region=None,
-                     contributions=None, deployed=None):
+                     contributions=None, deployed=None, pool=None):
     """The pruned recursive model's cost and measured worst error at each tolerance EPS.
 
     Parameters
@@ -44,6 +44,10 @@ def recursive_ladder(robot, base, trajectory, tolerances, torque_floor=0.0, regi
         The recursive model built at one of the tolerances
         (:func:`gd_analyze.workflows.deploy.recursive_simplified`): its rung takes its program
         instead of building it again, and every rung its exact program.
+    pool : concurrent.futures.Executor, optional
+        Where the rungs' errors are measured over the trajectory (numpy array code, which
+        releases the GIL), beside the caller's next work; the rungs' models, programs and
+        counts are built before, in the caller's thread. Then a Future of the list is returned.
 
     Returns
     -------
@@ -67,6 +71,7 @@ def recursive_ladder(robot, base, trajectory, tolerances, torque_floor=0.0, regi
     error bound is the triangle inequality over the dropped pairs.
     """
     from ..core.model.drives import with_drives
+    from ..core.symbolic.emit import python_function
     from ..core.symbolic.recursive import recursive_program
     from ..core.symbolic.recursive_model import recursive_model
     from .deploy import _searched
@@ -91,16 +96,24 @@ def recursive_ladder(robot, base, trajectory, tolerances, torque_floor=0.0, regi
                                  rec.dropped.any() else None)[0]
             if store is not None:
                 store(exact.forms, None if program is exact else program.forms)
-        rungs.append((eps, rec, program))
-    err = _worst_errors(exact, [program for _, _, program in rungs], q, qd, qdd, robot.n)
-    rows = []
-    for (eps, rec, program), worst in zip(rungs, err):
-        scale = np.asarray(rec.scale, float)
-        safe = np.where(scale > 0, scale, np.inf)
-        rows.append({"tolerance": eps, **with_drives(program, robot).cost(),
-                     "worst_relative_error": float(np.max(worst / safe)),
-                     "worst_relative_bound": float(np.max(np.asarray(rec.bound, float) / safe))})
-    return rows
+        rungs.append((eps, rec, program, with_drives(program, robot).cost()))
+    programs = [program for _, _, program, _ in rungs]
+    for program in (exact, *programs):       # compiled here, in the caller's thread
+        python_function(program)
+
+    def measured():
+        err = _worst_errors(exact, programs, q, qd, qdd, robot.n)
+        rows = []
+        for (eps, rec, _, cost), worst in zip(rungs, err):
+            scale = np.asarray(rec.scale, float)
+            safe = np.where(scale > 0, scale, np.inf)
+            rows.append({"tolerance": eps, **cost,
+                         "worst_relative_error": float(np.max(worst / safe)),
+                         "worst_relative_bound": float(np.max(np.asarray(rec.bound, float)
+                                                              / safe))})
+        return rows
+
+    return measured() if pool is None else pool.submit(measured)
 
 
 def _worst_errors(exact, programs, q, qd, qdd, n, block=LADDER_BLOCK):
