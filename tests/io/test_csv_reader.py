@@ -248,3 +248,27 @@ def test_fuzz_large_files_match_the_reference(tmp_path_factory, data, mutation):
     note(f"mutation {mutation}: {raw[:300]!r}")
     assert len(raw) > FAST_PARSE_BYTES
     _check_against_reference(tmp, raw)
+
+
+@pytest.mark.slow
+@settings(max_examples=12, deadline=None, suppress_health_check=list(HealthCheck),
+          phases=[Phase.explicit, Phase.reuse, Phase.generate])
+@given(data=st.data(), mutation=_MUTATIONS, piece=st.sampled_from([509, 4099, 65521]))
+def test_fuzz_large_files_parsed_in_pieces_match_the_reference(tmp_path_factory, data,
+                                                               mutation, piece):
+    """pandas parses a large file piece by piece (whole lines each; memory: the file and its
+    values once): with pieces of 509 to 65,521 bytes, every mutated file gives the reference's
+    values or error, as whole."""
+    import gd_analyze.io.trajectory as trajectory
+
+    tmp = tmp_path_factory.mktemp("fzp")
+    header, body = _table(data, 2, 6, True)
+    body = [[repr(k * 0.001)] + body[k % 6][1:] for k in range(12_000)]
+    raw = _mutate(header, body, mutation, data)
+    note(f"mutation {mutation}, piece {piece}: {raw[:300]!r}")
+    saved = trajectory.PARSE_PIECE
+    trajectory.PARSE_PIECE = piece
+    try:
+        _check_against_reference(tmp, raw)
+    finally:
+        trajectory.PARSE_PIECE = saved

@@ -119,3 +119,14 @@ def test_large_files_parse_fast_and_errors_stay_exact(tmp_path, puma, defect, ro
     assert err.value.row == row
     if column:
         assert err.value.column == column
+
+
+@pytest.mark.parametrize("block", [1, 7, 4096, 1 << 24])
+def test_the_block_count_of_a_byte_is_bytes_count(block):
+    """_byte_count (numpy, block by block) equals bytes.count on random bytes, every value."""
+    from gd_analyze.io.trajectory import _byte_count
+
+    raw = np.random.default_rng(block).integers(0, 256, 20_011, dtype=np.uint8).tobytes()
+    for byte in (b"\n", b",", b"\r", b"\x00", b"\xff"):
+        assert _byte_count(raw, byte, block=block) == raw.count(byte)
+    assert _byte_count(b"", b",") == 0

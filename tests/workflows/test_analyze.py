@@ -157,3 +157,28 @@ def test_the_count_can_fail(monkeypatch, puma):
     counted = _count_gd(monkeypatch)
     verify(puma, traj.q, traj.qd)            # without terms, verify computes its own
     assert counted() == 31
+
+
+@pytest.mark.slow
+def test_the_main_job_s_memory_is_flat_in_the_set_points(tmp_path, puma):
+    """analyze_to_file streams everything to the file in chunks (the G-D terms, verification,
+    ranking, the simplified model's D_s check, ladder and error, results.h5): its largest
+    allocation for 10^5 set points is less than twice that for 10^4, both beyond the chunk
+    (the D_s check and the ladder held (N, n, n) and (N, n) arrays at once)."""
+    import tracemalloc
+
+    def planned(N):
+        return plan_quintic(puma, np.radians([-60, 20, -150, -80, -60, -120]),
+                            np.radians([60, 110, -60, 80, 60, 120]), n_setpoints=N)
+
+    analyze_to_file(puma, planned(500), tmp_path / "warm.h5", chunk=4096)   # caches, imports
+    peaks = []
+    for N in (10_000, 100_000):
+        traj = planned(N)
+        tracemalloc.start()
+        analyze_to_file(puma, traj, tmp_path / f"r{N}.h5", chunk=4096)
+        peaks.append(tracemalloc.get_traced_memory()[1])
+        tracemalloc.stop()
+    assert peaks[1] < 2 * peaks[0], peaks
+    with xr.open_dataset(tmp_path / "r100000.h5", engine="h5netcdf") as ds:
+        assert ds.sizes["t"] == 100_000 and ds["D"].encoding["chunksizes"][0] == 4096

@@ -100,3 +100,33 @@ def test_the_default_run_stores_and_draws_the_recursive_ladder(shared_puma):
     html = (out / "report.html").read_text(encoding="utf-8")
     assert "Tolerance ladder of the recursive form" in html
     assert "proved over the joint-limit region (\u2264 \u03b5)" in html
+
+
+def test_the_ladder_s_errors_are_measured_block_by_block(puma):
+    """_worst_errors gives each rung's peak |tau_s - tau| per joint, as the whole trajectory
+    at once does, and its largest allocation for 10^5 set points is less than twice that for
+    10^4 (it held every rung's (N, n) torques and temporaries at once)."""
+    import tracemalloc
+
+    from gd_analyze.core.symbolic.base_parameters import random_states
+    from gd_analyze.core.symbolic.recursive import recursive_program
+    from gd_analyze.workflows.recursive_ladder import _worst_errors
+
+    robot, base, states, _ = puma
+    exact = recursive_program(robot, base.values)
+    programs = [exact] + [recursive_model(robot, *states, eps, base=base).choice(robot)[0]
+                          for eps in (0.01, 0.1)]
+    q, qd, qdd = random_states(robot, 3000, 5)
+    want = np.array([np.abs(python_function(p)(q, qd, qdd) - python_function(exact)(q, qd, qdd))
+                     .max(axis=0) for p in programs])
+    np.testing.assert_array_equal(_worst_errors(exact, programs, q, qd, qdd, 6, block=700),
+                                  want)
+    assert want[0].max() == 0 and want[2].max() > 0
+    peaks = []
+    for N in (10_000, 100_000):
+        q, qd, qdd = random_states(robot, N, 6)
+        tracemalloc.start()
+        _worst_errors(exact, programs, q, qd, qdd, 6)
+        peaks.append(tracemalloc.get_traced_memory()[1])
+        tracemalloc.stop()
+    assert peaks[1] < 2 * peaks[0], peaks

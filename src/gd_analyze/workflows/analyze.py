@@ -550,8 +550,10 @@ def analyze_to_file(robot, trajectory, path, options=None, settings=None, chunk=
                 prismatic=robot.prismatic,
                 friction=bool(np.any(robot.viscous) or np.any(robot.coulomb)),
                 joints=robot.joint_names())) as out:
-            out.write(0, {"t": trajectory.t, "q": trajectory.q, "qd": trajectory.qd,
-                          "qdd": trajectory.qdd})
+            step = max(1, int(chunk))
+            for a in range(0, N, step):         # block by block: no copy of a whole column
+                out.write(a, {name: getattr(trajectory, name)[a:a + step]
+                              for name in ("t", "q", "qd", "qdd")})
             result = analysis_pass(robot, trajectory, options,
                                    _provenance(trajectory, settings), chunk, writer=out,
                                    progress=progress)

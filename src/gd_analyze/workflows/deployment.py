@@ -151,20 +151,28 @@ def deploy_models(robot, trajectory, ranking, part_peaks, options, provenance, b
                            "h": model.recursive.bound_by_part[1],
                            "c": model.recursive.bound_by_part[2],
                            "whole": model.recursive.bound_by_part[3]})
+    pool = None
     if ladder_recursive:                        # the recursive form's ladder
+        from concurrent.futures import ThreadPoolExecutor
+
         base, contributions = background["recursive"].result()
+        # measured over the trajectory in a thread, beside the error pass
+        pool = ThreadPoolExecutor(max_workers=1, thread_name_prefix="gd-ladder")
         rows = recursive_ladder(robot, base, (q, qd, qdd), LADDER, torque_floor,
                                 region=region if proved else None, contributions=contributions,
-                                deployed=model)
-    table = cost_rows(robot.n, model, other=other, ladder_rows=rows, formulation_counts=counts)
+                                deployed=model, pool=pool)
+        pool.shutdown(wait=False)               # the thread ends when its one job has
 
     def finish(other_error):
-        extra = simplified_dataset(model, sel, other=other, ladder_rows=rows, cost_table=table,
+        rungs = rows.result() if pool is not None else rows
+        table = cost_rows(robot.n, model, other=other, ladder_rows=rungs,
+                          formulation_counts=counts)
+        extra = simplified_dataset(model, sel, other=other, ladder_rows=rungs, cost_table=table,
                                    other_error=other_error,
                                    full_terms=terms if derive else None)
         if skipped:
             extra.attrs["simplified_ladder_skipped"] = skipped
-        if rows:
+        if rungs:
             extra.attrs["simplified_ladder_form"] = model.form
         if form_note:
             extra.attrs["simplified_form_note"] = form_note

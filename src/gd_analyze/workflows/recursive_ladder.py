@@ -10,11 +10,15 @@ from __future__ import annotations
 
 import numpy as np
 
-__all__ = ["recursive_ladder"]
+__all__ = ["recursive_ladder", "LADDER_BLOCK"]
+
+#: Set points whose torques each rung evaluates at once (the blocks of
+#: :meth:`gd_analyze.core.selection.simplified.SimplifiedModel.torque`).
+LADDER_BLOCK = 8192
 
 
 def recursive_ladder(robot, base, trajectory, tolerances, torque_floor=0.0, region=None,
-                     contributions=None, deployed=None):
+                     contributions=None, deployed=None, pool=None):
     """The pruned recursive model's cost and measured worst error at each tolerance EPS.
 
     Parameters
@@ -40,6 +44,10 @@ def recursive_ladder(robot, base, trajectory, tolerances, torque_floor=0.0, regi
         The recursive model built at one of the tolerances
         (:func:`gd_analyze.workflows.deploy.recursive_simplified`): its rung takes its program
         instead of building it again, and every rung its exact program.
+    pool : concurrent.futures.Executor, optional
+        Where the rungs' errors are measured over the trajectory (numpy array code, which
+        releases the GIL), beside the caller's next work; the rungs' models, programs and
+        counts are built before, in the caller's thread. Then a Future of the list is returned.
 
     Returns
     -------
@@ -71,8 +79,7 @@ def recursive_ladder(robot, base, trajectory, tolerances, torque_floor=0.0, regi
     q, qd, qdd = trajectory
     built = getattr(deployed, "choice_cache", None) or ()
     exact = built[2] if len(built) > 2 else recursive_program(robot, base.values)
-    reference = python_function(exact)(q, qd, qdd)
-    rows = []
+    rungs = []
     for eps in tolerances:
         eps = float(eps)
         if deployed is not None and eps == float(deployed.tolerance):
@@ -89,11 +96,57 @@ def recursive_ladder(robot, base, trajectory, tolerances, torque_floor=0.0, regi
                                  rec.dropped.any() else None)[0]
             if store is not None:
                 store(exact.forms, None if program is exact else program.forms)
-        tau = reference if program is exact else python_function(program)(q, qd, qdd)
-        scale = np.asarray(rec.scale, float)
-        safe = np.where(scale > 0, scale, np.inf)
-        err = np.abs(np.asarray(tau) - reference).max(axis=0) if len(q) else np.zeros(robot.n)
-        rows.append({"tolerance": eps, **with_drives(program, robot).cost(),
-                     "worst_relative_error": float(np.max(err / safe)),
-                     "worst_relative_bound": float(np.max(np.asarray(rec.bound, float) / safe))})
-    return rows
+        rungs.append((eps, rec, program, with_drives(program, robot).cost()))
+    programs = [program for _, _, program, _ in rungs]
+    for program in (exact, *programs):       # compiled here, in the caller's thread
+        python_function(program)
+
+    def measured():
+        err = _worst_errors(exact, programs, q, qd, qdd, robot.n)
+        rows = []
+        for (eps, rec, _, cost), worst in zip(rungs, err):
+            scale = np.asarray(rec.scale, float)
+            safe = np.where(scale > 0, scale, np.inf)
+            rows.append({"tolerance": eps, **cost,
+                         "worst_relative_error": float(np.max(worst / safe)),
+                         "worst_relative_bound": float(np.max(np.asarray(rec.bound, float)
+                                                              / safe))})
+        return rows
+
+    return measured() if pool is None else pool.submit(measured)
+
+
+def _worst_errors(exact, programs, q, qd, qdd, n, block=LADDER_BLOCK):
+    """Peak |tau_s - tau| per joint of each program against the exact one, block by block.
+
+    Parameters
+    ----------
+    exact : Program
+        The exact recursive program (the reference tau).
+    programs : list of Program
+        The rungs' programs; one that is ``exact`` has error 0.
+    q, qd, qdd : ndarray, shape (N, n)
+        The trajectory [rad, rad/s, rad/s^2; m, m/s, m/s^2].
+    n : int
+        Joints.
+    block : int, optional
+        Set points evaluated at once: memory stays a few (block, n) temporaries of each
+        program whatever N is, and the peaks do not depend on it (every row is computed alone).
+
+    Returns
+    -------
+    ndarray, shape (len(programs), n)
+        [N m; N]; NaN where a torque is NaN.
+    """
+    from ..core.symbolic.emit import python_function
+
+    err = np.zeros((len(programs), n))
+    reference = python_function(exact)
+    for a in range(0, q.shape[0], max(1, int(block))):
+        rows = slice(a, a + block)
+        tau = reference(q[rows], qd[rows], qdd[rows])
+        for k, program in enumerate(programs):
+            if program is not exact:
+                got = python_function(program)(q[rows], qd[rows], qdd[rows])
+                np.maximum(err[k], np.abs(np.asarray(got) - tau).max(axis=0), out=err[k])
+    return err

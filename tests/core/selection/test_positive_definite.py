@@ -10,6 +10,7 @@ region certification's own leaves for the bound of the model finally deployed.""
 import dataclasses
 
 import numpy as np
+import pinocchio as pin
 import pytest
 from robot_files import crba, inertia_arm
 
@@ -25,6 +26,7 @@ from gd_analyze.core.selection.positive_definite import (
 from gd_analyze.core.selection.region import worst_states
 from gd_analyze.core.symbolic.base_parameters import base_parameters, random_states
 from gd_analyze.core.symbolic.recursive_model import recursive_model
+from gd_analyze.formulations.pinocchio import pinocchio_model
 from gd_analyze.io.json_schema import MODEL_SCHEMA
 from gd_analyze.workflows.deploy import (
     build_recursive,
@@ -43,6 +45,24 @@ def _model(robot, rec):
 
 
 _DEFAULT = {}
+
+
+@pytest.fixture(scope="module")
+def puma():
+    robot = load_robot("puma560")
+    q, qd, qdd = random_states(robot, 60, 2)
+    return robot, q, qd, qdd, recursive_model(robot, q, qd, qdd, 0.0)
+
+
+def test_check_inertia_on_known_matrices():
+    mats = np.array([[[4.0, 1.0, 0.5], [1.0, 3.0, 0.2], [0.5, 0.2, 2.0]],    # dominant
+                     [[1.0, 0.9, 0.9], [0.9, 1.0, 0.9], [0.9, 0.9, 1.0]],    # PD, not dominant
+                     [[1.0, 2.0, 0.0], [2.0, 1.0, 0.0], [0.0, 0.0, 1.0]]])   # indefinite
+    got = check_inertia(lambda q: mats[q[:, 0].astype(int)], np.array([[0], [1]]))
+    assert got["positive_definite"] and got["gershgorin_proved"] == 1 and got["samples"] == 2
+    assert got["min_eigenvalue"] == pytest.approx(0.1)                   # 1 - 0.9 of the second
+    bad = check_inertia(lambda q: mats[q[:, 0].astype(int)], np.array([[0], [2]]))
+    assert not bad["positive_definite"] and bad["min_eigenvalue"] == pytest.approx(-1.0)
 
 
 def _default(key):
@@ -183,3 +203,88 @@ def test_an_explicit_model_that_drops_terms_is_not_said_to_be_proved():
     assert check["sampled_min_eigenvalue"] == np.linalg.eigvalsh(D)[:, 0].min()
     assert check["statement"].startswith("not proved (an explicit model that drops terms")
     assert "proved positive definite" not in check["statement"]
+
+
+def test_forward_dynamics_through_d_s_is_pinocchios_aba(puma):
+    """EPS = 0: qdd = D_s^-1 (tau - h_s - c_s) equals aba(q, qd, tau) for tau = rnea."""
+    robot, q, qd, qdd, rec = puma
+    ns = _model(robot, rec).functions().numpy()
+    pm = pinocchio_model(robot)
+    data = pm.createData()
+    tau = np.array([pin.rnea(pm, data, *x) for x in zip(q, qd, qdd)])
+    got = np.linalg.solve(ns["inertia"](q), (tau - ns["velocity_terms"](q, qd)
+                                             - ns["gravity"](q))[:, :, None])[:, :, 0]
+    want = np.array([pin.aba(pm, data, a, b, c) for a, b, c in zip(q, qd, tau)])
+    assert np.abs(got - want).max() <= 1e-8 * np.abs(want).max()
+    assert np.abs(got - qdd).max() <= 1e-8 * np.abs(qdd).max()
+
+
+def _smooth_path(N, shift=0.0, seed=3):
+    """Symmetric 5 x 5 matrices along a smooth path (a random walk smoothed), shifted by
+    ``shift`` I: positive definite or not, with neighbours that differ little (the case the
+    screening rules out) and a few jumps (the case it must not)."""
+    rng = np.random.default_rng(seed)
+    base = rng.normal(size=(5, 5))
+    base = base @ base.T + 0.5 * np.eye(5)
+    walk = np.cumsum(rng.normal(scale=2e-3, size=(N, 5, 5)), axis=0)
+    walk[rng.integers(0, N, 5)] += rng.normal(scale=0.5, size=(5, 5))
+    mats = base + walk + shift * np.eye(5)
+    return 0.5 * (mats + np.swapaxes(mats, 1, 2))           # symmetric to the last bit
+
+
+@pytest.mark.parametrize("engine", ["numpy", "compiled"])
+@pytest.mark.parametrize("shift", [0.0, -2.0], ids=["definite", "indefinite"])
+@pytest.mark.parametrize("block", [8192, 1000, 7])
+def test_check_inertia_s_minima_are_numpys_over_every_position(shift, block, engine):
+    """The screened eigenvalues give the minima of numpy's eigvalsh over every position, bit
+    for bit, whatever the block and the engine; the Gershgorin count is the array code's;
+    NaN never passes."""
+    mats = _smooth_path(20_000, shift)
+    got = check_inertia(lambda q: mats[q[:, 0].astype(int)],
+                        np.arange(len(mats), dtype=float)[:, None], block=block, engine=engine)
+    diag = np.diagonal(mats, axis1=1, axis2=2)
+    s = 1.0 / np.sqrt(np.where(diag > 0, diag, 1.0))
+    A = np.abs(mats * s[:, :, None] * s[:, None, :])
+    discs = ((diag > 0).all(axis=1)
+             & (A.sum(axis=2) - np.diagonal(A, axis1=1, axis2=2) < 1.0).all(axis=1))
+    assert got["gershgorin_proved"] == int(discs.sum())
+    eig = np.linalg.eigvalsh(mats)
+    hi = np.abs(eig).max(axis=1)
+    assert got["min_eigenvalue"] == eig[:, 0].min()
+    assert got["min_relative_eigenvalue"] == (eig[:, 0] / hi).min()
+    assert got["positive_definite"] == bool((eig[:, 0] > 0).all())
+    assert got["samples"] == len(mats)
+    mats[123] = np.nan
+    bad = check_inertia(lambda q: mats[q[:, 0].astype(int)],
+                        np.arange(len(mats), dtype=float)[:, None], block=block, engine=engine)
+    assert not bad["positive_definite"] and np.isnan(bad["min_eigenvalue"])
+
+
+def test_the_shifted_definiteness_test_is_numpys():
+    """_definite (the L D L^T pivots) says positive definite exactly where the smallest
+    eigenvalue is clearly positive, on matrices on both sides of singular."""
+    from gd_analyze.core.selection.positive_definite import _definite
+
+    mats = _smooth_path(5000) - np.linspace(0.0, 1.0, 5000)[:, None, None] * np.eye(5)
+    lo = np.linalg.eigvalsh(mats)[:, 0]
+    clear = np.abs(lo) > 1e-9
+    assert (lo > 0).any() and (lo < 0).any()
+    np.testing.assert_array_equal(_definite(mats)[clear], lo[clear] > 0)
+
+
+def test_the_inertia_check_s_memory_is_flat_in_the_positions(puma):
+    """D_s is checked block by block: the largest allocation for 10^5 positions is less than
+    twice that for 10^4 (it held (N, n, n) arrays and their eigenvalues at once)."""
+    import tracemalloc
+
+    robot, q, _, _, rec = puma
+    inertia = _model(robot, rec).functions().numpy()["inertia"]
+    rng = np.random.default_rng(0)
+    peaks = []
+    for N in (10_000, 100_000):
+        qs = rng.uniform(robot.q_min, robot.q_max, (N, robot.n))
+        tracemalloc.start()
+        check_inertia(inertia, qs)
+        peaks.append(tracemalloc.get_traced_memory()[1])
+        tracemalloc.stop()
+    assert peaks[1] < 2 * peaks[0], peaks

@@ -24,7 +24,8 @@ from __future__ import annotations
 import numpy as np
 from numba import njit
 
-__all__ = ["ranking_kernel", "part_peaks_kernel"]
+__all__ = ["ranking_kernel", "part_peaks_kernel", "inertia_block_kernel",
+           "inertia_screen_kernel"]
 
 
 @njit(cache=True, fastmath=False, nogil=True, inline="always")
@@ -141,3 +142,109 @@ def part_peaks_kernel(D_tran, D_rot, h_tran, h_rot, qdd, tau, rot, elem_i, elem_
             peaks[r, i] = mi[r]
         if j >= 0 and i != j and mj[r] > peaks[r, j]:
             peaks[r, j] = mj[r]
+
+
+@njit(cache=True, fastmath=False, nogil=True)
+def inertia_block_kernel(D, S, pos, proved, norm):  # pragma: no cover - compiled
+    """The D_s check's pass over a block of matrices
+    (:func:`gd_analyze.core.selection.positive_definite.check_inertia`), in place.
+
+    Parameters
+    ----------
+    D : ndarray, shape (M, n, n)
+        D_s at M positions [kg m^2; kg].
+    S : ndarray, shape (M, n, n)
+        Receives 0.5 (D + D^T), as numpy forms it.
+    pos, proved : ndarray of bool, shape (M,)
+        Receive whether every diagonal entry is positive, and whether the Gershgorin discs of
+        S scaled to a unit diagonal all lie right of 0 (the numpy formulation's sums, in row
+        order).
+    norm : ndarray, shape (M,)
+        Receives ||S||_F.
+    """
+    M, n = D.shape[0], D.shape[1]
+    s = np.empty(n)
+    for p in range(M):
+        total = 0.0
+        for i in range(n):
+            for j in range(n):
+                v = 0.5 * (D[p, i, j] + D[p, j, i])
+                S[p, i, j] = v
+                total += v * v
+        norm[p] = np.sqrt(total)
+        ok = True
+        for i in range(n):
+            d = S[p, i, i]
+            ok = ok and d > 0
+            s[i] = 1.0 / np.sqrt(d if d > 0 else 1.0)
+        pos[p] = ok
+        disc = ok
+        for i in range(n):
+            row = 0.0
+            for j in range(n):
+                row += abs(S[p, i, j] * s[i] * s[j])
+            disc = disc and (row - abs(S[p, i, i] * s[i] * s[i])) < 1.0
+        proved[p] = disc
+
+
+@njit(cache=True, fastmath=False, nogil=True, inline="always")
+def _definite_shifted(S, p, shift, A):  # pragma: no cover - compiled
+    """Whether S[p] - shift I is positive definite: every pivot of its L D L^T positive."""
+    n = S.shape[1]
+    for i in range(n):
+        for j in range(n):
+            A[i, j] = S[p, i, j] - (shift if i == j else 0.0)
+    for k in range(n):
+        d = A[k, k]
+        if not d > 0:
+            return False
+        for i in range(k + 1, n):
+            c = A[i, k] / d
+            for j in range(k + 1, n):
+                A[i, j] -= c * A[k, j]
+    return True
+
+
+@njit(cache=True, fastmath=False, nogil=True)
+def inertia_screen_kernel(S, norm, hi_a, step, best_lo, best_ratio, round_off,
+                          maybe):  # pragma: no cover - compiled
+    """Which positions of a block may hold the D_s check's minima, in place
+    (:func:`gd_analyze.core.selection.positive_definite.check_inertia`'s shifted definiteness
+    test, as its array formulation makes it).
+
+    Parameters
+    ----------
+    S : ndarray, shape (M, n, n)
+        Symmetric matrices [kg m^2; kg].
+    norm : ndarray, shape (M,)
+        ||S||_F.
+    hi_a : ndarray, shape (ceil(M / step),)
+        max |lambda| of each anchor (every step-th matrix).
+    step : int
+    best_lo, best_ratio, round_off : float
+        The smallest lambda_min and lambda_min / max |lambda| found, the relative margin.
+    maybe : ndarray of bool, shape (M,)
+        Receives True where the eigenvalues must be computed (never at an anchor).
+    """
+    M, n = S.shape[0], S.shape[1]
+    A = np.empty((n, n))
+    r = best_ratio + round_off
+    for p in range(M):
+        a = (p // step) * step
+        if p == a:
+            maybe[p] = False
+            continue
+        delta = 0.0
+        for i in range(n):
+            for j in range(n):
+                e = S[p, i, j] - S[a, i, j]
+                delta += e * e
+        margin = round_off * norm[p]
+        if r > 0:
+            bound = min(norm[p], hi_a[p // step] + np.sqrt(delta))
+        else:
+            bound = 0.0
+            for i in range(n):
+                bound = max(bound, abs(S[p, i, i]))
+        maybe[p] = not (_definite_shifted(S, p, best_lo + margin, A)
+                        and _definite_shifted(S, p, r * bound + margin, A))

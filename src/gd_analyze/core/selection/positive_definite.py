@@ -21,6 +21,7 @@ import dataclasses
 
 import numpy as np
 
+from ..dynamics.dalembert import compiled_engine
 from ..symbolic.base_parameters import base_parameters
 from .inertia_proof import (  # noqa: F401 (re-exported)
     MAX_BOXES,
@@ -37,11 +38,19 @@ from .inertia_proof import (  # noqa: F401 (re-exported)
 #: budget).
 CANDIDATE_BOXES = 256
 
-__all__ = ["CANDIDATE_BOXES", "SAMPLES", "MAX_BOXES", "InertiaProof", "inertia_floor",
+__all__ = ["CANDIDATE_BOXES", "CHECK_BLOCK", "SAMPLES", "MAX_BOXES", "InertiaProof", "inertia_floor",
            "gershgorin_lower", "prove_inertia", "inertia_context", "check_inertia",
            "sample_positions", "with_inertia_check", "inertia_statement",
            "dropped_inertia_values"]
 
+#: Positions whose D_s is evaluated at once by :func:`check_inertia` (each (block, n, n)
+#: temporary of a 6-joint arm is 2.3 MiB).
+CHECK_BLOCK = 8192
+#: Every ANCHOR_STEP-th position of a block has its eigenvalues computed; the others only
+#: where a shifted definiteness test cannot rule them out of the minima.
+ANCHOR_STEP = 16
+#: Relative round-off margin of that ruling out (eigvalsh's error is a few eps of the norm).
+ROUND_OFF = 1e-10
 
 
 def sample_positions(model, q=None, count=SAMPLES, seed=0):
@@ -80,8 +89,9 @@ def sample_positions(model, q=None, count=SAMPLES, seed=0):
     return "trajectory", extra
 
 
-def check_inertia(inertia, q):
-    """Whether D(q) is positive definite at each given position (sampled: no proof).
+def check_inertia(inertia, q, block=CHECK_BLOCK, engine="auto"):
+    """Whether D(q) is positive definite at each given position, block by block (sampled: no
+    proof).
 
     Parameters
     ----------
@@ -89,12 +99,31 @@ def check_inertia(inertia, q):
         ``inertia(q)`` of shape (M, n) -> D of shape (M, n, n) [kg m^2; kg].
     q : ndarray, shape (M, n)
         Positions [rad; m].
+    block : int, optional
+        Positions evaluated at once (:data:`CHECK_BLOCK`): memory stays a few blocks of
+        (block, n, n) whatever M is; the figures do not depend on it.
+    engine : {"auto", "numpy", "compiled"}, optional
+        The pass over each block as array code or compiled (numba; ``"auto"``: compiled from
+        :data:`gd_analyze.core.dynamics.dalembert.COMPILED_MIN_SETPOINTS` positions on,
+        :func:`~gd_analyze.core.dynamics.dalembert.compiled_engine`): the same figures.
 
     Returns
     -------
     dict
         ``samples`` (M), ``positive_definite`` (bool: at every position) and
         ``min_eigenvalue`` (smallest eigenvalue over the positions [kg m^2]).
+
+    Notes
+    -----
+    The eigenvalues are computed (``numpy.linalg.eigvalsh``) at every :data:`ANCHOR_STEP`-th
+    position of a block (the anchors) and wherever a shifted definiteness test cannot rule the
+    position out of the minima: lambda_min(D) > t exactly when D - t I is positive definite
+    (every pivot of its L D L^T factorisation positive), tested with t the smallest
+    lambda_min found plus a round-off margin of :data:`ROUND_OFF` ||D||_F, and with t = r B for
+    the ratio r found, B an upper bound on max |lambda| (||D||_F, or Weyl's inequality from
+    the anchor before: max |lambda(D)| <= max |lambda(D_a)| + ||D - D_a||_F; Horn & Johnson,
+    *Matrix Analysis*, 2nd ed. 2013, Cor. 4.3.15). The minima are those of the eigenvalues of
+    every position.
 
     Examples
     --------
@@ -104,11 +133,156 @@ def check_inertia(inertia, q):
     >>> check_inertia(D, np.array([[2.0]]))["positive_definite"]
     False
     """
-    D = np.asarray(inertia(q), float)
+    q = np.asarray(q, float)
+    M = q.shape[0]
+    if M == 0:
+        raise ValueError("no positions to check")
+    compiled = compiled_engine(engine, M)
+    block = max(1, int(block))
+    positive, proved = True, 0
+    lo_min, ratio_min = np.inf, np.inf
+    nan = False
+    for a in range(0, M, block):
+        D = np.asarray(inertia(q[a:a + block]), float)
+        pos, disc, D, norm = (_block_compiled if compiled else _block)(D)
+        proved += int((pos & disc).sum())
+        positive = positive and bool(pos.all())
+        lo, ratio = _screened_eigenvalues(D, norm, lo_min, ratio_min, compiled)
+        nan = nan or bool(np.isnan(lo).any() or np.isnan(ratio).any())
+        if lo.size:
+            lo_min = min(lo_min, float(lo.min()))
+            ratio_min = min(ratio_min, float(ratio.min()))
+    if nan:                                   # NaN never passes (as numpy's min gives it)
+        lo_min = ratio_min = float("nan")
+    return {"samples": int(M), "positive_definite": bool(lo_min > 0 and positive),
+            "gershgorin_proved": int(proved), "min_eigenvalue": float(lo_min),
+            "min_relative_eigenvalue": float(ratio_min)}
+
+
+def _block(D):
+    """A block's D symmetrized, which positions have a positive diagonal and which the scaled
+    Gershgorin discs prove positive definite, and ||D||_F (array code)."""
     D = 0.5 * (D + np.swapaxes(D, 1, 2))
-    lo = np.linalg.eigvalsh(D)[:, 0]
-    return {"samples": int(q.shape[0]), "positive_definite": bool((lo > 0).all()),
-            "min_eigenvalue": float(lo.min())}
+    diag = np.diagonal(D, axis1=1, axis2=2)
+    pos = (diag > 0).all(axis=1)
+    s = 1.0 / np.sqrt(np.where(diag > 0, diag, 1.0))
+    A = np.abs(D * s[:, :, None] * s[:, None, :])
+    off = A.sum(axis=2) - np.diagonal(A, axis1=1, axis2=2)
+    return pos, pos & (off < 1.0).all(axis=1), D, np.sqrt((D ** 2).sum(axis=(1, 2)))
+
+
+def _block_compiled(D):
+    """:func:`_block` in one compiled pass (:func:`.kernels.inertia_block_kernel`)."""
+    from .kernels import inertia_block_kernel
+
+    D = np.ascontiguousarray(D)
+    S, M = np.empty_like(D), D.shape[0]
+    pos, disc, norm = np.empty(M, bool), np.empty(M, bool), np.empty(M)
+    inertia_block_kernel(D, S, pos, disc, norm)
+    return pos, disc, S, norm
+
+
+def _screened_eigenvalues(D, norm, lo_min, ratio_min, compiled=False):
+    """lambda_min and lambda_min / max |lambda| of the positions of a block that may hold the
+    minima: the anchors, and the positions a shifted definiteness test does not rule out
+    (:func:`check_inertia`).
+
+    Parameters
+    ----------
+    D : ndarray, shape (M, n, n)
+        Symmetric matrices [kg m^2; kg].
+    norm : ndarray, shape (M,)
+        Their ||D||_F.
+    lo_min, ratio_min : float
+        The smallest lambda_min and ratio found so far (inf: none yet).
+    compiled : bool, optional
+        Test in one compiled pass (:func:`.kernels.inertia_screen_kernel`) instead of
+        array code.
+
+    Returns
+    -------
+    lo, ratio : ndarray, shape (K,)
+        Of the K positions computed (every one whose values might be below the minima).
+    """
+    M, n = D.shape[0], D.shape[1]
+    anchors = np.arange(0, M, ANCHOR_STEP)
+    eig = _eigenvalues(D[anchors])
+    lo = [eig[:, 0]]
+    hi_a = np.abs(eig).max(axis=1)
+    ratio = [eig[:, 0] / np.where(hi_a > 0, hi_a, 1.0)]
+    best_lo = float(np.fmin.reduce(lo[0], initial=lo_min))          # NaN left aside here
+    best_ratio = float(np.fmin.reduce(ratio[0], initial=ratio_min))
+    if compiled:
+        from .kernels import inertia_screen_kernel
+
+        maybe = np.empty(M, bool)
+        inertia_screen_kernel(D, norm, hi_a, ANCHOR_STEP, best_lo, best_ratio, ROUND_OFF,
+                              maybe)
+        rows = np.flatnonzero(maybe)
+    else:
+        which = np.arange(M) // ANCHOR_STEP              # the anchor before each position
+        weyl = hi_a[which] + np.sqrt(((D - D[anchors][which]) ** 2).sum(axis=(1, 2)))
+        margin = ROUND_OFF * norm
+        eye = np.eye(n)
+        # lambda_min(D_p) > best_lo + margin: D_p - (best_lo + margin) I is positive definite
+        out = _definite(D - (best_lo + margin)[:, None, None] * eye)
+        # lambda_min / max|lambda| > best_ratio: lambda_min > r B with B >= max|lambda| for
+        # r > 0 (||D||_F, Weyl's bound from the anchor) and B <= max|lambda| for r <= 0
+        # (max |D_ii|)
+        r = best_ratio + ROUND_OFF
+        bound = np.minimum(norm, weyl) if r > 0 else \
+            np.abs(np.diagonal(D, axis1=1, axis2=2)).max(1)
+        out &= _definite(D - (r * bound + margin)[:, None, None] * eye)
+        out[anchors] = True
+        rows = np.flatnonzero(~out)
+    if rows.size:
+        eig = _eigenvalues(D[rows])
+        hi = np.abs(eig).max(axis=1)
+        lo.append(eig[:, 0])
+        ratio.append(eig[:, 0] / np.where(hi > 0, hi, 1.0))
+    return np.concatenate(lo), np.concatenate(ratio)
+
+
+def _eigenvalues(D):
+    """numpy's eigvalsh of each matrix, NaN for one that holds a NaN or an infinity.
+
+    Parameters
+    ----------
+    D : ndarray, shape (M, n, n)
+
+    Returns
+    -------
+    ndarray, shape (M, n)
+        Ascending.
+    """
+    out = np.full(D.shape[:2], np.nan)
+    finite = np.isfinite(D).all(axis=(1, 2))
+    if finite.any():
+        out[finite] = np.linalg.eigvalsh(D[finite])
+    return out
+
+
+def _definite(A):
+    """Whether each symmetric matrix is positive definite: every pivot of its L D L^T
+    factorisation (Gaussian elimination without pivoting) is positive (Golub & Van Loan,
+    *Matrix Computations*, 4th ed. 2013, Sec. 4.2). NaN is not.
+
+    Parameters
+    ----------
+    A : ndarray, shape (M, n, n)
+
+    Returns
+    -------
+    ndarray of bool, shape (M,)
+    """
+    A = np.ascontiguousarray(np.moveaxis(np.asarray(A, float), 0, -1))    # (n, n, M)
+    ok = np.ones(A.shape[2], bool)
+    for k in range(A.shape[0]):
+        d = A[k, k]
+        ok &= d > 0
+        col = A[k + 1:, k] / np.where(d > 0, d, 1.0)
+        A[k + 1:, k + 1:] -= col[:, None, :] * A[k, None, k + 1:]
+    return ok
 
 
 def _restored(model, k):
