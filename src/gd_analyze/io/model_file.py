@@ -23,6 +23,7 @@ from ..core.selection.simplified import (
 from ..errors import InputError
 from ..files import atomic_path
 from .json_schema import MODEL_SCHEMA, load_json
+from .model_trust import check_guarantee
 
 __all__ = ["save_model", "load_model"]
 
@@ -73,7 +74,10 @@ def load_model(path):
         :data:`~gd_analyze.io.json_schema.MODEL_SCHEMA` (types, unknown keys, finite
         thresholds in range), its robot's parameters do not match
         ``robot.parameters_sha256`` or fail validation, or its choices do not name exactly
-        the elements of an n-joint robot. One line naming the key.
+        the elements of an n-joint robot, or its region guarantee does not hold for its
+        robot (:func:`gd_analyze.io.model_trust.check_guarantee`: the region within the
+        robot's limits, s_i reached at its stored state, the bound proved again for the
+        dropped pairs). One line naming the key.
 
     Notes
     -----
@@ -93,7 +97,9 @@ def load_model(path):
     robot = robot_from_dict(rob["parameters"], source=f"{path}#robot",
                             sha256=rob["sha256"] or None)
     robot = _recorded_mounting(robot, spec, path)
-    return SimplifiedModel.from_dict(spec, robot, path)
+    model = SimplifiedModel.from_dict(spec, robot, path)
+    check_guarantee(model, path)
+    return model
 
 
 def _recorded_mounting(robot, spec, path):
