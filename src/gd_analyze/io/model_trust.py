@@ -32,7 +32,7 @@ from ..errors import InputError
 from .certification_cache import certification, certification_key
 from .explicit_cache import explicit_terms
 
-__all__ = ["check_guarantee", "reproved_bound", "SCALE_RTOL", "BOUND_RTOL", "REGION_RTOL",
+__all__ = ["check_guarantee", "check_region", "reproved_bound", "SCALE_RTOL", "BOUND_RTOL", "REGION_RTOL",
            "CERTIFICATION_SAMPLES"]
 
 #: |tau_i| at the stored scale state must equal s_i to this share of s_i [1].
@@ -49,6 +49,41 @@ _PROVED = {}
 _PROVED_MAX = 4
 
 
+def check_region(robot, guarantee, torque_floor=0.0, path="<model>"):
+    """Refuse a region guarantee whose region or scale does not hold for the robot.
+
+    Parameters
+    ----------
+    robot : Robot
+        The model's robot, rebuilt from the file.
+    guarantee : Guarantee or None
+        The file's ``guarantee`` (:meth:`~gd_analyze.core.selection.guarantee.Guarantee.from_dict`);
+        nothing is checked for None or a trajectory guarantee.
+    torque_floor : float, optional
+        The model's least scale [N m or N].
+    path : str, optional
+        The file, for messages.
+
+    Returns
+    -------
+    Region or None
+        The guarantee's region, within the robot's limits.
+
+    Raises
+    ------
+    InputError
+        One line naming the key: the region outside the robot's limits (``guarantee.q_min``,
+        ``q_max``, ``qd_max``, ``qdd_max``), a scale state outside the region
+        (``guarantee.scale_state``) or an s_i that |tau_i| there does not reach
+        (``guarantee.scale``).
+    """
+    if guarantee is None or guarantee.kind != "region":
+        return None
+    region = _region_within_limits(robot, guarantee, path)
+    _scale_reached(robot, guarantee, region, float(torque_floor), path)
+    return region
+
+
 def check_guarantee(model, path="<model>"):
     """Refuse a model whose region guarantee does not hold for its own robot.
 
@@ -63,8 +98,8 @@ def check_guarantee(model, path="<model>"):
     ------
     InputError
         One line naming the key (module docstring): a region outside the robot's limits, a
-        scale not reached at its stored state, or a bound below the one re-proved for the
-        model's dropped pairs.
+        scale not reached at its stored state (:func:`check_region`), or a bound below the
+        one re-proved for the model's dropped pairs (``guarantee.bound``).
 
     Notes
     -----
@@ -72,11 +107,9 @@ def check_guarantee(model, path="<model>"):
     (:func:`gd_analyze.workflows.evaluate.coverage`, on the very file by SHA-256).
     """
     g = model.guarantee
-    if g is None or g.kind != "region":
+    region = check_region(model.robot, g, model.torque_floor, path)
+    if region is None:
         return
-    robot = model.robot
-    region = _region_within_limits(robot, g, path)
-    _scale_reached(robot, g, region, float(model.torque_floor), path)
     reproved = reproved_bound(model, region, path)
     bound = np.asarray(g.bound, float)
     scale = np.asarray(g.scale, float)
