@@ -12,7 +12,9 @@ claim fails, with one line naming the key:
 - ``guarantee.scale_state``, ``guarantee.scale``: every state where s_i was found lies in the
   region, and |tau_i| there, recomputed with the robot's full model
   (:func:`gd_analyze.core.dynamics.dalembert.gd_terms`), equals s_i to
-  :data:`SCALE_RTOL` of s_i (or s_i is the torque floor and |tau_i| is not above it);
+  :data:`SCALE_RTOL` of s_i, plus the round-off of the arm's largest s_i
+  (:data:`~gd_analyze.core.selection.guarantee.ROUND_OFF_EPS` machine epsilons), or s_i is
+  the torque floor and |tau_i| is not above it;
 - ``guarantee.bound``: the bound is proved again for the model's dropped (base parameter,
   part) pairs by the region's certification (:func:`.certification_cache.certification`,
   through the derivation cache, whose entries are themselves re-derived), and the stored bound
@@ -26,6 +28,7 @@ from __future__ import annotations
 import numpy as np
 
 from ..core.dynamics.dalembert import gd_terms
+from ..core.selection.guarantee import ROUND_OFF_EPS
 from ..core.selection.region import Region
 from ..core.symbolic.base_parameters import base_parameters
 from ..errors import InputError
@@ -239,8 +242,10 @@ def _scale_reached(robot, g, region, torque_floor, path):
         tau = gd_terms(robot, q, qd).tau(qdd)
     reached = np.abs(tau[np.arange(n), np.arange(n)])
     scale = np.asarray(g.scale, float)
-    ok = (np.abs(reached - scale) <= SCALE_RTOL * np.abs(scale)) | (
-        (scale == torque_floor) & (reached <= scale * (1 + SCALE_RTOL)))
+    # round-off of the arm's largest scale allowed, as every check of a bound allows it
+    slack = ROUND_OFF_EPS * np.finfo(float).eps * float(np.nanmax(np.abs(scale), initial=0.0))
+    ok = (np.abs(reached - scale) <= SCALE_RTOL * np.abs(scale) + slack) | (
+        (scale == torque_floor) & (reached <= scale * (1 + SCALE_RTOL) + slack))
     if not ok.all():
         j = int(np.argmax(~ok))
         raise InputError(f"is not |tau_i| at its stored scale_state (joint {j + 1}: "
