@@ -188,3 +188,11 @@ def test_trajectory_bound_below_its_measured_error_is_refused(models, capsys):
     path = _write(folder, "low_trajectory", forged)
     out, line = _refused(capsys, ["evaluate", path, SHIPPED], "guarantee.bound")
     assert f"joint {j + 1}:" in line
+
+
+def test_the_bound_is_re_proved_with_the_main_jobs_samples():
+    """The re-proof reads the main job's certification from the cache: the same samples."""
+    from gd_analyze.io.model_trust import CERTIFICATION_SAMPLES
+    from gd_analyze.workflows.region_memo import REGION_SAMPLES
+
+    assert CERTIFICATION_SAMPLES == REGION_SAMPLES
