@@ -22,27 +22,15 @@ from __future__ import annotations
 
 import argparse
 import os
+import sys
 import tempfile
 import time
 from pathlib import Path
 
 import numpy as np
 
-
-def _chain_toml(n):
-    """The 10-joint chain of tests/workflows/test_many_joints.py, with its limits."""
-    lines = [f'name = "chain-{n}"', "gravity = [0.0, -9.8062, 0.0]", ""]
-    for k in range(n):
-        length, mass = 0.3 - 0.01 * k, 2.0 - 0.1 * k
-        inertia = mass * length**2 / 12
-        twist = k == n - 2
-        lines += ["[[link]]", f"d = {0.05 if twist else 0.0}", f"a = {length!r}",
-                  f"alpha_deg = {90.0 if twist else 0.0}", "offset_deg = 0.0", f"mass = {mass!r}",
-                  f"com = [{-length / 2!r}, 0.01, 0.005]",
-                  f"inertia = [0.002, {inertia!r}, {inertia!r}, 0.0001, 0.0, 0.0]",
-                  "q_limits_deg = [-170.0, 170.0]", "qd_max_deg = 180.0",
-                  "qdd_max_deg = 360.0", ""]
-    return "\n".join(lines)
+sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "tests" / "workflows"))
+from test_many_joints import _chain_toml  # noqa: E402  (the chain the tests run)
 
 
 def _robot(name, folder):
@@ -50,7 +38,7 @@ def _robot(name, folder):
 
     if name.startswith("chain-"):
         path = Path(folder) / f"{name}.toml"
-        path.write_text(_chain_toml(int(name.split("-")[1])))
+        path.write_text(_chain_toml(int(name.split("-")[1]), limits=True, last_qd_max=True))
         return load_robot(str(path))
     return load_robot(name)
 
