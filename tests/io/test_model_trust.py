@@ -196,3 +196,31 @@ def test_the_bound_is_re_proved_with_the_main_jobs_samples():
     from gd_analyze.workflows.region_memo import REGION_SAMPLES
 
     assert CERTIFICATION_SAMPLES == REGION_SAMPLES
+
+
+def test_exact_explicit_region_model_is_read_and_its_terms_checked(models, tmp_path):
+    """The exact explicit model deployed under a region guarantee (bound 0) is read; with a
+    coefficient edited it no longer is the full explicit model, and its bound 0 is refused."""
+    from gd_analyze import load_robot
+    from gd_analyze.core.symbolic.base_parameters import base_parameters
+    from gd_analyze.io.explicit_cache import explicit_terms
+    from gd_analyze.io.model_file import save_model
+    from gd_analyze.workflows.deploy import region_model, robot_region
+    from gd_analyze.workflows.deployment import exact_explicit_model
+    from gd_analyze.workflows.simplify import build_model, collect_peaks
+
+    puma = load_robot("puma560")
+    traj = read_trajectory(SHIPPED, n_joints=6)
+    terms, _ = explicit_terms(puma)
+    full, _ = build_model(puma, terms, collect_peaks(puma, terms, traj.q, traj.qd, traj.qdd),
+                          tolerance=0.0)
+    region, _ = robot_region(puma)
+    _, guarantee = region_model(puma, base_parameters(puma), region, 0.01)
+    save_model(exact_explicit_model(full, guarantee, 0.01), tmp_path / "exact.json")
+    model = gd_analyze.load_model(tmp_path / "exact.json")
+    assert model.guarantee.kind == "region" and model.bound == [0.0] * 6
+    doc = json.loads((tmp_path / "exact.json").read_text())
+    k = int(np.argmax(np.abs(doc["explicit_terms"]["coef"])))
+    doc["explicit_terms"]["coef"][k] *= 1 + 1e-6
+    with pytest.raises(InputError, match="guarantee.bound"):
+        gd_analyze.load_model(_write(tmp_path, "edited", doc))
