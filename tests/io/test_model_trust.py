@@ -224,3 +224,21 @@ def test_exact_explicit_region_model_is_read_and_its_terms_checked(models, tmp_p
     doc["explicit_terms"]["coef"][k] *= 1 + 1e-6
     with pytest.raises(InputError, match="guarantee.bound"):
         gd_analyze.load_model(_write(tmp_path, "edited", doc))
+
+
+def test_a_guarantee_built_in_memory_is_checked_before_it_is_stated(models):
+    """The API's coverage (which ``evaluate`` and ``control`` print) checks a region guarantee
+    of a model that never went through a file: its scale multiplied by 100 is refused."""
+    import dataclasses
+
+    from gd_analyze.workflows.evaluate import coverage
+
+    folder, _, _ = models
+    model = gd_analyze.load_model(folder / "region" / "simplified_model.json")
+    traj = read_trajectory(SHIPPED, n_joints=6)
+    assert coverage(model, traj)["covered"]
+    g = model.guarantee
+    forged = dataclasses.replace(model, guarantee=dataclasses.replace(
+        g, scale=100 * np.asarray(g.scale), bound=100 * np.asarray(g.bound)))
+    with pytest.raises(InputError, match="guarantee.scale"):
+        coverage(forged, traj)

@@ -35,7 +35,7 @@ from ..errors import InputError
 from .certification_cache import certification, certification_key
 from .explicit_cache import explicit_terms
 
-__all__ = ["check_guarantee", "check_region", "reproved_bound", "SCALE_RTOL", "BOUND_RTOL", "REGION_RTOL",
+__all__ = ["check_guarantee", "check_region", "reproved_bound", "remember", "SCALE_RTOL", "BOUND_RTOL", "REGION_RTOL",
            "CERTIFICATION_SAMPLES"]
 
 #: |tau_i| at the stored scale state must equal s_i to this share of s_i [1].
@@ -163,16 +163,43 @@ def reproved_bound(model, region, path="<model>"):
     return np.einsum("bpln,bp->ln", leaves, dropped).max(axis=0)
 
 
+def _proved_key(robot, region, torque_floor, samples=CERTIFICATION_SAMPLES):
+    return repr(certification_key(robot, region, {"torque_floor": float(torque_floor),
+                                                  "samples": int(samples), "seed": 0}))
+
+
+def remember(robot, region, torque_floor, samples, pb):
+    """Keep a certification made (or recomputed) in this process for the checks of
+    :func:`check_guarantee`, so that a model built here is not certified again.
+
+    Parameters
+    ----------
+    robot : Robot
+    region : Region
+    torque_floor : float
+        [N m or N].
+    samples : int
+        The certification's uniform position samples (seed 0); kept only when they are
+        :data:`CERTIFICATION_SAMPLES`.
+    pb : PairBounds
+        :func:`.certification_cache.certification`'s result for these inputs.
+    """
+    if int(samples) == CERTIFICATION_SAMPLES:
+        _keep(_proved_key(robot, region, torque_floor), pb)
+
+
+def _keep(key, pb):
+    while len(_PROVED) >= _PROVED_MAX:
+        _PROVED.pop(next(iter(_PROVED)))
+    _PROVED[key] = (np.asarray(pb.leaves, float), np.asarray(pb.scale, float))
+
+
 def _certified(robot, region, torque_floor):
     """(leaves, scale) of the region's certification, once per process."""
-    key = repr(certification_key(robot, region, {"torque_floor": torque_floor,
-                                                 "samples": CERTIFICATION_SAMPLES, "seed": 0}))
+    key = _proved_key(robot, region, torque_floor)
     if key not in _PROVED:
-        pb = certification(robot, base_parameters(robot), region, torque_floor=torque_floor,
-                           samples=CERTIFICATION_SAMPLES)
-        while len(_PROVED) >= _PROVED_MAX:
-            _PROVED.pop(next(iter(_PROVED)))
-        _PROVED[key] = (np.asarray(pb.leaves, float), np.asarray(pb.scale, float))
+        _keep(key, certification(robot, base_parameters(robot), region,
+                                 torque_floor=torque_floor, samples=CERTIFICATION_SAMPLES))
     return _PROVED[key]
 
 

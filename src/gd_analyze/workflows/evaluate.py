@@ -22,6 +22,7 @@ from ..core.selection.labels import joint_torque_units
 from ..core.selection.ranking import arm_scales, is_round_off
 from ..core.selection.simplified import parameters_sha256, torque_error
 from ..errors import InputError
+from ..io.model_trust import check_guarantee
 
 __all__ = ["evaluate", "model_torque", "model_scale", "coverage", "gate",
            "check_trajectory_claim", "TRAJECTORY_SCALE_RTOL"]
@@ -172,14 +173,18 @@ def coverage(model, trajectory, plant=None, path="<model>"):
     Raises
     ------
     InputError
-        For a trajectory-kind guarantee on the very trajectory it was built on (same
+        For a region guarantee that does not hold for the model's robot
+        (:func:`gd_analyze.io.model_trust.check_guarantee`, also for a model built in memory);
+        for a trajectory-kind guarantee on the very trajectory it was built on (same
         SHA-256), when its claim does not hold there, measured again
-        (:func:`check_trajectory_claim`): key ``guarantee.bound`` or ``guarantee.scale``.
+        (:func:`check_trajectory_claim`): one line naming the key, e.g. ``guarantee.bound``.
     """
     g = model.guarantee
     out = {"kind": None if g is None else g.kind, "statement": model.scope()}
     if g is None:
         return {**out, "covered": False, "reason": "the model carries no guarantee"}
+    if g.kind == "region":                  # a model built in memory, or read: checked
+        check_guarantee(model, path)        # (once per certification and process)
     robot = model.robot
     if plant is not None and plant is not robot and \
             parameters_sha256(plant.to_dict()) != parameters_sha256(robot.to_dict()):
