@@ -16,7 +16,10 @@ claim fails, with one line naming the key:
   (:data:`~gd_analyze.core.selection.guarantee.ROUND_OFF_EPS` machine epsilons), or s_i is
   the torque floor and |tau_i| is not above it;
 - ``guarantee.bound``: the bound is proved again for the model's dropped (base parameter,
-  part) pairs by the region's certification (:func:`.certification_cache.certification`,
+  part) pairs: first by a branch and bound on those pairs alone
+  (:func:`gd_analyze.core.selection.certify.prove_dropped`, a fraction of a certification's
+  cost when few parameters are dropped), and where that does not reach the stored bound, by the
+  region's certification (:func:`.certification_cache.certification`,
   through the derivation cache, whose entries are themselves re-derived), and the stored bound
   is not below it by more than :data:`BOUND_RTOL` of s_i. A model of the explicit form keeps
   every term (bound 0) only if its terms are the robot's full explicit model's
@@ -28,6 +31,7 @@ from __future__ import annotations
 import numpy as np
 
 from ..core.dynamics.dalembert import gd_terms
+from ..core.selection.certify import prove_dropped
 from ..core.selection.guarantee import ROUND_OFF_EPS
 from ..core.selection.region import Region
 from ..core.symbolic.base_parameters import base_parameters
@@ -44,6 +48,10 @@ SCALE_RTOL = 1e-9
 BOUND_RTOL = 1e-9
 #: A region's limit may exceed the robot's by this share of the limit (or of the span) [1].
 REGION_RTOL = 1e-9
+#: Boxes of the quick proof on the dropped pairs alone
+#: (:func:`gd_analyze.core.selection.certify.prove_dropped`) before the region's full
+#: certification decides.
+QUICK_BOXES = 1024
 #: Positions the certification samples (the main job's, ``workflows.region_memo``).
 CERTIFICATION_SAMPLES = 1000
 
@@ -113,9 +121,13 @@ def check_guarantee(model, path="<model>"):
     region = check_region(model.robot, g, model.torque_floor, path)
     if region is None:
         return
-    reproved = reproved_bound(model, region, path)
     bound = np.asarray(g.bound, float)
     scale = np.asarray(g.scale, float)
+    if model.recursive is not None and np.isfinite(bound).all() and prove_dropped(
+            model.robot, base_parameters(model.robot), region, model.recursive.dropped,
+            bound + BOUND_RTOL * np.abs(scale), max_boxes=QUICK_BOXES):
+        return                              # proved on the dropped pairs' own boxes
+    reproved = reproved_bound(model, region, path)
     short = ~(bound >= reproved - BOUND_RTOL * np.abs(scale))      # NaN never passes
     if short.any():
         j = int(np.argmax(np.where(short, reproved - bound, -np.inf)))
