@@ -146,6 +146,20 @@ def _relevant(robot):
     return rel
 
 
+def _bisect(lo, hi, rel):
+    """Boxes halved along their widest relevant joint: the lower halves, then the upper ones
+    (copies; ``lo``, ``hi`` of shape (B, n) are not changed)."""
+    lo, hi = lo.copy(), hi.copy()
+    width = np.where(rel[None, :], hi - lo, -1.0)
+    d = width.argmax(axis=1)
+    rows = np.arange(lo.shape[0])
+    mid = 0.5 * (lo[rows, d] + hi[rows, d])
+    lo2, hi2 = lo.copy(), hi.copy()
+    hi[rows, d] = mid
+    lo2[rows, d] = mid
+    return np.vstack([lo, lo2]), np.vstack([hi, hi2])
+
+
 def certify(robot, base, region, torque_floor=0.0, max_boxes=1024, samples=1000, seed=0,
             open_share=0.05, rtol=0.1, values=None):
     """Proved upper bounds of every pair's contribution over the region, and the scale.
@@ -216,16 +230,8 @@ def certify(robot, base, region, torque_floor=0.0, max_boxes=1024, samples=1000,
             done_u = np.maximum(done_u, U[~split].max(axis=0))
             leaves.append(U[~split])
             boxes.append(np.stack([lo[~split], hi[~split]], axis=1))
-        lo, hi, U = lo[split], hi[split], U[split]
-        width = np.where(rel[None, :], hi - lo, -1.0)
-        d = width.argmax(axis=1)
-        rows = np.arange(lo.shape[0])
-        mid = 0.5 * (lo[rows, d] + hi[rows, d])
-        lo2, hi2 = lo.copy(), hi.copy()
-        hi[rows, d] = mid
-        lo2[rows, d] = mid
-        lo, hi = np.vstack([lo, lo2]), np.vstack([hi, hi2])
-        inherited = np.concatenate([U, U])
+        lo, hi = _bisect(lo[split], hi[split], rel)
+        inherited = np.concatenate([U[split], U[split]])
     bound = np.maximum(done_u.transpose(2, 0, 1), sampled)
     leaf = np.concatenate(leaves).transpose(3, 1, 0, 2)          # (b, 3, L, n)
     return PairBounds(bound=bound, sampled=sampled, scale=scale, scale_state=state,
@@ -291,13 +297,5 @@ def prove_dropped(robot, base, region, dropped, limit, max_boxes=1024):
             return True
         if evaluated + 2 * int(open_.sum()) > max_boxes:
             return False
-        lo, hi, U = lo[open_], hi[open_], U[open_]
-        width = np.where(rel[None, :], hi - lo, -1.0)
-        d = width.argmax(axis=1)
-        rows = np.arange(lo.shape[0])
-        mid = 0.5 * (lo[rows, d] + hi[rows, d])
-        lo2, hi2 = lo.copy(), hi.copy()
-        hi[rows, d] = mid
-        lo2[rows, d] = mid
-        lo, hi = np.vstack([lo, lo2]), np.vstack([hi, hi2])
-        inherited = np.concatenate([U, U])
+        lo, hi = _bisect(lo[open_], hi[open_], rel)
+        inherited = np.concatenate([U[open_], U[open_]])
