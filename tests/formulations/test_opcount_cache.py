@@ -96,3 +96,29 @@ def test_issue32_the_counts_live_in_the_derivation_cache_folder(tmp_path, monkey
     assert (derivation is None) == (setting == "none")
     if written:                                              # the same folder as the derivations
         assert (tmp_path / written[0]).parent == derivation.parent
+
+
+def test_issue40_an_entry_edited_with_its_checksum_recomputed_is_recounted(cache):
+    """Issue 40: "Newton-Euler as implemented: 1" from an entry whose SHA-256 was computed
+    again. The oracle is the count of the code itself, measured without a cache (the chapter's
+    Table 3.5 formula for N-E, 150 n - 48 multiplications, is far above 1 for three joints)."""
+    from gd_analyze.formulations.opcount_cache import _checksum
+
+    fresh, path = cache
+    assert fresh["newton-euler"][0] > 100
+    assert _counts_with_warnings() == (fresh, [])            # written
+    data = json.loads(path.read_text())
+    entry = data["entries"]["3"]
+    entry["counts"]["newton-euler"] = [1, 1]
+    entry["checksum"] = _checksum(data["code"], "3", entry["counts"])
+    path.write_text(json.dumps(data))
+    counts, warned = _counts_with_warnings()
+    assert counts == fresh
+    assert len(warned) == 1 and "\n" not in warned[0] and str(path) in warned[0]
+    assert "differs from the recount" in warned[0] and "newton-euler" in warned[0]
+    assert opcount.operation_counts(3)["newton-euler"]["multiplications"] == fresh[
+        "newton-euler"][0]
+    counts, warned = _counts_with_warnings()                 # replaced by the recount
+    assert counts == fresh and warned == []
+    assert json.loads(path.read_text())["entries"]["3"]["counts"]["newton-euler"] == list(
+        fresh["newton-euler"])

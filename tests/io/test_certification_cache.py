@@ -1,9 +1,11 @@
 """The region certification in the derivation cache: used only when it passes its checks.
 
 The oracle is a fresh certification (core.selection.certify.certify): an entry that is used
-must give exactly its bounds and scale; an entry forged with a matching key and checksum but
-bounds of another robot, bounds scaled down, a wrong scale or boxes that miss part of the
-region must be refused with one warning line and certified again.
+must give exactly its bounds and scale; an entry forged with a matching key and checksum but a
+wrong scale or scale state must be refused with one warning line and certified again. No bound
+is read from an entry (issue 40): the forged boxes and bounds of the issue (zero-volume boxes at
+the samples, honest boxes with their bounds lowered to the sampled peaks, overlapping boxes
+whose volumes add up to the region's) are refused or re-derived, never used.
 """
 
 import os
@@ -21,7 +23,9 @@ from gd_analyze.io.cache_files import CacheWarning
 from gd_analyze.io.certification_cache import certification
 
 SAMPLES = 200
-FIELDS = ("scale", "scale_state", "leaves", "leaf_boxes", "boxes", "seconds")
+FIELDS = ("scale", "scale_state", "boxes", "seconds")
+#: The layout of format 1, which stored the boxes and their bounds.
+OLD_FIELDS = ("scale", "scale_state", "leaves", "leaf_boxes", "boxes", "seconds")
 
 
 @pytest.fixture(scope="module")
@@ -86,37 +90,31 @@ def test_a_stored_certification_is_used_and_equals_a_fresh_one(arm, fresh, cache
     assert not w1 and _entry(cache).is_file()
 
     def refuse(*args, **kwargs):
-        raise AssertionError("certified again although the entry is sound")
-    monkeypatch.setattr(certify_module, "certify", refuse)
+        raise AssertionError("sampled and searched again although the entry is sound")
+    monkeypatch.setattr(certify_module, "region_samples", refuse)     # the scale's search
     second, w2 = _call(arm)
     assert not w2
     _same(second, fresh)
     assert second.seconds == first.seconds
 
 
-@pytest.mark.parametrize("damage", ["bounds halved", "another region's boxes", "scale doubled",
-                                    "scale state moved", "a box dropped", "leaves of zeros"])
+@pytest.mark.slow
+@pytest.mark.parametrize("damage", ["scale doubled", "scale state moved", "scale halved",
+                                    "boxes zero"])
 def test_a_forged_entry_is_refused_and_certified_again(arm, fresh, cache, stored, damage):
     path = _store(cache, stored)
     with np.load(path, allow_pickle=False) as z:
-        leaves, boxes = z["leaves"], z["leaf_boxes"]
         scale, state = z["scale"], z["scale_state"]
-    if damage == "bounds halved":
-        change = {"leaves": leaves * 0.5}
-    elif damage == "another region's boxes":
-        shrunk = boxes.copy()
-        shrunk[:, :, 1] = 0.5 * shrunk[:, :, 1]          # joint 2 over half its range
-        change = {"leaf_boxes": shrunk}
-    elif damage == "scale doubled":
+    if damage == "scale doubled":
         change = {"scale": scale * 2}
+    elif damage == "scale halved":
+        change = {"scale": scale * 0.5}
     elif damage == "scale state moved":
         moved = state.copy()
         moved[:, 1] = 0.5 * (moved[:, 1] + arm[2].q_min[1])
         change = {"scale_state": moved}
-    elif damage == "a box dropped":
-        change = {"leaves": leaves[:, :, 1:], "leaf_boxes": boxes[1:]}
     else:
-        change = {"leaves": np.zeros_like(leaves)}
+        change = {"boxes": np.array(0, np.int64)}
     _forge(path, **change)
     again, seen = _call(arm)
     assert len(seen) == 1 and "ignored, the region is certified again" in seen[0], seen
@@ -124,6 +122,45 @@ def test_a_forged_entry_is_refused_and_certified_again(arm, fresh, cache, stored
     third, seen3 = _call(arm)                        # rewritten: used without a warning
     assert not seen3
     _same(third, fresh)
+
+
+def _issue_forgeries(fresh, region):
+    """The forged boxes and bounds of issue 40, as (leaves (b, 3, L, n), boxes (L, 2, n))."""
+    from gd_analyze.core.selection.certify import pair_magnitudes_at
+
+    beta = np.asarray(base_parameters(load_robot("stanford")).beta, float)
+    at = pair_magnitudes_at(fresh.values, beta, region.qd_max, region.qdd_max)   # (B, b, 3, n)
+    q = fresh.positions
+    points = (at.transpose(1, 2, 0, 3), np.stack([q, q], axis=1))   # zero volume at samples
+    lowered = (np.minimum(fresh.leaves, fresh.sampled[:, :, None, :]), fresh.leaf_boxes)
+    half = np.stack([region.q_min, region.q_max])
+    half[1, 1] = 0.5 * (region.q_min[1] + region.q_max[1])           # joint 2's lower half
+    peaks = np.repeat(fresh.sampled[:, :, None, :], 2, axis=2)
+    overlapping = (peaks, np.stack([half, half]))                    # twice: volume 1
+    return {"zero-volume boxes at the samples": points,
+            "bounds lowered to the sampled peaks": lowered,
+            "overlapping boxes of the region's volume": overlapping}
+
+
+@pytest.mark.slow
+@pytest.mark.parametrize("forgery", ["zero-volume boxes at the samples",
+                                     "bounds lowered to the sampled peaks",
+                                     "overlapping boxes of the region's volume"])
+@pytest.mark.parametrize("layout", [OLD_FIELDS, FIELDS + ("leaves", "leaf_boxes")])
+def test_issue40_forged_boxes_and_bounds_are_never_used(arm, fresh, cache, stored, forgery,
+                                                        layout):
+    """Written into an entry with a checksum over the former layout (boxes and bounds
+    included) or over this one with the arrays added: the bound stated is a fresh
+    certification's, never the forged one (which is below it)."""
+    robot, base, region = arm
+    leaves, boxes = _issue_forgeries(fresh, region)[forgery]
+    assert (leaves.max(axis=2) < fresh.bound * (1 - 1e-6)).any()   # the forgery claims less
+    path = _store(cache, stored)
+    forge(path, layout, leaves=leaves, leaf_boxes=boxes)
+    again, seen = _call(arm)
+    assert len(seen) <= 1 and all("ignored, the region is certified again" in w for w in seen)
+    _same(again, fresh)
+    assert np.all(again.bound >= fresh.bound)
 
 
 @pytest.mark.parametrize("kind", ["symlink", "fifo", "garbage", "checksum"])

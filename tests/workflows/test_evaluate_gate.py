@@ -5,10 +5,12 @@ measured against the model's s_i."""
 import dataclasses
 
 import numpy as np
+import pytest
 from conftest import SHIPPED
 
 from gd_analyze.core.selection.guarantee import Guarantee
 from gd_analyze.core.selection.simplified import SimplifiedModel, full_choices
+from gd_analyze.errors import InputError
 from gd_analyze.io.trajectory import read_trajectory
 from gd_analyze.workflows.evaluate import coverage, evaluate, gate
 
@@ -39,11 +41,18 @@ def test_region_membership_names_the_first_state_outside():
 
 
 def test_trajectory_kind_covers_its_own_file_only(puma):
+    """On its own file (same SHA-256) the claim is measured again (issue 40): s_i is the
+    trajectory's peak |tau_i| (the full model keeps every term, so its bound 0 holds)."""
     traj = read_trajectory(SHIPPED, n_joints=6)
-    g = Guarantee("trajectory", 0.01, np.zeros(6), np.ones(6), trajectory_sha256=traj.sha256)
+    peak = np.abs(evaluate(SimplifiedModel(puma, full_choices(6), 0.9, 0.01), traj)["peak_tau"])
+    g = Guarantee("trajectory", 0.01, np.zeros(6), np.asarray(peak, float),
+                  trajectory_sha256=traj.sha256)
     model = SimplifiedModel(puma, full_choices(6), 0.9, 0.01, rule="budget", tolerance=0.01,
                             guarantee=g)
     assert coverage(model, traj)["covered"]
+    invented = dataclasses.replace(model, guarantee=dataclasses.replace(g, scale=np.ones(6)))
+    with pytest.raises(InputError, match="guarantee.scale"):
+        coverage(invented, traj)
     other = dataclasses.replace(traj, sha256="0" * 64)
     said = coverage(model, other)
     assert not said["covered"] and said["statement"] == g.statement()

@@ -864,7 +864,8 @@ def cmd_evaluate(args):
     plant = apply_payload(model_mounting(model.robot, args, args.model), args)
     err = evaluate(model, traj, plant=plant)
     worst = err.pop("max_relative_peak_error")
-    scope, verdict = coverage(model, traj, plant=plant), gate(err, model, args.max_error)
+    scope = coverage(model, traj, plant=plant, path=args.model)
+    verdict = gate(err, model, args.max_error)
     if args.json:
         out = {"model": args.model, "trajectory": args.trajectory,
                "trajectory_sha256": traj.sha256, "robot": model.robot.name,

@@ -10,6 +10,12 @@ at most :data:`LIMIT` bytes (never through a symbolic link, never blocking on a 
 or an entry that fails (not JSON, of another type, format or code, a count that is not a
 non-negative integer, a checksum that does not match: a hand-edited "Newton-Euler: 1") is
 never used: one warning line says so, and the counts are measured again and stored.
+
+A checksum is no proof: anyone who edits an entry can compute it again (a keyed MAC would need
+a secret the user's machine does not keep). So the counts are always measured again when they
+are used (:func:`gd_analyze.formulations.opcount.operation_counts`; milliseconds for a six-joint
+arm), and an entry that differs from the recount gets one warning line
+(:func:`mismatch_warning`) and is replaced: an edited entry is never printed.
 """
 
 from __future__ import annotations
@@ -23,7 +29,7 @@ from ..config import cache_dir
 from ..errors import InputWarning, one_line
 from ..files import atomic_path, read_regular
 
-__all__ = ["FORMAT", "LIMIT", "cache_file", "read_counts", "store_counts"]
+__all__ = ["FORMAT", "LIMIT", "cache_file", "read_counts", "store_counts", "mismatch_warning"]
 
 #: Layout of the file.
 FORMAT = 2
@@ -112,6 +118,31 @@ def read_counts(path, code, key, methods):
     warnings.warn(one_line(f"{path}: operation-count cache {reason}: ignored, the operations "
                            "are counted again"), InputWarning, stacklevel=2)
     return None
+
+
+def mismatch_warning(path, key, stored, counted):
+    """One warning line: a cache entry that passed its checksum differs from the recount.
+
+    Parameters
+    ----------
+    path : pathlib.Path
+        :func:`cache_file`.
+    key : str
+        The pattern of joint types.
+    stored, counted : dict of str to tuple of int
+        ``{method: (multiplications, additions)}`` of the entry and of the recount.
+
+    Warns
+    -----
+    InputWarning
+        Naming the file, the entry and the first method that differs.
+    """
+    method = next(m for m in counted if tuple(stored.get(m, ())) != tuple(counted[m]))
+    said, got = stored.get(method), counted[method]
+    warnings.warn(one_line(
+        f"{path}: operation-count cache entry {key[:40]!r} differs from the recount ({method}: "
+        f"{list(said) if said is not None else None} stored, {list(got)} counted): ignored, "
+        "the recount is used and stored"), InputWarning, stacklevel=3)
 
 
 def store_counts(path, code, key, counts):

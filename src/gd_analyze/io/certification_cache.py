@@ -7,27 +7,29 @@ code, so it is kept in the derivation cache (:mod:`.cache_files`) as
 ``region-<sha>.npz``, named by the SHA-256 of that key, as :mod:`.explicit_cache` keeps the
 explicit model.
 
-The cache is not trusted. An entry is used only if it is a regular file whose stored key equals
-the key and whose checksum matches its arrays (:func:`.cache_files.read_entry`), and if its
-content passes a self-check against quantities computed afresh at the certification's own
-sampled positions (:func:`gd_analyze.core.selection.region.sample_positions`, deterministic):
+The cache is not trusted, and a bound is never read from it (issue 40). An entry stores only
+what lets the certification be recomputed: the scale s_i and the states where it was found (the
+local maximisation over the region, which is most of the sampling's time), the number of boxes
+and the time it took. It is used only if it is a regular file whose stored key equals the key
+and whose checksum matches its arrays (:func:`.cache_files.read_entry`), and if:
 
-- its final boxes lie in the region, fill its volume and contain every sampled position;
-- at every sampled position, each pair's bound on each box that contains it is at least the
-  pair's |contribution| there (:func:`gd_analyze.core.selection.certify.pair_magnitudes_at`);
-- |tau_i| at the stored ``scale_state`` equals s_i (or s_i is the torque floor), the state lies
-  in the region, and s_i is at least the largest |tau_i| over the sampled positions.
+- every scale state lies in the region, |tau_i| there equals s_i (or s_i is the torque floor),
+  and s_i is at least the largest |tau_i| over the certification's own sampled positions
+  (:func:`gd_analyze.core.selection.region.sample_positions`, deterministic);
 
-The bound itself is not stored: it is the largest box bound and sampled peak, recomputed. The
-bounds of another robot or region, or bounds scaled down, fail the check even with a forged key
-and checksum; a bound lowered on a box between the sampled positions cannot be told from a
-proved one without certifying again (only the user's own cache folder holds entries). A failed
-entry gives one :class:`.cache_files.CacheWarning` line; the region is certified again and the
-entry rewritten.
+then the branch and bound is run again on those samples
+(:func:`gd_analyze.core.selection.certify.certify` with ``values``): the boxes, their
+enclosures and so the bounds are recomputed, not read, so they tile the region by construction
+and equal a fresh certification's bit for bit. Boxes, bounds or volumes written into an entry
+(zero-volume boxes at the samples, bounds lowered to the sampled peaks, overlapping boxes) are
+never read: such an entry does not match its checksum over the stored fields and is
+certified again. A failed entry gives one :class:`.cache_files.CacheWarning` line; the region is
+certified again and the entry rewritten.
 """
 
 from __future__ import annotations
 
+import dataclasses
 import warnings
 
 import numpy as np
@@ -48,9 +50,9 @@ _CERTIFYING = ("core/selection/certify.py", "core/selection/region.py",
                "core/dynamics/regressor_bounds.py", "core/dynamics/balls.py",
                "core/dynamics/intervals.py", "core/symbolic/regressor_kernels.py",
                "core/symbolic/regressor_compiled.py", "core/symbolic/base_parameters.py")
-_FIELDS = ("scale", "scale_state", "leaves", "leaf_boxes", "boxes", "seconds")
-#: Layout of an entry.
-_FORMAT = 1
+_FIELDS = ("scale", "scale_state", "boxes", "seconds")
+#: Layout of an entry (2: no bounds stored, issue 40).
+_FORMAT = 2
 #: Slack of the self-check's comparisons, relative to s_i [1].
 SELF_CHECK_TOLERANCE = 1e-9
 #: Largest entry read [bytes] (the PUMA 560's is about 0.7 MB).
@@ -92,48 +94,30 @@ def certification_key(robot, region, settings):
                             for k, v in settings.items()}}}
 
 
-def _checked(robot, base, region, torque_floor, samples, seed, arrays):
-    """The entry as PairBounds, or why it fails the self-check (a str)."""
-    from ..core.selection.certify import PairBounds, pair_magnitudes_at
+def _checked(robot, base, region, torque_floor, samples, seed, arrays, values=None):
+    """The certification recomputed from the entry, or why the entry fails (a str)."""
+    from ..core.selection.certify import certify
     from ..core.selection.region import channel_values, sample_positions, worst_states
     from ..core.symbolic.regressor_kernels import part_regressor
 
     n = robot.n
     cols = np.flatnonzero(base.independent.reshape(-1))
-    b = cols.size
     scale, state = arrays["scale"], arrays["scale_state"]
-    leaves, boxes = arrays["leaves"], arrays["leaf_boxes"]
-    L = leaves.shape[2] if leaves.ndim == 4 else -1
-    shapes = {"scale": (n,), "scale_state": (n, 3 * n), "leaves": (b, 3, L, n),
-              "leaf_boxes": (L, 2, n), "boxes": (), "seconds": ()}
-    if L < 1 or any(arrays[f].shape != shapes[f] or arrays[f].dtype.kind != "f"
-                    for f in _FIELDS if f != "boxes") or arrays["boxes"].dtype.kind != "i" \
+    shapes = {"scale": (n,), "scale_state": (n, 3 * n), "boxes": (), "seconds": ()}
+    if any(arrays[f].shape != shapes[f] or arrays[f].dtype.kind != "f"
+           for f in _FIELDS if f != "boxes") or arrays["boxes"].dtype.kind != "i" \
             or arrays["boxes"].shape != ():
         return "does not hold a certification of this robot (arrays of other types or shapes)"
-    if not all(np.isfinite(arrays[f]).all() for f in _FIELDS) or (leaves < 0).any() \
-            or (scale < torque_floor).any() or int(arrays["boxes"]) < L:
+    if not all(np.isfinite(arrays[f]).all() for f in _FIELDS) or (scale < torque_floor).any() \
+            or int(arrays["boxes"]) < 1 or float(arrays["seconds"]) < 0:
         return "holds values no certification gives (not finite, negative or too few boxes)"
-    lo, hi = boxes[:, 0], boxes[:, 1]
-    if (lo < region.q_min).any() or (hi > region.q_max).any() or (lo > hi).any():
-        return "has boxes outside the region"
-    span = region.q_max - region.q_min
-    wide = span > 0
-    volume = np.prod((hi - lo)[:, wide] / span[wide], axis=1).sum()
-    if not abs(volume - 1.0) <= 1e-9:
-        return f"has boxes that do not fill the region (volume {volume:.6g} of it)"
     tol = SELF_CHECK_TOLERANCE * np.maximum(scale, 1e-300)          # (n,)
-    q = sample_positions(region, samples, seed)
-    V = channel_values(robot, q, cols)
+    if values is not None:
+        q, V = values[0], values[1]
+    else:
+        q = sample_positions(region, samples, seed)
+        V = channel_values(robot, q, cols)
     beta = np.asarray(base.beta, float)
-    mags = pair_magnitudes_at(V, beta, region.qd_max, region.qdd_max)      # (B, b, 3, n)
-    inside = np.all((q[:, None, :] >= lo[None]) & (q[:, None, :] <= hi[None]), axis=2)
-    if not inside.any(axis=1).all():
-        return "has boxes that do not contain every sampled position"
-    k, l_ = np.nonzero(inside)
-    short = mags[k] - leaves[:, :, l_].transpose(2, 0, 1, 3)         # (P, b, 3, n)
-    if (short > tol).any():
-        return ("fails its self-check (a box's bound is below a pair's contribution at a "
-                "sampled position in it)")
     value = worst_states(V, np.tile(beta, (3, 1)), region.qd_max, region.qdd_max)[0].max(0)
     sq, sqd, sqdd = state[:, :n], state[:, n:2 * n], state[:, 2 * n:]
     tau = np.einsum("kpim,m->ki", part_regressor(robot, cols, sq, sqd, sqdd), beta)
@@ -143,11 +127,9 @@ def _checked(robot, base, region, torque_floor, samples, seed, arrays):
             and np.all(scale >= value - tol)):
         return ("fails its self-check (its scale is not reached at its state, or is below "
                 "the sampled torques)")
-    sampled = mags.max(axis=0)
-    bound = np.maximum(leaves.max(axis=2), sampled)
-    return PairBounds(bound=bound, sampled=sampled, scale=scale, scale_state=state,
-                      positions=q, values=V, boxes=int(arrays["boxes"]), leaves=leaves,
-                      leaf_boxes=boxes, seconds=float(arrays["seconds"]))
+    pb = certify(robot, base, region, torque_floor=torque_floor, samples=samples, seed=seed,
+                 values=(q, V, scale, state))
+    return dataclasses.replace(pb, seconds=float(arrays["seconds"]))
 
 
 def certification(robot, base, region, torque_floor=0.0, samples=1000, seed=0, values=None):
@@ -161,7 +143,8 @@ def certification(robot, base, region, torque_floor=0.0, samples=1000, seed=0, v
         uniform position samples and their seed.
     values : tuple, optional
         Those samples already drawn (:func:`gd_analyze.core.selection.region.region_samples`),
-        for a certification computed afresh.
+        for a certification computed afresh (their positions and channel values also for one
+        recomputed from an entry).
 
     Returns
     -------
@@ -188,7 +171,8 @@ def certification(robot, base, region, torque_floor=0.0, samples=1000, seed=0, v
     if path is not None:
         found = read_entry(path, key, _FIELDS, _MAX_BYTES)
         if isinstance(found, dict):
-            found = _checked(robot, base, region, float(torque_floor), samples, seed, found)
+            found = _checked(robot, base, region, float(torque_floor), samples, seed, found,
+                             values)
             if not isinstance(found, str):
                 return found
         if isinstance(found, str):
@@ -199,8 +183,6 @@ def certification(robot, base, region, torque_floor=0.0, samples=1000, seed=0, v
     if path is not None:
         write_entry(path, key, {"scale": np.asarray(pb.scale, float),
                                 "scale_state": np.asarray(pb.scale_state, float),
-                                "leaves": np.asarray(pb.leaves, float),
-                                "leaf_boxes": np.asarray(pb.leaf_boxes, float),
                                 "boxes": np.array(int(pb.boxes), np.int64),
                                 "seconds": np.array(float(pb.seconds))})
     return pb

@@ -13,6 +13,7 @@ from __future__ import annotations
 import json
 
 from ..core.model.robot_spec import robot_from_dict
+from ..core.selection.guarantee import Guarantee
 from ..core.selection.simplified import (
     READABLE_SCHEMAS,
     SCHEMA_VERSION,
@@ -23,6 +24,7 @@ from ..core.selection.simplified import (
 from ..errors import InputError
 from ..files import atomic_path
 from .json_schema import MODEL_SCHEMA, load_json
+from .model_trust import check_guarantee, check_region
 
 __all__ = ["save_model", "load_model"]
 
@@ -73,7 +75,10 @@ def load_model(path):
         :data:`~gd_analyze.io.json_schema.MODEL_SCHEMA` (types, unknown keys, finite
         thresholds in range), its robot's parameters do not match
         ``robot.parameters_sha256`` or fail validation, or its choices do not name exactly
-        the elements of an n-joint robot. One line naming the key.
+        the elements of an n-joint robot, or its region guarantee does not hold for its
+        robot (:func:`gd_analyze.io.model_trust.check_guarantee`: the region within the
+        robot's limits, s_i reached at its stored state, the bound proved again for the
+        dropped pairs). One line naming the key.
 
     Notes
     -----
@@ -93,7 +98,21 @@ def load_model(path):
     robot = robot_from_dict(rob["parameters"], source=f"{path}#robot",
                             sha256=rob["sha256"] or None)
     robot = _recorded_mounting(robot, spec, path)
-    return SimplifiedModel.from_dict(spec, robot, path)
+    _check_region_first(robot, spec, path)
+    model = SimplifiedModel.from_dict(spec, robot, path)
+    check_guarantee(model, path)
+    return model
+
+
+def _check_region_first(robot, spec, path):
+    """The region guarantee's region and scale checked against the robot
+    (:func:`.model_trust.check_region`) before the model's program is built and sampled."""
+    if not isinstance(spec.get("guarantee"), dict):
+        return
+    tolerance = spec.get("tolerance")
+    g = Guarantee.from_dict(spec["guarantee"], robot.n,
+                            float("nan") if tolerance is None else float(tolerance), path)
+    check_region(robot, g, float(spec.get("torque_floor", 0.0)), path)
 
 
 def _recorded_mounting(robot, spec, path):

@@ -426,7 +426,9 @@ def run_control(model, trajectory, wn=DEFAULT_WN, zeta=DEFAULT_ZETA, q0_offset=0
         singular (:func:`~gd_analyze.workflows.tracking.singular_inertia`), or a run exceeds
         :data:`~gd_analyze.workflows.tracking.MAX_RHS_EVALS` evaluations.
     InputError
-        If the model's torque is not finite on a set point (:func:`~gd_analyze.workflows.evaluate.model_torque`).
+        If the model's torque is not finite on a set point (:func:`~gd_analyze.workflows.evaluate.model_torque`),
+        or its trajectory guarantee does not hold on its own trajectory, measured again
+        (:func:`~gd_analyze.workflows.evaluate.check_trajectory_claim`).
 
     Notes
     -----
@@ -449,6 +451,7 @@ def run_control(model, trajectory, wn=DEFAULT_WN, zeta=DEFAULT_ZETA, q0_offset=0
         raise ValueError(f"controllers must be among {CONTROLLERS}, got {list(controllers)}")
     choice_masks(model.choices, robot.n)            # validate
     model_torque(model, trajectory.q, trajectory.qd, trajectory.qdd)    # finite on the set points
+    covers = coverage(model, trajectory, plant=robot, path=model_file)  # a claim checked first
     t_set = np.asarray(trajectory.t, dtype=float)
     if t_end is not None:
         t_set = t_set[t_set <= float(t_end) * (1 + 1e-12)]
@@ -487,7 +490,6 @@ def run_control(model, trajectory, wn=DEFAULT_WN, zeta=DEFAULT_ZETA, q0_offset=0
         except ValueError as err:       # the tighter runs did not finish: the rtol floor
             unmeasured = str(err)
     cost_figures = model_cost(model) if cost else None
-    covers = coverage(model, trajectory, plant=robot)
     provenance = {
         "trajectory_file": Path(trajectory.source).name if trajectory.source else "",
         "trajectory_path": str(trajectory.source), "trajectory_sha256": trajectory.sha256,

@@ -22,8 +22,10 @@ from ..core.selection.labels import joint_torque_units
 from ..core.selection.ranking import arm_scales, is_round_off
 from ..core.selection.simplified import parameters_sha256, torque_error
 from ..errors import InputError
+from ..io.model_trust import check_guarantee
 
-__all__ = ["evaluate", "model_torque", "model_scale", "coverage", "gate"]
+__all__ = ["evaluate", "model_torque", "model_scale", "coverage", "gate",
+           "check_trajectory_claim", "TRAJECTORY_SCALE_RTOL"]
 
 
 def model_torque(model, q, qd, qdd):
@@ -147,7 +149,7 @@ def model_scale(model):
     return np.maximum(peak, float(model.torque_floor))
 
 
-def coverage(model, trajectory, plant=None):
+def coverage(model, trajectory, plant=None, path="<model>"):
     """Whether the model's guarantee covers a trajectory, and its scope in words.
 
     Parameters
@@ -158,6 +160,8 @@ def coverage(model, trajectory, plant=None):
     plant : Robot, optional
         The reference arm; a guarantee holds for the model's own robot only (not with a
         payload or another mounting).
+    path : str, optional
+        The model file, for messages.
 
     Returns
     -------
@@ -165,11 +169,22 @@ def coverage(model, trajectory, plant=None):
         ``kind`` (``"region"``, ``"trajectory"`` or None without a guarantee), ``statement``
         (:meth:`~gd_analyze.core.selection.simplified.SimplifiedModel.scope`), ``covered``
         (bool) and ``reason`` (a clause, :meth:`~gd_analyze.core.selection.guarantee.Guarantee.covers`).
+
+    Raises
+    ------
+    InputError
+        For a region guarantee that does not hold for the model's robot
+        (:func:`gd_analyze.io.model_trust.check_guarantee`, also for a model built in memory);
+        for a trajectory-kind guarantee on the very trajectory it was built on (same
+        SHA-256), when its claim does not hold there, measured again
+        (:func:`check_trajectory_claim`): one line naming the key, e.g. ``guarantee.bound``.
     """
     g = model.guarantee
     out = {"kind": None if g is None else g.kind, "statement": model.scope()}
     if g is None:
         return {**out, "covered": False, "reason": "the model carries no guarantee"}
+    if g.kind == "region":                  # a model built in memory, or read: checked
+        check_guarantee(model, path)        # (once per certification and process)
     robot = model.robot
     if plant is not None and plant is not robot and \
             parameters_sha256(plant.to_dict()) != parameters_sha256(robot.to_dict()):
@@ -184,7 +199,69 @@ def coverage(model, trajectory, plant=None):
             ~(np.isfinite(lo) & np.isfinite(hi)) | (hi - lo > 2 * np.pi))
     covered, reason = g.covers(trajectory.q, trajectory.qd, trajectory.qdd,
                                trajectory_sha256=trajectory.sha256, continuous=continuous)
+    if covered and g.kind == "trajectory":
+        check_trajectory_claim(model, trajectory, path)
     return {**out, "covered": bool(covered), "reason": reason}
+
+
+#: A trajectory model's s_i must equal max(peak |tau_i|, torque floor) on its trajectory, to
+#: this share of s_i (plus the round-off allowance of
+#: :func:`~gd_analyze.core.selection.guarantee.within_bound`) [1].
+TRAJECTORY_SCALE_RTOL = 1e-9
+
+
+def check_trajectory_claim(model, trajectory, path="<model>"):
+    """Refuse a trajectory-kind guarantee that does not hold on its own trajectory.
+
+    Parameters
+    ----------
+    model : SimplifiedModel
+        With a guarantee of kind ``"trajectory"``.
+    trajectory : Trajectory
+        The file the model was built on (its SHA-256 is the guarantee's): q, qd, qdd of shape
+        (N, n) [rad, rad/s, rad/s^2; m, m/s, m/s^2].
+    path : str, optional
+        The model file, for messages.
+
+    Raises
+    ------
+    InputError
+        One line naming the key: ``guarantee.bound`` where the model's peak |tau_s - tau|,
+        measured again against the model's robot, exceeds the stored bound (up to round-off,
+        :func:`~gd_analyze.core.selection.guarantee.within_bound`, and an error that is
+        round-off of its torque passes, as in :func:`gate`); ``guarantee.scale`` (a
+        model of one trajectory) where s_i is not max(peak |tau_i|, torque floor) there.
+
+    Notes
+    -----
+    The bound of a model pruned on a trajectory is the triangle inequality over its dropped
+    terms' peak contributions there (Fu, Gonzalez & Lee 1987, Sec. 3.4.1: the simplified
+    model "depends on the specific trajectory being considered"), so it is at least the
+    error measured on that trajectory.
+    """
+    g = model.guarantee
+    robot = model.robot
+    tau = check_finite("tau", gd_terms(robot, trajectory.q, trajectory.qd).tau(trajectory.qdd))
+    err = np.abs(model_torque(model, trajectory.q, trajectory.qd, trajectory.qdd) - tau)
+    peak, peak_tau = err.max(axis=0), np.abs(tau).max(axis=0)
+    scale, bound = np.asarray(g.scale, float), np.asarray(g.bound, float)
+    own = np.maximum(peak_tau, scale)
+    ok = within_bound(peak, bound, scale) | _round_off(peak, own, own, robot)   # as the gate
+    if not ok.all():
+        j = int(np.argmax(np.where(ok, -np.inf, peak - bound)))
+        raise InputError(f"is below the error measured again on its own trajectory (joint "
+                         f"{j + 1}: {bound[j]:.4g} < {peak[j]:.4g})", path,
+                         column="guarantee.bound")
+    if g.trajectories_sha256:
+        return                      # a sweep's model: s_i is each trajectory's
+    expected = np.maximum(peak_tau, float(model.torque_floor))
+    ok = within_bound(np.abs(expected - scale), TRAJECTORY_SCALE_RTOL * np.abs(expected),
+                      expected)
+    if not ok.all():
+        j = int(np.argmax(~ok))
+        raise InputError(f"is not max(peak |tau_i|, torque floor) on its own trajectory "
+                         f"(joint {j + 1}: {scale[j]:.6g} stated, {expected[j]:.6g} measured "
+                         "again)", path, column="guarantee.scale")
 
 
 def gate(err, model, max_error=None):

@@ -67,11 +67,16 @@ def certified(robot, base, region, torque_floor=0.0):
         Samples :func:`region_values` drew in this process are not drawn again.
     """
     from ..io.certification_cache import certification
+    from ..io.model_trust import remember
 
     drawn = _SAMPLED.get(_region_key(robot, region, 0.0))      # the same samples, if drawn
-    return _keep(_CERTIFIED, _region_key(robot, region, torque_floor),
-                 lambda: certification(robot, base, region, torque_floor=torque_floor,
-                                       samples=REGION_SAMPLES, values=drawn))
+
+    def make():
+        pb = certification(robot, base, region, torque_floor=torque_floor,
+                           samples=REGION_SAMPLES, values=drawn)
+        remember(robot, region, torque_floor, REGION_SAMPLES, pb)  # a model built here is
+        return pb                                                  # checked without it again
+    return _keep(_CERTIFIED, _region_key(robot, region, torque_floor), make)
 
 
 def region_values(robot, base, region):

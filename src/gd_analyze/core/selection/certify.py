@@ -22,7 +22,8 @@ import numpy as np
 from ..dynamics.regressor_bounds import pair_magnitudes
 from .region import qd_vertices, region_samples
 
-__all__ = ["PairBounds", "certify", "pair_peaks_at", "pair_magnitudes_at", "METHOD"]
+__all__ = ["PairBounds", "certify", "pair_peaks_at", "pair_magnitudes_at", "METHOD",
+           "prove_dropped"]
 
 #: How the bounds are obtained, in words (stored with every region model).
 METHOD = ("per (base parameter, part) pair: |beta| x upper bound of its coefficient over the "
@@ -145,6 +146,20 @@ def _relevant(robot):
     return rel
 
 
+def _bisect(lo, hi, rel):
+    """Boxes halved along their widest relevant joint: the lower halves, then the upper ones
+    (copies; ``lo``, ``hi`` of shape (B, n) are not changed)."""
+    lo, hi = lo.copy(), hi.copy()
+    width = np.where(rel[None, :], hi - lo, -1.0)
+    d = width.argmax(axis=1)
+    rows = np.arange(lo.shape[0])
+    mid = 0.5 * (lo[rows, d] + hi[rows, d])
+    lo2, hi2 = lo.copy(), hi.copy()
+    hi[rows, d] = mid
+    lo2[rows, d] = mid
+    return np.vstack([lo, lo2]), np.vstack([hi, hi2])
+
+
 def certify(robot, base, region, torque_floor=0.0, max_boxes=1024, samples=1000, seed=0,
             open_share=0.05, rtol=0.1, values=None):
     """Proved upper bounds of every pair's contribution over the region, and the scale.
@@ -215,16 +230,8 @@ def certify(robot, base, region, torque_floor=0.0, max_boxes=1024, samples=1000,
             done_u = np.maximum(done_u, U[~split].max(axis=0))
             leaves.append(U[~split])
             boxes.append(np.stack([lo[~split], hi[~split]], axis=1))
-        lo, hi, U = lo[split], hi[split], U[split]
-        width = np.where(rel[None, :], hi - lo, -1.0)
-        d = width.argmax(axis=1)
-        rows = np.arange(lo.shape[0])
-        mid = 0.5 * (lo[rows, d] + hi[rows, d])
-        lo2, hi2 = lo.copy(), hi.copy()
-        hi[rows, d] = mid
-        lo2[rows, d] = mid
-        lo, hi = np.vstack([lo, lo2]), np.vstack([hi, hi2])
-        inherited = np.concatenate([U, U])
+        lo, hi = _bisect(lo[split], hi[split], rel)
+        inherited = np.concatenate([U[split], U[split]])
     bound = np.maximum(done_u.transpose(2, 0, 1), sampled)
     leaf = np.concatenate(leaves).transpose(3, 1, 0, 2)          # (b, 3, L, n)
     return PairBounds(bound=bound, sampled=sampled, scale=scale, scale_state=state,
@@ -232,3 +239,63 @@ def certify(robot, base, region, torque_floor=0.0, max_boxes=1024, samples=1000,
                       leaf_boxes=np.concatenate(boxes),
                       seconds=time.perf_counter() - t0)
 
+
+
+def prove_dropped(robot, base, region, dropped, limit, max_boxes=1024):
+    """Whether a set of dropped pairs changes no tau_i by more than ``limit_i`` over the region,
+    proved by branch and bound on those pairs' enclosures only.
+
+    Parameters
+    ----------
+    robot : Robot
+        The arm, with n joints.
+    base : BaseParameters
+        Its base parameters (b of them).
+    region : Region
+    dropped : ndarray of bool, shape (b, 3)
+        The (base parameter, part) pairs left out.
+    limit : ndarray, shape (n,)
+        The bound to prove per joint [N m or N].
+    max_boxes : int, optional
+        Boxes evaluated in all before giving up.
+
+    Returns
+    -------
+    bool
+        True when every box of a tiling of the region has sum over the dropped pairs of their
+        enclosures <= limit_i on every joint (so |tau_s - tau| <= limit_i at every state of the
+        region, by the triangle inequality); False when ``max_boxes`` did not suffice (nothing
+        is then known: a full :func:`certify` decides).
+
+    Notes
+    -----
+    Only the dropped parameters' columns are evaluated, so a model that drops a few parameters
+    is checked at a fraction of a certification's cost; each box's enclosure of a pair is the
+    least of its own and its ancestors' (each holds on it), as in :func:`certify` (Moore,
+    Kearfott & Cloud 2009, Ch. 6).
+    """
+    n = robot.n
+    dropped = np.asarray(dropped, bool)
+    limit = np.asarray(limit, float)
+    used = np.flatnonzero(dropped.any(axis=1))
+    if used.size == 0:
+        return bool(np.all(limit >= 0))
+    cols = np.flatnonzero(base.independent.reshape(-1))[used]
+    absb = np.abs(np.asarray(base.beta, float)[used])
+    weight = dropped[used].T.astype(float)                              # (3, k)
+    lo, hi = region.q_min[None, :].copy(), region.q_max[None, :].copy()
+    rel = _relevant(robot)
+    inherited = np.full((1, 3, n, used.size), np.inf)
+    evaluated = 0
+    while True:
+        U = np.minimum(pair_magnitudes(robot, lo, hi, cols, region.qd_max, region.qdd_max)
+                       * absb, inherited)                               # (B, 3, n, k)
+        evaluated += lo.shape[0]
+        total = np.einsum("bpnk,pk->bn", U, weight)
+        open_ = ~np.all(total <= limit[None, :], axis=1)                # NaN stays open
+        if not open_.any():
+            return True
+        if evaluated + 2 * int(open_.sum()) > max_boxes:
+            return False
+        lo, hi = _bisect(lo[open_], hi[open_], rel)
+        inherited = np.concatenate([U[open_], U[open_]])
