@@ -11,7 +11,9 @@ import numpy as np
 import pinocchio as pin
 import pytest
 
+from gd_analyze import load_robot
 from gd_analyze.cli import main
+from gd_analyze.formulations.pinocchio import pinocchio_model
 from gd_analyze.io.model_file import load_model
 from gd_analyze.io.trajectory import read_trajectory
 
@@ -38,11 +40,30 @@ def ur10(tmp_path_factory):
     return folder / "out" / "simplified_model.json", own, other
 
 
-def _oracle_error(model_path, csv, gravity=None):
-    """peak |tau_s - tau| per joint, tau from Pinocchio's rnea on the URDF itself."""
+@pytest.fixture(scope="module")
+def puma_slow(tmp_path_factory):
+    """The PUMA 560's trajectory model on a slow plan without gravity (its s_i the slow
+    motion's torques: the D_s proof keeps the UR10's model nearly exact, so its dropped terms
+    cannot show), and the fastest plan within the limits."""
+    folder = tmp_path_factory.mktemp("puma")
+    own, other = folder / "own.csv", folder / "other.csv"
+    assert main(["plan", "puma560", "-o", str(own), "--duration", "12"]) == 0
+    assert main(["plan", "puma560", "-o", str(other)]) == 0
+    assert main(["puma560", str(own), "-o", str(folder / "out"), "--no-report", "-q",
+                 "--guarantee", "trajectory", "--gravity", "0,0,0"]) == 0
+    return folder / "out" / "simplified_model.json", own, other
+
+
+def _oracle_error(model_path, csv, gravity=None, urdf=True):
+    """peak |tau_s - tau| per joint, tau from Pinocchio's rnea on the URDF itself (or, with
+    ``urdf=False``, on the Pinocchio model of the built-in PUMA 560 without gravity)."""
     model = load_model(model_path)
     traj = read_trajectory(csv, n_joints=model.robot.n)
-    urdf = pin.buildModelFromUrdf(str(UR10))
+    if urdf:
+        urdf = pin.buildModelFromUrdf(str(UR10))
+    else:
+        urdf = pinocchio_model(load_robot("puma560"))
+        gravity = (0.0, 0.0, 0.0)
     assert urdf.nq == model.robot.n == 6
     if gravity is not None:
         urdf.gravity.linear = np.asarray(gravity, float)
@@ -52,20 +73,20 @@ def _oracle_error(model_path, csv, gravity=None):
     return np.abs(model.torque(traj.q, traj.qd, traj.qdd) - tau).max(axis=0), tau, model
 
 
-def test_default_gate_is_the_models_own_promise(ur10, capsys):
-    model_path, own, other = ur10
+def test_default_gate_is_the_models_own_promise(puma_slow, capsys):
+    model_path, own, other = puma_slow
     g = load_model(model_path).guarantee
     assert g.kind == "trajectory"
     limit = g.tolerance * g.scale
     # on its own trajectory the model keeps its bound: exit 0, and the printout says so
-    err, _, _ = _oracle_error(model_path, own)
+    err, _, _ = _oracle_error(model_path, own, urdf=False)
     assert np.all(err <= limit * (1 + 1e-9) + 1e-12)
     code, out, stderr = _run(capsys, "evaluate", model_path, own)
     assert code == 0, stderr
     assert f"model's guarantee: {g.statement()}" in out
     assert "covers this trajectory: yes" in out
     # on the other plan it does not: exit 3, one line naming the worst joint
-    err, _, _ = _oracle_error(model_path, other)
+    err, _, _ = _oracle_error(model_path, other, urdf=False)
     ratio = err / limit
     assert ratio.max() > 1.5                  # clearly beyond, not a rounding question
     worst = int(np.argmax(ratio))
@@ -77,13 +98,13 @@ def test_default_gate_is_the_models_own_promise(ur10, capsys):
     assert f"{g.tolerance:g} x {g.scale[worst]:.4g} N m = {limit[worst]:.4g} N m" in line
     assert "covers this trajectory: no" in out and "not the trajectory" in out
     # --max-error overrides the model's gate, both ways
-    rel = err / np.abs(_oracle_error(model_path, other)[1]).max(axis=0)
+    rel = err / np.abs(_oracle_error(model_path, other, urdf=False)[1]).max(axis=0)
     assert _run(capsys, "evaluate", model_path, other, "--max-error", rel.max() * 2)[0] == 0
     assert _run(capsys, "evaluate", model_path, own, "--max-error", 1e-9)[0] == 3
 
 
-def test_json_states_scope_coverage_and_gate(ur10, capsys):
-    model_path, own, other = ur10
+def test_json_states_scope_coverage_and_gate(puma_slow, capsys):
+    model_path, own, other = puma_slow
     g = load_model(model_path).guarantee
     for csv, covered, code_expected in ((own, True, 0), (other, False, 3)):
         code, out, _ = _run(capsys, "evaluate", model_path, csv, "--json")

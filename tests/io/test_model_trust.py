@@ -48,6 +48,17 @@ def _copy(doc):
     return json.loads(json.dumps(doc))
 
 
+def _region_as_limits(g):
+    """The guarantee's ``region`` made to agree with its edited limits, as a forger would (so
+    that the check of the claim, not the region's consistency, must refuse it)."""
+    region = g.get("region")
+    if region is not None:
+        region["q"] = [q if isinstance(q, str) else [lo, hi]
+                       for q, lo, hi in zip(region["q"], g["q_min"], g["q_max"])]
+        region["qd_max"], region["qdd_max"] = list(g["qd_max"]), list(g["qdd_max"])
+    return g
+
+
 def _refused(capsys, args, key):
     """Exit 2 and one error line on stderr naming ``key``, no traceback; the stdout."""
     code = main([str(a) for a in args])
@@ -142,6 +153,7 @@ def test_issue_region_widened_to_a_full_turn_is_refused(models, capsys):
     j = 1                                                   # joint 2: [-45, 225] deg
     forged = _copy(region_doc)
     forged["guarantee"]["q_min"][j], forged["guarantee"]["q_max"][j] = -math.pi, math.pi
+    _region_as_limits(forged["guarantee"])
     path = _write(folder, "wide", forged)
     traj = read_trajectory(SHIPPED, n_joints=6)
     q = traj.q.copy()
@@ -167,6 +179,7 @@ def test_region_claims_checked_against_the_robot(models, capsys, edit, key):
     folder, region_doc, _ = models
     forged = _copy(region_doc)
     edit(forged["guarantee"])
+    _region_as_limits(forged["guarantee"])
     path = _write(folder, key.replace(".", "_"), forged)
     _refused(capsys, ["evaluate", path, SHIPPED], key)
     with pytest.raises(InputError, match=key):

@@ -132,17 +132,23 @@ def deploy_models(robot, trajectory, ranking, part_peaks, options, provenance, b
                                sample_region=region, region_missing=missing,
                                contributions=background["recursive"].result())
     model = with_inertia_check(model, q, rebuild=rebuild)
-    if (model.recursive is None and model.guarantee is not None and model.guarantee.proved
-            and not model.inertia_check["proved"]):
-        # an explicit model whose D_s is not proved is not deployed under a region guarantee
-        # where the recursive one's is
+    check = model.inertia_check
+    region_claim = model.guarantee is not None and model.guarantee.proved
+    # NaN is not positive: a model whose D_s is singular or indefinite at a sampled position
+    sampled_indefinite = not check["sampled_min_eigenvalue"] > 0
+    if model.recursive is None and not check["proved"] and (region_claim or sampled_indefinite):
+        # an explicit model whose D_s is not proved is not deployed under a region guarantee,
+        # nor one whose D_s is not positive definite at the sampled positions, where the
+        # recursive one's is proved
         fallback = with_inertia_check(dataclasses.replace(
             rec, costs=costs, full_cost=dict(costs.get("explicit, full", rec.full_cost)),
             program_cache=rec.program()), q, rebuild=rebuild)
         if fallback.inertia_check["proved"]:
             model, sel, skipped, form_note = fallback, rec_sel, "", (
                 "The deployed model is the pruned recursive one: the explicit model's D_s "
-                "was not proved positive definite over the region.")
+                + ("was not proved positive definite over the region." if region_claim else
+                   "is not positive definite at the sampled positions of the trajectory "
+                   f"(smallest eigenvalue {check['sampled_min_eigenvalue']:.3g})."))
             ladder_recursive = True
     if model.recursive is not None and model.recursive is not rec.recursive:    # restored
         sel = dataclasses.replace(
