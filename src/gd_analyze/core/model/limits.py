@@ -30,6 +30,11 @@ LIMITS = {
     "duration": 1e9,    # planned duration [s]
     "min_duration": 1e-6,   # shortest planned duration [s]
     "angle_deg": 1e6,   # |an angle or angular limit given in degrees| [deg]
+    # a URDF's size, checked before Pinocchio's parser reads it: its parser recurses once per
+    # link down the tree and overflows the C stack (SIGSEGV) on a chain of 4,000 links
+    "urdf_links": 10_000,   # <link> elements
+    "urdf_joints": 10_000,  # <joint> elements
+    "urdf_depth": 1_000,    # links on the longest path from the root (the root is depth 0)
 }
 
 
