@@ -467,11 +467,11 @@ def cmd_plan(args):
         acceleration_limits,
         check_velocity_limits,
         default_motion,
-        plan_quintic,
+        quintic_plan,
         user_positions,
         write_provenance,
     )
-    from ..io.trajectory import write_trajectory
+    from ..io.trajectory import write_trajectory_chunks
 
     robot = load_robot_arg(args)
     if args.duration is None or not args.ignore_limits:     # the plan needs the limits
@@ -513,21 +513,24 @@ def cmd_plan(args):
     if not args.ignore_limits:
         _check_plan(planning, start, goal, args.duration)
     try:
-        traj = plan_quintic(planning, start, goal, args.setpoints, args.duration)
+        plan = quintic_plan(planning, start, goal, args.setpoints, args.duration)
     except ValueError as exc:
         raise InputError(str(exc)) from None
-    if first_beyond(traj.t, LIMITS["t"]) is not None:       # the CSV reader's rule
-        raise InputError(f"the planned duration, {exact_text(traj.t[-1])} s, is beyond the "
+    T = plan.duration                                       # t runs from 0 to T
+    if first_beyond([T], LIMITS["t"]) is not None:          # the CSV reader's rule
+        raise InputError(f"the planned duration, {exact_text(T)} s, is beyond the "
                          f"supported magnitude {LIMITS['t']:g} s of t: the acceleration or "
                          f"velocity limits ({qdd_source}) are too small to plan with",
                          column=None if args.duration is not None or qdd_arg is None
                          else "--qdd-max")
-    for name in ("q", "qd", "qdd"):
-        if first_beyond(getattr(traj, name), LIMITS[name]) is not None:
-            raise InputError(f"the planned {name} exceeds the supported magnitude "
-                             f"{LIMITS[name]:g}: choose a longer --duration", column="--duration")
+    for piece in plan.chunks():         # checked before anything is written, piece by piece
+        for name in ("q", "qd", "qdd"):
+            if first_beyond(getattr(piece, name), LIMITS[name]) is not None:
+                raise InputError(f"the planned {name} exceeds the supported magnitude "
+                                 f"{LIMITS[name]:g}: choose a longer --duration",
+                                 column="--duration")
     try:
-        write_trajectory(traj, args.output)
+        write_trajectory_chunks(plan.chunks(), robot.n, args.output)
     except OSError as exc:
         raise InputError(f"cannot write: {exc.strerror or exc}", args.output) from None
     if args.output == "-":
@@ -539,21 +542,21 @@ def cmd_plan(args):
         **chain_settings(args), **mounting_settings(args, robot),
         "start": [float(v) for v in start], "goal": [float(v) for v in goal],
         "start_goal_units": "rad (m for a prismatic joint)",
-        "setpoints": traj.n_setpoints, "duration_s": float(traj.t[-1]),
+        "setpoints": plan.n_setpoints, "duration_s": float(T),
         "duration_from": "--duration" if args.duration is not None else "limits",
         "qd_max": _limits(robot.qd_max),
         "qdd_max": _limits(qdd_max),
         "limits_units": "rad/s, rad/s^2 (m/s, m/s^2 for a prismatic joint); null: no limit",
         "qdd_max_source": qdd_source,
-        "trajectory": traj.source,
+        "trajectory": plan.source,
     }
     try:
         side = write_provenance(args.output, record)
     except OSError as exc:
         raise InputError(f"cannot write its provenance: {exc.strerror or exc}",
                          args.output) from None
-    print(f"wrote {args.output}: {traj.n_setpoints} set points over {traj.t[-1]:.4f} s "
-          f"({traj.source}); acceleration limits: {qdd_source}; provenance in {side}",
+    print(f"wrote {args.output}: {plan.n_setpoints} set points over {T:.4f} s "
+          f"({plan.source}); acceleration limits: {qdd_source}; provenance in {side}",
           file=sys.stderr)
     return EXIT_OK
 
