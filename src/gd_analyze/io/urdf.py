@@ -34,6 +34,7 @@ from pathlib import Path
 import numpy as np
 
 from ..core.model.limits import exact_text
+from ..core.model.mounting import MOUNTING_KEY
 from ..errors import InputError
 from .urdf_xml import check_inertias, check_mimic, read_urdf_xml
 
@@ -377,6 +378,13 @@ def _chain(model, doc, sha256, base, tip, label, robot_name, description, refere
     metadata = {"description": description, "reference": reference, "source": source,
                 "sha256": sha256, "base_link": base, "tip_link": tip,
                 "urdf_joints": list(joint_names), "locked_joints": list(locked_names)}
+    if not np.array_equal(B.rotation, np.eye(3)):
+        # a base link turned in the URDF's root frame (--base): the arm is mounted by that
+        # turn, gravity in the world stays the root's (mounting_of reads both back)
+        metadata[MOUNTING_KEY] = {
+            "base_rpy_deg": tuple(float(v) + 0.0 for v in np.degrees(pin.rpy.matrixToRpy(
+                B.rotation))),
+            "gravity_world": tuple(float(v) + 0.0 for v in reduced.gravity.linear)}
     return UrdfChain(name=robot_name, joints=tuple(joints), gravity=gravity,
                      joint_names=joint_names, link_names=link_names, base=base, tip=tip,
                      locked=locked_names, metadata=metadata)
