@@ -21,7 +21,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ..core.model.limits import LIMITS, exact_text, first_beyond
+from ..core.model.limits import LIMITS, exact_text, first_beyond, real_values
 from ..errors import InputError, InputNote
 
 __all__ = ["Trajectory", "read_trajectory", "write_trajectory", "write_trajectory_chunks",
@@ -238,12 +238,17 @@ def trajectory_from_arrays(t, q, qd=None, qdd=None, n_joints=None):
     if (qd is None) != (qdd is None):
         raise InputError("give both qd and qdd, or neither (then a cubic spline through q)",
                          ARRAYS)
-    try:
-        t = np.array(t, dtype=float)
-        arrays = {k: np.array(v, dtype=float) for k, v in (("q", q), ("qd", qd), ("qdd", qdd))
-                  if v is not None}
-    except (TypeError, ValueError) as exc:
-        raise InputError(f"not numeric arrays: {exc}", ARRAYS) from None
+    arrays = {}
+    for name, v in (("t", t), ("q", q), ("qd", qd), ("qdd", qdd)):
+        if v is None:
+            continue
+        try:
+            arrays[name] = np.array(real_values(name, v), dtype=float)
+        except InputError as exc:       # complex, text...: one line naming the array
+            raise InputError(exc.message, ARRAYS, column=name) from None
+        except (TypeError, ValueError) as exc:
+            raise InputError(f"not numeric arrays: {exc}", ARRAYS, column=name) from None
+    t = arrays.pop("t")
     if t.ndim != 1 or t.size < 2:
         raise InputError(f"t must have shape (N,) with N >= 2, got {t.shape}", ARRAYS,
                          column="t")
