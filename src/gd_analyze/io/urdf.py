@@ -24,6 +24,7 @@ unset limit mean "not given": ``lower = upper`` (no position limits), ``velocity
 
 from __future__ import annotations
 
+import dataclasses
 import hashlib
 import math
 import re
@@ -62,6 +63,9 @@ URDF_BUILTIN = {
         "reference": (
             "ur5_robot.urdf of example-robot-data 6.0.0 (PyPI; upstream ros-industrial "
             "universal_robot ur_description, BSD), read with pinocchio.buildModelFromUrdf"),
+        # its inertia tensors are the URDF's cylinder stand-ins, not measured: the reports say
+        # so wherever they state what the rotational parts do
+        "placeholder_inertia": True,
     },
 }
 
@@ -455,6 +459,9 @@ def load_urdf(path, base=None, tip=None):
                                 tip or spec["tip"], name=key,
                                 description=spec["description"], reference=spec["reference"],
                                 source=key)
+        if spec.get("placeholder_inertia"):
+            chain = dataclasses.replace(chain, metadata={**chain.metadata,
+                                                         "placeholder_inertia": True})
     else:
         chain = read_urdf_chain(path, base, tip)
     return _robot(chain)

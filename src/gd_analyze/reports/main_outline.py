@@ -148,7 +148,7 @@ def main_outline(ctx, figures):
         o.paragraph(sm["text"], "note")
         o.table(sm["bound"], "Bound on the torque error per joint, split by where the dropped "
                              "terms sit, beside the measured peak error.")
-        o.figure("budget", BUDGET_CAPTIONS["budget"])
+        o.figure("budget", caps.get("budget", BUDGET_CAPTIONS["budget"]))
         if sm["costs"]:
             o.section("5.4", "Cost per set point (counted)")
             o.table(sm["costs"], "Operations per set point, counted on each model's code.")

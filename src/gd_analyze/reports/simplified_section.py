@@ -18,13 +18,13 @@ from .markup import scope as scope_markup
 from .markup import sub as _sub
 
 __all__ = ["has_simplified", "simplified_context", "error_figure", "SIMPLIFIED_CAPTION", "ROUND_OFF",
-           "simplified_caption", "region_pruning"]
+           "simplified_caption", "region_pruning", "guarantee_kind", "BOUND_WHERE"]
 
 #: Caption of the torque-error figure; ``{units}`` as :func:`simplified_caption` fills it.
 SIMPLIFIED_CAPTION = ("Torque error of the simplified model, \u03c4\u209b \u2212 \u03c4 "
                       "[{units}], "
-                      "per joint against time, with the bound \u00b1 (dotted), guaranteed on "
-                      "this trajectory only, " + ROUND_OFF_CLAUSE + ". The joints whose model "
+                      "per joint against time, with the bound \u00b1 (dotted), {where}, "
+                      + ROUND_OFF_CLAUSE + ". The joints whose model "
                       "drops nothing (bound 0) get no panel: the note below names them; their "
                       "difference is floating-point round-off.")
 
@@ -38,9 +38,18 @@ def simplified_caption(ds):
     Returns
     -------
     str
-        :data:`SIMPLIFIED_CAPTION` in N m, or N m and N for an arm with a prismatic joint.
+        :data:`SIMPLIFIED_CAPTION` in N m, or N m and N for an arm with a prismatic joint,
+        saying where the bound holds from the stored guarantee's kind (:data:`BOUND_WHERE`).
     """
-    return SIMPLIFIED_CAPTION.format(units=units_said_once(ds, "tau"))
+    where = (BOUND_WHERE["region"] if _kind(ds) == "region" else BOUND_WHERE["trajectory"])
+    return SIMPLIFIED_CAPTION.format(units=units_said_once(ds, "tau"), where=where)
+
+
+#: Where the figure's bound holds, by the kind of the model's guarantee.
+BOUND_WHERE = {"region": "proved at every state of the region (positions, velocities and "
+                         "accelerations within the model's limits), so on this trajectory "
+                         "wherever it lies in the region",
+               "trajectory": "guaranteed on this trajectory only"}
 
 
 def has_simplified(ds):
@@ -292,12 +301,25 @@ def region_pruning(pairs, dropped, bound="the bound below"):
             f"inequality the error at every state of the region is within that sum, {bound}.")
 
 
-def _kind(ds):
-    """The stored guarantee's kind ("region", "trajectory"), or "none"."""
+def guarantee_kind(ds):
+    """The stored guarantee's kind.
+
+    Parameters
+    ----------
+    ds : xarray.Dataset
+
+    Returns
+    -------
+    str
+        ``"region"``, ``"trajectory"``, or ``"none"`` where the dataset stores none.
+    """
     from ..io.datasets import stored_guarantee
 
     g = stored_guarantee(ds)
     return "none" if g is None else g["kind"]
+
+
+_kind = guarantee_kind
 
 
 def _scope(ds, exact=False):
