@@ -6,12 +6,20 @@ inertia tensors. Oracle: the guarantee stored in the run's own results.h5, the c
 text (/work/shared/seed, Sec. 3.4) and the UR5 URDF's own inertials (cylinder stand-ins:
 ixx = iyy on every link)."""
 
+import dataclasses
+import json
 import re
 
+import numpy as np
+import pinocchio as pin
 import pytest
 import xarray as xr
+from conftest import ROOT
 from html_checks import html_text
 
+from gd_analyze import load_robot
+from gd_analyze.cli import main
+from gd_analyze.formulations.pinocchio import pinocchio_model
 from gd_analyze.io.datasets import stored_guarantee
 from gd_analyze.io.urdf import builtin_urdf_path
 from gd_analyze.reports.budget_figures import budget_caption
@@ -78,3 +86,28 @@ def test_a_trajectory_guarantee_says_trajectory(shipped_dataset):
     assert stored_guarantee(ds)["kind"] == "trajectory"
     assert "guaranteed on this trajectory only" in simplified_caption(ds)
     assert "peaks of the dropped terms on this trajectory" in budget_caption(ds)
+
+
+def test_drives_report_says_s_i_is_the_rigid_links(tmp_path):
+    """``gd-analyze puma560-drives data/puma560_trajectory.csv``: the region's s_i is the
+    rigid links' largest |tau_i| (Pinocchio's rnea of the arm without its drives at the stored
+    scale state gives it), not the torque with armature and friction the report's tables show;
+    the report says which."""
+    out = tmp_path / "drives"
+    assert main(["puma560-drives", str(ROOT / "data" / "puma560_trajectory.csv"), "-o",
+                 str(out), "-q"]) == 0
+    text, _ = _report(out)
+    guarantee = json.loads((out / "simplified_model.json").read_text())["guarantee"]
+    assert guarantee["kind"] == "region"
+    drives = load_robot("puma560-drives")
+    rigid = dataclasses.replace(drives, armature=np.zeros(drives.n), viscous=np.zeros(drives.n),
+                                coulomb=np.zeros(drives.n))
+    model = pinocchio_model(rigid)
+    n = drives.n
+    for i, state in enumerate(np.asarray(guarantee["scale_state"], float)):
+        tau = pin.rnea(model, model.createData(), state[:n], state[n:2 * n], state[2 * n:])
+        assert abs(tau[i]) == pytest.approx(guarantee["scale"][i], rel=1e-9)
+    assert re.search(r"the largest \|τ ?i ?\| of the rigid links alone found over the region",
+                     text)
+    floor = re.search(r"torque floor of each joint's scale (none: .*?)(?= [a-z ,]+: |$)", text)
+    assert floor and "rigid links alone" in floor.group(1)

@@ -17,15 +17,18 @@ from .common import fmt as _fmt
 from .common import prismatic_joints
 from .markup import scope as scope_markup
 from .markup import sub as _sub
-from .simplified_section import guarantee_kind
+from .simplified_section import REGION_SCALE, guarantee_kind, has_drives
 
-#: The torque floor 0, said with what each joint's scale s_i then is (False: the model's bound
-#: is on its trajectory; True: over the region).
-_NO_FLOOR = {False: "none: each joint's scale s" + _sub("i") + " is its own peak |\u03c4"
-                    + _sub("i") + "| on this trajectory",
-             True: "none: each joint's scale s" + _sub("i") + " is the largest |\u03c4"
-                   + _sub("i") + "| found over the region (positions, velocities and "
-                   "accelerations within the model's limits), not its peak on this trajectory"}
+
+def _no_floor(ds):
+    """The torque floor 0, said with what each joint's scale s_i then is: its peak on the
+    trajectory, or over the region (the rigid links' alone where the robot has drives)."""
+    if guarantee_kind(ds) != "region":
+        return "none: each joint's scale s" + _sub("i") + " is its own peak |\u03c4" + \
+            _sub("i") + "| on this trajectory"
+    return ("none: each joint's scale " + REGION_SCALE[has_drives(ds)].replace(" = ", " is ", 1)
+            + " (positions, velocities and accelerations within the model's limits), not its "
+            "peak on this trajectory")
 
 __all__ = ["provenance_rows", "software_row", "run_row", "gravity_row"]
 
@@ -161,7 +164,7 @@ def provenance_rows(ds, created, version, verification):
         value = _setting(ds, asked, built)
         used.update((asked, built))
         if value is not None and asked == "torque_floor":
-            value = (_NO_FLOOR[guarantee_kind(ds) == "region"] if value == "0" else
+            value = (_no_floor(ds) if value == "0" else
                      value + " N m" + (", or N for a prismatic joint"
                                        if prismatic_joints(ds).any() else ""))
         if value is not None and asked == "explicit":
