@@ -285,10 +285,12 @@ def has_drives(ds):
     Parameters
     ----------
     ds : xarray.Dataset
+        A results dataset; its drives are the variables ``D_arm``, ``viscous``, ``coulomb``.
 
     Returns
     -------
     bool
+        True where any of them is nonzero.
     """
     return any(k in ds.variables and np.any(np.asarray(ds[k].values, float) != 0)
                for k in ("D_arm", "viscous", "coulomb"))
