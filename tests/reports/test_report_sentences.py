@@ -14,16 +14,18 @@ import numpy as np
 import pinocchio as pin
 import pytest
 import xarray as xr
-from conftest import ROOT
+from conftest import ROOT, SHIPPED
 from html_checks import html_text
 
 from gd_analyze import load_robot
 from gd_analyze.cli import main
 from gd_analyze.formulations.pinocchio import pinocchio_model
 from gd_analyze.io.datasets import stored_guarantee
+from gd_analyze.io.trajectory import read_trajectory
 from gd_analyze.io.urdf import builtin_urdf_path
-from gd_analyze.reports.budget_figures import budget_caption
+from gd_analyze.reports.budget_figures import budget_caption, cost_points
 from gd_analyze.reports.simplified_section import simplified_caption
+from gd_analyze.reports.sweep_figures import make_sweep_figures
 
 #: Over 5 s on an idle machine (the shared reports): run on one interpreter in CI.
 pytestmark = pytest.mark.slow
@@ -111,3 +113,55 @@ def test_drives_report_says_s_i_is_the_rigid_links(tmp_path):
                      text)
     floor = re.search(r"torque floor of each joint's scale (none: .*?)(?= [a-z ,]+: |$)", text)
     assert floor and "rigid links alone" in floor.group(1)
+
+
+def test_cost_figure_puts_every_point_on_the_deployed_scale(shared_puma):
+    """Fig. 7 under a region guarantee: the explicit budget model's bound (EPS times its own
+    scale, the trajectory's peak |tau_i|) is drawn relative to the deployed model's s_i (the
+    region's), as the measured points are; Pinocchio's rnea along the trajectory gives the
+    peaks, the model file gives s_i; the caption says the scale."""
+    folder = shared_puma["puma"][0]
+    guarantee = json.loads((folder / "simplified_model.json").read_text())["guarantee"]
+    robot = load_robot("puma560")
+    traj = read_trajectory(SHIPPED, robot.n)
+    model = pinocchio_model(robot)
+    peak = np.max(np.abs([pin.rnea(model, model.createData(), *x)
+                          for x in zip(traj.q, traj.qd, traj.qdd)]), axis=0)
+    with xr.open_dataset(folder / "results.h5", engine="h5netcdf") as ds:
+        ds = ds.load()
+    eps = float(ds.attrs["simplified_tolerance"])
+    bound = [p for p in cost_points(ds) if p[3] == "bound" and p[0].startswith("explicit")]
+    assert len(bound) == 1
+    want = np.max(eps * peak / np.asarray(guarantee["scale"]))
+    assert bound[0][2] == pytest.approx(want, rel=1e-9) and bound[0][2] < eps
+    text, _ = _report(folder)
+    assert "relative to sᵢ, the deployed model's scale, for every point" in \
+        _caption(text, "Cost against accuracy")
+
+
+def test_sweep_error_figure_is_on_one_scale(shared_reports):
+    """The sweep's Fig. 4 under a region guarantee: the own models' errors, the merged model's
+    per trajectory and over all of them, each divided by the merged model's s_i (the region's)
+    on one axis, and the caption says so."""
+    folder, _ = shared_reports["sweep"]
+    with xr.open_dataset(folder / "sweep.h5", engine="h5netcdf") as ds:
+        ds = ds.load()
+    assert ds.attrs["merged_guarantee_kind"] == "region"
+    s_i = ds["merged_scale"].values
+    assert (s_i == s_i[0]).all()                    # one region, one s_i per joint
+    fig = make_sweep_figures(ds)["error"]
+    ax = fig.axes[0]
+    assert ax.get_ylabel() == "peak |τₛ − τ| / sᵢ [1]"
+    diamonds = [ln for ln in ax.lines if ln.get_marker() == "D"]
+    want = ds["merged_error_peak"].values / s_i[0]
+    got = {round(float(ln.get_xdata()[0])): float(ln.get_ydata()[0]) for ln in diamonds}
+    for j, y in got.items():
+        assert y == pytest.approx(want[j - 1], rel=1e-12)
+    medians = [ln for ln in ax.lines if ln.get_color() == "#009E73" and len(ln.get_xdata())
+               == 2 and ln.get_ydata()[0] == ln.get_ydata()[1]]
+    own = ds["tau_error_peak"].values / s_i
+    assert medians and all(own.min() - 1e-15 <= ln.get_ydata()[0] <= own.max() + 1e-15
+                           for ln in medians)
+    text = html_text((folder / "sweep_report.html").read_text(encoding="utf-8"), nbsp=True)
+    assert "every mark relative to one scale, the merged model's s i over the region" in text \
+        or "every mark relative to one scale, the merged model's si over the region" in text

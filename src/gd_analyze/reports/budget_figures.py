@@ -55,8 +55,10 @@ BUDGET_CAPTIONS = {
               "budget ε sᵢ, and the measured peak error, each relative to the joint's scale "
               "sᵢ.",
     "cost_ladder": "Cost against accuracy: operations per set point of each model against its "
-                   "worst peak error relative to sᵢ (filled: measured on this trajectory "
-                   "or exact; open: a bound or a published figure).",
+                   "worst peak error relative to sᵢ, the deployed model's scale, for every "
+                   "point (filled: measured on this trajectory or exact; open: a bound, "
+                   "turned to sᵢ where its model has another scale, or a published figure, "
+                   "which is on its authors' own scale).",
 }
 
 
@@ -305,6 +307,17 @@ _COST_STYLE = {"exact": ("o", "#000000"), "model": ("*", "#D55E00"),
                "bound": ("s", "#0072B2"), "akb": ("P", "#CC79A7")}
 
 
+def _bound_on_s_i(ds, label, eps, safe):
+    """A budget model's bound, EPS times its own scale, relative to the deployed model's s_i:
+    the explicit model is pruned on this trajectory, its scale max(peak |tau_i|, floor); under
+    a region guarantee s_i is the region's, larger."""
+    if not label.startswith("explicit") or guarantee_kind(ds) != "region":
+        return eps
+    own = np.maximum(np.asarray(ds["tau_peak"].values, float),
+                     float(ds.attrs.get("simplified_torque_floor", 0.0)))
+    return float(np.max(eps * own / safe))
+
+
 def cost_points(ds):
     """The points of :func:`fig_cost_ladder`: (label, operations, worst error [1], kind).
 
@@ -320,7 +333,8 @@ def cost_points(ds):
     list of tuple
         The worst error is max over joints of peak |tau_s - tau| / s_i as measured on the
         trajectory (kind ``model``, ``ladder``, ``chapter``); 0 for an exact model
-        (``exact``); EPS for a model whose error is bounded but not measured (``bound``);
+        (``exact``); for a model whose error is bounded but not measured (``bound``), EPS
+        times its own scale over s_i (EPS where its scale is s_i);
         the stated 1 % of AKB's simplified model (``akb``, PUMA 560 only).
     """
     total = dict(zip(strings(ds["cost_model"].values), ds["cost_total"].values.astype(float)))
@@ -345,7 +359,8 @@ def cost_points(ds):
             if np.isfinite(err).any():          # no torque at all: nothing measured
                 points.append((label, ops, float(np.nanmax(err)), "chapter"))
         elif "budget" in label and not (laddered and label.startswith(rungs)):
-            points.append((label + " (bound)", ops, eps, "bound"))
+            points.append((label + " (bound)", ops, _bound_on_s_i(ds, label, eps, safe),
+                           "bound"))
         elif "exact" in label or "full" in label or "N-E as implemented" in label:
             points.append((label, ops, 0.0, "exact"))
     if laddered:
