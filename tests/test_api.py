@@ -153,3 +153,34 @@ def test_trajectory_as_arrays_mapping_or_file(toy_run):
                        (42, "not a int")):
         with pytest.raises(InputError, match=match):
             gd.analyze(robot, bad)
+
+
+@pytest.mark.parametrize("bad, kind", [(1e-3j, "complex128"), ("x", "<U")])
+def test_complex_and_text_arrays_are_refused(bad, kind):
+    """numpy casts complex to float with a warning only, dropping the imaginary part: every
+    API entry of q, qd, qdd and t refuses it on one line naming the array, and text too."""
+    robot = gd.load_robot("two-link")
+    q, qd, qdd = _random_states(robot, 4, 3)
+    t = np.linspace(0.0, 1.0, 4)
+
+    def spoilt(x):
+        return np.full(x.shape, bad) if isinstance(bad, str) else x + bad
+
+    cases = {
+        "q": lambda: gd.gd_terms(robot, spoilt(q), qd),
+        "qd": lambda: gd.gd_terms(robot, q, spoilt(qd)),
+        "qdd": lambda: gd.regressor(robot, q, qd, spoilt(qdd)),
+        "t": lambda: gd.analyze(robot, (spoilt(t), q, qd, qdd)),
+    }
+    for name, call in cases.items():
+        with pytest.raises(gd.InputError, match=rf"{name} must hold real numbers, got {kind}"):
+            call()
+    model = gd.SimplifiedModel(robot=robot, choices={}, dominance_threshold=0.9,
+                               negligible_threshold=0.01)
+    with pytest.raises(gd.InputError, match="qdd must hold real numbers"):
+        model.torque(q, qd, spoilt(qdd))
+    # real numbers of any numeric type are still taken, as Pinocchio takes them
+    ints = np.zeros((1, robot.n), dtype=int)
+    want = pin.rnea(pinocchio_model(robot), pinocchio_model(robot).createData(),
+                    np.zeros(robot.n), np.zeros(robot.n), np.zeros(robot.n))
+    np.testing.assert_allclose(gd.gd_terms(robot, ints, ints).c[0], want, rtol=1e-12)

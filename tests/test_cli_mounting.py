@@ -11,10 +11,11 @@ import json
 import numpy as np
 import pinocchio as pin
 import pytest
+from urdf_oracle import TOY_URDF
 
 from gd_analyze import load_robot
 from gd_analyze.cli import main
-from gd_analyze.core.model.mounting import rpy_matrix
+from gd_analyze.core.model.mounting import rpy_matrix, with_mounting
 from gd_analyze.formulations.pinocchio import pinocchio_model
 from gd_analyze.io.model_file import load_model
 from gd_analyze.io.trajectory import read_trajectory
@@ -117,3 +118,41 @@ def test_control_with_the_same_flag_tracks_exactly(turned, tmp_path, capsys):
     tracking = json.loads(out)["tracking"]
     assert max(tracking["full"]["peak_grid"]) < 1e-6
     assert max(tracking["simplified"]["peak_grid"]) < 1e-6
+
+
+@pytest.mark.slow
+def test_a_turned_base_link_records_the_worlds_gravity(tmp_path, capsys):
+    """``--base`` on a link turned in the URDF's root frame (Rx(0.3)): the model file stores
+    gravity in the world (the root's, as Pinocchio reads the URDF), not in the base link's
+    frame, and the base's turn; ``evaluate --gravity`` with the world's gravity is the model's
+    own robot, its error at round-off against Pinocchio's model of the whole URDF."""
+    urdf = tmp_path / "toy.urdf"
+    urdf.write_text(TOY_URDF.replace('name="j1" type="continuous"', 'name="j1" type="revolute"')
+                    .replace('<limit velocity="2.0" effort="5"/>',
+                             '<limit lower="-2" upper="2" velocity="2.0" effort="5"/>'))
+    chain = ["--base", "base", "--tip", "tool"]
+    csv, out = tmp_path / "toy.csv", tmp_path / "out"
+    assert main(["plan", str(urdf), "-o", str(csv), *chain]) == 0
+    assert _run(capsys, urdf, csv, *chain, "-o", out, "--no-report", "-q")[0] == 0
+    whole = pin.buildModelFromUrdf(str(urdf))
+    saved = json.loads((out / "simplified_model.json").read_text())["mounting"]
+    assert saved["gravity_world"] == list(whole.gravity.linear)
+    np.testing.assert_allclose(rpy_matrix(*saved["base_rpy_deg"], degrees=True),
+                               whole.frames[whole.getFrameId("base")].placement.rotation,
+                               rtol=0, atol=1e-15)
+    model = load_model(out / "simplified_model.json")
+    g = ",".join(f"{v:g}" for v in whole.gravity.linear)
+    code, text, err = _run(capsys, "evaluate", out / "simplified_model.json", csv, "--gravity", g)
+    assert code == 0, err
+    assert "covers this trajectory: yes" in text and "not the model's robot" not in text
+    # the oracle: the URDF's own model (its side joint jb locked at 0) and the model's robot
+    # mounted with the world's gravity give the same torques
+    mounted = with_mounting(model.robot, gravity=whole.gravity.linear)
+    np.testing.assert_allclose(mounted.gravity, model.robot.gravity, rtol=0, atol=1e-14)
+    traj = read_trajectory(csv, 3)
+    reduced = pin.buildReducedModel(whole, [whole.getJointId("jb")], pin.neutral(whole))
+    ours = pinocchio_model(mounted)
+    for x in zip(traj.q, traj.qd, traj.qdd):
+        want = pin.rnea(reduced, reduced.createData(), *x)
+        assert np.abs(pin.rnea(ours, ours.createData(), *x) - want).max() <= \
+            1e-10 * max(1.0, np.abs(want).max())

@@ -3,6 +3,8 @@
 import dataclasses
 import json
 import math
+import subprocess
+import sys
 
 import numpy as np
 import pytest
@@ -109,3 +111,37 @@ def test_plan_without_velocity_limits_writes_null_not_nan(tmp_path):
     assert prov["qd_max"] == [None, None]
     assert "null: no limit" in prov["limits_units"]
     assert read_trajectory(out, 2).t[-1] == pytest.approx(2.0)
+
+
+#: ``plan --setpoints 100000000`` with a disk that fills after three pieces, in a child
+#: process whose address space is limited to 3 GB (the whole table of the two-link arm's 10^8
+#: set points is 5.6 GB: sampled at once it is a MemoryError, exit 4).
+_FULL_DISK = """
+import errno, resource, sys
+resource.setrlimit(resource.RLIMIT_AS, (3 * 2**30, 3 * 2**30))
+import gd_analyze.io.trajectory as trajectory
+real = trajectory.write_trajectory_chunks
+def full_disk(pieces, n, path):
+    def three(pieces):
+        for i, piece in enumerate(pieces):
+            if i == 3:
+                raise OSError(errno.ENOSPC, "No space left on device")
+            yield piece
+    real(three(pieces), n, path)
+trajectory.write_trajectory_chunks = full_disk
+from gd_analyze.cli import main
+sys.exit(main(sys.argv[1:]))
+"""
+
+
+@pytest.mark.slow
+def test_plan_of_10_to_the_8_set_points_in_bounded_memory(tmp_path):
+    """10^8 set points (the documented maximum) are checked and written piece by piece in
+    bounded memory; a full disk is exit 2 on one line, leaving no file."""
+    out = tmp_path / "big.csv"
+    done = subprocess.run([sys.executable, "-c", _FULL_DISK, "plan", "two-link", "-o", str(out),
+                           "--setpoints", "100000000"], capture_output=True, text=True,
+                          timeout=900)
+    assert done.returncode == 2, done.stderr
+    assert done.stderr == f"gd-analyze: error: {out}: cannot write: No space left on device\n"
+    assert list(tmp_path.iterdir()) == []

@@ -11,6 +11,7 @@ from gd_analyze.io.planning import (
     DEFAULT_START_DEG,
     plan_quintic,
     quintic_duration,
+    quintic_plan,
     random_trajectories,
 )
 from gd_analyze.io.trajectory import read_trajectory
@@ -162,3 +163,28 @@ def test_issue32_a_sidecar_is_read_only_if_a_small_regular_file(tmp_path, kind):
     run = subprocess.run([sys.executable, "-c", _READ_SIDECAR, str(tmp_path / "t.csv")],
                          capture_output=True, text=True, env=env, timeout=300)  # a safety net
     assert (run.returncode, run.stdout) == (0, "None\n"), run.stderr[-500:]
+
+
+def _oracle_quintic(q0, q1, T, N):
+    """The quintic sampled at once, written out from its definition: s(u) = 10 u^3 - 15 u^4
+    + 6 u^5, u = t / T, t = linspace(0, T, N), and its first two time derivatives."""
+    t = np.linspace(0.0, T, N)
+    u = (t / T)[:, None]
+    dq = q1 - q0
+    return (t, q0 + u**3 * (10 - 15 * u + 6 * u**2) * dq,
+            30 * u**2 * (1 - u) ** 2 / T * dq, 60 * u * (1 - u) * (1 - 2 * u) / T**2 * dq)
+
+
+@pytest.mark.parametrize("N, size", [(2, 1), (3, 2), (1000, 7), (1001, 1000), (5000, 4999)])
+def test_chunks_are_the_whole_plan_bit_for_bit(puma, N, size):
+    """Sampled piece by piece, the plan gives exactly the set points of the whole motion."""
+    q0, q1 = np.radians(DEFAULT_START_DEG), np.radians(DEFAULT_GOAL_DEG)
+    plan = quintic_plan(puma, q0, q1, N)
+    pieces = list(plan.chunks(size))
+    assert max(p.t.size for p in pieces) <= size and sum(p.t.size for p in pieces) == N
+    want = _oracle_quintic(q0, q1, plan.duration, N)
+    for name, expected in zip(("t", "q", "qd", "qdd"), want):
+        got = np.concatenate([getattr(p, name) for p in pieces])
+        assert np.array_equal(got, expected), name
+        assert np.array_equal(getattr(plan_quintic(puma, q0, q1, N), name), expected), name
+    assert plan.duration == pytest.approx(quintic_duration(puma, q0, q1), rel=0)

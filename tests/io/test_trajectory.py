@@ -1,14 +1,21 @@
 import numpy as np
+import pandas as pd
 import pytest
 
 from gd_analyze import InputError
-from gd_analyze.io.planning import DEFAULT_GOAL_DEG, DEFAULT_START_DEG, plan_quintic
+from gd_analyze.io.planning import (
+    DEFAULT_GOAL_DEG,
+    DEFAULT_START_DEG,
+    plan_quintic,
+    quintic_plan,
+)
 from gd_analyze.io.trajectory import (
     JointLimitWarning,
     check_joint_limits,
     read_trajectory,
     trajectory_columns,
     write_trajectory,
+    write_trajectory_chunks,
 )
 
 
@@ -130,3 +137,29 @@ def test_the_block_count_of_a_byte_is_bytes_count(block):
     for byte in (b"\n", b",", b"\r", b"\x00", b"\xff"):
         assert _byte_count(raw, byte, block=block) == raw.count(byte)
     assert _byte_count(b"", b",") == 0
+
+
+def test_written_in_pieces_the_file_is_the_whole_table(tmp_path, puma):
+    """Piece by piece, the same bytes as the whole table written by pandas at once (17
+    significant digits, -0.0 as 0); a write that fails halfway leaves nothing."""
+    plan = quintic_plan(puma, np.radians(DEFAULT_START_DEG), np.radians(DEFAULT_GOAL_DEG), 1001)
+    whole = plan.rows(0, 1001)
+    table = np.column_stack([whole.t, whole.q, whole.qd, whole.qdd]) + 0.0
+    oracle = tmp_path / "oracle.csv"
+    pd.DataFrame(table, columns=trajectory_columns(6, True)).to_csv(
+        oracle, index=False, float_format="%.17g")
+    path = tmp_path / "traj.csv"
+    write_trajectory_chunks(plan.chunks(64), 6, path)
+    assert path.read_bytes() == oracle.read_bytes()
+    write_trajectory(whole, tmp_path / "once.csv")
+    assert (tmp_path / "once.csv").read_bytes() == oracle.read_bytes()
+
+    def full_after_two(pieces):
+        for i, piece in enumerate(pieces):
+            if i == 2:
+                raise OSError(28, "No space left on device")
+            yield piece
+
+    with pytest.raises(OSError):
+        write_trajectory_chunks(full_after_two(plan.chunks(64)), 6, tmp_path / "full.csv")
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["once.csv", "oracle.csv", "traj.csv"]

@@ -5,6 +5,8 @@ ones Pinocchio loaded."""
 
 import glob
 import importlib.metadata
+import subprocess
+import sys
 
 import numpy as np
 import pinocchio as pin
@@ -21,6 +23,7 @@ from urdf_oracle import (
     worst_relative,
 )
 
+from gd_analyze.core.model.limits import LIMITS
 from gd_analyze.errors import InputError
 from gd_analyze.io import urdf as urdf_mod
 from gd_analyze.io.urdf import builtin_urdf_path, read_urdf_chain
@@ -163,3 +166,52 @@ def test_every_example_robot_data_urdf_matches_pinocchio():
         check_inertias(doc, model, file)
         checked += 1
     assert checked >= len(files) - 1
+
+
+def _long_chain(count, fan=False):
+    """A one-joint arm and ``count`` fixed links after its tip: in a chain (depth count + 1),
+    or all on the tip (fan: depth 2)."""
+    parts = ['<?xml version="1.0"?><robot name="long"><link name="base"/>'
+             '<link name="arm"><inertial><origin xyz="0.25 0 0"/><mass value="2.0"/>'
+             '<inertia ixx="0.01" ixy="0" ixz="0" iyy="0.05" iyz="0" izz="0.05"/></inertial>'
+             '</link><joint name="j1" type="revolute"><parent link="base"/><child link="arm"/>'
+             '<axis xyz="0 1 0"/><limit lower="-2.5" upper="2.5" velocity="2.0" effort="50"/>'
+             '</joint>']
+    parent = "arm"
+    for i in range(count):
+        parts.append(f'<link name="f{i}"/><joint name="fj{i}" type="fixed"><parent '
+                     f'link="{parent}"/><child link="f{i}"/><origin xyz="0.001 0 0"/></joint>')
+        parent = "arm" if fan else f"f{i}"
+    return "".join(parts) + "</robot>"
+
+
+def test_urdf_size_limits_refused_before_pinocchio(tmp_path):
+    """4,000 fixed links after the tip crashed Pinocchio's parser (SIGSEGV, C stack overflow):
+    the depth, link and joint counts are refused first, on one line, exit 2; the run is a
+    child process so that a crash fails this test instead of ending the session."""
+    deep = tmp_path / "deep.urdf"
+    deep.write_text(_long_chain(4000))
+    with pytest.raises(InputError, match="too deep: a chain of 4,001 joints"):
+        read_urdf_xml(deep.read_bytes(), str(deep))
+    wide = _long_chain(LIMITS["urdf_links"], fan=True)      # depth 2, one link too many
+    with pytest.raises(InputError, match=f"too large: {LIMITS['urdf_links'] + 2:,} <link>"):
+        read_urdf_xml(wide.encode(), "wide.urdf")
+    joints = _long_chain(LIMITS["urdf_links"] - 2, fan=True).replace(
+        "</robot>", '<joint name="extra" type="fixed"><parent link="arm"/><child link="f0"/>'
+        '</joint><joint name="extra2" type="fixed"><parent link="arm"/><child link="f1"/>'
+        '</joint></robot>')
+    with pytest.raises(InputError, match="too large: 10,001 <joint>"):
+        read_urdf_xml(joints.encode(), "joints.urdf")
+    loop = _long_chain(2).replace("</robot>", '<joint name="back" type="fixed"><parent '
+                                  'link="f1"/><child link="base"/></joint></robot>')
+    with pytest.raises(InputError, match="loop"):
+        read_urdf_xml(loop.encode(), "loop.urdf")
+    # within the limits, Pinocchio's parser reads the file: the deepest accepted chain loads
+    ok = _long_chain(LIMITS["urdf_depth"] - 1)
+    assert pin.buildModelFromXML(ok).nq == 1
+    read_urdf_xml(ok.encode(), "ok.urdf")
+    done = subprocess.run([sys.executable, "-c", "import sys; from gd_analyze.cli import main; "
+                           "sys.exit(main(sys.argv[1:]))", "plan", str(deep), "-o",
+                           str(tmp_path / "t.csv")], capture_output=True, text=True, timeout=120)
+    assert done.returncode == 2, done.stderr
+    assert done.stderr.count("\n") == 1 and "too deep" in done.stderr

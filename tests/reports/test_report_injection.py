@@ -6,8 +6,11 @@ data), whole in its text and metadata, and a long one cannot push the footer ove
 number.
 """
 
+import dataclasses
 import json
 import re
+import types
+import unicodedata
 from html.parser import HTMLParser
 from importlib import resources
 
@@ -158,3 +161,42 @@ def test_control_report_shows_a_hostile_command_line_as_text(hostile_control):
     assert command in "".join(parser.text)               # whole, as text, after unescaping
     whole = re.sub(r"\s+", "", _pdf_text(out / "control_report.pdf"))
     assert re.sub(r"\s+", "", command) in whole          # literal (no mathtext), wrapped
+
+
+#: Joint names with format characters (Unicode Cf): U+202E RIGHT-TO-LEFT OVERRIDE, which
+#: would show "1j" reversed and everything after it, and U+200B ZERO WIDTH SPACE, unseen.
+BIDI_JOINTS = ("j\u202e1", "j\u200b2")
+
+
+@pytest.fixture(scope="module")
+def bidi_report(tmp_path_factory):
+    folder = tmp_path_factory.mktemp("bidi")
+    robot = load_robot("two-link")
+    # as a URDF chain's description lists its joints (gd_analyze.io.urdf)
+    robot = dataclasses.replace(robot, description=f"2 joints ({', '.join(BIDI_JOINTS)}), "
+                                "mounted \u2066upside\u2069 down",
+                                metadata=types.MappingProxyType(
+                                    {**robot.metadata, "urdf_joints": list(BIDI_JOINTS)}))
+    trajectory = plan_quintic(robot, [0.0, 0.0], [np.pi / 2, np.pi / 3], n_setpoints=21)
+    write_dataset(analyze(robot, trajectory, AnalysisOptions(formulations=False)).dataset,
+                  folder / "results.h5")
+    report.write_report(folder / "results.h5", folder / "out")
+    return folder / "out"
+
+
+def _format_characters(text):
+    return sorted({f"U+{ord(c):04X}" for c in text if unicodedata.category(c) == "Cf"})
+
+
+def test_format_characters_are_shown_not_obeyed(bidi_report):
+    """No bidi control or zero-width character reaches report.html, the PDF's text or its
+    metadata raw: each is shown as [U+XXXX] where the name or description stands."""
+    html = (bidi_report / "report.html").read_text(encoding="utf-8")
+    assert _format_characters(html) == []
+    for shown in ("j[U+202E]1", "j[U+200B]2", "mounted [U+2066]upside[U+2069] down"):
+        assert shown in html, shown
+    pdf = _pdf_text(bidi_report / "report.pdf")
+    assert _format_characters(pdf) == []
+    assert "j[U+202E]1" in re.sub(r"\s+", "", pdf)
+    assert _format_characters("".join(str(v) for v in info(bidi_report / "report.pdf").values())) \
+        == []

@@ -202,7 +202,8 @@ def main(argv=None):
     Returns
     -------
     int
-        The exit status: 0 ok, 1 verification failed, 2 bad input or unusable output location,
+        The exit status: 0 ok, 1 verification failed, 2 bad input, unusable output location or
+        a lost dask cluster,
         3 evaluate's gate (an error above the model's tolerance x s_i, or above --max-error),
         4 internal error. Control characters of the output (an ESC from an input file) are
         written as escapes (:func:`escape_control`).

@@ -562,7 +562,7 @@ def cmd_plan(args):
         acceleration_limits,
         check_velocity_limits,
         default_motion,
-        plan_quintic,
+        quintic_plan,
         user_positions,
         write_provenance,
     )
@@ -606,16 +606,17 @@ def cmd_plan(args):
     if not args.ignore_limits:
         _check_plan(planning, start, goal, args.duration)
     try:
-        traj = plan_quintic(planning, start, goal, args.setpoints, args.duration)
+        plan = quintic_plan(planning, start, goal, args.setpoints, args.duration)
     except ValueError as exc:
         raise InputError(str(exc)) from None
-    if first_beyond(traj.t, LIMITS["t"]) is not None:       # the CSV reader's rule
-        raise InputError(f"the planned duration, {exact_text(traj.t[-1])} s, is beyond the "
+    T = plan.duration                                       # t runs from 0 to T
+    if first_beyond([T], LIMITS["t"]) is not None:          # the CSV reader's rule
+        raise InputError(f"the planned duration, {exact_text(T)} s, is beyond the "
                          f"supported magnitude {LIMITS['t']:g} s of t: the acceleration or "
                          f"velocity limits ({qdd_source}) are too small to plan with",
                          column=None if args.duration is not None or qdd_arg is None
                          else "--qdd-max")
-    if not _write_plan(traj, args.output, ": choose a longer --duration"):
+    if not _write_plan(plan.chunks, robot.n, args.output, ": choose a longer --duration"):
         return EXIT_OK
     record = {
         "tool": "gd-analyze", "version": __version__,
@@ -624,7 +625,7 @@ def cmd_plan(args):
         **chain_settings(args), **mounting_settings(args, robot),
         "start": [float(v) for v in start], "goal": [float(v) for v in goal],
         "start_goal_units": "rad (m for a prismatic joint)",
-        "setpoints": traj.n_setpoints, "duration_s": float(traj.t[-1]),
+        "setpoints": plan.n_setpoints, "duration_s": float(T),
         "duration_from": "--duration" if args.duration is not None else "limits",
         **({} if limits is None else {"region": limits.settings()}),
         "q_min": _limits(robot.q_min), "q_max": _limits(robot.q_max),
@@ -633,32 +634,36 @@ def cmd_plan(args):
         "limits_units": "rad, rad/s, rad/s^2 (m, m/s, m/s^2 for a prismatic joint); null: no "
                         "limit",
         "qdd_max_source": qdd_source,
-        "trajectory": traj.source,
+        "trajectory": plan.source,
     }
     try:
         side = write_provenance(args.output, record)
     except OSError as exc:
         raise InputError(f"cannot write its provenance: {exc.strerror or exc}",
                          args.output) from None
-    print(f"wrote {args.output}: {traj.n_setpoints} set points over {traj.t[-1]:.4f} s "
-          f"({traj.source}); acceleration limits: {qdd_source}; provenance in {side}",
+    print(f"wrote {args.output}: {plan.n_setpoints} set points over {T:.4f} s "
+          f"({plan.source}); acceleration limits: {qdd_source}; provenance in {side}",
           file=sys.stderr)
     return EXIT_OK
 
 
-def _write_plan(traj, output, advice):
-    """Write a planned trajectory after checking its values against the CSV reader's limits.
+def _write_plan(pieces, n, output, advice):
+    """Write a planned trajectory piece by piece after checking every piece's values against
+    the CSV reader's limits (before anything is written).
 
-    Returns False when it went to standard output (no provenance then)."""
+    ``pieces`` is a callable returning the trajectory's pieces in order (called twice: to check,
+    then to write), ``n`` the number of joints. Returns False when it went to standard output
+    (no provenance then)."""
     from ..core.model.limits import LIMITS, first_beyond
-    from ..io.trajectory import write_trajectory
+    from ..io.trajectory import write_trajectory_chunks
 
-    for name in ("q", "qd", "qdd"):
-        if first_beyond(getattr(traj, name), LIMITS[name]) is not None:
-            raise InputError(f"the planned {name} exceeds the supported magnitude "
-                             f"{LIMITS[name]:g}{advice}", column="--duration")
+    for piece in pieces():
+        for name in ("q", "qd", "qdd"):
+            if first_beyond(getattr(piece, name), LIMITS[name]) is not None:
+                raise InputError(f"the planned {name} exceeds the supported magnitude "
+                                 f"{LIMITS[name]:g}{advice}", column="--duration")
     try:
-        write_trajectory(traj, output)
+        write_trajectory_chunks(pieces(), n, output)
     except OSError as exc:
         raise InputError(f"cannot write: {exc.strerror or exc}", output) from None
     return output != "-"
@@ -767,7 +772,7 @@ def _plan_excitation(args, robot, qdd_arg):
     if first_beyond(traj.t, LIMITS["t"]) is not None:
         raise InputError(f"the planned duration exceeds the supported magnitude "
                          f"{LIMITS['t']:g} s", column="--duration")
-    if not _write_plan(traj, args.output, ""):
+    if not _write_plan(lambda: [traj], robot.n, args.output, ""):
         return EXIT_OK
     series, limits = ex.series, ex.limits
     record = {

@@ -27,8 +27,8 @@ COMMANDS = ("analyze", "plan", "evaluate", "compare", "control", "sweep", "ident
 EXIT_OK, EXIT_VERIFY, EXIT_INPUT, EXIT_TOLERANCE, EXIT_INTERNAL = 0, 1, 2, 3, 4
 
 
-EXIT_STATUS_HELP = ("Exit status: 0 ok, 1 verification failed, 2 bad input or unusable output "
-                    "location, 3 evaluate's gate: an error above the model's tolerance x s_i or "
+EXIT_STATUS_HELP = ("Exit status: 0 ok, 1 verification failed, 2 bad input, an unusable output "
+                    "location or a lost dask cluster, 3 evaluate's gate: an error above the model's tolerance x s_i or "
                     "--max-error, 4 internal error (--debug shows the "
                     "traceback).")
 

@@ -20,7 +20,7 @@ from .trajectory import Trajectory
 
 __all__ = ["DEFAULT_START_DEG", "DEFAULT_GOAL_DEG", "DEFAULT_SETPOINTS", "DEFAULT_QDD_PER_QD",
            "quintic_duration", "quintic_min_durations", "default_motion", "default_motion_range",
-           "user_positions", "plan_quintic", "random_trajectories", "acceleration_limits",
+           "user_positions", "plan_quintic", "quintic_plan", "QuinticPlan", "CHUNK_SETPOINTS", "random_trajectories", "acceleration_limits",
            "provenance_path", "write_provenance", "read_provenance", "provenance_mismatch",
            "joint_title", "check_velocity_limits",
            "PLACEHOLDER_QD"]
@@ -211,8 +211,82 @@ def user_positions(robot, values):
     return np.where(np.asarray(robot.prismatic, bool), values, np.radians(values))
 
 
-def plan_quintic(robot, q_start, q_goal, n_setpoints=DEFAULT_SETPOINTS, duration=None):
-    """Quintic joint-interpolated rest-to-rest motion at the shortest admissible duration.
+#: Set points computed and written at a time by :meth:`QuinticPlan.chunks` (about 50 MB of
+#: arrays for 6 joints), so that ``plan --setpoints 100000000`` runs in bounded memory.
+CHUNK_SETPOINTS = 2**19
+
+
+@dataclasses.dataclass(frozen=True)
+class QuinticPlan:
+    """A quintic rest-to-rest motion, sampled on demand at N set points evenly spaced in time.
+
+    Attributes
+    ----------
+    q_start, q_goal : ndarray, shape (n,)
+        Start and goal positions [rad; m for a prismatic joint].
+    duration : float
+        T [s], > 0.
+    n_setpoints : int
+        N >= 2, both ends included.
+    source : str
+        How the motion was made, e.g. ``"quintic [-60.0] -> [60.0] deg, T = 2 s"``.
+    """
+
+    q_start: np.ndarray
+    q_goal: np.ndarray
+    duration: float
+    n_setpoints: int
+    source: str
+
+    def rows(self, start: int, stop: int) -> Trajectory:
+        """Set points start to stop - 1, bit for bit those of the whole motion sampled at once.
+
+        Parameters
+        ----------
+        start, stop : int
+            0 <= start < stop <= N.
+
+        Returns
+        -------
+        Trajectory
+            t (stop - start,) [s] (``numpy.linspace(0, T, N)[start:stop]`` exactly), q, qd,
+            qdd (stop - start, n) [rad, rad/s, rad/s^2]; s(u) = 10 u^3 - 15 u^4 + 6 u^5 with
+            u = t / T, q = q_start + s (q_goal - q_start).
+        """
+        T, N = self.duration, self.n_setpoints
+        t = np.arange(start, stop, dtype=float) * (T / (N - 1)) + 0.0   # numpy.linspace's
+        if stop == N:
+            t[-1] = T
+        u = (t / T)[:, None]
+        s = u**3 * (10 - 15 * u + 6 * u**2)
+        sd = 30 * u**2 * (1 - u) ** 2 / T
+        sdd = 60 * u * (1 - u) * (1 - 2 * u) / T**2
+        dq = self.q_goal - self.q_start
+        return Trajectory(t=t, q=self.q_start + s * dq, qd=sd * dq, qdd=sdd * dq,
+                          derivatives="quintic", source=self.source)
+
+    def chunks(self, size: int | None = None):
+        """The set points in consecutive pieces of at most ``size``.
+
+        Parameters
+        ----------
+        size : int, optional
+            Set points per piece, >= 1 (default :data:`CHUNK_SETPOINTS`).
+
+        Yields
+        ------
+        Trajectory
+            :meth:`rows` of each piece, in order.
+        """
+        size = CHUNK_SETPOINTS if size is None else int(size)
+        for start in range(0, self.n_setpoints, size):
+            yield self.rows(start, min(start + size, self.n_setpoints))
+
+
+def quintic_plan(robot, q_start, q_goal, n_setpoints=DEFAULT_SETPOINTS,
+                 duration=None) -> QuinticPlan:
+    """Quintic joint-interpolated rest-to-rest motion at the shortest admissible duration,
+    not yet sampled (:meth:`QuinticPlan.chunks` samples it piece by piece).
 
     Parameters
     ----------
@@ -227,9 +301,7 @@ def plan_quintic(robot, q_start, q_goal, n_setpoints=DEFAULT_SETPOINTS, duration
 
     Returns
     -------
-    Trajectory
-        t (N,) [s], q, qd, qdd (N, n) [rad, rad/s, rad/s^2]; zero velocity and acceleration at
-        both ends; ``derivatives = "quintic"``.
+    QuinticPlan
 
     Raises
     ------
@@ -246,12 +318,6 @@ def plan_quintic(robot, q_start, q_goal, n_setpoints=DEFAULT_SETPOINTS, duration
     T = quintic_duration(robot, q_start, q_goal) if duration is None else float(duration)
     if T <= 0:
         raise ValueError("start and goal coincide: give a positive duration")
-    t = np.linspace(0.0, T, int(n_setpoints))
-    u = (t / T)[:, None]
-    s = u**3 * (10 - 15 * u + 6 * u**2)
-    sd = 30 * u**2 * (1 - u) ** 2 / T
-    sdd = 60 * u * (1 - u) * (1 - 2 * u) / T**2
-    dq = q_goal - q_start
     pris = np.asarray(getattr(robot, "prismatic", np.zeros(robot.n, bool)), bool)
     if pris.any():          # degrees for revolute joints, metres for prismatic ones
         def show(x):
@@ -261,9 +327,33 @@ def plan_quintic(robot, q_start, q_goal, n_setpoints=DEFAULT_SETPOINTS, duration
         def show(x):
             return np.degrees(x).round(6).tolist()
         units = "deg"
-    return Trajectory(t=t, q=q_start + s * dq, qd=sd * dq, qdd=sdd * dq, derivatives="quintic",
-                      source=f"quintic {show(q_start)} -> {show(q_goal)} {units}, "
-                             f"T = {T:.6g} s")
+    return QuinticPlan(q_start=q_start, q_goal=q_goal, duration=T, n_setpoints=int(n_setpoints),
+                       source=f"quintic {show(q_start)} -> {show(q_goal)} {units}, "
+                              f"T = {T:.6g} s")
+
+
+def plan_quintic(robot, q_start, q_goal, n_setpoints=DEFAULT_SETPOINTS, duration=None):
+    """Quintic joint-interpolated rest-to-rest motion at the shortest admissible duration,
+    sampled at once (:func:`quintic_plan`, then :meth:`QuinticPlan.rows` of every set point).
+
+    Parameters
+    ----------
+    robot, q_start, q_goal, n_setpoints, duration
+        As :func:`quintic_plan`.
+
+    Returns
+    -------
+    Trajectory
+        t (N,) [s], q, qd, qdd (N, n) [rad, rad/s, rad/s^2]; zero velocity and acceleration at
+        both ends; ``derivatives = "quintic"``.
+
+    Raises
+    ------
+    ValueError
+        As :func:`quintic_plan`.
+    """
+    plan = quintic_plan(robot, q_start, q_goal, n_setpoints, duration)
+    return plan.rows(0, plan.n_setpoints)
 
 
 def default_motion_range(robot):

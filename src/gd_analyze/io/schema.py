@@ -130,7 +130,9 @@ def global_attributes(robot, title, references="Fu, Gonzalez & Lee (1987), Robot
     dict
         ``Conventions``, ``title``, ``source``, ``references``, ``history``,
         ``gd_analyze_version``, ``robot``, ``robot_description``, ``robot_reference``,
-        ``robot_source``, ``robot_sha256``, ``gravity``, ``gravity_units``, then ``extra``.
+        ``robot_source``, ``robot_sha256``, ``gravity``, ``gravity_units``,
+        ``robot_placeholder_inertia`` (1, only for a robot whose inertia tensors are
+        placeholders, ``Robot.metadata["placeholder_inertia"]``), then ``extra``.
     """
     from .._version import VERSION as __version__
 
@@ -150,6 +152,8 @@ def global_attributes(robot, title, references="Fu, Gonzalez & Lee (1987), Robot
         "gravity": np.asarray(robot.gravity, dtype=float),
         "gravity_units": "m s-2",
     }
+    if (robot.metadata or {}).get("placeholder_inertia"):
+        attrs["robot_placeholder_inertia"] = 1     # its inertia tensors are not measured
     attrs.update({k: attribute_value(v) for k, v in extra.items()})
     return attrs
 

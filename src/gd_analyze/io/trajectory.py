@@ -21,10 +21,11 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ..core.model.limits import LIMITS, exact_text, first_beyond
+from ..core.model.limits import LIMITS, exact_text, first_beyond, real_values
 from ..errors import InputError, InputNote
 
-__all__ = ["Trajectory", "read_trajectory", "write_trajectory", "trajectory_columns",
+__all__ = ["Trajectory", "read_trajectory", "write_trajectory", "write_trajectory_chunks",
+           "trajectory_columns",
            "JointLimitWarning", "check_joint_limits", "FAST_PARSE_BYTES", "MAX_CELL"]
 
 #: Files larger than this [bytes] are parsed by pandas first when they are regular; the
@@ -238,12 +239,17 @@ def trajectory_from_arrays(t, q, qd=None, qdd=None, n_joints=None):
     if (qd is None) != (qdd is None):
         raise InputError("give both qd and qdd, or neither (then a cubic spline through q)",
                          ARRAYS)
-    try:
-        t = np.array(t, dtype=float)
-        arrays = {k: np.array(v, dtype=float) for k, v in (("q", q), ("qd", qd), ("qdd", qdd))
-                  if v is not None}
-    except (TypeError, ValueError) as exc:
-        raise InputError(f"not numeric arrays: {exc}", ARRAYS) from None
+    arrays = {}
+    for name, v in (("t", t), ("q", q), ("qd", qd), ("qdd", qdd)):
+        if v is None:
+            continue
+        try:
+            arrays[name] = np.array(real_values(name, v), dtype=float)
+        except InputError as exc:       # complex, text...: one line naming the array
+            raise InputError(exc.message, ARRAYS, column=name) from None
+        except (TypeError, ValueError) as exc:
+            raise InputError(f"not numeric arrays: {exc}", ARRAYS, column=name) from None
+    t = arrays.pop("t")
     if t.ndim != 1 or t.size < 2:
         raise InputError(f"t must have shape (N,) with N >= 2, got {t.shape}", ARRAYS,
                          column="t")
@@ -647,20 +653,45 @@ def write_trajectory(trajectory, path):
     OSError
         If the file cannot be written.
     """
+    write_trajectory_chunks([trajectory], trajectory.q.shape[1], path)
+
+
+def write_trajectory_chunks(chunks, n, path):
+    """Write a trajectory CSV file piece by piece, atomically (temporary name, then rename):
+    the same bytes as :func:`write_trajectory` of the pieces joined, in the memory of one piece.
+
+    Parameters
+    ----------
+    chunks : iterable of Trajectory
+        Consecutive pieces of the set points; t [s], q [rad], qd [rad/s], qdd [rad/s^2].
+    n : int
+        Number of joints.
+    path : str or os.PathLike
+        Destination; ``"-"`` writes to standard output.
+
+    Raises
+    ------
+    OSError
+        If the file cannot be written; the file is then left as it was.
+    """
     import pandas as pd
 
-    n = trajectory.q.shape[1]
-    table = np.column_stack([trajectory.t, trajectory.q, trajectory.qd, trajectory.qdd])
-    table = table + 0.0                 # -0.0 (a joint at rest moving down) is written "0"
-    frame = pd.DataFrame(table, columns=trajectory_columns(n, True))
+    columns = trajectory_columns(n, True)
+
+    def write(stream):
+        stream.write(",".join(columns) + "\n")
+        for piece in chunks:
+            table = np.column_stack([piece.t, piece.q, piece.qd, piece.qdd])
+            table = table + 0.0         # -0.0 (a joint at rest moving down) is written "0"
+            pd.DataFrame(table, columns=columns).to_csv(stream, index=False, header=False,
+                                                        float_format="%.17g")
+
     if str(path) == "-":
         import sys
 
-        frame.to_csv(sys.stdout, index=False, float_format="%.17g")
+        write(sys.stdout)
         return
     from ..files import atomic_path
 
-    with atomic_path(path) as tmp:
-        frame.to_csv(tmp, index=False, float_format="%.17g")
-
-
+    with atomic_path(path) as tmp, open(tmp, "w", newline="", encoding="utf-8") as stream:
+        write(stream)

@@ -24,6 +24,7 @@ unset limit mean "not given": ``lower = upper`` (no position limits), ``velocity
 
 from __future__ import annotations
 
+import dataclasses
 import hashlib
 import math
 import re
@@ -34,6 +35,7 @@ from pathlib import Path
 import numpy as np
 
 from ..core.model.limits import exact_text
+from ..core.model.mounting import MOUNTING_KEY
 from ..errors import InputError
 from .urdf_xml import check_inertias, check_mimic, read_urdf_xml
 
@@ -61,6 +63,9 @@ URDF_BUILTIN = {
         "reference": (
             "ur5_robot.urdf of example-robot-data 6.0.0 (PyPI; upstream ros-industrial "
             "universal_robot ur_description, BSD), read with pinocchio.buildModelFromUrdf"),
+        # its inertia tensors are the URDF's cylinder stand-ins, not measured: the reports say
+        # so wherever they state what the rotational parts do
+        "placeholder_inertia": True,
     },
 }
 
@@ -377,6 +382,13 @@ def _chain(model, doc, sha256, base, tip, label, robot_name, description, refere
     metadata = {"description": description, "reference": reference, "source": source,
                 "sha256": sha256, "base_link": base, "tip_link": tip,
                 "urdf_joints": list(joint_names), "locked_joints": list(locked_names)}
+    if not np.array_equal(B.rotation, np.eye(3)):
+        # a base link turned in the URDF's root frame (--base): the arm is mounted by that
+        # turn, gravity in the world stays the root's (mounting_of reads both back)
+        metadata[MOUNTING_KEY] = {
+            "base_rpy_deg": tuple(float(v) + 0.0 for v in np.degrees(pin.rpy.matrixToRpy(
+                B.rotation))),
+            "gravity_world": tuple(float(v) + 0.0 for v in reduced.gravity.linear)}
     return UrdfChain(name=robot_name, joints=tuple(joints), gravity=gravity,
                      joint_names=joint_names, link_names=link_names, base=base, tip=tip,
                      locked=locked_names, metadata=metadata)
@@ -447,6 +459,9 @@ def load_urdf(path, base=None, tip=None):
                                 tip or spec["tip"], name=key,
                                 description=spec["description"], reference=spec["reference"],
                                 source=key)
+        if spec.get("placeholder_inertia"):
+            chain = dataclasses.replace(chain, metadata={**chain.metadata,
+                                                         "placeholder_inertia": True})
     else:
         chain = read_urdf_chain(path, base, tip)
     return _robot(chain)

@@ -26,6 +26,7 @@ from xml.parsers import expat
 
 import numpy as np
 
+from ..core.model.limits import LIMITS
 from ..errors import InputError
 
 __all__ = ["UrdfXml", "read_urdf_xml", "check_inertias", "check_mimic"]
@@ -177,6 +178,38 @@ def _named(root, tag, path):
     return named
 
 
+def _check_size(root, path):
+    """Refuse a URDF beyond :data:`~gd_analyze.core.model.limits.LIMITS`' ``urdf_links``,
+    ``urdf_joints`` and ``urdf_depth``, before anything else reads it (Pinocchio's parser
+    recurses once per tree level and overflows the C stack on a deep tree)."""
+    links, joints = root.findall("link"), root.findall("joint")
+    for what, found in (("links", links), ("joints", joints)):
+        if len(found) > LIMITS[f"urdf_{what}"]:
+            raise InputError(f"too large: {len(found):,} <{what[:-1]}> elements, at most "
+                             f"{LIMITS[f'urdf_{what}']:,} are accepted", path)
+    parent = {}
+    for joint in joints:
+        p, c = joint.find("parent"), joint.find("child")
+        if p is not None and c is not None:
+            parent.setdefault(c.get("link"), p.get("link"))
+    depth, limit = {}, LIMITS["urdf_depth"]
+    for link in parent:
+        path_up = []
+        while link in parent and link not in depth:
+            path_up.append(link)
+            link = parent[link]
+            if len(path_up) > len(parent):
+                raise InputError(f"the joints form a loop through link {link!r}", path)
+        d = depth.get(link, 0)
+        for name in reversed(path_up):
+            d += 1
+            depth[name] = d
+    deepest = max(depth.values(), default=0)
+    if deepest > limit:
+        raise InputError(f"too deep: a chain of {deepest:,} joints from the root link, at "
+                         f"most {limit:,} are accepted", path)
+
+
 def read_urdf_xml(raw, path):
     """Read the links' inertials and the joints of a URDF file, refusing broken values.
 
@@ -199,7 +232,9 @@ def read_urdf_xml(raw, path):
         joints of one name; an ``<inertial>`` without ``<mass value>`` or ``<inertia>``, or with
         a value (mass, the six inertia attributes, the origin's xyz and rpy) that is not a
         finite decimal number, or a negative mass; a joint origin that is not 3 finite numbers;
-        several ``<inertial>``, ``<mass>``, ``<inertia>`` or ``<origin>`` in one place.
+        several ``<inertial>``, ``<mass>``, ``<inertia>`` or ``<origin>`` in one place; more
+        links or joints, or a deeper tree, than :data:`~gd_analyze.core.model.limits.LIMITS`
+        accepts (``urdf_links``, ``urdf_joints``, ``urdf_depth``); joints that form a loop.
 
     Notes
     -----
@@ -217,6 +252,7 @@ def read_urdf_xml(raw, path):
     if root.tag != "robot":
         raise InputError(f"not a valid URDF file: the root element is <{root.tag}>, not "
                          "<robot>", path)
+    _check_size(root, path)
     inertials = {name: _inertial(el, name, path)
                  for name, el in _named(root, "link", path).items()}
     joints = {name: _joint(el, name, path) for name, el in _named(root, "joint", path).items()}

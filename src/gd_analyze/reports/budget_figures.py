@@ -1,7 +1,7 @@
 """Figures of what the error budget acts on: the torque contributions, the budget, the costs.
 
 - :func:`fig_torque_contributions`: per joint against time, the five contributions of the
-  G-D equations (Eq. (3.4-25) of Fu, Gonzalez & Lee 1987): D^tran qdd, D^rot qdd, h^tran,
+  G-D equations (Eq. (3.4-24) of Fu, Gonzalez & Lee 1987): D^tran qdd, D^rot qdd, h^tran,
   h^rot and c, with the simplified model's torque tau_s;
 - :func:`fig_error_budget`: per joint, the peaks of the dropped terms stacked by where they
   sit, against the budget EPS s_i, and the measured peak error;
@@ -22,10 +22,10 @@ import numpy as np
 
 from .common import strings, torque_units
 from .figure_style import markevery
-from .simplified_section import has_simplified
+from .simplified_section import guarantee_kind, has_simplified
 from .ticks import label_axes, set_ticks
 
-__all__ = ["BUDGET_CAPTIONS", "CONTRIBUTIONS", "fig_torque_contributions", "fig_error_budget", "fig_cost_ladder",
+__all__ = ["BUDGET_CAPTIONS", "REGION_BUDGET_CAPTION", "budget_caption", "CONTRIBUTIONS", "fig_torque_contributions", "fig_error_budget", "fig_cost_ladder",
            "budget_makers", "contribution_series"]
 
 #: The five G-D contributions to tau_i: series key of the plot data, label, colour, line
@@ -48,15 +48,17 @@ BUDGET_CAPTIONS = {
     "contributions": "What the error budget acts on: the contributions of the G-D equations "
                      "to each joint's torque against time, Dᵗʳᵃⁿ q̈, "
                      "Dʳᵒᵗ q̈, hᵗʳᵃⁿ, hʳᵒᵗ "
-                     "and c, whose sum is τ (Eq. (3.4-25)), with the simplified model's "
+                     "and c, whose sum is τ (Eq. (3.4-24)), with the simplified model's "
                      "torque τₛ.",
-    "budget": "The error budget per joint: the peaks of the dropped terms, stacked by where "
-              "they sit (their sum bounds |τₛ − τ|), against the budget "
-              "ε sᵢ, and the measured peak error, each relative to the joint's scale "
+    "budget": "The error budget per joint: the peaks of the dropped terms on this trajectory, "
+              "stacked by where they sit (their sum bounds |τₛ − τ| there), against the "
+              "budget ε sᵢ, and the measured peak error, each relative to the joint's scale "
               "sᵢ.",
     "cost_ladder": "Cost against accuracy: operations per set point of each model against its "
-                   "worst peak error relative to sᵢ (filled: measured on this trajectory "
-                   "or exact; open: a bound or a published figure).",
+                   "worst peak error relative to sᵢ, the deployed model's scale, for every "
+                   "point (filled: measured on this trajectory or exact; open: a bound, "
+                   "turned to sᵢ where its model has another scale, or a published figure, "
+                   "which is on its authors' own scale).",
 }
 
 
@@ -193,6 +195,31 @@ def budget_parts(ds):
             for var, *_ in _BOUND_PARTS if var in ds.variables}
 
 
+#: The error-budget figure's caption where the model's bounds are proved over the region.
+REGION_BUDGET_CAPTION = (
+    "The error budget per joint: the bounds of the dropped terms proved over the region "
+    "(interval arithmetic rounded outward), stacked by where they sit (their sum bounds "
+    "|τₛ − τ| at every state of the region), against the budget ε sᵢ, and the "
+    "peak error measured on this trajectory, each relative to the joint's scale sᵢ.")
+
+
+def budget_caption(ds):
+    """The error-budget figure's caption, from the kind of the model's guarantee.
+
+    Parameters
+    ----------
+    ds : xarray.Dataset
+        A results dataset with the simplified model.
+
+    Returns
+    -------
+    str
+        :data:`REGION_BUDGET_CAPTION` for a bound proved over the region (the bars are proved
+        bounds), else ``BUDGET_CAPTIONS["budget"]`` (the bars are peaks on the trajectory).
+    """
+    return REGION_BUDGET_CAPTION if guarantee_kind(ds) == "region" else BUDGET_CAPTIONS["budget"]
+
+
 def fig_error_budget(ds, width=_PAGE):
     """Per joint: the dropped terms' peaks stacked against the budget EPS s_i, and the
     measured peak error.
@@ -262,8 +289,10 @@ def fig_error_budget(ds, width=_PAGE):
     fig.legend(*zip(*pairs), loc="upper center", ncol=2 if width >= _PAGE else 1, frameon=False, fontsize=7,
                handlelength=2.0, columnspacing=1.2, bbox_to_anchor=(0.5, 1 - 0.04 / H))
     units = sorted(set(torque_units(ds)))
+    what = ("bounds proved over the region" if guarantee_kind(ds) == "region"
+            else "peaks on this trajectory")
     note = (f"s\u1d62: each joint's scale ({', '.join(units)}); the bound on |\u03c4\u209b "
-            "\u2212 \u03c4| is the sum of the dropped terms' peaks.")
+            f"\u2212 \u03c4| is the sum of the dropped terms' {what}.")
     fig.text(0.1 / width, 0.04 / H, textwrap.fill(note, int((width - 0.2) / 0.058)),
              fontsize=7, va="bottom", color="0.25")
     return fig
@@ -276,6 +305,17 @@ _COST_LINEAR = 0.01
 _COST_STYLE = {"exact": ("o", "#000000"), "model": ("*", "#D55E00"),
                "ladder": ("s", "#0072B2"), "chapter": ("^", "#009E73"),
                "bound": ("s", "#0072B2"), "akb": ("P", "#CC79A7")}
+
+
+def _bound_on_s_i(ds, label, eps, safe):
+    """A budget model's bound, EPS times its own scale, relative to the deployed model's s_i:
+    the explicit model is pruned on this trajectory, its scale max(peak |tau_i|, floor); under
+    a region guarantee s_i is the region's, larger."""
+    if not label.startswith("explicit") or guarantee_kind(ds) != "region":
+        return eps
+    own = np.maximum(np.asarray(ds["tau_peak"].values, float),
+                     float(ds.attrs.get("simplified_torque_floor", 0.0)))
+    return float(np.max(eps * own / safe))
 
 
 def cost_points(ds):
@@ -293,7 +333,8 @@ def cost_points(ds):
     list of tuple
         The worst error is max over joints of peak |tau_s - tau| / s_i as measured on the
         trajectory (kind ``model``, ``ladder``, ``chapter``); 0 for an exact model
-        (``exact``); EPS for a model whose error is bounded but not measured (``bound``);
+        (``exact``); for a model whose error is bounded but not measured (``bound``), EPS
+        times its own scale over s_i (EPS where its scale is s_i);
         the stated 1 % of AKB's simplified model (``akb``, PUMA 560 only).
     """
     total = dict(zip(strings(ds["cost_model"].values), ds["cost_total"].values.astype(float)))
@@ -318,7 +359,8 @@ def cost_points(ds):
             if np.isfinite(err).any():          # no torque at all: nothing measured
                 points.append((label, ops, float(np.nanmax(err)), "chapter"))
         elif "budget" in label and not (laddered and label.startswith(rungs)):
-            points.append((label + " (bound)", ops, eps, "bound"))
+            points.append((label + " (bound)", ops, _bound_on_s_i(ds, label, eps, safe),
+                           "bound"))
         elif "exact" in label or "full" in label or "N-E as implemented" in label:
             points.append((label, ops, 0.0, "exact"))
     if laddered:

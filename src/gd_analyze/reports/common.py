@@ -272,6 +272,7 @@ def render_template(name, context, env_globals=None):
         The rendered document.
     """
     import jinja2
+    from markupsafe import Markup
 
     from . import markup
 
@@ -283,6 +284,10 @@ def render_template(name, context, env_globals=None):
         if isinstance(value, str) and any(m in value for m in (markup.SUB, markup.SUP,
                                                                 markup.CODE)):
             return markup.html(value)
+        if isinstance(value, str):      # format characters (bidi controls) made visible
+            shown = markup.visible(value)
+            return value if shown == value else (
+                Markup(shown) if isinstance(value, Markup) else shown)
         return value
 
     env = jinja2.Environment(loader=jinja2.FunctionLoader(source), autoescape=True,

@@ -13,6 +13,7 @@ import numpy as np
 from ..core.selection.ranking import arm_scales, is_round_off
 from ..io.datasets import stored_guarantee, stored_region
 from ..io.sweep_datasets import payload_part
+from .budget_figures import budget_caption
 from .common import CLASS_COLOURS as _CLASS_COLOURS
 from .common import attr as _attr
 from .common import check as _check
@@ -221,7 +222,8 @@ def report_context(ds):
     ctx = _report_context_base(ds)
     ctx["simplified_model"] = simplified_context(ds) if has_simplified(ds) else None
     if ctx["simplified_model"]:
-        ctx["captions"] = {**ctx["captions"], "torque": simplified_caption(ds)}
+        ctx["captions"] = {**ctx["captions"], "torque": simplified_caption(ds),
+                           "budget": budget_caption(ds)}
     return ctx
 
 
@@ -366,7 +368,8 @@ def _report_context_base(ds):
                          gravity=_gravity_fact(ds, form), units=tau_units,
                          scope=_scope(_statement(ds)),
                          where="the joint-limit region" if (stored_guarantee(ds) or {}).get(
-                             "kind") == "region" else "this trajectory", shown=said)
+                             "kind") == "region" else "this trajectory", shown=said,
+                         placeholder_inertia=bool(ds.attrs.get("robot_placeholder_inertia")))
     facts = (f"{robot_name}, {n} joints, {count(N)} set points over {_fmt(t[-1] - t[0], 4)} s; "
              f"{len(labels)} elements ranked with s = {s:g}, e = {e:g}: "
              + ", ".join(f"{counts[c]} {c}" for c in _CLASS_COLOURS)

@@ -153,7 +153,7 @@ def main_outline(ctx, figures):
             o.table(sm["region"], "The region of the model's guarantee per joint: position "
                                   "range, velocity and acceleration limits, and whether the "
                                   "acceleration limit is assumed.")
-        o.figure("budget", BUDGET_CAPTIONS["budget"])
+        o.figure("budget", caps.get("budget", BUDGET_CAPTIONS["budget"]))
         if sm["costs"]:
             o.section("5.4", "Cost per set point (counted)")
             o.table(sm["costs"], "Operations per set point, counted on each model's code.")

@@ -16,6 +16,19 @@ from .common import attr as _attr
 from .common import fmt as _fmt
 from .common import prismatic_joints
 from .markup import scope as scope_markup
+from .markup import sub as _sub
+from .simplified_section import REGION_SCALE, guarantee_kind, has_drives
+
+
+def _no_floor(ds):
+    """The torque floor 0, said with what each joint's scale s_i then is: its peak on the
+    trajectory, or over the region (the rigid links' alone where the robot has drives)."""
+    if guarantee_kind(ds) != "region":
+        return "none: each joint's scale s" + _sub("i") + " is its own peak |\u03c4" + \
+            _sub("i") + "| on this trajectory"
+    return ("none: each joint's scale " + REGION_SCALE[has_drives(ds)].replace(" = ", " is ", 1)
+            + " (positions, velocities and accelerations within the model's limits), not its "
+            "peak on this trajectory")
 
 __all__ = ["provenance_rows", "software_row", "run_row", "gravity_row"]
 
@@ -24,7 +37,7 @@ _ELSEWHERE = {
     "robot", "robot_description", "robot_reference", "gravity", "gravity_units", "input_file",
     "derivatives", "setpoints", "title", "source", "gd_analyze_version", "history",
     "input_path", "input_sha256", "robot_source", "robot_sha256", "dominance_threshold",
-    "negligible_threshold", "command", "Conventions", "references",
+    "negligible_threshold", "command", "Conventions", "references", "robot_placeholder_inertia",
     "simplified_terms_kept", "simplified_pairs_dropped", "simplified_pairs",
     "simplified_dropped_pairs", "simplified_multiplications", "simplified_additions",
     "simplified_sin", "simplified_cos", "other_rule_multiplications", "other_rule_additions",
@@ -154,7 +167,7 @@ def provenance_rows(ds, created, version, verification):
         value = _setting(ds, asked, built)
         used.update((asked, built))
         if value is not None and asked == "torque_floor":
-            value = ("none: each joint's scale is its own peak |\u03c4|" if value == "0" else
+            value = (_no_floor(ds) if value == "0" else
                      value + " N m" + (", or N for a prismatic joint"
                                        if prismatic_joints(ds).any() else ""))
         if value is not None and asked == "explicit":

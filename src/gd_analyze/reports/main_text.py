@@ -12,7 +12,7 @@ from ..core.selection.ranking import element_label, parse_element_label
 from .numbers import share as _share
 from .plot_data import ENVELOPE_COLUMNS
 
-__all__ = ["conclusion", "model_sentence", "gravity_clause", "simplified_intro", "disagreement_cause", "shared_causes", "captions",
+__all__ = ["conclusion", "PLACEHOLDER_INERTIA", "model_sentence", "gravity_clause", "simplified_intro", "disagreement_cause", "shared_causes", "captions",
            "element_scale", "prismatic_count_note", "alike_sentence"]
 
 _CLASSES = ("translational", "rotational", "both", "negligible")
@@ -80,9 +80,16 @@ def _qty_text(text, unit):
     return f"{text}\u00a0" + str(unit).replace(" ", "\u00a0")
 
 
+#: Said after "rotational effects lead" (or "both") for a robot whose inertia tensors are
+#: placeholders: the rotational parts are made of them.
+PLACEHOLDER_INERTIA = (" (on this robot's placeholder inertia tensors, stand-ins in its URDF, "
+                       "not measured values: the rotational parts are made of them, so this "
+                       "is not a finding about the real arm)")
+
+
 def conclusion(labels, dominance, zero, choice, rel_peak, abs_peak, tau_peak, cost=None,
                recursive=None, gravity=None, units=None, scope=None, where="this trajectory",
-               shown=None):
+               shown=None, placeholder_inertia=False):
     """The report's conclusion in three sentences.
 
     Parameters
@@ -93,6 +100,9 @@ def conclusion(labels, dominance, zero, choice, rel_peak, abs_peak, tau_peak, co
         Elements zero in every part (:func:`gd_analyze.reports.main_figures.identically_zero`).
     rel_peak, abs_peak, tau_peak : ndarray, shape (n,)
         Per joint: peak |tau_s - tau| / peak |tau| [1], peak |tau_s - tau| [N m], peak |tau|.
+    placeholder_inertia : bool, optional
+        The robot's inertia tensors are placeholders (``robot_placeholder_inertia``): where
+        rotational effects lead, the sentence says so (:data:`PLACEHOLDER_INERTIA`).
     shown : dict of str to list of str, optional
         Those numbers as the error table prints them (``rel``, ``abs``, ``tau``), quoted so
         that the text and the table agree digit for digit (issue 31); else 3 digits.
@@ -154,7 +164,8 @@ def conclusion(labels, dominance, zero, choice, rel_peak, abs_peak, tau_peak, co
                                                ", ".join(map(_math, z)) + "\u00a0\u2261\u00a00"
                                                if z else ""]))
                      + ")")
-        parts.append(text + f" \u2014 {lead} effects lead")
+        parts.append(text + f" \u2014 {lead} effects lead" + (
+            PLACEHOLDER_INERTIA if placeholder_inertia and lead != "translational" else ""))
     first = "Dominance: " + "; ".join(parts) + "."
     second = model_sentence(recursive=recursive, choice=choice, gravity=gravity,
                             trajectory=where)

@@ -26,9 +26,10 @@ Examples
 from __future__ import annotations
 
 import re
+import unicodedata
 
 __all__ = ["SUB", "SUP", "CODE", "END", "sub", "sup", "code", "element", "tau", "html",
-           "unicode", "spans", "plain", "clean", "label", "scope", "TRAN", "ROT"]
+           "unicode", "spans", "plain", "clean", "visible", "label", "scope", "TRAN", "ROT"]
 
 #: Start of a subscript, of a superscript, end of either, start of code (Unicode private use
 #: area).
@@ -287,10 +288,36 @@ def clean(text):
     -------
     str
     """
-    return str(text).translate(_DROP)
+    return visible(str(text).translate(_DROP))
 
 
 _DROP = dict.fromkeys(map(ord, SUB + SUP + END + CODE))
+
+
+def visible(text):
+    """Text with every format character (Unicode category Cf: the bidirectional controls
+    such as U+202E RIGHT-TO-LEFT OVERRIDE, zero-width spaces and joiners, soft hyphens, the
+    byte-order mark) written as ``[U+XXXX]``, so that a name read from a file cannot reorder
+    or hide what a report shows.
+
+    Parameters
+    ----------
+    text : str
+
+    Returns
+    -------
+    str
+
+    Examples
+    --------
+    >>> visible("joint\u202e1\u200b")
+    'joint[U+202E]1[U+200B]'
+    """
+    text = str(text)
+    if text.isascii():
+        return text
+    return "".join(f"[U+{ord(c):04X}]" if unicodedata.category(c) == "Cf" else c
+                   for c in text)
 
 
 #: The translational and rotational parts of an element X, as figures letter them.

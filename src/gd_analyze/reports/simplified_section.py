@@ -28,13 +28,13 @@ from .markup import scope as scope_markup
 from .markup import sub as _sub
 
 __all__ = ["has_simplified", "simplified_context", "error_figure", "SIMPLIFIED_CAPTION", "ROUND_OFF",
-           "simplified_caption", "region_pruning"]
+           "simplified_caption", "region_pruning", "guarantee_kind", "BOUND_WHERE", "has_drives", "REGION_SCALE"]
 
 #: Caption of the torque-error figure; ``{units}`` as :func:`simplified_caption` fills it.
 SIMPLIFIED_CAPTION = ("Torque error of the simplified model, \u03c4\u209b \u2212 \u03c4 "
                       "[{units}], "
-                      "per joint against time, with the bound \u00b1 (dotted), guaranteed on "
-                      "this trajectory only, " + ROUND_OFF_CLAUSE + ". The joints whose model "
+                      "per joint against time, with the bound \u00b1 (dotted), {where}, "
+                      + ROUND_OFF_CLAUSE + ". The joints whose model "
                       "drops nothing (bound 0) get no panel: the note below names them; their "
                       "difference is floating-point round-off.")
 
@@ -48,9 +48,18 @@ def simplified_caption(ds):
     Returns
     -------
     str
-        :data:`SIMPLIFIED_CAPTION` in N m, or N m and N for an arm with a prismatic joint.
+        :data:`SIMPLIFIED_CAPTION` in N m, or N m and N for an arm with a prismatic joint,
+        saying where the bound holds from the stored guarantee's kind (:data:`BOUND_WHERE`).
     """
-    return SIMPLIFIED_CAPTION.format(units=units_said_once(ds, "tau"))
+    where = (BOUND_WHERE["region"] if _kind(ds) == "region" else BOUND_WHERE["trajectory"])
+    return SIMPLIFIED_CAPTION.format(units=units_said_once(ds, "tau"), where=where)
+
+
+#: Where the figure's bound holds, by the kind of the model's guarantee.
+BOUND_WHERE = {"region": "proved at every state of the region (positions, velocities and "
+                         "accelerations within the model's limits), so on this trajectory "
+                         "wherever it lies in the region",
+               "trajectory": "guaranteed on this trajectory only"}
 
 
 def has_simplified(ds):
@@ -329,7 +338,8 @@ def _recursive_text(ds, eps, floor):
     rule = (f"Rule: error budget, \u03b5\u00a0=\u00a0{eps:g}"
             + (f", torque floor {floor:g} N m" if floor else ""))
     if _kind(ds) == "region":
-        return text + rule + ". " + region_pruning(pairs, dropped) + _scope(ds, exact=True)
+        return text + rule + ". " + region_pruning(pairs, dropped, drives=has_drives(ds)) \
+            + _scope(ds, exact=True)
     return text + (rule + f". Of the {pairs} (parameter, part) pairs that contribute on this "
                    f"trajectory, {dropped} are dropped (alone or with their whole parameter), "
                    "in order of "
@@ -339,7 +349,33 @@ def _recursive_text(ds, eps, floor):
                    "that sum: " + _scope(ds))
 
 
-def region_pruning(pairs, dropped, bound="the bound below"):
+def has_drives(ds):
+    """Whether the dataset's robot has drives (armature or friction), which the region's
+    scale s_i leaves out.
+
+    Parameters
+    ----------
+    ds : xarray.Dataset
+        A results dataset; its drives are the variables ``D_arm``, ``viscous``, ``coulomb``.
+
+    Returns
+    -------
+    bool
+        True where any of them is nonzero.
+    """
+    return any(k in ds.variables and np.any(np.asarray(ds[k].values, float) != 0)
+               for k in ("D_arm", "viscous", "coulomb"))
+
+
+#: What s_i is over the region, by whether the robot has drives: the region's scale is the
+#: rigid links' torque (the base regressor's; armature and friction are not in it).
+REGION_SCALE = {False: f"{_S_I} = the largest |{_TAU_I}| found over the region",
+                True: f"{_S_I} = the largest |{_TAU_I}| of the rigid links alone found over "
+                      "the region, the drives' armature and friction left out (the model keeps "
+                      f"them whole; {_TAU_I} in the tables and figures includes them)"}
+
+
+def region_pruning(pairs, dropped, bound="the bound below", drives=False):
     """How a recursive model was pruned over the joint-limit region, in the words of every
     report (the main report's Sec. 5.3, the sweep report's Sec. 5).
 
@@ -349,6 +385,8 @@ def region_pruning(pairs, dropped, bound="the bound below"):
         The (parameter, part) pairs that contribute over the region, and those dropped.
     bound : str, optional
         The bound, named where the sentence ends.
+    drives : bool, optional
+        The robot has drives (:func:`has_drives`): s_i is said to leave them out.
 
     Returns
     -------
@@ -358,17 +396,30 @@ def region_pruning(pairs, dropped, bound="the bound below"):
     return (f"Of the {pairs} (parameter, part) pairs that contribute over the joint-limit "
             f"region, {dropped} are dropped (alone or with their whole parameter), in order of "
             "increasing proved bound, while for every joint the largest over the region of the "
-            f"sum of their proved bounds stays within {_EPS_S} ({_S_I} = the largest "
-            f"|{_TAU_I}| found over the region, raised to the floor); by the triangle "
+            f"sum of their proved bounds stays within {_EPS_S} ({REGION_SCALE[drives]}, "
+            "raised to the floor); by the triangle "
             f"inequality the error at every state of the region is within that sum, {bound}.")
 
 
-def _kind(ds):
-    """The stored guarantee's kind ("region", "trajectory"), or "none"."""
+def guarantee_kind(ds):
+    """The stored guarantee's kind.
+
+    Parameters
+    ----------
+    ds : xarray.Dataset
+
+    Returns
+    -------
+    str
+        ``"region"``, ``"trajectory"``, or ``"none"`` where the dataset stores none.
+    """
     from ..io.datasets import stored_guarantee
 
     g = stored_guarantee(ds)
     return "none" if g is None else g["kind"]
+
+
+_kind = guarantee_kind
 
 
 def _scope(ds, exact=False):

@@ -328,6 +328,12 @@ def _fig_error(ds, width=_PAGE_WIDTH):
     fig = Figure(figsize=(W, H))
     ax = fig.add_axes((0.75 / W, (1.25 if column else 0.9) / H, (W - 0.95) / W,
                        (H - (2.05 if column else 1.6)) / H))
+    region = ds.attrs.get("merged_guarantee_kind") == "region" and "merged_scale" in ds
+    if region:                  # one scale for every mark: the merged model's s_i (region)
+        s_i = np.asarray(ds["merged_scale"].values, float)          # (K, n): the same rows
+        s_i = np.where(s_i > 0, s_i, np.inf)
+        own = np.asarray(ds["tau_error_peak"].values, float) / s_i
+        overall = np.asarray(ds["merged_error_peak"].values, float) / s_i.max(axis=0)
     tau = ds["tau_peak"].values
     own = np.where(torque_error_round_off(ds, ds["tau_error_peak"].values, tau), 0.0, own)
     merged = np.where(torque_error_round_off(ds, ds["merged_tau_error_peak"].values, tau), 0.0,
@@ -358,9 +364,8 @@ def _fig_error(ds, width=_PAGE_WIDTH):
     if column:
         ax.set_xlabel("joint", labelpad=1.0)
     ax.set_xlim(0.4, n + 0.6)
-    region = ds.attrs.get("merged_guarantee_kind") == "region"     # merged: / s_i over R
     ax.set_ylabel("peak |\u03c4\u209b \u2212 \u03c4| / peak |\u03c4| [1]" if not region else
-                  "peak |\u03c4\u209b \u2212 \u03c4|, relative [1]")    # each curve's own scale
+                  "peak |\u03c4\u209b \u2212 \u03c4| / s\u1d62 [1]")    # one scale for all
     own_rule, rule = (str(ds.attrs.get(k, "chapter")) for k in ("own_model_rule", "merged_rule"))
     no_bound = {"chapter": ", no bound"}
     merged_rule = (f"budget rule, \u03b5 = {float(ds.attrs['merged_tolerance']):g}"
@@ -368,7 +373,7 @@ def _fig_error(ds, width=_PAGE_WIDTH):
                    if rule == "budget" else f"{rule} rule{no_bound.get(rule, '')}")
     ax.legend(handles=[Line2D([], [], color=_OWN_COLOUR, label=f"own models ({own_rule} rule"
                               f"{no_bound.get(own_rule, '')}"
-                              + ("; / peak |\u03c4| of the trajectory" if region else "")
+                              + ("; / s\u1d62 over the region" if region else "")
                               + "), per trajectory"),
                        Line2D([], [], color=_MERGED_COLOUR,
                               label=f"merged model ({merged_rule}), per trajectory"),

@@ -404,9 +404,9 @@ def _captions(ds):
         "classes": f"{SWEEP_CAPTIONS['classes']} {none}", "none": none,
         "error": (f"Relative peak open-loop torque error per joint, per trajectory: of {own} "
                   "(green) "
-                  f"and of {merged} (black"
-                  + (f", relative to {_SI} over the region" if region else "")
-                  + "); diamond: the merged model over all trajectories"
-                  + (" (relative to peak |\u03c4| over them)" if region else "")
+                  f"and of {merged} (black); diamond: the merged model over all trajectories"
+                  + (f"; every mark relative to one scale, the merged model's {_SI} over the "
+                     "region" if region else "; each relative to the peak |\u03c4| of its "
+                     "trajectory (the diamond: over all of them)")
                   + f". Round-off ({TORQUE_ROUND_OFF_WORDS} peak |\u03c4|) is not drawn."),
     }

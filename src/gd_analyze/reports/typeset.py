@@ -174,9 +174,10 @@ def document_data(outline, sizes, paper="a4", metadata=None, footer=""):
                          "blocks": [_block(b, paper, sizes) for b in s.blocks]})
     return {"paper": _TYPST_PAPER[paper], "margins": list(MARGINS),
             "title": _runs(outline.title), "plain_title": markup.plain(outline.title),
-            "author": str(metadata.get("Author", "")),
-            "subject": str(metadata.get("Subject", "")),
-            "keywords": [str(metadata["Keywords"])] if metadata.get("Keywords") else [],
+            "author": markup.plain(metadata.get("Author", "")),
+            "subject": markup.plain(metadata.get("Subject", "")),
+            "keywords": [markup.plain(metadata["Keywords"])] if metadata.get("Keywords")
+            else [],
             "footer": markup.plain(footer), "colours": TABLE_COLOURS, "sections": sections}
 
 

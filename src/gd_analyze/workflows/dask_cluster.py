@@ -11,11 +11,71 @@ keep it off, so that a ``pickle.py`` where the sweep starts cannot run in them.
 
 from __future__ import annotations
 
+import concurrent.futures
 import contextlib
 import os
 import tempfile
 
-__all__ = ["dask_client", "check_scheduler", "HANDSHAKE_TIMEOUT"]
+from ..errors import InputError
+
+__all__ = ["dask_client", "check_scheduler", "cluster_failures", "ClusterLost",
+           "HANDSHAKE_TIMEOUT", "TASK_RETRIES"]
+
+#: Times a task is run again after it failed (``retries=`` of ``Client.submit``); a task whose
+#: worker was lost is run again on the workers that remain by the scheduler itself (up to its
+#: ``distributed.scheduler.allowed-failures``, 3).
+TASK_RETRIES = 3
+
+
+class ClusterLost(InputError):
+    """The dask cluster failed under a sweep: its scheduler went away, or its workers were
+    lost more often than the scheduler allows. An operational failure, not a bug: the command
+    line prints it on one line and exits 2.
+
+    Parameters
+    ----------
+    message : str
+        What failed, in one line.
+    where : str, optional
+        The scheduler's address, or how the cluster was started.
+    """
+
+    def __init__(self, message, where=None):
+        super().__init__(message, where)
+
+
+@contextlib.contextmanager
+def cluster_failures(where):
+    """Turn the dask cluster's failures inside the block into one :class:`ClusterLost`.
+
+    Parameters
+    ----------
+    where : str
+        The scheduler's address (or how the cluster was started), for the message.
+
+    Raises
+    ------
+    ClusterLost
+        For a closed connection to the scheduler or a worker (``OSError``, of which
+        ``distributed.comm.CommClosedError`` and ``TimeoutError``), futures cancelled when the
+        scheduler went away (``concurrent.futures.CancelledError``), and a task whose workers
+        died too often (``distributed.KilledWorker``). Other errors, those of the tasks' own
+        code, pass unchanged.
+    """
+    from distributed import KilledWorker
+
+    try:
+        yield
+    except KilledWorker as exc:
+        raise ClusterLost(f"the dask workers running a task were lost too often "
+                          f"({' '.join(str(exc).split())[:160]})", where) from None
+    except concurrent.futures.CancelledError:
+        raise ClusterLost("the dask scheduler went away during the sweep (its tasks were "
+                          "cancelled)", where) from None
+    except OSError as exc:
+        text = " ".join(str(exc).split())[:160] or type(exc).__name__
+        raise ClusterLost(f"lost the connection to the dask cluster during the sweep "
+                          f"({type(exc).__name__}: {text})", where) from None
 
 #: Seconds a scheduler at ``--scheduler`` has to answer the connection's handshake: a server
 #: that accepts and stays silent is refused after it, not waited for (issue 32).
@@ -112,6 +172,7 @@ def dask_client(scheduler=None, n_workers=None, timeout=HANDSHAKE_TIMEOUT):
                           "pip install 'dask[distributed]'") from exc
     cluster = None
     with contextlib.ExitStack() as env:
+        env.enter_context(_client_logs_quiet())
         if scheduler is not None:
             check_scheduler(scheduler, timeout)
             client, how = Client(scheduler, timeout=timeout), f"the running scheduler at {scheduler}"
@@ -141,6 +202,21 @@ def dask_client(scheduler=None, n_workers=None, timeout=HANDSHAKE_TIMEOUT):
         client.close()
         if cluster is not None:
             cluster.close()
+
+
+@contextlib.contextmanager
+def _client_logs_quiet():
+    """Keep the client's own log (tracebacks of its lost connection, its attempts to
+    reconnect) off stderr: a cluster failure is told in one line (:class:`ClusterLost`)."""
+    import logging
+
+    logger = logging.getLogger("distributed.client")
+    level = logger.level
+    logger.setLevel(logging.CRITICAL + 1)
+    try:
+        yield
+    finally:
+        logger.setLevel(level)
 
 
 def _close_quickly(client, cluster):

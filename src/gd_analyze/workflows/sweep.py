@@ -47,7 +47,7 @@ from ..core.selection.simplified import (
 from ..io.schema import attribute_value
 from ..io.sweep_datasets import embed_pair_peaks, sweep_dataset
 from .analyze import analysis_pass
-from .dask_cluster import dask_client
+from .dask_cluster import TASK_RETRIES, ClusterLost, cluster_failures, dask_client
 from .options import AnalysisOptions
 
 __all__ = ["DEFAULT_BATCH_MAX", "analyze_one", "run_sweep", "check_thresholds",
@@ -330,15 +330,18 @@ def run_sweep(robot, trajectories, dominance=DEFAULT_DOMINANCE, negligible=DEFAU
     ValueError
         If there are no trajectories, one does not fit the robot, a threshold is out of range,
         or batch < 1.
-    RuntimeError
-        If no worker joins the cluster within 60 s.
+    ClusterLost
+        (An :class:`~gd_analyze.errors.InputError`: exit 2 on the command line.) If no worker
+        joins the cluster within 60 s, the scheduler goes away, or a task's workers are lost
+        more often than the scheduler allows (:func:`~.dask_cluster.cluster_failures`); a
+        task whose worker is lost runs again on the workers that remain.
     ImportError
         If dask.distributed is missing from the environment (it is a dependency).
 
     Notes
     -----
-    Two passes of tasks over the same scattered batches (the robot is scattered once to every
-    worker): the first runs :func:`analyze_one` per trajectory; once all choices are known and
+    Two passes of tasks over the same batches (each task carries the robot and its batch, so
+    that a task whose worker is lost runs again on another): the first runs :func:`analyze_one` per trajectory; once all choices are known and
     merged (:func:`merge_choices`), the second computes the merged model's torque error along
     every trajectory. Source: Sec. 3.4.1 of Fu, Gonzalez & Lee (1987).
     """
@@ -361,47 +364,47 @@ def run_sweep(robot, trajectories, dominance=DEFAULT_DOMINANCE, negligible=DEFAU
     else:
         how = cluster or "a client given by the caller"
     try:
-        try:
-            client.wait_for_workers(1, timeout=60)
-        except Exception as exc:  # distributed raises TimeoutError (type varies by version)
-            raise RuntimeError(f"no dask worker joined the scheduler at "
-                               f"{client.scheduler.address} within 60 s") from exc
-        address = str(client.scheduler.address)
-        n_w = len(client.scheduler_info().get("workers", {}))
-        size = int(batch) if batch is not None else _auto_batch(len(trajectories), n_w)
-        batches = [trajectories[a:a + size] for a in range(0, len(trajectories), size)]
-        t_compute = time.perf_counter()
-        base = None
-        if recursive_peaks:
-            from ..core.symbolic.base_parameters import base_parameters
+        with cluster_failures(str(client.scheduler.address)):
+            try:
+                client.wait_for_workers(1, timeout=60)
+            except Exception:  # distributed raises TimeoutError (type varies by version)
+                raise ClusterLost("no dask worker joined the scheduler within 60 s",
+                                  str(client.scheduler.address)) from None
+            address = str(client.scheduler.address)
+            n_w = len(client.scheduler_info().get("workers", {}))
+            size = int(batch) if batch is not None else _auto_batch(len(trajectories), n_w)
+            batches = [trajectories[a:a + size] for a in range(0, len(trajectories), size)]
+            t_compute = time.perf_counter()
+            base = None
+            if recursive_peaks:
+                from ..core.symbolic.base_parameters import base_parameters
 
-            base = base_parameters(robot)
-        scattered = {"robot": client.scatter(robot, broadcast=True, hash=False),
-                     "batches": client.scatter(batches, hash=False),
-                     "base": None if base is None else client.scatter(base, broadcast=True,
-                                                                      hash=False)}
-        passes = 1 if recursive_peaks else 2
-        bar = tqdm(total=passes * len(batches), unit="task", disable=not progress,
-                   desc="sweep: ranking", leave=False)
+                base = base_parameters(robot)
+            passes = 1 if recursive_peaks else 2
+            bar = tqdm(total=passes * len(batches), unit="task", disable=not progress,
+                       desc="sweep: ranking", leave=False)
 
-        def run(fn, *args):
-            futures = {client.submit(fn, scattered["robot"], b, *args, pure=False): k
-                       for k, b in enumerate(scattered["batches"])}
-            out = [None] * len(futures)
-            for fut in as_completed(list(futures)):
-                out[futures[fut]] = fut.result()
-                bar.update(1)
-            return [item for part in out for item in part]
+            def run(fn, *args):
+                # the robot and each batch go with their task (a few kB each), not scattered
+                # ahead: data scattered to a worker is lost with it, a task's own arguments are
+                # the scheduler's and go to the workers that remain
+                futures = {client.submit(fn, robot, b, *args, pure=False,
+                                         retries=TASK_RETRIES): k
+                           for k, b in enumerate(batches)}
+                out = [None] * len(futures)
+                for fut in as_completed(list(futures)):
+                    out[futures[fut]] = fut.result()
+                    bar.update(1)
+                return [item for part in out for item in part]
 
-        results = run(_analyze_batch, float(dominance), float(negligible), scattered["base"])
-        merged = merge_choices([r["choices"] for r in results])
-        merged_stats = None             # the budget rule's model replaces the chapter merge
-        if base is None:
-            bar.set_description("sweep: merged model")
-            merged_stats = run(_error_batch, merged)
-        bar.close()
-        compute_s = time.perf_counter() - t_compute
-        scattered.clear()              # the scattered data may go from the workers
+            results = run(_analyze_batch, float(dominance), float(negligible), base)
+            merged = merge_choices([r["choices"] for r in results])
+            merged_stats = None             # the budget rule's model replaces the chapter merge
+            if base is None:
+                bar.set_description("sweep: merged model")
+                merged_stats = run(_error_batch, merged)
+            bar.close()
+            compute_s = time.perf_counter() - t_compute
     finally:
         own.close()
     ds = sweep_dataset(robot, trajectories, results, merged, merged_stats, dominance,

@@ -92,6 +92,11 @@ def test_the_vertices_are_one_of_each_opposite_pair():
                     __import__("itertools").product([-1.0, 1.0], repeat=4)}
 
 
+def test_one_joint_has_one_vertex():
+    """One joint: the pair (qd_max, -qd_max) is one vertex, qd_max itself."""
+    assert qd_vertices(np.array([1.5])).tolist() == [[1.5]]
+
+
 @pytest.mark.parametrize("name", ("puma560", "stanford"))
 def test_channel_values_engines_agree_and_rebuild_rnea(name):
     """The array code (each part at the states it is read at) and the compiled kernel (every

@@ -18,6 +18,8 @@ import importlib.util
 import re
 import shutil
 import subprocess
+import types
+import unicodedata
 
 import numpy as np
 import pinocchio as pin
@@ -222,8 +224,9 @@ def test_files_and_header(built):
     assert sorted(p.name for p in folder.iterdir() if p.suffix != ".o") == sorted(
         artefact_names("simplified_model"))
     h = (folder / "simplified_model.h").read_text()
-    assert re.findall(r"^#(\w+) (\S+)", h, re.M)[:2] == [("ifndef", "PUMA_SIMPLIFIED_MODEL_H"),
-                                                         ("define", "PUMA_SIMPLIFIED_MODEL_H")]
+    (kind1, guard), (kind2, guard2) = re.findall(r"^#(\w+) (\S+)", h, re.M)[:2]
+    assert (kind1, kind2) == ("ifndef", "define") and guard == guard2
+    assert re.fullmatch(r"PUMA_SIMPLIFIED_MODEL_H_[0-9A-F]{8}", guard)
     assert 'extern "C" {' in h and "#define puma_N_JOINTS 6\n" in h
     assert f"#define puma_N_BASE_PARAMETERS {len(model.functions().parameter_names)}\n" in h
     nm = subprocess.run(["nm", "-g", "--defined-only", str(folder / "simplified_model.o")],
@@ -291,3 +294,49 @@ def test_casadi_functions_equal_the_c_functions(built, prefix):
         value = value.reshape(rows, STATES, -1).transpose(1, 0, 2).reshape(got[key].shape)
         assert _against_c(key, value, got) < 1e-12, key
     assert np.array_equal(np.array(mod.BASE_PARAMETERS), got["beta"])
+
+
+#: Joint names that a sanitising label made equal ("a_b" three times), a quote, a backslash, a
+#: trigraph, a printf format, and format characters (U+202E right-to-left override, U+200B
+#: zero width space).
+HOSTILE_JOINTS = ("a b", "a_b", "a+b", 'j"4??/\\', "%s\u202e5", "j\u200b6")
+
+
+def test_prefixes_differing_in_case_and_distinct_joint_names(tmp_path):
+    """Models emitted with the prefixes arm_ and ARM_ compile into one program (their include
+    guards differ); JOINT_NAMES holds each joint's exact name, in C (its UTF-8 bytes) and in
+    the numpy module; no format character reaches any emitted file, comments included."""
+    cc = _tool("cc")
+    robot = load_robot("puma560")
+    robot = dataclasses.replace(robot, name="arm\u202etxt.exe", metadata=types.MappingProxyType(
+        {**robot.metadata, "urdf_joints": list(HOSTILE_JOINTS)}))
+    model = _model(robot, 0.0)
+    includes, objects = [], []
+    for prefix in ("arm_", "ARM_"):
+        folder = tmp_path / prefix.lower().rstrip("_") if prefix == "arm_" else tmp_path / "up"
+        folder.mkdir()
+        for file, text in model.sources(prefix=prefix).items():
+            assert not any(unicodedata.category(c) == "Cf" for c in text), file
+            (folder / file).write_text(text, encoding="utf-8")
+        objects.append(str(folder / "simplified_model.o"))
+        subprocess.run([cc, "-std=c99", "-Wall", "-Wextra", "-Werror", "-O0", "-c",
+                        str(folder / "simplified_model.c"), "-o", objects[-1]], check=True)
+        includes.append(f'#include "{folder.name}/simplified_model.h"')
+    (tmp_path / "names.c").write_text("\n".join(["#include <stdio.h>", *includes, """
+int main(void)
+{
+    int j;
+    for (j = 0; j < arm_N_JOINTS; ++j)
+        printf("%s\\n%s\\n", arm_JOINT_NAMES[j], ARM_JOINT_NAMES[j]);
+    return 0;
+}
+"""]))
+    subprocess.run([cc, "-std=c99", "-Wall", "-Wextra", "-Werror", "-o", str(tmp_path / "names"),
+                    str(tmp_path / "names.c"), *objects, "-lm"], check=True, cwd=tmp_path)
+    printed = subprocess.run([str(tmp_path / "names")], check=True, capture_output=True).stdout
+    assert printed == b"".join(2 * (n.encode() + b"\n") for n in HOSTILE_JOINTS)
+    spec = importlib.util.spec_from_file_location("emitted_names",
+                                                  tmp_path / "arm" / "simplified_model.py")
+    mod = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(mod)
+    assert mod.JOINT_NAMES == HOSTILE_JOINTS

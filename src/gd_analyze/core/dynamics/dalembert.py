@@ -502,5 +502,5 @@ def forward_dynamics(robot, q, qd, tau, engine="auto"):
     h = h_tran + h_rot from Eqs. (3.4-25) to (3.4-28); one ``numpy.linalg.solve`` per set
     point, batched.
     """
-    q, qd, tau = as_states(robot, q, qd, tau)
+    q, qd, tau = as_states(robot, q, qd, tau, names=("q", "qd", "tau"))
     return qdd_from_terms(gd_terms(robot, q, qd, engine=engine), tau)

@@ -16,11 +16,13 @@ from __future__ import annotations
 
 import numpy as np
 
+from .limits import real_values
+
 __all__ = ["as_states", "transforms_core", "joint_frames", "joint_transforms", "body_frames",
            "link_matrices", "frames", "centres_of_mass"]
 
 
-def as_states(robot, *arrays):
+def as_states(robot, *arrays, names=None):
     """Check joint arrays against the robot and give them a leading set-point axis.
 
     Parameters
@@ -30,6 +32,8 @@ def as_states(robot, *arrays):
     *arrays : array_like, shape (N, n) or (n,)
         Joint positions [rad or m], velocities [rad/s or m/s] or accelerations [rad/s^2 or
         m/s^2].
+    names : sequence of str, optional
+        The arrays' names for the messages (default ``q``, ``qd``, ``qdd`` in order).
 
     Returns
     -------
@@ -40,11 +44,13 @@ def as_states(robot, *arrays):
     ------
     ValueError
         If an array's last axis is not n, if it has more than two axes, or if the arrays do not
-        all have the same number of set points N.
+        all have the same number of set points N; an InputError if an array holds complex or
+        non-numeric values (:func:`~gd_analyze.core.model.limits.real_values`).
     """
     out = []
-    for x in arrays:
-        x = np.asarray(x, dtype=float)
+    names = list(names or ()) + ["q", "qd", "qdd", "array"][len(names or ()):]
+    for k, x in enumerate(arrays):
+        x = real_values(names[min(k, len(names) - 1)], x)
         if x.ndim == 1:
             x = x[None, :]
         if x.ndim != 2 or x.shape[1] != robot.n:

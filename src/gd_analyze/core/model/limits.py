@@ -11,11 +11,13 @@ The README's "Limits" section lists the same values.
 
 from __future__ import annotations
 
+import numbers
+
 import numpy as np
 
 from ...errors import InputError
 
-__all__ = ["LIMITS", "check_finite", "first_beyond", "exact_text"]
+__all__ = ["LIMITS", "check_finite", "first_beyond", "exact_text", "real_values"]
 
 #: Largest accepted magnitude of each input quantity, in SI units.
 LIMITS = {
@@ -30,6 +32,11 @@ LIMITS = {
     "duration": 1e9,    # planned duration [s]
     "min_duration": 1e-6,   # shortest planned duration [s]
     "angle_deg": 1e6,   # |an angle or angular limit given in degrees| [deg]
+    # a URDF's size, checked before Pinocchio's parser reads it: its parser recurses once per
+    # link down the tree and overflows the C stack (SIGSEGV) on a chain of 4,000 links
+    "urdf_links": 10_000,   # <link> elements
+    "urdf_joints": 10_000,  # <joint> elements
+    "urdf_depth": 1_000,    # links on the longest path from the root (the root is depth 0)
 }
 
 
@@ -91,6 +98,48 @@ def first_beyond(values, limit):
         return None
     flat = int(np.argmax(bad.ravel()))
     return tuple(int(i) for i in np.unravel_index(flat, arr.shape))
+
+
+def real_values(name, values):
+    """An array of real numbers as floats; complex or non-numeric values refused.
+
+    Parameters
+    ----------
+    name : str
+        The array's name, for the message (e.g. ``"qd"``).
+    values : array_like
+        Any shape: numbers (integers or floats, or objects that are real numbers).
+
+    Returns
+    -------
+    ndarray of float
+        The same shape.
+
+    Raises
+    ------
+    InputError
+        (A ValueError.) If the values are complex (numpy would drop the imaginary part with a
+        warning only), text, booleans or anything else that is not a real number.
+
+    Examples
+    --------
+    >>> real_values("q", [1, 2.5]).tolist()
+    [1.0, 2.5]
+    >>> real_values("q", [1 + 2j])
+    Traceback (most recent call last):
+    ...
+    gd_analyze.errors.InputError: q must hold real numbers, got complex128 values
+    """
+    arr = np.asarray(values)
+    kind = arr.dtype.kind
+    if kind == "O":             # objects: each a real number (int, float, Fraction...)
+        if not all(isinstance(v, numbers.Real) and not isinstance(v, (bool, np.bool_))
+                   for v in arr.ravel()):
+            raise InputError(f"{name} must hold real numbers, got objects that are not")
+        return arr.astype(float)
+    if kind not in "iuf":
+        raise InputError(f"{name} must hold real numbers, got {arr.dtype} values")
+    return arr.astype(float, copy=False)
 
 
 def check_finite(name, values, what="computed"):

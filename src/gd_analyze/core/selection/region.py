@@ -678,7 +678,8 @@ def qd_vertices(qd_max):
     if n > 13:                                       # 4,096 vertices at most: random signs
         signs = np.random.default_rng(0).choice([-1.0, 1.0], (4096, n))
     else:
-        signs = np.array(list(itertools.product([-1.0, 1.0], repeat=n - 1))).reshape(-1, n - 1)
+        signs = np.array(list(itertools.product([-1.0, 1.0], repeat=n - 1)),
+                         float).reshape(2 ** (n - 1), n - 1)  # one joint: one empty pattern
         signs = np.hstack([np.ones((signs.shape[0], 1)), signs])
     return signs * qd_max
 

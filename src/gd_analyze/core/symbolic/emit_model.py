@@ -16,9 +16,11 @@ the printers of :mod:`.emit` from the same programs:
 
 :data:`ARTEFACTS` is the one table of these files: what the main job and ``sweep`` write and
 what the reports list. Input text (robot name, file names) reaches them only as comment text
-through :func:`gd_analyze.core.symbolic.safe_text.header_lines`; joint names only as labels of
-``[A-Za-z0-9_.-]`` (:func:`.safe_text.joint_label`); the prefix only when it is a C identifier
-(:func:`.safe_text.check_prefix`).
+through :func:`gd_analyze.core.symbolic.safe_text.header_lines`; joint names only as string
+literals that escape every character but letters, digits, space and ``_ . -``
+(:func:`.safe_text.c_string`, :func:`.safe_text.python_string`); the prefix only when it is a
+C identifier (:func:`.safe_text.check_prefix`), and in the include guard with a hash of it
+(:func:`.safe_text.include_guard`).
 """
 
 from __future__ import annotations
@@ -27,7 +29,14 @@ from dataclasses import dataclass
 
 from .emit import CASADI, NUMPY, C
 from .model_functions import FUNCTIONS
-from .safe_text import check_prefix, comment_safe, header_lines
+from .safe_text import (
+    c_string,
+    check_prefix,
+    comment_safe,
+    header_lines,
+    include_guard,
+    python_string,
+)
 
 __all__ = ["Artefact", "ARTEFACTS", "artefact_names", "render", "c_header", "c_source",
            "numpy_source", "numpy_function", "casadi_source"]
@@ -111,14 +120,15 @@ def c_header(functions, header, prefix, stem):
     """
     prefix = check_prefix(prefix)
     nj, nb = _dims(functions, prefix)
-    guard = f"{prefix}{stem}_h".upper()
-    names = ", ".join(f'"{v}"' for v in functions.joint_names)
+    guard = include_guard(prefix, stem)
+    names = ", ".join(c_string(v) for v in functions.joint_names)
     lines = _comment(header_lines(header)) + [
         f"#ifndef {guard}", f"#define {guard}", "",
         "#ifdef __cplusplus", 'extern "C" {', "#endif", "",
         f"#define {nj} {functions.n}",
         f"#define {nb} {len(functions.parameter_names)}", "",
-        "/* The joints' names (letters, digits, _ . - only). */",
+        "/* The joints' names, their exact UTF-8 bytes (other than letters, digits, space,"
+        " _ . - as octal escapes). */",
         f"static const char *const {prefix}JOINT_NAMES[{nj}] = {{{names}}};", ""]
     for spec in FUNCTIONS:
         rows, cols = functions.shape(spec) + (1,) * (2 - len(functions.shape(spec)))
@@ -173,7 +183,7 @@ def c_source(functions, header, prefix, stem):
 def _py_head(functions, header, what):
     doc = (f'"""Simplified G-D model emitted by gd-analyze ({what}): tau, inertia, '
            'velocity_terms, gravity, regressor; header below."""')
-    names = ", ".join(repr(v) for v in functions.joint_names)
+    names = ", ".join(python_string(v) for v in functions.joint_names)
     pnames = ", ".join(repr(comment_safe(v)) for v in functions.parameter_names)
     return [doc, ""] + [f"# {ln}" for ln in header_lines(header)] + [""], [
         f"N_JOINTS = {functions.n}",

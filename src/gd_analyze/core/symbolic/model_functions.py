@@ -37,7 +37,6 @@ import numpy as np
 import symengine as se
 
 from .codegen import ExplicitProgram, Program
-from .safe_text import joint_label
 from .transform import jacobian, substitute
 
 __all__ = ["FunctionSpec", "FUNCTIONS", "ModelFunctions", "recursive_functions",
@@ -94,7 +93,7 @@ class ModelFunctions:
     n : int
         Number of joints.
     joint_names : tuple of str
-        Per joint, a label of only ``[A-Za-z0-9_.-]`` (:func:`joint_labels`).
+        Per joint, its name (:func:`joint_labels`).
     parameter_names : tuple of str
         The b parameters beta_s, e.g. ``("ZZ1", "XXR2", ..., "Fv1")``.
     parameters : ndarray, shape (b,)
@@ -160,11 +159,12 @@ def joint_labels(robot):
     -------
     tuple of str, length n
         :meth:`~gd_analyze.core.model.robot.Robot.joint_names` (the URDF's or Pinocchio
-        model's names, else ``joint1`` .. ``jointn``), each through
-        :func:`~gd_analyze.core.symbolic.safe_text.joint_label` (only ``[A-Za-z0-9_.-]``:
-        a hostile name cannot end a string literal nor be a printf format).
+        model's names, else ``joint1`` .. ``jointn``), exactly: the emitted files write them
+        as escaped string literals (:func:`~gd_analyze.core.symbolic.safe_text.c_string`,
+        :func:`~gd_analyze.core.symbolic.safe_text.python_string`), so distinct names stay
+        distinct and none can end its literal.
     """
-    return tuple(joint_label(v) for v in robot.joint_names())
+    return tuple(str(v) for v in robot.joint_names())
 
 
 def _symbols(n, name):

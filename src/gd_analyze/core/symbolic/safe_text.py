@@ -14,7 +14,8 @@ import hashlib
 import re
 import string
 
-__all__ = ["comment_safe", "header_lines", "joint_label", "c_prefix", "check_prefix",
+__all__ = ["comment_safe", "header_lines", "joint_label", "c_string", "python_string",
+           "include_guard", "c_prefix", "check_prefix",
            "SAFE_CHARACTERS", "MAX_LENGTH", "DIGEST_LENGTH", "PREFIX_PATTERN"]
 
 #: The characters kept: printable ASCII without ``*`` (``/*``, ``*/``), backslash (line splices,
@@ -126,6 +127,83 @@ def joint_label(text, limit=64):
     safe = "".join(ch if ch.isascii() and (ch.isalnum() or ch in "_.-") else "_"
                    for ch in str(text))[:limit]
     return safe or "_"
+
+
+#: The characters a string literal of emitted code holds as they are (every other one is
+#: escaped): no quote, backslash, ``?`` (trigraphs), ``%`` (printf) nor anything outside ASCII.
+_LITERAL = frozenset(string.ascii_letters + string.digits + " _.-")
+
+
+def c_string(text):
+    """A C string literal of the exact UTF-8 bytes of ``text``.
+
+    Parameters
+    ----------
+    text : str
+        Any text, e.g. a URDF ``<joint name>`` (lone surrogates are written as their escapes).
+
+    Returns
+    -------
+    str
+        ``"..."``: letters, digits, space, ``_ . -`` as they are, every other byte as a
+        three-digit octal escape (``\\ooo``, which never takes a following digit into it),
+        so that distinct names give distinct literals and none can end the literal.
+
+    Examples
+    --------
+    >>> print(c_string("a b"), c_string("a+b"), c_string('j"1'))
+    "a b" "a\\053b" "j\\0421"
+    """
+    raw = str(text).encode("utf-8", "backslashreplace")
+    return '"' + "".join(chr(b) if chr(b) in _LITERAL else f"\\{b:03o}" for b in raw) + '"'
+
+
+def python_string(text):
+    """A Python string literal of ``text`` exactly, in ASCII.
+
+    Parameters
+    ----------
+    text : str
+        Any text.
+
+    Returns
+    -------
+    str
+        ``"..."``: letters, digits, space, ``_ . -`` as they are, every other character as
+        ``\\xhh``, ``\\uhhhh`` or ``\\Uhhhhhhhh``; ``eval`` of it gives ``text`` back.
+
+    Examples
+    --------
+    >>> print(python_string("a+b"), python_string("\\u202e"))
+    "a\\x2bb" "\\u202e"
+    """
+    def escape(ch):
+        code = ord(ch)
+        return (f"\\x{code:02x}" if code < 0x100 else f"\\u{code:04x}" if code < 0x10000
+                else f"\\U{code:08x}")
+    return '"' + "".join(ch if ch in _LITERAL else escape(ch) for ch in str(text)) + '"'
+
+
+def include_guard(prefix, stem):
+    """The include guard of a C header: the prefix and stem in capitals, and a short hash of
+    the exact prefix, so that prefixes differing only in case (``arm_``, ``ARM_``) give
+    headers that can be included together.
+
+    Parameters
+    ----------
+    prefix : str
+        A C identifier (:func:`check_prefix`).
+    stem : str
+        The file's stem, e.g. ``simplified_model``.
+
+    Returns
+    -------
+    str
+        E.g. ``ARM_SIMPLIFIED_MODEL_H_1A2B3C4D``: the first 8 hexadecimal digits of the
+        SHA-256 of ``prefix + "/" + stem``.
+    """
+    digest = hashlib.sha256(f"{prefix}/{stem}".encode()).hexdigest()[:8].upper()
+    return re.sub(r"[^A-Za-z0-9_]", "_", f"{prefix}{stem}_h".upper()) + f"_{digest}"
 
 
 def c_prefix(name):
