@@ -185,7 +185,8 @@ class IdentificationResult:
         ``notes`` states).
     offsets : ndarray, shape (n,)
         The identified constant torque offsets [N m or N]: not part of the robot-file format,
-        added to the robot's torque by :meth:`torque` and stored here and in the dataset.
+        added to the identified robot's torque in every prediction, and stored here and in the
+        dataset.
     parameters : ParameterTable
     condition_number : float
         Of the column-scaled, weighted regressor.

@@ -10,7 +10,8 @@ claim fails, with one line naming the key:
   own limits (a revolute joint without limits, or with more than a turn, has [-pi, pi]; a
   limit the robot does not give is any finite positive number);
 - ``guarantee.scale_state``, ``guarantee.scale``: every state where s_i was found lies in the
-  region, and |tau_i| there, recomputed with the robot's full model
+  region, and |tau_i| there, recomputed with the robot's rigid links (drives' armature and
+  friction left out, as s_i is defined)
   (:func:`gd_analyze.core.dynamics.dalembert.gd_terms`), equals s_i to
   :data:`SCALE_RTOL` of s_i, plus the round-off of the arm's largest s_i
   (:data:`~gd_analyze.core.selection.guarantee.ROUND_OFF_EPS` machine epsilons), or s_i is
@@ -31,6 +32,7 @@ from __future__ import annotations
 import numpy as np
 
 from ..core.dynamics.dalembert import gd_terms
+from ..core.model.drives import rigid_links
 from ..core.selection.certify import prove_dropped
 from ..core.selection.guarantee import ROUND_OFF_EPS
 from ..core.selection.region import Region
@@ -277,8 +279,8 @@ def _scale_reached(robot, g, region, torque_floor, path):
     if not inside:
         raise InputError("a state where s_i was found lies outside the guarantee's region",
                          path, column="guarantee.scale_state")
-    with np.errstate(all="ignore"):
-        tau = gd_terms(robot, q, qd).tau(qdd)
+    with np.errstate(all="ignore"):      # s_i is the rigid links' (the base regressor's) torque
+        tau = gd_terms(rigid_links(robot), q, qd).tau(qdd)
     reached = np.abs(tau[np.arange(n), np.arange(n)])
     scale = np.asarray(g.scale, float)
     # round-off of the arm's largest scale allowed, as every check of a bound allows it
@@ -289,4 +291,4 @@ def _scale_reached(robot, g, region, torque_floor, path):
         j = int(np.argmax(~ok))
         raise InputError(f"is not |tau_i| at its stored scale_state (joint {j + 1}: "
                          f"{scale[j]:.6g} stated, {reached[j]:.6g} recomputed with the robot's "
-                         "full model)", path, column="guarantee.scale")
+                         "rigid links)", path, column="guarantee.scale")

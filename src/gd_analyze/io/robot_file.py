@@ -1,8 +1,8 @@
 """Writing a robot file: a :class:`~gd_analyze.core.model.robot.Robot` as TOML text.
 
 The layout is the robot-file format :func:`gd_analyze.io.robots.load_robot` reads
-(:meth:`Robot.to_dict`), so the main job, ``plan`` and the API accept the file as it is. Every
-number is written with ``repr`` (the shortest text that reads back as the same float); every
+(:meth:`gd_analyze.core.model.robot.Robot.to_dict`), so the main job, ``plan`` and the API
+accept the file as it is. Every number is written with ``repr`` (the shortest text that reads back as the same float); every
 string as a TOML basic string with its non-ASCII and control characters escaped, so that no
 name from an input file can break the file. Limits that are not given (NaN) or infinite
 position ranges are left out (the loader's defaults are the same).

@@ -132,10 +132,10 @@ def attr(ds, key, default="\u2014", *, parens=True, bools=False, sci_outside=Non
     if isinstance(value, (np.generic, float, int)) and (
             bools or not isinstance(value, (bool, np.bool_))):
         return fmt(value, 6, sci_outside)
-    from .markup import clean
+    from .markup import clean, powers
 
     text = clean(str(value))            # no sub/superscript marks from a file's text
-    return text if text else default
+    return powers(text) if text else default      # unit powers (s^-1) as superscripts
 
 
 def thresholds(ds):

@@ -29,7 +29,8 @@ import re
 import unicodedata
 
 __all__ = ["SUB", "SUP", "CODE", "END", "sub", "sup", "code", "element", "tau", "html",
-           "unicode", "spans", "plain", "clean", "visible", "label", "scope", "TRAN", "ROT"]
+           "unicode", "spans", "plain", "clean", "visible", "label", "scope", "powers", "TRAN",
+           "ROT"]
 
 #: Start of a subscript, of a superscript, end of either, start of code (Unicode private use
 #: area).
@@ -113,6 +114,28 @@ def scope(statement):
     True
     """
     return re.sub(r"\bs_i\b", sub("i").join(("s", "")), statement)
+
+
+def powers(text):
+    """Unit powers written with a caret (``s^-1``, ``deg/s^2``) as superscripts, for the
+    reports; nothing else changes.
+
+    Parameters
+    ----------
+    text : str
+        Plain text (already cleaned of markup when it came from a file).
+
+    Returns
+    -------
+    str
+
+    Examples
+    --------
+    >>> powers("2 s^-1 x qd max [deg/s^2]") == ("2 s" + sup("\u22121") + " x qd max [deg/s"
+    ...                                          + sup("2") + "]")
+    True
+    """
+    return re.sub(r"\^(-?\d+)", lambda m: sup(m.group(1).replace("-", "\u2212")), text)
 
 
 def element(symbol, index, part=None):

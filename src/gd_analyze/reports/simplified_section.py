@@ -24,6 +24,7 @@ from .common import (
     units_said_once,
 )
 from .markup import element as _el
+from .markup import powers
 from .markup import scope as scope_markup
 from .markup import sub as _sub
 
@@ -315,7 +316,7 @@ def region_table(ds):
         text += (f" This trajectory leaves the region: {r['coverage']}. "
                  + ("The region's guarantee holds in the region, not on this trajectory: "
                     "it does not cover it." if _kind(ds) == "region" else ""))
-    return tab, text
+    return tab, powers(text)               # s^-1, deg/s^2 as superscripts
 
 
 def _recursive_text(ds, eps, floor):

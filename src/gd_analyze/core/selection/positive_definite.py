@@ -285,16 +285,6 @@ def _definite(A):
     return ok
 
 
-def _restored(model, k):
-    """The recursive model with base parameter k kept, all its parts (bound not updated)."""
-    rec = model.recursive
-    dropped = np.array(rec.dropped, bool)
-    dropped[k] = False
-    rec = dataclasses.replace(rec, dropped=dropped)
-    return dataclasses.replace(model, recursive=rec, program_cache=None, functions_cache=None,
-                               choice_cache=None, cost={})
-
-
 def _box(model, q):
     """The box D_s is proved over: the region's, else the trajectory's bounding box."""
     g = model.guarantee
@@ -372,8 +362,9 @@ def with_inertia_check(model, q=None, max_boxes=MAX_BOXES, samples=SAMPLES, seed
     SimplifiedModel
         With ``inertia_check``: ``where`` (``"region"`` or ``"trajectory"``), ``proved``,
         ``lower_bound`` [kg m^2], ``ratio``, ``d_upper``, ``floor``, ``boxes``,
-        ``samples``, ``sampled_min_eigenvalue``, ``restored`` (base parameters restored whole
-        for the proof), ``why``, ``unit``, ``method`` and ``statement``. An explicit model
+        ``samples``, ``sampled_min_eigenvalue``, ``restored`` (base parameters whose inertial
+        part, the only one in D_s, is restored for the proof), ``why``, ``unit``, ``method``
+        and ``statement``. An explicit model
         that drops terms is not proved (its dropped terms are not parameters): it is
         checked at the trajectory's positions only, and says so. A model with no region and
         no positions is returned as it is.
@@ -418,13 +409,13 @@ def with_inertia_check(model, q=None, max_boxes=MAX_BOXES, samples=SAMPLES, seed
         for k in np.argsort(-inertial, kind="stable"):
             if inertial[k] < 0:
                 break
-            trial[k] = False
+            trial[k, 0] = False             # its inertial part: the only one in D_s
             restored.append(int(k))
             if candidate(trial):
                 break
         for k in list(restored[:-1]):               # then drop again what is not needed
             again = trial.copy()
-            again[k] = dropped[k]
+            again[k, 0] = dropped[k, 0]
             if candidate(again):
                 trial, restored = again, [j for j in restored if j != k]
         if restored:
