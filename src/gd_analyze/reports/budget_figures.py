@@ -382,6 +382,35 @@ def cost_points(ds):
     return points
 
 
+def _place_numbers(fig, ax, numbers):
+    """Each point's number beside it, at the first of eight places around the point whose box
+    meets no number placed before (the axes' limits fixed first).
+
+    Parameters
+    ----------
+    fig : matplotlib.figure.Figure
+    ax : matplotlib.axes.Axes
+    numbers : list of (str, float, float)
+        The text and the point's x and y in data coordinates.
+    """
+    from matplotlib.backends.backend_agg import RendererAgg
+
+    width, height = fig.bbox.size       # text extents measured as the Agg renderer draws them
+    renderer = RendererAgg(int(width), int(height), fig.dpi)
+    places = ((5, 3), (-5, 3), (5, -11), (-5, -11), (5, 14), (-5, 14), (5, -22), (-5, -22))
+    placed = []
+    for text, x, y in numbers:
+        for dx, dy in places:
+            note = ax.annotate(text, (x, y), xytext=(dx, dy), textcoords="offset points",
+                               fontsize=7, color="0.15", va="bottom",
+                               ha="left" if dx > 0 else "right")
+            box = note.get_window_extent(renderer).expanded(1.15, 1.1)
+            if not any(box.overlaps(other) for other in placed) or (dx, dy) == places[-1]:
+                placed.append(box)
+                break
+            note.remove()
+
+
 def fig_cost_ladder(ds, width=_PAGE):
     """Operations per set point against the worst error of each model of the dataset.
 
@@ -424,10 +453,7 @@ def fig_cost_ladder(ds, width=_PAGE):
     # (linear below _COST_LINEAR %, where 0 sits)
     ax.set_yscale("symlog", linthresh=_COST_LINEAR, linscale=0.5)
     top = max([100 * p[2] for p in points] + [10 * _COST_LINEAR]) * 2.5
-    ty = ax.yaxis.get_transform().transform
-    span = float(ty(np.array([top]))[0] - ty(np.array([0.0]))[0])
     points = sorted(points, key=lambda p: (p[1], -p[2]))
-    lift, last = 0, None
     for k, (label, ops, err, kind) in enumerate(points):
         marker, colour = _COST_STYLE[kind]
         filled = kind not in ("bound", "akb")
@@ -436,14 +462,7 @@ def fig_cost_ladder(ds, width=_PAGE):
                 markerfacecolor=colour if filled else "white", markeredgewidth=0.9,
                 label=names[kind] if kind not in seen else None, zorder=3)
         seen.add(kind)
-        y = float(ty(np.array([100 * err]))[0])
-        near = last is not None and ops < 1.15 * last[0] and abs(y - last[1]) < 0.1 * span
-        lift = lift + 1 if near else 0          # close points: numbers around them in turn
-        last = (ops, y)
-        dx, dy = ((5, 3), (-5, 3), (5, -11), (-5, -11))[lift % 4]
-        ax.annotate(str(k + 1), (ops, 100 * err), xytext=(dx, dy + 12 * (lift // 4)),
-                    textcoords="offset points", fontsize=7, color="0.15", va="bottom",
-                    ha="left" if dx > 0 else "right")
+    numbers = [(str(k + 1), ops, 100 * err) for k, (_, ops, err, _) in enumerate(points)]
     key = "; ".join(f"{k + 1}: " + p[0].replace("EPS=", "\u03b5\u00a0=\u00a0")
                     for k, p in enumerate(points))
     fig.text((0.1 if column else 0.7) / width, 0.05 / H, textwrap.fill(key, int((width - 0.3) / 0.058)), fontsize=7,
@@ -462,6 +481,7 @@ def fig_cost_ladder(ds, width=_PAGE):
         [0.0] + [_COST_LINEAR * 10.0 ** k for k in range(8) if _COST_LINEAR * 10.0 ** k < top]))
     ax.yaxis.set_major_formatter(FuncFormatter(lambda v, pos=None: f"{v:g}"))
     ax.yaxis.set_minor_locator(FixedLocator([]))
+    _place_numbers(fig, ax, numbers)
     ax.set_xlabel("operations per set point" + ("" if column else
                                                  " (multiplications + additions)"),
                   labelpad=1.0)
