@@ -216,3 +216,15 @@ def test_a_dataset_without_the_required_variables_is_refused(tmp_path):
     with pytest.raises(InputError, match="lacks tau_predicted"):
         write_identify_report(root, {"x": bad}, tmp_path)
     assert not list(tmp_path.iterdir())
+
+
+def test_a_prismatic_joints_torque_is_in_newtons():
+    """A prismatic joint's panel says N, a revolute one's N m (the TIAGo's torso said N m)."""
+    rng = np.random.default_rng(6)
+    joints = ("torso", "arm")
+    root = _root(rng, joints).assign(prismatic=("joint", np.array([True, False])))
+    groups = {"run": _recording(rng, 0.0, 200, "validate", "run", joints)}
+    figs = identify_figures(root, groups)
+    for key, word in (("torque_0", "\u03c4"), ("residual_0", "\u03c4 residual")):
+        labels = [ax.get_ylabel() for ax in figs[key].axes if ax.get_visible()]
+        assert labels[:2] == [f"{word} [N]", f"{word} [N m]"], labels

@@ -323,6 +323,7 @@ def identification_tree(result):
          "prior": (par, p.prior), "identifiable": (par, np.asarray(p.identifiable, bool)),
          "kind": (par, np.array(p.kinds, dtype=object).astype(str)),
          "noise_std": (("joint",), np.asarray(result.noise_std, float)),
+         "prismatic": (("joint",), np.asarray(result.prior.prismatic, bool)),
          "offset": (("joint",), np.asarray(result.offsets, float)),
          "standard": (("link", "standard_parameter"), result.standard),
          "standard_prior": (("link", "standard_parameter"), result.standard_prior),

@@ -135,8 +135,10 @@ def stride(m: int) -> int:
     return max(1, int(math.ceil(m / MAX_POINTS)))
 
 
-def _panels(t, curves, joints, ylabel, width):
-    """One panel per joint, two a row, the curves (name -> (N, n)) over t, a key below."""
+def _panels(t, curves, joints, ylabel, width, prismatic=None):
+    """One panel per joint, two a row, the curves (name -> (N, n)) over t, a key below; each
+    panel's unit N m (revolute) or N (prismatic), said on the left panel of a row and on any
+    panel whose unit differs from it."""
     from matplotlib.figure import Figure
     from matplotlib.lines import Line2D
 
@@ -165,8 +167,11 @@ def _panels(t, curves, joints, ylabel, width):
         lo, hi = ax.get_ylim()
         set_ticks(ax.yaxis, lo, hi, 4, labels=False)
         yaxes.append(ax.yaxis)
-        if j % cols == 0:
-            ax.set_ylabel(ylabel)
+        unit = "N" if prismatic is not None and prismatic[j] else "N m"
+        left = j - j % cols
+        left_unit = "N" if prismatic is not None and prismatic[left] else "N m"
+        if j % cols == 0 or unit != left_unit:
+            ax.set_ylabel(f"{ylabel} [{unit}]")
         if j >= n - cols:
             ax.set_xlabel("t [s]")
             ax.tick_params(labelbottom=True)
@@ -205,10 +210,13 @@ def identify_figures(root, groups: dict, width: float = PAGE_WIDTH) -> dict:
             n = int(ds["tau_measured"].shape[1])
             joints = _joint_names(root, ds, n)
             curves = {v: ds[v].values for v in MODEL_STYLES if v in ds.variables}
-            out[figure_key("torque", k)] = _panels(t, curves, joints, "\u03c4 [N m]", width)
+            prismatic = (np.asarray(root["prismatic"].values, bool)
+                         if "prismatic" in root.variables else None)
+            out[figure_key("torque", k)] = _panels(t, curves, joints, "\u03c4", width,
+                                                   prismatic)
             residual = ds["tau_measured"].values - ds["tau_predicted"].values
             out[figure_key("residual", k)] = _panels(
-                t, {"residual": residual}, joints, "\u03c4 residual [N m]", width)
+                t, {"residual": residual}, joints, "\u03c4 residual", width, prismatic)
     return out
 
 
