@@ -7,7 +7,7 @@ code, so it is kept in the derivation cache (:mod:`.cache_files`) as
 ``region-<sha>.npz``, named by the SHA-256 of that key, as :mod:`.explicit_cache` keeps the
 explicit model.
 
-The cache is not trusted, and a bound is never read from it (issue 40). An entry stores only
+The cache is not trusted, and a bound is never read from it. An entry stores only
 what lets the certification be recomputed: the scale s_i and the states where it was found (the
 local maximisation over the region, which is most of the sampling's time), the number of boxes
 and the time it took. It is used only if it is a regular file whose stored key equals the key
@@ -51,7 +51,7 @@ _CERTIFYING = ("core/selection/certify.py", "core/selection/region.py",
                "core/dynamics/intervals.py", "core/symbolic/regressor_kernels.py",
                "core/symbolic/regressor_compiled.py", "core/symbolic/base_parameters.py")
 _FIELDS = ("scale", "scale_state", "boxes", "seconds")
-#: Layout of an entry (2: no bounds stored, issue 40).
+#: Layout of an entry (2: no bounds stored).
 _FORMAT = 2
 #: Slack of the self-check's comparisons, relative to s_i [1].
 SELF_CHECK_TOLERANCE = 1e-9

@@ -507,6 +507,6 @@ MODEL_SCHEMA = Obj({
     "costs": Field(MapOf(COST_SCHEMA), required=False),
     # the key of issue 29: where the bound holds (a region of states, or one trajectory)
     "guarantee": Field(_GUARANTEE_SCHEMA, required=False),
-    # the key of issue 30: D_s positive definite where the bound holds (proved, issue 40)
+    # the key of issue 30: D_s positive definite where the bound holds (proved)
     "inertia_check": Field(_INERTIA_CHECK_SCHEMA, required=False),
 })

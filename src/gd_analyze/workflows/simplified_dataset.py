@@ -205,7 +205,7 @@ def coefficient_structure(terms):
 
 
 def inertia_check_attrs(check):
-    """The stored figures of the proof that D_s is positive definite (issue 40 item 1).
+    """The stored figures of the proof that D_s is positive definite.
 
     Parameters
     ----------

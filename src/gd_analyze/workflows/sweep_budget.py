@@ -325,7 +325,7 @@ def region_sweep_model(robot, trajectories, region, tolerance, torque_floor=0.0,
             reference = full_torque(robot, terms)
     model = dataclasses.replace(model, costs=costs,
                                 full_cost=dict(costs.get("explicit, full", model.full_cost)))
-    # D_s proved positive definite over the region (issue 40), parameters restored where it
+    # D_s proved positive definite over the region, parameters restored where it
     # is not (bound and sampled error derived again); an explicit model not proved is not
     # deployed under the region guarantee
     rebuild = restored_rebuild(None, None, None, region=region)
