@@ -432,12 +432,12 @@ def restored_rebuild(q, qd, qdd, region=None, sample_region=None, region_missing
     counted whole where all its parts are dropped and that fits, else pair by pair).
     """
     def rebuild(model, dropped):
-        from ..core.symbolic.pruning import dropped_peaks, prune, prune_bounds
+        from ..core.symbolic.pruning import dropped_peaks, prune, prune_bounds, settle_restored
         from ..core.symbolic.recursive_model import RecursiveModel
 
         robot, tol, floor = model.robot, model.tolerance, model.torque_floor
         base = model.recursive.base(robot) if contributions is None else contributions[0]
-        dropped = np.asarray(dropped, bool)
+        dropped = settle_restored(robot, base, model.recursive.dropped, dropped)
 
         def chosen(select):
             for whole in (dropped.all(axis=1), np.zeros(dropped.shape[0], bool)):

@@ -244,14 +244,61 @@ def budget_sweep_model(robot, trajectories, sweep_ds, tolerance=DEFAULT_TOLERANC
             reference = full_torque(robot, terms)
     model = dataclasses.replace(model, costs=costs,
                                 full_cost=dict(costs.get("explicit, full", model.full_cost)))
-    # D_s positive definite on the swept positions (issue 30), before the model is measured
-    model = with_inertia_check(model, np.concatenate([t.q for t in trajectories]))
+    # D_s positive definite on the swept positions, before the model is measured; a restore
+    # derives the bound on each trajectory again for the pairs still dropped
+    model = with_inertia_check(model, np.concatenate([t.q for t in trajectories]),
+                               rebuild=_sweep_rebuild(peak, whole_peak, scales, tolerance))
+    if bound is not None and model.recursive is not None:
+        bound = _trajectory_bounds(peak, whole_peak, model.recursive.dropped).sum(axis=1)
+        with np.errstate(divide="ignore", invalid="ignore"):
+            relative = np.where(bound > 0, bound / scales, 0.0).max(axis=0)
     validation = sweep_validation(model, trajectories, scales, relative, held_out=held_out,
                                   reference=reference, bound=bound)
     return sweep_choices(dataclasses.replace(
         model, validation=validation, guarantee=sweep_guarantee(
             robot, model, trajectories, scales, relative, tolerance, region, missing)),
         trajectories)
+
+
+def _trajectory_bounds(peak, whole_peak, dropped):
+    """The bound on each trajectory, split by part (K, 4, n), of the pairs ``dropped``, a
+    parameter with all its parts dropped counted whole."""
+    from ..core.symbolic.pruning import dropped_peaks
+
+    dropped = np.asarray(dropped, bool)
+    return dropped_peaks(peak, whole_peak, dropped, dropped.all(axis=1))
+
+
+def _sweep_rebuild(peak, whole_peak, scales, tolerance):
+    """A ``rebuild`` for :func:`gd_analyze.core.selection.positive_definite.with_inertia_check`
+    on a trajectory sweep: the recursive model with the given pairs dropped (the restored
+    parameters kept whole where their remaining parts would break the budget on a
+    trajectory, or cost more), its bounds on each trajectory derived again."""
+    from ..core.symbolic.pruning import settle_restored
+    from .deploy import recursive_simplified
+
+    def rebuild(model, dropped):
+        robot, rec = model.robot, model.recursive
+        base = rec.base(robot)
+        dropped = settle_restored(robot, base, rec.dropped, dropped)
+        each = _trajectory_bounds(peak, whole_peak, dropped)
+        if np.any(each.sum(axis=1) > tolerance * scales * (1 + 1e-12)):
+            dropped = dropped.copy()
+            dropped[np.asarray(rec.dropped, bool)[:, 0] & ~dropped[:, 0]] = False
+            each = _trajectory_bounds(peak, whole_peak, dropped)
+        new_rec = dataclasses.replace(rec, dropped=dropped,
+                                      bound=each.sum(axis=1).max(axis=0),
+                                      bound_by_part=each.max(axis=0))
+        new = recursive_simplified(robot, new_rec, base, tolerance=model.tolerance,
+                                   torque_floor=model.torque_floor,
+                                   trajectory_sha256=model.trajectory_sha256,
+                                   provenance=model.provenance)
+        return dataclasses.replace(
+            new, dominance_threshold=model.dominance_threshold,
+            negligible_threshold=model.negligible_threshold,
+            costs={**model.costs, "recursive, budget": dict(new.cost)},
+            full_cost=dict(model.full_cost))
+    return rebuild
 
 
 def region_sweep_model(robot, trajectories, region, tolerance, torque_floor=0.0, held_out=(),

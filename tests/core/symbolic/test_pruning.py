@@ -225,3 +225,23 @@ def test_a_joint_without_torque_on_a_trajectory_keeps_what_moves_it():
         prune_on_peaks(arm, base, scale[0], peak, whole, 0.01)
     with pytest.raises(ValueError, match="eps"):
         prune_on_peaks(arm, base, scale, peak, whole, float("nan"))
+
+
+def test_settled_restore_is_a_subset_and_never_dearer():
+    """After a restore of inertial parts, the pairs kept dropped are a subset of those asked
+    for, and their program counts no more than the one asked for, nor than the exact one."""
+    from gd_analyze.core.symbolic.pruning import pruned_choice, settle_restored
+
+    arm, base, (q, qd, qdd), _, exact_cost = case("puma560")
+    before = prune(arm, base, q, qd, qdd, 0.05).dropped
+    rows = np.nonzero(before[:, 0])[0]
+    assert rows.size                                       # something inertial to restore
+    asked = before.copy()
+    asked[rows[:2], 0] = False                             # restore two inertial parts
+    settled = settle_restored(arm, base, before, asked)
+    assert not (settled & ~asked).any()                    # a subset of the pairs asked for
+    total = _total(pruned_choice(arm, base, settled)[0].cost())
+    assert total <= _total(pruned_choice(arm, base, asked)[0].cost())
+    assert total <= _total(exact_cost)
+    with pytest.raises(ValueError):
+        settle_restored(arm, base, before, asked[:-1])

@@ -23,6 +23,7 @@ import numpy as np
 
 from ..dynamics.dalembert import compiled_engine
 from ..symbolic.base_parameters import base_parameters
+from ..symbolic.pruning import settle_restored
 from .inertia_proof import (  # noqa: F401 (re-exported)
     MAX_BOXES,
     SAMPLES,
@@ -427,7 +428,9 @@ def with_inertia_check(model, q=None, max_boxes=MAX_BOXES, samples=SAMPLES, seed
 
 
 def _default_rebuild(model, dropped):
-    rec = dataclasses.replace(model.recursive, dropped=np.asarray(dropped, bool))
+    robot, rec = model.robot, model.recursive
+    dropped = settle_restored(robot, rec.base(robot), rec.dropped, dropped)
+    rec = dataclasses.replace(rec, dropped=dropped)
     model = dataclasses.replace(model, recursive=rec, program_cache=None, functions_cache=None,
                                 choice_cache=None, cost={})
     cost = dict(model.program().cost())

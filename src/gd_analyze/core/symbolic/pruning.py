@@ -524,6 +524,55 @@ def pruned_choice(robot, base, dropped, cse=True, exact=None, forms=None):
     return exact, np.zeros_like(dropped)
 
 
+def settle_restored(robot, base, before, dropped, exact=None):
+    """The pairs to drop once some parameters' inertial parts are restored: none dearer.
+
+    Restoring a parameter's inertial part, and keeping its other parts dropped, can make the
+    program cost more than keeping the whole parameter, or more than the exact program. The
+    pairs returned are a subset of ``dropped`` (so the bound of ``dropped`` still bounds them)
+    whose program costs no more than that of ``dropped``.
+
+    Parameters
+    ----------
+    robot : Robot
+    base : BaseParameters
+        Its base parameters (b of them).
+    before : array_like of bool, shape (b, 3)
+        The pairs dropped before the restore.
+    dropped : array_like of bool, shape (b, 3)
+        The pairs dropped after it (a subset of ``before``).
+    exact : Program, optional
+        The exact recursive program, when built already.
+
+    Returns
+    -------
+    ndarray of bool, shape (b, 3)
+        ``dropped`` with the restored parameters' other parts kept too where that costs no
+        more; all False where the exact program costs no more than the pruned one.
+
+    Raises
+    ------
+    ValueError
+        If the shapes are not (b, 3).
+    """
+    before, dropped = np.asarray(before, bool), np.array(dropped, bool)
+    if before.shape != dropped.shape:
+        raise ValueError(f"before and dropped differ in shape: {before.shape}, {dropped.shape}")
+    if exact is None:
+        exact = exact_program(robot, base.values)
+    restored = before[:, 0] & ~dropped[:, 0]
+    program, left = pruned_choice(robot, base, dropped, exact=exact)
+    if not left.any():
+        return left
+    if restored.any():
+        whole = dropped.copy()
+        whole[restored] = False
+        other, other_left = pruned_choice(robot, base, whole, exact=exact)
+        if _total(other) <= _total(program):
+            return other_left
+    return left
+
+
 def _total(program):
     c = program.cost()
     return c["multiplications"] + c["additions"]
