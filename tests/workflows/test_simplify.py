@@ -142,6 +142,33 @@ def test_sweep_model_is_guaranteed_on_every_swept_trajectory():
     assert len(model.validation["held_out"]["peak_abs_error"]) == 6
 
 
+def test_sweep_errors_gathered_in_chunks_are_each_trajectorys(monkeypatch):
+    """The per-trajectory errors of a sweep, computed on all states at once in chunks that
+    cut through trajectories, equal the errors against Pinocchio's rnea on each alone."""
+    import gd_analyze.workflows.simplify as simplify
+
+    robot = load_robot("puma560")
+    trajs = random_trajectories(robot, 5, seed=11)
+    model = sweep_model(robot, trajs, tolerance=0.05)[0]
+    real = simplify._per_trajectory_errors
+    monkeypatch.setattr(simplify, "_per_trajectory_errors",
+                        lambda m, t, r=None: real(m, t, r, chunk=7))      # cuts trajectories
+    v = simplify.sweep_validation(model, trajs, np.ones((5, robot.n)), np.zeros(robot.n))
+    per = v["per_trajectory"]
+    for k, t in enumerate(trajs):
+        ref = _rnea(robot, t.q, t.qd, t.qdd)
+        err = model.torque(t.q, t.qd, t.qdd) - ref
+        tol = 1e-9 * np.abs(ref).max()
+        np.testing.assert_allclose(per["peak_abs_error"][k], np.abs(err).max(axis=0), atol=tol)
+        np.testing.assert_allclose(per["rms_error"][k], np.sqrt((err ** 2).mean(axis=0)),
+                                   atol=tol)
+        np.testing.assert_allclose(per["peak_tau"][k], np.abs(ref).max(axis=0), atol=tol)
+    every = np.concatenate([model.torque(t.q, t.qd, t.qdd) - _rnea(robot, t.q, t.qd, t.qdd)
+                            for t in trajs])
+    np.testing.assert_allclose(v["peak_abs_error"], np.abs(every).max(axis=0),
+                               atol=1e-9 * np.abs(every).max())
+
+
 def test_report_section_reads_the_stored_dataset(tmp_path, capsys):
     import xarray as xr
 

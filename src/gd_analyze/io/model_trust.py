@@ -29,6 +29,9 @@ claim fails, with one line naming the key:
 
 from __future__ import annotations
 
+import hashlib
+import json
+
 import numpy as np
 
 from ..core.dynamics.dalembert import gd_terms
@@ -120,6 +123,10 @@ def check_guarantee(model, path="<model>"):
     (:func:`gd_analyze.workflows.evaluate.coverage`, on the very file by SHA-256).
     """
     g = model.guarantee
+    key = _claim_key(model) if g is not None and g.kind == "region" and \
+        model.recursive is not None else None
+    if key in _PROVED_CLAIMS:
+        return                              # the same claim, checked before in this process
     region = check_region(model.robot, g, model.torque_floor, path)
     if region is None:
         return
@@ -128,6 +135,7 @@ def check_guarantee(model, path="<model>"):
     if model.recursive is not None and np.isfinite(bound).all() and prove_dropped(
             model.robot, base_parameters(model.robot), region, model.recursive.dropped,
             bound + BOUND_RTOL * np.abs(scale), max_boxes=QUICK_BOXES):
+        _PROVED_CLAIMS.add(key)
         return                              # proved on the dropped pairs' own boxes
     reproved = reproved_bound(model, region, path)
     short = ~(bound >= reproved - BOUND_RTOL * np.abs(scale))      # NaN never passes
@@ -135,6 +143,26 @@ def check_guarantee(model, path="<model>"):
         j = int(np.argmax(np.where(short, reproved - bound, -np.inf)))
         raise InputError(f"is below the bound re-proved for its dropped terms (joint {j + 1}: "
                          f"{bound[j]:.4g} < {reproved[j]:.4g})", path, column="guarantee.bound")
+    if key is not None:
+        _PROVED_CLAIMS.add(key)
+
+
+#: Digests of the claims (robot, region, dropped pairs, bound, scale) checked in this process
+#: by :func:`check_guarantee`: the same claim, checked again for each trajectory of a sweep,
+#: is not proved again. A digest of the whole claim: any other claim is proved afresh.
+_PROVED_CLAIMS: set = set()
+
+
+def _claim_key(model):
+    """SHA-256 of everything a recursive model's region claim depends on: its robot, its
+    guarantee (region, bound, scale and the states where s_i is reached), torque floor,
+    dropped pairs and base parameter values."""
+    text = json.dumps([model.robot.to_dict(), model.guarantee.to_dict(),
+                       float(model.torque_floor),
+                       np.asarray(model.recursive.dropped, bool).tolist(),
+                       np.asarray(model.recursive.beta, float).tolist()],
+                      sort_keys=True, default=repr)
+    return hashlib.sha256(text.encode()).hexdigest()
 
 
 def reproved_bound(model, region, path="<model>"):

@@ -542,18 +542,17 @@ def sweep_validation(model, trajectories, scales, relative_bound, held_out=(), r
     scales = np.asarray(scales, float)
     relative_bound = np.asarray(relative_bound, float)
     bound = relative_bound * scales if bound is None else np.asarray(bound, float)
-    per = [validate(model, [(t.q, t.qd, t.qdd)], reference=reference) for t in trajectories]
-    peak = np.array([v["peak_abs_error"] for v in per])
+    peak, sum_sq, peak_tau, counts = _per_trajectory_errors(model, trajectories, reference)
     with np.errstate(divide="ignore", invalid="ignore"):
         scaled = np.where(peak > 0, peak / np.where(scales > 0, scales, 0.0), 0.0)
-    validation = validate(model, [(t.q, t.qd, t.qdd) for t in trajectories],
-                          reference=reference)
+    validation = _accumulated(peak.max(axis=0, initial=0.0), sum_sq.sum(axis=0),
+                              peak_tau.max(axis=0, initial=0.0), int(counts.sum()))
     validation.update({
         "relative_bound": [float(v) for v in relative_bound],
-        "worst_scaled_error": float(np.nan_to_num(scaled, nan=np.inf).max()),
+        "worst_scaled_error": float(np.nan_to_num(scaled, nan=np.inf).max(initial=0.0)),
         "per_trajectory": {"peak_abs_error": peak.tolist(),
-                           "rms_error": [v["rms_error"] for v in per],
-                           "peak_tau": [v["peak_tau"] for v in per],
+                           "rms_error": np.sqrt(sum_sq / np.maximum(counts, 1)[:, None]).tolist(),
+                           "peak_tau": peak_tau.tolist(),
                            "scale": scales.tolist(), "bound": bound.tolist()},
         "trajectories": len(trajectories),
         "held_out": validate(model, [(t.q, t.qd, t.qdd) for t in held_out],
@@ -561,6 +560,44 @@ def sweep_validation(model, trajectories, scales, relative_bound, held_out=(), r
         "held_out_trajectories": len(held_out),
     })
     return validation
+
+
+def _per_trajectory_errors(model, trajectories, reference=None, chunk=65536):
+    """Per trajectory: peak |tau_s - tau|, the sum of its squares, peak |tau| (K, n) [N m,
+    N^2 m^2, N m] and the set points (K,), the states of all trajectories evaluated together
+    in chunks of ``chunk`` set points (the reference as :func:`validate`)."""
+    n = model.robot.n
+    K = len(trajectories)
+    peak, sum_sq, peak_tau = np.zeros((K, n)), np.zeros((K, n)), np.zeros((K, n))
+    counts = np.array([t.q.shape[0] for t in trajectories], int)
+    owner = np.repeat(np.arange(K), counts)
+    starts = np.concatenate([[0], np.cumsum(counts)])
+    total = int(starts[-1])
+    for a in range(0, total, chunk):
+        b = min(a + chunk, total)
+        first, last = int(owner[a]), int(owner[b - 1])
+        q, qd, qdd = (np.concatenate([getattr(t, name)[max(a - starts[k], 0):b - starts[k]]
+                                      for k, t in enumerate(trajectories[first:last + 1],
+                                                            start=first)])
+                      for name in ("q", "qd", "qdd"))
+        tau = gd_terms(model.robot, q, qd).tau(qdd) if reference is None \
+            else reference(q, qd, qdd)
+        tau = np.asarray(tau, float)
+        err = np.abs(np.asarray(model.torque(q, qd, qdd), float) - tau)
+        who = owner[a:b]
+        np.maximum.at(peak, who, err)
+        np.add.at(sum_sq, who, err ** 2)
+        np.maximum.at(peak_tau, who, np.abs(tau))
+    return peak, sum_sq, peak_tau, counts
+
+
+def _accumulated(peak, sum_sq, peak_tau, count):
+    """:meth:`TorqueErrorAccumulator.result` of figures gathered elsewhere."""
+    acc = TorqueErrorAccumulator(len(peak))
+    acc.peak, acc.sum_sq, acc.peak_tau, acc.count = (np.asarray(peak, float),
+                                                     np.asarray(sum_sq, float),
+                                                     np.asarray(peak_tau, float), count)
+    return acc.result()
 
 
 __all__ += ["sweep_model", "explicit_sweep_model", "sweep_validation", "trajectories_sha256"]
