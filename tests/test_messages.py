@@ -178,9 +178,11 @@ def test_sweep_says_where_the_floor_voids_the_guarantee():
 @pytest.mark.parametrize("guarantee", ["trajectory", "region"])
 def test_sweep_summary_never_claims_a_guarantee_that_does_not_hold(tmp_path, capsys, guarantee):
     csvs = [DATA / "puma560_trajectory.csv"]
+    # over the region, D_s's proof keeps the 0.01 model nearly exact: 0.05 lets errors grow
+    eps = 0.01 if guarantee == "trajectory" else 0.05
     code, out, err = _run(capsys, "sweep", "puma560", *csvs, "--torque-floor", "1",
                           "--held-out", "0", "--workers", "1", "--no-report", "-o",
-                          tmp_path / "sw", "--guarantee", guarantee)
+                          tmp_path / "sw", "--guarantee", guarantee, "--tolerance", str(eps))
     assert code == 0, err
     line = next(x for x in out.splitlines() if x.startswith("merged model"))
     import xarray as xr
@@ -188,7 +190,7 @@ def test_sweep_summary_never_claims_a_guarantee_that_does_not_hold(tmp_path, cap
     with xr.open_dataset(tmp_path / "sw" / "sweep.h5") as ds:
         err = ds["merged_tau_error_peak"]
         own = (err / ds["tau_peak"]).max("trajectory").values
-    assert own.max() > 0.01                   # the floor lets a small joint's error grow
+    assert own.max() > eps                    # the floor lets a small joint's error grow
     if guarantee == "trajectory":
         assert "relative to peak |tau_i| itself, where it is below 1 N m, not guaranteed" in line
         return
@@ -196,8 +198,8 @@ def test_sweep_summary_never_claims_a_guarantee_that_does_not_hold(tmp_path, cap
     scale = np.array(json.loads((tmp_path / "sw" / "merged_model.json").read_text())
                      ["guarantee"]["scale"])
     worst = float((err.values / scale).max())
-    assert f"{worst:.2e} of s_i over the joint-limit region (guaranteed <= 0.01)" in line
-    assert worst <= 0.01 and "peak |tau_i|" not in line
+    assert f"{worst:.2e} of s_i over the joint-limit region (guaranteed <= {eps:g})" in line
+    assert worst <= eps and "peak |tau_i|" not in line
 
 
 # --- evaluate checks the trajectory's provenance --------------------------------------------------
