@@ -15,8 +15,8 @@ not a skip.
 import ast
 import ctypes
 import dataclasses
-import platform
 import importlib.util
+import platform
 import re
 import shutil
 import subprocess
