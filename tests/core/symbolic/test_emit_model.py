@@ -290,8 +290,10 @@ def test_casadi_functions_equal_the_c_functions(built, prefix):
     assert sorted(fns) == sorted(["tau", "inertia", "velocity_terms", "gravity", "regressor"])
     assert all(isinstance(f, ca.Function) and f.name() == prefix + k for k, f in fns.items())
     args = {"q": q, "qd": qd, "qdd": qdd}
+    mapped = mod.batch_functions(STATES)
     for key, fn in fns.items():
-        batch = fn.map(STATES)
+        batch = mapped[key]
+        assert batch.name() == f"map{STATES}_{fn.name()}"
         value = np.asarray(batch(*(args[fn.name_in(i)].T for i in range(fn.n_in()))))
         rows = got[key].shape[1]                 # map: blocks of (rows, cols) side by side
         value = value.reshape(rows, STATES, -1).transpose(1, 0, 2).reshape(got[key].shape)

@@ -6,13 +6,18 @@ the printers of :mod:`.emit` from the same programs:
 
 - :func:`c_header` (``STEM.h``): include guard, ``extern "C"`` for C++, the constants
   ``PREFIX_N_JOINTS``, ``PREFIX_N_BASE_PARAMETERS``, ``PREFIX_JOINT_NAMES`` and the prototypes
-  ``void PREFIX<function>(const double *q, ..., double *out)``, arrays row-major, plus
-  ``extern const double PREFIX_base_parameters[]``;
-- :func:`c_source` (``STEM.c``): their definitions, including only math.h and the header;
+  ``void PREFIX<function>(const double *q, ..., double *out)``, arrays row-major, and
+  ``void PREFIX<function>_batch(long n, const double *q, ..., double *out)``, the same at n
+  states (row-major, state after state), plus ``extern const double PREFIX_base_parameters[]``;
+- :func:`c_source` (``STEM.c``): their definitions, including only math.h and the header; the
+  batch functions run the single-state program on blocks of :data:`BATCH_BLOCK` states in a
+  loop of unit stride that GCC vectorises at ``-O3`` (:data:`BATCH_COMPILE`), sin and cos
+  through glibc's libmvec (SIMD across states; Fu, Gonzalez & Lee's equations unchanged);
 - :func:`numpy_source` (``STEM.py``): the functions batched over N set points, importing only
   numpy;
 - :func:`casadi_source` (``STEM_casadi.py``): ``functions()`` returning a dict of
-  ``casadi.Function`` built from ``casadi.SX`` by the same programs, importing only casadi.
+  ``casadi.Function`` built from ``casadi.SX`` by the same programs, and
+  ``batch_functions(n_states)`` those mapped over states, importing only casadi.
 
 :data:`ARTEFACTS` is the one table of these files: what the main job and ``sweep`` write and
 what the reports list. Input text (robot name, file names) reaches them only as comment text
@@ -117,8 +122,10 @@ _LIBMVEC = [
     "#endif"]
 
 
-def _batch_body(spec, program, n, size):
+def _batch_body(spec, program, n, size, inputs):
     """The C lines of one batch loop: the single-state program on blocks of BATCH_BLOCK states.
+
+    ``inputs`` are the arguments the program uses (the others are cast to void).
 
     Each block's inputs are copied into arrays of one row per joint and one column per state,
     the program runs over the block's columns in a loop of
@@ -127,13 +134,13 @@ def _batch_body(spec, program, n, size):
     w = BATCH_BLOCK
     printer = Printer("c", "{name}_b[{i}][l]", "gd_v", "const double {name} = {expr};")
     lines = ["    long k, l, m, j;"]
-    lines += [f"    double {a}_b[{n}][{w}];" for a in spec.inputs]
-    lines += [f"    double {spec.output}_b[{size}][{w}];",
+    lines += [f"    double {a}_b[{n}][{w}];" for a in inputs]
+    lines += [f"    double {spec.output}_b[{max(size, 1)}][{w}];",
               f"    for (k = 0; k < n; k += {w}) {{",
               f"        m = n - k < {w} ? n - k : {w};",
               f"        for (j = 0; j < {n}; ++j)",
               "            for (l = 0; l < m; ++l) {"]
-    lines += [f"                {a}_b[j][l] = {a}[{n} * (k + l) + j];" for a in spec.inputs]
+    lines += [f"                {a}_b[j][l] = {a}[{n} * (k + l) + j];" for a in inputs]
     lines += ["            }", "        GD_BATCH_IVDEP", "        for (l = 0; l < m; ++l) {"]
     lines += printer.body(program, lambda j, o=spec.output: f"{o}_b[{j}][l]",
                           indent="            ")
@@ -186,7 +193,8 @@ def c_header(functions, header, prefix, stem):
     -------
     str
         C99 and C++ (``extern "C"``): constants, joint names, prototypes of the five functions
-        (arrays row-major, SI units) and ``extern const double PREFIXbase_parameters[]``.
+        and of their batch calls ``PREFIX<function>_batch(n, ...)`` (arrays row-major, SI
+        units; the comment gives the compile line of :data:`BATCH_COMPILE`) and ``extern const double PREFIXbase_parameters[]``.
 
     Raises
     ------
@@ -251,13 +259,15 @@ def c_source(functions, header, prefix, stem):
         program = functions.programs[spec.key]
         used = {s.name for e in [e for _, e in program.assignments] + list(program.outputs)
                 for s in e.free_symbols}
-        unused = [f"    (void){a};" for a in spec.inputs
-                  if not any(u.startswith(a) and u[len(a):].isdigit() for u in used)]
+        inputs = [a for a in spec.inputs
+                  if any(u.startswith(a) and u[len(a):].isdigit() for u in used)]
+        unused = [f"    (void){a};" for a in spec.inputs if a not in inputs]
         lines += ["", _signature(spec, prefix), "{"] + unused
         lines += C.body(program, lambda k, o=spec.output: f"{o}[{k}]")
         lines.append("}")
         lines += ["", _batch_signature(spec, prefix), "{"] + unused
-        lines += _batch_body(spec, program, functions.n, int(np.prod(functions.shape(spec))))
+        lines += _batch_body(spec, program, functions.n, int(np.prod(functions.shape(spec))),
+                             inputs)
         lines.append("}")
     return "\n".join(lines + [""])
 
@@ -370,6 +380,13 @@ def functions():
         out[key] = ca.Function(PREFIX + key, [x[a] for a in inputs], [value], list(inputs),
                                [output])
     return out
+
+
+def batch_functions(n_states, parallelization="serial"):
+    """functions() mapped over n_states states (casadi.Function.map): each argument an
+    N_JOINTS x n_states matrix, one column per state; each result its n_states blocks side by
+    side (tau: N_JOINTS x n_states)."""
+    return {key: fn.map(n_states, parallelization) for key, fn in functions().items()}
 '''
 
 
@@ -389,6 +406,7 @@ def casadi_source(functions, header, prefix, stem=None):
         A module that imports only casadi: ``functions()`` returns a dict of
         ``casadi.Function`` keyed ``tau``, ``inertia``, ``velocity_terms``, ``gravity``,
         ``regressor``, each built from ``casadi.SX`` by the same program as the C function;
+        ``batch_functions(n_states)`` the same mapped over n_states states (one column each);
         ``BASE_PARAMETERS`` is a tuple of floats. Written whether or not casadi is installed.
 
     Raises
