@@ -3,8 +3,8 @@
 A name from a TOML robot file, a URDF ``<robot name>`` or the API is put into the header of
 every emitted file: ``simplified_model.h``, ``.c``, ``.py`` and ``_casadi.py`` (and the sweep's
 ``merged_model.*``, the same emitters). Oracles: the C compiles under ``-Wall -Wextra
--Werror``, its object defines exactly the six prefixed symbols, and its preprocessed text
-(comments removed by the compiler itself, the header included) is that of a harmless name; the
+-Werror``, its object defines exactly the eleven prefixed symbols (five functions, their
+batch calls and the parameters), and its preprocessed text (comments removed by the compiler itself, the header included) is that of a harmless name; the
 two Python modules' syntax trees are those of a harmless name; loading the library and
 importing both modules in a child interpreter leaves no marker file behind; every file names
 the robot by the SHA-256 of its raw name; the default prefix made of the name is a plain C
@@ -114,8 +114,9 @@ def _preprocessed(cc, path):
 
 
 #: The symbols the emitted object defines, with the prefix the test gives.
-SYMBOLS = sorted(f"gd_{k}" for k in ("tau", "inertia", "velocity_terms", "gravity", "regressor",
-                                     "base_parameters"))
+_FUNCTIONS = ("tau", "inertia", "velocity_terms", "gravity", "regressor")
+SYMBOLS = sorted([f"gd_{k}" for k in _FUNCTIONS + ("base_parameters",)]
+                 + [f"gd_{k}_batch" for k in _FUNCTIONS])
 
 
 def _check_emitted(robot, folder):
@@ -133,7 +134,7 @@ def _check_emitted(robot, folder):
     digest = hashlib.sha256(robot.name.encode("utf-8", "backslashreplace")).hexdigest()
     for src in files.values():
         assert comment_safe(robot.name, digest=True) in src and digest in src
-    # C: compiles strictly, exactly the six prefixed symbols
+    # C: compiles strictly, exactly the eleven prefixed symbols
     c_file = folder / "simplified_model.c"
     subprocess.run([cc, "-std=c99", "-Wall", "-Wextra", "-Werror", "-fPIC", "-c",
                     str(c_file), "-o", str(folder / "model.o")], check=True)

@@ -13,8 +13,10 @@ not a skip.
 """
 
 import ast
+import ctypes
 import dataclasses
 import importlib.util
+import platform
 import re
 import shutil
 import subprocess
@@ -231,8 +233,9 @@ def test_files_and_header(built):
     assert f"#define puma_N_BASE_PARAMETERS {len(model.functions().parameter_names)}\n" in h
     nm = subprocess.run(["nm", "-g", "--defined-only", str(folder / "simplified_model.o")],
                         check=True, capture_output=True, text=True).stdout.split()
-    assert sorted(nm[2::3]) == sorted(f"puma_{k}" for k in (
-        "tau", "inertia", "velocity_terms", "gravity", "regressor", "base_parameters"))
+    functions = ("tau", "inertia", "velocity_terms", "gravity", "regressor")
+    assert sorted(nm[2::3]) == sorted([f"puma_{k}" for k in functions + ("base_parameters",)]
+                                      + [f"puma_{k}_batch" for k in functions])
     for name, allowed in (("simplified_model.py", ["numpy"]),
                           ("simplified_model_casadi.py", ["casadi"])):
         tree = ast.parse((folder / name).read_text())
@@ -287,13 +290,85 @@ def test_casadi_functions_equal_the_c_functions(built, prefix):
     assert sorted(fns) == sorted(["tau", "inertia", "velocity_terms", "gravity", "regressor"])
     assert all(isinstance(f, ca.Function) and f.name() == prefix + k for k, f in fns.items())
     args = {"q": q, "qd": qd, "qdd": qdd}
+    mapped = mod.batch_functions(STATES)
     for key, fn in fns.items():
-        batch = fn.map(STATES)
+        batch = mapped[key]
+        assert batch.name() == f"map{STATES}_{fn.name()}"
         value = np.asarray(batch(*(args[fn.name_in(i)].T for i in range(fn.n_in()))))
         rows = got[key].shape[1]                 # map: blocks of (rows, cols) side by side
         value = value.reshape(rows, STATES, -1).transpose(1, 0, 2).reshape(got[key].shape)
         assert _against_c(key, value, got) < 1e-12, key
     assert np.array_equal(np.array(mod.BASE_PARAMETERS), got["beta"])
+
+
+#: States of the batch test: 24 blocks of 8 and a tail of 5 (the batch loops' blocks).
+BATCH_STATES = 197
+
+
+def _batch_library(built, prefix):
+    """The model's C compiled as the header's comment says for the batch functions (cc -O3
+    -march=native, no -ffast-math), as a shared library: (library, its undefined symbols)."""
+    cc = _tool("cc")
+    _, _, folder = built["models"][prefix]
+    h = (folder / "simplified_model.h").read_text()
+    line = re.search(r"^ \*     (cc .*) \(link with -lm\)$", h, re.M).group(1).split()
+    assert line[-2:] == ["-c", "simplified_model.c"]
+    obj, lib = folder / "batch.o", folder / "libbatch.so"
+    subprocess.run([cc, *line[1:-2], "-pedantic", "-Wall", "-Wextra", "-Werror", "-fPIC", "-c",
+                    str(folder / "simplified_model.c"), "-o", str(obj)], check=True)
+    subprocess.run([cc, "-shared", "-o", str(lib), str(obj), "-lm"], check=True)
+    undefined = subprocess.run(["nm", "-u", str(obj)], check=True, capture_output=True,
+                               text=True).stdout.split()
+    return ctypes.CDLL(str(lib)), undefined
+
+
+@pytest.mark.parametrize("prefix", ["puma0_", "panda0_", "panda_"])
+def test_batch_functions_equal_the_single_state_functions_and_pinocchio(built, prefix):
+    """Each PREFIX<f>_batch on 197 states (a tail block of 5) equals PREFIX<f> called state by
+    state in the same library to 1e-13 of its scale (peak |tau_i| for tau, h, c; sqrt(D_ii D_jj)
+    for D_ij; a column's peak for Y), and at EPS = 0 Pinocchio's rnea, crba, nle - g, g to 1e-10; on x86-64
+    the vectoriser called glibc's libmvec (a _ZGV symbol)."""
+    robot, model, _ = built["models"][prefix]
+    lib, undefined = _batch_library(built, prefix)
+    if platform.machine() == "x86_64":
+        assert any(s.startswith("_ZGV") and s.endswith("_sin") for s in undefined), undefined
+    n, b = robot.n, len(model.functions().parameter_names)
+    q, qd, qdd = (np.ascontiguousarray(x[:BATCH_STATES]) for x in built["states"][prefix])
+    args = {"q": q, "qd": qd, "qdd": qdd}
+    shapes = {"tau": (n,), "inertia": (n, n), "velocity_terms": (n,), "gravity": (n,),
+              "regressor": (n, b)}
+    inputs = {"tau": "q qd qdd", "inertia": "q", "velocity_terms": "q qd", "gravity": "q",
+              "regressor": "q qd qdd"}
+    dp = ctypes.POINTER(ctypes.c_double)
+    single, batch = {}, {}
+    for key, shape in shapes.items():
+        xs = [args[a] for a in inputs[key].split()]
+        one = getattr(lib, prefix + key)
+        one.argtypes, one.restype = [dp] * (len(xs) + 1), None
+        single[key] = np.empty((BATCH_STATES, *shape))
+        for k in range(BATCH_STATES):
+            out = np.empty(shape)
+            one(*(np.ascontiguousarray(x[k]).ctypes.data_as(dp) for x in xs),
+                out.ctypes.data_as(dp))
+            single[key][k] = out
+        many = getattr(lib, prefix + key + "_batch")
+        many.argtypes, many.restype = [ctypes.c_long] + [dp] * (len(xs) + 1), None
+        batch[key] = np.full((BATCH_STATES, *shape), np.nan)
+        many(BATCH_STATES, *(x.ctypes.data_as(dp) for x in xs), batch[key].ctypes.data_as(dp))
+    peak = np.abs(single["tau"]).max(axis=0)
+    diag = np.abs(np.diagonal(single["inertia"], axis1=1, axis2=2)).max(axis=0)
+    col = np.abs(single["regressor"]).max(axis=(0, 1))
+    scales = {"inertia": np.sqrt(np.outer(diag, diag)), "regressor": np.where(col > 0, col, 1.0)}
+    for key in shapes:
+        assert np.isfinite(batch[key]).all(), key
+        assert _err(batch[key], single[key], scales.get(key, peak)) < 1e-13, key
+    assert not np.array_equal(batch["tau"], np.zeros_like(batch["tau"]))
+    if not model.recursive.dropped.any():
+        want = _oracle(robot, q, qd, qdd)
+        for key in ("tau", "velocity_terms", "gravity"):
+            assert _err(batch[key], want[key], peak) < 1e-10, key
+        diag = np.abs(np.diagonal(want["inertia"], axis1=1, axis2=2)).max(axis=0)
+        assert _err(batch["inertia"], want["inertia"], np.sqrt(np.outer(diag, diag))) < 1e-10
 
 
 #: Joint names that a sanitising label made equal ("a_b" three times), a quote, a backslash, a

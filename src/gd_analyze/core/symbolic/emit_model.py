@@ -6,13 +6,18 @@ the printers of :mod:`.emit` from the same programs:
 
 - :func:`c_header` (``STEM.h``): include guard, ``extern "C"`` for C++, the constants
   ``PREFIX_N_JOINTS``, ``PREFIX_N_BASE_PARAMETERS``, ``PREFIX_JOINT_NAMES`` and the prototypes
-  ``void PREFIX<function>(const double *q, ..., double *out)``, arrays row-major, plus
-  ``extern const double PREFIX_base_parameters[]``;
-- :func:`c_source` (``STEM.c``): their definitions, including only math.h and the header;
+  ``void PREFIX<function>(const double *q, ..., double *out)``, arrays row-major, and
+  ``void PREFIX<function>_batch(long n, const double *q, ..., double *out)``, the same at n
+  states (row-major, state after state), plus ``extern const double PREFIX_base_parameters[]``;
+- :func:`c_source` (``STEM.c``): their definitions, including only math.h and the header; the
+  batch functions run the single-state program on blocks of :data:`BATCH_BLOCK` states in a
+  loop of unit stride that GCC vectorises at ``-O3`` (:data:`BATCH_COMPILE`), sin and cos
+  through glibc's libmvec (SIMD across states; Fu, Gonzalez & Lee's equations unchanged);
 - :func:`numpy_source` (``STEM.py``): the functions batched over N set points, importing only
   numpy;
 - :func:`casadi_source` (``STEM_casadi.py``): ``functions()`` returning a dict of
-  ``casadi.Function`` built from ``casadi.SX`` by the same programs, importing only casadi.
+  ``casadi.Function`` built from ``casadi.SX`` by the same programs, and
+  ``batch_functions(n_states)`` those mapped over states, importing only casadi.
 
 :data:`ARTEFACTS` is the one table of these files: what the main job and ``sweep`` write and
 what the reports list. Input text (robot name, file names) reaches them only as comment text
@@ -27,7 +32,9 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 
-from .emit import CASADI, NUMPY, C
+import numpy as np
+
+from .emit import CASADI, NUMPY, C, Printer
 from .model_functions import FUNCTIONS
 from .safe_text import (
     c_string,
@@ -85,6 +92,69 @@ def _signature(spec, prefix):
     return f"void {prefix}{spec.key}({args}, double *{spec.output})"
 
 
+def _batch_signature(spec, prefix):
+    args = ", ".join(f"const double *{a}" for a in spec.inputs)
+    return f"void {prefix}{spec.key}_batch(long n, {args}, double *{spec.output})"
+
+
+#: How to compile the batch functions so that GCC evaluates sin and cos on 2, 4 or 8 states
+#: at once (glibc's libmvec, declared in the source; no -ffast-math); the header's comment.
+BATCH_COMPILE = "cc -std=c99 -O3 -march=native -c STEM.c (link with -lm)"
+
+#: The C source's sin and cos of the batch loops: on GCC, x86-64 and glibc, sin and cos
+#: themselves (assembler names) declared with GCC's ``simd`` attribute, so that the vectoriser
+#: calls glibc's libmvec (_ZGV*_sin, _ZGV*_cos; at most 4 ulp) at -O3 without -ffast-math
+#: (which <bits/math-vector.h> requires); under their own names, which GCC does not fuse into
+#: sincos (a call it cannot vectorise) as it fuses sin and cos of one angle.
+_LIBMVEC = [
+    "#if defined(__GNUC__) && !defined(__clang__) && defined(__x86_64__) \\",
+    "    && defined(__GLIBC__) && !defined(__FAST_MATH__)",
+    '__attribute__((simd("notinbranch"))) double gd_vsin(double) __asm__("sin");',
+    '__attribute__((simd("notinbranch"))) double gd_vcos(double) __asm__("cos");',
+    "#else",
+    "#define gd_vsin sin",
+    "#define gd_vcos cos",
+    "#endif",
+    "#if defined(__GNUC__) && !defined(__clang__)",
+    '#define GD_BATCH_IVDEP _Pragma("GCC ivdep")',
+    "#else",
+    "#define GD_BATCH_IVDEP",
+    "#endif"]
+
+
+def _batch_body(spec, program, n, size, inputs):
+    """The C lines of one batch loop: the single-state program on blocks of BATCH_BLOCK states.
+
+    ``inputs`` are the arguments the program uses (the others are cast to void).
+
+    Each block's inputs are copied into arrays of one row per joint and one column per state,
+    the program runs over the block's columns in a loop of
+    unit stride that GCC vectorises, and the block's results are copied back row-major.
+    """
+    w = BATCH_BLOCK
+    printer = Printer("c", "{name}_b[{i}][l]", "gd_v", "const double {name} = {expr};")
+    lines = ["    long k, l, m, j;"]
+    lines += [f"    double {a}_b[{n}][{w}];" for a in inputs]
+    lines += [f"    double {spec.output}_b[{max(size, 1)}][{w}];",
+              f"    for (k = 0; k < n; k += {w}) {{",
+              f"        m = n - k < {w} ? n - k : {w};",
+              f"        for (j = 0; j < {n}; ++j)",
+              "            for (l = 0; l < m; ++l) {"]
+    lines += [f"                {a}_b[j][l] = {a}[{n} * (k + l) + j];" for a in inputs]
+    lines += ["            }", "        GD_BATCH_IVDEP", "        for (l = 0; l < m; ++l) {"]
+    lines += printer.body(program, lambda j, o=spec.output: f"{o}_b[{j}][l]",
+                          indent="            ")
+    lines += ["        }", f"        for (j = 0; j < {size}; ++j)",
+              "            for (l = 0; l < m; ++l)",
+              f"                {spec.output}[{size} * (k + l) + j] = {spec.output}_b[j][l];",
+              "    }"]
+    return lines
+
+
+#: States per block of the batch functions (4 AVX2 lanes twice, or 8 AVX-512 lanes).
+BATCH_BLOCK = 8
+
+
 def _comment(lines):
     return ["/*"] + [f" * {ln}" if ln else " *" for ln in lines] + [" */"]
 
@@ -92,6 +162,18 @@ def _comment(lines):
 def _parameter_lines(functions):
     return [f"  {k:3d}  {comment_safe(name)} = {value!r}" for k, (name, value) in
             enumerate(zip(functions.parameter_names, map(float, functions.parameters)))]
+
+
+def _batch_note(stem):
+    """The header comment's note on the batch functions."""
+    return [
+        "Each function f has f_batch(n, ...): f at n states, arrays row-major, state after state,",
+        "the same operations as f in the same order. Compiled with",
+        "    " + BATCH_COMPILE.replace("STEM", stem),
+        "GCC evaluates n states 2, 4 or 8 at once (SSE2, AVX2, AVX-512), sin and cos through",
+        f"glibc's libmvec (declared in {stem}.c; no -ffast-math, which would change the results);",
+        "otherwise the loop is a plain loop over f's statements. Vector sin and cos are within",
+        "4 ulp of the scalar ones, so f_batch equals f to rounding, not bit for bit."]
 
 
 def c_header(functions, header, prefix, stem):
@@ -111,7 +193,8 @@ def c_header(functions, header, prefix, stem):
     -------
     str
         C99 and C++ (``extern "C"``): constants, joint names, prototypes of the five functions
-        (arrays row-major, SI units) and ``extern const double PREFIXbase_parameters[]``.
+        and of their batch calls ``PREFIX<function>_batch(n, ...)`` (arrays row-major, SI
+        units; the comment gives the compile line of :data:`BATCH_COMPILE`) and ``extern const double PREFIXbase_parameters[]``.
 
     Raises
     ------
@@ -122,7 +205,7 @@ def c_header(functions, header, prefix, stem):
     nj, nb = _dims(functions, prefix)
     guard = include_guard(prefix, stem)
     names = ", ".join(c_string(v) for v in functions.joint_names)
-    lines = _comment(header_lines(header)) + [
+    lines = _comment(header_lines(header) + ["", *_batch_note(stem)]) + [
         f"#ifndef {guard}", f"#define {guard}", "",
         "#ifdef __cplusplus", 'extern "C" {', "#endif", "",
         f"#define {nj} {functions.n}",
@@ -136,6 +219,10 @@ def c_header(functions, header, prefix, stem):
         lines += _comment([f"{spec.key}({', '.join(spec.inputs)}): {spec.text}; "
                            f"{spec.output} has {size} doubles."]) + [
             _signature(spec, prefix) + ";", ""]
+        lines += _comment([f"{spec.key}_batch(n, {', '.join(spec.inputs)}): the same at n "
+                           f"states, row-major: each input has n x {functions.n} doubles, "
+                           f"{spec.output} n x {size}; arrays must not overlap."]) + [
+            _batch_signature(spec, prefix) + ";", ""]
     lines += _comment(["beta_s, the parameters of the regressor's columns (tau = Y beta):"]
                       + _parameter_lines(functions))
     lines += [f"extern const double {prefix}base_parameters[{nb}];", "",
@@ -166,16 +253,21 @@ def c_source(functions, header, prefix, stem):
     _, nb = _dims(functions, prefix)
     values = [f"    {float(v)!r}," for v in functions.parameters] or ["    0.0,"]
     lines = _comment(header_lines(header)) + [
-        "#include <math.h>", f'#include "{stem}.h"', "",
-        f"const double {prefix}base_parameters[{nb}] = {{"] + values + ["};"]
+        "#include <math.h>", f'#include "{stem}.h"', ""] + _LIBMVEC + [
+        "", f"const double {prefix}base_parameters[{nb}] = {{"] + values + ["};"]
     for spec in FUNCTIONS:
         program = functions.programs[spec.key]
         used = {s.name for e in [e for _, e in program.assignments] + list(program.outputs)
                 for s in e.free_symbols}
-        lines += ["", _signature(spec, prefix), "{"]
-        lines += [f"    (void){a};" for a in spec.inputs
-                  if not any(u.startswith(a) and u[len(a):].isdigit() for u in used)]
+        inputs = [a for a in spec.inputs
+                  if any(u.startswith(a) and u[len(a):].isdigit() for u in used)]
+        unused = [f"    (void){a};" for a in spec.inputs if a not in inputs]
+        lines += ["", _signature(spec, prefix), "{"] + unused
         lines += C.body(program, lambda k, o=spec.output: f"{o}[{k}]")
+        lines.append("}")
+        lines += ["", _batch_signature(spec, prefix), "{"] + unused
+        lines += _batch_body(spec, program, functions.n, int(np.prod(functions.shape(spec))),
+                             inputs)
         lines.append("}")
     return "\n".join(lines + [""])
 
@@ -288,6 +380,13 @@ def functions():
         out[key] = ca.Function(PREFIX + key, [x[a] for a in inputs], [value], list(inputs),
                                [output])
     return out
+
+
+def batch_functions(n_states, parallelization="serial"):
+    """functions() mapped over n_states states (casadi.Function.map): each argument an
+    N_JOINTS x n_states matrix, one column per state; each result its n_states blocks side by
+    side (tau: N_JOINTS x n_states)."""
+    return {key: fn.map(n_states, parallelization) for key, fn in functions().items()}
 '''
 
 
@@ -307,6 +406,7 @@ def casadi_source(functions, header, prefix, stem=None):
         A module that imports only casadi: ``functions()`` returns a dict of
         ``casadi.Function`` keyed ``tau``, ``inertia``, ``velocity_terms``, ``gravity``,
         ``regressor``, each built from ``casadi.SX`` by the same program as the C function;
+        ``batch_functions(n_states)`` the same mapped over n_states states (one column each);
         ``BASE_PARAMETERS`` is a tuple of floats. Written whether or not casadi is installed.
 
     Raises
