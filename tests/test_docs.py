@@ -258,6 +258,7 @@ def test_layout_lists_every_module_of_the_package():
     modules = {line.split()[0] for line in lines}
     assert not modules - listed, f"modules missing from docs/layout.md: {sorted(modules - listed)}"
     assert not listed - modules, f"docs/layout.md lists modules not in the tree: {sorted(listed - modules)}"
+    assert block == [line[4:] for line in lines], "regenerate with python analysis/layout.py"
 
 
 def test_formulation_counts_are_the_counted_ones():
