@@ -215,6 +215,16 @@ def test_s_i_is_defined_before_the_readme_uses_it():
     assert README.index("**s_i**") < README.index("```\n$ gd-analyze puma560")
 
 
+
+def test_every_page_says_what_s_i_is_where_it_first_uses_it():
+    for name, text in PAGES.items():
+        first = text.find("s_i")
+        if first < 0:
+            continue
+        near = text[max(0, first - 300):first + 300].replace("\\|", "|")
+        assert "largest |tau_i|" in near or name == "index.md", name
+
+
 # --- the pages that hold what the README held --------------------------------------------------
 
 def _load_script(name):
