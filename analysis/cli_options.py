@@ -1,9 +1,9 @@
-"""Print the README's option tables: every option of every command, from the argparse parsers.
+"""Print the option tables of docs/options.md: every option of every command, from the argparse parsers.
 
     python analysis/cli_options.py
 
 One Markdown table per command (``gd-analyze``, then each sub-command): option, argument and
-what it does (with its default). tests/test_readme.py checks that the README lists them all.
+what it does (with its default). tests/test_docs.py checks that docs/options.md lists them all.
 """
 
 from __future__ import annotations

@@ -1,39 +1,19 @@
-"""The README cannot drift from the tool (issue 20 item 6).
+"""The README cannot drift from the tool.
 
-It lists every option of every command exactly as ``analysis/cli_options.py`` prints them, the
-exit codes, ships its picture, quotes the sample output the main job prints, lists every module
-of the package (``analysis/layout.py``) and the operation counts ``opcount.operation_counts``
-gives.
+It gives the exit codes, ships its picture, quotes the sample output the main job prints and
+runs its Python example. The option tables, the module list and the operation counts moved to
+the reference pages in docs/, checked by ``tests/test_docs.py``.
 """
 
 import re
+import subprocess
+import sys
 from pathlib import Path
 
 import pytest
 
-from gd_analyze import cli
-
 ROOT = Path(__file__).resolve().parents[1]
 README = (ROOT / "README.md").read_text(encoding="utf-8")
-
-
-def test_every_option_of_every_command_is_in_its_table():
-    parsers = {"analyze": cli.analyze_parser()}
-    parsers.update({name: getattr(cli, f"{name}_parser")() for name in cli.COMMANDS
-                    if name != "analyze"})
-    start = README.index("### Options of every command")
-    section = README[start:README.index("\n#", start + 10)]
-    tables = re.split(r"^`gd-analyze ", section, flags=re.MULTILINE)[1:]
-    by_command = {}
-    for t in tables:
-        head = t.split("`", 1)[0]
-        name = "analyze" if head.startswith("ROBOT") else head.split()[0]
-        by_command[name] = t.split("\n\n", 2)[1]
-    for name, parser in parsers.items():
-        table = by_command[name]
-        for action in parser._actions:
-            for opt in action.option_strings:
-                assert f"`{opt}`" in table, (name, opt)
 
 
 def test_exit_codes_and_picture():
@@ -46,17 +26,16 @@ def test_exit_codes_and_picture():
     assert "license: MIT" in (ROOT / "CITATION.cff").read_text()
 
 
-# --- issue 20 item 6: a README that cannot drift -------------------------------------------
-import importlib.util
-import subprocess
-import sys
+def test_the_first_screen_keeps_the_two_commands_for_a_fresh_machine():
+    first_screen = "\n".join(README.split("\n")[:24])
+    for command in ("python3 -m venv .venv && . .venv/bin/activate && pip install -e . && "
+                    "gd-analyze puma560 data/puma560_trajectory.csv",
+                    'python3 -m venv .venv && . .venv/bin/activate && pip install -e ".[test]" '
+                    "&& python -m pytest -q -n auto"):
+        assert f"\n    {command}\n" in first_screen, command
 
 
-def _load_script(name):
-    spec = importlib.util.spec_from_file_location(f"analysis_{name}", ROOT / "analysis" / f"{name}.py")
-    module = importlib.util.module_from_spec(spec)
-    spec.loader.exec_module(module)
-    return module
+# --- the sample output, run ---------------------------------------------------------------
 
 
 def _code_block_after(heading):
@@ -89,7 +68,7 @@ def test_sample_output_is_what_the_main_job_prints(tmp_path):
     joint's error or an element below 1e-12 of its scale) prints as "≡ 0", the same on every
     platform.
     """
-    block = _code_block_after("## Sample output")
+    block = _code_block_after("## Reading the summary")
     command = block[0]
     assert command == "$ gd-analyze puma560 data/puma560_trajectory.csv"
     run = subprocess.run([sys.executable, "-m", "gd_analyze.cli", "puma560",
@@ -121,87 +100,13 @@ def test_sample_output_is_what_the_main_job_prints(tmp_path):
         assert want == got
 
 
-def _section(start, end_marker="\n## "):
-    i = README.index(start)
-    return README[i:README.index(end_marker, i + len(start))]
-
-
-def test_option_tables_equal_the_script_output(capsys):
-    _load_script("cli_options").main()
-    printed = capsys.readouterr().out.strip()
-    section = _section("### Options of every command", "\n### ")
-    body = section[section.index("`gd-analyze ROBOT TRAJECTORY.csv`"):].strip()
-    assert body == printed, "regenerate with python analysis/cli_options.py"
-
-
-def test_layout_lists_every_module_of_the_package():
-    lines = _load_script("layout").lines()
-    block = _code_block_after("## Layout")
-    listed = {line.split()[0] for line in block if line.strip().startswith("gd_analyze/")}
-    modules = {line.split()[0] for line in lines}
-    assert not modules - listed, f"modules missing from the README: {sorted(modules - listed)}"
-    assert not listed - modules, f"README lists modules not in the tree: {sorted(listed - modules)}"
-
-
-def test_formulation_counts_are_the_counted_ones():
-    from gd_analyze.formulations.opcount import book_counts, operation_counts
-
-    counted, book = operation_counts(6), book_counts(6)
-    section = _section("## Formulations")
-    columns = ("lagrange-euler", "newton-euler", "gd")
-    for kind in ("multiplications", "additions"):
-        for label, source in (("as implemented", counted), ("Table 3.5", book)):
-            row = re.search(rf"^\| {kind}, {label} \|(.*)\|$", section, re.MULTILINE)
-            assert row, (kind, label)
-            cells = [int(c.strip().replace(",", "")) for c in row.group(1).split("|")]
-            assert cells == [source[m][kind] for m in columns], (kind, label)
-    ne = counted["newton-euler"]
-    total = ne["multiplications"] + ne["additions"]
-    assert f"Newton-Euler {total:,} ({ne['multiplications']} + {ne['additions']})" in README
-
-
-def test_how_to_read_quotes_the_sample_errors():
-    """The summary's worst and other errors quoted in "How to read the report" are the sample's."""
-    rows = [line.split() for line in _code_block_after("## Sample output")
-            if re.match(r"^\d+ ", line)]
-    rel = [float(r[4]) for r in rows]
-    worst = max(range(len(rel)), key=rel.__getitem__)
-    others = max(r for k, r in enumerate(rel) if k != worst)
-    text = " ".join(_section("## How to read the report").split())
-    assert (f"worst error is {100 * rel[worst]:.3g} % of peak |tau| at joint {worst + 1}, every "
-            f"other joint within {100 * others:.3g} %") in text
-    assert "32 %" not in text and "EPS = 0.01" in text
-
-
-def test_quoted_costs_agree_with_the_sample_and_the_counts():
-    """Costs quoted outside the sample block are the sample's and opcount's (no second copy drifts)."""
-    from gd_analyze.formulations.opcount import operation_counts
-
-    cost_line = next(line for line in _code_block_after("## Sample output")
-                     if line.startswith("simplified model (recursive N-E"))
-    deployed, exact, explicit, ne = (re.search(pattern, cost_line).group(1) for pattern in (
-        r": ([\d,]+) operations per set point", r"exact recursive model: ([\d,]+)",
-        r"full explicit model: ([\d,]+)", r"Newton-Euler as implemented: ([\d,]+)"))
-    row = re.search(r"^\| PUMA 560 \(\d+ base parameters\) \| (.*)$", README, re.MULTILINE)
-    cells = [c.strip() for c in row.group(1).split("|")]
-    assert cells[0].split()[0] == exact and cells[4] == ne
-    # the table's EPS = 0.01 column is the trajectory model; the sample deploys the region model
-    assert f"the region model at EPS = 0.01 costs **{deployed}** operations" in " ".join(
-        README.split())
-    assert f"full explicit PUMA 560 model ({explicit} operations)" in " ".join(README.split())
-    counted = operation_counts(6)
-    for label, method in (("G-D", "gd"), ("L-E", "lagrange-euler")):
-        total = sum(counted[method].values())
-        assert f"{label} {total:,}" in README, (label, total)
-
-
 @pytest.mark.slow
 def test_python_api_example_runs_as_a_doctest(monkeypatch):
-    """The README's notebook example (issue 30 item 6), every line of it, as a doctest from the
-    repository's folder; it is where the usage starts, after the first screen's commands."""
+    """The README's notebook example, every line of it, as a doctest from the repository's
+    folder; the first screen keeps the command that installs and runs the main job."""
     import doctest
 
-    assert README.index("## Python API") < README.index("## Commands")
+    assert README.index("## Python API") < README.index("## Exit codes")
     assert README.index("pip install -e . && gd-analyze puma560") < 1500
     monkeypatch.chdir(ROOT)
     result = doctest.testfile(str(ROOT / "README.md"), module_relative=False,

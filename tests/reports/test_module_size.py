@@ -1,7 +1,7 @@
 """The report modules stay within the project's ~600-line limit (issue 18 review, item 7): a
 module past it is split by concept, as common.py was (numbers, units, figure style) and
 main_context.py (the robot section in main_robot.py). That the split modules exist is
-``tests/test_readme.py``'s layout check (the README lists them, and every listed module must
+``tests/test_docs.py``'s layout check (docs/layout.md lists them, and every listed module must
 be in the tree)."""
 
 import pathlib
