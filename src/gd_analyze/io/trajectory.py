@@ -369,7 +369,7 @@ def _check_magnitudes(values, names, path, row_of):
         if bad is not None:
             j = cols.start + bad[1]
             raise InputError(f"{exact_text(values[bad[0], j])} is beyond the supported magnitude "
-                             f"{LIMITS[kind]:g} of {kind} (see the README, Limits)", path,
+                             f"{LIMITS[kind]:g} of {kind} (see docs/limits-and-safety.md)", path,
                              row=row_of(bad[0]), column=names[j])
 
 

@@ -170,5 +170,5 @@ def check_finite(name, values, what="computed"):
         idx = first_beyond(arr, np.inf)
         where = f" at set point {idx[0]}" if idx and arr.ndim > 1 else ""
         raise InputError(f"the {what} {name} is not finite{where}: the inputs are beyond the "
-                         f"magnitudes gd-analyze supports (see the README, Limits)")
+                         f"magnitudes gd-analyze supports (see docs/limits-and-safety.md)")
     return arr

@@ -40,7 +40,7 @@ def _number(value, path, column, finite=True, limit=None):
         raise InputError(f"expected a finite number, got {v:g}", path, column=column)
     if limit is not None and math.isfinite(v) and abs(v) > LIMITS[limit]:
         raise InputError(f"{exact_text(v)} is beyond the supported magnitude "
-                         f"{LIMITS[limit]:g} (see the README, Limits)", path, column=column)
+                         f"{LIMITS[limit]:g} (see docs/limits-and-safety.md)", path, column=column)
     return v
 
 
