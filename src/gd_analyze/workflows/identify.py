@@ -128,15 +128,13 @@ class IdentifyOptions:
                 "coulomb_model": "sign(qd)"}
 
 
-def model_torque(robot, offsets, q, qd, qdd, base=None):
-    """The torque of a robot with its drives and constant offsets.
+def model_torque(robot, q, qd, qdd, base=None):
+    """The torque of a robot with its drives (armature, friction and torque offsets).
 
     Parameters
     ----------
     robot : Robot
-        The arm (rigid links, armature, viscous and Coulomb friction).
-    offsets : ndarray, shape (n,)
-        Constant torque offsets [N m or N].
+        The arm (rigid links, armature, viscous and Coulomb friction, torque offsets).
     q, qd, qdd : ndarray, shape (N, n)
         [rad, rad/s, rad/s^2; m, m/s, m/s^2].
     base : BaseParameters, optional
@@ -144,14 +142,15 @@ def model_torque(robot, offsets, q, qd, qdd, base=None):
     Returns
     -------
     ndarray, shape (N, n)
-        Y_b beta + Ia qdd + F_v qd + F_c sign(qd) + offsets [N m or N].
+        Y_b beta + Ia qdd + F_v qd + F_c sign(qd) + tau_0 [N m or N].
     """
     Y, beta = base_regressor(robot, q, qd, qdd, base)
-    return Y @ beta + _drive_torque(robot, qd, qdd) + np.asarray(offsets, float)
+    return Y @ beta + _drive_torque(robot, qd, qdd)
 
 
 def _drive_torque(robot, qd, qdd):
-    """Ia qdd + F_v qd + F_c sign(qd) of a robot's drives [N m or N]."""
+    """Ia qdd + F_v qd + F_c sign(qd) + tau_0 of a robot's drives [N m or N]
+    (:func:`gd_analyze.core.model.drives.friction_torque`)."""
     tau = np.asarray(robot.armature) * qdd
     fr = friction_torque(robot, qd)
     return tau if fr is None else tau + fr
@@ -332,7 +331,8 @@ def identify(robot, recordings, validate=(), options=None):
     for k, kind in enumerate(drive_kind):
         per_kind[kind][k % n] = file_drives[k]
     identified = robot_with_standard(prior, file_phi, armature=per_kind["armature"],
-                                     viscous=per_kind["viscous"], coulomb=per_kind["coulomb"])
+                                     viscous=per_kind["viscous"], coulomb=per_kind["coulomb"],
+                                     torque_offset=per_kind["offset"])
     offsets = per_kind["offset"]
     eig = min_eigenvalues(phi)
     scaleJ = np.maximum(1e-300, np.abs(phi[:, :6]).max(axis=1))
@@ -353,8 +353,7 @@ def identify(robot, recordings, validate=(), options=None):
         del Yr
         tau_s = None
         if simplified is not None:
-            tau_s = p.filtered(simplified_torque(simplified[0], p.q, p.qd, p.qdd))[keep] \
-                + offsets
+            tau_s = p.filtered(simplified_torque(simplified[0], p.q, p.qd, p.qdd))[keep]
         used_r = fit_rows[k] if is_train else np.zeros(p.q[keep].shape, bool)
         fits.append(RecordingFit(
             name=name, file=rec.source, sha256=rec.sha256,
