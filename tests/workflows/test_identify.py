@@ -15,8 +15,8 @@ from identify_recordings import (
 from gd_analyze import SimplifiedModel, load_robot
 from gd_analyze.core.identify.consistent import base_map, pseudo_inertia
 from gd_analyze.core.selection.labels import element_labels
-from gd_analyze.core.symbolic.recursive_model import recursive_model
 from gd_analyze.core.symbolic.base_parameters import base_parameters
+from gd_analyze.core.symbolic.recursive_model import recursive_model
 from gd_analyze.errors import InputError
 from gd_analyze.formulations.pinocchio import pinocchio_model
 from gd_analyze.io.recording import recording_from_arrays
