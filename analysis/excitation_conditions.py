@@ -1,6 +1,7 @@
 """The excitation trajectory's scaled condition number against random Fourier trajectories.
 
     python analysis/excitation_conditions.py [--robots puma560,panda,ur5] [--randoms 8]
+        [--starts 2] [--maxiter 40]
 
 For each arm, plans the default excitation (``gd-analyze plan ROBOT --excitation``: 5
 harmonics, one 10 s period, 2 random starts of SLSQP) and draws R random Fourier trajectories
@@ -32,12 +33,14 @@ def main(argv=None):
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--robots", default="puma560,panda,ur5")
     parser.add_argument("--randoms", type=int, default=8)
+    parser.add_argument("--starts", type=int, default=2, help="SLSQP random starts")
+    parser.add_argument("--maxiter", type=int, default=40, help="SLSQP iterations per start")
     args = parser.parse_args(argv)
     for name in args.robots.split(","):
         robot = load_robot(name)
         load = os.getloadavg()[0]
         wall, cpu = time.perf_counter(), time.process_time()
-        ex = plan_excitation(robot)
+        ex = plan_excitation(robot, starts=args.starts, maxiter=args.maxiter)
         wall, cpu = time.perf_counter() - wall, time.process_time() - cpu
         ours = excitation_condition(robot, ex.columns, ex.series, samples=400)
         randoms = [excitation_condition(robot, ex.columns, random_excitation(
@@ -45,6 +48,7 @@ def main(argv=None):
             for k in range(args.randoms)]
         print(json.dumps({
             "robot": name, "joints": robot.n, "columns": ex.columns.count,
+            "starts": args.starts, "maxiter": args.maxiter,
             "optimised": round(ours, 3), "random_median": round(float(np.median(randoms)), 3),
             "random_min": round(min(randoms), 3), "random_max": round(max(randoms), 3),
             "ratio_median": round(float(np.median(randoms)) / ours, 2),

@@ -12,9 +12,11 @@ from identify_recordings import (
     truth_for,
 )
 
-from gd_analyze import load_robot
+from gd_analyze import SimplifiedModel, load_robot
 from gd_analyze.core.identify.consistent import base_map, pseudo_inertia
+from gd_analyze.core.selection.labels import element_labels
 from gd_analyze.core.symbolic.base_parameters import base_parameters
+from gd_analyze.core.symbolic.recursive_model import recursive_model
 from gd_analyze.errors import InputError
 from gd_analyze.formulations.pinocchio import pinocchio_model
 from gd_analyze.io.recording import recording_from_arrays
@@ -121,13 +123,13 @@ def test_consistent_parameters_have_psd_pseudo_inertias_and_the_same_held_out_er
                        cons.parameters.value[:base.rank], rtol=0, atol=1e-9)
 
 
-def _pinocchio_torque(robot, offsets, q, qd, qdd):
+def _pinocchio_torque(robot, q, qd, qdd):
     model = pinocchio_model(robot)
     model.armature = np.zeros(robot.n)
     data = model.createData()
     rigid = np.array([pin.rnea(model, data, a, b, c) for a, b, c in zip(q, qd, qdd)])
     return rigid + robot.armature * qdd + robot.viscous * qd + robot.coulomb * np.sign(qd) \
-        + offsets
+        + robot.torque_offset
 
 
 @pytest.mark.slow
@@ -136,21 +138,32 @@ def test_identified_robot_file_reproduces_the_identified_model(tmp_path, consist
     robot = _robot("panda")
     truth = truth_for(robot, urdf=builtin_urdf("panda"))
     train, _ = _record(truth, robot.n, 25, seed=2, noise=0.0 if not consistent else 0.01)
-    held, (t, q, qd, qdd, _) = _record(truth, robot.n, 5, seed=5)
+    held, (t, q, qd, qdd, tau_true) = _record(truth, robot.n, 5, seed=5)
     result = identify(robot, [train], validate=[held],
                       options=IdentifyOptions(cutoff=None, consistent=consistent))
     assert result.settings["robot_file_note"] is None
     path = tmp_path / "identified_robot.toml"
     path.write_text(robot_toml(result.identified, ["test"]))
     loaded = load_robot(str(path))
+    n = loaded.n
     pred = result.recordings[1].tau_predicted
     scale = np.abs(pred).max()
-    tau_pin = _pinocchio_torque(loaded, result.offsets, q, qd, qdd)
+    # the file holds the identified offsets (the recordings' truth has nonzero ones)
+    assert np.array_equal(loaded.torque_offset, result.offsets)
+    assert np.abs(result.offsets).max() > 1e-3 * scale
+    tau_pin = _pinocchio_torque(loaded, q, qd, qdd)
     assert np.abs(tau_pin - pred).max() <= 1e-9 * scale
-    # the main job on the file: its full torque plus the offsets
+    if not consistent:      # noise-free: the Pinocchio truth, known drives and offsets
+        assert np.abs(tau_pin - tau_true).max() <= 1e-8 * np.abs(tau_true).max()
+    # the main job on the file, as it is: its full torque, the offsets included
     ds = results_dataset(loaded, (t, q, qd, qdd))
-    tau_job = ds["tau"].values + result.offsets
-    assert np.abs(tau_job - pred).max() <= 1e-9 * scale
+    assert np.abs(ds["tau"].values - pred).max() <= 1e-9 * scale
+    # the API's emitted numpy model of the file (its exact model, drives and offsets)
+    model = SimplifiedModel(robot=loaded, choices=dict.fromkeys(element_labels(n), "both"),
+                            dominance_threshold=0.9, negligible_threshold=0.01,
+                            recursive=recursive_model(loaded, q, qd, qdd, 0.0))
+    ns = model.functions().numpy()
+    assert np.abs(ns["tau"](q, qd, qdd) - pred).max() <= 1e-9 * scale
 
 
 def test_recordings_must_fit_the_robot():

@@ -49,9 +49,6 @@ def _comments(result, args):
     lines.append(f"standard parameters: {result.standard_method}")
     if result.settings.get("robot_file_note"):
         lines.append(str(result.settings["robot_file_note"]))
-    lines.append("constant torque offsets per joint [N m or N], not part of the robot-file "
-                 "format (add them to this file's torque to reproduce the identified model): "
-                 + ", ".join(repr(float(v)) for v in result.offsets))
     return lines
 
 
@@ -120,7 +117,7 @@ def cmd_identify(args):
         if isinstance(args.robot, str) and is_urdf(args.robot):
             urdf = stage / "identified_robot.urdf"
             urdf.write_text(robot_urdf(result.identified, _comments(result, args) + [
-                "the drives (armature, viscous and Coulomb friction) are in "
+                "the drives (armature, viscous and Coulomb friction, torque offsets) are in "
                 "identified_robot.toml only: a URDF holds none that gd-analyze reads"]),
                 encoding="utf-8")
             written.append(urdf)

@@ -57,7 +57,8 @@ SETPOINT_VARIABLES = {
 }
 #: The per-set-point variable of a robot with friction only (core/model/drives.py).
 FRICTION_VARIABLE = {"tau_f": (("t", "joint"), "N m",
-                               "joint friction torque viscous qd + coulomb sign(qd)")}
+                               "joint friction torque viscous qd + coulomb sign(qd) + "
+                               "torque_offset")}
 
 
 def setpoint_variables(friction=False):
@@ -465,6 +466,8 @@ def summary_dataset(robot, trajectory, ranking, choices, error, verification=Non
                        "viscous friction coefficient (N m s rad-1 revolute, N s m-1 "
                        "prismatic)"),
         "coulomb": var(("joint",), robot.coulomb, torque, "Coulomb friction torque"),
+        "torque_offset": var(("joint",), robot.torque_offset, torque,
+                             "constant joint torque offset"),
     }
     if getattr(ranking, "rigid_dominance", None) is not None:
         data_vars["dominance_rigid_links"] = var(

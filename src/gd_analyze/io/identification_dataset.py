@@ -184,9 +184,8 @@ class IdentificationResult:
         and ``coulomb`` are the identified ones (clipped at 0 where the fit gave less, which
         ``notes`` states).
     offsets : ndarray, shape (n,)
-        The identified constant torque offsets [N m or N]: not part of the robot-file format,
-        added to the identified robot's torque in every prediction, and stored here and in the
-        dataset.
+        The identified constant torque offsets [N m or N], the identified robot's
+        ``torque_offset`` (written to the robot file as each link's ``torque_offset``).
     parameters : ParameterTable
     condition_number : float
         Of the column-scaled, weighted regressor.

@@ -357,7 +357,8 @@ def has_drives(ds):
     Parameters
     ----------
     ds : xarray.Dataset
-        A results dataset; its drives are the variables ``D_arm``, ``viscous``, ``coulomb``.
+        A results dataset; its drives are the variables ``D_arm``, ``viscous``, ``coulomb``
+        and ``torque_offset``.
 
     Returns
     -------
@@ -365,7 +366,7 @@ def has_drives(ds):
         True where any of them is nonzero.
     """
     return any(k in ds.variables and np.any(np.asarray(ds[k].values, float) != 0)
-               for k in ("D_arm", "viscous", "coulomb"))
+               for k in ("D_arm", "viscous", "coulomb", "torque_offset"))
 
 
 #: What s_i is over the region, by whether the robot has drives: the region's scale is the

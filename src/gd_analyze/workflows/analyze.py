@@ -548,7 +548,7 @@ def analyze_to_file(robot, trajectory, path, options=None, settings=None, chunk=
         with contextlib.closing(SetpointWriter(
                 tmp, N, n, chunk=min(max(1, int(chunk)), 8192), compress=options.compress,
                 prismatic=robot.prismatic,
-                friction=bool(np.any(robot.viscous) or np.any(robot.coulomb)),
+                friction=robot.has_friction,
                 joints=robot.joint_names())) as out:
             step = max(1, int(chunk))
             for a in range(0, N, step):         # block by block: no copy of a whole column

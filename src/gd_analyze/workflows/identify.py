@@ -55,6 +55,9 @@ __all__ = ["IdentifyOptions", "identify", "model_torque", "DEFAULT_DRIVES"]
 
 #: A training row whose residual exceeds this many noise standard deviations is an outlier.
 OUTLIER_SIGMAS = 5.0
+#: Relative size of a negative mass, first moment or friction taken for a rounding error of
+#: a true 0 (:func:`_rounding_cleaned`).
+ROUNDING = 1e-12
 #: The drive columns identified by default.
 DEFAULT_DRIVES = ("viscous", "coulomb", "offset")
 
@@ -128,15 +131,13 @@ class IdentifyOptions:
                 "coulomb_model": "sign(qd)"}
 
 
-def model_torque(robot, offsets, q, qd, qdd, base=None):
-    """The torque of a robot with its drives and constant offsets.
+def model_torque(robot, q, qd, qdd, base=None):
+    """The torque of a robot with its drives (armature, friction and torque offsets).
 
     Parameters
     ----------
     robot : Robot
-        The arm (rigid links, armature, viscous and Coulomb friction).
-    offsets : ndarray, shape (n,)
-        Constant torque offsets [N m or N].
+        The arm (rigid links, armature, viscous and Coulomb friction, torque offsets).
     q, qd, qdd : ndarray, shape (N, n)
         [rad, rad/s, rad/s^2; m, m/s, m/s^2].
     base : BaseParameters, optional
@@ -144,14 +145,15 @@ def model_torque(robot, offsets, q, qd, qdd, base=None):
     Returns
     -------
     ndarray, shape (N, n)
-        Y_b beta + Ia qdd + F_v qd + F_c sign(qd) + offsets [N m or N].
+        Y_b beta + Ia qdd + F_v qd + F_c sign(qd) + tau_0 [N m or N].
     """
     Y, beta = base_regressor(robot, q, qd, qdd, base)
-    return Y @ beta + _drive_torque(robot, qd, qdd) + np.asarray(offsets, float)
+    return Y @ beta + _drive_torque(robot, qd, qdd)
 
 
 def _drive_torque(robot, qd, qdd):
-    """Ia qdd + F_v qd + F_c sign(qd) of a robot's drives [N m or N]."""
+    """Ia qdd + F_v qd + F_c sign(qd) + tau_0 of a robot's drives [N m or N]
+    (:func:`gd_analyze.core.model.drives.friction_torque`)."""
     tau = np.asarray(robot.armature) * qdd
     fr = friction_torque(robot, qd)
     return tau if fr is None else tau + fr
@@ -180,6 +182,26 @@ def _prepared(rec, cutoff, options, label):
         raise InputError(str(exc), rec.source,
                          column="--cutoff" if "cutoff" in str(exc) else None) from None
     return pre
+
+
+def _rounding_cleaned(phi, drives, nonneg):
+    """The standard parameters and drives with rounding-level negatives set to 0.
+
+    A link of mass 0 (or a friction of 0) in the true arm comes out of a noise-free fit as
+    +-1e-18: a mass below ``ROUNDING`` x the largest mass becomes 0, with its first moments
+    when they are as small, and a friction below ``ROUNDING`` x the largest drive value
+    becomes 0, so the robot file holds them (the torque changes by a rounding error).
+    """
+    phi, drives = np.array(phi, float), np.array(drives, float)
+    m = phi[:, 9]
+    tiny_m = (m < 0) & (m >= -ROUNDING * max(1.0, float(np.abs(m).max(initial=0.0))))
+    m[tiny_m] = 0.0
+    h_scale = ROUNDING * max(1.0, float(np.abs(phi[:, 6:9]).max(initial=0.0)))
+    zero_h = (m == 0) & (np.abs(phi[:, 6:9]).max(axis=1) <= h_scale)
+    phi[zero_h, 6:9] = 0.0
+    d_scale = ROUNDING * max(1.0, float(np.abs(drives).max(initial=0.0)))
+    drives[nonneg & (drives < 0) & (drives >= -d_scale)] = 0.0
+    return phi, drives
 
 
 def _loadable(robot_phi, drives_ok):
@@ -316,8 +338,9 @@ def identify(robot, recordings, validate=(), options=None):
         drives = theta[b:]
         method = ("the standard parameters closest to the robot file's that reproduce the "
                   "identified base parameters (least-norm deviation)")
-        file_phi, file_drives, file_note = phi, drives, None
-        if not _loadable(phi, bool((drives[nonneg] >= 0).all())):
+        file_phi, file_drives = _rounding_cleaned(phi, drives, nonneg)
+        file_note = None
+        if not _loadable(file_phi, bool((file_drives[nonneg] >= 0).all())):
             sol = consistent_standard(base, theta, est.identifiable, est.R, phi0, drive_kind,
                                       theta0[b:])
             file_phi, file_drives = sol.phi, sol.drives
@@ -332,7 +355,8 @@ def identify(robot, recordings, validate=(), options=None):
     for k, kind in enumerate(drive_kind):
         per_kind[kind][k % n] = file_drives[k]
     identified = robot_with_standard(prior, file_phi, armature=per_kind["armature"],
-                                     viscous=per_kind["viscous"], coulomb=per_kind["coulomb"])
+                                     viscous=per_kind["viscous"], coulomb=per_kind["coulomb"],
+                                     torque_offset=per_kind["offset"])
     offsets = per_kind["offset"]
     eig = min_eigenvalues(phi)
     scaleJ = np.maximum(1e-300, np.abs(phi[:, :6]).max(axis=1))
@@ -353,8 +377,7 @@ def identify(robot, recordings, validate=(), options=None):
         del Yr
         tau_s = None
         if simplified is not None:
-            tau_s = p.filtered(simplified_torque(simplified[0], p.q, p.qd, p.qdd))[keep] \
-                + offsets
+            tau_s = p.filtered(simplified_torque(simplified[0], p.q, p.qd, p.qdd))[keep]
         used_r = fit_rows[k] if is_train else np.zeros(p.q[keep].shape, bool)
         fits.append(RecordingFit(
             name=name, file=rec.source, sha256=rec.sha256,

@@ -13,7 +13,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from ..core.dynamics.dalembert import gd_terms
-from ..core.model.drives import with_drives
+from ..core.model.drives import DRIVE_FIELDS, with_drives
 from ..core.selection.budget import DEFAULT_TOLERANCE, PartPeaks, relative_peaks, select_terms
 from ..core.selection.ranking import DEFAULT_DOMINANCE, DEFAULT_NEGLIGIBLE
 from ..core.selection.simplified import SimplifiedModel, TorqueErrorAccumulator
@@ -43,8 +43,8 @@ def _program(robot, terms, kept):
     for f in ("kind", "part", "i", "j", "k", "K", "S", "C"):
         digest.update(np.ascontiguousarray(getattr(kept, f)).tobytes())
     digest.update(np.asarray(robot.prismatic, bool).tobytes())
-    for drive in (robot.armature, robot.viscous, robot.coulomb):
-        digest.update(np.asarray(drive, float).tobytes())
+    for drive in DRIVE_FIELDS:
+        digest.update(np.asarray(getattr(robot, drive), float).tobytes())
     cache = terms.programs
     key = (robot.n, digest.hexdigest())
     if key not in cache:        # the drives' terms are never dropped (drives.with_drives)

@@ -73,3 +73,23 @@ def test_too_few_rows_are_refused():
     Y, tau, _ = _problem(N=2)
     with pytest.raises(ValueError, match="rows"):
         least_squares(joint_factors(Y, tau, np.ones(tau.shape, bool)), np.zeros(4))
+
+
+def test_blocked_factors_equal_one_qr_of_the_used_rows():
+    """Several QR_BLOCK blocks and rows left out: R^T R is A^T A of the used rows (numpy's QR
+    of the stacked [A_i | y_i], the oracle), for every joint."""
+    from gd_analyze.core.identify.estimate import QR_BLOCK
+
+    rng = np.random.default_rng(8)
+    N, n, p = 2 * QR_BLOCK + 123, 3, 5
+    Y = rng.normal(size=(N, n, p))
+    tau = rng.normal(size=(N, n))
+    used = rng.random((N, n)) > 0.2
+    R, counts = joint_factors(Y, tau, used)
+    assert counts.tolist() == used.sum(axis=0).tolist()
+    for i in range(n):
+        M = np.hstack([Y[used[:, i], i], tau[used[:, i], i, None]])
+        ref = np.linalg.qr(M, mode="r")
+        np.testing.assert_allclose(np.abs(R[i]), np.abs(ref), rtol=0,
+                                   atol=1e-10 * np.abs(ref).max())
+        np.testing.assert_allclose(R[i].T @ R[i], M.T @ M, rtol=1e-12, atol=1e-9)

@@ -7,7 +7,6 @@ from gd_analyze import load_robot
 from gd_analyze.core.identify.regressor import (
     DRIVE_KINDS,
     column_names,
-    drive_columns,
     identification_regressor,
     moving_rows,
     prior_values,
@@ -33,12 +32,25 @@ def test_the_prior_values_give_pinocchios_torque_with_the_drives():
     assert len(names) == Y.shape[2] and names[-1] == "offset_6" and col_kinds[-1] == "offset"
 
 
-def test_drive_columns_touch_their_joint_only():
-    qd = np.array([[0.5, -1.0, 0.0]])
-    cols = drive_columns(qd, np.array([[2.0, 3.0, 4.0]]), ("armature", "coulomb"))
-    assert cols.shape == (1, 3, 6)
-    assert np.array_equal(cols[0, :, :3], np.diag([2.0, 3.0, 4.0]))
-    assert np.array_equal(cols[0, :, 3:], np.diag([1.0, -1.0, 0.0]))
+def test_the_prior_values_hold_the_robot_files_torque_offsets():
+    """An identified robot file used as the prior: its offsets are the offset columns' values,
+    and Y theta is Pinocchio's torque plus the drives and offsets."""
+    import dataclasses
+
+    robot = load_robot("puma560-drives")
+    robot = dataclasses.replace(robot, torque_offset=np.linspace(-1.0, 1.5, robot.n))
+    base = base_parameters(robot)
+    q, qd, qdd = random_states(robot, 30, seed=4)
+    Y = identification_regressor(robot, q, qd, qdd, base, DRIVE_KINDS)
+    theta = prior_values(base, robot, DRIVE_KINDS)
+    assert np.array_equal(theta[-robot.n:], robot.torque_offset)
+    model = pinocchio_model(robot)
+    model.armature = np.zeros(robot.n)
+    data = model.createData()
+    ref = np.array([pin.rnea(model, data, a, b, c) for a, b, c in zip(q, qd, qdd)])
+    ref = ref + robot.armature * qdd + robot.viscous * qd + robot.coulomb * np.sign(qd) \
+        + robot.torque_offset
+    assert np.abs(Y @ theta - ref).max() <= 1e-10 * np.abs(ref).max()
 
 
 def test_rows_at_rest_are_left_out():

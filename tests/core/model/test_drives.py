@@ -32,13 +32,14 @@ def _pinocchio(robot, q, qd, qdd):
 
 
 def _friction(robot, qd):
-    """viscous qd + coulomb sign(qd), written out joint by joint."""
+    """viscous qd + coulomb sign(qd) + torque_offset, written out joint by joint."""
     out = np.zeros_like(qd)
     for k in range(qd.shape[0]):
         for i in range(qd.shape[1]):
             v = qd[k, i]
             out[k, i] = robot.viscous[i] * v + robot.coulomb[i] * (1 if v > 0 else -1 if v < 0
-                                                                    else 0)
+                                                                    else 0) \
+                + robot.torque_offset[i]
     return out
 
 
@@ -103,9 +104,10 @@ def test_random_chain_with_prismatic_joints_and_drives_matches_pinocchio():
     rng = np.random.default_rng(3)
     for j in joints:
         j.update(armature=rng.uniform(0.0, 2.0), viscous=rng.uniform(0.0, 5.0),
-                 coulomb=rng.uniform(0.0, 3.0))
+                 coulomb=rng.uniform(0.0, 3.0), torque_offset=rng.uniform(-4.0, 4.0))
     robot = robot_from_chain("drives", joints, [0.3, -0.2, -9.81], source="<test>")
     assert "prismatic" in robot.joint_types and robot.armature.all()
+    assert (robot.torque_offset < 0).any() and robot.torque_offset.all()
     q, qd, qdd = _random_states(robot, 150, 9)
     for engine in ENGINES:
         _, errs = _natural_errors(robot, q, qd, qdd, engine)
@@ -169,11 +171,30 @@ def test_rotor_inertia_and_gear_ratio_give_the_armature():
     ({"viscous": -1.0}, "link[1].viscous"),
     ({"coulomb": float("nan")}, "link[1].coulomb"),
     ({"armature": "big"}, "link[1].armature"),
+    ({"torque_offset": float("inf")}, "link[1].torque_offset"),
+    ({"torque_offset": True}, "link[1].torque_offset"),
 ])
 def test_bad_drives_are_refused_naming_the_key(drive, column):
     with pytest.raises(InputError) as info:
         robot_from_dict(_spec(**drive))
     assert info.value.column == column
+
+
+def test_torque_offset_of_either_sign_is_read_added_and_written_back():
+    """tau_0 adds to tau_f whatever qd (at rest too), survives to_dict, and a robot with only
+    offsets has drives (its G-D terms carry tau_f)."""
+    robot = robot_from_dict(_spec(torque_offset=-2.5, viscous=0.5))
+    assert robot.torque_offset.tolist() == [-2.5] and robot.has_friction
+    qd = np.array([[1.0], [0.0], [-2.0]])
+    assert friction_torque(robot, qd).tolist() == [[-2.0], [-2.5], [-3.5]]
+    again = robot_from_dict(robot.to_dict())
+    assert again.torque_offset.tolist() == [-2.5]
+    only = robot_from_dict(_spec(torque_offset=1.0))
+    assert only.has_friction and not only.has_armature
+    terms = gd_terms(only, np.zeros((2, 1)), np.zeros((2, 1)))
+    rigid = gd_terms(rigid_links(only), np.zeros((2, 1)), np.zeros((2, 1)))
+    np.testing.assert_array_equal(terms.tau(np.zeros((2, 1))) - rigid.tau(np.zeros((2, 1))),
+                                  [[1.0], [1.0]])
 
 
 def test_robot_file_with_both_armature_forms_exits_2_with_one_line(tmp_path, capsys):

@@ -36,7 +36,7 @@ def _numpy(model):
 
 
 def _friction(robot, qd):
-    return robot.viscous * qd + robot.coulomb * np.sign(qd)
+    return robot.viscous * qd + robot.coulomb * np.sign(qd) + robot.torque_offset
 
 
 def _oracle(robot, q, qd, qdd):
@@ -90,6 +90,26 @@ def test_recursive_form_with_drives_equals_pinocchio():
     _check(ns, robot, q, qd, qdd, 1e-10)
     names = model.functions().parameter_names
     assert {"Ia1", "Fv1", "Fc1"} <= set(names) and len(names) == ns["N_BASE_PARAMETERS"]
+
+
+def test_torque_offsets_are_in_h_tau_and_the_regressor():
+    """The PUMA with drives and constant torque offsets of both signs, exact: tau_0 in h and
+    tau (rnea plus friction plus offsets), and a column of ones per offset in the regressor."""
+    import dataclasses
+
+    robot = load_robot("puma560-drives")
+    offsets = np.array([1.5, -2.0, 0.0, 0.25, -0.1, 0.05])
+    robot = dataclasses.replace(robot, torque_offset=offsets)
+    q, qd, qdd = random_states(robot, 40, 7)
+    model = _model(robot, recursive=recursive_model(robot, q, qd, qdd, 0.0))
+    ns = _numpy(model)
+    _check(ns, robot, q, qd, qdd, 1e-10)
+    names = list(model.functions().parameter_names)
+    assert {"tau0_1", "tau0_2", "tau0_6"} <= set(names) and "tau0_3" not in names
+    Y = ns["regressor"](q, qd, qdd)
+    col = names.index("tau0_2")
+    assert np.array_equal(Y[:, :, col], np.tile([0.0, 1.0, 0, 0, 0, 0], (len(q), 1)))
+    assert ns["BASE_PARAMETERS"][col] == -2.0
 
 
 def test_pruned_model_with_drives_keeps_the_identities():

@@ -262,7 +262,8 @@ def consistent_standard(base, theta_hat, identifiable, R, phi0, drive_kinds, dri
                       reproduces=residual <= REPRODUCED, solver=solver)
 
 
-def robot_with_standard(robot, phi, armature=None, viscous=None, coulomb=None):
+def robot_with_standard(robot, phi, armature=None, viscous=None, coulomb=None,
+                        torque_offset=None):
     """A copy of the robot with the given standard parameters and drives.
 
     Parameters
@@ -272,7 +273,7 @@ def robot_with_standard(robot, phi, armature=None, viscous=None, coulomb=None):
     phi : ndarray, shape (n, 10)
         Standard parameters, body frame, about the joint's origin; a link with mass 0 gets
         its centre of mass at the link frame's origin (its first moment must then be 0).
-    armature, viscous, coulomb : ndarray, shape (n,), optional
+    armature, viscous, coulomb, torque_offset : ndarray, shape (n,), optional
         The drives; default the robot's.
 
     Returns
@@ -301,7 +302,8 @@ def robot_with_standard(robot, phi, armature=None, viscous=None, coulomb=None):
     com = np.einsum("iba,ib->ia", LR, c - Lt)
     inertia = np.swapaxes(LR, 1, 2) @ Ic @ LR
     changes = {"mass": m, "com": com, "inertia": inertia}
-    for key, value in (("armature", armature), ("viscous", viscous), ("coulomb", coulomb)):
+    for key, value in (("armature", armature), ("viscous", viscous), ("coulomb", coulomb),
+                       ("torque_offset", torque_offset)):
         if value is not None:
             changes[key] = np.asarray(value, float).copy()
     return dataclasses.replace(robot, **changes)

@@ -25,8 +25,11 @@ from __future__ import annotations
 from dataclasses import dataclass
 
 import numpy as np
+from scipy import linalg
+from threadpoolctl import threadpool_limits
 
-__all__ = ["Estimate", "least_squares", "joint_factors", "combine_factors", "RANK_TOL"]
+__all__ = ["Estimate", "least_squares", "joint_factors", "combine_factors", "RANK_TOL",
+           "QR_BLOCK"]
 
 #: A pivoted column is identifiable when |R_kk| > RANK_TOL |R_00| (scaled columns).
 RANK_TOL = 1e-6
@@ -65,6 +68,10 @@ class Estimate:
     R: np.ndarray
 
 
+#: Rows per block of the blocked QR of :func:`joint_factors` (at least 4 (p + 1)).
+QR_BLOCK = 2048
+
+
 def joint_factors(Y, tau, used):
     """Per joint the triangular factor of [A_i | y_i] over the rows that enter the fit.
 
@@ -83,19 +90,36 @@ def joint_factors(Y, tau, used):
         R_i with Q_i R_i = [A_i | y_i] (zero-padded when joint i has fewer than p + 1 rows).
     counts : ndarray of int, shape (n,)
         Rows per joint.
-    """
-    from scipy import linalg
 
+    Notes
+    -----
+    A blocked (tall-skinny) QR: R of the first block of :data:`QR_BLOCK` rows, then R of
+    [R; next block], and so on (Demmel, Grigori, Hoemmen & Langou, "Communication-optimal
+    parallel and sequential QR and LU factorizations", SIAM J. Sci. Comput. 34(1), 2012):
+    the same R up to the rows' signs, each block in cache, on one BLAS thread (a busy machine's
+    threads make one large QR several times slower).
+    """
     N, n, p = Y.shape
     R = np.zeros((n, p + 1, p + 1))
     counts = np.zeros(n, int)
-    for i in range(n):
-        rows = np.asarray(used[:, i], bool)
-        M = np.hstack([Y[rows, i, :], np.asarray(tau, float)[rows, i, None]])
-        counts[i] = M.shape[0]
-        if M.shape[0]:
-            r = linalg.qr(M, mode="r", overwrite_a=True, check_finite=False)[0]
-            R[i, :r.shape[0]] = r[:p + 1]
+    tau = np.asarray(tau, float)
+    step = max(QR_BLOCK, 4 * (p + 1))
+    with threadpool_limits(1, "blas"):
+        for i in range(n):
+            rows = np.flatnonzero(np.asarray(used[:, i], bool))
+            counts[i] = rows.size
+            r = None
+            for a in range(0, rows.size, step):
+                blk = rows[a:a + step]
+                M = np.empty((blk.size + (0 if r is None else r.shape[0]), p + 1), order="F")
+                k = 0 if r is None else r.shape[0]
+                if r is not None:
+                    M[:k] = r
+                M[k:, :p] = Y[blk, i, :]
+                M[k:, p] = tau[blk, i]
+                r = linalg.qr(M, mode="r", overwrite_a=True, check_finite=False)[0][:p + 1]
+            if r is not None:
+                R[i, :r.shape[0]] = r
     return R, counts
 
 
@@ -111,14 +135,13 @@ def combine_factors(a, b):
     -------
     tuple (R, counts)
     """
-    from scipy import linalg
-
     Ra, ca = a
     Rb, cb = b
     out = np.empty_like(Ra)
-    for i in range(Ra.shape[0]):
-        out[i] = linalg.qr(np.vstack([Ra[i], Rb[i]]), mode="r", check_finite=False)[0][
-            :Ra.shape[1]]
+    with threadpool_limits(1, "blas"):
+        for i in range(Ra.shape[0]):
+            out[i] = linalg.qr(np.vstack([Ra[i], Rb[i]]), mode="r", check_finite=False)[0][
+                :Ra.shape[1]]
     return out, ca + cb
 
 
@@ -142,8 +165,12 @@ def least_squares(factors, prior):
     ValueError
         If no more rows than identifiable parameters enter the fit.
     """
-    from scipy import linalg
+    with threadpool_limits(1, "blas"):     # small factors: threads only cost
+        return _least_squares(factors, prior)
 
+
+def _least_squares(factors, prior):
+    """:func:`least_squares`' work, on the calling thread's BLAS."""
     Rj, counts = factors
     n, p1, _ = Rj.shape
     p = p1 - 1

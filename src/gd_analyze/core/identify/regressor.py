@@ -19,45 +19,19 @@ from __future__ import annotations
 import numpy as np
 
 from ..symbolic.base_parameters import base_regressor
+from ..symbolic.drive_regressor import DRIVE_COLUMNS, drive_regressor
 
-__all__ = ["DRIVE_KINDS", "drive_columns", "identification_regressor", "column_names",
+__all__ = ["DRIVE_KINDS", "identification_regressor", "column_names",
            "prior_values", "moving_rows", "IDLE_FRACTION"]
 
-#: The drive column kinds, in the order of the columns.
-DRIVE_KINDS = ("armature", "viscous", "coulomb", "offset")
+#: The drive column kinds, in the order of the columns (the one drive regressor's,
+#: :func:`gd_analyze.core.symbolic.drive_regressor.drive_regressor`).
+DRIVE_KINDS = DRIVE_COLUMNS
+#: The robot's field of each drive kind.
+_FIELD = {"armature": "armature", "viscous": "viscous", "coulomb": "coulomb",
+          "offset": "torque_offset"}
 #: A joint is at rest in a sample when |qd_i| is below this fraction of its 99th percentile.
 IDLE_FRACTION = 0.02
-
-
-def drive_columns(qd, qdd, kinds):
-    """The drive columns of the regressor.
-
-    Parameters
-    ----------
-    qd, qdd : ndarray, shape (N, n)
-        Joint velocities and accelerations [rad/s, rad/s^2; m/s, m/s^2].
-    kinds : sequence of str
-        A subset of :data:`DRIVE_KINDS`, in that order.
-
-    Returns
-    -------
-    ndarray, shape (N, n, n len(kinds))
-        Column ``k n + j`` is kind k of joint j: nonzero in row j only.
-
-    Examples
-    --------
-    >>> drive_columns(np.array([[1.0, -2.0]]), np.zeros((1, 2)), ("viscous", "coulomb"))[0]
-    array([[ 1.,  0.,  1.,  0.],
-           [ 0., -2.,  0., -1.]])
-    """
-    qd, qdd = np.asarray(qd, float), np.asarray(qdd, float)
-    N, n = qd.shape
-    x = {"armature": qdd, "viscous": qd, "coulomb": np.sign(qd), "offset": np.ones((N, n))}
-    out = np.zeros((N, n, n * len(kinds)))
-    idx = np.arange(n)
-    for k, kind in enumerate(kinds):
-        out[:, idx, k * n + idx] = x[kind]
-    return out
 
 
 def column_names(base, n, kinds):
@@ -86,7 +60,8 @@ def column_names(base, n, kinds):
 
 
 def prior_values(base, robot, kinds):
-    """The robot file's values of the columns: its beta and its drives (offset 0).
+    """The robot file's values of the columns: its beta and its drives (offset: its
+    ``torque_offset``).
 
     Parameters
     ----------
@@ -100,8 +75,7 @@ def prior_values(base, robot, kinds):
     """
     parts = [np.asarray(base.beta, float)]
     for kind in kinds:
-        parts.append(np.zeros(robot.n) if kind == "offset" else
-                     np.asarray(getattr(robot, kind), float))
+        parts.append(np.asarray(getattr(robot, _FIELD[kind]), float))
     return np.concatenate(parts)
 
 
@@ -127,7 +101,7 @@ def identification_regressor(robot, q, qd, qdd, base, kinds):
     Y, _ = base_regressor(robot, q, qd, qdd, base)
     if not kinds:
         return Y
-    return np.concatenate([Y, drive_columns(qd, qdd, kinds)], axis=2)
+    return np.concatenate([Y, drive_regressor(qd, qdd, kinds)], axis=2)
 
 
 def moving_rows(qd, threshold=None):

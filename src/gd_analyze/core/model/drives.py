@@ -9,10 +9,13 @@ A geared drive adds to joint i, on the link side of its gearbox,
   Toolbox's ``rne`` and Pinocchio's ``model.armature``): D = D_tran + D_rot + diag(Ia);
 - the friction torque tau_f,i = F_v,i qd_i + F_c,i sign(qd_i) [N m] (prismatic: [N]), viscous
   F_v [N m s/rad] (N s/m) and Coulomb F_c [N m] (N), both >= 0 and symmetric in the direction
-  of motion (sign(0) = 0: no stiction model).
+  of motion (sign(0) = 0: no stiction model), plus a constant torque offset tau_0,i [N m]
+  (prismatic: [N]) of either sign: an identified sensor or gravity-compensation bias, which
+  system identification fits per joint as a column of ones (Swevers et al., "Optimal robot
+  excitation and identification", IEEE Trans. Robot. Automat. 13(5), 1997).
 
 The torque of Eq. (3.4-24) becomes tau = (D_tran + D_rot + D_arm) qdd + h_tran + h_rot + c +
-tau_f. Motor-side data reflect to the link side as Ia = J_m G^2, F_v = B G^2, F_c = T_c |G|
+tau_f, tau_f = F_v qd + F_c sign(qd) + tau_0. Motor-side data reflect to the link side as Ia = J_m G^2, F_v = B G^2, F_c = T_c |G|
 (Corke, *Robotics, Vision and Control*, 2nd ed. 2017, Sec. 9.1.4; the Robotics Toolbox's
 ``Link.friction``). Pure: no files are read here.
 """
@@ -26,13 +29,17 @@ import numpy as np
 from ...errors import InputError
 from .limits import LIMITS
 
-__all__ = ["DRIVE_KEYS", "drive_values", "drive_dict", "friction_torque", "has_drives",
-           "rigid_links", "with_drives"]
+__all__ = ["DRIVE_KEYS", "DRIVE_FIELDS", "drive_values", "drive_dict", "friction_torque",
+           "has_drives", "rigid_links", "with_drives"]
 
 #: The optional per-link keys of a robot file for the drive: armature [kg m^2] (or rotor
 #: inertia [kg m^2] and gear ratio [-], armature = rotor_inertia * gear_ratio^2), viscous
-#: [N m s/rad] and coulomb [N m] friction (prismatic: kg, N s/m, N).
-DRIVE_KEYS = ("armature", "rotor_inertia", "gear_ratio", "viscous", "coulomb")
+#: [N m s/rad] and coulomb [N m] friction, and the constant torque_offset [N m] (prismatic:
+#: kg, N s/m, N, N). ``offset`` is taken: it is the DH joint offset of a prismatic link.
+DRIVE_KEYS = ("armature", "rotor_inertia", "gear_ratio", "viscous", "coulomb", "torque_offset")
+
+#: The :class:`~gd_analyze.core.model.robot.Robot` fields of the drive, one value per joint.
+DRIVE_FIELDS = ("armature", "viscous", "coulomb", "torque_offset")
 
 
 def _value(link, key, path, column, lo=0.0):
@@ -60,14 +67,15 @@ def drive_values(link, path, where):
 
     Returns
     -------
-    armature, viscous, coulomb : float
-        Ia [kg m^2], F_v [N m s/rad] and F_c [N m] (prismatic: kg, N s/m, N); 0 when not
-        given.
+    armature, viscous, coulomb, torque_offset : float
+        Ia [kg m^2], F_v [N m s/rad], F_c [N m] and tau_0 [N m] (prismatic: kg, N s/m, N, N);
+        0 when not given.
 
     Raises
     ------
     InputError
-        If a value is not a finite number >= 0 (``gear_ratio``: not 0), if ``armature`` is given together with
+        If a value is not a finite number >= 0 (``gear_ratio``: not 0; ``torque_offset``:
+        any finite number), if ``armature`` is given together with
         ``rotor_inertia`` or ``gear_ratio``, or if only one of those two is given. One line
         naming the key.
 
@@ -102,11 +110,13 @@ def drive_values(link, path, where):
         armature = _value(link, "armature", path, f"{where}.armature") if "armature" in link \
             else 0.0
     return (armature,) + tuple(_value(link, k, path, f"{where}.{k}") if k in link else 0.0
-                               for k in ("viscous", "coulomb"))
+                               for k in ("viscous", "coulomb")) \
+        + (_value(link, "torque_offset", path, f"{where}.torque_offset", lo=-math.inf)
+           if "torque_offset" in link else 0.0,)
 
 
 def has_drives(robot):
-    """Whether a robot has any armature or friction.
+    """Whether a robot has any armature, friction or torque offset.
 
     Parameters
     ----------
@@ -117,7 +127,7 @@ def has_drives(robot):
     -------
     bool
     """
-    return bool(np.any(robot.armature) or np.any(robot.viscous) or np.any(robot.coulomb))
+    return any(bool(np.any(getattr(robot, k))) for k in DRIVE_FIELDS)
 
 
 def drive_dict(robot, i):
@@ -133,28 +143,30 @@ def drive_dict(robot, i):
     Returns
     -------
     dict
-        ``armature``, ``viscous``, ``coulomb`` where nonzero (an arm without drives writes
-        none, so its parameters' SHA-256 is unchanged).
+        ``armature``, ``viscous``, ``coulomb``, ``torque_offset`` where nonzero (an arm
+        without drives writes none, so its parameters' SHA-256 is unchanged).
     """
-    return {k: float(getattr(robot, k)[i]) for k in ("armature", "viscous", "coulomb")
-            if getattr(robot, k)[i] != 0.0}
+    return {k: float(getattr(robot, k)[i]) for k in DRIVE_FIELDS if getattr(robot, k)[i] != 0.0}
 
 
 def friction_torque(robot, qd):
-    """Joint friction tau_f = F_v qd + F_c sign(qd).
+    """Joint friction and offset tau_f = F_v qd + F_c sign(qd) + tau_0.
+
+    The one formula of the drives' velocity-dependent torque: every engine, the emitted
+    programs (:func:`with_drives`) and identification use it.
 
     Parameters
     ----------
     robot : Robot
-        The arm, with n joints (``viscous``, ``coulomb``).
+        The arm, with n joints (``viscous``, ``coulomb``, ``torque_offset``).
     qd : ndarray, shape (N, n)
         Joint velocities [rad/s or m/s].
 
     Returns
     -------
     ndarray, shape (N, n) or None
-        Friction torques [N m] (prismatic: [N]); None when the robot has no friction (the
-        term is then zero and costs nothing).
+        Friction torques plus offsets [N m] (prismatic: [N]); None when the robot has no
+        friction and no offset (the term is then zero and costs nothing).
 
     Notes
     -----
@@ -172,7 +184,7 @@ def friction_torque(robot, qd):
     if not robot.has_friction:
         return None
     qd = np.asarray(qd, dtype=float)
-    return robot.viscous * qd + robot.coulomb * np.sign(qd)
+    return robot.viscous * qd + robot.coulomb * np.sign(qd) + robot.torque_offset
 
 
 def rigid_links(robot):
@@ -186,15 +198,15 @@ def rigid_links(robot):
     Returns
     -------
     Robot
-        The same robot (the same object when it has no drives) with zero armature and
-        friction.
+        The same robot (the same object when it has no drives) with zero armature,
+        friction and torque offset.
     """
     if not has_drives(robot):
         return robot
     import dataclasses
 
     zero = np.zeros(robot.n)
-    return dataclasses.replace(robot, armature=zero, viscous=zero, coulomb=zero)
+    return dataclasses.replace(robot, **dict.fromkeys(DRIVE_FIELDS, zero))
 
 
 def with_drives(program, robot):
@@ -205,28 +217,31 @@ def with_drives(program, robot):
     program : Program
         The rigid-link model, tau_i of q, qd, qdd.
     robot : Robot
-        Its ``armature`` Ia [kg m^2], ``viscous`` F_v [N m s/rad] and ``coulomb`` F_c [N m].
+        Its ``armature`` Ia [kg m^2], ``viscous`` F_v [N m s/rad], ``coulomb`` F_c [N m] and
+        ``torque_offset`` tau_0 [N m].
 
     Returns
     -------
     Program
         The same program when the robot has no drives; else one whose tau_i adds
-        Ia_i qdd_i + F_v,i qd_i + F_c,i sign(qd_i) (:mod:`gd_analyze.core.model.drives`): one
-        multiplication and one addition per nonzero coefficient, at most 3 + 3 per joint
+        Ia_i qdd_i + F_v,i qd_i + F_c,i sign(qd_i) + tau_0,i
+        (:mod:`gd_analyze.core.model.drives`): one multiplication and one addition per
+        nonzero coefficient, and one addition for the offset, at most 3 + 4 per joint
         (sign(qd) costs two comparisons, not counted).
     """
     import symengine as se
 
     from ..symbolic.codegen import Program
 
-    arm, fv, fc = (np.asarray(getattr(robot, k), float) for k in ("armature", "viscous",
-                                                                  "coulomb"))
-    if not (arm.any() or fv.any() or fc.any()):
+    arm, fv, fc, t0 = (np.asarray(getattr(robot, k), float) for k in DRIVE_FIELDS)
+    if not (arm.any() or fv.any() or fc.any() or t0.any()):
         return program
     outputs = list(program.outputs)
     for i in range(program.n):
         qd, qdd = se.Symbol(f"qd{i}"), se.Symbol(f"qdd{i}")
         extra = [se.RealDouble(float(c)) * x for c, x in ((arm[i], qdd), (fv[i], qd),
                                                           (fc[i], se.sign(qd))) if c != 0.0]
+        if t0[i] != 0.0:
+            extra.append(se.RealDouble(float(t0[i])))
         outputs[i] = se.Add(outputs[i], *extra)
     return Program(program.n, program.assignments, outputs)

@@ -205,8 +205,11 @@ class Robot:
         Reflected rotor inertia Ia_i = J_m G^2 of joint i's drive [kg m^2] (prismatic: [kg]);
         zero by default. It adds diag(Ia) to D (:mod:`gd_analyze.core.model.drives`).
     viscous, coulomb : ndarray, shape (n,)
-        Joint friction F_v [N m s/rad] (N s/m) and F_c [N m] (N), tau_f = F_v qd + F_c sign(qd);
-        zero by default.
+        Joint friction F_v [N m s/rad] (N s/m) and F_c [N m] (N), tau_f = F_v qd + F_c sign(qd)
+        + tau_0; zero by default.
+    torque_offset : ndarray, shape (n,)
+        Constant joint torque offset tau_0 [N m] (prismatic: [N]), of either sign, part of
+        tau_f; zero by default (an identified robot's, :mod:`gd_analyze.core.model.drives`).
 
     Notes
     -----
@@ -244,6 +247,7 @@ class Robot:
     armature: np.ndarray = None
     viscous: np.ndarray = None
     coulomb: np.ndarray = None
+    torque_offset: np.ndarray = None
 
     def __post_init__(self):
         # Validation only: a frozen value is never changed after construction. Build a robot
@@ -255,6 +259,9 @@ class Robot:
             v = getattr(self, key)
             if v is None or v.shape != (n,) or not (np.isfinite(v) & (v >= 0)).all():
                 raise ValueError(f"{key} must be {n} finite numbers >= 0")
+        t0 = self.torque_offset
+        if t0 is None or t0.shape != (n,) or not np.isfinite(t0).all():
+            raise ValueError(f"torque_offset must be {n} finite numbers")
         for f in dataclasses.fields(self):
             value = getattr(self, f.name)
             if isinstance(value, (list, tuple)):
@@ -287,9 +294,11 @@ class Robot:
 
     @cached_property
     def has_friction(self):
-        """bool: True if some joint has viscous or Coulomb friction (``viscous`` or
-        ``coulomb`` not all 0); computed once per robot."""
-        return bool(np.any(self.viscous) or np.any(self.coulomb))
+        """bool: True if some joint has viscous or Coulomb friction or a torque offset
+        (``viscous``, ``coulomb`` or ``torque_offset`` not all 0: tau_f is then not zero);
+        computed once per robot."""
+        return bool(np.any(self.viscous) or np.any(self.coulomb)
+                    or np.any(self.torque_offset))
 
     @property
     def is_dh(self):
@@ -452,7 +461,7 @@ def make_robot(**fields):
         fields["link_translation"] = np.zeros((n, 3))
     if fields.get("tau_max") is None:
         fields["tau_max"] = np.full(n, np.nan)
-    for key in ("armature", "viscous", "coulomb"):      # drives: none unless given
+    for key in ("armature", "viscous", "coulomb", "torque_offset"):     # drives: none unless given
         if fields.get(key) is None:
             fields[key] = np.zeros(n)
     for key, value in fields.items():

@@ -17,7 +17,7 @@ import warnings
 import numpy as np
 
 from ...errors import InputError, InputWarning
-from .drives import DRIVE_KEYS, drive_values
+from .drives import DRIVE_FIELDS, DRIVE_KEYS, drive_values
 from .limits import LIMITS, exact_text
 from .robot import CONVENTIONS, JOINT_TYPES, make_robot
 
@@ -252,7 +252,8 @@ def robot_from_dict(spec, source="<dict>", sha256=None):
         Every link may give its drive (:mod:`gd_analyze.core.model.drives`), all optional, >= 0:
         ``armature`` [kg m^2] (prismatic: [kg]), or instead ``rotor_inertia`` [kg m^2] and
         ``gear_ratio`` [-] (armature = rotor_inertia * gear_ratio^2); ``viscous``
-        [N m s/rad] (N s/m) and ``coulomb`` [N m] (N), link-side friction.
+        [N m s/rad] (N s/m) and ``coulomb`` [N m] (N), link-side friction, and
+        ``torque_offset`` [N m] (N), a constant torque of either sign.
 
         In the modified convention link i's row holds Craig's alpha_{i-1}, a_{i-1}, d_i and
         theta_i (as the Robotics Toolbox's ``RevoluteMDH`` and ``PrismaticMDH`` take them), and
@@ -301,7 +302,8 @@ def robot_from_dict(spec, source="<dict>", sha256=None):
         raise InputError("no [[link]] tables", path, column="link")
     cols = {k: [] for k in ("d", "a", "alpha", "offset", "mass", "com", "inertia", "q_min",
                             "q_max", "qd_max", "qdd_max", "prismatic", "rotation",
-                            "translation", "tau_max", "armature", "viscous", "coulomb")}
+                            "translation", "tau_max", "armature", "viscous", "coulomb",
+                            "torque_offset")}
     for i, link in enumerate(links, start=1):
         where = f"link[{i}]"
         if not isinstance(link, dict):
@@ -338,7 +340,7 @@ def robot_from_dict(spec, source="<dict>", sha256=None):
                            link.get("qdd_max_deg"), path, where,
                            ("q_limits_deg", "qd_max_deg", "qdd_max_deg"), scale=math.pi / 180)
         cols["prismatic"].append(pris)
-        for key, v in zip(("armature", "viscous", "coulomb"), drive_values(link, path, where)):
+        for key, v in zip(DRIVE_FIELDS, drive_values(link, path, where)):
             cols[key].append(v)
         cols["mass"].append(m)
         cols["com"].append(com)
@@ -370,8 +372,8 @@ def robot_from_chain(name, joints, gravity, **metadata):
         this joint's body frame; optional ``"q_min"``, ``"q_max"`` [rad or m] (may be -inf,
         inf; default none), ``"qd_max"`` [rad/s or m/s], ``"qdd_max"`` [rad/s^2 or m/s^2] and
         ``"tau_max"`` [N m or N] (None or NaN when not given); optional drive keys
-        ``"armature"`` [kg m^2], ``"viscous"`` [N m s/rad] and ``"coulomb"`` [N m]
-        (:mod:`gd_analyze.core.model.drives`).
+        ``"armature"`` [kg m^2], ``"viscous"`` [N m s/rad], ``"coulomb"`` [N m] and
+        ``"torque_offset"`` [N m] (:mod:`gd_analyze.core.model.drives`).
     gravity : array_like, shape (3,)
         Gravity in the base frame [m/s^2].
     **metadata
@@ -423,8 +425,7 @@ def robot_from_chain(name, joints, gravity, **metadata):
             v = j.get(key)
             if v is not None and not (isinstance(v, float) and math.isnan(v)):
                 link[key] = v
-        link.update({k: float(j[k]) for k in ("armature", "viscous", "coulomb")
-                     if j.get(k)})              # drives: optional, zero when absent
+        link.update({k: float(j[k]) for k in DRIVE_FIELDS if j.get(k)})              # drives: optional, zero when absent
         links.append(link)
     spec = {"name": name, "gravity": gravity, "convention": "chain", "link": links,
             "description": fields.get("description", ""),

@@ -36,6 +36,7 @@ from functools import cached_property
 import numpy as np
 import symengine as se
 
+from ..model.drives import DRIVE_FIELDS
 from .codegen import ExplicitProgram, Program
 from .transform import jacobian, substitute
 
@@ -186,11 +187,11 @@ def _inertia_from_linear(program, n):
 
 
 def _drives(robot, programs, names, values):
-    """Armature on D's diagonal, friction in h, and their regressor columns."""
+    """Armature on D's diagonal, friction and torque offset in h, and their regressor
+    columns (the offset's a column of ones)."""
     n = robot.n
-    arm, fv, fc = (np.asarray(getattr(robot, k), float) for k in ("armature", "viscous",
-                                                                  "coulomb"))
-    if not (arm.any() or fv.any() or fc.any()):
+    arm, fv, fc, t0 = (np.asarray(getattr(robot, k), float) for k in DRIVE_FIELDS)
+    if not (arm.any() or fv.any() or fc.any() or t0.any()):
         return programs, names, values
     qd, qdd = _symbols(n, "qd"), _symbols(n, "qdd")
     D, h, Y = (programs[k] for k in ("inertia", "velocity_terms", "regressor"))
@@ -201,7 +202,8 @@ def _drives(robot, programs, names, values):
             d_out[i * n + i] = d_out[i * n + i] + se.RealDouble(float(arm[i]))
             columns.append((f"Ia{i + 1}", arm[i], i, qdd[i]))
         extra = []
-        for label, c, x in (("Fv", fv[i], qd[i]), ("Fc", fc[i], se.sign(qd[i]))):
+        for label, c, x in (("Fv", fv[i], qd[i]), ("Fc", fc[i], se.sign(qd[i])),
+                            ("tau0_", t0[i], se.Integer(1))):
             if c:
                 extra.append(se.RealDouble(float(c)) * x)
                 columns.append((f"{label}{i + 1}", c, i, x))
