@@ -122,3 +122,22 @@ def test_table_6_1_says_each_cause_once(drives):
     marks = {r[-1] for r in negligible if r[-2] != "\u2261 0"}
     assert len(marks) == 1 and marks.pop() in ctx["compare"]["note"]
     assert ctx["compare"]["note"].count("no part is ranked") == 1
+
+
+def test_torque_offsets_get_a_column_and_the_note_says_so(drives):
+    """A robot whose only drive term is a torque offset still has the drives table, with the
+    offsets as stored (the dataset's torque_offset), and the note's tau_f names the offset."""
+    from gd_analyze.reports.main_robot import _drives_context
+
+    ds = drives[0].copy()
+    n = ds.sizes["joint"]
+    for v in ("D_arm", "viscous", "coulomb"):
+        ds[v] = ds[v] * 0
+    ds["torque_offset"] = ("joint", np.arange(1.0, n + 1))
+    ctx = _drives_context(ds, list(ds["element"].values))
+    assert ctx is not None and "offset" in ctx["note"]
+    assert "offset" in ctx["table"]["header"]
+    column = ctx["table"]["header"].index("offset")
+    assert [float(r[column]) for r in ctx["table"]["rows"]] == list(np.arange(1.0, n + 1))
+    ds["torque_offset"] = ds["torque_offset"] * 0
+    assert _drives_context(ds, list(ds["element"].values)) is None

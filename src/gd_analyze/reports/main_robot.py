@@ -215,7 +215,10 @@ def _robot_geometry(ds):
 def _drives_context(ds, labels):
     """The drives' table and its note, or None when the robot has no drives."""
     names = ("D_arm", "viscous", "coulomb")
-    if not all(v in ds for v in names) or not any(np.any(ds[v].values) for v in names):
+    offset = ds["torque_offset"].values if "torque_offset" in ds else None
+    has_offset = offset is not None and bool(np.any(offset))
+    if not all(v in ds for v in names) or not (
+            any(np.any(ds[v].values) for v in names) or has_offset):
         return None
     arm, fv, fc = (ds[v].values for v in names)
     n = arm.shape[0]
@@ -223,19 +226,22 @@ def _drives_context(ds, labels):
     peak_f = (np.abs(ds["tau_f"].values).max(axis=0) if "tau_f" in ds else np.zeros(n))
     share = ds["share_arm"].values if "share_arm" in ds else np.zeros(len(labels))
     diag = [list(labels).index(f"D{k + 1}{k + 1}") if n < 10 else None for k in range(n)]
+    extra = (offset,) if has_offset else ()
     table = _table(
-        ["joint", "armature", "viscous", "Coulomb", f"peak |{tau('f')}|",
-         f"armature share of {element('D', 'ii')}", "units"],
+        ["joint", "armature", "viscous", "Coulomb", *(["offset"] if has_offset else []),
+         f"peak |{tau('f')}|", f"armature share of {element('D', 'ii')}", "units"],
         [[*row, share_text(share[diag[k]]) if diag[k] is not None else "—",
-          "kg, N s/m, N, N" if pris[k] else "kg m², N m s/rad, N m, N m"]
-         for k, row in enumerate(_rows(range(1, n + 1), arm, fv, fc, peak_f))],
-        align=["left"] + ["right"] * 5 + ["left"], widths=[0.5, 0.9, 0.9, 0.9, 0.9, 1, 2])
+          ("kg, N s/m, N" + ", N" * has_offset + ", N") if pris[k] else
+          ("kg m², N m s/rad, N m" + ", N m" * has_offset + ", N m")]
+         for k, row in enumerate(_rows(range(1, n + 1), arm, fv, fc, *extra, peak_f))],
+        align=["left"] + ["right"] * (5 + has_offset) + ["left"],
+        widths=[0.5, 0.9, 0.9, 0.9, *([0.9] if has_offset else []), 0.9, 1, 2])
     note = ("Drives: the armature (rotor inertia × gear ratio²) adds diag(armature) "
             f"to D, a third part {element('D', '', 'arm')} beside {element('D', '', 'tran')} "
             f"and {element('D', '', 'rot')}, counted on the rotational side of the "
             f"translational share (Sec. 4); friction {tau('f')} = viscous "
-            "· q̇ + Coulomb · sign(q̇) adds to τ. The simplified model "
-            "keeps both whole.")
+            "· q̇ + Coulomb · sign(q̇)" + (" + offset" if has_offset else "")
+            + " adds to τ. The simplified model keeps both whole.")
     return {"table": table, "note": note}
 
 

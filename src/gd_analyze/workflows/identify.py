@@ -20,6 +20,7 @@ import numpy as np
 
 from .._version import VERSION
 from ..core.identify.consistent import (
+    SolverFailure,
     base_map,
     closest_standard,
     consistent_standard,
@@ -184,6 +185,17 @@ def _prepared(rec, cutoff, options, label):
     return pre
 
 
+def _consistent(base, theta, est, phi0, drive_kind, drive_prior):
+    """:func:`consistent_standard`, a failure of both solvers said on one line (exit 2)."""
+    try:
+        return consistent_standard(base, theta, est.identifiable, est.R, phi0, drive_kind,
+                                   drive_prior)
+    except SolverFailure as exc:
+        raise InputError(f"cannot find physically consistent parameters: {exc}; the "
+                         "recordings may not excite the arm enough (try plan --excitation)"
+                         ) from None
+
+
 def _rounding_cleaned(phi, drives, nonneg):
     """The standard parameters and drives with rounding-level negatives set to 0.
 
@@ -321,8 +333,7 @@ def identify(robot, recordings, validate=(), options=None):
     theta = est.value
     nonneg = np.array([k != "offset" for k in drive_kind], bool)
     if options.consistent:
-        sol = consistent_standard(base, theta, est.identifiable, est.R, phi0, drive_kind,
-                                  theta0[b:])
+        sol = _consistent(base, theta, est, phi0, drive_kind, theta0[b:])
         phi, drives = sol.phi, sol.drives
         theta = np.concatenate([base_map(base) @ phi.reshape(-1), drives])
         method = (f"physically consistent (every pseudo-inertia >= 0, armature and friction "
@@ -341,8 +352,7 @@ def identify(robot, recordings, validate=(), options=None):
         file_phi, file_drives = _rounding_cleaned(phi, drives, nonneg)
         file_note = None
         if not _loadable(file_phi, bool((file_drives[nonneg] >= 0).all())):
-            sol = consistent_standard(base, theta, est.identifiable, est.R, phi0, drive_kind,
-                                      theta0[b:])
+            sol = _consistent(base, theta, est, phi0, drive_kind, theta0[b:])
             file_phi, file_drives = sol.phi, sol.drives
             file_note = ("the least-squares parameters are not physically realisable (a "
                          "link's inertia or mass, or a friction < 0), which a robot file cannot "

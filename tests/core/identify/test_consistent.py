@@ -70,3 +70,32 @@ def test_consistent_parameters_of_inconsistent_base_parameters():
     assert np.allclose(base_map(base) @ sol.phi.reshape(-1), base.beta, rtol=0,
                        atol=1e-6 * np.abs(base.beta).max())
     assert np.allclose(sol.drives, [0.1, 0.2], atol=1e-6)
+
+
+def test_a_failing_solver_falls_back_and_two_failures_are_one_error(monkeypatch):
+    """Clarabel raising SolverError in either stage: SCS solves both; both failing: the
+    dedicated SolverFailure, not cvxpy's own error."""
+    import cvxpy as cp
+    import pytest
+
+    from gd_analyze.core.identify.consistent import SolverFailure
+
+    robot = load_robot("two-link")
+    base = base_parameters(robot)
+    phi0 = standard_parameters(robot)
+    theta = base.beta.copy()
+    args = (base, theta, np.ones(theta.size, bool), np.eye(theta.size), phi0, (), np.zeros(0))
+    real = cp.Problem.solve
+    failing = {"CLARABEL"}
+
+    def solve(self, *a, solver=None, **k):
+        if solver in failing:
+            raise cp.error.SolverError(f"{solver} made to fail")
+        return real(self, *a, solver=solver, **k)
+
+    monkeypatch.setattr(cp.Problem, "solve", solve)
+    sol = consistent_standard(*args)
+    assert sol.solver == "SCS" and sol.residual < 1e-4       # SCS: first order, less exact
+    failing.add("SCS")
+    with pytest.raises(SolverFailure, match="CLARABEL made to fail.*SCS made to fail"):
+        consistent_standard(*args)

@@ -32,7 +32,7 @@ import numpy as np
 from ..symbolic.base_parameters import _kind_scales
 
 __all__ = ["base_map", "closest_standard", "pseudo_inertia", "min_eigenvalues",
-           "consistent_standard", "Consistent", "robot_with_standard"]
+           "consistent_standard", "Consistent", "robot_with_standard", "SolverFailure"]
 
 
 def base_map(base):
@@ -199,8 +199,8 @@ def consistent_standard(base, theta_hat, identifiable, R, phi0, drive_kinds, dri
 
     Raises
     ------
-    RuntimeError
-        If neither Clarabel nor SCS solves the problem.
+    SolverFailure
+        If neither Clarabel nor SCS solves the problem (a RuntimeError).
     """
     import cvxpy as cp
 
@@ -228,30 +228,34 @@ def consistent_standard(base, theta_hat, identifiable, R, phi0, drive_kinds, dri
     nonneg = [k for k, kind in enumerate(drive_kinds) if kind != "offset"]
     if nonneg:
         cons.append(d[nonneg] >= 0)
-    solver = None
-    for name in ("CLARABEL", "SCS"):
+    second_cost = cp.sum_squares(u) + cp.sum_squares(
+        cp.multiply(d_scale, v) + theta_hat[b:] - drive_prior) if nd else cp.sum_squares(u)
+    solver, why = None, []
+    for name in ("CLARABEL", "SCS"):        # Clarabel, else SCS, for both stages together
         try:
             first = cp.Problem(cp.Minimize(resid), cons)
             with warnings.catch_warnings():         # the status is checked instead
                 warnings.simplefilter("ignore")
                 first.solve(solver=name)
-            if first.status in ("optimal", "optimal_inaccurate"):
-                solver = name
-                break
-        except cp.error.SolverError:
+            if first.status not in ("optimal", "optimal_inaccurate"):
+                why.append(f"{name}: {first.status}")
+                continue
+            bound = float(first.value) * (1 + 1e-6) + REPRODUCED * 0.1
+            second = cp.Problem(cp.Minimize(second_cost), cons + [resid <= bound])
+            with warnings.catch_warnings():
+                warnings.simplefilter("ignore")
+                second.solve(solver=name)
+            if second.status not in ("optimal", "optimal_inaccurate"):
+                why.append(f"{name}: second stage {second.status}")
+                continue
+        except cp.error.SolverError as exc:
+            why.append(f"{name}: {str(exc).splitlines()[0] if str(exc) else 'failed'}")
             continue
+        solver = name
+        break
     if solver is None:
-        raise RuntimeError("the consistency problem was solved by neither Clarabel nor SCS")
-    best = float(first.value)
-    bound = best * (1 + 1e-6) + REPRODUCED * 0.1
-    second = cp.Problem(cp.Minimize(cp.sum_squares(u) + cp.sum_squares(
-        cp.multiply(d_scale, v) + theta_hat[b:] - drive_prior) / 1.0 if nd else
-        cp.sum_squares(u)), cons + [resid <= bound])
-    with warnings.catch_warnings():
-        warnings.simplefilter("ignore")
-        second.solve(solver=solver)
-    if second.status not in ("optimal", "optimal_inaccurate"):
-        raise RuntimeError(f"the consistency problem's second stage: {second.status}")
+        raise SolverFailure("the consistency problem was solved by neither Clarabel nor SCS ("
+                            + "; ".join(why) + ")")
     phi_v = (phi0.reshape(-1) + S * u.value).reshape(n, 10)
     d_v = theta_hat[b:] + d_scale * v.value if nd else np.zeros(0)
     if nonneg:
@@ -260,6 +264,11 @@ def consistent_standard(base, theta_hat, identifiable, R, phi0, drive_kinds, dri
     residual = float(np.linalg.norm(R @ th[ok] - target) / norm)
     return Consistent(phi=phi_v, drives=d_v, residual=residual,
                       reproduces=residual <= REPRODUCED, solver=solver)
+
+
+class SolverFailure(RuntimeError):
+    """Neither Clarabel nor SCS solved the consistency problem (a numerical failure of the
+    solvers, not of the input's form)."""
 
 
 def robot_with_standard(robot, phi, armature=None, viscous=None, coulomb=None,
