@@ -20,11 +20,12 @@ from __future__ import annotations
 import os
 import types
 from pathlib import Path
+from typing import Any
 
 __all__ = ["defaults", "cache_dir"]
 
 #: The defaults, read-only. Units: ``torque_floor`` [N m]; the others are fractions or names.
-defaults = types.MappingProxyType({
+defaults: types.MappingProxyType[str, Any] = types.MappingProxyType({
     # ranking (Sec. 3.4.1): an element's part dominates at a share of at least s; an element
     # below e times its scale is negligible
     "dominance": 0.9,

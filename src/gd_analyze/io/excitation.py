@@ -242,8 +242,8 @@ def excitation_condition(robot, columns: IdentificationColumns, series: FourierS
     float
         :func:`scaled_condition` of the regressor stacked at the samples.
     """
-    return scaled_condition(identification_regressor(robot, *series.evaluate(_middles(series.period, samples)),
-                                                     columns))
+    q, qd, qdd = series.evaluate(_middles(series.period, samples))[:3]
+    return scaled_condition(identification_regressor(robot, q, qd, qdd, columns))
 
 
 def _middles(period, samples):

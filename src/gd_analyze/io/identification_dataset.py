@@ -142,7 +142,7 @@ class RecordingFit:
     tau_prior: np.ndarray
     used: np.ndarray
     notes: tuple = ()
-    tau_simplified: np.ndarray = None
+    tau_simplified: np.ndarray | None = None
 
     def errors(self, which="predicted"):
         """Per-joint RMS and relative errors and the total relative error.
@@ -228,7 +228,7 @@ class IdentificationResult:
     inputs: dict = field(default_factory=dict)
     preprocessing: tuple = ()
     version: str = ""
-    noise_std: np.ndarray = None
+    noise_std: np.ndarray | None = None
 
     @property
     def dataset(self):

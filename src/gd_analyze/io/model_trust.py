@@ -61,7 +61,7 @@ QUICK_BOXES = 1024
 CERTIFICATION_SAMPLES = 1000
 
 #: Re-proved bounds kept in this process: certification key -> (leaves, scale).
-_PROVED = {}
+_PROVED: dict = {}
 _PROVED_MAX = 4
 
 

@@ -66,9 +66,9 @@ class Recording:
     t: np.ndarray
     q: np.ndarray
     tau: np.ndarray
-    qd: np.ndarray = None
-    qdd: np.ndarray = None
-    rows: np.ndarray = None
+    qd: np.ndarray | None = None
+    qdd: np.ndarray | None = None
+    rows: np.ndarray | None = None
     current: bool = False
     source: str = ""
     sha256: str = ""

@@ -23,7 +23,7 @@ from .urdf import URDF_BUILTIN, is_urdf_text, load_pinocchio_model, load_urdf, l
 try:  # Python >= 3.11
     import tomllib
 except ModuleNotFoundError:  # pragma: no cover - Python 3.10
-    import tomli as tomllib
+    import tomli as tomllib  # type: ignore[no-redef]
 
 __all__ = ["load_robot", "load_toml_robot", "builtin_robots", "is_urdf", "TOML_BUILTIN",
            "unknown_robot", "robots_text"]

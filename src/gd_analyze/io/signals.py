@@ -32,7 +32,7 @@ SIGNALS = tuple(s for s in (signal.SIGINT, signal.SIGTERM, getattr(signal, "SIGH
 #: Seconds before a deferred signal is delivered again (it waits for the interpreter's own
 #: callback to return; not a test's wait).
 _AGAIN = 0.02
-_PENDING = []
+_PENDING: list = []
 
 
 def pending():

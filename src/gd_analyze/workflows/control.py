@@ -156,9 +156,9 @@ class ControlResult:
     qd_d: np.ndarray
     qdd_d: np.ndarray
     runs: dict
-    cost: dict = None
+    cost: dict | None = None
     provenance: dict = field(default_factory=dict)
-    tau_noise: np.ndarray = None
+    tau_noise: np.ndarray | None = None
 
     @property
     def tau_noise_floor(self):

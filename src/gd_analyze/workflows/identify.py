@@ -97,7 +97,7 @@ class IdentifyOptions:
     decimate: int = 1
     drives: tuple = DEFAULT_DRIVES
     current: bool = False
-    drive_gains: tuple = None
+    drive_gains: tuple | None = None
     consistent: bool = False
     simplify: bool = False
 

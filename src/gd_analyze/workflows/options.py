@@ -73,7 +73,7 @@ class SimplifyOptions:
     explicit: str = defaults["explicit"]
     form: str = defaults["form"]
     guarantee: str = defaults["guarantee"]
-    region: RegionLimits = None
+    region: RegionLimits | None = None
 
     def __post_init__(self):
         if self.region is not None and not isinstance(self.region, RegionLimits):

@@ -19,9 +19,9 @@ __all__ = ["REGION_SAMPLES", "certified", "region_values"]
 REGION_SAMPLES = 1000
 
 #: Certifications kept in this process (keyed by :func:`_region_key`).
-_CERTIFIED = {}
+_CERTIFIED: dict = {}
 #: The region samples kept in this process without a certification (the same key, floor 0).
-_SAMPLED = {}
+_SAMPLED: dict = {}
 #: Entries each keeps (a 10-joint arm's channel values are about 300 MB).
 _CERTIFIED_MAX = 2
 

@@ -160,8 +160,8 @@ class GDTerms:
     h_tran: np.ndarray
     h_rot: np.ndarray
     c: np.ndarray
-    armature: np.ndarray = None
-    tau_f: np.ndarray = None
+    armature: np.ndarray | None = None
+    tau_f: np.ndarray | None = None
 
     @property
     def D_arm(self):

@@ -85,9 +85,9 @@ class Preprocessed:
     cutoff: float
     step: float
     notes: tuple
-    keep: np.ndarray = None
+    keep: np.ndarray | None = None
     segments: tuple = ()
-    sos: np.ndarray = None
+    sos: np.ndarray | None = None
 
     def filtered(self, x):
         """The same zero-phase filter on another signal of the same samples, segment by segment.

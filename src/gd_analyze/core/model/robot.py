@@ -237,17 +237,17 @@ class Robot:
     source: str = "<dict>"
     sha256: str = ""
     convention: str = "standard"
-    prismatic: np.ndarray = None
-    rotation: np.ndarray = None
-    translation: np.ndarray = None
-    link_rotation: np.ndarray = None
-    link_translation: np.ndarray = None
-    metadata: types.MappingProxyType = None
-    tau_max: np.ndarray = None
-    armature: np.ndarray = None
-    viscous: np.ndarray = None
-    coulomb: np.ndarray = None
-    torque_offset: np.ndarray = None
+    prismatic: np.ndarray | None = None
+    rotation: np.ndarray | None = None
+    translation: np.ndarray | None = None
+    link_rotation: np.ndarray | None = None
+    link_translation: np.ndarray | None = None
+    metadata: types.MappingProxyType | None = None
+    tau_max: np.ndarray | None = None
+    armature: np.ndarray | None = None
+    viscous: np.ndarray | None = None
+    coulomb: np.ndarray | None = None
+    torque_offset: np.ndarray | None = None
 
     def __post_init__(self):
         # Validation only: a frozen value is never changed after construction. Build a robot

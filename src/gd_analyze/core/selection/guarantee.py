@@ -113,13 +113,13 @@ class Guarantee:
     tolerance: float
     bound: np.ndarray
     scale: np.ndarray
-    q_min: np.ndarray = None
-    q_max: np.ndarray = None
-    qd_max: np.ndarray = None
-    qdd_max: np.ndarray = None
-    scale_state: np.ndarray = None
-    sampled_error: np.ndarray = None
-    region_sampled_error: np.ndarray = None
+    q_min: np.ndarray | None = None
+    q_max: np.ndarray | None = None
+    qd_max: np.ndarray | None = None
+    qdd_max: np.ndarray | None = None
+    scale_state: np.ndarray | None = None
+    sampled_error: np.ndarray | None = None
+    region_sampled_error: np.ndarray | None = None
     method: str = ""
     trajectory_sha256: str = ""
     trajectories_sha256: tuple = ()

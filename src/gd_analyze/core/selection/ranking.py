@@ -306,9 +306,9 @@ class Ranking:
     scale: np.ndarray
     dominance_threshold: float
     negligible_threshold: float
-    share_arm: np.ndarray = None
-    peak_arm: np.ndarray = None
-    rigid_dominance: tuple = None
+    share_arm: np.ndarray | None = None
+    peak_arm: np.ndarray | None = None
+    rigid_dominance: tuple | None = None
 
     def choices(self):
         """The simplified model's choice per element.

@@ -161,9 +161,9 @@ class RegionLimits:
     {'region_qd_max': [1.0]}
     """
 
-    q_limits: tuple = None
-    qd_max: tuple = None
-    qdd_max: tuple = None
+    q_limits: tuple | None = None
+    qd_max: tuple | None = None
+    qdd_max: tuple | None = None
 
     def __post_init__(self):
         if self.q_limits is not None:
@@ -276,8 +276,8 @@ class Region:
     q_max: np.ndarray
     qd_max: np.ndarray
     qdd_max: np.ndarray
-    prismatic: np.ndarray = None
-    qdd_assumed: np.ndarray = None
+    prismatic: np.ndarray | None = None
+    qdd_assumed: np.ndarray | None = None
     qdd_rule: str = ""
     source: str = ""
     notes: tuple = ()

@@ -162,7 +162,7 @@ class SimplifiedModel:
     costs: dict = field(default_factory=dict)
     guarantee: object = None
     program_cache: object = field(default=None, repr=False, compare=False)
-    inertia_check: dict = None
+    inertia_check: dict | None = None
     functions_cache: object = field(default=None, repr=False, compare=False)
     choice_cache: object = field(default=None, repr=False, compare=False)
 

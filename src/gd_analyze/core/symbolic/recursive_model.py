@@ -71,8 +71,8 @@ class RecursiveModel:
     scale: np.ndarray
     bound: np.ndarray
     bound_by_part: np.ndarray
-    relative_peak: np.ndarray = None
-    round_off: np.ndarray = None
+    relative_peak: np.ndarray | None = None
+    round_off: np.ndarray | None = None
 
     def contributing(self):
         """Which (parameter, part) pairs contribute on the trajectories the model was built on.
