@@ -106,20 +106,38 @@ def pair_magnitudes_at(V, beta, qd_max, qdd_max):
     ndarray, shape (B, b, 3, n)
         Inertial: sum_j |A_j| qdd_max_j |beta| (reached); velocity: max over the vertices of
         qd of |qd^T C qd| |beta|; gravity: |G| |beta| [N m or N].
+
+    Notes
+    -----
+    A column's velocity terms involve only the joints S whose C_jl are not all zero (a column
+    of link k: joints up to k), so its vertices are those of S (2^(|S| - 1)): the others change
+    no value.
     """
     B, C, n, b = V.shape
     out = np.zeros((B, b, 3, n))
     out[:, :, 0] = (np.abs(V[:, 1:1 + n]) * qdd_max[None, :, None, None]).sum(1).transpose(
         0, 2, 1)
     out[:, :, 2] = np.abs(V[:, 0]).transpose(0, 2, 1)
-    verts = qd_vertices(np.asarray(qd_max, float))
-    outer = (verts[:, :, None] * verts[:, None, :]).reshape(-1, n * n)      # (K, n n)
-    rows = max(1, _GEMM_ELEMENTS // (outer.shape[0] * n * b))    # positions per product
-    for a in range(0, B, rows):             # one matrix product (K, n n) @ (n n, rows n b)
-        Cq = V[a:a + rows, 1 + n:].transpose(1, 0, 2, 3).reshape(n * n, -1)
-        quad = outer @ Cq                                               # qd^T C qd
-        peak = np.maximum(quad.max(axis=0), -quad.min(axis=0))         # max |.| over qd
-        out[a:a + rows, :, 1] = peak.reshape(-1, n, b).transpose(0, 2, 1)
+    qd_max = np.asarray(qd_max, float)
+    used = (V[:, 1 + n:] != 0).any(axis=(0, 2)).reshape(n, n, b)
+    support = used.any(axis=0) | used.any(axis=1)                       # (n, b)
+    groups = {}
+    for m in range(b):                  # columns by the joints their velocity terms involve
+        groups.setdefault(tuple(np.flatnonzero(support[:, m])), []).append(m)
+    for S, ms in groups.items():
+        if not S:
+            continue                    # no velocity term: 0
+        S, ms = np.asarray(S), np.asarray(ms)
+        verts = qd_vertices(qd_max[S])
+        outer = (verts[:, :, None] * verts[:, None, :]).reshape(-1, S.size ** 2)   # (K, s s)
+        chans = 1 + n + (S[:, None] * n + S[None, :]).reshape(-1)
+        rows = max(1, _GEMM_ELEMENTS // (outer.shape[0] * n * ms.size))  # positions a product
+        for a in range(0, B, rows):         # one matrix product (K, s s) @ (s s, rows n g)
+            Cq = V[a:a + rows, chans][..., ms]                           # (rows, s s, n, g)
+            r = Cq.shape[0]
+            quad = outer @ Cq.transpose(1, 0, 2, 3).reshape(S.size ** 2, -1)   # qd^T C qd
+            peak = np.maximum(quad.max(axis=0), -quad.min(axis=0))     # max |.| over qd
+            out[a:a + rows, ms, 1] = peak.reshape(r, n, ms.size).transpose(0, 2, 1)
     return out * np.abs(beta)[None, :, None, None]
 
 
