@@ -1,27 +1,32 @@
-"""The region certification read back from the derivation cache, against a fresh one (issue 40).
+"""Region certification against the number of joints: cold, and read back from the cache.
 
-An entry of the certification cache stores no bound: read back, its scale is checked at its
-states and against the samples, and the branch and bound runs again on the samples
-(``io/certification_cache.py``). This script times, in one process and for each arm, with the
-compiled kernels warmed up first:
+For random chains of n joints (``analysis/scaling.py``'s ``random_robot`` with position limits
+of +-2.5 rad, +-0.3 m for the prismatic joints, 2 rad/s, 4 rad/s^2) and, optionally, named arms,
+this script times in rounds, interleaved over n (every n once per round, so that a change of
+load hits all of them alike):
 
-1. a fresh certification into an empty derivation cache (sampling, the scale's local
-   maximisation and the branch and bound);
-2. the same certification read back from that cache, twice;
+1. a certification into an empty derivation cache (sampling, the scale's local maximisation,
+   the sampled peaks and the branch and bound: ``io/certification_cache.py``);
+2. the same certification read back from that cache (the scale's self-check, the tree of
+   boxes checked to tile the region, the enclosures derived again on its boxes; no search),
 
-and checks that the bounds read back equal the fresh ones bit for bit. Arms: the built-in PUMA
-560 and the 10-joint chain of ``tests/workflows/test_many_joints.py`` (joint limits of +-170 deg,
-180 deg/s, 360 deg/s^2). Prints the load averages and a Markdown table.
+each in its own process (the compiled kernels warmed up first), with the process's peak
+resident memory. It checks that the bounds read back equal the fresh ones bit for bit, and
+prints the load averages, a Markdown table of the median and [min, max] over the rounds, and
+the growth exponents p of t ~ n^p (least squares over the chains, and between the last two n).
 
 Usage::
 
-    python analysis/certification_readback.py [--arms puma560,chain-10]
+    python analysis/certification_readback.py [--ns 3,6,9,12,15] [--rounds 3] [--arms puma560]
 """
 
 from __future__ import annotations
 
 import argparse
+import json
 import os
+import resource
+import subprocess
 import sys
 import tempfile
 import time
@@ -29,59 +34,103 @@ from pathlib import Path
 
 import numpy as np
 
-sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "tests" / "workflows"))
-from test_many_joints import _chain_toml  # noqa: E402  (the chain the tests run)
+sys.path.insert(0, str(Path(__file__).resolve().parent))
+from scaling import exponents, random_robot  # noqa: E402  (the chains of the scaling study)
 
 
-def _robot(name, folder):
+def _robot(name):
     from gd_analyze import load_robot
 
-    if name.startswith("chain-"):
-        path = Path(folder) / f"{name}.toml"
-        path.write_text(_chain_toml(int(name.split("-")[1]), limits=True, last_qd_max=True))
-        return load_robot(str(path))
+    if name.startswith("random-"):
+        return random_robot(int(name.split("-")[1]), limits=True)
     return load_robot(name)
 
 
-def measure(name, folder):
-    """(n, boxes, fresh [s], read back [s] x 2, equal) for one arm."""
+def child(name, phase):
+    """One certification in this process; prints one JSON line."""
     from gd_analyze.core.selection.certify import certify
     from gd_analyze.core.symbolic.base_parameters import base_parameters
     from gd_analyze.io.certification_cache import certification
     from gd_analyze.workflows.deploy import REGION_SAMPLES, robot_region
 
-    robot = _robot(name, folder)
+    robot = _robot(name)
     base = base_parameters(robot)
     region, missing = robot_region(robot)
     if region is None:
         raise SystemExit(f"{name}: {missing}")
     certify(robot, base, region, samples=20, max_boxes=4)          # compile the kernels
-    times, results = [], []
-    for _ in range(3):
-        t0 = time.perf_counter()
-        results.append(certification(robot, base, region, samples=REGION_SAMPLES))
-        times.append(time.perf_counter() - t0)
-    equal = all(np.array_equal(r.bound, results[0].bound)
-                and np.array_equal(r.leaves, results[0].leaves) for r in results[1:])
-    return robot.n, results[0].boxes, times[0], times[1], times[2], equal
+    t0 = time.perf_counter()
+    pb = certification(robot, base, region, samples=REGION_SAMPLES)
+    seconds = time.perf_counter() - t0
+    digest = {"bound": pb.bound.tolist(), "leaves_max": pb.leaves.max(axis=2).tolist()}
+    print(json.dumps({"n": robot.n, "seconds": seconds, "boxes": int(pb.boxes),
+                      "peak_mib": resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024,
+                      "digest": digest}))
+
+
+def _run(name, phase, cache):
+    env = dict(os.environ, GD_ANALYZE_CACHE_DIR=str(cache))
+    env.pop("GD_ANALYZE_NO_CACHE", None)
+    out = subprocess.run([sys.executable, __file__, "--child", name, "--phase", phase],
+                         env=env, check=True, capture_output=True, text=True).stdout
+    return json.loads(out.strip().splitlines()[-1])
+
+
+def _cell(values, fmt):
+    return f"{np.median(values):{fmt}} [{min(values):{fmt}}, {max(values):{fmt}}]"
 
 
 def main(argv=None):
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    parser.add_argument("--arms", default="puma560,chain-10")
+    parser.add_argument("--ns", default="3,6,9,12,15")
+    parser.add_argument("--rounds", type=int, default=3)
+    parser.add_argument("--arms", default="", help="named arms besides the chains")
+    parser.add_argument("--child", help=argparse.SUPPRESS)
+    parser.add_argument("--phase", help=argparse.SUPPRESS)
     args = parser.parse_args(argv)
-    print("load averages at the start:", " ".join(f"{v:.2f}" for v in os.getloadavg()))
-    print("| arm | n | boxes | fresh [s] | read back [s] | again [s] | bounds equal |")
-    print("|---|---|---|---|---|---|---|")
+    if args.child:
+        child(args.child, args.phase)
+        return 0
+    names = [f"random-{n}" for n in args.ns.split(",") if n] + \
+        [a for a in args.arms.split(",") if a]
+    load = [os.getloadavg()]
+    print("load averages at the start:", " ".join(f"{v:.2f}" for v in load[0]), flush=True)
+    rows = {name: {"fresh": [], "back": [], "fresh_mib": [], "back_mib": [], "equal": True}
+            for name in names}
     with tempfile.TemporaryDirectory() as folder:
-        os.environ.pop("GD_ANALYZE_NO_CACHE", None)
-        os.environ["GD_ANALYZE_CACHE_DIR"] = str(Path(folder) / "cache")
-        for name in args.arms.split(","):
-            n, boxes, fresh, back, again, equal = measure(name, folder)
-            print(f"| {name} | {n} | {boxes} | {fresh:.2f} | {back:.2f} | {again:.2f} | "
-                  f"{'yes' if equal else 'NO'} |", flush=True)
-    print("load averages at the end:", " ".join(f"{v:.2f}" for v in os.getloadavg()))
+        for r in range(args.rounds):
+            for name in names:
+                cache = Path(folder) / f"{name}-{r}"
+                fresh = _run(name, "fresh", cache)
+                back = _run(name, "back", cache)
+                row = rows[name]
+                row.update(n=fresh["n"], boxes=fresh["boxes"])
+                row["fresh"].append(fresh["seconds"])
+                row["back"].append(back["seconds"])
+                row["fresh_mib"].append(fresh["peak_mib"])
+                row["back_mib"].append(back["peak_mib"])
+                row["equal"] &= fresh["digest"] == back["digest"]
+                print(f"  round {r + 1} {name}: fresh {fresh['seconds']:.2f} s, read back "
+                      f"{back['seconds']:.2f} s, load {os.getloadavg()[0]:.2f}", flush=True)
+                load.append(os.getloadavg())
+    print(f"| arm | n | boxes | certification [s] | read back [s] | peak [MiB] | "
+          f"read-back peak [MiB] | bounds equal |  ({args.rounds} rounds: median [min, max])")
+    print("|---|---|---|---|---|---|---|---|")
+    for name, row in rows.items():
+        print(f"| {name} | {row['n']} | {row['boxes']} | {_cell(row['fresh'], '.2f')} | "
+              f"{_cell(row['back'], '.2f')} | {_cell(row['fresh_mib'], '.0f')} | "
+              f"{_cell(row['back_mib'], '.0f')} | {'yes' if row['equal'] else 'NO'} |")
+    chains = [rows[n] for n in names if n.startswith("random-")]
+    if len(chains) >= 2:
+        ns = [c["n"] for c in chains]
+        for what in ("fresh", "back", "fresh_mib"):
+            fit, two = exponents(ns, [np.median(c[what]) for c in chains])
+            print(f"growth exponent of {what}: n^{fit:.2f} (least squares over n = "
+                  f"{ns[0]}..{ns[-1]}), n^{two:.2f} (n = {ns[-2]} to {ns[-1]})")
+    loads = np.array([x[0] for x in load])
+    print(f"load (1-minute) during the run: {loads.min():.2f} to {loads.max():.2f}")
+    return 0 if all(row["equal"] for row in rows.values()) else 1
 
 
 if __name__ == "__main__":
-    main()
+    sys.exit(main())

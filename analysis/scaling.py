@@ -27,14 +27,19 @@ import time
 import numpy as np
 
 
-def random_robot(n, seed=0):
-    """A random chain of n joints: general placements, every third joint prismatic."""
+def random_robot(n, seed=0, limits=False):
+    """A random chain of n joints: general placements, every third joint prismatic; with
+    ``limits``, position limits of +-2.5 rad (+-0.3 m), so that it has a joint-limit region
+    (analysis/certification_readback.py)."""
     from scipy.spatial.transform import Rotation
 
     from gd_analyze.core.model.robot_spec import robot_from_chain
 
     rng = np.random.default_rng(seed)
     joints = []
+
+    def lim(i):
+        return 0.3 if i % 3 == 2 else 2.5
     for i in range(n):
         B = rng.normal(size=(3, 3)) * 0.1
         S = B @ B.T
@@ -43,7 +48,8 @@ def random_robot(n, seed=0):
             "rotation": Rotation.random(random_state=seed * 1000 + i).as_matrix(),
             "translation": rng.uniform(-0.3, 0.3, 3), "mass": rng.uniform(0.3, 4.0),
             "com": rng.uniform(-0.2, 0.2, 3), "inertia": np.trace(S) * np.eye(3) - S,
-            "q_min": -np.inf, "q_max": np.inf, "qd_max": 2.0, "qdd_max": 4.0})
+            "q_min": -lim(i) if limits else -np.inf, "q_max": lim(i) if limits else np.inf,
+            "qd_max": 2.0, "qdd_max": 4.0})
     return robot_from_chain(f"random-{n}", joints, [0.0, 0.0, -9.81])
 
 

@@ -23,7 +23,7 @@ from gd_analyze.io.cache_files import CacheWarning
 from gd_analyze.io.certification_cache import certification
 
 SAMPLES = 200
-FIELDS = ("scale", "scale_state", "boxes", "seconds")
+FIELDS = ("scale", "scale_state", "boxes", "seconds", "split_joint", "split_at")
 #: The layout of format 1, which stored the boxes and their bounds.
 OLD_FIELDS = ("scale", "scale_state", "leaves", "leaf_boxes", "boxes", "seconds")
 
@@ -71,7 +71,8 @@ def _call(arm):
 
 
 def _same(a, b):
-    for f in ("bound", "sampled", "scale", "scale_state", "leaves", "leaf_boxes", "positions"):
+    for f in ("bound", "sampled", "scale", "scale_state", "leaves", "leaf_boxes", "positions",
+              "split_joint", "split_at"):
         np.testing.assert_array_equal(getattr(a, f), getattr(b, f), err_msg=f)
 
 
@@ -195,3 +196,60 @@ def test_no_cache_writes_nothing(arm, fresh, tmp_path, monkeypatch):
     pb, seen = _call(arm)
     _same(pb, fresh)
     assert not seen and not (tmp_path / "cache").exists()
+
+
+def _tree_forgeries(fresh, region):
+    """Trees of boxes that do not tile the region, each as (split_joint, split_at)."""
+    joint, at = fresh.split_joint.copy(), fresh.split_at.copy()
+    first = int(np.flatnonzero(joint >= 0)[0])                     # the root's cut
+    d = int(joint[first])
+    edge = at.copy()
+    edge[first] = region.q_min[d]                                  # a box of zero volume
+    outside = at.copy()
+    outside[first] = region.q_max[d] + 1.0                         # overlapping halves
+    cut = joint.copy()
+    cut[first] = -1                                                # the root's cut removed
+    leaf = int(np.flatnonzero(joint < 0)[0])
+    deeper, deeper_at = joint.copy(), at.copy()
+    deeper[leaf] = d                                               # a final box cut, no
+    deeper_at[leaf] = 0.5 * (fresh.leaf_boxes[0, 0, d] + fresh.leaf_boxes[0, 1, d])  # children
+    return {"cut at the region's edge (zero volume)": (joint, edge),
+            "cut outside the box (overlap)": (joint, outside),
+            "tree ends early (region not covered)": (joint[:-1], at[:-1]),
+            "entries of boxes it does not have": (cut, at),
+            "a final box cut without its children": (deeper, deeper_at),
+            "a joint the arm does not have": (np.where(joint >= 0, 99, joint), at)}
+
+
+@pytest.mark.slow
+@pytest.mark.parametrize("forgery", ["cut at the region's edge (zero volume)",
+                                     "cut outside the box (overlap)",
+                                     "tree ends early (region not covered)",
+                                     "entries of boxes it does not have",
+                                     "a final box cut without its children",
+                                     "a joint the arm does not have"])
+def test_a_tree_of_boxes_that_does_not_tile_the_region_is_refused(arm, fresh, cache, stored,
+                                                                  forgery):
+    """The oracle: a fresh certification; a forged tree (key and checksum matching) gives one
+    warning and the fresh bounds, never bounds over boxes that miss part of the region."""
+    joint, at = _tree_forgeries(fresh, arm[2])[forgery]
+    path = _store(cache, stored)
+    _forge(path, split_joint=np.asarray(joint, np.int64), split_at=np.asarray(at, float),
+           boxes=np.array(len(joint), np.int64))
+    again, seen = _call(arm)
+    assert len(seen) == 1 and "tree of boxes" in seen[0], seen
+    _same(again, fresh)
+
+
+def test_the_tree_read_back_is_derived_without_search(arm, fresh, cache, stored, monkeypatch):
+    """A sound entry is derived on its stored tree: no box is bisected (no search), and the
+    bounds are a fresh certification's bit for bit."""
+    _store(cache, stored)
+
+    def refuse(*args, **kwargs):
+        raise AssertionError("searched again although the entry is sound")
+    monkeypatch.setattr(certify_module, "_bisect", refuse)
+    again, seen = _call(arm)
+    assert not seen
+    _same(again, fresh)
+    assert again.boxes == fresh.boxes == fresh.split_joint.size

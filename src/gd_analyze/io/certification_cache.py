@@ -7,29 +7,31 @@ code, so it is kept in the derivation cache (:mod:`.cache_files`) as
 ``region-<sha>.npz``, named by the SHA-256 of that key, as :mod:`.explicit_cache` keeps the
 explicit model.
 
-The cache is not trusted, and a bound is never read from it. An entry stores only
-what lets the certification be recomputed: the scale s_i and the states where it was found (the
-local maximisation over the region, which is most of the sampling's time), the number of boxes
-and the time it took. It is used only if it is a regular file whose stored key equals the key
-and whose checksum matches its arrays (:func:`.cache_files.read_entry`), and if:
+The cache is not trusted, and a bound is never read from it. An entry stores what lets the
+certification be derived again without its searches: the scale s_i and the states where it was
+found (the local maximisation over the region), and the branch and bound's tree as its cuts
+(per box evaluated, level by level: the joint it was halved along, or -1, and where), with the
+number of boxes and the time it took. It is used only if it is a regular file whose stored key
+equals the key and whose checksum matches its arrays (:func:`.cache_files.read_entry`), and if:
 
 - every scale state lies in the region, |tau_i| there equals s_i (or s_i is the torque floor),
   and s_i is at least the largest |tau_i| over the certification's own sampled positions
   (:func:`gd_analyze.core.selection.region.sample_positions`, deterministic);
+- the cuts tile the region (:func:`gd_analyze.core.selection.certify.tiling`: every cut point
+  strictly inside its box, every box accounted for, in exact float comparisons: no box of zero
+  volume, no overlap, the whole region covered);
 
-then the branch and bound is run again on those samples
-(:func:`gd_analyze.core.selection.certify.certify` with ``values``): the boxes, their
-enclosures and so the bounds are recomputed, not read, so they tile the region by construction
-and equal a fresh certification's bit for bit. Boxes, bounds or volumes written into an entry
-(zero-volume boxes at the samples, bounds lowered to the sampled peaks, overlapping boxes) are
-never read: such an entry does not match its checksum over the stored fields and is
-certified again. A failed entry gives one :class:`.cache_files.CacheWarning` line; the region is
-certified again and the entry rewritten.
+then the enclosures are evaluated again on every box of the tree, all boxes of a level at once
+(:func:`gd_analyze.core.selection.certify.certify_tree`): the bounds are derived, not read,
+and equal a fresh certification's bit for bit; no box is searched for. Bounds or boxes written
+into an entry (zero-volume boxes at the samples, bounds lowered to the sampled peaks,
+overlapping boxes) are never read: such an entry does not match its checksum over the stored
+fields, or its tree does not tile the region, and is certified again. A failed entry gives one
+:class:`.cache_files.CacheWarning` line; the region is certified again and the entry rewritten.
 """
 
 from __future__ import annotations
 
-import dataclasses
 import warnings
 
 import numpy as np
@@ -50,9 +52,9 @@ _CERTIFYING = ("core/selection/certify.py", "core/selection/region.py",
                "core/dynamics/regressor_bounds.py", "core/dynamics/balls.py",
                "core/dynamics/intervals.py", "core/symbolic/regressor_kernels.py",
                "core/symbolic/regressor_compiled.py", "core/symbolic/base_parameters.py")
-_FIELDS = ("scale", "scale_state", "boxes", "seconds")
-#: Layout of an entry (2: no bounds stored).
-_FORMAT = 2
+_FIELDS = ("scale", "scale_state", "boxes", "seconds", "split_joint", "split_at")
+#: Layout of an entry (3: the tree of boxes, no bounds).
+_FORMAT = 3
 #: Slack of the self-check's comparisons, relative to s_i [1].
 SELF_CHECK_TOLERANCE = 1e-9
 #: Largest entry read [bytes] (the PUMA 560's is about 0.7 MB).
@@ -96,7 +98,7 @@ def certification_key(robot, region, settings):
 
 def _checked(robot, base, region, torque_floor, samples, seed, arrays, values=None):
     """The certification recomputed from the entry, or why the entry fails (a str)."""
-    from ..core.selection.certify import certify
+    from ..core.selection.certify import certify_tree
     from ..core.selection.region import channel_values, sample_positions, worst_states
     from ..core.symbolic.regressor_kernels import part_regressor
 
@@ -105,10 +107,11 @@ def _checked(robot, base, region, torque_floor, samples, seed, arrays, values=No
     scale, state = arrays["scale"], arrays["scale_state"]
     shapes = {"scale": (n,), "scale_state": (n, 3 * n), "boxes": (), "seconds": ()}
     if any(arrays[f].shape != shapes[f] or arrays[f].dtype.kind != "f"
-           for f in _FIELDS if f != "boxes") or arrays["boxes"].dtype.kind != "i" \
-            or arrays["boxes"].shape != ():
+           for f in shapes if f != "boxes") or arrays["boxes"].dtype.kind != "i" \
+            or arrays["boxes"].shape != () \
+            or arrays["split_joint"].shape != (int(arrays["boxes"]),):
         return "does not hold a certification of this robot (arrays of other types or shapes)"
-    if not all(np.isfinite(arrays[f]).all() for f in _FIELDS) or (scale < torque_floor).any() \
+    if not all(np.isfinite(arrays[f]).all() for f in shapes) or (scale < torque_floor).any() \
             or int(arrays["boxes"]) < 1 or float(arrays["seconds"]) < 0:
         return "holds values no certification gives (not finite, negative or too few boxes)"
     tol = SELF_CHECK_TOLERANCE * np.maximum(scale, 1e-300)          # (n,)
@@ -127,9 +130,12 @@ def _checked(robot, base, region, torque_floor, samples, seed, arrays, values=No
             and np.all(scale >= value - tol)):
         return ("fails its self-check (its scale is not reached at its state, or is below "
                 "the sampled torques)")
-    pb = certify(robot, base, region, torque_floor=torque_floor, samples=samples, seed=seed,
-                 values=(q, V, scale, state))
-    return dataclasses.replace(pb, seconds=float(arrays["seconds"]))
+    try:
+        return certify_tree(robot, base, region, arrays["split_joint"], arrays["split_at"],
+                            (q, V, scale, state), torque_floor=torque_floor,
+                            seconds=float(arrays["seconds"]))
+    except ValueError as exc:
+        return f"fails its self-check (its tree of boxes {exc})"
 
 
 def certification(robot, base, region, torque_floor=0.0, samples=1000, seed=0, values=None):
@@ -184,5 +190,7 @@ def certification(robot, base, region, torque_floor=0.0, samples=1000, seed=0, v
         write_entry(path, key, {"scale": np.asarray(pb.scale, float),
                                 "scale_state": np.asarray(pb.scale_state, float),
                                 "boxes": np.array(int(pb.boxes), np.int64),
-                                "seconds": np.array(float(pb.seconds))})
+                                "seconds": np.array(float(pb.seconds)),
+                                "split_joint": np.asarray(pb.split_joint, np.int64),
+                                "split_at": np.asarray(pb.split_at, float)})
     return pb

@@ -130,3 +130,52 @@ def test_prove_dropped_proves_the_bound_and_never_a_false_one():
     false[j] = 0.99 * err[j]
     assert not prove_dropped(robot, base, region, rec.dropped, false)
     assert not prove_dropped(robot, base, region, rec.dropped, np.full(robot.n, np.nan))
+
+
+def test_the_tree_tiles_the_region_and_gives_the_same_bounds_again():
+    """The boxes rebuilt from a certification's tree cover the region once: random positions
+    lie in exactly one box's interior (volume adds up to the region's), and the bounds derived
+    on that tree without search equal the certification's."""
+    from gd_analyze.core.selection.certify import certify, certify_tree, tiling
+    from gd_analyze.core.selection.region import region_samples
+
+    robot = _mixed()
+    base = base_parameters(robot)
+    region = joint_region(robot, np.asarray(robot.qdd_max, float))
+    values = region_samples(robot, base, region, samples=100)
+    pb = certify(robot, base, region, samples=100, max_boxes=64, values=values)
+    levels = tiling(region, pb.split_joint, pb.split_at)
+    lo = np.concatenate([a[~s] for a, _, s in levels])
+    hi = np.concatenate([b[~s] for _, b, s in levels])
+    np.testing.assert_array_equal(np.stack([lo, hi], axis=1), pb.leaf_boxes)
+    q = np.random.default_rng(3).uniform(region.q_min, region.q_max, (20_000, robot.n))
+    inside = ((q[:, None] > lo[None]) & (q[:, None] < hi[None])).all(axis=2)
+    assert np.all(inside.sum(axis=1) == 1)
+    volume = np.prod(hi - lo, axis=1).sum()
+    assert abs(volume / np.prod(region.q_max - region.q_min) - 1) < 1e-12
+    again = certify_tree(robot, base, region, pb.split_joint, pb.split_at, values)
+    for f in ("bound", "leaves", "leaf_boxes", "sampled"):
+        np.testing.assert_array_equal(getattr(again, f), getattr(pb, f), err_msg=f)
+
+
+def test_the_sampled_peaks_search_every_vertex_of_the_velocity_box():
+    """Oracle: each pair's velocity peak at a position by brute force over all 2^n vertices
+    of the velocity box; the peaks over the joints each column involves must equal it."""
+    import itertools
+
+    from gd_analyze.core.selection.certify import pair_magnitudes_at
+    from gd_analyze.core.selection.region import channel_values, sample_positions
+
+    robot = _mixed()
+    base = base_parameters(robot)
+    region = joint_region(robot, np.asarray(robot.qdd_max, float))
+    cols = np.flatnonzero(base.independent.reshape(-1))
+    V = channel_values(robot, sample_positions(region, 5), cols)
+    beta = np.asarray(base.beta, float)
+    got = pair_magnitudes_at(V, beta, region.qd_max, region.qdd_max)[:, :, 1]   # (B, b, n)
+    n = robot.n
+    verts = np.array(list(itertools.product([-1.0, 1.0], repeat=n))) * region.qd_max
+    C = V[:, 1 + n:].reshape(V.shape[0], n, n, n, -1)                     # (B, j, l, i, b)
+    quad = np.einsum("kj,kl,Bjlib->Bkbi", verts, verts, C)
+    want = np.abs(quad).max(axis=1) * np.abs(beta)[None, :, None]
+    np.testing.assert_allclose(got, want, rtol=1e-12, atol=1e-12 * want.max())

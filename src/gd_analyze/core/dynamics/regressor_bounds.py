@@ -262,20 +262,42 @@ def _wrench(A, c, w, wd, vd, jj, ll, vel):
     return vd, zero
 
 
-def _columns(robot, q_lo, q_hi, columns, gravity, algebra=_Box):
-    """(column m, joint i, enclosure of the column's torque at joint i per channel (B, C))."""
+def _column_groups(robot, q_lo, q_hi, columns, gravity, algebra=_Box):
+    """Per link k and joint i <= k: (the positions in ``columns`` of the link's columns, i,
+    enclosure of their torques at joint i per channel, each of shape (B, C, g)).
+
+    The backward recursion is linear in the wrench, so the g columns of one link run through
+    it together, stacked along the channel axis (one pass per link, not per column), and only
+    on the link's 1 + (k + 1) + (k + 1)^2 channels of joints up to k: the others are exactly
+    zero at link k (no velocity or acceleration of a later joint reaches it) and stay zero."""
     chain = _Chain(robot, q_lo, q_hi, algebra)
     A = chain.A
     n = robot.n
+    C = channel_count(n)
     links = _forward(chain, robot.gravity if gravity is None else gravity)
-    jj, ll = np.divmod(np.arange(n * n), n)
-    vel = 1 + n + np.arange(n * n)
-    for m, col in enumerate(np.asarray(columns, int)):
-        k, c = divmod(int(col), 10)
+    columns = np.asarray(columns, int)
+    for k in range(n):
+        ms = np.flatnonzero(columns // 10 == k)
+        if ms.size == 0:
+            continue
+        kk = k + 1
+        jv, lv = np.divmod(np.arange(kk * kk), kk)
+        ch = np.concatenate([[0], 1 + np.arange(kk), 1 + n + jv * n + lv])
         w, wd, vd = links[k]
-        f, mom = _wrench(A, c, w, wd, vd, jj, ll, vel)
+        wd, vd = _take(wd, ch), _take(vd, ch)
+        parts = [_wrench(A, int(columns[m]) % 10, w, wd, vd, jv, lv, 1 + kk + np.arange(kk * kk))
+                 for m in ms]
+        f = tuple(np.concatenate([p[0][e] for p in parts], axis=1) for e in range(2))
+        mom = tuple(np.concatenate([p[1][e] for p in parts], axis=1) for e in range(2))
         for i in range(k, -1, -1):
-            yield m, i, A.z(mom if not chain.pris[i] else f)
+            z = A.z(mom if not chain.pris[i] else f)                  # (B, g Ck)
+            B = z[0].shape[0]
+            full = []
+            for x in z:
+                y = np.zeros((B, C, ms.size))
+                y[:, ch] = x.reshape(B, ms.size, ch.size).transpose(0, 2, 1)
+                full.append(y)
+            yield ms, i, tuple(full)
             if i == 0:
                 break
             f = chain.rot(i, f)
@@ -289,38 +311,61 @@ class _QuadraticBound:
     off-diagonal part is affine in each qd_j, so its extremes over the box are at vertices
     (half of them: v and -v give the same value); the diagonal part lies within
     [sum min(0, C_jj) a_j^2, sum max(0, C_jj) a_j^2]. Each is taken over the intervals.
+
+    Only the joints whose coefficients are not all exactly zero in the batch (the support S:
+    a column of link k has none beyond joint k) take part, so the vertices are 2^(|S| - 1),
+    not 2^(n - 1); the other joints change no value. Beyond :attr:`VERTEX_LIMIT` joints in S
+    the centre is bounded by sum |S_jl| a_j a_l instead of searched.
     """
 
+    #: Largest support searched over its vertices.
+    VERTEX_LIMIT = 13
+    #: Elements of each (rows, vertices) product (32 MB).
+    _ELEMENTS = 1 << 22
+
     def __init__(self, n, a):
-        jj, ll = np.divmod(np.arange(n * n), n)
-        off = np.flatnonzero(jj < ll)
-        self.off, self.mirror = off, ll[off] * n + jj[off]
-        self.diag = np.arange(n) * (n + 1)
-        a = np.asarray(a, float)
-        signs = np.array(list(itertools.product([-1.0, 1.0], repeat=max(n - 1, 0))))
-        signs = np.hstack([np.ones((signs.shape[0], 1)), signs])[:, :n] if n > 1 else \
-            np.ones((1, 1))
-        if n > 13:                                      # too many vertices: no vertex search
-            signs = None
-        self.prod = None if signs is None else \
-            (signs[:, jj[off]] * signs[:, ll[off]]) * (a[jj[off]] * a[ll[off]])[None, :]
-        self.w_off = a[jj[off]] * a[ll[off]]
-        self.w_diag = a * a
+        self.n, self.a = n, np.asarray(a, float)
+        self._plans = {}
+
+    def _plan(self, support):
+        plan = self._plans.get(support)
+        if plan is None:
+            n, S = self.n, np.asarray(support, int)
+            j, l = np.triu_indices(S.size, 1)
+            w_off = self.a[S[j]] * self.a[S[l]]
+            prod = None
+            if S.size <= self.VERTEX_LIMIT:
+                signs = np.array(list(itertools.product([-1.0, 1.0],
+                                                        repeat=max(S.size - 1, 0))), float)
+                signs = np.hstack([np.ones((signs.shape[0], 1)),
+                                   signs.reshape(signs.shape[0], -1)])
+                prod = (signs[:, j] * signs[:, l]) * w_off[None, :]
+            plan = (S[j] * n + S[l], S[l] * n + S[j], S * (n + 1), w_off, self.a[S] ** 2, prod)
+            self._plans[support] = plan
+        return plan
 
     def __call__(self, lo, hi):
         """lo, hi (B, n^2): the channels C_jl; returns (B,) upper bounds."""
-        s_lo = lo[:, self.off] + lo[:, self.mirror]
-        s_hi = hi[:, self.off] + hi[:, self.mirror]
+        n = self.n
+        used = ((lo != 0) | (hi != 0)).any(axis=0).reshape(n, n)
+        support = tuple(int(x) for x in np.flatnonzero(used.any(axis=0) | used.any(axis=1)))
+        off, mirror, diag, w_off, w_diag, prod = self._plan(support)
+        s_lo = lo[:, off] + lo[:, mirror]
+        s_hi = hi[:, off] + hi[:, mirror]
         mid, rad = 0.5 * (s_lo + s_hi), 0.5 * (s_hi - s_lo)
-        d_hi = np.maximum(hi[:, self.diag], 0.0) @ self.w_diag
-        d_lo = np.minimum(lo[:, self.diag], 0.0) @ self.w_diag
-        spread = rad @ self.w_off
-        if self.prod is None:
-            top = np.abs(mid) @ self.w_off
+        d_hi = np.maximum(hi[:, diag], 0.0) @ w_diag
+        d_lo = np.minimum(lo[:, diag], 0.0) @ w_diag
+        spread = rad @ w_off
+        if prod is None:
+            top = np.abs(mid) @ w_off
             return (top + spread + np.maximum(d_hi, -d_lo)) * (1 + 1e-12)
-        centre = mid @ self.prod.T                                  # (B, vertices)
-        top = (centre.max(axis=1) + spread + d_hi)
-        bottom = (centre.min(axis=1) - spread + d_lo)
+        c_max, c_min = np.empty(lo.shape[0]), np.empty(lo.shape[0])
+        rows = max(1, self._ELEMENTS // prod.shape[0])
+        for r in range(0, lo.shape[0], rows):
+            centre = mid[r:r + rows] @ prod.T                          # (rows, vertices)
+            c_max[r:r + rows], c_min[r:r + rows] = centre.max(axis=1), centre.min(axis=1)
+        top = (c_max + spread + d_hi)
+        bottom = (c_min - spread + d_lo)
         return np.maximum(top, -bottom) * (1 + 1e-12) + 1e-300
 
 
@@ -359,8 +404,8 @@ def channel_values(robot, q, columns, gravity=None):
         raise ValueError(f"q must have shape (B, {robot.n}), got {q.shape}")
     columns = np.asarray(columns, int)
     out = np.zeros((q.shape[0], channel_count(robot.n), robot.n, columns.size))
-    for m, i, (lo, hi) in _columns(robot, q, q, columns, gravity):
-        out[:, :, i, m] = 0.5 * (lo + hi)
+    for ms, i, (lo, hi) in _column_groups(robot, q, q, columns, gravity):
+        out[:, :, i, ms] = 0.5 * (lo + hi)
     return out
 
 
@@ -424,10 +469,14 @@ def pair_magnitudes(robot, q_lo, q_hi, columns, qd_max, qdd_max, gravity=None,
     quad = _QuadraticBound(n, qd_max)
     out = np.zeros((q_lo.shape[0], 3, n, columns.size))
     algebra = {"ball": _Ball, "box": _Box}[arithmetic]
-    for m, i, (lo, hi) in _columns(robot, q_lo, q_hi, columns, gravity, algebra):
-        out[:, 2, i, m] = iv.magnitude((lo[:, 0], hi[:, 0]))
-        out[:, 0, i, m] = iv.magnitude((lo[:, 1:1 + n], hi[:, 1:1 + n])) @ qdd_max
-        out[:, 1, i, m] = quad(lo[:, 1 + n:], hi[:, 1 + n:])
+    for ms, i, (lo, hi) in _column_groups(robot, q_lo, q_hi, columns, gravity, algebra):
+        B, g = lo.shape[0], ms.size
+        out[:, 2, i, ms] = iv.magnitude((lo[:, 0], hi[:, 0]))
+        out[:, 0, i, ms] = np.einsum("bjg,j->bg", iv.magnitude((lo[:, 1:1 + n], hi[:, 1:1 + n])),
+                                     qdd_max)
+        out[:, 1, i, ms] = quad(lo[:, 1 + n:].transpose(0, 2, 1).reshape(B * g, n * n),
+                                hi[:, 1 + n:].transpose(0, 2, 1).reshape(B * g, n * n)
+                                ).reshape(B, g)
     return out * (1.0 + 8 * iv.ROUNDING * (2 * n + 2))
 
 

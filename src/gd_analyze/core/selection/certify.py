@@ -22,8 +22,8 @@ import numpy as np
 from ..dynamics.regressor_bounds import pair_magnitudes
 from .region import qd_vertices, region_samples
 
-__all__ = ["PairBounds", "certify", "pair_peaks_at", "pair_magnitudes_at", "METHOD",
-           "prove_dropped"]
+__all__ = ["PairBounds", "certify", "certify_tree", "tiling", "pair_peaks_at",
+           "pair_magnitudes_at", "METHOD", "prove_dropped"]
 
 #: How the bounds are obtained, in words (stored with every region model).
 METHOD = ("per (base parameter, part) pair: |beta| x upper bound of its coefficient over the "
@@ -62,6 +62,12 @@ class PairBounds:
         The final boxes' lower and upper position limits [rad or m].
     seconds : float
         Wall time of the certification [s].
+    split_joint : ndarray of int, shape (boxes,)
+        The branch and bound's tree, one entry per box evaluated, level by level in the order
+        evaluated: the joint along which the box was halved, or -1 for a final box.
+    split_at : ndarray, shape (boxes,)
+        Where it was halved [rad or m] (0 for a final box). :func:`tiling` rebuilds the boxes
+        from these two and the region.
     """
 
     bound: np.ndarray
@@ -74,6 +80,8 @@ class PairBounds:
     leaves: np.ndarray
     leaf_boxes: np.ndarray
     seconds: float
+    split_joint: np.ndarray
+    split_at: np.ndarray
 
 
 #: Elements of each velocity product of :func:`pair_magnitudes_at` (32 MB).
@@ -98,20 +106,38 @@ def pair_magnitudes_at(V, beta, qd_max, qdd_max):
     ndarray, shape (B, b, 3, n)
         Inertial: sum_j |A_j| qdd_max_j |beta| (reached); velocity: max over the vertices of
         qd of |qd^T C qd| |beta|; gravity: |G| |beta| [N m or N].
+
+    Notes
+    -----
+    A column's velocity terms involve only the joints S whose C_jl are not all zero (a column
+    of link k: joints up to k), so its vertices are those of S (2^(|S| - 1)): the others change
+    no value.
     """
     B, C, n, b = V.shape
     out = np.zeros((B, b, 3, n))
     out[:, :, 0] = (np.abs(V[:, 1:1 + n]) * qdd_max[None, :, None, None]).sum(1).transpose(
         0, 2, 1)
     out[:, :, 2] = np.abs(V[:, 0]).transpose(0, 2, 1)
-    verts = qd_vertices(np.asarray(qd_max, float))
-    outer = (verts[:, :, None] * verts[:, None, :]).reshape(-1, n * n)      # (K, n n)
-    rows = max(1, _GEMM_ELEMENTS // (outer.shape[0] * n * b))    # positions per product
-    for a in range(0, B, rows):             # one matrix product (K, n n) @ (n n, rows n b)
-        Cq = V[a:a + rows, 1 + n:].transpose(1, 0, 2, 3).reshape(n * n, -1)
-        quad = outer @ Cq                                               # qd^T C qd
-        peak = np.maximum(quad.max(axis=0), -quad.min(axis=0))         # max |.| over qd
-        out[a:a + rows, :, 1] = peak.reshape(-1, n, b).transpose(0, 2, 1)
+    qd_max = np.asarray(qd_max, float)
+    used = (V[:, 1 + n:] != 0).any(axis=(0, 2)).reshape(n, n, b)
+    support = used.any(axis=0) | used.any(axis=1)                       # (n, b)
+    groups = {}
+    for m in range(b):                  # columns by the joints their velocity terms involve
+        groups.setdefault(tuple(np.flatnonzero(support[:, m])), []).append(m)
+    for S, ms in groups.items():
+        if not S:
+            continue                    # no velocity term: 0
+        S, ms = np.asarray(S), np.asarray(ms)
+        verts = qd_vertices(qd_max[S])
+        outer = (verts[:, :, None] * verts[:, None, :]).reshape(-1, S.size ** 2)   # (K, s s)
+        chans = 1 + n + (S[:, None] * n + S[None, :]).reshape(-1)
+        rows = max(1, _GEMM_ELEMENTS // (outer.shape[0] * n * ms.size))  # positions a product
+        for a in range(0, B, rows):         # one matrix product (K, s s) @ (s s, rows n g)
+            Cq = V[a:a + rows, chans][..., ms]                           # (rows, s s, n, g)
+            r = Cq.shape[0]
+            quad = outer @ Cq.transpose(1, 0, 2, 3).reshape(S.size ** 2, -1)   # qd^T C qd
+            peak = np.maximum(quad.max(axis=0), -quad.min(axis=0))     # max |.| over qd
+            out[a:a + rows, ms, 1] = peak.reshape(r, n, ms.size).transpose(0, 2, 1)
     return out * np.abs(beta)[None, :, None, None]
 
 
@@ -148,16 +174,93 @@ def _relevant(robot):
 
 def _bisect(lo, hi, rel):
     """Boxes halved along their widest relevant joint: the lower halves, then the upper ones
-    (copies; ``lo``, ``hi`` of shape (B, n) are not changed)."""
-    lo, hi = lo.copy(), hi.copy()
+    (copies; ``lo``, ``hi`` of shape (B, n) are not changed), the joints and the mid points."""
     width = np.where(rel[None, :], hi - lo, -1.0)
     d = width.argmax(axis=1)
     rows = np.arange(lo.shape[0])
     mid = 0.5 * (lo[rows, d] + hi[rows, d])
+    return (*_halves(lo, hi, d, mid), d, mid)
+
+
+def _halves(lo, hi, d, at):
+    """Boxes (B, n) cut along joint d[k] at at[k]: the lower parts, then the upper ones."""
+    rows = np.arange(lo.shape[0])
+    lo1, hi1 = lo.copy(), hi.copy()
     lo2, hi2 = lo.copy(), hi.copy()
-    hi[rows, d] = mid
-    lo2[rows, d] = mid
-    return np.vstack([lo, lo2]), np.vstack([hi, hi2])
+    hi1[rows, d] = at
+    lo2[rows, d] = at
+    return np.vstack([lo1, lo2]), np.vstack([hi1, hi2])
+
+
+#: Boxes enclosed in one call (bounded memory: about 40 MB a call at 15 joints).
+_CHUNK = 128
+
+
+def _enclose(robot, lo, hi, cols, region, absb):
+    """:func:`pair_magnitudes` times |beta| on the boxes (B, n), in chunks of :data:`_CHUNK`;
+    shape (B, 3, n, b)."""
+    return np.concatenate([
+        pair_magnitudes(robot, lo[a:a + _CHUNK], hi[a:a + _CHUNK], cols, region.qd_max,
+                        region.qdd_max) * absb
+        for a in range(0, lo.shape[0], _CHUNK)])
+
+
+def tiling(region, split_joint, split_at):
+    """The boxes of a branch-and-bound tree, level by level, checked to tile the region.
+
+    Parameters
+    ----------
+    region : Region
+        Its position box is the root.
+    split_joint : ndarray of int, shape (N,)
+        Per box, level by level: the joint it is cut along, or -1 (a final box).
+    split_at : ndarray, shape (N,)
+        Where [rad or m].
+
+    Returns
+    -------
+    list of (ndarray, ndarray, ndarray)
+        Per level: the boxes' lower and upper limits (B, n) and which are cut (B,). A cut box's
+        lower parts come first on the next level, then its upper parts (as in :func:`certify`).
+
+    Raises
+    ------
+    ValueError
+        If the arrays are not such a tree: a joint the arm does not have, a cut point not
+        strictly inside its box (a box of zero volume, or overlapping ones), too few entries
+        (part of the region not covered) or too many.
+
+    Notes
+    -----
+    Every cut replaces a box by two whose union is the box and whose intersection is the
+    face at the cut point, both with the very same float (no rounding), so the final boxes
+    tile the region exactly, with no overlap of positive volume, by induction.
+    """
+    n = region.q_min.size
+    joint, at = np.asarray(split_joint), np.asarray(split_at)
+    if joint.ndim != 1 or at.shape != joint.shape or joint.dtype.kind not in "iu" \
+            or at.dtype.kind != "f":
+        raise ValueError("does not hold a tree of boxes (arrays of other types or shapes)")
+    if np.any(joint < -1) or np.any(joint >= n):
+        raise ValueError("cuts along a joint the arm does not have")
+    lo, hi = region.q_min[None, :].astype(float), region.q_max[None, :].astype(float)
+    levels, p = [], 0
+    while lo.shape[0]:
+        B = lo.shape[0]
+        if p + B > joint.size:
+            raise ValueError("does not cover the region (its tree ends early)")
+        d, x = joint[p:p + B].astype(int), at[p:p + B]
+        p += B
+        split = d >= 0
+        rows, d, x = np.flatnonzero(split), d[split], x[split]
+        if not (np.all(np.isfinite(x)) and np.all(lo[rows, d] < x) and np.all(x < hi[rows, d])):
+            raise ValueError("cuts a box outside its interior (boxes of zero volume or "
+                             "overlapping)")
+        levels.append((lo, hi, split))
+        lo, hi = _halves(lo[rows], hi[rows], d, x)
+    if p != joint.size:
+        raise ValueError("holds cuts of boxes it does not have")
+    return levels
 
 
 def certify(robot, base, region, torque_floor=0.0, max_boxes=1024, samples=1000, seed=0,
@@ -213,14 +316,17 @@ def certify(robot, base, region, torque_floor=0.0, max_boxes=1024, samples=1000,
     inherited = np.full((1, 3, n, cols.size), np.inf)
     evaluated = 0
     target = (1 + rtol) * sampled.transpose(1, 2, 0) + 1e-9 * scale[None, :, None]
+    joints, cuts = [], []
     while lo.shape[0]:
         # a box's bound is the least of its own enclosure and its ancestors': each holds on it
-        U = np.minimum(pair_magnitudes(robot, lo, hi, cols, region.qd_max, region.qdd_max)
-                       * absb, inherited)
+        U = np.minimum(_enclose(robot, lo, hi, cols, region, absb), inherited)
         evaluated += lo.shape[0]
         upper = np.maximum(done_u, U.max(axis=0))
         open_ = (upper <= open_share * scale[None, :, None]) & (upper > target)
         split = np.any((U > target[None]) & open_[None], axis=(1, 2, 3))
+        joint, at = np.full(lo.shape[0], -1, np.int64), np.zeros(lo.shape[0])
+        joints.append(joint)
+        cuts.append(at)
         if not split.any() or evaluated + 2 * split.sum() > max_boxes:
             done_u = upper
             leaves.append(U)
@@ -230,14 +336,79 @@ def certify(robot, base, region, torque_floor=0.0, max_boxes=1024, samples=1000,
             done_u = np.maximum(done_u, U[~split].max(axis=0))
             leaves.append(U[~split])
             boxes.append(np.stack([lo[~split], hi[~split]], axis=1))
-        lo, hi = _bisect(lo[split], hi[split], rel)
+        lo, hi, joint[split], at[split] = _bisect(lo[split], hi[split], rel)
         inherited = np.concatenate([U[split], U[split]])
     bound = np.maximum(done_u.transpose(2, 0, 1), sampled)
     leaf = np.concatenate(leaves).transpose(3, 1, 0, 2)          # (b, 3, L, n)
     return PairBounds(bound=bound, sampled=sampled, scale=scale, scale_state=state,
                       positions=q, values=V, boxes=evaluated, leaves=leaf,
                       leaf_boxes=np.concatenate(boxes),
-                      seconds=time.perf_counter() - t0)
+                      seconds=time.perf_counter() - t0, split_joint=np.concatenate(joints),
+                      split_at=np.concatenate(cuts))
+
+
+def certify_tree(robot, base, region, split_joint, split_at, values, torque_floor=0.0,
+                 seconds=0.0):
+    """The bounds of :func:`certify` on a given tree of boxes, derived again without search.
+
+    Parameters
+    ----------
+    robot : Robot
+        The arm, with n joints.
+    base : BaseParameters
+        Its base parameters (b of them).
+    region : Region
+    split_joint, split_at : ndarray, shape (N,)
+        The tree (:attr:`PairBounds.split_joint`, :attr:`PairBounds.split_at`), checked by
+        :func:`tiling`.
+    values : tuple
+        ``(positions, channel values, scale, scale state)`` as
+        :func:`.region.region_samples` gives them (the floor is applied here).
+    torque_floor : float, optional
+        Least scale [N m or N].
+    seconds : float, optional
+        Stored as :attr:`PairBounds.seconds`.
+
+    Returns
+    -------
+    PairBounds
+        Equal to :func:`certify`'s when the tree is the one it built on the same samples:
+        every box's enclosure is evaluated again (level by level, in the same chunks), each
+        box's bound is the least of its own and its ancestors', and the bound of a pair is
+        the largest over the final boxes and its sampled peak.
+
+    Raises
+    ------
+    ValueError
+        If the tree does not tile the region (:func:`tiling`).
+
+    Notes
+    -----
+    Any tiling gives sound bounds (each final box's enclosure holds on it, and the boxes cover
+    the region), so nothing but the tiling needs checking; the bounds are never read.
+    """
+    levels = tiling(region, split_joint, split_at)
+    n = robot.n
+    cols = np.flatnonzero(base.independent.reshape(-1))
+    beta = np.asarray(base.beta, float)
+    q, V, scale, state = values
+    scale = np.maximum(scale, torque_floor)
+    sampled = pair_peaks_at(V, beta, region.qd_max, region.qdd_max)
+    absb = np.abs(beta)[None, None, :]
+    inherited = np.full((1, 3, n, cols.size), np.inf)
+    leaves, boxes = [], []
+    for lo, hi, split in levels:
+        U = np.minimum(_enclose(robot, lo, hi, cols, region, absb), inherited)
+        leaves.append(U[~split])
+        boxes.append(np.stack([lo[~split], hi[~split]], axis=1))
+        inherited = np.concatenate([U[split], U[split]])
+    leaf = np.concatenate(leaves)                                     # (L, 3, n, b)
+    bound = np.maximum(leaf.max(axis=0).transpose(2, 0, 1), sampled)
+    return PairBounds(bound=bound, sampled=sampled, scale=scale, scale_state=state,
+                      positions=q, values=V, boxes=int(np.asarray(split_joint).size),
+                      leaves=leaf.transpose(3, 1, 0, 2), leaf_boxes=np.concatenate(boxes),
+                      seconds=float(seconds), split_joint=np.asarray(split_joint, np.int64),
+                      split_at=np.asarray(split_at, float))
 
 
 
@@ -288,8 +459,7 @@ def prove_dropped(robot, base, region, dropped, limit, max_boxes=1024):
     inherited = np.full((1, 3, n, used.size), np.inf)
     evaluated = 0
     while True:
-        U = np.minimum(pair_magnitudes(robot, lo, hi, cols, region.qd_max, region.qdd_max)
-                       * absb, inherited)                               # (B, 3, n, k)
+        U = np.minimum(_enclose(robot, lo, hi, cols, region, absb), inherited)   # (B, 3, n, k)
         evaluated += lo.shape[0]
         total = np.einsum("bpnk,pk->bn", U, weight)
         open_ = ~np.all(total <= limit[None, :], axis=1)                # NaN stays open
@@ -297,5 +467,5 @@ def prove_dropped(robot, base, region, dropped, limit, max_boxes=1024):
             return True
         if evaluated + 2 * int(open_.sum()) > max_boxes:
             return False
-        lo, hi = _bisect(lo[open_], hi[open_], rel)
+        lo, hi = _bisect(lo[open_], hi[open_], rel)[:2]
         inherited = np.concatenate([U[open_], U[open_]])

@@ -684,6 +684,10 @@ def qd_vertices(qd_max):
     return signs * qd_max
 
 
+#: Elements of each (positions, vertices, joints) product of :func:`worst_states` (32 MB).
+_ELEMENTS = 1 << 22
+
+
 def worst_states(V, weights, qd_max, qdd_max):
     """The largest |torque| of weighted columns over the velocity and acceleration limits, at
     each sampled position.
@@ -713,11 +717,17 @@ def worst_states(V, weights, qd_max, qdd_max):
     Cq = V[:, 1 + n:] @ weights[1]                              # (B, n n, n)
     verts = qd_vertices(np.asarray(qd_max, float))                # (K, n)
     outer = (verts[:, :, None] * verts[:, None, :]).reshape(-1, n * n)
-    quad = np.swapaxes(outer @ Cq, 1, 2) + g[:, :, None]        # (B, n, K): qd^T C_i qd
-    k = np.abs(quad).argmax(axis=2)                             # (B, n)
-    lin = np.abs(a) @ qdd_max
-    value = np.take_along_axis(np.abs(quad), k[:, :, None], 2)[:, :, 0] + lin
-    sign = np.sign(np.take_along_axis(quad, k[:, :, None], 2))       # (B, n, 1)
+    k = np.empty((B, n), int)
+    sign = np.empty((B, n, 1))
+    value = np.empty((B, n))
+    rows = max(1, _ELEMENTS // (verts.shape[0] * n))           # bounded memory: positions a go
+    for r in range(0, B, rows):
+        quad = np.swapaxes(outer @ Cq[r:r + rows], 1, 2) + g[r:r + rows, :, None]  # qd^T C_i qd
+        k[r:r + rows] = np.abs(quad).argmax(axis=2)                     # (rows, n)
+        at = np.take_along_axis(quad, k[r:r + rows, :, None], 2)        # (rows, n, 1)
+        value[r:r + rows] = np.abs(at[:, :, 0])
+        sign[r:r + rows] = np.sign(at)
+    value += np.abs(a) @ qdd_max
     sign = np.where(sign == 0, 1.0, sign)
     qdd = np.sign(a) * sign * qdd_max
     return value, verts[k], np.where(qdd == 0, qdd_max, qdd)
