@@ -84,12 +84,13 @@ def raise_small_text(fig, least):
                 # line as the room from its left end to the figure's edge holds
                 lines = t.get_text().split("\n")
                 chars = max(12, int(max(map(len, lines)) * (right - box.x0) / box.width) - 1)
-                t.set_text("\n".join(textwrap.fill(line, chars) for line in lines))
+                t.set_text(textwrap.fill(" ".join(lines), chars))
     return raised
 
 
 def text_extent(fig):
-    """The figure's box grown to hold every text drawn outside it.
+    """The figure's box grown up or down to hold every text drawn above or below it (never
+    wider: the width is the one the figure is printed at).
 
     Parameters
     ----------
@@ -104,7 +105,8 @@ def text_extent(fig):
     """
     from matplotlib.transforms import Bbox
 
-    return Bbox.union([fig.bbox_inches, fig.get_tightbbox()])     # what is drawn, in inches
+    page, drawn = fig.bbox_inches, fig.get_tightbbox()           # in inches
+    return Bbox.from_extents(page.x0, min(page.y0, drawn.y0), page.x1, max(page.y1, drawn.y1))
 
 
 def style(rc):

@@ -9,7 +9,8 @@ or ``*bold*`` in a robot's name is printed as it is.
 
 Typst numbers the sections, tables (within their section, "Table 5.2") and figures ("Figure
 3."), checks each section's number against the outline's (the HTML and the sentences of the
-report cite them), floats the figures to the top or bottom of a page, keeps each heading with
+report cite them), sets each figure where the outline puts it (beside the text citing it), never
+splits a paragraph over two pages, keeps each heading with
 what follows it, breaks long tables over pages with their header repeated, sets the sub- and
 superscripts of :mod:`gd_analyze.reports.markup` as such and code in monospace. The figures are
 embedded as vector graphics from their SVG; their text (``svg.fonttype`` "none") is set in
