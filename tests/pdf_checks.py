@@ -52,3 +52,25 @@ def words(path):
                                    r'yMax="([\d.]+)">(.*?)</word>', page.group(3))]
         pages.append((float(page.group(1)), float(page.group(2)), ws))
     return pages
+
+
+def printed_sizes(path):
+    """(page, size [pt], font, text) of every text the PDF shows, its size the font size times
+    the text and current transformation matrices' vertical scale (as printed, figures' scale
+    included), read with pypdf."""
+    from pypdf import PdfReader
+
+    def mul(a, b):
+        return [a[0] * b[0] + a[1] * b[2], a[0] * b[1] + a[1] * b[3],
+                a[2] * b[0] + a[3] * b[2], a[2] * b[1] + a[3] * b[3]]
+
+    out = []
+    for p, page in enumerate(PdfReader(str(path)).pages, 1):
+        def visit(t, cm, tm, font, size, p=p):
+            if t.strip():
+                m = mul(tm, cm)
+                name = str(font.get("/BaseFont", "?")) if font else "?"
+                out.append((p, size * (m[2] ** 2 + m[3] ** 2) ** 0.5, name.split("+")[-1],
+                            t.strip()))
+        page.extract_text(visitor_text=visit)
+    return out

@@ -125,12 +125,17 @@ def test_both_files_written_and_returned(any_report):
     (``column_figures``)."""
     out = any_report["out"]
     figures = [out / "figures" / f"{name}.{ext}" for name in FIGURES for ext in ("pdf", "svg")]
-    assert any_report["written"] == [out / "report.html", out / "report.pdf"] + figures
+    tables = sorted((out / "tables").glob("table_*.csv"),
+                    key=lambda p: tuple(int(k) for k in p.stem.split("_")[1:]))
+    assert tables                              # every table of the report as CSV
+    assert any_report["written"] == [out / "report.html", out / "report.pdf"] + figures + tables
     for path in any_report["written"]:
-        assert path.is_file() and path.stat().st_size > 1000
+        assert path.is_file() and path.stat().st_size > (1000 if path.suffix != ".csv" else 10)
     # written atomically: no temporary file is left behind
-    assert sorted(p.name for p in out.iterdir()) == ["figures", "report.html", "report.pdf"]
+    assert sorted(p.name for p in out.iterdir()) == ["figures", "report.html", "report.pdf",
+                                                     "tables"]
     assert sorted(p.name for p in (out / "figures").iterdir()) == sorted(p.name for p in figures)
+    assert sorted(p.name for p in (out / "tables").iterdir()) == sorted(p.name for p in tables)
 
 
 def test_standalone_figures_are_the_report_figures(puma_report):
@@ -157,7 +162,9 @@ def test_standalone_figures_are_the_report_figures(puma_report):
 def test_only_requested_format(tmp_path, puma_report):
     written = report.write_report(puma_report["results"], tmp_path / "new", formats=("html",))
     assert written[0] == tmp_path / "new" / "report.html"
-    assert all(p.parent.name == "figures" for p in written[1:])
+    assert all(p.parent.name in ("figures", "tables") for p in written[1:])
+    assert not (tmp_path / "new" / "report.pdf").exists()
+    assert not list((tmp_path / "new" / "tables").glob("*.tex"))      # LaTeX on request only
     assert not (tmp_path / "new" / "report.pdf").exists()
 
 
@@ -742,3 +749,18 @@ def test_torque_caption_describes_the_drawn_figure(puma_report):
         green_dashed = ("#009e73", "--") in drawn
         assert green_dashed == ("green, dashed" in caption) == (not simplified), caption
         assert ("black, solid" in caption) == (("#000000", "-") in drawn)
+
+
+def test_latex_tables_on_request(tmp_path, puma_report):
+    """With ``latex`` every CSV table has its LaTeX twin, balanced braces, its number as label."""
+    written = report.write_report(puma_report["results"], tmp_path / "tex", formats=("html",),
+                                  latex=True)
+    csvs = [p for p in written if p.suffix == ".csv"]
+    texs = [p for p in written if p.suffix == ".tex"]
+    assert csvs and [p.stem for p in texs] == [p.stem for p in csvs]
+    for p in texs:
+        tex = p.read_text(encoding="utf-8")
+        number = ".".join(p.stem.split("_")[1:])
+        assert f"\\label{{tab:gd-{number}}}" in tex
+        unescaped = re.sub(r"\\[{}]", "", tex)
+        assert unescaped.count("{") == unescaped.count("}"), p.name

@@ -144,7 +144,7 @@ def test_fig1_caption_names_the_joints_whose_curves_coincide(reports, which):
         assert groups == [[1, 5]]                 # the shipped trajectories
     if which == "ur5":
         assert groups == [[1, 6]]
-    for text in (_html_text(reports, which), _pdf_text(reports, which).replace("\n", " ")):
+    for text in (_html_text(reports, which), re.sub(r"\s+", " ", _pdf_text(reports, which))):
         caption = text[text.index("Figure 1."):text.index("Figure 2.")]
         assert caption.count("move alike") == len(groups)
         for g in groups:

@@ -167,3 +167,49 @@ def test_a_figure_taller_than_the_page_is_scaled_to_fit():
 def test_bad_paper(tmp_path):
     with pytest.raises(ValueError, match="paper"):
         write_pdf(Outline("R"), {}, tmp_path / "x.pdf", paper="a5")
+
+
+def test_text_layer_holds_each_dotted_symbol_once(tmp_path):
+    """q̇ (q and a combining dot) is copied and searched as written: once per occurrence, never
+    "q̇q̇" (as Typst writes a mark's cluster in Libertinus Serif)."""
+    qd, qdd = "q\u0307", "q\u0308"
+    o = Outline(f"{qd} and {qdd}")
+    o.paragraph(f"h(q, {qd}) with {qd} and {qdd}; peak |{qd}|.")
+    o.section("1", f"Velocities {qd}")
+    o.table({"header": ["joint", f"peak |{qd}| [deg/s]"], "rows": [["1", f"{qd}"]],
+             "align": ["left", "right"], "widths": [1, 1], "colour_cols": []}, f"Table of {qd}.")
+    path, _ = _write(tmp_path, o)
+    flat = text(path)
+    assert qd + qd not in flat and qdd + qdd not in flat
+    assert flat.count(qd) == 8 and flat.count(qdd) == 2, flat
+
+
+def test_every_text_is_at_least_8_pt_and_one_family(tmp_path):
+    """Text, tables, scripts, code, captions, footer and a figure's 7 pt text drawn at page
+    width: all printed at 8 pt or more (pypdf's font size times the matrices' scale), in
+    DejaVu Sans (the figures' family) and its monospace."""
+    from matplotlib.figure import Figure
+    from pdf_checks import printed_sizes
+
+    from gd_analyze.reports.drawing import draw_figures
+    from gd_analyze.reports.figure_style import BASE_RC
+
+    fig = Figure(figsize=(7.2, 2.0))
+    ax = fig.add_axes((0.1, 0.25, 0.85, 0.65))
+    ax.plot([0, 1], [0, 1])
+    ax.tick_params(labelsize=6)
+    ax.set_xlabel("t [s]", fontsize=7)
+    fig.text(0.01, 0.01, "a note " * 30, fontsize=7)
+    drawn = draw_figures({"f": fig}, BASE_RC, pdf=False)
+    o = Outline("Title", figures={"f"})
+    o.section("1", "One")
+    o.paragraph("D" + markup.sub("ij") + " and x" + markup.sup("2") + " with "
+                + markup.code("code") + ".", style="note")
+    o.table(TABLE, "A table.", size=7)
+    o.figure("f", "A figure.")
+    path, _ = _write(tmp_path, o, {"f": (drawn["f"][0], drawn["f"][2])})
+    sizes = printed_sizes(path)
+    small = [s for s in sizes if s[1] < 8.0 - 1e-6]
+    assert sizes and not small, small[:10]
+    assert {f for _, _, f, _ in sizes} <= {"DejaVuSans", "DejaVuSans-Bold", "DejaVuSansMono"}
+    assert "anote" in "".join(t for *_, t in sizes).replace(" ", "")    # figure text read

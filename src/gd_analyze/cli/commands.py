@@ -469,7 +469,7 @@ def cmd_analyze(args):
             bar.reset(total=trajectory.n_setpoints)
             bar.set_description("report")
             return write_report(results, folder, paper=args.paper, progress=bar.update,
-                                column_figures=args.column_figures)
+                                column_figures=args.column_figures, latex=args.latex)
     outputs = run_analysis(
         robot, trajectory, _options(args, robot), output_folder(args.outdir, robot.name,
                                                    Path(args.trajectory).stem),

@@ -371,6 +371,9 @@ def analyze_parser():
     p.add_argument("--column-figures", action="store_true",
                    help="also write every report figure 3.5 in wide (one column) as "
                         "figures/<name>_column.pdf and .svg (default: page width only)")
+    p.add_argument("--latex", action="store_true",
+                   help="also write every report table as LaTeX, tables/table_<s>_<k>.tex "
+                        "(the CSV files are always written)")
     p.add_argument("--prefix", metavar="NAME", type=_prefix, default=None,
                    help="prefix of the emitted model's C symbols and CasADi functions, a C "
                         "identifier (default: the robot's name made one, plus _, e.g. "

@@ -10,8 +10,12 @@ PDF sets the figures' text in a TrueType subset of DejaVu Sans and none holds a 
 from __future__ import annotations
 
 import io
+import re
 
-__all__ = ["figure_svg", "draw_figures", "write_figure_files"]
+from .figure_style import raise_small_text, text_extent
+from .typeset import MIN_PRINTED_PT, figure_pdfs, printed_scale
+
+__all__ = ["figure_svg", "svg_size", "draw_figures", "write_figure_files"]
 
 
 def figure_svg(fig, rc=None):
@@ -33,11 +37,31 @@ def figure_svg(fig, rc=None):
 
     buf = io.BytesIO()
     with matplotlib.rc_context(rc or {}):
-        fig.savefig(buf, format="svg", metadata={"Date": None, "Creator": None,
+        # every text at least MIN_PRINTED_PT where the PDF report prints the figure smallest
+        raise_small_text(fig, MIN_PRINTED_PT / printed_scale(fig.get_size_inches()))
+        fig.savefig(buf, format="svg", bbox_inches=text_extent(fig), metadata={"Date": None, "Creator": None,
                                                  "Format": None, "Type": None})
     text = buf.getvalue().decode("utf-8")
     start = text.find("<svg")
     return text[start:] if start >= 0 else text
+
+
+def svg_size(svg):
+    """The width and height [in] of an SVG written by matplotlib (sizes in pt).
+
+    Parameters
+    ----------
+    svg : str
+        Starts with the ``<svg`` element.
+
+    Returns
+    -------
+    (float, float)
+    """
+    head = svg[:svg.index(">")]
+    w, h = (float(re.search(rf'\b{a}="([0-9.]+)pt"', head).group(1)) / 72.0
+            for a in ("width", "height"))
+    return w, h
 
 
 def draw_figures(figures, rc, pdf=True, created=None):
@@ -69,10 +93,8 @@ def draw_figures(figures, rc, pdf=True, created=None):
     One drawing per figure (layout, ticks, text): the PDF is the SVG typeset, so the figure
     files, the HTML and the PDF report show the same drawing.
     """
-    from .typeset import figure_pdfs
-
-    out = {k: (figure_svg(f, rc), tuple(float(v) for v in f.get_size_inches()))
-           for k, f in figures.items()}
+    out = {k: (svg, svg_size(svg)) for k, svg in ((k, figure_svg(f, rc))
+                                                   for k, f in figures.items())}
     pdfs = figure_pdfs(out, created) if pdf else {}
     return {k: (svg, pdfs.get(k), size) for k, (svg, size) in out.items()}
 

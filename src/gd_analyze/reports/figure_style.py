@@ -10,14 +10,16 @@ import contextlib
 import io
 import math
 import re
+import textwrap
 
 __all__ = ["BASE_RC", "SUPTITLE_RC", "style", "grid_shape", "joint_colours", "joint_style",
            "JOINT_STYLES", "MAX_MARKERS", "MIN_MARKERS", "markevery", "panel_markevery",
            "MARK_EVERY_POINT", "element_markevery",
-           "gridspec", "svg", "inline_svgs"]
+           "gridspec", "svg", "inline_svgs", "raise_small_text", "text_extent"]
 
 #: matplotlib settings every report uses; each adds its own to them (see :func:`style`).
 BASE_RC = {
+    "font.family": "DejaVu Sans",  # the reports' text font too: one family on the page
     "font.size": 8.0,
     "axes.titlesize": 8.5,
     "axes.labelsize": 8.0,
@@ -35,6 +37,76 @@ BASE_RC = {
 #: analysis and the sweep report).
 SUPTITLE_RC = {**BASE_RC, "legend.fontsize": 8.0, "figure.titlesize": 11.0,
                "figure.titleweight": "bold", "axes.linewidth": 0.6}
+
+
+def raise_small_text(fig, least):
+    """Set every text of a figure smaller than ``least`` at ``least``: tick labels, labels,
+    titles, legends, annotations.
+
+    Parameters
+    ----------
+    fig : matplotlib.figure.Figure
+        The figure, changed in place (its tick parameters too, so that ticks made when it is
+        drawn again keep the size).
+    least : float
+        The least font size [pt] at the figure's drawn size.
+
+    Returns
+    -------
+    int
+        How many texts were raised.
+
+    Notes
+    -----
+    A mathtext script is drawn at 0.7 of its text's size; the reports' figures write indices
+    as plain characters, so ``least`` is the size of every glyph drawn.
+    """
+    from matplotlib.text import Text
+
+    fig.draw_without_rendering()        # makes the tick labels the axes will draw
+    raised = 0
+    for ax in fig.axes:
+        for axis in (ax.xaxis, ax.yaxis):
+            labels = axis.get_ticklabels(minor=False) + axis.get_ticklabels(minor=True)
+            if any(t.get_fontsize() < least for t in labels):
+                axis.set_tick_params(which="both", labelsize=least)
+                raised += 1
+    right = fig.bbox.width
+    for t in fig.findobj(Text):
+        if t.get_text() and t.get_fontsize() < least:
+            t.set_fontsize(least)
+            raised += 1
+            for _ in range(4):
+                box = t.get_window_extent()
+                if box.x1 <= right + 0.5 or box.x0 >= right:
+                    break
+                # a note wrapped for the smaller size: wrapped again, as many characters a
+                # line as the room from its left end to the figure's edge holds
+                lines = t.get_text().split("\n")
+                chars = max(12, int(max(map(len, lines)) * (right - box.x0) / box.width) - 1)
+                t.set_text(textwrap.fill(" ".join(lines), chars))
+    return raised
+
+
+def text_extent(fig):
+    """The figure's box grown up or down to hold every text drawn above or below it (never
+    wider: the width is the one the figure is printed at).
+
+    Parameters
+    ----------
+    fig : matplotlib.figure.Figure
+        The figure.
+
+    Returns
+    -------
+    matplotlib.transforms.Bbox
+        In inches: ``bbox_inches`` of :meth:`~matplotlib.figure.Figure.savefig`, which then
+        keeps the figure's own box where no text sticks out of it.
+    """
+    from matplotlib.transforms import Bbox
+
+    page, drawn = fig.bbox_inches, fig.get_tightbbox()           # in inches
+    return Bbox.from_extents(page.x0, min(page.y0, drawn.y0), page.x1, max(page.y1, drawn.y1))
 
 
 def style(rc):

@@ -55,6 +55,7 @@ from .main_figures import RC as FIG_RC
 from .main_outline import main_outline
 from .plot_data import ENVELOPE_COLUMNS, ENVELOPE_THRESHOLD
 from .simplified_section import error_figure, has_simplified
+from .table_export import table_files
 from .typeset import PAPER, write_pdf
 
 __all__ = [
@@ -459,7 +460,7 @@ def _pdf(ctx, drawn, path, paper="a4"):
 # --------------------------------------------------------------------------------------------
 
 def write_report(results_path, outdir, formats=REPORT_FORMATS, paper="a4", progress=None,
-                 column_figures=False):
+                 column_figures=False, latex=False):
     """Write report.html and/or report.pdf, and every figure as PDF and SVG, for an analysis.
 
     Parameters
@@ -478,13 +479,17 @@ def write_report(results_path, outdir, formats=REPORT_FORMATS, paper="a4", progr
     column_figures : bool, optional
         Also write the 3.5-in column-width figures (:data:`COLUMN_FIGURES`,
         ``figures/<name>_column.pdf`` and ``.svg``).
+    latex : bool, optional
+        Also write every table as LaTeX, ``tables/table_<section>_<k>.tex``.
 
     Returns
     -------
     list of pathlib.Path
         The files written: ``outdir/report.html``, ``outdir/report.pdf`` (in the order of
         ``formats``), then ``outdir/figures/<name>.pdf`` and ``.svg`` per figure
-        (:data:`FIGURE_FILES`).
+        (:data:`FIGURE_FILES`), then every table of the report as
+        ``outdir/tables/table_<section>_<k>.csv`` (and ``.tex`` with ``latex``:
+        :func:`gd_analyze.reports.table_export.table_files`).
 
     Raises
     ------
@@ -510,10 +515,10 @@ def write_report(results_path, outdir, formats=REPORT_FORMATS, paper="a4", progr
     if paper not in PAPER:
         raise ValueError(f"paper must be one of {sorted(PAPER)}, got {paper!r}")
     with open_results(results_path, lazy=True) as ds:       # long series: in chunks
-        return _write(ds, Path(outdir), formats, paper, progress, column_figures)
+        return _write(ds, Path(outdir), formats, paper, progress, column_figures, latex)
 
 
-def _write(ds, outdir, formats, paper, progress, column=False):
+def _write(ds, outdir, formats, paper, progress, column=False, latex=False):
     from ..files import atomic_path
     from .ticks import ticks_once
 
@@ -533,4 +538,20 @@ def _write(ds, outdir, formats, paper, progress, column=False):
                 fh.write(_html(ctx, drawn))
         if "pdf" in tmp:
             _pdf(ctx, drawn, tmp["pdf"], paper)
-    return [paths[fmt] for fmt in formats] + files
+        tables = _write_tables(stack, main_outline(ctx, drawn), outdir / "tables", latex)
+    return [paths[fmt] for fmt in formats] + files + tables
+
+
+def _write_tables(stack, outline, folder, latex):
+    """Every table of the outline written to ``folder`` (staged in ``stack``)."""
+    from ..files import atomic_path
+
+    folder.mkdir(parents=True, exist_ok=True)
+    out = []
+    for name, text in table_files(outline, latex).items():
+        path = folder / name
+        with open(stack.enter_context(atomic_path(path)), "w", encoding="utf-8",
+                  newline="") as fh:
+            fh.write(text)
+        out.append(path)
+    return out

@@ -9,12 +9,16 @@ or ``*bold*`` in a robot's name is printed as it is.
 
 Typst numbers the sections, tables (within their section, "Table 5.2") and figures ("Figure
 3."), checks each section's number against the outline's (the HTML and the sentences of the
-report cite them), floats the figures to the top or bottom of a page, keeps each heading with
+report cite them), sets each figure where the outline puts it (beside the text citing it), never
+splits a paragraph over two pages, keeps each heading with
 what follows it, breaks long tables over pages with their header repeated, sets the sub- and
 superscripts of :mod:`gd_analyze.reports.markup` as such and code in monospace. The figures are
 embedded as vector graphics from their SVG; their text (``svg.fonttype`` "none") is set in
 DejaVu Sans, the font matplotlib measured it in, embedded as a TrueType subset: the PDF holds
-no Type 3 font.
+no Type 3 font. The text is set in DejaVu Sans too (one family on the page, shipped with
+matplotlib; Libertinus Serif's marks gave a text layer with "q̇q̇" for q̇), no text under
+:data:`MIN_PRINTED_PT` (figures are drawn so that their text prints at that size or more:
+:func:`printed_scale`, :func:`gd_analyze.reports.figure_style.raise_small_text`).
 """
 
 from __future__ import annotations
@@ -26,7 +30,7 @@ import re
 from . import markup
 from .common import keep_units
 
-__all__ = ["PAPER", "TABLE_COLOURS", "PARAGRAPH_STYLES", "document_data", "write_pdf",
+__all__ = ["PAPER", "MIN_PRINTED_PT", "printed_scale", "TABLE_COLOURS", "PARAGRAPH_STYLES", "document_data", "write_pdf",
            "figure_pdfs"]
 
 #: Page sizes [in] and their Typst names.
@@ -56,8 +60,8 @@ def _template(name="report.typ"):
 
 @functools.cache
 def _fonts():
-    """The fonts every Typst document of a process is set in, loaded once: Typst's own
-    (Libertinus Serif, New Computer Modern) and matplotlib's DejaVu folder; never the
+    """The fonts every Typst document of a process is set in, loaded once: matplotlib's DejaVu
+    folder (the reports use DejaVu Sans and DejaVu Sans Mono) and Typst's own; never the
     system's."""
     import typst
 
@@ -106,6 +110,27 @@ def _figure_width(size, paper):
     width = PAPER[paper][0] - 2 * MARGINS[0]
     height = PAPER[paper][1] - MARGINS[1] - MARGINS[2] - _CAPTION_ROOM
     return w * min(1.0, width / w, height / h)
+
+
+#: The least size [pt] of any text of a printed report, figures' text included.
+MIN_PRINTED_PT = 8.0
+
+
+def printed_scale(size):
+    """The least scale a figure of this size is printed at, over the papers of :data:`PAPER`.
+
+    Parameters
+    ----------
+    size : (float, float)
+        The figure's width and height [in].
+
+    Returns
+    -------
+    float
+        Printed size / drawn size, at most 1 (:func:`_figure_width` over the drawn width).
+    """
+    w = float(size[0])
+    return min(_figure_width(size, paper) / w for paper in PAPER)
 
 
 def _block(b, paper, sizes):

@@ -1,0 +1,163 @@
+"""Every table of a report as a CSV file, and as a LaTeX table on request.
+
+The tables are those of the report's one section list (:class:`gd_analyze.reports.sections.Outline`),
+numbered as the report numbers them: Table 4.1 becomes ``tables/table_4_1.csv`` (and
+``table_4_1.tex``). The CSV holds the table's header row (its units in brackets, or a units
+column, as in the report) and its rows, the cells as plain text with the report's minus sign
+(U+2212) written "-" in numbers. Text read from files (robot and joint names) is hostile: a CSV
+cell that a spreadsheet would run as a formula (starting with ``=``, ``+``, ``-``, ``@``, a tab
+or a carriage return, and not a number) is written with a leading apostrophe (OWASP, "CSV
+Injection"); LaTeX's special characters are escaped, sub- and superscripts set with
+``\\textsubscript`` and ``\\textsuperscript``, code with ``\\texttt``.
+"""
+
+from __future__ import annotations
+
+import csv
+import io
+import re
+
+from . import markup
+
+__all__ = ["csv_cell", "latex_text", "table_csv", "table_latex", "table_files"]
+
+#: What a spreadsheet reads as the start of a formula.
+_FORMULA_START = ("=", "+", "-", "@", "\t", "\r")
+_NUMBER = re.compile(r"^[+-]?(\d+(\.\d*)?|\.\d+)([eE][+-]?\d+)?( ?%)?$")
+#: LaTeX's special characters and what prints them.
+_LATEX = {"\\": r"\textbackslash{}", "&": r"\&", "%": r"\%", "$": r"\$", "#": r"\#",
+          "_": r"\_", "{": r"\{", "}": r"\}", "~": r"\textasciitilde{}",
+          "^": r"\textasciicircum{}", "<": r"\textless{}", ">": r"\textgreater{}",
+          "|": r"\textbar{}", "\n": " ", "\r": " "}
+_ALIGN = {"left": "l", "right": "r", "center": "c"}
+
+
+def csv_cell(text: str) -> str:
+    """A table cell as CSV text: plain, a number's minus sign "-", a formula neutralised.
+
+    Parameters
+    ----------
+    text : str
+        The cell as the report marks it (:mod:`gd_analyze.reports.markup`).
+
+    Returns
+    -------
+    str
+        The cell's text; one that starts as a formula would and is not a number gets a leading
+        apostrophe, so that a spreadsheet shows it as text.
+    """
+    t = markup.unicode(str(text)).replace("\u00a0", " ")
+    t = markup.plain(t)
+    as_number = t.replace("\u2212", "-")
+    if _NUMBER.match(as_number):
+        return as_number
+    if t.startswith(_FORMULA_START):
+        return "'" + t
+    return t
+
+
+def latex_text(text: str) -> str:
+    """A marked string as LaTeX: specials escaped, scripts and code as commands.
+
+    Parameters
+    ----------
+    text : str
+        Marked as :mod:`gd_analyze.reports.markup` marks it.
+
+    Returns
+    -------
+    str
+        Balanced braces; no character a LaTeX engine would read as a command.
+    """
+    out = []
+    for piece, kind in markup.spans(str(text)):
+        t = "".join(_LATEX.get(c, c) for c in piece)
+        if kind == "sub":
+            t = r"\textsubscript{" + t + "}"
+        elif kind == "sup":
+            t = r"\textsuperscript{" + t + "}"
+        elif kind == "code":
+            t = r"\texttt{" + t + "}"
+        out.append(t)
+    return "".join(out)
+
+
+def table_csv(table: dict) -> str:
+    """A report table as CSV text: the header row, then the rows.
+
+    Parameters
+    ----------
+    table : dict
+        ``header`` (list of str) and ``rows`` (list of list of str), as
+        :func:`gd_analyze.reports.common.table` makes it.
+
+    Returns
+    -------
+    str
+        RFC 4180 CSV (every cell quoted where it needs to be), lines ended by CRLF.
+    """
+    buf = io.StringIO()
+    w = csv.writer(buf)
+    w.writerow([csv_cell(h) for h in table["header"]])
+    w.writerows([csv_cell(c) for c in row] for row in table["rows"])
+    return buf.getvalue()
+
+
+def table_latex(table: dict, number: str, caption: str) -> str:
+    """A report table as a LaTeX ``table`` with a booktabs ``tabular``.
+
+    Parameters
+    ----------
+    table : dict
+        ``header``, ``rows`` and ``align`` (``"left"``, ``"right"`` or ``"center"`` per column).
+    number : str
+        The report's number of the table ("4.1"): its label is ``tab:gd-4.1``.
+    caption : str
+        The caption, marked.
+
+    Returns
+    -------
+    str
+        Needs ``\\usepackage{booktabs}``, and a Unicode engine (XeLaTeX, LuaLaTeX) or
+        ``\\usepackage[utf8]{inputenc}`` with the Greek and combining characters declared.
+    """
+    cols = "".join(_ALIGN.get(a, "l") for a in table["align"])
+    lines = [r"\begin{table}[htbp]", r"\centering",
+             r"\caption{" + latex_text(caption) + "}", r"\label{tab:gd-" + number + "}",
+             r"\begin{tabular}{" + cols + "}", r"\toprule",
+             " & ".join(latex_text(h) for h in table["header"]) + r" \\", r"\midrule"]
+    lines += [" & ".join(latex_text(c) for c in row) + r" \\" for row in table["rows"]]
+    lines += [r"\bottomrule", r"\end{tabular}", r"\end{table}"]
+    return "\n".join(lines) + "\n"
+
+
+_CAPTION = re.compile(r"^Table ([0-9]+(?:\.[0-9]+)?): (.*)$", re.S)
+
+
+def table_files(outline, latex: bool = False) -> dict:
+    """Every table of a report's outline as file text, by file name.
+
+    Parameters
+    ----------
+    outline : gd_analyze.reports.sections.Outline
+        The report's sections: its tables, numbered as the report numbers them.
+    latex : bool, optional
+        Also each table as LaTeX.
+
+    Returns
+    -------
+    dict of str to str
+        ``table_4_1.csv`` (and ``table_4_1.tex``) to its text, in the report's order.
+    """
+    out = {}
+    for section in outline.sections:
+        for b in section.blocks:
+            if b.kind != "table":
+                continue
+            m = _CAPTION.match(b.caption)
+            number, caption = m.groups()
+            name = "table_" + number.replace(".", "_")
+            out[name + ".csv"] = table_csv(b.content)
+            if latex:
+                out[name + ".tex"] = table_latex(b.content, number, caption)
+    return out
