@@ -176,6 +176,9 @@ def test_the_combined_curve_is_drawn_first_and_thinner(figures):
 def test_one_tick_notation_per_figure(figures):
     _, _, figs = figures
     for key in ("D", "h", "D_column", "h_column", "torque", "torque_column", "joints"):
+        if key.startswith("torque") and not figs[key].axes:   # an exact model: a note only
+            assert any("Nothing dropped" in t.get_text() for t in figs[key].texts), key
+            continue
         assert any(tick_texts(ax, "y") for ax in figs[key].axes), key
         for ax in figs[key].axes:
             for value, lab in tick_texts(ax, "y") + tick_texts(ax, "x"):

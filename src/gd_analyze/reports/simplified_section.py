@@ -527,7 +527,21 @@ def error_figure(ds, width=7.2, data=None):
     if column:
         top, hgap = 0.45, 0.5
     h = 1.0 if column else 1.6
-    note_h = (0.3 if not column else 0.5) if quiet else 0.0
+    note = ""
+    if quiet:                       # wrapped for 8.5 pt (the least printed size's text)
+        import textwrap
+
+        peaks = "; ".join(
+            f"{i + 1}: "
+            + f"{float(np.max(np.abs(diff[:, i]))):.1e}".replace("-", MINUS) + f" {units[i]}"
+            for i in quiet)
+        what = ("joint " if len(quiet) == 1 else "joints ") + ", ".join(
+            str(i + 1) for i in quiet)
+        note = textwrap.fill(
+            f"Nothing dropped for {what} (bound 0): \u03c4\u209b = \u03c4 up to round-off, "
+            f"not drawn (peak |\u03c4\u209b \u2212 \u03c4|, joint {peaks}).",
+            int((W - 0.3) / 0.075))
+    note_h = 0.12 + 0.16 * (note.count("\n") + 1) if quiet else 0.0
     H = (top + rows * h + (rows - 1) * hgap + bottom if shown else 0.1) + note_h
     w = (W - left - right - (cols - 1) * gap) / cols
     fig = Figure(figsize=(W, H))
@@ -575,16 +589,6 @@ def error_figure(ds, width=7.2, data=None):
                    frameon=False, fontsize=7, handlelength=2.6,
                    bbox_to_anchor=(0.5, 1 - 0.08 / H))
     if quiet:
-        peaks = "; ".join(
-            f"{i + 1}: "
-            + f"{float(np.max(np.abs(diff[:, i]))):.1e}".replace("-", MINUS) + f" {units[i]}"
-            for i in quiet)
-        import textwrap
-
-        what = ("joint " if len(quiet) == 1 else "joints ") + ", ".join(
-            str(i + 1) for i in quiet)
-        text = (f"Nothing dropped for {what} (bound 0): \u03c4\u209b = \u03c4 up to "
-                f"round-off, not drawn (peak |\u03c4\u209b \u2212 \u03c4|, joint {peaks}).")
-        fig.text(0.1 / W, (note_h - 0.06) / H, textwrap.fill(text, int((W - 0.2) / 0.058)),
-                 fontsize=7, va="top", ha="left", color="0.25")
+        fig.text(0.1 / W, (note_h - 0.06) / H, note, fontsize=7, va="top", ha="left",
+                 color="0.25")
     return fig                      # no title inside: the numbered caption says it

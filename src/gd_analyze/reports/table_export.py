@@ -155,6 +155,8 @@ def table_files(outline, latex: bool = False) -> dict:
             if b.kind != "table":
                 continue
             m = _CAPTION.match(b.caption)
+            if m is None:
+                raise ValueError(f"a table caption without its number: {b.caption[:60]!r}")
             number, caption = m.groups()
             name = "table_" + number.replace(".", "_")
             out[name + ".csv"] = table_csv(b.content)
