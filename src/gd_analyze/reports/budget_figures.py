@@ -272,7 +272,7 @@ def fig_error_budget(ds, width=_PAGE):
                float(np.nanmax(np.nan_to_num(100 * measured))) if n else 0.0) * 1.25 or 1.0
     for i in range(n):
         if bottom[i] == 0:
-            ax.text(x[i], 0.04 * ymax, "nothing dropped" if column else "nothing\ndropped",
+            ax.text(x[i], 0.07 * ymax, "nothing dropped" if column else "nothing\ndropped",
                     ha="center", va="bottom", fontsize=7, color="0.35", linespacing=1.1,
                     rotation=90 if column else 0)
     ax.set_ylim(0, ymax)
