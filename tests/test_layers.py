@@ -31,7 +31,8 @@ REPORT_CORE = {"core.selection.ranking", "core.selection.labels"}
 # the one section list of the three reports and what it is built with (issue 19 item 6)
 SHARED_REPORTS |= {"reports.markup", "reports.sections",
                    "reports.numbers", "reports.units", "reports.figure_style", "reports.main_robot",
-                   "reports.main_outline", "reports.main_provenance", "reports.main_parts"}
+                   "reports.main_outline", "reports.main_provenance", "reports.main_parts",
+                   "reports.table_export"}     # every report's tables as CSV and LaTeX
 
 
 def _module_name(path):
