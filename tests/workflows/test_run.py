@@ -42,7 +42,7 @@ def test_the_report_names_the_prefix_the_header_uses(tmp_path, prefix, expected)
     ds = _run(tmp_path, prefix)
     header = (tmp_path / "simplified_model.h").read_text()
     declared = set(re.findall(r"void (\w+)\(", header))
-    assert declared == {expected + f for f in _FUNCTIONS}
+    assert declared == {expected + f + batch for f in _FUNCTIONS for batch in ("", "_batch")}
     assert ds.attrs["c_prefix"] == expected
     paragraph = _files_paragraph(ds)
     for f in _FUNCTIONS:

@@ -272,7 +272,7 @@ def _trajectory_bounds(peak, whole_peak, dropped):
 def _sweep_rebuild(peak, whole_peak, scales, tolerance):
     """A ``rebuild`` for :func:`gd_analyze.core.selection.positive_definite.with_inertia_check`
     on a trajectory sweep: the recursive model with the given pairs dropped (the restored
-    parameters kept whole where their remaining parts would break the budget on a
+    parameters restored in full where their remaining parts would break the budget on a
     trajectory, or cost more), its bounds on each trajectory derived again."""
     from ..core.symbolic.pruning import settle_restored
     from .deploy import recursive_simplified

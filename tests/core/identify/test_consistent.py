@@ -83,8 +83,9 @@ def test_a_failing_solver_falls_back_and_two_failures_are_one_error(monkeypatch)
     robot = load_robot("two-link")
     base = base_parameters(robot)
     phi0 = standard_parameters(robot)
-    theta = base.beta.copy()
-    args = (base, theta, np.ones(theta.size, bool), np.eye(theta.size), phi0, (), np.zeros(0))
+    theta = np.concatenate([base.beta, [0.1]])
+    args = (base, theta, np.ones(theta.size, bool), np.eye(theta.size), phi0, ("viscous",),
+            np.zeros(1))
     real = cp.Problem.solve
     failing = {"CLARABEL"}
 
