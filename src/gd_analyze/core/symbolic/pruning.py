@@ -20,12 +20,18 @@ stacked in one array.
 from __future__ import annotations
 
 from dataclasses import dataclass
+from typing import TYPE_CHECKING
 
 import numpy as np
 
 from ..model.kinematics import as_states
 from .recursive import PARTS, exact_program, parts_count, parts_program
 from .regressor_kernels import contribution_peaks, part_contributions
+
+if TYPE_CHECKING:                       # for the type hints only
+    from ..model.robot import Robot
+    from .base_parameters import BaseParameters
+    from .codegen import Program
 
 #: part_contributions and contribution_peaks are the compiled ones of :mod:`.regressor_kernels`.
 __all__ = ["part_contributions", "contribution_peaks", "stacked_peaks", "Pruning", "prune",
@@ -524,7 +530,8 @@ def pruned_choice(robot, base, dropped, cse=True, exact=None, forms=None):
     return exact, np.zeros_like(dropped)
 
 
-def settle_restored(robot, base, before, dropped, exact=None):
+def settle_restored(robot: Robot, base: BaseParameters, before: np.ndarray, dropped: np.ndarray,
+                    exact: Program | None = None) -> np.ndarray:
     """The pairs to drop once some parameters' inertial parts are restored: none dearer.
 
     Restoring a parameter's inertial part, and keeping its other parts dropped, can make the
