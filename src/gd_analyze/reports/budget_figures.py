@@ -435,7 +435,7 @@ def fig_cost_ladder(ds, width=_PAGE):
     # no place on it
     points = [p for p in cost_points(ds) if p[1] > 0 and np.isfinite(p[2])]
     column = width < _PAGE
-    H, top, bottom = (3.2, 0.5, 0.8) if not column else (4.6, 1.0, 1.5)
+    H, top, bottom = (3.4, 0.7, 0.8) if not column else (4.6, 1.0, 1.5)
     fig = _figure(width, H)
     ax = fig.add_axes((0.7 / width, bottom / H, (width - 0.9) / width, (H - bottom - top) / H))
     ax.set_xscale("log")
@@ -486,8 +486,8 @@ def fig_cost_ladder(ds, width=_PAGE):
                                                  " (multiplications + additions)"),
                   labelpad=1.0)
     ax.set_ylabel("worst peak |\u03c4\u209b \u2212 \u03c4| / s\u1d62 [%]", labelpad=1.0)
-    fig.legend(loc="upper center", ncol=1 if column else 3, frameon=False, fontsize=7,
-               handlelength=1.5,
+    fig.legend(loc="upper center", ncol=1 if column else 2, frameon=False, fontsize=7,
+               handlelength=1.5,                # two columns: within the page at 8.5 pt
                bbox_to_anchor=(0.5, 1 - 0.04 / H))
     return fig
 
