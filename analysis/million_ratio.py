@@ -60,6 +60,20 @@ def _range(values):
     return {"median": float(np.median(v)), "min": float(v.min()), "max": float(v.max())}
 
 
+def run_child(command):
+    """Run ``command`` under a small parent that reports its children's peak RSS and CPU time
+    (the job's alone); returns (wall [s], CPU [s], peak RSS [MiB])."""
+    wrapper = [sys.executable, "-c", "import resource, subprocess, sys; "
+               f"subprocess.run({command!r}, check=True, capture_output=True); "
+               "u = resource.getrusage(resource.RUSAGE_CHILDREN); "
+               "print(u.ru_maxrss / 1024, u.ru_utime + u.ru_stime)"]
+    t0 = time.perf_counter()
+    out = subprocess.run(wrapper, check=True, capture_output=True, text=True).stdout
+    wall = time.perf_counter() - t0
+    rss, cpu = (float(v) for v in out.split()[-2:])
+    return wall, cpu, rss
+
+
 def main(argv=None):
     """Measure, print one JSON line and the two verdict lines.
 
@@ -90,18 +104,8 @@ def main(argv=None):
         traj = read_trajectory(csv, robot.n)
         command = [sys.executable, "-m", "gd_analyze.cli", "puma560", str(csv), "-o",
                    str(Path(tmp) / "out"), "--no-report", "-q"]
-        # a small parent per run: its children's peak RSS and CPU time are the job's alone
-        wrapper = [sys.executable, "-c", "import resource, subprocess, sys; "
-                   f"subprocess.run({command!r}, check=True, capture_output=True); "
-                   "u = resource.getrusage(resource.RUSAGE_CHILDREN); "
-                   "print(u.ru_maxrss / 1024, u.ru_utime + u.ru_stime)"]
-
-        def job():
-            t0 = time.perf_counter()
-            out = subprocess.run(wrapper, check=True, capture_output=True, text=True).stdout
-            wall = time.perf_counter() - t0
-            rss, cpu = (float(v) for v in out.split()[-2:])
-            return wall, cpu, rss
+        def job():             # a small parent per run: the job's own peak RSS and CPU time
+            return run_child(command)
 
         def loop():
             t0, c0 = time.perf_counter(), time.process_time()

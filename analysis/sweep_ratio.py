@@ -30,7 +30,6 @@ from __future__ import annotations
 import argparse
 import json
 import os
-import subprocess
 import sys
 import tempfile
 import time
@@ -41,17 +40,12 @@ import numpy as np
 sys.path.insert(0, str(Path(__file__).resolve().parent))
 
 from benchmark import pinocchio_loop  # noqa: E402
+from million_ratio import _range, run_child  # noqa: E402
 
 #: The median wall-time ratio allowed (issue 42 item 5).
 RATIO_LIMIT = 8.0
 #: The sweep's default held-out trajectories and their seed offset (cli/sweep_command.py).
 HELD_OUT, HELD_OUT_SEED = 20, 1_000_003
-
-
-def _range(values):
-    """Median and [min, max] of a list of numbers."""
-    v = np.asarray(values, float)
-    return {"median": float(np.median(v)), "min": float(v.min()), "max": float(v.max())}
 
 
 def main(argv=None):
@@ -86,17 +80,9 @@ def main(argv=None):
                    str(args.k), "-o", str(Path(tmp) / "out"), "--no-report", "-q"]
         if args.workers:
             command += ["--workers", str(args.workers)]
-        wrapper = [sys.executable, "-c", "import resource, subprocess, sys; "
-                   f"subprocess.run({command!r}, check=True, capture_output=True); "
-                   "u = resource.getrusage(resource.RUSAGE_CHILDREN); "
-                   "print(u.ru_maxrss / 1024, u.ru_utime + u.ru_stime)"]
 
         def job():
-            t0 = time.perf_counter()
-            out = subprocess.run(wrapper, check=True, capture_output=True, text=True).stdout
-            wall = time.perf_counter() - t0
-            rss, cpu = (float(v) for v in out.split()[-2:])
-            return wall, cpu, rss
+            return run_child(command)
 
         def loop():
             t0, c0 = time.perf_counter(), time.process_time()
