@@ -29,7 +29,7 @@ SHARED_REPORTS = {"reports.common", "reports.figures", "reports.typeset", "repor
 REPORT_CORE = {"core.selection.ranking", "core.selection.labels"}
 
 # the one section list of the three reports and what it is built with (issue 19 item 6)
-SHARED_REPORTS |= {"reports.markup", "reports.sections",
+SHARED_REPORTS |= {"reports.markup", "reports.sections", "reports.main_chapter",
                    "reports.numbers", "reports.units", "reports.figure_style", "reports.main_robot",
                    "reports.main_outline", "reports.main_provenance", "reports.main_parts",
                    "reports.table_export"}     # every report's tables as CSV and LaTeX

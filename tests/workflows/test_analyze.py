@@ -182,3 +182,38 @@ def test_the_main_job_s_memory_is_flat_in_the_set_points(tmp_path, puma):
     assert peaks[1] < 2 * peaks[0], peaks
     with xr.open_dataset(tmp_path / "r100000.h5", engine="h5netcdf") as ds:
         assert ds.sizes["t"] == 100_000 and ds["D"].encoding["chunksizes"][0] == 4096
+
+
+def test_the_chapters_own_model_is_measured_on_its_puma_only(shipped_dataset, puma, shipped):
+    """The stored error of the chapter's own simplified model (its classes of Figs.
+    3.10-3.11): peak |tau_s - tau| / peak |tau| per joint, tau_s from Pinocchio's half-models
+    reduced to the chapter's parts, tau from rnea (oracle). Another arm stores none."""
+    import pinocchio as pin
+
+    from gd_analyze.core.selection.ranking import CHAPTER_DOMINANCE
+    from gd_analyze.formulations.pinocchio import pinocchio_model, reference_terms
+
+    ds = shipped_dataset("puma560")
+    ref = reference_terms(puma, shipped.q, shipped.qd)
+    keep = {"translational": (1.0, 0.0), "rotational": (0.0, 1.0), "both": (1.0, 1.0)}
+    D_s = np.zeros_like(ref.D_tran)
+    h_s = ref.c.copy()
+    for label, cls in CHAPTER_DOMINANCE.items():
+        t, r = keep[cls]
+        i = int(label[1]) - 1
+        if label[0] == "h":
+            h_s[:, i] += t * ref.h_tran[:, i] + r * ref.h_rot[:, i]
+        else:
+            j = int(label[2]) - 1
+            D_s[:, i, j] = D_s[:, j, i] = t * ref.D_tran[:, i, j] + r * ref.D_rot[:, i, j]
+    tau_s = np.einsum("kij,kj->ki", D_s, shipped.qdd) + h_s
+    model = pinocchio_model(puma)
+    data = model.createData()
+    tau = np.array([pin.rnea(model, data, a, b, c)
+                    for a, b, c in zip(shipped.q, shipped.qd, shipped.qdd)])
+    want = np.abs(tau_s - tau).max(axis=0) / np.abs(tau).max(axis=0)
+    got = ds["chapter_model_error_relative_peak"].values
+    assert np.all(np.isfinite(got))
+    np.testing.assert_allclose(got, want, rtol=1e-8, atol=1e-10)
+    assert want.max() > 0.01                  # the chapter's model does drop real parts
+    assert "chapter_model_error_relative_peak" not in shipped_dataset("ur5").variables

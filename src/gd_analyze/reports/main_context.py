@@ -32,6 +32,7 @@ from .common import share as _share
 from .common import strings as _strings
 from .common import table as _table
 from .common import thresholds as _thresholds
+from .main_chapter import chapter_conclusions
 from .main_figures import identically_zero
 from .main_parts import (
     armature_columns,
@@ -345,6 +346,20 @@ def _report_context_base(ds):
                  f"τ) {n_agree} of {n_compared} classes agree with the chapter's; its "
                  f"rigid links alone (drives left out, the chapter's model) {n_rigid} of "
                  f"{n_compared}.")
+    conclusions = []
+    if applicable and "chapter_agreement" in ds.variables:
+        blocks = {key: [k for k in str(ds.attrs.get(f"chapter_{name}", "")).split(", ") if k]
+                  for key, name in (("arm", "arm_ranked"),
+                                    ("arm_translation", "arm_translation_leads"),
+                                    ("wrist", "wrist_ranked"),
+                                    ("wrist_rotation", "wrist_rotation_leads"))}
+        conclusions = chapter_conclusions(
+            blocks, ds["chapter_threshold"].values, ds["chapter_agreement"].values,
+            int(ds.attrs["chapter_elements_compared"]), n, s,
+            ds["chapter_model_error_relative_peak"].values,
+            ds["chapter_model_error_round_off"].values.astype(bool),
+            ds["tau_error_relative_peak"].values, err_off,
+            where=f"this trajectory ({count(N)} set points)")
     causes, said_once = shared_causes([row[-1] for row in compare_rows])
     compare_rows = [row[:-1] + [cause] for row, cause in zip(compare_rows, causes)]
     if said_once:
@@ -390,6 +405,7 @@ def _report_context_base(ds):
         "choices_note": base_note(ds) if form == "recursive" else "",
         "model_heading": _MODEL_HEADING[form],
         "compare": {"applicable": applicable, "note": note, "table": compare,
+                    "conclusions": conclusions,
                     "n_agree": n_agree, "n_compared": n_compared},
         "provenance": _kv(prov), "enveloped": enveloped,
         "formulations": formulations, "payload": payload,

@@ -174,6 +174,8 @@ def main_outline(ctx, figures):
     top = 6                                  # the chapter comparison only for its PUMA 560
     if compare["applicable"]:
         o.section("6", "Comparison with the chapter's PUMA 560", "chapter")
+        for sentence in compare["conclusions"]:
+            o.paragraph(sentence)
         o.paragraph(compare["note"], "note")
         o.paragraph(f"Agreement: {compare['n_agree']} of {compare['n_compared']} elements.",
                     "strong")

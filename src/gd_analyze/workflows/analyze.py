@@ -22,6 +22,13 @@ import numpy as np
 from .._version import VERSION as __version__
 from ..core.dynamics.dalembert import GDTerms, allocate_terms, gd_terms
 from ..core.model.drives import has_drives
+from ..core.selection.chapter_comparison import (
+    CHAPTER_CHOICES,
+    S_VALUES,
+    agreement_against_s,
+    block_leads,
+)
+from ..core.selection.ranking import is_chapter_puma
 from ..core.selection.simplified import SimplifiedModel, simplified_torque
 from ..formulations.compare import FORMULATIONS_MAX_SETPOINTS
 from .deployment import deploy_models
@@ -188,6 +195,9 @@ class AnalysisPass:
         The explicit simplified model, when asked for (``simplify``).
     simplified : xarray.Dataset or None
         Its bound, cost table and ladder (:func:`gd_analyze.workflows.simplify.simplified_dataset`).
+    chapter_error : dict or None
+        For the chapter's PUMA 560: the torque error of the chapter's own simplified model
+        (:data:`gd_analyze.core.selection.chapter_comparison.CHAPTER_CHOICES`), as ``error``.
     """
 
     ranking: object
@@ -200,6 +210,7 @@ class AnalysisPass:
     tau_simplified: object
     model: object = None
     simplified: object = None
+    chapter_error: object = None
 
 
 def analysis_pass(robot, trajectory, options=None, provenance=None, chunk=STREAM_CHUNK,
@@ -296,6 +307,9 @@ def _analysis_pass(robot, trajectory, options, provenance, chunk, writer, progre
     # the same pass
     rigid = RankingAccumulator(n) if has_drives(robot) else None
     parts = PartPeaks(n) if simplify is not None else None
+    # the chapter's own simplified model (its classes of Figs. 3.10-3.11), measured in the
+    # same pass on its PUMA 560
+    chapter = TorqueErrorAccumulator(n) if is_chapter_puma(robot.name, n) else None
     own = not hasattr(progress, "update")
     bar = progress_bar(bool(progress)) if own else progress
     bar.reset(total=N)
@@ -318,6 +332,8 @@ def _analysis_pass(robot, trajectory, options, provenance, chunk, writer, progre
             rigid.update(terms.D_tran, terms.D_rot, terms.h_tran, terms.h_rot, tau_rigid)
         if parts is not None:
             parts.update(terms.D_tran, terms.D_rot, terms.h_tran, terms.h_rot, qdd[a:b], tau)
+        if chapter is not None:
+            chapter.update(simplified_torque(terms, CHAPTER_CHOICES, qdd[a:b]), tau)
         rows = sample_idx[(sample_idx >= a) & (sample_idx < b)] - a
         if rows.size:
             samples.append(terms.rows(rows))
@@ -393,7 +409,8 @@ def _analysis_pass(robot, trajectory, options, provenance, chunk, writer, progre
                  terms=_concat(held) if writer is None else None,
                  tau=np.concatenate(held_tau) if writer is None else None,
                  tau_simplified=np.concatenate(tau_s_all) if writer is None else None,
-                 model=model, simplified=simplified)
+                 model=model, simplified=simplified,
+                 chapter_error=None if chapter is None else _marked(chapter.result(), robot))
 
 
 #: Set points (evenly spread) on which a recursive model's D_s and h_s are compared with D
@@ -425,6 +442,50 @@ def _with_simplified(ds, extra):
         ds = ds.assign(extra.data_vars)
         ds.attrs.update(extra.attrs)
     return ds
+
+
+def _with_chapter(ds, error):
+    """The dataset with the chapter's conclusions counted (its PUMA 560 only): its own
+    simplified model's error, the agreement with its classes against s, and which part leads
+    the arm block and the wrist (:mod:`gd_analyze.core.selection.chapter_comparison`)."""
+    if error is None:
+        return ds
+    labels = [str(v) for v in ds["element"].values]
+    share = np.asarray(ds["share_tran"].values, float)
+    negligible = [str(v) == "negligible" for v in ds["dominance"].values]
+    s = float(ds.attrs["dominance_threshold"])
+    grid, agree, compared = agreement_against_s(labels, share, negligible,
+                                                tuple(sorted(set(S_VALUES) | {s})))
+    blocks = block_leads(labels, share, negligible, len(ds["joint"]))
+
+    def var(dims, data, long_name):
+        return dims, data, {"units": "1", "long_name": long_name}
+
+    out = ds.assign_coords(chapter_threshold=var(
+        ("chapter_threshold",), grid, "dominance threshold s at which the chapter's classes "
+                                      "are compared"))
+    out = out.assign({
+        "chapter_agreement": var(("chapter_threshold",), agree.astype(np.int32),
+                                 "elements whose class at s equals the chapter's"),
+        "chapter_model_choice": var(("element",), np.array(
+            [CHAPTER_CHOICES.get(k, "") for k in labels], dtype=str),
+            "the part the chapter's own simplified model keeps (its classes of Figs. "
+            "3.10-3.11)"),
+        "chapter_model_error_relative_peak": var(
+            ("joint",), np.array(error["relative_peak_error"], float),
+            "peak |tau_s - tau| / peak |tau| of the chapter's own simplified model"),
+        "chapter_model_error_round_off": var(
+            ("joint",), np.array(error["round_off"], np.int8),
+            "1 where that error is floating-point round-off"),
+    })
+    out.attrs.update({
+        "chapter_elements_compared": int(compared),
+        "chapter_arm_ranked": ", ".join(blocks.arm),
+        "chapter_arm_translation_leads": ", ".join(blocks.arm_translation),
+        "chapter_wrist_ranked": ", ".join(blocks.wrist),
+        "chapter_wrist_rotation_leads": ", ".join(blocks.wrist_rotation),
+    })
+    return out
 
 
 def _model(robot, trajectory, result, options, settings):
@@ -488,7 +549,7 @@ def analyze(robot, trajectory, options=None, settings=None):
     ds = build_dataset(robot, trajectory, result.terms, result.ranking, result.tau,
                        result.tau_simplified, result.choices, result.error,
                        verification=result.verification, settings=settings)
-    ds = _with_simplified(ds, result.simplified)
+    ds = _with_chapter(_with_simplified(ds, result.simplified), result.chapter_error)
     return Analysis(dataset=_with_costs(ds, result.costs),
                     model=_model(robot, trajectory, result, options, settings),
                     verification=result.verification)
@@ -562,7 +623,7 @@ def analyze_to_file(robot, trajectory, path, options=None, settings=None, chunk=
         ds = _with_costs(ds, result.costs)
         if extra is not None:
             ds = ds.assign(extra.data_vars)
-        ds = _with_simplified(ds, result.simplified)
+        ds = _with_chapter(_with_simplified(ds, result.simplified), result.chapter_error)
         append_dataset(ds, tmp)          # not to_netcdf: it would import dask
     return Analysis(dataset=ds,
                     model=_model(robot, trajectory, result, options, settings),
