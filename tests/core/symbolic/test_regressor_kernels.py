@@ -15,6 +15,7 @@ from gd_analyze.core.symbolic.regressor_kernels import (
     part_contributions,
     part_regressor,
     regressor_columns,
+    stacked_contribution_peaks,
 )
 from gd_analyze.formulations.pinocchio import pinocchio_model
 
@@ -177,3 +178,31 @@ def test_the_engines_keep_nan_out_of_the_peaks_alike():
         assert not np.isnan(x).any() and not np.isnan(y).any()
         assert np.abs(x - y).max() <= 1e-12 * np.abs(y).max()
         assert np.all(x >= c - 1e-12 * np.abs(c).max())         # the others' peaks are kept
+
+
+@pytest.mark.parametrize("engine", ("auto", "numpy"))
+def test_stacked_peaks_are_pinocchios_per_trajectory(engine):
+    """Trajectories of 1 to 700 set points stacked (short ones evaluated together, a group
+    closed at BLOCK set points, the long one alone): each trajectory's peaks are those of
+    Pinocchio's regressor columns on its own states, and a NaN state is never a peak."""
+    arm = robot("mixed-chain")
+    base = base_parameters(arm)
+    lengths = [31, 1, 700, 5, 40, 2047, 3, 31]
+    q, qd, qdd = states(arm, sum(lengths), 12)
+    q[33, 0] = np.nan                                   # in the third trajectory
+    tau_peak, peak, whole = stacked_contribution_peaks(arm, base, q, qd, qdd, lengths,
+                                                       engine=engine)
+    zero = np.zeros_like(q)
+    parts = [_pin_base_columns(arm, base, a, b, c, g) for a, b, c, g in
+             ((q, zero, qdd, False), (q, qd, zero, False), (q, zero, zero, True))]
+    C = np.stack(parts)                                 # (3, N, n, b)
+    starts = np.cumsum([0] + lengths)
+    for k, (a, e) in enumerate(zip(starts[:-1], starts[1:])):
+        Ck = C[:, a:e]
+        scale = np.nanmax(np.abs(Ck.sum(axis=(0, 3))))
+        want = (np.nanmax(np.abs(Ck.sum(axis=(0, 3))), axis=0),
+                np.nanmax(np.abs(Ck), axis=1).transpose(2, 0, 1),
+                np.nanmax(np.abs(Ck.sum(axis=0)), axis=0).T)
+        for got, ref in zip((tau_peak[k], peak[k], whole[k]), want):
+            assert np.all(np.isfinite(got))
+            assert np.abs(got - ref).max() <= 1e-12 * scale, k

@@ -26,7 +26,7 @@ import numpy as np
 
 from ..model.kinematics import as_states
 from .recursive import PARTS, exact_program, parts_count, parts_program
-from .regressor_kernels import contribution_peaks, part_contributions
+from .regressor_kernels import contribution_peaks, part_contributions, stacked_contribution_peaks
 
 if TYPE_CHECKING:                       # for the type hints only
     from ..model.robot import Robot
@@ -49,7 +49,7 @@ def _peaks_of(C):
 def stacked_peaks(robot, base, q, qd, qdd, lengths):
     """:func:`contribution_peaks` of each of K trajectories stacked in one array.
 
-    Each trajectory's peaks by the compiled kernel of :mod:`.regressor_kernels`.
+    Short trajectories evaluated together (:func:`.regressor_kernels.stacked_contribution_peaks`).
 
     Parameters
     ----------
@@ -93,15 +93,7 @@ def stacked_peaks(robot, base, q, qd, qdd, lengths):
     lengths = [int(k) for k in lengths]
     if min(lengths, default=1) < 1 or sum(lengths) != q.shape[0]:
         raise ValueError(f"the lengths {lengths[:5]}... do not split {q.shape[0]} set points")
-    starts = np.concatenate([[0], np.cumsum(lengths)])
-    K, n, b = len(lengths), robot.n, base.rank
-    tau_peak, peak = np.zeros((K, n)), np.zeros((K, b, len(PARTS), n))
-    whole_peak = np.zeros((K, b, n))
-    for k in range(K):
-        sl = slice(starts[k], starts[k + 1])
-        tau_peak[k], peak[k], whole_peak[k] = contribution_peaks(robot, base, q[sl], qd[sl],
-                                                                 qdd[sl])
-    return tau_peak, peak, whole_peak
+    return stacked_contribution_peaks(robot, base, q, qd, qdd, lengths)
 
 
 @dataclass(frozen=True, eq=False)

@@ -30,7 +30,7 @@ import numpy as np
 from ..dynamics.dalembert import compiled_engine
 from ..model.kinematics import as_states
 
-__all__ = ["part_contributions", "contribution_peaks", "part_regressor", "regressor_columns",
+__all__ = ["part_contributions", "contribution_peaks", "stacked_contribution_peaks", "part_regressor", "regressor_columns",
            "BLOCK"]
 
 #: Set points per block of the numpy engine: bounds its temporaries (O(BLOCK n m) floats).
@@ -456,3 +456,78 @@ def contribution_peaks(robot, base, q, qd, qdd, out=None, engine="auto"):
 
     _contributions_kernel(*args, False, np.empty((0, 3, n, b)), *out)
     return out
+
+
+def stacked_contribution_peaks(robot, base, q, qd, qdd, lengths, engine="auto"):
+    """:func:`contribution_peaks` of each of K trajectories stacked one after the other.
+
+    Consecutive short trajectories (those :func:`contribution_peaks` with ``engine`` would run
+    as array code) are evaluated together, up to :data:`BLOCK` set points at a time, and
+    their peaks taken per trajectory by a segmented maximum (``numpy.fmax.reduceat``): for
+    31-set-point trajectories the per-call overhead of the array code, not the arithmetic,
+    was the cost. A longer trajectory is one call of :func:`contribution_peaks`.
+
+    Parameters
+    ----------
+    robot : Robot
+        The arm, with n joints.
+    base : BaseParameters
+        Its base parameters, b of them.
+    q, qd, qdd : ndarray, shape (N, n)
+        The K trajectories one after the other, N = sum(lengths), as :func:`as_states` gives
+        them [rad, rad/s, rad/s^2; m, m/s, m/s^2].
+    lengths : sequence of int
+        The set points of each trajectory, each >= 1, summing to N.
+    engine : {"auto", "numpy", "compiled"}, optional
+        As for :func:`contribution_peaks`, decided per trajectory on its own length.
+
+    Returns
+    -------
+    tau_peak : ndarray, shape (K, n)
+        Peak |tau_i| on each trajectory [N m or N].
+    peak : ndarray, shape (K, b, 3, n)
+        Peak |contribution| of each (base parameter, part) on each trajectory [N m or N].
+    whole_peak : ndarray, shape (K, b, n)
+        The same for each base parameter, all parts together [N m or N].
+
+    Notes
+    -----
+    A NaN contribution is never a peak (as in :func:`contribution_peaks`): ``fmax`` skips it,
+    and a trajectory whose every value is NaN keeps 0.
+    """
+    lengths = np.asarray([int(k) for k in lengths], dtype=np.int64)
+    starts = np.concatenate([[0], np.cumsum(lengths)])
+    K, n, b = lengths.size, robot.n, base.rank
+    tau_peak, peak = np.zeros((K, n)), np.zeros((K, b, 3, n))
+    whole_peak = np.zeros((K, b, n))
+    args = _arguments(robot, np.flatnonzero(base.independent.reshape(-1)), base.beta, q, qd,
+                      qdd)
+    columns, beta = args[7] * 10 + args[8], args[9]
+    q, qd, qdd = args[:3]
+    buf = None
+    k = 0
+    while k < K:
+        if compiled_engine(engine, int(lengths[k])) or lengths[k] > BLOCK:
+            sl = slice(starts[k], starts[k + 1])
+            contribution_peaks(robot, base, q[sl], qd[sl], qdd[sl],
+                               out=(tau_peak[k], peak[k], whole_peak[k]), engine=engine)
+            k += 1
+            continue
+        j = k + 1                   # the short trajectories k..j-1, at most BLOCK set points
+        while (j < K and not compiled_engine(engine, int(lengths[j]))
+               and starts[j + 1] - starts[k] <= BLOCK):
+            j += 1
+        a, e = int(starts[k]), int(starts[j])
+        if buf is None:
+            buf = np.empty((BLOCK, 3, n, b))
+        val = _numpy_parts(robot, columns, q[a:e], qd[a:e], qdd[a:e], buf[:e - a])
+        val *= beta
+        s = (val[:, 0] + val[:, 1]) + val[:, 2]                          # (B, n, b)
+        at = starts[k:j] - a
+        tau_peak[k:j] = np.fmax(0.0, np.fmax.reduceat(np.abs(s.sum(axis=2)), at, axis=0))
+        whole_peak[k:j] = np.fmax(0.0, np.fmax.reduceat(np.abs(s), at, axis=0)).transpose(
+            0, 2, 1)
+        peak[k:j] = np.fmax(0.0, np.fmax.reduceat(np.abs(val), at, axis=0)).transpose(
+            0, 3, 1, 2)
+        k = j
+    return tau_peak, peak, whole_peak
