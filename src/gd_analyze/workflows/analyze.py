@@ -308,8 +308,9 @@ def _analysis_pass(robot, trajectory, options, provenance, chunk, writer, progre
     rigid = RankingAccumulator(n) if has_drives(robot) else None
     parts = PartPeaks(n) if simplify is not None else None
     # the chapter's own simplified model (its classes of Figs. 3.10-3.11), measured in the
-    # same pass on its PUMA 560
-    chapter = TorqueErrorAccumulator(n) if is_chapter_puma(robot.name, n) else None
+    # same pass on its PUMA 560 when a model is built (the main job; not a sweep's ranking)
+    chapter = (TorqueErrorAccumulator(n)
+               if simplify is not None and is_chapter_puma(robot.name, n) else None)
     own = not hasattr(progress, "update")
     bar = progress_bar(bool(progress)) if own else progress
     bar.reset(total=N)
