@@ -457,7 +457,7 @@ def _compare_leaf(name, old, now, rtol):
     if bad.any():
         i = int(np.flatnonzero(bad)[0])
         return (f"{int(bad.sum())} values differ by more than {rtol:g} x scale {scale:.6g}, "
-                f"first at {i}: golden {x[i]!r}, new {y[i]!r}")
+                f"first at {i}: golden {float(x[i])!r}, new {float(y[i])!r}")
     return ""
 
 
