@@ -43,6 +43,7 @@ from dataclasses import dataclass
 from functools import cached_property
 
 import numpy as np
+from numpy.typing import ArrayLike
 
 from ...errors import InputError
 from .drives import drive_dict
@@ -63,7 +64,7 @@ def _readonly(x, dtype=float):
     return arr
 
 
-def rot_x(angle):
+def rot_x(angle: float) -> np.ndarray:
     """Rotation matrix about x.
 
     Parameters
@@ -79,7 +80,7 @@ def rot_x(angle):
     return np.array([[1.0, 0.0, 0.0], [0.0, c, -s], [0.0, s, c]])
 
 
-def rot_z(angle):
+def rot_z(angle: float) -> np.ndarray:
     """Rotation matrix about z.
 
     Parameters
@@ -471,7 +472,7 @@ def make_robot(**fields):
     return Robot(**fields)
 
 
-def with_payload(robot, mass, com=(0.0, 0.0, 0.0), inertia=(0.0, 0.0, 0.0)):
+def with_payload(robot: Robot, mass: float, com: ArrayLike = (0.0, 0.0, 0.0), inertia: ArrayLike = (0.0, 0.0, 0.0)) -> Robot:
     """The robot carrying a rigid load fixed to its last link.
 
     The load's mass, centre of mass and inertia are merged into link n: the combined centre of
