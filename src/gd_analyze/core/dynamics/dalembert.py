@@ -170,7 +170,7 @@ class GDTerms:
     tau_f: np.ndarray | None = None
 
     @property
-    def D_arm(self):
+    def D_arm(self) -> np.ndarray:
         """ndarray, shape (N, n, n): the armature part of D, diag(Ia) at every set point
         [kg m^2] (a read-only broadcast view; zeros without drives)."""
         n = self.c.shape[-1]
@@ -178,7 +178,7 @@ class GDTerms:
         return np.broadcast_to(np.diag(arm), (self.c.shape[0], n, n))
 
     @property
-    def D(self):
+    def D(self) -> np.ndarray:
         """ndarray, shape (N, n, n): the inertia matrix D = D_tran + D_rot + D_arm [kg m^2]."""
         D = self.D_tran + self.D_rot
         if self.armature is not None and np.any(self.armature):
@@ -186,7 +186,7 @@ class GDTerms:
             D[:, idx, idx] += self.armature
         return D
 
-    def rows(self, index):
+    def rows(self, index: slice | np.ndarray) -> GDTerms:
         """The terms at some of the set points.
 
         Parameters
@@ -221,7 +221,7 @@ class GDTerms:
         return GDTerms(*cat, parts[0].armature, tau_f)
 
     @property
-    def h(self):
+    def h(self) -> np.ndarray:
         """ndarray, shape (N, n): Coriolis and centrifugal torques h = h_tran + h_rot [N m]."""
         return self.h_tran + self.h_rot
 
