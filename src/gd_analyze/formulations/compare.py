@@ -18,8 +18,10 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 from itertools import combinations
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
+from numpy.typing import ArrayLike
 
 from ..core.dynamics.dalembert import assemble_tau, gd_terms
 from ..core.model.drives import rigid_links
@@ -28,6 +30,13 @@ from .lagrange_euler import le_terms
 from .newton_euler import ne_tau, ne_terms
 from .opcount import book_counts, joint_types, operation_counts
 from .pinocchio import pinocchio_model, relative_error
+
+if TYPE_CHECKING:
+    import xarray as xr
+
+    from ..core.dynamics.dalembert import GDTerms
+    from ..core.model.robot import Robot
+
 
 __all__ = ["METHODS", "DynamicsResult", "dynamics", "inverse_dynamics", "compare",
            "compare_report", "format_compare"]
@@ -63,7 +72,7 @@ class DynamicsResult:
     h: np.ndarray
     c: np.ndarray
 
-    def tau(self, qdd):
+    def tau(self, qdd: ArrayLike) -> np.ndarray:
         """Joint torques tau = D qdd + h + c, Eq. (3.2-26).
 
         Parameters
@@ -153,7 +162,8 @@ def dynamics(robot, q, qd, method):
     return DynamicsResult(method, D, h, c)
 
 
-def inverse_dynamics(robot, q, qd, qdd, method):
+def inverse_dynamics(robot: Robot, q: ArrayLike, qd: ArrayLike, qdd: ArrayLike,
+                     method: str) -> np.ndarray:
     """Joint torques at N set points by each formulation's own route.
 
     Parameters
@@ -198,7 +208,8 @@ def _disagreement(a, b):
     return min(relative_error(a, b), relative_error(b, a))
 
 
-def compare(robot, q, qd, qdd, gd=None):
+def compare(robot: Robot, q: ArrayLike, qd: ArrayLike, qdd: ArrayLike,
+            gd: GDTerms | None = None) -> dict[str, Any]:
     """Largest relative disagreement between each pair of formulations.
 
     Parameters
@@ -251,7 +262,7 @@ def compare(robot, q, qd, qdd, gd=None):
     return out
 
 
-def compare_report(robot, q, qd, qdd):
+def compare_report(robot: Robot, q: ArrayLike, qd: ArrayLike, qdd: ArrayLike) -> dict[str, Any]:
     """Agreement of the four formulations and their operation counts, for the CLI.
 
     Parameters
@@ -293,7 +304,7 @@ def compare_report(robot, q, qd, qdd):
     }
 
 
-def format_compare(report):
+def format_compare(report: dict[str, Any]) -> str:
     """A human-readable table of a :func:`compare_report` dictionary.
 
     Parameters
@@ -334,8 +345,9 @@ def format_compare(report):
 FORMULATIONS_MAX_SETPOINTS = 200
 
 
-def formulations_dataset(robot, q, qd, qdd, n_max=10, max_setpoints=FORMULATIONS_MAX_SETPOINTS,
-                         gd=None):
+def formulations_dataset(robot: Robot, q: ArrayLike, qd: ArrayLike, qdd: ArrayLike,
+                         n_max: int = 10, max_setpoints: int = FORMULATIONS_MAX_SETPOINTS,
+                         gd: GDTerms | None = None) -> xr.Dataset:
     """The formulations' agreement along a trajectory and their costs, as a Dataset to store.
 
     Parameters

@@ -34,7 +34,7 @@ class OpLedger:
         self.multiplications = 0
         self.additions = 0
 
-    def var(self, value):
+    def var(self, value: float) -> Counted:
         """A set-point-dependent scalar (its operations are counted).
 
         Parameters
@@ -53,7 +53,7 @@ class OpLedger:
         """
         return Counted(float(value), self, True)
 
-    def const(self, value):
+    def const(self, value: float) -> Counted:
         """A robot parameter (operations between parameters only are not counted).
 
         Parameters
@@ -287,7 +287,7 @@ def python_kernels(module):
     return namespace
 
 
-def count_value(x):
+def count_value(x: Counted | float) -> float:
     """The float value of a :class:`Counted` scalar, or of a plain number.
 
     Parameters

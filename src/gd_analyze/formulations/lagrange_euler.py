@@ -28,11 +28,17 @@ so the very same code also runs on object arrays of counting scalars: that is ho
 from __future__ import annotations
 
 from dataclasses import dataclass
+from typing import TYPE_CHECKING
 
 import numpy as np
+from numpy.typing import ArrayLike
 
 from ..core.dynamics.dalembert import assemble_tau
 from ..core.model.kinematics import as_states, joint_transforms
+
+if TYPE_CHECKING:
+    from ..core.model.robot import Robot
+
 
 __all__ = ["Q_REVOLUTE", "Q_PRISMATIC", "joint_q_matrices", "DEFAULT_CHUNK", "LETerms", "pseudo_inertia", "u_matrices", "le_terms"]
 
@@ -89,7 +95,7 @@ class LETerms:
     c: np.ndarray
     h_ikm: np.ndarray
 
-    def tau(self, qdd):
+    def tau(self, qdd: ArrayLike) -> np.ndarray:
         """Joint torques tau = D qdd + h + c, Eq. (3.2-26).
 
         Parameters
@@ -110,7 +116,7 @@ class LETerms:
         return assemble_tau(self.D, self.h, self.c, qdd)
 
 
-def pseudo_inertia(robot, frame="link"):
+def pseudo_inertia(robot: Robot, frame: str = "link") -> np.ndarray:
     """The pseudo-inertia matrices J_i of the links, Eq. (3.2-18).
 
     J_i = int r r^T dm over link i, with r = (x, y, z, 1) in link frame i. It is built from the
@@ -232,7 +238,7 @@ def le_constants(robot):
     return pseudo_inertia(robot, "body"), gm, rbar
 
 
-def u_matrices(robot, q):
+def u_matrices(robot: Robot, q: ArrayLike) -> tuple[np.ndarray, np.ndarray]:
     """The derivative matrices U_ij and U_ijk at N set points, Eqs. (3.2-11) and (3.2-13).
 
     Parameters
@@ -259,7 +265,7 @@ def u_matrices(robot, q):
     return _u_core(joint_transforms(robot, q), joint_q_matrices(robot))
 
 
-def le_terms(robot, q, qd, chunk=DEFAULT_CHUNK):
+def le_terms(robot: Robot, q: ArrayLike, qd: ArrayLike, chunk: int = DEFAULT_CHUNK) -> LETerms:
     """The L-E coefficients D, h, c and h_ikm at N set points, Eqs. (3.2-31) to (3.2-34).
 
     Parameters

@@ -33,9 +33,16 @@ runs unchanged on object arrays of counting scalars (:mod:`gd_analyze.formulatio
 
 from __future__ import annotations
 
+from typing import TYPE_CHECKING, Any
+
 import numpy as np
+from numpy.typing import ArrayLike
 
 from ..core.model.kinematics import as_states, joint_frames
+
+if TYPE_CHECKING:
+    from ..core.model.robot import Robot
+
 
 __all__ = ["ne_tau", "ne_terms", "link_constants", "joint_frames"]
 
@@ -52,7 +59,7 @@ def _mv(M, v):
     return (M @ v[..., None])[..., 0]
 
 
-def link_constants(robot):
+def link_constants(robot: Robot) -> dict[str, Any]:
     """The per-link constants of the recursion in link (body-frame) coordinates.
 
     Parameters
@@ -198,7 +205,8 @@ def ne_tau(robot, q, qd, qdd, b=None, f_load=None, n_load=None):
     return ne_core(R, p, robot.prismatic, qd, qdd, link_constants(robot), f_end, n_end, b)
 
 
-def ne_terms(robot, q, qd):
+def ne_terms(robot: Robot, q: ArrayLike,
+             qd: ArrayLike) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     """D, h and c of Eq. (3.2-26) by probing the N-E recursion (Problems 3.11 and 3.12).
 
     c = NE(q, 0, 0); h = NE(q, qd, 0) - c; column j of D = NE(q, 0, e_j) - c, where NE is the

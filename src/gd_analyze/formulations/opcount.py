@@ -78,6 +78,7 @@ import numbers
 from collections import namedtuple
 from fractions import Fraction as Fr
 from functools import cache
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
@@ -95,6 +96,9 @@ from .counting import (
 from .lagrange_euler import joint_q_matrices, le_core
 from .lagrange_euler import le_constants as _le_constants
 from .newton_euler import link_constants, ne_core, ne_cross
+
+if TYPE_CHECKING:
+    import pandas as pd
 
 __all__ = ["OpCount", "METHODS", "TABLE_3_5", "joint_types", "random_chain", "count_operations",
            "operation_counts", "book_counts", "table"]
@@ -146,7 +150,7 @@ def joint_types(robot):
     return "".join("P" if p else "R" for p in robot.prismatic)
 
 
-def random_chain(n, seed=0, types=None):
+def random_chain(n: int, seed: int = 0, types: str | None = None) -> Robot:
     """A random n-joint chain with general parameters (none 0 or 1).
 
     Parameters
@@ -433,7 +437,7 @@ def _counts_for(types):
     return counts
 
 
-def operation_counts(robot_or_n):
+def operation_counts(robot_or_n: Robot | int) -> dict[str, Any]:
     """Multiplications and additions per set point of each formulation, as implemented.
 
     Parameters
@@ -504,7 +508,7 @@ def book_counts(n):
     return out
 
 
-def table(n_max=10):
+def table(n_max: int = 10) -> pd.DataFrame:
     """Measured operation counts beside Table 3.5, for n = 1..n_max.
 
     Parameters

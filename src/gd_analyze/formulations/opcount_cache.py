@@ -24,6 +24,7 @@ import hashlib
 import json
 import os
 import warnings
+from pathlib import Path
 
 from ..config import cache_dir
 from ..errors import InputWarning, one_line
@@ -37,7 +38,7 @@ FORMAT = 2
 LIMIT = 1 << 20
 
 
-def cache_file(code_sha256):
+def cache_file(code_sha256: str) -> Path | None:
     """The cache file of the counted code, or None when caching is disabled.
 
     Parameters
@@ -120,7 +121,8 @@ def read_counts(path, code, key, methods):
     return None
 
 
-def mismatch_warning(path, key, stored, counted):
+def mismatch_warning(path: Path, key: str, stored: dict[str, tuple[int, ...]],
+                     counted: dict[str, tuple[int, ...]]) -> None:
     """One warning line: a cache entry that passed its checksum differs from the recount.
 
     Parameters
@@ -145,7 +147,7 @@ def mismatch_warning(path, key, stored, counted):
         "the recount is used and stored"), InputWarning, stacklevel=3)
 
 
-def store_counts(path, code, key, counts):
+def store_counts(path: Path, code: str, key: str, counts: dict[str, tuple[int, ...]]) -> None:
     """Add ``key``'s counts to the file atomically; silent when it cannot be written.
 
     Parameters

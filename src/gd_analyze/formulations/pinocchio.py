@@ -17,12 +17,18 @@ mass with its body-frame inertia tensor.
 from __future__ import annotations
 
 from dataclasses import dataclass
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
+from numpy.typing import ArrayLike
 
 from ..core.dynamics.dalembert import assemble_tau
 from ..core.model.kinematics import as_states
 from ..core.selection.ranking import ROUND_OFF_EPS
+
+if TYPE_CHECKING:
+    from ..core.model.robot import Robot
+
 
 __all__ = ["pinocchio_model", "ReferenceTerms", "reference_terms", "relative_error",
            "natural_scales", "natural_relative_error", "measured_relative_error"]
@@ -120,7 +126,7 @@ def _crba_nle(model, q, qd, gravity_free=True):
     return D, h
 
 
-def reference_terms(robot, q, qd):
+def reference_terms(robot: Robot, q: ArrayLike, qd: ArrayLike) -> ReferenceTerms:
     """Pinocchio's D, h and c and their translational and rotational split.
 
     Parameters
@@ -156,7 +162,7 @@ def reference_terms(robot, q, qd):
     return ReferenceTerms(D_tran, D_rot, h_tran, h_rot, D, h, c)
 
 
-def relative_error(value, reference):
+def relative_error(value: ArrayLike, reference: ArrayLike) -> float:
     """Largest absolute difference, relative to the reference's largest magnitude.
 
     Parameters
@@ -183,7 +189,8 @@ def relative_error(value, reference):
 FLOOR_EPS = ROUND_OFF_EPS
 
 
-def natural_scales(robot, ref, qd, qdd=None):
+def natural_scales(robot: Robot, ref: ReferenceTerms, qd: np.ndarray,
+                   qdd: np.ndarray | None = None) -> dict[str, Any]:
     """The natural scale of each G-D quantity over the set points.
 
     Parameters
@@ -233,7 +240,8 @@ def natural_scales(robot, ref, qd, qdd=None):
             "floor_tau": FLOOR_EPS * eps * np.max([np.max(s_tau), big_D * qd2, s_g])}
 
 
-def natural_relative_error(value, reference, scale, floor):
+def natural_relative_error(value: ArrayLike, reference: ArrayLike, scale: ArrayLike,
+                           floor: float) -> float:
     """Largest difference over the set points, relative to each element's natural scale.
 
     Parameters

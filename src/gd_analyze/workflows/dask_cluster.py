@@ -88,7 +88,7 @@ CLOSE_TIMEOUT = 2.0
 _NO_DASHBOARD = {"dashboard": False, "dashboard_address": "127.0.0.1:0"}
 
 
-def check_scheduler(address, timeout=HANDSHAKE_TIMEOUT):
+def check_scheduler(address: str, timeout: float = HANDSHAKE_TIMEOUT) -> None:
     """Check that a dask scheduler answers at an address: its comm handshake, within a time.
 
     Parameters

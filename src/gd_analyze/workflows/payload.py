@@ -8,18 +8,29 @@ load mass (``gd-analyze sweep --payload-sweep``). The load is merged into link n
 
 from __future__ import annotations
 
+from typing import TYPE_CHECKING
+
 import numpy as np
+from numpy.typing import ArrayLike
 
 from ..core.selection.ranking import DEFAULT_DOMINANCE, DEFAULT_NEGLIGIBLE
 from ..errors import InputError
 from ..io.sweep_datasets import payload_dataset, sweep_payloads_dataset
 from .sweep import analyze_one, check_thresholds, check_trajectory, run_sweep
 
+if TYPE_CHECKING:
+    import xarray as xr
+
+    from ..core.model.robot import Robot
+    from ..io.trajectory import Trajectory
+
 __all__ = ["payload_sweep", "sweep_payloads"]
 
 
-def payload_sweep(robot, trajectory, masses, com=(0.0, 0.0, 0.0), inertia=(0.0, 0.0, 0.0),
-                  dominance=DEFAULT_DOMINANCE, negligible=DEFAULT_NEGLIGIBLE):
+def payload_sweep(robot: Robot, trajectory: Trajectory, masses: ArrayLike,
+                  com: ArrayLike = (0.0, 0.0, 0.0), inertia: ArrayLike = (0.0, 0.0, 0.0),
+                  dominance: float = DEFAULT_DOMINANCE,
+                  negligible: float = DEFAULT_NEGLIGIBLE) -> xr.Dataset:
     """Rank one trajectory for a range of payloads fixed to the last link.
 
     Parameters

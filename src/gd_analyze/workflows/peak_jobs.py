@@ -12,13 +12,21 @@ prints or writes files.
 
 from __future__ import annotations
 
+from typing import TYPE_CHECKING
+
 import numpy as np
+
+if TYPE_CHECKING:
+    from ..core.model.robot import Robot
+    from ..core.symbolic.explicit import Term
+    from .options import SimplifyOptions
+
 
 __all__ = ["derives_explicit", "proves_over_region", "contribution_job", "explicit_job",
            "start_peaks"]
 
 
-def derives_explicit(robot, options):
+def derives_explicit(robot: Robot, options: SimplifyOptions) -> bool:
     """Whether the main job derives the explicit G-D model.
 
     Parameters
@@ -43,7 +51,7 @@ def derives_explicit(robot, options):
         explicit == "auto" and form != "recursive" and not is_expensive(robot))
 
 
-def proves_over_region(robot, options):
+def proves_over_region(robot: Robot, options: SimplifyOptions) -> bool:
     """Whether the main job prunes the recursive model on bounds proved over the robot's
     joint-limit region, as :func:`gd_analyze.workflows.deployment.deploy_models` decides it.
 
@@ -101,7 +109,8 @@ def contribution_job(robot, q, qd, qdd, peaks=True):
     return base, contribution_peaks(robot, base, q, qd, qdd) if peaks else None
 
 
-def explicit_job(robot, q, qd, qdd):
+def explicit_job(robot: Robot, q: np.ndarray, qd: np.ndarray,
+                 qdd: np.ndarray) -> tuple[Term, np.ndarray]:
     """The explicit terms of an arm and their atoms' peaks on a trajectory.
 
     Parameters

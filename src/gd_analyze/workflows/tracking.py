@@ -9,11 +9,20 @@ are described in :mod:`gd_analyze.workflows.control`.
 
 from __future__ import annotations
 
+from collections.abc import Callable
 from dataclasses import dataclass
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
+from numpy.typing import ArrayLike
 
 from ..core.dynamics.dalembert import allocate_terms, gd_terms, kernel_arguments, qdd_from_terms
+
+if TYPE_CHECKING:
+    from ..core.dynamics.dalembert import GDTerms
+    from ..core.model.robot import Robot
+    from ..core.selection.simplified import SimplifiedModel
+
 
 __all__ = ["CONTROLLERS", "CONTROLLER_DESCRIPTIONS", "DEFAULT_WN", "DEFAULT_ZETA",
            "DEFAULT_RTOL", "DEFAULT_ATOL", "DEFAULT_METHOD", "MAX_STIFFNESS_STEPS",
@@ -66,7 +75,7 @@ MAX_RHS_EVALS = 500_000
 RHS_PER_STEP = 12
 
 
-def stiffness_steps(wn, zeta, duration):
+def stiffness_steps(wn: float | ArrayLike, zeta: float | ArrayLike, duration: float) -> float:
     """Integrator steps the error dynamics demand of an explicit method.
 
     Parameters
@@ -140,7 +149,7 @@ def singular_inertia(robot, D, rtol=1e-12):
             "cannot be simulated; give that link a mass or inertia (or the joint an armature)")
 
 
-def closed_loop_rates(robot, gains, D):
+def closed_loop_rates(robot: Robot, gains: Gains, D: np.ndarray) -> dict[str, float]:
     """The fastest root of each controller's linearised error dynamics.
 
     Parameters
@@ -208,7 +217,7 @@ class Gains:
     Kp_pd: np.ndarray
     Kv_pd: np.ndarray
 
-    def to_dict(self):
+    def to_dict(self) -> dict[str, Any]:
         """The gains as lists of floats.
 
         Returns
@@ -220,7 +229,8 @@ class Gains:
                 for k in ("wn", "zeta", "Kp", "Kv", "inertia_scale", "Kp_pd", "Kv_pd")}
 
 
-def control_gains(robot, q_ref, wn=DEFAULT_WN, zeta=DEFAULT_ZETA):
+def control_gains(robot: Robot, q_ref: ArrayLike, wn: float | ArrayLike = DEFAULT_WN,
+                  zeta: float | ArrayLike = DEFAULT_ZETA) -> Gains:
     """Gains for a chosen natural frequency and damping ratio.
 
     Parameters
@@ -298,8 +308,10 @@ def desired_motion(trajectory):
     return PPoly(np.stack(coeffs, axis=-1), t)
 
 
-def controller_torque(controller, robot, gains, q_d, qd_d, qdd_d, q, qd, choices=None,
-                      terms=None, model_torque=None):
+def controller_torque(controller: str, robot: Robot, gains: Gains, q_d: np.ndarray,
+                      qd_d: np.ndarray, qdd_d: np.ndarray, q: np.ndarray, qd: np.ndarray,
+                      choices: SimplifiedModel | None = None, terms: GDTerms | None = None,
+                      model_torque: Callable[..., Any] | None = None) -> np.ndarray:
     """Torque a controller applies at given desired and actual states.
 
     Parameters

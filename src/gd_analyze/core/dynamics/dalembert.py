@@ -31,11 +31,17 @@ set points and processed in chunks of bounded size.
 from __future__ import annotations
 
 from dataclasses import dataclass
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
+from numpy.typing import ArrayLike
 
 from ..model.drives import friction_torque
 from ..model.kinematics import as_states, body_frames
+
+if TYPE_CHECKING:
+    from ..model.robot import Robot
+
 
 __all__ = ["assemble_tau", "forward_dynamics", "GDTerms", "gd_terms", "allocate_terms",
            "kernel_arguments", "DEFAULT_CHUNK", "ENGINES", "COMPILED_MIN_SETPOINTS",
@@ -50,7 +56,7 @@ ENGINES = ("auto", "numpy", "compiled")
 COMPILED_MIN_SETPOINTS = 2000
 
 
-def compiled_engine(engine, count, threshold=COMPILED_MIN_SETPOINTS):
+def compiled_engine(engine: str, count: int, threshold: int = COMPILED_MIN_SETPOINTS) -> bool:
     """Whether a computation on ``count`` set points runs compiled (numba) or as array code.
 
     The one rule of every kernel with two engines: the choice depends on the data's size
@@ -87,7 +93,7 @@ def compiled_engine(engine, count, threshold=COMPILED_MIN_SETPOINTS):
     return engine == "compiled" or (engine == "auto" and int(count) >= threshold)
 
 
-def assemble_tau(D, h, c, qdd):
+def assemble_tau(D: np.ndarray, h: np.ndarray, c: np.ndarray, qdd: ArrayLike) -> np.ndarray:
     """Joint torques tau = D qdd + h + c at N set points, Eq. (3.2-26) / Eq. (3.4-24).
 
     The one assembly of the equations of motion from their terms, whatever the formulation
@@ -164,7 +170,7 @@ class GDTerms:
     tau_f: np.ndarray | None = None
 
     @property
-    def D_arm(self):
+    def D_arm(self) -> np.ndarray:
         """ndarray, shape (N, n, n): the armature part of D, diag(Ia) at every set point
         [kg m^2] (a read-only broadcast view; zeros without drives)."""
         n = self.c.shape[-1]
@@ -172,7 +178,7 @@ class GDTerms:
         return np.broadcast_to(np.diag(arm), (self.c.shape[0], n, n))
 
     @property
-    def D(self):
+    def D(self) -> np.ndarray:
         """ndarray, shape (N, n, n): the inertia matrix D = D_tran + D_rot + D_arm [kg m^2]."""
         D = self.D_tran + self.D_rot
         if self.armature is not None and np.any(self.armature):
@@ -180,7 +186,7 @@ class GDTerms:
             D[:, idx, idx] += self.armature
         return D
 
-    def rows(self, index):
+    def rows(self, index: slice | np.ndarray) -> GDTerms:
         """The terms at some of the set points.
 
         Parameters
@@ -215,11 +221,12 @@ class GDTerms:
         return GDTerms(*cat, parts[0].armature, tau_f)
 
     @property
-    def h(self):
+    def h(self) -> np.ndarray:
         """ndarray, shape (N, n): Coriolis and centrifugal torques h = h_tran + h_rot [N m]."""
         return self.h_tran + self.h_rot
 
-    def tau(self, qdd, D=None, h=None):
+    def tau(self, qdd: ArrayLike, D: np.ndarray | None = None,
+            h: np.ndarray | None = None) -> np.ndarray:
         """Joint torques tau = D qdd + h + c, Eq. (3.4-24).
 
         Parameters
@@ -307,7 +314,7 @@ def _gd_chunk(robot, q, qd):
     return D_tran, D_rot, h_tran, h_rot, c
 
 
-def allocate_terms(N, n):
+def allocate_terms(N: int, n: int) -> GDTerms:
     """Output buffers for :func:`gd_terms`, to be reused across streamed chunks.
 
     Parameters
@@ -326,7 +333,7 @@ def allocate_terms(N, n):
                    np.empty((N, n)), np.empty((N, n)))
 
 
-def kernel_arguments(robot):
+def kernel_arguments(robot: Robot) -> tuple[Any, ...]:
     """The robot's constants as the compiled kernels take them (contiguous float arrays).
 
     Parameters
@@ -437,7 +444,7 @@ def gd_terms(robot, q, qd, chunk=DEFAULT_CHUNK, engine="auto", out=None, constan
     return GDTerms(*res, arm, friction_torque(robot, qd))
 
 
-def qdd_from_terms(terms, tau):
+def qdd_from_terms(terms: GDTerms, tau: np.ndarray) -> np.ndarray:
     """Joint accelerations from G-D terms already computed, qdd = D^-1 (tau - h - c - tau_f).
 
     Parameters
@@ -468,7 +475,8 @@ def qdd_from_terms(terms, tau):
     return np.linalg.solve(terms.D, rhs[..., None])[..., 0]
 
 
-def forward_dynamics(robot, q, qd, tau, engine="auto"):
+def forward_dynamics(robot: Robot, q: ArrayLike, qd: ArrayLike, tau: ArrayLike,
+                     engine: str = "auto") -> np.ndarray:
     """Joint accelerations of the arm under given torques, qdd = D^-1 (tau - h - c - tau_f).
 
     Parameters

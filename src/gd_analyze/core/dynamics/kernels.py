@@ -35,7 +35,9 @@ __all__ = ["gd_kernel", "body_frames_at", "plucker_axes"]
 
 
 @njit(cache=True, fastmath=False, nogil=True, inline="always")
-def body_frames_at(q, k, Rp, tp, pris, com, M, R, o, rbar):  # pragma: no cover - compiled
+def body_frames_at(q: np.ndarray, k: int, Rp: np.ndarray, tp: np.ndarray, pris: np.ndarray,
+                   com: np.ndarray, M: np.ndarray, R: np.ndarray, o: np.ndarray,
+                   rbar: np.ndarray) -> None:  # pragma: no cover - compiled
     """Body frames and centres of mass at set point k, into R (n, 3, 3), o, rbar (n, 3).
 
     Parameters
@@ -90,7 +92,8 @@ def body_frames_at(q, k, Rp, tp, pris, com, M, R, o, rbar):  # pragma: no cover 
 
 
 @njit(cache=True, fastmath=False, nogil=True, inline="always")
-def plucker_axes(R, o, pris, A, B):  # pragma: no cover - compiled
+def plucker_axes(R: np.ndarray, o: np.ndarray, pris: np.ndarray, A: np.ndarray,
+                 B: np.ndarray) -> None:  # pragma: no cover - compiled
     """Joint axes in Plücker coordinates: A[j] = z_j, B[j] = o_j x z_j (revolute) or A[j] = 0,
     B[j] = z_j (prismatic), so that Jv_s[:, j] = B[j] - rbar_s x A[j] and Jw_s[:, j] = A[j].
 
@@ -119,8 +122,10 @@ def plucker_axes(R, o, pris, A, B):  # pragma: no cover - compiled
 
 
 @njit(cache=True, fastmath=False, nogil=True)
-def gd_kernel(q, qd, Rp, tp, pris, mass, com, inertia, gravity,
-              D_tran, D_rot, h_tran, h_rot, c):  # pragma: no cover - compiled
+def gd_kernel(q: np.ndarray, qd: np.ndarray, Rp: np.ndarray, tp: np.ndarray, pris: np.ndarray,
+              mass: np.ndarray, com: np.ndarray, inertia: np.ndarray, gravity: np.ndarray,
+              D_tran: np.ndarray, D_rot: np.ndarray, h_tran: np.ndarray, h_rot: np.ndarray,
+              c: np.ndarray) -> None:  # pragma: no cover - compiled
     """Fill rows 0..N-1 of D_tran, D_rot (N, n, n) [kg m^2] and h_tran, h_rot, c (N, n) [N m].
 
     Parameters

@@ -23,11 +23,16 @@ tau_f, tau_f = F_v qd + F_c sign(qd) + tau_0. Motor-side data reflect to the lin
 from __future__ import annotations
 
 import math
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
 from ...errors import InputError
 from .limits import LIMITS
+
+if TYPE_CHECKING:
+    from ..symbolic.codegen import Program
+    from .robot import Robot
 
 __all__ = ["DRIVE_KEYS", "DRIVE_FIELDS", "drive_values", "drive_dict", "friction_torque",
            "has_drives", "rigid_links", "with_drives"]
@@ -53,7 +58,7 @@ def _value(link, key, path, column, lo=0.0):
     return v
 
 
-def drive_values(link, path, where):
+def drive_values(link: dict[str, Any], path: str, where: str) -> tuple[float, float, float, float]:
     """The drive of one link table of a robot file, validated.
 
     Parameters
@@ -115,7 +120,7 @@ def drive_values(link, path, where):
            if "torque_offset" in link else 0.0,)
 
 
-def has_drives(robot):
+def has_drives(robot: Robot) -> bool:
     """Whether a robot has any armature, friction or torque offset.
 
     Parameters
@@ -130,7 +135,7 @@ def has_drives(robot):
     return any(bool(np.any(getattr(robot, k))) for k in DRIVE_FIELDS)
 
 
-def drive_dict(robot, i):
+def drive_dict(robot: Robot, i: int) -> dict[str, Any]:
     """Joint i's nonzero drive keys in the robot-file layout (for ``Robot.to_dict``).
 
     Parameters
@@ -149,7 +154,7 @@ def drive_dict(robot, i):
     return {k: float(getattr(robot, k)[i]) for k in DRIVE_FIELDS if getattr(robot, k)[i] != 0.0}
 
 
-def friction_torque(robot, qd):
+def friction_torque(robot: Robot, qd: np.ndarray) -> np.ndarray | None:
     """Joint friction and offset tau_f = F_v qd + F_c sign(qd) + tau_0.
 
     The one formula of the drives' velocity-dependent torque: every engine, the emitted
@@ -209,7 +214,7 @@ def rigid_links(robot):
     return dataclasses.replace(robot, **dict.fromkeys(DRIVE_FIELDS, zero))
 
 
-def with_drives(program, robot):
+def with_drives(program: Program, robot: Robot) -> Program:
     """The program with the robot's drive terms added to every tau_i, never dropped.
 
     Parameters

@@ -14,15 +14,22 @@ Eq. (3.2-5), and :func:`link_matrices` gives the DH link matrices ^{i-1}A_i.
 
 from __future__ import annotations
 
+from collections.abc import Sequence
+from typing import TYPE_CHECKING
+
 import numpy as np
+from numpy.typing import ArrayLike
 
 from .limits import real_values
+
+if TYPE_CHECKING:
+    from .robot import Robot
 
 __all__ = ["as_states", "transforms_core", "joint_frames", "joint_transforms", "body_frames",
            "link_matrices", "frames", "centres_of_mass"]
 
 
-def as_states(robot, *arrays, names=None):
+def as_states(robot: Robot, *arrays: ArrayLike, names: Sequence[str] | None = None) -> tuple[np.ndarray, ...]:
     """Check joint arrays against the robot and give them a leading set-point axis.
 
     Parameters
@@ -61,7 +68,7 @@ def as_states(robot, *arrays, names=None):
     return tuple(out)
 
 
-def transforms_core(P, t, prismatic, c, s, q):
+def transforms_core(P: np.ndarray, t: np.ndarray, prismatic: Sequence[bool], c: np.ndarray, s: np.ndarray, q: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     """Rotation and translation of every ^{i-1}T_i; float or object (counting) arrays alike.
 
     Parameters
@@ -134,7 +141,7 @@ def joint_frames(robot, q):
                            np.sin(q), q)
 
 
-def joint_transforms(robot, q):
+def joint_transforms(robot: Robot, q: ArrayLike) -> np.ndarray:
     """The transforms ^{i-1}T_i between consecutive body frames.
 
     Parameters
@@ -164,7 +171,7 @@ def joint_transforms(robot, q):
     return _homogeneous(*joint_frames(robot, q))
 
 
-def body_frames(robot, q):
+def body_frames(robot: Robot, q: ArrayLike) -> tuple[np.ndarray, np.ndarray]:
     """Orientation and origin of every body frame in the base frame.
 
     Parameters
@@ -206,7 +213,7 @@ def _homogeneous(R, t):
     return T
 
 
-def link_matrices(robot, q):
+def link_matrices(robot: Robot, q: ArrayLike) -> np.ndarray:
     """The transforms ^{i-1}A_i between consecutive link frames (DH matrices for DH robots).
 
     Link frame i is where link i's centre of mass and inertia are given: DH frame i for a
@@ -277,7 +284,7 @@ def frames(robot, q):
     return R, p
 
 
-def centres_of_mass(robot, R, p):
+def centres_of_mass(robot: Robot, R: np.ndarray, p: np.ndarray) -> np.ndarray:
     """Centres of mass of the links in the base frame.
 
     Parameters

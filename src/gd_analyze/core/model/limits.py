@@ -14,6 +14,7 @@ from __future__ import annotations
 import numbers
 
 import numpy as np
+from numpy.typing import ArrayLike
 
 from ...errors import InputError
 
@@ -40,7 +41,7 @@ LIMITS = {
 }
 
 
-def exact_text(value):
+def exact_text(value: float) -> str:
     """A number in as few significant digits as give it back exactly (at least 6), so that a
     value just beyond a limit never prints as the limit.
 
@@ -100,7 +101,7 @@ def first_beyond(values, limit):
     return tuple(int(i) for i in np.unravel_index(flat, arr.shape))
 
 
-def real_values(name, values):
+def real_values(name: str, values: ArrayLike) -> np.ndarray:
     """An array of real numbers as floats; complex or non-numeric values refused.
 
     Parameters
@@ -142,7 +143,7 @@ def real_values(name, values):
     return arr.astype(float, copy=False)
 
 
-def check_finite(name, values, what="computed"):
+def check_finite(name: str, values: ArrayLike, what: str = "computed") -> np.ndarray:
     """Raise if an array holds NaN or inf.
 
     Parameters

@@ -16,11 +16,15 @@ from __future__ import annotations
 import dataclasses
 import math
 import types
+from typing import TYPE_CHECKING
 
 import numpy as np
 
 from ...errors import InputError
 from .limits import LIMITS, exact_text
+
+if TYPE_CHECKING:
+    from .robot import Robot
 
 __all__ = ["rpy_matrix", "with_mounting", "mounting_of", "as_mounted", "MOUNTING_KEY"]
 
@@ -37,7 +41,7 @@ def _cos_sin(angle, degrees):
     return math.cos(a), math.sin(a)
 
 
-def rpy_matrix(roll, pitch, yaw, degrees=False):
+def rpy_matrix(roll: float, pitch: float, yaw: float, degrees: bool = False) -> np.ndarray:
     """The rotation of URDF roll, pitch, yaw angles: R = Rz(yaw) Ry(pitch) Rx(roll).
 
     Parameters
@@ -68,7 +72,7 @@ def rpy_matrix(roll, pitch, yaw, degrees=False):
     return rz @ ry @ rx
 
 
-def mounting_of(robot):
+def mounting_of(robot: Robot) -> tuple[np.ndarray, np.ndarray]:
     """The mounting a robot was built with: its base's roll, pitch, yaw and the world's gravity.
 
     Parameters

@@ -41,8 +41,10 @@ import math
 import types
 from dataclasses import dataclass
 from functools import cached_property
+from typing import Any
 
 import numpy as np
+from numpy.typing import ArrayLike
 
 from ...errors import InputError
 from .drives import drive_dict
@@ -63,7 +65,7 @@ def _readonly(x, dtype=float):
     return arr
 
 
-def rot_x(angle):
+def rot_x(angle: float) -> np.ndarray:
     """Rotation matrix about x.
 
     Parameters
@@ -79,7 +81,7 @@ def rot_x(angle):
     return np.array([[1.0, 0.0, 0.0], [0.0, c, -s], [0.0, s, c]])
 
 
-def rot_z(angle):
+def rot_z(angle: float) -> np.ndarray:
     """Rotation matrix about z.
 
     Parameters
@@ -95,7 +97,8 @@ def rot_z(angle):
     return np.array([[c, -s, 0.0], [s, c, 0.0], [0.0, 0.0, 1.0]])
 
 
-def dh_placements(convention, d, a, alpha, offset):
+def dh_placements(convention: str, d: np.ndarray, a: np.ndarray, alpha: np.ndarray,
+                  offset: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
     """Joint placements and link-frame poses of a DH chain.
 
     Parameters
@@ -282,18 +285,18 @@ class Robot:
                                  "placements are derived: build it with make_robot)")
 
     @property
-    def n(self):
+    def n(self) -> int:
         """int: the number of joints (degrees of freedom)."""
         return int(self.mass.shape[0])
 
     @cached_property
-    def has_armature(self):
+    def has_armature(self) -> bool:
         """bool: True if a drive adds armature inertia to some joint (``armature`` not all
         0); computed once per robot (a closed loop asks at every step)."""
         return bool(np.any(self.armature))
 
     @cached_property
-    def has_friction(self):
+    def has_friction(self) -> bool:
         """bool: True if some joint has viscous or Coulomb friction or a torque offset
         (``viscous``, ``coulomb`` or ``torque_offset`` not all 0: tau_f is then not zero);
         computed once per robot."""
@@ -301,7 +304,7 @@ class Robot:
                     or np.any(self.torque_offset))
 
     @property
-    def is_dh(self):
+    def is_dh(self) -> bool:
         """bool: True if the robot came from DH rows (d, a, alpha, offset are meaningful)."""
         return self.convention in ("standard", "modified")
 
@@ -410,7 +413,7 @@ class Robot:
 _PLACEMENTS = ("rotation", "translation", "link_rotation", "link_translation")
 
 
-def make_robot(**fields):
+def make_robot(**fields: Any) -> Robot:
     """Build a :class:`Robot` from its fields, normalised.
 
     Parameters
@@ -471,7 +474,7 @@ def make_robot(**fields):
     return Robot(**fields)
 
 
-def with_payload(robot, mass, com=(0.0, 0.0, 0.0), inertia=(0.0, 0.0, 0.0)):
+def with_payload(robot: Robot, mass: float, com: ArrayLike = (0.0, 0.0, 0.0), inertia: ArrayLike = (0.0, 0.0, 0.0)) -> Robot:
     """The robot carrying a rigid load fixed to its last link.
 
     The load's mass, centre of mass and inertia are merged into link n: the combined centre of

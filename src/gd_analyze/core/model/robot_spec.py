@@ -13,6 +13,7 @@ import hashlib
 import math
 import types
 import warnings
+from typing import TYPE_CHECKING
 
 import numpy as np
 
@@ -20,6 +21,9 @@ from ...errors import InputError, InputWarning
 from .drives import DRIVE_FIELDS, DRIVE_KEYS, drive_values
 from .limits import LIMITS, exact_text
 from .robot import CONVENTIONS, JOINT_TYPES, make_robot
+
+if TYPE_CHECKING:
+    pass
 
 __all__ = ["robot_from_dict", "robot_from_chain"]
 

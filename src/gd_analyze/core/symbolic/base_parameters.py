@@ -19,10 +19,15 @@ tau = W_B beta (:func:`base_parameters`).
 from __future__ import annotations
 
 from dataclasses import dataclass
+from typing import TYPE_CHECKING
 
 import numpy as np
+from numpy.typing import ArrayLike
 
 from ..model.kinematics import as_states, joint_frames
+
+if TYPE_CHECKING:
+    from ..model.robot import Robot
 
 __all__ = ["PARAMETER_NAMES", "standard_parameters", "regressor", "BaseParameters",
            "base_parameters", "random_states", "base_regressor"]
@@ -38,7 +43,7 @@ _LAST = (3, 8, 9)
 _J_INDEX = ((0, 0), (0, 1), (0, 2), (1, 1), (1, 2), (2, 2))
 
 
-def standard_parameters(robot):
+def standard_parameters(robot: Robot) -> np.ndarray:
     """The standard inertial parameters of every link, body frame, about its origin.
 
     Parameters
@@ -187,7 +192,8 @@ def regressor(robot, q, qd, qdd, gravity=None):
     return W
 
 
-def random_states(robot, count, seed=0):
+def random_states(robot: Robot, count: int,
+                  seed: int = 0) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     """Random set points for identification: q within the limits (else +-pi), qd, qdd in +-2.
 
     Parameters
@@ -250,7 +256,7 @@ class BaseParameters:
         out[self.independent] = self.beta
         return out
 
-    def names(self):
+    def names(self) -> list[str]:
         """Labels of the base parameters, e.g. ``["ZZ1", "XX2", ...]`` (links from 1).
 
         Returns
@@ -279,7 +285,8 @@ def _snap_standard(phi):
     return np.where(np.abs(phi) <= SNAP * _kind_scales(phi)[None, :], 0.0, phi)
 
 
-def base_parameters(robot, count=None, seed=0, tol=1e-8):
+def base_parameters(robot: Robot, count: int | None = None, seed: int = 0,
+                    tol: float = 1e-8) -> BaseParameters:
     """The base parameters of an arm by the QR decomposition of Gautier (1990).
 
     Parameters
@@ -345,7 +352,8 @@ def base_parameters(robot, count=None, seed=0, tol=1e-8):
 REGRESSOR_BLOCK = 4096
 
 
-def base_regressor(robot, q, qd, qdd, base=None):
+def base_regressor(robot: Robot, q: ArrayLike, qd: ArrayLike, qdd: ArrayLike,
+                   base: BaseParameters | None = None) -> tuple[np.ndarray, np.ndarray]:
     """The base regressor Y_b and the base parameters beta, with tau = Y_b beta.
 
     Parameters

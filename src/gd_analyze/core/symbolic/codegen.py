@@ -27,14 +27,19 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass
 from functools import cached_property
+from typing import TYPE_CHECKING
 
 import numpy as np
 import symengine as se
+from numpy.typing import ArrayLike
 
 from .emit import emit_python, emit_state_python
 from .factoring import expand_pairs, factor_sum, private_products, prune_dead, sum_to_product
 from .operation_count import count_operations
 from .subexpressions import eliminate
+
+if TYPE_CHECKING:
+    from .explicit import Term
 
 __all__ = ["Program", "build_program", "ExplicitProgram"]
 
@@ -98,7 +103,8 @@ TRIG_MODES = ("products", "calls")
 LATE_FACTORING = 50_000
 
 
-def build_program(terms, n, offset, trig_mode="products", prismatic=None):
+def build_program(terms: Term, n: int, offset: ArrayLike, trig_mode: str = "products",
+                  prismatic: ArrayLike | None = None) -> Program:
     """Assemble the straight-line program of the kept terms.
 
     Parameters
@@ -273,7 +279,7 @@ class ExplicitProgram:
             self.recipe[key] = ((1, prod(sa, cb)), (sign_b, prod(ca, sb)))
         return self.recipe[key]
 
-    def trig_values(self):
+    def trig_values(self) -> None:
         """Stage 2: every group's trig values (in a stable order), then each group's items
         expanded into products of pairs (:mod:`.factoring`) and the private products found."""
         for g in self.groups.values():
@@ -399,7 +405,7 @@ class ExplicitProgram:
         return tau
 
     # --- stage 5: cse ---------------------------------------------------------------------------
-    def finish(self, outputs):
+    def finish(self, outputs: list[se.Basic]) -> Program:
         """Stage 5: unused assignments dropped, common subexpressions eliminated.
 
         Parameters
@@ -416,7 +422,7 @@ class ExplicitProgram:
                            for s, e in assignments]
         return Program(n=self.n, assignments=assignments, outputs=outputs)
 
-    def tau(self):
+    def tau(self) -> Program:
         """The program of tau [N m or N] of q, qd, qdd: the stages in order.
 
         Returns
@@ -427,7 +433,7 @@ class ExplicitProgram:
         tau = self.assemble_tau()
         return self.finish([factor_sum(t) if t else se.Integer(0) for t in tau])
 
-    def inertia(self):
+    def inertia(self) -> Program:
         """The program of D(q) from the D groups: outputs D_ij row-major (n x n) [kg m^2].
 
         Returns

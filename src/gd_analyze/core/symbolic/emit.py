@@ -22,12 +22,17 @@ through :func:`gd_analyze.core.symbolic.safe_text.header_lines`.
 
 from __future__ import annotations
 
+from collections.abc import Callable
 from dataclasses import dataclass
+from typing import TYPE_CHECKING, Any
 
 import symengine as se
 
 from .operation_count import is_number
 from .safe_text import header_lines
+
+if TYPE_CHECKING:
+    from .codegen import Program
 
 __all__ = ["Printer", "C", "NUMPY", "CASADI", "STATE", "emit_c", "emit_python",
            "emit_state_python", "python_function", "state_function"]
@@ -55,7 +60,7 @@ class Printer:
     module: str
     temporary: str
 
-    def symbol(self, name):
+    def symbol(self, name: str) -> str:
         """A symbol's text.
 
         Parameters
@@ -73,7 +78,7 @@ class Printer:
                 return self.index.format(name=prefix, i=int(name[len(prefix):]))
         return name
 
-    def sign(self, x):
+    def sign(self, x: str) -> str:
         """sign(x) with sign(0) = 0.
 
         Parameters
@@ -91,7 +96,7 @@ class Printer:
             return f"(({x} > 0) - ({x} < 0))"
         return f"{self.module}sign({x})"
 
-    def expression(self, e, prec=0):
+    def expression(self, e: se.Basic, prec: int = 0) -> str:
         """An expression's text.
 
         Parameters
@@ -151,7 +156,7 @@ class Printer:
             out += (" - " if neg else " + ") + s if out else ("-" + s if neg else s)
         return f"({out})" if prec > 0 else out
 
-    def body(self, program, target, indent="    "):
+    def body(self, program: Program, target: Callable[..., Any], indent: str = "    ") -> list[str]:
         """The statements of a program: its temporaries, then each output into its slot.
 
         Parameters
@@ -206,7 +211,7 @@ def _split_sign(t):
     return False, t
 
 
-def emit_c(program, header, prefix="gd_"):
+def emit_c(program: Program, header: dict[str, Any], prefix: str = "gd_") -> str:
     """C99 source of one program: ``void <prefix>tau(q, qd, qdd, tau)`` (a test bench).
 
     Parameters
@@ -233,7 +238,7 @@ def emit_c(program, header, prefix="gd_"):
     return "\n".join(lines + ["}", ""])
 
 
-def python_function(program):
+def python_function(program: Program) -> Callable[..., Any]:
     """The program's ``tau(q, qd, qdd)`` as a Python function, compiled once per program.
 
     Parameters
@@ -250,7 +255,7 @@ def python_function(program):
     return program._tau_function
 
 
-def state_function(program):
+def state_function(program: Program) -> Callable[..., Any]:
     """The program's torques at one state, in Python floats, compiled once per program.
 
     Parameters
@@ -270,7 +275,7 @@ def state_function(program):
     return program._state_function
 
 
-def emit_state_python(program):
+def emit_state_python(program: Program) -> str:
     """Python source of one program at one state: ``tau(q, qd, qdd)`` in floats.
 
     Parameters
@@ -292,7 +297,7 @@ def emit_state_python(program):
 _PY_DOC = '"""Simplified G-D model emitted by gd-analyze: tau(q, qd, qdd); header below."""'
 
 
-def emit_python(program, header):
+def emit_python(program: Program, header: dict[str, Any]) -> str:
     """numpy source of one program: ``tau(q, qd, qdd)`` vectorised over set points.
 
     Parameters

@@ -31,6 +31,7 @@ C identifier (:func:`.safe_text.check_prefix`), and in the include guard with a 
 from __future__ import annotations
 
 from dataclasses import dataclass
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
@@ -44,6 +45,10 @@ from .safe_text import (
     include_guard,
     python_string,
 )
+
+if TYPE_CHECKING:
+    from .model_functions import ModelFunctions
+
 
 __all__ = ["Artefact", "ARTEFACTS", "artefact_names", "render", "c_header", "c_source",
            "numpy_source", "numpy_function", "casadi_source"]
@@ -67,7 +72,7 @@ class Artefact:
     language: str
     printer: object
 
-    def name(self, stem):
+    def name(self, stem: str) -> str:
         """The file's name for a stem.
 
         Parameters
@@ -176,7 +181,7 @@ def _batch_note(stem):
         "4 ulp of the scalar ones, so f_batch equals f to rounding, not bit for bit."]
 
 
-def c_header(functions, header, prefix, stem):
+def c_header(functions: ModelFunctions, header: dict[str, Any], prefix: str, stem: str) -> str:
     """The C header ``STEM.h``.
 
     Parameters
@@ -444,7 +449,7 @@ ARTEFACTS = (
 )
 
 
-def artefact_names(stem):
+def artefact_names(stem: str) -> tuple[str, ...]:
     """The emitted files' names for a stem, in :data:`ARTEFACTS` order.
 
     Parameters

@@ -33,6 +33,7 @@ from dataclasses import dataclass
 from functools import cached_property
 
 import numpy as np
+from numpy.typing import ArrayLike
 
 from .term_arrays import peaks_kernel
 from .trigpoly import TrigPoly
@@ -83,7 +84,7 @@ class ExplicitModel:
     h_rot: dict
     c: dict
 
-    def theta(self, q):
+    def theta(self, q: ArrayLike) -> np.ndarray:
         """The angles of the polynomials.
 
         Parameters
@@ -321,7 +322,7 @@ class Term:
     def __len__(self):
         return int(self.C.size)
 
-    def subset(self, mask):
+    def subset(self, mask: ArrayLike) -> Term:
         """The terms where ``mask`` is True.
 
         Parameters
@@ -411,7 +412,7 @@ def merge_parts(terms):
                 np.array([k[4] for k in keys], bool), np.array([acc[k] for k in keys]))
 
 
-def atoms(terms):
+def atoms(terms: Term) -> tuple[Term, np.ndarray]:
     """Group the merged terms into atoms, the units of pruning that keep shared structure.
 
     A group is the sum of coefficient x cos/sin of one D_ij, one Christoffel coefficient of
@@ -471,7 +472,9 @@ def _entries(terms, atom, n):
     return e_term[order], e_vcol[order], starts, key[starts] // n, key[starts] % n
 
 
-def term_peaks(terms, offset, q, qd, qdd, chunk=65536, prismatic=None, engine="auto"):
+def term_peaks(terms: Term, offset: np.ndarray, q: np.ndarray, qd: np.ndarray, qdd: np.ndarray,
+               chunk: int = 65536, prismatic: ArrayLike | None = None,
+               engine: str = "auto") -> np.ndarray:
     """Peak |contribution| of every atom of the terms to every joint torque on a trajectory.
 
     Parameters
@@ -528,7 +531,8 @@ def term_peaks(terms, offset, q, qd, qdd, chunk=65536, prismatic=None, engine="a
     return peaks
 
 
-def budget_drop(peaks, budget, fixed=None):
+def budget_drop(peaks: np.ndarray, budget: np.ndarray,
+                fixed: np.ndarray | None = None) -> tuple[np.ndarray, np.ndarray]:
     """Greedy selection under the error budget: which units to drop.
 
     Units are visited in order of increasing peak contribution (relative to the budget of the
@@ -572,7 +576,8 @@ def budget_drop(peaks, budget, fixed=None):
     return drop, used
 
 
-def prune(terms, peaks, budget):
+def prune(terms: Term, peaks: np.ndarray,
+          budget: np.ndarray | None) -> tuple[Term, np.ndarray, np.ndarray]:
     """Prune the atoms of an explicit model within the budget.
 
     Parameters

@@ -9,10 +9,17 @@ terms of another robot, or coefficients scaled, do not.
 
 from __future__ import annotations
 
+from typing import TYPE_CHECKING
+
 import numpy as np
+from numpy.typing import ArrayLike
 
 from ..dynamics.dalembert import gd_terms
 from .trigpoly import evaluate_rows
+
+if TYPE_CHECKING:
+    from ..model.robot import Robot
+    from .explicit import Term
 
 __all__ = ["term_values", "terms_disagreement", "CHECK_STATES", "CHECK_SEED"]
 
@@ -24,7 +31,8 @@ CHECK_SEED = 20250916
 _FLOOR = 1e-6
 
 
-def term_values(terms, q, qd, prismatic=None):
+def term_values(terms: Term, q: np.ndarray, qd: np.ndarray,
+                prismatic: ArrayLike | None = None) -> tuple[np.ndarray, ...]:
     """Evaluate explicit terms: D_tran, D_rot, h_tran, h_rot and c at set points.
 
     Parameters
@@ -106,7 +114,7 @@ def _check_states(robot):
     return q, rng.uniform(-1.0, 1.0, (CHECK_STATES, n))
 
 
-def terms_disagreement(robot, terms):
+def terms_disagreement(robot: Robot, terms: Term) -> float:
     """Largest relative difference between explicit terms and the G-D engine, at fixed states.
 
     Parameters

@@ -25,7 +25,12 @@ arms above except SO-101 (3.6 s) and Kinova (1.2 s); Z1 3.8 s, Panda 19 s (two s
 
 from __future__ import annotations
 
+from typing import TYPE_CHECKING
+
 import numpy as np
+
+if TYPE_CHECKING:
+    from ..model.robot import Robot
 
 __all__ = ["estimate_terms", "is_expensive", "EXPENSIVE_TERMS", "ESTIMATE_FACTOR"]
 
@@ -55,7 +60,7 @@ def _offsets(robot):
     return t.sum(axis=1) + com.sum(axis=1) + products.sum(axis=(1, 2)) // 2
 
 
-def estimate_terms(robot):
+def estimate_terms(robot: Robot) -> int:
     """Estimate the number of terms of an arm's explicit G-D model without deriving it.
 
     Parameters
@@ -99,7 +104,7 @@ def estimate_terms(robot):
     return int(round(_SCALE * (d + float(pairs @ M))))
 
 
-def is_expensive(robot):
+def is_expensive(robot: Robot) -> bool:
     """Whether an arm's explicit expansion is estimated too large to start by default.
 
     Parameters

@@ -21,6 +21,7 @@ terms are kept, each is an algebraic identity):
 from __future__ import annotations
 
 import heapq
+from typing import Any
 
 import symengine as se
 
@@ -211,7 +212,7 @@ def _split(term):
     return coef, syms, other
 
 
-def factor_sum(terms, recipe=None):
+def factor_sum(terms: list[se.Basic], recipe: dict[str, Any] | None = None) -> se.Basic:
     """A sum with its common factors taken out, greedily and nested.
 
     Parameters
@@ -329,7 +330,8 @@ def _factor(parts, recipe):
     return se.Add(*out)
 
 
-def prune_dead(assignments, outputs):
+def prune_dead(assignments: list[tuple[se.Symbol, se.Basic]],
+               outputs: list[se.Basic]) -> list[tuple[se.Symbol, se.Basic]]:
     """The assignments some output needs, in their order.
 
     Parameters

@@ -32,13 +32,21 @@ from __future__ import annotations
 import dataclasses
 from dataclasses import dataclass
 from functools import cached_property
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
 import symengine as se
+from numpy.typing import ArrayLike
 
 from ..model.drives import DRIVE_FIELDS
 from .codegen import ExplicitProgram, Program
 from .transform import jacobian, substitute
+
+if TYPE_CHECKING:
+    from ..model.robot import Robot
+    from .base_parameters import BaseParameters
+    from .explicit import Term
+
 
 __all__ = ["FunctionSpec", "FUNCTIONS", "ModelFunctions", "recursive_functions",
            "recursive_inertia", "with_armature", "explicit_functions", "joint_labels"]
@@ -110,7 +118,7 @@ class ModelFunctions:
     parameters: np.ndarray
     programs: dict
 
-    def shape(self, spec):
+    def shape(self, spec: FunctionSpec) -> tuple[int, ...]:
         """The shape of a function's result.
 
         Parameters
@@ -125,7 +133,7 @@ class ModelFunctions:
         return {"1": (self.n,), "n": (self.n, self.n),
                 "b": (self.n, len(self.parameter_names))}[spec.columns]
 
-    def numpy(self):
+    def numpy(self) -> dict[str, Any]:
         """The five functions as numpy callables: the emitted module, compiled once.
 
         Returns
@@ -149,7 +157,7 @@ class ModelFunctions:
         return {spec.key: self.programs[spec.key].cost() for spec in FUNCTIONS}
 
 
-def joint_labels(robot):
+def joint_labels(robot: Robot) -> tuple[str, ...]:
     """The joints' names, as the emitted files list them.
 
     Parameters
@@ -228,7 +236,8 @@ def _functions(robot, tau, programs, names, values):
                           parameters=np.asarray(values, float), programs=programs)
 
 
-def recursive_functions(robot, base, left_out, tau):
+def recursive_functions(robot: Robot, base: BaseParameters, left_out: ArrayLike,
+                        tau: Program) -> ModelFunctions:
     """The functions of a model of the recursive form.
 
     Parameters
@@ -276,7 +285,8 @@ def recursive_functions(robot, base, left_out, tau):
     return _functions(robot, tau, programs, base.names(), np.asarray(base.beta, float))
 
 
-def recursive_inertia(robot, base, left_out, search=True):
+def recursive_inertia(robot: Robot, base: BaseParameters, left_out: ArrayLike,
+                      search: bool = True) -> Program:
     """D_s of a recursive model without the drives' armature: the inertial parts it keeps.
 
     Parameters
@@ -305,7 +315,7 @@ def recursive_inertia(robot, base, left_out, search=True):
                                 robot.n)
 
 
-def with_armature(program, robot):
+def with_armature(program: Program, robot: Robot) -> Program:
     """D_s with the drives' armature Ia_i added on the diagonal.
 
     Parameters
@@ -326,7 +336,7 @@ def with_armature(program, robot):
     return Program(n, program.assignments, out)
 
 
-def explicit_functions(robot, terms, tau):
+def explicit_functions(robot: Robot, terms: Term, tau: Program) -> ModelFunctions:
     """The functions of a model of the explicit form.
 
     Parameters

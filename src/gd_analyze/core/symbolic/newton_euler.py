@@ -47,7 +47,7 @@ def _const(x, scale=1.0):
     return se.RealDouble(x)
 
 
-def is_num(e):
+def is_num(e: se.Basic) -> bool:
     """Whether a symengine expression is a number (a constant folded at generation time).
 
     Parameters

@@ -9,12 +9,14 @@ separately. :func:`count_operations` is applied to the very expressions that
 
 from __future__ import annotations
 
+from typing import Any
+
 import symengine as se
 
 __all__ = ["count_operations", "is_number"]
 
 
-def is_number(x):
+def is_number(x: se.Basic) -> bool:
     """Whether a symengine expression is a numeric constant (free in the count).
 
     Parameters
@@ -59,7 +61,8 @@ def _count(e, tally):
         _count(a, tally)
 
 
-def count_operations(assignments, outputs):
+def count_operations(assignments: list[tuple[se.Symbol, se.Basic]],
+                     outputs: list[se.Basic]) -> dict[str, Any]:
     """Count the operations of a straight-line program (rule in the module docstring).
 
     Parameters

@@ -17,15 +17,22 @@ import dataclasses
 import hashlib
 import threading
 from collections import OrderedDict
+from collections.abc import Sequence
+from typing import TYPE_CHECKING
 
 import numpy as np
 import symengine as se
+from numpy.typing import ArrayLike
 
 from .base_parameters import base_parameters
 from .codegen import Program
 from .factoring import prune_dead
 from .newton_euler import ALL, FORMS, PARTS, Recursion, link_constants, link_torques
 from .transform import finish_program, jacobian, substitute
+
+if TYPE_CHECKING:
+    from ..model.robot import Robot
+
 
 __all__ = ["recursive_program", "exact_program", "parts_program", "regressor_program",
            "finish_program", "PARTS", "ProgramMemo", "PROGRAMS", "COUNTS", "program_key",
@@ -100,7 +107,7 @@ class ProgramMemo:
                 self._kept.popitem(last=False)
         return value
 
-    def clear(self):
+    def clear(self) -> None:
         """Forget every entry."""
         with self._lock:
             self._kept.clear()
@@ -153,7 +160,8 @@ def _last_joint_free(robot, values):
     return bool(XX == YY and XY == XZ == YZ == MX == MY == 0.0)
 
 
-def recursive_program(robot, values=None, cse=True, forms=None):
+def recursive_program(robot: Robot, values: ArrayLike | None = None, cse: bool = True,
+                      forms: Sequence[str] | None = None) -> Program:
     """The exact customized recursive Newton-Euler model of an arm as a straight-line program.
 
     Parameters
@@ -218,7 +226,8 @@ def recursive_program(robot, values=None, cse=True, forms=None):
 exact_program = recursive_program
 
 
-def parts_program(robot, values, cse=True, search=True, forms=None):
+def parts_program(robot: Robot, values: ArrayLike, cse: bool = True, search: bool = True,
+                  forms: Sequence[str] | None = None) -> Program:
     """The recursive program with different parameter values per part of the torque.
 
     Parameters
@@ -264,7 +273,7 @@ def parts_program(robot, values, cse=True, search=True, forms=None):
                         if searched else [])
 
 
-def parts_count(robot, values):
+def parts_count(robot: Robot, values: ArrayLike) -> int:
     """Multiplications + additions of the quick program of per-part values.
 
     Parameters

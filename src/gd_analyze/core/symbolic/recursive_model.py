@@ -10,13 +10,20 @@ so a hand-edited value cannot change the torques that the model file claims.
 
 from __future__ import annotations
 
+from collections.abc import Sequence
 from dataclasses import dataclass
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
+from numpy.typing import ArrayLike
 
 from ...errors import InputError
 from .base_parameters import BaseParameters, base_parameters
 from .recursive import PARTS
+
+if TYPE_CHECKING:
+    from ..model.robot import Robot
+    from .codegen import Program
 
 __all__ = ["RecursiveModel", "recursive_model", "sweep_recursive_model", "PART_NAMES", "BOUND_PARTS",
            "AGREEMENT"]
@@ -74,7 +81,7 @@ class RecursiveModel:
     relative_peak: np.ndarray | None = None
     round_off: np.ndarray | None = None
 
-    def contributing(self):
+    def contributing(self) -> np.ndarray:
         """Which (parameter, part) pairs contribute on the trajectories the model was built on.
 
         Returns
@@ -93,7 +100,7 @@ class RecursiveModel:
             return ~np.asarray(self.round_off, bool)
         return np.ones(np.shape(self.dropped), bool)
 
-    def stated_facts(self):
+    def stated_facts(self) -> dict[str, Any]:
         """What the reports state about the model, counted once for all of them.
 
         Returns
@@ -114,7 +121,7 @@ class RecursiveModel:
                 "gravity_dropped": [self.names[k] for k in np.nonzero(gone[:, g])[0]],
                 "known": self.relative_peak is not None or self.round_off is not None}
 
-    def base(self, robot):
+    def base(self, robot: Robot) -> BaseParameters:
         """The :class:`.base_parameters.BaseParameters` these names and values stand for.
 
         Parameters
@@ -138,7 +145,7 @@ class RecursiveModel:
                               K=np.zeros((len(self.names), 0)), beta=np.array(self.beta, float),
                               rank=len(self.names))
 
-    def program(self, robot, exact=None):
+    def program(self, robot: Robot, exact: Program | None = None) -> Program:
         """The straight-line program of the pruned model (:class:`~gd_analyze.core.symbolic.codegen.Program`).
 
         Parameters
@@ -156,7 +163,8 @@ class RecursiveModel:
         """
         return self.choice(robot, exact)[0]
 
-    def choice(self, robot, exact=None, forms=None):
+    def choice(self, robot: Robot, exact: Program | None = None,
+               forms: Sequence[str] | None = None) -> tuple[Program, np.ndarray]:
         """:meth:`program` and the pairs it leaves out (:func:`.pruning.pruned_choice`).
 
         Parameters
@@ -177,7 +185,7 @@ class RecursiveModel:
 
         return pruned_choice(robot, self.base(robot), self.dropped, exact=exact, forms=forms)
 
-    def dropped_pairs(self):
+    def dropped_pairs(self) -> list[tuple[str, str]]:
         """The dropped pairs as (parameter name, part name), in parameter order.
 
         Returns
@@ -186,7 +194,7 @@ class RecursiveModel:
         """
         return [(self.names[k], PART_NAMES[p]) for k, p in zip(*np.nonzero(self.dropped))]
 
-    def to_dict(self):
+    def to_dict(self) -> dict[str, Any]:
         """The model in the layout of ``simplified_model.json`` (key ``recursive``).
 
         Returns
@@ -211,7 +219,7 @@ class RecursiveModel:
         return out
 
     @classmethod
-    def from_dict(cls, spec, robot, path="<model>"):
+    def from_dict(cls, spec: dict[str, Any], robot: Robot, path: str = "<model>") -> RecursiveModel:
         """Read the ``recursive`` key of a model file, checked against the robot.
 
         Parameters
@@ -275,7 +283,9 @@ class RecursiveModel:
                    round_off=masks.get("round_off"))
 
 
-def recursive_model(robot, q, qd, qdd, tolerance, torque_floor=0.0, base=None, peaks=None):
+def recursive_model(robot: Robot, q: np.ndarray, qd: np.ndarray, qdd: np.ndarray, tolerance: float,
+                    torque_floor: float = 0.0, base: BaseParameters | None = None,
+                    peaks: tuple[np.ndarray, ...] | None = None) -> RecursiveModel:
     """Prune the recursive model within the error budget on a trajectory.
 
     Parameters
@@ -324,7 +334,9 @@ def recursive_model(robot, q, qd, qdd, tolerance, torque_floor=0.0, base=None, p
                           relative_peak=rel)
 
 
-def sweep_recursive_model(robot, scale, peak, whole_peak, tolerance, base=None):
+def sweep_recursive_model(robot: Robot, scale: ArrayLike, peak: ArrayLike, whole_peak: ArrayLike,
+                          tolerance: float,
+                          base: BaseParameters | None = None) -> tuple[RecursiveModel, np.ndarray]:
     """Prune the recursive model within the error budget on each of K trajectories at once.
 
     Parameters

@@ -13,6 +13,7 @@ from __future__ import annotations
 import hashlib
 import re
 import string
+from typing import Any
 
 __all__ = ["comment_safe", "header_lines", "joint_label", "c_string", "python_string",
            "include_guard", "c_prefix", "check_prefix",
@@ -30,7 +31,7 @@ MAX_LENGTH = 200
 DIGEST_LENGTH = len(" (sha256 )") + 64
 
 
-def comment_safe(text, digest=False, limit=MAX_LENGTH):
+def comment_safe(text: str, digest: bool = False, limit: int = MAX_LENGTH) -> str:
     """The text with every character outside :data:`SAFE_CHARACTERS` replaced by ``_``.
 
     Parameters
@@ -73,7 +74,7 @@ def comment_safe(text, digest=False, limit=MAX_LENGTH):
     return f"{safe} (sha256 {hashlib.sha256(raw).hexdigest()})"
 
 
-def header_lines(header):
+def header_lines(header: dict[str, Any]) -> list[str]:
     """The lines ``key: value`` of an emitted file's header, each key and value made safe.
 
     Parameters
@@ -103,7 +104,7 @@ def header_lines(header):
 PREFIX_PATTERN = re.compile(r"[A-Za-z][A-Za-z0-9_]{0,63}")
 
 
-def joint_label(text, limit=64):
+def joint_label(text: str, limit: int = 64) -> str:
     """A joint's name for a string literal of emitted code: only ``[A-Za-z0-9_.-]``.
 
     Parameters
@@ -134,7 +135,7 @@ def joint_label(text, limit=64):
 _LITERAL = frozenset(string.ascii_letters + string.digits + " _.-")
 
 
-def c_string(text):
+def c_string(text: str) -> str:
     """A C string literal of the exact UTF-8 bytes of ``text``.
 
     Parameters
@@ -158,7 +159,7 @@ def c_string(text):
     return '"' + "".join(chr(b) if chr(b) in _LITERAL else f"\\{b:03o}" for b in raw) + '"'
 
 
-def python_string(text):
+def python_string(text: str) -> str:
     """A Python string literal of ``text`` exactly, in ASCII.
 
     Parameters
@@ -184,7 +185,7 @@ def python_string(text):
     return '"' + "".join(ch if ch in _LITERAL else escape(ch) for ch in str(text)) + '"'
 
 
-def include_guard(prefix, stem):
+def include_guard(prefix: str, stem: str) -> str:
     """The include guard of a C header: the prefix and stem in capitals, and a short hash of
     the exact prefix, so that prefixes differing only in case (``arm_``, ``ARM_``) give
     headers that can be included together.
@@ -206,7 +207,7 @@ def include_guard(prefix, stem):
     return re.sub(r"[^A-Za-z0-9_]", "_", f"{prefix}{stem}_h".upper()) + f"_{digest}"
 
 
-def c_prefix(name):
+def c_prefix(name: str) -> str:
     """The default prefix of the emitted C symbols: a robot's name as a C identifier, plus ``_``.
 
     Parameters
@@ -233,7 +234,7 @@ def c_prefix(name):
     return core + "_"
 
 
-def check_prefix(prefix):
+def check_prefix(prefix: str) -> str:
     """A prefix given by the user, checked.
 
     Parameters

@@ -51,7 +51,8 @@ def eliminate(assignments, outputs):
     return dependency_order(out, body), outs
 
 
-def dependency_order(cse_defs, body):
+def dependency_order(cse_defs: list[tuple[se.Symbol, se.Basic]],
+                     body: list[tuple[se.Symbol, se.Basic]]) -> list[tuple[se.Symbol, se.Basic]]:
     """Topological order of the assignments (each after the temporaries it uses).
 
     The order is that of rounds: round 0 holds the assignments that use no temporary, round r

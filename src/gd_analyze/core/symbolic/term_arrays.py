@@ -11,6 +11,9 @@ never import numba nor load compiled code.
 
 from __future__ import annotations
 
+from collections.abc import Callable
+from typing import Any
+
 import numpy as np
 
 from ..dynamics.dalembert import compiled_engine
@@ -48,8 +51,10 @@ def _harmonics(theta, Ku, Su, lin):
     return np.where(Su[:, None], sn, cs)
 
 
-def atom_peaks_arrays(theta, qd, qdd, Ku, Su, lin, hidx, coef, e_term, e_vcol, starts,
-                      group_peak):
+def atom_peaks_arrays(theta: np.ndarray, qd: np.ndarray, qdd: np.ndarray, Ku: np.ndarray,
+                      Su: np.ndarray, lin: np.ndarray, hidx: np.ndarray, coef: np.ndarray,
+                      e_term: np.ndarray, e_vcol: np.ndarray, starts: np.ndarray,
+                      group_peak: np.ndarray) -> None:
     """Running peak of every (atom, joint) group's summed contribution, in place.
 
     Parameters
@@ -123,7 +128,7 @@ def atom_peaks_arrays(theta, qd, qdd, Ku, Su, lin, hidx, coef, e_term, e_vcol, s
         np.fmax(group_peak, np.fmax.reduce(np.abs(acc), axis=1), out=group_peak)
 
 
-def peaks_kernel(engine, count):
+def peaks_kernel(engine: str, count: int) -> Callable[..., Any]:
     """The atom-peaks kernel of an engine, for a trajectory of ``count`` set points.
 
     Parameters

@@ -23,8 +23,10 @@ _BLOCK = 64
 
 
 @njit(cache=True, fastmath=False, nogil=True)
-def atom_peaks_kernel(theta, qd, qdd, Ku, Su, lin, hidx, coef, e_term, e_vcol, starts,
-                      group_peak):  # pragma: no cover - compiled
+def atom_peaks_kernel(theta: np.ndarray, qd: np.ndarray, qdd: np.ndarray, Ku: np.ndarray,
+                      Su: np.ndarray, lin: np.ndarray, hidx: np.ndarray, coef: np.ndarray,
+                      e_term: np.ndarray, e_vcol: np.ndarray, starts: np.ndarray,
+                      group_peak: np.ndarray) -> None:  # pragma: no cover - compiled
     """Running peak of every (atom, joint) group's summed contribution, in place.
 
     Parameters

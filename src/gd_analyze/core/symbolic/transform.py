@@ -29,7 +29,8 @@ from .subexpressions import eliminate
 __all__ = ["finish_program", "substitute", "jacobian"]
 
 
-def finish_program(assignments, outputs, n, cse=True):
+def finish_program(assignments: list[tuple[se.Symbol, se.Basic]], outputs: list[se.Basic], n: int,
+                   cse: bool = True) -> Program:
     """A straight-line program tidied: dead code dropped, sums used once merged into their
     user, common factors taken out, common subexpressions eliminated.
 
@@ -123,7 +124,7 @@ def _fresh_names(assignments, outputs):
             [e.xreplace(rename) for e in outputs])
 
 
-def substitute(program, values, cse=True):
+def substitute(program: Program, values: dict[se.Symbol, float], cse: bool = True) -> Program:
     """The program with some symbols replaced by numbers, the constants propagated.
 
     Parameters
@@ -166,7 +167,8 @@ def substitute(program, values, cse=True):
     return finish_program(kept, outputs, program.n)
 
 
-def jacobian(program, variables, entries):
+def jacobian(program: Program, variables: list[se.Symbol],
+             entries: list[tuple[int, int]]) -> tuple[list[tuple[se.Symbol, se.Basic]], list[se.Basic]]:
     """Derivatives of a program's outputs by forward-mode differentiation.
 
     Parameters

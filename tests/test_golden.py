@@ -1,0 +1,177 @@
+"""Golden outputs (issue 43, item 1): the shipped robots' outputs are what tests/golden/ froze.
+
+Each case of :data:`golden.freeze.CASES` (the main job on every built-in robot with a shipped
+trajectory, the PUMA 560's sweep and its control command) runs once a session, shared by the
+xdist workers (``conftest.built_once``); its CLI text, HDF5 file, model JSON and emitted
+sources are compared with the golden files (tests/golden/freeze.py says how, and with which
+tolerance). An intended change is regenerated with ``python tests/golden/regenerate.py`` and
+reviewed as a diff (tests/golden/README.md).
+
+The comparison's own tests, below the cases, edit one value, name or line of a real golden
+file and check that it is reported.
+"""
+
+import copy
+import json
+
+import pytest
+from conftest import built_once
+from golden.freeze import (
+    CASES,
+    GOLDEN,
+    RTOL,
+    compare_files,
+    compare_frozen,
+    frozen_files,
+    run_case,
+)
+
+
+def _run_once(name):
+    """The output folder of case ``name`` and its printed text, run once a session; the
+    folders the text and files may name (to be masked)."""
+    case = CASES[name]
+    roots = []
+    model_folder = {}
+    if case.after:
+        after_root, _ = _run_once(case.after)
+        roots += after_root
+        model_folder[case.after] = after_root[0] / case.after
+
+    def build(folder):
+        printed = run_case(case, folder / name, model_folder)
+        (folder / "printed.txt").write_text(printed, encoding="utf-8")
+
+    folder = built_once(f"golden-{name}", build)
+    return [folder, *roots], (folder / "printed.txt").read_text(encoding="utf-8")
+
+
+@pytest.fixture(scope="module", params=list(CASES))
+def case_files(request):
+    """(case name, its frozen files from this checkout's run)."""
+    name = request.param
+    roots, printed = _run_once(name)
+    return name, frozen_files(roots[0] / name, roots, printed)
+
+
+def _select(files, kind):
+    return {n: t for n, t in files.items() if kind(n)}
+
+
+def _check(name, files):
+    problems = compare_files(name, files)
+    assert not problems, "\n".join(problems[:20]) + (
+        f"\n... {len(problems)} differences in all" if len(problems) > 20 else "")
+
+
+@pytest.mark.slow
+def test_cli_text(case_files):
+    name, files = case_files
+    _check(name, _select(files, lambda n: n == "cli.txt"))
+
+
+@pytest.mark.slow
+def test_datasets(case_files):
+    name, files = case_files
+    selected = _select(files, lambda n: n.endswith(".h5.frozen.json"))
+    assert selected or name not in ("puma560", "puma560-sweep", "puma560-control")
+    _check(name, selected)
+
+
+@pytest.mark.slow
+def test_model_json(case_files):
+    name, files = case_files
+    _check(name, _select(files, lambda n: n.endswith(".json.frozen.json")))
+
+
+@pytest.mark.slow
+def test_emitted_code(case_files):
+    name, files = case_files
+    _check(name, _select(files, lambda n: n.endswith(".golden")))
+
+
+@pytest.mark.slow
+def test_the_run_writes_every_golden_file_and_no_other(case_files):
+    name, files = case_files
+    assert sorted(files) == sorted(p.name for p in (GOLDEN / name).iterdir())
+
+
+def test_every_case_is_frozen_and_nothing_else():
+    assert sorted(p.name for p in GOLDEN.iterdir() if p.is_dir()) == sorted(CASES)
+    for name in CASES:
+        stored = {p.name for p in (GOLDEN / name).iterdir()}
+        assert "cli.txt" in stored, name
+        assert any(n.endswith(".h5.frozen.json") for n in stored), name
+
+
+# --- the comparison can fail --------------------------------------------------------------
+
+
+def _golden(case, name):
+    return json.loads((GOLDEN / case / name).read_text(encoding="utf-8"))
+
+
+def test_a_changed_value_a_renamed_variable_or_attribute_fails():
+    golden = _golden("puma560", "results.h5.frozen.json")
+    assert compare_frozen(golden, copy.deepcopy(golden)) == []
+
+    changed = copy.deepcopy(golden)
+    values = changed["leaves"]["var/D"]["values"]
+    values[7] = values[7] * (1 + 1e-4)                  # far above RTOL x scale
+    assert any(p.startswith("var/D:") for p in compare_frozen(golden, changed))
+
+    renamed = copy.deepcopy(golden)
+    renamed["leaves"]["var/D_total"] = renamed["leaves"].pop("var/D")
+    problems = compare_frozen(golden, renamed)
+    assert "var/D: missing" in problems and any("var/D_total: new" in p for p in problems)
+
+    attribute = copy.deepcopy(golden)
+    attribute["leaves"]["@rule"]["values"] = ["chapter"]
+    assert any(p.startswith("@rule:") for p in compare_frozen(golden, attribute))
+
+    dims = copy.deepcopy(golden)
+    dims["leaves"]["var/D"]["dims"] = ["t", "joint_k", "joint"]
+    assert any(p.startswith("var/D: dims") for p in compare_frozen(golden, dims))
+
+
+def test_within_tolerance_passes_and_nan_never_passes_for_a_number():
+    golden = _golden("ur5", "results.h5.frozen.json")
+    leaf = golden["leaves"]["var/tau"]
+    scale = max(abs(float(v)) for v in leaf["values"])
+    near = copy.deepcopy(golden)
+    near["leaves"]["var/tau"]["values"][3] = leaf["values"][3] + 0.1 * RTOL * scale
+    assert compare_frozen(golden, near) == []
+    for bad in ("nan", "inf"):
+        broken = copy.deepcopy(golden)
+        broken["leaves"]["var/tau"]["values"][3] = bad
+        assert any(p.startswith("var/tau:") for p in compare_frozen(golden, broken)), bad
+    # the DH columns of a URDF arm are NaN (not applicable): a number there fails too
+    assert golden["leaves"]["var/dh_a"]["values"][0] == "nan"
+    filled = copy.deepcopy(golden)
+    filled["leaves"]["var/dh_a"]["values"][0] = 0.0
+    assert any(p.startswith("var/dh_a:") for p in compare_frozen(golden, filled))
+
+
+def test_round_off_is_compared_against_its_stated_scale():
+    """An error against an exact model is round-off: compared against the torque scale, not
+    against its own size, and a real error fails."""
+    golden = _golden("ur5", "results.h5.frozen.json")
+    peak = golden["leaves"]["var/tau_error_peak"]["values"]
+    assert max(peak) < 1e-12                           # round-off on the UR5
+    noise = copy.deepcopy(golden)
+    noise["leaves"]["var/tau_error_peak"]["values"] = [3 * v for v in peak]
+    assert compare_frozen(golden, noise) == []
+    real = copy.deepcopy(golden)
+    real["leaves"]["var/tau_error_peak"]["values"][0] = 1e-3
+    assert any(p.startswith("var/tau_error_peak:") for p in compare_frozen(golden, real))
+
+
+def test_a_changed_line_of_code_or_text_fails():
+    name = "simplified_model.c.golden"
+    text = (GOLDEN / "ur5" / name).read_text(encoding="utf-8")
+    assert compare_files("ur5", {name: text}) == []
+    edited = text.replace("*", "+", 1) if "*" in text else text + "x"
+    problems = compare_files("ur5", {name: edited})
+    assert len(problems) == 1 and "text differs" in problems[0]
+    cli = (GOLDEN / "ur5" / "cli.txt").read_text(encoding="utf-8")
+    assert compare_files("ur5", {"cli.txt": cli.replace("D11", "D1l")})
