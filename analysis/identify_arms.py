@@ -156,13 +156,17 @@ if kind == "identify":
     cpu_s = cpu() - c0
 else:
     from gd_analyze.core.identify.preprocess import preprocess
-    from gd_analyze.core.identify.regressor import identification_regressor
     from gd_analyze.core.symbolic.base_parameters import base_parameters
+    from gd_analyze.core.symbolic.drive_regressor import (
+        IdentificationColumns,
+        identification_regressor,
+    )
     rec = read_recording(path, robot.n)
     pre = preprocess(rec.t, rec.q, rec.tau)
     k = pre.keep
-    Y = identification_regressor(robot, pre.q[k], pre.qd[k], pre.qdd[k], base_parameters(robot),
-                                 ("viscous", "coulomb", "offset"))
+    columns = IdentificationColumns.keeping_all(base_parameters(robot), robot.n,
+                                                ("viscous", "coulomb", "offset"))
+    Y = identification_regressor(robot, pre.q[k], pre.qd[k], pre.qdd[k], columns)
     A, y = Y.reshape(-1, Y.shape[2]), pre.tau[k].reshape(-1)
     c0 = cpu()
     t0 = time.perf_counter()

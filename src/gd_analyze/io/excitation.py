@@ -17,7 +17,9 @@ the optimiser varies q_i0 and the other 2 (K - 1) coefficients (:class:`FourierS
 The coefficients minimise the condition number of the column-scaled identification regressor
 (the base regressor with the drive columns, :mod:`gd_analyze.core.symbolic.drive_regressor`)
 stacked over one period, with SciPy's SLSQP from several starts, under the position, velocity
-and acceleration limits on a dense grid (they are linear in the coefficients). The result is
+and acceleration limits on a dense grid (they are linear in the coefficients), in stages: the
+Coulomb columns first replaced by smooth surrogates (:data:`COULOMB_SURROGATES`), then as
+they are. The result is
 then bounded on a fine grid (:func:`limit_bounds`: the grid's extremes widened by half a step
 times a bound of the derivative), and its oscillation about q_0 shrunk if a bound exceeds a
 limit.
@@ -62,6 +64,13 @@ OBJECTIVE_SAMPLES = 100
 CONSTRAINT_POINTS_PER_HARMONIC = 20
 #: Points per period per harmonic of the final bound (:func:`limit_bounds`).
 BOUND_POINTS_PER_HARMONIC = 400
+#: The optimisation's stages: the Coulomb columns sgn(qd_j) replaced by tanh(qd_j / v_j) with
+#: v_j these fractions of the joint's velocity limit, then sgn itself. The sampled sgn(qd) is
+#: piecewise constant in the coefficients (its gradient is zero): the surrogates let the
+#: optimiser see how the time spent at each speed decorrelates the Coulomb column from the
+#: viscous one (mean |qd| / rms qd), the pair that bounds the condition number of an arm
+#: whose other columns are well excited (the UR5's).
+COULOMB_SURROGATES = (0.1, 0.03)
 
 
 @dataclass(frozen=True, eq=False)
@@ -287,10 +296,28 @@ class _Basis:
         return tuple(P @ X for P in self.P)
 
 
-def _kept_drives(columns, qd, qdd):
-    """The kept drive columns alone, shape (N, n, kept)."""
-    D = drive_regressor(qd, qdd, columns.drives, columns.coulomb_velocity)
-    return D[:, :, columns.drive_mask]
+def _kept_drives(columns, qd, qdd, coulomb_scale=None):
+    """The kept drive columns alone, shape (N, n, kept), and d(Coulomb column)/d qd.
+
+    With ``coulomb_scale`` v (n,) [rad/s or m/s], the Coulomb column of joint j is the
+    surrogate tanh(qd_j / v_j) and its derivative (1 - tanh^2(qd_j / v_j)) / v_j; without, the
+    columns' own (sgn(qd), or tanh(qd / v_s) of ``columns.coulomb_velocity``).
+    """
+    if coulomb_scale is None:
+        D = drive_regressor(qd, qdd, columns.drives, columns.coulomb_velocity)
+        vs = columns.coulomb_velocity
+        slope = np.zeros_like(qd) if vs == 0 else (1.0 - np.tanh(qd / vs) ** 2) / vs
+    else:
+        v = np.asarray(coulomb_scale, float)
+        D = drive_regressor(qd, qdd, columns.drives)
+        surrogate = np.tanh(qd / v)
+        slope = (1.0 - surrogate ** 2) / v
+        if "coulomb" in columns.drives:
+            n = qd.shape[1]
+            c = columns.drives.index("coulomb")
+            rows = np.arange(n)
+            D[:, rows, c * n + rows] = surrogate
+    return D[:, :, columns.drive_mask], slope
 
 
 def _singular(Ws):
@@ -314,7 +341,7 @@ def _singular(Ws):
 SMOOTH_POWER = 16.0
 
 
-def _log_condition_and_gradient(x, robot, columns, basis, step=1e-6):
+def _log_condition_and_gradient(x, robot, columns, basis, coulomb_scale=None, step=1e-6):
     """A smooth log of the scaled condition number at x, and its gradient with respect to x.
 
     The value is (1/P) log sum sigma_i^P + (1/P) log sum sigma_i^-P (P = SMOOTH_POWER), within
@@ -337,7 +364,8 @@ def _log_condition_and_gradient(x, robot, columns, basis, step=1e-6):
             moved[d][k * M:(k + 1) * M, j] += step
     Yall = regressor_columns(robot, base_idx, *moved).reshape(3 * n + 1, M, n, -1)
     Yb = Yall[0]
-    Y = np.concatenate([Yb, _kept_drives(columns, qd, qdd)], axis=2)
+    Dk, slope = _kept_drives(columns, qd, qdd, coulomb_scale)
+    Y = np.concatenate([Yb, Dk], axis=2)
     p = Y.shape[2]
     W = Y.reshape(M * n, p)
     norms = np.linalg.norm(W, axis=0)
@@ -360,7 +388,6 @@ def _log_condition_and_gradient(x, robot, columns, basis, step=1e-6):
     grads = [g[0].copy(), g[1].copy(), g[2].copy()]
     # the drive columns: d(qdd_j)/d(qdd_j) = 1, d(qd_j)/d(qd_j) = 1, tanh' or 0 for Coulomb
     col = b
-    vs = columns.coulomb_velocity
     for c, kind in enumerate(columns.drives):
         for j in range(n):
             if not columns.drive_kept[j, c]:
@@ -369,8 +396,8 @@ def _log_condition_and_gradient(x, robot, columns, basis, step=1e-6):
                 grads[2][:, j] += G[:, j, col]
             elif kind == "viscous":
                 grads[1][:, j] += G[:, j, col]
-            elif kind == "coulomb" and vs > 0:
-                grads[1][:, j] += G[:, j, col] / (vs * np.cosh(qd[:, j] / vs) ** 2)
+            elif kind == "coulomb":
+                grads[1][:, j] += G[:, j, col] * slope[:, j]
             col += 1
     gX = sum(P.T @ gd for P, gd in zip(basis.P, grads))        # (2K - 1, n)
     return value, gX.T.reshape(-1)
@@ -532,7 +559,7 @@ class Excitation:
     seconds : float
         Wall time of the optimisation [s].
     messages : tuple of str
-        SLSQP's message of each start.
+        SLSQP's messages of each start, its stages joined by "; ".
     """
 
     trajectory: Trajectory
@@ -546,6 +573,21 @@ class Excitation:
     shrink: np.ndarray
     seconds: float
     messages: tuple
+
+
+def _variable_scales(K, wf, lo, hi, qd, qdd):
+    """Typical magnitudes of x's entries, shape (n (2K - 1),): per joint (hi - lo) / 2 for
+    q0, then min(qd_max, qdd_max / (w_f l)) for a_il and b_il, l = 2..K."""
+    w = wf * np.arange(2, K + 1)
+    amp = np.minimum(qd[:, None], qdd[:, None] / w)                 # (n, K - 1)
+    D = np.hstack([((hi - lo) / 2)[:, None], amp, amp]).reshape(-1)
+    return np.where(np.isfinite(D) & (D > 0), D, 1.0)
+
+
+def _scaled_objective(z, D, robot, columns, basis, coulomb_scale):
+    """:func:`_log_condition_and_gradient` at x = D z, and its gradient with respect to z."""
+    value, grad = _log_condition_and_gradient(z * D, robot, columns, basis, coulomb_scale)
+    return value, grad * D
 
 
 def _constraints(basis, n, lo, hi, qd, qdd):
@@ -591,7 +633,7 @@ def plan_excitation(robot, duration: float | None = None, harmonics: int = DEFAU
     starts : int, optional
         Random starts of the optimiser; the best result is kept.
     maxiter : int, optional
-        SLSQP iterations per start.
+        SLSQP iterations per start and stage (:data:`COULOMB_SURROGATES`).
     drives : sequence of str, optional
         The drive columns of the regressor (:data:`DRIVE_COLUMNS`).
     margin : float, optional
@@ -612,7 +654,10 @@ def plan_excitation(robot, duration: float | None = None, harmonics: int = DEFAU
     Swevers et al. (1997): the Fourier series of Eq. (9), the condition number of the
     (column-scaled) regressor as criterion. The objective is log cond(Y S) over
     ``OBJECTIVE_SAMPLES`` samples of one period, its gradient exact in the singular vectors
-    and by forward differences in the regressor's states; the limits hold on a grid of
+    and by forward differences in the regressor's states. The variables are scaled to their
+    ranges, and each start is optimised in stages, the Coulomb columns sgn(qd_j) first
+    replaced by tanh(qd_j / v_j), v_j = :data:`COULOMB_SURROGATES` x the velocity limit (the
+    sampled sgn has no gradient), then as they are. The limits hold on a grid of
     ``CONSTRAINT_POINTS_PER_HARMONIC * K`` points per period with the margin, then the bounds
     of :func:`limit_bounds` are checked against the limits themselves and the oscillation
     shrunk joint by joint where one is exceeded.
@@ -649,17 +694,27 @@ def _optimised(robot, K, T, wf, periods, N, seed, qdd_max, starts, maxiter, driv
     objective = _Basis(K, wf, _middles(period, OBJECTIVE_SAMPLES))
     G = CONSTRAINT_POINTS_PER_HARMONIC * K
     A, c = _constraints(_Basis(K, wf, np.arange(G) * (period / G)), n, *inner)
-    constraint = {"type": "ineq", "fun": lambda x: c - A @ x, "jac": lambda x: -A}
+    # the variables scaled to their ranges (SLSQP's quasi-Newton starts from the identity):
+    # q0 by half its range, a_il and b_il by the largest amplitude the limits allow
+    D = _variable_scales(K, wf, *inner)
+    AD = A * D
+    constraint = {"type": "ineq", "fun": lambda z: c - AD @ z, "jac": lambda z: -AD}
+    coulomb = "coulomb" in columns.drives and bool(
+        columns.drive_kept[:, columns.drives.index("coulomb")].any())
+    stages = [f * inner[2] for f in COULOMB_SURROGATES] if coulomb else []
     best, start_conditions, messages = None, [], []
     for s in range(int(starts)):
         start = random_excitation(robot, K, wf, [int(seed), s], qdd_max, margin)
         start_conditions.append(excitation_condition(robot, columns, start))
-        result = minimize(_log_condition_and_gradient, _variables(start),
-                          args=(robot, columns, objective), jac=True, method="SLSQP",
-                          constraints=[constraint], options={"maxiter": int(maxiter),
-                                                             "ftol": 1e-7})
-        messages.append(f"{result.message} ({result.nit} iterations)")
-        found = objective.series(result.x, n)
+        z, said = _variables(start) / D, []
+        for scale in [*stages, None]:
+            result = minimize(_scaled_objective, z, args=(D, robot, columns, objective, scale),
+                              jac=True, method="SLSQP", constraints=[constraint],
+                              options={"maxiter": int(maxiter), "ftol": 1e-8})
+            z = result.x
+            said.append(f"{result.message} ({result.nit} iterations)")
+        messages.append("; ".join(said))
+        found = objective.series(z * D, n)
         if not np.all((lo < found.q0) & (found.q0 < hi)):
             continue
         fitted = _fit(found, lo, hi, qd, qdd)

@@ -29,15 +29,10 @@ from ..core.identify.consistent import (
 )
 from ..core.identify.estimate import combine_factors, joint_factors, least_squares
 from ..core.identify.preprocess import default_cutoff, preprocess
-from ..core.identify.regressor import (
-    DRIVE_KINDS,
-    column_names,
-    identification_regressor,
-    moving_rows,
-    prior_values,
-)
+from ..core.identify.regressor import DRIVE_KINDS, column_names, moving_rows, prior_values
 from ..core.model.drives import friction_torque
 from ..core.symbolic.base_parameters import base_parameters, base_regressor
+from ..core.symbolic.drive_regressor import IdentificationColumns, identification_regressor
 from ..errors import InputError
 from ..io.identification_dataset import (
     IdentificationResult,
@@ -292,6 +287,7 @@ def identify(robot, recordings, validate=(), options=None):
     base = base_parameters(prior)
     kinds = tuple(k for k in DRIVE_KINDS if k in options.drives)     # the columns' order
     col_names, col_kinds = column_names(base, n, kinds)
+    columns = IdentificationColumns.keeping_all(base, n, kinds)
     theta0 = prior_values(base, prior, kinds)
     # rows at rest: thresholds from all training data
     qd_train = np.concatenate([p.qd[p.keep] for p in pres[:len(train)]])
@@ -303,7 +299,7 @@ def identify(robot, recordings, validate=(), options=None):
     factors = None
     kept_Y = []          # the training recordings' filtered regressors, for their predictions
     for p in pres[:len(train)]:
-        Yr = p.filtered(identification_regressor(prior, p.q, p.qd, p.qdd, base, kinds))[p.keep]
+        Yr = p.filtered(identification_regressor(prior, p.q, p.qd, p.qdd, columns))[p.keep]
         f = joint_factors(Yr, p.tau[p.keep], moving_rows(p.qd[p.keep], threshold)[0])
         kept_Y.append(Yr)
         factors = f if factors is None else combine_factors(factors, f)
@@ -379,7 +375,7 @@ def identify(robot, recordings, validate=(), options=None):
         rec = (train + valid)[k]
         keep = p.keep
         Yr = kept_Y[k] if is_train else \
-            p.filtered(identification_regressor(prior, p.q, p.qd, p.qdd, base, kinds))[keep]
+            p.filtered(identification_regressor(prior, p.q, p.qd, p.qdd, columns))[keep]
         pred = Yr @ theta
         tau_prior = Yr[:, :, :b] @ base.beta + p.filtered(_drive_torque(prior, p.qd, p.qdd))[keep]
         if is_train:

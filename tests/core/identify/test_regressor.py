@@ -7,11 +7,14 @@ from gd_analyze import load_robot
 from gd_analyze.core.identify.regressor import (
     DRIVE_KINDS,
     column_names,
-    identification_regressor,
     moving_rows,
     prior_values,
 )
 from gd_analyze.core.symbolic.base_parameters import base_parameters, random_states
+from gd_analyze.core.symbolic.drive_regressor import (
+    IdentificationColumns,
+    identification_regressor,
+)
 from gd_analyze.formulations.pinocchio import pinocchio_model
 
 
@@ -20,7 +23,8 @@ def test_the_prior_values_give_pinocchios_torque_with_the_drives():
     base = base_parameters(robot)
     q, qd, qdd = random_states(robot, 50, seed=3)
     kinds = DRIVE_KINDS
-    Y = identification_regressor(robot, q, qd, qdd, base, kinds)
+    Y = identification_regressor(robot, q, qd, qdd,
+                                 IdentificationColumns.keeping_all(base, robot.n, kinds))
     theta = prior_values(base, robot, kinds)
     model = pinocchio_model(robot)
     model.armature = np.zeros(robot.n)
@@ -30,6 +34,7 @@ def test_the_prior_values_give_pinocchios_torque_with_the_drives():
     assert np.abs(Y @ theta - ref).max() <= 1e-10 * np.abs(ref).max()
     names, col_kinds = column_names(base, robot.n, kinds)
     assert len(names) == Y.shape[2] and names[-1] == "offset_6" and col_kinds[-1] == "offset"
+    assert list(names) == IdentificationColumns.keeping_all(base, robot.n, kinds).names()
 
 
 def test_the_prior_values_hold_the_robot_files_torque_offsets():
@@ -41,7 +46,8 @@ def test_the_prior_values_hold_the_robot_files_torque_offsets():
     robot = dataclasses.replace(robot, torque_offset=np.linspace(-1.0, 1.5, robot.n))
     base = base_parameters(robot)
     q, qd, qdd = random_states(robot, 30, seed=4)
-    Y = identification_regressor(robot, q, qd, qdd, base, DRIVE_KINDS)
+    Y = identification_regressor(robot, q, qd, qdd,
+                                 IdentificationColumns.keeping_all(base, robot.n, DRIVE_KINDS))
     theta = prior_values(base, robot, DRIVE_KINDS)
     assert np.array_equal(theta[-robot.n:], robot.torque_offset)
     model = pinocchio_model(robot)

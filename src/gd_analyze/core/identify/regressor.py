@@ -1,5 +1,7 @@
-"""The identification regressor: the base regressor and per-joint drive columns.
+"""The identification regressor's columns: their names, the robot file's values, the rows used.
 
+The regressor itself is :func:`gd_analyze.core.symbolic.drive_regressor.identification_regressor`
+with :meth:`~gd_analyze.core.symbolic.drive_regressor.IdentificationColumns.keeping_all`:
 tau = Y_b(q, qd, qdd) beta + sum over the drive kinds of diag(x_kind) d_kind, with per joint i
 
 - armature Ia_i: x = qdd_i [kg m^2; kg prismatic];
@@ -18,10 +20,9 @@ from __future__ import annotations
 
 import numpy as np
 
-from ..symbolic.base_parameters import base_regressor
-from ..symbolic.drive_regressor import DRIVE_COLUMNS, drive_regressor
+from ..symbolic.drive_regressor import DRIVE_COLUMNS
 
-__all__ = ["DRIVE_KINDS", "identification_regressor", "column_names",
+__all__ = ["DRIVE_KINDS", "column_names",
            "prior_values", "moving_rows", "IDLE_FRACTION"]
 
 #: The drive column kinds, in the order of the columns (the one drive regressor's,
@@ -77,31 +78,6 @@ def prior_values(base, robot, kinds):
     for kind in kinds:
         parts.append(np.asarray(getattr(robot, _FIELD[kind]), float))
     return np.concatenate(parts)
-
-
-def identification_regressor(robot, q, qd, qdd, base, kinds):
-    """The regressor Y with tau = Y theta, theta = (beta, drive parameters).
-
-    Parameters
-    ----------
-    robot : Robot
-        The arm (its geometry and gravity; the inertial values are not read).
-    q, qd, qdd : ndarray, shape (N, n)
-        Joint positions, velocities, accelerations [rad, rad/s, rad/s^2; m, m/s, m/s^2].
-    base : BaseParameters
-        The arm's base parameters.
-    kinds : sequence of str
-        The drive kinds (:data:`DRIVE_KINDS`).
-
-    Returns
-    -------
-    ndarray, shape (N, n, b + n len(kinds))
-        [N m or N per unit parameter].
-    """
-    Y, _ = base_regressor(robot, q, qd, qdd, base)
-    if not kinds:
-        return Y
-    return np.concatenate([Y, drive_regressor(qd, qdd, kinds)], axis=2)
 
 
 def moving_rows(qd, threshold=None):

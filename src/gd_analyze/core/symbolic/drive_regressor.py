@@ -150,6 +150,39 @@ class IdentificationColumns:
         """ndarray of bool, shape (n len(drives),): the kept drive columns, kind-major."""
         return self.drive_kept.T.reshape(-1)
 
+    @classmethod
+    def keeping_all(cls, base: BaseParameters, n: int, drives=DRIVE_COLUMNS,
+                    coulomb_velocity: float = 0.0) -> IdentificationColumns:
+        """The base columns with every drive column of the given kinds, none left out.
+
+        For a fit that finds the columns not identifiable on its data itself (rank and
+        condition of the data's regressor) rather than those dependent on every state
+        (:func:`identification_columns`).
+
+        Parameters
+        ----------
+        base : BaseParameters
+            The arm's base parameters.
+        n : int
+            Joints.
+        drives : sequence of str, optional
+            Some of :data:`DRIVE_COLUMNS` (taken in that order).
+        coulomb_velocity : float, optional
+            v_s of :func:`drive_regressor` [rad/s or m/s]; 0 for sgn(qd).
+
+        Returns
+        -------
+        IdentificationColumns
+
+        Raises
+        ------
+        ValueError
+            If a drive column is unknown or repeated.
+        """
+        kinds = _checked_kinds(drives)
+        return cls(base=base, drives=kinds, drive_kept=np.ones((int(n), len(kinds)), bool),
+                   coulomb_velocity=float(coulomb_velocity))
+
     def dropped(self) -> list[str]:
         """Labels of the drive columns left out as combinations of the others.
 
@@ -234,7 +267,8 @@ def identification_regressor(robot, q: np.ndarray, qd: np.ndarray, qdd: np.ndarr
     q, qd, qdd : array_like, shape (N, n) or (n,)
         Joint positions, velocities and accelerations [rad, rad/s, rad/s^2; m, m/s, m/s^2].
     columns : IdentificationColumns
-        The columns (:func:`identification_columns`).
+        The columns: :func:`identification_columns` (the drive columns independent of the
+        others on every state) or :meth:`IdentificationColumns.keeping_all`.
 
     Returns
     -------
