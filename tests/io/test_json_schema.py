@@ -59,6 +59,14 @@ def test_case7_edited_parameters_are_refused(tmp_path, model_doc):
     (lambda d: d.update(cost={"multiplications": 1.5, "additions": 3}),
      "key cost.multiplications: expected an integer"),
     (lambda d: d.update(tolerance=-1), "key tolerance"),
+    # JSON's own types, not Python's: 1.0 is no count, an integer beyond a float no number
+    (lambda d: d.update(cost={"multiplications": 1.0, "additions": 3}),
+     "key cost.multiplications: expected an integer, got a number"),
+    (lambda d: d.update(tolerance=10**400), "key tolerance: number too large for a float"),
+    (lambda d: d.pop("choices"), "key choices: missing key"),
+    (lambda d: d["robot"].update(parameters_sha256="A" * 64),
+     "key robot.parameters_sha256: malformed value"),
+    (lambda d: d["robot"].update(sha256="0" * 64 + "\n"), "key robot.sha256: string longer"),
 ])
 def test_case7_schema_violations_are_one_line(tmp_path, model_doc, edit, match):
     doc = copy.deepcopy(model_doc)
