@@ -25,14 +25,13 @@ import json
 import os
 import stat
 import tempfile
-from importlib import resources
 
 import numpy as np
 
 from ..config import cache_dir
 from ..errors import InputWarning
 
-__all__ = ["CacheWarning", "cache_dir", "entry_path", "canonical", "checksum", "source_sha256", "read_entry",
+__all__ = ["CacheWarning", "cache_dir", "entry_path", "canonical", "checksum", "read_entry",
            "write_entry"]
 
 
@@ -76,24 +75,6 @@ def entry_path(prefix, key):
         return None
     digest = hashlib.sha256(canonical(key).encode()).hexdigest()
     return folder / f"{prefix}-{digest[:40]}.npz"
-
-
-def source_sha256(names):
-    """SHA-256 of the package's modules that compute an entry.
-
-    Parameters
-    ----------
-    names : sequence of str
-        Paths inside the package, e.g. ``"core/symbolic/explicit.py"``.
-
-    Returns
-    -------
-    str
-    """
-    code = hashlib.sha256()
-    for name in names:
-        code.update(resources.files("gd_analyze").joinpath(name).read_bytes())
-    return code.hexdigest()
 
 
 def checksum(arrays, fields):
