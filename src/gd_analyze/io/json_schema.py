@@ -236,7 +236,7 @@ def load_json(path, what="JSON"):
         raise InputError(f"not a {what} file: {msg}", path) from None
 
 
-#: The layout of simplified_model.json (schema_version 2; 1 lacks the keys of issue 8): the
+#: The layout of simplified_model.json (schema_version 2; 1 lacks the explicit model's keys): the
 #: package's ``model_schema.json``. The element keys of ``choices`` are checked against the
 #: robot's n by the loader; the robot's parameters by
 #: :func:`gd_analyze.core.model.robot_spec.robot_from_dict`.
