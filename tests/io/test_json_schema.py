@@ -76,6 +76,13 @@ def test_case7_schema_violations_are_one_line(tmp_path, model_doc, edit, match):
     assert "\n" not in str(err.value) and "list indices" not in str(err.value)
 
 
+def test_the_model_schema_is_a_valid_draft_2020_12_schema():
+    from jsonschema import Draft202012Validator
+
+    Draft202012Validator.check_schema(MODEL_SCHEMA.document)
+    assert MODEL_SCHEMA.document["$schema"].endswith("/draft/2020-12/schema")
+
+
 def test_issue8_keys_are_accepted(tmp_path, model_doc):
     doc = copy.deepcopy(model_doc)
     n = len(doc["robot"]["parameters"]["link"])

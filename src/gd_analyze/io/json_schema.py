@@ -13,14 +13,13 @@ To add a key to the model file, add it to ``model_schema.json``.
 
 from __future__ import annotations
 
+import functools
 import json
 import math
 import os
 from importlib import resources
 
 import numpy as np
-from jsonschema import Draft202012Validator, validators
-from jsonschema.exceptions import ValidationError, best_match
 
 from ..errors import InputError
 
@@ -40,11 +39,16 @@ def _is_number(checker, value) -> bool:
         return False
 
 
-#: Draft 2020-12 with JSON's own types: ``1.0`` is not an integer, ``true`` not a number, and
-#: a number is one a float holds (the file's reader refuses NaN and Infinity already).
-_Validator = validators.extend(Draft202012Validator, type_checker=Draft202012Validator
-                               .TYPE_CHECKER.redefine_many({"integer": _is_int,
-                                                            "number": _is_number}))
+@functools.cache
+def _validator_class():
+    """Draft 2020-12 with JSON's own types: ``1.0`` is not an integer, ``true`` not a number,
+    and a number is one a float holds (the file's reader refuses NaN and Infinity already).
+    Made at the first check: jsonschema is imported only when a model file is read."""
+    from jsonschema import Draft202012Validator, validators
+
+    checker = Draft202012Validator.TYPE_CHECKER.redefine_many({"integer": _is_int,
+                                                               "number": _is_number})
+    return validators.extend(Draft202012Validator, type_checker=checker)
 
 _TYPE_NAMES = {"object": "an object", "array": "a list", "string": "a string",
                "boolean": "true/false", "null": "null", "integer": "an integer",
@@ -64,8 +68,9 @@ def _key(path) -> str:
     return out
 
 
-def _message(err: ValidationError) -> tuple[str, str]:
-    """The (key, message) of one validation error, in the words of the tool."""
+def _message(err) -> tuple[str, str]:
+    """The (key, message) of one :class:`jsonschema.exceptions.ValidationError`, in the
+    words of the tool."""
     key, value, schema, rule = _key(err.absolute_path), err.instance, err.schema, err.validator
     if rule == "type":
         if isinstance(value, int) and not isinstance(value, bool) and schema["type"] == "number":
@@ -108,9 +113,13 @@ class Schema:
     """
 
     def __init__(self, document: dict) -> None:
-        _Validator.check_schema(document)
         self.document = document
-        self._validator = _Validator(document)
+
+    @functools.cached_property
+    def validator(self):
+        """The :class:`jsonschema.Draft202012Validator` (with JSON's own types) of the
+        document, made at the first check."""
+        return _validator_class()(self.document)
 
     def check(self, value: object, path: str | os.PathLike, where: str = "") -> None:
         """Validate a parsed JSON document.
@@ -130,7 +139,9 @@ class Schema:
             One line naming the file and the key of the most relevant fault
             (:func:`jsonschema.exceptions.best_match`; a wrong type before a wrong value).
         """
-        errors = list(self._validator.iter_errors(value))
+        from jsonschema.exceptions import best_match
+
+        errors = list(self.validator.iter_errors(value))
         if not errors:
             return
         err = best_match(errors)

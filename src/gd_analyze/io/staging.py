@@ -50,8 +50,6 @@ import stat
 import sys
 from pathlib import Path
 
-from filelock import FileLock, Timeout
-
 from ..errors import InputError
 from .manifest import folder_owners, manifest_name, write_manifest, write_transition
 from .write_errors import is_inside, write_error, writing
@@ -181,6 +179,8 @@ def _lock(lock_path, target):
     its own (no FIFO, no hard link to another file) before anything is written to it. It is
     removed on release unless it still names a killed run's temporaries.
     """
+    from filelock import FileLock, Timeout  # imported when a run writes, not at start
+
     lock = FileLock(lock_path, timeout=0, preserve_lock_file=True)
     try:
         lock.acquire()
