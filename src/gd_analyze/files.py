@@ -1,18 +1,22 @@
-"""File utilities shared by every layer: atomic writes and content hashes.
+"""File utilities shared by every layer: atomic writes, content hashes and the code's hash.
 
 A leaf module like :mod:`gd_analyze.errors`: it imports nothing from the package, so the core
 (a simplified model's JSON), the formulations (the cache of operation counts), io, workflows and
-reports can all write files atomically and record their SHA-256 for provenance.
+reports can all write files atomically and record their SHA-256 for provenance;
+:func:`package_sha256` is the code part of every cache key.
 """
 
 from __future__ import annotations
 
 import contextlib
+import functools
+import hashlib
 import os
 import tempfile
 from pathlib import Path
 
-__all__ = ["atomic_path", "file_sha256", "read_regular", "TooLarge"]
+__all__ = ["atomic_path", "file_sha256", "read_regular", "TooLarge", "sources_sha256",
+           "package_sha256"]
 
 
 def file_sha256(path):
@@ -33,8 +37,6 @@ def file_sha256(path):
     OSError
         If the file cannot be read.
     """
-    import hashlib
-
     digest = hashlib.sha256()
     block = bytearray(1 << 20)              # one buffer, read into: no new bytes per block
     view = memoryview(block)
@@ -42,6 +44,47 @@ def file_sha256(path):
         while size := fh.readinto(block):
             digest.update(view[:size])
     return digest.hexdigest()
+
+
+def sources_sha256(root: str | os.PathLike) -> str:
+    """SHA-256 of every Python source below a folder: each file's path and bytes, by path.
+
+    Parameters
+    ----------
+    root : str or os.PathLike
+        The folder (a package's).
+
+    Returns
+    -------
+    str
+        64 hexadecimal digits; any edited, added, removed or renamed ``.py`` file changes it.
+
+    Raises
+    ------
+    OSError
+        If a file cannot be read.
+    """
+    root = Path(root)
+    digest = hashlib.sha256()
+    for path in sorted(root.rglob("*.py"), key=lambda p: p.relative_to(root).as_posix()):
+        data = path.read_bytes()
+        digest.update(f"{path.relative_to(root).as_posix()}\0{len(data)}\0".encode())
+        digest.update(data)
+    return digest.hexdigest()
+
+
+@functools.cache
+def package_sha256() -> str:
+    """SHA-256 of the installed package's sources (:func:`sources_sha256` of ``gd_analyze``),
+    computed once per process: the code part of every cache key, so no list of "the modules
+    a result depends on" can go stale.
+
+    Returns
+    -------
+    str
+        64 hexadecimal digits.
+    """
+    return sources_sha256(Path(__file__).resolve().parent)
 
 
 class TooLarge(ValueError):

@@ -70,3 +70,26 @@ def test_issue32_an_entry_written_is_read_back(tmp_path):
     found = read_entry(path, _KEY, ["coef", "K"], 1 << 20)
     assert all(np.array_equal(found[k], v) and found[k].dtype == v.dtype
                for k, v in arrays.items())
+
+
+def test_write_entry_replaces_a_planted_link_and_reads_back(tmp_path):
+    """Atomic write (files.atomic_path): a link at the entry's name is replaced, its target
+    untouched, no temporary left; the entry reads back with its key and checksum."""
+    victim = tmp_path / "victim.txt"
+    victim.write_text("precious")
+    path = tmp_path / "cache" / "explicit-x.npz"
+    path.parent.mkdir()
+    path.symlink_to(victim)
+    arrays = {"coef": np.arange(3.0)}
+    write_entry(path, _KEY, arrays)
+    assert victim.read_text() == "precious" and not path.is_symlink()
+    assert [p.name for p in path.parent.iterdir()] == [path.name]
+    np.testing.assert_array_equal(read_entry(path, _KEY, ["coef"], 1 << 20)["coef"],
+                                  arrays["coef"])
+    assert read_entry(path, {"robot": "other"}, ["coef"], 1 << 20).startswith("was stored")
+
+
+def test_write_entry_into_a_file_is_silent(tmp_path):
+    (tmp_path / "cache").write_text("a file, not a folder")
+    write_entry(tmp_path / "cache" / "explicit-x.npz", _KEY, {"coef": np.zeros(2)})
+    assert (tmp_path / "cache").read_text() == "a file, not a folder"

@@ -59,6 +59,14 @@ def test_case7_edited_parameters_are_refused(tmp_path, model_doc):
     (lambda d: d.update(cost={"multiplications": 1.5, "additions": 3}),
      "key cost.multiplications: expected an integer"),
     (lambda d: d.update(tolerance=-1), "key tolerance"),
+    # JSON's own types, not Python's: 1.0 is no count, an integer beyond a float no number
+    (lambda d: d.update(cost={"multiplications": 1.0, "additions": 3}),
+     "key cost.multiplications: expected an integer, got a number"),
+    (lambda d: d.update(tolerance=10**400), "key tolerance: number too large for a float"),
+    (lambda d: d.pop("choices"), "key choices: missing key"),
+    (lambda d: d["robot"].update(parameters_sha256="A" * 64),
+     "key robot.parameters_sha256: malformed value"),
+    (lambda d: d["robot"].update(sha256="0" * 64 + "\n"), "key robot.sha256: string longer"),
 ])
 def test_case7_schema_violations_are_one_line(tmp_path, model_doc, edit, match):
     doc = copy.deepcopy(model_doc)
@@ -66,6 +74,13 @@ def test_case7_schema_violations_are_one_line(tmp_path, model_doc, edit, match):
     with pytest.raises(InputError, match=match) as err:
         load_model(_write(tmp_path, doc))
     assert "\n" not in str(err.value) and "list indices" not in str(err.value)
+
+
+def test_the_model_schema_is_a_valid_draft_2020_12_schema():
+    from jsonschema import Draft202012Validator
+
+    Draft202012Validator.check_schema(MODEL_SCHEMA.document)
+    assert MODEL_SCHEMA.document["$schema"].endswith("/draft/2020-12/schema")
 
 
 def test_issue8_keys_are_accepted(tmp_path, model_doc):

@@ -85,6 +85,7 @@ import numpy as np
 from ..core.model.kinematics import as_states, transforms_core
 from ..core.model.robot import Robot
 from ..core.model.robot_spec import robot_from_dict
+from ..files import package_sha256
 from .counting import (
     OpLedger,
     count_consts,
@@ -392,21 +393,10 @@ def count_operations(robot, method, q=None, qd=None, qdd=None):
                    np.array([count_value(t) for t in tau]))
 
 
-#: Modules whose code the counts depend on: the cache key is the hash of their source.
-_COUNTED_MODULES = ("formulations/opcount", "formulations/counting", "formulations/lagrange_euler",
-                    "formulations/newton_euler", "core/dynamics/kernels", "core/dynamics/dalembert", "core/model/kinematics",
-                    "core/model/robot")
-
-
 def _code_sha256():
-    """SHA-256 of the counted modules' source: the counts' version."""
-    import hashlib
-    from importlib import resources
-
-    digest = hashlib.sha256()
-    for name in _COUNTED_MODULES:
-        digest.update(resources.files("gd_analyze").joinpath(f"{name}.py").read_bytes())
-    return digest.hexdigest()
+    """SHA-256 of the package's sources (:func:`gd_analyze.files.package_sha256`): the counts'
+    version."""
+    return package_sha256()
 
 
 def _cache_file():

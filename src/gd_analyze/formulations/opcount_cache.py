@@ -44,7 +44,7 @@ def cache_file(code_sha256: str) -> Path | None:
     Parameters
     ----------
     code_sha256 : str
-        SHA-256 of the counted modules' source (64 hexadecimal digits).
+        SHA-256 of the counted code (64 hexadecimal digits: the package's sources).
 
     Returns
     -------

@@ -12,10 +12,10 @@ key, and stores the key and a SHA-256 of its arrays. :func:`read_entry` opens it
 following a symbolic link and without blocking on a FIFO, refuses anything but a regular file
 of bounded size, and checks the key and the checksum; each cache then checks the content
 itself against an independent computation before using it. :func:`write_entry` writes
-atomically: an unpredictable temporary name in the cache folder (:func:`tempfile.mkstemp`,
-created exclusively, so a planted symbolic link is never followed), then a rename over the
-entry (which replaces a link at the entry's name, not its target). An unwritable cache folder
-is silent.
+atomically (:func:`gd_analyze.files.atomic_path`: an unpredictable temporary name created
+exclusively, so a planted symbolic link is never followed, then a rename over the entry,
+which replaces a link at the entry's name, not its target). An unwritable cache folder is
+silent.
 """
 
 from __future__ import annotations
@@ -24,15 +24,14 @@ import hashlib
 import json
 import os
 import stat
-import tempfile
-from importlib import resources
 
 import numpy as np
 
 from ..config import cache_dir
 from ..errors import InputWarning
+from ..files import atomic_path
 
-__all__ = ["CacheWarning", "cache_dir", "entry_path", "canonical", "checksum", "source_sha256", "read_entry",
+__all__ = ["CacheWarning", "cache_dir", "entry_path", "canonical", "checksum", "read_entry",
            "write_entry"]
 
 
@@ -76,24 +75,6 @@ def entry_path(prefix, key):
         return None
     digest = hashlib.sha256(canonical(key).encode()).hexdigest()
     return folder / f"{prefix}-{digest[:40]}.npz"
-
-
-def source_sha256(names):
-    """SHA-256 of the package's modules that compute an entry.
-
-    Parameters
-    ----------
-    names : sequence of str
-        Paths inside the package, e.g. ``"core/symbolic/explicit.py"``.
-
-    Returns
-    -------
-    str
-    """
-    code = hashlib.sha256()
-    for name in names:
-        code.update(resources.files("gd_analyze").joinpath(name).read_bytes())
-    return code.hexdigest()
 
 
 def checksum(arrays, fields):
@@ -209,7 +190,8 @@ def read_entry(path, key, fields, max_bytes):
 
 
 def write_entry(path, key, arrays):
-    """Write an entry atomically; silent when the folder is not writable.
+    """Write an entry atomically (:func:`gd_analyze.files.atomic_path`); silent when the
+    folder is not writable.
 
     Parameters
     ----------
@@ -218,23 +200,12 @@ def write_entry(path, key, arrays):
     arrays : dict of str to ndarray
         Plain (not object) arrays, stored in this order with their checksum.
     """
-    tmp = None
     try:
         path.parent.mkdir(mode=0o700, parents=True, exist_ok=True)
-        fd, tmp = tempfile.mkstemp(prefix=f".{path.name}.gd-tmp-", suffix=".tmp",
-                                   dir=path.parent)
-        with os.fdopen(fd, "wb") as fh:
+        with atomic_path(path) as tmp, open(tmp, "wb") as fh:
             np.savez(fh, key=np.array(canonical(key)),
                      checksum=np.array(checksum(arrays, list(arrays))), **arrays)
             fh.flush()
             os.fsync(fh.fileno())
-        os.replace(tmp, path)
-        tmp = None
     except OSError:
         pass        # read-only cache: computed again next time
-    finally:
-        if tmp is not None:
-            try:
-                os.unlink(tmp)
-            except OSError:
-                pass

@@ -2,8 +2,8 @@
 
 The certification of a joint-limit region (:func:`gd_analyze.core.selection.certify.certify`:
 the proved bound of every (base parameter, part) pair, the scale s_i and where it is reached)
-is a pure function of the robot's parameters, the region, the settings and the certifying
-code, so it is kept in the derivation cache (:mod:`.cache_files`) as
+is a pure function of the robot's parameters, the region, the settings and the package's
+code (:func:`gd_analyze.files.package_sha256`), so it is kept in the derivation cache (:mod:`.cache_files`) as
 ``region-<sha>.npz``, named by the SHA-256 of that key, as :mod:`.explicit_cache` keeps the
 explicit model.
 
@@ -37,21 +37,11 @@ import warnings
 import numpy as np
 
 from ..errors import one_line
-from .cache_files import (
-    CacheWarning,
-    entry_path,
-    read_entry,
-    source_sha256,
-    write_entry,
-)
+from ..files import package_sha256
+from .cache_files import CacheWarning, entry_path, read_entry, write_entry
 
 __all__ = ["certification", "certification_key", "SELF_CHECK_TOLERANCE"]
 
-#: Modules whose code the certification depends on.
-_CERTIFYING = ("core/selection/certify.py", "core/selection/region.py",
-               "core/dynamics/regressor_bounds.py", "core/dynamics/balls.py",
-               "core/dynamics/intervals.py", "core/symbolic/regressor_kernels.py",
-               "core/symbolic/regressor_compiled.py", "core/symbolic/base_parameters.py")
 _FIELDS = ("scale", "scale_state", "boxes", "seconds", "split_joint", "split_at")
 #: Layout of an entry (3: the tree of boxes, no bounds).
 _FORMAT = 3
@@ -81,14 +71,14 @@ def certification_key(robot, region, settings):
     -------
     dict
         ``format``, ``robot_sha256``, ``parameters_sha256``, ``code`` (version and the SHA-256
-        of the certifying modules), ``region`` (exact hex floats) and ``settings``.
+        of the package's sources), ``region`` (exact hex floats) and ``settings``.
     """
     from .._version import VERSION as __version__
     from ..core.selection.simplified import parameters_sha256
 
     return {"format": _FORMAT, "robot_sha256": str(robot.sha256),
             "parameters_sha256": parameters_sha256(robot.to_dict()),
-            "code": {"version": str(__version__), "sha256": source_sha256(_CERTIFYING)},
+            "code": {"version": str(__version__), "sha256": package_sha256()},
             "region": {name: _floats(getattr(region, name))
                        for name in ("q_min", "q_max", "qd_max", "qdd_max")},
             "settings": {"n": int(robot.n), "prismatic": [bool(p) for p in robot.prismatic],

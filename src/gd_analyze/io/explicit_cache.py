@@ -1,9 +1,9 @@
 """On-disk cache of the explicit model's derivation, which cannot lie.
 
 The explicit model (:func:`gd_analyze.core.symbolic.explicit.derive`) is a pure function of the robot's
-parameters and of the deriving code, so an entry is named by the SHA-256 of its key: the
+parameters and of the package's code, so an entry is named by the SHA-256 of its key: the
 robot's parameters (its file's SHA-256 and the parameters actually used, so a robot carrying
-a payload gets its own entry), the version and source of the deriving modules and the
+a payload gets its own entry), the version and the package's sources (:func:`gd_analyze.files.package_sha256`) and the
 derivation's settings. The folder is ``$GD_ANALYZE_CACHE_DIR`` if set, else
 ``$XDG_CACHE_HOME/gd-analyze`` or ``~/.cache/gd-analyze``; ``GD_ANALYZE_NO_CACHE=1`` disables
 it.
@@ -33,12 +33,12 @@ import warnings
 import numpy as np
 
 from ..errors import one_line
-from .cache_files import CacheWarning, cache_dir, entry_path, read_entry, source_sha256, write_entry
+from ..files import package_sha256
+from .cache_files import CacheWarning, cache_dir, entry_path, read_entry, write_entry
 
 __all__ = ["cache_dir", "cache_path", "cache_key", "explicit_terms", "CacheWarning",
            "SELF_CHECK_TOLERANCE"]
 
-_DERIVING = ("core/symbolic/explicit.py", "core/symbolic/trigpoly.py")
 _FIELDS = ("kind", "part", "i", "j", "k", "K", "S", "C")
 #: Layout of an entry (its arrays and the stored key).
 _FORMAT = 2
@@ -60,7 +60,7 @@ def cache_key(robot):
     dict
         ``format``; ``robot_sha256`` (its file's SHA-256), ``parameters_sha256`` (of the
         parameters used, :func:`gd_analyze.core.selection.simplified.parameters_sha256`); ``code`` (the
-        package version and the SHA-256 of the deriving modules' source); ``settings`` (what
+        package version and the SHA-256 of the package's sources); ``settings`` (what
         the derivation depends on besides the parameters: the joint types, the fields).
     """
     from .._version import VERSION as __version__
@@ -68,7 +68,7 @@ def cache_key(robot):
 
     return {"format": _FORMAT, "robot_sha256": str(robot.sha256),
             "parameters_sha256": parameters_sha256(robot.to_dict()),
-            "code": {"version": str(__version__), "sha256": source_sha256(_DERIVING)},
+            "code": {"version": str(__version__), "sha256": package_sha256()},
             "settings": {"n": int(robot.n),
                          "prismatic": [bool(p) for p in robot.prismatic],
                          "offsets_in": "placements", "fields": list(_FIELDS)}}

@@ -2,7 +2,8 @@
 
 The model pruned over a joint-limit region (:func:`gd_analyze.workflows.deploy.region_model`)
 comes out of two searches, each a pure function of the robot's parameters, the region, the
-tolerance EPS, the torque floor and the searching code:
+tolerance EPS, the torque floor and the package's code
+(:func:`gd_analyze.files.package_sha256`):
 
 - which (base parameter, part) pairs to drop: a greedy search over the operation counts of
   candidate programs (:func:`gd_analyze.core.symbolic.pruning.prune_bounds`);
@@ -30,18 +31,11 @@ from __future__ import annotations
 
 import numpy as np
 
-from .cache_files import entry_path, read_entry, source_sha256, write_entry
+from .cache_files import entry_path, read_entry, write_entry
 from .certification_cache import certification_key
 
 __all__ = ["search_key", "read_search", "write_search", "SEARCH_FIELDS"]
 
-#: Modules whose code the searches depend on (and those of the certification they read).
-_SEARCHING = ("core/symbolic/pruning.py", "core/symbolic/recursive.py",
-              "core/symbolic/newton_euler.py", "core/symbolic/transform.py",
-              "core/symbolic/factoring.py", "core/symbolic/subexpressions.py",
-              "core/symbolic/operation_count.py", "core/symbolic/base_parameters.py",
-              "core/symbolic/codegen.py", "core/selection/certify.py",
-              "core/selection/region.py", "workflows/deploy.py")
 #: The arrays of an entry: the dropped pairs (b, 3) and parameters dropped whole (b,), and
 #: per link the index in FORMS of the exact and of the pruned program's form (-1: no pruned
 #: program, the exact one is deployed).
@@ -70,14 +64,12 @@ def search_key(robot, region, tolerance, torque_floor, samples):
     -------
     dict
         The certification's key (:func:`.certification_cache.certification_key`) with the
-        tolerance and this format, and the searching modules' SHA-256 in place of the
-        certifying ones'.
+        tolerance and this format.
     """
     key = certification_key(robot, region, {"torque_floor": float(torque_floor),
                                             "samples": int(samples), "seed": 0,
                                             "tolerance": float(tolerance)})
     key["format"] = f"search-{_FORMAT}"
-    key["code"]["sha256"] = source_sha256(_SEARCHING) + key["code"]["sha256"]
     return key
 
 

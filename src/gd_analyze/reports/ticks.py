@@ -188,6 +188,7 @@ def label_axes(axes):
     return "fixed"
 
 
+#: Superscript digits and minus, for a power of ten written without mathtext.
 _SUPERSCRIPT = str.maketrans("-0123456789", "\u207b\u2070\u00b9\u00b2\u00b3\u2074\u2075\u2076"
                                              "\u2077\u2078\u2079")
 
@@ -235,28 +236,36 @@ def nice_ticks(lo, hi, nbins=3):
     Returns
     -------
     ndarray, shape (K,)
-        Tick positions within the limits, at least one (the midpoint of a degenerate range).
+        Tick positions within the limits, at least one (the midpoint of a degenerate range):
+        the most that :class:`matplotlib.ticker.MaxNLocator` places within them.
 
     Examples
     --------
     >>> nice_ticks(0.0, 1.0, 4).tolist()
     [0.0, 0.25, 0.5, 0.75, 1.0]
     """
+    from matplotlib.ticker import MaxNLocator
+
     lo, hi = float(min(lo, hi)), float(max(lo, hi))
     span = hi - lo
     if not (np.isfinite(span) and span > 0):
         return np.array([lo])
-    raw = span / max(1, int(nbins))
-    mag = 10.0 ** math.floor(math.log10(raw))
-    for m in (1.0, 2.0, 2.5, 5.0, 10.0):
-        step = m * mag
-        first = math.ceil(lo / step - 1e-9)
-        last = math.floor(hi / step + 1e-9)
-        if last - first <= nbins:
+    nbins, tol = max(1, int(nbins)), 1e-9 * span
+    best = np.array([0.5 * (lo + hi)])
+    # MaxNLocator covers [lo, hi] with its ticks; the ones within it are fewer, so ask it for
+    # more bins until the ticks within would be too many
+    locator = MaxNLocator(steps=[1, 2, 2.5, 5, 10])
+    for k in range(nbins, 4 * nbins + 4):
+        locator.set_params(nbins=k)
+        ticks = locator.tick_values(lo, hi)
+        ticks = ticks[(ticks >= lo - tol) & (ticks <= hi + tol)]
+        if len(ticks) > nbins + 1:
             break
-    ticks = np.arange(first, last + 1) * step
-    ticks[np.abs(ticks) < 1e-12 * step] = 0.0
-    return ticks
+        if len(ticks) >= len(best):
+            best = ticks
+    step = float(np.ptp(best)) / max(len(best) - 1, 1) or span
+    best[np.abs(best) < 1e-12 * step] = 0.0
+    return best
 
 
 def formatter():
@@ -277,11 +286,6 @@ def formatter():
             return tick_labels(values)
 
     return _Formatter()
-
-
-#: Superscript digits and minus, for a power of ten written without mathtext.
-_SUPERSCRIPT = str.maketrans("0123456789-", "\u2070\u00b9\u00b2\u00b3\u2074\u2075\u2076\u2077"
-                             "\u2078\u2079\u207b")
 
 
 def decade_label(x):
