@@ -3,10 +3,9 @@
 :func:`staged_output` is the one way a command writes its output folder:
 
 - the folder is taken by its real path (a symbolic link to it names the same folder) and locked
-  with ``flock`` (:class:`filelock.FileLock`) on a lock file beside it (``.<name>.gd-lock``;
-  inside it, ``.gd-lock``, when the folder is a mount point), opened without following a
-  symbolic link, so a second run into the same folder is refused and the kernel releases the
-  lock even when a run is killed;
+  with ``flock`` on a lock file beside it (``.<name>.gd-lock``; inside it, ``.gd-lock``, when
+  the folder is a mount point), opened without following a symbolic link, so a second run into
+  the same folder is refused and the kernel releases the lock even when a run is killed;
 - the folder's manifests (:mod:`gd_analyze.io.manifest`) must list every file it holds: a
   file gd-analyze did not write is never replaced or deleted; the run is refused, with one line
   and exit status 2, before it computes anything, and nothing is touched;
@@ -172,46 +171,48 @@ def check_free_space(folder, need_bytes, what="the results"):
 
 @contextlib.contextmanager
 def _lock(lock_path, target):
-    """Hold the output folder's lock (``flock`` through :class:`filelock.FileLock`, which the
-    kernel releases when the process dies) and yield its :class:`_Record`.
+    import fcntl
 
-    The lock file is opened without following a symbolic link, and must be a regular file of
-    its own (no FIFO, no hard link to another file) before anything is written to it. It is
-    removed on release unless it still names a killed run's temporaries.
-    """
-    from filelock import FileLock, Timeout  # imported when a run writes, not at start
-
-    lock = FileLock(lock_path, timeout=0, preserve_lock_file=True)
-    try:
-        lock.acquire()
-    except Timeout:
-        raise InputError("another run is writing here; wait for it to finish or choose "
-                         "another output folder (-o)", target) from None
-    except OSError as exc:
-        if exc.errno == errno.ELOOP:
-            raise InputError(f"cannot write the output folder: its lock file {lock_path} "
-                             "is a symbolic link", target) from None
-        raise write_error(exc, target) from None
-    owner, record, fd = os.getpid(), None, None
-    try:
-        fd = os.open(lock_path, os.O_RDWR | os.O_NOFOLLOW | os.O_NONBLOCK | os.O_CLOEXEC)
+    while True:
+        try:
+            fd = os.open(lock_path, os.O_RDWR | os.O_CREAT | os.O_NOFOLLOW | os.O_NONBLOCK
+                         | os.O_CLOEXEC, 0o644)
+        except OSError as exc:
+            if exc.errno == errno.ELOOP:
+                raise InputError(f"cannot write the output folder: its lock file {lock_path} "
+                                 "is a symbolic link", target) from None
+            raise write_error(exc, target) from None
         st = os.fstat(fd)
         if not stat.S_ISREG(st.st_mode) or st.st_nlink != 1:     # a FIFO, a hard link
+            os.close(fd)
             raise InputError(f"cannot write the output folder: its lock file {lock_path} is "
                              "not a file of its own", target)
+        try:
+            fcntl.flock(fd, fcntl.LOCK_EX | fcntl.LOCK_NB)
+        except BlockingIOError:
+            os.close(fd)
+            raise InputError("another run is writing here; wait for it to finish or choose "
+                             "another output folder (-o)", target) from None
+        # The previous holder may have unlinked the file between our open and our flock.
+        try:
+            same = os.path.samestat(os.fstat(fd), os.lstat(lock_path))
+        except FileNotFoundError:
+            same = False
+        if same:
+            break
+        os.close(fd)
+    owner, record = os.getpid(), None
+    try:
         before = os.pread(fd, RECORD_LIMIT, 0).decode("utf-8", "replace")
         os.ftruncate(fd, 0)
         os.write(fd, f"{owner}\n".encode())
         record = _Record(fd, before)
         yield record
     finally:
-        if os.getpid() == owner:
-            if record is not None and not record.pending:
-                with contextlib.suppress(OSError):
-                    os.unlink(lock_path)
-            lock.release()
-        if fd is not None:
-            os.close(fd)
+        if os.getpid() == owner and not (record is not None and record.pending):
+            with contextlib.suppress(OSError):
+                os.unlink(lock_path)
+        os.close(fd)
 
 
 class _Record:
