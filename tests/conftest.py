@@ -110,6 +110,31 @@ def shipped_dataset():
 
 
 @pytest.fixture(scope="session")
+def shared_main():
+    """A main job run by its arguments, built once a session (:func:`built_once`) for every
+    test that reads the same run: the same arguments, the same outputs.
+
+    ``shared_main(robot, trajectory, *options)`` runs ``gd-analyze robot trajectory -o
+    <folder> -q *options`` (with its report unless ``--no-report`` is among the options) the
+    first time any xdist worker asks for those arguments, and returns its output folder. Shared:
+    tests must not modify it; a test that writes next to a run writes in its own ``tmp_path``
+    (a symbolic link to the run where it needs the run in its folder).
+    """
+    import hashlib
+
+    from gd_analyze.cli import main
+
+    def get(*args):
+        args = [str(a) for a in args]
+        key = hashlib.sha256("\0".join(args).encode()).hexdigest()[:16]
+
+        def build(folder):
+            assert main([*args, "-o", str(folder / "out"), "-q"]) == 0
+        return built_once(f"main-{key}", build) / "out"
+    return get
+
+
+@pytest.fixture(scope="session")
 def shared_reports():
     """The UR5's main report and the PUMA 560's sweep report, for the report tests that read
     both (tests/reports/test_report_review.py, test_report_text.py): built once a session
