@@ -159,7 +159,7 @@ def shared_reports():
 
 
 @pytest.fixture(scope="session")
-def shared_puma():
+def shared_puma(shared_main):
     """The PUMA 560's main job on its shipped trajectory and the control command on its model,
     each with its report, all defaults: built once a session (:func:`built_once`) for the
     tests that only read them (tests/reports/test_report_review.py, test_report_text.py,
@@ -171,12 +171,13 @@ def shared_puma():
 
     csv = str(SHIPPED)
 
+    puma = shared_main("puma560", csv)       # the default run (:func:`shared_main`)
+
     def build(tmp):
-        assert main(["puma560", csv, "-o", str(tmp / "puma"), "-q"]) == 0
-        assert main(["control", str(tmp / "puma" / "simplified_model.json"), csv, "-o",
+        assert main(["control", str(puma / "simplified_model.json"), csv, "-o",
                      str(tmp / "control"), "-q"]) == 0
     tmp = built_once("shared_puma", build)
-    return {"puma": (tmp / "puma", "report"), "control": (tmp / "control", "control_report")}
+    return {"puma": (puma, "report"), "control": (tmp / "control", "control_report")}
 
 
 def random_states(robot, count, seed):
