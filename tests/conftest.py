@@ -110,6 +110,31 @@ def shipped_dataset():
 
 
 @pytest.fixture(scope="session")
+def shared_main():
+    """A main job run by its arguments, built once a session (:func:`built_once`) for every
+    test that reads the same run: the same arguments, the same outputs.
+
+    ``shared_main(robot, trajectory, *options)`` runs ``gd-analyze robot trajectory -o
+    <folder> -q *options`` (with its report unless ``--no-report`` is among the options) the
+    first time any xdist worker asks for those arguments, and returns its output folder. Shared:
+    tests must not modify it; a test that writes next to a run writes in its own ``tmp_path``
+    (a symbolic link to the run where it needs the run in its folder).
+    """
+    import hashlib
+
+    from gd_analyze.cli import main
+
+    def get(*args):
+        args = [str(a) for a in args]
+        key = hashlib.sha256("\0".join(args).encode()).hexdigest()[:16]
+
+        def build(folder):
+            assert main([*args, "-o", str(folder / "out"), "-q"]) == 0
+        return built_once(f"main-{key}", build) / "out"
+    return get
+
+
+@pytest.fixture(scope="session")
 def shared_reports():
     """The UR5's main report and the PUMA 560's sweep report, for the report tests that read
     both (tests/reports/test_report_review.py, test_report_text.py): built once a session
@@ -134,7 +159,7 @@ def shared_reports():
 
 
 @pytest.fixture(scope="session")
-def shared_puma():
+def shared_puma(shared_main):
     """The PUMA 560's main job on its shipped trajectory and the control command on its model,
     each with its report, all defaults: built once a session (:func:`built_once`) for the
     tests that only read them (tests/reports/test_report_review.py, test_report_text.py,
@@ -146,12 +171,13 @@ def shared_puma():
 
     csv = str(SHIPPED)
 
+    puma = shared_main("puma560", csv)       # the default run (:func:`shared_main`)
+
     def build(tmp):
-        assert main(["puma560", csv, "-o", str(tmp / "puma"), "-q"]) == 0
-        assert main(["control", str(tmp / "puma" / "simplified_model.json"), csv, "-o",
+        assert main(["control", str(puma / "simplified_model.json"), csv, "-o",
                      str(tmp / "control"), "-q"]) == 0
     tmp = built_once("shared_puma", build)
-    return {"puma": (tmp / "puma", "report"), "control": (tmp / "control", "control_report")}
+    return {"puma": (puma, "report"), "control": (tmp / "control", "control_report")}
 
 
 def random_states(robot, count, seed):

@@ -147,9 +147,8 @@ def test_plan_writes_the_shipped_stanford_trajectory(tmp_path, capsys):
     np.testing.assert_allclose(a[-1, 1:3], np.radians([10, 20]))               # [rad]
 
 
-def test_evaluate_and_max_error_gate(tmp_path, capsys):
-    out_dir = tmp_path / "o"
-    assert _run(["puma560", SHIPPED, "-o", out_dir, "--no-report", "-q"], capsys)[0] == 0
+def test_evaluate_and_max_error_gate(tmp_path, capsys, shared_main):
+    out_dir = shared_main("puma560", SHIPPED, "--no-report")        # shared, read only
     model = out_dir / "simplified_model.json"
     other = tmp_path / "other.csv"
     assert _run(["plan", "puma560", "-o", other, "--start", "0,45,-90,0,30,0", "--goal",
@@ -194,9 +193,9 @@ def test_compare_json(capsys):
 
 
 @pytest.mark.slow
-def test_payload_changes_the_torques_and_is_recorded(tmp_path, capsys):
-    plain, loaded = tmp_path / "plain", tmp_path / "loaded"
-    assert _run(["puma560", SHIPPED, "-o", plain, "--no-report", "-q"], capsys)[0] == 0
+def test_payload_changes_the_torques_and_is_recorded(tmp_path, capsys, shared_main):
+    loaded = tmp_path / "loaded"
+    plain = shared_main("puma560", SHIPPED, "--no-report")          # shared, read only
     code, _, err = _run(["puma560", SHIPPED, "-o", loaded, "--no-report", "-q", "--payload",
                          "2.5", "--payload-com", "0,0,0.05", "--payload-inertia",
                          "0.002,0.002,0.001"], capsys)
@@ -215,9 +214,8 @@ def test_payload_changes_the_torques_and_is_recorded(tmp_path, capsys):
 
 
 @pytest.mark.slow
-def test_control_command(tmp_path, capsys):
-    out_dir = tmp_path / "o"
-    assert _run(["puma560", SHIPPED, "-o", out_dir, "--no-report", "-q"], capsys)[0] == 0
+def test_control_command(tmp_path, capsys, shared_main):
+    out_dir = shared_main("puma560", SHIPPED, "--no-report")        # shared, read only
     model = out_dir / "simplified_model.json"
     code, out, err = _run(["control", model, SHIPPED, "-o", tmp_path / "c", "--no-report",
                            "--json"], capsys)
@@ -238,9 +236,8 @@ def test_control_command(tmp_path, capsys):
     assert code == 2 and "no such file" in err
 
 
-def test_evaluate_under_a_payload(tmp_path, capsys):
-    out_dir = tmp_path / "o"
-    assert _run(["puma560", SHIPPED, "-o", out_dir, "--no-report", "-q"], capsys)[0] == 0
+def test_evaluate_under_a_payload(capsys, shared_main):
+    out_dir = shared_main("puma560", SHIPPED, "--no-report")        # shared, read only
     model = out_dir / "simplified_model.json"
     code, out, _ = _run(["evaluate", model, SHIPPED, "--json"], capsys)
     bare = json.loads(out)
@@ -477,15 +474,14 @@ def test_sweep_writes_the_form_asked_for(tmp_path, capsys, form):
 
 
 @pytest.mark.slow
-def test_control_printout_marks_integrator_noise_as_the_report_does(tmp_path, capsys):
+def test_control_printout_marks_integrator_noise_as_the_report_does(tmp_path, capsys, shared_main):
     """The printed table gave the full-model controller's tracking error as digits
     (1.476e-11 rad), which the report and the verdict call integrator noise, ≡ 0: each printed
     cell is "≡ 0" exactly where the stored error is at or below the report's floor."""
     from gd_analyze.io.schema import open_results
     from gd_analyze.reports.control_text import dataset_verdict
 
-    out_dir = tmp_path / "o"
-    assert _run(["puma560", SHIPPED, "-o", out_dir, "--no-report", "-q"], capsys)[0] == 0
+    out_dir = shared_main("puma560", SHIPPED, "--no-report")        # shared, read only
     code, out, err = _run(["control", out_dir / "simplified_model.json", SHIPPED, "-o",
                            tmp_path / "c", "--no-report"], capsys)
     assert code == 0, err

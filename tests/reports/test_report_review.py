@@ -21,8 +21,6 @@ import xarray as xr
 from conftest import ROOT
 from pypdf import PdfReader
 
-from gd_analyze.cli import main
-
 #: Over 5 s on an idle machine (the module's fixtures): run on one interpreter in CI.
 pytestmark = pytest.mark.slow
 
@@ -32,17 +30,11 @@ MAIN = {"puma": ("puma560", "puma560_trajectory.csv"),
         "ur5": ("ur5", "ur5_trajectory.csv")}
 
 
-def _run(args, folder):
-    assert main([*args, "-o", str(folder), "-q"]) == 0
-    return folder
-
-
 @pytest.fixture(scope="module")
-def reports(tmp_path_factory, shared_reports, shared_puma):
-    """The main report of the three robots (the PUMA's and the UR5's shared); the sweep and
-    the control report on the PUMA (shared)."""
-    tmp = tmp_path_factory.mktemp("review")
-    out = {k: (_run([robot, str(DATA / csv)], tmp / k), "report")
+def reports(shared_main, shared_reports, shared_puma):
+    """The main report of the three robots (all shared); the sweep and the control report on
+    the PUMA (shared)."""
+    out = {k: (shared_main(robot, DATA / csv), "report")
            for k, (robot, csv) in MAIN.items() if k not in ("ur5", "puma")}
     out["ur5"], out["sweep"] = shared_reports["ur5"], shared_reports["sweep"]
     out["puma"], out["control"] = shared_puma["puma"], shared_puma["control"]

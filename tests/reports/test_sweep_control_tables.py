@@ -31,13 +31,13 @@ pytestmark = pytest.mark.slow
 
 
 @pytest.fixture(scope="module", params=("puma560", "stanford"))
-def runs(request, tmp_path_factory):
-    """The main job, the control run on its model and a 3-trajectory sweep, by the command
-    line; the control run's argv as given."""
+def runs(request, tmp_path_factory, shared_main):
+    """The main job (shared, read only, linked as ``main``), the control run on its model and
+    a 3-trajectory sweep, by the command line; the control run's argv as given."""
     name = request.param
     tmp = tmp_path_factory.mktemp(name)
     csv = str(ROOT / "data" / f"{name}_trajectory.csv")
-    assert main([name, csv, "-o", str(tmp / "main"), "-q", "--no-report"]) == 0
+    (tmp / "main").symlink_to(shared_main(name, csv, "--no-report"), target_is_directory=True)
     argv = ["control", str(tmp / "main" / "simplified_model.json"), csv,
             "-o", str(tmp / "control"), "-q"]
     assert main(list(argv)) == 0

@@ -18,7 +18,6 @@ from html_checks import html_table
 from html_checks import html_text as _text
 
 from gd_analyze import load_robot
-from gd_analyze.cli import main
 from gd_analyze.formulations.pinocchio import reference_terms
 from gd_analyze.io.planning import plan_quintic
 from gd_analyze.io.schema import write_dataset
@@ -36,11 +35,6 @@ CONFIGS = {"budget-recursive": ["--rule", "budget", "--form", "recursive"],
            "gravity-dropped": ["--form", "explicit", "--tolerance", "0.05"]}
 
 
-def _run(robot, csv, folder, extra=()):
-    assert main([robot, str(csv), "-o", str(folder), "-q", *extra]) == 0
-    return folder
-
-
 def _provenance(html):
     return html_table(html, 'id="provenance"', cell="td")[1:]
 
@@ -50,14 +44,14 @@ def _summary(text):
 
 
 @pytest.fixture(scope="module")
-def stanford(tmp_path_factory):
-    return _run("stanford", STANFORD, tmp_path_factory.mktemp("stanford"))
+def stanford(shared_main):
+    return shared_main("stanford", STANFORD)           # shared with test_units, test_report_review
 
 
 @pytest.fixture(scope="module", params=list(CONFIGS))
-def puma(request, tmp_path_factory):
-    return request.param, _run("puma560", SHIPPED, tmp_path_factory.mktemp(request.param),
-                               CONFIGS[request.param])
+def puma(request, shared_main):
+    # shared with tests/reports/test_control_text.py where the options are the same
+    return request.param, shared_main("puma560", SHIPPED, *CONFIGS[request.param])
 
 
 def _check_summary_against_dataset(folder):

@@ -40,12 +40,9 @@ EXPECTED = ([(f"D{i + 1}{j + 1}", _d_units(i, j)) for i in range(N_JOINTS)
 
 
 @pytest.fixture(scope="module")
-def stanford(tmp_path_factory):
-    out = tmp_path_factory.mktemp("stanford")
-    code = main(["stanford", str(ROOT / "data" / "stanford_trajectory.csv"), "-o", str(out),
-                 "-q"])
-    assert code == 0
-    return out
+def stanford(shared_main):
+    """The main job on the Stanford arm's shipped trajectory (shared: read only)."""
+    return shared_main("stanford", ROOT / "data" / "stanford_trajectory.csv")
 
 
 def _svg_texts(svg):
@@ -197,8 +194,8 @@ def _gain_units(i):
 
 
 @pytest.fixture(scope="module")
-def stanford_control(stanford):
-    out = stanford.parent / "stanford_control"
+def stanford_control(stanford, tmp_path_factory):
+    out = tmp_path_factory.mktemp("stanford_control") / "control"
     assert main(["control", str(stanford / "simplified_model.json"),
                  str(ROOT / "data" / "stanford_trajectory.csv"), "-o", str(out), "-q"]) == 0
     return out

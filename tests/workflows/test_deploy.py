@@ -35,19 +35,17 @@ def _ops(c):
 
 
 @pytest.fixture(scope="module")
-def puma_run(tmp_path_factory):
-    out = tmp_path_factory.mktemp("deploy") / "puma"
-    assert main(["puma560", str(SHIPPED), "-o", str(out), "--no-report", "-q",
-                 "--guarantee", "trajectory"]) == 0
+def puma_run(shared_main):
+    # shared, read only (tests/io/test_model_trust.py reads the same run)
+    out = shared_main("puma560", SHIPPED, "--no-report", "--guarantee", "trajectory")
     return out, json.loads((out / "simplified_model.json").read_text())
 
 
-def test_region_model_by_default_bound_within_the_region_budget(tmp_path):
+def test_region_model_by_default_bound_within_the_region_budget(shared_main):
     """The default PUMA model carries the region guarantee: its bound is within EPS of the
     region's scale, holds on the shipped trajectory (inside the region) against rnea, and it
     is cheaper than the exact recursive model."""
-    out = tmp_path / "puma"
-    assert main(["puma560", str(SHIPPED), "-o", str(out), "--no-report", "-q"]) == 0
+    out = shared_main("puma560", SHIPPED, "--no-report")      # the default run, read only
     spec = json.loads((out / "simplified_model.json").read_text())
     g = spec["guarantee"]
     assert g["kind"] == "region" and "(proved" in g["statement"]

@@ -65,16 +65,15 @@ def test_main_job_model_within_tolerance_and_cheaper_than_newton_euler(tmp_path,
     assert json.loads(out)["max_relative_peak_error"] <= float(eps)
 
 
-def test_stanford_main_job_emits_the_simplified_model(tmp_path, capsys):
+def test_stanford_main_job_emits_the_simplified_model(shared_main):
     """A prismatic joint: the main job writes simplified_model.h, .c, .py and _casadi.py like
     every robot,
     verification passes, and the emitted model is within EPS of rnea on the trajectory."""
     from conftest import ROOT
 
     csv = ROOT / "data" / "stanford_trajectory.csv"
-    code, _, err = _run(["stanford", csv, "-o", tmp_path, "--no-report", "-q"], capsys)
-    assert code == 0, err
-    assert sorted(p.name for p in tmp_path.iterdir()) == [
+    out = shared_main("stanford", csv, "--no-report")        # shared, read only
+    assert sorted(p.name for p in out.iterdir()) == [
         ".gd-analyze-manifest-analyze.json", "results.h5", "simplified_model.c",
         "simplified_model.h", "simplified_model.json", "simplified_model.py",
         "simplified_model_casadi.py"]
@@ -83,16 +82,16 @@ def test_stanford_main_job_emits_the_simplified_model(tmp_path, capsys):
     ref = _rnea(robot, traj.q, traj.qd, traj.qdd)
     scale = np.abs(ref).max(axis=0)
     ns = {}
-    exec((tmp_path / "simplified_model.py").read_text(), ns)
+    exec((out / "simplified_model.py").read_text(), ns)
     tau = ns["tau"](traj.q, traj.qd, traj.qdd)
     assert (np.abs(tau - ref).max(axis=0) <= 0.01 * scale * (1 + 1e-9)).all()
-    spec = json.loads((tmp_path / "simplified_model.json").read_text())
+    spec = json.loads((out / "simplified_model.json").read_text())
     assert spec["cost"]["multiplications"] > 0
     assert bool(spec.get("explicit_terms")) == (spec.get("form", "explicit") == "explicit")
-    loaded = load_model(tmp_path / "simplified_model.json")
+    loaded = load_model(out / "simplified_model.json")
     np.testing.assert_allclose(loaded.torque(traj.q, traj.qd, traj.qdd), tau, rtol=0,
                                atol=1e-12 * scale.max())
-    assert "prismatic joint 3: q [m]" in (tmp_path / "simplified_model.c").read_text()
+    assert "prismatic joint 3: q [m]" in (out / "simplified_model.c").read_text()
 
 
 def test_rule_chapter_and_bad_tolerance(tmp_path, capsys):
@@ -232,7 +231,7 @@ def test_ladder_is_skipped_when_the_explicit_model_cannot_pay(tmp_path, monkeypa
 
 
 @pytest.mark.slow
-def test_form_recursive_derives_no_explicit_model_and_says_so(tmp_path, capsys):
+def test_form_recursive_derives_no_explicit_model_and_says_so(tmp_path, capsys, shared_main):
     """Under --form recursive the explicit model cannot be deployed: --explicit auto does not
     derive it (no explicit costs), the report says it was not derived instead of showing a
     count, and the ladder is of the recursive form; the deployed model is the one of the
@@ -242,10 +241,9 @@ def test_form_recursive_derives_no_explicit_model_and_says_so(tmp_path, capsys):
 
     assert main(["puma560", str(SHIPPED), "-o", str(tmp_path / "rec"), "-q",
                  "--form", "recursive"]) == 0
-    assert main(["puma560", str(SHIPPED), "-o", str(tmp_path / "default"), "-q",
-                 "--no-report"]) == 0
+    default_run = shared_main("puma560", SHIPPED, "--no-report")     # shared, read only
     rec = json.loads((tmp_path / "rec" / "simplified_model.json").read_text())
-    default = json.loads((tmp_path / "default" / "simplified_model.json").read_text())
+    default = json.loads((default_run / "simplified_model.json").read_text())
     assert rec["form"] == default["form"] == "recursive"
     assert rec["recursive"]["dropped"] == default["recursive"]["dropped"]
     assert not any(k.startswith("explicit") for k in rec["costs"])
@@ -263,16 +261,14 @@ def test_form_recursive_derives_no_explicit_model_and_says_so(tmp_path, capsys):
     assert "explicit, full" in always["costs"]
 
 
-def test_akb_anchors_only_for_the_puma(tmp_path, capsys):
+def test_akb_anchors_only_for_the_puma(shared_main):
     """Armstrong, Khatib & Burdick's counts are the PUMA 560's: another six-joint arm's cost
     table does not list them."""
     import xarray as xr
     from conftest import ROOT
 
-    code, _, err = _run(["stanford", ROOT / "data" / "stanford_trajectory.csv", "-o", tmp_path,
-                         "--no-report", "-q"], capsys)
-    assert code == 0, err
-    with xr.open_dataset(tmp_path / "results.h5", engine="h5netcdf") as ds:
+    out = shared_main("stanford", ROOT / "data" / "stanford_trajectory.csv", "--no-report")
+    with xr.open_dataset(out / "results.h5", engine="h5netcdf") as ds:
         labels = [str(v) for v in ds["cost_model"].values]
     assert ds.sizes["joint"] == 6 and "project N-E as implemented" in labels
     assert not any(lab.startswith("AKB") for lab in labels)

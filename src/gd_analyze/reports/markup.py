@@ -339,8 +339,9 @@ def visible(text):
     text = str(text)
     if text.isascii():
         return text
-    return "".join(f"[U+{ord(c):04X}]" if unicodedata.category(c) == "Cf" else c
-                   for c in text)
+    shown = {ord(c): f"[U+{ord(c):04X}]" for c in set(text)
+             if unicodedata.category(c) == "Cf"}  # each distinct character looked up once
+    return text.translate(shown) if shown else text
 
 
 #: The translational and rotational parts of an element X, as figures letter them.

@@ -19,10 +19,9 @@ from gd_analyze.io.trajectory import read_trajectory
 
 
 @pytest.fixture(scope="module")
-def region_model(tmp_path_factory):
-    folder = tmp_path_factory.mktemp("puma")
-    assert main(["puma560", str(SHIPPED), "-o", str(folder / "out"), "--no-report", "-q"]) == 0
-    path = folder / "out" / "simplified_model.json"
+def region_model(shared_main):
+    # the default run (shared, read only: the tests write edited copies in their tmp_path)
+    path = shared_main("puma560", SHIPPED, "--no-report") / "simplified_model.json"
     return path, json.loads(path.read_text())
 
 
