@@ -383,7 +383,13 @@ def summary_dataset(robot, trajectory, ranking, choices, error, verification=Non
     """
     import xarray as xr
 
-    from ..core.selection.ranking import CHAPTER_DOMINANCE, identically_zero, is_chapter_puma
+    from ..core.selection.ranking import (
+        CHAPTER_DOMINANCE,
+        arm_scales,
+        identically_zero,
+        is_chapter_puma,
+        is_round_off,
+    )
 
     n = robot.n
     labels = list(ranking.labels)
@@ -472,6 +478,16 @@ def summary_dataset(robot, trajectory, ranking, choices, error, verification=Non
         Var.TORQUE_OFFSET: var(("joint",), robot.torque_offset, torque,
                              "constant joint torque offset"),
     }
+    # the round-off marks, decided once here (the reports' one rule) and read by every output
+    arm = arm_scales(ranking.scale, element_coords(n, prismatic)[Var.ELEMENT_UNITS][1])
+    data_vars[Var.ELEMENT_ROUND_OFF] = _flag(zero, "1 where the element is zero in every part: "
+                                             "round-off (shown as \u2261 0), no share")
+    for name, part, peak in ((Var.PEAK_TRAN_ROUND_OFF, "translational", ranking.peak_tran),
+                             (Var.PEAK_ROT_ROUND_OFF, "rotational", ranking.peak_rot),
+                             (Var.PEAK_TOTAL_ROUND_OFF, "total", ranking.peak_total)):
+        data_vars[name] = _flag(is_round_off(peak, ranking.scale, arm_scale=arm),
+                                f"1 where the peak {part} part is round-off of the element's "
+                                "scale or the arm's (shown as \u2261 0), not data")
     if getattr(ranking, "rigid_dominance", None) is not None:
         data_vars[Var.DOMINANCE_RIGID_LINKS] = var(
             ("element",), np.array(ranking.rigid_dominance, dtype=str), "1",
@@ -499,6 +515,12 @@ def summary_dataset(robot, trajectory, ranking, choices, error, verification=Non
         attrs[VERIFICATION_PREFIX + key] = value
     attrs.update(settings or {})
     return xr.Dataset(data_vars, coords=coords, attrs=attrs)
+
+
+def _flag(mask, long_name):
+    """A 0/1 flag variable over ``element`` (CF ``flag_values``/``flag_meanings``)."""
+    return var(("element",), np.asarray(mask, bool).astype(np.int8), "1", long_name,
+               flag_values=np.array([0, 1], dtype=np.int8), flag_meanings="data round_off")
 
 
 def build_dataset(robot, trajectory, terms, ranking, tau, tau_simplified, choices, error,
