@@ -25,7 +25,7 @@ import numpy as np
 from .names import VERIFICATION_PREFIX, Attr, Var
 from .schema import MIXED_UNITS, element_coords, global_attributes, joint_coordinate, var
 
-__all__ = ["build_dataset", "summary_dataset", "setpoint_arrays", "SetpointWriter", "SETPOINT_DIM",
+__all__ = ["build_dataset", "summary_dataset", "with_setpoints", "setpoint_arrays", "SetpointWriter", "SETPOINT_DIM",
            "SETPOINT_VARIABLES", "FRICTION_VARIABLE", "setpoint_variables", "setpoint_units", "joint_units", "units_attribute",
            "guarantee_fields", "stored_guarantee", "region_fields", "stored_region"]
 
@@ -555,9 +555,29 @@ def build_dataset(robot, trajectory, terms, ranking, tau, tau_simplified, choice
         coordinate: the time [s]) and the :func:`summary_dataset`.
     """
     ds = summary_dataset(robot, trajectory, ranking, choices, error, verification, settings)
+    return with_setpoints(ds, robot, trajectory, terms, tau, tau_simplified)
+
+
+def with_setpoints(ds, robot, trajectory, terms, tau, tau_simplified):
+    """A summary dataset with the per-set-point variables added, in memory.
+
+    Parameters
+    ----------
+    ds : xarray.Dataset
+        :func:`summary_dataset`'s.
+    robot, trajectory, terms, tau, tau_simplified
+        As for :func:`build_dataset`.
+
+    Returns
+    -------
+    xarray.Dataset
+        A new dataset: ``ds`` with the variables of :data:`SETPOINT_VARIABLES` over dim ``t``
+        and the coordinate ``joint_k``, as :class:`SetpointWriter` writes them to the file.
+    """
     arrays = setpoint_arrays(trajectory, terms, tau, tau_simplified)
     prismatic = np.asarray(robot.prismatic, bool)
-    for name, (dims, _, long_name) in setpoint_variables("tau_f" in arrays).items():
+    ds = ds.copy()
+    for name, (dims, _, long_name) in setpoint_variables(Var.TAU_F in arrays).items():
         ds[name] = var(dims, arrays[name], setpoint_units(name, prismatic), long_name)
     return ds.assign_coords(joint_k=joint_coordinate(robot.joint_names(), "joint_k",
                                                      "joint (column of D)"))

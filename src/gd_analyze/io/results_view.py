@@ -325,6 +325,25 @@ class Results:
         return cls.from_dataset(open_results(path, lazy=lazy), source=str(path))
 
     @classmethod
+    def of(cls, results) -> Results:
+        """The view itself, or the view of a results dataset.
+
+        Parameters
+        ----------
+        results : Results or xarray.Dataset
+
+        Returns
+        -------
+        Results
+
+        Raises
+        ------
+        InputError
+            As :meth:`from_dataset`.
+        """
+        return results if isinstance(results, cls) else cls.from_dataset(results)
+
+    @classmethod
     def from_dataset(cls, ds, source: str = "<memory>") -> Results:
         """The view of a results dataset (in memory, or opened by :meth:`open`).
 

@@ -10,8 +10,9 @@ from __future__ import annotations
 
 import numpy as np
 
-from ..core.selection.ranking import arm_scales, is_round_off
 from ..io.datasets import stored_guarantee, stored_region
+from ..io.names import Attr, Var
+from ..io.results_view import Results
 from ..io.sweep_datasets import payload_part
 from .budget_figures import budget_caption
 from .common import CLASS_COLOURS as _CLASS_COLOURS
@@ -19,10 +20,10 @@ from .common import attr as _attr
 from .common import check as _check
 from .common import (
     count,
-    element_units_of,
     prismatic_joints,
     torque_units,
     units_said_once,
+    units_text,
     utc_now,
 )
 from .common import fmt as _fmt
@@ -31,8 +32,6 @@ from .common import pct_columns as _pct_columns
 from .common import share as _share
 from .common import strings as _strings
 from .common import table as _table
-from .common import thresholds as _thresholds
-from .main_figures import identically_zero
 from .main_parts import (
     armature_columns,
     base_note,
@@ -48,7 +47,6 @@ from .main_text import (
     captions,
     conclusion,
     disagreement_cause,
-    element_scale,
     gravity_clause,
     prismatic_count_note,
     shared_causes,
@@ -98,27 +96,18 @@ def zero_mask(ds):
 
     Parameters
     ----------
-    ds : xarray.Dataset
-        A results dataset (``element``, ``peak_tran``, ``peak_rot``, ``peak_total``, and
-        ``element_scale`` or ``tau_peak``).
+    ds : Results or xarray.Dataset
+        The results view (:class:`gd_analyze.io.results_view.Results`) or a results dataset.
 
     Returns
     -------
     (list of str, ndarray of bool, shape (M,))
-        The labels, and True where the translational, rotational and total peaks are all within
-        1e-12 of the element's scale (drawn as "\u2261 0", no share printed).
+        The labels, and True where the translational, rotational and total peaks are all
+        round-off of the element's scale (drawn as "\u2261 0", no share printed): the marks
+        stored at analysis.
     """
-    labels, scale = _scales(ds)
-    return labels, identically_zero(ds["peak_tran"].values, ds["peak_rot"].values,
-                                    ds["peak_total"].values, scale)
-
-
-def _scales(ds):
-    """The element labels and each element's scale (the ranking's own, as stored)."""
-    labels = _strings(ds["element"].values)
-    if "element_scale" in ds.variables:
-        return labels, np.asarray(ds["element_scale"].values, dtype=float)
-    return labels, element_scale(labels, ds["peak_total"].values, ds["tau_peak"].values)
+    table = Results.of(ds).ranking
+    return [r.label for r in table.rows], table.column("round_off")
 
 
 def _share_text(share, tran_off, rot_off):
@@ -201,13 +190,14 @@ def _gravity_fact(ds, form):
     return gravity_clause(rule, c_bound=bound, units=torque_units(ds))
 
 
-def report_context(ds):
+def report_context(results):
     """Every number, table and paragraph of the main report, for the HTML and the PDF alike.
 
     Parameters
     ----------
-    ds : xarray.Dataset
-        A results dataset as stored by the main job.
+    results : Results or xarray.Dataset
+        The main job's results, typed (:class:`gd_analyze.io.results_view.Results`), or a
+        results dataset as it stores them (viewed here).
 
     Returns
     -------
@@ -219,7 +209,9 @@ def report_context(ds):
     InputError
         If a variable the report needs is missing.
     """
-    ctx = _report_context_base(ds)
+    results = Results.of(results)
+    ds = results.dataset
+    ctx = _report_context_base(results)
     ctx["simplified_model"] = simplified_context(ds) if has_simplified(ds) else None
     if ctx["simplified_model"]:
         ctx["captions"] = {**ctx["captions"], "torque": simplified_caption(ds),
@@ -227,36 +219,36 @@ def report_context(ds):
     return ctx
 
 
-def _report_context_base(ds):
+def _report_context_base(results):
     """Everything both reports print, as strings and tables (no figures)."""
     from .._version import VERSION as __version__
 
+    ds = results.dataset
     _check(ds, _REQUIRED, "results")
-    n = ds.sizes["joint"]
-    t = ds["t"].values
+    n = len(results.prismatic)
+    t = ds[Var.T].values
     N = t.size
-    labels = _strings(ds["element"].values)
-    dominance = _strings(ds["dominance"].values)
-    chapter = _strings(ds["chapter_dominance"].values)
-    choice = _strings(ds["choice"].values)
-    el_units = element_units_of(ds)            # from the joint types, also for older files
-    tau_units = torque_units(ds)
-    s, e = _thresholds(ds)
-    robot_name = _attr(ds, "robot", "robot")
+    table = results.ranking                     # the view the command line prints too
+    labels = [r.label for r in table.rows]
+    dominance = [r.dominance for r in table.rows]
+    chapter = [r.chapter_dominance for r in table.rows]
+    choice = [r.choice for r in table.rows]
+    el_units = [units_text(r.units) for r in table.rows]
+    tau_units = list(results.joint_units["tau"])
+    s, e = results.dominance_threshold, results.negligible_threshold
+    robot_name = _attr(ds, Attr.ROBOT, "robot")
     now = utc_now()
 
     # 1. robot and trajectory
     robot = robot_section(ds, robot_name)
-    sha_in = _attr(ds, "input_sha256", "")
+    sha_in = _attr(ds, Attr.INPUT_SHA256, "")
 
-    # 4. ranking
-    share = ds["share_tran"].values
-    zero = zero_mask(ds)[1]
-    pt, pr, ptot = ds["peak_tran"].values, ds["peak_rot"].values, ds["peak_total"].values
-    scale = _scales(ds)[1]
-    arm = arm_scales(scale, el_units)            # round-off follows the arm's scale too
-    off = {name: is_round_off(v, scale, arm_scale=arm)
-           for name, v in (("tran", pt), ("rot", pr), ("total", ptot))}
+    # 4. ranking: the round-off marks as stored at analysis
+    share = table.column("share_tran")
+    zero = table.column("round_off")
+    pt, pr, ptot = (table.column(k) for k in ("peak_tran", "peak_rot", "peak_total"))
+    off = {"tran": table.column("tran_off"), "rot": table.column("rot_off"),
+           "total": table.column("total_off")}
 
     arm_cols = armature_columns(ds, labels, zero)
     # the peaks of the parts are one quantity: one format for the four columns (issue 31)
@@ -288,14 +280,14 @@ def _report_context_base(ds):
         choices = base_parameter_table(ds)
     else:
         choices = choice_table(ds, labels, dominance, choice)
-    err_off = is_round_off(ds["tau_error_peak"].values, ds["tau_peak"].values,
-                           arm_scale=arm_scales(ds["tau_peak"].values, tau_units))
-    rel_peak, rel_rms = _pct_columns([ds["tau_error_relative_peak"].values,  # one format
-                                      ds["tau_error_relative_rms"].values],   # for both
+    errors = results.torque_error               # the view the command line prints too
+    err_off = errors.column("round_off")        # as stored at analysis
+    rel_peak, rel_rms = _pct_columns([errors.column("relative_peak"),  # one format
+                                      errors.column("relative_rms")],   # for both
                                      off=[err_off, err_off])
     # the errors and peak |tau| are one quantity [N m or N]: one format (issue 31)
     err_peak, err_rms, tau_peak = _columns(
-        [ds[v].values for v in ("tau_error_peak", "tau_error_rms", "tau_peak")],
+        [errors.column(v) for v in ("peak", "rms", "peak_tau")],
         off=[err_off, err_off, None])
     said = {"rel": rel_peak, "abs": err_peak, "tau": tau_peak}   # the summary quotes them
     err = _table(
@@ -307,7 +299,7 @@ def _report_context_base(ds):
          + [tau_peak[k], rel_peak[k], rel_rms[k], tau_units[k]]
          for k in range(n)],
         align=["left"] + ["right"] * 5 + ["left"], widths=[0.6, 1.2, 1.2, 1, 1.2, 1.2, 0.6])
-    rel_peak = ds["tau_error_relative_peak"].values
+    rel_peak = errors.column("relative_peak")
 
     # 6. comparison with the chapter
     applicable = n == 6 and _is_puma560(robot_name)
