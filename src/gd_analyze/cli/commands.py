@@ -15,6 +15,7 @@ from pathlib import Path
 from ..core.selection.labels import joint_torque_units
 from ..errors import InputError, InputWarning
 from ..io.model_file import load_model
+from ..io.names import Var
 from ..io.results_view import ZERO_MARK, Results, torque_table_header
 from .parsing import EXIT_OK, EXIT_TOLERANCE, EXIT_VERIFY, PROG, parse_range
 
@@ -172,15 +173,15 @@ def _warn_limits(robot, trajectory, quiet):
 
 def _cost_lines(ds):
     """The simplified model's counted operations beside Newton-Euler's, from the stored table."""
-    if "cost_model" not in ds.coords or "cost_total" not in ds.variables:
+    if Var.COST_MODEL not in ds.coords or Var.COST_TOTAL not in ds.variables:
         return []
-    names = [str(v) for v in ds["cost_model"].values]
+    names = [str(v) for v in ds[Var.COST_MODEL].values]
     mine = [k for k, name in enumerate(names) if name.endswith("(this model)")]
     ne = [k for k, name in enumerate(names) if name == "project N-E as implemented"]
     if not mine or not ne:
         return []
     m, a = (int(ds[v].values[mine[0]]) for v in ("cost_multiplications", "cost_additions"))
-    total, ne_total = m + a, int(ds["cost_total"].values[ne[0]])
+    total, ne_total = m + a, int(ds[Var.COST_TOTAL].values[ne[0]])
     others = "".join(f"; {label}: {int(ds['cost_total'].values[names.index(key)]):,}"
                      for key, label in (("recursive N-E, exact", "exact recursive model"),
                                         ("explicit, full", "full explicit model"))

@@ -33,6 +33,7 @@ from pathlib import Path
 
 import numpy as np
 
+from ..io.names import Var
 from ..io.results_view import Results
 from ..io.schema import open_results
 from ..io.sweep_datasets import payload_part
@@ -245,7 +246,7 @@ def figure_makers(ds, data=None, keys=None, column=False):
     s, e = results.dominance_threshold, results.negligible_threshold
     order = _FILE_ORDER if column or keys is not None else _FIGURE_ORDER   # keys: as named
     wanted = set(order if keys is None else keys)
-    arm = ds["D_arm"].values if "D_arm" in ds else None
+    arm = ds[Var.D_ARM].values if Var.D_ARM in ds else None
     prismatic = prismatic_joints(ds)
     makers = {"joints": lambda: fig_joints(data, prismatic),
               "h": lambda: fig_h(data, dom, zero, prismatic),
@@ -260,10 +261,10 @@ def figure_makers(ds, data=None, keys=None, column=False):
         makers["D" if k == 0 else f"D_{k + 1}"] = functools.partial(
             fig_D, data, dom, zero, s, e, prismatic, armature=arm, part=k)
     makers.update(budget_makers(ds, data))
-    if "payload_share_tran" in ds.variables:
+    if Var.PAYLOAD_SHARE_TRAN in ds.variables:
         makers["payload"] = lambda: _fig_payload(ds)
         makers["payload_column"] = lambda: _fig_payload(ds, COLUMN_WIDTH)
-    if "op_multiplications" in ds.variables:
+    if Var.OP_MULTIPLICATIONS in ds.variables:
         makers["formulations"] = lambda: _fig_formulations(ds)
         makers["formulations_column"] = lambda: _fig_formulations(ds, COLUMN_WIDTH)
     return {k: functools.partial(_made, makers[k]) for k in order
@@ -281,7 +282,7 @@ def _made(make):
 def _fig_error(ds, data, width=PAGE_WIDTH):
     if has_simplified(ds):                      # issue 8: tau_s - tau and its bound
         return error_figure(ds, width, data=data)
-    return fig_torque(data, ds["tau_error_peak"].values, ds["tau_error_relative_peak"].values,
+    return fig_torque(data, ds[Var.TAU_ERROR_PEAK].values, ds[Var.TAU_ERROR_RELATIVE_PEAK].values,
                       prismatic_joints(ds))
 
 
@@ -303,8 +304,8 @@ def _fig_formulations(ds, width=PAGE_WIDTH):
     from .ticks import decade_formatter
     from .ticks import formatter as tick_formatter
 
-    n = ds["dof"].values
-    names = _strings(ds["formulation"].values)
+    n = ds[Var.DOF].values
+    names = _strings(ds[Var.FORMULATION].values)
     column = width < PAGE_WIDTH             # the two panels one above the other
     W, H = (width, 5.0) if column else (PAGE_WIDTH, 2.9)
     fig = Figure(figsize=(W, H))

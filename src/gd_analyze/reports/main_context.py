@@ -87,8 +87,8 @@ def _statement(ds):
 def _recursive_facts(ds):
     """(base parameters, dropped pairs, all pairs) of a recursive model, for the summary."""
     a = ds.attrs
-    return (int(ds.sizes.get("base_parameter", 0)), int(a.get("simplified_pairs_dropped", 0)),
-            int(a.get("simplified_pairs", 0)))
+    return (int(ds.sizes.get("base_parameter", 0)), int(a.get(Attr.SIMPLIFIED_PAIRS_DROPPED, 0)),
+            int(a.get(Attr.SIMPLIFIED_PAIRS, 0)))
 
 
 def zero_mask(ds):
@@ -157,34 +157,34 @@ def _model_cost(ds):
     of the full explicit model, each None if not counted) of the emitted model, from the stored
     attributes and cost table; None without a simplified model."""
     try:
-        mult = int(ds.attrs["simplified_multiplications"])
-        add = int(ds.attrs["simplified_additions"])
+        mult = int(ds.attrs[Attr.SIMPLIFIED_MULTIPLICATIONS])
+        add = int(ds.attrs[Attr.SIMPLIFIED_ADDITIONS])
     except (KeyError, TypeError, ValueError):
         return None
-    labels = ([str(v) for v in ds["cost_model"].values] if "cost_total" in ds.variables
+    labels = ([str(v) for v in ds[Var.COST_MODEL].values] if Var.COST_TOTAL in ds.variables
               else [])
-    return (mult, add, *(int(ds["cost_total"].values[labels.index(key)]) if key in labels
+    return (mult, add, *(int(ds[Var.COST_TOTAL].values[labels.index(key)]) if key in labels
                          else None for key in _COST_REFERENCES))
 
 
 def _gravity_fact(ds, form):
     """What the deployed model does with the gravity loading c, read from what it dropped: a
     clause for the summary, or None when the dataset does not say."""
-    if form == "recursive" and "base_parameter_dropped" in ds:
-        parts = _strings(ds["torque_part"].values)
+    if form == "recursive" and Var.BASE_PARAMETER_DROPPED in ds:
+        parts = _strings(ds[Var.TORQUE_PART].values)
         if "gravity" not in parts:
             return None
         g = parts.index("gravity")
-        rel = (ds["base_parameter_relative_peak"].values[:, g]
-               if "base_parameter_relative_peak" in ds else np.ones(ds.sizes["base_parameter"]))
-        names = [nm for nm, d, r in zip(_strings(ds["base_parameter"].values),
-                                        ds["base_parameter_dropped"].values[:, g], rel)
+        rel = (ds[Var.BASE_PARAMETER_RELATIVE_PEAK].values[:, g]
+               if Var.BASE_PARAMETER_RELATIVE_PEAK in ds else np.ones(ds.sizes["base_parameter"]))
+        names = [nm for nm, d, r in zip(_strings(ds[Var.BASE_PARAMETER].values),
+                                        ds[Var.BASE_PARAMETER_DROPPED].values[:, g], rel)
                  if d and r >= ROUND_OFF]
         return gravity_clause("budget", gravity_dropped=names)
-    if "simplified_bound_gravity" not in ds:
+    if Var.SIMPLIFIED_BOUND_GRAVITY not in ds:
         return None
-    bound = ds["simplified_bound_gravity"].values
-    rule = str(ds.attrs.get("simplified_rule", ""))
+    bound = ds[Var.SIMPLIFIED_BOUND_GRAVITY].values
+    rule = str(ds.attrs.get(Attr.SIMPLIFIED_RULE, ""))
     if not np.all(np.isfinite(bound)) and rule != "chapter":    # no budget, rule unknown
         return None
     return gravity_clause(rule, c_bound=bound, units=torque_units(ds))
@@ -275,7 +275,7 @@ def _report_context_base(results):
     counts = {c: dominance.count(c) for c in _CLASS_COLOURS}
 
     # 5. simplified model and torque error
-    form = str(ds.attrs.get("simplified_form", "explicit"))
+    form = str(ds.attrs.get(Attr.SIMPLIFIED_FORM, "explicit"))
     if form == "recursive":
         choices = base_parameter_table(ds)
     else:
@@ -330,8 +330,8 @@ def _report_context_base(results):
         note = (f"The chapter reports dominance only for the 6-joint PUMA 560 (Sec. 3.4.1); "
                 f"this robot has {n} joint{'s' if n != 1 else ''}, so a comparison is not "
                 "meaningful and none is made.")
-    if applicable and "dominance_rigid_links" in ds:
-        rigid = [str(v) for v in ds["dominance_rigid_links"].values]
+    if applicable and Var.DOMINANCE_RIGID_LINKS in ds:
+        rigid = [str(v) for v in ds[Var.DOMINANCE_RIGID_LINKS].values]
         n_rigid = sum(r == c for r, c in zip(rigid, chapter) if c)
         note += (f" With its drives (armature counted on the rotational side, friction in "
                  f"τ) {n_agree} of {n_compared} classes agree with the chapter's; its "
@@ -355,13 +355,13 @@ def _report_context_base(results):
     payload = _payload_context(ds)
     title = f"G-D dominance analysis: {robot_name} along {_attr(ds, 'input_file')}"
     summary = conclusion(labels, dominance, zero, choice, rel_peak,
-                         ds["tau_error_peak"].values, ds["tau_peak"].values, _model_cost(ds),
+                         ds[Var.TAU_ERROR_PEAK].values, ds[Var.TAU_PEAK].values, _model_cost(ds),
                          recursive=_recursive_facts(ds) if form == "recursive" else None,
                          gravity=_gravity_fact(ds, form), units=tau_units,
                          scope=_scope(_statement(ds)),
                          where="the joint-limit region" if (stored_guarantee(ds) or {}).get(
                              "kind") == "region" else "this trajectory", shown=said,
-                         placeholder_inertia=bool(ds.attrs.get("robot_placeholder_inertia")))
+                         placeholder_inertia=bool(ds.attrs.get(Attr.ROBOT_PLACEHOLDER_INERTIA)))
     facts = (f"{robot_name}, {n} joints, {count(N)} set points over {_fmt(t[-1] - t[0], 4)} s; "
              f"{len(labels)} elements ranked with s = {s:g}, e = {e:g}: "
              + ", ".join(f"{counts[c]} {c}" for c in _CLASS_COLOURS)
@@ -421,8 +421,8 @@ def _verification(ds, keys, N):
     as measured, and whether they are past the round-off floor."""
     if "verification_passed" not in ds.attrs:
         return "not run", "not run (analysis without check)"
-    passed = bool(int(ds.attrs["verification_passed"]))
-    checked = int(ds.attrs.get("verification_setpoints", N))
+    passed = bool(int(ds.attrs[Attr.VERIFICATION_PASSED]))
+    checked = int(ds.attrs.get(Attr.VERIFICATION_SETPOINTS, N))
     verdict = (f"{'passed' if passed else 'FAILED'} on {count(checked)} of {count(N)} set points"
                + ("" if checked == N else " (evenly spread)"))
     measured = {_quantity(k[len("verification_max_rel_error_"):]): float(ds.attrs[k])
@@ -445,7 +445,7 @@ def _verification(ds, keys, N):
 
 
 def _payload_context(ds):
-    if "payload_share_tran" not in ds.variables:
+    if Var.PAYLOAD_SHARE_TRAN not in ds.variables:
         return {"applicable": False, "table": None, "note": ""}
     part = payload_part(ds)
     masses = [float(m) for m in part["payload"].values]
@@ -465,13 +465,13 @@ def _payload_context(ds):
 
 def _formulations_context(ds):
     """Agreement and cost tables of L-E, N-E, G-D and Pinocchio, if the dataset has them."""
-    if "formulation_disagreement" not in ds.variables:
+    if Var.FORMULATION_DISAGREEMENT not in ds.variables:
         return {"applicable": False, "note": "The dataset holds no comparison of the "
                 "formulations (made by `gd-analyze ROBOT TRAJECTORY.csv`).",
                 "agreement": None, "costs": None}
-    quantities = _strings(ds["quantity"].values)
-    pairs = _strings(ds["formulation_pair"].values)
-    dis = ds["formulation_disagreement"].values
+    quantities = _strings(ds[Var.QUANTITY].values)
+    pairs = _strings(ds[Var.FORMULATION_PAIR].values)
+    dis = ds[Var.FORMULATION_DISAGREEMENT].values
     from .common import FORMULATION_ABBR, FORMULATION_NAMES
 
     def pair(p):                            # "lagrange-euler vs gd" -> "L-E vs G-D"
@@ -480,20 +480,20 @@ def _formulations_context(ds):
     agreement = _table(["pair"] + [tau() if q == "tau" else q for q in quantities],
                        [[pair(p)] + [f"{v:.2e}" for v in dis[i]] for i, p in enumerate(pairs)],
                        align=["left"] + ["right"] * len(quantities))
-    n = int(ds.attrs.get("formulations_n", ds.sizes["joint"]))
-    names = _strings(ds["formulation"].values)
-    dof = list(ds["dof"].values)
+    n = int(ds.attrs.get(Attr.FORMULATIONS_N, ds.sizes["joint"]))
+    names = _strings(ds[Var.FORMULATION].values)
+    dof = list(ds[Var.DOF].values)
     rows = []
-    arm = "op_multiplications_arm" in ds.variables
+    arm = Var.OP_MULTIPLICATIONS_ARM in ds.variables
     if n in dof:
         k = dof.index(n)
         for j, name in enumerate(names):
             if arm:                           # the arm's own joint types (prismatic joints)
-                mul, add = ds["op_multiplications_arm"].values[j], ds["op_additions_arm"].values[j]
+                mul, add = ds[Var.OP_MULTIPLICATIONS_ARM].values[j], ds[Var.OP_ADDITIONS_ARM].values[j]
             else:
-                mul, add = ds["op_multiplications"].values[k, j], ds["op_additions"].values[k, j]
-            bm = ds["op_multiplications_table_3_5"].values[k, j]
-            ba = ds["op_additions_table_3_5"].values[k, j]
+                mul, add = ds[Var.OP_MULTIPLICATIONS].values[k, j], ds[Var.OP_ADDITIONS].values[k, j]
+            bm = ds[Var.OP_MULTIPLICATIONS_TABLE_3_5].values[k, j]
+            ba = ds[Var.OP_ADDITIONS_TABLE_3_5].values[k, j]
             rows.append([FORMULATION_NAMES.get(name, name), count(mul), count(add),
                          count(bm), count(ba)])
     costs = _table(["formulation", "multiplications", "additions", "mult. Table 3.5",
@@ -506,5 +506,5 @@ def _formulations_context(ds):
             f"per set point, counted on the code as implemented (the G-D equations by the "
             f"compiled and by the array engine), beside the formulas of Table 3.5, for "
             f"n = {n}; pairs: L-E Lagrange-Euler, N-E Newton-Euler, G-D the G-D equations."
-            + prismatic_count_note(str(ds.attrs.get("formulations_joint_types", ""))))
+            + prismatic_count_note(str(ds.attrs.get(Attr.FORMULATIONS_JOINT_TYPES, ""))))
     return {"applicable": True, "note": note, "agreement": agreement, "costs": costs}
