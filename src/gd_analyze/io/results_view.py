@@ -366,10 +366,11 @@ class Results:
         """
         for name in REQUIRED:
             if name not in ds.variables:
-                raise InputError(f"not a gd-analyze results file: no variable {name!r}", source)
+                raise InputError(f"missing variable {name!r}: not a gd-analyze results file",
+                                 source)
         for name in REQUIRED_ATTRS:
             if name not in ds.attrs:
-                raise InputError(f"not a gd-analyze results file: no attribute {name!r}",
+                raise InputError(f"missing attribute {name!r}: not a gd-analyze results file",
                                  source)
         n = int(ds.sizes[Var.JOINT])
         types_ = (strings(ds[Var.JOINT_TYPE].values) if Var.JOINT_TYPE in ds.variables
