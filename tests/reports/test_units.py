@@ -334,6 +334,7 @@ def test_joint_6_round_off_is_never_tabulated(stanford):
     (core.selection.ranking.is_round_off, tested against Pinocchio): the tables, the CLI
     summary and Fig. 4 all say so, none prints its digits."""
     from gd_analyze.cli.commands import _format_summary
+    from gd_analyze.io.results_view import Results
 
     html = (stanford / "report.html").read_text()
     tables = tables_of(html)
@@ -345,7 +346,7 @@ def test_joint_6_round_off_is_never_tabulated(stanford):
     bound = next(t for t in tables if t and t[0][0] == "joint" and t[0][3] == "bound")
     assert bound[6][-1] == "\u2261 0" and bound[6][-2] == "\u2261 0", bound[6]
     with xr.open_dataset(stanford / "results.h5") as ds:
-        summary = _format_summary(ds).splitlines()
+        summary = _format_summary(Results.from_dataset(ds)).splitlines()
     row = next(line for line in summary[summary.index(
         "simplified model torque error per joint:") + 2:] if line.startswith("6 "))
     assert row.split()[1] == "\u2261" and "e-16" not in row, row

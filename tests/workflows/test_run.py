@@ -16,14 +16,14 @@ from gd_analyze.workflows.run import run_analysis
 _FUNCTIONS = ("tau", "inertia", "velocity_terms", "gravity", "regressor")
 
 
-def _run(folder, prefix, outputs=None):
+def _run(folder, prefix, outputs=None, report=None):
     robot = gd.load_robot("two-link")
     t = np.linspace(0.0, 2.0, 21)
     q = np.column_stack([np.sin(t), 0.5 * np.cos(t)])
     options = gd.AnalysisOptions(formulations=False,
                                  simplify=gd.SimplifyOptions(guarantee="trajectory"))
     written = run_analysis(robot, trajectory_from_arrays(t, q, n_joints=2), options, folder,
-                           report=None, prefix=prefix)
+                           report=report, prefix=prefix)
     if outputs is not None:
         outputs.update(q=q, model=written.analysis.model)
     return open_results(folder / "results.h5")
@@ -68,3 +68,41 @@ def test_the_stored_inertia_check_is_that_of_the_deployed_model(tmp_path):
     assert np.linalg.eigvalsh(D)[:, 0].min() >= check["lower_bound"]
     header = (tmp_path / "simplified_model.h").read_text()
     assert check["statement"] in header
+
+def _without_times(ctx):
+    """The report's context as text, its clock times left out (the two are made apart)."""
+    stamp = re.compile(r"\d{4}-\d\d-\d\dT\d\d:\d\d:\d\d[+\d:Z]*")
+    return {k: stamp.sub("", repr(v)) for k, v in ctx.items()}
+
+
+def test_the_report_is_built_from_the_result_in_memory(tmp_path, monkeypatch):
+    """Issue 43 item 3: the main job hands its report the typed result in memory, with the
+    per-set-point series, not results.h5 to open again; it reads as the file does."""
+    import gd_analyze.io.schema as schema
+    from gd_analyze.io.names import Var
+    from gd_analyze.io.results_view import Results
+
+    got = []
+
+    def report(results, folder, progress):
+        got.append(results)
+        return []
+
+    opened = []
+    real_open = schema.open_results
+    monkeypatch.setattr(schema, "open_results", lambda *a, **k: opened.append(a) or
+                        real_open(*a, **k))
+    ds = _run(tmp_path, None, report=report)
+    assert not opened                      # results.h5 was not read while the job ran
+    assert len(got) == 1 and isinstance(got[0], Results) and got[0].source == "<memory>"
+    memory = got[0].dataset
+    for name in (Var.T, Var.Q, Var.D_TRAN, Var.D_ROT, Var.H_TRAN, Var.TAU, Var.TAU_SIMPLIFIED):
+        np.testing.assert_array_equal(memory[name].values, ds[name].values)
+        assert memory[name].dims == ds[name].dims
+    assert got[0].ranking.text() == Results.from_dataset(ds).ranking.text()
+    assert got[0].torque_error.text() == Results.from_dataset(ds).torque_error.text()
+    in_memory, from_file = (_without_times(report_context(got[0])),
+                            _without_times(report_context(ds)))
+    assert in_memory.keys() == from_file.keys()
+    for key in from_file:
+        assert in_memory[key] == from_file[key], key

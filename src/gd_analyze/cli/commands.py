@@ -12,8 +12,11 @@ import sys
 import warnings
 from pathlib import Path
 
+from ..core.selection.labels import joint_torque_units
 from ..errors import InputError, InputWarning
 from ..io.model_file import load_model
+from ..io.names import Var
+from ..io.results_view import ZERO_MARK, Results, torque_table_header
 from .parsing import EXIT_OK, EXIT_TOLERANCE, EXIT_VERIFY, PROG, parse_range
 
 __all__ = []
@@ -166,21 +169,19 @@ def _warn_limits(robot, trajectory, quiet):
         print(f"{PROG}: warning: {msg}", file=sys.stderr)
 
 
-#: Printed instead of share_tran for an element that is zero in every part.
-ZERO_MARK = "\u2261 0"
 
 
 def _cost_lines(ds):
     """The simplified model's counted operations beside Newton-Euler's, from the stored table."""
-    if "cost_model" not in ds.coords or "cost_total" not in ds.variables:
+    if Var.COST_MODEL not in ds.coords or Var.COST_TOTAL not in ds.variables:
         return []
-    names = [str(v) for v in ds["cost_model"].values]
+    names = [str(v) for v in ds[Var.COST_MODEL].values]
     mine = [k for k, name in enumerate(names) if name.endswith("(this model)")]
     ne = [k for k, name in enumerate(names) if name == "project N-E as implemented"]
     if not mine or not ne:
         return []
     m, a = (int(ds[v].values[mine[0]]) for v in ("cost_multiplications", "cost_additions"))
-    total, ne_total = m + a, int(ds["cost_total"].values[ne[0]])
+    total, ne_total = m + a, int(ds[Var.COST_TOTAL].values[ne[0]])
     others = "".join(f"; {label}: {int(ds['cost_total'].values[names.index(key)]):,}"
                      for key, label in (("recursive N-E, exact", "exact recursive model"),
                                         ("explicit, full", "full explicit model"))
@@ -197,26 +198,13 @@ def _cost_lines(ds):
 def _joint_units(robot, which):
     """``"rad"``, ``"N m"``, or each unit with its joints for a mixed arm
     (:func:`gd_analyze.core.selection.labels.joint_units_text`)."""
-    from ..core.selection.labels import joint_motion_units, joint_torque_units, joint_units_text
+    from ..core.selection.labels import joint_motion_units, joint_units_text
 
     units = [joint_torque_units(bool(p)) if which == "tau" else joint_motion_units(bool(p))[0]
              for p in robot.prismatic]
     return joint_units_text(units)
 
 
-def _torque_table_header(prismatic):
-    """Header of a per-joint torque-error table, and the units each row ends with: ``[N m]``
-    in the header when every joint is revolute, else a units column
-    (:func:`gd_analyze.core.selection.labels.joint_torque_units`: N m or N per joint)."""
-    from ..core.selection.labels import joint_torque_units
-
-    units = [joint_torque_units(bool(p)) for p in prismatic]
-    if len(set(units)) == 1:
-        u = f" [{units[0]}]"
-        return (f"{'joint':<6}{'peak' + u:>12}{'rms' + u:>12}{'peak |tau|':>12}"
-                f"{'rel peak':>10}{'rel rms':>10}"), [""] * len(units)
-    return (f"{'joint':<6}{'peak':>12}{'rms':>12}{'peak |tau|':>12}{'rel peak':>10}"
-            f"{'rel rms':>10}  units"), [f"  {u}" for u in units]
 def _effort_lines(ds):
     """Each joint's peak |tau| against its effort limit, where the robot gives one."""
     from ..reports.effort import effort_rows
@@ -236,14 +224,11 @@ def _effort_lines(ds):
     return lines
 
 
-def _guarantee_lines(ds, scope):
+def _guarantee_lines(results):
     """The region (one line per limit kind), the guarantee line (saying when the analysed
     trajectory leaves the region, which the guarantee then does not cover) and s_i per
-    joint in N m, from the stored dataset."""
-    from ..io.datasets import stored_region
-    from ..reports.common import prismatic_joints
-
-    region = stored_region(ds)
+    joint in N m, from the results view."""
+    region, scope = results.region, results.guarantee
     lines = [] if region is None else list(region["lines"])
     statement = scope["statement"]
     if region is not None and region["covered"] is False and scope["kind"] == "region":
@@ -251,7 +236,7 @@ def _guarantee_lines(ds, scope):
                       "holds in the region, not on this trajectory)")
     lines.append(f"guarantee: {statement}")
     if scope.get("scale") is not None and scope["kind"] != "none":
-        pris = prismatic_joints(ds)
+        pris = results.prismatic
         mixed = any(pris) and not all(pris)
         unit = "" if mixed else f" [{'N' if all(pris) else 'N m'}]"
         where = ("the region's largest |tau_i|" if scope["kind"] == "region" else
@@ -266,65 +251,33 @@ def _guarantee_lines(ds, scope):
     return lines
 
 
-def _format_summary(ds):
+def _format_summary(results):
+    """The main job's summary as printed, from the typed results view
+    (:class:`gd_analyze.io.results_view.Results`)."""
     from ..reports.numbers import count
 
-    lines = [f"{ds.attrs['robot']} along {ds.attrs['input_file']}: "
-             f"{count(ds.attrs['setpoints'])} set points, s = {ds.attrs['dominance_threshold']:g}, "
-             f"e = {ds.attrs['negligible_threshold']:g}", "",
-             f"{'element':<8}{'share_tran':>11}  {'class':<14}{'peak_total':>12}  units"]
-    from ..reports.main_figures import identically_zero
-
-    zero = (identically_zero(ds.peak_tran.values, ds.peak_rot.values, ds.peak_total.values,
-                             ds.element_scale.values) if "element_scale" in ds.variables
-            else [False] * ds.sizes["element"])
-    for lab, share, cls, peak, unit, z in zip(ds.element.values, ds.share_tran.values,
-                                              ds.dominance.values, ds.peak_total.values,
-                                              ds.element_units.values, zero):
-        shown = ZERO_MARK.rjust(11) if z else f"{share:>11.4f}"       # rounding noise: no share
-        top = ZERO_MARK.rjust(12) if z else f"{peak:>12.4g}"          # nor a peak
-        lines.append(f"{lab:<8}{shown}  {cls:<14}{top}  {unit}")
-    from ..reports.common import prismatic_joints
-
-    header, ends = _torque_table_header(prismatic_joints(ds))
-    lines += ["", "simplified model torque error per joint:", header]
-    from ..core.selection.ranking import arm_scales, is_round_off
-    from ..reports.common import torque_units
-
-    off = is_round_off(ds.tau_error_peak.values, ds.tau_peak.values,
-                       arm_scale=arm_scales(ds.tau_peak.values, torque_units(ds)))
-    for j in range(ds.sizes["joint"]):
-        if off[j]:                      # round-off of the joint's torque: not data
-            lines.append(f"{j + 1:<6}{ZERO_MARK:>12}{ZERO_MARK:>12}"
-                         f"{ds.tau_peak.values[j]:>12.4g}{ZERO_MARK:>10}{ZERO_MARK:>10}{ends[j]}")
-            continue
-        lines.append(f"{j + 1:<6}{ds.tau_error_peak.values[j]:>12.4g}"
-                     f"{ds.tau_error_rms.values[j]:>12.4g}{ds.tau_peak.values[j]:>12.4g}"
-                     f"{ds.tau_error_relative_peak.values[j]:>10.2e}"
-                     f"{ds.tau_error_relative_rms.values[j]:>10.2e}{ends[j]}")
-    lines += _effort_lines(ds)
-    lines += _cost_lines(ds)
-    from ..io.datasets import stored_guarantee
-
-    scope = stored_guarantee(ds)                # the model built, as results.h5 stores it
-    if scope is not None:
+    lines = [f"{results.robot} along {results.input_file}: "
+             f"{count(results.setpoints)} set points, s = {results.dominance_threshold:g}, "
+             f"e = {results.negligible_threshold:g}", "", *results.ranking.text()]
+    lines += ["", "simplified model torque error per joint:", *results.torque_error.text()]
+    lines += _effort_lines(results.dataset)
+    lines += _cost_lines(results.dataset)
+    if results.guarantee is not None:           # the model built, as results.h5 stores it
         lines += ([] if lines[-1].startswith(("simplified model", "  it does")) else [""])
-        lines += _guarantee_lines(ds, scope)
-    if ds.attrs.get("simplified_inertia_check_statement"):     # the proof of the model built
+        lines += _guarantee_lines(results)
+    if results.inertia_check:                   # the proof of the model built
         lines += ([] if lines[-1].startswith(("guarantee:", "s_i")) else [""]) + [
-            f"D_s: {ds.attrs['simplified_inertia_check_statement']}"]
-    if "verification_passed" in ds.attrs:
-        import numpy as np
-
-        worst = float(np.max([v for k, v in ds.attrs.items()
-                              if k.startswith("verification_max_rel_excess")] or [np.nan]))
-        checked, total = int(ds.attrs["verification_setpoints"]), int(ds.attrs["setpoints"])
+            f"D_s: {results.inertia_check}"]
+    check = results.verification
+    if check is not None:
+        checked, total = check.setpoints, results.setpoints
         where = ("verified against Pinocchio on "
                  + (f"{count(checked)} of {count(total)}" if checked < total else count(checked))
                  + " set points")
         lines += ["", f"{where}: every difference within round-off (64 eps of its scale)"
-                  if worst == 0 else
-                  f"{where}: largest difference beyond round-off {worst:.2e} of its natural scale"]
+                  if check.worst_excess == 0 else
+                  f"{where}: largest difference beyond round-off {check.worst_excess:.2e} of its "
+                  "natural scale"]
     return "\n".join(lines)
 
 
@@ -479,14 +432,13 @@ def cmd_analyze(args):
         prefix=args.prefix)
     bar.close()
     analysis = outputs.analysis
-    from ..io.datasets import stored_region
-
-    region = stored_region(analysis.dataset)
+    results = Results.from_dataset(analysis.dataset)    # the summary in memory, typed
+    region = results.region
     if region is not None and region["covered"] is False:
         print(f"{PROG}: warning: the trajectory leaves the region: {region['coverage']}",
               file=sys.stderr)
     if not args.quiet:
-        print(_format_summary(analysis.dataset))
+        print(_format_summary(results))
         print()
         print(wrote_line(outputs.files, outputs.outdir, args.verbose))
     if analysis.verification and not analysis.verification["passed"]:
@@ -884,7 +836,8 @@ def cmd_evaluate(args):
     else:
         print(f"{model.robot.name} simplified model on {args.trajectory} "
               f"({traj.n_setpoints} set points)")
-        header, ends = _torque_table_header(model.robot.prismatic)
+        header, ends = torque_table_header([joint_torque_units(bool(p))
+                                            for p in model.robot.prismatic])
         print(header)
         for j in range(model.robot.n):
             print(f"{j + 1:<6}{err['peak_abs_error'][j]:>12.4g}{err['rms_error'][j]:>12.4g}"

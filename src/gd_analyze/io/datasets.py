@@ -22,9 +22,10 @@ from pathlib import Path
 
 import numpy as np
 
+from .names import VERIFICATION_PREFIX, Attr, Var
 from .schema import MIXED_UNITS, element_coords, global_attributes, joint_coordinate, var
 
-__all__ = ["build_dataset", "summary_dataset", "setpoint_arrays", "SetpointWriter", "SETPOINT_DIM",
+__all__ = ["build_dataset", "summary_dataset", "with_setpoints", "setpoint_arrays", "SetpointWriter", "SETPOINT_DIM",
            "SETPOINT_VARIABLES", "FRICTION_VARIABLE", "setpoint_variables", "setpoint_units", "joint_units", "units_attribute",
            "guarantee_fields", "stored_guarantee", "region_fields", "stored_region"]
 
@@ -34,29 +35,29 @@ SETPOINT_DIM = "t"
 #: Per-set-point variables: name -> (dims, units, long_name). Used by both writers; ``t`` is
 #: the coordinate of :data:`SETPOINT_DIM`.
 SETPOINT_VARIABLES = {
-    "t": (("t",), "s", "time"),
-    "q": (("t", "joint"), "rad", "joint position"),
-    "qd": (("t", "joint"), "rad s-1", "joint velocity"),
-    "qdd": (("t", "joint"), "rad s-2", "joint acceleration"),
-    "D_tran": (("t", "joint", "joint_k"), "kg m2",
+    Var.T: (("t",), "s", "time"),
+    Var.Q: (("t", "joint"), "rad", "joint position"),
+    Var.QD: (("t", "joint"), "rad s-1", "joint velocity"),
+    Var.QDD: (("t", "joint"), "rad s-2", "joint acceleration"),
+    Var.D_TRAN: (("t", "joint", "joint_k"), "kg m2",
                "inertia matrix, translational part (Eq. 3.4-25)"),
-    "D_rot": (("t", "joint", "joint_k"), "kg m2",
+    Var.D_ROT: (("t", "joint", "joint_k"), "kg m2",
               "inertia matrix, rotational part (Eq. 3.4-25)"),
-    "D": (("t", "joint", "joint_k"), "kg m2",
+    Var.D: (("t", "joint", "joint_k"), "kg m2",
           "inertia matrix D = D_tran + D_rot + diag(armature)"),
-    "h_tran": (("t", "joint"), "N m",
+    Var.H_TRAN: (("t", "joint"), "N m",
                "Coriolis and centrifugal torque, translational part (Eq. 3.4-26)"),
-    "h_rot": (("t", "joint"), "N m",
+    Var.H_ROT: (("t", "joint"), "N m",
               "Coriolis and centrifugal torque, rotational part (Eq. 3.4-27)"),
-    "h": (("t", "joint"), "N m", "Coriolis and centrifugal torque h = h_tran + h_rot"),
-    "c": (("t", "joint"), "N m", "gravity loading (Eq. 3.4-28)"),
-    "tau": (("t", "joint"), "N m",
+    Var.H: (("t", "joint"), "N m", "Coriolis and centrifugal torque h = h_tran + h_rot"),
+    Var.C: (("t", "joint"), "N m", "gravity loading (Eq. 3.4-28)"),
+    Var.TAU: (("t", "joint"), "N m",
             "joint torque of the full model, D qdd + h + c + tau_f (Eq. 3.4-24)"),
-    "tau_simplified": (("t", "joint"), "N m",
+    Var.TAU_SIMPLIFIED: (("t", "joint"), "N m",
                        "joint torque of the simplified model, D_s qdd + h_s + c + tau_f"),
 }
 #: The per-set-point variable of a robot with friction only (core/model/drives.py).
-FRICTION_VARIABLE = {"tau_f": (("t", "joint"), "N m",
+FRICTION_VARIABLE = {Var.TAU_F: (("t", "joint"), "N m",
                                "joint friction torque viscous qd + coulomb sign(qd) + "
                                "torque_offset")}
 
@@ -78,10 +79,10 @@ def setpoint_variables(friction=False):
 
 
 #: Per-joint unit coordinates: name -> (quantity of :func:`joint_units`, long_name).
-JOINT_UNIT_COORDS = {"q_units": ("q", "units of q of the joint (rad or m)"),
-                      "qd_units": ("qd", "units of qd of the joint (rad s-1 or m s-1)"),
-                      "qdd_units": ("qdd", "units of qdd of the joint (rad s-2 or m s-2)"),
-                      "tau_units": ("tau", "units of tau, h and c of the joint (N m or N)")}
+JOINT_UNIT_COORDS = {Var.Q_UNITS: ("q", "units of q of the joint (rad or m)"),
+                      Var.QD_UNITS: ("qd", "units of qd of the joint (rad s-1 or m s-1)"),
+                      Var.QDD_UNITS: ("qdd", "units of qdd of the joint (rad s-2 or m s-2)"),
+                      Var.TAU_UNITS: ("tau", "units of tau, h and c of the joint (N m or N)")}
 
 
 def guarantee_fields(model, torque_units="N m"):
@@ -107,18 +108,18 @@ def guarantee_fields(model, torque_units="N m"):
         with a region, :func:`region_fields`' ``region_*``.
     """
     g = model.guarantee
-    attrs = {"simplified_guarantee_kind": "none" if g is None else g.kind,
-             "simplified_guarantee_statement": model.scope()}
+    attrs = {Attr.SIMPLIFIED_GUARANTEE_KIND: "none" if g is None else g.kind,
+             Attr.SIMPLIFIED_GUARANTEE_STATEMENT: model.scope()}
     if g is None:
         return {}, attrs
-    attrs["simplified_guarantee_tolerance"] = float(g.tolerance)
+    attrs[Attr.SIMPLIFIED_GUARANTEE_TOLERANCE] = float(g.tolerance)
     where = "over the region" if g.kind == "region" else "on the trajectory"
     region_vars, region_attrs = region_fields(g.region)
     attrs.update(region_attrs)
-    return {**region_vars, "simplified_guarantee_bound": var(("joint",), np.asarray(g.bound, float),
+    return {**region_vars, Var.SIMPLIFIED_GUARANTEE_BOUND: var(("joint",), np.asarray(g.bound, float),
                                               torque_units, f"the guarantee's bound on "
                                               f"|tau_s - tau| {where}"),
-            "simplified_guarantee_scale": var(("joint",), np.asarray(g.scale, float),
+            Var.SIMPLIFIED_GUARANTEE_SCALE: var(("joint",), np.asarray(g.scale, float),
                                               torque_units, f"the guarantee's scale s_i {where}")
             }, attrs
 
@@ -153,31 +154,31 @@ def region_fields(region):
 
     flag = {"flag_values": np.array([0, 1], dtype=np.int8)}
     out = {
-        "region_q_min": (("joint",), np.where(full, np.nan, region.q_min),
+        Var.REGION_Q_MIN: (("joint",), np.where(full, np.nan, region.q_min),
                          {"units": units("q"), "long_name": "lower position limit of the "
                           "guarantee's region (NaN: any angle, full turn)"}),
-        "region_q_max": (("joint",), np.where(full, np.nan, region.q_max),
+        Var.REGION_Q_MAX: (("joint",), np.where(full, np.nan, region.q_max),
                          {"units": units("q"), "long_name": "upper position limit of the "
                           "guarantee's region (NaN: any angle, full turn)"}),
-        "region_q_full_turn": (("joint",), full.astype(np.int8),
+        Var.REGION_Q_FULL_TURN: (("joint",), full.astype(np.int8),
                                {"units": "1", "long_name": "1: a revolute joint at any angle "
                                 "(its region spans a full turn)", **flag,
                                 "flag_meanings": "range full_turn"}),
-        "region_qd_max": (("joint",), np.asarray(region.qd_max, float),
+        Var.REGION_QD_MAX: (("joint",), np.asarray(region.qd_max, float),
                           {"units": units("qd"), "long_name": "velocity limit of the "
                            "guarantee's region"}),
-        "region_qdd_max": (("joint",), np.asarray(region.qdd_max, float),
+        Var.REGION_QDD_MAX: (("joint",), np.asarray(region.qdd_max, float),
                            {"units": units("qdd"), "long_name": "acceleration limit of the "
                             "guarantee's region"}),
-        "region_qdd_max_assumed": (("joint",), region.assumed.astype(np.int8),
+        Var.REGION_QDD_MAX_ASSUMED: (("joint",), region.assumed.astype(np.int8),
                                    {"units": "1", "long_name": "1: the acceleration limit is "
                                     f"assumed ({region.qdd_rule or 'not given'}): the robot "
                                     "gives none and none was set", **flag,
                                     "flag_meanings": "given assumed"}),
     }
-    attrs = {"region_summary": "\n".join(region.lines()), "region_source": region.source}
+    attrs = {Attr.REGION_SUMMARY: "\n".join(region.lines()), Attr.REGION_SOURCE: region.source}
     if region.notes:
-        attrs["region_notes"] = "; ".join(region.notes)
+        attrs[Attr.REGION_NOTES] = "; ".join(region.notes)
     return out, attrs
 
 
@@ -198,14 +199,16 @@ def stored_region(ds):
         None without a region.
     """
     a = ds.attrs
-    if "region_summary" not in a or "region_qd_max" not in ds.variables:
+    if Attr.REGION_SUMMARY not in a or Var.REGION_QD_MAX not in ds.variables:
         return None
-    out = {"lines": str(a["region_summary"]).split("\n"),
-           **{k: np.asarray(ds[f"region_{k}"].values) for k in (
-               "q_min", "q_max", "q_full_turn", "qd_max", "qdd_max", "qdd_max_assumed")}}
-    out["covered"] = (bool(int(a["region_covers_trajectory"]))
-                      if "region_covers_trajectory" in a else None)
-    out["coverage"] = str(a.get("region_coverage", ""))
+    out = {"lines": str(a[Attr.REGION_SUMMARY]).split("\n"),
+           **{k: np.asarray(ds[name].values) for k, name in (
+               ("q_min", Var.REGION_Q_MIN), ("q_max", Var.REGION_Q_MAX),
+               ("q_full_turn", Var.REGION_Q_FULL_TURN), ("qd_max", Var.REGION_QD_MAX),
+               ("qdd_max", Var.REGION_QDD_MAX), ("qdd_max_assumed", Var.REGION_QDD_MAX_ASSUMED))}}
+    out["covered"] = (bool(int(a[Attr.REGION_COVERS_TRAJECTORY]))
+                      if Attr.REGION_COVERS_TRAJECTORY in a else None)
+    out["coverage"] = str(a.get(Attr.REGION_COVERAGE, ""))
     return out
 
 
@@ -224,14 +227,14 @@ def stored_guarantee(ds):
         ``scale`` (ndarray (n,), or None); None for a dataset written before issue 29.
     """
     a = ds.attrs
-    if "simplified_guarantee_statement" not in a:
+    if Attr.SIMPLIFIED_GUARANTEE_STATEMENT not in a:
         return None
-    return {"kind": str(a.get("simplified_guarantee_kind", "none")),
-            "statement": str(a["simplified_guarantee_statement"]),
-            "tolerance": float(a.get("simplified_guarantee_tolerance", np.nan)),
-            **{k: (np.asarray(ds[f"simplified_guarantee_{k}"].values, float)
-                   if f"simplified_guarantee_{k}" in ds.variables else None)
-               for k in ("bound", "scale")}}
+    return {"kind": str(a.get(Attr.SIMPLIFIED_GUARANTEE_KIND, "none")),
+            "statement": str(a[Attr.SIMPLIFIED_GUARANTEE_STATEMENT]),
+            "tolerance": float(a.get(Attr.SIMPLIFIED_GUARANTEE_TOLERANCE, np.nan)),
+            **{k: (np.asarray(ds[name].values, float) if name in ds.variables else None)
+               for k, name in (("bound", Var.SIMPLIFIED_GUARANTEE_BOUND),
+                               ("scale", Var.SIMPLIFIED_GUARANTEE_SCALE))}}
 
 
 def joint_units(prismatic, which):
@@ -320,7 +323,7 @@ def setpoint_units(name, prismatic=None):
         n = len(prismatic)
         units = [element_units("D", i, j, prismatic) for i in range(n) for j in range(i, n)]
         return units_attribute(units, "element_units")
-    if name == "t":
+    if name == Var.T:
         return base
     return units_attribute(joint_units(prismatic, "tau"), "tau_units")
 
@@ -342,10 +345,10 @@ def setpoint_arrays(trajectory, terms, tau, tau_simplified):
     dict
         name -> ndarray; ``tau_f`` too where the terms have friction.
     """
-    out = {"t": trajectory.t, "q": trajectory.q, "qd": trajectory.qd, "qdd": trajectory.qdd,
-           "D_tran": terms.D_tran, "D_rot": terms.D_rot, "D": terms.D, "h_tran": terms.h_tran,
-           "h_rot": terms.h_rot, "h": terms.h, "c": terms.c, "tau": tau,
-           "tau_simplified": tau_simplified}
+    out = {Var.T: trajectory.t, Var.Q: trajectory.q, Var.QD: trajectory.qd, Var.QDD: trajectory.qdd,
+           Var.D_TRAN: terms.D_tran, Var.D_ROT: terms.D_rot, Var.D: terms.D, Var.H_TRAN: terms.h_tran,
+           Var.H_ROT: terms.h_rot, Var.H: terms.h, Var.C: terms.c, Var.TAU: tau,
+           Var.TAU_SIMPLIFIED: tau_simplified}
     if terms.tau_f is not None:
         out["tau_f"] = terms.tau_f
     return out
@@ -380,7 +383,13 @@ def summary_dataset(robot, trajectory, ranking, choices, error, verification=Non
     """
     import xarray as xr
 
-    from ..core.selection.ranking import CHAPTER_DOMINANCE, identically_zero, is_chapter_puma
+    from ..core.selection.ranking import (
+        CHAPTER_DOMINANCE,
+        arm_scales,
+        identically_zero,
+        is_chapter_puma,
+        is_round_off,
+    )
 
     n = robot.n
     labels = list(ranking.labels)
@@ -396,106 +405,122 @@ def summary_dataset(robot, trajectory, ranking, choices, error, verification=Non
     zero = identically_zero(ranking.peak_tran, ranking.peak_rot, ranking.peak_total,
                             ranking.scale)
     data_vars = {
-        "share_tran": var(("element",), np.where(zero, np.nan, ranking.share_tran), "1",
+        Var.SHARE_TRAN: var(("element",), np.where(zero, np.nan, ranking.share_tran), "1",
                            "translational share sum|tran| / (sum|tran| + sum|rot|); NaN "
                            "where the element is zero in every part (round-off)"),
-        "dominance": var(("element",), np.array(ranking.dominance, dtype=str), "1",
+        Var.DOMINANCE: var(("element",), np.array(ranking.dominance, dtype=str), "1",
                           "dominance class (translational, rotational, both, negligible)"),
-        "chapter_dominance": var(("element",),
+        Var.CHAPTER_DOMINANCE: var(("element",),
                                   np.array([CHAPTER_DOMINANCE.get(lab, "") if puma else ""
                                             for lab in labels], dtype=str), "1",
                                   "dominance reported in Sec. 3.4.1 for the chapter's PUMA 560 "
                                   "(empty unless the robot is a PUMA 560)"),
-        "choice": var(("element",), np.array([choices[lab] for lab in labels], dtype=str), "1",
+        Var.CHOICE: var(("element",), np.array([choices[lab] for lab in labels], dtype=str), "1",
                        "part kept by the simplified model (tran, rot, both, none; for the "
                        "recursive form both, or pruned where its dropped base-parameter "
                        "terms change the element)"),
-        "peak_tran": var(("element",), ranking.peak_tran, mixed,
+        Var.PEAK_TRAN: var(("element",), ranking.peak_tran, mixed,
                           "peak |translational part| along the trajectory"),
-        "peak_rot": var(("element",), ranking.peak_rot, mixed,
+        Var.PEAK_ROT: var(("element",), ranking.peak_rot, mixed,
                          "peak |rotational part| along the trajectory"),
-        "peak_total": var(("element",), ranking.peak_total, mixed,
+        Var.PEAK_TOTAL: var(("element",), ranking.peak_total, mixed,
                            "peak |translational + rotational| along the trajectory"),
-        "element_scale": var(("element",), ranking.scale, mixed,
+        Var.ELEMENT_SCALE: var(("element",), ranking.scale, mixed,
                               "scale of the negligibility test: peak sqrt(D_ii D_jj) or |tau_i|"),
-        "tau_error_peak": var(("joint",), np.array(error["peak_abs_error"]), torque,
+        Var.TAU_ERROR_PEAK: var(("joint",), np.array(error["peak_abs_error"]), torque,
                                "peak |tau_simplified - tau|"),
-        "tau_error_rms": var(("joint",), np.array(error["rms_error"]), torque,
+        Var.TAU_ERROR_RMS: var(("joint",), np.array(error["rms_error"]), torque,
                               "RMS of |tau_simplified - tau|"),
-        "tau_peak": var(("joint",), np.array(error["peak_tau"]), torque, "peak |tau|"),
-        "tau_max": var(("joint",), np.asarray(robot.tau_max, float), torque,
+        Var.TAU_PEAK: var(("joint",), np.array(error["peak_tau"]), torque, "peak |tau|"),
+        Var.TAU_MAX: var(("joint",), np.asarray(robot.tau_max, float), torque,
                         "joint effort limit |tau| <= tau_max (NaN: not given)"),
-        "tau_error_relative_peak": var(("joint",), np.array(error["relative_peak_error"]), "1",
+        Var.TAU_ERROR_RELATIVE_PEAK: var(("joint",), np.array(error["relative_peak_error"]), "1",
                                         "peak |tau_simplified - tau| / peak |tau|"),
-        "tau_error_relative_rms": var(("joint",), np.array(error["relative_rms_error"]), "1",
+        Var.TAU_ERROR_RELATIVE_RMS: var(("joint",), np.array(error["relative_rms_error"]), "1",
                                        "RMS |tau_simplified - tau| / peak |tau|"),
-        **({} if "round_off" not in error else {"tau_error_round_off": var(
+        **({} if "round_off" not in error else {Var.TAU_ERROR_ROUND_OFF: var(
             ("joint",), np.array(error["round_off"], dtype=np.int8), "1",
             "1 where the torque error is floating-point round-off (shown as \u2261 0), not data",
             flag_values=np.array([0, 1], dtype=np.int8), flag_meanings="data round_off")}),
-        "joint_type": var(("joint",), np.array(robot.joint_types, dtype=str), "1",
+        Var.JOINT_TYPE: var(("joint",), np.array(robot.joint_types, dtype=str), "1",
                           "joint type: revolute (q in rad) or prismatic (q in m)"),
-        "dh_d": var(("joint",), robot.d, "m",
+        Var.DH_D: var(("joint",), robot.d, "m",
                     "DH link offset d (prismatic joint: its constant part, d = q + dh_d)"),
-        "dh_a": var(("joint",), robot.a, "m", "DH link length a"),
-        "dh_alpha": var(("joint",), robot.alpha, "rad", "DH twist angle alpha"),
-        "dh_offset": var(("joint",), robot.offset, "rad",
+        Var.DH_A: var(("joint",), robot.a, "m", "DH link length a"),
+        Var.DH_ALPHA: var(("joint",), robot.alpha, "rad", "DH twist angle alpha"),
+        Var.DH_OFFSET: var(("joint",), robot.offset, "rad",
                          "DH joint angle: revolute joint theta = q + dh_offset; prismatic joint "
                          "theta = dh_offset, fixed"),
-        "joint_translation": var(("joint", "xyz"), robot.translation, "m",
+        Var.JOINT_TRANSLATION: var(("joint", "xyz"), robot.translation, "m",
                                  "translation of joint i's placement in body frame i-1"),
-        "joint_rotation": var(("joint", "xyz", "xyz_k"), robot.rotation, "1",
+        Var.JOINT_ROTATION: var(("joint", "xyz", "xyz_k"), robot.rotation, "1",
                               "rotation of joint i's placement in body frame i-1; its z column "
                               "is joint i's axis"),
-        "link_mass": var(("joint",), robot.mass, "kg", "link mass"),
-        "link_com": var(("joint", "xyz"), robot.com, "m", "centre of mass in link frame"),
-        "link_inertia": var(("joint", "xyz", "xyz_k"), robot.inertia, "kg m2",
+        Var.LINK_MASS: var(("joint",), robot.mass, "kg", "link mass"),
+        Var.LINK_COM: var(("joint", "xyz"), robot.com, "m", "centre of mass in link frame"),
+        Var.LINK_INERTIA: var(("joint", "xyz", "xyz_k"), robot.inertia, "kg m2",
                              "inertia tensor about the centre of mass, link-frame axes"),
-        "q_min": var(("joint",), robot.q_min, by_type("q", "q_units"),
+        Var.Q_MIN: var(("joint",), robot.q_min, by_type("q", "q_units"),
                      "lower joint position limit"),
-        "q_max": var(("joint",), robot.q_max, by_type("q", "q_units"),
+        Var.Q_MAX: var(("joint",), robot.q_max, by_type("q", "q_units"),
                      "upper joint position limit"),
-        "qd_max": var(("joint",), robot.qd_max, by_type("qd", "qd_units"),
+        Var.QD_MAX: var(("joint",), robot.qd_max, by_type("qd", "qd_units"),
                       "joint velocity limit"),
-        "qdd_max": var(("joint",), robot.qdd_max, by_type("qdd", "qdd_units"),
+        Var.QDD_MAX: var(("joint",), robot.qdd_max, by_type("qdd", "qdd_units"),
                        "joint acceleration limit"),
-        "D_arm": var(("joint",), robot.armature, by_type("armature", "joint_type"),
+        Var.D_ARM: var(("joint",), robot.armature, by_type("armature", "joint_type"),
                      "armature part of D: its diagonal, the drive's reflected rotor inertia "
                      "rotor_inertia * gear_ratio^2 (D_arm = diag of this)"),
-        "viscous": var(("joint",), robot.viscous, by_type("viscous", "joint_type"),
+        Var.VISCOUS: var(("joint",), robot.viscous, by_type("viscous", "joint_type"),
                        "viscous friction coefficient (N m s rad-1 revolute, N s m-1 "
                        "prismatic)"),
-        "coulomb": var(("joint",), robot.coulomb, torque, "Coulomb friction torque"),
-        "torque_offset": var(("joint",), robot.torque_offset, torque,
+        Var.COULOMB: var(("joint",), robot.coulomb, torque, "Coulomb friction torque"),
+        Var.TORQUE_OFFSET: var(("joint",), robot.torque_offset, torque,
                              "constant joint torque offset"),
     }
+    # the round-off marks, decided once here (the reports' one rule) and read by every output
+    arm = arm_scales(ranking.scale, element_coords(n, prismatic)[Var.ELEMENT_UNITS][1])
+    data_vars[Var.ELEMENT_ROUND_OFF] = _flag(zero, "1 where the element is zero in every part: "
+                                             "round-off (shown as \u2261 0), no share")
+    for name, part, peak in ((Var.PEAK_TRAN_ROUND_OFF, "translational", ranking.peak_tran),
+                             (Var.PEAK_ROT_ROUND_OFF, "rotational", ranking.peak_rot),
+                             (Var.PEAK_TOTAL_ROUND_OFF, "total", ranking.peak_total)):
+        data_vars[name] = _flag(is_round_off(peak, ranking.scale, arm_scale=arm),
+                                f"1 where the peak {part} part is round-off of the element's "
+                                "scale or the arm's (shown as \u2261 0), not data")
     if getattr(ranking, "rigid_dominance", None) is not None:
-        data_vars["dominance_rigid_links"] = var(
+        data_vars[Var.DOMINANCE_RIGID_LINKS] = var(
             ("element",), np.array(ranking.rigid_dominance, dtype=str), "1",
             "dominance class of the rigid links alone: drives (armature, friction) left out")
     if getattr(ranking, "share_arm", None) is not None:
-        data_vars["share_arm"] = var(
+        data_vars[Var.SHARE_ARM] = var(
             ("element",), ranking.share_arm, "1",
             "armature share sum|arm| / (sum|tran| + sum|rot + arm|), diagonal of D only")
     coords = element_coords(n, prismatic)
-    coords["joint"] = joint_coordinate(robot.joint_names(), long_name="joint (row of D)")
+    coords[Var.JOINT] = joint_coordinate(robot.joint_names(), long_name="joint (row of D)")
     for name, (which, long_name) in JOINT_UNIT_COORDS.items():
         units = joint_units(prismatic, which)
         coords[name] = ("joint", np.array(units, dtype=str), {"long_name": long_name,
                                                               "units": "1"})
-    coords["xyz"] = ("xyz", np.array(["x", "y", "z"]), {"long_name": "axis", "units": "1"})
-    coords["xyz_k"] = ("xyz_k", np.array(["x", "y", "z"]), {"long_name": "axis", "units": "1"})
+    coords[Var.XYZ] = ("xyz", np.array(["x", "y", "z"]), {"long_name": "axis", "units": "1"})
+    coords[Var.XYZ_K] = ("xyz_k", np.array(["x", "y", "z"]), {"long_name": "axis", "units": "1"})
     attrs = global_attributes(
         robot, f"G-D dominance analysis of {robot.name} along {Path(trajectory.source).name}",
-        dominance_threshold=ranking.dominance_threshold,
-        negligible_threshold=ranking.negligible_threshold,
-        input_file=Path(trajectory.source).name, input_path=str(trajectory.source),
-        input_sha256=trajectory.sha256, derivatives=trajectory.derivatives,
-        setpoints=int(trajectory.t.shape[0]))
+        **{Attr.DOMINANCE_THRESHOLD: ranking.dominance_threshold,
+           Attr.NEGLIGIBLE_THRESHOLD: ranking.negligible_threshold,
+           Attr.INPUT_FILE: Path(trajectory.source).name, Attr.INPUT_PATH: str(trajectory.source),
+           Attr.INPUT_SHA256: trajectory.sha256, Attr.DERIVATIVES: trajectory.derivatives,
+           Attr.SETPOINTS: int(trajectory.t.shape[0])})
     for key, value in (verification or {}).items():
-        attrs[f"verification_{key}"] = value
+        attrs[VERIFICATION_PREFIX + key] = value
     attrs.update(settings or {})
     return xr.Dataset(data_vars, coords=coords, attrs=attrs)
+
+
+def _flag(mask, long_name):
+    """A 0/1 flag variable over ``element`` (CF ``flag_values``/``flag_meanings``)."""
+    return var(("element",), np.asarray(mask, bool).astype(np.int8), "1", long_name,
+               flag_values=np.array([0, 1], dtype=np.int8), flag_meanings="data round_off")
 
 
 def build_dataset(robot, trajectory, terms, ranking, tau, tau_simplified, choices, error,
@@ -530,9 +555,29 @@ def build_dataset(robot, trajectory, terms, ranking, tau, tau_simplified, choice
         coordinate: the time [s]) and the :func:`summary_dataset`.
     """
     ds = summary_dataset(robot, trajectory, ranking, choices, error, verification, settings)
+    return with_setpoints(ds, robot, trajectory, terms, tau, tau_simplified)
+
+
+def with_setpoints(ds, robot, trajectory, terms, tau, tau_simplified):
+    """A summary dataset with the per-set-point variables added, in memory.
+
+    Parameters
+    ----------
+    ds : xarray.Dataset
+        :func:`summary_dataset`'s.
+    robot, trajectory, terms, tau, tau_simplified
+        As for :func:`build_dataset`.
+
+    Returns
+    -------
+    xarray.Dataset
+        A new dataset: ``ds`` with the variables of :data:`SETPOINT_VARIABLES` over dim ``t``
+        and the coordinate ``joint_k``, as :class:`SetpointWriter` writes them to the file.
+    """
     arrays = setpoint_arrays(trajectory, terms, tau, tau_simplified)
     prismatic = np.asarray(robot.prismatic, bool)
-    for name, (dims, _, long_name) in setpoint_variables("tau_f" in arrays).items():
+    ds = ds.copy()
+    for name, (dims, _, long_name) in setpoint_variables(Var.TAU_F in arrays).items():
         ds[name] = var(dims, arrays[name], setpoint_units(name, prismatic), long_name)
     return ds.assign_coords(joint_k=joint_coordinate(robot.joint_names(), "joint_k",
                                                      "joint (column of D)"))
@@ -575,7 +620,7 @@ class SetpointWriter:
 
         self._file = h5netcdf.File(path, "x")     # O_EXCL: no write-back on close
         f = self._file
-        f.dimensions = {SETPOINT_DIM: N, "joint": n, "joint_k": n}
+        f.dimensions = {SETPOINT_DIM: N, Var.JOINT: n, Var.JOINT_K: n}
         rows = max(1, min(int(chunk), N))
         names = [f"joint{i}" for i in range(1, n + 1)] if joints is None else joints
         for dim, long_name in (("joint", "joint (row of D)"), ("joint_k", "joint (column of D)")):
@@ -586,7 +631,7 @@ class SetpointWriter:
         self.variables = {}
         for name, (dims, _, long_name) in setpoint_variables(friction).items():
             units = setpoint_units(name, prismatic)
-            shape = tuple({SETPOINT_DIM: rows, "joint": n, "joint_k": n}[d] for d in dims)
+            shape = tuple({SETPOINT_DIM: rows, Var.JOINT: n, Var.JOINT_K: n}[d] for d in dims)
             opts = {"compression": "gzip", "compression_opts": int(compress)} if compress else {}
             v = f.create_variable(name, dims, "f8", chunks=shape, **opts)
             v.attrs.update(units=units, long_name=long_name)

@@ -16,6 +16,7 @@ import numpy as np
 
 from ..errors import InputError
 from ..files import atomic_path
+from .names import Attr, Var
 
 __all__ = ["CONVENTIONS", "MIXED_UNITS", "var", "attribute_value", "global_attributes",
            "element_coords", "joint_coordinate", "strings", "write_dataset", "append_dataset", "open_results",
@@ -138,22 +139,22 @@ def global_attributes(robot, title, references="Fu, Gonzalez & Lee (1987), Robot
 
     now = datetime.datetime.now(datetime.timezone.utc).replace(microsecond=0).isoformat()
     attrs = {
-        "Conventions": CONVENTIONS,
-        "title": title,
-        "source": f"gd-analyze {__version__}",
-        "references": references,
-        "history": f"{now} created by gd-analyze {__version__}",
-        "gd_analyze_version": __version__,
-        "robot": robot.name,
-        "robot_description": robot.description,
-        "robot_reference": robot.reference,
-        "robot_source": robot.source,
-        "robot_sha256": robot.sha256,
-        "gravity": np.asarray(robot.gravity, dtype=float),
-        "gravity_units": "m s-2",
+        Attr.CONVENTIONS: CONVENTIONS,
+        Attr.TITLE: title,
+        Attr.SOURCE: f"gd-analyze {__version__}",
+        Attr.REFERENCES: references,
+        Attr.HISTORY: f"{now} created by gd-analyze {__version__}",
+        Attr.GD_ANALYZE_VERSION: __version__,
+        Attr.ROBOT: robot.name,
+        Attr.ROBOT_DESCRIPTION: robot.description,
+        Attr.ROBOT_REFERENCE: robot.reference,
+        Attr.ROBOT_SOURCE: robot.source,
+        Attr.ROBOT_SHA256: robot.sha256,
+        Attr.GRAVITY: np.asarray(robot.gravity, dtype=float),
+        Attr.GRAVITY_UNITS: "m s-2",
     }
     if (robot.metadata or {}).get("placeholder_inertia"):
-        attrs["robot_placeholder_inertia"] = 1     # its inertia tensors are not measured
+        attrs[Attr.ROBOT_PLACEHOLDER_INERTIA] = 1     # its inertia tensors are not measured
     attrs.update({k: attribute_value(v) for k, v in extra.items()})
     return attrs
 
@@ -213,12 +214,12 @@ def element_coords(n, prismatic=None, joints=None):
     labels = element_labels(n)
     units = [element_units(kind, i, j, prismatic) for kind, i, j in element_index(n)]
     return {
-        "element": ("element", np.array(labels, dtype=str),
+        Var.ELEMENT: ("element", np.array(labels, dtype=str),
                     {"long_name": "ranked element of D (i <= j) or h", "units": "1"}),
-        "element_units": ("element",
+        Var.ELEMENT_UNITS: ("element",
                           np.array(units, dtype=str),
                           {"long_name": "units of the element", "units": "1"}),
-        "joint": joint_coordinate(joints if joints is not None else
+        Var.JOINT: joint_coordinate(joints if joints is not None else
                                   [f"joint{i}" for i in range(1, n + 1)]),
     }
 

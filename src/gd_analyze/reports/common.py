@@ -15,6 +15,7 @@ from importlib import resources
 
 import numpy as np
 
+from ..io.names import Attr
 from .figure_style import (
     BASE_RC,
     JOINT_STYLES,
@@ -151,8 +152,8 @@ def thresholds(ds):
     s, e : float
         NaN where an attribute is missing.
     """
-    return (float(ds.attrs.get("dominance_threshold", np.nan)),
-            float(ds.attrs.get("negligible_threshold", np.nan)))
+    return (float(ds.attrs.get(Attr.DOMINANCE_THRESHOLD, np.nan)),
+            float(ds.attrs.get(Attr.NEGLIGIBLE_THRESHOLD, np.nan)))
 
 
 def check(ds, required, what):

@@ -33,11 +33,13 @@ from pathlib import Path
 
 import numpy as np
 
+from ..io.names import Var
+from ..io.results_view import Results
+from ..io.schema import open_results
 from ..io.sweep_datasets import payload_part
 from .common import CLASS_COLOURS as _CLASS_COLOURS
 from .common import check_formats, prismatic_joints, render_template
 from .common import strings as _strings
-from .common import thresholds as _thresholds
 from .drawing import draw_figures, write_figure_files
 from .main_context import report_context, zero_mask
 from .main_figures import (
@@ -168,8 +170,9 @@ def make_figures(ds, data=None, keys=None, column=False):
 
     Parameters
     ----------
-    ds : xarray.Dataset
-        A dataset as :func:`gd_analyze.io.datasets.build_dataset` makes it (N set points, n joints):
+    ds : Results or xarray.Dataset
+        The results view (:class:`gd_analyze.io.results_view.Results`) or a dataset as
+        :func:`gd_analyze.io.datasets.build_dataset` makes it (N set points, n joints):
         t (N,) [s]; q, qd, qdd (N, n) [rad, rad/s, rad/s^2]; D_tran, D_rot, D (N, n, n)
         [kg m^2]; h_tran, h_rot, h, c, tau, tau_simplified (N, n) [N m]; the ranking (M,).
     data : PlotData, optional
@@ -233,15 +236,17 @@ def figure_makers(ds, data=None, keys=None, column=False):
     """
     from .budget_figures import budget_makers
 
+    results = Results.of(ds)
+    ds = results.dataset
     if data is None:
         data = plot_data(ds)
-    labels, zero = zero_mask(ds)
+    labels, zero = zero_mask(results)           # the marks stored at analysis
     zero = dict(zip(labels, zero))
-    dom = dict(zip(labels, _strings(ds["dominance"].values)))
-    s, e = _thresholds(ds)
+    dom = {r.label: r.dominance for r in results.ranking.rows}
+    s, e = results.dominance_threshold, results.negligible_threshold
     order = _FILE_ORDER if column or keys is not None else _FIGURE_ORDER   # keys: as named
     wanted = set(order if keys is None else keys)
-    arm = ds["D_arm"].values if "D_arm" in ds else None
+    arm = ds[Var.D_ARM].values if Var.D_ARM in ds else None
     prismatic = prismatic_joints(ds)
     makers = {"joints": lambda: fig_joints(data, prismatic),
               "h": lambda: fig_h(data, dom, zero, prismatic),
@@ -256,10 +261,10 @@ def figure_makers(ds, data=None, keys=None, column=False):
         makers["D" if k == 0 else f"D_{k + 1}"] = functools.partial(
             fig_D, data, dom, zero, s, e, prismatic, armature=arm, part=k)
     makers.update(budget_makers(ds, data))
-    if "payload_share_tran" in ds.variables:
+    if Var.PAYLOAD_SHARE_TRAN in ds.variables:
         makers["payload"] = lambda: _fig_payload(ds)
         makers["payload_column"] = lambda: _fig_payload(ds, COLUMN_WIDTH)
-    if "op_multiplications" in ds.variables:
+    if Var.OP_MULTIPLICATIONS in ds.variables:
         makers["formulations"] = lambda: _fig_formulations(ds)
         makers["formulations_column"] = lambda: _fig_formulations(ds, COLUMN_WIDTH)
     return {k: functools.partial(_made, makers[k]) for k in order
@@ -277,7 +282,7 @@ def _made(make):
 def _fig_error(ds, data, width=PAGE_WIDTH):
     if has_simplified(ds):                      # issue 8: tau_s - tau and its bound
         return error_figure(ds, width, data=data)
-    return fig_torque(data, ds["tau_error_peak"].values, ds["tau_error_relative_peak"].values,
+    return fig_torque(data, ds[Var.TAU_ERROR_PEAK].values, ds[Var.TAU_ERROR_RELATIVE_PEAK].values,
                       prismatic_joints(ds))
 
 
@@ -299,8 +304,8 @@ def _fig_formulations(ds, width=PAGE_WIDTH):
     from .ticks import decade_formatter
     from .ticks import formatter as tick_formatter
 
-    n = ds["dof"].values
-    names = _strings(ds["formulation"].values)
+    n = ds[Var.DOF].values
+    names = _strings(ds[Var.FORMULATION].values)
     column = width < PAGE_WIDTH             # the two panels one above the other
     W, H = (width, 5.0) if column else (PAGE_WIDTH, 2.9)
     fig = Figure(figsize=(W, H))
@@ -459,15 +464,17 @@ def _pdf(ctx, drawn, path, paper="a4"):
 # Entry point
 # --------------------------------------------------------------------------------------------
 
-def write_report(results_path, outdir, formats=REPORT_FORMATS, paper="a4", progress=None,
+def write_report(results, outdir, formats=REPORT_FORMATS, paper="a4", progress=None,
                  column_figures=False, latex=False):
     """Write report.html and/or report.pdf, and every figure as PDF and SVG, for an analysis.
 
     Parameters
     ----------
-    results_path : str or os.PathLike
-        A results file written by :func:`gd_analyze.workflows.analyze.analyze_to_file`. Only read (long
-        series in chunks): the dynamics are never recomputed.
+    results : Results, str or os.PathLike
+        The analysis in memory, typed (:class:`gd_analyze.io.results_view.Results`, with the
+        per-set-point series: the main job's own result), or a results file written by
+        :func:`gd_analyze.workflows.analyze.analyze_to_file`, only read (long series in
+        chunks). The dynamics are never recomputed.
     outdir : str or os.PathLike
         Output folder; made if missing.
     formats : sequence of str, optional
@@ -509,24 +516,26 @@ def write_report(results_path, outdir, formats=REPORT_FORMATS, paper="a4", progr
     temporary name beside its destination and renamed (:func:`gd_analyze.files.atomic_path`).
     Source: Sec. 3.4.1 and Figs. 3.10-3.11 of Fu, Gonzalez & Lee (1987).
     """
-    from ..io.schema import open_results
-
     formats = check_formats(formats, REPORT_FORMATS)
     if paper not in PAPER:
         raise ValueError(f"paper must be one of {sorted(PAPER)}, got {paper!r}")
-    with open_results(results_path, lazy=True) as ds:       # long series: in chunks
-        return _write(ds, Path(outdir), formats, paper, progress, column_figures, latex)
+    if isinstance(results, Results):                        # in memory: nothing read again
+        return _write(results, Path(outdir), formats, paper, progress, column_figures, latex)
+    with open_results(results, lazy=True) as ds:            # long series: in chunks
+        return _write(Results.from_dataset(ds, source=str(results)), Path(outdir), formats,
+                      paper, progress, column_figures, latex)
 
 
-def _write(ds, outdir, formats, paper, progress, column=False, latex=False):
+def _write(results, outdir, formats, paper, progress, column=False, latex=False):
     from ..files import atomic_path
     from .ticks import ticks_once
 
-    ctx = report_context(ds)            # fails early on a dataset that is not ours
+    ds = results.dataset
+    ctx = report_context(results)       # fails early on a dataset that is not ours
     (outdir / "figures").mkdir(parents=True, exist_ok=True)
     data = plot_data(ds, progress=progress)
     drawn = {}
-    for key, make in figure_makers(ds, data, column=column).items():   # one figure alive
+    for key, make in figure_makers(results, data, column=column).items():  # one alive
         drawn.update(_drawn({key: ticks_once(make())}, created=ctx["created"]))
     with contextlib.ExitStack() as stack:
         paths = {fmt: outdir / f"report.{fmt}" for fmt in formats}

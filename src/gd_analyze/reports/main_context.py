@@ -10,8 +10,9 @@ from __future__ import annotations
 
 import numpy as np
 
-from ..core.selection.ranking import arm_scales, is_round_off
 from ..io.datasets import stored_guarantee, stored_region
+from ..io.names import Attr, Var
+from ..io.results_view import Results
 from ..io.sweep_datasets import payload_part
 from .budget_figures import budget_caption
 from .common import CLASS_COLOURS as _CLASS_COLOURS
@@ -19,10 +20,10 @@ from .common import attr as _attr
 from .common import check as _check
 from .common import (
     count,
-    element_units_of,
     prismatic_joints,
     torque_units,
     units_said_once,
+    units_text,
     utc_now,
 )
 from .common import fmt as _fmt
@@ -31,9 +32,7 @@ from .common import pct_columns as _pct_columns
 from .common import share as _share
 from .common import strings as _strings
 from .common import table as _table
-from .common import thresholds as _thresholds
 from .main_chapter import chapter_conclusions
-from .main_figures import identically_zero
 from .main_parts import (
     armature_columns,
     base_note,
@@ -49,7 +48,6 @@ from .main_text import (
     captions,
     conclusion,
     disagreement_cause,
-    element_scale,
     gravity_clause,
     prismatic_count_note,
     shared_causes,
@@ -90,8 +88,8 @@ def _statement(ds):
 def _recursive_facts(ds):
     """(base parameters, dropped pairs, all pairs) of a recursive model, for the summary."""
     a = ds.attrs
-    return (int(ds.sizes.get("base_parameter", 0)), int(a.get("simplified_pairs_dropped", 0)),
-            int(a.get("simplified_pairs", 0)))
+    return (int(ds.sizes.get("base_parameter", 0)), int(a.get(Attr.SIMPLIFIED_PAIRS_DROPPED, 0)),
+            int(a.get(Attr.SIMPLIFIED_PAIRS, 0)))
 
 
 def zero_mask(ds):
@@ -99,27 +97,18 @@ def zero_mask(ds):
 
     Parameters
     ----------
-    ds : xarray.Dataset
-        A results dataset (``element``, ``peak_tran``, ``peak_rot``, ``peak_total``, and
-        ``element_scale`` or ``tau_peak``).
+    ds : Results or xarray.Dataset
+        The results view (:class:`gd_analyze.io.results_view.Results`) or a results dataset.
 
     Returns
     -------
     (list of str, ndarray of bool, shape (M,))
-        The labels, and True where the translational, rotational and total peaks are all within
-        1e-12 of the element's scale (drawn as "\u2261 0", no share printed).
+        The labels, and True where the translational, rotational and total peaks are all
+        round-off of the element's scale (drawn as "\u2261 0", no share printed): the marks
+        stored at analysis.
     """
-    labels, scale = _scales(ds)
-    return labels, identically_zero(ds["peak_tran"].values, ds["peak_rot"].values,
-                                    ds["peak_total"].values, scale)
-
-
-def _scales(ds):
-    """The element labels and each element's scale (the ranking's own, as stored)."""
-    labels = _strings(ds["element"].values)
-    if "element_scale" in ds.variables:
-        return labels, np.asarray(ds["element_scale"].values, dtype=float)
-    return labels, element_scale(labels, ds["peak_total"].values, ds["tau_peak"].values)
+    table = Results.of(ds).ranking
+    return [r.label for r in table.rows], table.column("round_off")
 
 
 def _share_text(share, tran_off, rot_off):
@@ -169,46 +158,47 @@ def _model_cost(ds):
     of the full explicit model, each None if not counted) of the emitted model, from the stored
     attributes and cost table; None without a simplified model."""
     try:
-        mult = int(ds.attrs["simplified_multiplications"])
-        add = int(ds.attrs["simplified_additions"])
+        mult = int(ds.attrs[Attr.SIMPLIFIED_MULTIPLICATIONS])
+        add = int(ds.attrs[Attr.SIMPLIFIED_ADDITIONS])
     except (KeyError, TypeError, ValueError):
         return None
-    labels = ([str(v) for v in ds["cost_model"].values] if "cost_total" in ds.variables
+    labels = ([str(v) for v in ds[Var.COST_MODEL].values] if Var.COST_TOTAL in ds.variables
               else [])
-    return (mult, add, *(int(ds["cost_total"].values[labels.index(key)]) if key in labels
+    return (mult, add, *(int(ds[Var.COST_TOTAL].values[labels.index(key)]) if key in labels
                          else None for key in _COST_REFERENCES))
 
 
 def _gravity_fact(ds, form):
     """What the deployed model does with the gravity loading c, read from what it dropped: a
     clause for the summary, or None when the dataset does not say."""
-    if form == "recursive" and "base_parameter_dropped" in ds:
-        parts = _strings(ds["torque_part"].values)
+    if form == "recursive" and Var.BASE_PARAMETER_DROPPED in ds:
+        parts = _strings(ds[Var.TORQUE_PART].values)
         if "gravity" not in parts:
             return None
         g = parts.index("gravity")
-        rel = (ds["base_parameter_relative_peak"].values[:, g]
-               if "base_parameter_relative_peak" in ds else np.ones(ds.sizes["base_parameter"]))
-        names = [nm for nm, d, r in zip(_strings(ds["base_parameter"].values),
-                                        ds["base_parameter_dropped"].values[:, g], rel)
+        rel = (ds[Var.BASE_PARAMETER_RELATIVE_PEAK].values[:, g]
+               if Var.BASE_PARAMETER_RELATIVE_PEAK in ds else np.ones(ds.sizes["base_parameter"]))
+        names = [nm for nm, d, r in zip(_strings(ds[Var.BASE_PARAMETER].values),
+                                        ds[Var.BASE_PARAMETER_DROPPED].values[:, g], rel)
                  if d and r >= ROUND_OFF]
         return gravity_clause("budget", gravity_dropped=names)
-    if "simplified_bound_gravity" not in ds:
+    if Var.SIMPLIFIED_BOUND_GRAVITY not in ds:
         return None
-    bound = ds["simplified_bound_gravity"].values
-    rule = str(ds.attrs.get("simplified_rule", ""))
+    bound = ds[Var.SIMPLIFIED_BOUND_GRAVITY].values
+    rule = str(ds.attrs.get(Attr.SIMPLIFIED_RULE, ""))
     if not np.all(np.isfinite(bound)) and rule != "chapter":    # no budget, rule unknown
         return None
     return gravity_clause(rule, c_bound=bound, units=torque_units(ds))
 
 
-def report_context(ds):
+def report_context(results):
     """Every number, table and paragraph of the main report, for the HTML and the PDF alike.
 
     Parameters
     ----------
-    ds : xarray.Dataset
-        A results dataset as stored by the main job.
+    results : Results or xarray.Dataset
+        The main job's results, typed (:class:`gd_analyze.io.results_view.Results`), or a
+        results dataset as it stores them (viewed here).
 
     Returns
     -------
@@ -220,7 +210,9 @@ def report_context(ds):
     InputError
         If a variable the report needs is missing.
     """
-    ctx = _report_context_base(ds)
+    results = Results.of(results)
+    ds = results.dataset
+    ctx = _report_context_base(results)
     ctx["simplified_model"] = simplified_context(ds) if has_simplified(ds) else None
     if ctx["simplified_model"]:
         ctx["captions"] = {**ctx["captions"], "torque": simplified_caption(ds),
@@ -228,36 +220,36 @@ def report_context(ds):
     return ctx
 
 
-def _report_context_base(ds):
+def _report_context_base(results):
     """Everything both reports print, as strings and tables (no figures)."""
     from .._version import VERSION as __version__
 
+    ds = results.dataset
     _check(ds, _REQUIRED, "results")
-    n = ds.sizes["joint"]
-    t = ds["t"].values
+    n = len(results.prismatic)
+    t = ds[Var.T].values
     N = t.size
-    labels = _strings(ds["element"].values)
-    dominance = _strings(ds["dominance"].values)
-    chapter = _strings(ds["chapter_dominance"].values)
-    choice = _strings(ds["choice"].values)
-    el_units = element_units_of(ds)            # from the joint types, also for older files
-    tau_units = torque_units(ds)
-    s, e = _thresholds(ds)
-    robot_name = _attr(ds, "robot", "robot")
+    table = results.ranking                     # the view the command line prints too
+    labels = [r.label for r in table.rows]
+    dominance = [r.dominance for r in table.rows]
+    chapter = [r.chapter_dominance for r in table.rows]
+    choice = [r.choice for r in table.rows]
+    el_units = [units_text(r.units) for r in table.rows]
+    tau_units = list(results.joint_units["tau"])
+    s, e = results.dominance_threshold, results.negligible_threshold
+    robot_name = _attr(ds, Attr.ROBOT, "robot")
     now = utc_now()
 
     # 1. robot and trajectory
     robot = robot_section(ds, robot_name)
-    sha_in = _attr(ds, "input_sha256", "")
+    sha_in = _attr(ds, Attr.INPUT_SHA256, "")
 
-    # 4. ranking
-    share = ds["share_tran"].values
-    zero = zero_mask(ds)[1]
-    pt, pr, ptot = ds["peak_tran"].values, ds["peak_rot"].values, ds["peak_total"].values
-    scale = _scales(ds)[1]
-    arm = arm_scales(scale, el_units)            # round-off follows the arm's scale too
-    off = {name: is_round_off(v, scale, arm_scale=arm)
-           for name, v in (("tran", pt), ("rot", pr), ("total", ptot))}
+    # 4. ranking: the round-off marks as stored at analysis
+    share = table.column("share_tran")
+    zero = table.column("round_off")
+    pt, pr, ptot = (table.column(k) for k in ("peak_tran", "peak_rot", "peak_total"))
+    off = {"tran": table.column("tran_off"), "rot": table.column("rot_off"),
+           "total": table.column("total_off")}
 
     arm_cols = armature_columns(ds, labels, zero)
     # the peaks of the parts are one quantity: one format for the four columns (issue 31)
@@ -284,19 +276,19 @@ def _report_context_base(ds):
     counts = {c: dominance.count(c) for c in _CLASS_COLOURS}
 
     # 5. simplified model and torque error
-    form = str(ds.attrs.get("simplified_form", "explicit"))
+    form = str(ds.attrs.get(Attr.SIMPLIFIED_FORM, "explicit"))
     if form == "recursive":
         choices = base_parameter_table(ds)
     else:
         choices = choice_table(ds, labels, dominance, choice)
-    err_off = is_round_off(ds["tau_error_peak"].values, ds["tau_peak"].values,
-                           arm_scale=arm_scales(ds["tau_peak"].values, tau_units))
-    rel_peak, rel_rms = _pct_columns([ds["tau_error_relative_peak"].values,  # one format
-                                      ds["tau_error_relative_rms"].values],   # for both
+    errors = results.torque_error               # the view the command line prints too
+    err_off = errors.column("round_off")        # as stored at analysis
+    rel_peak, rel_rms = _pct_columns([errors.column("relative_peak"),  # one format
+                                      errors.column("relative_rms")],   # for both
                                      off=[err_off, err_off])
     # the errors and peak |tau| are one quantity [N m or N]: one format (issue 31)
     err_peak, err_rms, tau_peak = _columns(
-        [ds[v].values for v in ("tau_error_peak", "tau_error_rms", "tau_peak")],
+        [errors.column(v) for v in ("peak", "rms", "peak_tau")],
         off=[err_off, err_off, None])
     said = {"rel": rel_peak, "abs": err_peak, "tau": tau_peak}   # the summary quotes them
     err = _table(
@@ -308,7 +300,7 @@ def _report_context_base(ds):
          + [tau_peak[k], rel_peak[k], rel_rms[k], tau_units[k]]
          for k in range(n)],
         align=["left"] + ["right"] * 5 + ["left"], widths=[0.6, 1.2, 1.2, 1, 1.2, 1.2, 0.6])
-    rel_peak = ds["tau_error_relative_peak"].values
+    rel_peak = errors.column("relative_peak")
 
     # 6. comparison with the chapter
     applicable = n == 6 and _is_puma560(robot_name)
@@ -339,26 +331,26 @@ def _report_context_base(ds):
         note = (f"The chapter reports dominance only for the 6-joint PUMA 560 (Sec. 3.4.1); "
                 f"this robot has {n} joint{'s' if n != 1 else ''}, so a comparison is not "
                 "meaningful and none is made.")
-    if applicable and "dominance_rigid_links" in ds:
-        rigid = [str(v) for v in ds["dominance_rigid_links"].values]
+    if applicable and Var.DOMINANCE_RIGID_LINKS in ds:
+        rigid = [str(v) for v in ds[Var.DOMINANCE_RIGID_LINKS].values]
         n_rigid = sum(r == c for r, c in zip(rigid, chapter) if c)
         note += (f" With its drives (armature counted on the rotational side, friction in "
                  f"τ) {n_agree} of {n_compared} classes agree with the chapter's; its "
                  f"rigid links alone (drives left out, the chapter's model) {n_rigid} of "
                  f"{n_compared}.")
     conclusions = []
-    if applicable and "chapter_agreement" in ds.variables:
-        blocks = {key: [k for k in str(ds.attrs.get(f"chapter_{name}", "")).split(", ") if k]
-                  for key, name in (("arm", "arm_ranked"),
-                                    ("arm_translation", "arm_translation_leads"),
-                                    ("wrist", "wrist_ranked"),
-                                    ("wrist_rotation", "wrist_rotation_leads"))}
+    if applicable and Var.CHAPTER_AGREEMENT in ds.variables:
+        blocks = {key: [k for k in str(ds.attrs.get(name, "")).split(", ") if k]
+                  for key, name in (("arm", Attr.CHAPTER_ARM_RANKED),
+                                    ("arm_translation", Attr.CHAPTER_ARM_TRANSLATION_LEADS),
+                                    ("wrist", Attr.CHAPTER_WRIST_RANKED),
+                                    ("wrist_rotation", Attr.CHAPTER_WRIST_ROTATION_LEADS))}
         conclusions = chapter_conclusions(
-            blocks, ds["chapter_threshold"].values, ds["chapter_agreement"].values,
-            int(ds.attrs["chapter_elements_compared"]), n, s,
-            ds["chapter_model_error_relative_peak"].values,
-            ds["chapter_model_error_round_off"].values.astype(bool),
-            ds["tau_error_relative_peak"].values, err_off,
+            blocks, ds[Var.CHAPTER_THRESHOLD].values, ds[Var.CHAPTER_AGREEMENT].values,
+            int(ds.attrs[Attr.CHAPTER_ELEMENTS_COMPARED]), n, s,
+            ds[Var.CHAPTER_MODEL_ERROR_RELATIVE_PEAK].values,
+            ds[Var.CHAPTER_MODEL_ERROR_ROUND_OFF].values.astype(bool),
+            errors.column("relative_peak"), err_off,
             where=f"this trajectory ({count(N)} set points)")
     causes, said_once = shared_causes([row[-1] for row in compare_rows])
     compare_rows = [row[:-1] + [cause] for row, cause in zip(compare_rows, causes)]
@@ -378,13 +370,13 @@ def _report_context_base(ds):
     payload = _payload_context(ds)
     title = f"G-D dominance analysis: {robot_name} along {_attr(ds, 'input_file')}"
     summary = conclusion(labels, dominance, zero, choice, rel_peak,
-                         ds["tau_error_peak"].values, ds["tau_peak"].values, _model_cost(ds),
+                         ds[Var.TAU_ERROR_PEAK].values, ds[Var.TAU_PEAK].values, _model_cost(ds),
                          recursive=_recursive_facts(ds) if form == "recursive" else None,
                          gravity=_gravity_fact(ds, form), units=tau_units,
                          scope=_scope(_statement(ds)),
                          where="the joint-limit region" if (stored_guarantee(ds) or {}).get(
                              "kind") == "region" else "this trajectory", shown=said,
-                         placeholder_inertia=bool(ds.attrs.get("robot_placeholder_inertia")))
+                         placeholder_inertia=bool(ds.attrs.get(Attr.ROBOT_PLACEHOLDER_INERTIA)))
     facts = (f"{robot_name}, {n} joints, {count(N)} set points over {_fmt(t[-1] - t[0], 4)} s; "
              f"{len(labels)} elements ranked with s = {s:g}, e = {e:g}: "
              + ", ".join(f"{counts[c]} {c}" for c in _CLASS_COLOURS)
@@ -445,8 +437,8 @@ def _verification(ds, keys, N):
     as measured, and whether they are past the round-off floor."""
     if "verification_passed" not in ds.attrs:
         return "not run", "not run (analysis without check)"
-    passed = bool(int(ds.attrs["verification_passed"]))
-    checked = int(ds.attrs.get("verification_setpoints", N))
+    passed = bool(int(ds.attrs[Attr.VERIFICATION_PASSED]))
+    checked = int(ds.attrs.get(Attr.VERIFICATION_SETPOINTS, N))
     verdict = (f"{'passed' if passed else 'FAILED'} on {count(checked)} of {count(N)} set points"
                + ("" if checked == N else " (evenly spread)"))
     measured = {_quantity(k[len("verification_max_rel_error_"):]): float(ds.attrs[k])
@@ -469,7 +461,7 @@ def _verification(ds, keys, N):
 
 
 def _payload_context(ds):
-    if "payload_share_tran" not in ds.variables:
+    if Var.PAYLOAD_SHARE_TRAN not in ds.variables:
         return {"applicable": False, "table": None, "note": ""}
     part = payload_part(ds)
     masses = [float(m) for m in part["payload"].values]
@@ -489,13 +481,13 @@ def _payload_context(ds):
 
 def _formulations_context(ds):
     """Agreement and cost tables of L-E, N-E, G-D and Pinocchio, if the dataset has them."""
-    if "formulation_disagreement" not in ds.variables:
+    if Var.FORMULATION_DISAGREEMENT not in ds.variables:
         return {"applicable": False, "note": "The dataset holds no comparison of the "
                 "formulations (made by `gd-analyze ROBOT TRAJECTORY.csv`).",
                 "agreement": None, "costs": None}
-    quantities = _strings(ds["quantity"].values)
-    pairs = _strings(ds["formulation_pair"].values)
-    dis = ds["formulation_disagreement"].values
+    quantities = _strings(ds[Var.QUANTITY].values)
+    pairs = _strings(ds[Var.FORMULATION_PAIR].values)
+    dis = ds[Var.FORMULATION_DISAGREEMENT].values
     from .common import FORMULATION_ABBR, FORMULATION_NAMES
 
     def pair(p):                            # "lagrange-euler vs gd" -> "L-E vs G-D"
@@ -504,20 +496,20 @@ def _formulations_context(ds):
     agreement = _table(["pair"] + [tau() if q == "tau" else q for q in quantities],
                        [[pair(p)] + [f"{v:.2e}" for v in dis[i]] for i, p in enumerate(pairs)],
                        align=["left"] + ["right"] * len(quantities))
-    n = int(ds.attrs.get("formulations_n", ds.sizes["joint"]))
-    names = _strings(ds["formulation"].values)
-    dof = list(ds["dof"].values)
+    n = int(ds.attrs.get(Attr.FORMULATIONS_N, ds.sizes["joint"]))
+    names = _strings(ds[Var.FORMULATION].values)
+    dof = list(ds[Var.DOF].values)
     rows = []
-    arm = "op_multiplications_arm" in ds.variables
+    arm = Var.OP_MULTIPLICATIONS_ARM in ds.variables
     if n in dof:
         k = dof.index(n)
         for j, name in enumerate(names):
             if arm:                           # the arm's own joint types (prismatic joints)
-                mul, add = ds["op_multiplications_arm"].values[j], ds["op_additions_arm"].values[j]
+                mul, add = ds[Var.OP_MULTIPLICATIONS_ARM].values[j], ds[Var.OP_ADDITIONS_ARM].values[j]
             else:
-                mul, add = ds["op_multiplications"].values[k, j], ds["op_additions"].values[k, j]
-            bm = ds["op_multiplications_table_3_5"].values[k, j]
-            ba = ds["op_additions_table_3_5"].values[k, j]
+                mul, add = ds[Var.OP_MULTIPLICATIONS].values[k, j], ds[Var.OP_ADDITIONS].values[k, j]
+            bm = ds[Var.OP_MULTIPLICATIONS_TABLE_3_5].values[k, j]
+            ba = ds[Var.OP_ADDITIONS_TABLE_3_5].values[k, j]
             rows.append([FORMULATION_NAMES.get(name, name), count(mul), count(add),
                          count(bm), count(ba)])
     costs = _table(["formulation", "multiplications", "additions", "mult. Table 3.5",
@@ -530,5 +522,5 @@ def _formulations_context(ds):
             f"per set point, counted on the code as implemented (the G-D equations by the "
             f"compiled and by the array engine), beside the formulas of Table 3.5, for "
             f"n = {n}; pairs: L-E Lagrange-Euler, N-E Newton-Euler, G-D the G-D equations."
-            + prismatic_count_note(str(ds.attrs.get("formulations_joint_types", ""))))
+            + prismatic_count_note(str(ds.attrs.get(Attr.FORMULATIONS_JOINT_TYPES, ""))))
     return {"applicable": True, "note": note, "agreement": agreement, "costs": costs}

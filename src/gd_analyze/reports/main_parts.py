@@ -10,6 +10,7 @@ from __future__ import annotations
 import numpy as np
 
 from ..core.selection.labels import element_label
+from ..io.names import Var
 from .common import fmt as _fmt
 from .common import fmt_column as _column
 from .common import share as _share
@@ -72,11 +73,11 @@ def base_parameter_table(ds):
     dict
         A table (:func:`gd_analyze.reports.common.table`): the parameters of nonzero value.
     """
-    names = _strings(ds["base_parameter"].values)
-    parts = _strings(ds["torque_part"].values)
-    dropped = ds["base_parameter_dropped"].values
-    units = _strings(ds["base_parameter_units"].values)
-    rel = (ds["base_parameter_relative_peak"].values if "base_parameter_relative_peak" in ds
+    names = _strings(ds[Var.BASE_PARAMETER].values)
+    parts = _strings(ds[Var.TORQUE_PART].values)
+    dropped = ds[Var.BASE_PARAMETER_DROPPED].values
+    units = _strings(ds[Var.BASE_PARAMETER_UNITS].values)
+    rel = (ds[Var.BASE_PARAMETER_RELATIVE_PEAK].values if Var.BASE_PARAMETER_RELATIVE_PEAK in ds
            else np.ones(dropped.shape))
 
     def cell(k, p):
@@ -84,7 +85,7 @@ def base_parameter_table(ds):
             return "\u2261 0"            # contributes nothing on this trajectory
         return "dropped" if dropped[k, p] else "kept"
 
-    value = ds["base_parameter_value"].values
+    value = ds[Var.BASE_PARAMETER_VALUE].values
     listed = [k for k in range(len(names)) if value[k] != 0]
     return _table(["base parameter", "value", "units", *parts],
                   [[names[k], text, units_text(units[k]),
@@ -117,11 +118,11 @@ def base_note(ds):
     str
         "" without base parameters (an explicit model).
     """
-    if "base_parameter_value" not in ds or "link_com" not in ds:
+    if Var.BASE_PARAMETER_VALUE not in ds or Var.LINK_COM not in ds:
         return ""
-    values = dict(zip(_strings(ds["base_parameter"].values), ds["base_parameter_value"].values))
-    com = ds["link_com"].values
-    if not np.isfinite(ds["dh_a"].values).all():    # a URDF arm: its link frame is the body's
+    values = dict(zip(_strings(ds[Var.BASE_PARAMETER].values), ds[Var.BASE_PARAMETER_VALUE].values))
+    com = ds[Var.LINK_COM].values
+    if not np.isfinite(ds[Var.DH_A].values).all():    # a URDF arm: its link frame is the body's
         return _BASE_NOTE
     for j in range(com.shape[0]):
         for axis, c in (("X", 0), ("Y", 1)):
@@ -145,10 +146,10 @@ def zero_parameters(ds):
     str
         With a leading space; "" if none is 0.
     """
-    if "base_parameter_value" not in ds:
+    if Var.BASE_PARAMETER_VALUE not in ds:
         return ""
-    zero = [n for n, v in zip(_strings(ds["base_parameter"].values),
-                              ds["base_parameter_value"].values) if v == 0]
+    zero = [n for n, v in zip(_strings(ds[Var.BASE_PARAMETER].values),
+                              ds[Var.BASE_PARAMETER_VALUE].values) if v == 0]
     if not zero:
         return ""
     return (f" Of the {ds.sizes['base_parameter']} base parameters, {len(zero)} are 0 for this "
@@ -201,8 +202,8 @@ def armature_columns(ds, labels, zero):
     """
     if not has_armature(ds):
         return {"header": [], "rows": [[] for _ in labels], "peak": []}
-    arm = np.asarray(ds["D_arm"].values, float)
-    share = (ds["share_arm"].values if "share_arm" in ds
+    arm = np.asarray(ds[Var.D_ARM].values, float)
+    share = (ds[Var.SHARE_ARM].values if Var.SHARE_ARM in ds
              else np.full(len(labels), np.nan))
     diag = _diagonal(arm.size)
     rows = [[("\u2261 0" if zero[k] else _share(share[k])) if lab in diag else "\u2014",
@@ -228,7 +229,7 @@ def has_armature(ds):
     -------
     bool
     """
-    return "D_arm" in ds and bool(np.any(ds["D_arm"].values > 0))
+    return Var.D_ARM in ds and bool(np.any(ds[Var.D_ARM].values > 0))
 
 
 def d_text(ds, s, e, enveloped):

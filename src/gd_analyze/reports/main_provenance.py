@@ -12,6 +12,7 @@ from __future__ import annotations
 
 import numpy as np
 
+from ..io.names import Attr
 from .common import attr as _attr
 from .common import fmt as _fmt
 from .common import prismatic_joints
@@ -79,7 +80,7 @@ def _setting(ds, asked, built):
 
 
 def _payload(ds):
-    mass = float(ds.attrs.get("payload_mass", 0.0) or 0.0)
+    mass = float(ds.attrs.get(Attr.PAYLOAD_MASS, 0.0) or 0.0)
     if mass == 0.0:
         return "none"
     return (f"{mass:g} kg, centre of mass {_attr(ds, 'payload_com')} m in link frame n, "
@@ -112,7 +113,7 @@ def _mounting(ds):
 
 def _prismatic_joints(ds):
     """", joint 3 prismatic" when the operation counts are for an arm with prismatic joints."""
-    types = str(ds.attrs.get("formulations_joint_types", ""))
+    types = str(ds.attrs.get(Attr.FORMULATIONS_JOINT_TYPES, ""))
     pris = [str(k + 1) for k, t in enumerate(types) if t == "P"]
     if not pris:
         return ""
@@ -121,12 +122,12 @@ def _prismatic_joints(ds):
 
 def _analysis_time(ds):
     """When the analysis ran, from the CF ``history`` ("<time> created by gd-analyze X")."""
-    return _attr(ds, "history").split(" created by ")[0]
+    return _attr(ds, Attr.HISTORY).split(" created by ")[0]
 
 
 def _conventions(ds):
     """The results file's format in words."""
-    cf = _attr(ds, "Conventions").replace("CF-", "")
+    cf = _attr(ds, Attr.CONVENTIONS).replace("CF-", "")
     return f"results.h5: HDF5 (netCDF-4) with metadata after the CF conventions, version {cf}"
 
 
@@ -148,12 +149,12 @@ def provenance_rows(ds, created, version, verification):
     -------
     list of (str, str)
     """
-    analysis = _attr(ds, "gd_analyze_version")
-    sha_in = _attr(ds, "input_sha256", "") or "\u2014, not read from a file"
+    analysis = _attr(ds, Attr.GD_ANALYZE_VERSION)
+    sha_in = _attr(ds, Attr.INPUT_SHA256, "") or "\u2014, not read from a file"
     rows = [
         ("software", f"gd-analyze {version}" if analysis == version else
          f"analysis by gd-analyze {analysis}, report by gd-analyze {version}"),
-        ("command", _attr(ds, "command")),
+        ("command", _attr(ds, Attr.COMMAND)),
         ("analysis run, report created", created if _analysis_time(ds) == created
          else f"{_analysis_time(ds)}, {created}"),
         ("trajectory file", f"{_attr(ds, 'input_path')} (SHA-256 {sha_in})"),
@@ -183,12 +184,12 @@ def provenance_rows(ds, created, version, verification):
                      f"{_attr(ds, 'formulations_setpoints')} set points, for "
                      f"n = {_attr(ds, 'formulations_n')}" + _prismatic_joints(ds)))
     if "simplified_files" in ds.attrs:
-        rows.append(("emitted source files", _attr(ds, "simplified_files")))
+        rows.append(("emitted source files", _attr(ds, Attr.SIMPLIFIED_FILES)))
     if "simplified_guarantee_statement" in ds.attrs:        # issue 29: the model's scope
         rows.append(("guarantee of the model built",
                      f"{_attr(ds, 'simplified_guarantee_kind')} kind: "
                      + scope_markup(_attr(ds, 'simplified_guarantee_statement'))))
-    engine = _attr(ds, "verification_engine", "Pinocchio")
+    engine = _attr(ds, Attr.VERIFICATION_ENGINE, "Pinocchio")
     rows.append(("verification against " + engine.replace("pinocchio", "Pinocchio"),
                  verification))
     for key in sorted(k for k in ds.attrs if k not in used
@@ -198,7 +199,7 @@ def provenance_rows(ds, created, version, verification):
         if twin in ds.attrs and _attr(ds, twin) == value:
             continue                                        # each setting once
         rows.append((key.replace("_", " "), value))
-    rows += [("file format", _conventions(ds)), ("method", _attr(ds, "references"))]
+    rows += [("file format", _conventions(ds)), ("method", _attr(ds, Attr.REFERENCES))]
     return rows
 
 
@@ -219,7 +220,7 @@ def software_row(ds, version):
     -------
     tuple of (str, str)
     """
-    computed = _attr(ds, "gd_analyze_version")
+    computed = _attr(ds, Attr.GD_ANALYZE_VERSION)
     return ("software", f"gd-analyze {version}" if computed == version else
             f"computed by gd-analyze {computed}, report by gd-analyze {version}")
 
@@ -238,7 +239,7 @@ def run_row(ds, label="computed"):
     -------
     tuple of (str, str)
     """
-    return (label, _attr(ds, "history").split(" created by ")[0])
+    return (label, _attr(ds, Attr.HISTORY).split(" created by ")[0])
 
 
 def gravity_row(ds):
@@ -261,7 +262,7 @@ def gravity_row(ds):
     text = f"{vector(key)} m/s\u00b2 in the base frame" if key in ds.attrs else "not recorded"
     if "mounting_gravity_world" in ds.attrs:
         text += f" (given as {vector('mounting_gravity_world')} m/s\u00b2 in the world)"
-    rpy = np.atleast_1d(ds.attrs.get("mounting_base_rpy_deg", [0.0]))
+    rpy = np.atleast_1d(ds.attrs.get(Attr.MOUNTING_BASE_RPY_DEG, [0.0]))
     if np.any(np.asarray(rpy, float) != 0):
         text += f"; base turned by roll, pitch, yaw {vector('mounting_base_rpy_deg')} deg"
     elif "mounting_base_rpy_deg" in ds.attrs:

@@ -8,6 +8,7 @@ from __future__ import annotations
 import numpy as np
 
 from ..core.selection.ranking import joint_motion_units
+from ..io.names import Attr, Var
 from .common import attr as _attr
 from .common import count, given, prismatic_joints, strings
 from .common import fmt as _fmt
@@ -100,29 +101,29 @@ def robot_section(ds, robot_name):
         ``effort_text``: the entries of the report's context.
     """
     n = ds.sizes["joint"]
-    t = ds["t"].values
+    t = ds[Var.T].values
     N = t.size
-    labels = strings(ds["element"].values)
+    labels = strings(ds[Var.ELEMENT].values)
     robot_kv = _kv([
-        ("name", robot_name), ("description", _attr(ds, "robot_description")),
-        ("reference", _attr(ds, "robot_reference")), ("robot file", _attr(ds, "robot_source")),
-        ("robot file SHA-256", _attr(ds, "robot_sha256")), ("joints n", str(n)),
-        ("gravity g [m/s\u00b2]", _attr(ds, "gravity")),
+        ("name", robot_name), ("description", _attr(ds, Attr.ROBOT_DESCRIPTION)),
+        ("reference", _attr(ds, Attr.ROBOT_REFERENCE)), ("robot file", _attr(ds, Attr.ROBOT_SOURCE)),
+        ("robot file SHA-256", _attr(ds, Attr.ROBOT_SHA256)), ("joints n", str(n)),
+        ("gravity g [m/s\u00b2]", _attr(ds, Attr.GRAVITY)),
     ])
-    com = ds["link_com"].values
-    inertia = ds["link_inertia"].values
+    com = ds[Var.LINK_COM].values
+    inertia = ds[Var.LINK_INERTIA].values
     dh, placements = _robot_geometry(ds)
     link = _table(
         ["joint", "mass [kg]", "com x [m]", "com y [m]", "com z [m]", "Ixx [kg m\u00b2]",
          "Iyy [kg m\u00b2]", "Izz [kg m\u00b2]"],
-        _rows(range(1, n + 1), ds["link_mass"].values, *com.T,
+        _rows(range(1, n + 1), ds[Var.LINK_MASS].values, *com.T,
               *(inertia[:, i, i] for i in range(3))),
         align=["left"] + ["right"] * 7, widths=[0.7] + [1] * 7)
     drives = _drives_context(ds, labels)
-    derivatives = str(ds.attrs.get("derivatives", ""))
-    sha_in = _attr(ds, "input_sha256", "")
+    derivatives = str(ds.attrs.get(Attr.DERIVATIVES, ""))
+    sha_in = _attr(ds, Attr.INPUT_SHA256, "")
     traj_kv = _kv([
-        ("source file", _attr(ds, "input_file")), ("path", _attr(ds, "input_path")),
+        ("source file", _attr(ds, Attr.INPUT_FILE)), ("path", _attr(ds, Attr.INPUT_PATH)),
         ("SHA-256", sha_in or "\u2014 (not read from a file)"),
         ("set points N", count(N)),
         ("duration [s]",
@@ -170,7 +171,7 @@ def _robot_geometry(ds):
     Rx(roll) as in URDF) and its axis, the z column of the rotation."""
     n = ds.sizes["joint"]
     dh_rows = np.stack([ds[v].values for v in ("dh_d", "dh_a", "dh_alpha", "dh_offset")])
-    if np.all(np.isfinite(dh_rows)) or "joint_rotation" not in ds.variables:
+    if np.all(np.isfinite(dh_rows)) or Var.JOINT_ROTATION not in ds.variables:
         pris = prismatic_joints(ds)
 
         def cell(value, variable):            # the joint variable q where it moves: q + offset
@@ -190,8 +191,8 @@ def _robot_geometry(ds):
 
     from scipy.spatial.transform import Rotation
 
-    R = np.asarray(ds["joint_rotation"].values, float)
-    t = np.asarray(ds["joint_translation"].values, float)
+    R = np.asarray(ds[Var.JOINT_ROTATION].values, float)
+    t = np.asarray(ds[Var.JOINT_TRANSLATION].values, float)
     with warnings.catch_warnings():             # pitch of +-90 deg: yaw 0, roll takes it all
         warnings.simplefilter("ignore", UserWarning)
         rpy = Rotation.from_matrix(R).as_euler("xyz", degrees=True)  # extrinsic: URDF's rpy
@@ -204,7 +205,7 @@ def _robot_geometry(ds):
     placements = _table(
         ["joint", "type", "x [m]", "y [m]", "z [m]", "roll [deg]", "pitch [deg]", "yaw [deg]",
          "axis in frame i\u22121"],
-        [[str(k + 1), str(ds["joint_type"].values[k]) if "joint_type" in ds else "",
+        [[str(k + 1), str(ds[Var.JOINT_TYPE].values[k]) if Var.JOINT_TYPE in ds else "",
           *row[1:], "(" + ", ".join(num(v) for v in R[k, :, 2]) + ")"]
          for k, row in enumerate(_rows(range(n), *xyz.T, *angles.T))],
         align=["left", "left"] + ["right"] * 6 + ["left"],
@@ -215,7 +216,7 @@ def _robot_geometry(ds):
 def _drives_context(ds, labels):
     """The drives' table and its note, or None when the robot has no drives."""
     names = ("D_arm", "viscous", "coulomb")
-    offset = ds["torque_offset"].values if "torque_offset" in ds else None
+    offset = ds[Var.TORQUE_OFFSET].values if Var.TORQUE_OFFSET in ds else None
     has_offset = offset is not None and bool(np.any(offset))
     if not all(v in ds for v in names) or not (
             any(np.any(ds[v].values) for v in names) or has_offset):
@@ -223,8 +224,8 @@ def _drives_context(ds, labels):
     arm, fv, fc = (ds[v].values for v in names)
     n = arm.shape[0]
     pris = prismatic_joints(ds)
-    peak_f = (np.abs(ds["tau_f"].values).max(axis=0) if "tau_f" in ds else np.zeros(n))
-    share = ds["share_arm"].values if "share_arm" in ds else np.zeros(len(labels))
+    peak_f = (np.abs(ds[Var.TAU_F].values).max(axis=0) if Var.TAU_F in ds else np.zeros(n))
+    share = ds[Var.SHARE_ARM].values if Var.SHARE_ARM in ds else np.zeros(len(labels))
     diag = [list(labels).index(f"D{k + 1}{k + 1}") if n < 10 else None for k in range(n)]
     extra = (offset,) if has_offset else ()
     table = _table(

@@ -12,6 +12,8 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from ..io.names import Var
+
 __all__ = ["PlotData", "plot_data", "DERIVED", "OPTIONAL", "ENVELOPE_THRESHOLD", "ENVELOPE_COLUMNS",
            "READ_CHUNK"]
 
@@ -112,7 +114,7 @@ def plot_data(ds, names=("q", "qd", "qdd", "D_tran", "D_rot", "D", "h_tran", "h_
         whatever N is.
     """
     names = [v for v in names if v not in OPTIONAL or _held(ds, v)]
-    t = np.asarray(ds["t"].values, dtype=float)
+    t = np.asarray(ds[Var.T].values, dtype=float)
     N = t.size
     if N <= threshold:
         series = {v: _chunk(ds, v, 0, N) for v in names}

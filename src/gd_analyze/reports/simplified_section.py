@@ -12,6 +12,7 @@ from __future__ import annotations
 import numpy as np
 
 from ..core.selection.ranking import ROUND_OFF, ROUND_OFF_CLAUSE, arm_scales, is_round_off
+from ..io.names import Attr, Var
 from .common import (
     count,
     fmt,
@@ -74,7 +75,7 @@ def has_simplified(ds):
     -------
     bool
     """
-    return "simplified_bound" in ds.variables
+    return Var.SIMPLIFIED_BOUND in ds.variables
 
 
 _S_I = "s" + _sub("i")
@@ -156,12 +157,12 @@ def simplified_context(ds):
     """
     a = ds.attrs
     n = ds.sizes["joint"]
-    rule, eps = str(a.get("simplified_rule", "")), float(a.get("simplified_tolerance", np.nan))
-    floor = float(a.get("simplified_torque_floor", 0.0))
-    files = [f.strip() for f in str(a.get("simplified_files", "")).split(",") if f.strip()]
-    choice = strings(ds["choice"].values) if "choice" in ds.variables else []
+    rule, eps = str(a.get(Attr.SIMPLIFIED_RULE, "")), float(a.get(Attr.SIMPLIFIED_TOLERANCE, np.nan))
+    floor = float(a.get(Attr.SIMPLIFIED_TORQUE_FLOOR, 0.0))
+    files = [f.strip() for f in str(a.get(Attr.SIMPLIFIED_FILES, "")).split(",") if f.strip()]
+    choice = strings(ds[Var.CHOICE].values) if Var.CHOICE in ds.variables else []
     dropped = sum({"both": 0, "tran": 1, "rot": 1, "none": 2}.get(c, 0) for c in choice)
-    form = str(a.get("simplified_form", "explicit"))
+    form = str(a.get(Attr.SIMPLIFIED_FORM, "explicit"))
     if form == "recursive":
         text = _recursive_text(ds, eps, floor)
     elif rule == "budget":
@@ -186,9 +187,9 @@ def simplified_context(ds):
              f"point ({count(a.get('simplified_sin'))} sin, {count(a.get('simplified_cos'))} "
              "cos).")
     text += inertia_check_text(a)
-    other = str(a.get("other_rule", ""))
-    if other and "other_rule_error_relative_peak" in ds.variables:
-        rel = np.asarray(ds["other_rule_error_relative_peak"].values, float)
+    other = str(a.get(Attr.OTHER_RULE, ""))
+    if other and Var.OTHER_RULE_ERROR_RELATIVE_PEAK in ds.variables:
+        rel = np.asarray(ds[Var.OTHER_RULE_ERROR_RELATIVE_PEAK].values, float)
         rel = rel[np.isfinite(rel)]     # a joint without torque has no relative error
         worst = (f"worst error {pct(rel.max())} of peak |\u03c4|" if rel.size else
                  "no relative error (no joint has torque on this trajectory)")
@@ -196,12 +197,12 @@ def simplified_context(ds):
                  f"{count(a.get('other_rule_multiplications'))} multiplications and "
                  f"{count(a.get('other_rule_additions'))} additions, {worst}."
                  + _dearer_than_full(ds, other))
-    measured = ds["tau_error_peak"].values
+    measured = ds[Var.TAU_ERROR_PEAK].values
     parts = ("from D", "from h", "from c") if form != "recursive" else (
         "inertial (D)", "velocity (h)", "gravity (c)", "whole parameters")
-    whole = ds["simplified_bound_whole"].values if "simplified_bound_whole" in ds else None
+    whole = ds[Var.SIMPLIFIED_BOUND_WHOLE].values if Var.SIMPLIFIED_BOUND_WHOLE in ds else None
     units = torque_units(ds)
-    scale = ds["simplified_scale"].values
+    scale = ds[Var.SIMPLIFIED_SCALE].values
 
     arm = arm_scales(scale, units)
 
@@ -218,25 +219,25 @@ def simplified_context(ds):
         ["joint", "units", f"scale {_S_I}", "bound", *parts,
          "measured peak |\u03c4\u209b\u00a0\u2212\u00a0\u03c4|", f"measured / {_S_I}"],
         [[str(i + 1), units[i], _num(scale[i]),
-          num(ds["simplified_bound"].values[i], i),
-          num(ds["simplified_bound_inertia"].values[i], i),
-          num(ds["simplified_bound_coriolis"].values[i], i),
-          num(ds["simplified_bound_gravity"].values[i], i),
+          num(ds[Var.SIMPLIFIED_BOUND].values[i], i),
+          num(ds[Var.SIMPLIFIED_BOUND_INERTIA].values[i], i),
+          num(ds[Var.SIMPLIFIED_BOUND_CORIOLIS].values[i], i),
+          num(ds[Var.SIMPLIFIED_BOUND_GRAVITY].values[i], i),
           *([] if whole is None else [num(whole[i], i)]),
           "\u2261 0" if measured_off[i] or measured[i] == 0 else _num(measured[i]),
           ratio[i] if scale[i] > 0 else "\u2014"] for i in range(n)],
         align=["left", "left"] + ["right"] * (7 + (whole is not None)))
     costs = ladder = None
-    if "cost_total" in ds.variables:
+    if Var.COST_TOTAL in ds.variables:
         costs = table(["model", "multiplications", "additions", "total"],
                       [[str(lab).replace("EPS=", "\u03b5 = "), _int(m), _int(ad),
                         _int(tot)] for lab, m, ad, tot in
-                       zip(strings(ds["cost_model"].values), ds["cost_multiplications"].values,
-                           ds["cost_additions"].values, ds["cost_total"].values)],
+                       zip(strings(ds[Var.COST_MODEL].values), ds[Var.COST_MULTIPLICATIONS].values,
+                           ds[Var.COST_ADDITIONS].values, ds[Var.COST_TOTAL].values)],
                       align=["left", "right", "right", "right"], widths=[3, 1, 1, 1])
-    if "ladder_operations" in ds.variables:
-        region = str(a.get("simplified_guarantee_kind", "")) == "region"
-        has_bound = "ladder_worst_bound" in ds.variables
+    if Var.LADDER_OPERATIONS in ds.variables:
+        region = str(a.get(Attr.SIMPLIFIED_GUARANTEE_KIND, "")) == "region"
+        has_bound = Var.LADDER_WORST_BOUND in ds.variables
         ladder = table(["\u03b5", "operations", "sin + cos",
                         f"worst measured peak |\u03c4\u209b\u00a0\u2212\u00a0\u03c4| / {_S_I} on "
                         "this trajectory" + ("" if has_bound else " (guaranteed \u2264 \u03b5)")]
@@ -244,22 +245,22 @@ def simplified_context(ds):
                            + ("proved over the joint-limit region" if region else
                               "on this trajectory") + " (\u2264 \u03b5)"] if has_bound else []),
                        [[f"{e:g}", _int(o), _int(tr), w, *b] for e, o, tr, w, *b in
-                        zip(ds["ladder_tolerance"].values, ds["ladder_operations"].values,
-                            ds["ladder_trig"].values, pct_column(   # relative: own scale 1
-                                ds["ladder_worst_error"].values,
-                                is_round_off(ds["ladder_worst_error"].values, 1.0)),
-                            *([pct_column(ds["ladder_worst_bound"].values,
-                                          is_round_off(ds["ladder_worst_bound"].values, 1.0))]
+                        zip(ds[Var.LADDER_TOLERANCE].values, ds[Var.LADDER_OPERATIONS].values,
+                            ds[Var.LADDER_TRIG].values, pct_column(   # relative: own scale 1
+                                ds[Var.LADDER_WORST_ERROR].values,
+                                is_round_off(ds[Var.LADDER_WORST_ERROR].values, 1.0)),
+                            *([pct_column(ds[Var.LADDER_WORST_BOUND].values,
+                                          is_round_off(ds[Var.LADDER_WORST_BOUND].values, 1.0))]
                               if has_bound else []))],
                        align=["right"] * (4 + has_bound))
-    skipped = str(ds.attrs.get("simplified_ladder_skipped", "")) if ladder is None else ""
+    skipped = str(ds.attrs.get(Attr.SIMPLIFIED_LADDER_SKIPPED, "")) if ladder is None else ""
     region, region_text = region_table(ds)
-    ladder_form = str(a.get("simplified_ladder_form", "explicit"))
+    ladder_form = str(a.get(Attr.SIMPLIFIED_LADDER_FORM, "explicit"))
     return {"text": text, "bound": bound, "costs": costs, "ladder": ladder, "files": files,
-            "prefix": str(a.get("c_prefix", "")),
+            "prefix": str(a.get(Attr.C_PREFIX, "")),
             "region": region, "region_text": region_text,
             "rule": rule, "tolerance": eps,
-            "form_note": str(a.get("simplified_form_note", "")),
+            "form_note": str(a.get(Attr.SIMPLIFIED_FORM_NOTE, "")),
             "ladder_heading": "5.5 Tolerance ladder" + (
                 f" of the {ladder_form} form" if ladder is not None else ""),
             "ladder_note": f"Tolerance ladder {skipped}." if skipped else ""}
@@ -309,7 +310,7 @@ def region_table(ds):
     text = (f"The region: {ds.attrs.get('region_source', 'the robot limits')}"
             + (f"; acceleration limits {note}, not given by the robot" if note else "")
             + (f"; clipped to the robot's limits: {ds.attrs['region_notes']}"
-               if ds.attrs.get("region_notes") else "") + ".")
+               if ds.attrs.get(Attr.REGION_NOTES) else "") + ".")
     if r["covered"] is True:
         text += " Every set point of this trajectory lies in the region."
     elif r["covered"] is False:
@@ -323,8 +324,8 @@ def _recursive_text(ds, eps, floor):
     """The rule of a model of the recursive form, what it keeps and its guarantee."""
     a = ds.attrs
     b = ds.sizes.get("base_parameter", 0)
-    dropped = int(a.get("simplified_pairs_dropped", 0))
-    pairs = int(a.get("simplified_pairs", 3 * b))
+    dropped = int(a.get(Attr.SIMPLIFIED_PAIRS_DROPPED, 0))
+    pairs = int(a.get(Attr.SIMPLIFIED_PAIRS, 3 * b))
     text = (f"Form: the customized recursive Newton-Euler model (Algorithm 3.1) on the arm's "
             f"{b} base inertial parameters (Khalil & Kleinfinger 1987; Gautier 1990), with the "
             "numeric parameters as constants, 0 and \u00b11 folded and common subexpressions "
@@ -445,11 +446,11 @@ def _dearer_than_full(ds, other):
     a = ds.attrs
     keys = ("full_harmonics", "full_coefficients", "other_rule_harmonics",
             "other_rule_coefficients")
-    if "cost_total" not in ds.variables or not all(k in a for k in keys):
+    if Var.COST_TOTAL not in ds.variables or not all(k in a for k in keys):
         return ""
-    costs = dict(zip(strings(ds["cost_model"].values), ds["cost_total"].values))
+    costs = dict(zip(strings(ds[Var.COST_MODEL].values), ds[Var.COST_TOTAL].values))
     full = costs.get("explicit, full")
-    mine = int(a.get("other_rule_multiplications", -1)) + int(a.get("other_rule_additions", -1))
+    mine = int(a.get(Attr.OTHER_RULE_MULTIPLICATIONS, -1)) + int(a.get(Attr.OTHER_RULE_ADDITIONS, -1))
     if full is None or mine <= full:
         return ""
     fh, fc, oh, oc = (int(a[k]) for k in keys)
@@ -512,10 +513,10 @@ def error_figure(ds, width=7.2, data=None):
     if data is not None and "tau_error" in data.series:
         t, diff = data.x, data.series["tau_error"]
     else:
-        t = ds["t"].values
-        diff = ds["tau_simplified"].values - ds["tau"].values
-    bound = ds["simplified_bound"].values
-    scale = ds["simplified_scale"].values if "simplified_scale" in ds else ds["tau_peak"].values
+        t = ds[Var.T].values
+        diff = ds[Var.TAU_SIMPLIFIED].values - ds[Var.TAU].values
+    bound = ds[Var.SIMPLIFIED_BOUND].values
+    scale = ds[Var.SIMPLIFIED_SCALE].values if Var.SIMPLIFIED_SCALE in ds else ds[Var.TAU_PEAK].values
     arm = arm_scales(scale, units)
     quiet = [i for i in range(n) if _round_off(diff[:, i], bound[i], scale[i], arm[i])]
     shown = [i for i in range(n) if i not in quiet]
@@ -547,7 +548,7 @@ def error_figure(ds, width=7.2, data=None):
     fig = Figure(figsize=(W, H))
     if data is not None and data.enveloped:     # the set points' range, not the columns'
         t = np.asarray(t, float)
-        t0, t1 = float(ds["t"][0]), float(ds["t"][-1])
+        t0, t1 = float(ds[Var.T][0]), float(ds[Var.T][-1])
     else:
         t0, t1 = (float(t[0]), float(t[-1])) if t.size else (0.0, 1.0)
     handles = None

@@ -188,7 +188,8 @@ class AnalysisPass:
     costs : xarray.Dataset or None
         :func:`gd_analyze.formulations.compare.formulations_dataset`, if asked for.
     terms : GDTerms or None
-        The G-D terms at all N set points, held when there is no file to read them back from.
+        The G-D terms at all N set points, held when there is no file to read them back from
+        or when they are one chunk (None when they were streamed in chunks).
     tau, tau_simplified : ndarray, shape (N, n) or None
         Full and simplified torques [N m], held likewise.
     model : SimplifiedModel or None
@@ -380,7 +381,7 @@ def _analysis_pass(robot, trajectory, options, provenance, chunk, writer, progre
             other_errors.update(other.torque(q[a:b], qd[a:b], qdd[a:b]), tau)
         if writer is not None:
             writer.write(a, {"tau_simplified": tau_s})
-        else:
+        if hold:                        # in memory too: the report reads them from there
             tau_s_all.append(tau_s)
         bar.update(b - a)
     if own:
@@ -407,9 +408,9 @@ def _analysis_pass(robot, trajectory, options, provenance, chunk, writer, progre
                                     sample.rows([at[i] for i in idx_choice]), ranking)
     return AnalysisPass(ranking=ranking, choices=choices, error=_marked(errors.result(), robot),
                  verification=verification, costs=costs,
-                 terms=_concat(held) if writer is None else None,
-                 tau=np.concatenate(held_tau) if writer is None else None,
-                 tau_simplified=np.concatenate(tau_s_all) if writer is None else None,
+                 terms=_concat(held) if hold else None,
+                 tau=np.concatenate(held_tau) if hold else None,
+                 tau_simplified=np.concatenate(tau_s_all) if hold else None,
                  model=model, simplified=simplified,
                  chapter_error=None if chapter is None else _marked(chapter.result(), robot))
 
@@ -589,7 +590,9 @@ def analyze_to_file(robot, trajectory, path, options=None, settings=None, chunk=
     -------
     Analysis
         Its dataset is the summary (:func:`gd_analyze.io.datasets.summary_dataset`); the file holds
-        the per-set-point variables as well.
+        the per-set-point variables as well, and so does the dataset when the set points are
+        one chunk (N <= ``chunk``: they were held in memory anyway,
+        :func:`gd_analyze.io.datasets.with_setpoints`).
 
     Raises
     ------
@@ -601,7 +604,7 @@ def analyze_to_file(robot, trajectory, path, options=None, settings=None, chunk=
     import contextlib
 
     from ..files import atomic_path
-    from ..io.datasets import SetpointWriter, summary_dataset
+    from ..io.datasets import SetpointWriter, summary_dataset, with_setpoints
     from ..io.schema import append_dataset
 
     options = AnalysisOptions() if options is None else options
@@ -626,6 +629,9 @@ def analyze_to_file(robot, trajectory, path, options=None, settings=None, chunk=
             ds = ds.assign(extra.data_vars)
         ds = _with_chapter(_with_simplified(ds, result.simplified), result.chapter_error)
         append_dataset(ds, tmp)          # not to_netcdf: it would import dask
+    if result.terms is not None:        # one chunk, held: the result in memory is whole
+        ds = with_setpoints(ds, robot, trajectory, result.terms, result.tau,
+                            result.tau_simplified)
     return Analysis(dataset=ds,
                     model=_model(robot, trajectory, result, options, settings),
                     verification=result.verification)

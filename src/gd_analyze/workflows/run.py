@@ -20,6 +20,8 @@ from pathlib import Path
 from ..core.selection.simplified import SOURCE_STEM
 from ..core.symbolic.emit_model import artefact_names
 from ..io.model_file import save_model
+from ..io.names import Var
+from ..io.results_view import Results
 from ..io.staging import check_free_space, staged_output, writing
 from .analyze import analyze, analyze_to_file
 from .options import AnalysisOptions
@@ -125,8 +127,10 @@ def run_analysis(robot, trajectory, options, outdir, report=None, settings=None,
         The output folder: created if missing; only the files this command wrote before are
         replaced (:func:`gd_analyze.io.staging.staged_output`).
     report : callable, optional
-        ``report(results_path, folder, progress) -> list of paths``: writes the report from
-        the stored dataset into ``folder`` (the command line passes
+        ``report(results, folder, progress) -> list of paths``: writes the report into
+        ``folder`` from ``results``, the analysis in memory
+        (:class:`gd_analyze.io.results_view.Results`, with its per-set-point series), or the
+        path of results.h5 when the series were streamed in chunks (the command line passes
         :func:`gd_analyze.reports.main.write_report` with its page and font settings); None
         writes no report.
     settings : dict, optional
@@ -195,8 +199,10 @@ def run_analysis(robot, trajectory, options, outdir, report=None, settings=None,
         for name, text in model.sources(SOURCE_STEM, prefix).items():
             (stage / name).write_text(text, encoding="utf-8")
             written.append(stage / name)
-        if report is not None:
-            written += report(results, stage, progress)
+        if report is not None:          # from the result in memory when it holds the series
+            whole = Var.T in analysis.dataset.variables
+            written += report(Results.from_dataset(analysis.dataset) if whole else results,
+                              stage, progress)
     files = tuple(outdir / Path(p).relative_to(stage) for p in written)
     return AnalysisOutputs(outdir=outdir, files=files, analysis=analysis)
 

@@ -1,0 +1,469 @@
+"""A typed view of the main job's results: what the report and the command line read.
+
+:class:`Results` is read once, from ``results.h5`` (:meth:`Results.open`) or from the dataset in
+memory (:meth:`Results.from_dataset`, e.g. the main job's own summary), and checked as it is
+read: a missing or renamed variable is one :class:`~gd_analyze.errors.InputError` naming the
+file and the variable, not a ``KeyError`` when a report renders. The names are the constants of
+:mod:`gd_analyze.io.names`. The round-off marks and the joints' units are those stored at
+analysis (:func:`gd_analyze.io.datasets.summary_dataset`), never decided again here.
+
+The ranking and the torque error are one view object each (:class:`RankingTable`,
+:class:`TorqueErrorTable`), which the command line's text and the report's tables both render.
+"""
+
+from __future__ import annotations
+
+import types
+from collections.abc import Mapping
+from dataclasses import dataclass
+from pathlib import Path
+
+import numpy as np
+
+from ..core.selection.ranking import arm_scales, identically_zero, is_round_off
+from ..errors import InputError
+from .datasets import joint_units as _units_of
+from .datasets import stored_guarantee, stored_region
+from .names import VERIFICATION_PREFIX, Attr, Var
+from .schema import open_results, strings
+
+__all__ = ["ZERO_MARK", "RankingRow", "RankingTable", "TorqueErrorRow", "TorqueErrorTable",
+           "torque_table_header",
+           "Verification", "Results"]
+
+#: Printed instead of a number that is round-off (zero to rounding).
+ZERO_MARK = "\u2261 0"
+
+#: The variables a results file must hold for the view.
+REQUIRED = (Var.ELEMENT, Var.ELEMENT_UNITS, Var.SHARE_TRAN, Var.DOMINANCE,
+            Var.CHAPTER_DOMINANCE, Var.CHOICE, Var.PEAK_TRAN, Var.PEAK_ROT, Var.PEAK_TOTAL,
+            Var.TAU_ERROR_PEAK, Var.TAU_ERROR_RMS, Var.TAU_PEAK, Var.TAU_ERROR_RELATIVE_PEAK,
+            Var.TAU_ERROR_RELATIVE_RMS, Var.JOINT)
+#: The global attributes a results file must hold for the view.
+REQUIRED_ATTRS = (Attr.ROBOT, Attr.INPUT_FILE, Attr.SETPOINTS, Attr.DOMINANCE_THRESHOLD,
+                  Attr.NEGLIGIBLE_THRESHOLD)
+
+
+@dataclass(frozen=True)
+class RankingRow:
+    """One ranked element of D (i <= j) or h.
+
+    Attributes
+    ----------
+    label : str
+        ``"D11"`` .. ``"hn"``.
+    share_tran : float
+        Translational share sum|tran| / (sum|tran| + sum|rot|) (NaN where zero in every part).
+    dominance : str
+        Its class: translational, rotational, both or negligible.
+    chapter_dominance : str
+        The class Sec. 3.4.1 reports for the chapter's PUMA 560 ("" otherwise).
+    choice : str
+        The part the simplified model keeps.
+    peak_tran, peak_rot, peak_total : float
+        Peak |part| along the trajectory [units].
+    scale : float
+        The element's scale of the negligibility test [units] (NaN for an older file).
+    units : str
+        ``"kg m2"``, ``"kg m"``, ``"kg"``, ``"N m"`` or ``"N"``.
+    round_off : bool
+        Zero in every part: round-off, no share (shown as "\u2261 0").
+    tran_off, rot_off, total_off : bool
+        Each peak is round-off of the element's scale or the arm's
+        (:func:`gd_analyze.core.selection.ranking.is_round_off`).
+    """
+
+    label: str
+    share_tran: float
+    dominance: str
+    chapter_dominance: str
+    choice: str
+    peak_tran: float
+    peak_rot: float
+    peak_total: float
+    scale: float
+    units: str
+    round_off: bool
+    tran_off: bool
+    rot_off: bool
+    total_off: bool
+
+
+class _Rows:
+    """A table of frozen rows: one field of every row as an array."""
+
+    rows: tuple
+
+    def column(self, name: str) -> np.ndarray:
+        """One field of every row as an array.
+
+        Parameters
+        ----------
+        name : str
+            A field of the rows.
+
+        Returns
+        -------
+        ndarray, shape (len(rows),)
+        """
+        return np.array([getattr(r, name) for r in self.rows])
+
+
+@dataclass(frozen=True)
+class RankingTable(_Rows):
+    """The dominance ranking, element by element: the one object both renderers read.
+
+    Attributes
+    ----------
+    rows : tuple of RankingRow, length M
+        In the stored order (D's upper triangle row by row, then h).
+    """
+
+    rows: tuple[RankingRow, ...]
+
+    def text(self) -> list[str]:
+        """The ranking as the command line prints it: a header and one line per element.
+
+        Returns
+        -------
+        list of str
+            Columns element, share_tran (4 decimals), class, peak_total (4 significant
+            digits) and units; "\u2261 0" for the share and the peak of an element zero in
+            every part.
+        """
+        lines = [f"{'element':<8}{'share_tran':>11}  {'class':<14}{'peak_total':>12}  units"]
+        for r in self.rows:
+            shown = ZERO_MARK.rjust(11) if r.round_off else f"{r.share_tran:>11.4f}"
+            top = ZERO_MARK.rjust(12) if r.round_off else f"{r.peak_total:>12.4g}"
+            lines.append(f"{r.label:<8}{shown}  {r.dominance:<14}{top}  {r.units}")
+        return lines
+
+
+@dataclass(frozen=True)
+class TorqueErrorRow:
+    """The simplified model's torque error at one joint, along the trajectory.
+
+    Attributes
+    ----------
+    joint : int
+        1 .. n.
+    peak, rms : float
+        Peak and RMS of |tau_s - tau| [N m or N].
+    peak_tau : float
+        Peak |tau| of the full model [N m or N].
+    relative_peak, relative_rms : float
+        peak and RMS error / peak |tau| [1].
+    units : str
+        ``"N m"`` (revolute) or ``"N"`` (prismatic).
+    round_off : bool
+        The error is round-off (stored at analysis), not data.
+    """
+
+    joint: int
+    peak: float
+    rms: float
+    peak_tau: float
+    relative_peak: float
+    relative_rms: float
+    units: str
+    round_off: bool
+
+
+def torque_table_header(units: list[str]) -> tuple[str, list[str]]:
+    """The header of a per-joint torque-error table as printed, and each row's end.
+
+    Parameters
+    ----------
+    units : list of str, length n
+        Each joint's torque units (``"N m"`` or ``"N"``).
+
+    Returns
+    -------
+    header : str
+        ``[N m]`` in the header when every joint has the same units, else a units column.
+    ends : list of str, length n
+        What each row ends with: "" or its units.
+    """
+    if len(set(units)) == 1:
+        u = f" [{units[0]}]"
+        return (f"{'joint':<6}{'peak' + u:>12}{'rms' + u:>12}{'peak |tau|':>12}"
+                f"{'rel peak':>10}{'rel rms':>10}"), [""] * len(units)
+    return (f"{'joint':<6}{'peak':>12}{'rms':>12}{'peak |tau|':>12}{'rel peak':>10}"
+            f"{'rel rms':>10}  units"), [f"  {u}" for u in units]
+
+
+@dataclass(frozen=True)
+class TorqueErrorTable(_Rows):
+    """The torque error per joint: the one object both renderers read.
+
+    Attributes
+    ----------
+    rows : tuple of TorqueErrorRow, length n
+    """
+
+    rows: tuple[TorqueErrorRow, ...]
+
+    def text(self) -> list[str]:
+        """The table as the command line prints it.
+
+        Returns
+        -------
+        list of str
+            A header (``[N m]`` in it when every joint has the same units, else a units
+            column) and one line per joint, "\u2261 0" for an error that is round-off.
+        """
+        header, ends = torque_table_header([r.units for r in self.rows])
+        lines = [header]
+        for r, end in zip(self.rows, ends):
+            if r.round_off:                 # round-off of the joint's torque: not data
+                lines.append(f"{r.joint:<6}{ZERO_MARK:>12}{ZERO_MARK:>12}{r.peak_tau:>12.4g}"
+                             f"{ZERO_MARK:>10}{ZERO_MARK:>10}{end}")
+            else:
+                lines.append(f"{r.joint:<6}{r.peak:>12.4g}{r.rms:>12.4g}{r.peak_tau:>12.4g}"
+                             f"{r.relative_peak:>10.2e}{r.relative_rms:>10.2e}{end}")
+        return lines
+
+
+@dataclass(frozen=True)
+class Verification:
+    """The check of the G-D terms against Pinocchio, as stored.
+
+    Attributes
+    ----------
+    passed : bool
+        Every term within the tolerance.
+    worst_excess : float
+        Largest relative difference beyond round-off over the terms (0: all within
+        round-off, 64 eps of its scale; NaN where none is stored).
+    setpoints : int
+        The set points checked.
+    """
+
+    passed: bool
+    worst_excess: float
+    setpoints: int
+
+
+@dataclass(frozen=True, eq=False)
+class Results:
+    """The main job's results as the report and the command line read them.
+
+    Attributes
+    ----------
+    robot : str
+        The robot's name.
+    input_file : str
+        The trajectory file's name.
+    setpoints : int
+        N, the set points analysed.
+    dominance_threshold, negligible_threshold : float
+        s and e of the ranking.
+    prismatic : tuple of bool, length n
+        The prismatic joints.
+    joint_units : Mapping of str to tuple of str
+        ``"q"``, ``"qd"``, ``"qdd"``, ``"tau"`` -> the units of each joint, as stored at
+        analysis (``q_units`` .. ``tau_units``).
+    ranking : RankingTable
+        The dominance ranking.
+    torque_error : TorqueErrorTable
+        The simplified model's torque error per joint.
+    region : dict or None
+        :func:`gd_analyze.io.datasets.stored_region`.
+    guarantee : dict or None
+        :func:`gd_analyze.io.datasets.stored_guarantee`.
+    inertia_check : str
+        The proof (or sample) of D_s's positive definiteness, "" where none is stored.
+    verification : Verification or None
+        The check against Pinocchio; None where it was not run.
+    attrs : Mapping
+        Every global attribute (the provenance), read-only.
+    dataset : xarray.Dataset
+        The dataset read (the figures' series and the sections not yet typed).
+    source : str
+        The file read, or ``"<memory>"``.
+    """
+
+    robot: str
+    input_file: str
+    setpoints: int
+    dominance_threshold: float
+    negligible_threshold: float
+    prismatic: tuple[bool, ...]
+    joint_units: Mapping[str, tuple[str, ...]]
+    ranking: RankingTable
+    torque_error: TorqueErrorTable
+    region: dict | None
+    guarantee: dict | None
+    inertia_check: str
+    verification: Verification | None
+    attrs: Mapping
+    dataset: object
+    source: str = "<memory>"
+
+    @classmethod
+    def open(cls, path: str | Path, lazy: bool = False) -> Results:
+        """Read a ``results.h5`` written by the main job.
+
+        Parameters
+        ----------
+        path : str or os.PathLike
+            The file.
+        lazy : bool, optional
+            Leave the per-set-point series on disk, read in slices (the caller closes
+            ``results.dataset``).
+
+        Returns
+        -------
+        Results
+
+        Raises
+        ------
+        InputError
+            If the file is missing, unreadable, or lacks a variable or attribute of a results
+            file (the message names the file and the variable).
+        """
+        return cls.from_dataset(open_results(path, lazy=lazy), source=str(path))
+
+    @classmethod
+    def of(cls, results) -> Results:
+        """The view itself, or the view of a results dataset.
+
+        Parameters
+        ----------
+        results : Results or xarray.Dataset
+
+        Returns
+        -------
+        Results
+
+        Raises
+        ------
+        InputError
+            As :meth:`from_dataset`.
+        """
+        return results if isinstance(results, cls) else cls.from_dataset(results)
+
+    @classmethod
+    def from_dataset(cls, ds, source: str = "<memory>") -> Results:
+        """The view of a results dataset (in memory, or opened by :meth:`open`).
+
+        Parameters
+        ----------
+        ds : xarray.Dataset
+            As :func:`gd_analyze.io.datasets.summary_dataset` builds it (the main job's summary
+            or ``gd_analyze.analyze``'s dataset).
+        source : str, optional
+            The file it was read from, for the messages.
+
+        Returns
+        -------
+        Results
+
+        Raises
+        ------
+        InputError
+            If a variable or attribute of a results file is missing.
+        """
+        for name in REQUIRED:
+            if name not in ds.variables:
+                raise InputError(f"missing variable {name!r}: not a gd-analyze results file",
+                                 source)
+        for name in REQUIRED_ATTRS:
+            if name not in ds.attrs:
+                raise InputError(f"missing attribute {name!r}: not a gd-analyze results file",
+                                 source)
+        n = int(ds.sizes[Var.JOINT])
+        types_ = (strings(ds[Var.JOINT_TYPE].values) if Var.JOINT_TYPE in ds.variables
+                  else ["revolute"] * n)
+        prismatic = tuple(t == "prismatic" for t in types_)
+        joint_units = types.MappingProxyType(
+            {q: tuple(strings(ds[name].values)) if name in ds.variables
+             else _default_units(q, prismatic)
+             for q, name in (("q", Var.Q_UNITS), ("qd", Var.QD_UNITS), ("qdd", Var.QDD_UNITS),
+                             ("tau", Var.TAU_UNITS))})
+        attrs = types.MappingProxyType(dict(ds.attrs))
+        return cls(robot=str(attrs[Attr.ROBOT]), input_file=str(attrs[Attr.INPUT_FILE]),
+                   setpoints=int(attrs[Attr.SETPOINTS]),
+                   dominance_threshold=float(attrs[Attr.DOMINANCE_THRESHOLD]),
+                   negligible_threshold=float(attrs[Attr.NEGLIGIBLE_THRESHOLD]),
+                   prismatic=prismatic, joint_units=joint_units, ranking=_ranking(ds),
+                   torque_error=_torque_error(ds, joint_units["tau"]),
+                   region=stored_region(ds), guarantee=stored_guarantee(ds),
+                   inertia_check=str(attrs.get(Attr.SIMPLIFIED_INERTIA_CHECK_STATEMENT, "")),
+                   verification=_verification(attrs), attrs=attrs, dataset=ds, source=source)
+
+
+def _default_units(which, prismatic):
+    """The units of a file written before the per-joint units were stored."""
+    return tuple(_units_of(prismatic, which))
+
+
+def _flags(ds, name):
+    return np.asarray(ds[name].values).astype(bool) if name in ds.variables else None
+
+
+def _ranking(ds):
+    """The ranking table: stored round-off marks; for a file written before they were stored,
+    the same rule once here."""
+    values = {name: np.asarray(ds[name].values, float)
+              for name in (Var.SHARE_TRAN, Var.PEAK_TRAN, Var.PEAK_ROT, Var.PEAK_TOTAL)}
+    M = values[Var.SHARE_TRAN].size
+    scale = (np.asarray(ds[Var.ELEMENT_SCALE].values, float) if Var.ELEMENT_SCALE in ds.variables
+             else np.full(M, np.nan))
+    units = strings(ds[Var.ELEMENT_UNITS].values)
+    zero = _flags(ds, Var.ELEMENT_ROUND_OFF)
+    if zero is None:
+        zero = (identically_zero(values[Var.PEAK_TRAN], values[Var.PEAK_ROT],
+                                 values[Var.PEAK_TOTAL], scale)
+                if Var.ELEMENT_SCALE in ds.variables else np.zeros(M, bool))
+    off = {}
+    for part, name in ((Var.PEAK_TRAN, Var.PEAK_TRAN_ROUND_OFF),
+                       (Var.PEAK_ROT, Var.PEAK_ROT_ROUND_OFF),
+                       (Var.PEAK_TOTAL, Var.PEAK_TOTAL_ROUND_OFF)):
+        mark = _flags(ds, name)
+        off[part] = (mark if mark is not None else
+                     np.asarray(is_round_off(values[part], scale,
+                                             arm_scale=arm_scales(scale, units)), bool))
+    text = {name: strings(ds[name].values)
+            for name in (Var.ELEMENT, Var.DOMINANCE, Var.CHAPTER_DOMINANCE, Var.CHOICE)}
+    return RankingTable(rows=tuple(
+        RankingRow(label=text[Var.ELEMENT][k], share_tran=float(values[Var.SHARE_TRAN][k]),
+                   dominance=text[Var.DOMINANCE][k],
+                   chapter_dominance=text[Var.CHAPTER_DOMINANCE][k],
+                   choice=text[Var.CHOICE][k], peak_tran=float(values[Var.PEAK_TRAN][k]),
+                   peak_rot=float(values[Var.PEAK_ROT][k]),
+                   peak_total=float(values[Var.PEAK_TOTAL][k]), scale=float(scale[k]),
+                   units=units[k], round_off=bool(zero[k]),
+                   tran_off=bool(off[Var.PEAK_TRAN][k]), rot_off=bool(off[Var.PEAK_ROT][k]),
+                   total_off=bool(off[Var.PEAK_TOTAL][k]))
+        for k in range(M)))
+
+
+def _torque_error(ds, units):
+    """The torque-error table: the round-off marks stored at analysis; for a file written
+    before they were stored, the same rule once here."""
+    v = {name: np.asarray(ds[name].values, float)
+         for name in (Var.TAU_ERROR_PEAK, Var.TAU_ERROR_RMS, Var.TAU_PEAK,
+                      Var.TAU_ERROR_RELATIVE_PEAK, Var.TAU_ERROR_RELATIVE_RMS)}
+    off = _flags(ds, Var.TAU_ERROR_ROUND_OFF)
+    if off is None:
+        tau = v[Var.TAU_PEAK]
+        off = np.asarray(is_round_off(v[Var.TAU_ERROR_PEAK], tau,
+                                      arm_scale=arm_scales(tau, list(units))), bool)
+    return TorqueErrorTable(rows=tuple(
+        TorqueErrorRow(joint=j + 1, peak=float(v[Var.TAU_ERROR_PEAK][j]),
+                       rms=float(v[Var.TAU_ERROR_RMS][j]), peak_tau=float(v[Var.TAU_PEAK][j]),
+                       relative_peak=float(v[Var.TAU_ERROR_RELATIVE_PEAK][j]),
+                       relative_rms=float(v[Var.TAU_ERROR_RELATIVE_RMS][j]), units=units[j],
+                       round_off=bool(off[j]))
+        for j in range(len(units))))
+
+
+def _verification(attrs):
+    if Attr.VERIFICATION_PASSED not in attrs:
+        return None
+    excess = [float(v) for k, v in attrs.items()
+              if k.startswith(VERIFICATION_PREFIX + "max_rel_excess")]
+    return Verification(passed=bool(int(attrs[Attr.VERIFICATION_PASSED])),
+                        worst_excess=float(np.max(excess)) if excess else float("nan"),
+                        setpoints=int(attrs[Attr.VERIFICATION_SETPOINTS]))
