@@ -86,7 +86,7 @@ def coverage(ds: xr.Dataset) -> str:
     said = merged_guarantee(ds)
     K, outside = len(said["covered"]), said["outside"]  # type: ignore[index]  # a merged model's
     inside = K - len(outside)
-    worst = f"its largest measured peak error is {_pct(said['worst'])} of {_SI}"  # type: ignore[index]
+    worst = f"its largest measured peak error is {_pct(said['worst'])} of {_SI}"  # type: ignore[index]  # a merged model's
     if not outside:
         return (f"every one of the {count(K)} swept trajector{'y' if K == 1 else 'ies'} lies "
                 f"in the region, where {worst}")

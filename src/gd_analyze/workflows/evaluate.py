@@ -196,7 +196,7 @@ def coverage(model: SimplifiedModel, trajectory: Trajectory, plant: Robot | None
     out = {"kind": None if g is None else g.kind, "statement": model.scope()}  # type: ignore[attr-defined]  # SimplifiedModel's field is typed object
     if g is None:
         return {**out, "covered": False, "reason": "the model carries no guarantee"}
-    if g.kind == "region":  # type: ignore[attr-defined]  # a model built in memory, or read: checked
+    if g.kind == "region":  # type: ignore[attr-defined]  # field typed object; a model built in memory, or read: checked
         check_guarantee(model, path)        # (once per certification and process)
     robot: Robot = model.robot  # type: ignore[assignment]  # SimplifiedModel's field is typed object
     if plant is not None and plant is not robot and \

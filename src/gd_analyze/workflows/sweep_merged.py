@@ -229,7 +229,7 @@ def with_budget_model(sweep_ds: xr.Dataset, model: SimplifiedModel) -> xr.Datase
     if model.guarantee is not None:     # its scope, in the model's one sentence
         ds.attrs.update({"merged_guarantee_kind": model.guarantee.kind,  # type: ignore[attr-defined]  # SimplifiedModel's field is typed object
                          "merged_guarantee_statement": model.guarantee.statement()})  # type: ignore[attr-defined]  # SimplifiedModel's field is typed object
-        region_vars, region_attrs = region_fields(model.guarantee.region)  # type: ignore[attr-defined]  # region_*
+        region_vars, region_attrs = region_fields(model.guarantee.region)  # type: ignore[attr-defined]  # field typed object; region_*
         for name, (dims, data, attrs) in region_vars.items():
             ds[name] = (dims, data, attrs)
         ds.attrs.update(region_attrs)
