@@ -8,9 +8,17 @@ Eq. (3.4-24) and Sec. 3.4.1; Ch. 5 (computed-torque control).
 
 from __future__ import annotations
 
+from collections.abc import Mapping, Sequence
+from typing import TYPE_CHECKING, Any
+
 import numpy as np
 
 from .schema import global_attributes, joint_coordinate, var, write_dataset
+
+if TYPE_CHECKING:                       # for the type hints only
+    import os
+
+    import xarray as xr
 
 __all__ = ["control_dataset", "write_control_dataset"]
 
@@ -20,7 +28,7 @@ def _peak_rms(x, axis=0):
     return np.abs(x).max(axis=axis), np.sqrt((x**2).mean(axis=axis))
 
 
-def gain_units(prismatic):
+def gain_units(prismatic: Sequence[bool] | np.ndarray) -> dict[str, list[str]]:
     """Per joint, the units of the PD gains and of D_ii (which scales them), from the joint
     types (:func:`gd_analyze.core.selection.labels.joint_gain_units`, ``element_units``)."""
     from ..core.selection.labels import element_units, joint_gain_units
@@ -30,7 +38,8 @@ def gain_units(prismatic):
             "Kp_pd": [kp for kp, _ in gains], "Kv_pd": [kv for _, kv in gains]}
 
 
-def control_dataset(result, settings=None):
+def control_dataset(result: Any, settings: Mapping[str, str | float | int] | None = None
+                    ) -> xr.Dataset:
     """The closed-loop comparison as an xarray Dataset.
 
     Parameters
@@ -231,7 +240,8 @@ def control_dataset(result, settings=None):
     return xr.Dataset(data_vars, coords=coords, attrs=attrs)
 
 
-def write_control_dataset(result, path, settings=None):
+def write_control_dataset(result: Any, path: str | os.PathLike[str],
+                          settings: Mapping[str, Any] | None = None) -> xr.Dataset:
     """Write :func:`control_dataset` of a result to HDF5/netCDF4 (h5netcdf), atomically.
 
     Parameters

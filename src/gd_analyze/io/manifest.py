@@ -17,8 +17,10 @@ import json
 import os
 import re
 import stat
+from collections.abc import Collection, Iterator, Mapping
 from dataclasses import dataclass, field
 from pathlib import Path
+from typing import Any
 
 from ..errors import InputError
 from ..files import file_sha256, read_regular
@@ -39,7 +41,7 @@ SHOWN = 8
 _COMMAND = re.compile(r"[a-z][a-z0-9_-]{0,40}")
 
 
-def manifest_name(command):
+def manifest_name(command: str) -> str:
     """The manifest's file name of ``command``.
 
     Parameters
@@ -90,7 +92,8 @@ class FolderOwners:
     empty_dirs: list = field(default_factory=list)
 
 
-def walk_files(root, empty_dirs=None, skip=()):
+def walk_files(root: str | os.PathLike[str], empty_dirs: list[str] | None = None,
+               skip: Collection[str] = ()) -> Iterator[tuple[str, os.stat_result]]:
     """The entries under ``root`` that are not folders (each folder's in sorted order), without following a
     symbolic link; the manifests (top-level names starting ``.gd-analyze-manifest-``) and the
     top-level names in ``skip`` (the run's lock and registered temporaries) are left out.
@@ -182,7 +185,8 @@ def _unchanged(folder, path, entry, st):
     return any(e["sha256"] == digest for e in accepted)
 
 
-def folder_owners(folder, command, shown_as=None, skip=()):
+def folder_owners(folder: str | os.PathLike[str], command: str, shown_as: str | None = None,
+                  skip: Collection[str] = ()) -> FolderOwners:
     """Read the manifests of an output folder and check that gd-analyze wrote every file.
 
     Parameters
@@ -210,7 +214,8 @@ def folder_owners(folder, command, shown_as=None, skip=()):
     owners = FolderOwners()
     if not folder.is_dir():
         return owners
-    foreign, listed, more = [], {}, False
+    foreign, more = [], False
+    listed: dict[str, tuple[Any, Any]] = {}
     try:
         for name in sorted(n for n in os.listdir(folder) if n.startswith(MANIFEST_PREFIX)):
             read = _read_manifest(folder, name)
@@ -241,7 +246,7 @@ def folder_owners(folder, command, shown_as=None, skip=()):
     return owners
 
 
-def write_manifest(folder, command, version):
+def write_manifest(folder: str | os.PathLike[str], command: str, version: str) -> list[str]:
     """Record every file under ``folder`` (a run's new set) in the command's manifest there.
 
     Parameters
@@ -283,7 +288,8 @@ def _write_new(path, data):
         fh.write(json.dumps(data, indent=1))
 
 
-def write_transition(folder, command, old, name):
+def write_transition(folder: str | os.PathLike[str], command: str,
+                     old: Mapping[str, Mapping[str, Any]], name: str) -> None:
     """A manifest that accepts the old set and the new one, put in place while the sets are
     exchanged entry by entry (a mount point): after a SIGKILL in between, the next run still
     knows every file as the command's own and replaces the lot.

@@ -11,6 +11,7 @@ reads it back with strict JSON (:func:`gd_analyze.io.json_schema.load_json`), ch
 from __future__ import annotations
 
 import json
+from typing import TYPE_CHECKING
 
 from ..core.model.robot_spec import robot_from_dict
 from ..core.selection.guarantee import Guarantee
@@ -26,10 +27,13 @@ from ..files import atomic_path
 from .json_schema import MODEL_SCHEMA, load_json
 from .model_trust import check_guarantee, check_region
 
+if TYPE_CHECKING:                       # for the type hints only
+    import os
+
 __all__ = ["save_model", "load_model"]
 
 
-def save_model(model, path):
+def save_model(model: SimplifiedModel, path: str | os.PathLike[str]) -> None:
     """Write a simplified model as JSON, atomically.
 
     Parameters
@@ -54,7 +58,7 @@ def save_model(model, path):
             fh.write("\n")
 
 
-def load_model(path):
+def load_model(path: str | os.PathLike[str]) -> SimplifiedModel:
     """Read a simplified_model.json written by :func:`save_model` or ``gd-analyze``.
 
     Parameters

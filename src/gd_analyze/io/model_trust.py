@@ -31,6 +31,7 @@ from __future__ import annotations
 
 import hashlib
 import json
+from typing import TYPE_CHECKING
 
 import numpy as np
 
@@ -43,6 +44,12 @@ from ..core.symbolic.base_parameters import base_parameters
 from ..errors import InputError
 from .certification_cache import certification, certification_key
 from .explicit_cache import explicit_terms
+
+if TYPE_CHECKING:                       # for the type hints only
+    from ..core.model.robot import Robot
+    from ..core.selection.certify import PairBounds
+    from ..core.selection.guarantee import Guarantee
+    from ..core.selection.simplified import SimplifiedModel
 
 __all__ = ["check_guarantee", "check_region", "reproved_bound", "remember", "SCALE_RTOL", "BOUND_RTOL", "REGION_RTOL",
            "CERTIFICATION_SAMPLES"]
@@ -65,7 +72,8 @@ _PROVED: dict = {}
 _PROVED_MAX = 4
 
 
-def check_region(robot, guarantee, torque_floor=0.0, path="<model>"):
+def check_region(robot: Robot, guarantee: Guarantee | None, torque_floor: float = 0.0,
+                 path: str = "<model>") -> Region | None:
     """Refuse a region guarantee whose region or scale does not hold for the robot.
 
     Parameters
@@ -100,7 +108,7 @@ def check_region(robot, guarantee, torque_floor=0.0, path="<model>"):
     return region
 
 
-def check_guarantee(model, path="<model>"):
+def check_guarantee(model: SimplifiedModel, path: str = "<model>") -> None:
     """Refuse a model whose region guarantee does not hold for its own robot.
 
     Parameters
@@ -123,17 +131,18 @@ def check_guarantee(model, path="<model>"):
     (:func:`gd_analyze.workflows.evaluate.coverage`, on the very file by SHA-256).
     """
     g = model.guarantee
-    key = _claim_key(model) if g is not None and g.kind == "region" and \
-        model.recursive is not None else None
+    key = _claim_key(model) if (g is not None
+                                and g.kind == "region"  # type: ignore[attr-defined]  # SimplifiedModel's field is typed object
+                                and model.recursive is not None) else None
     if key in _PROVED_CLAIMS:
         return                              # the same claim, checked before in this process
-    region = check_region(model.robot, g, model.torque_floor, path)
+    region = check_region(model.robot, g, model.torque_floor, path)  # type: ignore[arg-type]  # SimplifiedModel's field is typed object
     if region is None:
         return
-    bound = np.asarray(g.bound, float)
-    scale = np.asarray(g.scale, float)
+    bound: np.ndarray = np.asarray(g.bound, float)  # type: ignore[attr-defined, type-var]  # SimplifiedModel's field is typed object
+    scale: np.ndarray = np.asarray(g.scale, float)  # type: ignore[attr-defined, type-var]  # SimplifiedModel's field is typed object
     if model.recursive is not None and np.isfinite(bound).all() and prove_dropped(
-            model.robot, base_parameters(model.robot), region, model.recursive.dropped,
+            model.robot, base_parameters(model.robot), region, model.recursive.dropped,  # type: ignore[attr-defined]  # SimplifiedModel's field is typed object
             bound + BOUND_RTOL * np.abs(scale), max_boxes=QUICK_BOXES):
         _PROVED_CLAIMS.add(key)
         return                              # proved on the dropped pairs' own boxes
@@ -165,7 +174,7 @@ def _claim_key(model):
     return hashlib.sha256(text.encode()).hexdigest()
 
 
-def reproved_bound(model, region, path="<model>"):
+def reproved_bound(model: SimplifiedModel, region: Region, path: str = "<model>") -> np.ndarray:
     """The bound of a model's dropped terms proved afresh over a region.
 
     Parameters
@@ -199,9 +208,9 @@ def reproved_bound(model, region, path="<model>"):
                              "pairs or for the full explicit model, and this explicit model "
                              "keeps other terms: its bound cannot be proved", path,
                              column="guarantee.bound")
-        return np.zeros(robot.n)
+        return np.zeros(robot.n)  # type: ignore[attr-defined]  # SimplifiedModel's field is typed object
     leaves, _ = _certified(robot, region, float(model.torque_floor))
-    dropped = np.asarray(model.recursive.dropped, float)
+    dropped: np.ndarray = np.asarray(model.recursive.dropped, float)  # type: ignore[attr-defined, type-var]  # SimplifiedModel's field is typed object
     return np.einsum("bpln,bp->ln", leaves, dropped).max(axis=0)
 
 
@@ -210,7 +219,8 @@ def _proved_key(robot, region, torque_floor, samples=CERTIFICATION_SAMPLES):
                                                   "samples": int(samples), "seed": 0}))
 
 
-def remember(robot, region, torque_floor, samples, pb):
+def remember(robot: Robot, region: Region, torque_floor: float, samples: int,
+             pb: PairBounds) -> None:
     """Keep a certification made (or recomputed) in this process for the checks of
     :func:`check_guarantee`, so that a model built here is not certified again.
 

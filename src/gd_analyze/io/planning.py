@@ -11,12 +11,21 @@ from __future__ import annotations
 
 import dataclasses
 import math
+from collections.abc import Iterator, Mapping
 from pathlib import Path
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
 from ..files import atomic_path, file_sha256, read_regular
 from .trajectory import Trajectory
+
+if TYPE_CHECKING:                       # for the type hints only
+    import os
+
+    from numpy.typing import ArrayLike
+
+    from ..core.model.robot import Robot
 
 __all__ = ["DEFAULT_START_DEG", "DEFAULT_GOAL_DEG", "DEFAULT_SETPOINTS", "DEFAULT_QDD_PER_QD",
            "quintic_duration", "quintic_min_durations", "default_motion", "default_motion_range",
@@ -40,7 +49,7 @@ DEFAULT_QDD_PER_QD = 2.0
 PLACEHOLDER_QD = 100.0
 
 
-def joint_title(robot, j):
+def joint_title(robot: Robot, j: int | np.integer[Any]) -> str:
     """How messages name joint j: its number, and its URDF name where the robot has one.
 
     Parameters
@@ -55,11 +64,11 @@ def joint_title(robot, j):
     str
         E.g. ``"joint 1 ('joint1')"`` or ``"joint 1"``.
     """
-    names = robot.metadata.get("urdf_joints") or ()
+    names = robot.metadata.get("urdf_joints") or ()  # type: ignore[union-attr]  # never None (Robot.__post_init__)
     return f"joint {j + 1} ({str(names[j])!r})" if j < len(names) else f"joint {j + 1}"
 
 
-def check_velocity_limits(robot):
+def check_velocity_limits(robot: Robot) -> str | None:
     """Check that a robot has the velocity limits planning needs, and find placeholders.
 
     Parameters
@@ -99,7 +108,7 @@ def check_velocity_limits(robot):
             f"for a realistic one)")
 
 
-def quintic_duration(robot, q_start, q_goal):
+def quintic_duration(robot: Robot, q_start: ArrayLike, q_goal: ArrayLike) -> float:
     """Shortest duration of a rest-to-rest quintic motion within the velocity and acceleration limits.
 
     Parameters
@@ -132,7 +141,8 @@ def quintic_duration(robot, q_start, q_goal):
     return float(max(t_vel.max(), t_acc.max()))
 
 
-def quintic_min_durations(robot, q_start, q_goal):
+def quintic_min_durations(robot: Robot, q_start: ArrayLike, q_goal: ArrayLike
+                          ) -> tuple[np.ndarray, np.ndarray]:
     """Per joint, the shortest quintic duration within its velocity and its acceleration limit.
 
     Parameters
@@ -153,7 +163,7 @@ def quintic_min_durations(robot, q_start, q_goal):
     return t_vel, t_acc
 
 
-def default_motion(robot):
+def default_motion(robot: Robot) -> tuple[np.ndarray, np.ndarray]:
     """The default start and goal of ``gd-analyze plan`` for a robot.
 
     Parameters
@@ -192,7 +202,7 @@ def default_motion(robot):
             lo + np.where(down, low, high) * (hi - lo))
 
 
-def user_positions(robot, values):
+def user_positions(robot: Robot, values: ArrayLike) -> np.ndarray:
     """Joint positions given by a user in degrees (revolute) and metres (prismatic), in SI.
 
     Parameters
@@ -265,7 +275,7 @@ class QuinticPlan:
         return Trajectory(t=t, q=self.q_start + s * dq, qd=sd * dq, qdd=sdd * dq,
                           derivatives="quintic", source=self.source)
 
-    def chunks(self, size: int | None = None):
+    def chunks(self, size: int | None = None) -> Iterator[Trajectory]:
         """The set points in consecutive pieces of at most ``size``.
 
         Parameters
@@ -283,8 +293,9 @@ class QuinticPlan:
             yield self.rows(start, min(start + size, self.n_setpoints))
 
 
-def quintic_plan(robot, q_start, q_goal, n_setpoints=DEFAULT_SETPOINTS,
-                 duration=None) -> QuinticPlan:
+def quintic_plan(robot: Robot, q_start: ArrayLike, q_goal: ArrayLike,
+                 n_setpoints: int = DEFAULT_SETPOINTS,
+                 duration: float | None = None) -> QuinticPlan:
     """Quintic joint-interpolated rest-to-rest motion at the shortest admissible duration,
     not yet sampled (:meth:`QuinticPlan.chunks` samples it piece by piece).
 
@@ -332,7 +343,9 @@ def quintic_plan(robot, q_start, q_goal, n_setpoints=DEFAULT_SETPOINTS,
                               f"T = {T:.6g} s")
 
 
-def plan_quintic(robot, q_start, q_goal, n_setpoints=DEFAULT_SETPOINTS, duration=None):
+def plan_quintic(robot: Robot, q_start: ArrayLike, q_goal: ArrayLike,
+                 n_setpoints: int = DEFAULT_SETPOINTS, duration: float | None = None
+                 ) -> Trajectory:
     """Quintic joint-interpolated rest-to-rest motion at the shortest admissible duration,
     sampled at once (:func:`quintic_plan`, then :meth:`QuinticPlan.rows` of every set point).
 
@@ -356,7 +369,7 @@ def plan_quintic(robot, q_start, q_goal, n_setpoints=DEFAULT_SETPOINTS, duration
     return plan.rows(0, plan.n_setpoints)
 
 
-def default_motion_range(robot):
+def default_motion_range(robot: Robot) -> tuple[np.ndarray, np.ndarray]:
     """Position range for drawing random motions: the limits, or a stand-in where infinite.
 
     Parameters
@@ -377,7 +390,8 @@ def default_motion_range(robot):
     return lo, hi
 
 
-def random_trajectories(robot, k, seed=0, n_setpoints=31):
+def random_trajectories(robot: Robot, k: int, seed: int = 0,
+                        n_setpoints: int = 31) -> list[Trajectory]:
     """K random rest-to-rest quintic trajectories inside the joint limits.
 
     Parameters
@@ -434,7 +448,8 @@ def random_trajectories(robot, k, seed=0, n_setpoints=31):
     return out
 
 
-def acceleration_limits(robot, qdd_max=None):
+def acceleration_limits(robot: Robot, qdd_max: ArrayLike | None = None
+                        ) -> tuple[np.ndarray, str]:
     """The acceleration limits a plan uses, and where they come from.
 
     Parameters
@@ -481,7 +496,7 @@ def acceleration_limits(robot, qdd_max=None):
                  "gives no acceleration limits)")
 
 
-def provenance_path(csv_path):
+def provenance_path(csv_path: str | os.PathLike[str]) -> Path:
     """The provenance file written beside a planned trajectory: ``<stem>.provenance.json``.
 
     Parameters
@@ -505,7 +520,7 @@ def provenance_path(csv_path):
 PROVENANCE_LIMIT = 1 << 20
 
 
-def read_provenance(csv_path):
+def read_provenance(csv_path: str | os.PathLike[str]) -> dict[str, Any] | None:
     """The provenance written beside a planned trajectory, if there is a readable one.
 
     Parameters
@@ -531,7 +546,7 @@ def read_provenance(csv_path):
     return record if isinstance(record, dict) else None
 
 
-def provenance_mismatch(csv_path, robot):
+def provenance_mismatch(csv_path: str | os.PathLike[str], robot: Robot) -> str | None:
     """A one-line warning when a trajectory was planned for another robot than this one.
 
     Parameters
@@ -563,7 +578,7 @@ def provenance_mismatch(csv_path, robot):
     return None
 
 
-def write_provenance(csv_path, record):
+def write_provenance(csv_path: str | os.PathLike[str], record: Mapping[str, Any]) -> Path:
     """Write a planned trajectory's provenance beside it, atomically, as JSON.
 
     Parameters

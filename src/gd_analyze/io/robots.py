@@ -15,10 +15,16 @@ import hashlib
 import os
 from importlib import resources
 from pathlib import Path
+from typing import TYPE_CHECKING
 
 from ..core.model.robot_spec import robot_from_dict
 from ..errors import InputError
 from .urdf import URDF_BUILTIN, is_urdf_text, load_pinocchio_model, load_urdf, load_urdf_text
+
+if TYPE_CHECKING:                       # for the type hints only
+    import pinocchio
+
+    from ..core.model.robot import Robot
 
 try:  # Python >= 3.11
     import tomllib
@@ -33,7 +39,7 @@ TOML_BUILTIN = {"puma560": "puma560.toml", "puma560-drives": "puma560-drives.tom
                 "two-link": "two-link.toml", "stanford": "stanford.toml"}
 
 
-def is_urdf(name_or_path):
+def is_urdf(name_or_path: str | os.PathLike[str]) -> bool:
     """Whether a robot argument names a URDF robot.
 
     Parameters
@@ -55,7 +61,7 @@ def is_urdf(name_or_path):
     return key in URDF_BUILTIN or Path(key).suffix.lower() == ".urdf"
 
 
-def builtin_robots():
+def builtin_robots() -> list[str]:
     """Names of all built-in robots, TOML and URDF.
 
     Returns
@@ -66,7 +72,7 @@ def builtin_robots():
     return sorted(set(TOML_BUILTIN) | set(URDF_BUILTIN))
 
 
-def robots_text():
+def robots_text() -> str:
     """The built-in robots as the help, the errors and the README list them.
 
     Returns
@@ -77,7 +83,7 @@ def robots_text():
     return ", ".join(builtin_robots())
 
 
-def unknown_robot(name):
+def unknown_robot(name: str) -> InputError:
     """The error for a robot argument that is neither a built-in robot nor a file.
 
     Parameters
@@ -101,7 +107,8 @@ def unknown_robot(name):
                       f"{robots_text()}; or a TOML or URDF robot file)")
 
 
-def load_robot(name_or_path, base=None, tip=None):
+def load_robot(name_or_path: str | os.PathLike[str] | pinocchio.Model, base: str | None = None,
+               tip: str | None = None) -> Robot:
     """Load a robot: a built-in name, a TOML or URDF file, URDF text or a Pinocchio model.
 
     Parameters
@@ -171,7 +178,7 @@ def _is_pinocchio_model(value):
     return isinstance(value, pinocchio.Model)
 
 
-def load_toml_robot(name_or_path):
+def load_toml_robot(name_or_path: str | os.PathLike[str]) -> Robot:
     """Load a built-in TOML robot by name, or a TOML robot file by path.
 
     Parameters

@@ -35,7 +35,7 @@ _AGAIN = 0.02
 _PENDING: list = []
 
 
-def pending():
+def pending() -> tuple[int, ...]:
     """The signals received since :func:`install`, in order (one deferred out of a gc
     callback is counted at each delivery).
 
@@ -80,7 +80,7 @@ def _on_signal(signum, frame):
     raise _exception(signum)
 
 
-def install():
+def install() -> None:
     """Handle SIGINT, SIGTERM and SIGHUP by :func:`_on_signal` (main thread only).
 
     Raises
@@ -92,7 +92,7 @@ def install():
         signal.signal(sig, _on_signal)
 
 
-def after_run(prog):
+def after_run(prog: str) -> None:
     """From now on (the command returned), a signal ends the process at once with status
     128 + its number and one line, without a traceback (main thread only).
 

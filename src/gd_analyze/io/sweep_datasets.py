@@ -11,7 +11,9 @@ from __future__ import annotations
 
 import hashlib
 import re
+from collections.abc import Mapping, Sequence
 from pathlib import Path
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
@@ -24,6 +26,13 @@ from ..core.selection.ranking import (
     parse_element_label,
 )
 from .schema import MIXED_UNITS, element_coords, global_attributes, joint_coordinate, var
+
+if TYPE_CHECKING:                       # for the type hints only
+    import xarray as xr
+    from numpy.typing import ArrayLike
+
+    from ..core.model.robot import Robot
+    from .trajectory import Trajectory
 
 __all__ = ["inputs_attributes", "sweep_dataset", "payload_dataset", "sweep_payloads_dataset",
            "embed_payload", "payload_part", "beyond_the_floor", "embed_pair_peaks"]
@@ -48,7 +57,7 @@ def _torque_units(robot, which="tau"):
     return units_attribute(joint_units(robot.prismatic, which), "joint_type")
 
 
-def inputs_attributes(trajectories):
+def inputs_attributes(trajectories: Sequence[Trajectory]) -> dict[str, Any]:
     """Global attributes that identify a sweep's inputs: seed or files, and one digest of all.
 
     Parameters
@@ -89,7 +98,8 @@ def inputs_attributes(trajectories):
     return attrs
 
 
-def element_arm_scales(scale, labels, prismatic):
+def element_arm_scales(scale: ArrayLike, labels: Sequence[str],
+                       prismatic: Sequence[bool] | np.ndarray) -> np.ndarray:
     """The arm's scale of every ranked element on every trajectory: the largest scale among the
     elements of the same units on that trajectory
     (:func:`gd_analyze.core.selection.ranking.arm_scales`), so that the sweep tells round-off
@@ -109,11 +119,15 @@ def element_arm_scales(scale, labels, prismatic):
     ndarray, shape (K, M)
     """
     n = len(prismatic)
-    units = [element_units(*parse_element_label(str(lab), n), prismatic) for lab in labels]
+    units = [element_units(*parse_element_label(str(lab), n), prismatic)  # type: ignore[call-arg]  # (kind, i, j), prismatic
+             for lab in labels]
     return np.array([arm_scales(row, units) for row in np.atleast_2d(scale)])
 
 
-def sweep_dataset(robot, trajectories, results, merged, merged_stats, dominance, negligible):
+def sweep_dataset(robot: Robot, trajectories: Sequence[Trajectory],
+                  results: Sequence[Mapping[str, Any]], merged: Mapping[str, Any],
+                  merged_stats: Sequence[Mapping[str, Any]] | None, dominance: float,
+                  negligible: float) -> xr.Dataset:
     """The sweep dataset (``sweep.h5``) from the per-trajectory results.
 
     Parameters
@@ -151,7 +165,7 @@ def sweep_dataset(robot, trajectories, results, merged, merged_stats, dominance,
     peak_part = np.max([[r["peaks"][k] for k in ("peak_tran", "peak_rot", "peak_total")]
                         for r in results], axis=1)
     scale = np.array([r["peaks"]["scale"] for r in results])
-    arm = element_arm_scales(scale, labels, robot.prismatic)
+    arm = element_arm_scales(scale, labels, robot.prismatic)  # type: ignore[arg-type]  # never None (Robot.__post_init__)
     round_off = is_round_off(peak_part, scale, arm_scale=arm)
     # the share as data: 0 or 1 where one part is round-off of the element's scale or of the
     # arm's (a share of 4e-14 or of 2e-12 is round-off, not data), left out where the element
@@ -282,7 +296,9 @@ def sweep_dataset(robot, trajectories, results, merged, merged_stats, dominance,
     return xr.Dataset(data_vars, coords=coords, attrs=attrs)
 
 
-def payload_dataset(robot, trajectory, masses, com, inertia, results, dominance, negligible):
+def payload_dataset(robot: Robot, trajectory: Trajectory, masses: np.ndarray, com: ArrayLike,
+                    inertia: ArrayLike, results: Sequence[Mapping[str, Any]], dominance: float,
+                    negligible: float) -> xr.Dataset:
     """The dataset of one trajectory ranked for a range of loads (``--payload-sweep``).
 
     Parameters
@@ -333,7 +349,8 @@ def payload_dataset(robot, trajectory, masses, com, inertia, results, dominance,
         "round_off": _round_off_var(np.array([is_round_off(
             np.max([r["peaks"][k] for k in ("peak_tran", "peak_rot", "peak_total")], axis=0),
             r["peaks"]["scale"], arm_scale=element_arm_scales(
-                r["peaks"]["scale"], labels, robot.prismatic)[0]) for r in results]),
+                r["peaks"]["scale"], labels,
+                robot.prismatic)[0]) for r in results]),  # type: ignore[arg-type]  # never None (Robot.__post_init__)
             "along the trajectory"),
         "tau_error_relative_peak": var(
             ("payload", "joint"),
@@ -361,8 +378,10 @@ def payload_dataset(robot, trajectory, masses, com, inertia, results, dominance,
     return xr.Dataset(data_vars, coords=coords, attrs=attrs)
 
 
-def sweep_payloads_dataset(robot, n_trajectories, masses, com, inertia, parts, dominance,
-                           negligible):
+def sweep_payloads_dataset(robot: Robot, n_trajectories: int, masses: Sequence[float],
+                           com: ArrayLike, inertia: ArrayLike,
+                           parts: Sequence[tuple[Any, ...]], dominance: float,
+                           negligible: float) -> xr.Dataset:
     """The dataset of a sweep repeated per load mass (``payload_sweep.h5`` of ``sweep``).
 
     Parameters
@@ -444,7 +463,8 @@ def _round_off_var(flags, where):
                flag_values=np.array([0, 1], dtype=np.int8), flag_meanings="data round_off")
 
 
-def embed_pair_peaks(ds, names, tau_peak, peak, whole_peak):
+def embed_pair_peaks(ds: xr.Dataset, names: Sequence[str], tau_peak: np.ndarray,
+                     peak: np.ndarray, whole_peak: np.ndarray) -> xr.Dataset:
     """A sweep dataset with each trajectory's peaks of the recursive model's contributions.
 
     Parameters
@@ -490,7 +510,7 @@ def embed_pair_peaks(ds, names, tau_peak, peak, whole_peak):
     return out
 
 
-def embed_payload(payload):
+def embed_payload(payload: xr.Dataset) -> xr.Dataset:
     """A payload sweep as variables ``payload_<name>`` to store beside the main analysis.
 
     ``results.h5`` holds the main job's ranking over dim ``element``; a ``--payload-sweep``
@@ -513,7 +533,7 @@ def embed_payload(payload):
     return renamed.drop_vars([c for c in ("element_units",) if c in renamed.coords])
 
 
-def payload_part(results):
+def payload_part(results: xr.Dataset) -> xr.Dataset:
     """The payload sweep stored in a results dataset by :func:`embed_payload`, under its own names.
 
     Parameters
@@ -528,14 +548,16 @@ def payload_part(results):
         analysis' ``joint_type`` (empty if the run had no payload sweep).
     """
     names = [v for v in results.data_vars
-             if v.startswith("payload_") and "payload" in results[v].dims]
-    part = results[names].rename({v: v[len("payload_"):] for v in names})
+             if v.startswith("payload_")  # type: ignore[attr-defined]  # names are str here
+             and "payload" in results[v].dims]
+    part = results[names].rename({v: v[len("payload_"):]  # type: ignore[index]  # str
+                                  for v in names})
     if names and "joint_type" in results.variables:     # the main analysis' joint types
         part["joint_type"] = results["joint_type"]
     return part
 
 
-def beyond_the_floor(ds):
+def beyond_the_floor(ds: xr.Dataset) -> tuple[float, int, list[int]] | None:
     """Where the budget's guarantee does not reach: errors above EPS of peak |tau_i| itself.
 
     The budget rule guarantees |tau_merged - tau| <= EPS scale_i with scale_i = max(peak

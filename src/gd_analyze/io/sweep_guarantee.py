@@ -10,14 +10,19 @@ sweep report, so that both say the same.
 
 from __future__ import annotations
 
+from typing import TYPE_CHECKING, Any
+
 import numpy as np
 
 from .schema import strings
 
+if TYPE_CHECKING:                       # for the type hints only
+    import xarray as xr
+
 __all__ = ["merged_guarantee"]
 
 
-def merged_guarantee(ds):
+def merged_guarantee(ds: xr.Dataset) -> dict[str, Any] | None:
     """The merged model's guarantee and the swept trajectories it covers.
 
     Parameters

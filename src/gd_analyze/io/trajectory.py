@@ -17,12 +17,19 @@ import math
 import os
 import re
 import warnings
+from collections.abc import Iterable, Mapping, Sequence
 from dataclasses import dataclass
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
 from ..core.model.limits import LIMITS, exact_text, first_beyond, real_values
 from ..errors import InputError, InputNote
+
+if TYPE_CHECKING:                       # for the type hints only
+    from numpy.typing import ArrayLike
+
+    from ..core.model.robot import Robot
 
 __all__ = ["Trajectory", "read_trajectory", "write_trajectory", "write_trajectory_chunks",
            "trajectory_columns",
@@ -71,12 +78,12 @@ class Trajectory:
     sha256: str = ""
 
     @property
-    def n_setpoints(self):
+    def n_setpoints(self) -> int:
         """int: the number of set points N."""
         return int(self.t.shape[0])
 
 
-def trajectory_columns(n, derivatives=True):
+def trajectory_columns(n: int, derivatives: bool = True) -> list[str]:
     """Column names of a trajectory CSV for n joints.
 
     Parameters
@@ -125,7 +132,7 @@ def _parse_header(header, path):
                      path, row=1, column=missing)
 
 
-def read_trajectory(path, n_joints=None):
+def read_trajectory(path: str | os.PathLike[str], n_joints: int | None = None) -> Trajectory:
     """Read and validate a trajectory CSV file.
 
     One reader for every size: a file is parsed by pandas when it is regular (every line has
@@ -201,7 +208,9 @@ def _spline(t, q, path, row_of):
 ARRAYS = "trajectory arrays"
 
 
-def trajectory_from_arrays(t, q, qd=None, qdd=None, n_joints=None):
+def trajectory_from_arrays(t: ArrayLike, q: ArrayLike, qd: ArrayLike | None = None,
+                           qdd: ArrayLike | None = None, n_joints: int | None = None
+                           ) -> Trajectory:
     """A trajectory from arrays, checked as a trajectory file is.
 
     Parameters
@@ -239,7 +248,7 @@ def trajectory_from_arrays(t, q, qd=None, qdd=None, n_joints=None):
     if (qd is None) != (qdd is None):
         raise InputError("give both qd and qdd, or neither (then a cubic spline through q)",
                          ARRAYS)
-    arrays = {}
+    arrays: dict[str, np.ndarray] = {}
     for name, v in (("t", t), ("q", q), ("qd", qd), ("qdd", qdd)):
         if v is None:
             continue
@@ -277,10 +286,12 @@ def trajectory_from_arrays(t, q, qd=None, qdd=None, n_joints=None):
         how = "cubic-spline"
     else:
         qd, qdd, how = arrays["qd"], arrays["qdd"], "arrays"
-    return Trajectory(t=t, q=arrays["q"], qd=qd, qdd=qdd, derivatives=how, source=ARRAYS)
+    return Trajectory(t=t, q=arrays["q"], qd=qd, qdd=qdd,  # type: ignore[arg-type]  # ndarrays here
+                      derivatives=how, source=ARRAYS)
 
 
-def as_trajectory(value, n_joints=None):
+def as_trajectory(value: Trajectory | str | os.PathLike[str] | Mapping[str, Any] | Sequence[Any],
+                  n_joints: int | None = None) -> Trajectory:
     """A trajectory from what a notebook holds: a Trajectory, a CSV file, or arrays.
 
     Parameters
@@ -321,9 +332,9 @@ def as_trajectory(value, n_joints=None):
         if unknown or "t" not in value or "q" not in value:
             raise InputError("a trajectory mapping has the keys t, q and optionally qd, qdd"
                              + (f" (unknown: {', '.join(unknown)})" if unknown else ""), ARRAYS)
-        return trajectory_from_arrays(**value, n_joints=n_joints)
+        return trajectory_from_arrays(**value, n_joints=n_joints)  # type: ignore[misc]  # keys checked
     if isinstance(value, (tuple, list)) and len(value) in (2, 4):
-        return trajectory_from_arrays(*value, n_joints=n_joints)
+        return trajectory_from_arrays(*value, n_joints=n_joints)  # type: ignore[misc]  # length checked
     raise InputError("a trajectory is a Trajectory, a CSV file, a mapping of t, q[, qd, qdd] "
                      f"or a sequence (t, q[, qd, qdd]), not a {type(value).__name__}", ARRAYS)
 
@@ -553,7 +564,7 @@ def _cell_value(cell, path, row_no, column):
         raise InputError(str(exc), path, row=row_no, column=column) from None
 
 
-def parse_number(text, integer=False):
+def parse_number(text: str, integer: bool = False) -> float | int:
     """A number by the rules of a trajectory cell: plain decimal, finite.
 
     Parameters
@@ -592,7 +603,7 @@ def parse_number(text, integer=False):
     try:
         v = float(text)
     except ValueError:
-        v = None
+        v = None  # type: ignore[assignment]  # not a number
     if v is not None and not math.isfinite(v):
         raise ValueError(f"not a finite number: {text!r}")
     what = ("digits other than 0-9" if any(c.isdigit() and c not in "0123456789" for c in text)
@@ -603,7 +614,7 @@ def parse_number(text, integer=False):
     raise ValueError(f"not {'a whole' if integer else 'a'} number: {text!r}{hint}")
 
 
-def check_joint_limits(robot, trajectory):
+def check_joint_limits(robot: Robot, trajectory: Trajectory) -> list[str]:
     """Warn for every joint whose position leaves its limits along the trajectory.
 
     Parameters
@@ -638,7 +649,7 @@ def check_joint_limits(robot, trajectory):
     return messages
 
 
-def write_trajectory(trajectory, path):
+def write_trajectory(trajectory: Trajectory, path: str | os.PathLike[str]) -> None:
     """Write a trajectory CSV file atomically (temporary name, then rename).
 
     Parameters
@@ -656,7 +667,8 @@ def write_trajectory(trajectory, path):
     write_trajectory_chunks([trajectory], trajectory.q.shape[1], path)
 
 
-def write_trajectory_chunks(chunks, n, path):
+def write_trajectory_chunks(chunks: Iterable[Trajectory], n: int,
+                            path: str | os.PathLike[str]) -> None:
     """Write a trajectory CSV file piece by piece, atomically (temporary name, then rename):
     the same bytes as :func:`write_trajectory` of the pieces joined, in the memory of one piece.
 

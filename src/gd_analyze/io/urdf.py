@@ -31,6 +31,7 @@ import re
 from dataclasses import dataclass, field
 from importlib import resources
 from pathlib import Path
+from typing import TYPE_CHECKING, Any, TypeGuard
 
 import numpy as np
 
@@ -39,11 +40,19 @@ from ..core.model.mounting import MOUNTING_KEY
 from ..errors import InputError
 from .urdf_xml import check_inertias, check_mimic, read_urdf_xml
 
+if TYPE_CHECKING:                       # for the type hints only
+    import os
+
+    import pinocchio
+    from numpy.typing import ArrayLike
+
+    from ..core.model.robot import Robot
+
 __all__ = ["UrdfChain", "read_urdf_chain", "load_urdf", "URDF_BUILTIN", "axis_rotation"]
 
 #: Built-in robots vendored as URDF files in ``gd_analyze/data`` (``data/robots/`` in the
 #: repository): file, chain and the text the reports show.
-URDF_BUILTIN = {
+URDF_BUILTIN: dict[str, dict[str, Any]] = {
     "panda": {
         "file": "panda.urdf", "base": "panda_link0", "tip": "panda_hand",
         "description": (
@@ -120,12 +129,12 @@ class UrdfChain:
     metadata: dict = field(default_factory=dict)
 
     @property
-    def n(self):
+    def n(self) -> int:
         """int: the number of joints of the chain."""
         return len(self.joints)
 
 
-def axis_rotation(axis):
+def axis_rotation(axis: ArrayLike) -> np.ndarray:
     """The smallest rotation that takes the z axis onto a unit axis.
 
     Parameters
@@ -273,8 +282,10 @@ def _joint_kind(model, data, j, path):
                      "rotation nor a pure translation", path)
 
 
-def read_urdf_chain(path, base=None, tip=None, name=None, description=None, reference=None,
-                    source=None):
+def read_urdf_chain(path: str | os.PathLike[str], base: str | None = None,
+                    tip: str | None = None, name: str | None = None,
+                    description: str | None = None, reference: str | None = None,
+                    source: str | None = None) -> UrdfChain:
     """Read the serial chain from base to tip of a URDF file.
 
     Parameters
@@ -407,7 +418,7 @@ def _given(limit):
     return v if 0 < v < 1e300 else math.nan
 
 
-def builtin_urdf_path(name):
+def builtin_urdf_path(name: str) -> Path:
     """The vendored URDF file of a built-in robot.
 
     Parameters
@@ -430,7 +441,8 @@ def builtin_urdf_path(name):
 __all__.append("builtin_urdf_path")
 
 
-def load_urdf(path, base=None, tip=None):
+def load_urdf(path: str | os.PathLike[str], base: str | None = None,
+              tip: str | None = None) -> Robot:
     """A robot from a URDF file, or a built-in URDF robot by name.
 
     Parameters
@@ -481,7 +493,7 @@ _URDF_TEXT = re.compile(r"\A\ufeff?\s*(?:<\?xml[^>]*\?>\s*)?(?:<!--.*?-->\s*)*<r
                         re.DOTALL)
 
 
-def is_urdf_text(value):
+def is_urdf_text(value: object) -> TypeGuard[str]:
     """Whether a robot argument is a URDF document given as text (a ``robot_description``).
 
     Parameters
@@ -503,7 +515,7 @@ def is_urdf_text(value):
     return isinstance(value, str) and _URDF_TEXT.match(value) is not None
 
 
-def load_urdf_text(text, base=None, tip=None):
+def load_urdf_text(text: str, base: str | None = None, tip: str | None = None) -> Robot:
     """A robot from a URDF document given as text, e.g. a ROS ``robot_description``.
 
     Parameters
@@ -561,7 +573,8 @@ def _with_frames(model):
     return model
 
 
-def load_pinocchio_model(model, base=None, tip=None):
+def load_pinocchio_model(model: pinocchio.Model, base: str | None = None,
+                         tip: str | None = None) -> Robot:
     """A robot from a Pinocchio model, e.g. one a notebook built or loaded itself.
 
     Parameters

@@ -21,13 +21,18 @@ from __future__ import annotations
 import math
 import re
 import xml.etree.ElementTree as ET
+from collections.abc import Iterable
 from dataclasses import dataclass
+from typing import TYPE_CHECKING, Any
 from xml.parsers import expat
 
 import numpy as np
 
 from ..core.model.limits import LIMITS
 from ..errors import InputError
+
+if TYPE_CHECKING:                       # for the type hints only
+    import pinocchio
 
 __all__ = ["UrdfXml", "read_urdf_xml", "check_inertias", "check_mimic"]
 
@@ -210,7 +215,7 @@ def _check_size(root, path):
                          f"most {limit:,} are accepted", path)
 
 
-def read_urdf_xml(raw, path):
+def read_urdf_xml(raw: bytes, path: str) -> UrdfXml:
     """Read the links' inertials and the joints of a URDF file, refusing broken values.
 
     Parameters
@@ -299,7 +304,7 @@ def _body_inertia(pin, doc, fixed, link):
     return np.block([[m * np.eye(3), H.T], [H, I]])
 
 
-def check_inertias(doc, model, path):
+def check_inertias(doc: UrdfXml, model: pinocchio.Model, path: str) -> None:
     """Check that Pinocchio loaded the file's inertias: each moving joint's body, with the
     links carried by fixed joints, against ``model.inertias``.
 
@@ -326,7 +331,7 @@ def check_inertias(doc, model, path):
     """
     import pinocchio as pin
 
-    fixed = {}
+    fixed: dict[str, list[tuple[str, Any]]] = {}
     for kind, parent, child, xyz, rpy, _ in doc.joints.values():
         if kind == "fixed":
             fixed.setdefault(parent, []).append((child, _placement(pin, xyz, rpy)))
@@ -351,7 +356,7 @@ def check_inertias(doc, model, path):
                 column=f"link {child!r} <inertial>")
 
 
-def check_mimic(doc, chain, locked, path):
+def check_mimic(doc: UrdfXml, chain: Iterable[str], locked: Iterable[str], path: str) -> None:
     """Refuse ``<mimic>`` joints that the locked-at-zero chain model would get wrong.
 
     Parameters

@@ -15,13 +15,14 @@ import contextlib
 import errno
 import os
 import sys
+from collections.abc import Iterator
 
 from ..errors import InputError
 
 __all__ = ["write_error", "is_inside", "writing"]
 
 
-def write_error(exc, path):
+def write_error(exc: OSError, path: str | os.PathLike[str]) -> InputError:
     """The one-line error of a failed write into an output location.
 
     Parameters
@@ -41,7 +42,8 @@ def write_error(exc, path):
     return InputError(f"cannot write the output folder: {reason}", path)
 
 
-def is_inside(name, folder):
+def is_inside(name: str | bytes | os.PathLike[str] | os.PathLike[bytes],
+              folder: str | os.PathLike[str]) -> bool:
     """Whether the path ``name`` is ``folder`` or under it (both made absolute, not resolved).
 
     Parameters
@@ -66,7 +68,8 @@ def is_inside(name, folder):
 
 
 @contextlib.contextmanager
-def writing(target, stage=None):
+def writing(target: str | os.PathLike[str],
+            stage: str | os.PathLike[str] | None = None) -> Iterator[None]:
     """Report the write errors of the enclosed calls as "cannot write the output folder".
 
     Parameters

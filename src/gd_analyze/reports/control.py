@@ -17,7 +17,9 @@ atomically (:func:`gd_analyze.files.atomic_path`).
 from __future__ import annotations
 
 import contextlib
+from collections.abc import Mapping
 from pathlib import Path
+from typing import TYPE_CHECKING
 
 from .common import render_template
 from .control_figures import COLUMN_WIDTH, FIGURE_RC, PAGE_WIDTH, control_figures
@@ -26,6 +28,12 @@ from .control_verdict import VERDICT_TOLERANCE, control_verdict
 from .drawing import draw_figures, figure_svg, write_figure_files
 from .sections import Outline
 from .typeset import PAPER, write_pdf
+
+if TYPE_CHECKING:                       # for the type hints only
+    import os
+
+    import xarray as xr
+    from matplotlib.figure import Figure
 
 __all__ = ["CONTROL_REPORT_FILES", "REQUIRED_VARIABLES", "VERDICT_TOLERANCE", "control_verdict", "make_control_figures",
            "render_control_html", "render_control_pdf", "write_control_report"]
@@ -52,7 +60,7 @@ def _check(ds, path):
 # Figures (reports/control_figures.py)
 # --------------------------------------------------------------------------------------------
 
-def make_control_figures(ds, width=PAGE_WIDTH):
+def make_control_figures(ds: xr.Dataset, width: float = PAGE_WIDTH) -> dict[str, Figure]:
     """The report's figures, drawn from a stored control dataset.
 
     Parameters
@@ -81,7 +89,7 @@ def make_control_figures(ds, width=PAGE_WIDTH):
 # HTML and PDF
 # --------------------------------------------------------------------------------------------
 
-def render_control_html(ds, figures=None):
+def render_control_html(ds: xr.Dataset, figures: Mapping[str, Figure] | None = None) -> str:
     """Render the control report as one self-contained HTML document.
 
     Parameters
@@ -170,7 +178,8 @@ def _html(ctx, drawn):
                                                       "outline": _outline(ctx, drawn)})
 
 
-def render_control_pdf(ds, path, figures=None, paper="a4"):
+def render_control_pdf(ds: xr.Dataset, path: str | os.PathLike[str],
+                       figures: Mapping[str, Figure] | None = None, paper: str = "a4") -> int:
     """Write the control report as a PDF document.
 
     Parameters
@@ -213,7 +222,8 @@ def _pdf(ctx, drawn, path, paper="a4"):
                      paper, metadata, footer=f"gd-analyze {ctx['version']}: control report")
 
 
-def write_control_report(control_path, outdir, paper="a4"):
+def write_control_report(control_path: str | os.PathLike[str], outdir: str | os.PathLike[str],
+                         paper: str = "a4") -> list[Path]:
     """Write control_report.html and control_report.pdf for a stored control dataset.
 
     Parameters

@@ -11,6 +11,8 @@ from __future__ import annotations
 
 import math
 import textwrap
+from collections.abc import Sequence
+from typing import TYPE_CHECKING
 
 import numpy as np
 
@@ -19,6 +21,10 @@ from .common import BASE_RC, grid_shape, prismatic_joints
 from .common import strings as _strings
 from .common import style as _style
 from .markup import sub
+
+if TYPE_CHECKING:                       # for the type hints only
+    import xarray as xr
+    from matplotlib.figure import Figure
 
 __all__ = ["control_figures", "noise_scales", "noise_floors", "PAGE_WIDTH", "COLUMN_WIDTH",
            "CONTROLLER_LABELS", "CONTROLLER_STYLES", "marker_starts", "marker_stride", "markers_words", "noise_words"]
@@ -168,7 +174,7 @@ def _joint_panels(ds, values, ylabel, title, log=False, floor=None, which="q",
     return fig
 
 
-def noise_words(ds, which, figure=False):
+def noise_words(ds: xr.Dataset, which: str, figure: bool = False) -> str:
     """The rule by which a closed-loop quantity is integrator noise (:func:`noise_floors`), in
     the words of every caption, table, figure note and the verdict.
 
@@ -211,7 +217,7 @@ def noise_words(ds, which, figure=False):
     return f"at most {tol:g} of the joint's scale, max(range, peak |q{sub('d')}|)"
 
 
-def marker_stride(ds, lines):
+def marker_stride(ds: xr.Dataset, lines: int) -> int:
     """The set points between two markers on a line of a figure with ``lines`` lines a panel
     (:func:`gd_analyze.reports.figure_style.panel_markevery`), for the figures and their
     captions alike.
@@ -233,7 +239,7 @@ def marker_stride(ds, lines):
     return panel_markevery(int(np.asarray(ds["is_setpoint"].values).astype(bool).sum()), lines)
 
 
-def marker_starts(every, lines):
+def marker_starts(every: int, lines: int) -> list[int]:
     """The set point of each line's first marker on a panel of ``lines`` lines with a marker
     at every ``every``-th set point: staggered, so that no two lines mark the same set point
     (as :func:`gd_analyze.reports.main_figures._plot` staggers the parts of an element).
@@ -259,7 +265,7 @@ def marker_starts(every, lines):
     return [i * every // max(1, lines) for i in range(max(1, lines))]
 
 
-def markers_words(ds, lines):
+def markers_words(ds: xr.Dataset, lines: int | Sequence[str]) -> str:
     """What a figure's markers are, in words.
 
     Parameters
@@ -279,7 +285,7 @@ def markers_words(ds, lines):
         6 (...)" (:func:`marker_starts`).
     """
     names = None if isinstance(lines, int) else [str(c) for c in lines]
-    count = len(names) if names is not None else int(lines)
+    count = len(names) if names is not None else int(lines)  # type: ignore[arg-type]  # an int
     k = marker_stride(ds, count)
     if k == 1:
         return "markers: every set point"
@@ -299,7 +305,7 @@ def _ordinal(k):
     return f"{k}{suffix}"
 
 
-def joint_units_of(ds, which):
+def joint_units_of(ds: xr.Dataset, which: str) -> list[str]:
     """Units of q (``"q"``) or tau (``"tau"``) per joint, from the stored joint types
     (:func:`gd_analyze.core.selection.labels.joint_motion_units`, ``joint_torque_units``)."""
     from ..core.selection.ranking import joint_motion_units, joint_torque_units
@@ -310,7 +316,7 @@ def joint_units_of(ds, which):
     return [joint_motion_units(bool(p))[0] for p in prismatic]
 
 
-def noise_scales(ds):
+def noise_scales(ds: xr.Dataset) -> tuple[float, np.ndarray, np.ndarray]:
     """The scales against which a closed-loop quantity is integrator noise
     (:func:`noise_floors`), the same for the figures and the tables.
 
@@ -337,7 +343,7 @@ def noise_scales(ds):
     return max(rtol if np.isfinite(rtol) else 0.0, ROUND_OFF), q_scale, tau_scale
 
 
-def noise_floors(ds):
+def noise_floors(ds: xr.Dataset) -> tuple[np.ndarray, np.ndarray]:
     """Per joint, the level at or below which a closed-loop quantity is integrator noise, not
     data: the same for the figures, the tables and the verdict.
 
@@ -362,7 +368,7 @@ def noise_floors(ds):
     return tol * q_scale, tol * tau_scale
 
 
-def control_figures(ds, width=PAGE_WIDTH):
+def control_figures(ds: xr.Dataset, width: float = PAGE_WIDTH) -> dict[str, Figure]:
     """The report's figures, drawn from a stored control dataset.
 
     Parameters

@@ -4,6 +4,9 @@ rule and what it keeps, and the provenance, generated from the stored control da
 
 from __future__ import annotations
 
+from collections.abc import Mapping
+from typing import TYPE_CHECKING, Any
+
 import numpy as np
 
 from ..core.selection.ranking import ROUND_OFF_CLAUSE, element_label, is_round_off
@@ -30,11 +33,14 @@ from .main_text import gravity_clause, model_sentence
 from .markup import scope as scope_markup
 from .markup import sub as _sub
 
+if TYPE_CHECKING:                       # for the type hints only
+    import xarray as xr
+
 __all__ = ["control_context", "dataset_verdict"]
 
 
 
-def dataset_verdict(ds):
+def dataset_verdict(ds: xr.Dataset) -> dict[str, Any]:
     """The control report's verdict and summary, from the stored control dataset: the same
     words for the report and the command line.
 
@@ -82,12 +88,14 @@ def dataset_verdict(ds):
                     "report (one model against the other along the desired trajectory).")
     tolerance = tuple(float(ds.attrs.get(f"verdict_tolerance_{k}", d)) for k, d in
                       zip(("revolute", "prismatic"), VERDICT_TOLERANCE))
-    verdict = control_verdict(peaks, prismatic, diff, tolerance, quiet, rule["tau"])
+    verdict = control_verdict(peaks, prismatic, diff,
+                              tolerance,  # type: ignore[arg-type]  # (revolute, prismatic)
+                              quiet, rule["tau"])
     return {"verdict": verdict, "summary": summary, "rule": rule,
             "floors": (q_floor, tau_floor)}
 
 
-def control_context(ds):
+def control_context(ds: xr.Dataset) -> dict[str, Any]:
     """Everything the control report says, from the stored control dataset.
 
     Parameters
@@ -349,7 +357,7 @@ def _model_note(ds):
     return text, recursive
 
 
-def scope_sentences(attrs, eps):
+def scope_sentences(attrs: Mapping[str, Any], eps: float) -> str:
     """The model's rule, its guarantee as the model states it, and whether that covers the
     tracked motion, from the attributes the control run stored (``model_scope``,
     ``model_guarantee_kind``, ``model_guarantee_covered``, ``model_guarantee_coverage``).

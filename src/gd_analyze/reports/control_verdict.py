@@ -4,12 +4,17 @@ full-model one, said per joint type in its own units; and the report's number fo
 from __future__ import annotations
 
 import functools
+from collections.abc import Mapping, Sequence
+from typing import TYPE_CHECKING
 
 import numpy as np
 
 from ..config import defaults
 from ..core.selection.ranking import joint_motion_units, joint_torque_units
 from .common import attr, fmt
+
+if TYPE_CHECKING:                       # for the type hints only
+    from numpy.typing import ArrayLike
 
 __all__ = ["VERDICT_TOLERANCE", "control_verdict"]
 
@@ -48,7 +53,8 @@ def _by_type(values, prismatic, which):
     return out
 
 
-def by_type_text(values, prismatic, which, limits=None):
+def by_type_text(values: ArrayLike, prismatic: ArrayLike, which: str,
+                 limits: Sequence[float] | None = None) -> str:
     """``"2.63e-04 rad"``, or per joint type ``"2.63e-04 rad, 6.20e-05 m"`` (revolute, then
     prismatic joints): a maximum is never taken across units."""
     groups = _by_type(values, prismatic, which)
@@ -68,8 +74,10 @@ def _joint_types(prismatic):
                       for (u, _, js), kind in zip(groups, (False, True))) + ": ")
 
 
-def control_verdict(peaks, prismatic, tau_difference=None,
-                    tolerance=VERDICT_TOLERANCE, quiet=None, noise_rule=None):
+def control_verdict(peaks: Mapping[str, np.ndarray], prismatic: ArrayLike,
+                    tau_difference: np.ndarray | None = None,
+                    tolerance: tuple[float, float] = VERDICT_TOLERANCE,
+                    quiet: Mapping[str, bool] | None = None, noise_rule: str | None = None) -> str:
     """One sentence: does the simplified model control the arm as well as the full one?
 
     Parameters

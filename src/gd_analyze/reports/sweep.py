@@ -28,7 +28,9 @@ Typst from the same section list (:mod:`gd_analyze.reports.typeset`). Both are w
 from __future__ import annotations
 
 import contextlib
+from collections.abc import Mapping, Sequence
 from pathlib import Path
+from typing import TYPE_CHECKING
 
 from ..core.selection.ranking import ROUND_OFF
 from . import markup
@@ -43,6 +45,12 @@ from .sweep_text import sweep_context as _context
 from .ticks import decade_label
 from .typeset import PAPER, write_pdf
 
+if TYPE_CHECKING:                       # for the type hints only
+    import os
+
+    import xarray as xr
+    from matplotlib.figure import Figure
+
 #: The round-off threshold as the text writes it (10⁻¹², not the code-like 1e-12).
 _TINY = decade_label(ROUND_OFF)
 
@@ -56,7 +64,8 @@ SWEEP_REPORT_FORMATS = ("html", "pdf")
 # HTML and PDF
 # --------------------------------------------------------------------------------------------
 
-def render_sweep_html(ds, payload=None, figures=None):
+def render_sweep_html(ds: xr.Dataset, payload: xr.Dataset | None = None,
+                      figures: Mapping[str, Figure] | None = None) -> str:
     """Render the sweep report as one self-contained HTML document.
 
     Parameters
@@ -161,7 +170,9 @@ _FIGURE_FILES.update({f"{k}_column": f"{_FIGURE_FILES[k]}_column"
                       for k in ("D", "h", "classes", "error", "payload")})
 
 
-def render_sweep_pdf(ds, path, payload=None, figures=None, paper="a4"):
+def render_sweep_pdf(ds: xr.Dataset, path: str | os.PathLike[str],
+                     payload: xr.Dataset | None = None,
+                     figures: Mapping[str, Figure] | None = None, paper: str = "a4") -> int:
     """Write the sweep report as a PDF document.
 
     Parameters
@@ -217,8 +228,10 @@ def _pdf(ctx, drawn, path, paper="a4"):
                      paper, metadata, footer=f"gd-analyze {ctx['version']}: {ctx['title']}")
 
 
-def write_sweep_report(sweep_path, outdir, payload=None, formats=SWEEP_REPORT_FORMATS,
-                       paper="a4"):
+def write_sweep_report(sweep_path: str | os.PathLike[str], outdir: str | os.PathLike[str],
+                       payload: str | os.PathLike[str] | xr.Dataset | None = None,
+                       formats: Sequence[str] = SWEEP_REPORT_FORMATS,
+                       paper: str = "a4") -> list[Path]:
     """Write sweep_report.html and sweep_report.pdf for a stored sweep.
 
     Parameters
@@ -267,8 +280,9 @@ def write_sweep_report(sweep_path, outdir, payload=None, formats=SWEEP_REPORT_FO
     ds = open_sweep(sweep_path, "sweep")
     if payload is not None and not hasattr(payload, "data_vars"):
         payload = open_sweep(payload, "payload")
-    ctx = _context(ds, payload)
-    drawn = draw_figures(make_sweep_figures(ds, payload, column=True), _RC)
+    ctx = _context(ds, payload)  # type: ignore[arg-type]  # a Dataset here
+    drawn = draw_figures(make_sweep_figures(ds, payload,  # type: ignore[arg-type]  # a Dataset
+                                            column=True), _RC)
     outdir = Path(outdir)
     (outdir / "figures").mkdir(parents=True, exist_ok=True)
     written, files = [], []

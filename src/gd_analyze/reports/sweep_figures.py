@@ -8,6 +8,7 @@ recomputed.
 from __future__ import annotations
 
 import textwrap
+from typing import TYPE_CHECKING
 
 import numpy as np
 
@@ -27,6 +28,11 @@ from .markup import TRAN as _TRAN
 from .markup import label as _math
 from .ticks import decade_label
 from .typeset import TABLE_COLOURS
+
+if TYPE_CHECKING:                       # for the type hints only
+    import xarray as xr
+    from matplotlib.figure import Figure
+    from numpy.typing import ArrayLike
 
 __all__ = ["make_sweep_figures", "REQUIRED", "KEPT"]
 
@@ -58,7 +64,7 @@ ROUND_OFF_WORDS = f"at most {decade_label(ROUND_OFF)} of its own scale or 64 \u0
 TORQUE_ROUND_OFF_WORDS = f"at most {decade_label(ROUND_OFF)} of its own scale or of the arm's"
 
 
-def torque_error_round_off(ds, peak, tau_peak):
+def torque_error_round_off(ds: xr.Dataset, peak: ArrayLike, tau_peak: ArrayLike) -> np.ndarray:
     """Whether a torque error is round-off: at most 1e-12 (:data:`ROUND_OFF`) of the joint's
     own peak |tau| or of the arm's (the largest peak |tau| among the joints of the same type,
     :func:`gd_analyze.core.selection.ranking.arm_scales`).
@@ -389,7 +395,8 @@ def _fig_error(ds, width=_PAGE_WIDTH):
     return fig
 
 
-def make_sweep_figures(ds, payload=None, column=False):
+def make_sweep_figures(ds: xr.Dataset, payload: xr.Dataset | None = None,
+                       column: bool = False) -> dict[str, Figure]:
     """Make the sweep report's figures from a stored sweep.
 
     Parameters

@@ -6,6 +6,8 @@ puts them in the report's context."""
 
 from __future__ import annotations
 
+from typing import TYPE_CHECKING
+
 import numpy as np
 
 from ..core.selection.ranking import ROUND_OFF_CLAUSE, joint_units_text
@@ -19,10 +21,13 @@ from .markup import sub as _sub
 from .simplified_section import region_pruning
 from .sweep_figures import torque_error_round_off
 
+if TYPE_CHECKING:                       # for the type hints only
+    import xarray as xr
+
 __all__ = ["merged_claim", "coverage"]
 
 
-def merged_claim(ds):
+def merged_claim(ds: xr.Dataset) -> str:
     """The summary's clause on the budget rule's merged model: what its error is guaranteed
     within and where, its bound and its largest measured error.
 
@@ -43,7 +48,7 @@ def merged_claim(ds):
     eps = f"{float(ds.attrs['merged_tolerance']):g}"
     if _region(ds):
         said = merged_guarantee(ds)
-        return (f"is guaranteed {scope_markup(said['statement'])} ({_SI} = the largest "
+        return (f"is guaranteed {scope_markup(said['statement'])} ({_SI} = the largest "  # type: ignore[index]  # a merged model's
                 f"|{_TAU_I}| found over the region, at least {_floor(ds)}); "
                 f"{_bound_clause(ds)}{coverage(ds)}")
     claim = (f"is guaranteed within \u03b5\u00b7{_SI} (\u03b5 = {eps}), {ROUND_OFF_CLAUSE}, "
@@ -62,7 +67,7 @@ def merged_claim(ds):
     return claim
 
 
-def coverage(ds):
+def coverage(ds: xr.Dataset) -> str:
     """Which swept trajectories a region model's proof covers, and its largest measured error
     there, as a clause (:func:`gd_analyze.io.sweep_guarantee.merged_guarantee`); the ones
     outside the region are named, at most five, with why.
@@ -79,9 +84,9 @@ def coverage(ds):
         measured peak error is 0.02 % of s_i".
     """
     said = merged_guarantee(ds)
-    K, outside = len(said["covered"]), said["outside"]
+    K, outside = len(said["covered"]), said["outside"]  # type: ignore[index]  # a merged model's
     inside = K - len(outside)
-    worst = f"its largest measured peak error is {_pct(said['worst'])} of {_SI}"
+    worst = f"its largest measured peak error is {_pct(said['worst'])} of {_SI}"  # type: ignore[index]  # a merged model's
     if not outside:
         return (f"every one of the {count(K)} swept trajector{'y' if K == 1 else 'ies'} lies "
                 f"in the region, where {worst}")

@@ -4,6 +4,8 @@ about the own and the merged models, generated from the stored sweep and its rul
 
 from __future__ import annotations
 
+from typing import TYPE_CHECKING, Any
+
 import numpy as np
 
 from .common import attr as _attr
@@ -46,6 +48,9 @@ from .sweep_merged_text import (
     merged_claim,
 )
 
+if TYPE_CHECKING:                       # for the type hints only
+    import xarray as xr
+
 __all__ = ["sweep_context"]
 
 #: The merged model's choices per element, in the words of Table 4.1 and the counts line.
@@ -56,7 +61,7 @@ _CHOICES = ("tran", "rot", "both", "none")
 # Content shared by the HTML and the PDF
 # --------------------------------------------------------------------------------------------
 
-def sweep_context(ds, payload=None):
+def sweep_context(ds: xr.Dataset, payload: xr.Dataset | None = None) -> dict[str, Any]:
     """Everything the sweep report says, from the stored sweep (and payload sweep): the
     tables, the summary, the captions and the sentences about the models.
 
@@ -101,7 +106,8 @@ def sweep_context(ds, payload=None):
         ["element", "translational", "rotational", "both", "negligible", "min share",
          "median share", "max share", "merged choice"],
         [[lab, *(f"{f:.3f}" for f in frac[k]),
-          *(_share(ds[f"share_tran_{w}"].values[k], zero[k]) for w in ("min", "median", "max")),
+          *(_share(ds[f"share_tran_{w}"].values[k], zero[k])  # type: ignore[index]  # an array
+            for w in ("min", "median", "max")),
           merged[k]] for k, lab in enumerate(labels)],
         align=["left"] + ["right"] * 7 + ["left"], colour_cols=[8])
     units = torque_units(ds)

@@ -15,7 +15,9 @@ back from the file otherwise. Nothing is computed twice.
 from __future__ import annotations
 
 import dataclasses
+from collections.abc import Mapping
 from dataclasses import dataclass
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
@@ -33,6 +35,17 @@ from ..core.selection.simplified import SimplifiedModel, simplified_torque
 from ..formulations.compare import FORMULATIONS_MAX_SETPOINTS
 from .deployment import deploy_models
 from .options import AnalysisOptions
+
+if TYPE_CHECKING:                       # for the type hints only
+    import os
+
+    import xarray as xr
+    from numpy.typing import NDArray
+    from tqdm import tqdm
+
+    from ..core.model.robot import Robot
+    from ..io.datasets import SetpointWriter
+    from ..io.trajectory import Trajectory
 
 __all__ = ["Analysis", "AnalysisPass", "analysis_pass", "analyze", "analyze_to_file", "verify",
            "VERIFY_TOLERANCE",
@@ -68,7 +81,7 @@ class Analysis:
     verification: dict
 
 
-def progress_bar(enabled=True, desc="reading"):
+def progress_bar(enabled: bool = True, desc: str = "reading") -> tqdm:
     """A tqdm progress bar on stderr that counts set points.
 
     Parameters
@@ -131,7 +144,9 @@ def _verify_sample(robot, q, qd, terms, qdd=None):
     return out
 
 
-def verify(robot, q, qd, terms=None, max_setpoints=VERIFY_MAX_SETPOINTS, qdd=None):
+def verify(robot: Robot, q: NDArray[np.float64], qd: NDArray[np.float64],
+           terms: GDTerms | None = None, max_setpoints: int = VERIFY_MAX_SETPOINTS,
+           qdd: NDArray[np.float64] | None = None) -> dict[str, Any]:
     """Check G-D terms against Pinocchio's crba, nonLinearEffects and generalized gravity.
 
     Parameters
@@ -214,8 +229,10 @@ class AnalysisPass:
     chapter_error: object = None
 
 
-def analysis_pass(robot, trajectory, options=None, provenance=None, chunk=STREAM_CHUNK,
-                  writer=None, progress=False, terms=None):
+def analysis_pass(robot: Robot, trajectory: Trajectory, options: AnalysisOptions | None = None,
+                  provenance: Mapping[str, Any] | None = None, chunk: int = STREAM_CHUNK,
+                  writer: SetpointWriter | None = None, progress: bool | tqdm = False,
+                  terms: GDTerms | None = None) -> AnalysisPass:
     """The one per-trajectory analysis: the G-D terms once per set point, then everything else.
 
     Pass 1 computes the terms chunk by chunk and feeds the ranking, the writer and the samples
@@ -511,7 +528,8 @@ def _with_costs(ds, costs):
     return ds
 
 
-def analyze(robot, trajectory, options=None, settings=None):
+def analyze(robot: Robot, trajectory: Trajectory, options: AnalysisOptions | None = None,
+            settings: Mapping[str, Any] | None = None) -> Analysis:
     """Compute, verify, rank and simplify the G-D terms along a trajectory, in memory.
 
     Parameters
@@ -557,8 +575,10 @@ def analyze(robot, trajectory, options=None, settings=None):
                     verification=result.verification)
 
 
-def analyze_to_file(robot, trajectory, path, options=None, settings=None, chunk=STREAM_CHUNK,
-                    progress=False, extra=None):
+def analyze_to_file(robot: Robot, trajectory: Trajectory, path: str | os.PathLike[str],
+                    options: AnalysisOptions | None = None,
+                    settings: Mapping[str, Any] | None = None, chunk: int = STREAM_CHUNK,
+                    progress: bool | tqdm = False, extra: xr.Dataset | None = None) -> Analysis:
     """:func:`analyze`, streamed into a results file in chunks of bounded memory.
 
     The G-D terms are computed once per set point, chunk by chunk, and written; the simplified

@@ -72,8 +72,10 @@ from __future__ import annotations
 
 import hashlib
 import json
+from collections.abc import Sequence
 from dataclasses import dataclass, field
 from pathlib import Path
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
@@ -98,6 +100,17 @@ from .tracking import (
     singular_inertia,
     track,
 )
+
+if TYPE_CHECKING:                       # for the type hints only
+    import os
+
+    from numpy.typing import ArrayLike, NDArray
+    from scipy.interpolate import PPoly
+
+    from ..core.model.robot import Robot
+    from ..core.selection.simplified import SimplifiedModel
+    from ..io.trajectory import Trajectory
+    from .tracking import TrackingRun
 
 __all__ = ["DEFAULT_GRID_POINTS", "CONTROL_FILE", "NOISE_TIGHTEN", "NOISE_FACTOR",
            "ControlResult", "run_control", "difference_noise", "model_cost", "model_facts"]
@@ -147,7 +160,7 @@ class ControlResult:
         [N m; N on a prismatic joint]; None unless both computed-torque controllers ran.
     """
 
-    robot: object
+    robot: Robot
     choices: dict
     gains: Gains
     t: np.ndarray
@@ -161,7 +174,7 @@ class ControlResult:
     tau_noise: np.ndarray | None = None
 
     @property
-    def tau_noise_floor(self):
+    def tau_noise_floor(self) -> np.ndarray | None:
         """ndarray, shape (n,), or None: per joint, the level at or below which the closed-loop
         torque difference is integrator noise, not data [N m; N on a prismatic joint].
 
@@ -177,16 +190,16 @@ class ControlResult:
         return np.maximum(NOISE_FACTOR * np.asarray(self.tau_noise, float), tol * scale)
 
     @property
-    def descriptions(self):
+    def descriptions(self) -> dict[str, str]:
         """dict: controller name -> its control law in one line (:data:`CONTROLLER_DESCRIPTIONS`)."""
         return {c: CONTROLLER_DESCRIPTIONS[c] for c in self.runs}
 
     @property
-    def controllers(self):
+    def controllers(self) -> list[str]:
         """list of str: the controllers run, in table order."""
         return list(self.runs)
 
-    def error_figures(self, controller):
+    def error_figures(self, controller: str) -> dict[str, list[float]]:
         """Tracking error figures of one controller.
 
         Parameters
@@ -212,7 +225,7 @@ class ControlResult:
                 "peak_grid": pg.tolist(), "rms_grid": rg.tolist()}
 
     @property
-    def tau_difference(self):
+    def tau_difference(self) -> np.ndarray | None:
         """ndarray, shape (M, n), or None: tau of "simplified" minus tau of "full" [N m].
 
         Each from its own closed-loop run, at the same sample times; None unless both ran.
@@ -221,7 +234,7 @@ class ControlResult:
             return self.runs["simplified"].tau - self.runs["full"].tau
         return None
 
-    def summary(self):
+    def summary(self) -> dict[str, Any]:
         """The figures as plain JSON-ready data.
 
         Returns
@@ -248,7 +261,7 @@ class ControlResult:
                     if (m := self.provenance.get("model", {})) is not None}}
 
 
-def model_cost(model):
+def model_cost(model: SimplifiedModel) -> dict[str, Any]:
     """The counted operations per set point of a simplified model, beside the full model's.
 
     Parameters
@@ -284,7 +297,7 @@ def model_cost(model):
     from ..io.explicit_cache import explicit_terms
     from .simplify import full_program
 
-    robot = model.robot
+    robot: Robot = model.robot  # type: ignore[assignment]  # SimplifiedModel's field is typed object
     counted = [(f"simplified model ({model.form} form)", model.program().cost()),
                ("exact recursive model",
                 with_drives(recursive_program(robot), robot).cost())]
@@ -309,7 +322,7 @@ def model_cost(model):
             "what": "translational/rotational parts of D and h", "dropped_pairs": ""}
 
 
-def model_facts(model):
+def model_facts(model: SimplifiedModel) -> dict[str, Any]:
     """What the reports state about a simplified model, read from the model itself.
 
     Parameters
@@ -336,12 +349,12 @@ def model_facts(model):
     """
     out = {"form": model.form, "rule": str(model.rule), "tolerance": float(model.tolerance),
            "scope": model.scope(),
-           "guarantee_kind": "none" if model.guarantee is None else model.guarantee.kind,
+           "guarantee_kind": "none" if model.guarantee is None else model.guarantee.kind,  # type: ignore[attr-defined]  # SimplifiedModel's field is typed object
            "base_parameters": -1, "pairs": -1, "pairs_dropped": -1, "dropped_pairs": "",
            "gravity_dropped": "", "pairs_known": 0, "c_terms_kept": -1, "c_terms": -1}
     if model.recursive is not None:
-        f = model.recursive.stated_facts()
-        out.update(base_parameters=len(model.recursive.names), pairs=f["pairs"],
+        f = model.recursive.stated_facts()  # type: ignore[attr-defined]  # SimplifiedModel's field is typed object
+        out.update(base_parameters=len(model.recursive.names), pairs=f["pairs"],  # type: ignore[attr-defined]  # SimplifiedModel's field is typed object
                    pairs_dropped=f["dropped"],
                    dropped_pairs=", ".join(f"{a} ({b})" for a, b in f["dropped_pairs"]),
                    gravity_dropped=", ".join(f["gravity_dropped"]), pairs_known=int(f["known"]))
@@ -349,7 +362,7 @@ def model_facts(model):
         from ..core.symbolic.explicit_estimate import is_expensive
         from ..io.explicit_cache import explicit_terms
 
-        out["c_terms_kept"] = int(np.sum(np.asarray(model.terms.kind) == "c"))
+        out["c_terms_kept"] = int(np.sum(np.asarray(model.terms.kind) == "c"))  # type: ignore[attr-defined]  # SimplifiedModel's field is typed object
         if not is_expensive(model.robot):
             full, _ = explicit_terms(model.robot)
             out["c_terms"] = int(np.sum(np.asarray(full.kind) == "c"))
@@ -366,11 +379,15 @@ def _sample_times(t_set, grid_points):
     return t, np.isin(t, t_set)
 
 
-def run_control(model, trajectory, wn=DEFAULT_WN, zeta=DEFAULT_ZETA, q0_offset=0.0,
-                controllers=CONTROLLERS, grid_points=DEFAULT_GRID_POINTS, rtol=DEFAULT_RTOL,
-                atol=DEFAULT_ATOL, method=DEFAULT_METHOD, t_end=None, cost=True,
-                model_path=None, model_sha256=None, plant=None,
-                verdict_tolerance=None):
+def run_control(model: SimplifiedModel, trajectory: Trajectory, wn: ArrayLike = DEFAULT_WN,
+                zeta: ArrayLike = DEFAULT_ZETA, q0_offset: ArrayLike = 0.0,
+                controllers: Sequence[str] = CONTROLLERS,
+                grid_points: int = DEFAULT_GRID_POINTS, rtol: float = DEFAULT_RTOL,
+                atol: float = DEFAULT_ATOL, method: str = DEFAULT_METHOD,
+                t_end: float | None = None, cost: bool = True,
+                model_path: str | os.PathLike[str] | None = None,
+                model_sha256: str | None = None, plant: Robot | None = None,
+                verdict_tolerance: tuple[float, float] | None = None) -> ControlResult:
     """Track a trajectory with the full-model, simplified-model and PD + gravity controllers.
 
     Parameters
@@ -442,7 +459,7 @@ def run_control(model, trajectory, wn=DEFAULT_WN, zeta=DEFAULT_ZETA, q0_offset=0
     else:
         model_file = str(model_path)
         model_sha = model_sha256 or ""
-    robot = model.robot if plant is None else plant
+    robot: Robot = model.robot if plant is None else plant  # type: ignore[assignment]  # SimplifiedModel's field is typed object
     if trajectory.q.shape[1] != robot.n:
         raise ValueError(f"the trajectory has {trajectory.q.shape[1]} joints, the robot "
                          f"{robot.n}")
@@ -518,8 +535,11 @@ def run_control(model, trajectory, wn=DEFAULT_WN, zeta=DEFAULT_ZETA, q0_offset=0
                          provenance=provenance, tau_noise=noise)
 
 
-def difference_noise(robot, model, gains, desired, t, runs, q0_offset, rtol=DEFAULT_RTOL,
-                     atol=DEFAULT_ATOL, method=DEFAULT_METHOD):
+def difference_noise(robot: Robot, model: SimplifiedModel, gains: Gains, desired: PPoly,
+                     t: NDArray[np.float64], runs: dict[str, TrackingRun],
+                     q0_offset: NDArray[np.float64], rtol: float = DEFAULT_RTOL,
+                     atol: float = DEFAULT_ATOL, method: str = DEFAULT_METHOD
+                     ) -> tuple[np.ndarray, int]:
     """Measured integrator noise of the closed-loop torque difference, simplified-model minus
     full-model computed torque.
 

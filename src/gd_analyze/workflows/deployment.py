@@ -7,16 +7,35 @@ Nothing here prints or writes files.
 from __future__ import annotations
 
 import dataclasses
+from collections.abc import Callable, Mapping
+from concurrent.futures import Future
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
 from ..core.selection.positive_definite import with_inertia_check
 from .deploy import build_recursive, guarantee_region, restored_rebuild
 
+if TYPE_CHECKING:                       # for the type hints only
+    import xarray as xr
+
+    from ..core.model.robot import Robot
+    from ..core.selection.budget import PartPeaks
+    from ..core.selection.guarantee import Guarantee
+    from ..core.selection.ranking import Ranking
+    from ..core.selection.region import Region
+    from ..core.selection.simplified import SimplifiedModel
+    from ..io.trajectory import Trajectory
+    from .options import SimplifyOptions
+
 __all__ = ["deploy_models", "exact_explicit_wins", "exact_explicit_model", "region_coverage"]
 
 
-def deploy_models(robot, trajectory, ranking, part_peaks, options, provenance, background):
+def deploy_models(robot: Robot, trajectory: Trajectory, ranking: Ranking, part_peaks: PartPeaks,
+                  options: SimplifyOptions, provenance: Mapping[str, Any],
+                  background: Mapping[str, Future[Any]]
+                  ) -> tuple[SimplifiedModel, SimplifiedModel | None,
+                             Callable[[Mapping[str, Any] | None], xr.Dataset]]:
     """The simplified model deployed (issue 17), the models compared with it, ladder, costs.
 
     Parameters
@@ -72,7 +91,8 @@ def deploy_models(robot, trajectory, ranking, part_peaks, options, provenance, b
     tolerance, rule, torque_floor = options.tolerance, options.rule, options.torque_floor
     form = options.form
     q, qd, qdd = trajectory.q, trajectory.qd, trajectory.qdd
-    common = dict(ranking=ranking, trajectory_sha256=trajectory.sha256, provenance=provenance)
+    common: dict[str, Any] = dict(ranking=ranking, trajectory_sha256=trajectory.sha256,
+                                  provenance=provenance)
     counts = operation_counts(robot)
     region, missing, proved = guarantee_region(robot, options.guarantee, options.region) \
         if rule == "budget" else (None, "", False)
@@ -188,7 +208,7 @@ def deploy_models(robot, trajectory, ranking, part_peaks, options, provenance, b
     return model, other, finish
 
 
-def exact_explicit_wins(recursive_cost, full_cost):
+def exact_explicit_wins(recursive_cost: Mapping[str, Any], full_cost: Mapping[str, Any]) -> bool:
     """Under a region guarantee (``form="cheapest"``): whether the exact explicit model is
     deployed rather than the recursive model pruned over the region.
 
@@ -206,8 +226,9 @@ def exact_explicit_wins(recursive_cost, full_cost):
     return _ops(full_cost) < _ops(recursive_cost)
 
 
-def exact_explicit_model(full, guarantee, tolerance,
-                   why="cheaper than the recursive model pruned over the region"):
+def exact_explicit_model(full: SimplifiedModel, guarantee: Guarantee, tolerance: float,
+                         why: str = "cheaper than the recursive model pruned over the region"
+                         ) -> SimplifiedModel:
     """The exact explicit model deployed under a region guarantee (bound 0).
 
     Parameters
@@ -233,9 +254,9 @@ def exact_explicit_model(full, guarantee, tolerance,
     from ..io.explicit_cache import explicit_terms
     from .simplify import full_program
 
-    n = full.robot.n
+    n = full.robot.n  # type: ignore[attr-defined]  # SimplifiedModel's field is typed object
     terms, _ = explicit_terms(full.robot)
-    program = full_program(full.robot, terms)
+    program = full_program(full.robot, terms)  # type: ignore[arg-type]  # SimplifiedModel's field is typed object
     return dataclasses.replace(
         full, tolerance=float(tolerance), bound=[0.0] * n, terms=terms,
         choices=full_choices(n), cost=program.cost(), program_cache=program,
@@ -245,7 +266,7 @@ def exact_explicit_model(full, guarantee, tolerance,
                    + guarantee.method))
 
 
-def region_coverage(region, trajectory):
+def region_coverage(region: Region | None, trajectory: Trajectory) -> dict[str, Any]:
     """Whether the analysed trajectory stays in the region, as results.h5 stores it.
 
     Parameters

@@ -13,6 +13,9 @@ joint with s_i the scale of its guarantee (:class:`~gd_analyze.core.selection.gu
 
 from __future__ import annotations
 
+from collections.abc import Mapping
+from typing import TYPE_CHECKING, Any
+
 import numpy as np
 
 from ..core.dynamics.dalembert import gd_terms
@@ -24,11 +27,19 @@ from ..core.selection.simplified import parameters_sha256, torque_error
 from ..errors import InputError
 from ..io.model_trust import check_guarantee
 
+if TYPE_CHECKING:                       # for the type hints only
+    from numpy.typing import NDArray
+
+    from ..core.model.robot import Robot
+    from ..core.selection.simplified import SimplifiedModel
+    from ..io.trajectory import Trajectory
+
 __all__ = ["evaluate", "model_torque", "model_scale", "coverage", "gate",
            "check_trajectory_claim", "TRAJECTORY_SCALE_RTOL"]
 
 
-def model_torque(model, q, qd, qdd):
+def model_torque(model: SimplifiedModel, q: NDArray[np.float64], qd: NDArray[np.float64],
+                 qdd: NDArray[np.float64]) -> np.ndarray:
     """A simplified model's torques, refused where they are not finite.
 
     Parameters
@@ -64,7 +75,8 @@ def model_torque(model, q, qd, qdd):
     return tau
 
 
-def evaluate(model, trajectory, plant=None):
+def evaluate(model: SimplifiedModel, trajectory: Trajectory,
+             plant: Robot | None = None) -> dict[str, Any]:
     """The torque error of a simplified model along a trajectory.
 
     Parameters
@@ -97,7 +109,7 @@ def evaluate(model, trajectory, plant=None):
         If the torques are not finite (inputs beyond :data:`gd_analyze.core.model.limits.LIMITS`, or
         the model's coefficients beyond a float: :func:`model_torque`).
     """
-    robot = model.robot
+    robot: Robot = model.robot  # type: ignore[assignment]  # SimplifiedModel's field is typed object
     plant = robot if plant is None else plant
     full = gd_terms(plant, trajectory.q, trajectory.qd)
     err = torque_error(model_torque(model, trajectory.q, trajectory.qd, trajectory.qdd),
@@ -126,7 +138,7 @@ def _round_off(peak, scale, arm, robot):
     return np.asarray(is_round_off(peak, scale, arm_scale=arm_scales(arm, units)), bool)
 
 
-def model_scale(model):
+def model_scale(model: SimplifiedModel) -> np.ndarray | None:
     """The model's scale s_i per joint: what its tolerance is relative to.
 
     Parameters
@@ -141,15 +153,16 @@ def model_scale(model):
         its ``validation``; None if it records neither.
     """
     if model.guarantee is not None:
-        return np.asarray(model.guarantee.scale, float)
+        return np.asarray(model.guarantee.scale, float)  # type: ignore[attr-defined]  # SimplifiedModel's field is typed object
     peak = (model.validation or {}).get("peak_tau")
-    if not peak or len(peak) != model.robot.n:
+    if not peak or len(peak) != model.robot.n:  # type: ignore[attr-defined]  # SimplifiedModel's field is typed object
         return None
     peak = np.array([np.nan if v is None else v for v in peak], float)
     return np.maximum(peak, float(model.torque_floor))
 
 
-def coverage(model, trajectory, plant=None, path="<model>"):
+def coverage(model: SimplifiedModel, trajectory: Trajectory, plant: Robot | None = None,
+             path: str = "<model>") -> dict[str, Any]:
     """Whether the model's guarantee covers a trajectory, and its scope in words.
 
     Parameters
@@ -180,12 +193,12 @@ def coverage(model, trajectory, plant=None, path="<model>"):
         (:func:`check_trajectory_claim`): one line naming the key, e.g. ``guarantee.bound``.
     """
     g = model.guarantee
-    out = {"kind": None if g is None else g.kind, "statement": model.scope()}
+    out = {"kind": None if g is None else g.kind, "statement": model.scope()}  # type: ignore[attr-defined]  # SimplifiedModel's field is typed object
     if g is None:
         return {**out, "covered": False, "reason": "the model carries no guarantee"}
-    if g.kind == "region":                  # a model built in memory, or read: checked
+    if g.kind == "region":  # type: ignore[attr-defined]  # field typed object; a model built in memory, or read: checked
         check_guarantee(model, path)        # (once per certification and process)
-    robot = model.robot
+    robot: Robot = model.robot  # type: ignore[assignment]  # SimplifiedModel's field is typed object
     if plant is not None and plant is not robot and \
             parameters_sha256(plant.to_dict()) != parameters_sha256(robot.to_dict()):
         return {**out, "covered": False,
@@ -197,9 +210,9 @@ def coverage(model, trajectory, plant=None, path="<model>"):
     with np.errstate(invalid="ignore"):
         continuous = ~np.asarray(robot.prismatic, bool) & (
             ~(np.isfinite(lo) & np.isfinite(hi)) | (hi - lo > 2 * np.pi))
-    covered, reason = g.covers(trajectory.q, trajectory.qd, trajectory.qdd,
+    covered, reason = g.covers(trajectory.q, trajectory.qd, trajectory.qdd,  # type: ignore[attr-defined]  # SimplifiedModel's field is typed object
                                trajectory_sha256=trajectory.sha256, continuous=continuous)
-    if covered and g.kind == "trajectory":
+    if covered and g.kind == "trajectory":  # type: ignore[attr-defined]  # SimplifiedModel's field is typed object
         check_trajectory_claim(model, trajectory, path)
     return {**out, "covered": bool(covered), "reason": reason}
 
@@ -210,7 +223,8 @@ def coverage(model, trajectory, plant=None, path="<model>"):
 TRAJECTORY_SCALE_RTOL = 1e-9
 
 
-def check_trajectory_claim(model, trajectory, path="<model>"):
+def check_trajectory_claim(model: SimplifiedModel, trajectory: Trajectory,
+                           path: str = "<model>") -> None:
     """Refuse a trajectory-kind guarantee that does not hold on its own trajectory.
 
     Parameters
@@ -240,11 +254,11 @@ def check_trajectory_claim(model, trajectory, path="<model>"):
     error measured on that trajectory.
     """
     g = model.guarantee
-    robot = model.robot
+    robot: Robot = model.robot  # type: ignore[assignment]  # SimplifiedModel's field is typed object
     tau = check_finite("tau", gd_terms(robot, trajectory.q, trajectory.qd).tau(trajectory.qdd))
     err = np.abs(model_torque(model, trajectory.q, trajectory.qd, trajectory.qdd) - tau)
     peak, peak_tau = err.max(axis=0), np.abs(tau).max(axis=0)
-    scale, bound = np.asarray(g.scale, float), np.asarray(g.bound, float)
+    scale, bound = np.asarray(g.scale, float), np.asarray(g.bound, float)  # type: ignore[attr-defined, type-var]  # SimplifiedModel's field is typed object
     own = np.maximum(peak_tau, scale)
     ok = within_bound(peak, bound, scale) | _round_off(peak, own, own, robot)   # as the gate
     if not ok.all():
@@ -252,7 +266,7 @@ def check_trajectory_claim(model, trajectory, path="<model>"):
         raise InputError(f"is below the error measured again on its own trajectory (joint "
                          f"{j + 1}: {bound[j]:.4g} < {peak[j]:.4g})", path,
                          column="guarantee.bound")
-    if g.trajectories_sha256:
+    if g.trajectories_sha256:  # type: ignore[attr-defined]  # SimplifiedModel's field is typed object
         return                      # a sweep's model: s_i is each trajectory's
     expected = np.maximum(peak_tau, float(model.torque_floor))
     ok = within_bound(np.abs(expected - scale), TRAJECTORY_SCALE_RTOL * np.abs(expected),
@@ -264,7 +278,8 @@ def check_trajectory_claim(model, trajectory, path="<model>"):
                          "again)", path, column="guarantee.scale")
 
 
-def gate(err, model, max_error=None):
+def gate(err: Mapping[str, Any], model: SimplifiedModel,
+         max_error: float | None = None) -> dict[str, Any]:
     """The evaluate gate: does the model's error on a trajectory pass?
 
     Parameters
@@ -285,19 +300,19 @@ def gate(err, model, max_error=None):
         (1-based, the joint furthest beyond its limit; None if none exceeds) and ``message``
         (one line naming it, "" if none). Round-off passes; NaN or inf fails.
     """
-    robot = model.robot
+    robot: Robot = model.robot  # type: ignore[assignment]  # SimplifiedModel's field is typed object
     peak = np.asarray(err["peak_abs_error"], float)
-    units = [joint_torque_units(bool(p)) for p in robot.prismatic]
+    units = [joint_torque_units(bool(p)) for p in robot.prismatic]  # type: ignore[union-attr]  # never None (Robot.__post_init__)
     g = model.guarantee
     if max_error is None and g is None:
         return {"by": None, "limit": None, "exceeded": False, "worst_joint": None,
                 "message": ""}
-    s = np.asarray(g.scale if max_error is None else (err.get("scale") or np.zeros(robot.n)),
+    s = np.asarray(g.scale if max_error is None else (err.get("scale") or np.zeros(robot.n)),  # type: ignore[attr-defined]  # SimplifiedModel's field is typed object
                    float)
     own = np.maximum(np.asarray(err["peak_tau"], float), s)
     off = _round_off(peak, own, own, robot)
     if max_error is None:
-        limit = g.tolerance * s
+        limit = g.tolerance * s  # type: ignore[attr-defined]  # SimplifiedModel's field is typed object
         measure, bound = peak, limit
         within = within_bound(peak, limit, s)               # up to round-off, as guaranteed
     else:
@@ -315,7 +330,7 @@ def gate(err, model, max_error=None):
     u = units[j]
     if max_error is None:
         out["message"] = (f"joint {j + 1}'s torque error {peak[j]:.4g} {u} exceeds the model's "
-                          f"tolerance x scale, {g.tolerance:g} x {s[j]:.4g} {u} = "
+                          f"tolerance x scale, {g.tolerance:g} x {s[j]:.4g} {u} = "  # type: ignore[attr-defined]  # SimplifiedModel's field is typed object
                           f"{limit[j]:.4g} {u}")
     else:
         out["message"] = (f"joint {j + 1}'s relative torque error {measure[j]:.3e} (of "

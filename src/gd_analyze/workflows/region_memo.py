@@ -10,7 +10,15 @@ certification's branch and bound; a certification after them reuses them.
 
 from __future__ import annotations
 
+from typing import TYPE_CHECKING
+
 import numpy as np
+
+if TYPE_CHECKING:                       # for the type hints only
+    from ..core.model.robot import Robot
+    from ..core.selection.certify import PairBounds
+    from ..core.selection.region import Region
+    from ..core.symbolic.base_parameters import BaseParameters
 
 __all__ = ["REGION_SAMPLES", "certified", "region_values"]
 
@@ -49,7 +57,8 @@ def _region_key(robot, region, torque_floor):
             np.array([torque_floor, REGION_SAMPLES], float)))).hexdigest()
 
 
-def certified(robot, base, region, torque_floor=0.0):
+def certified(robot: Robot, base: BaseParameters, region: Region,
+              torque_floor: float = 0.0) -> PairBounds:
     """:func:`gd_analyze.core.selection.certify.certify` of an arm, once per process, and
     kept in the derivation cache (:func:`gd_analyze.io.certification_cache.certification`).
 
@@ -79,7 +88,8 @@ def certified(robot, base, region, torque_floor=0.0):
     return _keep(_CERTIFIED, _region_key(robot, region, torque_floor), make)
 
 
-def region_values(robot, base, region):
+def region_values(robot: Robot, base: BaseParameters, region: Region
+                  ) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
     """The region's samples at :data:`REGION_SAMPLES` positions, torque floor 0.
 
     Parameters

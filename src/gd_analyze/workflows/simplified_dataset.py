@@ -7,11 +7,24 @@ recomputes nothing.
 
 from __future__ import annotations
 
+from collections.abc import Mapping, Sequence
+from typing import TYPE_CHECKING, Any
+
 import numpy as np
 
 from ..core.selection.simplified import SOURCE_STEM
 from ..core.symbolic.emit_model import artefact_names
 from ..core.symbolic.recursive_model import PART_NAMES
+
+if TYPE_CHECKING:                       # for the type hints only
+    import xarray as xr
+    from numpy.typing import NDArray
+
+    from ..core.dynamics.dalembert import GDTerms
+    from ..core.selection.budget import Selection
+    from ..core.selection.simplified import SimplifiedModel
+    from ..core.symbolic.explicit import Term
+    from ..io.trajectory import Trajectory
 
 __all__ = ["AKB_COSTS", "coefficient_structure", "cost_rows", "simplified_dataset",
            "recursive_choices", "sweep_choices"]
@@ -22,7 +35,10 @@ AKB_COSTS = {"AKB 1986 full explicit": (739, 426, 1165),
              "AKB 1986 simplified (1 %)": (np.nan, np.nan, 305)}
 
 
-def cost_rows(n, model, other=None, ladder_rows=None, formulation_counts=None):
+def cost_rows(n: int, model: SimplifiedModel, other: SimplifiedModel | None = None,
+              ladder_rows: Sequence[Mapping[str, Any]] | None = None,
+              formulation_counts: Mapping[str, Any] | None = None
+              ) -> dict[str, tuple[float, ...]]:
     """The cost table: label -> (multiplications, additions, total).
 
     Parameters
@@ -97,7 +113,8 @@ def cost_rows(n, model, other=None, ladder_rows=None, formulation_counts=None):
     return rows
 
 
-def recursive_choices(model, q, qd, terms, ranking):
+def recursive_choices(model: SimplifiedModel, q: NDArray[np.float64], qd: NDArray[np.float64],
+                      terms: GDTerms, ranking: Any) -> dict[str, str]:
     """A recursive model's choice per element, as results.h5 stores it: "pruned" where the
     (base parameter, part) pairs it drops change the element, else "both" (issue 31: "both"
     for every element although XY2's terms are dropped).
@@ -123,7 +140,7 @@ def recursive_choices(model, q, qd, terms, ranking):
     """
     from ..core.selection.ranking import arm_scales, is_round_off
 
-    n = model.robot.n
+    n = model.robot.n  # type: ignore[attr-defined]  # SimplifiedModel's field is typed object
     fns = model.functions().numpy()
     D_s = np.asarray(fns["inertia"](q), float).reshape(-1, n, n)
     h_s = np.asarray(fns["velocity_terms"](q, qd), float).reshape(-1, n)
@@ -136,7 +153,8 @@ def recursive_choices(model, q, qd, terms, ranking):
     return {lab: "both" if o else "pruned" for lab, o in zip(ranking.labels, off)}
 
 
-def sweep_choices(model, trajectories, setpoints=64):
+def sweep_choices(model: SimplifiedModel, trajectories: Sequence[Trajectory],
+                  setpoints: int = 64) -> SimplifiedModel:
     """A recursive merged model's choice per element (:func:`recursive_choices`), compared on
     set points spread evenly over the swept trajectories.
 
@@ -173,7 +191,7 @@ def sweep_choices(model, trajectories, setpoints=64):
     at = np.unique(np.linspace(0, len(q) - 1, min(len(q), setpoints)).round().astype(int))
     q, qd, qdd = q[at], qd[at], qdd[at]
     terms = gd_terms(model.robot, q, qd)
-    n = model.robot.n
+    n = model.robot.n  # type: ignore[attr-defined]  # SimplifiedModel's field is typed object
     diag = np.sqrt(np.abs(np.einsum("kii->ki", terms.D)))
     iu = np.triu_indices(n)
     scale = np.concatenate([(diag[:, iu[0]] * diag[:, iu[1]]).max(axis=0),
@@ -182,7 +200,7 @@ def sweep_choices(model, trajectories, setpoints=64):
     return dataclasses.replace(model, choices=recursive_choices(model, q, qd, terms, ranking))
 
 
-def coefficient_structure(terms):
+def coefficient_structure(terms: Term) -> tuple[int, int]:
     """How many harmonic terms an explicit model has, and how many distinct coefficients.
 
     Parameters
@@ -204,7 +222,7 @@ def coefficient_structure(terms):
     return len(merged), len({float(f"{abs(c):.12g}") for c in merged.C})
 
 
-def inertia_check_attrs(check):
+def inertia_check_attrs(check: Mapping[str, Any] | None) -> dict[str, Any]:
     """The stored figures of the proof that D_s is positive definite.
 
     Parameters
@@ -249,9 +267,13 @@ def inertia_check_attrs(check):
             key + "method": str(check.get("method", ""))}
 
 
-def simplified_dataset(model, selection, other=None, ladder_rows=None, cost_table=None,
-                       files=artefact_names(SOURCE_STEM), other_error=None,
-                       full_terms=None):
+def simplified_dataset(model: SimplifiedModel, selection: Selection,
+                       other: SimplifiedModel | None = None,
+                       ladder_rows: Sequence[Mapping[str, Any]] | None = None,
+                       cost_table: Mapping[str, tuple[float, ...]] | None = None,
+                       files: tuple[str, ...] = artefact_names(SOURCE_STEM),
+                       other_error: Mapping[str, Any] | None = None,
+                       full_terms: Term | None = None) -> xr.Dataset:
     """The variables the report's "Simplified model" section reads.
 
     Parameters
@@ -353,23 +375,23 @@ def simplified_dataset(model, selection, other=None, ladder_rows=None, cost_tabl
     if model.recursive is not None:
         rec = model.recursive
         units = {"M": "kg", "MX": "kg m", "MY": "kg m", "MZ": "kg m"}
-        coords["base_parameter"] = var(("base_parameter",), np.array(rec.names, dtype=str),
+        coords["base_parameter"] = var(("base_parameter",), np.array(rec.names, dtype=str),  # type: ignore[attr-defined]  # SimplifiedModel's field is typed object
                                        "1", "base inertial parameter (Gautier 1990)")
         coords["torque_part"] = var(("torque_part",), np.array(PART_NAMES, dtype=str), "1",
                                     "part of the torque: inertial (D qdd), velocity (h), "
                                     "gravity (c)")
         dv.update({
-            "base_parameter_value": var(("base_parameter",), rec.beta, "SI", "value"),
+            "base_parameter_value": var(("base_parameter",), rec.beta, "SI", "value"),  # type: ignore[attr-defined]  # SimplifiedModel's field is typed object
             "base_parameter_units": var(("base_parameter",), np.array(
-                [units.get(name.rstrip("0123456789"), "kg m2") for name in rec.names],
+                [units.get(name.rstrip("0123456789"), "kg m2") for name in rec.names],  # type: ignore[attr-defined]  # SimplifiedModel's field is typed object
                 dtype=str), "1", "units of the value"),
             "base_parameter_dropped": var(("base_parameter", "torque_part"),
-                                          rec.dropped.astype(np.int8), "1",
+                                          rec.dropped.astype(np.int8), "1",  # type: ignore[attr-defined]  # SimplifiedModel's field is typed object
                                           "1 where the part is dropped from the model"),
         })
-        if rec.relative_peak is not None:
+        if rec.relative_peak is not None:  # type: ignore[attr-defined]  # SimplifiedModel's field is typed object
             dv["base_parameter_relative_peak"] = var(
-                ("base_parameter", "torque_part"), rec.relative_peak, "1",
+                ("base_parameter", "torque_part"), rec.relative_peak, "1",  # type: ignore[attr-defined]  # SimplifiedModel's field is typed object
                 "largest peak contribution on the trajectory / scale_i (0: none)")
     if cost_table:
         coords["cost_model"] = var(("cost_model",), np.array(list(cost_table), dtype=str), "1",
@@ -380,14 +402,15 @@ def simplified_dataset(model, selection, other=None, ladder_rows=None, cost_tabl
                                          "EPS of the error budget")
     ds = xr.Dataset(dv, coords=coords)
     # the (parameter, part) pairs that contribute on the trajectory (round-off excluded)
-    facts = None if model.recursive is None else model.recursive.stated_facts()
+    facts = None if model.recursive is None else model.recursive.stated_facts()  # type: ignore[attr-defined]  # SimplifiedModel's field is typed object
     cost = model.cost
     ds.attrs.update({
         "simplified_rule": model.rule, "simplified_tolerance": model.tolerance,
         "simplified_torque_floor": model.torque_floor,
         "simplified_files": ", ".join(files),
         "simplified_form": model.form,
-        "simplified_terms_kept": -1 if model.terms is None else len(model.terms),
+        "simplified_terms_kept":
+            -1 if model.terms is None else len(model.terms),  # type: ignore[arg-type]  # SimplifiedModel's field is typed object
         "simplified_pairs_dropped": -1 if facts is None else facts["dropped"],
         "simplified_pairs": -1 if facts is None else facts["pairs"],
         "simplified_dropped_pairs": "" if facts is None else
@@ -405,5 +428,6 @@ def simplified_dataset(model, selection, other=None, ladder_rows=None, cost_tabl
         (ds.attrs["full_harmonics"], ds.attrs["full_coefficients"]) = coefficient_structure(
             full_terms)
         (ds.attrs["other_rule_harmonics"],
-         ds.attrs["other_rule_coefficients"]) = coefficient_structure(other.terms)
+         ds.attrs["other_rule_coefficients"]) = coefficient_structure(
+            other.terms)  # type: ignore[arg-type]  # SimplifiedModel's field is typed object
     return ds

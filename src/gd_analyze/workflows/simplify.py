@@ -8,7 +8,9 @@ its cost, its error, and the tolerance ladder. Nothing here prints or writes fil
 from __future__ import annotations
 
 import dataclasses
+from collections.abc import Callable, Iterable, Mapping, Sequence
 from dataclasses import dataclass
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
@@ -22,6 +24,21 @@ from ..core.symbolic.explicit import term_peaks
 from ..io.explicit_cache import explicit_terms
 from .deploy import build_recursive, replace_cost  # noqa: F401  (re-exported)
 from .simplified_dataset import AKB_COSTS, cost_rows, simplified_dataset  # noqa: F401
+
+if TYPE_CHECKING:                       # for the type hints only
+    from numpy.typing import NDArray
+
+    from ..core.model.robot import Robot
+    from ..core.selection.budget import Selection
+    from ..core.selection.ranking import Ranking
+    from ..core.symbolic.codegen import Program
+    from ..core.symbolic.explicit import Term
+    from ..io.trajectory import Trajectory
+
+    #: tau(q, qd, qdd), each of shape (N, n), -> tau, shape (N, n) [N m]
+    TorqueFunction = Callable[[np.ndarray, np.ndarray, np.ndarray], np.ndarray]
+    #: The (q, qd, qdd) arrays of one trajectory, each of shape (N, n)
+    States = tuple[np.ndarray, np.ndarray, np.ndarray]
 
 __all__ = ["Peaks", "collect_peaks", "build_model", "full_program", "LADDER", "ladder",
            "cost_rows", "AKB_COSTS", "simplified_dataset", "build_recursive", "replace_cost"]
@@ -53,7 +70,7 @@ def _program(robot, terms, kept):
     return cache[key]
 
 
-def full_program(robot, terms):
+def full_program(robot: Robot, terms: Term) -> Program:
     """The straight-line program of the full explicit model (:class:`~gd_analyze.core.symbolic.codegen.Program`).
 
     Parameters
@@ -86,7 +103,7 @@ class Peaks:
     parts: PartPeaks
     terms: np.ndarray
 
-    def merge(self, other):
+    def merge(self, other: Peaks) -> Peaks:
         """Combine with the peaks of other trajectories (maximum).
 
         Parameters
@@ -103,7 +120,7 @@ class Peaks:
         np.maximum(self.terms, other.terms, out=self.terms)
         return self
 
-    def relative(self, scale):
+    def relative(self, scale: NDArray[np.float64]) -> Peaks:
         """These peaks divided by the joint scales of their trajectory (for a sweep).
 
         Parameters
@@ -123,7 +140,9 @@ class Peaks:
         return Peaks(parts=parts, terms=relative_peaks(self.terms, scale))
 
 
-def collect_peaks(robot, terms, q, qd, qdd, chunk=8192, gd=None, term=None):
+def collect_peaks(robot: Robot, terms: Term, q: NDArray[np.float64], qd: NDArray[np.float64],
+                  qdd: NDArray[np.float64], chunk: int = 8192, gd: PartPeaks | None = None,
+                  term: NDArray[np.float64] | None = None) -> Peaks:
     """Peaks of the parts and of the explicit terms along one trajectory.
 
     Parameters
@@ -156,9 +175,12 @@ def collect_peaks(robot, terms, q, qd, qdd, chunk=8192, gd=None, term=None):
     return Peaks(parts=gd, terms=term)
 
 
-def build_model(robot, terms, peaks, tolerance=DEFAULT_TOLERANCE, rule="budget",
-                torque_floor=0.0, chapter_choices=None, ranking=None, trajectory_sha256="",
-                provenance=None, relative_to=None):
+def build_model(robot: Robot, terms: Term, peaks: Peaks, tolerance: float = DEFAULT_TOLERANCE,
+                rule: str = "budget", torque_floor: float = 0.0,
+                chapter_choices: Mapping[str, str] | None = None, ranking: Ranking | None = None,
+                trajectory_sha256: str = "", provenance: Mapping[str, Any] | None = None,
+                relative_to: NDArray[np.float64] | None = None
+                ) -> tuple[SimplifiedModel, Selection]:
     """The simplified explicit model chosen by a rule on the peaks.
 
     Parameters
@@ -225,7 +247,7 @@ def build_model(robot, terms, peaks, tolerance=DEFAULT_TOLERANCE, rule="budget",
     return model, sel
 
 
-def total_operations(cost):
+def total_operations(cost: Mapping[str, Any]) -> int:
     """Multiplications plus additions of a counted cost (Table 3.5's measure).
 
     Parameters
@@ -245,7 +267,7 @@ def total_operations(cost):
     return int(cost["multiplications"]) + int(cost["additions"])
 
 
-def full_torque(robot, terms):
+def full_torque(robot: Robot, terms: Term) -> TorqueFunction:
     """The full explicit model as a function tau(q, qd, qdd), shape (N, n) [N m].
 
     Parameters
@@ -265,7 +287,8 @@ def full_torque(robot, terms):
     return python_function(_program(robot, terms, terms))
 
 
-def validate(model, trajectories, chunk=65536, reference=None):
+def validate(model: SimplifiedModel, trajectories: Iterable[States], chunk: int = 65536,
+             reference: TorqueFunction | None = None) -> dict[str, Any]:
     """The model's torque error against the full model along trajectories.
 
     Parameters
@@ -284,7 +307,7 @@ def validate(model, trajectories, chunk=65536, reference=None):
         As :func:`gd_analyze.core.selection.simplified.torque_error` (over all trajectories
         together).
     """
-    acc = TorqueErrorAccumulator(model.robot.n)
+    acc = TorqueErrorAccumulator(model.robot.n)  # type: ignore[attr-defined]  # SimplifiedModel's field is typed object
     for q, qd, qdd in trajectories:
         for a in range(0, q.shape[0], chunk):
             sl = slice(a, a + chunk)
@@ -297,8 +320,10 @@ def validate(model, trajectories, chunk=65536, reference=None):
 __all__ += ["validate", "full_torque"]
 
 
-def ladder(robot, terms, peaks, trajectories, tolerances=LADDER, torque_floor=0.0,
-           held_out=None, reference=None):
+def ladder(robot: Robot, terms: Term, peaks: Peaks, trajectories: Sequence[States],
+           tolerances: Sequence[float] = LADDER, torque_floor: float = 0.0,
+           held_out: Sequence[States] | None = None,
+           reference: TorqueFunction | None = None) -> list[dict[str, Any]]:
     """The tolerance ladder: cost and worst per-joint error for each EPS.
 
     Parameters
@@ -348,7 +373,8 @@ def ladder(robot, terms, peaks, trajectories, tolerances=LADDER, torque_floor=0.
 LADDER_COST_LIMIT = 4.0
 
 
-def ladder_skipped(full_cost, formulation_counts):
+def ladder_skipped(full_cost: Mapping[str, Any],
+                   formulation_counts: Mapping[str, Any]) -> str:
     """Why the tolerance ladder is not worth building for an arm, or "" if it is.
 
     Parameters
@@ -386,8 +412,10 @@ def ladder_skipped(full_cost, formulation_counts):
 __all__ += ["ladder_skipped", "LADDER_COST_LIMIT"]
 
 
-def sweep_model(robot, trajectories, tolerance=DEFAULT_TOLERANCE, torque_floor=0.0,
-                held_out=(), provenance=None):
+def sweep_model(robot: Robot, trajectories: Sequence[Trajectory],
+                tolerance: float = DEFAULT_TOLERANCE, torque_floor: float = 0.0,
+                held_out: Sequence[Trajectory] = (), provenance: Mapping[str, Any] | None = None
+                ) -> tuple[SimplifiedModel, Selection]:
     """One simplified explicit model guaranteed on every trajectory of a sweep (budget rule).
 
     Each joint's scale is per trajectory, scale_{t,i} = max(peak_t |tau_i|, TAU); every part's
@@ -430,7 +458,7 @@ def sweep_model(robot, trajectories, tolerance=DEFAULT_TOLERANCE, torque_floor=0
     return dataclasses.replace(model, validation=validation), sel
 
 
-def trajectories_sha256(trajectories):
+def trajectories_sha256(trajectories: Sequence[Trajectory]) -> str:
     """One SHA-256 of a sweep's trajectories: their files' digests, or the arrays of planned
     trajectories.
 
@@ -453,8 +481,10 @@ def trajectories_sha256(trajectories):
     return h.hexdigest()
 
 
-def explicit_sweep_model(robot, trajectories, tolerance=DEFAULT_TOLERANCE, torque_floor=0.0,
-                         provenance=None):
+def explicit_sweep_model(robot: Robot, trajectories: Sequence[Trajectory],
+                         tolerance: float = DEFAULT_TOLERANCE, torque_floor: float = 0.0,
+                         provenance: Mapping[str, Any] | None = None
+                         ) -> tuple[SimplifiedModel, Selection, np.ndarray, np.ndarray, Term]:
     """The explicit model of :func:`sweep_model`, not yet validated.
 
     Parameters
@@ -490,7 +520,8 @@ def explicit_sweep_model(robot, trajectories, tolerance=DEFAULT_TOLERANCE, torqu
     if not trajectories:
         raise ValueError("no trajectories")
     terms, _ = explicit_terms(robot)
-    peaks, scales = None, []
+    peaks: Peaks | None = None
+    scales: Any = []                   # a list, then its array (K, n)
     for tr in trajectories:
         p = collect_peaks(robot, terms, tr.q, tr.qd, tr.qdd)
         scales.append(np.maximum(p.parts.tau_peak, float(torque_floor)))
@@ -498,8 +529,9 @@ def explicit_sweep_model(robot, trajectories, tolerance=DEFAULT_TOLERANCE, torqu
         peaks = p if peaks is None else peaks.merge(p)
     scales = np.array(scales)
     top = scales.max(axis=0)
-    model, sel = build_model(robot, terms, peaks, tolerance=tolerance,
-                             torque_floor=torque_floor,
+    model, sel = build_model(robot, terms,
+                             peaks,  # type: ignore[arg-type]  # not None: K >= 1
+                             tolerance=tolerance, torque_floor=torque_floor,
                              trajectory_sha256=trajectories_sha256(trajectories),
                              provenance={**(provenance or {}), "kind": "sweep model",
                                          "trajectories": len(trajectories)},
@@ -508,8 +540,10 @@ def explicit_sweep_model(robot, trajectories, tolerance=DEFAULT_TOLERANCE, torqu
     return model, sel, scales, relative, terms
 
 
-def sweep_validation(model, trajectories, scales, relative_bound, held_out=(), reference=None,
-                     bound=None):
+def sweep_validation(model: SimplifiedModel, trajectories: Sequence[Trajectory],
+                     scales: NDArray[np.float64], relative_bound: NDArray[np.float64],
+                     held_out: Sequence[Trajectory] = (), reference: TorqueFunction | None = None,
+                     bound: NDArray[np.float64] | None = None) -> dict[str, Any]:
     """A sweep model's errors on each swept trajectory, over all of them and on held-out ones.
 
     Parameters

@@ -34,6 +34,8 @@ import contextlib
 import datetime
 import math
 import time
+from collections.abc import Mapping, Sequence
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
@@ -50,6 +52,13 @@ from .analyze import analysis_pass
 from .dask_cluster import TASK_RETRIES, ClusterLost, cluster_failures, dask_client
 from .options import AnalysisOptions
 
+if TYPE_CHECKING:                       # for the type hints only
+    import xarray as xr
+    from distributed import Client
+
+    from ..core.model.robot import Robot
+    from ..io.trajectory import Trajectory
+
 __all__ = ["DEFAULT_BATCH_MAX", "analyze_one", "run_sweep", "check_thresholds",
            "check_trajectory"]
 
@@ -61,7 +70,7 @@ _TASKS_PER_WORKER = 4
 _GROUP_SETPOINTS = 4096
 
 
-def check_thresholds(dominance, negligible):
+def check_thresholds(dominance: float, negligible: float) -> None:
     """Check the ranking's thresholds.
 
     Parameters
@@ -82,7 +91,7 @@ def check_thresholds(dominance, negligible):
         raise ValueError(f"the negligibility threshold e must be >= 0, got {negligible}")
 
 
-def check_trajectory(robot, trajectory):
+def check_trajectory(robot: Robot, trajectory: Trajectory) -> None:
     """Check that a trajectory fits a robot.
 
     Parameters
@@ -112,7 +121,8 @@ def check_trajectory(robot, trajectory):
 # One trajectory
 # --------------------------------------------------------------------------------------------
 
-def analyze_one(robot, trajectory, dominance=DEFAULT_DOMINANCE, negligible=DEFAULT_NEGLIGIBLE):
+def analyze_one(robot: Robot, trajectory: Trajectory, dominance: float = DEFAULT_DOMINANCE,
+                negligible: float = DEFAULT_NEGLIGIBLE) -> dict[str, Any]:
     """Rank one trajectory and validate its own simplified model: the unit of work of a sweep.
 
     Parameters
@@ -261,9 +271,12 @@ def _auto_batch(k, n_workers):
     return int(min(DEFAULT_BATCH_MAX, max(1, per_task)))
 
 
-def run_sweep(robot, trajectories, dominance=DEFAULT_DOMINANCE, negligible=DEFAULT_NEGLIGIBLE,
-              client=None, scheduler=None, batch=None, n_workers=None, settings=None,
-              progress=False, recursive_peaks=False, cluster=None):
+def run_sweep(robot: Robot, trajectories: Sequence[Trajectory],
+              dominance: float = DEFAULT_DOMINANCE, negligible: float = DEFAULT_NEGLIGIBLE,
+              client: Client | None = None, scheduler: str | None = None,
+              batch: int | None = None, n_workers: int | None = None,
+              settings: Mapping[str, Any] | None = None, progress: bool = False,
+              recursive_peaks: bool = False, cluster: str | None = None) -> xr.Dataset:
     """Rank K trajectories on a dask.distributed cluster and merge their simplified models.
 
     Parameters

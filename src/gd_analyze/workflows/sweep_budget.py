@@ -23,6 +23,8 @@ swept trajectory, each said to lie inside the region or not.
 from __future__ import annotations
 
 import dataclasses
+from collections.abc import Mapping, Sequence
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
@@ -31,11 +33,22 @@ from ..core.selection.budget import DEFAULT_TOLERANCE
 from ..errors import InputError
 from .options import EXPLICIT, FORMS, GUARANTEES
 
+if TYPE_CHECKING:                       # for the type hints only
+    import xarray as xr
+    from numpy.typing import ArrayLike, NDArray
+
+    from ..core.model.robot import Robot
+    from ..core.selection.guarantee import Guarantee
+    from ..core.selection.region import Region, RegionLimits
+    from ..core.selection.simplified import SimplifiedModel
+    from ..core.symbolic.base_parameters import BaseParameters
+    from ..io.trajectory import Trajectory
+
 __all__ = ["pair_peaks", "recursive_sweep_model", "budget_sweep_model", "region_sweep_model",
            "sweep_guarantee"]
 
 
-def pair_peaks(sweep_ds):
+def pair_peaks(sweep_ds: xr.Dataset) -> tuple[NDArray[np.float64], ...]:
     """The per-trajectory peaks of the recursive model's contributions stored in a sweep.
 
     Parameters
@@ -65,8 +78,11 @@ def pair_peaks(sweep_ds):
     return tuple(np.asarray(sweep_ds[v].values, float) for v in names)
 
 
-def recursive_sweep_model(robot, scale, peak, whole_peak, tolerance=DEFAULT_TOLERANCE,
-                          torque_floor=0.0, trajectory_sha256="", provenance=None, base=None):
+def recursive_sweep_model(robot: Robot, scale: ArrayLike, peak: ArrayLike, whole_peak: ArrayLike,
+                          tolerance: float = DEFAULT_TOLERANCE, torque_floor: float = 0.0,
+                          trajectory_sha256: str = "", provenance: Mapping[str, Any] | None = None,
+                          base: BaseParameters | None = None
+                          ) -> tuple[SimplifiedModel, NDArray[np.float64]]:
     """The pruned recursive model within EPS x scale_{t,i} on each of K trajectories.
 
     Parameters
@@ -122,9 +138,12 @@ def recursive_sweep_model(robot, scale, peak, whole_peak, tolerance=DEFAULT_TOLE
     return model, each.sum(axis=1)
 
 
-def budget_sweep_model(robot, trajectories, sweep_ds, tolerance=DEFAULT_TOLERANCE,
-                       torque_floor=0.0, held_out=(), provenance=None, explicit="auto",
-                       form="cheapest", guarantee=defaults["guarantee"], region=None):
+def budget_sweep_model(robot: Robot, trajectories: Sequence[Trajectory], sweep_ds: xr.Dataset,
+                       tolerance: float = DEFAULT_TOLERANCE, torque_floor: float = 0.0,
+                       held_out: Sequence[Trajectory] = (),
+                       provenance: Mapping[str, Any] | None = None, explicit: str = "auto",
+                       form: str = "cheapest", guarantee: str = defaults["guarantee"],
+                       region: RegionLimits | None = None) -> SimplifiedModel:
     """The sweep's merged model of the budget rule: the cheapest form within EPS, proved over
     the joint-limit region or on each swept trajectory.
 
@@ -224,9 +243,9 @@ def budget_sweep_model(robot, trajectories, sweep_ds, tolerance=DEFAULT_TOLERANC
         explicit == "auto" and not is_expensive(robot))
     region, missing, proved = guarantee_region(robot, guarantee, region)
     if proved:
-        return sweep_choices(region_sweep_model(robot, trajectories, region, tolerance,
-                                                torque_floor, held_out, provenance, digest,
-                                                derive, form), trajectories)
+        return sweep_choices(region_sweep_model(
+            robot, trajectories, region,  # type: ignore[arg-type]  # a Region (guarantee_region)
+            tolerance, torque_floor, held_out, provenance, digest, derive, form), trajectories)
     tau_peak, peak, whole_peak = pair_peaks(sweep_ds)
     scales = np.maximum(tau_peak, float(torque_floor))
     model, bound = recursive_sweep_model(robot, scales, peak, whole_peak, tolerance,
@@ -240,7 +259,7 @@ def budget_sweep_model(robot, trajectories, sweep_ds, tolerance=DEFAULT_TOLERANC
             robot, trajectories, tolerance, torque_floor, provenance)
         costs.update({"explicit, budget": dict(ex.cost), "explicit, full": dict(ex.full_cost)})
         if form == "explicit" or (form == "cheapest" and total_operations(ex.cost) < total_operations(model.cost)):
-            model, scales, relative, bound = ex, ex_scales, ex_relative, None
+            model, scales, relative, bound = ex, ex_scales, ex_relative, None  # type: ignore[assignment]  # no recursive bound
             reference = full_torque(robot, terms)
     model = dataclasses.replace(model, costs=costs,
                                 full_cost=dict(costs.get("explicit, full", model.full_cost)))
@@ -256,7 +275,8 @@ def budget_sweep_model(robot, trajectories, sweep_ds, tolerance=DEFAULT_TOLERANC
                                   reference=reference, bound=bound)
     return sweep_choices(dataclasses.replace(
         model, validation=validation, guarantee=sweep_guarantee(
-            robot, model, trajectories, scales, relative, tolerance, region, missing)),
+            robot, model, trajectories, scales, relative, tolerance,
+            region, missing)),  # type: ignore[arg-type]  # a Region (guarantee_region)
         trajectories)
 
 
@@ -301,8 +321,11 @@ def _sweep_rebuild(peak, whole_peak, scales, tolerance):
     return rebuild
 
 
-def region_sweep_model(robot, trajectories, region, tolerance, torque_floor=0.0, held_out=(),
-                       provenance=None, digest="", derive=True, form="cheapest"):
+def region_sweep_model(robot: Robot, trajectories: Sequence[Trajectory], region: Region,
+                       tolerance: float, torque_floor: float = 0.0,
+                       held_out: Sequence[Trajectory] = (),
+                       provenance: Mapping[str, Any] | None = None, digest: str = "",
+                       derive: bool = True, form: str = "cheapest") -> SimplifiedModel:
     """The sweep's merged model under a region guarantee: the main job's region model,
     checked on every swept trajectory (issue 29).
 
@@ -413,8 +436,9 @@ def _recursive_costs(robot, model):
                              "additions": int(ne["additions"])}}
 
 
-def sweep_guarantee(robot, model, trajectories, scales, relative, tolerance, region=None,
-                    missing=None):
+def sweep_guarantee(robot: Robot, model: SimplifiedModel, trajectories: Sequence[Trajectory],
+                    scales: NDArray[np.float64], relative: NDArray[np.float64], tolerance: float,
+                    region: Region | None = None, missing: str | None = None) -> Guarantee:
     """The merged model's guarantee: on the swept trajectories only (issue 29).
 
     Parameters

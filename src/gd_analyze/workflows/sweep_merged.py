@@ -16,6 +16,8 @@ Sec. 3.4.1 of Fu, Gonzalez & Lee (1987).
 
 from __future__ import annotations
 
+from typing import TYPE_CHECKING, Any
+
 import numpy as np
 
 from ..core.selection.ranking import DEFAULT_DOMINANCE, DEFAULT_NEGLIGIBLE, element_labels
@@ -24,10 +26,16 @@ from ..errors import InputError
 from ..io.datasets import region_fields
 from ..io.schema import strings
 
+if TYPE_CHECKING:                       # for the type hints only
+    import xarray as xr
+
+    from ..core.model.robot import Robot
+    from ..core.selection.simplified import SimplifiedModel
+
 __all__ = ["merged_model", "with_budget_model", "with_model_cost"]
 
 
-def merged_model(robot, sweep_ds):
+def merged_model(robot: Robot, sweep_ds: xr.Dataset) -> SimplifiedModel:
     """The sweep's merged simplified model of the chapter rule (no error bound).
 
     Parameters
@@ -85,7 +93,8 @@ def merged_model(robot, sweep_ds):
         "trajectories": int(sweep_ds.sizes.get("trajectory", 0)),
         "setpoints": int(sweep_ds.attrs.get("setpoints_total", 0)),
     }
-    provenance = {"gd_analyze_version": __version__, "kind": "merged model of a sweep",
+    provenance: dict[str, Any] = {"gd_analyze_version": __version__,
+                                  "kind": "merged model of a sweep",
                   "sweep_version": str(sweep_ds.attrs.get("gd_analyze_version", "")),
                   "merge_rule": str(sweep_ds.attrs.get("merge_rule", "")),
                   "input_kind": str(sweep_ds.attrs.get("input_kind", ""))}
@@ -100,7 +109,7 @@ def merged_model(robot, sweep_ds):
         validation=validation, provenance=provenance)
 
 
-def with_budget_model(sweep_ds, model):
+def with_budget_model(sweep_ds: xr.Dataset, model: SimplifiedModel) -> xr.Dataset:
     """The sweep dataset with the budget rule's merged model in place of the chapter merge.
 
     Parameters
@@ -164,7 +173,7 @@ def with_budget_model(sweep_ds, model):
     ds = sweep_ds.drop_vars([v for v in ("pair_tau_peak", "pair_peak", "parameter_peak",
                                          "base_parameter", "part") if v in sweep_ds.variables])
     eps = f"{model.tolerance:g}"
-    region = model.guarantee is not None and model.guarantee.kind == "region"
+    region = model.guarantee is not None and model.guarantee.kind == "region"  # type: ignore[attr-defined]  # SimplifiedModel's field is typed object
     words = _REGION_WORDS if region else _TRAJECTORY_WORDS
 
     def put(name, dims, data, units, desc):
@@ -218,9 +227,9 @@ def with_budget_model(sweep_ds, model):
         "merged_worst_scaled_error": float(v["worst_scaled_error"]),
         "merge_rule": _merge_rule(model)})
     if model.guarantee is not None:     # its scope, in the model's one sentence
-        ds.attrs.update({"merged_guarantee_kind": model.guarantee.kind,
-                         "merged_guarantee_statement": model.guarantee.statement()})
-        region_vars, region_attrs = region_fields(model.guarantee.region)  # region_*
+        ds.attrs.update({"merged_guarantee_kind": model.guarantee.kind,  # type: ignore[attr-defined]  # SimplifiedModel's field is typed object
+                         "merged_guarantee_statement": model.guarantee.statement()})  # type: ignore[attr-defined]  # SimplifiedModel's field is typed object
+        region_vars, region_attrs = region_fields(model.guarantee.region)  # type: ignore[attr-defined]  # field typed object; region_*
         for name, (dims, data, attrs) in region_vars.items():
             ds[name] = (dims, data, attrs)
         ds.attrs.update(region_attrs)
@@ -269,7 +278,7 @@ _WHAT = {"recursive": "customized recursive Newton-Euler model on the base param
 _UNITS = {"recursive": "(base parameter, part) pairs", "explicit": "terms"}
 
 
-def with_model_cost(sweep_ds, model):
+def with_model_cost(sweep_ds: xr.Dataset, model: SimplifiedModel) -> xr.Dataset:
     """The sweep dataset with its merged model's cost and gravity terms, counted on the model.
 
     Parameters
