@@ -142,7 +142,7 @@ def check_guarantee(model: SimplifiedModel, path: str = "<model>") -> None:
     bound: np.ndarray = np.asarray(g.bound, float)  # type: ignore[attr-defined, type-var]  # SimplifiedModel's field is typed object
     scale: np.ndarray = np.asarray(g.scale, float)  # type: ignore[attr-defined, type-var]  # SimplifiedModel's field is typed object
     if model.recursive is not None and np.isfinite(bound).all() and prove_dropped(
-            model.robot, base_parameters(model.robot), region, model.recursive.dropped,  # type: ignore[attr-defined]  # SimplifiedModel's field is typed object
+            model.robot, base_parameters(model.robot), region, model.recursive.dropped,  # type: ignore[attr-defined, arg-type]  # SimplifiedModel's field is typed object
             bound + BOUND_RTOL * np.abs(scale), max_boxes=QUICK_BOXES):
         _PROVED_CLAIMS.add(key)
         return                              # proved on the dropped pairs' own boxes

@@ -363,7 +363,7 @@ def model_facts(model: SimplifiedModel) -> dict[str, Any]:
         from ..io.explicit_cache import explicit_terms
 
         out["c_terms_kept"] = int(np.sum(np.asarray(model.terms.kind) == "c"))  # type: ignore[attr-defined]  # SimplifiedModel's field is typed object
-        if not is_expensive(model.robot):
+        if not is_expensive(model.robot):  # type: ignore[arg-type]  # SimplifiedModel.robot is typed object
             full, _ = explicit_terms(model.robot)
             out["c_terms"] = int(np.sum(np.asarray(full.kind) == "c"))
     return out
