@@ -25,8 +25,10 @@ from typing import TYPE_CHECKING
 import numpy as np
 
 from ..model.kinematics import as_states
+from .explicit import _snap
 from .recursive import PARTS, exact_program, parts_count, parts_program
 from .regressor_kernels import contribution_peaks, part_contributions
+from .trigpoly import TrigPoly
 
 if TYPE_CHECKING:                       # for the type hints only
     from ..model.robot import Robot
@@ -36,7 +38,7 @@ if TYPE_CHECKING:                       # for the type hints only
 #: part_contributions and contribution_peaks are the compiled ones of :mod:`.regressor_kernels`.
 __all__ = ["part_contributions", "contribution_peaks", "stacked_peaks", "Pruning", "prune",
            "prune_on_peaks", "prune_bounds", "dropped_peaks", "pruned_program", "pruned_choice",
-           "part_values", "STRATEGIES",
+           "part_values", "STRATEGIES", "zero_velocity_columns",
            "CRITERIA"]
 
 
@@ -353,8 +355,9 @@ def dropped_peaks(peak, whole_peak, dropped, whole):
 class _Selection:
     """The state of a selection: contributions, peaks, budget and the bound of a set."""
 
-    def __init__(self, robot, base, C, peak, whole_peak, budget, criterion):
+    def __init__(self, robot, base, C, peak, whole_peak, budget, criterion, free=None):
         self.robot, self.base = robot, base
+        self.free = None if free is None else np.asarray(free, bool)   # (b, 3): proved 0
         self.C = None if C is None else C.transpose(3, 0, 1, 2)       # (b, 3, N, n)
         self.peak, self.whole_peak, self.budget = peak, whole_peak, budget
         self.criterion = criterion
@@ -377,7 +380,7 @@ class _Selection:
         return bool(np.all(self.bound(dropped, whole) <= self.budget))
 
     def count(self, dropped):
-        return _count(self.robot, self.base, _normalize(dropped, self.live))
+        return _count(self.robot, self.base, _normalize(dropped, self.live, self.free))
 
     def by_peak(self):
         dropped = np.zeros(self.live.shape, bool)
@@ -426,10 +429,12 @@ class _Selection:
         return best[1:]
 
 
-def _normalize(dropped, live):
-    """Zero-peak pairs dropped with their parameter when all its live parts are, else kept."""
+def _normalize(dropped, live, free=None):
+    """Zero-peak pairs dropped with their parameter when all its live parts are, else kept;
+    the pairs ``free`` (proved identically zero) always dropped."""
     gone = np.all(dropped | ~live, axis=1) & dropped.any(axis=1)
-    return np.where(live, dropped, gone[:, None])
+    out = np.where(live, dropped, gone[:, None])
+    return out if free is None else out | free
 
 
 def part_values(base, dropped):
@@ -586,7 +591,7 @@ def _total(program):
 
 
 def prune_bounds(robot, base, scale, peak, whole_peak, eps, strategy="cost", pieces=None,
-                 chosen=None):
+                 chosen=None, zero=None):
     """Choose the pairs to drop from given upper bounds of their contributions.
 
     Parameters
@@ -616,6 +621,10 @@ def prune_bounds(robot, base, scale, peak, whole_peak, eps, strategy="cost", pie
         The dropped pairs, shape (b, 3), and the parameters dropped whole, shape (b,), of an
         earlier search with the same inputs (the derivation cache): taken as they are, without
         the search, after the same check of the budget.
+    zero : ndarray of bool, shape (b, 3), optional
+        Pairs proved identically zero where the model must hold
+        (:attr:`gd_analyze.core.selection.certify.PairBounds.zero`): dropped at no cost to
+        the bound (their pieces must be 0).
 
     Returns
     -------
@@ -635,7 +644,10 @@ def prune_bounds(robot, base, scale, peak, whole_peak, eps, strategy="cost", pie
     scale = np.asarray(scale, float)
     criterion = "peaks" if pieces is None else "error"
     C = None if pieces is None else np.asarray(pieces, float).transpose(1, 2, 3, 0)
-    sel = _Selection(robot, base, C, peak, whole_peak, eps * scale, criterion)
+    free = None if zero is None else np.asarray(zero, bool)
+    if free is not None and pieces is not None and np.any(np.asarray(pieces, float)[free] != 0):
+        raise ValueError("a pair declared zero has a nonzero piece")
+    sel = _Selection(robot, base, C, peak, whole_peak, eps * scale, criterion, free)
     if chosen is not None:
         dropped, whole = (np.asarray(a) for a in chosen)
         if dropped.shape != sel.live.shape or whole.shape != sel.live.shape[:1] \
@@ -644,7 +656,87 @@ def prune_bounds(robot, base, scale, peak, whole_peak, eps, strategy="cost", pie
             raise ValueError("chosen pairs of another shape, or over the budget")
     else:
         dropped, whole = sel.by_peak() if strategy == "peak" else sel.by_cost()
-    dropped = _normalize(dropped, sel.live)
+    dropped = _normalize(dropped, sel.live, free)
     return Pruning(eps=float(eps), dropped=dropped, peak=peak, whole_peak=whole_peak,
                    whole=whole, bound=sel.bound(dropped, whole), scale=scale,
                    criterion=criterion)
+
+
+#: The symmetric unit matrices of the six inertia parameters XX, XY, XZ, YY, YZ, ZZ.
+_INERTIA_PAIRS = ((0, 0), (0, 1), (0, 2), (1, 1), (1, 2), (2, 2))
+
+
+def zero_velocity_columns(robot: Robot, columns: np.ndarray) -> np.ndarray:
+    """The regressor columns whose velocity part is identically zero, decided symbolically.
+
+    Parameters
+    ----------
+    robot : Robot
+        The arm, with n joints.
+    columns : array_like of int, shape (m,)
+        Flat standard-parameter indices 10 k + c (link k, parameter c).
+
+    Returns
+    -------
+    ndarray of bool, shape (m,)
+        True for an inertia parameter (c < 6: XX .. ZZ) whose inertia matrix D_m(q) is
+        constant in q; False for every other column (first moments and masses are not
+        decided here: never declared zero).
+
+    Notes
+    -----
+    Column m of the regressor is the torque of a link whose only parameter is m, so it is
+    D_m(q) qdd + h_m(q, qd) + c_m(q) with h_m given by the Christoffel symbols of D_m (Fu,
+    Gonzalez & Lee 1987, Eq. (3.4-27)); h_m is identically zero exactly when D_m is constant
+    (qd^T h_m = qd^T Ddot_m qd / 2 = 0 for all qd gives Ddot_m = 0). For the inertia parameter
+    (a, b) of link k, D_m(i, j) = u_ki^T E_ab u_kj, with u_ki the axis of joint i in body frame
+    k (zero for a prismatic joint) and E_ab the symmetric unit matrix, each entry a
+    trigonometric polynomial (:class:`.trigpoly.TrigPoly`, in canonical form, so a constant is
+    recognised exactly) in the placements of the explicit model
+    (:func:`.explicit.derive`: rotation entries within 1e-12 of 0 or +-1 taken as those).
+    """
+    n = robot.n
+    columns = np.asarray(columns, int)
+    lin = np.asarray(robot.prismatic, bool).copy()
+    P = np.vectorize(_snap)(np.asarray(robot.rotation, float))
+    zero = TrigPoly.zero(n, lin)
+    ez = [zero, zero, TrigPoly.const(n, 1.0, lin)]
+    u = {}                               # u[(k, i)]: axis of joint i in body frame k
+    for k in range(n):
+        if lin[k]:
+            rz = np.eye(3).tolist()
+        else:
+            c, s = TrigPoly.cos(n, k, lin), TrigPoly.sin(n, k, lin)
+            rz = [[c, -s, 0.0], [s, c, 0.0], [0.0, 0.0, 1.0]]
+        # R_k^T v = Rz(q_k)^T P_k^T v
+        for i in range(k + 1):
+            if lin[i]:
+                continue
+            v = ez if i == k else u[(k - 1, i)]
+            if i < k:
+                w = [sum((float(P[k][b][a]) * v[b] for b in range(3) if P[k][b][a] != 0), zero)
+                     for a in range(3)]
+                v = [sum((rz[b][a] * w[b] for b in range(3)
+                          if not (isinstance(rz[b][a], float) and rz[b][a] == 0.0)), zero)
+                     for a in range(3)]
+            u[(k, i)] = v
+    out = np.zeros(columns.size, bool)
+    for m, col in enumerate(columns):
+        k, c = divmod(int(col), 10)
+        if c >= 6:
+            continue
+        a, b = _INERTIA_PAIRS[c]
+        axes = [u[(k, i)] for i in range(k + 1) if (k, i) in u]
+        constant = True
+        for x in range(len(axes)):
+            for y in range(x, len(axes)):
+                e = axes[x][a] * axes[y][b]
+                if a != b:
+                    e = e + axes[x][b] * axes[y][a]
+                if np.any(e.K != 0):
+                    constant = False
+                    break
+            if not constant:
+                break
+        out[m] = constant
+    return out
