@@ -154,7 +154,7 @@ def test_the_tree_tiles_the_region_and_gives_the_same_bounds_again():
     volume = np.prod(hi - lo, axis=1).sum()
     assert abs(volume / np.prod(region.q_max - region.q_min) - 1) < 1e-12
     again = certify_tree(robot, base, region, pb.split_joint, pb.split_at, values)
-    for f in ("bound", "leaves", "leaf_boxes", "sampled"):
+    for f in ("bound", "leaves", "leaf_boxes", "sampled", "zero"):
         np.testing.assert_array_equal(getattr(again, f), getattr(pb, f), err_msg=f)
 
 
@@ -179,3 +179,55 @@ def test_the_sampled_peaks_search_every_vertex_of_the_velocity_box():
     quad = np.einsum("kj,kl,Bjlib->Bkbi", verts, verts, C)
     want = np.abs(quad).max(axis=1) * np.abs(beta)[None, :, None]
     np.testing.assert_allclose(got, want, rtol=1e-12, atol=1e-12 * want.max())
+
+
+def test_pairs_proved_zero_are_zero_in_pinocchio_and_dropped_at_no_cost():
+    """The PUMA's velocity pairs of ZZ1-ZZ3 are proved identically zero: their enclosure is 0
+    on every final box, the same after a read-back of the tree, Pinocchio's regressor has no
+    velocity part in those columns at random states (oracle), and the region model drops them
+    without adding to its bound; every pair declared zero is zero in Pinocchio."""
+    from gd_analyze.core.selection.certify import certify, certify_tree
+    from gd_analyze.core.selection.region import region_samples
+    from gd_analyze.core.symbolic.pruning import prune_bounds
+
+    robot = load_robot("puma560")
+    base = base_parameters(robot)
+    region = joint_region(robot, acceleration_limits(robot)[0])
+    values = region_samples(robot, base, region, samples=100)
+    pb = certify(robot, base, region, samples=100, max_boxes=64, values=values)
+    names = base.names()
+    for zz in ("ZZ2", "ZZ3"):
+        assert pb.zero[names.index(zz), 1], zz
+    assert np.all(pb.leaves[pb.zero] == 0)
+    again = certify_tree(robot, base, region, pb.split_joint, pb.split_at, values)
+    np.testing.assert_array_equal(again.zero, pb.zero)
+    # oracle: the velocity part of every column declared zero vanishes in Pinocchio
+    model = pinocchio_model(robot)
+    data = model.createData()
+    cols = np.flatnonzero(base.independent.reshape(-1))
+    order = np.array([4, 5, 7, 6, 8, 9, 1, 2, 3, 0])        # ours (XX .. ZZ, MX .. M) in pin's
+    pcols = 10 * (cols // 10) + order[cols % 10]
+    rng = np.random.default_rng(11)
+    vel = []
+    for _ in range(50):
+        q = rng.uniform(region.q_min, region.q_max)
+        qd = rng.uniform(-1, 1, robot.n) * region.qd_max
+        Y = pin.computeJointTorqueRegressor(model, data, q, qd, np.zeros(robot.n)).copy()
+        Y -= pin.computeJointTorqueRegressor(model, data, q, np.zeros(robot.n),
+                                             np.zeros(robot.n))
+        vel.append(np.abs(Y[:, pcols]).max(axis=0))
+    vel = np.max(vel, axis=0) * np.abs(base.beta)                      # (b,) contributions
+    scale = vel.max()
+    assert np.all(vel[pb.zero[:, 1]] <= 1e-12 * scale)
+    # an inertia column declared zero only where Pinocchio's is: a pair not zero never is
+    inertia = (cols % 10 < 6) & (np.abs(base.beta) > 0)
+    np.testing.assert_array_equal(pb.zero[inertia, 1], vel[inertia] <= 1e-12 * scale)
+    # dropped at no cost: a budget of 0 still drops them, with a bound of 0
+    pr = prune_bounds(robot, base, pb.scale, pb.bound, pb.leaves.sum(axis=1).max(axis=1), 0.0,
+                      pieces=pb.leaves, zero=pb.zero)
+    assert np.all(pr.dropped[pb.zero]) and np.all(pr.bound == 0)
+    with pytest.raises(ValueError, match="declared zero"):
+        wrong = pb.zero.copy()
+        wrong[names.index("ZZ2"), 0] = True                  # the inertial part is not zero
+        prune_bounds(robot, base, pb.scale, pb.bound, pb.leaves.sum(axis=1).max(axis=1), 0.0,
+                     pieces=pb.leaves, zero=wrong)
