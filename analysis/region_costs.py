@@ -42,7 +42,7 @@ def _robot(name):
         f"{name}:{real_arms.KNOWN_TIPS[name]}"
     chosen, skipped = real_arms.discover([arm])
     if not chosen:
-        raise SystemExit(f"{name}: {skipped[0][1]}")
+        return load_robot(name)         # a built-in arm (ur5: example-robot-data's ur5_robot)
     _, path, tip, _ = chosen[0]
     return load_urdf(path, tip=tip)
 

@@ -182,13 +182,14 @@ def test_the_sampled_peaks_search_every_vertex_of_the_velocity_box():
 
 
 def test_pairs_proved_zero_are_zero_in_pinocchio_and_dropped_at_no_cost():
-    """The PUMA's velocity pairs of ZZ1-ZZ3 are proved identically zero: their enclosure is 0
-    on every final box, the same after a read-back of the tree, Pinocchio's regressor has no
-    velocity part in those columns at random states (oracle), and the region model drops them
-    without adding to its bound; every pair declared zero is zero in Pinocchio."""
+    """The PUMA's velocity pairs of ZZ2 and ZZ3 are proved identically zero: their enclosure
+    is 0 on every final box, the same after a read-back of the tree; every inertial or
+    velocity part declared zero at a joint is zero there in Pinocchio's regressor at random
+    states (oracle), and an inertia column's part not zero in Pinocchio is never declared
+    zero; the selection drops the zero pairs without adding to its bound."""
     from gd_analyze.core.selection.certify import certify, certify_tree
     from gd_analyze.core.selection.region import region_samples
-    from gd_analyze.core.symbolic.pruning import prune_bounds
+    from gd_analyze.core.symbolic.pruning import prune_bounds, zero_parts
 
     robot = load_robot("puma560")
     base = base_parameters(robot)
@@ -201,27 +202,32 @@ def test_pairs_proved_zero_are_zero_in_pinocchio_and_dropped_at_no_cost():
     assert np.all(pb.leaves[pb.zero] == 0)
     again = certify_tree(robot, base, region, pb.split_joint, pb.split_at, values)
     np.testing.assert_array_equal(again.zero, pb.zero)
-    # oracle: the velocity part of every column declared zero vanishes in Pinocchio
+    # oracle: every part declared zero at a joint vanishes there in Pinocchio's regressor
     model = pinocchio_model(robot)
     data = model.createData()
     cols = np.flatnonzero(base.independent.reshape(-1))
     order = np.array([4, 5, 7, 6, 8, 9, 1, 2, 3, 0])        # ours (XX .. ZZ, MX .. M) in pin's
     pcols = 10 * (cols // 10) + order[cols % 10]
     rng = np.random.default_rng(11)
-    vel = []
+    part = np.zeros((2, robot.n, cols.size))                 # largest |part| per joint, column
+    zero = np.zeros(robot.n)
     for _ in range(50):
         q = rng.uniform(region.q_min, region.q_max)
         qd = rng.uniform(-1, 1, robot.n) * region.qd_max
-        Y = pin.computeJointTorqueRegressor(model, data, q, qd, np.zeros(robot.n)).copy()
-        Y -= pin.computeJointTorqueRegressor(model, data, q, np.zeros(robot.n),
-                                             np.zeros(robot.n))
-        vel.append(np.abs(Y[:, pcols]).max(axis=0))
-    vel = np.max(vel, axis=0) * np.abs(base.beta)                      # (b,) contributions
-    scale = vel.max()
-    assert np.all(vel[pb.zero[:, 1]] <= 1e-12 * scale)
-    # an inertia column declared zero only where Pinocchio's is: a pair not zero never is
+        qdd = rng.uniform(-1, 1, robot.n) * region.qdd_max
+        G = pin.computeJointTorqueRegressor(model, data, q, zero, zero).copy()
+        for p, (a, b) in enumerate(((zero, qdd), (qd, zero))):
+            Y = pin.computeJointTorqueRegressor(model, data, q, a, b) - G
+            part[p] = np.maximum(part[p], np.abs(Y[:, pcols]))
+    part *= np.abs(base.beta)                                 # contributions
+    scale = part.max()
+    declared = zero_parts(robot, cols)[:, :2].transpose(1, 2, 0)      # (2, n, b)
+    assert declared.any(axis=(1, 2)).all()                   # inertial and velocity zeros
+    assert np.all(part[declared] <= 1e-12 * scale)
+    assert np.all(part[1][:, pb.zero[:, 1]] <= 1e-12 * scale)
+    # an inertia column's part declared zero only where Pinocchio's is: one not zero never is
     inertia = (cols % 10 < 6) & (np.abs(base.beta) > 0)
-    np.testing.assert_array_equal(pb.zero[inertia, 1], vel[inertia] <= 1e-12 * scale)
+    np.testing.assert_array_equal(declared[:, :, inertia], part[:, :, inertia] <= 1e-12 * scale)
     # dropped at no cost: a budget of 0 still drops them, with a bound of 0
     pr = prune_bounds(robot, base, pb.scale, pb.bound, pb.leaves.sum(axis=1).max(axis=1), 0.0,
                       pieces=pb.leaves, zero=pb.zero)

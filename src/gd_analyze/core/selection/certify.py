@@ -19,8 +19,8 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ..dynamics.regressor_bounds import pair_magnitudes
-from ..symbolic.pruning import zero_velocity_columns
+from ..dynamics.regressor_bounds import VERTEX_JOINTS, pair_magnitudes
+from ..symbolic.pruning import zero_parts
 from .region import qd_vertices, region_samples
 
 __all__ = ["PairBounds", "certify", "certify_tree", "tiling", "pair_peaks_at",
@@ -30,7 +30,11 @@ __all__ = ["PairBounds", "certify", "certify_tree", "tiling", "pair_peaks_at",
 METHOD = ("per (base parameter, part) pair: |beta| x upper bound of its coefficient over the "
           "position box by midpoint-radius (ball) evaluation of the Newton-Euler regressor "
           "recursion, rounded outward, refined by branch and bound; velocity and acceleration through "
-          "their limits exactly (linear in qdd, quadratic in qd); scale s_i: the largest "
+          "their limits exactly (linear in qdd, quadratic in qd; the velocity part also through "
+          "the recursion at each vertex of the velocity box for links with at most "
+          f"{VERTEX_JOINTS} joints up to them, the lesser bound kept); parts of "
+          "inertia parameters proved identically zero by trigonometric polynomials bounded by 0; "
+          "scale s_i: the largest "
           "|tau_i| found by sampling the region (vertices of qd and qdd) and local "
           "maximisation (L-BFGS-B), a lower bound of the true maximum")
 
@@ -70,10 +74,10 @@ class PairBounds:
         Where it was halved [rad or m] (0 for a final box). :func:`tiling` rebuilds the boxes
         from these two and the region.
     zero : ndarray of bool, shape (b, 3), optional
-        The pairs proved identically zero: the velocity parts of the columns of
-        :func:`gd_analyze.core.symbolic.pruning.zero_velocity_columns` (decided symbolically;
-        their enclosures are 0 on every box), and any pair whose enclosure is 0 on every final
-        box. Dropping them costs nothing.
+        The pairs proved identically zero: those zero at every joint by
+        :func:`gd_analyze.core.symbolic.pruning.zero_parts` (decided symbolically; their
+        enclosures are set to 0 on every box, as are those of the parts zero at some joints),
+        and any pair whose enclosure is 0 on every final box. Dropping them costs nothing.
     """
 
     bound: np.ndarray
@@ -205,22 +209,20 @@ _CHUNK = 128
 
 def _enclose(robot, lo, hi, cols, region, absb, zero):
     """:func:`pair_magnitudes` times |beta| on the boxes (B, n), in chunks of :data:`_CHUNK`,
-    with the velocity parts of the columns ``zero`` (b,), proved identically zero, set to 0;
-    shape (B, 3, n, b)."""
+    with the parts ``zero`` (b, 3, n), proved identically zero
+    (:func:`gd_analyze.core.symbolic.pruning.zero_parts`), set to 0; shape (B, 3, n, b)."""
     U = np.concatenate([
         pair_magnitudes(robot, lo[a:a + _CHUNK], hi[a:a + _CHUNK], cols, region.qd_max,
                         region.qdd_max) * absb
         for a in range(0, lo.shape[0], _CHUNK)])
-    U[:, 1, :, zero] = 0.0
+    U[:, zero.transpose(1, 2, 0)] = 0.0
     return U
 
 
 def _zero_pairs(zero, leaf):
-    """(b, 3): the velocity pairs of the columns ``zero`` and the pairs 0 on every final box
-    (``leaf`` (L, 3, n, b))."""
-    out = (leaf == 0).all(axis=(0, 2)).T
-    out[:, 1] |= zero
-    return out
+    """(b, 3): the pairs proved zero at every joint (``zero`` (b, 3, n)) or 0 on every final
+    box (``leaf`` (L, 3, n, b))."""
+    return (leaf == 0).all(axis=(0, 2)).T | zero.all(axis=2)
 
 
 def tiling(region, split_joint, split_at):
@@ -326,7 +328,7 @@ def certify(robot, base, region, torque_floor=0.0, max_boxes=1024, samples=1000,
     scale = np.maximum(scale, torque_floor)
     sampled = pair_peaks_at(V, beta, region.qd_max, region.qdd_max)
     absb = np.abs(beta)[None, None, :]                              # over (3, n, b)
-    zero = zero_velocity_columns(robot, cols)
+    zero = zero_parts(robot, cols)
     lo = region.q_min[None, :].copy()
     hi = region.q_max[None, :].copy()
     rel = _relevant(robot)
@@ -414,7 +416,7 @@ def certify_tree(robot, base, region, split_joint, split_at, values, torque_floo
     scale = np.maximum(scale, torque_floor)
     sampled = pair_peaks_at(V, beta, region.qd_max, region.qdd_max)
     absb = np.abs(beta)[None, None, :]
-    zero = zero_velocity_columns(robot, cols)
+    zero = zero_parts(robot, cols)
     inherited = np.full((1, 3, n, cols.size), np.inf)
     leaves, boxes = [], []
     for lo, hi, split in levels:
@@ -474,7 +476,7 @@ def prove_dropped(robot, base, region, dropped, limit, max_boxes=1024):
     cols = np.flatnonzero(base.independent.reshape(-1))[used]
     absb = np.abs(np.asarray(base.beta, float)[used])
     weight = dropped[used].T.astype(float)                              # (3, k)
-    zero = zero_velocity_columns(robot, cols)
+    zero = zero_parts(robot, cols)
     lo, hi = region.q_min[None, :].copy(), region.q_max[None, :].copy()
     rel = _relevant(robot)
     inherited = np.full((1, 3, n, used.size), np.inf)

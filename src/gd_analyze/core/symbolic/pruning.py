@@ -38,7 +38,7 @@ if TYPE_CHECKING:                       # for the type hints only
 #: part_contributions and contribution_peaks are the compiled ones of :mod:`.regressor_kernels`.
 __all__ = ["part_contributions", "contribution_peaks", "stacked_peaks", "Pruning", "prune",
            "prune_on_peaks", "prune_bounds", "dropped_peaks", "pruned_program", "pruned_choice",
-           "part_values", "STRATEGIES", "zero_velocity_columns",
+           "part_values", "STRATEGIES", "zero_parts",
            "CRITERIA"]
 
 
@@ -664,10 +664,14 @@ def prune_bounds(robot, base, scale, peak, whole_peak, eps, strategy="cost", pie
 
 #: The symmetric unit matrices of the six inertia parameters XX, XY, XZ, YY, YZ, ZZ.
 _INERTIA_PAIRS = ((0, 0), (0, 1), (0, 2), (1, 1), (1, 2), (2, 2))
+#: Links decided by :func:`zero_parts`: those with at most this many joints up to them (the
+#: trigonometric polynomials grow with the joints; later links are never declared zero).
+ZERO_JOINTS = 7
 
 
-def zero_velocity_columns(robot: Robot, columns: np.ndarray) -> np.ndarray:
-    """The regressor columns whose velocity part is identically zero, decided symbolically.
+def zero_parts(robot: Robot, columns: np.ndarray) -> np.ndarray:
+    """The parts of regressor columns that are identically zero at a joint, decided
+    symbolically.
 
     Parameters
     ----------
@@ -678,38 +682,55 @@ def zero_velocity_columns(robot: Robot, columns: np.ndarray) -> np.ndarray:
 
     Returns
     -------
-    ndarray of bool, shape (m,)
-        True for an inertia parameter (c < 6: XX .. ZZ) whose inertia matrix D_m(q) is
-        constant in q; False for every other column (first moments and masses are not
-        decided here: never declared zero).
+    ndarray of bool, shape (m, 3, n)
+        ``[m, p, i]`` True where part p (0 inertial, 1 velocity) of column m is identically
+        zero at joint i, for the inertia parameters (c < 6: XX .. ZZ); False for every other
+        column and for the gravity part (first moments and masses are not decided here:
+        never declared zero), and for links beyond :data:`ZERO_JOINTS` joints.
 
     Notes
     -----
     Column m of the regressor is the torque of a link whose only parameter is m, so it is
     D_m(q) qdd + h_m(q, qd) + c_m(q) with h_m given by the Christoffel symbols of D_m (Fu,
-    Gonzalez & Lee 1987, Eq. (3.4-27)); h_m is identically zero exactly when D_m is constant
-    (qd^T h_m = qd^T Ddot_m qd / 2 = 0 for all qd gives Ddot_m = 0). For the inertia parameter
-    (a, b) of link k, D_m(i, j) = u_ki^T E_ab u_kj, with u_ki the axis of joint i in body frame
-    k (zero for a prismatic joint) and E_ab the symmetric unit matrix, each entry a
-    trigonometric polynomial (:class:`.trigpoly.TrigPoly`, in canonical form, so a constant is
-    recognised exactly) in the placements of the explicit model
-    (:func:`.explicit.derive`: rotation entries within 1e-12 of 0 or +-1 taken as those).
+    Gonzalez & Lee 1987, Eqs. (3.4-25), (3.4-27)): h_m,i = sum_{j <= l} C_ijl qd_j qd_l with
+    C_ijl = dD_ij/dq_l + dD_il/dq_j - dD_jl/dq_i (j < l), C_ijj = dD_ij/dq_j - dD_jj/dq_i / 2.
+    For the inertia parameter (a, b) of link k, D_m(i, j) = u_ki^T E_ab u_kj, with u_ki the
+    axis of joint i in body frame k (zero for a prismatic joint) and E_ab the symmetric unit
+    matrix. Each entry is a trigonometric polynomial (:class:`.trigpoly.TrigPoly`, in
+    canonical form) in the placements of the explicit model (:func:`.explicit.derive`:
+    rotation entries within 1e-12 of 0 or +-1 taken as those); a part is declared zero only
+    where every coefficient cancels exactly (a polynomial with no rows).
     """
-    n = robot.n
     columns = np.asarray(columns, int)
+    key = (np.asarray(robot.rotation, float).tobytes(),
+           np.asarray(robot.prismatic, bool).tobytes(), columns.tobytes())
+    if key not in _ZERO_MEMO:           # the decision depends on these alone
+        if len(_ZERO_MEMO) >= 16:
+            _ZERO_MEMO.pop(next(iter(_ZERO_MEMO)))
+        _ZERO_MEMO[key] = _zero_parts(robot, columns)
+    return _ZERO_MEMO[key].copy()
+
+
+#: zero_parts's decisions in this process, by rotations, joint kinds and columns.
+_ZERO_MEMO: dict = {}
+
+
+def _zero_parts(robot, columns):
+    """:func:`zero_parts` itself."""
+    n = robot.n
     lin = np.asarray(robot.prismatic, bool).copy()
     P = np.vectorize(_snap)(np.asarray(robot.rotation, float))
     zero = TrigPoly.zero(n, lin)
     ez = [zero, zero, TrigPoly.const(n, 1.0, lin)]
     u = {}                               # u[(k, i)]: axis of joint i in body frame k
-    for k in range(n):
+    top = min(int(columns.max()) // 10 + 1 if columns.size else 0, ZERO_JOINTS)
+    for k in range(top):
         if lin[k]:
             rz = np.eye(3).tolist()
         else:
             c, s = TrigPoly.cos(n, k, lin), TrigPoly.sin(n, k, lin)
             rz = [[c, -s, 0.0], [s, c, 0.0], [0.0, 0.0, 1.0]]
-        # R_k^T v = Rz(q_k)^T P_k^T v
-        for i in range(k + 1):
+        for i in range(k + 1):           # R_k^T v = Rz(q_k)^T P_k^T v
             if lin[i]:
                 continue
             v = ez if i == k else u[(k - 1, i)]
@@ -720,23 +741,45 @@ def zero_velocity_columns(robot: Robot, columns: np.ndarray) -> np.ndarray:
                           if not (isinstance(rz[b][a], float) and rz[b][a] == 0.0)), zero)
                      for a in range(3)]
             u[(k, i)] = v
-    out = np.zeros(columns.size, bool)
+    out = np.zeros((columns.size, 3, n), bool)
     for m, col in enumerate(columns):
         k, c = divmod(int(col), 10)
-        if c >= 6:
+        if c >= 6 or k >= top:
             continue
         a, b = _INERTIA_PAIRS[c]
-        axes = [u[(k, i)] for i in range(k + 1) if (k, i) in u]
-        constant = True
-        for x in range(len(axes)):
-            for y in range(x, len(axes)):
-                e = axes[x][a] * axes[y][b]
-                if a != b:
-                    e = e + axes[x][b] * axes[y][a]
-                if np.any(e.K != 0):
-                    constant = False
-                    break
-            if not constant:
+        D = {}
+        for x in range(k + 1):
+            for y in range(x, k + 1):
+                if (k, x) not in u or (k, y) not in u:
+                    e = zero
+                else:
+                    e = u[(k, x)][a] * u[(k, y)][b]
+                    if a != b:
+                        e = e + u[(k, x)][b] * u[(k, y)][a]
+                D[(x, y)] = D[(y, x)] = e
+        out[m, :2, k + 1:] = True        # link k moves no joint after k
+        dD = {}
+
+        def d(x, y, v, D=D, dD=dD):      # dD_xy / dq_v, each derivative taken once
+            key = (min(x, y), max(x, y), v)
+            if key not in dD:
+                dD[key] = D[(x, y)].diff(v)
+            return dD[key]
+        constant = all(not np.any(D[(x, y)].K != 0) for x in range(k + 1) for y in range(x, k + 1))
+        for i in range(k + 1):
+            out[m, 0, i] = all(len(D[(i, j)]) == 0 for j in range(k + 1))
+            velocity = constant
+            for j in range(k + 1 if not constant else 0):
+                for l in range(j, k + 1):
+                    g = d(i, j, l) - 0.5 * d(j, l, i)
+                    if l != j:
+                        g = g + d(i, l, j) - 0.5 * d(l, j, i)
+                    if len(g):
+                        break
+                else:
+                    continue
                 break
-        out[m] = constant
+            else:
+                velocity = True
+            out[m, 1, i] = velocity
     return out
