@@ -19,7 +19,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ..dynamics.regressor_bounds import VERTEX_JOINTS, pair_magnitudes
+from ..dynamics.regressor_bounds import pair_magnitudes
 from ..symbolic.pruning import zero_parts
 from .region import qd_vertices, region_samples
 
@@ -30,9 +30,7 @@ __all__ = ["PairBounds", "certify", "certify_tree", "tiling", "pair_peaks_at",
 METHOD = ("per (base parameter, part) pair: |beta| x upper bound of its coefficient over the "
           "position box by midpoint-radius (ball) evaluation of the Newton-Euler regressor "
           "recursion, rounded outward, refined by branch and bound; velocity and acceleration through "
-          "their limits exactly (linear in qdd, quadratic in qd; the velocity part also through "
-          "the recursion at each vertex of the velocity box for links with at most "
-          f"{VERTEX_JOINTS} joints up to them, the lesser bound kept); parts of "
+          "their limits exactly (linear in qdd, quadratic in qd); parts of "
           "inertia parameters proved identically zero by trigonometric polynomials bounded by 0; "
           "scale s_i: the largest "
           "|tau_i| found by sampling the region (vertices of qd and qdd) and local "
