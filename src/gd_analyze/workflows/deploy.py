@@ -135,7 +135,7 @@ def _region_pruning(base, pb, robot, tolerance, chosen=None):
     from ..core.symbolic.pruning import prune_bounds
 
     return prune_bounds(robot, base, pb.scale, pb.bound, pb.leaves.sum(axis=1).max(axis=1),
-                        tolerance, pieces=pb.leaves, chosen=chosen)
+                        tolerance, pieces=pb.leaves, chosen=chosen, zero=pb.zero)
 
 
 def _region_model(robot, base, region, tolerance, pb, pr, sampled=True):

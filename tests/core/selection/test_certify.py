@@ -154,7 +154,7 @@ def test_the_tree_tiles_the_region_and_gives_the_same_bounds_again():
     volume = np.prod(hi - lo, axis=1).sum()
     assert abs(volume / np.prod(region.q_max - region.q_min) - 1) < 1e-12
     again = certify_tree(robot, base, region, pb.split_joint, pb.split_at, values)
-    for f in ("bound", "leaves", "leaf_boxes", "sampled"):
+    for f in ("bound", "leaves", "leaf_boxes", "sampled", "zero"):
         np.testing.assert_array_equal(getattr(again, f), getattr(pb, f), err_msg=f)
 
 
@@ -179,3 +179,61 @@ def test_the_sampled_peaks_search_every_vertex_of_the_velocity_box():
     quad = np.einsum("kj,kl,Bjlib->Bkbi", verts, verts, C)
     want = np.abs(quad).max(axis=1) * np.abs(beta)[None, :, None]
     np.testing.assert_allclose(got, want, rtol=1e-12, atol=1e-12 * want.max())
+
+
+def test_pairs_proved_zero_are_zero_in_pinocchio_and_dropped_at_no_cost():
+    """The PUMA's velocity pairs of ZZ2 and ZZ3 are proved identically zero: their enclosure
+    is 0 on every final box, the same after a read-back of the tree; every inertial or
+    velocity part declared zero at a joint is zero there in Pinocchio's regressor at random
+    states (oracle), and an inertia column's part not zero in Pinocchio is never declared
+    zero; the selection drops the zero pairs without adding to its bound."""
+    from gd_analyze.core.selection.certify import certify, certify_tree
+    from gd_analyze.core.selection.region import region_samples
+    from gd_analyze.core.symbolic.pruning import prune_bounds, zero_parts
+
+    robot = load_robot("puma560")
+    base = base_parameters(robot)
+    region = joint_region(robot, acceleration_limits(robot)[0])
+    values = region_samples(robot, base, region, samples=100)
+    pb = certify(robot, base, region, samples=100, max_boxes=64, values=values)
+    names = base.names()
+    for zz in ("ZZ2", "ZZ3"):
+        assert pb.zero[names.index(zz), 1], zz
+    assert np.all(pb.leaves[pb.zero] == 0)
+    again = certify_tree(robot, base, region, pb.split_joint, pb.split_at, values)
+    np.testing.assert_array_equal(again.zero, pb.zero)
+    # oracle: every part declared zero at a joint vanishes there in Pinocchio's regressor
+    model = pinocchio_model(robot)
+    data = model.createData()
+    cols = np.flatnonzero(base.independent.reshape(-1))
+    order = np.array([4, 5, 7, 6, 8, 9, 1, 2, 3, 0])        # ours (XX .. ZZ, MX .. M) in pin's
+    pcols = 10 * (cols // 10) + order[cols % 10]
+    rng = np.random.default_rng(11)
+    part = np.zeros((2, robot.n, cols.size))                 # largest |part| per joint, column
+    zero = np.zeros(robot.n)
+    for _ in range(50):
+        q = rng.uniform(region.q_min, region.q_max)
+        qd = rng.uniform(-1, 1, robot.n) * region.qd_max
+        qdd = rng.uniform(-1, 1, robot.n) * region.qdd_max
+        G = pin.computeJointTorqueRegressor(model, data, q, zero, zero).copy()
+        for p, (a, b) in enumerate(((zero, qdd), (qd, zero))):
+            Y = pin.computeJointTorqueRegressor(model, data, q, a, b) - G
+            part[p] = np.maximum(part[p], np.abs(Y[:, pcols]))
+    part *= np.abs(base.beta)                                 # contributions
+    scale = part.max()
+    declared = zero_parts(robot, cols)[:, :2].transpose(1, 2, 0)      # (2, n, b)
+    assert declared.any(axis=(1, 2)).all()                   # inertial and velocity zeros
+    assert np.all(part[declared] <= 1e-12 * scale)
+    assert np.all(part[1][:, pb.zero[:, 1]] <= 1e-12 * scale)
+    # an inertia column's part declared zero only where Pinocchio's is: one not zero never is
+    inertia = (cols % 10 < 6) & (np.abs(base.beta) > 0)
+    np.testing.assert_array_equal(declared[:, :, inertia], part[:, :, inertia] <= 1e-12 * scale)
+    # dropped at no cost: a budget of 0 still drops them, with a bound of 0
+    pr = prune_bounds(robot, base, pb.scale, pb.bound, pb.leaves.sum(axis=1).max(axis=1), 0.0,
+                      pieces=pb.leaves, zero=pb.zero)
+    assert np.all(pr.dropped[pb.zero]) and np.all(pr.bound == 0)
+    with pytest.raises(ValueError, match="declared zero"):
+        wrong = pb.zero.copy()
+        wrong[names.index("ZZ2"), 0] = True                  # the inertial part is not zero
+        prune_bounds(robot, base, pb.scale, pb.bound, pb.leaves.sum(axis=1).max(axis=1), 0.0,
+                     pieces=pb.leaves, zero=wrong)

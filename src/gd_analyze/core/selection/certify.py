@@ -20,6 +20,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from ..dynamics.regressor_bounds import pair_magnitudes
+from ..symbolic.pruning import zero_parts
 from .region import qd_vertices, region_samples
 
 __all__ = ["PairBounds", "certify", "certify_tree", "tiling", "pair_peaks_at",
@@ -29,7 +30,9 @@ __all__ = ["PairBounds", "certify", "certify_tree", "tiling", "pair_peaks_at",
 METHOD = ("per (base parameter, part) pair: |beta| x upper bound of its coefficient over the "
           "position box by midpoint-radius (ball) evaluation of the Newton-Euler regressor "
           "recursion, rounded outward, refined by branch and bound; velocity and acceleration through "
-          "their limits exactly (linear in qdd, quadratic in qd); scale s_i: the largest "
+          "their limits exactly (linear in qdd, quadratic in qd); parts of "
+          "inertia parameters proved identically zero by trigonometric polynomials bounded by 0; "
+          "scale s_i: the largest "
           "|tau_i| found by sampling the region (vertices of qd and qdd) and local "
           "maximisation (L-BFGS-B), a lower bound of the true maximum")
 
@@ -68,6 +71,11 @@ class PairBounds:
     split_at : ndarray, shape (boxes,)
         Where it was halved [rad or m] (0 for a final box). :func:`tiling` rebuilds the boxes
         from these two and the region.
+    zero : ndarray of bool, shape (b, 3), optional
+        The pairs proved identically zero: those zero at every joint by
+        :func:`gd_analyze.core.symbolic.pruning.zero_parts` (decided symbolically; their
+        enclosures are set to 0 on every box, as are those of the parts zero at some joints),
+        and any pair whose enclosure is 0 on every final box. Dropping them costs nothing.
     """
 
     bound: np.ndarray
@@ -82,6 +90,7 @@ class PairBounds:
     seconds: float
     split_joint: np.ndarray
     split_at: np.ndarray
+    zero: np.ndarray | None = None
 
 
 #: Elements of each velocity product of :func:`pair_magnitudes_at` (32 MB).
@@ -196,13 +205,22 @@ def _halves(lo, hi, d, at):
 _CHUNK = 128
 
 
-def _enclose(robot, lo, hi, cols, region, absb):
-    """:func:`pair_magnitudes` times |beta| on the boxes (B, n), in chunks of :data:`_CHUNK`;
-    shape (B, 3, n, b)."""
-    return np.concatenate([
+def _enclose(robot, lo, hi, cols, region, absb, zero):
+    """:func:`pair_magnitudes` times |beta| on the boxes (B, n), in chunks of :data:`_CHUNK`,
+    with the parts ``zero`` (b, 3, n), proved identically zero
+    (:func:`gd_analyze.core.symbolic.pruning.zero_parts`), set to 0; shape (B, 3, n, b)."""
+    U = np.concatenate([
         pair_magnitudes(robot, lo[a:a + _CHUNK], hi[a:a + _CHUNK], cols, region.qd_max,
                         region.qdd_max) * absb
         for a in range(0, lo.shape[0], _CHUNK)])
+    U[:, zero.transpose(1, 2, 0)] = 0.0
+    return U
+
+
+def _zero_pairs(zero, leaf):
+    """(b, 3): the pairs proved zero at every joint (``zero`` (b, 3, n)) or 0 on every final
+    box (``leaf`` (L, 3, n, b))."""
+    return (leaf == 0).all(axis=(0, 2)).T | zero.all(axis=2)
 
 
 def tiling(region, split_joint, split_at):
@@ -308,6 +326,7 @@ def certify(robot, base, region, torque_floor=0.0, max_boxes=1024, samples=1000,
     scale = np.maximum(scale, torque_floor)
     sampled = pair_peaks_at(V, beta, region.qd_max, region.qdd_max)
     absb = np.abs(beta)[None, None, :]                              # over (3, n, b)
+    zero = zero_parts(robot, cols)
     lo = region.q_min[None, :].copy()
     hi = region.q_max[None, :].copy()
     rel = _relevant(robot)
@@ -319,7 +338,7 @@ def certify(robot, base, region, torque_floor=0.0, max_boxes=1024, samples=1000,
     joints, cuts = [], []
     while lo.shape[0]:
         # a box's bound is the least of its own enclosure and its ancestors': each holds on it
-        U = np.minimum(_enclose(robot, lo, hi, cols, region, absb), inherited)
+        U = np.minimum(_enclose(robot, lo, hi, cols, region, absb, zero), inherited)
         evaluated += lo.shape[0]
         upper = np.maximum(done_u, U.max(axis=0))
         open_ = (upper <= open_share * scale[None, :, None]) & (upper > target)
@@ -339,12 +358,12 @@ def certify(robot, base, region, torque_floor=0.0, max_boxes=1024, samples=1000,
         lo, hi, joint[split], at[split] = _bisect(lo[split], hi[split], rel)
         inherited = np.concatenate([U[split], U[split]])
     bound = np.maximum(done_u.transpose(2, 0, 1), sampled)
-    leaf = np.concatenate(leaves).transpose(3, 1, 0, 2)          # (b, 3, L, n)
+    leaf = np.concatenate(leaves)                                 # (L, 3, n, b)
     return PairBounds(bound=bound, sampled=sampled, scale=scale, scale_state=state,
-                      positions=q, values=V, boxes=evaluated, leaves=leaf,
+                      positions=q, values=V, boxes=evaluated, leaves=leaf.transpose(3, 1, 0, 2),
                       leaf_boxes=np.concatenate(boxes),
                       seconds=time.perf_counter() - t0, split_joint=np.concatenate(joints),
-                      split_at=np.concatenate(cuts))
+                      split_at=np.concatenate(cuts), zero=_zero_pairs(zero, leaf))
 
 
 def certify_tree(robot, base, region, split_joint, split_at, values, torque_floor=0.0,
@@ -395,10 +414,11 @@ def certify_tree(robot, base, region, split_joint, split_at, values, torque_floo
     scale = np.maximum(scale, torque_floor)
     sampled = pair_peaks_at(V, beta, region.qd_max, region.qdd_max)
     absb = np.abs(beta)[None, None, :]
+    zero = zero_parts(robot, cols)
     inherited = np.full((1, 3, n, cols.size), np.inf)
     leaves, boxes = [], []
     for lo, hi, split in levels:
-        U = np.minimum(_enclose(robot, lo, hi, cols, region, absb), inherited)
+        U = np.minimum(_enclose(robot, lo, hi, cols, region, absb, zero), inherited)
         leaves.append(U[~split])
         boxes.append(np.stack([lo[~split], hi[~split]], axis=1))
         inherited = np.concatenate([U[split], U[split]])
@@ -408,7 +428,7 @@ def certify_tree(robot, base, region, split_joint, split_at, values, torque_floo
                       positions=q, values=V, boxes=int(np.asarray(split_joint).size),
                       leaves=leaf.transpose(3, 1, 0, 2), leaf_boxes=np.concatenate(boxes),
                       seconds=float(seconds), split_joint=np.asarray(split_joint, np.int64),
-                      split_at=np.asarray(split_at, float))
+                      split_at=np.asarray(split_at, float), zero=_zero_pairs(zero, leaf))
 
 
 
@@ -454,12 +474,13 @@ def prove_dropped(robot, base, region, dropped, limit, max_boxes=1024):
     cols = np.flatnonzero(base.independent.reshape(-1))[used]
     absb = np.abs(np.asarray(base.beta, float)[used])
     weight = dropped[used].T.astype(float)                              # (3, k)
+    zero = zero_parts(robot, cols)
     lo, hi = region.q_min[None, :].copy(), region.q_max[None, :].copy()
     rel = _relevant(robot)
     inherited = np.full((1, 3, n, used.size), np.inf)
     evaluated = 0
     while True:
-        U = np.minimum(_enclose(robot, lo, hi, cols, region, absb), inherited)   # (B, 3, n, k)
+        U = np.minimum(_enclose(robot, lo, hi, cols, region, absb, zero), inherited)
         evaluated += lo.shape[0]
         total = np.einsum("bpnk,pk->bn", U, weight)
         open_ = ~np.all(total <= limit[None, :], axis=1)                # NaN stays open

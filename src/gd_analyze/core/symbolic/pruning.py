@@ -25,8 +25,10 @@ from typing import TYPE_CHECKING
 import numpy as np
 
 from ..model.kinematics import as_states
+from .explicit import _snap
 from .recursive import PARTS, exact_program, parts_count, parts_program
 from .regressor_kernels import contribution_peaks, part_contributions, stacked_contribution_peaks
+from .trigpoly import TrigPoly
 
 if TYPE_CHECKING:                       # for the type hints only
     from ..model.robot import Robot
@@ -36,7 +38,7 @@ if TYPE_CHECKING:                       # for the type hints only
 #: part_contributions and contribution_peaks are the compiled ones of :mod:`.regressor_kernels`.
 __all__ = ["part_contributions", "contribution_peaks", "stacked_peaks", "Pruning", "prune",
            "prune_on_peaks", "prune_bounds", "dropped_peaks", "pruned_program", "pruned_choice",
-           "part_values", "STRATEGIES",
+           "part_values", "STRATEGIES", "zero_parts",
            "CRITERIA"]
 
 
@@ -345,8 +347,9 @@ def dropped_peaks(peak, whole_peak, dropped, whole):
 class _Selection:
     """The state of a selection: contributions, peaks, budget and the bound of a set."""
 
-    def __init__(self, robot, base, C, peak, whole_peak, budget, criterion):
+    def __init__(self, robot, base, C, peak, whole_peak, budget, criterion, free=None):
         self.robot, self.base = robot, base
+        self.free = None if free is None else np.asarray(free, bool)   # (b, 3): proved 0
         self.C = None if C is None else C.transpose(3, 0, 1, 2)       # (b, 3, N, n)
         self.peak, self.whole_peak, self.budget = peak, whole_peak, budget
         self.criterion = criterion
@@ -369,7 +372,7 @@ class _Selection:
         return bool(np.all(self.bound(dropped, whole) <= self.budget))
 
     def count(self, dropped):
-        return _count(self.robot, self.base, _normalize(dropped, self.live))
+        return _count(self.robot, self.base, _normalize(dropped, self.live, self.free))
 
     def by_peak(self):
         dropped = np.zeros(self.live.shape, bool)
@@ -418,10 +421,12 @@ class _Selection:
         return best[1:]
 
 
-def _normalize(dropped, live):
-    """Zero-peak pairs dropped with their parameter when all its live parts are, else kept."""
+def _normalize(dropped, live, free=None):
+    """Zero-peak pairs dropped with their parameter when all its live parts are, else kept;
+    the pairs ``free`` (proved identically zero) always dropped."""
     gone = np.all(dropped | ~live, axis=1) & dropped.any(axis=1)
-    return np.where(live, dropped, gone[:, None])
+    out = np.where(live, dropped, gone[:, None])
+    return out if free is None else out | free
 
 
 def part_values(base, dropped):
@@ -578,7 +583,7 @@ def _total(program):
 
 
 def prune_bounds(robot, base, scale, peak, whole_peak, eps, strategy="cost", pieces=None,
-                 chosen=None):
+                 chosen=None, zero=None):
     """Choose the pairs to drop from given upper bounds of their contributions.
 
     Parameters
@@ -608,6 +613,10 @@ def prune_bounds(robot, base, scale, peak, whole_peak, eps, strategy="cost", pie
         The dropped pairs, shape (b, 3), and the parameters dropped whole, shape (b,), of an
         earlier search with the same inputs (the derivation cache): taken as they are, without
         the search, after the same check of the budget.
+    zero : ndarray of bool, shape (b, 3), optional
+        Pairs proved identically zero where the model must hold
+        (:attr:`gd_analyze.core.selection.certify.PairBounds.zero`): dropped at no cost to
+        the bound (their pieces must be 0).
 
     Returns
     -------
@@ -627,7 +636,10 @@ def prune_bounds(robot, base, scale, peak, whole_peak, eps, strategy="cost", pie
     scale = np.asarray(scale, float)
     criterion = "peaks" if pieces is None else "error"
     C = None if pieces is None else np.asarray(pieces, float).transpose(1, 2, 3, 0)
-    sel = _Selection(robot, base, C, peak, whole_peak, eps * scale, criterion)
+    free = None if zero is None else np.asarray(zero, bool)
+    if free is not None and pieces is not None and np.any(np.asarray(pieces, float)[free] != 0):
+        raise ValueError("a pair declared zero has a nonzero piece")
+    sel = _Selection(robot, base, C, peak, whole_peak, eps * scale, criterion, free)
     if chosen is not None:
         dropped, whole = (np.asarray(a) for a in chosen)
         if dropped.shape != sel.live.shape or whole.shape != sel.live.shape[:1] \
@@ -636,7 +648,130 @@ def prune_bounds(robot, base, scale, peak, whole_peak, eps, strategy="cost", pie
             raise ValueError("chosen pairs of another shape, or over the budget")
     else:
         dropped, whole = sel.by_peak() if strategy == "peak" else sel.by_cost()
-    dropped = _normalize(dropped, sel.live)
+    dropped = _normalize(dropped, sel.live, free)
     return Pruning(eps=float(eps), dropped=dropped, peak=peak, whole_peak=whole_peak,
                    whole=whole, bound=sel.bound(dropped, whole), scale=scale,
                    criterion=criterion)
+
+
+#: The symmetric unit matrices of the six inertia parameters XX, XY, XZ, YY, YZ, ZZ.
+_INERTIA_PAIRS = ((0, 0), (0, 1), (0, 2), (1, 1), (1, 2), (2, 2))
+#: Links decided by :func:`zero_parts`: those with at most this many joints up to them (the
+#: trigonometric polynomials grow with the joints; later links are never declared zero).
+ZERO_JOINTS = 7
+
+
+def zero_parts(robot: Robot, columns: np.ndarray) -> np.ndarray:
+    """The parts of regressor columns that are identically zero at a joint, decided
+    symbolically.
+
+    Parameters
+    ----------
+    robot : Robot
+        The arm, with n joints.
+    columns : array_like of int, shape (m,)
+        Flat standard-parameter indices 10 k + c (link k, parameter c).
+
+    Returns
+    -------
+    ndarray of bool, shape (m, 3, n)
+        ``[m, p, i]`` True where part p (0 inertial, 1 velocity) of column m is identically
+        zero at joint i, for the inertia parameters (c < 6: XX .. ZZ); False for every other
+        column and for the gravity part (first moments and masses are not decided here:
+        never declared zero), and for links beyond :data:`ZERO_JOINTS` joints.
+
+    Notes
+    -----
+    Column m of the regressor is the torque of a link whose only parameter is m, so it is
+    D_m(q) qdd + h_m(q, qd) + c_m(q) with h_m given by the Christoffel symbols of D_m (Fu,
+    Gonzalez & Lee 1987, Eqs. (3.4-25), (3.4-27)): h_m,i = sum_{j <= l} C_ijl qd_j qd_l with
+    C_ijl = dD_ij/dq_l + dD_il/dq_j - dD_jl/dq_i (j < l), C_ijj = dD_ij/dq_j - dD_jj/dq_i / 2.
+    For the inertia parameter (a, b) of link k, D_m(i, j) = u_ki^T E_ab u_kj, with u_ki the
+    axis of joint i in body frame k (zero for a prismatic joint) and E_ab the symmetric unit
+    matrix. Each entry is a trigonometric polynomial (:class:`.trigpoly.TrigPoly`, in
+    canonical form) in the placements of the explicit model (:func:`.explicit.derive`:
+    rotation entries within 1e-12 of 0 or +-1 taken as those); a part is declared zero only
+    where every coefficient cancels exactly (a polynomial with no rows).
+    """
+    columns = np.asarray(columns, int)
+    key = (np.asarray(robot.rotation, float).tobytes(),
+           np.asarray(robot.prismatic, bool).tobytes(), columns.tobytes())
+    if key not in _ZERO_MEMO:           # the decision depends on these alone
+        if len(_ZERO_MEMO) >= 16:
+            _ZERO_MEMO.pop(next(iter(_ZERO_MEMO)))
+        _ZERO_MEMO[key] = _zero_parts(robot, columns)
+    return _ZERO_MEMO[key].copy()
+
+
+#: zero_parts's decisions in this process, by rotations, joint kinds and columns.
+_ZERO_MEMO: dict = {}
+
+
+def _zero_parts(robot, columns):
+    """:func:`zero_parts` itself."""
+    n = robot.n
+    lin = np.asarray(robot.prismatic, bool).copy()
+    P = np.vectorize(_snap)(np.asarray(robot.rotation, float))
+    zero = TrigPoly.zero(n, lin)
+    ez = [zero, zero, TrigPoly.const(n, 1.0, lin)]
+    u = {}                               # u[(k, i)]: axis of joint i in body frame k
+    top = min(int(columns.max()) // 10 + 1 if columns.size else 0, ZERO_JOINTS)
+    for k in range(top):
+        if lin[k]:
+            rz = np.eye(3).tolist()
+        else:
+            c, s = TrigPoly.cos(n, k, lin), TrigPoly.sin(n, k, lin)
+            rz = [[c, -s, 0.0], [s, c, 0.0], [0.0, 0.0, 1.0]]
+        for i in range(k + 1):           # R_k^T v = Rz(q_k)^T P_k^T v
+            if lin[i]:
+                continue
+            v = ez if i == k else u[(k - 1, i)]
+            if i < k:
+                w = [sum((float(P[k][b][a]) * v[b] for b in range(3) if P[k][b][a] != 0), zero)
+                     for a in range(3)]
+                v = [sum((rz[b][a] * w[b] for b in range(3)
+                          if not (isinstance(rz[b][a], float) and rz[b][a] == 0.0)), zero)
+                     for a in range(3)]
+            u[(k, i)] = v
+    out = np.zeros((columns.size, 3, n), bool)
+    for m, col in enumerate(columns):
+        k, c = divmod(int(col), 10)
+        if c >= 6 or k >= top:
+            continue
+        a, b = _INERTIA_PAIRS[c]
+        D = {}
+        for x in range(k + 1):
+            for y in range(x, k + 1):
+                if (k, x) not in u or (k, y) not in u:
+                    e = zero
+                else:
+                    e = u[(k, x)][a] * u[(k, y)][b]
+                    if a != b:
+                        e = e + u[(k, x)][b] * u[(k, y)][a]
+                D[(x, y)] = D[(y, x)] = e
+        out[m, :2, k + 1:] = True        # link k moves no joint after k
+        dD = {}
+
+        def d(x, y, v, D=D, dD=dD):      # dD_xy / dq_v, each derivative taken once
+            key = (min(x, y), max(x, y), v)
+            if key not in dD:
+                dD[key] = D[(x, y)].diff(v)
+            return dD[key]
+        constant = all(not np.any(D[(x, y)].K != 0) for x in range(k + 1) for y in range(x, k + 1))
+        for i in range(k + 1):
+            out[m, 0, i] = all(len(D[(i, j)]) == 0 for j in range(k + 1))
+            velocity = constant
+            for j in range(k + 1 if not constant else 0):
+                for l in range(j, k + 1):
+                    g = d(i, j, l) - 0.5 * d(j, l, i)
+                    if l != j:
+                        g = g + d(i, l, j) - 0.5 * d(l, j, i)
+                    if len(g):
+                        break
+                else:
+                    continue
+                break
+            else:
+                velocity = True
+            out[m, 1, i] = velocity
+    return out
