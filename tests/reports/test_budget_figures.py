@@ -122,3 +122,37 @@ def test_cost_ladder_reads_the_stored_costs(shipped_dataset):
         xs = sorted(float(line.get_xdata()[0]) for line in fig.axes[0].lines
                     if len(line.get_xdata()) == 1)
         assert xs == sorted(ops for _, ops, _, _ in points)
+
+
+@pytest.mark.parametrize("extra", [0, 3, 8])
+@pytest.mark.parametrize("width", [7.2, 3.5])
+def test_the_cost_ladders_key_never_runs_into_the_axis_label(shipped_dataset, width, extra,
+                                                            monkeypatch):
+    """The numbered key below the axes, raised to the printed minimum and wrapped again as the
+    report's drawing does (which made the PUMA 560's key four lines, the fourth in the axis
+    label), stays below the x axis label and its tick labels, within the saved figure's box."""
+    from matplotlib.backends.backend_agg import FigureCanvasAgg
+
+    from gd_analyze.reports import budget_figures
+    from gd_analyze.reports.figure_style import raise_small_text, text_extent
+    from gd_analyze.reports.typeset import MIN_PRINTED_PT, printed_scale
+
+    ds = shipped_dataset("puma560")
+    points = cost_points(ds)
+    more = [(f"explicit, budget EPS=0.0{k} (a model with a long name)", 400.0 + 40 * k,
+             0.001 * k, "exact") for k in range(extra)]
+    monkeypatch.setattr(budget_figures, "cost_points", lambda _: points + more)
+    with matplotlib.rc_context(FIG_RC):
+        fig = fig_cost_ladder(ds, width=width)
+        renderer = FigureCanvasAgg(fig).get_renderer()
+        raise_small_text(fig, MIN_PRINTED_PT / printed_scale(fig.get_size_inches()))
+        fig.draw(renderer)
+        key = next(t for t in fig.texts if t.get_text().startswith("1: "))
+        box = key.get_window_extent(renderer)
+        label = fig.axes[0].xaxis.label.get_window_extent(renderer)
+        ticks = [t.get_window_extent(renderer) for t in fig.axes[0].get_xticklabels()
+                 if t.get_text()]
+        saved = text_extent(fig)
+    assert key.get_text().count("\n") >= 2
+    assert box.y1 < label.y0 and all(box.y1 < t.y0 for t in ticks)
+    assert box.y0 >= saved.y0 * fig.dpi - 1 and box.x1 <= fig.bbox.x1

@@ -475,7 +475,7 @@ def acceleration_limits(robot: Robot, qdd_max: ArrayLike | None = None
     """
     n = robot.n
     if qdd_max is not None:
-        qdd = np.asarray(qdd_max, dtype=float).reshape(-1)
+        qdd: np.ndarray = np.asarray(qdd_max, dtype=float).reshape(-1)
         if qdd.shape != (n,):
             raise ValueError(f"{qdd.size} acceleration limits for {n} joints")
         if not (np.isfinite(qdd).all() and (qdd > 0).all()):

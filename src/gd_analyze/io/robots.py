@@ -204,7 +204,7 @@ def load_toml_robot(name_or_path: str | os.PathLike[str]) -> Robot:
     """
     key = str(name_or_path)
     if key in TOML_BUILTIN:
-        res = resources.files("gd_analyze").joinpath("data", TOML_BUILTIN[key])
+        res = resources.files("gd_analyze").joinpath("data").joinpath(TOML_BUILTIN[key])
         raw = res.read_bytes()
         source = key
     else:

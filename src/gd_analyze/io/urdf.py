@@ -162,7 +162,7 @@ def axis_rotation(axis: ArrayLike) -> np.ndarray:
     >>> axis_rotation([0, 1, 0]) @ [0, 0, 1]
     array([0., 1., 0.])
     """
-    a = np.asarray(axis, dtype=float).reshape(3)
+    a: np.ndarray = np.asarray(axis, dtype=float).reshape(3)
     norm = float(np.linalg.norm(a))
     if not math.isfinite(norm) or norm == 0.0:
         raise ValueError(f"not a joint axis: {a.tolist()}")
@@ -435,7 +435,7 @@ def builtin_urdf_path(name: str) -> Path:
     KeyError
         If the name is not a URDF built-in.
     """
-    return Path(str(resources.files("gd_analyze").joinpath("data", URDF_BUILTIN[name]["file"])))
+    return Path(str(resources.files("gd_analyze").joinpath("data").joinpath(URDF_BUILTIN[name]["file"])))
 
 
 __all__.append("builtin_urdf_path")

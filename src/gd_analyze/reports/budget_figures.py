@@ -435,6 +435,10 @@ def fig_cost_ladder(ds, width=_PAGE):
     # no place on it
     points = [p for p in cost_points(ds) if p[1] > 0 and np.isfinite(p[2])]
     column = width < _PAGE
+    points = sorted(points, key=lambda p: (p[1], -p[2]))
+    key = textwrap.fill("; ".join(f"{k + 1}: " + p[0].replace("EPS=", "\u03b5\u00a0=\u00a0")
+                                  for k, p in enumerate(points)),
+                        int((width - 0.3) / 0.058))
     H, top, bottom = (3.4, 0.7, 0.8) if not column else (4.6, 1.0, 1.5)
     fig = _figure(width, H)
     ax = fig.add_axes((0.7 / width, bottom / H, (width - 0.9) / width, (H - bottom - top) / H))
@@ -453,7 +457,6 @@ def fig_cost_ladder(ds, width=_PAGE):
     # (linear below _COST_LINEAR %, where 0 sits)
     ax.set_yscale("symlog", linthresh=_COST_LINEAR, linscale=0.5)
     top = max([100 * p[2] for p in points] + [10 * _COST_LINEAR]) * 2.5
-    points = sorted(points, key=lambda p: (p[1], -p[2]))
     for k, (label, ops, err, kind) in enumerate(points):
         marker, colour = _COST_STYLE[kind]
         filled = kind not in ("bound", "akb")
@@ -463,10 +466,11 @@ def fig_cost_ladder(ds, width=_PAGE):
                 label=names[kind] if kind not in seen else None, zorder=3)
         seen.add(kind)
     numbers = [(str(k + 1), ops, 100 * err) for k, (_, ops, err, _) in enumerate(points)]
-    key = "; ".join(f"{k + 1}: " + p[0].replace("EPS=", "\u03b5\u00a0=\u00a0")
-                    for k, p in enumerate(points))
-    fig.text((0.1 if column else 0.7) / width, 0.05 / H, textwrap.fill(key, int((width - 0.3) / 0.058)), fontsize=7,
-             va="bottom", ha="left", color="0.2", linespacing=1.2)
+    # the key hangs from a fixed line below the axis label: wrapped again when its size is
+    # raised for print (more lines), it grows downwards, and the saved figure with it
+    # (figure_style.text_extent), never up into the label
+    fig.text((0.1 if column else 0.7) / width, (bottom - 0.42) / H, key, fontsize=7,
+             va="top", ha="left", color="0.2", linespacing=1.2)
     ops = [p[1] for p in points] or [10.0]
     lo, hi = min(ops) / 1.6, max(ops) * 2.2
     ax.set_xlim(lo, hi)

@@ -55,6 +55,9 @@ _ELSEWHERE = {
     "formulations_joint_types", "simplified_guarantee_kind", "simplified_guarantee_statement",
     "simplified_guarantee_tolerance", "region_summary", "region_source", "region_notes",
     "region_covers_trajectory", "region_coverage",
+    # the chapter's conclusions, counted: Sec. 6
+    "chapter_elements_compared", "chapter_arm_ranked", "chapter_arm_translation_leads",
+    "chapter_wrist_ranked", "chapter_wrist_rotation_leads",
 }
 #: The ``explicit`` setting in words.
 _EXPLICIT = {"auto": "derived when its estimated size is cheap and it may be deployed (auto)",

@@ -293,15 +293,15 @@ class Robot:
     def has_armature(self) -> bool:
         """bool: True if a drive adds armature inertia to some joint (``armature`` not all
         0); computed once per robot (a closed loop asks at every step)."""
-        return bool(np.any(self.armature))
+        return self.armature is not None and bool(np.any(self.armature))
 
     @cached_property
     def has_friction(self) -> bool:
         """bool: True if some joint has viscous or Coulomb friction or a torque offset
         (``viscous``, ``coulomb`` or ``torque_offset`` not all 0: tau_f is then not zero);
         computed once per robot."""
-        return bool(np.any(self.viscous) or np.any(self.coulomb)
-                    or np.any(self.torque_offset))
+        return any(v is not None and bool(np.any(v))
+                   for v in (self.viscous, self.coulomb, self.torque_offset))
 
     @property
     def is_dh(self) -> bool:
