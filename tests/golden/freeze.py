@@ -66,7 +66,15 @@ VOLATILE = {
     "scheduler_address": "the dask scheduler's address, a random free port",
     "model_sha256": "control.h5: the SHA-256 of the model JSON, whose provenance holds the "
                     "package version and the paths",
+    "inputs_sha256": "sweep.h5: a SHA-256 over the inputs' paths, which depend on the "
+                     "checkout, and their contents (each input's own SHA-256 is kept)",
 }
+#: Masked keys of a sweep's merged model JSON: its trajectory digest is ``inputs_sha256``.
+VOLATILE_MERGED = {"trajectory_sha256": "the sweep's inputs_sha256 (paths of the checkout)"}
+#: Translational shares of elements that are identically zero (``round_off`` in sweep.h5,
+#: ``element_round_off`` in results.h5): a ratio of round-off sums, which differs between
+#: numpy and BLAS builds, so stored as NaN (the mark itself is compared).
+SHARES = ("share_tran", "share_tran_min", "share_tran_median", "share_tran_max")
 #: Masked keys of the model JSON.
 VOLATILE_KEYS = {"gd_analyze_version": "the package version"}
 #: Integers that count the steps of an adaptive integrator (control.h5): compared as floats
@@ -253,8 +261,14 @@ def freeze_dataset(path, roots, rtol=RTOL):
     with xr.open_dataset(path) as ds:
         ds = ds.load()
     leaves = {}
+    zero = next((ds[k].values.astype(bool) for k in ("round_off", "element_round_off")
+                 if k in ds.variables), None)
     for name, variable in ds.variables.items():
-        leaf = _leaf(variable.values, roots)
+        values = variable.values
+        if name in SHARES and zero is not None:
+            mark = zero if values.shape == zero.shape else zero.all(axis=0)
+            values = np.where(mark, np.nan, values)
+        leaf = _leaf(values, roots)
         leaf["dims"] = list(variable.dims)
         leaves[f"var/{name}"] = leaf
         for attr, value in variable.attrs.items():
@@ -305,10 +319,13 @@ def freeze_json(path, roots):
         except ValueError:              # ragged
             return False
 
+    volatile = VOLATILE_KEYS | (VOLATILE_MERGED if Path(path).name.startswith("merged_model")
+                                else {})
+
     def walk(x, name):
         key = name.split("/")[-1]
-        if key in VOLATILE_KEYS:
-            leaves[name] = {"masked": VOLATILE_KEYS[key]}
+        if key in volatile:
+            leaves[name] = {"masked": volatile[key]}
         elif isinstance(x, dict):
             leaves[name] = {"keys": list(x)}
             for k, v in x.items():
