@@ -60,7 +60,7 @@ def _own_model(error: ArrayLike, off: ArrayLike, built: ArrayLike, built_off: Ar
                                      for k in range(err.size))
     mine = np.where(np.asarray(built_off, dtype=bool), 0.0, np.asarray(built, dtype=float))
     return ("The chapter's own simplified model (each element of D and h reduced to the part "
-            "the chapter reads as dominant, c kept whole), measured on "
+            "the chapter reads as dominant, gravity c unchanged), measured on "
             f"{where}: its peak torque error is up to {pct(shown[worst])} of peak "
             f"|{tau(str(worst + 1))}| at joint {worst + 1} ({per_joint}), against "
             f"{pct(float(mine.max(initial=0.0)))} for the model this run built (Sec. 5). The "
