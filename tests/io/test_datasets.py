@@ -34,8 +34,9 @@ def test_reads_back_with_xarray(written, puma):
         # budget, 3 formulations, Table 3.5 (3), AKB (2), and the recursive ladder's rungs
         # other than 0 and the model's EPS (2)
         assert ds.sizes == {"t": 31, "joint": 6, "joint_k": 6, "element": 27, "xyz": 3,
-                            "xyz_k": 3, "cost_model": 15, "ladder_tolerance": 4,
-                            "base_parameter": base_parameters(puma).rank, "torque_part": 3}
+                            "xyz_k": 3, "cost_model": 16, "ladder_tolerance": 4,
+                            "base_parameter": base_parameters(puma).rank, "torque_part": 3,
+                            "chapter_threshold": 6}     # s = 0.6 ... 0.99 (the chapter's PUMA)
         assert ds.D_tran.dims == ("t", "joint", "joint_k")
         assert ds.element.values[0] == "D11" and ds.element.values[-1] == "h6"
         for name, var in ds.variables.items():

@@ -137,17 +137,25 @@ class Schema:
         ------
         InputError
             One line naming the file and the key of the most relevant fault
-            (:func:`jsonschema.exceptions.best_match`; a wrong type before a wrong value).
+            (a key present with the wrong type first, the shallowest; else
+            :func:`jsonschema.exceptions.best_match`, a wrong type before a wrong value).
         """
         from jsonschema.exceptions import best_match
 
         errors = list(self.validator.iter_errors(value))
         if not errors:
             return
-        err = best_match(errors)
-        # at the key best_match names, a wrong type says more than the value it cannot hold
-        err = next((e for e in errors if e.validator == "type"
-                    and e.absolute_path == err.absolute_path), err)
+        # a key present with the wrong type is named before keys that are missing (the
+        # shallowest such key): a document of the wrong shape is told what its shape is
+        wrong = [e for e in errors if e.validator == "type" and e.absolute_path]
+        if wrong:
+            err = min(wrong, key=lambda e: len(e.absolute_path))
+        else:
+            err = best_match(errors)
+            # at the key best_match names, a wrong type says more than the value it cannot
+            # hold
+            err = next((e for e in errors if e.validator == "type"
+                        and e.absolute_path == err.absolute_path), err)
         key, message = _message(err)
         if where and key:
             key = where + ("" if key.startswith("[") else ".") + key

@@ -252,19 +252,15 @@ def nice_ticks(lo, hi, nbins=3):
         return np.array([lo])
     nbins, tol = max(1, int(nbins)), 1e-9 * span
     best = np.array([0.5 * (lo + hi)])
-    # MaxNLocator covers [lo, hi] with its ticks; the ones within it are fewer, so ask it for
-    # more bins until the ticks within would be too many
-    locator = MaxNLocator(steps=[1, 2, 2.5, 5, 10])
+    # the ticks MaxNLocator places within [lo, hi]: more bins until they would be too many
     for k in range(nbins, 4 * nbins + 4):
-        locator.set_params(nbins=k)
-        ticks = locator.tick_values(lo, hi)
+        ticks = MaxNLocator(nbins=k, steps=[1, 2, 2.5, 5, 10]).tick_values(lo, hi)
         ticks = ticks[(ticks >= lo - tol) & (ticks <= hi + tol)]
         if len(ticks) > nbins + 1:
             break
         if len(ticks) >= len(best):
             best = ticks
-    step = float(np.ptp(best)) / max(len(best) - 1, 1) or span
-    best[np.abs(best) < 1e-12 * step] = 0.0
+    best[np.abs(best) < 1e-12 * (float(np.ptp(best)) / max(len(best) - 1, 1) or span)] = 0.0
     return best
 
 
