@@ -174,3 +174,95 @@ def test_the_file_io_check_can_fail(tmp_path):
     bad.write_text("import tomllib\nfrom pathlib import Path\n"
                    "def f(p):\n    return open(p).read() + Path(p).read_text()\n")
     assert len(_file_io(bad)) == 4
+
+
+#: The core's concepts in the order the data flows (robot model -> dynamics -> symbolic models
+#: -> selection and proof; identification estimates on the symbolic regressor): a concept
+#: imports only those before it, at any depth and inside functions too.
+CORE_ORDER = {"model": 0, "dynamics": 1, "symbolic": 2, "selection": 3, "identify": 3}
+
+
+def _runtime_edges(path):
+    """The package modules a module imports when it runs: every import statement, inside
+    functions too, but not those under ``if TYPE_CHECKING:`` (never executed), as
+    gd_analyze-relative dotted names of modules."""
+    tree = ast.parse(path.read_text(encoding="utf-8"))
+    typing_only = set()
+    for node in ast.walk(tree):
+        if isinstance(node, ast.If) and "TYPE_CHECKING" in ast.unparse(node.test):
+            typing_only |= {id(n) for s in node.body for n in ast.walk(s)}
+    name = _module_name(path)
+    package = name.split(".")[:-1] if path.name != "__init__.py" else name.split(".")
+    modules = {_module_name(p) for p in MODULES}
+    out = set()
+    for node in ast.walk(tree):
+        if id(node) in typing_only or not isinstance(node, ast.ImportFrom):
+            continue
+        if node.level:
+            base = package[:len(package) - (node.level - 1)] if node.level > 1 else package
+            target = ".".join(base + ([node.module] if node.module else []))
+        elif (node.module or "").startswith("gd_analyze"):
+            target = node.module[len("gd_analyze."):] if "." in node.module else ""
+        else:
+            continue
+        for alias in node.names:
+            sub = f"{target}.{alias.name}".strip(".")
+            out.add(sub if sub in modules else target)
+    return out & modules
+
+
+def circles(graph):
+    """The strongly connected components of more than one module (Tarjan), sorted."""
+    index, low, stack, on, found = {}, {}, [], set(), []
+
+    def visit(v):
+        index[v] = low[v] = len(index)
+        stack.append(v)
+        on.add(v)
+        for w in sorted(graph.get(v, ())):
+            if w not in index:
+                visit(w)
+                low[v] = min(low[v], low[w])
+            elif w in on:
+                low[v] = min(low[v], index[w])
+        if low[v] == index[v]:
+            comp = []
+            while True:
+                w = stack.pop()
+                on.discard(w)
+                comp.append(w)
+                if w == v:
+                    break
+            if len(comp) > 1:
+                found.append(sorted(comp))
+
+    for v in sorted(graph):
+        if v not in index:
+            visit(v)
+    return sorted(found)
+
+
+def test_no_import_circle_even_through_function_local_imports():
+    """A function-local import is no way around a circle: the graph holds every import that
+    runs (module level and inside functions)."""
+    graph = {_module_name(p): _runtime_edges(p) - {_module_name(p)} for p in MODULES}
+    assert len(graph) > 100 and sum(map(len, graph.values())) > 300   # the scan sees them
+    assert circles(graph) == []
+
+
+def test_the_circle_check_can_fail():
+    assert circles({"a": {"b"}, "b": {"c"}, "c": {"a"}, "d": {"a"}}) == [["a", "b", "c"]]
+    assert circles({"a": {"b"}, "b": set()}) == []
+
+
+def test_core_concepts_import_down_the_flow():
+    """model <- dynamics <- symbolic <- selection and identify, at any depth."""
+    bad = []
+    for path in CORE_MODULES:
+        me = _module_name(path)
+        for target in _runtime_edges(path) | set(_imports(path)):
+            parts = target.split(".")
+            if parts[0] == "core" and len(parts) > 1 and parts[1] in CORE_ORDER \
+                    and CORE_ORDER[parts[1]] > CORE_ORDER[me.split(".")[1]]:
+                bad.append(f"{me} -> {target} (upward in core)")
+    assert bad == [], "\n".join(bad)

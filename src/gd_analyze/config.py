@@ -22,7 +22,16 @@ import types
 from pathlib import Path
 from typing import Any
 
-__all__ = ["defaults", "cache_dir"]
+__all__ = ["defaults", "cache_dir", "ROUND_OFF", "ROUND_OFF_EPS"]
+
+#: A quantity whose peak is at most this fraction of its own scale is floating-point round-off
+#: (about 4500 machine epsilons: a sum of a few thousand rounded terms), never data: the one
+#: threshold of the ranking, the simplified model and the reports.
+ROUND_OFF = 1e-12
+#: ... or at most this many machine epsilons of the arm's scale of the same quantity (the
+#: largest scale in the same units): the absolute floor of the verification against Pinocchio
+#: (:data:`gd_analyze.formulations.pinocchio.FLOOR_EPS`).
+ROUND_OFF_EPS = 64.0
 
 #: The defaults, read-only. Units: ``torque_floor`` [N m]; the others are fractions or names.
 defaults: types.MappingProxyType[str, Any] = types.MappingProxyType({

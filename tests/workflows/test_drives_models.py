@@ -12,8 +12,8 @@ from core.symbolic.test_explicit_prismatic import _compile
 
 from gd_analyze import load_robot
 from gd_analyze.cli import main
-from gd_analyze.core.model.drives import with_drives
 from gd_analyze.core.symbolic.codegen import build_program
+from gd_analyze.core.symbolic.drive_regressor import with_drives
 from gd_analyze.core.symbolic.emit import emit_c
 from gd_analyze.core.symbolic.explicit import derive, model_terms
 from gd_analyze.io.model_file import load_model

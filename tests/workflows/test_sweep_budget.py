@@ -8,7 +8,7 @@ import pytest
 from urdf_oracle import UrdfOracle
 
 from gd_analyze import load_robot
-from gd_analyze.core.model.drives import with_drives
+from gd_analyze.core.symbolic.drive_regressor import with_drives
 from gd_analyze.core.symbolic.recursive import recursive_program
 from gd_analyze.io.model_file import load_model, save_model
 from gd_analyze.io.planning import random_trajectories

@@ -1,7 +1,7 @@
 """One handler for SIGINT, SIGTERM and SIGHUP in every command (issue 32).
 
 :func:`install` makes each signal raise in the main thread (SIGINT KeyboardInterrupt, SIGTERM
-and SIGHUP :class:`~gd_analyze.io.staging.Terminated`), so that clean-up code runs and the
+and SIGHUP :class:`Terminated`), so that clean-up code runs and the
 command line (:func:`gd_analyze.cli.main`) exits with 128 + the signal's number (130, 143) and one line. Two
 places would lose the signal:
 
@@ -24,7 +24,7 @@ import signal
 import sys
 import threading
 
-__all__ = ["install", "after_run", "pending", "SIGNALS"]
+__all__ = ["install", "after_run", "pending", "SIGNALS", "Terminated"]
 
 #: The signals handled: interrupt, terminate, hang-up.
 SIGNALS = tuple(s for s in (signal.SIGINT, signal.SIGTERM, getattr(signal, "SIGHUP", None))
@@ -46,9 +46,11 @@ def pending() -> tuple[int, ...]:
     return tuple(_PENDING)
 
 
-def _exception(signum):
-    from .staging import Terminated
+class Terminated(BaseException):
+    """Raised in the main thread on SIGTERM (or SIGHUP), so that clean-up code runs."""
 
+
+def _exception(signum):
     return KeyboardInterrupt() if signum == signal.SIGINT else Terminated(signum)
 
 

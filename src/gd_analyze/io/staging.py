@@ -51,6 +51,7 @@ from pathlib import Path
 
 from ..errors import InputError
 from .manifest import folder_owners, manifest_name, write_manifest, write_transition
+from .signals import Terminated, install
 from .write_errors import is_inside, write_error, writing
 
 __all__ = ["safe_name", "staged_output", "writing", "check_free_space", "check_output_file",
@@ -64,17 +65,11 @@ RECORD_LIMIT = 1 << 16
 SPACE_MARGIN = 16 << 20
 
 
-class Terminated(BaseException):
-    """Raised in the main thread on SIGTERM (or SIGHUP), so that clean-up code runs."""
-
-
 def install_signal_handlers():
     """Turn SIGTERM and SIGHUP into :class:`Terminated` and SIGINT into KeyboardInterrupt so
     that ``finally`` blocks run: the one handler of :func:`gd_analyze.io.signals.install`.
     Call from the main thread only.
     """
-    from .signals import install
-
     install()
 
 

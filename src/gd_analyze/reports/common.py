@@ -16,6 +16,7 @@ from importlib import resources
 import numpy as np
 
 from ..io.names import Attr
+from ..io.schema import strings
 from .figure_style import (
     BASE_RC,
     JOINT_STYLES,
@@ -79,22 +80,6 @@ def utc_now():
         Time-zone aware, microseconds zero.
     """
     return datetime.datetime.now(datetime.timezone.utc).replace(microsecond=0)
-
-
-def strings(values):
-    """Values of a dataset variable as a flat list of str (bytes decoded).
-
-    Parameters
-    ----------
-    values : array_like
-        Strings or bytes, any shape.
-
-    Returns
-    -------
-    list of str
-    """
-    return [v.decode() if isinstance(v, bytes) else str(v) for v in np.asarray(values).ravel()]
-
 
 
 def attr(ds, key, default="\u2014", *, parens=True, bools=False, sci_outside=None):

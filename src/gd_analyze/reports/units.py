@@ -11,6 +11,14 @@ import re
 
 import numpy as np
 
+from ..core.selection.ranking import (
+    element_units,
+    joint_torque_units,
+    joint_units_text,
+    parse_element_label,
+)
+from ..io.schema import strings as _strings
+
 __all__ = ["keep_units", "prismatic_joints", "units_text", "torque_units", "element_units_of",
            "units_said_once"]
 
@@ -85,8 +93,6 @@ def torque_units(ds):
     list of str, length n
         From :func:`gd_analyze.core.selection.labels.joint_torque_units`.
     """
-    from ..core.selection.ranking import joint_torque_units
-
     return [joint_torque_units(p) for p in prismatic_joints(ds)]
 
 
@@ -103,8 +109,6 @@ def element_units_of(ds):
     list of str, length M
         From :func:`gd_analyze.core.selection.labels.element_units`.
     """
-    from ..core.selection.ranking import element_units, parse_element_label
-
     n, prismatic = ds.sizes["joint"], prismatic_joints(ds)
     return [units_text(element_units(*parse_element_label(lab, n), prismatic))
             for lab in _strings(ds["element"].values)]
@@ -126,8 +130,6 @@ def units_said_once(ds, kind):
         it holds (``"N m (joints 1, 2), N (joint 3)"``; ``"kg m² where joints i and j are both
         revolute, kg m where one is prismatic, kg where both are"``).
     """
-    from ..core.selection.ranking import joint_units_text
-
     if kind != "D":
         return joint_units_text(torque_units(ds))
     prismatic = prismatic_joints(ds)
@@ -141,7 +143,3 @@ def units_said_once(ds, kind):
     return ", ".join(where[u] for u in where if u in found)
 
 
-def _strings(values):
-    from .common import strings
-
-    return strings(values)

@@ -290,7 +290,7 @@ def model_cost(model: SimplifiedModel) -> dict[str, Any]:
     Lee (1987) (a simplified model "at a reduced computation time"), Table 3.5 (N-E), and
     Armstrong, Khatib & Burdick (1986) for the explicit form.
     """
-    from ..core.model.drives import with_drives
+    from ..core.symbolic.drive_regressor import with_drives
     from ..core.symbolic.explicit_estimate import is_expensive
     from ..core.symbolic.recursive import recursive_program
     from ..formulations.opcount import operation_counts

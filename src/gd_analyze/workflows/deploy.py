@@ -325,8 +325,8 @@ def recursive_simplified(robot, rec, base, tolerance=DEFAULT_TOLERANCE, torque_f
     Fu, Gonzalez & Lee (1987), Algorithm 3.1 on the base parameters (Khalil & Kleinfinger
     1987; Gautier 1990).
     """
-    from ..core.model.drives import with_drives
     from ..core.selection.ranking import element_labels
+    from ..core.symbolic.drive_regressor import with_drives
     from ..core.symbolic.recursive import recursive_program
 
     exact_forms, pruned_forms = forms if forms is not None else (None, None)

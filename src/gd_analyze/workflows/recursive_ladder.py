@@ -53,7 +53,7 @@ def recursive_ladder(robot, base, trajectory, tolerances, torque_floor=0.0, regi
     -------
     list of dict
         Per EPS: ``tolerance``; ``multiplications``, ``additions``, ``sin``, ``cos`` of the
-        rung's program with the drives (:func:`gd_analyze.core.model.drives.with_drives`);
+        rung's program with the drives (:func:`gd_analyze.core.symbolic.drive_regressor.with_drives`);
         ``worst_relative_error``: max over joints of peak |tau_s - tau| / s_i on the
         trajectory, tau from the exact recursive program and s_i the rung's scale (over the
         region, or the trajectory's peak |tau_i| with the floor); ``worst_relative_bound``: max over joints of
@@ -70,7 +70,7 @@ def recursive_ladder(robot, base, trajectory, tolerances, torque_floor=0.0, regi
     1987; Gautier 1990), pruned as :func:`gd_analyze.workflows.deploy.build_recursive`; the
     error bound is the triangle inequality over the dropped pairs.
     """
-    from ..core.model.drives import with_drives
+    from ..core.symbolic.drive_regressor import with_drives
     from ..core.symbolic.emit import python_function
     from ..core.symbolic.recursive import recursive_program
     from ..core.symbolic.recursive_model import recursive_model

@@ -15,11 +15,12 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 
 from ..core.dynamics.dalembert import gd_terms
-from ..core.model.drives import DRIVE_FIELDS, with_drives
+from ..core.model.drives import DRIVE_FIELDS
 from ..core.selection.budget import DEFAULT_TOLERANCE, PartPeaks, relative_peaks, select_terms
 from ..core.selection.ranking import DEFAULT_DOMINANCE, DEFAULT_NEGLIGIBLE
 from ..core.selection.simplified import SimplifiedModel, TorqueErrorAccumulator
 from ..core.symbolic.codegen import build_program
+from ..core.symbolic.drive_regressor import with_drives
 from ..core.symbolic.explicit import term_peaks
 from ..io.explicit_cache import explicit_terms
 from .deploy import build_recursive, replace_cost  # noqa: F401  (re-exported)
@@ -64,7 +65,7 @@ def _program(robot, terms, kept):
         digest.update(np.asarray(getattr(robot, drive), float).tobytes())
     cache = terms.programs
     key = (robot.n, digest.hexdigest())
-    if key not in cache:        # the drives' terms are never dropped (drives.with_drives)
+    if key not in cache:        # the drives' terms are never dropped (drive_regressor.with_drives)
         cache[key] = with_drives(build_program(kept, robot.n, np.zeros(robot.n),
                                                prismatic=robot.prismatic), robot)
     return cache[key]

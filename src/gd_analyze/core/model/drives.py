@@ -31,11 +31,10 @@ from ...errors import InputError
 from .limits import LIMITS
 
 if TYPE_CHECKING:
-    from ..symbolic.codegen import Program
     from .robot import Robot
 
 __all__ = ["DRIVE_KEYS", "DRIVE_FIELDS", "drive_values", "drive_dict", "friction_torque",
-           "has_drives", "rigid_links", "with_drives"]
+           "has_drives", "rigid_links"]
 
 #: The optional per-link keys of a robot file for the drive: armature [kg m^2] (or rotor
 #: inertia [kg m^2] and gear ratio [-], armature = rotor_inertia * gear_ratio^2), viscous
@@ -212,41 +211,3 @@ def rigid_links(robot):
 
     zero = np.zeros(robot.n)
     return dataclasses.replace(robot, **dict.fromkeys(DRIVE_FIELDS, zero))
-
-
-def with_drives(program: Program, robot: Robot) -> Program:
-    """The program with the robot's drive terms added to every tau_i, never dropped.
-
-    Parameters
-    ----------
-    program : Program
-        The rigid-link model, tau_i of q, qd, qdd.
-    robot : Robot
-        Its ``armature`` Ia [kg m^2], ``viscous`` F_v [N m s/rad], ``coulomb`` F_c [N m] and
-        ``torque_offset`` tau_0 [N m].
-
-    Returns
-    -------
-    Program
-        The same program when the robot has no drives; else one whose tau_i adds
-        Ia_i qdd_i + F_v,i qd_i + F_c,i sign(qd_i) + tau_0,i
-        (:mod:`gd_analyze.core.model.drives`): one multiplication and one addition per
-        nonzero coefficient, and one addition for the offset, at most 3 + 4 per joint
-        (sign(qd) costs two comparisons, not counted).
-    """
-    import symengine as se
-
-    from ..symbolic.codegen import Program
-
-    arm, fv, fc, t0 = (np.asarray(getattr(robot, k), float) for k in DRIVE_FIELDS)
-    if not (arm.any() or fv.any() or fc.any() or t0.any()):
-        return program
-    outputs = list(program.outputs)
-    for i in range(program.n):
-        qd, qdd = se.Symbol(f"qd{i}"), se.Symbol(f"qdd{i}")
-        extra = [se.RealDouble(float(c)) * x for c, x in ((arm[i], qdd), (fv[i], qd),
-                                                          (fc[i], se.sign(qd))) if c != 0.0]
-        if t0[i] != 0.0:
-            extra.append(se.RealDouble(float(t0[i])))
-        outputs[i] = se.Add(outputs[i], *extra)
-    return Program(program.n, program.assignments, outputs)

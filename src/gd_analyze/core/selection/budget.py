@@ -20,7 +20,7 @@ trajectory's own scale, with memory independent of the number of trajectories.
 
 The drives' terms of an arm (:mod:`gd_analyze.core.model.drives`: the armature part D_arm of D and
 the friction torque tau_f) are not parts of this index: the simplified model never drops them
-(:func:`gd_analyze.core.model.drives.with_drives`, at most 3 multiplications and 3 additions per
+(:func:`gd_analyze.core.symbolic.drive_regressor.with_drives`, at most 3 multiplications and 3 additions per
 joint), so they add nothing to the error and the budget applies to the links' parts alone;
 each joint's scale, peak |tau_i|, includes them.
 

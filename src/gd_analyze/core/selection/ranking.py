@@ -40,7 +40,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ...config import defaults
+from ...config import ROUND_OFF, ROUND_OFF_EPS, defaults
 from ..dynamics.dalembert import compiled_engine
 from .labels import (
     element_index,
@@ -119,13 +119,6 @@ DEFAULT_DOMINANCE = defaults["dominance"]
 #: Default negligibility threshold e (:data:`gd_analyze.config.defaults`).
 DEFAULT_NEGLIGIBLE = defaults["negligible"]
 
-#: A quantity whose peak is at most this fraction of its own scale is floating-point round-off
-#: (about 4500 machine epsilons: a sum of a few thousand rounded terms), never data.
-ROUND_OFF = 1e-12
-#: ... or at most this many machine epsilons of the arm's scale of the same quantity (the
-#: largest scale in the same units): the absolute floor of the verification against Pinocchio
-#: (:data:`gd_analyze.formulations.pinocchio.FLOOR_EPS`).
-ROUND_OFF_EPS = 64.0
 #: How every text that calls a bound guaranteed says the round-off it allows (issue 31);
 #: :func:`gd_analyze.core.selection.guarantee.within_bound` judges by the same allowance.
 ROUND_OFF_CLAUSE = f"up to floating-point round-off ({ROUND_OFF_EPS:g} eps of the scale)"

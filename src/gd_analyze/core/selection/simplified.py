@@ -189,14 +189,14 @@ class SimplifiedModel:
     def program(self):
         """The straight-line program of the model
         (:class:`~gd_analyze.core.symbolic.codegen.Program`), with the drives' armature and
-        friction, never dropped (:func:`~gd_analyze.core.model.drives.with_drives`)."""
+        friction, never dropped (:func:`~gd_analyze.core.symbolic.drive_regressor.with_drives`)."""
         return self._program
 
     @cached_property
     def _program(self):
         if self.program_cache is not None:
             return self.program_cache
-        from ..model.drives import with_drives
+        from ..symbolic.drive_regressor import with_drives
 
         if self.recursive is not None:
             return with_drives(self._choice[0], self.robot)

@@ -18,20 +18,28 @@ a second joint across it has ZZ_2's column ``qdd_2`` on row 2).
 the base parameters (QR of the scaled regressor stacked at random states, base columns first):
 a dependent drive column is left out and its parameter is regrouped into the base parameters
 it depends on. sgn may be smoothed to tanh(qd / v_s) (``coulomb_velocity`` v_s > 0).
+:func:`with_drives` adds the same drive terms to a deployed model's program.
 """
 
 from __future__ import annotations
 
 from dataclasses import dataclass
+from typing import TYPE_CHECKING
 
 import numpy as np
+import symengine as se
 
+from ..model.drives import DRIVE_FIELDS
 from ..model.kinematics import as_states
 from .base_parameters import BaseParameters, base_parameters, random_states
+from .codegen import Program
 from .regressor_kernels import regressor_columns
 
+if TYPE_CHECKING:
+    from ..model.robot import Robot
+
 __all__ = ["DRIVE_COLUMNS", "drive_regressor", "IdentificationColumns",
-           "identification_columns", "identification_regressor"]
+           "identification_columns", "identification_regressor", "with_drives"]
 
 #: The drive column kinds, in the order of the columns (kind-major: every joint's armature,
 #: then every joint's viscous friction, ...).
@@ -295,3 +303,37 @@ def identification_regressor(robot, q: np.ndarray, qd: np.ndarray, qdd: np.ndarr
                            q, qd, qdd)
     D = drive_regressor(qd, qdd, columns.drives, columns.coulomb_velocity)
     return np.concatenate([Yb, D[:, :, columns.drive_mask]], axis=2)
+
+
+def with_drives(program: Program, robot: Robot) -> Program:
+    """The program with the robot's drive terms added to every tau_i, never dropped.
+
+    Parameters
+    ----------
+    program : Program
+        The rigid-link model, tau_i of q, qd, qdd.
+    robot : Robot
+        Its ``armature`` Ia [kg m^2], ``viscous`` F_v [N m s/rad], ``coulomb`` F_c [N m] and
+        ``torque_offset`` tau_0 [N m].
+
+    Returns
+    -------
+    Program
+        The same program when the robot has no drives; else one whose tau_i adds
+        Ia_i qdd_i + F_v,i qd_i + F_c,i sign(qd_i) + tau_0,i
+        (:mod:`gd_analyze.core.model.drives`): one multiplication and one addition per
+        nonzero coefficient, and one addition for the offset, at most 3 + 4 per joint
+        (sign(qd) costs two comparisons, not counted).
+    """
+    arm, fv, fc, t0 = (np.asarray(getattr(robot, k), float) for k in DRIVE_FIELDS)
+    if not (arm.any() or fv.any() or fc.any() or t0.any()):
+        return program
+    outputs = list(program.outputs)
+    for i in range(program.n):
+        qd, qdd = se.Symbol(f"qd{i}"), se.Symbol(f"qdd{i}")
+        extra = [se.RealDouble(float(c)) * x for c, x in ((arm[i], qdd), (fv[i], qd),
+                                                          (fc[i], se.sign(qd))) if c != 0.0]
+        if t0[i] != 0.0:
+            extra.append(se.RealDouble(float(t0[i])))
+        outputs[i] = se.Add(outputs[i], *extra)
+    return Program(program.n, program.assignments, outputs)

@@ -1,6 +1,6 @@
 """The deployed model's files: a C header and source, a numpy module, a CasADi module.
 
-Every file holds the five functions of :data:`.model_functions.FUNCTIONS` (tau, inertia,
+Every file holds the five functions of :data:`FUNCTIONS` (tau, inertia,
 velocity_terms, gravity, regressor) of one :class:`.model_functions.ModelFunctions`, printed by
 the printers of :mod:`.emit` from the same programs:
 
@@ -36,7 +36,6 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 
 from .emit import CASADI, NUMPY, C, Printer
-from .model_functions import FUNCTIONS
 from .safe_text import (
     c_string,
     check_prefix,
@@ -50,8 +49,50 @@ if TYPE_CHECKING:
     from .model_functions import ModelFunctions
 
 
-__all__ = ["Artefact", "ARTEFACTS", "artefact_names", "render", "c_header", "c_source",
-           "numpy_source", "numpy_function", "casadi_source"]
+__all__ = ["FunctionSpec", "FUNCTIONS", "Artefact", "ARTEFACTS", "artefact_names", "render",
+           "c_header", "c_source", "numpy_source", "numpy_function", "casadi_source"]
+
+
+@dataclass(frozen=True)
+class FunctionSpec:
+    """One function of the deployed model.
+
+    Attributes
+    ----------
+    key : str
+        Its name, e.g. ``"inertia"`` (the C function is ``PREFIX<key>``).
+    inputs : tuple of str
+        The argument arrays, of n values each (``"q"``, ``"qd"``, ``"qdd"``).
+    output : str
+        The result's name (``"tau"``, ``"D"``, ``"h"``, ``"c"``, ``"Y"``).
+    columns : str
+        ``"1"`` (a vector of n), ``"n"`` (n x n) or ``"b"`` (n x b, b parameters).
+    text : str
+        What it returns, with units.
+    """
+
+    key: str
+    inputs: tuple
+    output: str
+    columns: str
+    text: str
+
+
+#: The five functions, in the order every emitted file lists them.
+FUNCTIONS = (
+    FunctionSpec("tau", ("q", "qd", "qdd"), "tau", "1",
+                 "joint torques tau_s = D_s qdd + h_s + c_s [N m; N for a prismatic joint]"),
+    FunctionSpec("inertia", ("q",), "D", "n",
+                 "inertia matrix D_s, n x n row-major, symmetric, armature on the diagonal "
+                 "[kg m^2; kg]"),
+    FunctionSpec("velocity_terms", ("q", "qd"), "h", "1",
+                 "Coriolis and centrifugal terms h_s plus joint friction F_v qd + F_c sign(qd) "
+                 "[N m; N]"),
+    FunctionSpec("gravity", ("q",), "c", "1", "gravity terms c_s [N m; N]"),
+    FunctionSpec("regressor", ("q", "qd", "qdd"), "Y", "b",
+                 "regressor Y_s, n x b row-major, tau_s = Y_s beta_s [N m per unit of beta]"),
+)
+
 
 
 @dataclass(frozen=True)

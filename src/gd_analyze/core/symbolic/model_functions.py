@@ -40,6 +40,7 @@ from numpy.typing import ArrayLike
 
 from ..model.drives import DRIVE_FIELDS
 from .codegen import ExplicitProgram, Program
+from .emit_model import FUNCTIONS, FunctionSpec, numpy_source
 from .transform import jacobian, substitute
 
 if TYPE_CHECKING:
@@ -50,47 +51,6 @@ if TYPE_CHECKING:
 
 __all__ = ["FunctionSpec", "FUNCTIONS", "ModelFunctions", "recursive_functions",
            "recursive_inertia", "with_armature", "explicit_functions", "joint_labels"]
-
-
-@dataclass(frozen=True)
-class FunctionSpec:
-    """One function of the deployed model.
-
-    Attributes
-    ----------
-    key : str
-        Its name, e.g. ``"inertia"`` (the C function is ``PREFIX<key>``).
-    inputs : tuple of str
-        The argument arrays, of n values each (``"q"``, ``"qd"``, ``"qdd"``).
-    output : str
-        The result's name (``"tau"``, ``"D"``, ``"h"``, ``"c"``, ``"Y"``).
-    columns : str
-        ``"1"`` (a vector of n), ``"n"`` (n x n) or ``"b"`` (n x b, b parameters).
-    text : str
-        What it returns, with units.
-    """
-
-    key: str
-    inputs: tuple
-    output: str
-    columns: str
-    text: str
-
-
-#: The five functions, in the order every emitted file lists them.
-FUNCTIONS = (
-    FunctionSpec("tau", ("q", "qd", "qdd"), "tau", "1",
-                 "joint torques tau_s = D_s qdd + h_s + c_s [N m; N for a prismatic joint]"),
-    FunctionSpec("inertia", ("q",), "D", "n",
-                 "inertia matrix D_s, n x n row-major, symmetric, armature on the diagonal "
-                 "[kg m^2; kg]"),
-    FunctionSpec("velocity_terms", ("q", "qd"), "h", "1",
-                 "Coriolis and centrifugal terms h_s plus joint friction F_v qd + F_c sign(qd) "
-                 "[N m; N]"),
-    FunctionSpec("gravity", ("q",), "c", "1", "gravity terms c_s [N m; N]"),
-    FunctionSpec("regressor", ("q", "qd", "qdd"), "Y", "b",
-                 "regressor Y_s, n x b row-major, tau_s = Y_s beta_s [N m per unit of beta]"),
-)
 
 
 @dataclass(frozen=True, eq=False)
@@ -146,9 +106,7 @@ class ModelFunctions:
 
     @cached_property
     def _numpy(self):
-        from .emit_model import numpy_source
-
-        ns = {}
+        ns: dict[str, Any] = {}
         exec(compile(numpy_source(self, {}), "<simplified_model.py>", "exec"), ns)
         return ns
 
@@ -250,7 +208,7 @@ def recursive_functions(robot: Robot, base: BaseParameters, left_out: ArrayLike,
         The (base parameter, part) pairs the model's program leaves out
         (:func:`.pruning.pruned_choice`).
     tau : Program
-        The model's program, drives included (:func:`gd_analyze.core.model.drives.with_drives`).
+        The model's program, drives included (:func:`gd_analyze.core.symbolic.drive_regressor.with_drives`).
 
     Returns
     -------

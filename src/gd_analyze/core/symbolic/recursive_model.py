@@ -17,6 +17,7 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 from numpy.typing import ArrayLike
 
+from ...config import ROUND_OFF
 from ...errors import InputError
 from .base_parameters import BaseParameters, base_parameters
 from .recursive import PARTS
@@ -88,12 +89,10 @@ class RecursiveModel:
         -------
         ndarray of bool, shape (b, 3)
             True where the pair's peak contribution is at least
-            :data:`gd_analyze.core.selection.ranking.ROUND_OFF` of the joint's scale (a pair
+            :data:`gd_analyze.config.ROUND_OFF` of the joint's scale (a pair
             below it, e.g. the gravity part of a product of inertia, is structurally 0 and
             neither kept nor dropped); all True when the model does not know.
         """
-        from ..selection.ranking import ROUND_OFF
-
         if self.relative_peak is not None:
             return np.asarray(self.relative_peak) >= ROUND_OFF
         if self.round_off is not None:
