@@ -18,6 +18,10 @@ import sys
 import warnings
 
 from ..errors import InputError, InputNote, InputWarning
+from ..io.robots import builtin_robots, unknown_robot
+from ..io.signals import after_run, install
+from ..io.staging import Terminated
+from ..io.urdf import is_urdf_text
 from .commands import cmd_analyze, cmd_compare, cmd_control, cmd_evaluate, cmd_plan
 from .identify_command import cmd_identify
 from .parsing import (
@@ -113,8 +117,6 @@ def _mistyped_command(argv):
     traj.csv``), else a mistyped command when one is close; None otherwise."""
     import difflib
 
-    from ..io.robots import builtin_robots, unknown_robot  # the TOML and URDF built-ins
-    from ..io.urdf import is_urdf_text
 
     word = argv[0]
     if (word.startswith("-") or word in builtin_robots() or os.path.exists(word)
@@ -158,7 +160,6 @@ def run():
     import gc
     import importlib
 
-    from ..io.signals import after_run
 
     argv = sys.argv[1:]
     if _main_job(argv):
@@ -213,8 +214,6 @@ def main(argv=None):
 
 
 def _main(argv):
-    from ..io.signals import install
-    from ..io.staging import Terminated
 
     argv = list(sys.argv[1:] if argv is None else argv)
     given = list(argv)

@@ -12,11 +12,49 @@ import sys
 import warnings
 from pathlib import Path
 
-from ..core.selection.labels import joint_torque_units
+from .._version import VERSION as __version__
+from ..core.model.limits import LIMITS, exact_text, first_beyond
+from ..core.model.mounting import mounting_of, with_mounting
+from ..core.model.robot import with_payload
+from ..core.selection.labels import joint_motion_units, joint_torque_units, joint_units_text
+from ..core.selection.region import RegionLimits, joint_region
+from ..core.selection.simplified import json_safe
 from ..errors import InputError, InputWarning
+from ..files import file_sha256
+from ..formulations.compare import compare_report, format_compare
+from ..io.excitation import DEFAULT_HARMONICS, plan_excitation
 from ..io.model_file import load_model
 from ..io.names import Var
+from ..io.planning import (
+    DEFAULT_SETPOINTS,
+    acceleration_limits,
+    check_velocity_limits,
+    default_motion,
+    provenance_mismatch,
+    quintic_min_durations,
+    quintic_plan,
+    user_positions,
+    write_provenance,
+)
 from ..io.results_view import ZERO_MARK, Results, torque_table_header
+from ..io.robots import load_robot
+from ..io.staging import safe_name, staged_output, writing
+from ..io.trajectory import (
+    JointLimitWarning,
+    check_joint_limits,
+    read_trajectory,
+    write_trajectory_chunks,
+)
+from ..reports.control import CONTROL_REPORT_FILES
+from ..reports.control_text import dataset_verdict
+from ..reports.effort import effort_rows
+from ..reports.numbers import count
+from ..workflows.analyze import progress_bar
+from ..workflows.control import CONTROL_FILE, run_control
+from ..workflows.deploy import robot_region
+from ..workflows.evaluate import coverage, evaluate, gate
+from ..workflows.options import AnalysisOptions, SimplifyOptions
+from ..workflows.run import Payload, run_analysis
 from .parsing import EXIT_OK, EXIT_TOLERANCE, EXIT_VERIFY, PROG, parse_range
 
 __all__ = []
@@ -47,14 +85,12 @@ def load_robot_arg(args):
     gd_analyze.errors.InputError
         If the robot cannot be read (:func:`gd_analyze.io.robots.load_robot`).
     """
-    from ..io.robots import load_robot
 
     return _apply_mounting(load_robot(args.robot, args.base, args.tip), args)
 
 
 def _apply_mounting(robot, args):
     """The robot with --gravity and --base-rpy applied (the same robot without them)."""
-    from ..core.model.mounting import with_mounting
 
     return with_mounting(robot, getattr(args, "gravity", None), getattr(args, "base_rpy", None))
 
@@ -65,7 +101,6 @@ def model_mounting(model_robot, args, path):
     (never on top of it); an option equal to that mounting changes nothing, with one note."""
     import numpy as np
 
-    from ..core.model.mounting import mounting_of
 
     rpy, g_world = mounting_of(model_robot)
     for opt, given, own in (("--gravity", args.gravity, g_world),
@@ -95,7 +130,6 @@ def chain_settings(args):
 
 def apply_payload(robot, args):
     """The robot with the --payload options' load, if any (Sec. 3.4.1's loaded arm)."""
-    from ..core.model.robot import with_payload
 
     payload = _payload(args)
     return robot if payload is None else with_payload(robot, payload.mass, payload.com,
@@ -106,7 +140,6 @@ def output_folder(args_outdir, *parts):
     """The output folder: -o as given, or reports/<sanitised parts joined by '-'>."""
     import os
 
-    from ..io.staging import safe_name
 
     folder = Path(args_outdir) if args_outdir else \
         Path("reports") / "-".join(safe_name(p) for p in parts)
@@ -153,14 +186,12 @@ def wrote_line(files, folder, verbose):
 
 
 def _load(args, csv_arg):
-    from ..io.trajectory import read_trajectory
 
     robot = load_robot_arg(args)
     return robot, read_trajectory(csv_arg, n_joints=robot.n)
 
 
 def _warn_limits(robot, trajectory, quiet):
-    from ..io.trajectory import JointLimitWarning, check_joint_limits
 
     with warnings.catch_warnings():
         warnings.simplefilter("ignore", JointLimitWarning)
@@ -198,7 +229,6 @@ def _cost_lines(ds):
 def _joint_units(robot, which):
     """``"rad"``, ``"N m"``, or each unit with its joints for a mixed arm
     (:func:`gd_analyze.core.selection.labels.joint_units_text`)."""
-    from ..core.selection.labels import joint_motion_units, joint_units_text
 
     units = [joint_torque_units(bool(p)) if which == "tau" else joint_motion_units(bool(p))[0]
              for p in robot.prismatic]
@@ -207,7 +237,6 @@ def _joint_units(robot, which):
 
 def _effort_lines(ds):
     """Each joint's peak |tau| against its effort limit, where the robot gives one."""
-    from ..reports.effort import effort_rows
 
     rows = effort_rows(ds)
     if not rows:
@@ -254,7 +283,6 @@ def _guarantee_lines(results):
 def _format_summary(results):
     """The main job's summary as printed, from the typed results view
     (:class:`gd_analyze.io.results_view.Results`)."""
-    from ..reports.numbers import count
 
     lines = [f"{results.robot} along {results.input_file}: "
              f"{count(results.setpoints)} set points, s = {results.dominance_threshold:g}, "
@@ -301,7 +329,6 @@ def payload_mass_list(args):
     """
     if args.payload_sweep is None:
         return None
-    from ..core.model.limits import LIMITS
 
     masses = parse_range(args.payload_sweep)
     if masses[-1] > LIMITS["mass"]:
@@ -333,8 +360,6 @@ def region_limits(args, robot):
     """
     import numpy as np
 
-    from ..core.selection.region import RegionLimits
-    from ..workflows.deploy import robot_region
 
     given = {k: getattr(args, k, None) for k in ("q_limits", "qd_max", "qdd_max")}
     if all(v is None for v in given.values()):
@@ -364,7 +389,6 @@ def region_limits(args, robot):
 
 def _options(args, robot=None):
     """The main job's settings from its arguments (``robot``: for the region's options)."""
-    from ..workflows.options import AnalysisOptions, SimplifyOptions
 
     return AnalysisOptions(
         dominance=args.dominance, negligible=args.negligible, verify=not args.no_verify,
@@ -377,7 +401,6 @@ def _options(args, robot=None):
 
 def _payload(args):
     """The --payload options as a Payload, or None; InputError for a shape without a mass."""
-    from ..workflows.run import Payload
 
     if args.payload is None:
         if any(args.payload_com) or any(args.payload_inertia):
@@ -406,8 +429,6 @@ def cmd_analyze(args):
     gd_analyze.errors.InputError
         On bad input; the command line prints it as one line and exits 2.
     """
-    from ..workflows.analyze import progress_bar
-    from ..workflows.run import run_analysis
 
     bar = progress_bar(not args.quiet and sys.stderr.isatty())
     robot, trajectory = _load(args, args.trajectory)
@@ -455,7 +476,6 @@ def _check_plan(robot, start, goal, duration):
     start, goal in SI (rad, m for a prismatic joint); robot with the limits the plan uses."""
     import numpy as np
 
-    from ..io.planning import quintic_min_durations
 
     prismatic = np.asarray(getattr(robot, "prismatic", np.zeros(robot.n, bool)), bool)
 
@@ -508,16 +528,6 @@ def cmd_plan(args):
     """
 
 
-    from .._version import VERSION as __version__
-    from ..io.planning import (
-        DEFAULT_SETPOINTS,
-        acceleration_limits,
-        check_velocity_limits,
-        default_motion,
-        quintic_plan,
-        user_positions,
-        write_provenance,
-    )
 
     robot = load_robot_arg(args)
     robot, limits, qdd_arg = _planning_region(args, robot)
@@ -538,7 +548,6 @@ def cmd_plan(args):
             raise InputError(f"{name}: {len(vals)} values for {robot.n} joints")
     start = start if args.start is None else user_positions(robot, args.start)
     goal = goal if args.goal is None else user_positions(robot, args.goal)
-    from ..core.model.limits import LIMITS, exact_text, first_beyond
 
     if not 2 <= args.setpoints <= 10**8:
         raise InputError("--setpoints: a trajectory needs 2 to 10^8 set points")
@@ -606,8 +615,6 @@ def _write_plan(pieces, n, output, advice):
     ``pieces`` is a callable returning the trajectory's pieces in order (called twice: to check,
     then to write), ``n`` the number of joints. Returns False when it went to standard output
     (no provenance then)."""
-    from ..core.model.limits import LIMITS, first_beyond
-    from ..io.trajectory import write_trajectory_chunks
 
     for piece in pieces():
         for name in ("q", "qd", "qdd"):
@@ -642,7 +649,6 @@ def _planning_region(args, robot):
     limits = region_limits(args, robot)
     if limits is None:
         return robot, None, None
-    from ..core.selection.region import joint_region
 
     try:        # the user's position and velocity limits, within the robot's
         own = joint_region(robot, np.ones(robot.n), limits)
@@ -675,10 +681,6 @@ def _plan_excitation(args, robot, qdd_arg):
     """
     import numpy as np
 
-    from .._version import VERSION as __version__
-    from ..core.model.limits import LIMITS, first_beyond
-    from ..io.excitation import DEFAULT_HARMONICS, plan_excitation
-    from ..io.planning import check_velocity_limits, write_provenance
 
     for name in ("start", "goal"):
         if getattr(args, name) is not None:
@@ -783,7 +785,6 @@ def _replace_limits(robot, qdd_max):
 
 def _warn_provenance(csv_path, robot):
     """One warning line when the trajectory's provenance names another robot."""
-    from ..io.planning import provenance_mismatch
 
     message = provenance_mismatch(csv_path, robot)
     if message:
@@ -811,9 +812,6 @@ def cmd_evaluate(args):
     """
     import json
 
-    from ..core.selection.simplified import json_safe
-    from ..io.trajectory import read_trajectory
-    from ..workflows.evaluate import coverage, evaluate, gate
 
     model = load_model(args.model)
     traj = read_trajectory(args.trajectory, n_joints=model.robot.n)
@@ -880,7 +878,6 @@ def cmd_compare(args):
     """
     import json
 
-    from ..formulations.compare import compare_report, format_compare
 
     robot, traj = _load(args, args.trajectory)
     report = compare_report(robot, traj.q, traj.qd, traj.qdd)
@@ -912,13 +909,7 @@ def cmd_control(args):
     """
     import json
 
-    from ..files import file_sha256
     from ..io.control_dataset import control_dataset, write_control_dataset
-    from ..io.staging import staged_output, writing
-    from ..io.trajectory import read_trajectory
-    from ..reports.control import CONTROL_REPORT_FILES
-    from ..reports.control_text import dataset_verdict
-    from ..workflows.control import CONTROL_FILE, run_control
 
     model = load_model(args.model)
     traj = read_trajectory(args.trajectory, n_joints=model.robot.n)

@@ -11,8 +11,17 @@ import decimal
 import math
 import re
 
+from .._version import VERSION as __version__
 from ..config import defaults
+from ..core.identify.regressor import DRIVE_KINDS
+from ..core.symbolic.safe_text import check_prefix
 from ..errors import InputError
+from ..io.excitation import DEFAULT_DURATION, DEFAULT_HARMONICS, DEFAULT_SAMPLE_PERIOD
+from ..io.planning import DEFAULT_GOAL_DEG, DEFAULT_QDD_PER_QD, DEFAULT_SETPOINTS, DEFAULT_START_DEG
+from ..io.robots import robots_text
+from ..io.trajectory import parse_number
+from ..workflows.identify import DEFAULT_DRIVES
+from ..workflows.tracking import DEFAULT_WN, DEFAULT_ZETA
 
 __all__ = ["parse_range", "PROG", "COMMANDS", "EXIT_STATUS_HELP", "identify_parser"]
 
@@ -116,7 +125,6 @@ def parse_range(text, name="--payload-sweep"):
 def _number(text, integer=False):
     """A number of the command line by the trajectory CSV's rules
     (:func:`gd_analyze.io.trajectory.parse_number`): plain decimal, finite."""
-    from ..io.trajectory import parse_number
 
     try:
         return parse_number(text.strip(" "), integer=integer)
@@ -208,7 +216,6 @@ def _add_chain_arguments(p):
 
 
 def _robot_help():
-    from ..io.robots import robots_text
 
     return (f"built-in robot ({robots_text()}), a TOML robot file or a URDF file (*.urdf, see "
             "--base and --tip)")
@@ -266,7 +273,6 @@ _REGION_HELP = {
 def _add_region_arguments(p, what="the region over which the bound is proved (--guarantee "
                                   "region) and the analysed trajectory is checked"):
     """--q-limits, --qd-max, --qdd-max: the user's region (in degrees as the other options)."""
-    from ..io.planning import DEFAULT_QDD_PER_QD
 
     g = p.add_argument_group(f"region ({what})")
     g.add_argument("--q-limits", metavar="LO:HI[,...]", type=_q_ranges,
@@ -397,7 +403,6 @@ def analyze_parser():
 
 def _prefix(text):
     """--prefix: a C identifier (:func:`gd_analyze.core.symbolic.safe_text.check_prefix`)."""
-    from ..core.symbolic.safe_text import check_prefix
 
     try:
         return check_prefix(text)
@@ -412,7 +417,6 @@ def tool_version():
     -------
     str
     """
-    from .._version import VERSION as __version__
 
     return __version__
 
@@ -425,12 +429,6 @@ def plan_parser():
     argparse.ArgumentParser
         Its options, defaults from :data:`gd_analyze.config.defaults`.
     """
-    from ..io.excitation import DEFAULT_DURATION, DEFAULT_HARMONICS, DEFAULT_SAMPLE_PERIOD
-    from ..io.planning import (
-        DEFAULT_GOAL_DEG,
-        DEFAULT_SETPOINTS,
-        DEFAULT_START_DEG,
-    )
 
     p = _Parser(prog=f"{PROG} plan",
                 description="Write a quintic rest-to-rest joint trajectory at the shortest "
@@ -539,7 +537,6 @@ def control_parser():
     argparse.ArgumentParser
         Its options, defaults from :data:`gd_analyze.config.defaults`.
     """
-    from ..workflows.tracking import DEFAULT_WN, DEFAULT_ZETA
 
     p = _Parser(prog=f"{PROG} control",
                 description="Simulate computed-torque control of the full-model arm along a "
@@ -655,7 +652,6 @@ def _cutoff(text):
 
 def _drive_list(text):
     """``--drives``: comma-separated drive columns, or ``none``."""
-    from ..core.identify.regressor import DRIVE_KINDS
 
     word = text.strip().lower()
     if word == "none":
@@ -684,7 +680,6 @@ def identify_parser():
     argparse.ArgumentParser
         Its options.
     """
-    from ..workflows.identify import DEFAULT_DRIVES
 
     p = _Parser(prog=f"{PROG} identify",
                 description="Identify the robot's base parameters and drives (armature, "

@@ -14,6 +14,16 @@ from ..core.symbolic.emit_model import artefact_names
 from ..core.symbolic.safe_text import c_prefix
 from ..errors import InputError
 from ..io.model_file import save_model
+from ..io.planning import random_trajectories
+from ..io.schema import write_dataset
+from ..io.staging import staged_output, writing
+from ..io.sweep_datasets import beyond_the_floor
+from ..io.sweep_guarantee import merged_guarantee
+from ..io.trajectory import read_trajectory
+from ..workflows.deploy import guarantee_region
+from ..workflows.payload import sweep_payloads
+from ..workflows.sweep_budget import budget_sweep_model
+from ..workflows.sweep_merged import merged_model, with_budget_model, with_model_cost
 from .commands import (
     apply_payload,
     chain_settings,
@@ -36,9 +46,6 @@ def _sweep_model(robot, trajectories, args, outdir, settings, ds, limits=None):
 
     Writes merged_model.json and its emitted files (prefix ROBOT_merged_) into outdir; returns (written paths, the sweep dataset
     with this model's errors)."""
-    from ..io.planning import random_trajectories
-    from ..workflows.sweep_budget import budget_sweep_model
-    from ..workflows.sweep_merged import with_budget_model
 
     if args.held_out < 0:
         raise InputError("--held-out must be >= 0")
@@ -68,8 +75,6 @@ def _model_lines(model, ds, args):
     as the model states it (:meth:`gd_analyze.core.selection.guarantee.Guarantee.statement`)."""
     import numpy as np
 
-    from ..io.sweep_datasets import beyond_the_floor
-    from ..io.sweep_guarantee import merged_guarantee
 
     v = model.validation
     eps = args.tolerance
@@ -154,13 +159,8 @@ def cmd_sweep(args):
     gd_analyze.errors.InputError
         On bad input; the command line prints it as one line and exits 2.
     """
-    from ..io.planning import random_trajectories
-    from ..io.schema import write_dataset
-    from ..io.trajectory import read_trajectory
     from ..workflows.dask_cluster import dask_client
-    from ..workflows.payload import sweep_payloads
     from ..workflows.sweep import run_sweep
-    from ..workflows.sweep_merged import merged_model, with_model_cost
 
     robot = load_robot_arg(args)
     if (args.random is None) == (not args.csv):
@@ -208,7 +208,6 @@ def cmd_sweep(args):
             settings["random_qdd_max_source"] = acceleration_limits(robot)[1]
         except ValueError as exc:
             raise InputError(str(exc), robot.source) from None
-    from ..workflows.deploy import guarantee_region
 
     limits = region_limits(args, loaded)
     settings.update({} if limits is None else limits.settings())
@@ -228,7 +227,6 @@ def cmd_sweep(args):
         payload = None if masses is None else sweep_payloads(
             robot, trajectories, masses, args.payload_com, args.payload_inertia,
             args.dominance, args.negligible, client=client)
-    from ..io.staging import staged_output, writing
 
     with staged_output(outdir, SWEEP_OUTPUTS, "sweep") as stage, writing(outdir, stage):
         written = [stage / "sweep.h5"]

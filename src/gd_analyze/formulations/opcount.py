@@ -97,6 +97,7 @@ from .counting import (
 from .lagrange_euler import joint_q_matrices, le_core
 from .lagrange_euler import le_constants as _le_constants
 from .newton_euler import link_constants, ne_core, ne_cross
+from .opcount_cache import cache_file, mismatch_warning, read_counts, store_counts
 
 if TYPE_CHECKING:
     import pandas as pd
@@ -401,7 +402,6 @@ def _code_sha256():
 
 def _cache_file():
     """The on-disk cache of the counts (:mod:`.opcount_cache`), or None when disabled."""
-    from .opcount_cache import cache_file
 
     return cache_file(_code_sha256())
 
@@ -412,7 +412,6 @@ def _counts_for(types):
     (a few milliseconds for six joints) and compared with the on-disk cache
     (:mod:`.opcount_cache`): an entry is never believed, even with its checksum recomputed; one
     that differs from the recount gets one warning line and is replaced."""
-    from .opcount_cache import mismatch_warning, read_counts, store_counts
 
     n = len(types)
     path, code = _cache_file(), _code_sha256()

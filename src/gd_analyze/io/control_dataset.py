@@ -13,6 +13,9 @@ from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
+from ..core.selection.labels import element_units, joint_gain_units
+from ..core.selection.ranking import element_labels
+from .datasets import JOINT_UNIT_COORDS, joint_units, units_attribute
 from .schema import global_attributes, joint_coordinate, var, write_dataset
 
 if TYPE_CHECKING:                       # for the type hints only
@@ -31,7 +34,6 @@ def _peak_rms(x, axis=0):
 def gain_units(prismatic: Sequence[bool] | np.ndarray) -> dict[str, list[str]]:
     """Per joint, the units of the PD gains and of D_ii (which scales them), from the joint
     types (:func:`gd_analyze.core.selection.labels.joint_gain_units`, ``element_units``)."""
-    from ..core.selection.labels import element_units, joint_gain_units
 
     gains = [joint_gain_units(bool(p)) for p in prismatic]
     return {"inertia_scale": [element_units("D", j, j, prismatic) for j in range(len(prismatic))],
@@ -75,8 +77,6 @@ def control_dataset(result: Any, settings: Mapping[str, str | float | int] | Non
     """
     import xarray as xr
 
-    from ..core.selection.ranking import element_labels
-    from .datasets import JOINT_UNIT_COORDS, joint_units, units_attribute
 
     robot, g, prov = result.robot, result.gains, result.provenance
     n = robot.n

@@ -22,6 +22,19 @@ from pathlib import Path
 
 import numpy as np
 
+from ..core.selection.labels import (
+    element_units,
+    joint_drive_units,
+    joint_motion_units,
+    joint_torque_units,
+)
+from ..core.selection.ranking import (
+    CHAPTER_DOMINANCE,
+    arm_scales,
+    identically_zero,
+    is_chapter_puma,
+    is_round_off,
+)
 from .names import VERIFICATION_PREFIX, Attr, Var
 from .schema import MIXED_UNITS, element_coords, global_attributes, joint_coordinate, var
 
@@ -255,7 +268,6 @@ def joint_units(prismatic, which):
         :func:`gd_analyze.core.selection.labels.joint_torque_units` and
         :func:`gd_analyze.core.selection.labels.joint_drive_units`.
     """
-    from ..core.selection.labels import joint_drive_units, joint_motion_units, joint_torque_units
 
     if which == "tau":
         return [joint_torque_units(bool(p)) for p in prismatic]
@@ -312,7 +324,6 @@ def setpoint_units(name, prismatic=None):
     >>> setpoint_units("tau", [True]), setpoint_units("D", [False, False])
     ('N', 'kg m2')
     """
-    from ..core.selection.labels import element_units
 
     base = setpoint_variables(True)[name][1]
     if prismatic is None or not np.any(prismatic):
@@ -383,13 +394,6 @@ def summary_dataset(robot, trajectory, ranking, choices, error, verification=Non
     """
     import xarray as xr
 
-    from ..core.selection.ranking import (
-        CHAPTER_DOMINANCE,
-        arm_scales,
-        identically_zero,
-        is_chapter_puma,
-        is_round_off,
-    )
 
     n = robot.n
     labels = list(ranking.labels)

@@ -32,6 +32,9 @@ import warnings
 
 import numpy as np
 
+from .._version import VERSION as __version__
+from ..core.symbolic.explicit import Term, derive, model_terms
+from ..core.symbolic.explicit_check import terms_disagreement
 from ..errors import one_line
 from ..files import package_sha256
 from .cache_files import CacheWarning, cache_dir, entry_path, read_entry, write_entry
@@ -63,7 +66,6 @@ def cache_key(robot):
         package version and the SHA-256 of the package's sources); ``settings`` (what
         the derivation depends on besides the parameters: the joint types, the fields).
     """
-    from .._version import VERSION as __version__
     from ..core.selection.simplified import parameters_sha256
 
     return {"format": _FORMAT, "robot_sha256": str(robot.sha256),
@@ -104,8 +106,6 @@ def _arrays(terms):
 
 def _read(path, key, robot):
     """The entry's terms, or the reason it is not used (a str)."""
-    from ..core.symbolic.explicit import Term
-    from ..core.symbolic.explicit_check import terms_disagreement
 
     arrays = read_entry(path, key, _FIELDS, _MAX_BYTES)
     if arrays is None or isinstance(arrays, str):
@@ -151,7 +151,6 @@ def explicit_terms(robot):
     """
     import time
 
-    from ..core.symbolic.explicit import derive, model_terms
 
     path = cache_path(robot)
     key = None if path is None else cache_key(robot)

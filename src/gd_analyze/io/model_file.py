@@ -13,6 +13,7 @@ from __future__ import annotations
 import json
 from typing import TYPE_CHECKING
 
+from ..core.model.mounting import as_mounted
 from ..core.model.robot_spec import robot_from_dict
 from ..core.selection.guarantee import Guarantee
 from ..core.selection.simplified import (
@@ -124,7 +125,6 @@ def _recorded_mounting(robot, spec, path):
     files written before it, the provenance's ``mounting_base_rpy_deg``), so that a
     ``--base-rpy`` or ``--gravity`` is not applied on top of it
     (:func:`gd_analyze.core.model.mounting.with_mounting`)."""
-    from ..core.model.mounting import as_mounted
 
     said = spec.get("mounting")
     if said is None:

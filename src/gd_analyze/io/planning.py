@@ -17,6 +17,7 @@ from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
+from ..errors import InputError
 from ..files import atomic_path, file_sha256, read_regular
 from .trajectory import Trajectory
 
@@ -87,7 +88,6 @@ def check_velocity_limits(robot: Robot) -> str | None:
     InputError
         One line naming the first joint without a velocity limit and the key that gives one.
     """
-    from ..errors import InputError
 
     qd = np.asarray(robot.qd_max, dtype=float)
     pris = np.asarray(robot.prismatic, bool)

@@ -14,6 +14,9 @@ import os
 
 import numpy as np
 
+from .._version import VERSION as __version__
+from ..core.selection.labels import element_index, element_units
+from ..core.selection.ranking import element_labels
 from ..errors import InputError
 from ..files import atomic_path
 from .names import Attr, Var
@@ -135,7 +138,6 @@ def global_attributes(robot, title, references="Fu, Gonzalez & Lee (1987), Robot
         ``robot_placeholder_inertia`` (1, only for a robot whose inertia tensors are
         placeholders, ``Robot.metadata["placeholder_inertia"]``), then ``extra``.
     """
-    from .._version import VERSION as __version__
 
     now = datetime.datetime.now(datetime.timezone.utc).replace(microsecond=0).isoformat()
     attrs = {
@@ -208,8 +210,6 @@ def element_coords(n, prismatic=None, joints=None):
         (:func:`gd_analyze.core.selection.labels.element_units`: kg m2, kg m or kg for D; N m or N for
         h) and the joints (:func:`joint_coordinate`).
     """
-    from ..core.selection.labels import element_index, element_units
-    from ..core.selection.ranking import element_labels
 
     labels = element_labels(n)
     units = [element_units(kind, i, j, prismatic) for kind, i, j in element_index(n)]

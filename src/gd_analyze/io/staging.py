@@ -49,6 +49,7 @@ import stat
 import sys
 from pathlib import Path
 
+from .._version import VERSION as __version__
 from ..errors import InputError
 from .manifest import folder_owners, manifest_name, write_manifest, write_transition
 from .signals import Terminated, install
@@ -498,7 +499,6 @@ def staged_output(target, outputs=(), command="output"):
 
 @contextlib.contextmanager
 def _staged(real, target, command, mount, record):
-    from .._version import VERSION as __version__
 
     owner = os.getpid()
     inside = real.is_dir() and (mount or _in_place(real))

@@ -25,6 +25,7 @@ from ..core.selection.ranking import (
     is_round_off,
     parse_element_label,
 )
+from .datasets import joint_units, units_attribute
 from .schema import MIXED_UNITS, element_coords, global_attributes, joint_coordinate, var
 
 if TYPE_CHECKING:                       # for the type hints only
@@ -52,7 +53,6 @@ _AS_DATA = ("; 0 or 1 on a trajectory where a part is round-off (at most 1e-12 o
 def _torque_units(robot, which="tau"):
     """The ``units`` of a per-joint torque (``which="tau"``) or position (``"q"``) variable:
     N m, N (rad, m), or both with where to read them."""
-    from .datasets import joint_units, units_attribute
 
     return units_attribute(joint_units(robot.prismatic, which), "joint_type")
 

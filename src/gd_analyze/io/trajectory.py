@@ -25,6 +25,7 @@ import numpy as np
 
 from ..core.model.limits import LIMITS, exact_text, first_beyond, real_values
 from ..errors import InputError, InputNote
+from ..files import atomic_path
 
 if TYPE_CHECKING:                       # for the type hints only
     from numpy.typing import ArrayLike
@@ -703,7 +704,6 @@ def write_trajectory_chunks(chunks: Iterable[Trajectory], n: int,
 
         write(sys.stdout)
         return
-    from ..files import atomic_path
 
     with atomic_path(path) as tmp, open(tmp, "w", newline="", encoding="utf-8") as stream:
         write(stream)

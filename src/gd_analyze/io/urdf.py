@@ -37,6 +37,7 @@ import numpy as np
 
 from ..core.model.limits import exact_text
 from ..core.model.mounting import MOUNTING_KEY
+from ..core.model.robot_spec import robot_from_chain
 from ..errors import InputError
 from .urdf_xml import check_inertias, check_mimic, read_urdf_xml
 
@@ -480,7 +481,6 @@ def load_urdf(path: str | os.PathLike[str], base: str | None = None,
 
 
 def _robot(chain):
-    from ..core.model.robot_spec import robot_from_chain
 
     return robot_from_chain(chain.name, [dict(j) for j in chain.joints], chain.gravity,
                             **chain.metadata)

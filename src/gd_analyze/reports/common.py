@@ -17,6 +17,7 @@ import numpy as np
 
 from ..io.names import Attr
 from ..io.schema import strings
+from . import markup
 from .figure_style import (
     BASE_RC,
     JOINT_STYLES,
@@ -33,6 +34,7 @@ from .figure_style import (
     style,
     svg,
 )
+from .markup import clean, label, powers
 from .numbers import (
     count,
     fmt,
@@ -118,7 +120,6 @@ def attr(ds, key, default="\u2014", *, parens=True, bools=False, sci_outside=Non
     if isinstance(value, (np.generic, float, int)) and (
             bools or not isinstance(value, (bool, np.bool_))):
         return fmt(value, 6, sci_outside)
-    from .markup import clean, powers
 
     text = clean(str(value))            # no sub/superscript marks from a file's text
     return powers(text) if text else default      # unit powers (s^-1) as superscripts
@@ -202,7 +203,6 @@ def table(header, rows, align=None, widths=None, colour_cols=()):
     """
     if isinstance(align, str):
         align = ["left"] + [align] * (len(header) - 1)
-    from .markup import label
 
     header = [keep_units(h) for h in header]
     return {"header": header, "rows": [[label(str(c)) for c in row] for row in rows],
@@ -260,7 +260,6 @@ def render_template(name, context, env_globals=None):
     import jinja2
     from markupsafe import Markup
 
-    from . import markup
 
     def source(template):
         return resources.files("gd_analyze.reports").joinpath(f"templates/{template}") \

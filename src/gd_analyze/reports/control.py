@@ -21,6 +21,8 @@ from collections.abc import Mapping
 from pathlib import Path
 from typing import TYPE_CHECKING
 
+from ..errors import InputError
+from ..files import atomic_path
 from .common import render_template
 from .control_figures import COLUMN_WIDTH, FIGURE_RC, PAGE_WIDTH, control_figures
 from .control_text import control_context as _context
@@ -48,7 +50,6 @@ REQUIRED_VARIABLES = ("is_setpoint", "q_d", "error", "tau", "error_peak_setpoint
 
 
 def _check(ds, path):
-    from ..errors import InputError
 
     missing = [v for v in REQUIRED_VARIABLES if v not in ds.variables]
     if missing or "controller" not in ds.dims or "time" not in ds.dims:
@@ -255,7 +256,6 @@ def write_control_report(control_path: str | os.PathLike[str], outdir: str | os.
     (:func:`gd_analyze.files.atomic_path`). Sources: Fu, Gonzalez & Lee (1987), Sec. 3.4.1
     (simplified model) and Ch. 5 (computed-torque control).
     """
-    from ..files import atomic_path
     from ..io.schema import open_results
 
     if paper not in PAPER:

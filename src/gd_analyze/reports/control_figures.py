@@ -16,11 +16,12 @@ from typing import TYPE_CHECKING
 
 import numpy as np
 
-from ..core.selection.ranking import ROUND_OFF, is_round_off
-from .common import BASE_RC, grid_shape, prismatic_joints
+from ..core.selection.ranking import ROUND_OFF, is_round_off, joint_motion_units, joint_torque_units
+from .common import BASE_RC, grid_shape, panel_markevery, prismatic_joints
 from .common import strings as _strings
 from .common import style as _style
 from .markup import sub
+from .ticks import decade_formatter, label_axes, set_ticks
 
 if TYPE_CHECKING:                       # for the type hints only
     import xarray as xr
@@ -72,7 +73,6 @@ def _joint_panels(ds, values, ylabel, title, log=False, floor=None, which="q",
     from matplotlib.lines import Line2D
     from matplotlib.ticker import LogLocator, NullFormatter
 
-    from .ticks import decade_formatter, label_axes, set_ticks
 
     t = np.asarray(ds["time"].values, dtype=float)
     is_set = np.asarray(ds["is_setpoint"].values).astype(bool)
@@ -234,7 +234,6 @@ def marker_stride(ds: xr.Dataset, lines: int) -> int:
     int
         k >= 1: a marker at every k-th set point.
     """
-    from .common import panel_markevery
 
     return panel_markevery(int(np.asarray(ds["is_setpoint"].values).astype(bool).sum()), lines)
 
@@ -308,7 +307,6 @@ def _ordinal(k):
 def joint_units_of(ds: xr.Dataset, which: str) -> list[str]:
     """Units of q (``"q"``) or tau (``"tau"``) per joint, from the stored joint types
     (:func:`gd_analyze.core.selection.labels.joint_motion_units`, ``joint_torque_units``)."""
-    from ..core.selection.ranking import joint_motion_units, joint_torque_units
 
     prismatic = prismatic_joints(ds)
     if which == "tau":

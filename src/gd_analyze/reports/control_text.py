@@ -9,6 +9,7 @@ from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
+from .._version import VERSION as __version__
 from ..core.selection.ranking import ROUND_OFF_CLAUSE, element_label, is_round_off
 from .common import cost_table, fmt_column, prismatic_joints, utc_now
 from .common import strings as _strings
@@ -108,7 +109,6 @@ def control_context(ds: xr.Dataset) -> dict[str, Any]:
     dict
         The report's context, the same for the HTML and the PDF.
     """
-    from .._version import VERSION as __version__
 
     names = _strings(ds["controller"].values)
     n = int(ds.sizes["joint"])
@@ -411,7 +411,6 @@ def _gains_table(ds, joints):
     """The gains per joint. D_ii and the PD gains carry the units of their joint's type
     (the stored ``<name>_units`` per joint): in the header where every joint agrees, else in
     each cell."""
-    from .common import prismatic_joints
 
     prismatic = prismatic_joints(ds)
     header = ["joint", "\u03c9" + _sub("n") + " [rad/s]", "\u03b6",

@@ -12,6 +12,7 @@ from __future__ import annotations
 import io
 import re
 
+from ..files import atomic_path
 from .figure_style import raise_small_text, text_extent
 from .typeset import MIN_PRINTED_PT, figure_pdfs, printed_scale
 
@@ -119,7 +120,6 @@ def write_figure_files(stack, drawn, folder, names):
     list of pathlib.Path
         The files, PDF then SVG of each figure in turn.
     """
-    from ..files import atomic_path
 
     folder.mkdir(parents=True, exist_ok=True)
     files = []

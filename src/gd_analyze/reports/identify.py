@@ -20,6 +20,8 @@ from __future__ import annotations
 import contextlib
 from pathlib import Path
 
+from ..errors import InputError
+from ..files import atomic_path
 from .common import render_template
 from .drawing import draw_figures, write_figure_files
 from .identify_figures import FIGURE_RC, figure_key, identify_figures
@@ -34,7 +36,6 @@ IDENTIFY_REPORT_FILES = ("report.html", "report.pdf")
 
 
 def _check(root, groups):
-    from ..errors import InputError
 
     missing = [v for v in REQUIRED_ROOT if v not in root.variables]
     if missing:
@@ -156,7 +157,6 @@ def write_identify_report(root, groups: dict, folder, paper: str = "a4") -> list
     OSError
         If a file cannot be written.
     """
-    from ..files import atomic_path
 
     if paper not in PAPER:
         raise ValueError(f"paper must be one of {sorted(PAPER)}, got {paper!r}")

@@ -15,6 +15,7 @@ import math
 import numpy as np
 
 from .common import BASE_RC, grid_shape
+from .figure_style import style
 from .markup import clean
 from .ticks import label_axes, set_ticks
 
@@ -200,7 +201,6 @@ def identify_figures(root, groups: dict, width: float = PAGE_WIDTH) -> dict:
         ``"torque_k"`` and ``"residual_k"`` for the k-th recording of
         :func:`shown_recordings`.
     """
-    from .figure_style import style
 
     out = {}
     with style(FIGURE_RC):

@@ -33,14 +33,17 @@ from pathlib import Path
 
 import numpy as np
 
+from ..files import atomic_path
 from ..io.names import Var
 from ..io.results_view import Results
 from ..io.schema import open_results
 from ..io.sweep_datasets import payload_part
+from .budget_figures import budget_makers
 from .common import CLASS_COLOURS as _CLASS_COLOURS
 from .common import check_formats, prismatic_joints, render_template
 from .common import strings as _strings
 from .drawing import draw_figures, write_figure_files
+from .figures import payload_figure
 from .main_context import report_context, zero_mask
 from .main_figures import (
     COLUMN_WIDTH,
@@ -58,6 +61,8 @@ from .main_outline import main_outline
 from .plot_data import ENVELOPE_COLUMNS, ENVELOPE_THRESHOLD
 from .simplified_section import error_figure, has_simplified
 from .table_export import table_files
+from .ticks import decade_formatter, ticks_once
+from .ticks import formatter as tick_formatter
 from .typeset import PAPER, write_pdf
 
 __all__ = [
@@ -234,7 +239,6 @@ def figure_makers(ds, data=None, keys=None, column=False):
     -----
     The figures of Sec. 3.4.1, Figs. 3.10-3.11 (Fu, Gonzalez & Lee 1987), and the report's.
     """
-    from .budget_figures import budget_makers
 
     results = Results.of(ds)
     ds = results.dataset
@@ -287,7 +291,6 @@ def _fig_error(ds, data, width=PAGE_WIDTH):
 
 
 def _fig_payload(ds, width=PAGE_WIDTH):
-    from .figures import payload_figure
 
     return payload_figure(payload_part(ds), width)
 
@@ -301,8 +304,6 @@ def _fig_formulations(ds, width=PAGE_WIDTH):
     from matplotlib.figure import Figure
     from matplotlib.ticker import FixedLocator, LogLocator, NullFormatter
 
-    from .ticks import decade_formatter
-    from .ticks import formatter as tick_formatter
 
     n = ds[Var.DOF].values
     names = _strings(ds[Var.FORMULATION].values)
@@ -527,8 +528,6 @@ def write_report(results, outdir, formats=REPORT_FORMATS, paper="a4", progress=N
 
 
 def _write(results, outdir, formats, paper, progress, column=False, latex=False):
-    from ..files import atomic_path
-    from .ticks import ticks_once
 
     ds = results.dataset
     ctx = report_context(results)       # fails early on a dataset that is not ours
@@ -553,7 +552,6 @@ def _write(results, outdir, formats, paper, progress, column=False, latex=False)
 
 def _write_tables(stack, outline, folder, latex):
     """Every table of the outline written to ``folder`` (staged in ``stack``)."""
-    from ..files import atomic_path
 
     folder.mkdir(parents=True, exist_ok=True)
     out = []

@@ -10,15 +10,17 @@ from __future__ import annotations
 
 import numpy as np
 
+from .._version import VERSION as __version__
+from ..core.selection.ranking import is_chapter_puma, joint_motion_units
 from ..io.datasets import stored_guarantee, stored_region
 from ..io.names import Attr, Var
 from ..io.results_view import Results
 from ..io.sweep_datasets import payload_part
 from .budget_figures import budget_caption
 from .common import CLASS_COLOURS as _CLASS_COLOURS
-from .common import attr as _attr
-from .common import check as _check
 from .common import (
+    FORMULATION_ABBR,
+    FORMULATION_NAMES,
     count,
     prismatic_joints,
     torque_units,
@@ -26,6 +28,8 @@ from .common import (
     units_text,
     utc_now,
 )
+from .common import attr as _attr
+from .common import check as _check
 from .common import fmt as _fmt
 from .common import fmt_columns as _columns
 from .common import pct_columns as _pct_columns
@@ -124,7 +128,6 @@ def _share_text(share, tran_off, rot_off):
 
 def _caption_units(ds):
     """The units the captions state, from the joint types (:func:`captions`)."""
-    from ..core.selection.ranking import joint_motion_units
 
     prismatic = prismatic_joints(ds)
     motion = []
@@ -140,7 +143,6 @@ def _caption_units(ds):
 
 
 def _is_puma560(name):
-    from ..core.selection.ranking import is_chapter_puma
 
     return is_chapter_puma(name)
 
@@ -222,7 +224,6 @@ def report_context(results):
 
 def _report_context_base(results):
     """Everything both reports print, as strings and tables (no figures)."""
-    from .._version import VERSION as __version__
 
     ds = results.dataset
     _check(ds, _REQUIRED, "results")
@@ -488,7 +489,6 @@ def _formulations_context(ds):
     quantities = _strings(ds[Var.QUANTITY].values)
     pairs = _strings(ds[Var.FORMULATION_PAIR].values)
     dis = ds[Var.FORMULATION_DISAGREEMENT].values
-    from .common import FORMULATION_ABBR, FORMULATION_NAMES
 
     def pair(p):                            # "lagrange-euler vs gd" -> "L-E vs G-D"
         return " vs ".join(FORMULATION_ABBR.get(f, f) for f in p.split(" vs "))

@@ -9,6 +9,7 @@ from __future__ import annotations
 import numpy as np
 
 from ..core.selection.ranking import element_label, parse_element_label
+from .markup import element
 from .numbers import share as _share
 from .plot_data import ENVELOPE_COLUMNS
 
@@ -51,7 +52,6 @@ def element_scale(labels, peak_total, tau_peak):
 
 def _math(label):
     """An element's label as mathematics, its index a subscript: "D12" -> D₁₂ (marked)."""
-    from .markup import element
 
     return element(label[0], label[1:])
 
@@ -474,7 +474,6 @@ def captions(enveloped, N, s, e, units=None, alike=()):
         (:func:`gd_analyze.reports.simplified_section.simplified_caption`), as
         :func:`gd_analyze.reports.main_context.report_context` does.
     """
-    from .markup import element
 
     if enveloped:
         how = (f"The {N:,} set points are drawn as their min/max envelope over "

@@ -12,6 +12,7 @@ from __future__ import annotations
 import numpy as np
 
 from ..core.selection.ranking import ROUND_OFF, ROUND_OFF_CLAUSE, arm_scales, is_round_off
+from ..io.datasets import stored_guarantee, stored_region
 from ..io.names import Attr, Var
 from .common import (
     count,
@@ -28,6 +29,7 @@ from .markup import element as _el
 from .markup import powers
 from .markup import scope as scope_markup
 from .markup import sub as _sub
+from .ticks import MINUS, label_axes, set_ticks
 
 __all__ = ["has_simplified", "simplified_context", "error_figure", "SIMPLIFIED_CAPTION", "ROUND_OFF",
            "simplified_caption", "region_pruning", "guarantee_kind", "BOUND_WHERE", "has_drives", "REGION_SCALE"]
@@ -288,7 +290,6 @@ def region_table(ds):
     """
     import math
 
-    from ..io.datasets import stored_region
 
     r = stored_region(ds)
     if r is None:
@@ -416,7 +417,6 @@ def guarantee_kind(ds):
     str
         ``"region"``, ``"trajectory"``, or ``"none"`` where the dataset stores none.
     """
-    from ..io.datasets import stored_guarantee
 
     g = stored_guarantee(ds)
     return "none" if g is None else g["kind"]
@@ -429,7 +429,6 @@ def _scope(ds, exact=False):
     """Where the bound holds: on this trajectory (the table's bound), and the model's
     guarantee as stored from the model built (:func:`gd_analyze.io.datasets.stored_guarantee`);
     an older dataset's sentence where none is stored."""
-    from ..io.datasets import stored_guarantee
 
     g = stored_guarantee(ds)
     if g is None:
@@ -506,7 +505,6 @@ def error_figure(ds, width=7.2, data=None):
     """
     from matplotlib.figure import Figure
 
-    from .ticks import MINUS, label_axes, set_ticks
 
     n = ds.sizes["joint"]
     units = torque_units(ds)

@@ -33,6 +33,8 @@ from pathlib import Path
 from typing import TYPE_CHECKING
 
 from ..core.selection.ranking import ROUND_OFF
+from ..files import atomic_path
+from ..io.schema import open_sweep
 from . import markup
 from .common import CLASS_COLOURS as _CLASS_COLOURS
 from .common import SUPTITLE_RC as _RC
@@ -43,7 +45,7 @@ from .sweep_figures import make_sweep_figures
 from .sweep_text import SHARE_TEXT, SWEEP_CAPTIONS
 from .sweep_text import sweep_context as _context
 from .ticks import decade_label
-from .typeset import PAPER, write_pdf
+from .typeset import PAPER, TABLE_COLOURS, write_pdf
 
 if TYPE_CHECKING:                       # for the type hints only
     import os
@@ -152,7 +154,6 @@ def _outline(ctx, figures):
 def _html(ctx, figures):
     from markupsafe import Markup
 
-    from .typeset import TABLE_COLOURS
 
     svgs = {k: Markup(svg) for k, (svg, _, _) in figures.items()}
     return render_template("sweep_report.html.j2", {**ctx, "figures": svgs,
@@ -271,8 +272,6 @@ def write_sweep_report(sweep_path: str | os.PathLike[str], outdir: str | os.Path
     (:func:`gd_analyze.files.atomic_path`). Source: Sec. 3.4.1 and Figs. 3.10-3.11 of Fu,
     Gonzalez & Lee (1987).
     """
-    from ..files import atomic_path
-    from ..io.schema import open_sweep
 
     formats = check_formats(formats, SWEEP_REPORT_FORMATS)
     if paper not in PAPER:

@@ -11,6 +11,7 @@ from typing import TYPE_CHECKING
 import numpy as np
 
 from ..core.selection.ranking import ROUND_OFF_CLAUSE, joint_units_text
+from ..io.sweep_datasets import beyond_the_floor
 from ..io.sweep_guarantee import merged_guarantee
 from .common import count, torque_units
 from .common import pct as _pct
@@ -43,7 +44,6 @@ def merged_claim(ds: xr.Dataset) -> str:
         guarantee's own statement and which swept trajectories lie in the region
         (:func:`coverage`).
     """
-    from ..io.sweep_datasets import beyond_the_floor
 
     eps = f"{float(ds.attrs['merged_tolerance']):g}"
     if _region(ds):

@@ -8,6 +8,7 @@ from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
+from .._version import VERSION as __version__
 from .common import attr as _attr
 from .common import check as _check
 from .common import (
@@ -82,7 +83,6 @@ def sweep_context(ds: xr.Dataset, payload: xr.Dataset | None = None) -> dict[str
     InputError
         If a dataset lacks a variable the report needs.
     """
-    from .._version import VERSION as __version__
 
     _check(ds, _REQUIRED, "sweep")
     K = ds.sizes["trajectory"]

@@ -24,17 +24,24 @@ import numpy as np
 from .._version import VERSION as __version__
 from ..core.dynamics.dalembert import GDTerms, allocate_terms, gd_terms
 from ..core.model.drives import has_drives
+from ..core.model.limits import check_finite
+from ..core.selection.budget import PartPeaks
 from ..core.selection.chapter_comparison import (
     CHAPTER_CHOICES,
     S_VALUES,
     agreement_against_s,
     block_leads,
 )
-from ..core.selection.ranking import is_chapter_puma
-from ..core.selection.simplified import SimplifiedModel, simplified_torque
+from ..core.selection.labels import joint_torque_units
+from ..core.selection.ranking import RankingAccumulator, arm_scales, is_chapter_puma, is_round_off
+from ..core.selection.simplified import SimplifiedModel, TorqueErrorAccumulator, simplified_torque
+from ..files import atomic_path
 from ..formulations.compare import FORMULATIONS_MAX_SETPOINTS
+from ..io.datasets import build_dataset
+from ..io.schema import append_dataset
 from .deployment import deploy_models
 from .options import AnalysisOptions
+from .peak_jobs import start_peaks
 
 if TYPE_CHECKING:                       # for the type hints only
     import os
@@ -105,7 +112,6 @@ def progress_bar(enabled: bool = True, desc: str = "reading") -> tqdm:
 
 def _check_finite(terms, tau):
     """Every computed array must be finite (inputs within LIMITS guarantee it)."""
-    from ..core.model.limits import check_finite
 
     for name in ("D_tran", "D_rot", "h_tran", "h_rot", "c"):
         check_finite(name, getattr(terms, name))
@@ -282,7 +288,6 @@ def analysis_pass(robot: Robot, trajectory: Trajectory, options: AnalysisOptions
     """
     from concurrent.futures import ThreadPoolExecutor
 
-    from .peak_jobs import start_peaks
 
     args = (robot, trajectory, options, provenance, chunk, writer, progress, terms)
     simplify = (AnalysisOptions() if options is None else options).simplify
@@ -302,9 +307,6 @@ def analysis_pass(robot: Robot, trajectory: Trajectory, options: AnalysisOptions
 def _analysis_pass(robot, trajectory, options, provenance, chunk, writer, progress, terms,
                    background):
     """:func:`analysis_pass` with the simplification's peak passes started (``background``)."""
-    from ..core.selection.budget import PartPeaks
-    from ..core.selection.ranking import RankingAccumulator
-    from ..core.selection.simplified import TorqueErrorAccumulator
 
     options = AnalysisOptions() if options is None else options
     check, formulations, simplify = options.verify, options.formulations, options.simplify
@@ -441,8 +443,6 @@ def _marked(error, robot):
     """The torque error with ``round_off`` per joint: True where its peak is floating-point
     round-off by the reports' one rule (:func:`gd_analyze.core.selection.ranking.is_round_off`
     of peak |tau_i| and of the arm's), so the stored numbers are never read as data."""
-    from ..core.selection.labels import joint_torque_units
-    from ..core.selection.ranking import arm_scales, is_round_off
 
     units = [joint_torque_units(bool(p)) for p in robot.prismatic]
     tau = np.asarray(error["peak_tau"], float)
@@ -560,7 +560,6 @@ def analyze(robot: Robot, trajectory: Trajectory, options: AnalysisOptions | Non
     -----
     Source: Sec. 3.4.1 of Fu, Gonzalez & Lee (1987); terms from Eqs. (3.4-24) to (3.4-28).
     """
-    from ..io.datasets import build_dataset
 
     options = AnalysisOptions() if options is None else options
     N = trajectory.q.shape[0]
@@ -623,9 +622,7 @@ def analyze_to_file(robot: Robot, trajectory: Trajectory, path: str | os.PathLik
     """
     import contextlib
 
-    from ..files import atomic_path
     from ..io.datasets import SetpointWriter, summary_dataset, with_setpoints
-    from ..io.schema import append_dataset
 
     options = AnalysisOptions() if options is None else options
     N, n = trajectory.q.shape

@@ -80,8 +80,14 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 
 from ..core.dynamics.dalembert import gd_terms
-from ..core.selection.simplified import choice_masks
+from ..core.selection.ranking import ROUND_OFF
+from ..core.selection.simplified import choice_masks, json_safe
+from ..core.symbolic.drive_regressor import with_drives
+from ..core.symbolic.explicit_estimate import is_expensive
+from ..core.symbolic.recursive import recursive_program
+from ..formulations.opcount import operation_counts
 from .evaluate import coverage, model_torque
+from .simplify import full_program
 from .tracking import (
     CONTROLLER_DESCRIPTIONS,
     CONTROLLERS,
@@ -183,7 +189,6 @@ class ControlResult:
         """
         if self.tau_noise is None:
             return None
-        from ..core.selection.ranking import ROUND_OFF
 
         tol = max(float(self.provenance.get("rtol", 0.0)), ROUND_OFF)
         scale = np.nanmax(np.abs(self.runs["full"].tau), axis=0)
@@ -290,12 +295,7 @@ def model_cost(model: SimplifiedModel) -> dict[str, Any]:
     Lee (1987) (a simplified model "at a reduced computation time"), Table 3.5 (N-E), and
     Armstrong, Khatib & Burdick (1986) for the explicit form.
     """
-    from ..core.symbolic.drive_regressor import with_drives
-    from ..core.symbolic.explicit_estimate import is_expensive
-    from ..core.symbolic.recursive import recursive_program
-    from ..formulations.opcount import operation_counts
     from ..io.explicit_cache import explicit_terms
-    from .simplify import full_program
 
     robot: Robot = model.robot  # type: ignore[assignment]  # SimplifiedModel's field is typed object
     counted = [(f"simplified model ({model.form} form)", model.program().cost()),
@@ -604,7 +604,6 @@ def difference_noise(robot: Robot, model: SimplifiedModel, gains: Gains, desired
 
 
 def _json_ready(obj):
-    from ..core.selection.simplified import json_safe
 
     return json_safe(obj)
 

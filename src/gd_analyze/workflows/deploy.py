@@ -13,9 +13,21 @@ import dataclasses
 
 import numpy as np
 
-from ..core.selection.budget import DEFAULT_TOLERANCE
-from ..core.selection.ranking import DEFAULT_DOMINANCE, DEFAULT_NEGLIGIBLE
+from ..core.selection.budget import DEFAULT_TOLERANCE, Selection
+from ..core.selection.certify import METHOD
+from ..core.selection.guarantee import Guarantee
+from ..core.selection.ranking import DEFAULT_DOMINANCE, DEFAULT_NEGLIGIBLE, element_labels
+from ..core.selection.region import joint_region, missing_limits, sampled_error, worst_states
 from ..core.selection.simplified import SimplifiedModel
+from ..core.symbolic.base_parameters import base_parameters
+from ..core.symbolic.drive_regressor import with_drives
+from ..core.symbolic.pruning import dropped_peaks, prune, prune_bounds, settle_restored
+from ..core.symbolic.recursive import recursive_program
+from ..core.symbolic.recursive_model import RecursiveModel, recursive_model
+from ..errors import one_line
+from ..io.cache_files import CacheWarning, entry_path
+from ..io.planning import DEFAULT_QDD_PER_QD, acceleration_limits
+from ..io.search_cache import read_search, search_key, write_search
 from .region_memo import REGION_SAMPLES, certified, region_values
 
 __all__ = ["build_recursive", "recursive_simplified", "replace_cost", "region_model",
@@ -49,8 +61,6 @@ def robot_region(robot, limits=None):
         If the user's limits do not fit the robot (one or n values; a position range wholly
         outside the robot's), naming the option.
     """
-    from ..core.selection.region import joint_region, missing_limits
-    from ..io.planning import DEFAULT_QDD_PER_QD, acceleration_limits
 
     why = missing_limits(robot, limits)
     if why:
@@ -132,7 +142,6 @@ def region_model(robot, base, region, tolerance, torque_floor=0.0):
 def _region_pruning(base, pb, robot, tolerance, chosen=None):
     """:func:`~gd_analyze.core.symbolic.pruning.prune_bounds` on a region's certification
     (``chosen``: an earlier search's pairs, checked against the budget; ValueError if over)."""
-    from ..core.symbolic.pruning import prune_bounds
 
     return prune_bounds(robot, base, pb.scale, pb.bound, pb.leaves.sum(axis=1).max(axis=1),
                         tolerance, pieces=pb.leaves, chosen=chosen, zero=pb.zero)
@@ -141,10 +150,6 @@ def _region_pruning(base, pb, robot, tolerance, chosen=None):
 def _region_model(robot, base, region, tolerance, pb, pr, sampled=True):
     """:func:`region_model`'s model and guarantee from the certification and the pruning
     (``sampled=False``: the model only, the guarantee None, its error not sampled)."""
-    from ..core.selection.certify import METHOD
-    from ..core.selection.guarantee import Guarantee
-    from ..core.selection.region import worst_states
-    from ..core.symbolic.recursive_model import RecursiveModel
 
     single = pr.dropped & ~pr.whole[:, None]
     by_part = np.stack([np.einsum("bln,b->ln", pb.leaves[:, p], single[:, p]).max(axis=0)
@@ -194,8 +199,6 @@ def trajectory_guarantee(robot, base, rec, tolerance, trajectory_sha256="", regi
         (:func:`gd_analyze.core.selection.region.sampled_error` at the positions of
         :func:`.region_memo.region_values`: sampling only, no certification).
     """
-    from ..core.selection.guarantee import Guarantee
-    from ..core.selection.region import sampled_error
 
     sampled = None
     if region is not None:
@@ -255,9 +258,6 @@ def build_recursive(robot, q, qd, qdd, tolerance=DEFAULT_TOLERANCE, torque_floor
     Fu, Gonzalez & Lee (1987), Algorithm 3.1 on the base parameters (Khalil & Kleinfinger
     1987; Gautier 1990), pruned as :func:`gd_analyze.core.symbolic.recursive_model.recursive_model`.
     """
-    from ..core.selection.budget import Selection
-    from ..core.symbolic.base_parameters import base_parameters
-    from ..core.symbolic.recursive_model import recursive_model
 
     base, peaks = (base_parameters(robot), None) if contributions is None else contributions
     forms, store = None, None
@@ -325,9 +325,6 @@ def recursive_simplified(robot, rec, base, tolerance=DEFAULT_TOLERANCE, torque_f
     Fu, Gonzalez & Lee (1987), Algorithm 3.1 on the base parameters (Khalil & Kleinfinger
     1987; Gautier 1990).
     """
-    from ..core.selection.ranking import element_labels
-    from ..core.symbolic.drive_regressor import with_drives
-    from ..core.symbolic.recursive import recursive_program
 
     exact_forms, pruned_forms = forms if forms is not None else (None, None)
     exact_program = recursive_program(robot, base.values, forms=exact_forms)
@@ -358,9 +355,6 @@ def _searched(robot, base, region, tolerance, torque_floor, sampled=True):
     (None), the model's error over the region not sampled."""
     import warnings
 
-    from ..errors import one_line
-    from ..io.cache_files import CacheWarning, entry_path
-    from ..io.search_cache import read_search, search_key, write_search
 
     pb = certified(robot, base, region, torque_floor)
     key = search_key(robot, region, tolerance, torque_floor, REGION_SAMPLES)
@@ -432,8 +426,6 @@ def restored_rebuild(q, qd, qdd, region=None, sample_region=None, region_missing
     counted whole where all its parts are dropped and that fits, else pair by pair).
     """
     def rebuild(model, dropped):
-        from ..core.symbolic.pruning import dropped_peaks, prune, prune_bounds, settle_restored
-        from ..core.symbolic.recursive_model import RecursiveModel
 
         robot, tol, floor = model.robot, model.tolerance, model.torque_floor
         base = model.recursive.base(robot) if contributions is None else contributions[0]

@@ -13,8 +13,22 @@ from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
+from ..core.selection.choices import full_choices
 from ..core.selection.positive_definite import with_inertia_check
+from ..formulations.opcount import operation_counts
 from .deploy import build_recursive, guarantee_region, restored_rebuild
+from .recursive_ladder import recursive_ladder
+from .simplify import (
+    LADDER,
+    build_model,
+    collect_peaks,
+    cost_rows,
+    full_program,
+    full_torque,
+    ladder,
+    ladder_skipped,
+    simplified_dataset,
+)
 
 if TYPE_CHECKING:                       # for the type hints only
     import xarray as xr
@@ -75,18 +89,6 @@ def deploy_models(robot: Robot, trajectory: Trajectory, ranking: Ranking, part_p
     is of the form deployed (:func:`.recursive_ladder.recursive_ladder` for the recursive one,
     pruned as it is).
     """
-    from ..formulations.opcount import operation_counts
-    from .recursive_ladder import recursive_ladder
-    from .simplify import (
-        LADDER,
-        build_model,
-        collect_peaks,
-        cost_rows,
-        full_torque,
-        ladder,
-        ladder_skipped,
-        simplified_dataset,
-    )
 
     tolerance, rule, torque_floor = options.tolerance, options.rule, options.torque_floor
     form = options.form
@@ -250,9 +252,7 @@ def exact_explicit_model(full: SimplifiedModel, guarantee: Guarantee, tolerance:
         ``full`` was built on need not be 0 elsewhere in the region), ``tolerance`` EPS, bound
         0 on every joint and the region guarantee with bound and sampled error 0.
     """
-    from ..core.selection.choices import full_choices
     from ..io.explicit_cache import explicit_terms
-    from .simplify import full_program
 
     n = full.robot.n  # type: ignore[attr-defined]  # SimplifiedModel's field is typed object
     terms, _ = explicit_terms(full.robot)

@@ -13,7 +13,8 @@ from typing import TYPE_CHECKING
 import numpy as np
 from numpy.typing import ArrayLike
 
-from ..core.selection.ranking import DEFAULT_DOMINANCE, DEFAULT_NEGLIGIBLE
+from ..core.model.robot import with_payload
+from ..core.selection.ranking import CLASSES, DEFAULT_DOMINANCE, DEFAULT_NEGLIGIBLE
 from ..errors import InputError
 from ..io.sweep_datasets import payload_dataset, sweep_payloads_dataset
 from .sweep import analyze_one, check_thresholds, check_trajectory, run_sweep
@@ -77,7 +78,6 @@ def payload_sweep(robot: Robot, trajectory: Trajectory, masses: ArrayLike,
     of Fu, Gonzalez & Lee (1987) (the simplification "depends on the specific trajectory");
     the load enters the dynamics as in Sec. 3.1.
     """
-    from ..core.model.robot import with_payload
 
     masses = np.asarray(masses, dtype=float)
     if masses.ndim != 1 or masses.size == 0:
@@ -134,8 +134,6 @@ def sweep_payloads(robot, trajectories, masses, com=(0.0, 0.0, 0.0), inertia=(0.
     -----
     Source: Sec. 3.4.1 of Fu, Gonzalez & Lee (1987), repeated for each load.
     """
-    from ..core.model.robot import with_payload
-    from ..core.selection.ranking import CLASSES
 
     trajectories = list(trajectories)
     parts = []

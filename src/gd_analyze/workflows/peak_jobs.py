@@ -16,6 +16,10 @@ from typing import TYPE_CHECKING
 
 import numpy as np
 
+from ..core.symbolic.base_parameters import base_parameters
+from ..core.symbolic.explicit import term_peaks
+from ..core.symbolic.explicit_estimate import is_expensive
+
 if TYPE_CHECKING:
     from ..core.model.robot import Robot
     from ..core.symbolic.explicit import Term
@@ -44,7 +48,6 @@ def derives_explicit(robot: Robot, options: SimplifyOptions) -> bool:
         ``"recursive"``) and its estimated size is cheap
         (:func:`gd_analyze.core.symbolic.explicit_estimate.is_expensive`).
     """
-    from ..core.symbolic.explicit_estimate import is_expensive
 
     rule, explicit, form = options.rule, options.explicit, options.form
     return rule == "chapter" or form == "explicit" or explicit == "always" or (
@@ -102,7 +105,6 @@ def contribution_job(robot, q, qd, qdd, peaks=True):
     (:mod:`gd_analyze.core.symbolic.regressor_kernels`), releasing the GIL, so the
     main job runs it in a thread beside its pass over the G-D terms (:func:`start_peaks`).
     """
-    from ..core.symbolic.base_parameters import base_parameters
     from ..core.symbolic.pruning import contribution_peaks
 
     base = base_parameters(robot)
@@ -127,7 +129,6 @@ def explicit_job(robot: Robot, q: np.ndarray, qd: np.ndarray,
     peaks : ndarray, shape (A, n)
         :func:`gd_analyze.core.symbolic.explicit.term_peaks` [N m or N].
     """
-    from ..core.symbolic.explicit import term_peaks
     from ..io.explicit_cache import explicit_terms
 
     terms, _ = explicit_terms(robot)

@@ -14,6 +14,8 @@ from typing import TYPE_CHECKING
 
 import numpy as np
 
+from ..io.certification_cache import certification
+
 if TYPE_CHECKING:                       # for the type hints only
     from ..core.model.robot import Robot
     from ..core.selection.certify import PairBounds
@@ -75,7 +77,6 @@ def certified(robot: Robot, base: BaseParameters, region: Region,
     PairBounds
         Samples :func:`region_values` drew in this process are not drawn again.
     """
-    from ..io.certification_cache import certification
     from ..io.model_trust import remember
 
     drawn = _SAMPLED.get(_region_key(robot, region, 0.0))      # the same samples, if drawn

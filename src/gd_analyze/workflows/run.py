@@ -19,10 +19,13 @@ from pathlib import Path
 
 from ..core.selection.simplified import SOURCE_STEM
 from ..core.symbolic.emit_model import artefact_names
+from ..core.symbolic.safe_text import c_prefix, check_prefix
+from ..errors import InputError
 from ..io.model_file import save_model
 from ..io.names import Var
 from ..io.results_view import Results
 from ..io.staging import check_free_space, staged_output, writing
+from ..io.trajectory import as_trajectory
 from .analyze import analyze, analyze_to_file
 from .options import AnalysisOptions
 
@@ -99,7 +102,6 @@ def results_size(N, n):
 def _settings(options, base_settings, payload, robot, prefix=None):
     """The provenance of a run: each setting once, with the C prefix of the emitted sources
     (the robot's name made one unless given)."""
-    from ..core.symbolic.safe_text import c_prefix, check_prefix
 
     simplify = {k: v for k, v in dataclasses.asdict(options.simplify).items() if k != "region"}
     region = {} if options.simplify.region is None else options.simplify.region.settings()
@@ -166,7 +168,6 @@ def run_analysis(robot, trajectory, options, outdir, report=None, settings=None,
     Source: Sec. 3.4.1 of Fu, Gonzalez & Lee (1987) for the analysis; the terms from
     Eqs. (3.4-24) to (3.4-28).
     """
-    from ..errors import InputError
 
     options = AnalysisOptions() if options is None else options
     outdir = Path(outdir)
@@ -261,7 +262,6 @@ def results_dataset(robot, trajectory, options=None):
     >>> dict(ds.D.sizes), ds.t.attrs["units"], ds.joint.values.tolist()
     ({'t': 5, 'joint': 2, 'joint_k': 2}, 's', ['joint1', 'joint2'])
     """
-    from ..io.trajectory import as_trajectory
 
     options = AnalysisOptions() if options is None else options
     trajectory = as_trajectory(trajectory, robot.n)

@@ -12,9 +12,13 @@ from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
+from ..core.selection.ranking import arm_scales, element_labels, is_round_off
 from ..core.selection.simplified import SOURCE_STEM
 from ..core.symbolic.emit_model import artefact_names
+from ..core.symbolic.explicit import merge_parts
 from ..core.symbolic.recursive_model import PART_NAMES
+from ..formulations.opcount import book_counts, operation_counts
+from ..io.datasets import guarantee_fields, joint_units, units_attribute
 
 if TYPE_CHECKING:                       # for the type hints only
     import xarray as xr
@@ -61,7 +65,6 @@ def cost_rows(n: int, model: SimplifiedModel, other: SimplifiedModel | None = No
     -------
     dict
     """
-    from ..formulations.opcount import book_counts
 
     def row(c):
         return (float(c["multiplications"]), float(c["additions"]),
@@ -98,7 +101,6 @@ def cost_rows(n: int, model: SimplifiedModel, other: SimplifiedModel | None = No
         if key.startswith("explicit, ") and key != "explicit, full" and model.form != "explicit":
             label = key + ("" if key.endswith("chapter") else eps_m)
             rows.setdefault(label, row(c))
-    from ..formulations.opcount import operation_counts
 
     counts = operation_counts(n) if formulation_counts is None else formulation_counts
     for method, label in (("gd", "G-D"), ("newton-euler", "N-E"), ("lagrange-euler", "L-E")):
@@ -138,7 +140,6 @@ def recursive_choices(model: SimplifiedModel, q: NDArray[np.float64], qd: NDArra
         is not round-off of the element's scale (:func:`gd_analyze.core.selection.ranking.is_round_off`,
         with the arm's scale of D or of h), else "both".
     """
-    from ..core.selection.ranking import arm_scales, is_round_off
 
     n = model.robot.n  # type: ignore[attr-defined]  # SimplifiedModel's field is typed object
     fns = model.functions().numpy()
@@ -182,7 +183,6 @@ def sweep_choices(model: SimplifiedModel, trajectories: Sequence[Trajectory],
     from types import SimpleNamespace
 
     from ..core.dynamics.dalembert import gd_terms
-    from ..core.selection.ranking import element_labels
 
     if model.recursive is None or not trajectories:
         return model
@@ -216,7 +216,6 @@ def coefficient_structure(terms: Term) -> tuple[int, int]:
         significant digits): equal magnitudes are what the code generator's factoring writes
         once (:mod:`gd_analyze.core.symbolic.factoring`).
     """
-    from ..core.symbolic.explicit import merge_parts
 
     merged = merge_parts(terms)
     return len(merged), len({float(f"{abs(c):.12g}") for c in merged.C})
@@ -309,7 +308,6 @@ def simplified_dataset(model: SimplifiedModel, selection: Selection,
     """
     import xarray as xr
 
-    from ..io.datasets import guarantee_fields, joint_units, units_attribute
 
     robot = getattr(model, "robot", None)
     torque = ("N m" if robot is None else

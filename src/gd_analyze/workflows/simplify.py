@@ -21,6 +21,7 @@ from ..core.selection.ranking import DEFAULT_DOMINANCE, DEFAULT_NEGLIGIBLE
 from ..core.selection.simplified import SimplifiedModel, TorqueErrorAccumulator
 from ..core.symbolic.codegen import build_program
 from ..core.symbolic.drive_regressor import with_drives
+from ..core.symbolic.emit import python_function
 from ..core.symbolic.explicit import term_peaks
 from ..io.explicit_cache import explicit_terms
 from .deploy import build_recursive, replace_cost  # noqa: F401  (re-exported)
@@ -283,7 +284,6 @@ def full_torque(robot: Robot, terms: Term) -> TorqueFunction:
         Equal to the G-D model's tau = D qdd + h + c to rounding (the tests check it against
         Pinocchio rnea to 1e-10), without computing the G-D terms again.
     """
-    from ..core.symbolic.emit import python_function
 
     return python_function(_program(robot, terms, terms))
 

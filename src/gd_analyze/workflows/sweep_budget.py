@@ -30,7 +30,10 @@ import numpy as np
 
 from ..config import defaults
 from ..core.selection.budget import DEFAULT_TOLERANCE
+from ..core.symbolic.base_parameters import base_parameters
+from ..core.symbolic.explicit_estimate import is_expensive
 from ..errors import InputError
+from ..formulations.opcount import operation_counts
 from .options import EXPLICIT, FORMS, GUARANTEES
 
 if TYPE_CHECKING:                       # for the type hints only
@@ -126,7 +129,6 @@ def recursive_sweep_model(robot: Robot, scale: ArrayLike, peak: ArrayLike, whole
     :func:`gd_analyze.core.symbolic.recursive_model.sweep_recursive_model`; Fu, Gonzalez & Lee
     (1987), Algorithm 3.1 on the base parameters (Khalil & Kleinfinger 1987; Gautier 1990).
     """
-    from ..core.symbolic.base_parameters import base_parameters
     from ..core.symbolic.recursive_model import sweep_recursive_model
     from .deploy import recursive_simplified
 
@@ -216,7 +218,6 @@ def budget_sweep_model(robot: Robot, trajectories: Sequence[Trajectory], sweep_d
     time"); the region's bounds as :func:`gd_analyze.workflows.deploy.region_model`.
     """
     from ..core.selection.positive_definite import with_inertia_check
-    from ..core.symbolic.explicit_estimate import is_expensive
     from .deploy import guarantee_region
     from .simplified_dataset import sweep_choices
     from .simplify import (
@@ -369,7 +370,6 @@ def region_sweep_model(robot: Robot, trajectories: Sequence[Trajectory], region:
     one outside is reported, not covered.
     """
     from ..core.selection.positive_definite import with_inertia_check
-    from ..core.symbolic.base_parameters import base_parameters
     from ..io.explicit_cache import explicit_terms
     from .deploy import recursive_simplified, region_model, restored_rebuild
     from .deployment import exact_explicit_model, exact_explicit_wins
@@ -427,7 +427,6 @@ def region_sweep_model(robot: Robot, trajectories: Sequence[Trajectory], region:
 def _recursive_costs(robot, model):
     """The ``costs`` of a merged model built as recursive: the exact recursive model, this
     pruned one and Newton-Euler as implemented (multiplications, additions)."""
-    from ..formulations.opcount import operation_counts
 
     ne = operation_counts(robot)["newton-euler"]
     return {"exact recursive": model.costs["exact recursive"],
@@ -469,7 +468,6 @@ def sweep_guarantee(robot: Robot, model: SimplifiedModel, trajectories: Sequence
         relative to s_i there, where the robot gives the limits.
     """
     from ..core.selection.guarantee import Guarantee
-    from ..core.symbolic.base_parameters import base_parameters
     from .deploy import robot_region, trajectory_guarantee
 
     scale = np.asarray(scales, float).max(axis=0)

@@ -20,11 +20,13 @@ from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
+from .._version import VERSION as __version__
 from ..core.selection.ranking import DEFAULT_DOMINANCE, DEFAULT_NEGLIGIBLE, element_labels
 from ..core.selection.simplified import choice_masks
 from ..errors import InputError
 from ..io.datasets import region_fields
 from ..io.schema import strings
+from .control import model_cost, model_facts
 
 if TYPE_CHECKING:                       # for the type hints only
     import xarray as xr
@@ -66,7 +68,6 @@ def merged_model(robot: Robot, sweep_ds: xr.Dataset) -> SimplifiedModel:
     The validation is computed by :func:`~gd_analyze.workflows.sweep.run_sweep` along every
     trajectory and stored in the dataset; nothing is recomputed here. Source: Sec. 3.4.1 of Fu, Gonzalez & Lee (1987).
     """
-    from .._version import VERSION as __version__
     from ..core.selection.simplified import SimplifiedModel
 
     needed = ("merged_choice", "merged_error_peak", "merged_error_rms", "merged_error_tau_peak",
@@ -309,7 +310,6 @@ def with_model_cost(sweep_ds: xr.Dataset, model: SimplifiedModel) -> xr.Dataset:
     Source: Sec. 3.4.1 of Fu, Gonzalez & Lee (1987) (a simplified model "at a reduced
     computation time"); Table 3.5 for Newton-Euler.
     """
-    from .control import model_cost, model_facts
 
     cost = model_cost(model)
     facts = model_facts(model)

@@ -17,6 +17,7 @@ import numpy as np
 from numpy.typing import ArrayLike
 
 from ..core.dynamics.dalembert import allocate_terms, gd_terms, kernel_arguments, qdd_from_terms
+from ..core.selection.labels import element_units
 
 if TYPE_CHECKING:
     from ..core.dynamics.dalembert import GDTerms
@@ -129,7 +130,6 @@ def singular_inertia(robot, D, rtol=1e-12):
     1987, Eq. (3.4-24)); a joint whose axis moves no mass and no inertia (D_ii = 0) makes it
     impossible.
     """
-    from ..core.selection.labels import element_units
 
     D = np.asarray(D, dtype=float)
     D = 0.5 * (D + np.swapaxes(D, -1, -2))

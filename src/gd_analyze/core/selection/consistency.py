@@ -14,6 +14,7 @@ import numpy as np
 
 from ...errors import InputError
 from .guarantee import ROUND_OFF_EPS
+from .region import Region, sample_positions
 
 __all__ = ["check_program", "BOUND_SAMPLES"]
 
@@ -74,7 +75,6 @@ def check_program(model, cost, path="<model>"):
 
 def _check_region_bound(model, g, path):
     from ..dynamics.dalembert import gd_terms
-    from .region import Region, sample_positions
 
     n = model.robot.n
     region = Region(np.asarray(g.q_min, float), np.asarray(g.q_max, float),

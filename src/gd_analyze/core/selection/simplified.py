@@ -24,8 +24,18 @@ from functools import cached_property
 import numpy as np
 
 from ...errors import InputError
-from ..symbolic.safe_text import comment_safe
+from ..model.kinematics import as_states
+from ..model.mounting import mounting_of
+from ..symbolic.codegen import build_program
+from ..symbolic.drive_regressor import with_drives
+from ..symbolic.emit import python_function, state_function
+from ..symbolic.emit_model import render
+from ..symbolic.explicit import Term, derive, model_terms
+from ..symbolic.model_functions import explicit_functions, recursive_functions
+from ..symbolic.safe_text import c_prefix, comment_safe
+from .budget import chosen_terms
 from .choices import CHOICES, choice_masks, full_choices, merge_choices, simplified_torque  # noqa: F401
+from .consistency import check_program
 from .labels import element_labels
 from .positive_definite import inertia_statement
 from .torque_error import TorqueErrorAccumulator, torque_error  # noqa: F401 (re-exported)
@@ -180,8 +190,6 @@ class SimplifiedModel:
 
     @cached_property
     def _chosen_terms(self):
-        from ..symbolic.explicit import derive, model_terms
-        from .budget import chosen_terms
 
         all_terms = model_terms(derive(self.robot))
         return all_terms.subset(chosen_terms(all_terms, self.choices))
@@ -196,11 +204,9 @@ class SimplifiedModel:
     def _program(self):
         if self.program_cache is not None:
             return self.program_cache
-        from ..symbolic.drive_regressor import with_drives
 
         if self.recursive is not None:
             return with_drives(self._choice[0], self.robot)
-        from ..symbolic.codegen import build_program
 
         return with_drives(build_program(self.explicit_terms(), self.robot.n,
                                          np.zeros(self.robot.n),
@@ -274,7 +280,6 @@ class SimplifiedModel:
 
     @cached_property
     def _functions(self):
-        from ..symbolic.model_functions import explicit_functions, recursive_functions
 
         if self.functions_cache is not None:
             return self.functions_cache
@@ -344,14 +349,11 @@ class SimplifiedModel:
         ValueError
             If the prefix is not a C identifier.
         """
-        from ..symbolic.emit_model import render
-        from ..symbolic.safe_text import c_prefix
 
         prefix = c_prefix(self.robot.name) if prefix is None else prefix
         return render(self.functions(), self.header(), prefix, stem)
 
     def _python_tau(self):
-        from ..symbolic.emit import python_function
 
         return python_function(self.program())
 
@@ -387,7 +389,6 @@ class SimplifiedModel:
         >>> bool(np.allclose(model.torque_at(*s), model.torque(*s)[0], rtol=1e-13))
         True
         """
-        from ..symbolic.emit import state_function
 
         n = self.robot.n
         x = [np.asarray(v, dtype=float).reshape(-1) for v in (q, qd, qdd)]
@@ -420,7 +421,6 @@ class SimplifiedModel:
         ValueError
             If the arrays do not have n columns or disagree on N.
         """
-        from ..model.kinematics import as_states
 
         q, qd, qdd = as_states(self.robot, q, qd, qdd)
         tau = self._python_tau()
@@ -474,7 +474,6 @@ class SimplifiedModel:
 
     def _mounting(self):
         """The mounting the model was built with, for the file (``mounting``)."""
-        from ..model.mounting import mounting_of
 
         rpy, g_world = mounting_of(self.robot)
         return {"base_rpy_deg": [float(v) for v in rpy],
@@ -583,7 +582,6 @@ class SimplifiedModel:
                           for v in spec.get("bound") or []],
                    recursive=recursive, costs=dict(spec.get("costs") or {}),
                    guarantee=guarantee)
-        from .consistency import check_program
 
         check_program(model, spec.get("cost"), path)
         return model
@@ -620,7 +618,6 @@ def _terms_from_json(spec, n):
     """The kept terms from JSON, or None (older layouts)."""
     if spec is None:
         return None
-    from ..symbolic.explicit import Term
 
     size = len(spec["coef"])
     K = np.array(spec["K"], dtype=np.int64).reshape(size, n)

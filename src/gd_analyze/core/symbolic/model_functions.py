@@ -41,6 +41,8 @@ from numpy.typing import ArrayLike
 from ..model.drives import DRIVE_FIELDS
 from .codegen import ExplicitProgram, Program
 from .emit_model import FUNCTIONS, FunctionSpec, numpy_source
+from .pruning import part_values
+from .recursive import parts_program, regressor_program
 from .transform import jacobian, substitute
 
 if TYPE_CHECKING:
@@ -224,8 +226,6 @@ def recursive_functions(robot: Robot, base: BaseParameters, left_out: ArrayLike,
     qd = qdd = 0 (:func:`.transform.substitute`, :func:`.transform.jacobian`); by the
     decomposition of :mod:`.pruning` they add up to tau_s.
     """
-    from .pruning import part_values
-    from .recursive import parts_program, regressor_program
 
     n = robot.n
     left_out = np.asarray(left_out, bool)
@@ -264,8 +264,6 @@ def recursive_inertia(robot: Robot, base: BaseParameters, left_out: ArrayLike,
         D_s row-major (n x n) [kg m^2; kg]: the derivative by qdd of the recursion of the kept
         inertial values with gravity 0 (:func:`.transform.jacobian`), mirrored.
     """
-    from .pruning import part_values
-    from .recursive import parts_program
 
     values = part_values(base, np.asarray(left_out, bool))[0]
     still = dataclasses.replace(robot, gravity=np.zeros(3))

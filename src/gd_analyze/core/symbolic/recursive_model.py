@@ -19,7 +19,8 @@ from numpy.typing import ArrayLike
 
 from ...config import ROUND_OFF
 from ...errors import InputError
-from .base_parameters import BaseParameters, base_parameters
+from .base_parameters import PARAMETER_NAMES, BaseParameters, base_parameters, standard_parameters
+from .pruning import dropped_peaks, prune, prune_on_peaks, pruned_choice
 from .recursive import PARTS
 
 if TYPE_CHECKING:
@@ -133,7 +134,6 @@ class RecursiveModel:
         BaseParameters
             With the stored beta; ``K`` empty (the program does not need it).
         """
-        from .base_parameters import PARAMETER_NAMES, standard_parameters
 
         n = robot.n
         index = {f"{PARAMETER_NAMES[c]}{j + 1}": (j, c) for j in range(n) for c in range(10)}
@@ -180,7 +180,6 @@ class RecursiveModel:
         left_out : ndarray of bool, shape (b, 3)
             ``dropped``, or none where the exact program is the cheaper one.
         """
-        from .pruning import pruned_choice
 
         return pruned_choice(robot, self.base(robot), self.dropped, exact=exact, forms=forms)
 
@@ -320,7 +319,6 @@ def recursive_model(robot: Robot, q: np.ndarray, qd: np.ndarray, qdd: np.ndarray
     single parts' peaks per part and, last, the parameters dropped whole (by the peak of their
     whole contribution).
     """
-    from .pruning import dropped_peaks, prune
 
     base = base_parameters(robot) if base is None else base
     pr = prune(robot, base, q, qd, qdd, tolerance, torque_floor=torque_floor, peaks=peaks)
@@ -380,7 +378,6 @@ def sweep_recursive_model(robot: Robot, scale: ArrayLike, peak: ArrayLike, whole
     model (Fu, Gonzalez & Lee 1987, Algorithm 3.1) on the base parameters (Khalil &
     Kleinfinger 1987; Gautier 1990).
     """
-    from .pruning import dropped_peaks, prune_on_peaks
 
     base = base_parameters(robot) if base is None else base
     pr = prune_on_peaks(robot, base, scale, peak, whole_peak, tolerance)
