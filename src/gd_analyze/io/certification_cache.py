@@ -37,7 +37,9 @@ import warnings
 import numpy as np
 
 from .._version import VERSION as __version__
+from ..core.selection.certify import certify, certify_tree
 from ..core.selection.region import channel_values, sample_positions, worst_states
+from ..core.selection.simplified import parameters_sha256
 from ..errors import one_line
 from ..files import package_sha256
 from .cache_files import CacheWarning, entry_path, read_entry, write_entry
@@ -75,7 +77,6 @@ def certification_key(robot, region, settings):
         ``format``, ``robot_sha256``, ``parameters_sha256``, ``code`` (version and the SHA-256
         of the package's sources), ``region`` (exact hex floats) and ``settings``.
     """
-    from ..core.selection.simplified import parameters_sha256
 
     return {"format": _FORMAT, "robot_sha256": str(robot.sha256),
             "parameters_sha256": parameters_sha256(robot.to_dict()),
@@ -89,7 +90,6 @@ def certification_key(robot, region, settings):
 
 def _checked(robot, base, region, torque_floor, samples, seed, arrays, values=None):
     """The certification recomputed from the entry, or why the entry fails (a str)."""
-    from ..core.selection.certify import certify_tree
     from ..core.symbolic.regressor_kernels import part_regressor
 
     n = robot.n
@@ -159,7 +159,6 @@ def certification(robot, base, region, torque_floor=0.0, samples=1000, seed=0, v
     Source: the bounds of :func:`gd_analyze.core.selection.certify.certify` (interval branch
     and bound on the Newton-Euler regressor recursion, Khalil & Kleinfinger 1987).
     """
-    from ..core.selection.certify import certify
 
     key = certification_key(robot, region, {"torque_floor": float(torque_floor),
                                             "samples": int(samples), "seed": int(seed)})

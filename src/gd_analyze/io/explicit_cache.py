@@ -33,6 +33,7 @@ import warnings
 import numpy as np
 
 from .._version import VERSION as __version__
+from ..core.selection.simplified import parameters_sha256
 from ..core.symbolic.explicit import Term, derive, model_terms
 from ..core.symbolic.explicit_check import terms_disagreement
 from ..errors import one_line
@@ -66,7 +67,6 @@ def cache_key(robot):
         package version and the SHA-256 of the package's sources); ``settings`` (what
         the derivation depends on besides the parameters: the joint types, the fields).
     """
-    from ..core.selection.simplified import parameters_sha256
 
     return {"format": _FORMAT, "robot_sha256": str(robot.sha256),
             "parameters_sha256": parameters_sha256(robot.to_dict()),

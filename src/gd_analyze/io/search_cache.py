@@ -31,6 +31,7 @@ from __future__ import annotations
 
 import numpy as np
 
+from ..core.symbolic.newton_euler import FORMS
 from .cache_files import entry_path, read_entry, write_entry
 from .certification_cache import certification_key
 
@@ -92,7 +93,6 @@ def read_search(key, n, b):
         None when there is none or caching is off. The budget check is the caller's
         (:func:`~gd_analyze.core.symbolic.pruning.prune_bounds` with ``chosen``).
     """
-    from ..core.symbolic.newton_euler import FORMS
 
     path = entry_path("search", key)
     found = None if path is None else read_entry(path, key, SEARCH_FIELDS, _MAX_BYTES)
@@ -127,7 +127,6 @@ def write_search(key, dropped, whole, exact_forms, pruned_forms):
     pruned_forms : sequence of str or None
         The pruned program's, None when the exact program is deployed.
     """
-    from ..core.symbolic.newton_euler import FORMS
 
     path = entry_path("search", key)
     if path is None:

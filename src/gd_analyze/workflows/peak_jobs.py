@@ -19,6 +19,8 @@ import numpy as np
 from ..core.symbolic.base_parameters import base_parameters
 from ..core.symbolic.explicit import term_peaks
 from ..core.symbolic.explicit_estimate import is_expensive
+from ..core.symbolic.pruning import contribution_peaks
+from .deploy import robot_region
 
 if TYPE_CHECKING:
     from ..core.model.robot import Robot
@@ -72,7 +74,6 @@ def proves_over_region(robot: Robot, options: SimplifyOptions) -> bool:
         has a region (:func:`gd_analyze.workflows.deploy.robot_region`). The model then needs
         no contribution peaks on the trajectory.
     """
-    from .deploy import robot_region
 
     return (options.rule == "budget" and options.guarantee != "trajectory"
             and robot_region(robot, getattr(options, "region", None))[0] is not None)
@@ -105,7 +106,6 @@ def contribution_job(robot, q, qd, qdd, peaks=True):
     (:mod:`gd_analyze.core.symbolic.regressor_kernels`), releasing the GIL, so the
     main job runs it in a thread beside its pass over the G-D terms (:func:`start_peaks`).
     """
-    from ..core.symbolic.pruning import contribution_peaks
 
     base = base_parameters(robot)
     return base, contribution_peaks(robot, base, q, qd, qdd) if peaks else None

@@ -10,6 +10,12 @@ from __future__ import annotations
 
 import numpy as np
 
+from ..core.symbolic.drive_regressor import with_drives
+from ..core.symbolic.emit import python_function
+from ..core.symbolic.recursive import recursive_program
+from ..core.symbolic.recursive_model import recursive_model
+from .deploy import _searched
+
 __all__ = ["recursive_ladder", "LADDER_BLOCK"]
 
 #: Set points whose torques each rung evaluates at once (the blocks of
@@ -70,11 +76,6 @@ def recursive_ladder(robot, base, trajectory, tolerances, torque_floor=0.0, regi
     1987; Gautier 1990), pruned as :func:`gd_analyze.workflows.deploy.build_recursive`; the
     error bound is the triangle inequality over the dropped pairs.
     """
-    from ..core.symbolic.drive_regressor import with_drives
-    from ..core.symbolic.emit import python_function
-    from ..core.symbolic.recursive import recursive_program
-    from ..core.symbolic.recursive_model import recursive_model
-    from .deploy import _searched
 
     q, qd, qdd = trajectory
     built = getattr(deployed, "choice_cache", None) or ()
@@ -138,7 +139,6 @@ def _worst_errors(exact, programs, q, qd, qdd, n, block=LADDER_BLOCK):
     ndarray, shape (len(programs), n)
         [N m; N]; NaN where a torque is NaN.
     """
-    from ..core.symbolic.emit import python_function
 
     err = np.zeros((len(programs), n))
     reference = python_function(exact)

@@ -14,7 +14,9 @@ from typing import TYPE_CHECKING
 
 import numpy as np
 
+from ..core.selection.simplified import json_safe
 from ..io.certification_cache import certification
+from ..io.model_trust import remember
 
 if TYPE_CHECKING:                       # for the type hints only
     from ..core.model.robot import Robot
@@ -50,7 +52,6 @@ def _region_key(robot, region, torque_floor):
     import hashlib
     import json
 
-    from ..core.selection.simplified import json_safe
 
     text = json.dumps(json_safe(robot.to_dict()), sort_keys=True)
     return hashlib.sha256(text.encode() + b"".join(
@@ -77,7 +78,6 @@ def certified(robot: Robot, base: BaseParameters, region: Region,
     PairBounds
         Samples :func:`region_values` drew in this process are not drawn again.
     """
-    from ..io.model_trust import remember
 
     drawn = _SAMPLED.get(_region_key(robot, region, 0.0))      # the same samples, if drawn
 

@@ -30,11 +30,33 @@ import numpy as np
 
 from ..config import defaults
 from ..core.selection.budget import DEFAULT_TOLERANCE
+from ..core.selection.positive_definite import with_inertia_check
 from ..core.symbolic.base_parameters import base_parameters
 from ..core.symbolic.explicit_estimate import is_expensive
+from ..core.symbolic.pruning import dropped_peaks, settle_restored
+from ..core.symbolic.recursive_model import sweep_recursive_model
 from ..errors import InputError
 from ..formulations.opcount import operation_counts
+from .deploy import (
+    guarantee_region,
+    recursive_simplified,
+    region_model,
+    restored_rebuild,
+    robot_region,
+    trajectory_guarantee,
+)
+from .deployment import exact_explicit_model, exact_explicit_wins
+from .evaluate import coverage
 from .options import EXPLICIT, FORMS, GUARANTEES
+from .simplified_dataset import sweep_choices
+from .simplify import (
+    explicit_sweep_model,
+    full_program,
+    full_torque,
+    sweep_validation,
+    total_operations,
+    trajectories_sha256,
+)
 
 if TYPE_CHECKING:                       # for the type hints only
     import xarray as xr
@@ -129,8 +151,6 @@ def recursive_sweep_model(robot: Robot, scale: ArrayLike, peak: ArrayLike, whole
     :func:`gd_analyze.core.symbolic.recursive_model.sweep_recursive_model`; Fu, Gonzalez & Lee
     (1987), Algorithm 3.1 on the base parameters (Khalil & Kleinfinger 1987; Gautier 1990).
     """
-    from ..core.symbolic.recursive_model import sweep_recursive_model
-    from .deploy import recursive_simplified
 
     base = base_parameters(robot) if base is None else base
     rec, each = sweep_recursive_model(robot, scale, peak, whole_peak, tolerance, base=base)
@@ -217,16 +237,6 @@ def budget_sweep_model(robot: Robot, trajectories: Sequence[Trajectory], sweep_d
     Sec. 3.4.1 of Fu, Gonzalez & Lee (1987) (a simplified model "at a reduced computation
     time"); the region's bounds as :func:`gd_analyze.workflows.deploy.region_model`.
     """
-    from ..core.selection.positive_definite import with_inertia_check
-    from .deploy import guarantee_region
-    from .simplified_dataset import sweep_choices
-    from .simplify import (
-        explicit_sweep_model,
-        full_torque,
-        sweep_validation,
-        total_operations,
-        trajectories_sha256,
-    )
 
     if explicit not in EXPLICIT:
         raise ValueError(f"explicit must be one of {EXPLICIT}, got {explicit!r}")
@@ -284,7 +294,6 @@ def budget_sweep_model(robot: Robot, trajectories: Sequence[Trajectory], sweep_d
 def _trajectory_bounds(peak, whole_peak, dropped):
     """The bound on each trajectory, split by part (K, 4, n), of the pairs ``dropped``, a
     parameter with all its parts dropped counted whole."""
-    from ..core.symbolic.pruning import dropped_peaks
 
     dropped = np.asarray(dropped, bool)
     return dropped_peaks(peak, whole_peak, dropped, dropped.all(axis=1))
@@ -295,8 +304,6 @@ def _sweep_rebuild(peak, whole_peak, scales, tolerance):
     on a trajectory sweep: the recursive model with the given pairs dropped (the restored
     parameters restored in full where their remaining parts would break the budget on a
     trajectory, or cost more), its bounds on each trajectory derived again."""
-    from ..core.symbolic.pruning import settle_restored
-    from .deploy import recursive_simplified
 
     def rebuild(model, dropped):
         robot, rec = model.robot, model.recursive
@@ -369,12 +376,7 @@ def region_sweep_model(robot: Robot, trajectories: Sequence[Trajectory], region:
     set point lies in it (:meth:`gd_analyze.core.selection.guarantee.Guarantee.covers`);
     one outside is reported, not covered.
     """
-    from ..core.selection.positive_definite import with_inertia_check
     from ..io.explicit_cache import explicit_terms
-    from .deploy import recursive_simplified, region_model, restored_rebuild
-    from .deployment import exact_explicit_model, exact_explicit_wins
-    from .evaluate import coverage
-    from .simplify import explicit_sweep_model, full_program, full_torque, sweep_validation
 
     base = base_parameters(robot)
     rec, g = region_model(robot, base, region, tolerance, torque_floor)
@@ -468,7 +470,6 @@ def sweep_guarantee(robot: Robot, model: SimplifiedModel, trajectories: Sequence
         relative to s_i there, where the robot gives the limits.
     """
     from ..core.selection.guarantee import Guarantee
-    from .deploy import robot_region, trajectory_guarantee
 
     scale = np.asarray(scales, float).max(axis=0)
     bound = np.asarray(relative, float) * scale
