@@ -266,3 +266,44 @@ def test_core_concepts_import_down_the_flow():
                     and CORE_ORDER[parts[1]] > CORE_ORDER[me.split(".")[1]]:
                 bad.append(f"{me} -> {target} (upward in core)")
     assert bad == [], "\n".join(bad)
+
+
+#: Function-local imports of the package's own modules allowed: the compiled (numba) kernels,
+#: imported when a long trajectory needs them, and the CLI's sweep, which imports dask.
+MAX_LOCAL_IMPORTS = 20
+
+
+def local_imports(path):
+    """The package imports a module makes inside its functions, as 'module:line' strings."""
+    tree = ast.parse(path.read_text(encoding="utf-8"))
+    me = _module_name(path)
+    out = []
+    for f in ast.walk(tree):
+        if not isinstance(f, (ast.FunctionDef, ast.AsyncFunctionDef)):
+            continue
+        for node in ast.walk(f):
+            if isinstance(node, ast.ImportFrom) and (
+                    node.level or (node.module or "").startswith("gd_analyze")):
+                out.append(f"{me}:{node.lineno}")
+            elif isinstance(node, ast.Import) and any(a.name.startswith("gd_analyze")
+                                                      for a in node.names):
+                out.append(f"{me}:{node.lineno}")
+    return sorted(set(out))
+
+
+def test_few_function_local_imports_of_the_package():
+    found = [x for path in MODULES for x in local_imports(path)]
+    assert 0 < len(found) <= MAX_LOCAL_IMPORTS, "\n".join(found)
+
+
+def test_the_local_import_count_can_fail(tmp_path):
+    bad = tmp_path / "gd_analyze" / "core" / "bad.py"
+    bad.parent.mkdir(parents=True)
+    bad.write_text("from .ok import x\n\ndef f():\n    from .a import b\n    if b:\n"
+                   "        import gd_analyze.c\n    import numpy\n")
+    global SRC
+    saved, SRC = SRC, tmp_path / "gd_analyze"
+    try:
+        assert [x.split(":")[1] for x in local_imports(bad)] == ["4", "6"]
+    finally:
+        SRC = saved

@@ -214,7 +214,6 @@ def main(argv=None):
 
 
 def _main(argv):
-
     argv = list(sys.argv[1:] if argv is None else argv)
     given = list(argv)
     debug = "--debug" in argv

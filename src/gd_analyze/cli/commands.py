@@ -22,6 +22,7 @@ from ..core.selection.simplified import json_safe
 from ..errors import InputError, InputWarning
 from ..files import file_sha256
 from ..formulations.compare import compare_report, format_compare
+from ..io import control_dataset as control_file
 from ..io.excitation import DEFAULT_HARMONICS, plan_excitation
 from ..io.model_file import load_model
 from ..io.names import Var
@@ -31,6 +32,7 @@ from ..io.planning import (
     check_velocity_limits,
     default_motion,
     provenance_mismatch,
+    provenance_path,
     quintic_min_durations,
     quintic_plan,
     user_positions,
@@ -38,16 +40,17 @@ from ..io.planning import (
 )
 from ..io.results_view import ZERO_MARK, Results, torque_table_header
 from ..io.robots import load_robot
-from ..io.staging import safe_name, staged_output, writing
+from ..io.staging import check_output_file, safe_name, staged_output, writing
 from ..io.trajectory import (
     JointLimitWarning,
     check_joint_limits,
     read_trajectory,
     write_trajectory_chunks,
 )
-from ..reports.control import CONTROL_REPORT_FILES
+from ..reports.control import CONTROL_REPORT_FILES, write_control_report
 from ..reports.control_text import dataset_verdict
 from ..reports.effort import effort_rows
+from ..reports.main import write_report
 from ..reports.numbers import count
 from ..workflows.analyze import progress_bar
 from ..workflows.control import CONTROL_FILE, run_control
@@ -186,13 +189,11 @@ def wrote_line(files, folder, verbose):
 
 
 def _load(args, csv_arg):
-
     robot = load_robot_arg(args)
     return robot, read_trajectory(csv_arg, n_joints=robot.n)
 
 
 def _warn_limits(robot, trajectory, quiet):
-
     with warnings.catch_warnings():
         warnings.simplefilter("ignore", JointLimitWarning)
         messages = check_joint_limits(robot, trajectory)
@@ -437,8 +438,6 @@ def cmd_analyze(args):
     _warn_limits(robot, trajectory, args.quiet)
     report = None
     if not args.no_report:
-        from ..reports.main import write_report
-
         def report(results, folder, progress):
             bar.reset(total=trajectory.n_setpoints)
             bar.set_description("report")
@@ -631,9 +630,6 @@ def _write_plan(pieces, n, output, advice):
 def _check_outputs(output):
     """Refuse an output CSV or provenance that this run may not write (io/staging.py)."""
     if output != "-":
-        from ..io.planning import provenance_path
-        from ..io.staging import check_output_file
-
         check_output_file(output)
         check_output_file(provenance_path(output))
 
@@ -909,8 +905,6 @@ def cmd_control(args):
     """
     import json
 
-    from ..io.control_dataset import control_dataset, write_control_dataset
-
     model = load_model(args.model)
     traj = read_trajectory(args.trajectory, n_joints=model.robot.n)
     _warn_provenance(args.trajectory, model.robot)
@@ -927,11 +921,9 @@ def cmd_control(args):
     with staged_output(outdir, (CONTROL_FILE, *CONTROL_REPORT_FILES, "figures"),
                        "control") as stage, writing(outdir, stage):
         path = stage / CONTROL_FILE
-        write_control_dataset(result, path, {"command": command_line(args)})
+        control_file.write_control_dataset(result, path, {"command": command_line(args)})
         written = [path]
         if not args.no_report:
-            from ..reports.control import write_control_report
-
             written += list(write_control_report(path, stage, paper=args.paper))
     written = [outdir / Path(p).relative_to(stage) for p in written]
     summary = result.summary()
@@ -940,7 +932,7 @@ def cmd_control(args):
     elif not args.quiet:
         print(f"computed-torque control of {model.robot.name} along {args.trajectory}: "
               f"wn = {args.wn:g} rad/s, zeta = {args.zeta:g}")
-        judged = dataset_verdict(control_dataset(result))
+        judged = dataset_verdict(control_file.control_dataset(result))
         q_floor = judged["floors"][0]           # the report's rule: noise is not data
         print(f"{'controller':<12}" + "".join(f"{'joint ' + str(j + 1):>11}"
                                                for j in range(model.robot.n)))

@@ -216,7 +216,6 @@ def _add_chain_arguments(p):
 
 
 def _robot_help():
-
     return (f"built-in robot ({robots_text()}), a TOML robot file or a URDF file (*.urdf, see "
             "--base and --tip)")
 

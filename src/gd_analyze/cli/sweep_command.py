@@ -12,14 +12,15 @@ from pathlib import Path
 
 from ..core.symbolic.emit_model import artefact_names
 from ..core.symbolic.safe_text import c_prefix
-from ..errors import InputError
+from ..errors import InputError, InputWarning
 from ..io.model_file import save_model
-from ..io.planning import random_trajectories
+from ..io.planning import acceleration_limits, check_velocity_limits, random_trajectories
 from ..io.schema import write_dataset
 from ..io.staging import staged_output, writing
 from ..io.sweep_datasets import beyond_the_floor
 from ..io.sweep_guarantee import merged_guarantee
 from ..io.trajectory import read_trajectory
+from ..reports.sweep import write_sweep_report
 from ..workflows.deploy import guarantee_region
 from ..workflows.payload import sweep_payloads
 from ..workflows.sweep_budget import budget_sweep_model
@@ -182,13 +183,9 @@ def cmd_sweep(args):
     if args.csv:
         trajectories = [read_trajectory(path, n_joints=robot.n) for path in args.csv]
     else:
-        from ..io.planning import check_velocity_limits
-
         placeholder = check_velocity_limits(robot)           # random plans need them
         if placeholder:
             import warnings
-
-            from ..errors import InputWarning
 
             warnings.warn(placeholder, InputWarning)
         trajectories = random_trajectories(robot, args.random, seed=args.seed)
@@ -201,8 +198,6 @@ def cmd_sweep(args):
                 "payload_mass": float(args.payload or 0.0), **chain_settings(args),
                 **mounting_settings(args, robot)}
     if args.random is not None:
-        from ..io.planning import acceleration_limits
-
         settings["seed"] = args.seed
         try:
             settings["random_qdd_max_source"] = acceleration_limits(robot)[1]
@@ -246,8 +241,6 @@ def cmd_sweep(args):
             written.append(stage / "payload_sweep.h5")
             write_dataset(payload, written[-1])
         if not args.no_report:
-            from ..reports.sweep import write_sweep_report
-
             written += list(write_sweep_report(written[0], stage, payload=payload,
                                                paper=args.paper))
     written = [outdir / Path(p).relative_to(stage) for p in written]

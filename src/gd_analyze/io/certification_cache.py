@@ -40,6 +40,7 @@ from .._version import VERSION as __version__
 from ..core.selection.certify import certify, certify_tree
 from ..core.selection.region import channel_values, sample_positions, worst_states
 from ..core.selection.simplified import parameters_sha256
+from ..core.symbolic.regressor_kernels import part_regressor
 from ..errors import one_line
 from ..files import package_sha256
 from .cache_files import CacheWarning, entry_path, read_entry, write_entry
@@ -90,8 +91,6 @@ def certification_key(robot, region, settings):
 
 def _checked(robot, base, region, torque_floor, samples, seed, arrays, values=None):
     """The certification recomputed from the entry, or why the entry fails (a str)."""
-    from ..core.symbolic.regressor_kernels import part_regressor
-
     n = robot.n
     cols = np.flatnonzero(base.independent.reshape(-1))
     scale, state = arrays["scale"], arrays["scale_state"]

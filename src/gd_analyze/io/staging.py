@@ -499,7 +499,6 @@ def staged_output(target, outputs=(), command="output"):
 
 @contextlib.contextmanager
 def _staged(real, target, command, mount, record):
-
     owner = os.getpid()
     inside = real.is_dir() and (mount or _in_place(real))
     stage = _new_temporary(real if inside else real.parent,

@@ -481,7 +481,6 @@ def load_urdf(path: str | os.PathLike[str], base: str | None = None,
 
 
 def _robot(chain):
-
     return robot_from_chain(chain.name, [dict(j) for j in chain.joints], chain.gravity,
                             **chain.metadata)
 

@@ -15,6 +15,7 @@ from importlib import resources
 
 import numpy as np
 
+from ..errors import InputError
 from ..io.names import Attr
 from ..io.schema import strings
 from . import markup
@@ -161,8 +162,6 @@ def check(ds, required, what):
     """
     missing = [v for v in required if v not in ds.variables]
     if missing:
-        from ..errors import InputError
-
         raise InputError(f"not a gd-analyze {what} dataset: missing variable(s) "
                          + ", ".join(missing))
 

@@ -23,6 +23,7 @@ from typing import TYPE_CHECKING
 
 from ..errors import InputError
 from ..files import atomic_path
+from ..io.schema import open_results
 from .common import render_template
 from .control_figures import COLUMN_WIDTH, FIGURE_RC, PAGE_WIDTH, control_figures
 from .control_text import control_context as _context
@@ -50,7 +51,6 @@ REQUIRED_VARIABLES = ("is_setpoint", "q_d", "error", "tau", "error_peak_setpoint
 
 
 def _check(ds, path):
-
     missing = [v for v in REQUIRED_VARIABLES if v not in ds.variables]
     if missing or "controller" not in ds.dims or "time" not in ds.dims:
         raise InputError(f"not a gd-analyze control dataset (missing {missing[:3] or 'dims'})",
@@ -256,8 +256,6 @@ def write_control_report(control_path: str | os.PathLike[str], outdir: str | os.
     (:func:`gd_analyze.files.atomic_path`). Sources: Fu, Gonzalez & Lee (1987), Sec. 3.4.1
     (simplified model) and Ch. 5 (computed-torque control).
     """
-    from ..io.schema import open_results
-
     if paper not in PAPER:
         raise ValueError(f"paper must be one of {sorted(PAPER)}, got {paper!r}")
     ds = open_results(str(control_path))

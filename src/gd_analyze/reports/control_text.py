@@ -11,6 +11,7 @@ import numpy as np
 
 from .._version import VERSION as __version__
 from ..core.selection.ranking import ROUND_OFF_CLAUSE, element_label, is_round_off
+from ..io.control_dataset import gain_units
 from .common import cost_table, fmt_column, prismatic_joints, utc_now
 from .common import strings as _strings
 from .common import table as _table
@@ -421,7 +422,6 @@ def _gains_table(ds, joints):
         if f"{name}_units" in ds.coords:
             units = [_GAIN_UNITS.get(u, u) for u in _strings(ds[f"{name}_units"].values)]
         else:                               # an older file: units from the joint types
-            from ..io.control_dataset import gain_units
 
             units = [_GAIN_UNITS.get(u, u) for u in gain_units(prismatic)[name]]
         same = len(set(units)) == 1

@@ -36,7 +36,6 @@ IDENTIFY_REPORT_FILES = ("report.html", "report.pdf")
 
 
 def _check(root, groups):
-
     missing = [v for v in REQUIRED_ROOT if v not in root.variables]
     if missing:
         raise InputError(f"not an identification (the root lacks {', '.join(missing)})",

@@ -291,7 +291,6 @@ def _fig_error(ds, data, width=PAGE_WIDTH):
 
 
 def _fig_payload(ds, width=PAGE_WIDTH):
-
     return payload_figure(payload_part(ds), width)
 
 
@@ -528,7 +527,6 @@ def write_report(results, outdir, formats=REPORT_FORMATS, paper="a4", progress=N
 
 
 def _write(results, outdir, formats, paper, progress, column=False, latex=False):
-
     ds = results.dataset
     ctx = report_context(results)       # fails early on a dataset that is not ours
     (outdir / "figures").mkdir(parents=True, exist_ok=True)

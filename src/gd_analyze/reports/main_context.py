@@ -143,7 +143,6 @@ def _caption_units(ds):
 
 
 def _is_puma560(name):
-
     return is_chapter_puma(name)
 
 

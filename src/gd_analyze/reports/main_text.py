@@ -9,6 +9,7 @@ from __future__ import annotations
 import numpy as np
 
 from ..core.selection.ranking import element_label, parse_element_label
+from .figure_style import element_markevery
 from .markup import element
 from .numbers import share as _share
 from .plot_data import ENVELOPE_COLUMNS
@@ -480,8 +481,6 @@ def captions(enveloped, N, s, e, units=None, alike=()):
                f"{ENVELOPE_COLUMNS:,} equal time columns, without markers; lines: translational solid, rotational dashed, "
                "combined dotted")
     else:
-        from .figure_style import element_markevery
-
         k = element_markevery(N, 3)
         where = (f"Markers at each of the {N:,} set points" if k == 1 else
                  f"Lines through all {N:,} set points, a marker at one set point in {k} "

@@ -36,12 +36,14 @@ from ..core.selection.labels import joint_torque_units
 from ..core.selection.ranking import RankingAccumulator, arm_scales, is_chapter_puma, is_round_off
 from ..core.selection.simplified import SimplifiedModel, TorqueErrorAccumulator, simplified_torque
 from ..files import atomic_path
-from ..formulations.compare import FORMULATIONS_MAX_SETPOINTS
-from ..io.datasets import build_dataset
+from ..formulations import pinocchio as reference
+from ..formulations.compare import FORMULATIONS_MAX_SETPOINTS, formulations_dataset
+from ..io.datasets import SetpointWriter, build_dataset, summary_dataset, with_setpoints
 from ..io.schema import append_dataset
 from .deployment import deploy_models
 from .options import AnalysisOptions
 from .peak_jobs import start_peaks
+from .simplified_dataset import recursive_choices
 
 if TYPE_CHECKING:                       # for the type hints only
     import os
@@ -51,7 +53,6 @@ if TYPE_CHECKING:                       # for the type hints only
     from tqdm import tqdm
 
     from ..core.model.robot import Robot
-    from ..io.datasets import SetpointWriter
     from ..io.trajectory import Trajectory
 
 __all__ = ["Analysis", "AnalysisPass", "analysis_pass", "analyze", "analyze_to_file", "verify",
@@ -128,21 +129,14 @@ def _concat(parts):
 
 def _verify_sample(robot, q, qd, terms, qdd=None):
     """The verification of :func:`verify` on given set points and their G-D terms."""
-    from ..formulations.pinocchio import (
-        measured_relative_error,
-        natural_relative_error,
-        natural_scales,
-        reference_terms,
-    )
-
-    ref = reference_terms(robot, q, qd)
-    scales = natural_scales(robot, ref, qd, qdd)
+    ref = reference.reference_terms(robot, q, qd)
+    scales = reference.natural_scales(robot, ref, qd, qdd)
     out, excess = {}, {}
     for name in ("D_tran", "D_rot", "h_tran", "h_rot", "D", "h", "c"):
         kind = "D" if name.startswith("D") else "tau"
         args = (getattr(terms, name), getattr(ref, name), scales[kind], scales[f"floor_{kind}"])
-        out[f"max_rel_error_{name}"] = measured_relative_error(*args)
-        excess[f"max_rel_excess_{name}"] = natural_relative_error(*args)
+        out[f"max_rel_error_{name}"] = reference.measured_relative_error(*args)
+        excess[f"max_rel_excess_{name}"] = reference.natural_relative_error(*args)
     worst = np.max(np.array(list(excess.values())))      # NaN propagates: a NaN fails
     out.update(excess)
     out.update(setpoints=int(q.shape[0]), tolerance=VERIFY_TOLERANCE,
@@ -416,13 +410,9 @@ def _analysis_pass(robot, trajectory, options, provenance, chunk, writer, progre
                                       qdd[idx_verify])
     costs = None
     if formulations:
-        from ..formulations.compare import formulations_dataset
-
         costs = formulations_dataset(robot, q[idx_form], qd[idx_form], qdd[idx_form],
                                      gd=sample.rows([at[i] for i in idx_form]))
     if model is not None and model.recursive is not None:
-        from .simplified_dataset import recursive_choices
-
         choices = recursive_choices(model, q[idx_choice], qd[idx_choice],
                                     sample.rows([at[i] for i in idx_choice]), ranking)
     return AnalysisPass(ranking=ranking, choices=choices, error=_marked(errors.result(), robot),
@@ -621,8 +611,6 @@ def analyze_to_file(robot: Robot, trajectory: Trajectory, path: str | os.PathLik
         If the file cannot be written.
     """
     import contextlib
-
-    from ..io.datasets import SetpointWriter, summary_dataset, with_setpoints
 
     options = AnalysisOptions() if options is None else options
     N, n = trajectory.q.shape

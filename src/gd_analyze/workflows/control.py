@@ -86,6 +86,7 @@ from ..core.symbolic.drive_regressor import with_drives
 from ..core.symbolic.explicit_estimate import is_expensive
 from ..core.symbolic.recursive import recursive_program
 from ..formulations.opcount import operation_counts
+from ..io import explicit_cache
 from .evaluate import coverage, model_torque
 from .simplify import full_program
 from .tracking import (
@@ -295,14 +296,12 @@ def model_cost(model: SimplifiedModel) -> dict[str, Any]:
     Lee (1987) (a simplified model "at a reduced computation time"), Table 3.5 (N-E), and
     Armstrong, Khatib & Burdick (1986) for the explicit form.
     """
-    from ..io.explicit_cache import explicit_terms
-
     robot: Robot = model.robot  # type: ignore[assignment]  # SimplifiedModel's field is typed object
     counted = [(f"simplified model ({model.form} form)", model.program().cost()),
                ("exact recursive model",
                 with_drives(recursive_program(robot), robot).cost())]
     if model.form == "explicit" or not is_expensive(robot):
-        terms, _ = explicit_terms(robot)
+        terms, _ = explicit_cache.explicit_terms(robot)
         counted.append(("full explicit model", full_program(robot, terms).cost()))
     counted.append(("Newton-Euler (as implemented)", operation_counts(robot)["newton-euler"]))
     names = [name for name, _ in counted]
@@ -359,12 +358,9 @@ def model_facts(model: SimplifiedModel) -> dict[str, Any]:
                    dropped_pairs=", ".join(f"{a} ({b})" for a, b in f["dropped_pairs"]),
                    gravity_dropped=", ".join(f["gravity_dropped"]), pairs_known=int(f["known"]))
     elif model.rule == "budget" and model.terms is not None:
-        from ..core.symbolic.explicit_estimate import is_expensive
-        from ..io.explicit_cache import explicit_terms
-
         out["c_terms_kept"] = int(np.sum(np.asarray(model.terms.kind) == "c"))  # type: ignore[attr-defined]  # SimplifiedModel's field is typed object
         if not is_expensive(model.robot):  # type: ignore[arg-type]  # SimplifiedModel.robot is typed object
-            full, _ = explicit_terms(model.robot)
+            full, _ = explicit_cache.explicit_terms(model.robot)
             out["c_terms"] = int(np.sum(np.asarray(full.kind) == "c"))
     return out
 
@@ -604,7 +600,6 @@ def difference_noise(robot: Robot, model: SimplifiedModel, gains: Gains, desired
 
 
 def _json_ready(obj):
-
     return json_safe(obj)
 
 

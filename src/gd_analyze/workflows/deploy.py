@@ -426,7 +426,6 @@ def restored_rebuild(q, qd, qdd, region=None, sample_region=None, region_missing
     counted whole where all its parts are dropped and that fits, else pair by pair).
     """
     def rebuild(model, dropped):
-
         robot, tol, floor = model.robot, model.tolerance, model.torque_floor
         base = model.recursive.base(robot) if contributions is None else contributions[0]
         dropped = settle_restored(robot, base, model.recursive.dropped, dropped)

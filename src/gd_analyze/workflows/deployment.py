@@ -14,8 +14,10 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 
 from ..core.selection.choices import full_choices
+from ..core.selection.guarantee import Guarantee
 from ..core.selection.positive_definite import with_inertia_check
 from ..formulations.opcount import operation_counts
+from ..io import explicit_cache
 from .deploy import build_recursive, guarantee_region, restored_rebuild
 from .recursive_ladder import recursive_ladder
 from .simplify import (
@@ -35,7 +37,6 @@ if TYPE_CHECKING:                       # for the type hints only
 
     from ..core.model.robot import Robot
     from ..core.selection.budget import PartPeaks
-    from ..core.selection.guarantee import Guarantee
     from ..core.selection.ranking import Ranking
     from ..core.selection.region import Region
     from ..core.selection.simplified import SimplifiedModel
@@ -252,10 +253,8 @@ def exact_explicit_model(full: SimplifiedModel, guarantee: Guarantee, tolerance:
         ``full`` was built on need not be 0 elsewhere in the region), ``tolerance`` EPS, bound
         0 on every joint and the region guarantee with bound and sampled error 0.
     """
-    from ..io.explicit_cache import explicit_terms
-
     n = full.robot.n  # type: ignore[attr-defined]  # SimplifiedModel's field is typed object
-    terms, _ = explicit_terms(full.robot)
+    terms, _ = explicit_cache.explicit_terms(full.robot)
     program = full_program(full.robot, terms)  # type: ignore[arg-type]  # SimplifiedModel's field is typed object
     return dataclasses.replace(
         full, tolerance=float(tolerance), bound=[0.0] * n, terms=terms,
@@ -292,8 +291,6 @@ def region_coverage(region: Region | None, trajectory: Trajectory) -> dict[str, 
 
 def _trajectory_guarantee(model, sel, trajectory, missing="", region=None):
     """The explicit budget model's guarantee on its trajectory (None: chapter rule)."""
-    from ..core.selection.guarantee import Guarantee
-
     if model.rule != "budget":
         return None
     return Guarantee("trajectory", float(model.tolerance), bound=np.asarray(model.bound, float),

@@ -20,6 +20,7 @@ from ..core.symbolic.base_parameters import base_parameters
 from ..core.symbolic.explicit import term_peaks
 from ..core.symbolic.explicit_estimate import is_expensive
 from ..core.symbolic.pruning import contribution_peaks
+from ..io import explicit_cache
 from .deploy import robot_region
 
 if TYPE_CHECKING:
@@ -129,9 +130,7 @@ def explicit_job(robot: Robot, q: np.ndarray, qd: np.ndarray,
     peaks : ndarray, shape (A, n)
         :func:`gd_analyze.core.symbolic.explicit.term_peaks` [N m or N].
     """
-    from ..io.explicit_cache import explicit_terms
-
-    terms, _ = explicit_terms(robot)
+    terms, _ = explicit_cache.explicit_terms(robot)
     return terms, term_peaks(terms, np.zeros(robot.n), q, qd, qdd, prismatic=robot.prismatic)
 
 

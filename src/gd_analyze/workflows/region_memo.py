@@ -14,6 +14,7 @@ from typing import TYPE_CHECKING
 
 import numpy as np
 
+from ..core.selection.region import region_samples
 from ..core.selection.simplified import json_safe
 from ..io.certification_cache import certification
 from ..io.model_trust import remember
@@ -106,8 +107,6 @@ def region_values(robot: Robot, base: BaseParameters, region: Region
         floor 0 already made in this process samples the same positions with the same seed
         and gives these values; it is read instead.
     """
-    from ..core.selection.region import region_samples
-
     key = _region_key(robot, region, 0.0)
     if key in _CERTIFIED:
         pb = _CERTIFIED[key]

@@ -17,6 +17,7 @@ import dataclasses
 from dataclasses import dataclass
 from pathlib import Path
 
+from ..core.model.robot import with_payload
 from ..core.selection.simplified import SOURCE_STEM
 from ..core.symbolic.emit_model import artefact_names
 from ..core.symbolic.safe_text import c_prefix, check_prefix
@@ -25,9 +26,11 @@ from ..io.model_file import save_model
 from ..io.names import Var
 from ..io.results_view import Results
 from ..io.staging import check_free_space, staged_output, writing
+from ..io.sweep_datasets import embed_payload
 from ..io.trajectory import as_trajectory
 from .analyze import analyze, analyze_to_file
 from .options import AnalysisOptions
+from .payload import payload_sweep
 
 __all__ = ["ANALYZE_OUTPUTS", "AnalysisOutputs", "Payload", "run_analysis",
            "results_size", "results_dataset"]
@@ -175,16 +178,12 @@ def run_analysis(robot, trajectory, options, outdir, report=None, settings=None,
         raise InputError("exists and is not a folder", outdir)
     extra = None
     if payload_masses is not None:                      # computed before any output
-        from ..io.sweep_datasets import embed_payload
-        from .payload import payload_sweep
 
         shape = Payload() if payload is None else payload
         extra = embed_payload(payload_sweep(
             robot, trajectory, payload_masses, com=shape.com, inertia=shape.inertia,
             dominance=options.dominance, negligible=options.negligible))
     if payload is not None:
-        from ..core.model.robot import with_payload
-
         robot = with_payload(robot, payload.mass, payload.com, payload.inertia)
     settings = _settings(options, settings, Payload() if payload is None else payload, robot,
                          prefix)

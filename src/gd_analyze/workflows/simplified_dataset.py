@@ -12,6 +12,7 @@ from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
+from ..core.dynamics import dalembert
 from ..core.selection.ranking import arm_scales, element_labels, is_round_off
 from ..core.selection.simplified import SOURCE_STEM
 from ..core.symbolic.emit_model import artefact_names
@@ -182,15 +183,13 @@ def sweep_choices(model: SimplifiedModel, trajectories: Sequence[Trajectory],
     import dataclasses
     from types import SimpleNamespace
 
-    from ..core.dynamics.dalembert import gd_terms
-
     if model.recursive is None or not trajectories:
         return model
     q, qd, qdd = (np.concatenate([np.asarray(getattr(t, k), float) for t in trajectories])
                   for k in ("q", "qd", "qdd"))
     at = np.unique(np.linspace(0, len(q) - 1, min(len(q), setpoints)).round().astype(int))
     q, qd, qdd = q[at], qd[at], qdd[at]
-    terms = gd_terms(model.robot, q, qd)
+    terms = dalembert.gd_terms(model.robot, q, qd)
     n = model.robot.n  # type: ignore[attr-defined]  # SimplifiedModel's field is typed object
     diag = np.sqrt(np.abs(np.einsum("kii->ki", terms.D)))
     iu = np.triu_indices(n)

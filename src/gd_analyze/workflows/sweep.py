@@ -46,6 +46,8 @@ from ..core.selection.simplified import (
     merge_choices,
     simplified_torque,
 )
+from ..core.symbolic.base_parameters import base_parameters
+from ..core.symbolic.pruning import stacked_peaks
 from ..io.schema import attribute_value
 from ..io.sweep_datasets import embed_pair_peaks, sweep_dataset
 from .analyze import analysis_pass
@@ -248,7 +250,6 @@ def _analyze_batch(robot, trajectories, dominance, negligible, base=None):
     out = [_summary(tr, analysis_pass(robot, tr, options, chunk=tr.q.shape[0], terms=terms))
            for tr, terms in _batch_terms(robot, trajectories)]
     if base is not None:        # the recursive model's peaks, per trajectory (issue 29)
-        from ..core.symbolic.pruning import stacked_peaks
 
         stack = [np.concatenate([np.asarray(getattr(tr, k), float) for tr in trajectories])
                  for k in ("q", "qd", "qdd")]
@@ -390,8 +391,6 @@ def run_sweep(robot: Robot, trajectories: Sequence[Trajectory],
             t_compute = time.perf_counter()
             base = None
             if recursive_peaks:
-                from ..core.symbolic.base_parameters import base_parameters
-
                 base = base_parameters(robot)
             passes = 1 if recursive_peaks else 2
             bar = tqdm(total=passes * len(batches), unit="task", disable=not progress,

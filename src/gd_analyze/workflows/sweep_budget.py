@@ -30,6 +30,7 @@ import numpy as np
 
 from ..config import defaults
 from ..core.selection.budget import DEFAULT_TOLERANCE
+from ..core.selection.guarantee import Guarantee
 from ..core.selection.positive_definite import with_inertia_check
 from ..core.symbolic.base_parameters import base_parameters
 from ..core.symbolic.explicit_estimate import is_expensive
@@ -37,6 +38,7 @@ from ..core.symbolic.pruning import dropped_peaks, settle_restored
 from ..core.symbolic.recursive_model import sweep_recursive_model
 from ..errors import InputError
 from ..formulations.opcount import operation_counts
+from ..io import explicit_cache
 from .deploy import (
     guarantee_region,
     recursive_simplified,
@@ -63,7 +65,6 @@ if TYPE_CHECKING:                       # for the type hints only
     from numpy.typing import ArrayLike, NDArray
 
     from ..core.model.robot import Robot
-    from ..core.selection.guarantee import Guarantee
     from ..core.selection.region import Region, RegionLimits
     from ..core.selection.simplified import SimplifiedModel
     from ..core.symbolic.base_parameters import BaseParameters
@@ -376,8 +377,6 @@ def region_sweep_model(robot: Robot, trajectories: Sequence[Trajectory], region:
     set point lies in it (:meth:`gd_analyze.core.selection.guarantee.Guarantee.covers`);
     one outside is reported, not covered.
     """
-    from ..io.explicit_cache import explicit_terms
-
     base = base_parameters(robot)
     rec, g = region_model(robot, base, region, tolerance, torque_floor)
     model = recursive_simplified(robot, rec, base, tolerance=tolerance,
@@ -386,7 +385,7 @@ def region_sweep_model(robot: Robot, trajectories: Sequence[Trajectory], region:
     costs = _recursive_costs(robot, model)
     reference = None                           # the G-D terms, D qdd + h + c
     if derive:
-        terms, _ = explicit_terms(robot)
+        terms, _ = explicit_cache.explicit_terms(robot)
         costs["explicit, full"] = dict(full_program(robot, terms).cost())
         if form == "explicit" or (form == "cheapest" and exact_explicit_wins(
                 model.cost, costs["explicit, full"])):
@@ -469,8 +468,6 @@ def sweep_guarantee(robot: Robot, model: SimplifiedModel, trajectories: Sequence
         scale_{t,i}); for the recursive form the error sampled over the robot's region
         relative to s_i there, where the robot gives the limits.
     """
-    from ..core.selection.guarantee import Guarantee
-
     scale = np.asarray(scales, float).max(axis=0)
     bound = np.asarray(relative, float) * scale
     shas = tuple(getattr(t, "sha256", "") or "" for t in trajectories)

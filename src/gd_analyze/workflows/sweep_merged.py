@@ -22,7 +22,7 @@ import numpy as np
 
 from .._version import VERSION as __version__
 from ..core.selection.ranking import DEFAULT_DOMINANCE, DEFAULT_NEGLIGIBLE, element_labels
-from ..core.selection.simplified import choice_masks
+from ..core.selection.simplified import SimplifiedModel, choice_masks
 from ..errors import InputError
 from ..io.datasets import region_fields
 from ..io.schema import strings
@@ -32,8 +32,6 @@ if TYPE_CHECKING:                       # for the type hints only
     import xarray as xr
 
     from ..core.model.robot import Robot
-    from ..core.selection.simplified import SimplifiedModel
-
 __all__ = ["merged_model", "with_budget_model", "with_model_cost"]
 
 
@@ -68,8 +66,6 @@ def merged_model(robot: Robot, sweep_ds: xr.Dataset) -> SimplifiedModel:
     The validation is computed by :func:`~gd_analyze.workflows.sweep.run_sweep` along every
     trajectory and stored in the dataset; nothing is recomputed here. Source: Sec. 3.4.1 of Fu, Gonzalez & Lee (1987).
     """
-    from ..core.selection.simplified import SimplifiedModel
-
     needed = ("merged_choice", "merged_error_peak", "merged_error_rms", "merged_error_tau_peak",
               "merged_error_relative_peak", "merged_error_relative_rms")
     missing = [v for v in needed if v not in sweep_ds.variables]

@@ -13,6 +13,7 @@ from __future__ import annotations
 import numpy as np
 
 from ...errors import InputError
+from ..dynamics import dalembert
 from .guarantee import ROUND_OFF_EPS
 from .region import Region, sample_positions
 
@@ -74,8 +75,6 @@ def check_program(model, cost, path="<model>"):
 
 
 def _check_region_bound(model, g, path):
-    from ..dynamics.dalembert import gd_terms
-
     n = model.robot.n
     region = Region(np.asarray(g.q_min, float), np.asarray(g.q_max, float),
                     np.asarray(g.qd_max, float), np.asarray(g.qdd_max, float))
@@ -86,7 +85,7 @@ def _check_region_bound(model, g, path):
     state = np.asarray(g.scale_state, float).reshape(n, 3 * n)
     q, qd, qdd = (np.vstack([x, state[:, k * n:(k + 1) * n]]) for k, x in enumerate((q, qd, qdd)))
     with np.errstate(all="ignore"):
-        err = np.abs(model.torque(q, qd, qdd) - gd_terms(model.robot, q, qd).tau(qdd))
+        err = np.abs(model.torque(q, qd, qdd) - dalembert.gd_terms(model.robot, q, qd).tau(qdd))
     if not np.isfinite(err).all():
         raise InputError("the model's torque is not finite at a sampled state of its region: "
                          "its coefficients are beyond the range of a float", path,

@@ -32,10 +32,12 @@ from ..symbolic.emit import python_function, state_function
 from ..symbolic.emit_model import render
 from ..symbolic.explicit import Term, derive, model_terms
 from ..symbolic.model_functions import explicit_functions, recursive_functions
+from ..symbolic.recursive_model import RecursiveModel
 from ..symbolic.safe_text import c_prefix, comment_safe
 from .budget import chosen_terms
 from .choices import CHOICES, choice_masks, full_choices, merge_choices, simplified_torque  # noqa: F401
 from .consistency import check_program
+from .guarantee import Guarantee
 from .labels import element_labels
 from .positive_definite import inertia_statement
 from .torque_error import TorqueErrorAccumulator, torque_error  # noqa: F401 (re-exported)
@@ -190,7 +192,6 @@ class SimplifiedModel:
 
     @cached_property
     def _chosen_terms(self):
-
         all_terms = model_terms(derive(self.robot))
         return all_terms.subset(chosen_terms(all_terms, self.choices))
 
@@ -280,7 +281,6 @@ class SimplifiedModel:
 
     @cached_property
     def _functions(self):
-
         if self.functions_cache is not None:
             return self.functions_cache
         if self.recursive is None:
@@ -354,7 +354,6 @@ class SimplifiedModel:
         return render(self.functions(), self.header(), prefix, stem)
 
     def _python_tau(self):
-
         return python_function(self.program())
 
     def torque_at(self, q, qd, qdd):
@@ -549,8 +548,6 @@ class SimplifiedModel:
                              column="explicit_terms") from None
         recursive = None
         if spec.get("form") == "recursive" or "recursive" in spec:
-            from ..symbolic.recursive_model import RecursiveModel
-
             if "recursive" not in spec or spec.get("form") != "recursive":
                 raise InputError("a model of the recursive form needs both 'form' and "
                                  "'recursive'", path, column="form")
@@ -559,8 +556,6 @@ class SimplifiedModel:
         tolerance = spec.get("tolerance")
         guarantee = None
         if spec.get("guarantee") is not None:
-            from .guarantee import Guarantee
-
             guarantee = Guarantee.from_dict(spec["guarantee"], robot.n,
                                             float("nan") if tolerance is None
                                             else float(tolerance), path)
