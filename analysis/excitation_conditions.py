@@ -1,7 +1,7 @@
 """The excitation trajectory's scaled condition number against random Fourier trajectories.
 
     python analysis/excitation_conditions.py [--robots puma560,panda,ur5] [--randoms 8]
-        [--starts 2] [--maxiter 40]
+        [--starts 2] [--maxiter 40] [--diagnose]
 
 For each arm, plans the default excitation (``gd-analyze plan ROBOT --excitation``: 5
 harmonics, one 10 s period, 2 random starts of SLSQP) and draws R random Fourier trajectories
@@ -12,6 +12,9 @@ column-scaled base regressor with drive columns are taken on 400 samples of a pe
 Prints one JSON line per arm: the optimised condition number, the random ones' median, minimum
 and maximum, the ratio median / optimised, the planning's wall and CPU time [s], and the load
 average before and after (the wall time depends on the machine's load; the CPU time less so).
+With ``--diagnose``, also each joint's mean |qd| / rms qd (the correlation of its viscous and
+Coulomb columns) and the columns with the largest weights in the singular vectors of the
+largest and smallest singular values of the optimised trajectory's scaled regressor.
 """
 
 from __future__ import annotations
@@ -35,6 +38,8 @@ def main(argv=None):
     parser.add_argument("--randoms", type=int, default=8)
     parser.add_argument("--starts", type=int, default=2, help="SLSQP random starts")
     parser.add_argument("--maxiter", type=int, default=40, help="SLSQP iterations per start")
+    parser.add_argument("--diagnose", action="store_true",
+                        help="print the Coulomb correlations and extreme singular vectors")
     args = parser.parse_args(argv)
     for name in args.robots.split(","):
         robot = load_robot(name)
@@ -56,7 +61,28 @@ def main(argv=None):
             "wall_s": round(wall, 1), "cpu_s": round(cpu, 1),
             "load_before": round(load, 2), "load_after": round(os.getloadavg()[0], 2)}),
             flush=True)
+        if args.diagnose:
+            print(json.dumps({"robot": name, **_diagnosis(robot, ex)}), flush=True)
     return 0
+
+
+def _diagnosis(robot, ex, samples=400, weights=5):
+    """mean |qd| / rms qd per joint, and the heaviest columns of the extreme singular vectors."""
+    from gd_analyze.core.symbolic.drive_regressor import identification_regressor
+
+    t = (np.arange(samples) + 0.5) * (ex.series.period / samples)
+    q, qd, qdd = ex.series.evaluate(t)
+    Y = identification_regressor(robot, q, qd, qdd, ex.columns).reshape(-1, ex.columns.count)
+    _, s, Vt = np.linalg.svd(Y / np.linalg.norm(Y, axis=0), full_matrices=False)
+    names = ex.columns.names()
+
+    def heaviest(v):
+        return {names[i]: round(float(v[i]), 2) for i in np.argsort(-np.abs(v))[:weights]}
+
+    return {"mean_abs_qd_over_rms": np.round(np.abs(qd).mean(0)
+                                             / np.sqrt((qd ** 2).mean(0)), 3).tolist(),
+            "sigma_max": round(float(s[0]), 3), "sigma_min": round(float(s[-1]), 3),
+            "largest": heaviest(Vt[0]), "smallest": heaviest(Vt[-1])}
 
 
 if __name__ == "__main__":

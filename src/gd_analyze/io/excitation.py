@@ -17,9 +17,10 @@ the optimiser varies q_i0 and the other 2 (K - 1) coefficients (:class:`FourierS
 The coefficients minimise the condition number of the column-scaled identification regressor
 (the base regressor with the drive columns, :mod:`gd_analyze.core.symbolic.drive_regressor`)
 stacked over one period, with SciPy's SLSQP from several starts, under the position, velocity
-and acceleration limits on a dense grid (they are linear in the coefficients), in stages: the
-Coulomb columns first replaced by smooth surrogates (:data:`COULOMB_SURROGATES`), then as
-they are. The result is
+and acceleration limits on a dense grid (they are linear in the coefficients), in stages
+(:data:`STAGES`): the Coulomb columns first replaced by smooth surrogates, then as they are,
+and the objective first the A-optimality criterion, then ever closer to the log condition
+number. The result is
 then bounded on a fine grid (:func:`limit_bounds`: the grid's extremes widened by half a step
 times a bound of the derivative), and its oscillation about q_0 shrunk if a bound exceeds a
 limit.
@@ -64,13 +65,17 @@ OBJECTIVE_SAMPLES = 100
 CONSTRAINT_POINTS_PER_HARMONIC = 20
 #: Points per period per harmonic of the final bound (:func:`limit_bounds`).
 BOUND_POINTS_PER_HARMONIC = 400
-#: The optimisation's stages: the Coulomb columns sgn(qd_j) replaced by tanh(qd_j / v_j) with
-#: v_j these fractions of the joint's velocity limit, then sgn itself. The sampled sgn(qd) is
-#: piecewise constant in the coefficients (its gradient is zero): the surrogates let the
-#: optimiser see how the time spent at each speed decorrelates the Coulomb column from the
-#: viscous one (mean |qd| / rms qd), the pair that bounds the condition number of an arm
-#: whose other columns are well excited (the UR5's).
-COULOMB_SURROGATES = (0.1, 0.03)
+#: The optimisation's stages, each (v, P): the Coulomb columns sgn(qd_j) replaced by
+#: tanh(qd_j / v_j) with v_j = v x the joint's velocity limit (None: sgn itself), and the
+#: exponent P of the smooth objective (:func:`_log_condition_and_gradient`). The sampled
+#: sgn(qd) is piecewise constant in the coefficients (its gradient is zero): the surrogates let
+#: the optimiser see how the time spent at each speed decorrelates the Coulomb column from the
+#: viscous one (mean |qd| / rms qd), the pair that bounds the condition number of an arm whose
+#: other columns are well excited (the UR5's). P = 2 first: with unit-norm columns sum
+#: sigma_i^2 is the number of columns, so the objective is then the trace of the inverse of
+#: the information matrix (A-optimality), smoother than the condition number and with fewer
+#: poor local minima; P then grows towards log cond (P -> infinity).
+STAGES = ((0.1, 2.0), (0.1, 8.0), (0.03, 16.0), (None, 16.0), (None, 64.0))
 
 
 @dataclass(frozen=True, eq=False)
@@ -341,15 +346,18 @@ def _singular(Ws):
 SMOOTH_POWER = 16.0
 
 
-def _log_condition_and_gradient(x, robot, columns, basis, coulomb_scale=None, step=1e-6):
+def _log_condition_and_gradient(x, robot, columns, basis, coulomb_scale=None, step=1e-6,
+                                power=None):
     """A smooth log of the scaled condition number at x, and its gradient with respect to x.
 
-    The value is (1/P) log sum sigma_i^P + (1/P) log sum sigma_i^-P (P = SMOOTH_POWER), within
-    (2/P) log p above log(sigma_max / sigma_min) and smooth where the smallest singular values
-    cluster, as they do near the optimum. With d value / d sigma_i = c_i and sigma_i =
+    The value is (1/P) log sum sigma_i^P + (1/P) log sum sigma_i^-P (P = ``power``, default
+    SMOOTH_POWER), within (2/P) log p above log(sigma_max / sigma_min) and smooth where the
+    smallest singular values cluster, as they do near the optimum. For P = 2 it is
+    (1/2) log p + (1/2) log trace((Ws^T Ws)^-1), Ws the regressor with unit-norm columns
+    (sum sigma_i^2 = p): the A-optimality criterion. With d value / d sigma_i = c_i and sigma_i =
     u_i^T W S v_i (S = diag(1 / ||W_c||)), the gradient with respect to column c of W is
-    s_c (m_c - (m_c . w_c) w_c) with m = U diag(c) V^T and w_c = s_c W_c; the base regressor's derivatives with
-    respect to the states are forward differences (one per joint and state, every sample at
+    s_c (m_c - (m_c . w_c) w_c) with m = U diag(c) V^T and w_c = s_c W_c; the base regressor's
+    derivatives with respect to the states are forward differences (one per joint and state, every sample at
     once, in one call of the regressor), the drive columns' exact.
     """
     n = robot.n
@@ -375,7 +383,7 @@ def _log_condition_and_gradient(x, robot, columns, basis, coulomb_scale=None, st
     s, U, V = _singular(Ws)
     if not s[-1] > 0:
         return math.inf, np.zeros_like(x)
-    P = SMOOTH_POWER
+    P = SMOOTH_POWER if power is None else float(power)
     up, down = (s / s[0]) ** P, (s[-1] / s) ** P
     value = math.log(s[0] / s[-1]) + (math.log(up.sum()) + math.log(down.sum())) / P
     c = up / (s * up.sum()) - down / (s * down.sum())        # d value / d sigma_i
@@ -584,9 +592,10 @@ def _variable_scales(K, wf, lo, hi, qd, qdd):
     return np.where(np.isfinite(D) & (D > 0), D, 1.0)
 
 
-def _scaled_objective(z, D, robot, columns, basis, coulomb_scale):
+def _scaled_objective(z, D, robot, columns, basis, coulomb_scale, power=None):
     """:func:`_log_condition_and_gradient` at x = D z, and its gradient with respect to z."""
-    value, grad = _log_condition_and_gradient(z * D, robot, columns, basis, coulomb_scale)
+    value, grad = _log_condition_and_gradient(z * D, robot, columns, basis, coulomb_scale,
+                                              power=power)
     return value, grad * D
 
 
@@ -633,7 +642,7 @@ def plan_excitation(robot, duration: float | None = None, harmonics: int = DEFAU
     starts : int, optional
         Random starts of the optimiser; the best result is kept.
     maxiter : int, optional
-        SLSQP iterations per start and stage (:data:`COULOMB_SURROGATES`).
+        SLSQP iterations per start and stage (:data:`STAGES`).
     drives : sequence of str, optional
         The drive columns of the regressor (:data:`DRIVE_COLUMNS`).
     margin : float, optional
@@ -653,11 +662,14 @@ def plan_excitation(robot, duration: float | None = None, harmonics: int = DEFAU
     -----
     Swevers et al. (1997): the Fourier series of Eq. (9), the condition number of the
     (column-scaled) regressor as criterion. The objective is log cond(Y S) over
-    ``OBJECTIVE_SAMPLES`` samples of one period, its gradient exact in the singular vectors
-    and by forward differences in the regressor's states. The variables are scaled to their
-    ranges, and each start is optimised in stages, the Coulomb columns sgn(qd_j) first
-    replaced by tanh(qd_j / v_j), v_j = :data:`COULOMB_SURROGATES` x the velocity limit (the
-    sampled sgn has no gradient), then as they are. The limits hold on a grid of
+    ``OBJECTIVE_SAMPLES`` samples of one period, smoothed as the P-norms of the singular values
+    and their inverses, its gradient exact in the singular vectors and by forward differences
+    in the regressor's states. The variables are scaled to their ranges, and each start is
+    optimised in the stages of :data:`STAGES`: the Coulomb columns sgn(qd_j) first replaced by
+    tanh(qd_j / v_j), v_j a fraction of the velocity limit (the sampled sgn has no gradient),
+    then as they are; P first 2 (the A-optimality criterion, the trace of the inverse
+    information matrix), then growing to 64 (log cond within (2/64) log p), a continuation
+    that leaves fewer starts in poor local minima than P = 16 throughout. The limits hold on a grid of
     ``CONSTRAINT_POINTS_PER_HARMONIC * K`` points per period with the margin, then the bounds
     of :func:`limit_bounds` are checked against the limits themselves and the oscillation
     shrunk joint by joint where one is exceeded.
@@ -701,14 +713,16 @@ def _optimised(robot, K, T, wf, periods, N, seed, qdd_max, starts, maxiter, driv
     constraint = {"type": "ineq", "fun": lambda z: c - AD @ z, "jac": lambda z: -AD}
     coulomb = "coulomb" in columns.drives and bool(
         columns.drive_kept[:, columns.drives.index("coulomb")].any())
-    stages = [f * inner[2] for f in COULOMB_SURROGATES] if coulomb else []
+    stages = [(None if v is None or not coulomb else v * inner[2], power)
+              for v, power in STAGES]
     best, start_conditions, messages = None, [], []
     for s in range(int(starts)):
         start = random_excitation(robot, K, wf, [int(seed), s], qdd_max, margin)
         start_conditions.append(excitation_condition(robot, columns, start))
         z, said = _variables(start) / D, []
-        for scale in [*stages, None]:
-            result = minimize(_scaled_objective, z, args=(D, robot, columns, objective, scale),
+        for scale, power in stages:
+            result = minimize(_scaled_objective, z,
+                              args=(D, robot, columns, objective, scale, power),
                               jac=True, method="SLSQP", constraints=[constraint],
                               options={"maxiter": int(maxiter), "ftol": 1e-8})
             z = result.x
