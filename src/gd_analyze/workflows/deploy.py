@@ -129,16 +129,21 @@ def region_model(robot, base, region, tolerance, torque_floor=0.0):
     Returns
     -------
     model : RecursiveModel
-        Dropped pairs whose proved bounds add up to at most EPS s_i per joint; ``scale`` is
-        s_i over R, ``bound`` the sum of the dropped bounds [N m or N].
+        Dropped pairs whose proved bound together is at most EPS s_i per joint; ``scale`` is
+        s_i over R, ``bound`` that bound [N m or N]
+        (:func:`gd_analyze.core.selection.certify.region_bound`: the least of the largest over
+        the certification's final boxes of the sum of the dropped pairs' bounds there or of
+        their joint sum, and a branch and bound on their joint sum).
     guarantee : Guarantee
         Of kind ``"region"``: |tau_s - tau| <= bound_i <= EPS s_i at every state of R (up to
         round-off), with the sampled error, the scale and where it was found.
 
     Notes
     -----
-    The triangle inequality over the dropped pairs of tau = Y_b beta (Khalil & Kleinfinger
-    1987; Gautier 1990); bounds by :func:`gd_analyze.core.selection.certify.certify`.
+    tau = Y_b beta is linear in the base parameters (Khalil & Kleinfinger 1987; Gautier
+    1990), so the dropped pairs change tau_i by the sum of their contributions at the same
+    state; bounds by :func:`gd_analyze.core.selection.certify.certify` and
+    :func:`gd_analyze.core.selection.certify.region_bound`.
     """
     pb = certified(robot, base, region, torque_floor)
     return _region_model(robot, base, region, tolerance, pb, _region_pruning(base, pb, robot,
