@@ -3,8 +3,10 @@
 For each arm, in one process with an empty derivation cache of its own: the exact recursive
 model's count, the region model's count at EPS (``workflows.deploy.region_model``: pruned on
 bounds proved over the joint-limit region), the pairs proved identically zero, the
-certification's wall time (:func:`gd_analyze.core.selection.certify.certify`), and the largest
-proved bound / sampled error over the joints. Counts are multiplications + additions. Prints the
+certification's wall time (:func:`gd_analyze.core.selection.certify.certify`), the wall time
+of ``region_model`` after it (its own certification into the empty cache, the choice of the
+pairs with their joint sums, and the sampled error), and the largest proved bound / sampled
+error over the joints. Counts are multiplications + additions. Prints the
 load averages first.
 
 Usage::
@@ -63,7 +65,9 @@ def row(name, eps):
     t0 = time.perf_counter()
     pb = certify(robot, base, region, samples=deploy.REGION_SAMPLES)
     seconds = time.perf_counter() - t0
+    t0 = time.perf_counter()
     rec, g = deploy.region_model(robot, base, region, eps)
+    model_seconds = time.perf_counter() - t0
     with np.errstate(divide="ignore", invalid="ignore"):
         ratio = np.where(g.sampled_error > 0, g.bound / g.sampled_error, np.nan)
     zero = int(getattr(pb, "zero", np.zeros(1, bool)).sum())
@@ -72,7 +76,7 @@ def row(name, eps):
             "region": _ops(pruned_program(robot, base, rec.dropped).cost()),
             "dropped": int(rec.dropped.sum()), "zero": zero,
             "ratio": float(np.nanmax(ratio)) if np.isfinite(ratio).any() else float("nan"),
-            "seconds": seconds, "boxes": pb.boxes}
+            "seconds": seconds, "boxes": pb.boxes, "model_seconds": model_seconds}
 
 
 def main(argv=None):
@@ -92,12 +96,14 @@ def main(argv=None):
         os.environ["GD_ANALYZE_CACHE_DIR"] = folder
         print(f"load averages {os.getloadavg()}; EPS = {args.tolerance:g}")
         print("| arm | n | exact | region model | pairs dropped | pairs proved zero | "
-              "proved bound / sampled error (worst joint) | certification [s] (boxes) |")
-        print("|---|---|---|---|---|---|---|---|")
+              "proved bound / sampled error (worst joint) | certification [s] (boxes) | "
+              "region model [s] |")
+        print("|---|---|---|---|---|---|---|---|---|")
         for name in args.arms.split(","):
             r = row(name, args.tolerance)
             print(f"| {r['arm']} | {r['n']} | {r['exact']} | {r['region']} | {r['dropped']} | "
-                  f"{r['zero']} | {r['ratio']:.3g} | {r['seconds']:.1f} ({r['boxes']}) |",
+                  f"{r['zero']} | {r['ratio']:.3g} | {r['seconds']:.1f} ({r['boxes']}) | "
+                  f"{r['model_seconds']:.1f} |",
                   flush=True)
 
 

@@ -19,10 +19,12 @@ claim fails, with one line naming the key:
 - ``guarantee.bound``: the bound is proved again for the model's dropped (base parameter,
   part) pairs: first by a branch and bound on those pairs alone
   (:func:`gd_analyze.core.selection.certify.prove_dropped`, a fraction of a certification's
-  cost when few parameters are dropped), and where that does not reach the stored bound, by the
-  region's certification (:func:`.certification_cache.certification`,
-  through the derivation cache, whose entries are themselves re-derived), and the stored bound
-  is not below it by more than :data:`BOUND_RTOL` of s_i. A model of the explicit form keeps
+  cost when few parameters are dropped), and where that does not reach the stored bound, as the
+  main job derived it (:func:`gd_analyze.core.selection.certify.region_bound`: the pairs'
+  bounds and their joint sum on the region's certification, :func:`.certification_cache.certification`,
+  through the derivation cache, whose entries are themselves re-derived, and the branch and
+  bound on the joint sum with the budget EPS s_i), and the stored bound is not below it by
+  more than :data:`BOUND_RTOL` of s_i. A model of the explicit form keeps
   every term (bound 0) only if its terms are the robot's full explicit model's
   (:func:`.explicit_cache.explicit_terms`).
 """
@@ -37,7 +39,7 @@ import numpy as np
 
 from ..core.dynamics.dalembert import gd_terms
 from ..core.model.drives import rigid_links
-from ..core.selection.certify import prove_dropped
+from ..core.selection.certify import prove_dropped, region_bound
 from ..core.selection.guarantee import ROUND_OFF_EPS
 from ..core.selection.region import Region
 from ..core.symbolic.base_parameters import base_parameters
@@ -67,7 +69,7 @@ QUICK_BOXES = 1024
 #: Positions the certification samples (the main job's, ``workflows.region_memo``).
 CERTIFICATION_SAMPLES = 1000
 
-#: Re-proved bounds kept in this process: certification key -> (leaves, scale).
+#: Certifications kept in this process: certification key -> PairBounds.
 _PROVED: dict = {}
 _PROVED_MAX = 4
 
@@ -189,9 +191,12 @@ def reproved_bound(model: SimplifiedModel, region: Region, path: str = "<model>"
     Returns
     -------
     ndarray, shape (n,)
-        Recursive form: max over the certification's boxes of the sum of the dropped pairs'
-        bounds there [N m or N] (triangle inequality over the pairs of tau = Y_b beta,
-        Khalil & Kleinfinger 1987); explicit form with nothing dropped: zeros.
+        Recursive form: :func:`gd_analyze.core.selection.certify.region_bound` of the dropped
+        pairs with the budget EPS s_i, on the region's certification derived again: the
+        least of the largest over the certification's boxes of the sum of the dropped pairs'
+        bounds there or of their joint sum, and of the branch and bound on their joint sum
+        [N m or N] (tau = Y_b beta is linear in the base parameters, Khalil & Kleinfinger
+        1987); explicit form with nothing dropped: zeros.
 
     Raises
     ------
@@ -209,9 +214,10 @@ def reproved_bound(model: SimplifiedModel, region: Region, path: str = "<model>"
                              "keeps other terms: its bound cannot be proved", path,
                              column="guarantee.bound")
         return np.zeros(robot.n)  # type: ignore[attr-defined]  # SimplifiedModel's field is typed object
-    leaves, _ = _certified(robot, region, float(model.torque_floor))
-    dropped: np.ndarray = np.asarray(model.recursive.dropped, float)  # type: ignore[attr-defined, type-var]  # SimplifiedModel's field is typed object
-    return np.einsum("bpln,bp->ln", leaves, dropped).max(axis=0)
+    pb = _certified(robot, region, float(model.torque_floor))
+    dropped: np.ndarray = np.asarray(model.recursive.dropped, bool)  # type: ignore[attr-defined, type-var]  # SimplifiedModel's field is typed object
+    return region_bound(robot, base_parameters(robot), region, pb, dropped,  # type: ignore[arg-type]  # SimplifiedModel's field is typed object
+                        float(model.tolerance) * np.asarray(pb.scale, float))
 
 
 def _proved_key(robot, region, torque_floor, samples=CERTIFICATION_SAMPLES):
@@ -243,11 +249,12 @@ def remember(robot: Robot, region: Region, torque_floor: float, samples: int,
 def _keep(key, pb):
     while len(_PROVED) >= _PROVED_MAX:
         _PROVED.pop(next(iter(_PROVED)))
-    _PROVED[key] = (np.asarray(pb.leaves, float), np.asarray(pb.scale, float))
+    _PROVED[key] = pb
 
 
 def _certified(robot, region, torque_floor):
-    """(leaves, scale) of the region's certification, once per process."""
+    """The region's certification (:class:`~gd_analyze.core.selection.certify.PairBounds`),
+    once per process."""
     key = _proved_key(robot, region, torque_floor)
     if key not in _PROVED:
         _keep(key, certification(robot, base_parameters(robot), region,

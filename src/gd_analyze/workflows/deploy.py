@@ -14,7 +14,15 @@ import dataclasses
 import numpy as np
 
 from ..core.selection.budget import DEFAULT_TOLERANCE, Selection
-from ..core.selection.certify import METHOD
+from ..core.selection.certify import (
+    JOINT_DIMS,
+    METHOD,
+    dropped_bound,
+    joint_sums,
+    leaf_bound,
+    region_bound,
+    split_joints,
+)
 from ..core.selection.guarantee import Guarantee
 from ..core.selection.ranking import DEFAULT_DOMINANCE, DEFAULT_NEGLIGIBLE, element_labels
 from ..core.selection.region import joint_region, missing_limits, sampled_error, worst_states
@@ -32,7 +40,14 @@ from .region_memo import REGION_SAMPLES, certified, region_values
 
 __all__ = ["build_recursive", "recursive_simplified", "replace_cost", "region_model",
            "trajectory_guarantee", "certified", "robot_region", "guarantee_region",
-           "REGION_SAMPLES", "restored_rebuild"]
+           "REGION_SAMPLES", "restored_rebuild", "joint_bound", "SCOUT_BOXES",
+           "SCOUT_RATIO"]
+
+#: Boxes of the first, quick branch and bound on a dropped set's joint sum while the pairs
+#: are chosen (:func:`joint_bound`), and the share of the budget above which its bound
+#: rejects the set without the full one.
+SCOUT_BOXES, SCOUT_RATIO = 2048, 1.5
+
 
 def robot_region(robot, limits=None):
     """The region of a model's guarantee: the robot's limits, or the user's within them; or
@@ -123,28 +138,90 @@ def region_model(robot, base, region, tolerance, torque_floor=0.0):
     Returns
     -------
     model : RecursiveModel
-        Dropped pairs whose proved bounds add up to at most EPS s_i per joint; ``scale`` is
-        s_i over R, ``bound`` the sum of the dropped bounds [N m or N].
+        Dropped pairs whose proved bound together is at most EPS s_i per joint; ``scale`` is
+        s_i over R, ``bound`` that bound [N m or N]
+        (:func:`gd_analyze.core.selection.certify.region_bound`: the least of the largest over
+        the certification's final boxes of the sum of the dropped pairs' bounds there or of
+        their joint sum, and a branch and bound on their joint sum).
     guarantee : Guarantee
         Of kind ``"region"``: |tau_s - tau| <= bound_i <= EPS s_i at every state of R (up to
         round-off), with the sampled error, the scale and where it was found.
 
     Notes
     -----
-    The triangle inequality over the dropped pairs of tau = Y_b beta (Khalil & Kleinfinger
-    1987; Gautier 1990); bounds by :func:`gd_analyze.core.selection.certify.certify`.
+    tau = Y_b beta is linear in the base parameters (Khalil & Kleinfinger 1987; Gautier
+    1990), so the dropped pairs change tau_i by the sum of their contributions at the same
+    state; bounds by :func:`gd_analyze.core.selection.certify.certify` and
+    :func:`gd_analyze.core.selection.certify.region_bound`.
     """
     pb = certified(robot, base, region, torque_floor)
     return _region_model(robot, base, region, tolerance, pb, _region_pruning(base, pb, robot,
-                                                                            tolerance))
+                                                                            region, tolerance))
 
 
-def _region_pruning(base, pb, robot, tolerance, chosen=None):
+def _region_pruning(base, pb, robot, region, tolerance, chosen=None):
     """:func:`~gd_analyze.core.symbolic.pruning.prune_bounds` on a region's certification
     (``chosen``: an earlier search's pairs, checked against the budget; ValueError if over)."""
 
     return prune_bounds(robot, base, pb.scale, pb.bound, pb.leaves.sum(axis=1).max(axis=1),
-                        tolerance, pieces=pb.leaves, chosen=chosen, zero=pb.zero)
+                        tolerance, pieces=pb.leaves, chosen=chosen, zero=pb.zero,
+                        joint=joint_bound(robot, base, region, pb, tolerance))
+
+
+def joint_bound(robot, base, region, pb, tolerance):
+    """The bound of a dropped set's joint sum over the region, for
+    :func:`~gd_analyze.core.symbolic.pruning.prune_bounds`.
+
+    Parameters
+    ----------
+    robot : Robot
+    base : BaseParameters
+        Its base parameters (b of them).
+    region : Region
+    pb : PairBounds
+        The region's certification (:func:`.region_memo.certified`).
+    tolerance : float
+        EPS: the budget is EPS s_i.
+
+    Returns
+    -------
+    callable
+        ``joint(dropped, enough)`` -> ndarray (n,) [N m or N]: with ``enough`` None,
+        :func:`gd_analyze.core.selection.certify.region_bound` (the pairs that fit the budget
+        alone held in the joint sums on the certification's final boxes), which
+        :func:`gd_analyze.io.model_trust.reproved_bound` derives again. With ``enough`` (only
+        whether the set fits matters), a bound that decides it more cheaply where one does:
+        :func:`~gd_analyze.core.selection.certify.leaf_bound` when it fits, or when the
+        dropped set's largest error found at the certification's sampled states exceeds
+        ``enough`` (no bound can then fit), or when a branch and bound of
+        :data:`SCOUT_BOXES` boxes ends above :data:`SCOUT_RATIO` times ``enough``.
+        Results are kept per dropped set.
+    """
+    budget = tolerance * np.asarray(pb.scale, float)
+    alone = np.all(pb.bound <= budget[None, None, :], axis=2) & ~pb.zero
+    sums = joint_sums(robot, base, region, pb.split_joint, pb.split_at, alone, pb.zero)
+    beta = np.asarray(base.beta, float)[None, :]
+    memo = {}
+
+    def joint(dropped, enough=None):
+        key = np.asarray(dropped, bool).tobytes()
+        if key in memo:
+            return memo[key]
+        first = leaf_bound(pb, sums, dropped)
+        if enough is not None:
+            if np.all(first <= enough) or split_joints(robot, base, dropped,
+                                                        pb.zero).sum() > JOINT_DIMS:
+                return first
+            found = worst_states(pb.values, beta * dropped.T, region.qd_max,
+                                 region.qdd_max)[0].max(axis=0)
+            if np.any(found > enough):
+                return first
+            scout = dropped_bound(robot, base, region, dropped, budget, SCOUT_BOXES, pb.zero)
+            if np.any(scout > SCOUT_RATIO * enough):
+                return np.minimum(first, scout)
+        memo[key] = region_bound(robot, base, region, pb, dropped, budget, sums)
+        return memo[key]
+    return joint
 
 
 def _region_model(robot, base, region, tolerance, pb, pr, sampled=True):
@@ -361,7 +438,8 @@ def _searched(robot, base, region, tolerance, torque_floor, sampled=True):
     found = read_search(key, robot.n, base.rank)
     if isinstance(found, dict):
         try:
-            pr = _region_pruning(base, pb, robot, tolerance, (found["dropped"], found["whole"]))
+            pr = _region_pruning(base, pb, robot, region, tolerance,
+                                  (found["dropped"], found["whole"]))
         except ValueError:
             found = "holds dropped pairs over the budget"
         else:
@@ -371,7 +449,7 @@ def _searched(robot, base, region, tolerance, torque_floor, sampled=True):
         warnings.warn(one_line(f"{entry_path('search', key)}: derivation cache entry {found}: "
                                "ignored, the model is searched again"), CacheWarning,
                       stacklevel=2)
-    pr = _region_pruning(base, pb, robot, tolerance)
+    pr = _region_pruning(base, pb, robot, region, tolerance)
     return (*_region_model(robot, base, region, tolerance, pb, pr, sampled), None,
             lambda exact_forms, pruned_forms: write_search(key, pr.dropped, pr.whole,
                                                            exact_forms, pruned_forms))
@@ -439,7 +517,7 @@ def restored_rebuild(q, qd, qdd, region=None, sample_region=None, region_missing
             raise ValueError("the restored pairs do not fit the budget")
         if region is not None:
             pb = certified(robot, base, region, floor)
-            pr = chosen(lambda c: _region_pruning(base, pb, robot, tol, c))
+            pr = chosen(lambda c: _region_pruning(base, pb, robot, region, tol, c))
             rec, guarantee = _region_model(robot, base, region, tol, pb, pr)
         else:
             pr0 = prune(robot, base, q, qd, qdd, tol, torque_floor=floor,

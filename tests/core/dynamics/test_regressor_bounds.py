@@ -5,7 +5,9 @@ import pytest
 
 from gd_analyze import load_robot
 from gd_analyze.core.dynamics.regressor_bounds import (
+    channel_enclosures,
     channel_values,
+    combined_bound,
     inertia_enclosure,
     inertia_form_enclosure,
     pair_magnitudes,
@@ -49,6 +51,59 @@ def test_box_bounds_enclose_every_sampled_contribution():
             assert np.all(np.abs(W).max(axis=0) <= U[b, p] + 1e-12), p
     with pytest.raises(ValueError):
         pair_magnitudes(robot, hi, lo, cols, robot.qd_max, robot.qdd_max)
+
+
+@pytest.mark.parametrize("name", ["puma560", "stanford"])
+def test_the_bound_of_a_signed_sum_of_columns_holds_at_sampled_states(name):
+    """Columns added as signed intervals on a box (each part its own weights, as a dropped set
+    of (parameter, part) pairs), then bounded over the velocity and acceleration limits: never
+    below |sum| of the regressor's columns at states inside the box, and below the sum of the
+    columns' own bounds (the cancellation it is for)."""
+    robot = load_robot(name)
+    n = robot.n
+    rng = np.random.default_rng(3)
+    lo = rng.uniform(robot.q_min, robot.q_max, (3, n))
+    hi = np.minimum(lo + rng.uniform(0.05, 0.6, (3, n)), robot.q_max)
+    cols = np.arange(10 * n)
+    w = rng.normal(size=(3, cols.size)) * (rng.uniform(size=(3, cols.size)) < 0.5)
+    c_lo, c_hi = channel_enclosures(robot, lo, hi, cols)
+    part = np.r_[2, np.zeros(n, int), np.ones(n * n, int)]
+    W = w[part][:, None, :]                                        # (C, 1, m)
+    mid = (0.5 * (c_lo + c_hi) * W).sum(-1)
+    rad = (0.5 * (c_hi - c_lo) * np.abs(W)).sum(-1) * (1 + 1e-12)
+    bound = combined_bound(mid, rad, robot.qd_max, robot.qdd_max)       # (3, n)
+    own = np.einsum("bpim,pm->bi", pair_magnitudes(robot, lo, hi, cols, robot.qd_max,
+                                                   robot.qdd_max), np.abs(w))
+    assert np.all(bound <= own * (1 + 1e-9)) and np.any(bound < 0.95 * own)
+    for b in range(3):
+        q = rng.uniform(lo[b], hi[b], (400, n))
+        qd = rng.choice([-1.0, 1.0], (400, n)) * robot.qd_max
+        qd[200:] *= rng.uniform(0, 1, (200, n))
+        qdd = rng.choice([-1.0, 1.0], (400, n)) * robot.qdd_max
+        z = np.zeros_like(q)
+        tau = (regressor(robot, q, z, qdd, gravity=np.zeros(3)) @ w[0]
+               + regressor(robot, q, qd, z, gravity=np.zeros(3)) @ w[1]
+               + regressor(robot, q, z, z) @ w[2])                       # (400, n)
+        assert np.all(np.abs(tau).max(axis=0) <= bound[b] * (1 + 1e-12) + 1e-12), b
+    # at a point (a box of zero width) the bound is never below the largest over the velocity
+    # box's vertices with the best accelerations, computed from the regressor, and within 15 %
+    # above it (the diagonal of the quadratic form is bounded apart from its vertices)
+    q = lo[:1]
+    c_lo, c_hi = channel_enclosures(robot, q, q, cols)
+    mid = (0.5 * (c_lo + c_hi) * W).sum(-1)
+    rad = (0.5 * (c_hi - c_lo) * np.abs(W)).sum(-1) * (1 + 1e-12)
+    at = combined_bound(mid, rad, robot.qd_max, robot.qdd_max)[0]
+    z = np.zeros((1, n))
+    g = (regressor(robot, q, z, z) @ w[2])[0]
+    a = sum(np.abs(regressor(robot, q, z, np.eye(n)[j:j + 1], gravity=np.zeros(3)) @ w[0])[0]
+            * robot.qdd_max[j] for j in range(n))
+    signs = np.array(np.meshgrid(*[[-1.0, 1.0]] * n)).reshape(n, -1).T
+    v = signs * robot.qd_max
+    quad = regressor(robot, np.repeat(q, len(v), 0), v, np.zeros_like(v),
+                     gravity=np.zeros(3)) @ w[1]                          # (2^n, n)
+    exact = np.maximum(g + a + quad.max(axis=0), -(g - a + quad.min(axis=0)))
+    assert np.all(exact <= at * (1 + 1e-12) + 1e-12)
+    assert np.all(at <= 1.15 * exact + 1e-9)
 
 
 @pytest.mark.parametrize("arithmetic", ["ball", "box"])

@@ -23,7 +23,7 @@ from . import balls
 from . import intervals as iv
 
 __all__ = ["channel_count", "channel_values", "pair_magnitudes", "inertia_enclosure",
-           "inertia_form_enclosure"]
+           "inertia_form_enclosure", "channel_enclosures", "combined_bound"]
 
 
 def channel_count(n):
@@ -464,6 +464,20 @@ class _QuadraticBound:
 
     def __call__(self, lo, hi):
         """lo, hi (B, n^2): the channels C_jl; returns (B,) upper bounds."""
+        bottom, top, searched = self._range(lo, hi)
+        out = np.maximum(top, -bottom) * (1 + 1e-12)
+        return out + 1e-300 if searched else out
+
+    def range(self, lo, hi):
+        """lo, hi (B, n^2): the channels C_jl; returns (bottom, top), each (B,), with
+        bottom <= qd^T C qd <= top over the box of qd (the rounding margin of
+        :meth:`__call__` included)."""
+        bottom, top, _ = self._range(lo, hi)
+        return (np.minimum(bottom * (1 + 1e-12), bottom * (1 - 1e-12)) - 1e-300,
+                np.maximum(top * (1 + 1e-12), top * (1 - 1e-12)) + 1e-300)
+
+    def _range(self, lo, hi):
+        """(bottom, top, whether the vertices were searched) of :meth:`range`, unrounded."""
         n = self.n
         used = ((lo != 0) | (hi != 0)).any(axis=0).reshape(n, n)
         support = tuple(int(x) for x in np.flatnonzero(used.any(axis=0) | used.any(axis=1)))
@@ -475,16 +489,14 @@ class _QuadraticBound:
         d_lo = np.minimum(lo[:, diag], 0.0) @ w_diag
         spread = rad @ w_off
         if prod is None:
-            top = np.abs(mid) @ w_off
-            return (top + spread + np.maximum(d_hi, -d_lo)) * (1 + 1e-12)
+            top = np.abs(mid) @ w_off + spread
+            return -top + d_lo, top + d_hi, False
         c_max, c_min = np.empty(lo.shape[0]), np.empty(lo.shape[0])
         rows = max(1, self._ELEMENTS // prod.shape[0])
         for r in range(0, lo.shape[0], rows):
             centre = mid[r:r + rows] @ prod.T                          # (rows, vertices)
             c_max[r:r + rows], c_min[r:r + rows] = centre.max(axis=1), centre.min(axis=1)
-        top = (c_max + spread + d_hi)
-        bottom = (c_min - spread + d_lo)
-        return np.maximum(top, -bottom) * (1 + 1e-12) + 1e-300
+        return c_min - spread + d_lo, c_max + spread + d_hi, True
 
 
 def channel_values(robot, q, columns, gravity=None):
@@ -611,6 +623,88 @@ def pair_magnitudes(robot, q_lo, q_hi, columns, qd_max, qdd_max, gravity=None,
             tight = _vertex_bound(F, (dlo[:, :k + 1], dhi[:, :k + 1]), qd_max[:k + 1])
             out[:, 1, i, ms] = np.minimum(out[:, 1, i, ms], tight)
     return out * (1.0 + 8 * iv.ROUNDING * (2 * n + 2))
+
+
+def channel_enclosures(robot, q_lo, q_hi, columns, gravity=None):
+    """Signed enclosures of every channel of each column over boxes of q.
+
+    Parameters
+    ----------
+    robot, q_lo, q_hi, columns, gravity
+        As :func:`pair_magnitudes`: the arm (n joints), the boxes (B, n) [rad or m], the m
+        flat standard-parameter indices 10 k + c, and gravity (3,) [m/s^2], default the
+        robot's.
+
+    Returns
+    -------
+    lo, hi : ndarray, shape (B, C, n, m)
+        lo <= channel <= hi for every q in each box (channels as :func:`channel_values`, C =
+        :func:`channel_count`) [N m or N per unit parameter], by midpoint-radius evaluation of
+        the recursion (:func:`pair_magnitudes`'s, without its final rounding margin).
+
+    Raises
+    ------
+    ValueError
+        If the boxes do not have n columns or lo > hi somewhere.
+
+    Notes
+    -----
+    These are what :func:`pair_magnitudes` takes the magnitudes of; kept signed, the
+    enclosures of several columns can be added before the velocity and acceleration limits
+    are applied (:func:`combined_bound`), so that contributions of opposite signs cancel.
+    """
+    q_lo, q_hi = _boxes(robot, q_lo, q_hi)
+    n = robot.n
+    columns = np.asarray(columns, int)
+    shape = (q_lo.shape[0], channel_count(n), n, columns.size)
+    lo, hi = np.zeros(shape), np.zeros(shape)
+    for ms, i, (a, b) in _column_groups(robot, q_lo, q_hi, columns, gravity, _Ball):
+        lo[:, :, i, ms] = a
+        hi[:, :, i, ms] = b
+    return lo, hi
+
+
+def combined_bound(mid, rad, qd_max, qdd_max):
+    """Upper bound of |G + sum_j A_j qdd_j + qd^T C qd| over boxes of q and the velocity and
+    acceleration limits, from enclosures of the channels in midpoint-radius form.
+
+    Parameters
+    ----------
+    mid, rad : ndarray, shape (B, C, n)
+        Per box, channel (:func:`channel_values`' order) and joint: every value of the channel
+        over the box lies in [mid - rad, mid + rad] [N m or N], rad >= 0.
+    qd_max, qdd_max : array_like, shape (n,)
+        [rad/s, m/s; rad/s^2, m/s^2].
+
+    Returns
+    -------
+    ndarray, shape (B, n)
+        >= |tau_i| for the torque of these coefficients at every q of the box, |qd| <= qd_max,
+        |qdd| <= qdd_max [N m or N].
+
+    Notes
+    -----
+    Over the box, G <= mid_G + rad_G, sum_j A_j qdd_j <= a = sum_j max|A_j| qdd_max_j and
+    qd^T C qd <= top (:class:`_QuadraticBound`), and the same from below, so |tau| <=
+    max(G_hi + a + top, -(G_lo - a + bottom)): the parts are bounded together, not each in
+    absolute value. An absolute margin of (8 n^2 + 32) machine epsilons times the terms'
+    magnitudes covers the round-off of the sums (Higham 2002, Sec. 3.1).
+    """
+    mid, rad = np.asarray(mid, float), np.asarray(rad, float)
+    B, _, n = mid.shape
+    qd_max, qdd_max = np.asarray(qd_max, float), np.asarray(qdd_max, float)
+    mag = np.abs(mid) + rad
+    g_lo, g_hi = mid[:, 0] - rad[:, 0], mid[:, 0] + rad[:, 0]                 # (B, n)
+    a = np.einsum("bji,j->bi", mag[:, 1:1 + n], qdd_max)
+    vel = (slice(None), slice(1 + n, None))
+    c_lo = (mid[vel] - rad[vel]).transpose(0, 2, 1).reshape(B * n, n * n)
+    c_hi = (mid[vel] + rad[vel]).transpose(0, 2, 1).reshape(B * n, n * n)
+    bottom, top = _QuadraticBound(n, qd_max).range(c_lo, c_hi)
+    bottom, top = bottom.reshape(B, n), top.reshape(B, n)
+    form = np.einsum("bci,c->bi", mag[vel], np.outer(qd_max, qd_max).reshape(-1))
+    slack = (8 * n * n + 32) * iv.ROUNDING * (np.abs(mag[:, 0]) + a + form)
+    out = np.maximum(g_hi + a + top, -(g_lo - a + bottom))
+    return np.maximum(out, 0.0) * (1 + 8 * iv.ROUNDING * (2 * n + 4)) + slack
 
 
 def _inertial_forward(chain):

@@ -19,12 +19,15 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ..dynamics.regressor_bounds import pair_magnitudes
+from ..dynamics import intervals as iv
+from ..dynamics.regressor_bounds import channel_enclosures, combined_bound, pair_magnitudes
 from ..symbolic.pruning import zero_parts
 from .region import qd_vertices, region_samples
 
 __all__ = ["PairBounds", "certify", "certify_tree", "tiling", "pair_peaks_at",
-           "pair_magnitudes_at", "METHOD", "prove_dropped"]
+           "pair_magnitudes_at", "METHOD", "prove_dropped", "JointSums", "joint_sums",
+           "JOINT_SUM_ELEMENTS", "leaf_bound", "dropped_bound", "region_bound",
+           "split_joints", "JOINT_BOXES", "JOINT_DIMS"]
 
 #: How the bounds are obtained, in words (stored with every region model).
 METHOD = ("per (base parameter, part) pair: |beta| x upper bound of its coefficient over the "
@@ -32,6 +35,11 @@ METHOD = ("per (base parameter, part) pair: |beta| x upper bound of its coeffici
           "recursion, rounded outward, refined by branch and bound; velocity and acceleration through "
           "their limits exactly (linear in qdd, quadratic in qd); parts of "
           "inertia parameters proved identically zero by trigonometric polynomials bounded by 0; "
+          "a dropped set's bound at joint i: the largest over the final boxes of the least of "
+          "the sum of its pairs' bounds there and the bound of their sum (the joint sum: the "
+          "pairs' coefficient enclosures on the box added as signed intervals, beta included, "
+          "before the acceleration limits, the quadratic form in qd and the gravity term are "
+          "bounded together, so contributions of opposite signs cancel); "
           "scale s_i: the largest "
           "|tau_i| found by sampling the region (vertices of qd and qdd) and local "
           "maximisation (L-BFGS-B), a lower bound of the true maximum")
@@ -432,9 +440,205 @@ def certify_tree(robot, base, region, split_joint, split_at, values, torque_floo
 
 
 
-def prove_dropped(robot, base, region, dropped, limit, max_boxes=1024):
-    """Whether a set of dropped pairs changes no tau_i by more than ``limit_i`` over the region,
-    proved by branch and bound on those pairs' enclosures only.
+#: Most elements of each array of a :class:`JointSums` (128 MB each): the columns beyond are
+#: not held (a set dropping one of their pairs is bounded pair by pair).
+JOINT_SUM_ELEMENTS = 1 << 24
+
+
+@dataclass(frozen=True, eq=False)
+class JointSums:
+    """Signed enclosures of some pairs' coefficients on boxes, for the bound of the sum of a
+    dropped set's contributions on each box at each joint (the joint sum).
+
+    Attributes
+    ----------
+    pairs : ndarray of bool, shape (b, 3)
+        The (base parameter, part) pairs held: a dropped set with any other pair (not in
+        ``zero``) has no joint sum (infinite).
+    zero : ndarray of bool, shape (b, 3)
+        Pairs proved identically zero over the region, left out of every sum.
+    columns : ndarray of int, shape (k,)
+        The base parameters held (those with a pair in ``pairs``).
+    mid : ndarray, shape (L, C, n, k)
+        Per box, channel (:func:`gd_analyze.core.dynamics.regressor_bounds.channel_values`'
+        order), joint and parameter: beta_m times the centre of the channel's enclosure
+        [N m or N].
+    rad : ndarray, shape (L, C, n, k)
+        |beta_m| times its radius, widened by the round-off of the recursion's intervals, of
+        the product and of a sum of k terms [N m or N].
+    part_zero : ndarray of bool, shape (k, 3, n)
+        Parts proved identically zero at a joint
+        (:func:`gd_analyze.core.symbolic.pruning.zero_parts`): their channels left out.
+    qd_max, qdd_max : ndarray, shape (n,)
+        The region's velocity and acceleration limits [rad/s, m/s; rad/s^2, m/s^2].
+    """
+
+    pairs: np.ndarray
+    zero: np.ndarray
+    columns: np.ndarray
+    mid: np.ndarray
+    rad: np.ndarray
+    part_zero: np.ndarray
+    qd_max: np.ndarray
+    qdd_max: np.ndarray
+
+    def bound(self, dropped: np.ndarray) -> np.ndarray:
+        """Per box and joint, an upper bound of |sum of the dropped pairs' contributions|.
+
+        Parameters
+        ----------
+        dropped : ndarray of bool, shape (b, 3)
+            The pairs left out.
+
+        Returns
+        -------
+        ndarray, shape (L, n)
+            :func:`gd_analyze.core.dynamics.regressor_bounds.combined_bound` of the dropped
+            pairs' channel enclosures added per box (inf everywhere when a dropped pair is
+            not held) [N m or N].
+        """
+        L, C, n, k = self.mid.shape
+        sums = self.sums(dropped)
+        if sums is None:
+            return np.full((L, n), np.inf)
+        return combined_bound(*sums, self.qd_max, self.qdd_max)
+
+    def sums(self, dropped: np.ndarray) -> tuple[np.ndarray, np.ndarray] | None:
+        """The dropped pairs' channel enclosures added per box, in midpoint-radius form.
+
+        Parameters
+        ----------
+        dropped : ndarray of bool, shape (b, 3)
+            The pairs left out.
+
+        Returns
+        -------
+        (ndarray, ndarray) or None
+            Centres and radii, shape (L, C, n) each, the round-off of the sums included
+            [N m or N]; None when a dropped pair is not held.
+        """
+        dropped = np.asarray(dropped, bool) & ~self.zero
+        L, C, n, k = self.mid.shape
+        if np.any(dropped & ~self.pairs):
+            return None
+        w = dropped[self.columns].T[:, None, :] & ~self.part_zero.transpose(1, 2, 0)  # (3, n, k)
+        part = np.r_[2, np.zeros(n, int), np.ones(n * n, int)]          # channel -> part
+        W = w[part].astype(float)                                         # (C, n, k)
+        mid = np.einsum("lcik,cik->lci", self.mid, W)
+        rad = np.einsum("lcik,cik->lci", self.rad, W) * (1 + 4 * (k + 2) * iv.ROUNDING)
+        return mid, rad
+
+
+def joint_sums(robot, base, region, split_joint, split_at, pairs, zero=None):
+    """:class:`JointSums` of some pairs on the final boxes of a branch-and-bound tree.
+
+    Parameters
+    ----------
+    robot, base, region
+        The arm (n joints), its b base parameters and the region.
+    split_joint, split_at : ndarray, shape (N,)
+        The tree (:attr:`PairBounds.split_joint`, :attr:`PairBounds.split_at`), checked by
+        :func:`tiling`; its final boxes are ordered as :attr:`PairBounds.leaf_boxes`.
+    pairs : ndarray of bool, shape (b, 3)
+        The pairs that may be dropped; their parameters are held, in increasing order, up to
+        :data:`JOINT_SUM_ELEMENTS` elements per array.
+    zero : ndarray of bool, shape (b, 3), optional
+        Pairs proved identically zero over the region (:attr:`PairBounds.zero`).
+
+    Returns
+    -------
+    JointSums
+        On the final boxes.
+
+    Raises
+    ------
+    ValueError
+        If the tree does not tile the region (:func:`tiling`).
+
+    Notes
+    -----
+    The torque is linear in the base parameters, so the dropped pairs change tau_i by
+    sum_m beta_m (part p_m of column m) at the same state: their channels' enclosures are
+    added on each box as intervals (dependence across pairs is kept within the box, and
+    contributions that peak in other boxes are never added). Each box's enclosure of a
+    channel is intersected with its ancestors' (each holds on it), as the pairs' bounds of
+    :func:`certify` are (Moore, Kearfott & Cloud 2009, Ch. 6).
+    """
+    levels = tiling(region, split_joint, split_at)
+    pairs = np.asarray(pairs, bool)
+    zero = np.zeros(pairs.shape, bool) if zero is None else np.asarray(zero, bool)
+    leaves = sum(int((~split).sum()) for _, _, split in levels)
+    used = _held(robot.n, leaves, pairs, zero)
+    cols = np.flatnonzero(base.independent.reshape(-1))[used]
+    parent, out = None, []
+    for lo, hi, split in levels:
+        ch = _channels(robot, lo, hi, cols, parent)
+        out.append(tuple(x[~split] for x in ch))
+        parent = tuple(np.concatenate([x[split], x[split]]) for x in ch)
+    c_lo, c_hi = (np.concatenate([o[e] for o in out]) for e in range(2))
+    return _joint_sums(robot, base, region, used, pairs, zero, c_lo, c_hi)
+
+
+def _held(n, boxes, pairs, zero):
+    """The parameters a :class:`JointSums` on ``boxes`` boxes holds (within its size)."""
+    per_column = boxes * (1 + n + n * n) * n
+    return np.flatnonzero((pairs & ~zero).any(axis=1))[:JOINT_SUM_ELEMENTS // max(per_column, 1)]
+
+
+def _channels(robot, lo, hi, cols, parent=None):
+    """Channel enclosures (lo, hi) (B, C, n, k) of the columns on boxes (B, n), in chunks of
+    :data:`_CHUNK`, intersected with the parents' (each holds on its sub-boxes)."""
+    parts = [channel_enclosures(robot, lo[a:a + _CHUNK], hi[a:a + _CHUNK], cols)
+             for a in range(0, lo.shape[0], _CHUNK)]
+    c_lo, c_hi = (np.concatenate([p[e] for p in parts]) for e in range(2))
+    if parent is not None:              # (an empty intersection, by round-off: its hull)
+        a, b = np.maximum(c_lo, parent[0]), np.minimum(c_hi, parent[1])
+        c_lo, c_hi = np.minimum(a, b), np.maximum(a, b)
+    return c_lo, c_hi
+
+
+def _joint_sums(robot, base, region, used, pairs, zero, c_lo, c_hi):
+    """:class:`JointSums` from the held parameters' channel enclosures (L, C, n, k)."""
+    held = np.zeros(pairs.shape, bool)
+    held[used] = pairs[used]
+    beta = np.asarray(base.beta, float)[used]
+    centre, radius = 0.5 * (c_lo + c_hi), 0.5 * (c_hi - c_lo)
+    slack = (2 * used.size + 16 * robot.n + 32) * iv.ROUNDING
+    rad = (radius * (1 + slack) + slack * np.abs(centre)) * np.abs(beta)
+    cols = np.flatnonzero(base.independent.reshape(-1))[used]
+    return JointSums(pairs=held, zero=zero, columns=used, mid=centre * beta, rad=rad,
+                     part_zero=zero_parts(robot, cols),
+                     qd_max=np.asarray(region.qd_max, float),
+                     qdd_max=np.asarray(region.qdd_max, float))
+
+
+def leaf_bound(pb, sums, dropped):
+    """Per joint, the bound of a dropped set over the region from a certification.
+
+    Parameters
+    ----------
+    pb : PairBounds
+    sums : JointSums or None
+        On ``pb.leaf_boxes`` (:func:`joint_sums`); None: pair by pair only.
+    dropped : ndarray of bool, shape (b, 3)
+        The pairs left out.
+
+    Returns
+    -------
+    ndarray, shape (n,)
+        The largest over the final boxes of the least of the sum of the dropped pairs'
+        bounds there and their joint sum (:meth:`JointSums.bound`) [N m or N].
+    """
+    dropped = np.asarray(dropped, bool)
+    each = np.einsum("bpln,bp->ln", pb.leaves, dropped.astype(float))
+    if sums is not None and dropped.any():
+        each = np.minimum(each, sums.bound(dropped))
+    return each.max(axis=0)
+
+
+def dropped_bound(robot, base, region, dropped, limit, max_boxes=1024, zero=None):
+    """A bound of the change of each tau_i by a set of dropped pairs over the region, by
+    branch and bound on the joint sum of those pairs alone.
 
     Parameters
     ----------
@@ -446,17 +650,167 @@ def prove_dropped(robot, base, region, dropped, limit, max_boxes=1024):
     dropped : ndarray of bool, shape (b, 3)
         The (base parameter, part) pairs left out.
     limit : ndarray, shape (n,)
-        The bound to prove per joint [N m or N].
+        The bound sought per joint [N m or N]: a box is halved while its bound exceeds it on
+        some joint.
     max_boxes : int, optional
-        Boxes evaluated in all before giving up.
+        Boxes evaluated in all before stopping.
+    zero : ndarray of bool, shape (b, 3), optional
+        Pairs proved identically zero over the region (:attr:`PairBounds.zero`), left out.
+
+    Returns
+    -------
+    ndarray, shape (n,)
+        The largest over a tiling of the region of the boxes' joint sums
+        (:meth:`JointSums.bound`): |tau_s - tau| <= it at every state of the region
+        [N m or N]. It is <= ``limit`` where the search succeeded; inf if the pairs are too
+        many to hold (:data:`JOINT_SUM_ELEMENTS`).
+
+    Notes
+    -----
+    Only the dropped parameters' columns are evaluated, and only the joints they depend on
+    (those up to their last link, but a first revolute joint about the gravity axis) are
+    halved, the widest first; each box's channel enclosures are intersected with its
+    ancestors' (Moore, Kearfott & Cloud 2009, Ch. 6). A deterministic function of its
+    arguments: the same call gives the same bound.
+    """
+    n = robot.n
+    dropped = np.asarray(dropped, bool)
+    limit = np.asarray(limit, float)
+    free = np.zeros(dropped.shape, bool) if zero is None else np.asarray(zero, bool)
+    live = dropped & ~free
+    used = np.flatnonzero(live.any(axis=1))
+    if used.size == 0:
+        return np.zeros(n)
+    if _held(n, _CHUNK, live, free).size < used.size:
+        return np.full(n, np.inf)
+    cols = np.flatnonzero(base.independent.reshape(-1))[used]
+    rel = split_joints(robot, base, live)
+    lo, hi = region.q_min[None, :].astype(float), region.q_max[None, :].astype(float)
+    parent, evaluated, done = None, 0, np.zeros(n)
+    while True:
+        s_lo, s_hi = _summed(robot, base, region, lo, hi, cols, used, live, free, parent)
+        total = combined_bound(0.5 * (s_lo + s_hi), 0.5 * (s_hi - s_lo), region.qd_max,
+                               region.qdd_max)
+        evaluated += lo.shape[0]
+        open_ = ~np.all(total <= limit[None, :], axis=1)                # NaN stays open
+        if not open_.any() or evaluated + 2 * int(open_.sum()) > max_boxes:
+            return np.maximum(done, total.max(axis=0))
+        done = np.maximum(done, total[~open_].max(axis=0, initial=0.0))
+        lo, hi = _bisect(lo[open_], hi[open_], rel)[:2]
+        parent = tuple(np.concatenate([x[open_], x[open_]]) for x in (s_lo, s_hi))
+
+
+def _summed(robot, base, region, lo, hi, cols, used, live, free, parent):
+    """The live pairs' channel enclosures added on boxes (B, n), in chunks of :data:`_CHUNK`
+    boxes, as intervals (lo, hi) (B, C, n), intersected with the parents' sums (each holds
+    on the sub-boxes; an empty intersection, by round-off, gives the hull)."""
+    out = []
+    for a in range(0, lo.shape[0], _CHUNK):
+        ch = _channels(robot, lo[a:a + _CHUNK], hi[a:a + _CHUNK], cols)
+        mid, rad = _joint_sums(robot, base, region, used, live, free, *ch).sums(live)
+        out.append((mid - rad, mid + rad))
+    s_lo, s_hi = (np.concatenate([o[e] for o in out]) for e in range(2))
+    if parent is not None:
+        a, b = np.maximum(s_lo, parent[0]), np.minimum(s_hi, parent[1])
+        s_lo, s_hi = np.minimum(a, b), np.maximum(a, b)
+    return s_lo, s_hi
+
+
+#: Boxes of the branch and bound on a dropped set's joint sum (:func:`region_bound`).
+JOINT_BOXES = 8192
+#: Most joints that branch and bound halves (:func:`region_bound`): beyond, boxes small
+#: enough to gain would be too many.
+JOINT_DIMS = 3
+
+
+def split_joints(robot, base, dropped, zero=None):
+    """The joints :func:`dropped_bound` halves for a dropped set.
+
+    Parameters
+    ----------
+    robot : Robot
+        The arm, with n joints.
+    base : BaseParameters
+        Its base parameters (b of them).
+    dropped : ndarray of bool, shape (b, 3)
+    zero : ndarray of bool, shape (b, 3), optional
+        Pairs proved identically zero, left out.
+
+    Returns
+    -------
+    ndarray of bool, shape (n,)
+        The joints up to the last link of a dropped pair not in ``zero``, but a first
+        revolute joint about the gravity axis (no coefficient depends on it).
+    """
+    dropped = np.asarray(dropped, bool)
+    if zero is not None:
+        dropped = dropped & ~np.asarray(zero, bool)
+    used = np.flatnonzero(dropped.any(axis=1))
+    if used.size == 0:
+        return np.zeros(robot.n, bool)
+    last = int(np.flatnonzero(base.independent.reshape(-1))[used].max()) // 10
+    return _relevant(robot) & (np.arange(robot.n) <= last)
+
+
+def region_bound(robot, base, region, pb, dropped, limit, sums=None):
+    """The bound of a dropped set over the region that the region model states.
+
+    Parameters
+    ----------
+    robot : Robot
+        The arm, with n joints.
+    base : BaseParameters
+        Its base parameters (b of them).
+    region : Region
+    pb : PairBounds
+        The region's certification.
+    dropped : ndarray of bool, shape (b, 3)
+        The pairs left out.
+    limit : ndarray, shape (n,)
+        The budget EPS s_i [N m or N].
+    sums : JointSums, optional
+        On the final boxes of ``pb`` (:func:`joint_sums`), holding the dropped pairs; built
+        here (for the dropped pairs) when not given.
+
+    Returns
+    -------
+    ndarray, shape (n,)
+        The least of :func:`leaf_bound` and, where the dropped pairs (but those proved zero)
+        depend on at most :data:`JOINT_DIMS` joints (:func:`split_joints`),
+        :func:`dropped_bound` with ``limit`` and :data:`JOINT_BOXES` boxes; each bounds
+        |tau_s - tau| over the region, so their least does [N m or N].
+    """
+    dropped = np.asarray(dropped, bool)
+    if sums is None:
+        sums = joint_sums(robot, base, region, pb.split_joint, pb.split_at, dropped, pb.zero)
+    out = leaf_bound(pb, sums, dropped)
+    if split_joints(robot, base, dropped, pb.zero).sum() <= JOINT_DIMS:
+        out = np.minimum(out, dropped_bound(robot, base, region, dropped, limit, JOINT_BOXES,
+                                            pb.zero))
+    return out
+
+
+def prove_dropped(robot, base, region, dropped, limit, max_boxes=1024, zero=None):
+    """Whether a set of dropped pairs changes no tau_i by more than ``limit_i`` over the region,
+    proved by branch and bound on those pairs' enclosures only.
+
+    Parameters
+    ----------
+    robot, base, region, dropped, max_boxes, zero
+        As :func:`dropped_bound`: the arm (n joints), its b base parameters, the region, the
+        pairs left out (b, 3), the boxes evaluated in all before giving up, and the pairs
+        proved identically zero (left out of the joint sum).
+    limit : ndarray, shape (n,)
+        The bound to prove per joint [N m or N].
 
     Returns
     -------
     bool
-        True when every box of a tiling of the region has sum over the dropped pairs of their
-        enclosures <= limit_i on every joint (so |tau_s - tau| <= limit_i at every state of the
-        region, by the triangle inequality); False when ``max_boxes`` did not suffice (nothing
-        is then known: a full :func:`certify` decides).
+        True when every box of a tiling of the region has, on every joint, the sum over the
+        dropped pairs of their enclosures <= limit_i, or else (a second branch and bound,
+        :func:`dropped_bound`) their joint sum (:meth:`JointSums.bound`) <= limit_i, so
+        |tau_s - tau| <= limit_i at every state of the region; False when ``max_boxes`` did
+        not suffice for either (nothing is then known: a full :func:`certify` decides).
 
     Notes
     -----
@@ -465,9 +819,16 @@ def prove_dropped(robot, base, region, dropped, limit, max_boxes=1024):
     least of its own and its ancestors' (each holds on it), as in :func:`certify` (Moore,
     Kearfott & Cloud 2009, Ch. 6).
     """
+    limit = np.asarray(limit, float)
+    return _prove_pairs(robot, base, region, dropped, limit, max_boxes) or bool(
+        np.all(dropped_bound(robot, base, region, dropped, limit, max_boxes, zero) <= limit))
+
+
+def _prove_pairs(robot, base, region, dropped, limit, max_boxes):
+    """:func:`prove_dropped` by the sum of the pairs' own enclosures on each box (each the
+    least of its own and its ancestors')."""
     n = robot.n
     dropped = np.asarray(dropped, bool)
-    limit = np.asarray(limit, float)
     used = np.flatnonzero(dropped.any(axis=1))
     if used.size == 0:
         return bool(np.all(limit >= 0))

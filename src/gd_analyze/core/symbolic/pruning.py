@@ -347,8 +347,10 @@ def dropped_peaks(peak, whole_peak, dropped, whole):
 class _Selection:
     """The state of a selection: contributions, peaks, budget and the bound of a set."""
 
-    def __init__(self, robot, base, C, peak, whole_peak, budget, criterion, free=None):
+    def __init__(self, robot, base, C, peak, whole_peak, budget, criterion, free=None,
+                 joint=None):
         self.robot, self.base = robot, base
+        self.joint = joint                       # (dropped, enough) -> (n,), or None
         self.free = None if free is None else np.asarray(free, bool)   # (b, 3): proved 0
         self.C = None if C is None else C.transpose(3, 0, 1, 2)       # (b, 3, N, n)
         self.peak, self.whole_peak, self.budget = peak, whole_peak, budget
@@ -359,17 +361,20 @@ class _Selection:
                             np.where(whole_peak > 0, np.inf, 0.0)).max(axis=1)
         self.live = self.rel.max(axis=2) > 0                   # (b, 3): contributes
 
-    def bound(self, dropped, whole):
-        """(n,): the bound of a dropped set (whole: parameters dropped as a unit)."""
+    def bound(self, dropped, whole, enough=None):
+        """(n,): the bound of a dropped set (whole: parameters dropped as a unit); with
+        ``enough`` (n,), the pieces' sums alone when they are within it."""
         if self.criterion == "error":
             if not dropped.any():
                 return np.zeros(self.budget.shape)
-            err = np.einsum("bpkn,bp->kn", self.C, dropped.astype(float))
-            return np.abs(err).max(axis=0)
+            err = np.abs(np.einsum("bpkn,bp->kn", self.C, dropped.astype(float))).max(axis=0)
+            if self.joint is not None and not (enough is not None and np.all(err <= enough)):
+                err = np.minimum(err, self.joint(dropped, enough))
+            return err
         return dropped_peaks(self.peak, self.whole_peak, dropped, whole).sum(axis=-2)
 
     def fits(self, dropped, whole):
-        return bool(np.all(self.bound(dropped, whole) <= self.budget))
+        return bool(np.all(self.bound(dropped, whole, self.budget) <= self.budget))
 
     def count(self, dropped):
         return _count(self.robot, self.base, _normalize(dropped, self.live, self.free))
@@ -412,10 +417,9 @@ class _Selection:
                     continue
                 trial = dropped.copy()
                 trial[m, p] = True
-                if self.fits(trial, whole):
-                    c = self.count(trial)
-                    if c < cost:
-                        cost, dropped = c, trial
+                c = self.count(trial)           # (quick; whether it fits may not be)
+                if c < cost and self.fits(trial, whole):
+                    cost, dropped = c, trial
             if best is None or cost < best[0]:
                 best = (cost, dropped, whole)
         return best[1:]
@@ -583,7 +587,7 @@ def _total(program):
 
 
 def prune_bounds(robot, base, scale, peak, whole_peak, eps, strategy="cost", pieces=None,
-                 chosen=None, zero=None):
+                 chosen=None, zero=None, joint=None):
     """Choose the pairs to drop from given upper bounds of their contributions.
 
     Parameters
@@ -617,6 +621,14 @@ def prune_bounds(robot, base, scale, peak, whole_peak, eps, strategy="cost", pie
         Pairs proved identically zero where the model must hold
         (:attr:`gd_analyze.core.selection.certify.PairBounds.zero`): dropped at no cost to
         the bound (their pieces must be 0).
+    joint : callable, optional
+        With ``pieces``: ``joint(dropped, enough)`` -> ndarray (n,), an upper bound of |the
+        sum of the dropped pairs' contributions| per joint where the model must hold (e.g.
+        by :func:`gd_analyze.core.selection.certify.dropped_bound`, which lets them cancel);
+        ``enough`` (n,) is the budget when only whether the set fits matters (the callable
+        may then return a cheaper bound that decides it), None for the set's bound itself.
+        A set's bound is the least of it and the pieces' (taken only where the pieces'
+        alone do not fit the budget).
 
     Returns
     -------
@@ -639,7 +651,8 @@ def prune_bounds(robot, base, scale, peak, whole_peak, eps, strategy="cost", pie
     free = None if zero is None else np.asarray(zero, bool)
     if free is not None and pieces is not None and np.any(np.asarray(pieces, float)[free] != 0):
         raise ValueError("a pair declared zero has a nonzero piece")
-    sel = _Selection(robot, base, C, peak, whole_peak, eps * scale, criterion, free)
+    sel = _Selection(robot, base, C, peak, whole_peak, eps * scale, criterion, free,
+                     None if pieces is None else joint)
     if chosen is not None:
         dropped, whole = (np.asarray(a) for a in chosen)
         if dropped.shape != sel.live.shape or whole.shape != sel.live.shape[:1] \
