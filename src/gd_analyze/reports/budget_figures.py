@@ -25,8 +25,9 @@ from .figure_style import markevery
 from .simplified_section import guarantee_kind, has_simplified
 from .ticks import label_axes, set_ticks
 
-__all__ = ["BUDGET_CAPTIONS", "REGION_BUDGET_CAPTION", "budget_caption", "CONTRIBUTIONS", "fig_torque_contributions", "fig_error_budget", "fig_cost_ladder",
-           "budget_makers", "contribution_series"]
+__all__ = ["BUDGET_CAPTIONS", "REGION_BUDGET_CAPTION", "JOINT_SUM_CLAUSE", "budget_caption",
+           "joint_sum_lower", "CONTRIBUTIONS", "fig_torque_contributions", "fig_error_budget",
+           "fig_cost_ladder", "budget_makers", "contribution_series"]
 
 #: The five G-D contributions to tau_i: series key of the plot data, label, colour, line
 #: style, marker (told apart in greyscale by line style and marker).
@@ -217,7 +218,42 @@ def budget_caption(ds):
         :data:`REGION_BUDGET_CAPTION` for a bound proved over the region (the bars are proved
         bounds), else ``BUDGET_CAPTIONS["budget"]`` (the bars are peaks on the trajectory).
     """
-    return REGION_BUDGET_CAPTION if guarantee_kind(ds) == "region" else BUDGET_CAPTIONS["budget"]
+    if guarantee_kind(ds) != "region":
+        return BUDGET_CAPTIONS["budget"]
+    if joint_sum_lower(ds).any():
+        return REGION_BUDGET_CAPTION[:-1] + JOINT_SUM_CLAUSE
+    return REGION_BUDGET_CAPTION
+
+
+#: What the error-budget figure's caption adds where a joint's bound was proved on the
+#: dropped terms' sum at the same state, below the sum of their own bounds.
+JOINT_SUM_CLAUSE = ("; a triangle (\u25bc) marks a joint whose bound, proved on the dropped "
+                    "terms' sum at the same state (their enclosures added on boxes of the "
+                    "region), is below the bars' sum: that bound is the model's.")
+
+
+def joint_sum_lower(ds):
+    """The joints whose stated bound is below the sum of the dropped terms' own bounds.
+
+    Parameters
+    ----------
+    ds : xarray.Dataset
+        With ``simplified_bound`` and the ``simplified_bound_*`` parts (n,) [N m].
+
+    Returns
+    -------
+    ndarray of bool, shape (n,)
+        True where ``simplified_bound`` < (1 - 1e-9) x the parts' sum: the bound was proved on
+        the dropped set's joint sum (:func:`gd_analyze.core.selection.certify.region_bound`).
+    """
+    if "simplified_bound" not in ds.variables:
+        return np.zeros(0, bool)
+    bound = np.asarray(ds["simplified_bound"].values, float)
+    total = np.zeros_like(bound)
+    for var, *_ in _BOUND_PARTS:
+        if var in ds.variables:
+            total = total + np.nan_to_num(np.asarray(ds[var].values, float))
+    return bound < (1 - 1e-9) * total
 
 
 def fig_error_budget(ds, width=_PAGE):
@@ -238,8 +274,10 @@ def fig_error_budget(ds, width=_PAGE):
     matplotlib.figure.Figure
         One panel, joints across; bars: the peaks of the dropped terms by where they sit
         (D qdd, h, c, base parameters dropped whole), each / s_i [%], stacked; a dash at
-        EPS (the budget); a diamond at the measured peak |tau_s - tau| / s_i. A joint
-        with nothing dropped reads "nothing dropped".
+        EPS (the budget); a diamond at the measured peak |tau_s - tau| / s_i; under a region
+        guarantee, a triangle at the stated bound where it was proved on the dropped terms'
+        sum at the same state, below the bars (:func:`joint_sum_lower`). A joint with
+        nothing dropped reads "nothing dropped".
     """
     eps = float(ds.attrs.get("simplified_tolerance", np.nan))
     scale = np.asarray(ds["simplified_scale"].values, float)
@@ -265,6 +303,13 @@ def fig_error_budget(ds, width=_PAGE):
         bottom = bottom + np.nan_to_num(v)
     ax.hlines(np.full(n, 100 * eps), x - 0.38, x + 0.38, colors="black", linewidth=1.4,
               label=f"budget \u03b5 s\u1d62 (\u03b5 = {eps:g})")
+    lower = joint_sum_lower(ds) if guarantee_kind(ds) == "region" else np.zeros(0, bool)
+    if lower.any():
+        stated = np.asarray(ds["simplified_bound"].values, float) / np.where(scale > 0, scale,
+                                                                             np.nan)
+        ax.plot(x[lower], 100 * stated[lower], linestyle="none", marker="v", markersize=6,
+                color="#009E73", markeredgecolor="black", markeredgewidth=0.6, zorder=5,
+                label="bound proved on the dropped terms' sum")
     ax.plot(x, 100 * measured, linestyle="none", marker="D", markersize=4.5,
             markerfacecolor="white", markeredgecolor="black", markeredgewidth=0.9,
             label="measured peak |\u03c4\u209b \u2212 \u03c4|", zorder=4)
@@ -292,7 +337,9 @@ def fig_error_budget(ds, width=_PAGE):
     what = ("bounds proved over the region" if guarantee_kind(ds) == "region"
             else "peaks on this trajectory")
     note = (f"s\u1d62: each joint's scale ({', '.join(units)}); the bound on |\u03c4\u209b "
-            f"\u2212 \u03c4| is the sum of the dropped terms' {what}.")
+            f"\u2212 \u03c4| is the sum of the dropped terms' {what}"
+            + (", or, where lower (\u25bc), the bound proved on their sum at the same state."
+               if lower.any() else "."))
     fig.text(0.1 / width, 0.04 / H, textwrap.fill(note, int((width - 0.2) / 0.058)),
              fontsize=7, va="bottom", color="0.25")
     return fig

@@ -399,10 +399,12 @@ def region_pruning(pairs, dropped, bound="the bound below", drives=False):
     """
     return (f"Of the {pairs} (parameter, part) pairs that contribute over the joint-limit "
             f"region, {dropped} are dropped (alone or with their whole parameter), in order of "
-            "increasing proved bound, while for every joint the largest over the region of the "
-            f"sum of their proved bounds stays within {_EPS_S} ({REGION_SCALE[drives]}, "
-            "raised to the floor); by the triangle "
-            f"inequality the error at every state of the region is within that sum, {bound}.")
+            "increasing proved bound, while for every joint a bound of the change they make "
+            f"together, proved over the region, stays within {_EPS_S} ({REGION_SCALE[drives]}, "
+            "raised to the floor): the largest over the region of the sum of their own proved "
+            "bounds (the triangle inequality), or, where lower, the largest of their sum at "
+            "the same state (their enclosures added on boxes of the region, refined by branch "
+            f"and bound). The error at every state of the region is within that bound, {bound}.")
 
 
 def guarantee_kind(ds):
