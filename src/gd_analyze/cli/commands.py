@@ -15,7 +15,7 @@ from pathlib import Path
 from ..core.selection.labels import joint_torque_units
 from ..errors import InputError, InputWarning
 from ..io.model_file import load_model
-from ..io.names import Var
+from ..io.names import Attr, Var
 from ..io.results_view import ZERO_MARK, Results, torque_table_header
 from .parsing import EXIT_OK, EXIT_TOLERANCE, EXIT_VERIFY, PROG, parse_range
 
@@ -235,6 +235,9 @@ def _guarantee_lines(results):
         statement += ("; this trajectory is not covered: it leaves the region (the guarantee "
                       "holds in the region, not on this trajectory)")
     lines.append(f"guarantee: {statement}")
+    screen = str(results.dataset.attrs.get(Attr.SIMPLIFIED_REGION_SCREEN, ""))
+    if screen:
+        lines.append(f"region certification skipped: {screen}")
     if scope.get("scale") is not None and scope["kind"] != "none":
         pris = results.prismatic
         mixed = any(pris) and not all(pris)
