@@ -28,6 +28,11 @@ __all__ = ["Region", "RegionLimits", "Excursion", "FULL_TURN", "joint_region", "
            "sampled_error"]
 
 
+#: Largest number of regressor elements :func:`channel_values` evaluates at once
+#: (B S 3 n m of its positions' states: 64 MB).
+CHANNEL_ELEMENTS = 1 << 23
+
+
 def channel_values(robot, q, columns, chunk=512, engine="auto"):
     """The coefficient functions of the regressor at points q, every channel.
 
@@ -40,7 +45,9 @@ def channel_values(robot, q, columns, chunk=512, engine="auto"):
     columns : array_like of int, shape (m,)
         Flat standard-parameter indices 10 k + c.
     chunk : int, optional
-        Positions per call of the regressor (memory O(chunk n^3 m)).
+        Most positions per call of the regressor (memory O(chunk n^3 m)); fewer where their
+        regressor would exceed :data:`CHANNEL_ELEMENTS` elements (every position's values are
+        computed alone, so the values do not depend on it).
     engine : {"auto", "numpy", "compiled"}, optional
         ``"auto"``: compiled from
         :data:`gd_analyze.core.dynamics.dalembert.COMPILED_MIN_SETPOINTS` positions B on,
@@ -82,6 +89,7 @@ def channel_values(robot, q, columns, chunk=512, engine="auto"):
     S = jj.size
     out = np.empty((q.shape[0], channel_count(n), n, columns.size))
     compiled = compiled_engine(engine, q.shape[0])
+    chunk = max(1, min(int(chunk), CHANNEL_ELEMENTS // (S * 3 * n * max(columns.size, 1))))
     for a in range(0, q.shape[0], chunk):
         qc = q[a:a + chunk]
         B = qc.shape[0]
