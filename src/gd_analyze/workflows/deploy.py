@@ -16,7 +16,7 @@ import numpy as np
 from ..core.selection.budget import DEFAULT_TOLERANCE
 from ..core.selection.ranking import DEFAULT_DOMINANCE, DEFAULT_NEGLIGIBLE
 from ..core.selection.simplified import SimplifiedModel
-from .region_memo import REGION_SAMPLES, certified, region_values
+from .region_memo import REGION_SAMPLES, certified, region_magnitudes, region_values
 
 __all__ = ["build_recursive", "recursive_simplified", "replace_cost", "region_model",
            "trajectory_guarantee", "certified", "robot_region", "guarantee_region",
@@ -421,7 +421,7 @@ def screened_exact(robot, base, region, tolerance, torque_floor=0.0):
     from ..core.symbolic.recursive_model import RecursiveModel
 
     found = screen_region(robot, base, region, region_values(robot, base, region), tolerance,
-                          torque_floor)
+                          torque_floor, magnitudes=region_magnitudes(robot, base, region))
     if not found.skip:
         return None
     n = robot.n

@@ -128,7 +128,7 @@ class RegionScreen:
 
 
 def screen_region(robot, base, region, values, tolerance, torque_floor=0.0,
-                  threshold=MIN_SAVING):
+                  threshold=MIN_SAVING, magnitudes=None):
     """The sampled pre-screen of a region model (module docstring).
 
     Parameters
@@ -147,6 +147,8 @@ def screen_region(robot, base, region, values, tolerance, torque_floor=0.0,
         Least scale [N m or N].
     threshold : float, optional
         :data:`MIN_SAVING`.
+    magnitudes : ndarray, shape (B, b, 3, n), optional
+        :func:`.certify.pair_magnitudes_at` of ``values``, if already computed.
 
     Returns
     -------
@@ -167,8 +169,10 @@ def screen_region(robot, base, region, values, tolerance, torque_floor=0.0,
     _, V, scale, state = values
     scale = np.maximum(np.asarray(scale, float), torque_floor)
     beta = np.asarray(base.beta, float)
-    pieces = pair_magnitudes_at(V, beta, region.qd_max, region.qdd_max).transpose(1, 2, 0, 3)
-    pieces[pieces <= ROUND_OFF * scale] = 0.0                           # (b, 3, B, n)
+    if magnitudes is None:
+        magnitudes = pair_magnitudes_at(V, beta, region.qd_max, region.qdd_max)
+    pieces = np.array(magnitudes, float).transpose(1, 2, 0, 3)           # (b, 3, B, n)
+    pieces[pieces <= ROUND_OFF * scale] = 0.0
     peak = pieces.max(axis=2)
     free = ~(peak > 0).any(axis=2)
     pr = prune_bounds(robot, base, scale, peak, pieces.sum(axis=1).max(axis=1), tolerance,
