@@ -1,5 +1,6 @@
-"""Whether a model pruned over the joint-limit region can save operations at all, judged
-from the region's samples before any bound is proved.
+"""Whether a region model can save operations at all, judged from the region's samples.
+
+Decided before any bound is proved.
 
 The region model (:func:`gd_analyze.workflows.deploy.region_model`) drops a set S of (base
 parameter, part) pairs only if, on every final box L of the certification's branch and bound,
