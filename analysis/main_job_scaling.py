@@ -14,7 +14,10 @@ t ~ n^p (least squares over the ns, and between the last two).
 
 Usage::
 
-    python analysis/main_job_scaling.py [--ns 3,6,9,12,15] [--rounds 1]
+    python analysis/main_job_scaling.py [--ns 3,6,9,12,15] [--rounds 1] [--src DIR]
+
+``--src`` runs the jobs on another checkout's ``src`` folder (put first on PYTHONPATH), e.g.
+to measure the code before a change beside the code after it.
 """
 
 from __future__ import annotations
@@ -54,10 +57,13 @@ def write_inputs(n, folder):
     return toml, csv
 
 
-def run_job(toml, csv, out, report):
+def run_job(toml, csv, out, report, src=""):
     """One main job in a fresh process with a cold cache: (wall [s], peak RSS [MiB], spec)."""
     with tempfile.TemporaryDirectory() as cache:
         env = dict(os.environ, GD_ANALYZE_CACHE_DIR=cache)
+        if src:
+            env["PYTHONPATH"] = os.pathsep.join([src, env.get("PYTHONPATH", "")]).rstrip(
+                os.pathsep)
         env.pop("GD_ANALYZE_NO_CACHE", None)
         cmd = [sys.executable, "-m", "gd_analyze.cli", str(toml), str(csv), "-o", str(out),
                "-q"] + ([] if report else ["--no-report"])
@@ -89,6 +95,7 @@ def main(argv=None):
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--ns", default="3,6,9,12,15")
     parser.add_argument("--rounds", type=int, default=1)
+    parser.add_argument("--src", default="", help="another checkout's src folder")
     args = parser.parse_args(argv)
     ns = [int(v) for v in args.ns.split(",") if v]
     loads = [os.getloadavg()]
@@ -100,7 +107,8 @@ def main(argv=None):
         for r in range(args.rounds):
             for n in ns:
                 for report, key in ((False, "bare"), (True, "report")):
-                    wall, mib, spec = run_job(*inputs[n], folder / f"out-{n}-{key}", report)
+                    wall, mib, spec = run_job(*inputs[n], folder / f"out-{n}-{key}", report,
+                                             args.src)
                     rows[n][key].append(wall)
                     rows[n][key + "_mib"].append(mib)
                     screen = spec.get("provenance", {}).get("region_screen")
