@@ -9,16 +9,12 @@ the programs, and the sampled magnitudes of the pairs (each a lower bound of its
 import json
 
 import numpy as np
-import pytest
 from conftest import SHIPPED
 
-from gd_analyze import load_robot
 from gd_analyze.cli import main
-from gd_analyze.core.selection.screen import MIN_SAVING, screen_region
-from gd_analyze.core.symbolic.base_parameters import base_parameters
+from gd_analyze.core.selection.screen import MIN_SAVING
 from gd_analyze.io.model_file import load_model
 from gd_analyze.workflows.deploy import robot_region
-from gd_analyze.workflows.region_memo import region_values
 
 TWO_LINK_CSV = "t,q1,q2\n0,0,0\n0.1,0.1,0.05\n0.2,0.2,0.1\n0.3,0.3,0.2\n0.4,0.35,0.25\n"
 
@@ -89,40 +85,11 @@ def test_no_saving_takes_the_early_exit_with_a_proved_exact_model(tmp_path, monk
     assert check["lower_bound"] <= lam
 
 
-def test_the_puma_region_model_saves_and_is_searched(shared_main):
-    """The PUMA 560 (its region model counts 308 operations against the exact 320): the
-    pre-screen finds more than the threshold, the region is certified and searched."""
-    robot = load_robot("puma560")
-    base = base_parameters(robot)
-    region, _ = robot_region(robot)
-    found = screen_region(robot, base, region, region_values(robot, base, region), 0.01)
-    assert not found.skip and found.saving >= MIN_SAVING
+def test_the_puma_main_job_is_searched(shared_main):
+    """The PUMA 560's default run (its region model counts 308 operations against the exact
+    320) is certified and searched: no screen in its provenance, pairs dropped."""
     out = shared_main("puma560", SHIPPED, "--no-report")      # the default run, read only
     spec = json.loads((out / "simplified_model.json").read_text())
     assert "region_screen" not in spec["provenance"]
     assert spec["guarantee"]["kind"] == "region"
     assert np.any(spec["recursive"]["dropped"])
-
-
-@pytest.mark.slow
-def test_every_set_the_proof_drops_passes_the_sampled_constraint():
-    """The screen is optimistic: the pairs the certified region model drops satisfy the
-    sampled constraint (at each sampled position, the sum of their magnitudes is within
-    EPS s_i), so the screen's search may drop them too; its s_i is the certification's."""
-    from gd_analyze.core.selection.certify import pair_magnitudes_at
-    from gd_analyze.workflows.deploy import region_model
-
-    robot = load_robot("puma560")
-    base = base_parameters(robot)
-    region, _ = robot_region(robot)
-    values = region_values(robot, base, region)
-    for eps in (0.01, 0.05):
-        rec, _ = region_model(robot, base, region, eps)
-        found = screen_region(robot, base, region, values, eps)
-        np.testing.assert_array_equal(found.scale, rec.scale)
-        M = pair_magnitudes_at(values[1], np.asarray(base.beta, float), region.qd_max,
-                               region.qdd_max)                            # (B, b, 3, n)
-        total = np.einsum("xbpn,bp->xn", M, np.asarray(rec.dropped, float))
-        assert rec.dropped.any()
-        assert np.all(total <= eps * rec.scale * (1 + 1e-9))
-        assert found.best_operations <= found.exact_operations
