@@ -164,8 +164,19 @@ def _region_model(robot, base, region, tolerance, pb, pr, sampled=True):
         "region", float(tolerance), bound=rec.bound, scale=rec.scale, q_min=region.q_min,
         q_max=region.q_max, qd_max=region.qd_max, qdd_max=region.qdd_max,
         scale_state=pb.scale_state, sampled_error=err, region=region,
-        method=f"{METHOD}; {pb.boxes} boxes, {pb.positions.shape[0]} sampled positions")
+        method=f"{METHOD}; {pb.boxes} boxes, {pb.positions.shape[0]} sampled positions"
+               + _unrefined(robot))
     return rec, guarantee
+
+
+def _unrefined(robot):
+    """The clause saying s_i was not polished by local maximisation (beyond
+    :data:`gd_analyze.core.selection.region.REFINE_JOINTS` joints), or ""."""
+    from ..core.selection.region import REFINE_JOINTS
+
+    return "" if robot.n <= REFINE_JOINTS else (
+        f"; s_i of this {robot.n}-joint arm: the largest sampled |tau_i|, without the local "
+        f"maximisation (done up to {REFINE_JOINTS} joints)")
 
 
 def trajectory_guarantee(robot, base, rec, tolerance, trajectory_sha256="", region=None,
@@ -436,7 +447,7 @@ def screened_exact(robot, base, region, tolerance, torque_floor=0.0):
         method=("the exact recursive model (nothing dropped: its error is 0 at every state); "
                 + found.text() + "; scale s_i: the largest |tau_i| found by sampling the "
                 "region (vertices of qd and qdd) and local maximisation (L-BFGS-B), a lower "
-                "bound of the true maximum"))
+                "bound of the true maximum" + _unrefined(robot)))
     return rec, guarantee, found
 
 
