@@ -25,7 +25,7 @@ from ..formulations.compare import compare_report, format_compare
 from ..io import control_dataset as control_file
 from ..io.excitation import DEFAULT_HARMONICS, plan_excitation
 from ..io.model_file import load_model
-from ..io.names import Var
+from ..io.names import Attr, Var
 from ..io.planning import (
     DEFAULT_SETPOINTS,
     acceleration_limits,
@@ -265,6 +265,9 @@ def _guarantee_lines(results):
         statement += ("; this trajectory is not covered: it leaves the region (the guarantee "
                       "holds in the region, not on this trajectory)")
     lines.append(f"guarantee: {statement}")
+    screen = str(results.dataset.attrs.get(Attr.SIMPLIFIED_REGION_SCREEN, ""))
+    if screen:
+        lines.append(f"region certification skipped: {screen}")
     if scope.get("scale") is not None and scope["kind"] != "none":
         pris = results.prismatic
         mixed = any(pris) and not all(pris)

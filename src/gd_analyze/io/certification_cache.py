@@ -121,7 +121,8 @@ def _checked(robot, base, region, torque_floor, samples, seed, arrays, values=No
                 "the sampled torques)")
     try:
         return certify_tree(robot, base, region, arrays["split_joint"], arrays["split_at"],
-                            (q, V, scale, state), torque_floor=torque_floor,
+                            (q, V, scale, state, *(values or ())[4:]),
+                            torque_floor=torque_floor,
                             seconds=float(arrays["seconds"]))
     except ValueError as exc:
         return f"fails its self-check (its tree of boxes {exc})"
@@ -139,7 +140,8 @@ def certification(robot, base, region, torque_floor=0.0, samples=1000, seed=0, v
     values : tuple, optional
         Those samples already drawn (:func:`gd_analyze.core.selection.region.region_samples`),
         for a certification computed afresh (their positions and channel values also for one
-        recomputed from an entry).
+        recomputed from an entry), optionally followed by their sampled peaks
+        (:func:`gd_analyze.core.selection.certify.pair_peaks_at`).
 
     Returns
     -------

@@ -146,6 +146,8 @@ def main_outline(ctx, figures):
     if sm:
         o.section(*_split(ctx["model_heading"]))
         o.paragraph(sm["text"], "note")
+        if sm.get("screen_note"):
+            o.paragraph(sm["screen_note"], "note")
         o.table(sm["bound"], "Bound on the torque error per joint, split by where the dropped "
                              "terms sit, beside the measured peak error.")
         if sm.get("region"):

@@ -43,6 +43,8 @@ _ELSEWHERE = {
     "simplified_dropped_pairs", "simplified_multiplications", "simplified_additions",
     "simplified_sin", "simplified_cos", "other_rule_multiplications", "other_rule_additions",
     "simplified_ladder_skipped", "simplified_ladder_form", "simplified_form_note",
+    "simplified_region_screen", "simplified_region_possible_saving",
+    "simplified_region_saving_threshold",
     "formulations_n", "formulations_setpoints",
     "payload_mass", "payload_com", "payload_inertia", "simplified_files", "c_prefix",
     "simplified_inertia_check_where", "simplified_inertia_check_samples",

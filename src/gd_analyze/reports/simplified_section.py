@@ -263,9 +263,16 @@ def simplified_context(ds):
             "region": region, "region_text": region_text,
             "rule": rule, "tolerance": eps,
             "form_note": str(a.get(Attr.SIMPLIFIED_FORM_NOTE, "")),
+            "screen_note": _screen_note(a),
             "ladder_heading": "5.5 Tolerance ladder" + (
                 f" of the {ladder_form} form" if ladder is not None else ""),
             "ladder_note": f"Tolerance ladder {skipped}." if skipped else ""}
+
+
+def _screen_note(attrs):
+    """The sampled pre-screen that skipped the region's certification, as a sentence, or ""."""
+    said = str(attrs.get(Attr.SIMPLIFIED_REGION_SCREEN, ""))
+    return f"Region certification skipped: {said}." if said else ""
 
 
 def region_table(ds):

@@ -36,12 +36,12 @@ from ..errors import one_line
 from ..io.cache_files import CacheWarning, entry_path
 from ..io.planning import DEFAULT_QDD_PER_QD, acceleration_limits
 from ..io.search_cache import read_search, search_key, write_search
-from .region_memo import REGION_SAMPLES, certified, region_values
+from .region_memo import REGION_SAMPLES, certified, region_magnitudes, region_values
 
 __all__ = ["build_recursive", "recursive_simplified", "replace_cost", "region_model",
            "trajectory_guarantee", "certified", "robot_region", "guarantee_region",
            "REGION_SAMPLES", "restored_rebuild", "joint_bound", "SCOUT_BOXES",
-           "SCOUT_RATIO"]
+           "SCOUT_RATIO", "screened_exact"]
 
 #: Boxes of the first, quick branch and bound on a dropped set's joint sum while the pairs
 #: are chosen (:func:`joint_bound`), and the share of the budget above which its bound
@@ -246,8 +246,19 @@ def _region_model(robot, base, region, tolerance, pb, pr, sampled=True):
         "region", float(tolerance), bound=rec.bound, scale=rec.scale, q_min=region.q_min,
         q_max=region.q_max, qd_max=region.qd_max, qdd_max=region.qdd_max,
         scale_state=pb.scale_state, sampled_error=err, region=region,
-        method=f"{METHOD}; {pb.boxes} boxes, {pb.positions.shape[0]} sampled positions")
+        method=f"{METHOD}; {pb.boxes} boxes, {pb.positions.shape[0]} sampled positions"
+               + _unrefined(robot))
     return rec, guarantee
+
+
+def _unrefined(robot):
+    """The clause saying s_i was not polished by local maximisation (beyond
+    :data:`gd_analyze.core.selection.region.REFINE_JOINTS` joints), or ""."""
+    from ..core.selection.region import REFINE_JOINTS
+
+    return "" if robot.n <= REFINE_JOINTS else (
+        f"; s_i of this {robot.n}-joint arm: the largest sampled |tau_i|, without the local "
+        f"maximisation (done up to {REFINE_JOINTS} joints)")
 
 
 def trajectory_guarantee(robot, base, rec, tolerance, trajectory_sha256="", region=None,
@@ -310,7 +321,10 @@ def build_recursive(robot, q, qd, qdd, tolerance=DEFAULT_TOLERANCE, torque_floor
     region : Region, optional
         Prune on bounds proved over this joint-limit region
         (:func:`gd_analyze.core.selection.certify.certify`) instead of the trajectory's peaks:
-        the model's guarantee is then of kind ``"region"``.
+        the model's guarantee is then of kind ``"region"``. Where the sampled pre-screen finds
+        that no such model could save enough (:func:`screened_exact`), the exact recursive
+        model is built instead, without certification, and its provenance holds the screen
+        (``region_screen``: :meth:`gd_analyze.core.selection.screen.RegionScreen.to_dict`).
     sample_region : Region, optional
         For a trajectory model: the region on which its error is sampled
         (``region_sampled_error`` of its guarantee).
@@ -338,7 +352,12 @@ def build_recursive(robot, q, qd, qdd, tolerance=DEFAULT_TOLERANCE, torque_floor
 
     base, peaks = (base_parameters(robot), None) if contributions is None else contributions
     forms, store = None, None
-    if region is not None:
+    exact = None if region is None else screened_exact(robot, base, region, tolerance,
+                                                       torque_floor)
+    if exact is not None:           # no region model could save enough: nothing searched
+        rec, guarantee, screen = exact
+        provenance = {**(provenance or {}), "region_screen": screen.to_dict()}
+    elif region is not None:
         rec, guarantee, forms, store = _searched(robot, base, region, tolerance, torque_floor)
     else:
         rec = recursive_model(robot, q, qd, qdd, tolerance, torque_floor, base=base,
@@ -453,6 +472,55 @@ def _searched(robot, base, region, tolerance, torque_floor, sampled=True):
     return (*_region_model(robot, base, region, tolerance, pb, pr, sampled), None,
             lambda exact_forms, pruned_forms: write_search(key, pr.dropped, pr.whole,
                                                            exact_forms, pruned_forms))
+
+
+def screened_exact(robot, base, region, tolerance, torque_floor=0.0):
+    """The exact recursive model under a region guarantee, where the sampled pre-screen finds
+    that no region model could save :data:`gd_analyze.core.selection.screen.MIN_SAVING` of
+    its operations; else None.
+
+    Parameters
+    ----------
+    robot : Robot
+        The arm, with n joints.
+    base : BaseParameters
+        Its b base parameters.
+    region : Region
+    tolerance : float
+        EPS.
+    torque_floor : float, optional
+        [N m or N].
+
+    Returns
+    -------
+    (RecursiveModel, Guarantee, RegionScreen) or None
+        Nothing dropped, bound 0 (the exact model's error is 0 at every state, a proof
+        without search), s_i as the certification would use it, sampled error 0; the screen
+        (:func:`gd_analyze.core.selection.screen.screen_region`) says why. None when the
+        region is to be certified and searched.
+    """
+    from ..core.selection.guarantee import Guarantee
+    from ..core.selection.screen import screen_region
+    from ..core.symbolic.recursive_model import RecursiveModel
+
+    found = screen_region(robot, base, region, region_values(robot, base, region), tolerance,
+                          torque_floor, magnitudes=region_magnitudes(robot, base, region))
+    if not found.skip:
+        return None
+    n = robot.n
+    rec = RecursiveModel(names=tuple(base.names()), beta=np.array(base.beta, float),
+                         dropped=np.zeros((base.rank, 3), bool), scale=found.scale.copy(),
+                         bound=np.zeros(n), bound_by_part=np.zeros((4, n)),
+                         relative_peak=found.relative_peak)
+    guarantee = Guarantee(
+        "region", float(tolerance), bound=np.zeros(n), scale=found.scale.copy(),
+        q_min=region.q_min, q_max=region.q_max, qd_max=region.qd_max, qdd_max=region.qdd_max,
+        scale_state=found.scale_state, sampled_error=np.zeros(n), region=region,
+        method=("the exact recursive model (nothing dropped: its error is 0 at every state); "
+                + found.text() + "; scale s_i: the largest |tau_i| found by sampling the "
+                "region (vertices of qd and qdd) and local maximisation (L-BFGS-B), a lower "
+                "bound of the true maximum" + _unrefined(robot)))
+    return rec, guarantee, found
 
 
 def replace_cost(model, cost):

@@ -43,7 +43,8 @@ if TYPE_CHECKING:                       # for the type hints only
     from ..io.trajectory import Trajectory
     from .options import SimplifyOptions
 
-__all__ = ["deploy_models", "exact_explicit_wins", "exact_explicit_model", "region_coverage"]
+__all__ = ["deploy_models", "exact_explicit_wins", "exact_explicit_model", "region_coverage",
+           "region_screen_attrs"]
 
 
 def deploy_models(robot: Robot, trajectory: Trajectory, ranking: Ranking, part_peaks: PartPeaks,
@@ -142,7 +143,11 @@ def deploy_models(robot: Robot, trajectory: Trajectory, ranking: Ranking, part_p
                        "over the whole region, and the ladder prunes on the trajectory")
         else:
             form_note = _not_deployed(rec, ex, form, proved)
-    ladder_recursive = model is rec
+    # the sampled pre-screen skipped the region's certification: no ladder is certified either
+    screened = rec.provenance.get("region_screen") if proved else None
+    ladder_recursive = model is rec and not screened
+    if model is rec and screened:
+        skipped = _screened_ladder(screened)
     model = dataclasses.replace(model, costs=costs,
                                 full_cost=dict(costs.get("explicit, full", model.full_cost)),
                                 program_cache=model.program(),
@@ -167,12 +172,14 @@ def deploy_models(robot: Robot, trajectory: Trajectory, ranking: Ranking, part_p
             rec, costs=costs, full_cost=dict(costs.get("explicit, full", rec.full_cost)),
             program_cache=rec.program()), q, rebuild=rebuild)
         if fallback.inertia_check["proved"]:
-            model, sel, skipped, form_note = fallback, rec_sel, "", (
-                "The deployed model is the pruned recursive one: the explicit model's D_s "
+            model, sel, form_note = fallback, rec_sel, (
+                "The deployed model is the " + ("exact" if screened else "pruned")
+                + " recursive one: the explicit model's D_s "
                 + ("was not proved positive definite over the region." if region_claim else
                    "is not positive definite at the sampled positions of the trajectory "
                    f"(smallest eigenvalue {check['sampled_min_eigenvalue']:.3g})."))
-            ladder_recursive = True
+            ladder_recursive = not screened
+            skipped = _screened_ladder(screened) if screened else ""
     if model.recursive is not None and model.recursive is not rec.recursive:    # restored
         sel = dataclasses.replace(
             sel, scale=model.recursive.scale, bound=model.recursive.bound,
@@ -206,9 +213,33 @@ def deploy_models(robot: Robot, trajectory: Trajectory, ranking: Ranking, part_p
         if form_note:
             extra.attrs["simplified_form_note"] = form_note
         extra.attrs.update(region_coverage(region, trajectory))
+        if screened:
+            extra.attrs.update(region_screen_attrs(screened))
         return extra
 
     return model, other, finish
+
+
+def region_screen_attrs(screen: Mapping[str, Any]) -> dict[str, Any]:
+    """The sampled pre-screen that skipped the region's certification, as results.h5 stores it.
+
+    Parameters
+    ----------
+    screen : dict
+        :meth:`gd_analyze.core.selection.screen.RegionScreen.to_dict`.
+
+    Returns
+    -------
+    dict
+        ``simplified_region_screen`` (the sentence with the numbers),
+        ``simplified_region_possible_saving`` and ``simplified_region_saving_threshold``
+        (shares of the exact recursive model's operations [1]).
+    """
+    from ..io.names import Attr
+
+    return {Attr.SIMPLIFIED_REGION_SCREEN: str(screen["statement"]),
+            Attr.SIMPLIFIED_REGION_POSSIBLE_SAVING: float(screen["possible_saving"]),
+            Attr.SIMPLIFIED_REGION_SAVING_THRESHOLD: float(screen["threshold"])}
 
 
 def exact_explicit_wins(recursive_cost: Mapping[str, Any], full_cost: Mapping[str, Any]) -> bool:
@@ -307,6 +338,12 @@ def _not_deployed(rec, ex, form, proved):
            "over the joint-limit region" if proved and _ops(ex.cost) < _ops(rec.cost) else "")
     return (f"The deployed model is the pruned recursive one ({_ops(rec.cost):,} operations "
             f"against the pruned explicit one's {_ops(ex.cost):,}{why}).")
+
+
+def _screened_ladder(screen):
+    """Why the ladder is not built when the pre-screen skipped the region's certification."""
+    return ("not built: the region was not certified (" + str(screen["statement"])
+            + "), and each rung would need its certification")
 
 
 def _ops(cost):

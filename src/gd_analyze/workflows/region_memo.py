@@ -25,7 +25,7 @@ if TYPE_CHECKING:                       # for the type hints only
     from ..core.selection.region import Region
     from ..core.symbolic.base_parameters import BaseParameters
 
-__all__ = ["REGION_SAMPLES", "certified", "region_values"]
+__all__ = ["REGION_SAMPLES", "certified", "region_values", "region_magnitudes"]
 
 #: Positions sampled over the region for a model's sampled error (its velocity and
 #: acceleration at the worst vertices).
@@ -35,6 +35,8 @@ REGION_SAMPLES = 1000
 _CERTIFIED: dict = {}
 #: The region samples kept in this process without a certification (the same key, floor 0).
 _SAMPLED: dict = {}
+#: The pairs' sampled magnitudes of the region samples (:func:`region_magnitudes`).
+_MAGNITUDES: dict = {}
 #: Entries each keeps (a 10-joint arm's channel values are about 300 MB).
 _CERTIFIED_MAX = 2
 
@@ -80,7 +82,10 @@ def certified(robot: Robot, base: BaseParameters, region: Region,
         Samples :func:`region_values` drew in this process are not drawn again.
     """
 
-    drawn = _SAMPLED.get(_region_key(robot, region, 0.0))      # the same samples, if drawn
+    key = _region_key(robot, region, 0.0)
+    drawn = _SAMPLED.get(key)                                   # the same samples, if drawn
+    if drawn is not None and key in _MAGNITUDES:                # and their sampled peaks
+        drawn = (*drawn, _MAGNITUDES[key].max(axis=0))
 
     def make():
         pb = certification(robot, base, region, torque_floor=torque_floor,
@@ -112,3 +117,28 @@ def region_values(robot: Robot, base: BaseParameters, region: Region
         pb = _CERTIFIED[key]
         return pb.positions, pb.values, pb.scale, pb.scale_state
     return _keep(_SAMPLED, key, lambda: region_samples(robot, base, region, REGION_SAMPLES))
+
+
+def region_magnitudes(robot: Robot, base: BaseParameters, region: Region) -> np.ndarray:
+    """Each pair's largest |contribution| at each of :func:`region_values`' positions, once
+    per process.
+
+    Parameters
+    ----------
+    robot, base, region
+        The arm, its base parameters and its joint-limit region.
+
+    Returns
+    -------
+    ndarray, shape (B, b, 3, n)
+        :func:`gd_analyze.core.selection.certify.pair_magnitudes_at` of the samples [N m or
+        N]; a certification of the region made afterwards in this process takes their
+        largest over the positions as its sampled peaks instead of computing them again.
+    """
+    from ..core.selection.certify import pair_magnitudes_at
+
+    def make():
+        V = region_values(robot, base, region)[1]
+        return pair_magnitudes_at(V, np.asarray(base.beta, float), region.qd_max,
+                                  region.qdd_max)
+    return _keep(_MAGNITUDES, _region_key(robot, region, 0.0), make)

@@ -177,6 +177,13 @@ def pair_peaks_at(V, beta, qd_max, qdd_max):
     return pair_magnitudes_at(V, beta, qd_max, qdd_max).max(axis=0)
 
 
+def _sampled_peaks(values, beta, region):
+    """:func:`pair_peaks_at` of the samples, or the peaks that follow them in ``values``."""
+    if len(values) > 4:
+        return np.asarray(values[4], float)
+    return pair_peaks_at(values[1], beta, region.qd_max, region.qdd_max)
+
+
 def _relevant(robot):
     """Joints whose position changes a coefficient: all but a first revolute joint about the
     gravity axis (its rotation leaves the inertial, velocity and gravity parts unchanged)."""
@@ -313,7 +320,8 @@ def certify(robot, base, region, torque_floor=0.0, max_boxes=1024, samples=1000,
     rtol : float, optional
     values : tuple, optional
         :func:`.region.region_samples` of these ``samples`` and ``seed``, if already drawn
-        (the same positions and values; the floor is applied here).
+        (the same positions and values; the floor is applied here), optionally followed by
+        their :func:`pair_peaks_at`, shape (b, 3, n), if already computed.
 
     Returns
     -------
@@ -329,10 +337,11 @@ def certify(robot, base, region, torque_floor=0.0, max_boxes=1024, samples=1000,
     n = robot.n
     cols = np.flatnonzero(base.independent.reshape(-1))
     beta = np.asarray(base.beta, float)
-    q, V, scale, state = values if values is not None else region_samples(
-        robot, base, region, samples, seed)
+    values = values if values is not None else region_samples(robot, base, region, samples,
+                                                              seed)
+    q, V, scale, state = values[:4]
     scale = np.maximum(scale, torque_floor)
-    sampled = pair_peaks_at(V, beta, region.qd_max, region.qdd_max)
+    sampled = _sampled_peaks(values, beta, region)
     absb = np.abs(beta)[None, None, :]                              # over (3, n, b)
     zero = zero_parts(robot, cols)
     lo = region.q_min[None, :].copy()
@@ -390,7 +399,8 @@ def certify_tree(robot, base, region, split_joint, split_at, values, torque_floo
         :func:`tiling`.
     values : tuple
         ``(positions, channel values, scale, scale state)`` as
-        :func:`.region.region_samples` gives them (the floor is applied here).
+        :func:`.region.region_samples` gives them (the floor is applied here), optionally
+        followed by their :func:`pair_peaks_at`.
     torque_floor : float, optional
         Least scale [N m or N].
     seconds : float, optional
@@ -418,9 +428,9 @@ def certify_tree(robot, base, region, split_joint, split_at, values, torque_floo
     n = robot.n
     cols = np.flatnonzero(base.independent.reshape(-1))
     beta = np.asarray(base.beta, float)
-    q, V, scale, state = values
+    q, V, scale, state = values[:4]
     scale = np.maximum(scale, torque_floor)
-    sampled = pair_peaks_at(V, beta, region.qd_max, region.qdd_max)
+    sampled = _sampled_peaks(values, beta, region)
     absb = np.abs(beta)[None, None, :]
     zero = zero_parts(robot, cols)
     inherited = np.full((1, 3, n, cols.size), np.inf)

@@ -25,7 +25,12 @@ from ..symbolic.regressor_kernels import part_regressor, regressor_columns
 
 __all__ = ["Region", "RegionLimits", "Excursion", "FULL_TURN", "joint_region", "missing_limits", "sample_positions", "channel_values",
            "worst_states", "region_scale", "qd_vertices", "region_samples",
-           "sampled_error"]
+           "sampled_error", "REFINE_JOINTS"]
+
+
+#: Largest number of regressor elements :func:`channel_values` evaluates at once
+#: (B S 3 n m of its positions' states: 64 MB).
+CHANNEL_ELEMENTS = 1 << 23
 
 
 def channel_values(robot, q, columns, chunk=512, engine="auto"):
@@ -40,7 +45,9 @@ def channel_values(robot, q, columns, chunk=512, engine="auto"):
     columns : array_like of int, shape (m,)
         Flat standard-parameter indices 10 k + c.
     chunk : int, optional
-        Positions per call of the regressor (memory O(chunk n^3 m)).
+        Most positions per call of the regressor (memory O(chunk n^3 m)); fewer where their
+        regressor would exceed :data:`CHANNEL_ELEMENTS` elements (every position's values are
+        computed alone, so the values do not depend on it).
     engine : {"auto", "numpy", "compiled"}, optional
         ``"auto"``: compiled from
         :data:`gd_analyze.core.dynamics.dalembert.COMPILED_MIN_SETPOINTS` positions B on,
@@ -82,6 +89,7 @@ def channel_values(robot, q, columns, chunk=512, engine="auto"):
     S = jj.size
     out = np.empty((q.shape[0], channel_count(n), n, columns.size))
     compiled = compiled_engine(engine, q.shape[0])
+    chunk = max(1, min(int(chunk), CHANNEL_ELEMENTS // (S * 3 * n * max(columns.size, 1))))
     for a in range(0, q.shape[0], chunk):
         qc = q[a:a + chunk]
         B = qc.shape[0]
@@ -799,6 +807,14 @@ def region_scale(robot, region, columns, beta, torque_floor=0.0, samples=1000, s
     return np.maximum(best, torque_floor), state
 
 
+#: Most joints whose scale s_i is polished by local maximisation in :func:`region_samples`
+#: (every shipped arm); beyond them s_i is the largest sampled |tau_i| (a lower bound of the
+#: true maximum all the same, and the budget EPS s_i only the safer): the maximisation's
+#: forward-difference gradients cost n + 1 regressor evaluations a step, each over the
+#: 2^(n - 1) velocity vertices, a fifth of a 12-joint main job.
+REFINE_JOINTS = 7
+
+
 def region_samples(robot, base, region, samples=1000, seed=0):
     """The sampled positions of a region, their channel values, and the scale found there.
 
@@ -818,14 +834,15 @@ def region_samples(robot, base, region, samples=1000, seed=0):
     tuple
         ``(positions (B, n) [rad or m], channel values (B, C, n, b)`` (:func:`channel_values`),
         ``scale (n,) [N m or N], scale_state (n, 3 n))``: :func:`region_scale` without a
-        floor; what :func:`gd_analyze.core.selection.certify.certify` computes before its
-        branch and bound, for the same samples and seed.
+        floor, its best sample polished for arms of at most :data:`REFINE_JOINTS` joints;
+        what :func:`gd_analyze.core.selection.certify.certify` computes before its branch and
+        bound, for the same samples and seed.
     """
     cols = np.flatnonzero(base.independent.reshape(-1))
     q = sample_positions(region, samples, seed)
     V = channel_values(robot, q, cols)
     scale, scale_state = region_scale(robot, region, cols, np.asarray(base.beta, float),
-                                      values=(q, V))
+                                      refine=int(robot.n <= REFINE_JOINTS), values=(q, V))
     return q, V, scale, scale_state
 
 

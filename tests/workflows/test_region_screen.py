@@ -1,0 +1,95 @@
+"""The sampled pre-screen of the region model: where no region model could save enough
+operations, the exact recursive model is deployed without certification, and its guarantee
+and D_s proof still hold.
+
+Oracles: Pinocchio's rnea and crba at random states of the region, the operation counts of
+the programs, and the sampled magnitudes of the pairs (each a lower bound of its enclosure).
+"""
+
+import json
+
+import numpy as np
+from conftest import SHIPPED
+
+from gd_analyze.cli import main
+from gd_analyze.core.selection.screen import MIN_SAVING
+from gd_analyze.io.model_file import load_model
+from gd_analyze.workflows.deploy import robot_region
+
+TWO_LINK_CSV = "t,q1,q2\n0,0,0\n0.1,0.1,0.05\n0.2,0.2,0.1\n0.3,0.3,0.2\n0.4,0.35,0.25\n"
+
+
+def _pinocchio(robot):
+    import pinocchio as pin
+
+    from gd_analyze.formulations.pinocchio import pinocchio_model
+
+    model = pinocchio_model(robot)
+    return pin, model, model.createData()
+
+
+def _region_states(region, count, seed=1):
+    rng = np.random.default_rng(seed)
+    q = rng.uniform(region.q_min, region.q_max, (count, region.q_min.size))
+    qd = rng.uniform(-1, 1, q.shape) * region.qd_max
+    qdd = rng.uniform(-1, 1, q.shape) * region.qdd_max
+    return q, qd, qdd
+
+
+def test_no_saving_takes_the_early_exit_with_a_proved_exact_model(tmp_path, monkeypatch,
+                                                                   capsys):
+    """The two-link arm: no region model can save an operation, so the region is not
+    certified; the exact recursive model is deployed with bound 0 under the region guarantee,
+    its torque is rnea's at random states of the region, its D_s proof holds under crba's
+    eigenvalues, and every output says why, with the numbers."""
+    import gd_analyze.core.selection.certify as certify_module
+
+    def refused(*args, **kwargs):
+        raise AssertionError("the region was certified")
+    monkeypatch.setattr(certify_module, "certify", refused)
+    csv = tmp_path / "t.csv"
+    csv.write_text(TWO_LINK_CSV)
+    out = tmp_path / "out"
+    assert main(["two-link", str(csv), "-o", str(out), "--no-report"]) == 0
+    said = capsys.readouterr().out
+    assert "region certification skipped: a region model could save at most about 0 %" in said
+    assert "threshold of 2 %" in said
+    spec = json.loads((out / "simplified_model.json").read_text())
+    screen = spec["provenance"]["region_screen"]
+    assert screen["skipped"] and screen["possible_saving"] < screen["threshold"] == MIN_SAVING
+    assert spec["form"] == "recursive"
+    assert spec["cost"] == spec["costs"]["exact recursive"]
+    g = spec["guarantee"]
+    assert g["kind"] == "region" and "(proved" in g["statement"]
+    assert np.all(np.array(g["bound"]) == 0) and "nothing dropped" in g["method"]
+    assert not np.any(spec["recursive"]["dropped"])
+
+    import xarray as xr
+    with xr.open_dataset(out / "results.h5", engine="h5netcdf") as ds:
+        assert float(ds.attrs["simplified_region_possible_saving"]) < \
+            float(ds.attrs["simplified_region_saving_threshold"]) == MIN_SAVING
+        assert "certification and search were skipped" in ds.attrs["simplified_region_screen"]
+        assert "not certified" in ds.attrs["simplified_ladder_skipped"]
+
+    model = load_model(out / "simplified_model.json")        # its claim checked on reading
+    robot = model.robot
+    region, _ = robot_region(robot)
+    q, qd, qdd = _region_states(region, 200)
+    pin, pm, data = _pinocchio(robot)
+    ref = np.array([pin.rnea(pm, data, *x).copy() for x in zip(q, qd, qdd)])
+    scale = np.asarray(model.guarantee.scale)
+    assert np.all(np.abs(model.torque(q, qd, qdd) - ref) <= 1e-9 * scale)
+    check = spec["inertia_check"]
+    assert check["proved"] and check["where"] == "region" and check["lower_bound"] > 0
+    lam = min(np.linalg.eigvalsh(pin.crba(pm, data, x).copy()).min() for x in q)
+    assert check["lower_bound"] <= lam
+
+
+def test_the_puma_main_job_is_searched(shared_main):
+    """The PUMA 560's default run (its region model counts 308 operations against the exact
+    320) is certified and searched: no screen in its provenance, pairs dropped."""
+    out = shared_main("puma560", SHIPPED, "--no-report")      # the default run, read only
+    spec = json.loads((out / "simplified_model.json").read_text())
+    assert "region_screen" not in spec["provenance"]
+    assert spec["guarantee"]["kind"] == "region"
+    assert np.any(spec["recursive"]["dropped"])
