@@ -25,7 +25,14 @@ from ..core.selection.certify import (
 )
 from ..core.selection.guarantee import Guarantee
 from ..core.selection.ranking import DEFAULT_DOMINANCE, DEFAULT_NEGLIGIBLE, element_labels
-from ..core.selection.region import joint_region, missing_limits, sampled_error, worst_states
+from ..core.selection.region import (
+    REFINE_JOINTS,
+    joint_region,
+    missing_limits,
+    sampled_error,
+    worst_states,
+)
+from ..core.selection.screen import screen_region
 from ..core.selection.simplified import SimplifiedModel
 from ..core.symbolic.base_parameters import base_parameters
 from ..core.symbolic.drive_regressor import with_drives
@@ -76,7 +83,6 @@ def robot_region(robot, limits=None):
         If the user's limits do not fit the robot (one or n values; a position range wholly
         outside the robot's), naming the option.
     """
-
     why = missing_limits(robot, limits)
     if why:
         return None, why
@@ -254,7 +260,6 @@ def _region_model(robot, base, region, tolerance, pb, pr, sampled=True):
 def _unrefined(robot):
     """The clause saying s_i was not polished by local maximisation (beyond
     :data:`gd_analyze.core.selection.region.REFINE_JOINTS` joints), or ""."""
-    from ..core.selection.region import REFINE_JOINTS
 
     return "" if robot.n <= REFINE_JOINTS else (
         f"; s_i of this {robot.n}-joint arm: the largest sampled |tau_i|, without the local "
@@ -287,7 +292,6 @@ def trajectory_guarantee(robot, base, rec, tolerance, trajectory_sha256="", regi
         (:func:`gd_analyze.core.selection.region.sampled_error` at the positions of
         :func:`.region_memo.region_values`: sampling only, no certification).
     """
-
     sampled = None
     if region is not None:
         sampled = sampled_error(base, region, rec.dropped, region_values(robot, base, region))[0]
@@ -349,7 +353,6 @@ def build_recursive(robot, q, qd, qdd, tolerance=DEFAULT_TOLERANCE, torque_floor
     Fu, Gonzalez & Lee (1987), Algorithm 3.1 on the base parameters (Khalil & Kleinfinger
     1987; Gautier 1990), pruned as :func:`gd_analyze.core.symbolic.recursive_model.recursive_model`.
     """
-
     base, peaks = (base_parameters(robot), None) if contributions is None else contributions
     forms, store = None, None
     exact = None if region is None else screened_exact(robot, base, region, tolerance,
@@ -421,7 +424,6 @@ def recursive_simplified(robot, rec, base, tolerance=DEFAULT_TOLERANCE, torque_f
     Fu, Gonzalez & Lee (1987), Algorithm 3.1 on the base parameters (Khalil & Kleinfinger
     1987; Gautier 1990).
     """
-
     exact_forms, pruned_forms = forms if forms is not None else (None, None)
     exact_program = recursive_program(robot, base.values, forms=exact_forms)
     exact = with_drives(exact_program, robot).cost()
@@ -499,10 +501,6 @@ def screened_exact(robot, base, region, tolerance, torque_floor=0.0):
         (:func:`gd_analyze.core.selection.screen.screen_region`) says why. None when the
         region is to be certified and searched.
     """
-    from ..core.selection.guarantee import Guarantee
-    from ..core.selection.screen import screen_region
-    from ..core.symbolic.recursive_model import RecursiveModel
-
     found = screen_region(robot, base, region, region_values(robot, base, region), tolerance,
                           torque_floor, magnitudes=region_magnitudes(robot, base, region))
     if not found.skip:
@@ -537,7 +535,6 @@ def replace_cost(model, cost):
     -------
     SimplifiedModel
     """
-
     return dataclasses.replace(model, cost=dict(cost))
 
 

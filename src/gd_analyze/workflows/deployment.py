@@ -18,6 +18,7 @@ from ..core.selection.guarantee import Guarantee
 from ..core.selection.positive_definite import with_inertia_check
 from ..formulations.opcount import operation_counts
 from ..io import explicit_cache
+from ..io.names import Attr
 from .deploy import build_recursive, guarantee_region, restored_rebuild
 from .recursive_ladder import recursive_ladder
 from .simplify import (
@@ -91,7 +92,6 @@ def deploy_models(robot: Robot, trajectory: Trajectory, ranking: Ranking, part_p
     is of the form deployed (:func:`.recursive_ladder.recursive_ladder` for the recursive one,
     pruned as it is).
     """
-
     tolerance, rule, torque_floor = options.tolerance, options.rule, options.torque_floor
     form = options.form
     q, qd, qdd = trajectory.q, trajectory.qd, trajectory.qdd
@@ -235,8 +235,6 @@ def region_screen_attrs(screen: Mapping[str, Any]) -> dict[str, Any]:
         ``simplified_region_possible_saving`` and ``simplified_region_saving_threshold``
         (shares of the exact recursive model's operations [1]).
     """
-    from ..io.names import Attr
-
     return {Attr.SIMPLIFIED_REGION_SCREEN: str(screen["statement"]),
             Attr.SIMPLIFIED_REGION_POSSIBLE_SAVING: float(screen["possible_saving"]),
             Attr.SIMPLIFIED_REGION_SAVING_THRESHOLD: float(screen["threshold"])}

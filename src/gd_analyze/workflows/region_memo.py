@@ -14,6 +14,7 @@ from typing import TYPE_CHECKING
 
 import numpy as np
 
+from ..core.selection.certify import pair_magnitudes_at
 from ..core.selection.region import region_samples
 from ..core.selection.simplified import json_safe
 from ..io.certification_cache import certification
@@ -81,7 +82,6 @@ def certified(robot: Robot, base: BaseParameters, region: Region,
     PairBounds
         Samples :func:`region_values` drew in this process are not drawn again.
     """
-
     key = _region_key(robot, region, 0.0)
     drawn = _SAMPLED.get(key)                                   # the same samples, if drawn
     if drawn is not None and key in _MAGNITUDES:                # and their sampled peaks
@@ -135,8 +135,6 @@ def region_magnitudes(robot: Robot, base: BaseParameters, region: Region) -> np.
         N]; a certification of the region made afterwards in this process takes their
         largest over the positions as its sampled peaks instead of computing them again.
     """
-    from ..core.selection.certify import pair_magnitudes_at
-
     def make():
         V = region_values(robot, base, region)[1]
         return pair_magnitudes_at(V, np.asarray(base.beta, float), region.qd_max,
