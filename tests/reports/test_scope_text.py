@@ -65,7 +65,7 @@ def test_sec5_says_how_a_region_model_was_pruned(shared_main):
         texts[kind] = text[start:text.index("Table 5.3", start)]
     region, trajectory = texts["region"], texts["trajectory"]
     assert "contribute over the joint-limit region" in region
-    assert "the error at every state of the region is within that sum" in region
+    assert "The error at every state of the region is within that bound" in region
     assert "holds on this trajectory" not in region
     assert "= peak |τ" not in region and "= peak |τ" in trajectory
     assert "contribute on this trajectory" in trajectory

@@ -50,14 +50,15 @@ def test_choice_of_a_recursive_model_names_the_elements_its_dropped_terms_change
         name, part = pair[:-1].split(" (")
         dropped.setdefault(name, set()).add(part)
     assert dropped                                                   # the case at hand
-    names = base_parameters(puma).names()
+    base = base_parameters(puma)          # the columns of the dropped names, g = 0 or not
+    names = base.names()
     q, qd = shipped.q[::3], shipped.qd[::3]
     still = dataclasses.replace(puma, gravity=np.zeros(3))
     n, changed = 6, set()
     for name, parts in dropped.items():
         k = names.index(name)
         if "velocity" in parts:
-            Y, beta = base_regressor(still, q, qd, np.zeros_like(q))
+            Y, beta = base_regressor(still, q, qd, np.zeros_like(q), base)
             for i in range(n):
                 if np.abs(Y[:, i, k] * beta[k]).max() > 1e-9:
                     changed.add(f"h{i + 1}")
@@ -65,7 +66,7 @@ def test_choice_of_a_recursive_model_names_the_elements_its_dropped_terms_change
             for j in range(n):
                 acc = np.zeros_like(q)
                 acc[:, j] = 1.0
-                Y, beta = base_regressor(still, q, np.zeros_like(q), acc)
+                Y, beta = base_regressor(still, q, np.zeros_like(q), acc, base)
                 for i in range(j + 1):
                     if np.abs(Y[:, i, k] * beta[k]).max() > 1e-9:
                         changed.add(f"D{i + 1}{j + 1}")

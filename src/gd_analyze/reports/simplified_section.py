@@ -297,7 +297,6 @@ def region_table(ds):
     """
     import math
 
-
     r = stored_region(ds)
     if r is None:
         return None, ""
@@ -408,10 +407,9 @@ def region_pruning(pairs, dropped, bound="the bound below", drives=False):
             f"region, {dropped} are dropped (alone or with their whole parameter), in order of "
             "increasing proved bound, while for every joint a bound of the change they make "
             f"together, proved over the region, stays within {_EPS_S} ({REGION_SCALE[drives]}, "
-            "raised to the floor): the largest over the region of the sum of their own proved "
-            "bounds (the triangle inequality), or, where lower, the largest of their sum at "
-            "the same state (their enclosures added on boxes of the region, refined by branch "
-            f"and bound). The error at every state of the region is within that bound, {bound}.")
+            "raised to the floor): the sum of their own bounds (triangle inequality) or, where "
+            "lower, that of their sum at the same state (enclosures added on boxes, branch and "
+            f"bound). The error at every state of the region is within that bound, {bound}.")
 
 
 def guarantee_kind(ds):

@@ -355,8 +355,14 @@ def build_recursive(robot, q, qd, qdd, tolerance=DEFAULT_TOLERANCE, torque_floor
     """
     base, peaks = (base_parameters(robot), None) if contributions is None else contributions
     forms, store = None, None
-    exact = None if region is None else screened_exact(robot, base, region, tolerance,
-                                                       torque_floor)
+    # a search in the derivation cache was made by a run whose screen chose to search: the
+    # screen only chooses between two sound paths, so it is not run again (the entry itself is
+    # checked by _searched)
+    stored = region is not None and isinstance(read_search(
+        search_key(robot, region, tolerance, torque_floor, REGION_SAMPLES), robot.n,
+        base.rank), dict)
+    exact = None if region is None or stored else screened_exact(robot, base, region,
+                                                                  tolerance, torque_floor)
     if exact is not None:           # no region model could save enough: nothing searched
         rec, guarantee, screen = exact
         provenance = {**(provenance or {}), "region_screen": screen.to_dict()}
@@ -371,12 +377,47 @@ def build_recursive(robot, q, qd, qdd, tolerance=DEFAULT_TOLERANCE, torque_floor
                                  torque_floor=torque_floor, ranking=ranking,
                                  trajectory_sha256=trajectory_sha256, provenance=provenance,
                                  guarantee=guarantee, forms=forms, searched=store)
+    if region is not None and exact is None and torque_floor > 0:
+        found = _floor_zero_choice(robot, base, region, tolerance, torque_floor)
+        if found is not None:
+            alt = recursive_simplified(robot, found[0], base, tolerance=tolerance,
+                                       torque_floor=torque_floor, ranking=ranking,
+                                       trajectory_sha256=trajectory_sha256,
+                                       provenance=provenance, guarantee=found[1])
+            if _operations(alt) < _operations(model):
+                model, rec = alt, found[0]
     sel = Selection(rule="budget", tolerance=float(tolerance), choices=model.choices,
                     kept=None, scale=rec.scale, bound=rec.bound,
                     bound_by_kind={"D": rec.bound_by_part[0], "h": rec.bound_by_part[1],
                                    "c": rec.bound_by_part[2], "whole": rec.bound_by_part[3]},
                     element_bound=np.full(robot.n, np.nan))
     return model, sel
+
+
+def _operations(model):
+    """Multiplications + additions of a model's program."""
+    return int(model.cost["multiplications"]) + int(model.cost["additions"])
+
+
+def _floor_zero_choice(robot, base, region, tolerance, torque_floor):
+    """The pairs the search drops without a torque floor, proved under the floor's
+    certification: (RecursiveModel, Guarantee), or None if they do not fit.
+
+    With a floor every s_i only grows, so the budget only grows and those pairs fit it; the
+    greedy search under the larger budget may end dearer (a pair it drops first, restored
+    later for the proof that D_s is positive definite), so a floor is never to cost more than
+    this choice.
+    """
+    rec0 = _searched(robot, base, region, tolerance, 0.0, sampled=False)[0]
+    pb = certified(robot, base, region, torque_floor)
+    dropped = np.asarray(rec0.dropped, bool)
+    for whole in (dropped.all(axis=1), np.zeros(dropped.shape[0], bool)):
+        try:
+            pr = _region_pruning(base, pb, robot, region, tolerance, (dropped, whole))
+        except ValueError:
+            continue
+        return _region_model(robot, base, region, tolerance, pb, pr)
+    return None
 
 
 def recursive_simplified(robot, rec, base, tolerance=DEFAULT_TOLERANCE, torque_floor=0.0,

@@ -157,7 +157,7 @@ def friction_torque(robot: Robot, qd: np.ndarray) -> np.ndarray | None:
     """Joint friction and offset tau_f = F_v qd + F_c sign(qd) + tau_0.
 
     The one formula of the drives' velocity-dependent torque: every engine, the emitted
-    programs (:func:`with_drives`) and identification use it.
+    programs (:func:`gd_analyze.core.symbolic.drive_regressor.with_drives`) and identification use it.
 
     Parameters
     ----------
