@@ -62,7 +62,7 @@ defaults: types.MappingProxyType[str, Any] = types.MappingProxyType({
 })
 
 
-def cache_dir():
+def cache_dir() -> Path | None:
     """The folder of every on-disk cache, or None when caching is disabled.
 
     ``GD_ANALYZE_NO_CACHE`` (any non-empty value) disables the caches; else

@@ -7,6 +7,8 @@ command line can print it as it is and exit with status 2.
 
 from __future__ import annotations
 
+import os
+
 __all__ = ["InputError", "InputWarning", "InputNote"]
 
 
@@ -31,7 +33,8 @@ class InputError(ValueError):
     are known; without a row, ``"<path>: key <column>: <message>"``.
     """
 
-    def __init__(self, message, path=None, row=None, column=None):
+    def __init__(self, message: object, path: str | os.PathLike[str] | None = None,
+                 row: int | None = None, column: str | None = None) -> None:
         self.message = one_line(str(message).replace("\n", " "))
         self.path = None if path is None else one_line(path)
         self.row = row
@@ -56,7 +59,7 @@ class InputError(ValueError):
         return ": ".join(where + [self.message])
 
 
-def one_line(text):
+def one_line(text: object) -> str:
     """``text`` with every unprintable character (line breaks, controls, unassigned code
     points) written as its escape, so that a file name or key cannot break the line."""
     text = str(text)

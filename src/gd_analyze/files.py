@@ -13,13 +13,14 @@ import functools
 import hashlib
 import os
 import tempfile
+from collections.abc import Iterator
 from pathlib import Path
 
 __all__ = ["atomic_path", "file_sha256", "read_regular", "TooLarge", "sources_sha256",
            "package_sha256"]
 
 
-def file_sha256(path):
+def file_sha256(path: str | os.PathLike[str]) -> str:
     """SHA-256 of a file's bytes, read in blocks.
 
     Parameters
@@ -91,7 +92,7 @@ class TooLarge(ValueError):
     """A file read with :func:`read_regular` is larger than its limit."""
 
 
-def read_regular(path, limit, follow=True):
+def read_regular(path: str | os.PathLike[str], limit: int, follow: bool = True) -> bytes:
     """The bytes of a regular file of at most ``limit`` bytes, read without blocking.
 
     A FIFO, socket or device (or a symbolic link to one: ``/dev/zero``) is never read, so a
@@ -142,7 +143,7 @@ def read_regular(path, limit, follow=True):
 
 
 @contextlib.contextmanager
-def atomic_path(path, create=True):
+def atomic_path(path: str | os.PathLike[str], create: bool = True) -> Iterator[str]:
     """Yield a temporary file name beside ``path``; rename it to ``path`` on success.
 
     The temporary name is unpredictable and created new with the final mode (never through a

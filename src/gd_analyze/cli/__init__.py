@@ -16,6 +16,8 @@ import os
 import re
 import sys
 import warnings
+from collections.abc import Sequence
+from typing import NoReturn
 
 from ..errors import InputError, InputNote, InputWarning
 from ..io.robots import builtin_robots, unknown_robot
@@ -58,7 +60,7 @@ REPORT_IMPORTS = ("jinja2", "matplotlib.figure", "matplotlib.backends.backend_sv
 _CONTROL = re.compile("[\x00-\x08\x0b\x0c\x0e-\x1f\x7f-\x9f]")
 
 
-def escape_control(text):
+def escape_control(text: str) -> str:
     r"""Text with its control characters written as ``\xNN`` escapes (:data:`_CONTROL`).
 
     Parameters
@@ -140,7 +142,7 @@ def _print_help(rest, parsers):
     return EXIT_OK
 
 
-def run():
+def run() -> NoReturn:
     """The ``gd-analyze`` program: :func:`main` on ``sys.argv``, then exit with its status.
 
     The main job runs as on an installation without dask (:func:`_without_dask`): it makes no
@@ -191,7 +193,7 @@ def _without_dask():
         sys.modules["dask"] = None
 
 
-def main(argv=None):
+def main(argv: Sequence[str] | None = None) -> int:
     """Run the command line.
 
     Parameters

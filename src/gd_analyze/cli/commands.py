@@ -7,15 +7,19 @@ the exit status; bad input raises :class:`gd_analyze.errors.InputError`, which
 
 from __future__ import annotations
 
+import argparse
 import math
+import os
 import sys
 import warnings
+from collections.abc import Sequence
 from pathlib import Path
+from typing import cast
 
 from .._version import VERSION as __version__
 from ..core.model.limits import LIMITS, exact_text, first_beyond
 from ..core.model.mounting import mounting_of, with_mounting
-from ..core.model.robot import with_payload
+from ..core.model.robot import Robot, with_payload
 from ..core.selection.labels import joint_motion_units, joint_torque_units, joint_units_text
 from ..core.selection.region import RegionLimits, joint_region
 from ..core.selection.simplified import json_safe
@@ -62,7 +66,7 @@ from .parsing import EXIT_OK, EXIT_TOLERANCE, EXIT_VERIFY, PROG, parse_range
 
 __all__ = []
 
-def command_line(args):
+def command_line(args: argparse.Namespace) -> str:
     """The command as :func:`gd_analyze.cli.main` was given it, for the provenance (a shell
     could run it: each argument quoted as needed)."""
     import shlex
@@ -70,7 +74,7 @@ def command_line(args):
     return shlex.join([PROG] + [str(a) for a in getattr(args, "given_argv", ())])
 
 
-def load_robot_arg(args):
+def load_robot_arg(args: argparse.Namespace) -> Robot:
     """The robot named by ``args.robot`` (with ``--base``, ``--tip``), mounted by ``--gravity``
     and ``--base-rpy``.
 
@@ -98,7 +102,8 @@ def _apply_mounting(robot, args):
     return with_mounting(robot, getattr(args, "gravity", None), getattr(args, "base_rpy", None))
 
 
-def model_mounting(model_robot, args, path):
+def model_mounting(model_robot: Robot, args: argparse.Namespace,
+                   path: str | os.PathLike[str]) -> Robot:
     """The reference arm of ``evaluate`` and ``control``: the model's robot mounted by
     ``--gravity`` and ``--base-rpy`` in the world, in place of the mounting it was built with
     (never on top of it); an option equal to that mounting changes nothing, with one note."""
@@ -115,7 +120,7 @@ def model_mounting(model_robot, args, path):
     return _apply_mounting(model_robot, args)
 
 
-def mounting_settings(args, robot):
+def mounting_settings(args: argparse.Namespace, robot: Robot) -> dict[str, list[float]]:
     """The mounting, for the provenance: the options as given and the gravity they give in the
     base frame [m/s^2]."""
     out = {"mounting_base_rpy_deg": [float(v) for v in (args.base_rpy or (0.0, 0.0, 0.0))],
@@ -125,13 +130,13 @@ def mounting_settings(args, robot):
     return out
 
 
-def chain_settings(args):
+def chain_settings(args: argparse.Namespace) -> dict[str, str]:
     """The URDF chain options and the mounting, for the provenance of a run's outputs."""
     return {k: v for k, v in (("robot_base", getattr(args, "base", None)),
                               ("robot_tip", getattr(args, "tip", None))) if v}
 
 
-def apply_payload(robot, args):
+def apply_payload(robot: Robot, args: argparse.Namespace) -> Robot:
     """The robot with the --payload options' load, if any (Sec. 3.4.1's loaded arm)."""
 
     payload = _payload(args)
@@ -139,7 +144,7 @@ def apply_payload(robot, args):
                                                       payload.inertia)
 
 
-def output_folder(args_outdir, *parts):
+def output_folder(args_outdir: str | os.PathLike[str] | None, *parts: str) -> Path:
     """The output folder: -o as given, or reports/<sanitised parts joined by '-'>."""
     import os
 
@@ -160,7 +165,7 @@ def output_folder(args_outdir, *parts):
     return folder
 
 
-def wrote_line(files, folder, verbose):
+def wrote_line(files: Sequence[Path], folder: Path, verbose: bool) -> str:
     """The last line a command prints: ``wrote 26 files to DIR``, or with ``-v`` every file.
 
     Parameters
@@ -313,7 +318,7 @@ def _format_summary(results):
     return "\n".join(lines)
 
 
-def payload_mass_list(args):
+def payload_mass_list(args: argparse.Namespace) -> list[float] | None:
     """The payload masses of ``--payload-sweep`` [kg], or None without it.
 
     Parameters
@@ -341,7 +346,7 @@ def payload_mass_list(args):
     return masses
 
 
-def region_limits(args, robot):
+def region_limits(args: argparse.Namespace, robot: Robot) -> RegionLimits | None:
     """The user's region from ``--q-limits``, ``--qd-max`` and ``--qdd-max``, in SI units, or
     None when none is given; its clipped limits printed as warnings.
 
@@ -414,7 +419,7 @@ def _payload(args):
                    tuple(float(v) for v in args.payload_inertia))
 
 
-def cmd_analyze(args):
+def cmd_analyze(args: argparse.Namespace) -> int:
     """The main job: G-D terms, verification, ranking, simplified model, files and report.
 
     Parameters
@@ -509,7 +514,7 @@ def _limits(values):
     return [float(v) if math.isfinite(float(v)) else None for v in values]
 
 
-def cmd_plan(args):
+def cmd_plan(args: argparse.Namespace) -> int:
     """``plan``: a quintic rest-to-rest trajectory within the robot's limits, written as CSV.
 
     Parameters
@@ -790,7 +795,7 @@ def _warn_provenance(csv_path, robot):
         warnings.warn(message, InputWarning)
 
 
-def cmd_evaluate(args):
+def cmd_evaluate(args: argparse.Namespace) -> int:
     """``evaluate``: a simplified model's torque error on a trajectory, gated by its guarantee.
 
     Parameters
@@ -813,16 +818,17 @@ def cmd_evaluate(args):
 
 
     model = load_model(args.model)
-    traj = read_trajectory(args.trajectory, n_joints=model.robot.n)
-    _warn_provenance(args.trajectory, model.robot)
-    plant = apply_payload(model_mounting(model.robot, args, args.model), args)
+    model_robot = cast(Robot, model.robot)      # the model file's arm
+    traj = read_trajectory(args.trajectory, n_joints=model_robot.n)
+    _warn_provenance(args.trajectory, model_robot)
+    plant = apply_payload(model_mounting(model_robot, args, args.model), args)
     err = evaluate(model, traj, plant=plant)
     worst = err.pop("max_relative_peak_error")
     scope = coverage(model, traj, plant=plant, path=args.model)
     verdict = gate(err, model, args.max_error)
     if args.json:
         out = {"model": args.model, "trajectory": args.trajectory,
-               "trajectory_sha256": traj.sha256, "robot": model.robot.name,
+               "trajectory_sha256": traj.sha256, "robot": model_robot.name,
                "setpoints": traj.n_setpoints, "payload_mass": float(args.payload or 0.0),
                **mounting_settings(args, plant),
                "max_relative_peak_error": worst, "guarantee": scope,
@@ -831,12 +837,12 @@ def cmd_evaluate(args):
                "exceeded": verdict["exceeded"], **err}
         print(json.dumps(json_safe(out), allow_nan=False, default=str))
     else:
-        print(f"{model.robot.name} simplified model on {args.trajectory} "
+        print(f"{model_robot.name} simplified model on {args.trajectory} "
               f"({traj.n_setpoints} set points)")
         header, ends = torque_table_header([joint_torque_units(bool(p))
-                                            for p in model.robot.prismatic])
+                                            for p in model_robot.prismatic])
         print(header)
-        for j in range(model.robot.n):
+        for j in range(model_robot.n):
             print(f"{j + 1:<6}{err['peak_abs_error'][j]:>12.4g}{err['rms_error'][j]:>12.4g}"
                   f"{err['peak_tau'][j]:>12.4g}{err['relative_peak_error'][j]:>10.2e}"
                   f"{err['relative_rms_error'][j]:>10.2e}{ends[j]}"
@@ -856,7 +862,7 @@ def cmd_evaluate(args):
     return EXIT_OK
 
 
-def cmd_compare(args):
+def cmd_compare(args: argparse.Namespace) -> int:
     """``compare``: L-E, N-E, G-D and Pinocchio on every set point, and their costs (Table 3.5).
 
     Parameters
@@ -887,7 +893,7 @@ def cmd_compare(args):
     return EXIT_OK
 
 
-def cmd_control(args):
+def cmd_control(args: argparse.Namespace) -> int:
     """``control``: computed-torque tracking with the exact and the simplified model.
 
     Parameters
@@ -909,15 +915,16 @@ def cmd_control(args):
     import json
 
     model = load_model(args.model)
-    traj = read_trajectory(args.trajectory, n_joints=model.robot.n)
-    _warn_provenance(args.trajectory, model.robot)
-    outdir = output_folder(args.outdir, model.robot.name, Path(args.trajectory).stem, "control")
+    model_robot = cast(Robot, model.robot)      # the model file's arm
+    traj = read_trajectory(args.trajectory, n_joints=model_robot.n)
+    _warn_provenance(args.trajectory, model_robot)
+    outdir = output_folder(args.outdir, model_robot.name, Path(args.trajectory).stem, "control")
     if outdir.exists() and not outdir.is_dir():
         raise InputError("exists and is not a folder", outdir)
     try:
         result = run_control(model, traj, wn=args.wn, zeta=args.zeta, q0_offset=args.offset,
                              model_path=args.model, model_sha256=file_sha256(args.model),
-                             plant=model_mounting(model.robot, args, args.model),
+                             plant=model_mounting(model_robot, args, args.model),
                              verdict_tolerance=args.verdict_tolerance)
     except ValueError as exc:
         raise InputError(str(exc)) from None
@@ -933,24 +940,25 @@ def cmd_control(args):
     if args.json:
         print(json.dumps(summary, default=float))
     elif not args.quiet:
-        print(f"computed-torque control of {model.robot.name} along {args.trajectory}: "
+        print(f"computed-torque control of {model_robot.name} along {args.trajectory}: "
               f"wn = {args.wn:g} rad/s, zeta = {args.zeta:g}")
         judged = dataset_verdict(control_file.control_dataset(result))
         q_floor = judged["floors"][0]           # the report's rule: noise is not data
         print(f"{'controller':<12}" + "".join(f"{'joint ' + str(j + 1):>11}"
-                                               for j in range(model.robot.n)))
+                                               for j in range(model_robot.n)))
         for name, fig in summary["tracking"].items():
             print(f"{name:<12}" + "".join(
                 f"{ZERO_MARK if v <= f else format(v, '.3e'):>11}"
                 for v, f in zip(fig["peak_grid"], q_floor))
-                  + f"   peak |e| [{_joint_units(model.robot, 'q')}]")
+                  + f"   peak |e| [{_joint_units(model_robot, 'q')}]")
         if summary["tau_difference"]:
             floor = result.tau_noise_floor
+            assert floor is not None      # None without a measured integrator noise
             print(f"{'tau diff':<12}" + "".join(
                 f"{ZERO_MARK if v <= f else format(v, '.3e'):>11}"
                 for v, f in zip(summary["tau_difference"]["peak"], floor))
                   + "   peak |tau_simplified - tau_full| "
-                    f"[{_joint_units(model.robot, 'tau')}]")
+                    f"[{_joint_units(model_robot, 'tau')}]")
             how = "measured" if result.tau_noise is not None else "not measured: rtol x peak |tau|"
             print(f"{'noise floor':<12}" + "".join(f"{v:>11.3e}" for v in floor)
                   + f"   integrator noise of tau diff ({how}), \u2261 0 at or below")

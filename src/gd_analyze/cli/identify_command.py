@@ -9,6 +9,7 @@ output folder (:func:`gd_analyze.io.staging.staged_output`), with the report
 
 from __future__ import annotations
 
+import argparse
 import json
 from pathlib import Path
 
@@ -83,7 +84,7 @@ def _summary(result, outdir, written, args):
     return lines
 
 
-def cmd_identify(args):
+def cmd_identify(args: argparse.Namespace) -> int:
     """``identify``: identify the robot from recordings, write the store and the robot file.
 
     Parameters

@@ -68,7 +68,7 @@ class _Parser(argparse.ArgumentParser):
         return out
 
 
-def parse_range(text, name="--payload-sweep"):
+def parse_range(text: str, name: str = "--payload-sweep") -> list[float]:
     """Parse ``"start:stop:step"`` into the values start, start + step, ..., stop (inclusive).
 
     Parameters
@@ -113,13 +113,13 @@ def parse_range(text, name="--payload-sweep"):
     if stop < start:
         raise InputError(f"STOP must not be below START, got {text!r}", column=name)
     try:
-        count = int((stop - start) // step) + 1
+        count: float = int((stop - start) // step) + 1
     except decimal.DecimalException:                  # e.g. 0:1:1e-30: beyond the precision
         count = math.inf
     if count > 10_000:
         raise InputError(f"the range {text!r} has {count:.3g} values (at most 10000)",
                          column=name)
-    return [float(start + k * step) for k in range(count)]
+    return [float(start + k * step) for k in range(int(count))]
 
 
 def _number(text, integer=False):
@@ -334,7 +334,7 @@ def _add_paper_argument(p):
                    help="page size of the PDF report (default a4)")
 
 
-def analyze_parser():
+def analyze_parser() -> argparse.ArgumentParser:
     """The main job's parser (``gd-analyze ROBOT TRAJECTORY``).
 
     Returns
@@ -409,7 +409,7 @@ def _prefix(text):
         raise argparse.ArgumentTypeError(str(exc)) from None
 
 
-def tool_version():
+def tool_version() -> str:
     """The package's version, for ``--version`` and the provenance.
 
     Returns
@@ -420,7 +420,7 @@ def tool_version():
     return __version__
 
 
-def plan_parser():
+def plan_parser() -> argparse.ArgumentParser:
     """``plan``'s parser.
 
     Returns
@@ -479,7 +479,7 @@ def plan_parser():
     return p
 
 
-def evaluate_parser():
+def evaluate_parser() -> argparse.ArgumentParser:
     """``evaluate``'s parser.
 
     Returns
@@ -508,7 +508,7 @@ def evaluate_parser():
     return p
 
 
-def compare_parser():
+def compare_parser() -> argparse.ArgumentParser:
     """``compare``'s parser.
 
     Returns
@@ -528,7 +528,7 @@ def compare_parser():
     return p
 
 
-def control_parser():
+def control_parser() -> argparse.ArgumentParser:
     """``control``'s parser.
 
     Returns
@@ -573,7 +573,7 @@ def control_parser():
     return p
 
 
-def sweep_parser():
+def sweep_parser() -> argparse.ArgumentParser:
     """``sweep``'s parser.
 
     Returns
@@ -671,7 +671,7 @@ def _gains(text):
     return tuple(values)
 
 
-def identify_parser():
+def identify_parser() -> argparse.ArgumentParser:
     """``identify``'s parser.
 
     Returns

@@ -6,6 +6,7 @@ exit status; bad input raises :class:`gd_analyze.errors.InputError` (exit status
 
 from __future__ import annotations
 
+import argparse
 import contextlib
 import sys
 from pathlib import Path
@@ -141,7 +142,7 @@ SWEEP_OUTPUTS = ("sweep.h5", "merged_model.json", "payload_sweep.h5", "sweep_rep
                  "sweep_report.pdf", "figures", *artefact_names(MERGED_STEM))
 
 
-def cmd_sweep(args):
+def cmd_sweep(args: argparse.Namespace) -> int:
     """``sweep``: the ranking over many trajectories on dask, and the merged model.
 
     Parameters

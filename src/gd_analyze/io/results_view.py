@@ -17,6 +17,7 @@ import types
 from collections.abc import Mapping
 from dataclasses import dataclass
 from pathlib import Path
+from typing import TYPE_CHECKING
 
 import numpy as np
 
@@ -26,6 +27,9 @@ from .datasets import joint_units as _units_of
 from .datasets import stored_guarantee, stored_region
 from .names import VERIFICATION_PREFIX, Attr, Var
 from .schema import open_results, strings
+
+if TYPE_CHECKING:                       # for the type hints only
+    import xarray as xr
 
 __all__ = ["ZERO_MARK", "RankingRow", "RankingTable", "TorqueErrorRow", "TorqueErrorTable",
            "torque_table_header",
@@ -297,7 +301,7 @@ class Results:
     inertia_check: str
     verification: Verification | None
     attrs: Mapping
-    dataset: object
+    dataset: xr.Dataset
     source: str = "<memory>"
 
     @classmethod

@@ -240,17 +240,19 @@ class Robot:
     source: str = "<dict>"
     sha256: str = ""
     convention: str = "standard"
-    prismatic: np.ndarray | None = None
-    rotation: np.ndarray | None = None
-    translation: np.ndarray | None = None
-    link_rotation: np.ndarray | None = None
-    link_translation: np.ndarray | None = None
-    metadata: types.MappingProxyType | None = None
+    # the fields below default to None for make_robot to fill; __post_init__ rejects a None
+    # (except tau_max), so they are typed as what every Robot holds
+    prismatic: np.ndarray = None  # type: ignore[assignment]
+    rotation: np.ndarray = None  # type: ignore[assignment]
+    translation: np.ndarray = None  # type: ignore[assignment]
+    link_rotation: np.ndarray = None  # type: ignore[assignment]
+    link_translation: np.ndarray = None  # type: ignore[assignment]
+    metadata: types.MappingProxyType = None  # type: ignore[assignment]
     tau_max: np.ndarray | None = None
-    armature: np.ndarray | None = None
-    viscous: np.ndarray | None = None
-    coulomb: np.ndarray | None = None
-    torque_offset: np.ndarray | None = None
+    armature: np.ndarray = None  # type: ignore[assignment]
+    viscous: np.ndarray = None  # type: ignore[assignment]
+    coulomb: np.ndarray = None  # type: ignore[assignment]
+    torque_offset: np.ndarray = None  # type: ignore[assignment]
 
     def __post_init__(self):
         # Validation only: a frozen value is never changed after construction. Build a robot
