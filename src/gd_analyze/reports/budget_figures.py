@@ -17,6 +17,8 @@ from __future__ import annotations
 
 import math
 import textwrap
+from collections.abc import Callable, Sequence
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
@@ -24,6 +26,13 @@ from .common import strings, torque_units
 from .figure_style import markevery
 from .simplified_section import guarantee_kind, has_simplified
 from .ticks import label_axes, set_ticks
+
+if TYPE_CHECKING:
+    import numpy.typing as npt
+    import xarray as xr
+    from matplotlib.figure import Figure
+
+    from .plot_data import PlotData
 
 __all__ = ["BUDGET_CAPTIONS", "REGION_BUDGET_CAPTION", "JOINT_SUM_CLAUSE", "budget_caption",
            "joint_sum_lower", "CONTRIBUTIONS", "fig_torque_contributions", "fig_error_budget",
@@ -69,7 +78,7 @@ def _figure(W, H):
     return Figure(figsize=(W, H))
 
 
-def contribution_series(data, drives=False):
+def contribution_series(data: PlotData, drives: bool = False) -> dict[str, npt.NDArray[np.float64]]:
     """The series of :func:`fig_torque_contributions`, by key.
 
     Parameters
@@ -94,7 +103,8 @@ def contribution_series(data, drives=False):
     return out
 
 
-def fig_torque_contributions(data, units, drives=False, width=_PAGE):
+def fig_torque_contributions(data: PlotData, units: Sequence[str], drives: bool = False,
+                             width: float = _PAGE) -> Figure:
     """Per joint against time: the five G-D contributions to tau and the simplified torque.
 
     Parameters
@@ -138,7 +148,7 @@ def fig_torque_contributions(data, units, drives=False, width=_PAGE):
                            1 - (top + r * (h + hgap) + h) / H, w / width, h / H))
         for k, key in enumerate(keys):
             _, name, colour, ls, marker = style[key]
-            kw = {"color": colour, "linestyle": ls, "label": name,
+            kw: dict[str, Any] = {"color": colour, "linestyle": ls, "label": name,
                   "linewidth": 1.3 if key == "tau_simplified" else 0.9,
                   "zorder": 3 if key == "tau_simplified" else 2}
             if marker and not data.enveloped:
@@ -177,7 +187,7 @@ _BOUND_PARTS = (("simplified_bound_inertia", "dropped terms of D q\u0308", "#007
                 ("simplified_bound_whole", "base parameters dropped whole", "#CC79A7", "xx"))
 
 
-def budget_parts(ds):
+def budget_parts(ds: xr.Dataset) -> dict[str, npt.NDArray[np.float64]]:
     """The stacked parts of :func:`fig_error_budget`, relative to each joint's scale s_i.
 
     Parameters
@@ -204,7 +214,7 @@ REGION_BUDGET_CAPTION = (
     "peak error measured on this trajectory, each relative to the joint's scale sᵢ.")
 
 
-def budget_caption(ds):
+def budget_caption(ds: xr.Dataset) -> str:
     """The error-budget figure's caption, from the kind of the model's guarantee.
 
     Parameters
@@ -232,7 +242,7 @@ JOINT_SUM_CLAUSE = ("; a triangle (\u25bc) marks a joint whose bound, proved on 
                     "region), is below the bars' sum: that bound is the model's.")
 
 
-def joint_sum_lower(ds):
+def joint_sum_lower(ds: xr.Dataset) -> npt.NDArray[np.bool_]:
     """The joints whose stated bound is below the sum of the dropped terms' own bounds.
 
     Parameters
@@ -256,7 +266,7 @@ def joint_sum_lower(ds):
     return bound < (1 - 1e-9) * total
 
 
-def fig_error_budget(ds, width=_PAGE):
+def fig_error_budget(ds: xr.Dataset, width: float = _PAGE) -> Figure:
     """Per joint: the dropped terms' peaks stacked against the budget EPS s_i, and the
     measured peak error.
 
@@ -365,7 +375,7 @@ def _bound_on_s_i(ds, label, eps, safe):
     return float(np.max(eps * own / safe))
 
 
-def cost_points(ds):
+def cost_points(ds: xr.Dataset) -> list[tuple[Any, ...]]:
     """The points of :func:`fig_cost_ladder`: (label, operations, worst error [1], kind).
 
     Parameters
@@ -458,7 +468,7 @@ def _place_numbers(fig, ax, numbers):
             note.remove()
 
 
-def fig_cost_ladder(ds, width=_PAGE):
+def fig_cost_ladder(ds: xr.Dataset, width: float = _PAGE) -> Figure:
     """Operations per set point against the worst error of each model of the dataset.
 
     Parameters
@@ -543,7 +553,7 @@ def fig_cost_ladder(ds, width=_PAGE):
     return fig
 
 
-def budget_makers(ds, data):
+def budget_makers(ds: xr.Dataset, data: PlotData) -> dict[str, Callable[..., Figure]]:
     """Makers of the figures of this module that the dataset can draw.
 
     Parameters
@@ -562,7 +572,7 @@ def budget_makers(ds, data):
     """
     import functools
 
-    makers = {}
+    makers: dict[str, Callable[..., Figure]] = {}
     if all(k in data.series for k, *_ in CONTRIBUTIONS) and "tau_simplified" in data.series:
         drives = "D_arm" in ds.variables and bool(np.any(np.asarray(ds["D_arm"].values) > 0))
         makers["contributions"] = functools.partial(fig_torque_contributions, data,

@@ -11,7 +11,9 @@ the reports' output is the interface, not these functions.
 from __future__ import annotations
 
 import datetime
+from collections.abc import Mapping, Sequence
 from importlib import resources
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
@@ -56,6 +58,9 @@ from .units import (
     units_text,
 )
 
+if TYPE_CHECKING:
+    import xarray as xr
+
 __all__ = ["CLASS_COLOURS", "BASE_RC", "SUPTITLE_RC", "A4", "A4_LANDSCAPE", "style", "utc_now",
            "keep_units",
            "strings", "fmt", "fmt_column", "fmt_columns", "given", "count", "share", "pct", "pct_column", "pct_columns", "attr", "thresholds", "check", "table",
@@ -74,7 +79,7 @@ CLASS_COLOURS = {"translational": "#0072B2", "rotational": "#D55E00", "both": "#
                  "negligible": "#777777"}
 
 
-def utc_now():
+def utc_now() -> datetime.datetime:
     """The current UTC time, to the second.
 
     Returns
@@ -85,7 +90,8 @@ def utc_now():
     return datetime.datetime.now(datetime.timezone.utc).replace(microsecond=0)
 
 
-def attr(ds, key, default="\u2014", *, parens=True, bools=False, sci_outside=None):
+def attr(ds: xr.Dataset, key: str, default: str = "\u2014", *, parens: bool = True,
+         bools: bool = False, sci_outside: tuple[float, float] | None = None) -> str:
     """A global attribute of a dataset as text.
 
     Parameters
@@ -126,7 +132,7 @@ def attr(ds, key, default="\u2014", *, parens=True, bools=False, sci_outside=Non
     return powers(text) if text else default      # unit powers (s^-1) as superscripts
 
 
-def thresholds(ds):
+def thresholds(ds: xr.Dataset) -> tuple[float, float]:
     """The dominance threshold s and the negligibility threshold e stored in a dataset.
 
     Parameters
@@ -143,7 +149,7 @@ def thresholds(ds):
             float(ds.attrs.get(Attr.NEGLIGIBLE_THRESHOLD, np.nan)))
 
 
-def check(ds, required, what):
+def check(ds: xr.Dataset, required: Sequence[str], what: str) -> None:
     """Raise if a dataset lacks a variable a report needs.
 
     Parameters
@@ -176,7 +182,9 @@ FORMULATION_ABBR = {"lagrange-euler": "L-E", "newton-euler": "N-E", "gd": "G-D",
                     "gd-numpy": "G-D np", "pinocchio": "Pinocchio"}
 
 
-def table(header, rows, align=None, widths=None, colour_cols=()):
+def table(header: Sequence[str], rows: Sequence[Sequence[Any]],
+          align: Sequence[str] | str | None = None, widths: Sequence[float] | None = None,
+          colour_cols: Sequence[int] = ()) -> dict[str, Any]:
     """A table as the templates and the PDF writers read it.
 
     Parameters
@@ -210,7 +218,7 @@ def table(header, rows, align=None, widths=None, colour_cols=()):
 
 
 
-def cost_table(ds):
+def cost_table(ds: xr.Dataset) -> dict[str, Any] | None:
     """The operations per set point of each evaluator a dataset stores, as a table.
 
     Parameters
@@ -239,7 +247,8 @@ def cost_table(ds):
                  widths=[2.2, 1, 1, 1, 1.2])          # the evaluators' names on one line
 
 
-def render_template(name, context, env_globals=None):
+def render_template(name: str, context: Mapping[str, Any],
+                    env_globals: Mapping[str, Any] | None = None) -> str:
     """Render one of the package's Jinja2 templates (autoescape on, strict undefined).
 
     Parameters
@@ -281,7 +290,7 @@ def render_template(name, context, env_globals=None):
     return env.get_template(name).render(**context)
 
 
-def check_formats(formats, allowed):
+def check_formats(formats: str | Sequence[str], allowed: tuple[str, ...]) -> list[str]:
     """The report formats asked for, checked, lower case and without repeats.
 
     Parameters

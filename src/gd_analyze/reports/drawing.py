@@ -9,17 +9,24 @@ PDF sets the figures' text in a TrueType subset of DejaVu Sans and none holds a 
 
 from __future__ import annotations
 
+import contextlib
 import io
 import re
+from collections.abc import Mapping
+from pathlib import Path
+from typing import TYPE_CHECKING, Any
 
 from ..files import atomic_path
 from .figure_style import raise_small_text, text_extent
 from .typeset import MIN_PRINTED_PT, figure_pdfs, printed_scale
 
+if TYPE_CHECKING:
+    from matplotlib.figure import Figure
+
 __all__ = ["figure_svg", "svg_size", "draw_figures", "write_figure_files"]
 
 
-def figure_svg(fig, rc=None):
+def figure_svg(fig: Figure, rc: Mapping[str, Any] | None = None) -> str:
     """A figure as SVG text, without XML declaration, DOCTYPE or date metadata.
 
     Parameters
@@ -37,9 +44,9 @@ def figure_svg(fig, rc=None):
     import matplotlib
 
     buf = io.BytesIO()
-    with matplotlib.rc_context(rc or {}):
+    with matplotlib.rc_context(rc or {}):  # type: ignore[arg-type]  # keys typed as literals
         # every text at least MIN_PRINTED_PT where the PDF report prints the figure smallest
-        raise_small_text(fig, MIN_PRINTED_PT / printed_scale(fig.get_size_inches()))
+        raise_small_text(fig, MIN_PRINTED_PT / printed_scale(tuple(fig.get_size_inches())))
         fig.savefig(buf, format="svg", bbox_inches=text_extent(fig), metadata={"Date": None, "Creator": None,
                                                  "Format": None, "Type": None})
     text = buf.getvalue().decode("utf-8")
@@ -47,7 +54,7 @@ def figure_svg(fig, rc=None):
     return text[start:] if start >= 0 else text
 
 
-def svg_size(svg):
+def svg_size(svg: str) -> tuple[float, float]:
     """The width and height [in] of an SVG written by matplotlib (sizes in pt).
 
     Parameters
@@ -60,12 +67,13 @@ def svg_size(svg):
     (float, float)
     """
     head = svg[:svg.index(">")]
-    w, h = (float(re.search(rf'\b{a}="([0-9.]+)pt"', head).group(1)) / 72.0
+    w, h = (float(re.search(rf'\b{a}="([0-9.]+)pt"', head).group(1)) / 72.0  # type: ignore[union-attr]
             for a in ("width", "height"))
     return w, h
 
 
-def draw_figures(figures, rc, pdf=True, created=None):
+def draw_figures(figures: Mapping[str, Figure], rc: Mapping[str, Any], pdf: bool = True,
+                 created: str | None = None) -> dict[str, tuple[str, bytes | None, tuple[float, float]]]:
     """Draw each figure once, as SVG, and (if asked) typeset its PDF from that SVG.
 
     Parameters
@@ -100,7 +108,9 @@ def draw_figures(figures, rc, pdf=True, created=None):
     return {k: (svg, pdfs.get(k), size) for k, (svg, size) in out.items()}
 
 
-def write_figure_files(stack, drawn, folder, names):
+def write_figure_files(stack: contextlib.ExitStack,
+                       drawn: Mapping[str, tuple[str, bytes | None, tuple[float, float]]],
+                       folder: Path, names: Mapping[str, str]) -> list[Path]:
     """Write every drawn figure as ``folder/<name>.pdf`` and ``.svg``, staged.
 
     Parameters
@@ -124,6 +134,7 @@ def write_figure_files(stack, drawn, folder, names):
     folder.mkdir(parents=True, exist_ok=True)
     files = []
     for key, (svg_text, pdf_bytes, _) in drawn.items():
+        assert pdf_bytes is not None            # drawn with pdf=True
         for ext, data in (("pdf", pdf_bytes), ("svg", svg_text.encode("utf-8"))):
             dest = folder / f"{names[key]}.{ext}"
             with open(stack.enter_context(atomic_path(dest)), "wb") as fh:

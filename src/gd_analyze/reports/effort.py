@@ -7,10 +7,14 @@ dataset's ``tau_peak`` and ``tau_max`` and computes nothing else.
 from __future__ import annotations
 
 import math
+from typing import TYPE_CHECKING
 
 import numpy as np
 
 from .common import torque_units
+
+if TYPE_CHECKING:
+    import xarray as xr
 
 __all__ = ["EffortRow", "effort_rows", "EXCEEDED", "WITHIN"]
 
@@ -24,12 +28,12 @@ class EffortRow(tuple):
     __slots__ = ()
 
     @property
-    def exceeded(self):
+    def exceeded(self) -> bool:
         """bool: the peak |tau| is above the limit."""
         return self[4] == EXCEEDED
 
 
-def effort_rows(ds):
+def effort_rows(ds: xr.Dataset) -> list[EffortRow]:
     """Each joint with an effort limit: its peak |tau| against the limit.
 
     Parameters

@@ -11,6 +11,14 @@ import io
 import math
 import re
 import textwrap
+from collections.abc import Mapping
+from typing import TYPE_CHECKING, Any
+
+if TYPE_CHECKING:
+    from markupsafe import Markup
+    from matplotlib.figure import Figure
+    from matplotlib.gridspec import GridSpec
+    from matplotlib.transforms import Bbox
 
 __all__ = ["BASE_RC", "SUPTITLE_RC", "style", "grid_shape", "joint_colours", "joint_style",
            "JOINT_STYLES", "MAX_MARKERS", "MIN_MARKERS", "markevery", "panel_markevery",
@@ -39,7 +47,7 @@ SUPTITLE_RC = {**BASE_RC, "legend.fontsize": 8.0, "figure.titlesize": 11.0,
                "figure.titleweight": "bold", "axes.linewidth": 0.6}
 
 
-def raise_small_text(fig, least):
+def raise_small_text(fig: Figure, least: float) -> int:
     """Set every text of a figure smaller than ``least`` at ``least``: tick labels, labels,
     titles, legends, annotations.
 
@@ -68,12 +76,12 @@ def raise_small_text(fig, least):
     for ax in fig.axes:
         for axis in (ax.xaxis, ax.yaxis):
             labels = axis.get_ticklabels(minor=False) + axis.get_ticklabels(minor=True)
-            if any(t.get_fontsize() < least for t in labels):
+            if any(float(t.get_fontsize()) < least for t in labels):
                 axis.set_tick_params(which="both", labelsize=least)
                 raised += 1
     right = fig.bbox.width
     for t in fig.findobj(Text):
-        if t.get_text() and t.get_fontsize() < least:
+        if t.get_text() and float(t.get_fontsize()) < least:
             t.set_fontsize(least)
             raised += 1
             for _ in range(4):
@@ -88,7 +96,7 @@ def raise_small_text(fig, least):
     return raised
 
 
-def text_extent(fig):
+def text_extent(fig: Figure) -> Bbox:
     """The figure's box grown up or down to hold every text drawn above or below it (never
     wider: the width is the one the figure is printed at).
 
@@ -109,7 +117,7 @@ def text_extent(fig):
     return Bbox.from_extents(page.x0, min(page.y0, drawn.y0), page.x1, max(page.y1, drawn.y1))
 
 
-def style(rc):
+def style(rc: Mapping[str, Any]) -> contextlib.AbstractContextManager[Any]:
     """A context in which matplotlib draws with the settings ``rc``.
 
     Parameters
@@ -124,10 +132,10 @@ def style(rc):
     """
     import matplotlib
 
-    return matplotlib.rc_context(rc)
+    return matplotlib.rc_context(rc)  # type: ignore[arg-type]  # rc keys typed as literals
 
 
-def grid_shape(n, max_cols):
+def grid_shape(n: int, max_cols: int) -> tuple[int, int]:
     """Rows and columns of a grid of n panels, at most ``max_cols`` a row.
 
     Parameters
@@ -145,7 +153,7 @@ def grid_shape(n, max_cols):
     return math.ceil(n / cols), cols
 
 
-def joint_colours(n):
+def joint_colours(n: int) -> list[tuple[float, ...]]:
     """One colour per joint from the tab10 colour map.
 
     Parameters
@@ -171,7 +179,7 @@ JOINT_STYLES = (("-", "o"), ((0, (4.0, 1.6)), "s"), ((0, (1.0, 1.3)), "^"),
                 ((0, (6.0, 1.5, 1.0, 1.5, 1.0, 1.5)), "x"), ((0, (8.0, 2.0)), "+"))
 
 
-def joint_style(j, n_lines=1, in_panel=1):
+def joint_style(j: int, n_lines: int = 1, in_panel: int = 1) -> dict[str, Any]:
     """Colour, line style and marker of joint ``j`` (0-based): distinct for up to 7 joints.
 
     Parameters
@@ -208,7 +216,7 @@ MAX_MARKERS = 12
 MIN_MARKERS = 2
 
 
-def panel_markevery(m, lines):
+def panel_markevery(m: int, lines: int) -> int:
     """The stride of the markers of each of ``lines`` lines of ``m`` points on one panel.
 
     Parameters
@@ -237,7 +245,7 @@ def panel_markevery(m, lines):
 MARK_EVERY_POINT = 50
 
 
-def element_markevery(m, lines=3):
+def element_markevery(m: int, lines: int = 3) -> int:
     """The stride of the markers on the element panels (Figs. 3.10 and 3.11 analogues).
 
     Parameters
@@ -261,7 +269,7 @@ def element_markevery(m, lines=3):
     return 1 if int(m) <= MARK_EVERY_POINT else panel_markevery(m, lines)
 
 
-def markevery(m, most=MAX_MARKERS):
+def markevery(m: int, most: int = MAX_MARKERS) -> int:
     """The stride that leaves at most ``most`` markers on a line of ``m`` points.
 
     Parameters
@@ -284,7 +292,8 @@ def markevery(m, most=MAX_MARKERS):
     return max(1, -(-int(m) // max(1, int(most))))
 
 
-def gridspec(fig, rows, cols, left, right, top, bottom, wgap, hgap):
+def gridspec(fig: Figure, rows: int, cols: int, left: float, right: float, top: float,
+             bottom: float, wgap: float, hgap: float) -> GridSpec:
     """A gridspec with margins and gaps in inches (a fixed layout: no layout engine).
 
     Parameters
@@ -309,7 +318,7 @@ def gridspec(fig, rows, cols, left, right, top, bottom, wgap, hgap):
                             top=1 - top / H, wspace=wgap / aw, hspace=hgap / ah)
 
 
-def svg(fig, prefix=None, rc=None):
+def svg(fig: Figure, prefix: str | None = None, rc: Mapping[str, Any] | None = None) -> str:
     """A figure as an inline ``<svg>`` element.
 
     Parameters
@@ -342,7 +351,8 @@ def svg(fig, prefix=None, rc=None):
     return re.sub(r"url\(#", f"url(#{prefix}-", text)
 
 
-def inline_svgs(figures, rc, prefix_ids=True):
+def inline_svgs(figures: Mapping[str, Figure], rc: Mapping[str, Any],
+                prefix_ids: bool = True) -> dict[str, Markup]:
     """Figures as inline SVG markup for a template.
 
     Parameters

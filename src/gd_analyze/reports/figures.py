@@ -7,6 +7,7 @@ report both show it. Source: Sec. 3.4.1 of Fu, Gonzalez & Lee (1987).
 from __future__ import annotations
 
 import textwrap
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
@@ -22,6 +23,10 @@ from .common import (
 )
 from .markup import label
 
+if TYPE_CHECKING:
+    import xarray as xr
+    from matplotlib.figure import Figure
+
 __all__ = ["payload_figure", "PAYLOAD_REQUIRED", "CLASS_LETTER", "PAGE_WIDTH", "COLUMN_WIDTH"]
 
 #: Width of the figures: the text of a page [in] (the reports' figures go into papers unscaled).
@@ -36,7 +41,7 @@ PAYLOAD_REQUIRED = ("share_tran", "dominance", "choice", "tau_peak")
 CLASS_LETTER = {"translational": "T", "rotational": "R", "both": "B", "negligible": "N"}
 
 
-def payload_figure(ds, width=PAGE_WIDTH):
+def payload_figure(ds: xr.Dataset, width: float = PAGE_WIDTH) -> Figure:
     """Translational share and dominance class of every element vs payload, and peak |tau| vs
     payload.
 
@@ -146,7 +151,8 @@ def payload_figure(ds, width=PAGE_WIDTH):
         kinds = list(dict.fromkeys(units))  # one panel per unit: never N m and N on one axis
         gap = 0.3
         each = (tau_h - gap * (len(kinds) - 1)) / len(kinds)
-        handles, names = [], []
+        handles: list[Any] = []
+        names: list[str] = []
         for k, unit in enumerate(kinds):
             y0 = bottom + (len(kinds) - 1 - k) * (each + gap)
             bx = fig.add_axes((left / W, y0 / H, (heat_w if column else W - 2.0) / W, each / H))
@@ -154,7 +160,7 @@ def payload_figure(ds, width=PAGE_WIDTH):
                 line, = bx.plot(masses, tau[:, j], label=f"joint {j + 1}", linewidth=0.9,
                                 **joint_style(j, len(masses), sum(u == unit for u in units)))
                 handles.append(line)
-                names.append(line.get_label())
+                names.append(str(line.get_label()))
             if k == len(kinds) - 1:
                 bx.set_xlabel("payload [kg]", labelpad=1.0)
             else:

@@ -18,7 +18,10 @@ each figure as ``figures/fig_identify_*.pdf`` and ``.svg``, are written atomical
 from __future__ import annotations
 
 import contextlib
+import os
+from collections.abc import Collection
 from pathlib import Path
+from typing import TYPE_CHECKING
 
 from ..errors import InputError
 from ..files import atomic_path
@@ -28,6 +31,9 @@ from .identify_figures import FIGURE_RC, figure_key, identify_figures
 from .identify_text import REQUIRED_RECORDING, REQUIRED_ROOT, identify_context
 from .sections import Outline
 from .typeset import PAPER, write_pdf
+
+if TYPE_CHECKING:
+    import xarray as xr
 
 __all__ = ["IDENTIFY_REPORT_FILES", "write_identify_report", "identify_outline"]
 
@@ -49,7 +55,7 @@ def _check(root, groups):
                              "identification.h5")
 
 
-def identify_outline(ctx: dict, figures) -> Outline:
+def identify_outline(ctx: dict, figures: Collection[str]) -> Outline:
     """The report's sections, once, for the HTML and the PDF.
 
     Parameters
@@ -124,7 +130,8 @@ def _pdf(ctx, drawn, path, paper):
                      footer=f"gd-analyze {ctx['version']}: identify report")
 
 
-def write_identify_report(root, groups: dict, folder, paper: str = "a4") -> list[Path]:
+def write_identify_report(root: xr.Dataset, groups: dict[str, xr.Dataset],
+                          folder: str | os.PathLike[str], paper: str = "a4") -> list[Path]:
     """Write report.html, report.pdf and the figures of a stored identification.
 
     Parameters

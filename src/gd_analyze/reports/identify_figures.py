@@ -11,6 +11,7 @@ figures as literal text (``parse_math=False``: a ``$`` never starts mathtext).
 from __future__ import annotations
 
 import math
+from typing import TYPE_CHECKING
 
 import numpy as np
 
@@ -18,6 +19,10 @@ from .common import BASE_RC, grid_shape
 from .figure_style import style
 from .markup import clean
 from .ticks import label_axes, set_ticks
+
+if TYPE_CHECKING:
+    import xarray as xr
+    from matplotlib.figure import Figure
 
 __all__ = ["identify_figures", "shown_recordings", "role_of", "figure_key", "PAGE_WIDTH", "MAX_POINTS",
            "MODEL_STYLES", "FIGURE_RC", "stride", "short", "TITLE_CHARS"]
@@ -56,7 +61,7 @@ def shown_recordings(groups: dict) -> list[str]:
     return validate or list(groups)
 
 
-def role_of(ds) -> str:
+def role_of(ds: xr.Dataset) -> str:
     """A recording's role: its ``role`` attribute, or its ``role`` variable.
 
     Parameters
@@ -182,7 +187,8 @@ def _panels(t, curves, joints, ylabel, width, prismatic=None):
     return fig
 
 
-def identify_figures(root, groups: dict, width: float = PAGE_WIDTH) -> dict:
+def identify_figures(root: xr.Dataset, groups: dict[str, xr.Dataset],
+                     width: float = PAGE_WIDTH) -> dict[str, Figure]:
     """The report's figures from a stored identification.
 
     Parameters

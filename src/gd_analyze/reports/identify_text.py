@@ -11,6 +11,8 @@ from __future__ import annotations
 
 import json
 import math
+from collections.abc import Sequence
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
@@ -18,6 +20,9 @@ from .common import keep_units, utc_now
 from .identify_figures import MAX_POINTS, role_of, shown_recordings, stride
 from .markup import clean
 from .numbers import fmt, pct
+
+if TYPE_CHECKING:
+    import xarray as xr
 
 __all__ = ["identify_context", "REQUIRED_ROOT", "REQUIRED_RECORDING", "parameter_units",
            "plain_table"]
@@ -34,7 +39,9 @@ _BASE_UNITS = {"XX": _M2, "XY": _M2, "XZ": _M2, "YY": _M2, "YZ": _M2, "ZZ": _M2,
 _DRIVE_UNITS = {"armature": _M2, "viscous": "N m s/rad", "coulomb": "N m", "offset": "N m"}
 
 
-def plain_table(header, rows, align=None, colour_cols=()):
+def plain_table(header: Sequence[str], rows: Sequence[Sequence[Any]],
+                align: Sequence[str] | None = None,
+                colour_cols: Sequence[int] = ()) -> dict[str, Any]:
     """A table as :func:`gd_analyze.reports.common.table` makes it, its cells left as text.
 
     (``common.table`` letters cells that look like a G-D element's label, ``D12`` as
@@ -238,7 +245,7 @@ def _sentences(values):
     return out
 
 
-def identify_context(root, groups: dict) -> dict:
+def identify_context(root: xr.Dataset, groups: dict[str, xr.Dataset]) -> dict[str, Any]:
     """The report's words and tables.
 
     Parameters

@@ -28,8 +28,11 @@ from __future__ import annotations
 
 import contextlib
 import functools
+import os
 import re
+from collections.abc import Callable, Collection, Mapping, Sequence
 from pathlib import Path
+from typing import TYPE_CHECKING
 
 import numpy as np
 
@@ -65,6 +68,14 @@ from .ticks import decade_formatter, ticks_once
 from .ticks import formatter as tick_formatter
 from .typeset import PAPER, write_pdf
 
+if TYPE_CHECKING:
+    import numpy.typing as npt
+    import xarray as xr
+    from matplotlib.figure import Figure
+
+    from ..io.results_view import Results
+    from .plot_data import PlotData
+
 __all__ = [
     "REPORT_FORMATS", "ENVELOPE_THRESHOLD", "ENVELOPE_COLUMNS", "FIGURE_FILES", "envelope",
     "COLUMN_FIGURES", "FIGURE_PARTS", "make_figures", "figure_makers", "render_html", "render_pdf", "write_report",
@@ -78,7 +89,8 @@ REPORT_FORMATS = ("html", "pdf")
 # Plotting helpers
 # --------------------------------------------------------------------------------------------
 
-def envelope(x, y, columns=ENVELOPE_COLUMNS):
+def envelope(x: npt.ArrayLike, y: npt.ArrayLike,
+             columns: int = ENVELOPE_COLUMNS) -> tuple[npt.NDArray[np.float64], npt.NDArray[np.float64]]:
     """Reduce a series to its min/max envelope over equal-width columns of x.
 
     Parameters
@@ -170,7 +182,8 @@ FIGURE_FILES.update({f"{k}_column": f"{FIGURE_FILES[k]}_column" for k in COLUMN_
 _FILE_ORDER = _FIGURE_ORDER + tuple(f"{k}_column" for k in COLUMN_FIGURES)
 
 
-def make_figures(ds, data=None, keys=None, column=False):
+def make_figures(ds: Results | xr.Dataset, data: PlotData | None = None,
+                 keys: Collection[str] | None = None, column: bool = False) -> dict[str, Figure]:
     """Make the report's figures from a stored analysis.
 
     Parameters
@@ -213,7 +226,9 @@ def make_figures(ds, data=None, keys=None, column=False):
     return {k: make() for k, make in figure_makers(ds, data, keys, column).items()}
 
 
-def figure_makers(ds, data=None, keys=None, column=False):
+def figure_makers(ds: Results | xr.Dataset, data: PlotData | None = None,
+                  keys: Collection[str] | None = None,
+                  column: bool = False) -> dict[str, Callable[[], Figure]]:
     """The report's figures as makers, in file order: each figure made when it is called.
 
     A caller that draws each figure as soon as it is made (:func:`_write`) holds one figure
@@ -244,8 +259,8 @@ def figure_makers(ds, data=None, keys=None, column=False):
     ds = results.dataset
     if data is None:
         data = plot_data(ds)
-    labels, zero = zero_mask(results)           # the marks stored at analysis
-    zero = dict(zip(labels, zero))
+    labels, marks = zero_mask(results)          # the marks stored at analysis
+    zero = dict(zip(labels, marks))
     dom = {r.label: r.dominance for r in results.ranking.rows}
     s, e = results.dominance_threshold, results.negligible_threshold
     order = _FILE_ORDER if column or keys is not None else _FIGURE_ORDER   # keys: as named
@@ -366,7 +381,7 @@ def _inline(svg_text, prefix):
     return re.sub(r"url\(#", f"url(#{prefix}-", text)
 
 
-def render_html(ds, figures=None):
+def render_html(ds: xr.Dataset, figures: Mapping[str, Figure] | None = None) -> str:
     """Render the report as one self-contained HTML document.
 
     Parameters
@@ -406,7 +421,8 @@ def _html(ctx, drawn):
                            {"class_colours": _CLASS_COLOURS})
 
 
-def render_pdf(ds, path, figures=None, paper="a4"):
+def render_pdf(ds: xr.Dataset, path: str | os.PathLike[str],
+               figures: Mapping[str, Figure] | None = None, paper: str = "a4") -> int:
     """Write the report as a PDF document.
 
     Parameters
@@ -464,8 +480,10 @@ def _pdf(ctx, drawn, path, paper="a4"):
 # Entry point
 # --------------------------------------------------------------------------------------------
 
-def write_report(results, outdir, formats=REPORT_FORMATS, paper="a4", progress=None,
-                 column_figures=False, latex=False):
+def write_report(results: Results | str | os.PathLike[str], outdir: str | os.PathLike[str],
+                 formats: Sequence[str] = REPORT_FORMATS, paper: str = "a4",
+                 progress: Callable[[int], object] | None = None, column_figures: bool = False,
+                 latex: bool = False) -> list[Path]:
     """Write report.html and/or report.pdf, and every figure as PDF and SVG, for an analysis.
 
     Parameters

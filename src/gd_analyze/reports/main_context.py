@@ -8,6 +8,8 @@ payload sweep, the formulations (Table 3.5) and the provenance. Nothing is recom
 
 from __future__ import annotations
 
+from typing import TYPE_CHECKING, Any
+
 import numpy as np
 
 from .._version import VERSION as __version__
@@ -63,6 +65,12 @@ from .markup import tau
 from .plot_data import ENVELOPE_COLUMNS, ENVELOPE_THRESHOLD
 from .simplified_section import ROUND_OFF, has_simplified, simplified_caption, simplified_context
 
+if TYPE_CHECKING:
+    import numpy.typing as npt
+    import xarray as xr
+
+    from ..io.results_view import Results
+
 __all__ = ["prismatic_joints", "zero_mask", "report_context"]
 
 _REQUIRED = ("t", "q", "qd", "qdd", "D_tran", "D_rot", "D", "h_tran", "h_rot", "h", "tau",
@@ -96,7 +104,7 @@ def _recursive_facts(ds):
             int(a.get(Attr.SIMPLIFIED_PAIRS, 0)))
 
 
-def zero_mask(ds):
+def zero_mask(ds: Results | xr.Dataset) -> tuple[list[str], npt.NDArray[np.bool_]]:
     """The element labels and which elements are identically zero for the arm.
 
     Parameters
@@ -192,7 +200,7 @@ def _gravity_fact(ds, form):
     return gravity_clause(rule, c_bound=bound, units=torque_units(ds))
 
 
-def report_context(results):
+def report_context(results: Results | xr.Dataset) -> dict[str, Any]:
     """Every number, table and paragraph of the main report, for the HTML and the PDF alike.
 
     Parameters

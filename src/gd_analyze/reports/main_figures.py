@@ -20,6 +20,8 @@ below the panels names it ("≡ 0"); its share_tran is rounding noise.
 from __future__ import annotations
 
 import math
+from collections.abc import Mapping, Sequence
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
@@ -43,6 +45,12 @@ from .plot_data import (  # noqa: F401
     plot_data,
 )
 from .ticks import decade_label, label_axes, set_ticks
+
+if TYPE_CHECKING:
+    import numpy.typing as npt
+    from matplotlib.figure import Figure
+
+    from .plot_data import PlotData
 
 __all__ = ["PAGE_WIDTH", "COLUMN_WIDTH", "ZERO_TOL", "PART_STYLE", "PART_ZORDER", "SHORT_CLASS",
            "PlotData", "plot_data", "identically_zero", "fig_D", "fig_h", "fig_joints",
@@ -185,7 +193,7 @@ def _legend_order(ax):
     return [p[0] for p in pairs], [p[1] for p in pairs]
 
 
-def panel_grid(count, width=PAGE_WIDTH):
+def panel_grid(count: int, width: float = PAGE_WIDTH) -> tuple[int, float, float]:
     """Columns and panel size of the D and h figures.
 
     Parameters
@@ -216,7 +224,7 @@ def panel_grid(count, width=PAGE_WIDTH):
     return cols, w, float(np.clip(0.68 * w, 0.5, 0.85))
 
 
-def element_parts(labels, width=PAGE_WIDTH):
+def element_parts(labels: Sequence[str], width: float = PAGE_WIDTH) -> list[list[str]]:
     """The panels of a D or h figure split into parts of at most :data:`MAX_ROWS` rows.
 
     Parameters
@@ -309,7 +317,9 @@ def _zero_note(kind, zero_labels):
             f"scale), not drawn: {names}.")
 
 
-def d_panels(data, dominance, zero, prismatic=None, armature=None):
+def d_panels(data: PlotData, dominance: Mapping[str, str], zero: Mapping[str, bool],
+             prismatic: npt.NDArray[np.bool_] | None = None,
+             armature: npt.NDArray[np.float64] | None = None) -> tuple[list[tuple[str, dict[str, Any], str, str]], list[str]]:
     """The panels of :func:`fig_D`: every D_ij, i <= j, that is not ≡ 0.
 
     Parameters
@@ -342,8 +352,9 @@ def d_panels(data, dominance, zero, prismatic=None, armature=None):
     return panels, zeros
 
 
-def fig_D(data, dominance, zero, s, e, prismatic=None, width=PAGE_WIDTH, armature=None,
-          part=0):
+def fig_D(data: PlotData, dominance: Mapping[str, str], zero: Mapping[str, bool], s: float,
+          e: float, prismatic: npt.NDArray[np.bool_] | None = None, width: float = PAGE_WIDTH,
+          armature: npt.NDArray[np.float64] | None = None, part: int = 0) -> Figure:
     """The analogue of Fig. 3.10: one panel per D_ij, i <= j, that is not ≡ 0.
 
     Parameters
@@ -391,7 +402,8 @@ def fig_D(data, dominance, zero, s, e, prismatic=None, width=PAGE_WIDTH, armatur
     return _element_figure(data.x, drawn, data.enveloped, width, key, "D")
 
 
-def fig_h(data, dominance, zero, prismatic=None, width=PAGE_WIDTH):
+def fig_h(data: PlotData, dominance: Mapping[str, str], zero: Mapping[str, bool],
+          prismatic: npt.NDArray[np.bool_] | None = None, width: float = PAGE_WIDTH) -> Figure:
     """The analogue of Fig. 3.11: one panel per h_i that is not ≡ 0, as large as those of
     :func:`fig_D`.
 
@@ -425,7 +437,8 @@ def fig_h(data, dominance, zero, prismatic=None, width=PAGE_WIDTH):
     return _element_figure(data.x, panels, data.enveloped, width, key, "h")
 
 
-def fig_joints(data, prismatic=None, width=PAGE_WIDTH):
+def fig_joints(data: PlotData, prismatic: npt.NDArray[np.bool_] | None = None,
+               width: float = PAGE_WIDTH) -> Figure:
     """q, qd and qdd of every joint against time, side by side [deg, deg/s, deg/s^2].
 
     Parameters
@@ -462,7 +475,7 @@ def fig_joints(data, prismatic=None, width=PAGE_WIDTH):
     left, gap = 0.6, 0.55
     w = (W - left - 0.1 - (per_row - 1) * gap) / per_row
     symbols = ("q", "q\u0307", "q\u0308")
-    first = {}
+    first: dict[Any, Any] = {}
     for p, (kind, k) in enumerate(panels):
         r, c = divmod(p, per_row)
         joints = np.flatnonzero(prismatic == kind)
@@ -485,7 +498,8 @@ def fig_joints(data, prismatic=None, width=PAGE_WIDTH):
         ax.set_xlabel("t [s]", labelpad=1.0)
         ax.set_ylabel(f"{symbols[k]} [{units[k]}]", labelpad=1.0)
     label_axes([ax.yaxis for ax in fig.axes])
-    handles, labels = [], []
+    handles: list[Any] = []
+    labels: list[str] = []
     for ax in first.values():
         hs, ls = ax.get_legend_handles_labels()
         handles, labels = handles + hs, labels + ls
@@ -496,7 +510,9 @@ def fig_joints(data, prismatic=None, width=PAGE_WIDTH):
     return fig
 
 
-def fig_torque(data, peak_error, rel_error, prismatic=None):
+def fig_torque(data: PlotData, peak_error: npt.NDArray[np.float64],
+               rel_error: npt.NDArray[np.float64],
+               prismatic: npt.NDArray[np.bool_] | None = None) -> Figure:
     """tau of the full and of the simplified model per joint against time [N m].
 
     Parameters

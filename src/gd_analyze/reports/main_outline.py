@@ -7,6 +7,9 @@ with numbered captions, figures with numbered captions.
 
 from __future__ import annotations
 
+from collections.abc import Collection, Mapping
+from typing import Any
+
 from ..core.selection.ranking import ROUND_OFF
 from .budget_figures import BUDGET_CAPTIONS
 from .markup import code, element, sub
@@ -65,7 +68,7 @@ def _split(heading):
     return number, title
 
 
-def main_outline(ctx, figures):
+def main_outline(ctx: Mapping[str, Any], figures: Collection[str]) -> Outline:
     """The main report's sections.
 
     Parameters

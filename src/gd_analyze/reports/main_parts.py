@@ -7,6 +7,9 @@ Read from the stored dataset; nothing is recomputed.
 
 from __future__ import annotations
 
+from collections.abc import Sequence
+from typing import TYPE_CHECKING, Any
+
 import numpy as np
 
 from ..core.selection.labels import element_label
@@ -20,6 +23,10 @@ from .common import units_said_once, units_text
 from .markup import element as _el
 from .simplified_section import ROUND_OFF
 
+if TYPE_CHECKING:
+    import numpy.typing as npt
+    import xarray as xr
+
 __all__ = ["choice_table", "base_parameter_table", "base_note", "zero_parameters",
            "armature_columns", "has_armature", "d_text"]
 
@@ -27,7 +34,8 @@ _CHOICE_TEXT = {"tran": "translational part only", "rot": "rotational part only"
                 "both": "translational + rotational"}
 
 
-def choice_table(ds, labels, dominance, choice):
+def choice_table(ds: xr.Dataset, labels: Sequence[str], dominance: Sequence[str],
+                 choice: Sequence[str]) -> dict[str, Any]:
     """Sec. 5.2 of an explicit model: the part of each element kept, and for an arm with drives
     the armature, which the model keeps whole (a column of its own: an element whose link
     parts are dropped keeps its armature).
@@ -60,7 +68,7 @@ def choice_table(ds, labels, dominance, choice):
         widths=[0.8, 1.2, 0.8, *([0.8] if arm else []), 2.2], colour_cols=[1])
 
 
-def base_parameter_table(ds):
+def base_parameter_table(ds: xr.Dataset) -> dict[str, Any]:
     """The base parameters of a recursive model, their values and which parts are kept.
 
     Parameters
@@ -104,7 +112,7 @@ _BASE_NOTE = (
     "and m go to the links before it, XXj stands for XX \u2212 YY).")
 
 
-def base_note(ds):
+def base_note(ds: xr.Dataset) -> str:
     """The note defining the base parameters' names and frame, with an example of a first
     moment that is 0 in the joint frame while Table 1.3's centre of mass has that coordinate.
 
@@ -133,7 +141,7 @@ def base_note(ds):
     return _BASE_NOTE
 
 
-def zero_parameters(ds):
+def zero_parameters(ds: xr.Dataset) -> str:
     """The sentence naming the base parameters whose value is 0 (not listed in Sec. 5.2).
 
     Parameters
@@ -180,7 +188,8 @@ _D_ARMATURE = {"armature": ", on a diagonal panel the drives' armature " + _el("
                "plus_arm": " + " + _el("D", "ij", "arm")}
 
 
-def armature_columns(ds, labels, zero):
+def armature_columns(ds: xr.Dataset, labels: Sequence[str],
+                     zero: npt.NDArray[np.bool_]) -> dict[str, Any]:
     """Sec. 4's columns of an arm with drives: the armature share and peak |X^arm| (the
     armature on D_ii, "—" elsewhere); none without drives.
 
@@ -217,7 +226,7 @@ def _diagonal(n):
     return {element_label("D", k, k): k for k in range(n)}
 
 
-def has_armature(ds):
+def has_armature(ds: xr.Dataset) -> bool:
     """Whether the arm has drives whose armature adds to the diagonal of D (Table 1.4).
 
     Parameters
@@ -232,7 +241,7 @@ def has_armature(ds):
     return Var.D_ARM in ds and bool(np.any(ds[Var.D_ARM].values > 0))
 
 
-def d_text(ds, s, e, enveloped):
+def d_text(ds: xr.Dataset, s: float, e: float, enveloped: bool) -> str:
     """Fig. 2's lead-in: the parts drawn and what the combined curve sums.
 
     Parameters

@@ -10,6 +10,8 @@ report shows elsewhere (the robot and trajectory in Sec. 1, the title) are left 
 
 from __future__ import annotations
 
+from typing import TYPE_CHECKING
+
 import numpy as np
 
 from ..io.names import Attr
@@ -19,6 +21,9 @@ from .common import prismatic_joints
 from .markup import scope as scope_markup
 from .markup import sub as _sub
 from .simplified_section import REGION_SCALE, guarantee_kind, has_drives
+
+if TYPE_CHECKING:
+    import xarray as xr
 
 
 def _no_floor(ds):
@@ -136,7 +141,8 @@ def _conventions(ds):
     return f"results.h5: HDF5 (netCDF-4) with metadata after the CF conventions, version {cf}"
 
 
-def provenance_rows(ds, created, version, verification):
+def provenance_rows(ds: xr.Dataset, created: str, version: str,
+                    verification: str) -> list[tuple[str, str]]:
     """The rows (item, value) of the main report's provenance table, each setting once.
 
     Parameters
@@ -168,7 +174,7 @@ def provenance_rows(ds, created, version, verification):
          f"{_fmt(float(ds.attrs.get('dominance_threshold', np.nan)), 6)}, "
          f"{_fmt(float(ds.attrs.get('negligible_threshold', np.nan)), 6)}"),
     ]
-    used = set(_ELSEWHERE)
+    used: set[str | None] = set(_ELSEWHERE)
     for label, asked, built in _SETTINGS:
         value = _setting(ds, asked, built)
         used.update((asked, built))
@@ -201,7 +207,7 @@ def provenance_rows(ds, created, version, verification):
                       and not k.startswith("verification_")):
         value = _attr(ds, key)
         twin = key[len("simplified_"):] if key.startswith("simplified_") else None
-        if twin in ds.attrs and _attr(ds, twin) == value:
+        if twin is not None and twin in ds.attrs and _attr(ds, twin) == value:
             continue                                        # each setting once
         rows.append((key.replace("_", " "), value))
     rows += [("file format", _conventions(ds)), ("method", _attr(ds, Attr.REFERENCES))]
@@ -210,7 +216,7 @@ def provenance_rows(ds, created, version, verification):
 
 # Rows shared with the sweep and control reports' provenance (each setting once, in words).
 
-def software_row(ds, version):
+def software_row(ds: xr.Dataset, version: str) -> tuple[str, str]:
     """("software", ...): the version that computed the stored results and the one that
     writes the report, once when they agree (as the main report's provenance says it).
 
@@ -230,7 +236,7 @@ def software_row(ds, version):
             f"computed by gd-analyze {computed}, report by gd-analyze {version}")
 
 
-def run_row(ds, label="computed"):
+def run_row(ds: xr.Dataset, label: str = "computed") -> tuple[str, str]:
     """(label, when): the time the stored results were computed, from the CF ``history``
     attribute without its repeated software version.
 
@@ -247,7 +253,7 @@ def run_row(ds, label="computed"):
     return (label, _attr(ds, Attr.HISTORY).split(" created by ")[0])
 
 
-def gravity_row(ds):
+def gravity_row(ds: xr.Dataset) -> tuple[str, str]:
     """("gravity and mounting", ...): gravity in the base frame and how the arm is mounted,
     said once from ``gravity`` and the ``mounting_*`` attributes (the sweep stored both, the
     same gravity twice).

@@ -5,6 +5,8 @@ its effort limits, read from the stored dataset.
 
 from __future__ import annotations
 
+from typing import TYPE_CHECKING, Any
+
 import numpy as np
 
 from ..core.selection.ranking import joint_motion_units
@@ -17,6 +19,9 @@ from .common import share as share_text
 from .common import table as _table
 from .effort import effort_rows
 from .markup import element, tau
+
+if TYPE_CHECKING:
+    import xarray as xr
 
 __all__ = ["robot_section", "alike_joints", "ALIKE"]
 
@@ -33,7 +38,7 @@ _DERIVATIVES = {
 ALIKE = 1e-12
 
 
-def alike_joints(ds):
+def alike_joints(ds: xr.Dataset) -> list[list[int]]:
     """The groups of joints whose stored motions are equal to round-off: their curves in
     Fig. 1 coincide, the one drawn last hiding the others.
 
@@ -83,7 +88,7 @@ def _kv(rows):
     return _table(["item", "value"], rows, widths=[1.2, 3.4])
 
 
-def robot_section(ds, robot_name):
+def robot_section(ds: xr.Dataset, robot_name: str) -> dict[str, Any]:
     """The tables and sentences of the robot and trajectory section.
 
     Parameters

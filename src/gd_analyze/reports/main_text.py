@@ -6,6 +6,9 @@ Every sentence is built from the stored ranking and torque errors; nothing is re
 
 from __future__ import annotations
 
+from collections.abc import Mapping, Sequence
+from typing import TYPE_CHECKING
+
 import numpy as np
 
 from ..core.selection.ranking import element_label, parse_element_label
@@ -14,13 +17,17 @@ from .markup import element
 from .numbers import share as _share
 from .plot_data import ENVELOPE_COLUMNS
 
+if TYPE_CHECKING:
+    import numpy.typing as npt
+
 __all__ = ["conclusion", "PLACEHOLDER_INERTIA", "model_sentence", "gravity_clause", "simplified_intro", "disagreement_cause", "shared_causes", "captions",
            "element_scale", "prismatic_count_note", "alike_sentence"]
 
 _CLASSES = ("translational", "rotational", "both", "negligible")
 
 
-def element_scale(labels, peak_total, tau_peak):
+def element_scale(labels: Sequence[str], peak_total: npt.NDArray[np.float64],
+                  tau_peak: npt.NDArray[np.float64]) -> npt.NDArray[np.float64]:
     """Each element's own scale: peak sqrt(D_ii D_jj) bound for D_ij, peak |tau_i| for h_i.
 
     Parameters
@@ -88,9 +95,14 @@ PLACEHOLDER_INERTIA = (" (on this robot's placeholder inertia tensors, stand-ins
                        "is not a finding about the real arm)")
 
 
-def conclusion(labels, dominance, zero, choice, rel_peak, abs_peak, tau_peak, cost=None,
-               recursive=None, gravity=None, units=None, scope=None, where="this trajectory",
-               shown=None, placeholder_inertia=False):
+def conclusion(labels: Sequence[str], dominance: Sequence[str], zero: npt.NDArray[np.bool_],
+               choice: Sequence[str], rel_peak: npt.NDArray[np.float64],
+               abs_peak: npt.NDArray[np.float64], tau_peak: npt.NDArray[np.float64],
+               cost: tuple[int, int, int | None] | tuple[int, int, int | None, int | None, int | None] | None = None,
+               recursive: tuple[int, int, int] | None = None, gravity: str | None = None,
+               units: Sequence[str] | None = None, scope: str | None = None,
+               where: str = "this trajectory", shown: Mapping[str, Sequence[str]] | None = None,
+               placeholder_inertia: bool = False) -> str:
     """The report's conclusion in three sentences.
 
     Parameters
@@ -202,23 +214,25 @@ def conclusion(labels, dominance, zero, choice, rel_peak, abs_peak, tau_peak, co
         exact, full = (tuple(cost[3:5]) + (None, None))[:2]
         third += (f"; its code costs {mult + add:,} operations per set point ({mult:,} "
                   f"multiplications, {add:,} additions)")
-        others = [f"the {name} model's {v:,}" for name, v in (("exact", exact),
+        counts = [f"the {name} model's {v:,}" for name, v in (("exact", exact),
                                                                ("full explicit", full)) if v]
-        if others and ne:
-            third += (f" against {', '.join(others)} and Newton-Euler's {ne:,}" if mult + add < ne
-                      else f" against {' and '.join(others)}, more than Newton-Euler's "
+        if counts and ne:
+            third += (f" against {', '.join(counts)} and Newton-Euler's {ne:,}" if mult + add < ne
+                      else f" against {' and '.join(counts)}, more than Newton-Euler's "
                       f"{ne:,}: for speed, use Newton-Euler")
         elif ne:
             third += (f" against Newton-Euler's {ne:,}" if mult + add < ne else
                       f", more than Newton-Euler's {ne:,}: for speed, use Newton-Euler")
-        elif others:
-            third += f" against {' and '.join(others)}"
+        elif counts:
+            third += f" against {' and '.join(counts)}"
         if len(cost) > 4 and not full:
             third += " (the full explicit model was not derived, so it has no count)"
     return first + " " + second + " " + third + "." + said
 
 
-def model_sentence(recursive=None, choice=None, gravity=None, trajectory="this trajectory"):
+def model_sentence(recursive: tuple[int, int, int] | None = None,
+                   choice: Sequence[str] | None = None, gravity: str | None = None,
+                   trajectory: str = "this trajectory") -> str:
     """The sentence on what the simplified model keeps, the same in every report.
 
     Parameters
@@ -265,7 +279,7 @@ def model_sentence(recursive=None, choice=None, gravity=None, trajectory="this t
             + (f"{gravity}." if gravity else "its rule's terms of c."))
 
 
-def simplified_intro(form, gravity=None):
+def simplified_intro(form: str, gravity: str | None = None) -> str:
     """Section 5's opening sentence: the deployed model's form and what its rule leaves out.
 
     Parameters
@@ -300,7 +314,10 @@ def simplified_intro(form, gravity=None):
             "\u03c4\u209b = D\u209b q\u0308 + h\u209b + c\u209b.")
 
 
-def gravity_clause(rule, gravity_dropped=None, c_bound=None, units=None, c_terms=None):
+def gravity_clause(rule: str, gravity_dropped: Sequence[str] | None = None,
+                   c_bound: npt.NDArray[np.float64] | None = None,
+                   units: Sequence[str] | None = None,
+                   c_terms: tuple[int, int] | None = None) -> str | None:
     """What a simplified model does with the gravity loading c, as a clause.
 
     Parameters
@@ -355,7 +372,8 @@ def gravity_clause(rule, gravity_dropped=None, c_bound=None, units=None, c_terms
     return None
 
 
-def disagreement_cause(label, ours, theirs, share, zero, s, robot_name):
+def disagreement_cause(label: str, ours: str, theirs: str, share: float, zero: bool, s: float,
+                       robot_name: str) -> str:
     """Why our class of an element differs from the chapter's.
 
     Parameters
@@ -409,7 +427,7 @@ def disagreement_cause(label, ours, theirs, share, zero, s, robot_name):
     return cause
 
 
-def shared_causes(causes):
+def shared_causes(causes: Sequence[str]) -> tuple[list[str], str]:
     """Causes said once (issue 31: Table 6.1 repeated one cause in every row): each clause
     (``"; "``-separated) that more than one row gives becomes a note, marked (a), (b), ... in
     those rows.
@@ -433,11 +451,12 @@ def shared_causes(causes):
     (['x 1 (a)', '(a)', 'y 2; other', ''], '(a) no class; by eye.')
     """
     split = [[c for c in cause.split("; ") if c] for cause in causes]
-    seen = {}
+    seen: dict[str, int] = {}
     for clauses in split:
         for c in clauses:
             seen[c] = seen.get(c, 0) + 1
-    marks, rows = {}, []
+    marks: dict[str, str] = {}
+    rows: list[str] = []
     for clauses in split:          # a row's shared clauses, together, are one note
         shared = "; ".join(c for c in clauses if seen[c] > 1)
         if shared and shared not in marks:
@@ -447,7 +466,8 @@ def shared_causes(causes):
     return rows, " ".join(f"{m} {c}." for c, m in marks.items())
 
 
-def captions(enveloped, N, s, e, units=None, alike=()):
+def captions(enveloped: bool, N: int, s: str, e: str, units: Mapping[str, str] | None = None,
+             alike: Sequence[Sequence[int]] = ()) -> dict[str, str]:
     """Captions of the main report's figures, the same in the HTML and the PDF.
 
     Parameters
@@ -518,7 +538,7 @@ def captions(enveloped, N, s, e, units=None, alike=()):
     }
 
 
-def alike_sentence(groups):
+def alike_sentence(groups: Sequence[Sequence[int]]) -> str:
     """The sentence of Fig. 1's caption naming the joints whose curves coincide.
 
     Parameters
@@ -546,7 +566,7 @@ def alike_sentence(groups):
     return out
 
 
-def prismatic_count_note(types):
+def prismatic_count_note(types: str) -> str:
     """The sentence saying that the operation counts are this arm's, not Table 3.5's.
 
     Parameters

@@ -27,6 +27,10 @@ from __future__ import annotations
 
 import re
 import unicodedata
+from typing import TYPE_CHECKING
+
+if TYPE_CHECKING:
+    from markupsafe import Markup
 
 __all__ = ["SUB", "SUP", "CODE", "END", "sub", "sup", "code", "element", "tau", "html",
            "unicode", "spans", "plain", "clean", "visible", "label", "scope", "powers", "TRAN",
@@ -47,7 +51,7 @@ _SUPERSCRIPT = dict(zip("0123456789tranoim+-\u2212",
                         "\u1d57\u02b3\u1d43\u207f\u1d52\u2071\u1d50\u207a\u207b\u207b"))
 
 
-def sub(text):
+def sub(text: str) -> str:
     """``text`` marked as a subscript.
 
     Parameters
@@ -61,7 +65,7 @@ def sub(text):
     return f"{SUB}{text}{END}"
 
 
-def sup(text):
+def sup(text: str) -> str:
     """``text`` marked as a superscript.
 
     Parameters
@@ -75,7 +79,7 @@ def sup(text):
     return f"{SUP}{text}{END}"
 
 
-def code(text):
+def code(text: str) -> str:
     """``text`` marked as code: an identifier, a file name or a command, set in monospace.
 
     Parameters
@@ -96,7 +100,7 @@ def code(text):
     return f"{CODE}{text}{END}"
 
 
-def scope(statement):
+def scope(statement: str) -> str:
     """A guarantee's statement (plain text, ``s_i``) as the reports write it: s with subscript i.
 
     Parameters
@@ -116,7 +120,7 @@ def scope(statement):
     return re.sub(r"\bs_i\b", sub("i").join(("s", "")), statement)
 
 
-def powers(text):
+def powers(text: str) -> str:
     """Unit powers written with a caret (``s^-1``, ``deg/s^2``) as superscripts, for the
     reports; nothing else changes.
 
@@ -138,7 +142,7 @@ def powers(text):
     return re.sub(r"\^(-?\d+)", lambda m: sup(m.group(1).replace("-", "\u2212")), text)
 
 
-def element(symbol, index, part=None):
+def element(symbol: str, index: str, part: str | None = None) -> str:
     """An element symbol with its index as a subscript and its part as a superscript.
 
     Parameters
@@ -159,7 +163,7 @@ def element(symbol, index, part=None):
     return symbol + (sub(index) if index else "") + (sup(part) if part else "")
 
 
-def tau(index=None, simplified=False):
+def tau(index: str | None = None, simplified: bool = False) -> str:
     """The torque symbol: \u03c4, \u03c4_i, or \u03c4_s (the simplified model's torque).
 
     Parameters
@@ -176,7 +180,7 @@ def tau(index=None, simplified=False):
     return "\u03c4" + (sub("s") if simplified else "") + (sub(index) if index else "")
 
 
-def label(text):
+def label(text: str) -> str:
     """An element's label as figures letter it: mathematics in Unicode sub- and superscript
     characters (no mathtext to parse), from the label of
     :func:`gd_analyze.core.selection.labels.element_label`.
@@ -208,7 +212,7 @@ _LABEL = re.compile(r"([Dhc\u03c4X])(?:([1-9][0-9]*(?:,[1-9][0-9]*)?)|_([a-z0-9,
                     r"(?:\^(tran|rot))?")
 
 
-def html(text):
+def html(text: str) -> Markup:
     """The marked string as HTML: escaped, with ``<sub>`` and ``<sup>`` tags.
 
     Parameters
@@ -231,7 +235,7 @@ def html(text):
     return Markup(clean("".join(out)))
 
 
-def unicode(text):
+def unicode(text: str) -> str:
     """The marked string with its marked spans as Unicode sub- and superscript characters; a
     span with a character that has none (such as the d of q_d) stays marked (its marks, never
     ``_d``); code stays as it is.
@@ -263,7 +267,7 @@ def unicode(text):
 _KEEP = {SUB: "\ue003", SUP: "\ue004", END: "\ue005"}
 
 
-def spans(text):
+def spans(text: str) -> list[tuple[str, str | None]]:
     """The pieces of a marked string, as the PDF renderer typesets them.
 
     Parameters
@@ -276,7 +280,8 @@ def spans(text):
         The text in order: plain pieces, and sub- and superscripts and code; stray marks
         dropped, empty pieces left out.
     """
-    out, pos = [], 0
+    out: list[tuple[str, str | None]] = []
+    pos = 0
     for m in _MARKS.finditer(text):
         out.append((clean(text[pos:m.start()]), None))
         out.append((clean(m.group(2)), _KIND[m.group(1)]))
@@ -285,7 +290,7 @@ def spans(text):
     return [(t, k) for t, k in out if t]
 
 
-def plain(text):
+def plain(text: str) -> str:
     """The marked string without its marks.
 
     Parameters
@@ -299,7 +304,7 @@ def plain(text):
     return clean(text)
 
 
-def clean(text):
+def clean(text: str) -> str:
     """Text without the marks of this module: what a name read from a file becomes before it
     reaches a report.
 
@@ -317,7 +322,7 @@ def clean(text):
 _DROP = dict.fromkeys(map(ord, SUB + SUP + END + CODE))
 
 
-def visible(text):
+def visible(text: str) -> str:
     """Text with every format character (Unicode category Cf: the bidirectional controls
     such as U+202E RIGHT-TO-LEFT OVERRIDE, zero-width spaces and joiners, soft hyphens, the
     byte-order mark) written as ``[U+XXXX]``, so that a name read from a file cannot reorder

@@ -7,8 +7,13 @@ Private to the reports (:mod:`gd_analyze.reports.common` re-exports these names)
 from __future__ import annotations
 
 import math
+from collections.abc import Sequence
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
+
+if TYPE_CHECKING:
+    import numpy.typing as npt
 
 __all__ = ["fmt", "fmt_column", "fmt_columns", "given", "count", "share", "pct", "pct_column",
            "pct_columns"]
@@ -22,7 +27,7 @@ _COLUMN_DECIMALS, _COLUMN_SPAN = 6, 3
 _PCT_DIGITS = 4
 
 
-def fmt(value, digits=4, sci_outside=None):
+def fmt(value: Any, digits: int = 4, sci_outside: tuple[float, float] | None = None) -> str:
     """A number as short text.
 
     Parameters
@@ -66,7 +71,7 @@ def fmt(value, digits=4, sci_outside=None):
 _GIVEN_DIGITS = 12
 
 
-def given(value):
+def given(value: float) -> str:
     """A parameter the robot file gives (a DH length or angle) as given: every decimal it
     has, never rounded to a few digits (issue 31: d3 = 0.15005 was printed 0.15).
 
@@ -101,7 +106,8 @@ def _close(texts, values, digits):
     return True
 
 
-def fmt_column(values, digits=4, off=None):
+def fmt_column(values: npt.ArrayLike, digits: int = 4,
+               off: npt.ArrayLike | None = None) -> list[str]:
     """A column of numbers in one notation (issue 18: one format per column).
 
     Parameters
@@ -158,7 +164,8 @@ def fmt_column(values, digits=4, off=None):
             else next(it) for x, h in zip(v, hide)]
 
 
-def fmt_columns(columns, digits=4, off=None):
+def fmt_columns(columns: Sequence[npt.ArrayLike], digits: int = 4,
+                off: Sequence[npt.ArrayLike | None] | None = None) -> list[list[str]]:
     """Several columns of one quantity (the peaks of an element's parts, in one unit) in one
     notation, as if they were one column (:func:`fmt_column`; issue 31: one format per
     quantity, never "0.7840" beside "4.480e+00").
@@ -197,7 +204,8 @@ def _as_one(column, columns, off):
     return [texts[e - a.size:e] for a, e in zip(arrays, ends)]
 
 
-def pct_columns(columns, off=None):
+def pct_columns(columns: Sequence[npt.ArrayLike],
+                off: Sequence[npt.ArrayLike | None] | None = None) -> list[list[str]]:
     """Several columns of one relative quantity as percentages in one format, as if one column
     (:func:`pct_column`; issue 31: never "0.363 %" beside "0.1827 %").
 
@@ -220,7 +228,7 @@ def pct_columns(columns, off=None):
     return _as_one(pct_column, columns, off)
 
 
-def count(value):
+def count(value: Any) -> str:
     """A count (operations, set points, elements) as the reports print every integer: with a
     comma between thousands.
 
@@ -248,7 +256,7 @@ def count(value):
     return f"{int(round(v)):,}"
 
 
-def share(value):
+def share(value: float) -> str:
     """A fraction in [0, 1] (a translational share) that prints as 1 or 0 only when it is, in
     one format for every share of a table (issue 18: one format per column).
 
@@ -281,7 +289,7 @@ def share(value):
     return f"{v:.4f}"
 
 
-def pct(value):
+def pct(value: float) -> str:
     """A fraction as a percentage, e.g. ``0.0123`` as ``"1.23 %"``.
 
     Parameters
@@ -302,7 +310,7 @@ def pct(value):
     return f"{v:.1e} %"
 
 
-def pct_column(values, off=None):
+def pct_column(values: npt.ArrayLike, off: npt.ArrayLike | None = None) -> list[str]:
     """A column of fractions as percentages in one format (issue 18: one format per column).
 
     Parameters

@@ -8,11 +8,16 @@ the dynamics.
 
 from __future__ import annotations
 
+from collections.abc import Callable, Sequence
 from dataclasses import dataclass
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
 from ..io.names import Var
+
+if TYPE_CHECKING:
+    import xarray as xr
 
 __all__ = ["PlotData", "plot_data", "DERIVED", "OPTIONAL", "ENVELOPE_THRESHOLD", "ENVELOPE_COLUMNS",
            "READ_CHUNK"]
@@ -82,10 +87,10 @@ def _held(ds, v):
     return all(k in ds.variables for k in (DERIVED[v][0] if v in DERIVED else (v,)))
 
 
-def plot_data(ds, names=("q", "qd", "qdd", "D_tran", "D_rot", "D", "h_tran", "h_rot", "h",
-                          "tau", "tau_simplified", "tau_error", *OPTIONAL),
-              columns=ENVELOPE_COLUMNS,
-              threshold=ENVELOPE_THRESHOLD, chunk=READ_CHUNK, progress=None):
+def plot_data(ds: xr.Dataset,
+              names: Sequence[str] = ("q", "qd", "qdd", "D_tran", "D_rot", "D", "h_tran", "h_rot", "h", "tau", "tau_simplified", "tau_error", *OPTIONAL),
+              columns: int = ENVELOPE_COLUMNS, threshold: int = ENVELOPE_THRESHOLD,
+              chunk: int = READ_CHUNK, progress: Callable[[int], object] | None = None) -> PlotData:
     """Read the series to plot from a stored analysis, reduced if long.
 
     Parameters
@@ -126,8 +131,8 @@ def plot_data(ds, names=("q", "qd", "qdd", "D_tran", "D_rot", "D", "h_tran", "h_
         col = np.minimum(((t - t0) * (columns / (t1 - t0))).astype(np.intp), columns - 1)
     else:
         col = (np.arange(N) * columns) // N
-    lo = {v: None for v in names}
-    hi = {v: None for v in names}
+    lo: dict[str, Any] = {v: None for v in names}
+    hi: dict[str, Any] = {v: None for v in names}
     for a in range(0, N, chunk):
         b = min(N, a + chunk)
         c = col[a:b]

@@ -11,7 +11,9 @@ hold the sub-, superscript and code marks of :mod:`gd_analyze.reports.markup`.
 
 from __future__ import annotations
 
+from collections.abc import Collection, Mapping
 from dataclasses import dataclass, field
+from typing import Any
 
 __all__ = ["Block", "Section", "Outline", "PARAGRAPH_SIZE"]
 
@@ -68,7 +70,7 @@ class Section:
     blocks: list = field(default_factory=list)
 
     @property
-    def heading(self):
+    def heading(self) -> str:
         """str: "5. Title" or "5.1 Title" (the title alone for the title block)."""
         number = self.number + ("." if self.number and "." not in self.number else "")
         return f"{number} {self.title}".strip()
@@ -97,14 +99,15 @@ class Outline:
     ['Table 1.1: joint placements', 'Figure 1. elements of D']
     """
 
-    def __init__(self, title, figures=()):
+    def __init__(self, title: str, figures: Collection[str] = ()) -> None:
         self.title = title
         self.available = set(figures)
         self.sections = [Section("", title, 0, "top")]
-        self._tables = {}
+        self._tables: dict[str, int] = {}
         self.n_figures = 0
 
-    def section(self, number, title, anchor=None, level=None):
+    def section(self, number: str, title: str, anchor: str | None = None,
+                level: int | None = None) -> None:
         """Start a section ("5") or a subsection ("5.1").
 
         Parameters
@@ -125,7 +128,7 @@ class Outline:
     def _add(self, block):
         self.sections[-1].blocks.append(block)
 
-    def paragraph(self, text, style="body"):
+    def paragraph(self, text: str, style: str = "body") -> None:
         """A paragraph; nothing if ``text`` is empty.
 
         Parameters
@@ -138,7 +141,8 @@ class Outline:
         if text:
             self._add(Block("paragraph", text, style))
 
-    def table(self, table, caption, kv=False, size=7.5):
+    def table(self, table: dict[str, Any], caption: str, kv: bool = False,
+              size: float = 7.5) -> None:
         """A table with its caption, numbered within its top-level section ("Table 5.2: ...").
 
         Parameters
@@ -158,7 +162,7 @@ class Outline:
         self._add(Block("table", table, "kv" if kv else "body",
                         f"Table {top}.{k}: {caption}", size))
 
-    def figure(self, key, caption):
+    def figure(self, key: str, caption: str) -> None:
         """A figure with its caption, numbered in document order.
 
         Parameters
@@ -172,7 +176,7 @@ class Outline:
             self.n_figures += 1
             self._add(Block("figure", key, caption=f"Figure {self.n_figures}. {caption}"))
 
-    def counts(self, counts):
+    def counts(self, counts: Mapping[str, int]) -> None:
         """The number of elements per class, each in its class colour.
 
         Parameters
@@ -182,7 +186,7 @@ class Outline:
         """
         self._add(Block("counts", dict(counts)))
 
-    def headings(self):
+    def headings(self) -> list[str]:
         """The numbered headings in order (the title block left out).
 
         Returns

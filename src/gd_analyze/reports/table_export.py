@@ -16,8 +16,12 @@ from __future__ import annotations
 import csv
 import io
 import re
+from typing import TYPE_CHECKING
 
 from . import markup
+
+if TYPE_CHECKING:
+    from .sections import Outline
 
 __all__ = ["csv_cell", "latex_text", "table_csv", "table_latex", "table_files"]
 
@@ -134,7 +138,7 @@ def table_latex(table: dict, number: str, caption: str) -> str:
 _CAPTION = re.compile(r"^Table ([0-9]+(?:\.[0-9]+)?): (.*)$", re.S)
 
 
-def table_files(outline, latex: bool = False) -> dict:
+def table_files(outline: Outline, latex: bool = False) -> dict[str, str]:
     """Every table of a report's outline as file text, by file name.
 
     Parameters

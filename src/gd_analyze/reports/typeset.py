@@ -25,10 +25,16 @@ from __future__ import annotations
 
 import functools
 import json
+import os
 import re
+from collections.abc import Mapping
+from typing import TYPE_CHECKING, Any
 
 from . import markup
 from .common import keep_units
+
+if TYPE_CHECKING:
+    from .sections import Outline
 
 __all__ = ["PAPER", "MIN_PRINTED_PT", "printed_scale", "TABLE_COLOURS", "PARAGRAPH_STYLES", "document_data", "write_pdf",
            "figure_pdfs"]
@@ -116,7 +122,7 @@ def _figure_width(size, paper):
 MIN_PRINTED_PT = 8.0
 
 
-def printed_scale(size):
+def printed_scale(size: tuple[float, float]) -> float:
     """The least scale a figure of this size is printed at, over the papers of :data:`PAPER`.
 
     Parameters
@@ -151,7 +157,8 @@ def _block(b, paper, sizes):
             "width": _figure_width(sizes[b.content], paper)}
 
 
-def document_data(outline, sizes, paper="a4", metadata=None, footer=""):
+def document_data(outline: Outline, sizes: Mapping[str, tuple[float, float]], paper: str = "a4",
+                  metadata: Mapping[str, Any] | None = None, footer: str = "") -> dict[str, Any]:
     """The data the template ``templates/report.typ`` typesets.
 
     Parameters
@@ -206,7 +213,10 @@ def document_data(outline, sizes, paper="a4", metadata=None, footer=""):
             "footer": markup.plain(footer), "colours": TABLE_COLOURS, "sections": sections}
 
 
-def write_pdf(outline, figures, path, paper="a4", metadata=None, footer="", created=None):
+def write_pdf(outline: Outline, figures: Mapping[str, tuple[str, tuple[float, float]]],
+              path: str | os.PathLike[str], paper: str = "a4",
+              metadata: Mapping[str, Any] | None = None, footer: str = "",
+              created: str | None = None) -> int:
     """Typeset a report's outline and write it as a PDF.
 
     Parameters
@@ -251,7 +261,8 @@ def write_pdf(outline, figures, path, paper="a4", metadata=None, footer="", crea
     return len(re.findall(rb"/Type\s*/Page\b", pdf))
 
 
-def figure_pdfs(figures, created=None):
+def figure_pdfs(figures: Mapping[str, tuple[str, tuple[float, float]]],
+                created: str | None = None) -> dict[str, bytes]:
     """Each figure as a one-page PDF of its own size, typeset by Typst from its SVG.
 
     Parameters

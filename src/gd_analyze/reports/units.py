@@ -8,6 +8,7 @@ Private to the reports (:mod:`gd_analyze.reports.common` re-exports these names)
 from __future__ import annotations
 
 import re
+from typing import TYPE_CHECKING
 
 import numpy as np
 
@@ -19,6 +20,10 @@ from ..core.selection.ranking import (
 )
 from ..io.schema import strings as _strings
 
+if TYPE_CHECKING:
+    import numpy.typing as npt
+    import xarray as xr
+
 __all__ = ["keep_units", "prismatic_joints", "units_text", "torque_units", "element_units_of",
            "units_said_once"]
 
@@ -27,7 +32,7 @@ __all__ = ["keep_units", "prismatic_joints", "units_text", "torque_units", "elem
 _UNITS = re.compile(r"\[[^\]\n]{1,16}\]")
 
 
-def keep_units(text):
+def keep_units(text: object) -> str:
     """Text with the spaces inside its bracketed units made no-break: "[N m]" is never split
     over two lines.
 
@@ -48,7 +53,7 @@ def keep_units(text):
     return _UNITS.sub(lambda m: m.group().replace(" ", "\u00a0"), str(text))
 
 
-def prismatic_joints(ds):
+def prismatic_joints(ds: xr.Dataset) -> npt.NDArray[np.bool_]:
     """Which joints are prismatic (q in m), from the stored ``joint_type`` (all revolute in a
     dataset without it).
 
@@ -66,7 +71,7 @@ def prismatic_joints(ds):
     return np.array([t == "prismatic" for t in _strings(ds["joint_type"].values)])
 
 
-def units_text(u):
+def units_text(u: str) -> str:
     """Stored units as printed: ``"kg m2"`` -> ``"kg m²"``, ``"s-2"`` -> ``"s⁻²"``.
 
     Parameters
@@ -81,7 +86,7 @@ def units_text(u):
             .replace("s-1", "s\u207b\u00b9"))
 
 
-def torque_units(ds):
+def torque_units(ds: xr.Dataset) -> list[str]:
     """The printed units of tau_i, h_i and c_i per joint: N m, or N for a prismatic joint.
 
     Parameters
@@ -96,7 +101,7 @@ def torque_units(ds):
     return [joint_torque_units(p) for p in prismatic_joints(ds)]
 
 
-def element_units_of(ds):
+def element_units_of(ds: xr.Dataset) -> list[str]:
     """The printed units of the ranked elements (kg m², kg m, kg, N m, N), from the joint types.
 
     Parameters
@@ -110,11 +115,11 @@ def element_units_of(ds):
         From :func:`gd_analyze.core.selection.labels.element_units`.
     """
     n, prismatic = ds.sizes["joint"], prismatic_joints(ds)
-    return [units_text(element_units(*parse_element_label(lab, n), prismatic))
-            for lab in _strings(ds["element"].values)]
+    return [units_text(element_units(kind, i, j, prismatic)) for kind, i, j in
+            (parse_element_label(lab, n) for lab in _strings(ds["element"].values))]
 
 
-def units_said_once(ds, kind):
+def units_said_once(ds: xr.Dataset, kind: str) -> str:
     """The units of every D_ij or every tau_i in words, for captions and keys.
 
     Parameters
