@@ -25,17 +25,24 @@ from __future__ import annotations
 
 import dataclasses
 import warnings
+from collections.abc import Sequence
 from dataclasses import dataclass
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
+import numpy.typing as npt
 
 from ..symbolic.base_parameters import _kind_scales
+
+if TYPE_CHECKING:
+    from ..model.robot import Robot
+    from ..symbolic.base_parameters import BaseParameters
 
 __all__ = ["base_map", "closest_standard", "pseudo_inertia", "min_eigenvalues",
            "consistent_standard", "Consistent", "robot_with_standard", "SolverFailure"]
 
 
-def base_map(base):
+def base_map(base: BaseParameters) -> npt.NDArray[np.float64]:
     """A with beta = A phi (phi flat, link-major).
 
     Parameters
@@ -59,7 +66,8 @@ def _scales(phi0):
     return np.tile(_kind_scales(phi0), phi0.shape[0])
 
 
-def closest_standard(base, beta, phi0):
+def closest_standard(base: BaseParameters, beta: npt.NDArray[np.float64],
+                     phi0: npt.NDArray[np.float64]) -> npt.NDArray[np.float64]:
     """The standard parameters closest to the prior that reproduce beta.
 
     Parameters
@@ -83,7 +91,7 @@ def closest_standard(base, beta, phi0):
     return (phi0.reshape(-1) + S * u).reshape(phi0.shape)
 
 
-def pseudo_inertia(phi):
+def pseudo_inertia(phi: npt.NDArray[np.float64]) -> npt.NDArray[np.float64]:
     """Each link's pseudo-inertia matrix.
 
     Parameters
@@ -114,7 +122,7 @@ def pseudo_inertia(phi):
     return P
 
 
-def min_eigenvalues(phi):
+def min_eigenvalues(phi: npt.NDArray[np.float64]) -> npt.NDArray[np.floating[Any]]:
     """The smallest eigenvalue of each link's pseudo-inertia.
 
     Parameters
@@ -169,8 +177,10 @@ def _psd_blocks(cp, phi, n):
     return out
 
 
-def consistent_standard(base, theta_hat, identifiable, R, phi0, drive_kinds, drive_prior,
-                        margin=1e-9):
+def consistent_standard(base: BaseParameters, theta_hat: npt.NDArray[np.float64],
+                        identifiable: npt.NDArray[np.bool_], R: npt.NDArray[np.float64],
+                        phi0: npt.NDArray[np.float64], drive_kinds: Sequence[str],
+                        drive_prior: npt.NDArray[np.float64], margin: float = 1e-9) -> Consistent:
     """Physically consistent standard parameters and drives closest to the prior among those
     that fit the data best (two convex problems, module docstring).
 
@@ -271,8 +281,11 @@ class SolverFailure(RuntimeError):
     solvers, not of the input's form)."""
 
 
-def robot_with_standard(robot, phi, armature=None, viscous=None, coulomb=None,
-                        torque_offset=None):
+def robot_with_standard(robot: Robot, phi: npt.NDArray[np.float64],
+                        armature: npt.NDArray[np.float64] | None = None,
+                        viscous: npt.NDArray[np.float64] | None = None,
+                        coulomb: npt.NDArray[np.float64] | None = None,
+                        torque_offset: npt.NDArray[np.float64] | None = None) -> Robot:
     """A copy of the robot with the given standard parameters and drives.
 
     Parameters

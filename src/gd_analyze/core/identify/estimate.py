@@ -25,6 +25,7 @@ from __future__ import annotations
 from dataclasses import dataclass
 
 import numpy as np
+import numpy.typing as npt
 from scipy import linalg
 from threadpoolctl import threadpool_limits
 
@@ -72,7 +73,8 @@ class Estimate:
 QR_BLOCK = 2048
 
 
-def joint_factors(Y, tau, used):
+def joint_factors(Y: npt.NDArray[np.float64], tau: npt.NDArray[np.float64],
+                  used: npt.NDArray[np.bool_]) -> tuple[npt.NDArray[np.float64], npt.NDArray[np.int64]]:
     """Per joint the triangular factor of [A_i | y_i] over the rows that enter the fit.
 
     Parameters
@@ -123,7 +125,8 @@ def joint_factors(Y, tau, used):
     return R, counts
 
 
-def combine_factors(a, b):
+def combine_factors(a: tuple[npt.NDArray[np.float64], npt.NDArray[np.int64]],
+                    b: tuple[npt.NDArray[np.float64], npt.NDArray[np.int64]]) -> tuple[npt.NDArray[np.float64], npt.NDArray[np.int64]]:
     """The factors of two sets of rows stacked: per joint R of [R_a; R_b].
 
     Parameters
@@ -145,7 +148,8 @@ def combine_factors(a, b):
     return out, ca + cb
 
 
-def least_squares(factors, prior):
+def least_squares(factors: tuple[npt.NDArray[np.float64], npt.NDArray[np.int64]],
+                  prior: npt.NDArray[np.float64]) -> Estimate:
     """Ordinary then weighted least squares (steps in the module docstring).
 
     Parameters

@@ -30,8 +30,10 @@ The default cutoff is chosen from the data (:func:`default_cutoff`).
 from __future__ import annotations
 
 from dataclasses import dataclass
+from typing import Any
 
 import numpy as np
+import numpy.typing as npt
 
 __all__ = ["Preprocessed", "preprocess", "default_cutoff", "edge_samples", "ORDER",
            "GAP_STEPS", "CUTOFF_FACTOR", "ENERGY", "EDGE_PERIODS"]
@@ -82,14 +84,14 @@ class Preprocessed:
     qd: np.ndarray
     qdd: np.ndarray
     tau: np.ndarray
-    cutoff: float
+    cutoff: float | None
     step: float
     notes: tuple
     keep: np.ndarray | None = None
     segments: tuple = ()
     sos: np.ndarray | None = None
 
-    def filtered(self, x):
+    def filtered(self, x: npt.NDArray[np.float64]) -> npt.NDArray[np.float64]:
         """The same zero-phase filter on another signal of the same samples, segment by segment.
 
         Parameters
@@ -121,7 +123,7 @@ def _segments(t):
     return [slice(int(a), int(b)) for a, b in zip(bounds[:-1], bounds[1:])], med
 
 
-def default_cutoff(t, q):
+def default_cutoff(t: npt.NDArray[np.float64], q: npt.NDArray[np.float64]) -> float:
     """The default low-pass cutoff, from the data: CUTOFF_FACTOR x the motion's bandwidth.
 
     Parameters
@@ -169,7 +171,7 @@ def default_cutoff(t, q):
     return float(min(max(CUTOFF_FACTOR * band, lo), hi))
 
 
-def edge_samples(step, cutoff):
+def edge_samples(step: float, cutoff: float | None) -> int:
     """Samples dropped at each end of a segment: EDGE_PERIODS periods of the cutoff, at least 2.
 
     Parameters
@@ -188,7 +190,10 @@ def edge_samples(step, cutoff):
     return max(2, int(np.ceil(EDGE_PERIODS / (cutoff * step))))
 
 
-def preprocess(t, q, tau, qd=None, qdd=None, cutoff="auto", decimate=1, label="recording"):
+def preprocess(t: npt.NDArray[np.float64], q: npt.NDArray[np.float64], tau: npt.NDArray[np.float64],
+               qd: npt.NDArray[np.float64] | None = None,
+               qdd: npt.NDArray[np.float64] | None = None, cutoff: float | str | None = "auto",
+               decimate: int = 1, label: str = "recording") -> Preprocessed:
     """Resample, filter, differentiate and decimate one recording (steps in the module docstring).
 
     Parameters
@@ -241,7 +246,7 @@ def preprocess(t, q, tau, qd=None, qdd=None, cutoff="auto", decimate=1, label="r
     trim = edge_samples(step, cutoff)
     if cutoff is None and (qd is None or qdd is None):
         trim = 1                    # one-sided differences at the ends
-    out = {k: [] for k in ("t", "q", "qd", "qdd", "tau", "keep")}
+    out: dict[str, list[Any]] = {k: [] for k in ("t", "q", "qd", "qdd", "tau", "keep")}
     given = {"qd": qd, "qdd": qdd}
     sos = None if cutoff is None else signal.butter(ORDER, cutoff, fs=1.0 / step,
                                                     output="sos")

@@ -18,9 +18,17 @@ Y_b and beta are the package's base regressor (Gautier 1990;
 
 from __future__ import annotations
 
+from collections.abc import Sequence
+from typing import TYPE_CHECKING
+
 import numpy as np
+import numpy.typing as npt
 
 from ..symbolic.drive_regressor import DRIVE_COLUMNS
+
+if TYPE_CHECKING:
+    from ..model.robot import Robot
+    from ..symbolic.base_parameters import BaseParameters
 
 __all__ = ["DRIVE_KINDS", "column_names",
            "prior_values", "moving_rows", "IDLE_FRACTION"]
@@ -35,7 +43,8 @@ _FIELD = {"armature": "armature", "viscous": "viscous", "coulomb": "coulomb",
 IDLE_FRACTION = 0.02
 
 
-def column_names(base, n, kinds):
+def column_names(base: BaseParameters, n: int,
+                 kinds: Sequence[str]) -> tuple[tuple[str, ...], tuple[str, ...]]:
     """Names and kinds of the identification regressor's columns.
 
     Parameters
@@ -60,7 +69,8 @@ def column_names(base, n, kinds):
     return tuple(names), tuple(col_kinds)
 
 
-def prior_values(base, robot, kinds):
+def prior_values(base: BaseParameters, robot: Robot,
+                 kinds: Sequence[str]) -> npt.NDArray[np.float64]:
     """The robot file's values of the columns: its beta and its drives (offset: its
     ``torque_offset``).
 
@@ -80,7 +90,8 @@ def prior_values(base, robot, kinds):
     return np.concatenate(parts)
 
 
-def moving_rows(qd, threshold=None):
+def moving_rows(qd: npt.NDArray[np.float64],
+                threshold: npt.NDArray[np.float64] | None = None) -> tuple[npt.NDArray[np.bool_], npt.NDArray[np.float64]]:
     """The rows (sample, joint) with the joint moving: |qd_i| >= its idle threshold.
 
     At rest a joint's torque holds an unknown static friction anywhere in [-F_s, F_s], which
