@@ -118,7 +118,7 @@ def _pinocchio(robot, q, qd, qdd=None):
     return D, h, c, tau
 
 
-def dynamics(robot, q, qd, method):
+def dynamics(robot: Robot, q: ArrayLike, qd: ArrayLike, method: str) -> DynamicsResult:
     """D, h and c at N set points by one formulation.
 
     Parameters

@@ -13,8 +13,11 @@ import importlib.util
 import math
 import numbers
 import types
+from collections.abc import Callable
+from typing import Any
 
 import numpy as np
+import numpy.typing as npt
 
 __all__ = ["OpLedger", "Counted", "counting_clone", "python_kernels"]
 
@@ -109,7 +112,7 @@ class Counted:
 
     __slots__ = ("value", "ledger", "var")
 
-    def __init__(self, value, ledger, var=True):
+    def __init__(self, value: Any, ledger: OpLedger, var: bool = True) -> None:
         self.value = value
         self.ledger = ledger
         self.var = var
@@ -162,13 +165,13 @@ class Counted:
         return (-self) + other
 
 
-def count_consts(led, x):
+def count_consts(led: OpLedger, x: npt.ArrayLike) -> npt.NDArray[np.object_]:
     """Object array of parameter scalars with the shape of x."""
     x = np.asarray(x, dtype=float)
     return np.array([led.const(v) for v in x.ravel()], dtype=object).reshape(x.shape)
 
 
-def count_vars(led, x):
+def count_vars(led: OpLedger, x: npt.ArrayLike) -> npt.NDArray[np.object_]:
     """Set-point-dependent values as :class:`Counted` scalars of one ledger.
 
     Parameters
@@ -213,7 +216,7 @@ class _CountingNumPy:
         return _elementwise(math.sin, x)
 
 
-def counting_clone(fn):
+def counting_clone(fn: Any) -> Callable[..., Any]:
     """The Python source of a numba kernel, bound to counting NumPy functions.
 
     Parameters
@@ -245,7 +248,7 @@ def _python_njit(*args, **options):
     return mark(args[0]) if args and callable(args[0]) else mark
 
 
-def python_kernels(module):
+def python_kernels(module: str) -> dict[str, Any]:
     """A module of numba kernels, run as plain Python without importing numba.
 
     Parameters
@@ -278,7 +281,9 @@ def python_kernels(module):
     spec = importlib.util.find_spec(module)
     if spec is None:
         raise ModuleNotFoundError(module)
-    tree = ast.parse(spec.loader.get_source(module), spec.origin)
+    assert spec.origin is not None                  # a module with a source file
+    loader: Any = spec.loader                       # its InspectLoader (get_source)
+    tree = ast.parse(loader.get_source(module), spec.origin)
     tree.body = [node for node in tree.body
                  if not (isinstance(node, ast.ImportFrom) and node.module == "numba")]
     namespace = {"__name__": f"{module}.python", "__package__": spec.parent,

@@ -50,7 +50,7 @@ Q_PRISMATIC = np.array([[0, 0, 0, 0], [0, 0, 0, 0], [0, 0, 0, 1], [0, 0, 0, 0]])
 Q_PRISMATIC.setflags(write=False)
 
 
-def joint_q_matrices(robot):
+def joint_q_matrices(robot: Robot) -> np.ndarray:
     """The joint matrices Q_j of every joint, Eqs. (3.2-8a) and (3.2-8b).
 
     Parameters
@@ -203,7 +203,8 @@ def _u_core(A, Q):
     return U, U3
 
 
-def le_core(A, Q, J, gm, rbar, qd):
+def le_core(A: np.ndarray, Q: np.ndarray, J: np.ndarray, gm: np.ndarray, rbar: np.ndarray,
+            qd: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
     """D, h_ikm, h and c of Eqs. (3.2-31) to (3.2-34) for body transforms A (N, n, 4, 4).
 
     Q (n, 4, 4): joint matrices; J (n, 4, 4): pseudo-inertias; gm (n, 4): the row vectors
@@ -230,7 +231,7 @@ def le_core(A, Q, J, gm, rbar, qd):
     return D, H, h, c
 
 
-def le_constants(robot):
+def le_constants(robot: Robot) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     """Per-robot constants of the L-E core: J (n, 4, 4), -m g^T (n, 4), rbar (n, 4)."""
     g = np.append(np.asarray(robot.gravity, dtype=float), 0.0)
     gm = -robot.mass[:, None] * g

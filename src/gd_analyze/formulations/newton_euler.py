@@ -47,7 +47,7 @@ if TYPE_CHECKING:
 __all__ = ["ne_tau", "ne_terms", "link_constants", "joint_frames"]
 
 
-def ne_cross(a, b):
+def ne_cross(a: np.ndarray, b: np.ndarray) -> np.ndarray:
     """a x b along the last axis (broadcasting), for float and object arrays."""
     return np.stack([a[..., 1] * b[..., 2] - a[..., 2] * b[..., 1],
                      a[..., 2] * b[..., 0] - a[..., 0] * b[..., 2],
@@ -85,7 +85,9 @@ def link_constants(robot: Robot) -> dict[str, Any]:
             "vd0": -np.asarray(robot.gravity, dtype=float)}
 
 
-def ne_core(R, p, prismatic, qd, qdd, k, f_end=None, n_end=None, b=None):
+def ne_core(R: np.ndarray, p: np.ndarray, prismatic: np.ndarray, qd: np.ndarray, qdd: np.ndarray,
+            k: dict[str, Any], f_end: np.ndarray | None = None, n_end: np.ndarray | None = None,
+            b: np.ndarray | None = None) -> np.ndarray:
     """Table 3.3 for rotations R (N, n, 3, 3) = ^{i-1}R_i and origins p (N, n, 3) = ^{i-1}p_i.
 
     prismatic: n bools; qd, qdd (N, n); constants k. Returns tau (N, n). Works on float and on
@@ -119,7 +121,7 @@ def ne_core(R, p, prismatic, qd, qdd, k, f_end=None, n_end=None, b=None):
         NN.append(_mv(I, wd) + ne_cross(w, _mv(I, w)))                     # Eq. (3.3-55)
     f = np.zeros((N, 3), dtype=dt) if f_end is None else f_end
     nm = np.zeros((N, 3), dtype=dt) if n_end is None else n_end
-    tau = [None] * n
+    tau: list[Any] = [None] * n
     for i in range(n - 1, -1, -1):                               # backward, i = n..1
         if i < n - 1:                                            # R_{n+1} is the identity
             f, nm = _mv(R[:, i + 1], f), _mv(R[:, i + 1], nm)
@@ -142,7 +144,8 @@ def _load(x, N, name):
     return x
 
 
-def ne_tau(robot, q, qd, qdd, b=None, f_load=None, n_load=None):
+def ne_tau(robot: Robot, q: ArrayLike, qd: ArrayLike, qdd: ArrayLike, b: ArrayLike | None = None,
+           f_load: ArrayLike | None = None, n_load: ArrayLike | None = None) -> np.ndarray:
     """Joint torques by the recursive N-E equations, Table 3.3 / Algorithm 3.1.
 
     Parameters

@@ -81,6 +81,7 @@ from functools import cache
 from typing import TYPE_CHECKING, Any
 
 import numpy as np
+from numpy.typing import ArrayLike
 
 from ..core.model.kinematics import as_states, transforms_core
 from ..core.model.robot import Robot
@@ -109,7 +110,7 @@ __all__ = ["OpCount", "METHODS", "TABLE_3_5", "joint_types", "random_chain", "co
 METHODS = ("lagrange-euler", "newton-euler", "gd", "gd-numpy")
 
 #: Table 3.5 of Fu, Gonzalez & Lee (1987): polynomial coefficients in n, highest power first.
-TABLE_3_5 = {
+TABLE_3_5: dict[str, dict[str, tuple[Fr, ...]]] = {
     "lagrange-euler": {
         "multiplications": (Fr(128, 3), Fr(512, 3), Fr(739, 3), Fr(160, 3), Fr(0)),
         "additions": (Fr(98, 3), Fr(781, 6), Fr(559, 3), Fr(245, 6), Fr(0)),
@@ -136,7 +137,7 @@ tau : ndarray, shape (n,)
 """
 
 
-def joint_types(robot):
+def joint_types(robot: Robot) -> str:
     """The joint types of an arm as one string, "R" revolute and "P" prismatic, base first.
 
     Parameters
@@ -329,7 +330,8 @@ def _gd_kernel_counted(robot, led, q, qd):
     return tuple(x[0] for x in out)
 
 
-def count_operations(robot, method, q=None, qd=None, qdd=None):
+def count_operations(robot: Robot, method: str, q: ArrayLike | None = None,
+                     qd: ArrayLike | None = None, qdd: ArrayLike | None = None) -> OpCount:
     """Run one formulation on one set point of counting scalars.
 
     Parameters
@@ -470,7 +472,7 @@ def _poly(coeffs, n):
     return int(value) if value.denominator == 1 else float(value)
 
 
-def book_counts(n):
+def book_counts(n: int) -> dict[str, Any]:
     """The operation counts of Table 3.5 (Fu, Gonzalez & Lee 1987) for an n-joint arm.
 
     Parameters

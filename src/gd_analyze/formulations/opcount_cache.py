@@ -24,6 +24,7 @@ import hashlib
 import json
 import os
 import warnings
+from collections.abc import Sequence
 from pathlib import Path
 
 from ..config import cache_dir
@@ -81,7 +82,8 @@ def _valid_counts(counts, methods):
                     and all(type(x) is int and x >= 0 for x in v) for v in counts.values()))
 
 
-def read_counts(path, code, key, methods):
+def read_counts(path: Path, code: str, key: str,
+                methods: Sequence[str]) -> dict[str, tuple[int, ...]] | None:
     """The stored counts of ``key``, or None (with one warning line if an entry failed).
 
     Parameters

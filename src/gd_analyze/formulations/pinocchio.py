@@ -27,6 +27,8 @@ from ..core.model.kinematics import as_states
 from ..core.selection.ranking import ROUND_OFF_EPS
 
 if TYPE_CHECKING:
+    import pinocchio
+
     from ..core.model.robot import Robot
 
 
@@ -40,7 +42,7 @@ def _pin():
     return pinocchio
 
 
-def pinocchio_model(robot, part="full"):
+def pinocchio_model(robot: Robot, part: str = "full") -> pinocchio.Model:
     """Build the robot as a Pinocchio model.
 
     Parameters
@@ -283,7 +285,8 @@ def _relative(value, reference, scale, floor, past_floor):
     return float(np.max(diff / np.maximum(scale, floor)))
 
 
-def measured_relative_error(value, reference, scale, floor):
+def measured_relative_error(value: ArrayLike, reference: ArrayLike, scale: ArrayLike,
+                            floor: float) -> float:
     """Largest difference over the set points relative to each element's natural scale, as
     measured: round-off included (:func:`natural_relative_error` counts only what is past the
     floor).
