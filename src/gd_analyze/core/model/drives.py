@@ -191,7 +191,7 @@ def friction_torque(robot: Robot, qd: np.ndarray) -> np.ndarray | None:
     return robot.viscous * qd + robot.coulomb * np.sign(qd) + robot.torque_offset
 
 
-def rigid_links(robot):
+def rigid_links(robot: Robot) -> Robot:
     """The robot without its drives: the rigid links the chapter models.
 
     Parameters
@@ -210,4 +210,5 @@ def rigid_links(robot):
     import dataclasses
 
     zero = np.zeros(robot.n)
-    return dataclasses.replace(robot, **dict.fromkeys(DRIVE_FIELDS, zero))
+    zeros: dict[str, Any] = dict.fromkeys(DRIVE_FIELDS, zero)
+    return dataclasses.replace(robot, **zeros)

@@ -29,7 +29,8 @@ __all__ = ["as_states", "transforms_core", "joint_frames", "joint_transforms", "
            "link_matrices", "frames", "centres_of_mass"]
 
 
-def as_states(robot: Robot, *arrays: ArrayLike, names: Sequence[str] | None = None) -> tuple[np.ndarray, ...]:
+def as_states(robot: Robot, *arrays: ArrayLike,
+              names: Sequence[str] | None = None) -> tuple[np.ndarray, ...]:
     """Check joint arrays against the robot and give them a leading set-point axis.
 
     Parameters
@@ -68,7 +69,8 @@ def as_states(robot: Robot, *arrays: ArrayLike, names: Sequence[str] | None = No
     return tuple(out)
 
 
-def transforms_core(P: np.ndarray, t: np.ndarray, prismatic: Sequence[bool], c: np.ndarray, s: np.ndarray, q: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+def transforms_core(P: np.ndarray, t: np.ndarray, prismatic: Sequence[bool] | np.ndarray, c: np.ndarray,
+                    s: np.ndarray, q: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     """Rotation and translation of every ^{i-1}T_i; float or object (counting) arrays alike.
 
     Parameters
@@ -108,7 +110,7 @@ def transforms_core(P: np.ndarray, t: np.ndarray, prismatic: Sequence[bool], c: 
     return R, p
 
 
-def joint_frames(robot, q):
+def joint_frames(robot: Robot, q: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     """^{i-1}R_i and ^{i-1}p_i of every joint: :func:`transforms_core` for a robot.
 
     Parameters
@@ -245,7 +247,7 @@ def link_matrices(robot: Robot, q: ArrayLike) -> np.ndarray:
     return left @ T @ L
 
 
-def frames(robot, q):
+def frames(robot: Robot, q: ArrayLike) -> tuple[np.ndarray, np.ndarray]:
     """Orientation and origin of every link frame in the base frame.
 
     Parameters

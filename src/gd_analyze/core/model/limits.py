@@ -66,7 +66,7 @@ def exact_text(value: float) -> str:
     return repr(v)
 
 
-def first_beyond(values, limit):
+def first_beyond(values: ArrayLike, limit: float) -> tuple[int, ...] | None:
     """Index of the first value whose magnitude exceeds ``limit`` (or is not finite).
 
     Parameters

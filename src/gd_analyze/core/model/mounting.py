@@ -19,6 +19,7 @@ import types
 from typing import TYPE_CHECKING
 
 import numpy as np
+from numpy.typing import ArrayLike
 
 from ...errors import InputError
 from .limits import LIMITS, exact_text
@@ -101,7 +102,8 @@ def mounting_of(robot: Robot) -> tuple[np.ndarray, np.ndarray]:
             np.asarray(said["gravity_world"], dtype=float).copy())
 
 
-def as_mounted(robot, base_rpy_deg, gravity_world=None):
+def as_mounted(robot: Robot, base_rpy_deg: ArrayLike,
+               gravity_world: ArrayLike | None = None) -> Robot:
     """The robot with its mounting recorded, as a model file states it (no turn applied).
 
     Parameters
@@ -125,7 +127,7 @@ def as_mounted(robot, base_rpy_deg, gravity_world=None):
         If a vector has not 3 finite numbers, or R^T g_world is not the robot's gravity.
     """
     rpy = np.asarray(base_rpy_deg, dtype=float).reshape(3) + 0.0
-    R = rpy_matrix(*rpy, degrees=True)
+    R = rpy_matrix(rpy[0], rpy[1], rpy[2], degrees=True)
     g_base = np.asarray(robot.gravity, dtype=float)
     g_world = (R @ g_base if gravity_world is None
                else np.asarray(gravity_world, dtype=float).reshape(3)) + 0.0
@@ -154,7 +156,8 @@ def _checked(opt, raw, lim):
     return v + 0.0
 
 
-def with_mounting(robot, gravity=None, base_rpy=None):
+def with_mounting(robot: Robot, gravity: ArrayLike | None = None,
+                  base_rpy: ArrayLike | None = None) -> Robot:
     """The robot mounted otherwise: another gravity vector, or its base turned in the world.
 
     The base frame is turned by R = Rz(Y) Ry(P) Rx(R) (URDF rpy) from the world frame, so
@@ -211,7 +214,7 @@ def with_mounting(robot, gravity=None, base_rpy=None):
     rpy = rpy0 if base_rpy is None else _checked("--base-rpy", base_rpy, LIMITS["angle_deg"])
     if np.array_equal(g_world, g0) and np.array_equal(rpy, rpy0):
         return robot
-    g_base = rpy_matrix(*rpy, degrees=True).T @ g_world + 0.0          # no -0.0
+    g_base = rpy_matrix(rpy[0], rpy[1], rpy[2], degrees=True).T @ g_world + 0.0          # no -0.0
     said = ", ".join(f"{float(v):g}" for v in g_world)
     turn = ", ".join(f"{float(v):g}" for v in rpy)
     own = robot.description.partition("mounted with gravity (")[0].rstrip("; ")

@@ -240,15 +240,15 @@ class Robot:
     source: str = "<dict>"
     sha256: str = ""
     convention: str = "standard"
-    # the fields below default to None for make_robot to fill; __post_init__ rejects a None
-    # (except tau_max), so they are typed as what every Robot holds
+    # the fields below default to None for make_robot to fill (tau_max with NaN); __post_init__
+    # rejects a None (but tau_max's), so they are typed as what every Robot holds
     prismatic: np.ndarray = None  # type: ignore[assignment]
     rotation: np.ndarray = None  # type: ignore[assignment]
     translation: np.ndarray = None  # type: ignore[assignment]
     link_rotation: np.ndarray = None  # type: ignore[assignment]
     link_translation: np.ndarray = None  # type: ignore[assignment]
     metadata: types.MappingProxyType = None  # type: ignore[assignment]
-    tau_max: np.ndarray | None = None
+    tau_max: np.ndarray = None  # type: ignore[assignment]
     armature: np.ndarray = None  # type: ignore[assignment]
     viscous: np.ndarray = None  # type: ignore[assignment]
     coulomb: np.ndarray = None  # type: ignore[assignment]
@@ -311,23 +311,23 @@ class Robot:
         return self.convention in ("standard", "modified")
 
     @property
-    def joint_types(self):
+    def joint_types(self) -> tuple[str, ...]:
         """tuple of str: ``"revolute"`` or ``"prismatic"`` per joint."""
         return tuple(JOINT_TYPES[int(p)] for p in self.prismatic)
 
     @property
-    def body_com(self):
+    def body_com(self) -> np.ndarray:
         """ndarray, shape (n, 3): centres of mass in the body frames, L_R r_i + L_t [m]."""
         return np.einsum("sab,sb->sa", self.link_rotation, self.com) + self.link_translation
 
     @property
-    def body_inertia(self):
+    def body_inertia(self) -> np.ndarray:
         """ndarray, shape (n, 3, 3): inertia tensors about the centres of mass, body-frame
         axes, L_R I_i L_R^T [kg m^2]."""
         LR = self.link_rotation
         return LR @ self.inertia @ np.swapaxes(LR, -1, -2)
 
-    def joint_names(self):
+    def joint_names(self) -> list[str]:
         """The joints' names: a URDF's or Pinocchio model's own, else ``"joint1"`` .. ``"jointn"``.
 
         Returns
@@ -342,7 +342,7 @@ class Robot:
             return [str(v) for v in names]
         return [f"joint{i + 1}" for i in range(self.n)]
 
-    def to_dict(self):
+    def to_dict(self) -> dict[str, Any]:
         """The robot as a dictionary in the robot-file layout.
 
         Returns
@@ -356,7 +356,7 @@ class Robot:
         links = []
         for i in range(self.n):
             I = self.inertia[i]
-            link = {"joint": self.joint_types[i]}
+            link: dict[str, Any] = {"joint": self.joint_types[i]}
             pris = bool(self.prismatic[i])
             if self.convention == "chain":
                 link.update(rotation=self.rotation[i].tolist(),
@@ -387,7 +387,8 @@ class Robot:
                 "reference": self.reference, "gravity": [float(v) for v in self.gravity],
                 "convention": self.convention, "link": links}
 
-    def with_inertial(self, mass=None, com=None, inertia=None):
+    def with_inertial(self, mass: np.ndarray | None = None, com: np.ndarray | None = None,
+                      inertia: np.ndarray | None = None) -> Robot:
         """A copy with some inertial parameters replaced.
 
         Parameters
@@ -476,7 +477,8 @@ def make_robot(**fields: Any) -> Robot:
     return Robot(**fields)
 
 
-def with_payload(robot: Robot, mass: float, com: ArrayLike = (0.0, 0.0, 0.0), inertia: ArrayLike = (0.0, 0.0, 0.0)) -> Robot:
+def with_payload(robot: Robot, mass: float, com: ArrayLike = (0.0, 0.0, 0.0),
+                 inertia: ArrayLike = (0.0, 0.0, 0.0)) -> Robot:
     """The robot carrying a rigid load fixed to its last link.
 
     The load's mass, centre of mass and inertia are merged into link n: the combined centre of

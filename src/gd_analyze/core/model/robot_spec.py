@@ -13,14 +13,16 @@ import hashlib
 import math
 import types
 import warnings
-from typing import TYPE_CHECKING
+from collections.abc import Mapping, Sequence
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
+from numpy.typing import ArrayLike
 
 from ...errors import InputError, InputWarning
 from .drives import DRIVE_FIELDS, DRIVE_KEYS, drive_values
 from .limits import LIMITS, exact_text
-from .robot import CONVENTIONS, JOINT_TYPES, make_robot
+from .robot import CONVENTIONS, JOINT_TYPES, Robot, make_robot
 
 if TYPE_CHECKING:
     pass
@@ -225,7 +227,8 @@ def _rotation(value, path, column):
     return R
 
 
-def robot_from_dict(spec, source="<dict>", sha256=None):
+def robot_from_dict(spec: Mapping[str, Any], source: str = "<dict>",
+                    sha256: str | None = None) -> Robot:
     """Validate a robot specification and build a :class:`~gd_analyze.core.model.robot.Robot`.
 
     Parameters
@@ -304,7 +307,7 @@ def robot_from_dict(spec, source="<dict>", sha256=None):
     links = spec.get("link")
     if not isinstance(links, list) or not links:
         raise InputError("no [[link]] tables", path, column="link")
-    cols = {k: [] for k in ("d", "a", "alpha", "offset", "mass", "com", "inertia", "q_min",
+    cols: dict[str, list[Any]] = {k: [] for k in ("d", "a", "alpha", "offset", "mass", "com", "inertia", "q_min",
                             "q_max", "qd_max", "qdd_max", "prismatic", "rotation",
                             "translation", "tau_max", "armature", "viscous", "coulomb",
                             "torque_offset")}
@@ -359,7 +362,8 @@ def robot_from_dict(spec, source="<dict>", sha256=None):
                  convention=convention, **cols)
 
 
-def robot_from_chain(name, joints, gravity, **metadata):
+def robot_from_chain(name: str, joints: Sequence[Mapping[str, Any]], gravity: ArrayLike,
+                     **metadata: Any) -> Robot:
     """Build a :class:`~gd_analyze.core.model.robot.Robot` from general joint placements (the URDF
     route).
 
