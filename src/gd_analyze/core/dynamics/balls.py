@@ -14,6 +14,10 @@ the magnitudes it combines, far above the few roundings each performs.
 from __future__ import annotations
 
 import numpy as np
+import numpy.typing as npt
+
+#: A batch of balls: (centres, radii), radii >= 0 [the centres' units].
+_Ball = tuple[npt.NDArray[np.float64], npt.NDArray[np.float64]]
 
 __all__ = ["point", "zeros", "add", "scale", "cross", "matvec", "rot_z", "z_interval",
            "ROUNDING"]
@@ -29,7 +33,7 @@ def _norm(c):
     return np.sqrt(np.einsum("...i,...i->...", c, c))
 
 
-def point(c):
+def point(c: npt.ArrayLike) -> _Ball:
     """The ball of radius 0 about c.
 
     Parameters
@@ -45,7 +49,7 @@ def point(c):
     return c, np.zeros(c.shape[:-1])
 
 
-def zeros(shape):
+def zeros(shape: tuple[int, ...]) -> _Ball:
     """Balls at the origin of radius 0.
 
     Parameters
@@ -60,7 +64,7 @@ def zeros(shape):
     return np.zeros(tuple(shape) + (3,)), np.zeros(tuple(shape))
 
 
-def add(a, b):
+def add(a: _Ball, b: _Ball) -> _Ball:
     """a + b.
 
     Parameters
@@ -82,7 +86,7 @@ def add(a, b):
     return c, a[1] + b[1] + _SLACK * (_norm(a[0]) + _norm(b[0]))
 
 
-def scale(a, s):
+def scale(a: _Ball, s: float) -> _Ball:
     """s a for a point number s.
 
     Parameters
@@ -97,7 +101,7 @@ def scale(a, s):
     return a[0] * s, abs(s) * a[1] * (1 + _SLACK) + _SLACK * abs(s) * _norm(a[0])
 
 
-def cross(a, b):
+def cross(a: _Ball, b: _Ball) -> _Ball:
     """a x b: centre ca x cb, radius |ca| rb + ra |cb| + ra rb.
 
     Parameters
@@ -115,7 +119,7 @@ def cross(a, b):
     return c, r * (1 + _SLACK) + _SLACK * na * nb
 
 
-def matvec(M, a):
+def matvec(M: npt.NDArray[np.float64], a: _Ball) -> _Ball:
     """M a for a point matrix M: centre M c, radius ||M||_2 r.
 
     Parameters
@@ -132,7 +136,8 @@ def matvec(M, a):
     return a[0] @ M.T, norm * a[1] * (1 + _SLACK) + _SLACK * norm * _norm(a[0])
 
 
-def rot_z(a, mid, half, transpose=False):
+def rot_z(a: _Ball, mid: npt.NDArray[np.float64], half: npt.NDArray[np.float64],
+          transpose: bool = False) -> _Ball:
     """Rz(theta) a (or Rz(theta)^T a) for every theta in [mid - half, mid + half].
 
     Parameters
@@ -171,7 +176,7 @@ def rot_z(a, mid, half, transpose=False):
     return out, (r + rho * s) * (1 + _SLACK) + (4 * _SLACK + 1e-15) * (rho + _norm(c))
 
 
-def z_interval(a):
+def z_interval(a: _Ball) -> tuple[npt.NDArray[np.float64], npt.NDArray[np.float64]]:
     """The z components of balls as intervals.
 
     Parameters

@@ -30,6 +30,7 @@ set points and processed in chunks of bounded size.
 
 from __future__ import annotations
 
+from collections.abc import Sequence
 from dataclasses import dataclass
 from typing import TYPE_CHECKING, Any
 
@@ -203,7 +204,7 @@ class GDTerms:
                        None if self.tau_f is None else self.tau_f[index])
 
     @staticmethod
-    def concatenate(parts):
+    def concatenate(parts: Sequence[GDTerms]) -> GDTerms:
         """The terms of consecutive chunks as one.
 
         Parameters
@@ -215,10 +216,10 @@ class GDTerms:
         -------
         GDTerms
         """
-        cat = [np.concatenate([getattr(t, f) for t in parts])
-               for f in ("D_tran", "D_rot", "h_tran", "h_rot", "c")]
+        D_tran, D_rot, h_tran, h_rot, c = (np.concatenate([getattr(t, f) for t in parts])
+                                           for f in ("D_tran", "D_rot", "h_tran", "h_rot", "c"))
         tau_f = None if parts[0].tau_f is None else np.concatenate([t.tau_f for t in parts])
-        return GDTerms(*cat, parts[0].armature, tau_f)
+        return GDTerms(D_tran, D_rot, h_tran, h_rot, c, parts[0].armature, tau_f)
 
     @property
     def h(self) -> np.ndarray:

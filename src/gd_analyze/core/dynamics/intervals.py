@@ -13,6 +13,10 @@ real range (Moore, Kearfott & Cloud, *Introduction to Interval Analysis*, SIAM 2
 from __future__ import annotations
 
 import numpy as np
+import numpy.typing as npt
+
+#: A batch of intervals: (lower, upper) bounds, elementwise.
+_Interval = tuple[npt.NDArray[np.float64], npt.NDArray[np.float64]]
 
 __all__ = ["point", "add", "sub", "mul", "scale", "magnitude", "cos_sin", "cross",
            "matvec", "ROUNDING"]
@@ -25,7 +29,7 @@ def _out(lo, hi):
     return np.nextafter(lo, -np.inf), np.nextafter(hi, np.inf)
 
 
-def point(x):
+def point(x: npt.ArrayLike) -> _Interval:
     """The degenerate interval [x, x].
 
     Parameters
@@ -42,7 +46,7 @@ def point(x):
     return x, x
 
 
-def add(a, b):
+def add(a: _Interval, b: _Interval) -> _Interval:
     """a + b, rounded outward.
 
     Parameters
@@ -63,7 +67,7 @@ def add(a, b):
     return _out(a[0] + b[0], a[1] + b[1])
 
 
-def sub(a, b):
+def sub(a: _Interval, b: _Interval) -> _Interval:
     """a - b, rounded outward.
 
     Parameters
@@ -78,7 +82,7 @@ def sub(a, b):
     return _out(a[0] - b[1], a[1] - b[0])
 
 
-def mul(a, b):
+def mul(a: _Interval, b: _Interval) -> _Interval:
     """a b, rounded outward (the four endpoint products).
 
     Parameters
@@ -100,7 +104,7 @@ def mul(a, b):
                 np.maximum(np.maximum(p[0], p[1]), np.maximum(p[2], p[3])))
 
 
-def scale(a, c):
+def scale(a: _Interval, c: float) -> _Interval:
     """c a for a point number c, rounded outward.
 
     Parameters
@@ -117,7 +121,7 @@ def scale(a, c):
     return _out(np.minimum(lo, hi), np.maximum(lo, hi))
 
 
-def magnitude(a):
+def magnitude(a: _Interval) -> npt.NDArray[np.float64]:
     """max |x| over the interval.
 
     Parameters
@@ -132,7 +136,8 @@ def magnitude(a):
     return np.maximum(np.abs(a[0]), np.abs(a[1]))
 
 
-def cos_sin(lo, hi):
+def cos_sin(lo: npt.NDArray[np.float64],
+            hi: npt.NDArray[np.float64]) -> tuple[_Interval, _Interval]:
     """Enclosures of cos and sin over [lo, hi].
 
     Parameters
@@ -175,7 +180,7 @@ def cos_sin(lo, hi):
     return enclose(lo, hi), enclose(lo - np.pi / 2, hi - np.pi / 2)
 
 
-def cross(a, b):
+def cross(a: _Interval, b: _Interval) -> _Interval:
     """The cross product a x b of interval vectors.
 
     Parameters
@@ -198,7 +203,7 @@ def cross(a, b):
     return np.stack([p[0] for p in parts], -1), np.stack([p[1] for p in parts], -1)
 
 
-def matvec(M, v):
+def matvec(M: npt.NDArray[np.float64], v: _Interval) -> _Interval:
     """M v for a point matrix M and an interval vector v, rounded outward.
 
     Parameters
