@@ -24,8 +24,12 @@ import hashlib
 import json
 import os
 import stat
+from collections.abc import Mapping, Sequence
+from pathlib import Path
+from typing import Any
 
 import numpy as np
+import numpy.typing as npt
 
 from ..config import cache_dir
 from ..errors import InputWarning
@@ -40,7 +44,7 @@ class CacheWarning(InputWarning):
     the command line prints it as one ``gd-analyze: warning: ...`` line."""
 
 
-def canonical(key):
+def canonical(key: Mapping[str, Any]) -> str:
     """The key as canonical JSON text (sorted keys, no spaces).
 
     Parameters
@@ -55,7 +59,7 @@ def canonical(key):
     return json.dumps(key, sort_keys=True, separators=(",", ":"))
 
 
-def entry_path(prefix, key):
+def entry_path(prefix: str, key: Mapping[str, Any]) -> Path | None:
     """Where the entry of a key lives, or None when caching is disabled.
 
     Parameters
@@ -77,7 +81,7 @@ def entry_path(prefix, key):
     return folder / f"{prefix}-{digest[:40]}.npz"
 
 
-def checksum(arrays, fields):
+def checksum(arrays: Mapping[str, npt.NDArray[Any]], fields: Sequence[str]) -> str:
     """SHA-256 of arrays: each field's name, dtype, shape and bytes, in the given order.
 
     Parameters
@@ -142,7 +146,8 @@ def _load_stored(fh, names, max_bytes):
     return out
 
 
-def read_entry(path, key, fields, max_bytes):
+def read_entry(path: Path, key: Mapping[str, Any], fields: Sequence[str],
+               max_bytes: int) -> dict[str, npt.NDArray[Any]] | str | None:
     """The stored arrays of an entry whose key and checksum match, or why it is not used.
 
     Parameters
@@ -172,7 +177,7 @@ def read_entry(path, key, fields, max_bytes):
         if info.st_size > max_bytes:
             return f"is larger than {max_bytes} bytes"
         with os.fdopen(fd, "rb") as fh:
-            fd = None
+            fd = None  # type: ignore[assignment]  # fh closes it now
             stored = _load_stored(fh, (*fields, "key", "checksum"), max_bytes)
     except _Refused as exc:
         return str(exc)
@@ -189,7 +194,7 @@ def read_entry(path, key, fields, max_bytes):
     return arrays
 
 
-def write_entry(path, key, arrays):
+def write_entry(path: Path, key: Mapping[str, Any], arrays: Mapping[str, Any]) -> None:
     """Write an entry atomically (:func:`gd_analyze.files.atomic_path`); silent when the
     folder is not writable.
 

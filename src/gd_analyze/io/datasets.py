@@ -18,7 +18,10 @@ Files are written to a temporary name in the destination folder and renamed
 
 from __future__ import annotations
 
+import os
+from collections.abc import Mapping, Sequence
 from pathlib import Path
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
@@ -37,6 +40,14 @@ from ..core.selection.ranking import (
 )
 from .names import VERIFICATION_PREFIX, Attr, Var
 from .schema import MIXED_UNITS, element_coords, global_attributes, joint_coordinate, var
+
+if TYPE_CHECKING:
+    import xarray as xr
+
+    from ..core.dynamics.dalembert import GDTerms
+    from ..core.selection.region import Region
+    from ..core.selection.simplified import SimplifiedModel
+    from .trajectory import Trajectory
 
 __all__ = ["build_dataset", "summary_dataset", "with_setpoints", "setpoint_arrays", "SetpointWriter", "SETPOINT_DIM",
            "SETPOINT_VARIABLES", "FRICTION_VARIABLE", "setpoint_variables", "setpoint_units", "joint_units", "units_attribute",
@@ -75,7 +86,7 @@ FRICTION_VARIABLE = {Var.TAU_F: (("t", "joint"), "N m",
                                "torque_offset")}
 
 
-def setpoint_variables(friction=False):
+def setpoint_variables(friction: bool = False) -> dict[str, Any]:
     """The per-set-point variables of a dataset: name -> (dims, units, long_name).
 
     Parameters
@@ -98,7 +109,8 @@ JOINT_UNIT_COORDS = {Var.Q_UNITS: ("q", "units of q of the joint (rad or m)"),
                       Var.TAU_UNITS: ("tau", "units of tau, h and c of the joint (N m or N)")}
 
 
-def guarantee_fields(model, torque_units="N m"):
+def guarantee_fields(model: SimplifiedModel,
+                     torque_units: str = "N m") -> tuple[dict[str, Any], dict[str, Any]]:
     """The simplified model's guarantee as the results dataset stores it (issue 29 item 4).
 
     Parameters
@@ -120,7 +132,7 @@ def guarantee_fields(model, torque_units="N m"):
         every output prints) and, with a guarantee, ``simplified_guarantee_tolerance`` (EPS);
         with a region, :func:`region_fields`' ``region_*``.
     """
-    g = model.guarantee
+    g: Any = model.guarantee       # a Guarantee or None
     attrs = {Attr.SIMPLIFIED_GUARANTEE_KIND: "none" if g is None else g.kind,
              Attr.SIMPLIFIED_GUARANTEE_STATEMENT: model.scope()}
     if g is None:
@@ -137,7 +149,7 @@ def guarantee_fields(model, torque_units="N m"):
             }, attrs
 
 
-def region_fields(region):
+def region_fields(region: Region | None) -> tuple[dict[str, Any], dict[str, Any]]:
     """The region of a model's guarantee as the results dataset stores it.
 
     Parameters
@@ -195,7 +207,7 @@ def region_fields(region):
     return out, attrs
 
 
-def stored_region(ds):
+def stored_region(ds: xr.Dataset) -> dict[str, Any] | None:
     """The region of the model built, read back from a results dataset.
 
     Parameters
@@ -225,7 +237,7 @@ def stored_region(ds):
     return out
 
 
-def stored_guarantee(ds):
+def stored_guarantee(ds: xr.Dataset) -> dict[str, Any] | None:
     """The guarantee of the model built, read back from a results dataset.
 
     Parameters
@@ -250,7 +262,7 @@ def stored_guarantee(ds):
                                ("scale", Var.SIMPLIFIED_GUARANTEE_SCALE))}}
 
 
-def joint_units(prismatic, which):
+def joint_units(prismatic: Sequence[bool] | np.ndarray, which: str) -> list[str]:
     """The stored units of one per-joint quantity, joint by joint.
 
     Parameters
@@ -277,7 +289,7 @@ def joint_units(prismatic, which):
     return [joint_motion_units(bool(p))[k] for p in prismatic]
 
 
-def units_attribute(units, coord):
+def units_attribute(units: Sequence[str], coord: str) -> str:
     """The ``units`` attribute of a per-joint (or per-element) variable.
 
     Parameters
@@ -302,7 +314,7 @@ def units_attribute(units, coord):
     return " or ".join(dict.fromkeys(units)) + f" by joint type (per joint: {coord})"
 
 
-def setpoint_units(name, prismatic=None):
+def setpoint_units(name: str, prismatic: Sequence[bool] | np.ndarray | None = None) -> str:
     """The ``units`` attribute of a variable of :data:`SETPOINT_VARIABLES` for an arm.
 
     Parameters
@@ -339,7 +351,8 @@ def setpoint_units(name, prismatic=None):
     return units_attribute(joint_units(prismatic, "tau"), "tau_units")
 
 
-def setpoint_arrays(trajectory, terms, tau, tau_simplified):
+def setpoint_arrays(trajectory: Trajectory, terms: GDTerms, tau: np.ndarray,
+                    tau_simplified: np.ndarray) -> dict[str, Any]:
     """The per-set-point arrays, keyed as :data:`SETPOINT_VARIABLES`.
 
     Parameters
@@ -617,8 +630,9 @@ class SetpointWriter:
         The joints' names (default ``"joint1"`` .. ``"jointn"``).
     """
 
-    def __init__(self, path, N, n, chunk=8192, compress=0, prismatic=None, friction=False,
-                 joints=None):
+    def __init__(self, path: str | os.PathLike[str], N: int, n: int, chunk: int = 8192,
+                 compress: int = 0, prismatic: Sequence[bool] | np.ndarray | None = None,
+                 friction: bool = False, joints: Sequence[str] | None = None) -> None:
         import h5netcdf
         import h5py
 
@@ -641,7 +655,7 @@ class SetpointWriter:
             v.attrs.update(units=units, long_name=long_name)
             self.variables[name] = v
 
-    def write(self, start, arrays):
+    def write(self, start: int, arrays: Mapping[str, np.ndarray]) -> None:
         """Write a block of set points.
 
         Parameters
@@ -654,7 +668,7 @@ class SetpointWriter:
         for name, values in arrays.items():
             self.variables[name][start:start + len(values)] = values
 
-    def read(self, name, start, stop):
+    def read(self, name: str, start: int, stop: int) -> np.ndarray:
         """Read back set points [start, stop) of a variable.
 
         Parameters
@@ -670,7 +684,7 @@ class SetpointWriter:
         """
         return self.variables[name][start:stop]
 
-    def close(self):
+    def close(self) -> None:
         """Close the file (``with contextlib.closing(SetpointWriter(...)) as w:``)."""
         self._file.close()
 

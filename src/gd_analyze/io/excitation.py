@@ -30,9 +30,12 @@ from __future__ import annotations
 
 import math
 import time
+from collections.abc import Sequence
 from dataclasses import dataclass
+from typing import TYPE_CHECKING
 
 import numpy as np
+from numpy.typing import ArrayLike
 
 from ..core.symbolic.drive_regressor import (
     DRIVE_COLUMNS,
@@ -44,6 +47,9 @@ from ..core.symbolic.drive_regressor import (
 from ..core.symbolic.regressor_kernels import regressor_columns
 from .planning import acceleration_limits, default_motion_range
 from .trajectory import Trajectory
+
+if TYPE_CHECKING:
+    from ..core.model.robot import Robot
 
 __all__ = ["DEFAULT_HARMONICS", "DEFAULT_DURATION", "DEFAULT_SAMPLE_PERIOD", "LIMIT_MARGIN",
            "FourierSeries", "LimitBounds", "Excitation", "limit_bounds", "scaled_condition",
@@ -167,7 +173,7 @@ class LimitBounds:
     qdd_peak: np.ndarray
     points: int
 
-    def within(self, lo, hi, qd_max, qdd_max) -> bool:
+    def within(self, lo: ArrayLike, hi: ArrayLike, qd_max: ArrayLike, qdd_max: ArrayLike) -> bool:
         """Whether every bound is inside the limits (NaN is not).
 
         Parameters
@@ -235,7 +241,7 @@ def scaled_condition(Y: np.ndarray) -> float:
     return float(s[0] / s[-1]) if s[-1] > 0 else math.inf
 
 
-def excitation_condition(robot, columns: IdentificationColumns, series: FourierSeries,
+def excitation_condition(robot: Robot, columns: IdentificationColumns, series: FourierSeries,
                          samples: int = OBJECTIVE_SAMPLES) -> float:
     """The scaled condition number of the identification regressor over one period.
 
@@ -440,8 +446,10 @@ def _fit(series, lo, hi, qd_max, qdd_max):
     return FourierSeries(q0=q0, a=series.a * scale, b=series.b * scale, wf=series.wf)
 
 
-def random_excitation(robot, harmonics: int = DEFAULT_HARMONICS, wf: float = 2 * math.pi / 10,
-                      seed=0, qdd_max=None, margin: float = LIMIT_MARGIN) -> FourierSeries:
+def random_excitation(robot: Robot, harmonics: int = DEFAULT_HARMONICS,
+                      wf: float = 2 * math.pi / 10, seed: int | Sequence[int] = 0,
+                      qdd_max: ArrayLike | None = None,
+                      margin: float = LIMIT_MARGIN) -> FourierSeries:
     """A random Fourier series from rest to rest, each joint scaled to fit its limits.
 
     Parameters
@@ -614,10 +622,11 @@ def _constraints(basis, n, lo, hi, qd, qdd):
     return A, c
 
 
-def plan_excitation(robot, duration: float | None = None, harmonics: int = DEFAULT_HARMONICS,
+def plan_excitation(robot: Robot, duration: float | None = None, harmonics: int = DEFAULT_HARMONICS,
                     base_frequency: float | None = None, n_setpoints: int | None = None,
-                    seed: int = 0, qdd_max=None, starts: int = 2, maxiter: int = 40,
-                    drives=DRIVE_COLUMNS, margin: float = LIMIT_MARGIN) -> Excitation:
+                    seed: int = 0, qdd_max: ArrayLike | None = None, starts: int = 2,
+                    maxiter: int = 40, drives: Sequence[str] = DRIVE_COLUMNS,
+                    margin: float = LIMIT_MARGIN) -> Excitation:
     """An excitation trajectory: a Fourier series minimising the scaled condition number.
 
     Parameters

@@ -29,6 +29,8 @@ An unwritable cache folder is silent: the model is derived each time.
 from __future__ import annotations
 
 import warnings
+from pathlib import Path
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
@@ -39,6 +41,10 @@ from ..core.symbolic.explicit_check import terms_disagreement
 from ..errors import one_line
 from ..files import package_sha256
 from .cache_files import CacheWarning, cache_dir, entry_path, read_entry, write_entry
+
+if TYPE_CHECKING:
+    from ..core.model.robot import Robot
+    from ..core.symbolic.explicit import Term
 
 __all__ = ["cache_dir", "cache_path", "cache_key", "explicit_terms", "CacheWarning",
            "SELF_CHECK_TOLERANCE"]
@@ -52,7 +58,7 @@ SELF_CHECK_TOLERANCE = 1e-10
 _MAX_BYTES = 256 * 2**20
 
 
-def cache_key(robot):
+def cache_key(robot: Robot) -> dict[str, Any]:
     """What an entry of the robot must store to be used.
 
     Parameters
@@ -76,7 +82,7 @@ def cache_key(robot):
                          "offsets_in": "placements", "fields": list(_FIELDS)}}
 
 
-def cache_path(robot):
+def cache_path(robot: Robot) -> Path | None:
     """The robot's entry in the cache folder, or None when caching is disabled.
 
     Parameters

@@ -55,14 +55,22 @@ Group ``/<name>`` per recording, ``<name>`` the file's stem made safe (letters, 
 from __future__ import annotations
 
 import json
+import os
 import re
+from collections.abc import Sequence
 from dataclasses import dataclass, field
 from pathlib import Path
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
 from .._version import VERSION
 from ..core.symbolic.base_parameters import PARAMETER_NAMES
+
+if TYPE_CHECKING:
+    import xarray as xr
+
+    from ..core.model.robot import Robot
 
 __all__ = ["ParameterTable", "RecordingFit", "IdentificationResult", "group_names",
            "identification_tree", "write_identification", "read_identification",
@@ -144,7 +152,7 @@ class RecordingFit:
     notes: tuple = ()
     tau_simplified: np.ndarray | None = None
 
-    def errors(self, which="predicted"):
+    def errors(self, which: str = "predicted") -> tuple[np.ndarray, np.ndarray, float]:
         """Per-joint RMS and relative errors and the total relative error.
 
         Parameters
@@ -212,8 +220,8 @@ class IdentificationResult:
         weights [N m or N].
     """
 
-    prior: object
-    identified: object
+    prior: Robot
+    identified: Robot
     offsets: np.ndarray
     parameters: ParameterTable
     condition_number: float
@@ -231,7 +239,7 @@ class IdentificationResult:
     noise_std: np.ndarray | None = None
 
     @property
-    def dataset(self):
+    def dataset(self) -> dict[str, xr.Dataset]:
         """dict of str -> xarray.Dataset: the store's groups (:func:`identification_tree`)."""
         return identification_tree(self)
 
@@ -239,7 +247,7 @@ class IdentificationResult:
 _UNSAFE = re.compile(r"[^A-Za-z0-9_.-]")
 
 
-def group_names(stems):
+def group_names(stems: Sequence[str]) -> list[str]:
     """Safe, unique netCDF group names from file stems.
 
     Parameters
@@ -296,7 +304,7 @@ def _recording_dataset(fit, joints):
     return ds
 
 
-def identification_tree(result):
+def identification_tree(result: IdentificationResult) -> dict[str, xr.Dataset]:
     """The store's datasets: ``"/"`` for the root and one per recording.
 
     Parameters
@@ -346,7 +354,7 @@ def identification_tree(result):
     return out
 
 
-def write_identification(result, path):
+def write_identification(result: IdentificationResult, path: str | os.PathLike[str]) -> Path:
     """Write ``identification.h5``.
 
     Parameters
@@ -368,7 +376,7 @@ def write_identification(result, path):
     return path
 
 
-def read_identification(path):
+def read_identification(path: str | os.PathLike[str]) -> dict[str, xr.Dataset]:
     """Read ``identification.h5`` back.
 
     Parameters
@@ -397,7 +405,7 @@ def _finite(values):
     return [float(v) if np.isfinite(v) else None for v in np.atleast_1d(values)]
 
 
-def recordings_json(result):
+def recordings_json(result: IdentificationResult) -> dict[str, Any]:
     """The ``--json`` object: recordings with their errors, and the condition number.
 
     Parameters

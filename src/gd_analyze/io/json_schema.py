@@ -18,6 +18,7 @@ import json
 import math
 import os
 from importlib import resources
+from typing import Any
 
 import numpy as np
 
@@ -116,7 +117,7 @@ class Schema:
         self.document = document
 
     @functools.cached_property
-    def validator(self):
+    def validator(self) -> Any:
         """The :class:`jsonschema.Draft202012Validator` (with JSON's own types) of the
         document, made at the first check."""
         return _validator_class()(self.document)
@@ -210,7 +211,7 @@ def _depth(text):
     return int(np.cumsum(steps).max())
 
 
-def load_json(path, what="JSON"):
+def load_json(path: str | os.PathLike[str], what: str = "JSON") -> Any:
     """Read a JSON file strictly.
 
     Parameters

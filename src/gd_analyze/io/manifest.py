@@ -185,7 +185,8 @@ def _unchanged(folder, path, entry, st):
     return any(e["sha256"] == digest for e in accepted)
 
 
-def folder_owners(folder: str | os.PathLike[str], command: str, shown_as: str | None = None,
+def folder_owners(folder: str | os.PathLike[str], command: str,
+                  shown_as: str | os.PathLike[str] | None = None,
                   skip: Collection[str] = ()) -> FolderOwners:
     """Read the manifests of an output folder and check that gd-analyze wrote every file.
 

@@ -17,11 +17,14 @@ from __future__ import annotations
 import csv
 import hashlib
 import io
+import os
 import re
 import warnings
 from dataclasses import dataclass
+from typing import Any
 
 import numpy as np
+from numpy.typing import ArrayLike
 
 from ..core.model.limits import LIMITS, exact_text, first_beyond
 from ..errors import InputError, InputNote
@@ -75,7 +78,7 @@ class Recording:
     notes: tuple = ()
 
     @property
-    def n(self):
+    def n(self) -> int:
         """int: the number of joints."""
         return int(self.q.shape[1])
 
@@ -237,7 +240,8 @@ def _ordered(t, arrays, rows, path):
     return t, arrays, rows, notes
 
 
-def read_recording(path, n_joints=None, current=False):
+def read_recording(path: str | os.PathLike[str], n_joints: int | None = None,
+                   current: bool = False) -> Recording:
     """Read and check a recording CSV file.
 
     Parameters
@@ -289,7 +293,9 @@ def read_recording(path, n_joints=None, current=False):
                      source=path, sha256=sha256, notes=tuple(notes))
 
 
-def recording_from_arrays(t, q, tau, qd=None, qdd=None, source="arrays", current=False):
+def recording_from_arrays(t: ArrayLike, q: ArrayLike, tau: ArrayLike, qd: ArrayLike | None = None,
+                          qdd: ArrayLike | None = None, source: str = "arrays",
+                          current: bool = False) -> Recording:
     """A recording from arrays (the API's in-memory input), checked as a file is.
 
     Parameters
@@ -315,7 +321,7 @@ def recording_from_arrays(t, q, tau, qd=None, qdd=None, source="arrays", current
         If the shapes disagree, a value is not finite, or there are too few distinct stamps.
     """
     t = np.asarray(t, float).reshape(-1)
-    arrays = [None if a is None else np.atleast_2d(np.asarray(a, float)) for a in
+    arrays: list[Any] = [None if a is None else np.atleast_2d(np.asarray(a, float)) for a in
               (q, tau, qd, qdd)]
     for name, a in zip(("q", "tau", "qd", "qdd"), arrays):
         if a is None:
@@ -328,8 +334,8 @@ def recording_from_arrays(t, q, tau, qd=None, qdd=None, source="arrays", current
     if not np.isfinite(t).all():
         raise InputError("t holds a value that is not finite", source, column="t")
     rows = np.arange(2, t.size + 2)
-    t, (q, tau, qd, qdd), rows, notes = _ordered(t, arrays, rows, source)
+    ts, (qs, taus, qds, qdds), rows, notes = _ordered(t, arrays, rows, source)
     digest = hashlib.sha256(b"".join(np.ascontiguousarray(a).tobytes() for a in
-                                     (t, q, tau) if a is not None)).hexdigest()
-    return Recording(t=t, q=q, tau=tau, qd=qd, qdd=qdd, rows=rows, current=bool(current),
+                                     (ts, qs, taus) if a is not None)).hexdigest()
+    return Recording(t=ts, q=qs, tau=taus, qd=qds, qdd=qdds, rows=rows, current=bool(current),
                      source=source, sha256=digest, notes=tuple(notes))

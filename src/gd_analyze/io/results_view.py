@@ -329,7 +329,7 @@ class Results:
         return cls.from_dataset(open_results(path, lazy=lazy), source=str(path))
 
     @classmethod
-    def of(cls, results) -> Results:
+    def of(cls, results: Results | xr.Dataset) -> Results:
         """The view itself, or the view of a results dataset.
 
         Parameters
@@ -345,10 +345,10 @@ class Results:
         InputError
             As :meth:`from_dataset`.
         """
-        return results if isinstance(results, cls) else cls.from_dataset(results)
+        return results if isinstance(results, Results) else cls.from_dataset(results)
 
     @classmethod
-    def from_dataset(cls, ds, source: str = "<memory>") -> Results:
+    def from_dataset(cls, ds: xr.Dataset, source: str = "<memory>") -> Results:
         """The view of a results dataset (in memory, or opened by :meth:`open`).
 
         Parameters

@@ -12,6 +12,11 @@ from __future__ import annotations
 
 import json
 import math
+from collections.abc import Sequence
+from typing import TYPE_CHECKING
+
+if TYPE_CHECKING:
+    from ..core.model.robot import Robot
 
 __all__ = ["robot_toml"]
 
@@ -42,7 +47,7 @@ def _given(key, value):
     return True
 
 
-def robot_toml(robot, comments=()):
+def robot_toml(robot: Robot, comments: Sequence[str] = ()) -> str:
     """The robot as robot-file TOML text.
 
     Parameters

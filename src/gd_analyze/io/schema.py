@@ -11,8 +11,10 @@ from __future__ import annotations
 
 import datetime
 import os
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
+from numpy.typing import ArrayLike
 
 from .._version import VERSION as __version__
 from ..core.selection.labels import element_index, element_units
@@ -20,6 +22,13 @@ from ..core.selection.ranking import element_labels
 from ..errors import InputError
 from ..files import atomic_path
 from .names import Attr, Var
+
+if TYPE_CHECKING:
+    from collections.abc import Sequence
+
+    import xarray as xr
+
+    from ..core.model.robot import Robot
 
 __all__ = ["CONVENTIONS", "MIXED_UNITS", "var", "attribute_value", "global_attributes",
            "element_coords", "joint_coordinate", "strings", "write_dataset", "append_dataset", "open_results",
@@ -31,7 +40,7 @@ CONVENTIONS = "CF-1.10"
 MIXED_UNITS = "per element: element_units (kg m2, kg m or kg for D; N m or N for h)"
 
 
-def append_dataset(ds, path):
+def append_dataset(ds: xr.Dataset, path: str | os.PathLike[str]) -> None:
     """Add a dataset's variables and attributes to a netCDF4/HDF5 file, through h5netcdf.
 
     Parameters
@@ -63,7 +72,8 @@ def append_dataset(ds, path):
         store.close()
 
 
-def var(dims, data, units, long_name, **attrs):
+def var(dims: tuple[str, ...], data: ArrayLike, units: str, long_name: str,
+        **attrs: Any) -> tuple[Any, ...]:
     """One variable as xarray takes it: ``(dims, data, attrs)`` with ``units`` and ``long_name``.
 
     Parameters
@@ -86,7 +96,7 @@ def var(dims, data, units, long_name, **attrs):
     return (dims, data, {"units": units, "long_name": long_name, **attrs})
 
 
-def attribute_value(value):
+def attribute_value(value: object) -> Any:
     """A value as an HDF5 attribute can hold it: numbers, strings or numeric arrays.
 
     Parameters
@@ -112,8 +122,9 @@ def attribute_value(value):
     return value
 
 
-def global_attributes(robot, title, references="Fu, Gonzalez & Lee (1987), Robotics, Sec. 3.4; "
-                      "Lee, Lee & Nigam (1983)", **extra):
+def global_attributes(robot: Robot, title: str,
+                      references: str = "Fu, Gonzalez & Lee (1987), Robotics, Sec. 3.4; " "Lee, Lee & Nigam (1983)",
+                      **extra: Any) -> dict[str, Any]:
     """The CF-style global attributes every gd-analyze dataset carries: its provenance.
 
     Parameters
@@ -140,7 +151,7 @@ def global_attributes(robot, title, references="Fu, Gonzalez & Lee (1987), Robot
     """
 
     now = datetime.datetime.now(datetime.timezone.utc).replace(microsecond=0).isoformat()
-    attrs = {
+    attrs: dict[str, Any] = {
         Attr.CONVENTIONS: CONVENTIONS,
         Attr.TITLE: title,
         Attr.SOURCE: f"gd-analyze {__version__}",
@@ -155,13 +166,14 @@ def global_attributes(robot, title, references="Fu, Gonzalez & Lee (1987), Robot
         Attr.GRAVITY: np.asarray(robot.gravity, dtype=float),
         Attr.GRAVITY_UNITS: "m s-2",
     }
-    if (robot.metadata or {}).get("placeholder_inertia"):
+    if robot.metadata.get("placeholder_inertia"):     # a read-only mapping, maybe empty
         attrs[Attr.ROBOT_PLACEHOLDER_INERTIA] = 1     # its inertia tensors are not measured
     attrs.update({k: attribute_value(v) for k, v in extra.items()})
     return attrs
 
 
-def joint_coordinate(names, dim="joint", long_name="joint"):
+def joint_coordinate(names: Sequence[str], dim: str = "joint",
+                     long_name: str = "joint") -> tuple[Any, ...]:
     """The coordinate of a joint dimension: the joints' names.
 
     Parameters
@@ -189,7 +201,8 @@ def joint_coordinate(names, dim="joint", long_name="joint"):
             {"long_name": long_name, "units": "1"})
 
 
-def element_coords(n, prismatic=None, joints=None):
+def element_coords(n: int, prismatic: Sequence[bool] | np.ndarray | None = None,
+                   joints: Sequence[str] | None = None) -> dict[str, Any]:
     """Coordinates ``element`` (with ``element_units``) and ``joint`` for an n-joint robot.
 
     Parameters
@@ -224,7 +237,7 @@ def element_coords(n, prismatic=None, joints=None):
     }
 
 
-def strings(values):
+def strings(values: ArrayLike) -> list[str]:
     """Decode an array of bytes or str read from a file into a list of str.
 
     Parameters
@@ -239,7 +252,7 @@ def strings(values):
     return [v.decode() if isinstance(v, bytes) else str(v) for v in np.asarray(values).ravel()]
 
 
-def write_dataset(ds, path):
+def write_dataset(ds: xr.Dataset, path: str | os.PathLike[str]) -> None:
     """Write a dataset to HDF5/netCDF4 with h5netcdf, atomically.
 
     Parameters
@@ -260,7 +273,7 @@ def write_dataset(ds, path):
         ds.to_netcdf(tmp, engine="h5netcdf", encoding=encoding, invalid_netcdf=False)
 
 
-def open_results(path, lazy=False):
+def open_results(path: str | os.PathLike[str], lazy: bool = False) -> xr.Dataset:
     """Open a results file written by :func:`write_dataset`.
 
     Parameters
@@ -299,7 +312,7 @@ def open_results(path, lazy=False):
         raise InputError(f"not a gd-analyze results file: {exc}", path) from None
 
 
-def open_sweep(path, kind="sweep"):
+def open_sweep(path: str | os.PathLike[str], kind: str = "sweep") -> xr.Dataset:
     """Read a sweep file written by :func:`gd_analyze.io.schema.write_dataset`.
 
     Parameters

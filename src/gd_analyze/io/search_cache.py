@@ -29,11 +29,18 @@ entry is rewritten.
 
 from __future__ import annotations
 
+from collections.abc import Mapping, Sequence
+from typing import TYPE_CHECKING, Any
+
 import numpy as np
 
 from ..core.symbolic.newton_euler import FORMS
 from .cache_files import entry_path, read_entry, write_entry
 from .certification_cache import certification_key
+
+if TYPE_CHECKING:
+    from ..core.model.robot import Robot
+    from ..core.selection.region import Region
 
 __all__ = ["search_key", "read_search", "write_search", "SEARCH_FIELDS"]
 
@@ -47,7 +54,8 @@ _FORMAT = 1
 _MAX_BYTES = 2**20
 
 
-def search_key(robot, region, tolerance, torque_floor, samples):
+def search_key(robot: Robot, region: Region, tolerance: float, torque_floor: float,
+               samples: int) -> dict[str, Any]:
     """What an entry must store to be used.
 
     Parameters
@@ -74,7 +82,7 @@ def search_key(robot, region, tolerance, torque_floor, samples):
     return key
 
 
-def read_search(key, n, b):
+def read_search(key: Mapping[str, Any], n: int, b: int) -> dict[str, Any] | str | None:
     """The stored searches of a key, or why they are not used.
 
     Parameters
@@ -113,7 +121,8 @@ def read_search(key, n, b):
             "pruned_forms": None if none else tuple(FORMS[int(k)] for k in pruned)}
 
 
-def write_search(key, dropped, whole, exact_forms, pruned_forms):
+def write_search(key: Mapping[str, Any], dropped: np.ndarray, whole: np.ndarray,
+                 exact_forms: Sequence[str], pruned_forms: Sequence[str] | None) -> None:
     """Keep the searches' outcome (silent when the cache is off or not writable).
 
     Parameters

@@ -47,6 +47,7 @@ import shutil
 import signal
 import stat
 import sys
+from collections.abc import Iterable, Iterator
 from pathlib import Path
 
 from .._version import VERSION as __version__
@@ -66,7 +67,7 @@ RECORD_LIMIT = 1 << 16
 SPACE_MARGIN = 16 << 20
 
 
-def install_signal_handlers():
+def install_signal_handlers() -> None:
     """Turn SIGTERM and SIGHUP into :class:`Terminated` and SIGINT into KeyboardInterrupt so
     that ``finally`` blocks run: the one handler of :func:`gd_analyze.io.signals.install`.
     Call from the main thread only.
@@ -74,7 +75,7 @@ def install_signal_handlers():
     install()
 
 
-def safe_name(name, fallback="robot"):
+def safe_name(name: str, fallback: str = "robot") -> str:
     """A robot or file name made safe as one path component.
 
     Parameters
@@ -105,7 +106,7 @@ def safe_name(name, fallback="robot"):
     return text or fallback
 
 
-def check_output_file(path):
+def check_output_file(path: str | os.PathLike[str]) -> None:
     """Check that a single output file can be written at ``path``: only a regular file is ever
     replaced.
 
@@ -142,7 +143,8 @@ def check_output_file(path):
         raise InputError("cannot write in its folder (permission denied)", path)
 
 
-def check_free_space(folder, need_bytes, what="the results"):
+def check_free_space(folder: str | os.PathLike[str], need_bytes: int,
+                     what: str = "the results") -> None:
     """Refuse to start a write that cannot fit.
 
     Parameters
@@ -349,7 +351,7 @@ def _carry(real, stage, owners, command, tops=None):
 _SIBLING_EXTRA = 1 + len(TMP_MARK) + 16
 
 
-def sibling_stem(parent, name):
+def sibling_stem(parent: Path, name: str) -> str:
     """The folder's name as it appears in the names of its siblings (lock, staging, previous
     set): the name itself, or where that would make a sibling's name longer than the file
     system allows, its first characters and the SHA-256 of the whole name.
@@ -424,7 +426,8 @@ def _in_place(real):
 
 
 @contextlib.contextmanager
-def staged_output(target, outputs=(), command="output"):
+def staged_output(target: str | os.PathLike[str], outputs: Iterable[str] = (),
+                  command: str = "output") -> Iterator[Path]:
     """Write a run's files aside and put them into ``target`` as one set.
 
     Parameters

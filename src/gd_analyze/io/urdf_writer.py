@@ -13,9 +13,14 @@ XML-escaped (:func:`xml.sax.saxutils.quoteattr`); comments cannot close themselv
 from __future__ import annotations
 
 import math
+from collections.abc import Sequence
+from typing import TYPE_CHECKING
 from xml.sax.saxutils import quoteattr
 
 import numpy as np
+
+if TYPE_CHECKING:
+    from ..core.model.robot import Robot
 
 __all__ = ["robot_urdf"]
 
@@ -39,7 +44,7 @@ def _comment(text):
     return "<!-- " + str(text).replace("--", "- -").replace("\n", " ") + " -->"
 
 
-def robot_urdf(robot, comments=()):
+def robot_urdf(robot: Robot, comments: Sequence[str] = ()) -> str:
     """The robot as URDF text.
 
     Parameters
