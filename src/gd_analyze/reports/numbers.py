@@ -1,5 +1,5 @@
 """Numbers as the reports print them: significant digits, percentages in one format per
-column, and counts with a thousands separator.
+column, counts with a thousands separator, and powers of ten in superscripts.
 
 Private to the reports (:mod:`gd_analyze.reports.common` re-exports these names).
 """
@@ -16,7 +16,7 @@ if TYPE_CHECKING:
     import numpy.typing as npt
 
 __all__ = ["fmt", "fmt_column", "fmt_columns", "given", "count", "share", "pct", "pct_column",
-           "pct_columns"]
+           "pct_columns", "power_of_ten", "decade_label"]
 
 #: :func:`fmt_column` writes a column in fixed notation with at most this many decimals and
 #: this many digits more than its significant ones in its widest entry (magnitudes over three
@@ -364,3 +364,55 @@ def pct_column(values: npt.ArrayLike, off: npt.ArrayLike | None = None) -> list[
 
     return ["\u2261 0" if h else "n/a" if not math.isfinite(x) else cell(x)
             for x, h in zip(v, hide)]
+
+
+#: Superscript digits and minus, for a power of ten written without mathtext.
+_SUPERSCRIPT = str.maketrans("-0123456789", "\u207b\u2070\u00b9\u00b2\u00b3\u2074\u2075\u2076"
+                                             "\u2077\u2078\u2079")
+
+
+def power_of_ten(k: int) -> str:
+    """10^k in Unicode superscripts, as the reports write a power of ten without mathtext.
+
+    Parameters
+    ----------
+    k : int
+        The exponent.
+
+    Returns
+    -------
+    str
+
+    Examples
+    --------
+    >>> power_of_ten(-5), power_of_ten(12)
+    ('10⁻⁵', '10¹²')
+    """
+    return "10" + str(int(k)).translate(_SUPERSCRIPT)
+
+
+def decade_label(x: float) -> str:
+    """A decade of a logarithmic axis as a power of ten, in Unicode superscripts.
+
+    Parameters
+    ----------
+    x : float
+        The tick [data units].
+
+    Returns
+    -------
+    str
+        ``"10⁶"`` for 1e6 (never the code-like ``"1e6"``); ``""`` for a tick that is no power
+        of ten.
+
+    Examples
+    --------
+    >>> decade_label(1e6), decade_label(0.01), decade_label(300.0)
+    ('10⁶', '10⁻²', '')
+    """
+    if not x > 0:
+        return ""
+    k = round(math.log10(x))
+    if abs(x / 10.0 ** k - 1.0) > 1e-9:
+        return ""
+    return power_of_ten(k)

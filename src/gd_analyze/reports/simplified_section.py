@@ -9,6 +9,8 @@ time; nothing is recomputed.
 
 from __future__ import annotations
 
+from typing import TYPE_CHECKING, Any
+
 import numpy as np
 
 from ..core.selection.ranking import ROUND_OFF, ROUND_OFF_CLAUSE, arm_scales, is_round_off
@@ -29,20 +31,24 @@ from .markup import element as _el
 from .markup import powers
 from .markup import scope as scope_markup
 from .markup import sub as _sub
+from .plot_data import PlotData
 from .ticks import MINUS, label_axes, set_ticks
+
+if TYPE_CHECKING:
+    import xarray as xr
+    from matplotlib.figure import Figure
 
 __all__ = ["has_simplified", "simplified_context", "error_figure", "SIMPLIFIED_CAPTION", "ROUND_OFF",
            "simplified_caption", "region_pruning", "guarantee_kind", "BOUND_WHERE", "has_drives", "REGION_SCALE"]
 
 #: Caption of the torque-error figure; ``{units}`` as :func:`simplified_caption` fills it.
-SIMPLIFIED_CAPTION = ("Torque error of the simplified model, \u03c4\u209b \u2212 \u03c4 "
-                      "[{units}], "
+SIMPLIFIED_CAPTION = ("Torque error of the simplified model, \u03c4\u209b \u2212 \u03c4 [{units}], "
                       "per joint against time, with the bound \u00b1 (dotted), {where}, "
                       + ROUND_OFF_CLAUSE + ". The joints whose model "
                       "drops nothing (bound 0) get no panel: the note below names them; their "
                       "difference is floating-point round-off.")
 
-def simplified_caption(ds):
+def simplified_caption(ds: xr.Dataset) -> str:
     """The caption of :func:`error_figure`, with the units of each joint's torque.
 
     Parameters
@@ -55,7 +61,7 @@ def simplified_caption(ds):
         :data:`SIMPLIFIED_CAPTION` in N m, or N m and N for an arm with a prismatic joint,
         saying where the bound holds from the stored guarantee's kind (:data:`BOUND_WHERE`).
     """
-    where = (BOUND_WHERE["region"] if _kind(ds) == "region" else BOUND_WHERE["trajectory"])
+    where = BOUND_WHERE["region" if guarantee_kind(ds) == "region" else "trajectory"]
     return SIMPLIFIED_CAPTION.format(units=units_said_once(ds, "tau"), where=where)
 
 
@@ -66,7 +72,7 @@ BOUND_WHERE = {"region": "proved at every state of the region (positions, veloci
                "trajectory": "guaranteed on this trajectory only"}
 
 
-def has_simplified(ds):
+def has_simplified(ds: xr.Dataset) -> bool:
     """Whether the dataset holds the issue-8 simplified-model variables.
 
     Parameters
@@ -97,7 +103,7 @@ def _num(v, digits=4):
     return "\u2014" if not np.isfinite(v) else fmt(v, digits)
 
 
-def inertia_check_text(attrs):
+def inertia_check_text(attrs: dict[str, Any]) -> str:
     """The sentence on the proof that D_s is positive definite, from the stored figures.
 
     Parameters
@@ -141,7 +147,7 @@ def inertia_check_text(attrs):
                ": forward dynamics with it is not safe there."))
 
 
-def simplified_context(ds):
+def simplified_context(ds: xr.Dataset) -> dict[str, Any]:
     """Tables and text of the "Simplified model" section.
 
     Parameters
@@ -256,11 +262,11 @@ def simplified_context(ds):
                               if has_bound else []))],
                        align=["right"] * (4 + has_bound))
     skipped = str(ds.attrs.get(Attr.SIMPLIFIED_LADDER_SKIPPED, "")) if ladder is None else ""
-    region, region_text = region_table(ds)
+    region_rows, region_text = region_table(ds)
     ladder_form = str(a.get(Attr.SIMPLIFIED_LADDER_FORM, "explicit"))
     return {"text": text, "bound": bound, "costs": costs, "ladder": ladder, "files": files,
             "prefix": str(a.get(Attr.C_PREFIX, "")),
-            "region": region, "region_text": region_text,
+            "region": region_rows, "region_text": region_text,
             "rule": rule, "tolerance": eps,
             "form_note": str(a.get(Attr.SIMPLIFIED_FORM_NOTE, "")),
             "screen_note": _screen_note(a),
@@ -275,7 +281,7 @@ def _screen_note(attrs):
     return f"Region certification skipped: {said}." if said else ""
 
 
-def region_table(ds):
+def region_table(ds: xr.Dataset) -> tuple[dict[str, Any] | None, str]:
     """The region of the model's guarantee as a table, and whether it covers this trajectory.
 
     Parameters
@@ -323,7 +329,7 @@ def region_table(ds):
     elif r["covered"] is False:
         text += (f" This trajectory leaves the region: {r['coverage']}. "
                  + ("The region's guarantee holds in the region, not on this trajectory: "
-                    "it does not cover it." if _kind(ds) == "region" else ""))
+                    "it does not cover it." if guarantee_kind(ds) == "region" else ""))
     return tab, powers(text)               # s^-1, deg/s^2 as superscripts
 
 
@@ -341,12 +347,11 @@ def _recursive_text(ds, eps, floor):
             "D q\u0308), a velocity part (in h) and a gravity part (in c). ")
     if dropped == 0:
         return text + (f"Rule: error budget, \u03b5\u00a0=\u00a0{eps:g}: no part is dropped, "
-                       "the model is "
-                       "exact (its difference from the full torque is round-off)."
+                       "the model is exact (its difference from the full torque is round-off)."
                        + _scope(ds, exact=True))
     rule = (f"Rule: error budget, \u03b5\u00a0=\u00a0{eps:g}"
             + (f", torque floor {floor:g} N m" if floor else ""))
-    if _kind(ds) == "region":
+    if guarantee_kind(ds) == "region":
         return text + rule + ". " + region_pruning(pairs, dropped, drives=has_drives(ds)) \
             + _scope(ds, exact=True)
     return text + (rule + f". Of the {pairs} (parameter, part) pairs that contribute on this "
@@ -358,7 +363,7 @@ def _recursive_text(ds, eps, floor):
                    "that sum: " + _scope(ds))
 
 
-def has_drives(ds):
+def has_drives(ds: xr.Dataset) -> bool:
     """Whether the dataset's robot has drives (armature or friction), which the region's
     scale s_i leaves out.
 
@@ -385,7 +390,7 @@ REGION_SCALE = {False: f"{_S_I} = the largest |{_TAU_I}| found over the region",
                       f"them whole; {_TAU_I} in the tables and figures includes them)"}
 
 
-def region_pruning(pairs, dropped, bound="the bound below", drives=False):
+def region_pruning(pairs: int, dropped: int, bound: str = "the bound below", drives: bool = False) -> str:
     """How a recursive model was pruned over the joint-limit region, in the words of every
     report (the main report's Sec. 5.3, the sweep report's Sec. 5).
 
@@ -412,7 +417,7 @@ def region_pruning(pairs, dropped, bound="the bound below", drives=False):
             f"bound). The error at every state of the region is within that bound, {bound}.")
 
 
-def guarantee_kind(ds):
+def guarantee_kind(ds: xr.Dataset) -> str:
     """The stored guarantee's kind.
 
     Parameters
@@ -424,19 +429,14 @@ def guarantee_kind(ds):
     str
         ``"region"``, ``"trajectory"``, or ``"none"`` where the dataset stores none.
     """
-
     g = stored_guarantee(ds)
     return "none" if g is None else g["kind"]
-
-
-_kind = guarantee_kind
 
 
 def _scope(ds, exact=False):
     """Where the bound holds: on this trajectory (the table's bound), and the model's
     guarantee as stored from the model built (:func:`gd_analyze.io.datasets.stored_guarantee`);
     an older dataset's sentence where none is stored."""
-
     g = stored_guarantee(ds)
     if g is None:
         return "" if exact else (f"the bound below is guaranteed {ROUND_OFF_CLAUSE}, on this "
@@ -482,7 +482,7 @@ def _round_off(diff, bound, scale, arm_scale=None):
                 and is_round_off(float(np.max(np.abs(diff))), scale, arm_scale=arm_scale))
 
 
-def error_figure(ds, width=7.2, data=None):
+def error_figure(ds: xr.Dataset, width: float = 7.2, data: PlotData | None = None) -> Figure:
     """Per-joint plots of tau_s - tau against time, with the guaranteed band +- bound.
 
     Parameters
@@ -591,8 +591,8 @@ def error_figure(ds, width=7.2, data=None):
         ys.append(ax.yaxis)
     label_axes(ys)
     if handles:                     # above the panels: no curve or bound runs through it
-        fig.legend(handles, [hd.get_label() for hd in handles], loc="upper center", ncol=2,
-                   frameon=False, fontsize=7, handlelength=2.6,
+        fig.legend(handles, [str(hd.get_label()) for hd in handles], loc="upper center",
+                   ncol=2, frameon=False, fontsize=7, handlelength=2.6,
                    bbox_to_anchor=(0.5, 1 - 0.08 / H))
     if quiet:
         fig.text(0.1 / W, (note_h - 0.06) / H, note, fontsize=7, va="top", ha="left",

@@ -11,8 +11,20 @@ from __future__ import annotations
 
 import functools
 import math
+from collections.abc import Iterable
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
+
+from .numbers import decade_label, power_of_ten
+
+if TYPE_CHECKING:
+    import numpy.typing as npt
+    from matplotlib.axes import Axes
+    from matplotlib.axis import Axis
+    from matplotlib.figure import Figure
+    from matplotlib.text import Text
+    from matplotlib.ticker import Formatter
 
 __all__ = ["tick_labels", "ticks_once", "tick_texts", "nice_ticks", "set_ticks",
            "formatter", "MINUS", "notation", "label_axes", "with_power"]
@@ -50,7 +62,7 @@ def _sci(x, digits):
     return f"{mant}e{int(exp)}"
 
 
-def tick_labels(values, style=None):
+def tick_labels(values: npt.ArrayLike, style: str | None = None) -> list[str]:
     """Labels of axis ticks, each giving back its tick's value.
 
     Parameters
@@ -116,7 +128,7 @@ def tick_labels(values, style=None):
     return out
 
 
-def notation(values):
+def notation(values: npt.ArrayLike) -> str:
     """The notation :func:`tick_labels` picks for a set of ticks: ``"fixed"`` or ``"sci"``.
 
     Parameters
@@ -137,7 +149,7 @@ def notation(values):
     return "sci" if any("e" in t for t in tick_labels(values)) else "fixed"
 
 
-def label_axes(axes):
+def label_axes(axes: Iterable[Axis]) -> str:
     """Write the tick labels of several axes of one figure in one notation and one form.
 
     Parameters
@@ -188,12 +200,7 @@ def label_axes(axes):
     return "fixed"
 
 
-#: Superscript digits and minus, for a power of ten written without mathtext.
-_SUPERSCRIPT = str.maketrans("-0123456789", "\u207b\u2070\u00b9\u00b2\u00b3\u2074\u2075\u2076"
-                                             "\u2077\u2078\u2079")
-
-
-def with_power(label, k):
+def with_power(label: str, k: int) -> str:
     """An axis label in units of 10^k: ``"[kg m²]"`` reads ``"[10⁻⁵ kg m²]"``.
 
     Parameters
@@ -216,14 +223,14 @@ def with_power(label, k):
     """
     if not k:
         return label
-    power = "10" + str(int(k)).translate(_SUPERSCRIPT)
+    power = power_of_ten(k)
     at = label.rfind("[")
     if at >= 0 and label.endswith("]"):
         return f"{label[:at + 1]}{power} {label[at + 1:]}"
     return f"{label} [\u00d7{power}]" if label else f"\u00d7{power}"
 
 
-def nice_ticks(lo, hi, nbins=3):
+def nice_ticks(lo: float, hi: float, nbins: int = 3) -> npt.NDArray[np.float64]:
     """At most ``nbins + 1`` ticks at round values (1, 2, 2.5, 5 times a power of 10) in [lo, hi].
 
     Parameters
@@ -254,7 +261,7 @@ def nice_ticks(lo, hi, nbins=3):
     best = np.array([0.5 * (lo + hi)])
     # the ticks MaxNLocator places within [lo, hi]: more bins until they would be too many
     for k in range(nbins, 4 * nbins + 4):
-        ticks = MaxNLocator(nbins=k, steps=[1, 2, 2.5, 5, 10]).tick_values(lo, hi)
+        ticks = np.asarray(MaxNLocator(nbins=k, steps=[1, 2, 2.5, 5, 10]).tick_values(lo, hi))
         ticks = ticks[(ticks >= lo - tol) & (ticks <= hi + tol)]
         if len(ticks) > nbins + 1:
             break
@@ -264,7 +271,7 @@ def nice_ticks(lo, hi, nbins=3):
     return best
 
 
-def formatter():
+def formatter() -> Formatter:
     """A :class:`matplotlib.ticker.Formatter` that writes :func:`tick_labels`.
 
     Returns
@@ -284,41 +291,15 @@ def formatter():
     return _Formatter()
 
 
-def decade_label(x):
-    """A decade of a logarithmic axis as a power of ten, in Unicode superscripts.
-
-    Parameters
-    ----------
-    x : float
-        The tick [data units].
-
-    Returns
-    -------
-    str
-        ``"10⁶"`` for 1e6 (never the code-like ``"1e6"``); ``""`` for a tick that is no power
-        of ten.
-
-    Examples
-    --------
-    >>> decade_label(1e6), decade_label(0.01), decade_label(300.0)
-    ('10⁶', '10⁻²', '')
-    """
-    if not x > 0:
-        return ""
-    k = round(math.log10(x))
-    if abs(x / 10.0 ** k - 1.0) > 1e-9:
-        return ""
-    return "10" + str(k).translate(_SUPERSCRIPT)
-
-
-def decade_formatter():
+def decade_formatter() -> Formatter:
     """A :class:`matplotlib.ticker.Formatter` writing :func:`decade_label` (no mathtext)."""
     from matplotlib.ticker import FuncFormatter
 
     return FuncFormatter(lambda x, pos=None: decade_label(x))
 
 
-def set_ticks(axis, lo, hi, nbins=3, labels=True):
+def set_ticks(axis: Axis, lo: float, hi: float, nbins: int = 3,
+              labels: bool = True) -> npt.NDArray[np.float64]:
     """Fixed ticks and labels on one axis of a plot.
 
     Parameters
@@ -384,7 +365,7 @@ def _edge_box(ax, texts, side):
     return box
 
 
-def ticks_once(fig):
+def ticks_once(fig: Figure) -> Figure:
     """Draw each Axes' ticks as one marker line per side and plain texts: no Tick objects.
 
     Matplotlib builds a :class:`~matplotlib.axis.Tick` (two marks, two labels and a gridline)
@@ -419,7 +400,7 @@ def ticks_once(fig):
         # transform of its own (these artists are not clipped: clip_on=False)
         clip = TransformedPatchPath(ax.patch)
         for name, axis in (("x", ax.xaxis), ("y", ax.yaxis)):
-            texts = {1: [], 2: []}              # labels and marks of each side
+            texts: dict[int, list[Any]] = {1: [], 2: []}    # labels and marks of each side
             for which in ("major", "minor"):
                 locs, labels, tick = _shown_ticks(axis, which)
                 if tick is None or not len(locs):
@@ -532,7 +513,7 @@ def _move_label(ax, axis, name, texts):
     label.set_visible(False)
 
 
-def tick_texts(ax, axis="y"):
+def tick_texts(ax: Axes, axis: str = "y") -> list[tuple[float, Text]]:
     """The tick labels :func:`ticks_once` wrote on one axis of an Axes.
 
     Parameters
