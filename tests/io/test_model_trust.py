@@ -267,3 +267,99 @@ def test_a_guarantee_built_in_memory_is_checked_before_it_is_stated(models):
         g, scale=100 * np.asarray(g.scale), bound=100 * np.asarray(g.bound)))
     with pytest.raises(InputError, match="guarantee.scale"):
         coverage(forged, traj)
+
+
+def _spied(monkeypatch):
+    """The module's memo of checked claims emptied, and the calls of the re-derivation
+    counted."""
+    from gd_analyze.io import model_trust
+
+    monkeypatch.setattr(model_trust, "_PROVED_CLAIMS", set())
+    calls = []
+    real = model_trust.reproved_bound
+
+    def reproved(*args, **kwargs):
+        calls.append(1)
+        return real(*args, **kwargs)
+    monkeypatch.setattr(model_trust, "reproved_bound", reproved)
+    return calls
+
+
+def test_the_stored_trees_prove_the_bound_without_search(models, monkeypatch):
+    """The PUMA 560's region model (its bound from the joint sum's branch and bound, which
+    the quick proof does not reach) is read on the trees stored with it: neither the quick
+    proof nor the re-derivation runs."""
+    from gd_analyze.io import model_trust
+
+    folder, region_doc, _ = models
+    assert region_doc["guarantee"]["tilings"]
+    _spied(monkeypatch)
+
+    def searched(*args, **kwargs):
+        raise AssertionError("searched again")
+    monkeypatch.setattr(model_trust, "prove_dropped", searched)
+    monkeypatch.setattr(model_trust, "reproved_bound", searched)
+    model = gd_analyze.load_model(folder / "region" / "simplified_model.json")
+    assert len(model.guarantee.tilings) == len(region_doc["guarantee"]["tilings"])
+
+
+@pytest.mark.parametrize("forge", [
+    "missing_leaf", "extra_leaf", "joint_not_the_arms", "whole_region", "none_stored"])
+def test_forged_or_missing_trees_are_never_believed(models, monkeypatch, forge):
+    """Trees that do not tile the region (a final box missing, one more, a cut along a
+    joint the arm does not have), a tiling on which the bound is not reached (the region as
+    one box), or no trees at all (a file written before them): the bound is derived again
+    (the honest bound then holds, so the file is read)."""
+    folder, region_doc, _ = models
+    forged = _copy(region_doc)
+    g = forged["guarantee"]
+    code = g["tilings"][0]
+    if forge == "missing_leaf":
+        g["tilings"] = [code[:-1]]
+    elif forge == "extra_leaf":
+        g["tilings"] = [code + "."]
+    elif forge == "joint_not_the_arms":
+        g["tilings"] = [code.replace("1", "9")]
+    elif forge == "whole_region":
+        g["tilings"] = ["."]
+    else:
+        del g["tilings"]
+    calls = _spied(monkeypatch)
+    model = gd_analyze.load_model(_write(folder, f"trees_{forge}", forged))
+    assert calls == [1], "the bound was believed without being derived again"
+    assert model.guarantee.bound == pytest.approx(region_doc["guarantee"]["bound"])
+
+
+def test_trees_of_another_form_are_refused_by_the_schema(models):
+    folder, region_doc, _ = models
+    forged = _copy(region_doc)
+    forged["guarantee"]["tilings"] = ["1.0X"]
+    with pytest.raises(InputError, match="guarantee.tilings"):
+        gd_analyze.load_model(_write(folder, "trees_bad_text", forged))
+
+
+def test_honest_trees_do_not_save_a_lowered_bound(models, monkeypatch):
+    """The stored trees evaluated on a bound lowered to just above the error sampling finds
+    (so that no sample tells): they do not reach it, the re-derivation runs and refuses it;
+    lowered below that error, it is refused too."""
+    from gd_analyze.core.selection.certify import tilings_bound
+    from gd_analyze.core.symbolic.base_parameters import base_parameters
+
+    folder, region_doc, _ = models
+    honest = gd_analyze.load_model(folder / "region" / "simplified_model.json")
+    g = honest.guarantee
+    region = Region(g.q_min, g.q_max, g.qd_max, g.qdd_max)
+    tiled = tilings_bound(honest.robot, base_parameters(honest.robot), region,
+                          honest.recursive.dropped, g.tilings)
+    j = int(np.argmax(np.asarray(g.bound) - np.asarray(g.sampled_error)))
+    for share, calls_expected in ((1.001, [1]), (0.9, None)):
+        forged = _copy(region_doc)
+        low = g.sampled_error[j] * share
+        forged["guarantee"]["bound"][j] = forged["recursive"]["bound"][j] = low
+        forged["bound"][j] = low
+        assert tiled[j] > low
+        calls = _spied(monkeypatch)
+        with pytest.raises(InputError, match="guarantee.bound"):
+            gd_analyze.load_model(_write(folder, f"trees_lowered_{share}", forged))
+        if calls_expected is not None:
+            assert calls == calls_expected

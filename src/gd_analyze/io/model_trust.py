@@ -17,7 +17,11 @@ claim fails, with one line naming the key:
   (:data:`~gd_analyze.core.selection.guarantee.ROUND_OFF_EPS` machine epsilons), or s_i is
   the torque floor and |tau_i| is not above it;
 - ``guarantee.bound``: the bound is proved again for the model's dropped (base parameter,
-  part) pairs: first by a branch and bound on those pairs alone
+  part) pairs: first on the trees of boxes stored with it (``guarantee.tilings``), each
+  checked to tile the region (a bisection tree cut at the middles: the final boxes cover it
+  without overlap) and every box's enclosures evaluated afresh, without search
+  (:func:`gd_analyze.core.selection.certify.tilings_bound`; a tree that is not such a
+  tiling proves nothing); then by a branch and bound on those pairs alone
   (:func:`gd_analyze.core.selection.certify.prove_dropped`, a fraction of a certification's
   cost when few parameters are dropped), and where that does not reach the stored bound, as the
   main job derived it (:func:`gd_analyze.core.selection.certify.region_bound`: the pairs'
@@ -39,7 +43,7 @@ import numpy as np
 
 from ..core.dynamics.dalembert import gd_terms
 from ..core.model.drives import rigid_links
-from ..core.selection.certify import prove_dropped, region_bound
+from ..core.selection.certify import prove_dropped, region_bound, tilings_bound
 from ..core.selection.guarantee import ROUND_OFF_EPS
 from ..core.selection.region import Region
 from ..core.symbolic.base_parameters import base_parameters
@@ -143,11 +147,13 @@ def check_guarantee(model: SimplifiedModel, path: str = "<model>") -> None:
         return
     bound: np.ndarray = np.asarray(g.bound, float)  # type: ignore[attr-defined, type-var]  # SimplifiedModel's field is typed object
     scale: np.ndarray = np.asarray(g.scale, float)  # type: ignore[attr-defined, type-var]  # SimplifiedModel's field is typed object
-    if model.recursive is not None and np.isfinite(bound).all() and prove_dropped(
-            model.robot, base_parameters(model.robot), region, model.recursive.dropped,  # type: ignore[attr-defined, arg-type]  # SimplifiedModel's field is typed object
-            bound + BOUND_RTOL * np.abs(scale), max_boxes=QUICK_BOXES):
+    limit = bound + BOUND_RTOL * np.abs(scale)
+    if model.recursive is not None and np.isfinite(bound).all() and (
+            _tiled(model, region, limit) or prove_dropped(
+                model.robot, base_parameters(model.robot), region, model.recursive.dropped,  # type: ignore[attr-defined, arg-type]  # SimplifiedModel's field is typed object
+                limit, max_boxes=QUICK_BOXES)):
         _PROVED_CLAIMS.add(key)
-        return                              # proved on the dropped pairs' own boxes
+        return                              # proved on the stored trees or the pairs' own boxes
     reproved = reproved_bound(model, region, path)
     short = ~(bound >= reproved - BOUND_RTOL * np.abs(scale))      # NaN never passes
     if short.any():
@@ -156,6 +162,19 @@ def check_guarantee(model: SimplifiedModel, path: str = "<model>") -> None:
                          f"{bound[j]:.4g} < {reproved[j]:.4g})", path, column="guarantee.bound")
     if key is not None:
         _PROVED_CLAIMS.add(key)
+
+
+def _tiled(model, region, limit):
+    """Whether the guarantee's stored trees of boxes (``guarantee.tilings``), each checked to
+    tile the region and evaluated afresh, give a bound within ``limit`` (n,) on every joint
+    (:func:`gd_analyze.core.selection.certify.tilings_bound`); False without trees."""
+    g = model.guarantee
+    if not g.tilings:  # type: ignore[attr-defined]  # SimplifiedModel's field is typed object
+        return False
+    robot = model.robot
+    found = tilings_bound(robot, base_parameters(robot), region,  # type: ignore[arg-type]  # SimplifiedModel's field is typed object
+                          np.asarray(model.recursive.dropped, bool), g.tilings)  # type: ignore[attr-defined]  # SimplifiedModel's field is typed object
+    return bool(np.all(found <= limit))     # NaN never passes
 
 
 #: Digests of the claims (robot, region, dropped pairs, bound, scale) checked in this process

@@ -20,7 +20,7 @@ from ..core.selection.certify import (
     dropped_bound,
     joint_sums,
     leaf_bound,
-    region_bound,
+    region_trees,
     split_joints,
 )
 from ..core.selection.guarantee import Guarantee
@@ -50,6 +50,10 @@ __all__ = ["build_recursive", "recursive_simplified", "replace_cost", "region_mo
            "REGION_SAMPLES", "restored_rebuild", "joint_bound", "SCOUT_BOXES",
            "SCOUT_RATIO", "screened_exact"]
 
+#: A tree of boxes is kept with a region model (:attr:`Guarantee.tilings`) for the joints
+#: where its bound is within this share of s_i of the model's (a thousandth of what the
+#: reader allows, :data:`gd_analyze.io.model_trust.BOUND_RTOL`).
+TILING_RTOL = 1e-12
 #: Boxes of the first, quick branch and bound on a dropped set's joint sum while the pairs
 #: are chosen (:func:`joint_bound`), and the share of the budget above which its bound
 #: rejects the set without the full one.
@@ -167,11 +171,13 @@ def region_model(robot, base, region, tolerance, torque_floor=0.0):
 
 def _region_pruning(base, pb, robot, region, tolerance, chosen=None):
     """:func:`~gd_analyze.core.symbolic.pruning.prune_bounds` on a region's certification
-    (``chosen``: an earlier search's pairs, checked against the budget; ValueError if over)."""
+    (``chosen``: an earlier search's pairs, checked against the budget; ValueError if over),
+    and the trees of boxes its bound is derived again on (:meth:`_JointBound.tilings`)."""
 
-    return prune_bounds(robot, base, pb.scale, pb.bound, pb.leaves.sum(axis=1).max(axis=1),
-                        tolerance, pieces=pb.leaves, chosen=chosen, zero=pb.zero,
-                        joint=joint_bound(robot, base, region, pb, tolerance))
+    joint = joint_bound(robot, base, region, pb, tolerance)
+    pr = prune_bounds(robot, base, pb.scale, pb.bound, pb.leaves.sum(axis=1).max(axis=1),
+                      tolerance, pieces=pb.leaves, chosen=chosen, zero=pb.zero, joint=joint)
+    return pr, joint.tilings(pr.dropped, pr.bound)
 
 
 def joint_bound(robot, base, region, pb, tolerance):
@@ -203,36 +209,69 @@ def joint_bound(robot, base, region, pb, tolerance):
         :data:`SCOUT_BOXES` boxes ends above :data:`SCOUT_RATIO` times ``enough``.
         Results are kept per dropped set.
     """
-    budget = tolerance * np.asarray(pb.scale, float)
-    alone = np.all(pb.bound <= budget[None, None, :], axis=2) & ~pb.zero
-    sums = joint_sums(robot, base, region, pb.split_joint, pb.split_at, alone, pb.zero)
-    beta = np.asarray(base.beta, float)[None, :]
-    memo = {}
+    return _JointBound(robot, base, region, pb, tolerance)
 
-    def joint(dropped, enough=None):
+
+class _JointBound:
+    """:func:`joint_bound`'s callable, which keeps per dropped set the trees of boxes its
+    bound was found on (:meth:`tilings`)."""
+
+    def __init__(self, robot, base, region, pb, tolerance):
+        self.robot, self.base, self.region, self.pb = robot, base, region, pb
+        self.budget = tolerance * np.asarray(pb.scale, float)
+        alone = np.all(pb.bound <= self.budget[None, None, :], axis=2) & ~pb.zero
+        self.sums = joint_sums(robot, base, region, pb.split_joint, pb.split_at, alone,
+                               pb.zero)
+        self.memo = {}
+
+    def __call__(self, dropped, enough=None):
+        robot, base, region, pb = self.robot, self.base, self.region, self.pb
         key = np.asarray(dropped, bool).tobytes()
-        if key in memo:
-            return memo[key]
-        first = leaf_bound(pb, sums, dropped)
+        if key in self.memo:
+            return self.memo[key][0]
+        first = leaf_bound(pb, self.sums, dropped)
         if enough is not None:
             if np.all(first <= enough) or split_joints(robot, base, dropped,
                                                         pb.zero).sum() > JOINT_DIMS:
                 return first
-            found = worst_states(pb.values, beta * dropped.T, region.qd_max,
-                                 region.qdd_max)[0].max(axis=0)
+            found = worst_states(pb.values, np.asarray(base.beta, float)[None, :] * dropped.T,
+                                 region.qd_max, region.qdd_max)[0].max(axis=0)
             if np.any(found > enough):
                 return first
-            scout = dropped_bound(robot, base, region, dropped, budget, SCOUT_BOXES, pb.zero)
+            scout = dropped_bound(robot, base, region, dropped, self.budget, SCOUT_BOXES,
+                                  pb.zero)
             if np.any(scout > SCOUT_RATIO * enough):
                 return np.minimum(first, scout)
-        memo[key] = region_bound(robot, base, region, pb, dropped, budget, sums)
-        return memo[key]
-    return joint
+        self.memo[key] = region_trees(robot, base, region, pb, dropped, self.budget,
+                                      self.sums)
+        return self.memo[key][0]
+
+    def tilings(self, dropped, bound):
+        """The trees whose final boxes give a dropped set's ``bound`` (n,) again, within
+        :data:`TILING_RTOL` of s_i on every joint: the joint sum's branch and bound's first
+        (:func:`gd_analyze.core.selection.certify.region_trees`), the certification's where
+        the first does not reach it; () when nothing but pairs proved zero is dropped, or
+        when they do not reach it."""
+        dropped = np.asarray(dropped, bool)
+        if not (dropped & ~self.pb.zero).any():
+            return ()
+        key = dropped.tobytes()
+        if key not in self.memo:
+            self(dropped)
+        reach = np.asarray(bound, float) + TILING_RTOL * np.abs(np.asarray(self.pb.scale))
+        chosen, covered = [], np.zeros(reach.shape, bool)
+        for tree, tree_bound in reversed(self.memo[key][1]):
+            if np.any(~covered & (tree_bound <= reach)):
+                chosen.append(tree)
+                covered |= tree_bound <= reach
+        return tuple(chosen) if covered.all() else ()
 
 
-def _region_model(robot, base, region, tolerance, pb, pr, sampled=True):
+def _region_model(robot, base, region, tolerance, pb, pruned, sampled=True):
     """:func:`region_model`'s model and guarantee from the certification and the pruning
-    (``sampled=False``: the model only, the guarantee None, its error not sampled)."""
+    with its trees of boxes (:func:`_region_pruning`; ``sampled=False``: the model only, the
+    guarantee None, its error not sampled)."""
+    pr, tilings = pruned
 
     single = pr.dropped & ~pr.whole[:, None]
     by_part = np.stack([np.einsum("bln,b->ln", pb.leaves[:, p], single[:, p]).max(axis=0)
@@ -251,7 +290,7 @@ def _region_model(robot, base, region, tolerance, pb, pr, sampled=True):
     guarantee = Guarantee(
         "region", float(tolerance), bound=rec.bound, scale=rec.scale, q_min=region.q_min,
         q_max=region.q_max, qd_max=region.qd_max, qdd_max=region.qdd_max,
-        scale_state=pb.scale_state, sampled_error=err, region=region,
+        scale_state=pb.scale_state, sampled_error=err, region=region, tilings=tilings,
         method=f"{METHOD}; {pb.boxes} boxes, {pb.positions.shape[0]} sampled positions"
                + _unrefined(robot))
     return rec, guarantee
@@ -511,8 +550,9 @@ def _searched(robot, base, region, tolerance, torque_floor, sampled=True):
         warnings.warn(one_line(f"{entry_path('search', key)}: derivation cache entry {found}: "
                                "ignored, the model is searched again"), CacheWarning,
                       stacklevel=2)
-    pr = _region_pruning(base, pb, robot, region, tolerance)
-    return (*_region_model(robot, base, region, tolerance, pb, pr, sampled), None,
+    pruned = _region_pruning(base, pb, robot, region, tolerance)
+    pr = pruned[0]
+    return (*_region_model(robot, base, region, tolerance, pb, pruned, sampled), None,
             lambda exact_forms, pruned_forms: write_search(key, pr.dropped, pr.whole,
                                                            exact_forms, pruned_forms))
 

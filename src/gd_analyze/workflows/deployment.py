@@ -289,7 +289,7 @@ def exact_explicit_model(full: SimplifiedModel, guarantee: Guarantee, tolerance:
         full, tolerance=float(tolerance), bound=[0.0] * n, terms=terms,
         choices=full_choices(n), cost=program.cost(), program_cache=program,
         guarantee=dataclasses.replace(
-            guarantee, bound=np.zeros(n), sampled_error=np.zeros(n),
+            guarantee, bound=np.zeros(n), sampled_error=np.zeros(n), tilings=(),
             method=f"the exact explicit G-D model (nothing dropped), {why}; scale: "
                    + guarantee.method))
 

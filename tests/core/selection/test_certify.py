@@ -264,3 +264,57 @@ def test_pairs_proved_zero_are_zero_in_pinocchio_and_dropped_at_no_cost():
         wrong[names.index("ZZ2"), 0] = True                  # the inertial part is not zero
         prune_bounds(robot, base, pb.scale, pb.bound, pb.leaves.sum(axis=1).max(axis=1), 0.0,
                      pieces=pb.leaves, zero=wrong)
+
+
+def test_the_stored_trees_give_the_bound_again_and_it_holds_at_every_sampled_state():
+    """The trees kept with the PUMA 560's region model (EPS 0.01, whose bound comes from the
+    branch and bound on the joint sum) give its bound again without search, checked to tile
+    the region; that bound is never below the error Pinocchio's rnea shows at 100,000
+    sampled states, and a tree cut short, one with an extra box or a joint the arm does not
+    have proves nothing."""
+    from gd_analyze.core.selection.certify import (
+        proved_zero,
+        tiling,
+        tilings_bound,
+        tree_bound,
+    )
+
+    robot = load_robot("puma560")
+    region = joint_region(robot, acceleration_limits(robot)[0])
+    base = base_parameters(robot)
+    pb = certified(robot, base, region)
+    rec, guarantee = region_model(robot, base, region, 0.01)
+    assert guarantee.tilings, "no tree kept: the reader would search again"
+    pieces = np.einsum("bpln,bp->ln", pb.leaves, rec.dropped.astype(float)).max(axis=0)
+    assert np.any(guarantee.bound < 0.99 * pieces)       # the joint sum's search is needed
+    slack = 1e-9 * guarantee.scale
+    again = tilings_bound(robot, base, region, rec.dropped, guarantee.tilings)
+    assert np.all(again <= guarantee.bound + slack), (again, guarantee.bound)
+    # the pairs proved zero from the robot alone are the certification's
+    np.testing.assert_array_equal(proved_zero(robot, base, region, rec.dropped),
+                                  rec.dropped & pb.zero)
+    # soundness against the oracle
+    tau_s = python_function(pruned_program(robot, base, rec.dropped))
+    q, qd, qdd = _states(region, STATES, seed=11)
+    ref = _rnea(robot, q, qd, qdd)
+    err = np.abs(tau_s(q, qd, qdd) - ref).max(axis=0)
+    round_off = 64 * np.finfo(float).eps * max(guarantee.scale.max(), np.abs(ref).max())
+    assert np.all(err <= again + round_off), (err, again)
+    j = int(np.argmax(err / guarantee.scale))
+    assert err[j] > 0.5 * again[j]                      # not vacuous: the bound is close
+    # a coarser tree (the last box the search halved left whole) is a tiling: a sound bound
+    tree = guarantee.tilings[0]
+    last = int(np.flatnonzero(tree >= 0)[-1])               # a box of the level before last
+    width = len(tiling(region, tree)[-1][0])                # the last level: halves only
+    start = tree.size - width                               # lower halves, then upper ones
+    coarse = np.delete(tree, [start + width // 2 - 1, tree.size - 1])
+    coarse[last] = -1
+    loose = tree_bound(robot, base, region, coarse, rec.dropped)
+    assert np.all(loose >= again - slack) and np.all(err <= loose + round_off)
+    # not trees of the region: no bound from them
+    n = robot.n
+    for forged in (tree[:-1], np.concatenate([tree, [-1]]), np.where(tree >= 0, n, tree),
+                   np.where(tree == tree.max(), -2, tree)):
+        assert np.all(tilings_bound(robot, base, region, rec.dropped, (forged,)) == np.inf)
+        with pytest.raises(ValueError):
+            tiling(region, forged)

@@ -23,7 +23,7 @@ from . import balls
 from . import intervals as iv
 
 __all__ = ["channel_count", "channel_values", "pair_magnitudes", "inertia_enclosure",
-           "inertia_form_enclosure", "channel_enclosures", "combined_bound"]
+           "inertia_form_enclosure", "channel_enclosures", "channel_magnitudes", "combined_bound"]
 
 
 def channel_count(n):
@@ -209,10 +209,12 @@ def _unit(c):
     return e
 
 
-def _forward(chain, gravity):
-    """Per link k: w (B, n, 3) per velocity j, and wd, vd (B, C, 3) per channel."""
+def _forward(chain, gravity, links=None):
+    """Per link k of the first ``links`` (n: all), on the channels of their joints only
+    (those of later joints are exactly zero there): w (B, links, 3) per velocity j, and wd,
+    vd (B, C, 3) per channel, C = :func:`channel_count` (links)."""
     A = chain.A
-    n = chain.robot.n
+    n = chain.robot.n if links is None else links
     B = chain.B
     C = channel_count(n)
     jj, ll = np.divmod(np.arange(n * n), n)
@@ -274,9 +276,10 @@ def _column_groups(robot, q_lo, q_hi, columns, gravity, algebra=_Box):
     A = chain.A
     n = robot.n
     C = channel_count(n)
-    links = _forward(chain, robot.gravity if gravity is None else gravity)
     columns = np.asarray(columns, int)
-    for k in range(n):
+    top = int(columns.max()) // 10 + 1 if columns.size else 0    # the links the columns need
+    links = _forward(chain, robot.gravity if gravity is None else gravity, top)
+    for k in range(top):
         ms = np.flatnonzero(columns // 10 == k)
         if ms.size == 0:
             continue
@@ -284,7 +287,8 @@ def _column_groups(robot, q_lo, q_hi, columns, gravity, algebra=_Box):
         jv, lv = np.divmod(np.arange(kk * kk), kk)
         ch = np.concatenate([[0], 1 + np.arange(kk), 1 + n + jv * n + lv])
         w, wd, vd = links[k]
-        wd, vd = _take(wd, ch), _take(vd, ch)
+        own = np.concatenate([[0], 1 + np.arange(kk), 1 + top + jv * top + lv])
+        wd, vd = _take(wd, own), _take(vd, own)
         parts = [_wrench(A, int(columns[m]) % 10, w, wd, vd, jv, lv, 1 + kk + np.arange(kk * kk))
                  for m in ms]
         f = tuple(np.concatenate([p[0][e] for p in parts], axis=1) for e in range(2))
@@ -607,13 +611,7 @@ def pair_magnitudes(robot, q_lo, q_hi, columns, qd_max, qdd_max, gravity=None,
     algebra = {"ball": _Ball, "box": _Box}[arithmetic]
     diag = {}
     for ms, i, (lo, hi) in _column_groups(robot, q_lo, q_hi, columns, gravity, algebra):
-        B, g = lo.shape[0], ms.size
-        out[:, 2, i, ms] = iv.magnitude((lo[:, 0], hi[:, 0]))
-        out[:, 0, i, ms] = np.einsum("bjg,j->bg", iv.magnitude((lo[:, 1:1 + n], hi[:, 1:1 + n])),
-                                     qdd_max)
-        out[:, 1, i, ms] = quad(lo[:, 1 + n:].transpose(0, 2, 1).reshape(B * g, n * n),
-                                hi[:, 1 + n:].transpose(0, 2, 1).reshape(B * g, n * n)
-                                ).reshape(B, g)
+        out[:, :, i, ms] = _parts(lo, hi, quad, qdd_max)
         dj = 1 + n + np.arange(n) * (n + 1)                           # the channels C_jj
         diag[(int(ms[0]), i)] = (lo[:, dj], hi[:, dj])
     if vertices:    # the velocity terms with their dependence kept: the least of both bounds
@@ -623,6 +621,43 @@ def pair_magnitudes(robot, q_lo, q_hi, columns, qd_max, qdd_max, gravity=None,
             tight = _vertex_bound(F, (dlo[:, :k + 1], dhi[:, :k + 1]), qd_max[:k + 1])
             out[:, 1, i, ms] = np.minimum(out[:, 1, i, ms], tight)
     return out * (1.0 + 8 * iv.ROUNDING * (2 * n + 2))
+
+
+def _parts(lo, hi, quad, qdd_max):
+    """The three parts' magnitudes (B, 3, ...) of channel enclosures (B, C, ...) over the
+    velocity and acceleration limits, before :func:`pair_magnitudes`'s rounding margin."""
+    n = qdd_max.size
+    B, rest = lo.shape[0], lo.shape[2:]
+    vel = [np.moveaxis(x[:, 1 + n:], 1, -1).reshape(-1, n * n) for x in (lo, hi)]
+    return np.stack([
+        np.einsum("bj...,j->b...", iv.magnitude((lo[:, 1:1 + n], hi[:, 1:1 + n])), qdd_max),
+        quad(*vel).reshape((B,) + rest),
+        iv.magnitude((lo[:, 0], hi[:, 0]))], axis=1)
+
+
+def channel_magnitudes(lo, hi, qd_max, qdd_max):
+    """:func:`pair_magnitudes` from the channel enclosures of :func:`channel_enclosures`.
+
+    Parameters
+    ----------
+    lo, hi : ndarray, shape (B, C, n, m)
+        Enclosures of the channels of m columns over B boxes (C = :func:`channel_count`)
+        [N m or N per unit parameter].
+    qd_max, qdd_max : array_like, shape (n,)
+        Velocity and acceleration limits [rad/s, m/s; rad/s^2, m/s^2].
+
+    Returns
+    -------
+    ndarray, shape (B, 3, n, m)
+        As :func:`pair_magnitudes` (without ``vertices``): per box, part (inertial,
+        velocity, gravity), joint and column, an upper bound of |part| over the box and the
+        limits, with the same rounding margin.
+    """
+    lo, hi = np.asarray(lo, float), np.asarray(hi, float)
+    n = lo.shape[2]
+    qd_max, qdd_max = np.asarray(qd_max, float), np.asarray(qdd_max, float)
+    return _parts(lo, hi, _QuadraticBound(n, qd_max), qdd_max) * (
+        1.0 + 8 * iv.ROUNDING * (2 * n + 2))
 
 
 def channel_enclosures(robot, q_lo, q_hi, columns, gravity=None):

@@ -20,14 +20,21 @@ from dataclasses import dataclass
 import numpy as np
 
 from ..dynamics import intervals as iv
-from ..dynamics.regressor_bounds import channel_enclosures, combined_bound, pair_magnitudes
+from ..dynamics.regressor_bounds import (
+    channel_count,
+    channel_enclosures,
+    channel_magnitudes,
+    combined_bound,
+    pair_magnitudes,
+)
 from ..symbolic.pruning import zero_parts
 from .region import qd_vertices, region_samples
 
 __all__ = ["PairBounds", "certify", "certify_tree", "tiling", "pair_peaks_at",
            "pair_magnitudes_at", "METHOD", "prove_dropped", "JointSums", "joint_sums",
            "JOINT_SUM_ELEMENTS", "leaf_bound", "dropped_bound", "region_bound",
-           "split_joints", "JOINT_BOXES", "JOINT_DIMS"]
+           "split_joints", "JOINT_BOXES", "JOINT_DIMS", "dropped_search", "tree_bound",
+           "proved_zero", "region_trees", "tilings_bound"]
 
 #: How the bounds are obtained, in words (stored with every region model).
 METHOD = ("per (base parameter, part) pair: |beta| x upper bound of its coefficient over the "
@@ -238,7 +245,7 @@ def _zero_pairs(zero, leaf):
     return (leaf == 0).all(axis=(0, 2)).T | zero.all(axis=2)
 
 
-def tiling(region, split_joint, split_at):
+def tiling(region, split_joint, split_at=None):
     """The boxes of a branch-and-bound tree, level by level, checked to tile the region.
 
     Parameters
@@ -247,8 +254,9 @@ def tiling(region, split_joint, split_at):
         Its position box is the root.
     split_joint : ndarray of int, shape (N,)
         Per box, level by level: the joint it is cut along, or -1 (a final box).
-    split_at : ndarray, shape (N,)
-        Where [rad or m].
+    split_at : ndarray, shape (N,), optional
+        Where [rad or m]; None: at the middle of the box, 0.5 (lo + hi) (a bisection tree,
+        as :func:`certify` and :func:`dropped_bound` build it).
 
     Returns
     -------
@@ -270,9 +278,10 @@ def tiling(region, split_joint, split_at):
     tile the region exactly, with no overlap of positive volume, by induction.
     """
     n = region.q_min.size
-    joint, at = np.asarray(split_joint), np.asarray(split_at)
-    if joint.ndim != 1 or at.shape != joint.shape or joint.dtype.kind not in "iu" \
-            or at.dtype.kind != "f":
+    joint = np.asarray(split_joint)
+    at = None if split_at is None else np.asarray(split_at)
+    if joint.ndim != 1 or joint.dtype.kind not in "iu" or (
+            at is not None and (at.shape != joint.shape or at.dtype.kind != "f")):
         raise ValueError("does not hold a tree of boxes (arrays of other types or shapes)")
     if np.any(joint < -1) or np.any(joint >= n):
         raise ValueError("cuts along a joint the arm does not have")
@@ -282,10 +291,11 @@ def tiling(region, split_joint, split_at):
         B = lo.shape[0]
         if p + B > joint.size:
             raise ValueError("does not cover the region (its tree ends early)")
-        d, x = joint[p:p + B].astype(int), at[p:p + B]
-        p += B
+        d = joint[p:p + B].astype(int)
         split = d >= 0
-        rows, d, x = np.flatnonzero(split), d[split], x[split]
+        rows, d = np.flatnonzero(split), d[split]
+        x = 0.5 * (lo[rows, d] + hi[rows, d]) if at is None else at[p:p + B][split]
+        p += B
         if not (np.all(np.isfinite(x)) and np.all(lo[rows, d] < x) and np.all(x < hi[rows, d])):
             raise ValueError("cuts a box outside its interior (boxes of zero volume or "
                              "overlapping)")
@@ -681,7 +691,31 @@ def dropped_bound(robot, base, region, dropped, limit, max_boxes=1024, zero=None
     (those up to their last link, but a first revolute joint about the gravity axis) are
     halved, the widest first; each box's channel enclosures are intersected with its
     ancestors' (Moore, Kearfott & Cloud 2009, Ch. 6). A deterministic function of its
-    arguments: the same call gives the same bound.
+    arguments: the same call gives the same bound. :func:`dropped_search` also gives the
+    tree of boxes it evaluated.
+    """
+    return dropped_search(robot, base, region, dropped, limit, max_boxes, zero)[0]
+
+
+def dropped_search(robot, base, region, dropped, limit, max_boxes=1024, zero=None):
+    """:func:`dropped_bound`, and the tree of boxes its branch and bound evaluated.
+
+    Parameters
+    ----------
+    robot, base, region, dropped, limit, max_boxes, zero
+        As :func:`dropped_bound`: the arm (n joints), its b base parameters, the region, the
+        pairs left out (b, 3), the bound sought (n,) [N m or N], the boxes evaluated in all,
+        and the pairs proved identically zero (b, 3).
+
+    Returns
+    -------
+    bound : ndarray, shape (n,)
+        :func:`dropped_bound` [N m or N].
+    split_joint : ndarray of int, shape (N,) or None
+        Per box evaluated, level by level, the joint it was halved along or -1 (a final
+        box): a bisection tree (:func:`tiling` with ``split_at`` None) whose final boxes
+        give ``bound`` again by :func:`tree_bound`; a single -1 where no box was needed (no
+        pair but those proved zero), None where the pairs are too many to hold.
     """
     n = robot.n
     dropped = np.asarray(dropped, bool)
@@ -690,23 +724,24 @@ def dropped_bound(robot, base, region, dropped, limit, max_boxes=1024, zero=None
     live = dropped & ~free
     used = np.flatnonzero(live.any(axis=1))
     if used.size == 0:
-        return np.zeros(n)
+        return np.zeros(n), np.full(1, -1, np.int64)
     if _held(n, _CHUNK, live, free).size < used.size:
-        return np.full(n, np.inf)
+        return np.full(n, np.inf), None
     cols = np.flatnonzero(base.independent.reshape(-1))[used]
     rel = split_joints(robot, base, live)
     lo, hi = region.q_min[None, :].astype(float), region.q_max[None, :].astype(float)
-    parent, evaluated, done = None, 0, np.zeros(n)
+    parent, evaluated, done, joints = None, 0, np.zeros(n), []
     while True:
         s_lo, s_hi = _summed(robot, base, region, lo, hi, cols, used, live, free, parent)
         total = combined_bound(0.5 * (s_lo + s_hi), 0.5 * (s_hi - s_lo), region.qd_max,
                                region.qdd_max)
         evaluated += lo.shape[0]
+        joints.append(np.full(lo.shape[0], -1, np.int64))
         open_ = ~np.all(total <= limit[None, :], axis=1)                # NaN stays open
         if not open_.any() or evaluated + 2 * int(open_.sum()) > max_boxes:
-            return np.maximum(done, total.max(axis=0))
+            return np.maximum(done, total.max(axis=0)), np.concatenate(joints)
         done = np.maximum(done, total[~open_].max(axis=0, initial=0.0))
-        lo, hi = _bisect(lo[open_], hi[open_], rel)[:2]
+        lo, hi, joints[-1][open_] = _bisect(lo[open_], hi[open_], rel)[:3]
         parent = tuple(np.concatenate([x[open_], x[open_]]) for x in (s_lo, s_hi))
 
 
@@ -790,14 +825,216 @@ def region_bound(robot, base, region, pb, dropped, limit, sums=None):
         :func:`dropped_bound` with ``limit`` and :data:`JOINT_BOXES` boxes; each bounds
         |tau_s - tau| over the region, so their least does [N m or N].
     """
+    return region_trees(robot, base, region, pb, dropped, limit, sums)[0]
+
+
+def region_trees(robot, base, region, pb, dropped, limit, sums=None):
+    """:func:`region_bound`, and the trees of boxes whose final boxes give it.
+
+    Parameters
+    ----------
+    robot, base, region, pb, dropped, limit, sums
+        As :func:`region_bound`: the arm (n joints), its b base parameters, the region, its
+        certification, the pairs left out (b, 3), the budget (n,) [N m or N] and the joint
+        sums on the certification's final boxes.
+
+    Returns
+    -------
+    bound : ndarray, shape (n,)
+        :func:`region_bound` [N m or N].
+    trees : tuple of (ndarray of int, ndarray)
+        The bisection trees (``split_joint`` of :func:`tiling`) and their bounds (n,): the
+        certification's, with :func:`leaf_bound`, and, where it ran, the branch and bound's
+        on the joint sum (:func:`dropped_search`). ``bound`` is the least of their bounds;
+        :func:`tree_bound` of each tree is at most its bound (up to round-off), so a reader
+        re-checks ``bound`` on the trees without a search.
+    """
     dropped = np.asarray(dropped, bool)
     if sums is None:
         sums = joint_sums(robot, base, region, pb.split_joint, pb.split_at, dropped, pb.zero)
     out = leaf_bound(pb, sums, dropped)
+    trees = ((np.asarray(pb.split_joint, np.int64), out),)
     if split_joints(robot, base, dropped, pb.zero).sum() <= JOINT_DIMS:
-        out = np.minimum(out, dropped_bound(robot, base, region, dropped, limit, JOINT_BOXES,
-                                            pb.zero))
+        searched, tree = dropped_search(robot, base, region, dropped, limit, JOINT_BOXES,
+                                        pb.zero)
+        if tree is not None:
+            trees += ((tree, searched),)
+        out = np.minimum(out, searched)
+    return out, trees
+
+
+def proved_zero(robot, base, region, dropped):
+    """The dropped pairs proved identically zero over the region, from the robot alone.
+
+    Parameters
+    ----------
+    robot, base, region, dropped
+        As :func:`dropped_bound`: the arm (n joints), its b base parameters, the region and
+        the pairs to decide (b, 3).
+
+    Returns
+    -------
+    ndarray of bool, shape (b, 3)
+        Dropped pairs whose part is zero at every joint by
+        :func:`gd_analyze.core.symbolic.pruning.zero_parts`, or whose parameter's value is 0,
+        or whose enclosure over the region's whole position box times |beta|
+        (:func:`gd_analyze.core.dynamics.regressor_bounds.pair_magnitudes`, the parts zero by
+        :func:`~gd_analyze.core.symbolic.pruning.zero_parts` at some joints set to 0) is 0 at
+        every joint: each is 0 at every state of the region. A subset of
+        :attr:`PairBounds.zero` and, on the shipped arms, all its dropped pairs.
+    """
+    dropped = np.asarray(dropped, bool)
+    absb = np.abs(np.asarray(base.beta, float))
+    out = dropped & (absb == 0)[:, None]
+    used = np.flatnonzero((dropped & ~out).any(axis=1))
+    if used.size == 0:
+        return out
+    cols = np.flatnonzero(base.independent.reshape(-1))[used]
+    U = pair_magnitudes(robot, region.q_min[None, :].astype(float),
+                        region.q_max[None, :].astype(float), cols, region.qd_max,
+                        region.qdd_max)[0] * absb[used]                          # (3, n, k)
+    nonzero = dropped[used] & ~(U == 0).all(axis=1).T
+    rest = np.flatnonzero(nonzero.any(axis=1))        # decided symbolically where needed
+    U[:, :, rest] = np.where(zero_parts(robot, cols[rest]).transpose(1, 2, 0), 0.0,
+                             U[:, :, rest])
+    out[used] = dropped[used] & (U == 0).all(axis=1).T
     return out
+
+
+def tree_bound(robot, base, region, split_joint, dropped, zero=None):
+    """The bound of a dropped set over the region on the final boxes of a given bisection
+    tree, derived without search.
+
+    Parameters
+    ----------
+    robot, base, region
+        As :func:`dropped_bound`: the arm (n joints), its b base parameters and the region.
+    split_joint : ndarray of int, shape (N,)
+        Per box, level by level, the joint it is halved along at its middle, or -1 (a final
+        box): checked to tile the region by :func:`tiling`.
+    dropped : ndarray of bool, shape (b, 3)
+        The pairs left out.
+    zero : ndarray of bool, shape (b, 3), optional
+        Pairs proved identically zero, left out; default :func:`proved_zero`.
+
+    Returns
+    -------
+    ndarray, shape (n,)
+        The largest over the final boxes of the least of three bounds of the dropped pairs'
+        change of tau_i there: the sum of the pairs' own bounds (as :func:`certify`'s), their
+        joint sum on the channels (as :func:`joint_sums`', where a level's channels of the
+        dropped columns fit :data:`JOINT_SUM_ELEMENTS`) and their joint sum on the summed
+        channels (as :func:`dropped_bound`'s) [N m or N]; each box's enclosures are
+        intersected with its ancestors'. 0 where no pair but those proved zero is dropped;
+        inf where the pairs are too many to hold.
+
+    Raises
+    ------
+    ValueError
+        If ``split_joint`` is not a bisection tree of the region's box (:func:`tiling`).
+
+    Notes
+    -----
+    Each bound holds on its box and the final boxes cover the region, so |tau_s - tau| is at
+    most the result at every state of the region whatever the tree. On the tree of
+    :func:`certify` the result is at most :func:`leaf_bound`, on that of
+    :func:`dropped_search` at most :func:`dropped_bound`: the same sums of the same
+    enclosures, evaluated level by level in the same chunks.
+    """
+    levels = tiling(region, np.asarray(split_joint))
+    n = robot.n
+    dropped = np.asarray(dropped, bool)
+    free = proved_zero(robot, base, region, dropped) if zero is None else \
+        np.asarray(zero, bool)
+    live = dropped & ~free
+    used = np.flatnonzero(live.any(axis=1))
+    if used.size == 0:
+        return np.zeros(n)
+    if _held(n, _CHUNK, live, free).size < used.size:
+        return np.full(n, np.inf)
+    cols = np.flatnonzero(base.independent.reshape(-1))[used]
+    held = (robot, base, region, cols, used, live, free, zero_parts(robot, cols))
+    out, parent = np.zeros(n), None
+    for lo, hi, split in levels:
+        # each column's channels kept for the sub-boxes where they fit the arrays' size
+        channels = lo.shape[0] * channel_count(n) * n * used.size <= JOINT_SUM_ELEMENTS
+        parts = [_tree_chunk(held, lo[a:a + _CHUNK], hi[a:a + _CHUNK], channels,
+                             None if parent is None else
+                             tuple(None if x is None else x[a:a + _CHUNK] for x in parent))
+                 for a in range(0, lo.shape[0], _CHUNK)]
+        each = np.concatenate([p[0] for p in parts])
+        out = np.maximum(out, each[~split].max(axis=0, initial=0.0))
+        kept = [None if parts[0][1][e] is None else np.concatenate([p[1][e] for p in parts])
+                for e in range(5)]
+        parent = tuple(None if x is None else np.concatenate([x[split], x[split]])
+                       for x in kept)
+    return out
+
+
+def _tree_chunk(held, lo, hi, channels, parent):
+    """:func:`tree_bound` on boxes (B, n) of one level: the least of the three bounds (B, n),
+    and what the sub-boxes intersect with (the pairs' bounds, the summed channels, and each
+    column's channels or None), each box's intersected with its ``parent``'s."""
+    robot, base, region, cols, used, live, free, masked = held
+    c_lo, c_hi = _channels(robot, lo, hi, cols)
+    U = channel_magnitudes(c_lo, c_hi, region.qd_max, region.qdd_max) * np.abs(
+        np.asarray(base.beta, float)[used])
+    U[:, masked.transpose(1, 2, 0)] = 0.0
+    mid, rad = _joint_sums(robot, base, region, used, live, free, c_lo, c_hi).sums(live)
+    s_lo, s_hi = mid - rad, mid + rad
+    if parent is not None:
+        U = np.minimum(U, parent[0])
+        s_lo, s_hi = _intersect(s_lo, s_hi, parent[1], parent[2])
+        if channels and parent[3] is not None:
+            c_lo, c_hi = _intersect(c_lo, c_hi, parent[3], parent[4])
+    each = np.minimum(np.einsum("bpnk,pk->bn", U, live[used].T.astype(float)),
+                      combined_bound(0.5 * (s_lo + s_hi), 0.5 * (s_hi - s_lo), region.qd_max,
+                                     region.qdd_max))
+    if not channels:
+        return each, (U, s_lo, s_hi, None, None)
+    each = np.minimum(each, _joint_sums(robot, base, region, used, live, free, c_lo,
+                                        c_hi).bound(live))
+    return each, (U, s_lo, s_hi, c_lo, c_hi)
+
+
+def tilings_bound(robot, base, region, dropped, trees):
+    """The bound of a dropped set over the region on given bisection trees, without search.
+
+    Parameters
+    ----------
+    robot, base, region, dropped
+        As :func:`dropped_bound`: the arm (n joints), its b base parameters, the region and
+        the pairs left out (b, 3).
+    trees : sequence of ndarray of int, shape (N,) each
+        Bisection trees (``split_joint`` of :func:`tiling`, cut at the middle), e.g. those
+        of :func:`region_trees`; each is checked to tile the region.
+
+    Returns
+    -------
+    ndarray, shape (n,)
+        Per joint, the least over the trees that tile the region of :func:`tree_bound` (the
+        pairs proved zero by :func:`proved_zero` left out) [N m or N]: |tau_s - tau| is at
+        most it at every state of the region. 0 where no pair but those proved zero is
+        dropped; inf where no tree tiles the region.
+    """
+    dropped = np.asarray(dropped, bool)
+    zero = proved_zero(robot, base, region, dropped)
+    if not (dropped & ~zero).any():
+        return np.zeros(robot.n)
+    out = np.full(robot.n, np.inf)
+    for tree in trees:
+        try:
+            out = np.minimum(out, tree_bound(robot, base, region, tree, dropped, zero))
+        except ValueError:              # not a tiling of the region: it proves nothing
+            continue
+    return out
+
+
+def _intersect(lo, hi, p_lo, p_hi):
+    """Intervals intersected with their parents' (each holds on the sub-box); an empty
+    intersection, by round-off, gives the hull."""
+    a, b = np.maximum(lo, p_lo), np.minimum(hi, p_hi)
+    return np.minimum(a, b), np.maximum(a, b)
 
 
 def prove_dropped(robot, base, region, dropped, limit, max_boxes=1024, zero=None):

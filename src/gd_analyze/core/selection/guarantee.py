@@ -17,7 +17,8 @@ from ...errors import InputError
 from .ranking import ROUND_OFF_CLAUSE
 from .region import Region
 
-__all__ = ["Guarantee", "KINDS", "ROUND_OFF_EPS", "ROUND_OFF_CLAUSE", "within_bound"]
+__all__ = ["Guarantee", "KINDS", "ROUND_OFF_EPS", "ROUND_OFF_CLAUSE", "within_bound",
+           "encode_tree", "decode_tree", "TREE_CODE"]
 
 #: The two scopes of a bound.
 KINDS = ("region", "trajectory")
@@ -54,6 +55,56 @@ def within_bound(error, bound, scale):
     s = np.abs(np.asarray(scale, float))
     allowance = ROUND_OFF_EPS * np.finfo(float).eps * (float(s.max()) if s.size else 0.0)
     return np.asarray(error, float) <= np.asarray(bound, float) + allowance
+
+
+#: The characters of a tree's code (:func:`encode_tree`): a final box, then joints 1 to 36.
+TREE_CODE = ".0123456789abcdefghijklmnopqrstuvwxyz"
+
+
+def encode_tree(split_joint):
+    """A bisection tree as the text ``simplified_model.json`` keeps (key ``tilings``).
+
+    Parameters
+    ----------
+    split_joint : array_like of int, shape (N,)
+        Per box, level by level, the joint (from 0) it is halved along, or -1 (a final box).
+
+    Returns
+    -------
+    str
+        One character a box: ``.`` for a final box, else :data:`TREE_CODE` [joint + 1]
+        (``0`` for joint 1); "" when a joint is beyond 36 or below -1 (not encoded).
+
+    Examples
+    --------
+    >>> encode_tree([1, -1, 0, -1, -1])
+    '1.0..'
+    >>> decode_tree('1.0..').tolist()
+    [1, -1, 0, -1, -1]
+    """
+    joints = np.asarray(split_joint, np.int64).reshape(-1)
+    if joints.size == 0 or np.any(joints < -1) or np.any(joints >= len(TREE_CODE) - 1):
+        return ""
+    return "".join(np.array(list(TREE_CODE))[joints + 1])
+
+
+def decode_tree(code):
+    """The ``split_joint`` array of :func:`encode_tree`'s text.
+
+    Parameters
+    ----------
+    code : str
+        Characters of :data:`TREE_CODE` (the schema's pattern).
+
+    Returns
+    -------
+    ndarray of int, shape (len(code),)
+        -1 for ``.``, else the joint (from 0); -2 for any other character (never a tree).
+    """
+    table = np.full(128, -2, np.int64)
+    table[[ord(c) for c in TREE_CODE]] = np.arange(-1, len(TREE_CODE) - 1)
+    raw = np.frombuffer(str(code).encode("ascii", "replace"), np.uint8)
+    return table[np.minimum(raw, 127)]
 
 
 def _floats(values):
@@ -100,6 +151,13 @@ class Guarantee:
         The region itself (:class:`gd_analyze.core.selection.region.Region`): the region kind's
         R, or the region a trajectory kind's error was sampled over; with which acceleration
         limits are assumed and which revolute joints span a full turn.
+    tilings : tuple of ndarray of int, shape (N,) each
+        Region kind: bisection trees of the position box (``split_joint`` of
+        :func:`gd_analyze.core.selection.certify.tiling`: per box, level by level, the joint
+        it is halved along at its middle, or -1 for a final box) on whose final boxes the
+        bound is derived again without search
+        (:func:`gd_analyze.core.selection.certify.tree_bound`); () when none is kept. Not
+        trusted: a reader checks that each tiles the region and re-evaluates it.
 
     Notes
     -----
@@ -125,6 +183,7 @@ class Guarantee:
     trajectories_sha256: tuple = ()
     region_missing: str = ""
     region: object = None
+    tilings: tuple = ()
 
     def __post_init__(self):
         if self.kind not in KINDS:
@@ -275,6 +334,9 @@ class Guarantee:
                 out["region_missing"] = self.region_missing
         if self.region is not None:
             out["region"] = self.region.to_dict()
+        codes = [encode_tree(t) for t in self.tilings] if self.kind == "region" else []
+        if codes and all(codes):
+            out["tilings"] = codes
         return out
 
     @classmethod
@@ -341,7 +403,8 @@ class Guarantee:
                 raise InputError("does not match the guarantee's q_min, q_max, qd_max and "
                                  "qdd_max", path, column="guarantee.region")
             return cls(**common, **limits, scale_state=arr("scale_state", 3 * n),
-                       sampled_error=arr("sampled_error", required=False))
+                       sampled_error=arr("sampled_error", required=False),
+                       tilings=tuple(decode_tree(c) for c in spec.get("tilings") or ()))
         return cls(**common, trajectory_sha256=spec.get("trajectory_sha256", ""),
                    trajectories_sha256=tuple(spec.get("trajectories_sha256") or ()),
                    region_sampled_error=arr("region_sampled_error", required=False),
