@@ -152,8 +152,8 @@ def test_sweep_errors_gathered_in_chunks_are_each_trajectorys(monkeypatch):
     robot = load_robot("puma560")
     trajs = random_trajectories(robot, 5, seed=11)
     model = sweep_model(robot, trajs, tolerance=0.05)[0]
-    real = simplify._per_trajectory_errors
-    monkeypatch.setattr(simplify, "_per_trajectory_errors",
+    real = simplify.per_trajectory_errors
+    monkeypatch.setattr(simplify, "per_trajectory_errors",
                         lambda m, t, r=None: real(m, t, r, chunk=7))      # cuts trajectories
     v = simplify.sweep_validation(model, trajs, np.ones((5, robot.n)), np.zeros(robot.n))
     per = v["per_trajectory"]

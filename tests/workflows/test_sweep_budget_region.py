@@ -17,8 +17,8 @@ from gd_analyze.io.planning import acceleration_limits, random_trajectories
 from gd_analyze.io.sweep_guarantee import merged_guarantee
 from gd_analyze.workflows.analyze import analyze
 from gd_analyze.workflows.options import AnalysisOptions, SimplifyOptions
-from gd_analyze.workflows.sweep import run_sweep
-from gd_analyze.workflows.sweep_budget import budget_sweep_model
+from gd_analyze.workflows.sweep import WorkerErrors, run_sweep
+from gd_analyze.workflows.sweep_budget import budget_region_model, budget_sweep_model
 from gd_analyze.workflows.sweep_merged import with_budget_model
 
 
@@ -194,3 +194,37 @@ def test_merged_choices_say_which_elements_the_dropped_parts_change(puma, planne
     # the stored dataset and its report sentence say the same
     ds = with_budget_model(swept, model)
     assert [str(v) for v in ds["merged_choice"].values] == choices
+
+
+def test_the_check_on_the_workers_of_a_model_built_ahead_is_each_trajectorys(
+        puma, planned, fast, swept, client):
+    """The region model built before the ranking is known (as the command line builds it
+    while the workers rank), then measured by the workers one trajectory per task: each
+    swept and held-out trajectory's peak error is that against Pinocchio's rnea, and the
+    model, its errors and verdicts are those measured in this process."""
+    trajectories = [*planned, fast]
+    settings = {"tolerance": 0.01, "guarantee": "region", "explicit": "never"}
+    prepared = budget_region_model(puma, trajectories, **settings)
+    errors = WorkerErrors(client, 1)
+    model = budget_sweep_model(puma, trajectories, swept, held_out=[planned[2]],
+                               prepared=prepared, errors=errors, **settings)
+    assert errors.tasks == 5                              # 4 swept + 1 held out
+    here = budget_sweep_model(puma, trajectories, swept, held_out=[planned[2]], **settings)
+    np.testing.assert_array_equal(model.recursive.dropped, here.recursive.dropped)
+    per, per_here = model.validation["per_trajectory"], here.validation["per_trajectory"]
+    assert per["covered"] == per_here["covered"] and per["coverage"] == per_here["coverage"]
+    for k, tr in enumerate(trajectories):
+        ref = _rnea(puma, tr)
+        err = np.abs(model.torque(tr.q, tr.qd, tr.qdd) - ref).max(axis=0)
+        np.testing.assert_allclose(per["peak_abs_error"][k], err, rtol=0,
+                                   atol=1e-9 * np.abs(ref).max())
+        np.testing.assert_allclose(per["peak_abs_error"][k], per_here["peak_abs_error"][k],
+                                   rtol=1e-12, atol=1e-12 * np.abs(ref).max())
+    held = model.validation["held_out"]
+    ref = _rnea(puma, planned[2])
+    err = np.abs(model.torque(planned[2].q, planned[2].qd, planned[2].qdd) - ref).max(axis=0)
+    np.testing.assert_allclose(held["peak_abs_error"], err, rtol=0,
+                               atol=1e-9 * np.abs(ref).max())
+    assert model.validation["held_out_inside_region"] == 1
+    assert budget_region_model(puma, trajectories, tolerance=0.01,
+                               guarantee="trajectory") is None

@@ -147,7 +147,8 @@ def run() -> NoReturn:
 
     The main job runs as on an installation without dask (:func:`_without_dask`): it makes no
     dask arrays, and xarray would otherwise import dask (about 0.3 s) to check that its numpy
-    arrays are not dask arrays. Its libraries (:data:`MAIN_JOB_IMPORTS`, and
+    arrays are not dask arrays (the sweep, which runs on dask.distributed, only without
+    dask.array: :func:`_without_dask_arrays`). Its libraries (:data:`MAIN_JOB_IMPORTS`, and
     :data:`REPORT_IMPORTS` unless ``--no-report``) are imported first, then ``gc.freeze()``
     (Python's documented way to keep objects made at start-up out of the garbage collector's
     passes; every run of every command does the same, whatever the load). The interpreter then
@@ -168,6 +169,8 @@ def run() -> NoReturn:
         _without_dask()
         for name in MAIN_JOB_IMPORTS + (() if "--no-report" in argv else REPORT_IMPORTS):
             importlib.import_module(name)
+    elif [a for a in argv if a != "--debug"][:1] == ["sweep"]:
+        _without_dask_arrays()
     gc.freeze()                 # after the imports: start-up objects leave the collector's passes
     code = main(argv)
     after_run(PROG)             # a signal during the interpreter's shutdown: no traceback
@@ -191,6 +194,20 @@ def _without_dask():
     """
     if "dask" not in sys.modules:
         sys.modules["dask"] = None
+
+
+def _without_dask_arrays() -> None:
+    """Make ``import dask.array`` fail in this process, as where dask's array extra is not
+    installed.
+
+    The sweep runs on dask.distributed but makes no dask array; xarray imports dask.array
+    (about 1 s of CPU time) only to check that the sweep dataset's numpy arrays are not dask
+    arrays, and treats it as absent when the import fails (as :func:`_without_dask`). Only
+    for the ``sweep`` command of the console script; its local cluster's forked workers
+    inherit the same. Nothing is done if dask.array is imported already.
+    """
+    if "dask.array" not in sys.modules:
+        sys.modules["dask.array"] = None  # type: ignore[assignment]
 
 
 def main(argv: Sequence[str] | None = None) -> int:

@@ -24,7 +24,7 @@ from ..io.trajectory import read_trajectory
 from ..reports.sweep import write_sweep_report
 from ..workflows.deploy import guarantee_region
 from ..workflows.payload import sweep_payloads
-from ..workflows.sweep_budget import budget_sweep_model
+from ..workflows.sweep_budget import budget_region_model, budget_sweep_model
 from ..workflows.sweep_merged import merged_model, with_budget_model, with_model_cost
 from .commands import (
     apply_payload,
@@ -42,22 +42,31 @@ from .parsing import EXIT_OK, tool_version
 __all__ = []
 
 
-def _sweep_model(robot, trajectories, args, outdir, settings, ds, limits=None):
+def _held_out(robot, args):
+    """The held-out trajectories of the budget rule's merged model (``--held-out``)."""
+    if args.held_out < 0:
+        raise InputError("--held-out must be >= 0")
+    return random_trajectories(robot, args.held_out, seed=args.seed + 1_000_003) \
+        if args.held_out else []
+
+
+def _model_settings(args, settings, limits):
+    """The keyword arguments of the budget rule's merged model
+    (:func:`gd_analyze.workflows.sweep_budget.budget_sweep_model`)."""
+    return {"tolerance": args.tolerance, "torque_floor": args.torque_floor,
+            "provenance": {"gd_analyze_version": tool_version(), **settings},
+            "explicit": args.explicit, "form": args.form, "guarantee": args.guarantee,
+            "region": limits}
+
+
+def _sweep_model(robot, model, args, outdir, ds):
     """The sweep's merged model of the budget rule, within EPS x s_i over the joint-limit
-    region or on every swept trajectory (``--guarantee``).
+    region or on every swept trajectory (``--guarantee``), measured
+    (:func:`gd_analyze.workflows.sweep_budget.budget_sweep_model`).
 
     Writes merged_model.json and its emitted files (prefix ROBOT_merged_) into outdir; returns (written paths, the sweep dataset
     with this model's errors)."""
 
-    if args.held_out < 0:
-        raise InputError("--held-out must be >= 0")
-    held = random_trajectories(robot, args.held_out, seed=args.seed + 1_000_003) \
-        if args.held_out else []
-    model = budget_sweep_model(robot, trajectories, ds, tolerance=args.tolerance,
-                               torque_floor=args.torque_floor, held_out=held,
-                               provenance={"gd_analyze_version": tool_version(), **settings},
-                               explicit=args.explicit, form=args.form,
-                               guarantee=args.guarantee, region=limits)
     ds = with_budget_model(ds, model)
     model.validation.pop("per_trajectory")          # in sweep.h5; K x n lists
     written = [outdir / "merged_model.json"]
@@ -162,7 +171,7 @@ def cmd_sweep(args: argparse.Namespace) -> int:
         On bad input; the command line prints it as one line and exits 2.
     """
     from ..workflows.dask_cluster import dask_client
-    from ..workflows.sweep import run_sweep
+    from ..workflows.sweep import WorkerErrors, run_sweep
 
     robot = load_robot_arg(args)
     if (args.random is None) == (not args.csv):
@@ -209,6 +218,17 @@ def cmd_sweep(args: argparse.Namespace) -> int:
     settings.update({} if limits is None else limits.settings())
     # over the region the merge needs no per-trajectory peaks of the recursive model
     proved = guarantee_region(loaded, args.guarantee, limits)[2]
+    budget = args.rule == "budget"
+    held = _held_out(loaded, args) if budget else []
+    prepared = {}
+
+    def region_model():
+        # over the region the merged model does not depend on the ranking: it is built here
+        # while the workers rank
+        prepared["model"] = budget_region_model(loaded, trajectories,
+                                                **_model_settings(args, settings, limits))
+
+    model = None
     with contextlib.ExitStack() as stack:
         try:                            # only the connection: the sweep's errors are its own
             client, cluster = stack.enter_context(dask_client(args.scheduler, args.workers))
@@ -219,15 +239,23 @@ def cmd_sweep(args: argparse.Namespace) -> int:
                              args.scheduler) from None
         ds = run_sweep(loaded, trajectories, args.dominance, args.negligible, client=client,
                        settings=settings, progress=not args.quiet and sys.stderr.isatty(),
-                       recursive_peaks=args.rule == "budget" and not proved, cluster=cluster)
+                       recursive_peaks=budget and not proved, cluster=cluster,
+                       chapter_errors=not budget,
+                       meanwhile=region_model if budget and proved else None)
         payload = None if masses is None else sweep_payloads(
             robot, trajectories, masses, args.payload_com, args.payload_inertia,
             args.dominance, args.negligible, client=client)
+        if budget:                      # measured on every trajectory by the workers
+            errors = WorkerErrors(client, int(ds.attrs["batch_size"]))
+            model = budget_sweep_model(loaded, trajectories, ds, held_out=held,
+                                       prepared=prepared.get("model"), errors=errors,
+                                       **_model_settings(args, settings, limits))
+            ds.attrs["n_tasks"] = int(ds.attrs["n_tasks"]) + errors.tasks
 
     with staged_output(outdir, SWEEP_OUTPUTS, "sweep") as stage, writing(outdir, stage):
         written = [stage / "sweep.h5"]
-        if args.rule == "budget":
-            files, ds = _sweep_model(loaded, trajectories, args, stage, settings, ds, limits)
+        if model is not None:
+            files, ds = _sweep_model(loaded, model, args, stage, ds)
         else:
             files = [stage / "merged_model.json"]
             model = merged_model(loaded, ds)

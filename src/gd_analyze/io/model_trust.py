@@ -57,7 +57,7 @@ if TYPE_CHECKING:                       # for the type hints only
     from ..core.selection.guarantee import Guarantee
     from ..core.selection.simplified import SimplifiedModel
 
-__all__ = ["check_guarantee", "check_region", "reproved_bound", "remember", "SCALE_RTOL", "BOUND_RTOL", "REGION_RTOL",
+__all__ = ["check_guarantee", "check_region", "reproved_bound", "remember", "remember_claim", "SCALE_RTOL", "BOUND_RTOL", "REGION_RTOL",
            "CERTIFICATION_SAMPLES"]
 
 #: |tau_i| at the stored scale state must equal s_i to this share of s_i [1].
@@ -175,6 +175,29 @@ def _tiled(model, region, limit):
     found = tilings_bound(robot, base_parameters(robot), region,  # type: ignore[arg-type]  # SimplifiedModel's field is typed object
                           np.asarray(model.recursive.dropped, bool), g.tilings)  # type: ignore[attr-defined]  # SimplifiedModel's field is typed object
     return bool(np.all(found <= limit))     # NaN never passes
+
+
+def remember_claim(model: SimplifiedModel) -> None:
+    """Keep the region claim of a model built in this process, its bound proved as it was
+    built, so that :func:`check_guarantee` does not prove it again.
+
+    Parameters
+    ----------
+    model : SimplifiedModel
+        Of the recursive form, its guarantee of kind ``"region"`` and its bound the one
+        proved for its dropped pairs over that region
+        (:func:`gd_analyze.core.selection.certify.region_bound`, as
+        :func:`gd_analyze.workflows.deploy.region_model` derives it); other models are
+        ignored.
+
+    Notes
+    -----
+    The key is a digest of the whole claim (:func:`_claim_key`): a model whose robot, region,
+    bound, scale, torque floor, dropped pairs or parameter values differ is checked afresh.
+    """
+    g = model.guarantee
+    if g is not None and g.kind == "region" and model.recursive is not None:  # type: ignore[attr-defined]  # SimplifiedModel's field is typed object
+        _PROVED_CLAIMS.add(_claim_key(model))
 
 
 #: Digests of the claims (robot, region, dropped pairs, bound, scale) checked in this process

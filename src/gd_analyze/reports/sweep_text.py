@@ -256,7 +256,9 @@ def _settings(ds, inputs, setpoints, durations, version):
                         f"tasks (the {K} "
                         f"trajectories in {batches} batch{'es' if batches != 1 else ''} of "
                         f"at most {batch}, "
-                        + ("each batch once to rank and once to check the merged model)"
+                        + ("each batch once to rank and once to check the merged model"
+                           + (f"; {tasks - 2 * batches} more to check it on the held-out "
+                              "trajectories" if tasks > 2 * batches else "") + ")"
                            if tasks > batches else
                            "each batch once to rank and to find the peaks of the recursive "
                            "model's contributions; the merged model was built and checked on "

@@ -282,7 +282,8 @@ def model_cost(model: SimplifiedModel) -> dict[str, Any]:
     dict
         ``evaluators`` (names), ``multiplications`` and ``additions`` (lists of int per set
         point): the simplified model, the exact recursive model
-        (:func:`gd_analyze.core.symbolic.recursive.recursive_program`), the full explicit model
+        (:func:`gd_analyze.core.symbolic.recursive.recursive_program`, or the same program
+        its builder kept in ``choice_cache``), the full explicit model
         (unless the model is recursive and the expansion expensive,
         :func:`gd_analyze.core.symbolic.explicit_estimate.is_expensive`) and the project's Newton-Euler
         as implemented (:func:`gd_analyze.formulations.opcount.operation_counts`, the arm's one
@@ -297,9 +298,10 @@ def model_cost(model: SimplifiedModel) -> dict[str, Any]:
     Armstrong, Khatib & Burdick (1986) for the explicit form.
     """
     robot: Robot = model.robot  # type: ignore[assignment]  # SimplifiedModel's field is typed object
+    built = model.choice_cache or ()    # the exact program its builder made, where it kept it
+    exact = built[2] if len(built) > 2 else recursive_program(robot)  # type: ignore[arg-type, index]  # typed object
     counted = [(f"simplified model ({model.form} form)", model.program().cost()),
-               ("exact recursive model",
-                with_drives(recursive_program(robot), robot).cost())]
+               ("exact recursive model", with_drives(exact, robot).cost())]
     if model.form == "explicit" or not is_expensive(robot):
         terms, _ = explicit_cache.explicit_terms(robot)
         counted.append(("full explicit model", full_program(robot, terms).cost()))

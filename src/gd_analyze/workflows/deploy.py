@@ -41,6 +41,7 @@ from ..core.symbolic.recursive import recursive_program
 from ..core.symbolic.recursive_model import RecursiveModel, recursive_model
 from ..errors import one_line
 from ..io.cache_files import CacheWarning, entry_path
+from ..io.model_trust import remember_claim
 from ..io.planning import DEFAULT_QDD_PER_QD, acceleration_limits
 from ..io.search_cache import read_search, search_key, write_search
 from .region_memo import REGION_SAMPLES, certified, region_magnitudes, region_values
@@ -48,7 +49,7 @@ from .region_memo import REGION_SAMPLES, certified, region_magnitudes, region_va
 __all__ = ["build_recursive", "recursive_simplified", "replace_cost", "region_model",
            "trajectory_guarantee", "certified", "robot_region", "guarantee_region",
            "REGION_SAMPLES", "restored_rebuild", "joint_bound", "SCOUT_BOXES",
-           "SCOUT_RATIO", "screened_exact"]
+           "SCOUT_RATIO", "screened_exact", "region_simplified"]
 
 #: A tree of boxes is kept with a region model (:attr:`Guarantee.tilings`) for the joints
 #: where its bound is within this share of s_i of the model's (a thousandth of what the
@@ -555,6 +556,42 @@ def _searched(robot, base, region, tolerance, torque_floor, sampled=True):
     return (*_region_model(robot, base, region, tolerance, pb, pruned, sampled), None,
             lambda exact_forms, pruned_forms: write_search(key, pr.dropped, pr.whole,
                                                            exact_forms, pruned_forms))
+
+
+def region_simplified(robot, base, region, tolerance, torque_floor=0.0, trajectory_sha256="",
+                      provenance=None):
+    """:func:`region_model` as a :class:`SimplifiedModel`, its searches taken from the
+    derivation cache where an entry passes its checks (:mod:`gd_analyze.io.search_cache`)
+    and kept there otherwise, as the main job's (:func:`build_recursive`) are.
+
+    Parameters
+    ----------
+    robot, base, region, tolerance, torque_floor
+        As :func:`region_model` takes them (EPS; the floor in [N m or N]).
+    trajectory_sha256, provenance
+        As :func:`recursive_simplified` records them.
+
+    Returns
+    -------
+    SimplifiedModel
+        :func:`recursive_simplified` of :func:`region_model`'s model and guarantee: the same
+        pairs dropped, bound and programs whether the searches ran or were read back (an
+        entry's pairs pass the same budget check, its forms only choose among programs that
+        compute the same torques). Its claim is kept as proved in this process
+        (:func:`gd_analyze.io.model_trust.remember_claim`).
+
+    Notes
+    -----
+    Fu, Gonzalez & Lee (1987), Algorithm 3.1 on the base parameters; the bounds of
+    :func:`gd_analyze.core.selection.certify.certify` over the region.
+    """
+    rec, guarantee, forms, store = _searched(robot, base, region, tolerance, torque_floor)
+    model = recursive_simplified(robot, rec, base, tolerance=tolerance,
+                                 torque_floor=torque_floor, trajectory_sha256=trajectory_sha256,
+                                 provenance=provenance, guarantee=guarantee, forms=forms,
+                                 searched=store)
+    remember_claim(model)           # its bound proved here: not proved again by its checks
+    return model
 
 
 def screened_exact(robot, base, region, tolerance, torque_floor=0.0):

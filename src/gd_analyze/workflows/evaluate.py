@@ -13,7 +13,7 @@ joint with s_i the scale of its guarantee (:class:`~gd_analyze.core.selection.gu
 
 from __future__ import annotations
 
-from collections.abc import Mapping
+from collections.abc import Mapping, Sequence
 from typing import TYPE_CHECKING, Any
 
 import numpy as np
@@ -34,7 +34,7 @@ if TYPE_CHECKING:                       # for the type hints only
     from ..core.selection.simplified import SimplifiedModel
     from ..io.trajectory import Trajectory
 
-__all__ = ["evaluate", "model_torque", "model_scale", "coverage", "gate",
+__all__ = ["evaluate", "model_torque", "model_scale", "coverage", "coverages", "gate",
            "check_trajectory_claim", "TRAJECTORY_SCALE_RTOL"]
 
 
@@ -192,29 +192,63 @@ def coverage(model: SimplifiedModel, trajectory: Trajectory, plant: Robot | None
         SHA-256), when its claim does not hold there, measured again
         (:func:`check_trajectory_claim`): one line naming the key, e.g. ``guarantee.bound``.
     """
+    return coverages(model, [trajectory], plant, path)[0]
+
+
+def coverages(model: SimplifiedModel, trajectories: Sequence[Trajectory],
+              plant: Robot | None = None, path: str = "<model>") -> list[dict[str, Any]]:
+    """:func:`coverage` of each of several trajectories, the model's claim checked once.
+
+    Parameters
+    ----------
+    model : SimplifiedModel
+    trajectories : sequence of Trajectory
+        K trajectories, each q, qd, qdd (N_k, n) and its file's ``sha256``.
+    plant : Robot, optional
+        The reference arm, as :func:`coverage` takes it.
+    path : str, optional
+        The model file, for messages.
+
+    Returns
+    -------
+    list of dict
+        K dicts, each as :func:`coverage` returns it, in the trajectories' order.
+
+    Raises
+    ------
+    InputError
+        As :func:`coverage`: a region claim that does not hold for the model's robot (checked
+        once, before any trajectory), or a trajectory-kind claim that does not hold on its own
+        trajectory.
+    """
     g = model.guarantee
     out = {"kind": None if g is None else g.kind, "statement": model.scope()}  # type: ignore[attr-defined]  # SimplifiedModel's field is typed object
     if g is None:
-        return {**out, "covered": False, "reason": "the model carries no guarantee"}
+        return [{**out, "covered": False, "reason": "the model carries no guarantee"}
+                for _ in trajectories]
     if g.kind == "region":  # type: ignore[attr-defined]  # field typed object; a model built in memory, or read: checked
         check_guarantee(model, path)        # (once per certification and process)
     robot: Robot = model.robot  # type: ignore[assignment]  # SimplifiedModel's field is typed object
     if plant is not None and plant is not robot and \
             parameters_sha256(plant.to_dict()) != parameters_sha256(robot.to_dict()):
-        return {**out, "covered": False,
-                "reason": "the reference arm is not the model's robot (a payload or another "
-                          "mounting): the guarantee is for the model's own robot"}
+        return [{**out, "covered": False,
+                 "reason": "the reference arm is not the model's robot (a payload or another "
+                           "mounting): the guarantee is for the model's own robot"}
+                for _ in trajectories]
     # a revolute joint without limits, or with more than a turn, has the full circle
     # [-pi, pi] in the region (core.selection.region): its q counts modulo 2 pi
     lo, hi = np.asarray(robot.q_min, float), np.asarray(robot.q_max, float)
     with np.errstate(invalid="ignore"):
         continuous = ~np.asarray(robot.prismatic, bool) & (
             ~(np.isfinite(lo) & np.isfinite(hi)) | (hi - lo > 2 * np.pi))
-    covered, reason = g.covers(trajectory.q, trajectory.qd, trajectory.qdd,  # type: ignore[attr-defined]  # SimplifiedModel's field is typed object
-                               trajectory_sha256=trajectory.sha256, continuous=continuous)
-    if covered and g.kind == "trajectory":  # type: ignore[attr-defined]  # SimplifiedModel's field is typed object
-        check_trajectory_claim(model, trajectory, path)
-    return {**out, "covered": bool(covered), "reason": reason}
+    said = []
+    for trajectory in trajectories:
+        covered, reason = g.covers(trajectory.q, trajectory.qd, trajectory.qdd,  # type: ignore[attr-defined]  # SimplifiedModel's field is typed object
+                                   trajectory_sha256=trajectory.sha256, continuous=continuous)
+        if covered and g.kind == "trajectory":  # type: ignore[attr-defined]  # SimplifiedModel's field is typed object
+            check_trajectory_claim(model, trajectory, path)
+        said.append({**out, "covered": bool(covered), "reason": reason})
+    return said
 
 
 #: A trajectory model's s_i must equal max(peak |tau_i|, torque floor) on its trajectory, to

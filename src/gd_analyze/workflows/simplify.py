@@ -41,6 +41,10 @@ if TYPE_CHECKING:                       # for the type hints only
     TorqueFunction = Callable[[np.ndarray, np.ndarray, np.ndarray], np.ndarray]
     #: The (q, qd, qdd) arrays of one trajectory, each of shape (N, n)
     States = tuple[np.ndarray, np.ndarray, np.ndarray]
+    #: errors(model, trajectories, reference) -> (peak, sum_sq, peak_tau, counts), as
+    #: per_trajectory_errors returns them
+    TrajectoryErrors = Callable[[SimplifiedModel, Sequence[Trajectory], TorqueFunction | None],
+                                tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]]
 
 __all__ = ["Peaks", "collect_peaks", "build_model", "full_program", "LADDER", "ladder",
            "cost_rows", "AKB_COSTS", "simplified_dataset", "build_recursive", "replace_cost"]
@@ -544,7 +548,8 @@ def explicit_sweep_model(robot: Robot, trajectories: Sequence[Trajectory],
 def sweep_validation(model: SimplifiedModel, trajectories: Sequence[Trajectory],
                      scales: NDArray[np.float64], relative_bound: NDArray[np.float64],
                      held_out: Sequence[Trajectory] = (), reference: TorqueFunction | None = None,
-                     bound: NDArray[np.float64] | None = None) -> dict[str, Any]:
+                     bound: NDArray[np.float64] | None = None,
+                     errors: TrajectoryErrors | None = None) -> dict[str, Any]:
     """A sweep model's errors on each swept trajectory, over all of them and on held-out ones.
 
     Parameters
@@ -562,6 +567,11 @@ def sweep_validation(model: SimplifiedModel, trajectories: Sequence[Trajectory],
         tau_full(q, qd, qdd), as :func:`validate` takes it (default: the G-D terms).
     bound : ndarray, shape (K, n), optional
         The guaranteed bound on each trajectory [N m]; default ``relative_bound`` x scales.
+    errors : callable, optional
+        ``errors(model, trajectories, reference)`` -> (peak, sum_sq, peak_tau, counts) as
+        :func:`per_trajectory_errors` (the default) returns them, e.g. measured by the
+        workers of a dask cluster (:class:`gd_analyze.workflows.sweep.WorkerErrors`); called
+        once, on the swept trajectories followed by the held-out ones.
 
     Returns
     -------
@@ -577,7 +587,11 @@ def sweep_validation(model: SimplifiedModel, trajectories: Sequence[Trajectory],
     scales = np.asarray(scales, float)
     relative_bound = np.asarray(relative_bound, float)
     bound = relative_bound * scales if bound is None else np.asarray(bound, float)
-    peak, sum_sq, peak_tau, counts = _per_trajectory_errors(model, trajectories, reference)
+    K = len(trajectories)
+    every = (per_trajectory_errors if errors is None else errors)(
+        model, [*trajectories, *held_out], reference)
+    peak, sum_sq, peak_tau, counts = (np.asarray(a)[:K] for a in every)
+    held = [np.asarray(a)[K:] for a in every]
     with np.errstate(divide="ignore", invalid="ignore"):
         scaled = np.where(peak > 0, peak / np.where(scales > 0, scales, 0.0), 0.0)
     validation = _accumulated(peak.max(axis=0, initial=0.0), sum_sq.sum(axis=0),
@@ -590,18 +604,47 @@ def sweep_validation(model: SimplifiedModel, trajectories: Sequence[Trajectory],
                            "peak_tau": peak_tau.tolist(),
                            "scale": scales.tolist(), "bound": bound.tolist()},
         "trajectories": len(trajectories),
-        "held_out": validate(model, [(t.q, t.qd, t.qdd) for t in held_out],
-                             reference=reference) if held_out else {},
+        "held_out": _accumulated(held[0].max(axis=0), held[1].sum(axis=0),
+                                 held[2].max(axis=0), int(held[3].sum())) if held_out else {},
         "held_out_trajectories": len(held_out),
     })
     return validation
 
 
-def _per_trajectory_errors(model, trajectories, reference=None, chunk=65536):
-    """Per trajectory: peak |tau_s - tau|, the sum of its squares, peak |tau| (K, n) [N m,
-    N^2 m^2, N m] and the set points (K,), the states of all trajectories evaluated together
-    in chunks of ``chunk`` set points (the reference as :func:`validate`)."""
-    n = model.robot.n
+def per_trajectory_errors(model: SimplifiedModel, trajectories: Sequence[Trajectory],
+                          reference: TorqueFunction | None = None, chunk: int = 65536
+                          ) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
+    """A model's torque error along each of K trajectories, all evaluated together.
+
+    Parameters
+    ----------
+    model : SimplifiedModel
+        With n joints.
+    trajectories : sequence of Trajectory
+        Each q, qd, qdd (N_k, n) [rad, rad/s, rad/s^2].
+    reference : callable, optional
+        tau_full(q, qd, qdd), as :func:`validate` takes it (default: the G-D terms).
+    chunk : int, optional
+        Set points evaluated at once (a chunk may cut through trajectories).
+
+    Returns
+    -------
+    peak : ndarray, shape (K, n)
+        Peak |tau_s - tau| on each trajectory [N m].
+    sum_sq : ndarray, shape (K, n)
+        The sum of its squares [N^2 m^2].
+    peak_tau : ndarray, shape (K, n)
+        Peak |tau| [N m].
+    counts : ndarray of int, shape (K,)
+        The set points N_k.
+
+    Notes
+    -----
+    The error of Sec. 3.4.1 of Fu, Gonzalez & Lee (1987), tau from Eqs. (3.4-24) to (3.4-28)
+    by default; the states of consecutive trajectories are concatenated, so the model and the
+    reference are evaluated on many set points per call.
+    """
+    n = model.robot.n  # type: ignore[attr-defined]  # SimplifiedModel's field is typed object
     K = len(trajectories)
     peak, sum_sq, peak_tau = np.zeros((K, n)), np.zeros((K, n)), np.zeros((K, n))
     counts = np.array([t.q.shape[0] for t in trajectories], int)
@@ -635,4 +678,5 @@ def _accumulated(peak, sum_sq, peak_tau, count):
     return acc.result()
 
 
-__all__ += ["sweep_model", "explicit_sweep_model", "sweep_validation", "trajectories_sha256"]
+__all__ += ["sweep_model", "explicit_sweep_model", "sweep_validation", "trajectories_sha256",
+            "per_trajectory_errors"]

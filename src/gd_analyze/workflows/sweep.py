@@ -34,7 +34,7 @@ import contextlib
 import datetime
 import math
 import time
-from collections.abc import Mapping, Sequence
+from collections.abc import Callable, Mapping, Sequence
 from typing import TYPE_CHECKING, Any
 
 import numpy as np
@@ -53,16 +53,18 @@ from ..io.sweep_datasets import embed_pair_peaks, sweep_dataset
 from .analyze import analysis_pass
 from .dask_cluster import TASK_RETRIES, ClusterLost, cluster_failures, dask_client
 from .options import AnalysisOptions
+from .simplify import per_trajectory_errors
 
 if TYPE_CHECKING:                       # for the type hints only
     import xarray as xr
     from distributed import Client
 
     from ..core.model.robot import Robot
+    from ..core.selection.simplified import SimplifiedModel
     from ..io.trajectory import Trajectory
 
 __all__ = ["DEFAULT_BATCH_MAX", "analyze_one", "run_sweep", "check_thresholds",
-           "check_trajectory"]
+           "check_trajectory", "WorkerErrors"]
 
 #: Largest number of trajectories per dask task chosen automatically by :func:`run_sweep`.
 DEFAULT_BATCH_MAX = 50
@@ -263,9 +265,73 @@ def _error_batch(robot, trajectories, choices):
     return [_error_stats(tr, terms, choices) for tr, terms in _batch_terms(robot, trajectories)]
 
 
+def _errors_task(packed, trajectories):
+    """A task of :class:`WorkerErrors`: ``packed`` = the (model, reference) it serialized."""
+    import cloudpickle
+
+    model, reference = cloudpickle.loads(packed)
+    return per_trajectory_errors(model, trajectories, reference)
+
+
 # --------------------------------------------------------------------------------------------
 # The sweep on dask.distributed
 # --------------------------------------------------------------------------------------------
+
+class WorkerErrors:
+    """A merged model's errors along many trajectories, measured by the workers of a dask
+    cluster: :func:`gd_analyze.workflows.simplify.per_trajectory_errors` in tasks over
+    batches of trajectories, each returning four small arrays.
+
+    Parameters
+    ----------
+    client : distributed.Client
+        The sweep's client (left open).
+    batch : int
+        Trajectories per task (>= 1), as the sweep's (``batch_size``).
+
+    Attributes
+    ----------
+    tasks : int
+        The tasks submitted so far.
+
+    Notes
+    -----
+    Pass it as ``errors`` to :func:`gd_analyze.workflows.sweep_budget.budget_sweep_model`
+    (:func:`gd_analyze.workflows.simplify.sweep_validation`). Each task carries the model,
+    its reference and its batch, so that a task whose worker is lost runs again on another;
+    a failure of the cluster raises :class:`~.dask_cluster.ClusterLost`.
+    """
+
+    def __init__(self, client: Client, batch: int) -> None:
+        if int(batch) < 1:
+            raise ValueError(f"batch must be >= 1, got {batch}")
+        self.client, self.batch, self.tasks = client, int(batch), 0
+
+    def __call__(self, model: SimplifiedModel, trajectories: Sequence[Trajectory],
+                 reference: Callable[[np.ndarray, np.ndarray, np.ndarray], np.ndarray] | None
+                 = None) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
+        """:func:`~gd_analyze.workflows.simplify.per_trajectory_errors` of all
+        ``trajectories`` (K of them), in the same order: peak |tau_s - tau|, the sum of its
+        squares, peak |tau| (K, n) [N m, N^2 m^2, N m] and the set points (K,)."""
+        trajectories = list(trajectories)
+        n = model.robot.n  # type: ignore[attr-defined]  # SimplifiedModel's field is typed object
+        if not trajectories:
+            return np.zeros((0, n)), np.zeros((0, n)), np.zeros((0, n)), np.zeros(0, int)
+        import cloudpickle  # dask's own serializer, a dependency of it
+
+        batches = [trajectories[a:a + self.batch]
+                   for a in range(0, len(trajectories), self.batch)]
+        # the model (some thousand small objects) serialized once, not once per task; each
+        # task still carries it, so that a task whose worker is lost runs again on another
+        packed = cloudpickle.dumps((model, reference))
+        with cluster_failures(str(self.client.scheduler.address)):
+            futures = [self.client.submit(_errors_task, packed, b, pure=False,
+                                          retries=TASK_RETRIES) for b in batches]
+            self.tasks += len(futures)
+            parts = self.client.gather(futures)
+        return tuple(np.concatenate([part[k] for part in parts])  # type: ignore[return-value]
+                     for k in range(4))
+
 
 def _auto_batch(k, n_workers):
     per_task = math.ceil(k / (_TASKS_PER_WORKER * max(1, n_workers)))
@@ -277,7 +343,9 @@ def run_sweep(robot: Robot, trajectories: Sequence[Trajectory],
               client: Client | None = None, scheduler: str | None = None,
               batch: int | None = None, n_workers: int | None = None,
               settings: Mapping[str, Any] | None = None, progress: bool = False,
-              recursive_peaks: bool = False, cluster: str | None = None) -> xr.Dataset:
+              recursive_peaks: bool = False, cluster: str | None = None,
+              chapter_errors: bool = True,
+              meanwhile: Callable[[], object] | None = None) -> xr.Dataset:
     """Rank K trajectories on a dask.distributed cluster and merge their simplified models.
 
     Parameters
@@ -319,6 +387,15 @@ def run_sweep(robot: Robot, trajectories: Sequence[Trajectory],
         (:func:`gd_analyze.io.sweep_datasets.embed_pair_peaks`). The chapter merge's error is
         then not measured (its variables are NaN; one pass of tasks, not two): the budget
         rule's model replaces it (:func:`gd_analyze.workflows.sweep_merged.with_budget_model`).
+    chapter_errors : bool, optional
+        Measure the chapter merge's error along every trajectory (a second pass of tasks);
+        False where another merged model replaces it (its variables are then NaN, as with
+        ``recursive_peaks``).
+    meanwhile : callable, optional
+        Called without arguments in this process once the ranking's tasks are submitted,
+        while the workers run them (work that does not depend on the ranking, e.g. the
+        merged model over a region, :func:`gd_analyze.workflows.sweep_budget.budget_region_model`);
+        its errors pass unchanged, the tasks then dropped.
 
     Returns
     -------
@@ -357,7 +434,8 @@ def run_sweep(robot: Robot, trajectories: Sequence[Trajectory],
     Two passes of tasks over the same batches (each task carries the robot and its batch, so
     that a task whose worker is lost runs again on another): the first runs :func:`analyze_one` per trajectory; once all choices are known and
     merged (:func:`merge_choices`), the second computes the merged model's torque error along
-    every trajectory. Source: Sec. 3.4.1 of Fu, Gonzalez & Lee (1987).
+    every trajectory (or, for another merged model, :class:`WorkerErrors` does, on the same
+    cluster). Source: Sec. 3.4.1 of Fu, Gonzalez & Lee (1987).
     """
     t0 = time.perf_counter()
     trajectories = list(trajectories)
@@ -392,29 +470,35 @@ def run_sweep(robot: Robot, trajectories: Sequence[Trajectory],
             base = None
             if recursive_peaks:
                 base = base_parameters(robot)
-            passes = 1 if recursive_peaks else 2
+            passes = 2 if base is None and chapter_errors else 1
             bar = tqdm(total=passes * len(batches), unit="task", disable=not progress,
                        desc="sweep: ranking", leave=False)
 
-            def run(fn, *args):
+            def submit(fn, *args):
                 # the robot and each batch go with their task (a few kB each), not scattered
                 # ahead: data scattered to a worker is lost with it, a task's own arguments are
                 # the scheduler's and go to the workers that remain
-                futures = {client.submit(fn, robot, b, *args, pure=False,
-                                         retries=TASK_RETRIES): k
-                           for k, b in enumerate(batches)}
+                return {client.submit(fn, robot, b, *args, pure=False,
+                                      retries=TASK_RETRIES): k
+                        for k, b in enumerate(batches)}
+
+            def collect(futures):
                 out = [None] * len(futures)
                 for fut in as_completed(list(futures)):
                     out[futures[fut]] = fut.result()
                     bar.update(1)
                 return [item for part in out for item in part]
 
-            results = run(_analyze_batch, float(dominance), float(negligible), base)
+            ranking = submit(_analyze_batch, float(dominance), float(negligible), base)
+        if meanwhile is not None:               # in this process, its errors its own
+            meanwhile()
+        with cluster_failures(address):
+            results = collect(ranking)
             merged = merge_choices([r["choices"] for r in results])
             merged_stats = None             # the budget rule's model replaces the chapter merge
-            if base is None:
+            if passes == 2:
                 bar.set_description("sweep: merged model")
-                merged_stats = run(_error_batch, merged)
+                merged_stats = collect(submit(_error_batch, merged))
             bar.close()
             compute_s = time.perf_counter() - t_compute
     finally:

@@ -42,13 +42,13 @@ from ..io import explicit_cache
 from .deploy import (
     guarantee_region,
     recursive_simplified,
-    region_model,
+    region_simplified,
     restored_rebuild,
     robot_region,
     trajectory_guarantee,
 )
 from .deployment import exact_explicit_model, exact_explicit_wins
-from .evaluate import coverage
+from .evaluate import coverages
 from .options import EXPLICIT, FORMS, GUARANTEES
 from .simplified_dataset import sweep_choices
 from .simplify import (
@@ -69,9 +69,10 @@ if TYPE_CHECKING:                       # for the type hints only
     from ..core.selection.simplified import SimplifiedModel
     from ..core.symbolic.base_parameters import BaseParameters
     from ..io.trajectory import Trajectory
+    from .simplify import TorqueFunction, TrajectoryErrors
 
 __all__ = ["pair_peaks", "recursive_sweep_model", "budget_sweep_model", "region_sweep_model",
-           "sweep_guarantee"]
+           "sweep_guarantee", "budget_region_model", "region_merged_model"]
 
 
 def pair_peaks(sweep_ds: xr.Dataset) -> tuple[NDArray[np.float64], ...]:
@@ -166,7 +167,9 @@ def budget_sweep_model(robot: Robot, trajectories: Sequence[Trajectory], sweep_d
                        held_out: Sequence[Trajectory] = (),
                        provenance: Mapping[str, Any] | None = None, explicit: str = "auto",
                        form: str = "cheapest", guarantee: str = defaults["guarantee"],
-                       region: RegionLimits | None = None) -> SimplifiedModel:
+                       region: RegionLimits | None = None,
+                       prepared: tuple[SimplifiedModel, TorqueFunction | None] | None = None,
+                       errors: TrajectoryErrors | None = None) -> SimplifiedModel:
     """The sweep's merged model of the budget rule: the cheapest form within EPS, proved over
     the joint-limit region or on each swept trajectory.
 
@@ -202,6 +205,13 @@ def budget_sweep_model(robot: Robot, trajectories: Sequence[Trajectory], sweep_d
     region : RegionLimits, optional
         The user's region in place of the robot's limits
         (:func:`gd_analyze.workflows.deploy.robot_region`).
+    prepared : (SimplifiedModel, callable or None), optional
+        Under a region guarantee, :func:`budget_region_model` of the same arguments, built
+        earlier (e.g. while the workers ranked the trajectories); it is then only measured.
+    errors : callable, optional
+        How the model's errors along the trajectories are measured
+        (:func:`gd_analyze.workflows.simplify.sweep_validation`; e.g. by the workers of a
+        dask cluster, :class:`gd_analyze.workflows.sweep.WorkerErrors`).
 
     Returns
     -------
@@ -239,25 +249,17 @@ def budget_sweep_model(robot: Robot, trajectories: Sequence[Trajectory], sweep_d
     time"); the region's bounds as :func:`gd_analyze.workflows.deploy.region_model`.
     """
 
-    if explicit not in EXPLICIT:
-        raise ValueError(f"explicit must be one of {EXPLICIT}, got {explicit!r}")
-    if form not in FORMS:
-        raise ValueError(f"form must be one of {FORMS}, got {form!r}")
-    if guarantee not in GUARANTEES:
-        raise ValueError(f"guarantee must be one of {GUARANTEES}, got {guarantee!r}")
     trajectories = list(trajectories)
     if sweep_ds.sizes["trajectory"] != len(trajectories):
         raise ValueError(f"{len(trajectories)} trajectories for a sweep of "
                          f"{sweep_ds.sizes['trajectory']}")
-    provenance = {**(provenance or {}), "kind": "sweep model", "trajectories": len(trajectories)}
-    digest = trajectories_sha256(trajectories)
-    derive = form == "explicit" or explicit == "always" or (
-        explicit == "auto" and not is_expensive(robot))
-    region, missing, proved = guarantee_region(robot, guarantee, region)
+    provenance, digest, derive, (region, missing, proved) = _settings(
+        robot, trajectories, provenance, explicit, form, guarantee, region)
     if proved:
         return sweep_choices(region_sweep_model(
             robot, trajectories, region,  # type: ignore[arg-type]  # a Region (guarantee_region)
-            tolerance, torque_floor, held_out, provenance, digest, derive, form), trajectories)
+            tolerance, torque_floor, held_out, provenance, digest, derive, form,
+            prepared=prepared, errors=errors), trajectories)
     tau_peak, peak, whole_peak = pair_peaks(sweep_ds)
     scales = np.maximum(tau_peak, float(torque_floor))
     model, bound = recursive_sweep_model(robot, scales, peak, whole_peak, tolerance,
@@ -284,12 +286,63 @@ def budget_sweep_model(robot: Robot, trajectories: Sequence[Trajectory], sweep_d
         with np.errstate(divide="ignore", invalid="ignore"):
             relative = np.where(bound > 0, bound / scales, 0.0).max(axis=0)
     validation = sweep_validation(model, trajectories, scales, relative, held_out=held_out,
-                                  reference=reference, bound=bound)
+                                  reference=reference, bound=bound, errors=errors)
     return sweep_choices(dataclasses.replace(
         model, validation=validation, guarantee=sweep_guarantee(
             robot, model, trajectories, scales, relative, tolerance,
             region, missing)),  # type: ignore[arg-type]  # a Region (guarantee_region)
         trajectories)
+
+
+def _settings(robot, trajectories, provenance, explicit, form, guarantee, region):
+    """The checked settings of :func:`budget_sweep_model`: (provenance, digest of the
+    trajectories, whether the explicit model is derived, :func:`guarantee_region`'s triple)."""
+    if explicit not in EXPLICIT:
+        raise ValueError(f"explicit must be one of {EXPLICIT}, got {explicit!r}")
+    if form not in FORMS:
+        raise ValueError(f"form must be one of {FORMS}, got {form!r}")
+    if guarantee not in GUARANTEES:
+        raise ValueError(f"guarantee must be one of {GUARANTEES}, got {guarantee!r}")
+    provenance = {**(provenance or {}), "kind": "sweep model", "trajectories": len(trajectories)}
+    derive = form == "explicit" or explicit == "always" or (
+        explicit == "auto" and not is_expensive(robot))
+    return (provenance, trajectories_sha256(trajectories), derive,
+            guarantee_region(robot, guarantee, region))
+
+
+def budget_region_model(robot: Robot, trajectories: Sequence[Trajectory],
+                        tolerance: float = DEFAULT_TOLERANCE, torque_floor: float = 0.0,
+                        provenance: Mapping[str, Any] | None = None, explicit: str = "auto",
+                        form: str = "cheapest", guarantee: str = defaults["guarantee"],
+                        region: RegionLimits | None = None
+                        ) -> tuple[SimplifiedModel, TorqueFunction | None] | None:
+    """The merged model of :func:`budget_sweep_model` under a region guarantee, before it is
+    measured on the trajectories: it does not depend on the sweep's ranking.
+
+    Parameters
+    ----------
+    robot, trajectories, tolerance, torque_floor, provenance, explicit, form, guarantee, region
+        As :func:`budget_sweep_model` takes them.
+
+    Returns
+    -------
+    (SimplifiedModel, callable or None) or None
+        :func:`region_merged_model`'s model and the reference its errors are measured
+        against, for ``budget_sweep_model(..., prepared=...)``; None where the guarantee is
+        on the trajectories (that model is pruned on the ranking's peaks).
+
+    Raises
+    ------
+    ValueError
+        If ``explicit``, ``form`` or ``guarantee`` is unknown.
+    """
+    trajectories = list(trajectories)
+    provenance, digest, derive, (region, _, proved) = _settings(
+        robot, trajectories, provenance, explicit, form, guarantee, region)
+    if not proved:
+        return None
+    return region_merged_model(robot, trajectories, region,  # type: ignore[arg-type]  # a Region (guarantee_region)
+                               tolerance, torque_floor, provenance, digest, derive, form)
 
 
 def _trajectory_bounds(peak, whole_peak, dropped):
@@ -334,7 +387,9 @@ def region_sweep_model(robot: Robot, trajectories: Sequence[Trajectory], region:
                        tolerance: float, torque_floor: float = 0.0,
                        held_out: Sequence[Trajectory] = (),
                        provenance: Mapping[str, Any] | None = None, digest: str = "",
-                       derive: bool = True, form: str = "cheapest") -> SimplifiedModel:
+                       derive: bool = True, form: str = "cheapest",
+                       prepared: tuple[SimplifiedModel, TorqueFunction | None] | None = None,
+                       errors: TrajectoryErrors | None = None) -> SimplifiedModel:
     """The sweep's merged model under a region guarantee: the main job's region model,
     checked on every swept trajectory (issue 29).
 
@@ -358,6 +413,10 @@ def region_sweep_model(robot: Robot, trajectories: Sequence[Trajectory], region:
     derive : bool, optional
         Whether the explicit model may be derived (its full cost compared).
     form : {"cheapest", "recursive", "explicit"}, optional
+    prepared : (SimplifiedModel, callable or None), optional
+        :func:`region_merged_model` of the same arguments, built earlier.
+    errors : callable, optional
+        How its errors are measured (:func:`gd_analyze.workflows.simplify.sweep_validation`).
 
     Returns
     -------
@@ -377,11 +436,47 @@ def region_sweep_model(robot: Robot, trajectories: Sequence[Trajectory], region:
     set point lies in it (:meth:`gd_analyze.core.selection.guarantee.Guarantee.covers`);
     one outside is reported, not covered.
     """
+    model, reference = prepared if prepared is not None else region_merged_model(
+        robot, trajectories, region, tolerance, torque_floor, provenance, digest, derive, form)
+    K, n = len(trajectories), robot.n
+    g: Any = model.guarantee                    # SimplifiedModel's field is typed object
+    scale, bound = np.asarray(g.scale, float), np.asarray(g.bound, float)
+    with np.errstate(divide="ignore", invalid="ignore"):
+        relative = np.where(bound > 0, bound / scale, 0.0)
+    validation = sweep_validation(model, trajectories, np.broadcast_to(scale, (K, n)),
+                                  relative, held_out=held_out, reference=reference,
+                                  bound=np.broadcast_to(bound, (K, n)), errors=errors)
+    said = coverages(model, [*trajectories, *held_out])
+    validation["per_trajectory"].update(covered=[c["covered"] for c in said[:K]],
+                                        coverage=[c["reason"] for c in said[:K]])
+    validation["held_out_inside_region"] = sum(c["covered"] for c in said[K:])
+    return dataclasses.replace(model, validation=validation)
+
+
+def region_merged_model(robot: Robot, trajectories: Sequence[Trajectory], region: Region,
+                        tolerance: float, torque_floor: float = 0.0,
+                        provenance: Mapping[str, Any] | None = None, digest: str = "",
+                        derive: bool = True, form: str = "cheapest"
+                        ) -> tuple[SimplifiedModel, TorqueFunction | None]:
+    """:func:`region_sweep_model`'s model before it is measured on the trajectories.
+
+    Parameters
+    ----------
+    robot, trajectories, region, tolerance, torque_floor, provenance, digest, derive, form
+        As :func:`region_sweep_model` takes them.
+
+    Returns
+    -------
+    model : SimplifiedModel
+        The main job's region model (:func:`gd_analyze.workflows.deploy.region_simplified`)
+        or the exact explicit model, its inertia check done, ``validation`` empty.
+    reference : callable or None
+        tau_full(q, qd, qdd) its errors are measured against: the full explicit model for an
+        explicit model, else None (the G-D terms).
+    """
     base = base_parameters(robot)
-    rec, g = region_model(robot, base, region, tolerance, torque_floor)
-    model = recursive_simplified(robot, rec, base, tolerance=tolerance,
-                                 torque_floor=torque_floor, trajectory_sha256=digest,
-                                 provenance=provenance, guarantee=g)
+    first = region_simplified(robot, base, region, tolerance, torque_floor, digest, provenance)
+    model, g = first, first.guarantee
     costs = _recursive_costs(robot, model)
     reference = None                           # the G-D terms, D qdd + h + c
     if derive:
@@ -401,28 +496,13 @@ def region_sweep_model(robot: Robot, trajectories: Sequence[Trajectory], region:
     # deployed under the region guarantee
     rebuild = restored_rebuild(None, None, None, region=region)
     recursive = model if model.recursive is not None else dataclasses.replace(
-        recursive_simplified(robot, rec, base, tolerance=tolerance, torque_floor=torque_floor,
-                             trajectory_sha256=digest, provenance=provenance, guarantee=g),
-        costs=costs, full_cost=dict(costs.get("explicit, full", {})))
+        first, costs=costs, full_cost=dict(costs.get("explicit, full", {})))
     model = with_inertia_check(model, rebuild=rebuild)
     if not model.inertia_check["proved"] and model.recursive is None:
         fallback = with_inertia_check(recursive, rebuild=rebuild)
         if fallback.inertia_check["proved"]:
             model, reference = fallback, None
-    K, n = len(trajectories), robot.n
-    scale = np.asarray(model.guarantee.scale, float)
-    bound = np.asarray(model.guarantee.bound, float)
-    with np.errstate(divide="ignore", invalid="ignore"):
-        relative = np.where(bound > 0, bound / scale, 0.0)
-    validation = sweep_validation(model, trajectories, np.broadcast_to(scale, (K, n)),
-                                  relative, held_out=held_out, reference=reference,
-                                  bound=np.broadcast_to(bound, (K, n)))
-    said = [coverage(model, tr) for tr in trajectories]
-    validation["per_trajectory"].update(covered=[c["covered"] for c in said],
-                                        coverage=[c["reason"] for c in said])
-    validation["held_out_inside_region"] = sum(coverage(model, tr)["covered"]
-                                               for tr in held_out)
-    return dataclasses.replace(model, validation=validation)
+    return model, reference
 
 
 def _recursive_costs(robot, model):

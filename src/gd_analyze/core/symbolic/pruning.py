@@ -616,7 +616,8 @@ def prune_bounds(robot, base, scale, peak, whole_peak, eps, strategy="cost", pie
     chosen : (ndarray of bool, ndarray of bool), optional
         The dropped pairs, shape (b, 3), and the parameters dropped whole, shape (b,), of an
         earlier search with the same inputs (the derivation cache): taken as they are, without
-        the search, after the same check of the budget.
+        the search, if their bound (the one the model states, without the quick rejections
+        of a search's candidates) is within the budget.
     zero : ndarray of bool, shape (b, 3), optional
         Pairs proved identically zero where the model must hold
         (:attr:`gd_analyze.core.selection.certify.PairBounds.zero`): dropped at no cost to
@@ -657,7 +658,7 @@ def prune_bounds(robot, base, scale, peak, whole_peak, eps, strategy="cost", pie
         dropped, whole = (np.asarray(a) for a in chosen)
         if dropped.shape != sel.live.shape or whole.shape != sel.live.shape[:1] \
                 or dropped.dtype != bool or whole.dtype != bool \
-                or not sel.fits(dropped, whole):
+                or not np.all(sel.bound(dropped, whole) <= sel.budget):
             raise ValueError("chosen pairs of another shape, or over the budget")
     else:
         dropped, whole = sel.by_peak() if strategy == "peak" else sel.by_cost()
