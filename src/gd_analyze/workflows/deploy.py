@@ -203,31 +203,52 @@ def joint_bound(robot, base, region, pb, tolerance):
         :data:`SCOUT_BOXES` boxes ends above :data:`SCOUT_RATIO` times ``enough``.
         Results are kept per dropped set.
     """
-    budget = tolerance * np.asarray(pb.scale, float)
-    alone = np.all(pb.bound <= budget[None, None, :], axis=2) & ~pb.zero
-    sums = joint_sums(robot, base, region, pb.split_joint, pb.split_at, alone, pb.zero)
-    beta = np.asarray(base.beta, float)[None, :]
-    memo = {}
+    return _JointBound(robot, base, region, pb, tolerance)
 
-    def joint(dropped, enough=None):
+
+class _JointBound:
+    """:func:`joint_bound`'s callable, with the cheap answer ``quick`` for the search."""
+
+    def __init__(self, robot, base, region, pb, tolerance):
+        self.robot, self.base, self.region, self.pb = robot, base, region, pb
+        self.budget = tolerance * np.asarray(pb.scale, float)
+        alone = np.all(pb.bound <= self.budget[None, None, :], axis=2) & ~pb.zero
+        self.sums = joint_sums(robot, base, region, pb.split_joint, pb.split_at, alone,
+                               pb.zero)
+        self.beta = np.asarray(base.beta, float)[None, :]
+        self.memo = {}
+
+    def quick(self, dropped, enough):
+        """The bound ``self(dropped, enough)`` returns when it is the final boxes' own
+        (:func:`~gd_analyze.core.selection.certify.leaf_bound`: it fits, or the set depends
+        on more than :data:`JOINT_DIMS` joints), else None."""
+        first = leaf_bound(self.pb, self.sums, dropped)
+        if np.all(first <= enough) or split_joints(self.robot, self.base, dropped,
+                                                   self.pb.zero).sum() > JOINT_DIMS:
+            return first
+        return None
+
+    def __call__(self, dropped, enough=None):
         key = np.asarray(dropped, bool).tobytes()
-        if key in memo:
-            return memo[key]
-        first = leaf_bound(pb, sums, dropped)
+        if key in self.memo:
+            return self.memo[key]
+        pb, region = self.pb, self.region
         if enough is not None:
-            if np.all(first <= enough) or split_joints(robot, base, dropped,
-                                                        pb.zero).sum() > JOINT_DIMS:
+            first = self.quick(dropped, enough)
+            if first is not None:
                 return first
-            found = worst_states(pb.values, beta * dropped.T, region.qd_max,
+            first = leaf_bound(pb, self.sums, dropped)
+            found = worst_states(pb.values, self.beta * dropped.T, region.qd_max,
                                  region.qdd_max)[0].max(axis=0)
             if np.any(found > enough):
                 return first
-            scout = dropped_bound(robot, base, region, dropped, budget, SCOUT_BOXES, pb.zero)
+            scout = dropped_bound(self.robot, self.base, region, dropped, self.budget,
+                                  SCOUT_BOXES, pb.zero)
             if np.any(scout > SCOUT_RATIO * enough):
                 return np.minimum(first, scout)
-        memo[key] = region_bound(robot, base, region, pb, dropped, budget, sums)
-        return memo[key]
-    return joint
+        self.memo[key] = region_bound(self.robot, self.base, region, pb, dropped, self.budget,
+                                      self.sums)
+        return self.memo[key]
 
 
 def _region_model(robot, base, region, tolerance, pb, pr, sampled=True):
