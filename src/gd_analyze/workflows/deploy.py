@@ -214,8 +214,8 @@ def joint_bound(robot, base, region, pb, tolerance):
 
 
 class _JointBound:
-    """:func:`joint_bound`'s callable, which keeps per dropped set the trees of boxes its
-    bound was found on (:meth:`tilings`)."""
+    """:func:`joint_bound`'s callable, with the cheap answer ``quick`` for the search, which
+    keeps per dropped set the trees of boxes its bound was found on (:meth:`tilings`)."""
 
     def __init__(self, robot, base, region, pb, tolerance):
         self.robot, self.base, self.region, self.pb = robot, base, region, pb
@@ -223,20 +223,31 @@ class _JointBound:
         alone = np.all(pb.bound <= self.budget[None, None, :], axis=2) & ~pb.zero
         self.sums = joint_sums(robot, base, region, pb.split_joint, pb.split_at, alone,
                                pb.zero)
+        self.beta = np.asarray(base.beta, float)[None, :]
         self.memo = {}
+
+    def quick(self, dropped, enough):
+        """The bound ``self(dropped, enough)`` returns when it is the final boxes' own
+        (:func:`~gd_analyze.core.selection.certify.leaf_bound`: it fits, or the set depends
+        on more than :data:`JOINT_DIMS` joints), else None."""
+        first = leaf_bound(self.pb, self.sums, dropped)
+        if np.all(first <= enough) or split_joints(self.robot, self.base, dropped,
+                                                   self.pb.zero).sum() > JOINT_DIMS:
+            return first
+        return None
 
     def __call__(self, dropped, enough=None):
         robot, base, region, pb = self.robot, self.base, self.region, self.pb
         key = np.asarray(dropped, bool).tobytes()
         if key in self.memo:
             return self.memo[key][0]
-        first = leaf_bound(pb, self.sums, dropped)
         if enough is not None:
-            if np.all(first <= enough) or split_joints(robot, base, dropped,
-                                                        pb.zero).sum() > JOINT_DIMS:
+            first = self.quick(dropped, enough)
+            if first is not None:
                 return first
-            found = worst_states(pb.values, np.asarray(base.beta, float)[None, :] * dropped.T,
-                                 region.qd_max, region.qdd_max)[0].max(axis=0)
+            first = leaf_bound(pb, self.sums, dropped)
+            found = worst_states(pb.values, self.beta * dropped.T, region.qd_max,
+                                 region.qdd_max)[0].max(axis=0)
             if np.any(found > enough):
                 return first
             scout = dropped_bound(robot, base, region, dropped, self.budget, SCOUT_BOXES,

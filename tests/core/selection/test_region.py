@@ -66,6 +66,45 @@ def test_worst_states_are_states_of_the_region_and_the_largest_over_the_vertices
         assert np.all(np.abs(tau) <= value * (1 + 1e-9))
 
 
+@pytest.mark.parametrize("name", ("puma560", "ur5"))
+def test_worst_states_of_a_few_columns_search_only_their_joints_and_miss_nothing(name):
+    """Weights on a few base parameters involve a few joints' velocities: the largest |tau_i|
+    over the 2^(n-1) vertices searched on those joints only equals the brute force over every
+    vertex of the velocity box (all 2^n sign patterns), and Pinocchio's rnea gives that value
+    at the returned state (the regressor times the kept parameters)."""
+    robot = load_robot(name)
+    base = base_parameters(robot)
+    region = joint_region(robot, np.full(robot.n, 3.0))
+    cols = np.flatnonzero(base.independent.reshape(-1))
+    q = sample_positions(region, 6, seed=5)[:6]
+    V = channel_values(robot, q, cols)
+    n, b = robot.n, cols.size
+    everything = np.array(list(__import__("itertools").product([-1.0, 1.0], repeat=n)))
+    model = pinocchio_model(robot)
+    data = model.createData()
+    order = np.array([4, 5, 7, 6, 8, 9, 1, 2, 3, 0])        # ours (XX .. ZZ, MX .. M) in pin's
+    pcols = 10 * (cols // 10) + order[cols % 10]
+    reduced = 0
+    for k in range(0, b, 2):
+        weights = np.zeros((3, b))
+        weights[:, k:k + 2] = np.asarray(base.beta, float)[k:k + 2]
+        value, qd, qdd = worst_states(V, weights, region.qd_max, region.qdd_max)
+        Cq = V[:, 1 + n:] @ weights[1]                                  # (B, n n, n)
+        vert = everything * region.qd_max
+        quad = np.einsum("kj,kl,bjli->bik", vert, vert, Cq.reshape(-1, n, n, n)) + (
+            V[:, 0] @ weights[2])[:, :, None]
+        a = np.einsum("bjim,m->bij", V[:, 1:1 + n], weights[0])
+        brute = np.abs(quad).max(axis=2) + np.abs(a) @ region.qdd_max
+        np.testing.assert_allclose(value, brute, rtol=1e-12, atol=1e-12 * brute.max())
+        reduced += int(np.any(np.all(Cq.reshape(-1, n, n, n) == 0, axis=(0, 2, 3))))
+        for i in range(n):                  # Pinocchio's regressor times the kept columns
+            tau = [pin.computeJointTorqueRegressor(model, data, q[p], qd[p, i], qdd[p, i])[
+                i, pcols] @ weights[0] for p in range(q.shape[0])]
+            np.testing.assert_allclose(np.abs(tau), value[:, i], rtol=1e-9,
+                                       atol=1e-9 * max(value.max(), 1e-300))
+    assert reduced > 0                      # some pairs involve fewer than n joints
+
+
 def test_the_scale_is_reached_where_it_says():
     robot = load_robot("stanford")             # a prismatic joint
     base = base_parameters(robot)

@@ -460,9 +460,11 @@ def certify_tree(robot, base, region, split_joint, split_at, values, torque_floo
 
 
 
-#: Most elements of each array of a :class:`JointSums` (128 MB each): the columns beyond are
-#: not held (a set dropping one of their pairs is bounded pair by pair).
-JOINT_SUM_ELEMENTS = 1 << 24
+#: Most elements of each array of a :class:`JointSums` (64 MB each; its construction holds
+#: about four such arrays at once): the columns beyond are not held (a set dropping one of
+#: their pairs is bounded pair by pair). The shipped arms hold at most 5.5 M (the Panda's 27
+#: columns on 512 boxes); a 12-joint chain's 4,000 boxes hold one column.
+JOINT_SUM_ELEMENTS = 1 << 23
 
 
 @dataclass(frozen=True, eq=False)
@@ -590,12 +592,17 @@ def joint_sums(robot, base, region, split_joint, split_at, pairs, zero=None):
     leaves = sum(int((~split).sum()) for _, _, split in levels)
     used = _held(robot.n, leaves, pairs, zero)
     cols = np.flatnonzero(base.independent.reshape(-1))[used]
-    parent, out = None, []
+    parent, c_lo, c_hi, at = None, None, None, 0
     for lo, hi, split in levels:
         ch = _channels(robot, lo, hi, cols, parent)
-        out.append(tuple(x[~split] for x in ch))
+        if c_lo is None:                  # the leaves' enclosures, filled level by level
+            c_lo, c_hi = (np.empty((leaves,) + x.shape[1:]) for x in ch)
+        k = int((~split).sum())
+        c_lo[at:at + k], c_hi[at:at + k] = ch[0][~split], ch[1][~split]
+        at += k
         parent = tuple(np.concatenate([x[split], x[split]]) for x in ch)
-    c_lo, c_hi = (np.concatenate([o[e] for o in out]) for e in range(2))
+        del ch
+    parent = None
     return _joint_sums(robot, base, region, used, pairs, zero, c_lo, c_hi)
 
 
@@ -622,11 +629,24 @@ def _joint_sums(robot, base, region, used, pairs, zero, c_lo, c_hi):
     held = np.zeros(pairs.shape, bool)
     held[used] = pairs[used]
     beta = np.asarray(base.beta, float)[used]
-    centre, radius = 0.5 * (c_lo + c_hi), 0.5 * (c_hi - c_lo)
     slack = (2 * used.size + 16 * robot.n + 32) * iv.ROUNDING
-    rad = (radius * (1 + slack) + slack * np.abs(centre)) * np.abs(beta)
+    # in place, the same operations as centre = 0.5 (lo + hi), radius = 0.5 (hi - lo),
+    # rad = (radius (1 + slack) + slack |centre|) |beta|, mid = centre beta: a few arrays of
+    # JOINT_SUM_ELEMENTS at a time, not nine
+    mid = np.add(c_lo, c_hi)
+    mid *= 0.5
+    rad = np.subtract(c_hi, c_lo, out=c_hi)
+    del c_lo
+    rad *= 0.5
+    rad *= 1 + slack
+    more = np.abs(mid)
+    more *= slack
+    rad += more
+    del more
+    rad *= np.abs(beta)
+    mid *= beta
     cols = np.flatnonzero(base.independent.reshape(-1))[used]
-    return JointSums(pairs=held, zero=zero, columns=used, mid=centre * beta, rad=rad,
+    return JointSums(pairs=held, zero=zero, columns=used, mid=mid, rad=rad,
                      part_zero=zero_parts(robot, cols),
                      qd_max=np.asarray(region.qd_max, float),
                      qdd_max=np.asarray(region.qdd_max, float))

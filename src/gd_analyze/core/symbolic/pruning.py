@@ -350,7 +350,7 @@ class _Selection:
     def __init__(self, robot, base, C, peak, whole_peak, budget, criterion, free=None,
                  joint=None):
         self.robot, self.base = robot, base
-        self.joint = joint                       # (dropped, enough) -> (n,), or None
+        self.joint = joint       # (dropped, enough) -> (n,) with .quick, or None
         self.free = None if free is None else np.asarray(free, bool)   # (b, 3): proved 0
         self.C = None if C is None else C.transpose(3, 0, 1, 2)       # (b, 3, N, n)
         self.peak, self.whole_peak, self.budget = peak, whole_peak, budget
@@ -375,6 +375,18 @@ class _Selection:
 
     def fits(self, dropped, whole):
         return bool(np.all(self.bound(dropped, whole, self.budget) <= self.budget))
+
+    def quick_fits(self, dropped, whole):
+        """:meth:`fits` where cheap bounds decide it, else None (only the whole bound can):
+        the pieces' sums, then the joint bound's ``quick`` answer where it has one."""
+        quick = getattr(self.joint, "quick", None)
+        if self.criterion != "error" or quick is None or not dropped.any():
+            return self.fits(dropped, whole)
+        err = np.abs(np.einsum("bpkn,bp->kn", self.C, dropped.astype(float))).max(axis=0)
+        if np.all(err <= self.budget):
+            return True
+        first = quick(dropped, self.budget)
+        return None if first is None else bool(np.all(np.minimum(err, first) <= self.budget))
 
     def count(self, dropped):
         return _count(self.robot, self.base, _normalize(dropped, self.live, self.free))
@@ -417,8 +429,11 @@ class _Selection:
                     continue
                 trial = dropped.copy()
                 trial[m, p] = True
-                c = self.count(trial)           # (quick; whether it fits may not be)
-                if c < cost and self.fits(trial, whole):
+                fits = self.quick_fits(trial, whole)   # None: only the whole bound decides
+                if fits is False:
+                    continue
+                c = self.count(trial)
+                if c < cost and (fits or self.fits(trial, whole)):
                     cost, dropped = c, trial
             if best is None or cost < best[0]:
                 best = (cost, dropped, whole)
@@ -629,7 +644,9 @@ def prune_bounds(robot, base, scale, peak, whole_peak, eps, strategy="cost", pie
         ``enough`` (n,) is the budget when only whether the set fits matters (the callable
         may then return a cheaper bound that decides it), None for the set's bound itself.
         A set's bound is the least of it and the pieces' (taken only where the pieces'
-        alone do not fit the budget).
+        alone do not fit the budget). Its optional method ``quick(dropped, enough)`` returns
+        the bound the call would return with ``enough`` when that is cheap to find, else
+        None: the search then asks it before counting a candidate's operations.
 
     Returns
     -------
