@@ -47,7 +47,7 @@ defaults: types.MappingProxyType[str, Any] = types.MappingProxyType({
     "rule": "budget",
     "explicit": "auto",
     "form": "cheapest",
-    # where the budget model's bound must hold (issue 29): "auto" is "region" when the robot
+    # where the budget model's bound must hold: "auto" is "region" when the robot
     # gives position and velocity limits for every joint, else "trajectory"
     "guarantee": "auto",
     # results.h5 and the report

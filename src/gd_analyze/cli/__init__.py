@@ -56,7 +56,7 @@ REPORT_IMPORTS = ("jinja2", "matplotlib.figure", "matplotlib.backends.backend_sv
 
 #: Control characters never written to the terminal as they are (C0 but newline, tab and
 #: carriage return, which a progress bar needs; DEL; C1): an ESC from a robot file, a URDF or
-#: a file name would start a terminal escape sequence (issue 32).
+#: a file name would start a terminal escape sequence.
 _CONTROL = re.compile("[\x00-\x08\x0b\x0c\x0e-\x1f\x7f-\x9f]")
 
 

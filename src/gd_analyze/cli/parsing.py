@@ -287,7 +287,7 @@ def _add_budget_arguments(p, rule=True, where=None, form=True,
                           guarantee="the trajectory only"):
     """The simplified model's options; ``form``: also --explicit and --form; ``guarantee``:
     also --guarantee, its second choice in these words (None: no --guarantee)."""
-    g = p.add_argument_group("simplified model (error budget, issue 8)")
+    g = p.add_argument_group("simplified model (error budget)")
     if where is None:
         where = ("s_i: by default the largest |tau_i| over the region (see --guarantee and "
                  "--q-limits), with --guarantee trajectory max(peak |tau_i| on the analysed "

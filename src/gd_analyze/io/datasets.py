@@ -111,7 +111,7 @@ JOINT_UNIT_COORDS = {Var.Q_UNITS: ("q", "units of q of the joint (rad or m)"),
 
 def guarantee_fields(model: SimplifiedModel,
                      torque_units: str = "N m") -> tuple[dict[str, Any], dict[str, Any]]:
-    """The simplified model's guarantee as the results dataset stores it (issue 29 item 4).
+    """The simplified model's guarantee as the results dataset stores it.
 
     Parameters
     ----------
@@ -249,7 +249,8 @@ def stored_guarantee(ds: xr.Dataset) -> dict[str, Any] | None:
     -------
     dict or None
         ``kind``, ``statement``, ``tolerance`` (NaN without a guarantee), ``bound`` and
-        ``scale`` (ndarray (n,), or None); None for a dataset written before issue 29.
+        ``scale`` (ndarray (n,), or None); None for a dataset written by an older version
+        (without a guarantee).
     """
     a = ds.attrs
     if Attr.SIMPLIFIED_GUARANTEE_STATEMENT not in a:

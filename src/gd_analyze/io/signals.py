@@ -1,4 +1,4 @@
-"""One handler for SIGINT, SIGTERM and SIGHUP in every command (issue 32).
+"""One handler for SIGINT, SIGTERM and SIGHUP in every command.
 
 :func:`install` makes each signal raise in the main thread (SIGINT KeyboardInterrupt, SIGTERM
 and SIGHUP :class:`Terminated`), so that clean-up code runs and the

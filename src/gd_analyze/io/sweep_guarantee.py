@@ -1,4 +1,4 @@
-"""The guarantee of a sweep's merged model, read back from ``sweep.h5`` (issue 29).
+"""The guarantee of a sweep's merged model, read back from ``sweep.h5``.
 
 :func:`gd_analyze.workflows.sweep_merged.with_budget_model` stores the merged model's guarantee
 (``merged_guarantee_kind``, ``merged_guarantee_statement``: the one sentence of

@@ -264,7 +264,7 @@ def control_context(ds: xr.Dataset) -> dict[str, Any]:
 
 def _with_columns(rows, values, off=None, digits=3):
     """Table rows: each row's leading cells, then its numbers per joint, each joint's column in
-    one notation (:func:`gd_analyze.reports.numbers.fmt_column`, issue 18: one format per
+    one notation (:func:`gd_analyze.reports.numbers.fmt_column`: one format per
     column).
 
     Parameters
@@ -342,7 +342,7 @@ def _model_note(ds):
         gravity = gravity_clause(rule, c_terms=(kept, full) if min(kept, full) >= 0 else None)
         text = model_sentence(choice=_strings(ds["choice"].values), gravity=gravity)
     eps = float(a.get("model_tolerance", np.nan))
-    if "model_scope" in a:              # issue 29: the scope stored from the model itself
+    if "model_scope" in a:              # the scope stored from the model itself
         return text + " " + scope_sentences(a, eps), recursive
     if rule == "budget":                # an older control.h5
         text += (f" Rule: error budget, \u03b5\u00a0=\u00a0{eps:g}: the open-loop error "

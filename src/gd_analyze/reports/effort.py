@@ -1,4 +1,4 @@
-"""Effort limits: each joint's peak |tau| against the limit its robot gives (issue 20).
+"""Effort limits: each joint's peak |tau| against the limit its robot gives.
 
 One place for the CLI summary and the report (Sec. 1.2): :func:`effort_rows` reads the stored
 dataset's ``tau_peak`` and ``tau_max`` and computes nothing else.

@@ -299,7 +299,7 @@ def _made(make):
 
 
 def _fig_error(ds, data, width=PAGE_WIDTH):
-    if has_simplified(ds):                      # issue 8: tau_s - tau and its bound
+    if has_simplified(ds):                      # tau_s - tau and its bound
         return error_figure(ds, width, data=data)
     return fig_torque(data, ds[Var.TAU_ERROR_PEAK].values, ds[Var.TAU_ERROR_RELATIVE_PEAK].values,
                       prismatic_joints(ds))

@@ -260,7 +260,7 @@ def _report_context_base(results):
            "total": table.column("total_off")}
 
     arm_cols = armature_columns(ds, labels, zero)
-    # the peaks of the parts are one quantity: one format for the four columns (issue 31)
+    # the peaks of the parts are one quantity: one format for the four columns
     texts = _columns([pt, pr, ptot, arm_cols["peak"]],            # round-off: not data
                      off=[off["tran"], off["rot"], off["total"], None])
     shown = dict(zip(("tran", "rot", "total"), texts))
@@ -294,7 +294,7 @@ def _report_context_base(results):
     rel_peak, rel_rms = _pct_columns([errors.column("relative_peak"),  # one format
                                       errors.column("relative_rms")],   # for both
                                      off=[err_off, err_off])
-    # the errors and peak |tau| are one quantity [N m or N]: one format (issue 31)
+    # the errors and peak |tau| are one quantity [N m or N]: one format
     err_peak, err_rms, tau_peak = _columns(
         [errors.column(v) for v in ("peak", "rms", "peak_tau")],
         off=[err_off, err_off, None])

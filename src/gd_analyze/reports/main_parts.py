@@ -1,6 +1,6 @@
 """The main report's tables and notes of the model's parts: the drives' armature (its share
 and peak in Sec. 4, its column in Table 5.2, Fig. 2's lead-in), the choice per element of an
-explicit model and the base parameters of a recursive one, with their names defined (issue 31).
+explicit model and the base parameters of a recursive one, with their names defined.
 
 Read from the stored dataset; nothing is recomputed.
 """

@@ -196,7 +196,7 @@ def provenance_rows(ds: xr.Dataset, created: str, version: str,
                      f"n = {_attr(ds, 'formulations_n')}" + _prismatic_joints(ds)))
     if "simplified_files" in ds.attrs:
         rows.append(("emitted source files", _attr(ds, Attr.SIMPLIFIED_FILES)))
-    if "simplified_guarantee_statement" in ds.attrs:        # issue 29: the model's scope
+    if "simplified_guarantee_statement" in ds.attrs:        # the model's scope
         rows.append(("guarantee of the model built",
                      f"{_attr(ds, 'simplified_guarantee_kind')} kind: "
                      + scope_markup(_attr(ds, 'simplified_guarantee_statement'))))

@@ -185,7 +185,7 @@ def _robot_geometry(ds):
             sign = "+" if value > 0 else "\u2212"
             return "q" if value == 0 else f"q {sign} {given(abs(value))}"
 
-        dh = _table(                        # as the robot file gives them (issue 31)
+        dh = _table(                        # as the robot file gives them
             ["joint", "d [m]", "a [m]", "\u03b1 [deg]", "\u03b8 [deg]"],
             [[str(k + 1), cell(dh_rows[0, k], pris[k]), given(dh_rows[1, k]),
               given(np.degrees(dh_rows[2, k])), cell(np.degrees(dh_rows[3, k]), not pris[k])]

@@ -118,7 +118,7 @@ def conclusion(labels: Sequence[str], dominance: Sequence[str], zero: npt.NDArra
         rotational effects lead, the sentence says so (:data:`PLACEHOLDER_INERTIA`).
     shown : dict of str to list of str, optional
         Those numbers as the error table prints them (``rel``, ``abs``, ``tau``), quoted so
-        that the text and the table agree digit for digit (issue 31); else 3 digits.
+        that the text and the table agree digit for digit; else 3 digits.
     cost : tuple of (int, int, int or None[, int or None, int or None]), optional
         The emitted model's multiplications and additions per set point, Newton-Euler's
         operations as implemented (None if not counted), and optionally the operations of the
@@ -138,7 +138,7 @@ def conclusion(labels: Sequence[str], dominance: Sequence[str], zero: npt.NDArra
     scope : str, optional
         The model's guarantee in one sentence
         (:meth:`~gd_analyze.core.selection.guarantee.Guarantee.statement`, as stored), said
-        after the error and cost (issue 29 item 4).
+        after the error and cost.
 
     Returns
     -------
@@ -428,7 +428,7 @@ def disagreement_cause(label: str, ours: str, theirs: str, share: float, zero: b
 
 
 def shared_causes(causes: Sequence[str]) -> tuple[list[str], str]:
-    """Causes said once (issue 31: Table 6.1 repeated one cause in every row): each clause
+    """Causes said once (not one cause repeated in every row of a table): each clause
     (``"; "``-separated) that more than one row gives becomes a note, marked (a), (b), ... in
     those rows.
 

@@ -73,7 +73,7 @@ _GIVEN_DIGITS = 12
 
 def given(value: float) -> str:
     """A parameter the robot file gives (a DH length or angle) as given: every decimal it
-    has, never rounded to a few digits (issue 31: d3 = 0.15005 was printed 0.15).
+    has, never rounded to a few digits (d3 = 0.15005 is never printed 0.15).
 
     Parameters
     ----------
@@ -108,7 +108,7 @@ def _close(texts, values, digits):
 
 def fmt_column(values: npt.ArrayLike, digits: int = 4,
                off: npt.ArrayLike | None = None) -> list[str]:
-    """A column of numbers in one notation (issue 18: one format per column).
+    """A column of numbers in one notation (one format per column).
 
     Parameters
     ----------
@@ -167,7 +167,7 @@ def fmt_column(values: npt.ArrayLike, digits: int = 4,
 def fmt_columns(columns: Sequence[npt.ArrayLike], digits: int = 4,
                 off: Sequence[npt.ArrayLike | None] | None = None) -> list[list[str]]:
     """Several columns of one quantity (the peaks of an element's parts, in one unit) in one
-    notation, as if they were one column (:func:`fmt_column`; issue 31: one format per
+    notation, as if they were one column (:func:`fmt_column`; one format per
     quantity, never "0.7840" beside "4.480e+00").
 
     Parameters
@@ -207,7 +207,7 @@ def _as_one(column, columns, off):
 def pct_columns(columns: Sequence[npt.ArrayLike],
                 off: Sequence[npt.ArrayLike | None] | None = None) -> list[list[str]]:
     """Several columns of one relative quantity as percentages in one format, as if one column
-    (:func:`pct_column`; issue 31: never "0.363 %" beside "0.1827 %").
+    (:func:`pct_column`; never "0.363 %" beside "0.1827 %").
 
     Parameters
     ----------
@@ -258,7 +258,7 @@ def count(value: Any) -> str:
 
 def share(value: float) -> str:
     """A fraction in [0, 1] (a translational share) that prints as 1 or 0 only when it is, in
-    one format for every share of a table (issue 18: one format per column).
+    one format for every share of a table (one format per column).
 
     Parameters
     ----------
@@ -311,7 +311,7 @@ def pct(value: float) -> str:
 
 
 def pct_column(values: npt.ArrayLike, off: npt.ArrayLike | None = None) -> list[str]:
-    """A column of fractions as percentages in one format (issue 18: one format per column).
+    """A column of fractions as percentages in one format (one format per column).
 
     Parameters
     ----------

@@ -1,4 +1,4 @@
-"""The report's "Simplified model" section (issue 8), from the stored dataset only.
+"""The report's "Simplified model" section, from the stored dataset only.
 
 Kept self-contained (one context function, one figure function) so that it carries over to any
 report engine: :func:`simplified_context` gives the tables and text, :func:`error_figure` the
@@ -73,7 +73,7 @@ BOUND_WHERE = {"region": "proved at every state of the region (positions, veloci
 
 
 def has_simplified(ds: xr.Dataset) -> bool:
-    """Whether the dataset holds the issue-8 simplified-model variables.
+    """Whether the dataset holds the simplified model's variables (error budget rule).
 
     Parameters
     ----------
@@ -214,7 +214,7 @@ def simplified_context(ds: xr.Dataset) -> dict[str, Any]:
 
     arm = arm_scales(scale, units)
 
-    def off(v, i):                   # round-off of joint i's or the arm's scale (issue 18)
+    def off(v, i):                   # round-off of joint i's or the arm's scale
         return bool(is_round_off(v, scale[i], arm_scale=arm[i]))
 
     def num(v, i):                   # a bound that is round-off bounds nothing: 0, as an

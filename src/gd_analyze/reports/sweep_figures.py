@@ -47,8 +47,8 @@ REQUIRED = ("share_tran", "dominance", "choice", "source", "duration", "tau_peak
 _CHOICE_COLOURS = {"tran": _CLASS_COLOURS["translational"], "rot": _CLASS_COLOURS["rotational"],
                    "both": _CLASS_COLOURS["both"], "none": _CLASS_COLOURS["negligible"],
                    "pruned": TABLE_COLOURS["pruned"]}
-#: Panel titles: the part of the element the merged model keeps, said as such (issue 31: "D16
-#: → rot" read as a class).
+#: Panel titles: the part of the element the merged model keeps, said as such ("D16
+#: → rot" would read as a class).
 KEPT = {"tran": "keeps tran", "rot": "keeps rot", "both": "keeps both", "none": "dropped",
         "pruned": "pruned"}
 _OWN_COLOUR, _MERGED_COLOUR = "#009E73", "#000000"

@@ -240,7 +240,7 @@ def _settings(ds, inputs, setpoints, durations, version):
         ("payload on the last link", f"{_attr(ds, 'payload_mass', '0')} kg"
          if float(ds.attrs.get("payload_mass", 0.0) or 0.0) else "none"),
     ]
-    if "merged_guarantee_statement" in ds.attrs:        # issue 29: the merged model's scope
+    if "merged_guarantee_statement" in ds.attrs:        # the merged model's scope
         rows.append(("guarantee of the merged model",
                      f"{_attr(ds, 'merged_guarantee_kind')} kind: "
                      + scope_markup(_attr(ds, 'merged_guarantee_statement'))))

@@ -166,7 +166,7 @@ def label_axes(axes: Iterable[Axis]) -> str:
 
     Notes
     -----
-    The rule, one form for the whole figure (issue 18 item 3, "one tick format per figure"):
+    The rule, one form for the whole figure ("one tick format per figure"):
 
     - *plain*, if every axis can be written as its ticks are: largest |tick| in [0.01, 10⁴)
       and :func:`tick_labels` writes them in fixed notation. Every axis then reads, e.g.,

@@ -249,7 +249,7 @@ def analysis_pass(robot: Robot, trajectory: Trajectory, options: AnalysisOptions
         s and e of the ranking; whether to verify against Pinocchio (on at most
         :data:`VERIFY_MAX_SETPOINTS` set points) and to compare L-E, N-E, G-D and Pinocchio
         (on at most :data:`gd_analyze.formulations.compare.FORMULATIONS_MAX_SETPOINTS`);
-        ``options.simplify``: build the simplified model (issue 8) after pass 1 and take its
+        ``options.simplify``: build the simplified model after pass 1 and take its
         torque in pass 2; with ``simplify=None`` the model is the ranking's choices, masked
         (as in a sweep's per-trajectory models). Default :class:`AnalysisOptions`.
     provenance : dict, optional
@@ -498,7 +498,7 @@ def _with_chapter(ds, error):
 
 
 def _model(robot, trajectory, result, options, settings):
-    if result.model is not None:                 # the explicit simplified model (issue 8)
+    if result.model is not None:                 # the explicit simplified model
         if result.model.recursive is not None:   # its choices as results.h5 stores them
             return dataclasses.replace(result.model, validation=result.error,
                                        choices=dict(result.choices))

@@ -83,7 +83,7 @@ def cluster_failures(where):
                           f"({type(exc).__name__}: {text})", where) from None
 
 #: Seconds a scheduler at ``--scheduler`` has to answer the connection's handshake: a server
-#: that accepts and stays silent is refused after it, not waited for (issue 32).
+#: that accepts and stays silent is refused after it, not waited for.
 HANDSHAKE_TIMEOUT = 10.0
 #: Seconds the client and the local cluster have to close after an interruption or an error.
 CLOSE_TIMEOUT = 2.0

@@ -1,4 +1,4 @@
-"""The pruned recursive model the main job builds (issue 17), over the region or on the
+"""The pruned recursive model the main job builds, over the region or on the
 trajectory.
 
 robot -> base parameters -> pruned recursive model within the budget over the joint-limit
@@ -103,7 +103,7 @@ def robot_region(robot, limits=None):
 
 
 def guarantee_region(robot, guarantee="auto", limits=None):
-    """The region, and whether a budget model's bound is proved over it (issue 29).
+    """The region, and whether a budget model's bound is proved over it.
 
     Parameters
     ----------
@@ -131,7 +131,7 @@ def guarantee_region(robot, guarantee="auto", limits=None):
 
 
 def region_model(robot, base, region, tolerance, torque_floor=0.0):
-    """The recursive model pruned on bounds proved over a joint-limit region (issue 29).
+    """The recursive model pruned on bounds proved over a joint-limit region.
 
     Parameters
     ----------
@@ -357,7 +357,7 @@ def trajectory_guarantee(robot, base, rec, tolerance, trajectory_sha256="", regi
 def build_recursive(robot, q, qd, qdd, tolerance=DEFAULT_TOLERANCE, torque_floor=0.0,
                     ranking=None, trajectory_sha256="", provenance=None, region=None,
                     sample_region=None, region_missing="", contributions=None):
-    """The pruned customized recursive Newton-Euler model within the budget (issue 17).
+    """The pruned customized recursive Newton-Euler model within the budget.
 
     Parameters
     ----------

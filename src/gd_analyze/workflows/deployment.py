@@ -1,4 +1,4 @@
-"""Which simplified model the main job deploys (issue 17): the pruned recursive model, the
+"""Which simplified model the main job deploys: the pruned recursive model, the
 pruned explicit one or the exact explicit one, and the tolerance ladder of the form deployed.
 
 Nothing here prints or writes files.
@@ -53,7 +53,7 @@ def deploy_models(robot: Robot, trajectory: Trajectory, ranking: Ranking, part_p
                   background: Mapping[str, Future[Any]]
                   ) -> tuple[SimplifiedModel, SimplifiedModel | None,
                              Callable[[Mapping[str, Any] | None], xr.Dataset]]:
-    """The simplified model deployed (issue 17), the models compared with it, ladder, costs.
+    """The simplified model deployed, the models compared with it, ladder, costs.
 
     Parameters
     ----------
@@ -330,7 +330,7 @@ def _trajectory_guarantee(model, sel, trajectory, missing="", region=None):
 
 
 def _not_deployed(rec, ex, form, proved):
-    """Why the pruned explicit model is not deployed beside the recursive one (issue 31)."""
+    """Why the pruned explicit model is not deployed beside the recursive one."""
     why = (", --form recursive" if form != "cheapest" else
            ", whose bound holds on this trajectory only, while the recursive one's is proved "
            "over the joint-limit region" if proved and _ops(ex.cost) < _ops(rec.cost) else "")

@@ -5,7 +5,7 @@ another, optionally with the arm carrying a load the model does not know. Source
 Fu, Gonzalez & Lee (1987), whose simplified model "depends on the specific trajectory being
 considered"; terms from Eqs. (3.4-24) to (3.4-28).
 
-The gate (issue 29): by default the model's own promise, |tau_s - tau| <= EPS s_i on every
+The gate: by default the model's own promise, |tau_s - tau| <= EPS s_i on every
 joint with s_i the scale of its guarantee (:class:`~gd_analyze.core.selection.guarantee.Guarantee`);
 ``--max-error REL`` replaces it by a relative error. Round-off
 (:func:`~gd_analyze.core.selection.ranking.is_round_off`) passes; NaN or inf never does.

@@ -29,7 +29,7 @@ def _check_choice(name, value, allowed):
 
 @dataclass(frozen=True)
 class SimplifyOptions:
-    """How the simplified model is built (Sec. 3.4.1; the error budget of issue 8).
+    """How the simplified model is built (Sec. 3.4.1 and the error budget).
 
     Attributes
     ----------
@@ -48,7 +48,7 @@ class SimplifyOptions:
     guarantee : {"auto", "region", "trajectory"}
         Where the budget model's bound must hold: proved over the robot's joint-limit region,
         or on the analysed trajectory; ``"auto"``: the region when the robot gives position
-        and velocity limits for every joint (issue 29).
+        and velocity limits for every joint.
     region : RegionLimits, optional
         The user's region (:class:`gd_analyze.core.selection.region.RegionLimits`, SI units):
         position ranges, velocity and acceleration limits, each in place of the robot's and

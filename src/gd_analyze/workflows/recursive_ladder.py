@@ -1,4 +1,4 @@
-"""The tolerance ladder of the pruned recursive model (issue 31): its cost and error per EPS.
+"""The tolerance ladder of the pruned recursive model: its cost and error per EPS.
 
 For each EPS of the ladder the recursive model is pruned as the deployed one is (on bounds
 proved over the joint-limit region, or on the trajectory's peaks), its program built and

@@ -1,4 +1,4 @@
-"""The region's certification and samples, each computed once per process (issue 29).
+"""The region's certification and samples, each computed once per process.
 
 A certification (:func:`gd_analyze.core.selection.certify.certify`, kept in the derivation
 cache) and the region's samples (:func:`gd_analyze.core.selection.region.region_samples`) are

@@ -1,5 +1,5 @@
 """The simplified model's stored variables: the cost table and what the report's "Simplified
-model" section reads (issues 8 and 17).
+model" section reads.
 
 Built once at analysis time from the model and its selection; the report reads them back and
 recomputes nothing.
@@ -119,7 +119,7 @@ def cost_rows(n: int, model: SimplifiedModel, other: SimplifiedModel | None = No
 def recursive_choices(model: SimplifiedModel, q: NDArray[np.float64], qd: NDArray[np.float64],
                       terms: GDTerms, ranking: Any) -> dict[str, str]:
     """A recursive model's choice per element, as results.h5 stores it: "pruned" where the
-    (base parameter, part) pairs it drops change the element, else "both" (issue 31: "both"
+    (base parameter, part) pairs it drops change the element, else "both" (never "both"
     for every element although XY2's terms are dropped).
 
     Parameters

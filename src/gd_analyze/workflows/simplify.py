@@ -1,4 +1,4 @@
-"""Build the simplified explicit model of a robot along trajectories (issue 8).
+"""Build the simplified explicit model of a robot along trajectories.
 
 robot -> explicit terms (cached derivation) -> peaks of every part and term along the
 trajectories -> selection by the rule (budget or chapter) -> straight-line program -> model,

@@ -251,7 +251,7 @@ def _analyze_batch(robot, trajectories, dominance, negligible, base=None):
     options = _ranking_only(dominance, negligible)
     out = [_summary(tr, analysis_pass(robot, tr, options, chunk=tr.q.shape[0], terms=terms))
            for tr, terms in _batch_terms(robot, trajectories)]
-    if base is not None:        # the recursive model's peaks, per trajectory (issue 29)
+    if base is not None:        # the recursive model's peaks, per trajectory
 
         stack = [np.concatenate([np.asarray(getattr(tr, k), float) for tr in trajectories])
                  for k in ("q", "qd", "qdd")]

@@ -1,7 +1,7 @@
 """The budget rule's merged model of a sweep: the cheapest form within EPS, proved over the
 joint-limit region or on every swept trajectory.
 
-Issue 29: the sweep used to merge in the explicit G-D form only, which costs more than the
+The explicit G-D form alone would cost more than the
 exact customized recursive Newton-Euler model on every arm measured (the Panda's 97,074
 operations against 610). Here the recursive model is pruned over all swept trajectories
 together (:func:`recursive_sweep_model`), from the peaks of its (base parameter, part)
@@ -391,7 +391,7 @@ def region_sweep_model(robot: Robot, trajectories: Sequence[Trajectory], region:
                        prepared: tuple[SimplifiedModel, TorqueFunction | None] | None = None,
                        errors: TrajectoryErrors | None = None) -> SimplifiedModel:
     """The sweep's merged model under a region guarantee: the main job's region model,
-    checked on every swept trajectory (issue 29).
+    checked on every swept trajectory.
 
     Parameters
     ----------
@@ -519,7 +519,7 @@ def _recursive_costs(robot, model):
 def sweep_guarantee(robot: Robot, model: SimplifiedModel, trajectories: Sequence[Trajectory],
                     scales: NDArray[np.float64], relative: NDArray[np.float64], tolerance: float,
                     region: Region | None = None, missing: str | None = None) -> Guarantee:
-    """The merged model's guarantee: on the swept trajectories only (issue 29).
+    """The merged model's guarantee: on the swept trajectories only.
 
     Parameters
     ----------

@@ -8,7 +8,7 @@ world's gravity turned back, g_base = R^T g_world (:func:`with_mounting`, the op
 A mounted robot records its mounting (:func:`mounting_of`: the base's roll, pitch, yaw and the
 world's gravity) in its ``metadata``, and a model file stores it beside its robot, so a mounting
 is applied once: the options give the arm's mounting in the world, not a turn on top of the
-one it was built with (issue 32).
+one it was built with.
 """
 
 from __future__ import annotations

@@ -1,4 +1,4 @@
-"""Significance by torque contribution: the error budget of the simplified model (issue 8).
+"""Significance by torque contribution: the error budget of the simplified model.
 
 Each part p in {tran, rot} of each element contributes to the joint torques along a
 trajectory: D_ij^p qdd_j to tau_i and, for i != j, D_ij^p qdd_i to tau_j; h_i^p to tau_i.

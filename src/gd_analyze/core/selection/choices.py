@@ -25,7 +25,7 @@ __all__ = ["CHOICES", "PRUNED", "choice_masks", "simplified_torque", "merge_choi
 #: both, or nothing.
 CHOICES = ("tran", "rot", "both", "none")
 #: The choice of an element of a model of the recursive form that the (base parameter, part)
-#: pairs it drops change: both parts kept, each less the dropped pairs' terms (issue 31: not
+#: pairs it drops change: both parts kept, each less the dropped pairs' terms (not
 #: "both", which says the element is exact). Its masks are those of "both".
 PRUNED = "pruned"
 

@@ -4,7 +4,7 @@ A simplified model file stores what its program is built from (the recursive for
 (base parameter, part) pairs, the explicit form's kept terms), its operation count and its
 bound. A hand-edited file can list pairs the program keeps, or drop parts its bound does not
 cover; its outputs would then state a guarantee for another model. :func:`check_program`
-rebuilds the program and refuses such a file (issue 32), so that every statement of a
+rebuilds the program and refuses such a file, so that every statement of a
 guarantee is about the program that runs.
 """
 

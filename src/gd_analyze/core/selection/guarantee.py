@@ -1,5 +1,5 @@
 """Where a simplified model's bound holds: over the joint-limit region (proved), or on the
-trajectories it was built on only (issue 29).
+trajectories it was built on only.
 
 A :class:`Guarantee` travels with every simplified model: in ``simplified_model.json`` (key
 ``guarantee``), in the headers of the emitted code, in the CLI summary and in the reports. Its
@@ -245,7 +245,7 @@ class Guarantee:
         return f"within {eps} of s_i {where}; {tail}"
 
     def covers(self, q, qd, qdd, trajectory_sha256="", continuous=None):
-        """Whether the bound holds along a trajectory, and why (issue 29 item 3).
+        """Whether the bound holds along a trajectory, and why.
 
         Parameters
         ----------

@@ -119,7 +119,7 @@ DEFAULT_DOMINANCE = defaults["dominance"]
 #: Default negligibility threshold e (:data:`gd_analyze.config.defaults`).
 DEFAULT_NEGLIGIBLE = defaults["negligible"]
 
-#: How every text that calls a bound guaranteed says the round-off it allows (issue 31);
+#: How every text that calls a bound guaranteed says the round-off it allows;
 #: :func:`gd_analyze.core.selection.guarantee.within_bound` judges by the same allowance.
 ROUND_OFF_CLAUSE = f"up to floating-point round-off ({ROUND_OFF_EPS:g} eps of the scale)"
 

@@ -1,6 +1,6 @@
 """The joint-limit region of an arm, the torque scale over it, and a model's error sampled on it.
 
-R = {q_min <= q <= q_max, |qd| <= qd_max, |qdd| <= qdd_max} (issue 29). Over R the torque of
+R = {q_min <= q <= q_max, |qd| <= qd_max, |qdd| <= qdd_max}. Over R the torque of
 joint i is, per point q,
 
     tau_i = sum_j a_ij(q) qdd_j + sum_{j, l} C_ijl(q) qd_j qd_l + g_i(q)

@@ -1,6 +1,6 @@
 """The simplified model as a value: its robot, its form, what it keeps, its guarantee and cost.
 
-A :class:`SimplifiedModel` is of one of two forms (issue 17):
+A :class:`SimplifiedModel` is of one of two forms:
 
 - explicit: the kept terms of the explicit G-D model (:mod:`gd_analyze.core.symbolic.explicit`), pruned
   by the error budget (:mod:`gd_analyze.core.selection.budget`) or chosen per element by the chapter's
@@ -107,7 +107,7 @@ class SimplifiedModel:
     provenance : dict
         Tool version, input file names, settings.
     rule : str
-        ``"budget"`` (error budget, issue 8) or ``"chapter"`` (share-based classes).
+        ``"budget"`` (error budget) or ``"chapter"`` (share-based classes).
     tolerance : float
         EPS of the budget (NaN when not applicable).
     torque_floor : float
@@ -123,7 +123,7 @@ class SimplifiedModel:
         Guaranteed bound on |tau_s - tau| per joint on the trajectory [N m] (NaN for the
         chapter rule).
     recursive : RecursiveModel or None
-        For a model of the recursive form (issue 17), the pruned customized recursive
+        For a model of the recursive form, the pruned customized recursive
         Newton-Euler model (:class:`~gd_analyze.core.symbolic.recursive_model.RecursiveModel`);
         None for the explicit form.
     costs : dict
@@ -132,7 +132,7 @@ class SimplifiedModel:
     guarantee : Guarantee or None
         Where the bound holds (:class:`~gd_analyze.core.selection.guarantee.Guarantee`):
         over the joint-limit region (proved) or on the trajectory only; None for the chapter
-        rule and for files written before issue 29.
+        rule and for files written by an older version (without a guarantee).
     program_cache : Program or None
         The model's program where its builder already has it (not written to the file);
         otherwise :meth:`program` builds it once, on first use.
@@ -479,7 +479,7 @@ class SimplifiedModel:
                 "gravity_world": [float(v) for v in g_world]}
 
     def scope(self):
-        """Where the model's bound holds, in one sentence (issue 29 item 4).
+        """Where the model's bound holds, in one sentence.
 
         Returns
         -------

@@ -22,7 +22,7 @@ variables, which enter the kinematics polynomially):
 Pruning (:func:`prune`): every term (a coefficient times a cos or sin, times qdd_j, qd_j qd_k or
 nothing) contributes to the joint torques along a trajectory. Terms are pruned by atoms
 (:func:`atoms`: one harmonic of a class of proportional groups, so shared structure survives);
-with the error budget of the issue-8 rule the dropped atoms' peak contributions sum to at most
+with the error budget rule the dropped atoms' peak contributions sum to at most
 EPS x scale_i for every joint i, so by the triangle inequality the pruned model's error on that
 trajectory is within EPS x scale_i.
 """

@@ -1,4 +1,4 @@
-"""How large the explicit G-D model of an arm would be, estimated before expanding it (issue 17).
+"""How large the explicit G-D model of an arm would be, estimated before expanding it.
 
 The explicit model (:func:`gd_analyze.core.symbolic.explicit.derive`) writes D, h and c as sums of
 coefficients times cos or sin of integer combinations of the joint angles. Its size grows

@@ -1,6 +1,6 @@
 """The deployed model's functions: tau, D, h, c and the regressor, all of one model.
 
-A simplified model is deployed as five functions of the same kept terms (issue 30), each a
+A simplified model is deployed as five functions of the same kept terms, each a
 straight-line program (:class:`~gd_analyze.core.symbolic.codegen.Program`) that the printers
 of :mod:`gd_analyze.core.symbolic.emit` write in C, numpy and CasADi:
 

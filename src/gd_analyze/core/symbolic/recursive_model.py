@@ -204,7 +204,7 @@ class RecursiveModel:
         pairs = [[self.names[k], PART_NAMES[p]] for k, p in zip(*np.nonzero(gone & live))]
         out = {"base_parameters": list(self.names),
                "beta": [float(v) for v in self.beta],
-               "dropped": pairs,          # the pairs the reports name (issue 31)
+               "dropped": pairs,          # the pairs the reports name
                "scale": [float(v) for v in self.scale],
                "bound": [float(v) for v in self.bound],
                "bound_by_part": {name: [float(v) for v in self.bound_by_part[p]]

@@ -54,8 +54,8 @@ def comment_safe(text: str, digest: bool = False, limit: int = MAX_LENGTH) -> st
 
     Notes
     -----
-    Own rule, not from the chapter: issue 16 of gd-analyze (code injection through the header
-    of the emitted model). :func:`comment_safe` is idempotent.
+    Own rule, not from the chapter: against code injection through the header of the
+    emitted model. :func:`comment_safe` is idempotent.
 
     Examples
     --------
