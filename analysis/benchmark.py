@@ -256,7 +256,7 @@ def latency(runs=5, baseline=None):
                    str(ROOT / "data" / "puma560_trajectory.csv"), "-o", f"{tmp}/out{k}", "-q"]
             side = {**env, "PYTHONPATH": os.pathsep.join(
                 [str(src)] + [p for p in [env.get("PYTHONPATH")] if p])}
-            # this checkout's job with its report, then without (issue 31: limits 4 and 2.5)
+            # this checkout's job with its report, then without (limits 4 and 2.5)
             jobs = [job] + ([job[:-2] + [f"{tmp}/plain{k}", "-q", "--no-report"]]
                             if k == 0 else [])
             for one in jobs:

@@ -2,8 +2,7 @@
 
     python analysis/layout.py
 
-Read with :mod:`ast` (nothing is imported); an issue number in a first line, "(issue 29)", is
-left out (it belongs in commit messages, not in the documentation). tests/test_docs.py checks
+Read with :mod:`ast` (nothing is imported). tests/test_docs.py checks
 that docs/layout.md lists exactly these modules, so a module added, removed or renamed fails
 the test until the page is regenerated.
 """
@@ -11,7 +10,6 @@ the test until the page is regenerated.
 from __future__ import annotations
 
 import ast
-import re
 import sys
 from pathlib import Path
 
@@ -30,7 +28,6 @@ def modules():
     for path in sorted(PACKAGE.rglob("*.py")):
         doc = ast.get_docstring(ast.parse(path.read_text(encoding="utf-8"))) or ""
         first = doc.strip().splitlines()[0].strip() if doc.strip() else ""
-        first = re.sub(r" \(issue \d+[^)]*\)", "", first)
         rows.append((path.relative_to(PACKAGE.parent).as_posix(), first))
     return rows
 

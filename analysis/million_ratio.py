@@ -50,7 +50,7 @@ from benchmark import pinocchio_loop  # noqa: E402
 
 #: The job's peak resident set size allowed [MiB].
 LIMIT_MIB = 1024
-#: The median wall-time ratio allowed (issue 42).
+#: The median wall-time ratio allowed.
 RATIO_LIMIT = 3.0
 
 

@@ -1,5 +1,5 @@
 """The proof that D_s is positive definite over the region, on the PUMA 560, Panda, UR5 and
-Kinova (issue 40 item 1).
+Kinova.
 
 For each arm: its default region model (EPS = 1 %, ``workflows.deploy.build_recursive`` over
 the robot's joint-limit region), the proof and restore of

@@ -20,7 +20,7 @@ accepts, or a NAME:TIP given with --arms, e.g. a quadruped's leg), the script
    tip))``, and compares it with rnea in the same way on 200 random states
    (``base_parameters.random_states``).
 
-It prints the machine's load averages, a Markdown table, and one PASS/FAIL line per issue-17
+It prints the machine's load averages, a Markdown table, and one PASS/FAIL line per acceptance
 criterion naming the arms that fail it.
 
 Usage::
@@ -310,7 +310,7 @@ def table(rows, eps):
 
 
 def criteria(rows, eps):
-    """(text, failing arms) per issue-17 criterion; a missing figure fails."""
+    """(text, failing arms) per acceptance criterion; a missing figure fails."""
     def fails(test, subset=None):
         return [r["arm"] for r in rows if (subset is None or subset(r)) and not test(r)]
 

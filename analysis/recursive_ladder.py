@@ -1,10 +1,10 @@
-"""The recursive simplified model of a robot (issue 17): its costs beside the anchors, its ladder.
+"""The recursive simplified model of a robot: its costs beside the anchors, its ladder.
 
 Prints, for each robot asked for (default the PUMA 560 and the Panda, on their shipped
 trajectories):
 
 1. the base parameters (their number) and the exact customized recursive Newton-Euler model's
-   counted operations (multiplications, additions, sin, cos), with the anchors of issue 17 for
+   counted operations (multiplications, additions, sin, cos), with the published anchors for
    the PUMA 560: a customized recursive N-E 338, OpenSYMORO with base parameters 541 (641
    without), Armstrong, Khatib & Burdick's (1986) full explicit 1,165 and 1 % simplified 305; and
    for every robot the project's Newton-Euler as implemented and Table 3.5's;
@@ -39,8 +39,8 @@ from gd_analyze.io.trajectory import read_trajectory
 
 ROOT = Path(__file__).resolve().parents[1]
 LADDER = (0.0, 0.001, 0.01, 0.05)
-#: Issue 17's anchors for the PUMA 560 (multiplications + additions).
-ANCHORS = {"customized recursive N-E (issue 17)": 338,
+#: The published anchors for the PUMA 560 (multiplications + additions).
+ANCHORS = {"customized recursive N-E": 338,
            "OpenSYMORO, base parameters": 541, "OpenSYMORO, standard parameters": 641,
            "AKB 1986 full explicit": 1165, "AKB 1986 simplified (1 %)": 305}
 

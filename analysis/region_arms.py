@@ -1,4 +1,4 @@
-"""The region guarantee on every serial arm of example-robot-data (issue 29).
+"""The region guarantee on every serial arm of example-robot-data.
 
 For each arm (the built-in PUMA 560 and every URDF the main job accepts, as
 ``analysis/real_arms.py`` finds them, plus NAME:TIP arms given with --arms), in one process:
@@ -34,7 +34,7 @@ import numpy as np
 
 sys.path.insert(0, str(Path(__file__).resolve().parent))
 
-#: Arms with several chains in their URDF: the arm's tip (issue 29's table).
+#: Arms with several chains in their URDF: the arm's tip (the table of the region guarantee).
 EXTRA = ("baxter:left_gripper", "tiago_no_hand:arm_7_link", "solo12:FL_LOWER_LEG")
 
 

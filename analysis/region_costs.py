@@ -1,4 +1,4 @@
-"""The region model's operation counts of the PUMA 560, the Panda and the UR5 (issue 42, item 3).
+"""The region model's operation counts of the PUMA 560, the Panda and the UR5.
 
 For each arm, in one process with an empty derivation cache of its own: the exact recursive
 model's count, the region model's count at EPS (``workflows.deploy.region_model``: pruned on

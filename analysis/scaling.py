@@ -13,7 +13,7 @@ on N random states each, and prints one JSON line: per n the median time per set
 of (a) and (b) with their [min, max] over the runs and the ratio a/b, and the scaling
 exponents p of t ~ n^p fitted by least squares on log t over log n (all ns) and between the
 first and the last n. Ratios and exponents, not absolute times, carry over between machines.
-The issue-10 measurement of the old kernel (D_tran by an O(n^3) triple loop) was p = 1.82
+The earlier measurement of the old kernel (D_tran by an O(n^3) triple loop) was p = 1.82
 between n = 12 and 48.
 """
 

@@ -42,7 +42,7 @@ sys.path.insert(0, str(Path(__file__).resolve().parent))
 from benchmark import pinocchio_loop  # noqa: E402
 from million_ratio import _range, run_child  # noqa: E402
 
-#: The median wall-time ratio allowed (issue 42 item 5).
+#: The median wall-time ratio allowed.
 RATIO_LIMIT = 8.0
 #: The sweep's default held-out trajectories and their seed offset (cli/sweep_command.py).
 HELD_OUT, HELD_OUT_SEED = 20, 1_000_003

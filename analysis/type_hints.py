@@ -1,5 +1,4 @@
-"""Count the public functions of src/gd_analyze with and without type hints, per folder
-(issue 43, item 7).
+"""Count the public functions of src/gd_analyze with and without type hints, per folder.
 
 Public: a name not starting with ``_``, defined at module level or as a method of a public
 class (module level) in a module whose own name does not start with ``_``. Annotated: every

@@ -35,7 +35,7 @@ def joint_relative_error(tau, ref):
 
 
 def identity_errors(ns, q, qd, qdd):
-    """How far a deployed model's functions are from its identities (issue 30).
+    """How far a deployed model's functions are from its identities.
 
     Parameters
     ----------

@@ -1,5 +1,5 @@
 """Reading the reports' tables back: every table of a report context, and a printed number
-against the stored value it came from (issue 18: one format per column). Used by
+against the stored value it came from (one format per column). Used by
 tests/reports/test_table_numbers.py and tests/reports/test_sweep_control_tables.py."""
 
 import math

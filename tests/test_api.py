@@ -1,4 +1,4 @@
-"""The Python API for a notebook (issue 30 item 6): what ``import gd_analyze as gd`` offers, each
+"""The Python API for a notebook: what ``import gd_analyze as gd`` offers, each
 checked against an oracle (Pinocchio) or against the command line's own output."""
 
 import numpy as np

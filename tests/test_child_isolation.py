@@ -1,4 +1,4 @@
-"""Child interpreters never import from the current folder (issue 16, item 3).
+"""Child interpreters never import from the current folder.
 
 A ``pickle.py`` planted in the folder where ``gd-analyze`` starts appends its process's id to a
 marker file (and then hands over to the real pickle, so that a child that imported it still

@@ -422,7 +422,7 @@ def test_a_sub_command_may_import_dask(tmp_path):
 
 
 def test_summary_says_how_many_set_points_were_verified(tmp_path, capsys):
-    """Issue 18 item 1: on a 5,000-set-point run the printout says "on 2,000 of 5,000 set
+    """On a 5,000-set-point run the printout says "on 2,000 of 5,000 set
     points" (thousands separators as the report's counts), not "on 2000 set points"; on a
     short run, where every set point is checked, the plain count. Oracle: the trajectory file's
     own row count and the stored attribute."""
@@ -446,7 +446,7 @@ def test_summary_says_how_many_set_points_were_verified(tmp_path, capsys):
 
 @pytest.mark.parametrize("option", [["--form", "recursive"], ["--explicit", "never"]])
 def test_sweep_refuses_the_options_the_chapter_merge_ignores(tmp_path, capsys, option):
-    """The chapter rule's merge is explicit (issue 29: the budget rule's merge takes --form and
+    """The chapter rule's merge is explicit (the budget rule's merge takes --form and
     --explicit): one line, exit 2, nothing written."""
     out_dir = tmp_path / "sweep"
     code, out, err = _run(["sweep", "two-link", "--random", "2", "-o", out_dir, "--rule",
@@ -459,7 +459,7 @@ def test_sweep_refuses_the_options_the_chapter_merge_ignores(tmp_path, capsys, o
 @pytest.mark.parametrize("form", ["recursive", "explicit"])
 def test_sweep_writes_the_form_asked_for(tmp_path, capsys, form):
     """--form of the budget rule's merge: the model file, sweep.h5 and the printout say the
-    form written (issue 29)."""
+    form written."""
     import json
 
     import xarray as xr

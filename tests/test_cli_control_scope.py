@@ -1,6 +1,6 @@
-"""``gd-analyze control`` states the model's guarantee, read back from the model file
-(issue 29 item 3): in its printout, its JSON and its report, and never "guaranteed" along a
-motion the guarantee does not cover."""
+"""``gd-analyze control`` states the model's guarantee, read back from the model file: in
+its printout, its JSON and its report, and never "guaranteed" along a motion the guarantee
+does not cover."""
 
 import json
 import re

@@ -1,4 +1,4 @@
-"""``gd-analyze evaluate``'s gate and scope (issue 29 item 3), against the URDF's own
+"""``gd-analyze evaluate``'s gate and scope, against the URDF's own
 Pinocchio model (``pin.rnea``) as the oracle of the reference torque.
 
 The default gate is the model's promise, peak |tau_s - tau_i| <= EPS s_i, with EPS and s_i

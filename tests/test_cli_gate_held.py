@@ -1,4 +1,4 @@
-"""``evaluate``'s gate fails closed (issue 32): at a held pose without gravity the reference
+"""``evaluate``'s gate fails closed: at a held pose without gravity the reference
 torque is zero, and a model that knows gravity errs by its whole gravity torque. The error is
 measured against the model's s_i, never 0/0 dropped as NaN; oracle: Pinocchio's
 computeGeneralizedGravity of the model's robot."""

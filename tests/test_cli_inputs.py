@@ -1,4 +1,4 @@
-"""Inputs refused with one line each by the trajectory CSV's number rules (issue 32): a URDF
+"""Inputs refused with one line each by the trajectory CSV's number rules: a URDF
 whose lower limit is above its upper one, a plan the main job could not read back, a gear ratio
 of 0, an effort limit of NaN, ``1_0`` and full-width digits in an option; a value starting with
 a minus sign is the option's value; a number just beyond a limit is printed with the digits

@@ -1,4 +1,4 @@
-"""Issue 16, item 9: a hand-edited simplified_model.json. A huge harmonic is refused by the
+"""A hand-edited simplified_model.json. A huge harmonic is refused by the
 schema (it gave a RecursionError), a huge coefficient gives exit 2 with one line (it gave exit 4),
 and the cost shown is counted from the terms, never the file's own claim."""
 
@@ -57,7 +57,7 @@ def test_a_coefficient_beyond_a_float_gives_exit_2(made, tmp_path, capsys):
 
     def edit(d):
         d["explicit_terms"]["coef"] = [1e308] * len(d["explicit_terms"]["coef"])
-        del d["cost"]           # else refused as another program's count (issue 32)
+        del d["cost"]           # else refused as another program's count
     model = _edited(tmp_path, doc, edit)
     _refused(["evaluate", model, traj, "--json"], capsys, "not finite")
     _refused(["evaluate", model, traj], capsys, "not finite")
@@ -68,7 +68,7 @@ def test_a_coefficient_beyond_a_float_gives_exit_2(made, tmp_path, capsys):
 
 def test_the_cost_is_counted_not_read(made, tmp_path, capsys):
     """A stored cost is never shown: one that is not the program's count is refused (the file
-    was edited, issue 32); an edited full_cost is not read."""
+    was edited); an edited full_cost is not read."""
     path, traj, doc = made
     counted = load_model(path).program().cost()
 

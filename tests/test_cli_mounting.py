@@ -1,4 +1,4 @@
-"""A model file records the mounting it was built with (issue 32): ``evaluate`` and ``control``
+"""A model file records the mounting it was built with: ``evaluate`` and ``control``
 with the same ``--base-rpy`` or ``--gravity`` apply it once (with a note), another mounting
 replaces it (never a turn on top of it).
 

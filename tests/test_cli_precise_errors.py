@@ -1,4 +1,4 @@
-"""Precise errors of the sweep and the provenance's command (issue 16, item 10).
+"""Precise errors of the sweep and the provenance's command.
 
 Only the connection to the scheduler is reported as "cannot reach the dask scheduler"; an error
 of the sweep itself keeps its own message (bad input: exit 2; a bug: exit 4). The provenance

@@ -1,6 +1,6 @@
-"""Issue 9 at the command line: each numbered case gives the right answer or exit 2 with one
-line, no traceback and no file left; exit 4 for an internal error; a fuzz test of the TOML
-robot loader."""
+"""Untrusted inputs at the command line: each case gives the right answer or exit 2 with one
+line, no traceback and no file left; exit 4 for an internal error; a fuzz test of the TOML robot
+loader."""
 
 import json
 import math

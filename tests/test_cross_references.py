@@ -1,5 +1,4 @@
-"""Every Sphinx cross-reference in the package's docstrings names something that exists
-(issue 19, item 8).
+"""Every Sphinx cross-reference in the package's docstrings names something that exists.
 
 The docstrings of every module, class and function (methods included) of src/gd_analyze are
 read with ``ast`` (no import needed to find them), with the ``#:`` comments that document

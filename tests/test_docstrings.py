@@ -31,7 +31,7 @@ def _documented(doc, param):
 
 
 def test_public_api_is_documented():
-    """One check over every module (issue 32: a structural check is one test, listing every
+    """One check over every module (a structural check is one test, listing every
     miss, not one test per module)."""
     missing = [m for modname in MODULES for m in _undocumented(modname)]
     assert not missing, "\n".join(missing)

@@ -1,4 +1,4 @@
-"""Issue 20 item 3: each joint's peak |tau| against the robot's effort limit, in the summary
+"""Each joint's peak |tau| against the robot's effort limit, in the summary
 and the report; the oracle is Pinocchio's rnea on the URDF's own model and the URDF's text."""
 
 import re

@@ -1,4 +1,4 @@
-"""Issue 43 item 4: one cache key, the SHA-256 of the package's sources (no hand-kept lists of
+"""One cache key, the SHA-256 of the package's sources (no hand-kept lists of
 "the modules a result depends on"; core/model/kinematics.py was in none of them)."""
 
 import hashlib

@@ -1,4 +1,4 @@
-"""Golden outputs (issue 43, item 1): the shipped robots' outputs are what tests/golden/ froze.
+"""Golden outputs: the shipped robots' outputs are what tests/golden/ froze.
 
 Each case of :data:`golden.freeze.CASES` (the main job on every built-in robot with a shipped
 trajectory, the PUMA 560's sweep and its control command) runs once a session, shared by the

@@ -1,4 +1,4 @@
-"""The package's layers import downwards only (issue 10): core <- formulations <- io <- workflows
+"""The package's layers import downwards only: core <- formulations <- io <- workflows
 <- reports <- cli, with the leaf modules errors, files and _version importable from anywhere.
 
 Every import statement of every module is read with ``ast``, including imports inside functions,
@@ -15,7 +15,7 @@ SRC = pathlib.Path(gd_analyze.__file__).parent
 LAYERS = ["core", "formulations", "io", "workflows", "reports", "cli"]
 LEAVES = {"errors", "files", "_version", "config"}
 # the shared report modules, and the main report's own parts (figures and sentences) and the
-# PDF typesetter and tick labels of all three (issue 12, issue 31)
+# PDF typesetter and tick labels of all three
 SHARED_REPORTS = {"reports.common", "reports.figures", "reports.typeset", "reports.drawing",
                   "reports.ticks", "reports.main_figures", "reports.main_text",
                   "reports.sweep_figures", "reports.simplified_section",
@@ -28,7 +28,7 @@ SHARED_REPORTS = {"reports.common", "reports.figures", "reports.typeset", "repor
 # the core modules a report may read: names and labels of the ranking's classes and elements
 REPORT_CORE = {"core.selection.ranking", "core.selection.labels"}
 
-# the one section list of the three reports and what it is built with (issue 19 item 6)
+# the one section list of the three reports and what it is built with
 SHARED_REPORTS |= {"reports.markup", "reports.sections", "reports.main_chapter",
                    "reports.numbers", "reports.units", "reports.figure_style", "reports.main_robot",
                    "reports.main_outline", "reports.main_provenance", "reports.main_parts",
@@ -125,7 +125,7 @@ def test_the_check_can_fail(tmp_path, monkeypatch):
     assert len(check(fake / "reports" / "bad.py")) == 3
 
 
-#: core/ holds one folder per concept (issue 19): the robot model, the numeric dynamics, the
+#: core/ holds one folder per concept: the robot model, the numeric dynamics, the
 #: symbolic models with their code generation, and the selection.
 CORE_CONCEPTS = {"model", "dynamics", "symbolic", "selection", "identify"}
 #: Calls that read or write files; none belongs in core/.

@@ -1,4 +1,4 @@
-"""Issue 20 item 5: messages that say what is so (each was wrong before; each test fails on
+"""Messages that say what is so (each was wrong before; each test fails on
 the code before the fix)."""
 
 import json
@@ -223,7 +223,7 @@ def test_evaluate_warns_when_the_trajectory_was_planned_for_another_robot(tmp_pa
     assert code == 0 and "warning" not in err
 
 
-# --- issue 32: no numpy warning for a motion without torque ------------------------------------
+# --- no numpy warning for a motion without torque -------------------------------------------------
 
 def test_all_zero_motion_gives_no_numpy_warning(tmp_path, capsys):
     """At rest without gravity every torque is 0 and every relative error 0/0: the report

@@ -1,4 +1,4 @@
-"""Issue 20 items 2 and 4: mounting (--gravity, --base-rpy) against Pinocchio, and limits only
+"""Mounting (--gravity, --base-rpy) against Pinocchio, and limits only
 where they are needed (real URDFs and TOML robots without them analyse a given trajectory)."""
 
 import importlib.metadata

@@ -1,4 +1,4 @@
-"""Frozen values stay frozen and the code path is one (issue 19, items 4 and 5).
+"""Frozen values stay frozen and the code path is one.
 
 Every module of the package is read with ``ast``: no ``object.__setattr__`` (a frozen
 dataclass mutated behind its back), no assignment into an instance's ``__dict__`` (the same by
@@ -44,10 +44,10 @@ def _offences(tree):
 
 
 #: The one allowed ``os._exit``: a signal after the command has returned and flushed its output
-#: ends the process with 128 + its number (issue 32: no KeyboardInterrupt traceback after
+#: ends the process with 128 + its number (no KeyboardInterrupt traceback after
 #: "wrote"); it skips no work, so the code path stays one.
 #: The one allowed ``gc.freeze()``: the console script's, after the imports, on every run of
-#: every command (issue 31: "gc.freeze() after the imports is allowed ... documented and
+#: every command ("gc.freeze() after the imports is allowed ... documented and
 #: unconditional"); no other collector setting anywhere.
 ALLOWED = {("io/signals.py", "os._exit"), ("cli/__init__.py", "gc.freeze")}
 
@@ -65,7 +65,7 @@ def offences(modules, root=SRC):
 
 
 def test_no_mutation_of_frozen_values_and_no_second_code_path():
-    """Every module at once, every offence listed (issue 32: a structural check is one test,
+    """Every module at once, every offence listed (a structural check is one test,
     not one per module)."""
     assert len(MODULES) > 100                       # the scan sees the package
     bad = offences(MODULES)
@@ -92,7 +92,7 @@ def test_the_check_finds_what_it_looks_for():
 
 
 def test_the_console_script_freezes_after_the_main_job_s_imports(tmp_path):
-    """Issue 31: ``gc.freeze()`` once, unconditional, after the imports: the console script's
+    """``gc.freeze()`` once, unconditional, after the imports: the console script's
     main job has its libraries imported and the start-up objects frozen before the command
     runs; a library call of ``main`` neither imports ahead nor freezes."""
     import json

@@ -1,4 +1,4 @@
-"""Issue 16 items 2, 7, 8 and 10 at the command line: the output folder of the real commands.
+"""The output folder of the real commands.
 
 A run never deletes what it did not write; the main job, ``control`` and ``sweep`` share a folder
 and each replaces only the files its own manifest lists; the manifests' hashes are checked with
@@ -149,7 +149,7 @@ def test_case7_an_alias_of_a_folder_being_written_is_refused(job, capsys):
     (OSError(errno.ENOSPC, "No space left on device", "STAGE/results.h5"),
      "cannot write the output folder: no space left on the device")])
 def test_case10_only_write_errors_are_write_errors(job, capsys, monkeypatch, error, expect):
-    """A read error inside the output stage surfaces as what it is (issue 16 item 10)."""
+    """A read error inside the output stage surfaces as what it is."""
     import gd_analyze.workflows.run as run
 
     def fail(robot, trajectory, path, *args, **kw):
@@ -181,7 +181,7 @@ def _special(job, kind):
 
 @pytest.mark.parametrize("kind", ["fifo", "link_to_fifo", "link_to_file"])
 @pytest.mark.parametrize("command", ["plan", "main", "control", "sweep"])
-def test_issue32_an_output_that_is_a_special_file_or_link_is_refused(job, capsys, command,
+def test_an_output_that_is_a_special_file_or_link_is_refused(job, capsys, command,
                                                                      kind):
     """plan -o /dev/null made /dev/null a regular file: only regular files are written; -o
     FILE as a symbolic link is refused too (never written through, never replaced)."""
@@ -231,7 +231,7 @@ def _enospc(result, path, settings=None):
     (_enospc, "no space left on the device"), (_full_disk, "no space left on the device"),
     (_hdf5_error, "HDF5 error: Can't decrement id ref count")])
 @pytest.mark.parametrize("existing", [False, True])
-def test_issue32_control_on_a_full_disk_is_one_line_and_leaves_nothing(job, capsys, monkeypatch,
+def test_control_on_a_full_disk_is_one_line_and_leaves_nothing(job, capsys, monkeypatch,
                                                                       writer, expect, existing):
     """control -o on a nearly full disk segfaulted after 450 lines of h5py tracebacks, leaving
     the lock, the staging folder and a partial control.h5."""
@@ -249,7 +249,7 @@ def test_issue32_control_on_a_full_disk_is_one_line_and_leaves_nothing(job, caps
 
 
 @pytest.mark.parametrize("writer", [_hdf5_error, _full_disk])
-def test_issue32_the_main_job_on_a_full_disk_is_one_line_and_leaves_nothing(job, capsys,
+def test_the_main_job_on_a_full_disk_is_one_line_and_leaves_nothing(job, capsys,
                                                                             monkeypatch, writer):
     import gd_analyze.workflows.run as run
 
@@ -268,7 +268,7 @@ def test_issue32_the_main_job_on_a_full_disk_is_one_line_and_leaves_nothing(job,
     assert _tree(job) == before and sorted(os.listdir(job)) == ["out", "p.csv"]
 
 
-# --- issue 32: a folder name as long as the file system allows ----------------------------------
+# --- a folder name as long as the file system allows ----------------------------------------------
 
 def test_a_folder_name_as_long_as_the_file_system_allows(tmp_path, capsys):
     """245 characters were refused: the lock and staging names beside the folder add their

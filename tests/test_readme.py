@@ -81,7 +81,7 @@ def test_sample_output_is_what_the_main_job_prints(tmp_path):
     assert len(printed) == len(expected), "\n".join(printed)
     for want, got in zip(expected, printed):
         if want.startswith("wrote "):
-            # the count and folder, not the ~2,000 characters of every path (issue 31 item 5)
+            # the count and folder, not the ~2,000 characters of every path
             shape = r"wrote \d+ files to \S+"
             assert re.fullmatch(shape, want) and re.fullmatch(shape, got), (want, got)
             assert got.endswith(str(tmp_path / "out"))

@@ -1,4 +1,4 @@
-"""docs/robot-file.md documents every key the robot-file parser knows (issue 20 item 6)."""
+"""docs/robot-file.md documents every key the robot-file parser knows."""
 
 import re
 from pathlib import Path

@@ -1,4 +1,4 @@
-"""Every core module has a test module of its own (issue 19, item 8): the tests mirror the
+"""Every core module has a test module of its own: the tests mirror the
 core's concepts, so src/gd_analyze/core/<concept>/<module>.py is tested in
 tests/core/<concept>/test_<module>.py."""
 

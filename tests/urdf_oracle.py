@@ -54,7 +54,7 @@ UR5_COM = '<origin rpy="0 0 0" xyz="0.0 0.0 0.28"/>'
 UR5_IXX = 'ixx="0.22689067591"'
 UR5_IZZ = 'izz="0.0151074"'
 
-#: Broken copies of ur5.urdf (issue 16 item 6): (name, text to replace in ur5.urdf, replacement, column the message names)
+#: Broken copies of ur5.urdf: (name, text to replace in ur5.urdf, replacement, column the message names)
 BAD_UR5 = [
     ("mass decimal comma", UR5_MASS, '<mass value="2,5"/>', "link 'upper_arm_link' <mass value>"),
     ("mass with unit", UR5_MASS, '<mass value="2.5kg"/>', "link 'upper_arm_link' <mass value>"),

@@ -1,4 +1,4 @@
-"""The main job's region (issue 40 item 2): its options, the summary lines, results.h5 and
+"""The main job's region: its options, the summary lines, results.h5 and
 the model JSON read back, and a trajectory outside the region flagged."""
 
 import json

@@ -1,4 +1,4 @@
-"""cli/__init__.py: no control character of an input reaches the terminal (issue 32), even
+"""cli/__init__.py: no control character of an input reaches the terminal, even
 with -q: an ESC in a file name, or in a robot file's key, is written as ``\\x1b``."""
 
 from pathlib import Path

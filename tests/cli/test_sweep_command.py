@@ -1,4 +1,4 @@
-"""The ``sweep`` command's merged model (issue 29 item 2): of the recursive form where that is
+"""The ``sweep`` command's merged model: of the recursive form where that is
 the cheaper, its file evaluated by ``gd-analyze evaluate`` and checked against Pinocchio's
 rnea, and every figure it prints and stores counted on the model written."""
 
@@ -35,7 +35,7 @@ def swept(tmp_path_factory):
 
 
 def test_provenance_says_what_cluster_ran(swept):
-    """Issue 31: a plain command-line sweep said "client given by the caller". It says what
+    """A plain command-line sweep said "client given by the caller". It says what
     ran: here the local cluster the command started, with its one worker (--workers 1)."""
     import xarray as xr
 
@@ -208,7 +208,7 @@ def test_a_swept_trajectory_outside_the_region_is_reported(tmp_path, capsys):
 
 
 def test_the_merged_model_emits_every_file_with_its_own_prefix(swept):
-    """Issue 30 item 7: merged_model.h, .c, .py and _casadi.py, prefix puma560_merged_; the
+    """merged_model.h, .c, .py and _casadi.py, prefix puma560_merged_; the
     numpy functions keep D_s qdd + h_s + c_s = tau_s = Y_s beta_s; D_s checked on the sweep."""
     from scales import identity_errors
 
@@ -230,7 +230,7 @@ def test_the_merged_model_emits_every_file_with_its_own_prefix(swept):
 
 @pytest.mark.slow
 def test_users_region_is_printed_and_stored_by_the_sweep(tmp_path, capsys):
-    """--qd-max and --qdd-max (issue 40): the sweep proves the merged model over the user's
+    """--qd-max and --qdd-max: the sweep proves the merged model over the user's
     region, prints it one line per limit kind before the guarantee line, and sweep.h5 and
     merged_model.json store it; the robot's random trajectories that leave it are not
     covered."""

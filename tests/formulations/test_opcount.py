@@ -158,7 +158,7 @@ def test_newton_euler_is_linear_in_n():
 def test_compiled_gd_is_quadratic_numpy_gd_cubic_and_lagrange_euler_quartic_in_n():
     ns = range(3, 11)
     for op in ("multiplications", "additions"):
-        gd = _counts("gd", op, ns)                       # D_tran by suffix sums (issue 10)
+        gd = _counts("gd", op, ns)                       # D_tran by suffix sums
         assert np.all(np.diff(gd, 3) == 0) and np.all(np.diff(gd, 2) > 0)
         gd = _counts("gd-numpy", op, ns)                 # the Jacobians as written
         assert np.all(np.diff(gd, 4) == 0) and np.all(np.diff(gd, 3) > 0)
@@ -224,7 +224,7 @@ def test_disk_cache_is_keyed_by_the_counted_source(tmp_path, monkeypatch):
     data = json.loads(path.read_text())
     assert data["entries"]["3"]["counts"] == {m: list(v) for m, v in fresh.items()}
     # a planted value with its checksum (SHA-256 of format, code, key, counts) is read, and
-    # not believed (issue 40): the recount is used, with one warning, and stored ...
+    # not believed: the recount is used, with one warning, and stored ...
     planted = {m: [1, 2] for m in fresh}
     text = json.dumps({"format": data["format"], "code": data["code"], "key": "3",
                        "counts": planted}, sort_keys=True, separators=(",", ":"))

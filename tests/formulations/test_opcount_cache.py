@@ -1,4 +1,4 @@
-"""Issue 32: the operation-count cache is never trusted blindly."""
+"""The operation-count cache is never trusted blindly."""
 
 import json
 import os
@@ -38,7 +38,7 @@ def _counts_with_warnings():
     {"3": {"lagrange-euler": [1, 1], "newton-euler": [1, 1], "gd": [1, 1],
            "gd-numpy": [1, 1]}},                               # "Newton-Euler: 1", as measured
     {"3": 5}, [], "x", {"format": 2, "entries": {"3": 7}}])   # of the wrong JSON type
-def test_issue32_an_edited_or_wrong_file_is_counted_again_with_one_warning(cache, planted):
+def test_an_edited_or_wrong_file_is_counted_again_with_one_warning(cache, planted):
     fresh, path = cache
     path.write_text(json.dumps(planted))
     counts, warned = _counts_with_warnings()
@@ -49,7 +49,7 @@ def test_issue32_an_edited_or_wrong_file_is_counted_again_with_one_warning(cache
     assert counts == fresh and warned == []
 
 
-def test_issue32_an_entry_edited_without_its_checksum_is_counted_again(cache):
+def test_an_entry_edited_without_its_checksum_is_counted_again(cache):
     fresh, path = cache
     assert _counts_with_warnings() == (fresh, [])            # written
     data = json.loads(path.read_text())
@@ -59,7 +59,7 @@ def test_issue32_an_entry_edited_without_its_checksum_is_counted_again(cache):
     assert counts == fresh and len(warned) == 1 and "fails its checksum" in warned[0]
 
 
-def test_issue32_a_cache_file_that_is_a_fifo_is_not_read(cache):
+def test_a_cache_file_that_is_a_fifo_is_not_read(cache):
     fresh, path = cache
     os.mkfifo(path)
     counts, warned = _counts_with_warnings()
@@ -68,7 +68,7 @@ def test_issue32_a_cache_file_that_is_a_fifo_is_not_read(cache):
 
 
 @pytest.mark.parametrize("setting", ["cache-dir", "xdg", "none"])
-def test_issue32_the_counts_live_in_the_derivation_cache_folder(tmp_path, monkeypatch, setting):
+def test_the_counts_live_in_the_derivation_cache_folder(tmp_path, monkeypatch, setting):
     """One folder rule for both caches: ``GD_ANALYZE_CACHE_DIR`` moves the operation counts as
     it moves the derivation cache (it was ignored: the counts went to ``$XDG_CACHE_HOME``)."""
     from gd_analyze.io.cache_files import entry_path
@@ -98,8 +98,8 @@ def test_issue32_the_counts_live_in_the_derivation_cache_folder(tmp_path, monkey
         assert (tmp_path / written[0]).parent == derivation.parent
 
 
-def test_issue40_an_entry_edited_with_its_checksum_recomputed_is_recounted(cache):
-    """Issue 40: "Newton-Euler as implemented: 1" from an entry whose SHA-256 was computed
+def test_an_entry_edited_with_its_checksum_recomputed_is_recounted(cache):
+    """"Newton-Euler as implemented: 1" from an entry whose SHA-256 was computed
     again. The oracle is the count of the code itself, measured without a cache (the chapter's
     Table 3.5 formula for N-E, 150 n - 48 multiplications, is far above 1 for three joints)."""
     from gd_analyze.formulations.opcount_cache import _checksum

@@ -1,4 +1,4 @@
-"""Golden outputs (issue 43, item 1): run the jobs on the shipped robots, freeze what they
+"""Golden outputs: run the jobs on the shipped robots, freeze what they
 write and print, and compare a new run with the frozen files.
 
 A *case* is one command-line run on a shipped trajectory (:data:`CASES`): the main job on

@@ -1,4 +1,4 @@
-"""Issue 32: a derivation-cache entry is read with bounded memory, whatever its file says."""
+"""A derivation-cache entry is read with bounded memory, whatever its file says."""
 
 import io
 import tracemalloc
@@ -42,7 +42,7 @@ def _peak(fn):
         tracemalloc.stop()
 
 
-def test_issue32_a_small_deflated_entry_is_not_inflated(tmp_path):
+def test_a_small_deflated_entry_is_not_inflated(tmp_path):
     """64 MiB of zeros deflated to a 64 KB file: refused before a byte is inflated."""
     path = tmp_path / "explicit-x.npz"
     zeros = _npy(np.zeros(8 << 20))                          # 64 MiB
@@ -55,7 +55,7 @@ def test_issue32_a_small_deflated_entry_is_not_inflated(tmp_path):
 
 
 @pytest.mark.parametrize("shape", [(1 << 28,), (1 << 62,), (-1,)])
-def test_issue32_an_array_header_larger_than_its_member_is_refused(tmp_path, shape):
+def test_an_array_header_larger_than_its_member_is_refused(tmp_path, shape):
     path = tmp_path / "explicit-x.npz"
     _entry(path, {"coef": _header_only(shape), "key": _npy(np.array("k")),
                   "checksum": _npy(np.array("c"))}, zipfile.ZIP_STORED)
@@ -63,7 +63,7 @@ def test_issue32_an_array_header_larger_than_its_member_is_refused(tmp_path, sha
     assert isinstance(found, str) and peak < 8 << 20
 
 
-def test_issue32_an_entry_written_is_read_back(tmp_path):
+def test_an_entry_written_is_read_back(tmp_path):
     path = tmp_path / "explicit-x.npz"
     arrays = {"coef": np.arange(6.0).reshape(2, 3), "K": np.eye(3, dtype=np.int64).T}
     write_entry(path, _KEY, arrays)

@@ -3,7 +3,7 @@
 The oracle is a fresh certification (core.selection.certify.certify): an entry that is used
 must give exactly its bounds and scale; an entry forged with a matching key and checksum but a
 wrong scale or scale state must be refused with one warning line and certified again. No bound
-is read from an entry (issue 40): the forged boxes and bounds of the issue (zero-volume boxes at
+is read from an entry: the forged boxes and bounds (zero-volume boxes at
 the samples, honest boxes with their bounds lowered to the sampled peaks, overlapping boxes
 whose volumes add up to the region's) are refused or re-derived, never used.
 """
@@ -126,7 +126,7 @@ def test_a_forged_entry_is_refused_and_certified_again(arm, fresh, cache, stored
 
 
 def _issue_forgeries(fresh, region):
-    """The forged boxes and bounds of issue 40, as (leaves (b, 3, L, n), boxes (L, 2, n))."""
+    """The module docstring's forged boxes and bounds, as (leaves (b, 3, L, n), boxes (L, 2, n))."""
     from gd_analyze.core.selection.certify import pair_magnitudes_at
 
     beta = np.asarray(base_parameters(load_robot("stanford")).beta, float)
@@ -148,7 +148,7 @@ def _issue_forgeries(fresh, region):
                                      "bounds lowered to the sampled peaks",
                                      "overlapping boxes of the region's volume"])
 @pytest.mark.parametrize("layout", [OLD_FIELDS, FIELDS + ("leaves", "leaf_boxes")])
-def test_issue40_forged_boxes_and_bounds_are_never_used(arm, fresh, cache, stored, forgery,
+def test_forged_boxes_and_bounds_are_never_used(arm, fresh, cache, stored, forgery,
                                                         layout):
     """Written into an entry with a checksum over the former layout (boxes and bounds
     included) or over this one with the arrays added: the bound stated is a fresh

@@ -1,7 +1,7 @@
-"""Issue 9: one CSV reader whatever the size, checked against an independent reference parser.
+"""One CSV reader whatever the size, checked against an independent reference parser.
 
-Cases 1, 8 (CSV crashes), 9 (messages) and 10 (1_0, full-width digits) of issue 9, and a
-hypothesis fuzz test on small files and on files large enough for the pandas path.
+Cases 1, 8 (CSV crashes), 9 (messages) and 10 (1_0, full-width digits) of the defects found, and
+a hypothesis fuzz test on small files and on files large enough for the pandas path.
 """
 
 import csv

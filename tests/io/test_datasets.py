@@ -145,7 +145,7 @@ def test_main_job_stores_the_formulations(tmp_path, puma):
 
 
 def test_no_share_is_stored_for_an_element_zero_in_every_part(shipped_dataset):
-    """Issue 31: results.h5 stored shares of 0.40 and 0.78 for D45 and D56 of the PUMA 560,
+    """Results.h5 stored shares of 0.40 and 0.78 for D45 and D56 of the PUMA 560,
     ratios of round-off. Oracle: the stored series themselves (every part of the element
     within 1e-12 of sqrt(D_44 D_55) at every set point)."""
     ds = shipped_dataset("puma560")
@@ -161,7 +161,7 @@ def test_no_share_is_stored_for_an_element_zero_in_every_part(shipped_dataset):
 
 
 def test_round_off_torque_errors_are_marked_as_such(shipped_dataset):
-    """Issue 31: results.h5 stored joints 3 to 6's torque errors (1e-16 to 4e-15 N m) as
+    """Results.h5 stored joints 3 to 6's torque errors (1e-16 to 4e-15 N m) as
     numbers like any other. They are flagged round-off (the report's "≡ 0"): at most 1e-12 of
     the joint's peak |tau| or 64 eps of the arm's largest."""
     ds = shipped_dataset("puma560")

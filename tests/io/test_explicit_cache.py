@@ -67,7 +67,7 @@ def _forge(path, arrays, key=None):
 
 
 def _poison(kind, path, robot):
-    """Damage the robot's entry (written by a first call) in one of the ways of issue 16."""
+    """Damage the robot's entry (written by a first call) in one of the ways listed."""
     data = path.read_bytes()
     if kind == "truncated":
         path.write_bytes(data[:len(data) // 2])
@@ -75,7 +75,7 @@ def _poison(kind, path, robot):
         path.write_bytes(b"")
     elif kind == "garbage":
         path.write_bytes(np.random.default_rng(5).bytes(len(data)))
-    elif kind == "old layout":                   # the arrays alone, as before issue 16
+    elif kind == "old layout":                   # the arrays alone, the older layout
         entry = _stored(path)
         _write_npz(path, {f: entry[f] for f in FIELDS})
     elif kind in ("another robot's entry", "another robot's terms, forged key"):

@@ -1,4 +1,4 @@
-"""Issue 9, cases 7 and 8 (JSON): the model file is read strictly and validated as a whole;
+"""The model file is read strictly and validated as a whole;
 a hypothesis fuzz test of the loader: right values or one InputError line, nothing written."""
 
 import copy
@@ -83,7 +83,7 @@ def test_the_model_schema_is_a_valid_draft_2020_12_schema():
     assert MODEL_SCHEMA.document["$schema"].endswith("/draft/2020-12/schema")
 
 
-def test_issue8_keys_are_accepted(tmp_path, model_doc):
+def test_error_budget_keys_are_accepted(tmp_path, model_doc):
     doc = copy.deepcopy(model_doc)
     n = len(doc["robot"]["parameters"]["link"])
     terms = {"kind": ["c"], "part": ["grav"], "i": [0], "j": [-1], "k": [-1],
@@ -198,7 +198,7 @@ def test_fuzz_model_loader(tmp_path_factory, model_doc, data, action, value, reh
 
 
 @pytest.mark.parametrize("body", ['"' + '\\"' * 500_000, '["' + '\\\\' * 500_000 + '"]'])
-def test_issue32_the_nesting_check_is_linear_on_1_mb(tmp_path, body):
+def test_the_nesting_check_is_linear_on_1_mb(tmp_path, body):
     """A run of escaped quotes with no closing quote made the nesting check's regex quadratic
     (48 KB: 30 s; 1 MB: hours)."""
     path = tmp_path / "m.json"

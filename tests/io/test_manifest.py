@@ -1,4 +1,4 @@
-"""Issue 32: an output folder's manifests are read with bounded cost and compared by SHA-256."""
+"""An output folder's manifests are read with bounded cost and compared by SHA-256."""
 
 import os
 
@@ -9,7 +9,7 @@ from gd_analyze.io.manifest import folder_owners, manifest_name, walk_files
 from gd_analyze.io.staging import staged_output
 
 
-def test_issue32_a_manifest_nested_100000_deep_is_refused_in_one_line(tmp_path):
+def test_a_manifest_nested_100000_deep_is_refused_in_one_line(tmp_path):
     """json's RecursionError (exit 4) becomes the folder's refusal (exit 2)."""
     name = manifest_name("analyze")
     (tmp_path / name).write_text('{"tool": "gd-analyze", "files": ' + "[" * 100_000
@@ -20,7 +20,7 @@ def test_issue32_a_manifest_nested_100000_deep_is_refused_in_one_line(tmp_path):
                               "or new folder")
 
 
-def test_issue32_a_deep_folder_is_walked_without_recursion(tmp_path):
+def test_a_deep_folder_is_walked_without_recursion(tmp_path):
     """A folder deeper than the recursion limit is walked (RecursionError was exit 4)."""
     import inspect
     import sys
@@ -37,14 +37,14 @@ def test_issue32_a_deep_folder_is_walked_without_recursion(tmp_path):
     assert found == ["/".join(["d"] * 200 + ["f.txt"])]
 
 
-def test_issue32_a_manifest_that_is_a_fifo_is_not_read(tmp_path):
+def test_a_manifest_that_is_a_fifo_is_not_read(tmp_path):
     name = manifest_name("analyze")
     os.mkfifo(tmp_path / name)
     with pytest.raises(InputError, match=f"did not write: {name};"):
         folder_owners(tmp_path, "analyze")
 
 
-def test_issue32_a_same_size_edit_with_its_mtime_put_back_is_the_users(tmp_path):
+def test_a_same_size_edit_with_its_mtime_put_back_is_the_users(tmp_path):
     """cp -p, rsync -t, touch -r: the size and mtime are as recorded, the SHA-256 is not."""
     target = tmp_path / "out"
     with staged_output(target, command="analyze") as stage:

@@ -1,4 +1,4 @@
-"""Issue 40 item 3: no guarantee believed from a file. Forged model files, built from the main
+"""No guarantee believed from a file. Forged model files, built from the main
 job's real PUMA 560 models, are refused by ``evaluate``, ``control`` and the API with exit 2
 and one line naming the key; the honest files are read. Oracle: Pinocchio's ``rnea`` on the
 robot's own model for the torques a claim rests on."""

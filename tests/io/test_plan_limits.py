@@ -97,7 +97,7 @@ def test_quintic_duration_uses_the_default_where_no_limit(no_qdd):
 
 
 def test_plan_without_velocity_limits_writes_null_not_nan(tmp_path):
-    """Issue 32: ``plan --duration T --ignore-limits`` on a robot without velocity limits wrote
+    """``plan --duration T --ignore-limits`` on a robot without velocity limits wrote
     the CSV, then failed (exit 4) on NaN in its provenance; JSON writes no limit as null."""
     from conftest import ROOT
 

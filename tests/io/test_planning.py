@@ -143,7 +143,7 @@ print(read_provenance(sys.argv[1]))
 
 
 @pytest.mark.parametrize("kind", ["fifo", "link_to_fifo", "dev_zero", "large"])
-def test_issue32_a_sidecar_is_read_only_if_a_small_regular_file(tmp_path, kind):
+def test_a_sidecar_is_read_only_if_a_small_regular_file(tmp_path, kind):
     """A FIFO sidecar would hang evaluate and control; /dev/zero would fill the memory."""
     import os
     import subprocess

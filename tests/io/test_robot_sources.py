@@ -1,4 +1,4 @@
-"""load_robot from URDF text and from a pinocchio.Model (issue 30 item 6): the same dynamics as
+"""load_robot from URDF text and from a pinocchio.Model: the same dynamics as
 the URDF file, checked against Pinocchio's own model of the file (crba, rnea); bad input is one
 InputError, also at the command line."""
 

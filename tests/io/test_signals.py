@@ -1,4 +1,4 @@
-"""io/signals.py: one handler for SIGINT and SIGTERM, no signal lost (issue 32).
+"""io/signals.py: one handler for SIGINT and SIGTERM, no signal lost.
 
 Each test starts a child interpreter that prints a line when it reaches the phase under test
 and waits there; the signal is sent on that line (an event, not a time): inside a gc callback

@@ -1,4 +1,4 @@
-"""Issue 9, cases 2, 3, 6 and 7 (output locations): staged output folders with a lock; whose
+"""Output locations: staged output folders with a lock; whose
 files a folder holds, and no write through a symbolic link. Interrupted runs and mount points
 (case 8): test_staging_interrupted.py."""
 
@@ -52,7 +52,7 @@ def _foreign_message(target, names):
 
 @pytest.mark.parametrize("ours", [False, True])
 def test_case2_a_users_files_are_never_touched(tmp_path, ours):
-    """Issue 16 item 2: a folder holding files no manifest lists is refused, untouched."""
+    """A folder holding files no manifest lists is refused, untouched."""
     target = tmp_path / "out"
     if ours:                                       # a folder a run wrote, then the user's files
         with staged_output(target, ("report.html", "figures"), command="analyze") as stage:
@@ -189,7 +189,7 @@ def test_case8_write_errors_become_one_line(tmp_path):
 
 
 def test_case10_a_read_error_is_what_it_is(tmp_path):
-    """Issue 16 item 10: an OSError reading a file is not "cannot write the output folder"."""
+    """An OSError reading a file is not "cannot write the output folder"."""
     missing = tmp_path / "fonts" / "missing.ttf"
     with pytest.raises(FileNotFoundError) as err:
         with staged_output(tmp_path / "out"):
@@ -211,7 +211,7 @@ def test_check_output_file(tmp_path):
     check_output_file(tmp_path / "x.csv")
 
 
-# --- issue 16 item 7: no write follows a symbolic link ----------------------------------------
+# --- no write follows a symbolic link -------------------------------------------------------------
 
 def test_case7_a_planted_lock_symlink_is_not_followed(tmp_path):
     victim = tmp_path / "victim.txt"
@@ -351,7 +351,7 @@ def _gd_lookalikes(tmp_path, target):
     (tmp_path / ".out.gd-tmp-xyz" / "keep.txt").write_text("user")
 
 
-def test_issue32_a_refused_run_removes_nothing(tmp_path):
+def test_a_refused_run_removes_nothing(tmp_path):
     target = tmp_path / "out"
     _run_as(target, "analyze", {"a.txt": "m"})
     _gd_lookalikes(tmp_path, target)
@@ -363,7 +363,7 @@ def test_issue32_a_refused_run_removes_nothing(tmp_path):
 
 
 @pytest.mark.parametrize("name", [".gd-notes.txt", ".gd-backup/old.txt", ".gd-lock"])
-def test_issue32_a_users_gd_names_are_never_deleted(tmp_path, name):
+def test_a_users_gd_names_are_never_deleted(tmp_path, name):
     """A top-level name starting .gd- that gd-analyze did not create is a user's file: the run
     is refused and the file kept; temporaries beside the folder that no run registered stay."""
     target = tmp_path / "out"

@@ -1,4 +1,4 @@
-"""Issue 9, case 8 (output locations): a staged output interrupted by a signal or killed, and
+"""Output locations: a staged output interrupted by a signal or killed, and
 output folders that are mount points; the set is exchanged whole."""
 
 import os
@@ -67,7 +67,7 @@ def test_case8_a_killed_run_is_cleaned_by_the_next(tmp_path):
     assert sorted(os.listdir(target)) == [manifest_name("output"), "big.bin"]
 
 
-# --- issue 16 item 8: the set is exchanged whole ----------------------------------------------
+# --- the set is exchanged whole -------------------------------------------------------------------
 
 OLD = {"a.txt": "old-a", "b.txt": "old-b", "figures/f.svg": "old-f"}
 NEW = {"a.txt": "new-a", "b.txt": "new-b", "figures/f.svg": "new-f"}
@@ -237,7 +237,7 @@ def test_case8_a_mount_point_killed_mid_exchange_is_replaced_whole_by_the_next_r
     assert not any(TMP_MARK in n for n in os.listdir(target))
 
 
-def test_issue32_a_refused_run_keeps_a_killed_runs_temporaries_for_the_next(tmp_path):
+def test_a_refused_run_keeps_a_killed_runs_temporaries_for_the_next(tmp_path):
     target = tmp_path / "out"
     proc = _start(_writer_script(target, HOLD))
     proc.kill()                                      # SIGKILL: its staging folder stays

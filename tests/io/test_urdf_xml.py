@@ -1,5 +1,5 @@
 """Broken URDF inertials and <mimic> joints are refused, naming the link or joint and the
-attribute (issue 16 item 6); urdfdom would drop such an <inertial> and Pinocchio would agree
+attribute; urdfdom would drop such an <inertial> and Pinocchio would agree
 with the massless link. The good files still load, and the inertias read from the XML are the
 ones Pinocchio loaded."""
 

@@ -1,4 +1,4 @@
-"""Issue 32: a full disk or an HDF5 error while writing is one line (exit 2); a bug is not."""
+"""A full disk or an HDF5 error while writing is one line (exit 2); a bug is not."""
 
 import errno
 
@@ -32,7 +32,7 @@ def _in_h5py():
     (_close_after_enospc_in_context, "out: cannot write the output folder: no space left on the "
                                      "device"),
     (_in_h5py, "out: cannot write the output folder: HDF5 error: Can't decrement id ref count")])
-def test_issue32_write_failures_are_one_line(fail, expect):
+def test_write_failures_are_one_line(fail, expect):
     with pytest.raises(InputError) as err:
         with writing("out"):
             fail()
@@ -41,13 +41,13 @@ def test_issue32_write_failures_are_one_line(fail, expect):
 
 @pytest.mark.parametrize("error", [RuntimeError("a bug"), ValueError("a bug"),
                                    KeyError("a bug")])
-def test_issue32_other_errors_are_not_write_errors(error):
+def test_other_errors_are_not_write_errors(error):
     with pytest.raises(type(error)):
         with writing("out"):
             raise error
 
 
-def test_issue32_an_enospc_under_raise_from_none_is_still_found():
+def test_an_enospc_under_raise_from_none_is_still_found():
     """``raise ... from None`` keeps the context for the traceback: it is still found."""
     with pytest.raises(InputError, match="no space left on the device"):
         with writing("out"):

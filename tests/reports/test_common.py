@@ -125,7 +125,7 @@ def test_svg_with_and_without_prefix():
 
 
 def test_fmt_inside_the_range_is_never_e_notation():
-    # issue 18: a gain of 34,780 N m/rad printed as 3.478e+04 beside 6071 in one column,
+    # a gain of 34,780 N m/rad printed as 3.478e+04 beside 6071 in one column,
     # although sci_outside promises e-notation only outside [1e-3, 1e5)
     from gd_analyze.reports.common import fmt
 

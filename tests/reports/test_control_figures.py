@@ -1,4 +1,4 @@
-"""The control report's figures for print (gd_analyze.reports.control_figures, issue 31): the
+"""The control report's figures for print (gd_analyze.reports.control_figures): the
 three controllers told apart in black and white, log-axis exponents in 7-pt type, no key
 entry for a band too thin to see, joints named as in the main report."""
 
@@ -24,7 +24,7 @@ def _key(fig):
 
 def test_three_controllers_differ_in_line_style_and_marker(control):
     """Applied torques (Fig. 3), whose three curves lie on one another: each controller has
-    its own dash pattern, width and marker, in the key too (issue 31: indistinguishable)."""
+    its own dash pattern, width and marker, in the key too (never indistinguishable)."""
     _, ds = control
     figs = control_figures(ds)
     key = _key(figs["tau"])

@@ -142,7 +142,7 @@ def test_verdict_tolerance_option_reaches_the_report(tmp_path):
 
 
 def test_intro_names_the_models_rule_and_provenance_says_each_file_once(built):
-    # issue 18: the intro said "the simplified model of Sec. 3.4.1" for a budget-rule model
+    # the intro said "the simplified model of Sec. 3.4.1" for a budget-rule model
     name, folder = built
     control = _text((folder / "control" / "control_report.html").read_text())
     intro = control[control.index("The arm, simulated"):control.index("1. Set-up")]
@@ -160,20 +160,20 @@ def test_intro_names_the_models_rule_and_provenance_says_each_file_once(built):
 
 
 def test_no_code_names_in_the_control_text(built):
-    # issue 18: code names stand in for words ("gd_analyze.formulations.opcount", tau_s, D_ij)
+    # code names stand in for words ("gd_analyze.formulations.opcount", tau_s, D_ij)
     _, folder = built
     control = _text((folder / "control" / "control_report.html").read_text())
     body = control[:control.index("6. Provenance")]
     code = r"gd_analyze\.\w+|\b(?:tau|share|scale|D|h|c|q|qd|qdd|Kp|Kv|wn)_\w+|\bEPS\b"
     assert not re.search(code, body), re.findall(code, body)   # file names may have "_"
     assert not re.search(r"\bqd{1,2}\b", body), re.findall(r".{30}\bqd{1,2}\b.{10}", body)
-    # issue 31: joints named as the main report names them ("joint 1"), never "J1"
+    # joints named as the main report names them ("joint 1"), never "J1"
     assert not re.search(r"\bJ\d\b", control), re.findall(r".{20}\bJ\d\b", control)
     assert "joint 1 [rad]" in control
 
 
 def test_settings_said_once_and_markers_as_drawn(tmp_path):
-    # issue 18 (presentation): the summary listed "20, 20, 20, ... rad/s", the integrator row
+    # presentation: the summary listed "20, 20, 20, ... rad/s", the integrator row
     # printed "rtol = 1.00000e-08", Fig. 2's caption said "markers: set points" where every
     # k-th is marked, and the noise scale was "the joint's scale" in one place and "the
     # joint's range of motion" in another

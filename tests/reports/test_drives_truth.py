@@ -1,4 +1,4 @@
-"""The report of an arm with drives says what its data hold (issue 31, item 2).
+"""The report of an arm with drives says what its data hold.
 
 The PUMA 560 with its drives (``puma560-drives``): Sec. 4 stated the share as
 Σ|tran| / (Σ|tran| + Σ|rot|) while the stored share counts the armature; Fig. 2's lead-in
@@ -106,7 +106,7 @@ def test_no_literal_markup_in_the_text(drives):
 
 
 def test_table_6_1_says_each_cause_once(drives):
-    """Issue 31: Table 6.1 repeated "peak below e times its scale, so no part is ranked; the
+    """Table 6.1 repeated "peak below e times its scale, so no part is ranked; the
     chapter has no negligible class" in every negligible row. Each cause is written once (in
     the note or in one row); rows refer to it by its mark. Oracle: the stored classes (every
     negligible element disagrees for the same reason)."""

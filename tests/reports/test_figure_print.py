@@ -1,4 +1,4 @@
-"""The main report's figures at print size (issue 18 item 3): no two labels collide, at most
+"""The main report's figures at print size: no two labels collide, at most
 about 12 markers per line, round-off never drawn, seven joints told apart in greyscale.
 
 Collisions are measured on the drawn figure: every text's extent from the renderer
@@ -140,7 +140,7 @@ def _markers_shown(line):
 
 def test_a_marker_at_every_set_point_of_figs_2_and_3(figures):
     """Up to 50 set points (the shipped trajectories have 31), every line of Figs. 2 and 3
-    has a marker at every set point, as the chapter's Figs. 3.10 and 3.11 do (issue 31: the
+    has a marker at every set point, as the chapter's Figs. 3.10 and 3.11 do (the
     curves could not be told apart in black and white with a marker at every 8th)."""
     name, ds, figs = figures
     N = ds.sizes["t"]
@@ -152,7 +152,7 @@ def test_a_marker_at_every_set_point_of_figs_2_and_3(figures):
 
 
 def test_at_most_about_12_markers_per_panel(figures):
-    """All lines of a panel of Fig. 1 together: at most MAX_MARKERS (issue 18: "at most
+    """All lines of a panel of Fig. 1 together: at most MAX_MARKERS ("at most
     about 12 per panel"); every line with a marker keeps at least two, to show which it is."""
     name, _, figs = figures
     for key in ("joints", "joints_column"):
@@ -357,7 +357,7 @@ def test_payload_figure_gives_each_torque_axis_one_unit(payload_figures):
 
 
 def test_one_tick_form_per_figure(figures):
-    """Issue 18 item 3, one tick format per figure (ticks.label_axes' rule): when any panel of
+    """One tick format per figure (ticks.label_axes' rule): when any panel of
     a figure is written in units of 10ᵏ, every panel whose ticks are all below 1 in magnitude
     is too; no panel reads "0.01" beside a panel reading "5" in units of 10⁻³ (PUMA Fig. 4,
     UR5 Fig. 2 D₁₆). Oracle: the drawn labels and the ticks' own positions."""

@@ -678,7 +678,7 @@ def test_fig_3_10_analogue_grows_to_n_by_n(n):
 
 
 def test_round_off_is_never_tabulated_as_data(puma_report):
-    """Issue 18: a share of 4e-14, a part peak of 2e-18 or a torque error of 6e-16 is round-off
+    """A share of 4e-14, a part peak of 2e-18 or a torque error of 6e-16 is round-off
     of its quantity's scale and reads "≡ 0"; only the formulations' agreement, which measures
     round-off, keeps its digits."""
     import re
@@ -693,7 +693,7 @@ def test_round_off_is_never_tabulated_as_data(puma_report):
 
 
 def test_chapter_model_dearer_than_full_is_explained(puma_report):
-    """Table 5.4: the chapter rule's explicit model costs more than the full one (issue 18);
+    """Table 5.4: the chapter rule's explicit model costs more than the full one;
     Sec. 5.3 says so and why, with the stored counts."""
     ds = puma_report["ds"]
     costs = dict(zip(strings(ds["cost_model"].values), ds["cost_total"].values))
@@ -711,7 +711,7 @@ def test_chapter_model_dearer_than_full_is_explained(puma_report):
 
 
 def test_envelope_text_gives_the_drawn_column_count(tmp_path, two_link):
-    """One fact in one place (issue 18): on a 5,000-set-point run, the number of envelope
+    """One fact in one place: on a 5,000-set-point run, the number of envelope
     columns the text and the captions give equals the columns of the drawn figure's curves
     (oracle: the distinct abscissae of the drawn lines); the context said "about 400" while
     it defined 1000 of its own."""

@@ -1,4 +1,4 @@
-"""The main report's context states what the stored data hold (issue 31, item 2)."""
+"""The main report's context states what the stored data hold."""
 
 import numpy as np
 
@@ -6,7 +6,7 @@ from gd_analyze.reports.main_context import report_context
 
 
 def test_base_parameter_names_are_defined_with_their_frame(shipped_dataset):
-    """Issue 31: the base parameters' names (XX2, MX2, ...) were never defined, so "MY4 = 0"
+    """The base parameters' names (XX2, MX2, ...) were never defined, so "MY4 = 0"
     sat unexplained beside a link-4 centre of mass y of 0.019 m. The note defines them in the
     joint frame, cites the grouping, and its example holds in the stored data."""
     ds = shipped_dataset("puma560")
@@ -22,7 +22,7 @@ def test_base_parameter_names_are_defined_with_their_frame(shipped_dataset):
 
 
 def test_dh_table_prints_the_parameters_as_the_robot_file_gives_them(shipped_dataset):
-    """Issue 31: d3 = 0.15005 m was printed 0.15. Oracle: the robot file's numbers (the
+    """d3 = 0.15005 m was printed 0.15. Oracle: the robot file's numbers (the
     loaded robot's), read back from the table's text, exactly."""
     from gd_analyze import load_robot
 
@@ -35,7 +35,7 @@ def test_dh_table_prints_the_parameters_as_the_robot_file_gives_them(shipped_dat
 
 
 def test_one_format_per_quantity_in_table_5_1_and_the_summary(shipped_dataset):
-    """Issue 31: "0.001857 beside 2.369e+00" (errors and peak |tau|, one quantity, in two
+    """"0.001857 beside 2.369e+00" (errors and peak |tau|, one quantity, in two
     notations) and "0.078 % beside 0.0784 %" (the summary and the table rounding one number
     differently). The torque columns share one notation, the two percentage columns one
     number of decimals, and the summary quotes the table's cells. Oracle: the stored errors."""

@@ -1,4 +1,4 @@
-"""Figs. 2 and 3 for print (gd_analyze.reports.main_figures, issue 31): panels at least 1.1 in
+"""Figs. 2 and 3 for print (gd_analyze.reports.main_figures): panels at least 1.1 in
 wide at page width, no panel of an element that is zero in every part, the drives' armature
 drawn above the combined curve, and column-width figures only on request."""
 
@@ -106,7 +106,7 @@ def test_armature_curve_drawn_above_the_combined_one(drives):
 
 
 def test_column_figures_only_on_request(drives, tmp_path):
-    """write_report writes no <name>_column file by default (issue 31, latency); with
+    """write_report writes no <name>_column file by default (latency); with
     column_figures=True every page-width figure has its 3.5-in twin; the main job's
     --column-figures asks for them."""
     from gd_analyze.cli import analyze_parser

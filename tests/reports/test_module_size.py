@@ -1,4 +1,4 @@
-"""The report modules stay within the project's ~600-line limit (issue 18 review, item 7): a
+"""The report modules stay within the project's ~600-line limit: a
 module past it is split by concept, as common.py was (numbers, units, figure style) and
 main_context.py (the robot section in main_robot.py). That the split modules exist is
 ``tests/test_docs.py``'s layout check (docs/layout.md lists them, and every listed module must
@@ -10,7 +10,7 @@ import gd_analyze
 
 REPORTS = pathlib.Path(gd_analyze.__file__).parent / "reports"
 LIMIT = 600
-#: Modules another change is splitting (issue 18: sweep and control reports); none else may
+#: Modules another change is splitting (sweep and control reports); none else may
 #: pass the limit.
 BEING_SPLIT = {"sweep.py", "control.py"}
 

@@ -1,4 +1,4 @@
-"""Hostile robot names and descriptions in the HTML and PDF reports (issue 16, item 1).
+"""Hostile robot names and descriptions in the HTML and PDF reports.
 
 The HTML shows them as text only (autoescape: no element or attribute comes from them); the
 PDF shows them as literal text (no mathtext, no Typst markup: the name reaches the template as

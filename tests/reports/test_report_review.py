@@ -1,4 +1,4 @@
-"""Defects a reader of the rendered reports found (issue 18 review), each checked on the reports
+"""Defects a reader of the rendered reports found in a review, each checked on the reports
 as written for the PUMA 560, the Stanford arm (joint 3 prismatic) and the UR5, and on the sweep
 and control reports:
 

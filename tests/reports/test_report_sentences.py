@@ -1,4 +1,4 @@
-"""Report sentences that were false (issue 40, item 6), each read from the report of a real
+"""Report sentences that were false, each read from the report of a real
 run: where the torque-error figure's bound holds and what the error-budget figure's bars are
 (from the guarantee's kind), what s_i is when no torque floor is set, the equation of motion's
 number (Eq. (3.4-24) in the chapter: the sum of the parts is tau), and the UR5's placeholder

@@ -1,4 +1,4 @@
-"""The reports' text and tables (issue 18 items 4-6, issue 19 item 6).
+"""The reports' text and tables.
 
 - every table has a numbered caption ("Table 5.2: ..."), numbered within its section, unique,
   and the PDF carries the same captions in the same order;
@@ -216,7 +216,7 @@ def test_dh_robot_keeps_its_dh_table(reports):
 
 @pytest.mark.parametrize("which", ALL)
 def test_typst_typesets_every_report_without_type3_fonts(reports, which):
-    """Issue 31: Typst typesets the main, sweep and control reports and every figure file
+    """Typst typesets the main, sweep and control reports and every figure file
     of each (``figures/*.pdf``, typeset from the figure's SVG); no Type 3 font in any."""
     pdf = _files(reports, which)[1]
     figures = sorted((reports[which][0] / "figures").glob("*.pdf"))
@@ -245,7 +245,7 @@ def test_pdf_keeps_the_provenance(reports, which):
 
 
 def test_pages_are_full_unless_a_tall_figure_follows(reports):
-    """Issue 31: no page of the PUMA 560 report but the last ends above 60 % of its height,
+    """No page of the PUMA 560 report but the last ends above 60 % of its height,
     unless the next page starts with a figure taller than the room left on it."""
     pages = pdf_checks.words(_files(reports, "puma")[1])
     assert len(pages) > 2
@@ -311,7 +311,7 @@ _TINY = re.compile(r"(?<![\w.])-?[0-9.]+e-(1[3-9]|[2-9][0-9])(?![\w])")
 @pytest.mark.parametrize("which", ("sweep", "control"))
 def test_round_off_is_never_tabulated_in_the_sweep_and_control_reports(reports, which,
                                                                        tmp_path):
-    """Issue 18: round-off of a quantity's own scale reads "≡ 0" in every table of the sweep
+    """Round-off of a quantity's own scale reads "≡ 0" in every table of the sweep
     and control reports, in the HTML and in the PDF's text pages. The sweep's D45 and D56
     (zero for the PUMA 560 in every part: an axis intersection) have no share, D16 (rotational
     only) a share of exactly 0; the full-model controller's tracking error is the
@@ -382,7 +382,7 @@ def _names(reports, which):
 
 @pytest.mark.parametrize("which", ALL)
 def test_no_code_subscript_reaches_the_pdf_or_the_html(reports, which):
-    """Issues 18 and 31: mathematics, not code names, in the whole PDF as pdftotext extracts it
+    """Mathematics, not code names, in the whole PDF as pdftotext extracts it
     (text and figures: q_d is q with a subscript d, never "q_d"; no "^") and in the HTML's
     text; file and module names excepted."""
     html, pdf = _files(reports, which)

@@ -1,4 +1,4 @@
-"""Every output of the main job states the scope of the model built (issue 29 item 4): the CLI
+"""Every output of the main job states the scope of the model built: the CLI
 summary, results.h5, the report's summary, Sec. 5 and provenance, and simplified_model.json,
 each compared with ``Guarantee.statement()`` of the model read back from its file."""
 
@@ -69,6 +69,6 @@ def test_sec5_says_how_a_region_model_was_pruned(shared_main):
     assert "holds on this trajectory" not in region
     assert "= peak |τ" not in region and "= peak |τ" in trajectory
     assert "contribute on this trajectory" in trajectory
-    # issue 31: a guaranteed bound says the round-off it allows, in the one wording
+    # a guaranteed bound says the round-off it allows, in the one wording
     assert ("the bound below is guaranteed on this trajectory, up to floating-point "
             "round-off (64 eps of the scale)") in trajectory

@@ -37,7 +37,7 @@ def test_round_off_reads_equal_and_a_real_error_is_drawn():
     ])
     fig = error_figure(_ds(diff, np.array([0.02, 0.0, 0.0, 0.0]), scale))
     axes = fig.axes
-    # joints 2 and 3 (round-off) get no panel: no empty "nothing dropped" panels (issue 31)
+    # joints 2 and 3 (round-off) get no panel: no empty "nothing dropped" panels
     assert [ax.get_title() for ax in axes] == ["joint 1", "joint 4"]
     assert len(axes[0].lines) >= 3
     note = _note(fig)
@@ -64,7 +64,7 @@ def test_nan_is_never_round_off():
 
 def test_no_empty_panel_for_a_joint_with_nothing_dropped(shipped_dataset):
     """A joint whose model drops nothing (bound 0, tau_s - tau round-off) gets no panel in
-    Fig. 4, a note names it (issue 31: three of the PUMA's six panels were empty, reading
+    Fig. 4, a note names it (three of the PUMA's six panels were empty, reading
     "nothing dropped"); every panel drawn draws tau_s - tau."""
     ds = shipped_dataset("puma560")
     fig = error_figure(ds)
@@ -84,7 +84,7 @@ def test_no_empty_panel_for_a_joint_with_nothing_dropped(shipped_dataset):
 
 
 def test_the_inertia_check_sentence_is_the_stored_check():
-    """Issue 40 item 1: the report says what the stored proof found, for each outcome."""
+    """The report says what the stored proof found, for each outcome."""
     from gd_analyze.reports.markup import plain
     from gd_analyze.reports.simplified_section import inertia_check_text
     from gd_analyze.workflows.simplified_dataset import inertia_check_attrs
@@ -108,7 +108,7 @@ def test_the_inertia_check_sentence_is_the_stored_check():
 
 
 def test_region_table_and_whether_this_trajectory_lies_in_it():
-    """The report's region table (issue 40): per joint the range in degrees or "any angle
+    """The report's region table: per joint the range in degrees or "any angle
     (full turn)", qd max, qdd max and whether qdd max is assumed; a trajectory leaving the
     region is said not covered, naming the joint and quantity."""
     import gd_analyze as gd

@@ -1,5 +1,5 @@
 """The sweep and the control report's tables, one format per column, and what the control
-report's provenance and Fig. 3 show (issue 18, items 3 and 4).
+report's provenance and Fig. 3 show.
 
 The sweep report printed peak errors as "0.001225" beside "3.64e-05", the control report D_ii
 as "0.3603" beside "4.000e-05" and torques as "0.0258" beside "1.25e-04"; the control report's

@@ -89,7 +89,7 @@ def test_settings_state_each_setting_once_in_words(swept):
 
 
 def test_counts_are_the_merged_choices_in_the_tables_words(swept):
-    # issue 18: the counts under Sec. 5 called the budget rule's dropped elements
+    # the counts under Sec. 5 called the budget rule's dropped elements
     # "negligible" (the Stanford sweep's D23, translational on every trajectory, among them)
     _, out = swept
     html = (out / "sweep_report.html").read_text()
@@ -103,7 +103,7 @@ def test_counts_are_the_merged_choices_in_the_tables_words(swept):
 
 
 def test_merged_model_cost_and_gravity_said_against_the_models(swept):
-    # issue 18 item 1: what the model keeps of c, and its cost against the exact recursive
+    # what the model keeps of c, and its cost against the exact recursive
     # model, the full explicit model and Newton-Euler, from the model written beside the report
     import json
 
@@ -146,7 +146,7 @@ def test_merged_model_cost_and_gravity_said_against_the_models(swept):
         assert words in summary and words in sec5
     ops = {k: int(r[3].replace(",", "")) for k, r in rows.items()}
     mine = ops[merged]
-    if rule == "budget":                 # issue 29: never dearer than the exact recursive model
+    if rule == "budget":                 # never dearer than the exact recursive model
         assert mine <= ops["exact recursive model"]
     assert ("more than the full explicit model" in sec5) == (mine > ops["full explicit model"])
     assert ("more than the exact recursive model" in sec5) == (

@@ -1,4 +1,4 @@
-"""Issue 18 on the sweep report: every sentence about the merged model true of its rule and of
+"""The sweep report: every sentence about the merged model true of its rule and of
 its measured error, units from the joint types, round-off (by the reports' one rule, with the
 arm's scale) never tabulated as data, mathematics typeset, one number format per column.
 
@@ -149,7 +149,7 @@ def test_one_duration_said_once(tmp_path):
 
 
 def test_open_loop_error_named_as_such(stanford):
-    # issue 18: the merged model's |tau_s - tau| is an open-loop error (two models along one
+    # the merged model's |tau_s - tau| is an open-loop error (two models along one
     # desired motion), not the closed-loop difference of the control report
     text = _text((stanford / "sweep_report.html").read_text())
     sec = text[text.index("5.1 Open-loop torque error over all trajectories"):]
@@ -159,7 +159,7 @@ def test_open_loop_error_named_as_such(stanford):
 
 
 def test_ur5_errors_from_the_urdfs_decimals_are_round_off(tmp_path_factory):
-    # issue 18: the UR5's merged model (of the explicit form) errs by 1e-11 N m at joints 5
+    # the UR5's merged model (of the explicit form) errs by 1e-11 N m at joints 5
     # and 6, drawn and tabulated as data. Oracle: the same arm with pi/2 written exactly (the URDF has
     # 1.57079632679) errs there by round-off only, so the 1e-11 is the file's decimals
     from pathlib import Path

@@ -1,4 +1,4 @@
-"""One number format per table column (issue 18, as for the percentages): Table 1.3 printed
+"""One number format per table column (as for the percentages): Table 1.3 printed
 Izz "0.00015" beside "4e-05", Table 4.1 "0.0008908" beside "7.829e-05". Checked on the report
 context of the PUMA 560 and the Stanford arm (joint 3 prismatic): no column of any table mixes
 exponent form with fixed notation, and each printed value reads back within its four

@@ -1,4 +1,4 @@
-"""The report's statements agree with the model it describes (issue 18, item 1).
+"""The report's statements agree with the model it describes.
 
 Models are built under both rules (``--rule budget``, ``--rule chapter``), both forms
 (``--form recursive``, ``--form explicit``) and with terms of gravity dropped (``--form explicit

@@ -1,4 +1,4 @@
-"""Units from the joint types in every table, axis, caption and stored attribute (issue 18, item 2).
+"""Units from the joint types in every table, axis, caption and stored attribute.
 
 The Stanford arm's third joint is prismatic. Dimensional analysis is the oracle: q_3 is a
 length, so tau_3 = dL/dq_3 is a force [N], D_i3 = dtau_i/dqdd_3 is kg m for a revolute i and
@@ -179,7 +179,7 @@ def test_sweep_report_and_dataset_give_n_for_the_prismatic_joint(tmp_path):
         assert stored == dict(EXPECTED)
         assert [k for k in ds.variables if "joint" in ds[k].dims
                 and ds[k].attrs.get("units") in ("N m", "N")] == []
-        # issue 18: the start and goal positions were stored in "rad", joint 3's in m
+        # the start and goal positions were stored in "rad", joint 3's in m
         assert [k for k in ds.variables if "joint" in ds[k].dims
                 and ds[k].attrs.get("units") in ("rad", "m")] == []
         for k in ("q_start", "q_goal"):

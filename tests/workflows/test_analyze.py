@@ -61,7 +61,7 @@ def test_verify_flags_a_wrong_term(puma):
 
 
 def test_verification_stores_the_measured_differences(puma):
-    """Issue 31: results.h5 stored the verification errors as exactly 0.0 (the differences
+    """Results.h5 stored the verification errors as exactly 0.0 (the differences
     past the round-off floor). The stored value is the true largest difference against
     Pinocchio's crba, relative to sqrt(D_ii D_jj); the excess past the floor is stored apart."""
     import pinocchio as pin
@@ -131,7 +131,7 @@ def _count_gd(monkeypatch):
 
 
 def test_the_main_job_computes_the_terms_once_per_setpoint(tmp_path, monkeypatch, capsys):
-    """Issue 10: ranking, verification, simplified-model error and the formulations' agreement
+    """Ranking, verification, simplified-model error and the formulations' agreement
     all read the one set of G-D terms; the command computes each set point's terms once."""
     from gd_analyze.cli import main
 

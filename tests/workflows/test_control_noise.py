@@ -1,5 +1,5 @@
 """The control report never draws the integrator's noise of the closed-loop torque difference
-as data (issue 18), and still draws a real difference.
+as data, and still draws a real difference.
 
 Case: the 5,000-set-point PUMA 560 motion of ``gd-analyze plan`` (the shipped quintic, set
 points 0.83 ms apart), its first 0.25 s, tracked with the simplified model built on the

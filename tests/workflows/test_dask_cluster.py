@@ -1,7 +1,8 @@
-"""workflows/dask_cluster.py: a ``--scheduler`` that is not dask is refused, not waited for
-(issue 32). Two tiny servers on 127.0.0.1, each in a thread: one accepts and stays silent, one
-answers as an HTTP server does (its first 8 bytes, read as dask's frame count, ask for 3 EiB);
-and a real scheduler, which passes."""
+"""workflows/dask_cluster.py: a ``--scheduler`` that is not dask is refused, not waited for.
+
+Two tiny servers on 127.0.0.1, each in a thread: one accepts and stays silent, one answers as
+an HTTP server does (its first 8 bytes, read as dask's frame count, ask for 3 EiB); and a real
+scheduler, which passes."""
 
 import os
 import socket

@@ -1,4 +1,4 @@
-"""The deployed simplified model (issue 17): the cheaper of the pruned recursive and explicit
+"""The deployed simplified model: the cheaper of the pruned recursive and explicit
 models, its file, and the guarantee it states.
 
 Oracles: Pinocchio's rnea (the torques), the operation counts of the models compared (each
@@ -68,7 +68,7 @@ def test_deployed_model_is_the_cheapest_within_budget(puma_run):
     deployed = _ops(spec["cost"])
     assert deployed == min(_ops(costs["recursive, budget"]), _ops(costs["explicit, budget"]))
     assert deployed <= _ops(costs["exact recursive"]) < _ops(costs["newton-euler"])
-    assert _ops(costs["exact recursive"]) <= 338           # the customized N-E of issue 17
+    assert _ops(costs["exact recursive"]) <= 338           # the published customized N-E
     robot = load_robot("puma560")
     traj = read_trajectory(SHIPPED, 6)
     ref = _rnea(robot, traj.q, traj.qd, traj.qdd)
@@ -96,7 +96,7 @@ def test_recursive_file_round_trip_and_hand_edits(puma_run, tmp_path):
     # with nothing dropped the file's model is exact
     spec0 = json.loads(json.dumps(spec))
     spec0["recursive"]["dropped"] = []
-    del spec0["cost"]                   # the stored count is the pruned program's (issue 32)
+    del spec0["cost"]                   # the stored count is the pruned program's
     p0 = tmp_path / "exact.json"
     p0.write_text(json.dumps(spec0))
     tau0 = load_model(p0).torque(q, qd, qdd)
@@ -237,7 +237,7 @@ def test_the_exact_explicit_model_keeps_terms_idle_on_its_trajectory():
 
 
 def test_a_cheaper_explicit_model_not_deployed_is_explained(tmp_path):
-    """Issue 31: the drives arm's pruned explicit model counts fewer operations than the
+    """The drives arm's pruned explicit model counts fewer operations than the
     deployed recursive one; the stored sentence says why it is not deployed (its bound holds
     on the trajectory only; the recursive model's is proved over the region), as the model
     file's guarantee (oracle) says."""
@@ -260,7 +260,7 @@ def test_a_cheaper_explicit_model_not_deployed_is_explained(tmp_path):
 
 
 def test_the_model_file_s_choices_are_those_of_results_h5(puma_run, tmp_path):
-    """Issue 31: simplified_model.json said "both" for every element of the recursive model
+    """simplified_model.json said "both" for every element of the recursive model
     while results.h5 said "pruned" where its dropped pairs change the element. Oracle: D_s
     of the model against Pinocchio's crba, element by element, on the trajectory."""
     import pinocchio as pin
@@ -296,7 +296,7 @@ def test_the_model_file_s_choices_are_those_of_results_h5(puma_run, tmp_path):
 
 
 def test_a_trajectory_model_s_sampled_error_is_pinocchios_over_the_samples():
-    """Issue 32: the stored ``region_sampled_error`` of a model pruned on a trajectory, found
+    """The stored ``region_sampled_error`` of a model pruned on a trajectory, found
     by sampling only (no certification), is the largest error of the model against
     Pinocchio's rnea over the sampled positions of the region, every vertex of the velocity
     box and the worst acceleration in its box, relative to s_i there; s_i is |rnea_i| at the

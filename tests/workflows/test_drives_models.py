@@ -1,4 +1,4 @@
-"""The simplified models of an arm with drives (issue 20, item 1): the explicit and the recursive
+"""The simplified models of an arm with drives: the explicit and the recursive
 forms keep the armature and the friction whole; oracle Pinocchio rnea with ``model.armature``
 plus the hand-written friction viscous qd + coulomb sign(qd)."""
 

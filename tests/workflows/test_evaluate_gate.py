@@ -1,4 +1,4 @@
-"""The evaluate gate and the guarantee's coverage (issue 29 item 3): region membership checked
+"""The evaluate gate and the guarantee's coverage: region membership checked
 against the region's limits as given, NaN and inf never pass, a joint without torque is
 measured against the model's s_i."""
 
@@ -41,7 +41,7 @@ def test_region_membership_names_the_first_state_outside():
 
 
 def test_trajectory_kind_covers_its_own_file_only(puma):
-    """On its own file (same SHA-256) the claim is measured again (issue 40): s_i is the
+    """On its own file (same SHA-256) the claim is measured again: s_i is the
     trajectory's peak |tau_i| (the full model keeps every term, so its bound 0 holds)."""
     traj = read_trajectory(SHIPPED, n_joints=6)
     peak = np.abs(evaluate(SimplifiedModel(puma, full_choices(6), 0.9, 0.01), traj)["peak_tau"])
@@ -94,7 +94,7 @@ def test_zero_torque_joint_is_relative_to_the_models_scale(two_link):
 
 
 def test_the_gate_allows_the_round_off_the_guarantee_states(puma):
-    """Issue 31: a joint's stored error exceeded its bound by 6e-15 N m (0.002400359948032
+    """A joint's stored error exceeded its bound by 6e-15 N m (0.002400359948032
     against 0.002400359948026) and joints dropping nothing showed 1e-16 N m against a bound
     of 0: round-off, which the guarantee allows ("up to floating-point round-off (64 eps of
     the scale)"); a real excess still fails."""

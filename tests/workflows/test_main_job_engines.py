@@ -1,4 +1,4 @@
-"""The main job on the shipped 31-set-point trajectory never imports numba (issue 31): every
+"""The main job on the shipped 31-set-point trajectory never imports numba: every
 kernel it runs (G-D terms, ranking, part peaks, atom peaks, regressor contributions, region
 channels, the operation count of the compiled engine) takes its array code for short inputs.
 

@@ -1,4 +1,4 @@
-"""Issue 16, item 5: any number of joints. The main job, evaluate, control and sweep run end to
+"""Any number of joints. The main job, evaluate, control and sweep run end to
 end on a 10- and a 12-joint chain (two-digit element labels, "D1,10"), and the model they write
 matches Pinocchio's rnea within its error budget.
 

@@ -1,4 +1,4 @@
-"""The main job's settings as values: the user's region through the Python API (issue 40)."""
+"""The main job's settings as values: the user's region through the Python API."""
 
 import numpy as np
 import pytest

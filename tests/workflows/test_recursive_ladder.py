@@ -1,4 +1,4 @@
-"""The tolerance ladder of the pruned recursive model (issue 31: ``fig_cost_ladder`` had no
+"""The tolerance ladder of the pruned recursive model (``fig_cost_ladder`` had no
 ladder where the recursive model is deployed, the default).
 
 Oracles: Pinocchio's rnea (each rung's error, rebuilt independently from the pruning it

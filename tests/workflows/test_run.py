@@ -51,7 +51,7 @@ def test_the_report_names_the_prefix_the_header_uses(tmp_path, prefix, expected)
 
 
 def test_the_stored_inertia_check_is_that_of_the_deployed_model(tmp_path):
-    """Issue 40 item 1: results.h5 holds the proof for the deployed D_s (over the trajectory's
+    """Results.h5 holds the proof for the deployed D_s (over the trajectory's
     bounding box of q for a trajectory model), and numpy's eigenvalues of D_s at the
     trajectory's positions are never below the proved bound."""
     got = {}
@@ -76,7 +76,7 @@ def _without_times(ctx):
 
 
 def test_the_report_is_built_from_the_result_in_memory(tmp_path, monkeypatch):
-    """Issue 43 item 3: the main job hands its report the typed result in memory, with the
+    """The main job hands its report the typed result in memory, with the
     per-set-point series, not results.h5 to open again; it reads as the file does."""
     import gd_analyze.io.schema as schema
     from gd_analyze.io.names import Var

@@ -12,7 +12,7 @@ def _cost(m, a):
 
 
 def test_cost_table_lists_each_model_once():
-    """Issue 31: Table 5.4 listed "explicit, budget ε = 0.01" beside "explicit, budget ε = 0.01
+    """Table 5.4 listed "explicit, budget ε = 0.01" beside "explicit, budget ε = 0.01
     (this model)", and the ladder's ε = 0 beside the full model, the same counts twice. A rung
     that is the deployed model or the full one is listed once, as such; a rung that differs
     stays."""
@@ -34,7 +34,7 @@ def test_cost_table_lists_each_model_once():
 
 def test_choice_of_a_recursive_model_names_the_elements_its_dropped_terms_change(puma,
                                                                                   shipped):
-    """Issue 31: results.h5 stored choice "both" for all 27 elements although the model drops
+    """Results.h5 stored choice "both" for all 27 elements although the model drops
     XY2's inertial and velocity parts. Oracle: the base regressor (Khalil & Kleinfinger;
     Gautier): a dropped inertial part changes D_ij where its column at qdd = e_j moves tau_i,
     a velocity part changes h_i where its column at qdd = 0, g = 0 moves tau_i."""

@@ -326,7 +326,7 @@ def test_analyze_one_rejects_a_trajectory_of_another_robot(two_link, puma):
 
 
 # --------------------------------------------------------------------------------------------
-# The merged model of the budget rule (issue 17): guaranteed on each swept trajectory
+# The merged model of the budget rule: guaranteed on each swept trajectory
 # --------------------------------------------------------------------------------------------
 
 def _rnea(robot, q, qd, qdd):
@@ -468,7 +468,7 @@ def test_round_off_elements_have_no_share_box(sweep, serial):
 
 def test_sweep_panel_titles_say_the_part_kept(sweep):
     """A panel's title says which part of the element the merged model keeps ("D₁₆: keeps
-    rot"), not "D₁₆ → rot", which read as a class (issue 31)."""
+    rot"), not "D₁₆ → rot", which read as a class."""
     from gd_analyze.reports.markup import label as shown
     from gd_analyze.reports.sweep_figures import make_sweep_figures
 

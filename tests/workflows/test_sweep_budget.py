@@ -1,4 +1,4 @@
-"""The budget rule's merged model of a sweep (issue 29 item 2): pruned in the recursive form on
+"""The budget rule's merged model of a sweep: pruned in the recursive form on
 the peaks the dask workers computed per trajectory, never dearer than the exact recursive
 model, and within EPS x that trajectory's own scale on every swept trajectory, checked against
 Pinocchio's rnea (the URDF arms against the URDF's own Pinocchio model)."""

@@ -1,4 +1,4 @@
-"""The sweep's merged model under a region guarantee (issue 29 item 1): the main job's region
+"""The sweep's merged model under a region guarantee: the main job's region
 model, whatever the swept trajectories, checked on each of them and each said to lie inside the
 robot's joint-limit region or not.
 
@@ -157,7 +157,7 @@ def test_form_explicit_over_the_region_is_the_exact_model(puma, planned, swept, 
 
 
 def test_merged_choices_say_which_elements_the_dropped_parts_change(puma, planned, fast, swept):
-    """Issue 31: the recursive merged model's choices read "both" everywhere although its
+    """The recursive merged model's choices read "both" everywhere although its
     dropped pairs change some elements. Oracle: its D_s and h_s against Pinocchio's crba and
     nonLinearEffects (minus gravity) at every set point of the swept trajectories: "pruned"
     exactly where some set point differs beyond round-off of the element's scale there."""

@@ -1,4 +1,4 @@
-"""Issue 9, cases 2 and 5: verification on the natural scale; NaN never passes.
+"""Verification on the natural scale; NaN never passes.
 
 The oracle is Pinocchio (via :func:`verify`); the check must pass where the G-D terms are right
 (one-link arm, a PUMA row with qd1 = 4.4e-16, positions-only files whose spline leaves round-off

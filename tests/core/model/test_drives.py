@@ -1,4 +1,4 @@
-"""Drives and friction (issue 20, item 1): armature as a third part of D, friction as a
+"""Drives and friction: armature as a third part of D, friction as a
 separate torque term, against Pinocchio with ``model.armature`` set and against hand-computed
 identities."""
 

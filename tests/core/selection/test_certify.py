@@ -1,4 +1,4 @@
-"""The region guarantee (issue 29): the stored bound holds at every sampled state of the region,
+"""The region guarantee: the stored bound holds at every sampled state of the region,
 against Pinocchio's rnea, on real arms and a mixed chain with prismatic joints."""
 import numpy as np
 import pinocchio as pin
@@ -133,7 +133,7 @@ def test_the_joint_sum_admits_pairs_the_pairs_bounds_do_not():
 
 @pytest.mark.slow
 def test_prove_dropped_proves_the_bound_and_never_a_false_one():
-    """The quick proof on the dropped pairs alone (issue 40): it proves the region model's own
+    """The quick proof on the dropped pairs alone: it proves the region model's own
     bound, and never a limit that Pinocchio's rnea shows is exceeded somewhere in the region
     (the error at sampled states, 1 % lowered)."""
     from gd_analyze.core.selection.certify import prove_dropped

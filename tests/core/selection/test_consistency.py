@@ -1,5 +1,5 @@
 """core/selection/consistency.py: a model file is read only if its program is what its stored
-pairs, parameters and bound give (issue 32). Hand-edited PUMA 560 region models: one that drops
+pairs, parameters and bound give. Hand-edited PUMA 560 region models: one that drops
 gravity parts its bound does not cover (its error against Pinocchio's rnea is about its whole
 gravity torque), one that lists pairs its program keeps, one whose stored cost is another
 program's."""

@@ -1,4 +1,4 @@
-"""The guarantee of a simplified model (issue 29): its statement and its file form."""
+"""The guarantee of a simplified model: its statement and its file form."""
 import numpy as np
 import pytest
 
@@ -48,7 +48,7 @@ def test_a_file_whose_bound_exceeds_its_promise_is_refused():
 
 def test_covers_reports_the_true_extreme_not_the_first_set_point_outside():
     """A trajectory that first leaves the region at 3.217 and goes on to 6.283: the reason
-    names 6.283 (issue 40)."""
+    names 6.283."""
     import numpy as np
 
     from gd_analyze.core.selection.guarantee import Guarantee

@@ -1,4 +1,4 @@
-"""The one label rule of the G-D elements (issue 16, item 5): every module derives from it."""
+"""The one label rule of the G-D elements: every module derives from it."""
 
 import pytest
 

@@ -175,7 +175,7 @@ def _pinocchio_parts(robot, q, qd):
 
 @pytest.mark.parametrize("parts", [(0, 0, 1), (0, 1, 1), (1, 0, 0), (1, 1, 0), (1, 1, 1)])
 def test_the_sampled_error_of_dropped_parts_is_pinocchios_largest(parts):
-    """Issue 32: a trajectory model's ``region_sampled_error`` by sampling only. Dropping
+    """A trajectory model's ``region_sampled_error`` by sampling only. Dropping
     whole parts (inertial, velocity, gravity) of every base parameter, the error at a
     position is, by Pinocchio, sum_j |M_ij| qdd_max_j + the largest |h_i + g_i| over every
     vertex of the velocity box; the function gives its largest value over the sampled
@@ -227,7 +227,7 @@ def test_the_samples_are_those_a_certification_draws():
     assert np.array_equal(pb.scale, scale) and np.array_equal(pb.scale_state, state)
 
 
-# --- issue 40 item 2: the user's region ----------------------------------------------------
+# --- the user's region ----------------------------------------------------------------------------
 from gd_analyze.core.selection.region import FULL_TURN, Region, RegionLimits  # noqa: E402
 
 

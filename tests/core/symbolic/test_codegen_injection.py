@@ -1,4 +1,4 @@
-"""Hostile robot names cannot reach the code of the emitted model (issue 16, item 1; issue 30).
+"""Hostile robot names cannot reach the code of the emitted model.
 
 A name from a TOML robot file, a URDF ``<robot name>`` or the API is put into the header of
 every emitted file: ``simplified_model.h``, ``.c``, ``.py`` and ``_casadi.py`` (and the sweep's
@@ -30,7 +30,7 @@ from gd_analyze.core.selection.ranking import element_labels
 from gd_analyze.core.symbolic.safe_text import c_prefix, comment_safe
 from gd_analyze.io.urdf import load_urdf
 
-#: The attacks quoted in issue 16: a constructor that runs a command when the controller loads
+#: The attacks once reported: a constructor that runs a command when the controller loads
 #: the library, a cos that changes the torques, an extra global symbol, Python run on import.
 C_CONSTRUCTOR = ('a */ int system(const char*); __attribute__((constructor)) static void '
                  'k(void){system("touch PWNED");} /*')
@@ -253,7 +253,7 @@ def test_comment_safe_keeps_only_inert_ascii(text):
 @pytest.mark.parametrize("name", [C_CONSTRUCTOR, PY_DOCSTRING, LONG_NAME])
 @pytest.mark.parametrize("given_as", ["URDF text", "pinocchio.Model"])
 def test_urdf_text_and_pinocchio_model_name_stays_in_comments(tmp_path_factory, name, given_as):
-    """A robot given to load_robot as URDF text or a pinocchio.Model (issue 30 item 6)."""
+    """A robot given to load_robot as URDF text or a pinocchio.Model."""
     import pinocchio
 
     text = TWO_LINK_URDF.format(name=quoteattr(name))

@@ -120,7 +120,7 @@ def _variant(name):
 
 @pytest.mark.parametrize("name", ["one joint", "massless link"])
 def test_own_terms_of_arms_without_some_torque_pass_the_self_check(name):
-    """Issue 32: every run of such an arm warned that its own cache entry fails the check;
+    """Every run of such an arm warned that its own cache entry fails the check;
     the engine's round-off of a zero quantity is measured against the arm's torque."""
     robot = _variant(name)
     terms = model_terms(derive(robot))

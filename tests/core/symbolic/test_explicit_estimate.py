@@ -1,4 +1,4 @@
-"""The term-count estimate of the explicit model, against the real expansion (issue 17)."""
+"""The term-count estimate of the explicit model, against the real expansion."""
 
 import pytest
 

@@ -139,7 +139,7 @@ def test_parts_program_computes_exactly_the_kept_pairs(name):
 
 
 def test_pruned_counts_at_one_percent_within_the_targets():
-    """Issue 17: on the shipped trajectories at EPS = 0.01 the pruned PUMA counts <= 305
+    """On the shipped trajectories at EPS = 0.01 the pruned PUMA counts <= 305
     operations; the PUMA and the Panda prune below their exact counts and far below the
     chapter's Newton-Euler (Table 3.3, counted by formulations.opcount)."""
     from gd_analyze.formulations.opcount import count_operations

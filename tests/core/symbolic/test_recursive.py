@@ -77,7 +77,7 @@ def test_program_cost_equals_count_of_emitted_c(name):
 
 
 def test_costs_within_the_targets():
-    """Targets of issue 17: PUMA 560 <= 338 operations (no trig of q1: gravity is along its
+    """The published targets: PUMA 560 <= 338 operations (no trig of q1: gravity is along its
     axis; none of q6: the AKB wrist is symmetric about its axis), Panda <= 648."""
     cost = program("puma560")[1].cost()
     assert cost["multiplications"] + cost["additions"] <= 338

@@ -119,7 +119,7 @@ def test_stated_facts_leave_out_structurally_zero_pairs_and_survive_the_file():
 
 
 def test_model_file_names_the_dropped_pairs_the_reports_name():
-    """Issue 31: simplified_model.json listed 8 dropped pairs where the report named 4 (the
+    """simplified_model.json listed 8 dropped pairs where the report named 4 (the
     round-off pairs of a dropped parameter were listed as dropped). The file's "dropped" is
     the reports' list; the ≡ 0 pairs left out with their parameter are listed apart."""
     arm, (q, qd, qdd), _, model = case(0.05, 20.0)
