@@ -1,5 +1,5 @@
 """Proved bounds of every (base parameter, part) contribution over the joint-limit region,
-by branch and bound on interval enclosures (issue 29).
+by branch and bound on interval enclosures.
 
 For the pair (base parameter m, part p) and joint i the contribution to tau_i over the region R
 is |beta_m| times the part's coefficient function of q
