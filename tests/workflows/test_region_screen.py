@@ -47,6 +47,9 @@ def test_no_saving_takes_the_early_exit_with_a_proved_exact_model(tmp_path, monk
     def refused(*args, **kwargs):
         raise AssertionError("the region was certified")
     monkeypatch.setattr(certify_module, "certify", refused)
+    # a derivation cache of its own: a search another test stored for the two-link arm (a
+    # sweep's) is read instead of screening, and says nothing of the screen
+    monkeypatch.setenv("GD_ANALYZE_CACHE_DIR", str(tmp_path / "cache"))
     csv = tmp_path / "t.csv"
     csv.write_text(TWO_LINK_CSV)
     out = tmp_path / "out"
