@@ -196,3 +196,23 @@ def test_ur5_errors_from_the_urdfs_decimals_are_round_off(tmp_path_factory):
     xs = np.concatenate([np.ravel(line.get_xdata()) for line in ax.get_lines()]).astype(float)
     assert not np.any(np.abs(xs - 5.18) < 0.2) and not np.any(np.abs(xs - 6.18) < 0.2)
     assert ax.get_ylim()[0] > 1e-9                      # no decade spent on round-off
+
+
+def test_the_h_figure_s_key_stays_clear_of_the_panels(chapter):
+    """At the printed size (every text raised to 8 pt, as the report draws it), the key under
+    the PUMA 560's six h panels overlaps no panel, tick label or class line (six panels fill
+    the grid: no empty cell takes the key)."""
+    from matplotlib.backends.backend_agg import FigureCanvasAgg
+
+    from gd_analyze.reports.figure_style import raise_small_text
+    from gd_analyze.reports.typeset import MIN_PRINTED_PT, printed_scale
+
+    with xr.open_dataset(chapter / "sweep.h5", engine="h5netcdf") as ds:
+        fig = make_sweep_figures(ds.load())["h"]
+    raise_small_text(fig, MIN_PRINTED_PT / printed_scale(tuple(fig.get_size_inches())))
+    renderer = FigureCanvasAgg(fig).get_renderer()
+    key = [t for t in fig.texts if t.get_text().startswith("Box:")]
+    assert len(key) == 1 and len(fig.axes) == 6
+    box = key[0].get_window_extent(renderer)
+    for ax in fig.axes:
+        assert not box.overlaps(ax.get_tightbbox(renderer)), ax.get_title()

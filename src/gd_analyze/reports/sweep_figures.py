@@ -261,10 +261,12 @@ def _fig_h(ds, width=_PAGE_WIDTH):
     column = width < _PAGE_WIDTH
     rows, cols = grid_shape(n, 2 if column else 3)
     W = width
-    H = (2.3 + 1.6 * rows) if column else (1.9 + 1.9 * rows)
+    H = (2.3 + 1.6 * rows) if column else (2.45 + 1.9 * rows)
     fig = Figure(figsize=(W, H))
+    # the key below the panels takes up to six lines at the printed 8 pt, under the last
+    # row's tick and class labels
     gs = _gridspec(fig, rows, cols, left=0.65, right=0.1, top=0.55 if column else 0.5,
-                   bottom=1.75 if column else 1.2, wgap=0.6, hgap=0.5)
+                   bottom=1.75, wgap=0.6, hgap=0.5)
     for i in range(n):
         label = element_label("h", i)
         k = labels.index(label)
