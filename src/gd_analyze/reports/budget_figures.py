@@ -301,7 +301,7 @@ def fig_error_budget(ds: xr.Dataset, width: float = _PAGE) -> Figure:
     fig = _figure(width, H)
     ax = fig.add_axes((0.7 / width, 0.7 / H, (width - 0.9) / width, (H - 0.7 - top) / H))
     x = np.arange(1, n + 1)
-    bottom = np.zeros(n)
+    bottom: np.ndarray = np.zeros(n)
     for var, name, colour, hatch in _BOUND_PARTS:
         if var not in parts:
             continue

@@ -114,9 +114,9 @@ def cross(a: _Ball, b: _Ball) -> _Ball:
     (ndarray, ndarray)
     """
     na, nb = _norm(a[0]), _norm(b[0])
-    c = np.cross(a[0], b[0])
+    c = np.asarray(np.cross(a[0], b[0]), float)
     r = na * b[1] + a[1] * nb + a[1] * b[1]
-    return c, r * (1 + _SLACK) + _SLACK * na * nb
+    return c, np.asarray(r * (1 + _SLACK) + _SLACK * na * nb, float)
 
 
 def matvec(M: npt.NDArray[np.float64], a: _Ball) -> _Ball:
