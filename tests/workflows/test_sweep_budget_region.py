@@ -228,3 +228,29 @@ def test_the_check_on_the_workers_of_a_model_built_ahead_is_each_trajectorys(
     assert model.validation["held_out_inside_region"] == 1
     assert budget_region_model(puma, trajectories, tolerance=0.01,
                                guarantee="trajectory") is None
+
+
+def test_a_model_that_cannot_travel_is_measured_here(puma, planned, client):
+    """A reference (or model) holding an object that cannot be serialized (here a lock, as a
+    compiled function of this process) is measured in this process, with the same errors as
+    per_trajectory_errors and no task submitted."""
+    import threading
+
+    from gd_analyze.workflows.simplify import per_trajectory_errors
+
+    settings = {"tolerance": 0.01, "guarantee": "region", "explicit": "never"}
+    model = budget_region_model(puma, planned, **settings)[0]
+    pin_model = pinocchio_model(puma)
+    lock = threading.Lock()
+
+    def reference(q, qd, qdd):
+        with lock:
+            data = pin_model.createData()
+            return np.array([pin.rnea(pin_model, data, a, b, c) for a, b, c in zip(q, qd, qdd)])
+
+    errors = WorkerErrors(client, 1)
+    got = errors(model, planned, reference)
+    want = per_trajectory_errors(model, planned, reference)
+    assert errors.tasks == 0
+    for a, b in zip(got, want):
+        np.testing.assert_array_equal(a, b)

@@ -33,6 +33,7 @@ from __future__ import annotations
 import contextlib
 import datetime
 import math
+import pickle
 import time
 from collections.abc import Callable, Mapping, Sequence
 from typing import TYPE_CHECKING, Any
@@ -323,7 +324,13 @@ class WorkerErrors:
                    for a in range(0, len(trajectories), self.batch)]
         # the model (some thousand small objects) serialized once, not once per task; each
         # task still carries it, so that a task whose worker is lost runs again on another
-        packed = cloudpickle.dumps((model, reference))
+        try:
+            packed = cloudpickle.dumps((model, reference))
+        except (TypeError, pickle.PicklingError):
+            # a model or reference holding an object that cannot travel (a compiled function
+            # of this process): measured here, one trajectory after another, as before
+            return tuple(np.asarray(x) for x in  # type: ignore[return-value]
+                         per_trajectory_errors(model, trajectories, reference))
         with cluster_failures(str(self.client.scheduler.address)):
             futures = [self.client.submit(_errors_task, packed, b, pure=False,
                                           retries=TASK_RETRIES) for b in batches]
