@@ -45,3 +45,41 @@ def test_control_states_the_models_scope(tmp_path, capsys):
     assert statement.replace("s_i", "s i") in text     # s_i drawn as s with subscript i
     assert "It does not cover this motion" in text and "is not guaranteed" in text
     assert "is guaranteed" not in text
+
+
+@pytest.mark.slow
+def test_control_prints_the_rtol_floor_when_the_noise_is_not_measured(tmp_path, capsys,
+                                                                       monkeypatch):
+    """When the tighter runs cannot finish, the printout still gives the torque difference
+    against the rtol floor, max(rtol, 1e-12) x the full-model controller's peak |tau|, and
+    says the noise was not measured (it failed with an internal error before)."""
+    import numpy as np
+
+    import gd_analyze.workflows.control as control
+    from gd_analyze.io.control_dataset import control_dataset
+
+    def fails(*args, **kwargs):
+        raise ValueError("the full controller's run failed: too many steps")
+
+    monkeypatch.setattr(control, "difference_noise", fails)
+    assert _run(capsys, "puma560", SHIPPED, "-o", tmp_path / "m", "--no-report", "-q",
+                "--guarantee", "trajectory")[0] == 0
+    model = tmp_path / "m" / "simplified_model.json"
+    seen = {}
+    real = control_dataset
+
+    def keep(result, *args, **kwargs):
+        seen["result"] = result
+        return real(result, *args, **kwargs)
+
+    monkeypatch.setattr("gd_analyze.io.control_dataset.control_dataset", keep)
+    code, out, err = _run(capsys, "control", model, SHIPPED, "-o", tmp_path / "c",
+                          "--no-report")
+    assert code == 0, err
+    line = next(x for x in out.splitlines() if x.startswith("noise floor"))
+    assert "not measured: rtol x peak |tau|" in line
+    result = seen["result"]
+    rtol = max(float(result.provenance["rtol"]), 1e-12)
+    expect = rtol * np.max(np.abs(result.runs["full"].tau), axis=0)
+    printed = np.array([float(v) for v in line.split()[2:2 + 6]])
+    np.testing.assert_allclose(printed, expect, rtol=1e-3)

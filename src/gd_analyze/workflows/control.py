@@ -186,13 +186,15 @@ class ControlResult:
         torque difference is integrator noise, not data [N m; N on a prismatic joint].
 
         max(:data:`NOISE_FACTOR` x :attr:`tau_noise`, max(rtol, 1e-12) x the full-model
-        controller's peak |tau|); None without a measured noise.
+        controller's peak |tau|); without a measured noise, the second term alone. None
+        without a full-model run.
         """
-        if self.tau_noise is None:
+        if "full" not in self.runs:
             return None
-
         tol = max(float(self.provenance.get("rtol", 0.0)), ROUND_OFF)
         scale = np.nanmax(np.abs(self.runs["full"].tau), axis=0)
+        if self.tau_noise is None:
+            return tol * scale
         return np.maximum(NOISE_FACTOR * np.asarray(self.tau_noise, float), tol * scale)
 
     @property

@@ -226,15 +226,19 @@ class _JointBound:
         self.beta = np.asarray(base.beta, float)[None, :]
         self.memo = {}
 
-    def quick(self, dropped, enough):
-        """The bound ``self(dropped, enough)`` returns when it is the final boxes' own
-        (:func:`~gd_analyze.core.selection.certify.leaf_bound`: it fits, or the set depends
-        on more than :data:`JOINT_DIMS` joints), else None."""
+    def _leaf(self, dropped, enough):
+        """The final boxes' bound (:func:`~gd_analyze.core.selection.certify.leaf_bound`)
+        and whether it is the answer: it fits, or the set depends on more than
+        :data:`JOINT_DIMS` joints."""
         first = leaf_bound(self.pb, self.sums, dropped)
-        if np.all(first <= enough) or split_joints(self.robot, self.base, dropped,
-                                                   self.pb.zero).sum() > JOINT_DIMS:
-            return first
-        return None
+        return first, bool(np.all(first <= enough) or split_joints(
+            self.robot, self.base, dropped, self.pb.zero).sum() > JOINT_DIMS)
+
+    def quick(self, dropped, enough):
+        """The bound ``self(dropped, enough)`` returns when it is the final boxes' own, else
+        None (:meth:`_leaf`)."""
+        first, decided = self._leaf(dropped, enough)
+        return first if decided else None
 
     def __call__(self, dropped, enough=None):
         robot, base, region, pb = self.robot, self.base, self.region, self.pb
@@ -242,10 +246,9 @@ class _JointBound:
         if key in self.memo:
             return self.memo[key][0]
         if enough is not None:
-            first = self.quick(dropped, enough)
-            if first is not None:
+            first, decided = self._leaf(dropped, enough)
+            if decided:
                 return first
-            first = leaf_bound(pb, self.sums, dropped)
             found = worst_states(pb.values, self.beta * dropped.T, region.qd_max,
                                  region.qdd_max)[0].max(axis=0)
             if np.any(found > enough):

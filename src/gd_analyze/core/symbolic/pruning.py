@@ -361,13 +361,18 @@ class _Selection:
                             np.where(whole_peak > 0, np.inf, 0.0)).max(axis=1)
         self.live = self.rel.max(axis=2) > 0                   # (b, 3): contributes
 
+    def _sums(self, dropped):
+        """(n,): the pieces' sums, the largest |sum of the dropped pairs' contributions|
+        over the set points."""
+        return np.abs(np.einsum("bpkn,bp->kn", self.C, dropped.astype(float))).max(axis=0)
+
     def bound(self, dropped, whole, enough=None):
         """(n,): the bound of a dropped set (whole: parameters dropped as a unit); with
         ``enough`` (n,), the pieces' sums alone when they are within it."""
         if self.criterion == "error":
             if not dropped.any():
                 return np.zeros(self.budget.shape)
-            err = np.abs(np.einsum("bpkn,bp->kn", self.C, dropped.astype(float))).max(axis=0)
+            err = self._sums(dropped)
             if self.joint is not None and not (enough is not None and np.all(err <= enough)):
                 err = np.minimum(err, self.joint(dropped, enough))
             return err
@@ -382,7 +387,7 @@ class _Selection:
         quick = getattr(self.joint, "quick", None)
         if self.criterion != "error" or quick is None or not dropped.any():
             return self.fits(dropped, whole)
-        err = np.abs(np.einsum("bpkn,bp->kn", self.C, dropped.astype(float))).max(axis=0)
+        err = self._sums(dropped)
         if np.all(err <= self.budget):
             return True
         first = quick(dropped, self.budget)
