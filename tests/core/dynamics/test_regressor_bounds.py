@@ -13,6 +13,7 @@ from gd_analyze.core.dynamics.regressor_bounds import (
     pair_magnitudes,
 )
 from gd_analyze.core.selection.region import channel_values as point_channels
+from gd_analyze.core.selection.region import full_channels
 from gd_analyze.core.symbolic.base_parameters import regressor, standard_parameters
 from gd_analyze.formulations.pinocchio import pinocchio_model
 
@@ -24,7 +25,7 @@ def test_channels_at_points_are_the_regressor(name):
     rng = np.random.default_rng(0)
     q, qd, qdd = rng.uniform(-2, 2, (3, 20, n))
     cols = np.arange(10 * n)
-    for V in (channel_values(robot, q, cols), point_channels(robot, q, cols)):
+    for V in (channel_values(robot, q, cols), full_channels(point_channels(robot, q, cols))):
         W = (np.einsum("bjim,bj->bim", V[:, 1:1 + n], qdd) + V[:, 0]
              + np.einsum("bcim,bc->bim", V[:, 1 + n:],
                          (qd[:, :, None] * qd[:, None, :]).reshape(20, -1)))

@@ -6,6 +6,7 @@ import pytest
 from gd_analyze import load_robot
 from gd_analyze.core.selection.region import (
     channel_values,
+    full_channels,
     joint_region,
     missing_limits,
     qd_vertices,
@@ -89,7 +90,7 @@ def test_worst_states_of_a_few_columns_search_only_their_joints_and_miss_nothing
         weights = np.zeros((3, b))
         weights[:, k:k + 2] = np.asarray(base.beta, float)[k:k + 2]
         value, qd, qdd = worst_states(V, weights, region.qd_max, region.qdd_max)
-        Cq = V[:, 1 + n:] @ weights[1]                                  # (B, n n, n)
+        Cq = full_channels(V)[:, 1 + n:] @ weights[1]                   # (B, n n, n)
         vert = everything * region.qd_max
         quad = np.einsum("kj,kl,bjli->bik", vert, vert, Cq.reshape(-1, n, n, n)) + (
             V[:, 0] @ weights[2])[:, :, None]
@@ -153,7 +154,7 @@ def test_channel_values_engines_agree_and_rebuild_rnea(name):
     n = robot.n
     rng = np.random.default_rng(2)
     qd, qdd = rng.uniform(-1, 1, (q.shape[0], n)), rng.uniform(-1, 1, (q.shape[0], n))
-    Y = V["numpy"] @ base.beta                                   # (B, C, n)
+    Y = full_channels(V["numpy"]) @ base.beta                    # (B, C, n)
     tau = Y[:, 0] + np.einsum("bji,bj->bi", Y[:, 1:1 + n], qdd) + np.einsum(
         "bjli,bj,bl->bi", Y[:, 1 + n:].reshape(-1, n, n, n), qd, qd)
     ref = _rnea(robot, q, qd, qdd)
@@ -331,3 +332,26 @@ def test_mixed_arm_prints_each_limit_with_its_unit():
     assert f"1 [{np.degrees(robot.q_min[0]):.4g}, {np.degrees(robot.q_max[0]):.4g}] deg" in q
     assert f"3 {robot.qd_max[2]:.4g} m/s" in qd and f"3 {robot.qdd_max[2]:.4g} m/s^2" in qdd
     assert not region.full_turn[2]
+
+
+@pytest.mark.parametrize("name", ["puma560", "stanford"])
+def test_channel_values_store_each_velocity_pair_once(name):
+    """The packed layout holds 1 + n + n (n + 1) / 2 channels; unpacked, C_jl = C_lj exactly,
+    and the forms qd^T C qd rebuild Pinocchio's rnea with qdd = 0 and no gravity (oracle)."""
+    from gd_analyze.core.selection.region import packed_channel_count, velocity_channels
+
+    robot = load_robot(name)
+    base = base_parameters(robot)
+    n = robot.n
+    cols = np.flatnonzero(base.independent.reshape(-1))
+    q = np.random.default_rng(3).uniform(robot.q_min, robot.q_max, (9, n))
+    V = channel_values(robot, q, cols)
+    assert V.shape == (9, packed_channel_count(n), n, cols.size)
+    assert sorted(set(velocity_channels(n).tolist())) == list(range(n * (n + 1) // 2))
+    C = full_channels(V)[:, 1 + n:].reshape(9, n, n, n, -1)
+    assert np.array_equal(C, C.transpose(0, 2, 1, 3, 4))
+    qd = np.random.default_rng(4).uniform(-1, 1, (9, n))
+    vel = np.einsum("bjlim,bj,bl,m->bi", C, qd, qd, base.beta)
+    zero = np.zeros_like(qd)
+    ref = _rnea(robot, q, qd, zero) - _rnea(robot, q, zero, zero)
+    assert np.abs(vel - ref).max() <= 1e-10 * np.abs(ref).max()

@@ -28,7 +28,7 @@ from ..dynamics.regressor_bounds import (
     pair_magnitudes,
 )
 from ..symbolic.pruning import zero_parts
-from .region import qd_vertices, region_samples
+from .region import qd_vertices, region_samples, velocity_channels
 
 __all__ = ["PairBounds", "certify", "certify_tree", "tiling", "pair_peaks_at",
            "pair_magnitudes_at", "METHOD", "prove_dropped", "JointSums", "joint_sums",
@@ -69,7 +69,7 @@ class PairBounds:
         Where |tau_i| = s_i was found: (q, qd, qdd).
     positions : ndarray, shape (B, n)
         The sampled positions [rad or m].
-    values : ndarray, shape (B, C, n, b)
+    values : ndarray, shape (B, P, n, b)
         The coefficient functions at them (:func:`.region.channel_values`).
     boxes : int
         Boxes evaluated by the branch and bound.
@@ -118,8 +118,8 @@ def pair_magnitudes_at(V, beta, qd_max, qdd_max):
 
     Parameters
     ----------
-    V : ndarray, shape (B, C, n, b)
-        :func:`.region.channel_values`.
+    V : ndarray, shape (B, P, n, b)
+        :func:`.region.channel_values` (packed: P = 1 + n + n (n + 1) / 2).
     beta : ndarray, shape (b,)
         Base parameter values.
     qd_max, qdd_max : ndarray, shape (n,)
@@ -143,7 +143,8 @@ def pair_magnitudes_at(V, beta, qd_max, qdd_max):
         0, 2, 1)
     out[:, :, 2] = np.abs(V[:, 0]).transpose(0, 2, 1)
     qd_max = np.asarray(qd_max, float)
-    used = (V[:, 1 + n:] != 0).any(axis=(0, 2)).reshape(n, n, b)
+    packed = 1 + n + velocity_channels(n)                               # (n n,)
+    used = (V[:, 1 + n:] != 0).any(axis=(0, 2))[packed - 1 - n].reshape(n, n, b)
     support = used.any(axis=0) | used.any(axis=1)                       # (n, b)
     groups = {}
     for m in range(b):                  # columns by the joints their velocity terms involve
@@ -154,10 +155,11 @@ def pair_magnitudes_at(V, beta, qd_max, qdd_max):
         S, ms = np.asarray(S), np.asarray(ms)
         verts = qd_vertices(qd_max[S])
         outer = (verts[:, :, None] * verts[:, None, :]).reshape(-1, S.size ** 2)   # (K, s s)
-        chans = 1 + n + (S[:, None] * n + S[None, :]).reshape(-1)
+        chans = packed[(S[:, None] * n + S[None, :]).reshape(-1)]
         rows = max(1, _GEMM_ELEMENTS // (outer.shape[0] * n * ms.size))  # positions a product
         for a in range(0, B, rows):         # one matrix product (K, s s) @ (s s, rows n g)
-            Cq = V[a:a + rows, chans][..., ms]                           # (rows, s s, n, g)
+            Cq = V[a:a + rows][np.ix_(np.arange(min(rows, B - a)), chans, np.arange(n),
+                                      ms)]                              # (rows, s s, n, g)
             r = Cq.shape[0]
             quad = outer @ Cq.transpose(1, 0, 2, 3).reshape(S.size ** 2, -1)   # qd^T C qd
             peak = np.maximum(quad.max(axis=0), -quad.min(axis=0))     # max |.| over qd
@@ -171,7 +173,7 @@ def pair_peaks_at(V, beta, qd_max, qdd_max):
     Parameters
     ----------
     V, beta, qd_max, qdd_max
-        As :func:`pair_magnitudes_at` takes them: the channel values, shape (B, C, n, b), the
+        As :func:`pair_magnitudes_at` takes them: the channel values, shape (B, P, n, b), the
         base parameters' values, shape (b,), and the velocity and acceleration limits, shape
         (n,) [rad/s, rad/s^2; m/s, m/s^2].
 

@@ -20,10 +20,10 @@ from dataclasses import dataclass
 import numpy as np
 
 from ..dynamics.dalembert import compiled_engine
-from ..dynamics.regressor_bounds import channel_count
 from ..symbolic.regressor_kernels import part_regressor, regressor_columns
 
 __all__ = ["Region", "RegionLimits", "Excursion", "FULL_TURN", "joint_region", "missing_limits", "sample_positions", "channel_values",
+           "packed_channel_count", "velocity_channels", "full_channels",
            "worst_states", "region_scale", "qd_vertices", "velocity_vertices", "region_samples",
            "sampled_error", "REFINE_JOINTS"]
 
@@ -31,6 +31,72 @@ __all__ = ["Region", "RegionLimits", "Excursion", "FULL_TURN", "joint_region", "
 #: Largest number of regressor elements :func:`channel_values` evaluates at once
 #: (B S 3 n m of its positions' states: 64 MB).
 CHANNEL_ELEMENTS = 1 << 23
+
+
+def packed_channel_count(n: int) -> int:
+    """Channels of :func:`channel_values`' packed layout: 1 gravity + n inertial + n (n + 1) / 2
+    velocity (each symmetric pair j, l stored once).
+
+    Parameters
+    ----------
+    n : int
+        Joints of the arm.
+
+    Returns
+    -------
+    int
+        P, the second axis of :func:`channel_values`.
+
+    Examples
+    --------
+    >>> packed_channel_count(6)
+    28
+    """
+    return 1 + n + n * (n + 1) // 2
+
+
+def velocity_channels(n: int) -> np.ndarray:
+    """Where each velocity channel of the full layout is in the packed one.
+
+    Parameters
+    ----------
+    n : int
+
+    Returns
+    -------
+    ndarray of int, shape (n n,)
+        For the full channel 1 + n + n j + l (the coefficient C_jl of qd_j qd_l), its packed
+        velocity channel k (channel 1 + n + k of :func:`channel_values`): pair (min(j, l),
+        max(j, l)) in the order of ``numpy.triu_indices(n)``, so that C_jl and C_lj are the
+        same stored value.
+
+    Examples
+    --------
+    >>> velocity_channels(2).tolist()
+    [0, 1, 1, 2]
+    """
+    k = np.empty((n, n), int)
+    jj, ll = np.triu_indices(n)
+    k[jj, ll] = np.arange(jj.size)
+    k[ll, jj] = k[jj, ll]
+    return k.reshape(-1)
+
+
+def full_channels(V: np.ndarray) -> np.ndarray:
+    """:func:`channel_values`' packed values in the full layout of
+    :func:`gd_analyze.core.dynamics.regressor_bounds.channel_values` (a copy).
+
+    Parameters
+    ----------
+    V : ndarray, shape (B, 1 + n + n (n + 1) / 2, n, m)
+
+    Returns
+    -------
+    ndarray, shape (B, 1 + n + n^2, n, m)
+        Channel 0 gravity, 1 + j inertial, 1 + n + n j + l velocity C_jl (= C_lj).
+    """
+    n = V.shape[2]
+    return V[:, np.concatenate([np.arange(1 + n), 1 + n + velocity_channels(n)])]
 
 
 def channel_values(robot, q, columns, chunk=512, engine="auto"):
@@ -57,10 +123,13 @@ def channel_values(robot, q, columns, chunk=512, engine="auto"):
 
     Returns
     -------
-    ndarray, shape (B, C, n, m)
-        As :func:`gd_analyze.core.dynamics.regressor_bounds.channel_values` (channel 0
-        gravity, 1 + j inertial, 1 + n + n j + l velocity), with the velocity channels
-        symmetrized: C_jl = C_lj, half the coefficient of qd_j qd_l (j != l).
+    ndarray, shape (B, P, n, m)
+        Packed, P = :func:`packed_channel_count` (n): channel 0 gravity, 1 + j inertial, and
+        1 + n + k velocity, k the pair j <= l in the order of ``numpy.triu_indices(n)``
+        (:func:`velocity_channels`), the symmetrized C_jl = C_lj, half the coefficient of
+        qd_j qd_l (j != l). :func:`full_channels` gives the layout of
+        :func:`gd_analyze.core.dynamics.regressor_bounds.channel_values`; the packed one holds
+        n (n - 1) / 2 fewer channels (at 15 joints, 136 instead of 241).
 
     Raises
     ------
@@ -87,7 +156,8 @@ def channel_values(robot, q, columns, chunk=512, engine="auto"):
     qd_units = eye[jj] + eye[ll] * (jj != ll)[:, None]        # e_j + e_l, or e_j
     qdd_units = eye[jj] * (jj == ll)[:, None]                 # e_j on the diagonal
     S = jj.size
-    out = np.empty((q.shape[0], channel_count(n), n, columns.size))
+    where = 1 + n + velocity_channels(n).reshape(n, n)[jj, ll]    # packed channel of each
+    out = np.empty((q.shape[0], packed_channel_count(n), n, columns.size))
     compiled = compiled_engine(engine, q.shape[0])
     chunk = max(1, min(int(chunk), CHANNEL_ELEMENTS // (S * 3 * n * max(columns.size, 1))))
     for a in range(0, q.shape[0], chunk):
@@ -101,11 +171,8 @@ def channel_values(robot, q, columns, chunk=512, engine="auto"):
         else:       # each part at the states it is read at only: 1 + n + S per position
             grav, inertial, velocity = _channel_parts(robot, columns, qc, qd_units, qdd_units)
         diag = velocity[:, :n]                                # C_jj: (B, j, i, m)
-        Cm = out[a:a + B, 1 + n:].reshape((B, n, n) + diag.shape[2:])     # a view of out
-        Cm[:, np.arange(n), np.arange(n)] = diag
-        off = 0.5 * (velocity[:, n:] - diag[:, jj[n:]] - diag[:, ll[n:]])
-        Cm[:, jj[n:], ll[n:]] = off
-        Cm[:, ll[n:], jj[n:]] = off
+        out[a:a + B, where[:n]] = diag
+        out[a:a + B, where[n:]] = 0.5 * (velocity[:, n:] - diag[:, jj[n:]] - diag[:, ll[n:]])
         out[a:a + B, 0] = grav
         out[a:a + B, 1:1 + n] = inertial
     return out
@@ -750,8 +817,8 @@ def worst_states(V, weights, qd_max, qdd_max):
 
     Parameters
     ----------
-    V : ndarray, shape (B, C, n, m)
-        :func:`gd_analyze.core.dynamics.regressor_bounds.channel_values` at B positions.
+    V : ndarray, shape (B, P, n, m)
+        :func:`channel_values` at B positions (packed).
     weights : ndarray, shape (3, m)
         Per part (inertial, velocity, gravity) the parameter value of each column (0: left
         out) [kg m^2, kg m, kg].
@@ -771,7 +838,7 @@ def worst_states(V, weights, qd_max, qdd_max):
     qd_max = np.asarray(qd_max, float)
     g = V[:, 0] @ weights[2]                                    # (B, n)
     a = np.einsum("bjim,m->bij", V[:, 1:1 + n], weights[0])     # (B, n, n)
-    Cq = V[:, 1 + n:] @ weights[1]                              # (B, n n, n)
+    Cq = (V[:, 1 + n:] @ weights[1])[:, velocity_channels(n)]   # (B, n n, n)
     verts, used = velocity_vertices(Cq.reshape(B, n, n, n), qd_max)   # (K, n), (s,)
     if used.size < n:                                           # the forms' joints only
         Cq = Cq.reshape(B, n, n, n)[:, used][:, :, used].reshape(B, used.size ** 2, n)
@@ -883,7 +950,7 @@ def region_samples(robot, base, region, samples=1000, seed=0):
     Returns
     -------
     tuple
-        ``(positions (B, n) [rad or m], channel values (B, C, n, b)`` (:func:`channel_values`),
+        ``(positions (B, n) [rad or m], channel values (B, P, n, b)`` (:func:`channel_values`),
         ``scale (n,) [N m or N], scale_state (n, 3 n))``: :func:`region_scale` without a
         floor, its best sample polished for arms of at most :data:`REFINE_JOINTS` joints;
         what :func:`gd_analyze.core.selection.certify.certify` computes before its branch and

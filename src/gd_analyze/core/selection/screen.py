@@ -141,7 +141,7 @@ def screen_region(robot, base, region, values, tolerance, torque_floor=0.0,
     region : Region
     values : tuple
         :func:`.region.region_samples` with the certification's samples and seed:
-        positions (B, n), channel values (B, C, n, b), scale (n,), scale state (n, 3 n).
+        positions (B, n), channel values (B, P, n, b) (packed), scale (n,), scale state (n, 3 n).
     tolerance : float
         EPS >= 0.
     torque_floor : float, optional
