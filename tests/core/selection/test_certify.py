@@ -206,7 +206,7 @@ def test_the_sampled_peaks_search_every_vertex_of_the_velocity_box():
     got = pair_magnitudes_at(V, beta, region.qd_max, region.qdd_max)[:, :, 1]   # (B, b, n)
     n = robot.n
     verts = np.array(list(itertools.product([-1.0, 1.0], repeat=n))) * region.qd_max
-    C = full_channels(V)[:, 1 + n:].reshape(V.shape[0], n, n, n, -1)      # (B, j, l, i, b)
+    C = full_channels(V)[:, 1 + n:].reshape(V.positions, n, n, n, -1)     # (B, j, l, i, b)
     quad = np.einsum("kj,kl,Bjlib->Bkbi", verts, verts, C)
     want = np.abs(quad).max(axis=1) * np.abs(beta)[None, :, None]
     np.testing.assert_allclose(got, want, rtol=1e-12, atol=1e-12 * want.max())

@@ -90,11 +90,12 @@ def test_worst_states_of_a_few_columns_search_only_their_joints_and_miss_nothing
         weights = np.zeros((3, b))
         weights[:, k:k + 2] = np.asarray(base.beta, float)[k:k + 2]
         value, qd, qdd = worst_states(V, weights, region.qd_max, region.qdd_max)
-        Cq = full_channels(V)[:, 1 + n:] @ weights[1]                   # (B, n n, n)
+        F = full_channels(V)
+        Cq = F[:, 1 + n:] @ weights[1]                                  # (B, n n, n)
         vert = everything * region.qd_max
         quad = np.einsum("kj,kl,bjli->bik", vert, vert, Cq.reshape(-1, n, n, n)) + (
-            V[:, 0] @ weights[2])[:, :, None]
-        a = np.einsum("bjim,m->bij", V[:, 1:1 + n], weights[0])
+            F[:, 0] @ weights[2])[:, :, None]
+        a = np.einsum("bjim,m->bij", F[:, 1:1 + n], weights[0])
         brute = np.abs(quad).max(axis=2) + np.abs(a) @ region.qdd_max
         np.testing.assert_allclose(value, brute, rtol=1e-12, atol=1e-12 * brute.max())
         reduced += int(np.any(np.all(Cq.reshape(-1, n, n, n) == 0, axis=(0, 2, 3))))
@@ -148,13 +149,14 @@ def test_channel_values_engines_agree_and_rebuild_rnea(name):
     region = joint_region(robot, robot.qdd_max)
     cols = np.flatnonzero(base.independent.reshape(-1))
     q = sample_positions(region, 30, seed=5)
-    V = {e: channel_values(robot, q, cols, chunk=7, engine=e) for e in ("numpy", "compiled")}
+    V = {e: full_channels(channel_values(robot, q, cols, chunk=7, engine=e))
+         for e in ("numpy", "compiled")}
     scale = np.abs(V["compiled"]).max()
     assert np.abs(V["numpy"] - V["compiled"]).max() <= 1e-12 * scale
     n = robot.n
     rng = np.random.default_rng(2)
     qd, qdd = rng.uniform(-1, 1, (q.shape[0], n)), rng.uniform(-1, 1, (q.shape[0], n))
-    Y = full_channels(V["numpy"]) @ base.beta                    # (B, C, n)
+    Y = V["numpy"] @ base.beta                                   # (B, C, n)
     tau = Y[:, 0] + np.einsum("bji,bj->bi", Y[:, 1:1 + n], qdd) + np.einsum(
         "bjli,bj,bl->bi", Y[:, 1 + n:].reshape(-1, n, n, n), qd, qd)
     ref = _rnea(robot, q, qd, qdd)
@@ -224,7 +226,7 @@ def test_the_samples_are_those_a_certification_draws():
     region = joint_region(robot, robot.qdd_max)
     q, V, scale, state = region_samples(robot, base, region, samples=30)
     pb = certify(robot, base, region, max_boxes=2, samples=30)
-    assert np.array_equal(pb.positions, q) and np.array_equal(pb.values, V)
+    assert np.array_equal(pb.positions, q) and np.array_equal(pb.values.packed(), V.packed())
     assert np.array_equal(pb.scale, scale) and np.array_equal(pb.scale_state, state)
 
 
@@ -346,7 +348,10 @@ def test_channel_values_store_each_velocity_pair_once(name):
     cols = np.flatnonzero(base.independent.reshape(-1))
     q = np.random.default_rng(3).uniform(robot.q_min, robot.q_max, (9, n))
     V = channel_values(robot, q, cols)
-    assert V.shape == (9, packed_channel_count(n), n, cols.size)
+    assert V.packed().shape == (9, packed_channel_count(n), n, cols.size)
+    assert (V.positions, V.columns) == (9, cols.size)
+    held = sum(Vm.size for _, _, Vm in V.groups)
+    assert held < V.packed().size
     assert sorted(set(velocity_channels(n).tolist())) == list(range(n * (n + 1) // 2))
     C = full_channels(V)[:, 1 + n:].reshape(9, n, n, n, -1)
     assert np.array_equal(C, C.transpose(0, 2, 1, 3, 4))

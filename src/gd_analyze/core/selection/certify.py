@@ -28,7 +28,7 @@ from ..dynamics.regressor_bounds import (
     pair_magnitudes,
 )
 from ..symbolic.pruning import zero_parts
-from .region import qd_vertices, region_samples, velocity_channels
+from .region import ChannelValues, qd_vertices, region_samples, velocity_channels
 
 __all__ = ["PairBounds", "certify", "certify_tree", "tiling", "pair_peaks_at",
            "pair_magnitudes_at", "METHOD", "prove_dropped", "JointSums", "joint_sums",
@@ -69,7 +69,7 @@ class PairBounds:
         Where |tau_i| = s_i was found: (q, qd, qdd).
     positions : ndarray, shape (B, n)
         The sampled positions [rad or m].
-    values : ndarray, shape (B, P, n, b)
+    values : ChannelValues
         The coefficient functions at them (:func:`.region.channel_values`).
     boxes : int
         Boxes evaluated by the branch and bound.
@@ -98,7 +98,7 @@ class PairBounds:
     scale: np.ndarray
     scale_state: np.ndarray
     positions: np.ndarray
-    values: np.ndarray
+    values: ChannelValues
     boxes: int
     leaves: np.ndarray
     leaf_boxes: np.ndarray
@@ -118,8 +118,8 @@ def pair_magnitudes_at(V, beta, qd_max, qdd_max):
 
     Parameters
     ----------
-    V : ndarray, shape (B, P, n, b)
-        :func:`.region.channel_values` (packed: P = 1 + n + n (n + 1) / 2).
+    V : ChannelValues
+        :func:`.region.channel_values` of b columns at B positions.
     beta : ndarray, shape (b,)
         Base parameter values.
     qd_max, qdd_max : ndarray, shape (n,)
@@ -137,12 +137,20 @@ def pair_magnitudes_at(V, beta, qd_max, qdd_max):
     of link k: joints up to k), so its vertices are those of S (2^(|S| - 1)): the others change
     no value.
     """
+    qd_max, qdd_max = np.asarray(qd_max, float), np.asarray(qdd_max, float)
+    out = np.zeros((V.positions, V.columns, 3, V.n))
+    for M, idx, Vm in V.groups:       # a column of link k: the rows and joints up to k only
+        out[:, idx, :, :M] = _magnitudes(Vm, qd_max[:M], qdd_max[:M])
+    return out * np.abs(beta)[None, :, None, None]
+
+
+def _magnitudes(V, qd_max, qdd_max):
+    """:func:`pair_magnitudes_at` of unit parameters on a dense packed block (B, P, n, b)."""
     B, C, n, b = V.shape
     out = np.zeros((B, b, 3, n))
     out[:, :, 0] = (np.abs(V[:, 1:1 + n]) * qdd_max[None, :, None, None]).sum(1).transpose(
         0, 2, 1)
     out[:, :, 2] = np.abs(V[:, 0]).transpose(0, 2, 1)
-    qd_max = np.asarray(qd_max, float)
     packed = 1 + n + velocity_channels(n)                               # (n n,)
     used = (V[:, 1 + n:] != 0).any(axis=(0, 2))[packed - 1 - n].reshape(n, n, b)
     support = used.any(axis=0) | used.any(axis=1)                       # (n, b)
@@ -164,7 +172,7 @@ def pair_magnitudes_at(V, beta, qd_max, qdd_max):
             quad = outer @ Cq.transpose(1, 0, 2, 3).reshape(S.size ** 2, -1)   # qd^T C qd
             peak = np.maximum(quad.max(axis=0), -quad.min(axis=0))     # max |.| over qd
             out[a:a + rows, ms, 1] = peak.reshape(r, n, ms.size).transpose(0, 2, 1)
-    return out * np.abs(beta)[None, :, None, None]
+    return out
 
 
 def pair_peaks_at(V, beta, qd_max, qdd_max):
@@ -173,7 +181,7 @@ def pair_peaks_at(V, beta, qd_max, qdd_max):
     Parameters
     ----------
     V, beta, qd_max, qdd_max
-        As :func:`pair_magnitudes_at` takes them: the channel values, shape (B, P, n, b), the
+        As :func:`pair_magnitudes_at` takes them: the channel values (:class:`.region.ChannelValues`), the
         base parameters' values, shape (b,), and the velocity and acceleration limits, shape
         (n,) [rad/s, rad/s^2; m/s, m/s^2].
 

@@ -23,7 +23,7 @@ from ..dynamics.dalembert import compiled_engine
 from ..symbolic.regressor_kernels import part_regressor, regressor_columns
 
 __all__ = ["Region", "RegionLimits", "Excursion", "FULL_TURN", "joint_region", "missing_limits", "sample_positions", "channel_values",
-           "packed_channel_count", "velocity_channels", "full_channels",
+           "packed_channel_count", "velocity_channels", "full_channels", "ChannelValues",
            "worst_states", "region_scale", "qd_vertices", "velocity_vertices", "region_samples",
            "sampled_error", "REFINE_JOINTS"]
 
@@ -82,21 +82,108 @@ def velocity_channels(n: int) -> np.ndarray:
     return k.reshape(-1)
 
 
-def full_channels(V: np.ndarray) -> np.ndarray:
-    """:func:`channel_values`' packed values in the full layout of
-    :func:`gd_analyze.core.dynamics.regressor_bounds.channel_values` (a copy).
+def _first_joints(n: int, M: int) -> np.ndarray:
+    """The packed channels of an n-joint arm that involve only its first M joints, in the
+    packed order of an M-joint arm: gravity, inertial j < M, velocity j <= l < M."""
+    jj, ll = np.triu_indices(M)
+    return np.concatenate([np.arange(1 + M),
+                           1 + n + velocity_channels(n).reshape(n, n)[jj, ll]])
+
+
+@dataclass(frozen=True)
+class ChannelValues:
+    """:func:`channel_values` at B positions, stored by link: a column of link k moves only
+    the torques of joints 1..k+1 and depends only on their velocities and accelerations, so
+    it is held on those rows and channels alone (the others are 0).
+
+    Attributes
+    ----------
+    n : int
+        Joints of the arm.
+    columns : int
+        m, the columns.
+    groups : tuple of (int, ndarray of int, ndarray)
+        Per link with columns: M (its joints, link index + 1), the columns' indices in
+        0..m-1 (ascending), and their values, shape (B, P_M, M, m_M), P_M =
+        :func:`packed_channel_count` (M), in the packed layout of an M-joint arm.
+
+    Notes
+    -----
+    At 15 joints and 1,032 positions this holds about a fifth of the packed dense array
+    (B, P, n, m) (the rows and channels beyond each column's link are not stored).
+    """
+
+    n: int
+    columns: int
+    groups: tuple
+
+    @property
+    def positions(self) -> int:
+        """int: B, the positions."""
+        return int(self.groups[0][2].shape[0]) if self.groups else 0
+
+    def packed(self) -> np.ndarray:
+        """The dense packed layout.
+
+        Returns
+        -------
+        ndarray, shape (B, P, n, m)
+            P = :func:`packed_channel_count` (n): channel 0 gravity, 1 + j inertial and
+            1 + n + k velocity (:func:`velocity_channels`); zero beyond each column's link.
+        """
+        out = np.zeros((self.positions, packed_channel_count(self.n), self.n, self.columns))
+        for M, idx, Vm in self.groups:
+            out[:, _first_joints(self.n, M)[:, None], :M, idx[None, :]] = (
+                Vm.transpose(1, 3, 0, 2))
+        return out
+
+    def weighted(self, weights: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        """The weighted sums of the columns' channels, per part.
+
+        Parameters
+        ----------
+        weights : ndarray, shape (3, m)
+            Per part (inertial, velocity, gravity) each column's weight.
+
+        Returns
+        -------
+        g : ndarray, shape (B, n)
+            sum_m G_im w_2m.
+        a : ndarray, shape (B, n, n)
+            a[:, i, j] = sum_m A_jim w_0m.
+        Cq : ndarray, shape (B, n n, n)
+            Cq[:, n j + l, i] = sum_m C_jlim w_1m (= Cq[:, n l + j, i]).
+        """
+        n, B = self.n, self.positions
+        g, a = np.zeros((B, n)), np.zeros((B, n, n))
+        Cp = np.zeros((B, n * (n + 1) // 2, n))
+        for M, idx, Vm in self.groups:
+            w = weights[:, idx]
+            if w[2].any():
+                g[:, :M] += Vm[:, 0] @ w[2]
+            if w[0].any():
+                a[:, :M, :M] += np.einsum("bjim,m->bij", Vm[:, 1:1 + M], w[0])
+            if w[1].any():
+                Cp[:, _first_joints(n, M)[1 + M:] - 1 - n, :M] += Vm[:, 1 + M:] @ w[1]
+        return g, a, Cp[:, velocity_channels(n)]
+
+
+def full_channels(V: ChannelValues) -> np.ndarray:
+    """:func:`channel_values` in the full layout of
+    :func:`gd_analyze.core.dynamics.regressor_bounds.channel_values`.
 
     Parameters
     ----------
-    V : ndarray, shape (B, 1 + n + n (n + 1) / 2, n, m)
+    V : ChannelValues
+        Of an n-joint arm, m columns, B positions.
 
     Returns
     -------
     ndarray, shape (B, 1 + n + n^2, n, m)
         Channel 0 gravity, 1 + j inertial, 1 + n + n j + l velocity C_jl (= C_lj).
     """
-    n = V.shape[2]
-    return V[:, np.concatenate([np.arange(1 + n), 1 + n + velocity_channels(n)])]
+    n = V.n
+    return V.packed()[:, np.concatenate([np.arange(1 + n), 1 + n + velocity_channels(n)])]
 
 
 def channel_values(robot, q, columns, chunk=512, engine="auto"):
@@ -123,13 +210,13 @@ def channel_values(robot, q, columns, chunk=512, engine="auto"):
 
     Returns
     -------
-    ndarray, shape (B, P, n, m)
-        Packed, P = :func:`packed_channel_count` (n): channel 0 gravity, 1 + j inertial, and
+    ChannelValues
+        By link (:class:`ChannelValues`); :meth:`ChannelValues.packed` gives the dense packed
+        layout, P = :func:`packed_channel_count` (n): channel 0 gravity, 1 + j inertial, and
         1 + n + k velocity, k the pair j <= l in the order of ``numpy.triu_indices(n)``
         (:func:`velocity_channels`), the symmetrized C_jl = C_lj, half the coefficient of
         qd_j qd_l (j != l). :func:`full_channels` gives the layout of
-        :func:`gd_analyze.core.dynamics.regressor_bounds.channel_values`; the packed one holds
-        n (n - 1) / 2 fewer channels (at 15 joints, 136 instead of 241).
+        :func:`gd_analyze.core.dynamics.regressor_bounds.channel_values`.
 
     Raises
     ------
@@ -157,7 +244,13 @@ def channel_values(robot, q, columns, chunk=512, engine="auto"):
     qdd_units = eye[jj] * (jj == ll)[:, None]                 # e_j on the diagonal
     S = jj.size
     where = 1 + n + velocity_channels(n).reshape(n, n)[jj, ll]    # packed channel of each
-    out = np.empty((q.shape[0], packed_channel_count(n), n, columns.size))
+    out = np.empty((min(q.shape[0], max(1, int(chunk))), packed_channel_count(n), n,
+                    columns.size))
+    links = columns // 10
+    groups = tuple((int(k) + 1, np.flatnonzero(links == k),
+                    np.empty((q.shape[0], packed_channel_count(int(k) + 1), int(k) + 1,
+                              int((links == k).sum()))))
+                   for k in np.unique(links))
     compiled = compiled_engine(engine, q.shape[0])
     chunk = max(1, min(int(chunk), CHANNEL_ELEMENTS // (S * 3 * n * max(columns.size, 1))))
     for a in range(0, q.shape[0], chunk):
@@ -171,11 +264,13 @@ def channel_values(robot, q, columns, chunk=512, engine="auto"):
         else:       # each part at the states it is read at only: 1 + n + S per position
             grav, inertial, velocity = _channel_parts(robot, columns, qc, qd_units, qdd_units)
         diag = velocity[:, :n]                                # C_jj: (B, j, i, m)
-        out[a:a + B, where[:n]] = diag
-        out[a:a + B, where[n:]] = 0.5 * (velocity[:, n:] - diag[:, jj[n:]] - diag[:, ll[n:]])
-        out[a:a + B, 0] = grav
-        out[a:a + B, 1:1 + n] = inertial
-    return out
+        out[:B, where[:n]] = diag
+        out[:B, where[n:]] = 0.5 * (velocity[:, n:] - diag[:, jj[n:]] - diag[:, ll[n:]])
+        out[:B, 0] = grav
+        out[:B, 1:1 + n] = inertial
+        for M, idx, Vm in groups:
+            Vm[a:a + B] = out[:B][np.ix_(np.arange(B), _first_joints(n, M), np.arange(M), idx)]
+    return ChannelValues(n=n, columns=int(columns.size), groups=groups)
 
 
 def _channel_parts(robot, columns, qc, qd_units, qdd_units):
@@ -817,8 +912,8 @@ def worst_states(V, weights, qd_max, qdd_max):
 
     Parameters
     ----------
-    V : ndarray, shape (B, P, n, m)
-        :func:`channel_values` at B positions (packed).
+    V : ChannelValues
+        :func:`channel_values` at B positions.
     weights : ndarray, shape (3, m)
         Per part (inertial, velocity, gravity) the parameter value of each column (0: left
         out) [kg m^2, kg m, kg].
@@ -834,11 +929,9 @@ def worst_states(V, weights, qd_max, qdd_max):
     qdd : ndarray, shape (B, n, n)
         Per position and joint i, the acceleration reached: sign(a_ij) qdd_max_j.
     """
-    B, C, n, m = V.shape
+    B, n = V.positions, V.n
     qd_max = np.asarray(qd_max, float)
-    g = V[:, 0] @ weights[2]                                    # (B, n)
-    a = np.einsum("bjim,m->bij", V[:, 1:1 + n], weights[0])     # (B, n, n)
-    Cq = (V[:, 1 + n:] @ weights[1])[:, velocity_channels(n)]   # (B, n n, n)
+    g, a, Cq = V.weighted(np.asarray(weights, float))           # (B, n), (B, n, n), (B, n n, n)
     verts, used = velocity_vertices(Cq.reshape(B, n, n, n), qd_max)   # (K, n), (s,)
     if used.size < n:                                           # the forms' joints only
         Cq = Cq.reshape(B, n, n, n)[:, used][:, :, used].reshape(B, used.size ** 2, n)
@@ -950,7 +1043,7 @@ def region_samples(robot, base, region, samples=1000, seed=0):
     Returns
     -------
     tuple
-        ``(positions (B, n) [rad or m], channel values (B, P, n, b)`` (:func:`channel_values`),
+        ``(positions (B, n) [rad or m], channel values`` (:class:`ChannelValues`, :func:`channel_values`),
         ``scale (n,) [N m or N], scale_state (n, 3 n))``: :func:`region_scale` without a
         floor, its best sample polished for arms of at most :data:`REFINE_JOINTS` joints;
         what :func:`gd_analyze.core.selection.certify.certify` computes before its branch and
