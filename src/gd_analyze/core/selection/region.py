@@ -940,12 +940,14 @@ def worst_states(V, weights, qd_max, qdd_max):
     sign = np.empty((B, n, 1))
     value = np.empty((B, n))
     rows = max(1, _ELEMENTS // (verts.shape[0] * n))           # bounded memory: positions a go
-    for r in range(0, B, rows):
-        quad = np.swapaxes(outer @ Cq[r:r + rows], 1, 2) + g[r:r + rows, :, None]  # qd^T C_i qd
-        k[r:r + rows] = np.abs(quad).argmax(axis=2)                     # (rows, n)
-        at = np.take_along_axis(quad, k[r:r + rows, :, None], 2)        # (rows, n, 1)
-        value[r:r + rows] = np.abs(at[:, :, 0])
-        sign[r:r + rows] = np.sign(at)
+    for r in range(0, B, rows):     # one matrix product (K, s s) @ (s s, rows n)
+        Cr = Cq[r:r + rows]
+        quad = (outer @ Cr.transpose(1, 0, 2).reshape(Cr.shape[1], -1)).reshape(
+            -1, Cr.shape[0], n) + g[None, r:r + rows]                   # qd^T C_i qd: (K, rows, n)
+        k[r:r + rows] = np.abs(quad).argmax(axis=0)                     # (rows, n)
+        at = np.take_along_axis(quad, k[None, r:r + rows], 0)[0]        # (rows, n)
+        value[r:r + rows] = np.abs(at)
+        sign[r:r + rows] = np.sign(at)[:, :, None]
     value += np.abs(a) @ qdd_max
     sign = np.where(sign == 0, 1.0, sign)
     qdd = np.sign(a) * sign * qdd_max
