@@ -942,7 +942,7 @@ def worst_states(V, weights, qd_max, qdd_max):
     rows = max(1, _ELEMENTS // (verts.shape[0] * n))           # bounded memory: positions a go
     for r in range(0, B, rows):     # one matrix product (K, s s) @ (s s, rows n)
         Cr = Cq[r:r + rows]
-        quad = (outer @ Cr.transpose(1, 0, 2).reshape(Cr.shape[1], -1)).reshape(
+        quad = (outer @ Cr.transpose(1, 0, 2).reshape(Cr.shape[1], Cr.shape[0] * n)).reshape(
             -1, Cr.shape[0], n) + g[None, r:r + rows]                   # qd^T C_i qd: (K, rows, n)
         k[r:r + rows] = np.abs(quad).argmax(axis=0)                     # (rows, n)
         at = np.take_along_axis(quad, k[None, r:r + rows], 0)[0]        # (rows, n)
