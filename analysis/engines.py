@@ -1,6 +1,7 @@
 """Which engine per hot loop: the compiled (numba) kernel against its array (numpy) copy.
 
-    python analysis/engines.py [--arms puma560 panda] [--sizes 1000 10000 100000 1000000]
+    python analysis/engines.py --src CHECKOUT/src [--arms puma560 panda]
+                               [--sizes 1000 10000 100000 1000000]
                                [--rounds 3] [--max-seconds 30] [--loops ...]
                                [--first-call-runs 5]
                                [--main-setpoints 31 1000000] [--main-runs 1]
@@ -41,6 +42,12 @@ job with every kernel compiled stays within 1.3 times of the shipped rule on the
 at 10^6 set points, numpy alone only when the array code does at 10^6 (and its memory stays
 under 1 GiB). Otherwise the size rule stays. Prints one JSON line per measurement, then a
 Markdown table and the verdicts.
+
+The package now keeps the compiled kernels only (the verdict of this script); the array copies
+left for the tests' oracles, so the script measures a checkout from before (--src: its
+``src`` folder, put first on the module path of this process and of every child; e.g. the
+commit before the change, 3a5980f). Without --src, or on a checkout without the two engines,
+it says so in one line and exits with status 2.
 """
 
 from __future__ import annotations
@@ -304,8 +311,20 @@ def main(argv=None):
     p.add_argument("--first-call-runs", type=int, default=5)
     p.add_argument("--main-setpoints", nargs="*", type=int, default=[31, 1_000_000])
     p.add_argument("--main-runs", type=int, default=1)
+    p.add_argument("--src", help="the src folder of a checkout that has both engines")
     args = p.parse_args(argv)
+    if args.src:
+        sys.path.insert(0, str(Path(args.src).resolve()))
+        os.environ["PYTHONPATH"] = os.pathsep.join(
+            [str(Path(args.src).resolve())] + [x for x in [os.environ.get("PYTHONPATH")] if x])
     from gd_analyze import load_robot
+    from gd_analyze.core.dynamics import dalembert
+
+    if not hasattr(dalembert, "compiled_engine"):
+        print(f"error: {Path(dalembert.__file__).parents[3]} has one engine per loop; "
+              "give --src the src folder of a checkout with both (e.g. commit 3a5980f)",
+              file=sys.stderr)
+        return 2
 
     print(json.dumps({"command": " ".join([Path(sys.argv[0]).name] + (argv or sys.argv[1:])),
                       "load_start": os.getloadavg()}), flush=True)
