@@ -134,7 +134,7 @@ def batched_rnea_comparison(robot, q, qd, qdd, runs):
     """(d) G-D terms into reused buffers against Pinocchio's batched C++ RNEA (tau only).
 
     Both sides run ``runs`` times, interleaved (:func:`interleaved`), on the same N states:
-    gd_analyze.gd_terms(engine="compiled", out=buffers allocated once) and
+    gd_analyze.gd_terms(out=buffers allocated once) and
     pin.rneaInParallel(1 thread, a ModelPool of one model, column-major q, qd, qdd, tau).
     Returns the median per set point [us] of each, the median of the per-pair ratios with its
     range, and the largest relative difference of G-D's tau = D qdd + h + c from RNEA's tau.
@@ -152,7 +152,7 @@ def batched_rnea_comparison(robot, q, qd, qdd, runs):
     tau = np.zeros((n, N), order="F")
 
     def gd():
-        return gd_terms(robot, q, qd, engine="compiled", out=buf)
+        return gd_terms(robot, q, qd, out=buf)
 
     def rnea():
         pin.rneaInParallel(1, pool, Q, V, A, tau)
@@ -311,7 +311,7 @@ def main(argv=None):
     qd = rng.uniform(-robot.qd_max, robot.qd_max, (N, robot.n))
 
     t0 = time.perf_counter()
-    gd_terms(robot, q[:10], qd[:10], engine="compiled")       # load or compile the kernel
+    gd_terms(robot, q[:10], qd[:10])                         # load or compile the kernel
     first_call = time.perf_counter() - t0
     runs = args.runs
     ab = interleaved(lambda: gd_terms(robot, q, qd), lambda: pinocchio_loop(robot, q, qd), runs)
@@ -319,9 +319,6 @@ def main(argv=None):
                       lambda: pinocchio_calls_only(robot, q, qd), runs)
     ac = interleaved(lambda: gd_terms(robot, q, qd), lambda: pinocchio_split(robot, q, qd),
                      runs)
-    M = min(N, 20000)
-    anp = interleaved(lambda: gd_terms(robot, q[:M], qd[:M], engine="numpy"),
-                      lambda: pinocchio_calls_only(robot, q[:M], qd[:M]), runs)
     terms = ab["results"][0]
     D, h, c = ab["results"][1]
     Dt, Dr, ht, hr, c2 = ac["results"][1]
@@ -349,7 +346,6 @@ def main(argv=None):
         "gd_terms_over_pinocchio_loop": _summary(ab),
         "gd_terms_over_pinocchio_calls_only": _summary(ab0),
         "gd_terms_over_pinocchio_split": _summary(ac),
-        "numpy_engine_over_pinocchio_calls_only": {**_summary(anp), "setpoints": M},
         "kernel_first_call_s": first_call,
         "d_rnea_batched": batched,
         "max_rel_disagreement": max(max(agreement.values()), batched["tau_rel_disagreement"]),

@@ -5,8 +5,8 @@ Each formulation is timed two ways on the same random states of a robot (default
 - batched: all N = 2000 set points in one call (NumPy vectorised over set points);
 - looped: one call per set point, over 200 set points (Python and NumPy call overhead shows).
 
-Pinocchio (C++) is always called once per set point; the G-D terms are timed with both engines
-of ``gd_terms`` (numpy arrays; numba-compiled kernel). "tau" times the inverse dynamics (joint
+Pinocchio (C++) is always called once per set point; the G-D terms are those of ``gd_terms``
+(its numba-compiled kernel). "tau" times the inverse dynamics (joint
 torques from q, qd, qdd); "D, h, c" times the dynamic coefficients. The script then prints the
 operation counts per set point, measured as implemented (gd_analyze.formulations.opcount), beside Table 3.5
 of Fu, Gonzalez & Lee (1987). It runs in well under two minutes.
@@ -66,20 +66,18 @@ def main(argv=None):
             g = pin.computeGeneralizedGravity(model, data, q[k])
             pin.rnea(model, data, q[k], qd[k], zero) - g
 
-    def gd(engine):
-        return lambda q, qd, qdd: gd_terms(robot, q, qd, engine=engine)
+    def gd(q, qd, qdd):
+        return gd_terms(robot, q, qd)
 
-    gd(engine="compiled")(q[:2], qd[:2], qdd[:2])          # numba: compile before timing
+    gd(q[:2], qd[:2], qdd[:2])                              # numba: compile before timing
     cases = {
         ("L-E", "tau"): lambda q, qd, qdd: le_terms(robot, q, qd).tau(qdd),
         ("N-E", "tau"): lambda q, qd, qdd: ne_tau(robot, q, qd, qdd),
-        ("G-D numpy", "tau"): lambda q, qd, qdd: gd("numpy")(q, qd, qdd).tau(qdd),
-        ("G-D compiled", "tau"): lambda q, qd, qdd: gd("compiled")(q, qd, qdd).tau(qdd),
+        ("G-D compiled", "tau"): lambda q, qd, qdd: gd(q, qd, qdd).tau(qdd),
         ("Pinocchio rnea", "tau"): pin_tau,
         ("L-E", "D, h, c"): lambda q, qd, qdd: le_terms(robot, q, qd),
         ("N-E probing", "D, h, c"): lambda q, qd, qdd: ne_terms(robot, q, qd),
-        ("G-D numpy", "D, h, c"): gd("numpy"),
-        ("G-D compiled", "D, h, c"): gd("compiled"),
+        ("G-D compiled", "D, h, c"): gd,
         ("Pinocchio crba+rnea", "D, h, c"): pin_terms,
     }
     L = min(args.loop, args.batch)

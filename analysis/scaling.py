@@ -5,7 +5,7 @@
 For random chains of n joints (every third joint prismatic, general placements and full
 inertia tensors) it times, interleaved and the same number of runs R on each side,
 
-  (a) gd_analyze.gd_terms(engine="compiled") -> D_tran, D_rot, h_tran, h_rot, c, written
+  (a) gd_analyze.gd_terms -> D_tran, D_rot, h_tran, h_rot, c, written
       into output buffers allocated once and reused (the streaming path);
   (b) Pinocchio's batched C++ RNEA, pin.rneaInParallel with one thread (tau only),
 
@@ -70,7 +70,7 @@ def measure(n, setpoints, runs, seed=0):
     tau = np.zeros((n, setpoints), order="F")
 
     def a():
-        return gd_terms(robot, q, qd, engine="compiled", out=buf)
+        return gd_terms(robot, q, qd, out=buf)
 
     def b():
         pin.rneaInParallel(1, pool, Q, V, A, tau)

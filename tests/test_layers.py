@@ -269,7 +269,8 @@ def test_core_concepts_import_down_the_flow():
 
 
 #: Function-local imports of the package's own modules allowed: the compiled (numba) kernels,
-#: imported when a long trajectory needs them, and the CLI's sweep, which imports dask.
+#: imported by their first call (a command that computes nothing never imports numba), and
+#: the CLI's sweep, which imports dask.
 MAX_LOCAL_IMPORTS = 20
 
 

@@ -2,6 +2,7 @@
 
 import numpy as np
 import pytest
+from numpy_engines import gd_terms_numpy
 
 from gd_analyze import gd_terms, load_robot
 from gd_analyze.core.model.kinematics import body_frames
@@ -75,8 +76,8 @@ def test_counted_run_computes_the_real_torques(method, name):
     expected = {
         "lagrange-euler": lambda: le_terms(robot, q, qd).tau(qdd[None])[0],
         "newton-euler": lambda: ne_tau(robot, q, qd, qdd)[0],
-        "gd": lambda: gd_terms(robot, q, qd, engine="compiled").tau(qdd[None])[0],
-        "gd-numpy": lambda: gd_terms(robot, q, qd, engine="numpy").tau(qdd[None])[0],
+        "gd": lambda: gd_terms(robot, q, qd).tau(qdd[None])[0],
+        "gd-numpy": lambda: gd_terms_numpy(robot, q, qd).tau(qdd[None])[0],
     }[method]()
     got = count_operations(robot, method, q, qd, qdd)
     np.testing.assert_allclose(got.tau, expected, rtol=1e-12, atol=1e-12)
@@ -90,7 +91,7 @@ def test_gd_mirror_reproduces_gd_terms(robot):
     n = robot.n
     for _ in range(5):
         q, qd, qdd = rng.uniform(-2, 2, (3, n))
-        terms = gd_terms(robot, q, qd, engine="numpy")
+        terms = gd_terms_numpy(robot, q, qd)
         R, o = body_frames(robot, q)
         tau, D_tran, D_rot, h_tran, h_rot, c = _gd_mirror(
             R[0], o[0], robot.prismatic, robot.mass, robot.body_com, robot.body_inertia,

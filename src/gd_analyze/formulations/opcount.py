@@ -6,14 +6,15 @@ The counts are measured, not derived: the algorithms run on one set point whose 
 - L-E and N-E: the counted run calls the very cores that :func:`~gd_analyze.formulations.lagrange_euler.le_terms`
   and :func:`~gd_analyze.formulations.newton_euler.ne_tau` run on float arrays (``le_core``, ``ne_core``),
   on object arrays with a set-point axis of length 1. The counts cannot drift from that code.
-- G-D, ``"gd"``: :func:`~gd_analyze.core.dynamics.dalembert.gd_terms` has two engines. Its compiled engine
-  (``gd_analyze.core.dynamics.kernels``, one pass per set point, used for long trajectories) is counted by
-  running the Python source of the very kernel numba compiles (``gd_kernel.py_func``) with
-  ``np.empty``, ``np.cos`` and ``np.sin`` bound to counting versions.
-- G-D, ``"gd-numpy"``: the array engine (``dalembert._gd_chunk``) is float-only, so
-  :func:`_gd_mirror` transcribes its steps one for one (including the work it does on entries
-  it then masks: the Jacobian columns j > s and the products Ic_s z_j for all s, j); the tests
-  check that the transcription reproduces ``gd_terms(engine="numpy")``.
+- G-D, ``"gd"``: :func:`~gd_analyze.core.dynamics.dalembert.gd_terms` runs a compiled kernel
+  (``gd_analyze.core.dynamics.kernels``, one pass per set point), counted by running the
+  Python source of the very kernel numba compiles (``gd_kernel.py_func``) with ``np.empty``,
+  ``np.cos`` and ``np.sin`` bound to counting versions.
+- G-D, ``"gd-numpy"``: the Jacobian form as written, as array code (the array engine the
+  package had beside the kernel, now the tests' oracle of it): :func:`_gd_mirror` transcribes
+  its steps one for one (including the work it does on entries it then masks: the Jacobian
+  columns j > s and the products Ic_s z_j for all s, j); the tests check that the
+  transcription reproduces that array code.
 
 Counting rule
 -------------

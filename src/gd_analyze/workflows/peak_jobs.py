@@ -3,9 +3,8 @@
 The pruned recursive model needs the peaks of every base parameter's part contributions on
 the trajectory (unless it is pruned on bounds proved over the joint-limit region:
 :func:`proves_over_region`), the explicit model the peaks of its atoms: both depend on q, qd,
-qdd only, and both run kernels that release the GIL (compiled ones on long trajectories, array
-code on short ones, which never imports numba). :func:`start_peaks` submits them to a
-thread pool before the pass over the G-D terms, which runs meanwhile; the simplification
+qdd only, and both run compiled kernels that release the GIL. :func:`start_peaks` submits
+them to a thread pool before the pass over the G-D terms, which runs meanwhile; the simplification
 (:func:`gd_analyze.workflows.analyze.analysis_pass`) then takes their results. Nothing here
 prints or writes files.
 """

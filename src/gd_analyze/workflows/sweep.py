@@ -40,7 +40,7 @@ from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
-from ..core.dynamics.dalembert import COMPILED_MIN_SETPOINTS, DEFAULT_CHUNK, gd_terms
+from ..core.dynamics.dalembert import gd_terms
 from ..core.selection.ranking import DEFAULT_DOMINANCE, DEFAULT_NEGLIGIBLE
 from ..core.selection.simplified import (
     TorqueErrorAccumulator,
@@ -206,12 +206,11 @@ def _error_stats(trajectory, terms, choices):
 def _batch_terms(robot, trajectories, max_setpoints=_GROUP_SETPOINTS):
     """Yield (trajectory, GDTerms) for each trajectory, in order.
 
-    The terms of consecutive short trajectories are computed in one call of the numpy engine
-    (at most max_setpoints set points at a time): for 31-set-point trajectories the per-call
-    overhead of the array code dominates. Short means below COMPILED_MIN_SETPOINTS, i.e. the
-    trajectories that gd_terms(engine="auto") alone would also give to the numpy engine, so
-    the terms, to the last bit, and the shares of round-off-level elements are those of
-    :func:`analyze_one`. Longer trajectories are computed one by one as analyze_one does."""
+    The terms of consecutive trajectories are computed in one call of :func:`gd_terms` (at
+    most max_setpoints set points at a time, a longer trajectory alone): for 31-set-point
+    trajectories the per-call overhead dominates. The kernel computes every set point on its
+    own, so the terms, to the last bit, and the shares of round-off-level elements are those
+    of :func:`analyze_one`."""
     group, size = [], 0
 
     def flush():
@@ -219,7 +218,7 @@ def _batch_terms(robot, trajectories, max_setpoints=_GROUP_SETPOINTS):
             return []
         q = np.concatenate([np.asarray(tr.q, float) for tr in group])
         qd = np.concatenate([np.asarray(tr.qd, float) for tr in group])
-        terms = gd_terms(robot, q, qd, chunk=max(DEFAULT_CHUNK, q.shape[0]), engine="numpy")
+        terms = gd_terms(robot, q, qd)
         out, a = [], 0
         for tr in group:
             b = a + tr.q.shape[0]
@@ -229,11 +228,6 @@ def _batch_terms(robot, trajectories, max_setpoints=_GROUP_SETPOINTS):
 
     for tr in trajectories:
         N = np.shape(tr.q)[0]
-        if N >= COMPILED_MIN_SETPOINTS:
-            yield from flush()
-            group, size = [], 0
-            yield tr, gd_terms(robot, tr.q, tr.qd)
-            continue
         if group and size + N > max_setpoints:
             yield from flush()
             group, size = [], 0

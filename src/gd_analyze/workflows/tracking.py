@@ -443,7 +443,7 @@ def track(robot, controller, gains, desired, t_eval, q0_offset=0.0, choices=None
     -----
     Plant: qdd = D^-1 (tau - h - c - tau_f), Eq. (3.4-24) with the drives' armature in D and
     friction tau_f (:mod:`gd_analyze.core.model.drives`); the G-D terms at the current state are
-    computed once per right-hand-side call (compiled engine) and serve both the plant and the
+    computed once per right-hand-side call and serve both the plant and the
     full-model and PD laws; the simplified law evaluates its model at that one state in floats
     (:meth:`~gd_analyze.core.selection.simplified.SimplifiedModel.torque_at`: its program's
     operations in the same order as the emitted numpy model's). The torques returned at
@@ -470,7 +470,7 @@ def track(robot, controller, gains, desired, t_eval, q0_offset=0.0, choices=None
         if calls[0] > MAX_RHS_EVALS:
             raise _TooManyEvals
         q, qd = y[None, :n], y[None, n:]
-        terms = gd_terms(robot, q, qd, engine="compiled", out=buffers, constants=constants)
+        terms = gd_terms(robot, q, qd, out=buffers, constants=constants)
         m = motion(t)[None]
         tau = controller_torque(controller, robot, gains, m[:, :n], m[:, n:2 * n],
                                 m[:, 2 * n:], q, qd, choices=choices, terms=terms,

@@ -4,9 +4,10 @@ physical identities."""
 import numpy as np
 import pytest
 from conftest import SHIPPED, random_states
+from numpy_engines import gd_terms_numpy
 
 from gd_analyze import gd_terms, load_robot
-from gd_analyze.core.dynamics.dalembert import assemble_tau, forward_dynamics
+from gd_analyze.core.dynamics.dalembert import GDTerms, assemble_tau, forward_dynamics
 from gd_analyze.formulations.pinocchio import reference_terms, relative_error
 from gd_analyze.io.trajectory import read_trajectory
 
@@ -14,11 +15,12 @@ TOL = 1e-10
 PARTS = ("D_tran", "D_rot", "h_tran", "h_rot", "c")
 
 
-ENGINES = ("numpy", "compiled")
+#: The G-D kernel (gd_terms) and its oracle, the Jacobian form as array code.
+ENGINES = {"numpy": gd_terms_numpy, "compiled": gd_terms}
 
 
 def _check_against_pinocchio(robot, q, qd, engine):
-    terms = gd_terms(robot, q, qd, engine=engine)
+    terms = ENGINES[engine](robot, q, qd)
     ref = reference_terms(robot, q, qd)
     for name in PARTS:
         assert relative_error(getattr(terms, name), getattr(ref, name)) < TOL, name
@@ -66,23 +68,19 @@ def test_engines_agree_on_a_robot_with_products_of_inertia_and_offsets(puma):
         _check_against_pinocchio(robot, q, qd, engine)
 
 
-def test_auto_engine_switches_on_length(puma):
-    from gd_analyze.core.dynamics.dalembert import COMPILED_MIN_SETPOINTS
-
-    q, qd, _ = random_states(puma, COMPILED_MIN_SETPOINTS, 33)
-    auto = gd_terms(puma, q, qd)
+def test_the_kernel_gives_the_array_oracle_s_terms(puma):
+    q, qd, _ = random_states(puma, 2000, 33)
+    kernel, oracle = gd_terms(puma, q, qd), gd_terms_numpy(puma, q, qd)
     for name in PARTS:
-        np.testing.assert_allclose(getattr(auto, name),
-                                   getattr(gd_terms(puma, q, qd, engine="numpy"), name),
-                                   rtol=0, atol=1e-12)
-    with pytest.raises(ValueError, match="engine"):
-        gd_terms(puma, q, qd, engine="fortran")
+        np.testing.assert_allclose(getattr(kernel, name), getattr(oracle, name), rtol=0,
+                                   atol=1e-12)
 
 
 def test_each_set_point_is_independent_of_the_batch(puma):
     q, qd, _ = random_states(puma, 40, 3)
     whole = gd_terms(puma, q, qd)
-    chunked = gd_terms(puma, q, qd, chunk=7)
+    chunked = GDTerms.concatenate([gd_terms(puma, q[k:k + 7], qd[k:k + 7])
+                                   for k in range(0, 40, 7)])
     one = gd_terms(puma, q[17], qd[17])
     for name in PARTS:
         np.testing.assert_array_equal(getattr(whole, name), getattr(chunked, name))
@@ -226,17 +224,6 @@ def test_assemble_tau_of_pinocchio_terms_is_pinocchio_rnea(name):
         assemble_tau(D, nle - c, c, qdd[:, :-1])
 
 
-def test_the_engine_rule_depends_on_the_size_only():
-    from gd_analyze.core.dynamics.dalembert import COMPILED_MIN_SETPOINTS, compiled_engine
-
-    assert not compiled_engine("auto", COMPILED_MIN_SETPOINTS - 1)
-    assert compiled_engine("auto", COMPILED_MIN_SETPOINTS)
-    assert compiled_engine("compiled", 0) and not compiled_engine("numpy", 10 ** 7)
-    assert not compiled_engine("auto", 10 ** 6, threshold=10 ** 7)
-    with pytest.raises(ValueError, match="engine"):
-        compiled_engine("fortran", 1)
-
-
 def test_constants_computed_once_give_the_same_terms_as_pinocchio():
     """A simulation passes the robot's kernel constants once (``constants=``) and reuses its
     buffers (``out=``): the terms are those of Pinocchio's crba and nonLinearEffects, and
@@ -248,8 +235,8 @@ def test_constants_computed_once_give_the_same_terms_as_pinocchio():
     constants, buffers = kernel_arguments(robot), allocate_terms(1, robot.n)
     ref = reference_terms(robot, q, qd)
     for k in range(5):
-        plain = gd_terms(robot, q[k:k + 1], qd[k:k + 1], engine="compiled")
-        once = gd_terms(robot, q[k:k + 1], qd[k:k + 1], engine="compiled", out=buffers,
+        plain = gd_terms(robot, q[k:k + 1], qd[k:k + 1])
+        once = gd_terms(robot, q[k:k + 1], qd[k:k + 1], out=buffers,
                         constants=constants)
         np.testing.assert_array_equal(once.D, plain.D)
         np.testing.assert_array_equal(once.h, plain.h)

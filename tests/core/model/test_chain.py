@@ -1,10 +1,11 @@
 """The joint model for every source: revolute and prismatic joints, standard and modified DH,
-general chains; both G-D engines against Pinocchio, closed forms and energy balance."""
+general chains; the G-D kernel and its array oracle against Pinocchio, closed forms and energy balance."""
 
 import math
 
 import numpy as np
 import pytest
+from numpy_engines import gd_terms_numpy
 
 from gd_analyze import InputError, gd_terms, load_robot
 from gd_analyze.core.dynamics.dalembert import allocate_terms
@@ -14,7 +15,8 @@ from gd_analyze.formulations.pinocchio import reference_terms
 from gd_analyze.io.robots import builtin_robots
 
 TOL = 1e-10
-ENGINES = ("numpy", "compiled")
+#: The G-D kernel (gd_terms) and its oracle, the Jacobian form as array code.
+ENGINES = {"numpy": gd_terms_numpy, "compiled": gd_terms}
 
 
 def _states(robot, count, seed):
@@ -51,7 +53,7 @@ def natural_errors(terms, ref, qdd):
 
 
 def _check(robot, q, qd, qdd, engine):
-    terms = gd_terms(robot, q, qd, engine=engine)
+    terms = ENGINES[engine](robot, q, qd)
     ref = reference_terms(robot, q, qd)
     errs = natural_errors(terms, ref, qdd)
     assert max(errs.values()) < TOL, errs
@@ -137,15 +139,13 @@ def test_out_buffers_are_filled_in_place_and_reused():
     robot = load_robot("stanford")
     q, qd, _ = _states(robot, 300, 5)
     buf = allocate_terms(128, robot.n)
-    for engine in ENGINES:
-        whole = gd_terms(robot, q, qd, engine=engine)
-        for start in range(0, 300, 128):
-            part = gd_terms(robot, q[start:start + 128], qd[start:start + 128], engine=engine,
-                            out=buf)
-            assert np.shares_memory(part.D_tran, buf.D_tran)
-            for name in ("D_tran", "D_rot", "h_tran", "h_rot", "c"):
-                np.testing.assert_array_equal(getattr(part, name),
-                                              getattr(whole, name)[start:start + 128])
+    whole = gd_terms(robot, q, qd)
+    for start in range(0, 300, 128):
+        part = gd_terms(robot, q[start:start + 128], qd[start:start + 128], out=buf)
+        assert np.shares_memory(part.D_tran, buf.D_tran)
+        for name in ("D_tran", "D_rot", "h_tran", "h_rot", "c"):
+            np.testing.assert_array_equal(getattr(part, name),
+                                          getattr(whole, name)[start:start + 128])
     with pytest.raises(ValueError, match="out.D_tran"):
         gd_terms(robot, q, qd, out=buf)                 # 300 rows do not fit in 128
 
@@ -158,7 +158,7 @@ def test_stanford_prismatic_joint_closed_forms():
     of Eq. (3.2-5) multiplied out here."""
     robot = load_robot("stanford")
     q, qd, _ = _states(robot, 200, 9)
-    t = gd_terms(robot, q, qd, engine="compiled")
+    t = gd_terms(robot, q, qd)
     m = robot.mass[2:].sum()
     np.testing.assert_allclose(t.D_tran[:, 2, 2], m, rtol=1e-13)
     np.testing.assert_allclose(t.D_rot[:, 2, :], 0.0, atol=1e-15)
@@ -194,7 +194,7 @@ def test_single_prismatic_link_on_a_turntable_closed_form():
     qd = rng.uniform(-2, 2, (100, 2))
     r = q[:, 1] + zc
     for engine in ENGINES:
-        t = gd_terms(arm, q, qd, engine=engine)
+        t = ENGINES[engine](arm, q, qd)
         np.testing.assert_allclose(t.D_rot[:, 0, 0], 0.5 + I2[1], rtol=1e-13)
         np.testing.assert_allclose(t.D_tran[:, 0, 0], m2 * r**2, rtol=1e-13)
         np.testing.assert_allclose(t.D[:, 0, 1], 0.0, atol=1e-12)
@@ -271,7 +271,7 @@ def test_modified_dh_puma_equals_standard_dh_puma(tmp_path, puma):
     assert mdh.convention == "modified" and mdh.n == 6
     q, qd, qdd = _states(puma, 200, 21)
     for engine in ENGINES:
-        a, b = gd_terms(mdh, q, qd, engine=engine), gd_terms(puma, q, qd, engine=engine)
+        a, b = ENGINES[engine](mdh, q, qd), ENGINES[engine](puma, q, qd)
         errs = natural_errors(a, b, qdd)     # same D, h, c (and the same split)
         assert max(errs.values()) < TOL, errs
     _check(mdh, q, qd, qdd, "compiled")

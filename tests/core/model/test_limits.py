@@ -5,8 +5,8 @@ correct (against Pinocchio)."""
 import numpy as np
 import pytest
 from chapter_two_link import spec as two_link_spec
+from numpy_engines import gd_terms_numpy
 
-from gd_analyze.core.dynamics.dalembert import gd_terms
 from gd_analyze.core.model.limits import LIMITS, check_finite, first_beyond
 from gd_analyze.core.model.robot_spec import robot_from_dict
 from gd_analyze.errors import InputError
@@ -73,7 +73,7 @@ def test_inputs_at_the_limits_keep_the_terms_finite_and_right():
     robot = robot_from_dict(spec)
     q = np.array([[0.3, -1.2], [LIMITS["q"], -LIMITS["q"]]])
     qd = np.full((2, 2), LIMITS["qd"])
-    terms = gd_terms(robot, q, qd, engine="numpy")
+    terms = gd_terms_numpy(robot, q, qd)
     for name in ("D_tran", "D_rot", "h_tran", "h_rot", "c"):
         check_finite(name, getattr(terms, name))
     tau = terms.tau(np.full((2, 2), LIMITS["qdd"]))

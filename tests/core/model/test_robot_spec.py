@@ -14,8 +14,8 @@ import warnings
 import chapter_two_link
 import numpy as np
 import pytest
+from numpy_engines import gd_terms_numpy
 
-from gd_analyze.core.dynamics.dalembert import gd_terms
 from gd_analyze.core.model.robot_spec import robot_from_chain, robot_from_dict
 from gd_analyze.errors import InputError, InputWarning
 
@@ -30,7 +30,7 @@ def _states(n=25, seed=1):
 
 def _check_chapter(robot):
     q, qd = _states()
-    terms = gd_terms(robot, q, qd, engine="numpy")
+    terms = gd_terms_numpy(robot, q, qd)
     want = chapter_two_link.terms(q, qd, M1, M2, L, G)
     for name, w in zip(("D_tran", "D_rot", "h_tran", "h_rot", "c"), want):
         got = getattr(terms, name)
@@ -90,7 +90,7 @@ def test_prismatic_joint_closed_form():
     robot = robot_from_dict(spec)
     assert robot.joint_types == ("prismatic",)
     assert (robot.q_min[0], robot.q_max[0], robot.qd_max[0]) == (0.0, 0.5, 0.3)
-    terms = gd_terms(robot, np.array([[0.2]]), np.array([[0.7]]), engine="numpy")
+    terms = gd_terms_numpy(robot, np.array([[0.2]]), np.array([[0.7]]))
     assert terms.D[0, 0, 0] == pytest.approx(2.5, rel=1e-14)
     assert terms.c[0, 0] == pytest.approx(2.5 * G, rel=1e-14)
     assert terms.h[0, 0] == pytest.approx(0.0, abs=1e-14)

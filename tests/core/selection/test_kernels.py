@@ -1,7 +1,7 @@
-"""Both engines of the chunk updates of the ranking and the part peaks (the compiled kernels
-and the array code that runs short chunks without numba) against their numpy formulation (the
-code the kernels replaced, kept here as the oracle): the same values bit for bit, on the G-D
-terms of arms with and without drives, and on made-up chunks with -0.0, inf and NaN.
+"""The chunk updates of the ranking and the part peaks (the compiled kernels) against their
+numpy formulation (the code the kernels replaced, kept here as the oracle): the same values bit
+for bit, on the G-D terms of arms with and without drives, and on made-up chunks with -0.0, inf
+and NaN.
 """
 
 import numpy as np
@@ -74,27 +74,21 @@ def _same(a, b):
                                               | (np.isnan(a) & np.isnan(b))))
 
 
-ENGINES = ("numpy", "compiled")
-
-
 def _feed(chunks, armature=None):
-    """Feed the chunks to both engines and to the oracle; every value the same bit for bit."""
+    """Feed the chunks to the kernels and to the oracle; every value the same bit for bit."""
     n = chunks[0][2].shape[1]
     ref = NumpyRanking(n)
-    acc = {e: RankingAccumulator(n) for e in ENGINES}
-    parts = {e: PartPeaks(n) for e in ENGINES}
+    acc, parts = RankingAccumulator(n), PartPeaks(n)
     peaks, tau_peak = np.zeros((len(part_index(n)), n)), np.zeros(n)
     for D_tran, D_rot, h_tran, h_rot, qdd, tau in chunks:
         ref.update(D_tran, D_rot, h_tran, h_rot, tau, armature=armature)
         numpy_part_peaks(peaks, tau_peak, n, D_tran, D_rot, h_tran, h_rot, qdd, tau)
-        for e in ENGINES:
-            acc[e].update(D_tran, D_rot, h_tran, h_rot, tau, armature=armature, engine=e)
-            parts[e].update(D_tran, D_rot, h_tran, h_rot, qdd, tau, engine=e)
-    for e in ENGINES:
-        for name in RANKED:
-            assert _same(getattr(acc[e], name), getattr(ref, name)), (e, name)
-        assert _same(parts[e].peaks, peaks) and _same(parts[e].tau_peak, tau_peak), e
-    return acc["compiled"]
+        acc.update(D_tran, D_rot, h_tran, h_rot, tau, armature=armature)
+        parts.update(D_tran, D_rot, h_tran, h_rot, qdd, tau)
+    for name in RANKED:
+        assert _same(getattr(acc, name), getattr(ref, name)), name
+    assert _same(parts.peaks, peaks) and _same(parts.tau_peak, tau_peak)
+    return acc
 
 
 @pytest.mark.parametrize("name, drives", [("puma560", False), ("puma560-drives", True),
@@ -147,7 +141,7 @@ def test_the_kernels_keep_the_numpy_handling_of_signed_zeros_inf_and_nan():
         _feed(order, armature=np.array([0.5, 0.0, 2.0]))
 
 
-def test_a_chunk_whose_peak_is_nan_is_not_kept_by_either_engine():
+def test_a_chunk_whose_peak_is_nan_is_not_kept():
     """A NaN in a chunk makes that chunk's peak of the part NaN, and a NaN chunk peak is not
     kept, even where the chunk's finite values are larger (the numpy formulation's built-in
     max); a NaN |tau| is kept (np.maximum)."""
@@ -157,12 +151,11 @@ def test_a_chunk_whose_peak_is_nan_is_not_kept_by_either_engine():
     large = [100.0 * np.abs(x) + 100.0 for x in _made_up(rng, 10, n, 0)]
     large[0][4, 0, 1] = np.nan                      # D_tran[0, 1]: part "D12", "tran"
     large[5][7, 2] = np.nan                         # tau_3
-    for e in ENGINES:
-        parts = PartPeaks(n)
-        for chunk in (small, large):
-            parts.update(*chunk, engine=e)
-        r = [k for k, (label, p, *_) in enumerate(part_index(n)) if (label, p) == ("D12", "tran")]
-        assert parts.peaks[r[0], 0] < 1.0 and parts.peaks[r[0], 1] < 1.0, e
-        assert parts.peaks[r[0] + 1, 0] > 100.0, e        # the rot part took the large chunk
-        assert np.isnan(parts.tau_peak[2]) and not np.isnan(parts.tau_peak[:2]).any(), e
+    parts = PartPeaks(n)
+    for chunk in (small, large):
+        parts.update(*chunk)
+    r = [k for k, (label, p, *_) in enumerate(part_index(n)) if (label, p) == ("D12", "tran")]
+    assert parts.peaks[r[0], 0] < 1.0 and parts.peaks[r[0], 1] < 1.0
+    assert parts.peaks[r[0] + 1, 0] > 100.0             # the rot part took the large chunk
+    assert np.isnan(parts.tau_peak[2]) and not np.isnan(parts.tau_peak[:2]).any()
     _feed([small, large])

@@ -23,9 +23,9 @@ A prismatic joint moves every frame beyond it and adds no angular velocity. The
 velocity-product accelerations dJv_s/dt qd and dJw_s/dt qd come from the outward recursion of
 the link velocities (Eqs. 3.4-1 to 3.4-7 with qdd = 0; a prismatic joint adds the Coriolis
 term 2 w x qd z to the origins beyond it), and the sums over links s >= j from suffix sums.
-This module's numpy engine forms the Jacobians as written (O(n^3) per set point for D_tran);
-the compiled engine (:mod:`gd_analyze.core.dynamics.kernels`) needs O(n^2). Everything is batched over
-set points and processed in chunks of bounded size.
+The terms are computed by a compiled kernel (:mod:`gd_analyze.core.dynamics.kernels`), one
+pass per set point, O(n^2) work; the tests keep the Jacobian form as written in array code
+(O(n^3) per set point) as its oracle, beside Pinocchio. Everything is batched over set points.
 """
 
 from __future__ import annotations
@@ -38,60 +38,14 @@ import numpy as np
 from numpy.typing import ArrayLike
 
 from ..model.drives import friction_torque
-from ..model.kinematics import as_states, body_frames
+from ..model.kinematics import as_states
 
 if TYPE_CHECKING:
     from ..model.robot import Robot
 
 
 __all__ = ["assemble_tau", "forward_dynamics", "GDTerms", "gd_terms", "allocate_terms",
-           "kernel_arguments", "DEFAULT_CHUNK", "ENGINES", "COMPILED_MIN_SETPOINTS",
-           "compiled_engine"]
-
-#: Set points per chunk of the numpy engine: bounds its temporaries to a few tens of MB.
-DEFAULT_CHUNK = 8192
-#: The engines: "numpy" (array code, the Jacobian form as written) and "compiled" (numba).
-ENGINES = ("auto", "numpy", "compiled")
-#: With engine="auto", trajectories of at least this many set points use the compiled engine;
-#: shorter ones use numpy and so never pay for importing numba or loading compiled code.
-COMPILED_MIN_SETPOINTS = 2000
-
-
-def compiled_engine(engine: str, count: int, threshold: int = COMPILED_MIN_SETPOINTS) -> bool:
-    """Whether a computation on ``count`` set points runs compiled (numba) or as array code.
-
-    The one rule of every kernel with two engines: the choice depends on the data's size
-    only, never on the load or the environment.
-
-    Parameters
-    ----------
-    engine : {"auto", "numpy", "compiled"}
-        ``"auto"`` runs compiled from ``threshold`` set points on: a short input never
-        imports numba nor loads compiled code (about 0.45 s the first time in a process).
-    count : int
-        Set points (rows) of the input.
-    threshold : int, optional
-        The size from which ``"auto"`` runs compiled; :data:`COMPILED_MIN_SETPOINTS` by
-        default.
-
-    Returns
-    -------
-    bool
-        True for the compiled engine.
-
-    Raises
-    ------
-    ValueError
-        If the engine is not one of :data:`ENGINES`.
-
-    Examples
-    --------
-    >>> compiled_engine("auto", 31), compiled_engine("auto", 5000), compiled_engine("compiled", 1)
-    (False, True, True)
-    """
-    if engine not in ENGINES:
-        raise ValueError(f"engine must be one of {ENGINES}, got {engine!r}")
-    return engine == "compiled" or (engine == "auto" and int(count) >= threshold)
+           "kernel_arguments"]
 
 
 def assemble_tau(D: np.ndarray, h: np.ndarray, c: np.ndarray, qdd: ArrayLike) -> np.ndarray:
@@ -250,71 +204,6 @@ class GDTerms:
         return tau
 
 
-def _suffix_sum(x):
-    """Sum over links s >= j along axis 1: out[:, j] = sum_{s>=j} x[:, s]."""
-    return np.flip(np.cumsum(np.flip(x, axis=1), axis=1), axis=1)
-
-
-def _shift(x):
-    """x[:, s-1] along axis 1, with zeros for s = 0 (the base is at rest)."""
-    return np.concatenate([np.zeros_like(x[:, :1]), x[:, :-1]], axis=1)
-
-
-def _gd_chunk(robot, q, qd):
-    n = robot.n
-    m = robot.mass
-    pris = np.asarray(robot.prismatic, dtype=bool)
-    R, o = body_frames(robot, q)            # body frame j: axis z_j, origin o_j
-    z = R[..., 2]                           # (N, n, 3)
-    zr = z * (~pris)[None, :, None]         # Jw columns: z_j for revolute joints, 0 else
-    rbar = o + np.einsum("ksab,sb->ksa", R, robot.body_com)     # (N, n, 3)
-    Ib = R @ robot.body_inertia @ np.swapaxes(R, -1, -2)        # (N, n, 3, 3)
-
-    # --- D_tran: sum_s m_s Jv_s^T Jv_s, j <= s
-    Jv = np.cross(z[:, None, :, :], rbar[:, :, None, :] - o[:, None, :, :])  # (N, s, j, 3)
-    Jv = np.where(pris[None, None, :, None], z[:, None, :, :], Jv)
-    Jv *= np.tril(np.ones((n, n)))[None, :, :, None]
-    D_tran = np.einsum("ksia,s,ksja->kij", Jv, m, Jv, optimize=True)
-
-    # --- D_rot: zr_i^T (sum_{s >= max(i,j)} Ib_s) zr_j
-    Ic = _suffix_sum(Ib)                    # (N, n, 3, 3)
-    idx = np.maximum.outer(np.arange(n), np.arange(n))
-    Iz = np.einsum("ksab,kjb->ksja", Ic, zr)  # Ic_s zr_j, (N, s, j, 3)
-    D_rot = np.einsum("kia,kija->kij", zr, Iz[:, idx, np.arange(n)[None, :], :])
-
-    # --- velocities and velocity-product accelerations (qdd = 0), outward recursion
-    wz = qd[:, :, None] * zr                # qd_j z_j (revolute)
-    w = np.cumsum(wz, axis=1)               # w_s, (N, n, 3)
-    w_prev = _shift(w)
-    wd = np.cumsum(np.cross(w_prev, wz), axis=1)        # dJw_s/dt qd
-    wd_prev = _shift(wd)
-    dp = o - _shift(o)                      # o_s - o_{s-1}, fixed in body s-1 but for q_s
-    slide = 2.0 * np.cross(w_prev, qd[:, :, None] * z) * pris[None, :, None]
-    ap = np.cumsum(np.cross(wd_prev, dp) + np.cross(w_prev, np.cross(w_prev, dp)) + slide,
-                   axis=1)                  # origin o_s
-    rc = rbar - o
-    abar = ap + np.cross(wd, rc) + np.cross(w, np.cross(w, rc))   # dJv_s/dt qd
-
-    # --- h_tran and c: Jv_j . sum_{s>=j} F_s, with F_s = m_s a_s: revolute
-    # z_j . sum_{s>=j} (rbar_s - o_j) x F_s, prismatic z_j . sum_{s>=j} F_s
-    def along_axes(F):
-        S = _suffix_sum(F)
-        M = _suffix_sum(np.cross(rbar, F)) - np.cross(o, S)
-        return np.einsum("kja,kja->kj", z, np.where(pris[None, :, None], S, M))
-
-    h_tran = along_axes(m[None, :, None] * abar)
-    c = -along_axes(np.broadcast_to(m[:, None] * robot.gravity, rbar.shape))
-
-    # --- h_rot: zr_j . sum_{s>=j} (Ib_s wd_s + w_s x Ib_s w_s)
-    Iw = np.einsum("ksab,ksb->ksa", Ib, w)
-    f = np.einsum("ksab,ksb->ksa", Ib, wd) + np.cross(w, Iw)
-    h_rot = np.einsum("kja,kja->kj", zr, _suffix_sum(f))
-    # exactly symmetric (the sums above round the two triangles differently)
-    D_tran = np.triu(D_tran) + np.swapaxes(np.triu(D_tran, 1), 1, 2)
-    D_rot = np.triu(D_rot) + np.swapaxes(np.triu(D_rot, 1), 1, 2)
-    return D_tran, D_rot, h_tran, h_rot, c
-
-
 def allocate_terms(N: int, n: int) -> GDTerms:
     """Output buffers for :func:`gd_terms`, to be reused across streamed chunks.
 
@@ -368,7 +257,7 @@ def _check_out(out, N, n):
     return tuple(arr[:N] for arr in arrays)
 
 
-def gd_terms(robot, q, qd, chunk=DEFAULT_CHUNK, engine="auto", out=None, constants=None):
+def gd_terms(robot, q, qd, out=None, constants=None):
     """The G-D terms D_tran, D_rot, h_tran, h_rot and c at N set points, and the drives'.
 
     Parameters
@@ -379,20 +268,13 @@ def gd_terms(robot, q, qd, chunk=DEFAULT_CHUNK, engine="auto", out=None, constan
         Joint positions [rad or m].
     qd : array_like, shape (N, n) or (n,)
         Joint velocities [rad/s or m/s].
-    chunk : int, optional
-        Set points processed at once by the numpy engine; bounds the temporaries, not the
-        result.
-    engine : {"auto", "numpy", "compiled"}, optional
-        ``"numpy"``: array code over chunks of set points. ``"compiled"``: a numba kernel, one
-        pass per set point (about 10 times faster). ``"auto"``: compiled for N >=
-        :data:`COMPILED_MIN_SETPOINTS`, numpy otherwise.
     out : GDTerms, optional
         Buffers the caller owns (:func:`allocate_terms`), with at least N rows: the terms are
         written into their first N rows, and the result's arrays are views of them. Reuse them
         across the chunks of a stream to avoid fresh allocations.
     constants : tuple, optional
         :func:`kernel_arguments` of ``robot``, computed once by a caller that evaluates the
-        same robot many times (a simulation, one call per step); used by the compiled engine.
+        same robot many times (a simulation, one call per step).
 
     Returns
     -------
@@ -404,14 +286,14 @@ def gd_terms(robot, q, qd, chunk=DEFAULT_CHUNK, engine="auto", out=None, constan
     Raises
     ------
     ValueError
-        If q or qd does not have shape (N, n), they disagree on N, the engine is unknown, or
-        ``out`` does not fit.
+        If q or qd does not have shape (N, n), they disagree on N, or ``out`` does not fit.
 
     Notes
     -----
     Source: Eqs. (3.4-24) to (3.4-28) of Fu, Gonzalez & Lee (1987), in the Jacobian form given
-    in the module docstring. D_tran and D_rot are symmetric; their sum is the inertia matrix D
-    of Eq. (3.2-31).
+    in the module docstring, by the compiled kernel
+    :func:`gd_analyze.core.dynamics.kernels.gd_kernel`. D_tran and D_rot are symmetric; their
+    sum is the inertia matrix D of Eq. (3.2-31).
 
     Examples
     --------
@@ -424,23 +306,14 @@ def gd_terms(robot, q, qd, chunk=DEFAULT_CHUNK, engine="auto", out=None, constan
     """
     q, qd = as_states(robot, q, qd)
     N, n = q.shape
-    compiled = compiled_engine(engine, N)
     if out is None:
         res = _check_out(allocate_terms(N, n), N, n)
     else:
         res = _check_out(out, N, n)
-    if compiled:
-        from .kernels import gd_kernel
+    from .kernels import gd_kernel  # numba: imported by the first computation only
 
-        c = np.ascontiguousarray
-        gd_kernel(c(q), c(qd), *(kernel_arguments(robot) if constants is None else constants),
-                  *res)
-    else:
-        chunk = max(1, int(chunk))
-        for start in range(0, N, chunk):
-            sl = slice(start, start + chunk)
-            for dst, src in zip(res, _gd_chunk(robot, q[sl], qd[sl])):
-                dst[sl] = src
+    c = np.ascontiguousarray
+    gd_kernel(c(q), c(qd), *(kernel_arguments(robot) if constants is None else constants), *res)
     arm = robot.armature if robot.has_armature else None
     return GDTerms(*res, arm, friction_torque(robot, qd))
 
@@ -476,8 +349,7 @@ def qdd_from_terms(terms: GDTerms, tau: np.ndarray) -> np.ndarray:
     return np.linalg.solve(terms.D, rhs[..., None])[..., 0]
 
 
-def forward_dynamics(robot: Robot, q: ArrayLike, qd: ArrayLike, tau: ArrayLike,
-                     engine: str = "auto") -> np.ndarray:
+def forward_dynamics(robot: Robot, q: ArrayLike, qd: ArrayLike, tau: ArrayLike) -> np.ndarray:
     """Joint accelerations of the arm under given torques, qdd = D^-1 (tau - h - c - tau_f).
 
     Parameters
@@ -490,8 +362,6 @@ def forward_dynamics(robot: Robot, q: ArrayLike, qd: ArrayLike, tau: ArrayLike,
         Joint velocities [rad/s or m/s].
     tau : array_like, shape (N, n) or (n,)
         Joint torques [N m] or forces [N] (prismatic).
-    engine : {"auto", "numpy", "compiled"}, optional
-        Engine of :func:`~gd_analyze.core.dynamics.dalembert.gd_terms`.
 
     Returns
     -------
@@ -501,7 +371,7 @@ def forward_dynamics(robot: Robot, q: ArrayLike, qd: ArrayLike, tau: ArrayLike,
     Raises
     ------
     ValueError
-        If the arrays do not have n columns or disagree on N, or the engine is unknown.
+        If the arrays do not have n columns or disagree on N.
     numpy.linalg.LinAlgError
         If D is singular at some set point (it is positive definite for a physical arm).
 
@@ -512,4 +382,4 @@ def forward_dynamics(robot: Robot, q: ArrayLike, qd: ArrayLike, tau: ArrayLike,
     point, batched.
     """
     q, qd, tau = as_states(robot, q, qd, tau, names=("q", "qd", "tau"))
-    return qdd_from_terms(gd_terms(robot, q, qd, engine=engine), tau)
+    return qdd_from_terms(gd_terms(robot, q, qd), tau)

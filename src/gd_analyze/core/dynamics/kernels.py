@@ -1,7 +1,7 @@
 """Compiled engine for the G-D terms: one pass per set point, O(n^2) work, caller-owned output.
 
-The same quantities as :func:`gd_analyze.core.dynamics.dalembert._gd_chunk` (Eqs. 3.4-24 to 3.4-28 in
-Jacobian form, revolute and prismatic joints), written as scalar loops that numba compiles:
+The G-D terms of :mod:`gd_analyze.core.dynamics.dalembert` (Eqs. 3.4-24 to 3.4-28 in Jacobian
+form, revolute and prismatic joints), written as scalar loops that numba compiles:
 
 - forward kinematics of the body frames (placement P_i, t_i, then the joint's motion);
 - outward recursion of the velocities w_s, the velocity-product accelerations of the

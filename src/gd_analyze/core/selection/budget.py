@@ -35,7 +35,6 @@ from dataclasses import dataclass
 import numpy as np
 
 from ...config import defaults
-from ..dynamics.dalembert import compiled_engine
 from ..symbolic.explicit import atoms, budget_drop, prune
 from .labels import element_label
 
@@ -125,7 +124,7 @@ class PartPeaks:
         self._j = np.array([j if kind == "D" else -1 for _, _, kind, _, j in self.index],
                            np.int64)
 
-    def update(self, D_tran, D_rot, h_tran, h_rot, qdd, tau, engine="auto"):
+    def update(self, D_tran, D_rot, h_tran, h_rot, qdd, tau):
         """Add a chunk of set points.
 
         Parameters
@@ -138,21 +137,16 @@ class PartPeaks:
             [rad/s^2].
         tau : ndarray, shape (N, n)
             Full-model torques [N m].
-        engine : {"auto", "numpy", "compiled"}, optional
-            ``"auto"``: the compiled pass (:func:`gd_analyze.core.selection.kernels.part_peaks_kernel`)
-            from :data:`gd_analyze.core.dynamics.dalembert.COMPILED_MIN_SETPOINTS` set points
-            in the chunk on, else array code over blocks of rows (no numba import); the same
-            values bit for bit. A NaN chunk peak is never kept; a NaN |tau_i| is.
 
-        Raises
-        ------
-        ValueError
-            If the engine is unknown.
+        Notes
+        -----
+        One compiled pass over the chunk
+        (:func:`gd_analyze.core.selection.kernels.part_peaks_kernel`). A NaN chunk peak is
+        never kept; a NaN |tau_i| is.
         """
+        from .kernels import part_peaks_kernel  # numba: imported by the first chunk only
+
         qdd = np.asarray(qdd, float)
-        if not compiled_engine(engine, qdd.shape[0]):
-            return self._update_arrays(D_tran, D_rot, h_tran, h_rot, qdd, tau)
-        from .kernels import part_peaks_kernel
 
         if qdd.shape[0] == 0:
             return
@@ -163,37 +157,6 @@ class PartPeaks:
                           c(h_tran, dtype=float), c(h_rot, dtype=float), c(qdd),
                           c(tau, dtype=float), self._rot, self._i, self._j, self.peaks,
                           self.tau_peak)
-
-    def _update_arrays(self, D_tran, D_rot, h_tran, h_rot, qdd, tau):
-        """The numpy engine of :meth:`update`, by blocks of rows (bounded temporaries)."""
-        N = qdd.shape[0]
-        if N == 0:
-            return
-        D = self._j >= 0
-        rot, i, j = self._rot, self._i, self._j
-        Dr, Di, Dj = rot[D], i[D], j[D]
-        hr, hi = rot[~D], i[~D]
-        mi = np.zeros(rot.size)                 # the chunk's peak of each part on tau_i
-        mj = np.zeros(rot.size)                 # ... and on tau_j (D_ij, i != j)
-        for a in range(0, N, _BLOCK):
-            sl = slice(a, a + _BLOCK)
-            q2 = qdd[sl]
-            d = np.where(Dr, np.asarray(D_rot[sl], float)[:, Di, Dj],
-                         np.asarray(D_tran[sl], float)[:, Di, Dj])
-            h = np.where(hr, np.asarray(h_rot[sl], float)[:, hi],
-                         np.asarray(h_tran[sl], float)[:, hi])
-            # np.maximum: a NaN propagates within the chunk, as in the kernel
-            mi[D] = np.maximum(mi[D], np.abs(d * q2[:, Dj]).max(axis=0))
-            mj[D] = np.maximum(mj[D], np.abs(d * q2[:, Di]).max(axis=0))
-            mi[~D] = np.maximum(mi[~D], np.abs(h).max(axis=0))
-            np.maximum(self.tau_peak, np.abs(np.asarray(tau[sl], float)).max(axis=0),
-                       out=self.tau_peak)
-        rows = np.arange(rot.size)
-        for peak, col, use in ((mi, i, rows >= 0), (mj, j, D & (i != j))):
-            r, c = rows[use], col[use]
-            cur = self.peaks[r, c]
-            # kept where it exceeds the running peak: a NaN chunk peak never is
-            self.peaks[r, c] = np.where(peak[use] > cur, peak[use], cur)
 
     def merge(self, other):
         """Combine with the peaks of other set points (another chunk or trajectory).

@@ -5,7 +5,7 @@
 chunk. Written with numpy, each chunk went through a dozen temporaries of shape (N, M): the
 gathered elements, their absolute values, the sums of parts. These kernels make one pass over
 the chunk's rows instead, with the same arithmetic in the same order, so the results are the
-numpy formulation's bit for bit:
+numpy formulation's bit for bit (the tests keep it as their oracle):
 
 - a column sum over the chunk is the rows' values added in row order to 0 (as numpy reduces
   axis 0 of a C-ordered (N, M) array, M >= 2), then added to the running sum;
@@ -14,9 +14,7 @@ numpy formulation's bit for bit:
   built-in ``max(peak, chunk_peak)`` of the numpy formulation did;
 - ``np.clip(x, 0, None)`` is ``np.maximum(x, 0.0)``: x where ``x >= 0`` or x is NaN, else 0.
 
-Chunks shorter than :data:`gd_analyze.core.dynamics.dalembert.COMPILED_MIN_SETPOINTS` run the
-numpy formulation instead (``engine="auto"`` of the two ``update`` methods), so that a short
-trajectory never imports numba; this module is imported only by the compiled engine.
+This module imports numba; its users import it by their first call only.
 """
 
 from __future__ import annotations

@@ -21,7 +21,6 @@ import dataclasses
 
 import numpy as np
 
-from ..dynamics.dalembert import compiled_engine
 from ..symbolic.base_parameters import base_parameters
 from ..symbolic.pruning import settle_restored
 from .inertia_proof import (  # noqa: F401 (re-exported)
@@ -90,7 +89,7 @@ def sample_positions(model, q=None, count=SAMPLES, seed=0):
     return "trajectory", extra
 
 
-def check_inertia(inertia, q, block=CHECK_BLOCK, engine="auto"):
+def check_inertia(inertia, q, block=CHECK_BLOCK):
     """Whether D(q) is positive definite at each given position, block by block (sampled: no
     proof).
 
@@ -103,10 +102,6 @@ def check_inertia(inertia, q, block=CHECK_BLOCK, engine="auto"):
     block : int, optional
         Positions evaluated at once (:data:`CHECK_BLOCK`): memory stays a few blocks of
         (block, n, n) whatever M is; the figures do not depend on it.
-    engine : {"auto", "numpy", "compiled"}, optional
-        The pass over each block as array code or compiled (numba; ``"auto"``: compiled from
-        :data:`gd_analyze.core.dynamics.dalembert.COMPILED_MIN_SETPOINTS` positions on,
-        :func:`~gd_analyze.core.dynamics.dalembert.compiled_engine`): the same figures.
 
     Returns
     -------
@@ -138,17 +133,16 @@ def check_inertia(inertia, q, block=CHECK_BLOCK, engine="auto"):
     M = q.shape[0]
     if M == 0:
         raise ValueError("no positions to check")
-    compiled = compiled_engine(engine, M)
     block = max(1, int(block))
     positive, proved = True, 0
     lo_min, ratio_min = np.inf, np.inf
     nan = False
     for a in range(0, M, block):
         D = np.asarray(inertia(q[a:a + block]), float)
-        pos, disc, D, norm = (_block_compiled if compiled else _block)(D)
+        pos, disc, D, norm = _block(D)
         proved += int((pos & disc).sum())
         positive = positive and bool(pos.all())
-        lo, ratio = _screened_eigenvalues(D, norm, lo_min, ratio_min, compiled)
+        lo, ratio = _screened_eigenvalues(D, norm, lo_min, ratio_min)
         nan = nan or bool(np.isnan(lo).any() or np.isnan(ratio).any())
         if lo.size:
             lo_min = min(lo_min, float(lo.min()))
@@ -162,18 +156,8 @@ def check_inertia(inertia, q, block=CHECK_BLOCK, engine="auto"):
 
 def _block(D):
     """A block's D symmetrized, which positions have a positive diagonal and which the scaled
-    Gershgorin discs prove positive definite, and ||D||_F (array code)."""
-    D = 0.5 * (D + np.swapaxes(D, 1, 2))
-    diag = np.diagonal(D, axis1=1, axis2=2)
-    pos = (diag > 0).all(axis=1)
-    s = 1.0 / np.sqrt(np.where(diag > 0, diag, 1.0))
-    A = np.abs(D * s[:, :, None] * s[:, None, :])
-    off = A.sum(axis=2) - np.diagonal(A, axis1=1, axis2=2)
-    return pos, pos & (off < 1.0).all(axis=1), D, np.sqrt((D ** 2).sum(axis=(1, 2)))
-
-
-def _block_compiled(D):
-    """:func:`_block` in one compiled pass (:func:`.kernels.inertia_block_kernel`)."""
+    Gershgorin discs prove positive definite, and ||D||_F, in one compiled pass
+    (:func:`.kernels.inertia_block_kernel`)."""
     from .kernels import inertia_block_kernel
 
     D = np.ascontiguousarray(D)
@@ -183,10 +167,10 @@ def _block_compiled(D):
     return pos, disc, S, norm
 
 
-def _screened_eigenvalues(D, norm, lo_min, ratio_min, compiled=False):
+def _screened_eigenvalues(D, norm, lo_min, ratio_min):
     """lambda_min and lambda_min / max |lambda| of the positions of a block that may hold the
     minima: the anchors, and the positions a shifted definiteness test does not rule out
-    (:func:`check_inertia`).
+    (:func:`check_inertia`), tested in one compiled pass (:func:`.kernels.inertia_screen_kernel`).
 
     Parameters
     ----------
@@ -196,16 +180,13 @@ def _screened_eigenvalues(D, norm, lo_min, ratio_min, compiled=False):
         Their ||D||_F.
     lo_min, ratio_min : float
         The smallest lambda_min and ratio found so far (inf: none yet).
-    compiled : bool, optional
-        Test in one compiled pass (:func:`.kernels.inertia_screen_kernel`) instead of
-        array code.
 
     Returns
     -------
     lo, ratio : ndarray, shape (K,)
         Of the K positions computed (every one whose values might be below the minima).
     """
-    M, n = D.shape[0], D.shape[1]
+    M = D.shape[0]
     anchors = np.arange(0, M, ANCHOR_STEP)
     eig = _eigenvalues(D[anchors])
     lo = [eig[:, 0]]
@@ -213,29 +194,11 @@ def _screened_eigenvalues(D, norm, lo_min, ratio_min, compiled=False):
     ratio = [eig[:, 0] / np.where(hi_a > 0, hi_a, 1.0)]
     best_lo = float(np.fmin.reduce(lo[0], initial=lo_min))          # NaN left aside here
     best_ratio = float(np.fmin.reduce(ratio[0], initial=ratio_min))
-    if compiled:
-        from .kernels import inertia_screen_kernel
+    from .kernels import inertia_screen_kernel
 
-        maybe = np.empty(M, bool)
-        inertia_screen_kernel(D, norm, hi_a, ANCHOR_STEP, best_lo, best_ratio, ROUND_OFF,
-                              maybe)
-        rows = np.flatnonzero(maybe)
-    else:
-        which = np.arange(M) // ANCHOR_STEP              # the anchor before each position
-        weyl = hi_a[which] + np.sqrt(((D - D[anchors][which]) ** 2).sum(axis=(1, 2)))
-        margin = ROUND_OFF * norm
-        eye = np.eye(n)
-        # lambda_min(D_p) > best_lo + margin: D_p - (best_lo + margin) I is positive definite
-        out = _definite(D - (best_lo + margin)[:, None, None] * eye)
-        # lambda_min / max|lambda| > best_ratio: lambda_min > r B with B >= max|lambda| for
-        # r > 0 (||D||_F, Weyl's bound from the anchor) and B <= max|lambda| for r <= 0
-        # (max |D_ii|)
-        r = best_ratio + ROUND_OFF
-        bound = np.minimum(norm, weyl) if r > 0 else \
-            np.abs(np.diagonal(D, axis1=1, axis2=2)).max(1)
-        out &= _definite(D - (r * bound + margin)[:, None, None] * eye)
-        out[anchors] = True
-        rows = np.flatnonzero(~out)
+    maybe = np.empty(M, bool)
+    inertia_screen_kernel(D, norm, hi_a, ANCHOR_STEP, best_lo, best_ratio, ROUND_OFF, maybe)
+    rows = np.flatnonzero(maybe)
     if rows.size:
         eig = _eigenvalues(D[rows])
         hi = np.abs(eig).max(axis=1)
@@ -261,29 +224,6 @@ def _eigenvalues(D):
     if finite.any():
         out[finite] = np.linalg.eigvalsh(D[finite])
     return out
-
-
-def _definite(A):
-    """Whether each symmetric matrix is positive definite: every pivot of its L D L^T
-    factorisation (Gaussian elimination without pivoting) is positive (Golub & Van Loan,
-    *Matrix Computations*, 4th ed. 2013, Sec. 4.2). NaN is not.
-
-    Parameters
-    ----------
-    A : ndarray, shape (M, n, n)
-
-    Returns
-    -------
-    ndarray of bool, shape (M,)
-    """
-    A = np.ascontiguousarray(np.moveaxis(np.asarray(A, float), 0, -1))    # (n, n, M)
-    ok = np.ones(A.shape[2], bool)
-    for k in range(A.shape[0]):
-        d = A[k, k]
-        ok &= d > 0
-        col = A[k + 1:, k] / np.where(d > 0, d, 1.0)
-        A[k + 1:, k + 1:] -= col[:, None, :] * A[k, None, k + 1:]
-    return ok
 
 
 def _box(model, q):

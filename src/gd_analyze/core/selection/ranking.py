@@ -41,7 +41,6 @@ from dataclasses import dataclass
 import numpy as np
 
 from ...config import ROUND_OFF, ROUND_OFF_EPS, defaults
-from ..dynamics.dalembert import compiled_engine
 from .labels import (
     element_index,
     element_label,
@@ -390,7 +389,7 @@ class RankingAccumulator:
         self.peak_tau = np.zeros(n)
         self.count = 0
 
-    def update(self, D_tran, D_rot, h_tran, h_rot, tau, armature=None, engine="auto"):
+    def update(self, D_tran, D_rot, h_tran, h_rot, tau, armature=None):
         """Add a chunk of set points.
 
         Parameters
@@ -403,17 +402,18 @@ class RankingAccumulator:
             Joint torques of the full model [N m].
         armature : ndarray, shape (n,), optional
             The drives' armature Ia [kg m^2] (the same for every chunk); zero if not given.
-        engine : {"auto", "numpy", "compiled"}, optional
-            ``"auto"``: the compiled pass (:func:`gd_analyze.core.selection.kernels.ranking_kernel`)
-            from :data:`gd_analyze.core.dynamics.dalembert.COMPILED_MIN_SETPOINTS` set points
-            in the chunk on, else array code (no numba import). Both give the same values bit
-            for bit (the array code takes blocks of 8192 rows: a longer chunk's sums are
-            added block by block, equal to round-off).
 
         Raises
         ------
         ValueError
-            If the shapes disagree with n or with each other, or the engine is unknown.
+            If the shapes disagree with n or with each other.
+
+        Notes
+        -----
+        One compiled pass over the chunk (:func:`gd_analyze.core.selection.kernels.ranking_kernel`):
+        the sums of |tran| and |rot + arm| (the chunk's in row order, then added), the peaks of
+        |tran|, |rot|, |tran + rot + arm|, sqrt(D_ii D_jj) (D_ii + Ia_i clipped at 0) and
+        |tau|, with the elements of :func:`element_series`.
         """
         n = self.n
         D_tran, D_rot = np.asarray(D_tran, float), np.asarray(D_rot, float)
@@ -423,7 +423,6 @@ class RankingAccumulator:
         if D_tran.shape != (N, n, n) or D_rot.shape != (N, n, n) or h_rot.shape != (N, n) \
                 or h_tran.shape != (N, n) or tau.shape != (N, n):
             raise ValueError(f"D parts must be (N, {n}, {n}) and h parts and tau (N, {n})")
-        compiled = compiled_engine(engine, N)
         if N == 0:
             return
         arm_d = np.zeros(n) if armature is None else np.asarray(armature, float)
@@ -431,40 +430,13 @@ class RankingAccumulator:
             iu = np.triu_indices(n)
             self.arm[:iu[0].size] = np.where(iu[0] == iu[1], arm_d[iu[0]], 0.0)
             self.sum_arm += N * self.arm
-        # one compiled pass over the chunk, the numpy formulation's values bit for bit: sums of
-        # |tran| and |rot + arm| (the chunk's in row order, then added), peaks of |tran|,
-        # |rot|, |tran + rot + arm|, sqrt(D_ii D_jj) (D_ii + Ia_i clipped at 0) and |tau|
-        if compiled:
-            from .kernels import ranking_kernel
+        from .kernels import ranking_kernel  # numba: imported by the first chunk only
 
-            c = np.ascontiguousarray
-            ranking_kernel(c(D_tran), c(D_rot), c(h_tran), c(h_rot), c(tau), self.arm,
-                           c(arm_d), self.sum_tran, self.sum_rot, self.peak_tran,
-                           self.peak_rot, self.peak_total, self.scale_D, self.peak_tau)
-        else:
-            for a in range(0, N, _BLOCK):
-                sl = slice(a, a + _BLOCK)
-                self._add_arrays(D_tran[sl], D_rot[sl], h_tran[sl], h_rot[sl], tau[sl], arm_d)
+        c = np.ascontiguousarray
+        ranking_kernel(c(D_tran), c(D_rot), c(h_tran), c(h_rot), c(tau), self.arm, c(arm_d),
+                       self.sum_tran, self.sum_rot, self.peak_tran, self.peak_rot,
+                       self.peak_total, self.scale_D, self.peak_tau)
         self.count += N
-
-    def _add_arrays(self, D_tran, D_rot, h_tran, h_rot, tau, arm_d):
-        """The numpy engine of :meth:`update` on one block: the kernel's values bit for bit
-        (a column sum over (N, M) rows adds them in row order, as the kernel does)."""
-        n = self.n
-        tran, rot = element_series(D_tran, D_rot, h_tran, h_rot)
-        at = np.abs(tran)
-        self.sum_tran += at.sum(axis=0)
-        self.sum_rot += np.abs(rot + self.arm).sum(axis=0)
-        np.maximum(self.peak_tran, at.max(axis=0), out=self.peak_tran)
-        np.maximum(self.peak_rot, np.abs(rot).max(axis=0), out=self.peak_rot)
-        np.maximum(self.peak_total, np.abs(tran + rot + self.arm).max(axis=0),
-                   out=self.peak_total)
-        diag = np.clip(np.diagonal(D_tran + D_rot, axis1=1, axis2=2) + arm_d, 0.0, None)
-        iu = np.triu_indices(n)
-        with np.errstate(invalid="ignore"):         # 0 x inf
-            np.maximum(self.scale_D, np.sqrt(diag[:, iu[0]] * diag[:, iu[1]]).max(axis=0),
-                       out=self.scale_D)
-        np.maximum(self.peak_tau, np.abs(tau).max(axis=0), out=self.peak_tau)
 
     def result(self, dominance=DEFAULT_DOMINANCE, negligible=DEFAULT_NEGLIGIBLE):
         """Classify the elements from what was accumulated.

@@ -19,8 +19,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ..dynamics.dalembert import compiled_engine
-from ..symbolic.regressor_kernels import part_regressor, regressor_columns
+from ..symbolic.regressor_kernels import regressor_columns
 
 __all__ = ["Region", "RegionLimits", "Excursion", "FULL_TURN", "joint_region", "missing_limits", "sample_positions", "channel_values",
            "packed_channel_count", "velocity_channels", "full_channels", "ChannelValues",
@@ -186,7 +185,7 @@ def full_channels(V: ChannelValues) -> np.ndarray:
     return V.packed()[:, np.concatenate([np.arange(1 + n), 1 + n + velocity_channels(n)])]
 
 
-def channel_values(robot, q, columns, chunk=512, engine="auto"):
+def channel_values(robot, q, columns, chunk=512):
     """The coefficient functions of the regressor at points q, every channel.
 
     Parameters
@@ -201,12 +200,6 @@ def channel_values(robot, q, columns, chunk=512, engine="auto"):
         Most positions per call of the regressor (memory O(chunk n^3 m)); fewer where their
         regressor would exceed :data:`CHANNEL_ELEMENTS` elements (every position's values are
         computed alone, so the values do not depend on it).
-    engine : {"auto", "numpy", "compiled"}, optional
-        ``"auto"``: compiled from
-        :data:`gd_analyze.core.dynamics.dalembert.COMPILED_MIN_SETPOINTS` positions B on,
-        else array code (:func:`gd_analyze.core.symbolic.regressor_kernels.regressor_columns`,
-        each part only at the states it is read at), which never imports numba; the same
-        values to round-off.
 
     Returns
     -------
@@ -221,12 +214,14 @@ def channel_values(robot, q, columns, chunk=512, engine="auto"):
     Raises
     ------
     ValueError
-        If q does not have n columns, or the engine is unknown.
+        If q does not have n columns.
 
     Notes
     -----
     The regressor (:func:`gd_analyze.core.symbolic.base_parameters.regressor`, as
-    :func:`gd_analyze.core.symbolic.regressor_kernels.part_regressor`) split into parts, at
+    :func:`gd_analyze.core.symbolic.regressor_kernels.regressor_columns`, array code: each
+    part only at the states it is read at, within 1.3 times of the compiled regressor kernel
+    here, which computes every part at every state) split into parts, at
     n (n + 1) / 2 states per point: (qd, qdd) = (e_j, e_j) gives C_jj and the inertial
     channel A_j (g = 0), qd = e_j + e_l (j < l) gives C_jl + C_lj + C_jj + C_ll (g = 0), and
     any of them the gravity channel G = W(q, 0, 0).
@@ -251,18 +246,12 @@ def channel_values(robot, q, columns, chunk=512, engine="auto"):
                     np.empty((q.shape[0], packed_channel_count(int(k) + 1), int(k) + 1,
                               int((links == k).sum()))))
                    for k in np.unique(links))
-    compiled = compiled_engine(engine, q.shape[0])
     chunk = max(1, min(int(chunk), CHANNEL_ELEMENTS // (S * 3 * n * max(columns.size, 1))))
     for a in range(0, q.shape[0], chunk):
         qc = q[a:a + chunk]
         B = qc.shape[0]
-        if compiled:
-            W = part_regressor(robot, columns, np.repeat(qc, S, axis=0),
-                               np.tile(qd_units, (B, 1)), np.tile(qdd_units, (B, 1)),
-                               engine="compiled").reshape(B, S, 3, n, -1)
-            grav, inertial, velocity = W[:, 0, 2], W[:, :n, 0], W[:, :, 1]
-        else:       # each part at the states it is read at only: 1 + n + S per position
-            grav, inertial, velocity = _channel_parts(robot, columns, qc, qd_units, qdd_units)
+        # each part at the states it is read at only: 1 + n + S per position
+        grav, inertial, velocity = _channel_parts(robot, columns, qc, qd_units, qdd_units)
         diag = velocity[:, :n]                                # C_jj: (B, j, i, m)
         out[:B, where[:n]] = diag
         out[:B, where[n:]] = 0.5 * (velocity[:, n:] - diag[:, jj[n:]] - diag[:, ll[n:]])
@@ -274,7 +263,7 @@ def channel_values(robot, q, columns, chunk=512, engine="auto"):
 
 
 def _channel_parts(robot, columns, qc, qd_units, qdd_units):
-    """The numpy engine of :func:`channel_values` on B positions: the gravity part at rest
+    """The parts of :func:`channel_values` on B positions, as array code: the gravity part at rest
     (B, n, m), the inertial part at qdd = e_j (B, n, n, m) and the velocity part at every
     state's qd (B, S, n, m), all with g = 0 but gravity's."""
     B, n = qc.shape

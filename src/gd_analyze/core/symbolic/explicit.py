@@ -35,7 +35,6 @@ from functools import cached_property
 import numpy as np
 from numpy.typing import ArrayLike
 
-from .term_arrays import peaks_kernel
 from .trigpoly import TrigPoly
 
 __all__ = ["ExplicitModel", "derive", "Term", "model_terms", "merge_parts", "atoms",
@@ -473,8 +472,7 @@ def _entries(terms, atom, n):
 
 
 def term_peaks(terms: Term, offset: np.ndarray, q: np.ndarray, qd: np.ndarray, qdd: np.ndarray,
-               chunk: int = 65536, prismatic: ArrayLike | None = None,
-               engine: str = "auto") -> np.ndarray:
+               chunk: int = 65536, prismatic: ArrayLike | None = None) -> np.ndarray:
     """Peak |contribution| of every atom of the terms to every joint torque on a trajectory.
 
     Parameters
@@ -490,9 +488,6 @@ def term_peaks(terms: Term, offset: np.ndarray, q: np.ndarray, qd: np.ndarray, q
         Set points per call of the kernel; memory is O(terms) whatever N is.
     prismatic : array_like of bool, shape (n,), optional
         The prismatic joints (their columns of K are powers of q_i [m]); default none.
-    engine : {"auto", "numpy", "compiled"}, optional
-        The kernel, compiled or array code, the same values (:func:`.term_arrays.peaks_kernel`:
-        "auto" keeps a short trajectory from importing numba).
 
     Returns
     -------
@@ -501,12 +496,13 @@ def term_peaks(terms: Term, offset: np.ndarray, q: np.ndarray, qd: np.ndarray, q
         D_ij qdd_i to tau_j, the h and c terms to tau_i); they combine over trajectories and
         chunks by taking the maximum; a NaN contribution is never a peak.
 
-    Raises
-    ------
-    ValueError
-        If the engine is unknown.
+    Notes
+    -----
+    The reduction runs in the compiled kernel
+    :func:`gd_analyze.core.symbolic.term_kernels.atom_peaks_kernel`.
     """
-    kernel = peaks_kernel(engine, np.atleast_2d(q).shape[0])
+    from .term_kernels import atom_peaks_kernel  # numba: imported by the first call
+
     merged, atom = atoms(terms)
     q, qd, qdd = (np.atleast_2d(np.asarray(x, float)) for x in (q, qd, qdd))
     n = q.shape[1]
@@ -524,9 +520,9 @@ def term_peaks(terms: Term, offset: np.ndarray, q: np.ndarray, qd: np.ndarray, q
     c = np.ascontiguousarray
     for a in range(0, q.shape[0], max(1, int(chunk))):
         sl = slice(a, a + max(1, int(chunk)))
-        kernel(c(q[sl] + offset), c(qd[sl]), c(qdd[sl]), c(Ku, np.int64), c(Su), lin,
-               c(hidx, np.int64), c(merged.C, float), c(e_term, np.int64),
-               c(e_vcol, np.int64), c(starts, np.int64), group_peak)
+        atom_peaks_kernel(c(q[sl] + offset), c(qd[sl]), c(qdd[sl]), c(Ku, np.int64), c(Su),
+                          lin, c(hidx, np.int64), c(merged.C, float), c(e_term, np.int64),
+                          c(e_vcol, np.int64), c(starts, np.int64), group_peak)
     np.maximum.at(peaks, (g_atom, g_joint), group_peak)
     return peaks
 

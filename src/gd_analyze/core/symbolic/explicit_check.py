@@ -157,7 +157,7 @@ def terms_disagreement(robot: Robot, terms: Term) -> float:
         got = term_values(terms, q, qd, robot.prismatic)
     except (IndexError, ValueError, TypeError, KeyError):
         return float("inf")
-    ref = gd_terms(robot, q, qd, engine="numpy")
+    ref = gd_terms(robot, q, qd)
     want = (ref.D_tran, ref.D_rot, ref.h_tran, ref.h_rot, ref.c)
     if not all(np.isfinite(x).all() for x in got + want):
         return float("inf")

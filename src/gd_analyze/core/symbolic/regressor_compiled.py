@@ -1,4 +1,4 @@
-"""Compiled regressor recursion: the numba kernel of the regressor contributions' compiled engine.
+"""Compiled regressor recursion: the numba kernel of the regressor contributions.
 
 :func:`_contributions_kernel` is a numba loop over set points of the recursion of
 :func:`.base_parameters.regressor` (Khalil & Kleinfinger 1987; Fu, Gonzalez & Lee 1987, Table
@@ -8,8 +8,7 @@ link per unit base parameter, F = M vd + U MS, N = J wd + w x (J w) + MS x vd wi
 U = skew(wd) + skew(w)^2, carried inward f_{i-1} = R_i f_i, n_{i-1} = R_i n_i + p_i x f_{i-1}
 and read on every joint's axis.
 
-This module imports numba: :mod:`.regressor_kernels` imports it only when it runs the compiled
-engine, so short inputs never import numba.
+This module imports numba: :mod:`.regressor_kernels` imports it by its first call only.
 """
 
 from __future__ import annotations

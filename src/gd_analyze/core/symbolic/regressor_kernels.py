@@ -11,29 +11,22 @@ Fu, Gonzalez & Lee 1987, Table 3.3) on the asked columns only: per part, the out
 of w, wd, vd in body frames (base acceleration -g for the gravity part, Eq. (3.3-46)), the
 wrench of every link per unit parameter, F = M vd + U MS, N = J wd + w x (J w) + MS x vd with
 U = skew(wd) + skew(w)^2, carried inward f_{i-1} = R_i f_i, n_{i-1} = R_i n_i + p_i x f_{i-1}
-and read on every joint's axis. Two engines, the same arithmetic:
-
-- ``"numpy"``: array code over blocks of :data:`BLOCK` set points (:func:`regressor_columns`,
-  every column of a link carried inward together);
-- ``"compiled"``: the numba loop :func:`.regressor_compiled._contributions_kernel`, imported
-  only when it runs.
-
-With ``engine="auto"`` (the default) inputs of at least
-:data:`gd_analyze.core.dynamics.dalembert.COMPILED_MIN_SETPOINTS` set points run compiled,
-shorter ones as array code, which never imports numba nor loads compiled code.
+and read on every joint's axis, in the numba loop :func:`.regressor_compiled._contributions_kernel`
+(imported by the first call). :func:`regressor_columns` is the same recursion as array code
+over blocks of :data:`BLOCK` set points (every column of a link carried inward together), for
+the callers that want whole regressor columns.
 """
 
 from __future__ import annotations
 
 import numpy as np
 
-from ..dynamics.dalembert import compiled_engine
 from ..model.kinematics import as_states
 
 __all__ = ["part_contributions", "contribution_peaks", "stacked_contribution_peaks", "part_regressor", "regressor_columns",
            "BLOCK"]
 
-#: Set points per block of the numpy engine: bounds its temporaries (O(BLOCK n m) floats).
+#: Set points per block of :func:`regressor_columns`: bounds its temporaries (O(BLOCK n m) floats).
 BLOCK = 2048
 #: (row, column) of the inertia-tensor entry of the parameters XX, XY, XZ, YY, YZ, ZZ.
 _JA = (0, 0, 0, 1, 1, 2)
@@ -172,22 +165,6 @@ def _checked_columns(robot, columns):
     return columns
 
 
-def _numpy_parts(robot, columns, q, qd, qdd, out):
-    """The numpy engine of :func:`part_regressor` into ``out`` (N, 3, n, m), by blocks."""
-    link, param, back = _sorted(columns)
-    N = q.shape[0]
-    zero, g0 = np.zeros((min(N, BLOCK), robot.n)), np.zeros(3)
-    for a in range(0, N, BLOCK):
-        sl = slice(a, a + BLOCK)
-        B = q[sl].shape[0]
-        frames = _frames(robot, q[sl])
-        z = zero[:B]
-        for part, (u, acc, g) in enumerate(((z, qdd[sl], g0), (qd[sl], z, g0),
-                                            (z, z, robot.gravity))):
-            _put(out[sl, part], _block_columns(robot, frames, link, param, u, acc, g), back)
-    return out
-
-
 def regressor_columns(robot, columns, q, qd, qdd, gravity=None):
     """Columns of the joint-torque regressor at N states, as array code (no numba).
 
@@ -253,7 +230,7 @@ def _arguments(robot, columns, beta, q, qd, qdd):
             c(robot.gravity, float), columns // 10, columns % 10, c(beta, float))
 
 
-def part_regressor(robot, columns, q, qd, qdd, engine="auto"):
+def part_regressor(robot, columns, q, qd, qdd):
     """Columns of the regressor, split into parts: the contributions at unit beta.
 
     Parameters
@@ -265,10 +242,6 @@ def part_regressor(robot, columns, q, qd, qdd, engine="auto"):
         :data:`.base_parameters.PARAMETER_NAMES`).
     q, qd, qdd : array_like, shape (N, n)
         Joint positions, velocities and accelerations [rad, rad/s, rad/s^2; m, m/s, m/s^2].
-    engine : {"auto", "numpy", "compiled"}, optional
-        ``"auto"``: compiled from :data:`gd_analyze.core.dynamics.dalembert.COMPILED_MIN_SETPOINTS`
-        set points on, array code below (no numba import); the two give the same values to
-        round-off.
 
     Returns
     -------
@@ -281,8 +254,7 @@ def part_regressor(robot, columns, q, qd, qdd, engine="auto"):
     Raises
     ------
     ValueError
-        If the arrays are not of shape (N, n), a column is out of range, or the engine is
-        unknown.
+        If the arrays are not of shape (N, n), or a column is out of range.
 
     Notes
     -----
@@ -303,15 +275,13 @@ def part_regressor(robot, columns, q, qd, qdd, engine="auto"):
     N, n = args[0].shape
     m = columns.size
     out = np.empty((N, 3, n, m))
-    if not compiled_engine(engine, N):
-        return _numpy_parts(robot, columns, *args[:3], out)
     from .regressor_compiled import _contributions_kernel
 
     _contributions_kernel(*args, True, out, np.zeros(n), np.zeros((m, 3, n)), np.zeros((m, n)))
     return out
 
 
-def part_contributions(robot, base, q, qd, qdd, engine="auto"):
+def part_contributions(robot, base, q, qd, qdd):
     """Contribution of every (part, base parameter) to every joint torque.
 
     Parameters
@@ -322,8 +292,6 @@ def part_contributions(robot, base, q, qd, qdd, engine="auto"):
         Its base parameters, b of them (:func:`.base_parameters.base_parameters`).
     q, qd, qdd : array_like, shape (N, n)
         Joint positions, velocities and accelerations [rad, rad/s, rad/s^2; m, m/s, m/s^2].
-    engine : {"auto", "numpy", "compiled"}, optional
-        As for :func:`part_regressor`.
 
     Returns
     -------
@@ -336,7 +304,7 @@ def part_contributions(robot, base, q, qd, qdd, engine="auto"):
     Raises
     ------
     ValueError
-        If the arrays are not of shape (N, n), or the engine is unknown.
+        If the arrays are not of shape (N, n).
 
     Notes
     -----
@@ -359,10 +327,6 @@ def part_contributions(robot, base, q, qd, qdd, engine="auto"):
     N, n = args[0].shape
     b = base.rank
     out = np.empty((N, 3, n, b))
-    if not compiled_engine(engine, N):
-        _numpy_parts(robot, args[7] * 10 + args[8], *args[:3], out)
-        out *= args[9]
-        return out.transpose(1, 0, 2, 3)
     from .regressor_compiled import _contributions_kernel
 
     _contributions_kernel(*args, True, out, np.zeros(n), np.zeros((b, 3, n)),
@@ -370,27 +334,7 @@ def part_contributions(robot, base, q, qd, qdd, engine="auto"):
     return out.transpose(1, 0, 2, 3)
 
 
-def _numpy_peaks(robot, args, out):
-    """The numpy engine of :func:`contribution_peaks`: the peaks of blocks of contributions."""
-    q, qd, qdd = args[:3]
-    columns, beta = args[7] * 10 + args[8], args[9]
-    tau_peak, peak, whole_peak = out
-    n, b = robot.n, beta.size
-    buf = np.empty((min(q.shape[0], BLOCK), 3, n, b))
-    for a in range(0, q.shape[0], BLOCK):
-        sl = slice(a, a + BLOCK)
-        B = q[sl].shape[0]
-        val = _numpy_parts(robot, columns, q[sl], qd[sl], qdd[sl], buf[:B])
-        val *= beta
-        s = (val[:, 0] + val[:, 1]) + val[:, 2]                          # (B, n, b)
-        # a NaN is never a peak (the kernel's ``if v > peak``): fmax skips it
-        np.fmax(tau_peak, np.fmax.reduce(np.abs(s.sum(axis=2)), axis=0), out=tau_peak)
-        np.fmax(whole_peak, np.fmax.reduce(np.abs(s), axis=0).T, out=whole_peak)
-        np.fmax(peak, np.fmax.reduce(np.abs(val), axis=0).transpose(2, 0, 1), out=peak)
-    return out
-
-
-def contribution_peaks(robot, base, q, qd, qdd, out=None, engine="auto"):
+def contribution_peaks(robot, base, q, qd, qdd, out=None):
     """Running peaks of the joint torques and of every part contribution.
 
     Parameters
@@ -405,8 +349,6 @@ def contribution_peaks(robot, base, q, qd, qdd, out=None, engine="auto"):
     out : tuple of ndarray, optional
         ``(tau_peak, peak, whole_peak)`` from an earlier call (earlier chunks), updated in
         place by maximum; new zero arrays by default.
-    engine : {"auto", "numpy", "compiled"}, optional
-        As for :func:`part_regressor` (N set points of this call).
 
     Returns
     -------
@@ -420,14 +362,12 @@ def contribution_peaks(robot, base, q, qd, qdd, out=None, engine="auto"):
     Raises
     ------
     ValueError
-        If the arrays are not of shape (N, n), ``out`` has the wrong shapes, or the engine is
-        unknown.
+        If the arrays are not of shape (N, n), or ``out`` has the wrong shapes.
 
     Notes
     -----
-    The contributions of :func:`part_contributions`, reduced as they are computed (per set
-    point compiled, per block of :data:`BLOCK` set points as array code), so memory is
-    O(n b) whatever N is. Peaks combine over chunks (and over trajectories) by maximum; a NaN
+    The contributions of :func:`part_contributions`, reduced as they are computed, set point
+    by set point, so memory is O(n b) whatever N is. Peaks combine over chunks (and over trajectories) by maximum; a NaN
     contribution is never kept as a peak.
 
     Examples
@@ -450,22 +390,14 @@ def contribution_peaks(robot, base, q, qd, qdd, out=None, engine="auto"):
     shapes = ((n,), (b, 3, n), (b, n))
     if len(out) != 3 or any(np.shape(x) != s for x, s in zip(out, shapes)):
         raise ValueError(f"out must be arrays of shapes {shapes}")
-    if not compiled_engine(engine, args[0].shape[0]):
-        return _numpy_peaks(robot, args, out)
     from .regressor_compiled import _contributions_kernel
 
     _contributions_kernel(*args, False, np.empty((0, 3, n, b)), *out)
     return out
 
 
-def stacked_contribution_peaks(robot, base, q, qd, qdd, lengths, engine="auto"):
+def stacked_contribution_peaks(robot, base, q, qd, qdd, lengths):
     """:func:`contribution_peaks` of each of K trajectories stacked one after the other.
-
-    Consecutive short trajectories (those :func:`contribution_peaks` with ``engine`` would run
-    as array code) are evaluated together, up to :data:`BLOCK` set points at a time, and
-    their peaks taken per trajectory by a segmented maximum (``numpy.fmax.reduceat``): for
-    31-set-point trajectories the per-call overhead of the array code, not the arithmetic,
-    was the cost. A longer trajectory is one call of :func:`contribution_peaks`.
 
     Parameters
     ----------
@@ -478,8 +410,6 @@ def stacked_contribution_peaks(robot, base, q, qd, qdd, lengths, engine="auto"):
         them [rad, rad/s, rad/s^2; m, m/s, m/s^2].
     lengths : sequence of int
         The set points of each trajectory, each >= 1, summing to N.
-    engine : {"auto", "numpy", "compiled"}, optional
-        As for :func:`contribution_peaks`, decided per trajectory on its own length.
 
     Returns
     -------
@@ -492,42 +422,17 @@ def stacked_contribution_peaks(robot, base, q, qd, qdd, lengths, engine="auto"):
 
     Notes
     -----
-    A NaN contribution is never a peak (as in :func:`contribution_peaks`): ``fmax`` skips it,
-    and a trajectory whose every value is NaN keeps 0.
+    One call of :func:`contribution_peaks` per trajectory, into its rows of the results. A
+    NaN contribution is never a peak, and a trajectory whose every value is NaN keeps 0.
     """
     lengths = np.asarray([int(k) for k in lengths], dtype=np.int64)
     starts = np.concatenate([[0], np.cumsum(lengths)])
     K, n, b = lengths.size, robot.n, base.rank
     tau_peak, peak = np.zeros((K, n)), np.zeros((K, b, 3, n))
     whole_peak = np.zeros((K, b, n))
-    args = _arguments(robot, np.flatnonzero(base.independent.reshape(-1)), base.beta, q, qd,
-                      qdd)
-    columns, beta = args[7] * 10 + args[8], args[9]
-    q, qd, qdd = args[:3]
-    buf = None
-    k = 0
-    while k < K:
-        if compiled_engine(engine, int(lengths[k])) or lengths[k] > BLOCK:
-            sl = slice(starts[k], starts[k + 1])
-            contribution_peaks(robot, base, q[sl], qd[sl], qdd[sl],
-                               out=(tau_peak[k], peak[k], whole_peak[k]), engine=engine)
-            k += 1
-            continue
-        j = k + 1                   # the short trajectories k..j-1, at most BLOCK set points
-        while (j < K and not compiled_engine(engine, int(lengths[j]))
-               and starts[j + 1] - starts[k] <= BLOCK):
-            j += 1
-        a, e = int(starts[k]), int(starts[j])
-        if buf is None:
-            buf = np.empty((BLOCK, 3, n, b))
-        val = _numpy_parts(robot, columns, q[a:e], qd[a:e], qdd[a:e], buf[:e - a])
-        val *= beta
-        s = (val[:, 0] + val[:, 1]) + val[:, 2]                          # (B, n, b)
-        at = starts[k:j] - a
-        tau_peak[k:j] = np.fmax(0.0, np.fmax.reduceat(np.abs(s.sum(axis=2)), at, axis=0))
-        whole_peak[k:j] = np.fmax(0.0, np.fmax.reduceat(np.abs(s), at, axis=0)).transpose(
-            0, 2, 1)
-        peak[k:j] = np.fmax(0.0, np.fmax.reduceat(np.abs(val), at, axis=0)).transpose(
-            0, 3, 1, 2)
-        k = j
+    q, qd, qdd = as_states(robot, q, qd, qdd)
+    for k in range(K):
+        sl = slice(starts[k], starts[k + 1])
+        contribution_peaks(robot, base, q[sl], qd[sl], qdd[sl],
+                           out=(tau_peak[k], peak[k], whole_peak[k]))
     return tau_peak, peak, whole_peak

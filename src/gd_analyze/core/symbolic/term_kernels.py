@@ -6,9 +6,8 @@ terms (Fu, Gonzalez & Lee 1987, Eqs. (3.4-24) to (3.4-28) in their Fourier form,
 storing the (N, terms) contributions, a block of set points at a time: the cos and sin of the
 joint angles, the distinct harmonics from them by the angle-addition formulas, the velocity
 columns [qdd, qd_a qd_b, 1], then per (atom, joint) group the sum of its entries' coefficient
-x harmonic x velocity column, abs, max. Trajectories shorter than
-:data:`gd_analyze.core.dynamics.dalembert.COMPILED_MIN_SETPOINTS` take the array code of
-:mod:`.term_arrays` instead (:func:`.term_arrays.peaks_kernel`), which never imports numba.
+x harmonic x velocity column, abs, max. The tests keep the same arithmetic as array code,
+their oracle.
 """
 
 from __future__ import annotations
