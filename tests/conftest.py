@@ -116,7 +116,8 @@ def shared_main():
 
     ``shared_main(robot, trajectory, *options)`` runs ``gd-analyze robot trajectory -o
     <folder> -q *options`` (with its report unless ``--no-report`` is among the options) the
-    first time any xdist worker asks for those arguments, and returns its output folder. Shared:
+    first time any xdist worker asks for those arguments, and returns its output folder; a
+    command's arguments likewise (``shared_main("sweep", robot, *options)``). Shared:
     tests must not modify it; a test that writes next to a run writes in its own ``tmp_path``
     (a symbolic link to the run where it needs the run in its folder).
     """

@@ -148,7 +148,7 @@ def test_plan_writes_the_shipped_stanford_trajectory(tmp_path, capsys):
 
 
 def test_evaluate_and_max_error_gate(tmp_path, capsys, shared_main):
-    out_dir = shared_main("puma560", SHIPPED, "--no-report")        # shared, read only
+    out_dir = shared_main("puma560", SHIPPED)        # shared, read only
     model = out_dir / "simplified_model.json"
     other = tmp_path / "other.csv"
     assert _run(["plan", "puma560", "-o", other, "--start", "0,45,-90,0,30,0", "--goal",
@@ -195,7 +195,7 @@ def test_compare_json(capsys):
 @pytest.mark.slow
 def test_payload_changes_the_torques_and_is_recorded(tmp_path, capsys, shared_main):
     loaded = tmp_path / "loaded"
-    plain = shared_main("puma560", SHIPPED, "--no-report")          # shared, read only
+    plain = shared_main("puma560", SHIPPED)          # shared, read only
     code, _, err = _run(["puma560", SHIPPED, "-o", loaded, "--no-report", "-q", "--payload",
                          "2.5", "--payload-com", "0,0,0.05", "--payload-inertia",
                          "0.002,0.002,0.001"], capsys)
@@ -215,7 +215,7 @@ def test_payload_changes_the_torques_and_is_recorded(tmp_path, capsys, shared_ma
 
 @pytest.mark.slow
 def test_control_command(tmp_path, capsys, shared_main):
-    out_dir = shared_main("puma560", SHIPPED, "--no-report")        # shared, read only
+    out_dir = shared_main("puma560", SHIPPED)        # shared, read only
     model = out_dir / "simplified_model.json"
     code, out, err = _run(["control", model, SHIPPED, "-o", tmp_path / "c", "--no-report",
                            "--json"], capsys)
@@ -237,7 +237,7 @@ def test_control_command(tmp_path, capsys, shared_main):
 
 
 def test_evaluate_under_a_payload(capsys, shared_main):
-    out_dir = shared_main("puma560", SHIPPED, "--no-report")        # shared, read only
+    out_dir = shared_main("puma560", SHIPPED)        # shared, read only
     model = out_dir / "simplified_model.json"
     code, out, _ = _run(["evaluate", model, SHIPPED, "--json"], capsys)
     bare = json.loads(out)
@@ -481,7 +481,7 @@ def test_control_printout_marks_integrator_noise_as_the_report_does(tmp_path, ca
     from gd_analyze.io.schema import open_results
     from gd_analyze.reports.control_text import dataset_verdict
 
-    out_dir = shared_main("puma560", SHIPPED, "--no-report")        # shared, read only
+    out_dir = shared_main("puma560", SHIPPED)        # shared, read only
     code, out, err = _run(["control", out_dir / "simplified_model.json", SHIPPED, "-o",
                            tmp_path / "c", "--no-report"], capsys)
     assert code == 0, err

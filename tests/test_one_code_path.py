@@ -123,13 +123,24 @@ def test_the_console_script_freezes_after_the_main_job_s_imports(tmp_path):
     assert out["x"]["frozen"] > 0           # every command: frozen after the CLI's imports
 
 
+@pytest.fixture
+def puma_cached(shared_main):
+    """The PUMA 560's default run on its shipped trajectory, shared (tests/conftest.py): once
+    it ran, the session's derivation cache holds the arm for every run with its arguments."""
+    from conftest import SHIPPED
+
+    return shared_main("puma560", SHIPPED)
+
+
 @pytest.mark.slow
-def test_the_console_script_imports_ahead_only_what_the_job_loads_anyway(tmp_path):
+def test_the_console_script_imports_ahead_only_what_the_job_loads_anyway(tmp_path, puma_cached):
     """The libraries imported ahead of the freeze are ones the main job loads itself, with its
     report and with ``--no-report``, once its derivation cache holds the arm: importing
     anything else ahead only adds start-up time (scipy.linalg, 0.07 s, was; Jinja2 was ahead
     of a run without a report). The oracle is ``sys.modules`` after ``main`` ran the job in a
-    child that imported nothing ahead."""
+    child that imported nothing ahead: first without its report (none of the report's
+    libraries may be loaded then), then, in the same child, with it (a job with its report
+    does the same analysis first, so the libraries the first job loaded are its own too)."""
     import json
     import os
     import subprocess
@@ -139,21 +150,24 @@ def test_the_console_script_imports_ahead_only_what_the_job_loads_anyway(tmp_pat
 
     from gd_analyze.cli import MAIN_JOB_IMPORTS, REPORT_IMPORTS
 
+    # the derivation cache holds the arm (puma_cached: the child's arguments but -o)
     probe = ("import json, sys\nsys.modules['dask'] = None\n"
              "from gd_analyze.cli import main\n"
-             "assert main(sys.argv[1:]) == 0\n"
-             "print(json.dumps(sorted(sys.modules)))\n")
-    # the session's derivation cache (tests/conftest.py): the first run fills it if no test
-    # has yet
+             "loaded = []\n"
+             "for extra in (['--no-report'], []):\n"
+             "    out = sys.argv[1] + str(len(loaded))\n"
+             "    assert main([*sys.argv[2:], '-o', out, *extra]) == 0\n"
+             "    loaded.append(sorted(sys.modules))\n"
+             "print(json.dumps(loaded))\n")
     env = {**os.environ, "PYTHONPATH": str(SRC.parent), "MPLBACKEND": "Agg"}
     env.pop("GD_ANALYZE_NO_CACHE", None)
-    loaded = {}
-    for k, extra in enumerate([[], [], ["--no-report"]]):
-        done = subprocess.run([sys.executable, "-c", probe, "puma560", str(SHIPPED), "-q",
-                               "-o", str(tmp_path / f"out{k}"), *extra], cwd=tmp_path,
-                              env=env, capture_output=True, text=True, check=True)
-        loaded[k] = set(json.loads(done.stdout))
-    assert set(MAIN_JOB_IMPORTS + REPORT_IMPORTS) <= loaded[1], \
-        set(MAIN_JOB_IMPORTS + REPORT_IMPORTS) - loaded[1]
-    assert set(MAIN_JOB_IMPORTS) <= loaded[2], set(MAIN_JOB_IMPORTS) - loaded[2]
-    assert not set(REPORT_IMPORTS) & loaded[2], set(REPORT_IMPORTS) & loaded[2]
+    done = subprocess.run([sys.executable, "-c", probe, str(tmp_path / "out"), "puma560",
+                           str(SHIPPED), "-q"], cwd=tmp_path, env=env, capture_output=True,
+                          text=True, check=True)
+    without, with_report = (set(names) for names in json.loads(done.stdout))
+    assert (tmp_path / "out1" / "report.pdf").is_file() and not (tmp_path / "out0").joinpath(
+        "report.pdf").exists()
+    assert set(MAIN_JOB_IMPORTS) <= without, set(MAIN_JOB_IMPORTS) - without
+    assert not set(REPORT_IMPORTS) & without, set(REPORT_IMPORTS) & without
+    assert set(MAIN_JOB_IMPORTS + REPORT_IMPORTS) <= with_report, \
+        set(MAIN_JOB_IMPORTS + REPORT_IMPORTS) - with_report

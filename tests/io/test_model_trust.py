@@ -25,11 +25,11 @@ pytestmark = pytest.mark.slow
 @pytest.fixture(scope="module")
 def models(tmp_path_factory, shared_main):
     """The main job's region model and trajectory model of the PUMA 560 on its shipped
-    trajectory (no report); the runs are shared (read only), linked into the module's folder,
-    where the tests write their forged files."""
+    trajectory; the runs (with their reports) are shared (read only), linked into the
+    module's folder, where the tests write their forged files."""
     folder = tmp_path_factory.mktemp("trust")
     for name, extra in (("region", ()), ("trajectory", ("--guarantee", "trajectory"))):
-        (folder / name).symlink_to(shared_main("puma560", SHIPPED, "--no-report", *extra),
+        (folder / name).symlink_to(shared_main("puma560", SHIPPED, *extra),
                                    target_is_directory=True)
     region = json.loads((folder / "region" / "simplified_model.json").read_text())
     trajectory = json.loads((folder / "trajectory" / "simplified_model.json").read_text())

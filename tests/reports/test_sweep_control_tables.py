@@ -15,7 +15,7 @@ import shlex
 
 import numpy as np
 import pytest
-from conftest import ROOT
+from conftest import ROOT, built_once
 from table_checks import number, reads_back
 from table_checks import tables as _tables
 
@@ -31,18 +31,26 @@ pytestmark = pytest.mark.slow
 
 
 @pytest.fixture(scope="module", params=("puma560", "stanford"))
-def runs(request, tmp_path_factory, shared_main):
+def runs(request, shared_main):
     """The main job (shared, read only, linked as ``main``), the control run on its model and
-    a 3-trajectory sweep, by the command line; the control run's argv as given."""
+    a 3-trajectory sweep, by the command line; the control run's argv as given. Built once a
+    session per robot (:func:`conftest.built_once`), shared by the xdist workers: read only."""
     name = request.param
-    tmp = tmp_path_factory.mktemp(name)
     csv = str(ROOT / "data" / f"{name}_trajectory.csv")
-    (tmp / "main").symlink_to(shared_main(name, csv, "--no-report"), target_is_directory=True)
-    argv = ["control", str(tmp / "main" / "simplified_model.json"), csv,
-            "-o", str(tmp / "control"), "-q"]
-    assert main(list(argv)) == 0
-    assert main(["sweep", name, "--random", "3", "--seed", "2", "--workers", "1",
-                 "--held-out", "0", "-o", str(tmp / "sweep"), "-q", "--no-report"]) == 0
+    run = shared_main(name, csv)
+
+    def control_argv(folder):
+        return ["control", str(folder / "main" / "simplified_model.json"), csv,
+                "-o", str(folder / "control"), "-q"]
+
+    def build(folder):
+        (folder / "main").symlink_to(run, target_is_directory=True)
+        assert main(control_argv(folder)) == 0
+        assert main(["sweep", name, "--random", "3", "--seed", "2", "--workers", "1",
+                     "--held-out", "0", "-o", str(folder / "sweep"), "-q", "--no-report"]) == 0
+
+    tmp = built_once(f"sweep-control-tables-{name}", build)
+    argv = control_argv(tmp)
     sweep = open_sweep(tmp / "sweep" / "sweep.h5", "sweep")
     control = open_results(str(tmp / "control" / "control.h5"))
     return {"name": name, "argv": argv, "folder": tmp, "sweep": sweep, "control": control,

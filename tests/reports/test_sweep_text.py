@@ -27,10 +27,11 @@ def _rows(html, anchor):
 
 
 @pytest.fixture(scope="module", params=["budget", "chapter"])
-def swept(request, tmp_path_factory):
-    out = tmp_path_factory.mktemp(request.param)
-    assert main(["sweep", "puma560", "--random", "3", "--seed", "1", "--workers", "1",
-                 "--held-out", "0", "--rule", request.param, "-o", str(out), "-q"]) == 0
+def swept(request, shared_main):
+    """The sweep of the PUMA 560 by a rule, with its report: run once a session, shared by the
+    xdist workers (tests/conftest.py's ``shared_main``, keyed by the arguments); read only."""
+    out = shared_main("sweep", "puma560", "--random", "3", "--seed", "1", "--workers", "1",
+                      "--held-out", "0", "--rule", request.param)
     return request.param, out
 
 

@@ -26,23 +26,22 @@ from gd_analyze.reports.sweep_figures import make_sweep_figures
 pytestmark = pytest.mark.slow
 
 
-def _sweep(tmp_path_factory, robot, rule):
-    """A sweep whose budget rule merges on the swept trajectories (their scales s_i)."""
-    out = tmp_path_factory.mktemp(f"{robot}-{rule}")
-    assert main(["sweep", robot, "--random", "3", "--seed", "1", "--workers", "1",
-                 "--held-out", "0", "--rule", rule, "-o", str(out), "-q",
-                 "--guarantee", "trajectory"]) == 0
-    return out
+def _sweep(shared_main, robot, rule):
+    """A sweep whose budget rule merges on the swept trajectories (their scales s_i), with its
+    report: run once a session, shared by the xdist workers (tests/conftest.py's
+    ``shared_main``, keyed by the arguments); read only."""
+    return shared_main("sweep", robot, "--random", "3", "--seed", "1", "--workers", "1",
+                       "--held-out", "0", "--rule", rule, "--guarantee", "trajectory")
 
 
 @pytest.fixture(scope="module")
-def stanford(tmp_path_factory):
-    return _sweep(tmp_path_factory, "stanford", "budget")
+def stanford(shared_main):
+    return _sweep(shared_main, "stanford", "budget")
 
 
 @pytest.fixture(scope="module")
-def chapter(tmp_path_factory):
-    return _sweep(tmp_path_factory, "puma560", "chapter")
+def chapter(shared_main):
+    return _sweep(shared_main, "puma560", "chapter")
 
 
 def test_chapter_merged_model_claims_no_validity_it_lacks(chapter):

@@ -37,7 +37,7 @@ def _ops(c):
 @pytest.fixture(scope="module")
 def puma_run(shared_main):
     # shared, read only (tests/io/test_model_trust.py reads the same run)
-    out = shared_main("puma560", SHIPPED, "--no-report", "--guarantee", "trajectory")
+    out = shared_main("puma560", SHIPPED, "--guarantee", "trajectory")
     return out, json.loads((out / "simplified_model.json").read_text())
 
 
@@ -45,7 +45,7 @@ def test_region_model_by_default_bound_within_the_region_budget(shared_main):
     """The default PUMA model carries the region guarantee: its bound is within EPS of the
     region's scale, holds on the shipped trajectory (inside the region) against rnea, and it
     is cheaper than the exact recursive model."""
-    out = shared_main("puma560", SHIPPED, "--no-report")      # the default run, read only
+    out = shared_main("puma560", SHIPPED)      # the default run, read only
     spec = json.loads((out / "simplified_model.json").read_text())
     g = spec["guarantee"]
     assert g["kind"] == "region" and "(proved" in g["statement"]

@@ -91,7 +91,7 @@ def test_no_saving_takes_the_early_exit_with_a_proved_exact_model(tmp_path, monk
 def test_the_puma_main_job_is_searched(shared_main):
     """The PUMA 560's default run (its region model counts 308 operations against the exact
     320) is certified and searched: no screen in its provenance, pairs dropped."""
-    out = shared_main("puma560", SHIPPED, "--no-report")      # the default run, read only
+    out = shared_main("puma560", SHIPPED)      # the default run, read only
     spec = json.loads((out / "simplified_model.json").read_text())
     assert "region_screen" not in spec["provenance"]
     assert spec["guarantee"]["kind"] == "region"

@@ -244,7 +244,7 @@ def test_form_recursive_derives_no_explicit_model_and_says_so(tmp_path, capsys, 
 
     assert main(["puma560", str(SHIPPED), "-o", str(tmp_path / "rec"), "-q",
                  "--form", "recursive"]) == 0
-    default_run = shared_main("puma560", SHIPPED, "--no-report")     # shared, read only
+    default_run = shared_main("puma560", SHIPPED)     # shared, read only
     rec = json.loads((tmp_path / "rec" / "simplified_model.json").read_text())
     default = json.loads((default_run / "simplified_model.json").read_text())
     assert rec["form"] == default["form"] == "recursive"

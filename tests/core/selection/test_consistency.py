@@ -21,7 +21,7 @@ from gd_analyze.io.trajectory import read_trajectory
 @pytest.fixture(scope="module")
 def region_model(shared_main):
     # the default run (shared, read only: the tests write edited copies in their tmp_path)
-    path = shared_main("puma560", SHIPPED, "--no-report") / "simplified_model.json"
+    path = shared_main("puma560", SHIPPED) / "simplified_model.json"
     return path, json.loads(path.read_text())
 
 
