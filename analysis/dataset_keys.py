@@ -96,24 +96,26 @@ def counts(src=SRC, folders=FOLDERS):
     return table
 
 
+def _table(table):
+    """The table as printed: sites per module, then the total by kind."""
+    total = Counter()
+    for c in table.values():
+        total.update(c)
+    rows = [f"{module:<36} {sum(c.values()):>6}" for module, c in table.items()]
+    kinds = ", ".join(f"{k} {v}" for k, v in sorted(total.items()))
+    return [f"{'module':<36} {'sites':>6}", *rows, f"{'all':<36} {sum(total.values()):>6}   {kinds}"]
+
+
 def main():
     parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     parser.add_argument("--list", metavar="DIR", help="list each site under DIR (relative to "
                         "src/gd_analyze)")
     args = parser.parse_args()
-    table = counts()
-    total = Counter()
-    print(f"{'module':<36} {'sites':>6}")
-    for module, c in table.items():
-        total.update(c)
-        print(f"{module:<36} {sum(c.values()):>6}")
-    print(f"{'all':<36} {sum(total.values()):>6}   "
-          + ", ".join(f"{k} {v}" for k, v in sorted(total.items())))
+    print("\n".join(_table(counts())))
     if args.list:
-        for path in sorted((SRC / args.list).rglob("*.py")):
-            for line, kind, source in sites(path):
-                print(f"{path.relative_to(SRC)}:{line}: {kind}: {source}")
-
+        print("\n".join(f"{path.relative_to(SRC)}:{line}: {kind}: {source}"
+                        for path in sorted((SRC / args.list).rglob("*.py"))
+                        for line, kind, source in sites(path)))
 
 if __name__ == "__main__":
     main()
