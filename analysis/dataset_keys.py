@@ -9,11 +9,13 @@ forms, each counted once (a name constant inside a counted site is not counted a
   ``.attrs``, ``.shape``): an xarray variable read by name, ``k`` any expression;
 * ``ds[k]`` or ``k in ds`` for ``ds`` a name ending in ``ds`` or ``dataset`` (``x.dataset``):
   the same, without ``.values``;
+* ``f(ds, "k")``: a string passed with a dataset to a helper that reads it by that name;
 * any other use of a name constant of :mod:`gd_analyze.io.names` (``Var.X``, ``Attr.X``,
   e.g. passed to a helper that reads the dataset).
 
     python analysis/dataset_keys.py                 # per module, and the total
     python analysis/dataset_keys.py --list reports  # also each site under a folder
+    python analysis/dataset_keys.py --src OTHER/src/gd_analyze   # another checkout
 """
 
 import argparse
@@ -62,6 +64,9 @@ def _site(node, parent):
                 return "x[k].values"
         if _is_dataset(node.value):
             return "ds[k]"
+    if isinstance(node, ast.Call) and any(_is_dataset(a) for a in node.args) and any(
+            isinstance(a, ast.Constant) and isinstance(a.value, str) for a in node.args):
+        return "f(ds, 'k')"
     if _is_constant(node):
         return "name constant"
     return None
@@ -110,11 +115,13 @@ def main():
     parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     parser.add_argument("--list", metavar="DIR", help="list each site under DIR (relative to "
                         "src/gd_analyze)")
+    parser.add_argument("--src", type=Path, default=SRC, help="the package's folder "
+                        "(default: this checkout's src/gd_analyze)")
     args = parser.parse_args()
-    print("\n".join(_table(counts())))
+    print("\n".join(_table(counts(args.src))))
     if args.list:
-        print("\n".join(f"{path.relative_to(SRC)}:{line}: {kind}: {source}"
-                        for path in sorted((SRC / args.list).rglob("*.py"))
+        print("\n".join(f"{path.relative_to(args.src)}:{line}: {kind}: {source}"
+                        for path in sorted((args.src / args.list).rglob("*.py"))
                         for line, kind, source in sites(path)))
 
 if __name__ == "__main__":
