@@ -335,13 +335,14 @@ def test_summary_gives_the_model_cost_beside_newton_euler(tmp_path, capsys):
 
 def test_summary_warns_when_the_model_does_not_pay():
     from gd_analyze.cli.commands import _cost_lines
+    from gd_analyze.io.stored_model import CostTable
 
     names = ["explicit, budget EPS=0.01 (this model)", "project N-E as implemented"]
     ds = xr.Dataset({"cost_multiplications": ("cost_model", [900, 600]),
                      "cost_additions": ("cost_model", [800, 500]),
                      "cost_total": ("cost_model", [1700, 1100])},
                     coords={"cost_model": names})
-    lines = _cost_lines(ds)
+    lines = _cost_lines(CostTable.from_dataset(ds))
     assert "1,700 operations" in lines[1] and lines[1].endswith("1,100")
     assert "does not beat Newton-Euler" in lines[2]
 

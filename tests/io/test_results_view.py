@@ -103,7 +103,8 @@ def test_open_reads_what_the_memory_view_reads(shipped_dataset, tmp_path):
     assert opened.region["lines"] == memory.region["lines"]
 
 
-@pytest.mark.parametrize("missing", [Var.SHARE_TRAN, Var.TAU_ERROR_PEAK])
+@pytest.mark.parametrize("missing", [Var.SHARE_TRAN, Var.TAU_ERROR_PEAK, Var.LINK_MASS,
+                                     Var.DH_ALPHA])
 def test_a_missing_variable_is_one_line_naming_file_and_variable(shipped_dataset, tmp_path,
                                                                  missing):
     path = tmp_path / "results.h5"
@@ -121,3 +122,38 @@ def test_stored_marks_are_read_not_decided_again(shipped_dataset):
     ds[Var.ELEMENT_ROUND_OFF].values[k] = 1
     line = Results.from_dataset(ds).ranking.text()[k + 1]
     assert line.count(ZERO_MARK) == 2, line
+
+
+@pytest.mark.parametrize("name", ["stanford", "ur5"])
+def test_the_stored_robot_is_the_robot_analysed(shipped_dataset, name):
+    # the robot's view against the robot loaded again: links, geometry, joint types, limits
+    robot, stored = load_robot(name), Results.from_dataset(shipped_dataset(name)).robot_record
+    np.testing.assert_array_equal(stored.link_mass, robot.mass)
+    np.testing.assert_array_equal(stored.link_com, robot.com)
+    np.testing.assert_array_equal(stored.dh[1], robot.a)
+    np.testing.assert_array_equal(stored.dh[2], robot.alpha)
+    assert stored.joint_type == tuple("prismatic" if p else "revolute" for p in robot.prismatic)
+    np.testing.assert_array_equal(stored.effort_limit, robot.tau_max)
+    assert stored.drives is None or not stored.has_drives      # the shipped arms: no drives
+
+
+def test_the_trajectory_is_read_on_demand_from_the_dataset(shipped_dataset):
+    ds = shipped_dataset("puma560")
+    traj = Results.from_dataset(ds).trajectory
+    got = read_trajectory(ROOT / "data" / "puma560_trajectory.csv", 6)
+    np.testing.assert_allclose(traj.t, got.t, rtol=0, atol=0)
+    for stored, read in zip(traj.motion, (got.q, got.qd, got.qdd)):
+        np.testing.assert_allclose(stored, read, rtol=0, atol=0)
+    assert traj.tau_f is None                                   # no drives, no friction
+
+
+def test_other_attributes_are_kept_with_the_setting_they_record(shipped_dataset):
+    # an attribute this version does not name is among the others, with the setting it
+    # records beside it (simplified_x beside x); a named one is a field, not an other
+    ds = shipped_dataset("puma560").copy()
+    ds.attrs = {**ds.attrs, "zz_new": "a", "simplified_zz_new": "b", "robot_tip": "link6"}
+    others = {k: (v, twin) for k, v, twin in Results.from_dataset(ds).provenance.others}
+    assert others["zz_new"] == ("a", None) and others["simplified_zz_new"] == ("b", "a")
+    assert others["robot_tip"] == ("link6", None)
+    assert not any(k.startswith("verification_") or k == "rule" for k in others)
+    assert list(others) == sorted(others)

@@ -29,7 +29,6 @@ from ..formulations.compare import compare_report, format_compare
 from ..io import control_dataset as control_file
 from ..io.excitation import DEFAULT_HARMONICS, plan_excitation
 from ..io.model_file import load_model
-from ..io.names import Attr, Var
 from ..io.planning import (
     DEFAULT_SETPOINTS,
     acceleration_limits,
@@ -208,18 +207,19 @@ def _warn_limits(robot, trajectory, quiet):
 
 
 
-def _cost_lines(ds):
-    """The simplified model's counted operations beside Newton-Euler's, from the stored table."""
-    if Var.COST_MODEL not in ds.coords or Var.COST_TOTAL not in ds.variables:
+def _cost_lines(costs):
+    """The simplified model's counted operations beside Newton-Euler's, from the stored table
+    (:class:`gd_analyze.io.stored_model.CostTable`, or None)."""
+    if costs is None:
         return []
-    names = [str(v) for v in ds[Var.COST_MODEL].values]
+    names = list(costs.models)
     mine = [k for k, name in enumerate(names) if name.endswith("(this model)")]
     ne = [k for k, name in enumerate(names) if name == "project N-E as implemented"]
     if not mine or not ne:
         return []
-    m, a = (int(ds[v].values[mine[0]]) for v in ("cost_multiplications", "cost_additions"))
-    total, ne_total = m + a, int(ds[Var.COST_TOTAL].values[ne[0]])
-    others = "".join(f"; {label}: {int(ds['cost_total'].values[names.index(key)]):,}"
+    m, a = int(costs.multiplications[mine[0]]), int(costs.additions[mine[0]])
+    total, ne_total = m + a, int(costs.total[ne[0]])
+    others = "".join(f"; {label}: {int(costs.total[names.index(key)]):,}"
                      for key, label in (("recursive N-E, exact", "exact recursive model"),
                                         ("explicit, full", "full explicit model"))
                      if key in names)
@@ -241,10 +241,10 @@ def _joint_units(robot, which):
     return joint_units_text(units)
 
 
-def _effort_lines(ds):
+def _effort_lines(results):
     """Each joint's peak |tau| against its effort limit, where the robot gives one."""
 
-    rows = effort_rows(ds)
+    rows = effort_rows(results)
     if not rows:
         return []
     lines = ["", "effort limits (peak |tau| of the full model against the robot's limit):",
@@ -270,7 +270,7 @@ def _guarantee_lines(results):
         statement += ("; this trajectory is not covered: it leaves the region (the guarantee "
                       "holds in the region, not on this trajectory)")
     lines.append(f"guarantee: {statement}")
-    screen = str(results.dataset.attrs.get(Attr.SIMPLIFIED_REGION_SCREEN, ""))
+    screen = results.region_screen
     if screen:
         lines.append(f"region certification skipped: {screen}")
     if scope.get("scale") is not None and scope["kind"] != "none":
@@ -297,8 +297,8 @@ def _format_summary(results):
              f"{count(results.setpoints)} set points, s = {results.dominance_threshold:g}, "
              f"e = {results.negligible_threshold:g}", "", *results.ranking.text()]
     lines += ["", "simplified model torque error per joint:", *results.torque_error.text()]
-    lines += _effort_lines(results.dataset)
-    lines += _cost_lines(results.dataset)
+    lines += _effort_lines(results)
+    lines += _cost_lines(results.costs)
     if results.guarantee is not None:           # the model built, as results.h5 stores it
         lines += ([] if lines[-1].startswith(("simplified model", "  it does")) else [""])
         lines += _guarantee_lines(results)

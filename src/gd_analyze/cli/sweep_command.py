@@ -20,6 +20,7 @@ from ..io.schema import write_dataset
 from ..io.staging import staged_output, writing
 from ..io.sweep_datasets import beyond_the_floor
 from ..io.sweep_guarantee import merged_guarantee
+from ..io.sweep_view import SweepRun, with_more_tasks
 from ..io.trajectory import read_trajectory
 from ..reports.sweep import write_sweep_report
 from ..workflows.deploy import guarantee_region
@@ -246,11 +247,11 @@ def cmd_sweep(args: argparse.Namespace) -> int:
             robot, trajectories, masses, args.payload_com, args.payload_inertia,
             args.dominance, args.negligible, client=client)
         if budget:                      # measured on every trajectory by the workers
-            errors = WorkerErrors(client, int(ds.attrs["batch_size"]))
+            errors = WorkerErrors(client, SweepRun.from_dataset(ds).batch_size)
             model = budget_sweep_model(loaded, trajectories, ds, held_out=held,
                                        prepared=prepared.get("model"), errors=errors,
                                        **_model_settings(args, settings, limits))
-            ds.attrs["n_tasks"] = int(ds.attrs["n_tasks"]) + errors.tasks
+            ds = with_more_tasks(ds, errors.tasks)
 
     with staged_output(outdir, SWEEP_OUTPUTS, "sweep") as stage, writing(outdir, stage):
         written = [stage / "sweep.h5"]
@@ -274,16 +275,15 @@ def cmd_sweep(args: argparse.Namespace) -> int:
                                                paper=args.paper))
     written = [outdir / Path(p).relative_to(stage) for p in written]
     if not args.quiet:
-        print(f"{robot.name}: {ds.sizes['trajectory']} trajectories in "
-              f"{ds.attrs['elapsed_s']:.1f} s on {ds.attrs['n_workers']} dask workers "
-              f"({ds.attrs['scheduler_address']})")
-        classes = [str(c) for c in ds["class"].values]
-        print(f"{'element':<8}" + "".join(f"{c[:5]:>7}" for c in classes)
+        run = SweepRun.from_dataset(ds)
+        print(f"{robot.name}: {run.trajectories} trajectories in "
+              f"{run.elapsed_s:.1f} s on {run.n_workers} dask workers "
+              f"({run.scheduler_address})")
+        print(f"{'element':<8}" + "".join(f"{c[:5]:>7}" for c in run.classes)
               + f"{'min':>8}{'median':>8}{'max':>8}  merged")
-        for k, lab in enumerate(str(v) for v in ds.element.values):
-            frac = ds.class_fraction.values[k]
-            print(f"{lab:<8}" + "".join(f"{v:>7.3f}" for v in frac)
-                  + f"{ds.share_tran_min.values[k]:>8.3f}{ds.share_tran_median.values[k]:>8.3f}"
-                  + f"{ds.share_tran_max.values[k]:>8.3f}  {ds.merged_choice.values[k]}")
+        for k, lab in enumerate(run.elements):
+            print(f"{lab:<8}" + "".join(f"{v:>7.3f}" for v in run.class_fraction[k])
+                  + f"{run.share_min[k]:>8.3f}{run.share_median[k]:>8.3f}"
+                  + f"{run.share_max[k]:>8.3f}  {run.merged_choice[k]}")
         print(wrote_line(written, outdir, args.verbose))
     return EXIT_OK

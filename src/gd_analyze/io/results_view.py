@@ -17,7 +17,7 @@ import types
 from collections.abc import Mapping
 from dataclasses import dataclass
 from pathlib import Path
-from typing import TYPE_CHECKING
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
@@ -25,8 +25,12 @@ from ..core.selection.ranking import arm_scales, identically_zero, is_round_off
 from ..errors import InputError
 from .datasets import joint_units as _units_of
 from .datasets import stored_guarantee, stored_region
-from .names import VERIFICATION_PREFIX, Attr, Var
+from .names import VERIFICATION_PREFIX, Attr, Var, verification_attribute
 from .schema import open_results, strings
+from .stored_comparisons import ChapterComparison, FormulationComparison
+from .stored_model import BaseParameters, CostTable
+from .stored_provenance import Provenance
+from .stored_robot import ROBOT_VARIABLES, StoredRobot, StoredTrajectory
 
 if TYPE_CHECKING:                       # for the type hints only
     import xarray as xr
@@ -42,7 +46,7 @@ ZERO_MARK = "\u2261 0"
 REQUIRED = (Var.ELEMENT, Var.ELEMENT_UNITS, Var.SHARE_TRAN, Var.DOMINANCE,
             Var.CHAPTER_DOMINANCE, Var.CHOICE, Var.PEAK_TRAN, Var.PEAK_ROT, Var.PEAK_TOTAL,
             Var.TAU_ERROR_PEAK, Var.TAU_ERROR_RMS, Var.TAU_PEAK, Var.TAU_ERROR_RELATIVE_PEAK,
-            Var.TAU_ERROR_RELATIVE_RMS, Var.JOINT)
+            Var.TAU_ERROR_RELATIVE_RMS, Var.JOINT, *ROBOT_VARIABLES)
 #: The global attributes a results file must hold for the view.
 REQUIRED_ATTRS = (Attr.ROBOT, Attr.INPUT_FILE, Attr.SETPOINTS, Attr.DOMINANCE_THRESHOLD,
                   Attr.NEGLIGIBLE_THRESHOLD)
@@ -241,11 +245,19 @@ class Verification:
         round-off, 64 eps of its scale; NaN where none is stored).
     setpoints : int
         The set points checked.
+    terms : tuple of (str, float, float)
+        Each term checked (``"D"``, ``"D_rot"`` ... in the order of its attribute's name), its
+        largest relative difference and that beyond round-off (NaN in a file written before
+        it was stored).
+    tolerance : object
+        The relative tolerance as stored (None where missing).
     """
 
     passed: bool
     worst_excess: float
     setpoints: int
+    terms: tuple[tuple[str, float, float], ...] = ()
+    tolerance: Any = None
 
 
 @dataclass(frozen=True, eq=False)
@@ -279,6 +291,32 @@ class Results:
         The proof (or sample) of D_s's positive definiteness, "" where none is stored.
     verification : Verification or None
         The check against Pinocchio; None where it was not run.
+    robot_record : StoredRobot
+        The robot as stored: links, geometry, drives, effort limits, its file.
+    trajectory : StoredTrajectory
+        The trajectory's file, and its series read on demand.
+    share_arm : ndarray, shape (M,), or None
+        Each ranked element's armature share (None for a robot without drives).
+    costs : CostTable or None
+        The simplified model's operations beside the models it is compared with.
+    region_screen : str
+        Why the region's certification was skipped, "" where it was not.
+    base_parameters : BaseParameters or None
+        The base parameters of a recursive model (None for an explicit one).
+    simplified_operations : tuple of (int, int) or None
+        The emitted model's multiplications and additions per set point; None without a
+        simplified model.
+    pairs : tuple of (int, int)
+        A recursive model's dropped (link, part) pairs and all its pairs (0 where not stored).
+    formulations : FormulationComparison or None
+        The formulations checked against each other and counted (None where not run).
+    chapter : ChapterComparison or None
+        The ranking against the chapter's PUMA 560 (None for another robot).
+    rigid_dominance : tuple of str or None, length M
+        Each element's class for the rigid links alone (drives left out); None for a robot
+        without drives.
+    provenance : Provenance
+        How the results were made: software, command, settings, payload, mounting.
     attrs : Mapping
         Every global attribute (the provenance), read-only.
     dataset : xarray.Dataset
@@ -300,9 +338,27 @@ class Results:
     guarantee: dict | None
     inertia_check: str
     verification: Verification | None
+    robot_record: StoredRobot
+    trajectory: StoredTrajectory
+    share_arm: np.ndarray | None
+    costs: CostTable | None
+    region_screen: str
+    base_parameters: BaseParameters | None
+    simplified_operations: tuple[int, int] | None
+    pairs: tuple[int, int]
+    formulations: FormulationComparison | None
+    chapter: ChapterComparison | None
+    rigid_dominance: tuple[str, ...] | None
+    provenance: Provenance
     attrs: Mapping
     dataset: xr.Dataset
     source: str = "<memory>"
+
+    @property
+    def guarantee_kind(self) -> str:
+        """str: the stored guarantee's kind, ``"region"``, ``"trajectory"`` or ``"none"``
+        (also where the file stores none)."""
+        return "none" if self.guarantee is None else str(self.guarantee["kind"])
 
     @classmethod
     def open(cls, path: str | Path, lazy: bool = False) -> Results:
@@ -394,7 +450,22 @@ class Results:
                    torque_error=_torque_error(ds, joint_units["tau"]),
                    region=stored_region(ds), guarantee=stored_guarantee(ds),
                    inertia_check=str(attrs.get(Attr.SIMPLIFIED_INERTIA_CHECK_STATEMENT, "")),
-                   verification=_verification(attrs), attrs=attrs, dataset=ds, source=source)
+                   verification=_verification(attrs),
+                   robot_record=StoredRobot.from_dataset(ds),
+                   trajectory=StoredTrajectory.from_dataset(ds),
+                   share_arm=ds[Var.SHARE_ARM].values if Var.SHARE_ARM in ds.variables else None,
+                   costs=CostTable.from_dataset(ds),
+                   region_screen=str(attrs.get(Attr.SIMPLIFIED_REGION_SCREEN, "")),
+                   base_parameters=BaseParameters.from_dataset(ds),
+                   simplified_operations=_operations(attrs),
+                   pairs=(int(attrs.get(Attr.SIMPLIFIED_PAIRS_DROPPED, 0)),
+                          int(attrs.get(Attr.SIMPLIFIED_PAIRS, 0))),
+                   formulations=FormulationComparison.from_dataset(ds),
+                   chapter=ChapterComparison.from_dataset(ds),
+                   rigid_dominance=(tuple(str(v) for v in ds[Var.DOMINANCE_RIGID_LINKS].values)
+                                    if Var.DOMINANCE_RIGID_LINKS in ds.variables else None),
+                   provenance=Provenance.from_attrs(attrs),
+                   attrs=attrs, dataset=ds, source=source)
 
 
 def _default_units(which, prismatic):
@@ -463,11 +534,27 @@ def _torque_error(ds, units):
         for j in range(len(units))))
 
 
+def _operations(attrs):
+    """The emitted model's (multiplications, additions), or None where not stored."""
+    try:
+        return (int(attrs[Attr.SIMPLIFIED_MULTIPLICATIONS]),
+                int(attrs[Attr.SIMPLIFIED_ADDITIONS]))
+    except (KeyError, TypeError, ValueError):
+        return None
+
+
 def _verification(attrs):
     if Attr.VERIFICATION_PASSED not in attrs:
         return None
     excess = [float(v) for k, v in attrs.items()
               if k.startswith(VERIFICATION_PREFIX + "max_rel_excess")]
+    error = verification_attribute("")
+    terms = tuple((k[len(error):], float(attrs[k]),
+                   float(attrs.get(verification_attribute(k[len(error):], excess=True),
+                                   np.nan)))
+                  for k in sorted(attrs) if k.startswith(error))
     return Verification(passed=bool(int(attrs[Attr.VERIFICATION_PASSED])),
                         worst_excess=float(np.max(excess)) if excess else float("nan"),
-                        setpoints=int(attrs[Attr.VERIFICATION_SETPOINTS]))
+                        setpoints=int(attrs.get(Attr.VERIFICATION_SETPOINTS,
+                                                attrs[Attr.SETPOINTS])),
+                        terms=terms, tolerance=attrs.get(Attr.VERIFICATION_TOLERANCE))

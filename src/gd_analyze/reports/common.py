@@ -63,7 +63,7 @@ if TYPE_CHECKING:
 
 __all__ = ["CLASS_COLOURS", "BASE_RC", "SUPTITLE_RC", "A4", "A4_LANDSCAPE", "style", "utc_now",
            "keep_units",
-           "strings", "fmt", "fmt_column", "fmt_columns", "given", "count", "share", "pct", "pct_column", "pct_columns", "attr", "thresholds", "check", "table",
+           "strings", "fmt", "fmt_column", "fmt_columns", "given", "count", "share", "pct", "pct_column", "pct_columns", "attr", "attr_text", "thresholds", "check", "table",
            "grid_shape", "joint_colours", "joint_style", "JOINT_STYLES", "MAX_MARKERS",
            "MIN_MARKERS", "markevery", "panel_markevery",
            "gridspec", "svg", "inline_svgs", "render_template", "check_formats",
@@ -114,7 +114,25 @@ def attr(ds: xr.Dataset, key: str, default: str = "\u2014", *, parens: bool = Tr
     str
         An integer as a count with thousands separators (:func:`count`).
     """
-    value = ds.attrs.get(key, None)
+    return attr_text(ds.attrs.get(key, None), default, parens=parens, bools=bools,
+                     sci_outside=sci_outside)
+
+
+def attr_text(value: object, default: str = "\u2014", *, parens: bool = True,
+              bools: bool = False, sci_outside: tuple[float, float] | None = None) -> str:
+    """An attribute's stored value as text, as :func:`attr` writes it.
+
+    Parameters
+    ----------
+    value : object
+        The value as stored (a string, bytes, a number, an array), or None where missing.
+    default, parens, bools, sci_outside
+        As :func:`attr`.
+
+    Returns
+    -------
+    str
+    """
     if value is None:
         return default
     if isinstance(value, bytes):

@@ -1,7 +1,8 @@
 """Effort limits: each joint's peak |tau| against the limit its robot gives.
 
 One place for the CLI summary and the report (Sec. 1.2): :func:`effort_rows` reads the stored
-dataset's ``tau_peak`` and ``tau_max`` and computes nothing else.
+peak |tau| and effort limits (:class:`gd_analyze.io.results_view.Results`) and computes nothing
+else.
 """
 
 from __future__ import annotations
@@ -11,10 +12,10 @@ from typing import TYPE_CHECKING
 
 import numpy as np
 
-from .common import torque_units
+from ..core.selection.labels import joint_torque_units
 
 if TYPE_CHECKING:
-    import xarray as xr
+    from ..io.results_view import Results
 
 __all__ = ["EffortRow", "effort_rows", "EXCEEDED", "WITHIN"]
 
@@ -33,14 +34,15 @@ class EffortRow(tuple):
         return self[4] == EXCEEDED
 
 
-def effort_rows(ds: xr.Dataset) -> list[EffortRow]:
+def effort_rows(results: Results) -> list[EffortRow]:
     """Each joint with an effort limit: its peak |tau| against the limit.
 
     Parameters
     ----------
-    ds : xarray.Dataset
-        A main-job dataset with ``tau_peak`` and ``tau_max``, shape (n,) [N m; N for a
-        prismatic joint] (``tau_max`` NaN where the robot gives none).
+    results : Results
+        The main job's results: peak |tau| (its torque error table) and the effort limits
+        (its robot), shape (n,) [N m; N for a prismatic joint] (a limit NaN where the robot
+        gives none).
 
     Returns
     -------
@@ -54,11 +56,11 @@ def effort_rows(ds: xr.Dataset) -> list[EffortRow]:
     The limits are the URDF's ``<limit effort>`` or a robot file's ``tau_max``; peak |tau| is
     that of the full model, D qdd + h + c (Fu, Gonzalez & Lee 1987, Eq. (3.4-24)).
     """
-    if "tau_max" not in ds.variables:
+    if results.robot_record.effort_limit is None:
         return []
-    peak = np.asarray(ds["tau_peak"].values, float)
-    limit = np.asarray(ds["tau_max"].values, float)
-    units = torque_units(ds)
+    peak = results.torque_error.column("peak_tau").astype(float)
+    limit = np.asarray(results.robot_record.effort_limit, float)
+    units = [joint_torque_units(p) for p in results.prismatic]
     rows = []
     for j in range(peak.size):
         if not (math.isfinite(limit[j]) and limit[j] > 0):

@@ -44,7 +44,6 @@ from ..io.sweep_datasets import payload_part
 from .budget_figures import budget_makers
 from .common import CLASS_COLOURS as _CLASS_COLOURS
 from .common import check_formats, prismatic_joints, render_template
-from .common import strings as _strings
 from .drawing import draw_figures, write_figure_files
 from .figures import payload_figure
 from .main_context import report_context, zero_mask
@@ -265,16 +264,16 @@ def figure_makers(ds: Results | xr.Dataset, data: PlotData | None = None,
     s, e = results.dominance_threshold, results.negligible_threshold
     order = _FILE_ORDER if column or keys is not None else _FIGURE_ORDER   # keys: as named
     wanted = set(order if keys is None else keys)
-    arm = ds[Var.D_ARM].values if Var.D_ARM in ds else None
-    prismatic = prismatic_joints(ds)
+    arm = results.robot_record.armature
+    prismatic = prismatic_joints(results)
     makers = {"joints": lambda: fig_joints(data, prismatic),
               "h": lambda: fig_h(data, dom, zero, prismatic),
-              "torque": lambda: _fig_error(ds, data),
+              "torque": lambda: _fig_error(results, data),
               "joints_column": lambda: fig_joints(data, prismatic, COLUMN_WIDTH),
               "D_column": lambda: fig_D(data, dom, zero, s, e, prismatic, COLUMN_WIDTH,
                                         armature=arm),
               "h_column": lambda: fig_h(data, dom, zero, prismatic, COLUMN_WIDTH),
-              "torque_column": lambda: _fig_error(ds, data, COLUMN_WIDTH)}
+              "torque_column": lambda: _fig_error(results, data, COLUMN_WIDTH)}
     d_labels = [p[0] for p in d_panels(data, dom, zero, prismatic, arm)[0]]
     for k in range(len(element_parts(d_labels))):
         makers["D" if k == 0 else f"D_{k + 1}"] = functools.partial(
@@ -283,9 +282,10 @@ def figure_makers(ds: Results | xr.Dataset, data: PlotData | None = None,
     if Var.PAYLOAD_SHARE_TRAN in ds.variables:
         makers["payload"] = lambda: _fig_payload(ds)
         makers["payload_column"] = lambda: _fig_payload(ds, COLUMN_WIDTH)
-    if Var.OP_MULTIPLICATIONS in ds.variables:
-        makers["formulations"] = lambda: _fig_formulations(ds)
-        makers["formulations_column"] = lambda: _fig_formulations(ds, COLUMN_WIDTH)
+    if results.formulations is not None:
+        counted = results.formulations
+        makers["formulations"] = lambda: _fig_formulations(counted)
+        makers["formulations_column"] = lambda: _fig_formulations(counted, COLUMN_WIDTH)
     return {k: functools.partial(_made, makers[k]) for k in order
             if k in makers and k in wanted}
 
@@ -298,11 +298,12 @@ def _made(make):
         return make()
 
 
-def _fig_error(ds, data, width=PAGE_WIDTH):
-    if has_simplified(ds):                      # tau_s - tau and its bound
-        return error_figure(ds, width, data=data)
-    return fig_torque(data, ds[Var.TAU_ERROR_PEAK].values, ds[Var.TAU_ERROR_RELATIVE_PEAK].values,
-                      prismatic_joints(ds))
+def _fig_error(results, data, width=PAGE_WIDTH):
+    if has_simplified(results.dataset):         # tau_s - tau and its bound
+        return error_figure(results.dataset, width, data=data)
+    errors = results.torque_error
+    return fig_torque(data, errors.column("peak"), errors.column("relative_peak"),
+                      prismatic_joints(results))
 
 
 def _fig_payload(ds, width=PAGE_WIDTH):
@@ -314,13 +315,12 @@ _FORMULATION_STYLE = {"lagrange-euler": ("L-E", "#0072B2", "o", "-"),
                       "gd": ("G-D", "#6A3D9A", "^", "-")}
 
 
-def _fig_formulations(ds, width=PAGE_WIDTH):
+def _fig_formulations(counted, width=PAGE_WIDTH):
     from matplotlib.figure import Figure
     from matplotlib.ticker import FixedLocator, LogLocator, NullFormatter
 
 
-    n = ds[Var.DOF].values
-    names = _strings(ds[Var.FORMULATION].values)
+    n, names = counted.dof, counted.names
     column = width < PAGE_WIDTH             # the two panels one above the other
     W, H = (width, 5.0) if column else (PAGE_WIDTH, 2.9)
     fig = Figure(figsize=(W, H))
@@ -329,14 +329,16 @@ def _fig_formulations(ds, width=PAGE_WIDTH):
                (0.65 + k * 3.55, 0.75, 2.85, H - 1.0))        # x, y from the bottom, w, h [in]
         ax = fig.add_axes((box[0] / W, box[1] / H, box[2] / W, box[3] / H))
         ax.set_yscale("log")
+        ops = {"multiplications": (counted.multiplications, counted.multiplications_table_3_5),
+               "additions": (counted.additions, counted.additions_table_3_5)}[op]
         for name, (short, colour, marker, ls) in _FORMULATION_STYLE.items():
             if name not in names:
                 continue
             j = names.index(name)
-            ax.plot(n, ds[f"op_{op}"].values[:, j], color=colour, marker=marker,
+            ax.plot(n, ops[0][:, j], color=colour, marker=marker,
                     markersize=3.5, linestyle=ls, linewidth=1.0,
                     label=f"{short} as implemented")
-            ax.plot(n, ds[f"op_{op}_table_3_5"].values[:, j], color=colour,
+            ax.plot(n, ops[1][:, j], color=colour,
                     linestyle="--", linewidth=0.9, label=f"{short} Table 3.5")
         # joints counted one by one on x; decades with unlabelled 2x and 5x marks on y (few
         # Tick objects: each costs an Axes draw)

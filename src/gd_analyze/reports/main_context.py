@@ -31,6 +31,7 @@ from .common import (
     utc_now,
 )
 from .common import attr as _attr
+from .common import attr_text as _text
 from .common import check as _check
 from .common import fmt as _fmt
 from .common import fmt_columns as _columns
@@ -97,11 +98,10 @@ def _statement(ds):
                  f"({region['coverage']})")
     return text
 
-def _recursive_facts(ds):
+def _recursive_facts(results):
     """(base parameters, dropped pairs, all pairs) of a recursive model, for the summary."""
-    a = ds.attrs
-    return (int(ds.sizes.get("base_parameter", 0)), int(a.get(Attr.SIMPLIFIED_PAIRS_DROPPED, 0)),
-            int(a.get(Attr.SIMPLIFIED_PAIRS, 0)))
+    bp = results.base_parameters
+    return (0 if bp is None else len(bp.names), *results.pairs)
 
 
 def zero_mask(ds: Results | xr.Dataset) -> tuple[list[str], npt.NDArray[np.bool_]]:
@@ -162,33 +162,28 @@ def _kv(rows):
 _COST_REFERENCES = ("project N-E as implemented", "recursive N-E, exact", "explicit, full")
 
 
-def _model_cost(ds):
+def _model_cost(results):
     """(multiplications, additions, then the operations of Newton-Euler, of the exact model and
     of the full explicit model, each None if not counted) of the emitted model, from the stored
     attributes and cost table; None without a simplified model."""
-    try:
-        mult = int(ds.attrs[Attr.SIMPLIFIED_MULTIPLICATIONS])
-        add = int(ds.attrs[Attr.SIMPLIFIED_ADDITIONS])
-    except (KeyError, TypeError, ValueError):
+    if results.simplified_operations is None:
         return None
-    labels = ([str(v) for v in ds[Var.COST_MODEL].values] if Var.COST_TOTAL in ds.variables
-              else [])
-    return (mult, add, *(int(ds[Var.COST_TOTAL].values[labels.index(key)]) if key in labels
-                         else None for key in _COST_REFERENCES))
+    totals = {} if results.costs is None else results.costs.totals()
+    return (*results.simplified_operations,
+            *(int(totals[key]) if key in totals else None for key in _COST_REFERENCES))
 
 
-def _gravity_fact(ds, form):
+def _gravity_fact(results, form):
     """What the deployed model does with the gravity loading c, read from what it dropped: a
     clause for the summary, or None when the dataset does not say."""
-    if form == "recursive" and Var.BASE_PARAMETER_DROPPED in ds:
-        parts = _strings(ds[Var.TORQUE_PART].values)
-        if "gravity" not in parts:
+    ds, bp = results.dataset, results.base_parameters
+    if form == "recursive" and bp is not None:
+        if "gravity" not in bp.parts:
             return None
-        g = parts.index("gravity")
-        rel = (ds[Var.BASE_PARAMETER_RELATIVE_PEAK].values[:, g]
-               if Var.BASE_PARAMETER_RELATIVE_PEAK in ds else np.ones(ds.sizes["base_parameter"]))
-        names = [nm for nm, d, r in zip(_strings(ds[Var.BASE_PARAMETER].values),
-                                        ds[Var.BASE_PARAMETER_DROPPED].values[:, g], rel)
+        g = bp.parts.index("gravity")
+        rel = (bp.relative_peak[:, g] if bp.relative_peak is not None
+               else np.ones(len(bp.names)))
+        names = [nm for nm, d, r in zip(bp.names, bp.dropped[:, g], rel)
                  if d and r >= ROUND_OFF]
         return gravity_clause("budget", gravity_dropped=names)
     if Var.SIMPLIFIED_BOUND_GRAVITY not in ds:
@@ -235,7 +230,7 @@ def _report_context_base(results):
     ds = results.dataset
     _check(ds, _REQUIRED, "results")
     n = len(results.prismatic)
-    t = ds[Var.T].values
+    t = results.trajectory.t
     N = t.size
     table = results.ranking                     # the view the command line prints too
     labels = [r.label for r in table.rows]
@@ -245,12 +240,12 @@ def _report_context_base(results):
     el_units = [units_text(r.units) for r in table.rows]
     tau_units = list(results.joint_units["tau"])
     s, e = results.dominance_threshold, results.negligible_threshold
-    robot_name = _attr(ds, Attr.ROBOT, "robot")
+    robot_name = _text(results.robot, "robot")
     now = utc_now()
 
     # 1. robot and trajectory
-    robot = robot_section(ds, robot_name)
-    sha_in = _attr(ds, Attr.INPUT_SHA256, "")
+    robot = robot_section(results, robot_name)
+    sha_in = _text(results.trajectory.input_sha256, "")
 
     # 4. ranking: the round-off marks as stored at analysis
     share = table.column("share_tran")
@@ -259,7 +254,7 @@ def _report_context_base(results):
     off = {"tran": table.column("tran_off"), "rot": table.column("rot_off"),
            "total": table.column("total_off")}
 
-    arm_cols = armature_columns(ds, labels, zero)
+    arm_cols = armature_columns(results, labels, zero)
     # the peaks of the parts are one quantity: one format for the four columns
     texts = _columns([pt, pr, ptot, arm_cols["peak"]],            # round-off: not data
                      off=[off["tran"], off["rot"], off["total"], None])
@@ -284,11 +279,12 @@ def _report_context_base(results):
     counts = {c: dominance.count(c) for c in _CLASS_COLOURS}
 
     # 5. simplified model and torque error
-    form = str(ds.attrs.get(Attr.SIMPLIFIED_FORM, "explicit"))
+    built = results.provenance.simplified_form
+    form = "explicit" if built is None else str(built)
     if form == "recursive":
-        choices = base_parameter_table(ds)
+        choices = base_parameter_table(results)
     else:
-        choices = choice_table(ds, labels, dominance, choice)
+        choices = choice_table(results, labels, dominance, choice)
     errors = results.torque_error               # the view the command line prints too
     err_off = errors.column("round_off")        # as stored at analysis
     rel_peak, rel_rms = _pct_columns([errors.column("relative_peak"),  # one format
@@ -339,25 +335,19 @@ def _report_context_base(results):
         note = (f"The chapter reports dominance only for the 6-joint PUMA 560 (Sec. 3.4.1); "
                 f"this robot has {n} joint{'s' if n != 1 else ''}, so a comparison is not "
                 "meaningful and none is made.")
-    if applicable and Var.DOMINANCE_RIGID_LINKS in ds:
-        rigid = [str(v) for v in ds[Var.DOMINANCE_RIGID_LINKS].values]
+    if applicable and results.rigid_dominance is not None:
+        rigid = results.rigid_dominance
         n_rigid = sum(r == c for r, c in zip(rigid, chapter) if c)
         note += (f" With its drives (armature counted on the rotational side, friction in "
                  f"τ) {n_agree} of {n_compared} classes agree with the chapter's; its "
                  f"rigid links alone (drives left out, the chapter's model) {n_rigid} of "
                  f"{n_compared}.")
     conclusions = []
-    if applicable and Var.CHAPTER_AGREEMENT in ds.variables:
-        blocks = {key: [k for k in str(ds.attrs.get(name, "")).split(", ") if k]
-                  for key, name in (("arm", Attr.CHAPTER_ARM_RANKED),
-                                    ("arm_translation", Attr.CHAPTER_ARM_TRANSLATION_LEADS),
-                                    ("wrist", Attr.CHAPTER_WRIST_RANKED),
-                                    ("wrist_rotation", Attr.CHAPTER_WRIST_ROTATION_LEADS))}
+    ch = results.chapter
+    if applicable and ch is not None:
         conclusions = chapter_conclusions(
-            blocks, ds[Var.CHAPTER_THRESHOLD].values, ds[Var.CHAPTER_AGREEMENT].values,
-            int(ds.attrs[Attr.CHAPTER_ELEMENTS_COMPARED]), n, s,
-            ds[Var.CHAPTER_MODEL_ERROR_RELATIVE_PEAK].values,
-            ds[Var.CHAPTER_MODEL_ERROR_ROUND_OFF].values.astype(bool),
+            ch.blocks, ch.threshold, ch.agreement, ch.elements_compared, n, s,
+            ch.model_error_relative_peak, ch.model_error_round_off,
             errors.column("relative_peak"), err_off,
             where=f"this trajectory ({count(N)} set points)")
     causes, said_once = shared_causes([row[-1] for row in compare_rows])
@@ -370,21 +360,20 @@ def _report_context_base(results):
                      widths=[0.6, 1.05, 1.05, 0.45, 0.85, 4.0], colour_cols=[1, 2, 3])
 
     # 7. provenance
-    ver_keys = sorted(k for k in ds.attrs if k.startswith("verification_max_rel_error_"))
-    verified, verification = _verification(ds, ver_keys, N)
-    prov = provenance_rows(ds, now.isoformat(), __version__, verification)
+    verified, verification = _verification(results.verification, N)
+    prov = provenance_rows(results, now.isoformat(), __version__, verification)
 
-    formulations = _formulations_context(ds)
+    formulations = _formulations_context(results.formulations)
     payload = _payload_context(ds)
-    title = f"G-D dominance analysis: {robot_name} along {_attr(ds, 'input_file')}"
+    title = f"G-D dominance analysis: {robot_name} along {_text(results.trajectory.input_file)}"
     summary = conclusion(labels, dominance, zero, choice, rel_peak,
-                         ds[Var.TAU_ERROR_PEAK].values, ds[Var.TAU_PEAK].values, _model_cost(ds),
-                         recursive=_recursive_facts(ds) if form == "recursive" else None,
-                         gravity=_gravity_fact(ds, form), units=tau_units,
+                         errors.column("peak"), errors.column("peak_tau"), _model_cost(results),
+                         recursive=_recursive_facts(results) if form == "recursive" else None,
+                         gravity=_gravity_fact(results, form), units=tau_units,
                          scope=_scope(_statement(ds)),
                          where="the joint-limit region" if (stored_guarantee(ds) or {}).get(
                              "kind") == "region" else "this trajectory", shown=said,
-                         placeholder_inertia=bool(ds.attrs.get(Attr.ROBOT_PLACEHOLDER_INERTIA)))
+                         placeholder_inertia=results.robot_record.placeholder_inertia)
     facts = (f"{robot_name}, {n} joints, {count(N)} set points over {_fmt(t[-1] - t[0], 4)} s; "
              f"{len(labels)} elements ranked with s = {s:g}, e = {e:g}: "
              + ", ".join(f"{counts[c]} {c}" for c in _CLASS_COLOURS)
@@ -394,15 +383,15 @@ def _report_context_base(results):
         "version": __version__, "title": title, "summary": summary, "robot_name": robot_name,
         "facts": facts, "intro": _INTRO.format(created=now.isoformat(), version=__version__),
         "captions": captions(enveloped, N, f"{s:g}", f"{e:g}", units=_caption_units(ds),
-                             alike=alike_joints(ds)),
-        "D_text": d_text(ds, s, e, enveloped), "armature": has_armature(ds),
+                             alike=alike_joints(results)),
+        "D_text": d_text(results, s, e, enveloped), "armature": has_armature(results),
         "n": n, "N": N, "s": f"{s:g}", "e": f"{e:g}", "created": now.isoformat(),
         **robot,
         "ranking": ranking, "counts": counts, "choices": choices, "error": err,
-        "simplified_intro": (simplified_intro(form, _gravity_fact(ds, form))
-                             + zero_parameters(ds)),
+        "simplified_intro": (simplified_intro(form, _gravity_fact(results, form))
+                             + zero_parameters(results)),
         "choices_heading": _CHOICES_HEADING[form],
-        "choices_note": base_note(ds) if form == "recursive" else "",
+        "choices_note": base_note(results) if form == "recursive" else "",
         "model_heading": _MODEL_HEADING[form],
         "compare": {"applicable": applicable, "note": note, "table": compare,
                     "conclusions": conclusions,
@@ -414,7 +403,7 @@ def _report_context_base(results):
                           "without markers (the report reads the stored series in chunks)."
                           if enveloped else ""),
         "keywords": (f"generalized d'Alembert; G-D dynamics; dominance; {robot_name}; "
-                     f"input {_attr(ds, 'input_file')} sha256 {sha_in or '-'}; "
+                     f"input {_text(results.trajectory.input_file)} sha256 {sha_in or '-'}; "
                      f"robot sha256 {_attr(ds, 'robot_sha256')}; s={s:g}; e={e:g}; "
                      f"verification {verified}"),
     }
@@ -439,20 +428,17 @@ def _quantity(name):
     return _el(symbol, "", part) if part in ("tran", "rot") else name
 
 
-def _verification(ds, keys, N):
+def _verification(check, N):
     """(verdict for the summary, the one provenance row) of the check against Pinocchio: how
     many of the N set points it checked, its tolerance once, and its largest errors, which are
     as measured, and whether they are past the round-off floor."""
-    if "verification_passed" not in ds.attrs:
+    if check is None:
         return "not run", "not run (analysis without check)"
-    passed = bool(int(ds.attrs[Attr.VERIFICATION_PASSED]))
-    checked = int(ds.attrs.get(Attr.VERIFICATION_SETPOINTS, N))
-    verdict = (f"{'passed' if passed else 'FAILED'} on {count(checked)} of {count(N)} set points"
-               + ("" if checked == N else " (evenly spread)"))
-    measured = {_quantity(k[len("verification_max_rel_error_"):]): float(ds.attrs[k])
-                for k in keys}
-    past = {q: float(ds.attrs.get(k.replace("_error_", "_excess_"), np.nan))
-            for q, k in zip(measured, keys)}
+    checked = check.setpoints
+    verdict = (f"{'passed' if check.passed else 'FAILED'} on {count(checked)} of {count(N)} "
+               "set points" + ("" if checked == N else " (evenly spread)"))
+    measured = {_quantity(term): error for term, error, _ in check.terms}
+    past = {_quantity(term): excess for term, _, excess in check.terms}
     floor = _ROUND_OFF_FLOOR
     largest = ("largest relative difference: "
                + ", ".join(f"{k} {_fmt(v, 2, (1e-3, 1e3))}" for k, v in measured.items()))
@@ -463,7 +449,7 @@ def _verification(ds, keys, N):
     else:
         errors = (f"{largest}; past the round-off floor ({floor} of its scale): "
                   + ", ".join(f"{k} {_fmt(v, 2, (1e-3, 1e3))}" for k, v in past.items()))
-    row = (f"{verdict}; tolerance {_attr(ds, 'verification_tolerance')} of each element's "
+    row = (f"{verdict}; tolerance {_text(check.tolerance)} of each element's "
            f"scale on {', '.join(measured) or 'D, h and c'}; {errors}")
     return verdict, row
 
@@ -487,15 +473,13 @@ def _payload_context(ds):
     return {"applicable": True, "table": table, "note": note}
 
 
-def _formulations_context(ds):
+def _formulations_context(f):
     """Agreement and cost tables of L-E, N-E, G-D and Pinocchio, if the dataset has them."""
-    if Var.FORMULATION_DISAGREEMENT not in ds.variables:
+    if f is None:
         return {"applicable": False, "note": "The dataset holds no comparison of the "
                 "formulations (made by `gd-analyze ROBOT TRAJECTORY.csv`).",
                 "agreement": None, "costs": None}
-    quantities = _strings(ds[Var.QUANTITY].values)
-    pairs = _strings(ds[Var.FORMULATION_PAIR].values)
-    dis = ds[Var.FORMULATION_DISAGREEMENT].values
+    quantities, pairs, dis = f.quantities, f.pairs, f.disagreement
 
     def pair(p):                            # "lagrange-euler vs gd" -> "L-E vs G-D"
         return " vs ".join(FORMULATION_ABBR.get(f, f) for f in p.split(" vs "))
@@ -503,20 +487,17 @@ def _formulations_context(ds):
     agreement = _table(["pair"] + [tau() if q == "tau" else q for q in quantities],
                        [[pair(p)] + [f"{v:.2e}" for v in dis[i]] for i, p in enumerate(pairs)],
                        align=["left"] + ["right"] * len(quantities))
-    n = int(ds.attrs.get(Attr.FORMULATIONS_N, ds.sizes["joint"]))
-    names = _strings(ds[Var.FORMULATION].values)
-    dof = list(ds[Var.DOF].values)
+    n, names, dof = f.n, f.names, list(f.dof)
     rows = []
-    arm = Var.OP_MULTIPLICATIONS_ARM in ds.variables
     if n in dof:
         k = dof.index(n)
         for j, name in enumerate(names):
-            if arm:                           # the arm's own joint types (prismatic joints)
-                mul, add = ds[Var.OP_MULTIPLICATIONS_ARM].values[j], ds[Var.OP_ADDITIONS_ARM].values[j]
+            if f.arm is not None:             # the arm's own joint types (prismatic joints)
+                mul, add = f.arm[0][j], f.arm[1][j]
             else:
-                mul, add = ds[Var.OP_MULTIPLICATIONS].values[k, j], ds[Var.OP_ADDITIONS].values[k, j]
-            bm = ds[Var.OP_MULTIPLICATIONS_TABLE_3_5].values[k, j]
-            ba = ds[Var.OP_ADDITIONS_TABLE_3_5].values[k, j]
+                mul, add = f.multiplications[k, j], f.additions[k, j]
+            bm = f.multiplications_table_3_5[k, j]
+            ba = f.additions_table_3_5[k, j]
             rows.append([FORMULATION_NAMES.get(name, name), count(mul), count(add),
                          count(bm), count(ba)])
     costs = _table(["formulation", "multiplications", "additions", "mult. Table 3.5",
@@ -524,10 +505,10 @@ def _formulations_context(ds):
     worst = float(np.max(dis)) if dis.size else float("nan")
     note = (f"Lagrange-Euler (Sec. 3.2), recursive Newton-Euler (Sec. 3.3; D, h and c by "
             f"probing), the G-D equations (Sec. 3.4) and Pinocchio (crba, rnea) were run on "
-            f"{ds.attrs.get('formulations_setpoints', '?')} set points of the trajectory; the "
+            f"{'?' if f.setpoints is None else f.setpoints} set points of the trajectory; the "
             f"largest relative disagreement of any pair is {worst:.1e}. Operation counts are "
             f"per set point, counted on the code as implemented (the G-D equations by the "
             f"compiled and by the array engine), beside the formulas of Table 3.5, for "
             f"n = {n}; pairs: L-E Lagrange-Euler, N-E Newton-Euler, G-D the G-D equations."
-            + prismatic_count_note(str(ds.attrs.get(Attr.FORMULATIONS_JOINT_TYPES, ""))))
+            + prismatic_count_note(f.joint_types))
     return {"applicable": True, "note": note, "agreement": agreement, "costs": costs}

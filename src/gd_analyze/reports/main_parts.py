@@ -2,7 +2,8 @@
 and peak in Sec. 4, its column in Table 5.2, Fig. 2's lead-in), the choice per element of an
 explicit model and the base parameters of a recursive one, with their names defined.
 
-Read from the stored dataset; nothing is recomputed.
+Read from the typed results (:class:`gd_analyze.io.results_view.Results`); nothing is
+recomputed.
 """
 
 from __future__ import annotations
@@ -13,11 +14,9 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 
 from ..core.selection.labels import element_label
-from ..io.names import Var
 from .common import fmt as _fmt
 from .common import fmt_column as _column
 from .common import share as _share
-from .common import strings as _strings
 from .common import table as _table
 from .common import units_said_once, units_text
 from .markup import element as _el
@@ -25,7 +24,8 @@ from .simplified_section import ROUND_OFF
 
 if TYPE_CHECKING:
     import numpy.typing as npt
-    import xarray as xr
+
+    from ..io.results_view import Results
 
 __all__ = ["choice_table", "base_parameter_table", "base_note", "zero_parameters",
            "armature_columns", "has_armature", "d_text"]
@@ -34,7 +34,7 @@ _CHOICE_TEXT = {"tran": "translational part only", "rot": "rotational part only"
                 "both": "translational + rotational"}
 
 
-def choice_table(ds: xr.Dataset, labels: Sequence[str], dominance: Sequence[str],
+def choice_table(results: Results, labels: Sequence[str], dominance: Sequence[str],
                  choice: Sequence[str]) -> dict[str, Any]:
     """Sec. 5.2 of an explicit model: the part of each element kept, and for an arm with drives
     the armature, which the model keeps whole (a column of its own: an element whose link
@@ -42,8 +42,8 @@ def choice_table(ds: xr.Dataset, labels: Sequence[str], dominance: Sequence[str]
 
     Parameters
     ----------
-    ds : xarray.Dataset
-        The results of an explicit model (``D_arm`` if it has drives).
+    results : Results
+        The results of an explicit model (the armature if it has drives).
     labels, dominance, choice : list of str, each length M
         The elements, their classes and the part kept of each.
 
@@ -52,8 +52,8 @@ def choice_table(ds: xr.Dataset, labels: Sequence[str], dominance: Sequence[str]
     dict
         A table (:func:`gd_analyze.reports.common.table`).
     """
-    arm = has_armature(ds)
-    diag = _diagonal(int(ds.sizes.get("joint", 0)))
+    arm = has_armature(results)
+    diag = _diagonal(len(results.prismatic))
 
     def meaning(k, lab):
         if choice[k] != "none":
@@ -68,32 +68,36 @@ def choice_table(ds: xr.Dataset, labels: Sequence[str], dominance: Sequence[str]
         widths=[0.8, 1.2, 0.8, *([0.8] if arm else []), 2.2], colour_cols=[1])
 
 
-def base_parameter_table(ds: xr.Dataset) -> dict[str, Any]:
+def base_parameter_table(results: Results) -> dict[str, Any]:
     """The base parameters of a recursive model, their values and which parts are kept.
 
     Parameters
     ----------
-    ds : xarray.Dataset
-        The results of a recursive model (``base_parameter*``).
+    results : Results
+        The results of a recursive model (its base parameters and their values).
 
     Returns
     -------
     dict
         A table (:func:`gd_analyze.reports.common.table`): the parameters of nonzero value.
+
+    Raises
+    ------
+    ValueError
+        If the results store no base parameters or no values of them.
     """
-    names = _strings(ds[Var.BASE_PARAMETER].values)
-    parts = _strings(ds[Var.TORQUE_PART].values)
-    dropped = ds[Var.BASE_PARAMETER_DROPPED].values
-    units = _strings(ds[Var.BASE_PARAMETER_UNITS].values)
-    rel = (ds[Var.BASE_PARAMETER_RELATIVE_PEAK].values if Var.BASE_PARAMETER_RELATIVE_PEAK in ds
-           else np.ones(dropped.shape))
+    bp = results.base_parameters
+    if bp is None or bp.value is None:
+        raise ValueError("the results store no base parameters' values")
+    names, parts, dropped, units = bp.names, bp.parts, bp.dropped, bp.units
+    rel = bp.relative_peak if bp.relative_peak is not None else np.ones(dropped.shape)
 
     def cell(k, p):
         if rel[k, p] < ROUND_OFF:
             return "\u2261 0"            # contributes nothing on this trajectory
         return "dropped" if dropped[k, p] else "kept"
 
-    value = ds[Var.BASE_PARAMETER_VALUE].values
+    value = bp.value
     listed = [k for k in range(len(names)) if value[k] != 0]
     return _table(["base parameter", "value", "units", *parts],
                   [[names[k], text, units_text(units[k]),
@@ -112,25 +116,26 @@ _BASE_NOTE = (
     "and m go to the links before it, XXj stands for XX \u2212 YY).")
 
 
-def base_note(ds: xr.Dataset) -> str:
+def base_note(results: Results) -> str:
     """The note defining the base parameters' names and frame, with an example of a first
     moment that is 0 in the joint frame while Table 1.3's centre of mass has that coordinate.
 
     Parameters
     ----------
-    ds : xarray.Dataset
-        The results (``base_parameter_value``, ``link_com``, ``dh_a``).
+    results : Results
+        The results (the base parameters' values, the links' centres of mass, the DH rows).
 
     Returns
     -------
     str
         "" without base parameters (an explicit model).
     """
-    if Var.BASE_PARAMETER_VALUE not in ds or Var.LINK_COM not in ds:
+    bp = results.base_parameters
+    if bp is None or bp.value is None:
         return ""
-    values = dict(zip(_strings(ds[Var.BASE_PARAMETER].values), ds[Var.BASE_PARAMETER_VALUE].values))
-    com = ds[Var.LINK_COM].values
-    if not np.isfinite(ds[Var.DH_A].values).all():    # a URDF arm: its link frame is the body's
+    values = dict(zip(bp.names, bp.value))
+    com = results.robot_record.link_com
+    if not np.isfinite(results.robot_record.dh[1]).all():   # a URDF arm: its link frame is the body's
         return _BASE_NOTE
     for j in range(com.shape[0]):
         for axis, c in (("X", 0), ("Y", 1)):
@@ -141,26 +146,26 @@ def base_note(ds: xr.Dataset) -> str:
     return _BASE_NOTE
 
 
-def zero_parameters(ds: xr.Dataset) -> str:
+def zero_parameters(results: Results) -> str:
     """The sentence naming the base parameters whose value is 0 (not listed in Sec. 5.2).
 
     Parameters
     ----------
-    ds : xarray.Dataset
-        The results (``base_parameter_value``).
+    results : Results
+        The results (the base parameters' values).
 
     Returns
     -------
     str
         With a leading space; "" if none is 0.
     """
-    if Var.BASE_PARAMETER_VALUE not in ds:
+    bp = results.base_parameters
+    if bp is None or bp.value is None:
         return ""
-    zero = [n for n, v in zip(_strings(ds[Var.BASE_PARAMETER].values),
-                              ds[Var.BASE_PARAMETER_VALUE].values) if v == 0]
+    zero = [n for n, v in zip(bp.names, bp.value) if v == 0]
     if not zero:
         return ""
-    return (f" Of the {ds.sizes['base_parameter']} base parameters, {len(zero)} are 0 for this "
+    return (f" Of the {len(bp.names)} base parameters, {len(zero)} are 0 for this "
             f"robot and are not listed: {', '.join(zero)}.")
 
 
@@ -188,15 +193,15 @@ _D_ARMATURE = {"armature": ", on a diagonal panel the drives' armature " + _el("
                "plus_arm": " + " + _el("D", "ij", "arm")}
 
 
-def armature_columns(ds: xr.Dataset, labels: Sequence[str],
+def armature_columns(results: Results, labels: Sequence[str],
                      zero: npt.NDArray[np.bool_]) -> dict[str, Any]:
     """Sec. 4's columns of an arm with drives: the armature share and peak |X^arm| (the
     armature on D_ii, "—" elsewhere); none without drives.
 
     Parameters
     ----------
-    ds : xarray.Dataset
-        The results (``D_arm``, ``share_arm``).
+    results : Results
+        The results (the armature and its share).
     labels : list of str, length M
         The elements.
     zero : ndarray of bool, shape (M,)
@@ -209,10 +214,10 @@ def armature_columns(ds: xr.Dataset, labels: Sequence[str],
         caller formats the peaks with the other parts'), ``peak`` (the armature of each
         diagonal element [kg m^2; kg]).
     """
-    if not has_armature(ds):
+    if not has_armature(results):
         return {"header": [], "rows": [[] for _ in labels], "peak": []}
-    arm = np.asarray(ds[Var.D_ARM].values, float)
-    share = (ds[Var.SHARE_ARM].values if Var.SHARE_ARM in ds
+    arm = np.asarray(results.robot_record.armature, float)
+    share = (results.share_arm if results.share_arm is not None
              else np.full(len(labels), np.nan))
     diag = _diagonal(arm.size)
     rows = [[("\u2261 0" if zero[k] else _share(share[k])) if lab in diag else "\u2014",
@@ -226,28 +231,29 @@ def _diagonal(n):
     return {element_label("D", k, k): k for k in range(n)}
 
 
-def has_armature(ds: xr.Dataset) -> bool:
+def has_armature(results: Results) -> bool:
     """Whether the arm has drives whose armature adds to the diagonal of D (Table 1.4).
 
     Parameters
     ----------
-    ds : xarray.Dataset
-        The results (``D_arm``, if the arm has drives).
+    results : Results
+        The results (the armature, if the arm has drives).
 
     Returns
     -------
     bool
     """
-    return Var.D_ARM in ds and bool(np.any(ds[Var.D_ARM].values > 0))
+    arm = results.robot_record.armature
+    return arm is not None and bool(np.any(arm > 0))
 
 
-def d_text(ds: xr.Dataset, s: float, e: float, enveloped: bool) -> str:
+def d_text(results: Results, s: float, e: float, enveloped: bool) -> str:
     """Fig. 2's lead-in: the parts drawn and what the combined curve sums.
 
     Parameters
     ----------
-    ds : xarray.Dataset
-        The results (their units of D, and ``D_arm``).
+    results : Results
+        The results (their joint types, for the units of D, and the armature).
     s, e : float
         The thresholds.
     enveloped : bool
@@ -260,7 +266,7 @@ def d_text(ds: xr.Dataset, s: float, e: float, enveloped: bool) -> str:
     """
     parts = _D_PARTS[enveloped]
     arm = ({"armature": _D_ARMATURE["armature"].replace("{arm}", parts["arm"]),
-            "plus_arm": _D_ARMATURE["plus_arm"]} if has_armature(ds)
+            "plus_arm": _D_ARMATURE["plus_arm"]} if has_armature(results)
            else {"armature": "", "plus_arm": ""})
-    return _D_TEXT.format(s=f"{s:g}", e=f"{e:g}", units=units_said_once(ds, "D"),
+    return _D_TEXT.format(s=f"{s:g}", e=f"{e:g}", units=units_said_once(results, "D"),
                           **{k: v for k, v in parts.items() if k != "arm"}, **arm)

@@ -1,6 +1,6 @@
 """The main report's robot section: the robot's geometry (DH rows, or a URDF arm's joint
 placements and axes), its links, its drives, the trajectory, each joint's range of motion and
-its effort limits, read from the stored dataset.
+its effort limits, read from the typed results (:class:`gd_analyze.io.results_view.Results`).
 """
 
 from __future__ import annotations
@@ -10,9 +10,9 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 
 from ..core.selection.ranking import joint_motion_units
-from ..io.names import Attr, Var
-from .common import attr as _attr
-from .common import count, given, prismatic_joints, strings
+from ..io.results_view import Results
+from .common import attr_text as _text
+from .common import count, given
 from .common import fmt as _fmt
 from .common import fmt_column as _column
 from .common import share as share_text
@@ -38,14 +38,14 @@ _DERIVATIVES = {
 ALIKE = 1e-12
 
 
-def alike_joints(ds: xr.Dataset) -> list[list[int]]:
+def alike_joints(results: Results) -> list[list[int]]:
     """The groups of joints whose stored motions are equal to round-off: their curves in
     Fig. 1 coincide, the one drawn last hiding the others.
 
     Parameters
     ----------
-    ds : xarray.Dataset
-        With ``q``, ``qd`` and ``qdd`` of shape (N, n) and, optionally, ``joint_type``.
+    results : Results
+        With the trajectory's q, q\u0307 and q\u0308 of shape (N, n) and the joint types.
 
     Returns
     -------
@@ -60,8 +60,9 @@ def alike_joints(ds: xr.Dataset) -> list[list[int]]:
     difference of their columns is at most :data:`ALIKE` times the larger peak of the two
     columns (both columns 0: alike).
     """
-    prismatic = prismatic_joints(ds)
-    series = [np.asarray(ds[v].values, float) for v in ("q", "qd", "qdd")]
+    prismatic = np.array(results.prismatic)
+    traj = results.trajectory
+    series = [np.asarray(v, float) for v in traj.motion]
     n = prismatic.size
 
     def alike(i, j):
@@ -88,13 +89,13 @@ def _kv(rows):
     return _table(["item", "value"], rows, widths=[1.2, 3.4])
 
 
-def robot_section(ds: xr.Dataset, robot_name: str) -> dict[str, Any]:
+def robot_section(results: Results, robot_name: str) -> dict[str, Any]:
     """The tables and sentences of the robot and trajectory section.
 
     Parameters
     ----------
-    ds : xarray.Dataset
-        A results dataset as stored by the main job.
+    results : Results
+        The main job's results.
     robot_name : str
         The robot's name as printed.
 
@@ -105,30 +106,31 @@ def robot_section(ds: xr.Dataset, robot_name: str) -> dict[str, Any]:
         (None without drives), ``traj_kv``, ``joints``, ``effort`` (None without limits) and
         ``effort_text``: the entries of the report's context.
     """
-    n = ds.sizes["joint"]
-    t = ds[Var.T].values
+    robot, traj = results.robot_record, results.trajectory
+    n = len(results.prismatic)
+    t = traj.t
     N = t.size
-    labels = strings(ds[Var.ELEMENT].values)
+    labels = [r.label for r in results.ranking.rows]
     robot_kv = _kv([
-        ("name", robot_name), ("description", _attr(ds, Attr.ROBOT_DESCRIPTION)),
-        ("reference", _attr(ds, Attr.ROBOT_REFERENCE)), ("robot file", _attr(ds, Attr.ROBOT_SOURCE)),
-        ("robot file SHA-256", _attr(ds, Attr.ROBOT_SHA256)), ("joints n", str(n)),
-        ("gravity g [m/s\u00b2]", _attr(ds, Attr.GRAVITY)),
+        ("name", robot_name), ("description", _text(robot.description)),
+        ("reference", _text(robot.reference)), ("robot file", _text(robot.source)),
+        ("robot file SHA-256", _text(robot.sha256)), ("joints n", str(n)),
+        ("gravity g [m/s\u00b2]", _text(robot.gravity)),
     ])
-    com = ds[Var.LINK_COM].values
-    inertia = ds[Var.LINK_INERTIA].values
-    dh, placements = _robot_geometry(ds)
+    com = robot.link_com
+    inertia = robot.link_inertia
+    dh, placements = _robot_geometry(results)
     link = _table(
         ["joint", "mass [kg]", "com x [m]", "com y [m]", "com z [m]", "Ixx [kg m\u00b2]",
          "Iyy [kg m\u00b2]", "Izz [kg m\u00b2]"],
-        _rows(range(1, n + 1), ds[Var.LINK_MASS].values, *com.T,
+        _rows(range(1, n + 1), robot.link_mass, *com.T,
               *(inertia[:, i, i] for i in range(3))),
         align=["left"] + ["right"] * 7, widths=[0.7] + [1] * 7)
-    drives = _drives_context(ds, labels)
-    derivatives = str(ds.attrs.get(Attr.DERIVATIVES, ""))
-    sha_in = _attr(ds, Attr.INPUT_SHA256, "")
+    drives = _drives_context(results, labels)
+    derivatives = traj.derivatives
+    sha_in = _text(traj.input_sha256, "")
     traj_kv = _kv([
-        ("source file", _attr(ds, Attr.INPUT_FILE)), ("path", _attr(ds, Attr.INPUT_PATH)),
+        ("source file", _text(traj.input_file)), ("path", _text(traj.input_path)),
         ("SHA-256", sha_in or "\u2014 (not read from a file)"),
         ("set points N", count(N)),
         ("duration [s]",
@@ -136,10 +138,10 @@ def robot_section(ds: xr.Dataset, robot_name: str) -> dict[str, Any]:
         ("derivatives", f"{derivatives}: {_DERIVATIVES.get(derivatives, 'as recorded')}"
          if derivatives else "\u2014"),
     ])
-    prismatic = prismatic_joints(ds)
+    prismatic = np.array(results.prismatic)
     # the units of Fig. 1 (joint_motion_units shown): deg, or mm for a prismatic joint
     scale = np.where(prismatic, 1000.0, np.degrees(1.0))
-    q, qd, qdd = (ds[v].values * scale for v in ("q", "qd", "qdd"))
+    q, qd, qdd = (v * scale for v in traj.motion)
     joints = _table(
         ["joint", "type", "q min", "q max", "peak |q\u0307|", "peak |q\u0308|", "units"],
         [[row[0], "prismatic" if prismatic[k] else "revolute", *row[1:],
@@ -148,7 +150,7 @@ def robot_section(ds: xr.Dataset, robot_name: str) -> dict[str, Any]:
                                        np.abs(qd).max(axis=0), np.abs(qdd).max(axis=0)))],
         align=["left", "left"] + ["right"] * 4 + ["left"], widths=[0.6, 0.9, 1, 1, 1, 1, 1.5])
 
-    efforts = effort_rows(ds)
+    efforts = effort_rows(results)
     effort = _table(
         ["joint", "peak |\u03c4|", "effort limit", "peak / limit", "flag", "units"],
         [[*row, flag, unit] for row, (*_, flag, unit) in zip(
@@ -169,15 +171,17 @@ def _rows(first, *columns):
     return [[str(f), *cells] for f, *cells in zip(first, *cols)]
 
 
-def _robot_geometry(ds):
+def _robot_geometry(results):
     """(DH table, None) for a robot given by DH rows; (None, placements table) for a URDF or
     chain robot, whose DH parameters are not defined: each joint's fixed placement in body frame
     i-1 (translation xyz [m], rotation as roll-pitch-yaw [deg], R = Rz(yaw) Ry(pitch)
     Rx(roll) as in URDF) and its axis, the z column of the rotation."""
-    n = ds.sizes["joint"]
-    dh_rows = np.stack([ds[v].values for v in ("dh_d", "dh_a", "dh_alpha", "dh_offset")])
-    if np.all(np.isfinite(dh_rows)) or Var.JOINT_ROTATION not in ds.variables:
-        pris = prismatic_joints(ds)
+    robot = results.robot_record
+    n = len(results.prismatic)
+    dh_rows = robot.dh
+    if (np.all(np.isfinite(dh_rows)) or robot.joint_rotation is None
+            or robot.joint_translation is None):
+        pris = np.array(results.prismatic)
 
         def cell(value, variable):            # the joint variable q where it moves: q + offset
             if not variable:
@@ -196,8 +200,8 @@ def _robot_geometry(ds):
 
     from scipy.spatial.transform import Rotation
 
-    R = np.asarray(ds[Var.JOINT_ROTATION].values, float)
-    t = np.asarray(ds[Var.JOINT_TRANSLATION].values, float)
+    R = np.asarray(robot.joint_rotation, float)
+    t = np.asarray(robot.joint_translation, float)
     with warnings.catch_warnings():             # pitch of +-90 deg: yaw 0, roll takes it all
         warnings.simplefilter("ignore", UserWarning)
         rpy = Rotation.from_matrix(R).as_euler("xyz", degrees=True)  # extrinsic: URDF's rpy
@@ -210,7 +214,7 @@ def _robot_geometry(ds):
     placements = _table(
         ["joint", "type", "x [m]", "y [m]", "z [m]", "roll [deg]", "pitch [deg]", "yaw [deg]",
          "axis in frame i\u22121"],
-        [[str(k + 1), str(ds[Var.JOINT_TYPE].values[k]) if Var.JOINT_TYPE in ds else "",
+        [[str(k + 1), robot.joint_type[k] if robot.joint_type is not None else "",
           *row[1:], "(" + ", ".join(num(v) for v in R[k, :, 2]) + ")"]
          for k, row in enumerate(_rows(range(n), *xyz.T, *angles.T))],
         align=["left", "left"] + ["right"] * 6 + ["left"],
@@ -218,25 +222,27 @@ def _robot_geometry(ds):
     return None, placements
 
 
-def _drives_context(ds, labels):
+def _drives_context(results: Results | xr.Dataset, labels):
     """The drives' table and its note, or None when the robot has no drives."""
-    names = ("D_arm", "viscous", "coulomb")
-    offset = ds[Var.TORQUE_OFFSET].values if Var.TORQUE_OFFSET in ds else None
+    results = Results.of(results)
+    robot = results.robot_record
+    offset = robot.torque_offset
     has_offset = offset is not None and bool(np.any(offset))
-    if not all(v in ds for v in names) or not (
-            any(np.any(ds[v].values) for v in names) or has_offset):
+    drives = robot.drives
+    if drives is None or not (any(np.any(v) for v in drives) or has_offset):
         return None
-    arm, fv, fc = (ds[v].values for v in names)
+    arm, fv, fc = drives
     n = arm.shape[0]
-    pris = prismatic_joints(ds)
-    peak_f = (np.abs(ds[Var.TAU_F].values).max(axis=0) if Var.TAU_F in ds else np.zeros(n))
-    share = ds[Var.SHARE_ARM].values if Var.SHARE_ARM in ds else np.zeros(len(labels))
+    pris = np.array(results.prismatic)
+    tau_f = results.trajectory.tau_f
+    peak_f = np.abs(tau_f).max(axis=0) if tau_f is not None else np.zeros(n)
+    share = results.share_arm if results.share_arm is not None else np.zeros(len(labels))
     diag = [list(labels).index(f"D{k + 1}{k + 1}") if n < 10 else None for k in range(n)]
     extra = (offset,) if has_offset else ()
     table = _table(
         ["joint", "armature", "viscous", "Coulomb", *(["offset"] if has_offset else []),
          f"peak |{tau('f')}|", f"armature share of {element('D', 'ii')}", "units"],
-        [[*row, share_text(share[diag[k]]) if diag[k] is not None else "—",
+        [[*row, share_text(float(share[diag[k]])) if diag[k] is not None else "—",
           ("kg, N s/m, N" + ", N" * has_offset + ", N") if pris[k] else
           ("kg m², N m s/rad, N m" + ", N m" * has_offset + ", N m")]
          for k, row in enumerate(_rows(range(1, n + 1), arm, fv, fc, *extra, peak_f))],

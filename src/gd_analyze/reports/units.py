@@ -18,6 +18,7 @@ from ..core.selection.ranking import (
     joint_units_text,
     parse_element_label,
 )
+from ..io.results_view import Results
 from ..io.schema import strings as _strings
 
 if TYPE_CHECKING:
@@ -53,19 +54,21 @@ def keep_units(text: object) -> str:
     return _UNITS.sub(lambda m: m.group().replace(" ", "\u00a0"), str(text))
 
 
-def prismatic_joints(ds: xr.Dataset) -> npt.NDArray[np.bool_]:
+def prismatic_joints(ds: Results | xr.Dataset) -> npt.NDArray[np.bool_]:
     """Which joints are prismatic (q in m), from the stored ``joint_type`` (all revolute in a
     dataset without it).
 
     Parameters
     ----------
-    ds : xarray.Dataset
-        A stored analysis.
+    ds : Results or xarray.Dataset
+        A stored analysis, typed (:class:`gd_analyze.io.results_view.Results`) or not.
 
     Returns
     -------
     ndarray of bool, shape (n,)
     """
+    if isinstance(ds, Results):
+        return np.array(ds.prismatic, dtype=bool)
     if "joint_type" not in ds.variables:
         return np.zeros(ds.sizes["joint"], dtype=bool)
     return np.array([t == "prismatic" for t in _strings(ds["joint_type"].values)])
@@ -86,12 +89,12 @@ def units_text(u: str) -> str:
             .replace("s-1", "s\u207b\u00b9"))
 
 
-def torque_units(ds: xr.Dataset) -> list[str]:
+def torque_units(ds: Results | xr.Dataset) -> list[str]:
     """The printed units of tau_i, h_i and c_i per joint: N m, or N for a prismatic joint.
 
     Parameters
     ----------
-    ds : xarray.Dataset
+    ds : Results or xarray.Dataset
 
     Returns
     -------
@@ -119,12 +122,12 @@ def element_units_of(ds: xr.Dataset) -> list[str]:
             (parse_element_label(lab, n) for lab in _strings(ds["element"].values))]
 
 
-def units_said_once(ds: xr.Dataset, kind: str) -> str:
+def units_said_once(ds: Results | xr.Dataset, kind: str) -> str:
     """The units of every D_ij or every tau_i in words, for captions and keys.
 
     Parameters
     ----------
-    ds : xarray.Dataset
+    ds : Results or xarray.Dataset
     kind : str
         ``"D"`` or ``"tau"``.
 
