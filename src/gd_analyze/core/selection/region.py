@@ -108,8 +108,9 @@ class ChannelValues:
 
     Notes
     -----
-    At 15 joints and 1,032 positions this holds about a fifth of the packed dense array
-    (B, P, n, m) (the rows and channels beyond each column's link are not stored).
+    The rows and channels beyond each column's link are not stored: on a random 15-joint
+    chain (86 base parameters) this holds 30 % of the packed dense array (B, P, n, m), and
+    17 % of the full layout (B, 1 + n + n^2, n, m).
     """
 
     n: int
