@@ -145,8 +145,8 @@ def check_guarantee(model: SimplifiedModel, path: str = "<model>") -> None:
     region = check_region(model.robot, g, model.torque_floor, path)  # type: ignore[arg-type]  # SimplifiedModel's field is typed object
     if region is None:
         return
-    bound: np.ndarray = np.asarray(g.bound, float)  # type: ignore[attr-defined, type-var]  # SimplifiedModel's field is typed object
-    scale: np.ndarray = np.asarray(g.scale, float)  # type: ignore[attr-defined, type-var]  # SimplifiedModel's field is typed object
+    bound: np.ndarray = np.asarray(g.bound, float)  # type: ignore[union-attr, type-var]  # the guarantee is not None here
+    scale: np.ndarray = np.asarray(g.scale, float)  # type: ignore[union-attr, type-var]  # the guarantee is not None here
     limit = bound + BOUND_RTOL * np.abs(scale)
     if model.recursive is not None and np.isfinite(bound).all() and (
             _tiled(model, region, limit) or prove_dropped(

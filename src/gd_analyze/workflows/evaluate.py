@@ -292,7 +292,7 @@ def check_trajectory_claim(model: SimplifiedModel, trajectory: Trajectory,
     tau = check_finite("tau", gd_terms(robot, trajectory.q, trajectory.qd).tau(trajectory.qdd))
     err = np.abs(model_torque(model, trajectory.q, trajectory.qd, trajectory.qdd) - tau)
     peak, peak_tau = err.max(axis=0), np.abs(tau).max(axis=0)
-    scale, bound = np.asarray(g.scale, float), np.asarray(g.bound, float)  # type: ignore[attr-defined, type-var]  # SimplifiedModel's field is typed object
+    scale, bound = np.asarray(g.scale, float), np.asarray(g.bound, float)  # type: ignore[union-attr, type-var]  # the guarantee is not None here
     own = np.maximum(peak_tau, scale)
     ok = within_bound(peak, bound, scale) | _round_off(peak, own, own, robot)   # as the gate
     if not ok.all():
@@ -300,7 +300,7 @@ def check_trajectory_claim(model: SimplifiedModel, trajectory: Trajectory,
         raise InputError(f"is below the error measured again on its own trajectory (joint "
                          f"{j + 1}: {bound[j]:.4g} < {peak[j]:.4g})", path,
                          column="guarantee.bound")
-    if g.trajectories_sha256:  # type: ignore[attr-defined]  # SimplifiedModel's field is typed object
+    if g.trajectories_sha256:  # type: ignore[union-attr]  # the guarantee is not None here
         return                      # a sweep's model: s_i is each trajectory's
     expected = np.maximum(peak_tau, float(model.torque_floor))
     ok = within_bound(np.abs(expected - scale), TRAJECTORY_SCALE_RTOL * np.abs(expected),
@@ -341,12 +341,12 @@ def gate(err: Mapping[str, Any], model: SimplifiedModel,
     if max_error is None and g is None:
         return {"by": None, "limit": None, "exceeded": False, "worst_joint": None,
                 "message": ""}
-    s = np.asarray(g.scale if max_error is None else (err.get("scale") or np.zeros(robot.n)),  # type: ignore[attr-defined]  # SimplifiedModel's field is typed object
+    s = np.asarray(g.scale if max_error is None else (err.get("scale") or np.zeros(robot.n)),  # type: ignore[union-attr]  # the guarantee is not None here
                    float)
     own = np.maximum(np.asarray(err["peak_tau"], float), s)
     off = _round_off(peak, own, own, robot)
     if max_error is None:
-        limit = g.tolerance * s  # type: ignore[attr-defined]  # SimplifiedModel's field is typed object
+        limit = g.tolerance * s  # type: ignore[union-attr]  # the guarantee is not None here
         measure, bound = peak, limit
         within = within_bound(peak, limit, s)               # up to round-off, as guaranteed
     else:
@@ -364,7 +364,7 @@ def gate(err: Mapping[str, Any], model: SimplifiedModel,
     u = units[j]
     if max_error is None:
         out["message"] = (f"joint {j + 1}'s torque error {peak[j]:.4g} {u} exceeds the model's "
-                          f"tolerance x scale, {g.tolerance:g} x {s[j]:.4g} {u} = "  # type: ignore[attr-defined]  # SimplifiedModel's field is typed object
+                          f"tolerance x scale, {g.tolerance:g} x {s[j]:.4g} {u} = "  # type: ignore[union-attr]  # the guarantee is not None here
                           f"{limit[j]:.4g} {u}")
     else:
         out["message"] = (f"joint {j + 1}'s relative torque error {measure[j]:.3e} (of "
