@@ -476,6 +476,7 @@ def region_merged_model(robot: Robot, trajectories: Sequence[Trajectory], region
     """
     base = base_parameters(robot)
     first = region_simplified(robot, base, region, tolerance, torque_floor, digest, provenance)
+    g: Any                                      # a region model's guarantee: never None
     model, g = first, first.guarantee
     costs = _recursive_costs(robot, model)
     reference = None                           # the G-D terms, D qdd + h + c
