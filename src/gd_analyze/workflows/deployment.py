@@ -283,9 +283,9 @@ def exact_explicit_model(full: SimplifiedModel, guarantee: Guarantee, tolerance:
         ``full`` was built on need not be 0 elsewhere in the region), ``tolerance`` EPS, bound
         0 on every joint and the region guarantee with bound and sampled error 0.
     """
-    n = full.robot.n  # type: ignore[attr-defined]  # SimplifiedModel's field is typed object
+    n = full.robot.n
     terms, _ = explicit_cache.explicit_terms(full.robot)
-    program = full_program(full.robot, terms)  # type: ignore[arg-type]  # SimplifiedModel's field is typed object
+    program = full_program(full.robot, terms)
     return dataclasses.replace(
         full, tolerance=float(tolerance), bound=[0.0] * n, terms=terms,
         choices=full_choices(n), cost=program.cost(), program_cache=program,

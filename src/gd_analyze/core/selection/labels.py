@@ -17,8 +17,10 @@ from __future__ import annotations
 
 import re
 from collections.abc import Sequence
+from typing import TYPE_CHECKING
 
-import numpy as np
+if TYPE_CHECKING:
+    import numpy as np
 
 __all__ = ["element_index", "element_label", "element_labels", "parse_element_label",
            "element_units", "joint_torque_units", "joint_motion_units", "joint_gain_units",
