@@ -138,19 +138,19 @@ def check_guarantee(model: SimplifiedModel, path: str = "<model>") -> None:
     """
     g = model.guarantee
     key = _claim_key(model) if (g is not None
-                                and g.kind == "region"  # type: ignore[attr-defined]  # SimplifiedModel's field is typed object
+                                and g.kind == "region"
                                 and model.recursive is not None) else None
     if key in _PROVED_CLAIMS:
         return                              # the same claim, checked before in this process
-    region = check_region(model.robot, g, model.torque_floor, path)  # type: ignore[arg-type]  # SimplifiedModel's field is typed object
+    region = check_region(model.robot, g, model.torque_floor, path)
     if region is None:
         return
-    bound: np.ndarray = np.asarray(g.bound, float)  # type: ignore[attr-defined, type-var]  # SimplifiedModel's field is typed object
-    scale: np.ndarray = np.asarray(g.scale, float)  # type: ignore[attr-defined, type-var]  # SimplifiedModel's field is typed object
+    bound: np.ndarray = np.asarray(g.bound, float)  # type: ignore[union-attr, type-var]  # the guarantee is not None here
+    scale: np.ndarray = np.asarray(g.scale, float)  # type: ignore[union-attr, type-var]  # the guarantee is not None here
     limit = bound + BOUND_RTOL * np.abs(scale)
     if model.recursive is not None and np.isfinite(bound).all() and (
             _tiled(model, region, limit) or prove_dropped(
-                model.robot, base_parameters(model.robot), region, model.recursive.dropped,  # type: ignore[attr-defined, arg-type]  # SimplifiedModel's field is typed object
+                model.robot, base_parameters(model.robot), region, model.recursive.dropped,
                 limit, max_boxes=QUICK_BOXES)):
         _PROVED_CLAIMS.add(key)
         return                              # proved on the stored trees or the pairs' own boxes
@@ -169,11 +169,11 @@ def _tiled(model, region, limit):
     tile the region and evaluated afresh, give a bound within ``limit`` (n,) on every joint
     (:func:`gd_analyze.core.selection.certify.tilings_bound`); False without trees."""
     g = model.guarantee
-    if not g.tilings:  # type: ignore[attr-defined]  # SimplifiedModel's field is typed object
+    if not g.tilings:
         return False
     robot = model.robot
-    found = tilings_bound(robot, base_parameters(robot), region,  # type: ignore[arg-type]  # SimplifiedModel's field is typed object
-                          np.asarray(model.recursive.dropped, bool), g.tilings)  # type: ignore[attr-defined]  # SimplifiedModel's field is typed object
+    found = tilings_bound(robot, base_parameters(robot), region,
+                          np.asarray(model.recursive.dropped, bool), g.tilings)
     return bool(np.all(found <= limit))     # NaN never passes
 
 
@@ -196,7 +196,7 @@ def remember_claim(model: SimplifiedModel) -> None:
     bound, scale, torque floor, dropped pairs or parameter values differ is checked afresh.
     """
     g = model.guarantee
-    if g is not None and g.kind == "region" and model.recursive is not None:  # type: ignore[attr-defined]  # SimplifiedModel's field is typed object
+    if g is not None and g.kind == "region" and model.recursive is not None:
         _PROVED_CLAIMS.add(_claim_key(model))
 
 
@@ -255,10 +255,10 @@ def reproved_bound(model: SimplifiedModel, region: Region, path: str = "<model>"
                              "pairs or for the full explicit model, and this explicit model "
                              "keeps other terms: its bound cannot be proved", path,
                              column="guarantee.bound")
-        return np.zeros(robot.n)  # type: ignore[attr-defined]  # SimplifiedModel's field is typed object
+        return np.zeros(robot.n)
     pb = _certified(robot, region, float(model.torque_floor))
-    dropped: np.ndarray = np.asarray(model.recursive.dropped, bool)  # type: ignore[attr-defined, type-var]  # SimplifiedModel's field is typed object
-    return region_bound(robot, base_parameters(robot), region, pb, dropped,  # type: ignore[arg-type]  # SimplifiedModel's field is typed object
+    dropped: np.ndarray = np.asarray(model.recursive.dropped, bool)  # type: ignore[type-var]
+    return region_bound(robot, base_parameters(robot), region, pb, dropped,
                         float(model.tolerance) * np.asarray(pb.scale, float))
 
 

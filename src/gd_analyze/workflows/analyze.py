@@ -84,7 +84,7 @@ class Analysis:
         ``passed`` (bool).
     """
 
-    dataset: object
+    dataset: xr.Dataset
     model: SimplifiedModel
     verification: dict
 

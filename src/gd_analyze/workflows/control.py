@@ -299,9 +299,9 @@ def model_cost(model: SimplifiedModel) -> dict[str, Any]:
     Lee (1987) (a simplified model "at a reduced computation time"), Table 3.5 (N-E), and
     Armstrong, Khatib & Burdick (1986) for the explicit form.
     """
-    robot: Robot = model.robot  # type: ignore[assignment]  # SimplifiedModel's field is typed object
+    robot: Robot = model.robot
     built = model.choice_cache or ()    # the exact program its builder made, where it kept it
-    exact = built[2] if len(built) > 2 else recursive_program(robot)  # type: ignore[arg-type, index]  # typed object
+    exact = built[2] if len(built) > 2 else recursive_program(robot)
     counted = [(f"simplified model ({model.form} form)", model.program().cost()),
                ("exact recursive model", with_drives(exact, robot).cost())]
     if model.form == "explicit" or not is_expensive(robot):
@@ -352,18 +352,18 @@ def model_facts(model: SimplifiedModel) -> dict[str, Any]:
     """
     out = {"form": model.form, "rule": str(model.rule), "tolerance": float(model.tolerance),
            "scope": model.scope(),
-           "guarantee_kind": "none" if model.guarantee is None else model.guarantee.kind,  # type: ignore[attr-defined]  # SimplifiedModel's field is typed object
+           "guarantee_kind": "none" if model.guarantee is None else model.guarantee.kind,
            "base_parameters": -1, "pairs": -1, "pairs_dropped": -1, "dropped_pairs": "",
            "gravity_dropped": "", "pairs_known": 0, "c_terms_kept": -1, "c_terms": -1}
     if model.recursive is not None:
-        f = model.recursive.stated_facts()  # type: ignore[attr-defined]  # SimplifiedModel's field is typed object
-        out.update(base_parameters=len(model.recursive.names), pairs=f["pairs"],  # type: ignore[attr-defined]  # SimplifiedModel's field is typed object
+        f = model.recursive.stated_facts()
+        out.update(base_parameters=len(model.recursive.names), pairs=f["pairs"],
                    pairs_dropped=f["dropped"],
                    dropped_pairs=", ".join(f"{a} ({b})" for a, b in f["dropped_pairs"]),
                    gravity_dropped=", ".join(f["gravity_dropped"]), pairs_known=int(f["known"]))
     elif model.rule == "budget" and model.terms is not None:
-        out["c_terms_kept"] = int(np.sum(np.asarray(model.terms.kind) == "c"))  # type: ignore[attr-defined]  # SimplifiedModel's field is typed object
-        if not is_expensive(model.robot):  # type: ignore[arg-type]  # SimplifiedModel.robot is typed object
+        out["c_terms_kept"] = int(np.sum(np.asarray(model.terms.kind) == "c"))
+        if not is_expensive(model.robot):
             full, _ = explicit_cache.explicit_terms(model.robot)
             out["c_terms"] = int(np.sum(np.asarray(full.kind) == "c"))
     return out
@@ -459,7 +459,7 @@ def run_control(model: SimplifiedModel, trajectory: Trajectory, wn: ArrayLike = 
     else:
         model_file = str(model_path)
         model_sha = model_sha256 or ""
-    robot: Robot = model.robot if plant is None else plant  # type: ignore[assignment]  # SimplifiedModel's field is typed object
+    robot: Robot = model.robot if plant is None else plant
     if trajectory.q.shape[1] != robot.n:
         raise ValueError(f"the trajectory has {trajectory.q.shape[1]} joints, the robot "
                          f"{robot.n}")

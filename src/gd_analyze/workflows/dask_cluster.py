@@ -19,6 +19,8 @@ import os
 import signal
 import sys
 import tempfile
+from collections.abc import Iterator
+from typing import Any
 
 from ..errors import InputError
 from ..io.signals import SIGNALS
@@ -45,12 +47,12 @@ class ClusterLost(InputError):
         The scheduler's address, or how the cluster was started.
     """
 
-    def __init__(self, message, where=None):
+    def __init__(self, message: str, where: str | None = None) -> None:
         super().__init__(message, where)
 
 
 @contextlib.contextmanager
-def cluster_failures(where):
+def cluster_failures(where: str) -> Iterator[None]:
     """Turn the dask cluster's failures inside the block into one :class:`ClusterLost`.
 
     Parameters
@@ -137,7 +139,8 @@ def check_scheduler(address: str, timeout: float = HANDSHAKE_TIMEOUT) -> None:
 
 
 @contextlib.contextmanager
-def dask_client(scheduler=None, n_workers=None, timeout=HANDSHAKE_TIMEOUT):
+def dask_client(scheduler: str | None = None, n_workers: int | None = None,
+                timeout: float = HANDSHAKE_TIMEOUT) -> Iterator[tuple[Any, str]]:
     """A dask.distributed client: connected to ``scheduler``, or on a new LocalCluster.
 
     Parameters

@@ -10,6 +10,8 @@ ones is :mod:`.deployment`'s. Nothing here prints or writes files.
 from __future__ import annotations
 
 import dataclasses
+from collections.abc import Callable, Mapping
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
@@ -46,6 +48,14 @@ from ..io.planning import DEFAULT_QDD_PER_QD, acceleration_limits
 from ..io.search_cache import read_search, search_key, write_search
 from .region_memo import REGION_SAMPLES, certified, region_magnitudes, region_values
 
+if TYPE_CHECKING:
+    from ..core.model.robot import Robot
+    from ..core.selection.certify import PairBounds
+    from ..core.selection.ranking import Ranking
+    from ..core.selection.region import Region, RegionLimits
+    from ..core.selection.screen import RegionScreen
+    from ..core.symbolic.base_parameters import BaseParameters
+
 __all__ = ["build_recursive", "recursive_simplified", "replace_cost", "region_model",
            "trajectory_guarantee", "certified", "robot_region", "guarantee_region",
            "REGION_SAMPLES", "restored_rebuild", "joint_bound", "SCOUT_BOXES",
@@ -61,7 +71,8 @@ TILING_RTOL = 1e-12
 SCOUT_BOXES, SCOUT_RATIO = 2048, 1.5
 
 
-def robot_region(robot, limits=None):
+def robot_region(robot: Robot, limits: RegionLimits | None = None
+                 ) -> tuple[Region | None, str]:
     """The region of a model's guarantee: the robot's limits, or the user's within them; or
     None and why not.
 
@@ -102,7 +113,8 @@ def robot_region(robot, limits=None):
                         qdd_rule=f"{DEFAULT_QDD_PER_QD:g} s^-1 x qd max"), ""
 
 
-def guarantee_region(robot, guarantee="auto", limits=None):
+def guarantee_region(robot: Robot, guarantee: str = "auto", limits: RegionLimits | None = None
+                     ) -> tuple[Region | None, str, bool]:
     """The region, and whether a budget model's bound is proved over it.
 
     Parameters
@@ -130,7 +142,8 @@ def guarantee_region(robot, guarantee="auto", limits=None):
     return region, missing, region is not None and guarantee != "trajectory"
 
 
-def region_model(robot, base, region, tolerance, torque_floor=0.0):
+def region_model(robot: Robot, base: BaseParameters, region: Region, tolerance: float,
+                 torque_floor: float = 0.0) -> tuple[RecursiveModel, Guarantee]:
     """The recursive model pruned on bounds proved over a joint-limit region.
 
     Parameters
@@ -181,7 +194,8 @@ def _region_pruning(base, pb, robot, region, tolerance, chosen=None):
     return pr, joint.tilings(pr.dropped, pr.bound)
 
 
-def joint_bound(robot, base, region, pb, tolerance):
+def joint_bound(robot: Robot, base: BaseParameters, region: Region, pb: PairBounds,
+                tolerance: float) -> Callable[..., Any]:
     """The bound of a dropped set's joint sum over the region, for
     :func:`~gd_analyze.core.symbolic.pruning.prune_bounds`.
 
@@ -320,8 +334,9 @@ def _unrefined(robot):
         f"maximisation (done up to {REFINE_JOINTS} joints)")
 
 
-def trajectory_guarantee(robot, base, rec, tolerance, trajectory_sha256="", region=None,
-                         region_missing=""):
+def trajectory_guarantee(robot: Robot, base: BaseParameters, rec: RecursiveModel,
+                         tolerance: float, trajectory_sha256: str = "",
+                         region: Region | None = None, region_missing: str = "") -> Guarantee:
     """The guarantee of a model pruned on a trajectory, its error sampled over the region.
 
     Parameters
@@ -357,9 +372,13 @@ def trajectory_guarantee(robot, base, rec, tolerance, trajectory_sha256="", regi
                             "(triangle inequality)")
 
 
-def build_recursive(robot, q, qd, qdd, tolerance=DEFAULT_TOLERANCE, torque_floor=0.0,
-                    ranking=None, trajectory_sha256="", provenance=None, region=None,
-                    sample_region=None, region_missing="", contributions=None):
+def build_recursive(robot: Robot, q: np.ndarray, qd: np.ndarray, qdd: np.ndarray,
+                    tolerance: float = DEFAULT_TOLERANCE, torque_floor: float = 0.0,
+                    ranking: Ranking | None = None, trajectory_sha256: str = "",
+                    provenance: dict | None = None, region: Region | None = None,
+                    sample_region: Region | None = None, region_missing: str = "",
+                    contributions: tuple[BaseParameters, tuple[np.ndarray, ...]] | None = None
+                    ) -> tuple[SimplifiedModel, Selection]:
     """The pruned customized recursive Newton-Euler model within the budget.
 
     Parameters
@@ -474,9 +493,13 @@ def _floor_zero_choice(robot, base, region, tolerance, torque_floor):
     return None
 
 
-def recursive_simplified(robot, rec, base, tolerance=DEFAULT_TOLERANCE, torque_floor=0.0,
-                         ranking=None, trajectory_sha256="", provenance=None, guarantee=None,
-                         forms=None, searched=None):
+def recursive_simplified(robot: Robot, rec: RecursiveModel, base: BaseParameters,
+                         tolerance: float = DEFAULT_TOLERANCE, torque_floor: float = 0.0,
+                         ranking: Ranking | None = None, trajectory_sha256: str = "",
+                         provenance: Mapping[str, Any] | None = None,
+                         guarantee: Guarantee | None = None,
+                         forms: tuple | None = None, searched: Callable[..., Any] | None = None
+                         ) -> SimplifiedModel:
     """A pruned recursive model as a :class:`SimplifiedModel`, its program and counts built.
 
     Parameters
@@ -572,8 +595,9 @@ def _searched(robot, base, region, tolerance, torque_floor, sampled=True):
                                                            exact_forms, pruned_forms))
 
 
-def region_simplified(robot, base, region, tolerance, torque_floor=0.0, trajectory_sha256="",
-                      provenance=None):
+def region_simplified(robot: Robot, base: BaseParameters, region: Region, tolerance: float,
+                      torque_floor: float = 0.0, trajectory_sha256: str = "",
+                      provenance: Mapping[str, Any] | None = None) -> SimplifiedModel:
     """:func:`region_model` as a :class:`SimplifiedModel`, its searches taken from the
     derivation cache where an entry passes its checks (:mod:`gd_analyze.io.search_cache`)
     and kept there otherwise, as the main job's (:func:`build_recursive`) are.
@@ -608,7 +632,9 @@ def region_simplified(robot, base, region, tolerance, torque_floor=0.0, trajecto
     return model
 
 
-def screened_exact(robot, base, region, tolerance, torque_floor=0.0):
+def screened_exact(robot: Robot, base: BaseParameters, region: Region, tolerance: float,
+                   torque_floor: float = 0.0
+                   ) -> tuple[RecursiveModel, Guarantee, RegionScreen] | None:
     """The exact recursive model under a region guarantee, where the sampled pre-screen finds
     that no region model could save :data:`gd_analyze.core.selection.screen.MIN_SAVING` of
     its operations; else None.
@@ -653,7 +679,7 @@ def screened_exact(robot, base, region, tolerance, torque_floor=0.0):
     return rec, guarantee, found
 
 
-def replace_cost(model, cost):
+def replace_cost(model: SimplifiedModel, cost: dict) -> SimplifiedModel:
     """The model with its ``cost`` set (a new frozen value; its ``program_cache`` field, and
     so a program built before, is carried over by :func:`dataclasses.replace`).
 
@@ -670,16 +696,20 @@ def replace_cost(model, cost):
     return dataclasses.replace(model, cost=dict(cost))
 
 
-def restored_rebuild(q, qd, qdd, region=None, sample_region=None, region_missing="",
-                     contributions=None):
+def restored_rebuild(q: np.ndarray | None, qd: np.ndarray | None, qdd: np.ndarray | None,
+                     region: Region | None = None, sample_region: Region | None = None,
+                     region_missing: str = "",
+                     contributions: tuple[BaseParameters, tuple[np.ndarray, ...]] | None = None
+                     ) -> Callable[..., SimplifiedModel]:
     """A ``rebuild`` for :func:`gd_analyze.core.selection.positive_definite.with_inertia_check`:
     the recursive model with exactly the given pairs dropped, its bound, guarantee (bound and
     sampled error) and cost derived again for them.
 
     Parameters
     ----------
-    q, qd, qdd : ndarray, shape (N, n)
-        The trajectory the model was built on [rad, rad/s, rad/s^2; m, m/s, m/s^2].
+    q, qd, qdd : ndarray, shape (N, n), or None
+        The trajectory the model was built on [rad, rad/s, rad/s^2; m, m/s, m/s^2]; None
+        for a region model (its region is used).
     region : Region, optional
         The region its bound is proved over (a region model), else None.
     sample_region : Region, optional

@@ -109,6 +109,7 @@ def deploy_models(robot: Robot, trajectory: Trajectory, ranking: Ranking, part_p
     ne = counts["newton-euler"]
     ne = {"multiplications": int(ne["multiplications"]), "additions": int(ne["additions"])}
     derive = "explicit" in background
+    rows: Any                   # the ladder's rows, or their Future (recursive_ladder)
     model, sel, other, rows, skipped, form_note = rec, rec_sel, None, [], "", ""
     costs = {"exact recursive": exact, "recursive, budget": dict(rec.cost),
              "newton-euler": ne}
@@ -138,7 +139,7 @@ def deploy_models(robot: Robot, trajectory: Trajectory, ranking: Ranking, part_p
             full, sel = build_model(robot, terms, peaks, tolerance=0.0, rule="budget",
                                     torque_floor=torque_floor,
                                     chapter_choices=ranking.choices(), **common)
-            model = exact_explicit_model(full, rec.guarantee, tolerance)
+            model = exact_explicit_model(full, rec.guarantee, tolerance)  # type: ignore[arg-type]  # proved: a region guarantee
             skipped = ("not built: the deployed model is the exact explicit one, which holds "
                        "over the whole region, and the ladder prunes on the trajectory")
         else:
@@ -282,9 +283,9 @@ def exact_explicit_model(full: SimplifiedModel, guarantee: Guarantee, tolerance:
         ``full`` was built on need not be 0 elsewhere in the region), ``tolerance`` EPS, bound
         0 on every joint and the region guarantee with bound and sampled error 0.
     """
-    n = full.robot.n  # type: ignore[attr-defined]  # SimplifiedModel's field is typed object
+    n = full.robot.n
     terms, _ = explicit_cache.explicit_terms(full.robot)
-    program = full_program(full.robot, terms)  # type: ignore[arg-type]  # SimplifiedModel's field is typed object
+    program = full_program(full.robot, terms)
     return dataclasses.replace(
         full, tolerance=float(tolerance), bound=[0.0] * n, terms=terms,
         choices=full_choices(n), cost=program.cost(), program_cache=program,

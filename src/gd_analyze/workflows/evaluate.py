@@ -109,7 +109,7 @@ def evaluate(model: SimplifiedModel, trajectory: Trajectory,
         If the torques are not finite (inputs beyond :data:`gd_analyze.core.model.limits.LIMITS`, or
         the model's coefficients beyond a float: :func:`model_torque`).
     """
-    robot: Robot = model.robot  # type: ignore[assignment]  # SimplifiedModel's field is typed object
+    robot: Robot = model.robot
     plant = robot if plant is None else plant
     full = gd_terms(plant, trajectory.q, trajectory.qd)
     err = torque_error(model_torque(model, trajectory.q, trajectory.qd, trajectory.qdd),
@@ -153,9 +153,9 @@ def model_scale(model: SimplifiedModel) -> np.ndarray | None:
         its ``validation``; None if it records neither.
     """
     if model.guarantee is not None:
-        return np.asarray(model.guarantee.scale, float)  # type: ignore[attr-defined]  # SimplifiedModel's field is typed object
+        return np.asarray(model.guarantee.scale, float)
     peak = (model.validation or {}).get("peak_tau")
-    if not peak or len(peak) != model.robot.n:  # type: ignore[attr-defined]  # SimplifiedModel's field is typed object
+    if not peak or len(peak) != model.robot.n:
         return None
     peak = np.array([np.nan if v is None else v for v in peak], float)
     return np.maximum(peak, float(model.torque_floor))
@@ -222,13 +222,13 @@ def coverages(model: SimplifiedModel, trajectories: Sequence[Trajectory],
         trajectory.
     """
     g = model.guarantee
-    out = {"kind": None if g is None else g.kind, "statement": model.scope()}  # type: ignore[attr-defined]  # SimplifiedModel's field is typed object
+    out = {"kind": None if g is None else g.kind, "statement": model.scope()}
     if g is None:
         return [{**out, "covered": False, "reason": "the model carries no guarantee"}
                 for _ in trajectories]
-    if g.kind == "region":  # type: ignore[attr-defined]  # field typed object; a model built in memory, or read: checked
+    if g.kind == "region":  # a model built in memory, or read: checked
         check_guarantee(model, path)        # (once per certification and process)
-    robot: Robot = model.robot  # type: ignore[assignment]  # SimplifiedModel's field is typed object
+    robot: Robot = model.robot
     if plant is not None and plant is not robot and \
             parameters_sha256(plant.to_dict()) != parameters_sha256(robot.to_dict()):
         return [{**out, "covered": False,
@@ -243,9 +243,9 @@ def coverages(model: SimplifiedModel, trajectories: Sequence[Trajectory],
             ~(np.isfinite(lo) & np.isfinite(hi)) | (hi - lo > 2 * np.pi))
     said = []
     for trajectory in trajectories:
-        covered, reason = g.covers(trajectory.q, trajectory.qd, trajectory.qdd,  # type: ignore[attr-defined]  # SimplifiedModel's field is typed object
+        covered, reason = g.covers(trajectory.q, trajectory.qd, trajectory.qdd,
                                    trajectory_sha256=trajectory.sha256, continuous=continuous)
-        if covered and g.kind == "trajectory":  # type: ignore[attr-defined]  # SimplifiedModel's field is typed object
+        if covered and g.kind == "trajectory":
             check_trajectory_claim(model, trajectory, path)
         said.append({**out, "covered": bool(covered), "reason": reason})
     return said
@@ -288,11 +288,11 @@ def check_trajectory_claim(model: SimplifiedModel, trajectory: Trajectory,
     error measured on that trajectory.
     """
     g = model.guarantee
-    robot: Robot = model.robot  # type: ignore[assignment]  # SimplifiedModel's field is typed object
+    robot: Robot = model.robot
     tau = check_finite("tau", gd_terms(robot, trajectory.q, trajectory.qd).tau(trajectory.qdd))
     err = np.abs(model_torque(model, trajectory.q, trajectory.qd, trajectory.qdd) - tau)
     peak, peak_tau = err.max(axis=0), np.abs(tau).max(axis=0)
-    scale, bound = np.asarray(g.scale, float), np.asarray(g.bound, float)  # type: ignore[attr-defined, type-var]  # SimplifiedModel's field is typed object
+    scale, bound = np.asarray(g.scale, float), np.asarray(g.bound, float)  # type: ignore[union-attr, type-var]  # the guarantee is not None here
     own = np.maximum(peak_tau, scale)
     ok = within_bound(peak, bound, scale) | _round_off(peak, own, own, robot)   # as the gate
     if not ok.all():
@@ -300,7 +300,7 @@ def check_trajectory_claim(model: SimplifiedModel, trajectory: Trajectory,
         raise InputError(f"is below the error measured again on its own trajectory (joint "
                          f"{j + 1}: {bound[j]:.4g} < {peak[j]:.4g})", path,
                          column="guarantee.bound")
-    if g.trajectories_sha256:  # type: ignore[attr-defined]  # SimplifiedModel's field is typed object
+    if g.trajectories_sha256:  # type: ignore[union-attr]  # the guarantee is not None here
         return                      # a sweep's model: s_i is each trajectory's
     expected = np.maximum(peak_tau, float(model.torque_floor))
     ok = within_bound(np.abs(expected - scale), TRAJECTORY_SCALE_RTOL * np.abs(expected),
@@ -334,19 +334,19 @@ def gate(err: Mapping[str, Any], model: SimplifiedModel,
         (1-based, the joint furthest beyond its limit; None if none exceeds) and ``message``
         (one line naming it, "" if none). Round-off passes; NaN or inf fails.
     """
-    robot: Robot = model.robot  # type: ignore[assignment]  # SimplifiedModel's field is typed object
+    robot: Robot = model.robot
     peak = np.asarray(err["peak_abs_error"], float)
     units = [joint_torque_units(bool(p)) for p in robot.prismatic]  # type: ignore[union-attr]  # never None (Robot.__post_init__)
     g = model.guarantee
     if max_error is None and g is None:
         return {"by": None, "limit": None, "exceeded": False, "worst_joint": None,
                 "message": ""}
-    s = np.asarray(g.scale if max_error is None else (err.get("scale") or np.zeros(robot.n)),  # type: ignore[attr-defined]  # SimplifiedModel's field is typed object
+    s = np.asarray(g.scale if max_error is None else (err.get("scale") or np.zeros(robot.n)),  # type: ignore[union-attr]  # the guarantee is not None here
                    float)
     own = np.maximum(np.asarray(err["peak_tau"], float), s)
     off = _round_off(peak, own, own, robot)
     if max_error is None:
-        limit = g.tolerance * s  # type: ignore[attr-defined]  # SimplifiedModel's field is typed object
+        limit = g.tolerance * s  # type: ignore[union-attr]  # the guarantee is not None here
         measure, bound = peak, limit
         within = within_bound(peak, limit, s)               # up to round-off, as guaranteed
     else:
@@ -364,7 +364,7 @@ def gate(err: Mapping[str, Any], model: SimplifiedModel,
     u = units[j]
     if max_error is None:
         out["message"] = (f"joint {j + 1}'s torque error {peak[j]:.4g} {u} exceeds the model's "
-                          f"tolerance x scale, {g.tolerance:g} x {s[j]:.4g} {u} = "  # type: ignore[attr-defined]  # SimplifiedModel's field is typed object
+                          f"tolerance x scale, {g.tolerance:g} x {s[j]:.4g} {u} = "  # type: ignore[union-attr]  # the guarantee is not None here
                           f"{limit[j]:.4g} {u}")
     else:
         out["message"] = (f"joint {j + 1}'s relative torque error {measure[j]:.3e} (of "

@@ -13,8 +13,11 @@ writes.
 from __future__ import annotations
 
 import math
+import os
+from collections.abc import Sequence
 from dataclasses import dataclass
 from pathlib import Path
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
@@ -46,6 +49,10 @@ from ..io.trajectory import trajectory_from_arrays
 from .analyze import analyze
 from .evaluate import model_torque as simplified_torque
 from .options import AnalysisOptions
+
+if TYPE_CHECKING:
+    from ..core.model.robot import Robot
+    from ..core.symbolic.base_parameters import BaseParameters
 
 __all__ = ["IdentifyOptions", "identify", "model_torque", "DEFAULT_DRIVES"]
 
@@ -117,7 +124,7 @@ class IdentifyOptions:
                 for k in self.drive_gains):
             raise ValueError("drive gains must be finite and nonzero numbers")
 
-    def settings(self):
+    def settings(self) -> dict:
         """dict: the options as plain values, for provenance."""
         return {"cutoff_hz": self.cutoff, "decimate": int(self.decimate),
                 "drives": [k for k in DRIVE_KINDS if k in self.drives], "current": bool(self.current),
@@ -127,7 +134,8 @@ class IdentifyOptions:
                 "coulomb_model": "sign(qd)"}
 
 
-def model_torque(robot, q, qd, qdd, base=None):
+def model_torque(robot: Robot, q: np.ndarray, qd: np.ndarray, qdd: np.ndarray,
+                 base: BaseParameters | None = None) -> np.ndarray:
     """The torque of a robot with its drives (armature, friction and torque offsets).
 
     Parameters
@@ -230,12 +238,15 @@ def _loadable(robot_phi, drives_ok):
     return bool((np.linalg.eigvalsh(Ic)[:, 0] >= -tol).all())
 
 
-def identify(robot, recordings, validate=(), options=None):
+def identify(robot: Robot | str | Path,
+             recordings: Sequence[str | os.PathLike | Recording],
+             validate: Sequence[str | os.PathLike | Recording] = (),
+             options: IdentifyOptions | dict | None = None) -> IdentificationResult:
     """Identify an arm's base parameters and drives from recorded torques.
 
     Parameters
     ----------
-    robot : Robot, str or os.PathLike
+    robot : Robot, str or pathlib.Path
         The robot file (the prior): a :class:`~gd_analyze.core.model.robot.Robot`, a built-in
         name or a TOML or URDF file.
     recordings : sequence of str, os.PathLike or Recording
@@ -296,7 +307,7 @@ def identify(robot, recordings, validate=(), options=None):
                  "speed are left out of the fit: at rest the torque holds an unknown static "
                  "friction (they count in the errors); Coulomb friction is F_c sign(qd), not "
                  "smoothed, as in the robot file")
-    factors = None
+    factors: Any = None  # joint_factors' pair, once the first recording is read
     kept_Y = []          # the training recordings' filtered regressors, for their predictions
     for p in pres[:len(train)]:
         Yr = p.filtered(identification_regressor(prior, p.q, p.qd, p.qdd, columns))[p.keep]
@@ -307,6 +318,7 @@ def identify(robot, recordings, validate=(), options=None):
         est = least_squares(factors, theta0)
         # outliers: rows whose residual exceeds OUTLIER_SIGMAS x the joint's noise are left out
         # and the fit repeated once (a Gaussian residual exceeds 5 sigma once in 1.7 million)
+        refit: Any
         dropped, refit, fit_rows = 0, None, []
         for p, Yr in zip(pres[:len(train)], kept_Y):
             used = moving_rows(p.qd[p.keep], threshold)[0]

@@ -8,7 +8,8 @@ load mass (``gd-analyze sweep --payload-sweep``). The load is merged into link n
 
 from __future__ import annotations
 
-from typing import TYPE_CHECKING
+from collections.abc import Sequence
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
 from numpy.typing import ArrayLike
@@ -92,8 +93,10 @@ def payload_sweep(robot: Robot, trajectory: Trajectory, masses: ArrayLike,
                            negligible)
 
 
-def sweep_payloads(robot, trajectories, masses, com=(0.0, 0.0, 0.0), inertia=(0.0, 0.0, 0.0),
-                   dominance=DEFAULT_DOMINANCE, negligible=DEFAULT_NEGLIGIBLE, client=None):
+def sweep_payloads(robot: Robot, trajectories: Sequence[Trajectory], masses: Sequence[float],
+                   com: ArrayLike = (0.0, 0.0, 0.0), inertia: ArrayLike = (0.0, 0.0, 0.0),
+                   dominance: float = DEFAULT_DOMINANCE, negligible: float = DEFAULT_NEGLIGIBLE,
+                   client: Any = None) -> xr.Dataset:
     """Repeat a sweep for each load mass: how the classes over many trajectories move with it.
 
     Parameters

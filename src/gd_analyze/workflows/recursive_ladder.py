@@ -8,6 +8,10 @@ counted, and its torque error measured on the trajectory. Nothing here prints or
 
 from __future__ import annotations
 
+import concurrent.futures
+from collections.abc import Sequence
+from typing import TYPE_CHECKING
+
 import numpy as np
 
 from ..core.symbolic.drive_regressor import with_drives
@@ -16,6 +20,12 @@ from ..core.symbolic.recursive import recursive_program
 from ..core.symbolic.recursive_model import recursive_model
 from .deploy import _searched
 
+if TYPE_CHECKING:
+    from ..core.model.robot import Robot
+    from ..core.selection.region import Region
+    from ..core.selection.simplified import SimplifiedModel
+    from ..core.symbolic.base_parameters import BaseParameters
+
 __all__ = ["recursive_ladder", "LADDER_BLOCK"]
 
 #: Set points whose torques each rung evaluates at once (the blocks of
@@ -23,8 +33,14 @@ __all__ = ["recursive_ladder", "LADDER_BLOCK"]
 LADDER_BLOCK = 8192
 
 
-def recursive_ladder(robot, base, trajectory, tolerances, torque_floor=0.0, region=None,
-                     contributions=None, deployed=None, pool=None):
+def recursive_ladder(robot: Robot, base: BaseParameters,
+                     trajectory: tuple[np.ndarray, np.ndarray, np.ndarray],
+                     tolerances: Sequence[float], torque_floor: float = 0.0,
+                     region: Region | None = None,
+                     contributions: tuple[np.ndarray, ...] | None = None,
+                     deployed: SimplifiedModel | None = None,
+                     pool: concurrent.futures.Executor | None = None
+                     ) -> list[dict] | concurrent.futures.Future:
     """The pruned recursive model's cost and measured worst error at each tolerance EPS.
 
     Parameters
@@ -57,7 +73,7 @@ def recursive_ladder(robot, base, trajectory, tolerances, torque_floor=0.0, regi
 
     Returns
     -------
-    list of dict
+    list of dict, or concurrent.futures.Future of it (with ``pool``)
         Per EPS: ``tolerance``; ``multiplications``, ``additions``, ``sin``, ``cos`` of the
         rung's program with the drives (:func:`gd_analyze.core.symbolic.drive_regressor.with_drives`);
         ``worst_relative_error``: max over joints of peak |tau_s - tau| / s_i on the
@@ -78,13 +94,13 @@ def recursive_ladder(robot, base, trajectory, tolerances, torque_floor=0.0, regi
     """
 
     q, qd, qdd = trajectory
-    built = getattr(deployed, "choice_cache", None) or ()
+    built: tuple = getattr(deployed, "choice_cache", None) or ()
     exact = built[2] if len(built) > 2 else recursive_program(robot, base.values)
     rungs = []
     for eps in tolerances:
         eps = float(eps)
         if deployed is not None and eps == float(deployed.tolerance):
-            rec, program = deployed.recursive, deployed.choice_cache[0]
+            rec, program = deployed.recursive, deployed.choice_cache[0]  # type: ignore[index]  # a deployed model has its choice
         else:
             if region is not None:
                 rec, _, forms, store = _searched(robot, base, region, eps, torque_floor,

@@ -14,8 +14,11 @@ Python API's ``gd_analyze.analyze``.
 from __future__ import annotations
 
 import dataclasses
+import os
+from collections.abc import Callable, Mapping, Sequence
 from dataclasses import dataclass
 from pathlib import Path
+from typing import TYPE_CHECKING, Any
 
 from ..core.model.robot import with_payload
 from ..core.selection.simplified import SOURCE_STEM
@@ -28,9 +31,15 @@ from ..io.results_view import Results
 from ..io.staging import check_free_space, staged_output, writing
 from ..io.sweep_datasets import embed_payload
 from ..io.trajectory import as_trajectory
-from .analyze import analyze, analyze_to_file
+from .analyze import Analysis, analyze, analyze_to_file
 from .options import AnalysisOptions
 from .payload import payload_sweep
+
+if TYPE_CHECKING:
+    import xarray as xr
+
+    from ..core.model.robot import Robot
+    from ..io.trajectory import Trajectory
 
 __all__ = ["ANALYZE_OUTPUTS", "AnalysisOutputs", "Payload", "run_analysis",
            "results_size", "results_dataset"]
@@ -76,10 +85,10 @@ class AnalysisOutputs:
 
     outdir: Path
     files: tuple
-    analysis: object
+    analysis: Analysis
 
 
-def results_size(N, n):
+def results_size(N: int, n: int) -> int:
     """Bytes of the per-set-point variables of results.h5 (uncompressed), plus 1 MiB.
 
     Parameters
@@ -115,8 +124,11 @@ def _settings(options, base_settings, payload, robot, prefix=None):
             "c_prefix": c_prefix(robot.name) if prefix is None else check_prefix(prefix)}
 
 
-def run_analysis(robot, trajectory, options, outdir, report=None, settings=None, payload=None,
-                 payload_masses=None, progress=False, prefix=None):
+def run_analysis(robot: Robot, trajectory: Trajectory, options: AnalysisOptions,
+                 outdir: str | os.PathLike, report: Callable[..., Any] | None = None,
+                 settings: dict | None = None, payload: Payload | None = None,
+                 payload_masses: Sequence[float] | None = None, progress: Any = False,
+                 prefix: str | None = None) -> AnalysisOutputs:
     """Analyse a trajectory and write the main job's output folder.
 
     Parameters
@@ -207,7 +219,8 @@ def run_analysis(robot, trajectory, options, outdir, report=None, settings=None,
     return AnalysisOutputs(outdir=outdir, files=files, analysis=analysis)
 
 
-def results_dataset(robot, trajectory, options=None):
+def results_dataset(robot: Robot, trajectory: Trajectory | str | os.PathLike | Mapping | Sequence,
+                    options: AnalysisOptions | None = None) -> xr.Dataset:
     """The main job's results dataset, in memory: what ``results.h5`` holds, no file written.
 
     The same analysis as :func:`run_analysis` (:func:`gd_analyze.workflows.analyze.analysis_pass`

@@ -142,7 +142,7 @@ def recursive_choices(model: SimplifiedModel, q: NDArray[np.float64], qd: NDArra
         with the arm's scale of D or of h), else "both".
     """
 
-    n = model.robot.n  # type: ignore[attr-defined]  # SimplifiedModel's field is typed object
+    n = model.robot.n
     fns = model.functions().numpy()
     D_s = np.asarray(fns["inertia"](q), float).reshape(-1, n, n)
     h_s = np.asarray(fns["velocity_terms"](q, qd), float).reshape(-1, n)
@@ -190,7 +190,7 @@ def sweep_choices(model: SimplifiedModel, trajectories: Sequence[Trajectory],
     at = np.unique(np.linspace(0, len(q) - 1, min(len(q), setpoints)).round().astype(int))
     q, qd, qdd = q[at], qd[at], qdd[at]
     terms = dalembert.gd_terms(model.robot, q, qd)
-    n = model.robot.n  # type: ignore[attr-defined]  # SimplifiedModel's field is typed object
+    n = model.robot.n
     diag = np.sqrt(np.abs(np.einsum("kii->ki", terms.D)))
     iu = np.triu_indices(n)
     scale = np.concatenate([(diag[:, iu[0]] * diag[:, iu[1]]).max(axis=0),
@@ -372,23 +372,23 @@ def simplified_dataset(model: SimplifiedModel, selection: Selection,
     if model.recursive is not None:
         rec = model.recursive
         units = {"M": "kg", "MX": "kg m", "MY": "kg m", "MZ": "kg m"}
-        coords["base_parameter"] = var(("base_parameter",), np.array(rec.names, dtype=str),  # type: ignore[attr-defined]  # SimplifiedModel's field is typed object
+        coords["base_parameter"] = var(("base_parameter",), np.array(rec.names, dtype=str),
                                        "1", "base inertial parameter (Gautier 1990)")
         coords["torque_part"] = var(("torque_part",), np.array(PART_NAMES, dtype=str), "1",
                                     "part of the torque: inertial (D qdd), velocity (h), "
                                     "gravity (c)")
         dv.update({
-            "base_parameter_value": var(("base_parameter",), rec.beta, "SI", "value"),  # type: ignore[attr-defined]  # SimplifiedModel's field is typed object
+            "base_parameter_value": var(("base_parameter",), rec.beta, "SI", "value"),
             "base_parameter_units": var(("base_parameter",), np.array(
-                [units.get(name.rstrip("0123456789"), "kg m2") for name in rec.names],  # type: ignore[attr-defined]  # SimplifiedModel's field is typed object
+                [units.get(name.rstrip("0123456789"), "kg m2") for name in rec.names],
                 dtype=str), "1", "units of the value"),
             "base_parameter_dropped": var(("base_parameter", "torque_part"),
-                                          rec.dropped.astype(np.int8), "1",  # type: ignore[attr-defined]  # SimplifiedModel's field is typed object
+                                          rec.dropped.astype(np.int8), "1",
                                           "1 where the part is dropped from the model"),
         })
-        if rec.relative_peak is not None:  # type: ignore[attr-defined]  # SimplifiedModel's field is typed object
+        if rec.relative_peak is not None:
             dv["base_parameter_relative_peak"] = var(
-                ("base_parameter", "torque_part"), rec.relative_peak, "1",  # type: ignore[attr-defined]  # SimplifiedModel's field is typed object
+                ("base_parameter", "torque_part"), rec.relative_peak, "1",
                 "largest peak contribution on the trajectory / scale_i (0: none)")
     if cost_table:
         coords["cost_model"] = var(("cost_model",), np.array(list(cost_table), dtype=str), "1",
@@ -399,7 +399,7 @@ def simplified_dataset(model: SimplifiedModel, selection: Selection,
                                          "EPS of the error budget")
     ds = xr.Dataset(dv, coords=coords)
     # the (parameter, part) pairs that contribute on the trajectory (round-off excluded)
-    facts = None if model.recursive is None else model.recursive.stated_facts()  # type: ignore[attr-defined]  # SimplifiedModel's field is typed object
+    facts = None if model.recursive is None else model.recursive.stated_facts()
     cost = model.cost
     ds.attrs.update({
         "simplified_rule": model.rule, "simplified_tolerance": model.tolerance,
@@ -407,7 +407,7 @@ def simplified_dataset(model: SimplifiedModel, selection: Selection,
         "simplified_files": ", ".join(files),
         "simplified_form": model.form,
         "simplified_terms_kept":
-            -1 if model.terms is None else len(model.terms),  # type: ignore[arg-type]  # SimplifiedModel's field is typed object
+            -1 if model.terms is None else len(model.terms),
         "simplified_pairs_dropped": -1 if facts is None else facts["dropped"],
         "simplified_pairs": -1 if facts is None else facts["pairs"],
         "simplified_dropped_pairs": "" if facts is None else
@@ -426,5 +426,5 @@ def simplified_dataset(model: SimplifiedModel, selection: Selection,
             full_terms)
         (ds.attrs["other_rule_harmonics"],
          ds.attrs["other_rule_coefficients"]) = coefficient_structure(
-            other.terms)  # type: ignore[arg-type]  # SimplifiedModel's field is typed object
+            other.terms)
     return ds

@@ -312,7 +312,7 @@ def validate(model: SimplifiedModel, trajectories: Iterable[States], chunk: int 
         As :func:`gd_analyze.core.selection.simplified.torque_error` (over all trajectories
         together).
     """
-    acc = TorqueErrorAccumulator(model.robot.n)  # type: ignore[attr-defined]  # SimplifiedModel's field is typed object
+    acc = TorqueErrorAccumulator(model.robot.n)
     for q, qd, qdd in trajectories:
         for a in range(0, q.shape[0], chunk):
             sl = slice(a, a + chunk)
@@ -644,7 +644,7 @@ def per_trajectory_errors(model: SimplifiedModel, trajectories: Sequence[Traject
     by default; the states of consecutive trajectories are concatenated, so the model and the
     reference are evaluated on many set points per call.
     """
-    n = model.robot.n  # type: ignore[attr-defined]  # SimplifiedModel's field is typed object
+    n = model.robot.n
     K = len(trajectories)
     peak, sum_sq, peak_tau = np.zeros((K, n)), np.zeros((K, n)), np.zeros((K, n))
     counts = np.array([t.q.shape[0] for t in trajectories], int)

@@ -309,7 +309,7 @@ class WorkerErrors:
         ``trajectories`` (K of them), in the same order: peak |tau_s - tau|, the sum of its
         squares, peak |tau| (K, n) [N m, N^2 m^2, N m] and the set points (K,)."""
         trajectories = list(trajectories)
-        n = model.robot.n  # type: ignore[attr-defined]  # SimplifiedModel's field is typed object
+        n = model.robot.n
         if not trajectories:
             return np.zeros((0, n)), np.zeros((0, n)), np.zeros((0, n)), np.zeros(0, int)
         import cloudpickle  # dask's own serializer, a dependency of it

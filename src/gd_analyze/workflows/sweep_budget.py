@@ -439,7 +439,7 @@ def region_sweep_model(robot: Robot, trajectories: Sequence[Trajectory], region:
     model, reference = prepared if prepared is not None else region_merged_model(
         robot, trajectories, region, tolerance, torque_floor, provenance, digest, derive, form)
     K, n = len(trajectories), robot.n
-    g: Any = model.guarantee                    # SimplifiedModel's field is typed object
+    g: Any = model.guarantee                    # a region model's guarantee: never None
     scale, bound = np.asarray(g.scale, float), np.asarray(g.bound, float)
     with np.errstate(divide="ignore", invalid="ignore"):
         relative = np.where(bound > 0, bound / scale, 0.0)
@@ -476,6 +476,7 @@ def region_merged_model(robot: Robot, trajectories: Sequence[Trajectory], region
     """
     base = base_parameters(robot)
     first = region_simplified(robot, base, region, tolerance, torque_floor, digest, provenance)
+    g: Any                                      # a region model's guarantee: never None
     model, g = first, first.guarantee
     costs = _recursive_costs(robot, model)
     reference = None                           # the G-D terms, D qdd + h + c

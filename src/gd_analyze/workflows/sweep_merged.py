@@ -170,7 +170,7 @@ def with_budget_model(sweep_ds: xr.Dataset, model: SimplifiedModel) -> xr.Datase
     ds = sweep_ds.drop_vars([v for v in ("pair_tau_peak", "pair_peak", "parameter_peak",
                                          "base_parameter", "part") if v in sweep_ds.variables])
     eps = f"{model.tolerance:g}"
-    region = model.guarantee is not None and model.guarantee.kind == "region"  # type: ignore[attr-defined]  # SimplifiedModel's field is typed object
+    region = model.guarantee is not None and model.guarantee.kind == "region"
     words = _REGION_WORDS if region else _TRAJECTORY_WORDS
 
     def put(name, dims, data, units, desc):
@@ -224,9 +224,9 @@ def with_budget_model(sweep_ds: xr.Dataset, model: SimplifiedModel) -> xr.Datase
         "merged_worst_scaled_error": float(v["worst_scaled_error"]),
         "merge_rule": _merge_rule(model)})
     if model.guarantee is not None:     # its scope, in the model's one sentence
-        ds.attrs.update({"merged_guarantee_kind": model.guarantee.kind,  # type: ignore[attr-defined]  # SimplifiedModel's field is typed object
-                         "merged_guarantee_statement": model.guarantee.statement()})  # type: ignore[attr-defined]  # SimplifiedModel's field is typed object
-        region_vars, region_attrs = region_fields(model.guarantee.region)  # type: ignore[attr-defined]  # field typed object; region_*
+        ds.attrs.update({"merged_guarantee_kind": model.guarantee.kind,
+                         "merged_guarantee_statement": model.guarantee.statement()})
+        region_vars, region_attrs = region_fields(model.guarantee.region)
         for name, (dims, data, attrs) in region_vars.items():
             ds[name] = (dims, data, attrs)
         ds.attrs.update(region_attrs)

@@ -20,9 +20,12 @@ from ..core.dynamics.dalembert import allocate_terms, gd_terms, kernel_arguments
 from ..core.selection.labels import element_units
 
 if TYPE_CHECKING:
+    from scipy.interpolate import PPoly
+
     from ..core.dynamics.dalembert import GDTerms
     from ..core.model.robot import Robot
     from ..core.selection.simplified import SimplifiedModel
+    from ..io.trajectory import Trajectory
 
 
 __all__ = ["CONTROLLERS", "CONTROLLER_DESCRIPTIONS", "DEFAULT_WN", "DEFAULT_ZETA",
@@ -105,7 +108,7 @@ def stiffness_steps(wn: float | ArrayLike, zeta: float | ArrayLike, duration: fl
     return float(np.max(fastest)) * float(duration) / 3.0
 
 
-def singular_inertia(robot, D, rtol=1e-12):
+def singular_inertia(robot: Robot, D: np.ndarray, rtol: float = 1e-12) -> str | None:
     """Where D is singular: the joint that moves no inertia, for the message.
 
     Parameters
@@ -276,7 +279,7 @@ def control_gains(robot: Robot, q_ref: ArrayLike, wn: float | ArrayLike = DEFAUL
                  Kp_pd=scale * wn**2, Kv_pd=scale * 2 * zeta * wn)
 
 
-def desired_motion(trajectory):
+def desired_motion(trajectory: Trajectory) -> PPoly:
     """The desired motion between set points: piecewise quintic Hermite through (q, qd, qdd).
 
     Parameters
@@ -405,8 +408,10 @@ class TrackingRun:
     message: str
 
 
-def track(robot, controller, gains, desired, t_eval, q0_offset=0.0, choices=None,
-          rtol=DEFAULT_RTOL, atol=DEFAULT_ATOL, method=DEFAULT_METHOD):
+def track(robot: Robot, controller: str, gains: Gains, desired: PPoly, t_eval: ArrayLike,
+          q0_offset: float | ArrayLike = 0.0, choices: SimplifiedModel | None = None,
+          rtol: float = DEFAULT_RTOL, atol: float = DEFAULT_ATOL, method: str = DEFAULT_METHOD
+          ) -> TrackingRun:
     """Integrate the full-model arm under one controller along a desired motion.
 
     Parameters

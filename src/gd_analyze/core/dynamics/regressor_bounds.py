@@ -16,17 +16,22 @@ encloses every coefficient over its box; with degenerate boxes it evaluates them
 from __future__ import annotations
 
 import itertools
+from typing import TYPE_CHECKING
 
 import numpy as np
+from numpy.typing import ArrayLike
 
 from . import balls
 from . import intervals as iv
+
+if TYPE_CHECKING:
+    from ..model.robot import Robot
 
 __all__ = ["channel_count", "channel_values", "pair_magnitudes", "inertia_enclosure",
            "inertia_form_enclosure", "channel_enclosures", "channel_magnitudes", "combined_bound"]
 
 
-def channel_count(n):
+def channel_count(n: int) -> int:
     """Number of channels of an n-joint arm: 1 gravity + n inertial + n^2 velocity.
 
     Parameters
@@ -503,7 +508,8 @@ class _QuadraticBound:
         return c_min - spread + d_lo, c_max + spread + d_hi, True
 
 
-def channel_values(robot, q, columns, gravity=None):
+def channel_values(robot: Robot, q: np.ndarray, columns: ArrayLike,
+                   gravity: ArrayLike | None = None) -> np.ndarray:
     """The coefficient functions at points q: every channel, joint and column.
 
     Parameters
@@ -554,8 +560,9 @@ def _boxes(robot, q_lo, q_hi):
     return q_lo, q_hi
 
 
-def pair_magnitudes(robot, q_lo, q_hi, columns, qd_max, qdd_max, gravity=None,
-                    arithmetic="ball", vertices=False):
+def pair_magnitudes(robot: Robot, q_lo: np.ndarray, q_hi: np.ndarray, columns: ArrayLike,
+                    qd_max: ArrayLike, qdd_max: ArrayLike, gravity: ArrayLike | None = None,
+                    arithmetic: str = "ball", vertices: bool = False) -> np.ndarray:
     """Upper bounds of each column's three parts over boxes of q and the velocity and
     acceleration limits, per joint.
 
@@ -635,7 +642,8 @@ def _parts(lo, hi, quad, qdd_max):
         iv.magnitude((lo[:, 0], hi[:, 0]))], axis=1)
 
 
-def channel_magnitudes(lo, hi, qd_max, qdd_max):
+def channel_magnitudes(lo: np.ndarray, hi: np.ndarray, qd_max: ArrayLike,
+                       qdd_max: ArrayLike) -> np.ndarray:
     """:func:`pair_magnitudes` from the channel enclosures of :func:`channel_enclosures`.
 
     Parameters
@@ -660,7 +668,8 @@ def channel_magnitudes(lo, hi, qd_max, qdd_max):
         1.0 + 8 * iv.ROUNDING * (2 * n + 2))
 
 
-def channel_enclosures(robot, q_lo, q_hi, columns, gravity=None):
+def channel_enclosures(robot: Robot, q_lo: np.ndarray, q_hi: np.ndarray, columns: ArrayLike,
+                       gravity: ArrayLike | None = None) -> tuple[np.ndarray, np.ndarray]:
     """Signed enclosures of every channel of each column over boxes of q.
 
     Parameters
@@ -699,7 +708,8 @@ def channel_enclosures(robot, q_lo, q_hi, columns, gravity=None):
     return lo, hi
 
 
-def combined_bound(mid, rad, qd_max, qdd_max):
+def combined_bound(mid: np.ndarray, rad: np.ndarray, qd_max: ArrayLike,
+                   qdd_max: ArrayLike) -> np.ndarray:
     """Upper bound of |G + sum_j A_j qdd_j + qd^T C qd| over boxes of q and the velocity and
     acceleration limits, from enclosures of the channels in midpoint-radius form.
 
@@ -755,7 +765,9 @@ def _inertial_forward(chain):
     return out
 
 
-def inertia_enclosure(robot, q_lo, q_hi, values, armature=None, arithmetic="ball"):
+def inertia_enclosure(robot: Robot, q_lo: np.ndarray, q_hi: np.ndarray, values: np.ndarray,
+                      armature: ArrayLike | None = None, arithmetic: str = "ball"
+                      ) -> tuple[np.ndarray, np.ndarray]:
     """Enclosures of the inertia matrix D(q) over boxes of joint positions.
 
     Parameters
@@ -839,7 +851,9 @@ def _ball_dots(a, b):
     return c - r, c + r
 
 
-def inertia_form_enclosure(robot, q_lo, q_hi, values, X, armature=None):
+def inertia_form_enclosure(robot: Robot, q_lo: np.ndarray, q_hi: np.ndarray,
+                           values: np.ndarray, X: np.ndarray, armature: ArrayLike | None = None
+                           ) -> tuple[np.ndarray, np.ndarray]:
     """Enclosures of X D(q) X^T over boxes of joint positions, for given matrices X.
 
     Parameters

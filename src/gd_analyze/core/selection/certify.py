@@ -15,7 +15,9 @@ about the gravity axis). The sampled peaks are lower bounds of the same maxima, 
 from __future__ import annotations
 
 import time
+from collections.abc import Sequence
 from dataclasses import dataclass
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
@@ -29,6 +31,11 @@ from ..dynamics.regressor_bounds import (
 )
 from ..symbolic.pruning import zero_parts
 from .region import ChannelValues, qd_vertices, region_samples, velocity_channels
+
+if TYPE_CHECKING:
+    from ..model.robot import Robot
+    from ..symbolic.base_parameters import BaseParameters
+    from .region import Region
 
 __all__ = ["PairBounds", "certify", "certify_tree", "tiling", "pair_peaks_at",
            "pair_magnitudes_at", "METHOD", "prove_dropped", "JointSums", "joint_sums",
@@ -112,7 +119,8 @@ class PairBounds:
 _GEMM_ELEMENTS = 1 << 22
 
 
-def pair_magnitudes_at(V, beta, qd_max, qdd_max):
+def pair_magnitudes_at(V: ChannelValues, beta: np.ndarray, qd_max: np.ndarray,
+                       qdd_max: np.ndarray) -> np.ndarray:
     """Each pair's largest |contribution| at each given position, over the velocity and
     acceleration limits.
 
@@ -175,7 +183,8 @@ def _magnitudes(V, qd_max, qdd_max):
     return out
 
 
-def pair_peaks_at(V, beta, qd_max, qdd_max):
+def pair_peaks_at(V: ChannelValues, beta: np.ndarray, qd_max: np.ndarray,
+                  qdd_max: np.ndarray) -> np.ndarray:
     """The largest of :func:`pair_magnitudes_at` over the positions.
 
     Parameters
@@ -255,7 +264,8 @@ def _zero_pairs(zero, leaf):
     return (leaf == 0).all(axis=(0, 2)).T | zero.all(axis=2)
 
 
-def tiling(region, split_joint, split_at=None):
+def tiling(region: Region, split_joint: np.ndarray, split_at: np.ndarray | None = None
+           ) -> list[tuple[np.ndarray, np.ndarray, np.ndarray]]:
     """The boxes of a branch-and-bound tree, level by level, checked to tile the region.
 
     Parameters
@@ -316,8 +326,10 @@ def tiling(region, split_joint, split_at=None):
     return levels
 
 
-def certify(robot, base, region, torque_floor=0.0, max_boxes=1024, samples=1000, seed=0,
-            open_share=0.05, rtol=0.1, values=None):
+def certify(robot: Robot, base: BaseParameters, region: Region, torque_floor: float = 0.0,
+            max_boxes: int = 1024, samples: int = 1000, seed: int = 0,
+            open_share: float = 0.05, rtol: float = 0.1, values: tuple | None = None
+            ) -> PairBounds:
     """Proved upper bounds of every pair's contribution over the region, and the scale.
 
     Parameters
@@ -403,8 +415,9 @@ def certify(robot, base, region, torque_floor=0.0, max_boxes=1024, samples=1000,
                       split_at=np.concatenate(cuts), zero=_zero_pairs(zero, leaf))
 
 
-def certify_tree(robot, base, region, split_joint, split_at, values, torque_floor=0.0,
-                 seconds=0.0):
+def certify_tree(robot: Robot, base: BaseParameters, region: Region, split_joint: np.ndarray,
+                 split_at: np.ndarray, values: tuple, torque_floor: float = 0.0,
+                 seconds: float = 0.0) -> PairBounds:
     """The bounds of :func:`certify` on a given tree of boxes, derived again without search.
 
     Parameters
@@ -561,7 +574,9 @@ class JointSums:
         return mid, rad
 
 
-def joint_sums(robot, base, region, split_joint, split_at, pairs, zero=None):
+def joint_sums(robot: Robot, base: BaseParameters, region: Region, split_joint: np.ndarray,
+               split_at: np.ndarray, pairs: np.ndarray, zero: np.ndarray | None = None
+               ) -> JointSums:
     """:class:`JointSums` of some pairs on the final boxes of a branch-and-bound tree.
 
     Parameters
@@ -602,6 +617,8 @@ def joint_sums(robot, base, region, split_joint, split_at, pairs, zero=None):
     leaves = sum(int((~split).sum()) for _, _, split in levels)
     used = _held(robot.n, leaves, pairs, zero)
     cols = np.flatnonzero(base.independent.reshape(-1))[used]
+    c_lo: Any
+    c_hi: Any
     parent, c_lo, c_hi, at = None, None, None, 0
     for lo, hi, split in levels:
         ch = _channels(robot, lo, hi, cols, parent)
@@ -662,7 +679,7 @@ def _joint_sums(robot, base, region, used, pairs, zero, c_lo, c_hi):
                      qdd_max=np.asarray(region.qdd_max, float))
 
 
-def leaf_bound(pb, sums, dropped):
+def leaf_bound(pb: PairBounds, sums: JointSums | None, dropped: np.ndarray) -> np.ndarray:
     """Per joint, the bound of a dropped set over the region from a certification.
 
     Parameters
@@ -686,7 +703,9 @@ def leaf_bound(pb, sums, dropped):
     return each.max(axis=0)
 
 
-def dropped_bound(robot, base, region, dropped, limit, max_boxes=1024, zero=None):
+def dropped_bound(robot: Robot, base: BaseParameters, region: Region, dropped: np.ndarray,
+                  limit: np.ndarray, max_boxes: int = 1024, zero: np.ndarray | None = None
+                  ) -> np.ndarray:
     """A bound of the change of each tau_i by a set of dropped pairs over the region, by
     branch and bound on the joint sum of those pairs alone.
 
@@ -727,7 +746,9 @@ def dropped_bound(robot, base, region, dropped, limit, max_boxes=1024, zero=None
     return dropped_search(robot, base, region, dropped, limit, max_boxes, zero)[0]
 
 
-def dropped_search(robot, base, region, dropped, limit, max_boxes=1024, zero=None):
+def dropped_search(robot: Robot, base: BaseParameters, region: Region, dropped: np.ndarray,
+                   limit: np.ndarray, max_boxes: int = 1024, zero: np.ndarray | None = None
+                   ) -> tuple[np.ndarray, np.ndarray | None]:
     """:func:`dropped_bound`, and the tree of boxes its branch and bound evaluated.
 
     Parameters
@@ -798,7 +819,8 @@ JOINT_BOXES = 8192
 JOINT_DIMS = 3
 
 
-def split_joints(robot, base, dropped, zero=None):
+def split_joints(robot: Robot, base: BaseParameters, dropped: np.ndarray,
+                 zero: np.ndarray | None = None) -> np.ndarray:
     """The joints :func:`dropped_bound` halves for a dropped set.
 
     Parameters
@@ -827,7 +849,9 @@ def split_joints(robot, base, dropped, zero=None):
     return _relevant(robot) & (np.arange(robot.n) <= last)
 
 
-def region_bound(robot, base, region, pb, dropped, limit, sums=None):
+def region_bound(robot: Robot, base: BaseParameters, region: Region, pb: PairBounds,
+                 dropped: np.ndarray, limit: np.ndarray, sums: JointSums | None = None
+                 ) -> np.ndarray:
     """The bound of a dropped set over the region that the region model states.
 
     Parameters
@@ -858,7 +882,9 @@ def region_bound(robot, base, region, pb, dropped, limit, sums=None):
     return region_trees(robot, base, region, pb, dropped, limit, sums)[0]
 
 
-def region_trees(robot, base, region, pb, dropped, limit, sums=None):
+def region_trees(robot: Robot, base: BaseParameters, region: Region, pb: PairBounds,
+                 dropped: np.ndarray, limit: np.ndarray, sums: JointSums | None = None
+                 ) -> tuple[np.ndarray, tuple]:
     """:func:`region_bound`, and the trees of boxes whose final boxes give it.
 
     Parameters
@@ -883,7 +909,7 @@ def region_trees(robot, base, region, pb, dropped, limit, sums=None):
     if sums is None:
         sums = joint_sums(robot, base, region, pb.split_joint, pb.split_at, dropped, pb.zero)
     out = leaf_bound(pb, sums, dropped)
-    trees = ((np.asarray(pb.split_joint, np.int64), out),)
+    trees: tuple = ((np.asarray(pb.split_joint, np.int64), out),)
     if split_joints(robot, base, dropped, pb.zero).sum() <= JOINT_DIMS:
         searched, tree = dropped_search(robot, base, region, dropped, limit, JOINT_BOXES,
                                         pb.zero)
@@ -893,7 +919,8 @@ def region_trees(robot, base, region, pb, dropped, limit, sums=None):
     return out, trees
 
 
-def proved_zero(robot, base, region, dropped):
+def proved_zero(robot: Robot, base: BaseParameters, region: Region,
+                dropped: np.ndarray) -> np.ndarray:
     """The dropped pairs proved identically zero over the region, from the robot alone.
 
     Parameters
@@ -931,7 +958,8 @@ def proved_zero(robot, base, region, dropped):
     return out
 
 
-def tree_bound(robot, base, region, split_joint, dropped, zero=None):
+def tree_bound(robot: Robot, base: BaseParameters, region: Region, split_joint: np.ndarray,
+               dropped: np.ndarray, zero: np.ndarray | None = None) -> np.ndarray:
     """The bound of a dropped set over the region on the final boxes of a given bisection
     tree, derived without search.
 
@@ -1027,7 +1055,8 @@ def _tree_chunk(held, lo, hi, channels, parent):
     return each, (U, s_lo, s_hi, c_lo, c_hi)
 
 
-def tilings_bound(robot, base, region, dropped, trees):
+def tilings_bound(robot: Robot, base: BaseParameters, region: Region, dropped: np.ndarray,
+                  trees: Sequence[np.ndarray]) -> np.ndarray:
     """The bound of a dropped set over the region on given bisection trees, without search.
 
     Parameters
@@ -1067,7 +1096,9 @@ def _intersect(lo, hi, p_lo, p_hi):
     return np.minimum(a, b), np.maximum(a, b)
 
 
-def prove_dropped(robot, base, region, dropped, limit, max_boxes=1024, zero=None):
+def prove_dropped(robot: Robot, base: BaseParameters, region: Region, dropped: np.ndarray,
+                  limit: np.ndarray, max_boxes: int = 1024, zero: np.ndarray | None = None
+                  ) -> bool:
     """Whether a set of dropped pairs changes no tau_i by more than ``limit_i`` over the region,
     proved by branch and bound on those pairs' enclosures only.
 

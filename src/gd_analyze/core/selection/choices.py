@@ -13,10 +13,17 @@ tau_s gets + tau_f.
 
 from __future__ import annotations
 
+from collections.abc import Sequence
+from typing import TYPE_CHECKING
+
 import numpy as np
+from numpy.typing import ArrayLike
 
 from ..dynamics.dalembert import assemble_tau
 from .labels import element_index, element_labels
+
+if TYPE_CHECKING:
+    from ..dynamics.dalembert import GDTerms
 
 __all__ = ["CHOICES", "PRUNED", "choice_masks", "simplified_torque", "merge_choices",
            "full_choices"]
@@ -30,7 +37,8 @@ CHOICES = ("tran", "rot", "both", "none")
 PRUNED = "pruned"
 
 
-def choice_masks(choices, n):
+def choice_masks(choices: dict, n: int
+                 ) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
     """0/1 masks that select the kept parts.
 
     Parameters
@@ -72,7 +80,7 @@ def choice_masks(choices, n):
     return Mt, Mr, mt, mr
 
 
-def simplified_torque(terms, choices, qdd):
+def simplified_torque(terms: GDTerms, choices: dict, qdd: ArrayLike) -> np.ndarray:
     """Torques of the simplified model from already computed G-D terms.
 
     Parameters
@@ -108,7 +116,7 @@ def simplified_torque(terms, choices, qdd):
     return tau
 
 
-def merge_choices(choices_list):
+def merge_choices(choices_list: Sequence[dict]) -> dict:
     """Merge simplified models conservatively: drop a part only where every model drops it.
 
     Parameters
@@ -164,7 +172,7 @@ def merge_choices(choices_list):
     return {label: table[(keep_t[label], keep_r[label])] for label in labels}
 
 
-def full_choices(n):
+def full_choices(n: int) -> dict:
     """Choices that keep every part of every element: the full model.
 
     Parameters

@@ -10,12 +10,17 @@ guarantee is about the program that runs.
 
 from __future__ import annotations
 
+from typing import TYPE_CHECKING
+
 import numpy as np
 
 from ...errors import InputError
 from ..dynamics import dalembert
 from .guarantee import ROUND_OFF_EPS
 from .region import Region, sample_positions
+
+if TYPE_CHECKING:
+    from .simplified import SimplifiedModel
 
 __all__ = ["check_program", "BOUND_SAMPLES"]
 
@@ -24,7 +29,7 @@ __all__ = ["check_program", "BOUND_SAMPLES"]
 BOUND_SAMPLES = 64
 
 
-def check_program(model, cost, path="<model>"):
+def check_program(model: SimplifiedModel, cost: dict | None, path: str = "<model>") -> None:
     """Refuse a model whose program is not what its stored pairs, parameters and bound give.
 
     Parameters
@@ -55,7 +60,7 @@ def check_program(model, cost, path="<model>"):
     """
     rec = model.recursive
     if rec is not None:
-        left_out = model.recursive.choice(model.robot)[1]
+        left_out = rec.choice(model.robot)[1]
         if not np.array_equal(left_out, rec.dropped):
             kept = int((rec.dropped & ~left_out).sum())
             raise InputError(f"{kept} of the dropped pairs are kept by the program built from "

@@ -10,8 +10,10 @@ own numbers.
 from __future__ import annotations
 
 from dataclasses import dataclass
+from typing import Any
 
 import numpy as np
+from numpy.typing import ArrayLike
 
 from ...errors import InputError
 from .ranking import ROUND_OFF_CLAUSE
@@ -28,7 +30,7 @@ KINDS = ("region", "trajectory")
 ROUND_OFF_EPS = 64
 
 
-def within_bound(error, bound, scale):
+def within_bound(error: ArrayLike, bound: ArrayLike, scale: ArrayLike) -> np.ndarray:
     """Whether errors are within their bounds up to floating-point round-off: the one test by
     which every check of a guaranteed bound judges (:data:`ROUND_OFF_CLAUSE`).
 
@@ -61,7 +63,7 @@ def within_bound(error, bound, scale):
 TREE_CODE = ".0123456789abcdefghijklmnopqrstuvwxyz"
 
 
-def encode_tree(split_joint):
+def encode_tree(split_joint: ArrayLike) -> str:
     """A bisection tree as the text ``simplified_model.json`` keeps (key ``tilings``).
 
     Parameters
@@ -88,7 +90,7 @@ def encode_tree(split_joint):
     return "".join(np.array(list(TREE_CODE))[joints + 1])
 
 
-def decode_tree(code):
+def decode_tree(code: str) -> np.ndarray:
     """The ``split_joint`` array of :func:`encode_tree`'s text.
 
     Parameters
@@ -182,7 +184,7 @@ class Guarantee:
     trajectory_sha256: str = ""
     trajectories_sha256: tuple = ()
     region_missing: str = ""
-    region: object = None
+    region: Region | None = None
     tilings: tuple = ()
 
     def __post_init__(self):
@@ -190,11 +192,11 @@ class Guarantee:
             raise ValueError(f"kind must be one of {KINDS}, got {self.kind!r}")
 
     @property
-    def proved(self):
+    def proved(self) -> bool:
         """bool: the bound holds at every state of the region (kind ``"region"``)."""
         return self.kind == "region"
 
-    def sampled_percent(self):
+    def sampled_percent(self) -> float | None:
         """The largest sampled error over the region relative to s_i [%], or None.
 
         Returns
@@ -214,7 +216,7 @@ class Guarantee:
         rel = np.asarray(self.region_sampled_error, float)
         return float(100.0 * np.nanmax(rel)) if np.isfinite(rel).any() else None
 
-    def statement(self):
+    def statement(self) -> str:
         """The scope of the bound in one sentence, as every output prints it.
 
         Returns
@@ -244,7 +246,8 @@ class Guarantee:
             tail = f"sampled over the region: {pct:.3g} % of s_i"
         return f"within {eps} of s_i {where}; {tail}"
 
-    def covers(self, q, qd, qdd, trajectory_sha256="", continuous=None):
+    def covers(self, q: ArrayLike, qd: ArrayLike, qdd: ArrayLike, trajectory_sha256: str = "",
+               continuous: ArrayLike | None = None) -> tuple[bool, str]:
         """Whether the bound holds along a trajectory, and why.
 
         Parameters
@@ -291,8 +294,9 @@ class Guarantee:
         if wrap.any():
             q = np.where(wrap, np.mod(q + np.pi, 2 * np.pi) - np.pi, q)
         slack = 4 * np.finfo(float).eps
-        checks = (("q", q, self.q_min, self.q_max), ("|qd|", np.abs(qd), None, self.qd_max),
-                  ("|qdd|", np.abs(qdd), None, self.qdd_max))
+        checks: tuple[tuple[str, np.ndarray, Any, Any], ...] = (
+            ("q", q, self.q_min, self.q_max), ("|qd|", np.abs(qd), None, self.qd_max),
+            ("|qdd|", np.abs(qdd), None, self.qdd_max))
         for name, x, lo, hi in checks:
             hi = np.asarray(hi, float)
             above = ~(x <= hi + slack * np.abs(hi))
@@ -310,7 +314,7 @@ class Guarantee:
                                    f"{top:.6g}, {which} its limit {limit[j]:.6g}")
         return True, "every set point lies in the model's region (positions, velocities and accelerations within its limits)"
 
-    def to_dict(self):
+    def to_dict(self) -> dict:
         """The ``guarantee`` key of ``simplified_model.json`` (SI units).
 
         Returns
@@ -340,7 +344,8 @@ class Guarantee:
         return out
 
     @classmethod
-    def from_dict(cls, spec, n, tolerance, path="<model>"):
+    def from_dict(cls, spec: dict, n: int, tolerance: float, path: str = "<model>"
+                  ) -> Guarantee:
         """Read the ``guarantee`` key of a model file (already checked by the schema).
 
         Parameters

@@ -35,13 +35,19 @@ from __future__ import annotations
 
 import time
 from dataclasses import dataclass
+from typing import TYPE_CHECKING
 
 import numpy as np
+from numpy.typing import ArrayLike
 
 from ..dynamics import intervals as iv
 from ..dynamics.regressor_bounds import inertia_enclosure, inertia_form_enclosure
 from ..symbolic.base_parameters import standard_parameters
 from ..symbolic.pruning import part_values
+
+if TYPE_CHECKING:
+    from ..model.robot import Robot
+    from ..symbolic.base_parameters import BaseParameters
 
 __all__ = ["SAMPLES", "MAX_BOXES", "InertiaProof", "inertia_floor", "gershgorin_lower",
            "prove_inertia", "inertia_context", "dropped_inertia_values"]
@@ -99,7 +105,7 @@ class InertiaProof:
     why: str = ""
 
     @property
-    def ratio(self):
+    def ratio(self) -> float:
         """float: ``lower / d_upper``: min lambda_min(D_s) >= ratio x min lambda_min(D) over
         the box (NaN when not proved)."""
         if not self.proved or not self.d_upper > 0:
@@ -107,7 +113,8 @@ class InertiaProof:
         return float(np.nextafter(self.lower / self.d_upper, -np.inf))
 
 
-def gershgorin_lower(lo, hi, weights=None):
+def gershgorin_lower(lo: np.ndarray, hi: np.ndarray, weights: np.ndarray | None = None
+                     ) -> np.ndarray:
     """A lower bound of lambda_min over symmetric interval matrices, by Gershgorin's discs.
 
     Parameters
@@ -252,7 +259,7 @@ def _chain_feasible(t, A, B):
     return left >= 0
 
 
-def inertia_floor(robot, kind="chain"):
+def inertia_floor(robot: Robot, kind: str = "chain") -> np.ndarray:
     """f with D(q) >= diag(f) at every q (Loewner order), from the links' own inertias.
 
     Parameters
@@ -312,7 +319,7 @@ def inertia_floor(robot, kind="chain"):
     return np.nextafter(f, -np.inf).clip(min=0.0)
 
 
-def dropped_inertia_values(base, left_out):
+def dropped_inertia_values(base: BaseParameters, left_out: np.ndarray) -> np.ndarray:
     """The inertial values a model leaves out, per link.
 
     Parameters
@@ -355,7 +362,8 @@ def _d_upper(robot, values, q):
     return float(np.nextafter(top[0, 0, 0] / norm, np.inf)), q[k].copy()
 
 
-def inertia_context(robot, base, q_min, q_max, samples=SAMPLES, seed=0):
+def inertia_context(robot: Robot, base: BaseParameters, q_min: ArrayLike, q_max: ArrayLike,
+                    samples: int = SAMPLES, seed: int = 0) -> dict:
     """What :func:`prove_inertia` computes once for a box, whatever is dropped.
 
     Parameters
@@ -390,8 +398,10 @@ def inertia_context(robot, base, q_min, q_max, samples=SAMPLES, seed=0):
             "D": 0.5 * (lo + hi)}
 
 
-def prove_inertia(robot, base, left_out, q_min, q_max, max_boxes=MAX_BOXES, samples=SAMPLES,
-                  seed=0, rtol=0.5, context=None):
+def prove_inertia(robot: Robot, base: BaseParameters, left_out: np.ndarray, q_min: ArrayLike,
+                  q_max: ArrayLike, max_boxes: int = MAX_BOXES, samples: int = SAMPLES,
+                  seed: int = 0, rtol: float = 0.5, context: dict | None = None
+                  ) -> InertiaProof:
     """Prove lambda_min(D_s(q)) >= L > 0 at every q of a box of positions.
 
     Parameters

@@ -16,6 +16,11 @@ tau_i are N m or N. Every table, axis, caption and stored attribute takes its un
 from __future__ import annotations
 
 import re
+from collections.abc import Sequence
+from typing import TYPE_CHECKING
+
+if TYPE_CHECKING:
+    import numpy as np
 
 __all__ = ["element_index", "element_label", "element_labels", "parse_element_label",
            "element_units", "joint_torque_units", "joint_motion_units", "joint_gain_units",
@@ -25,7 +30,7 @@ __all__ = ["element_index", "element_label", "element_labels", "parse_element_la
 _PATTERN = re.compile(r"D([1-9])([1-9])|D([1-9][0-9]*),([1-9][0-9]*)|h([1-9][0-9]*)")
 
 
-def element_index(n):
+def element_index(n: int) -> list[tuple]:
     """Index triples of the elements, in label order.
 
     Parameters
@@ -48,7 +53,7 @@ def element_index(n):
             + [("h", i, None) for i in range(n)])
 
 
-def element_label(kind, i, j=None):
+def element_label(kind: str, i: int, j: int | None = None) -> str:
     """The label of one element.
 
     Parameters
@@ -82,7 +87,7 @@ def element_label(kind, i, j=None):
     raise ValueError(f"no element {kind!r} with indices {i!r}, {j!r}")
 
 
-def element_labels(n):
+def element_labels(n: int) -> list[str]:
     """Labels of the elements of an n-joint robot, in the order of :func:`element_index`.
 
     Parameters
@@ -103,7 +108,7 @@ def element_labels(n):
     return [element_label(kind, i, j) for kind, i, j in element_index(n)]
 
 
-def parse_element_label(text, n):
+def parse_element_label(text: str, n: int) -> tuple:
     """The element a label names: the inverse of :func:`element_label`.
 
     Parameters
@@ -144,7 +149,8 @@ def parse_element_label(text, n):
                      f"{str(text)[:40]!r} is not an element label")
 
 
-def element_units(kind, i, j=None, prismatic=None):
+def element_units(kind: str, i: int, j: int | None = None,
+                  prismatic: Sequence[bool] | np.ndarray | None = None) -> str:
     """The units of an element of D or h (and of c_i, tau_i), from the joint types.
 
     D_ij = dtau_i / dqdd_j: a revolute joint contributes m (torque over force, or angle over
@@ -189,7 +195,7 @@ def element_units(kind, i, j=None, prismatic=None):
     raise ValueError(f"no element {kind!r} with indices {i!r}, {j!r}")
 
 
-def joint_torque_units(prismatic):
+def joint_torque_units(prismatic: bool) -> str:
     """The units of a joint's generalized force (tau_i, h_i, c_i).
 
     Parameters
@@ -210,7 +216,7 @@ def joint_torque_units(prismatic):
     return "N" if prismatic else "N m"
 
 
-def joint_gain_units(prismatic):
+def joint_gain_units(prismatic: bool) -> tuple[str, ...]:
     """The units of a joint's position and velocity gains in generalized force (a PD law
     tau_i = Kp_i e_i + Kv_i de_i/dt): generalized force over q and over qd of the joint.
 
@@ -233,7 +239,7 @@ def joint_gain_units(prismatic):
     return ("N m-1", "N s m-1") if prismatic else ("N m rad-1", "N m s rad-1")
 
 
-def joint_motion_units(prismatic, shown=False):
+def joint_motion_units(prismatic: bool, shown: bool = False) -> tuple[str, ...]:
     """The units of a joint's q, qd and qdd.
 
     Parameters
@@ -260,7 +266,7 @@ def joint_motion_units(prismatic, shown=False):
     return base, f"{base} s-1", f"{base} s-2"
 
 
-def joint_units_text(units, what="joint"):
+def joint_units_text(units: Sequence[str], what: str = "joint") -> str:
     """Units that differ between joints, said once: ``"N m"`` or ``"N m (joints 1, 2), N (joint 3)"``.
 
     Parameters
@@ -290,7 +296,7 @@ def joint_units_text(units, what="joint"):
     return ", ".join(parts)
 
 
-def joint_drive_units(prismatic):
+def joint_drive_units(prismatic: bool) -> tuple[str, ...]:
     """The units of a joint's drive parameters: armature (D_ii's part) and viscous friction.
 
     The armature adds to D_ii, so it has D_ii's units (kg m^2 for a revolute joint, kg for a

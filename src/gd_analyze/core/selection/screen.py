@@ -28,12 +28,18 @@ from __future__ import annotations
 
 import time
 from dataclasses import dataclass
+from typing import TYPE_CHECKING
 
 import numpy as np
 
 from ..symbolic.pruning import part_values, prune_bounds
 from ..symbolic.recursive import parts_count
 from .certify import pair_magnitudes_at
+
+if TYPE_CHECKING:
+    from ..model.robot import Robot
+    from ..symbolic.base_parameters import BaseParameters
+    from .region import Region
 
 __all__ = ["MIN_SAVING", "ROUND_OFF", "RegionScreen", "screen_region"]
 
@@ -128,8 +134,9 @@ class RegionScreen:
                 "statement": self.text()}
 
 
-def screen_region(robot, base, region, values, tolerance, torque_floor=0.0,
-                  threshold=MIN_SAVING, magnitudes=None):
+def screen_region(robot: Robot, base: BaseParameters, region: Region, values: tuple,
+                  tolerance: float, torque_floor: float = 0.0, threshold: float = MIN_SAVING,
+                  magnitudes: np.ndarray | None = None) -> RegionScreen:
     """The sampled pre-screen of a region model (module docstring).
 
     Parameters

@@ -20,8 +20,10 @@ from __future__ import annotations
 import json
 from dataclasses import dataclass, field, replace
 from functools import cached_property
+from typing import TYPE_CHECKING
 
 import numpy as np
+from numpy.typing import ArrayLike
 
 from ...errors import InputError
 from ..model.kinematics import as_states
@@ -41,6 +43,11 @@ from .guarantee import Guarantee
 from .labels import element_labels
 from .positive_definite import inertia_statement
 from .torque_error import TorqueErrorAccumulator, torque_error  # noqa: F401 (re-exported)
+
+if TYPE_CHECKING:
+    from ..model.robot import Robot
+    from ..symbolic.codegen import Program
+    from ..symbolic.model_functions import ModelFunctions
 
 __all__ = ["SCHEMA_VERSION", "CHOICES", "SimplifiedModel", "choice_masks", "merge_choices",
            "full_choices",
@@ -156,7 +163,7 @@ class SimplifiedModel:
     be neglected in calculating the dynamic equations of motion of the manipulator."
     """
 
-    robot: object
+    robot: Robot
     choices: dict
     dominance_threshold: float
     negligible_threshold: float
@@ -166,24 +173,24 @@ class SimplifiedModel:
     rule: str = "chapter"
     tolerance: float = float("nan")
     torque_floor: float = 0.0
-    terms: object = None
+    terms: Term | None = None
     cost: dict = field(default_factory=dict)
     full_cost: dict = field(default_factory=dict)
     bound: list = field(default_factory=list)
-    recursive: object = None
+    recursive: RecursiveModel | None = None
     costs: dict = field(default_factory=dict)
-    guarantee: object = None
-    program_cache: object = field(default=None, repr=False, compare=False)
+    guarantee: Guarantee | None = None
+    program_cache: Program | None = field(default=None, repr=False, compare=False)
     inertia_check: dict | None = None
-    functions_cache: object = field(default=None, repr=False, compare=False)
-    choice_cache: object = field(default=None, repr=False, compare=False)
+    functions_cache: ModelFunctions | None = field(default=None, repr=False, compare=False)
+    choice_cache: tuple | None = field(default=None, repr=False, compare=False)
 
     @property
-    def form(self):
+    def form(self) -> str:
         """``"recursive"`` or ``"explicit"``: how the emitted code computes tau."""
         return "explicit" if self.recursive is None else "recursive"
 
-    def explicit_terms(self):
+    def explicit_terms(self) -> Term:
         """The kept terms of the explicit model (:class:`~gd_analyze.core.symbolic.explicit.Term`).
 
         A model read from a layout without terms gets the terms of its kept parts, unpruned.
@@ -195,7 +202,7 @@ class SimplifiedModel:
         all_terms = model_terms(derive(self.robot))
         return all_terms.subset(chosen_terms(all_terms, self.choices))
 
-    def program(self):
+    def program(self) -> Program:
         """The straight-line program of the model
         (:class:`~gd_analyze.core.symbolic.codegen.Program`), with the drives' armature and
         friction, never dropped (:func:`~gd_analyze.core.symbolic.drive_regressor.with_drives`)."""
@@ -213,7 +220,7 @@ class SimplifiedModel:
                                          np.zeros(self.robot.n),
                                          prismatic=self.robot.prismatic), self.robot)
 
-    def header(self):
+    def header(self) -> dict:
         """The header of the emitted files: robot, SHA-256s, rule, tolerance, counts, version.
 
         Returns
@@ -268,7 +275,7 @@ class SimplifiedModel:
             return {}
         return {f"region {label}": text for label, text in region.parts()}
 
-    def functions(self):
+    def functions(self) -> ModelFunctions:
         """The deployed model's five functions (tau, D_s, h_s, c_s, Y_s) as programs.
 
         Returns
@@ -295,7 +302,7 @@ class SimplifiedModel:
             return self.choice_cache
         return self.recursive.choice(self.robot)
 
-    def left_out(self):
+    def left_out(self) -> np.ndarray:
         """The (base parameter, part) pairs the deployed program leaves out, recursive form.
 
         Returns
@@ -313,7 +320,7 @@ class SimplifiedModel:
             raise ValueError("an explicit model has no base-parameter pairs")
         return np.asarray(self._choice[1], bool)
 
-    def with_inertia_check(self, check):
+    def with_inertia_check(self, check: dict) -> SimplifiedModel:
         """The model with an ``inertia_check``, its program and functions built once.
 
         Parameters
@@ -328,7 +335,7 @@ class SimplifiedModel:
         return replace(self, inertia_check=check, program_cache=self.program(),
                        functions_cache=self.functions())
 
-    def sources(self, stem=SOURCE_STEM, prefix=None):
+    def sources(self, stem: str = SOURCE_STEM, prefix: str | None = None) -> dict:
         """The emitted files' texts (:data:`gd_analyze.core.symbolic.emit_model.ARTEFACTS`).
 
         Parameters
@@ -356,7 +363,7 @@ class SimplifiedModel:
     def _python_tau(self):
         return python_function(self.program())
 
-    def torque_at(self, q, qd, qdd):
+    def torque_at(self, q: ArrayLike, qd: ArrayLike, qdd: ArrayLike) -> np.ndarray:
         """Torques of the simplified model at one state, in Python floats.
 
         Parameters
@@ -398,7 +405,7 @@ class SimplifiedModel:
             return np.full(n, np.nan)
         return np.array(state_function(self.program())(*(v.tolist() for v in x)))
 
-    def torque(self, q, qd, qdd):
+    def torque(self, q: ArrayLike, qd: ArrayLike, qdd: ArrayLike) -> np.ndarray:
         """Torques of the simplified model, tau_s = D_s qdd + h_s + c, in explicit form.
 
         Parameters
@@ -429,7 +436,7 @@ class SimplifiedModel:
             out[rows] = tau(q[rows], qd[rows], qdd[rows])
         return out
 
-    def to_dict(self):
+    def to_dict(self) -> dict:
         """The model in the layout of simplified_model.json.
 
         Returns
@@ -478,7 +485,7 @@ class SimplifiedModel:
         return {"base_rpy_deg": [float(v) for v in rpy],
                 "gravity_world": [float(v) for v in g_world]}
 
-    def scope(self):
+    def scope(self) -> str:
         """Where the model's bound holds, in one sentence.
 
         Returns
@@ -494,7 +501,7 @@ class SimplifiedModel:
         return "on the trajectory it was built on only (an older model file: no region check)"
 
     @classmethod
-    def from_dict(cls, spec, robot, path="<dict>"):
+    def from_dict(cls, spec: dict, robot: Robot, path: str = "<dict>") -> SimplifiedModel:
         """The model from a parsed simplified_model.json (see :func:`gd_analyze.io.model_file.load_model`).
 
         Parameters
@@ -582,7 +589,7 @@ class SimplifiedModel:
         return model
 
 
-def parameters_sha256(parameters):
+def parameters_sha256(parameters: dict) -> str:
     """SHA-256 of a robot's parameters as stored in a model file (canonical JSON).
 
     Parameters
@@ -634,7 +641,7 @@ def _terms_from_json(spec, n):
     return out
 
 
-def json_safe(obj):
+def json_safe(obj: object) -> object:
     """Replace NaN/inf (not valid JSON) by None, recursively; numpy scalars by Python ones.
 
     Parameters

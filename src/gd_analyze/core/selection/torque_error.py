@@ -20,13 +20,13 @@ class TorqueErrorAccumulator:
         Number of joints.
     """
 
-    def __init__(self, n):
+    def __init__(self, n: int) -> None:
         self.peak = np.zeros(n)
         self.sum_sq = np.zeros(n)
         self.peak_tau = np.zeros(n)
         self.count = 0
 
-    def update(self, tau_simplified, tau_full):
+    def update(self, tau_simplified: np.ndarray, tau_full: np.ndarray) -> None:
         """Add a chunk of set points.
 
         Parameters
@@ -42,7 +42,7 @@ class TorqueErrorAccumulator:
         np.maximum(self.peak_tau, np.abs(tau_full).max(axis=0), out=self.peak_tau)
         self.count += err.shape[0]
 
-    def result(self):
+    def result(self) -> dict:
         """The error figures.
 
         Returns
@@ -63,7 +63,7 @@ class TorqueErrorAccumulator:
                 "relative_rms_error": rel_rms.tolist()}
 
 
-def torque_error(tau_simplified, tau_full):
+def torque_error(tau_simplified: np.ndarray, tau_full: np.ndarray) -> dict:
     """Per-joint torque error of a simplified model along a trajectory.
 
     Parameters

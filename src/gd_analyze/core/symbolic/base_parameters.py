@@ -136,7 +136,8 @@ def _link_wrenches(w, wd, vd):
     return A
 
 
-def regressor(robot, q, qd, qdd, gravity=None):
+def regressor(robot: Robot, q: ArrayLike, qd: ArrayLike, qdd: ArrayLike,
+              gravity: ArrayLike | None = None) -> np.ndarray:
     """The joint-torque regressor W with tau = W phi, phi the standard parameters.
 
     Parameters
@@ -246,7 +247,7 @@ class BaseParameters:
     rank: int
 
     @property
-    def values(self):
+    def values(self) -> np.ndarray:
         """ndarray, shape (n, 10): beta in the independent slots, 0 in the dependent ones.
 
         The recursive model evaluated with these values computes tau = W_B beta, the same

@@ -27,7 +27,7 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass
 from functools import cached_property
-from typing import TYPE_CHECKING
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
 import symengine as se
@@ -68,7 +68,7 @@ class Program:
     outputs: list
     forms: tuple = ()
 
-    def cost(self):
+    def cost(self) -> dict:
         """Operation counts: dict with ``multiplications``, ``additions``, ``sin``, ``cos``."""
         return dict(self._cost)
 
@@ -156,13 +156,14 @@ class ExplicitProgram:
         As :func:`build_program`.
     """
 
-    def __init__(self, terms, n, offset, trig_mode="products", prismatic=None):
+    def __init__(self, terms: Term, n: int, offset: ArrayLike, trig_mode: str = "products",
+                 prismatic: ArrayLike | None = None) -> None:
         self.n, self.trig_mode = n, trig_mode
         self.q = [se.Symbol(f"q{i}") for i in range(n)]
         self.qd = [se.Symbol(f"qd{i}") for i in range(n)]
         self.qdd = [se.Symbol(f"qdd{i}") for i in range(n)]
-        self.assignments = []
-        groups = {}                                 # merge the kept terms per group, harmonic
+        self.assignments: list = []
+        groups: dict = {}                           # merge the kept terms per group, harmonic
         for kind, i, j, k, K, S, C in zip(terms.kind, terms.i, terms.j, terms.k, terms.K,
                                           terms.S, terms.C):
             g = groups.setdefault((str(kind), int(i), int(j), int(k)), {})
@@ -173,19 +174,27 @@ class ExplicitProgram:
         self.lin = np.zeros(n, bool) if prismatic is None else np.asarray(prismatic, bool)
         self.late = len(terms) > LATE_FACTORING
         self.has_lin = bool(self.lin.any())
-        self.theta = []
+        self.theta: list = []
+        offsets = np.asarray(offset)
         for i in range(n):
-            off = float(offset[i])
+            off = float(offsets[i])
             if off:
                 t = se.Symbol(f"th{i}")
                 self.assignments.append((t, self.q[i] + off))
                 self.theta.append(t)
             else:
                 self.theta.append(self.q[i])
-        self.angle_cache, self.trig_cache, self.prod_cache = {}, {}, {}
-        self.recipe, self.by_sym, self.factors = {}, {}, {}
-        self.mono_cache, self.vel_cache, self.shared = {}, {}, {}
-        self.expanded = self.private = None
+        self.angle_cache: dict = {}
+        self.trig_cache: dict = {}
+        self.prod_cache: dict = {}
+        self.recipe: dict = {}
+        self.by_sym: dict = {}
+        self.factors: dict = {}
+        self.mono_cache: dict = {}
+        self.vel_cache: dict = {}
+        self.shared: dict = {}
+        self.expanded: Any = None                   # dicts, set by trig_values
+        self.private: Any = None
 
     # --- stage 2: trig values --------------------------------------------------------------
     def _split(self, key):
@@ -336,7 +345,7 @@ class ExplicitProgram:
         return self.vel_cache[(j, k)]
 
     # --- stage 3: groups ------------------------------------------------------------------
-    def group_value(self, gk, name):
+    def group_value(self, gk: tuple, name: str) -> se.Basic:
         """A symbol (or constant) for sum coef x trig, reusing a proportional earlier group.
 
         Parameters
@@ -362,7 +371,7 @@ class ExplicitProgram:
             factor = ref / ref0
             return sym if factor == 1.0 else (-sym if factor == -1.0 else
                                                se.RealDouble(factor) * sym)
-        by_atom = {}                                # per trig value: a polynomial in q
+        by_atom: dict = {}                          # per trig value: a polynomial in q
         for a, pw, c in self.expanded[gk]:
             by_atom.setdefault(a, []).append((pw, c))
         expr = [se.Add(*[_coef(c) * self._mono(pw) for pw, c in poly]) * self._atom(a)
@@ -382,14 +391,14 @@ class ExplicitProgram:
         return f"g{i}"
 
     # --- stage 4: tau assembly -----------------------------------------------------------------
-    def assemble_tau(self):
+    def assemble_tau(self) -> list[list[se.Basic]]:
         """Stage 4: the terms of each tau_i, Eq. (3.4-24): D groups first, then h and c.
 
         Returns
         -------
         list of list of symengine.Basic, length n
         """
-        tau = [[] for _ in range(self.n)]
+        tau: list[list] = [[] for _ in range(self.n)]
         for (kind, i, j, k) in sorted(self.groups):
             if kind == "D":
                 val = self.group_value((kind, i, j, k), self._name(kind, i, j, k))
@@ -450,7 +459,7 @@ class ExplicitProgram:
                 out[i * self.n + j] = out[j * self.n + i] = val
         return self.finish(out)
 
-    def regressor(self):
+    def regressor(self) -> tuple[Program, list[str], np.ndarray]:
         """The model as tau = Y beta with one parameter per kept coefficient.
 
         Returns
@@ -472,8 +481,9 @@ class ExplicitProgram:
         Khalil & Kleinfinger's base parameters (1987) are those of the recursive form.
         """
         self.trig_values()
-        rows = [[] for _ in range(self.n)]
-        names, values = [], []
+        rows: list[list] = [[] for _ in range(self.n)]
+        names: list[str] = []
+        values: list[float] = []
         for (kind, i, j, k), g in sorted(self.groups.items()):
             for key, c in sorted(g.items()):
                 th, pw = self._split(key)

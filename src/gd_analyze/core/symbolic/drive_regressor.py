@@ -23,6 +23,7 @@ it depends on. sgn may be smoothed to tanh(qd / v_s) (``coulomb_velocity`` v_s >
 
 from __future__ import annotations
 
+from collections.abc import Sequence
 from dataclasses import dataclass
 from typing import TYPE_CHECKING
 
@@ -57,7 +58,7 @@ def _checked_kinds(drives):
     return tuple(k for k in DRIVE_COLUMNS if k in kinds)
 
 
-def drive_regressor(qd: np.ndarray, qdd: np.ndarray, drives=DRIVE_COLUMNS,
+def drive_regressor(qd: np.ndarray, qdd: np.ndarray, drives: Sequence[str] = DRIVE_COLUMNS,
                     coulomb_velocity: float = 0.0) -> np.ndarray:
     """The drive columns of every joint: qdd_i, qd_i, sgn(qd_i) and 1 on joint i's row.
 
@@ -159,7 +160,7 @@ class IdentificationColumns:
         return self.drive_kept.T.reshape(-1)
 
     @classmethod
-    def keeping_all(cls, base: BaseParameters, n: int, drives=DRIVE_COLUMNS,
+    def keeping_all(cls, base: BaseParameters, n: int, drives: Sequence[str] = DRIVE_COLUMNS,
                     coulomb_velocity: float = 0.0) -> IdentificationColumns:
         """The base columns with every drive column of the given kinds, none left out.
 
@@ -201,7 +202,8 @@ class IdentificationColumns:
         return self._drive_names(False)
 
 
-def identification_columns(robot, drives=DRIVE_COLUMNS, base: BaseParameters | None = None,
+def identification_columns(robot: Robot, drives: Sequence[str] = DRIVE_COLUMNS,
+                           base: BaseParameters | None = None,
                            coulomb_velocity: float = 0.0, count: int | None = None,
                            seed: int = 0, tol: float = 1e-8) -> IdentificationColumns:
     """The structurally independent columns of the base regressor with drive columns.
@@ -264,7 +266,7 @@ def identification_columns(robot, drives=DRIVE_COLUMNS, base: BaseParameters | N
                                  coulomb_velocity=float(coulomb_velocity))
 
 
-def identification_regressor(robot, q: np.ndarray, qd: np.ndarray, qdd: np.ndarray,
+def identification_regressor(robot: Robot, q: np.ndarray, qd: np.ndarray, qdd: np.ndarray,
                              columns: IdentificationColumns) -> np.ndarray:
     """The base regressor with the kept drive columns, tau = Y theta.
 

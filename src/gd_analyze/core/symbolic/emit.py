@@ -156,7 +156,8 @@ class Printer:
             out += (" - " if neg else " + ") + s if out else ("-" + s if neg else s)
         return f"({out})" if prec > 0 else out
 
-    def body(self, program: Program, target: Callable[..., Any], indent: str = "    ") -> list[str]:
+    def body(self, program: Program, target: Callable[..., Any] | None,
+             indent: str = "    ") -> list[str]:
         """The statements of a program: its temporaries, then each output into its slot.
 
         Parameters

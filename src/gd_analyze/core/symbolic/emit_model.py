@@ -30,6 +30,7 @@ C identifier (:func:`.safe_text.check_prefix`), and in the include guard with a 
 
 from __future__ import annotations
 
+from collections.abc import Callable
 from dataclasses import dataclass
 from typing import TYPE_CHECKING, Any
 
@@ -46,6 +47,7 @@ from .safe_text import (
 )
 
 if TYPE_CHECKING:
+    from .codegen import Program
     from .model_functions import ModelFunctions
 
 
@@ -111,7 +113,7 @@ class Artefact:
 
     suffix: str
     language: str
-    printer: object
+    printer: Callable[..., str]
 
     def name(self, stem: str) -> str:
         """The file's name for a stem.
@@ -276,7 +278,7 @@ def c_header(functions: ModelFunctions, header: dict[str, Any], prefix: str, ste
     return "\n".join(lines)
 
 
-def c_source(functions, header, prefix, stem):
+def c_source(functions: ModelFunctions, header: dict, prefix: str, stem: str) -> str:
     """The C source ``STEM.c``: the definitions of :func:`c_header`'s declarations.
 
     Parameters
@@ -342,7 +344,8 @@ def _states(*arrays):
 '''
 
 
-def numpy_source(functions, header, prefix=None, stem=None):
+def numpy_source(functions: ModelFunctions, header: dict, prefix: str | None = None,
+                 stem: str | None = None) -> str:
     """The numpy module ``STEM.py``: the five functions batched over set points.
 
     Parameters
@@ -382,7 +385,8 @@ def _numpy_function(spec, program, shape):
     return lines + NUMPY.body(program, idx) + ["    return out"]
 
 
-def numpy_function(spec, program, shape):
+def numpy_function(spec: FunctionSpec, program: Program, shape: tuple[int, ...]
+                   ) -> Callable:
     """One function of :func:`numpy_source` alone, compiled.
 
     Parameters
@@ -401,7 +405,7 @@ def numpy_function(spec, program, shape):
     """
     src = "\n".join(["import numpy as np", f"N_JOINTS = {program.n}"]
                     + _NUMPY_STATES.split("\n") + _numpy_function(spec, program, shape))
-    ns = {}
+    ns: dict = {}
     exec(compile(src, f"<{spec.key}>", "exec"), ns)
     return ns[spec.key]
 
@@ -436,7 +440,8 @@ def batch_functions(n_states, parallelization="serial"):
 '''
 
 
-def casadi_source(functions, header, prefix, stem=None):
+def casadi_source(functions: ModelFunctions, header: dict, prefix: str,
+                  stem: str | None = None) -> str:
     """The CasADi module ``STEM_casadi.py``.
 
     Parameters
@@ -510,7 +515,7 @@ def artefact_names(stem: str) -> tuple[str, ...]:
     return tuple(a.name(stem) for a in ARTEFACTS)
 
 
-def render(functions, header, prefix, stem):
+def render(functions: ModelFunctions, header: dict, prefix: str, stem: str) -> dict:
     """Every emitted file's text.
 
     Parameters

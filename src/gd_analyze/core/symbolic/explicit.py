@@ -31,11 +31,15 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 from functools import cached_property
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
 from numpy.typing import ArrayLike
 
 from .trigpoly import TrigPoly
+
+if TYPE_CHECKING:
+    from ..model.robot import Robot
 
 __all__ = ["ExplicitModel", "derive", "Term", "model_terms", "merge_parts", "atoms",
            "term_peaks", "budget_drop", "prune", "PART_KINDS"]
@@ -98,7 +102,7 @@ class ExplicitModel:
         """
         return np.atleast_2d(np.asarray(q, float)) + self.offset
 
-    def terms(self, q, qd):
+    def terms(self, q: np.ndarray, qd: np.ndarray) -> tuple[np.ndarray, ...]:
         """Evaluate D_tran, D_rot (N, n, n), h_tran, h_rot, c (N, n) at set points.
 
         Parameters
@@ -114,7 +118,7 @@ class ExplicitModel:
         th = self.theta(q)
         qd = np.atleast_2d(np.asarray(qd, float))
         N, n = th.shape
-        out = []
+        out: list[np.ndarray] = []
         for Dp in (self.D_tran, self.D_rot):
             D = np.zeros((N, n, n))
             for (i, j), p in Dp.items():
@@ -152,7 +156,7 @@ def _rot_T_vec(R, v):
     return _matvec([[R[c][r] for c in range(3)] for r in range(3)], v)
 
 
-def derive(robot):
+def derive(robot: Robot) -> ExplicitModel:
     """Derive the explicit G-D model of a robot.
 
     Parameters
@@ -187,14 +191,14 @@ def derive(robot):
     """
     n = robot.n
     lin = np.asarray(getattr(robot, "prismatic", np.zeros(n, bool)), bool).copy()
-    C = [None if lin[i] else TrigPoly.cos(n, i, lin) for i in range(n)]
-    S = [None if lin[i] else TrigPoly.sin(n, i, lin) for i in range(n)]
+    C: list[Any] = [None if lin[i] else TrigPoly.cos(n, i, lin) for i in range(n)]
+    S: list[Any] = [None if lin[i] else TrigPoly.sin(n, i, lin) for i in range(n)]
     P = np.vectorize(_snap)(np.asarray(robot.rotation, float))
     t = np.where(np.abs(np.asarray(robot.translation, float)) < 1e-15, 0.0,
                  np.asarray(robot.translation, float))
     zero = TrigPoly.zero(n, lin)
     # R_i = P_i Rot(z, q_i) (revolute) or P_i (prismatic): entries as TrigPoly
-    R = []
+    R: list[list[list[Any]]] = []
     for i in range(n):
         if lin[i]:
             R.append([[float(P[i][a][c]) for c in range(3)] for a in range(3)])
@@ -342,7 +346,7 @@ class Term:
         return _atoms(self)
 
     @cached_property
-    def programs(self):
+    def programs(self) -> dict:
         """A memo of the straight-line programs built from subsets of these terms.
 
         A dict owned by this value (the terms never change), keyed by the caller with the
@@ -351,7 +355,7 @@ class Term:
         return {}
 
 
-def model_terms(model):
+def model_terms(model: ExplicitModel) -> Term:
     """Flatten an :class:`ExplicitModel` into :class:`Term` rows.
 
     Parameters
@@ -364,6 +368,7 @@ def model_terms(model):
         D terms (tran then rot), h terms (tran then rot), then c terms.
     """
     rows = []
+    part: Any                           # a label in the loops, then the column of labels
     for part, Dp in (("tran", model.D_tran), ("rot", model.D_rot)):
         for (i, j), p in Dp.items():
             rows += [("D", part, i, j, -1, kv, s, cf) for kv, s, cf in p.rows()]
@@ -382,7 +387,7 @@ def model_terms(model):
                 np.array(C, float))
 
 
-def merge_parts(terms):
+def merge_parts(terms: Term) -> Term:
     """Add the tran and rot terms of one element and harmonic together (part ``"both"``).
 
     Parameters
@@ -394,7 +399,7 @@ def merge_parts(terms):
     Term
         One row per (kind, i, j, k, harmonic), sorted; gravity rows keep part ``"grav"``.
     """
-    acc = {}
+    acc: dict = {}
     for kind, i, j, k, K, S, C in zip(terms.kind, terms.i, terms.j, terms.k, terms.K,
                                       terms.S, terms.C):
         key = (str(kind), int(i), int(j), int(k), bool(S)) + tuple(int(v) for v in K)

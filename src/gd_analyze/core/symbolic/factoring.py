@@ -21,6 +21,7 @@ terms are kept, each is an algebraic identity):
 from __future__ import annotations
 
 import heapq
+from collections.abc import Callable
 from typing import Any
 
 import symengine as se
@@ -28,7 +29,7 @@ import symengine as se
 __all__ = ["expand_pairs", "sum_to_product", "private_products", "factor_sum", "prune_dead"]
 
 
-def expand_pairs(items, recipe):
+def expand_pairs(items: list[tuple[Any, float]], recipe: dict) -> list[tuple[Any, float]]:
     """Write the pairs of harmonics of a sum in their shared products.
 
     Parameters
@@ -54,7 +55,7 @@ def expand_pairs(items, recipe):
     >>> expand_pairs([("c+", -2.0), ("c-", 2.0), ("c0", 1.0)], rec)
     [('c0', 1.0), (('p', y), 4.0)]
     """
-    family = {}
+    family: dict = {}
     for key, _ in items:
         r = recipe.get(key)
         if r is not None and len(r) == 2:
@@ -63,7 +64,8 @@ def expand_pairs(items, recipe):
     expand = {k for keys in family.values() if len(keys) >= 2 for k in keys}
     if not expand:
         return list(items)
-    out, acc = [], {}
+    out: list = []
+    acc: dict = {}
     for key, c in items:
         if key in expand:
             for sign, p in recipe[key]:
@@ -82,7 +84,8 @@ def _canon(v):
     return v, 0
 
 
-def sum_to_product(items, exists):
+def sum_to_product(items: list[tuple[Any, float]], exists: Callable[..., bool]
+                   ) -> tuple[list[tuple[Any, float]], list[tuple[float, Any, Any]]]:
     """Pairs a cos K1 +- a cos K2 (or sines) of equal magnitude as one product of two cos/sin.
 
     With K1 = A + B, K2 = A - B: cos K1 + cos K2 = 2 cA cB, cos K1 - cos K2 = -2 sA sB,
@@ -110,7 +113,7 @@ def sum_to_product(items, exists):
     >>> sum_to_product(items, lambda key: True)
     ([((True, 1, 0), 3.0)], [(1.0, (False, 1, 1), (False, 1, 0))])
     """
-    by_mag = {}
+    by_mag: dict = {}
     for idx, (key, c) in enumerate(items):
         by_mag.setdefault((key[0], abs(c)), []).append(idx)
     used, products = set(), []
@@ -143,7 +146,7 @@ def sum_to_product(items, exists):
     return [it for idx, it in enumerate(items) if idx not in used], products
 
 
-def private_products(sums, recipe, factors):
+def private_products(sums: list[list], recipe: dict, factors: dict) -> set:
     """The products that exactly one sum uses and nothing else needs.
 
     Parameters
@@ -170,7 +173,10 @@ def private_products(sums, recipe, factors):
     >>> private_products([[("p", p)], [h]], {h: ((1, p),)}, {p: (x, y)})
     set()
     """
-    uses, needed, stack, seen = {}, set(), [], set()
+    uses: dict = {}
+    needed: set = set()
+    stack: list = []
+    seen: set = set()
     for atoms in sums:
         for a in atoms:
             if isinstance(a, tuple):

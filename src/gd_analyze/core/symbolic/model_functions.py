@@ -112,7 +112,7 @@ class ModelFunctions:
         exec(compile(numpy_source(self, {}), "<simplified_model.py>", "exec"), ns)
         return ns
 
-    def costs(self):
+    def costs(self) -> dict:
         """Counted operations per function (:meth:`Program.cost`), keyed as :data:`FUNCTIONS`."""
         return {spec.key: self.programs[spec.key].cost() for spec in FUNCTIONS}
 

@@ -24,8 +24,15 @@ whole minus those. The programs are assembled in :mod:`.recursive`.
 
 from __future__ import annotations
 
+from collections.abc import Callable, Hashable, Iterable, Sequence
+from typing import TYPE_CHECKING, Any
+
 import numpy as np
 import symengine as se
+from numpy.typing import ArrayLike
+
+if TYPE_CHECKING:
+    from ..model.robot import Robot
 
 __all__ = ["PARTS", "FORMS"]
 
@@ -106,7 +113,8 @@ ZERO3 = (se.Integer(0),) * 3
 class Recursion:
     """Memoized symbolic quantities of the recursion for one arm."""
 
-    def __init__(self, robot, lock_last=False, direct=None):
+    def __init__(self, robot: Robot, lock_last: bool = False, direct: dict | None = None
+                 ) -> None:
         self.robot = robot
         self.direct = dict(direct or {})
         self.n = n = robot.n
@@ -125,24 +133,24 @@ class Recursion:
         self.locked = [False] * n
         if lock_last and not self.prismatic[n - 1]:
             self.locked[n - 1] = True
-        self._memo = {}
+        self._memo: dict = {}
 
     # --- helpers -----------------------------------------------------------------------
-    def memo(self, key, fn):
+    def memo(self, key: Hashable, fn: Callable[[], Any]) -> Any:
         if key not in self._memo:
             self._memo[key] = fn()
         return self._memo[key]
 
-    def vec(self, exprs):
+    def vec(self, exprs: Iterable[Any]) -> tuple:
         return tuple(self.b(e) for e in exprs)
 
-    def trig(self, j):
+    def trig(self, j: int) -> tuple:
         if self.locked[j]:
             return se.Integer(1), se.Integer(0)
         return self.memo(("cs", j), lambda: (self.b(se.cos(self.q[j])),
                                              self.b(se.sin(self.q[j]))))
 
-    def rot_t(self, j, x):
+    def rot_t(self, j: int, x: Sequence[Any]) -> tuple:
         """R_j^T x = Rot(z, q_j)^T (P_j^T x) (x in frame j-1, result in frame j)."""
         if all(e == 0 for e in x):
             return ZERO3
@@ -153,7 +161,7 @@ class Recursion:
         c, s = self.trig(j)
         return self.vec([c * y[0] + s * y[1], c * y[1] - s * y[0], y[2]])
 
-    def rot(self, j, x):
+    def rot(self, j: int, x: Sequence[Any]) -> tuple:
         """R_j x = P_j (Rot(z, q_j) x) (x in frame j, result in frame j-1)."""
         if all(e == 0 for e in x):
             return ZERO3
@@ -165,23 +173,23 @@ class Recursion:
         P = self.P[j]
         return self.vec([P[k][0] * y[0] + P[k][1] * y[1] + P[k][2] * y[2] for k in range(3)])
 
-    def p(self, j):
+    def p(self, j: int) -> tuple:
         """Origin of frame j in frame j-1: t_j (+ q_j P_j z, prismatic)."""
         t = self.t[j]
         if not self.prismatic[j]:
             return tuple(t)
         return self.vec([t[k] + self.q[j] * self.P[j][k][2] for k in range(3)])
 
-    def cross(self, a, b):
+    def cross(self, a: Sequence[Any], b: Sequence[Any]) -> tuple:
         return self.vec([a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2],
                          a[0] * b[1] - a[1] * b[0]])
 
     # --- forward recursion ----------------------------------------------------------------
-    def w_parent(self, j):
+    def w_parent(self, j: int) -> tuple:
         """R_j^T w_{j-1}: the angular velocity of frame j-1 in frame j."""
         return self.memo(("wp", j), lambda: ZERO3 if j == 0 else self.rot_t(j, self.w(j - 1)))
 
-    def w(self, j):
+    def w(self, j: int) -> tuple:
         def make():
             wp = self.w_parent(j)
             if self.prismatic[j]:
@@ -189,7 +197,7 @@ class Recursion:
             return (wp[0], wp[1], self.b(wp[2] + self.qd[j]))
         return self.memo(("w", j), make)
 
-    def ww(self, j):
+    def ww(self, j: int) -> dict:
         """Products w_a w_b of frame j, keyed (a, b) with a <= b."""
         def make():
             w = self.w(j)
@@ -217,12 +225,12 @@ class Recursion:
             out = self.vec_sum(out, t, sign)
         return out
 
-    def vec_sum(self, x, y, sign=1):
+    def vec_sum(self, x: Sequence[Any], y: Sequence[Any], sign: int = 1) -> Any:
         if isinstance(x[0], (list, tuple)):          # a matrix, by rows
             return [self.vec_sum(a, b, sign) for a, b in zip(x, y)]
         return self.vec([a + sign * b for a, b in zip(x, y)])
 
-    def wd(self, j, parts):
+    def wd(self, j: int, parts: Iterable[str]) -> tuple:
         """wd_j of the given parts (a: qdd, v: qd)."""
         relevant = frozenset("av")
         S = self._parts(parts, relevant)
@@ -249,7 +257,7 @@ class Recursion:
             return self.vec(x)
         return self.memo(("wd_rec", j, S), make)
 
-    def U(self, j, parts):
+    def U(self, j: int, parts: Iterable[str]) -> list:
         """U_j = skew(wd_j) + skew(w_j)^2 (the second term in the velocity part), by entry."""
         relevant = frozenset("av")
         S = self._parts(parts, relevant)
@@ -279,7 +287,7 @@ class Recursion:
             return [[self.b(e) for e in row] for row in out]
         return self.memo(("U_rec", j, frozenset(S)), make)
 
-    def vd(self, j, parts):
+    def vd(self, j: int, parts: Iterable[str]) -> tuple:
         """vd_j of the given parts (a: qdd, v: qd, g: gravity)."""
         S = self._parts(parts, ALL)
         if not S:
@@ -312,7 +320,7 @@ class Recursion:
         return self.memo(("vd_rec", j, S), make)
 
     # --- link wrench ------------------------------------------------------------------------
-    def wrench(self, j, phi, parts):
+    def wrench(self, j: int, phi: Sequence[Any], parts: Iterable[str]) -> tuple:
         """(F_j, N_j) of the link parameters phi (10 constants) over the given parts."""
         XX, XY, XZ, YY, YZ, ZZ, MX, MY, MZ, M = phi
         MS = (MX, MY, MZ)
@@ -360,7 +368,7 @@ class Recursion:
         return F, N
 
 
-def link_constants(values):
+def link_constants(values: ArrayLike) -> list:
     """(n, 10) parameter values as symengine constants, rounding noise snapped to 0."""
     values = np.asarray(values, float)
     out = []
@@ -369,10 +377,11 @@ def link_constants(values):
     return out
 
 
-def link_torques(rec, groups):
+def link_torques(rec: Recursion, groups: Sequence[Sequence[tuple]]) -> list:
     """tau from the link wrenches of groups[j] = [(parts, phi constants), ...]."""
     n = rec.n
-    f_next = n_next = None
+    f_next: tuple | None = None
+    n_next: Any = None
     tau = [None] * n
     for j in range(n - 1, -1, -1):
         F, N = [se.Integer(0)] * 3, [se.Integer(0)] * 3

@@ -19,10 +19,12 @@ stacked in one array.
 
 from __future__ import annotations
 
+from collections.abc import Callable, Sequence
 from dataclasses import dataclass
-from typing import TYPE_CHECKING
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
+from numpy.typing import ArrayLike
 
 from ..model.kinematics import as_states
 from .explicit import _snap
@@ -48,7 +50,9 @@ def _peaks_of(C):
             np.abs(C.sum(axis=0)).max(axis=0).T)
 
 
-def stacked_peaks(robot, base, q, qd, qdd, lengths):
+def stacked_peaks(robot: Robot, base: BaseParameters, q: ArrayLike, qd: ArrayLike,
+                  qdd: ArrayLike, lengths: Sequence[int]
+                  ) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     """:func:`contribution_peaks` of each of K trajectories stacked in one array.
 
     Short trajectories evaluated together (:func:`.regressor_kernels.stacked_contribution_peaks`).
@@ -142,8 +146,9 @@ STRATEGIES = ("cost", "peak")
 CRITERIA = ("peaks", "error")
 
 
-def prune(robot, base, q, qd, qdd, eps, torque_floor=0.0, strategy="cost",
-          criterion="peaks", peaks=None):
+def prune(robot: Robot, base: BaseParameters, q: ArrayLike, qd: ArrayLike, qdd: ArrayLike,
+          eps: float, torque_floor: float = 0.0, strategy: str = "cost",
+          criterion: str = "peaks", peaks: tuple[np.ndarray, ...] | None = None) -> Pruning:
     """Choose the (base parameter, part) pairs to drop within the error budget EPS.
 
     Parameters
@@ -221,7 +226,8 @@ def prune(robot, base, q, qd, qdd, eps, torque_floor=0.0, strategy="cost",
                    scale=scale, criterion=criterion)
 
 
-def prune_on_peaks(robot, base, scale, peak, whole_peak, eps, strategy="cost"):
+def prune_on_peaks(robot: Robot, base: BaseParameters, scale: ArrayLike, peak: ArrayLike,
+                   whole_peak: ArrayLike, eps: float, strategy: str = "cost") -> Pruning:
     """Choose the pairs to drop within EPS on each of K trajectories at once (a sweep).
 
     Each pair's peak on trajectory t is divided by that trajectory's scale_{t,i}, and the
@@ -308,7 +314,8 @@ def prune_on_peaks(robot, base, scale, peak, whole_peak, eps, strategy="cost"):
                    scale=np.ones(n), criterion="peaks")
 
 
-def dropped_peaks(peak, whole_peak, dropped, whole):
+def dropped_peaks(peak: ArrayLike, whole_peak: ArrayLike, dropped: ArrayLike,
+                  whole: ArrayLike) -> np.ndarray:
     """The bound of a dropped set, split by part: the dropped units' peaks per joint.
 
     Parameters
@@ -453,7 +460,7 @@ def _normalize(dropped, live, free=None):
     return out if free is None else out | free
 
 
-def part_values(base, dropped):
+def part_values(base: BaseParameters, dropped: np.ndarray) -> np.ndarray:
     """Per part, the base parameters' values without the dropped ones.
 
     Parameters
@@ -482,7 +489,8 @@ def _count(robot, base, dropped):
     return parts_count(robot, part_values(base, dropped))
 
 
-def pruned_program(robot, base, dropped, cse=True, exact=None):
+def pruned_program(robot: Robot, base: BaseParameters, dropped: np.ndarray, cse: bool = True,
+                   exact: Program | None = None) -> Program:
     """The recursive program without the dropped (base parameter, part) pairs.
 
     Parameters
@@ -514,7 +522,9 @@ def pruned_program(robot, base, dropped, cse=True, exact=None):
     return pruned_choice(robot, base, dropped, cse, exact)[0]
 
 
-def pruned_choice(robot, base, dropped, cse=True, exact=None, forms=None):
+def pruned_choice(robot: Robot, base: BaseParameters, dropped: np.ndarray, cse: bool = True,
+                  exact: Program | None = None, forms: Sequence[str] | None = None
+                  ) -> tuple[Program, np.ndarray]:
     """:func:`pruned_program` and the pairs its program actually leaves out.
 
     Parameters
@@ -606,8 +616,12 @@ def _total(program):
     return c["multiplications"] + c["additions"]
 
 
-def prune_bounds(robot, base, scale, peak, whole_peak, eps, strategy="cost", pieces=None,
-                 chosen=None, zero=None, joint=None):
+def prune_bounds(robot: Robot, base: BaseParameters, scale: np.ndarray, peak: np.ndarray,
+                 whole_peak: np.ndarray, eps: float, strategy: str = "cost",
+                 pieces: np.ndarray | None = None,
+                 chosen: tuple[np.ndarray, np.ndarray] | None = None,
+                 zero: np.ndarray | None = None, joint: Callable[..., Any] | None = None
+                 ) -> Pruning:
     """Choose the pairs to drop from given upper bounds of their contributions.
 
     Parameters

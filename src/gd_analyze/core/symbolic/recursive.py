@@ -17,8 +17,8 @@ import dataclasses
 import hashlib
 import threading
 from collections import OrderedDict
-from collections.abc import Sequence
-from typing import TYPE_CHECKING
+from collections.abc import Callable, Hashable, Iterable, Sequence
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
 import symengine as se
@@ -32,6 +32,7 @@ from .transform import finish_program, jacobian, substitute
 
 if TYPE_CHECKING:
     from ..model.robot import Robot
+    from .base_parameters import BaseParameters
 
 
 __all__ = ["recursive_program", "exact_program", "parts_program", "regressor_program",
@@ -70,14 +71,15 @@ class ProgramMemo:
     4
     """
 
-    def __init__(self, size):
+    def __init__(self, size: int) -> None:
         if int(size) < 1:
             raise ValueError(f"size must be at least 1, got {size!r}")
         self.size = int(size)
-        self._kept = OrderedDict()
+        self._kept: OrderedDict = OrderedDict()
         self._lock = threading.Lock()
 
-    def get(self, key, make, aliases=lambda value: ()):
+    def get(self, key: Hashable, make: Callable[[], Any],
+            aliases: Callable[[Any], Iterable[Hashable]] = lambda value: ()) -> Any:
         """The value kept under a key, or made and kept.
 
         Parameters
@@ -120,7 +122,7 @@ PROGRAMS = ProgramMemo(size=24)
 COUNTS = ProgramMemo(size=4096)
 
 
-def program_key(kind, robot, values, *settings):
+def program_key(kind: str, robot: Robot, values: ArrayLike, *settings: object) -> str:
     """SHA-256 of what a program of this module depends on.
 
     Parameters
@@ -351,7 +353,7 @@ def _choose(robot, groups, lock, cse, search=True, forms=None):
     return best
 
 
-def regressor_program(robot, base, kept):
+def regressor_program(robot: Robot, base: BaseParameters, kept: ArrayLike) -> Program:
     """The regressor of the kept (base parameter, part) pairs as a straight-line program.
 
     Parameters
@@ -386,7 +388,7 @@ def regressor_program(robot, base, kept):
     if kept.shape != (b, len(PARTS)):
         raise ValueError(f"kept must have shape ({b}, 3), got {kept.shape}")
     beta = [se.Symbol(f"beta{k}") for k in range(b)]
-    groups = [{} for _ in range(n)]
+    groups: list[dict] = [{} for _ in range(n)]
     for k, (j, c) in enumerate(np.argwhere(base.independent)):
         parts = frozenset(p for p, keep in zip(PARTS, kept[k]) if keep)
         if parts:

@@ -14,7 +14,8 @@ import symengine as se
 __all__ = ["eliminate", "dependency_order"]
 
 
-def eliminate(assignments, outputs):
+def eliminate(assignments: list[tuple[se.Symbol, se.Basic]], outputs: list[se.Basic]
+              ) -> tuple[list[tuple[se.Symbol, se.Basic]], list[se.Basic]]:
     """Eliminate what common subexpressions remain (symengine cse), keeping the order.
 
     Parameters

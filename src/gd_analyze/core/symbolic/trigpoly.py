@@ -20,12 +20,16 @@ columns; powers add in products; d/d d_m lowers p_m).
 
 from __future__ import annotations
 
+from collections.abc import Iterator
+
 import numpy as np
+from numpy.typing import ArrayLike
 
 __all__ = ["TrigPoly", "evaluate_rows"]
 
 
-def evaluate_rows(K, S, theta, lin=None):
+def evaluate_rows(K: np.ndarray, S: np.ndarray, theta: np.ndarray,
+                  lin: ArrayLike | None = None) -> np.ndarray:
     """cos or sin(k_r . theta) times the powers of the polynomial columns, per row.
 
     Parameters
@@ -90,7 +94,8 @@ class TrigPoly:
 
     __slots__ = ("K", "S", "C", "n", "lin")
 
-    def __init__(self, K, S, C, canonical=False, lin=None):
+    def __init__(self, K: ArrayLike, S: ArrayLike, C: ArrayLike, canonical: bool = False,
+                 lin: ArrayLike | None = None) -> None:
         K = np.asarray(K, dtype=np.int64).reshape(-1, np.shape(K)[-1] if np.ndim(K) == 2 else 0)
         self.n = K.shape[1]
         self.lin = np.zeros(self.n, bool) if lin is None else np.asarray(lin, bool)
@@ -101,13 +106,13 @@ class TrigPoly:
 
     # -- construction -------------------------------------------------------------------
     @classmethod
-    def zero(cls, n, lin=None):
+    def zero(cls, n: int, lin: ArrayLike | None = None) -> TrigPoly:
         """The zero polynomial in n variables (``lin``: the polynomial columns)."""
         return cls(np.zeros((0, n), np.int64), np.zeros(0, bool), np.zeros(0), canonical=True,
                    lin=lin)
 
     @classmethod
-    def const(cls, n, value, lin=None):
+    def const(cls, n: int, value: float, lin: ArrayLike | None = None) -> TrigPoly:
         """The constant ``value``."""
         if value == 0:
             return cls.zero(n, lin)
@@ -115,21 +120,21 @@ class TrigPoly:
                    lin=lin)
 
     @classmethod
-    def cos(cls, n, i, lin=None):
+    def cos(cls, n: int, i: int, lin: ArrayLike | None = None) -> TrigPoly:
         """cos(theta_i), i 0-based (a revolute column)."""
         K = np.zeros((1, n), np.int64)
         K[0, i] = 1
         return cls(K, [False], [1.0], canonical=True, lin=lin)
 
     @classmethod
-    def sin(cls, n, i, lin=None):
+    def sin(cls, n: int, i: int, lin: ArrayLike | None = None) -> TrigPoly:
         """sin(theta_i), i 0-based (a revolute column)."""
         K = np.zeros((1, n), np.int64)
         K[0, i] = 1
         return cls(K, [True], [1.0], canonical=True, lin=lin)
 
     @classmethod
-    def var(cls, n, i, lin):
+    def var(cls, n: int, i: int, lin: ArrayLike) -> TrigPoly:
         """The length d_i itself, i 0-based (a polynomial column of ``lin``)."""
         if not np.asarray(lin, bool)[i]:
             raise ValueError(f"column {i} is not polynomial")
@@ -204,7 +209,7 @@ class TrigPoly:
 
     __rmul__ = __mul__
 
-    def diff(self, m):
+    def diff(self, m: int) -> TrigPoly:
         """The derivative d/d theta_m (d/d d_m for a polynomial column).
 
         Parameters
@@ -225,14 +230,14 @@ class TrigPoly:
         return TrigPoly(self.K, ~self.S, np.where(self.S, k, -k) * self.C, lin=self.lin)
 
     # -- inspection ---------------------------------------------------------------------
-    def rows(self):
+    def rows(self) -> Iterator[tuple]:
         """Iterate over (k, is_sin, coefficient)."""
         return zip(self.K, self.S, self.C)
 
     def __len__(self):
         return int(self.C.size)
 
-    def constant(self):
+    def constant(self) -> float:
         """The constant term (the coefficient of cos(0) with no power of a length)."""
         zero = ~(self.K != 0).any(axis=1) & ~self.S
         return float(self.C[zero].sum())
