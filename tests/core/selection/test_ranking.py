@@ -123,3 +123,23 @@ def test_round_off_rule_judges_a_small_joint_against_the_arm(name, setpoints):
 def test_arm_scales_group_by_units():
     got = arm_scales([2.0, 5e-4, 90.0, np.nan], ["N m", "N m", "N", "kg"])
     assert got[:3].tolist() == [2.0, 2.0, 90.0] and np.isnan(got[3])
+
+
+def test_an_element_beside_a_rounding_diagonal_is_zero_by_the_arms_floor():
+    """D_ij of a diagonal D_jj that is rounding but not tiny (a point-mass last link on its
+    axis, computed by sums over the chain: D_66 = 1.4e-17 kg m^2) has the scale
+    sqrt(D_ii D_jj), 7e-9, far above D_jj; its own rounding (6.9e-18, below 64 eps of the
+    largest D) is still zero, as is_round_off's arm floor says. A real element is not."""
+    import numpy as np
+
+    from gd_analyze.core.selection.ranking import identically_zero, is_round_off
+
+    n = 2                                         # D11, D12, D22, h1, h2
+    peak = np.array([3.7, 6.9e-18, 1.4e-17, 10.0, 1e-3])
+    scale = np.array([3.7, np.sqrt(3.7 * 1.4e-17), 1.4e-17, 10.0, 10.0])
+    zero = identically_zero(peak, np.zeros(5), peak, scale)
+    assert zero.tolist() == [False, True, True, False, False]
+    # the same verdict as the reports' one rule with the arm's scale of each kind
+    arm = np.array([3.7, 3.7, 3.7, 10.0, 10.0])
+    assert is_round_off(peak[:3], scale[:3], arm_scale=arm[:3]).tolist() == [False, True, True]
+    assert n * (n + 3) // 2 == peak.size

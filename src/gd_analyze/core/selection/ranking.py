@@ -81,9 +81,14 @@ def identically_zero(peak_tran, peak_rot, peak_total, scale, tol=ZERO_TOL):
     Returns
     -------
     ndarray of bool, shape (M,)
-        True where all three peaks are <= tol * scale. Where the scale is itself rounding
-        (below tol times the largest scale of its kind, D or h: a joint that moves no inertia,
-        whose D_ii is 1e-34), the largest scale of the kind stands for it.
+        True where all three peaks are <= tol * scale, or at most :data:`ROUND_OFF_EPS`
+        machine epsilons of the largest scale of its kind, D or h (the arm's floor of
+        :func:`is_round_off`: the rounding of sums over the whole chain). Where the scale is
+        itself rounding (below tol times the largest scale of its kind: a joint that moves no
+        inertia, whose D_ii is 1e-34), the largest scale of the kind stands for it. The floor
+        matters where D_jj is rounding but not tiny: D_ij's scale sqrt(D_ii D_jj) is then far
+        above D_jj, and tol times it far below D_ij's rounding (a point-mass last link on its
+        axis: D_66 = 1.4e-17, D_16 = 6.9e-18 against sqrt(3.7 x 1.4e-17) = 7e-9 kg m^2).
 
     Examples
     --------
@@ -102,14 +107,16 @@ def identically_zero(peak_tran, peak_rot, peak_total, scale, tol=ZERO_TOL):
     """
     scale = np.abs(np.asarray(scale, dtype=float))
     ref = scale.copy()
+    floor = np.zeros_like(scale)
     m = scale.size
     n = int(round((-3 + np.sqrt(9 + 8 * m)) / 2)) if m else 0
     if n * (n + 3) // 2 == m and m:
         for part in (slice(0, m - n), slice(m - n, m)):
             big = np.max(scale[part], initial=0.0)
             ref[part] = np.where(scale[part] <= tol * big, big, scale[part])
+            floor[part] = ROUND_OFF_EPS * np.finfo(float).eps * big
     peak = np.fmax(np.fmax(np.abs(peak_tran), np.abs(peak_rot)), np.abs(peak_total))
-    return np.asarray(peak <= tol * ref) & np.isfinite(peak)
+    return np.asarray(peak <= np.maximum(tol * ref, floor)) & np.isfinite(peak)
 
 #: The dominance classes, in the order used for codes in files.
 CLASSES = ("translational", "rotational", "both", "negligible")
