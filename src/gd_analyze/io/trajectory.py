@@ -668,20 +668,10 @@ def write_trajectory(trajectory: Trajectory, path: str | os.PathLike[str]) -> No
     write_trajectory_chunks([trajectory], trajectory.q.shape[1], path)
 
 
-#: Rows formatted at a time by :func:`write_trajectory_chunks` (a few MB of text).
-_ROWS_PER_WRITE = 2**14
-#: A field "nan" of a formatted row, written as pandas' ``to_csv`` writes NaN: empty.
-_NAN_FIELD = re.compile(r"(?<![^,\n])nan(?=[,\n])")
-
-
 def write_trajectory_chunks(chunks: Iterable[Trajectory], n: int,
                             path: str | os.PathLike[str]) -> None:
     """Write a trajectory CSV file piece by piece, atomically (temporary name, then rename):
     the same bytes as :func:`write_trajectory` of the pieces joined, in the memory of one piece.
-
-    Every value is written with 17 significant digits (``%.17g``, enough to read back the same
-    float), -0.0 as 0 and NaN as an empty field: the bytes of pandas' ``DataFrame.to_csv`` with
-    ``float_format="%.17g"``, formatted a block of rows at a time.
 
     Parameters
     ----------
@@ -697,20 +687,17 @@ def write_trajectory_chunks(chunks: Iterable[Trajectory], n: int,
     OSError
         If the file cannot be written; the file is then left as it was.
     """
+    import pandas as pd
+
     columns = trajectory_columns(n, True)
-    row = ",".join(["%.17g"] * len(columns)) + "\n"
 
     def write(stream):
         stream.write(",".join(columns) + "\n")
         for piece in chunks:
             table = np.column_stack([piece.t, piece.q, piece.qd, piece.qdd])
             table = table + 0.0         # -0.0 (a joint at rest moving down) is written "0"
-            for start in range(0, table.shape[0], _ROWS_PER_WRITE):
-                block = table[start:start + _ROWS_PER_WRITE]
-                text = (row * block.shape[0]) % tuple(block.ravel().tolist())
-                if np.isnan(block).any():           # pandas' empty field for NaN
-                    text = _NAN_FIELD.sub("", text)
-                stream.write(text)
+            pd.DataFrame(table, columns=columns).to_csv(stream, index=False, header=False,
+                                                        float_format="%.17g")
 
     if str(path) == "-":
         import sys
