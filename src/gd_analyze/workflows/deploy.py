@@ -38,7 +38,13 @@ from ..core.selection.screen import screen_region
 from ..core.selection.simplified import SimplifiedModel
 from ..core.symbolic.base_parameters import base_parameters
 from ..core.symbolic.drive_regressor import with_drives
-from ..core.symbolic.pruning import dropped_peaks, prune, prune_bounds, settle_restored
+from ..core.symbolic.pruning import (
+    dropped_peaks,
+    prune,
+    prune_bounds,
+    settle_restored,
+    zero_parts,
+)
 from ..core.symbolic.recursive import recursive_program
 from ..core.symbolic.recursive_model import RecursiveModel, recursive_model
 from ..errors import one_line
@@ -57,7 +63,7 @@ if TYPE_CHECKING:
     from ..core.symbolic.base_parameters import BaseParameters
 
 __all__ = ["build_recursive", "recursive_simplified", "replace_cost", "region_model",
-           "trajectory_guarantee", "certified", "robot_region", "guarantee_region",
+           "region_search", "trajectory_guarantee", "certified", "robot_region", "guarantee_region",
            "REGION_SAMPLES", "restored_rebuild", "joint_bound", "SCOUT_BOXES",
            "SCOUT_RATIO", "screened_exact", "region_simplified"]
 
@@ -427,20 +433,12 @@ def build_recursive(robot: Robot, q: np.ndarray, qd: np.ndarray, qdd: np.ndarray
     1987; Gautier 1990), pruned as :func:`gd_analyze.core.symbolic.recursive_model.recursive_model`.
     """
     base, peaks = (base_parameters(robot), None) if contributions is None else contributions
-    forms, store = None, None
-    # a search in the derivation cache was made by a run whose screen chose to search: the
-    # screen only chooses between two sound paths, so it is not run again (the entry itself is
-    # checked by _searched)
-    stored = region is not None and isinstance(read_search(
-        search_key(robot, region, tolerance, torque_floor, REGION_SAMPLES), robot.n,
-        base.rank), dict)
-    exact = None if region is None or stored else screened_exact(robot, base, region,
-                                                                  tolerance, torque_floor)
-    if exact is not None:           # no region model could save enough: nothing searched
-        rec, guarantee, screen = exact
-        provenance = {**(provenance or {}), "region_screen": screen.to_dict()}
-    elif region is not None:
-        rec, guarantee, forms, store = _searched(robot, base, region, tolerance, torque_floor)
+    forms, store, screen = None, None, None
+    if region is not None:
+        rec, guarantee, forms, store, screen = region_search(robot, base, region, tolerance,
+                                                             torque_floor)
+        if screen is not None:      # no region model could save enough: nothing searched
+            provenance = {**(provenance or {}), "region_screen": screen.to_dict()}
     else:
         rec = recursive_model(robot, q, qd, qdd, tolerance, torque_floor, base=base,
                               peaks=peaks)
@@ -450,7 +448,7 @@ def build_recursive(robot: Robot, q: np.ndarray, qd: np.ndarray, qdd: np.ndarray
                                  torque_floor=torque_floor, ranking=ranking,
                                  trajectory_sha256=trajectory_sha256, provenance=provenance,
                                  guarantee=guarantee, forms=forms, searched=store)
-    if region is not None and exact is None and torque_floor > 0:
+    if region is not None and screen is None and torque_floor > 0:
         found = _floor_zero_choice(robot, base, region, tolerance, torque_floor)
         if found is not None:
             alt = recursive_simplified(robot, found[0], base, tolerance=tolerance,
@@ -564,6 +562,55 @@ def recursive_simplified(robot: Robot, rec: RecursiveModel, base: BaseParameters
     return replace_cost(model, program.cost())
 
 
+def region_search(robot: Robot, base: BaseParameters, region: Region, tolerance: float,
+                  torque_floor: float = 0.0, sampled: bool = True
+                  ) -> tuple[RecursiveModel, Guarantee | None, tuple | None,
+                             Callable | None, RegionScreen | None]:
+    """The region model at one EPS as the main job deploys it: the exact recursive model
+    where the sampled pre-screen finds that no region model could save enough
+    (:func:`screened_exact`), else the model searched (:func:`region_model`, its searches
+    taken from the derivation cache where an entry passes its checks).
+
+    Parameters
+    ----------
+    robot : Robot
+        The arm, with n joints.
+    base : BaseParameters
+        Its b base parameters.
+    region : Region
+    tolerance : float
+        EPS >= 0.
+    torque_floor : float, optional
+        TAU [N m or N].
+    sampled : bool, optional
+        False: a searched model's guarantee is not built (None) and its error over the region
+        not sampled (the tolerance ladder's rungs).
+
+    Returns
+    -------
+    rec : RecursiveModel
+    guarantee : Guarantee or None
+    forms : (exact forms, pruned forms) or None
+        The forms read from the derivation cache.
+    store : callable or None
+        ``store(exact_forms, pruned_forms)`` keeps a new search's outcome in the cache.
+    screen : RegionScreen or None
+        The pre-screen where it chose the exact model; None where the model was searched.
+
+    Notes
+    -----
+    A search in the derivation cache was made by a run whose screen chose to search: the
+    screen only chooses between two sound paths, so it is not run again (the entry itself is
+    checked as :func:`region_simplified` checks it).
+    """
+    stored = isinstance(read_search(search_key(robot, region, tolerance, torque_floor,
+                                               REGION_SAMPLES), robot.n, base.rank), dict)
+    exact = None if stored else screened_exact(robot, base, region, tolerance, torque_floor)
+    if exact is not None:
+        return exact[0], exact[1], None, None, exact[2]
+    return (*_searched(robot, base, region, tolerance, torque_floor, sampled), None)
+
+
 def _searched(robot, base, region, tolerance, torque_floor, sampled=True):
     """:func:`region_model` with its searches taken from the derivation cache when an entry
     passes its checks (:mod:`gd_analyze.io.search_cache`): (model, guarantee, forms or None,
@@ -654,8 +701,10 @@ def screened_exact(robot: Robot, base: BaseParameters, region: Region, tolerance
     Returns
     -------
     (RecursiveModel, Guarantee, RegionScreen) or None
-        Nothing dropped, bound 0 (the exact model's error is 0 at every state, a proof
-        without search), s_i as the certification would use it, sampled error 0; the screen
+        Only the (base parameter, part) pairs that are identically zero at every joint left
+        out, decided symbolically (:func:`gd_analyze.core.symbolic.pruning.zero_parts`), bound
+        0 (the model's error is 0 at every state, a proof without search), s_i as the
+        certification would use it, sampled error 0; the screen
         (:func:`gd_analyze.core.selection.screen.screen_region`) says why. None when the
         region is to be certified and searched.
     """
@@ -664,15 +713,18 @@ def screened_exact(robot: Robot, base: BaseParameters, region: Region, tolerance
     if not found.skip:
         return None
     n = robot.n
+    zero = np.asarray(zero_parts(robot, np.flatnonzero(base.independent.reshape(-1))).all(
+        axis=2), bool)
     rec = RecursiveModel(names=tuple(base.names()), beta=np.array(base.beta, float),
-                         dropped=np.zeros((base.rank, 3), bool), scale=found.scale.copy(),
+                         dropped=zero, scale=found.scale.copy(),
                          bound=np.zeros(n), bound_by_part=np.zeros((4, n)),
                          relative_peak=found.relative_peak)
     guarantee = Guarantee(
         "region", float(tolerance), bound=np.zeros(n), scale=found.scale.copy(),
         q_min=region.q_min, q_max=region.q_max, qd_max=region.qd_max, qdd_max=region.qdd_max,
         scale_state=found.scale_state, sampled_error=np.zeros(n), region=region,
-        method=("the exact recursive model (nothing dropped: its error is 0 at every state); "
+        method=("the exact recursive model (only pairs proved identically zero left out: its "
+                "error is 0 at every state); "
                 + found.text() + "; scale s_i: the largest |tau_i| found by sampling the "
                 "region (vertices of qd and qdd) and local maximisation (L-BFGS-B), a lower "
                 "bound of the true maximum" + _unrefined(robot)))

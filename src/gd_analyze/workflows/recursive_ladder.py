@@ -18,7 +18,7 @@ from ..core.symbolic.drive_regressor import with_drives
 from ..core.symbolic.emit import python_function
 from ..core.symbolic.recursive import recursive_program
 from ..core.symbolic.recursive_model import recursive_model
-from .deploy import _searched
+from .deploy import region_search
 
 if TYPE_CHECKING:
     from ..core.model.robot import Robot
@@ -57,8 +57,10 @@ def recursive_ladder(robot: Robot, base: BaseParameters,
         TAU [N m or N].
     region : Region, optional
         Prune on bounds proved over this joint-limit region, as
-        :func:`gd_analyze.workflows.deploy.build_recursive` does (its searches kept in the
-        derivation cache); None: prune on the trajectory's peaks.
+        :func:`gd_analyze.workflows.deploy.build_recursive` does
+        (:func:`gd_analyze.workflows.deploy.region_search`: the exact model where the sampled
+        pre-screen finds that no region model could save enough at that EPS, and the searches
+        kept in the derivation cache); None: prune on the trajectory's peaks.
     contributions : tuple of ndarray, optional
         The pairs' peaks on the trajectory
         (:func:`gd_analyze.core.symbolic.pruning.contribution_peaks`), when the caller has them.
@@ -102,9 +104,9 @@ def recursive_ladder(robot: Robot, base: BaseParameters,
         if deployed is not None and eps == float(deployed.tolerance):
             rec, program = deployed.recursive, deployed.choice_cache[0]  # type: ignore[index]  # a deployed model has its choice
         else:
-            if region is not None:
-                rec, _, forms, store = _searched(robot, base, region, eps, torque_floor,
-                                                 sampled=False)
+            if region is not None:      # as the main job would deploy it at this EPS
+                rec, _, forms, store, _ = region_search(robot, base, region, eps,
+                                                        torque_floor, sampled=False)
             else:
                 rec = recursive_model(robot, q, qd, qdd, eps, torque_floor, base=base,
                                       peaks=contributions)

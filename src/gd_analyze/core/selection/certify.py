@@ -260,8 +260,8 @@ def _enclose(robot, lo, hi, cols, region, absb, zero):
 
 def _zero_pairs(zero, leaf):
     """(b, 3): the pairs proved zero at every joint (``zero`` (b, 3, n)) or 0 on every final
-    box (``leaf`` (L, 3, n, b))."""
-    return (leaf == 0).all(axis=(0, 2)).T | zero.all(axis=2)
+    box (``leaf`` (b, 3, L, n))."""
+    return (leaf == 0).all(axis=(2, 3)) | zero.all(axis=2)
 
 
 def tiling(region: Region, split_joint: np.ndarray, split_at: np.ndarray | None = None
@@ -407,9 +407,9 @@ def certify(robot: Robot, base: BaseParameters, region: Region, torque_floor: fl
         lo, hi, joint[split], at[split] = _bisect(lo[split], hi[split], rel)
         inherited = np.concatenate([U[split], U[split]])
     bound = np.maximum(done_u.transpose(2, 0, 1), sampled)
-    leaf = np.concatenate(leaves)                                 # (L, 3, n, b)
+    leaf = _pair_major(leaves)                                    # (b, 3, L, n)
     return PairBounds(bound=bound, sampled=sampled, scale=scale, scale_state=state,
-                      positions=q, values=V, boxes=evaluated, leaves=leaf.transpose(3, 1, 0, 2),
+                      positions=q, values=V, boxes=evaluated, leaves=leaf,
                       leaf_boxes=np.concatenate(boxes),
                       seconds=time.perf_counter() - t0, split_joint=np.concatenate(joints),
                       split_at=np.concatenate(cuts), zero=_zero_pairs(zero, leaf))
@@ -473,13 +473,27 @@ def certify_tree(robot: Robot, base: BaseParameters, region: Region, split_joint
         leaves.append(U[~split])
         boxes.append(np.stack([lo[~split], hi[~split]], axis=1))
         inherited = np.concatenate([U[split], U[split]])
-    leaf = np.concatenate(leaves)                                     # (L, 3, n, b)
-    bound = np.maximum(leaf.max(axis=0).transpose(2, 0, 1), sampled)
+    leaf = _pair_major(leaves)                                        # (b, 3, L, n)
+    bound = np.maximum(leaf.max(axis=2), sampled)
     return PairBounds(bound=bound, sampled=sampled, scale=scale, scale_state=state,
                       positions=q, values=V, boxes=int(np.asarray(split_joint).size),
-                      leaves=leaf.transpose(3, 1, 0, 2), leaf_boxes=np.concatenate(boxes),
+                      leaves=leaf, leaf_boxes=np.concatenate(boxes),
                       seconds=float(seconds), split_joint=np.asarray(split_joint, np.int64),
-                      split_at=np.asarray(split_at, float), zero=_zero_pairs(zero, leaf))
+                      split_at=np.asarray(split_at, float),
+                      zero=_zero_pairs(zero, leaf))
+
+
+def _pair_major(leaves):
+    """The final boxes' enclosures, each block (L_k, 3, n, b), as one C-ordered array
+    (b, 3, L, n): a dropped set's sum over its pairs then gathers contiguous rows
+    (:func:`leaf_bound`, the pruning's pieces). The blocks are released as they are copied."""
+    out = np.empty((leaves[0].shape[3], 3, sum(u.shape[0] for u in leaves), leaves[0].shape[2]))
+    at = 0
+    while leaves:
+        u = leaves.pop(0)
+        out[:, :, at:at + u.shape[0], :] = u.transpose(3, 1, 0, 2)
+        at += u.shape[0]
+    return out
 
 
 
@@ -697,7 +711,7 @@ def leaf_bound(pb: PairBounds, sums: JointSums | None, dropped: np.ndarray) -> n
         bounds there and their joint sum (:meth:`JointSums.bound`) [N m or N].
     """
     dropped = np.asarray(dropped, bool)
-    each = np.einsum("bpln,bp->ln", pb.leaves, dropped.astype(float))
+    each = pb.leaves[dropped].sum(axis=0)           # (L, n): the dropped pairs' rows
     if sums is not None and dropped.any():
         each = np.minimum(each, sums.bound(dropped))
     return each.max(axis=0)

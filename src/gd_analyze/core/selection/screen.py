@@ -18,14 +18,15 @@ constraint (the sampled magnitudes in place of the enclosures, as its pieces) ma
 pairs than any proof can; the operations it saves against the exact recursive model, on the
 pruning's quick count, estimate from above what a region model could save. Where that is
 below :data:`MIN_SAVING` of the exact count, the region's certification and search buy
-nothing worth their time: the exact recursive model (error 0 at every state) is deployed
-instead. The estimate is a sampled one (the search is greedy and the counts are the quick
+nothing worth their time: the exact recursive model (error 0 at every state), less the pairs
+proved identically zero symbolically, is deployed instead. The estimate is a sampled one (the search is greedy and the counts are the quick
 ones, :func:`gd_analyze.core.symbolic.recursive.parts_count`); it decides only whether to
 search, never a bound.
 """
 
 from __future__ import annotations
 
+import math
 import time
 from dataclasses import dataclass
 from typing import TYPE_CHECKING
@@ -69,7 +70,10 @@ class RegionScreen:
     best_operations : int
         The same with the pairs of ``dropped`` left out.
     dropped : ndarray of bool, shape (b, 3)
-        The pairs the search under the sampled constraint drops.
+        The pairs the search under the sampled constraint drops. The search ends at the first
+        set that saves the threshold (``stop_at`` of
+        :func:`gd_analyze.core.symbolic.pruning.prune_bounds`): where it searched on, the
+        saving is the largest it found; where it stopped, only at least the threshold.
     scale : ndarray, shape (n,)
         s_i, as the certification would use it (largest |tau_i| found over the region, at
         least the torque floor) [N m or N].
@@ -94,7 +98,8 @@ class RegionScreen:
 
     @property
     def saving(self) -> float:
-        """float: the estimated largest saving, a share of the exact count [1]."""
+        """float: the estimated largest saving, a share of the exact count [1] (where the
+        screen chose to search, a saving found of at least the threshold)."""
         return (self.exact_operations - self.best_operations) / max(self.exact_operations, 1)
 
     @property
@@ -109,14 +114,16 @@ class RegionScreen:
         -------
         str
         """
-        head = (f"a region model could save at most about {100 * self.saving:.3g} % of the "
+        head = (f"a region model could save {'at most' if self.skip else 'at least'} about "
+                f"{100 * self.saving:.3g} % of the "
                 f"exact recursive model's operations ({self.exact_operations:,} - "
                 f"{self.best_operations:,}, quick counts; estimated from the region's sampled "
                 f"torques at EPS = {self.tolerance:g})")
         if self.skip:
             return (head + f", below the threshold of {100 * self.threshold:g} %: the region's "
                     "certification and search were skipped and the exact recursive model "
-                    "(error 0 at every state) is deployed")
+                    "(error 0 at every state; only pairs proved identically zero are left out) "
+                    "is deployed")
         return head + f", at least the threshold of {100 * self.threshold:g} %: searched"
 
     def to_dict(self) -> dict:
@@ -179,17 +186,19 @@ def screen_region(robot: Robot, base: BaseParameters, region: Region, values: tu
     beta = np.asarray(base.beta, float)
     if magnitudes is None:
         magnitudes = pair_magnitudes_at(V, beta, region.qd_max, region.qdd_max)
-    pieces = np.array(magnitudes, float).transpose(1, 2, 0, 3)           # (b, 3, B, n)
+    pieces = np.array(np.asarray(magnitudes, float).transpose(1, 2, 0, 3),
+                      order="C")                                         # (b, 3, B, n), a copy
     pieces[pieces <= ROUND_OFF * scale] = 0.0
     peak = pieces.max(axis=2)
     free = ~(peak > 0).any(axis=2)
+    exact = int(parts_count(robot, part_values(base, np.zeros(peak.shape[:2], bool))))
     pr = prune_bounds(robot, base, scale, peak, pieces.sum(axis=1).max(axis=1), tolerance,
-                      pieces=pieces, zero=free)
+                      pieces=pieces, zero=free,
+                      stop_at=math.floor((1.0 - threshold) * max(exact, 1)))
     safe = np.where(scale > 0, scale, 1.0)
     rel = np.where(scale > 0, peak / safe, np.where(peak > 0, np.inf, 0.0)).max(axis=2)
     return RegionScreen(
-        tolerance=float(tolerance), threshold=float(threshold),
-        exact_operations=int(parts_count(robot, part_values(base, np.zeros_like(pr.dropped)))),
+        tolerance=float(tolerance), threshold=float(threshold), exact_operations=exact,
         best_operations=int(parts_count(robot, part_values(base, pr.dropped))),
         dropped=pr.dropped, scale=scale, scale_state=np.asarray(state, float),
         relative_peak=rel, seconds=time.perf_counter() - t0)

@@ -359,7 +359,8 @@ class _Selection:
         self.robot, self.base = robot, base
         self.joint = joint       # (dropped, enough) -> (n,) with .quick, or None
         self.free = None if free is None else np.asarray(free, bool)   # (b, 3): proved 0
-        self.C = None if C is None else C.transpose(3, 0, 1, 2)       # (b, 3, N, n)
+        # (b, 3, N, n), C-ordered: a set's sums gather its pairs' rows
+        self.C = None if C is None else np.ascontiguousarray(C.transpose(3, 0, 1, 2))
         self.peak, self.whole_peak, self.budget = peak, whole_peak, budget
         self.criterion = criterion
         safe = np.where(budget > 0, budget, 1.0)
@@ -371,7 +372,7 @@ class _Selection:
     def _sums(self, dropped):
         """(n,): the pieces' sums, the largest |sum of the dropped pairs' contributions|
         over the set points."""
-        return np.abs(np.einsum("bpkn,bp->kn", self.C, dropped.astype(float))).max(axis=0)
+        return np.abs(self.C[np.asarray(dropped, bool)].sum(axis=0)).max(axis=0)
 
     def bound(self, dropped, whole, enough=None):
         """(n,): the bound of a dropped set (whole: parameters dropped as a unit); with
@@ -414,9 +415,10 @@ class _Selection:
                     dropped[m, p] = False
         return dropped, whole
 
-    def by_cost(self):
+    def _savings(self, none):
+        """(b,): the quick count saved by dropping each parameter's live pairs alone (0 where
+        its whole bound alone is over the budget)."""
         live, b = self.live, self.live.shape[0]
-        none = np.zeros(live.shape, bool)
         full = self.count(none)
         saving = np.zeros(b)
         for m in range(b):
@@ -424,9 +426,17 @@ class _Selection:
                 one = none.copy()
                 one[m] = live[m]
                 saving[m] = full - self.count(one)
+        return saving
+
+    def by_cost(self, stop_at=None):
+        """The greedy search (two starting orders); with ``stop_at``, the first set found
+        whose quick count is at most it."""
+        live, b = self.live, self.live.shape[0]
+        none = np.zeros(live.shape, bool)
         best = None
-        for order in (np.argsort(self.use, kind="stable"),
-                      np.argsort(-saving / np.maximum(self.use, 1e-300), kind="stable")):
+        for start in ("use", "saving"):
+            order = np.argsort(self.use, kind="stable") if start == "use" else np.argsort(
+                -self._savings(none) / np.maximum(self.use, 1e-300), kind="stable")
             dropped, whole = none.copy(), np.zeros(b, bool)
             for m in order:
                 if live[m].any():
@@ -435,6 +445,8 @@ class _Selection:
                     if self.fits(trial, twhole):
                         dropped, whole = trial, twhole
             cost = self.count(dropped)
+            if stop_at is not None and cost <= stop_at:
+                return dropped, whole
             for flat in np.argsort(self.rel.max(axis=2), axis=None, kind="stable"):
                 m, p = np.unravel_index(flat, live.shape)
                 if not live[m, p] or dropped[m, p]:
@@ -447,6 +459,8 @@ class _Selection:
                 c = self.count(trial)
                 if c < cost and (fits or self.fits(trial, whole)):
                     cost, dropped = c, trial
+                    if stop_at is not None and cost <= stop_at:
+                        return dropped, whole
             if best is None or cost < best[0]:
                 best = (cost, dropped, whole)
         return best[1:]
@@ -620,8 +634,8 @@ def prune_bounds(robot: Robot, base: BaseParameters, scale: np.ndarray, peak: np
                  whole_peak: np.ndarray, eps: float, strategy: str = "cost",
                  pieces: np.ndarray | None = None,
                  chosen: tuple[np.ndarray, np.ndarray] | None = None,
-                 zero: np.ndarray | None = None, joint: Callable[..., Any] | None = None
-                 ) -> Pruning:
+                 zero: np.ndarray | None = None, joint: Callable[..., Any] | None = None,
+                 stop_at: int | None = None) -> Pruning:
     """Choose the pairs to drop from given upper bounds of their contributions.
 
     Parameters
@@ -666,6 +680,11 @@ def prune_bounds(robot: Robot, base: BaseParameters, scale: np.ndarray, peak: np
         alone do not fit the budget). Its optional method ``quick(dropped, enough)`` returns
         the bound the call would return with ``enough`` when that is cheap to find, else
         None: the search then asks it before counting a candidate's operations.
+    stop_at : int, optional
+        Strategy "cost": end the search at the first set found whose quick count
+        (multiplications + additions of the pruned program without common-subexpression
+        elimination, product forms) is at most this, instead of searching on for the least
+        (for a question that needs only whether such a set exists).
 
     Returns
     -------
@@ -697,7 +716,7 @@ def prune_bounds(robot: Robot, base: BaseParameters, scale: np.ndarray, peak: np
                 or not np.all(sel.bound(dropped, whole) <= sel.budget):
             raise ValueError("chosen pairs of another shape, or over the budget")
     else:
-        dropped, whole = sel.by_peak() if strategy == "peak" else sel.by_cost()
+        dropped, whole = sel.by_peak() if strategy == "peak" else sel.by_cost(stop_at)
     dropped = _normalize(dropped, sel.live, free)
     return Pruning(eps=float(eps), dropped=dropped, peak=peak, whole_peak=whole_peak,
                    whole=whole, bound=sel.bound(dropped, whole), scale=scale,
