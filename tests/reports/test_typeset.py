@@ -275,3 +275,20 @@ def test_no_word_of_a_wide_table_runs_into_the_next_column(tmp_path, header):
         line.sort()
         for (_, a1, a), (b0, _, b) in zip(line, line[1:]):
             assert b0 - a1 >= 2.0, (a, b, b0 - a1)
+
+
+@pytest.mark.parametrize("words", [0, 400, 830, 840, 850, 870, 890])
+def test_a_long_table_leaves_no_row_alone_on_a_page(tmp_path, words):
+    """A table that breaks over pages puts at least two of its rows on each page: a single row
+    under its header and caption at a page's foot (830 and 840 words before it), or alone over
+    the next page's top (850 to 890), is split off no more."""
+    o = Outline("Report")
+    o.section("1", "Filler")
+    o.paragraph(" ".join(["word"] * words) + ".")
+    o.table({"header": ["name", "value"], "rows": [[f"row{k}x", str(k)] for k in range(60)],
+             "align": ["left", "right"]}, "A long table.")
+    path, _ = _write(tmp_path, o)
+    counts = [len(re.findall(r"\brow\d+x\b", p)) for p in text(path).split("\f")]
+    counts = [c for c in counts if c]
+    assert sum(counts) == 60
+    assert min(counts) >= 2, counts
