@@ -2,8 +2,12 @@
 against the stored value it came from (one format per column). Used by
 tests/reports/test_table_numbers.py and tests/reports/test_sweep_control_tables.py."""
 
+import csv
+import io
 import math
 import re
+
+from html_checks import html_tables
 
 from gd_analyze.reports.markup import plain
 
@@ -38,3 +42,26 @@ def reads_back(text, value, digits=4):
         return
     unit = 10.0 ** (math.floor(math.log10(abs(value))) - digits + 1)
     assert abs(shown - value) <= 0.5 * unit * (1 + 1e-9), (text, value)
+
+
+def csv_matches_html(folder, prefix, html):
+    """Every ``<prefix><s>_<k>.csv`` in ``folder`` against the HTML report's tables, in order:
+    one file per table, the same rows and cells, every number equal. Returns how many numbers
+    were compared."""
+    tables = html_tables(html)
+    files = sorted(folder.glob(prefix + "*.csv"),
+                   key=lambda p: tuple(int(k) for k in p.stem[len(prefix):].split("_")))
+    assert files and len(files) == len(tables), (len(files), len(tables))
+    numeric = re.compile(r"^-?\d+(\.\d*)?(e[+-]?\d+)?$")
+    compared = 0
+    for path, table in zip(files, tables, strict=True):
+        rows = list(csv.reader(io.StringIO(path.read_text(encoding="utf-8"))))
+        assert len(rows) == len(table), path.name
+        for row, cells in zip(rows, table, strict=True):
+            assert len(row) == len(cells), (path.name, row, cells)
+            for c, h in zip(row, cells, strict=True):
+                h = h.replace("\u2212", "-").replace("\u00a0", " ")
+                if numeric.match(c):
+                    assert float(c) == float(h), (path.name, c, h)
+                    compared += 1
+    return compared

@@ -156,3 +156,40 @@ def test_the_cost_ladders_key_never_runs_into_the_axis_label(shipped_dataset, wi
     assert key.get_text().count("\n") >= 2
     assert box.y1 < label.y0 and all(box.y1 < t.y0 for t in ticks)
     assert box.y0 >= saved.y0 * fig.dpi - 1 and box.x1 <= fig.bbox.x1
+
+
+@pytest.mark.parametrize("eps_share", [0.2, 0.45, 0.8])
+@pytest.mark.parametrize("width", [7.2, 3.5])
+def test_nothing_dropped_never_crosses_the_budgets_dash(shipped_dataset, width, eps_share,
+                                                        monkeypatch):
+    """A joint's "nothing dropped", raised to the printed minimum as the report draws it,
+    stays clear of the budget's dash and within the axes, wherever the dash sits (on the
+    PUMA 560 at a quarter of the axis the dash struck through it)."""
+    from matplotlib.backends.backend_agg import FigureCanvasAgg
+
+    from gd_analyze.reports import budget_figures
+    from gd_analyze.reports.figure_style import raise_small_text
+    from gd_analyze.reports.typeset import MIN_PRINTED_PT, printed_scale
+
+    ds = shipped_dataset("puma560")
+    eps = float(ds.attrs["simplified_tolerance"])
+    parts = budget_parts(ds)
+    # the tallest bar at eps / (eps_share * 1.25): the dash at eps_share of the axis height
+    top = 100 * eps / eps_share / 1.25
+    peak = max(float(np.nanmax(sum(parts.values()))) * 100, 1e-300)
+    scaled = {k: v * top / peak for k, v in parts.items()}
+    monkeypatch.setattr(budget_figures, "budget_parts", lambda _: scaled)
+    with matplotlib.rc_context(FIG_RC):
+        fig = fig_error_budget(ds, width=width)
+        renderer = FigureCanvasAgg(fig).get_renderer()
+        raise_small_text(fig, MIN_PRINTED_PT / printed_scale(fig.get_size_inches()))
+        fig.draw(renderer)
+        ax = fig.axes[0]
+        labels = [t for t in ax.texts if "nothing" in t.get_text()]
+        dash = ax.transData.transform((1, 100 * eps))[1]
+        frame = ax.get_window_extent(renderer)
+        boxes = [t.get_window_extent(renderer) for t in labels]
+    assert labels
+    for b in boxes:
+        assert b.y0 > dash + 1 or b.y1 < dash - 1, (b, dash)
+        assert frame.y0 <= b.y0 and b.y1 <= frame.y1, (b, frame)

@@ -14,6 +14,7 @@ import pytest
 import xarray as xr
 from html_checks import html_table, html_text
 from pdf_checks import info, text
+from table_checks import csv_matches_html
 
 from gd_analyze.errors import InputError
 from gd_analyze.reports.identify import IDENTIFY_REPORT_FILES, write_identify_report
@@ -104,9 +105,12 @@ class _Tags(HTMLParser):
 def test_files_and_the_errors_shown_are_the_datasets(report):
     root, groups, folder, files = report
     assert [f.name for f in files[:2]] == list(IDENTIFY_REPORT_FILES)
-    assert {f.name for f in files[2:]} == {f"fig_identify_{k}_0.{e}" for k in
-                                           ("torque", "residual") for e in ("pdf", "svg")}
+    assert {f.name for f in files[2:] if f.parent.name == "figures"} == {
+        f"fig_identify_{k}_0.{e}" for k in ("torque", "residual") for e in ("pdf", "svg")}
     html = (folder / "report.html").read_text(encoding="utf-8")
+    # every table also as CSV, with the HTML table's numbers
+    assert {f.parent.name for f in files[2:]} == {"figures", "tables"}
+    assert csv_matches_html(folder / "tables", "table_", html) > 10
     rows = html_table(html, "Total relative torque error")
     assert rows[0] == ["recording", "role", "samples", "duration [s]", "identified model",
                        "robot file as shipped"]

@@ -16,7 +16,7 @@ import shlex
 import numpy as np
 import pytest
 from conftest import ROOT, built_once
-from table_checks import number, reads_back
+from table_checks import csv_matches_html, number, reads_back
 from table_checks import tables as _tables
 
 from gd_analyze.cli import main
@@ -24,6 +24,7 @@ from gd_analyze.io.schema import open_results, open_sweep
 from gd_analyze.reports.control import make_control_figures
 from gd_analyze.reports.control_text import control_context
 from gd_analyze.reports.markup import plain
+from gd_analyze.reports.sweep import write_sweep_report
 from gd_analyze.reports.sweep_text import sweep_context
 
 #: Over 5 s on an idle machine (the module's fixtures): run on one interpreter in CI.
@@ -195,3 +196,18 @@ def test_fig3_markers_of_the_controllers_never_coincide(runs):
     numbers = [int(re.search(rf"(\d+) \({re.escape(labels[str(c)])}\)", said).group(1))
                for c in ds["controller"].values]          # each controller by its key label
     assert numbers == sorted(s + 1 for s in starts), caption
+
+
+def test_control_and_sweep_tables_are_written_as_csv(runs, tmp_path):
+    """Every table of the control and the sweep report is also a CSV file, named apart from the
+    main report's (a folder may hold all three), with the HTML table's numbers."""
+    folder = runs["folder"] / "control"
+    html = (folder / "control_report.html").read_text(encoding="utf-8")
+    assert csv_matches_html(folder / "tables", "control_table_", html) > 20
+    written = write_sweep_report(runs["folder"] / "sweep" / "sweep.h5", tmp_path,
+                                 formats=("html",), latex=True)
+    html = (tmp_path / "sweep_report.html").read_text(encoding="utf-8")
+    assert csv_matches_html(tmp_path / "tables", "sweep_table_", html) > 20
+    tex = sorted(p.name for p in written if p.suffix == ".tex")
+    assert tex and tex == sorted(p.name.replace(".csv", ".tex") for p in written
+                                 if p.suffix == ".csv")

@@ -213,3 +213,82 @@ def test_every_text_is_at_least_8_pt_and_one_family(tmp_path):
     assert sizes and not small, small[:10]
     assert {f for _, _, f, _ in sizes} <= {"DejaVuSans", "DejaVuSans-Bold", "DejaVuSansMono"}
     assert "anote" in "".join(t for *_, t in sizes).replace(" ", "")    # figure text read
+
+
+def _page_of(path, marker):
+    """The 0-based page whose text holds ``marker`` (pdftotext's pages, split at form feeds)."""
+    pages = [re.sub(r"\s+", " ", p) for p in text(path).split("\f")]
+    return next(k for k, p in enumerate(pages) if marker in p)
+
+
+@pytest.mark.parametrize("kind", ["figure", "table"])
+@pytest.mark.parametrize("lines_before", range(30, 58, 3))
+def test_a_sections_lead_stays_on_the_page_of_what_it_introduces(tmp_path, kind,
+                                                                 lines_before):
+    """A heading and the short paragraph that introduces a figure or a table never stand at a
+    page's foot with the figure, or the table's first rows, on the next page: they go over
+    with it (the PUMA 560 report's Sec. 2, the control report's Secs. 3 and 4 stood so)."""
+    o = Outline("Report", figures={"a"})
+    o.section("1", "Filler")
+    for k in range(lines_before // 3):
+        o.paragraph(" ".join(["word"] * 42) + f" filler{k}.")
+    o.section("2", "Introduced")
+    o.paragraph("Lead paragraph: what the next block shows. " * 3)
+    if kind == "figure":
+        o.figure("a", "the introduced figure")
+    else:
+        o.table({"header": ["name", "value"], "rows": [[f"row{k}", str(k)] for k in range(40)],
+                 "align": ["left", "right"]}, "the introduced table")
+    path, _ = _write(tmp_path, o, {"a": (_svg(6, 4), (6, 4))})
+    lead = _page_of(path, "Lead paragraph")
+    assert _page_of(path, "2. Introduced") == lead
+    assert _page_of(path, "the introduced " + kind) == lead, lines_before
+
+
+#: Headers of wide tables: the sweep report's Table 4.1 and the main report's Table 5.3.
+WIDE = [["element", "translational", "rotational", "both", "negligible", "min share",
+         "median share", "max share", "merged choice"],
+        ["joint", "units", "scale s" + markup.sub("i"), "bound", "inertial (D)", "velocity (h)",
+         "gravity (c)", "whole parameters", "measured peak |\u03c4" + markup.sub("s")
+         + " \u2212 \u03c4|", "measured / s" + markup.sub("i")],
+        ["element", "translational", "rotational", "negligible", "(c)", "parameters",
+         "median share", "max share", "merged choice", "whole parameters", "peak |x \u2212 y|"]]
+
+
+@pytest.mark.parametrize("header", WIDE)
+def test_no_word_of_a_wide_table_runs_into_the_next_column(tmp_path, header):
+    """A table too wide for natural widths gives each column at least its longest word: the
+    words of a line stand apart (the sweep report's header printed "elementtranslational",
+    the main report's "(c)parameters")."""
+    columns = len(header)
+    o = Outline("Report")
+    o.section("1", "Wide")
+    o.table({"header": header, "rows": [["D" + markup.sub("34")] + [f"{k / 7:.3f}"]
+                                        * (columns - 2) + ["both"] for k in range(5)],
+             "align": ["left"] + ["right"] * (columns - 2) + ["left"]}, "A wide table.")
+    path, _ = _write(tmp_path, o)
+    (_, _, ws), = words(path)
+    lines = {}
+    for w, x0, y0, x1, y1 in ws:
+        lines.setdefault(round(y1), []).append((x0, x1, w))
+    for line in lines.values():
+        line.sort()
+        for (_, a1, a), (b0, _, b) in zip(line, line[1:]):
+            assert b0 - a1 >= 2.0, (a, b, b0 - a1)
+
+
+@pytest.mark.parametrize("words", [0, 400, 830, 840, 850, 870, 890])
+def test_a_long_table_leaves_no_row_alone_on_a_page(tmp_path, words):
+    """A table that breaks over pages puts at least two of its rows on each page: a single row
+    under its header and caption at a page's foot (830 and 840 words before it), or alone over
+    the next page's top (850 to 890), is split off no more."""
+    o = Outline("Report")
+    o.section("1", "Filler")
+    o.paragraph(" ".join(["word"] * words) + ".")
+    o.table({"header": ["name", "value"], "rows": [[f"row{k}x", str(k)] for k in range(60)],
+             "align": ["left", "right"]}, "A long table.")
+    path, _ = _write(tmp_path, o)
+    counts = [len(re.findall(r"\brow\d+x\b", p)) for p in text(path).split("\f")]
+    counts = [c for c in counts if c]
+    assert sum(counts) == 60
+    assert min(counts) >= 2, counts

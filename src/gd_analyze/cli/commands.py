@@ -928,13 +928,14 @@ def cmd_control(args: argparse.Namespace) -> int:
                              verdict_tolerance=args.verdict_tolerance)
     except ValueError as exc:
         raise InputError(str(exc)) from None
-    with staged_output(outdir, (CONTROL_FILE, *CONTROL_REPORT_FILES, "figures"),
+    with staged_output(outdir, (CONTROL_FILE, *CONTROL_REPORT_FILES, "figures", "tables"),
                        "control") as stage, writing(outdir, stage):
         path = stage / CONTROL_FILE
         control_file.write_control_dataset(result, path, {"command": command_line(args)})
         written = [path]
         if not args.no_report:
-            written += list(write_control_report(path, stage, paper=args.paper))
+            written += list(write_control_report(path, stage, paper=args.paper,
+                                                 latex=args.latex))
     written = [outdir / Path(p).relative_to(stage) for p in written]
     summary = result.summary()
     if args.json:

@@ -28,7 +28,7 @@ __all__ = ["cmd_identify", "IDENTIFY_FILES"]
 
 #: The files ``identify`` writes (the URDF where the robot was given as one).
 IDENTIFY_FILES = ("identification.h5", "identified_robot.toml", "identified_robot.urdf",
-                  "report.html", "report.pdf", "figures")
+                  "report.html", "report.pdf", "figures", "tables")
 
 
 def _options(args):
@@ -125,7 +125,8 @@ def cmd_identify(args: argparse.Namespace) -> int:
         if not args.no_report:
             tree = identification_tree(result)
             root = tree.pop("/")
-            written += write_identify_report(root, tree, stage, paper=args.paper)
+            written += write_identify_report(root, tree, stage, paper=args.paper,
+                                             latex=args.latex)
     written = [outdir / Path(p).relative_to(stage) for p in written]
     if args.json:
         print(json.dumps(recordings_json(result)))

@@ -329,9 +329,12 @@ def _add_verbose_argument(p):
                    help="list every file written (default: how many, and the folder)")
 
 
-def _add_paper_argument(p):
+def _add_print_arguments(p):
     p.add_argument("--paper", choices=("a4", "letter"), default=defaults["paper"],
                    help="page size of the PDF report (default a4)")
+    p.add_argument("--latex", action="store_true",
+                   help="also write every report table as LaTeX in tables/, a .tex file beside "
+                        "each .csv (the CSV files are always written)")
 
 
 def analyze_parser() -> argparse.ArgumentParser:
@@ -376,14 +379,11 @@ def analyze_parser() -> argparse.ArgumentParser:
     p.add_argument("--column-figures", action="store_true",
                    help="also write every report figure 3.5 in wide (one column) as "
                         "figures/<name>_column.pdf and .svg (default: page width only)")
-    p.add_argument("--latex", action="store_true",
-                   help="also write every report table as LaTeX, tables/table_<s>_<k>.tex "
-                        "(the CSV files are always written)")
     p.add_argument("--prefix", metavar="NAME", type=_prefix, default=None,
                    help="prefix of the emitted model's C symbols and CasADi functions, a C "
                         "identifier (default: the robot's name made one, plus _, e.g. "
                         "puma560_)")
-    _add_paper_argument(p)
+    _add_print_arguments(p)
     p.add_argument("--compress", metavar="LEVEL", type=_whole("--compress"), choices=range(10),
                    default=defaults["compress"],
                    help="gzip level 0-9 for the per-set-point variables of results.h5 "
@@ -564,7 +564,7 @@ def control_parser() -> argparse.ArgumentParser:
                         f"controller's, on every revolute joint [rad] and prismatic joint [m] "
                         f"(default {rad:g},{metre:g}; one number for both)")
     p.add_argument("--no-report", action="store_true", help="skip the HTML and PDF report")
-    _add_paper_argument(p)
+    _add_print_arguments(p)
     p.add_argument("--json", action="store_true", help="print the figures as one JSON object")
     p.add_argument("-q", "--quiet", action="store_true", help="print nothing but errors")
     _add_verbose_argument(p)
@@ -619,7 +619,7 @@ def sweep_parser() -> argparse.ArgumentParser:
                    help="random trajectories (another seed) to measure the merged model of the "
                         "budget rule on, not guaranteed (default 20)")
     p.add_argument("--no-report", action="store_true", help="skip the HTML and PDF report")
-    _add_paper_argument(p)
+    _add_print_arguments(p)
     p.add_argument("-q", "--quiet", action="store_true", help="print nothing but errors")
     _add_verbose_argument(p)
     _add_chain_arguments(p)
@@ -716,7 +716,7 @@ def identify_parser() -> argparse.ArgumentParser:
                    help="also build the simplified model of the identified robot and state its "
                         "error on the validation recordings")
     p.add_argument("--no-report", action="store_true", help="skip report.html and report.pdf")
-    _add_paper_argument(p)
+    _add_print_arguments(p)
     _add_chain_arguments(p)
     p.add_argument("-q", "--quiet", action="store_true", help="print nothing but errors")
     p.add_argument("-v", "--verbose", action="store_true", help="list every file written")

@@ -149,7 +149,7 @@ def _model_lines(model, ds, args):
 #: The stem of the merged model's emitted files (merged_model.h, .c, .py, _casadi.py).
 MERGED_STEM = "merged_model"
 SWEEP_OUTPUTS = ("sweep.h5", "merged_model.json", "payload_sweep.h5", "sweep_report.html",
-                 "sweep_report.pdf", "figures", *artefact_names(MERGED_STEM))
+                 "sweep_report.pdf", "figures", "tables", *artefact_names(MERGED_STEM))
 
 
 def cmd_sweep(args: argparse.Namespace) -> int:
@@ -272,7 +272,7 @@ def cmd_sweep(args: argparse.Namespace) -> int:
             write_dataset(payload, written[-1])
         if not args.no_report:
             written += list(write_sweep_report(written[0], stage, payload=payload,
-                                               paper=args.paper))
+                                               paper=args.paper, latex=args.latex))
     written = [outdir / Path(p).relative_to(stage) for p in written]
     if not args.quiet:
         run = SweepRun.from_dataset(ds)

@@ -30,6 +30,7 @@ from .control_text import control_context as _context
 from .control_verdict import VERDICT_TOLERANCE, control_verdict
 from .drawing import draw_figures, figure_svg, write_figure_files
 from .sections import Outline
+from .table_export import write_tables
 from .typeset import PAPER, write_pdf
 
 if TYPE_CHECKING:                       # for the type hints only
@@ -224,7 +225,7 @@ def _pdf(ctx, drawn, path, paper="a4"):
 
 
 def write_control_report(control_path: str | os.PathLike[str], outdir: str | os.PathLike[str],
-                         paper: str = "a4") -> list[Path]:
+                         paper: str = "a4", latex: bool = False) -> list[Path]:
     """Write control_report.html and control_report.pdf for a stored control dataset.
 
     Parameters
@@ -236,12 +237,15 @@ def write_control_report(control_path: str | os.PathLike[str], outdir: str | os.
         Output folder; made if missing.
     paper : {"a4", "letter"}, optional
         Page size of the PDF.
+    latex : bool, optional
+        Also write every table as LaTeX, ``outdir/tables/control_table_<section>_<k>.tex``.
 
     Returns
     -------
     list of pathlib.Path
         ``outdir/control_report.html`` and ``outdir/control_report.pdf``, then every figure as
-        ``outdir/figures/fig_control_*.pdf`` and ``.svg``.
+        ``outdir/figures/fig_control_*.pdf`` and ``.svg``, then every table of the report as
+        ``outdir/tables/control_table_<section>_<k>.csv`` (and ``.tex`` with ``latex``).
 
     Raises
     ------
@@ -274,4 +278,6 @@ def write_control_report(control_path: str | os.PathLike[str], outdir: str | os.
         Path(stack.enter_context(atomic_path(html_path))).write_text(_html(ctx, drawn),
                                                                      encoding="utf-8")
         _pdf(ctx, drawn, stack.enter_context(atomic_path(pdf_path)), paper)
-    return [html_path, pdf_path] + files
+        tables = write_tables(stack, _outline(ctx, drawn), outdir / "tables", latex,
+                              "control")
+    return [html_path, pdf_path] + files + tables

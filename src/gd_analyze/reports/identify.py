@@ -30,6 +30,7 @@ from .drawing import draw_figures, write_figure_files
 from .identify_figures import FIGURE_RC, figure_key, identify_figures
 from .identify_text import REQUIRED_RECORDING, REQUIRED_ROOT, identify_context
 from .sections import Outline
+from .table_export import write_tables
 from .typeset import PAPER, write_pdf
 
 if TYPE_CHECKING:
@@ -131,7 +132,8 @@ def _pdf(ctx, drawn, path, paper):
 
 
 def write_identify_report(root: xr.Dataset, groups: dict[str, xr.Dataset],
-                          folder: str | os.PathLike[str], paper: str = "a4") -> list[Path]:
+                          folder: str | os.PathLike[str], paper: str = "a4",
+                          latex: bool = False) -> list[Path]:
     """Write report.html, report.pdf and the figures of a stored identification.
 
     Parameters
@@ -146,13 +148,16 @@ def write_identify_report(root: xr.Dataset, groups: dict[str, xr.Dataset],
         The output folder (made if missing; the identify command's staged folder).
     paper : {"a4", "letter"}, optional
         Page size of the PDF.
+    latex : bool, optional
+        Also write every table as LaTeX, ``folder/tables/table_<section>_<k>.tex``.
 
     Returns
     -------
     list of pathlib.Path
         ``folder/report.html``, ``folder/report.pdf``, then each figure's
         ``folder/figures/fig_identify_<kind>_<k>.pdf`` and ``.svg`` (k: the recording's place
-        among those shown, never its name).
+        among those shown, never its name), then every table of the report as
+        ``folder/tables/table_<section>_<k>.csv`` (and ``.tex`` with ``latex``).
 
     Raises
     ------
@@ -178,4 +183,5 @@ def write_identify_report(root: xr.Dataset, groups: dict[str, xr.Dataset],
         Path(stack.enter_context(atomic_path(html_path))).write_text(_html(ctx, drawn),
                                                                      encoding="utf-8")
         _pdf(ctx, drawn, stack.enter_context(atomic_path(pdf_path)), paper)
-    return [html_path, pdf_path] + files
+        tables = write_tables(stack, identify_outline(ctx, drawn), folder / "tables", latex)
+    return [html_path, pdf_path] + files + tables

@@ -62,7 +62,7 @@ from .main_figures import RC as FIG_RC
 from .main_outline import main_outline
 from .plot_data import ENVELOPE_COLUMNS, ENVELOPE_THRESHOLD
 from .simplified_section import error_figure, has_simplified
-from .table_export import table_files
+from .table_export import write_tables
 from .ticks import decade_formatter, ticks_once
 from .ticks import formatter as tick_formatter
 from .typeset import PAPER, write_pdf
@@ -564,19 +564,6 @@ def _write(results, outdir, formats, paper, progress, column=False, latex=False)
                 fh.write(_html(ctx, drawn))
         if "pdf" in tmp:
             _pdf(ctx, drawn, tmp["pdf"], paper)
-        tables = _write_tables(stack, main_outline(ctx, drawn), outdir / "tables", latex)
+        tables = write_tables(stack, main_outline(ctx, drawn), outdir / "tables", latex)
     return [paths[fmt] for fmt in formats] + files + tables
 
-
-def _write_tables(stack, outline, folder, latex):
-    """Every table of the outline written to ``folder`` (staged in ``stack``)."""
-
-    folder.mkdir(parents=True, exist_ok=True)
-    out = []
-    for name, text in table_files(outline, latex).items():
-        path = folder / name
-        with open(stack.enter_context(atomic_path(path)), "w", encoding="utf-8",
-                  newline="") as fh:
-            fh.write(text)
-        out.append(path)
-    return out

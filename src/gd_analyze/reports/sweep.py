@@ -44,6 +44,7 @@ from .sections import Outline
 from .sweep_figures import make_sweep_figures
 from .sweep_text import SHARE_TEXT, SWEEP_CAPTIONS
 from .sweep_text import sweep_context as _context
+from .table_export import write_tables
 from .ticks import decade_label
 from .typeset import PAPER, TABLE_COLOURS, write_pdf
 
@@ -232,7 +233,7 @@ def _pdf(ctx, drawn, path, paper="a4"):
 def write_sweep_report(sweep_path: str | os.PathLike[str], outdir: str | os.PathLike[str],
                        payload: str | os.PathLike[str] | xr.Dataset | None = None,
                        formats: Sequence[str] = SWEEP_REPORT_FORMATS,
-                       paper: str = "a4") -> list[Path]:
+                       paper: str = "a4", latex: bool = False) -> list[Path]:
     """Write sweep_report.html and sweep_report.pdf for a stored sweep.
 
     Parameters
@@ -250,12 +251,16 @@ def write_sweep_report(sweep_path: str | os.PathLike[str], outdir: str | os.Path
         Any of ``"html"`` and ``"pdf"``.
     paper : {"a4", "letter"}, optional
         Page size of the PDF.
+    latex : bool, optional
+        Also write every table as LaTeX, ``outdir/tables/sweep_table_<section>_<k>.tex``.
 
     Returns
     -------
     list of pathlib.Path
         The files written (``outdir/sweep_report.html``, ``outdir/sweep_report.pdf``), then
-        every figure as ``outdir/figures/fig_sweep_*.pdf`` and ``.svg``.
+        every figure as ``outdir/figures/fig_sweep_*.pdf`` and ``.svg``, then every table of
+        the report as ``outdir/tables/sweep_table_<section>_<k>.csv`` (and ``.tex`` with ``latex``:
+        :func:`gd_analyze.reports.table_export.table_files`).
 
     Raises
     ------
@@ -297,4 +302,6 @@ def write_sweep_report(sweep_path: str | os.PathLike[str], outdir: str | os.Path
             else:
                 _pdf(ctx, drawn, tmp, paper)
             written.append(path)
-    return written + files
+        tables = write_tables(stack, _outline(ctx, drawn), outdir / "tables", latex,
+                              "sweep")
+    return written + files + tables

@@ -16,14 +16,19 @@ from __future__ import annotations
 import csv
 import io
 import re
+from pathlib import Path
 from typing import TYPE_CHECKING
 
+from ..files import atomic_path
 from . import markup
 
 if TYPE_CHECKING:
+    import contextlib
+    import os
+
     from .sections import Outline
 
-__all__ = ["csv_cell", "latex_text", "table_csv", "table_latex", "table_files"]
+__all__ = ["csv_cell", "latex_text", "table_csv", "table_latex", "table_files", "write_tables"]
 
 #: What a spreadsheet reads as the start of a formula.
 _FORMULA_START = ("=", "+", "-", "@", "\t", "\r")
@@ -107,7 +112,7 @@ def table_csv(table: dict) -> str:
     return buf.getvalue()
 
 
-def table_latex(table: dict, number: str, caption: str) -> str:
+def table_latex(table: dict, number: str, caption: str, label: str = "") -> str:
     """A report table as a LaTeX ``table`` with a booktabs ``tabular``.
 
     Parameters
@@ -118,6 +123,9 @@ def table_latex(table: dict, number: str, caption: str) -> str:
         The report's number of the table ("4.1"): its label is ``tab:gd-4.1``.
     caption : str
         The caption, marked.
+    label : str, optional
+        The report's name in the label: ``tab:gd-control-2.1`` with ``"control"`` (default:
+        none, ``tab:gd-4.1``).
 
     Returns
     -------
@@ -127,7 +135,7 @@ def table_latex(table: dict, number: str, caption: str) -> str:
     """
     cols = "".join(_ALIGN.get(a, "l") for a in table["align"])
     lines = [r"\begin{table}[htbp]", r"\centering",
-             r"\caption{" + latex_text(caption) + "}", r"\label{tab:gd-" + number + "}",
+             r"\caption{" + latex_text(caption) + "}", r"\label{tab:gd-" + (label + "-" if label else "") + number + "}",
              r"\begin{tabular}{" + cols + "}", r"\toprule",
              " & ".join(latex_text(h) for h in table["header"]) + r" \\", r"\midrule"]
     lines += [" & ".join(latex_text(c) for c in row) + r" \\" for row in table["rows"]]
@@ -138,7 +146,7 @@ def table_latex(table: dict, number: str, caption: str) -> str:
 _CAPTION = re.compile(r"^Table ([0-9]+(?:\.[0-9]+)?): (.*)$", re.S)
 
 
-def table_files(outline: Outline, latex: bool = False) -> dict[str, str]:
+def table_files(outline: Outline, latex: bool = False, prefix: str = "") -> dict[str, str]:
     """Every table of a report's outline as file text, by file name.
 
     Parameters
@@ -147,6 +155,10 @@ def table_files(outline: Outline, latex: bool = False) -> dict[str, str]:
         The report's sections: its tables, numbered as the report numbers them.
     latex : bool, optional
         Also each table as LaTeX.
+    prefix : str, optional
+        The report's name, which heads each file's name and LaTeX label (``"control"``:
+        ``control_table_2_1.csv``, ``tab:gd-control-2.1``), so that the tables of reports
+        sharing a folder never collide (default: none, the main report's).
 
     Returns
     -------
@@ -162,8 +174,52 @@ def table_files(outline: Outline, latex: bool = False) -> dict[str, str]:
             if m is None:
                 raise ValueError(f"a table caption without its number: {b.caption[:60]!r}")
             number, caption = m.groups()
-            name = "table_" + number.replace(".", "_")
+            name = (prefix + "_" if prefix else "") + "table_" + number.replace(".", "_")
             out[name + ".csv"] = table_csv(b.content)
             if latex:
-                out[name + ".tex"] = table_latex(b.content, number, caption)
+                out[name + ".tex"] = table_latex(b.content, number, caption, prefix)
+    return out
+
+
+def write_tables(stack: contextlib.ExitStack, outline: Outline,
+                 folder: str | os.PathLike[str], latex: bool = False,
+                 prefix: str = "") -> list[Path]:
+    """Write every table of a report's outline to ``folder``, staged with the report's files.
+
+    Parameters
+    ----------
+    stack : contextlib.ExitStack
+        The report's stack of staged files: each table is written under a temporary name
+        (:func:`gd_analyze.files.atomic_path`) and renamed when the stack closes without error,
+        with the report it belongs to.
+    outline : gd_analyze.reports.sections.Outline
+        The report's sections (:func:`table_files`).
+    folder : str or os.PathLike
+        The tables' folder (``tables/`` beside the report); made if missing.
+    latex : bool, optional
+        Also each table as LaTeX.
+    prefix : str, optional
+        The report's name heading the files' names (:func:`table_files`).
+
+    Returns
+    -------
+    list of pathlib.Path
+        ``folder/[<prefix>_]table_<section>_<k>.csv`` (and ``.tex``), in the report's order.
+
+    Raises
+    ------
+    ValueError
+        If a table's caption carries no number.
+    OSError
+        If a file cannot be written.
+    """
+    folder = Path(folder)
+    folder.mkdir(parents=True, exist_ok=True)
+    out = []
+    for name, text in table_files(outline, latex, prefix).items():
+        path = folder / name
+        with open(stack.enter_context(atomic_path(path)), "w", encoding="utf-8",
+                  newline="") as fh:
+            fh.write(text)
+        out.append(path)
     return out
