@@ -31,6 +31,7 @@ from .stored_comparisons import ChapterComparison, FormulationComparison
 from .stored_model import BaseParameters, CostTable
 from .stored_provenance import Provenance
 from .stored_robot import ROBOT_VARIABLES, StoredRobot, StoredTrajectory
+from .stored_simplified import StoredSimplified
 
 if TYPE_CHECKING:                       # for the type hints only
     import xarray as xr
@@ -317,6 +318,9 @@ class Results:
         without drives.
     provenance : Provenance
         How the results were made: software, command, settings, payload, mounting.
+    simplified : StoredSimplified or None
+        The simplified model's record: its rule, bound, costs, ladder, check of D_s (None
+        where the file holds no simplified model).
     attrs : Mapping
         Every global attribute (the provenance), read-only.
     dataset : xarray.Dataset
@@ -350,6 +354,7 @@ class Results:
     chapter: ChapterComparison | None
     rigid_dominance: tuple[str, ...] | None
     provenance: Provenance
+    simplified: StoredSimplified | None
     attrs: Mapping
     dataset: xr.Dataset
     source: str = "<memory>"
@@ -465,7 +470,7 @@ class Results:
                    rigid_dominance=(tuple(str(v) for v in ds[Var.DOMINANCE_RIGID_LINKS].values)
                                     if Var.DOMINANCE_RIGID_LINKS in ds.variables else None),
                    provenance=Provenance.from_attrs(attrs),
-                   attrs=attrs, dataset=ds, source=source)
+                   simplified=StoredSimplified.from_dataset(ds), attrs=attrs, dataset=ds, source=source)
 
 
 def _default_units(which, prismatic):

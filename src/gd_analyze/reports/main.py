@@ -61,7 +61,7 @@ from .main_figures import (
 from .main_figures import RC as FIG_RC
 from .main_outline import main_outline
 from .plot_data import ENVELOPE_COLUMNS, ENVELOPE_THRESHOLD
-from .simplified_section import error_figure, has_simplified
+from .simplified_section import error_figure
 from .table_export import table_files
 from .ticks import decade_formatter, ticks_once
 from .ticks import formatter as tick_formatter
@@ -278,7 +278,7 @@ def figure_makers(ds: Results | xr.Dataset, data: PlotData | None = None,
     for k in range(len(element_parts(d_labels))):
         makers["D" if k == 0 else f"D_{k + 1}"] = functools.partial(
             fig_D, data, dom, zero, s, e, prismatic, armature=arm, part=k)
-    makers.update(budget_makers(ds, data))
+    makers.update(budget_makers(results, data))
     if Var.PAYLOAD_SHARE_TRAN in ds.variables:
         makers["payload"] = lambda: _fig_payload(ds)
         makers["payload_column"] = lambda: _fig_payload(ds, COLUMN_WIDTH)
@@ -299,8 +299,8 @@ def _made(make):
 
 
 def _fig_error(results, data, width=PAGE_WIDTH):
-    if has_simplified(results.dataset):         # tau_s - tau and its bound
-        return error_figure(results.dataset, width, data=data)
+    if results.simplified is not None:          # tau_s - tau and its bound
+        return error_figure(results.simplified, width, data=data)
     errors = results.torque_error
     return fig_torque(data, errors.column("peak"), errors.column("relative_peak"),
                       prismatic_joints(results))

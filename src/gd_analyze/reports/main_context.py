@@ -15,7 +15,7 @@ import numpy as np
 from .._version import VERSION as __version__
 from ..core.selection.ranking import is_chapter_puma, joint_motion_units
 from ..io.datasets import stored_guarantee, stored_region
-from ..io.names import Attr, Var
+from ..io.names import Var
 from ..io.results_view import Results
 from ..io.sweep_datasets import payload_part
 from .budget_figures import budget_caption
@@ -64,7 +64,7 @@ from .markup import element as _el
 from .markup import scope as _scope
 from .markup import tau
 from .plot_data import ENVELOPE_COLUMNS, ENVELOPE_THRESHOLD
-from .simplified_section import ROUND_OFF, has_simplified, simplified_caption, simplified_context
+from .simplified_section import ROUND_OFF, simplified_caption, simplified_context
 
 if TYPE_CHECKING:
     import numpy.typing as npt
@@ -176,7 +176,7 @@ def _model_cost(results):
 def _gravity_fact(results, form):
     """What the deployed model does with the gravity loading c, read from what it dropped: a
     clause for the summary, or None when the dataset does not say."""
-    ds, bp = results.dataset, results.base_parameters
+    bp = results.base_parameters
     if form == "recursive" and bp is not None:
         if "gravity" not in bp.parts:
             return None
@@ -186,13 +186,13 @@ def _gravity_fact(results, form):
         names = [nm for nm, d, r in zip(bp.names, bp.dropped[:, g], rel)
                  if d and r >= ROUND_OFF]
         return gravity_clause("budget", gravity_dropped=names)
-    if Var.SIMPLIFIED_BOUND_GRAVITY not in ds:
+    simplified = results.simplified
+    if simplified is None or simplified.bound_gravity is None:
         return None
-    bound = ds[Var.SIMPLIFIED_BOUND_GRAVITY].values
-    rule = str(ds.attrs.get(Attr.SIMPLIFIED_RULE, ""))
+    bound, rule = simplified.bound_gravity, simplified.rule
     if not np.all(np.isfinite(bound)) and rule != "chapter":    # no budget, rule unknown
         return None
-    return gravity_clause(rule, c_bound=bound, units=torque_units(ds))
+    return gravity_clause(rule, c_bound=bound, units=torque_units(results))
 
 
 def report_context(results: Results | xr.Dataset) -> dict[str, Any]:
@@ -215,12 +215,12 @@ def report_context(results: Results | xr.Dataset) -> dict[str, Any]:
         If a variable the report needs is missing.
     """
     results = Results.of(results)
-    ds = results.dataset
     ctx = _report_context_base(results)
-    ctx["simplified_model"] = simplified_context(ds) if has_simplified(ds) else None
-    if ctx["simplified_model"]:
-        ctx["captions"] = {**ctx["captions"], "torque": simplified_caption(ds),
-                           "budget": budget_caption(ds)}
+    simplified = results.simplified
+    ctx["simplified_model"] = None if simplified is None else simplified_context(simplified)
+    if simplified is not None and ctx["simplified_model"]:
+        ctx["captions"] = {**ctx["captions"], "torque": simplified_caption(simplified),
+                           "budget": budget_caption(simplified)}
     return ctx
 
 
