@@ -190,9 +190,8 @@ _BOUND_PARTS = (("bound_inertia", "dropped terms of D q\u0308", "#0072B2", ""),
 
 def _stored_parts(s: StoredSimplified) -> dict[str, np.ndarray]:
     """The stored parts of the bound, by field, those stored only."""
-    parts = {"bound_inertia": s.bound_inertia, "bound_coriolis": s.bound_coriolis,
-             "bound_gravity": s.bound_gravity, "bound_whole": s.bound_whole}
-    return {k: np.asarray(parts[k], float) for k, *_ in _BOUND_PARTS if parts[k] is not None}
+    parts = {k: getattr(s, k) for k, *_ in _BOUND_PARTS}      # the fields of _BOUND_PARTS
+    return {k: np.asarray(v, float) for k, v in parts.items() if v is not None}
 
 
 def budget_parts(ds: StoredSimplified | xr.Dataset) -> dict[str, npt.NDArray[np.float64]]:
@@ -273,9 +272,7 @@ def joint_sum_lower(ds: StoredSimplified | xr.Dataset) -> npt.NDArray[np.bool_]:
     if s is None:
         return np.zeros(0, bool)
     bound = np.asarray(s.bound, float)
-    total = np.zeros_like(bound)
-    for v in _stored_parts(s).values():
-        total = total + np.nan_to_num(v)
+    total = sum((np.nan_to_num(v) for v in _stored_parts(s).values()), np.zeros_like(bound))
     return bound < (1 - 1e-9) * total
 
 
