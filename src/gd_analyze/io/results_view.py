@@ -31,6 +31,9 @@ from .stored_comparisons import ChapterComparison, FormulationComparison
 from .stored_model import BaseParameters, CostTable
 from .stored_provenance import Provenance
 from .stored_robot import ROBOT_VARIABLES, StoredRobot, StoredTrajectory
+from .stored_simplified import StoredSimplified
+from .sweep_datasets import payload_part
+from .sweep_view import PayloadSweep
 
 if TYPE_CHECKING:                       # for the type hints only
     import xarray as xr
@@ -317,6 +320,12 @@ class Results:
         without drives.
     provenance : Provenance
         How the results were made: software, command, settings, payload, mounting.
+    simplified : StoredSimplified or None
+        The simplified model's record: its rule, bound, costs, ladder, check of D_s (None
+        where the file holds no simplified model).
+    payload : PayloadSweep or None
+        The ranking repeated for each load mass on the last link (None without a payload
+        sweep).
     attrs : Mapping
         Every global attribute (the provenance), read-only.
     dataset : xarray.Dataset
@@ -350,6 +359,8 @@ class Results:
     chapter: ChapterComparison | None
     rigid_dominance: tuple[str, ...] | None
     provenance: Provenance
+    simplified: StoredSimplified | None
+    payload: PayloadSweep | None
     attrs: Mapping
     dataset: xr.Dataset
     source: str = "<memory>"
@@ -465,6 +476,9 @@ class Results:
                    rigid_dominance=(tuple(str(v) for v in ds[Var.DOMINANCE_RIGID_LINKS].values)
                                     if Var.DOMINANCE_RIGID_LINKS in ds.variables else None),
                    provenance=Provenance.from_attrs(attrs),
+                   simplified=StoredSimplified.from_dataset(ds),
+                   payload=(PayloadSweep.from_dataset(payload_part(ds))
+                            if Var.PAYLOAD_SHARE_TRAN in ds.variables else None),
                    attrs=attrs, dataset=ds, source=source)
 
 

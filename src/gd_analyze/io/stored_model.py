@@ -5,7 +5,8 @@ models it is compared with (Newton-Euler as implemented, the exact recursive mod
 explicit model ...), as :mod:`gd_analyze.workflows.simplified_dataset` stored it over the
 ``cost_model`` coordinate; :class:`BaseParameters` the base parameters of a recursive model
 and the parts of tau each is kept or dropped in. Read once by
-:class:`gd_analyze.io.results_view.Results`.
+:class:`gd_analyze.io.results_view.Results`. :class:`EvaluatorCosts` is the operations of each
+evaluator of tau that a control or sweep dataset counted.
 """
 
 from __future__ import annotations
@@ -21,7 +22,7 @@ from .schema import strings
 if TYPE_CHECKING:                       # for the type hints only
     import xarray as xr
 
-__all__ = ["CostTable", "BaseParameters"]
+__all__ = ["CostTable", "BaseParameters", "EvaluatorCosts"]
 
 
 @dataclass(frozen=True, eq=False)
@@ -126,3 +127,43 @@ class BaseParameters:
                    units=tuple(strings(ds[Var.BASE_PARAMETER_UNITS].values)),
                    relative_peak=optional(Var.BASE_PARAMETER_RELATIVE_PEAK),
                    value=optional(Var.BASE_PARAMETER_VALUE))
+
+
+@dataclass(frozen=True, eq=False)
+class EvaluatorCosts:
+    """The operations per set point of each evaluator of tau a control or sweep dataset
+    counted, Newton-Euler last.
+
+    Attributes
+    ----------
+    evaluators : tuple of str, length E
+        Each evaluator's name.
+    multiplications, additions : ndarray of int, shape (E,)
+        Its multiplications and additions per set point.
+    """
+
+    evaluators: tuple[str, ...]
+    multiplications: np.ndarray
+    additions: np.ndarray
+
+    @classmethod
+    def from_dataset(cls, ds: xr.Dataset) -> EvaluatorCosts | None:
+        """The counts of a dataset (``multiplications`` and ``additions`` over dim
+        ``evaluator``).
+
+        Parameters
+        ----------
+        ds : xarray.Dataset
+            The control dataset (:func:`gd_analyze.workflows.control.model_cost`) or the
+            sweep's (:func:`gd_analyze.workflows.sweep_merged.with_model_cost`).
+
+        Returns
+        -------
+        EvaluatorCosts or None
+            None where no counts are stored.
+        """
+        if "evaluator" not in ds.dims:
+            return None
+        return cls(evaluators=tuple(strings(ds["evaluator"].values)),
+                   multiplications=ds["multiplications"].values,
+                   additions=ds["additions"].values)

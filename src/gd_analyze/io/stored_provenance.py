@@ -16,7 +16,7 @@ from typing import Any
 
 from .names import ATTRIBUTES, VERIFICATION_PREFIX, Attr
 
-__all__ = ["SHOWN_ELSEWHERE", "Provenance"]
+__all__ = ["SHOWN_ELSEWHERE", "Provenance", "RunRecord"]
 
 #: The attributes a typed view shows elsewhere (the robot and trajectory, the thresholds, the
 #: simplified model's results, the region, the chapter's conclusions): not among the others.
@@ -130,3 +130,41 @@ class Provenance:
             (k, attrs[k], attrs.get(k[len(_BUILT):]) if k.startswith(_BUILT) else None)
             for k in sorted(attrs) if k not in typed and not k.startswith(VERIFICATION_PREFIX))
         return cls(**{f: attrs.get(name) for f, name in names.items()}, others=others)
+
+
+@dataclass(frozen=True)
+class RunRecord:
+    """When and by what a stored run was computed, and the arm's gravity and mounting: the
+    attributes every dataset (results, sweep, control) stores alike, as stored (None where
+    missing).
+
+    Attributes
+    ----------
+    gd_analyze_version, history : object
+        The software, and the CF history ("<time> created by ...").
+    gravity, mounting_gravity_base, mounting_gravity_world : object
+        Gravity [m/s^2]: as the robot file gives it, in the base frame, in the world.
+    mounting_base_rpy_deg : object
+        How the base is turned: roll, pitch, yaw [deg].
+    """
+
+    gd_analyze_version: Any
+    history: Any
+    gravity: Any
+    mounting_gravity_base: Any
+    mounting_gravity_world: Any
+    mounting_base_rpy_deg: Any
+
+    @classmethod
+    def from_attrs(cls, attrs: Mapping[str, Any]) -> RunRecord:
+        """The record of a dataset's global attributes.
+
+        Parameters
+        ----------
+        attrs : Mapping
+
+        Returns
+        -------
+        RunRecord
+        """
+        return cls(**{f.name: attrs.get(getattr(Attr, f.name.upper())) for f in fields(cls)})

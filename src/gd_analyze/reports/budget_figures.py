@@ -22,9 +22,9 @@ from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
-from .common import strings, torque_units
+from ..io.stored_simplified import StoredSimplified
+from .common import torque_units
 from .figure_style import markevery
-from .simplified_section import guarantee_kind, has_simplified
 from .ticks import label_axes, set_ticks
 
 if TYPE_CHECKING:
@@ -32,6 +32,7 @@ if TYPE_CHECKING:
     import xarray as xr
     from matplotlib.figure import Figure
 
+    from ..io.results_view import Results
     from .plot_data import PlotData
 
 __all__ = ["BUDGET_CAPTIONS", "REGION_BUDGET_CAPTION", "JOINT_SUM_CLAUSE", "budget_caption",
@@ -180,30 +181,39 @@ def fig_torque_contributions(data: PlotData, units: Sequence[str], drives: bool 
     return fig
 
 
-#: The parts of the bound, stacked (stored variable, label, colour, hatch).
-_BOUND_PARTS = (("simplified_bound_inertia", "dropped terms of D q\u0308", "#0072B2", ""),
-                ("simplified_bound_coriolis", "dropped terms of h", "#D55E00", "//"),
-                ("simplified_bound_gravity", "dropped terms of c", "#E69F00", ".."),
-                ("simplified_bound_whole", "base parameters dropped whole", "#CC79A7", "xx"))
+#: The parts of the bound, stacked (field of the stored record, label, colour, hatch).
+_BOUND_PARTS = (("bound_inertia", "dropped terms of D q\u0308", "#0072B2", ""),
+                ("bound_coriolis", "dropped terms of h", "#D55E00", "//"),
+                ("bound_gravity", "dropped terms of c", "#E69F00", ".."),
+                ("bound_whole", "base parameters dropped whole", "#CC79A7", "xx"))
 
 
-def budget_parts(ds: xr.Dataset) -> dict[str, npt.NDArray[np.float64]]:
+def _stored_parts(s: StoredSimplified) -> dict[str, np.ndarray]:
+    """The stored parts of the bound, by field, those stored only."""
+    parts = {k: getattr(s, k) for k, *_ in _BOUND_PARTS}      # the fields of _BOUND_PARTS
+    return {k: np.asarray(v, float) for k, v in parts.items() if v is not None}
+
+
+def budget_parts(ds: StoredSimplified | xr.Dataset) -> dict[str, npt.NDArray[np.float64]]:
     """The stacked parts of :func:`fig_error_budget`, relative to each joint's scale s_i.
 
     Parameters
     ----------
-    ds : xarray.Dataset
-        With ``simplified_scale`` (n,) and the ``simplified_bound_*`` parts (n,) [N m].
+    ds : StoredSimplified or xarray.Dataset
+        The simplified model's record (:class:`gd_analyze.io.stored_simplified.StoredSimplified`),
+        or a results dataset with ``simplified_scale`` (n,) and the ``simplified_bound_*``
+        parts (n,) [N m].
 
     Returns
     -------
     dict of str to ndarray, shape (n,)
-        Each stored part / s_i [1] (NaN where s_i is 0), by variable name.
+        Each stored part / s_i [1] (NaN where s_i is 0), by field of the record
+        (``"bound_inertia"``, ``"bound_coriolis"``, ``"bound_gravity"``, ``"bound_whole"``).
     """
-    scale = np.asarray(ds["simplified_scale"].values, float)
+    s = StoredSimplified.of(ds)
+    scale = np.asarray(s.scale, float)
     safe = np.where(scale > 0, scale, np.nan)
-    return {var: np.nan_to_num(np.asarray(ds[var].values, float)) / safe
-            for var, *_ in _BOUND_PARTS if var in ds.variables}
+    return {k: np.nan_to_num(v) / safe for k, v in _stored_parts(s).items()}
 
 
 #: The error-budget figure's caption where the model's bounds are proved over the region.
@@ -214,13 +224,13 @@ REGION_BUDGET_CAPTION = (
     "peak error measured on this trajectory, each relative to the joint's scale sᵢ.")
 
 
-def budget_caption(ds: xr.Dataset) -> str:
+def budget_caption(ds: StoredSimplified | xr.Dataset) -> str:
     """The error-budget figure's caption, from the kind of the model's guarantee.
 
     Parameters
     ----------
-    ds : xarray.Dataset
-        A results dataset with the simplified model.
+    ds : StoredSimplified or xarray.Dataset
+        The simplified model's record, or a results dataset with it.
 
     Returns
     -------
@@ -228,9 +238,10 @@ def budget_caption(ds: xr.Dataset) -> str:
         :data:`REGION_BUDGET_CAPTION` for a bound proved over the region (the bars are proved
         bounds), else ``BUDGET_CAPTIONS["budget"]`` (the bars are peaks on the trajectory).
     """
-    if guarantee_kind(ds) != "region":
+    s = StoredSimplified.of(ds)
+    if s.guarantee_kind != "region":
         return BUDGET_CAPTIONS["budget"]
-    if joint_sum_lower(ds).any():
+    if joint_sum_lower(s).any():
         return REGION_BUDGET_CAPTION[:-1] + JOINT_SUM_CLAUSE
     return REGION_BUDGET_CAPTION
 
@@ -242,13 +253,14 @@ JOINT_SUM_CLAUSE = ("; a triangle (\u25bc) marks a joint whose bound, proved on 
                     "region), is below the bars' sum: that bound is the model's.")
 
 
-def joint_sum_lower(ds: xr.Dataset) -> npt.NDArray[np.bool_]:
+def joint_sum_lower(ds: StoredSimplified | xr.Dataset) -> npt.NDArray[np.bool_]:
     """The joints whose stated bound is below the sum of the dropped terms' own bounds.
 
     Parameters
     ----------
-    ds : xarray.Dataset
-        With ``simplified_bound`` and the ``simplified_bound_*`` parts (n,) [N m].
+    ds : StoredSimplified or xarray.Dataset
+        The simplified model's record, or a results dataset with ``simplified_bound`` and the
+        ``simplified_bound_*`` parts (n,) [N m].
 
     Returns
     -------
@@ -256,24 +268,22 @@ def joint_sum_lower(ds: xr.Dataset) -> npt.NDArray[np.bool_]:
         True where ``simplified_bound`` < (1 - 1e-9) x the parts' sum: the bound was proved on
         the dropped set's joint sum (:func:`gd_analyze.core.selection.certify.region_bound`).
     """
-    if "simplified_bound" not in ds.variables:
+    s = ds if isinstance(ds, StoredSimplified) else StoredSimplified.from_dataset(ds)
+    if s is None:
         return np.zeros(0, bool)
-    bound = np.asarray(ds["simplified_bound"].values, float)
-    total = np.zeros_like(bound)
-    for var, *_ in _BOUND_PARTS:
-        if var in ds.variables:
-            total = total + np.nan_to_num(np.asarray(ds[var].values, float))
+    bound = np.asarray(s.bound, float)
+    total = sum((np.nan_to_num(v) for v in _stored_parts(s).values()), np.zeros_like(bound))
     return bound < (1 - 1e-9) * total
 
 
-def fig_error_budget(ds: xr.Dataset, width: float = _PAGE) -> Figure:
+def fig_error_budget(ds: StoredSimplified | xr.Dataset, width: float = _PAGE) -> Figure:
     """Per joint: the dropped terms' peaks stacked against the budget EPS s_i, and the
     measured peak error.
 
     Parameters
     ----------
-    ds : xarray.Dataset
-        A results dataset with the simplified model (``simplified_scale``,
+    ds : StoredSimplified or xarray.Dataset
+        The simplified model's record, or a results dataset with it (``simplified_scale``,
         ``simplified_bound_*``, ``tau_error_peak`` (n,) [N m], attribute
         ``simplified_tolerance``).
     width : float, optional
@@ -289,11 +299,11 @@ def fig_error_budget(ds: xr.Dataset, width: float = _PAGE) -> Figure:
         sum at the same state, below the bars (:func:`joint_sum_lower`). A joint with
         nothing dropped reads "nothing dropped".
     """
-    eps = float(ds.attrs.get("simplified_tolerance", np.nan))
-    scale = np.asarray(ds["simplified_scale"].values, float)
-    measured = np.asarray(ds["tau_error_peak"].values, float) / np.where(scale > 0, scale,
-                                                                          np.nan)
-    parts = budget_parts(ds)
+    s = StoredSimplified.of(ds)
+    eps = s.tolerance
+    scale = np.asarray(s.scale, float)
+    measured = np.asarray(s.tau_error_peak, float) / np.where(scale > 0, scale, np.nan)
+    parts = budget_parts(s)
     n = scale.size
     column = width < _PAGE
     H = 2.7 if width >= _PAGE else 3.3
@@ -313,10 +323,9 @@ def fig_error_budget(ds: xr.Dataset, width: float = _PAGE) -> Figure:
         bottom = bottom + np.nan_to_num(v)
     ax.hlines(np.full(n, 100 * eps), x - 0.38, x + 0.38, colors="black", linewidth=1.4,
               label=f"budget \u03b5 s\u1d62 (\u03b5 = {eps:g})")
-    lower = joint_sum_lower(ds) if guarantee_kind(ds) == "region" else np.zeros(0, bool)
+    lower = joint_sum_lower(s) if s.guarantee_kind == "region" else np.zeros(0, bool)
     if lower.any():
-        stated = np.asarray(ds["simplified_bound"].values, float) / np.where(scale > 0, scale,
-                                                                             np.nan)
+        stated = np.asarray(s.bound, float) / np.where(scale > 0, scale, np.nan)
         ax.plot(x[lower], 100 * stated[lower], linestyle="none", marker="v", markersize=6,
                 color="#009E73", markeredgecolor="black", markeredgewidth=0.6, zorder=5,
                 label="bound proved on the dropped terms' sum")
@@ -347,8 +356,8 @@ def fig_error_budget(ds: xr.Dataset, width: float = _PAGE) -> Figure:
                    key=lambda p: (not p[1].startswith("bound"), not p[1].startswith("budget")))
     fig.legend(*zip(*pairs), loc="upper center", ncol=2 if width >= _PAGE else 1, frameon=False, fontsize=7,
                handlelength=2.0, columnspacing=1.2, bbox_to_anchor=(0.5, 1 - 0.04 / H))
-    units = sorted(set(torque_units(ds)))
-    what = ("bounds proved over the region" if guarantee_kind(ds) == "region"
+    units = sorted(set(s.tau_units))
+    what = ("bounds proved over the region" if s.guarantee_kind == "region"
             else "peaks on this trajectory")
     note = (f"s\u1d62: each joint's scale ({', '.join(units)}); the bound on |\u03c4\u209b "
             f"\u2212 \u03c4| is the sum of the dropped terms' {what}"
@@ -368,24 +377,23 @@ _COST_STYLE = {"exact": ("o", "#000000"), "model": ("*", "#D55E00"),
                "bound": ("s", "#0072B2"), "akb": ("P", "#CC79A7")}
 
 
-def _bound_on_s_i(ds, label, eps, safe):
+def _bound_on_s_i(s, label, eps, safe):
     """A budget model's bound, EPS times its own scale, relative to the deployed model's s_i:
     the explicit model is pruned on this trajectory, its scale max(peak |tau_i|, floor); under
     a region guarantee s_i is the region's, larger."""
-    if not label.startswith("explicit") or guarantee_kind(ds) != "region":
+    if not label.startswith("explicit") or s.guarantee_kind != "region":
         return eps
-    own = np.maximum(np.asarray(ds["tau_peak"].values, float),
-                     float(ds.attrs.get("simplified_torque_floor", 0.0)))
+    own = np.maximum(np.asarray(s.tau_peak, float), s.torque_floor)
     return float(np.max(eps * own / safe))
 
 
-def cost_points(ds: xr.Dataset) -> list[tuple[Any, ...]]:
+def cost_points(ds: StoredSimplified | xr.Dataset) -> list[tuple[Any, ...]]:
     """The points of :func:`fig_cost_ladder`: (label, operations, worst error [1], kind).
 
     Parameters
     ----------
-    ds : xarray.Dataset
-        With ``cost_model`` and ``cost_total``; ``simplified_scale``, ``tau_error_peak``,
+    ds : StoredSimplified or xarray.Dataset
+        The simplified model's record, or a results dataset with ``cost_model`` and ``cost_total``; ``simplified_scale``, ``tau_error_peak``,
         ``tau_peak``; optionally ``ladder_operations`` and ``ladder_worst_error`` (dim
         ``ladder_tolerance``) and ``other_rule_error_relative_peak``.
 
@@ -398,14 +406,17 @@ def cost_points(ds: xr.Dataset) -> list[tuple[Any, ...]]:
         times its own scale over s_i (EPS where its scale is s_i);
         the stated 1 % of AKB's simplified model (``akb``, PUMA 560 only).
     """
-    total = dict(zip(strings(ds["cost_model"].values), ds["cost_total"].values.astype(float)))
-    scale = np.asarray(ds["simplified_scale"].values, float)
+    s = StoredSimplified.of(ds)
+    if s.costs is None:
+        raise ValueError("no cost table stored")
+    total = dict(zip(s.costs.models, s.costs.total.astype(float)))
+    scale = np.asarray(s.scale, float)
     safe = np.where(scale > 0, scale, np.inf)
-    worst = float(np.max(np.asarray(ds["tau_error_peak"].values, float) / safe))
-    eps = float(ds.attrs.get("simplified_tolerance", np.nan))
-    laddered = "ladder_tolerance" in ds.variables
-    rungs = ("recursive N-E" if str(ds.attrs.get("simplified_ladder_form", "explicit"))
-             == "recursive" else "explicit") + ", budget"
+    worst = float(np.max(np.asarray(s.tau_error_peak, float) / safe))
+    eps = s.tolerance
+    ladder = s.ladder
+    laddered = ladder is not None
+    rungs = ("recursive N-E" if s.ladder_form == "recursive" else "explicit") + ", budget"
     points = []
     for label, ops in total.items():
         if label.startswith(("Table 3.5", "project L-E", "project G-D")):
@@ -414,21 +425,20 @@ def cost_points(ds: xr.Dataset) -> list[tuple[Any, ...]]:
             points.append((label.replace(" (this model)", ""), ops, worst, "model"))
         elif label.startswith("AKB") and "simplified" in label:
             points.append((label, ops, 0.01, "akb"))
-        elif "chapter" in label and "other_rule_error_relative_peak" in ds.variables:
-            rel = np.asarray(ds["other_rule_error_relative_peak"].values, float)
-            err = rel * np.asarray(ds["tau_peak"].values, float) / safe
+        elif "chapter" in label and s.other_rule_error_relative_peak is not None:
+            rel = np.asarray(s.other_rule_error_relative_peak, float)
+            err = rel * np.asarray(s.tau_peak, float) / safe
             if np.isfinite(err).any():          # no torque at all: nothing measured
                 points.append((label, ops, float(np.nanmax(err)), "chapter"))
         elif "budget" in label and not (laddered and label.startswith(rungs)):
-            points.append((label + " (bound)", ops, _bound_on_s_i(ds, label, eps, safe),
+            points.append((label + " (bound)", ops, _bound_on_s_i(s, label, eps, safe),
                            "bound"))
         elif "exact" in label or "full" in label or "N-E as implemented" in label:
             points.append((label, ops, 0.0, "exact"))
-    if laddered:
+    if ladder is not None:
         built = {p[1] for p in points if p[3] == "model"}
         exact = {p[1] for p in points if p[3] == "exact"}
-        for tol, ops, err in zip(ds["ladder_tolerance"].values, ds["ladder_operations"].values,
-                                 ds["ladder_worst_error"].values):
+        for tol, ops, err in zip(ladder.tolerance, ladder.operations, ladder.worst_error):
             if (float(tol) == eps and float(ops) in built) or (float(tol) == 0
                                                               and float(ops) in exact):
                 continue                  # the model built, or an exact one: said once
@@ -472,12 +482,12 @@ def _place_numbers(fig, ax, numbers):
             note.remove()
 
 
-def fig_cost_ladder(ds: xr.Dataset, width: float = _PAGE) -> Figure:
+def fig_cost_ladder(ds: StoredSimplified | xr.Dataset, width: float = _PAGE) -> Figure:
     """Operations per set point against the worst error of each model of the dataset.
 
     Parameters
     ----------
-    ds : xarray.Dataset
+    ds : StoredSimplified or xarray.Dataset
         As for :func:`cost_points`.
     width : float, optional
         Figure width [in].
@@ -494,7 +504,8 @@ def fig_cost_ladder(ds: xr.Dataset, width: float = _PAGE) -> Figure:
 
     # a log axis: a model of no operations (nothing to compute) or an error not measured has
     # no place on it
-    points = [p for p in cost_points(ds) if p[1] > 0 and np.isfinite(p[2])]
+    s = StoredSimplified.of(ds)
+    points = [p for p in cost_points(s) if p[1] > 0 and np.isfinite(p[2])]
     column = width < _PAGE
     points = sorted(points, key=lambda p: (p[1], -p[2]))
     key = textwrap.fill("; ".join(f"{k + 1}: " + p[0].replace("EPS=", "\u03b5\u00a0=\u00a0")
@@ -509,10 +520,10 @@ def fig_cost_ladder(ds: xr.Dataset, width: float = _PAGE) -> Figure:
              "bound": "budget model (its bound, not measured)",
              "akb": "Armstrong, Khatib & Burdick 1986 (stated)"}
     seen = set()
-    if "ladder_tolerance" in ds.variables:        # the rungs joined, the model built among them
-        order = np.argsort(ds["ladder_operations"].values)
-        ax.plot(ds["ladder_operations"].values[order],
-                100 * ds["ladder_worst_error"].values[order], color="#0072B2",
+    if s.ladder is not None:        # the rungs joined, the model built among them
+        order = np.argsort(s.ladder.operations)
+        ax.plot(s.ladder.operations[order],
+                100 * s.ladder.worst_error[order], color="#0072B2",
                 linewidth=0.8, linestyle="--")
     # a symmetric log axis: the ladder's small errors apart from the chapter rule's large one
     # (linear below _COST_LINEAR %, where 0 sits)
@@ -557,13 +568,13 @@ def fig_cost_ladder(ds: xr.Dataset, width: float = _PAGE) -> Figure:
     return fig
 
 
-def budget_makers(ds: xr.Dataset, data: PlotData) -> dict[str, Callable[..., Figure]]:
-    """Makers of the figures of this module that the dataset can draw.
+def budget_makers(results: Results, data: PlotData) -> dict[str, Callable[..., Figure]]:
+    """Makers of the figures of this module that the results can draw.
 
     Parameters
     ----------
-    ds : xarray.Dataset
-        A results dataset.
+    results : Results
+        The main job's results (:class:`gd_analyze.io.results_view.Results`).
     data : PlotData
         Its series (:func:`gd_analyze.reports.plot_data.plot_data`).
 
@@ -578,13 +589,15 @@ def budget_makers(ds: xr.Dataset, data: PlotData) -> dict[str, Callable[..., Fig
 
     makers: dict[str, Callable[..., Figure]] = {}
     if all(k in data.series for k, *_ in CONTRIBUTIONS) and "tau_simplified" in data.series:
-        drives = "D_arm" in ds.variables and bool(np.any(np.asarray(ds["D_arm"].values) > 0))
+        armature = results.robot_record.armature
+        drives = armature is not None and bool(np.any(np.asarray(armature) > 0))
         makers["contributions"] = functools.partial(fig_torque_contributions, data,
-                                                    torque_units(ds), drives)
-    if has_simplified(ds) and "simplified_scale" in ds.variables:
-        makers["budget"] = functools.partial(fig_error_budget, ds)
-    if "cost_total" in ds.variables and "simplified_scale" in ds.variables:
-        makers["cost_ladder"] = functools.partial(fig_cost_ladder, ds)
+                                                    torque_units(results), drives)
+    s = results.simplified
+    if s is not None and s.scale is not None:
+        makers["budget"] = functools.partial(fig_error_budget, s)
+        if s.costs is not None:
+            makers["cost_ladder"] = functools.partial(fig_cost_ladder, s)
     makers.update({f"{k}_column": functools.partial(make, width=COLUMN)
                    for k, make in list(makers.items())})
     return makers

@@ -20,6 +20,7 @@ import numpy as np
 from ..errors import InputError
 from ..io.names import Attr
 from ..io.schema import strings
+from ..io.stored_model import EvaluatorCosts
 from . import markup
 from .figure_style import (
     BASE_RC,
@@ -236,13 +237,14 @@ def table(header: Sequence[str], rows: Sequence[Sequence[Any]],
 
 
 
-def cost_table(ds: xr.Dataset) -> dict[str, Any] | None:
+def cost_table(ds: EvaluatorCosts | xr.Dataset | None) -> dict[str, Any] | None:
     """The operations per set point of each evaluator a dataset stores, as a table.
 
     Parameters
     ----------
-    ds : xarray.Dataset
-        With ``multiplications`` and ``additions`` over dim ``evaluator``, Newton-Euler last
+    ds : EvaluatorCosts, xarray.Dataset or None
+        The counts (:class:`gd_analyze.io.stored_model.EvaluatorCosts`), or a dataset with
+        ``multiplications`` and ``additions`` over dim ``evaluator``, Newton-Euler last
         (the control dataset, :func:`gd_analyze.workflows.control.model_cost`; the sweep,
         :func:`gd_analyze.workflows.sweep_merged.with_model_cost`).
 
@@ -250,12 +252,14 @@ def cost_table(ds: xr.Dataset) -> dict[str, Any] | None:
     -------
     dict or None
         :func:`table` of evaluator, multiplications, additions, operations and operations
-        relative to Newton-Euler; None if the dataset stores no counts.
+        relative to Newton-Euler; None if no counts are stored.
     """
-    if "evaluator" not in ds.dims:
+    costs = ds if ds is None or isinstance(ds, EvaluatorCosts) else \
+        EvaluatorCosts.from_dataset(ds)
+    if costs is None:
         return None
-    names = strings(ds["evaluator"].values)
-    mul, add = ds["multiplications"].values, ds["additions"].values
+    names = costs.evaluators
+    mul, add = costs.multiplications, costs.additions
     ref = len(names) - 1                 # the last: Newton-Euler, the recursive reference
     return table(["evaluator", "multiplications", "additions", "operations",
                   "operations vs Newton-Euler"],

@@ -21,9 +21,9 @@ from collections.abc import Mapping
 from pathlib import Path
 from typing import TYPE_CHECKING
 
-from ..errors import InputError
 from ..files import atomic_path
 from ..io.schema import open_results
+from ..io.stored_control import REQUIRED_VARIABLES, StoredControl
 from .common import render_template
 from .control_figures import COLUMN_WIDTH, FIGURE_RC, PAGE_WIDTH, control_figures
 from .control_text import control_context as _context
@@ -44,31 +44,21 @@ __all__ = ["CONTROL_REPORT_FILES", "REQUIRED_VARIABLES", "VERDICT_TOLERANCE", "c
 
 #: Names of the files written into the output folder.
 CONTROL_REPORT_FILES = ("control_report.html", "control_report.pdf")
-#: Variables a control dataset must have.
-REQUIRED_VARIABLES = ("is_setpoint", "q_d", "error", "tau", "error_peak_setpoints",
-                      "error_rms_setpoints", "error_peak_grid", "error_rms_grid", "Kp", "Kv",
-                      "Kp_pd", "Kv_pd", "wn", "zeta", "inertia_scale", "choice", "nfev")
-
-
-
-def _check(ds, path):
-    missing = [v for v in REQUIRED_VARIABLES if v not in ds.variables]
-    if missing or "controller" not in ds.dims or "time" not in ds.dims:
-        raise InputError(f"not a gd-analyze control dataset (missing {missing[:3] or 'dims'})",
-                         str(path))
 
 
 # --------------------------------------------------------------------------------------------
 # Figures (reports/control_figures.py)
 # --------------------------------------------------------------------------------------------
 
-def make_control_figures(ds: xr.Dataset, width: float = PAGE_WIDTH) -> dict[str, Figure]:
+def make_control_figures(ds: StoredControl | xr.Dataset, width: float = PAGE_WIDTH
+                         ) -> dict[str, Figure]:
     """The report's figures, drawn from a stored control dataset.
 
     Parameters
     ----------
-    ds : xarray.Dataset
-        A control dataset (:func:`gd_analyze.io.control_dataset.control_dataset`).
+    ds : StoredControl or xarray.Dataset
+        A stored control run (:class:`gd_analyze.io.stored_control.StoredControl`), or a
+        control dataset (:func:`gd_analyze.io.control_dataset.control_dataset`).
     width : float, optional
         7.2 in (a page, default) or 3.5 in (a column, one panel a row).
 
@@ -83,21 +73,21 @@ def make_control_figures(ds: xr.Dataset, width: float = PAGE_WIDTH) -> dict[str,
     InputError
         If the dataset lacks a variable of a control dataset.
     """
-    _check(ds, "<dataset>")
-    return control_figures(ds, width)
+    return control_figures(StoredControl.of(ds), width)
 
 
 # --------------------------------------------------------------------------------------------
 # HTML and PDF
 # --------------------------------------------------------------------------------------------
 
-def render_control_html(ds: xr.Dataset, figures: Mapping[str, Figure] | None = None) -> str:
+def render_control_html(ds: StoredControl | xr.Dataset,
+                        figures: Mapping[str, Figure] | None = None) -> str:
     """Render the control report as one self-contained HTML document.
 
     Parameters
     ----------
-    ds : xarray.Dataset
-        A stored control dataset.
+    ds : StoredControl or xarray.Dataset
+        A stored control run, or its dataset.
     figures : dict of str to matplotlib.figure.Figure, optional
         :func:`make_control_figures` of it; made here if not given.
 
@@ -112,10 +102,10 @@ def render_control_html(ds: xr.Dataset, figures: Mapping[str, Figure] | None = N
     InputError
         If the dataset lacks a variable of a control dataset.
     """
-    _check(ds, "<dataset>")
-    ctx = _context(ds)
+    s = StoredControl.of(ds)
+    ctx = _context(s)
     if figures is None:
-        figures = make_control_figures(ds)
+        figures = make_control_figures(s)
     return _html(ctx, {k: (figure_svg(f, FIGURE_RC), None, None) for k, f in figures.items()})
 
 
@@ -180,14 +170,14 @@ def _html(ctx, drawn):
                                                       "outline": _outline(ctx, drawn)})
 
 
-def render_control_pdf(ds: xr.Dataset, path: str | os.PathLike[str],
+def render_control_pdf(ds: StoredControl | xr.Dataset, path: str | os.PathLike[str],
                        figures: Mapping[str, Figure] | None = None, paper: str = "a4") -> int:
     """Write the control report as a PDF document.
 
     Parameters
     ----------
-    ds : xarray.Dataset
-        A stored control dataset.
+    ds : StoredControl or xarray.Dataset
+        A stored control run, or its dataset.
     path : str or os.PathLike
         The PDF to write (not atomically; :func:`write_control_report` passes a temporary
         name).
@@ -208,10 +198,10 @@ def render_control_pdf(ds: xr.Dataset, path: str | os.PathLike[str],
     OSError
         If the file cannot be written.
     """
-    _check(ds, "<dataset>")
-    ctx = _context(ds)
+    s = StoredControl.of(ds)
+    ctx = _context(s)
     if figures is None:
-        figures = make_control_figures(ds)
+        figures = make_control_figures(s)
     return _pdf(ctx, draw_figures(figures, FIGURE_RC), path, paper)
 
 
@@ -262,13 +252,12 @@ def write_control_report(control_path: str | os.PathLike[str], outdir: str | os.
     """
     if paper not in PAPER:
         raise ValueError(f"paper must be one of {sorted(PAPER)}, got {paper!r}")
-    ds = open_results(str(control_path))
-    _check(ds, control_path)
-    ctx = _context(ds)
+    s = StoredControl.from_dataset(open_results(str(control_path)), str(control_path))
+    ctx = _context(s)
     outdir = Path(outdir)
     (outdir / "figures").mkdir(parents=True, exist_ok=True)
-    figures = make_control_figures(ds)
-    column = control_figures(ds, COLUMN_WIDTH)
+    figures = make_control_figures(s)
+    column = control_figures(s, COLUMN_WIDTH)
     drawn = draw_figures({**figures, **{f"{k}_column": f for k, f in column.items()}}, FIGURE_RC)
     html_path, pdf_path = (outdir / name for name in CONTROL_REPORT_FILES)
     files = []

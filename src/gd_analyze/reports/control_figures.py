@@ -17,8 +17,8 @@ from typing import TYPE_CHECKING
 import numpy as np
 
 from ..core.selection.ranking import ROUND_OFF, is_round_off, joint_motion_units, joint_torque_units
-from .common import BASE_RC, grid_shape, panel_markevery, prismatic_joints
-from .common import strings as _strings
+from ..io.stored_control import StoredControl
+from .common import BASE_RC, grid_shape, panel_markevery
 from .common import style as _style
 from .markup import sub
 from .ticks import decade_formatter, label_axes, set_ticks
@@ -60,9 +60,10 @@ def _stride(m):
     return max(1, int(math.ceil(m / _MAX_LINE_POINTS)))
 
 
-def _joint_panels(ds, values, ylabel, title, log=False, floor=None, which="q",
+def _joint_panels(s, values, ylabel, title, log=False, floor=None, which="q",
                   width=PAGE_WIDTH):
-    """A figure with one panel per joint; values: name -> (M, n) array along ds.time.
+    """A figure with one panel per joint; values: name -> (M, n) array along the stored
+    control run's time.
 
     ``ylabel`` is formatted with each joint's units (``{u}``). With ``floor`` (n,)
     (:func:`noise_floors`), no point at or below a joint's floor is drawn, and a controller
@@ -74,10 +75,10 @@ def _joint_panels(ds, values, ylabel, title, log=False, floor=None, which="q",
     from matplotlib.ticker import LogLocator, NullFormatter
 
 
-    t = np.asarray(ds["time"].values, dtype=float)
-    is_set = np.asarray(ds["is_setpoint"].values).astype(bool)
-    n = int(ds.sizes["joint"])
-    units = joint_units_of(ds, which)
+    t = np.asarray(s.time, dtype=float)
+    is_set = s.is_setpoint
+    n = s.n
+    units = joint_units_of(s, which)
     column = width < PAGE_WIDTH
     rows, cols = grid_shape(n, 1 if column else 2)
     top = (0.5 if floor is None else 0.72) + ((0.25 if floor is None else 0.54) if column
@@ -94,7 +95,7 @@ def _joint_panels(ds, values, ylabel, title, log=False, floor=None, which="q",
     keep = np.zeros(t.size, dtype=bool)
     keep[::k] = True
     keep |= is_set
-    every = marker_stride(ds, len(values))
+    every = marker_stride(s, len(values))
     handles = {}
     quiet = {}                          # controller -> [(joint, peak)] of noise-only curves
     linear = []
@@ -159,7 +160,7 @@ def _joint_panels(ds, values, ylabel, title, log=False, floor=None, which="q",
     fig.suptitle(textwrap.fill(title, 48) if column else title, fontsize=9 if column else 10,
                  fontweight="bold", y=1 - 0.12 / height, va="top")
     if floor is not None:
-        notes = [f"Integrator noise ({noise_words(ds, which, figure=True)}) is not drawn"]
+        notes = [f"Integrator noise ({noise_words(s, which, figure=True)}) is not drawn"]
         for name, where in quiet.items():            # said as noise: its digits are not data
             joints = ("every joint" if len(where) == n else
                       "joint" + ("s " if len(where) > 1 else " ")
@@ -174,14 +175,15 @@ def _joint_panels(ds, values, ylabel, title, log=False, floor=None, which="q",
     return fig
 
 
-def noise_words(ds: xr.Dataset, which: str, figure: bool = False) -> str:
+def noise_words(ds: StoredControl | xr.Dataset, which: str, figure: bool = False) -> str:
     """The rule by which a closed-loop quantity is integrator noise (:func:`noise_floors`), in
     the words of every caption, table, figure note and the verdict.
 
     Parameters
     ----------
-    ds : xarray.Dataset
-        A control dataset (its ``rtol``, and the attributes of the measured noise floor).
+    ds : StoredControl or xarray.Dataset
+        A stored control run (:class:`gd_analyze.io.stored_control.StoredControl`), or its
+        dataset (its ``rtol``, and the attributes of the measured noise floor).
     which : {"q", "tau"}
         A tracking error (at most rtol times the larger of the range and the peak |q_d| of
         the joint) or the closed-loop torque difference (at most its stored noise floor,
@@ -199,12 +201,14 @@ def noise_words(ds: xr.Dataset, which: str, figure: bool = False) -> str:
         and atol / 100, or 1e-08 of the full-model controller's peak |tau| where that is
         larger".
     """
-    tol = noise_scales(ds)[0]
+    s = StoredControl.of(ds)
+    tol = noise_scales(s)[0]
     if which == "tau":
-        if "tau_difference_floor" not in ds:
+        if s.tau_difference_floor is None:
             return f"at most {tol:g} of the full-model controller's peak |\u03c4|"
-        factor = float(ds.attrs.get("noise_factor", np.nan))
-        tighten = float(ds.attrs["rtol"]) / float(ds.attrs.get("noise_rtol", np.nan))
+        settings = s.settings
+        factor = float(_or(settings.noise_factor, np.nan))
+        tighten = float(settings.rtol) / float(_or(settings.noise_rtol, np.nan))
         times = {1.0: "", 2.0: "twice "}.get(factor, f"{factor:g} times ")
         if figure:                      # short: the note is one line at page width
             return (f"at most {times}its change with rtol and atol / {tighten:g}, or {tol:g} "
@@ -217,15 +221,20 @@ def noise_words(ds: xr.Dataset, which: str, figure: bool = False) -> str:
     return f"at most {tol:g} of the joint's scale, max(range, peak |q{sub('d')}|)"
 
 
-def marker_stride(ds: xr.Dataset, lines: int) -> int:
+def _or(value, default):
+    """A stored attribute's value, or ``default`` where it is missing (None)."""
+    return default if value is None else value
+
+
+def marker_stride(ds: StoredControl | xr.Dataset, lines: int) -> int:
     """The set points between two markers on a line of a figure with ``lines`` lines a panel
     (:func:`gd_analyze.reports.figure_style.panel_markevery`), for the figures and their
     captions alike.
 
     Parameters
     ----------
-    ds : xarray.Dataset
-        A control dataset (``is_setpoint`` along ``time``).
+    ds : StoredControl or xarray.Dataset
+        A stored control run, or its dataset (``is_setpoint`` along ``time``).
     lines : int
         Lines with markers on each panel.
 
@@ -235,7 +244,7 @@ def marker_stride(ds: xr.Dataset, lines: int) -> int:
         k >= 1: a marker at every k-th set point.
     """
 
-    return panel_markevery(int(np.asarray(ds["is_setpoint"].values).astype(bool).sum()), lines)
+    return panel_markevery(int(StoredControl.of(ds).is_setpoint.sum()), lines)
 
 
 def marker_starts(every: int, lines: int) -> list[int]:
@@ -264,13 +273,13 @@ def marker_starts(every: int, lines: int) -> list[int]:
     return [i * every // max(1, lines) for i in range(max(1, lines))]
 
 
-def markers_words(ds: xr.Dataset, lines: int | Sequence[str]) -> str:
+def markers_words(ds: StoredControl | xr.Dataset, lines: int | Sequence[str]) -> str:
     """What a figure's markers are, in words.
 
     Parameters
     ----------
-    ds : xarray.Dataset
-        A control dataset.
+    ds : StoredControl or xarray.Dataset
+        A stored control run, or its dataset.
     lines : int or sequence of str
         Lines with markers on each panel (:func:`marker_stride`), or the controllers drawn, in
         the order they are drawn (:data:`CONTROLLER_LABELS` names them).
@@ -304,24 +313,24 @@ def _ordinal(k):
     return f"{k}{suffix}"
 
 
-def joint_units_of(ds: xr.Dataset, which: str) -> list[str]:
+def joint_units_of(ds: StoredControl | xr.Dataset, which: str) -> list[str]:
     """Units of q (``"q"``) or tau (``"tau"``) per joint, from the stored joint types
     (:func:`gd_analyze.core.selection.labels.joint_motion_units`, ``joint_torque_units``)."""
 
-    prismatic = prismatic_joints(ds)
+    prismatic = StoredControl.of(ds).prismatic
     if which == "tau":
         return [joint_torque_units(bool(p)) for p in prismatic]
     return [joint_motion_units(bool(p))[0] for p in prismatic]
 
 
-def noise_scales(ds: xr.Dataset) -> tuple[float, np.ndarray, np.ndarray]:
+def noise_scales(ds: StoredControl | xr.Dataset) -> tuple[float, np.ndarray, np.ndarray]:
     """The scales against which a closed-loop quantity is integrator noise
     (:func:`noise_floors`), the same for the figures and the tables.
 
     Parameters
     ----------
-    ds : xarray.Dataset
-        A control dataset.
+    ds : StoredControl or xarray.Dataset
+        A stored control run, or its dataset.
 
     Returns
     -------
@@ -332,23 +341,24 @@ def noise_scales(ds: xr.Dataset) -> tuple[float, np.ndarray, np.ndarray]:
     tau_scale : ndarray, shape (n,)
         Per joint, the full-model controller's peak |tau| [N m or N]: a torque difference's.
     """
-    names = _strings(ds["controller"].values)
-    q_d = np.asarray(ds["q_d"].values, float)
+    s = StoredControl.of(ds)
+    names = s.controllers
+    q_d = np.asarray(s.q_d, float)
     q_scale = np.maximum(np.ptp(q_d, axis=0), np.abs(q_d).max(axis=0))
     full = names.index("full") if "full" in names else 0
-    tau_scale = np.nanmax(np.abs(np.asarray(ds["tau"].values, float)[full]), axis=0)
-    rtol = float(ds.attrs.get("rtol", 0.0))
+    tau_scale = np.nanmax(np.abs(np.asarray(s.tau[names[full]], float)), axis=0)
+    rtol = float(_or(s.settings.rtol, 0.0))
     return max(rtol if np.isfinite(rtol) else 0.0, ROUND_OFF), q_scale, tau_scale
 
 
-def noise_floors(ds: xr.Dataset) -> tuple[np.ndarray, np.ndarray]:
+def noise_floors(ds: StoredControl | xr.Dataset) -> tuple[np.ndarray, np.ndarray]:
     """Per joint, the level at or below which a closed-loop quantity is integrator noise, not
     data: the same for the figures, the tables and the verdict.
 
     Parameters
     ----------
-    ds : xarray.Dataset
-        A control dataset.
+    ds : StoredControl or xarray.Dataset
+        A stored control run, or its dataset.
 
     Returns
     -------
@@ -360,20 +370,22 @@ def noise_floors(ds: xr.Dataset) -> tuple[np.ndarray, np.ndarray]:
         :attr:`gd_analyze.workflows.control.ControlResult.tau_noise_floor`); in a file without
         one, max(rtol, 1e-12) times the full-model controller's peak |tau| [N m or N].
     """
-    tol, q_scale, tau_scale = noise_scales(ds)
-    if "tau_difference_floor" in ds:
-        return tol * q_scale, np.asarray(ds["tau_difference_floor"].values, float)
+    s = StoredControl.of(ds)
+    tol, q_scale, tau_scale = noise_scales(s)
+    if s.tau_difference_floor is not None:
+        return tol * q_scale, np.asarray(s.tau_difference_floor, float)
     return tol * q_scale, tol * tau_scale
 
 
-def control_figures(ds: xr.Dataset, width: float = PAGE_WIDTH) -> dict[str, Figure]:
+def control_figures(ds: StoredControl | xr.Dataset, width: float = PAGE_WIDTH
+                    ) -> dict[str, Figure]:
     """The report's figures, drawn from a stored control dataset.
 
     Parameters
     ----------
-    ds : xarray.Dataset
-        A control dataset (:func:`gd_analyze.io.control_dataset.control_dataset`), checked by
-        the caller.
+    ds : StoredControl or xarray.Dataset
+        A stored control run (:class:`gd_analyze.io.stored_control.StoredControl`), or a
+        control dataset (:func:`gd_analyze.io.control_dataset.control_dataset`).
     width : float, optional
         :data:`PAGE_WIDTH` (two panels a row) or :data:`COLUMN_WIDTH` [in] (one a row).
 
@@ -385,19 +397,20 @@ def control_figures(ds: xr.Dataset, width: float = PAGE_WIDTH) -> dict[str, Figu
         stored) and ``"tau"`` (applied torques [N m or N]). Integrator noise (at or below
         :func:`noise_floors`) is never drawn as data.
     """
-    names = _strings(ds["controller"].values)
-    q_floor, tau_floor = noise_floors(ds)
+    s = StoredControl.of(ds)
+    names = s.controllers
+    q_floor, tau_floor = noise_floors(s)
     with _style(FIGURE_RC):
         figs = {"error": _joint_panels(
-            ds, {c: ds["error"].sel(controller=c).values for c in names},
+            s, {c: s.error[c] for c in names},
             _TRACKING_ERROR, "Tracking error per joint", log=True, floor=q_floor,
             width=width)}
-        if "tau_difference" in ds:
+        if s.tau_difference is not None:
             figs["tau_difference"] = _joint_panels(
-                ds, {"simplified": ds["tau_difference"].values}, _TAU_DIFFERENCE,
+                s, {"simplified": s.tau_difference}, _TAU_DIFFERENCE,
                 "Closed-loop torque difference: simplified-model minus full-model computed "
                 "torque", floor=tau_floor, which="tau", width=width)
-        figs["tau"] = _joint_panels(ds, {c: ds["tau"].sel(controller=c).values for c in names},
+        figs["tau"] = _joint_panels(s, {c: s.tau[c] for c in names},
                                     "\u03c4 [{u}]", "Applied joint torques", which="tau",
                                     width=width)
     return figs

@@ -11,7 +11,7 @@ import numpy as np
 
 from ..config import defaults
 from ..core.selection.ranking import joint_motion_units, joint_torque_units
-from .common import attr, fmt
+from .common import attr_text, fmt
 
 if TYPE_CHECKING:                       # for the type hints only
     from numpy.typing import ArrayLike
@@ -23,7 +23,7 @@ __all__ = ["VERDICT_TOLERANCE", "control_verdict"]
 # with 6 digits, arrays without parentheses, booleans as 0/1.
 _SCI = (1e-3, 1e5)
 fmt_number = functools.partial(fmt, digits=3, sci_outside=_SCI)
-dataset_attr = functools.partial(attr, parens=False, bools=True, sci_outside=_SCI)
+stored_text = functools.partial(attr_text, parens=False, bools=True, sci_outside=_SCI)
 
 
 #: Default tolerance of the verdict on the simplified-model controller's peak tracking error:

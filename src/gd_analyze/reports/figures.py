@@ -11,16 +11,10 @@ from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
-from .common import (
-    CLASS_COLOURS,
-    SUPTITLE_RC,
-    check,
-    joint_style,
-    strings,
-    style,
-    thresholds,
-    torque_units,
-)
+from ..core.selection.ranking import joint_torque_units
+from ..io.sweep_view import PAYLOAD_REQUIRED as _PAYLOAD_REQUIRED
+from ..io.sweep_view import PayloadSweep
+from .common import CLASS_COLOURS, SUPTITLE_RC, joint_style, style
 from .markup import label
 
 if TYPE_CHECKING:
@@ -35,13 +29,13 @@ PAGE_WIDTH = 7.2
 COLUMN_WIDTH = 3.5
 
 #: The variables :func:`payload_figure` reads.
-PAYLOAD_REQUIRED = ("share_tran", "dominance", "choice", "tau_peak")
+PAYLOAD_REQUIRED = _PAYLOAD_REQUIRED
 
 #: One letter per dominance class, drawn in the heat map's cells.
 CLASS_LETTER = {"translational": "T", "rotational": "R", "both": "B", "negligible": "N"}
 
 
-def payload_figure(ds: xr.Dataset, width: float = PAGE_WIDTH) -> Figure:
+def payload_figure(ds: PayloadSweep | xr.Dataset, width: float = PAGE_WIDTH) -> Figure:
     """Translational share and dominance class of every element vs payload, and peak |tau| vs
     payload.
 
@@ -81,19 +75,20 @@ def payload_figure(ds: xr.Dataset, width: float = PAGE_WIDTH) -> Figure:
     from matplotlib.figure import Figure
     from matplotlib.patches import Rectangle
 
-    check(ds, PAYLOAD_REQUIRED, "payload sweep")
+    part = PayloadSweep.of(ds)
     column = width < PAGE_WIDTH
     with style(SUPTITLE_RC):
-        masses = ds["payload"].values
-        labels = [label(lab) for lab in strings(ds["element"].values)]
-        share = ds["share_tran"].values
-        if "round_off" in ds.variables:         # a share of round-off is noise: not drawn
-            share = np.where(ds["round_off"].values.astype(bool), np.nan, share)
-        dom = np.array(strings(ds["dominance"].values)).reshape(share.shape)
+        masses = part.masses
+        labels = [label(lab) for lab in part.elements]
+        share = part.share_tran
+        if part.round_off is not None:         # a share of round-off is noise: not drawn
+            share = np.where(part.round_off, np.nan, share)
+        dom = part.dominance.reshape(share.shape)
         P, M = share.shape
-        n = ds.sizes["joint"]
+        n = len(part.prismatic)
         W = width
-        s, e = thresholds(ds)
+        s, e = (float(np.nan if v is None else v)
+                for v in (part.dominance_threshold, part.negligible_threshold))
         title = (f"Dominance against the payload on the last link (s = {s:g}, e = {e:g})\n"
                  "T/R/B/N = translational/rotational/both/negligible; framed: class "
                  "differs from the first payload\ngrey: \u2261 0 (round-off in every part), no "
@@ -146,8 +141,8 @@ def payload_figure(ds: xr.Dataset, width: float = PAGE_WIDTH) -> Figure:
         cb.ax.tick_params(labelsize=7)
         cb.ax.grid(False)                   # no grid lines across the colour scale
         bottom = 0.42 + legend_h if column else 0.6
-        tau = ds["tau_peak"].values
-        units = torque_units(ds)
+        tau = part.tau_peak
+        units = [joint_torque_units(p) for p in part.prismatic]
         kinds = list(dict.fromkeys(units))  # one panel per unit: never N m and N on one axis
         gap = 0.3
         each = (tau_h - gap * (len(kinds) - 1)) / len(kinds)

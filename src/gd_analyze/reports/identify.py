@@ -23,12 +23,12 @@ from collections.abc import Collection
 from pathlib import Path
 from typing import TYPE_CHECKING
 
-from ..errors import InputError
 from ..files import atomic_path
+from ..io.stored_identification import StoredIdentification
 from .common import render_template
 from .drawing import draw_figures, write_figure_files
 from .identify_figures import FIGURE_RC, figure_key, identify_figures
-from .identify_text import REQUIRED_RECORDING, REQUIRED_ROOT, identify_context
+from .identify_text import identify_context
 from .sections import Outline
 from .table_export import write_tables
 from .typeset import PAPER, write_pdf
@@ -40,20 +40,6 @@ __all__ = ["IDENTIFY_REPORT_FILES", "write_identify_report", "identify_outline"]
 
 #: Names of the report files written into the output folder.
 IDENTIFY_REPORT_FILES = ("report.html", "report.pdf")
-
-
-def _check(root, groups):
-    missing = [v for v in REQUIRED_ROOT if v not in root.variables]
-    if missing:
-        raise InputError(f"not an identification (the root lacks {', '.join(missing)})",
-                         "identification.h5")
-    if not groups:
-        raise InputError("not an identification (no recording group)", "identification.h5")
-    for name, ds in groups.items():
-        lacks = [v for v in REQUIRED_RECORDING + ("t",) if v not in ds.variables]
-        if lacks:
-            raise InputError(f"recording group {name[:80]!r} lacks {', '.join(lacks)}",
-                             "identification.h5")
 
 
 def identify_outline(ctx: dict, figures: Collection[str]) -> Outline:
@@ -171,11 +157,11 @@ def write_identify_report(root: xr.Dataset, groups: dict[str, xr.Dataset],
 
     if paper not in PAPER:
         raise ValueError(f"paper must be one of {sorted(PAPER)}, got {paper!r}")
-    _check(root, groups)
-    ctx = identify_context(root, groups)
+    stored = StoredIdentification.from_datasets(root, groups)
+    ctx = identify_context(stored)
     folder = Path(folder)
     folder.mkdir(parents=True, exist_ok=True)
-    drawn = draw_figures(identify_figures(root, groups), FIGURE_RC)
+    drawn = draw_figures(identify_figures(stored), FIGURE_RC)
     html_path, pdf_path = (folder / name for name in IDENTIFY_REPORT_FILES)
     with contextlib.ExitStack() as stack:
         files = write_figure_files(stack, drawn, folder / "figures",

@@ -11,10 +11,12 @@ figures as literal text (``parse_math=False``: a ``$`` never starts mathtext).
 from __future__ import annotations
 
 import math
+from collections.abc import Mapping
 from typing import TYPE_CHECKING
 
 import numpy as np
 
+from ..io.stored_identification import StoredIdentification, StoredRecording
 from .common import BASE_RC, grid_shape
 from .figure_style import style
 from .markup import clean
@@ -44,12 +46,12 @@ RESIDUAL_STYLE = ("#0072B2", "-", 0.9, "measured \u2212 identified model")
 FIGURE_RC = {**BASE_RC, "legend.fontsize": 7.5}
 
 
-def shown_recordings(groups: dict) -> list[str]:
+def shown_recordings(groups: Mapping[str, StoredRecording]) -> list[str]:
     """The recordings the figures show: the validation recordings, or, without any, all.
 
     Parameters
     ----------
-    groups : dict of str to xarray.Dataset
+    groups : Mapping of str to StoredRecording
         The recordings by group name, in order.
 
     Returns
@@ -61,13 +63,13 @@ def shown_recordings(groups: dict) -> list[str]:
     return validate or list(groups)
 
 
-def role_of(ds: xr.Dataset) -> str:
+def role_of(rec: StoredRecording) -> str:
     """A recording's role: its ``role`` attribute, or its ``role`` variable.
 
     Parameters
     ----------
-    ds : xarray.Dataset
-        A recording's group.
+    rec : StoredRecording
+        A recording (:class:`gd_analyze.io.stored_identification.StoredRecording`).
 
     Returns
     -------
@@ -75,11 +77,7 @@ def role_of(ds: xr.Dataset) -> str:
         ``train`` or ``validate`` as stored (cleaned of the report's markup characters);
         ``train`` when not stored.
     """
-    if "role" in ds.attrs:
-        return clean(str(ds.attrs["role"]))
-    if "role" in ds.variables:
-        return clean(str(np.asarray(ds["role"].values).reshape(-1)[0]))
-    return "train"
+    return "train" if rec.role is None else clean(str(rec.role))
 
 
 def figure_key(kind: str, k: int) -> str:
@@ -187,17 +185,21 @@ def _panels(t, curves, joints, ylabel, width, prismatic=None):
     return fig
 
 
-def identify_figures(root: xr.Dataset, groups: dict[str, xr.Dataset],
+def identify_figures(root: StoredIdentification | xr.Dataset,
+                     groups: dict[str, xr.Dataset] | None = None,
                      width: float = PAGE_WIDTH) -> dict[str, Figure]:
     """The report's figures from a stored identification.
 
     Parameters
     ----------
-    root : xarray.Dataset
-        The root group (its ``joint`` coordinate names the joints, if present).
-    groups : dict of str to xarray.Dataset
-        One dataset per recording: ``t`` [s], ``tau_measured`` and ``tau_predicted`` (t, joint)
-        [N m or N], optionally ``tau_prior`` and ``tau_simplified``.
+    root : StoredIdentification or xarray.Dataset
+        The stored identification
+        (:class:`gd_analyze.io.stored_identification.StoredIdentification`), or its root group
+        (its ``joint`` coordinate names the joints, if present).
+    groups : dict of str to xarray.Dataset, optional
+        With a root group: one dataset per recording, ``t`` [s], ``tau_measured`` and
+        ``tau_predicted`` (t, joint) [N m or N], optionally ``tau_prior`` and
+        ``tau_simplified``.
     width : float, optional
         Figure width [in].
 
@@ -208,26 +210,27 @@ def identify_figures(root: xr.Dataset, groups: dict[str, xr.Dataset],
         :func:`shown_recordings`.
     """
 
+    ident = StoredIdentification.of(root, groups)
     out = {}
     with style(FIGURE_RC):
-        for k, name in enumerate(shown_recordings(groups)):
-            ds = groups[name]
-            t = np.asarray(ds["t"].values, float)
-            n = int(ds["tau_measured"].shape[1])
-            joints = _joint_names(root, ds, n)
-            curves = {v: ds[v].values for v in MODEL_STYLES if v in ds.variables}
-            prismatic = (np.asarray(root["prismatic"].values, bool)
-                         if "prismatic" in root.variables else None)
+        for k, name in enumerate(shown_recordings(ident.recordings)):
+            rec = ident.recordings[name]
+            t = rec.t
+            n = rec.n
+            joints = _joint_names(ident, rec, n)
+            curves = {v: rec.torques[v] for v in MODEL_STYLES if v in rec.torques}
+            prismatic = (np.asarray(ident.prismatic, bool) if ident.prismatic is not None
+                         else None)
             out[figure_key("torque", k)] = _panels(t, curves, joints, "\u03c4", width,
                                                    prismatic)
-            residual = ds["tau_measured"].values - ds["tau_predicted"].values
+            residual = rec.torques["tau_measured"] - rec.torques["tau_predicted"]
             out[figure_key("residual", k)] = _panels(
                 t, {"residual": residual}, joints, "\u03c4 residual", width, prismatic)
     return out
 
 
-def _joint_names(root, ds, n):
-    for src in (ds, root):
-        if "joint" in src.coords and src["joint"].size == n:
-            return [str(v) for v in src["joint"].values]
+def _joint_names(ident, rec, n):
+    for joint in (rec.joint, ident.joint):
+        if joint is not None and joint.size == n:
+            return [str(v) for v in joint]
     return [str(j + 1) for j in range(n)]

@@ -16,6 +16,7 @@ from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
+from ..io.stored_identification import REQUIRED_RECORDING, REQUIRED_ROOT, StoredIdentification
 from .common import keep_units, utc_now
 from .identify_figures import MAX_POINTS, role_of, shown_recordings, stride
 from .markup import clean
@@ -27,10 +28,6 @@ if TYPE_CHECKING:
 __all__ = ["identify_context", "REQUIRED_ROOT", "REQUIRED_RECORDING", "parameter_units",
            "plain_table"]
 
-#: Variables the root group must have.
-REQUIRED_ROOT = ("value", "std")
-#: Variables every recording group must have.
-REQUIRED_RECORDING = ("tau_measured", "tau_predicted")
 #: Units of a base parameter by its name's letters, and of each drive kind (revolute joints;
 #: prismatic: kg, kg, N s/m, N, N).
 _M2 = "kg m\u00b2"
@@ -87,9 +84,8 @@ def parameter_units(name: str, kind: str) -> str:
     return _BASE_UNITS.get(letters, "")
 
 
-def _json(root, key, default):
-    """A JSON attribute of the root, or ``default`` when absent or not JSON."""
-    text = root.attrs.get(key)
+def _json(text, default):
+    """A JSON attribute as stored, or ``default`` when absent (None) or not JSON."""
     if text is None:
         return default
     try:
@@ -103,71 +99,56 @@ def _strings(values):
             for v in np.asarray(values).reshape(-1)]
 
 
-def _float(ds, key):
-    try:
-        v = float(ds.attrs[key]) if key in ds.attrs else float(ds[key].values)
-    except (KeyError, TypeError, ValueError):
-        return math.nan
-    return v
-
-
-def _joints(root, ds, n):
-    for src in (ds, root):
-        if "joint" in src.coords and src["joint"].size == n:
-            return _strings(src["joint"].values)
+def _joints(ident, rec, n):
+    for joint in (rec.joint, ident.joint):
+        if joint is not None and joint.size == n:
+            return _strings(joint)
     return [str(j + 1) for j in range(n)]
 
 
-def _file_of(name, ds):
-    return clean(str(ds.attrs.get("file", name)))
+def _file_of(rec):
+    return clean(str(rec.file_name))
 
 
 def _recordings_table(groups):
-    has_prior = any("prior_total_relative_error" in ds.attrs for ds in groups.values())
-    has_simple = any("simplified_total_relative_error" in ds.attrs for ds in groups.values())
+    has_prior = any(rec.has_prior_total for rec in groups.values())
+    has_simple = any(rec.has_simplified_total for rec in groups.values())
     header = ["recording", "role", "samples", "duration [s]", "identified model"]
     header += ["robot file as shipped"] * has_prior + ["simplified model"] * has_simple
     rows = []
-    for name, ds in groups.items():
-        t = np.asarray(ds["t"].values, float)
-        row = [_file_of(name, ds), role_of(ds), f"{t.size:,}",
-               fmt(t[-1] - t[0], 4) if t.size else "n/a",
-               pct(_total(ds, "tau_predicted", "total_relative_error"))]
+    for rec in groups.values():
+        t = rec.t
+        row = [_file_of(rec), role_of(rec), f"{t.size:,}",
+               fmt(t[-1] - t[0], 4) if t.size else "n/a", pct(rec.total_relative_error)]
         if has_prior:
-            row.append(pct(_total(ds, "tau_prior", "prior_total_relative_error")))
+            row.append(pct(rec.prior_total_relative_error))
         if has_simple:
-            row.append(pct(_total(ds, "tau_simplified", "simplified_total_relative_error")))
+            row.append(pct(rec.simplified_total_relative_error))
         rows.append(row)
     return plain_table(header, rows, align=["left", "left"] + ["right"] * (len(header) - 2))
 
 
-def _total(ds, variable, key):
-    """The stored total relative error ||E||_F / ||T||_F (NaN if neither it nor the torque)."""
-    value = _float(ds, key)
-    return value if math.isfinite(value) or variable not in ds.variables else math.nan
-
-
-def _joint_table(root, ds):
-    n = int(ds["tau_measured"].shape[1])
-    joints = _joints(root, ds, n)
-    cols = [("rms_error", "RMS error [N m]", fmt), ("relative_error", "relative error", pct),
-            ("prior_relative_error", "robot file: relative error", pct),
-            ("simplified_relative_error", "simplified: relative error", pct)]
-    cols = [c for c in cols if c[0] in ds.variables]
-    rows = [[str(j + 1), joints[j]] + [f(float(ds[v].values[j])) for v, _, f in cols]
+def _joint_table(ident, rec):
+    n = rec.n
+    joints = _joints(ident, rec, n)
+    cols = [(rec.rms_error, "RMS error [N m]", fmt),
+            (rec.relative_error, "relative error", pct),
+            (rec.prior_relative_error, "robot file: relative error", pct),
+            (rec.simplified_relative_error, "simplified: relative error", pct)]
+    cols = [c for c in cols if c[0] is not None]
+    rows = [[str(j + 1), joints[j]] + [f(float(v[j])) for v, _, f in cols]
             for j in range(n)]
     return plain_table(["joint", "name"] + [h for _, h, _ in cols], rows,
                        align=["right", "left"] + ["right"] * len(cols))
 
 
-def _parameter_table(root):
-    names = _strings(root["parameter"].values) if "parameter" in root.coords \
-        else [str(k + 1) for k in range(root["value"].size)]
-    value = np.asarray(root["value"].values, float)
-    std = np.asarray(root["std"].values, float)
-    kinds = _strings(root["kind"].values) if "kind" in root.variables else ["base"] * len(names)
-    prior = np.asarray(root["prior"].values, float) if "prior" in root.variables else None
-    ident = np.asarray(root["identifiable"].values, bool) if "identifiable" in root.variables \
+def _parameter_table(stored):
+    names = _strings(stored.parameter) if stored.parameter is not None \
+        else [str(k + 1) for k in range(stored.value.size)]
+    value, std = stored.value, stored.std
+    kinds = _strings(stored.kind) if stored.kind is not None else ["base"] * len(names)
+    prior = np.asarray(stored.prior, float) if stored.prior is not None else None
+    ident = np.asarray(stored.identifiable, bool) if stored.identifiable is not None \
         else np.ones(len(names), bool)
     rows = []
     for k, name in enumerate(names):
@@ -185,46 +166,48 @@ def _parameter_table(root):
                        + ["left"], colour_cols=[len(header) - 1]), int((~ident).sum()), names
 
 
-def _links_table(root):
-    if "link_consistent" not in root.variables:
+def _links_table(stored):
+    if stored.link_consistent is None:
         return None
-    links = np.asarray(root["link"].values).reshape(-1) if "link" in root.coords \
-        else np.arange(1, root["link_consistent"].size + 1)
-    ok = np.asarray(root["link_consistent"].values, bool)
-    eig = np.asarray(root["pseudo_inertia_min_eigenvalue"].values, float) \
-        if "pseudo_inertia_min_eigenvalue" in root.variables else np.full(ok.size, math.nan)
+    links = np.asarray(stored.link).reshape(-1) if stored.link is not None \
+        else np.arange(1, stored.link_consistent.size + 1)
+    ok = np.asarray(stored.link_consistent, bool)
+    eig = np.asarray(stored.pseudo_inertia_min_eigenvalue, float) \
+        if stored.pseudo_inertia_min_eigenvalue is not None else np.full(ok.size, math.nan)
     return plain_table(["link", f"smallest pseudo-inertia eigenvalue [{_M2}]", "consistent"],
                        [[str(links[k]), fmt(eig[k], 4, (1e-3, 1e4)), "yes" if ok[k] else "no"]
                         for k in range(ok.size)], colour_cols=[2])
 
 
-def _noise_table(root):
-    if "noise_std" not in root.variables:
+def _noise_table(stored):
+    if stored.noise_std is None:
         return None
-    noise = np.asarray(root["noise_std"].values, float)
-    joints = _joints(root, root, noise.size)
+    noise = np.asarray(stored.noise_std, float)
+    joints = _strings(stored.joint) if stored.joint is not None and \
+        stored.joint.size == noise.size else [str(j + 1) for j in range(noise.size)]
     return plain_table(["joint", "name", "residual standard deviation [N m]"],
                        [[str(j + 1), joints[j], fmt(noise[j], 4)] for j in range(noise.size)],
                        align=["right", "left", "right"])
 
 
-def _provenance(root, groups, created):
+def _provenance(stored, created):
+    version = stored.gd_analyze_version
     rows = [["report created", created],
-            ["gd-analyze version", clean(str(root.attrs.get("gd_analyze_version", "\u2014")))]]
-    for key, label in (("robot", "robot"), ("robot_source", "robot file"),
-                       ("robot_sha256", "robot file SHA-256"),
-                       ("standard_method", "standard parameters"),
-                       ("coulomb_model", "Coulomb friction model")):
-        if key in root.attrs:
-            rows.append([label, clean(str(root.attrs[key]))])
-    inputs = _json(root, "inputs", {})
+            ["gd-analyze version", clean(str("\u2014" if version is None else version))]]
+    for value, label in ((stored.robot, "robot"), (stored.robot_source, "robot file"),
+                         (stored.robot_sha256, "robot file SHA-256"),
+                         (stored.standard_method, "standard parameters"),
+                         (stored.coulomb_model, "Coulomb friction model")):
+        if value is not None:
+            rows.append([label, clean(str(value))])
+    inputs = _json(stored.inputs, {})
     if isinstance(inputs, dict):
         rows += [[f"input {clean(str(k))}", clean(str(v))] for k, v in inputs.items()]
-    for name, ds in groups.items():
-        if "sha256" in ds.attrs and not (isinstance(inputs, dict)
-                                         and ds.attrs.get("file") in inputs):
-            rows.append([f"input {_file_of(name, ds)}", clean(str(ds.attrs["sha256"]))])
-    settings = _json(root, "settings", {})
+    for rec in stored.recordings.values():
+        if rec.sha256 is not None and not (isinstance(inputs, dict) and rec.file
+                                           in inputs):
+            rows.append([f"input {_file_of(rec)}", clean(str(rec.sha256))])
+    settings = _json(stored.settings, {})
     if isinstance(settings, dict):
         rows += [[f"setting {clean(str(k))}",
                   clean(v if isinstance(v, str) else json.dumps(v, default=str))]
@@ -245,18 +228,20 @@ def _sentences(values):
     return out
 
 
-def identify_context(root: xr.Dataset, groups: dict[str, xr.Dataset]) -> dict[str, Any]:
+def identify_context(root: StoredIdentification | xr.Dataset,
+                     groups: dict[str, xr.Dataset] | None = None) -> dict[str, Any]:
     """The report's words and tables.
 
     Parameters
     ----------
-    root : xarray.Dataset
-        The root group: ``value``, ``std`` (parameter) and optionally ``prior``,
+    root : StoredIdentification or xarray.Dataset
+        The stored identification
+        (:class:`gd_analyze.io.stored_identification.StoredIdentification`), or its root group: ``value``, ``std`` (parameter) and optionally ``prior``,
         ``identifiable``, ``kind``, ``noise_std``, ``link_consistent``,
         ``pseudo_inertia_min_eigenvalue``; attributes ``condition_number``, ``rank``,
         ``unidentifiable``, ``preprocessing``, ``settings``, ``inputs`` (JSON), ``robot``...
-    groups : dict of str to xarray.Dataset
-        One per recording: ``t``, ``tau_measured``, ``tau_predicted`` (t, joint), per joint
+    groups : dict of str to xarray.Dataset, optional
+        With a root group, one per recording: ``t``, ``tau_measured``, ``tau_predicted`` (t, joint), per joint
         ``rms_error``, ``relative_error`` (and the robot file's and simplified model's), the
         role and ``total_relative_error``.
 
@@ -266,47 +251,49 @@ def identify_context(root: xr.Dataset, groups: dict[str, xr.Dataset]) -> dict[st
         ``title``, ``lead``, ``summary``, ``notes`` and the tables, each a dict of
         :func:`plain_table`.
     """
-    robot = clean(str(root.attrs.get("robot", "the robot")))
-    cond = _float(root, "condition_number")
-    validate = [k for k, ds in groups.items() if role_of(ds) == "validate"]
-    shown = shown_recordings(groups)
-    parameters, n_unident, names = _parameter_table(root)
+    stored = StoredIdentification.of(root, groups)
+    recordings = stored.recordings
+    robot = clean(str("the robot" if stored.robot is None else stored.robot))
+    cond = stored.condition_number
+    validate = [k for k, rec in recordings.items() if role_of(rec) == "validate"]
+    shown = shown_recordings(recordings)
+    parameters, n_unident, names = _parameter_table(stored)
     lead = []
     for name in validate:
-        ds = groups[name]
-        text = (f"On {_file_of(name, ds)}, not used for fitting, the identified model's total "
+        rec = recordings[name]
+        text = (f"On {_file_of(rec)}, not used for fitting, the identified model's total "
                 f"relative torque error ||E||_F / ||T||_F is "
-                f"{pct(_total(ds, 'tau_predicted', 'total_relative_error'))}")
-        prior = _total(ds, "tau_prior", "prior_total_relative_error")
+                f"{pct(rec.total_relative_error)}")
+        prior = rec.prior_total_relative_error
         if math.isfinite(prior):
             text += f"; the robot file's as shipped, {pct(prior)}"
-        simple = _total(ds, "tau_simplified", "simplified_total_relative_error")
+        simple = rec.simplified_total_relative_error
         if math.isfinite(simple):
             text += f"; the simplified model's, {pct(simple)}"
         lead.append(text + ".")
     if not validate:
         lead.append("No recording was held out for validation: every error below is on the "
                     "recordings the model was fitted to, not a prediction.")
-    unident = _json(root, "unidentifiable", [])
+    unident = _json(stored.unidentifiable, [])
     which = (f": {', '.join(clean(str(u)) for u in unident)}" if isinstance(unident, list)
              and unident else "")
     summary = (f"{len(names)} parameters ("
                + (f"{n_unident} not identifiable on the data{which}; they keep the robot "
                   "file's value" if n_unident else "all identifiable on the data")
                + "), identified from "
-               f"{sum(role_of(ds) == 'train' for ds in groups.values())} recording(s); the "
+               f"{sum(role_of(rec) == 'train' for rec in recordings.values())} recording(s); the "
                f"condition number of the column-scaled regressor is {fmt(cond, 4)}.")
-    strides = {name: stride(int(groups[name]["t"].size)) for name in shown}
-    drawn = "; ".join(f"{_file_of(name, groups[name])}: one sample in {k}"
+    strides = {name: stride(int(recordings[name].t.size)) for name in shown}
+    drawn = "; ".join(f"{_file_of(recordings[name])}: one sample in {k}"
                       for name, k in strides.items() if k > 1)
     return {
         "title": f"Identification of {robot}",
         "lead": " ".join(lead),
         "summary": summary,
-        "recordings": _recordings_table(groups),
-        "joint_tables": {name: _joint_table(root, ds) for name, ds in groups.items()},
-        "files": {name: _file_of(name, ds) for name, ds in groups.items()},
-        "roles": {name: role_of(ds) for name, ds in groups.items()},
+        "recordings": _recordings_table(recordings),
+        "joint_tables": {name: _joint_table(stored, rec) for name, rec in recordings.items()},
+        "files": {name: _file_of(rec) for name, rec in recordings.items()},
+        "roles": {name: role_of(rec) for name, rec in recordings.items()},
         "shown": shown,
         "shown_note": ("The figures show the validation recordings." if validate else
                        "No recording was held out: the figures show the training "
@@ -319,13 +306,14 @@ def identify_context(root: xr.Dataset, groups: dict[str, xr.Dataset]) -> dict[st
                            "those of a revolute joint; a prismatic joint's drive parameters "
                            "are in kg, N s/m and N. Base parameters regroup standard ones "
                            "(Gautier 1990)."),
-        "links": _links_table(root),
-        "noise": _noise_table(root),
-        "preprocessing": _sentences(_json(root, "preprocessing", [])),
-        "notes": {name: _sentences(json.loads(ds.attrs["notes"]))
-                  if _is_json_list(ds.attrs.get("notes")) else [] for name, ds in groups.items()},
-        "provenance": _provenance(root, groups, utc_now().strftime("%Y-%m-%d %H:%M:%S UTC")),
-        "version": clean(str(root.attrs.get("gd_analyze_version", ""))),
+        "links": _links_table(stored),
+        "noise": _noise_table(stored),
+        "preprocessing": _sentences(_json(stored.preprocessing, [])),
+        "notes": {name: _sentences(json.loads(rec.notes))
+                  if _is_json_list(rec.notes) else [] for name, rec in recordings.items()},
+        "provenance": _provenance(stored, utc_now().strftime("%Y-%m-%d %H:%M:%S UTC")),
+        "version": clean(str("" if stored.gd_analyze_version is None
+                             else stored.gd_analyze_version)),
         "keywords": f"identification; robot {robot}; condition number {fmt(cond, 4)}",
     }
 

@@ -37,10 +37,8 @@ from typing import TYPE_CHECKING
 import numpy as np
 
 from ..files import atomic_path
-from ..io.names import Var
 from ..io.results_view import Results
 from ..io.schema import open_results
-from ..io.sweep_datasets import payload_part
 from .budget_figures import budget_makers
 from .common import CLASS_COLOURS as _CLASS_COLOURS
 from .common import check_formats, prismatic_joints, render_template
@@ -61,7 +59,7 @@ from .main_figures import (
 from .main_figures import RC as FIG_RC
 from .main_outline import main_outline
 from .plot_data import ENVELOPE_COLUMNS, ENVELOPE_THRESHOLD
-from .simplified_section import error_figure, has_simplified
+from .simplified_section import error_figure
 from .table_export import write_tables
 from .ticks import decade_formatter, ticks_once
 from .ticks import formatter as tick_formatter
@@ -278,10 +276,11 @@ def figure_makers(ds: Results | xr.Dataset, data: PlotData | None = None,
     for k in range(len(element_parts(d_labels))):
         makers["D" if k == 0 else f"D_{k + 1}"] = functools.partial(
             fig_D, data, dom, zero, s, e, prismatic, armature=arm, part=k)
-    makers.update(budget_makers(ds, data))
-    if Var.PAYLOAD_SHARE_TRAN in ds.variables:
-        makers["payload"] = lambda: _fig_payload(ds)
-        makers["payload_column"] = lambda: _fig_payload(ds, COLUMN_WIDTH)
+    makers.update(budget_makers(results, data))
+    payload = results.payload
+    if payload is not None:
+        makers["payload"] = lambda: payload_figure(payload)
+        makers["payload_column"] = lambda: payload_figure(payload, COLUMN_WIDTH)
     if results.formulations is not None:
         counted = results.formulations
         makers["formulations"] = lambda: _fig_formulations(counted)
@@ -299,15 +298,12 @@ def _made(make):
 
 
 def _fig_error(results, data, width=PAGE_WIDTH):
-    if has_simplified(results.dataset):         # tau_s - tau and its bound
-        return error_figure(results.dataset, width, data=data)
+    if results.simplified is not None:          # tau_s - tau and its bound
+        return error_figure(results.simplified, width, data=data)
     errors = results.torque_error
     return fig_torque(data, errors.column("peak"), errors.column("relative_peak"),
                       prismatic_joints(results))
 
-
-def _fig_payload(ds, width=PAGE_WIDTH):
-    return payload_figure(payload_part(ds), width)
 
 
 _FORMULATION_STYLE = {"lagrange-euler": ("L-E", "#0072B2", "o", "-"),

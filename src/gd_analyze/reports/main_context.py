@@ -15,9 +15,7 @@ import numpy as np
 from .._version import VERSION as __version__
 from ..core.selection.ranking import is_chapter_puma, joint_motion_units
 from ..io.datasets import stored_guarantee, stored_region
-from ..io.names import Attr, Var
 from ..io.results_view import Results
-from ..io.sweep_datasets import payload_part
 from .budget_figures import budget_caption
 from .common import CLASS_COLOURS as _CLASS_COLOURS
 from .common import (
@@ -37,7 +35,6 @@ from .common import fmt as _fmt
 from .common import fmt_columns as _columns
 from .common import pct_columns as _pct_columns
 from .common import share as _share
-from .common import strings as _strings
 from .common import table as _table
 from .main_chapter import chapter_conclusions
 from .main_parts import (
@@ -64,7 +61,7 @@ from .markup import element as _el
 from .markup import scope as _scope
 from .markup import tau
 from .plot_data import ENVELOPE_COLUMNS, ENVELOPE_THRESHOLD
-from .simplified_section import ROUND_OFF, has_simplified, simplified_caption, simplified_context
+from .simplified_section import ROUND_OFF, simplified_caption, simplified_context
 
 if TYPE_CHECKING:
     import numpy.typing as npt
@@ -176,7 +173,7 @@ def _model_cost(results):
 def _gravity_fact(results, form):
     """What the deployed model does with the gravity loading c, read from what it dropped: a
     clause for the summary, or None when the dataset does not say."""
-    ds, bp = results.dataset, results.base_parameters
+    bp = results.base_parameters
     if form == "recursive" and bp is not None:
         if "gravity" not in bp.parts:
             return None
@@ -186,13 +183,13 @@ def _gravity_fact(results, form):
         names = [nm for nm, d, r in zip(bp.names, bp.dropped[:, g], rel)
                  if d and r >= ROUND_OFF]
         return gravity_clause("budget", gravity_dropped=names)
-    if Var.SIMPLIFIED_BOUND_GRAVITY not in ds:
+    simplified = results.simplified
+    if simplified is None or simplified.bound_gravity is None:
         return None
-    bound = ds[Var.SIMPLIFIED_BOUND_GRAVITY].values
-    rule = str(ds.attrs.get(Attr.SIMPLIFIED_RULE, ""))
+    bound, rule = simplified.bound_gravity, simplified.rule
     if not np.all(np.isfinite(bound)) and rule != "chapter":    # no budget, rule unknown
         return None
-    return gravity_clause(rule, c_bound=bound, units=torque_units(ds))
+    return gravity_clause(rule, c_bound=bound, units=torque_units(results))
 
 
 def report_context(results: Results | xr.Dataset) -> dict[str, Any]:
@@ -215,12 +212,12 @@ def report_context(results: Results | xr.Dataset) -> dict[str, Any]:
         If a variable the report needs is missing.
     """
     results = Results.of(results)
-    ds = results.dataset
     ctx = _report_context_base(results)
-    ctx["simplified_model"] = simplified_context(ds) if has_simplified(ds) else None
-    if ctx["simplified_model"]:
-        ctx["captions"] = {**ctx["captions"], "torque": simplified_caption(ds),
-                           "budget": budget_caption(ds)}
+    simplified = results.simplified
+    ctx["simplified_model"] = None if simplified is None else simplified_context(simplified)
+    if simplified is not None and ctx["simplified_model"]:
+        ctx["captions"] = {**ctx["captions"], "torque": simplified_caption(simplified),
+                           "budget": budget_caption(simplified)}
     return ctx
 
 
@@ -364,7 +361,7 @@ def _report_context_base(results):
     prov = provenance_rows(results, now.isoformat(), __version__, verification)
 
     formulations = _formulations_context(results.formulations)
-    payload = _payload_context(ds)
+    payload = _payload_context(results)
     title = f"G-D dominance analysis: {robot_name} along {_text(results.trajectory.input_file)}"
     summary = conclusion(labels, dominance, zero, choice, rel_peak,
                          errors.column("peak"), errors.column("peak_tau"), _model_cost(results),
@@ -454,19 +451,19 @@ def _verification(check, N):
     return verdict, row
 
 
-def _payload_context(ds):
-    if Var.PAYLOAD_SHARE_TRAN not in ds.variables:
+def _payload_context(results):
+    part = results.payload
+    if part is None:
         return {"applicable": False, "table": None, "note": ""}
-    part = payload_part(ds)
-    masses = [float(m) for m in part["payload"].values]
-    labels = _strings(part["element"].values)
-    dom = np.array(_strings(part["dominance"].values.ravel())).reshape(part["dominance"].shape)
+    masses = [float(m) for m in part.masses]
+    labels = list(part.elements)
+    dom = part.dominance
     rows = [[lab] + [dom[k, j] for k in range(len(masses))]
             for j, lab in enumerate(labels) if len(set(dom[:, j])) > 1]
     table = _table(["element"] + [f"{m:g} kg" for m in masses], rows,
                    colour_cols=list(range(1, len(masses) + 1)))
     note = (f"The ranking was repeated with a rigid load of {masses[0]:g} to {masses[-1]:g} kg "
-            f"fixed to the last link (centre of mass {_attr(ds, 'payload_com')} m in link "
+            f"fixed to the last link (centre of mass {_text(results.provenance.payload_com)} m in link "
             f"frame n). {len(rows)} of {len(labels)} elements change class with the load; "
             "they are listed below. The load is merged into link n, so its parallel-axis "
             "terms about the combined centre of mass count as rotational.")

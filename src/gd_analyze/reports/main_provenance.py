@@ -14,8 +14,7 @@ from typing import TYPE_CHECKING
 
 import numpy as np
 
-from ..io.names import Attr
-from .common import attr as _attr
+from ..io.stored_provenance import RunRecord
 from .common import attr_text as _text
 from .common import fmt as _fmt
 from .markup import scope as scope_markup
@@ -182,14 +181,15 @@ def provenance_rows(results: Results, created: str, version: str,
 
 # Rows shared with the sweep and control reports' provenance (each setting once, in words).
 
-def software_row(ds: xr.Dataset, version: str) -> tuple[str, str]:
+def software_row(ds: RunRecord | xr.Dataset, version: str) -> tuple[str, str]:
     """("software", ...): the version that computed the stored results and the one that
     writes the report, once when they agree (as the main report's provenance says it).
 
     Parameters
     ----------
-    ds : xarray.Dataset
-        A stored results, sweep or control dataset (attribute ``gd_analyze_version``).
+    ds : RunRecord or xarray.Dataset
+        The run's record (:class:`gd_analyze.io.stored_provenance.RunRecord`) of a stored
+        results, sweep or control dataset, or the dataset (attribute ``gd_analyze_version``).
     version : str
         The version of gd-analyze that writes the report.
 
@@ -197,18 +197,19 @@ def software_row(ds: xr.Dataset, version: str) -> tuple[str, str]:
     -------
     tuple of (str, str)
     """
-    computed = _attr(ds, Attr.GD_ANALYZE_VERSION)
+    computed = _text(_record(ds).gd_analyze_version)
     return ("software", f"gd-analyze {version}" if computed == version else
             f"computed by gd-analyze {computed}, report by gd-analyze {version}")
 
 
-def run_row(ds: xr.Dataset, label: str = "computed") -> tuple[str, str]:
+def run_row(ds: RunRecord | xr.Dataset, label: str = "computed") -> tuple[str, str]:
     """(label, when): the time the stored results were computed, from the CF ``history``
     attribute without its repeated software version.
 
     Parameters
     ----------
-    ds : xarray.Dataset
+    ds : RunRecord or xarray.Dataset
+        The run's record, or the dataset.
     label : str, optional
         The row's item.
 
@@ -216,32 +217,40 @@ def run_row(ds: xr.Dataset, label: str = "computed") -> tuple[str, str]:
     -------
     tuple of (str, str)
     """
-    return (label, _attr(ds, Attr.HISTORY).split(" created by ")[0])
+    return (label, _text(_record(ds).history).split(" created by ")[0])
 
 
-def gravity_row(ds: xr.Dataset) -> tuple[str, str]:
+def gravity_row(ds: RunRecord | xr.Dataset) -> tuple[str, str]:
     """("gravity and mounting", ...): gravity in the base frame and how the arm is mounted,
     said once from ``gravity`` and the ``mounting_*`` attributes (the sweep stored both, the
     same gravity twice).
 
     Parameters
     ----------
-    ds : xarray.Dataset
+    ds : RunRecord or xarray.Dataset
+        The run's record, or the dataset.
 
     Returns
     -------
     tuple of (str, str)
     """
-    def vector(key):
-        return ", ".join(f"{float(v):g}" for v in np.atleast_1d(ds.attrs[key]))
+    r = _record(ds)
 
-    key = "mounting_gravity_base" if "mounting_gravity_base" in ds.attrs else "gravity"
-    text = f"{vector(key)} m/s\u00b2 in the base frame" if key in ds.attrs else "not recorded"
-    if "mounting_gravity_world" in ds.attrs:
-        text += f" (given as {vector('mounting_gravity_world')} m/s\u00b2 in the world)"
-    rpy = np.atleast_1d(ds.attrs.get(Attr.MOUNTING_BASE_RPY_DEG, [0.0]))
+    def vector(value):
+        return ", ".join(f"{float(v):g}" for v in np.atleast_1d(value))
+
+    base = r.mounting_gravity_base if r.mounting_gravity_base is not None else r.gravity
+    text = f"{vector(base)} m/s\u00b2 in the base frame" if base is not None else "not recorded"
+    if r.mounting_gravity_world is not None:
+        text += f" (given as {vector(r.mounting_gravity_world)} m/s\u00b2 in the world)"
+    rpy = np.atleast_1d([0.0] if r.mounting_base_rpy_deg is None else r.mounting_base_rpy_deg)
     if np.any(np.asarray(rpy, float) != 0):
-        text += f"; base turned by roll, pitch, yaw {vector('mounting_base_rpy_deg')} deg"
-    elif "mounting_base_rpy_deg" in ds.attrs:
+        text += f"; base turned by roll, pitch, yaw {vector(r.mounting_base_rpy_deg)} deg"
+    elif r.mounting_base_rpy_deg is not None:
         text += "; base as in the robot file"
     return ("gravity and mounting", text)
+
+
+def _record(ds):
+    """The run's record, or that of a dataset."""
+    return ds if isinstance(ds, RunRecord) else RunRecord.from_attrs(ds.attrs)

@@ -13,20 +13,15 @@ from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
-from ..core.selection.ranking import ROUND_OFF, ROUND_OFF_CLAUSE, arm_scales, is_round_off
-from ..io.datasets import stored_guarantee, stored_region
-from ..io.names import Attr, Var
-from .common import (
-    count,
-    fmt,
-    pct,
-    pct_column,
-    prismatic_joints,
-    strings,
-    table,
-    torque_units,
-    units_said_once,
+from ..core.selection.ranking import (
+    ROUND_OFF,
+    ROUND_OFF_CLAUSE,
+    arm_scales,
+    is_round_off,
+    joint_units_text,
 )
+from ..io.stored_simplified import InertiaCheck, StoredSimplified
+from .common import count, fmt, pct, pct_column, table
 from .markup import element as _el
 from .markup import powers
 from .markup import scope as scope_markup
@@ -35,10 +30,12 @@ from .plot_data import PlotData
 from .ticks import MINUS, label_axes, set_ticks
 
 if TYPE_CHECKING:
+    from collections.abc import Mapping
+
     import xarray as xr
     from matplotlib.figure import Figure
 
-__all__ = ["has_simplified", "simplified_context", "error_figure", "SIMPLIFIED_CAPTION", "ROUND_OFF",
+__all__ = ["simplified_context", "error_figure", "SIMPLIFIED_CAPTION", "ROUND_OFF",
            "simplified_caption", "region_pruning", "guarantee_kind", "BOUND_WHERE", "has_drives", "REGION_SCALE"]
 
 #: Caption of the torque-error figure; ``{units}`` as :func:`simplified_caption` fills it.
@@ -48,12 +45,14 @@ SIMPLIFIED_CAPTION = ("Torque error of the simplified model, \u03c4\u209b \u2212
                       "drops nothing (bound 0) get no panel: the note below names them; their "
                       "difference is floating-point round-off.")
 
-def simplified_caption(ds: xr.Dataset) -> str:
+def simplified_caption(ds: StoredSimplified | xr.Dataset) -> str:
     """The caption of :func:`error_figure`, with the units of each joint's torque.
 
     Parameters
     ----------
-    ds : xarray.Dataset
+    ds : StoredSimplified or xarray.Dataset
+        The simplified model's record (:class:`gd_analyze.io.stored_simplified.StoredSimplified`),
+        or a results dataset holding it.
 
     Returns
     -------
@@ -61,8 +60,9 @@ def simplified_caption(ds: xr.Dataset) -> str:
         :data:`SIMPLIFIED_CAPTION` in N m, or N m and N for an arm with a prismatic joint,
         saying where the bound holds from the stored guarantee's kind (:data:`BOUND_WHERE`).
     """
-    where = BOUND_WHERE["region" if guarantee_kind(ds) == "region" else "trajectory"]
-    return SIMPLIFIED_CAPTION.format(units=units_said_once(ds, "tau"), where=where)
+    s = StoredSimplified.of(ds)
+    where = BOUND_WHERE["region" if s.guarantee_kind == "region" else "trajectory"]
+    return SIMPLIFIED_CAPTION.format(units=joint_units_text(s.tau_units), where=where)
 
 
 #: Where the figure's bound holds, by the kind of the model's guarantee.
@@ -70,20 +70,6 @@ BOUND_WHERE = {"region": "proved at every state of the region (positions, veloci
                          "accelerations within the model's limits), so on this trajectory "
                          "wherever it lies in the region",
                "trajectory": "guaranteed on this trajectory only"}
-
-
-def has_simplified(ds: xr.Dataset) -> bool:
-    """Whether the dataset holds the simplified model's variables (error budget rule).
-
-    Parameters
-    ----------
-    ds : xarray.Dataset
-
-    Returns
-    -------
-    bool
-    """
-    return Var.SIMPLIFIED_BOUND in ds.variables
 
 
 _S_I = "s" + _sub("i")
@@ -103,13 +89,14 @@ def _num(v, digits=4):
     return "\u2014" if not np.isfinite(v) else fmt(v, digits)
 
 
-def inertia_check_text(attrs: dict[str, Any]) -> str:
+def inertia_check_text(check: InertiaCheck | Mapping[str, Any] | None) -> str:
     """The sentence on the proof that D_s is positive definite, from the stored figures.
 
     Parameters
     ----------
-    attrs : dict
-        A results dataset's attributes (``simplified_inertia_check_*``, written by
+    check : InertiaCheck, Mapping or None
+        The stored check (:class:`gd_analyze.io.stored_simplified.InertiaCheck`), or a results
+        dataset's attributes holding it (``simplified_inertia_check_*``, written by
         :func:`gd_analyze.workflows.simplified_dataset.inertia_check_attrs`).
 
     Returns
@@ -122,38 +109,39 @@ def inertia_check_text(attrs: dict[str, Any]) -> str:
     >>> inertia_check_text({})
     ''
     """
-    key = "simplified_inertia_check_"
-    if key + "proved" not in attrs:
+    if check is not None and not isinstance(check, InertiaCheck):
+        check = InertiaCheck.from_attrs(check)
+    if check is None:
         return ""
     d_s = "D" + _sub("s")
-    where = ("over the joint-limit region" if str(attrs[key + "where"]) == "region" else
+    where = ("over the joint-limit region" if check.where == "region" else
              "over the trajectory's bounding box of joint positions")
-    restored = str(attrs.get(key + "restored", ""))
-    if int(attrs[key + "proved"]):
+    if check.proved:
         text = (f" The inertia matrix of the model, {d_s}, is proved positive definite {where} "
                 f"(interval arithmetic rounded outward): its smallest eigenvalue is at least "
-                f"{fmt(float(attrs[key + 'lower_bound']), 3)}, "
-                f"{fmt(float(attrs[key + 'ratio']), 3)} of the least smallest eigenvalue of D "
+                f"{fmt(check.lower_bound, 3)}, "
+                f"{fmt(check.ratio, 3)} of the least smallest eigenvalue of D "
                 "over the same positions.")
-        if restored:
+        if check.restored:
             text += (f" To prove it, these base parameters were kept with all parts: "
-                     f"{restored}.")
+                     f"{check.restored}.")
         return text
-    sampled = float(attrs.get(key + "sampled_min_eigenvalue", float("nan")))
+    sampled = check.sampled_min_eigenvalue
     return (f" The inertia matrix of the model, {d_s}, is not proved positive definite: "
-            f"{attrs.get(key + 'statement', '')}. Its smallest eigenvalue at the "
-            f"{count(int(attrs[key + 'samples']))} sampled positions is {fmt(sampled, 3)}"
+            f"{check.statement}. Its smallest eigenvalue at the "
+            f"{count(check.samples)} sampled positions is {fmt(sampled, 3)}"
             + (" (sampled, not proved between the samples)." if sampled > 0 else
                ": forward dynamics with it is not safe there."))
 
 
-def simplified_context(ds: xr.Dataset) -> dict[str, Any]:
+def simplified_context(ds: StoredSimplified | xr.Dataset) -> dict[str, Any]:
     """Tables and text of the "Simplified model" section.
 
     Parameters
     ----------
-    ds : xarray.Dataset
-        A results dataset with the ``simplified_*``, ``cost_*`` and ``ladder_*`` variables.
+    ds : StoredSimplified or xarray.Dataset
+        The simplified model's record (:class:`gd_analyze.io.stored_simplified.StoredSimplified`),
+        or a results dataset with the ``simplified_*``, ``cost_*`` and ``ladder_*`` variables.
 
     Returns
     -------
@@ -163,16 +151,16 @@ def simplified_context(ds: xr.Dataset) -> dict[str, Any]:
         (the emitted C symbols' prefix, setting ``c_prefix``; "" if not stored), ``rule``,
         ``tolerance``.
     """
-    a = ds.attrs
-    n = ds.sizes["joint"]
-    rule, eps = str(a.get(Attr.SIMPLIFIED_RULE, "")), float(a.get(Attr.SIMPLIFIED_TOLERANCE, np.nan))
-    floor = float(a.get(Attr.SIMPLIFIED_TORQUE_FLOOR, 0.0))
-    files = [f.strip() for f in str(a.get(Attr.SIMPLIFIED_FILES, "")).split(",") if f.strip()]
-    choice = strings(ds[Var.CHOICE].values) if Var.CHOICE in ds.variables else []
+    s = StoredSimplified.of(ds)
+    n = s.n
+    rule, eps = s.rule, s.tolerance
+    floor = s.torque_floor
+    files = list(s.files)
+    choice = s.choice
     dropped = sum({"both": 0, "tran": 1, "rot": 1, "none": 2}.get(c, 0) for c in choice)
-    form = str(a.get(Attr.SIMPLIFIED_FORM, "explicit"))
+    form = s.form
     if form == "recursive":
-        text = _recursive_text(ds, eps, floor)
+        text = _recursive_text(s, eps, floor)
     elif rule == "budget":
         text = (f"Rule: error budget, \u03b5\u00a0=\u00a0{eps:g}"
                 + (f", torque floor {floor:g} N m" if floor else "")
@@ -183,34 +171,34 @@ def simplified_context(ds: xr.Dataset) -> dict[str, Any]:
                 f"for every joint, the dropped peaks sum to at most {_EPS_S} ({_S_I} = peak "
                 f"|{_TAU_I}|, raised to the floor). By the triangle "
                 "inequality the error on this trajectory is within that sum: "
-                + _scope(ds))
+                + _scope(s))
     else:
         text = ("Rule: the chapter's share-based classes (Sec. 3.4.1): each element keeps its "
                 "dominant part, no term is pruned; there is no error bound.")
     if form != "recursive":
-        text += (f" Kept: {count(a.get('simplified_terms_kept', 0))} terms of the explicit "
+        text += (f" Kept: {count(s.terms_kept)} terms of the explicit "
                  f"model; {dropped} of {2 * len(choice)} element parts dropped as whole parts.")
-    text += (f" The emitted code costs {count(a.get('simplified_multiplications'))} "
-             f"multiplications and {count(a.get('simplified_additions'))} additions per set "
-             f"point ({count(a.get('simplified_sin'))} sin, {count(a.get('simplified_cos'))} "
+    text += (f" The emitted code costs {count(s.multiplications)} "
+             f"multiplications and {count(s.additions)} additions per set "
+             f"point ({count(s.sin)} sin, {count(s.cos)} "
              "cos).")
-    text += inertia_check_text(a)
-    other = str(a.get(Attr.OTHER_RULE, ""))
-    if other and Var.OTHER_RULE_ERROR_RELATIVE_PEAK in ds.variables:
-        rel = np.asarray(ds[Var.OTHER_RULE_ERROR_RELATIVE_PEAK].values, float)
+    text += inertia_check_text(s.inertia_check)
+    other = s.other_rule
+    if other and s.other_rule_error_relative_peak is not None:
+        rel = np.asarray(s.other_rule_error_relative_peak, float)
         rel = rel[np.isfinite(rel)]     # a joint without torque has no relative error
         worst = (f"worst error {pct(rel.max())} of peak |\u03c4|" if rel.size else
                  "no relative error (no joint has torque on this trajectory)")
         text += (f" Side by side, the {other} rule's model costs "
-                 f"{count(a.get('other_rule_multiplications'))} multiplications and "
-                 f"{count(a.get('other_rule_additions'))} additions, {worst}."
-                 + _dearer_than_full(ds, other))
-    measured = ds[Var.TAU_ERROR_PEAK].values
+                 f"{count(s.other_rule_multiplications)} multiplications and "
+                 f"{count(s.other_rule_additions)} additions, {worst}."
+                 + _dearer_than_full(s, other))
+    measured = np.asarray(s.tau_error_peak, float)
     parts = ("from D", "from h", "from c") if form != "recursive" else (
         "inertial (D)", "velocity (h)", "gravity (c)", "whole parameters")
-    whole = ds[Var.SIMPLIFIED_BOUND_WHOLE].values if Var.SIMPLIFIED_BOUND_WHOLE in ds else None
-    units = torque_units(ds)
-    scale = ds[Var.SIMPLIFIED_SCALE].values
+    whole = s.bound_whole
+    units = s.tau_units
+    scale = np.asarray(s.scale, float)
 
     arm = arm_scales(scale, units)
 
@@ -223,29 +211,29 @@ def simplified_context(ds: xr.Dataset) -> dict[str, Any]:
     measured_off = np.array([off(measured[i], i) for i in range(n)], bool)
     with np.errstate(divide="ignore", invalid="ignore"):
         ratio = pct_column(np.where(scale > 0, measured / scale, np.nan), measured_off)
+    parts_bound = [np.asarray(v, float) for v in (s.bound_inertia, s.bound_coriolis,
+                                                  s.bound_gravity)]
     bound = table(
         ["joint", "units", f"scale {_S_I}", "bound", *parts,
          "measured peak |\u03c4\u209b\u00a0\u2212\u00a0\u03c4|", f"measured / {_S_I}"],
         [[str(i + 1), units[i], _num(scale[i]),
-          num(ds[Var.SIMPLIFIED_BOUND].values[i], i),
-          num(ds[Var.SIMPLIFIED_BOUND_INERTIA].values[i], i),
-          num(ds[Var.SIMPLIFIED_BOUND_CORIOLIS].values[i], i),
-          num(ds[Var.SIMPLIFIED_BOUND_GRAVITY].values[i], i),
+          num(s.bound[i], i), *(num(part[i], i) for part in parts_bound),
           *([] if whole is None else [num(whole[i], i)]),
           "\u2261 0" if measured_off[i] or measured[i] == 0 else _num(measured[i]),
           ratio[i] if scale[i] > 0 else "\u2014"] for i in range(n)],
         align=["left", "left"] + ["right"] * (7 + (whole is not None)))
     costs = ladder = None
-    if Var.COST_TOTAL in ds.variables:
+    if s.costs is not None:
+        c = s.costs
         costs = table(["model", "multiplications", "additions", "total"],
                       [[str(lab).replace("EPS=", "\u03b5 = "), _int(m), _int(ad),
                         _int(tot)] for lab, m, ad, tot in
-                       zip(strings(ds[Var.COST_MODEL].values), ds[Var.COST_MULTIPLICATIONS].values,
-                           ds[Var.COST_ADDITIONS].values, ds[Var.COST_TOTAL].values)],
+                       zip(c.models, c.multiplications, c.additions, c.total)],
                       align=["left", "right", "right", "right"], widths=[3, 1, 1, 1])
-    if Var.LADDER_OPERATIONS in ds.variables:
-        region = str(a.get(Attr.SIMPLIFIED_GUARANTEE_KIND, "")) == "region"
-        has_bound = Var.LADDER_WORST_BOUND in ds.variables
+    lad = s.ladder
+    if lad is not None:
+        region = s.guarantee_kind == "region"
+        has_bound = lad.worst_bound is not None
         ladder = table(["\u03b5", "operations", "sin + cos",
                         f"worst measured peak |\u03c4\u209b\u00a0\u2212\u00a0\u03c4| / {_S_I} on "
                         "this trajectory" + ("" if has_bound else " (guaranteed \u2264 \u03b5)")]
@@ -253,42 +241,39 @@ def simplified_context(ds: xr.Dataset) -> dict[str, Any]:
                            + ("proved over the joint-limit region" if region else
                               "on this trajectory") + " (\u2264 \u03b5)"] if has_bound else []),
                        [[f"{e:g}", _int(o), _int(tr), w, *b] for e, o, tr, w, *b in
-                        zip(ds[Var.LADDER_TOLERANCE].values, ds[Var.LADDER_OPERATIONS].values,
-                            ds[Var.LADDER_TRIG].values, pct_column(   # relative: own scale 1
-                                ds[Var.LADDER_WORST_ERROR].values,
-                                is_round_off(ds[Var.LADDER_WORST_ERROR].values, 1.0)),
-                            *([pct_column(ds[Var.LADDER_WORST_BOUND].values,
-                                          is_round_off(ds[Var.LADDER_WORST_BOUND].values, 1.0))]
-                              if has_bound else []))],
+                        zip(lad.tolerance, lad.operations, lad.trig,
+                            pct_column(lad.worst_error,   # relative: own scale 1
+                                       is_round_off(lad.worst_error, 1.0)),
+                            *([pct_column(lad.worst_bound, is_round_off(lad.worst_bound, 1.0))]
+                              if lad.worst_bound is not None else []))],
                        align=["right"] * (4 + has_bound))
-    skipped = str(ds.attrs.get(Attr.SIMPLIFIED_LADDER_SKIPPED, "")) if ladder is None else ""
-    region_rows, region_text = region_table(ds)
-    ladder_form = str(a.get(Attr.SIMPLIFIED_LADDER_FORM, "explicit"))
+    skipped = s.ladder_skipped if ladder is None else ""
+    region_rows, region_text = region_table(s)
+    ladder_form = s.ladder_form
     return {"text": text, "bound": bound, "costs": costs, "ladder": ladder, "files": files,
-            "prefix": str(a.get(Attr.C_PREFIX, "")),
+            "prefix": s.c_prefix,
             "region": region_rows, "region_text": region_text,
             "rule": rule, "tolerance": eps,
-            "form_note": str(a.get(Attr.SIMPLIFIED_FORM_NOTE, "")),
-            "screen_note": _screen_note(a),
+            "form_note": s.form_note,
+            "screen_note": _screen_note(s.region_screen),
             "ladder_heading": "5.5 Tolerance ladder" + (
                 f" of the {ladder_form} form" if ladder is not None else ""),
             "ladder_note": f"Tolerance ladder {skipped}." if skipped else ""}
 
 
-def _screen_note(attrs):
+def _screen_note(said):
     """The sampled pre-screen that skipped the region's certification, as a sentence, or ""."""
-    said = str(attrs.get(Attr.SIMPLIFIED_REGION_SCREEN, ""))
     return f"Region certification skipped: {said}." if said else ""
 
 
-def region_table(ds: xr.Dataset) -> tuple[dict[str, Any] | None, str]:
+def region_table(ds: StoredSimplified | xr.Dataset) -> tuple[dict[str, Any] | None, str]:
     """The region of the model's guarantee as a table, and whether it covers this trajectory.
 
     Parameters
     ----------
-    ds : xarray.Dataset
-        A results dataset with the ``region_*`` variables
-        (:func:`gd_analyze.io.datasets.region_fields`).
+    ds : StoredSimplified or xarray.Dataset
+        The simplified model's record, or a results dataset with it and the ``region_*``
+        variables (:func:`gd_analyze.io.datasets.region_fields`).
 
     Returns
     -------
@@ -303,10 +288,11 @@ def region_table(ds: xr.Dataset) -> tuple[dict[str, Any] | None, str]:
     """
     import math
 
-    r = stored_region(ds)
+    s = StoredSimplified.of(ds)
+    r = s.region
     if r is None:
         return None, ""
-    pris = [bool(p) for p in prismatic_joints(ds)]
+    pris = list(s.prismatic)
     rows = []
     for j in range(len(r["qd_max"])):
         conv = (lambda v: v) if pris[j] else math.degrees
@@ -320,25 +306,24 @@ def region_table(ds: xr.Dataset) -> tuple[dict[str, Any] | None, str]:
                  "qdd max"], rows, align=["left", "left", "left", "right", "right", "left"])
     lines = r["lines"]
     note = lines[-1].partition(" (")[2].partition(")")[0] if "(assumed" in lines[-1] else ""
-    text = (f"The region: {ds.attrs.get('region_source', 'the robot limits')}"
+    text = (f"The region: {s.region_source}"
             + (f"; acceleration limits {note}, not given by the robot" if note else "")
-            + (f"; clipped to the robot's limits: {ds.attrs['region_notes']}"
-               if ds.attrs.get(Attr.REGION_NOTES) else "") + ".")
+            + (f"; clipped to the robot's limits: {s.region_notes}"
+               if s.region_notes else "") + ".")
     if r["covered"] is True:
         text += " Every set point of this trajectory lies in the region."
     elif r["covered"] is False:
         text += (f" This trajectory leaves the region: {r['coverage']}. "
                  + ("The region's guarantee holds in the region, not on this trajectory: "
-                    "it does not cover it." if guarantee_kind(ds) == "region" else ""))
+                    "it does not cover it." if s.guarantee_kind == "region" else ""))
     return tab, powers(text)               # s^-1, deg/s^2 as superscripts
 
 
-def _recursive_text(ds, eps, floor):
+def _recursive_text(s, eps, floor):
     """The rule of a model of the recursive form, what it keeps and its guarantee."""
-    a = ds.attrs
-    b = ds.sizes.get("base_parameter", 0)
-    dropped = int(a.get(Attr.SIMPLIFIED_PAIRS_DROPPED, 0))
-    pairs = int(a.get(Attr.SIMPLIFIED_PAIRS, 3 * b))
+    b = s.base_parameters
+    dropped = s.pairs_dropped
+    pairs = s.pairs
     text = (f"Form: the customized recursive Newton-Euler model (Algorithm 3.1) on the arm's "
             f"{b} base inertial parameters (Khalil & Kleinfinger 1987; Gautier 1990), with the "
             "numeric parameters as constants, 0 and \u00b11 folded and common subexpressions "
@@ -348,38 +333,37 @@ def _recursive_text(ds, eps, floor):
     if dropped == 0:
         return text + (f"Rule: error budget, \u03b5\u00a0=\u00a0{eps:g}: no part is dropped, "
                        "the model is exact (its difference from the full torque is round-off)."
-                       + _scope(ds, exact=True))
+                       + _scope(s, exact=True))
     rule = (f"Rule: error budget, \u03b5\u00a0=\u00a0{eps:g}"
             + (f", torque floor {floor:g} N m" if floor else ""))
-    if guarantee_kind(ds) == "region":
-        return text + rule + ". " + region_pruning(pairs, dropped, drives=has_drives(ds)) \
-            + _scope(ds, exact=True)
+    if s.guarantee_kind == "region":
+        return text + rule + ". " + region_pruning(pairs, dropped, drives=s.has_drives) \
+            + _scope(s, exact=True)
     return text + (rule + f". Of the {pairs} (parameter, part) pairs that contribute on this "
                    f"trajectory, {dropped} are dropped (alone or with their whole parameter), "
                    "in order of "
                    "increasing peak contribution, while for every joint the dropped peaks sum "
                    f"to at most {_EPS_S} ({_S_I} = peak |{_TAU_I}|, raised to the "
                    "floor); by the triangle inequality the error on this trajectory is within "
-                   "that sum: " + _scope(ds))
+                   "that sum: " + _scope(s))
 
 
-def has_drives(ds: xr.Dataset) -> bool:
+def has_drives(ds: StoredSimplified | xr.Dataset) -> bool:
     """Whether the dataset's robot has drives (armature or friction), which the region's
     scale s_i leaves out.
 
     Parameters
     ----------
-    ds : xarray.Dataset
-        A results dataset; its drives are the variables ``D_arm``, ``viscous``, ``coulomb``
-        and ``torque_offset``.
+    ds : StoredSimplified or xarray.Dataset
+        The simplified model's record, or a results dataset holding it; its drives are the
+        variables ``D_arm``, ``viscous``, ``coulomb`` and ``torque_offset``.
 
     Returns
     -------
     bool
         True where any of them is nonzero.
     """
-    return any(k in ds.variables and np.any(np.asarray(ds[k].values, float) != 0)
-               for k in ("D_arm", "viscous", "coulomb", "torque_offset"))
+    return StoredSimplified.of(ds).has_drives
 
 
 #: What s_i is over the region, by whether the robot has drives: the region's scale is the
@@ -417,27 +401,27 @@ def region_pruning(pairs: int, dropped: int, bound: str = "the bound below", dri
             f"bound). The error at every state of the region is within that bound, {bound}.")
 
 
-def guarantee_kind(ds: xr.Dataset) -> str:
+def guarantee_kind(ds: StoredSimplified | xr.Dataset) -> str:
     """The stored guarantee's kind.
 
     Parameters
     ----------
-    ds : xarray.Dataset
+    ds : StoredSimplified or xarray.Dataset
+        The simplified model's record, or a results dataset holding it.
 
     Returns
     -------
     str
         ``"region"``, ``"trajectory"``, or ``"none"`` where the dataset stores none.
     """
-    g = stored_guarantee(ds)
-    return "none" if g is None else g["kind"]
+    return StoredSimplified.of(ds).guarantee_kind
 
 
-def _scope(ds, exact=False):
+def _scope(s, exact=False):
     """Where the bound holds: on this trajectory (the table's bound), and the model's
     guarantee as stored from the model built (:func:`gd_analyze.io.datasets.stored_guarantee`);
     an older dataset's sentence where none is stored."""
-    g = stored_guarantee(ds)
+    g = s.guarantee
     if g is None:
         return "" if exact else (f"the bound below is guaranteed {ROUND_OFF_CLAUSE}, on this "
                                  "trajectory only.")
@@ -446,20 +430,17 @@ def _scope(ds, exact=False):
                                      f"{ROUND_OFF_CLAUSE}. {said}")
 
 
-def _dearer_than_full(ds, other):
+def _dearer_than_full(s, other):
     """Why the other rule's explicit model costs more than the full one, from the stored
     counts (:func:`gd_analyze.workflows.simplified_dataset.coefficient_structure`), or ""."""
-    a = ds.attrs
-    keys = ("full_harmonics", "full_coefficients", "other_rule_harmonics",
-            "other_rule_coefficients")
-    if Var.COST_TOTAL not in ds.variables or not all(k in a for k in keys):
+    if s.costs is None or s.structure is None:
         return ""
-    costs = dict(zip(strings(ds[Var.COST_MODEL].values), ds[Var.COST_TOTAL].values))
-    full = costs.get("explicit, full")
-    mine = int(a.get(Attr.OTHER_RULE_MULTIPLICATIONS, -1)) + int(a.get(Attr.OTHER_RULE_ADDITIONS, -1))
+    full = s.costs.totals().get("explicit, full")
+    mine = sum(int(-1 if v is None else v)
+               for v in (s.other_rule_multiplications, s.other_rule_additions))
     if full is None or mine <= full:
         return ""
-    fh, fc, oh, oc = (int(a[k]) for k in keys)
+    fh, fc, oh, oc = s.structure
     return (f" It costs more than the full explicit model ({mine:,} against {int(full):,} "
             f"operations) although it keeps {oh:,} of the full model's {fh:,} harmonic terms: "
             "where an element keeps one part, its coefficients are that part's, not the sum "
@@ -482,13 +463,15 @@ def _round_off(diff, bound, scale, arm_scale=None):
                 and is_round_off(float(np.max(np.abs(diff))), scale, arm_scale=arm_scale))
 
 
-def error_figure(ds: xr.Dataset, width: float = 7.2, data: PlotData | None = None) -> Figure:
+def error_figure(ds: StoredSimplified | xr.Dataset, width: float = 7.2,
+                 data: PlotData | None = None) -> Figure:
     """Per-joint plots of tau_s - tau against time, with the guaranteed band +- bound.
 
     Parameters
     ----------
-    ds : xarray.Dataset
-        With ``t``, ``tau``, ``tau_simplified`` (N, n) [N m] and ``simplified_bound`` (n,).
+    ds : StoredSimplified or xarray.Dataset
+        The simplified model's record, or a results dataset with ``t``, ``tau``,
+        ``tau_simplified`` (N, n) [N m] and ``simplified_bound`` (n,).
     width : float, optional
         Figure width [in]; narrower than 5 in (a 3.5-in column) gives one panel a row, else
         two.
@@ -513,15 +496,16 @@ def error_figure(ds: xr.Dataset, width: float = 7.2, data: PlotData | None = Non
     from matplotlib.figure import Figure
 
 
-    n = ds.sizes["joint"]
-    units = torque_units(ds)
+    s = StoredSimplified.of(ds)
+    n = s.n
+    units = s.tau_units
     if data is not None and "tau_error" in data.series:
         t, diff = data.x, data.series["tau_error"]
     else:
-        t = ds[Var.T].values
-        diff = ds[Var.TAU_SIMPLIFIED].values - ds[Var.TAU].values
-    bound = ds[Var.SIMPLIFIED_BOUND].values
-    scale = ds[Var.SIMPLIFIED_SCALE].values if Var.SIMPLIFIED_SCALE in ds else ds[Var.TAU_PEAK].values
+        t = s.t
+        diff = s.torque_difference()
+    bound = s.bound
+    scale = np.asarray(s.scale if s.scale is not None else s.tau_peak, float)
     arm = arm_scales(scale, units)
     quiet = [i for i in range(n) if _round_off(diff[:, i], bound[i], scale[i], arm[i])]
     shown = [i for i in range(n) if i not in quiet]
@@ -553,7 +537,7 @@ def error_figure(ds: xr.Dataset, width: float = 7.2, data: PlotData | None = Non
     fig = Figure(figsize=(W, H))
     if data is not None and data.enveloped:     # the set points' range, not the columns'
         t = np.asarray(t, float)
-        t0, t1 = float(ds[Var.T][0]), float(ds[Var.T][-1])
+        t0, t1 = s.time_span()
     else:
         t0, t1 = (float(t[0]), float(t[-1])) if t.size else (0.0, 1.0)
     handles = None

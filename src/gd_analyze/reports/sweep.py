@@ -35,6 +35,7 @@ from typing import TYPE_CHECKING
 from ..core.selection.ranking import ROUND_OFF
 from ..files import atomic_path
 from ..io.schema import open_sweep
+from ..io.sweep_view import PayloadSweep, StoredSweep
 from . import markup
 from .common import CLASS_COLOURS as _CLASS_COLOURS
 from .common import SUPTITLE_RC as _RC
@@ -95,9 +96,10 @@ def render_sweep_html(ds: xr.Dataset, payload: xr.Dataset | None = None,
     -----
     Source: Sec. 3.4.1 and Figs. 3.10-3.11 of Fu, Gonzalez & Lee (1987).
     """
-    ctx = _context(ds, payload)
+    stored, part = _views(ds, payload)
+    ctx = _context(stored, part)
     if figures is None:
-        figures = make_sweep_figures(ds, payload)
+        figures = make_sweep_figures(stored, part)
     return _html(ctx, {k: (figure_svg(f, _RC), None, None) for k, f in figures.items()})
 
 
@@ -202,9 +204,10 @@ def render_sweep_pdf(ds: xr.Dataset, path: str | os.PathLike[str],
     OSError
         If the file cannot be written.
     """
-    ctx = _context(ds, payload)
+    stored, part = _views(ds, payload)
+    ctx = _context(stored, part)
     if figures is None:
-        figures = make_sweep_figures(ds, payload)
+        figures = make_sweep_figures(stored, part)
     return _pdf(ctx, draw_figures(figures, _RC), path, paper)
 
 
@@ -281,12 +284,11 @@ def write_sweep_report(sweep_path: str | os.PathLike[str], outdir: str | os.Path
     formats = check_formats(formats, SWEEP_REPORT_FORMATS)
     if paper not in PAPER:
         raise ValueError(f"paper must be one of {sorted(PAPER)}, got {paper!r}")
-    ds = open_sweep(sweep_path, "sweep")
     if payload is not None and not hasattr(payload, "data_vars"):
         payload = open_sweep(payload, "payload")
-    ctx = _context(ds, payload)  # type: ignore[arg-type]  # a Dataset here
-    drawn = draw_figures(make_sweep_figures(ds, payload,  # type: ignore[arg-type]  # a Dataset
-                                            column=True), _RC)
+    stored, part = _views(open_sweep(sweep_path, "sweep"), payload)  # type: ignore[arg-type]
+    ctx = _context(stored, part)
+    drawn = draw_figures(make_sweep_figures(stored, part, column=True), _RC)
     outdir = Path(outdir)
     (outdir / "figures").mkdir(parents=True, exist_ok=True)
     written, files = [], []
@@ -305,3 +307,9 @@ def write_sweep_report(sweep_path: str | os.PathLike[str], outdir: str | os.Path
         tables = write_tables(stack, _outline(ctx, drawn), outdir / "tables", latex,
                               "sweep")
     return written + files + tables
+
+
+def _views(ds, payload):
+    """The typed views of a sweep and of its payload sweep (None without one), each read
+    once."""
+    return StoredSweep.of(ds), None if payload is None else PayloadSweep.of(payload)

@@ -13,14 +13,12 @@ from typing import TYPE_CHECKING
 import numpy as np
 
 from ..core.selection.ranking import CLASSES, ROUND_OFF, arm_scales, element_label, is_round_off
+from ..io.sweep_view import REQUIRED, PayloadSweep, StoredSweep
 from .common import CLASS_COLOURS as _CLASS_COLOURS
 from .common import SUPTITLE_RC as _RC
-from .common import check as _check
 from .common import grid_shape, torque_units
 from .common import gridspec as _gridspec
-from .common import strings as _strings
 from .common import style as _style
-from .common import thresholds as _thresholds
 from .figures import CLASS_LETTER as _LETTER
 from .figures import payload_figure
 from .markup import ROT as _ROT
@@ -34,14 +32,10 @@ if TYPE_CHECKING:                       # for the type hints only
     from matplotlib.figure import Figure
     from numpy.typing import ArrayLike
 
+    from ..io.sweep_view import MergedModel
+
 __all__ = ["make_sweep_figures", "REQUIRED", "KEPT"]
 
-#: The variables of a sweep dataset the figures and the report read.
-REQUIRED = ("share_tran", "dominance", "choice", "source", "duration", "tau_peak",
-             "tau_error_relative_peak", "class_fraction", "share_tran_min", "share_tran_median",
-             "share_tran_max", "merged_choice", "merged_tau_error_relative_peak",
-             "merged_error_peak", "merged_error_rms", "merged_error_tau_peak",
-             "merged_error_relative_peak", "merged_error_relative_rms")
 
 # The choices of the merged model in the colours of their classes.
 _CHOICE_COLOURS = {"tran": _CLASS_COLOURS["translational"], "rot": _CLASS_COLOURS["rotational"],
@@ -64,7 +58,8 @@ ROUND_OFF_WORDS = f"at most {decade_label(ROUND_OFF)} of its own scale or 64 \u0
 TORQUE_ROUND_OFF_WORDS = f"at most {decade_label(ROUND_OFF)} of its own scale or of the arm's"
 
 
-def torque_error_round_off(ds: xr.Dataset, peak: ArrayLike, tau_peak: ArrayLike) -> np.ndarray:
+def torque_error_round_off(ds: MergedModel | xr.Dataset, peak: ArrayLike, tau_peak: ArrayLike
+                           ) -> np.ndarray:
     """Whether a torque error is round-off: at most 1e-12 (:data:`ROUND_OFF`) of the joint's
     own peak |tau| or of the arm's (the largest peak |tau| among the joints of the same type,
     :func:`gd_analyze.core.selection.ranking.arm_scales`).
@@ -78,8 +73,9 @@ def torque_error_round_off(ds: xr.Dataset, peak: ArrayLike, tau_peak: ArrayLike)
 
     Parameters
     ----------
-    ds : xarray.Dataset
-        The sweep (for the joint types).
+    ds : MergedModel or xarray.Dataset
+        The sweep's merged model (:class:`gd_analyze.io.sweep_view.MergedModel`), or the sweep
+        (for the joint types).
     peak, tau_peak : array_like, shape (n,) or (K, n)
         Peak error and peak |tau| per joint (per trajectory if 2-D), in N m or N.
 
@@ -94,12 +90,11 @@ def torque_error_round_off(ds: xr.Dataset, peak: ArrayLike, tau_peak: ArrayLike)
     return is_round_off(peak, tau_peak, arm_scale=arm) | is_round_off(peak, arm)
 
 
-def _round_off(ds):
-    """(trajectory, element) bool: the element is round-off on the trajectory (stored by the
-    sweep, :func:`gd_analyze.core.selection.ranking.is_round_off`); all False for an older file."""
-    if "round_off" in ds.variables:
-        return ds["round_off"].values.astype(bool)
-    return np.zeros(ds["share_tran"].shape, bool)
+def _thresholds(w):
+    """s and e as stored (NaN where missing)."""
+    st = w.settings
+    return tuple(float(np.nan if v is None else v)
+                 for v in (st.dominance_threshold, st.negligible_threshold))
 
 
 def _fraction_text(fractions):
@@ -162,8 +157,16 @@ def _share_panel(ax, values, label, merged, fractions, s, small, zero=None, two_
                   color="0.15")
 
 
-def _key_text(ds, K):
-    s, e = _thresholds(ds)
+def _shares(w):
+    """What the share figures draw: n, the elements' labels, share_tran (K, M), the merged
+    choice by label, the class fractions (M, C), the round-off marks (K, M) and s."""
+    labels = list(w.elements)
+    return (w.joints, labels, w.share_tran, dict(zip(labels, w.merged.choice)),
+            w.class_fraction, w.round_off, _thresholds(w)[0])
+
+
+def _key_text(w, K):
+    s, e = _thresholds(w)
     return textwrap.fill(
         f"Box: translational share \u03a3|{_TRAN}| / (\u03a3|{_TRAN}| + \u03a3|{_ROT}|) of the "
         f"element X over the {K} trajectories (box: quartiles; whiskers: min and max; coloured bar: median). "
@@ -171,7 +174,7 @@ def _key_text(ds, K):
         f"rotational. Title: element and the part the merged model keeps (keeps tran, "
         f"keeps rot, keeps both, or dropped"
         + ("; pruned: changed by dropped base-parameter parts" if "pruned" in
-           _strings(ds["merged_choice"].values) else "") + "). Bottom: fraction of "
+           w.merged.choice else "") + "). Bottom: fraction of "
         f"trajectories per class (T translational, R rotational, B both, N negligible, "
         f"e = {e:g}). \u2261 0: round-off ({ROUND_OFF_WORDS}) in every part on every "
         f"trajectory, no share drawn; on the trajectories where an element is round-off its "
@@ -179,18 +182,12 @@ def _key_text(ds, K):
         f"trajectory (up to 60).", 52)
 
 
-def _fig_D(ds, width=_PAGE_WIDTH):
+def _fig_D(w, width=_PAGE_WIDTH):
     from matplotlib.figure import Figure
 
     if width < _PAGE_WIDTH:
-        return _fig_D_column(ds, width)
-    n = ds.sizes["joint"]
-    labels = _strings(ds["element"].values)
-    share = ds["share_tran"].values
-    merged = dict(zip(labels, _strings(ds["merged_choice"].values)))
-    frac = ds["class_fraction"].values
-    zero = _round_off(ds)
-    s, _ = _thresholds(ds)
+        return _fig_D_column(w, width)
+    n, labels, share, merged, frac, zero, s = _shares(w)
     W = _PAGE_WIDTH
     H = 0.75 + n * 0.72 + (n - 1) * 0.42
     fig = Figure(figsize=(W, H))
@@ -207,7 +204,7 @@ def _fig_D(ds, width=_PAGE_WIDTH):
         k = n // 2
         lax = fig.add_subplot(gs[k:, :k])
         lax.axis("off")
-        lax.text(0.0, 0.9, _key_text(ds, ds.sizes["trajectory"]), transform=lax.transAxes,
+        lax.text(0.0, 0.9, _key_text(w, w.trajectories), transform=lax.transAxes,
                  va="top", ha="left", fontsize=7.5, linespacing=1.35)
     fig.supylabel("translational share [1]", x=0.05 / W, ha="left")
     fig.suptitle("Translational share of the elements of D over the sweep "
@@ -215,17 +212,11 @@ def _fig_D(ds, width=_PAGE_WIDTH):
     return fig
 
 
-def _fig_D_column(ds, W):
+def _fig_D_column(w, W):
     """The share boxes of D in reading order, three a row, the key below (a column)."""
     from matplotlib.figure import Figure
 
-    n = ds.sizes["joint"]
-    labels = _strings(ds["element"].values)
-    share = ds["share_tran"].values
-    merged = dict(zip(labels, _strings(ds["merged_choice"].values)))
-    frac = ds["class_fraction"].values
-    zero = _round_off(ds)
-    s, _ = _thresholds(ds)
+    n, labels, share, merged, frac, zero, s = _shares(w)
     elements = [element_label("D", i, j) for i in range(n) for j in range(i, n)]
     cols = 3
     rows = -(-len(elements) // cols)
@@ -239,7 +230,7 @@ def _fig_D_column(ds, W):
         _share_panel(ax, share[:, k], label, merged[label], frac[k], s, small=True,
                      zero=zero[:, k], two_lines=True)
         ax.tick_params(labelleft=(m % cols == 0))
-    fig.text(0.1 / W, 1.5 / H, textwrap.fill(_key_text(ds, ds.sizes["trajectory"])
+    fig.text(0.1 / W, 1.5 / H, textwrap.fill(_key_text(w, w.trajectories)
                                              .replace("\n", " "), 68),
              va="top", ha="left", fontsize=7, linespacing=1.25)
     fig.supylabel("translational share [1]", x=0.05 / W, ha="left")
@@ -248,16 +239,10 @@ def _fig_D_column(ds, W):
     return fig
 
 
-def _fig_h(ds, width=_PAGE_WIDTH):
+def _fig_h(w, width=_PAGE_WIDTH):
     from matplotlib.figure import Figure
 
-    n = ds.sizes["joint"]
-    labels = _strings(ds["element"].values)
-    share = ds["share_tran"].values
-    merged = dict(zip(labels, _strings(ds["merged_choice"].values)))
-    frac = ds["class_fraction"].values
-    zero = _round_off(ds)
-    s, _ = _thresholds(ds)
+    n, labels, share, merged, frac, zero, s = _shares(w)
     column = width < _PAGE_WIDTH
     rows, cols = grid_shape(n, 2 if column else 3)
     W = width
@@ -274,7 +259,7 @@ def _fig_h(ds, width=_PAGE_WIDTH):
         _share_panel(ax, share[:, k], label, merged[label], frac[k], s, small=False,
                      zero=zero[:, k])
         ax.set_ylabel("translational share [1]")
-    key = textwrap.fill(_key_text(ds, ds.sizes["trajectory"]).replace("\n", " "),
+    key = textwrap.fill(_key_text(w, w.trajectories).replace("\n", " "),
                         68 if column else 120)
     fig.text(0.1 / W if column else 0.3 / W, 0.1 / H, key, ha="left", va="bottom",
              fontsize=7.0, linespacing=1.25 if column else 1.3)
@@ -286,13 +271,13 @@ def _fig_h(ds, width=_PAGE_WIDTH):
     return fig
 
 
-def _fig_classes(ds, width=_PAGE_WIDTH):
+def _fig_classes(w, width=_PAGE_WIDTH):
     from matplotlib.figure import Figure
     from matplotlib.patches import Patch
 
-    labels = _strings(ds["element"].values)
-    frac = ds["class_fraction"].values
-    merged = _strings(ds["merged_choice"].values)
+    labels = list(w.elements)
+    frac = w.class_fraction
+    merged = list(w.merged.choice)
     M = len(labels)
     column = width < _PAGE_WIDTH
     W, H = width, (1.9 if column else 1.5) + 0.17 * M
@@ -318,36 +303,37 @@ def _fig_classes(ds, width=_PAGE_WIDTH):
                loc="lower center", ncol=2 if column else 4, frameon=False,
                bbox_to_anchor=(0.5, 0.0), fontsize=7 if column else None)
     fig.suptitle(f"Dominance class per element{chr(10) if column else ' '}over "
-                 f"{ds.sizes['trajectory']} trajectories",
+                 f"{w.trajectories} trajectories",
                  y=1 - 0.12 / H, va="top", fontsize=9 if column else None)
     return fig
 
 
-def _fig_error(ds, width=_PAGE_WIDTH):
+def _fig_error(w, width=_PAGE_WIDTH):
     from matplotlib.figure import Figure
     from matplotlib.lines import Line2D
 
-    n = ds.sizes["joint"]
-    own = ds["tau_error_relative_peak"].values
-    merged = ds["merged_tau_error_relative_peak"].values
-    overall = ds["merged_error_relative_peak"].values
+    m = w.merged
+    n = w.joints
+    own = w.tau_error_relative_peak
+    merged = w.merged_tau_error_relative_peak
+    overall = w.merged_error_relative_peak
     column = width < _PAGE_WIDTH
     W, H = width, (3.9 if column else 3.6)
     fig = Figure(figsize=(W, H))
     ax = fig.add_axes((0.75 / W, (1.25 if column else 0.9) / H, (W - 0.95) / W,
                        (H - (2.05 if column else 1.6)) / H))
-    region = ds.attrs.get("merged_guarantee_kind") == "region" and "merged_scale" in ds
+    region = m.region and m.scale is not None
     if region:                  # one scale for every mark: the merged model's s_i (region)
-        s_i = np.asarray(ds["merged_scale"].values, float)          # (K, n): the same rows
+        s_i = np.asarray(m.scale, float)          # (K, n): the same rows
         s_i = np.where(s_i > 0, s_i, np.inf)
-        own = np.asarray(ds["tau_error_peak"].values, float) / s_i
-        overall = np.asarray(ds["merged_error_peak"].values, float) / s_i.max(axis=0)
-    tau = ds["tau_peak"].values
-    own = np.where(torque_error_round_off(ds, ds["tau_error_peak"].values, tau), 0.0, own)
-    merged = np.where(torque_error_round_off(ds, ds["merged_tau_error_peak"].values, tau), 0.0,
+        own = np.asarray(w.tau_error_peak, float) / s_i
+        overall = np.asarray(w.merged_error_peak, float) / s_i.max(axis=0)
+    tau = w.tau_peak
+    own = np.where(torque_error_round_off(m, w.tau_error_peak, tau), 0.0, own)
+    merged = np.where(torque_error_round_off(m, w.merged_tau_error_peak, tau), 0.0,
                       merged)
-    overall = np.where(torque_error_round_off(ds, ds["merged_error_peak"].values,
-                                              ds["merged_error_tau_peak"].values), 0.0, overall)
+    overall = np.where(torque_error_round_off(m, w.merged_error_peak,
+                                              w.merged_error_tau_peak), 0.0, overall)
     for j in range(n):
         for off, data, colour in ((-0.18, own[:, j], _OWN_COLOUR),
                                   (0.18, merged[:, j], _MERGED_COLOUR)):
@@ -374,9 +360,9 @@ def _fig_error(ds, width=_PAGE_WIDTH):
     ax.set_xlim(0.4, n + 0.6)
     ax.set_ylabel("peak |\u03c4\u209b \u2212 \u03c4| / peak |\u03c4| [1]" if not region else
                   "peak |\u03c4\u209b \u2212 \u03c4| / s\u1d62 [1]")    # one scale for all
-    own_rule, rule = (str(ds.attrs.get(k, "chapter")) for k in ("own_model_rule", "merged_rule"))
+    own_rule, rule = m.own_rule, m.rule
     no_bound = {"chapter": ", no bound"}
-    merged_rule = (f"budget rule, \u03b5 = {float(ds.attrs['merged_tolerance']):g}"
+    merged_rule = (f"budget rule, \u03b5 = {float(m.tolerance):g}"
                    + ("; / s\u1d62 over the region" if region else "")
                    if rule == "budget" else f"{rule} rule{no_bound.get(rule, '')}")
     ax.legend(handles=[Line2D([], [], color=_OWN_COLOUR, label=f"own models ({own_rule} rule"
@@ -397,17 +383,20 @@ def _fig_error(ds, width=_PAGE_WIDTH):
     return fig
 
 
-def make_sweep_figures(ds: xr.Dataset, payload: xr.Dataset | None = None,
+def make_sweep_figures(ds: StoredSweep | xr.Dataset,
+                       payload: PayloadSweep | xr.Dataset | None = None,
                        column: bool = False) -> dict[str, Figure]:
     """Make the sweep report's figures from a stored sweep.
 
     Parameters
     ----------
-    ds : xarray.Dataset
-        A sweep dataset from :func:`gd_analyze.workflows.sweep.run_sweep` (K trajectories, M elements,
-        n joints).
-    payload : xarray.Dataset, optional
-        A payload sweep from :func:`gd_analyze.workflows.payload.payload_sweep`.
+    ds : StoredSweep or xarray.Dataset
+        The stored sweep (:class:`gd_analyze.io.sweep_view.StoredSweep`), or a sweep dataset
+        from :func:`gd_analyze.workflows.sweep.run_sweep` (K trajectories, M elements, n
+        joints).
+    payload : PayloadSweep or xarray.Dataset, optional
+        A payload sweep from :func:`gd_analyze.workflows.payload.payload_sweep`, typed
+        (:class:`gd_analyze.io.sweep_view.PayloadSweep`) or not.
     column : bool, optional
         Also make ``"<key>_column"``, 3.5 in wide, of ``D``, ``h``, ``classes``, ``error``
         and (with a payload sweep) ``payload``.
@@ -425,12 +414,12 @@ def make_sweep_figures(ds: xr.Dataset, payload: xr.Dataset | None = None,
     InputError
         If a variable the figures need is missing.
     """
-    _check(ds, REQUIRED, "sweep")
+    w = StoredSweep.of(ds)
     with _style(_RC):
-        figs = {"D": _fig_D(ds), "h": _fig_h(ds), "classes": _fig_classes(ds),
-                "error": _fig_error(ds)}
+        figs = {"D": _fig_D(w), "h": _fig_h(w), "classes": _fig_classes(w),
+                "error": _fig_error(w)}
         if column:
-            figs.update({f"{k}_column": make(ds, COLUMN_WIDTH) for k, make in
+            figs.update({f"{k}_column": make(w, COLUMN_WIDTH) for k, make in
                          (("D", _fig_D), ("h", _fig_h), ("classes", _fig_classes),
                           ("error", _fig_error))})
     if payload is not None:

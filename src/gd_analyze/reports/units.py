@@ -20,6 +20,7 @@ from ..core.selection.ranking import (
 )
 from ..io.results_view import Results
 from ..io.schema import strings as _strings
+from ..io.sweep_view import MergedModel
 
 if TYPE_CHECKING:
     import numpy.typing as npt
@@ -54,20 +55,21 @@ def keep_units(text: object) -> str:
     return _UNITS.sub(lambda m: m.group().replace(" ", "\u00a0"), str(text))
 
 
-def prismatic_joints(ds: Results | xr.Dataset) -> npt.NDArray[np.bool_]:
+def prismatic_joints(ds: Results | MergedModel | xr.Dataset) -> npt.NDArray[np.bool_]:
     """Which joints are prismatic (q in m), from the stored ``joint_type`` (all revolute in a
     dataset without it).
 
     Parameters
     ----------
-    ds : Results or xarray.Dataset
-        A stored analysis, typed (:class:`gd_analyze.io.results_view.Results`) or not.
+    ds : Results, MergedModel or xarray.Dataset
+        A stored analysis or sweep, typed (:class:`gd_analyze.io.results_view.Results`,
+        :class:`gd_analyze.io.sweep_view.MergedModel`) or not.
 
     Returns
     -------
     ndarray of bool, shape (n,)
     """
-    if isinstance(ds, Results):
+    if isinstance(ds, (Results, MergedModel)):
         return np.array(ds.prismatic, dtype=bool)
     if "joint_type" not in ds.variables:
         return np.zeros(ds.sizes["joint"], dtype=bool)
@@ -89,12 +91,12 @@ def units_text(u: str) -> str:
             .replace("s-1", "s\u207b\u00b9"))
 
 
-def torque_units(ds: Results | xr.Dataset) -> list[str]:
+def torque_units(ds: Results | MergedModel | xr.Dataset) -> list[str]:
     """The printed units of tau_i, h_i and c_i per joint: N m, or N for a prismatic joint.
 
     Parameters
     ----------
-    ds : Results or xarray.Dataset
+    ds : Results, MergedModel or xarray.Dataset
 
     Returns
     -------
