@@ -204,19 +204,48 @@ def _rounding_cleaned(phi, drives, nonneg):
 
     A link of mass 0 (or a friction of 0) in the true arm comes out of a noise-free fit as
     +-1e-18: a mass below ``ROUNDING`` x the largest mass becomes 0, with its first moments
-    when they are as small, and a friction below ``ROUNDING`` x the largest drive value
-    becomes 0, so the robot file holds them (the torque changes by a rounding error).
+    when they are as small, a negative principal moment about the centre of mass above
+    -``ROUNDING`` x the largest inertia parameter becomes 0 (an unidentifiable link's moments
+    come out as +-1e-17, which Pinocchio refuses), and a friction below ``ROUNDING`` x the
+    largest drive value becomes 0, so the robot file holds them (the torque changes by a
+    rounding error).
     """
     phi, drives = np.array(phi, float), np.array(drives, float)
     m = phi[:, 9]
-    tiny_m = (m < 0) & (m >= -ROUNDING * max(1.0, float(np.abs(m).max(initial=0.0))))
+    tiny_m = np.abs(m) <= ROUNDING * max(1.0, float(np.abs(m).max(initial=0.0)))
     m[tiny_m] = 0.0
     h_scale = ROUNDING * max(1.0, float(np.abs(phi[:, 6:9]).max(initial=0.0)))
     zero_h = (m == 0) & (np.abs(phi[:, 6:9]).max(axis=1) <= h_scale)
     phi[zero_h, 6:9] = 0.0
+    phi[:, :6] = _rounding_moments(phi, ROUNDING * max(1.0, float(np.abs(phi[:, :6]).max(
+        initial=0.0))))
     d_scale = ROUNDING * max(1.0, float(np.abs(drives).max(initial=0.0)))
     drives[nonneg & (drives < 0) & (drives >= -d_scale)] = 0.0
     return phi, drives
+
+
+def _rounding_moments(phi, tol):
+    """XX..ZZ (n, 6) with each link's principal moments about its centre of mass in [-tol, 0)
+    set to 0 (Huygens-Steiner, Fu, Gonzalez & Lee 1987, Sec. 3.2)."""
+    m = phi[:, 9]
+    c = np.divide(phi[:, 6:9], m[:, None], out=np.zeros((phi.shape[0], 3)),
+                  where=m[:, None] > 0)
+    shift = m[:, None, None] * (np.einsum("ia,ia->i", c, c)[:, None, None] * np.eye(3)
+                                - c[:, :, None] * c[:, None, :])
+    out = np.array(phi[:, :6], float)
+    for k, (w, V) in enumerate(zip(*np.linalg.eigh(_moments(phi) - shift))):
+        if ((w < 0) & (w >= -tol)).any() and not (w < -tol).any():
+            Ic = (V * np.maximum(w, 0.0)) @ V.T + shift[k]
+            out[k] = [Ic[a, b] for a, b in ((0, 0), (0, 1), (0, 2), (1, 1), (1, 2), (2, 2))]
+    return out
+
+
+def _moments(phi):
+    """(n, 3, 3): each link's inertia tensor about its frame's origin from XX..ZZ."""
+    J = np.empty((phi.shape[0], 3, 3))
+    for k, (a, b) in enumerate(((0, 0), (0, 1), (0, 2), (1, 1), (1, 2), (2, 2))):
+        J[:, a, b] = J[:, b, a] = phi[:, k]
+    return J
 
 
 def _loadable(robot_phi, drives_ok):
@@ -229,10 +258,7 @@ def _loadable(robot_phi, drives_ok):
                   where=m[:, None] > 0)
     if ((m == 0) & (np.abs(phi[:, 6:9]).max(axis=1) > 0)).any():
         return False
-    J = np.empty((phi.shape[0], 3, 3))
-    for k, (a, b) in enumerate(((0, 0), (0, 1), (0, 2), (1, 1), (1, 2), (2, 2))):
-        J[:, a, b] = J[:, b, a] = phi[:, k]
-    Ic = J - m[:, None, None] * (np.einsum("ia,ia->i", c, c)[:, None, None] * np.eye(3)
+    Ic = _moments(phi) - m[:, None, None] * (np.einsum("ia,ia->i", c, c)[:, None, None] * np.eye(3)
                                  - c[:, :, None] * c[:, None, :])
     tol = 1e-10 * np.maximum(1.0, np.abs(Ic).max(axis=(1, 2)))
     return bool((np.linalg.eigvalsh(Ic)[:, 0] >= -tol).all())
