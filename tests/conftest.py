@@ -117,20 +117,29 @@ def shared_main():
     ``shared_main(robot, trajectory, *options)`` runs ``gd-analyze robot trajectory -o
     <folder> -q *options`` (with its report unless ``--no-report`` is among the options) the
     first time any xdist worker asks for those arguments, and returns its output folder; a
-    command's arguments likewise (``shared_main("sweep", robot, *options)``). Shared:
-    tests must not modify it; a test that writes next to a run writes in its own ``tmp_path``
-    (a symbolic link to the run where it needs the run in its folder).
+    command's arguments likewise (``shared_main("sweep", robot, *options)``). With
+    ``printed=True`` the run is not quiet (no ``-q``) and what it printed is kept beside its
+    output folder, in ``printed.txt`` (``folder.parent / "printed.txt"``). Shared: tests must
+    not modify it; a test that writes next to a run writes in its own ``tmp_path`` (a symbolic
+    link to the run where it needs the run in its folder).
     """
+    import contextlib
     import hashlib
+    import io
 
     from gd_analyze.cli import main
 
-    def get(*args):
+    def get(*args, printed=False):
         args = [str(a) for a in args]
-        key = hashlib.sha256("\0".join(args).encode()).hexdigest()[:16]
+        quiet = [] if printed else ["-q"]
+        key = hashlib.sha256("\0".join([*args, *quiet]).encode()).hexdigest()[:16]
 
         def build(folder):
-            assert main([*args, "-o", str(folder / "out"), "-q"]) == 0
+            text = io.StringIO()
+            with contextlib.redirect_stdout(text):
+                assert main([*args, "-o", str(folder / "out"), *quiet]) == 0
+            if printed:
+                (folder / "printed.txt").write_text(text.getvalue(), encoding="utf-8")
         return built_once(f"main-{key}", build) / "out"
     return get
 

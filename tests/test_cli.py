@@ -22,10 +22,9 @@ def _run(args, capsys):
     return code, out, err
 
 
-def test_main_job_without_report(tmp_path, capsys):
-    out_dir = tmp_path / "out"
-    code, out, err = _run(["puma560", SHIPPED, "-o", out_dir, "--no-report"], capsys)
-    assert code == 0, err
+def test_main_job_without_report(shared_main):
+    out_dir = shared_main("puma560", SHIPPED, "--no-report", printed=True)   # shared, read only
+    out = (out_dir.parent / "printed.txt").read_text(encoding="utf-8")
     assert sorted(p.name for p in out_dir.iterdir()) == [".gd-analyze-manifest-analyze.json",
                                                          "results.h5", "simplified_model.c",
                                                          "simplified_model.h",
@@ -314,17 +313,17 @@ def test_parse_range_errors(text, match):
     assert "--payload-sweep" in str(info.value)
 
 
-def test_summary_gives_the_model_cost_beside_newton_euler(tmp_path, capsys):
+def test_summary_gives_the_model_cost_beside_newton_euler(shared_main):
     """The printed cost line reads the stored cost table; N-E's figure is the counted one."""
     from gd_analyze import load_robot
     from gd_analyze.formulations.opcount import count_operations
 
-    assert main(["puma560", str(SHIPPED), "-o", str(tmp_path / "o"), "--no-report"]) == 0
-    out = capsys.readouterr().out
+    folder = shared_main("puma560", SHIPPED, "--no-report", printed=True)    # shared, read only
+    out = (folder.parent / "printed.txt").read_text(encoding="utf-8")
     ne = count_operations(load_robot("puma560"), "newton-euler")
     line = next(x for x in out.splitlines() if x.startswith("simplified model ("))
     assert line.endswith(f"Newton-Euler as implemented: {ne[0] + ne[1]:,}")
-    model = json.loads((tmp_path / "o" / "simplified_model.json").read_text())
+    model = json.loads((folder / "simplified_model.json").read_text())
     total = model["cost"]["multiplications"] + model["cost"]["additions"]
     assert f": {total:,} operations per set point" in line
     exact = model["costs"]["exact recursive"]
