@@ -76,6 +76,30 @@ def built_once(name, build):
     return folder
 
 
+def golden_run(name):
+    """The output folder of golden case ``name`` (``golden.freeze.CASES``) and its printed
+    text, run once a session (:func:`built_once`), with the folders the text and files may
+    name (to be masked): ``([folder, *roots], printed)``, the case's output in
+    ``folder / name``. Read by tests/test_golden.py, and by the tests that read the PUMA 560's
+    main job without report and what it printed (its golden case). Shared: read only."""
+    from golden.freeze import CASES, run_case
+
+    case = CASES[name]
+    roots = []
+    model_folder = {}
+    if case.after:
+        after_root, _ = golden_run(case.after)
+        roots += after_root
+        model_folder[case.after] = after_root[0] / case.after
+
+    def build(folder):
+        printed = run_case(case, folder / name, model_folder)
+        (folder / "printed.txt").write_text(printed, encoding="utf-8")
+
+    folder = built_once(f"golden-{name}", build)
+    return [folder, *roots], (folder / "printed.txt").read_text(encoding="utf-8")
+
+
 @pytest.fixture(scope="session")
 def shipped_dataset():
     """The stored dataset of a built-in robot's shipped trajectory, by robot name.
@@ -117,29 +141,20 @@ def shared_main():
     ``shared_main(robot, trajectory, *options)`` runs ``gd-analyze robot trajectory -o
     <folder> -q *options`` (with its report unless ``--no-report`` is among the options) the
     first time any xdist worker asks for those arguments, and returns its output folder; a
-    command's arguments likewise (``shared_main("sweep", robot, *options)``). With
-    ``printed=True`` the run is not quiet (no ``-q``) and what it printed is kept beside its
-    output folder, in ``printed.txt`` (``folder.parent / "printed.txt"``). Shared: tests must
-    not modify it; a test that writes next to a run writes in its own ``tmp_path`` (a symbolic
-    link to the run where it needs the run in its folder).
+    command's arguments likewise (``shared_main("sweep", robot, *options)``). Shared:
+    tests must not modify it; a test that writes next to a run writes in its own ``tmp_path``
+    (a symbolic link to the run where it needs the run in its folder).
     """
-    import contextlib
     import hashlib
-    import io
 
     from gd_analyze.cli import main
 
-    def get(*args, printed=False):
+    def get(*args):
         args = [str(a) for a in args]
-        quiet = [] if printed else ["-q"]
-        key = hashlib.sha256("\0".join([*args, *quiet]).encode()).hexdigest()[:16]
+        key = hashlib.sha256("\0".join(args).encode()).hexdigest()[:16]
 
         def build(folder):
-            text = io.StringIO()
-            with contextlib.redirect_stdout(text):
-                assert main([*args, "-o", str(folder / "out"), *quiet]) == 0
-            if printed:
-                (folder / "printed.txt").write_text(text.getvalue(), encoding="utf-8")
+            assert main([*args, "-o", str(folder / "out"), "-q"]) == 0
         return built_once(f"main-{key}", build) / "out"
     return get
 

@@ -7,7 +7,7 @@ import sys
 import numpy as np
 import pytest
 import xarray as xr
-from conftest import ROOT, SHIPPED
+from conftest import ROOT, SHIPPED, golden_run
 
 from gd_analyze.cli import main, parse_range
 from gd_analyze.errors import InputError
@@ -22,9 +22,10 @@ def _run(args, capsys):
     return code, out, err
 
 
-def test_main_job_without_report(shared_main):
-    out_dir = shared_main("puma560", SHIPPED, "--no-report", printed=True)   # shared, read only
-    out = (out_dir.parent / "printed.txt").read_text(encoding="utf-8")
+def test_main_job_without_report():
+    # the run of golden case puma560 (gd-analyze puma560 <shipped> --no-report), read only
+    (folder, *_), out = golden_run("puma560")
+    out_dir = folder / "puma560"
     assert sorted(p.name for p in out_dir.iterdir()) == [".gd-analyze-manifest-analyze.json",
                                                          "results.h5", "simplified_model.c",
                                                          "simplified_model.h",
@@ -313,13 +314,14 @@ def test_parse_range_errors(text, match):
     assert "--payload-sweep" in str(info.value)
 
 
-def test_summary_gives_the_model_cost_beside_newton_euler(shared_main):
+def test_summary_gives_the_model_cost_beside_newton_euler():
     """The printed cost line reads the stored cost table; N-E's figure is the counted one."""
     from gd_analyze import load_robot
     from gd_analyze.formulations.opcount import count_operations
 
-    folder = shared_main("puma560", SHIPPED, "--no-report", printed=True)    # shared, read only
-    out = (folder.parent / "printed.txt").read_text(encoding="utf-8")
+    # the run of golden case puma560 (gd-analyze puma560 <shipped> --no-report), read only
+    (root, *_), out = golden_run("puma560")
+    folder = root / "puma560"
     ne = count_operations(load_robot("puma560"), "newton-euler")
     line = next(x for x in out.splitlines() if x.startswith("simplified model ("))
     assert line.endswith(f"Newton-Euler as implemented: {ne[0] + ne[1]:,}")

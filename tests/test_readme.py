@@ -9,6 +9,7 @@ import re
 from pathlib import Path
 
 import pytest
+from conftest import golden_run
 
 ROOT = Path(__file__).resolve().parents[1]
 README = (ROOT / "README.md").read_text(encoding="utf-8")
@@ -58,21 +59,22 @@ def _code_block_after(heading):
 
 
 @pytest.mark.slow
-def test_sample_output_is_what_the_main_job_prints(shared_main):
+def test_sample_output_is_what_the_main_job_prints():
     """The README's sample block, line by line, against a run of the main job.
 
     Allowed to differ: only the ``wrote`` line (the README abbreviates the files of the default
     folder; the run here writes to a temporary folder without the report). Round-off (a
     joint's error or an element below 1e-12 of its scale) prints as "≡ 0", the same on every
-    platform. The run is the shared printing one without report (conftest's shared_main, in
-    the test's process: the console script itself is run by test_one_code_path).
+    platform. The run is golden case puma560's (``gd-analyze puma560
+    data/puma560_trajectory.csv --no-report``, conftest's golden_run, in the test's process:
+    the console script itself is run by test_one_code_path).
     """
     block = _code_block_after("## Reading the summary")
     command = block[0]
     assert command == "$ gd-analyze puma560 data/puma560_trajectory.csv"
-    out = shared_main("puma560", ROOT / "data" / "puma560_trajectory.csv", "--no-report",
-                      printed=True)                 # shared, read only
-    printed = (out.parent / "printed.txt").read_text(encoding="utf-8").rstrip("\n").split("\n")
+    (root, *_), text = golden_run("puma560")       # shared, read only
+    out = root / "puma560"
+    printed = text.rstrip("\n").split("\n")
     expected = block[1:]
     assert len(printed) == len(expected), "\n".join(printed)
     for want, got in zip(expected, printed):
