@@ -5,7 +5,7 @@ import json
 import numpy as np
 import pinocchio as pin
 import pytest
-from conftest import SHIPPED
+from conftest import SHIPPED, golden_run
 
 from gd_analyze import load_robot
 from gd_analyze.cli import main
@@ -66,14 +66,16 @@ def test_main_job_model_within_tolerance_and_cheaper_than_newton_euler(capsys, e
     assert json.loads(out)["max_relative_peak_error"] <= float(eps)
 
 
-def test_stanford_main_job_emits_the_simplified_model(shared_main):
+def test_stanford_main_job_emits_the_simplified_model():
     """A prismatic joint: the main job writes simplified_model.h, .c, .py and _casadi.py like
     every robot,
     verification passes, and the emitted model is within EPS of rnea on the trajectory."""
     from conftest import ROOT
 
     csv = ROOT / "data" / "stanford_trajectory.csv"
-    out = shared_main("stanford", csv, "--no-report")        # shared, read only
+    # golden case stanford's run (gd-analyze stanford <its trajectory> --no-report), read only
+    (root, *_), _ = golden_run("stanford")
+    out = root / "stanford"
     assert sorted(p.name for p in out.iterdir()) == [
         ".gd-analyze-manifest-analyze.json", "results.h5", "simplified_model.c",
         "simplified_model.h", "simplified_model.json", "simplified_model.py",
@@ -268,13 +270,13 @@ def test_form_recursive_derives_no_explicit_model_and_says_so(tmp_path, capsys, 
     assert "explicit, full" in always["costs"]
 
 
-def test_akb_anchors_only_for_the_puma(shared_main):
+def test_akb_anchors_only_for_the_puma():
     """Armstrong, Khatib & Burdick's counts are the PUMA 560's: another six-joint arm's cost
     table does not list them."""
     import xarray as xr
-    from conftest import ROOT
 
-    out = shared_main("stanford", ROOT / "data" / "stanford_trajectory.csv", "--no-report")
+    (root, *_), _ = golden_run("stanford")    # golden case stanford's run, read only
+    out = root / "stanford"
     with xr.open_dataset(out / "results.h5", engine="h5netcdf") as ds:
         labels = [str(v) for v in ds["cost_model"].values]
     assert ds.sizes["joint"] == 6 and "project N-E as implemented" in labels
