@@ -76,6 +76,30 @@ def built_once(name, build):
     return folder
 
 
+def golden_run(name):
+    """The output folder of golden case ``name`` (``golden.freeze.CASES``) and its printed
+    text, run once a session (:func:`built_once`), with the folders the text and files may
+    name (to be masked): ``([folder, *roots], printed)``, the case's output in
+    ``folder / name``. Read by tests/test_golden.py, and by the tests that read the PUMA 560's
+    main job without report and what it printed (its golden case). Shared: read only."""
+    from golden.freeze import CASES, run_case
+
+    case = CASES[name]
+    roots = []
+    model_folder = {}
+    if case.after:
+        after_root, _ = golden_run(case.after)
+        roots += after_root
+        model_folder[case.after] = after_root[0] / case.after
+
+    def build(folder):
+        printed = run_case(case, folder / name, model_folder)
+        (folder / "printed.txt").write_text(printed, encoding="utf-8")
+
+    folder = built_once(f"golden-{name}", build)
+    return [folder, *roots], (folder / "printed.txt").read_text(encoding="utf-8")
+
+
 @pytest.fixture(scope="session")
 def shipped_dataset():
     """The stored dataset of a built-in robot's shipped trajectory, by robot name.

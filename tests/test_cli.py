@@ -7,7 +7,7 @@ import sys
 import numpy as np
 import pytest
 import xarray as xr
-from conftest import ROOT, SHIPPED
+from conftest import ROOT, SHIPPED, golden_run
 
 from gd_analyze.cli import main, parse_range
 from gd_analyze.errors import InputError
@@ -22,10 +22,10 @@ def _run(args, capsys):
     return code, out, err
 
 
-def test_main_job_without_report(tmp_path, capsys):
-    out_dir = tmp_path / "out"
-    code, out, err = _run(["puma560", SHIPPED, "-o", out_dir, "--no-report"], capsys)
-    assert code == 0, err
+def test_main_job_without_report():
+    # the run of golden case puma560 (gd-analyze puma560 <shipped> --no-report), read only
+    (folder, *_), out = golden_run("puma560")
+    out_dir = folder / "puma560"
     assert sorted(p.name for p in out_dir.iterdir()) == [".gd-analyze-manifest-analyze.json",
                                                          "results.h5", "simplified_model.c",
                                                          "simplified_model.h",
@@ -196,9 +196,13 @@ def test_compare_json(capsys):
 def test_payload_changes_the_torques_and_is_recorded(tmp_path, capsys, shared_main):
     loaded = tmp_path / "loaded"
     plain = shared_main("puma560", SHIPPED)          # shared, read only
+    # what is read (the payload's attributes, the link mass, the peak torques) comes before
+    # any model: pruned on the trajectory, no explicit model, so that the loaded arm's region
+    # certification and explicit derivation (no cache holds them) are not run
     code, _, err = _run(["puma560", SHIPPED, "-o", loaded, "--no-report", "-q", "--payload",
                          "2.5", "--payload-com", "0,0,0.05", "--payload-inertia",
-                         "0.002,0.002,0.001"], capsys)
+                         "0.002,0.002,0.001", "--guarantee", "trajectory", "--explicit",
+                         "never"], capsys)
     assert code == 0, err
     with xr.open_dataset(plain / "results.h5", engine="h5netcdf") as a, \
             xr.open_dataset(loaded / "results.h5", engine="h5netcdf") as b:
@@ -314,17 +318,18 @@ def test_parse_range_errors(text, match):
     assert "--payload-sweep" in str(info.value)
 
 
-def test_summary_gives_the_model_cost_beside_newton_euler(tmp_path, capsys):
+def test_summary_gives_the_model_cost_beside_newton_euler():
     """The printed cost line reads the stored cost table; N-E's figure is the counted one."""
     from gd_analyze import load_robot
     from gd_analyze.formulations.opcount import count_operations
 
-    assert main(["puma560", str(SHIPPED), "-o", str(tmp_path / "o"), "--no-report"]) == 0
-    out = capsys.readouterr().out
+    # the run of golden case puma560 (gd-analyze puma560 <shipped> --no-report), read only
+    (root, *_), out = golden_run("puma560")
+    folder = root / "puma560"
     ne = count_operations(load_robot("puma560"), "newton-euler")
     line = next(x for x in out.splitlines() if x.startswith("simplified model ("))
     assert line.endswith(f"Newton-Euler as implemented: {ne[0] + ne[1]:,}")
-    model = json.loads((tmp_path / "o" / "simplified_model.json").read_text())
+    model = json.loads((folder / "simplified_model.json").read_text())
     total = model["cost"]["multiplications"] + model["cost"]["additions"]
     assert f": {total:,} operations per set point" in line
     exact = model["costs"]["exact recursive"]

@@ -20,10 +20,10 @@ def _run(capsys, *args):
 
 
 @pytest.mark.slow
-def test_control_states_the_models_scope(tmp_path, capsys):
-    assert _run(capsys, "puma560", SHIPPED, "-o", tmp_path / "m", "--no-report", "-q",
-                "--guarantee", "trajectory")[0] == 0
-    model = tmp_path / "m" / "simplified_model.json"
+def test_control_states_the_models_scope(tmp_path, capsys, shared_main):
+    # the main job's trajectory-guarantee run, shared, read only
+    model = shared_main("puma560", SHIPPED, "--guarantee", "trajectory") / \
+        "simplified_model.json"
     statement = load_model(model).guarantee.statement()
     # its own trajectory: covered
     code, out, err = _run(capsys, "control", model, SHIPPED, "-o", tmp_path / "own",
@@ -49,7 +49,8 @@ def test_control_states_the_models_scope(tmp_path, capsys):
 
 @pytest.mark.slow
 def test_control_prints_the_rtol_floor_when_the_noise_is_not_measured(tmp_path, capsys,
-                                                                       monkeypatch):
+                                                                       monkeypatch,
+                                                                       shared_main):
     """When the tighter runs cannot finish, the printout still gives the torque difference
     against the rtol floor, max(rtol, 1e-12) x the full-model controller's peak |tau|, and
     says the noise was not measured (it failed with an internal error before)."""
@@ -62,9 +63,10 @@ def test_control_prints_the_rtol_floor_when_the_noise_is_not_measured(tmp_path, 
         raise ValueError("the full controller's run failed: too many steps")
 
     monkeypatch.setattr(control, "difference_noise", fails)
-    assert _run(capsys, "puma560", SHIPPED, "-o", tmp_path / "m", "--no-report", "-q",
-                "--guarantee", "trajectory")[0] == 0
-    model = tmp_path / "m" / "simplified_model.json"
+    # the main job's trajectory-guarantee run, shared, read only (the main job never calls
+    # difference_noise)
+    model = shared_main("puma560", SHIPPED, "--guarantee", "trajectory") / \
+        "simplified_model.json"
     seen = {}
     real = control_dataset
 

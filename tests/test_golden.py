@@ -2,7 +2,7 @@
 
 Each case of :data:`golden.freeze.CASES` (the main job on every built-in robot with a shipped
 trajectory, the PUMA 560's sweep and its control command) runs once a session, shared by the
-xdist workers (``conftest.built_once``); its CLI text, HDF5 file, model JSON and emitted
+xdist workers (``conftest.golden_run``); its CLI text, HDF5 file, model JSON and emitted
 sources are compared with the golden files (tests/golden/freeze.py says how, and with which
 tolerance). An intended change is regenerated with ``python tests/golden/regenerate.py`` and
 reviewed as a diff (tests/golden/README.md).
@@ -15,7 +15,7 @@ import copy
 import json
 
 import pytest
-from conftest import built_once
+from conftest import golden_run
 from golden.freeze import (
     CASES,
     GOLDEN,
@@ -23,34 +23,14 @@ from golden.freeze import (
     compare_files,
     compare_frozen,
     frozen_files,
-    run_case,
 )
-
-
-def _run_once(name):
-    """The output folder of case ``name`` and its printed text, run once a session; the
-    folders the text and files may name (to be masked)."""
-    case = CASES[name]
-    roots = []
-    model_folder = {}
-    if case.after:
-        after_root, _ = _run_once(case.after)
-        roots += after_root
-        model_folder[case.after] = after_root[0] / case.after
-
-    def build(folder):
-        printed = run_case(case, folder / name, model_folder)
-        (folder / "printed.txt").write_text(printed, encoding="utf-8")
-
-    folder = built_once(f"golden-{name}", build)
-    return [folder, *roots], (folder / "printed.txt").read_text(encoding="utf-8")
 
 
 @pytest.fixture(scope="module", params=list(CASES))
 def case_files(request):
     """(case name, its frozen files from this checkout's run)."""
     name = request.param
-    roots, printed = _run_once(name)
+    roots, printed = golden_run(name)
     return name, frozen_files(roots[0] / name, roots, printed)
 
 

@@ -1,6 +1,8 @@
 """Messages that say what is so (each was wrong before; each test fails on
 the code before the fix)."""
 
+import contextlib
+import io
 import json
 import re
 import shutil
@@ -10,6 +12,7 @@ from pathlib import Path
 import numpy as np
 import pinocchio as pin
 import pytest
+from conftest import built_once
 
 from gd_analyze.cli import main
 from gd_analyze.io.robots import builtin_robots
@@ -87,11 +90,26 @@ def _point_wrist(tmp_path):
     return path
 
 
-def test_round_off_elements_are_identically_zero_not_ranked(tmp_path, capsys):
-    path = _point_wrist(tmp_path)
-    code, out, err = _run(capsys, path, DATA / "puma560_trajectory.csv", "-o",
-                          tmp_path / "out", "--no-report")
-    assert code == 0, err
+def _point_wrist_run():
+    """The main job (no report) on :func:`_point_wrist`'s arm and the shipped trajectory, run
+    once a session for both tests that read it (conftest's built_once): the folder holding
+    the robot file, the job's output folder ``out`` and what it printed (``printed.txt``).
+    Shared: read only."""
+    def build(folder):
+        path = _point_wrist(folder)
+        printed = io.StringIO()
+        with contextlib.redirect_stdout(printed):
+            code = main([str(path), str(DATA / "puma560_trajectory.csv"), "-o",
+                         str(folder / "out"), "--no-report"])
+        assert code == 0
+        (folder / "printed.txt").write_text(printed.getvalue(), encoding="utf-8")
+    return built_once("point-wrist", build)
+
+
+def test_round_off_elements_are_identically_zero_not_ranked():
+    folder = _point_wrist_run()
+    path = folder / "point_wrist.toml"
+    out = (folder / "printed.txt").read_text(encoding="utf-8")
     rows = {line.split()[0]: line for line in out.splitlines()
             if re.match(r"^(D\d\d|h\d) ", line)}
     # the oracle: Pinocchio's D_66 of this arm is zero to rounding too
@@ -111,11 +129,8 @@ def test_round_off_elements_are_identically_zero_not_ranked(tmp_path, capsys):
 # --- control: singular D, stiffness of every controller --------------------------------------------
 
 def test_control_on_a_singular_D_names_the_joint(tmp_path, capsys):
-    path = _point_wrist(tmp_path)
-    code, _, err = _run(capsys, path, DATA / "puma560_trajectory.csv", "-o", tmp_path / "m",
-                        "--no-report", "-q")
-    assert code == 0, err
-    code, _, err = _run(capsys, "control", tmp_path / "m" / "simplified_model.json",
+    model = _point_wrist_run() / "out" / "simplified_model.json"        # shared, read only
+    code, _, err = _run(capsys, "control", model,
                         DATA / "puma560_trajectory.csv", "--no-report", "-o", tmp_path / "c")
     assert code == 2 and len(err.strip().splitlines()) == 1
     assert "singular" in err and "joint 6 has D_66 = " in err and "Singular matrix" not in err

@@ -6,11 +6,10 @@ the reference pages in docs/, checked by ``tests/test_docs.py``.
 """
 
 import re
-import subprocess
-import sys
 from pathlib import Path
 
 import pytest
+from conftest import golden_run
 
 ROOT = Path(__file__).resolve().parents[1]
 README = (ROOT / "README.md").read_text(encoding="utf-8")
@@ -60,23 +59,22 @@ def _code_block_after(heading):
 
 
 @pytest.mark.slow
-def test_sample_output_is_what_the_main_job_prints(tmp_path):
+def test_sample_output_is_what_the_main_job_prints():
     """The README's sample block, line by line, against a run of the main job.
 
     Allowed to differ: only the ``wrote`` line (the README abbreviates the files of the default
     folder; the run here writes to a temporary folder without the report). Round-off (a
     joint's error or an element below 1e-12 of its scale) prints as "≡ 0", the same on every
-    platform.
+    platform. The run is golden case puma560's (``gd-analyze puma560
+    data/puma560_trajectory.csv --no-report``, conftest's golden_run, in the test's process:
+    the console script itself is run by test_one_code_path).
     """
     block = _code_block_after("## Reading the summary")
     command = block[0]
     assert command == "$ gd-analyze puma560 data/puma560_trajectory.csv"
-    run = subprocess.run([sys.executable, "-m", "gd_analyze.cli", "puma560",
-                          str(ROOT / "data" / "puma560_trajectory.csv"), "-o",
-                          str(tmp_path / "out"), "--no-report"],
-                         capture_output=True, text=True, cwd=ROOT, timeout=600)
-    assert run.returncode == 0, run.stderr
-    printed = run.stdout.rstrip("\n").split("\n")
+    (root, *_), text = golden_run("puma560")       # shared, read only
+    out = root / "puma560"
+    printed = text.rstrip("\n").split("\n")
     expected = block[1:]
     assert len(printed) == len(expected), "\n".join(printed)
     for want, got in zip(expected, printed):
@@ -84,7 +82,7 @@ def test_sample_output_is_what_the_main_job_prints(tmp_path):
             # the count and folder, not the ~2,000 characters of every path
             shape = r"wrote \d+ files to \S+"
             assert re.fullmatch(shape, want) and re.fullmatch(shape, got), (want, got)
-            assert got.endswith(str(tmp_path / "out"))
+            assert got.endswith(str(out))
             continue
         if want.startswith("simplified model (") and got.startswith("simplified model ("):
             # the recursive models' counts come from symengine's CSE, which finds one

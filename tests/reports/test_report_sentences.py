@@ -14,11 +14,10 @@ import numpy as np
 import pinocchio as pin
 import pytest
 import xarray as xr
-from conftest import ROOT, SHIPPED
+from conftest import SHIPPED
 from html_checks import html_text
 
 from gd_analyze import load_robot
-from gd_analyze.cli import main
 from gd_analyze.formulations.pinocchio import pinocchio_model
 from gd_analyze.io.datasets import stored_guarantee
 from gd_analyze.io.trajectory import read_trajectory
@@ -90,14 +89,12 @@ def test_a_trajectory_guarantee_says_trajectory(shipped_dataset):
     assert "peaks of the dropped terms on this trajectory" in budget_caption(ds)
 
 
-def test_drives_report_says_s_i_is_the_rigid_links(tmp_path):
+def test_drives_report_says_s_i_is_the_rigid_links(shared_main):
     """``gd-analyze puma560-drives data/puma560_trajectory.csv``: the region's s_i is the
     rigid links' largest |tau_i| (Pinocchio's rnea of the arm without its drives at the stored
     scale state gives it), not the torque with armature and friction the report's tables show;
     the report says which."""
-    out = tmp_path / "drives"
-    assert main(["puma560-drives", str(ROOT / "data" / "puma560_trajectory.csv"), "-o",
-                 str(out), "-q"]) == 0
+    out = shared_main("puma560-drives", SHIPPED)     # shared, read only
     text, _ = _report(out)
     guarantee = json.loads((out / "simplified_model.json").read_text())["guarantee"]
     assert guarantee["kind"] == "region"

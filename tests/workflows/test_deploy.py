@@ -236,7 +236,7 @@ def test_the_exact_explicit_model_keeps_terms_idle_on_its_trajectory():
     assert model.bound == [0.0] * 6 and set(model.choices.values()) == {"both"}
 
 
-def test_a_cheaper_explicit_model_not_deployed_is_explained(tmp_path):
+def test_a_cheaper_explicit_model_not_deployed_is_explained(shared_main):
     """The drives arm's pruned explicit model counts fewer operations than the
     deployed recursive one; the stored sentence says why it is not deployed (its bound holds
     on the trajectory only; the recursive model's is proved over the region), as the model
@@ -245,8 +245,7 @@ def test_a_cheaper_explicit_model_not_deployed_is_explained(tmp_path):
 
     import xarray as xr
 
-    out = tmp_path / "drives"
-    assert main(["puma560-drives", str(SHIPPED), "-o", str(out), "--no-report", "-q"]) == 0
+    out = shared_main("puma560-drives", SHIPPED)     # the default run, read only
     with xr.open_dataset(out / "results.h5") as ds:
         said = str(ds.attrs["simplified_form_note"])
     spec = json.loads((out / "simplified_model.json").read_text())

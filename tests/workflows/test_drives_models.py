@@ -11,7 +11,6 @@ from core.symbolic.test_explicit import _c_operator_count, natural_error, python
 from core.symbolic.test_explicit_prismatic import _compile
 
 from gd_analyze import load_robot
-from gd_analyze.cli import main
 from gd_analyze.core.symbolic.codegen import build_program
 from gd_analyze.core.symbolic.drive_regressor import with_drives
 from gd_analyze.core.symbolic.emit import emit_c
@@ -54,33 +53,29 @@ def test_recursive_model_with_drives_equals_rnea():
     assert natural_error(model.torque(q, qd, qdd), ref).max() < TOL
 
 
-def test_main_job_on_the_puma_with_drives_keeps_them_in_the_model(tmp_path, capsys):
-    eps = 0.01
-    code = main(["puma560-drives", str(SHIPPED), "-o", str(tmp_path), "--no-report",
-                 "--tolerance", str(eps)])
-    assert code == 0, capsys.readouterr().err
+def test_main_job_on_the_puma_with_drives_keeps_them_in_the_model(shared_main):
+    eps = 0.01                  # the main job's default --tolerance
+    folder = shared_main("puma560-drives", SHIPPED)      # the default run, read only
     robot = load_robot("puma560-drives")
     traj = read_trajectory(SHIPPED, 6)
     ref = _reference(robot, traj.q, traj.qd, traj.qdd)
     scale = np.abs(ref).max(axis=0)
     ns = {}
-    exec((tmp_path / "simplified_model.py").read_text(), ns)
-    loaded = load_model(tmp_path / "simplified_model.json")
+    exec((folder / "simplified_model.py").read_text(), ns)
+    loaded = load_model(folder / "simplified_model.json")
     assert loaded.robot.armature.tolist() == robot.armature.tolist()
     for tau in (ns["tau"](traj.q, traj.qd, traj.qdd), loaded.torque(traj.q, traj.qd, traj.qdd)):
         assert (np.abs(tau - ref).max(axis=0) <= eps * scale * (1 + 1e-9)).all()
-    spec = json.loads((tmp_path / "simplified_model.json").read_text())
+    spec = json.loads((folder / "simplified_model.json").read_text())
     assert spec["robot"]["parameters"]["link"][1]["armature"] == robot.armature[1]
 
 
-def test_stored_dataset_carries_the_armature_part_and_the_friction(tmp_path, capsys):
+def test_stored_dataset_carries_the_armature_part_and_the_friction(shared_main):
     import xarray as xr
 
-    code = main(["puma560-drives", str(SHIPPED), "-o", str(tmp_path), "--no-report",
-                 "--no-verify"])
-    assert code == 0, capsys.readouterr().err
+    folder = shared_main("puma560-drives", SHIPPED)      # the default run, read only
     robot = load_robot("puma560-drives")
-    with xr.open_dataset(tmp_path / "results.h5", engine="h5netcdf") as ds:
+    with xr.open_dataset(folder / "results.h5", engine="h5netcdf") as ds:
         np.testing.assert_array_equal(ds["D_arm"].values, robot.armature)
         D = ds["D_tran"].values + ds["D_rot"].values + np.diag(ds["D_arm"].values)
         np.testing.assert_allclose(ds["D"].values, D, rtol=0, atol=1e-15 * np.abs(D).max())
@@ -110,11 +105,10 @@ def test_stored_dataset_carries_the_armature_part_and_the_friction(tmp_path, cap
                     f"{len(CHAPTER_DOMINANCE)}" in note), note
 
 
-def test_report_of_the_puma_with_drives_draws_the_armature(tmp_path):
+def test_report_of_the_puma_with_drives_draws_the_armature(shared_main):
     """The whole main job, report included, on the built-in arm with drives (the armature is
     a fourth part on the diagonal D panels)."""
-    out = tmp_path / "drives"
-    assert main(["puma560-drives", str(SHIPPED), "-o", str(out), "-q"]) == 0
+    out = shared_main("puma560-drives", SHIPPED)         # the default run, read only
     svg = (out / "figures" / "fig_3_10_D.svg").read_text()
     assert "armature" in svg            # the legend's text, kept as a comment beside its glyphs
     assert (out / "report.pdf").stat().st_size > 0

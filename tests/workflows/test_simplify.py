@@ -5,7 +5,7 @@ import json
 import numpy as np
 import pinocchio as pin
 import pytest
-from conftest import SHIPPED
+from conftest import SHIPPED, golden_run
 
 from gd_analyze import load_robot
 from gd_analyze.cli import main
@@ -29,13 +29,14 @@ def _run(argv, capsys):
 
 
 @pytest.mark.parametrize("eps", ["0.01", "0.05"])
-def test_main_job_model_within_tolerance_and_cheaper_than_newton_euler(tmp_path, capsys, eps):
+def test_main_job_model_within_tolerance_and_cheaper_than_newton_euler(capsys, eps,
+                                                                       shared_main):
     from gd_analyze.formulations.opcount import operation_counts
 
-    code, _, err = _run(["puma560", SHIPPED, "-o", tmp_path, "--no-report", "--tolerance", eps],
-                        capsys)
-    assert code == 0, err
-    spec = json.loads((tmp_path / "simplified_model.json").read_text())
+    # shared runs, read only: 0.01 is the default --tolerance (the default run)
+    folder = shared_main("puma560", SHIPPED,
+                         *(() if eps == "0.01" else ("--no-report", "--tolerance", eps)))
+    spec = json.loads((folder / "simplified_model.json").read_text())
     assert spec["rule"] == "budget" and spec["tolerance"] == float(eps)
     ne = operation_counts(6)["newton-euler"]
     cost = spec["cost"]
@@ -48,31 +49,33 @@ def test_main_job_model_within_tolerance_and_cheaper_than_newton_euler(tmp_path,
     ref = _rnea(robot, traj.q, traj.qd, traj.qdd)
     scale = np.abs(ref).max(axis=0)
     ns = {}
-    exec((tmp_path / "simplified_model.py").read_text(), ns)     # numpy only, no gd_analyze
+    exec((folder / "simplified_model.py").read_text(), ns)     # numpy only, no gd_analyze
     for tau in (ns["tau"](traj.q, traj.qd, traj.qdd),
-                load_model(tmp_path / "simplified_model.json").torque(
+                load_model(folder / "simplified_model.json").torque(
                     traj.q, traj.qd, traj.qdd)):
         assert (np.abs(tau - ref).max(axis=0) <= float(eps) * scale * (1 + 1e-9)).all()
     for name in ("simplified_model.c", "simplified_model.h"):
-        header = (tmp_path / name).read_text().split("*/")[0]
+        header = (folder / name).read_text().split("*/")[0]
         for needle in (robot.sha256, traj.sha256, f"tolerance: {float(eps):g}",
                        f"{cost['multiplications']} multiplications", "gd-analyze version"):
             assert needle in header
     # evaluate uses the explicit model: within EPS on its own trajectory, exit 0
-    code, out, err = _run(["evaluate", tmp_path / "simplified_model.json", SHIPPED,
+    code, out, err = _run(["evaluate", folder / "simplified_model.json", SHIPPED,
                            "--max-error", eps, "--json"], capsys)
     assert code == 0, err
     assert json.loads(out)["max_relative_peak_error"] <= float(eps)
 
 
-def test_stanford_main_job_emits_the_simplified_model(shared_main):
+def test_stanford_main_job_emits_the_simplified_model():
     """A prismatic joint: the main job writes simplified_model.h, .c, .py and _casadi.py like
     every robot,
     verification passes, and the emitted model is within EPS of rnea on the trajectory."""
     from conftest import ROOT
 
     csv = ROOT / "data" / "stanford_trajectory.csv"
-    out = shared_main("stanford", csv, "--no-report")        # shared, read only
+    # golden case stanford's run (gd-analyze stanford <its trajectory> --no-report), read only
+    (root, *_), _ = golden_run("stanford")
+    out = root / "stanford"
     assert sorted(p.name for p in out.iterdir()) == [
         ".gd-analyze-manifest-analyze.json", "results.h5", "simplified_model.c",
         "simplified_model.h", "simplified_model.json", "simplified_model.py",
@@ -94,11 +97,9 @@ def test_stanford_main_job_emits_the_simplified_model(shared_main):
     assert "prismatic joint 3: q [m]" in (out / "simplified_model.c").read_text()
 
 
-def test_rule_chapter_and_bad_tolerance(tmp_path, capsys):
-    code, _, err = _run(["puma560", SHIPPED, "-o", tmp_path, "--no-report", "--rule", "chapter"],
-                        capsys)
-    assert code == 0, err
-    spec = json.loads((tmp_path / "simplified_model.json").read_text())
+def test_rule_chapter_and_bad_tolerance(tmp_path, capsys, shared_main):
+    chapter = shared_main("puma560", SHIPPED, "--rule", "chapter")      # shared, read only
+    spec = json.loads((chapter / "simplified_model.json").read_text())
     assert spec["rule"] == "chapter"
     code, _, err = _run(["puma560", SHIPPED, "-o", tmp_path / "x", "--tolerance", "-1"], capsys)
     assert code == 2 and "--tolerance" in err and "Traceback" not in err
@@ -108,17 +109,20 @@ def test_rule_chapter_and_bad_tolerance(tmp_path, capsys):
 
 
 @pytest.mark.slow
-def test_torque_floor_lowers_the_cost(tmp_path, capsys):
+def test_torque_floor_lowers_the_cost(tmp_path, capsys, shared_main):
     """A floor drops at least the pairs dropped without it, unless what it would drop makes
     D_s singular (the PUMA's ZZ6 at 1 N m, restored for the proof that D_s is positive
     definite), and never costs more (each s_i only grows, so the pairs dropped without a floor
     fit its budget)."""
     costs, checks, dropped = [], [], []
     for floor in ("0", "1"):
-        out = tmp_path / floor
-        code, _, err = _run(["puma560", SHIPPED, "-o", out, "--no-report", "--torque-floor",
-                             floor], capsys)
-        assert code == 0, err
+        if floor == "0":        # the default --torque-floor: the default run, shared, read only
+            out = shared_main("puma560", SHIPPED)
+        else:
+            out = tmp_path / floor
+            code, _, err = _run(["puma560", SHIPPED, "-o", out, "--no-report", "--torque-floor",
+                                 floor], capsys)
+            assert code == 0, err
         spec = json.loads((out / "simplified_model.json").read_text())
         costs.append(spec["cost"]["multiplications"] + spec["cost"]["additions"])
         checks.append(spec["inertia_check"])
@@ -171,14 +175,13 @@ def test_sweep_errors_gathered_in_chunks_are_each_trajectorys(monkeypatch):
                                atol=1e-9 * np.abs(every).max())
 
 
-def test_report_section_reads_the_stored_dataset(tmp_path, capsys):
+def test_report_section_reads_the_stored_dataset(shared_main):
     import xarray as xr
 
     from gd_analyze.reports.simplified_section import error_figure, simplified_context
 
-    code, _, err = _run(["puma560", SHIPPED, "-o", tmp_path, "--no-report"], capsys)
-    assert code == 0, err
-    with xr.open_dataset(tmp_path / "results.h5", engine="h5netcdf") as ds:
+    folder = shared_main("puma560", SHIPPED)          # the default run, shared, read only
+    with xr.open_dataset(folder / "results.h5", engine="h5netcdf") as ds:
         ds = ds.load()
     ctx = simplified_context(ds)
     assert ctx["rule"] == "budget" and ctx["tolerance"] == 0.01
@@ -205,7 +208,8 @@ def test_report_section_reads_the_stored_dataset(tmp_path, capsys):
 
 
 @pytest.mark.slow
-def test_ladder_is_skipped_when_the_explicit_model_cannot_pay(tmp_path, monkeypatch, capsys):
+def test_ladder_is_skipped_when_the_explicit_model_cannot_pay(tmp_path, monkeypatch, capsys,
+                                                              shared_main):
     """The explicit form deployed (--form explicit): with the limit below the PUMA's full/N-E
     ratio (the full explicit model costs more than half of Newton-Euler's 1,212) the ladder is
     not built: no ladder_* variables, the reason stored and shown in both reports; the model
@@ -225,10 +229,12 @@ def test_ladder_is_skipped_when_the_explicit_model_cannot_pay(tmp_path, monkeypa
         assert f"{full['multiplications'] + full['additions']:,}" in note and "1,212" in note
     html = (tmp_path / "skip" / "report.html").read_text(encoding="utf-8")
     assert "Tolerance ladder not built" in html
-    monkeypatch.setattr(simplify, "LADDER_COST_LIMIT", 4.0)
-    assert main(["puma560", str(SHIPPED), "-o", str(tmp_path / "built"), "-q",
-                 "--no-report", "--form", "explicit"]) == 0
-    with xr.open_dataset(tmp_path / "built" / "results.h5", engine="h5netcdf") as ds:
+    monkeypatch.undo()
+    assert simplify.LADDER_COST_LIMIT == 4.0
+    # the default limit: the shared run of the explicit form (--rule budget is the default),
+    # read only
+    built = shared_main("puma560", SHIPPED, "--rule", "budget", "--form", "explicit")
+    with xr.open_dataset(built / "results.h5", engine="h5netcdf") as ds:
         assert ds.sizes["ladder_tolerance"] == 4
         assert "simplified_ladder_skipped" not in ds.attrs
 
@@ -242,20 +248,20 @@ def test_form_recursive_derives_no_explicit_model_and_says_so(tmp_path, capsys, 
     always still derives it."""
     import xarray as xr
 
-    assert main(["puma560", str(SHIPPED), "-o", str(tmp_path / "rec"), "-q",
-                 "--form", "recursive"]) == 0
+    # the shared run of the recursive form (--rule budget is the default), read only
+    rec_run = shared_main("puma560", SHIPPED, "--rule", "budget", "--form", "recursive")
     default_run = shared_main("puma560", SHIPPED)     # shared, read only
-    rec = json.loads((tmp_path / "rec" / "simplified_model.json").read_text())
+    rec = json.loads((rec_run / "simplified_model.json").read_text())
     default = json.loads((default_run / "simplified_model.json").read_text())
     assert rec["form"] == default["form"] == "recursive"
     assert rec["recursive"]["dropped"] == default["recursive"]["dropped"]
     assert not any(k.startswith("explicit") for k in rec["costs"])
     assert any(k.startswith("explicit") for k in default["costs"])
-    with xr.open_dataset(tmp_path / "rec" / "results.h5", engine="h5netcdf") as ds:
+    with xr.open_dataset(rec_run / "results.h5", engine="h5netcdf") as ds:
         assert ds.attrs["simplified_ladder_form"] == "recursive"
         assert "simplified_ladder_skipped" not in ds.attrs
         assert not any(str(m).startswith("explicit") for m in ds["cost_model"].values)
-    html = (tmp_path / "rec" / "report.html").read_text(encoding="utf-8")
+    html = (rec_run / "report.html").read_text(encoding="utf-8")
     assert "the full explicit model was not derived" in html
     assert "Tolerance ladder of the recursive form" in html
     assert main(["puma560", str(SHIPPED), "-o", str(tmp_path / "always"), "-q", "--no-report",
@@ -264,13 +270,13 @@ def test_form_recursive_derives_no_explicit_model_and_says_so(tmp_path, capsys, 
     assert "explicit, full" in always["costs"]
 
 
-def test_akb_anchors_only_for_the_puma(shared_main):
+def test_akb_anchors_only_for_the_puma():
     """Armstrong, Khatib & Burdick's counts are the PUMA 560's: another six-joint arm's cost
     table does not list them."""
     import xarray as xr
-    from conftest import ROOT
 
-    out = shared_main("stanford", ROOT / "data" / "stanford_trajectory.csv", "--no-report")
+    (root, *_), _ = golden_run("stanford")    # golden case stanford's run, read only
+    out = root / "stanford"
     with xr.open_dataset(out / "results.h5", engine="h5netcdf") as ds:
         labels = [str(v) for v in ds["cost_model"].values]
     assert ds.sizes["joint"] == 6 and "project N-E as implemented" in labels
