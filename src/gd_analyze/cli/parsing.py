@@ -20,6 +20,7 @@ from ..io.excitation import DEFAULT_DURATION, DEFAULT_HARMONICS, DEFAULT_SAMPLE_
 from ..io.planning import DEFAULT_GOAL_DEG, DEFAULT_QDD_PER_QD, DEFAULT_SETPOINTS, DEFAULT_START_DEG
 from ..io.robots import robots_text
 from ..io.trajectory import parse_number
+from ..io.urdf import URDF_BUILTIN
 from ..workflows.identify import DEFAULT_DRIVES
 from ..workflows.tracking import DEFAULT_WN, DEFAULT_ZETA
 
@@ -206,7 +207,8 @@ def _add_mounting_arguments(p, what="the arm"):
 
 
 def _add_chain_arguments(p):
-    g = p.add_argument_group("URDF chain (a ROBOT given as a .urdf file, or panda, ur5)")
+    g = p.add_argument_group(f"URDF chain (a ROBOT given as a .urdf file, or "
+                             f"{', '.join(sorted(URDF_BUILTIN))})")
     g.add_argument("--base", metavar="LINK",
                    help="the chain's base link (default: the URDF's root link)")
     g.add_argument("--tip", metavar="LINK",

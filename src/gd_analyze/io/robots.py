@@ -34,9 +34,12 @@ except ModuleNotFoundError:  # pragma: no cover - Python 3.10
 __all__ = ["load_robot", "load_toml_robot", "builtin_robots", "is_urdf", "TOML_BUILTIN",
            "unknown_robot", "robots_text"]
 
-#: The built-in TOML robots: name -> file in gd_analyze/data.
-TOML_BUILTIN = {"puma560": "puma560.toml", "puma560-drives": "puma560-drives.toml",
-                "two-link": "two-link.toml", "stanford": "stanford.toml"}
+#: The built-in TOML robots: name -> file in gd_analyze/data, every ``*.toml`` there, named by
+#: its stem (a new built-in TOML robot is one new file in that folder).
+TOML_BUILTIN = {p.name[:-len(".toml")]: p.name
+                for p in sorted(resources.files("gd_analyze").joinpath("data").iterdir(),
+                                key=lambda p: p.name)
+                if p.name.endswith(".toml")}
 
 
 def is_urdf(name_or_path: str | os.PathLike[str]) -> bool:
