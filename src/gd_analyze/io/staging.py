@@ -3,11 +3,9 @@
 :func:`staged_output` is the one way a command writes its output folder:
 
 - the folder is taken by its real path (a symbolic link to it names the same folder) and locked
-  (:class:`filelock.FileLock`: an ``flock``, never its soft fallback) on a lock file beside it
-  (``.<name>.gd-lock``; inside it, ``.gd-lock``, when the folder is a mount point), opened
-  without following a symbolic link and used only if it is a regular file with one link (a
-  check around filelock, which takes any file), so a second run into the same folder is
-  refused and the kernel releases the lock even when a run is killed;
+  with ``flock`` on a lock file beside it (``.<name>.gd-lock``; inside it, ``.gd-lock``, when
+  the folder is a mount point), opened without following a symbolic link, so a second run into
+  the same folder is refused and the kernel releases the lock even when a run is killed;
 - the folder's manifests (:mod:`gd_analyze.io.manifest`) must list every file it holds: a
   file gd-analyze did not write is never replaced or deleted; the run is refused, with one line
   and exit status 2, before it computes anything, and nothing is touched;
@@ -51,8 +49,6 @@ import stat
 import sys
 from collections.abc import Iterable, Iterator
 from pathlib import Path
-
-import filelock
 
 from .._version import VERSION as __version__
 from ..errors import InputError
@@ -173,29 +169,37 @@ def check_free_space(folder: str | os.PathLike[str], need_bytes: int,
 
 @contextlib.contextmanager
 def _lock(lock_path, target):
-    """Hold the folder's lock (:class:`filelock.FileLock`: ``flock``, which the kernel releases
-    when the run dies; created and opened with ``O_NOFOLLOW``) while yielding its record."""
-    def check(fd):                          # a FIFO or a hard link to a user's file: refused
+    import fcntl
+
+    while True:
+        try:
+            fd = os.open(lock_path, os.O_RDWR | os.O_CREAT | os.O_NOFOLLOW | os.O_NONBLOCK
+                         | os.O_CLOEXEC, 0o644)
+        except OSError as exc:
+            if exc.errno == errno.ELOOP:
+                raise InputError(f"cannot write the output folder: its lock file {lock_path} "
+                                 "is a symbolic link", target) from None
+            raise write_error(exc, target) from None
         st = os.fstat(fd)
-        if not stat.S_ISREG(st.st_mode) or st.st_nlink != 1:
+        if not stat.S_ISREG(st.st_mode) or st.st_nlink != 1:     # a FIFO, a hard link
+            os.close(fd)
             raise InputError(f"cannot write the output folder: its lock file {lock_path} is "
                              "not a file of its own", target)
-        fds.append(fd)
-
-    fds = []
-    lock = filelock.FileLock(lock_path, timeout=0, mode=0o644 & ~_umask(), thread_local=False,
-                             fallback_to_soft=False, on_acquired=check)
-    try:
-        lock.acquire()
-    except filelock.Timeout:
-        raise InputError("another run is writing here; wait for it to finish or choose "
-                         "another output folder (-o)", target) from None
-    except OSError as exc:
-        if exc.errno == errno.ELOOP:
-            raise InputError(f"cannot write the output folder: its lock file {lock_path} "
-                             "is a symbolic link", target) from None
-        raise write_error(exc, target) from None
-    fd, owner, record = fds[-1], os.getpid(), None
+        try:
+            fcntl.flock(fd, fcntl.LOCK_EX | fcntl.LOCK_NB)
+        except BlockingIOError:
+            os.close(fd)
+            raise InputError("another run is writing here; wait for it to finish or choose "
+                             "another output folder (-o)", target) from None
+        # The previous holder may have unlinked the file between our open and our flock.
+        try:
+            same = os.path.samestat(os.fstat(fd), os.lstat(lock_path))
+        except FileNotFoundError:
+            same = False
+        if same:
+            break
+        os.close(fd)
+    owner, record = os.getpid(), None
     try:
         before = os.pread(fd, RECORD_LIMIT, 0).decode("utf-8", "replace")
         os.ftruncate(fd, 0)
@@ -203,11 +207,10 @@ def _lock(lock_path, target):
         record = _Record(fd, before)
         yield record
     finally:
-        if os.getpid() == owner:
-            if not (record is not None and record.pending):
-                with contextlib.suppress(OSError):
-                    os.unlink(lock_path)
-            lock.release()
+        if os.getpid() == owner and not (record is not None and record.pending):
+            with contextlib.suppress(OSError):
+                os.unlink(lock_path)
+        os.close(fd)
 
 
 class _Record:
