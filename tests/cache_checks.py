@@ -2,7 +2,7 @@
 
 import numpy as np
 
-from gd_analyze.io.cache_files import checksum
+from gd_analyze.cache import checksum
 
 
 def forge(path, fields, **change):

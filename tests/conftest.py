@@ -239,7 +239,7 @@ def pytest_configure(config):
     (``<folder>/gd-analyze``: the explicit models, :mod:`gd_analyze.io.explicit_cache`, and the
     region certifications, :mod:`gd_analyze.io.certification_cache`, each derived once a
     session instead of once a test) and the operation counts
-    (:mod:`gd_analyze.formulations.opcount_cache`) live there, never in the user's own cache,
+    (:mod:`gd_analyze.formulations.opcount`) live there, never in the user's own cache,
     and the folder is removed when the session ends. ``GD_ANALYZE_NO_CACHE`` and
     ``GD_ANALYZE_CACHE_DIR`` are cleared, so a developer's settings do not change the suite.
 

@@ -52,4 +52,4 @@ def test_every_cache_key_carries_the_package_sha256(puma):
     assert cache_key(puma)["code"]["sha256"] == code
     assert certification_key(puma, region, {})["code"]["sha256"] == code
     assert search_key(puma, region, 0.01, 0.0, 8)["code"]["sha256"] == code
-    assert opcount._code_sha256() == code
+    assert opcount._cache_key("RRR")["code"]["sha256"] == code

@@ -13,7 +13,7 @@ import gd_analyze
 
 SRC = pathlib.Path(gd_analyze.__file__).parent
 LAYERS = ["core", "formulations", "io", "workflows", "reports", "cli"]
-LEAVES = {"errors", "files", "_version", "config"}
+LEAVES = {"errors", "files", "_version", "config", "cache"}
 # the shared report modules, and the main report's own parts (figures and sentences) and the
 # PDF typesetter and tick labels of all three
 SHARED_REPORTS = {"reports.common", "reports.figures", "reports.typeset", "reports.drawing",

@@ -4,9 +4,8 @@ Every default a command-line option, a workflow or a core function uses is read 
 :data:`defaults` (in the style of python-control's ``control.config.defaults``): the ranking's
 thresholds s and e (Sec. 3.4.1 of Fu, Gonzalez & Lee 1987), the simplified model's error budget
 EPS and torque floor TAU, the rule and form of the model, the report's paper, and
-the control report's verdict tolerance; and the one rule of where the on-disk caches live
-(:func:`cache_dir`), which the derivation cache (:mod:`gd_analyze.io.cache_files`) and the
-operation-count cache (:mod:`gd_analyze.formulations.opcount_cache`) both read.
+the control report's verdict tolerance; and the one rule of where the on-disk cache lives
+(:func:`cache_dir`), which the derivation cache (:mod:`gd_analyze.cache`) reads.
 A leaf module: it imports nothing of the package, so every layer may read it.
 
 Examples
@@ -68,8 +67,7 @@ def cache_dir() -> Path | None:
     ``GD_ANALYZE_NO_CACHE`` (any non-empty value) disables the caches; else
     ``GD_ANALYZE_CACHE_DIR`` names the folder; else it is ``$XDG_CACHE_HOME/gd-analyze``, or
     ``~/.cache/gd-analyze`` when ``XDG_CACHE_HOME`` is unset or empty (the XDG Base Directory
-    Specification). The derivation cache's entries and the operation counts'
-    ``opcounts-<code>.json`` live there.
+    Specification). The derivation cache's entries (:mod:`gd_analyze.cache`) live there.
 
     Returns
     -------

@@ -1,7 +1,7 @@
 """File utilities shared by every layer: atomic writes, content hashes and the code's hash.
 
 A leaf module like :mod:`gd_analyze.errors`: it imports nothing from the package, so the core
-(a simplified model's JSON), the formulations (the cache of operation counts), io, workflows and
+(a simplified model's JSON), the derivation cache (:mod:`gd_analyze.cache`), io, workflows and
 reports can all write files atomically and record their SHA-256 for provenance;
 :func:`package_sha256` is the code part of every cache key.
 """

@@ -211,34 +211,30 @@ def test_table():
 
 
 def test_disk_cache_is_keyed_by_the_counted_source(tmp_path, monkeypatch):
-    import hashlib
-    import json
+    from cache_checks import forge
 
+    import gd_analyze.cache
     from gd_analyze.formulations import opcount
 
     monkeypatch.delenv("GD_ANALYZE_NO_CACHE", raising=False)
     monkeypatch.setenv("XDG_CACHE_HOME", str(tmp_path))
     opcount._counts_for.cache_clear()
     fresh = opcount._counts_for("RRR")
-    path = opcount._cache_file()
+    path = opcount._cache_file("RRR")
     assert path.parent == tmp_path / "gd-analyze" and path.is_file()
-    data = json.loads(path.read_text())
-    assert data["entries"]["3"]["counts"] == {m: list(v) for m, v in fresh.items()}
-    # a planted value with its checksum (SHA-256 of format, code, key, counts) is read, and
-    # not believed: the recount is used, with one warning, and stored ...
-    planted = {m: [1, 2] for m in fresh}
-    text = json.dumps({"format": data["format"], "code": data["code"], "key": "3",
-                       "counts": planted}, sort_keys=True, separators=(",", ":"))
-    data["entries"]["3"] = {"counts": planted, "checksum": hashlib.sha256(text.encode())
-                            .hexdigest()}
-    path.write_text(json.dumps(data))
+    with np.load(path, allow_pickle=False) as z:
+        assert z["counts"].tolist() == [list(fresh[m]) for m in opcount.METHODS]
+    # a planted value with its checksum is read, and not believed: the recount is used, with
+    # one warning, and stored ...
+    forge(path, ("counts",), counts=np.ones((len(opcount.METHODS), 2), np.int64))
     opcount._counts_for.cache_clear()
     with pytest.warns(InputWarning, match="differs from the recount"):
         assert opcount._counts_for("RRR") == fresh
-    assert json.loads(path.read_text())["entries"]["3"]["counts"]["gd"] == list(fresh["gd"])
+    with np.load(path, allow_pickle=False) as z:
+        assert z["counts"].tolist() == [list(fresh[m]) for m in opcount.METHODS]
     # ... but only under the key of the current source: other code, other file
-    monkeypatch.setattr(opcount, "package_sha256", lambda: "f" * 64)
-    assert opcount._cache_file() != path
+    monkeypatch.setattr(gd_analyze.cache, "package_sha256", lambda: "f" * 64)
+    assert opcount._cache_file("RRR") != path
     opcount._counts_for.cache_clear()
     assert opcount._counts_for("RRR") == fresh
     opcount._counts_for.cache_clear()

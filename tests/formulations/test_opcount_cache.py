@@ -5,7 +5,9 @@ import os
 import stat
 import warnings
 
+import numpy as np
 import pytest
+from cache_checks import forge
 
 from gd_analyze.errors import InputWarning
 from gd_analyze.formulations import opcount
@@ -20,7 +22,7 @@ def cache(tmp_path, monkeypatch):
     monkeypatch.delenv("GD_ANALYZE_NO_CACHE")
     monkeypatch.setenv("XDG_CACHE_HOME", str(tmp_path))
     opcount._counts_for.cache_clear()
-    path = opcount._cache_file()
+    path = opcount._cache_file("RRR")
     path.parent.mkdir(parents=True)
     yield fresh, path
     opcount._counts_for.cache_clear()
@@ -37,7 +39,7 @@ def _counts_with_warnings():
 @pytest.mark.parametrize("planted", [
     {"3": {"lagrange-euler": [1, 1], "newton-euler": [1, 1], "gd": [1, 1],
            "gd-numpy": [1, 1]}},                               # "Newton-Euler: 1", as measured
-    {"3": 5}, [], "x", {"format": 2, "entries": {"3": 7}}])   # of the wrong JSON type
+    {"3": 5}, [], "x", {"format": 2, "entries": {"3": 7}}])   # JSON, not an entry
 def test_an_edited_or_wrong_file_is_counted_again_with_one_warning(cache, planted):
     fresh, path = cache
     path.write_text(json.dumps(planted))
@@ -49,14 +51,20 @@ def test_an_edited_or_wrong_file_is_counted_again_with_one_warning(cache, plante
     assert counts == fresh and warned == []
 
 
+def _stored(path):
+    with np.load(path, allow_pickle=False) as z:
+        return {name: z[name] for name in z.files}
+
+
 def test_an_entry_edited_without_its_checksum_is_counted_again(cache):
     fresh, path = cache
     assert _counts_with_warnings() == (fresh, [])            # written
-    data = json.loads(path.read_text())
-    data["entries"]["3"]["counts"]["newton-euler"] = [1, 1]
-    path.write_text(json.dumps(data))
+    entry = _stored(path)
+    entry["counts"][opcount.METHODS.index("newton-euler")] = [1, 1]
+    with open(path, "wb") as fh:
+        np.savez(fh, **entry)
     counts, warned = _counts_with_warnings()
-    assert counts == fresh and len(warned) == 1 and "fails its checksum" in warned[0]
+    assert counts == fresh and len(warned) == 1 and "does not match its checksum" in warned[0]
 
 
 def test_a_cache_file_that_is_a_fifo_is_not_read(cache):
@@ -71,7 +79,7 @@ def test_a_cache_file_that_is_a_fifo_is_not_read(cache):
 def test_the_counts_live_in_the_derivation_cache_folder(tmp_path, monkeypatch, setting):
     """One folder rule for both caches: ``GD_ANALYZE_CACHE_DIR`` moves the operation counts as
     it moves the derivation cache (it was ignored: the counts went to ``$XDG_CACHE_HOME``)."""
-    from gd_analyze.io.cache_files import entry_path
+    from gd_analyze.cache import entry_path
 
     chosen, xdg = tmp_path / "chosen", tmp_path / "xdg"
     monkeypatch.setenv("XDG_CACHE_HOME", str(xdg))
@@ -92,7 +100,7 @@ def test_the_counts_live_in_the_derivation_cache_folder(tmp_path, monkeypatch, s
                 "none": []}[setting]
     assert [w[:len(e)] for w, e in zip(written, expected)] == expected
     assert len(written) == len(expected)
-    derivation = entry_path("explicit", {"k": 1})
+    derivation = entry_path({"kind": "explicit", "k": 1})
     assert (derivation is None) == (setting == "none")
     if written:                                              # the same folder as the derivations
         assert (tmp_path / written[0]).parent == derivation.parent
@@ -102,16 +110,12 @@ def test_an_entry_edited_with_its_checksum_recomputed_is_recounted(cache):
     """"Newton-Euler as implemented: 1" from an entry whose SHA-256 was computed
     again. The oracle is the count of the code itself, measured without a cache (the chapter's
     Table 3.5 formula for N-E, 150 n - 48 multiplications, is far above 1 for three joints)."""
-    from gd_analyze.formulations.opcount_cache import _checksum
-
     fresh, path = cache
     assert fresh["newton-euler"][0] > 100
     assert _counts_with_warnings() == (fresh, [])            # written
-    data = json.loads(path.read_text())
-    entry = data["entries"]["3"]
-    entry["counts"]["newton-euler"] = [1, 1]
-    entry["checksum"] = _checksum(data["code"], "3", entry["counts"])
-    path.write_text(json.dumps(data))
+    planted = _stored(path)["counts"].copy()
+    planted[opcount.METHODS.index("newton-euler")] = [1, 1]
+    forge(path, ("counts",), counts=planted)
     counts, warned = _counts_with_warnings()
     assert counts == fresh
     assert len(warned) == 1 and "\n" not in warned[0] and str(path) in warned[0]
@@ -120,5 +124,5 @@ def test_an_entry_edited_with_its_checksum_recomputed_is_recounted(cache):
         "newton-euler"][0]
     counts, warned = _counts_with_warnings()                 # replaced by the recount
     assert counts == fresh and warned == []
-    assert json.loads(path.read_text())["entries"]["3"]["counts"]["newton-euler"] == list(
+    assert list(_stored(path)["counts"][opcount.METHODS.index("newton-euler")]) == list(
         fresh["newton-euler"])

@@ -16,10 +16,10 @@ import pytest
 from cache_checks import forge
 
 from gd_analyze import load_robot
+from gd_analyze.cache import CacheWarning
 from gd_analyze.core.selection import certify as certify_module
 from gd_analyze.core.selection.region import joint_region
 from gd_analyze.core.symbolic.base_parameters import base_parameters
-from gd_analyze.io.cache_files import CacheWarning
 from gd_analyze.io.certification_cache import certification
 
 SAMPLES = 200

@@ -16,11 +16,11 @@ import pytest
 from conftest import SHIPPED
 
 from gd_analyze import load_robot
+from gd_analyze.cache import checksum
 from gd_analyze.cli import main
 from gd_analyze.core.model.robot import with_payload
 from gd_analyze.core.symbolic.explicit import derive, model_terms
 from gd_analyze.formulations.pinocchio import pinocchio_model
-from gd_analyze.io.cache_files import checksum
 from gd_analyze.io.explicit_cache import CacheWarning, cache_path, explicit_terms
 from gd_analyze.io.trajectory import read_trajectory
 
@@ -132,7 +132,7 @@ def test_an_intact_entry_is_used_and_keys_differ_by_parameters(cache, puma, fres
     assert cache_path(loaded) != cache_path(puma)
     stored = json.loads(str(_stored(cache_path(puma))["key"]))
     assert stored["parameters_sha256"] and stored["robot_sha256"] == puma.sha256
-    assert stored["code"]["sha256"] and stored["settings"]["n"] == 6
+    assert stored["code"]["sha256"] and stored["n"] == 6
 
 
 def test_nothing_is_unpickled(cache, puma, fresh, tmp_path):

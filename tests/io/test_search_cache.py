@@ -14,11 +14,12 @@ import pytest
 from cache_checks import forge
 
 from gd_analyze import load_robot
+from gd_analyze.cache import CacheWarning
 from gd_analyze.core.selection.region import joint_region
 from gd_analyze.core.symbolic import recursive as recursive_module
 from gd_analyze.core.symbolic.base_parameters import random_states
 from gd_analyze.core.symbolic.newton_euler import FORMS
-from gd_analyze.io.cache_files import CacheWarning
+from gd_analyze.files import package_sha256
 from gd_analyze.io.search_cache import SEARCH_FIELDS, search_key
 from gd_analyze.workflows.deploy import REGION_SAMPLES, build_recursive
 
@@ -149,4 +150,5 @@ def test_the_key_names_the_tolerance_and_the_searching_code(arm):
     a = search_key(robot, region, EPS, 0.0, REGION_SAMPLES)
     assert a != search_key(robot, region, 2 * EPS, 0.0, REGION_SAMPLES)
     assert a != search_key(robot, region, EPS, 1.0, REGION_SAMPLES)
-    assert a["format"].startswith("search-")
+    assert a["kind"] == "search"
+    assert a["code"]["sha256"] == package_sha256()

@@ -271,6 +271,15 @@ def test_case7_a_lock_file_linked_to_another_file_is_refused(tmp_path):
     assert victim.read_text() == "precious"
 
 
+def test_case7_a_lock_file_that_is_a_fifo_is_refused_without_blocking(tmp_path):
+    os.mkfifo(tmp_path / f".out{LOCK_SUFFIX}")
+    with pytest.raises(InputError, match="lock file .* is not a file of its own"):
+        with staged_output(tmp_path / "out"):
+            pass
+    assert stat.S_ISFIFO(os.lstat(tmp_path / f".out{LOCK_SUFFIX}").st_mode)
+    assert not (tmp_path / "out").exists()
+
+
 @pytest.mark.parametrize("kind", ["file", "folder"])
 def test_case7_a_symbolic_link_inside_the_folder_is_not_ours(tmp_path, kind):
     victim = tmp_path / "victim"

@@ -84,10 +84,10 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 from numpy.typing import ArrayLike
 
+from ..cache import cache_key, entry_path, lookup, store
 from ..core.model.kinematics import as_states, transforms_core
 from ..core.model.robot import Robot
 from ..core.model.robot_spec import robot_from_dict
-from ..files import package_sha256
 from .counting import (
     OpLedger,
     count_consts,
@@ -99,7 +99,6 @@ from .counting import (
 from .lagrange_euler import joint_q_matrices, le_core
 from .lagrange_euler import le_constants as _le_constants
 from .newton_euler import link_constants, ne_core, ne_cross
-from .opcount_cache import cache_file, mismatch_warning, read_counts, store_counts
 
 if TYPE_CHECKING:
     import pandas as pd
@@ -397,35 +396,44 @@ def count_operations(robot: Robot, method: str, q: ArrayLike | None = None,
                    np.array([count_value(t) for t in tau]))
 
 
-def _code_sha256():
-    """SHA-256 of the package's sources (:func:`gd_analyze.files.package_sha256`): the counts'
-    version."""
-    return package_sha256()
+def _cache_key(types):
+    """The counts' key in the derivation cache (:func:`gd_analyze.cache.cache_key`): the code
+    and the pattern of joint types (the number of joints for revolute chains)."""
+    return cache_key("opcounts", {"format": 3, "joints": str(len(types)) if "P" not in types
+                                  else types, "methods": list(METHODS)})
 
 
-def _cache_file():
-    """The on-disk cache of the counts (:mod:`.opcount_cache`), or None when disabled."""
+def _cache_file(types):
+    """The counts' entry in the derivation cache, or None when caching is disabled."""
+    return entry_path(_cache_key(types))
 
-    return cache_file(_code_sha256())
+
+def _recounted(stored, counts):
+    """The stored counts if they equal the recount, else why not (a str)."""
+    said = stored["counts"]
+    if said.shape != (len(METHODS), 2) or said.dtype.kind != "i":
+        return "does not hold operation counts (an array of another type or shape)"
+    said = {m: tuple(int(x) for x in v) for m, v in zip(METHODS, said)}
+    method = next((m for m in METHODS if said[m] != counts[m]), None)
+    if method is None:
+        return said
+    return (f"differs from the recount ({method}: {list(said[method])} stored, "
+            f"{list(counts[method])} counted)")
 
 
 @cache
 def _counts_for(types):
     """Counts of every method for a random chain with joint types ``types``, counted afresh
-    (a few milliseconds for six joints) and compared with the on-disk cache
-    (:mod:`.opcount_cache`): an entry is never believed, even with its checksum recomputed; one
-    that differs from the recount gets one warning line and is replaced."""
+    (a few milliseconds for six joints) and compared with the derivation cache
+    (:mod:`gd_analyze.cache`): an entry is never believed, even with its checksum recomputed;
+    one that differs from the recount gets one warning line and is replaced."""
 
-    n = len(types)
-    path, code = _cache_file(), _code_sha256()
-    key = str(n) if "P" not in types else types
-    robot = random_chain(n, types=types)
+    robot = random_chain(len(types), types=types)
     counts = {m: tuple(int(x) for x in count_operations(robot, m)[:2]) for m in METHODS}
-    cached = None if path is None else read_counts(path, code, key, METHODS)
-    if cached is not None and cached != counts:
-        mismatch_warning(path, key, cached, counts)
-    if path is not None and cached != counts:
-        store_counts(path, code, key, counts)
+    key = _cache_key(types)
+    if lookup(key, ("counts",), 1 << 20, lambda stored: _recounted(stored, counts),
+              "the operations are counted again") is None:
+        store(key, {"counts": np.array([counts[m] for m in METHODS], np.int64)})
     return counts
 
 

@@ -3,8 +3,8 @@
 The certification of a joint-limit region (:func:`gd_analyze.core.selection.certify.certify`:
 the proved bound of every (base parameter, part) pair, the scale s_i and where it is reached)
 is a pure function of the robot's parameters, the region, the settings and the package's
-code (:func:`gd_analyze.files.package_sha256`), so it is kept in the derivation cache (:mod:`.cache_files`) as
-``region-<sha>.npz``, named by the SHA-256 of that key, as :mod:`.explicit_cache` keeps the
+code, so it is kept in the derivation cache (:mod:`gd_analyze.cache`) as ``region-<sha>.npz``
+under the one key (:func:`gd_analyze.cache.cache_key`), as :mod:`.explicit_cache` keeps the
 explicit model.
 
 The cache is not trusted, and a bound is never read from it. An entry stores what lets the
@@ -12,7 +12,7 @@ certification be derived again without its searches: the scale s_i and the state
 found (the local maximisation over the region), and the branch and bound's tree as its cuts
 (per box evaluated, level by level: the joint it was halved along, or -1, and where), with the
 number of boxes and the time it took. It is used only if it is a regular file whose stored key
-equals the key and whose checksum matches its arrays (:func:`.cache_files.read_entry`), and if:
+equals the key and whose checksum matches its arrays (:func:`gd_analyze.cache.read_entry`), and if:
 
 - every scale state lies in the region, |tau_i| there equals s_i (or s_i is the torque floor),
   and s_i is at least the largest |tau_i| over the certification's own sampled positions
@@ -27,25 +27,22 @@ and equal a fresh certification's bit for bit; no box is searched for. Bounds or
 into an entry (zero-volume boxes at the samples, bounds lowered to the sampled peaks,
 overlapping boxes) are never read: such an entry does not match its checksum over the stored
 fields, or its tree does not tile the region, and is certified again. A failed entry gives one
-:class:`.cache_files.CacheWarning` line; the region is certified again and the entry rewritten.
+:class:`gd_analyze.cache.CacheWarning` line; the region is certified again and the entry rewritten.
 """
 
 from __future__ import annotations
 
-import warnings
+from typing import Any
 
 import numpy as np
 
-from .._version import VERSION as __version__
+from ..cache import cache_key, lookup, store
 from ..core.selection.certify import certify, certify_tree
 from ..core.selection.region import channel_values, sample_positions, worst_states
 from ..core.selection.simplified import parameters_sha256
 from ..core.symbolic.regressor_kernels import part_regressor
-from ..errors import one_line
-from ..files import package_sha256
-from .cache_files import CacheWarning, entry_path, read_entry, write_entry
 
-__all__ = ["certification", "certification_key", "SELF_CHECK_TOLERANCE"]
+__all__ = ["certification", "certification_key", "robot_inputs", "SELF_CHECK_TOLERANCE"]
 
 _FIELDS = ("scale", "scale_state", "boxes", "seconds", "split_joint", "split_at")
 #: Layout of an entry (3: the tree of boxes, no bounds).
@@ -61,7 +58,26 @@ def _floats(a):
     return [float(x).hex() for x in np.asarray(a, float).reshape(-1)]
 
 
-def certification_key(robot, region, settings):
+def robot_inputs(robot) -> dict[str, Any]:
+    """The robot's part of a cache key: its file's SHA-256, the SHA-256 of the parameters
+    used (:func:`gd_analyze.core.selection.simplified.parameters_sha256`), its joints.
+
+    Parameters
+    ----------
+    robot : Robot
+        The arm, as loaded (with its payload, if any).
+
+    Returns
+    -------
+    dict
+        ``robot_sha256``, ``parameters_sha256``, ``n``, ``prismatic``.
+    """
+    return {"robot_sha256": str(robot.sha256),
+            "parameters_sha256": parameters_sha256(robot.to_dict()),
+            "n": int(robot.n), "prismatic": [bool(p) for p in robot.prismatic]}
+
+
+def certification_key(robot, region, settings, kind="region"):
     """What an entry must store to be used.
 
     Parameters
@@ -71,22 +87,21 @@ def certification_key(robot, region, settings):
     settings : dict
         The certification's settings (torque floor [N m or N], samples, seed, ...), JSON
         numbers.
+    kind : str, optional
+        The entry's kind (``"search"`` for :mod:`.search_cache`).
 
     Returns
     -------
     dict
-        ``format``, ``robot_sha256``, ``parameters_sha256``, ``code`` (version and the SHA-256
-        of the package's sources), ``region`` (exact hex floats) and ``settings``.
+        :func:`gd_analyze.cache.cache_key` of this format, the robot
+        (:func:`robot_inputs`), the region (exact hex floats) and the settings.
     """
-
-    return {"format": _FORMAT, "robot_sha256": str(robot.sha256),
-            "parameters_sha256": parameters_sha256(robot.to_dict()),
-            "code": {"version": str(__version__), "sha256": package_sha256()},
-            "region": {name: _floats(getattr(region, name))
-                       for name in ("q_min", "q_max", "qd_max", "qdd_max")},
-            "settings": {"n": int(robot.n), "prismatic": [bool(p) for p in robot.prismatic],
-                         **{k: (float(v).hex() if isinstance(v, float) else v)
-                            for k, v in settings.items()}}}
+    return cache_key(kind, {
+        "format": _FORMAT, **robot_inputs(robot),
+        "region": {name: _floats(getattr(region, name))
+                   for name in ("q_min", "q_max", "qd_max", "qdd_max")},
+        "settings": {k: (float(v).hex() if isinstance(v, float) else v)
+                     for k, v in settings.items()}})
 
 
 def _checked(robot, base, region, torque_floor, samples, seed, arrays, values=None):
@@ -163,24 +178,18 @@ def certification(robot, base, region, torque_floor=0.0, samples=1000, seed=0, v
 
     key = certification_key(robot, region, {"torque_floor": float(torque_floor),
                                             "samples": int(samples), "seed": int(seed)})
-    path = entry_path("region", key)
-    if path is not None:
-        found = read_entry(path, key, _FIELDS, _MAX_BYTES)
-        if isinstance(found, dict):
-            found = _checked(robot, base, region, float(torque_floor), samples, seed, found,
-                             values)
-            if not isinstance(found, str):
-                return found
-        if isinstance(found, str):
-            warnings.warn(one_line(f"{path}: derivation cache entry {found}: ignored, the "
-                                    "region is certified again"), CacheWarning, stacklevel=2)
+    found = lookup(key, _FIELDS, _MAX_BYTES,
+                   lambda arrays: _checked(robot, base, region, float(torque_floor), samples,
+                                           seed, arrays, values),
+                   "the region is certified again")
+    if found is not None:
+        return found
     pb = certify(robot, base, region, torque_floor=torque_floor, samples=samples, seed=seed,
                  values=values)
-    if path is not None:
-        write_entry(path, key, {"scale": np.asarray(pb.scale, float),
-                                "scale_state": np.asarray(pb.scale_state, float),
-                                "boxes": np.array(int(pb.boxes), np.int64),
-                                "seconds": np.array(float(pb.seconds)),
-                                "split_joint": np.asarray(pb.split_joint, np.int64),
-                                "split_at": np.asarray(pb.split_at, float)})
+    store(key, {"scale": np.asarray(pb.scale, float),
+                "scale_state": np.asarray(pb.scale_state, float),
+                "boxes": np.array(int(pb.boxes), np.int64),
+                "seconds": np.array(float(pb.seconds)),
+                "split_joint": np.asarray(pb.split_joint, np.int64),
+                "split_at": np.asarray(pb.split_at, float)})
     return pb

@@ -1,14 +1,12 @@
 """On-disk cache of the explicit model's derivation, which cannot lie.
 
-The explicit model (:func:`gd_analyze.core.symbolic.explicit.derive`) is a pure function of the robot's
-parameters and of the package's code, so an entry is named by the SHA-256 of its key: the
-robot's parameters (its file's SHA-256 and the parameters actually used, so a robot carrying
-a payload gets its own entry), the version and the package's sources (:func:`gd_analyze.files.package_sha256`) and the
-derivation's settings. The folder is ``$GD_ANALYZE_CACHE_DIR`` if set, else
-``$XDG_CACHE_HOME/gd-analyze`` or ``~/.cache/gd-analyze``; ``GD_ANALYZE_NO_CACHE=1`` disables
-it.
+The explicit model (:func:`gd_analyze.core.symbolic.explicit.derive`) is a pure function of the
+robot's parameters and of the package's code, so it is kept in the derivation cache
+(:mod:`gd_analyze.cache`) under the one key (:func:`gd_analyze.cache.cache_key`): the code,
+the robot's parameters (its file's SHA-256 and the parameters actually used, so a robot
+carrying a payload gets its own entry) and the derivation's settings.
 
-The cache is not trusted (:mod:`.cache_files`). An entry (``explicit-<sha>.npz``, plain
+The cache is not trusted. An entry (``explicit-<sha>.npz``, plain
 arrays: nothing is ever unpickled) stores its key and a SHA-256 of its arrays, and is used only
 if
 
@@ -20,27 +18,22 @@ if
   coefficients scaled, are caught even with a forged key and checksum.
 
 Otherwise one warning line (:class:`CacheWarning`) says why, the model is derived again, and
-the entry is rewritten atomically: an unpredictable temporary name in the cache folder
-(:func:`tempfile.mkstemp`, created exclusively, so a planted symbolic link is never followed),
-then renamed over the entry (the rename replaces a link at the entry's name, not its target).
-An unwritable cache folder is silent: the model is derived each time.
+the entry is rewritten atomically (:func:`gd_analyze.cache.write_entry`). An unwritable cache
+folder is silent: the model is derived each time.
 """
 
 from __future__ import annotations
 
-import warnings
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
-from .._version import VERSION as __version__
-from ..core.selection.simplified import parameters_sha256
+from ..cache import CacheWarning, cache_dir, entry_path, lookup, store
+from ..cache import cache_key as _key
 from ..core.symbolic.explicit import Term, derive, model_terms
 from ..core.symbolic.explicit_check import terms_disagreement
-from ..errors import one_line
-from ..files import package_sha256
-from .cache_files import CacheWarning, cache_dir, entry_path, read_entry, write_entry
+from .certification_cache import robot_inputs
 
 if TYPE_CHECKING:
     from ..core.model.robot import Robot
@@ -68,18 +61,12 @@ def cache_key(robot: Robot) -> dict[str, Any]:
     Returns
     -------
     dict
-        ``format``; ``robot_sha256`` (its file's SHA-256), ``parameters_sha256`` (of the
-        parameters used, :func:`gd_analyze.core.selection.simplified.parameters_sha256`); ``code`` (the
-        package version and the SHA-256 of the package's sources); ``settings`` (what
-        the derivation depends on besides the parameters: the joint types, the fields).
+        :func:`gd_analyze.cache.cache_key` of the robot's parameters
+        (:func:`.certification_cache.robot_inputs`), this format and the derivation's settings
+        (the fields).
     """
-
-    return {"format": _FORMAT, "robot_sha256": str(robot.sha256),
-            "parameters_sha256": parameters_sha256(robot.to_dict()),
-            "code": {"version": str(__version__), "sha256": package_sha256()},
-            "settings": {"n": int(robot.n),
-                         "prismatic": [bool(p) for p in robot.prismatic],
-                         "offsets_in": "placements", "fields": list(_FIELDS)}}
+    return _key("explicit", {"format": _FORMAT, **robot_inputs(robot),
+                             "offsets_in": "placements", "fields": list(_FIELDS)})
 
 
 def cache_path(robot: Robot) -> Path | None:
@@ -94,9 +81,7 @@ def cache_path(robot: Robot) -> Path | None:
     pathlib.Path or None
         ``<folder>/explicit-<first 40 hex digits of the key's SHA-256>.npz``.
     """
-    if cache_dir() is None:
-        return None
-    return entry_path("explicit", cache_key(robot))
+    return None if cache_dir() is None else entry_path(cache_key(robot))
 
 
 #: The dtype of each stored array.
@@ -110,12 +95,8 @@ def _arrays(terms):
     return {f: np.asarray(getattr(terms, f), _DTYPES[f]) for f in _FIELDS}
 
 
-def _read(path, key, robot):
-    """The entry's terms, or the reason it is not used (a str)."""
-
-    arrays = read_entry(path, key, _FIELDS, _MAX_BYTES)
-    if arrays is None or isinstance(arrays, str):
-        return arrays
+def _checked(robot, arrays):
+    """The entry's terms, or the reason they are not used (a str)."""
     U = arrays["C"].shape[:1]
     if any(arrays[f].dtype != _DTYPES[f] or arrays[f].shape[:1] != U
            or arrays[f].ndim != (2 if f == "K" else 1) for f in _FIELDS):
@@ -157,19 +138,13 @@ def explicit_terms(robot):
     """
     import time
 
-
-    path = cache_path(robot)
-    key = None if path is None else cache_key(robot)
-    if path is not None:
-        found = _read(path, key, robot)
-        if found is not None and not isinstance(found, str):
-            return found, 0.0
-        if isinstance(found, str):
-            warnings.warn(one_line(f"{path}: derivation cache entry {found}: ignored, the "
-                                    "model is derived again"), CacheWarning, stacklevel=2)
+    key = cache_key(robot)
+    found = lookup(key, _FIELDS, _MAX_BYTES, lambda arrays: _checked(robot, arrays),
+                   "the model is derived again")
+    if found is not None:
+        return found, 0.0
     t0 = time.perf_counter()
     terms = model_terms(derive(robot))
     seconds = time.perf_counter() - t0
-    if path is not None:
-        write_entry(path, key, _arrays(terms))
+    store(key, _arrays(terms))
     return terms, seconds

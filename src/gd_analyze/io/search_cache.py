@@ -3,7 +3,7 @@
 The model pruned over a joint-limit region (:func:`gd_analyze.workflows.deploy.region_model`)
 comes out of two searches, each a pure function of the robot's parameters, the region, the
 tolerance EPS, the torque floor and the package's code
-(:func:`gd_analyze.files.package_sha256`):
+(the one key of the derivation cache, :func:`gd_analyze.cache.cache_key`):
 
 - which (base parameter, part) pairs to drop: a greedy search over the operation counts of
   candidate programs (:func:`gd_analyze.core.symbolic.pruning.prune_bounds`);
@@ -12,18 +12,18 @@ tolerance EPS, the torque floor and the package's code
   (:func:`gd_analyze.core.symbolic.recursive.recursive_program`).
 
 Together they build some 45 programs for the PUMA 560 (about a third of the main job's time
-without its report), so their outcome is kept in the derivation cache (:mod:`.cache_files`)
+without its report), so their outcome is kept in the derivation cache (:mod:`gd_analyze.cache`)
 as ``search-<sha>.npz``, named by the SHA-256 of that key, beside the region's certification
 (:mod:`.certification_cache`).
 
 The cache is not trusted. An entry is used only if it is a regular file whose stored key
-equals the key and whose checksum matches its arrays (:func:`.cache_files.read_entry`), its
+equals the key and whose checksum matches its arrays (:func:`gd_analyze.cache.read_entry`), its
 arrays have the robot's shapes and types, its forms are names of FORMS, and its dropped pairs
 pass the same budget check as a search's (each joint's bound at most EPS s_i on the proved
 bounds, :func:`~gd_analyze.core.symbolic.pruning.prune_bounds` with ``chosen``). The programs
 are then built from those choices, so they compute the same torques whatever the entry says:
 a forged entry can make the model cost more, never err more than its stated bound. An entry
-that fails gives one :class:`.cache_files.CacheWarning` line; the searches run again and the
+that fails gives one :class:`gd_analyze.cache.CacheWarning` line; the searches run again and the
 entry is rewritten.
 """
 
@@ -34,8 +34,8 @@ from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
+from ..cache import entry_path, read_entry, store
 from ..core.symbolic.newton_euler import FORMS
-from .cache_files import entry_path, read_entry, write_entry
 from .certification_cache import certification_key
 
 if TYPE_CHECKING:
@@ -72,14 +72,13 @@ def search_key(robot: Robot, region: Region, tolerance: float, torque_floor: flo
     Returns
     -------
     dict
-        The certification's key (:func:`.certification_cache.certification_key`) with the
-        tolerance and this format.
+        The certification's key (:func:`.certification_cache.certification_key`) of kind
+        ``search``, with the tolerance and this format.
     """
-    key = certification_key(robot, region, {"torque_floor": float(torque_floor),
-                                            "samples": int(samples), "seed": 0,
-                                            "tolerance": float(tolerance)})
-    key["format"] = f"search-{_FORMAT}"
-    return key
+    return certification_key(robot, region, {"torque_floor": float(torque_floor),
+                                             "samples": int(samples), "seed": 0,
+                                             "tolerance": float(tolerance),
+                                             "search_format": _FORMAT}, "search")
 
 
 def read_search(key: Mapping[str, Any], n: int, b: int) -> dict[str, Any] | str | None:
@@ -102,7 +101,7 @@ def read_search(key: Mapping[str, Any], n: int, b: int) -> dict[str, Any] | str 
         (:func:`~gd_analyze.core.symbolic.pruning.prune_bounds` with ``chosen``).
     """
 
-    path = entry_path("search", key)
+    path = entry_path(key)
     found = None if path is None else read_entry(path, key, SEARCH_FIELDS, _MAX_BYTES)
     if not isinstance(found, dict):
         return found
@@ -137,11 +136,8 @@ def write_search(key: Mapping[str, Any], dropped: np.ndarray, whole: np.ndarray,
         The pruned program's, None when the exact program is deployed.
     """
 
-    path = entry_path("search", key)
-    if path is None:
-        return
     n = len(exact_forms)
-    write_entry(path, key, {
+    store(key, {
         "dropped": np.asarray(dropped, bool), "whole": np.asarray(whole, bool),
         "exact_forms": np.array([FORMS.index(f) for f in exact_forms], np.int64),
         "pruned_forms": np.array([FORMS.index(f) for f in pruned_forms] if pruned_forms

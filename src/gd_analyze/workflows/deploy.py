@@ -15,6 +15,7 @@ from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
+from ..cache import CacheWarning, entry_path
 from ..core.selection.budget import DEFAULT_TOLERANCE, Selection
 from ..core.selection.certify import (
     JOINT_DIMS,
@@ -48,7 +49,6 @@ from ..core.symbolic.pruning import (
 from ..core.symbolic.recursive import recursive_program
 from ..core.symbolic.recursive_model import RecursiveModel, recursive_model
 from ..errors import one_line
-from ..io.cache_files import CacheWarning, entry_path
 from ..io.model_trust import remember_claim
 from ..io.planning import DEFAULT_QDD_PER_QD, acceleration_limits
 from ..io.search_cache import read_search, search_key, write_search
@@ -632,7 +632,7 @@ def _searched(robot, base, region, tolerance, torque_floor, sampled=True):
             return (*_region_model(robot, base, region, tolerance, pb, pr, sampled),
                     (found["exact_forms"], found["pruned_forms"]), None)
     if isinstance(found, str):
-        warnings.warn(one_line(f"{entry_path('search', key)}: derivation cache entry {found}: "
+        warnings.warn(one_line(f"{entry_path(key)}: derivation cache entry {found}: "
                                "ignored, the model is searched again"), CacheWarning,
                       stacklevel=2)
     pruned = _region_pruning(base, pb, robot, region, tolerance)

@@ -7,7 +7,7 @@ import zipfile
 import numpy as np
 import pytest
 
-from gd_analyze.io.cache_files import read_entry, write_entry
+from gd_analyze.cache import read_entry, write_entry
 
 _KEY = {"robot": "two-link", "version": 1}
 

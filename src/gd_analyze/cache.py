@@ -1,21 +1,26 @@
-"""Entries of the derivation cache: where they live, how they are read and written.
+"""The derivation cache: one folder, one key, entries checked and never trusted.
 
-The derivation cache holds results that are pure functions of a robot's parameters and of the
-code that computes them (the explicit G-D model, :mod:`.explicit_cache`; the region
-certification, :mod:`.certification_cache`). Its folder is :func:`gd_analyze.config.cache_dir`
-(the one rule, shared with the operation-count cache): ``$GD_ANALYZE_CACHE_DIR`` if set,
-else ``$XDG_CACHE_HOME/gd-analyze`` or ``~/.cache/gd-analyze``; ``GD_ANALYZE_NO_CACHE=1``
-disables it.
+The cache holds results that are pure functions of their inputs and of the code that computes
+them: the explicit G-D model (:mod:`gd_analyze.io.explicit_cache`), the region certification
+(:mod:`gd_analyze.io.certification_cache`), the region model's searches
+(:mod:`gd_analyze.io.search_cache`) and the operation counts
+(:mod:`gd_analyze.formulations.opcount`). Every entry has one key (:func:`cache_key`): the
+SHA-256 of the installed package's sources (:func:`gd_analyze.files.package_sha256`; no list
+of "the modules a result depends on" to go stale) plus the inputs. Its folder is
+:func:`gd_analyze.config.cache_dir`: ``$GD_ANALYZE_CACHE_DIR`` if set, else
+``$XDG_CACHE_HOME/gd-analyze`` or ``~/.cache/gd-analyze``; ``GD_ANALYZE_NO_CACHE=1`` disables
+it.
 
 An entry is a ``.npz`` of plain arrays (nothing is ever unpickled) named by the SHA-256 of its
 key, and stores the key and a SHA-256 of its arrays. :func:`read_entry` opens it without
 following a symbolic link and without blocking on a FIFO, refuses anything but a regular file
-of bounded size, and checks the key and the checksum; each cache then checks the content
-itself against an independent computation before using it. :func:`write_entry` writes
-atomically (:func:`gd_analyze.files.atomic_path`: an unpredictable temporary name created
-exclusively, so a planted symbolic link is never followed, then a rename over the entry,
-which replaces a link at the entry's name, not its target). An unwritable cache folder is
-silent.
+of bounded size, and checks the key and the checksum; :func:`lookup` then hands the content to
+the cache's own check, an independent computation, before it is used, and says in one warning
+line why an entry is not. :func:`write_entry` writes atomically
+(:func:`gd_analyze.files.atomic_path`: an unpredictable temporary name created exclusively, so
+a planted symbolic link is never followed, then a rename over the entry, which replaces a link
+at the entry's name, not its target; a FIFO or device there is never replaced). An unwritable
+cache folder is silent.
 """
 
 from __future__ import annotations
@@ -24,19 +29,21 @@ import hashlib
 import json
 import os
 import stat
-from collections.abc import Mapping, Sequence
+import warnings
+from collections.abc import Callable, Mapping, Sequence
 from pathlib import Path
 from typing import Any
 
 import numpy as np
 import numpy.typing as npt
 
-from ..config import cache_dir
-from ..errors import InputWarning
-from ..files import atomic_path
+from ._version import VERSION
+from .config import cache_dir
+from .errors import InputWarning, one_line
+from .files import atomic_path, package_sha256
 
-__all__ = ["CacheWarning", "cache_dir", "entry_path", "canonical", "checksum", "read_entry",
-           "write_entry"]
+__all__ = ["CacheWarning", "cache_dir", "cache_key", "entry_path", "canonical", "checksum",
+           "read_entry", "write_entry", "lookup", "store"]
 
 
 class CacheWarning(InputWarning):
@@ -59,26 +66,45 @@ def canonical(key: Mapping[str, Any]) -> str:
     return json.dumps(key, sort_keys=True, separators=(",", ":"))
 
 
-def entry_path(prefix: str, key: Mapping[str, Any]) -> Path | None:
+def cache_key(kind: str, inputs: Mapping[str, Any]) -> dict[str, Any]:
+    """The one key of an entry: its kind, the code (the package's version and the SHA-256 of
+    its sources) and the inputs.
+
+    Parameters
+    ----------
+    kind : str
+        The kind of entry (``"explicit"``, ``"region"``, ``"search"``, ``"opcounts"``): the
+        first part of its file name.
+    inputs : dict
+        Everything else the content depends on (JSON values).
+
+    Returns
+    -------
+    dict
+        ``{"kind", "code": {"version", "sha256"}, **inputs}``.
+    """
+    return {"kind": kind, "code": {"version": str(VERSION), "sha256": package_sha256()},
+            **inputs}
+
+
+def entry_path(key: Mapping[str, Any]) -> Path | None:
     """Where the entry of a key lives, or None when caching is disabled.
 
     Parameters
     ----------
-    prefix : str
-        The kind of entry (``"explicit"``, ``"region"``).
     key : dict
-        What the entry must store to be used.
+        From :func:`cache_key`.
 
     Returns
     -------
     pathlib.Path or None
-        ``<folder>/<prefix>-<first 40 hex digits of the key's SHA-256>.npz``.
+        ``<folder>/<kind>-<first 40 hex digits of the key's SHA-256>.npz``.
     """
     folder = cache_dir()
     if folder is None:
         return None
     digest = hashlib.sha256(canonical(key).encode()).hexdigest()
-    return folder / f"{prefix}-{digest[:40]}.npz"
+    return folder / f"{key['kind']}-{digest[:40]}.npz"
 
 
 def checksum(arrays: Mapping[str, npt.NDArray[Any]], fields: Sequence[str]) -> str:
@@ -206,6 +232,8 @@ def write_entry(path: Path, key: Mapping[str, Any], arrays: Mapping[str, Any]) -
         Plain (not object) arrays, stored in this order with their checksum.
     """
     try:
+        if os.path.lexists(path) and not (path.is_symlink() or path.is_file()):
+            return      # a FIFO, a device, a folder: never replaced
         path.parent.mkdir(mode=0o700, parents=True, exist_ok=True)
         with atomic_path(path) as tmp, open(tmp, "wb") as fh:
             np.savez(fh, key=np.array(canonical(key)),
@@ -214,3 +242,56 @@ def write_entry(path: Path, key: Mapping[str, Any], arrays: Mapping[str, Any]) -
             os.fsync(fh.fileno())
     except OSError:
         pass        # read-only cache: computed again next time
+
+
+def lookup(key: Mapping[str, Any], fields: Sequence[str], max_bytes: int,
+           check: Callable[[dict[str, npt.NDArray[Any]]], Any], again: str) -> Any:
+    """The content of the key's entry once the cache's own check accepts it, or None.
+
+    Parameters
+    ----------
+    key : dict
+        From :func:`cache_key`.
+    fields : sequence of str
+        The arrays the entry must hold.
+    max_bytes : int
+        Largest file read [bytes].
+    check : callable
+        ``check(arrays)``: the content, checked against an independent computation, or the
+        reason (a str, one phrase) it is not used.
+    again : str
+        What is done instead, for the warning (``"the model is derived again"``).
+
+    Returns
+    -------
+    object or None
+        What ``check`` returned; None when caching is off, there is no entry, or it failed.
+
+    Warns
+    -----
+    CacheWarning
+        Once, naming the entry and the reason, when the entry exists but is not used.
+    """
+    path = entry_path(key)
+    found = None if path is None else read_entry(path, key, fields, max_bytes)
+    if isinstance(found, dict):
+        found = check(found)
+    if isinstance(found, str):
+        warnings.warn(one_line(f"{path}: derivation cache entry {found}: ignored, {again}"),
+                      CacheWarning, stacklevel=3)
+        return None
+    return found
+
+
+def store(key: Mapping[str, Any], arrays: Mapping[str, Any]) -> None:
+    """:func:`write_entry` at the key's entry; nothing when caching is off.
+
+    Parameters
+    ----------
+    key : dict
+        From :func:`cache_key`.
+    arrays : dict of str to ndarray
+    """
+    path = entry_path(key)
+    if path is not None:
+        write_entry(path, key, arrays)
