@@ -33,15 +33,14 @@ def main(argv=None):
     from gd_analyze.cli import main as cli
     from gd_analyze.io.schema import open_results
     from gd_analyze.reports.main import FIG_RC, make_figures
-    from gd_analyze.reports.ticks import ticks_once
 
     with tempfile.TemporaryDirectory() as tmp:
         assert cli(["puma560", str(ROOT / "data" / "puma560_trajectory.csv"), "-o", tmp,
                     "--no-report", "-q"]) == 0
         ds = open_results(Path(tmp) / "results.h5")
         fig = make_figures(ds, keys=("D",))["D"]
-        with matplotlib.rc_context(FIG_RC):          # its ticks as write_report draws them
-            ticks_once(fig).savefig(args.out, dpi=150, facecolor="white")
+        with matplotlib.rc_context(FIG_RC):          # as write_report draws it
+            fig.savefig(args.out, dpi=150, facecolor="white")
         ds.close()
     print(f"wrote {args.out}")
     return 0

@@ -23,6 +23,14 @@ def drawn_tick_labels(ax):
     return out
 
 
+def tick_texts(ax, axis="y"):
+    """(tick position, label Text) of the labelled ticks one axis of an Axes draws (as
+    Axis.draw picks them); labels formatted as when the figure is drawn."""
+    which = ax.xaxis if axis == "x" else ax.yaxis
+    return [(tick.get_loc(), tick.label1) for tick in which._update_ticks()
+            if tick.label1.get_visible() and tick.label1.get_text()]
+
+
 def texts(fig):
     """(owner, text) of every visible non-empty text: tick labels, axis labels, titles,
     panel texts, legends, figure texts; the owner is the axes (or the figure)."""

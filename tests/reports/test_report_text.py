@@ -110,17 +110,18 @@ def test_html_breaks_prose_only_between_words(reports, which):
 def test_operation_count_axes_write_powers_of_ten(reports):
     """Fig. 5 labelled its logarithmic axes "1e2 ... 1e6", code for 10², ..., 10⁶. Oracle:
     each label, read as a power of ten, gives back its tick."""
+    from figure_checks import draw, tick_texts
+
     from gd_analyze.io.schema import open_results
     from gd_analyze.reports import main as report
-    from gd_analyze.reports.ticks import tick_texts, ticks_once
 
     digits = "\u2070\u00b9\u00b2\u00b3\u2074\u2075\u2076\u2077\u2078\u2079"
     folder, _ = reports["puma"]
     with open_results(folder / "results.h5", lazy=True) as ds:
         figs = report.make_figures(ds.load(), keys=("formulations", "formulations_column"))
     assert set(figs) == {"formulations", "formulations_column"}
-    figs = {k: ticks_once(f) for k, f in figs.items()}     # its ticks as the report draws them
     for key, fig in figs.items():
+        draw(fig, report.FIG_RC)                            # its ticks as the report draws them
         labels = [(v, t.get_text()) for ax in fig.axes for v, t in tick_texts(ax, "y")
                   if t.get_text()]
         assert len(labels) >= 4, key

@@ -187,7 +187,7 @@ def test_round_off_threshold_in_mathematics(swept):
     """The sweep's captions and figures wrote the round-off rule as the code-like "1e-12";
     every place writes it as the main report does, 10⁻¹² (the ranking's ROUND_OFF)."""
     from gd_analyze.core.selection.ranking import ROUND_OFF
-    from gd_analyze.reports.ticks import decade_label
+    from gd_analyze.reports.numbers import decade_label
 
     _, out = swept
     html = (out / "sweep_report.html").read_text()

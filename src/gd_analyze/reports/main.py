@@ -61,8 +61,7 @@ from .main_outline import main_outline
 from .plot_data import ENVELOPE_COLUMNS, ENVELOPE_THRESHOLD
 from .simplified_section import error_figure
 from .table_export import write_tables
-from .ticks import decade_formatter, ticks_once
-from .ticks import formatter as tick_formatter
+from .ticks import decade_formatter, scaled_formatter
 from .typeset import PAPER, write_pdf
 
 if TYPE_CHECKING:
@@ -341,7 +340,7 @@ def _fig_formulations(counted, width=PAGE_WIDTH):
         ax.xaxis.set_major_locator(FixedLocator(n))
         ax.yaxis.set_minor_locator(LogLocator(subs=(2.0, 5.0)))
         for axis in (ax.xaxis, ax.yaxis):       # plain labels: no mathtext to parse
-            axis.set_major_formatter(tick_formatter() if axis is ax.xaxis
+            axis.set_major_formatter(scaled_formatter() if axis is ax.xaxis
                                      else decade_formatter())      # 10⁶, not 1e6
             axis.set_minor_formatter(NullFormatter())
         ax.set_title(f"{op} per set point")
@@ -526,8 +525,7 @@ def write_report(results: Results | str | os.PathLike[str], outdir: str | os.Pat
 
     Notes
     -----
-    Each figure's ticks are built once (:func:`gd_analyze.reports.ticks.ticks_once`), then it
-    is drawn once as SVG: inlined in the HTML, embedded in the PDF report and written to
+    Each figure is drawn once as SVG: inlined in the HTML, embedded in the PDF report and written to
     ``figures/``, with its PDF typeset from it by Typst. Every file is written to a
     temporary name beside its destination and renamed (:func:`gd_analyze.files.atomic_path`).
     Source: Sec. 3.4.1 and Figs. 3.10-3.11 of Fu, Gonzalez & Lee (1987).
@@ -549,7 +547,7 @@ def _write(results, outdir, formats, paper, progress, column=False, latex=False)
     data = plot_data(ds, progress=progress)
     drawn = {}
     for key, make in figure_makers(results, data, column=column).items():  # one alive
-        drawn.update(_drawn({key: ticks_once(make())}, created=ctx["created"]))
+        drawn.update(_drawn({key: make()}, created=ctx["created"]))
     with contextlib.ExitStack() as stack:
         paths = {fmt: outdir / f"report.{fmt}" for fmt in formats}
         files = write_figure_files(stack, drawn, outdir / "figures", FIGURE_FILES)

@@ -36,6 +36,7 @@ from ..core.selection.ranking import (
 from .common import joint_style, units_text
 from .figure_style import element_markevery
 from .markup import label as _math
+from .numbers import decade_label
 from .plot_data import (  # noqa: F401
     DERIVED,
     ENVELOPE_COLUMNS,
@@ -44,7 +45,7 @@ from .plot_data import (  # noqa: F401
     PlotData,
     plot_data,
 )
-from .ticks import decade_label, label_axes, set_ticks
+from .ticks import label_axes, set_ticks
 
 if TYPE_CHECKING:
     import numpy.typing as npt

@@ -13,8 +13,8 @@ from typing import Any
 from ..core.selection.ranking import ROUND_OFF
 from .budget_figures import BUDGET_CAPTIONS
 from .markup import code, element, sub
+from .numbers import decade_label
 from .sections import Outline
-from .ticks import decade_label
 
 __all__ = ["main_outline", "RANKING_TEXT"]
 

@@ -27,7 +27,7 @@ from .markup import powers
 from .markup import scope as scope_markup
 from .markup import sub as _sub
 from .plot_data import PlotData
-from .ticks import MINUS, label_axes, set_ticks
+from .ticks import label_axes, set_ticks
 
 if TYPE_CHECKING:
     from collections.abc import Mapping
@@ -523,7 +523,7 @@ def error_figure(ds: StoredSimplified | xr.Dataset, width: float = 7.2,
 
         peaks = "; ".join(
             f"{i + 1}: "
-            + f"{float(np.max(np.abs(diff[:, i]))):.1e}".replace("-", MINUS) + f" {units[i]}"
+            + f"{float(np.max(np.abs(diff[:, i]))):.1e}".replace("-", "\u2212") + f" {units[i]}"
             for i in quiet)
         what = ("joint " if len(quiet) == 1 else "joints ") + ", ".join(
             str(i + 1) for i in quiet)

@@ -41,12 +41,12 @@ from .common import CLASS_COLOURS as _CLASS_COLOURS
 from .common import SUPTITLE_RC as _RC
 from .common import check_formats, render_template
 from .drawing import draw_figures, figure_svg, write_figure_files
+from .numbers import decade_label
 from .sections import Outline
 from .sweep_figures import make_sweep_figures
 from .sweep_text import SHARE_TEXT, SWEEP_CAPTIONS
 from .sweep_text import sweep_context as _context
 from .table_export import write_tables
-from .ticks import decade_label
 from .typeset import PAPER, TABLE_COLOURS, write_pdf
 
 if TYPE_CHECKING:                       # for the type hints only

@@ -24,7 +24,7 @@ from .figures import payload_figure
 from .markup import ROT as _ROT
 from .markup import TRAN as _TRAN
 from .markup import label as _math
-from .ticks import decade_label
+from .numbers import decade_label
 from .typeset import TABLE_COLOURS
 
 if TYPE_CHECKING:                       # for the type hints only
