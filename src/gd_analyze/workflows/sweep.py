@@ -242,9 +242,25 @@ def _ranking_only(dominance, negligible):
                            formulations=False, simplify=None)
 
 
+class _Silent:
+    """A progress bar that shows nothing, shared by a task's trajectories: a disabled tqdm
+    per trajectory costs more than the ranking of a short trajectory's set points."""
+
+    def reset(self, total=None):
+        """Nothing to restart."""
+
+    def set_description(self, desc=None):
+        """Nothing to name."""
+
+    def update(self, n=1):
+        """Nothing to count."""
+
+
 def _analyze_batch(robot, trajectories, dominance, negligible, base=None):
     options = _ranking_only(dominance, negligible)
-    out = [_summary(tr, analysis_pass(robot, tr, options, chunk=tr.q.shape[0], terms=terms))
+    silent = _Silent()
+    out = [_summary(tr, analysis_pass(robot, tr, options, chunk=tr.q.shape[0], terms=terms,
+                                      progress=silent))
            for tr, terms in _batch_terms(robot, trajectories)]
     if base is not None:        # the recursive model's peaks, per trajectory
 
