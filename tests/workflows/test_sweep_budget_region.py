@@ -7,6 +7,7 @@ Oracles: Pinocchio's rnea (the torques), the main job's own model on the shipped
 """
 
 import dataclasses
+from types import SimpleNamespace
 
 import numpy as np
 import pinocchio as pin
@@ -17,7 +18,8 @@ from gd_analyze.io.planning import acceleration_limits, random_trajectories
 from gd_analyze.io.sweep_guarantee import merged_guarantee
 from gd_analyze.workflows.analyze import analyze
 from gd_analyze.workflows.options import AnalysisOptions, SimplifyOptions
-from gd_analyze.workflows.sweep import WorkerErrors, run_sweep
+from gd_analyze.workflows.simplify import per_trajectory_errors, sweep_validation
+from gd_analyze.workflows.sweep import ERRORS_SETPOINTS_MAX, WorkerErrors, run_sweep
 from gd_analyze.workflows.sweep_budget import budget_region_model, budget_sweep_model
 from gd_analyze.workflows.sweep_merged import with_budget_model
 
@@ -254,3 +256,57 @@ def test_a_model_that_cannot_travel_is_measured_here(puma, planned, client):
     assert errors.tasks == 0
     for a, b in zip(got, want):
         np.testing.assert_array_equal(a, b)
+
+
+def test_the_workers_check_in_one_task_each_finds_a_trajectory_above_the_budget(
+        puma, planned, fast, client):
+    """By default the workers measure a merged model in one task per worker, each on all its
+    trajectories' set points at once, with the errors measured in this process (to
+    round-off); planted: a
+    model that drops every pair (its torque 0) under the region model's bound, which the
+    check must find above EPS on the swept trajectories inside the region, each error that
+    against Pinocchio's rnea."""
+    trajectories = [*planned, fast]
+    settings = {"tolerance": 0.01, "guarantee": "region", "explicit": "never"}
+    model, reference = budget_region_model(puma, trajectories, **settings)
+    workers = len(client.scheduler_info()["workers"])
+    errors = WorkerErrors(client)
+    got = errors(model, [*trajectories, planned[2]], reference)
+    assert errors.tasks == min(workers, len(trajectories) + 1)
+    want = per_trajectory_errors(model, [*trajectories, planned[2]], reference)
+    for a, b in zip(got, want):         # the model's arithmetic on other batches: round-off
+        np.testing.assert_allclose(a, b, rtol=1e-12, atol=1e-12 * want[2].max())
+    # planted: the first plan ten times as fast, far outside the region, where the dropped
+    # velocity pairs grow 100-fold past the bound proved inside it
+    tr = planned[0]
+    flung = dataclasses.replace(tr, t=tr.t / 10, qd=10 * tr.qd, qdd=100 * tr.qdd,
+                                source="ten-times-as-fast")
+    g = model.guarantee
+    scale, bound = np.asarray(g.scale, float), np.asarray(g.bound, float)
+    errors = WorkerErrors(client)
+    checked = sweep_validation(model, [*planned, flung], np.broadcast_to(scale, (4, puma.n)),
+                               bound / scale, reference=reference, errors=errors)
+    assert errors.tasks == min(workers, 4)
+    per = np.asarray(checked["per_trajectory"]["peak_abs_error"])
+    for k, t in enumerate([*planned, flung]):
+        ref = _rnea(puma, t)
+        err = np.abs(model.torque(t.q, t.qd, t.qdd) - ref).max(axis=0)
+        np.testing.assert_allclose(per[k], err, rtol=0, atol=1e-9 * np.abs(ref).max())
+    assert (per[:3] / scale).max() <= (bound / scale).max() <= 0.01
+    assert (per[3] / scale).max() > 0.01
+    assert checked["worst_scaled_error"] == (per[3] / scale).max()
+
+
+def test_worker_errors_cut_by_set_points(client):
+    """Without a batch, as many tasks as workers, more where a task would exceed
+    ERRORS_SETPOINTS_MAX set points; consecutive, every trajectory once."""
+    workers = len(client.scheduler_info()["workers"])
+    trs = [SimpleNamespace(q=np.zeros((n, 2))) for n in (5, 1, 7, 3, 9, 2)]
+    batches = WorkerErrors(client)._batches(trs)
+    assert len(batches) == min(workers, len(trs))
+    assert [t for b in batches for t in b] == trs
+    big = [SimpleNamespace(q=np.zeros((ERRORS_SETPOINTS_MAX // 2 + 1, 1)))
+           for _ in range(4)]
+    batches = WorkerErrors(client)._batches(big)
+    assert len(batches) >= 3 and [t for b in batches for t in b] == big
+    assert all(sum(t.q.shape[0] for t in b) <= ERRORS_SETPOINTS_MAX * 1.5 for b in batches)

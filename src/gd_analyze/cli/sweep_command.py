@@ -247,7 +247,7 @@ def cmd_sweep(args: argparse.Namespace) -> int:
             robot, trajectories, masses, args.payload_com, args.payload_inertia,
             args.dominance, args.negligible, client=client)
         if budget:                      # measured on every trajectory by the workers
-            errors = WorkerErrors(client, SweepRun.from_dataset(ds).batch_size)
+            errors = WorkerErrors(client)       # one task per worker
             model = budget_sweep_model(loaded, trajectories, ds, held_out=held,
                                        prepared=prepared.get("model"), errors=errors,
                                        **_model_settings(args, settings, limits))

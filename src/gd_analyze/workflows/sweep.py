@@ -64,7 +64,7 @@ if TYPE_CHECKING:                       # for the type hints only
     from ..core.selection.simplified import SimplifiedModel
     from ..io.trajectory import Trajectory
 
-__all__ = ["DEFAULT_BATCH_MAX", "analyze_one", "run_sweep", "check_thresholds",
+__all__ = ["DEFAULT_BATCH_MAX", "ERRORS_SETPOINTS_MAX", "analyze_one", "run_sweep", "check_thresholds",
            "check_trajectory", "WorkerErrors"]
 
 #: Largest number of trajectories per dask task chosen automatically by :func:`run_sweep`.
@@ -73,6 +73,9 @@ DEFAULT_BATCH_MAX = 50
 _TASKS_PER_WORKER = 4
 #: Set points of consecutive trajectories whose G-D terms are computed in one call.
 _GROUP_SETPOINTS = 4096
+#: Most set points in one task of :class:`WorkerErrors` cutting the trajectories by itself
+#: (about 38 MB of q, qd, qdd for 6 joints).
+ERRORS_SETPOINTS_MAX = 2**18
 
 
 def check_thresholds(dominance: float, negligible: float) -> None:
@@ -242,9 +245,25 @@ def _ranking_only(dominance, negligible):
                            formulations=False, simplify=None)
 
 
+class _Silent:
+    """A progress bar that shows nothing, shared by a task's trajectories: a disabled tqdm
+    per trajectory costs more than the ranking of a short trajectory's set points."""
+
+    def reset(self, total=None):
+        """Nothing to restart."""
+
+    def set_description(self, desc=None):
+        """Nothing to name."""
+
+    def update(self, n=1):
+        """Nothing to count."""
+
+
 def _analyze_batch(robot, trajectories, dominance, negligible, base=None):
     options = _ranking_only(dominance, negligible)
-    out = [_summary(tr, analysis_pass(robot, tr, options, chunk=tr.q.shape[0], terms=terms))
+    silent = _Silent()
+    out = [_summary(tr, analysis_pass(robot, tr, options, chunk=tr.q.shape[0], terms=terms,
+                                      progress=silent))
            for tr, terms in _batch_terms(robot, trajectories)]
     if base is not None:        # the recursive model's peaks, per trajectory
 
@@ -281,8 +300,11 @@ class WorkerErrors:
     ----------
     client : distributed.Client
         The sweep's client (left open).
-    batch : int
-        Trajectories per task (>= 1), as the sweep's (``batch_size``).
+    batch : int, optional
+        Trajectories per task (>= 1). By default as many tasks as the cluster has workers,
+        each with at most :data:`ERRORS_SETPOINTS_MAX` set points: the model is evaluated on
+        all of a task's set points at once, in a few calls, so that more tasks than workers
+        cost their round trips and the model's transfer and buy nothing.
 
     Attributes
     ----------
@@ -297,10 +319,11 @@ class WorkerErrors:
     a failure of the cluster raises :class:`~.dask_cluster.ClusterLost`.
     """
 
-    def __init__(self, client: Client, batch: int) -> None:
-        if int(batch) < 1:
+    def __init__(self, client: Client, batch: int | None = None) -> None:
+        if batch is not None and int(batch) < 1:
             raise ValueError(f"batch must be >= 1, got {batch}")
-        self.client, self.batch, self.tasks = client, int(batch), 0
+        self.client, self.tasks = client, 0
+        self.batch = None if batch is None else int(batch)
 
     def __call__(self, model: SimplifiedModel, trajectories: Sequence[Trajectory],
                  reference: Callable[[np.ndarray, np.ndarray, np.ndarray], np.ndarray] | None
@@ -314,8 +337,7 @@ class WorkerErrors:
             return np.zeros((0, n)), np.zeros((0, n)), np.zeros((0, n)), np.zeros(0, int)
         import cloudpickle  # dask's own serializer, a dependency of it
 
-        batches = [trajectories[a:a + self.batch]
-                   for a in range(0, len(trajectories), self.batch)]
+        batches = self._batches(trajectories)
         # the model (some thousand small objects) serialized once, not once per task; each
         # task still carries it, so that a task whose worker is lost runs again on another
         try:
@@ -332,6 +354,21 @@ class WorkerErrors:
             parts = self.client.gather(futures)
         return tuple(np.concatenate([part[k] for part in parts])  # type: ignore[return-value]
                      for k in range(4))
+
+    def _batches(self, trajectories):
+        """The trajectories cut into consecutive batches, one per task."""
+        if self.batch is not None:
+            return [trajectories[a:a + self.batch]
+                    for a in range(0, len(trajectories), self.batch)]
+        counts = np.array([np.shape(t.q)[0] for t in trajectories])
+        workers = max(1, len(self.client.scheduler_info().get("workers", {})))
+        tasks = min(len(trajectories),
+                    max(workers, math.ceil(int(counts.sum()) / ERRORS_SETPOINTS_MAX)))
+        # cut where the running set point count crosses each task's equal share
+        cuts = np.searchsorted(np.cumsum(counts), np.arange(1, tasks) * counts.sum() / tasks,
+                               side="right")
+        edges = np.unique(np.concatenate([[0], cuts, [len(trajectories)]]))
+        return [trajectories[a:b] for a, b in zip(edges[:-1], edges[1:]) if b > a]
 
 
 def _auto_batch(k, n_workers):

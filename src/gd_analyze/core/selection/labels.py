@@ -15,6 +15,7 @@ tau_i are N m or N. Every table, axis, caption and stored attribute takes its un
 
 from __future__ import annotations
 
+import functools
 import re
 from collections.abc import Sequence
 from typing import TYPE_CHECKING
@@ -105,7 +106,13 @@ def element_labels(n: int) -> list[str]:
     >>> element_labels(10)[8:10]
     ['D19', 'D1,10']
     """
-    return [element_label(kind, i, j) for kind, i, j in element_index(n)]
+    return list(_labels(int(n)))
+
+
+@functools.lru_cache(maxsize=64)
+def _labels(n):
+    """:func:`element_labels` as a tuple, kept: a sweep asks for them twice per trajectory."""
+    return tuple(element_label(kind, i, j) for kind, i, j in element_index(n))
 
 
 def parse_element_label(text: str, n: int) -> tuple:
