@@ -1,10 +1,20 @@
 """The names of results.h5 (gd_analyze.io.names): every name the main job writes is a constant,
 and each constant is spelt as the name it stands for."""
 
+import numpy as np
 import pytest
 
 from gd_analyze.io import names
-from gd_analyze.io.names import ATTRIBUTES, VARIABLES, Attr, Var
+from gd_analyze.io.names import (
+    ATTRIBUTES,
+    ELEMENT_UNITS_RULE,
+    RANKING_COLUMNS,
+    VARIABLES,
+    Attr,
+    Var,
+)
+from gd_analyze.io.results_view import Results
+from gd_analyze.io.schema import MIXED_UNITS, strings
 
 
 @pytest.mark.parametrize("namespace", [Var, Attr])
@@ -27,3 +37,32 @@ def test_verification_attributes_are_constants(shipped_dataset):
     for term in names.VERIFIED_TERMS:
         assert names.verification_attribute(term) in ds.attrs
         assert names.verification_attribute(term, excess=True) in ds.attrs
+
+
+def test_the_ranking_columns_are_stored_and_read_as_declared(shipped_dataset):
+    # one declaration: each ranking column is in results.h5 with its declared units and
+    # long_name, the view reads it as stored, and the CLI shows the columns it declares
+    ds = shipped_dataset("puma560")
+    table = Results.from_dataset(ds).ranking
+    for column in RANKING_COLUMNS:
+        if column.source == "armature":
+            continue
+        if column.name not in ds.variables:
+            assert not column.required and column.field not in table.columns
+            continue
+        if column.stored:
+            attrs = ds[column.name].attrs
+            assert attrs["long_name"] == column.long_name
+            assert attrs["units"] == (MIXED_UNITS if column.units == ELEMENT_UNITS_RULE
+                                      else column.units)
+        stored = ds[column.name].values
+        if column.text:
+            assert list(table.column(column.field)) == strings(stored)
+        else:
+            np.testing.assert_array_equal(table.column(column.field), stored)
+        if column.round_off is not None:
+            np.testing.assert_array_equal(table.off(column.field),
+                                          ds[column.round_off].values.astype(bool))
+    header = table.text()[0].split()
+    assert header == [c.cli.header for c in RANKING_COLUMNS if c.cli is not None]
+    assert [r.label for r in table.rows] == strings(ds[Var.ELEMENT].values)

@@ -38,7 +38,7 @@ from ..core.selection.ranking import (
     is_chapter_puma,
     is_round_off,
 )
-from .names import VERIFICATION_PREFIX, Attr, Var
+from .names import ELEMENT_UNITS_RULE, RANKING_COLUMNS, VERIFICATION_PREFIX, Attr, Var
 from .schema import MIXED_UNITS, element_coords, global_attributes, joint_coordinate, var
 
 if TYPE_CHECKING:
@@ -411,7 +411,6 @@ def summary_dataset(robot, trajectory, ranking, choices, error, verification=Non
 
     n = robot.n
     labels = list(ranking.labels)
-    mixed = MIXED_UNITS
     puma = is_chapter_puma(robot.name, n)
     prismatic = np.asarray(robot.prismatic, bool)
     torque = units_attribute(joint_units(prismatic, "tau"), "tau_units")
@@ -422,29 +421,11 @@ def summary_dataset(robot, trajectory, ranking, choices, error, verification=Non
     # an element zero in every part has no share: its ratio of round-off is not data (NaN)
     zero = identically_zero(ranking.peak_tran, ranking.peak_rot, ranking.peak_total,
                             ranking.scale)
-    data_vars = {
-        Var.SHARE_TRAN: var(("element",), np.where(zero, np.nan, ranking.share_tran), "1",
-                           "translational share sum|tran| / (sum|tran| + sum|rot|); NaN "
-                           "where the element is zero in every part (round-off)"),
-        Var.DOMINANCE: var(("element",), np.array(ranking.dominance, dtype=str), "1",
-                          "dominance class (translational, rotational, both, negligible)"),
-        Var.CHAPTER_DOMINANCE: var(("element",),
-                                  np.array([CHAPTER_DOMINANCE.get(lab, "") if puma else ""
-                                            for lab in labels], dtype=str), "1",
-                                  "dominance reported in Sec. 3.4.1 for the chapter's PUMA 560 "
-                                  "(empty unless the robot is a PUMA 560)"),
-        Var.CHOICE: var(("element",), np.array([choices[lab] for lab in labels], dtype=str), "1",
-                       "part kept by the simplified model (tran, rot, both, none; for the "
-                       "recursive form both, or pruned where its dropped base-parameter "
-                       "terms change the element)"),
-        Var.PEAK_TRAN: var(("element",), ranking.peak_tran, mixed,
-                          "peak |translational part| along the trajectory"),
-        Var.PEAK_ROT: var(("element",), ranking.peak_rot, mixed,
-                         "peak |rotational part| along the trajectory"),
-        Var.PEAK_TOTAL: var(("element",), ranking.peak_total, mixed,
-                           "peak |translational + rotational| along the trajectory"),
-        Var.ELEMENT_SCALE: var(("element",), ranking.scale, mixed,
-                              "scale of the negligibility test: peak sqrt(D_ii D_jj) or |tau_i|"),
+    arm = arm_scales(ranking.scale, element_coords(n, prismatic)[Var.ELEMENT_UNITS][1])
+    data_vars = _ranking_variables(ranking, zero, arm, {
+        "choices": [choices[lab] for lab in labels],
+        "chapter": [CHAPTER_DOMINANCE.get(lab, "") if puma else "" for lab in labels]})
+    data_vars.update({
         Var.TAU_ERROR_PEAK: var(("joint",), np.array(error["peak_abs_error"]), torque,
                                "peak |tau_simplified - tau|"),
         Var.TAU_ERROR_RMS: var(("joint",), np.array(error["rms_error"]), torque,
@@ -495,25 +476,10 @@ def summary_dataset(robot, trajectory, ranking, choices, error, verification=Non
         Var.COULOMB: var(("joint",), robot.coulomb, torque, "Coulomb friction torque"),
         Var.TORQUE_OFFSET: var(("joint",), robot.torque_offset, torque,
                              "constant joint torque offset"),
-    }
+    })
     # the round-off marks, decided once here (the reports' one rule) and read by every output
-    arm = arm_scales(ranking.scale, element_coords(n, prismatic)[Var.ELEMENT_UNITS][1])
     data_vars[Var.ELEMENT_ROUND_OFF] = _flag(zero, "1 where the element is zero in every part: "
                                              "round-off (shown as \u2261 0), no share")
-    for name, part, peak in ((Var.PEAK_TRAN_ROUND_OFF, "translational", ranking.peak_tran),
-                             (Var.PEAK_ROT_ROUND_OFF, "rotational", ranking.peak_rot),
-                             (Var.PEAK_TOTAL_ROUND_OFF, "total", ranking.peak_total)):
-        data_vars[name] = _flag(is_round_off(peak, ranking.scale, arm_scale=arm),
-                                f"1 where the peak {part} part is round-off of the element's "
-                                "scale or the arm's (shown as \u2261 0), not data")
-    if getattr(ranking, "rigid_dominance", None) is not None:
-        data_vars[Var.DOMINANCE_RIGID_LINKS] = var(
-            ("element",), np.array(ranking.rigid_dominance, dtype=str), "1",
-            "dominance class of the rigid links alone: drives (armature, friction) left out")
-    if getattr(ranking, "share_arm", None) is not None:
-        data_vars[Var.SHARE_ARM] = var(
-            ("element",), ranking.share_arm, "1",
-            "armature share sum|arm| / (sum|tran| + sum|rot + arm|), diagonal of D only")
     coords = element_coords(n, prismatic)
     coords[Var.JOINT] = joint_coordinate(robot.joint_names(), long_name="joint (row of D)")
     for name, (which, long_name) in JOINT_UNIT_COORDS.items():
@@ -533,6 +499,47 @@ def summary_dataset(robot, trajectory, ranking, choices, error, verification=Non
         attrs[VERIFICATION_PREFIX + key] = value
     attrs.update(settings or {})
     return xr.Dataset(data_vars, coords=coords, attrs=attrs)
+
+
+def _ranking_variables(ranking, zero, arm, other):
+    """The ranking's per-element variables and their round-off flags, as
+    :data:`gd_analyze.io.names.RANKING_COLUMNS` declares them.
+
+    Parameters
+    ----------
+    ranking : Ranking
+        The dominance of each of the M elements.
+    zero : ndarray of bool, shape (M,)
+        The elements zero in every part.
+    arm : ndarray, shape (M,)
+        Each element's arm scale (:func:`gd_analyze.core.selection.ranking.arm_scales`).
+    other : dict
+        Source -> values (length M) of the columns not from the Ranking (``"choices"``,
+        ``"chapter"``).
+
+    Returns
+    -------
+    dict
+        Variable name -> (dims, values, attributes); an optional Ranking attribute that is
+        None is left out.
+    """
+    out = {}
+    for column in RANKING_COLUMNS:
+        if not column.stored:
+            continue
+        values = (getattr(ranking, column.field, None) if column.source == "ranking"
+                  else other[column.source])
+        if values is None:
+            continue
+        values = np.array(values, dtype=str) if column.text else np.asarray(values)
+        if column.nan_where_zero:
+            values = np.where(zero, np.nan, values)
+        units = MIXED_UNITS if column.units == ELEMENT_UNITS_RULE else column.units
+        out[column.name] = var(("element",), values, units, column.long_name)
+        if column.round_off is not None:
+            out[column.round_off] = _flag(is_round_off(values, ranking.scale, arm_scale=arm),
+                                          column.round_off_long_name)
+    return out
 
 
 def _flag(mask, long_name):

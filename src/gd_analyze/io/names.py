@@ -16,10 +16,12 @@ True
 
 from __future__ import annotations
 
+from dataclasses import dataclass
 from typing import Final
 
 __all__ = ["Var", "Attr", "VARIABLES", "ATTRIBUTES", "VERIFICATION_PREFIX",
-           "VERIFIED_TERMS", "verification_attribute"]
+           "VERIFIED_TERMS", "verification_attribute", "ELEMENT_UNITS_RULE", "CliShown",
+           "ReportShown", "RankingColumn", "RANKING_COLUMNS", "ranking_column"]
 
 
 class Var:
@@ -308,3 +310,219 @@ def verification_attribute(term: str, excess: bool = False) -> str:
     True
     """
     return f"{VERIFICATION_PREFIX}max_rel_{'excess' if excess else 'error'}_{term}"
+
+
+#: The units rule of a ranking column whose values are in its element's own units
+#: (``element_units``: kg m2, kg m or kg for D; N m or N for h).
+ELEMENT_UNITS_RULE: Final = "element"
+
+
+@dataclass(frozen=True)
+class CliShown:
+    """How the command line's ranking table shows a column.
+
+    Attributes
+    ----------
+    header : str
+        The column's heading.
+    align : str
+        The format spec's alignment and width of heading and cells (``">11"``, ``"<14"``;
+        ``""``: as wide as the text, the last column).
+    number : str
+        The format spec of a number (``".4f"``, ``".4g"``); ``""`` for text. A number of an
+        element zero in every part is shown as "\u2261 0".
+    lead : str
+        What goes before the column (the gap after the previous one).
+    """
+
+    header: str
+    align: str
+    number: str = ""
+    lead: str = ""
+
+
+@dataclass(frozen=True)
+class ReportShown:
+    """How the report's ranking table (Sec. 4) shows a column.
+
+    Attributes
+    ----------
+    header : str
+        The heading; ``{X}`` in it stands for the element's symbol, with ``part`` as its
+        superscript.
+    kind : str
+        How the cells are written:
+
+        - ``"label"``: the element (lettered as the figures letter it);
+        - ``"share"``: the translational share, "\u2261 0" for an element zero in every
+          part, 0 or 1 where the other part's peak is round-off;
+        - ``"armature_share"``: the armature share on D's diagonal, "\u2014" elsewhere;
+          shown only for an arm with drives;
+        - ``"class"``: a dominance class, drawn in its colour;
+        - ``"peak"``: a peak of one of the element's parts [element's units], in one number
+          format with the other peaks, "\u2261 0" where its round-off flag is set;
+        - ``"armature_peak"``: the armature on D's diagonal, in the peaks' format, "\u2014"
+          elsewhere; shown only for an arm with drives;
+        - ``"number"``: a number in a format of its own column, "\u2261 0" for an element
+          zero in every part;
+        - ``"units"``: the element's units, as the text writes them.
+    width : float
+        Relative width in the PDF.
+    part : str or None
+        The superscript of ``{X}``: ``"tran"``, ``"rot"``, ``"arm"``, or None.
+    """
+
+    header: str
+    kind: str
+    width: float
+    part: str | None = None
+
+
+@dataclass(frozen=True)
+class RankingColumn:
+    """One per-element column of the dominance ranking: where it comes from, how it is stored
+    and how each renderer shows it.
+
+    Attributes
+    ----------
+    name : str
+        Its variable in ``results.h5`` (a constant of :class:`Var`), or its name in the
+        results view where ``stored`` is False.
+    field : str
+        Its field in :class:`gd_analyze.io.results_view.RankingTable`, and, for
+        ``source="ranking"``, the attribute of
+        :class:`gd_analyze.core.selection.ranking.Ranking` it is written from.
+    source : str
+        ``"ranking"`` (the Ranking's attribute), ``"choices"`` (the simplified model's choice
+        per element), ``"chapter"`` (the class Sec. 3.4.1 reports for the PUMA 560),
+        ``"coordinate"`` (a coordinate over ``element``, written with it) or ``"armature"``
+        (the robot's armature, not stored per element).
+    units : str
+        ``"1"`` or :data:`ELEMENT_UNITS_RULE`.
+    long_name : str
+        Its ``long_name`` in ``results.h5``.
+    text : bool
+        Strings, not numbers.
+    stored : bool
+        Written by :func:`gd_analyze.io.datasets.summary_dataset` (a coordinate or the
+        armature is not).
+    required : bool
+        A results file must hold it; an optional column a file does not hold is absent from
+        the view (the element's scale of a file written before it was stored reads NaN).
+    nan_where_zero : bool
+        Stored as NaN where the element is zero in every part (a ratio of round-off).
+    round_off : str or None
+        Its round-off flag variable: 1 where the value is round-off of the element's scale
+        or the arm's (:func:`gd_analyze.core.selection.ranking.is_round_off`).
+    round_off_long_name : str
+        That flag's ``long_name``.
+    cli : CliShown or None
+        Its column in the command line's table; None: not shown there.
+    report : ReportShown or None
+        Its column in the report's table; None: not shown there.
+    """
+
+    name: str
+    field: str
+    source: str
+    units: str
+    long_name: str
+    text: bool = False
+    stored: bool = True
+    required: bool = True
+    nan_where_zero: bool = False
+    round_off: str | None = None
+    round_off_long_name: str = ""
+    cli: CliShown | None = None
+    report: ReportShown | None = None
+
+
+def _peak_flag(part: str) -> str:
+    return (f"1 where the peak {part} part is round-off of the element's scale or the arm's "
+            "(shown as \u2261 0), not data")
+
+
+#: The ranking table's per-element columns, in the order both renderers show them (the
+#: command line shows those with a ``cli``, the report those with a ``report``).
+#: :func:`gd_analyze.io.datasets.summary_dataset` writes them, the results view reads them
+#: and :meth:`gd_analyze.io.results_view.RankingTable.text` and the report render them by
+#: iterating this; a new column is one entry here (and its field of the Ranking).
+RANKING_COLUMNS: Final[tuple[RankingColumn, ...]] = (
+    RankingColumn(Var.ELEMENT, "label", "coordinate", "1", "ranked element of D (i <= j) or h", text=True,
+                  stored=False, cli=CliShown("element", "<8"),
+                  report=ReportShown("element", "label", 0.8)),
+    RankingColumn(Var.SHARE_TRAN, "share_tran", "ranking", "1",
+                  "translational share sum|tran| / (sum|tran| + sum|rot|); NaN where the "
+                  "element is zero in every part (round-off)", nan_where_zero=True,
+                  cli=CliShown("share_tran", ">11", ".4f"),
+                  report=ReportShown("translational share", "share", 0.9)),
+    RankingColumn(Var.SHARE_ARM, "share_arm", "ranking", "1",
+                  "armature share sum|arm| / (sum|tran| + sum|rot + arm|), diagonal of D only",
+                  required=False,
+                  report=ReportShown("armature share", "armature_share", 0.9)),
+    RankingColumn(Var.DOMINANCE, "dominance", "ranking", "1",
+                  "dominance class (translational, rotational, both, negligible)", text=True,
+                  cli=CliShown("class", "<14", lead="  "),
+                  report=ReportShown("class", "class", 1.2)),
+    RankingColumn(Var.CHAPTER_DOMINANCE, "chapter_dominance", "chapter", "1",
+                  "dominance reported in Sec. 3.4.1 for the chapter's PUMA 560 (empty unless "
+                  "the robot is a PUMA 560)", text=True),
+    RankingColumn(Var.CHOICE, "choice", "choices", "1",
+                  "part kept by the simplified model (tran, rot, both, none; for the "
+                  "recursive form both, or pruned where its dropped base-parameter terms "
+                  "change the element)", text=True),
+    RankingColumn(Var.PEAK_TRAN, "peak_tran", "ranking", ELEMENT_UNITS_RULE,
+                  "peak |translational part| along the trajectory",
+                  round_off=Var.PEAK_TRAN_ROUND_OFF,
+                  round_off_long_name=_peak_flag("translational"),
+                  report=ReportShown("peak |{X}|", "peak", 1, "tran")),
+    RankingColumn(Var.PEAK_ROT, "peak_rot", "ranking", ELEMENT_UNITS_RULE,
+                  "peak |rotational part| along the trajectory",
+                  round_off=Var.PEAK_ROT_ROUND_OFF, round_off_long_name=_peak_flag("rotational"),
+                  report=ReportShown("peak |{X}|", "peak", 1, "rot")),
+    RankingColumn("peak_arm", "peak_arm", "armature", ELEMENT_UNITS_RULE,
+                  "the armature on D's diagonal", stored=False, required=False,
+                  report=ReportShown("peak |{X}|", "armature_peak", 1, "arm")),
+    RankingColumn(Var.PEAK_TOTAL, "peak_total", "ranking", ELEMENT_UNITS_RULE,
+                  "peak |translational + rotational| along the trajectory",
+                  round_off=Var.PEAK_TOTAL_ROUND_OFF, round_off_long_name=_peak_flag("total"),
+                  cli=CliShown("peak_total", ">12", ".4g"),
+                  report=ReportShown("peak |{X}|", "peak", 1)),
+    RankingColumn(Var.ELEMENT_SCALE, "scale", "ranking", ELEMENT_UNITS_RULE,
+                  "scale of the negligibility test: peak sqrt(D_ii D_jj) or |tau_i|",
+                  required=False),
+    RankingColumn(Var.DOMINANCE_RIGID_LINKS, "rigid_dominance", "ranking", "1",
+                  "dominance class of the rigid links alone: drives (armature, friction) left "
+                  "out", text=True, required=False),
+    RankingColumn(Var.ELEMENT_UNITS, "units", "coordinate", "1", "units of the element",
+                  text=True, stored=False, cli=CliShown("units", "", lead="  "),
+                  report=ReportShown("units", "units", 0.8)),
+)
+
+
+def ranking_column(field: str) -> RankingColumn:
+    """The ranking column of a field of the results view.
+
+    Parameters
+    ----------
+    field : str
+        A :attr:`RankingColumn.field` of :data:`RANKING_COLUMNS`.
+
+    Returns
+    -------
+    RankingColumn
+
+    Raises
+    ------
+    KeyError
+        If no column has that field.
+
+    Examples
+    --------
+    >>> ranking_column("peak_total").name == Var.PEAK_TOTAL
+    True
+    """
+    for column in RANKING_COLUMNS:
+        if column.field == field:
+            return column
+    raise KeyError(field)

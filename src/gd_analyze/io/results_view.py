@@ -25,7 +25,7 @@ from ..core.selection.ranking import arm_scales, identically_zero, is_round_off
 from ..errors import InputError
 from .datasets import joint_units as _units_of
 from .datasets import stored_guarantee, stored_region
-from .names import VERIFICATION_PREFIX, Attr, Var, verification_attribute
+from .names import RANKING_COLUMNS, VERIFICATION_PREFIX, Attr, Var, verification_attribute
 from .schema import open_results, strings
 from .stored_comparisons import ChapterComparison, FormulationComparison
 from .stored_model import BaseParameters, CostTable
@@ -46,58 +46,54 @@ __all__ = ["ZERO_MARK", "RankingRow", "RankingTable", "TorqueErrorRow", "TorqueE
 ZERO_MARK = "\u2261 0"
 
 #: The variables a results file must hold for the view.
-REQUIRED = (Var.ELEMENT, Var.ELEMENT_UNITS, Var.SHARE_TRAN, Var.DOMINANCE,
-            Var.CHAPTER_DOMINANCE, Var.CHOICE, Var.PEAK_TRAN, Var.PEAK_ROT, Var.PEAK_TOTAL,
-            Var.TAU_ERROR_PEAK, Var.TAU_ERROR_RMS, Var.TAU_PEAK, Var.TAU_ERROR_RELATIVE_PEAK,
-            Var.TAU_ERROR_RELATIVE_RMS, Var.JOINT, *ROBOT_VARIABLES)
+REQUIRED = (*(c.name for c in RANKING_COLUMNS if c.required), Var.TAU_ERROR_PEAK,
+            Var.TAU_ERROR_RMS, Var.TAU_PEAK, Var.TAU_ERROR_RELATIVE_PEAK, Var.TAU_ERROR_RELATIVE_RMS, Var.JOINT, *ROBOT_VARIABLES)
 #: The global attributes a results file must hold for the view.
 REQUIRED_ATTRS = (Attr.ROBOT, Attr.INPUT_FILE, Attr.SETPOINTS, Attr.DOMINANCE_THRESHOLD,
                   Attr.NEGLIGIBLE_THRESHOLD)
 
 
-@dataclass(frozen=True)
 class RankingRow:
-    """One ranked element of D (i <= j) or h.
+    """One ranked element of D (i <= j) or h: its value in every column of the table.
 
-    Attributes
+    Its attributes are the fields of :class:`RankingTable` (``row.label``,
+    ``row.share_tran``, ``row.peak_total``, ``row.round_off`` ...), as Python scalars.
+
+    Parameters
     ----------
-    label : str
-        ``"D11"`` .. ``"hn"``.
-    share_tran : float
-        Translational share sum|tran| / (sum|tran| + sum|rot|) (NaN where zero in every part).
-    dominance : str
-        Its class: translational, rotational, both or negligible.
-    chapter_dominance : str
-        The class Sec. 3.4.1 reports for the chapter's PUMA 560 ("" otherwise).
-    choice : str
-        The part the simplified model keeps.
-    peak_tran, peak_rot, peak_total : float
-        Peak |part| along the trajectory [units].
-    scale : float
-        The element's scale of the negligibility test [units] (NaN for an older file).
-    units : str
-        ``"kg m2"``, ``"kg m"``, ``"kg"``, ``"N m"`` or ``"N"``.
-    round_off : bool
-        Zero in every part: round-off, no share (shown as "\u2261 0").
-    tran_off, rot_off, total_off : bool
-        Each peak is round-off of the element's scale or the arm's
-        (:func:`gd_analyze.core.selection.ranking.is_round_off`).
+    table : RankingTable
+        The table.
+    k : int
+        The element's index in it.
     """
 
-    label: str
-    share_tran: float
-    dominance: str
-    chapter_dominance: str
-    choice: str
-    peak_tran: float
-    peak_rot: float
-    peak_total: float
-    scale: float
-    units: str
-    round_off: bool
-    tran_off: bool
-    rot_off: bool
-    total_off: bool
+    __slots__ = ("_table", "_k")
+
+    def __init__(self, table: RankingTable, k: int) -> None:
+        self._table, self._k = table, k
+
+    def __getattr__(self, name: str) -> Any:
+        if name.startswith("_"):
+            raise AttributeError(name)
+        try:
+            value = self._table.columns[name][self._k]
+        except KeyError:
+            raise AttributeError(name) from None
+        return value.item() if isinstance(value, np.generic) else value
+
+    def off(self, field: str) -> bool:
+        """Whether the value of a column with a round-off flag is round-off.
+
+        Parameters
+        ----------
+        field : str
+            A field whose column declares a round-off flag (``"peak_total"`` ...).
+
+        Returns
+        -------
+        bool
+        """
+        return bool(self._table.off(field)[self._k])
 
 
 class _Rows:
@@ -120,17 +116,65 @@ class _Rows:
         return np.array([getattr(r, name) for r in self.rows])
 
 
-@dataclass(frozen=True)
-class RankingTable(_Rows):
-    """The dominance ranking, element by element: the one object both renderers read.
+@dataclass(frozen=True, eq=False)
+class RankingTable:
+    """The dominance ranking, column by column: the one object both renderers read.
+
+    Its columns are those of :data:`gd_analyze.io.names.RANKING_COLUMNS` that the file holds,
+    by their field, plus ``round_off`` (the element is zero in every part: round-off, no
+    share, shown as "\u2261 0"). In the stored order (D's upper triangle row by row, then h).
 
     Attributes
     ----------
-    rows : tuple of RankingRow, length M
-        In the stored order (D's upper triangle row by row, then h).
+    columns : Mapping of str to ndarray, each shape (M,)
+        Field -> values: ``label``, ``share_tran``, ``dominance``, ``chapter_dominance``,
+        ``choice``, ``peak_tran``, ``peak_rot``, ``peak_total``, ``scale`` (NaN for an older
+        file), ``units``, ``round_off``, and ``share_arm``, ``rigid_dominance`` where stored.
+    offs : Mapping of str to ndarray of bool, each shape (M,)
+        Field -> its round-off flag (:func:`gd_analyze.core.selection.ranking.is_round_off`),
+        for the columns that declare one.
     """
 
-    rows: tuple[RankingRow, ...]
+    columns: Mapping[str, np.ndarray]
+    offs: Mapping[str, np.ndarray]
+
+    def column(self, name: str) -> np.ndarray:
+        """One column.
+
+        Parameters
+        ----------
+        name : str
+            Its field.
+
+        Returns
+        -------
+        ndarray, shape (M,)
+
+        Raises
+        ------
+        KeyError
+            If the table has no such column (an optional one the file does not hold).
+        """
+        return self.columns[name]
+
+    def off(self, name: str) -> np.ndarray:
+        """A column's round-off flags.
+
+        Parameters
+        ----------
+        name : str
+            The field of a column that declares a round-off flag.
+
+        Returns
+        -------
+        ndarray of bool, shape (M,)
+        """
+        return self.offs[name]
+
+    @property
+    def rows(self) -> tuple[RankingRow, ...]:
+        """tuple of RankingRow, length M: the elements, in the stored order."""
+        return tuple(RankingRow(self, k) for k in range(len(self.columns["label"])))
 
     def text(self) -> list[str]:
         """The ranking as the command line prints it: a header and one line per element.
@@ -138,15 +182,20 @@ class RankingTable(_Rows):
         Returns
         -------
         list of str
-            Columns element, share_tran (4 decimals), class, peak_total (4 significant
-            digits) and units; "\u2261 0" for the share and the peak of an element zero in
-            every part.
+            The columns of :data:`gd_analyze.io.names.RANKING_COLUMNS` with a ``cli``
+            (element, share_tran with 4 decimals, class, peak_total with 4 significant
+            digits, units); "\u2261 0" for a number of an element zero in every part.
         """
-        lines = [f"{'element':<8}{'share_tran':>11}  {'class':<14}{'peak_total':>12}  units"]
-        for r in self.rows:
-            shown = ZERO_MARK.rjust(11) if r.round_off else f"{r.share_tran:>11.4f}"
-            top = ZERO_MARK.rjust(12) if r.round_off else f"{r.peak_total:>12.4g}"
-            lines.append(f"{r.label:<8}{shown}  {r.dominance:<14}{top}  {r.units}")
+        shown = [(c.cli, self.columns[c.field]) for c in RANKING_COLUMNS
+                 if c.cli is not None and c.field in self.columns]
+        lines = ["".join(f"{cli.lead}{cli.header:{cli.align}}" for cli, _ in shown)]
+        zero = self.columns["round_off"]
+        for k in range(zero.size):
+            lines.append("".join(
+                cli.lead + (f"{values[k]:{cli.align}}" if not cli.number else
+                            f"{ZERO_MARK:{cli.align}}" if zero[k] else
+                            f"{values[k]:{cli.align}{cli.number}}")
+                for cli, values in shown))
         return lines
 
 
@@ -492,40 +541,34 @@ def _flags(ds, name):
 
 
 def _ranking(ds):
-    """The ranking table: stored round-off marks; for a file written before they were stored,
-    the same rule once here."""
-    values = {name: np.asarray(ds[name].values, float)
-              for name in (Var.SHARE_TRAN, Var.PEAK_TRAN, Var.PEAK_ROT, Var.PEAK_TOTAL)}
-    M = values[Var.SHARE_TRAN].size
-    scale = (np.asarray(ds[Var.ELEMENT_SCALE].values, float) if Var.ELEMENT_SCALE in ds.variables
-             else np.full(M, np.nan))
-    units = strings(ds[Var.ELEMENT_UNITS].values)
+    """The ranking table, as :data:`gd_analyze.io.names.RANKING_COLUMNS` declares it: stored
+    round-off marks; for a file written before they were stored, the same rule once here."""
+    M = int(ds.sizes[Var.ELEMENT])
+    columns = {}
+    for c in RANKING_COLUMNS:
+        if c.source == "armature":
+            continue
+        if c.name in ds.variables:
+            values = ds[c.name].values
+            columns[c.field] = (np.array(strings(values)) if c.text
+                                else np.asarray(values, float))
+    columns.setdefault("scale", np.full(M, np.nan))     # a file written before it was stored
+    scale, units = columns["scale"], list(columns["units"])
     zero = _flags(ds, Var.ELEMENT_ROUND_OFF)
     if zero is None:
-        zero = (identically_zero(values[Var.PEAK_TRAN], values[Var.PEAK_ROT],
-                                 values[Var.PEAK_TOTAL], scale)
+        zero = (identically_zero(columns["peak_tran"], columns["peak_rot"],
+                                 columns["peak_total"], scale)
                 if Var.ELEMENT_SCALE in ds.variables else np.zeros(M, bool))
-    off = {}
-    for part, name in ((Var.PEAK_TRAN, Var.PEAK_TRAN_ROUND_OFF),
-                       (Var.PEAK_ROT, Var.PEAK_ROT_ROUND_OFF),
-                       (Var.PEAK_TOTAL, Var.PEAK_TOTAL_ROUND_OFF)):
-        mark = _flags(ds, name)
-        off[part] = (mark if mark is not None else
-                     np.asarray(is_round_off(values[part], scale,
-                                             arm_scale=arm_scales(scale, units)), bool))
-    text = {name: strings(ds[name].values)
-            for name in (Var.ELEMENT, Var.DOMINANCE, Var.CHAPTER_DOMINANCE, Var.CHOICE)}
-    return RankingTable(rows=tuple(
-        RankingRow(label=text[Var.ELEMENT][k], share_tran=float(values[Var.SHARE_TRAN][k]),
-                   dominance=text[Var.DOMINANCE][k],
-                   chapter_dominance=text[Var.CHAPTER_DOMINANCE][k],
-                   choice=text[Var.CHOICE][k], peak_tran=float(values[Var.PEAK_TRAN][k]),
-                   peak_rot=float(values[Var.PEAK_ROT][k]),
-                   peak_total=float(values[Var.PEAK_TOTAL][k]), scale=float(scale[k]),
-                   units=units[k], round_off=bool(zero[k]),
-                   tran_off=bool(off[Var.PEAK_TRAN][k]), rot_off=bool(off[Var.PEAK_ROT][k]),
-                   total_off=bool(off[Var.PEAK_TOTAL][k]))
-        for k in range(M)))
+    columns["round_off"] = np.asarray(zero, bool)
+    offs = {}
+    for c in RANKING_COLUMNS:
+        if c.round_off is not None and c.field in columns:
+            mark = _flags(ds, c.round_off)
+            offs[c.field] = (mark if mark is not None else
+                             np.asarray(is_round_off(columns[c.field], scale,
+                                                     arm_scale=arm_scales(scale, units)), bool))
+    return RankingTable(columns=types.MappingProxyType(columns),
+                        offs=types.MappingProxyType(offs))
 
 
 def _torque_error(ds, units):

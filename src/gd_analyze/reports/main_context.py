@@ -15,6 +15,7 @@ import numpy as np
 from .._version import VERSION as __version__
 from ..core.selection.ranking import is_chapter_puma, joint_motion_units
 from ..io.datasets import stored_guarantee, stored_region
+from ..io.names import RANKING_COLUMNS
 from ..io.results_view import Results
 from .budget_figures import budget_caption
 from .common import CLASS_COLOURS as _CLASS_COLOURS
@@ -32,6 +33,7 @@ from .common import attr as _attr
 from .common import attr_text as _text
 from .common import check as _check
 from .common import fmt as _fmt
+from .common import fmt_column as _fmt_column
 from .common import fmt_columns as _columns
 from .common import pct_columns as _pct_columns
 from .common import share as _share
@@ -117,7 +119,7 @@ def zero_mask(ds: Results | xr.Dataset) -> tuple[list[str], npt.NDArray[np.bool_
         stored at analysis.
     """
     table = Results.of(ds).ranking
-    return [r.label for r in table.rows], table.column("round_off")
+    return [str(v) for v in table.column("label")], table.column("round_off")
 
 
 def _share_text(share, tran_off, rot_off):
@@ -129,6 +131,14 @@ def _share_text(share, tran_off, rot_off):
     if rot_off and not tran_off:
         return "1"
     return _share(share)                # never "1" or "0" unless it is
+
+
+def _share_cells(table):
+    """The translational share of each element as printed: "\u2261 0" for an element zero in
+    every part, else :func:`_share_text` with the stored round-off marks of its parts."""
+    zero, tran, rot = table.column("round_off"), table.off("peak_tran"), table.off("peak_rot")
+    return ["\u2261 0" if zero[k] else _share_text(v, tran[k], rot[k])
+            for k, v in enumerate(table.column("share_tran"))]
 
 
 def _caption_units(ds):
@@ -221,6 +231,63 @@ def report_context(results: Results | xr.Dataset) -> dict[str, Any]:
     return ctx
 
 
+#: The kinds of Sec. 4's columns shown only for an arm with drives.
+_ARMATURE_KINDS = ("armature_share", "armature_peak")
+
+
+def ranking_table(results: Results) -> dict[str, Any]:
+    """Sec. 4's table: the columns of :data:`gd_analyze.io.names.RANKING_COLUMNS` with a
+    ``report``, in their order, as the one view the command line prints too.
+
+    Parameters
+    ----------
+    results : Results
+        The results (their ranking table; the armature for an arm with drives).
+
+    Returns
+    -------
+    dict
+        A table (:func:`gd_analyze.reports.common.table`). The peaks of the parts (and the
+        armature) are one quantity: one number format for them all, "\u2261 0" where a
+        peak is round-off (stored at analysis); a column of kind ``"number"`` has a format of
+        its own.
+    """
+    table = results.ranking
+    labels = [str(v) for v in table.column("label")]
+    zero = table.column("round_off")
+    arm = armature_columns(results, labels, zero)
+    shown = [(c, c.report) for c in RANKING_COLUMNS if c.report is not None
+             and (bool(arm["header"]) if c.report.kind in _ARMATURE_KINDS
+                  else c.field in table.columns)]
+    peaks = [c.field for c, r in shown if r.kind == "peak"]
+    texts = _columns([table.column(f) for f in peaks] + [arm["peak"]],    # round-off: not data
+                     off=[table.offs.get(f) for f in peaks] + [None])
+    cells: dict[str, list[str]] = dict(zip(peaks, texts))
+    arm_peak = iter(texts[-1])
+    for c, r in shown:
+        if r.kind == "share":
+            cells[c.field] = _share_cells(table)
+        elif r.kind == "armature_share":
+            cells[c.field] = [row[0] for row in arm["rows"]]
+        elif r.kind == "armature_peak":
+            cells[c.field] = [next(arm_peak) if row[1] == "." else row[1]
+                              for row in arm["rows"]]
+        elif r.kind == "number":
+            cells[c.field] = _fmt_column(table.column(c.field), off=zero)
+        elif r.kind == "units":
+            cells[c.field] = [units_text(str(v)) for v in table.column(c.field)]
+        elif r.kind != "peak":                  # the label, a class: as stored
+            cells[c.field] = [str(v) for v in table.column(c.field)]
+    reports = [r for _, r in shown]
+    return _table([r.header.format(X=_el("X", "", r.part) if r.part else "X")
+                   for r in reports],
+                  [[cells[c.field][k] for c, _ in shown] for k in range(len(labels))],
+                  align=["left" if r.kind in ("label", "class", "units") else "right"
+                         for r in reports],
+                  widths=[r.width for r in reports],
+                  colour_cols=[k for k, r in enumerate(reports) if r.kind == "class"])
+
+
 def _report_context_base(results):
     """Everything both reports print, as strings and tables (no figures)."""
 
@@ -230,11 +297,12 @@ def _report_context_base(results):
     t = results.trajectory.t
     N = t.size
     table = results.ranking                     # the view the command line prints too
-    labels = [r.label for r in table.rows]
-    dominance = [r.dominance for r in table.rows]
-    chapter = [r.chapter_dominance for r in table.rows]
-    choice = [r.choice for r in table.rows]
-    el_units = [units_text(r.units) for r in table.rows]
+    labels = [str(v) for v in table.column("label")]
+    dominance = [str(v) for v in table.column("dominance")]
+    chapter = [str(v) for v in table.column("chapter_dominance")]
+    choice = [str(v) for v in table.column("choice")]
+    share, zero = table.column("share_tran"), table.column("round_off")
+    share_cells = _share_cells(table)
     tau_units = list(results.joint_units["tau"])
     s, e = results.dominance_threshold, results.negligible_threshold
     robot_name = _text(results.robot, "robot")
@@ -245,34 +313,7 @@ def _report_context_base(results):
     sha_in = _text(results.trajectory.input_sha256, "")
 
     # 4. ranking: the round-off marks as stored at analysis
-    share = table.column("share_tran")
-    zero = table.column("round_off")
-    pt, pr, ptot = (table.column(k) for k in ("peak_tran", "peak_rot", "peak_total"))
-    off = {"tran": table.column("tran_off"), "rot": table.column("rot_off"),
-           "total": table.column("total_off")}
-
-    arm_cols = armature_columns(results, labels, zero)
-    # the peaks of the parts are one quantity: one format for the four columns
-    texts = _columns([pt, pr, ptot, arm_cols["peak"]],            # round-off: not data
-                     off=[off["tran"], off["rot"], off["total"], None])
-    shown = dict(zip(("tran", "rot", "total"), texts))
-    arm_peak = iter(texts[3])
-    arm_cols["rows"] = [row[:1] + ([next(arm_peak)] if row[1:] == ["."] else row[1:])
-                        for row in arm_cols["rows"]]
-
-    ranking = _table(
-        ["element", "translational share", *arm_cols["header"][:1], "class",
-         f"peak |{_el('X', '', 'tran')}|", f"peak |{_el('X', '', 'rot')}|",
-         *arm_cols["header"][1:], "peak |X|", "units"],
-        [[lab, "\u2261 0" if zero[k] else _share_text(share[k], off["tran"][k], off["rot"][k]),
-          *arm_cols["rows"][k][:1], dominance[k], shown["tran"][k], shown["rot"][k],
-          *arm_cols["rows"][k][1:], shown["total"][k], el_units[k]]
-         for k, lab in enumerate(labels)],
-        align=["left", "right", *["right"] * len(arm_cols["header"][:1]), "left", "right",
-               "right", *["right"] * len(arm_cols["header"][1:]), "right", "left"],
-        widths=[0.8, 0.9, *[0.9] * len(arm_cols["header"][:1]), 1.2, 1, 1,
-                *[1] * len(arm_cols["header"][1:]), 1, 0.8],
-        colour_cols=[2 + len(arm_cols["header"][:1])])
+    ranking = ranking_table(results)
     counts = {c: dominance.count(c) for c in _CLASS_COLOURS}
 
     # 5. simplified model and torque error
@@ -307,8 +348,7 @@ def _report_context_base(results):
     applicable = n == 6 and _is_puma560(robot_name)
     compare_rows, n_agree, n_compared = [], 0, 0
     for k, (lab, ours, theirs) in enumerate(zip(labels, dominance, chapter)):
-        shown = "\u2261 0" if zero[k] else _share_text(share[k], off["tran"][k],
-                                                         off["rot"][k])
+        shown = share_cells[k]
         if theirs:
             n_compared += 1
             agree = ours == theirs
