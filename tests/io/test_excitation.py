@@ -162,9 +162,18 @@ def test_ur5_condition_number_below_random_fourier_trajectories(planned):
     assert ours * 2.4 <= np.median(randoms) and ours * 1.5 <= min(randoms), (ours, randoms)
 
 
+@pytest.fixture
+def one_blas_thread():
+    """numpy's LAPACK calls on one thread for the test: its SVDs are of a few hundred rows, and
+    threaded they take seconds on a busy machine."""
+    with threadpool_limits(1, "blas"):
+        yield
+
+
 @pytest.mark.slow
 @pytest.mark.parametrize("name", ["puma560", "panda"])
-def test_the_objective_is_the_scaled_condition_of_a_regressor_spanning_pinocchios(name):
+def test_the_objective_is_the_scaled_condition_of_a_regressor_spanning_pinocchios(
+        name, one_blas_thread):
     """The objective's regressor (rigid columns, drive columns) spans what Pinocchio's
     computeJointTorqueRegressor and the drive columns span on the trajectory's samples, the
     objective is log cond of it with unit-norm columns (numpy's SVD), and its gradient is
@@ -225,8 +234,7 @@ def test_the_objective_is_the_scaled_condition_of_a_regressor_spanning_pinocchio
         return ex_module._log_condition_and_gradient(z, robot, cols, basis)[1]
 
     assert objective(x) == pytest.approx(value, rel=1e-9)
-    with threadpool_limits(1, "blas"):      # small SVDs: threaded, far slower on a busy machine
-        err = check_grad(objective, g, x, epsilon=1e-6)
+    err = check_grad(objective, g, x, epsilon=1e-6)
     assert err <= 1e-3 * np.linalg.norm(grad)
 
     # the first stages' P = 2: the A-optimality criterion, (1/2) log p + (1/2) log of the
@@ -235,11 +243,10 @@ def test_the_objective_is_the_scaled_condition_of_a_regressor_spanning_pinocchio
     assert value2 == pytest.approx(0.5 * math.log(cols.count) + 0.5 * math.log(
         np.trace(np.linalg.inv(Ws.T @ Ws))), rel=1e-9)
     assert objective(x, power=2) == pytest.approx(value2, rel=1e-9)
-    with threadpool_limits(1, "blas"):
-        err = check_grad(lambda z: objective(z, power=2),
-                         lambda z: ex_module._log_condition_and_gradient(z, robot, cols, basis,
-                                                                          power=2)[1],
-                         x, epsilon=1e-6)
+    err = check_grad(lambda z: objective(z, power=2),
+                     lambda z: ex_module._log_condition_and_gradient(z, robot, cols, basis,
+                                                                      power=2)[1],
+                     x, epsilon=1e-6)
     assert err <= 1e-3 * np.linalg.norm(grad2)
 
     # the optimiser's stages: the Coulomb columns replaced by tanh(qd_j / v_j), whose
@@ -258,11 +265,9 @@ def test_the_objective_is_the_scaled_condition_of_a_regressor_spanning_pinocchio
         ((st / st[0]) ** P).sum()) + math.log(((st[-1] / st) ** P).sum())) / P, rel=1e-9)
     assert value_t != pytest.approx(value, rel=1e-6)
     assert objective(x, v=v) == pytest.approx(value_t, rel=1e-9)
-    with threadpool_limits(1, "blas"):
-        err = check_grad(lambda z: objective(z, v=v),
-                         lambda z: ex_module._log_condition_and_gradient(z, robot, cols, basis,
-                                                                          v)[1],
-                         x, epsilon=1e-6)
+    err = check_grad(lambda z: objective(z, v=v),
+                     lambda z: ex_module._log_condition_and_gradient(z, robot, cols, basis, v)[1],
+                     x, epsilon=1e-6)
     assert np.isfinite(grad_t).all() and err <= 1e-3 * np.linalg.norm(grad_t)
 
 
