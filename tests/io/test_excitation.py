@@ -13,6 +13,7 @@ import pinocchio as pin
 import pytest
 from conftest import built_once
 from scipy.optimize import check_grad
+from threadpoolctl import threadpool_limits
 
 from gd_analyze.core.symbolic.drive_regressor import identification_columns
 from gd_analyze.formulations.pinocchio import pinocchio_model
@@ -39,13 +40,14 @@ def _formula(series, t):
     q = np.tile(series.q0, (t.size, 1)).astype(float)
     qd = np.zeros((t.size, n))
     qdd = np.zeros((t.size, n))
-    for i in range(n):
-        for ell in range(1, K + 1):
-            w = series.wf * ell
+    for ell in range(1, K + 1):         # each joint's terms summed in the order of ell
+        w = series.wf * ell
+        sin, cos = np.sin(w * t), np.cos(w * t)
+        for i in range(n):
             a, b = series.a[i, ell - 1], series.b[i, ell - 1]
-            q[:, i] += a / w * np.sin(w * t) - b / w * np.cos(w * t)
-            qd[:, i] += a * np.cos(w * t) + b * np.sin(w * t)
-            qdd[:, i] += -a * w * np.sin(w * t) + b * w * np.cos(w * t)
+            q[:, i] += a / w * sin - b / w * cos
+            qd[:, i] += a * cos + b * sin
+            qdd[:, i] += -a * w * sin + b * w * cos
     return q, qd, qdd
 
 
@@ -119,9 +121,10 @@ def test_excitation_within_the_limits_and_at_rest_at_both_ends(planned, name):
     assert np.abs(qdd_ends).max() <= 1e-12 * np.abs(qdd).max()
     assert np.abs(q_ends[0] - q_ends[1]).max() <= 1e-12
     # the written set points are the formula's
-    np.testing.assert_allclose(traj.q, _formula(ex.series, traj.t)[0], rtol=0, atol=1e-12)
-    np.testing.assert_allclose(traj.qd, _formula(ex.series, traj.t)[1], rtol=0, atol=1e-12)
-    np.testing.assert_allclose(traj.qdd, _formula(ex.series, traj.t)[2], rtol=0, atol=1e-12)
+    written = _formula(ex.series, traj.t)
+    np.testing.assert_allclose(traj.q, written[0], rtol=0, atol=1e-12)
+    np.testing.assert_allclose(traj.qd, written[1], rtol=0, atol=1e-12)
+    np.testing.assert_allclose(traj.qdd, written[2], rtol=0, atol=1e-12)
     # it uses its room: some limit is nearly reached on every joint
     lo, hi, qd_max, qdd_max = _limits(robot)
     use = np.maximum.reduce([np.abs(qd).max(0) / qd_max, np.abs(qdd).max(0) / qdd_max,
@@ -159,9 +162,18 @@ def test_ur5_condition_number_below_random_fourier_trajectories(planned):
     assert ours * 2.4 <= np.median(randoms) and ours * 1.5 <= min(randoms), (ours, randoms)
 
 
+@pytest.fixture
+def one_blas_thread():
+    """numpy's LAPACK calls on one thread for the test: its SVDs are of a few hundred rows, and
+    threaded they take seconds on a busy machine."""
+    with threadpool_limits(1, "blas"):
+        yield
+
+
 @pytest.mark.slow
 @pytest.mark.parametrize("name", ["puma560", "panda"])
-def test_the_objective_is_the_scaled_condition_of_a_regressor_spanning_pinocchios(name):
+def test_the_objective_is_the_scaled_condition_of_a_regressor_spanning_pinocchios(
+        name, one_blas_thread):
     """The objective's regressor (rigid columns, drive columns) spans what Pinocchio's
     computeJointTorqueRegressor and the drive columns span on the trajectory's samples, the
     objective is log cond of it with unit-norm columns (numpy's SVD), and its gradient is
@@ -200,13 +212,29 @@ def test_the_objective_is_the_scaled_condition_of_a_regressor_spanning_pinocchio
     assert value == pytest.approx(math.log(s[0] / s[-1]) + smooth, rel=1e-9)
     assert s[0] / s[-1] == pytest.approx(scaled_condition(Y), rel=1e-9)
 
-    def f(z):
-        return ex_module._log_condition_and_gradient(z, robot, cols, basis)[0]
+    t = ex_module._middles(series.period, 60)
+
+    def objective(z, power=ex_module.SMOOTH_POWER, v=None):
+        """The objective at z from its definition, computed afresh (the value alone, not the
+        module's gradient pass over 3 n + 1 shifted copies of the states): the smooth log
+        condition with exponent ``power`` of the unit-norm columns of the identification
+        regressor on the formula's states, the Coulomb columns tanh(qd_j / v_j) with ``v``."""
+        zq, zqd, zqdd = _formula(basis.series(z, n), t)
+        Yz = ex_module.identification_regressor(robot, zq, zqd, zqdd, cols)
+        if v is not None:
+            for j in range(n):
+                if f"coulomb_{j + 1}" in cols.names():
+                    Yz[:, j, cols.names().index(f"coulomb_{j + 1}")] = np.tanh(zqd[:, j] / v[j])
+        Wz = Yz.reshape(-1, cols.count)
+        sz = np.linalg.svd(Wz / np.linalg.norm(Wz, axis=0), compute_uv=False)
+        return math.log(sz[0] / sz[-1]) + (math.log(((sz / sz[0]) ** power).sum()) + math.log(
+            ((sz[-1] / sz) ** power).sum())) / power
 
     def g(z):
         return ex_module._log_condition_and_gradient(z, robot, cols, basis)[1]
 
-    err = check_grad(f, g, x, epsilon=1e-6)
+    assert objective(x) == pytest.approx(value, rel=1e-9)
+    err = check_grad(objective, g, x, epsilon=1e-6)
     assert err <= 1e-3 * np.linalg.norm(grad)
 
     # the first stages' P = 2: the A-optimality criterion, (1/2) log p + (1/2) log of the
@@ -214,8 +242,8 @@ def test_the_objective_is_the_scaled_condition_of_a_regressor_spanning_pinocchio
     value2, grad2 = ex_module._log_condition_and_gradient(x, robot, cols, basis, power=2)
     assert value2 == pytest.approx(0.5 * math.log(cols.count) + 0.5 * math.log(
         np.trace(np.linalg.inv(Ws.T @ Ws))), rel=1e-9)
-    err = check_grad(lambda z: ex_module._log_condition_and_gradient(z, robot, cols, basis,
-                                                                      power=2)[0],
+    assert objective(x, power=2) == pytest.approx(value2, rel=1e-9)
+    err = check_grad(lambda z: objective(z, power=2),
                      lambda z: ex_module._log_condition_and_gradient(z, robot, cols, basis,
                                                                       power=2)[1],
                      x, epsilon=1e-6)
@@ -236,7 +264,8 @@ def test_the_objective_is_the_scaled_condition_of_a_regressor_spanning_pinocchio
     assert value_t == pytest.approx(math.log(st[0] / st[-1]) + (math.log(
         ((st / st[0]) ** P).sum()) + math.log(((st[-1] / st) ** P).sum())) / P, rel=1e-9)
     assert value_t != pytest.approx(value, rel=1e-6)
-    err = check_grad(lambda z: ex_module._log_condition_and_gradient(z, robot, cols, basis, v)[0],
+    assert objective(x, v=v) == pytest.approx(value_t, rel=1e-9)
+    err = check_grad(lambda z: objective(z, v=v),
                      lambda z: ex_module._log_condition_and_gradient(z, robot, cols, basis, v)[1],
                      x, epsilon=1e-6)
     assert np.isfinite(grad_t).all() and err <= 1e-3 * np.linalg.norm(grad_t)

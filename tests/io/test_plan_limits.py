@@ -145,3 +145,23 @@ def test_plan_of_10_to_the_8_set_points_in_bounded_memory(tmp_path):
     assert done.returncode == 2, done.stderr
     assert done.stderr == f"gd-analyze: error: {out}: cannot write: No space left on device\n"
     assert list(tmp_path.iterdir()) == []
+
+
+@pytest.mark.parametrize("to_stdout", [False, True])
+def test_a_plan_beyond_the_readers_magnitudes_writes_nothing(tmp_path, capsys, monkeypatch,
+                                                             to_stdout):
+    """A plan whose accelerations exceed what the CSV reader accepts is exit 2 on one line and
+    writes nothing: no file, though the pieces before the first offending one were within the
+    limits (pieces of 4 set points; |qdd| <= 1e8 for u < 1/60), and nothing on standard
+    output."""
+    from gd_analyze.io import planning
+
+    monkeypatch.setattr(planning, "CHUNK_SETPOINTS", 4)
+    out = "-" if to_stdout else str(tmp_path / "fast.csv")
+    # 0.5 deg in 1e-5 s: peak |qd| 1.6e3 rad/s, peak |qdd| 5.0e8 rad/s^2
+    assert main(["plan", "two-link", "-o", out, "--setpoints", "1001", "--duration", "1e-5",
+                 "--ignore-limits", "--start=0,0", "--goal=0.5,0.5"]) == 2
+    printed, err = capsys.readouterr()
+    assert err == ("gd-analyze: error: --duration: the planned qdd exceeds the supported "
+                   "magnitude 1e+08: choose a longer --duration\n")
+    assert printed == "" and list(tmp_path.iterdir()) == []

@@ -11,6 +11,7 @@ from gd_analyze.io.planning import (
 )
 from gd_analyze.io.trajectory import (
     JointLimitWarning,
+    Trajectory,
     check_joint_limits,
     read_trajectory,
     trajectory_columns,
@@ -163,3 +164,24 @@ def test_written_in_pieces_the_file_is_the_whole_table(tmp_path, puma):
     with pytest.raises(OSError):
         write_trajectory_chunks(full_after_two(plan.chunks(64)), 6, tmp_path / "full.csv")
     assert sorted(p.name for p in tmp_path.iterdir()) == ["once.csv", "oracle.csv", "traj.csv"]
+
+
+def test_written_values_are_pandas_to_csv_of_any_float(tmp_path):
+    """Over more rows than are formatted at once, values of every magnitude, zeros of both
+    signs, infinities and NaN of both signs are the bytes pandas writes (``%.17g``, NaN as an
+    empty field, -0.0 as 0)."""
+    rng = np.random.default_rng(3)
+    rows, n = 2**14 + 37, 2
+    table = rng.standard_normal((rows, 1 + 3 * n)) * 10.0 ** rng.integers(-320, 300,
+                                                                          (rows, 1 + 3 * n))
+    table[::5, 1] = np.round(rng.standard_normal(len(table[::5])) * 1e6)
+    table[1::7, 2] = -0.0
+    table[3, :] = [np.inf, -np.inf, np.nan, -np.nan, 5e-324, 1e16, -123456789012345678.0]
+    table[-1, :] = [np.nan, 0.1, 1 / 3, 1e-5, 1e21, 2.0**-1074, -1.7976931348623157e308]
+    oracle = tmp_path / "oracle.csv"
+    pd.DataFrame(table + 0.0, columns=trajectory_columns(n, True)).to_csv(
+        oracle, index=False, float_format="%.17g")
+    path = tmp_path / "traj.csv"
+    write_trajectory(Trajectory(t=table[:, 0], q=table[:, 1:3], qd=table[:, 3:5],
+                                qdd=table[:, 5:], derivatives="arrays", source="test"), path)
+    assert path.read_bytes() == oracle.read_bytes()

@@ -616,20 +616,34 @@ def cmd_plan(args: argparse.Namespace) -> int:
 
 
 def _write_plan(pieces, n, output, advice):
-    """Write a planned trajectory piece by piece after checking every piece's values against
-    the CSV reader's limits (before anything is written).
+    """Write a planned trajectory piece by piece, every piece's values checked against the CSV
+    reader's limits before it is written.
 
-    ``pieces`` is a callable returning the trajectory's pieces in order (called twice: to check,
-    then to write), ``n`` the number of joints. Returns False when it went to standard output
-    (no provenance then)."""
+    A file is written under a temporary name (:func:`write_trajectory_chunks`), each piece
+    checked just before it is written: a piece beyond the limits stops the write and removes
+    the temporary file, so nothing is left, and the pieces are computed once. Standard output
+    cannot take back what it was given: every piece is checked first, then written.
 
-    for piece in pieces():
-        for name in ("q", "qd", "qdd"):
-            if first_beyond(getattr(piece, name), LIMITS[name]) is not None:
-                raise InputError(f"the planned {name} exceeds the supported magnitude "
-                                 f"{LIMITS[name]:g}{advice}", column="--duration")
+    ``pieces`` is a callable returning the trajectory's pieces in order (called twice for
+    standard output), ``n`` the number of joints. Returns False when it went to standard
+    output (no provenance then)."""
+
+    def checked(pieces):
+        for piece in pieces:
+            for name in ("q", "qd", "qdd"):
+                if first_beyond(getattr(piece, name), LIMITS[name]) is not None:
+                    raise InputError(f"the planned {name} exceeds the supported magnitude "
+                                     f"{LIMITS[name]:g}{advice}", column="--duration")
+            yield piece
+
+    if output == "-":
+        for _ in checked(pieces()):
+            pass
+        written = pieces()
+    else:
+        written = checked(pieces())
     try:
-        write_trajectory_chunks(pieces(), n, output)
+        write_trajectory_chunks(written, n, output)
     except OSError as exc:
         raise InputError(f"cannot write: {exc.strerror or exc}", output) from None
     return output != "-"

@@ -668,6 +668,34 @@ def write_trajectory(trajectory: Trajectory, path: str | os.PathLike[str]) -> No
     write_trajectory_chunks([trajectory], trajectory.q.shape[1], path)
 
 
+#: Rows formatted into one string at a time by :func:`write_trajectory_chunks` (a few MB of
+#: text for 6 joints).
+_ROWS_FORMATTED = 2**14
+
+
+def _csv_rows(table: np.ndarray) -> str:
+    """CSV lines of a table's rows, each value as ``"%.17g"`` (17 significant digits, so that
+    it reads back bit for bit) and NaN as an empty field.
+
+    Parameters
+    ----------
+    table : ndarray, shape (rows, columns)
+        Values.
+
+    Returns
+    -------
+    str
+        ``rows`` lines, each ending in a newline: the lines pandas' ``to_csv`` writes with
+        ``float_format="%.17g"`` (its empty ``na_rep``), made by one string formatting of the
+        whole table instead of one call per value.
+    """
+    rows, cols = table.shape
+    text = (",".join(["%.17g"] * cols) + "\n") * rows % tuple(table.ravel().tolist())
+    if np.isnan(table).any():       # "%.17g" writes NaN (of either sign) as "nan"
+        text = text.replace("nan", "")
+    return text
+
+
 def write_trajectory_chunks(chunks: Iterable[Trajectory], n: int,
                             path: str | os.PathLike[str]) -> None:
     """Write a trajectory CSV file piece by piece, atomically (temporary name, then rename):
@@ -687,8 +715,6 @@ def write_trajectory_chunks(chunks: Iterable[Trajectory], n: int,
     OSError
         If the file cannot be written; the file is then left as it was.
     """
-    import pandas as pd
-
     columns = trajectory_columns(n, True)
 
     def write(stream):
@@ -696,8 +722,8 @@ def write_trajectory_chunks(chunks: Iterable[Trajectory], n: int,
         for piece in chunks:
             table = np.column_stack([piece.t, piece.q, piece.qd, piece.qdd])
             table = table + 0.0         # -0.0 (a joint at rest moving down) is written "0"
-            pd.DataFrame(table, columns=columns).to_csv(stream, index=False, header=False,
-                                                        float_format="%.17g")
+            for start in range(0, table.shape[0], _ROWS_FORMATTED):
+                stream.write(_csv_rows(table[start:start + _ROWS_FORMATTED]))
 
     if str(path) == "-":
         import sys

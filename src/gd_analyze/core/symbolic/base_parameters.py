@@ -23,6 +23,7 @@ from typing import TYPE_CHECKING
 
 import numpy as np
 from numpy.typing import ArrayLike
+from threadpoolctl import threadpool_limits
 
 from ..model.kinematics import as_states, joint_frames
 
@@ -312,7 +313,9 @@ def base_parameters(robot: Robot, count: int | None = None, seed: int = 0,
     Kleinfinger's regrouping (1987): YY_j, MZ_j and M_j of a revolute joint j are regrouped
     into XX_j, ZZ_j and the parameters of link j-1. W is stacked at random set points, its
     QR taken without pivoting, a column kept when its diagonal entry is not negligible, and
-    K solves R_BB K = R_BD (Gautier 1990).
+    K solves R_BB K = R_BD (Gautier 1990). Both factorisations run on one BLAS thread (a
+    stacked regressor of 4 n^2 rows and 10 n columns: threaded LAPACK is several times slower
+    on a busy machine, and its result can depend on the thread count in the last bits).
 
     Examples
     --------
@@ -329,7 +332,8 @@ def base_parameters(robot: Robot, count: int | None = None, seed: int = 0,
     Wo = W[:, order]
     norms = np.linalg.norm(Wo, axis=0)
     zero = norms <= tol * norms.max(initial=0.0)          # rounding noise: a zero column
-    Rm = np.linalg.qr(np.where(zero, 0.0, Wo / np.where(zero, 1.0, norms)), mode="r")
+    with threadpool_limits(1, "blas"):     # a small factor: threads only cost
+        Rm = np.linalg.qr(np.where(zero, 0.0, Wo / np.where(zero, 1.0, norms)), mode="r")
     diag = np.abs(np.diag(Rm))
     keep_o = diag > tol * max(diag.max(), 1e-300)
     independent = np.zeros(10 * n, bool)
@@ -337,7 +341,8 @@ def base_parameters(robot: Robot, count: int | None = None, seed: int = 0,
     B = np.flatnonzero(independent)
     D = np.flatnonzero(~independent)
     WB, WD = W[:, B], W[:, D]
-    K = np.linalg.lstsq(WB, WD, rcond=None)[0] if D.size else np.zeros((B.size, 0))
+    with threadpool_limits(1, "blas"):
+        K = np.linalg.lstsq(WB, WD, rcond=None)[0] if D.size else np.zeros((B.size, 0))
     phi = _snap_standard(standard_parameters(robot))
     scale = np.tile(_kind_scales(phi), n)
     K = np.where(np.abs(K) * scale[D][None, :] <= SNAP * scale[B][:, None], 0.0, K)
