@@ -7,7 +7,7 @@ compiles it as the header's comment says for the batch functions (``cc -std=c99 
 -march=native``, no -ffast-math: GCC's vectoriser calls glibc's libmvec sin and cos), together
 with a second file (another translation unit, so nothing is inlined: a user's call) that calls
 ``PREFIXtau`` once per state in a loop. On N random states (default 10^6, q within the joint
-limits, qd and qdd within the robot's limits: :func:`gd_analyze.core.symbolic.base_parameters
+limits, qd and qdd within the robot's limits: :func:`gd_analyze.dynamics.base_parameters
 .random_states`) it times, in R interleaved rounds (the order rotated from round to round):
 
 - ``single``: ``PREFIXtau`` called state after state (the C loop above);
@@ -40,10 +40,10 @@ import numpy as np
 import pinocchio as pin
 
 from gd_analyze import SimplifiedModel, load_robot
-from gd_analyze.core.selection.labels import element_labels
-from gd_analyze.core.symbolic.base_parameters import random_states
-from gd_analyze.core.symbolic.recursive_model import recursive_model
-from gd_analyze.formulations.pinocchio import pinocchio_model
+from gd_analyze.dynamics.base_parameters import random_states
+from gd_analyze.dynamics.pinocchio import pinocchio_model
+from gd_analyze.ranking.labels import element_labels
+from gd_analyze.symbolic.recursive_model import recursive_model
 
 DP = ctypes.POINTER(ctypes.c_double)
 #: The batch call against the single-state call, relative to peak |tau_i|.

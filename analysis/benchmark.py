@@ -71,7 +71,7 @@ def _summary(r):
 def pinocchio_loop(robot, q, qd):
     import pinocchio as pin
 
-    from gd_analyze.formulations.pinocchio import pinocchio_model
+    from gd_analyze.dynamics.pinocchio import pinocchio_model
 
     model = pinocchio_model(robot)
     data = model.createData()
@@ -91,7 +91,7 @@ def pinocchio_calls_only(robot, q, qd):
     """(b) without keeping the results: the fastest a Python loop over Pinocchio can be."""
     import pinocchio as pin
 
-    from gd_analyze.formulations.pinocchio import pinocchio_model
+    from gd_analyze.dynamics.pinocchio import pinocchio_model
 
     model = pinocchio_model(robot)
     data = model.createData()
@@ -108,7 +108,7 @@ def pinocchio_calls_only(robot, q, qd):
 def pinocchio_split(robot, q, qd):
     import pinocchio as pin
 
-    from gd_analyze.formulations.pinocchio import pinocchio_model
+    from gd_analyze.dynamics.pinocchio import pinocchio_model
 
     models = []
     for part in ("tran", "rot"):
@@ -142,8 +142,8 @@ def batched_rnea_comparison(robot, q, qd, qdd, runs):
     import pinocchio as pin
 
     from gd_analyze import gd_terms
-    from gd_analyze.core.dynamics.dalembert import allocate_terms
-    from gd_analyze.formulations.pinocchio import pinocchio_model
+    from gd_analyze.dynamics.dalembert import allocate_terms
+    from gd_analyze.dynamics.pinocchio import pinocchio_model
 
     N, n = q.shape
     buf = allocate_terms(N, n)
@@ -302,7 +302,7 @@ def main(argv=None):
         return 0
 
     from gd_analyze import gd_terms, load_robot
-    from gd_analyze.formulations.pinocchio import relative_error
+    from gd_analyze.dynamics.pinocchio import relative_error
 
     robot = load_robot("puma560")
     N = args.setpoints

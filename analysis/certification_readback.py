@@ -6,7 +6,7 @@ this script times in rounds, interleaved over n (every n once per round, so that
 load hits all of them alike):
 
 1. a certification into an empty derivation cache (sampling, the scale's local maximisation,
-   the sampled peaks and the branch and bound: ``io/certification_cache.py``);
+   the sampled peaks and the branch and bound: ``store/certification_cache.py``);
 2. the same certification read back from that cache (the scale's self-check, the tree of
    boxes checked to tile the region, the enclosures derived again on its boxes; no search),
 
@@ -48,10 +48,10 @@ def _robot(name):
 
 def child(name, phase):
     """One certification in this process; prints one JSON line."""
-    from gd_analyze.core.selection.certify import certify
-    from gd_analyze.core.symbolic.base_parameters import base_parameters
-    from gd_analyze.io.certification_cache import certification
-    from gd_analyze.workflows.deploy import REGION_SAMPLES, robot_region
+    from gd_analyze.certify.certify import certify
+    from gd_analyze.dynamics.base_parameters import base_parameters
+    from gd_analyze.jobs.deploy import REGION_SAMPLES, robot_region
+    from gd_analyze.store.certification_cache import certification
 
     robot = _robot(name)
     base = base_parameters(robot)

@@ -3,7 +3,7 @@
     python analysis/control_shipped.py [--wn 20] [--zeta 1] [--offset 0] [--out DIR]
 
 Builds the simplified model the main job produces
-(``gd_analyze.workflows.analyze.analyze(load_robot("puma560"), read_trajectory(...)).model``), then
+(``gd_analyze.jobs.analyze.analyze(load_robot("puma560"), read_trajectory(...)).model``), then
 integrates the full-model arm along ``data/puma560_trajectory.csv`` under three controllers
 (Fu, Gonzalez & Lee 1987, Ch. 5 computed torque with the full model and with the simplified
 model of Sec. 3.4.1; PD + gravity compensation), starting on the trajectory unless an offset is
@@ -31,12 +31,12 @@ from pathlib import Path
 
 from gd_analyze import load_robot
 from gd_analyze.files import file_sha256
-from gd_analyze.io.control_dataset import write_control_dataset
-from gd_analyze.io.model_file import save_model
-from gd_analyze.io.trajectory import read_trajectory
-from gd_analyze.workflows.analyze import analyze
-from gd_analyze.workflows.control import CONTROL_FILE, run_control
-from gd_analyze.workflows.tracking import DEFAULT_WN, DEFAULT_ZETA
+from gd_analyze.jobs.analyze import analyze
+from gd_analyze.jobs.control import CONTROL_FILE, run_control
+from gd_analyze.jobs.tracking import DEFAULT_WN, DEFAULT_ZETA
+from gd_analyze.store.control_dataset import write_control_dataset
+from gd_analyze.store.model_file import save_model
+from gd_analyze.trajectory.trajectory import read_trajectory
 
 ROOT = Path(__file__).resolve().parents[1]
 SHIPPED = ROOT / "data" / "puma560_trajectory.csv"
@@ -75,7 +75,7 @@ def main(argv=None):
                              q0_offset=args.offset, model_path=model_path,
                              model_sha256=file_sha256(model_path))
         if args.out:
-            from gd_analyze.reports.control import write_control_report
+            from gd_analyze.report.control import write_control_report
 
             write_control_dataset(result, outdir / CONTROL_FILE)
             write_control_report(outdir / CONTROL_FILE, outdir)

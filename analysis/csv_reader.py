@@ -17,7 +17,7 @@ from pathlib import Path
 import numpy as np
 
 from gd_analyze import load_robot
-from gd_analyze.io import trajectory as tr
+from gd_analyze.trajectory import trajectory as tr
 
 
 def main(n_setpoints=200_000, repeats=5):

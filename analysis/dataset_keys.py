@@ -10,7 +10,7 @@ forms, each counted once (a name constant inside a counted site is not counted a
 * ``ds[k]`` or ``k in ds`` for ``ds`` a name ending in ``ds`` or ``dataset`` (``x.dataset``):
   the same, without ``.values``;
 * ``f(ds, "k")``: a string passed with a dataset to a helper that reads it by that name;
-* any other use of a name constant of :mod:`gd_analyze.io.names` (``Var.X``, ``Attr.X``,
+* any other use of a name constant of :mod:`gd_analyze.store.names` (``Var.X``, ``Attr.X``,
   e.g. passed to a helper that reads the dataset).
 
     python analysis/dataset_keys.py                 # per module, and the total

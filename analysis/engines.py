@@ -98,8 +98,8 @@ def loop_calls(name, robot, N):
     if name == "gd_terms":
         return lambda e: gd_terms(robot, q, qd, engine=e)
     if name in ("ranking", "part_peaks"):
-        from gd_analyze.core.selection.budget import PartPeaks
-        from gd_analyze.core.selection.ranking import RankingAccumulator
+        from gd_analyze.ranking.ranking import RankingAccumulator
+        from gd_analyze.simplify.budget import PartPeaks
 
         t = gd_terms(robot, q, qd)
         tau = t.tau(qdd)
@@ -109,28 +109,28 @@ def loop_calls(name, robot, N):
         return lambda e: PartPeaks(robot.n).update(t.D_tran, t.D_rot, t.h_tran, t.h_rot, qdd,
                                                    tau, engine=e)
     if name == "inertia_check":
-        from gd_analyze.core.selection.positive_definite import check_inertia
+        from gd_analyze.certify.positive_definite import check_inertia
 
         K = min(N, 20_000)                  # D at K positions, read cyclically (memory)
         D = gd_terms(robot, q[:K], qd[:K]).D
         index = np.arange(N, dtype=float)[:, None]
         return lambda e: check_inertia(lambda qq: D[qq[:, 0].astype(np.int64) % K], index,
                                        engine=e)
-    from gd_analyze.core.symbolic.base_parameters import base_parameters
+    from gd_analyze.dynamics.base_parameters import base_parameters
 
     if name == "contribution_peaks":
-        from gd_analyze.core.symbolic.regressor_kernels import contribution_peaks
+        from gd_analyze.dynamics.regressor_kernels import contribution_peaks
 
         base = base_parameters(robot)
         return lambda e: contribution_peaks(robot, base, q, qd, qdd, engine=e)
     if name == "channel_values":
-        from gd_analyze.core.selection.region import channel_values
+        from gd_analyze.certify.region import channel_values
 
         cols = np.flatnonzero(base_parameters(robot).independent.reshape(-1))
         return lambda e: channel_values(robot, q, cols, engine=e)
     if name == "atom_peaks":
-        from gd_analyze.core.symbolic.explicit import term_peaks
-        from gd_analyze.io.explicit_cache import explicit_terms
+        from gd_analyze.store.explicit_cache import explicit_terms
+        from gd_analyze.symbolic.explicit import term_peaks
 
         terms, _ = explicit_terms(robot)
         offset = np.zeros(robot.n)
@@ -176,10 +176,10 @@ def first_call(runs):
             "    gd_terms(robot, q, q, engine='numpy')\n"
             "t1 = time.perf_counter()\n"
             "if sys.argv[1] == 'numba':\n"
-            "    from gd_analyze.core.selection import kernels as sk\n"
-            "    from gd_analyze.core.symbolic import regressor_compiled, term_kernels\n"
-            "    from gd_analyze.core.selection.ranking import RankingAccumulator\n"
-            "    from gd_analyze.core.selection.budget import PartPeaks\n"
+            "    from gd_analyze.ranking import kernels as sk\n"
+            "    from gd_analyze.symbolic import regressor_compiled, term_kernels\n"
+            "    from gd_analyze.ranking.ranking import RankingAccumulator\n"
+            "    from gd_analyze.simplify.budget import PartPeaks\n"
             "    t = gd_terms(robot, q, q, engine='compiled')\n"
             "    RankingAccumulator(robot.n).update(t.D_tran, t.D_rot, t.h_tran, t.h_rot, q,"
             " engine='compiled')\n"
@@ -202,7 +202,7 @@ def first_call(runs):
             "load": os.getloadavg()[0]}
 
 
-JOB = ("import sys\nfrom gd_analyze.core.dynamics import dalembert\n"
+JOB = ("import sys\nfrom gd_analyze.dynamics import dalembert\n"
        "dalembert.compiled_engine.__defaults__ = (int(sys.argv[1]),)\n"
        "from gd_analyze.cli import main\nsys.exit(main(sys.argv[2:]))\n")
 POLICIES = {"auto": None, "numba": 0, "numpy": 10 ** 18}
@@ -210,7 +210,7 @@ POLICIES = {"auto": None, "numba": 0, "numpy": 10 ** 18}
 
 def run_job(policy, csv, out):
     """One main job in a fresh process under ``policy``: (wall [s], CPU [s], peak RSS [MiB])."""
-    from gd_analyze.core.dynamics.dalembert import COMPILED_MIN_SETPOINTS
+    from gd_analyze.dynamics.dalembert import COMPILED_MIN_SETPOINTS
 
     threshold = POLICIES[policy]
     threshold = COMPILED_MIN_SETPOINTS if threshold is None else threshold
@@ -318,7 +318,7 @@ def main(argv=None):
         os.environ["PYTHONPATH"] = os.pathsep.join(
             [str(Path(args.src).resolve())] + [x for x in [os.environ.get("PYTHONPATH")] if x])
     from gd_analyze import load_robot
-    from gd_analyze.core.dynamics import dalembert
+    from gd_analyze.dynamics import dalembert
 
     if not hasattr(dalembert, "compiled_engine"):
         print(f"error: {Path(dalembert.__file__).parents[3]} has one engine per loop; "

@@ -6,7 +6,7 @@
 For each arm, plans the default excitation (``gd-analyze plan ROBOT --excitation``: 5
 harmonics, one 10 s period, 2 random starts of SLSQP) and draws R random Fourier trajectories
 with the same harmonics and base frequency, each joint scaled to the same limits
-(:func:`gd_analyze.io.excitation.random_excitation`, seeds 1000..). Condition numbers of the
+(:func:`gd_analyze.trajectory.excitation.random_excitation`, seeds 1000..). Condition numbers of the
 column-scaled base regressor with drive columns are taken on 400 samples of a period.
 
 Prints one JSON line per arm: the optimised condition number, the random ones' median, minimum
@@ -30,8 +30,12 @@ import numpy as np
 
 def main(argv=None):
     """Measure and print."""
-    from gd_analyze.io.excitation import excitation_condition, plan_excitation, random_excitation
-    from gd_analyze.io.robots import load_robot
+    from gd_analyze.model.robots import load_robot
+    from gd_analyze.trajectory.excitation import (
+        excitation_condition,
+        plan_excitation,
+        random_excitation,
+    )
 
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--robots", default="puma560,panda,ur5")
@@ -68,7 +72,7 @@ def main(argv=None):
 
 def _diagnosis(robot, ex, samples=400, weights=5):
     """mean |qd| / rms qd per joint, and the heaviest columns of the extreme singular vectors."""
-    from gd_analyze.core.symbolic.drive_regressor import identification_regressor
+    from gd_analyze.symbolic.drive_regressor import identification_regressor
 
     t = (np.arange(samples) + 0.5) * (ex.series.period / samples)
     q, qd, qdd = ex.series.evaluate(t)

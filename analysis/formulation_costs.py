@@ -8,7 +8,7 @@ Each formulation is timed two ways on the same random states of a robot (default
 Pinocchio (C++) is always called once per set point; the G-D terms are those of ``gd_terms``
 (its numba-compiled kernel). "tau" times the inverse dynamics (joint
 torques from q, qd, qdd); "D, h, c" times the dynamic coefficients. The script then prints the
-operation counts per set point, measured as implemented (gd_analyze.formulations.opcount), beside Table 3.5
+operation counts per set point, measured as implemented (gd_analyze.dynamics.opcount), beside Table 3.5
 of Fu, Gonzalez & Lee (1987). It runs in well under two minutes.
 
 Usage::
@@ -25,10 +25,10 @@ import numpy as np
 import pinocchio as pin
 
 from gd_analyze import gd_terms, load_robot
-from gd_analyze.formulations.lagrange_euler import le_terms
-from gd_analyze.formulations.newton_euler import ne_tau, ne_terms
-from gd_analyze.formulations.opcount import table
-from gd_analyze.formulations.pinocchio import pinocchio_model
+from gd_analyze.dynamics.lagrange_euler import le_terms
+from gd_analyze.dynamics.newton_euler import ne_tau, ne_terms
+from gd_analyze.dynamics.opcount import table
+from gd_analyze.dynamics.pinocchio import pinocchio_model
 
 
 def best_time(fn, repeat=3):
@@ -93,7 +93,7 @@ def main(argv=None):
         print(f"{name:<21} {what:<8} {1e6 * batched:>14.1f} {1e6 * looped:>13.1f}")
 
     print()
-    print("Operations per set point: measured as implemented (gd_analyze.formulations.opcount)")
+    print("Operations per set point: measured as implemented (gd_analyze.dynamics.opcount)")
     print("and Table 3.5 of Fu, Gonzalez & Lee (1987) ('T3.5')")
     print(table(10).to_string())
 

@@ -43,14 +43,10 @@ from identify_recordings import (  # noqa: E402
 )
 
 from gd_analyze import load_robot  # noqa: E402
-from gd_analyze.core.symbolic.base_parameters import (  # noqa: E402
-    base_parameters,
-    base_regressor,
-    random_states,
-)
-from gd_analyze.io.recording import recording_from_arrays  # noqa: E402
-from gd_analyze.io.robots import builtin_robots  # noqa: E402
-from gd_analyze.workflows.identify import IdentifyOptions, identify  # noqa: E402
+from gd_analyze.dynamics.base_parameters import base_parameters, base_regressor, random_states
+from gd_analyze.jobs.identify import IdentifyOptions, identify  # noqa: E402
+from gd_analyze.model.robots import builtin_robots  # noqa: E402
+from gd_analyze.trajectory.recording import recording_from_arrays  # noqa: E402
 
 URDF_BUILTINS = {"panda", "ur5"}
 REPEATS = 3
@@ -141,8 +137,8 @@ import json, resource, sys, time
 import numpy as np
 sys.path.insert(0, {tests!r})
 from gd_analyze import load_robot
-from gd_analyze.io.recording import read_recording
-from gd_analyze.workflows.identify import identify
+from gd_analyze.trajectory.recording import read_recording
+from gd_analyze.jobs.identify import identify
 kind, path = sys.argv[1], sys.argv[2]
 robot = load_robot("panda")
 def cpu():
@@ -155,9 +151,9 @@ if kind == "identify":
     elapsed = time.perf_counter() - t0
     cpu_s = cpu() - c0
 else:
-    from gd_analyze.core.identify.preprocess import preprocess
-    from gd_analyze.core.symbolic.base_parameters import base_parameters
-    from gd_analyze.core.symbolic.drive_regressor import (
+    from gd_analyze.estimation.preprocess import preprocess
+    from gd_analyze.dynamics.base_parameters import base_parameters
+    from gd_analyze.symbolic.drive_regressor import (
         IdentificationColumns,
         identification_regressor,
     )

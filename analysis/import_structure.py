@@ -5,8 +5,7 @@ Prints, for the package in ``src/`` (or ``--src``):
 - the import circles among its modules, counting every import that runs (module level and
   inside functions, not those under ``if TYPE_CHECKING:``), as tests/test_layers.py does;
 - the function-local imports of the package's own modules, per module;
-- the imports between core's concepts that run against the flow (model <- dynamics <- symbolic
-  <- selection, identify);
+- the imports that run against the flow of the packages (tests/test_layers.py's ``LAYERS``);
 
 and, with ``--baseline SRC`` (another checkout's ``src``), the time of ``import gd_analyze.cli``
 in a fresh interpreter for both, interleaved (a, b, b, a, ...), median and [min, max] of the
@@ -32,7 +31,7 @@ ROOT = Path(__file__).resolve().parents[1]
 
 
 def _structure(src):
-    """Circles, function-local imports and upward core imports of the package at ``src``."""
+    """Circles, function-local imports and upward imports of the package at ``src``."""
     sys.path.insert(0, str(ROOT / "tests"))
     import test_layers as layers
 
@@ -42,16 +41,7 @@ def _structure(src):
     graph = {layers._module_name(p): layers._runtime_edges(p) - {layers._module_name(p)}
              for p in modules}
     local = [x for p in modules for x in layers.local_imports(p)]
-    upward = []
-    for p in modules:
-        me = layers._module_name(p)
-        if not me.startswith("core."):
-            continue
-        for target in layers._runtime_edges(p):
-            parts = target.split(".")
-            if parts[0] == "core" and len(parts) > 1 and parts[1] in layers.CORE_ORDER \
-                    and layers.CORE_ORDER[parts[1]] > layers.CORE_ORDER[me.split(".")[1]]:
-                upward.append(f"{me} -> {target}")
+    upward = [u for p in modules for u in layers.upward(p)]
     return layers.circles(graph), local, upward
 
 
@@ -76,7 +66,7 @@ def main(argv=None):
     print(f"function-local imports of the package: {len(local)}")
     for mod, k in sorted(per.items(), key=lambda kv: -kv[1]):
         print(f"  {k:3d}  {mod}")
-    print(f"core imports against the flow: {len(upward)}")
+    print(f"imports against the flow: {len(upward)}")
     for u in upward:
         print("  " + u)
     if args.baseline:

@@ -41,15 +41,15 @@ JOB = ["puma560", str(ROOT / "data" / "puma560_trajectory.csv"), "-q"]
 
 #: (module, function or Class.method, label): timed with their calls nested as given.
 TIMED = (
-    ("gd_analyze.workflows.run", "run_analysis", "run_analysis"),
-    ("gd_analyze.workflows.analyze", "analyze_to_file", "analyze_to_file"),
-    ("gd_analyze.workflows.analyze", "_verify_sample", "verify"),
-    ("gd_analyze.workflows.deployment", "deploy_models", "simplified_model"),
-    ("gd_analyze.reports.main", "write_report", "write_report"),
-    ("gd_analyze.io.schema", "open_results", "report_read_results"),
-    ("gd_analyze.reports.main", "_html", "report_html"),
-    ("gd_analyze.reports.main", "_pdf", "report_pdf"),
-    ("gd_analyze.reports.main", "write_figure_files", "report_figure_files"),
+    ("gd_analyze.jobs.run", "run_analysis", "run_analysis"),
+    ("gd_analyze.jobs.analyze", "analyze_to_file", "analyze_to_file"),
+    ("gd_analyze.jobs.analyze", "_verify_sample", "verify"),
+    ("gd_analyze.jobs.deployment", "deploy_models", "simplified_model"),
+    ("gd_analyze.report.main", "write_report", "write_report"),
+    ("gd_analyze.store.schema", "open_results", "report_read_results"),
+    ("gd_analyze.report.main", "_html", "report_html"),
+    ("gd_analyze.report.main", "_pdf", "report_pdf"),
+    ("gd_analyze.report.main", "write_figure_files", "report_figure_files"),
 )
 
 _CHILD = r"""
@@ -90,7 +90,7 @@ for mod, name, label in TIMED:
     else:
         f = getattr(m, name)
         install(f, timed(f, label))
-import gd_analyze.reports.main as rm
+import gd_analyze.report.main as rm
 makers, drawn = rm.figure_makers, rm._drawn
 def figure_makers(*args, **kwargs):
     return {k: timed(v, "report_figures_make_" + ("column" if k.endswith("_column") else "page"))

@@ -3,7 +3,7 @@ without the report, each run in a fresh process with a cold derivation cache.
 
 For random chains of n joints (``analysis/scaling.py``'s ``random_robot`` with position limits
 of +-2.5 rad, +-0.3 m for the prismatic joints, 2 rad/s, 4 rad/s^2, written as a robot file by
-:func:`gd_analyze.io.robot_file.robot_toml`) and a 31-point sinusoidal trajectory inside the
+:func:`gd_analyze.model.robot_file.robot_toml`) and a 31-point sinusoidal trajectory inside the
 region, this script runs ``gd-analyze ROBOT.toml TRAJ.csv`` (``python -m gd_analyze.cli``),
 once with its report and once with ``--no-report``, each in its own process with
 ``GD_ANALYZE_CACHE_DIR`` a new empty folder, and reads the process's peak resident memory
@@ -39,7 +39,7 @@ from scaling import exponents, random_robot  # noqa: E402  (the chains of the sc
 
 def write_inputs(n, folder):
     """The chain's robot file and a trajectory inside its region; returns both paths."""
-    from gd_analyze.io.robot_file import robot_toml
+    from gd_analyze.model.robot_file import robot_toml
 
     robot = random_robot(n, limits=True)
     toml = folder / f"random-{n}.toml"

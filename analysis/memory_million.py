@@ -46,7 +46,7 @@ def main(argv=None):
     with tempfile.TemporaryDirectory() as tmp:
         csv = Path(tmp) / "million.csv"
         plan = (f"import numpy as np; from gd_analyze import load_robot; "
-                f"from gd_analyze.io.trajectory import *; from gd_analyze.io.planning import *; r = load_robot('puma560'); "
+                f"from gd_analyze.trajectory.trajectory import *; from gd_analyze.trajectory.planning import *; r = load_robot('puma560'); "
                 f"tr = plan_quintic(r, np.radians(DEFAULT_START_DEG), "
                 f"np.radians(DEFAULT_GOAL_DEG), {N});")
         _, t_write = run(plan + f"write_trajectory(tr, {str(csv)!r}); " + PEAK)

@@ -92,7 +92,7 @@ def main(argv=None):
     p.add_argument("--runs", type=int, default=3)
     args = p.parse_args(argv)
     from gd_analyze import load_robot
-    from gd_analyze.io.trajectory import read_trajectory
+    from gd_analyze.trajectory.trajectory import read_trajectory
 
     loads = [os.getloadavg()[0]]
     with tempfile.TemporaryDirectory() as tmp:

@@ -1,7 +1,7 @@
 """Reading a region model back: CPU time of ``load_model`` with and without its stored trees.
 
 A region model's bound is checked again whenever its file is read
-(``io/model_trust.py``): on the trees of boxes stored with it (``guarantee.tilings``, each
+(``store/model_trust.py``): on the trees of boxes stored with it (``guarantee.tilings``, each
 checked to tile the region and evaluated afresh), else by the quick branch and bound on the
 dropped pairs and, where that does not reach the stored bound, the full re-derivation (the
 region's certification read back from the derivation cache, the joint sums and their branch
@@ -46,7 +46,7 @@ ROOT = Path(__file__).resolve().parents[1]
 def child(path):
     """Load one model file in this process; print one JSON line."""
     from gd_analyze import load_model
-    from gd_analyze.io import model_trust
+    from gd_analyze.store import model_trust
 
     ran = {"quick": 0, "full": 0}
 

@@ -1,9 +1,9 @@
 """The proof that D_s is positive definite over the region, on the PUMA 560, Panda, UR5 and
 Kinova.
 
-For each arm: its default region model (EPS = 1 %, ``workflows.deploy.build_recursive`` over
+For each arm: its default region model (EPS = 1 %, ``jobs.deploy.build_recursive`` over
 the robot's joint-limit region), the proof and restore of
-``core.selection.positive_definite.with_inertia_check`` once (the parameters restored, the
+``certify.positive_definite.with_inertia_check`` once (the parameters restored, the
 proved lower bound of lambda_min(D_s) [kg m^2], the upper bound of min lambda_min(D) over the
 region, their ratio, and the wall time with the restores), then the proof alone of the model
 deployed (``prove_inertia``: floor, samples, branch and bound), timed in interleaved rounds
@@ -33,9 +33,9 @@ def _arms():
 
 def main():
     from gd_analyze import load_robot
-    from gd_analyze.core.selection.positive_definite import prove_inertia, with_inertia_check
-    from gd_analyze.core.symbolic.base_parameters import random_states
-    from gd_analyze.workflows.deploy import build_recursive, guarantee_region, restored_rebuild
+    from gd_analyze.certify.positive_definite import prove_inertia, with_inertia_check
+    from gd_analyze.dynamics.base_parameters import random_states
+    from gd_analyze.jobs.deploy import build_recursive, guarantee_region, restored_rebuild
 
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--rounds", type=int, default=5)

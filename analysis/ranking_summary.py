@@ -19,7 +19,7 @@ CHOICES = ("tran", "rot", "both", "none")
 
 def summary(path):
     """The counts and verification figures of one results file, as a dict."""
-    from gd_analyze.io.schema import open_results
+    from gd_analyze.store.schema import open_results
 
     with open_results(path) as ds:
         labels = [str(v) for v in ds.element.values]

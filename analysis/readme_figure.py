@@ -31,8 +31,8 @@ def main(argv=None):
 
     matplotlib.use("Agg")
     from gd_analyze.cli import main as cli
-    from gd_analyze.io.schema import open_results
-    from gd_analyze.reports.main import FIG_RC, make_figures
+    from gd_analyze.report.main import FIG_RC, make_figures
+    from gd_analyze.store.schema import open_results
 
     with tempfile.TemporaryDirectory() as tmp:
         assert cli(["puma560", str(ROOT / "data" / "puma560_trajectory.csv"), "-o", tmp,

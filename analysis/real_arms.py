@@ -69,7 +69,7 @@ def erd_urdfs():
 def load_chain(path, tip=None):
     """The chain the main job would use, or the one-line reason it refuses the URDF."""
     from gd_analyze.errors import InputError
-    from gd_analyze.io.urdf import read_urdf_chain
+    from gd_analyze.model.urdf import read_urdf_chain
 
     try:
         chain = read_urdf_chain(path, tip=tip)
@@ -200,10 +200,10 @@ def c_model(outdir, n, build):
 
 def exact_model_error(path, tip, chain):
     """The exact recursive model (EPS = 0) against rnea on random states: worst relative error."""
-    from gd_analyze.core.symbolic.base_parameters import random_states
-    from gd_analyze.core.symbolic.emit import python_function
-    from gd_analyze.core.symbolic.recursive import recursive_program
-    from gd_analyze.io.robots import load_robot
+    from gd_analyze.dynamics.base_parameters import random_states
+    from gd_analyze.model.robots import load_robot
+    from gd_analyze.symbolic.emit import python_function
+    from gd_analyze.symbolic.recursive import recursive_program
 
     robot = load_robot(str(path), None, tip)                    # as the CLI: robot, --base, --tip
     q, qd, qdd = random_states(robot, EXACT_STATES, EXACT_SEED)
@@ -213,7 +213,7 @@ def exact_model_error(path, tip, chain):
 
 def model_errors(row, outdir, path, chain, csv, build):
     """Errors of the emitted Python and C models along the trajectory, and the compile time."""
-    from gd_analyze.io.trajectory import read_trajectory
+    from gd_analyze.trajectory.trajectory import read_trajectory
 
     traj = read_trajectory(csv, n_joints=len(chain.joint_names))
     ref = rnea_torques(path, chain.joint_names, traj.q, traj.qd, traj.qdd)

@@ -27,15 +27,15 @@ from pathlib import Path
 import numpy as np
 import pinocchio as pin
 
-from gd_analyze.core.symbolic.base_parameters import base_parameters
-from gd_analyze.core.symbolic.emit import python_function
-from gd_analyze.core.symbolic.recursive import recursive_program
-from gd_analyze.core.symbolic.recursive_model import recursive_model
-from gd_analyze.formulations.opcount import book_counts, operation_counts
-from gd_analyze.formulations.pinocchio import pinocchio_model
-from gd_analyze.io.planning import random_trajectories
-from gd_analyze.io.robots import load_robot
-from gd_analyze.io.trajectory import read_trajectory
+from gd_analyze.dynamics.base_parameters import base_parameters
+from gd_analyze.dynamics.opcount import book_counts, operation_counts
+from gd_analyze.dynamics.pinocchio import pinocchio_model
+from gd_analyze.model.robots import load_robot
+from gd_analyze.symbolic.emit import python_function
+from gd_analyze.symbolic.recursive import recursive_program
+from gd_analyze.symbolic.recursive_model import recursive_model
+from gd_analyze.trajectory.planning import random_trajectories
+from gd_analyze.trajectory.trajectory import read_trajectory
 
 ROOT = Path(__file__).resolve().parents[1]
 LADDER = (0.0, 0.001, 0.01, 0.05)

@@ -8,7 +8,7 @@ For each arm (the built-in PUMA 560 and every URDF the main job accepts, as
    (``recursive_model``), its count, and its worst error sampled over the joint-limit region
    relative to s_i there (``region_sampled_error``): what a user gets off the trajectory;
 3. the region model at EPS: pruned on bounds proved over the region
-   (``workflows.deploy.region_model``), its count, the certification's wall time (sampling, scale
+   (``jobs.deploy.region_model``), its count, the certification's wall time (sampling, scale
    search and branch and bound, into an empty derivation cache; then read back from it, with its
    self-check), the ratio of its
    proved bound to its sampled error per joint (worst joint), and the median and largest ratio
@@ -44,14 +44,14 @@ def _ops(cost):
 
 def row(name, robot, eps):
     """One arm's figures as a dict (or the reason it has none)."""
-    from gd_analyze.core.selection.region import joint_region, missing_limits
-    from gd_analyze.core.symbolic.base_parameters import base_parameters
-    from gd_analyze.core.symbolic.pruning import pruned_program
-    from gd_analyze.core.symbolic.recursive import recursive_program
-    from gd_analyze.core.symbolic.recursive_model import recursive_model
-    from gd_analyze.io.certification_cache import certification
-    from gd_analyze.io.planning import acceleration_limits, default_motion, plan_quintic
-    from gd_analyze.workflows import deploy
+    from gd_analyze.certify.region import joint_region, missing_limits
+    from gd_analyze.dynamics.base_parameters import base_parameters
+    from gd_analyze.jobs import deploy
+    from gd_analyze.store.certification_cache import certification
+    from gd_analyze.symbolic.pruning import pruned_program
+    from gd_analyze.symbolic.recursive import recursive_program
+    from gd_analyze.symbolic.recursive_model import recursive_model
+    from gd_analyze.trajectory.planning import acceleration_limits, default_motion, plan_quintic
 
     why = missing_limits(robot)
     if why:
@@ -110,7 +110,7 @@ def _table(args):
     import real_arms
 
     from gd_analyze import load_robot
-    from gd_analyze.io.urdf import load_urdf
+    from gd_analyze.model.urdf import load_urdf
 
     listed = [a for a in args.arms.split(",") if a]
     chosen, skipped = real_arms.discover(listed if args.only_listed else None)

@@ -1,9 +1,9 @@
 """The region model's operation counts of the PUMA 560, the Panda and the UR5.
 
 For each arm, in one process with an empty derivation cache of its own: the exact recursive
-model's count, the region model's count at EPS (``workflows.deploy.region_model``: pruned on
+model's count, the region model's count at EPS (``jobs.deploy.region_model``: pruned on
 bounds proved over the joint-limit region), the pairs proved identically zero, the
-certification's wall time (:func:`gd_analyze.core.selection.certify.certify`), the wall time
+certification's wall time (:func:`gd_analyze.certify.certify.certify`), the wall time
 of ``region_model`` after it (its own certification into the empty cache, the choice of the
 pairs with their joint sums, and the sampled error), and the largest proved bound / sampled
 error over the joints. Counts are multiplications + additions. Prints the
@@ -36,7 +36,7 @@ def _robot(name):
     import real_arms
 
     from gd_analyze import load_robot
-    from gd_analyze.io.urdf import load_urdf
+    from gd_analyze.model.urdf import load_urdf
 
     if name == "puma560":
         return load_robot("puma560")
@@ -51,13 +51,13 @@ def _robot(name):
 
 def row(name, eps):
     """One arm's figures as a dict."""
-    from gd_analyze.core.selection.certify import certify
-    from gd_analyze.core.selection.region import joint_region
-    from gd_analyze.core.symbolic.base_parameters import base_parameters
-    from gd_analyze.core.symbolic.pruning import pruned_program
-    from gd_analyze.core.symbolic.recursive import recursive_program
-    from gd_analyze.io.planning import acceleration_limits
-    from gd_analyze.workflows import deploy
+    from gd_analyze.certify.certify import certify
+    from gd_analyze.certify.region import joint_region
+    from gd_analyze.dynamics.base_parameters import base_parameters
+    from gd_analyze.jobs import deploy
+    from gd_analyze.symbolic.pruning import pruned_program
+    from gd_analyze.symbolic.recursive import recursive_program
+    from gd_analyze.trajectory.planning import acceleration_limits
 
     robot = _robot(name)
     base = base_parameters(robot)

@@ -33,7 +33,7 @@ def random_robot(n, seed=0, limits=False):
     (analysis/certification_readback.py)."""
     from scipy.spatial.transform import Rotation
 
-    from gd_analyze.core.model.robot_spec import robot_from_chain
+    from gd_analyze.model.robot_spec import robot_from_chain
 
     rng = np.random.default_rng(seed)
     joints = []
@@ -58,8 +58,8 @@ def measure(n, setpoints, runs, seed=0):
     import pinocchio as pin
 
     from gd_analyze import gd_terms
-    from gd_analyze.core.dynamics.dalembert import allocate_terms
-    from gd_analyze.formulations.pinocchio import pinocchio_model
+    from gd_analyze.dynamics.dalembert import allocate_terms
+    from gd_analyze.dynamics.pinocchio import pinocchio_model
 
     robot = random_robot(n, seed)
     rng = np.random.default_rng(seed + n)

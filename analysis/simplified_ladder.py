@@ -23,13 +23,13 @@ import numpy as np
 import pinocchio as pin
 
 from gd_analyze import load_robot
-from gd_analyze.core.dynamics.dalembert import gd_terms
-from gd_analyze.core.selection.ranking import rank_dominance
-from gd_analyze.formulations.pinocchio import pinocchio_model
-from gd_analyze.io.explicit_cache import explicit_terms
-from gd_analyze.io.planning import random_trajectories
-from gd_analyze.io.trajectory import read_trajectory
-from gd_analyze.workflows.simplify import LADDER, build_model, collect_peaks, cost_rows
+from gd_analyze.dynamics.dalembert import gd_terms
+from gd_analyze.dynamics.pinocchio import pinocchio_model
+from gd_analyze.jobs.simplify import LADDER, build_model, collect_peaks, cost_rows
+from gd_analyze.ranking.ranking import rank_dominance
+from gd_analyze.store.explicit_cache import explicit_terms
+from gd_analyze.trajectory.planning import random_trajectories
+from gd_analyze.trajectory.trajectory import read_trajectory
 
 ROOT = Path(__file__).resolve().parents[1]
 

@@ -29,7 +29,7 @@ from pathlib import Path
 
 import numpy as np
 
-from gd_analyze.io.model_file import save_model
+from gd_analyze.store.model_file import save_model
 
 ROOT = Path(__file__).resolve().parents[1]
 
@@ -53,13 +53,13 @@ def main(argv=None):
 
     from gd_analyze import load_robot
     from gd_analyze.cli import parse_range
-    from gd_analyze.core.selection.ranking import CHAPTER_DOMINANCE, CLASSES
-    from gd_analyze.io.planning import random_trajectories
-    from gd_analyze.io.schema import write_dataset
-    from gd_analyze.reports.sweep import write_sweep_report
-    from gd_analyze.workflows.payload import payload_sweep
-    from gd_analyze.workflows.sweep import run_sweep
-    from gd_analyze.workflows.sweep_merged import merged_model
+    from gd_analyze.jobs.payload import payload_sweep
+    from gd_analyze.jobs.sweep import run_sweep
+    from gd_analyze.jobs.sweep_merged import merged_model
+    from gd_analyze.ranking.ranking import CHAPTER_DOMINANCE, CLASSES
+    from gd_analyze.report.sweep import write_sweep_report
+    from gd_analyze.store.schema import write_dataset
+    from gd_analyze.trajectory.planning import random_trajectories
 
     t_start = time.perf_counter()
     outdir = Path(args.outdir) if args.outdir else Path(tempfile.mkdtemp(prefix="gd-sweep-"))
@@ -82,7 +82,7 @@ def main(argv=None):
     save_model(model, outdir / "merged_model.json")
     payload_path = None
     if args.payload_sweep:
-        from gd_analyze.io.trajectory import read_trajectory
+        from gd_analyze.trajectory.trajectory import read_trajectory
 
         shipped = read_trajectory(ROOT / "data" / "puma560_trajectory.csv", robot.n)
         payload_path = outdir / "payload_sweep.h5"

@@ -67,7 +67,7 @@ def main(argv=None):
     p.add_argument("--workers", type=int, default=None, help="LocalCluster workers")
     args = p.parse_args(argv)
     from gd_analyze import load_robot
-    from gd_analyze.io.planning import random_trajectories
+    from gd_analyze.trajectory.planning import random_trajectories
 
     robot = load_robot("puma560")
     states = random_trajectories(robot, args.k, seed=0) + \

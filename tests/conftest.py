@@ -38,7 +38,7 @@ def cluster():
 def mixed(puma, shipped):
     """PUMA 560 trajectories whose joint scales differ by orders of magnitude: fast random
     moves, the shipped trajectory and a slow small move."""
-    from gd_analyze.io.planning import plan_quintic, random_trajectories
+    from gd_analyze.trajectory.planning import plan_quintic, random_trajectories
 
     slow = plan_quintic(puma, np.radians([0, 45, -90, 0, 30, 0]),
                         np.radians([2, 46, -89, 1, 31, 1]), duration=4.0)
@@ -48,7 +48,7 @@ def mixed(puma, shipped):
 @pytest.fixture(scope="session")
 def shipped():
     """The shipped PUMA 560 trajectory (31 set points), read from its CSV file."""
-    from gd_analyze.io.trajectory import read_trajectory
+    from gd_analyze.trajectory.trajectory import read_trajectory
 
     return read_trajectory(SHIPPED, n_joints=6)
 
@@ -110,10 +110,10 @@ def shipped_dataset():
     trajectory (``guarantee="trajectory"``), so that the figures and tables have errors to
     draw on every arm (the UR5's region model drops nothing).
     """
-    from gd_analyze.io.schema import open_results
-    from gd_analyze.io.trajectory import read_trajectory
-    from gd_analyze.workflows.analyze import analyze_to_file
-    from gd_analyze.workflows.options import AnalysisOptions, SimplifyOptions
+    from gd_analyze.jobs.analyze import analyze_to_file
+    from gd_analyze.jobs.options import AnalysisOptions, SimplifyOptions
+    from gd_analyze.store.schema import open_results
+    from gd_analyze.trajectory.trajectory import read_trajectory
 
     stored = {}
 
@@ -162,7 +162,7 @@ def shared_main():
 @pytest.fixture(scope="session")
 def shared_reports():
     """The UR5's main report and the PUMA 560's sweep report, for the report tests that read
-    both (tests/reports/test_report_review.py, test_report_text.py): built once a session
+    both (tests/report/test_report_review.py, test_report_text.py): built once a session
     (:func:`built_once`).
 
     ``{"ur5": (folder, "report"), "sweep": (folder, "sweep_report")}``: the main job on the
@@ -187,8 +187,8 @@ def shared_reports():
 def shared_puma(shared_main):
     """The PUMA 560's main job on its shipped trajectory and the control command on its model,
     each with its report, all defaults: built once a session (:func:`built_once`) for the
-    tests that only read them (tests/reports/test_report_review.py, test_report_text.py,
-    tests/workflows/test_recursive_ladder.py). Shared: tests must not modify them.
+    tests that only read them (tests/report/test_report_review.py, test_report_text.py,
+    tests/jobs/test_recursive_ladder.py). Shared: tests must not modify them.
 
     ``{"puma": (folder, "report"), "control": (folder, "control_report")}``.
     """
@@ -236,10 +236,10 @@ def pytest_configure(config):
     The controller (or the only process, without xdist) makes an empty temporary folder and
     points ``XDG_CACHE_HOME`` at it before the workers start, so that every worker and every
     command a test runs in a child process inherits it: the derivation cache
-    (``<folder>/gd-analyze``: the explicit models, :mod:`gd_analyze.io.explicit_cache`, and the
-    region certifications, :mod:`gd_analyze.io.certification_cache`, each derived once a
+    (``<folder>/gd-analyze``: the explicit models, :mod:`gd_analyze.store.explicit_cache`, and the
+    region certifications, :mod:`gd_analyze.store.certification_cache`, each derived once a
     session instead of once a test) and the operation counts
-    (:mod:`gd_analyze.formulations.opcount`) live there, never in the user's own cache,
+    (:mod:`gd_analyze.dynamics.opcount`) live there, never in the user's own cache,
     and the folder is removed when the session ends. ``GD_ANALYZE_NO_CACHE`` and
     ``GD_ANALYZE_CACHE_DIR`` are cleared, so a developer's settings do not change the suite.
 
@@ -251,9 +251,9 @@ def pytest_configure(config):
     states; a certification's boxes, bounds and scales against the torques at its sampled
     positions). Tests about a cache itself, or that need a cold one, set their own folder
     (``tests/io/conftest.py``'s ``cache``) or ``GD_ANALYZE_NO_CACHE`` (the tests that count the
-    G-D engine's set points, ``tests/workflows/test_analyze.py``: a cache read adds its
+    G-D engine's set points, ``tests/jobs/test_analyze.py``: a cache read adds its
     self-check's); the operation-count tests count afresh
-    (``tests/formulations/test_opcount.py``).
+    (``tests/dynamics/test_opcount.py``).
     """
     import tempfile
 
@@ -277,7 +277,7 @@ def pytest_unconfigure(config):
 
 #: The module of the longest test (every command on a 10-joint chain with its reports, about
 #: 2 min alone on an idle machine): it starts first.
-LONGEST = "tests/workflows/test_many_joints.py"
+LONGEST = "tests/jobs/test_many_joints.py"
 
 
 def pytest_collection_modifyitems(config, items):
@@ -290,3 +290,12 @@ def pytest_collection_modifyitems(config, items):
     """
     slow = {item.path for item in items if item.get_closest_marker("slow")}
     items.sort(key=lambda item: (item.nodeid.split("::")[0] != LONGEST, item.path not in slow))
+
+# the derivation cache's tests
+@pytest.fixture
+def cache(tmp_path, monkeypatch):
+    """An empty derivation cache folder of the test's own, caching enabled."""
+    monkeypatch.delenv("GD_ANALYZE_NO_CACHE", raising=False)
+    folder = tmp_path / "cache"
+    monkeypatch.setenv("GD_ANALYZE_CACHE_DIR", str(folder))
+    return folder

@@ -7,8 +7,8 @@ import importlib.metadata
 import numpy as np
 import pinocchio as pin
 
-from gd_analyze.formulations.pinocchio import pinocchio_model
-from gd_analyze.io.urdf import builtin_urdf_path
+from gd_analyze.dynamics.pinocchio import pinocchio_model
+from gd_analyze.model.urdf import builtin_urdf_path
 
 ERD = importlib.metadata.distribution("example-robot-data").locate_file(
     "cmeel.prefix/share/example-robot-data/robots")

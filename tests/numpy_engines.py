@@ -3,7 +3,7 @@
 The package computes every hot loop in a numba kernel; these are the same computations as
 array code, the formulation the kernels were written from (the Jacobian form of the G-D terms
 as written, the regressor's parts and their peaks; the ranking's and
-the part peaks' chunk updates have theirs in ``core/selection/test_kernels.py``, the inertia
+the part peaks' chunk updates have theirs in ``dynamics/test_kernels.py``, the inertia
 check numpy's eigenvalues at every position). The tests compare
 each kernel with its copy here (bit for bit where the arithmetic is the same, to round-off
 where the order differs), beside the Pinocchio comparisons.
@@ -11,11 +11,11 @@ where the order differs), beside the Pinocchio comparisons.
 
 import numpy as np
 
-from gd_analyze.core.dynamics.dalembert import GDTerms
-from gd_analyze.core.model.drives import friction_torque
-from gd_analyze.core.model.kinematics import as_states, body_frames
-from gd_analyze.core.symbolic import regressor_kernels
-from gd_analyze.core.symbolic.regressor_kernels import regressor_columns
+from gd_analyze.dynamics import regressor_kernels
+from gd_analyze.dynamics.dalembert import GDTerms
+from gd_analyze.dynamics.regressor_kernels import regressor_columns
+from gd_analyze.model.drives import friction_torque
+from gd_analyze.model.kinematics import as_states, body_frames
 
 
 def _suffix_sum(x):
@@ -30,7 +30,7 @@ def _shift(x):
 
 def gd_chunk(robot, q, qd):
     """The G-D terms (D_tran, D_rot, h_tran, h_rot, c) at N set points, the Jacobian form as
-    written (module docstring of :mod:`gd_analyze.core.dynamics.dalembert`), array code."""
+    written (module docstring of :mod:`gd_analyze.dynamics.dalembert`), array code."""
     n = robot.n
     m = robot.mass
     pris = np.asarray(robot.prismatic, dtype=bool)

@@ -1,6 +1,6 @@
 """Reading a written PDF as a reader's tools see it: poppler's pdfinfo, pdffonts and pdftotext.
 
-Shared by the tests of the typeset reports (tests/reports/test_typeset.py and the report
+Shared by the tests of the typeset reports (tests/report/test_typeset.py and the report
 tests): the document information, the fonts and their types, the text, and every word's box on
 its page (``pdftotext -bbox``).
 """

@@ -74,7 +74,7 @@ def crba(robot, q):
     import numpy as np
     import pinocchio as pin
 
-    from gd_analyze.formulations.pinocchio import pinocchio_model
+    from gd_analyze.dynamics.pinocchio import pinocchio_model
 
     pm = pinocchio_model(robot)
     data = pm.createData()

@@ -2,7 +2,7 @@
 
 from pathlib import Path
 
-from gd_analyze.io.staging import LOCK_SUFFIX, TMP_MARK
+from gd_analyze.store.staging import LOCK_SUFFIX, TMP_MARK
 
 
 def leftovers(parent):

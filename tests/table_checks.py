@@ -1,6 +1,6 @@
 """Reading the reports' tables back: every table of a report context, and a printed number
 against the stored value it came from (one format per column). Used by
-tests/reports/test_table_numbers.py and tests/reports/test_sweep_control_tables.py."""
+tests/report/test_table_numbers.py and tests/report/test_sweep_control_tables.py."""
 
 import csv
 import io
@@ -9,7 +9,7 @@ import re
 
 from html_checks import html_tables
 
-from gd_analyze.reports.markup import plain
+from gd_analyze.report.markup import plain
 
 NUMBER = re.compile(r"^[\u2212-]?[\d,]*\.?\d+(e[+-]\d+)?$")
 

@@ -7,9 +7,9 @@ import pytest
 from urdf_oracle import UrdfOracle
 
 import gd_analyze as gd
-from gd_analyze.core.symbolic.base_parameters import random_states as _random_states
-from gd_analyze.formulations.pinocchio import pinocchio_model
-from gd_analyze.io.urdf import builtin_urdf_path
+from gd_analyze.dynamics.base_parameters import random_states as _random_states
+from gd_analyze.dynamics.pinocchio import pinocchio_model
+from gd_analyze.model.urdf import builtin_urdf_path
 
 
 def _rnea_oracle(name, robot):
@@ -56,8 +56,8 @@ matplotlib.use("Agg")
 from urdf_oracle import TOY_URDF  # noqa: E402
 
 from gd_analyze.errors import InputError  # noqa: E402
-from gd_analyze.io.schema import open_results  # noqa: E402
-from gd_analyze.workflows.run import run_analysis  # noqa: E402
+from gd_analyze.jobs.run import run_analysis  # noqa: E402
+from gd_analyze.store.schema import open_results  # noqa: E402
 
 #: Joint names a URDF may hold that a file must keep as they are: quotes, markup, non-ASCII.
 HOSTILE = ['j1 "α" </x>', "j2 '; DROP", "j3\tβ/../"]
@@ -81,7 +81,7 @@ def toy_run(tmp_path_factory):
                                  simplify=gd.SimplifyOptions(guarantee="trajectory"))
     memory = gd.analyze(robot, (t, q), options)
     out = tmp_path_factory.mktemp("toy")
-    trajectory = gd.io.trajectory.trajectory_from_arrays(t, q, n_joints=3)
+    trajectory = gd.trajectory.trajectory.trajectory_from_arrays(t, q, n_joints=3)
     run_analysis(robot, trajectory, options, out, report=None)
     return robot, t, q, memory, open_results(out / "results.h5")
 
@@ -138,12 +138,12 @@ def test_analyze_in_memory_is_the_main_jobs_results_file(toy_run):
 
 def test_trajectory_as_arrays_mapping_or_file(toy_run):
     robot, t, q, memory, _ = toy_run
-    trajectory = gd.io.trajectory.trajectory_from_arrays(t, q, n_joints=3)
-    as_mapping = gd.io.trajectory.as_trajectory(
+    trajectory = gd.trajectory.trajectory.trajectory_from_arrays(t, q, n_joints=3)
+    as_mapping = gd.trajectory.trajectory.as_trajectory(
         {"t": t, "q": q, "qd": trajectory.qd, "qdd": trajectory.qdd})
     np.testing.assert_array_equal(as_mapping.qdd, trajectory.qdd)
     assert as_mapping.derivatives == "arrays" and trajectory.derivatives == "cubic-spline"
-    assert gd.read_trajectory is gd.io.trajectory.read_trajectory
+    assert gd.read_trajectory is gd.trajectory.trajectory.read_trajectory
     for bad, match in (((t[::-1], q[::-1]), "not strictly increasing"),
                        ((t, q[:, :2]), "2 joints, the robot has 3"),
                        ((t, q[:-1]), "shape"),

@@ -11,7 +11,7 @@ from conftest import ROOT, SHIPPED, golden_run
 
 from gd_analyze.cli import main, parse_range
 from gd_analyze.errors import InputError
-from gd_analyze.workflows.options import AnalysisOptions
+from gd_analyze.jobs.options import AnalysisOptions
 
 GOOD_HEADER = "t," + ",".join(f"q{i}" for i in range(1, 7))
 
@@ -269,8 +269,8 @@ def test_sweep_command_on_csv_files(tmp_path, capsys):
         assert ds.sizes["trajectory"] == 2
         # the shipped trajectory's row is its own ranking, as the main job gives it
         from gd_analyze import load_robot
-        from gd_analyze.io.trajectory import read_trajectory
-        from gd_analyze.workflows.analyze import analyze
+        from gd_analyze.jobs.analyze import analyze
+        from gd_analyze.trajectory.trajectory import read_trajectory
 
         single = analyze(load_robot("puma560"), read_trajectory(SHIPPED, 6), AnalysisOptions(verify=False, formulations=False)).dataset
         # (results.h5 stores no share for an element zero in every part: the sweep flags it)
@@ -321,7 +321,7 @@ def test_parse_range_errors(text, match):
 def test_summary_gives_the_model_cost_beside_newton_euler():
     """The printed cost line reads the stored cost table; N-E's figure is the counted one."""
     from gd_analyze import load_robot
-    from gd_analyze.formulations.opcount import count_operations
+    from gd_analyze.dynamics.opcount import count_operations
 
     # the run of golden case puma560 (gd-analyze puma560 <shipped> --no-report), read only
     (root, *_), out = golden_run("puma560")
@@ -340,7 +340,7 @@ def test_summary_gives_the_model_cost_beside_newton_euler():
 
 def test_summary_warns_when_the_model_does_not_pay():
     from gd_analyze.cli.commands import _cost_lines
-    from gd_analyze.io.stored_model import CostTable
+    from gd_analyze.store.stored_model import CostTable
 
     names = ["explicit, budget EPS=0.01 (this model)", "project N-E as implemented"]
     ds = xr.Dataset({"cost_multiplications": ("cost_model", [900, 600]),
@@ -432,7 +432,7 @@ def test_summary_says_how_many_set_points_were_verified(tmp_path, capsys):
     points" (thousands separators as the report's counts), not "on 2000 set points"; on a
     short run, where every set point is checked, the plain count. Oracle: the trajectory file's
     own row count and the stored attribute."""
-    from gd_analyze.workflows.analyze import VERIFY_MAX_SETPOINTS
+    from gd_analyze.jobs.analyze import VERIFY_MAX_SETPOINTS
 
     N = 5000
     t = np.linspace(0, 5, N)
@@ -484,8 +484,8 @@ def test_control_printout_marks_integrator_noise_as_the_report_does(tmp_path, ca
     """The printed table gave the full-model controller's tracking error as digits
     (1.476e-11 rad), which the report and the verdict call integrator noise, ≡ 0: each printed
     cell is "≡ 0" exactly where the stored error is at or below the report's floor."""
-    from gd_analyze.io.schema import open_results
-    from gd_analyze.reports.control_text import dataset_verdict
+    from gd_analyze.report.control_text import dataset_verdict
+    from gd_analyze.store.schema import open_results
 
     out_dir = shared_main("puma560", SHIPPED)        # shared, read only
     code, out, err = _run(["control", out_dir / "simplified_model.json", SHIPPED, "-o",

@@ -10,7 +10,7 @@ from conftest import SHIPPED
 from html_checks import html_text
 
 from gd_analyze.cli import main
-from gd_analyze.io.model_file import load_model
+from gd_analyze.store.model_file import load_model
 
 
 def _run(capsys, *args):
@@ -56,8 +56,8 @@ def test_control_prints_the_rtol_floor_when_the_noise_is_not_measured(tmp_path, 
     says the noise was not measured (it failed with an internal error before)."""
     import numpy as np
 
-    import gd_analyze.workflows.control as control
-    from gd_analyze.io.control_dataset import control_dataset
+    import gd_analyze.jobs.control as control
+    from gd_analyze.store.control_dataset import control_dataset
 
     def fails(*args, **kwargs):
         raise ValueError("the full controller's run failed: too many steps")
@@ -74,7 +74,7 @@ def test_control_prints_the_rtol_floor_when_the_noise_is_not_measured(tmp_path, 
         seen["result"] = result
         return real(result, *args, **kwargs)
 
-    monkeypatch.setattr("gd_analyze.io.control_dataset.control_dataset", keep)
+    monkeypatch.setattr("gd_analyze.store.control_dataset.control_dataset", keep)
     code, out, err = _run(capsys, "control", model, SHIPPED, "-o", tmp_path / "c",
                           "--no-report")
     assert code == 0, err

@@ -13,9 +13,9 @@ import pytest
 
 from gd_analyze import load_robot
 from gd_analyze.cli import main
-from gd_analyze.formulations.pinocchio import pinocchio_model
-from gd_analyze.io.model_file import load_model
-from gd_analyze.io.trajectory import read_trajectory
+from gd_analyze.dynamics.pinocchio import pinocchio_model
+from gd_analyze.store.model_file import load_model
+from gd_analyze.trajectory.trajectory import read_trajectory
 
 UR10 = importlib.metadata.distribution("example-robot-data").locate_file(
     "cmeel.prefix/share/example-robot-data/robots/ur_description/urdf/ur10_robot.urdf")

@@ -10,8 +10,8 @@ import pinocchio as pin
 import pytest
 
 from gd_analyze.cli import main
-from gd_analyze.formulations.pinocchio import pinocchio_model
-from gd_analyze.io.model_file import load_model
+from gd_analyze.dynamics.pinocchio import pinocchio_model
+from gd_analyze.store.model_file import load_model
 
 POSE = (0.3, -0.4)
 

@@ -12,7 +12,7 @@ import pytest
 
 from gd_analyze import load_robot
 from gd_analyze.cli import main
-from gd_analyze.core.model.mounting import rpy_matrix
+from gd_analyze.model.mounting import rpy_matrix
 
 ROOT = Path(__file__).resolve().parents[1]
 DATA_DIR = ROOT / "src" / "gd_analyze" / "data"

@@ -7,7 +7,7 @@ import json
 import pytest
 
 from gd_analyze.cli import main
-from gd_analyze.io.model_file import load_model
+from gd_analyze.store.model_file import load_model
 
 
 @pytest.fixture(scope="module")

@@ -15,10 +15,10 @@ from urdf_oracle import TOY_URDF
 
 from gd_analyze import load_robot
 from gd_analyze.cli import main
-from gd_analyze.core.model.mounting import rpy_matrix, with_mounting
-from gd_analyze.formulations.pinocchio import pinocchio_model
-from gd_analyze.io.model_file import load_model
-from gd_analyze.io.trajectory import read_trajectory
+from gd_analyze.dynamics.pinocchio import pinocchio_model
+from gd_analyze.model.mounting import rpy_matrix, with_mounting
+from gd_analyze.store.model_file import load_model
+from gd_analyze.trajectory.trajectory import read_trajectory
 
 TURN = (0.0, 0.0, 180.0)
 

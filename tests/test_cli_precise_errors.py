@@ -13,8 +13,8 @@ import pytest
 
 from gd_analyze.cli import main
 from gd_analyze.errors import InputError
-from gd_analyze.workflows import dask_cluster
-from gd_analyze.workflows import sweep as sweep_module
+from gd_analyze.jobs import dask_cluster
+from gd_analyze.jobs import sweep as sweep_module
 
 
 @contextlib.contextmanager
@@ -62,7 +62,7 @@ def test_provenance_records_the_given_arguments_not_sys_argv(tmp_path, capsys, m
     out = tmp_path / "a plan.csv"
     argv = ["plan", "two-link", "-o", str(out), "--setpoints", "11"]
     assert main(argv) == 0, capsys.readouterr().err
-    from gd_analyze.io.planning import provenance_path
+    from gd_analyze.trajectory.planning import provenance_path
 
     record = json.loads(provenance_path(out).read_text())
     assert record["command"] == shlex.join(["gd-analyze"] + argv)

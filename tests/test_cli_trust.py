@@ -83,7 +83,7 @@ def test_case2_huge_payload_mass_velocity(cwd, capsys):
 # --- case 3: lock -----------------------------------------------------------------------------
 
 def test_case3_second_run_into_a_locked_folder(cwd, capsys):
-    from gd_analyze.io.staging import staged_output
+    from gd_analyze.store.staging import staged_output
 
     traj = _plan(cwd, capsys)
     with staged_output(cwd / "out"):
@@ -132,7 +132,7 @@ def test_case6_robot_name_cannot_escape_reports(cwd, capsys):
 
 
 def test_case6_control_name_from_the_model(cwd, capsys):
-    from gd_analyze.core.selection.simplified import parameters_sha256
+    from gd_analyze.simplify.simplified import parameters_sha256
 
     traj = _plan(cwd, capsys)
     code, _, err = _run(["two-link", traj, "-o", "a", "--no-report", "-q"], capsys)
@@ -244,7 +244,7 @@ def test_case9_messages(cwd, capsys):
     assert "unknown command 'compre'" in line
     # the URDF built-ins are robots, not mistyped commands ('panda' is close to 'plan')
     from gd_analyze.cli import _mistyped_command
-    from gd_analyze.io.robots import builtin_robots
+    from gd_analyze.model.robots import builtin_robots
 
     assert {"panda", "ur5"} <= set(builtin_robots())
     assert all(_mistyped_command([name]) is None for name in builtin_robots())

@@ -179,17 +179,17 @@ def test_every_cross_reference_resolves():
 
 
 @pytest.mark.parametrize("target, ok", [
-    ("gd_analyze.core.symbolic.explicit.prune", True),            # absolute function
-    ("gd_analyze.core.symbolic", True),                           # package
-    ("gd_analyze.core.selection.ranking.Ranking.choices", True),  # method
-    ("gd_analyze.core.dynamics.dalembert.GDTerms.D_tran", True),  # dataclass field
+    ("gd_analyze.symbolic.explicit.prune", True),            # absolute function
+    ("gd_analyze.symbolic", True),                           # package
+    ("gd_analyze.ranking.ranking.Ranking.choices", True),  # method
+    ("gd_analyze.dynamics.dalembert.GDTerms.D_tran", True),  # dataclass field
     ("PartPeaks.peaks", True),                                    # set in __init__
     ("PartPeaks.no_such_peaks", False),
     ("gd_analyze.robot", False),                                  # a module that is gone
     ("gd_analyze.opcount.count_operations", False),
-    ("gd_analyze.core.symbolic.explicit.no_such_function", False),
-    ("gd_analyze.core.selection.ranking.Ranking.no_such_method", False),
-    (".labels.element_label", True),                              # relative, sibling module
+    ("gd_analyze.symbolic.explicit.no_such_function", False),
+    ("gd_analyze.ranking.ranking.Ranking.no_such_method", False),
+    (".torque_error.torque_error", True),                        # relative, sibling module
     (".recursive.PARTS", False),                                  # not beside budget
     (".no_such_module.PARTS", False),
     ("budget_drop", True),                                        # imported into the module
@@ -200,33 +200,33 @@ def test_every_cross_reference_resolves():
     ("numpy.linalg.no_such_solver", False),
 ])
 def test_resolver_on_planted_references(target, ok):
-    """The resolver as written in core/selection/budget.py (relative names from there)."""
-    assert resolve(target, "gd_analyze.core.selection.budget") is ok
+    """The resolver as written in simplify/budget.py (relative names from there)."""
+    assert resolve(target, "gd_analyze.simplify.budget") is ok
 
 
 def test_relative_references_resolve_against_their_own_module():
-    # ".recursive.PARTS" exists beside recursive_model (core/symbolic), not beside budget
-    assert resolve(".recursive.PARTS", "gd_analyze.core.symbolic.recursive_model")
-    assert not resolve(".recursive.PARTS", "gd_analyze.core.model.robot")
+    # ".recursive.PARTS" exists beside recursive_model (symbolic/), not beside budget
+    assert resolve(".recursive.PARTS", "gd_analyze.symbolic.recursive_model")
+    assert not resolve(".recursive.PARTS", "gd_analyze.model.robot")
     # a bare name of the enclosing class: Selection's field from inside Selection
-    assert resolve("bound", "gd_analyze.core.selection.budget", owner="Selection")
-    assert not resolve("bound", "gd_analyze.core.selection.budget")
+    assert resolve("bound", "gd_analyze.simplify.budget", owner="Selection")
+    assert not resolve("bound", "gd_analyze.simplify.budget")
 
 
 def test_scan_finds_a_planted_stale_reference(tmp_path):
     """A docstring with a stale target in a class method is found and fails to resolve."""
-    text = ('"""Module. See :mod:`gd_analyze.core.selection.budget`."""\n'
+    text = ('"""Module. See :mod:`gd_analyze.simplify.budget`."""\n'
             'class A:\n'
             '    def f(self):\n'
             '        """Uses :func:`~gd_analyze.robot.load_robot` and '
-            ':meth:`title <gd_analyze.core.selection.ranking.Ranking.choices>`."""\n')
+            ':meth:`title <gd_analyze.ranking.ranking.Ranking.choices>`."""\n')
     found = [ref for _, doc in docstrings(ast.parse(text)) for ref in references(doc)]
     assert [ref for c in attribute_comments("#: The limit (see\n#: :data:`~a.b.C`).\nX = 1\n")
             for ref in references(c)] == [("data", "a.b.C")]
     assert sorted(found) == [("func", "gd_analyze.robot.load_robot"),
-                             ("meth", "gd_analyze.core.selection.ranking.Ranking.choices"),
-                             ("mod", "gd_analyze.core.selection.budget")]
-    verdicts = {t: resolve(t, "gd_analyze.core.selection.budget") for _, t in found}
+                             ("meth", "gd_analyze.ranking.ranking.Ranking.choices"),
+                             ("mod", "gd_analyze.simplify.budget")]
+    verdicts = {t: resolve(t, "gd_analyze.simplify.budget") for _, t in found}
     assert verdicts == {"gd_analyze.robot.load_robot": False,
-                        "gd_analyze.core.selection.ranking.Ranking.choices": True,
-                        "gd_analyze.core.selection.budget": True}
+                        "gd_analyze.ranking.ranking.Ranking.choices": True,
+                        "gd_analyze.simplify.budget": True}

@@ -23,7 +23,7 @@ import pytest
 
 from gd_analyze import cli
 from gd_analyze.errors import InputError
-from gd_analyze.io.robots import builtin_robots
+from gd_analyze.model.robots import builtin_robots
 
 ROOT = Path(__file__).resolve().parents[1]
 README = (ROOT / "README.md").read_text(encoding="utf-8")
@@ -272,7 +272,7 @@ def test_layout_lists_every_module_of_the_package():
 
 
 def test_formulation_counts_are_the_counted_ones():
-    from gd_analyze.formulations.opcount import book_counts, operation_counts
+    from gd_analyze.dynamics.opcount import book_counts, operation_counts
 
     counted, book = operation_counts(6), book_counts(6)
     section = PAGES["formulations.md"]
@@ -308,7 +308,7 @@ def test_how_to_read_quotes_the_sample_errors():
 
 def test_quoted_costs_agree_with_the_sample_and_the_counts():
     """Costs quoted in the pages are the sample's and opcount's (no second copy drifts)."""
-    from gd_analyze.formulations.opcount import operation_counts
+    from gd_analyze.dynamics.opcount import operation_counts
 
     cost_line = next(line for line in _sample_block()
                      if line.startswith("simplified model (recursive N-E"))
@@ -345,7 +345,7 @@ def test_the_readme_c_program_and_casadi_example_agree_with_pinocchio(tmp_path):
     import pinocchio as pin
 
     import gd_analyze as gd
-    from gd_analyze.formulations.pinocchio import pinocchio_model
+    from gd_analyze.dynamics.pinocchio import pinocchio_model
 
     for tool in ("cc", "c++"):               # a missing compiler fails, as in the emitter's tests
         assert shutil.which(tool), f"the machine's {tool} is required"

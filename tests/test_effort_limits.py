@@ -11,8 +11,8 @@ from urdf_oracle import UrdfOracle
 
 from gd_analyze import load_robot
 from gd_analyze.cli import main
-from gd_analyze.io.trajectory import read_trajectory
-from gd_analyze.io.urdf import builtin_urdf_path
+from gd_analyze.model.urdf import builtin_urdf_path
+from gd_analyze.trajectory.trajectory import read_trajectory
 
 ROOT = __import__("pathlib").Path(__file__).resolve().parents[1]
 UR5_CSV = ROOT / "data" / "ur5_trajectory.csv"

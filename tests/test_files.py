@@ -1,5 +1,5 @@
 """One cache key, the SHA-256 of the package's sources (no hand-kept lists of
-"the modules a result depends on"; core/model/kinematics.py was in none of them)."""
+"the modules a result depends on"; model/kinematics.py was in none of them)."""
 
 import hashlib
 import shutil
@@ -27,25 +27,25 @@ def test_package_sha256_covers_every_source(tmp_path):
     assert package_sha256() == sources_sha256(copy) == _oracle(PACKAGE)
     seen = {package_sha256()}
     # an edit of a module no list named, a new module, a renamed one: each a new key
-    kin = copy / "core" / "model" / "kinematics.py"
+    kin = copy / "model" / "kinematics.py"
     kin.write_bytes(kin.read_bytes() + b"\n")
     seen.add(sources_sha256(copy))
-    (copy / "io" / "new_module.py").write_text("X = 1\n")
+    (copy / "store" / "new_module.py").write_text("X = 1\n")
     seen.add(sources_sha256(copy))
-    (copy / "io" / "new_module.py").rename(copy / "io" / "new_modul.py")
+    (copy / "store" / "new_module.py").rename(copy / "store" / "new_modul.py")
     seen.add(sources_sha256(copy))
     assert len(seen) == 4
     # data files are not code
-    (copy / "io" / "notes.txt").write_text("x")
+    (copy / "store" / "notes.txt").write_text("x")
     assert sources_sha256(copy) in seen
 
 
 def test_every_cache_key_carries_the_package_sha256(puma):
-    from gd_analyze.core.selection.region import joint_region
-    from gd_analyze.formulations import opcount
-    from gd_analyze.io.certification_cache import certification_key
-    from gd_analyze.io.explicit_cache import cache_key
-    from gd_analyze.io.search_cache import search_key
+    from gd_analyze.certify.region import joint_region
+    from gd_analyze.dynamics import opcount
+    from gd_analyze.store.certification_cache import certification_key
+    from gd_analyze.store.explicit_cache import cache_key
+    from gd_analyze.store.search_cache import search_key
 
     region = joint_region(puma, puma.qdd_max)
     code = package_sha256()

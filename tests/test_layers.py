@@ -1,8 +1,11 @@
-"""The package's layers import downwards only: core <- formulations <- io <- workflows
-<- reports <- cli, with the leaf modules errors, files and _version importable from anywhere.
+"""The package's folders follow the data flow, and imports run down it only.
 
-Every import statement of every module is read with ``ast``, including imports inside functions,
-so a lazy import cannot hide an upward arrow.
+    model -> dynamics -> ranking -> symbolic -> certify -> simplify -> estimation -> trajectory
+    -> store -> jobs -> report -> cli
+
+A package imports only those before it (and the leaf modules errors, files, cache, _version
+and config, importable from anywhere). Every import statement of every module is read with
+``ast``, including imports inside functions, so a lazy import cannot hide an upward arrow.
 """
 
 import ast
@@ -12,27 +15,31 @@ import sys
 import gd_analyze
 
 SRC = pathlib.Path(gd_analyze.__file__).parent
-LAYERS = ["core", "formulations", "io", "workflows", "reports", "cli"]
+#: The packages in the order the data flows.
+LAYERS = ["model", "dynamics", "ranking", "symbolic", "certify", "simplify", "estimation",
+          "trajectory", "store", "jobs", "report", "cli"]
+#: The domain: the computations (pure, batched, no files), the rest being the shell.
+DOMAIN = LAYERS[:7]
 LEAVES = {"errors", "files", "_version", "config", "cache"}
 # the shared report modules, and the main report's own parts (figures and sentences) and the
 # PDF typesetter and tick labels of all three
-SHARED_REPORTS = {"reports.common", "reports.figures", "reports.typeset", "reports.drawing",
-                  "reports.ticks", "reports.main_figures", "reports.main_text",
-                  "reports.sweep_figures", "reports.simplified_section",
-                  "reports.main_context", "reports.plot_data", "reports.control_figures",
-                  "reports.effort", "reports.sweep_text", "reports.sweep_merged_text",
-                  "reports.control_text",
-                  "reports.control_verdict", "reports.numbers",
-                  "reports.budget_figures",     # the main report's figures of the budget
-                  "reports.identify_figures", "reports.identify_text"}    # the identify report's
-# the core modules a report may read: names and labels of the ranking's classes and elements
-REPORT_CORE = {"core.selection.ranking", "core.selection.labels"}
+SHARED_REPORTS = {"report.common", "report.figures", "report.typeset", "report.drawing",
+                  "report.ticks", "report.main_figures", "report.main_text",
+                  "report.sweep_figures", "report.simplified_section",
+                  "report.main_context", "report.plot_data", "report.control_figures",
+                  "report.effort", "report.sweep_text", "report.sweep_merged_text",
+                  "report.control_text",
+                  "report.control_verdict", "report.numbers",
+                  "report.budget_figures",     # the main report's figures of the budget
+                  "report.identify_figures", "report.identify_text"}    # the identify report's
+# the domain modules a report may read: names and labels of the ranking's classes and elements
+REPORT_CORE = {"ranking.ranking", "ranking.labels"}
 
 # the one section list of the three reports and what it is built with
-SHARED_REPORTS |= {"reports.markup", "reports.sections", "reports.main_chapter",
-                   "reports.numbers", "reports.units", "reports.figure_style", "reports.main_robot",
-                   "reports.main_outline", "reports.main_provenance", "reports.main_parts",
-                   "reports.table_export"}     # every report's tables as CSV and LaTeX
+SHARED_REPORTS |= {"report.markup", "report.sections", "report.main_chapter",
+                   "report.numbers", "report.units", "report.figure_style", "report.main_robot",
+                   "report.main_outline", "report.main_provenance", "report.main_parts",
+                   "report.table_export"}     # every report's tables as CSV and LaTeX
 
 
 def _module_name(path):
@@ -58,8 +65,8 @@ def _imports(path):
                 target = node.module[len("gd_analyze."):] if "." in node.module else ""
             else:
                 continue
-            if target == "" or target in ("core", "formulations", "io", "workflows", "reports"):
-                # "from . import x" / "from ..core import x": the names are modules or re-exports
+            if target == "" or target in LAYERS:
+                # "from . import x" / "from ..model import x": the names are modules or re-exports
                 for alias in node.names:
                     yield f"{target}.{alias.name}".lstrip(".")
             else:
@@ -81,7 +88,7 @@ def check(path):
     bad = []
     mine = _layer(me)
     if me == "" or mine is None:
-        return bad      # gd_analyze/__init__.py: the public facade re-exports the core
+        return bad      # gd_analyze/__init__.py: the public facade re-exports the domain
     for target in _imports(path):
         theirs = _layer(target)
         if theirs is None:
@@ -92,11 +99,12 @@ def check(path):
             bad.append(f"{me} -> {target} (a leaf imports nothing of the package)")
         elif theirs > mine:
             bad.append(f"{me} -> {target} (upward)")
-        elif me.startswith("reports.") and (target.startswith(("formulations", "workflows"))
-                                            or (target.startswith("reports.")
-                                                and target not in SHARED_REPORTS)):
-            bad.append(f"{me} -> {target} (a report reads io and the shared report modules)")
-        elif me.startswith("reports.") and target.startswith("core.") \
+        elif me.startswith("report.") and (target.startswith(("dynamics", "jobs"))
+                                           or (target.startswith("report.")
+                                               and target not in SHARED_REPORTS)):
+            bad.append(f"{me} -> {target} (a report reads the store and the shared report "
+                       "modules)")
+        elif me.startswith("report.") and target.split(".")[0] in DOMAIN \
                 and target not in REPORT_CORE:
             bad.append(f"{me} -> {target} (a report computes no dynamics)")
     return bad
@@ -113,22 +121,23 @@ def test_imports_run_down_the_layers():
 
 def test_the_check_can_fail(tmp_path, monkeypatch):
     fake = tmp_path / "gd_analyze"
-    (fake / "core").mkdir(parents=True)
-    (fake / "reports").mkdir()
-    (fake / "core" / "bad.py").write_text("from ..workflows.analyze import x\n"
-                                          "def f():\n    from ..reports import main\n")
-    (fake / "reports" / "bad.py").write_text("from ..formulations.pinocchio import y\n"
-                                             "from .sweep import z\nfrom ..core.dalembert import w\n"
-                                             "from .common import ok\nfrom ..io.datasets import ok2\n")
+    (fake / "model").mkdir(parents=True)
+    (fake / "report").mkdir()
+    (fake / "model" / "bad.py").write_text("from ..jobs.analyze import x\n"
+                                           "def f():\n    from ..report import main\n")
+    (fake / "report" / "bad.py").write_text("from ..dynamics.pinocchio import y\n"
+                                            "from .sweep import z\nfrom ..certify.region import w\n"
+                                            "from .common import ok\nfrom ..store.datasets import ok2\n")
     monkeypatch.setattr(sys.modules[__name__], "SRC", fake)
-    assert len(check(fake / "core" / "bad.py")) == 2
-    assert len(check(fake / "reports" / "bad.py")) == 3
+    assert len(check(fake / "model" / "bad.py")) == 2
+    assert len(check(fake / "report" / "bad.py")) == 3
 
 
-#: core/ holds one folder per concept: the robot model, the numeric dynamics, the
-#: symbolic models with their code generation, and the selection.
-CORE_CONCEPTS = {"model", "dynamics", "symbolic", "selection", "identify"}
-#: Calls that read or write files; none belongs in core/.
+#: The domain modules that touch files: the robot files' loaders and writers, and the operation
+#: counts (kept in the derivation cache).
+FILE_MODULES = {"model.robots", "model.urdf", "model.urdf_xml", "model.urdf_writer",
+                "model.robot_file", "dynamics.opcount"}
+#: Calls that read or write files; none belongs in the domain.
 FILE_CALLS = {"open", "read_text", "read_bytes", "write_text", "write_bytes", "mkdir",
               "unlink", "atomic_path"}
 
@@ -154,18 +163,22 @@ def _file_io(path):
     return out
 
 
-CORE_MODULES = sorted(p for p in (SRC / "core").rglob("*.py") if p.name != "__init__.py")
+CORE_MODULES = sorted(p for pkg in DOMAIN for p in (SRC / pkg).rglob("*.py")
+                      if p.name != "__init__.py")
 
 
-def test_core_is_split_by_concept_and_reads_no_files():
-    """Every core module at once, every misplaced module and file call listed."""
+def test_every_module_is_in_a_layer_and_the_domain_reads_no_files():
+    """Every module at once, every misplaced module and file call listed."""
     bad = []
+    for path in MODULES:
+        parts = path.relative_to(SRC).parts
+        if len(parts) == 1 and path.stem in LEAVES | {"__init__"}:
+            continue
+        if not (len(parts) == 2 and parts[0] in LAYERS):
+            bad.append(f"{_module_name(path)}: a module lives in <{'|'.join(LAYERS)}>/")
     for path in CORE_MODULES:
-        parts = path.relative_to(SRC / "core").parts
-        if not (len(parts) == 2 and parts[0] in CORE_CONCEPTS):
-            bad.append(f"{_module_name(path)}: a core module lives in "
-                       f"core/<{'|'.join(sorted(CORE_CONCEPTS))}>/")
-        bad += [f"{_module_name(path)}: {call}" for call in _file_io(path)]
+        if _module_name(path) not in FILE_MODULES:
+            bad += [f"{_module_name(path)}: {call}" for call in _file_io(path)]
     assert bad == [], "\n".join(bad)
 
 
@@ -174,12 +187,6 @@ def test_the_file_io_check_can_fail(tmp_path):
     bad.write_text("import tomllib\nfrom pathlib import Path\n"
                    "def f(p):\n    return open(p).read() + Path(p).read_text()\n")
     assert len(_file_io(bad)) == 4
-
-
-#: The core's concepts in the order the data flows (robot model -> dynamics -> symbolic models
-#: -> selection and proof; identification estimates on the symbolic regressor): a concept
-#: imports only those before it, at any depth and inside functions too.
-CORE_ORDER = {"model": 0, "dynamics": 1, "symbolic": 2, "selection": 3, "identify": 3}
 
 
 def _runtime_edges(path):
@@ -255,16 +262,19 @@ def test_the_circle_check_can_fail():
     assert circles({"a": {"b"}, "b": set()}) == []
 
 
-def test_core_concepts_import_down_the_flow():
-    """model <- dynamics <- symbolic <- selection and identify, at any depth."""
-    bad = []
-    for path in CORE_MODULES:
-        me = _module_name(path)
-        for target in _runtime_edges(path) | set(_imports(path)):
-            parts = target.split(".")
-            if parts[0] == "core" and len(parts) > 1 and parts[1] in CORE_ORDER \
-                    and CORE_ORDER[parts[1]] > CORE_ORDER[me.split(".")[1]]:
-                bad.append(f"{me} -> {target} (upward in core)")
+def upward(path):
+    """The imports of a module that run against the flow, at any depth (functions and type
+    hints included), as 'module -> target' strings."""
+    me = _module_name(path)
+    mine = _layer(me)
+    if mine is None or mine < 0:
+        return []
+    return sorted(f"{me} -> {t}" for t in _runtime_edges(path) | set(_imports(path))
+                  if _layer(t) is not None and _layer(t) > mine)
+
+
+def test_the_packages_import_down_the_flow():
+    bad = [b for path in MODULES for b in upward(path)]
     assert bad == [], "\n".join(bad)
 
 
@@ -298,7 +308,7 @@ def test_few_function_local_imports_of_the_package():
 
 
 def test_the_local_import_count_can_fail(tmp_path):
-    bad = tmp_path / "gd_analyze" / "core" / "bad.py"
+    bad = tmp_path / "gd_analyze" / "model" / "bad.py"
     bad.parent.mkdir(parents=True)
     bad.write_text("from .ok import x\n\ndef f():\n    from .a import b\n    if b:\n"
                    "        import gd_analyze.c\n    import numpy\n")

@@ -15,7 +15,7 @@ import pytest
 from conftest import built_once
 
 from gd_analyze.cli import main
-from gd_analyze.io.robots import builtin_robots
+from gd_analyze.model.robots import builtin_robots
 
 ROOT = Path(__file__).resolve().parents[1]
 DATA = ROOT / "data"
@@ -114,7 +114,7 @@ def test_round_off_elements_are_identically_zero_not_ranked():
             if re.match(r"^(D\d\d|h\d) ", line)}
     # the oracle: Pinocchio's D_66 of this arm is zero to rounding too
     from gd_analyze import load_robot
-    from gd_analyze.formulations.pinocchio import pinocchio_model
+    from gd_analyze.dynamics.pinocchio import pinocchio_model
 
     model = pinocchio_model(load_robot(str(path)))
     data = model.createData()
@@ -152,8 +152,8 @@ def test_control_stiffness_check_covers_pd_gravity(tmp_path, capsys):
 def test_pd_gravity_rate_is_the_linearised_loop():
     """The rate against the eigenvalues of the closed loop built here from Pinocchio's D."""
     from gd_analyze import load_robot
-    from gd_analyze.formulations.pinocchio import pinocchio_model
-    from gd_analyze.workflows.tracking import closed_loop_rates, control_gains
+    from gd_analyze.dynamics.pinocchio import pinocchio_model
+    from gd_analyze.jobs.tracking import closed_loop_rates, control_gains
 
     robot = load_robot("puma560")
     q = np.array([[0.3, -0.5, 0.8, 0.1, 0.7, -0.2]])
@@ -176,7 +176,7 @@ def test_pd_gravity_rate_is_the_linearised_loop():
 def test_sweep_says_where_the_floor_voids_the_guarantee():
     import xarray as xr
 
-    from gd_analyze.io.sweep_datasets import beyond_the_floor
+    from gd_analyze.store.sweep_datasets import beyond_the_floor
 
     ds = xr.Dataset({"merged_tau_error_peak": (("trajectory", "joint"),
                                                np.array([[0.01, 0.006], [0.02, 0.001]])),

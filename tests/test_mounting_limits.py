@@ -12,9 +12,9 @@ from robot_files import toml_without_limits
 from urdf_oracle import UrdfOracle, worst_relative
 
 from gd_analyze.cli import main
-from gd_analyze.core.dynamics.dalembert import gd_terms
-from gd_analyze.io.robots import load_robot as load_any
-from gd_analyze.io.urdf import builtin_urdf_path
+from gd_analyze.dynamics.dalembert import gd_terms
+from gd_analyze.model.robots import load_robot as load_any
+from gd_analyze.model.urdf import builtin_urdf_path
 
 TOL = 1e-10
 
@@ -49,7 +49,7 @@ def _smooth_csv(path, n, setpoints=41):
 
 @pytest.mark.parametrize("name", ["puma560", "ur5", "stanford"])
 def test_zero_gravity_gives_c_identically_zero(name):
-    from gd_analyze.core.model.mounting import with_mounting
+    from gd_analyze.model.mounting import with_mounting
 
     robot = with_mounting(load_any(name), gravity=(0.0, 0.0, 0.0))
     q, qd, _ = _states(robot.n, 20, seed=3)
@@ -63,7 +63,7 @@ def test_zero_gravity_gives_c_identically_zero(name):
 def test_base_rpy_matches_pinocchio_with_rotated_gravity(rpy):
     """ur5 on a wall (0, 90, 0), a ceiling, and any pose: tau and c of the mounted robot against
     Pinocchio's URDF model whose gravity is R^T g (R from pinocchio.rpy.rpyToMatrix)."""
-    from gd_analyze.core.model.mounting import with_mounting
+    from gd_analyze.model.mounting import with_mounting
 
     path = builtin_urdf_path("ur5")
     base = load_any("ur5")

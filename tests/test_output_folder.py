@@ -19,7 +19,7 @@ import pytest
 
 from gd_analyze import __version__
 from gd_analyze.cli import main
-from gd_analyze.io.manifest import manifest_name
+from gd_analyze.store.manifest import manifest_name
 
 
 def _run(args, capsys):
@@ -133,7 +133,7 @@ def test_case2_sweep_into_a_main_jobs_folder_keeps_the_main_jobs_files(job, caps
 
 
 def test_case7_an_alias_of_a_folder_being_written_is_refused(job, capsys):
-    from gd_analyze.io.staging import staged_output
+    from gd_analyze.store.staging import staged_output
 
     (job / "alias").symlink_to(job / "out")
     before = _tree(job / "out")
@@ -150,7 +150,7 @@ def test_case7_an_alias_of_a_folder_being_written_is_refused(job, capsys):
      "cannot write the output folder: no space left on the device")])
 def test_case10_only_write_errors_are_write_errors(job, capsys, monkeypatch, error, expect):
     """A read error inside the output stage surfaces as what it is."""
-    import gd_analyze.workflows.run as run
+    import gd_analyze.jobs.run as run
 
     def fail(robot, trajectory, path, *args, **kw):
         if error.filename.startswith("STAGE"):
@@ -218,7 +218,7 @@ def _hdf5_error(result, path, settings=None):
 
 def _full_disk(result, path, settings=None):
     """The real control dataset written through h5py onto a disk that fills."""
-    from gd_analyze.io.control_dataset import control_dataset
+    from gd_analyze.store.control_dataset import control_dataset
 
     control_dataset(result, settings).to_netcdf(_FullDisk(path, "w+"), engine="h5netcdf")
 
@@ -235,7 +235,7 @@ def test_control_on_a_full_disk_is_one_line_and_leaves_nothing(job, capsys, monk
                                                                       writer, expect, existing):
     """control -o on a nearly full disk segfaulted after 450 lines of h5py tracebacks, leaving
     the lock, the staging folder and a partial control.h5."""
-    import gd_analyze.io.control_dataset as control_dataset
+    import gd_analyze.store.control_dataset as control_dataset
 
     out = job / "out" if existing else job / "new" / "ctl"
     before = _tree(job)
@@ -251,7 +251,7 @@ def test_control_on_a_full_disk_is_one_line_and_leaves_nothing(job, capsys, monk
 @pytest.mark.parametrize("writer", [_hdf5_error, _full_disk])
 def test_the_main_job_on_a_full_disk_is_one_line_and_leaves_nothing(job, capsys,
                                                                             monkeypatch, writer):
-    import gd_analyze.workflows.run as run
+    import gd_analyze.jobs.run as run
 
     def analyze_to_file(robot, trajectory, path, *args, **kw):
         if writer is _full_disk:                # any dataset, through h5py onto a full disk

@@ -3,8 +3,8 @@
 import re
 from pathlib import Path
 
-from gd_analyze.core.model import robot_spec
-from gd_analyze.core.model.drives import DRIVE_KEYS
+from gd_analyze.model import robot_spec
+from gd_analyze.model.drives import DRIVE_KEYS
 
 ROOT = Path(__file__).resolve().parents[1]
 DOC = (ROOT / "docs" / "robot-file.md").read_text(encoding="utf-8")

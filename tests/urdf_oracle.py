@@ -5,7 +5,7 @@ import numpy as np
 import pinocchio as pin
 import pytest
 
-from gd_analyze.io.urdf import builtin_urdf_path
+from gd_analyze.model.urdf import builtin_urdf_path
 
 #: Tolerance and number of random states of the comparisons with the URDF's own model.
 TOL = 1e-10

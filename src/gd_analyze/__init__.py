@@ -15,10 +15,10 @@ recorded torques: the result, with its ``dataset``), :func:`read_recording` and
 """
 
 from ._version import VERSION as __version__
-from .core.dynamics.dalembert import GDTerms, gd_terms
-from .core.model.robot import Robot
+from .dynamics.dalembert import GDTerms, gd_terms
 from .errors import InputError
-from .io.robots import load_robot
+from .model.robot import Robot
+from .model.robots import load_robot
 
 __all__ = ["__version__", "GDTerms", "gd_terms", "InputError", "Robot", "load_robot",
            "SimplifiedModel", "load_model", "save_model", "regressor", "analyze",
@@ -28,18 +28,18 @@ __all__ = ["__version__", "GDTerms", "gd_terms", "InputError", "Robot", "load_ro
 #: Public names imported on first use: name -> (module, attribute).
 _LAZY = {
     # SimplifiedModel pulls in JSON/IO code that the core does not need
-    "SimplifiedModel": ("core.selection.simplified", "SimplifiedModel"),
-    "load_model": ("io.model_file", "load_model"),
-    "save_model": ("io.model_file", "save_model"),
-    "regressor": ("core.symbolic.base_parameters", "base_regressor"),
-    "analyze": ("workflows.run", "results_dataset"),
-    "read_trajectory": ("io.trajectory", "read_trajectory"),
-    "AnalysisOptions": ("workflows.options", "AnalysisOptions"),
-    "SimplifyOptions": ("workflows.options", "SimplifyOptions"),
-    "RegionLimits": ("core.selection.region", "RegionLimits"),
-    "identify": ("workflows.identify", "identify"),
-    "read_recording": ("io.recording", "read_recording"),
-    "IdentifyOptions": ("workflows.identify", "IdentifyOptions"),
+    "SimplifiedModel": ("simplify.simplified", "SimplifiedModel"),
+    "load_model": ("store.model_file", "load_model"),
+    "save_model": ("store.model_file", "save_model"),
+    "regressor": ("dynamics.base_parameters", "base_regressor"),
+    "analyze": ("jobs.run", "results_dataset"),
+    "read_trajectory": ("trajectory.trajectory", "read_trajectory"),
+    "AnalysisOptions": ("jobs.options", "AnalysisOptions"),
+    "SimplifyOptions": ("jobs.options", "SimplifyOptions"),
+    "RegionLimits": ("certify.region", "RegionLimits"),
+    "identify": ("jobs.identify", "identify"),
+    "read_recording": ("trajectory.recording", "read_recording"),
+    "IdentifyOptions": ("jobs.identify", "IdentifyOptions"),
 }
 
 

@@ -29,7 +29,7 @@ __all__ = ["defaults", "cache_dir", "ROUND_OFF", "ROUND_OFF_EPS"]
 ROUND_OFF = 1e-12
 #: ... or at most this many machine epsilons of the arm's scale of the same quantity (the
 #: largest scale in the same units): the absolute floor of the verification against Pinocchio
-#: (:data:`gd_analyze.formulations.pinocchio.FLOOR_EPS`).
+#: (:data:`gd_analyze.dynamics.pinocchio.FLOOR_EPS`).
 ROUND_OFF_EPS = 64.0
 
 #: The defaults, read-only. Units: ``torque_floor`` [N m]; the others are fractions or names.

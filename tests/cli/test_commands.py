@@ -76,8 +76,8 @@ def test_users_region_is_printed_stored_and_narrows_s_i(tmp_path, capsys):
     that lies in the narrower region (Pinocchio's rnea, the oracle)."""
     import pinocchio as pin
 
-    from gd_analyze.formulations.pinocchio import pinocchio_model
-    from gd_analyze.io.trajectory import read_trajectory
+    from gd_analyze.dynamics.pinocchio import pinocchio_model
+    from gd_analyze.trajectory.trajectory import read_trajectory
 
     csv = _fast_csv(tmp_path / "slow.csv", speed=0.2)
     code, out, err = _run(capsys, "two-link", csv, "-o", tmp_path / "wide", "--no-report")

@@ -14,11 +14,11 @@ import xarray as xr
 from robot_files import toml_without_limits
 
 from gd_analyze.cli import main
-from gd_analyze.core.symbolic.recursive import recursive_program
-from gd_analyze.formulations.pinocchio import pinocchio_model
-from gd_analyze.io.model_file import load_model
-from gd_analyze.io.planning import random_trajectories
-from gd_analyze.io.trajectory import write_trajectory
+from gd_analyze.dynamics.pinocchio import pinocchio_model
+from gd_analyze.store.model_file import load_model
+from gd_analyze.symbolic.recursive import recursive_program
+from gd_analyze.trajectory.planning import random_trajectories
+from gd_analyze.trajectory.trajectory import write_trajectory
 
 
 @pytest.fixture(scope="module")
@@ -39,7 +39,7 @@ def test_provenance_says_what_cluster_ran(swept):
     ran: here the local cluster the command started, with its one worker (--workers 1)."""
     import xarray as xr
 
-    from gd_analyze.reports.sweep_text import sweep_context
+    from gd_analyze.report.sweep_text import sweep_context
 
     out, printed = swept
     with xr.open_dataset(out / "sweep.h5") as ds:
@@ -153,7 +153,7 @@ def test_default_guarantee_region_with_limits_trajectory_without(tmp_path, capsy
     """The default (auto): region on the PUMA 560 (it gives every limit); on an arm without
     limits the trajectory guarantee, and the missing limit said in one line, once."""
     from gd_analyze import load_robot
-    from gd_analyze.core.selection.region import missing_limits
+    from gd_analyze.certify.region import missing_limits
 
     code, printed = _sweep(["puma560", "--random", "2", "--workers", "1", "--held-out", "0",
                             "--no-report", "-o", tmp_path / "puma"], capsys)
@@ -212,7 +212,7 @@ def test_the_merged_model_emits_every_file_with_its_own_prefix(swept):
     numpy functions keep D_s qdd + h_s + c_s = tau_s = Y_s beta_s; D_s checked on the sweep."""
     from scales import identity_errors
 
-    from gd_analyze.core.symbolic.emit_model import artefact_names
+    from gd_analyze.symbolic.emit_model import artefact_names
 
     out, _ = swept
     assert set(artefact_names("merged_model")) <= {p.name for p in out.iterdir()}

@@ -20,10 +20,10 @@ from collections.abc import Sequence
 from typing import NoReturn
 
 from ..errors import InputError, InputNote, InputWarning
-from ..io.robots import builtin_robots, unknown_robot
-from ..io.signals import after_run, install
-from ..io.staging import Terminated
-from ..io.urdf import is_urdf_text
+from ..model.robots import builtin_robots, unknown_robot
+from ..model.urdf import is_urdf_text
+from ..store.signals import after_run, install
+from ..store.staging import Terminated
 from .commands import cmd_analyze, cmd_compare, cmd_control, cmd_evaluate, cmd_plan
 from .identify_command import cmd_identify
 from .parsing import (

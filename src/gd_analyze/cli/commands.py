@@ -17,19 +17,33 @@ from pathlib import Path
 from typing import cast
 
 from .._version import VERSION as __version__
-from ..core.model.limits import LIMITS, exact_text, first_beyond
-from ..core.model.mounting import mounting_of, with_mounting
-from ..core.model.robot import Robot, with_payload
-from ..core.selection.labels import joint_motion_units, joint_torque_units, joint_units_text
-from ..core.selection.region import RegionLimits, joint_region
-from ..core.selection.simplified import json_safe
+from ..certify.region import RegionLimits, joint_region
+from ..dynamics.compare import compare_report, format_compare
 from ..errors import InputError, InputWarning
 from ..files import file_sha256
-from ..formulations.compare import compare_report, format_compare
-from ..io import control_dataset as control_file
-from ..io.excitation import DEFAULT_HARMONICS, plan_excitation
-from ..io.model_file import load_model
-from ..io.planning import (
+from ..jobs.analyze import progress_bar
+from ..jobs.control import CONTROL_FILE, run_control
+from ..jobs.deploy import robot_region
+from ..jobs.evaluate import coverage, evaluate, gate
+from ..jobs.options import AnalysisOptions, SimplifyOptions
+from ..jobs.run import Payload, run_analysis
+from ..model.limits import LIMITS, exact_text, first_beyond
+from ..model.mounting import mounting_of, with_mounting
+from ..model.robot import Robot, with_payload
+from ..model.robots import load_robot
+from ..ranking.labels import joint_motion_units, joint_torque_units, joint_units_text
+from ..report.control import CONTROL_REPORT_FILES, write_control_report
+from ..report.control_text import dataset_verdict
+from ..report.effort import effort_rows
+from ..report.main import write_report
+from ..report.numbers import count
+from ..simplify.simplified import json_safe
+from ..store import control_dataset as control_file
+from ..store.model_file import load_model
+from ..store.results_view import ZERO_MARK, Results, torque_table_header
+from ..store.staging import check_output_file, safe_name, staged_output, writing
+from ..trajectory.excitation import DEFAULT_HARMONICS, plan_excitation
+from ..trajectory.planning import (
     DEFAULT_SETPOINTS,
     acceleration_limits,
     check_velocity_limits,
@@ -41,26 +55,12 @@ from ..io.planning import (
     user_positions,
     write_provenance,
 )
-from ..io.results_view import ZERO_MARK, Results, torque_table_header
-from ..io.robots import load_robot
-from ..io.staging import check_output_file, safe_name, staged_output, writing
-from ..io.trajectory import (
+from ..trajectory.trajectory import (
     JointLimitWarning,
     check_joint_limits,
     read_trajectory,
     write_trajectory_chunks,
 )
-from ..reports.control import CONTROL_REPORT_FILES, write_control_report
-from ..reports.control_text import dataset_verdict
-from ..reports.effort import effort_rows
-from ..reports.main import write_report
-from ..reports.numbers import count
-from ..workflows.analyze import progress_bar
-from ..workflows.control import CONTROL_FILE, run_control
-from ..workflows.deploy import robot_region
-from ..workflows.evaluate import coverage, evaluate, gate
-from ..workflows.options import AnalysisOptions, SimplifyOptions
-from ..workflows.run import Payload, run_analysis
 from .parsing import EXIT_OK, EXIT_TOLERANCE, EXIT_VERIFY, PROG, parse_range
 
 __all__ = []
@@ -89,7 +89,7 @@ def load_robot_arg(args: argparse.Namespace) -> Robot:
     Raises
     ------
     gd_analyze.errors.InputError
-        If the robot cannot be read (:func:`gd_analyze.io.robots.load_robot`).
+        If the robot cannot be read (:func:`gd_analyze.model.robots.load_robot`).
     """
 
     return _apply_mounting(load_robot(args.robot, args.base, args.tip), args)
@@ -209,7 +209,7 @@ def _warn_limits(robot, trajectory, quiet):
 
 def _cost_lines(costs):
     """The simplified model's counted operations beside Newton-Euler's, from the stored table
-    (:class:`gd_analyze.io.stored_model.CostTable`, or None)."""
+    (:class:`gd_analyze.store.stored_model.CostTable`, or None)."""
     if costs is None:
         return []
     names = list(costs.models)
@@ -234,7 +234,7 @@ def _cost_lines(costs):
 
 def _joint_units(robot, which):
     """``"rad"``, ``"N m"``, or each unit with its joints for a mixed arm
-    (:func:`gd_analyze.core.selection.labels.joint_units_text`)."""
+    (:func:`gd_analyze.ranking.labels.joint_units_text`)."""
 
     units = [joint_torque_units(bool(p)) if which == "tau" else joint_motion_units(bool(p))[0]
              for p in robot.prismatic]
@@ -291,7 +291,7 @@ def _guarantee_lines(results):
 
 def _format_summary(results):
     """The main job's summary as printed, from the typed results view
-    (:class:`gd_analyze.io.results_view.Results`)."""
+    (:class:`gd_analyze.store.results_view.Results`)."""
 
     lines = [f"{results.robot} along {results.input_file}: "
              f"{count(results.setpoints)} set points, s = {results.dominance_threshold:g}, "
@@ -650,7 +650,7 @@ def _write_plan(pieces, n, output, advice):
 
 
 def _check_outputs(output):
-    """Refuse an output CSV or provenance that this run may not write (io/staging.py)."""
+    """Refuse an output CSV or provenance that this run may not write (store/staging.py)."""
     if output != "-":
         check_output_file(output)
         check_output_file(provenance_path(output))

@@ -2,9 +2,9 @@
 
 ``cmd_identify(args)`` takes the parsed arguments of :mod:`gd_analyze.cli.parsing` and returns
 the exit status; bad input raises :class:`gd_analyze.errors.InputError` (exit status 2). The
-job is :func:`gd_analyze.workflows.identify.identify`; the files are written into a staged
-output folder (:func:`gd_analyze.io.staging.staged_output`), with the report
-(:func:`gd_analyze.reports.identify.write_identify_report`) unless ``--no-report``.
+job is :func:`gd_analyze.jobs.identify.identify`; the files are written into a staged
+output folder (:func:`gd_analyze.store.staging.staged_output`), with the report
+(:func:`gd_analyze.report.identify.write_identify_report`) unless ``--no-report``.
 """
 
 from __future__ import annotations
@@ -14,13 +14,17 @@ import json
 from pathlib import Path
 
 from ..errors import InputError
-from ..io.identification_dataset import identification_tree, recordings_json, write_identification
-from ..io.robot_file import robot_toml
-from ..io.robots import is_urdf
-from ..io.staging import staged_output, writing
-from ..io.urdf_writer import robot_urdf
-from ..reports.identify import write_identify_report
-from ..workflows.identify import IdentifyOptions, identify
+from ..jobs.identify import IdentifyOptions, identify
+from ..model.robot_file import robot_toml
+from ..model.robots import is_urdf
+from ..model.urdf_writer import robot_urdf
+from ..report.identify import write_identify_report
+from ..store.identification_dataset import (
+    identification_tree,
+    recordings_json,
+    write_identification,
+)
+from ..store.staging import staged_output, writing
 from .commands import command_line, load_robot_arg, output_folder, wrote_line
 from .parsing import EXIT_OK
 

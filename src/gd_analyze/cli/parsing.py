@@ -13,16 +13,21 @@ import re
 
 from .._version import VERSION as __version__
 from ..config import defaults
-from ..core.identify.regressor import DRIVE_KINDS
-from ..core.symbolic.safe_text import check_prefix
 from ..errors import InputError
-from ..io.excitation import DEFAULT_DURATION, DEFAULT_HARMONICS, DEFAULT_SAMPLE_PERIOD
-from ..io.planning import DEFAULT_GOAL_DEG, DEFAULT_QDD_PER_QD, DEFAULT_SETPOINTS, DEFAULT_START_DEG
-from ..io.robots import robots_text
-from ..io.trajectory import parse_number
-from ..io.urdf import URDF_BUILTIN
-from ..workflows.identify import DEFAULT_DRIVES
-from ..workflows.tracking import DEFAULT_WN, DEFAULT_ZETA
+from ..estimation.regressor import DRIVE_KINDS
+from ..jobs.identify import DEFAULT_DRIVES
+from ..jobs.tracking import DEFAULT_WN, DEFAULT_ZETA
+from ..model.robots import robots_text
+from ..model.urdf import URDF_BUILTIN
+from ..symbolic.safe_text import check_prefix
+from ..trajectory.excitation import DEFAULT_DURATION, DEFAULT_HARMONICS, DEFAULT_SAMPLE_PERIOD
+from ..trajectory.planning import (
+    DEFAULT_GOAL_DEG,
+    DEFAULT_QDD_PER_QD,
+    DEFAULT_SETPOINTS,
+    DEFAULT_START_DEG,
+)
+from ..trajectory.trajectory import parse_number
 
 __all__ = ["parse_range", "PROG", "COMMANDS", "EXIT_STATUS_HELP", "identify_parser"]
 
@@ -125,7 +130,7 @@ def parse_range(text: str, name: str = "--payload-sweep") -> list[float]:
 
 def _number(text, integer=False):
     """A number of the command line by the trajectory CSV's rules
-    (:func:`gd_analyze.io.trajectory.parse_number`): plain decimal, finite."""
+    (:func:`gd_analyze.trajectory.trajectory.parse_number`): plain decimal, finite."""
 
     try:
         return parse_number(text.strip(" "), integer=integer)
@@ -403,7 +408,7 @@ def analyze_parser() -> argparse.ArgumentParser:
 
 
 def _prefix(text):
-    """--prefix: a C identifier (:func:`gd_analyze.core.symbolic.safe_text.check_prefix`)."""
+    """--prefix: a C identifier (:func:`gd_analyze.symbolic.safe_text.check_prefix`)."""
 
     try:
         return check_prefix(text)

@@ -11,22 +11,22 @@ import contextlib
 import sys
 from pathlib import Path
 
-from ..core.symbolic.emit_model import artefact_names
-from ..core.symbolic.safe_text import c_prefix
 from ..errors import InputError, InputWarning
-from ..io.model_file import save_model
-from ..io.planning import acceleration_limits, check_velocity_limits, random_trajectories
-from ..io.schema import write_dataset
-from ..io.staging import staged_output, writing
-from ..io.sweep_datasets import beyond_the_floor
-from ..io.sweep_guarantee import merged_guarantee
-from ..io.sweep_view import SweepRun, with_more_tasks
-from ..io.trajectory import read_trajectory
-from ..reports.sweep import write_sweep_report
-from ..workflows.deploy import guarantee_region
-from ..workflows.payload import sweep_payloads
-from ..workflows.sweep_budget import budget_region_model, budget_sweep_model
-from ..workflows.sweep_merged import merged_model, with_budget_model, with_model_cost
+from ..jobs.deploy import guarantee_region
+from ..jobs.payload import sweep_payloads
+from ..jobs.sweep_budget import budget_region_model, budget_sweep_model
+from ..jobs.sweep_merged import merged_model, with_budget_model, with_model_cost
+from ..report.sweep import write_sweep_report
+from ..store.model_file import save_model
+from ..store.schema import write_dataset
+from ..store.staging import staged_output, writing
+from ..store.sweep_datasets import beyond_the_floor
+from ..store.sweep_guarantee import merged_guarantee
+from ..store.sweep_view import SweepRun, with_more_tasks
+from ..symbolic.emit_model import artefact_names
+from ..symbolic.safe_text import c_prefix
+from ..trajectory.planning import acceleration_limits, check_velocity_limits, random_trajectories
+from ..trajectory.trajectory import read_trajectory
 from .commands import (
     apply_payload,
     chain_settings,
@@ -53,7 +53,7 @@ def _held_out(robot, args):
 
 def _model_settings(args, settings, limits):
     """The keyword arguments of the budget rule's merged model
-    (:func:`gd_analyze.workflows.sweep_budget.budget_sweep_model`)."""
+    (:func:`gd_analyze.jobs.sweep_budget.budget_sweep_model`)."""
     return {"tolerance": args.tolerance, "torque_floor": args.torque_floor,
             "provenance": {"gd_analyze_version": tool_version(), **settings},
             "explicit": args.explicit, "form": args.form, "guarantee": args.guarantee,
@@ -63,7 +63,7 @@ def _model_settings(args, settings, limits):
 def _sweep_model(robot, model, args, outdir, ds):
     """The sweep's merged model of the budget rule, within EPS x s_i over the joint-limit
     region or on every swept trajectory (``--guarantee``), measured
-    (:func:`gd_analyze.workflows.sweep_budget.budget_sweep_model`).
+    (:func:`gd_analyze.jobs.sweep_budget.budget_sweep_model`).
 
     Writes merged_model.json and its emitted files (prefix ROBOT_merged_) into outdir; returns (written paths, the sweep dataset
     with this model's errors)."""
@@ -84,7 +84,7 @@ def _sweep_model(robot, model, args, outdir, ds):
 def _model_lines(model, ds, args):
     """What the command prints of the merged model: its cost, its worst error where its
     guarantee covers the swept trajectories, the ones it does not cover, and the guarantee
-    as the model states it (:meth:`gd_analyze.core.selection.guarantee.Guarantee.statement`)."""
+    as the model states it (:meth:`gd_analyze.simplify.guarantee.Guarantee.statement`)."""
     import numpy as np
 
 
@@ -171,8 +171,8 @@ def cmd_sweep(args: argparse.Namespace) -> int:
     gd_analyze.errors.InputError
         On bad input; the command line prints it as one line and exits 2.
     """
-    from ..workflows.dask_cluster import dask_client
-    from ..workflows.sweep import WorkerErrors, run_sweep
+    from ..jobs.dask_cluster import dask_client
+    from ..jobs.sweep import WorkerErrors, run_sweep
 
     robot = load_robot_arg(args)
     if (args.random is None) == (not args.csv):

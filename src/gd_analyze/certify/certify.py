@@ -1,0 +1,1175 @@
+"""Proved bounds of every (base parameter, part) contribution over the joint-limit region,
+by branch and bound on interval enclosures.
+
+For the pair (base parameter m, part p) and joint i the contribution to tau_i over the region R
+is |beta_m| times the part's coefficient function of q
+(:mod:`gd_analyze.certify.regressor_bounds`), through the velocity and acceleration limits
+exactly. Its maximum over the box of positions is bounded from above by ball (midpoint-radius)
+evaluation of the recursion on sub-boxes,
+each box split where its enclosure could still exceed what sampling found (branch and bound;
+Moore, Kearfott & Cloud 2009, Ch. 6). Joints no coefficient depends on are never split (joint 1
+about the gravity axis). The sampled peaks are lower bounds of the same maxima, so
+``sampled <= true maximum <= bound``.
+"""
+
+from __future__ import annotations
+
+import time
+from collections.abc import Sequence
+from dataclasses import dataclass
+from typing import TYPE_CHECKING, Any
+
+import numpy as np
+
+from ..symbolic.pruning import zero_parts
+from . import intervals as iv
+from .region import ChannelValues, qd_vertices, region_samples, velocity_channels
+from .regressor_bounds import (
+    channel_count,
+    channel_enclosures,
+    channel_magnitudes,
+    combined_bound,
+    pair_magnitudes,
+)
+
+if TYPE_CHECKING:
+    from ..dynamics.base_parameters import BaseParameters
+    from ..model.robot import Robot
+    from .region import Region
+
+__all__ = ["PairBounds", "certify", "certify_tree", "tiling", "pair_peaks_at",
+           "pair_magnitudes_at", "METHOD", "prove_dropped", "JointSums", "joint_sums",
+           "JOINT_SUM_ELEMENTS", "leaf_bound", "dropped_bound", "region_bound",
+           "split_joints", "JOINT_BOXES", "JOINT_DIMS", "dropped_search", "tree_bound",
+           "proved_zero", "region_trees", "tilings_bound"]
+
+#: How the bounds are obtained, in words (stored with every region model).
+METHOD = ("per (base parameter, part) pair: |beta| x upper bound of its coefficient over the "
+          "position box by midpoint-radius (ball) evaluation of the Newton-Euler regressor "
+          "recursion, rounded outward, refined by branch and bound; velocity and acceleration through "
+          "their limits exactly (linear in qdd, quadratic in qd); parts of "
+          "inertia parameters proved identically zero by trigonometric polynomials bounded by 0; "
+          "a dropped set's bound at joint i: the largest over the final boxes of the least of "
+          "the sum of its pairs' bounds there and the bound of their sum (the joint sum: the "
+          "pairs' coefficient enclosures on the box added as signed intervals, beta included, "
+          "before the acceleration limits, the quadratic form in qd and the gravity term are "
+          "bounded together, so contributions of opposite signs cancel); "
+          "scale s_i: the largest "
+          "|tau_i| found by sampling the region (vertices of qd and qdd) and local "
+          "maximisation (L-BFGS-B), a lower bound of the true maximum")
+
+
+@dataclass(frozen=True, eq=False)
+class PairBounds:
+    """Upper and sampled bounds of every pair's contribution over a region.
+
+    Attributes
+    ----------
+    bound : ndarray, shape (b, 3, n)
+        Proved upper bound of |contribution| of (base parameter, part) to tau_i over R
+        [N m or N].
+    sampled : ndarray, shape (b, 3, n)
+        Largest |contribution| found by sampling R (a lower bound of the same maximum).
+    scale : ndarray, shape (n,)
+        s_i = max(largest |tau_i| found over R, torque floor) [N m or N].
+    scale_state : ndarray, shape (n, 3 n)
+        Where |tau_i| = s_i was found: (q, qd, qdd).
+    positions : ndarray, shape (B, n)
+        The sampled positions [rad or m].
+    values : ChannelValues
+        The coefficient functions at them (:func:`.region.channel_values`).
+    boxes : int
+        Boxes evaluated by the branch and bound.
+    leaves : ndarray, shape (b, 3, L, n)
+        The bounds on each of the L final boxes, which cover the region: a set of pairs
+        changes tau_i by at most max over the boxes of the sum of its pairs' bounds there.
+    leaf_boxes : ndarray, shape (L, 2, n)
+        The final boxes' lower and upper position limits [rad or m].
+    seconds : float
+        Wall time of the certification [s].
+    split_joint : ndarray of int, shape (boxes,)
+        The branch and bound's tree, one entry per box evaluated, level by level in the order
+        evaluated: the joint along which the box was halved, or -1 for a final box.
+    split_at : ndarray, shape (boxes,)
+        Where it was halved [rad or m] (0 for a final box). :func:`tiling` rebuilds the boxes
+        from these two and the region.
+    zero : ndarray of bool, shape (b, 3), optional
+        The pairs proved identically zero: those zero at every joint by
+        :func:`gd_analyze.symbolic.pruning.zero_parts` (decided symbolically; their
+        enclosures are set to 0 on every box, as are those of the parts zero at some joints),
+        and any pair whose enclosure is 0 on every final box. Dropping them costs nothing.
+    """
+
+    bound: np.ndarray
+    sampled: np.ndarray
+    scale: np.ndarray
+    scale_state: np.ndarray
+    positions: np.ndarray
+    values: ChannelValues
+    boxes: int
+    leaves: np.ndarray
+    leaf_boxes: np.ndarray
+    seconds: float
+    split_joint: np.ndarray
+    split_at: np.ndarray
+    zero: np.ndarray | None = None
+
+
+#: Elements of each velocity product of :func:`pair_magnitudes_at` (32 MB).
+_GEMM_ELEMENTS = 1 << 22
+
+
+def pair_magnitudes_at(V: ChannelValues, beta: np.ndarray, qd_max: np.ndarray,
+                       qdd_max: np.ndarray) -> np.ndarray:
+    """Each pair's largest |contribution| at each given position, over the velocity and
+    acceleration limits.
+
+    Parameters
+    ----------
+    V : ChannelValues
+        :func:`.region.channel_values` of b columns at B positions.
+    beta : ndarray, shape (b,)
+        Base parameter values.
+    qd_max, qdd_max : ndarray, shape (n,)
+        [rad/s, rad/s^2; m/s, m/s^2].
+
+    Returns
+    -------
+    ndarray, shape (B, b, 3, n)
+        Inertial: sum_j |A_j| qdd_max_j |beta| (reached); velocity: max over the vertices of
+        qd of |qd^T C qd| |beta|; gravity: |G| |beta| [N m or N].
+
+    Notes
+    -----
+    A column's velocity terms involve only the joints S whose C_jl are not all zero (a column
+    of link k: joints up to k), so its vertices are those of S (2^(|S| - 1)): the others change
+    no value.
+    """
+    qd_max, qdd_max = np.asarray(qd_max, float), np.asarray(qdd_max, float)
+    out = np.zeros((V.positions, V.columns, 3, V.n))
+    for M, idx, Vm in V.groups:       # a column of link k: the rows and joints up to k only
+        out[:, idx, :, :M] = _magnitudes(Vm, qd_max[:M], qdd_max[:M])
+    return out * np.abs(beta)[None, :, None, None]
+
+
+def _magnitudes(V, qd_max, qdd_max):
+    """:func:`pair_magnitudes_at` of unit parameters on a dense packed block (B, P, n, b)."""
+    B, C, n, b = V.shape
+    out = np.zeros((B, b, 3, n))
+    out[:, :, 0] = (np.abs(V[:, 1:1 + n]) * qdd_max[None, :, None, None]).sum(1).transpose(
+        0, 2, 1)
+    out[:, :, 2] = np.abs(V[:, 0]).transpose(0, 2, 1)
+    packed = 1 + n + velocity_channels(n)                               # (n n,)
+    used = (V[:, 1 + n:] != 0).any(axis=(0, 2))[packed - 1 - n].reshape(n, n, b)
+    support = used.any(axis=0) | used.any(axis=1)                       # (n, b)
+    groups = {}
+    for m in range(b):                  # columns by the joints their velocity terms involve
+        groups.setdefault(tuple(np.flatnonzero(support[:, m])), []).append(m)
+    for S, ms in groups.items():
+        if not S:
+            continue                    # no velocity term: 0
+        S, ms = np.asarray(S), np.asarray(ms)
+        verts = qd_vertices(qd_max[S])
+        outer = (verts[:, :, None] * verts[:, None, :]).reshape(-1, S.size ** 2)   # (K, s s)
+        chans = packed[(S[:, None] * n + S[None, :]).reshape(-1)]
+        rows = max(1, _GEMM_ELEMENTS // (outer.shape[0] * n * ms.size))  # positions a product
+        for a in range(0, B, rows):         # one matrix product (K, s s) @ (s s, rows n g)
+            Cq = V[a:a + rows][np.ix_(np.arange(min(rows, B - a)), chans, np.arange(n),
+                                      ms)]                              # (rows, s s, n, g)
+            r = Cq.shape[0]
+            quad = outer @ Cq.transpose(1, 0, 2, 3).reshape(S.size ** 2, -1)   # qd^T C qd
+            peak = np.maximum(quad.max(axis=0), -quad.min(axis=0))     # max |.| over qd
+            out[a:a + rows, ms, 1] = peak.reshape(r, n, ms.size).transpose(0, 2, 1)
+    return out
+
+
+def pair_peaks_at(V: ChannelValues, beta: np.ndarray, qd_max: np.ndarray,
+                  qdd_max: np.ndarray) -> np.ndarray:
+    """The largest of :func:`pair_magnitudes_at` over the positions.
+
+    Parameters
+    ----------
+    V, beta, qd_max, qdd_max
+        As :func:`pair_magnitudes_at` takes them: the channel values (:class:`.region.ChannelValues`), the
+        base parameters' values, shape (b,), and the velocity and acceleration limits, shape
+        (n,) [rad/s, rad/s^2; m/s, m/s^2].
+
+    Returns
+    -------
+    ndarray, shape (b, 3, n)
+        Each pair's largest |contribution| over the positions and the velocity and
+        acceleration limits [N m or N].
+    """
+    return pair_magnitudes_at(V, beta, qd_max, qdd_max).max(axis=0)
+
+
+def _sampled_peaks(values, beta, region):
+    """:func:`pair_peaks_at` of the samples, or the peaks that follow them in ``values``."""
+    if len(values) > 4:
+        return np.asarray(values[4], float)
+    return pair_peaks_at(values[1], beta, region.qd_max, region.qdd_max)
+
+
+def _relevant(robot):
+    """Joints whose position changes a coefficient: all but a first revolute joint about the
+    gravity axis (its rotation leaves the inertial, velocity and gravity parts unchanged)."""
+    rel = np.ones(robot.n, bool)
+    if not robot.prismatic[0]:
+        axis = np.asarray(robot.rotation[0], float)[:, 2]
+        g = np.asarray(robot.gravity, float)
+        if np.linalg.norm(np.cross(axis, g)) <= 1e-12 * max(np.linalg.norm(g), 1e-300):
+            rel[0] = False
+    return rel
+
+
+def _bisect(lo, hi, rel):
+    """Boxes halved along their widest relevant joint: the lower halves, then the upper ones
+    (copies; ``lo``, ``hi`` of shape (B, n) are not changed), the joints and the mid points."""
+    width = np.where(rel[None, :], hi - lo, -1.0)
+    d = width.argmax(axis=1)
+    rows = np.arange(lo.shape[0])
+    mid = 0.5 * (lo[rows, d] + hi[rows, d])
+    return (*_halves(lo, hi, d, mid), d, mid)
+
+
+def _halves(lo, hi, d, at):
+    """Boxes (B, n) cut along joint d[k] at at[k]: the lower parts, then the upper ones."""
+    rows = np.arange(lo.shape[0])
+    lo1, hi1 = lo.copy(), hi.copy()
+    lo2, hi2 = lo.copy(), hi.copy()
+    hi1[rows, d] = at
+    lo2[rows, d] = at
+    return np.vstack([lo1, lo2]), np.vstack([hi1, hi2])
+
+
+#: Boxes enclosed in one call (bounded memory: about 40 MB a call at 15 joints).
+_CHUNK = 128
+
+
+def _enclose(robot, lo, hi, cols, region, absb, zero):
+    """:func:`pair_magnitudes` times |beta| on the boxes (B, n), in chunks of :data:`_CHUNK`,
+    with the parts ``zero`` (b, 3, n), proved identically zero
+    (:func:`gd_analyze.symbolic.pruning.zero_parts`), set to 0; shape (B, 3, n, b)."""
+    U = np.concatenate([
+        pair_magnitudes(robot, lo[a:a + _CHUNK], hi[a:a + _CHUNK], cols, region.qd_max,
+                        region.qdd_max) * absb
+        for a in range(0, lo.shape[0], _CHUNK)])
+    U[:, zero.transpose(1, 2, 0)] = 0.0
+    return U
+
+
+def _zero_pairs(zero, leaf):
+    """(b, 3): the pairs proved zero at every joint (``zero`` (b, 3, n)) or 0 on every final
+    box (``leaf`` (b, 3, L, n))."""
+    return (leaf == 0).all(axis=(2, 3)) | zero.all(axis=2)
+
+
+def tiling(region: Region, split_joint: np.ndarray, split_at: np.ndarray | None = None
+           ) -> list[tuple[np.ndarray, np.ndarray, np.ndarray]]:
+    """The boxes of a branch-and-bound tree, level by level, checked to tile the region.
+
+    Parameters
+    ----------
+    region : Region
+        Its position box is the root.
+    split_joint : ndarray of int, shape (N,)
+        Per box, level by level: the joint it is cut along, or -1 (a final box).
+    split_at : ndarray, shape (N,), optional
+        Where [rad or m]; None: at the middle of the box, 0.5 (lo + hi) (a bisection tree,
+        as :func:`certify` and :func:`dropped_bound` build it).
+
+    Returns
+    -------
+    list of (ndarray, ndarray, ndarray)
+        Per level: the boxes' lower and upper limits (B, n) and which are cut (B,). A cut box's
+        lower parts come first on the next level, then its upper parts (as in :func:`certify`).
+
+    Raises
+    ------
+    ValueError
+        If the arrays are not such a tree: a joint the arm does not have, a cut point not
+        strictly inside its box (a box of zero volume, or overlapping ones), too few entries
+        (part of the region not covered) or too many.
+
+    Notes
+    -----
+    Every cut replaces a box by two whose union is the box and whose intersection is the
+    face at the cut point, both with the very same float (no rounding), so the final boxes
+    tile the region exactly, with no overlap of positive volume, by induction.
+    """
+    n = region.q_min.size
+    joint = np.asarray(split_joint)
+    at = None if split_at is None else np.asarray(split_at)
+    if joint.ndim != 1 or joint.dtype.kind not in "iu" or (
+            at is not None and (at.shape != joint.shape or at.dtype.kind != "f")):
+        raise ValueError("does not hold a tree of boxes (arrays of other types or shapes)")
+    if np.any(joint < -1) or np.any(joint >= n):
+        raise ValueError("cuts along a joint the arm does not have")
+    lo, hi = region.q_min[None, :].astype(float), region.q_max[None, :].astype(float)
+    levels, p = [], 0
+    while lo.shape[0]:
+        B = lo.shape[0]
+        if p + B > joint.size:
+            raise ValueError("does not cover the region (its tree ends early)")
+        d = joint[p:p + B].astype(int)
+        split = d >= 0
+        rows, d = np.flatnonzero(split), d[split]
+        x = 0.5 * (lo[rows, d] + hi[rows, d]) if at is None else at[p:p + B][split]
+        p += B
+        if not (np.all(np.isfinite(x)) and np.all(lo[rows, d] < x) and np.all(x < hi[rows, d])):
+            raise ValueError("cuts a box outside its interior (boxes of zero volume or "
+                             "overlapping)")
+        levels.append((lo, hi, split))
+        lo, hi = _halves(lo[rows], hi[rows], d, x)
+    if p != joint.size:
+        raise ValueError("holds cuts of boxes it does not have")
+    return levels
+
+
+def certify(robot: Robot, base: BaseParameters, region: Region, torque_floor: float = 0.0,
+            max_boxes: int = 1024, samples: int = 1000, seed: int = 0,
+            open_share: float = 0.05, rtol: float = 0.1, values: tuple | None = None
+            ) -> PairBounds:
+    """Proved upper bounds of every pair's contribution over the region, and the scale.
+
+    Parameters
+    ----------
+    robot : Robot
+        The arm, with n joints.
+    base : BaseParameters
+        Its base parameters (b of them).
+    region : Region
+    torque_floor : float, optional
+        Least scale [N m or N].
+    max_boxes : int, optional
+        Boxes the branch and bound may evaluate in all (about 1.5 ms a box for six joints).
+    samples : int, optional
+        Uniform position samples for the scale and the sampled peaks.
+    seed : int, optional
+    open_share : float, optional
+        A pair is refined while its bound is at most this share of s_i (pairs above it are
+        kept at any tolerance below it) and above (1 + rtol) its sampled peak.
+    rtol : float, optional
+    values : tuple, optional
+        :func:`.region.region_samples` of these ``samples`` and ``seed``, if already drawn
+        (the same positions and values; the floor is applied here), optionally followed by
+        their :func:`pair_peaks_at`, shape (b, 3, n), if already computed.
+
+    Returns
+    -------
+    PairBounds
+
+    Notes
+    -----
+    Each round splits, along its widest relevant joint, every box whose enclosure of an open
+    pair exceeds (1 + rtol) that pair's sampled peak; the bound is the largest enclosure over
+    the final boxes, so it holds whatever the number of rounds.
+    """
+    t0 = time.perf_counter()
+    n = robot.n
+    cols = np.flatnonzero(base.independent.reshape(-1))
+    beta = np.asarray(base.beta, float)
+    values = values if values is not None else region_samples(robot, base, region, samples,
+                                                              seed)
+    q, V, scale, state = values[:4]
+    scale = np.maximum(scale, torque_floor)
+    sampled = _sampled_peaks(values, beta, region)
+    absb = np.abs(beta)[None, None, :]                              # over (3, n, b)
+    zero = zero_parts(robot, cols)
+    lo = region.q_min[None, :].copy()
+    hi = region.q_max[None, :].copy()
+    rel = _relevant(robot)
+    done_u = np.zeros((3, n, cols.size))
+    leaves, boxes = [], []
+    inherited = np.full((1, 3, n, cols.size), np.inf)
+    evaluated = 0
+    target = (1 + rtol) * sampled.transpose(1, 2, 0) + 1e-9 * scale[None, :, None]
+    joints, cuts = [], []
+    while lo.shape[0]:
+        # a box's bound is the least of its own enclosure and its ancestors': each holds on it
+        U = np.minimum(_enclose(robot, lo, hi, cols, region, absb, zero), inherited)
+        evaluated += lo.shape[0]
+        upper = np.maximum(done_u, U.max(axis=0))
+        open_ = (upper <= open_share * scale[None, :, None]) & (upper > target)
+        split = np.any((U > target[None]) & open_[None], axis=(1, 2, 3))
+        joint, at = np.full(lo.shape[0], -1, np.int64), np.zeros(lo.shape[0])
+        joints.append(joint)
+        cuts.append(at)
+        if not split.any() or evaluated + 2 * split.sum() > max_boxes:
+            done_u = upper
+            leaves.append(U)
+            boxes.append(np.stack([lo, hi], axis=1))
+            break
+        if (~split).any():
+            done_u = np.maximum(done_u, U[~split].max(axis=0))
+            leaves.append(U[~split])
+            boxes.append(np.stack([lo[~split], hi[~split]], axis=1))
+        lo, hi, joint[split], at[split] = _bisect(lo[split], hi[split], rel)
+        inherited = np.concatenate([U[split], U[split]])
+    bound = np.maximum(done_u.transpose(2, 0, 1), sampled)
+    leaf = _pair_major(leaves)                                    # (b, 3, L, n)
+    return PairBounds(bound=bound, sampled=sampled, scale=scale, scale_state=state,
+                      positions=q, values=V, boxes=evaluated, leaves=leaf,
+                      leaf_boxes=np.concatenate(boxes),
+                      seconds=time.perf_counter() - t0, split_joint=np.concatenate(joints),
+                      split_at=np.concatenate(cuts), zero=_zero_pairs(zero, leaf))
+
+
+def certify_tree(robot: Robot, base: BaseParameters, region: Region, split_joint: np.ndarray,
+                 split_at: np.ndarray, values: tuple, torque_floor: float = 0.0,
+                 seconds: float = 0.0) -> PairBounds:
+    """The bounds of :func:`certify` on a given tree of boxes, derived again without search.
+
+    Parameters
+    ----------
+    robot : Robot
+        The arm, with n joints.
+    base : BaseParameters
+        Its base parameters (b of them).
+    region : Region
+    split_joint, split_at : ndarray, shape (N,)
+        The tree (:attr:`PairBounds.split_joint`, :attr:`PairBounds.split_at`), checked by
+        :func:`tiling`.
+    values : tuple
+        ``(positions, channel values, scale, scale state)`` as
+        :func:`.region.region_samples` gives them (the floor is applied here), optionally
+        followed by their :func:`pair_peaks_at`.
+    torque_floor : float, optional
+        Least scale [N m or N].
+    seconds : float, optional
+        Stored as :attr:`PairBounds.seconds`.
+
+    Returns
+    -------
+    PairBounds
+        Equal to :func:`certify`'s when the tree is the one it built on the same samples:
+        every box's enclosure is evaluated again (level by level, in the same chunks), each
+        box's bound is the least of its own and its ancestors', and the bound of a pair is
+        the largest over the final boxes and its sampled peak.
+
+    Raises
+    ------
+    ValueError
+        If the tree does not tile the region (:func:`tiling`).
+
+    Notes
+    -----
+    Any tiling gives sound bounds (each final box's enclosure holds on it, and the boxes cover
+    the region), so nothing but the tiling needs checking; the bounds are never read.
+    """
+    levels = tiling(region, split_joint, split_at)
+    n = robot.n
+    cols = np.flatnonzero(base.independent.reshape(-1))
+    beta = np.asarray(base.beta, float)
+    q, V, scale, state = values[:4]
+    scale = np.maximum(scale, torque_floor)
+    sampled = _sampled_peaks(values, beta, region)
+    absb = np.abs(beta)[None, None, :]
+    zero = zero_parts(robot, cols)
+    inherited = np.full((1, 3, n, cols.size), np.inf)
+    leaves, boxes = [], []
+    for lo, hi, split in levels:
+        U = np.minimum(_enclose(robot, lo, hi, cols, region, absb, zero), inherited)
+        leaves.append(U[~split])
+        boxes.append(np.stack([lo[~split], hi[~split]], axis=1))
+        inherited = np.concatenate([U[split], U[split]])
+    leaf = _pair_major(leaves)                                        # (b, 3, L, n)
+    bound = np.maximum(leaf.max(axis=2), sampled)
+    return PairBounds(bound=bound, sampled=sampled, scale=scale, scale_state=state,
+                      positions=q, values=V, boxes=int(np.asarray(split_joint).size),
+                      leaves=leaf, leaf_boxes=np.concatenate(boxes),
+                      seconds=float(seconds), split_joint=np.asarray(split_joint, np.int64),
+                      split_at=np.asarray(split_at, float),
+                      zero=_zero_pairs(zero, leaf))
+
+
+def _pair_major(leaves):
+    """The final boxes' enclosures, each block (L_k, 3, n, b), as one C-ordered array
+    (b, 3, L, n): a dropped set's sum over its pairs then gathers contiguous rows
+    (:func:`leaf_bound`, the pruning's pieces). The blocks are released as they are copied."""
+    out = np.empty((leaves[0].shape[3], 3, sum(u.shape[0] for u in leaves), leaves[0].shape[2]))
+    at = 0
+    while leaves:
+        u = leaves.pop(0)
+        out[:, :, at:at + u.shape[0], :] = u.transpose(3, 1, 0, 2)
+        at += u.shape[0]
+    return out
+
+
+
+#: Most elements of each array of a :class:`JointSums` (64 MB each; its construction holds
+#: about four such arrays at once): the columns beyond are not held (a set dropping one of
+#: their pairs is bounded pair by pair). The shipped arms hold at most 5.5 M (the Panda's 27
+#: columns on 512 boxes); a 12-joint chain's 4,000 boxes hold one column.
+JOINT_SUM_ELEMENTS = 1 << 23
+
+
+@dataclass(frozen=True, eq=False)
+class JointSums:
+    """Signed enclosures of some pairs' coefficients on boxes, for the bound of the sum of a
+    dropped set's contributions on each box at each joint (the joint sum).
+
+    Attributes
+    ----------
+    pairs : ndarray of bool, shape (b, 3)
+        The (base parameter, part) pairs held: a dropped set with any other pair (not in
+        ``zero``) has no joint sum (infinite).
+    zero : ndarray of bool, shape (b, 3)
+        Pairs proved identically zero over the region, left out of every sum.
+    columns : ndarray of int, shape (k,)
+        The base parameters held (those with a pair in ``pairs``).
+    mid : ndarray, shape (L, C, n, k)
+        Per box, channel (:func:`gd_analyze.certify.regressor_bounds.channel_values`'
+        order), joint and parameter: beta_m times the centre of the channel's enclosure
+        [N m or N].
+    rad : ndarray, shape (L, C, n, k)
+        |beta_m| times its radius, widened by the round-off of the recursion's intervals, of
+        the product and of a sum of k terms [N m or N].
+    part_zero : ndarray of bool, shape (k, 3, n)
+        Parts proved identically zero at a joint
+        (:func:`gd_analyze.symbolic.pruning.zero_parts`): their channels left out.
+    qd_max, qdd_max : ndarray, shape (n,)
+        The region's velocity and acceleration limits [rad/s, m/s; rad/s^2, m/s^2].
+    """
+
+    pairs: np.ndarray
+    zero: np.ndarray
+    columns: np.ndarray
+    mid: np.ndarray
+    rad: np.ndarray
+    part_zero: np.ndarray
+    qd_max: np.ndarray
+    qdd_max: np.ndarray
+
+    def bound(self, dropped: np.ndarray) -> np.ndarray:
+        """Per box and joint, an upper bound of |sum of the dropped pairs' contributions|.
+
+        Parameters
+        ----------
+        dropped : ndarray of bool, shape (b, 3)
+            The pairs left out.
+
+        Returns
+        -------
+        ndarray, shape (L, n)
+            :func:`gd_analyze.certify.regressor_bounds.combined_bound` of the dropped
+            pairs' channel enclosures added per box (inf everywhere when a dropped pair is
+            not held) [N m or N].
+        """
+        L, C, n, k = self.mid.shape
+        sums = self.sums(dropped)
+        if sums is None:
+            return np.full((L, n), np.inf)
+        return combined_bound(*sums, self.qd_max, self.qdd_max)
+
+    def sums(self, dropped: np.ndarray) -> tuple[np.ndarray, np.ndarray] | None:
+        """The dropped pairs' channel enclosures added per box, in midpoint-radius form.
+
+        Parameters
+        ----------
+        dropped : ndarray of bool, shape (b, 3)
+            The pairs left out.
+
+        Returns
+        -------
+        (ndarray, ndarray) or None
+            Centres and radii, shape (L, C, n) each, the round-off of the sums included
+            [N m or N]; None when a dropped pair is not held.
+        """
+        dropped = np.asarray(dropped, bool) & ~self.zero
+        L, C, n, k = self.mid.shape
+        if np.any(dropped & ~self.pairs):
+            return None
+        w = dropped[self.columns].T[:, None, :] & ~self.part_zero.transpose(1, 2, 0)  # (3, n, k)
+        part = np.r_[2, np.zeros(n, int), np.ones(n * n, int)]          # channel -> part
+        W = w[part].astype(float)                                         # (C, n, k)
+        mid = np.einsum("lcik,cik->lci", self.mid, W)
+        rad = np.einsum("lcik,cik->lci", self.rad, W) * (1 + 4 * (k + 2) * iv.ROUNDING)
+        return mid, rad
+
+
+def joint_sums(robot: Robot, base: BaseParameters, region: Region, split_joint: np.ndarray,
+               split_at: np.ndarray, pairs: np.ndarray, zero: np.ndarray | None = None
+               ) -> JointSums:
+    """:class:`JointSums` of some pairs on the final boxes of a branch-and-bound tree.
+
+    Parameters
+    ----------
+    robot, base, region
+        The arm (n joints), its b base parameters and the region.
+    split_joint, split_at : ndarray, shape (N,)
+        The tree (:attr:`PairBounds.split_joint`, :attr:`PairBounds.split_at`), checked by
+        :func:`tiling`; its final boxes are ordered as :attr:`PairBounds.leaf_boxes`.
+    pairs : ndarray of bool, shape (b, 3)
+        The pairs that may be dropped; their parameters are held, in increasing order, up to
+        :data:`JOINT_SUM_ELEMENTS` elements per array.
+    zero : ndarray of bool, shape (b, 3), optional
+        Pairs proved identically zero over the region (:attr:`PairBounds.zero`).
+
+    Returns
+    -------
+    JointSums
+        On the final boxes.
+
+    Raises
+    ------
+    ValueError
+        If the tree does not tile the region (:func:`tiling`).
+
+    Notes
+    -----
+    The torque is linear in the base parameters, so the dropped pairs change tau_i by
+    sum_m beta_m (part p_m of column m) at the same state: their channels' enclosures are
+    added on each box as intervals (dependence across pairs is kept within the box, and
+    contributions that peak in other boxes are never added). Each box's enclosure of a
+    channel is intersected with its ancestors' (each holds on it), as the pairs' bounds of
+    :func:`certify` are (Moore, Kearfott & Cloud 2009, Ch. 6).
+    """
+    levels = tiling(region, split_joint, split_at)
+    pairs = np.asarray(pairs, bool)
+    zero = np.zeros(pairs.shape, bool) if zero is None else np.asarray(zero, bool)
+    leaves = sum(int((~split).sum()) for _, _, split in levels)
+    used = _held(robot.n, leaves, pairs, zero)
+    cols = np.flatnonzero(base.independent.reshape(-1))[used]
+    c_lo: Any
+    c_hi: Any
+    parent, c_lo, c_hi, at = None, None, None, 0
+    for lo, hi, split in levels:
+        ch = _channels(robot, lo, hi, cols, parent)
+        if c_lo is None:                  # the leaves' enclosures, filled level by level
+            c_lo, c_hi = (np.empty((leaves,) + x.shape[1:]) for x in ch)
+        k = int((~split).sum())
+        c_lo[at:at + k], c_hi[at:at + k] = ch[0][~split], ch[1][~split]
+        at += k
+        parent = tuple(np.concatenate([x[split], x[split]]) for x in ch)
+        del ch
+    parent = None
+    return _joint_sums(robot, base, region, used, pairs, zero, c_lo, c_hi)
+
+
+def _held(n, boxes, pairs, zero):
+    """The parameters a :class:`JointSums` on ``boxes`` boxes holds (within its size)."""
+    per_column = boxes * (1 + n + n * n) * n
+    return np.flatnonzero((pairs & ~zero).any(axis=1))[:JOINT_SUM_ELEMENTS // max(per_column, 1)]
+
+
+def _channels(robot, lo, hi, cols, parent=None):
+    """Channel enclosures (lo, hi) (B, C, n, k) of the columns on boxes (B, n), in chunks of
+    :data:`_CHUNK`, intersected with the parents' (each holds on its sub-boxes)."""
+    parts = [channel_enclosures(robot, lo[a:a + _CHUNK], hi[a:a + _CHUNK], cols)
+             for a in range(0, lo.shape[0], _CHUNK)]
+    c_lo, c_hi = (np.concatenate([p[e] for p in parts]) for e in range(2))
+    if parent is not None:              # (an empty intersection, by round-off: its hull)
+        a, b = np.maximum(c_lo, parent[0]), np.minimum(c_hi, parent[1])
+        c_lo, c_hi = np.minimum(a, b), np.maximum(a, b)
+    return c_lo, c_hi
+
+
+def _joint_sums(robot, base, region, used, pairs, zero, c_lo, c_hi):
+    """:class:`JointSums` from the held parameters' channel enclosures (L, C, n, k)."""
+    held = np.zeros(pairs.shape, bool)
+    held[used] = pairs[used]
+    beta = np.asarray(base.beta, float)[used]
+    slack = (2 * used.size + 16 * robot.n + 32) * iv.ROUNDING
+    # in place, the same operations as centre = 0.5 (lo + hi), radius = 0.5 (hi - lo),
+    # rad = (radius (1 + slack) + slack |centre|) |beta|, mid = centre beta: a few arrays of
+    # JOINT_SUM_ELEMENTS at a time, not nine
+    mid = np.add(c_lo, c_hi)
+    mid *= 0.5
+    rad = np.subtract(c_hi, c_lo, out=c_hi)
+    del c_lo
+    rad *= 0.5
+    rad *= 1 + slack
+    more = np.abs(mid)
+    more *= slack
+    rad += more
+    del more
+    rad *= np.abs(beta)
+    mid *= beta
+    cols = np.flatnonzero(base.independent.reshape(-1))[used]
+    return JointSums(pairs=held, zero=zero, columns=used, mid=mid, rad=rad,
+                     part_zero=zero_parts(robot, cols),
+                     qd_max=np.asarray(region.qd_max, float),
+                     qdd_max=np.asarray(region.qdd_max, float))
+
+
+def leaf_bound(pb: PairBounds, sums: JointSums | None, dropped: np.ndarray) -> np.ndarray:
+    """Per joint, the bound of a dropped set over the region from a certification.
+
+    Parameters
+    ----------
+    pb : PairBounds
+    sums : JointSums or None
+        On ``pb.leaf_boxes`` (:func:`joint_sums`); None: pair by pair only.
+    dropped : ndarray of bool, shape (b, 3)
+        The pairs left out.
+
+    Returns
+    -------
+    ndarray, shape (n,)
+        The largest over the final boxes of the least of the sum of the dropped pairs'
+        bounds there and their joint sum (:meth:`JointSums.bound`) [N m or N].
+    """
+    dropped = np.asarray(dropped, bool)
+    each = pb.leaves[dropped].sum(axis=0)           # (L, n): the dropped pairs' rows
+    if sums is not None and dropped.any():
+        each = np.minimum(each, sums.bound(dropped))
+    return each.max(axis=0)
+
+
+def dropped_bound(robot: Robot, base: BaseParameters, region: Region, dropped: np.ndarray,
+                  limit: np.ndarray, max_boxes: int = 1024, zero: np.ndarray | None = None
+                  ) -> np.ndarray:
+    """A bound of the change of each tau_i by a set of dropped pairs over the region, by
+    branch and bound on the joint sum of those pairs alone.
+
+    Parameters
+    ----------
+    robot : Robot
+        The arm, with n joints.
+    base : BaseParameters
+        Its base parameters (b of them).
+    region : Region
+    dropped : ndarray of bool, shape (b, 3)
+        The (base parameter, part) pairs left out.
+    limit : ndarray, shape (n,)
+        The bound sought per joint [N m or N]: a box is halved while its bound exceeds it on
+        some joint.
+    max_boxes : int, optional
+        Boxes evaluated in all before stopping.
+    zero : ndarray of bool, shape (b, 3), optional
+        Pairs proved identically zero over the region (:attr:`PairBounds.zero`), left out.
+
+    Returns
+    -------
+    ndarray, shape (n,)
+        The largest over a tiling of the region of the boxes' joint sums
+        (:meth:`JointSums.bound`): |tau_s - tau| <= it at every state of the region
+        [N m or N]. It is <= ``limit`` where the search succeeded; inf if the pairs are too
+        many to hold (:data:`JOINT_SUM_ELEMENTS`).
+
+    Notes
+    -----
+    Only the dropped parameters' columns are evaluated, and only the joints they depend on
+    (those up to their last link, but a first revolute joint about the gravity axis) are
+    halved, the widest first; each box's channel enclosures are intersected with its
+    ancestors' (Moore, Kearfott & Cloud 2009, Ch. 6). A deterministic function of its
+    arguments: the same call gives the same bound. :func:`dropped_search` also gives the
+    tree of boxes it evaluated.
+    """
+    return dropped_search(robot, base, region, dropped, limit, max_boxes, zero)[0]
+
+
+def dropped_search(robot: Robot, base: BaseParameters, region: Region, dropped: np.ndarray,
+                   limit: np.ndarray, max_boxes: int = 1024, zero: np.ndarray | None = None
+                   ) -> tuple[np.ndarray, np.ndarray | None]:
+    """:func:`dropped_bound`, and the tree of boxes its branch and bound evaluated.
+
+    Parameters
+    ----------
+    robot, base, region, dropped, limit, max_boxes, zero
+        As :func:`dropped_bound`: the arm (n joints), its b base parameters, the region, the
+        pairs left out (b, 3), the bound sought (n,) [N m or N], the boxes evaluated in all,
+        and the pairs proved identically zero (b, 3).
+
+    Returns
+    -------
+    bound : ndarray, shape (n,)
+        :func:`dropped_bound` [N m or N].
+    split_joint : ndarray of int, shape (N,) or None
+        Per box evaluated, level by level, the joint it was halved along or -1 (a final
+        box): a bisection tree (:func:`tiling` with ``split_at`` None) whose final boxes
+        give ``bound`` again by :func:`tree_bound`; a single -1 where no box was needed (no
+        pair but those proved zero), None where the pairs are too many to hold.
+    """
+    n = robot.n
+    dropped = np.asarray(dropped, bool)
+    limit = np.asarray(limit, float)
+    free = np.zeros(dropped.shape, bool) if zero is None else np.asarray(zero, bool)
+    live = dropped & ~free
+    used = np.flatnonzero(live.any(axis=1))
+    if used.size == 0:
+        return np.zeros(n), np.full(1, -1, np.int64)
+    if _held(n, _CHUNK, live, free).size < used.size:
+        return np.full(n, np.inf), None
+    cols = np.flatnonzero(base.independent.reshape(-1))[used]
+    rel = split_joints(robot, base, live)
+    lo, hi = region.q_min[None, :].astype(float), region.q_max[None, :].astype(float)
+    parent, evaluated, done, joints = None, 0, np.zeros(n), []
+    while True:
+        s_lo, s_hi = _summed(robot, base, region, lo, hi, cols, used, live, free, parent)
+        total = combined_bound(0.5 * (s_lo + s_hi), 0.5 * (s_hi - s_lo), region.qd_max,
+                               region.qdd_max)
+        evaluated += lo.shape[0]
+        joints.append(np.full(lo.shape[0], -1, np.int64))
+        open_ = ~np.all(total <= limit[None, :], axis=1)                # NaN stays open
+        if not open_.any() or evaluated + 2 * int(open_.sum()) > max_boxes:
+            return np.maximum(done, total.max(axis=0)), np.concatenate(joints)
+        done = np.maximum(done, total[~open_].max(axis=0, initial=0.0))
+        lo, hi, joints[-1][open_] = _bisect(lo[open_], hi[open_], rel)[:3]
+        parent = tuple(np.concatenate([x[open_], x[open_]]) for x in (s_lo, s_hi))
+
+
+def _summed(robot, base, region, lo, hi, cols, used, live, free, parent):
+    """The live pairs' channel enclosures added on boxes (B, n), in chunks of :data:`_CHUNK`
+    boxes, as intervals (lo, hi) (B, C, n), intersected with the parents' sums (each holds
+    on the sub-boxes; an empty intersection, by round-off, gives the hull)."""
+    out = []
+    for a in range(0, lo.shape[0], _CHUNK):
+        ch = _channels(robot, lo[a:a + _CHUNK], hi[a:a + _CHUNK], cols)
+        mid, rad = _joint_sums(robot, base, region, used, live, free, *ch).sums(live)
+        out.append((mid - rad, mid + rad))
+    s_lo, s_hi = (np.concatenate([o[e] for o in out]) for e in range(2))
+    if parent is not None:
+        a, b = np.maximum(s_lo, parent[0]), np.minimum(s_hi, parent[1])
+        s_lo, s_hi = np.minimum(a, b), np.maximum(a, b)
+    return s_lo, s_hi
+
+
+#: Boxes of the branch and bound on a dropped set's joint sum (:func:`region_bound`).
+JOINT_BOXES = 8192
+#: Most joints that branch and bound halves (:func:`region_bound`): beyond, boxes small
+#: enough to gain would be too many.
+JOINT_DIMS = 3
+
+
+def split_joints(robot: Robot, base: BaseParameters, dropped: np.ndarray,
+                 zero: np.ndarray | None = None) -> np.ndarray:
+    """The joints :func:`dropped_bound` halves for a dropped set.
+
+    Parameters
+    ----------
+    robot : Robot
+        The arm, with n joints.
+    base : BaseParameters
+        Its base parameters (b of them).
+    dropped : ndarray of bool, shape (b, 3)
+    zero : ndarray of bool, shape (b, 3), optional
+        Pairs proved identically zero, left out.
+
+    Returns
+    -------
+    ndarray of bool, shape (n,)
+        The joints up to the last link of a dropped pair not in ``zero``, but a first
+        revolute joint about the gravity axis (no coefficient depends on it).
+    """
+    dropped = np.asarray(dropped, bool)
+    if zero is not None:
+        dropped = dropped & ~np.asarray(zero, bool)
+    used = np.flatnonzero(dropped.any(axis=1))
+    if used.size == 0:
+        return np.zeros(robot.n, bool)
+    last = int(np.flatnonzero(base.independent.reshape(-1))[used].max()) // 10
+    return _relevant(robot) & (np.arange(robot.n) <= last)
+
+
+def region_bound(robot: Robot, base: BaseParameters, region: Region, pb: PairBounds,
+                 dropped: np.ndarray, limit: np.ndarray, sums: JointSums | None = None
+                 ) -> np.ndarray:
+    """The bound of a dropped set over the region that the region model states.
+
+    Parameters
+    ----------
+    robot : Robot
+        The arm, with n joints.
+    base : BaseParameters
+        Its base parameters (b of them).
+    region : Region
+    pb : PairBounds
+        The region's certification.
+    dropped : ndarray of bool, shape (b, 3)
+        The pairs left out.
+    limit : ndarray, shape (n,)
+        The budget EPS s_i [N m or N].
+    sums : JointSums, optional
+        On the final boxes of ``pb`` (:func:`joint_sums`), holding the dropped pairs; built
+        here (for the dropped pairs) when not given.
+
+    Returns
+    -------
+    ndarray, shape (n,)
+        The least of :func:`leaf_bound` and, where the dropped pairs (but those proved zero)
+        depend on at most :data:`JOINT_DIMS` joints (:func:`split_joints`),
+        :func:`dropped_bound` with ``limit`` and :data:`JOINT_BOXES` boxes; each bounds
+        |tau_s - tau| over the region, so their least does [N m or N].
+    """
+    return region_trees(robot, base, region, pb, dropped, limit, sums)[0]
+
+
+def region_trees(robot: Robot, base: BaseParameters, region: Region, pb: PairBounds,
+                 dropped: np.ndarray, limit: np.ndarray, sums: JointSums | None = None
+                 ) -> tuple[np.ndarray, tuple]:
+    """:func:`region_bound`, and the trees of boxes whose final boxes give it.
+
+    Parameters
+    ----------
+    robot, base, region, pb, dropped, limit, sums
+        As :func:`region_bound`: the arm (n joints), its b base parameters, the region, its
+        certification, the pairs left out (b, 3), the budget (n,) [N m or N] and the joint
+        sums on the certification's final boxes.
+
+    Returns
+    -------
+    bound : ndarray, shape (n,)
+        :func:`region_bound` [N m or N].
+    trees : tuple of (ndarray of int, ndarray)
+        The bisection trees (``split_joint`` of :func:`tiling`) and their bounds (n,): the
+        certification's, with :func:`leaf_bound`, and, where it ran, the branch and bound's
+        on the joint sum (:func:`dropped_search`). ``bound`` is the least of their bounds;
+        :func:`tree_bound` of each tree is at most its bound (up to round-off), so a reader
+        re-checks ``bound`` on the trees without a search.
+    """
+    dropped = np.asarray(dropped, bool)
+    if sums is None:
+        sums = joint_sums(robot, base, region, pb.split_joint, pb.split_at, dropped, pb.zero)
+    out = leaf_bound(pb, sums, dropped)
+    trees: tuple = ((np.asarray(pb.split_joint, np.int64), out),)
+    if split_joints(robot, base, dropped, pb.zero).sum() <= JOINT_DIMS:
+        searched, tree = dropped_search(robot, base, region, dropped, limit, JOINT_BOXES,
+                                        pb.zero)
+        if tree is not None:
+            trees += ((tree, searched),)
+        out = np.minimum(out, searched)
+    return out, trees
+
+
+def proved_zero(robot: Robot, base: BaseParameters, region: Region,
+                dropped: np.ndarray) -> np.ndarray:
+    """The dropped pairs proved identically zero over the region, from the robot alone.
+
+    Parameters
+    ----------
+    robot, base, region, dropped
+        As :func:`dropped_bound`: the arm (n joints), its b base parameters, the region and
+        the pairs to decide (b, 3).
+
+    Returns
+    -------
+    ndarray of bool, shape (b, 3)
+        Dropped pairs whose part is zero at every joint by
+        :func:`gd_analyze.symbolic.pruning.zero_parts`, or whose parameter's value is 0,
+        or whose enclosure over the region's whole position box times |beta|
+        (:func:`gd_analyze.certify.regressor_bounds.pair_magnitudes`, the parts zero by
+        :func:`~gd_analyze.symbolic.pruning.zero_parts` at some joints set to 0) is 0 at
+        every joint: each is 0 at every state of the region. A subset of
+        :attr:`PairBounds.zero` and, on the shipped arms, all its dropped pairs.
+    """
+    dropped = np.asarray(dropped, bool)
+    absb = np.abs(np.asarray(base.beta, float))
+    out = dropped & (absb == 0)[:, None]
+    used = np.flatnonzero((dropped & ~out).any(axis=1))
+    if used.size == 0:
+        return out
+    cols = np.flatnonzero(base.independent.reshape(-1))[used]
+    U = pair_magnitudes(robot, region.q_min[None, :].astype(float),
+                        region.q_max[None, :].astype(float), cols, region.qd_max,
+                        region.qdd_max)[0] * absb[used]                          # (3, n, k)
+    nonzero = dropped[used] & ~(U == 0).all(axis=1).T
+    rest = np.flatnonzero(nonzero.any(axis=1))        # decided symbolically where needed
+    U[:, :, rest] = np.where(zero_parts(robot, cols[rest]).transpose(1, 2, 0), 0.0,
+                             U[:, :, rest])
+    out[used] = dropped[used] & (U == 0).all(axis=1).T
+    return out
+
+
+def tree_bound(robot: Robot, base: BaseParameters, region: Region, split_joint: np.ndarray,
+               dropped: np.ndarray, zero: np.ndarray | None = None) -> np.ndarray:
+    """The bound of a dropped set over the region on the final boxes of a given bisection
+    tree, derived without search.
+
+    Parameters
+    ----------
+    robot, base, region
+        As :func:`dropped_bound`: the arm (n joints), its b base parameters and the region.
+    split_joint : ndarray of int, shape (N,)
+        Per box, level by level, the joint it is halved along at its middle, or -1 (a final
+        box): checked to tile the region by :func:`tiling`.
+    dropped : ndarray of bool, shape (b, 3)
+        The pairs left out.
+    zero : ndarray of bool, shape (b, 3), optional
+        Pairs proved identically zero, left out; default :func:`proved_zero`.
+
+    Returns
+    -------
+    ndarray, shape (n,)
+        The largest over the final boxes of the least of three bounds of the dropped pairs'
+        change of tau_i there: the sum of the pairs' own bounds (as :func:`certify`'s), their
+        joint sum on the channels (as :func:`joint_sums`', where a level's channels of the
+        dropped columns fit :data:`JOINT_SUM_ELEMENTS`) and their joint sum on the summed
+        channels (as :func:`dropped_bound`'s) [N m or N]; each box's enclosures are
+        intersected with its ancestors'. 0 where no pair but those proved zero is dropped;
+        inf where the pairs are too many to hold.
+
+    Raises
+    ------
+    ValueError
+        If ``split_joint`` is not a bisection tree of the region's box (:func:`tiling`).
+
+    Notes
+    -----
+    Each bound holds on its box and the final boxes cover the region, so |tau_s - tau| is at
+    most the result at every state of the region whatever the tree. On the tree of
+    :func:`certify` the result is at most :func:`leaf_bound`, on that of
+    :func:`dropped_search` at most :func:`dropped_bound`: the same sums of the same
+    enclosures, evaluated level by level in the same chunks.
+    """
+    levels = tiling(region, np.asarray(split_joint))
+    n = robot.n
+    dropped = np.asarray(dropped, bool)
+    free = proved_zero(robot, base, region, dropped) if zero is None else \
+        np.asarray(zero, bool)
+    live = dropped & ~free
+    used = np.flatnonzero(live.any(axis=1))
+    if used.size == 0:
+        return np.zeros(n)
+    if _held(n, _CHUNK, live, free).size < used.size:
+        return np.full(n, np.inf)
+    cols = np.flatnonzero(base.independent.reshape(-1))[used]
+    held = (robot, base, region, cols, used, live, free, zero_parts(robot, cols))
+    out, parent = np.zeros(n), None
+    for lo, hi, split in levels:
+        # each column's channels kept for the sub-boxes where they fit the arrays' size
+        channels = lo.shape[0] * channel_count(n) * n * used.size <= JOINT_SUM_ELEMENTS
+        parts = [_tree_chunk(held, lo[a:a + _CHUNK], hi[a:a + _CHUNK], channels,
+                             None if parent is None else
+                             tuple(None if x is None else x[a:a + _CHUNK] for x in parent))
+                 for a in range(0, lo.shape[0], _CHUNK)]
+        each = np.concatenate([p[0] for p in parts])
+        out = np.maximum(out, each[~split].max(axis=0, initial=0.0))
+        kept = [None if parts[0][1][e] is None else np.concatenate([p[1][e] for p in parts])
+                for e in range(5)]
+        parent = tuple(None if x is None else np.concatenate([x[split], x[split]])
+                       for x in kept)
+    return out
+
+
+def _tree_chunk(held, lo, hi, channels, parent):
+    """:func:`tree_bound` on boxes (B, n) of one level: the least of the three bounds (B, n),
+    and what the sub-boxes intersect with (the pairs' bounds, the summed channels, and each
+    column's channels or None), each box's intersected with its ``parent``'s."""
+    robot, base, region, cols, used, live, free, masked = held
+    c_lo, c_hi = _channels(robot, lo, hi, cols)
+    U = channel_magnitudes(c_lo, c_hi, region.qd_max, region.qdd_max) * np.abs(
+        np.asarray(base.beta, float)[used])
+    U[:, masked.transpose(1, 2, 0)] = 0.0
+    mid, rad = _joint_sums(robot, base, region, used, live, free, c_lo, c_hi).sums(live)
+    s_lo, s_hi = mid - rad, mid + rad
+    if parent is not None:
+        U = np.minimum(U, parent[0])
+        s_lo, s_hi = _intersect(s_lo, s_hi, parent[1], parent[2])
+        if channels and parent[3] is not None:
+            c_lo, c_hi = _intersect(c_lo, c_hi, parent[3], parent[4])
+    each = np.minimum(np.einsum("bpnk,pk->bn", U, live[used].T.astype(float)),
+                      combined_bound(0.5 * (s_lo + s_hi), 0.5 * (s_hi - s_lo), region.qd_max,
+                                     region.qdd_max))
+    if not channels:
+        return each, (U, s_lo, s_hi, None, None)
+    each = np.minimum(each, _joint_sums(robot, base, region, used, live, free, c_lo,
+                                        c_hi).bound(live))
+    return each, (U, s_lo, s_hi, c_lo, c_hi)
+
+
+def tilings_bound(robot: Robot, base: BaseParameters, region: Region, dropped: np.ndarray,
+                  trees: Sequence[np.ndarray]) -> np.ndarray:
+    """The bound of a dropped set over the region on given bisection trees, without search.
+
+    Parameters
+    ----------
+    robot, base, region, dropped
+        As :func:`dropped_bound`: the arm (n joints), its b base parameters, the region and
+        the pairs left out (b, 3).
+    trees : sequence of ndarray of int, shape (N,) each
+        Bisection trees (``split_joint`` of :func:`tiling`, cut at the middle), e.g. those
+        of :func:`region_trees`; each is checked to tile the region.
+
+    Returns
+    -------
+    ndarray, shape (n,)
+        Per joint, the least over the trees that tile the region of :func:`tree_bound` (the
+        pairs proved zero by :func:`proved_zero` left out) [N m or N]: |tau_s - tau| is at
+        most it at every state of the region. 0 where no pair but those proved zero is
+        dropped; inf where no tree tiles the region.
+    """
+    dropped = np.asarray(dropped, bool)
+    zero = proved_zero(robot, base, region, dropped)
+    if not (dropped & ~zero).any():
+        return np.zeros(robot.n)
+    out = np.full(robot.n, np.inf)
+    for tree in trees:
+        try:
+            out = np.minimum(out, tree_bound(robot, base, region, tree, dropped, zero))
+        except ValueError:              # not a tiling of the region: it proves nothing
+            continue
+    return out
+
+
+def _intersect(lo, hi, p_lo, p_hi):
+    """Intervals intersected with their parents' (each holds on the sub-box); an empty
+    intersection, by round-off, gives the hull."""
+    a, b = np.maximum(lo, p_lo), np.minimum(hi, p_hi)
+    return np.minimum(a, b), np.maximum(a, b)
+
+
+def prove_dropped(robot: Robot, base: BaseParameters, region: Region, dropped: np.ndarray,
+                  limit: np.ndarray, max_boxes: int = 1024, zero: np.ndarray | None = None
+                  ) -> bool:
+    """Whether a set of dropped pairs changes no tau_i by more than ``limit_i`` over the region,
+    proved by branch and bound on those pairs' enclosures only.
+
+    Parameters
+    ----------
+    robot, base, region, dropped, max_boxes, zero
+        As :func:`dropped_bound`: the arm (n joints), its b base parameters, the region, the
+        pairs left out (b, 3), the boxes evaluated in all before giving up, and the pairs
+        proved identically zero (left out of the joint sum).
+    limit : ndarray, shape (n,)
+        The bound to prove per joint [N m or N].
+
+    Returns
+    -------
+    bool
+        True when every box of a tiling of the region has, on every joint, the sum over the
+        dropped pairs of their enclosures <= limit_i, or else (a second branch and bound,
+        :func:`dropped_bound`) their joint sum (:meth:`JointSums.bound`) <= limit_i, so
+        |tau_s - tau| <= limit_i at every state of the region; False when ``max_boxes`` did
+        not suffice for either (nothing is then known: a full :func:`certify` decides).
+
+    Notes
+    -----
+    Only the dropped parameters' columns are evaluated, so a model that drops a few parameters
+    is checked at a fraction of a certification's cost; each box's enclosure of a pair is the
+    least of its own and its ancestors' (each holds on it), as in :func:`certify` (Moore,
+    Kearfott & Cloud 2009, Ch. 6).
+    """
+    limit = np.asarray(limit, float)
+    return _prove_pairs(robot, base, region, dropped, limit, max_boxes) or bool(
+        np.all(dropped_bound(robot, base, region, dropped, limit, max_boxes, zero) <= limit))
+
+
+def _prove_pairs(robot, base, region, dropped, limit, max_boxes):
+    """:func:`prove_dropped` by the sum of the pairs' own enclosures on each box (each the
+    least of its own and its ancestors')."""
+    n = robot.n
+    dropped = np.asarray(dropped, bool)
+    used = np.flatnonzero(dropped.any(axis=1))
+    if used.size == 0:
+        return bool(np.all(limit >= 0))
+    cols = np.flatnonzero(base.independent.reshape(-1))[used]
+    absb = np.abs(np.asarray(base.beta, float)[used])
+    weight = dropped[used].T.astype(float)                              # (3, k)
+    zero = zero_parts(robot, cols)
+    lo, hi = region.q_min[None, :].copy(), region.q_max[None, :].copy()
+    rel = _relevant(robot)
+    inherited = np.full((1, 3, n, used.size), np.inf)
+    evaluated = 0
+    while True:
+        U = np.minimum(_enclose(robot, lo, hi, cols, region, absb, zero), inherited)
+        evaluated += lo.shape[0]
+        total = np.einsum("bpnk,pk->bn", U, weight)
+        open_ = ~np.all(total <= limit[None, :], axis=1)                # NaN stays open
+        if not open_.any():
+            return True
+        if evaluated + 2 * int(open_.sum()) > max_boxes:
+            return False
+        lo, hi = _bisect(lo[open_], hi[open_], rel)[:2]
+        inherited = np.concatenate([U[open_], U[open_]])

@@ -1,0 +1,1 @@
+"""The dynamics: the G-D terms (Fu, Gonzalez & Lee 1987, Sec. 3.4), the joint-torque regressor and the base parameters, and the references they are checked and counted against (L-E, N-E, Pinocchio)."""

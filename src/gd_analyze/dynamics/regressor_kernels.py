@@ -1,0 +1,438 @@
+"""The regressor recursion: the base parameters' part contributions, or their peaks.
+
+The torques are linear in the base parameters, tau = Y_b(q, qd, qdd) beta, and each column of
+Y_b splits into an inertial part Y_b(q, 0, qdd; g = 0), a velocity part Y_b(q, qd, 0; g = 0)
+and a gravity part Y_b(q, 0, 0; g) (:mod:`gd_analyze.symbolic.pruning`). :func:`part_contributions` gives the
+contributions Y_p[k, i, m] beta_m of a batch of set points, :func:`contribution_peaks` their
+running peaks (abs max) without storing them, so that memory stays O(n b) whatever N is.
+
+Both evaluate the recursion of :func:`.base_parameters.regressor` (Khalil & Kleinfinger 1987;
+Fu, Gonzalez & Lee 1987, Table 3.3) on the asked columns only: per part, the outward recursion
+of w, wd, vd in body frames (base acceleration -g for the gravity part, Eq. (3.3-46)), the
+wrench of every link per unit parameter, F = M vd + U MS, N = J wd + w x (J w) + MS x vd with
+U = skew(wd) + skew(w)^2, carried inward f_{i-1} = R_i f_i, n_{i-1} = R_i n_i + p_i x f_{i-1}
+and read on every joint's axis, in the numba loop :func:`.regressor_compiled._contributions_kernel`
+(imported by the first call). :func:`regressor_columns` is the same recursion as array code
+over blocks of :data:`BLOCK` set points (every column of a link carried inward together), for
+the callers that want whole regressor columns.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from ..model.kinematics import as_states
+
+__all__ = ["part_contributions", "contribution_peaks", "stacked_contribution_peaks", "part_regressor", "regressor_columns",
+           "BLOCK"]
+
+#: Set points per block of :func:`regressor_columns`: bounds its temporaries (O(BLOCK n m) floats).
+BLOCK = 2048
+#: (row, column) of the inertia-tensor entry of the parameters XX, XY, XZ, YY, YZ, ZZ.
+_JA = (0, 0, 0, 1, 1, 2)
+_JB = (0, 1, 2, 1, 2, 2)
+
+
+def _frames(robot, q):
+    """Per joint ^{i-1}R_i (3 x 3 entries) and ^{i-1}p_i (3 entries), each (N,) or a float."""
+    Rp = np.asarray(robot.rotation, float)
+    tp = np.asarray(robot.translation, float)
+    out = []
+    for i in range(robot.n):
+        P = Rp[i]
+        if robot.prismatic[i]:
+            R = [[P[r, 0], P[r, 1], P[r, 2]] for r in range(3)]
+            p = [tp[i, r] + q[:, i] * P[r, 2] for r in range(3)]
+        else:
+            ci, si = np.cos(q[:, i]), np.sin(q[:, i])
+            R = [[ci * P[r, 0] + si * P[r, 1], ci * P[r, 1] - si * P[r, 0], P[r, 2]]
+                 for r in range(3)]
+            p = [tp[i, r] for r in range(3)]
+        out.append((R, p))
+    return out
+
+
+def _outward(frames, prismatic, qd, qdd, gravity):
+    """Body-frame w, wd, vd of every link, each a list of 3 arrays (N,)."""
+    N = qd.shape[0]
+    z = np.zeros(N)
+    w0, e0 = [z, z, z], [z, z, z]
+    v0 = [np.full(N, -float(g)) for g in gravity]
+    out = []
+    for j, (R, p) in enumerate(frames):
+        px, py, pz = p
+        cx = w0[1] * pz - w0[2] * py
+        cy = w0[2] * px - w0[0] * pz
+        cz = w0[0] * py - w0[1] * px
+        a = (v0[0] + (e0[1] * pz - e0[2] * py) + (w0[1] * cz - w0[2] * cy),
+             v0[1] + (e0[2] * px - e0[0] * pz) + (w0[2] * cx - w0[0] * cz),
+             v0[2] + (e0[0] * py - e0[1] * px) + (w0[0] * cy - w0[1] * cx))
+        vd = [R[0][r] * a[0] + R[1][r] * a[1] + R[2][r] * a[2] for r in range(3)]
+        w = [R[0][r] * w0[0] + R[1][r] * w0[1] + R[2][r] * w0[2] for r in range(3)]
+        wd = [R[0][r] * e0[0] + R[1][r] * e0[1] + R[2][r] * e0[2] for r in range(3)]
+        u, acc = qd[:, j], qdd[:, j]
+        if prismatic[j]:
+            vd[2] = vd[2] + acc
+            vd[0] = vd[0] + 2.0 * (w[1] * u)
+            vd[1] = vd[1] + 2.0 * (-(w[0] * u))
+        else:
+            wd[0] = wd[0] + w[1] * u
+            wd[1] = wd[1] + (-(w[0] * u))
+            wd[2] = wd[2] + acc
+            w[2] = w[2] + u
+        out.append((w, wd, vd))
+        w0, e0, v0 = w, wd, vd
+    return out
+
+
+def _wrench(w, wd, vd, prm, z):
+    """The wrench (f, m) of a link per unit standard parameter ``prm`` (0..9), in its frame."""
+    wx, wy, wz = w
+    ex, ey, ez = wd
+    if prm < 6:                 # inertia tensor entry: N = E wd + w x (E w)
+        ia, ib = _JA[prm], _JB[prm]
+        m, a = [z, z, z], [z, z, z]
+        m[ia], m[ib] = wd[ib], wd[ia]
+        a[ia], a[ib] = w[ib], w[ia]
+        m = [m[0] + (wy * a[2] - wz * a[1]), m[1] + (wz * a[0] - wx * a[2]),
+             m[2] + (wx * a[1] - wy * a[0])]
+        return [z, z, z], m
+    if prm == 6:                # first moment: F = U e, N = e x vd
+        return ([-(wy * wy) - wz * wz, ez + wx * wy, -ey + wx * wz], [z, -vd[2], vd[1]])
+    if prm == 7:
+        return ([-ez + wx * wy, -(wx * wx) - wz * wz, ex + wy * wz], [vd[2], z, -vd[0]])
+    if prm == 8:
+        return ([ey + wx * wz, -ex + wy * wz, -(wx * wx) - wy * wy], [-vd[1], vd[0], z])
+    return list(vd), [z, z, z]  # mass: F = vd
+
+
+def _block_columns(robot, frames, link, param, qd, qdd, gravity):
+    """:func:`regressor_columns` of one block, columns sorted by link, laid out (n, m, N)."""
+    N, n = qd.shape
+    m = link.size
+    z = np.zeros(N)
+    motion = _outward(frames, robot.prismatic, qd, qdd, gravity)
+    F = np.empty((3, m, N))                 # a column's rows contiguous
+    M = np.empty((3, m, N))
+    for c in range(m):
+        f, mo = _wrench(*motion[link[c]], param[c], z)
+        for r in range(3):
+            F[r, c] = f[r]
+            M[r, c] = mo[r]
+    W = np.zeros((n, m, N))
+    first = np.searchsorted(link, np.arange(n))            # the columns of links >= i
+    for i in range(n - 1, -1, -1):
+        s = first[i]
+        if s == m:
+            continue
+        f, mo = F[:, s:], M[:, s:]
+        W[i, s:] = f[2] if robot.prismatic[i] else mo[2]
+        if i == 0:
+            break
+        R, (px, py, pz) = frames[i]
+        f0 = R[0][0] * f[0] + R[0][1] * f[1] + R[0][2] * f[2]
+        f1 = R[1][0] * f[0] + R[1][1] * f[1] + R[1][2] * f[2]
+        f2 = R[2][0] * f[0] + R[2][1] * f[1] + R[2][2] * f[2]
+        m0 = R[0][0] * mo[0] + R[0][1] * mo[1] + R[0][2] * mo[2]
+        m1 = R[1][0] * mo[0] + R[1][1] * mo[1] + R[1][2] * mo[2]
+        m2 = R[2][0] * mo[0] + R[2][1] * mo[1] + R[2][2] * mo[2]
+        M[0, s:] = m0 + (py * f2 - pz * f1)
+        M[1, s:] = m1 + (pz * f0 - px * f2)
+        M[2, s:] = m2 + (px * f1 - py * f0)
+        F[0, s:], F[1, s:], F[2, s:] = f0, f1, f2
+    return W
+
+
+def _sorted(columns):
+    """The columns sorted by link: (link, parameter, where each column went, or None)."""
+    order = np.argsort(columns // 10, kind="stable")
+    back = None if np.all(order == np.arange(columns.size)) else np.argsort(order)
+    return columns[order] // 10, columns[order] % 10, back
+
+
+def _put(dst, W, back):
+    """Write W (n, m, N), columns sorted, into dst (N, n, m) in the columns' own order."""
+    if back is not None:
+        W = W[:, back]
+    dst[...] = W.transpose(2, 0, 1)
+
+
+def _checked_columns(robot, columns):
+    """The columns as int64, checked against the links."""
+    columns = np.asarray(columns, np.int64).reshape(-1)
+    if columns.size and (columns.min() < 0 or columns.max() >= 10 * robot.n):
+        raise ValueError(f"columns must lie in [0, {10 * robot.n}), got {columns.tolist()}")
+    return columns
+
+
+def regressor_columns(robot, columns, q, qd, qdd, gravity=None):
+    """Columns of the joint-torque regressor at N states, as array code (no numba).
+
+    Parameters
+    ----------
+    robot : Robot
+        The arm, with n joints (its inertial parameters are not read).
+    columns : array_like of int, shape (m,)
+        Flat standard-parameter indices 10 k + c (link k, parameter c of
+        :data:`.base_parameters.PARAMETER_NAMES`).
+    q, qd, qdd : array_like, shape (N, n)
+        Joint positions, velocities and accelerations [rad, rad/s, rad/s^2; m, m/s, m/s^2].
+    gravity : array_like, shape (3,), optional
+        Gravity in the base frame [m/s^2]; default the robot's.
+
+    Returns
+    -------
+    ndarray, shape (N, n, m)
+        ``W[k, i, c]``: torque of joint i [N m or N] per unit parameter ``columns[c]``, i.e.
+        :func:`.base_parameters.regressor`'s ``W[k, i, columns[c]]``.
+
+    Raises
+    ------
+    ValueError
+        If the arrays are not of shape (N, n), or a column is out of range.
+
+    Notes
+    -----
+    The recursion of :func:`.base_parameters.regressor` (Khalil & Kleinfinger 1987; Fu,
+    Gonzalez & Lee 1987, Table 3.3) in the arithmetic of the compiled kernel, over blocks of
+    :data:`BLOCK` set points, every asked column of a link carried inward at once.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from gd_analyze import load_robot
+    >>> robot = load_robot("two-link")
+    >>> z = np.zeros((1, 2))
+    >>> W = regressor_columns(robot, [9, 19], z, z, z)   # the masses at rest: gravity only
+    >>> W.shape
+    (1, 2, 2)
+    """
+    columns = _checked_columns(robot, columns)
+    q, qd, qdd = as_states(robot, q, qd, qdd)
+    g = np.asarray(robot.gravity if gravity is None else gravity, float).reshape(3)
+    link, param, back = _sorted(columns)
+    N = q.shape[0]
+    out = np.empty((N, robot.n, columns.size))
+    for a in range(0, N, BLOCK):
+        sl = slice(a, a + BLOCK)
+        _put(out[sl], _block_columns(robot, _frames(robot, q[sl]), link, param, qd[sl],
+                                     qdd[sl], g), back)
+    return out
+
+
+def _arguments(robot, columns, beta, q, qd, qdd):
+    """The kernel's arguments but the outputs, with the states checked."""
+    q, qd, qdd = as_states(robot, q, qd, qdd)
+    columns = np.asarray(columns, np.int64).reshape(-1)
+    c = np.ascontiguousarray
+    return (c(q, float), c(qd, float), c(qdd, float), c(robot.rotation, float),
+            c(robot.translation, float), np.asarray(robot.prismatic, np.int64),
+            c(robot.gravity, float), columns // 10, columns % 10, c(beta, float))
+
+
+def part_regressor(robot, columns, q, qd, qdd):
+    """Columns of the regressor, split into parts: the contributions at unit beta.
+
+    Parameters
+    ----------
+    robot : Robot
+        The arm, with n joints (its inertial parameters are not read).
+    columns : array_like of int, shape (m,)
+        Flat standard-parameter indices 10 k + c (link k, parameter c of
+        :data:`.base_parameters.PARAMETER_NAMES`).
+    q, qd, qdd : array_like, shape (N, n)
+        Joint positions, velocities and accelerations [rad, rad/s, rad/s^2; m, m/s, m/s^2].
+
+    Returns
+    -------
+    ndarray, shape (N, 3, n, m)
+        ``W[k, p, i, c]``: torque of joint i [N m or N] per unit parameter ``columns[c]`` in
+        part p (inertial: W(q, 0, qdd) with g = 0; velocity: W(q, qd, 0) with g = 0;
+        gravity: W(q, 0, 0) with the robot's gravity); summed over p it is
+        :func:`.base_parameters.regressor`'s ``W[k, i, columns[c]]``.
+
+    Raises
+    ------
+    ValueError
+        If the arrays are not of shape (N, n), or a column is out of range.
+
+    Notes
+    -----
+    The recursion of :func:`part_contributions` (Khalil & Kleinfinger 1987) with beta = 1.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from gd_analyze import load_robot
+    >>> robot = load_robot("two-link")
+    >>> z = np.zeros((1, 2))
+    >>> W = part_regressor(robot, [9, 19], z, z, z)     # the two link masses
+    >>> W.shape, bool(np.all(W[:, :2] == 0))
+    ((1, 3, 2, 2), True)
+    """
+    columns = _checked_columns(robot, columns)
+    args = _arguments(robot, columns, np.ones(columns.size), q, qd, qdd)
+    N, n = args[0].shape
+    m = columns.size
+    out = np.empty((N, 3, n, m))
+    from .regressor_compiled import _contributions_kernel
+
+    _contributions_kernel(*args, True, out, np.zeros(n), np.zeros((m, 3, n)), np.zeros((m, n)))
+    return out
+
+
+def part_contributions(robot, base, q, qd, qdd):
+    """Contribution of every (part, base parameter) to every joint torque.
+
+    Parameters
+    ----------
+    robot : Robot
+        The arm, with n joints.
+    base : BaseParameters
+        Its base parameters, b of them (:func:`.base_parameters.base_parameters`).
+    q, qd, qdd : array_like, shape (N, n)
+        Joint positions, velocities and accelerations [rad, rad/s, rad/s^2; m, m/s, m/s^2].
+
+    Returns
+    -------
+    ndarray, shape (3, N, n, b)
+        ``C[p, k, i, m]`` = Y_p[k, i, m] beta_m [N m or N] for the parts p of
+        :data:`gd_analyze.symbolic.recursive.PARTS` (inertial: Y_b(q, 0, qdd) with g = 0; velocity:
+        Y_b(q, qd, 0) with g = 0; gravity: Y_b(q, 0, 0) with the robot's gravity); summed
+        over p and m it is tau. A view of an array laid out (N, 3, n, b).
+
+    Raises
+    ------
+    ValueError
+        If the arrays are not of shape (N, n).
+
+    Notes
+    -----
+    The regressor of :func:`.base_parameters.regressor` (Khalil & Kleinfinger 1987; Fu,
+    Gonzalez & Lee 1987, Table 3.3) on the independent columns, times beta (Gautier 1990).
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from gd_analyze import load_robot
+    >>> from gd_analyze.dynamics.base_parameters import base_parameters
+    >>> robot = load_robot("two-link")
+    >>> base = base_parameters(robot)
+    >>> z = np.zeros((4, 2))
+    >>> part_contributions(robot, base, z, z, z).shape == (3, 4, 2, base.rank)
+    True
+    """
+    args = _arguments(robot, np.flatnonzero(base.independent.reshape(-1)), base.beta, q, qd,
+                      qdd)
+    N, n = args[0].shape
+    b = base.rank
+    out = np.empty((N, 3, n, b))
+    from .regressor_compiled import _contributions_kernel
+
+    _contributions_kernel(*args, True, out, np.zeros(n), np.zeros((b, 3, n)),
+                          np.zeros((b, n)))
+    return out.transpose(1, 0, 2, 3)
+
+
+def contribution_peaks(robot, base, q, qd, qdd, out=None):
+    """Running peaks of the joint torques and of every part contribution.
+
+    Parameters
+    ----------
+    robot : Robot
+        The arm, with n joints.
+    base : BaseParameters
+        Its base parameters, b of them.
+    q, qd, qdd : array_like, shape (N, n)
+        Joint positions, velocities and accelerations [rad, rad/s, rad/s^2; m, m/s, m/s^2]:
+        a whole trajectory or one chunk of it.
+    out : tuple of ndarray, optional
+        ``(tau_peak, peak, whole_peak)`` from an earlier call (earlier chunks), updated in
+        place by maximum; new zero arrays by default.
+
+    Returns
+    -------
+    tau_peak : ndarray, shape (n,)
+        Peak |tau_i| [N m or N].
+    peak : ndarray, shape (b, 3, n)
+        Peak |contribution| of each (base parameter, part) to each joint torque.
+    whole_peak : ndarray, shape (b, n)
+        Peak |contribution| of each base parameter, all parts together.
+
+    Raises
+    ------
+    ValueError
+        If the arrays are not of shape (N, n), or ``out`` has the wrong shapes.
+
+    Notes
+    -----
+    The contributions of :func:`part_contributions`, reduced as they are computed, set point
+    by set point, so memory is O(n b) whatever N is. Peaks combine over chunks (and over trajectories) by maximum; a NaN
+    contribution is never kept as a peak.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from gd_analyze import load_robot
+    >>> from gd_analyze.dynamics.base_parameters import base_parameters
+    >>> robot = load_robot("two-link")
+    >>> base = base_parameters(robot)
+    >>> q = np.array([[0.3, -0.2], [1.0, 0.5]])
+    >>> tau_peak, peak, whole = contribution_peaks(robot, base, q, 0 * q, 0 * q)
+    >>> peak.shape == (base.rank, 3, 2), bool(np.all(peak[:, :2] == 0))   # at rest: gravity
+    (True, True)
+    """
+    args = _arguments(robot, np.flatnonzero(base.independent.reshape(-1)), base.beta, q, qd,
+                      qdd)
+    n, b = robot.n, base.rank
+    if out is None:
+        out = (np.zeros(n), np.zeros((b, 3, n)), np.zeros((b, n)))
+    shapes = ((n,), (b, 3, n), (b, n))
+    if len(out) != 3 or any(np.shape(x) != s for x, s in zip(out, shapes)):
+        raise ValueError(f"out must be arrays of shapes {shapes}")
+    from .regressor_compiled import _contributions_kernel
+
+    _contributions_kernel(*args, False, np.empty((0, 3, n, b)), *out)
+    return out
+
+
+def stacked_contribution_peaks(robot, base, q, qd, qdd, lengths):
+    """:func:`contribution_peaks` of each of K trajectories stacked one after the other.
+
+    Parameters
+    ----------
+    robot : Robot
+        The arm, with n joints.
+    base : BaseParameters
+        Its base parameters, b of them.
+    q, qd, qdd : ndarray, shape (N, n)
+        The K trajectories one after the other, N = sum(lengths), as :func:`as_states` gives
+        them [rad, rad/s, rad/s^2; m, m/s, m/s^2].
+    lengths : sequence of int
+        The set points of each trajectory, each >= 1, summing to N.
+
+    Returns
+    -------
+    tau_peak : ndarray, shape (K, n)
+        Peak |tau_i| on each trajectory [N m or N].
+    peak : ndarray, shape (K, b, 3, n)
+        Peak |contribution| of each (base parameter, part) on each trajectory [N m or N].
+    whole_peak : ndarray, shape (K, b, n)
+        The same for each base parameter, all parts together [N m or N].
+
+    Notes
+    -----
+    One call of :func:`contribution_peaks` per trajectory, into its rows of the results. A
+    NaN contribution is never a peak, and a trajectory whose every value is NaN keeps 0.
+    """
+    lengths = np.asarray([int(k) for k in lengths], dtype=np.int64)
+    starts = np.concatenate([[0], np.cumsum(lengths)])
+    K, n, b = lengths.size, robot.n, base.rank
+    tau_peak, peak = np.zeros((K, n)), np.zeros((K, b, 3, n))
+    whole_peak = np.zeros((K, b, n))
+    q, qd, qdd = as_states(robot, q, qd, qdd)
+    for k in range(K):
+        sl = slice(starts[k], starts[k + 1])
+        contribution_peaks(robot, base, q[sl], qd[sl], qdd[sl],
+                           out=(tau_peak[k], peak[k], whole_peak[k]))
+    return tau_peak, peak, whole_peak

@@ -1,0 +1,637 @@
+"""The main job as a function: robot and trajectory in, verified analysis out.
+
+robot model -> kinematics -> G-D terms -> verification -> ranking -> simplified model -> dataset.
+The command line calls :func:`analyze_to_file` (or :func:`analyze`, in memory) and then writes
+the remaining files; nothing here prints or exits.
+
+There is one per-trajectory path (:func:`analysis_pass`): it computes the G-D terms once per
+set point, chunk by chunk, and hands each chunk to the ranking, to the file, and to the samples
+that the verification against Pinocchio and the comparison of the formulations read. The
+simplified model's torque error needs the ranking of the whole trajectory first, so it is a
+second pass over the same terms: held in memory when there is one chunk (or no file), read
+back from the file otherwise. Nothing is computed twice.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+from collections.abc import Mapping
+from dataclasses import dataclass
+from typing import TYPE_CHECKING, Any
+
+import numpy as np
+
+from .._version import VERSION as __version__
+from ..dynamics import pinocchio as reference
+from ..dynamics.compare import FORMULATIONS_MAX_SETPOINTS, formulations_dataset
+from ..dynamics.dalembert import GDTerms, allocate_terms, gd_terms
+from ..files import atomic_path
+from ..model.drives import has_drives
+from ..model.limits import check_finite
+from ..ranking.chapter_comparison import CHAPTER_CHOICES, S_VALUES, agreement_against_s, block_leads
+from ..ranking.labels import joint_torque_units
+from ..ranking.ranking import RankingAccumulator, arm_scales, is_chapter_puma, is_round_off
+from ..simplify.budget import PartPeaks
+from ..simplify.simplified import SimplifiedModel, TorqueErrorAccumulator, simplified_torque
+from ..store.datasets import SetpointWriter, build_dataset, summary_dataset, with_setpoints
+from ..store.schema import append_dataset
+from .deployment import deploy_models
+from .options import AnalysisOptions
+from .peak_jobs import start_peaks
+from .simplified_dataset import recursive_choices
+
+if TYPE_CHECKING:                       # for the type hints only
+    import os
+
+    import xarray as xr
+    from numpy.typing import NDArray
+    from tqdm import tqdm
+
+    from ..model.robot import Robot
+    from ..trajectory.trajectory import Trajectory
+
+__all__ = ["Analysis", "AnalysisPass", "analysis_pass", "analyze", "analyze_to_file", "verify",
+           "VERIFY_TOLERANCE",
+           "VERIFY_MAX_SETPOINTS", "STREAM_CHUNK", "progress_bar"]
+
+#: Largest relative disagreement with Pinocchio accepted by :func:`verify`.
+VERIFY_TOLERANCE = 1e-9
+#: Set points checked against Pinocchio at most (evenly spread over the trajectory).
+VERIFY_MAX_SETPOINTS = 2000
+#: Set points per chunk when streaming to a file.
+STREAM_CHUNK = 65536
+#: Seconds a run must last before its progress bar appears.
+PROGRESS_DELAY = 1.0
+
+
+@dataclass(frozen=True, eq=False)
+class Analysis:
+    """The result of :func:`analyze`.
+
+    Attributes
+    ----------
+    dataset : xarray.Dataset
+        Everything to store (see :mod:`gd_analyze.store.datasets`).
+    model : SimplifiedModel
+        The simplified model with its validation along the trajectory.
+    verification : dict
+        Largest relative disagreement with Pinocchio per term, the set points checked, and
+        ``passed`` (bool).
+    """
+
+    dataset: xr.Dataset
+    model: SimplifiedModel
+    verification: dict
+
+
+def progress_bar(enabled: bool = True, desc: str = "reading") -> tqdm:
+    """A tqdm progress bar on stderr that counts set points.
+
+    Parameters
+    ----------
+    enabled : bool, optional
+        False: a bar that shows nothing.
+    desc : str, optional
+        The first phase's name.
+
+    Returns
+    -------
+    tqdm.tqdm
+        Appears after :data:`PROGRESS_DELAY` seconds; each phase calls ``reset(total=N)`` and
+        ``set_description``.
+    """
+    from tqdm import tqdm
+
+    return tqdm(total=None, unit=" set points", disable=not enabled,
+                desc=desc, delay=PROGRESS_DELAY, leave=False)
+
+
+def _check_finite(terms, tau):
+    """Every computed array must be finite (inputs within LIMITS guarantee it)."""
+
+    for name in ("D_tran", "D_rot", "h_tran", "h_rot", "c"):
+        check_finite(name, getattr(terms, name))
+    check_finite("tau", tau)
+
+
+def _subsample(N, max_setpoints):
+    return np.unique(np.linspace(0, N - 1, min(N, max_setpoints)).round().astype(int))
+
+
+def _concat(parts):
+    return GDTerms.concatenate(parts) if parts else GDTerms(None, None, None, None, None)
+
+
+def _verify_sample(robot, q, qd, terms, qdd=None):
+    """The verification of :func:`verify` on given set points and their G-D terms."""
+    ref = reference.reference_terms(robot, q, qd)
+    scales = reference.natural_scales(robot, ref, qd, qdd)
+    out, excess = {}, {}
+    for name in ("D_tran", "D_rot", "h_tran", "h_rot", "D", "h", "c"):
+        kind = "D" if name.startswith("D") else "tau"
+        args = (getattr(terms, name), getattr(ref, name), scales[kind], scales[f"floor_{kind}"])
+        out[f"max_rel_error_{name}"] = reference.measured_relative_error(*args)
+        excess[f"max_rel_excess_{name}"] = reference.natural_relative_error(*args)
+    worst = np.max(np.array(list(excess.values())))      # NaN propagates: a NaN fails
+    out.update(excess)
+    out.update(setpoints=int(q.shape[0]), tolerance=VERIFY_TOLERANCE,
+               engine="pinocchio", passed=int(bool(worst <= VERIFY_TOLERANCE)))
+    return out
+
+
+def verify(robot: Robot, q: NDArray[np.float64], qd: NDArray[np.float64],
+           terms: GDTerms | None = None, max_setpoints: int = VERIFY_MAX_SETPOINTS,
+           qdd: NDArray[np.float64] | None = None) -> dict[str, Any]:
+    """Check G-D terms against Pinocchio's crba, nonLinearEffects and generalized gravity.
+
+    Parameters
+    ----------
+    robot : Robot
+        The arm, with n joints.
+    q, qd : ndarray, shape (N, n)
+        Joint positions [rad] and velocities [rad/s].
+    terms : GDTerms, optional
+        The G-D terms at those N states; computed at the checked set points if not given.
+    max_setpoints : int, optional
+        At most this many set points, evenly spread, are checked.
+    qdd : ndarray, shape (N, n), optional
+        Joint accelerations [rad/s^2], for the torque scale (zero if not given).
+
+    Returns
+    -------
+    dict
+        ``max_rel_error_<term>`` for D_tran, D_rot, h_tran, h_rot, D, h and c: the largest
+        difference from Pinocchio relative to the element's natural scale over the checked set
+        points, as measured, round-off included
+        (:func:`gd_analyze.dynamics.pinocchio.measured_relative_error`): sqrt(D_ii D_jj)
+        for D_ij, peak |tau_i| for h_i and c_i, with an absolute floor of a few machine epsilons
+        times the overall scale; ``max_rel_excess_<term>``: the same past that floor
+        (:func:`~gd_analyze.dynamics.pinocchio.natural_relative_error`), what the check
+        judges; ``setpoints`` checked, ``tolerance`` and ``passed`` (1 if every excess is
+        within tolerance, else 0; a NaN anywhere fails).
+
+    Notes
+    -----
+    The split parts are checked against the half-models with zero rotational inertia and with
+    zero mass (see :mod:`gd_analyze.dynamics.pinocchio`).
+    """
+    idx = _subsample(q.shape[0], max_setpoints)
+    sample = gd_terms(robot, q[idx], qd[idx]) if terms is None else terms.rows(idx)
+    return _verify_sample(robot, q[idx], qd[idx], sample, None if qdd is None else qdd[idx])
+
+
+@dataclass(frozen=True, eq=False)
+class AnalysisPass:
+    """What :func:`analysis_pass` produced for one trajectory.
+
+    Attributes
+    ----------
+    ranking : Ranking
+        The dominance of each of the M = n (n + 1) / 2 + n elements.
+    choices : dict
+        Element label -> the part the simplified model keeps.
+    error : dict
+        The simplified model's torque error per joint
+        (:func:`gd_analyze.simplify.simplified.torque_error`).
+    verification : dict
+        As :func:`verify` returns it; empty if not checked.
+    costs : xarray.Dataset or None
+        :func:`gd_analyze.dynamics.compare.formulations_dataset`, if asked for.
+    terms : GDTerms or None
+        The G-D terms at all N set points, held when there is no file to read them back from
+        or when they are one chunk (None when they were streamed in chunks).
+    tau, tau_simplified : ndarray, shape (N, n) or None
+        Full and simplified torques [N m], held likewise.
+    model : SimplifiedModel or None
+        The explicit simplified model, when asked for (``simplify``).
+    simplified : xarray.Dataset or None
+        Its bound, cost table and ladder (:func:`gd_analyze.jobs.simplify.simplified_dataset`).
+    chapter_error : dict or None
+        For the chapter's PUMA 560: the torque error of the chapter's own simplified model
+        (:data:`gd_analyze.ranking.chapter_comparison.CHAPTER_CHOICES`), as ``error``.
+    """
+
+    ranking: object
+    choices: dict
+    error: dict
+    verification: dict
+    costs: object
+    terms: object
+    tau: object
+    tau_simplified: object
+    model: object = None
+    simplified: object = None
+    chapter_error: object = None
+
+
+def analysis_pass(robot: Robot, trajectory: Trajectory, options: AnalysisOptions | None = None,
+                  provenance: Mapping[str, Any] | None = None, chunk: int = STREAM_CHUNK,
+                  writer: SetpointWriter | None = None, progress: bool | tqdm = False,
+                  terms: GDTerms | None = None) -> AnalysisPass:
+    """The one per-trajectory analysis: the G-D terms once per set point, then everything else.
+
+    Pass 1 computes the terms chunk by chunk and feeds the ranking, the writer and the samples
+    for the verification and the formulations; pass 2 feeds the simplified model's torque
+    error with the same terms (held in memory, or read back from the writer's file).
+
+    Parameters
+    ----------
+    robot : Robot
+        The arm, with n joints.
+    trajectory : Trajectory
+        q, qd, qdd of shape (N, n) [rad, rad/s, rad/s^2].
+    options : AnalysisOptions, optional
+        s and e of the ranking; whether to verify against Pinocchio (on at most
+        :data:`VERIFY_MAX_SETPOINTS` set points) and to compare L-E, N-E, G-D and Pinocchio
+        (on at most :data:`gd_analyze.dynamics.compare.FORMULATIONS_MAX_SETPOINTS`);
+        ``options.simplify``: build the simplified model after pass 1 and take its
+        torque in pass 2; with ``simplify=None`` the model is the ranking's choices, masked
+        (as in a sweep's per-trajectory models). Default :class:`AnalysisOptions`.
+    provenance : dict, optional
+        The simplified model's provenance.
+    chunk : int, optional
+        Set points per chunk.
+    writer : SetpointWriter, optional
+        Receives the per-set-point variables; with more than one chunk, pass 2 reads the terms
+        back from it instead of holding them.
+    progress : bool or tqdm.tqdm, optional
+        Show a tqdm progress bar on stderr, or use the one given (the command line's, which
+        also covers reading and the report). It counts set points: it restarts at 0 of N for
+        each pass, named "G-D terms" and "simplified model".
+    terms : GDTerms, optional
+        The trajectory's G-D terms, if the caller computed them (a sweep computes many short
+        trajectories in one call); then none are computed here.
+
+    Returns
+    -------
+    AnalysisPass
+
+    Raises
+    ------
+    ValueError
+        If the trajectory does not fit the robot or the thresholds are out of range.
+
+    Notes
+    -----
+    Source: Sec. 3.4.1 of Fu, Gonzalez & Lee (1987); terms from Eqs. (3.4-24) to (3.4-28).
+    """
+    from concurrent.futures import ThreadPoolExecutor
+
+
+    args = (robot, trajectory, options, provenance, chunk, writer, progress, terms)
+    simplify = (AnalysisOptions() if options is None else options).simplify
+    if simplify is None:
+        return _analysis_pass(*args, background=None)
+    # the simplification's compiled peak passes need only the trajectory: they run in threads
+    # (the kernels release the GIL) beside the pass over the G-D terms, always
+    with ThreadPoolExecutor(max_workers=2, thread_name_prefix="gd-peaks") as pool:
+        background = start_peaks(pool, robot, trajectory, simplify)
+        try:
+            return _analysis_pass(*args, background=background)
+        finally:
+            for job in background.values():
+                job.cancel()
+
+
+def _analysis_pass(robot, trajectory, options, provenance, chunk, writer, progress, terms,
+                   background):
+    """:func:`analysis_pass` with the simplification's peak passes started (``background``)."""
+
+    options = AnalysisOptions() if options is None else options
+    check, formulations, simplify = options.verify, options.formulations, options.simplify
+    q, qd, qdd = trajectory.q, trajectory.qd, trajectory.qdd
+    N, n = q.shape
+    chunk = max(1, int(chunk))
+    ranges = [(a, min(a + chunk, N)) for a in range(0, N, chunk)]
+    hold = writer is None or len(ranges) == 1
+    idx_verify = _subsample(N, VERIFY_MAX_SETPOINTS) if check else np.zeros(0, int)
+    idx_form = _subsample(N, FORMULATIONS_MAX_SETPOINTS) if formulations else np.zeros(0, int)
+    # the set points where a recursive model's choice per element is read (kept from the pass:
+    # the terms are computed once)
+    idx_choice = _subsample(N, _CHOICE_SETPOINTS) if simplify is not None else np.zeros(0, int)
+    sample_idx = np.union1d(np.union1d(idx_verify, idx_form), idx_choice).astype(int)
+    samples, held, held_tau = [], [], []
+    ranker = RankingAccumulator(n)
+    # an arm with drives is also ranked as its rigid links alone (the chapter's model), in
+    # the same pass
+    rigid = RankingAccumulator(n) if has_drives(robot) else None
+    parts = PartPeaks(n) if simplify is not None else None
+    # the chapter's own simplified model (its classes of Figs. 3.10-3.11), measured in the
+    # same pass on its PUMA 560 when a model is built (the main job; not a sweep's ranking)
+    chapter = (TorqueErrorAccumulator(n)
+               if simplify is not None and is_chapter_puma(robot.name, n) else None)
+    own = not hasattr(progress, "update")
+    bar = progress_bar(bool(progress)) if own else progress
+    bar.reset(total=N)
+    bar.set_description("G-D terms")
+    given = terms
+    # streamed chunks (not held) reuse one set of output buffers: no fresh pages per chunk
+    buf = None if hold or given is not None else allocate_terms(min(chunk, N), n)
+    for a, b in ranges:
+        terms = (gd_terms(robot, q[a:b], qd[a:b], out=buf) if given is None
+                 else given.rows(slice(a, b)))
+        D, h = terms.D, terms.h                 # formed once: for tau and the file
+        tau = terms.tau(qdd[a:b], D=D, h=h)
+        _check_finite(terms, tau)
+        ranker.update(terms.D_tran, terms.D_rot, terms.h_tran, terms.h_rot, tau,
+                      armature=terms.armature)
+        if rigid is not None:
+            tau_rigid = tau - robot.armature * qdd[a:b]
+            if terms.tau_f is not None:
+                tau_rigid -= terms.tau_f
+            rigid.update(terms.D_tran, terms.D_rot, terms.h_tran, terms.h_rot, tau_rigid)
+        if parts is not None:
+            parts.update(terms.D_tran, terms.D_rot, terms.h_tran, terms.h_rot, qdd[a:b], tau)
+        if chapter is not None:
+            chapter.update(simplified_torque(terms, CHAPTER_CHOICES, qdd[a:b]), tau)
+        rows = sample_idx[(sample_idx >= a) & (sample_idx < b)] - a
+        if rows.size:
+            samples.append(terms.rows(rows))
+        if writer is not None:
+            writer.write(a, {"D_tran": terms.D_tran, "D_rot": terms.D_rot, "D": D,
+                             "h_tran": terms.h_tran, "h_rot": terms.h_rot, "h": h,
+                             "c": terms.c, "tau": tau,
+                             **({} if terms.tau_f is None else {"tau_f": terms.tau_f})})
+        if hold:
+            held.append(terms)
+            held_tau.append(tau)
+        bar.update(b - a)
+    ranking = ranker.result(dominance=options.dominance, negligible=options.negligible)
+    if rigid is not None:
+        ranking = dataclasses.replace(ranking, rigid_dominance=rigid.result(
+            dominance=options.dominance, negligible=options.negligible).dominance)
+    choices = ranking.choices()
+    model = simplified = other = None
+    if simplify is not None:
+        model, other, finish = deploy_models(robot, trajectory, ranking, parts, simplify,
+                                             provenance or {}, background)
+        choices = model.choices
+    bar.reset(total=N)
+    bar.set_description("simplified model")
+    errors = TorqueErrorAccumulator(n)
+    # the model of the other rule, compared side by side: its error in the same pass
+    other_errors = None if other is None else TorqueErrorAccumulator(n)
+    tau_s_all = []
+    for k, (a, b) in enumerate(ranges):
+        if hold:
+            terms, tau = held[k], held_tau[k]
+        else:       # a built model needs only tau; the ranking's masks need the terms
+            terms = None if model is not None else GDTerms(
+                *(writer.read(name, a, b) for name in ("D_tran", "D_rot", "h_tran", "h_rot",
+                                                       "c")),
+                robot.armature if np.any(robot.armature) else None,
+                writer.read("tau_f", a, b) if "tau_f" in writer.variables else None)
+            tau = writer.read("tau", a, b)
+        tau_s = simplified_torque(terms, choices, qdd[a:b]) if model is None else \
+            model.torque(q[a:b], qd[a:b], qdd[a:b])
+        errors.update(tau_s, tau)
+        if other_errors is not None:
+            other_errors.update(other.torque(q[a:b], qd[a:b], qdd[a:b]), tau)
+        if writer is not None:
+            writer.write(a, {"tau_simplified": tau_s})
+        if hold:                        # in memory too: the report reads them from there
+            tau_s_all.append(tau_s)
+        bar.update(b - a)
+    if own:
+        bar.close()
+    if simplify is not None:
+        simplified = finish(None if other_errors is None else other_errors.result())
+    sample = _concat(samples)
+    at = {i: k for k, i in enumerate(sample_idx)}
+    verification = {}
+    if check:
+        verification = _verify_sample(robot, q[idx_verify], qd[idx_verify],
+                                      sample.rows([at[i] for i in idx_verify]),
+                                      qdd[idx_verify])
+    costs = None
+    if formulations:
+        costs = formulations_dataset(robot, q[idx_form], qd[idx_form], qdd[idx_form],
+                                     gd=sample.rows([at[i] for i in idx_form]))
+    if model is not None and model.recursive is not None:
+        choices = recursive_choices(model, q[idx_choice], qd[idx_choice],
+                                    sample.rows([at[i] for i in idx_choice]), ranking)
+    return AnalysisPass(ranking=ranking, choices=choices, error=_marked(errors.result(), robot),
+                 verification=verification, costs=costs,
+                 terms=_concat(held) if hold else None,
+                 tau=np.concatenate(held_tau) if hold else None,
+                 tau_simplified=np.concatenate(tau_s_all) if hold else None,
+                 model=model, simplified=simplified,
+                 chapter_error=None if chapter is None else _marked(chapter.result(), robot))
+
+
+#: Set points (evenly spread) on which a recursive model's D_s and h_s are compared with D
+#: and h, element by element, for the stored ``choice``.
+_CHOICE_SETPOINTS = 64
+
+
+def _marked(error, robot):
+    """The torque error with ``round_off`` per joint: True where its peak is floating-point
+    round-off by the reports' one rule (:func:`gd_analyze.ranking.ranking.is_round_off`
+    of peak |tau_i| and of the arm's), so the stored numbers are never read as data."""
+
+    units = [joint_torque_units(bool(p)) for p in robot.prismatic]
+    tau = np.asarray(error["peak_tau"], float)
+    off = is_round_off(np.asarray(error["peak_abs_error"], float), tau,
+                       arm_scale=arm_scales(tau, units))
+    return {**error, "round_off": [bool(v) for v in np.atleast_1d(off)]}
+
+
+def _provenance(trajectory, settings):
+    return {"gd_analyze_version": __version__, "trajectory_file": trajectory.source,
+            "derivatives": trajectory.derivatives, **(settings or {})}
+
+
+def _with_simplified(ds, extra):
+    if extra is not None:
+        ds = ds.assign(extra.data_vars)
+        ds.attrs.update(extra.attrs)
+    return ds
+
+
+def _with_chapter(ds, error):
+    """The dataset with the chapter's conclusions counted (its PUMA 560 only): its own
+    simplified model's error, the agreement with its classes against s, and which part leads
+    the arm block and the wrist (:mod:`gd_analyze.ranking.chapter_comparison`)."""
+    if error is None:
+        return ds
+    labels = [str(v) for v in ds["element"].values]
+    share = np.asarray(ds["share_tran"].values, float)
+    negligible = [str(v) == "negligible" for v in ds["dominance"].values]
+    s = float(ds.attrs["dominance_threshold"])
+    grid, agree, compared = agreement_against_s(labels, share, negligible,
+                                                tuple(sorted(set(S_VALUES) | {s})))
+    blocks = block_leads(labels, share, negligible, len(ds["joint"]))
+
+    def var(dims, data, long_name):
+        return dims, data, {"units": "1", "long_name": long_name}
+
+    out = ds.assign_coords(chapter_threshold=var(
+        ("chapter_threshold",), grid, "dominance threshold s at which the chapter's classes "
+                                      "are compared"))
+    out = out.assign({
+        "chapter_agreement": var(("chapter_threshold",), agree.astype(np.int32),
+                                 "elements whose class at s equals the chapter's"),
+        "chapter_model_choice": var(("element",), np.array(
+            [CHAPTER_CHOICES.get(k, "") for k in labels], dtype=str),
+            "the part the chapter's own simplified model keeps (its classes of Figs. "
+            "3.10-3.11)"),
+        "chapter_model_error_relative_peak": var(
+            ("joint",), np.array(error["relative_peak_error"], float),
+            "peak |tau_s - tau| / peak |tau| of the chapter's own simplified model"),
+        "chapter_model_error_round_off": var(
+            ("joint",), np.array(error["round_off"], np.int8),
+            "1 where that error is floating-point round-off"),
+    })
+    out.attrs.update({
+        "chapter_elements_compared": int(compared),
+        "chapter_arm_ranked": ", ".join(blocks.arm),
+        "chapter_arm_translation_leads": ", ".join(blocks.arm_translation),
+        "chapter_wrist_ranked": ", ".join(blocks.wrist),
+        "chapter_wrist_rotation_leads": ", ".join(blocks.wrist_rotation),
+    })
+    return out
+
+
+def _model(robot, trajectory, result, options, settings):
+    if result.model is not None:                 # the explicit simplified model
+        if result.model.recursive is not None:   # its choices as results.h5 stores them
+            return dataclasses.replace(result.model, validation=result.error,
+                                       choices=dict(result.choices))
+        return dataclasses.replace(result.model, validation=result.error)
+    provenance = _provenance(trajectory, settings)
+    return SimplifiedModel(robot=robot, choices=result.choices,
+                           dominance_threshold=float(options.dominance),
+                           negligible_threshold=float(options.negligible),
+                           trajectory_sha256=trajectory.sha256, validation=result.error,
+                           provenance=provenance)
+
+
+def _with_costs(ds, costs):
+    if costs is not None:
+        ds = ds.assign(costs.data_vars)
+        ds.attrs.update(costs.attrs)
+    return ds
+
+
+def analyze(robot: Robot, trajectory: Trajectory, options: AnalysisOptions | None = None,
+            settings: Mapping[str, Any] | None = None) -> Analysis:
+    """Compute, verify, rank and simplify the G-D terms along a trajectory, in memory.
+
+    Parameters
+    ----------
+    robot : Robot
+        The arm, with n joints.
+    trajectory : Trajectory
+        q, qd, qdd of shape (N, n) [rad, rad/s, rad/s^2].
+    options : AnalysisOptions, optional
+        The ranking's thresholds s and e, whether to verify against Pinocchio
+        (:func:`verify`) and store the formulations' agreement and operation counts, and how
+        the simplified model is built (``options.simplify``). Default
+        :class:`~gd_analyze.jobs.options.AnalysisOptions`, as the main job.
+    settings : dict, optional
+        Extra provenance for the dataset's global attributes and the model.
+
+    Returns
+    -------
+    Analysis
+        Its dataset holds the per-set-point variables as well as the summary.
+
+    Raises
+    ------
+    ValueError
+        If the trajectory does not fit the robot or the thresholds are out of range.
+
+    Notes
+    -----
+    Source: Sec. 3.4.1 of Fu, Gonzalez & Lee (1987); terms from Eqs. (3.4-24) to (3.4-28).
+    """
+
+    options = AnalysisOptions() if options is None else options
+    N = trajectory.q.shape[0]
+    result = analysis_pass(robot, trajectory, options, _provenance(trajectory, settings),
+                           chunk=max(N, 1))
+    ds = build_dataset(robot, trajectory, result.terms, result.ranking, result.tau,
+                       result.tau_simplified, result.choices, result.error,
+                       verification=result.verification, settings=settings)
+    ds = _with_chapter(_with_simplified(ds, result.simplified), result.chapter_error)
+    return Analysis(dataset=_with_costs(ds, result.costs),
+                    model=_model(robot, trajectory, result, options, settings),
+                    verification=result.verification)
+
+
+def analyze_to_file(robot: Robot, trajectory: Trajectory, path: str | os.PathLike[str],
+                    options: AnalysisOptions | None = None,
+                    settings: Mapping[str, Any] | None = None, chunk: int = STREAM_CHUNK,
+                    progress: bool | tqdm = False, extra: xr.Dataset | None = None) -> Analysis:
+    """:func:`analyze`, streamed into a results file in chunks of bounded memory.
+
+    The G-D terms are computed once per set point, chunk by chunk, and written; the simplified
+    model's torque (which needs the ranking of the whole trajectory) is computed in a second
+    pass from the same terms, held in memory when there is one chunk and read back from the
+    file otherwise. Memory stays a few chunks whatever N is.
+
+    Parameters
+    ----------
+    robot : Robot
+        The arm, with n joints.
+    trajectory : Trajectory
+        q, qd, qdd of shape (N, n) [rad, rad/s, rad/s^2].
+    path : str or os.PathLike
+        The results file (netCDF4/HDF5), written under a temporary name and renamed.
+    options : AnalysisOptions, optional
+        As :func:`analyze`; ``options.compress`` is the gzip level (0-9) of the
+        per-set-point variables (0 stores them uncompressed).
+    settings : dict, optional
+        Extra provenance.
+    chunk : int, optional
+        Set points per chunk.
+    progress : bool or tqdm.tqdm, optional
+        As for :func:`analysis_pass`.
+    extra : xarray.Dataset, optional
+        More variables to store with the summary (e.g. a payload sweep, dim ``payload``).
+
+    Returns
+    -------
+    Analysis
+        Its dataset is the summary (:func:`gd_analyze.store.datasets.summary_dataset`); the file holds
+        the per-set-point variables as well, and so does the dataset when the set points are
+        one chunk (N <= ``chunk``: they were held in memory anyway,
+        :func:`gd_analyze.store.datasets.with_setpoints`).
+
+    Raises
+    ------
+    ValueError
+        If the trajectory does not fit the robot or the thresholds are out of range.
+    OSError
+        If the file cannot be written.
+    """
+    import contextlib
+
+    options = AnalysisOptions() if options is None else options
+    N, n = trajectory.q.shape
+    with atomic_path(path, create=False) as tmp:
+        with contextlib.closing(SetpointWriter(
+                tmp, N, n, chunk=min(max(1, int(chunk)), 8192), compress=options.compress,
+                prismatic=robot.prismatic,
+                friction=robot.has_friction,
+                joints=robot.joint_names())) as out:
+            step = max(1, int(chunk))
+            for a in range(0, N, step):         # block by block: no copy of a whole column
+                out.write(a, {name: getattr(trajectory, name)[a:a + step]
+                              for name in ("t", "q", "qd", "qdd")})
+            result = analysis_pass(robot, trajectory, options,
+                                   _provenance(trajectory, settings), chunk, writer=out,
+                                   progress=progress)
+        ds = summary_dataset(robot, trajectory, result.ranking, result.choices, result.error,
+                             result.verification, settings)
+        ds = _with_costs(ds, result.costs)
+        if extra is not None:
+            ds = ds.assign(extra.data_vars)
+        ds = _with_chapter(_with_simplified(ds, result.simplified), result.chapter_error)
+        append_dataset(ds, tmp)          # not to_netcdf: it would import dask
+    if result.terms is not None:        # one chunk, held: the result in memory is whole
+        ds = with_setpoints(ds, robot, trajectory, result.terms, result.tau,
+                            result.tau_simplified)
+    return Analysis(dataset=ds,
+                    model=_model(robot, trajectory, result, options, settings),
+                    verification=result.verification)

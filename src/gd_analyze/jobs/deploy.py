@@ -1,0 +1,821 @@
+"""The pruned recursive model the main job builds, over the region or on the
+trajectory.
+
+robot -> base parameters -> pruned recursive model within the budget over the joint-limit
+region or on the trajectory -> SimplifiedModel of the recursive form, with the exact recursive
+model's count beside it (:func:`build_recursive`). Which model is deployed beside the explicit
+ones is :mod:`.deployment`'s. Nothing here prints or writes files.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+from collections.abc import Callable, Mapping
+from typing import TYPE_CHECKING, Any
+
+import numpy as np
+
+from ..cache import CacheWarning, entry_path
+from ..certify.certify import (
+    JOINT_DIMS,
+    METHOD,
+    dropped_bound,
+    joint_sums,
+    leaf_bound,
+    region_trees,
+    split_joints,
+)
+from ..certify.region import (
+    REFINE_JOINTS,
+    joint_region,
+    missing_limits,
+    sampled_error,
+    worst_states,
+)
+from ..certify.screen import screen_region
+from ..dynamics.base_parameters import base_parameters
+from ..errors import one_line
+from ..ranking.ranking import DEFAULT_DOMINANCE, DEFAULT_NEGLIGIBLE, element_labels
+from ..simplify.budget import DEFAULT_TOLERANCE, Selection
+from ..simplify.guarantee import Guarantee
+from ..simplify.simplified import SimplifiedModel
+from ..store.model_trust import remember_claim
+from ..store.search_cache import read_search, search_key, write_search
+from ..symbolic.drive_regressor import with_drives
+from ..symbolic.pruning import dropped_peaks, prune, prune_bounds, settle_restored, zero_parts
+from ..symbolic.recursive import recursive_program
+from ..symbolic.recursive_model import RecursiveModel, recursive_model
+from ..trajectory.planning import DEFAULT_QDD_PER_QD, acceleration_limits
+from .region_memo import REGION_SAMPLES, certified, region_magnitudes, region_values
+
+if TYPE_CHECKING:
+    from ..certify.certify import PairBounds
+    from ..certify.region import Region, RegionLimits
+    from ..certify.screen import RegionScreen
+    from ..dynamics.base_parameters import BaseParameters
+    from ..model.robot import Robot
+    from ..ranking.ranking import Ranking
+
+__all__ = ["build_recursive", "recursive_simplified", "replace_cost", "region_model",
+           "region_search", "trajectory_guarantee", "certified", "robot_region", "guarantee_region",
+           "REGION_SAMPLES", "restored_rebuild", "joint_bound", "SCOUT_BOXES",
+           "SCOUT_RATIO", "screened_exact", "region_simplified"]
+
+#: A tree of boxes is kept with a region model (:attr:`Guarantee.tilings`) for the joints
+#: where its bound is within this share of s_i of the model's (a thousandth of what the
+#: reader allows, :data:`gd_analyze.store.model_trust.BOUND_RTOL`).
+TILING_RTOL = 1e-12
+#: Boxes of the first, quick branch and bound on a dropped set's joint sum while the pairs
+#: are chosen (:func:`joint_bound`), and the share of the budget above which its bound
+#: rejects the set without the full one.
+SCOUT_BOXES, SCOUT_RATIO = 2048, 1.5
+
+
+def robot_region(robot: Robot, limits: RegionLimits | None = None
+                 ) -> tuple[Region | None, str]:
+    """The region of a model's guarantee: the robot's limits, or the user's within them; or
+    None and why not.
+
+    Parameters
+    ----------
+    robot : Robot
+    limits : RegionLimits, optional
+        The user's limits (:class:`gd_analyze.certify.region.RegionLimits`), each in
+        place of the robot's and clipped to them (the region's ``notes`` say which).
+
+    Returns
+    -------
+    region : Region or None
+        The position and velocity limits, the acceleration limits of
+        :func:`gd_analyze.trajectory.planning.acceleration_limits` (the robot's, or the planner's
+        default where it has none, flagged as assumed) unless the user gives them; None when a
+        limit is missing.
+    missing : str
+        The missing limit (:func:`gd_analyze.certify.region.missing_limits`), or "".
+
+    Raises
+    ------
+    ValueError
+        If the user's limits do not fit the robot (one or n values; a position range wholly
+        outside the robot's), naming the option.
+    """
+    why = missing_limits(robot, limits)
+    if why:
+        return None, why
+    with_qd = robot if limits is None or limits.qd_max is None else dataclasses.replace(
+        robot, qd_max=joint_region(robot, np.ones(robot.n), limits).qd_max)
+    try:
+        qdd_max, _ = acceleration_limits(with_qd)
+    except ValueError as exc:
+        return None, str(exc)
+    assumed = ~np.isfinite(np.asarray(robot.qdd_max, float))
+    return joint_region(robot, qdd_max, limits, qdd_assumed=assumed,
+                        qdd_rule=f"{DEFAULT_QDD_PER_QD:g} s^-1 x qd max"), ""
+
+
+def guarantee_region(robot: Robot, guarantee: str = "auto", limits: RegionLimits | None = None
+                     ) -> tuple[Region | None, str, bool]:
+    """The region, and whether a budget model's bound is proved over it.
+
+    Parameters
+    ----------
+    robot : Robot
+    guarantee : {"auto", "region", "trajectory"}, optional
+        The ``--guarantee`` choice: ``"trajectory"`` never proves over the region; ``"auto"``
+        and ``"region"`` do where the robot (or the user) gives position and velocity limits
+        for every joint, and fall back to the trajectory otherwise (the guarantee then names
+        the missing limit).
+    limits : RegionLimits, optional
+        The user's region (:func:`robot_region`).
+
+    Returns
+    -------
+    region : Region or None
+        :func:`robot_region`'s (also under ``"trajectory"``: a trajectory model's error is
+        sampled on it); None when a limit is missing.
+    missing : str
+        The missing limit, or "".
+    proved : bool
+        Prune on bounds proved over ``region`` (a guarantee of kind ``"region"``).
+    """
+    region, missing = robot_region(robot, limits)
+    return region, missing, region is not None and guarantee != "trajectory"
+
+
+def region_model(robot: Robot, base: BaseParameters, region: Region, tolerance: float,
+                 torque_floor: float = 0.0) -> tuple[RecursiveModel, Guarantee]:
+    """The recursive model pruned on bounds proved over a joint-limit region.
+
+    Parameters
+    ----------
+    robot : Robot
+        The arm, with n joints.
+    base : BaseParameters
+        Its base parameters.
+    region : Region
+        R = {q_min <= q <= q_max, |qd| <= qd_max, |qdd| <= qdd_max}.
+    tolerance : float
+        EPS.
+    torque_floor : float, optional
+        [N m or N].
+
+    Returns
+    -------
+    model : RecursiveModel
+        Dropped pairs whose proved bound together is at most EPS s_i per joint; ``scale`` is
+        s_i over R, ``bound`` that bound [N m or N]
+        (:func:`gd_analyze.certify.certify.region_bound`: the least of the largest over
+        the certification's final boxes of the sum of the dropped pairs' bounds there or of
+        their joint sum, and a branch and bound on their joint sum).
+    guarantee : Guarantee
+        Of kind ``"region"``: |tau_s - tau| <= bound_i <= EPS s_i at every state of R (up to
+        round-off), with the sampled error, the scale and where it was found.
+
+    Notes
+    -----
+    tau = Y_b beta is linear in the base parameters (Khalil & Kleinfinger 1987; Gautier
+    1990), so the dropped pairs change tau_i by the sum of their contributions at the same
+    state; bounds by :func:`gd_analyze.certify.certify.certify` and
+    :func:`gd_analyze.certify.certify.region_bound`.
+    """
+    pb = certified(robot, base, region, torque_floor)
+    return _region_model(robot, base, region, tolerance, pb, _region_pruning(base, pb, robot,
+                                                                            region, tolerance))
+
+
+def _region_pruning(base, pb, robot, region, tolerance, chosen=None):
+    """:func:`~gd_analyze.symbolic.pruning.prune_bounds` on a region's certification
+    (``chosen``: an earlier search's pairs, checked against the budget; ValueError if over),
+    and the trees of boxes its bound is derived again on (:meth:`_JointBound.tilings`)."""
+
+    joint = joint_bound(robot, base, region, pb, tolerance)
+    pr = prune_bounds(robot, base, pb.scale, pb.bound, pb.leaves.sum(axis=1).max(axis=1),
+                      tolerance, pieces=pb.leaves, chosen=chosen, zero=pb.zero, joint=joint)
+    return pr, joint.tilings(pr.dropped, pr.bound)
+
+
+def joint_bound(robot: Robot, base: BaseParameters, region: Region, pb: PairBounds,
+                tolerance: float) -> Callable[..., Any]:
+    """The bound of a dropped set's joint sum over the region, for
+    :func:`~gd_analyze.symbolic.pruning.prune_bounds`.
+
+    Parameters
+    ----------
+    robot : Robot
+    base : BaseParameters
+        Its base parameters (b of them).
+    region : Region
+    pb : PairBounds
+        The region's certification (:func:`.region_memo.certified`).
+    tolerance : float
+        EPS: the budget is EPS s_i.
+
+    Returns
+    -------
+    callable
+        ``joint(dropped, enough)`` -> ndarray (n,) [N m or N]: with ``enough`` None,
+        :func:`gd_analyze.certify.certify.region_bound` (the pairs that fit the budget
+        alone held in the joint sums on the certification's final boxes), which
+        :func:`gd_analyze.store.model_trust.reproved_bound` derives again. With ``enough`` (only
+        whether the set fits matters), a bound that decides it more cheaply where one does:
+        :func:`~gd_analyze.certify.certify.leaf_bound` when it fits, or when the
+        dropped set's largest error found at the certification's sampled states exceeds
+        ``enough`` (no bound can then fit), or when a branch and bound of
+        :data:`SCOUT_BOXES` boxes ends above :data:`SCOUT_RATIO` times ``enough``.
+        Results are kept per dropped set.
+    """
+    return _JointBound(robot, base, region, pb, tolerance)
+
+
+class _JointBound:
+    """:func:`joint_bound`'s callable, with the cheap answer ``quick`` for the search, which
+    keeps per dropped set the trees of boxes its bound was found on (:meth:`tilings`)."""
+
+    def __init__(self, robot, base, region, pb, tolerance):
+        self.robot, self.base, self.region, self.pb = robot, base, region, pb
+        self.budget = tolerance * np.asarray(pb.scale, float)
+        alone = np.all(pb.bound <= self.budget[None, None, :], axis=2) & ~pb.zero
+        self.sums = joint_sums(robot, base, region, pb.split_joint, pb.split_at, alone,
+                               pb.zero)
+        self.beta = np.asarray(base.beta, float)[None, :]
+        self.memo = {}
+
+    def _leaf(self, dropped, enough):
+        """The final boxes' bound (:func:`~gd_analyze.certify.certify.leaf_bound`)
+        and whether it is the answer: it fits, or the set depends on more than
+        :data:`JOINT_DIMS` joints."""
+        first = leaf_bound(self.pb, self.sums, dropped)
+        return first, bool(np.all(first <= enough) or split_joints(
+            self.robot, self.base, dropped, self.pb.zero).sum() > JOINT_DIMS)
+
+    def quick(self, dropped, enough):
+        """The bound ``self(dropped, enough)`` returns when it is the final boxes' own, else
+        None (:meth:`_leaf`)."""
+        first, decided = self._leaf(dropped, enough)
+        return first if decided else None
+
+    def __call__(self, dropped, enough=None):
+        robot, base, region, pb = self.robot, self.base, self.region, self.pb
+        key = np.asarray(dropped, bool).tobytes()
+        if key in self.memo:
+            return self.memo[key][0]
+        if enough is not None:
+            first, decided = self._leaf(dropped, enough)
+            if decided:
+                return first
+            found = worst_states(pb.values, self.beta * dropped.T, region.qd_max,
+                                 region.qdd_max)[0].max(axis=0)
+            if np.any(found > enough):
+                return first
+            scout = dropped_bound(robot, base, region, dropped, self.budget, SCOUT_BOXES,
+                                  pb.zero)
+            if np.any(scout > SCOUT_RATIO * enough):
+                return np.minimum(first, scout)
+        self.memo[key] = region_trees(robot, base, region, pb, dropped, self.budget,
+                                      self.sums)
+        return self.memo[key][0]
+
+    def tilings(self, dropped, bound):
+        """The trees whose final boxes give a dropped set's ``bound`` (n,) again, within
+        :data:`TILING_RTOL` of s_i on every joint: the joint sum's branch and bound's first
+        (:func:`gd_analyze.certify.certify.region_trees`), the certification's where
+        the first does not reach it; () when nothing but pairs proved zero is dropped, or
+        when they do not reach it."""
+        dropped = np.asarray(dropped, bool)
+        if not (dropped & ~self.pb.zero).any():
+            return ()
+        key = dropped.tobytes()
+        if key not in self.memo:
+            self(dropped)
+        reach = np.asarray(bound, float) + TILING_RTOL * np.abs(np.asarray(self.pb.scale))
+        chosen, covered = [], np.zeros(reach.shape, bool)
+        for tree, tree_bound in reversed(self.memo[key][1]):
+            if np.any(~covered & (tree_bound <= reach)):
+                chosen.append(tree)
+                covered |= tree_bound <= reach
+        return tuple(chosen) if covered.all() else ()
+
+
+def _region_model(robot, base, region, tolerance, pb, pruned, sampled=True):
+    """:func:`region_model`'s model and guarantee from the certification and the pruning
+    with its trees of boxes (:func:`_region_pruning`; ``sampled=False``: the model only, the
+    guarantee None, its error not sampled)."""
+    pr, tilings = pruned
+
+    single = pr.dropped & ~pr.whole[:, None]
+    by_part = np.stack([np.einsum("bln,b->ln", pb.leaves[:, p], single[:, p]).max(axis=0)
+                        for p in range(3)]
+                       + [np.einsum("bpln,b->ln", pb.leaves, pr.whole).max(axis=0)])
+    safe = np.where(pb.scale > 0, pb.scale, 1.0)
+    rel = np.where(pb.scale > 0, pb.bound / safe, np.where(pb.bound > 0, np.inf, 0.0)).max(2)
+    rec = RecursiveModel(names=tuple(base.names()), beta=np.array(base.beta, float),
+                         dropped=np.array(pr.dropped, bool), scale=np.array(pb.scale, float),
+                         bound=np.array(pr.bound, float), bound_by_part=by_part,
+                         relative_peak=rel)
+    if not sampled:
+        return rec, None
+    weights = np.asarray(base.beta, float)[None, :] * pr.dropped.T          # (3, b)
+    err = worst_states(pb.values, weights, region.qd_max, region.qdd_max)[0].max(axis=0)
+    guarantee = Guarantee(
+        "region", float(tolerance), bound=rec.bound, scale=rec.scale, q_min=region.q_min,
+        q_max=region.q_max, qd_max=region.qd_max, qdd_max=region.qdd_max,
+        scale_state=pb.scale_state, sampled_error=err, region=region, tilings=tilings,
+        method=f"{METHOD}; {pb.boxes} boxes, {pb.positions.shape[0]} sampled positions"
+               + _unrefined(robot))
+    return rec, guarantee
+
+
+def _unrefined(robot):
+    """The clause saying s_i was not polished by local maximisation (beyond
+    :data:`gd_analyze.certify.region.REFINE_JOINTS` joints), or ""."""
+
+    return "" if robot.n <= REFINE_JOINTS else (
+        f"; s_i of this {robot.n}-joint arm: the largest sampled |tau_i|, without the local "
+        f"maximisation (done up to {REFINE_JOINTS} joints)")
+
+
+def trajectory_guarantee(robot: Robot, base: BaseParameters, rec: RecursiveModel,
+                         tolerance: float, trajectory_sha256: str = "",
+                         region: Region | None = None, region_missing: str = "") -> Guarantee:
+    """The guarantee of a model pruned on a trajectory, its error sampled over the region.
+
+    Parameters
+    ----------
+    robot : Robot
+    base : BaseParameters
+    rec : RecursiveModel
+        The pruned model (its ``dropped`` pairs, ``bound`` and trajectory ``scale``).
+    tolerance : float
+        EPS.
+    trajectory_sha256 : str, optional
+    region : Region, optional
+        The robot's region, on which the model's error is sampled (None: not sampled).
+    region_missing : str, optional
+        Why there is no region.
+
+    Returns
+    -------
+    Guarantee
+        Of kind ``"trajectory"``; ``region_sampled_error``: the largest error found over the
+        region relative to s_i there (the largest |tau_i| found), or None
+        (:func:`gd_analyze.certify.region.sampled_error` at the positions of
+        :func:`.region_memo.region_values`: sampling only, no certification).
+    """
+    sampled = None
+    if region is not None:
+        sampled = sampled_error(base, region, rec.dropped, region_values(robot, base, region))[0]
+    return Guarantee("trajectory", float(tolerance), bound=np.asarray(rec.bound, float),
+                     scale=np.asarray(rec.scale, float), trajectory_sha256=trajectory_sha256,
+                     region_sampled_error=sampled, region_missing=region_missing,
+                     region=region,
+                     method="sum of the dropped pairs' peak contributions on the trajectory "
+                            "(triangle inequality)")
+
+
+def build_recursive(robot: Robot, q: np.ndarray, qd: np.ndarray, qdd: np.ndarray,
+                    tolerance: float = DEFAULT_TOLERANCE, torque_floor: float = 0.0,
+                    ranking: Ranking | None = None, trajectory_sha256: str = "",
+                    provenance: dict | None = None, region: Region | None = None,
+                    sample_region: Region | None = None, region_missing: str = "",
+                    contributions: tuple[BaseParameters, tuple[np.ndarray, ...]] | None = None
+                    ) -> tuple[SimplifiedModel, Selection]:
+    """The pruned customized recursive Newton-Euler model within the budget.
+
+    Parameters
+    ----------
+    robot : Robot
+        The arm, with n joints.
+    q, qd, qdd : ndarray, shape (N, n)
+        The trajectory [rad, rad/s, rad/s^2; m, m/s, m/s^2]: the bound holds on it.
+    tolerance : float, optional
+        EPS.
+    torque_floor : float, optional
+        TAU [N m].
+    ranking : Ranking, optional
+        For the thresholds s and e recorded with the model.
+    trajectory_sha256 : str, optional
+    provenance : dict, optional
+    region : Region, optional
+        Prune on bounds proved over this joint-limit region
+        (:func:`gd_analyze.certify.certify.certify`) instead of the trajectory's peaks:
+        the model's guarantee is then of kind ``"region"``. Where the sampled pre-screen finds
+        that no such model could save enough (:func:`screened_exact`), the exact recursive
+        model is built instead, without certification, and its provenance holds the screen
+        (``region_screen``: :meth:`gd_analyze.certify.screen.RegionScreen.to_dict`).
+    sample_region : Region, optional
+        For a trajectory model: the region on which its error is sampled
+        (``region_sampled_error`` of its guarantee).
+    region_missing : str, optional
+        Why a trajectory model has no region (a missing limit), for its guarantee.
+    contributions : (BaseParameters, tuple of ndarray), optional
+        The robot's base parameters and their
+        :func:`gd_analyze.symbolic.pruning.contribution_peaks` on this trajectory, if the
+        caller computed them already (:func:`.peak_jobs.contribution_job`); computed here otherwise.
+
+    Returns
+    -------
+    model : SimplifiedModel
+        Of the recursive form, ``validation`` empty; ``costs["exact recursive"]`` holds the
+        exact recursive model's count.
+    selection : Selection
+        Its scale and bound, the bound split by part (``"D"``: inertial, ``"h"``: velocity,
+        ``"c"``: gravity, ``"whole"``: parameters dropped whole) [N m].
+
+    Notes
+    -----
+    Fu, Gonzalez & Lee (1987), Algorithm 3.1 on the base parameters (Khalil & Kleinfinger
+    1987; Gautier 1990), pruned as :func:`gd_analyze.symbolic.recursive_model.recursive_model`.
+    """
+    base, peaks = (base_parameters(robot), None) if contributions is None else contributions
+    forms, store, screen = None, None, None
+    if region is not None:
+        rec, guarantee, forms, store, screen = region_search(robot, base, region, tolerance,
+                                                             torque_floor)
+        if screen is not None:      # no region model could save enough: nothing searched
+            provenance = {**(provenance or {}), "region_screen": screen.to_dict()}
+    else:
+        rec = recursive_model(robot, q, qd, qdd, tolerance, torque_floor, base=base,
+                              peaks=peaks)
+        guarantee = trajectory_guarantee(robot, base, rec, tolerance, trajectory_sha256,
+                                         sample_region, region_missing)
+    model = recursive_simplified(robot, rec, base, tolerance=tolerance,
+                                 torque_floor=torque_floor, ranking=ranking,
+                                 trajectory_sha256=trajectory_sha256, provenance=provenance,
+                                 guarantee=guarantee, forms=forms, searched=store)
+    if region is not None and screen is None and torque_floor > 0:
+        found = _floor_zero_choice(robot, base, region, tolerance, torque_floor)
+        if found is not None:
+            alt = recursive_simplified(robot, found[0], base, tolerance=tolerance,
+                                       torque_floor=torque_floor, ranking=ranking,
+                                       trajectory_sha256=trajectory_sha256,
+                                       provenance=provenance, guarantee=found[1])
+            if _operations(alt) < _operations(model):
+                model, rec = alt, found[0]
+    sel = Selection(rule="budget", tolerance=float(tolerance), choices=model.choices,
+                    kept=None, scale=rec.scale, bound=rec.bound,
+                    bound_by_kind={"D": rec.bound_by_part[0], "h": rec.bound_by_part[1],
+                                   "c": rec.bound_by_part[2], "whole": rec.bound_by_part[3]},
+                    element_bound=np.full(robot.n, np.nan))
+    return model, sel
+
+
+def _operations(model):
+    """Multiplications + additions of a model's program."""
+    return int(model.cost["multiplications"]) + int(model.cost["additions"])
+
+
+def _floor_zero_choice(robot, base, region, tolerance, torque_floor):
+    """The pairs the search drops without a torque floor, proved under the floor's
+    certification: (RecursiveModel, Guarantee), or None if they do not fit.
+
+    With a floor every s_i only grows, so the budget only grows and those pairs fit it; the
+    greedy search under the larger budget may end dearer (a pair it drops first, restored
+    later for the proof that D_s is positive definite), so a floor is never to cost more than
+    this choice.
+    """
+    rec0 = _searched(robot, base, region, tolerance, 0.0, sampled=False)[0]
+    pb = certified(robot, base, region, torque_floor)
+    dropped = np.asarray(rec0.dropped, bool)
+    for whole in (dropped.all(axis=1), np.zeros(dropped.shape[0], bool)):
+        try:
+            pr = _region_pruning(base, pb, robot, region, tolerance, (dropped, whole))
+        except ValueError:
+            continue
+        return _region_model(robot, base, region, tolerance, pb, pr)
+    return None
+
+
+def recursive_simplified(robot: Robot, rec: RecursiveModel, base: BaseParameters,
+                         tolerance: float = DEFAULT_TOLERANCE, torque_floor: float = 0.0,
+                         ranking: Ranking | None = None, trajectory_sha256: str = "",
+                         provenance: Mapping[str, Any] | None = None,
+                         guarantee: Guarantee | None = None,
+                         forms: tuple | None = None, searched: Callable[..., Any] | None = None
+                         ) -> SimplifiedModel:
+    """A pruned recursive model as a :class:`SimplifiedModel`, its program and counts built.
+
+    Parameters
+    ----------
+    robot : Robot
+        The arm, with n joints.
+    rec : RecursiveModel
+        The pruned model (:func:`gd_analyze.symbolic.recursive_model.recursive_model`, or
+        :func:`~gd_analyze.symbolic.recursive_model.sweep_recursive_model` for a sweep).
+    base : BaseParameters
+        The robot's base parameters, those of ``rec``.
+    tolerance : float, optional
+        EPS.
+    torque_floor : float, optional
+        TAU [N m].
+    ranking : Ranking, optional
+        For the thresholds s and e recorded with the model.
+    trajectory_sha256 : str, optional
+    provenance : dict, optional
+    guarantee : Guarantee, optional
+        Where its bound holds (:class:`gd_analyze.simplify.guarantee.Guarantee`).
+    forms : (sequence of str, sequence of str or None), optional
+        The forms of the links' inertial moments of the exact and of the pruned program
+        (:attr:`gd_analyze.symbolic.codegen.Program.forms`) from an earlier search with
+        the same inputs: the programs are built with them, without the searches.
+    searched : callable, optional
+        Called with those forms of the programs built (the pruned program's None when the
+        exact one is deployed).
+
+    Returns
+    -------
+    SimplifiedModel
+        Of the recursive form, ``validation`` empty, ``bound`` = ``rec.bound`` [N m];
+        ``cost`` counted on its program (the exact recursive program when pruning would
+        cost more, :func:`gd_analyze.symbolic.pruning.pruned_program`), and
+        ``costs["exact recursive"]`` the exact recursive model's count.
+
+    Notes
+    -----
+    Fu, Gonzalez & Lee (1987), Algorithm 3.1 on the base parameters (Khalil & Kleinfinger
+    1987; Gautier 1990).
+    """
+    exact_forms, pruned_forms = forms if forms is not None else (None, None)
+    exact_program = recursive_program(robot, base.values, forms=exact_forms)
+    exact = with_drives(exact_program, robot).cost()
+    choice = rec.choice(robot, exact=exact_program,          # built once, kept with the model
+                        forms=pruned_forms if rec.dropped.any() else None)
+    if searched is not None:
+        searched(exact_program.forms, None if choice[0] is exact_program else choice[0].forms)
+    program = with_drives(choice[0], robot)
+    choices = {lab: "both" for lab in element_labels(robot.n)}
+    model = SimplifiedModel(
+        robot=robot, choices=choices,
+        dominance_threshold=float(getattr(ranking, "dominance_threshold", DEFAULT_DOMINANCE)),
+        negligible_threshold=float(getattr(ranking, "negligible_threshold", DEFAULT_NEGLIGIBLE)),
+        trajectory_sha256=trajectory_sha256, provenance=dict(provenance or {}), rule="budget",
+        tolerance=float(tolerance), torque_floor=float(torque_floor), terms=None,
+        recursive=rec, bound=[float(v) for v in rec.bound],
+        costs={"exact recursive": exact}, program_cache=program,
+        choice_cache=(*choice, exact_program),
+        guarantee=guarantee)
+    return replace_cost(model, program.cost())
+
+
+def region_search(robot: Robot, base: BaseParameters, region: Region, tolerance: float,
+                  torque_floor: float = 0.0, sampled: bool = True
+                  ) -> tuple[RecursiveModel, Guarantee | None, tuple | None,
+                             Callable | None, RegionScreen | None]:
+    """The region model at one EPS as the main job deploys it: the exact recursive model
+    where the sampled pre-screen finds that no region model could save enough
+    (:func:`screened_exact`), else the model searched (:func:`region_model`, its searches
+    taken from the derivation cache where an entry passes its checks).
+
+    Parameters
+    ----------
+    robot : Robot
+        The arm, with n joints.
+    base : BaseParameters
+        Its b base parameters.
+    region : Region
+    tolerance : float
+        EPS >= 0.
+    torque_floor : float, optional
+        TAU [N m or N].
+    sampled : bool, optional
+        False: a searched model's guarantee is not built (None) and its error over the region
+        not sampled (the tolerance ladder's rungs).
+
+    Returns
+    -------
+    rec : RecursiveModel
+    guarantee : Guarantee or None
+    forms : (exact forms, pruned forms) or None
+        The forms read from the derivation cache.
+    store : callable or None
+        ``store(exact_forms, pruned_forms)`` keeps a new search's outcome in the cache.
+    screen : RegionScreen or None
+        The pre-screen where it chose the exact model; None where the model was searched.
+
+    Notes
+    -----
+    A search in the derivation cache was made by a run whose screen chose to search: the
+    screen only chooses between two sound paths, so it is not run again (the entry itself is
+    checked as :func:`region_simplified` checks it).
+    """
+    stored = isinstance(read_search(search_key(robot, region, tolerance, torque_floor,
+                                               REGION_SAMPLES), robot.n, base.rank), dict)
+    exact = None if stored else screened_exact(robot, base, region, tolerance, torque_floor)
+    if exact is not None:
+        return exact[0], exact[1], None, None, exact[2]
+    return (*_searched(robot, base, region, tolerance, torque_floor, sampled), None)
+
+
+def _searched(robot, base, region, tolerance, torque_floor, sampled=True):
+    """:func:`region_model` with its searches taken from the derivation cache when an entry
+    passes its checks (:mod:`gd_analyze.store.search_cache`): (model, guarantee, forms or None,
+    a callable that keeps the searches' outcome or None); ``sampled=False``: no guarantee
+    (None), the model's error over the region not sampled."""
+    import warnings
+
+
+    pb = certified(robot, base, region, torque_floor)
+    key = search_key(robot, region, tolerance, torque_floor, REGION_SAMPLES)
+    found = read_search(key, robot.n, base.rank)
+    if isinstance(found, dict):
+        try:
+            pr = _region_pruning(base, pb, robot, region, tolerance,
+                                  (found["dropped"], found["whole"]))
+        except ValueError:
+            found = "holds dropped pairs over the budget"
+        else:
+            return (*_region_model(robot, base, region, tolerance, pb, pr, sampled),
+                    (found["exact_forms"], found["pruned_forms"]), None)
+    if isinstance(found, str):
+        warnings.warn(one_line(f"{entry_path(key)}: derivation cache entry {found}: "
+                               "ignored, the model is searched again"), CacheWarning,
+                      stacklevel=2)
+    pruned = _region_pruning(base, pb, robot, region, tolerance)
+    pr = pruned[0]
+    return (*_region_model(robot, base, region, tolerance, pb, pruned, sampled), None,
+            lambda exact_forms, pruned_forms: write_search(key, pr.dropped, pr.whole,
+                                                           exact_forms, pruned_forms))
+
+
+def region_simplified(robot: Robot, base: BaseParameters, region: Region, tolerance: float,
+                      torque_floor: float = 0.0, trajectory_sha256: str = "",
+                      provenance: Mapping[str, Any] | None = None) -> SimplifiedModel:
+    """:func:`region_model` as a :class:`SimplifiedModel`, its searches taken from the
+    derivation cache where an entry passes its checks (:mod:`gd_analyze.store.search_cache`)
+    and kept there otherwise, as the main job's (:func:`build_recursive`) are.
+
+    Parameters
+    ----------
+    robot, base, region, tolerance, torque_floor
+        As :func:`region_model` takes them (EPS; the floor in [N m or N]).
+    trajectory_sha256, provenance
+        As :func:`recursive_simplified` records them.
+
+    Returns
+    -------
+    SimplifiedModel
+        :func:`recursive_simplified` of :func:`region_model`'s model and guarantee: the same
+        pairs dropped, bound and programs whether the searches ran or were read back (an
+        entry's pairs pass the same budget check, its forms only choose among programs that
+        compute the same torques). Its claim is kept as proved in this process
+        (:func:`gd_analyze.store.model_trust.remember_claim`).
+
+    Notes
+    -----
+    Fu, Gonzalez & Lee (1987), Algorithm 3.1 on the base parameters; the bounds of
+    :func:`gd_analyze.certify.certify.certify` over the region.
+    """
+    rec, guarantee, forms, store = _searched(robot, base, region, tolerance, torque_floor)
+    model = recursive_simplified(robot, rec, base, tolerance=tolerance,
+                                 torque_floor=torque_floor, trajectory_sha256=trajectory_sha256,
+                                 provenance=provenance, guarantee=guarantee, forms=forms,
+                                 searched=store)
+    remember_claim(model)           # its bound proved here: not proved again by its checks
+    return model
+
+
+def screened_exact(robot: Robot, base: BaseParameters, region: Region, tolerance: float,
+                   torque_floor: float = 0.0
+                   ) -> tuple[RecursiveModel, Guarantee, RegionScreen] | None:
+    """The exact recursive model under a region guarantee, where the sampled pre-screen finds
+    that no region model could save :data:`gd_analyze.certify.screen.MIN_SAVING` of
+    its operations; else None.
+
+    Parameters
+    ----------
+    robot : Robot
+        The arm, with n joints.
+    base : BaseParameters
+        Its b base parameters.
+    region : Region
+    tolerance : float
+        EPS.
+    torque_floor : float, optional
+        [N m or N].
+
+    Returns
+    -------
+    (RecursiveModel, Guarantee, RegionScreen) or None
+        Only the (base parameter, part) pairs that are identically zero at every joint left
+        out, decided symbolically (:func:`gd_analyze.symbolic.pruning.zero_parts`), bound
+        0 (the model's error is 0 at every state, a proof without search), s_i as the
+        certification would use it, sampled error 0; the screen
+        (:func:`gd_analyze.certify.screen.screen_region`) says why. None when the
+        region is to be certified and searched.
+    """
+    found = screen_region(robot, base, region, region_values(robot, base, region), tolerance,
+                          torque_floor, magnitudes=region_magnitudes(robot, base, region))
+    if not found.skip:
+        return None
+    n = robot.n
+    zero = np.asarray(zero_parts(robot, np.flatnonzero(base.independent.reshape(-1))).all(
+        axis=2), bool)
+    rec = RecursiveModel(names=tuple(base.names()), beta=np.array(base.beta, float),
+                         dropped=zero, scale=found.scale.copy(),
+                         bound=np.zeros(n), bound_by_part=np.zeros((4, n)),
+                         relative_peak=found.relative_peak)
+    guarantee = Guarantee(
+        "region", float(tolerance), bound=np.zeros(n), scale=found.scale.copy(),
+        q_min=region.q_min, q_max=region.q_max, qd_max=region.qd_max, qdd_max=region.qdd_max,
+        scale_state=found.scale_state, sampled_error=np.zeros(n), region=region,
+        method=("the exact recursive model (only pairs proved identically zero left out: its "
+                "error is 0 at every state); "
+                + found.text() + "; scale s_i: the largest |tau_i| found by sampling the "
+                "region (vertices of qd and qdd) and local maximisation (L-BFGS-B), a lower "
+                "bound of the true maximum" + _unrefined(robot)))
+    return rec, guarantee, found
+
+
+def replace_cost(model: SimplifiedModel, cost: dict) -> SimplifiedModel:
+    """The model with its ``cost`` set (a new frozen value; its ``program_cache`` field, and
+    so a program built before, is carried over by :func:`dataclasses.replace`).
+
+    Parameters
+    ----------
+    model : SimplifiedModel
+    cost : dict
+        ``multiplications``, ``additions``, ``sin``, ``cos``.
+
+    Returns
+    -------
+    SimplifiedModel
+    """
+    return dataclasses.replace(model, cost=dict(cost))
+
+
+def restored_rebuild(q: np.ndarray | None, qd: np.ndarray | None, qdd: np.ndarray | None,
+                     region: Region | None = None, sample_region: Region | None = None,
+                     region_missing: str = "",
+                     contributions: tuple[BaseParameters, tuple[np.ndarray, ...]] | None = None
+                     ) -> Callable[..., SimplifiedModel]:
+    """A ``rebuild`` for :func:`gd_analyze.certify.positive_definite.with_inertia_check`:
+    the recursive model with exactly the given pairs dropped, its bound, guarantee (bound and
+    sampled error) and cost derived again for them.
+
+    Parameters
+    ----------
+    q, qd, qdd : ndarray, shape (N, n), or None
+        The trajectory the model was built on [rad, rad/s, rad/s^2; m, m/s, m/s^2]; None
+        for a region model (its region is used).
+    region : Region, optional
+        The region its bound is proved over (a region model), else None.
+    sample_region : Region, optional
+        A trajectory model's region of sampled errors.
+    region_missing : str, optional
+    contributions : (BaseParameters, tuple of ndarray), optional
+        As :func:`build_recursive` takes them.
+
+    Returns
+    -------
+    callable
+        ``rebuild(model, dropped)`` -> SimplifiedModel: the model's settings, provenance,
+        thresholds and compared costs kept, ``costs["recursive, budget"]`` its new count.
+
+    Notes
+    -----
+    Fewer pairs are dropped, so the pruning's budget still holds: the bound is that of
+    :func:`gd_analyze.symbolic.pruning.prune_bounds` for the chosen pairs (a parameter
+    counted whole where all its parts are dropped and that fits, else pair by pair).
+    """
+    def rebuild(model, dropped):
+        robot, tol, floor = model.robot, model.tolerance, model.torque_floor
+        base = model.recursive.base(robot) if contributions is None else contributions[0]
+        dropped = settle_restored(robot, base, model.recursive.dropped, dropped)
+
+        def chosen(select):
+            for whole in (dropped.all(axis=1), np.zeros(dropped.shape[0], bool)):
+                try:
+                    return select((dropped, whole))
+                except ValueError:
+                    continue
+            raise ValueError("the restored pairs do not fit the budget")
+        if region is not None:
+            pb = certified(robot, base, region, floor)
+            pr = chosen(lambda c: _region_pruning(base, pb, robot, region, tol, c))
+            rec, guarantee = _region_model(robot, base, region, tol, pb, pr)
+        else:
+            pr0 = prune(robot, base, q, qd, qdd, tol, torque_floor=floor,
+                        peaks=None if contributions is None else contributions[1])
+            pr = chosen(lambda c: prune_bounds(robot, base, pr0.scale, pr0.peak,
+                                               pr0.whole_peak, tol, chosen=c))
+            safe = np.where(pr.scale > 0, pr.scale, 1.0)
+            rel = np.where(pr.scale > 0, pr.peak / safe,
+                           np.where(pr.peak > 0, np.inf, 0.0)).max(axis=2)
+            rec = RecursiveModel(names=tuple(base.names()), beta=np.array(base.beta, float),
+                                 dropped=np.array(pr.dropped, bool),
+                                 scale=np.array(pr.scale, float),
+                                 bound=np.array(pr.bound, float),
+                                 bound_by_part=dropped_peaks(pr.peak, pr.whole_peak,
+                                                             pr.dropped, pr.whole),
+                                 relative_peak=rel)
+            guarantee = trajectory_guarantee(robot, base, rec, tol, model.trajectory_sha256,
+                                             sample_region, region_missing)
+        new = recursive_simplified(robot, rec, base, tolerance=tol, torque_floor=floor,
+                                   trajectory_sha256=model.trajectory_sha256,
+                                   provenance=model.provenance, guarantee=guarantee)
+        costs = {**model.costs, "recursive, budget": dict(new.cost)} if model.costs else \
+            dict(new.costs)
+        return dataclasses.replace(
+            new, dominance_threshold=model.dominance_threshold,
+            negligible_threshold=model.negligible_threshold, validation=model.validation,
+            costs=costs, full_cost=dict(model.full_cost), program_cache=new.program())
+    return rebuild

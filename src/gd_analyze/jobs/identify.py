@@ -1,0 +1,469 @@
+"""The identification job: recordings -> identified robot (``gd-analyze identify``).
+
+:func:`identify` reads and preprocesses the recordings (:mod:`gd_analyze.trajectory.recording`,
+:mod:`gd_analyze.estimation.preprocess`), stacks the identification regressor of the
+training recordings (:mod:`gd_analyze.estimation.regressor`), estimates by ordinary then
+weighted least squares (:mod:`gd_analyze.estimation.estimate`), chooses the standard
+parameters (:mod:`gd_analyze.estimation.consistent`), and predicts every recording with the
+identified model and with the robot file as shipped. It returns a frozen
+:class:`~gd_analyze.store.identification_dataset.IdentificationResult`; it neither prints nor
+writes.
+"""
+
+from __future__ import annotations
+
+import math
+import os
+from collections.abc import Sequence
+from dataclasses import dataclass
+from pathlib import Path
+from typing import TYPE_CHECKING, Any
+
+import numpy as np
+
+from .._version import VERSION
+from ..dynamics.base_parameters import base_parameters, base_regressor
+from ..errors import InputError
+from ..estimation.consistent import (
+    SolverFailure,
+    base_map,
+    closest_standard,
+    consistent_standard,
+    min_eigenvalues,
+    robot_with_standard,
+)
+from ..estimation.estimate import combine_factors, joint_factors, least_squares
+from ..estimation.preprocess import default_cutoff, preprocess
+from ..estimation.regressor import DRIVE_KINDS, column_names, moving_rows, prior_values
+from ..model.drives import friction_torque
+from ..model.robots import load_robot
+from ..store.identification_dataset import (
+    IdentificationResult,
+    ParameterTable,
+    RecordingFit,
+    group_names,
+)
+from ..symbolic.drive_regressor import IdentificationColumns, identification_regressor
+from ..trajectory.recording import Recording, read_recording
+from ..trajectory.trajectory import trajectory_from_arrays
+from .analyze import analyze
+from .evaluate import model_torque as simplified_torque
+from .options import AnalysisOptions
+
+if TYPE_CHECKING:
+    from ..dynamics.base_parameters import BaseParameters
+    from ..model.robot import Robot
+
+__all__ = ["IdentifyOptions", "identify", "model_torque", "DEFAULT_DRIVES"]
+
+#: A training row whose residual exceeds this many noise standard deviations is an outlier.
+OUTLIER_SIGMAS = 5.0
+#: Relative size of a negative mass, first moment or friction taken for a rounding error of
+#: a true 0 (:func:`_rounding_cleaned`).
+ROUNDING = 1e-12
+#: The drive columns identified by default.
+DEFAULT_DRIVES = ("viscous", "coulomb", "offset")
+
+
+@dataclass(frozen=True)
+class IdentifyOptions:
+    """The settings of an identification.
+
+    Attributes
+    ----------
+    cutoff : float, "auto" or None
+        Low-pass cutoff [Hz]; ``"auto"``: chosen from the training recordings
+        (:func:`~gd_analyze.estimation.preprocess.default_cutoff`, the largest over them,
+        used for every recording); None: no filter.
+    decimate : int
+        Keep every decimate-th sample after filtering.
+    drives : tuple of str
+        The drive columns, a subset of ``armature``, ``viscous``, ``coulomb``, ``offset``.
+    current : bool
+        The recordings hold motor currents [A]; ``drive_gains`` turn them into torque.
+    drive_gains : tuple of float or None
+        K_i [N m/A]: tau_i = K_i i_i.
+    consistent : bool
+        Physically consistent standard parameters (pseudo-inertias PSD).
+    simplify : bool
+        Build the simplified model of the identified robot (the main job's analysis) and
+        predict every recording with it too.
+
+    Raises
+    ------
+    ValueError
+        On an unknown drive kind, a cutoff <= 0, decimate < 1, or currents without gains.
+    """
+
+    cutoff: object = "auto"
+    decimate: int = 1
+    drives: tuple = DEFAULT_DRIVES
+    current: bool = False
+    drive_gains: tuple | None = None
+    consistent: bool = False
+    simplify: bool = False
+
+    def __post_init__(self):
+        unknown = [k for k in self.drives if k not in DRIVE_KINDS]
+        if unknown:
+            raise ValueError(f"unknown drive column {unknown[0]!r} (known: "
+                             f"{', '.join(DRIVE_KINDS)})")
+        if len(set(self.drives)) != len(self.drives):
+            raise ValueError("a drive column is given twice")
+        if not (self.cutoff is None or self.cutoff == "auto" or
+                (isinstance(self.cutoff, (int, float)) and math.isfinite(self.cutoff)
+                 and self.cutoff > 0)):
+            raise ValueError(f"cutoff must be a frequency > 0 [Hz], 'auto' or None, got "
+                             f"{self.cutoff!r}")
+        if int(self.decimate) != self.decimate or self.decimate < 1:
+            raise ValueError(f"decimate must be a whole number >= 1, got {self.decimate!r}")
+        if self.current and self.drive_gains is None:
+            raise ValueError("currents need the drive gains K (tau = K i)")
+        if self.drive_gains is not None and not all(
+                isinstance(k, (int, float)) and math.isfinite(k) and k != 0
+                for k in self.drive_gains):
+            raise ValueError("drive gains must be finite and nonzero numbers")
+
+    def settings(self) -> dict:
+        """dict: the options as plain values, for provenance."""
+        return {"cutoff_hz": self.cutoff, "decimate": int(self.decimate),
+                "drives": [k for k in DRIVE_KINDS if k in self.drives], "current": bool(self.current),
+                "drive_gains": None if self.drive_gains is None else
+                [float(k) for k in self.drive_gains],
+                "consistent": bool(self.consistent), "simplify": bool(self.simplify),
+                "coulomb_model": "sign(qd)"}
+
+
+def model_torque(robot: Robot, q: np.ndarray, qd: np.ndarray, qdd: np.ndarray,
+                 base: BaseParameters | None = None) -> np.ndarray:
+    """The torque of a robot with its drives (armature, friction and torque offsets).
+
+    Parameters
+    ----------
+    robot : Robot
+        The arm (rigid links, armature, viscous and Coulomb friction, torque offsets).
+    q, qd, qdd : ndarray, shape (N, n)
+        [rad, rad/s, rad/s^2; m, m/s, m/s^2].
+    base : BaseParameters, optional
+
+    Returns
+    -------
+    ndarray, shape (N, n)
+        Y_b beta + Ia qdd + F_v qd + F_c sign(qd) + tau_0 [N m or N].
+    """
+    Y, beta = base_regressor(robot, q, qd, qdd, base)
+    return Y @ beta + _drive_torque(robot, qd, qdd)
+
+
+def _drive_torque(robot, qd, qdd):
+    """Ia qdd + F_v qd + F_c sign(qd) + tau_0 of a robot's drives [N m or N]
+    (:func:`gd_analyze.model.drives.friction_torque`)."""
+    tau = np.asarray(robot.armature) * qdd
+    fr = friction_torque(robot, qd)
+    return tau if fr is None else tau + fr
+
+
+def _recording(item, n, options, role):
+    if isinstance(item, Recording):
+        rec = item
+    else:
+        rec = read_recording(item, n_joints=n, current=options.current)
+    if rec.n != n:
+        raise InputError(f"the recording has {rec.n} joints, the robot has {n}", rec.source)
+    if options.current:
+        gains = options.drive_gains
+        if len(gains) != n:
+            raise InputError(f"{len(gains)} drive gains for {n} joints", column="--drive-gains")
+    return rec
+
+
+def _prepared(rec, cutoff, options, label):
+    tau = rec.tau * np.asarray(options.drive_gains) if options.current else rec.tau
+    try:
+        pre = preprocess(rec.t, rec.q, tau, rec.qd, rec.qdd, cutoff=cutoff,
+                         decimate=int(options.decimate), label=label)
+    except ValueError as exc:
+        raise InputError(str(exc), rec.source,
+                         column="--cutoff" if "cutoff" in str(exc) else None) from None
+    return pre
+
+
+def _consistent(base, theta, est, phi0, drive_kind, drive_prior):
+    """:func:`consistent_standard`, a failure of both solvers said on one line (exit 2)."""
+    try:
+        return consistent_standard(base, theta, est.identifiable, est.R, phi0, drive_kind,
+                                   drive_prior)
+    except SolverFailure as exc:
+        raise InputError(f"cannot find physically consistent parameters: {exc}; the "
+                         "recordings may not excite the arm enough (try plan --excitation)"
+                         ) from None
+
+
+def _rounding_cleaned(phi, drives, nonneg):
+    """The standard parameters and drives with rounding-level negatives set to 0.
+
+    A link of mass 0 (or a friction of 0) in the true arm comes out of a noise-free fit as
+    +-1e-18: a mass below ``ROUNDING`` x the largest mass becomes 0, with its first moments
+    when they are as small, a negative principal moment about the centre of mass above
+    -``ROUNDING`` x the largest inertia parameter becomes 0 (an unidentifiable link's moments
+    come out as +-1e-17, which Pinocchio refuses), and a friction below ``ROUNDING`` x the
+    largest drive value becomes 0, so the robot file holds them (the torque changes by a
+    rounding error).
+    """
+    phi, drives = np.array(phi, float), np.array(drives, float)
+    m = phi[:, 9]
+    tiny_m = np.abs(m) <= ROUNDING * max(1.0, float(np.abs(m).max(initial=0.0)))
+    m[tiny_m] = 0.0
+    h_scale = ROUNDING * max(1.0, float(np.abs(phi[:, 6:9]).max(initial=0.0)))
+    zero_h = (m == 0) & (np.abs(phi[:, 6:9]).max(axis=1) <= h_scale)
+    phi[zero_h, 6:9] = 0.0
+    phi[:, :6] = _rounding_moments(phi, ROUNDING * max(1.0, float(np.abs(phi[:, :6]).max(
+        initial=0.0))))
+    d_scale = ROUNDING * max(1.0, float(np.abs(drives).max(initial=0.0)))
+    drives[nonneg & (drives < 0) & (drives >= -d_scale)] = 0.0
+    return phi, drives
+
+
+def _rounding_moments(phi, tol):
+    """XX..ZZ (n, 6) with each link's principal moments about its centre of mass in [-tol, 0)
+    set to 0 (Huygens-Steiner, Fu, Gonzalez & Lee 1987, Sec. 3.2)."""
+    m = phi[:, 9]
+    c = np.divide(phi[:, 6:9], m[:, None], out=np.zeros((phi.shape[0], 3)),
+                  where=m[:, None] > 0)
+    shift = m[:, None, None] * (np.einsum("ia,ia->i", c, c)[:, None, None] * np.eye(3)
+                                - c[:, :, None] * c[:, None, :])
+    out = np.array(phi[:, :6], float)
+    for k, (w, V) in enumerate(zip(*np.linalg.eigh(_moments(phi) - shift))):
+        if ((w < 0) & (w >= -tol)).any() and not (w < -tol).any():
+            Ic = (V * np.maximum(w, 0.0)) @ V.T + shift[k]
+            out[k] = [Ic[a, b] for a, b in ((0, 0), (0, 1), (0, 2), (1, 1), (1, 2), (2, 2))]
+    return out
+
+
+def _moments(phi):
+    """(n, 3, 3): each link's inertia tensor about its frame's origin from XX..ZZ."""
+    J = np.empty((phi.shape[0], 3, 3))
+    for k, (a, b) in enumerate(((0, 0), (0, 1), (0, 2), (1, 1), (1, 2), (2, 2))):
+        J[:, a, b] = J[:, b, a] = phi[:, k]
+    return J
+
+
+def _loadable(robot_phi, drives_ok):
+    """Whether the standard parameters make a robot file the loader accepts."""
+    phi = robot_phi
+    m = phi[:, 9]
+    if (m < 0).any() or not drives_ok:
+        return False
+    c = np.divide(phi[:, 6:9], m[:, None], out=np.zeros((phi.shape[0], 3)),
+                  where=m[:, None] > 0)
+    if ((m == 0) & (np.abs(phi[:, 6:9]).max(axis=1) > 0)).any():
+        return False
+    Ic = _moments(phi) - m[:, None, None] * (np.einsum("ia,ia->i", c, c)[:, None, None] * np.eye(3)
+                                 - c[:, :, None] * c[:, None, :])
+    tol = 1e-10 * np.maximum(1.0, np.abs(Ic).max(axis=(1, 2)))
+    return bool((np.linalg.eigvalsh(Ic)[:, 0] >= -tol).all())
+
+
+def identify(robot: Robot | str | Path,
+             recordings: Sequence[str | os.PathLike | Recording],
+             validate: Sequence[str | os.PathLike | Recording] = (),
+             options: IdentifyOptions | dict | None = None) -> IdentificationResult:
+    """Identify an arm's base parameters and drives from recorded torques.
+
+    Parameters
+    ----------
+    robot : Robot, str or pathlib.Path
+        The robot file (the prior): a :class:`~gd_analyze.model.robot.Robot`, a built-in
+        name or a TOML or URDF file.
+    recordings : sequence of str, os.PathLike or Recording
+        The training recordings (:func:`~gd_analyze.trajectory.recording.read_recording`).
+    validate : sequence of str, os.PathLike or Recording, optional
+        Recordings not used for fitting, on which the errors are reported.
+    options : IdentifyOptions or dict, optional
+        The settings (a dict: :class:`IdentifyOptions`' fields).
+
+    Returns
+    -------
+    IdentificationResult
+        Its ``dataset`` is the store's content (``identification.h5``).
+
+    Raises
+    ------
+    InputError
+        On a recording that cannot be used (file, row, column), too few moving samples, or
+        options that do not fit the robot.
+
+    Notes
+    -----
+    Model: the base regressor (Gautier 1990) with per-joint drive columns
+    (:mod:`gd_analyze.estimation.regressor`); ordinary then weighted least squares
+    (Gautier & Poignet 2001); physically consistent parameters after Wensing, Kim & Slotine
+    (2017).
+    """
+    if options is None:
+        options = IdentifyOptions()
+    elif isinstance(options, dict):
+        try:
+            options = IdentifyOptions(**options)
+        except (TypeError, ValueError) as exc:
+            raise InputError(f"options: {exc}") from None
+    prior = robot if not isinstance(robot, (str, Path)) else load_robot(robot)
+    n = prior.n
+    if not recordings:
+        raise InputError("no recording to identify from")
+    train = [_recording(r, n, options, "train") for r in recordings]
+    valid = [_recording(r, n, options, "validate") for r in validate]
+    names = group_names([Path(r.source).stem for r in train + valid])
+    notes = []
+    cutoff = options.cutoff
+    if cutoff == "auto":
+        cutoff = max(default_cutoff(r.t, r.q) for r in train)
+        notes.append(f"low-pass cutoff {cutoff:.3g} Hz chosen from the training data (5 x the "
+                     f"bandwidth holding 99% of the positions' power), used for every recording")
+    pres = [_prepared(r, cutoff, options, name) for r, name in zip(train + valid, names)]
+    base = base_parameters(prior)
+    kinds = tuple(k for k in DRIVE_KINDS if k in options.drives)     # the columns' order
+    col_names, col_kinds = column_names(base, n, kinds)
+    columns = IdentificationColumns.keeping_all(base, n, kinds)
+    theta0 = prior_values(base, prior, kinds)
+    # rows at rest: thresholds from all training data
+    qd_train = np.concatenate([p.qd[p.keep] for p in pres[:len(train)]])
+    _, threshold = moving_rows(qd_train)
+    notes.append("rows (sample, joint) with |qd_i| below 2% of the joint's 99th-percentile "
+                 "speed are left out of the fit: at rest the torque holds an unknown static "
+                 "friction (they count in the errors); Coulomb friction is F_c sign(qd), not "
+                 "smoothed, as in the robot file")
+    factors: Any = None  # joint_factors' pair, once the first recording is read
+    kept_Y = []          # the training recordings' filtered regressors, for their predictions
+    for p in pres[:len(train)]:
+        Yr = p.filtered(identification_regressor(prior, p.q, p.qd, p.qdd, columns))[p.keep]
+        f = joint_factors(Yr, p.tau[p.keep], moving_rows(p.qd[p.keep], threshold)[0])
+        kept_Y.append(Yr)
+        factors = f if factors is None else combine_factors(factors, f)
+    try:
+        est = least_squares(factors, theta0)
+        # outliers: rows whose residual exceeds OUTLIER_SIGMAS x the joint's noise are left out
+        # and the fit repeated once (a Gaussian residual exceeds 5 sigma once in 1.7 million)
+        refit: Any
+        dropped, refit, fit_rows = 0, None, []
+        for p, Yr in zip(pres[:len(train)], kept_Y):
+            used = moving_rows(p.qd[p.keep], threshold)[0]
+            resid = np.abs(p.tau[p.keep] - Yr @ est.value)
+            out = used & (resid > OUTLIER_SIGMAS * np.maximum(est.noise_std, 1e-300))
+            dropped += int(out.sum())
+            fit_rows.append(used & ~out)
+        if dropped:
+            for p, Yr, rows in zip(pres[:len(train)], kept_Y, fit_rows):
+                f = joint_factors(Yr, p.tau[p.keep], rows)
+                refit = f if refit is None else combine_factors(refit, f)
+            est = least_squares(refit, theta0)
+            notes.append(f"{dropped} outlier rows (residual above {OUTLIER_SIGMAS:g} x the "
+                         f"joint's noise standard deviation) left out and the fit repeated")
+    except ValueError as exc:
+        raise InputError(f"cannot identify: {exc}") from None
+    phi0 = base.standard
+    b = base.rank
+    drive_kind = col_kinds[b:]
+    theta = est.value
+    nonneg = np.array([k != "offset" for k in drive_kind], bool)
+    if options.consistent:
+        sol = _consistent(base, theta, est, phi0, drive_kind, theta0[b:])
+        phi, drives = sol.phi, sol.drives
+        theta = np.concatenate([base_map(base) @ phi.reshape(-1), drives])
+        method = (f"physically consistent (every pseudo-inertia >= 0, armature and friction "
+                  f">= 0; cvxpy with {sol.solver}): "
+                  + ("they reproduce the identified base parameters; among those, the closest "
+                     "to the robot file's" if sol.reproduces else
+                     f"no consistent parameters reproduce the identified ones: the closest fit "
+                     f"(weighted residual {sol.residual:.3g} of the fit's scale), and among "
+                     f"those the closest to the robot file's"))
+        file_phi, file_drives, file_note = phi, drives, None
+    else:
+        phi = closest_standard(base, theta[:b], phi0)
+        drives = theta[b:]
+        method = ("the standard parameters closest to the robot file's that reproduce the "
+                  "identified base parameters (least-norm deviation)")
+        file_phi, file_drives = _rounding_cleaned(phi, drives, nonneg)
+        file_note = None
+        if not _loadable(file_phi, bool((file_drives[nonneg] >= 0).all())):
+            sol = _consistent(base, theta, est, phi0, drive_kind, theta0[b:])
+            file_phi, file_drives = sol.phi, sol.drives
+            file_note = ("the least-squares parameters are not physically realisable (a "
+                         "link's inertia or mass, or a friction < 0), which a robot file cannot "
+                         "hold: identified_robot.toml holds the physically consistent "
+                         "parameters (as --consistent)"
+                         + ("" if sol.reproduces else ", which do not reproduce the identified "
+                            "ones exactly"))
+            notes.append(file_note)
+    per_kind = {k: np.zeros(n) for k in DRIVE_KINDS}
+    for k, kind in enumerate(drive_kind):
+        per_kind[kind][k % n] = file_drives[k]
+    identified = robot_with_standard(prior, file_phi, armature=per_kind["armature"],
+                                     viscous=per_kind["viscous"], coulomb=per_kind["coulomb"],
+                                     torque_offset=per_kind["offset"])
+    offsets = per_kind["offset"]
+    eig = min_eigenvalues(phi)
+    scaleJ = np.maximum(1e-300, np.abs(phi[:, :6]).max(axis=1))
+    consistent = eig >= -1e-10 * scaleJ
+    simplified = _simplified_model(identified, pres, len(train), options) \
+        if options.simplify else None
+    fits = []
+    for k, (p, name) in enumerate(zip(pres, names)):
+        is_train = k < len(train)
+        rec = (train + valid)[k]
+        keep = p.keep
+        Yr = kept_Y[k] if is_train else \
+            p.filtered(identification_regressor(prior, p.q, p.qd, p.qdd, columns))[keep]
+        pred = Yr @ theta
+        tau_prior = Yr[:, :, :b] @ base.beta + p.filtered(_drive_torque(prior, p.qd, p.qdd))[keep]
+        if is_train:
+            kept_Y[k] = None
+        del Yr
+        tau_s = None
+        if simplified is not None:
+            tau_s = p.filtered(simplified_torque(simplified[0], p.q, p.qd, p.qdd))[keep]
+        used_r = fit_rows[k] if is_train else np.zeros(p.q[keep].shape, bool)
+        fits.append(RecordingFit(
+            name=name, file=rec.source, sha256=rec.sha256,
+            role="train" if is_train else "validate", t=p.t[keep], q=p.q[keep],
+            qd=p.qd[keep], qdd=p.qdd[keep], tau_measured=p.tau[keep], tau_predicted=pred,
+            tau_prior=tau_prior, used=used_r, notes=tuple(rec.notes) + tuple(p.notes),
+            tau_simplified=tau_s))
+    unident = [nm for nm, ok in zip(col_names, est.identifiable) if not ok]
+    if unident:
+        notes.append(f"not identifiable on these data (kept at the robot file's value): "
+                     f"{', '.join(unident)}")
+    table = ParameterTable(names=col_names, kinds=col_kinds, value=theta, std=est.std,
+                           ols_value=est.ols_value, prior=theta0,
+                           identifiable=est.identifiable)
+    if simplified is not None:
+        notes.append(f"simplified model of the identified robot (the main job's analysis along "
+                     f"{names[simplified[2]]}): {simplified[1]}")
+    settings = {**options.settings(), "cutoff_hz_used": cutoff,
+                "idle_threshold": threshold.tolist(), "standard_method": method,
+                "robot_file_note": file_note,
+                "simplified_guarantee": None if simplified is None else simplified[1]}
+    inputs = {r.source: r.sha256 for r in train + valid}
+    inputs[str(prior.source)] = prior.sha256
+    return IdentificationResult(
+        prior=prior, identified=identified, offsets=offsets, parameters=table,
+        condition_number=est.condition_number, rank=est.rank, standard=np.asarray(phi),
+        standard_prior=phi0, min_eigenvalue=eig, consistent=consistent,
+        standard_method=method, recordings=tuple(fits), settings=settings, inputs=inputs,
+        preprocessing=tuple(notes), version=VERSION, noise_std=est.noise_std)
+
+
+
+def _simplified_model(identified, pres, n_train, options):
+    """The simplified model of the identified robot: the main job's analysis
+    (:func:`gd_analyze.jobs.analyze.analyze`, its default options but the formulations'
+    comparison) along the first validation recording's kept samples (the first training
+    recording's if there is none). Returns (model, guarantee statement, recording index)."""
+    index = n_train if len(pres) > n_train else 0
+    p = pres[index]
+    traj = trajectory_from_arrays(p.t[p.keep], p.q[p.keep], p.qd[p.keep], p.qdd[p.keep],
+                                  n_joints=identified.n)
+    model = analyze(identified, traj, AnalysisOptions(formulations=False)).model
+    statement = model.guarantee.statement() if model.guarantee is not None else \
+        "no guarantee beyond the analysed recording"
+    return model, statement, index

@@ -1,0 +1,162 @@
+"""The simplification's peak passes, started beside the main job's G-D pass.
+
+The pruned recursive model needs the peaks of every base parameter's part contributions on
+the trajectory (unless it is pruned on bounds proved over the joint-limit region:
+:func:`proves_over_region`), the explicit model the peaks of its atoms: both depend on q, qd,
+qdd only, and both run compiled kernels that release the GIL. :func:`start_peaks` submits
+them to a thread pool before the pass over the G-D terms, which runs meanwhile; the simplification
+(:func:`gd_analyze.jobs.analyze.analysis_pass`) then takes their results. Nothing here
+prints or writes files.
+"""
+
+from __future__ import annotations
+
+from typing import TYPE_CHECKING
+
+import numpy as np
+
+from ..dynamics.base_parameters import base_parameters
+from ..store import explicit_cache
+from ..symbolic.explicit import term_peaks
+from ..symbolic.explicit_estimate import is_expensive
+from ..symbolic.pruning import contribution_peaks
+from .deploy import robot_region
+
+if TYPE_CHECKING:
+    from ..model.robot import Robot
+    from ..symbolic.explicit import Term
+    from .options import SimplifyOptions
+
+
+__all__ = ["derives_explicit", "proves_over_region", "contribution_job", "explicit_job",
+           "start_peaks"]
+
+
+def derives_explicit(robot: Robot, options: SimplifyOptions) -> bool:
+    """Whether the main job derives the explicit G-D model.
+
+    Parameters
+    ----------
+    robot : Robot
+        The arm.
+    options : SimplifyOptions
+        ``rule``, ``explicit`` and ``form`` of the command line.
+
+    Returns
+    -------
+    bool
+        True when the chapter rule or ``form="explicit"`` asks for it, when ``explicit`` is
+        ``"always"``, or (``"auto"``) when it may be deployed (``form`` is not
+        ``"recursive"``) and its estimated size is cheap
+        (:func:`gd_analyze.symbolic.explicit_estimate.is_expensive`).
+    """
+
+    rule, explicit, form = options.rule, options.explicit, options.form
+    return rule == "chapter" or form == "explicit" or explicit == "always" or (
+        explicit == "auto" and form != "recursive" and not is_expensive(robot))
+
+
+def proves_over_region(robot: Robot, options: SimplifyOptions) -> bool:
+    """Whether the main job prunes the recursive model on bounds proved over the robot's
+    joint-limit region, as :func:`gd_analyze.jobs.deployment.deploy_models` decides it.
+
+    Parameters
+    ----------
+    robot : Robot
+        The arm.
+    options : SimplifyOptions
+        ``rule``, ``guarantee`` and ``region`` of the command line.
+
+    Returns
+    -------
+    bool
+        True under the budget rule, unless ``guarantee`` is ``"trajectory"``, when the robot
+        has a region (:func:`gd_analyze.jobs.deploy.robot_region`). The model then needs
+        no contribution peaks on the trajectory.
+    """
+
+    return (options.rule == "budget" and options.guarantee != "trajectory"
+            and robot_region(robot, getattr(options, "region", None))[0] is not None)
+
+
+def contribution_job(robot, q, qd, qdd, peaks=True):
+    """The base parameters and their contribution peaks on a trajectory.
+
+    Parameters
+    ----------
+    robot : Robot
+        The arm, with n joints.
+    q, qd, qdd : ndarray, shape (N, n)
+        The trajectory [rad, rad/s, rad/s^2; m, m/s, m/s^2].
+    peaks : bool, optional
+        False: the base parameters only (a model proved over the region needs no peaks).
+
+    Returns
+    -------
+    base : BaseParameters
+        :func:`gd_analyze.dynamics.base_parameters.base_parameters` of the robot.
+    peaks : tuple of ndarray or None
+        :func:`gd_analyze.symbolic.pruning.contribution_peaks`: tau_peak (n,), peak
+        (b, 3, n), whole_peak (b, n) [N m or N]; None if not asked for.
+
+    Notes
+    -----
+    What :func:`gd_analyze.jobs.deploy.build_recursive` takes as ``contributions``.
+    Compiled or array code by the trajectory's length
+    (:mod:`gd_analyze.dynamics.regressor_kernels`), releasing the GIL, so the
+    main job runs it in a thread beside its pass over the G-D terms (:func:`start_peaks`).
+    """
+
+    base = base_parameters(robot)
+    return base, contribution_peaks(robot, base, q, qd, qdd) if peaks else None
+
+
+def explicit_job(robot: Robot, q: np.ndarray, qd: np.ndarray,
+                 qdd: np.ndarray) -> tuple[Term, np.ndarray]:
+    """The explicit terms of an arm and their atoms' peaks on a trajectory.
+
+    Parameters
+    ----------
+    robot : Robot
+        The arm, with n joints.
+    q, qd, qdd : ndarray, shape (N, n)
+        The trajectory [rad, rad/s, rad/s^2; m, m/s, m/s^2].
+
+    Returns
+    -------
+    terms : Term
+        :func:`gd_analyze.store.explicit_cache.explicit_terms` of the robot.
+    peaks : ndarray, shape (A, n)
+        :func:`gd_analyze.symbolic.explicit.term_peaks` [N m or N].
+    """
+    terms, _ = explicit_cache.explicit_terms(robot)
+    return terms, term_peaks(terms, np.zeros(robot.n), q, qd, qdd, prismatic=robot.prismatic)
+
+
+def start_peaks(pool, robot, trajectory, options):
+    """Submit the simplification's peak passes to a pool of threads.
+
+    Parameters
+    ----------
+    pool : concurrent.futures.Executor
+        Runs the jobs (threads: the kernels release the GIL).
+    robot : Robot
+        The arm.
+    trajectory : Trajectory
+        q, qd, qdd of shape (N, n).
+    options : SimplifyOptions
+        The simplification's options (:func:`derives_explicit`).
+
+    Returns
+    -------
+    dict of str to concurrent.futures.Future
+        ``"recursive"``: :func:`contribution_job`, without the peaks where the model is
+        proved over the region (:func:`proves_over_region`); ``"explicit"``:
+        :func:`explicit_job`, only where the explicit model is derived.
+    """
+    args = (robot, trajectory.q, trajectory.qd, trajectory.qdd)
+    jobs = {"recursive": pool.submit(contribution_job, *args,
+                                     peaks=not proves_over_region(robot, options))}
+    if derives_explicit(robot, options):
+        jobs["explicit"] = pool.submit(explicit_job, *args)
+    return jobs

@@ -1,0 +1,142 @@
+"""The region's certification and samples, each computed once per process.
+
+A certification (:func:`gd_analyze.certify.certify.certify`, kept in the derivation
+cache) and the region's samples (:func:`gd_analyze.certify.region.region_samples`) are
+pure functions of the arm, the region, the torque floor and :data:`REGION_SAMPLES`, so a second
+analysis of the same arm in one session (a payload sweep, a sweep after the main job, a test
+run) does not repeat them. A trajectory model's sampled error needs only the samples, not the
+certification's branch and bound; a certification after them reuses them.
+"""
+
+from __future__ import annotations
+
+from typing import TYPE_CHECKING
+
+import numpy as np
+
+from ..certify.certify import pair_magnitudes_at
+from ..certify.region import region_samples
+from ..simplify.simplified import json_safe
+from ..store.certification_cache import certification
+from ..store.model_trust import remember
+
+if TYPE_CHECKING:                       # for the type hints only
+    from ..certify.certify import PairBounds
+    from ..certify.region import Region
+    from ..dynamics.base_parameters import BaseParameters
+    from ..model.robot import Robot
+
+__all__ = ["REGION_SAMPLES", "certified", "region_values", "region_magnitudes"]
+
+#: Positions sampled over the region for a model's sampled error (its velocity and
+#: acceleration at the worst vertices).
+REGION_SAMPLES = 1000
+
+#: Certifications kept in this process (keyed by :func:`_region_key`).
+_CERTIFIED: dict = {}
+#: The region samples kept in this process without a certification (the same key, floor 0).
+_SAMPLED: dict = {}
+#: The pairs' sampled magnitudes of the region samples (:func:`region_magnitudes`).
+_MAGNITUDES: dict = {}
+#: Entries each keeps (a 10-joint arm's channel values are about 300 MB).
+_CERTIFIED_MAX = 2
+
+
+def _keep(memo, key, make):
+    """``memo[key]``, made first if absent; the oldest entry goes beyond :data:`_CERTIFIED_MAX`."""
+    if key not in memo:
+        while len(memo) >= _CERTIFIED_MAX:
+            memo.pop(next(iter(memo)))
+        memo[key] = make()
+    return memo[key]
+
+
+def _region_key(robot, region, torque_floor):
+    """SHA-256 of the arm, the region, the floor and :data:`REGION_SAMPLES` (in-process keys)."""
+    import hashlib
+    import json
+
+
+    text = json.dumps(json_safe(robot.to_dict()), sort_keys=True)
+    return hashlib.sha256(text.encode() + b"".join(
+        np.ascontiguousarray(a, float).tobytes() for a in (
+            region.q_min, region.q_max, region.qd_max, region.qdd_max,
+            np.array([torque_floor, REGION_SAMPLES], float)))).hexdigest()
+
+
+def certified(robot: Robot, base: BaseParameters, region: Region,
+              torque_floor: float = 0.0) -> PairBounds:
+    """:func:`gd_analyze.certify.certify.certify` of an arm, once per process, and
+    kept in the derivation cache (:func:`gd_analyze.store.certification_cache.certification`).
+
+    Parameters
+    ----------
+    robot : Robot
+    base : BaseParameters
+    region : Region
+    torque_floor : float, optional
+        [N m or N].
+
+    Returns
+    -------
+    PairBounds
+        Samples :func:`region_values` drew in this process are not drawn again.
+    """
+    key = _region_key(robot, region, 0.0)
+    drawn = _SAMPLED.get(key)                                   # the same samples, if drawn
+    if drawn is not None and key in _MAGNITUDES:                # and their sampled peaks
+        drawn = (*drawn, _MAGNITUDES[key].max(axis=0))
+
+    def make():
+        pb = certification(robot, base, region, torque_floor=torque_floor,
+                           samples=REGION_SAMPLES, values=drawn)
+        remember(robot, region, torque_floor, REGION_SAMPLES, pb)  # a model built here is
+        return pb                                                  # checked without it again
+    return _keep(_CERTIFIED, _region_key(robot, region, torque_floor), make)
+
+
+def region_values(robot: Robot, base: BaseParameters, region: Region
+                  ) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
+    """The region's samples at :data:`REGION_SAMPLES` positions, torque floor 0.
+
+    Parameters
+    ----------
+    robot, base, region
+        The arm, its base parameters and its joint-limit region.
+
+    Returns
+    -------
+    tuple
+        :func:`gd_analyze.certify.region.region_samples`: positions, channel values,
+        scale s_i and where it was found. A certification of the same arm and region with
+        floor 0 already made in this process samples the same positions with the same seed
+        and gives these values; it is read instead.
+    """
+    key = _region_key(robot, region, 0.0)
+    if key in _CERTIFIED:
+        pb = _CERTIFIED[key]
+        return pb.positions, pb.values, pb.scale, pb.scale_state
+    return _keep(_SAMPLED, key, lambda: region_samples(robot, base, region, REGION_SAMPLES))
+
+
+def region_magnitudes(robot: Robot, base: BaseParameters, region: Region) -> np.ndarray:
+    """Each pair's largest |contribution| at each of :func:`region_values`' positions, once
+    per process.
+
+    Parameters
+    ----------
+    robot, base, region
+        The arm, its base parameters and its joint-limit region.
+
+    Returns
+    -------
+    ndarray, shape (B, b, 3, n)
+        :func:`gd_analyze.certify.certify.pair_magnitudes_at` of the samples [N m or
+        N]; a certification of the region made afterwards in this process takes their
+        largest over the positions as its sampled peaks instead of computing them again.
+    """
+    def make():
+        V = region_values(robot, base, region)[1]
+        return pair_magnitudes_at(V, np.asarray(base.beta, float), region.qd_max,
+                                  region.qdd_max)
+    return _keep(_MAGNITUDES, _region_key(robot, region, 0.0), make)

@@ -1,0 +1,281 @@
+"""The main job as one call: analyse a trajectory and write its output folder.
+
+:func:`run_analysis` is what ``gd-analyze ROBOT TRAJECTORY.csv`` runs: the G-D terms, their
+verification against Pinocchio, the ranking and the simplified model
+(:func:`gd_analyze.jobs.analyze.analyze_to_file`), an optional payload sweep, then
+``results.h5``, ``simplified_model.json`` with its emitted C header and source, numpy and CasADi
+modules, and the report,
+all written aside and moved into the output folder together
+(:func:`gd_analyze.store.staging.staged_output`). The command line only parses, calls this and
+prints. :func:`results_dataset` is the same analysis with the same settings, in memory: the
+Python API's ``gd_analyze.analyze``.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import os
+from collections.abc import Callable, Mapping, Sequence
+from dataclasses import dataclass
+from pathlib import Path
+from typing import TYPE_CHECKING, Any
+
+from ..errors import InputError
+from ..model.robot import with_payload
+from ..simplify.simplified import SOURCE_STEM
+from ..store.model_file import save_model
+from ..store.names import Var
+from ..store.results_view import Results
+from ..store.staging import check_free_space, staged_output, writing
+from ..store.sweep_datasets import embed_payload
+from ..symbolic.emit_model import artefact_names
+from ..symbolic.safe_text import c_prefix, check_prefix
+from ..trajectory.trajectory import as_trajectory
+from .analyze import Analysis, analyze, analyze_to_file
+from .options import AnalysisOptions
+from .payload import payload_sweep
+
+if TYPE_CHECKING:
+    import xarray as xr
+
+    from ..model.robot import Robot
+    from ..trajectory.trajectory import Trajectory
+
+__all__ = ["ANALYZE_OUTPUTS", "AnalysisOutputs", "Payload", "run_analysis",
+           "results_size", "results_dataset"]
+
+#: The files and folders the main job writes into its output folder.
+ANALYZE_OUTPUTS = ("results.h5", "simplified_model.json", *artefact_names(SOURCE_STEM),
+                   "report.html", "report.pdf", "figures")
+
+
+@dataclass(frozen=True)
+class Payload:
+    """A load fixed to the last link (Sec. 3.4.1's simplified model, loaded).
+
+    Attributes
+    ----------
+    mass : float
+        Load mass [kg].
+    com : tuple of float, length 3
+        The load's centre of mass in the last link frame [m].
+    inertia : tuple of float, length 3
+        The load's principal moments of inertia about its centre of mass [kg m^2].
+    """
+
+    mass: float = 0.0
+    com: tuple = (0.0, 0.0, 0.0)
+    inertia: tuple = (0.0, 0.0, 0.0)
+
+
+@dataclass(frozen=True)
+class AnalysisOutputs:
+    """What the main job wrote.
+
+    Attributes
+    ----------
+    outdir : pathlib.Path
+        The output folder.
+    files : tuple of pathlib.Path
+        The files written, in the output folder.
+    analysis : Analysis
+        The summary dataset, the simplified model and the verification
+        (:class:`gd_analyze.jobs.analyze.Analysis`).
+    """
+
+    outdir: Path
+    files: tuple
+    analysis: Analysis
+
+
+def results_size(N: int, n: int) -> int:
+    """Bytes of the per-set-point variables of results.h5 (uncompressed), plus 1 MiB.
+
+    Parameters
+    ----------
+    N, n : int
+        Set points and joints.
+
+    Returns
+    -------
+    int
+        8 bytes per value: t, nine vectors of n (q, qd, qdd, h and its two parts, c, tau,
+        tau_simplified) and three matrices of n^2 (D and its two parts) per set point
+        [bytes].
+
+    Examples
+    --------
+    >>> results_size(31, 6) - (1 << 20) == 8 * 31 * (1 + 9 * 6 + 3 * 6 * 6)
+    True
+    """
+    return 8 * N * (1 + 9 * n + 3 * n * n) + (1 << 20)
+
+
+def _settings(options, base_settings, payload, robot, prefix=None):
+    """The provenance of a run: each setting once, with the C prefix of the emitted sources
+    (the robot's name made one unless given)."""
+
+    simplify = {k: v for k, v in dataclasses.asdict(options.simplify).items() if k != "region"}
+    region = {} if options.simplify.region is None else options.simplify.region.settings()
+    return {**(base_settings or {}), "payload_mass": float(payload.mass),
+            "payload_com": [float(v) for v in payload.com],
+            "payload_inertia": [float(v) for v in payload.inertia],
+            **simplify, **region,
+            "c_prefix": c_prefix(robot.name) if prefix is None else check_prefix(prefix)}
+
+
+def run_analysis(robot: Robot, trajectory: Trajectory, options: AnalysisOptions,
+                 outdir: str | os.PathLike, report: Callable[..., Any] | None = None,
+                 settings: dict | None = None, payload: Payload | None = None,
+                 payload_masses: Sequence[float] | None = None, progress: Any = False,
+                 prefix: str | None = None) -> AnalysisOutputs:
+    """Analyse a trajectory and write the main job's output folder.
+
+    Parameters
+    ----------
+    robot : Robot
+        The arm, n joints, without the payload.
+    trajectory : Trajectory
+        t [s], q, qd, qdd of shape (N, n) [rad, rad/s, rad/s^2; m, m/s, m/s^2 for a
+        prismatic joint].
+    options : AnalysisOptions
+        Ranking, verification, storage and simplified-model settings.
+    outdir : str or os.PathLike
+        The output folder: created if missing; only the files this command wrote before are
+        replaced (:func:`gd_analyze.store.staging.staged_output`).
+    report : callable, optional
+        ``report(results, folder, progress) -> list of paths``: writes the report into
+        ``folder`` from ``results``, the analysis in memory
+        (:class:`gd_analyze.store.results_view.Results`, with its per-set-point series), or the
+        path of results.h5 when the series were streamed in chunks (the command line passes
+        :func:`gd_analyze.report.main.write_report` with its page and font settings); None
+        writes no report.
+    settings : dict, optional
+        Extra provenance (the command line, the payload, the URDF chain), stored with the
+        simplified-model settings in results.h5 and the model.
+    payload : Payload, optional
+        A load fixed to the last link for the analysis
+        (:func:`gd_analyze.model.robot.with_payload`).
+    payload_masses : sequence of float, optional
+        Also rank the trajectory for each of these load masses [kg] of the payload's shape,
+        on the arm without the payload (variables ``payload_*`` of results.h5); computed
+        before anything is written.
+    progress : bool or tqdm.tqdm, optional
+        As for :func:`gd_analyze.jobs.analyze.analysis_pass`.
+    prefix : str, optional
+        Prefix of the emitted C symbols and CasADi functions, a C identifier; default the
+        robot's name made one (:meth:`~gd_analyze.simplify.simplified.SimplifiedModel.sources`).
+
+    Returns
+    -------
+    AnalysisOutputs
+
+    Raises
+    ------
+    InputError
+        If the output folder is not a folder, holds files gd-analyze did not write, or has no
+        room; or the payload range is invalid. Nothing is written then.
+    OSError
+        If the output folder cannot be written ("cannot write the output folder").
+
+    Notes
+    -----
+    Source: Sec. 3.4.1 of Fu, Gonzalez & Lee (1987) for the analysis; the terms from
+    Eqs. (3.4-24) to (3.4-28).
+    """
+
+    options = AnalysisOptions() if options is None else options
+    outdir = Path(outdir)
+    if outdir.exists() and not outdir.is_dir():
+        raise InputError("exists and is not a folder", outdir)
+    extra = None
+    if payload_masses is not None:                      # computed before any output
+
+        shape = Payload() if payload is None else payload
+        extra = embed_payload(payload_sweep(
+            robot, trajectory, payload_masses, com=shape.com, inertia=shape.inertia,
+            dominance=options.dominance, negligible=options.negligible))
+    if payload is not None:
+        robot = with_payload(robot, payload.mass, payload.com, payload.inertia)
+    settings = _settings(options, settings, Payload() if payload is None else payload, robot,
+                         prefix)
+    prefix = settings["c_prefix"]
+    with staged_output(outdir, ANALYZE_OUTPUTS, "analyze") as stage, writing(outdir, stage):
+        check_free_space(stage, results_size(trajectory.n_setpoints, robot.n), "results.h5")
+        results = stage / "results.h5"
+        analysis = analyze_to_file(robot, trajectory, results, options, settings=settings,
+                                   progress=progress, extra=extra)
+        model = analysis.model
+        save_model(model, stage / "simplified_model.json")
+        written = [results, stage / "simplified_model.json"]
+        for name, text in model.sources(SOURCE_STEM, prefix).items():
+            (stage / name).write_text(text, encoding="utf-8")
+            written.append(stage / name)
+        if report is not None:          # from the result in memory when it holds the series
+            whole = Var.T in analysis.dataset.variables
+            written += report(Results.from_dataset(analysis.dataset) if whole else results,
+                              stage, progress)
+    files = tuple(outdir / Path(p).relative_to(stage) for p in written)
+    return AnalysisOutputs(outdir=outdir, files=files, analysis=analysis)
+
+
+def results_dataset(robot: Robot, trajectory: Trajectory | str | os.PathLike | Mapping | Sequence,
+                    options: AnalysisOptions | None = None) -> xr.Dataset:
+    """The main job's results dataset, in memory: what ``results.h5`` holds, no file written.
+
+    The same analysis as :func:`run_analysis` (:func:`gd_analyze.jobs.analyze.analysis_pass`
+    with the same provenance settings); ``gd_analyze.analyze`` is this function.
+
+    Parameters
+    ----------
+    robot : Robot
+        The arm, n joints (:func:`gd_analyze.load_robot`).
+    trajectory : Trajectory, str, os.PathLike, mapping or sequence
+        A :class:`~gd_analyze.trajectory.trajectory.Trajectory` (:func:`gd_analyze.read_trajectory`), a
+        trajectory CSV file, or arrays: ``(t, q)`` or ``(t, q, qd, qdd)``, or a mapping of
+        them, t of shape (N,) [s], the others (N, n) [rad, rad/s, rad/s^2; m, m/s, m/s^2]
+        (:func:`gd_analyze.trajectory.trajectory.as_trajectory`).
+    options : AnalysisOptions, optional
+        As the main job's (default: its defaults, :data:`gd_analyze.config.defaults`).
+
+    Returns
+    -------
+    xarray.Dataset
+        Dims ``t`` (the set points; coordinate: time [s]), ``joint`` and ``joint_k`` (rows and
+        columns of D; coordinates: the joints' names), ``element`` (``"D11"`` .. ``"hn"``) and
+        the model's own: D_tran, D_rot, D (N, n, n) [kg m2], h_tran, h_rot, h, c, tau,
+        tau_simplified (N, n) [N m], the ranking (share_tran, dominance, ...), the simplified
+        model's error and guarantee, the robot, and the provenance and the verification
+        against Pinocchio (``verification_passed``) in the attributes
+        (:mod:`gd_analyze.store.datasets`). The same variables, coordinates and values as the
+        ``results.h5`` of :func:`run_analysis`.
+
+    Raises
+    ------
+    InputError
+        If the trajectory cannot be read or does not fit the robot.
+    ValueError
+        If an option is out of range.
+
+    Notes
+    -----
+    Source: Sec. 3.4.1 of Fu, Gonzalez & Lee (1987); terms from Eqs. (3.4-24) to (3.4-28).
+    The simplified model itself (to evaluate or save) is
+    :func:`gd_analyze.jobs.analyze.analyze`'s ``model``.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> import gd_analyze as gd
+    >>> robot = gd.load_robot("two-link")
+    >>> t = np.linspace(0.0, 1.0, 5)
+    >>> ds = gd.analyze(robot, (t, np.outer(t, [1.0, -0.5])), gd.AnalysisOptions(
+    ...     formulations=False))
+    >>> dict(ds.D.sizes), ds.t.attrs["units"], ds.joint.values.tolist()
+    ({'t': 5, 'joint': 2, 'joint_k': 2}, 's', ['joint1', 'joint2'])
+    """
+
+    options = AnalysisOptions() if options is None else options
+    trajectory = as_trajectory(trajectory, robot.n)
+    return analyze(robot, trajectory, options,
+                   settings=_settings(options, None, Payload(), robot)).dataset

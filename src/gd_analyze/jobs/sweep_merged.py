@@ -1,0 +1,333 @@
+"""The merged simplified model of a sweep: the chapter rule's read from the dataset, the budget rule's put into it.
+
+A sweep (:func:`gd_analyze.jobs.sweep.run_sweep`) stores one merged model for all its
+trajectories. :func:`merged_model` reads the chapter rule's merge (a part of an element dropped
+only where every trajectory's own model drops it, no error bound) and its validation back from
+the dataset as a :class:`~gd_analyze.simplify.simplified.SimplifiedModel`;
+:func:`with_budget_model` puts the budget rule's model
+(:func:`gd_analyze.jobs.sweep_budget.budget_sweep_model`: the region's model, within EPS
+x s_i at every state of the robot's joint-limit region, or the cheaper of a pruned recursive
+and a pruned explicit model, within EPS x scale_i on every swept trajectory), its errors and
+bounds, its guarantee and which swept trajectories that covers into the dataset in place of the
+chapter merge;
+:func:`with_model_cost` puts what the merged model costs and keeps of c beside it. Source:
+Sec. 3.4.1 of Fu, Gonzalez & Lee (1987).
+"""
+
+from __future__ import annotations
+
+from typing import TYPE_CHECKING, Any
+
+import numpy as np
+
+from .._version import VERSION as __version__
+from ..errors import InputError
+from ..ranking.ranking import DEFAULT_DOMINANCE, DEFAULT_NEGLIGIBLE, element_labels
+from ..simplify.simplified import SimplifiedModel, choice_masks
+from ..store.datasets import region_fields
+from ..store.schema import strings
+from .control import model_cost, model_facts
+
+if TYPE_CHECKING:                       # for the type hints only
+    import xarray as xr
+
+    from ..model.robot import Robot
+__all__ = ["merged_model", "with_budget_model", "with_model_cost"]
+
+
+def merged_model(robot: Robot, sweep_ds: xr.Dataset) -> SimplifiedModel:
+    """The sweep's merged simplified model of the chapter rule (no error bound).
+
+    Parameters
+    ----------
+    robot : Robot
+        The arm the sweep was run on (checked against the dataset's ``robot_sha256`` and
+        number of elements).
+    sweep_ds : xarray.Dataset
+        A sweep dataset from :func:`~gd_analyze.jobs.sweep.run_sweep` (or read back with
+        :func:`~gd_analyze.store.schema.open_sweep`).
+
+    Returns
+    -------
+    SimplifiedModel
+        ``choices`` = the dataset's ``merged_choice``; ``validation`` = its torque error over
+        all the sweep's trajectories, per joint: ``peak_abs_error``, ``rms_error``,
+        ``peak_tau`` [N m] and ``relative_peak_error``, ``relative_rms_error`` (relative to
+        the peak |tau| over all trajectories), plus ``trajectories`` (K) and ``setpoints``
+        (total); ``trajectory_sha256`` = the digest of all inputs (``inputs_sha256``).
+
+    Raises
+    ------
+    InputError
+        If the dataset is not a sweep dataset, or was computed for another robot.
+
+    Notes
+    -----
+    The validation is computed by :func:`~gd_analyze.jobs.sweep.run_sweep` along every
+    trajectory and stored in the dataset; nothing is recomputed here. Source: Sec. 3.4.1 of Fu, Gonzalez & Lee (1987).
+    """
+    needed = ("merged_choice", "merged_error_peak", "merged_error_rms", "merged_error_tau_peak",
+              "merged_error_relative_peak", "merged_error_relative_rms")
+    missing = [v for v in needed if v not in sweep_ds.variables]
+    if missing:
+        raise InputError("not a gd-analyze sweep dataset: missing " + ", ".join(missing))
+    sha = sweep_ds.attrs.get("robot_sha256", "")
+    if sha and robot.sha256 and sha != robot.sha256:
+        raise InputError(f"the sweep was computed for robot {sweep_ds.attrs.get('robot')!r} "
+                         f"(sha256 {sha[:12]}...), not for {robot.name!r} "
+                         f"(sha256 {robot.sha256[:12]}...)")
+    labels = strings(sweep_ds["element"].values)
+    if labels != element_labels(robot.n):
+        raise InputError(f"the sweep's elements do not match a {robot.n}-joint robot")
+    choices = dict(zip(labels, strings(sweep_ds["merged_choice"].values)))
+    choice_masks(choices, robot.n)
+    validation = {
+        "peak_abs_error": sweep_ds["merged_error_peak"].values.tolist(),
+        "rms_error": sweep_ds["merged_error_rms"].values.tolist(),
+        "peak_tau": sweep_ds["merged_error_tau_peak"].values.tolist(),
+        "relative_peak_error": sweep_ds["merged_error_relative_peak"].values.tolist(),
+        "relative_rms_error": sweep_ds["merged_error_relative_rms"].values.tolist(),
+        "trajectories": int(sweep_ds.sizes.get("trajectory", 0)),
+        "setpoints": int(sweep_ds.attrs.get("setpoints_total", 0)),
+    }
+    provenance: dict[str, Any] = {"gd_analyze_version": __version__,
+                                  "kind": "merged model of a sweep",
+                  "sweep_version": str(sweep_ds.attrs.get("gd_analyze_version", "")),
+                  "merge_rule": str(sweep_ds.attrs.get("merge_rule", "")),
+                  "input_kind": str(sweep_ds.attrs.get("input_kind", ""))}
+    if "seed" in sweep_ds.attrs:
+        provenance["seed"] = int(sweep_ds.attrs["seed"])
+    return SimplifiedModel(
+        robot=robot, choices=choices,
+        dominance_threshold=float(sweep_ds.attrs.get("dominance_threshold", DEFAULT_DOMINANCE)),
+        negligible_threshold=float(sweep_ds.attrs.get("negligible_threshold",
+                                                      DEFAULT_NEGLIGIBLE)),
+        trajectory_sha256=str(sweep_ds.attrs.get("inputs_sha256", "")),
+        validation=validation, provenance=provenance)
+
+
+def with_budget_model(sweep_ds: xr.Dataset, model: SimplifiedModel) -> xr.Dataset:
+    """The sweep dataset with the budget rule's merged model in place of the chapter merge.
+
+    Parameters
+    ----------
+    sweep_ds : xarray.Dataset
+        From :func:`~gd_analyze.jobs.sweep.run_sweep` (K trajectories, n joints).
+    model : SimplifiedModel
+        From :func:`gd_analyze.jobs.sweep_budget.budget_sweep_model` (recursive or
+        explicit form) or :func:`gd_analyze.jobs.simplify.sweep_model` on the same
+        trajectories, in the same order (its ``validation["per_trajectory"]``).
+
+    Returns
+    -------
+    xarray.Dataset
+        A copy without the recursive peaks the merge pruned on (``pair_peak`` ...); with
+        ``merged_choice`` = the model's whole-part choices (for the recursive form, which
+        drops parameter parts, not element parts: ``pruned`` where those change the element
+        on the swept trajectories, else ``both``);
+        ``merged_bound`` (trajectory, joint) [N m], the guaranteed bound on each trajectory,
+        where the model gives it; ``merged_tau_error_peak``
+        (trajectory, joint) [N m] and ``merged_tau_error_relative_peak`` (divided by that
+        trajectory's scale_{t,i} = max(peak |tau_i|, TAU), guaranteed <= EPS; for a model
+        proved over the joint-limit region, by its s_i over the region, the same on every
+        trajectory, and proved <= EPS where the trajectory lies in the region);
+        ``merged_scale`` (trajectory, joint) [N m]; for a region model ``merged_covered``
+        (trajectory) [1] (1 where every set point lies in the region) and
+        ``merged_coverage`` (trajectory), why (:func:`gd_analyze.jobs.evaluate.coverage`);
+        ``merged_error_*`` over all trajectories
+        (relative to the peak |tau| over all of them); attributes ``merged_rule`` = "budget",
+        ``merged_tolerance`` (EPS), ``merged_torque_floor`` (TAU) [N m],
+        ``merged_worst_scaled_error``, ``merge_rule`` (the rule in words) and, where the model
+        carries a guarantee, ``merged_guarantee_kind`` (region or trajectory) and
+        ``merged_guarantee_statement`` (its
+        :meth:`~gd_analyze.simplify.guarantee.Guarantee.statement`); where the model
+        was measured on held-out trajectories, ``held_out_error_peak`` and
+        ``held_out_tau_peak`` (joint) [N m or N] and ``held_out_trajectories`` (their number),
+        for a region model ``held_out_inside_region`` (how many lie in the region).
+
+    Raises
+    ------
+    ValueError
+        If the model's per-trajectory errors do not match the dataset's trajectories.
+
+    Notes
+    -----
+    The guarantee is that of :mod:`gd_analyze.simplify.budget` over several trajectories,
+    or that of the joint-limit region (:func:`gd_analyze.jobs.deploy.region_model`).
+    """
+    torque = sweep_ds["tau_peak"].attrs.get("units", "N m") if "tau_peak" in sweep_ds else "N m"
+
+    v = model.validation
+    per = v["per_trajectory"]
+    peak = np.asarray(per["peak_abs_error"], float)
+    scale = np.asarray(per["scale"], float)
+    if peak.shape != (sweep_ds.sizes["trajectory"], sweep_ds.sizes["joint"]):
+        raise ValueError(f"the model's errors have shape {peak.shape}, the sweep has "
+                         f"{sweep_ds.sizes['trajectory']} trajectories and "
+                         f"{sweep_ds.sizes['joint']} joints")
+    with np.errstate(invalid="ignore", divide="ignore"):
+        rel = np.where(peak > 0, peak / np.where(scale > 0, scale, 0.0), 0.0)
+    ds = sweep_ds.drop_vars([v for v in ("pair_tau_peak", "pair_peak", "parameter_peak",
+                                         "base_parameter", "part") if v in sweep_ds.variables])
+    eps = f"{model.tolerance:g}"
+    region = model.guarantee is not None and model.guarantee.kind == "region"
+    words = _REGION_WORDS if region else _TRAJECTORY_WORDS
+
+    def put(name, dims, data, units, desc):
+        ds[name] = (dims, np.asarray(data), {"units": units, "long_name": desc})
+
+    labels = element_labels(sweep_ds.sizes["joint"])
+    put("merged_choice", ("element",), np.array([model.choices[k] for k in labels], dtype=str),
+        "1", f"whole parts kept by the budget rule (EPS = {eps}) {words['where']}"
+        if model.recursive is None else "pruned where the recursive model's dropped parts "
+        "change the element on the swept trajectories, else both")
+    put("merged_tau_error_peak", ("trajectory", "joint"), peak, torque,
+        "merged model: peak |tau_merged - tau| along the trajectory")
+    put("merged_scale", ("trajectory", "joint"), scale, torque, words["scale"])
+    if "bound" in per:                  # the guarantee on each trajectory
+        put("merged_bound", ("trajectory", "joint"), np.asarray(per["bound"], float), torque,
+            words["bound"])
+    put("merged_tau_error_relative_peak", ("trajectory", "joint"), np.nan_to_num(rel, nan=np.inf),
+        "1", words["relative"].format(eps=eps))
+    if region:                          # the proof holds where the trajectory lies in R
+        put("merged_covered", ("trajectory",), np.asarray(per["covered"], np.int8), "1",
+            "1 if every set point of the trajectory lies in the merged model's region, where "
+            "its bound is proved; 0 if not (not covered)")
+        put("merged_coverage", ("trajectory",), np.array(per["coverage"], dtype=str), "1",
+            "why the trajectory lies in the merged model's region or not")
+    for key, name, units, desc in (
+            ("peak_abs_error", "merged_error_peak", torque,
+             "merged model: peak |tau_merged - tau| over all trajectories"),
+            ("rms_error", "merged_error_rms", torque, "merged model: RMS of |tau_merged - tau| "
+                                                     "over all set points of all trajectories"),
+            ("peak_tau", "merged_error_tau_peak", torque, "peak |tau| over all trajectories"),
+            ("relative_peak_error", "merged_error_relative_peak", "1",
+             "merged model: peak error / peak |tau|, over all trajectories"),
+            ("relative_rms_error", "merged_error_relative_rms", "1",
+             "merged model: RMS error / peak |tau|, over all trajectories")):
+        put(name, ("joint",), np.array([np.nan if x is None else x for x in v[key]], float),
+            units, desc)
+    held = v.get("held_out") or {}
+    if held:                            # measured off the sweep, not guaranteed
+        put("held_out_error_peak", ("joint",), np.array(held["peak_abs_error"], float), torque,
+            "merged model: peak |tau_merged - tau| over the held-out trajectories (not "
+            "guaranteed)" if not region else "merged model: peak |tau_merged - tau| over the "
+            "held-out trajectories (measured; proved only on those inside the region)")
+        put("held_out_tau_peak", ("joint",), np.array(held["peak_tau"], float), torque,
+            "peak |tau| over the held-out trajectories")
+        ds.attrs["held_out_trajectories"] = int(v.get("held_out_trajectories", 0))
+        if region:
+            ds.attrs["held_out_inside_region"] = int(v.get("held_out_inside_region", 0))
+    ds.attrs.update({
+        "merged_rule": "budget", "merged_tolerance": float(model.tolerance),
+        "merged_torque_floor": float(model.torque_floor),
+        "merged_worst_scaled_error": float(v["worst_scaled_error"]),
+        "merge_rule": _merge_rule(model)})
+    if model.guarantee is not None:     # its scope, in the model's one sentence
+        ds.attrs.update({"merged_guarantee_kind": model.guarantee.kind,
+                         "merged_guarantee_statement": model.guarantee.statement()})
+        region_vars, region_attrs = region_fields(model.guarantee.region)
+        for name, (dims, data, attrs) in region_vars.items():
+            ds[name] = (dims, data, attrs)
+        ds.attrs.update(region_attrs)
+    return with_model_cost(ds, model)
+
+
+def _merge_rule(model):
+    """The budget rule of a merged model in words (the ``merge_rule`` attribute): how it was
+    pruned, and its guarantee as the model states it
+    (:meth:`gd_analyze.simplify.guarantee.Guarantee.statement`) for a region model."""
+    eps, floor = f"{model.tolerance:g}", f"{model.torque_floor:g}"
+    g = model.guarantee
+    if g is not None and g.kind == "region":
+        how = (f"one {_WHAT[model.form]}, exact (nothing dropped)" if model.form == "explicit"
+               else f"one {_WHAT[model.form]} whose dropped {_UNITS[model.form]}' bounds "
+                    f"proved over the joint-limit region sum to at most EPS = {eps} x s_i "
+                    f"(s_i = max(largest |tau_i| found over the region, {floor} N m))")
+        return f"budget rule over the joint-limit region: {how}; {model.scope()}"
+    return (f"budget rule: one {_WHAT[model.form]} whose dropped "
+            f"{_UNITS[model.form]}' peaks, each divided by its trajectory's scale_i "
+            f"= max(peak |tau_i|, {floor} N m), sum to at most EPS = "
+            f"{eps}: guaranteed within {eps} x scale_i on every swept trajectory")
+
+
+#: The descriptions of the per-trajectory variables of a merged model, by its guarantee.
+_TRAJECTORY_WORDS = {
+    "where": "on every swept trajectory",
+    "scale": "scale_i = max(peak |tau_i|, torque floor) along the trajectory",
+    "bound": "merged model: guaranteed bound on |tau_merged - tau| along the trajectory "
+             "(<= EPS x scale_i)",
+    "relative": "merged model: peak |tau_merged - tau| / scale_i along the trajectory "
+                "(guaranteed <= {eps})"}
+_REGION_WORDS = {
+    "where": "over the joint-limit region",
+    "scale": "s_i = max(largest |tau_i| found over the joint-limit region, torque floor), the "
+             "guarantee's scale (the same on every trajectory)",
+    "bound": "merged model: bound on |tau_merged - tau| proved at every state of the "
+             "joint-limit region (<= EPS x s_i), on the trajectory where it lies in the region",
+    "relative": "merged model: peak |tau_merged - tau| / s_i along the trajectory (proved "
+                "<= {eps} where the trajectory lies in the region, merged_covered)"}
+
+
+#: The merged model of each form, and what its budget drops, in the words of ``merge_rule``.
+_WHAT = {"recursive": "customized recursive Newton-Euler model on the base parameters",
+         "explicit": "explicit G-D model"}
+_UNITS = {"recursive": "(base parameter, part) pairs", "explicit": "terms"}
+
+
+def with_model_cost(sweep_ds: xr.Dataset, model: SimplifiedModel) -> xr.Dataset:
+    """The sweep dataset with its merged model's cost and gravity terms, counted on the model.
+
+    Parameters
+    ----------
+    sweep_ds : xarray.Dataset
+        A sweep dataset (:func:`~gd_analyze.jobs.sweep.run_sweep`).
+    model : SimplifiedModel
+        The merged model written beside it (budget rule: :func:`with_budget_model`'s; chapter
+        rule: :func:`merged_model`'s).
+
+    Returns
+    -------
+    xarray.Dataset
+        A copy with ``multiplications`` and ``additions`` (evaluator) [1]: operations per set
+        point of the merged model, the exact recursive model, the full explicit model (where
+        derived) and the project's Newton-Euler, last
+        (:func:`gd_analyze.jobs.control.model_cost`, counted, never timed); attributes
+        ``merged_form`` (recursive or explicit), ``merged_c_terms_kept`` and
+        ``merged_c_terms`` (its terms of c and the full explicit model's; -1 when not
+        counted: the chapter rule keeps c whole, :func:`gd_analyze.jobs.control.model_facts`);
+        for the recursive form ``merged_base_parameters``, ``merged_pairs`` and
+        ``merged_pairs_dropped`` (the (parameter, part) pairs that contribute on the swept
+        trajectories, and those dropped), ``merged_dropped_pairs`` and
+        ``merged_gravity_dropped`` (names, comma-separated).
+
+    Notes
+    -----
+    Source: Sec. 3.4.1 of Fu, Gonzalez & Lee (1987) (a simplified model "at a reduced
+    computation time"); Table 3.5 for Newton-Euler.
+    """
+
+    cost = model_cost(model)
+    facts = model_facts(model)
+    names = [("merged model" + name[len("simplified model"):])
+             if name.startswith("simplified model") else name for name in cost["evaluators"]]
+    ds = sweep_ds.copy()
+    ds = ds.assign_coords(evaluator=("evaluator", np.array(names, dtype=str),
+                                     {"long_name": "evaluator of tau at one set point",
+                                      "units": "1"}))
+    ds["multiplications"] = (("evaluator",), np.array(cost["multiplications"], np.int64),
+                             {"units": "1", "long_name": "multiplications per set point "
+                                                         "(counted)"})
+    ds["additions"] = (("evaluator",), np.array(cost["additions"], np.int64),
+                       {"units": "1", "long_name": "additions and subtractions per set point "
+                                                   "(counted)"})
+    ds.attrs.update({"merged_form": str(facts["form"]),
+                     "merged_c_terms_kept": int(facts["c_terms_kept"]),
+                     "merged_c_terms": int(facts["c_terms"])})
+    if facts["form"] == "recursive":
+        ds.attrs.update({"merged_base_parameters": int(facts["base_parameters"]),
+                         "merged_pairs": int(facts["pairs"]),
+                         "merged_pairs_dropped": int(facts["pairs_dropped"]),
+                         "merged_dropped_pairs": str(facts["dropped_pairs"]),
+                         "merged_gravity_dropped": str(facts["gravity_dropped"])})
+    return ds

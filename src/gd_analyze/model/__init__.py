@@ -1,0 +1,1 @@
+"""The robot model: links, joints, drives, mounting, limits, and its loaders (TOML, URDF, Pinocchio)."""

@@ -1,0 +1,1 @@
+"""The ranking: which part, translational or rotational, dominates each element of D and h."""

@@ -1,0 +1,248 @@
+"""Compiled chunk updates of the ranking's sums and peaks and of the parts' peak contributions.
+
+:class:`gd_analyze.ranking.ranking.RankingAccumulator` and
+:class:`gd_analyze.simplify.budget.PartPeaks` take the G-D terms of a trajectory chunk by
+chunk. Written with numpy, each chunk went through a dozen temporaries of shape (N, M): the
+gathered elements, their absolute values, the sums of parts. These kernels make one pass over
+the chunk's rows instead, with the same arithmetic in the same order, so the results are the
+numpy formulation's bit for bit (the tests keep it as their oracle):
+
+- a column sum over the chunk is the rows' values added in row order to 0 (as numpy reduces
+  axis 0 of a C-ordered (N, M) array, M >= 2), then added to the running sum;
+- a peak is a maximum, exact whatever the order; a NaN propagates as in ``np.maximum``, except
+  in :func:`part_peaks_kernel`, whose running peaks ignore a chunk whose peak is NaN, as the
+  built-in ``max(peak, chunk_peak)`` of the numpy formulation did;
+- ``np.clip(x, 0, None)`` is ``np.maximum(x, 0.0)``: x where ``x >= 0`` or x is NaN, else 0.
+
+This module imports numba; its users import it by their first call only.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+from numba import njit
+
+__all__ = ["ranking_kernel", "part_peaks_kernel", "inertia_block_kernel",
+           "inertia_screen_kernel"]
+
+
+@njit(cache=True, fastmath=False, nogil=True, inline="always")
+def _peak(m, v):  # pragma: no cover - compiled
+    """``np.maximum(m, v)`` for a running peak: NaN propagates."""
+    return v if (v > m or v != v) else m
+
+
+@njit(cache=True, fastmath=False, nogil=True)
+def ranking_kernel(D_tran, D_rot, h_tran, h_rot, tau, arm, arm_d, sum_tran, sum_rot,
+                   peak_tran, peak_rot, peak_total, scale_D, peak_tau):  # pragma: no cover
+    """Add a chunk of set points to the ranking's running sums and peaks, in place.
+
+    Parameters
+    ----------
+    D_tran, D_rot, h_tran, h_rot, tau : ndarray
+        The chunk's terms and torques, as
+        :meth:`gd_analyze.ranking.ranking.RankingAccumulator.update` takes them.
+    arm : ndarray, shape (M,)
+        The armature on each element (Ia_i on D_ii, 0 elsewhere) [kg m^2].
+    arm_d : ndarray, shape (n,)
+        The armature Ia [kg m^2] (zeros without drives).
+    sum_tran, sum_rot, peak_tran, peak_rot, peak_total, scale_D, peak_tau : ndarray
+        The accumulator's running sums of |tran| and |rot + arm| and peaks of |tran|, |rot|,
+        |tran + rot + arm|, sqrt(D_ii D_jj) (D_ii with the armature, clipped at 0) and
+        |tau_i|, updated.
+
+    Notes
+    -----
+    The M = n (n + 1) / 2 + n elements are the upper triangle of D row by row, then h
+    (:func:`gd_analyze.ranking.ranking.element_series`).
+    """
+    N, n = h_tran.shape
+    T = n * (n + 1) // 2
+    M = T + n
+    s_tran = np.zeros(M)
+    s_rot = np.zeros(M)
+    diag = np.empty(n)
+    for k in range(N):
+        for i in range(n):
+            v = (D_tran[k, i, i] + D_rot[k, i, i]) + arm_d[i]
+            diag[i] = v if (v >= 0.0 or v != v) else 0.0
+        e = 0
+        for i in range(n):
+            for j in range(i, n):
+                t = D_tran[k, i, j]
+                r = D_rot[k, i, j]
+                s_tran[e] += abs(t)
+                s_rot[e] += abs(r + arm[e])
+                peak_tran[e] = _peak(peak_tran[e], abs(t))
+                peak_rot[e] = _peak(peak_rot[e], abs(r))
+                peak_total[e] = _peak(peak_total[e], abs((t + r) + arm[e]))
+                scale_D[e] = _peak(scale_D[e], np.sqrt(diag[i] * diag[j]))
+                e += 1
+        for i in range(n):
+            t = h_tran[k, i]
+            r = h_rot[k, i]
+            s_tran[e] += abs(t)
+            s_rot[e] += abs(r + arm[e])
+            peak_tran[e] = _peak(peak_tran[e], abs(t))
+            peak_rot[e] = _peak(peak_rot[e], abs(r))
+            peak_total[e] = _peak(peak_total[e], abs((t + r) + arm[e]))
+            peak_tau[i] = _peak(peak_tau[i], abs(tau[k, i]))
+            e += 1
+    for e in range(M):
+        sum_tran[e] += s_tran[e]
+        sum_rot[e] += s_rot[e]
+
+
+@njit(cache=True, fastmath=False, nogil=True)
+def part_peaks_kernel(D_tran, D_rot, h_tran, h_rot, qdd, tau, rot, elem_i, elem_j, peaks,
+                      tau_peak):  # pragma: no cover - compiled
+    """Add a chunk of set points to the parts' running peak contributions, in place.
+
+    Parameters
+    ----------
+    D_tran, D_rot, h_tran, h_rot, qdd, tau : ndarray
+        The chunk, as :meth:`gd_analyze.simplify.budget.PartPeaks.update` takes it.
+    rot : ndarray of bool, shape (P,)
+        Whether part r is the rotational one (else translational).
+    elem_i, elem_j : ndarray of int, shape (P,)
+        Part r's element: D_ij (i <= j), or h_i where ``elem_j[r] < 0``.
+    peaks : ndarray, shape (P, n)
+        Running peak |contribution| of part r to each joint torque, replaced where the
+        chunk's peak exceeds it: D_ij qdd_j to tau_i and, for i != j, D_ij qdd_i to tau_j;
+        h_i to tau_i.
+    tau_peak : ndarray, shape (n,)
+        Running peak |tau_i|, updated (NaN propagates).
+    """
+    N, n = h_tran.shape
+    P = rot.shape[0]
+    mi = np.zeros(P)                # the chunk's peak of each part on tau_i
+    mj = np.zeros(P)                # ... and on tau_j (D_ij, i != j)
+    for k in range(N):
+        for r in range(P):
+            i = elem_i[r]
+            j = elem_j[r]
+            if j < 0:
+                v = h_rot[k, i] if rot[r] else h_tran[k, i]
+                mi[r] = _peak(mi[r], abs(v))
+            else:
+                d = D_rot[k, i, j] if rot[r] else D_tran[k, i, j]
+                mi[r] = _peak(mi[r], abs(d * qdd[k, j]))
+                if i != j:
+                    mj[r] = _peak(mj[r], abs(d * qdd[k, i]))
+        for i in range(n):
+            tau_peak[i] = _peak(tau_peak[i], abs(tau[k, i]))
+    if N == 0:
+        return
+    for r in range(P):
+        i = elem_i[r]
+        j = elem_j[r]
+        if mi[r] > peaks[r, i]:
+            peaks[r, i] = mi[r]
+        if j >= 0 and i != j and mj[r] > peaks[r, j]:
+            peaks[r, j] = mj[r]
+
+
+@njit(cache=True, fastmath=False, nogil=True)
+def inertia_block_kernel(D, S, pos, proved, norm):  # pragma: no cover - compiled
+    """The D_s check's pass over a block of matrices
+    (:func:`gd_analyze.certify.positive_definite.check_inertia`), in place.
+
+    Parameters
+    ----------
+    D : ndarray, shape (M, n, n)
+        D_s at M positions [kg m^2; kg].
+    S : ndarray, shape (M, n, n)
+        Receives 0.5 (D + D^T), as numpy forms it.
+    pos, proved : ndarray of bool, shape (M,)
+        Receive whether every diagonal entry is positive, and whether the Gershgorin discs of
+        S scaled to a unit diagonal all lie right of 0 (the numpy formulation's sums, in row
+        order).
+    norm : ndarray, shape (M,)
+        Receives ||S||_F.
+    """
+    M, n = D.shape[0], D.shape[1]
+    s = np.empty(n)
+    for p in range(M):
+        total = 0.0
+        for i in range(n):
+            for j in range(n):
+                v = 0.5 * (D[p, i, j] + D[p, j, i])
+                S[p, i, j] = v
+                total += v * v
+        norm[p] = np.sqrt(total)
+        ok = True
+        for i in range(n):
+            d = S[p, i, i]
+            ok = ok and d > 0
+            s[i] = 1.0 / np.sqrt(d if d > 0 else 1.0)
+        pos[p] = ok
+        disc = ok
+        for i in range(n):
+            row = 0.0
+            for j in range(n):
+                row += abs(S[p, i, j] * s[i] * s[j])
+            disc = disc and (row - abs(S[p, i, i] * s[i] * s[i])) < 1.0
+        proved[p] = disc
+
+
+@njit(cache=True, fastmath=False, nogil=True, inline="always")
+def _definite_shifted(S, p, shift, A):  # pragma: no cover - compiled
+    """Whether S[p] - shift I is positive definite: every pivot of its L D L^T positive."""
+    n = S.shape[1]
+    for i in range(n):
+        for j in range(n):
+            A[i, j] = S[p, i, j] - (shift if i == j else 0.0)
+    for k in range(n):
+        d = A[k, k]
+        if not d > 0:
+            return False
+        for i in range(k + 1, n):
+            c = A[i, k] / d
+            for j in range(k + 1, n):
+                A[i, j] -= c * A[k, j]
+    return True
+
+
+@njit(cache=True, fastmath=False, nogil=True)
+def inertia_screen_kernel(S, norm, hi_a, step, best_lo, best_ratio, round_off,
+                          maybe):  # pragma: no cover - compiled
+    """Which positions of a block may hold the D_s check's minima, in place
+    (:func:`gd_analyze.certify.positive_definite.check_inertia`'s shifted definiteness
+    test, as its array formulation makes it).
+
+    Parameters
+    ----------
+    S : ndarray, shape (M, n, n)
+        Symmetric matrices [kg m^2; kg].
+    norm : ndarray, shape (M,)
+        ||S||_F.
+    hi_a : ndarray, shape (ceil(M / step),)
+        max |lambda| of each anchor (every step-th matrix).
+    step : int
+    best_lo, best_ratio, round_off : float
+        The smallest lambda_min and lambda_min / max |lambda| found, the relative margin.
+    maybe : ndarray of bool, shape (M,)
+        Receives True where the eigenvalues must be computed (never at an anchor).
+    """
+    M, n = S.shape[0], S.shape[1]
+    A = np.empty((n, n))
+    r = best_ratio + round_off
+    for p in range(M):
+        a = (p // step) * step
+        if p == a:
+            maybe[p] = False
+            continue
+        delta = 0.0
+        for i in range(n):
+            for j in range(n):
+                e = S[p, i, j] - S[a, i, j]
+                delta += e * e
+        margin = round_off * norm[p]
+        if r > 0:
+            bound = min(norm[p], hi_a[p // step] + np.sqrt(delta))
+        else:
+            bound = 0.0
+            for i in range(n):
+                bound = max(bound, abs(S[p, i, i]))
+        maybe[p] = not (_definite_shifted(S, p, best_lo + margin, A)
+                        and _definite_shifted(S, p, r * bound + margin, A))

@@ -1,0 +1,330 @@
+"""Helpers shared by the three reports (:mod:`gd_analyze.report.main`, :mod:`gd_analyze.report.sweep`
+and :mod:`gd_analyze.report.control`).
+
+Reading a dataset's strings and attributes, the table dictionaries the Jinja2 templates and the
+PDF writers read, and the rendering of a report's template. The number formats
+(:mod:`gd_analyze.report.numbers`), the units by joint type (:mod:`gd_analyze.report.units`)
+and the figure style (:mod:`gd_analyze.report.figure_style`) are re-exported here. Private:
+the reports' output is the interface, not these functions.
+"""
+
+from __future__ import annotations
+
+import datetime
+from collections.abc import Mapping, Sequence
+from importlib import resources
+from typing import TYPE_CHECKING, Any
+
+import numpy as np
+
+from ..errors import InputError
+from ..store.names import Attr
+from ..store.schema import strings
+from ..store.stored_model import EvaluatorCosts
+from . import markup
+from .figure_style import (
+    BASE_RC,
+    JOINT_STYLES,
+    MAX_MARKERS,
+    MIN_MARKERS,
+    SUPTITLE_RC,
+    grid_shape,
+    gridspec,
+    inline_svgs,
+    joint_colours,
+    joint_style,
+    markevery,
+    panel_markevery,
+    style,
+    svg,
+)
+from .markup import clean, label, powers
+from .numbers import count, fmt, fmt_column, fmt_columns, given, pct, pct_column, pct_columns, share
+from .units import (
+    element_units_of,
+    keep_units,
+    prismatic_joints,
+    torque_units,
+    units_said_once,
+    units_text,
+)
+
+if TYPE_CHECKING:
+    import xarray as xr
+
+__all__ = ["CLASS_COLOURS", "BASE_RC", "SUPTITLE_RC", "A4", "A4_LANDSCAPE", "style", "utc_now",
+           "keep_units",
+           "strings", "fmt", "fmt_column", "fmt_columns", "given", "count", "share", "pct", "pct_column", "pct_columns", "attr", "attr_text", "thresholds", "check", "table",
+           "grid_shape", "joint_colours", "joint_style", "JOINT_STYLES", "MAX_MARKERS",
+           "MIN_MARKERS", "markevery", "panel_markevery",
+           "gridspec", "svg", "inline_svgs", "render_template", "check_formats",
+           "prismatic_joints", "torque_units", "FORMULATION_NAMES", "FORMULATION_ABBR",
+           "element_units_of", "units_text", "units_said_once", "cost_table"]
+
+#: A4 portrait and landscape [in].
+A4 = (8.27, 11.69)
+A4_LANDSCAPE = (11.69, 8.27)
+
+#: Colour-blind-safe colours (Okabe & Ito) of the dominance classes, the same in every report.
+CLASS_COLOURS = {"translational": "#0072B2", "rotational": "#D55E00", "both": "#6A3D9A",
+                 "negligible": "#777777"}
+
+
+def utc_now() -> datetime.datetime:
+    """The current UTC time, to the second.
+
+    Returns
+    -------
+    datetime.datetime
+        Time-zone aware, microseconds zero.
+    """
+    return datetime.datetime.now(datetime.timezone.utc).replace(microsecond=0)
+
+
+def attr(ds: xr.Dataset, key: str, default: str = "\u2014", *, parens: bool = True,
+         bools: bool = False, sci_outside: tuple[float, float] | None = None) -> str:
+    """A global attribute of a dataset as text.
+
+    Parameters
+    ----------
+    ds : xarray.Dataset
+        The dataset.
+    key : str
+        The attribute's name.
+    default : str, optional
+        Returned if the attribute is missing or empty.
+    parens : bool, optional
+        Put an array's values, joined by ", ", in parentheses.
+    bools : bool, optional
+        Format booleans as numbers (``1``) rather than as ``True``.
+    sci_outside : (float, float), optional
+        Passed to :func:`fmt` (numbers are written with 6 digits).
+
+    Returns
+    -------
+    str
+        An integer as a count with thousands separators (:func:`count`).
+    """
+    return attr_text(ds.attrs.get(key, None), default, parens=parens, bools=bools,
+                     sci_outside=sci_outside)
+
+
+def attr_text(value: object, default: str = "\u2014", *, parens: bool = True,
+              bools: bool = False, sci_outside: tuple[float, float] | None = None) -> str:
+    """An attribute's stored value as text, as :func:`attr` writes it.
+
+    Parameters
+    ----------
+    value : object
+        The value as stored (a string, bytes, a number, an array), or None where missing.
+    default, parens, bools, sci_outside
+        As :func:`attr`.
+
+    Returns
+    -------
+    str
+    """
+    if value is None:
+        return default
+    if isinstance(value, bytes):
+        value = value.decode()
+    if isinstance(value, np.ndarray):
+        text = ", ".join(fmt(v, 6, sci_outside) for v in value.ravel())
+        return f"({text})" if parens else text
+    if isinstance(value, (np.integer, int)) and not isinstance(value, (bool, np.bool_)):
+        return count(value)             # a count, as every count: 1,212
+    if isinstance(value, (np.generic, float, int)) and (
+            bools or not isinstance(value, (bool, np.bool_))):
+        return fmt(value, 6, sci_outside)
+
+    text = clean(str(value))            # no sub/superscript marks from a file's text
+    return powers(text) if text else default      # unit powers (s^-1) as superscripts
+
+
+def thresholds(ds: xr.Dataset) -> tuple[float, float]:
+    """The dominance threshold s and the negligibility threshold e stored in a dataset.
+
+    Parameters
+    ----------
+    ds : xarray.Dataset
+        With attributes ``dominance_threshold`` and ``negligible_threshold``.
+
+    Returns
+    -------
+    s, e : float
+        NaN where an attribute is missing.
+    """
+    return (float(ds.attrs.get(Attr.DOMINANCE_THRESHOLD, np.nan)),
+            float(ds.attrs.get(Attr.NEGLIGIBLE_THRESHOLD, np.nan)))
+
+
+def check(ds: xr.Dataset, required: Sequence[str], what: str) -> None:
+    """Raise if a dataset lacks a variable a report needs.
+
+    Parameters
+    ----------
+    ds : xarray.Dataset
+        The dataset.
+    required : sequence of str
+        Names of the variables needed.
+    what : str
+        The kind of dataset, for the message ("results", "sweep", ...).
+
+    Raises
+    ------
+    InputError
+        Naming the missing variables.
+    """
+    missing = [v for v in required if v not in ds.variables]
+    if missing:
+        raise InputError(f"not a gd-analyze {what} dataset: missing variable(s) "
+                         + ", ".join(missing))
+
+
+
+#: How the report names each formulation and implementation of the stored comparison (the
+#: key is the name in the dataset), in full and abbreviated.
+FORMULATION_NAMES = {"lagrange-euler": "Lagrange-Euler", "newton-euler": "Newton-Euler",
+                     "gd": "G-D, compiled engine", "gd-numpy": "G-D, array engine",
+                     "pinocchio": "Pinocchio"}
+FORMULATION_ABBR = {"lagrange-euler": "L-E", "newton-euler": "N-E", "gd": "G-D",
+                    "gd-numpy": "G-D np", "pinocchio": "Pinocchio"}
+
+
+def table(header: Sequence[str], rows: Sequence[Sequence[Any]],
+          align: Sequence[str] | str | None = None, widths: Sequence[float] | None = None,
+          colour_cols: Sequence[int] = ()) -> dict[str, Any]:
+    """A table as the templates and the PDF writers read it.
+
+    Parameters
+    ----------
+    header : sequence of str
+        Column headings.
+    rows : sequence of sequence
+        The cells, converted with ``str``; a cell that is an element's label (``D12``,
+        ``D1,10``, ``h3``) is lettered as the figures letter it, ``D₁₂``
+        (:func:`gd_analyze.report.markup.label`).
+    align : sequence of str or {"right"}, optional
+        ``"left"`` or ``"right"`` per column; ``"right"``: the first column left, the others
+        right. Default: all left.
+    widths : sequence of float, optional
+        Relative column widths (PDF of the analysis report); default all 1.
+    colour_cols : sequence of int, optional
+        Columns whose cells are dominance classes, drawn in their colour.
+
+    Returns
+    -------
+    dict
+        Keys ``header``, ``rows``, ``align``, ``widths`` and ``colour_cols``.
+    """
+    if isinstance(align, str):
+        align = ["left"] + [align] * (len(header) - 1)
+
+    header = [keep_units(h) for h in header]
+    return {"header": header, "rows": [[label(str(c)) for c in row] for row in rows],
+            "align": list(align or ["left"] * len(header)),
+            "widths": list(widths or [1] * len(header)), "colour_cols": list(colour_cols)}
+
+
+
+def cost_table(ds: EvaluatorCosts | xr.Dataset | None) -> dict[str, Any] | None:
+    """The operations per set point of each evaluator a dataset stores, as a table.
+
+    Parameters
+    ----------
+    ds : EvaluatorCosts, xarray.Dataset or None
+        The counts (:class:`gd_analyze.store.stored_model.EvaluatorCosts`), or a dataset with
+        ``multiplications`` and ``additions`` over dim ``evaluator``, Newton-Euler last
+        (the control dataset, :func:`gd_analyze.jobs.control.model_cost`; the sweep,
+        :func:`gd_analyze.jobs.sweep_merged.with_model_cost`).
+
+    Returns
+    -------
+    dict or None
+        :func:`table` of evaluator, multiplications, additions, operations and operations
+        relative to Newton-Euler; None if no counts are stored.
+    """
+    costs = ds if ds is None or isinstance(ds, EvaluatorCosts) else \
+        EvaluatorCosts.from_dataset(ds)
+    if costs is None:
+        return None
+    names = costs.evaluators
+    mul, add = costs.multiplications, costs.additions
+    ref = len(names) - 1                 # the last: Newton-Euler, the recursive reference
+    return table(["evaluator", "multiplications", "additions", "operations",
+                  "operations vs Newton-Euler"],
+                 [[e, count(mul[k]), count(add[k]), count(mul[k] + add[k]),
+                   f"{(mul[k] + add[k]) / (mul[ref] + add[ref]):.3f}"]
+                  for k, e in enumerate(names)], align=["left"] + ["right"] * 4,
+                 widths=[2.2, 1, 1, 1, 1.2])          # the evaluators' names on one line
+
+
+def render_template(name: str, context: Mapping[str, Any],
+                    env_globals: Mapping[str, Any] | None = None) -> str:
+    """Render one of the package's Jinja2 templates (autoescape on, strict undefined).
+
+    Parameters
+    ----------
+    name : str
+        File name under ``gd_analyze/report/templates``.
+    context : dict
+        The template's variables.
+    env_globals : dict, optional
+        Globals of the environment (e.g. ``class_colours``).
+
+    Returns
+    -------
+    str
+        The rendered document.
+    """
+    import jinja2
+    from markupsafe import Markup
+
+
+    def source(template):
+        return resources.files("gd_analyze.report").joinpath(f"templates/{template}") \
+            .read_text(encoding="utf-8")
+
+    def finalize(value):                # sub-, superscripts and code as tags, the rest escaped
+        if isinstance(value, str) and any(m in value for m in (markup.SUB, markup.SUP,
+                                                                markup.CODE)):
+            return markup.html(value)
+        if isinstance(value, str):      # format characters (bidi controls) made visible
+            shown = markup.visible(value)
+            return value if shown == value else (
+                Markup(shown) if isinstance(value, Markup) else shown)
+        return value
+
+    env = jinja2.Environment(loader=jinja2.FunctionLoader(source), autoescape=True,
+                             undefined=jinja2.StrictUndefined, finalize=finalize,
+                             trim_blocks=True, lstrip_blocks=True, keep_trailing_newline=True)
+    env.globals.update(env_globals or {})
+    return env.get_template(name).render(**context)
+
+
+def check_formats(formats: str | Sequence[str], allowed: tuple[str, ...]) -> list[str]:
+    """The report formats asked for, checked, lower case and without repeats.
+
+    Parameters
+    ----------
+    formats : str or sequence of str
+        One format or several.
+    allowed : tuple of str
+        The formats the report can write.
+
+    Returns
+    -------
+    list of str
+        In the order first given.
+
+    Raises
+    ------
+    ValueError
+        If a format is not allowed, or none is given.
+    """
+    if isinstance(formats, str):
+        formats = (formats,)
+    formats = [str(f).lower() for f in formats]
+    if not formats or any(f not in allowed for f in formats):
+        raise ValueError(f"report formats must be among {allowed}, got {formats}")
+    return list(dict.fromkeys(formats))

@@ -1,0 +1,272 @@
+"""Control report: the stored closed-loop comparison as one self-contained HTML file and a PDF.
+
+:func:`write_control_report` reads a control dataset written by
+:func:`gd_analyze.store.control_dataset.write_control_dataset` (``control.h5``) and never recomputes anything:
+every number and curve comes from the dataset's variables and global attributes. The report
+holds the set-up and gains, the tracking error per joint of the three controllers (figure and
+peak/RMS table), the torque difference between the simplified-model and the full-model
+computed-torque controllers, the applied torques, the evaluation cost of the simplified model
+against the full one, the model's choices and the provenance.
+
+``control_report.html`` has no external resources (inline CSS, inline SVG figures, Jinja2
+template ``templates/control_report.html.j2``); ``control_report.pdf`` is typeset by
+Typst from the same section list (:mod:`gd_analyze.report.typeset`). Both are written
+atomically (:func:`gd_analyze.files.atomic_path`).
+"""
+
+from __future__ import annotations
+
+import contextlib
+from collections.abc import Mapping
+from pathlib import Path
+from typing import TYPE_CHECKING
+
+from ..files import atomic_path
+from ..store.schema import open_results
+from ..store.stored_control import REQUIRED_VARIABLES, StoredControl
+from .common import render_template
+from .control_figures import COLUMN_WIDTH, FIGURE_RC, PAGE_WIDTH, control_figures
+from .control_text import control_context as _context
+from .control_verdict import VERDICT_TOLERANCE, control_verdict
+from .drawing import draw_figures, figure_svg, write_figure_files
+from .sections import Outline
+from .table_export import write_tables
+from .typeset import PAPER, write_pdf
+
+if TYPE_CHECKING:                       # for the type hints only
+    import os
+
+    import xarray as xr
+    from matplotlib.figure import Figure
+
+__all__ = ["CONTROL_REPORT_FILES", "REQUIRED_VARIABLES", "VERDICT_TOLERANCE", "control_verdict", "make_control_figures",
+           "render_control_html", "render_control_pdf", "write_control_report"]
+
+#: Names of the files written into the output folder.
+CONTROL_REPORT_FILES = ("control_report.html", "control_report.pdf")
+
+
+# --------------------------------------------------------------------------------------------
+# Figures (report/control_figures.py)
+# --------------------------------------------------------------------------------------------
+
+def make_control_figures(ds: StoredControl | xr.Dataset, width: float = PAGE_WIDTH
+                         ) -> dict[str, Figure]:
+    """The report's figures, drawn from a stored control dataset.
+
+    Parameters
+    ----------
+    ds : StoredControl or xarray.Dataset
+        A stored control run (:class:`gd_analyze.store.stored_control.StoredControl`), or a
+        control dataset (:func:`gd_analyze.store.control_dataset.control_dataset`).
+    width : float, optional
+        7.2 in (a page, default) or 3.5 in (a column, one panel a row).
+
+    Returns
+    -------
+    dict of str to matplotlib.figure.Figure
+        As :func:`gd_analyze.report.control_figures.control_figures`: ``"error"``,
+        ``"tau_difference"`` (if stored) and ``"tau"``.
+
+    Raises
+    ------
+    InputError
+        If the dataset lacks a variable of a control dataset.
+    """
+    return control_figures(StoredControl.of(ds), width)
+
+
+# --------------------------------------------------------------------------------------------
+# HTML and PDF
+# --------------------------------------------------------------------------------------------
+
+def render_control_html(ds: StoredControl | xr.Dataset,
+                        figures: Mapping[str, Figure] | None = None) -> str:
+    """Render the control report as one self-contained HTML document.
+
+    Parameters
+    ----------
+    ds : StoredControl or xarray.Dataset
+        A stored control run, or its dataset.
+    figures : dict of str to matplotlib.figure.Figure, optional
+        :func:`make_control_figures` of it; made here if not given.
+
+    Returns
+    -------
+    str
+        The HTML: inline CSS, figures as inline SVG, no external resources (Jinja2 template
+        ``templates/control_report.html.j2``, autoescape on).
+
+    Raises
+    ------
+    InputError
+        If the dataset lacks a variable of a control dataset.
+    """
+    s = StoredControl.of(ds)
+    ctx = _context(s)
+    if figures is None:
+        figures = make_control_figures(s)
+    return _html(ctx, {k: (figure_svg(f, FIGURE_RC), None, None) for k, f in figures.items()})
+
+
+_FIGURE_FILES = {"error": "fig_control_tracking_error",
+                 "tau_difference": "fig_control_torque_difference",
+                 "tau": "fig_control_applied_torque"}
+#: Each figure also 3.5 in wide, as ``figures/<name>_column.pdf`` and ``.svg`` (not in the
+#: report).
+_FIGURE_FILES.update({f"{k}_column": f"{v}_column" for k, v in list(_FIGURE_FILES.items())})
+
+
+def _outline(ctx, figures):
+    """The control report's sections, once, for the HTML and the PDF
+    (:class:`gd_analyze.report.sections.Outline`)."""
+    o = Outline(ctx["title"], figures)
+    o.paragraph(ctx["verdict"], "lead")
+    o.paragraph(ctx["summary"], "summary")
+    o.paragraph(ctx["intro"] + f" Report created {ctx['created']} by gd-analyze "
+                f"{ctx['version']} from the stored control dataset; nothing was recomputed.",
+                "note")
+    o.section("1", "Set-up and gains", "setup")
+    o.table(ctx["setup"], "The closed-loop run.", kv=True)
+    o.paragraph(ctx["gains_note"], "note")
+    o.table(ctx["gains"], "Gains per joint.")
+    o.section("2", "Tracking error", "tracking")
+    o.paragraph(ctx["error_note"], "note")
+    o.table(ctx["errors"], "Tracking error per controller and joint; \u2261 0: integrator "
+                           f"noise ({ctx['noise_rule']['q']}), not data.", size=7)
+    o.figure("error", ctx["captions"]["error"])
+    o.section("3", "Torques", "torque")
+    o.paragraph(ctx["diff_note"], "note")
+    o.table(ctx["tau_diff"], "Closed-loop torque difference per joint, simplified-model "
+                             "controller minus full-model controller; \u2261 0: integrator "
+                             f"noise ({ctx['noise_rule']['tau']}), not data.")
+    if "tau_difference" in o.available:
+        o.figure("tau_difference", ctx["captions"]["tau_difference"])
+    else:
+        o.paragraph("No torque difference stored.", "body")
+    o.table(ctx["tau_table"], "Applied torques per controller and joint.", size=7)
+    o.figure("tau", ctx["captions"]["tau"])
+    o.section("4", "Evaluation cost of the model", "cost")
+    o.paragraph(ctx["cost_note"], "note")
+    if ctx["cost"]:
+        o.table(ctx["cost"], "Operations per set point of each evaluator.")
+    else:
+        o.paragraph("Not measured.", "body")
+    o.section("5", "Simplified model", "model")
+    o.paragraph(ctx["model_note"], "note")
+    if ctx["choices"]:
+        o.table(ctx["choices"], "The part of each element the simplified model keeps.")
+    o.section("6", "Provenance", "provenance")
+    o.table(ctx["provenance"], "Provenance: the files and settings of the run, each once.",
+            kv=True, size=7)
+    return o
+
+
+def _html(ctx, drawn):
+    from markupsafe import Markup
+
+    svgs = {k: Markup(svg) for k, (svg, _, _) in drawn.items()}
+    return render_template("control_report.html.j2", {**ctx, "figures": svgs,
+                                                      "outline": _outline(ctx, drawn)})
+
+
+def render_control_pdf(ds: StoredControl | xr.Dataset, path: str | os.PathLike[str],
+                       figures: Mapping[str, Figure] | None = None, paper: str = "a4") -> int:
+    """Write the control report as a PDF document.
+
+    Parameters
+    ----------
+    ds : StoredControl or xarray.Dataset
+        A stored control run, or its dataset.
+    path : str or os.PathLike
+        The PDF to write (not atomically; :func:`write_control_report` passes a temporary
+        name).
+    figures : dict of str to matplotlib.figure.Figure, optional
+        :func:`make_control_figures` of it; made here if not given.
+    paper : {"a4", "letter"}, optional
+        The size of every page.
+
+    Returns
+    -------
+    int
+        Number of pages written.
+
+    Raises
+    ------
+    InputError
+        If the dataset lacks a variable of a control dataset.
+    OSError
+        If the file cannot be written.
+    """
+    s = StoredControl.of(ds)
+    ctx = _context(s)
+    if figures is None:
+        figures = make_control_figures(s)
+    return _pdf(ctx, draw_figures(figures, FIGURE_RC), path, paper)
+
+
+def _pdf(ctx, drawn, path, paper="a4"):
+    metadata = {"Author": f"gd-analyze {ctx['version']}",
+                "Subject": "Computed-torque control with the simplified G-D model (Fu, Gonzalez "
+                           "& Lee 1987, Sec. 3.4.1 and Ch. 5)",
+                "Keywords": ctx["keywords"]}
+    return write_pdf(_outline(ctx, drawn), {k: (d[0], d[2]) for k, d in drawn.items()}, path,
+                     paper, metadata, footer=f"gd-analyze {ctx['version']}: control report")
+
+
+def write_control_report(control_path: str | os.PathLike[str], outdir: str | os.PathLike[str],
+                         paper: str = "a4", latex: bool = False) -> list[Path]:
+    """Write control_report.html and control_report.pdf for a stored control dataset.
+
+    Parameters
+    ----------
+    control_path : str or os.PathLike
+        A control dataset written by :func:`gd_analyze.store.control_dataset.write_control_dataset`
+        (``control.h5``). Only read: nothing is recomputed.
+    outdir : str or os.PathLike
+        Output folder; made if missing.
+    paper : {"a4", "letter"}, optional
+        Page size of the PDF.
+    latex : bool, optional
+        Also write every table as LaTeX, ``outdir/tables/control_table_<section>_<k>.tex``.
+
+    Returns
+    -------
+    list of pathlib.Path
+        ``outdir/control_report.html`` and ``outdir/control_report.pdf``, then every figure as
+        ``outdir/figures/fig_control_*.pdf`` and ``.svg``, then every table of the report as
+        ``outdir/tables/control_table_<section>_<k>.csv`` (and ``.tex`` with ``latex``).
+
+    Raises
+    ------
+    InputError
+        If the file is missing, unreadable or not a control dataset.
+    OSError
+        If a file cannot be written.
+
+    Notes
+    -----
+    Each file is written under a temporary name beside its destination and renamed
+    (:func:`gd_analyze.files.atomic_path`). Sources: Fu, Gonzalez & Lee (1987), Sec. 3.4.1
+    (simplified model) and Ch. 5 (computed-torque control).
+    """
+    if paper not in PAPER:
+        raise ValueError(f"paper must be one of {sorted(PAPER)}, got {paper!r}")
+    s = StoredControl.from_dataset(open_results(str(control_path)), str(control_path))
+    ctx = _context(s)
+    outdir = Path(outdir)
+    (outdir / "figures").mkdir(parents=True, exist_ok=True)
+    figures = make_control_figures(s)
+    column = control_figures(s, COLUMN_WIDTH)
+    drawn = draw_figures({**figures, **{f"{k}_column": f for k, f in column.items()}}, FIGURE_RC)
+    html_path, pdf_path = (outdir / name for name in CONTROL_REPORT_FILES)
+    files = []
+    with contextlib.ExitStack() as stack:
+        files = write_figure_files(stack, drawn, outdir / "figures", _FIGURE_FILES)
+        drawn = {k: drawn[k] for k in figures}          # the report shows the page versions
+        Path(stack.enter_context(atomic_path(html_path))).write_text(_html(ctx, drawn),
+                                                                     encoding="utf-8")
+        _pdf(ctx, drawn, stack.enter_context(atomic_path(pdf_path)), paper)
+        tables = write_tables(stack, _outline(ctx, drawn), outdir / "tables", latex,
+                              "control")
+    return [html_path, pdf_path] + files + tables

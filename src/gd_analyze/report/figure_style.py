@@ -1,0 +1,374 @@
+"""Figure style of the reports: matplotlib settings, joint line styles and markers, fixed
+grids, and figures as inline SVG.
+
+Private to the reports (:mod:`gd_analyze.report.common` re-exports these names).
+"""
+
+from __future__ import annotations
+
+import contextlib
+import io
+import math
+import re
+import textwrap
+from collections.abc import Mapping
+from typing import TYPE_CHECKING, Any
+
+if TYPE_CHECKING:
+    from markupsafe import Markup
+    from matplotlib.figure import Figure
+    from matplotlib.gridspec import GridSpec
+    from matplotlib.transforms import Bbox
+
+__all__ = ["BASE_RC", "SUPTITLE_RC", "style", "grid_shape", "joint_colours", "joint_style",
+           "JOINT_STYLES", "MAX_MARKERS", "MIN_MARKERS", "markevery", "panel_markevery",
+           "MARK_EVERY_POINT", "element_markevery",
+           "gridspec", "svg", "inline_svgs", "raise_small_text", "text_extent"]
+
+#: matplotlib settings every report uses; each adds its own to them (see :func:`style`).
+BASE_RC = {
+    "font.family": "DejaVu Sans",  # the reports' text font too: one family on the page
+    "font.size": 8.0,
+    "axes.titlesize": 8.5,
+    "axes.labelsize": 8.0,
+    "xtick.labelsize": 7.0,
+    "ytick.labelsize": 7.0,
+    "axes.grid": True,
+    "grid.color": "0.88",
+    "grid.linewidth": 0.5,
+    "lines.linewidth": 1.0,
+    "svg.fonttype": "none",      # text stays text in the SVG: searchable and small
+    "pdf.fonttype": 42,          # embed TrueType fonts in the PDF
+    "path.simplify": True,
+}
+#: :data:`BASE_RC` with bold 11 pt figure titles, 8 pt legends and thin axes lines (the
+#: analysis and the sweep report).
+SUPTITLE_RC = {**BASE_RC, "legend.fontsize": 8.0, "figure.titlesize": 11.0,
+               "figure.titleweight": "bold", "axes.linewidth": 0.6}
+
+
+def raise_small_text(fig: Figure, least: float) -> int:
+    """Set every text of a figure smaller than ``least`` at ``least``: tick labels, labels,
+    titles, legends, annotations.
+
+    Parameters
+    ----------
+    fig : matplotlib.figure.Figure
+        The figure, changed in place (its tick parameters too, so that ticks made when it is
+        drawn again keep the size).
+    least : float
+        The least font size [pt] at the figure's drawn size.
+
+    Returns
+    -------
+    int
+        How many texts were raised.
+
+    Notes
+    -----
+    A mathtext script is drawn at 0.7 of its text's size; the reports' figures write indices
+    as plain characters, so ``least`` is the size of every glyph drawn.
+    """
+    from matplotlib.text import Text
+
+    fig.draw_without_rendering()        # makes the tick labels the axes will draw
+    raised = 0
+    for ax in fig.axes:
+        for axis in (ax.xaxis, ax.yaxis):
+            labels = axis.get_ticklabels(minor=False) + axis.get_ticklabels(minor=True)
+            if any(float(t.get_fontsize()) < least for t in labels):
+                axis.set_tick_params(which="both", labelsize=least)
+                raised += 1
+    right = fig.bbox.width
+    for t in fig.findobj(Text):
+        if t.get_text() and float(t.get_fontsize()) < least:
+            t.set_fontsize(least)
+            raised += 1
+            for _ in range(4):
+                box = t.get_window_extent()
+                if box.x1 <= right + 0.5 or box.x0 >= right:
+                    break
+                # a note wrapped for the smaller size: wrapped again, as many characters a
+                # line as the room from its left end to the figure's edge holds
+                lines = t.get_text().split("\n")
+                chars = max(12, int(max(map(len, lines)) * (right - box.x0) / box.width) - 1)
+                t.set_text(textwrap.fill(" ".join(lines), chars))
+    return raised
+
+
+def text_extent(fig: Figure) -> Bbox:
+    """The figure's box grown up or down to hold every text drawn above or below it (never
+    wider: the width is the one the figure is printed at).
+
+    Parameters
+    ----------
+    fig : matplotlib.figure.Figure
+        The figure.
+
+    Returns
+    -------
+    matplotlib.transforms.Bbox
+        In inches: ``bbox_inches`` of :meth:`~matplotlib.figure.Figure.savefig`, which then
+        keeps the figure's own box where no text sticks out of it.
+    """
+    from matplotlib.transforms import Bbox
+
+    page, drawn = fig.bbox_inches, fig.get_tightbbox()           # in inches
+    return Bbox.from_extents(page.x0, min(page.y0, drawn.y0), page.x1, max(page.y1, drawn.y1))
+
+
+def style(rc: Mapping[str, Any]) -> contextlib.AbstractContextManager[Any]:
+    """A context in which matplotlib draws with the settings ``rc``.
+
+    Parameters
+    ----------
+    rc : dict
+        rcParams to set, e.g. :data:`SUPTITLE_RC`; the others keep their current values.
+
+    Returns
+    -------
+    contextlib.AbstractContextManager
+        :func:`matplotlib.rc_context` of ``rc``.
+    """
+    import matplotlib
+
+    return matplotlib.rc_context(rc)  # type: ignore[arg-type]  # rc keys typed as literals
+
+
+def grid_shape(n: int, max_cols: int) -> tuple[int, int]:
+    """Rows and columns of a grid of n panels, at most ``max_cols`` a row.
+
+    Parameters
+    ----------
+    n : int
+        Number of panels.
+    max_cols : int
+        Most columns.
+
+    Returns
+    -------
+    rows, cols : int
+    """
+    cols = max(1, min(max_cols, n))
+    return math.ceil(n / cols), cols
+
+
+def joint_colours(n: int) -> list[tuple[float, ...]]:
+    """One colour per joint from the tab10 colour map.
+
+    Parameters
+    ----------
+    n : int
+        How many colours.
+
+    Returns
+    -------
+    list of tuple
+        RGBA, the ten of tab10 in turn.
+    """
+    from matplotlib import colormaps
+
+    cmap = colormaps["tab10"]
+    return [cmap(k % 10) for k in range(n)]
+
+
+#: Line style and marker of joints 1..7: no two joints share either, so that seven lines are
+#: told apart in greyscale (dash patterns as (offset, (on, off, ...)) in points).
+JOINT_STYLES = (("-", "o"), ((0, (4.0, 1.6)), "s"), ((0, (1.0, 1.3)), "^"),
+                ((0, (5.0, 1.5, 1.0, 1.5)), "D"), ((0, (2.2, 1.4)), "v"),
+                ((0, (6.0, 1.5, 1.0, 1.5, 1.0, 1.5)), "x"), ((0, (8.0, 2.0)), "+"))
+
+
+def joint_style(j: int, n_lines: int = 1, in_panel: int = 1) -> dict[str, Any]:
+    """Colour, line style and marker of joint ``j`` (0-based): distinct for up to 7 joints.
+
+    Parameters
+    ----------
+    j : int
+        The joint, 0-based.
+    n_lines : int, optional
+        Set points on the line.
+    in_panel : int, optional
+        Lines on the panel: together they carry at most about :data:`MAX_MARKERS` markers
+        (:func:`panel_markevery`).
+
+    Returns
+    -------
+    dict
+        Keyword arguments of :meth:`matplotlib.axes.Axes.plot`: ``color`` (Okabe & Ito
+        colour-blind-safe set, then tab10), ``linestyle``, ``marker`` (open), ``markevery``,
+        ``markersize``; the markers of joint j start at an offset so that two joints' markers
+        do not fall on the same set points.
+    """
+    colours = ("#000000", "#0072B2", "#D55E00", "#009E73", "#CC79A7", "#E69F00", "#56B4E9")
+    ls, marker = JOINT_STYLES[j % len(JOINT_STYLES)]
+    colour = colours[j] if j < len(colours) else joint_colours(j + 1)[j]
+    every = panel_markevery(n_lines, in_panel)
+    offset = (j * max(1, every // 7)) % every if every > 1 else 0
+    return {"color": colour, "linestyle": ls, "marker": marker, "markevery": (offset, every),
+            "markersize": 3.0, "markerfacecolor": "none", "markeredgewidth": 0.7}
+
+
+#: The most markers drawn on one panel, all its lines together: more merge into a band at
+#: print size (each line keeps at least :data:`MIN_MARKERS`).
+MAX_MARKERS = 12
+#: The fewest markers of a line that has any: enough to tell its marker.
+MIN_MARKERS = 2
+
+
+def panel_markevery(m: int, lines: int) -> int:
+    """The stride of the markers of each of ``lines`` lines of ``m`` points on one panel.
+
+    Parameters
+    ----------
+    m : int
+        Points on each line.
+    lines : int
+        Lines with markers on the panel.
+
+    Returns
+    -------
+    int
+        :func:`markevery` for at most ``max(MIN_MARKERS, MAX_MARKERS // lines)`` markers a
+        line: at most about :data:`MAX_MARKERS` on the panel.
+
+    Examples
+    --------
+    >>> panel_markevery(31, 3), panel_markevery(31, 6), panel_markevery(8, 1)
+    (8, 16, 1)
+    """
+    return markevery(m, max(MIN_MARKERS, MAX_MARKERS // max(1, int(lines))))
+
+
+#: Runs of up to this many set points get a marker at every set point on every line, as the
+#: chapter's Figs. 3.10 and 3.11 do; longer runs a thinned set (:func:`panel_markevery`).
+MARK_EVERY_POINT = 50
+
+
+def element_markevery(m: int, lines: int = 3) -> int:
+    """The stride of the markers on the element panels (Figs. 3.10 and 3.11 analogues).
+
+    Parameters
+    ----------
+    m : int
+        Set points on each line.
+    lines : int, optional
+        Lines with markers on a panel.
+
+    Returns
+    -------
+    int
+        1 (a marker at every set point) for ``m <= MARK_EVERY_POINT``; else
+        :func:`panel_markevery`.
+
+    Examples
+    --------
+    >>> element_markevery(31), element_markevery(50), element_markevery(51)
+    (1, 1, 13)
+    """
+    return 1 if int(m) <= MARK_EVERY_POINT else panel_markevery(m, lines)
+
+
+def markevery(m: int, most: int = MAX_MARKERS) -> int:
+    """The stride that leaves at most ``most`` markers on a line of ``m`` points.
+
+    Parameters
+    ----------
+    m : int
+        Points on the line.
+    most : int, optional
+        The most markers (:data:`MAX_MARKERS`).
+
+    Returns
+    -------
+    int
+        k >= 1 with ceil(m / k) <= most (markers at points 0, k, 2k, ...).
+
+    Examples
+    --------
+    >>> markevery(31), markevery(12), markevery(0)
+    (3, 1, 1)
+    """
+    return max(1, -(-int(m) // max(1, int(most))))
+
+
+def gridspec(fig: Figure, rows: int, cols: int, left: float, right: float, top: float,
+             bottom: float, wgap: float, hgap: float) -> GridSpec:
+    """A gridspec with margins and gaps in inches (a fixed layout: no layout engine).
+
+    Parameters
+    ----------
+    fig : matplotlib.figure.Figure
+        The figure.
+    rows, cols : int
+        Grid shape.
+    left, right, top, bottom : float
+        Margins [in].
+    wgap, hgap : float
+        Gaps between columns and between rows [in].
+
+    Returns
+    -------
+    matplotlib.gridspec.GridSpec
+    """
+    W, H = fig.get_size_inches()
+    aw = (W - left - right - (cols - 1) * wgap) / cols
+    ah = (H - top - bottom - (rows - 1) * hgap) / max(rows, 1)
+    return fig.add_gridspec(rows, cols, left=left / W, right=1 - right / W, bottom=bottom / H,
+                            top=1 - top / H, wspace=wgap / aw, hspace=hgap / ah)
+
+
+def svg(fig: Figure, prefix: str | None = None, rc: Mapping[str, Any] | None = None) -> str:
+    """A figure as an inline ``<svg>`` element.
+
+    Parameters
+    ----------
+    fig : matplotlib.figure.Figure
+        The figure.
+    prefix : str, optional
+        Put before every id, and the references to it, so that several figures can share one
+        HTML document without clashing ids.
+    rc : dict, optional
+        rcParams to draw with (:func:`style`).
+
+    Returns
+    -------
+    str
+        The SVG without XML declaration and DOCTYPE (whose DTD is an external resource) and
+        without date or creator metadata.
+    """
+    buf = io.StringIO()
+    with style(rc) if rc is not None else contextlib.nullcontext():
+        fig.savefig(buf, format="svg",
+                    metadata={"Date": None, "Creator": None, "Format": None, "Type": None})
+    text = buf.getvalue()
+    start = text.find("<svg")
+    text = text[start:] if start >= 0 else text
+    if prefix is None:
+        return text
+    text = re.sub(r'\bid="', f'id="{prefix}-', text)
+    text = re.sub(r'\bhref="#', f'href="#{prefix}-', text)
+    return re.sub(r"url\(#", f"url(#{prefix}-", text)
+
+
+def inline_svgs(figures: Mapping[str, Figure], rc: Mapping[str, Any],
+                prefix_ids: bool = True) -> dict[str, Markup]:
+    """Figures as inline SVG markup for a template.
+
+    Parameters
+    ----------
+    figures : dict of str to matplotlib.figure.Figure
+        The figures by name.
+    rc : dict
+        rcParams to draw with.
+    prefix_ids : bool, optional
+        Prefix the ids of each figure with ``fig-<name>`` (:func:`svg`).
+
+    Returns
+    -------
+    dict of str to markupsafe.Markup
+    """
+    from markupsafe import Markup
+
+    return {name: Markup(svg(fig, f"fig-{name}" if prefix_ids else None, rc))
+            for name, fig in figures.items()}

@@ -1,0 +1,563 @@
+"""Report: the stored analysis as one self-contained HTML file and a PDF.
+
+The report reads a results file written by :func:`gd_analyze.jobs.analyze.analyze_to_file` and never
+recomputes the dynamics: every number and curve comes from the dataset's variables and global
+attributes. It has seven parts:
+
+1. the robot (DH table, link inertial parameters) and the trajectory, with joint plots;
+2. the acceleration-related elements of D, translational, rotational and combined, one panel per
+   element with i <= j (the analogue of Fig. 3.10 of Fu, Gonzalez & Lee 1987, Sec. 3.4.1);
+3. the Coriolis and centrifugal elements of h (the analogue of Fig. 3.11);
+4. the dominance ranking;
+5. the simplified model and its torque error;
+6. a comparison with the dominance the chapter reports for its PUMA 560 trajectory;
+7. the provenance.
+
+``report.html`` is one file with no external resources: the figures are inline SVG and the style
+sheet is inline. ``report.pdf`` is typeset by Typst from the same section list, the figures
+embedded from their SVG (:mod:`gd_analyze.report.typeset`). Both are written atomically (:func:`gd_analyze.files.atomic_path`).
+
+Long trajectories are drawn through one helper that reduces a series of more than
+:data:`ENVELOPE_THRESHOLD` points to its min/max envelope (:func:`envelope`), one pair per pixel
+column of the panel at 300 dpi and at most :data:`ENVELOPE_COLUMNS` columns, without markers, so
+the figures, and the HTML, stay small whatever the number of set points (about 0.7 MB of HTML
+for 100,000 set points of a 6-joint arm).
+"""
+
+from __future__ import annotations
+
+import contextlib
+import functools
+import os
+import re
+from collections.abc import Callable, Collection, Mapping, Sequence
+from pathlib import Path
+from typing import TYPE_CHECKING
+
+import numpy as np
+
+from ..files import atomic_path
+from ..store.results_view import Results
+from ..store.schema import open_results
+from .budget_figures import budget_makers
+from .common import CLASS_COLOURS as _CLASS_COLOURS
+from .common import check_formats, prismatic_joints, render_template
+from .drawing import draw_figures, write_figure_files
+from .figures import payload_figure
+from .main_context import report_context, zero_mask
+from .main_figures import (
+    COLUMN_WIDTH,
+    PAGE_WIDTH,
+    d_panels,
+    element_parts,
+    fig_D,
+    fig_h,
+    fig_joints,
+    fig_torque,
+    plot_data,
+)
+from .main_figures import RC as FIG_RC
+from .main_outline import main_outline
+from .plot_data import ENVELOPE_COLUMNS, ENVELOPE_THRESHOLD
+from .simplified_section import error_figure
+from .table_export import write_tables
+from .ticks import decade_formatter, scaled_formatter
+from .typeset import PAPER, write_pdf
+
+if TYPE_CHECKING:
+    import numpy.typing as npt
+    import xarray as xr
+    from matplotlib.figure import Figure
+
+    from ..store.results_view import Results
+    from .plot_data import PlotData
+
+__all__ = [
+    "REPORT_FORMATS", "ENVELOPE_THRESHOLD", "ENVELOPE_COLUMNS", "FIGURE_FILES", "envelope",
+    "COLUMN_FIGURES", "FIGURE_PARTS", "make_figures", "figure_makers", "render_html", "render_pdf", "write_report",
+]
+
+#: The formats :func:`write_report` can write.
+REPORT_FORMATS = ("html", "pdf")
+
+
+# --------------------------------------------------------------------------------------------
+# Plotting helpers
+# --------------------------------------------------------------------------------------------
+
+def envelope(x: npt.ArrayLike, y: npt.ArrayLike,
+             columns: int = ENVELOPE_COLUMNS) -> tuple[npt.NDArray[np.float64], npt.NDArray[np.float64]]:
+    """Reduce a series to its min/max envelope over equal-width columns of x.
+
+    Parameters
+    ----------
+    x : array_like, shape (N,)
+        Abscissae, e.g. time [s] or set point index; sorted here if they are not.
+    y : array_like, shape (N,)
+        Ordinates, any units; NaN values are ignored.
+    columns : int, optional
+        Number of columns (think of pixel columns) the range of x is cut into.
+
+    Returns
+    -------
+    xe, ye : ndarray, shape (M,)
+        The points of the series that are the minimum or the maximum of their column, plus the
+        first and the last point, in order of x; M <= 2 * columns + 2. The global minimum and
+        maximum of y are kept exactly. If N <= 2 * columns the series is returned unchanged
+        (as float copies).
+
+    Raises
+    ------
+    ValueError
+        If x and y are not 1-D of the same length, or columns < 1.
+
+    Notes
+    -----
+    Plotting the envelope instead of every point keeps figures of long trajectories small and
+    fast while drawing the same band a full plot would show at print resolution. Used for the
+    panels of the analogues of Figs. 3.10 and 3.11 (Sec. 3.4.1).
+    """
+    x = np.asarray(x, dtype=float)
+    y = np.asarray(y, dtype=float)
+    if x.ndim != 1 or x.shape != y.shape:
+        raise ValueError(f"x and y must be 1-D of the same length, got {x.shape} and {y.shape}")
+    columns = int(columns)
+    if columns < 1:
+        raise ValueError(f"columns must be >= 1, got {columns}")
+    N = x.size
+    if N <= 2 * columns:
+        return x.copy(), y.copy()
+    if np.any(np.diff(x) < 0):
+        order = np.argsort(x, kind="stable")
+        x, y = x[order], y[order]
+    x0, x1 = x[0], x[-1]
+    if np.isfinite(x0) and np.isfinite(x1) and x1 > x0:
+        col = np.minimum(((x - x0) * (columns / (x1 - x0))).astype(np.intp), columns - 1)
+    else:                                   # degenerate or non-finite x: equal counts
+        col = (np.arange(N) * columns) // N
+    starts = np.flatnonzero(np.r_[True, col[1:] != col[:-1]])
+    seg = np.repeat(np.arange(starts.size), np.diff(np.r_[starts, N]))
+    with np.errstate(invalid="ignore"):
+        ymin = np.fmin.reduceat(y, starts)
+        ymax = np.fmax.reduceat(y, starts)
+
+    def first_hit(target):
+        hit = np.flatnonzero(y == target[seg])          # NaN never matches
+        found, first = np.unique(seg[hit], return_index=True)
+        idx = starts.copy()                             # an all-NaN column: its first point
+        idx[found] = hit[first]
+        return idx
+
+    idx = np.unique(np.concatenate([first_hit(ymin), first_hit(ymax), [0, N - 1]]))
+    return x[idx], y[idx]
+
+
+# --------------------------------------------------------------------------------------------
+# Figures
+# --------------------------------------------------------------------------------------------
+
+#: File names (without extension) of the figures in ``OUTDIR/figures/``, by figure key.
+FIGURE_FILES = {"joints": "fig_joints_q_qd_qdd", "D": "fig_3_10_D", "h": "fig_3_11_h",
+                "torque": "fig_torque_full_vs_simplified", "payload": "fig_payload_dominance",
+                "formulations": "fig_table_3_5_operation_counts",
+                "contributions": "fig_torque_contributions", "budget": "fig_error_budget",
+                "cost_ladder": "fig_cost_ladder"}
+#: Further parts of the D and h figures when their panels fill more than a page
+#: (:func:`gd_analyze.report.main_figures.element_parts`): ``D_2`` is
+#: ``fig_3_10_D_part2``, ...
+FIGURE_PARTS = tuple(f"{k}_{p}" for k in ("D", "h") for p in range(2, 6))
+FIGURE_FILES.update({k: f"{FIGURE_FILES[k[0]]}_part{k[2:]}" for k in FIGURE_PARTS})
+_FIGURE_ORDER = ("joints", "D", *FIGURE_PARTS[:4], "h", *FIGURE_PARTS[4:], "contributions",
+                 "torque", "budget", "cost_ladder", "payload", "formulations")
+#: Figures also made 3.5 in wide for a one-column layout when asked for
+#: (``--column-figures``), as ``<key>_column``, written to ``figures/<name>_column.pdf`` and
+#: ``.svg`` beside the page-width files (not in the report).
+COLUMN_FIGURES = ("joints", "D", "h", "contributions", "torque", "budget", "cost_ladder",
+                  "payload", "formulations")
+FIGURE_FILES.update({f"{k}_column": f"{FIGURE_FILES[k]}_column" for k in COLUMN_FIGURES})
+_FILE_ORDER = _FIGURE_ORDER + tuple(f"{k}_column" for k in COLUMN_FIGURES)
+
+
+def make_figures(ds: Results | xr.Dataset, data: PlotData | None = None,
+                 keys: Collection[str] | None = None, column: bool = False) -> dict[str, Figure]:
+    """Make the report's figures from a stored analysis.
+
+    Parameters
+    ----------
+    ds : Results or xarray.Dataset
+        The results view (:class:`gd_analyze.store.results_view.Results`) or a dataset as
+        :func:`gd_analyze.store.datasets.build_dataset` makes it (N set points, n joints):
+        t (N,) [s]; q, qd, qdd (N, n) [rad, rad/s, rad/s^2]; D_tran, D_rot, D (N, n, n)
+        [kg m^2]; h_tran, h_rot, h, c, tau, tau_simplified (N, n) [N m]; the ranking (M,).
+    data : PlotData, optional
+        The series to draw (:func:`gd_analyze.report.main_figures.plot_data`); read from
+        ``ds`` if not given.
+    keys : collection of str, optional
+        Make only these of the figures below (those the dataset holds), column-width ones
+        included if named; all page-width ones if not given.
+    column : bool, optional
+        Also make the 3.5-in column-width versions (``"<key>_column"``) of
+        :data:`COLUMN_FIGURES`.
+
+    Returns
+    -------
+    dict of str to matplotlib.figure.Figure
+        ``"joints"``, ``"D"`` (analogue of Fig. 3.10, with ``"D_2"``, ... if its panels fill
+        more than a page), ``"h"`` (Fig. 3.11), ``"contributions"``, ``"torque"``,
+        ``"budget"`` and ``"cost_ladder"`` (of a model that drops terms),  and ``"payload"``
+        and ``"formulations"`` if the dataset holds them; sized for print (7.2 in wide,
+        type >= 7 pt), time [s] on x. Plain figures with matplotlib's own ticks, free to be
+        restyled (the report draws its ticks once, :func:`write_report`).
+
+    Raises
+    ------
+    KeyError
+        If a variable the figures need is missing from ``ds``.
+
+    Notes
+    -----
+    All the figures at once, as :func:`figure_makers` makes them one by one.
+    Source: Sec. 3.4.1 and Figs. 3.10-3.11 of Fu, Gonzalez & Lee (1987).
+    """
+    return {k: make() for k, make in figure_makers(ds, data, keys, column).items()}
+
+
+def figure_makers(ds: Results | xr.Dataset, data: PlotData | None = None,
+                  keys: Collection[str] | None = None,
+                  column: bool = False) -> dict[str, Callable[[], Figure]]:
+    """The report's figures as makers, in file order: each figure made when it is called.
+
+    A caller that draws each figure as soon as it is made (:func:`_write`) holds one figure
+    at a time, not all of them (fewer live objects for the garbage collector to walk).
+
+    Parameters
+    ----------
+    ds, data, keys, column
+        As for :func:`make_figures`.
+
+    Returns
+    -------
+    dict of str to callable
+        By figure key (:data:`FIGURE_FILES`), a function of no arguments returning that
+        figure (:class:`matplotlib.figure.Figure`), made with the report's rcParams.
+
+    Raises
+    ------
+    KeyError
+        As :func:`make_figures`: a variable the figures need is missing.
+
+    Notes
+    -----
+    The figures of Sec. 3.4.1, Figs. 3.10-3.11 (Fu, Gonzalez & Lee 1987), and the report's.
+    """
+
+    results = Results.of(ds)
+    ds = results.dataset
+    if data is None:
+        data = plot_data(ds)
+    labels, marks = zero_mask(results)          # the marks stored at analysis
+    zero = dict(zip(labels, marks))
+    dom = {r.label: r.dominance for r in results.ranking.rows}
+    s, e = results.dominance_threshold, results.negligible_threshold
+    order = _FILE_ORDER if column or keys is not None else _FIGURE_ORDER   # keys: as named
+    wanted = set(order if keys is None else keys)
+    arm = results.robot_record.armature
+    prismatic = prismatic_joints(results)
+    makers = {"joints": lambda: fig_joints(data, prismatic),
+              "h": lambda: fig_h(data, dom, zero, prismatic),
+              "torque": lambda: _fig_error(results, data),
+              "joints_column": lambda: fig_joints(data, prismatic, COLUMN_WIDTH),
+              "D_column": lambda: fig_D(data, dom, zero, s, e, prismatic, COLUMN_WIDTH,
+                                        armature=arm),
+              "h_column": lambda: fig_h(data, dom, zero, prismatic, COLUMN_WIDTH),
+              "torque_column": lambda: _fig_error(results, data, COLUMN_WIDTH)}
+    d_labels = [p[0] for p in d_panels(data, dom, zero, prismatic, arm)[0]]
+    for k in range(len(element_parts(d_labels))):
+        makers["D" if k == 0 else f"D_{k + 1}"] = functools.partial(
+            fig_D, data, dom, zero, s, e, prismatic, armature=arm, part=k)
+    makers.update(budget_makers(results, data))
+    payload = results.payload
+    if payload is not None:
+        makers["payload"] = lambda: payload_figure(payload)
+        makers["payload_column"] = lambda: payload_figure(payload, COLUMN_WIDTH)
+    if results.formulations is not None:
+        counted = results.formulations
+        makers["formulations"] = lambda: _fig_formulations(counted)
+        makers["formulations_column"] = lambda: _fig_formulations(counted, COLUMN_WIDTH)
+    return {k: functools.partial(_made, makers[k]) for k in order
+            if k in makers and k in wanted}
+
+
+def _made(make):
+    """One figure made with the report's rcParams."""
+    import matplotlib
+
+    with matplotlib.rc_context(FIG_RC):
+        return make()
+
+
+def _fig_error(results, data, width=PAGE_WIDTH):
+    if results.simplified is not None:          # tau_s - tau and its bound
+        return error_figure(results.simplified, width, data=data)
+    errors = results.torque_error
+    return fig_torque(data, errors.column("peak"), errors.column("relative_peak"),
+                      prismatic_joints(results))
+
+
+
+_FORMULATION_STYLE = {"lagrange-euler": ("L-E", "#0072B2", "o", "-"),
+                      "newton-euler": ("N-E", "#D55E00", "s", "-"),
+                      "gd": ("G-D", "#6A3D9A", "^", "-")}
+
+
+def _fig_formulations(counted, width=PAGE_WIDTH):
+    from matplotlib.figure import Figure
+    from matplotlib.ticker import FixedLocator, LogLocator, NullFormatter
+
+
+    n, names = counted.dof, counted.names
+    column = width < PAGE_WIDTH             # the two panels one above the other
+    W, H = (width, 5.0) if column else (PAGE_WIDTH, 2.9)
+    fig = Figure(figsize=(W, H))
+    for k, op in enumerate(("multiplications", "additions")):
+        box = ((0.65, (0.95 + (1 - k) * 2.05), W - 0.8, 1.6) if column else
+               (0.65 + k * 3.55, 0.75, 2.85, H - 1.0))        # x, y from the bottom, w, h [in]
+        ax = fig.add_axes((box[0] / W, box[1] / H, box[2] / W, box[3] / H))
+        ax.set_yscale("log")
+        ops = {"multiplications": (counted.multiplications, counted.multiplications_table_3_5),
+               "additions": (counted.additions, counted.additions_table_3_5)}[op]
+        for name, (short, colour, marker, ls) in _FORMULATION_STYLE.items():
+            if name not in names:
+                continue
+            j = names.index(name)
+            ax.plot(n, ops[0][:, j], color=colour, marker=marker,
+                    markersize=3.5, linestyle=ls, linewidth=1.0,
+                    label=f"{short} as implemented")
+            ax.plot(n, ops[1][:, j], color=colour,
+                    linestyle="--", linewidth=0.9, label=f"{short} Table 3.5")
+        # joints counted one by one on x; decades with unlabelled 2x and 5x marks on y (few
+        # Tick objects: each costs an Axes draw)
+        ax.xaxis.set_major_locator(FixedLocator(n))
+        ax.yaxis.set_minor_locator(LogLocator(subs=(2.0, 5.0)))
+        for axis in (ax.xaxis, ax.yaxis):       # plain labels: no mathtext to parse
+            axis.set_major_formatter(scaled_formatter() if axis is ax.xaxis
+                                     else decade_formatter())      # 10⁶, not 1e6
+            axis.set_minor_formatter(NullFormatter())
+        ax.set_title(f"{op} per set point")
+        ax.set_xlabel("number of joints n", labelpad=1.0)
+        ax.set_ylabel(op, labelpad=1.0)
+        ax.grid(True, which="major", linewidth=0.3)
+    fig.legend(*fig.axes[0].get_legend_handles_labels(), loc="lower center",
+               ncol=2 if column else 3, frameon=False, bbox_to_anchor=(0.5, 0.0),
+               fontsize=7 if column else None)
+    return fig
+
+
+# --------------------------------------------------------------------------------------------
+# Content shared by the HTML and the PDF
+# --------------------------------------------------------------------------------------------
+
+
+# --------------------------------------------------------------------------------------------
+# Drawing once, HTML and PDF
+# --------------------------------------------------------------------------------------------
+
+def _drawn(figures, pdf=True, created=None):
+    """Each figure drawn once as SVG and (if asked) typeset as PDF: {key: (svg, pdf, size)}."""
+    return draw_figures(figures, FIG_RC, pdf=pdf, created=created)
+
+
+def _in_report(figures):
+    """The figures the report shows, in its order (not the column-width files)."""
+    return {k: figures[k] for k in _FIGURE_ORDER if k in figures}
+
+
+def _inline(svg_text, prefix):
+    text = re.sub(r'\bid="', f'id="{prefix}-', svg_text)
+    text = re.sub(r'\bhref="#', f'href="#{prefix}-', text)
+    return re.sub(r"url\(#", f"url(#{prefix}-", text)
+
+
+def render_html(ds: xr.Dataset, figures: Mapping[str, Figure] | None = None) -> str:
+    """Render the report as one self-contained HTML document.
+
+    Parameters
+    ----------
+    ds : xarray.Dataset
+        A stored analysis (see :func:`make_figures` for the variables used).
+    figures : dict of str to matplotlib.figure.Figure, optional
+        The figures of :func:`make_figures`; made here if not given.
+
+    Returns
+    -------
+    str
+        The HTML document: inline CSS, figures as inline SVG, no external resources. Built
+        with the Jinja2 template ``templates/report.html.j2`` (autoescape on).
+
+    Raises
+    ------
+    InputError
+        If ``ds`` lacks a variable of a gd-analyze results dataset.
+
+    Notes
+    -----
+    Source: Sec. 3.4.1 and Figs. 3.10-3.11 of Fu, Gonzalez & Lee (1987).
+    """
+    ctx = report_context(ds)
+    if figures is None:
+        figures = make_figures(ds, keys=_FIGURE_ORDER)
+    return _html(ctx, _drawn(_in_report(figures), pdf=False))
+
+
+def _html(ctx, drawn):
+    from markupsafe import Markup
+
+    svgs = {k: Markup(_inline(svg, f"fig-{k}")) for k, (svg, _, _) in drawn.items()}
+    return render_template("report.html.j2", {**ctx, "figures": svgs,
+                                              "outline": main_outline(ctx, drawn)},
+                           {"class_colours": _CLASS_COLOURS})
+
+
+def render_pdf(ds: xr.Dataset, path: str | os.PathLike[str],
+               figures: Mapping[str, Figure] | None = None, paper: str = "a4") -> int:
+    """Write the report as a PDF document.
+
+    Parameters
+    ----------
+    ds : xarray.Dataset
+        A stored analysis (see :func:`make_figures` for the variables used).
+    path : str or os.PathLike
+        The PDF file to write (not atomically: :func:`write_report` passes a temporary name).
+    figures : dict of str to matplotlib.figure.Figure, optional
+        The figures of :func:`make_figures`; made here if not given.
+    paper : {"a4", "letter"}, optional
+        The size of every page.
+
+    Returns
+    -------
+    int
+        The number of pages written.
+
+    Raises
+    ------
+    InputError
+        If ``ds`` lacks a variable of a gd-analyze results dataset.
+    OSError
+        If the file cannot be written.
+
+    Notes
+    -----
+    The same sections and numbers as the HTML, numbered figures with captions, a bookmark per
+    section, typeset by Typst (:func:`gd_analyze.report.typeset.write_pdf`). Source: Sec. 3.4.1 and Figs.
+    3.10-3.11 of Fu, Gonzalez & Lee (1987).
+    """
+    ctx = report_context(ds)
+    if figures is None:
+        figures = make_figures(ds, keys=_FIGURE_ORDER)
+    return _pdf(ctx, _drawn(_in_report(figures)), path, paper)
+
+
+def _pdf(ctx, drawn, path, paper="a4"):
+    """Typeset the report (:func:`gd_analyze.report.typeset.write_pdf`) from the one section
+    list of the report (:func:`gd_analyze.report.main_outline.main_outline`), with the
+    provenance in the document information; the number of pages."""
+    metadata = {
+        "Author": f"gd-analyze {ctx['version']}",
+        "Subject": "Translational and rotational dominance of the generalized d'Alembert "
+                   "dynamics (Fu, Gonzalez & Lee 1987, Sec. 3.4.1, Figs. 3.10-3.11)",
+        "Keywords": ctx["keywords"],
+    }
+    return write_pdf(main_outline(ctx, drawn), {k: (d[0], d[2]) for k, d in drawn.items()},
+                     path, paper, metadata,
+                     footer=f"gd-analyze {ctx['version']}: {ctx['robot_name']}, {ctx['N']:,} "
+                            "set points", created=ctx["created"])
+
+
+# --------------------------------------------------------------------------------------------
+# Entry point
+# --------------------------------------------------------------------------------------------
+
+def write_report(results: Results | str | os.PathLike[str], outdir: str | os.PathLike[str],
+                 formats: Sequence[str] = REPORT_FORMATS, paper: str = "a4",
+                 progress: Callable[[int], object] | None = None, column_figures: bool = False,
+                 latex: bool = False) -> list[Path]:
+    """Write report.html and/or report.pdf, and every figure as PDF and SVG, for an analysis.
+
+    Parameters
+    ----------
+    results : Results, str or os.PathLike
+        The analysis in memory, typed (:class:`gd_analyze.store.results_view.Results`, with the
+        per-set-point series: the main job's own result), or a results file written by
+        :func:`gd_analyze.jobs.analyze.analyze_to_file`, only read (long series in
+        chunks). The dynamics are never recomputed.
+    outdir : str or os.PathLike
+        Output folder; made if missing.
+    formats : sequence of str, optional
+        Any of ``"html"`` and ``"pdf"``.
+    paper : {"a4", "letter"}, optional
+        Page size of the PDF.
+    progress : callable, optional
+        Called with a number of set points read (for a progress bar).
+    column_figures : bool, optional
+        Also write the 3.5-in column-width figures (:data:`COLUMN_FIGURES`,
+        ``figures/<name>_column.pdf`` and ``.svg``).
+    latex : bool, optional
+        Also write every table as LaTeX, ``tables/table_<section>_<k>.tex``.
+
+    Returns
+    -------
+    list of pathlib.Path
+        The files written: ``outdir/report.html``, ``outdir/report.pdf`` (in the order of
+        ``formats``), then ``outdir/figures/<name>.pdf`` and ``.svg`` per figure
+        (:data:`FIGURE_FILES`), then every table of the report as
+        ``outdir/tables/table_<section>_<k>.csv`` (and ``.tex`` with ``latex``:
+        :func:`gd_analyze.report.table_export.table_files`).
+
+    Raises
+    ------
+    InputError
+        If the results file is missing, unreadable or not a gd-analyze dataset.
+    ValueError
+        If a format is not one of :data:`REPORT_FORMATS`, none is given, or the paper is
+        unknown.
+    OSError
+        If a file cannot be written.
+
+    Notes
+    -----
+    Each figure is drawn once as SVG: inlined in the HTML, embedded in the PDF report and written to
+    ``figures/``, with its PDF typeset from it by Typst. Every file is written to a
+    temporary name beside its destination and renamed (:func:`gd_analyze.files.atomic_path`).
+    Source: Sec. 3.4.1 and Figs. 3.10-3.11 of Fu, Gonzalez & Lee (1987).
+    """
+    formats = check_formats(formats, REPORT_FORMATS)
+    if paper not in PAPER:
+        raise ValueError(f"paper must be one of {sorted(PAPER)}, got {paper!r}")
+    if isinstance(results, Results):                        # in memory: nothing read again
+        return _write(results, Path(outdir), formats, paper, progress, column_figures, latex)
+    with open_results(results, lazy=True) as ds:            # long series: in chunks
+        return _write(Results.from_dataset(ds, source=str(results)), Path(outdir), formats,
+                      paper, progress, column_figures, latex)
+
+
+def _write(results, outdir, formats, paper, progress, column=False, latex=False):
+    ds = results.dataset
+    ctx = report_context(results)       # fails early on a dataset that is not ours
+    (outdir / "figures").mkdir(parents=True, exist_ok=True)
+    data = plot_data(ds, progress=progress)
+    drawn = {}
+    for key, make in figure_makers(results, data, column=column).items():  # one alive
+        drawn.update(_drawn({key: make()}, created=ctx["created"]))
+    with contextlib.ExitStack() as stack:
+        paths = {fmt: outdir / f"report.{fmt}" for fmt in formats}
+        files = write_figure_files(stack, drawn, outdir / "figures", FIGURE_FILES)
+        drawn = _in_report(drawn)
+        tmp = {fmt: stack.enter_context(atomic_path(paths[fmt])) for fmt in formats}
+        if "html" in tmp:
+            with open(tmp["html"], "w", encoding="utf-8") as fh:
+                fh.write(_html(ctx, drawn))
+        if "pdf" in tmp:
+            _pdf(ctx, drawn, tmp["pdf"], paper)
+        tables = write_tables(stack, main_outline(ctx, drawn), outdir / "tables", latex)
+    return [paths[fmt] for fmt in formats] + files + tables
+

@@ -1,0 +1,558 @@
+"""Figures of the main report, sized for print: a 7.2-in page width or a 3.5-in column.
+
+Every figure is a plain :class:`matplotlib.figure.Figure` drawn at the size it is printed at, with
+type of at least 7 pt, so that it goes into a paper unscaled. The figures read *plot data*
+(:class:`PlotData`): the stored series, or for long trajectories their min/max envelope per
+column, which :func:`plot_data` reads from the stored file in chunks. They never see the full
+dataset and never recompute the dynamics.
+
+- ``joints``: q, qd, qdd against time [deg, deg/s, deg/s^2];
+- ``D``: the elements D_ij, i <= j, translational (o), rotational (x) and combined (^)
+  against time, in reading order on panels at least 1.1 in wide: the analogue of Fig. 3.10
+  of Fu, Gonzalez & Lee (1987), Sec. 3.4.1;
+- ``h``: the n elements h_i the same way, on panels of the same size (Fig. 3.11);
+- ``torque``: tau and tau_s against time per joint.
+
+An element whose parts are all zero to rounding (:func:`identically_zero`) is not drawn: a note
+below the panels names it ("≡ 0"); its share_tran is rounding noise.
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Mapping, Sequence
+from typing import TYPE_CHECKING, Any
+
+import numpy as np
+
+from ..ranking.ranking import (
+    ROUND_OFF,
+    element_label,
+    element_units,
+    identically_zero,
+    joint_motion_units,
+    joint_torque_units,
+)
+from .common import joint_style, units_text
+from .figure_style import element_markevery
+from .markup import label as _math
+from .numbers import decade_label
+from .plot_data import (
+    PlotData,
+    plot_data,
+)
+from .ticks import label_axes, set_ticks
+
+if TYPE_CHECKING:
+    import numpy.typing as npt
+    from matplotlib.figure import Figure
+
+    from .plot_data import PlotData
+
+__all__ = ["PAGE_WIDTH", "COLUMN_WIDTH", "ZERO_TOL", "PART_STYLE", "PART_ZORDER", "SHORT_CLASS",
+           "PlotData", "plot_data", "identically_zero", "fig_D", "fig_h", "fig_joints",
+           "fig_torque", "d_panels", "panel_grid", "element_parts", "MIN_PANEL_W", "MAX_ROWS",
+           "RC"]
+
+#: Width of a figure spanning the text of a page [in] (two-column journals: 7.0-7.3).
+PAGE_WIDTH = 7.2
+#: Width of a one-column figure [in].
+COLUMN_WIDTH = 3.5
+#: An element is identically zero if all its parts stay below this fraction of its scale
+#: (:data:`gd_analyze.ranking.ranking.ROUND_OFF`).
+ZERO_TOL = ROUND_OFF
+
+#: matplotlib settings: 7 pt ticks, 8 pt titles and labels at print size.
+RC = {
+    "font.size": 8.0, "axes.titlesize": 8.0, "axes.labelsize": 8.0, "xtick.labelsize": 7.0,
+    "ytick.labelsize": 7.0, "legend.fontsize": 8.0, "figure.titlesize": 9.0,
+    "axes.linewidth": 0.6, "axes.grid": True, "grid.color": "0.88", "grid.linewidth": 0.5,
+    "lines.linewidth": 0.9, "lines.markersize": 3.2, "xtick.major.size": 2.5,
+    "ytick.major.size": 2.5, "xtick.major.pad": 1.5, "ytick.major.pad": 1.5,
+    "axes.titlepad": 2.5, "axes.titley": 1.0, "svg.fonttype": "none",
+    "path.simplify": True, "svg.hashsalt": "gd-analyze", "axes.xmargin": 0.0,
+    # every line is given its colour: a one-colour cycle makes each new axes cheaper
+    "axes.prop_cycle": __import__("cycler").cycler(color=["#000000"]),
+}
+
+#: Colour (Okabe & Ito), marker and line of each part: told apart in greyscale by marker and
+#: line style alone.
+PART_STYLE = {
+    "tran": {"color": "#0072B2", "marker": "o", "linestyle": "-", "mfc": "none",
+             "label": "translational"},
+    "rot": {"color": "#D55E00", "marker": "x", "linestyle": "--", "mfc": None,
+            "label": "rotational"},
+    "total": {"color": "#000000", "marker": "^", "linestyle": ":", "mfc": "none",
+              "label": "combined"},
+    "arm": {"color": "#CC79A7", "marker": "s", "linestyle": "-.", "mfc": "none",
+            "label": "armature"},
+}
+_CLASS_COLOURS = {"translational": "#0072B2", "rotational": "#D55E00", "both": "#6A3D9A",
+                  "negligible": "#555555"}
+#: Short class names of the panel titles (the key spells them out).
+SHORT_CLASS = {"translational": "tran", "rotational": "rot", "both": "both",
+               "negligible": "negl"}
+_FULL, _SIMPLIFIED = "#000000", "#009E73"
+# Panel geometry of D and h [in]: margins, the gap between columns (tick labels and each
+# panel's unit label) and between rows (x tick labels and the next row's titles).
+_LEFT, _RIGHT, _WGAP, _HGAP, _TOP = 0.5, 0.06, 0.6, 0.44, 0.22
+#: Least panel width of the D and h figures at page width [in]: four panels a row.
+MIN_PANEL_W = 1.1
+#: Least panel width of the column-width D and h figures [in]: three a row.
+_MIN_COLUMN_PANEL_W = 0.5
+#: Most rows of panels in one figure (a page); more panels go to further parts
+#: (:func:`element_parts`).
+MAX_ROWS = {"page": 6, "column": 8}
+
+
+def _figure(w, h):
+    from matplotlib.figure import Figure
+
+    return Figure(figsize=(w, h))
+
+
+def _axes(fig, x, y, w, h):
+    """Axes at (x, y) from the top left, of size w x h [in]."""
+    W, H = fig.get_size_inches()
+    return fig.add_axes((x / W, 1 - (y + h) / H, w / W, h / H))
+
+
+def _limits(*arrays):
+    vals = np.concatenate([np.ravel(a) for a in arrays])
+    vals = vals[np.isfinite(vals)]
+    if vals.size == 0:
+        return -1.0, 1.0
+    lo, hi = float(vals.min()), float(vals.max())
+    if hi - lo <= 1e-9 * max(abs(lo), abs(hi)):          # constant: a range around it
+        half = 0.5 * abs(hi) if hi != 0 else 1.0
+        lo, hi = lo - half, hi + half
+    pad = 0.1 * (hi - lo)                                # markers at the extremes stay inside
+    return lo - pad, hi + pad
+
+
+#: Line widths of the parts: the combined curve thin, under the parts it sums.
+_PART_WIDTH = {"tran": 0.8, "rot": 0.8, "total": 0.55, "arm": 0.8}
+#: Drawing order (z-order) of the parts: the combined curve first, so that o and x stay
+#: visible on top of it; the drives' armature last, above the combined curve that includes it.
+PART_ZORDER = {"total": 2, "tran": 3, "rot": 4, "arm": 5}
+#: Marker size of each part [pt]: small enough for a marker at every one of 50 set points
+#: on a 1.1-in panel.
+_PART_MARKER = {"tran": 2.6, "rot": 2.8, "total": 2.4, "arm": 2.4}
+
+
+def _plot(ax, x, y, part, enveloped, lines):
+    """One part of an element: a marker at every set point for up to
+    :data:`gd_analyze.report.figure_style.MARK_EVERY_POINT` of them, else at every k-th
+    (:func:`gd_analyze.report.figure_style.element_markevery`, staggered between the parts);
+    none on a min/max envelope."""
+    style = PART_STYLE[part]
+    kw = {"color": style["color"], "linestyle": style["linestyle"], "label": style["label"],
+          "linewidth": _PART_WIDTH[part], "zorder": PART_ZORDER[part]}
+    if not enveloped:
+        every = element_markevery(x.size, lines)
+        kw["marker"] = style["marker"]
+        start = {"tran": 0, "rot": every // 3, "total": (2 * every) // 3,
+                 "arm": every // 2}[part]
+        kw["markevery"] = (start, every) if every > 1 else 1
+        kw["markersize"] = _PART_MARKER[part]
+        kw["markeredgewidth"] = 0.5 if part in ("total", "arm") else 0.6   # open, not a blot
+        if style["mfc"] is not None:
+            kw["markerfacecolor"] = style["mfc"]
+    return ax.plot(x, y, **kw)
+
+
+def _time_axis(ax, x, labels, nbins=3):
+    t0, t1 = float(x[0]), float(x[-1])
+    pad = 0.03 * (t1 - t0) if t1 > t0 else 0.5
+    ax.set_xlim(t0 - pad, t1 + pad)
+    # within the drawn range: an envelope's first point is half a column after t = 0
+    set_ticks(ax.xaxis, t0 - pad, t1 + pad, nbins, labels)
+
+
+def _element_panel(ax, x, parts, title, cls, enveloped, nbins=3):
+    """Parts (tran, rot, total and, on a diagonal panel of an arm with drives, arm) of one
+    element; y ticks placed, labelled by the figure
+    (:func:`gd_analyze.report.ticks.label_axes`: one notation per figure)."""
+    for part, y in parts.items():
+        _plot(ax, x, y, part, enveloped, len(parts))
+    lo, hi = _limits(*parts.values())
+    ax.set_ylim(lo, hi)
+    pad = (hi - lo) / 1.2 * 0.1
+    set_ticks(ax.yaxis, lo + pad, hi - pad, nbins, labels=False)
+    ax.set_title(f"{_math(title)}: {SHORT_CLASS.get(cls, cls)}",
+                 color=_CLASS_COLOURS.get(cls, "black"))
+
+
+def _legend_order(ax):
+    handles, labels = ax.get_legend_handles_labels()
+    order = [PART_STYLE[p]["label"] for p in ("tran", "rot", "total", "arm")]
+    pairs = sorted(zip(handles, labels), key=lambda p: order.index(p[1]))
+    return [p[0] for p in pairs], [p[1] for p in pairs]
+
+
+def panel_grid(count: int, width: float = PAGE_WIDTH) -> tuple[int, float, float]:
+    """Columns and panel size of the D and h figures.
+
+    Parameters
+    ----------
+    count : int
+        Panels to lay out (at least one column).
+    width : float, optional
+        Figure width [in]: :data:`PAGE_WIDTH` gives panels of at least :data:`MIN_PANEL_W`.
+
+    Returns
+    -------
+    cols : int
+    w, h : float
+        Panel width and height [in].
+
+    Examples
+    --------
+    >>> cols, w, h = panel_grid(19)
+    >>> cols, w >= MIN_PANEL_W
+    (4, True)
+    """
+    min_w = MIN_PANEL_W if width >= PAGE_WIDTH else _MIN_COLUMN_PANEL_W
+    fit = int((width - _LEFT - _RIGHT + _WGAP) / (min_w + _WGAP) + 1e-9)
+    cols = max(1, min(max(count, 1), fit))
+    if width >= PAGE_WIDTH:             # one panel size for D and h: as many as D has
+        cols = max(1, fit)
+    w = (width - _LEFT - _RIGHT - (cols - 1) * _WGAP) / cols
+    return cols, w, float(np.clip(0.68 * w, 0.5, 0.85))
+
+
+def element_parts(labels: Sequence[str], width: float = PAGE_WIDTH) -> list[list[str]]:
+    """The panels of a D or h figure split into parts of at most :data:`MAX_ROWS` rows.
+
+    Parameters
+    ----------
+    labels : sequence of str
+        The elements drawn, in reading order.
+    width : float, optional
+        Figure width [in].
+
+    Returns
+    -------
+    list of list of str
+        One list per figure part (one part if all fit; ``[[]]`` for none), the parts as
+        few as the rows allow and of about one size, in whole rows.
+
+    Examples
+    --------
+    >>> [len(p) for p in element_parts([f"D{k}" for k in range(30)])]
+    [16, 14]
+    """
+    cols = panel_grid(len(labels), width)[0]
+    most = cols * MAX_ROWS["page" if width >= PAGE_WIDTH else "column"]
+    labels = list(labels)
+    parts = max(1, -(-len(labels) // most))
+    per = cols * -(-len(labels) // (parts * cols))       # balanced, in whole rows
+    return [labels[k:k + per] for k in range(0, len(labels), per)] or [[]]
+
+
+def _title_key(fig, y, W, H):
+    """A legend of the panel titles' colours: one coloured square per class."""
+    from matplotlib.patches import Patch
+
+    handles = [Patch(facecolor=_CLASS_COLOURS[c], edgecolor="none") for c in _CLASS_COLOURS]
+    names = [f"{SHORT_CLASS[c]}" + ("" if SHORT_CLASS[c] == c else f" ({c})")
+             for c in _CLASS_COLOURS]
+    fig.legend(handles, names, loc="upper center", ncol=4 if W >= PAGE_WIDTH else 2,
+               frameon=False, fontsize=7,
+               handlelength=1.0, handleheight=0.7, columnspacing=1.2, borderaxespad=0.0,
+               title="panel title: element and its class, in the class's colour"
+               if W >= PAGE_WIDTH else "panel title: element and class, in its colour",
+               title_fontsize=7, bbox_to_anchor=(0.5, 1 - y / H))
+
+
+def _element_figure(x, panels, enveloped, width, key, kind):
+    """Panels in reading order, the parts' legend, the title colours' key and a note below.
+
+    ``panels``: (label, parts dict, class, units) per panel drawn; ``key``: the note."""
+    import textwrap
+
+    cols, w, h = panel_grid(len(panels), width)
+    rows = max(1, math.ceil(len(panels) / cols))
+    chars = max(30, int((width - 0.2) / (7.0 * 0.5 / 72)))
+    note = textwrap.fill(key, chars)
+    legend_h = 0.22 + 0.16 * (width < PAGE_WIDTH and any("arm" in p[1] for p in panels))
+    title_h = 0.4 + 0.14 * (width < PAGE_WIDTH)     # the title colours' key: two rows
+    panels_h = _TOP + rows * h + (rows - 1) * _HGAP + 0.3 if panels else 0.0
+    H = panels_h + (legend_h + title_h if panels else 0.0) + 0.14 * (note.count("\n") + 1) + 0.12
+    fig = _figure(width, H)
+    first, ys = None, []
+    for k, (label, parts, cls, units) in enumerate(panels):
+        r, c = divmod(k, cols)
+        ax = _axes(fig, _LEFT + c * (w + _WGAP), _TOP + r * (h + _HGAP), w, h)
+        _element_panel(ax, x, parts, label, cls, enveloped, 2 if h < 0.6 else 3)
+        if first is None or len(parts) > len(first[1]):
+            first = (ax, parts)
+        ys.append(ax.yaxis)
+        ax.set_ylabel(f"[{units_text(units)}]", fontsize=7, labelpad=1.0)
+        _time_axis(ax, x, labels=True, nbins=2 if w < 0.7 else 3)
+        if k + cols >= len(panels):         # the lowest panel of its column
+            ax.set_xlabel("t [s]", labelpad=1.0)
+    label_axes(ys)
+    y = panels_h
+    if first is not None:
+        fig.legend(*_legend_order(first[0]), loc="upper center", frameon=False, fontsize=7,
+                   ncol=4 if width >= PAGE_WIDTH else 2, handlelength=2.6,
+                   columnspacing=1.2, borderaxespad=0.0, bbox_to_anchor=(0.5, 1 - y / H))
+        _title_key(fig, y + legend_h, width, H)
+        y += legend_h + title_h
+    fig.text(0.1 / width, 1 - (y + 0.04) / H, note, fontsize=7, va="top", ha="left",
+             linespacing=1.25)
+    return fig
+
+
+def _zero_note(kind, zero_labels):
+    """The sentence naming the elements that are ≡ 0 in every part (not drawn)."""
+    if not zero_labels:
+        return ""
+    names = ", ".join(_math(z) for z in zero_labels)
+    return (f" \u2261\u00a00 (zero in every part, below {decade_label(ROUND_OFF)} of its "
+            f"scale), not drawn: {names}.")
+
+
+def d_panels(data: PlotData, dominance: Mapping[str, str], zero: Mapping[str, bool],
+             prismatic: npt.NDArray[np.bool_] | None = None,
+             armature: npt.NDArray[np.float64] | None = None) -> tuple[list[tuple[str, dict[str, Any], str, str]], list[str]]:
+    """The panels of :func:`fig_D`: every D_ij, i <= j, that is not ≡ 0.
+
+    Parameters
+    ----------
+    data, dominance, zero, prismatic, armature
+        As for :func:`fig_D`.
+
+    Returns
+    -------
+    panels : list of (str, dict, str, str)
+        Label, parts (``tran``, ``rot``, ``total`` and, on a diagonal with armature,
+        ``arm``: arrays (M,)), class and stored units, in reading order (row by row).
+    zero_labels : list of str
+        The elements left out.
+    """
+    Dt, Dr, D = (data.series[k] for k in ("D_tran", "D_rot", "D"))
+    n = D.shape[1]
+    panels, zeros = [], []
+    for i in range(n):
+        for j in range(i, n):
+            label = element_label("D", i, j)
+            if zero.get(label, False):
+                zeros.append(label)
+                continue
+            parts = {"tran": Dt[:, i, j], "rot": Dr[:, i, j], "total": D[:, i, j]}
+            if i == j and armature is not None and armature[i] > 0:
+                parts["arm"] = np.full(np.shape(Dt[:, i, j]), float(armature[i]))
+            panels.append((label, parts, dominance.get(label, ""),
+                           element_units("D", i, j, prismatic)))
+    return panels, zeros
+
+
+def fig_D(data: PlotData, dominance: Mapping[str, str], zero: Mapping[str, bool], s: float,
+          e: float, prismatic: npt.NDArray[np.bool_] | None = None, width: float = PAGE_WIDTH,
+          armature: npt.NDArray[np.float64] | None = None, part: int = 0) -> Figure:
+    """The analogue of Fig. 3.10: one panel per D_ij, i <= j, that is not ≡ 0.
+
+    Parameters
+    ----------
+    data : PlotData
+        With ``D_tran``, ``D_rot``, ``D`` (M, n, n) [kg m^2] and time x [s].
+    dominance : dict of str to str
+        Class of each element label (``"D12"`` -> ``"both"``).
+    zero : dict of str to bool
+        Elements zero in every part (round-off, :func:`identically_zero`): not drawn, named
+        in the note below the panels.
+    s, e : float
+        Thresholds of the ranking, for the key.
+    prismatic : ndarray of bool, shape (n,), optional
+        Prismatic joints: each panel's y axis gives its units
+        (:func:`gd_analyze.ranking.labels.element_units`: kg m², kg m or kg).
+    width : float, optional
+        :data:`PAGE_WIDTH` (panels of at least :data:`MIN_PANEL_W`, four a row) or
+        :data:`COLUMN_WIDTH` [in] (three a row).
+    armature : ndarray, shape (n,), optional
+        The drives' armature [kg m^2]: drawn as a fourth part on the diagonal panels where
+        nonzero, above the combined curve (which includes it).
+    part : int, optional
+        Which part of :func:`element_parts` to draw (0: the first).
+
+    Returns
+    -------
+    matplotlib.figure.Figure
+        ``width`` wide, the panels in reading order (D11, D12, ..., D22, ...), each y axis
+        labelled with its units and power of ten (``[10⁻³ kg m²]``); a marker at every set
+        point for up to :data:`gd_analyze.report.figure_style.MARK_EVERY_POINT` of them;
+        below, the parts' legend, the key of the title colours and a note naming the ≡ 0
+        elements.
+    """
+    panels, zeros = d_panels(data, dominance, zero, prismatic, armature)
+    chunks = element_parts([p[0] for p in panels], width)
+    drawn = [p for p in panels if p[0] in set(chunks[part])]
+    arm = any("arm" in p[1] for p in panels)
+    key = (f"{_math('D_ij')} against time t [s], i \u2264 j, in reading order; each y axis "
+           "in the panel's units, times the power of ten it shows. Classes with "
+           f"s\u00a0=\u00a0{s:g}, e\u00a0=\u00a0{e:g}."
+           + (" The combined curve includes the armature." if arm else "")
+           + _zero_note("D", zeros)
+           + (f" Part {part + 1} of {len(chunks)}." if len(chunks) > 1 else ""))
+    return _element_figure(data.x, drawn, data.enveloped, width, key, "D")
+
+
+def fig_h(data: PlotData, dominance: Mapping[str, str], zero: Mapping[str, bool],
+          prismatic: npt.NDArray[np.bool_] | None = None, width: float = PAGE_WIDTH) -> Figure:
+    """The analogue of Fig. 3.11: one panel per h_i that is not ≡ 0, as large as those of
+    :func:`fig_D`.
+
+    Parameters
+    ----------
+    data : PlotData
+        With ``h_tran``, ``h_rot``, ``h`` (M, n) [N m] and time x [s].
+    dominance, zero : dict
+        As for :func:`fig_D`.
+    prismatic : ndarray of bool, shape (n,), optional
+        Prismatic joints: their panels' axes read N, the others N m.
+    width : float, optional
+        :data:`PAGE_WIDTH` or :data:`COLUMN_WIDTH` [in].
+
+    Returns
+    -------
+    matplotlib.figure.Figure
+        As :func:`fig_D`: panels in rows, legend, title colours' key and the note below.
+    """
+    ht, hr, hh = (data.series[k] for k in ("h_tran", "h_rot", "h"))
+    panels, zeros = [], []
+    for i in range(hh.shape[1]):
+        label = element_label("h", i)
+        if zero.get(label, False):
+            zeros.append(label)
+            continue
+        panels.append((label, {"tran": ht[:, i], "rot": hr[:, i], "total": hh[:, i]},
+                       dominance.get(label, ""), element_units("h", i, None, prismatic)))
+    key = (f"{_math('h_i')} against time t [s]; each y axis in the panel's units, times the "
+           "power of ten it shows." + _zero_note("h", zeros))
+    return _element_figure(data.x, panels, data.enveloped, width, key, "h")
+
+
+def fig_joints(data: PlotData, prismatic: npt.NDArray[np.bool_] | None = None,
+               width: float = PAGE_WIDTH) -> Figure:
+    """q, qd and qdd of every joint against time, side by side [deg, deg/s, deg/s^2].
+
+    Parameters
+    ----------
+    data : PlotData
+        With ``q``, ``qd``, ``qdd`` (M, n) [rad, rad/s, rad/s^2; m, m/s, m/s^2 for a prismatic
+        joint] and time x [s].
+    prismatic : ndarray of bool, shape (n,), optional
+        Prismatic joints, drawn in mm (mm/s, mm/s^2) on panels of their own.
+    width : float, optional
+        :data:`PAGE_WIDTH` (three panels a row) or :data:`COLUMN_WIDTH` [in] (one panel a
+        row).
+
+    Returns
+    -------
+    matplotlib.figure.Figure
+        One line per joint, told apart by colour, line style and marker (distinct for up to 7
+        joints, :func:`gd_analyze.report.common.joint_style`), legend on top; an arm with
+        both joint types gets panels for its revolute joints [deg, deg/s, deg/s^2] and panels
+        for its prismatic ones [mm, mm/s, mm/s^2]
+        (:func:`gd_analyze.ranking.labels.joint_motion_units`), never two units on one axis.
+    """
+    n = data.series["q"].shape[1]
+    prismatic = np.zeros(n, bool) if prismatic is None else np.asarray(prismatic, bool)
+    kinds = [k for k in (False, True) if np.any(prismatic == k)]
+    column = width < PAGE_WIDTH
+    per_row = 1 if column else 3
+    panels = [(kind, k) for kind in kinds for k in range(3)]
+    rows = math.ceil(len(panels) / per_row)
+    row_h, gap_h, bottom = (0.95, 0.42, 0.4) if column else (1.5, 0.55, 0.45)
+    top = 0.25 + 0.16 * math.ceil(n / (3 if column else 7))
+    W, H = width, top + rows * row_h + (rows - 1) * gap_h + bottom
+    fig = _figure(W, H)
+    left, gap = 0.6, 0.55
+    w = (W - left - 0.1 - (per_row - 1) * gap) / per_row
+    symbols = ("q", "q\u0307", "q\u0308")
+    first: dict[Any, Any] = {}
+    for p, (kind, k) in enumerate(panels):
+        r, c = divmod(p, per_row)
+        joints = np.flatnonzero(prismatic == kind)
+        scale = 1000.0 if kind else np.degrees(1.0)
+        units = joint_motion_units(kind, shown=True)
+        name = ("q", "qd", "qdd")[k]
+        ax = _axes(fig, left + c * (w + gap), top + r * (row_h + gap_h), w, row_h)
+        y = data.series[name][:, joints] * scale
+        for col, jn in enumerate(joints):
+            style = joint_style(int(jn), 1 if data.enveloped else y.shape[0], len(joints))
+            if data.enveloped:
+                style = {k2: v for k2, v in style.items() if not k2.startswith("marker")}
+            ax.plot(data.x, y[:, col], linewidth=0.9, label=f"joint {jn + 1}", **style)
+        first.setdefault(kind, ax)
+        lo, hi = _limits(y)
+        ax.set_ylim(lo, hi)
+        pad = (hi - lo) / 1.2 * 0.1
+        set_ticks(ax.yaxis, lo + pad, hi - pad, 4 if row_h > 1.2 else 3, labels=False)
+        _time_axis(ax, data.x, True)
+        ax.set_xlabel("t [s]", labelpad=1.0)
+        ax.set_ylabel(f"{symbols[k]} [{units[k]}]", labelpad=1.0)
+    label_axes([ax.yaxis for ax in fig.axes])
+    handles: list[Any] = []
+    labels: list[str] = []
+    for ax in first.values():
+        hs, ls = ax.get_legend_handles_labels()
+        handles, labels = handles + hs, labels + ls
+    order = np.argsort([int(lab.split()[1]) for lab in labels])
+    fig.legend([handles[o] for o in order], [labels[o] for o in order], loc="upper center",
+               ncol=min(n, 3 if column else 7), frameon=False, handlelength=3.0,
+               columnspacing=1.2, bbox_to_anchor=(0.5, 1.0), fontsize=7 if column else 8)
+    return fig
+
+
+def fig_torque(data: PlotData, peak_error: npt.NDArray[np.float64],
+               rel_error: npt.NDArray[np.float64],
+               prismatic: npt.NDArray[np.bool_] | None = None) -> Figure:
+    """tau of the full and of the simplified model per joint against time [N m].
+
+    Parameters
+    ----------
+    data : PlotData
+        With ``tau`` and ``tau_simplified`` (M, n) [N m].
+    peak_error, rel_error : ndarray, shape (n,)
+        Peak |tau_s - tau| [N m] and the same over peak |tau| [1]; the titles give the
+        latter (the table of the report gives both).
+    prismatic : ndarray of bool, shape (n,), optional
+        Prismatic joints, whose axes read N (the others N m).
+
+    Returns
+    -------
+    matplotlib.figure.Figure
+        7.2 in wide, three panels a row.
+    """
+    tau, tau_s = data.series["tau"], data.series["tau_simplified"]
+    n = tau.shape[1]
+    cols = min(n, 3)
+    rows = math.ceil(n / cols)
+    left, gap, hgap, w_h = 0.55, 0.5, 0.55, 1.05
+    w = (PAGE_WIDTH - left - 0.1 - (cols - 1) * gap) / cols
+    H = 0.3 + rows * w_h + (rows - 1) * hgap + 0.65
+    fig = _figure(PAGE_WIDTH, H)
+    for i in range(n):
+        r, c = divmod(i, cols)
+        ax = _axes(fig, left + c * (w + gap), 0.3 + r * (w_h + hgap), w, w_h)
+        ax.plot(data.x, tau[:, i], color=_FULL, linestyle="-", linewidth=1.0,
+                label="full model \u03c4")
+        ax.plot(data.x, tau_s[:, i], color=_SIMPLIFIED, linestyle="--", linewidth=1.2,
+                label="simplified model \u03c4\u209b")
+        lo, hi = _limits(tau[:, i], tau_s[:, i])
+        ax.set_ylim(lo, hi)
+        pad = (hi - lo) / 1.2 * 0.1
+        set_ticks(ax.yaxis, lo + pad, hi - pad, 3, labels=False)
+        _time_axis(ax, data.x, True)
+        ax.set_xlabel("t [s]", labelpad=1.0)
+        units = joint_torque_units(bool(prismatic[i])) if prismatic is not None else "N m"
+        ax.set_ylabel(_math("\u03c4" + str(i + 1)) + f" [{units}]", labelpad=1.0)
+        rel = f"{100 * rel_error[i]:.2g} %" if np.isfinite(rel_error[i]) else "n/a"
+        ax.set_title(f"joint {i + 1}: peak error {rel}")
+    label_axes([ax.yaxis for ax in fig.axes])
+    fig.legend(*fig.axes[0].get_legend_handles_labels(), loc="lower center", ncol=2,
+               frameon=False, handlelength=2.6, bbox_to_anchor=(0.5, 0.0))
+    return fig

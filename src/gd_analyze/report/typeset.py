@@ -1,0 +1,306 @@
+"""The PDF reports, typeset by Typst from the one section list the HTML renders.
+
+:func:`write_pdf` hands a report's :class:`gd_analyze.report.sections.Outline` to the Typst
+compiler (the ``typst`` package: the compiler in a wheel, run in-process) as *data*: a JSON
+document read by the fixed template ``templates/report.typ`` that ships with the package, and
+each figure as SVG text. No markup is generated: every string of the report (robot and file
+names, descriptions, paths) reaches Typst as a JSON string and is set as text, so ``#panic()``
+or ``*bold*`` in a robot's name is printed as it is.
+
+Typst numbers the sections, tables (within their section, "Table 5.2") and figures ("Figure
+3."), checks each section's number against the outline's (the HTML and the sentences of the
+report cite them), sets each figure where the outline puts it (beside the text citing it), never
+splits a paragraph over two pages, keeps each heading with
+what follows it, breaks long tables over pages with their header repeated, sets the sub- and
+superscripts of :mod:`gd_analyze.report.markup` as such and code in monospace. The figures are
+embedded as vector graphics from their SVG; their text (``svg.fonttype`` "none") is set in
+DejaVu Sans, the font matplotlib measured it in, embedded as a TrueType subset: the PDF holds
+no Type 3 font. The text is set in DejaVu Sans too (one family on the page, shipped with
+matplotlib; Libertinus Serif's marks gave a text layer with "q̇q̇" for q̇), no text under
+:data:`MIN_PRINTED_PT` (figures are drawn so that their text prints at that size or more:
+:func:`printed_scale`, :func:`gd_analyze.report.figure_style.raise_small_text`).
+"""
+
+from __future__ import annotations
+
+import functools
+import json
+import os
+import re
+from collections.abc import Mapping
+from typing import TYPE_CHECKING, Any
+
+from . import markup
+from .common import keep_units
+
+if TYPE_CHECKING:
+    from .sections import Outline
+
+__all__ = ["PAPER", "MIN_PRINTED_PT", "printed_scale", "TABLE_COLOURS", "PARAGRAPH_STYLES", "document_data", "write_pdf",
+           "figure_pdfs"]
+
+#: Page sizes [in] and their Typst names.
+PAPER = {"a4": (210 / 25.4, 297 / 25.4), "letter": (8.5, 11.0)}
+_TYPST_PAPER = {"a4": "a4", "letter": "us-letter"}
+#: Margins [in]: left and right, top, bottom (the footer sits in the bottom margin).
+MARGINS = (0.75, 0.7, 0.85)
+#: Colours of the class and yes/no cells of every table.
+TABLE_COLOURS = {"translational": "#0072B2", "rotational": "#D55E00", "both": "#6A3D9A",
+                 "negligible": "#555555", "yes": "#007A4D", "no": "#B00020",
+                 "passed": "#007A4D", "FAILED": "#B00020", "tran": "#0072B2",
+                 "rot": "#D55E00", "none": "#555555", "pruned": "#CC79A7"}
+#: The paragraph styles of the outline (the HTML's classes of the same names).
+PARAGRAPH_STYLES = ("lead", "summary", "body", "note", "strong")
+#: Room kept under a figure for its caption [in]: a figure is scaled down to leave it.
+_CAPTION_ROOM = 0.9
+
+_CAPTION = re.compile(r"^(Table|Figure) ([0-9]+(?:\.[0-9]+)?)[:.] (.*)$", re.S)
+
+
+@functools.cache
+def _template(name="report.typ"):
+    from importlib import resources
+
+    return resources.files("gd_analyze.report").joinpath(f"templates/{name}").read_bytes()
+
+
+@functools.cache
+def _fonts():
+    """The fonts every Typst document of a process is set in, loaded once: matplotlib's DejaVu
+    folder (the reports use DejaVu Sans and DejaVu Sans Mono) and Typst's own; never the
+    system's."""
+    import typst
+
+    return typst.Fonts(include_system_fonts=False, include_embedded_fonts=True,
+                       font_paths=[_font_folder()])
+
+
+def _compile(template, inputs, created):
+    """PDF bytes of a fixed template compiled with the given sys.inputs (all data)."""
+    import typst
+
+    compiler = typst.Compiler(font_paths=_fonts(), ignore_system_fonts=True)
+    try:
+        return compiler.compile(input=_template(template), sys_inputs=inputs,
+                                timestamp=_timestamp(created))
+    except typst.TypstError as exc:
+        raise RuntimeError(f"typst: {exc.message}") from None
+
+
+def _font_folder():
+    """matplotlib's folder of DejaVu fonts: the figures' text is set in the font it measured."""
+    from pathlib import Path
+
+    import matplotlib
+
+    return str(Path(matplotlib.get_data_path()) / "fonts" / "ttf")
+
+
+def _runs(text):
+    """A marked string as [text, kind] pairs: kind "" (plain), "sub", "sup" or "code"."""
+    return [[t, k or ""] for t, k in markup.spans(str(text))]
+
+
+def _caption(caption):
+    """("Table", "5.2", rest) from "Table 5.2: rest" (the outline's numbered caption)."""
+    m = _CAPTION.match(caption)
+    if m is None:
+        raise ValueError(f"not a numbered caption: {caption[:40]!r}")
+    return m.groups()
+
+
+def _figure_width(size, paper):
+    """The width [in] a figure is set at: its own, or less so that it and its caption fit the
+    text area."""
+    w, h = size
+    width = PAPER[paper][0] - 2 * MARGINS[0]
+    height = PAPER[paper][1] - MARGINS[1] - MARGINS[2] - _CAPTION_ROOM
+    return w * min(1.0, width / w, height / h)
+
+
+#: The least size [pt] of any text of a printed report, figures' text included.
+MIN_PRINTED_PT = 8.0
+
+
+def printed_scale(size: tuple[float, float]) -> float:
+    """The least scale a figure of this size is printed at, over the papers of :data:`PAPER`.
+
+    Parameters
+    ----------
+    size : (float, float)
+        The figure's width and height [in].
+
+    Returns
+    -------
+    float
+        Printed size / drawn size, at most 1 (:func:`_figure_width` over the drawn width).
+    """
+    w = float(size[0])
+    return min(_figure_width(size, paper) / w for paper in PAPER)
+
+
+def _block(b, paper, sizes):
+    if b.kind == "paragraph":
+        return {"kind": "paragraph", "style": b.style if b.style in PARAGRAPH_STYLES else "body",
+                "text": _runs(keep_units(b.content))}
+    if b.kind == "counts":
+        return {"kind": "counts", "counts": [[str(c), int(k)] for c, k in b.content.items()]}
+    what, number, caption = _caption(b.caption)
+    if b.kind == "table":
+        t = b.content
+        return {"kind": "table", "number": number, "caption": _runs(caption),
+                "kv": b.style == "kv", "size": float(b.size),
+                "header": [_runs(h) for h in t["header"]],
+                "rows": [[_runs(c) for c in row] for row in t["rows"]],
+                "align": list(t["align"]), "colour": [int(k) for k in t.get("colour_cols", [])]}
+    return {"kind": "figure", "number": number, "caption": _runs(caption), "key": b.content,
+            "width": _figure_width(sizes[b.content], paper)}
+
+
+def document_data(outline: Outline, sizes: Mapping[str, tuple[float, float]], paper: str = "a4",
+                  metadata: Mapping[str, Any] | None = None, footer: str = "") -> dict[str, Any]:
+    """The data the template ``templates/report.typ`` typesets.
+
+    Parameters
+    ----------
+    outline : gd_analyze.report.sections.Outline
+        The report's sections.
+    sizes : dict of str to (float, float)
+        The size [in] of each figure of the outline, by key.
+    paper : {"a4", "letter"}, optional
+        The page size.
+    metadata : dict, optional
+        ``Author``, ``Subject``, ``Keywords`` of the PDF's document information.
+    footer : str, optional
+        The text at the foot of every page, before "page k of K".
+
+    Returns
+    -------
+    dict
+        JSON-ready: strings, numbers and lists only; each text a list of [text, kind] runs.
+
+    Raises
+    ------
+    ValueError
+        If ``paper`` is unknown or a caption is not numbered as the outline numbers them.
+
+    Examples
+    --------
+    >>> from gd_analyze.report.sections import Outline
+    >>> o = Outline("R " + markup.sub("1"), figures={"D"})
+    >>> o.section("1", "Robot")
+    >>> o.figure("D", "elements of D")
+    >>> d = document_data(o, {"D": (7.0, 14.0)})
+    >>> d["title"], d["sections"][1]["number"], d["sections"][1]["blocks"][0]["number"]
+    ([['R ', ''], ['1', 'sub']], '1', '1')
+    >>> round(d["sections"][1]["blocks"][0]["width"], 2)        # scaled to fit the page
+    4.62
+    """
+    if paper not in PAPER:
+        raise ValueError(f"paper must be one of {sorted(PAPER)}, got {paper!r}")
+    metadata = dict(metadata or {})
+    sections = []
+    for s in outline.sections:
+        level = 0 if s.level == 0 else 1 + s.number.count(".")
+        sections.append({"number": s.number, "level": level, "title": _runs(s.title),
+                         "blocks": [_block(b, paper, sizes) for b in s.blocks]})
+    return {"paper": _TYPST_PAPER[paper], "margins": list(MARGINS),
+            "title": _runs(outline.title), "plain_title": markup.plain(outline.title),
+            "author": markup.plain(metadata.get("Author", "")),
+            "subject": markup.plain(metadata.get("Subject", "")),
+            "keywords": [markup.plain(metadata["Keywords"])] if metadata.get("Keywords")
+            else [],
+            "footer": markup.plain(footer), "colours": TABLE_COLOURS, "sections": sections}
+
+
+def write_pdf(outline: Outline, figures: Mapping[str, tuple[str, tuple[float, float]]],
+              path: str | os.PathLike[str], paper: str = "a4",
+              metadata: Mapping[str, Any] | None = None, footer: str = "",
+              created: str | None = None) -> int:
+    """Typeset a report's outline and write it as a PDF.
+
+    Parameters
+    ----------
+    outline : gd_analyze.report.sections.Outline
+        The report's sections (the HTML renders the same).
+    figures : dict of str to (str, (float, float))
+        Each figure of the outline: its SVG text and its size [in].
+    path : str or os.PathLike
+        The PDF file (written as given: the caller stages it).
+    paper : {"a4", "letter"}, optional
+        The size of every page.
+    metadata : dict, optional
+        ``Author``, ``Subject``, ``Keywords`` (the provenance: version, inputs' SHA-256,
+        settings) of the document information; Typst names itself as its creator.
+    footer : str, optional
+        Text at the foot of every page, before "page k of K".
+    created : str, optional
+        The creation time, ISO 8601 UTC ("2026-11-24T21:21:10Z"); none recorded if not given.
+
+    Returns
+    -------
+    int
+        The number of pages.
+
+    Raises
+    ------
+    ValueError
+        If ``paper`` is unknown.
+    RuntimeError
+        If Typst fails (a section numbered otherwise than the outline numbers it).
+    OSError
+        If the file cannot be written.
+    """
+    data = document_data(outline, {k: size for k, (_, size) in figures.items()}, paper,
+                         metadata, footer)
+    inputs = {"gd-data": json.dumps(data, ensure_ascii=False)}
+    inputs.update({f"gd-figure-{k}": svg for k, (svg, _) in figures.items()})
+    pdf = _compile("report.typ", inputs, created)
+    with open(path, "wb") as fh:
+        fh.write(pdf)
+    return len(re.findall(rb"/Type\s*/Page\b", pdf))
+
+
+def figure_pdfs(figures: Mapping[str, tuple[str, tuple[float, float]]],
+                created: str | None = None) -> dict[str, bytes]:
+    """Each figure as a one-page PDF of its own size, typeset by Typst from its SVG.
+
+    Parameters
+    ----------
+    figures : dict of str to (str, (float, float))
+        Each figure's SVG text (from :func:`gd_analyze.report.drawing.figure_svg`) and its
+        size [in], by key; the key is the PDF's title.
+    created : str, optional
+        The creation time, ISO 8601 UTC; the time of the run if not given.
+
+    Returns
+    -------
+    dict of str to bytes
+        The PDF of each figure: the SVG embedded as vector graphics, as the reports embed it,
+        its text set in DejaVu Sans (the font matplotlib measured it in) as a TrueType subset,
+        so that no figure file holds a Type 3 font.
+
+    Raises
+    ------
+    RuntimeError
+        If Typst fails (an SVG it cannot read).
+
+    Notes
+    -----
+    The fixed template ``templates/figure.typ`` reads the SVG, the size and the title as data
+    (``sys.inputs``); the fonts are loaded once per process (:func:`_fonts`).
+    """
+    return {k: _compile("figure.typ", {"gd-figure": svg, "gd-width": repr(float(size[0])),
+                                       "gd-height": repr(float(size[1])), "gd-title": str(k)},
+                        created)
+            for k, (svg, size) in figures.items()}
+
+
+def _timestamp(created):
+    """A timezone-aware datetime from an ISO 8601 time, or None."""
+    if not created:
+        return None
+    from datetime import datetime, timezone
+
+    t = datetime.fromisoformat(str(created).replace("Z", "+00:00"))
+    return t if t.tzinfo else t.replace(tzinfo=timezone.utc)

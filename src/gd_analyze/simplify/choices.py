@@ -1,0 +1,193 @@
+"""The element-level simplified model of Sec. 3.4.1: which part of each element is kept.
+
+For each ranked element of D (upper triangle, mirrored to the lower) and h, a choice keeps the
+translational part, the rotational part, both, or nothing (negligible)::
+
+    tau_s = D_s qdd + h_s + c,   D_s = M_tran * D_tran + M_rot * D_rot,
+                                 h_s = m_tran * h_tran + m_rot * h_rot
+
+with 0/1 masks M and m from the choices (Fu, Gonzalez & Lee 1987, Sec. 3.4.1, Eq. (3.4-24)).
+The drives' terms (:mod:`gd_analyze.model.drives`) are never dropped: D_s gets + D_arm and
+tau_s gets + tau_f.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Sequence
+from typing import TYPE_CHECKING
+
+import numpy as np
+from numpy.typing import ArrayLike
+
+from ..dynamics.dalembert import assemble_tau
+from ..ranking.labels import element_index, element_labels
+
+if TYPE_CHECKING:
+    from ..dynamics.dalembert import GDTerms
+
+__all__ = ["CHOICES", "PRUNED", "choice_masks", "simplified_torque", "merge_choices",
+           "full_choices"]
+
+#: What a simplified model keeps of an element: its translational part, its rotational part,
+#: both, or nothing.
+CHOICES = ("tran", "rot", "both", "none")
+#: The choice of an element of a model of the recursive form that the (base parameter, part)
+#: pairs it drops change: both parts kept, each less the dropped pairs' terms (not
+#: "both", which says the element is exact). Its masks are those of "both".
+PRUNED = "pruned"
+
+
+def choice_masks(choices: dict, n: int
+                 ) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
+    """0/1 masks that select the kept parts.
+
+    Parameters
+    ----------
+    choices : dict
+        Element label (``"D11"`` .. ``"Dnn"`` with i <= j, ``"h1"`` .. ``"hn"``) -> ``"tran"``,
+        ``"rot"``, ``"both"``, ``"none"`` or (a recursive model's) :data:`PRUNED`, masked as
+        ``"both"``.
+    n : int
+        Number of joints.
+
+    Returns
+    -------
+    D_tran_mask, D_rot_mask : ndarray, shape (n, n)
+        Symmetric masks for D_tran and D_rot.
+    h_tran_mask, h_rot_mask : ndarray, shape (n,)
+        Masks for h_tran and h_rot.
+
+    Raises
+    ------
+    ValueError
+        If an element is missing or a choice is not one of the five.
+    """
+    Mt, Mr = np.zeros((n, n)), np.zeros((n, n))
+    mt, mr = np.zeros(n), np.zeros(n)
+    for label, (kind, i, j) in zip(element_labels(n), element_index(n)):
+        if label not in choices:
+            raise ValueError(f"no choice for element {label}")
+        ch = choices[label]
+        if ch not in CHOICES + (PRUNED,):
+            raise ValueError(f"element {label}: choice must be one of {CHOICES + (PRUNED,)}, "
+                             f"got {ch!r}")
+        keep_t, keep_r = ch in ("tran", "both", PRUNED), ch in ("rot", "both", PRUNED)
+        if kind == "D":
+            Mt[i, j] = Mt[j, i] = keep_t
+            Mr[i, j] = Mr[j, i] = keep_r
+        else:
+            mt[i], mr[i] = keep_t, keep_r
+    return Mt, Mr, mt, mr
+
+
+def simplified_torque(terms: GDTerms, choices: dict, qdd: ArrayLike) -> np.ndarray:
+    """Torques of the simplified model from already computed G-D terms.
+
+    Parameters
+    ----------
+    terms : GDTerms
+        D_tran, D_rot (N, n, n) [kg m^2]; h_tran, h_rot, c (N, n) [N m].
+    choices : dict
+        Element label -> ``"tran"``, ``"rot"``, ``"both"`` or ``"none"``.
+    qdd : array_like, shape (N, n)
+        Joint accelerations [rad/s^2].
+
+    Returns
+    -------
+    ndarray, shape (N, n)
+        tau_s = D_s qdd + h_s + c [N m], plus the drives' Ia qdd and tau_f when the terms
+        carry them.
+
+    Raises
+    ------
+    ValueError
+        As :func:`choice_masks`.
+    """
+    n = terms.c.shape[1]
+    Mt, Mr, mt, mr = choice_masks(choices, n)
+    D_s = Mt * terms.D_tran + Mr * terms.D_rot
+    h_s = mt * terms.h_tran + mr * terms.h_rot
+    qdd = np.asarray(qdd, dtype=float).reshape(terms.c.shape)
+    tau = assemble_tau(D_s, h_s, terms.c, qdd)
+    if terms.armature is not None:
+        tau += terms.armature * qdd
+    if terms.tau_f is not None:
+        tau += terms.tau_f
+    return tau
+
+
+def merge_choices(choices_list: Sequence[dict]) -> dict:
+    """Merge simplified models conservatively: drop a part only where every model drops it.
+
+    Parameters
+    ----------
+    choices_list : sequence of dict
+        One dict per trajectory: element label -> ``"tran"``, ``"rot"``, ``"both"`` or
+        ``"none"``; all with the same labels.
+
+    Returns
+    -------
+    dict
+        Element label -> merged choice, in the label order of the first dict. With
+        keep_tran = any choice in {tran, both} and keep_rot = any choice in {rot, both}:
+        ``"both"`` if both are kept, ``"tran"`` or ``"rot"`` if only one, ``"none"`` if
+        neither (the element is negligible in every trajectory).
+
+    Raises
+    ------
+    ValueError
+        If the sequence is empty, the dicts have different labels, or a choice is not one of
+        the four.
+
+    Notes
+    -----
+    The merged model keeps every part that any trajectory's own model keeps, so it is the
+    smallest model of this form that is, element by element, at least as complete as each of
+    them. Source: the simplified model of Sec. 3.4.1 of Fu, Gonzalez & Lee (1987), which
+    "depends on the specific trajectory being considered".
+
+    Examples
+    --------
+    >>> merge_choices([{"D11": "tran", "h1": "none"}, {"D11": "rot", "h1": "none"}])
+    {'D11': 'both', 'h1': 'none'}
+    """
+    choices_list = list(choices_list)
+    if not choices_list:
+        raise ValueError("no simplified models to merge")
+    labels = list(choices_list[0])
+    keep_t = dict.fromkeys(labels, False)
+    keep_r = dict.fromkeys(labels, False)
+    for k, choices in enumerate(choices_list):
+        if set(choices) != set(labels):
+            diff = sorted(set(choices) ^ set(labels))
+            raise ValueError(f"model {k} has other elements than model 0 (e.g. {diff[0]!r})")
+        for label, ch in choices.items():
+            if ch not in CHOICES:
+                raise ValueError(f"model {k}, element {label}: choice must be one of "
+                                 f"{CHOICES}, got {ch!r}")
+            keep_t[label] |= ch in ("tran", "both")
+            keep_r[label] |= ch in ("rot", "both")
+    table = {(True, True): "both", (True, False): "tran", (False, True): "rot",
+             (False, False): "none"}
+    return {label: table[(keep_t[label], keep_r[label])] for label in labels}
+
+
+def full_choices(n: int) -> dict:
+    """Choices that keep every part of every element: the full model.
+
+    Parameters
+    ----------
+    n : int
+        Number of joints.
+
+    Returns
+    -------
+    dict
+        ``{"D11": "both", ..., "hn": "both"}``.
+
+    Examples
+    --------
+    >>> full_choices(1)
+    {'D11': 'both', 'h1': 'both'}
+    """
+    return {label: "both" for label in element_labels(n)}

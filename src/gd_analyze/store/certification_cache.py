@@ -1,0 +1,195 @@
+"""On-disk cache of the region certification, checked before it is used.
+
+The certification of a joint-limit region (:func:`gd_analyze.certify.certify.certify`:
+the proved bound of every (base parameter, part) pair, the scale s_i and where it is reached)
+is a pure function of the robot's parameters, the region, the settings and the package's
+code, so it is kept in the derivation cache (:mod:`gd_analyze.cache`) as ``region-<sha>.npz``
+under the one key (:func:`gd_analyze.cache.cache_key`), as :mod:`.explicit_cache` keeps the
+explicit model.
+
+The cache is not trusted, and a bound is never read from it. An entry stores what lets the
+certification be derived again without its searches: the scale s_i and the states where it was
+found (the local maximisation over the region), and the branch and bound's tree as its cuts
+(per box evaluated, level by level: the joint it was halved along, or -1, and where), with the
+number of boxes and the time it took. It is used only if it is a regular file whose stored key
+equals the key and whose checksum matches its arrays (:func:`gd_analyze.cache.read_entry`), and if:
+
+- every scale state lies in the region, |tau_i| there equals s_i (or s_i is the torque floor),
+  and s_i is at least the largest |tau_i| over the certification's own sampled positions
+  (:func:`gd_analyze.certify.region.sample_positions`, deterministic);
+- the cuts tile the region (:func:`gd_analyze.certify.certify.tiling`: every cut point
+  strictly inside its box, every box accounted for, in exact float comparisons: no box of zero
+  volume, no overlap, the whole region covered);
+
+then the enclosures are evaluated again on every box of the tree, all boxes of a level at once
+(:func:`gd_analyze.certify.certify.certify_tree`): the bounds are derived, not read,
+and equal a fresh certification's bit for bit; no box is searched for. Bounds or boxes written
+into an entry (zero-volume boxes at the samples, bounds lowered to the sampled peaks,
+overlapping boxes) are never read: such an entry does not match its checksum over the stored
+fields, or its tree does not tile the region, and is certified again. A failed entry gives one
+:class:`gd_analyze.cache.CacheWarning` line; the region is certified again and the entry rewritten.
+"""
+
+from __future__ import annotations
+
+from typing import Any
+
+import numpy as np
+
+from ..cache import cache_key, lookup, store
+from ..certify.certify import certify, certify_tree
+from ..certify.region import channel_values, sample_positions, worst_states
+from ..dynamics.regressor_kernels import part_regressor
+from ..simplify.simplified import parameters_sha256
+
+__all__ = ["certification", "certification_key", "robot_inputs", "SELF_CHECK_TOLERANCE"]
+
+_FIELDS = ("scale", "scale_state", "boxes", "seconds", "split_joint", "split_at")
+#: Layout of an entry (3: the tree of boxes, no bounds).
+_FORMAT = 3
+#: Slack of the self-check's comparisons, relative to s_i [1].
+SELF_CHECK_TOLERANCE = 1e-9
+#: Largest entry read [bytes] (the PUMA 560's is about 0.7 MB).
+_MAX_BYTES = 256 * 2**20
+
+
+def _floats(a):
+    """Exact text of floats (hex), for the key."""
+    return [float(x).hex() for x in np.asarray(a, float).reshape(-1)]
+
+
+def robot_inputs(robot) -> dict[str, Any]:
+    """The robot's part of a cache key: its file's SHA-256, the SHA-256 of the parameters
+    used (:func:`gd_analyze.simplify.simplified.parameters_sha256`), its joints.
+
+    Parameters
+    ----------
+    robot : Robot
+        The arm, as loaded (with its payload, if any).
+
+    Returns
+    -------
+    dict
+        ``robot_sha256``, ``parameters_sha256``, ``n``, ``prismatic``.
+    """
+    return {"robot_sha256": str(robot.sha256),
+            "parameters_sha256": parameters_sha256(robot.to_dict()),
+            "n": int(robot.n), "prismatic": [bool(p) for p in robot.prismatic]}
+
+
+def certification_key(robot, region, settings, kind="region"):
+    """What an entry must store to be used.
+
+    Parameters
+    ----------
+    robot : Robot
+    region : Region
+    settings : dict
+        The certification's settings (torque floor [N m or N], samples, seed, ...), JSON
+        numbers.
+    kind : str, optional
+        The entry's kind (``"search"`` for :mod:`.search_cache`).
+
+    Returns
+    -------
+    dict
+        :func:`gd_analyze.cache.cache_key` of this format, the robot
+        (:func:`robot_inputs`), the region (exact hex floats) and the settings.
+    """
+    return cache_key(kind, {
+        "format": _FORMAT, **robot_inputs(robot),
+        "region": {name: _floats(getattr(region, name))
+                   for name in ("q_min", "q_max", "qd_max", "qdd_max")},
+        "settings": {k: (float(v).hex() if isinstance(v, float) else v)
+                     for k, v in settings.items()}})
+
+
+def _checked(robot, base, region, torque_floor, samples, seed, arrays, values=None):
+    """The certification recomputed from the entry, or why the entry fails (a str)."""
+    n = robot.n
+    cols = np.flatnonzero(base.independent.reshape(-1))
+    scale, state = arrays["scale"], arrays["scale_state"]
+    shapes = {"scale": (n,), "scale_state": (n, 3 * n), "boxes": (), "seconds": ()}
+    if any(arrays[f].shape != shapes[f] or arrays[f].dtype.kind != "f"
+           for f in shapes if f != "boxes") or arrays["boxes"].dtype.kind != "i" \
+            or arrays["boxes"].shape != () \
+            or arrays["split_joint"].shape != (int(arrays["boxes"]),):
+        return "does not hold a certification of this robot (arrays of other types or shapes)"
+    if not all(np.isfinite(arrays[f]).all() for f in shapes) or (scale < torque_floor).any() \
+            or int(arrays["boxes"]) < 1 or float(arrays["seconds"]) < 0:
+        return "holds values no certification gives (not finite, negative or too few boxes)"
+    tol = SELF_CHECK_TOLERANCE * np.maximum(scale, 1e-300)          # (n,)
+    if values is not None:
+        q, V = values[0], values[1]
+    else:
+        q = sample_positions(region, samples, seed)
+        V = channel_values(robot, q, cols)
+    beta = np.asarray(base.beta, float)
+    value = worst_states(V, np.tile(beta, (3, 1)), region.qd_max, region.qdd_max)[0].max(0)
+    sq, sqd, sqdd = state[:, :n], state[:, n:2 * n], state[:, 2 * n:]
+    tau = np.einsum("kpim,m->ki", part_regressor(robot, cols, sq, sqd, sqdd), beta)
+    reached = np.abs(tau[np.arange(n), np.arange(n)])
+    if not (region.contains(sq, sqd, sqdd).all()
+            and np.all((np.abs(reached - scale) <= tol) | (scale == torque_floor))
+            and np.all(scale >= value - tol)):
+        return ("fails its self-check (its scale is not reached at its state, or is below "
+                "the sampled torques)")
+    try:
+        return certify_tree(robot, base, region, arrays["split_joint"], arrays["split_at"],
+                            (q, V, scale, state, *(values or ())[4:]),
+                            torque_floor=torque_floor,
+                            seconds=float(arrays["seconds"]))
+    except ValueError as exc:
+        return f"fails its self-check (its tree of boxes {exc})"
+
+
+def certification(robot, base, region, torque_floor=0.0, samples=1000, seed=0, values=None):
+    """The region's certification, from the derivation cache or computed afresh.
+
+    Parameters
+    ----------
+    robot, base, region, torque_floor, samples, seed
+        As :func:`gd_analyze.certify.certify.certify` takes them: the arm, its base
+        parameters, the joint-limit region, the least scale [N m or N], the number of
+        uniform position samples and their seed.
+    values : tuple, optional
+        Those samples already drawn (:func:`gd_analyze.certify.region.region_samples`),
+        for a certification computed afresh (their positions and channel values also for one
+        recomputed from an entry), optionally followed by their sampled peaks
+        (:func:`gd_analyze.certify.certify.pair_peaks_at`).
+
+    Returns
+    -------
+    PairBounds
+        As :func:`gd_analyze.certify.certify.certify` returns it; ``seconds`` is the
+        time the certification took when it was computed.
+
+    Warns
+    -----
+    CacheWarning
+        Once, when the entry exists but is not used (module docstring); the region is then
+        certified again and the entry rewritten.
+
+    Notes
+    -----
+    Source: the bounds of :func:`gd_analyze.certify.certify.certify` (interval branch
+    and bound on the Newton-Euler regressor recursion, Khalil & Kleinfinger 1987).
+    """
+
+    key = certification_key(robot, region, {"torque_floor": float(torque_floor),
+                                            "samples": int(samples), "seed": int(seed)})
+    found = lookup(key, _FIELDS, _MAX_BYTES,
+                   lambda arrays: _checked(robot, base, region, float(torque_floor), samples,
+                                           seed, arrays, values),
+                   "the region is certified again")
+    if found is not None:
+        return found
+    pb = certify(robot, base, region, torque_floor=torque_floor, samples=samples, seed=seed,
+                 values=values)
+    store(key, {"scale": np.asarray(pb.scale, float),
+                "scale_state": np.asarray(pb.scale_state, float),
+                "boxes": np.array(int(pb.boxes), np.int64),
+                "seconds": np.array(float(pb.seconds)),
+                "split_joint": np.asarray(pb.split_joint, np.int64),
+                "split_at": np.asarray(pb.split_at, float)})
+    return pb

@@ -1,0 +1,264 @@
+"""Strict JSON reading, and the schema of simplified_model.json as a JSON Schema document.
+
+:func:`load_json` reads a file with duplicate keys, NaN, Infinity, numbers beyond a float and
+deep nesting refused, so a schema never sees them. :data:`MODEL_SCHEMA` validates a model
+file against ``model_schema.json`` (JSON Schema draft 2020-12, shipped with the package) with
+:class:`jsonschema.Draft202012Validator`; its :meth:`~Schema.check` raises an
+:class:`~gd_analyze.errors.InputError` of one line naming the file and the key
+(``robot.parameters``, ``choices.D11``, ``cost.additions``) of the most relevant fault
+(:func:`jsonschema.exceptions.best_match`).
+
+To add a key to the model file, add it to ``model_schema.json``.
+"""
+
+from __future__ import annotations
+
+import functools
+import json
+import math
+import os
+from importlib import resources
+from typing import Any
+
+import numpy as np
+
+from ..errors import InputError
+
+__all__ = ["Schema", "load_json", "MODEL_SCHEMA", "MAX_DEPTH"]
+
+
+def _is_int(checker, value) -> bool:
+    return isinstance(value, int) and not isinstance(value, bool)
+
+
+def _is_number(checker, value) -> bool:
+    if isinstance(value, bool) or not isinstance(value, (int, float)):
+        return False
+    try:
+        return math.isfinite(float(value))
+    except OverflowError:                                 # an integer beyond a float
+        return False
+
+
+@functools.cache
+def _validator_class():
+    """Draft 2020-12 with JSON's own types: ``1.0`` is not an integer, ``true`` not a number,
+    and a number is one a float holds (the file's reader refuses NaN and Infinity already).
+    Made at the first check: jsonschema is imported only when a model file is read."""
+    from jsonschema import Draft202012Validator, validators
+
+    checker = Draft202012Validator.TYPE_CHECKER.redefine_many({"integer": _is_int,
+                                                               "number": _is_number})
+    return validators.extend(Draft202012Validator, type_checker=checker)
+
+_TYPE_NAMES = {"object": "an object", "array": "a list", "string": "a string",
+               "boolean": "true/false", "null": "null", "integer": "an integer",
+               "number": "a number"}
+
+
+def _kind(value) -> str:
+    return {dict: "an object", list: "a list", str: "a string", bool: "true/false",
+            type(None): "null", int: "an integer", float: "a number"}.get(type(value),
+                                                                       type(value).__name__)
+
+
+def _key(path) -> str:
+    out = ""
+    for part in path:
+        out += f"[{part}]" if isinstance(part, int) else (f".{part}" if out else str(part))
+    return out
+
+
+def _message(err) -> tuple[str, str]:
+    """The (key, message) of one :class:`jsonschema.exceptions.ValidationError`, in the
+    words of the tool."""
+    key, value, schema, rule = _key(err.absolute_path), err.instance, err.schema, err.validator
+    if rule == "type":
+        if isinstance(value, int) and not isinstance(value, bool) and schema["type"] == "number":
+            return key, "number too large for a float"
+        return key, f"expected {_TYPE_NAMES[schema['type']]}, got {_kind(value)}"
+    if rule == "required":
+        missing = next(k for k in err.validator_value if k not in value)
+        return _key([*err.absolute_path, missing]), "missing key"
+    if rule == "additionalProperties":
+        unknown = sorted(set(value) - set(schema.get("properties", {})))[0]
+        known = ", ".join(schema.get("properties", {}))
+        return _key([*err.absolute_path, unknown]), f"unknown key (known: {known})"
+    if rule == "enum":
+        choices = err.validator_value
+        if all(isinstance(c, str) for c in choices):
+            return key, f"expected one of {', '.join(choices)}, got {str(value)[:40]!r}"
+        return key, f"expected {' or '.join(map(repr, choices))}, got {value!r}"[:200]
+    if rule in ("minimum", "maximum", "exclusiveMinimum"):
+        what = "an integer" if schema.get("type") == "integer" else "a number"
+        lo = schema.get("exclusiveMinimum", schema.get("minimum", -math.inf))
+        bracket = "(" if "exclusiveMinimum" in schema else "["
+        return key, (f"expected {what} in {bracket}{lo:g}, {schema.get('maximum', math.inf):g}]"
+                     f", got {value:g}")
+    if rule == "maxLength":
+        return key, f"string longer than {err.validator_value} characters"
+    if rule == "maxItems":
+        return key, f"more than {err.validator_value} items"
+    if rule == "pattern":
+        return key, f"malformed value {value[:40]!r}"
+    return key, " ".join(err.message.split())[:200]
+
+
+class Schema:
+    """A JSON Schema (draft 2020-12) whose faults are one-line input errors.
+
+    Parameters
+    ----------
+    document : dict
+        The JSON Schema.
+    """
+
+    def __init__(self, document: dict) -> None:
+        self.document = document
+
+    @functools.cached_property
+    def validator(self) -> Any:
+        """The :class:`jsonschema.Draft202012Validator` (with JSON's own types) of the
+        document, made at the first check."""
+        return _validator_class()(self.document)
+
+    def check(self, value: object, path: str | os.PathLike, where: str = "") -> None:
+        """Validate a parsed JSON document.
+
+        Parameters
+        ----------
+        value : object
+            The parsed JSON document.
+        path : str or os.PathLike
+            The file, for the message.
+        where : str, optional
+            A key path to put before the faulty key (for a document inside another).
+
+        Raises
+        ------
+        InputError
+            One line naming the file and the key of the most relevant fault
+            (a key present with the wrong type first, the shallowest; else
+            :func:`jsonschema.exceptions.best_match`, a wrong type before a wrong value).
+        """
+        from jsonschema.exceptions import best_match
+
+        errors = list(self.validator.iter_errors(value))
+        if not errors:
+            return
+        # a key present with the wrong type is named before keys that are missing (the
+        # shallowest such key): a document of the wrong shape is told what its shape is
+        wrong = [e for e in errors if e.validator == "type" and e.absolute_path]
+        if wrong:
+            err = min(wrong, key=lambda e: len(e.absolute_path))
+        else:
+            err = best_match(errors)
+            # at the key best_match names, a wrong type says more than the value it cannot
+            # hold
+            err = next((e for e in errors if e.validator == "type"
+                        and e.absolute_path == err.absolute_path), err)
+        key, message = _message(err)
+        if where and key:
+            key = where + ("" if key.startswith("[") else ".") + key
+        key = key or where
+        raise InputError(message, path, column=key or "(document)")
+
+
+def _no_duplicates(pairs):
+    out = {}
+    for key, value in pairs:
+        if key in out:
+            raise ValueError(f"duplicate key {key!r}")
+        out[key] = value
+    return out
+
+
+def _refuse_constant(name):
+    raise ValueError(f"{name} is not a number JSON allows")
+
+
+def _finite_float(text):
+    v = float(text)
+    if not math.isfinite(v):
+        raise ValueError(f"number {text[:30]} is too large for a float")
+    return v
+
+
+#: Deepest nesting of objects and lists :func:`load_json` accepts.
+MAX_DEPTH = 64
+
+
+def _depth(text):
+    """The deepest nesting of [ and { outside strings (an upper bound if the text is not JSON).
+
+    Linear in the text's length: a quote ends a string unless an odd run of backslashes
+    precedes it; no regular expression, whose backtracking over a run of escaped quotes with
+    no closing one is quadratic (48 KB took 30 s).
+    """
+    codes = np.frombuffer(text.encode("utf-8", "replace"), np.uint8)
+    if not codes.size:
+        return 0
+    index = np.arange(codes.size)
+    slash = codes == 92
+    last_other = np.maximum.accumulate(np.where(slash, -1, index))   # last non-backslash
+    run = np.zeros(codes.size, np.int64)                 # backslashes just before each byte
+    run[1:] = index[:-1] - last_other[:-1]
+    quote = (codes == 34) & (run % 2 == 0)
+    inside = (np.cumsum(quote) - quote) % 2 == 1         # within a string (its quotes: out)
+    outside = ~inside & ~quote
+    steps = (outside & ((codes == 91) | (codes == 123))).astype(np.int64) \
+        - (outside & ((codes == 93) | (codes == 125)))
+    return int(np.cumsum(steps).max())
+
+
+def load_json(path: str | os.PathLike[str], what: str = "JSON") -> Any:
+    """Read a JSON file strictly.
+
+    Parameters
+    ----------
+    path : str or os.PathLike
+        The file.
+    what : str, optional
+        What the file should be, for messages (e.g. ``"simplified-model JSON"``).
+
+    Returns
+    -------
+    object
+        The document.
+
+    Raises
+    ------
+    InputError
+        If the file is missing, a folder, unreadable, not UTF-8, not JSON, has a duplicate
+        key, NaN or Infinity, a number beyond a float, or nesting deeper than
+        :data:`MAX_DEPTH`. One line.
+    """
+    path = str(path)
+    if not os.path.exists(path):
+        raise InputError("no such file", path)
+    if not os.path.isfile(path):
+        raise InputError(f"not a regular file: give a {what} file", path)
+    try:
+        with open(path, encoding="utf-8") as fh:
+            text = fh.read()
+        if _depth(text) > MAX_DEPTH:
+            raise RecursionError
+        return json.loads(text, object_pairs_hook=_no_duplicates,
+                          parse_constant=_refuse_constant, parse_float=_finite_float)
+    except RecursionError:
+        raise InputError(f"not a {what} file: nested too deeply", path) from None
+    except UnicodeDecodeError:
+        raise InputError(f"not a {what} file: not UTF-8 text", path) from None
+    except OSError as exc:
+        raise InputError(f"cannot read: {exc.strerror or exc}", path) from None
+    except ValueError as exc:                     # JSONDecodeError is a ValueError
+        msg = " ".join(str(exc).split())[:200]
+        raise InputError(f"not a {what} file: {msg}", path) from None
+
+
+#: The layout of simplified_model.json (schema_version 2; 1 lacks the explicit model's keys): the
+#: package's ``model_schema.json``. The element keys of ``choices`` are checked against the
+#: robot's n by the loader; the robot's parameters by
+#: :func:`gd_analyze.model.robot_spec.robot_from_dict`.
+MODEL_SCHEMA = Schema(json.loads(resources.files(__package__).joinpath("model_schema.json")
+                                 .read_text(encoding="utf-8")))

@@ -1,0 +1,343 @@
+"""The plumbing every gd-analyze dataset shares: variables, CF attributes, writing, reading.
+
+One :func:`var` (``units`` and ``long_name`` on every variable), one block of CF-style global
+attributes with the provenance (:func:`global_attributes`), one writer (:func:`write_dataset`,
+atomic, h5netcdf) and one reader (:func:`open_results`, :func:`open_sweep`). The schemas that use
+it: :mod:`gd_analyze.store.datasets` (``results.h5``), :mod:`gd_analyze.store.sweep_datasets`,
+:mod:`gd_analyze.store.control_dataset`.
+"""
+
+from __future__ import annotations
+
+import datetime
+import os
+from typing import TYPE_CHECKING, Any
+
+import numpy as np
+from numpy.typing import ArrayLike
+
+from .._version import VERSION as __version__
+from ..errors import InputError
+from ..files import atomic_path
+from ..ranking.labels import element_index, element_units
+from ..ranking.ranking import element_labels
+from .names import Attr, Var
+
+if TYPE_CHECKING:
+    from collections.abc import Sequence
+
+    import xarray as xr
+
+    from ..model.robot import Robot
+
+__all__ = ["CONVENTIONS", "MIXED_UNITS", "var", "attribute_value", "global_attributes",
+           "element_coords", "joint_coordinate", "strings", "write_dataset", "append_dataset", "open_results",
+           "open_sweep"]
+
+#: The CF conventions the datasets follow.
+CONVENTIONS = "CF-1.10"
+#: Units of a variable over the element dim (D elements in kg m2, h elements in N m).
+MIXED_UNITS = "per element: element_units (kg m2, kg m or kg for D; N m or N for h)"
+
+
+def append_dataset(ds: xr.Dataset, path: str | os.PathLike[str]) -> None:
+    """Add a dataset's variables and attributes to a netCDF4/HDF5 file, through h5netcdf.
+
+    Parameters
+    ----------
+    ds : xarray.Dataset
+        In memory (numpy-backed).
+    path : str or os.PathLike
+        An existing file, opened in append mode.
+
+    Raises
+    ------
+    OSError
+        If the file cannot be written.
+
+    Notes
+    -----
+    The same encoding as ``ds.to_netcdf(path, mode="a", engine="h5netcdf")``, through xarray's
+    public h5netcdf store with an explicit lock: ``to_netcdf`` asks dask for its scheduler
+    (importing dask where it is installed), which the main job has no use for.
+    """
+    from xarray.backends import H5NetCDFStore
+    from xarray.backends.locks import HDF5_LOCK
+
+    # an explicit lock: the default one asks dask for its scheduler
+    store = H5NetCDFStore.open(str(path), mode="a", lock=HDF5_LOCK)
+    try:
+        ds.dump_to_store(store)
+    finally:
+        store.close()
+
+
+def var(dims: tuple[str, ...], data: ArrayLike, units: str, long_name: str,
+        **attrs: Any) -> tuple[Any, ...]:
+    """One variable as xarray takes it: ``(dims, data, attrs)`` with ``units`` and ``long_name``.
+
+    Parameters
+    ----------
+    dims : tuple of str
+        Dimension names.
+    data : array_like
+        Values.
+    units : str
+        UDUNITS string, e.g. ``"N m"``, ``"kg m2"``, ``"1"``.
+    long_name : str
+        What the variable is.
+    **attrs
+        More attributes (e.g. CF ``flag_values``).
+
+    Returns
+    -------
+    tuple
+    """
+    return (dims, data, {"units": units, "long_name": long_name, **attrs})
+
+
+def attribute_value(value: object) -> Any:
+    """A value as an HDF5 attribute can hold it: numbers, strings or numeric arrays.
+
+    Parameters
+    ----------
+    value : object
+        bool, None, a sequence, a dict or a scalar.
+
+    Returns
+    -------
+    int, float, str or ndarray
+        bools as 0/1, None as "", numeric sequences as arrays, other sequences and dicts as
+        "; "-joined text.
+    """
+    if isinstance(value, (bool, np.bool_)):
+        return int(value)
+    if value is None:
+        return ""
+    if isinstance(value, (list, tuple)):
+        arr = np.asarray(value)
+        return arr if arr.dtype.kind in "iuf" else "; ".join(map(str, value))
+    if isinstance(value, dict):
+        return "; ".join(f"{k}={v}" for k, v in value.items())
+    return value
+
+
+def global_attributes(robot: Robot, title: str,
+                      references: str = "Fu, Gonzalez & Lee (1987), Robotics, Sec. 3.4; " "Lee, Lee & Nigam (1983)",
+                      **extra: Any) -> dict[str, Any]:
+    """The CF-style global attributes every gd-analyze dataset carries: its provenance.
+
+    Parameters
+    ----------
+    robot : Robot
+        The arm: its name, description, reference, source file and SHA-256, and gravity
+        [m/s^2] are recorded.
+    title : str
+        The dataset's title.
+    references : str, optional
+        The sources of the method.
+    **extra
+        More attributes (passed through :func:`attribute_value`), e.g. thresholds, input files
+        and their SHA-256, settings.
+
+    Returns
+    -------
+    dict
+        ``Conventions``, ``title``, ``source``, ``references``, ``history``,
+        ``gd_analyze_version``, ``robot``, ``robot_description``, ``robot_reference``,
+        ``robot_source``, ``robot_sha256``, ``gravity``, ``gravity_units``,
+        ``robot_placeholder_inertia`` (1, only for a robot whose inertia tensors are
+        placeholders, ``Robot.metadata["placeholder_inertia"]``), then ``extra``.
+    """
+
+    now = datetime.datetime.now(datetime.timezone.utc).replace(microsecond=0).isoformat()
+    attrs: dict[str, Any] = {
+        Attr.CONVENTIONS: CONVENTIONS,
+        Attr.TITLE: title,
+        Attr.SOURCE: f"gd-analyze {__version__}",
+        Attr.REFERENCES: references,
+        Attr.HISTORY: f"{now} created by gd-analyze {__version__}",
+        Attr.GD_ANALYZE_VERSION: __version__,
+        Attr.ROBOT: robot.name,
+        Attr.ROBOT_DESCRIPTION: robot.description,
+        Attr.ROBOT_REFERENCE: robot.reference,
+        Attr.ROBOT_SOURCE: robot.source,
+        Attr.ROBOT_SHA256: robot.sha256,
+        Attr.GRAVITY: np.asarray(robot.gravity, dtype=float),
+        Attr.GRAVITY_UNITS: "m s-2",
+    }
+    if robot.metadata.get("placeholder_inertia"):     # a read-only mapping, maybe empty
+        attrs[Attr.ROBOT_PLACEHOLDER_INERTIA] = 1     # its inertia tensors are not measured
+    attrs.update({k: attribute_value(v) for k, v in extra.items()})
+    return attrs
+
+
+def joint_coordinate(names: Sequence[str], dim: str = "joint",
+                     long_name: str = "joint") -> tuple[Any, ...]:
+    """The coordinate of a joint dimension: the joints' names.
+
+    Parameters
+    ----------
+    names : sequence of str, length n
+        The joints' names (:meth:`gd_analyze.model.robot.Robot.joint_names`: a URDF's
+        own, else ``"joint1"`` .. ``"jointn"``).
+    dim : str, optional
+        The dimension (``"joint"``, or ``"joint_k"`` for the columns of D).
+    long_name : str, optional
+        Its ``long_name``.
+
+    Returns
+    -------
+    tuple
+        ``(dim, values, attrs)`` as xarray takes it, the names as str (stored as netCDF4
+        strings).
+
+    Examples
+    --------
+    >>> joint_coordinate(["joint1", "joint2"])[1].tolist()
+    ['joint1', 'joint2']
+    """
+    return (dim, np.array([str(v) for v in names], dtype=str),
+            {"long_name": long_name, "units": "1"})
+
+
+def element_coords(n: int, prismatic: Sequence[bool] | np.ndarray | None = None,
+                   joints: Sequence[str] | None = None) -> dict[str, Any]:
+    """Coordinates ``element`` (with ``element_units``) and ``joint`` for an n-joint robot.
+
+    Parameters
+    ----------
+    n : int
+        Number of joints.
+    prismatic : sequence of bool, shape (n,), optional
+        The prismatic joints, for the units (all revolute if not given).
+    joints : sequence of str, length n, optional
+        The joints' names (default ``"joint1"`` .. ``"jointn"``, as
+        :meth:`gd_analyze.model.robot.Robot.joint_names` names a robot without its own).
+
+    Returns
+    -------
+    dict
+        name -> (dims, values, attrs): the M = n (n + 1) / 2 + n ranked element labels
+        ``"D11"`` .. ``"hn"``, their units from the joint types
+        (:func:`gd_analyze.ranking.labels.element_units`: kg m2, kg m or kg for D; N m or N for
+        h) and the joints (:func:`joint_coordinate`).
+    """
+
+    labels = element_labels(n)
+    units = [element_units(kind, i, j, prismatic) for kind, i, j in element_index(n)]
+    return {
+        Var.ELEMENT: ("element", np.array(labels, dtype=str),
+                    {"long_name": "ranked element of D (i <= j) or h", "units": "1"}),
+        Var.ELEMENT_UNITS: ("element",
+                          np.array(units, dtype=str),
+                          {"long_name": "units of the element", "units": "1"}),
+        Var.JOINT: joint_coordinate(joints if joints is not None else
+                                  [f"joint{i}" for i in range(1, n + 1)]),
+    }
+
+
+def strings(values: ArrayLike) -> list[str]:
+    """Decode an array of bytes or str read from a file into a list of str.
+
+    Parameters
+    ----------
+    values : array_like
+        Strings as stored.
+
+    Returns
+    -------
+    list of str
+    """
+    return [v.decode() if isinstance(v, bytes) else str(v) for v in np.asarray(values).ravel()]
+
+
+def write_dataset(ds: xr.Dataset, path: str | os.PathLike[str]) -> None:
+    """Write a dataset to HDF5/netCDF4 with h5netcdf, atomically.
+
+    Parameters
+    ----------
+    ds : xarray.Dataset
+        The dataset.
+    path : str or os.PathLike
+        Destination, e.g. ``results.h5``.
+
+    Raises
+    ------
+    OSError
+        If the file cannot be written.
+    """
+    encoding = {name: {"zlib": True, "complevel": 4}
+                for name, var in ds.data_vars.items() if var.dtype.kind == "f" and var.ndim >= 2}
+    with atomic_path(path) as tmp:
+        ds.to_netcdf(tmp, engine="h5netcdf", encoding=encoding, invalid_netcdf=False)
+
+
+def open_results(path: str | os.PathLike[str], lazy: bool = False) -> xr.Dataset:
+    """Open a results file written by :func:`write_dataset`.
+
+    Parameters
+    ----------
+    path : str or os.PathLike
+        The ``results.h5`` file.
+    lazy : bool, optional
+        Leave the variables on disk, to be read in slices (the report of a long trajectory);
+        the caller closes the dataset.
+
+    Returns
+    -------
+    xarray.Dataset
+        Loaded into memory and the file closed; or, if ``lazy``, open and read on access.
+        Read by xarray's h5netcdf backend, as ``engine="h5netcdf"`` reads it.
+
+    Raises
+    ------
+    InputError
+        If the file is missing or not a readable netCDF4/HDF5 file.
+    """
+    import xarray as xr
+    from xarray.backends import H5netcdfBackendEntrypoint
+
+    if not os.path.isfile(path):
+        raise InputError("no such file", path)
+    # the backend given as its entry-point class (xarray's documented alternative to the name):
+    # the name would have xarray list every installed package's backends first
+    engine = H5netcdfBackendEntrypoint
+    try:
+        if lazy:
+            return xr.open_dataset(path, engine=engine)
+        with xr.open_dataset(path, engine=engine) as ds:
+            return ds.load()
+    except (OSError, ValueError) as exc:
+        raise InputError(f"not a gd-analyze results file: {exc}", path) from None
+
+
+def open_sweep(path: str | os.PathLike[str], kind: str = "sweep") -> xr.Dataset:
+    """Read a sweep file written by :func:`gd_analyze.store.schema.write_dataset`.
+
+    Parameters
+    ----------
+    path : str or os.PathLike
+        The ``sweep.h5`` (or payload-sweep) file.
+    kind : {"sweep", "payload"}, optional
+        What the file must hold: a trajectory sweep (dim ``trajectory``) or a payload sweep
+        (dim ``payload``).
+
+    Returns
+    -------
+    xarray.Dataset
+        Loaded into memory; the file is closed.
+
+    Raises
+    ------
+    InputError
+        If the file is missing, unreadable, or not a sweep dataset of that kind.
+    """
+    ds = open_results(path)
+    dim = {"sweep": "trajectory", "payload": "payload"}.get(kind)
+    if dim is None:
+        raise ValueError(f"kind must be 'sweep' or 'payload', got {kind!r}")
+    if "share_tran" not in ds.variables or dim not in ds["share_tran"].dims:
+        raise InputError(f"not a gd-analyze {kind} sweep file (no share_tran over {dim})",
+                         str(path))
+    return ds

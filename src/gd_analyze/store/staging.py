@@ -1,0 +1,590 @@
+"""Output folders a run can trust: one run at a time, one run's set, never a user's file.
+
+:func:`staged_output` is the one way a command writes its output folder:
+
+- the folder is taken by its real path (a symbolic link to it names the same folder) and locked
+  with ``flock`` on a lock file beside it (``.<name>.gd-lock``; inside it, ``.gd-lock``, when
+  the folder is a mount point), opened without following a symbolic link, so a second run into
+  the same folder is refused and the kernel releases the lock even when a run is killed;
+- the folder's manifests (:mod:`gd_analyze.store.manifest`) must list every file it holds: a
+  file gd-analyze did not write is never replaced or deleted; the run is refused, with one line
+  and exit status 2, before it computes anything, and nothing is touched;
+- every file of the run is written into a fresh staging folder (``.<name>.gd-tmp-<random>``:
+  an unpredictable name, mode 0700, registered in the lock file before it is created) beside
+  the target; it also receives, as hard links, the files
+  of the other commands' manifests, so that ``control`` and the main job can share a folder
+  and neither replaces the other's files; the command's manifest (paths, sizes, SHA-256, tool
+  version) is written there too;
+- the staging folder then takes the target's place in one ``renameat2(RENAME_EXCHANGE)``
+  (Linux): an interruption leaves the old set or the new set, whole. SIGINT, SIGTERM and SIGHUP
+  are held back during the exchange and delivered after it. Where the target cannot be
+  exchanged (a mount point, such as a Docker volume at ``/out``, or the current folder of the
+  run, which a shell would keep open), the run stages inside the target and exchanges its
+  top-level entries one by one, the new manifest last (only SIGKILL can split that set; a
+  manifest that knows both sets is in place meanwhile, so the next run replaces it whole). Without
+  ``renameat2`` (other systems, old C libraries) the target is renamed aside and the new
+  folder renamed in; a run killed between the two renames is undone by the next run;
+- on an error, SIGINT or SIGTERM the staging folder is removed; the temporaries of a killed
+  run (SIGKILL) are removed by the next run into the same folder, only those its lock file
+  registered and only once the folder passed its check: a refused run removes nothing, and a
+  name that merely looks like gd-analyze's (``.gd-notes.txt``) is a user's file;
+- an output location that cannot be created or written gives an
+  :class:`~gd_analyze.errors.InputError` (exit status 2) and leaves nothing behind. Inside a
+  run, :func:`writing` turns the write errors (and only those: a full disk, an HDF5 error) of
+  the calls it wraps into one line;
+- a single output file (``plan -o``) is written only over a regular file or a new name
+  (:func:`check_output_file`).
+"""
+
+from __future__ import annotations
+
+import contextlib
+import errno
+import functools
+import os
+import re
+import shutil
+import signal
+import stat
+import sys
+from collections.abc import Iterable, Iterator
+from pathlib import Path
+
+from .._version import VERSION as __version__
+from ..errors import InputError
+from .manifest import folder_owners, manifest_name, write_manifest, write_transition
+from .signals import Terminated, install
+from .write_errors import is_inside, write_error, writing
+
+__all__ = ["safe_name", "staged_output", "writing", "check_free_space", "check_output_file",
+           "install_signal_handlers", "Terminated", "LOCK_SUFFIX", "TMP_MARK"]
+
+LOCK_SUFFIX = ".gd-lock"
+TMP_MARK = ".gd-tmp-"
+#: Largest lock record read [bytes]: a pid and a few temporary names.
+RECORD_LIMIT = 1 << 16
+#: Free space kept besides the estimate [bytes].
+SPACE_MARGIN = 16 << 20
+
+
+def install_signal_handlers() -> None:
+    """Turn SIGTERM and SIGHUP into :class:`Terminated` and SIGINT into KeyboardInterrupt so
+    that ``finally`` blocks run: the one handler of :func:`gd_analyze.store.signals.install`.
+    Call from the main thread only.
+    """
+    install()
+
+
+def safe_name(name: str, fallback: str = "robot") -> str:
+    """A robot or file name made safe as one path component.
+
+    Parameters
+    ----------
+    name : str
+        Any text, e.g. a robot's name from a file.
+    fallback : str, optional
+        Used when nothing safe remains.
+
+    Returns
+    -------
+    str
+        Only ASCII letters, digits, ``.``, ``_``, ``+`` and ``-`` (others become ``_``), no
+        leading dot or dash, at most 80 characters: never a separator, ``..`` or an absolute
+        path.
+
+    Examples
+    --------
+    >>> safe_name("../../etc/x")
+    'etc_x'
+    >>> safe_name("/abs/path")
+    'abs_path'
+    >>> safe_name("puma560+payload")
+    'puma560+payload'
+    """
+    text = re.sub(r"\.{2,}", "", str(name))
+    text = re.sub(r"[^A-Za-z0-9._+-]+", "_", text).lstrip("._-")[:80].rstrip(".")
+    return text or fallback
+
+
+def check_output_file(path: str | os.PathLike[str]) -> None:
+    """Check that a single output file can be written at ``path``: only a regular file is ever
+    replaced.
+
+    Parameters
+    ----------
+    path : str or os.PathLike
+        The file to write.
+
+    Raises
+    ------
+    InputError
+        If path is a folder; a device, FIFO or socket (``/dev/null``: the atomic rename would
+        replace it); a symbolic link (to anything: a link is neither written through nor
+        replaced); or its folder does not exist, is not a folder, or is not writable.
+    """
+    p = Path(path)
+    try:
+        mode = os.lstat(p).st_mode
+    except OSError:
+        mode = None
+    if mode is not None and stat.S_ISLNK(mode):
+        raise InputError("is a symbolic link: give the file itself or a new name (a link is "
+                         "never written through or replaced)", path)
+    if mode is not None and stat.S_ISDIR(mode):
+        raise InputError("is a folder: give a file name", path)
+    if mode is not None and not stat.S_ISREG(mode):
+        raise InputError("is not a regular file (a device, FIFO or socket): give a file name",
+                         path)
+    parent = p.parent if str(p.parent) else Path(".")
+    if not parent.is_dir():
+        raise InputError("its folder does not exist" if not parent.exists() else
+                         "its folder is not a folder", path)
+    if not os.access(parent, os.W_OK | os.X_OK):
+        raise InputError("cannot write in its folder (permission denied)", path)
+
+
+def check_free_space(folder: str | os.PathLike[str], need_bytes: int,
+                     what: str = "the results") -> None:
+    """Refuse to start a write that cannot fit.
+
+    Parameters
+    ----------
+    folder : str or os.PathLike
+        Where the file goes.
+    need_bytes : int
+        Estimated size of the file [bytes].
+    what : str, optional
+        Named in the message.
+
+    Raises
+    ------
+    InputError
+        If the free space is below ``need_bytes`` plus a margin of 16 MiB.
+    """
+    free = shutil.disk_usage(folder).free
+    if free < need_bytes + SPACE_MARGIN:
+        raise InputError(f"not enough free space for {what}: about {need_bytes / 1e6:.0f} MB "
+                         f"needed, {free / 1e6:.0f} MB free", folder)
+
+
+@contextlib.contextmanager
+def _lock(lock_path, target):
+    import fcntl
+
+    while True:
+        try:
+            fd = os.open(lock_path, os.O_RDWR | os.O_CREAT | os.O_NOFOLLOW | os.O_NONBLOCK
+                         | os.O_CLOEXEC, 0o644)
+        except OSError as exc:
+            if exc.errno == errno.ELOOP:
+                raise InputError(f"cannot write the output folder: its lock file {lock_path} "
+                                 "is a symbolic link", target) from None
+            raise write_error(exc, target) from None
+        st = os.fstat(fd)
+        if not stat.S_ISREG(st.st_mode) or st.st_nlink != 1:     # a FIFO, a hard link
+            os.close(fd)
+            raise InputError(f"cannot write the output folder: its lock file {lock_path} is "
+                             "not a file of its own", target)
+        try:
+            fcntl.flock(fd, fcntl.LOCK_EX | fcntl.LOCK_NB)
+        except BlockingIOError:
+            os.close(fd)
+            raise InputError("another run is writing here; wait for it to finish or choose "
+                             "another output folder (-o)", target) from None
+        # The previous holder may have unlinked the file between our open and our flock.
+        try:
+            same = os.path.samestat(os.fstat(fd), os.lstat(lock_path))
+        except FileNotFoundError:
+            same = False
+        if same:
+            break
+        os.close(fd)
+    owner, record = os.getpid(), None
+    try:
+        before = os.pread(fd, RECORD_LIMIT, 0).decode("utf-8", "replace")
+        os.ftruncate(fd, 0)
+        os.write(fd, f"{owner}\n".encode())
+        record = _Record(fd, before)
+        yield record
+    finally:
+        if os.getpid() == owner and not (record is not None and record.pending):
+            with contextlib.suppress(OSError):
+                os.unlink(lock_path)
+        os.close(fd)
+
+
+class _Record:
+    """The lock file's record of the temporary names a run creates, written before each is
+    created: the next run removes only the names a killed run registered, never a user's file
+    that merely looks like one."""
+
+    def __init__(self, fd, before):
+        self.fd = fd
+        self.before = [line.split(" ", 1) for line in before.splitlines()[1:]
+                       if line.count(" ") == 1]
+        self.pending = bool(self.before)    # kept until removed: a refused run keeps them
+        for where, name in self.before:
+            self.register(where, name)
+
+    def register(self, where, name):
+        """Record ``name`` (``beside`` the target, or ``inside`` it) before it is created."""
+        os.write(self.fd, f"{where} {name}\n".encode())
+
+    def stale(self, where, pattern):
+        """The names the previous holder registered ``where`` that match ``pattern``."""
+        return [n for w, n in self.before if w == where and re.fullmatch(pattern, n)]
+
+
+def _token():
+    import secrets
+
+    return secrets.token_hex(8)
+
+
+RENAME_NOREPLACE, RENAME_EXCHANGE = 1, 2
+
+
+@functools.cache
+def _libc_renameat2():
+    if not sys.platform.startswith("linux"):
+        return None
+    import ctypes
+
+    try:
+        fn = ctypes.CDLL(None, use_errno=True).renameat2
+    except (OSError, AttributeError):
+        return None
+    fn.argtypes = [ctypes.c_int, ctypes.c_char_p, ctypes.c_int, ctypes.c_char_p, ctypes.c_uint]
+    fn.restype = ctypes.c_int
+    return fn
+
+
+def _renameat2(src, dst, flags):
+    """``renameat2(src, dst, flags)``; False where the system or file system lacks it."""
+    import ctypes
+
+    fn = _libc_renameat2()
+    if fn is None:
+        return False
+    if fn(-100, os.fsencode(src), -100, os.fsencode(dst), flags) == 0:     # AT_FDCWD
+        return True
+    err = ctypes.get_errno()
+    if err in (errno.EINVAL, errno.ENOSYS, errno.EOPNOTSUPP):
+        return False
+    raise OSError(err, os.strerror(err), os.fspath(src), None, os.fspath(dst))
+
+
+@contextlib.contextmanager
+def _signals_held():
+    """Hold SIGINT, SIGTERM and SIGHUP back while the sets are exchanged; deliver them after."""
+    import threading
+
+    if threading.current_thread() is not threading.main_thread():
+        yield
+        return
+    got, old = [], {}
+    for sig in (signal.SIGINT, signal.SIGTERM, getattr(signal, "SIGHUP", None)):
+        if sig is not None and signal.getsignal(sig) is not None:
+            old[sig] = signal.signal(sig, lambda signum, frame: got.append(signum))
+    try:
+        yield
+    finally:
+        for sig, handler in old.items():
+            signal.signal(sig, handler)
+        for sig in got[:1]:
+            signal.raise_signal(sig)
+
+
+def _umask():
+    mask = os.umask(0)
+    os.umask(mask)
+    return mask
+
+
+def _chmod_folder(folder, mode):
+    fd = os.open(folder, os.O_RDONLY | os.O_DIRECTORY | os.O_NOFOLLOW)
+    try:
+        os.fchmod(fd, mode)
+    finally:
+        os.close(fd)
+
+
+def _conflicts(new, owners):
+    """The new paths that would replace a file of another command's manifest."""
+    taken = dict(owners.others)
+    dirs = {}
+    for path, cmd in owners.others.items():
+        parts = path.split("/")
+        for k in range(1, len(parts)):
+            dirs.setdefault("/".join(parts[:k]), cmd)
+    out = []
+    for path in new:
+        parts = path.split("/")
+        cmd = taken.get(path) or dirs.get(path) or next(
+            (taken["/".join(parts[:k])] for k in range(1, len(parts))
+             if "/".join(parts[:k]) in taken), None)
+        if cmd is not None:
+            out.append((path, cmd))
+    return out
+
+
+def _carry(real, stage, owners, command, tops=None):
+    """Hard-link the other commands' files (and manifests, and empty folders) into stage."""
+    own = manifest_name(command)
+    keep = [*owners.others, *(m for m in owners.manifests if m != own)]
+    for path in [*keep, *owners.empty_dirs]:
+        if tops is not None and path.split("/")[0] not in tops:
+            continue
+        dst = stage / path
+        if path in owners.empty_dirs:
+            dst.mkdir(parents=True, exist_ok=True)
+            continue
+        dst.parent.mkdir(parents=True, exist_ok=True)
+        try:
+            os.link(real / path, dst, follow_symlinks=False)
+        except OSError:                          # another file system, or links forbidden
+            shutil.copy2(real / path, dst, follow_symlinks=False)
+
+
+#: The longest suffix a sibling name adds to the folder's: ``.`` + ``.gd-tmp-`` + the 16 hex
+#: digits of a temporary's token.
+_SIBLING_EXTRA = 1 + len(TMP_MARK) + 16
+
+
+def sibling_stem(parent: Path, name: str) -> str:
+    """The folder's name as it appears in the names of its siblings (lock, staging, previous
+    set): the name itself, or where that would make a sibling's name longer than the file
+    system allows, its first characters and the SHA-256 of the whole name.
+
+    Parameters
+    ----------
+    parent : pathlib.Path
+        The folder that holds the output folder.
+    name : str
+        The output folder's name.
+
+    Returns
+    -------
+    str
+
+    Examples
+    --------
+    >>> len(sibling_stem(Path("/tmp"), "f" * 245)) <= 255 - _SIBLING_EXTRA
+    True
+    >>> sibling_stem(Path("/tmp"), "out")
+    'out'
+    """
+    try:
+        limit = os.pathconf(parent, "PC_NAME_MAX")
+    except (OSError, ValueError):
+        limit = 255
+    room = limit - _SIBLING_EXTRA
+    if len(os.fsencode(name)) <= room:
+        return name
+    import hashlib
+
+    digest = hashlib.sha256(os.fsencode(name)).hexdigest()[:16]
+    head = os.fsencode(name)[:max(room - 17, 1)].decode(errors="ignore")
+    return f"{head}-{digest}"
+
+
+def _stale_names(record, name):
+    """The temporaries a killed run registered: beside the target, and inside it."""
+    beside = re.escape(f".{name}{TMP_MARK}") + r"[0-9a-f]{16}"
+    return (record.stale("beside", beside), record.stale("prev", beside),
+            record.stale("inside", re.escape(TMP_MARK) + r"[0-9a-f]{16}"))
+
+
+def _restore_prev(parent, real, prev_names):
+    """A run killed between its two renames (no ``renameat2``): put the old set back."""
+    for prev in prev_names:
+        p = parent / prev
+        if p.is_dir() and not p.is_symlink() and not os.path.lexists(real):
+            os.rename(p, real)
+
+
+def _remove_stale(parent, real, stale, record):
+    """Remove the temporaries a killed run registered in its lock record (called with the lock
+    held, after the folder's check: no live run owns them, and a refused run removes nothing)."""
+    beside, prev, inside = stale
+    for folder, names in ((parent, [*beside, *prev]), (real, inside)):
+        for n in names:
+            p = folder / n
+            if p.is_dir() and not p.is_symlink():
+                shutil.rmtree(p, ignore_errors=True)
+    record.pending = False
+
+
+def _in_place(real):
+    """Whether the target cannot be exchanged whole: a mount point, or holds our own cwd."""
+    if os.path.ismount(real):
+        return True
+    try:
+        return is_inside(os.path.realpath(os.getcwd()), real)
+    except OSError:
+        return False
+
+
+@contextlib.contextmanager
+def staged_output(target: str | os.PathLike[str], outputs: Iterable[str] = (),
+                  command: str = "output") -> Iterator[Path]:
+    """Write a run's files aside and put them into ``target`` as one set.
+
+    Parameters
+    ----------
+    target : str or os.PathLike
+        The output folder; created (with its parents) if missing. A symbolic link to a folder
+        names that folder.
+    outputs : iterable of str, optional
+        The names of the files and folders the command can write. Kept for callers; the
+        command's manifest, not this list, says which files the run replaces.
+    command : str, optional
+        The command writing the folder (``analyze``, ``control``, ``sweep``): its manifest
+        ``.gd-analyze-manifest-<command>.json`` lists the run's files; the run replaces the
+        files of its own previous manifest and keeps the other commands'.
+
+    Yields
+    ------
+    pathlib.Path
+        The staging folder (empty, mode 0700): write every file of the run there.
+
+    Raises
+    ------
+    InputError
+        If ``target`` exists and is not a folder, holds files gd-analyze did not write (before
+        the run computes anything), cannot be created or written, another run holds its lock,
+        a new file would replace another command's file, or the set cannot be moved in. Then
+        the folder is as it was, and the lock file and the staging folder are removed.
+    """
+    del outputs
+    manifest_name(command)                  # a plain command name, or ValueError
+    target = Path(target)
+    for a in [target, *target.parents]:     # never create folders through a dangling link
+        if a.is_symlink() and not a.exists():
+            raise InputError(f"{a} is a symbolic link to nothing", target)
+    real = Path(os.path.realpath(target))
+    if real.exists() and not real.is_dir():
+        raise InputError("exists and is not a folder", target)
+    parent, name = real.parent, real.name
+    missing = [a for a in [parent, *parent.parents] if not a.exists()]
+    for a in [parent, *parent.parents]:
+        if a.exists():
+            if not a.is_dir():
+                raise InputError(f"{a} is a file, not a folder", target)
+            break
+    try:
+        parent.mkdir(parents=True, exist_ok=True)
+    except OSError as exc:
+        raise write_error(exc, target) from None
+    mount = real.is_dir() and os.path.ismount(real)
+    try:
+        if not all(os.access(a, os.W_OK | os.X_OK) for a in {real if mount else parent,
+                                                             *([real] if real.is_dir() else [])}):
+            raise InputError("cannot write the output folder: permission denied", target)
+        stem = sibling_stem(parent, name)
+        lock = real / LOCK_SUFFIX if mount else parent / f".{stem}{LOCK_SUFFIX}"
+        with _lock(lock, target) as record:
+            stale = _stale_names(record, stem)
+            with writing(target):
+                _restore_prev(parent, real, stale[1])
+            skip = {*stale[2], *([LOCK_SUFFIX] if mount else [])}
+            folder_owners(real, command, target, skip)     # refuse before the run computes
+            with writing(target):
+                _remove_stale(parent, real, stale, record)
+            with _staged(real, target, command, mount, record) as stage:
+                yield stage
+    except BaseException:
+        for a in missing:                   # the folders this run created, deepest first
+            with contextlib.suppress(OSError):
+                a.rmdir()
+        raise
+
+
+@contextlib.contextmanager
+def _staged(real, target, command, mount, record):
+    owner = os.getpid()
+    inside = real.is_dir() and (mount or _in_place(real))
+    stage = _new_temporary(real if inside else real.parent,
+                           TMP_MARK if inside else
+                           f".{sibling_stem(real.parent, real.name)}{TMP_MARK}",
+                           record, "inside" if inside else "beside", target)
+    try:
+        yield stage
+        skip = {stage.name, *([LOCK_SUFFIX] if mount else [])}
+        owners = folder_owners(real, command, target, skip)   # files added meanwhile
+        with writing(target):
+            new = write_manifest(stage, command, __version__)
+        clash = _conflicts(new, owners)
+        if clash:
+            path, other = clash[0]
+            raise InputError(f"{target} holds {path} of gd-analyze {other}; a command never "
+                             "replaces another command's files: use an empty or new folder")
+        with writing(target):
+            if inside:
+                _swap_entries(real, stage, owners, command, new)
+            else:
+                _swap_folder(real, stage, owners, command, record)
+    finally:
+        if os.getpid() == owner:
+            shutil.rmtree(stage, ignore_errors=True)
+
+
+def _new_temporary(where, prefix, record, kind, target):
+    """Create the folder ``<prefix><random>`` (mode 0700) in ``where``, registered first."""
+    for _ in range(16):
+        path = Path(where) / f"{prefix}{_token()}"
+        try:
+            record.register(kind, path.name)
+            path.mkdir(mode=0o700)
+            return path
+        except FileExistsError:
+            continue
+        except OSError as exc:
+            raise write_error(exc, target) from None
+    raise InputError("cannot write the output folder: no free temporary name", target)
+
+
+def _swap_folder(real, stage, owners, command, record):
+    """Put the staged folder in the target's place in one exchange; the old set ends in stage."""
+    _carry(real, stage, owners, command)
+    mode = stat.S_IMODE(os.stat(real).st_mode) if real.is_dir() else 0o777 & ~_umask()
+    _chmod_folder(stage, mode)
+    with _signals_held():
+        if not real.is_dir():
+            if not _renameat2(stage, real, RENAME_NOREPLACE):
+                os.rename(stage, real)      # fails on a folder created meanwhile, not empty
+        elif not _renameat2(stage, real, RENAME_EXCHANGE):
+            prev = real.parent / f".{sibling_stem(real.parent, real.name)}{TMP_MARK}{_token()}"
+            record.register("prev", prev.name)
+            os.rename(real, prev)           # no exchange here: two renames, undone if killed
+            try:
+                os.rename(stage, real)
+            except OSError:
+                os.rename(prev, real)
+                raise
+            os.rename(prev, stage)
+
+
+def _swap_entries(real, stage, owners, command, new):
+    """Exchange the top-level entries the command owns one by one, under a manifest that
+    knows both sets; the new manifest last."""
+    own = manifest_name(command)
+    tops = {p.split("/")[0] for p in [*owners.own, *new]}
+    _carry(real, stage, owners, command, tops)
+    old = stage / f"{TMP_MARK}old"
+    old.mkdir()
+    write_transition(stage, command, owners.own, f"{TMP_MARK}manifest")
+    with _signals_held():
+        os.replace(stage / f"{TMP_MARK}manifest", real / own)    # knows both sets
+        for top in sorted(tops):
+            src, dst = stage / top, real / top
+            if not os.path.lexists(src):
+                os.rename(dst, old / top)   # ours, not in the new set
+            elif not os.path.lexists(dst):
+                if not _renameat2(src, dst, RENAME_NOREPLACE):
+                    os.rename(src, dst)
+            elif not _renameat2(src, dst, RENAME_EXCHANGE):
+                os.rename(dst, old / top)
+                os.rename(src, dst)
+        os.replace(stage / own, real / own)          # the new set's own, last
+

@@ -1,0 +1,333 @@
+"""The closed-loop comparison as ``control.h5`` stores it: a typed view.
+
+:class:`StoredControl` holds what the control report and the command line's verdict read: the
+controllers and their runs (tracking error and applied torque per controller), the error and
+torque figures per joint, the closed-loop torque difference and its measured noise floor, the
+gains, the elements the simplified model keeps, the evaluators' costs, and the run's settings
+and provenance (:class:`ControlSettings`, :class:`ModelFacts`), as
+:func:`gd_analyze.store.control_dataset.control_dataset` stored them. Read once, by
+:meth:`StoredControl.of`; values of attributes are kept as stored (None where the file has
+none), the reader decides how to write them.
+"""
+
+from __future__ import annotations
+
+import types
+from collections.abc import Mapping
+from dataclasses import dataclass, fields
+from typing import TYPE_CHECKING, Any, ClassVar
+
+import numpy as np
+
+from ..errors import InputError
+from .schema import strings
+from .stored_model import EvaluatorCosts
+from .stored_provenance import RunRecord
+
+if TYPE_CHECKING:                       # for the type hints only
+    import xarray as xr
+
+__all__ = ["REQUIRED_VARIABLES", "ControlSettings", "ModelFacts", "StoredControl"]
+
+#: Variables a control dataset must have.
+REQUIRED_VARIABLES = ("is_setpoint", "q_d", "error", "tau", "error_peak_setpoints",
+                      "error_rms_setpoints", "error_peak_grid", "error_rms_grid", "Kp", "Kv",
+                      "Kp_pd", "Kv_pd", "wn", "zeta", "inertia_scale", "choice", "nfev")
+#: The gains whose units depend on the joint's type, each stored with ``<name>_units``.
+_TYPED_GAINS = ("inertia_scale", "Kp_pd", "Kv_pd")
+
+
+def _optional(ds: xr.Dataset, name: str) -> np.ndarray | None:
+    return ds[name].values if name in ds.variables else None
+
+
+class _Attributes:
+    """A record of global attributes: each field is the attribute ``_PREFIX + field``, as
+    stored (None where missing)."""
+
+    _PREFIX: ClassVar[str] = ""
+
+    @classmethod
+    def from_attrs(cls, attrs: Mapping[str, Any]) -> Any:
+        """The record of a control dataset's global attributes.
+
+        Parameters
+        ----------
+        attrs : Mapping
+
+        Returns
+        -------
+        The record (an instance of the class it is called on).
+        """
+        names = [f.name for f in fields(cls)]      # type: ignore[arg-type]  # a dataclass
+        return cls(**{k: attrs.get(cls._PREFIX + k) for k in names})
+
+
+@dataclass(frozen=True)
+class ControlSettings(_Attributes):
+    """The run's files, settings and provenance, as stored (None where missing).
+
+    Each field is the global attribute of the same name.
+
+    Attributes
+    ----------
+    robot, robot_sha256, trajectory_file, trajectory_sha256, trajectory_path : object
+        The robot and the tracked trajectory's file.
+    trajectory_derivatives : object
+        How the trajectory's derivatives were obtained.
+    model_file, model_sha256, model_path, model_trajectory_sha256 : object
+        The simplified model's file, and the trajectory it was built on.
+    trajectory_is_models : object
+        1 where the model was built on this trajectory.
+    plant, interpolation, integrator : object
+        The simulated arm, the desired motion between set points, the integrator.
+    rtol, atol : object
+        The integrator's tolerances.
+    noise_rtol, noise_atol, noise_nfev, noise_factor, noise_unmeasured : object
+        The runs again with tighter tolerances that measure the noise floor of the torque
+        difference, or why it was not measured.
+    samples, setpoints, grid_points : object
+        The times of the runs: set points plus a fine grid.
+    wn, zeta : object
+        The natural frequency [rad/s] and damping ratio per joint.
+    verdict_tolerance_revolute, verdict_tolerance_prismatic : object
+        The verdict's tolerance [rad, m].
+    command, references : object
+        The command line, the method's references.
+    """
+
+    robot: Any
+    robot_sha256: Any
+    trajectory_file: Any
+    trajectory_sha256: Any
+    trajectory_path: Any
+    trajectory_derivatives: Any
+    model_file: Any
+    model_sha256: Any
+    model_path: Any
+    model_trajectory_sha256: Any
+    trajectory_is_models: Any
+    plant: Any
+    interpolation: Any
+    integrator: Any
+    rtol: Any
+    atol: Any
+    noise_rtol: Any
+    noise_atol: Any
+    noise_nfev: Any
+    noise_factor: Any
+    noise_unmeasured: Any
+    samples: Any
+    setpoints: Any
+    grid_points: Any
+    wn: Any
+    zeta: Any
+    verdict_tolerance_revolute: Any
+    verdict_tolerance_prismatic: Any
+    command: Any
+    references: Any
+
+
+@dataclass(frozen=True)
+class ModelFacts(_Attributes):
+    """What the simplified model keeps, its rule and its guarantee, as the control run stored
+    them from the model file (:func:`gd_analyze.jobs.control.model_facts`); None where
+    missing.
+
+    Each field is the global attribute ``model_<field>``.
+
+    Attributes
+    ----------
+    rule, tolerance, form : object
+        The rule (``"budget"``, ``"chapter"``), EPS [1], the form (``"explicit"``,
+        ``"recursive"``).
+    base_parameters, pairs, pairs_dropped, pairs_known, dropped_pairs, gravity_dropped : object
+        A recursive model's base parameters and (parameter, part) pairs: all, dropped, whether
+        known, which, and those of gravity.
+    c_terms, c_terms_kept : object
+        An explicit model's terms of c: all and kept.
+    scope, guarantee_kind, guarantee_covered, guarantee_coverage : object
+        The model's scope, its guarantee's kind, whether it covers the tracked motion and why.
+    """
+
+    rule: Any
+    tolerance: Any
+    form: Any
+    base_parameters: Any
+    pairs: Any
+    pairs_dropped: Any
+    pairs_known: Any
+    dropped_pairs: Any
+    gravity_dropped: Any
+    c_terms: Any
+    c_terms_kept: Any
+    scope: Any
+    guarantee_kind: Any
+    guarantee_covered: Any
+    guarantee_coverage: Any
+
+    _PREFIX: ClassVar[str] = "model_"
+
+
+@dataclass(frozen=True, eq=False)
+class StoredControl:
+    """A control dataset as the control report reads it.
+
+    Attributes
+    ----------
+    controllers : tuple of str, length C
+        ``"full"``, ``"simplified"``, ``"pd_gravity"``.
+    descriptions : tuple of str or None
+        Each controller's control law; None where not stored.
+    prismatic : tuple of bool, length n
+        The prismatic joints.
+    time : ndarray, shape (T,)
+        The times of the runs [s].
+    is_setpoint : ndarray of bool, shape (T,)
+        The times that are set points of the trajectory.
+    q_d : ndarray, shape (T, n)
+        The desired motion [rad or m].
+    error, tau : Mapping of str to ndarray, shape (T, n)
+        Per controller, the tracking error q_d - q [rad or m] and the applied torque [N m or N].
+    error_peak_setpoints, error_rms_setpoints, error_peak_grid, error_rms_grid :
+            Mapping of str to ndarray, shape (n,)
+        Per controller, peak and RMS of the tracking error at the set points and on the fine
+        grid [rad or m].
+    tau_peak, tau_rms : Mapping of str to ndarray, shape (n,), or None
+        Per controller, peak |tau| and RMS of tau on the fine grid [N m or N].
+    tau_difference : ndarray, shape (T, n), or None
+        The simplified-model controller's torque minus the full-model controller's.
+    tau_difference_floor : ndarray, shape (n,), or None
+        Its measured integrator-noise floor.
+    tau_difference_peak, tau_difference_rms : ndarray, shape (n,), or None
+        Its peak and RMS on the fine grid.
+    tau_difference_peak_setpoints, tau_difference_rms_setpoints : ndarray, shape (n,), or None
+        Its peak and RMS at the set points.
+    gains : Mapping of str to ndarray, shape (n,)
+        ``wn``, ``zeta``, ``Kp``, ``Kv``, ``inertia_scale``, ``Kp_pd``, ``Kv_pd``.
+    gain_units : Mapping of str to tuple of str or None
+        The stored units per joint of ``inertia_scale``, ``Kp_pd`` and ``Kv_pd`` (None in an
+        older file).
+    q0_offset : ndarray, shape (n,), or None
+        The initial position error [rad or m].
+    elements, choice : tuple of str, length M
+        The elements of D (i <= j) and h, and the part the simplified model keeps of each.
+    costs : EvaluatorCosts or None
+        The evaluators' operations per set point.
+    settings : ControlSettings
+    model : ModelFacts
+    run : RunRecord
+        The software, the run's time, gravity and mounting.
+    """
+
+    controllers: tuple[str, ...]
+    descriptions: tuple[str, ...] | None
+    prismatic: tuple[bool, ...]
+    time: np.ndarray
+    is_setpoint: np.ndarray
+    q_d: np.ndarray
+    error: Mapping[str, np.ndarray]
+    tau: Mapping[str, np.ndarray]
+    error_peak_setpoints: Mapping[str, np.ndarray]
+    error_rms_setpoints: Mapping[str, np.ndarray]
+    error_peak_grid: Mapping[str, np.ndarray]
+    error_rms_grid: Mapping[str, np.ndarray]
+    tau_peak: Mapping[str, np.ndarray] | None
+    tau_rms: Mapping[str, np.ndarray] | None
+    tau_difference: np.ndarray | None
+    tau_difference_floor: np.ndarray | None
+    tau_difference_peak: np.ndarray | None
+    tau_difference_rms: np.ndarray | None
+    tau_difference_peak_setpoints: np.ndarray | None
+    tau_difference_rms_setpoints: np.ndarray | None
+    gains: Mapping[str, np.ndarray]
+    gain_units: Mapping[str, tuple[str, ...] | None]
+    q0_offset: np.ndarray | None
+    elements: tuple[str, ...]
+    choice: tuple[str, ...]
+    costs: EvaluatorCosts | None
+    settings: ControlSettings
+    model: ModelFacts
+    run: RunRecord
+
+    @property
+    def n(self) -> int:
+        """int: the joints."""
+        return len(self.prismatic)
+
+    @classmethod
+    def of(cls, control: StoredControl | xr.Dataset, source: str = "<dataset>"
+           ) -> StoredControl:
+        """The view itself (``control`` a view), or :meth:`from_dataset` of ``control`` and
+        ``source`` (``control`` a dataset; InputError as there)."""
+        return control if isinstance(control, StoredControl) else cls.from_dataset(control,
+                                                                                   source)
+
+    @classmethod
+    def from_dataset(cls, ds: xr.Dataset, source: str = "<dataset>") -> StoredControl:
+        """The view of a control dataset.
+
+        Parameters
+        ----------
+        ds : xarray.Dataset
+            As :func:`gd_analyze.store.control_dataset.control_dataset` builds it.
+        source : str, optional
+            The file read, for the message.
+
+        Returns
+        -------
+        StoredControl
+
+        Raises
+        ------
+        InputError
+            If a variable or dim of a control dataset is missing (one line naming the first
+            three).
+        """
+        missing = [v for v in REQUIRED_VARIABLES if v not in ds.variables]
+        if missing or "controller" not in ds.dims or "time" not in ds.dims:
+            raise InputError("not a gd-analyze control dataset "
+                             f"(missing {missing[:3] or 'dims'})", source)
+        names = tuple(strings(ds["controller"].values))
+
+        def by_controller(name):
+            return types.MappingProxyType({c: ds[name].sel(controller=c).values
+                                           for c in names})
+
+        def optional_by_controller(name):
+            return by_controller(name) if name in ds.variables else None
+
+        n = int(ds.sizes["joint"])
+        prismatic = (tuple(t == "prismatic" for t in strings(ds["joint_type"].values))
+                     if "joint_type" in ds.variables else (False,) * n)
+        return cls(
+            controllers=names,
+            descriptions=(tuple(strings(ds["controller_description"].values))
+                          if "controller_description" in ds.variables else None),
+            prismatic=prismatic, time=ds["time"].values,
+            is_setpoint=np.asarray(ds["is_setpoint"].values).astype(bool),
+            q_d=ds["q_d"].values, error=by_controller("error"), tau=by_controller("tau"),
+            error_peak_setpoints=by_controller("error_peak_setpoints"),
+            error_rms_setpoints=by_controller("error_rms_setpoints"),
+            error_peak_grid=by_controller("error_peak_grid"),
+            error_rms_grid=by_controller("error_rms_grid"),
+            tau_peak=optional_by_controller("tau_peak"),
+            tau_rms=optional_by_controller("tau_rms"),
+            tau_difference=_optional(ds, "tau_difference"),
+            tau_difference_floor=_optional(ds, "tau_difference_floor"),
+            tau_difference_peak=_optional(ds, "tau_difference_peak"),
+            tau_difference_rms=_optional(ds, "tau_difference_rms"),
+            tau_difference_peak_setpoints=_optional(ds, "tau_difference_peak_setpoints"),
+            tau_difference_rms_setpoints=_optional(ds, "tau_difference_rms_setpoints"),
+            gains=types.MappingProxyType({k: ds[k].values for k in (
+                "wn", "zeta", "Kp", "Kv", "inertia_scale", "Kp_pd", "Kv_pd")}),
+            gain_units=types.MappingProxyType({
+                k: tuple(strings(ds[f"{k}_units"].values)) if f"{k}_units" in ds.coords
+                else None for k in _TYPED_GAINS}),
+            q0_offset=_optional(ds, "q0_offset"),
+            elements=(tuple(strings(ds["element"].values)) if "element" in ds.variables
+                      else ()),
+            choice=tuple(strings(ds["choice"].values)),
+            costs=EvaluatorCosts.from_dataset(ds),
+            settings=ControlSettings.from_attrs(ds.attrs),
+            model=ModelFacts.from_attrs(ds.attrs), run=RunRecord.from_attrs(ds.attrs))

@@ -1,0 +1,1 @@
+"""Trajectories: reading them, planning them, excitation, recordings and their signals."""

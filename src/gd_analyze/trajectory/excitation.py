@@ -1,0 +1,778 @@
+"""Excitation: a finite Fourier series trajectory optimised for identification.
+
+:func:`plan_excitation` makes the ``gd-analyze plan --excitation`` trajectory of Swevers,
+Ganseman, Tukel, De Schutter & Van Brussel, "Optimal robot excitation and identification",
+IEEE Trans. Robot. Autom. 13(5), 1997, Eq. (9): per joint i, K harmonics of the base
+frequency w_f::
+
+    q_i(t) = q_i0 + sum_{l=1..K} a_il / (w_f l) sin(w_f l t) - b_il / (w_f l) cos(w_f l t)
+    qd_i(t) = sum_l a_il cos(w_f l t) + b_il sin(w_f l t)
+    qdd_i(t) = sum_l w_f l (b_il cos(w_f l t) - a_il sin(w_f l t))
+
+The trajectory lasts a whole number of periods 2 pi / w_f, so it ends where and as it starts.
+It starts and ends at rest because the coefficients are constrained: qd_i(0) = sum_l a_il = 0
+and qdd_i(0) = w_f sum_l l b_il = 0, i.e. a_i1 = -sum_{l>=2} a_il and b_i1 = -sum_{l>=2} l b_il;
+the optimiser varies q_i0 and the other 2 (K - 1) coefficients (:class:`FourierSeries`).
+
+The coefficients minimise the condition number of the column-scaled identification regressor
+(the base regressor with the drive columns, :mod:`gd_analyze.symbolic.drive_regressor`)
+stacked over one period, with SciPy's SLSQP from several starts, under the position, velocity
+and acceleration limits on a dense grid (they are linear in the coefficients), in stages
+(:data:`STAGES`): the Coulomb columns first replaced by smooth surrogates, then as they are,
+and the objective first the A-optimality criterion, then ever closer to the log condition
+number. The result is
+then bounded on a fine grid (:func:`limit_bounds`: the grid's extremes widened by half a step
+times a bound of the derivative), and its oscillation about q_0 shrunk if a bound exceeds a
+limit.
+"""
+
+from __future__ import annotations
+
+import math
+import time
+from collections.abc import Sequence
+from dataclasses import dataclass
+from typing import TYPE_CHECKING
+
+import numpy as np
+from numpy.typing import ArrayLike
+
+from ..dynamics.regressor_kernels import regressor_columns
+from ..symbolic.drive_regressor import (
+    DRIVE_COLUMNS,
+    IdentificationColumns,
+    drive_regressor,
+    identification_columns,
+    identification_regressor,
+)
+from .planning import acceleration_limits, default_motion_range
+from .trajectory import Trajectory
+
+if TYPE_CHECKING:
+    from ..model.robot import Robot
+
+__all__ = ["DEFAULT_HARMONICS", "DEFAULT_DURATION", "DEFAULT_SAMPLE_PERIOD", "LIMIT_MARGIN",
+           "FourierSeries", "LimitBounds", "Excitation", "limit_bounds", "scaled_condition",
+           "excitation_condition", "random_excitation", "plan_excitation", "excitation_timing"]
+
+#: Harmonics K of the default excitation (Swevers et al. 1997 use 5).
+DEFAULT_HARMONICS = 5
+#: Duration of the default excitation [s]: one period of w_f = 2 pi / 10 rad/s (0.1 Hz, as in
+#: Swevers et al. 1997).
+DEFAULT_DURATION = 10.0
+#: Time between the set points of the written trajectory by default [s] (100 Hz).
+DEFAULT_SAMPLE_PERIOD = 0.01
+#: Fraction of each limit (of the position range) kept free in the optimisation, so that the
+#: final bound between the grid's points stays inside the limits.
+LIMIT_MARGIN = 0.03
+#: Regressor samples per period in the objective, and constraint points per period per
+#: harmonic.
+OBJECTIVE_SAMPLES = 100
+CONSTRAINT_POINTS_PER_HARMONIC = 20
+#: Points per period per harmonic of the final bound (:func:`limit_bounds`).
+BOUND_POINTS_PER_HARMONIC = 400
+#: The optimisation's stages, each (v, P): the Coulomb columns sgn(qd_j) replaced by
+#: tanh(qd_j / v_j) with v_j = v x the joint's velocity limit (None: sgn itself), and the
+#: exponent P of the smooth objective (:func:`_log_condition_and_gradient`). The sampled
+#: sgn(qd) is piecewise constant in the coefficients (its gradient is zero): the surrogates let
+#: the optimiser see how the time spent at each speed decorrelates the Coulomb column from the
+#: viscous one (mean |qd| / rms qd), the pair that bounds the condition number of an arm whose
+#: other columns are well excited (the UR5's). P = 2 first: with unit-norm columns sum
+#: sigma_i^2 is the number of columns, so the objective is then the trace of the inverse of
+#: the information matrix (A-optimality), smoother than the condition number and with fewer
+#: poor local minima; P then grows towards log cond (P -> infinity).
+STAGES = ((0.1, 2.0), (0.1, 8.0), (0.03, 16.0), (None, 16.0), (None, 64.0))
+
+
+@dataclass(frozen=True, eq=False)
+class FourierSeries:
+    """A finite Fourier series trajectory (Swevers et al. 1997, Eq. (9)).
+
+    Attributes
+    ----------
+    q0 : ndarray, shape (n,)
+        Offsets, the mean positions [rad or m].
+    a, b : ndarray, shape (n, K)
+        Coefficients of harmonic l = 1..K [rad/s or m/s].
+    wf : float
+        Base frequency w_f [rad/s].
+    """
+
+    q0: np.ndarray
+    a: np.ndarray
+    b: np.ndarray
+    wf: float
+
+    @property
+    def harmonics(self) -> int:
+        """int: the number of harmonics K."""
+        return int(self.a.shape[1])
+
+    @property
+    def period(self) -> float:
+        """float: 2 pi / w_f [s]."""
+        return 2 * math.pi / self.wf
+
+    def evaluate(self, t: np.ndarray, order: int = 2) -> tuple:
+        """Positions and their derivatives at given times.
+
+        Parameters
+        ----------
+        t : array_like, shape (N,)
+            Times [s].
+        order : int, optional
+            The highest derivative returned, 2 or 3.
+
+        Returns
+        -------
+        q, qd, qdd[, qddd] : ndarray, shape (N, n)
+            [rad, rad/s, rad/s^2, rad/s^3; m... for a prismatic joint].
+        """
+        t = np.asarray(t, float).reshape(-1)
+        w = self.wf * np.arange(1, self.harmonics + 1)          # (K,)
+        s, c = np.sin(np.outer(t, w)), np.cos(np.outer(t, w))    # (N, K)
+        a, b = self.a.T, self.b.T                                  # (K, n)
+        out = [self.q0 + s @ (a / w[:, None]) - c @ (b / w[:, None]),
+               c @ a + s @ b,
+               c @ (w[:, None] * b) - s @ (w[:, None] * a)]
+        if order >= 3:
+            out.append(-c @ (w[:, None] ** 2 * a) - s @ (w[:, None] ** 2 * b))
+        return tuple(out)
+
+    def derivative_bounds(self) -> np.ndarray:
+        """Bounds of |qd|, |qdd| and |qddd| over all times, from the amplitudes.
+
+        Returns
+        -------
+        ndarray, shape (3, n)
+            sum_l (w_f l)^d sqrt(a_il^2 + b_il^2) for d = 0, 1, 2 [rad/s, rad/s^2, rad/s^3]:
+            a cos + b sin never exceeds sqrt(a^2 + b^2).
+        """
+        w = self.wf * np.arange(1, self.harmonics + 1)
+        amp = np.hypot(self.a, self.b)                              # (n, K)
+        return np.stack([amp.sum(1), (amp * w).sum(1), (amp * w**2).sum(1)])
+
+
+@dataclass(frozen=True, eq=False)
+class LimitBounds:
+    """Bounds of a trajectory over all times (:func:`limit_bounds`).
+
+    Attributes
+    ----------
+    q_low, q_high : ndarray, shape (n,)
+        q_i(t) >= q_low_i and <= q_high_i for all t [rad or m].
+    qd_peak, qdd_peak : ndarray, shape (n,)
+        |qd_i(t)| <= qd_peak_i, |qdd_i(t)| <= qdd_peak_i for all t [rad/s, rad/s^2].
+    points : int
+        Grid points per period the bounds were taken on.
+    """
+
+    q_low: np.ndarray
+    q_high: np.ndarray
+    qd_peak: np.ndarray
+    qdd_peak: np.ndarray
+    points: int
+
+    def within(self, lo: ArrayLike, hi: ArrayLike, qd_max: ArrayLike, qdd_max: ArrayLike) -> bool:
+        """Whether every bound is inside the limits (NaN is not).
+
+        Parameters
+        ----------
+        lo, hi, qd_max, qdd_max : array_like, shape (n,)
+            The limits [rad, rad/s, rad/s^2; m, m/s, m/s^2].
+
+        Returns
+        -------
+        bool
+        """
+        return bool(np.all(self.q_low >= lo) and np.all(self.q_high <= hi)
+                    and np.all(self.qd_peak <= qd_max) and np.all(self.qdd_peak <= qdd_max))
+
+
+def limit_bounds(series: FourierSeries, points: int | None = None) -> LimitBounds:
+    """Bounds of q, |qd| and |qdd| over all times.
+
+    Parameters
+    ----------
+    series : FourierSeries
+    points : int, optional
+        Grid points per period; default ``BOUND_POINTS_PER_HARMONIC * K``.
+
+    Returns
+    -------
+    LimitBounds
+
+    Notes
+    -----
+    The series is periodic, so one period's grid t_k = k h, h = 2 pi / (w_f points), covers
+    every time. Any t is within h/2 of a grid point, so |f(t) - f(t_k)| <= h/2 sup|f'|, and
+    sup|f'| is bounded by :meth:`FourierSeries.derivative_bounds`: f(t) <= max_k f(t_k) +
+    h/2 sup|f'|. (A bound in floating point, not an outward-rounded proof.)
+    """
+    points = BOUND_POINTS_PER_HARMONIC * series.harmonics if points is None else int(points)
+    h = series.period / points
+    t = np.arange(points) * h
+    q, qd, qdd = series.evaluate(t)
+    d1, d2, d3 = series.derivative_bounds()
+    return LimitBounds(q_low=q.min(0) - h / 2 * d1, q_high=q.max(0) + h / 2 * d1,
+                       qd_peak=np.abs(qd).max(0) + h / 2 * d2,
+                       qdd_peak=np.abs(qdd).max(0) + h / 2 * d3, points=points)
+
+
+def scaled_condition(Y: np.ndarray) -> float:
+    """The condition number of a regressor with its columns scaled to unit norm.
+
+    Parameters
+    ----------
+    Y : ndarray, shape (N, n, p) or (rows, p)
+        The regressor; set points and joints are stacked as rows.
+
+    Returns
+    -------
+    float
+        sigma_max / sigma_min of Y diag(1 / ||Y_c||); inf if a column is zero or the matrix is
+        rank deficient.
+
+    Notes
+    -----
+    The SVD runs on one BLAS thread: the matrix is tall and thin (p columns, a few dozen), and
+    a threaded LAPACK call on a busy machine takes several times longer than a serial one
+    (8 Panda regressors of 2,800 rows: 1.9 to 11 s threaded, 0.4 to 0.5 s serial, the same
+    singular values).
+    """
+    from threadpoolctl import threadpool_limits
+
+    W = Y.reshape(-1, Y.shape[-1])
+    norms = np.linalg.norm(W, axis=0)
+    if not np.all(norms > 0):
+        return math.inf
+    with threadpool_limits(1, "blas"):
+        s = np.linalg.svd(W / norms, compute_uv=False)
+    return float(s[0] / s[-1]) if s[-1] > 0 else math.inf
+
+
+def excitation_condition(robot: Robot, columns: IdentificationColumns, series: FourierSeries,
+                         samples: int = OBJECTIVE_SAMPLES) -> float:
+    """The scaled condition number of the identification regressor over one period.
+
+    Parameters
+    ----------
+    robot : Robot
+        The arm, with n joints.
+    columns : IdentificationColumns
+        The regressor's columns (base parameters and drive columns).
+    series : FourierSeries
+        The trajectory.
+    samples : int, optional
+        Set points over one period, at the middles of its equal parts (t = (k + 1/2) T_f /
+        samples: never at rest, where sgn(qd) would be decided by rounding).
+
+    Returns
+    -------
+    float
+        :func:`scaled_condition` of the regressor stacked at the samples.
+    """
+    q, qd, qdd = series.evaluate(_middles(series.period, samples))[:3]
+    return scaled_condition(identification_regressor(robot, q, qd, qdd, columns))
+
+
+def _middles(period, samples):
+    """Times (k + 1/2) period / samples, k = 0..samples - 1 [s]."""
+    return (np.arange(int(samples)) + 0.5) * (period / int(samples))
+
+
+class _Basis:
+    """The linear map from the free variables x to q, qd, qdd at given times.
+
+    x holds per joint (q0, a_2..a_K, b_2..b_K), joint-major; a_1 and b_1 make the series start
+    at rest. ``P[d]`` (N, 2K - 1) gives derivative d of every joint: ``P[d] @ X``, X of shape
+    (2K - 1, n).
+    """
+
+    def __init__(self, K, wf, t):
+        self.K, self.wf = K, wf
+        w = wf * np.arange(1, K + 1)
+        s, c = np.sin(np.outer(t, w)), np.cos(np.outer(t, w))
+        Za = np.vstack([-np.ones((1, K - 1)), np.eye(K - 1)])
+        Zb = np.vstack([-np.arange(2, K + 1)[None, :].astype(float), np.eye(K - 1)])
+        one = np.ones((t.size, 1))
+        zero = np.zeros((t.size, 1))
+        self.P = (np.hstack([one, (s / w) @ Za, (-c / w) @ Zb]),
+                  np.hstack([zero, c @ Za, s @ Zb]),
+                  np.hstack([zero, (-w * s) @ Za, (w * c) @ Zb]))
+
+    @property
+    def size(self):
+        return 2 * self.K - 1
+
+    def series(self, x, n):
+        X = x.reshape(n, self.size)
+        a_rest, b_rest = X[:, 1:self.K], X[:, self.K:]
+        a = np.hstack([-a_rest.sum(1, keepdims=True), a_rest])
+        b = np.hstack([-(np.arange(2, self.K + 1) * b_rest).sum(1, keepdims=True), b_rest])
+        return FourierSeries(q0=X[:, 0].copy(), a=a, b=b, wf=self.wf)
+
+    def states(self, x, n):
+        X = x.reshape(n, self.size).T
+        return tuple(P @ X for P in self.P)
+
+
+def _kept_drives(columns, qd, qdd, coulomb_scale=None):
+    """The kept drive columns alone, shape (N, n, kept), and d(Coulomb column)/d qd.
+
+    With ``coulomb_scale`` v (n,) [rad/s or m/s], the Coulomb column of joint j is the
+    surrogate tanh(qd_j / v_j) and its derivative (1 - tanh^2(qd_j / v_j)) / v_j; without, the
+    columns' own (sgn(qd), or tanh(qd / v_s) of ``columns.coulomb_velocity``).
+    """
+    if coulomb_scale is None:
+        D = drive_regressor(qd, qdd, columns.drives, columns.coulomb_velocity)
+        vs = columns.coulomb_velocity
+        slope = np.zeros_like(qd) if vs == 0 else (1.0 - np.tanh(qd / vs) ** 2) / vs
+    else:
+        v = np.asarray(coulomb_scale, float)
+        D = drive_regressor(qd, qdd, columns.drives)
+        surrogate = np.tanh(qd / v)
+        slope = (1.0 - surrogate ** 2) / v
+        if "coulomb" in columns.drives:
+            n = qd.shape[1]
+            c = columns.drives.index("coulomb")
+            rows = np.arange(n)
+            D[:, rows, c * n + rows] = surrogate
+    return D[:, :, columns.drive_mask], slope
+
+
+def _singular(Ws):
+    """All singular values of Ws, descending, and the singular vectors: U (rows, p), V (p, p).
+
+    From the eigenvalues of the p x p Gram matrix (summed without BLAS: a threaded SVD of the
+    tall matrix is hundreds of times slower on a loaded machine), by the SVD itself when the
+    Gram matrix is too ill-conditioned for that (cond(Ws) > 1e6).
+    """
+    gram = np.einsum("ka,kb->ab", Ws, Ws)
+    lam, V = np.linalg.eigh(gram)
+    if lam[0] > 1e-12 * lam[-1]:
+        s, V = np.sqrt(lam[::-1]), V[:, ::-1]
+        return s, Ws @ V / s, V
+    U, s, Vt = np.linalg.svd(Ws, full_matrices=False)
+    return s, U, Vt.T
+
+
+#: Exponent P of the smooth objective: log of the ratio of the P-norm of the singular values
+#: to the P-norm of their inverses' inverse, log cond as P -> infinity.
+SMOOTH_POWER = 16.0
+
+
+def _log_condition_and_gradient(x, robot, columns, basis, coulomb_scale=None, step=1e-6,
+                                power=None):
+    """A smooth log of the scaled condition number at x, and its gradient with respect to x.
+
+    The value is (1/P) log sum sigma_i^P + (1/P) log sum sigma_i^-P (P = ``power``, default
+    SMOOTH_POWER), within (2/P) log p above log(sigma_max / sigma_min) and smooth where the
+    smallest singular values cluster, as they do near the optimum. For P = 2 it is
+    (1/2) log p + (1/2) log trace((Ws^T Ws)^-1), Ws the regressor with unit-norm columns
+    (sum sigma_i^2 = p): the A-optimality criterion. With d value / d sigma_i = c_i and sigma_i =
+    u_i^T W S v_i (S = diag(1 / ||W_c||)), the gradient with respect to column c of W is
+    s_c (m_c - (m_c . w_c) w_c) with m = U diag(c) V^T and w_c = s_c W_c; the base regressor's
+    derivatives with respect to the states are forward differences (one per joint and state, every sample at
+    once, in one call of the regressor), the drive columns' exact.
+    """
+    n = robot.n
+    states = basis.states(x, n)
+    q, qd, qdd = states
+    M = q.shape[0]
+    base_idx = np.flatnonzero(columns.base.independent.reshape(-1))
+    moved = [np.tile(a, (3 * n + 1, 1)) for a in states]
+    for d in range(3):
+        for j in range(n):
+            k = 1 + d * n + j
+            moved[d][k * M:(k + 1) * M, j] += step
+    Yall = regressor_columns(robot, base_idx, *moved).reshape(3 * n + 1, M, n, -1)
+    Yb = Yall[0]
+    Dk, slope = _kept_drives(columns, qd, qdd, coulomb_scale)
+    Y = np.concatenate([Yb, Dk], axis=2)
+    p = Y.shape[2]
+    W = Y.reshape(M * n, p)
+    norms = np.linalg.norm(W, axis=0)
+    if not np.all(norms > 0):
+        return math.inf, np.zeros_like(x)
+    Ws = W / norms
+    s, U, V = _singular(Ws)
+    if not s[-1] > 0:
+        return math.inf, np.zeros_like(x)
+    P = SMOOTH_POWER if power is None else float(power)
+    up, down = (s / s[0]) ** P, (s[-1] / s) ** P
+    value = math.log(s[0] / s[-1]) + (math.log(up.sum()) + math.log(down.sum())) / P
+    c = up / (s * up.sum()) - down / (s * down.sum())        # d value / d sigma_i
+    Mg = (U * c) @ V.T                                          # d value / d Ws
+    G = (Mg - np.einsum("kc,kc->c", Mg, Ws) * Ws) / norms
+    G = G.reshape(M, n, p)
+    b = Yb.shape[2]
+    dY = (Yall[1:] - Yb) / step                                 # (3 n, M, n, b)
+    g = np.einsum("mic,kmic->km", G[:, :, :b], dY).reshape(3, n, M).transpose(0, 2, 1)
+    grads = [g[0].copy(), g[1].copy(), g[2].copy()]
+    # the drive columns: d(qdd_j)/d(qdd_j) = 1, d(qd_j)/d(qd_j) = 1, tanh' or 0 for Coulomb
+    col = b
+    for c, kind in enumerate(columns.drives):
+        for j in range(n):
+            if not columns.drive_kept[j, c]:
+                continue
+            if kind == "armature":
+                grads[2][:, j] += G[:, j, col]
+            elif kind == "viscous":
+                grads[1][:, j] += G[:, j, col]
+            elif kind == "coulomb":
+                grads[1][:, j] += G[:, j, col] * slope[:, j]
+            col += 1
+    gX = sum(P.T @ gd for P, gd in zip(basis.P, grads))        # (2K - 1, n)
+    return value, gX.T.reshape(-1)
+
+
+def _limits(robot, qdd_max=None):
+    """lo, hi, qd_max, qdd_max (n,) each, and where qdd_max comes from."""
+    qd = np.asarray(robot.qd_max, float)
+    bad = ~(np.isfinite(qd) & (qd > 0))
+    if bad.any():
+        raise ValueError(f"joint {int(np.argmax(bad)) + 1} has no velocity limit: an "
+                         "excitation needs one")
+    qdd, source = acceleration_limits(robot, qdd_max)
+    lo, hi = default_motion_range(robot)
+    return lo, hi, qd, qdd, source
+
+
+def _margined(lo, hi, qd, qdd, margin):
+    span = hi - lo
+    return lo + margin * span, hi - margin * span, (1 - margin) * qd, (1 - margin) * qdd
+
+
+def _fit(series, lo, hi, qd_max, qdd_max):
+    """The series with each joint's oscillation about q0 shrunk until its bounds fit."""
+    bounds = limit_bounds(series)
+    q0 = series.q0
+    with np.errstate(divide="ignore", invalid="ignore"):
+        ratios = np.stack([(hi - q0) / (bounds.q_high - q0), (q0 - lo) / (q0 - bounds.q_low),
+                           qd_max / bounds.qd_peak, qdd_max / bounds.qdd_peak])
+    ratios = np.where(np.isnan(ratios), np.inf, ratios)
+    scale = np.minimum(1.0, ratios.min(0) * (1 - 1e-9))[:, None]
+    return FourierSeries(q0=q0, a=series.a * scale, b=series.b * scale, wf=series.wf)
+
+
+def random_excitation(robot: Robot, harmonics: int = DEFAULT_HARMONICS,
+                      wf: float = 2 * math.pi / 10, seed: int | Sequence[int] = 0,
+                      qdd_max: ArrayLike | None = None,
+                      margin: float = LIMIT_MARGIN) -> FourierSeries:
+    """A random Fourier series from rest to rest, each joint scaled to fit its limits.
+
+    Parameters
+    ----------
+    robot : Robot
+        The arm, with position, velocity and (or the default of
+        :func:`~gd_analyze.trajectory.planning.acceleration_limits`) acceleration limits.
+    harmonics : int, optional
+        K >= 2.
+    wf : float, optional
+        Base frequency [rad/s].
+    seed : int or sequence of int, optional
+        Seed of :func:`numpy.random.default_rng`.
+    qdd_max : array_like, shape (n,), optional
+        Acceleration limits [rad/s^2] replacing the robot's.
+    margin : float, optional
+        Fraction of each limit (of each position range) left free.
+
+    Returns
+    -------
+    FourierSeries
+        q0 the middle of each joint's range; a_il, b_il (l >= 2) drawn from N(0, 1/l^2), a_i1
+        and b_i1 set for rest at t = 0; each joint's oscillation then scaled so that its
+        :func:`limit_bounds` touch the margined limits.
+
+    Raises
+    ------
+    ValueError
+        If K < 2 or a joint has no velocity limit.
+    """
+    K = int(harmonics)
+    if K < 2:
+        raise ValueError("an excitation from rest to rest needs at least 2 harmonics")
+    lo, hi, qd, qdd, _ = _limits(robot, qdd_max)
+    lo_m, hi_m, qd_m, qdd_m = _margined(lo, hi, qd, qdd, margin)
+    rng = np.random.default_rng(seed)
+    basis = _Basis(K, float(wf), np.zeros(1))
+    n = robot.n
+    X = rng.normal(size=(n, basis.size)) / np.concatenate(
+        [[1.0], np.arange(2, K + 1), np.arange(2, K + 1)])
+    X[:, 0] = (lo + hi) / 2
+    series = basis.series(X.reshape(-1), n)
+    big = FourierSeries(q0=series.q0, a=series.a * 1e3, b=series.b * 1e3, wf=series.wf)
+    return _fit(big, lo_m, hi_m, qd_m, qdd_m)
+
+
+def _variables(series):
+    """x of a series that starts at rest (the inverse of _Basis.series)."""
+    K = series.harmonics
+    return np.hstack([series.q0[:, None], series.a[:, 1:K], series.b[:, 1:K]]).reshape(-1)
+
+
+def excitation_timing(duration: float | None = None,
+                      base_frequency: float | None = None) -> tuple[float, float, int]:
+    """The duration, base frequency and number of periods of an excitation.
+
+    Parameters
+    ----------
+    duration : float, optional
+        T [s]; default one period, or :data:`DEFAULT_DURATION` without a base frequency.
+    base_frequency : float, optional
+        w_f [rad/s]; default 2 pi / T.
+
+    Returns
+    -------
+    T : float
+        [s].
+    wf : float
+        [rad/s].
+    periods : int
+        T w_f / (2 pi), a whole number >= 1.
+
+    Raises
+    ------
+    ValueError
+        If a value is not finite and positive, or T is not a whole number of periods (to
+        1e-9).
+    """
+    for name, v in (("duration", duration), ("base frequency", base_frequency)):
+        if v is not None and not (math.isfinite(v) and v > 0):
+            raise ValueError(f"the {name} must be finite and positive, got {v!r}")
+    if base_frequency is None:
+        T = DEFAULT_DURATION if duration is None else float(duration)
+        return T, 2 * math.pi / T, 1
+    wf = float(base_frequency)
+    if duration is None:
+        return 2 * math.pi / wf, wf, 1
+    cycles = float(duration) * wf / (2 * math.pi)
+    m = round(cycles)
+    if m < 1 or abs(cycles - m) > 1e-9 * max(1.0, cycles):
+        raise ValueError(f"a duration of {duration:g} s is {cycles:.6g} periods of 2 pi / w_f "
+                         f"= {2 * math.pi / wf:.6g} s: it must be a whole number of them, so "
+                         "that the trajectory ends at rest")
+    return float(duration), wf, int(m)
+
+
+@dataclass(frozen=True, eq=False)
+class Excitation:
+    """An optimised excitation trajectory (:func:`plan_excitation`).
+
+    Attributes
+    ----------
+    trajectory : Trajectory
+        The set points: t (N,) [s], q, qd, qdd (N, n); ``derivatives = "fourier"``.
+    series : FourierSeries
+        The series it samples.
+    columns : IdentificationColumns
+        The regressor's columns the condition number is of.
+    condition : float
+        The scaled condition number (:func:`excitation_condition`) of the trajectory.
+    start_conditions : tuple of float
+        That of each random start (:func:`random_excitation`, scaled to the same limits).
+    bounds : LimitBounds
+        The trajectory's bounds over all times (:func:`limit_bounds`), inside the limits.
+    limits : dict
+        ``q_min``, ``q_max``, ``qd_max``, ``qdd_max`` used, shape (n,) each, and
+        ``qdd_source`` (:func:`~gd_analyze.trajectory.planning.acceleration_limits`).
+    periods : int
+        Periods of 2 pi / w_f in the duration.
+    shrink : ndarray, shape (n,)
+        Factor the optimised oscillation of each joint was scaled by to fit its bounds (1 when
+        it fitted as found).
+    seconds : float
+        Wall time of the optimisation [s].
+    messages : tuple of str
+        SLSQP's messages of each start, its stages joined by "; ".
+    """
+
+    trajectory: Trajectory
+    series: FourierSeries
+    columns: IdentificationColumns
+    condition: float
+    start_conditions: tuple
+    bounds: LimitBounds
+    limits: dict
+    periods: int
+    shrink: np.ndarray
+    seconds: float
+    messages: tuple
+
+
+def _variable_scales(K, wf, lo, hi, qd, qdd):
+    """Typical magnitudes of x's entries, shape (n (2K - 1),): per joint (hi - lo) / 2 for
+    q0, then min(qd_max, qdd_max / (w_f l)) for a_il and b_il, l = 2..K."""
+    w = wf * np.arange(2, K + 1)
+    amp = np.minimum(qd[:, None], qdd[:, None] / w)                 # (n, K - 1)
+    D = np.hstack([((hi - lo) / 2)[:, None], amp, amp]).reshape(-1)
+    return np.where(np.isfinite(D) & (D > 0), D, 1.0)
+
+
+def _scaled_objective(z, D, robot, columns, basis, coulomb_scale, power=None):
+    """:func:`_log_condition_and_gradient` at x = D z, and its gradient with respect to z."""
+    value, grad = _log_condition_and_gradient(z * D, robot, columns, basis, coulomb_scale,
+                                              power=power)
+    return value, grad * D
+
+
+def _constraints(basis, n, lo, hi, qd, qdd):
+    """A x <= c: the limits on the grid of basis, joint by joint (linear in x)."""
+    m = basis.size
+    P0, P1, P2 = basis.P
+    G = P0.shape[0]
+    block = np.vstack([P0, -P0, P1, -P1, P2, -P2])
+    A = np.zeros((6 * G * n, m * n))
+    c = np.empty(6 * G * n)
+    for j in range(n):
+        rows = slice(6 * G * j, 6 * G * (j + 1))
+        A[rows, m * j:m * (j + 1)] = block
+        c[rows] = np.repeat([hi[j], -lo[j], qd[j], qd[j], qdd[j], qdd[j]], G)
+    return A, c
+
+
+def plan_excitation(robot: Robot, duration: float | None = None, harmonics: int = DEFAULT_HARMONICS,
+                    base_frequency: float | None = None, n_setpoints: int | None = None,
+                    seed: int = 0, qdd_max: ArrayLike | None = None, starts: int = 2,
+                    maxiter: int = 40, drives: Sequence[str] = DRIVE_COLUMNS,
+                    margin: float = LIMIT_MARGIN) -> Excitation:
+    """An excitation trajectory: a Fourier series minimising the scaled condition number.
+
+    Parameters
+    ----------
+    robot : Robot
+        The arm, with n joints, position limits (where infinite, -+pi or 0..0.2 m as in
+        :func:`~gd_analyze.trajectory.planning.default_motion_range`), velocity limits and acceleration
+        limits (default :func:`~gd_analyze.trajectory.planning.acceleration_limits`).
+    duration : float, optional
+        T [s] (:func:`excitation_timing`).
+    harmonics : int, optional
+        K >= 2 (default 5).
+    base_frequency : float, optional
+        w_f [rad/s] (:func:`excitation_timing`).
+    n_setpoints : int, optional
+        Set points N written, both ends included; default one per
+        :data:`DEFAULT_SAMPLE_PERIOD`.
+    seed : int, optional
+        Seed of the random starts (start s uses ``default_rng([seed, s])``).
+    qdd_max : array_like, shape (n,), optional
+        Acceleration limits [rad/s^2 or m/s^2] replacing the robot's.
+    starts : int, optional
+        Random starts of the optimiser; the best result is kept.
+    maxiter : int, optional
+        SLSQP iterations per start and stage (:data:`STAGES`).
+    drives : sequence of str, optional
+        The drive columns of the regressor (:data:`DRIVE_COLUMNS`).
+    margin : float, optional
+        Fraction of every limit kept free in the optimisation (:data:`LIMIT_MARGIN`).
+
+    Returns
+    -------
+    Excitation
+
+    Raises
+    ------
+    ValueError
+        If K < 2, starts < 1, N < 2, the timing is inconsistent (:func:`excitation_timing`), or a
+        joint has no velocity limit.
+
+    Notes
+    -----
+    Swevers et al. (1997): the Fourier series of Eq. (9), the condition number of the
+    (column-scaled) regressor as criterion. The objective is log cond(Y S) over
+    ``OBJECTIVE_SAMPLES`` samples of one period, smoothed as the P-norms of the singular values
+    and their inverses, its gradient exact in the singular vectors and by forward differences
+    in the regressor's states. The variables are scaled to their ranges, and each start is
+    optimised in the stages of :data:`STAGES`: the Coulomb columns sgn(qd_j) first replaced by
+    tanh(qd_j / v_j), v_j a fraction of the velocity limit (the sampled sgn has no gradient),
+    then as they are; P first 2 (the A-optimality criterion, the trace of the inverse
+    information matrix), then growing to 64 (log cond within (2/64) log p), a continuation
+    that leaves fewer starts in poor local minima than P = 16 throughout. The limits hold on a grid of
+    ``CONSTRAINT_POINTS_PER_HARMONIC * K`` points per period with the margin, then the bounds
+    of :func:`limit_bounds` are checked against the limits themselves and the oscillation
+    shrunk joint by joint where one is exceeded.
+    """
+    K = int(harmonics)
+    if K < 2:
+        raise ValueError("an excitation from rest to rest needs at least 2 harmonics")
+    if int(starts) < 1:
+        raise ValueError("at least one start")
+    T, wf, periods = excitation_timing(duration, base_frequency)
+    N = round(T / DEFAULT_SAMPLE_PERIOD) + 1 if n_setpoints is None else int(n_setpoints)
+    if N < 2:
+        raise ValueError("a trajectory needs at least 2 set points")
+    from threadpoolctl import threadpool_limits
+
+    clock = time.perf_counter()
+    # one BLAS thread: the SVDs and eigenproblems here are small, and a threaded LAPACK call
+    # on a busy machine takes a hundred times longer than a serial one
+    with threadpool_limits(1, "blas"):
+        return _optimised(robot, K, T, wf, periods, N, int(seed), qdd_max, int(starts),
+                          int(maxiter), drives, margin, clock)
+
+
+def _optimised(robot, K, T, wf, periods, N, seed, qdd_max, starts, maxiter, drives, margin,
+               clock):
+    """plan_excitation's work, with its arguments checked."""
+    from scipy.optimize import minimize
+
+    n = robot.n
+    lo, hi, qd, qdd, qdd_source = _limits(robot, qdd_max)
+    inner = _margined(lo, hi, qd, qdd, margin)
+    columns = identification_columns(robot, drives)
+    period = 2 * math.pi / wf
+    objective = _Basis(K, wf, _middles(period, OBJECTIVE_SAMPLES))
+    G = CONSTRAINT_POINTS_PER_HARMONIC * K
+    A, c = _constraints(_Basis(K, wf, np.arange(G) * (period / G)), n, *inner)
+    # the variables scaled to their ranges (SLSQP's quasi-Newton starts from the identity):
+    # q0 by half its range, a_il and b_il by the largest amplitude the limits allow
+    D = _variable_scales(K, wf, *inner)
+    AD = A * D
+    constraint = {"type": "ineq", "fun": lambda z: c - AD @ z, "jac": lambda z: -AD}
+    coulomb = "coulomb" in columns.drives and bool(
+        columns.drive_kept[:, columns.drives.index("coulomb")].any())
+    stages = [(None if v is None or not coulomb else v * inner[2], power)
+              for v, power in STAGES]
+    best, start_conditions, messages = None, [], []
+    for s in range(int(starts)):
+        start = random_excitation(robot, K, wf, [int(seed), s], qdd_max, margin)
+        start_conditions.append(excitation_condition(robot, columns, start))
+        z, said = _variables(start) / D, []
+        for scale, power in stages:
+            result = minimize(_scaled_objective, z,
+                              args=(D, robot, columns, objective, scale, power),
+                              jac=True, method="SLSQP", constraints=[constraint],
+                              options={"maxiter": int(maxiter), "ftol": 1e-8})
+            z = result.x
+            said.append(f"{result.message} ({result.nit} iterations)")
+        messages.append("; ".join(said))
+        found = objective.series(z * D, n)
+        if not np.all((lo < found.q0) & (found.q0 < hi)):
+            continue
+        fitted = _fit(found, lo, hi, qd, qdd)
+        cond = excitation_condition(robot, columns, fitted)
+        if best is None or cond < best[0]:
+            best = (cond, fitted, found)
+    if best is None:            # every start left the range: keep the best start
+        k = int(np.argmin(start_conditions))
+        start = random_excitation(robot, K, wf, [int(seed), k], qdd_max, margin)
+        best = (start_conditions[k], start, start)
+    cond, series, found = best
+    with np.errstate(divide="ignore", invalid="ignore"):
+        shrink = np.where(np.hypot(found.a, found.b).sum(1) > 0,
+                          np.hypot(series.a, series.b).sum(1)
+                          / np.hypot(found.a, found.b).sum(1), 1.0)
+    bounds = limit_bounds(series)
+    t = np.linspace(0.0, T, N)
+    q, qdot, qddot = series.evaluate(t)
+    traj = Trajectory(t=t, q=q, qd=qdot, qdd=qddot, derivatives="fourier",
+                      source=f"excitation: Fourier series of {K} harmonics, w_f = {wf:.6g} "
+                             f"rad/s, {periods} period{'s' if periods > 1 else ''} of "
+                             f"{period:.6g} s, seed {int(seed)}")
+    return Excitation(trajectory=traj, series=series, columns=columns, condition=cond,
+                      start_conditions=tuple(start_conditions), bounds=bounds,
+                      limits={"q_min": lo, "q_max": hi, "qd_max": qd, "qdd_max": qdd,
+                              "qdd_source": qdd_source},
+                      periods=periods, shrink=shrink, seconds=time.perf_counter() - clock,
+                      messages=tuple(messages))

@@ -1,0 +1,341 @@
+"""Recordings for identification: joint positions and measured torques against time.
+
+A recording CSV has a header ``t,q1..qn,tau1..taun`` with optional ``qd1..qdn`` and
+``qdd1..qddn`` (any order after ``t``), in [s], [rad or m], [N m or N], [rad/s or m/s],
+[rad/s^2 or m/s^2]. With motor currents (``--current``) the torque columns hold currents [A]
+(named ``tau1..taun`` or ``i1..in``) and the drive gains K turn them into torque, tau = K i.
+
+Real logs have irregular clocks, out-of-order and repeated time stamps: :func:`read_recording`
+sorts the rows by time (stable) and keeps the first of rows with the same time stamp, and says
+so in :attr:`Recording.notes`. Everything else that cannot be used (a cell that is not a plain
+finite number, a missing or unknown column, a ragged row, fewer than 10 distinct time stamps)
+is refused with the file, the row (header = row 1) and the column.
+"""
+
+from __future__ import annotations
+
+import csv
+import hashlib
+import io
+import os
+import re
+import warnings
+from dataclasses import dataclass
+from typing import Any
+
+import numpy as np
+from numpy.typing import ArrayLike
+
+from ..errors import InputError, InputNote
+from ..model.limits import LIMITS, exact_text, first_beyond
+from .trajectory import MAX_CELL, _read_bytes, parse_number
+
+__all__ = ["Recording", "read_recording", "recording_from_arrays", "MIN_SAMPLES"]
+
+#: The fewest distinct time stamps a recording may have.
+MIN_SAMPLES = 10
+#: Largest accepted |torque| [N m or N] or |current| [A] in a recording.
+TAU_LIMIT = 1e7
+_BOM = b"\xef\xbb\xbf"
+_COLUMN = re.compile(r"^(t|q|qd|qdd|tau|i)(\d*)$")
+
+
+@dataclass(frozen=True, eq=False)
+class Recording:
+    """One recording, sorted by time, with repeated time stamps dropped.
+
+    Attributes
+    ----------
+    t : ndarray, shape (N,)
+        Time [s], strictly increasing, the file's own time base.
+    q : ndarray, shape (N, n)
+        Joint positions [rad or m].
+    tau : ndarray, shape (N, n)
+        Measured torques [N m or N] (currents [A] when ``current``).
+    qd, qdd : ndarray, shape (N, n), or None
+        Velocities and accelerations where the file gives them.
+    rows : ndarray of int, shape (N,)
+        The file's row of each sample (header = row 1).
+    current : bool
+        True if ``tau`` holds motor currents.
+    source : str
+        The file read.
+    sha256 : str
+        SHA-256 of its bytes.
+    notes : tuple of str
+        What was done on reading (rows sorted, repeated stamps dropped).
+    """
+
+    t: np.ndarray
+    q: np.ndarray
+    tau: np.ndarray
+    qd: np.ndarray | None = None
+    qdd: np.ndarray | None = None
+    rows: np.ndarray | None = None
+    current: bool = False
+    source: str = ""
+    sha256: str = ""
+    notes: tuple = ()
+
+    @property
+    def n(self) -> int:
+        """int: the number of joints."""
+        return int(self.q.shape[1])
+
+
+def _columns(header, path, n_joints, current):
+    """{kind: [column index per joint]} from the header, or an InputError naming the column."""
+    names = [c.strip() for c in header]
+    if not names or names[0] != "t":
+        raise InputError(f"the header must start with 't', got {names[0]!r}" if names else
+                         "empty header", path, row=1, column=names[0] if names else None)
+    found = {}
+    for k, name in enumerate(names[1:], start=1):
+        m = _COLUMN.match(name)
+        if not m or m.group(1) == "t" or not m.group(2) or int(m.group(2)) < 1:
+            raise InputError(f"unknown column {name!r} (expected t,q1..qn,tau1..taun and "
+                             f"optionally qd1..qdn, qdd1..qddn)", path, row=1, column=name)
+        kind = "tau" if m.group(1) == "i" else m.group(1)
+        if m.group(1) == "i" and not current:
+            raise InputError(f"column {name!r} holds a current: give --current and "
+                             f"--drive-gains", path, row=1, column=name)
+        slot = found.setdefault(kind, {})
+        j = int(m.group(2))
+        if j in slot:
+            raise InputError(f"column {name!r} appears twice", path, row=1, column=name)
+        slot[j] = k
+    n = len(found.get("q", {}))
+    if n == 0:
+        raise InputError("no joint position columns q1..qn in the header", path, row=1)
+    if n_joints is not None and n != n_joints:
+        raise InputError(f"the file has {n} joint position columns, the robot has {n_joints} "
+                         f"joints", path, row=1, column="q")
+    out = {}
+    for kind in ("q", "tau", "qd", "qdd"):
+        slot = found.get(kind)
+        if slot is None:
+            if kind in ("q", "tau"):
+                raise InputError(f"missing column '{kind}1' (expected t,q1..q{n},tau1..tau{n})",
+                                 path, row=1, column=f"{kind}1")
+            continue
+        for j in range(1, n + 1):
+            if j not in slot:
+                raise InputError(f"missing column '{kind}{j}'", path, row=1,
+                                 column=f"{kind}{j}")
+        extra = sorted(set(slot) - set(range(1, n + 1)))
+        if extra:
+            raise InputError(f"column '{kind}{extra[0]}' beyond the {n} joints", path, row=1,
+                             column=f"{kind}{extra[0]}")
+        out[kind] = [slot[j] for j in range(1, n + 1)]
+    return names, out, n
+
+
+def _parse(raw, path, n_joints, current):
+    try:
+        text = raw.decode("utf-8")
+    except UnicodeDecodeError:
+        raise InputError("not a UTF-8 text file", path) from None
+    if "\x00" in text:
+        raise InputError("not a text file (holds a NUL byte)", path)
+    quick = _quick(text, path, n_joints, current)
+    if quick is not None:
+        values, names, cols, n, row_no = quick
+    else:
+        values, names, cols, n, row_no = _cells(text, path, n_joints, current)
+    limits = {"t": LIMITS["t"], "q": LIMITS["q"], "qd": LIMITS["qd"], "qdd": LIMITS["qdd"],
+              "tau": TAU_LIMIT}
+    for kind, idx in [("t", [0])] + list(cols.items()):
+        bad = first_beyond(values[:, idx], limits[kind])
+        if bad is not None:
+            j = idx[bad[1]]
+            raise InputError(f"{exact_text(values[bad[0], j])} is beyond the supported "
+                             f"magnitude {limits[kind]:g}", path, row=int(row_no[bad[0]]),
+                             column=names[j])
+    return values, cols, n, row_no
+
+
+def _quick(text, path, n_joints, current):
+    """A large file without blank lines, parsed by pandas; None to parse cell by cell."""
+    end = text.find("\n")
+    if end <= 0 or "\n\n" in text or "\r\n\r\n" in text or text.count("\n") < 1000:
+        return None
+    names, cols, n = _columns(next(csv.reader([text[:end].rstrip("\r")])), path, n_joints,
+                              current)
+    lines = text.count("\n") - (1 if text.endswith("\n") else 0)
+    values = _fast(text, names, lines)
+    if values is None:
+        return None
+    return values, names, cols, n, np.arange(2, lines + 2)
+
+
+def _cells(text, path, n_joints, current):
+    """Cell by cell, naming the row and column of the first fault."""
+    try:
+        rows = list(csv.reader(io.StringIO(text, newline="")))
+    except csv.Error as exc:
+        raise InputError(f"not a CSV file: {exc}", path) from None
+    numbered = [(k + 1, r) for k, r in enumerate(rows) if any(c.strip() for c in r)]
+    if not numbered:
+        raise InputError("empty file", path)
+    names, cols, n = _columns(numbered[0][1], path, n_joints, current)
+    data = numbered[1:]
+    values = np.empty((len(data), len(names)))
+    for k, (row_no, row) in enumerate(data):
+        if len(row) != len(names):
+            raise InputError(f"ragged row: {len(row)} cells, the header has {len(names)}",
+                             path, row=row_no)
+        for j, cell in enumerate(row):
+            text_j = cell.strip(" \t")
+            if len(text_j) > MAX_CELL:
+                raise InputError(f"a cell of {len(text_j)} characters is not a number", path,
+                                 row=row_no, column=names[j])
+            try:
+                values[k, j] = parse_number(text_j)
+            except ValueError as exc:
+                raise InputError(str(exc), path, row=row_no, column=names[j]) from None
+    return values, names, cols, n, np.array([r for r, _ in data], int)
+
+
+def _fast(text, names, lines):
+    """pandas' parse of a regular file of plain numbers, or None (the cell-by-cell parser then
+    gives the answer or the exact error)."""
+    import pandas as pd
+
+    if lines < 1000 or '"' in text:
+        return None
+    try:
+        with warnings.catch_warnings():
+            warnings.simplefilter("ignore")
+            frame = pd.read_csv(io.StringIO(text), header=0, dtype=float, engine="c",
+                                skip_blank_lines=True, index_col=False,
+                                float_precision="round_trip")
+    except (ValueError, pd.errors.ParserError):
+        return None
+    values = frame.to_numpy()
+    if values.shape != (lines, len(names)) or not np.isfinite(values).all():
+        return None
+    return values
+
+
+def _ordered(t, arrays, rows, path):
+    """Sort by time (stable), drop repeated stamps (keep the first), and say what was done."""
+    notes = []
+    order = np.argsort(t, kind="stable")
+    if (np.diff(t) < 0).any():
+        back = int(np.count_nonzero(np.diff(t) < 0))
+        k = int(np.flatnonzero(np.diff(t) < 0)[0]) + 1
+        notes.append(f"{path}: {back} time stamps earlier than the row before (first at row "
+                     f"{rows[k]}): rows sorted by time")
+    t, rows = t[order], rows[order]
+    arrays = [None if a is None else a[order] for a in arrays]
+    keep = np.concatenate([[True], np.diff(t) > 0])
+    if not keep.all():
+        notes.append(f"{path}: {int(np.count_nonzero(~keep))} rows repeat an earlier time "
+                     f"stamp (first at row {rows[~keep][0]}): the first row of each stamp kept")
+        t, rows = t[keep], rows[keep]
+        arrays = [None if a is None else a[keep] for a in arrays]
+    if t.size < MIN_SAMPLES:
+        raise InputError(f"{t.size} distinct time stamps: at least {MIN_SAMPLES} are needed",
+                         path, column="t")
+    return t, arrays, rows, notes
+
+
+def read_recording(path: str | os.PathLike[str], n_joints: int | None = None,
+                   current: bool = False) -> Recording:
+    """Read and check a recording CSV file.
+
+    Parameters
+    ----------
+    path : str or os.PathLike
+        The CSV file (layout in the module docstring).
+    n_joints : int, optional
+        The robot's number of joints n; the file must have as many.
+    current : bool, optional
+        The torque columns hold motor currents [A] (``--current``); ``i1..in`` is accepted as
+        their name.
+
+    Returns
+    -------
+    Recording
+        Sorted by time, repeated time stamps dropped; ``notes`` says what was done.
+
+    Raises
+    ------
+    InputError
+        If the file is missing or unreadable, not UTF-8 text, has an unknown, missing or
+        repeated column, a ragged row, a cell that is not a plain finite number, a value beyond
+        the supported magnitude, fewer than :data:`MIN_SAMPLES` distinct time stamps, or a
+        joint count other than ``n_joints``. One line with the file, row and column.
+
+    Examples
+    --------
+    >>> import tempfile, pathlib
+    >>> f = pathlib.Path(tempfile.mkdtemp()) / "r.csv"
+    >>> _ = f.write_text("t,q1,tau1\\n" + "".join(f"{k * 0.01},{k},{k}\\n" for k in range(12)))
+    >>> read_recording(f).q.shape
+    (12, 1)
+    """
+    path = str(path)
+    raw = _read_bytes(path)
+    sha256 = hashlib.sha256(raw).hexdigest()
+    if raw.startswith(_BOM):
+        warnings.warn(f"{path}: stripped the UTF-8 byte-order mark at the start of the file",
+                      InputNote, stacklevel=2)
+        raw = raw[len(_BOM):]
+    values, cols, n, rows = _parse(raw, path, n_joints, current)
+    if values.shape[0] < MIN_SAMPLES:
+        raise InputError(f"{values.shape[0]} rows: at least {MIN_SAMPLES} are needed", path)
+    get = {k: values[:, idx] for k, idx in cols.items()}
+    t, (q, tau, qd, qdd), rows, notes = _ordered(values[:, 0], [get["q"], get["tau"],
+                                                                get.get("qd"), get.get("qdd")],
+                                                 rows, path)
+    return Recording(t=t, q=q, tau=tau, qd=qd, qdd=qdd, rows=rows, current=bool(current),
+                     source=path, sha256=sha256, notes=tuple(notes))
+
+
+def recording_from_arrays(t: ArrayLike, q: ArrayLike, tau: ArrayLike, qd: ArrayLike | None = None,
+                          qdd: ArrayLike | None = None, source: str = "arrays",
+                          current: bool = False) -> Recording:
+    """A recording from arrays (the API's in-memory input), checked as a file is.
+
+    Parameters
+    ----------
+    t : array_like, shape (N,)
+        Time [s].
+    q, tau : array_like, shape (N, n)
+        Joint positions [rad or m] and measured torques [N m or N] (or currents [A]).
+    qd, qdd : array_like, shape (N, n), optional
+        Velocities and accelerations.
+    source : str, optional
+        A name for messages and the store.
+    current : bool, optional
+        ``tau`` holds currents.
+
+    Returns
+    -------
+    Recording
+
+    Raises
+    ------
+    InputError
+        If the shapes disagree, a value is not finite, or there are too few distinct stamps.
+    """
+    t = np.asarray(t, float).reshape(-1)
+    arrays: list[Any] = [None if a is None else np.atleast_2d(np.asarray(a, float)) for a in
+              (q, tau, qd, qdd)]
+    for name, a in zip(("q", "tau", "qd", "qdd"), arrays):
+        if a is None:
+            continue
+        if a.shape != arrays[0].shape or a.shape[0] != t.size:
+            raise InputError(f"{name} has shape {a.shape}, expected ({t.size}, "
+                             f"{arrays[0].shape[1]})", source, column=name)
+        if not np.isfinite(a).all():
+            raise InputError(f"{name} holds a value that is not finite", source, column=name)
+    if not np.isfinite(t).all():
+        raise InputError("t holds a value that is not finite", source, column="t")
+    rows = np.arange(2, t.size + 2)
+    ts, (qs, taus, qds, qdds), rows, notes = _ordered(t, arrays, rows, source)
+    digest = hashlib.sha256(b"".join(np.ascontiguousarray(a).tobytes() for a in
+                                     (ts, qs, taus) if a is not None)).hexdigest()
+    return Recording(t=ts, q=qs, tau=taus, qd=qds, qdd=qdds, rows=rows, current=bool(current),
+                     source=source, sha256=digest, notes=tuple(notes))

@@ -1,0 +1,735 @@
+"""Trajectories: reading and writing trajectory CSV files (planning is in :mod:`gd_analyze.trajectory.planning`).
+
+A trajectory CSV has a header ``t,q1..qn,qd1..qdn,qdd1..qddn`` in [s], [rad], [rad/s] and
+[rad/s^2], one set point per row. A file with only ``t,q1..qn`` is accepted too: its velocities
+and accelerations then come from a not-a-knot cubic spline through the positions, and the
+trajectory records that (``derivatives = "cubic-spline"``).
+
+Rows are counted as a spreadsheet counts them: the header is row 1, the first set point row 2.
+"""
+
+from __future__ import annotations
+
+import csv
+import functools
+import hashlib
+import math
+import os
+import re
+import warnings
+from collections.abc import Iterable, Mapping, Sequence
+from dataclasses import dataclass
+from typing import TYPE_CHECKING, Any
+
+import numpy as np
+
+from ..errors import InputError, InputNote
+from ..files import atomic_path
+from ..model.limits import LIMITS, exact_text, first_beyond, real_values
+
+if TYPE_CHECKING:                       # for the type hints only
+    from numpy.typing import ArrayLike
+
+    from ..model.robot import Robot
+
+__all__ = ["Trajectory", "read_trajectory", "write_trajectory", "write_trajectory_chunks",
+           "trajectory_columns",
+           "JointLimitWarning", "check_joint_limits", "FAST_PARSE_BYTES", "MAX_CELL"]
+
+#: Files larger than this [bytes] are parsed by pandas first when they are regular; the
+#: cell-by-cell parser runs on smaller ones, on irregular ones, and to locate an error.
+FAST_PARSE_BYTES = 1 << 18
+
+
+class JointLimitWarning(UserWarning):
+    """A position along the trajectory lies outside a joint's limits."""
+
+
+@dataclass(frozen=True, eq=False)
+class Trajectory:
+    """A joint trajectory sampled at N set points.
+
+    Attributes
+    ----------
+    t : ndarray, shape (N,)
+        Time of each set point, strictly increasing [s].
+    q : ndarray, shape (N, n)
+        Joint positions [rad].
+    qd : ndarray, shape (N, n)
+        Joint velocities [rad/s].
+    qdd : ndarray, shape (N, n)
+        Joint accelerations [rad/s^2].
+    derivatives : str
+        ``"file"`` if qd and qdd were read, ``"cubic-spline"`` if they were derived from q,
+        ``"quintic"`` if planned, ``"fourier"`` if an excitation
+        (:func:`gd_analyze.trajectory.excitation.plan_excitation`), ``"arrays"`` if given as arrays
+        (:func:`trajectory_from_arrays`).
+    source : str
+        The file read, or a description of how the trajectory was made.
+    sha256 : str
+        SHA-256 of the file's bytes ("" for a trajectory not read from a file).
+    """
+
+    t: np.ndarray
+    q: np.ndarray
+    qd: np.ndarray
+    qdd: np.ndarray
+    derivatives: str = "file"
+    source: str = ""
+    sha256: str = ""
+
+    @property
+    def n_setpoints(self) -> int:
+        """int: the number of set points N."""
+        return int(self.t.shape[0])
+
+
+def trajectory_columns(n: int, derivatives: bool = True) -> list[str]:
+    """Column names of a trajectory CSV for n joints.
+
+    Parameters
+    ----------
+    n : int
+        Number of joints.
+    derivatives : bool, optional
+        Include ``qd1..qdn`` and ``qdd1..qddn``.
+
+    Returns
+    -------
+    list of str
+        ``["t", "q1", ..., "qn", "qd1", ..., "qddn"]``.
+    """
+    cols = ["t"] + [f"q{i}" for i in range(1, n + 1)]
+    if derivatives:
+        cols += [f"qd{i}" for i in range(1, n + 1)] + [f"qdd{i}" for i in range(1, n + 1)]
+    return cols
+
+
+def _parse_header(header, path):
+    names = [c.strip() for c in header]
+    if not names or names[0] != "t":
+        raise InputError(f"the header must start with 't', got {names[0]!r}" if names else
+                         "empty header", path, row=1, column=names[0] if names else None)
+    qs = [c for c in names if c.startswith("q") and c[1:].isdigit()]
+    n = len(qs)
+    if n == 0:
+        raise InputError("no joint position columns q1..qn in the header", path, row=1)
+    for cols in (trajectory_columns(n, True), trajectory_columns(n, False)):
+        if names == cols:
+            return names, n
+    # Name the first column that differs from the expected layout.
+    full = trajectory_columns(n, True)
+    expected = full if len(names) > n + 1 else trajectory_columns(n, False)
+    for k, (got, want) in enumerate(zip(names, expected)):
+        if got != want:
+            raise InputError(f"expected column {want!r}, got {got!r}", path, row=1,
+                             column=f"{k + 1} ({got})")
+    if len(names) > len(expected):
+        raise InputError(f"extra column {names[len(expected)]!r} (expected "
+                         f"t,q1..q{n}[,qd1..qd{n},qdd1..qdd{n}])", path, row=1,
+                         column=names[len(expected)])
+    missing = expected[len(names)]
+    raise InputError(f"missing column {missing!r} (expected t,q1..q{n},qd1..qd{n},qdd1..qdd{n})",
+                     path, row=1, column=missing)
+
+
+def read_trajectory(path: str | os.PathLike[str], n_joints: int | None = None) -> Trajectory:
+    """Read and validate a trajectory CSV file.
+
+    One reader for every size: a file is parsed by pandas when it is regular (every line has
+    the header's number of fields, only the bytes of plain numbers, no quotes), and cell by cell
+    otherwise, or whenever pandas' result fails a check; the cell-by-cell parse then names the
+    first faulty row and column. Both accept exactly the same files and give the same values.
+
+    Parameters
+    ----------
+    path : str or os.PathLike
+        The CSV file: header ``t,q1..qn,qd1..qdn,qdd1..qddn`` or ``t,q1..qn`` in [s], [rad],
+        [rad/s], [rad/s^2]. A UTF-8 byte-order mark (as Excel writes it) is stripped, with an
+        :class:`~gd_analyze.errors.InputNote`.
+    n_joints : int, optional
+        The robot's number of joints n; the file must have as many.
+
+    Returns
+    -------
+    Trajectory
+        With ``derivatives = "cubic-spline"`` when the file has positions only.
+
+    Raises
+    ------
+    InputError
+        If the file is missing, not a regular file, unreadable or empty; has no header, missing
+        or extra columns, or a ragged row; has a cell that is not a plain decimal number
+        (``[+-]digits[.digits][e[+-]digits]``, ASCII digits only: no ``1_0``, no full-width
+        digits, no ``inf`` or ``nan``); has a value beyond the limits of
+        :data:`gd_analyze.model.limits.LIMITS`; if time is not strictly increasing; if there
+        are fewer than 2 set points; or if the joint count differs from n_joints. The message
+        names the file, the row (header = row 1) and the column.
+    """
+    path = str(path)
+    raw = _read_bytes(path)
+    sha256 = hashlib.sha256(raw).hexdigest()
+    if raw.startswith(_BOM):
+        warnings.warn(f"{path}: stripped the UTF-8 byte-order mark at the start of the file",
+                      InputNote, stacklevel=2)
+        raw = raw[len(_BOM):]
+    parsed = _fast_values(raw, path, n_joints) if len(raw) > FAST_PARSE_BYTES else None
+    values, names, n = parsed if parsed is not None else _validated_values(raw, path,
+                                                                            n_joints)
+    t = values[:, 0]
+    q = values[:, 1:n + 1]
+    if len(names) == 3 * n + 1:
+        qd, qdd = values[:, n + 1:2 * n + 1], values[:, 2 * n + 1:]
+        how = "file"
+    else:
+        qd, qdd = _spline(t, q, path, row_of=lambda k: k + 2)
+        how = "cubic-spline"
+    return Trajectory(t=t, q=q, qd=qd, qdd=qdd, derivatives=how, source=path,
+                      sha256=sha256)
+
+
+def _spline(t, q, path, row_of):
+    """qd and qdd of a not-a-knot cubic spline through the positions, within LIMITS."""
+    from scipy.interpolate import CubicSpline
+
+    with np.errstate(all="ignore"):
+        spline = CubicSpline(t, q, axis=0, bc_type="not-a-knot")
+        qd, qdd = spline(t, 1), spline(t, 2)
+    for name, arr in (("qd", qd), ("qdd", qdd)):
+        bad = first_beyond(arr, LIMITS[name])
+        if bad is not None:
+            raise InputError(f"the {name} derived by the cubic spline exceeds "
+                             f"{LIMITS[name]:g} in magnitude (time steps too short for "
+                             f"the positions?)", path, row=row_of(bad[0]),
+                             column=f"q{bad[1] + 1}")
+    return qd, qdd
+
+
+#: What errors call a trajectory given as arrays.
+ARRAYS = "trajectory arrays"
+
+
+def trajectory_from_arrays(t: ArrayLike, q: ArrayLike, qd: ArrayLike | None = None,
+                           qdd: ArrayLike | None = None, n_joints: int | None = None
+                           ) -> Trajectory:
+    """A trajectory from arrays, checked as a trajectory file is.
+
+    Parameters
+    ----------
+    t : array_like, shape (N,)
+        Time of each set point, strictly increasing [s]; N >= 2.
+    q : array_like, shape (N, n)
+        Joint positions [rad; m for a prismatic joint].
+    qd, qdd : array_like, shape (N, n), optional
+        Joint velocities [rad/s] and accelerations [rad/s^2]; both or neither: without them,
+        from a not-a-knot cubic spline through q, as for a file with positions only.
+    n_joints : int, optional
+        The robot's number of joints n.
+
+    Returns
+    -------
+    Trajectory
+        ``derivatives`` ``"arrays"`` (or ``"cubic-spline"``), ``source`` ``"trajectory
+        arrays"``, ``sha256`` "" (not read from a file).
+
+    Raises
+    ------
+    InputError
+        If a shape is wrong, only one of qd and qdd is given, there are fewer than 2 set
+        points, time is not strictly increasing, a value is not finite or beyond
+        :data:`gd_analyze.model.limits.LIMITS`, or the joint count is not n_joints. The
+        message names the array and the set point (from 0).
+
+    Examples
+    --------
+    >>> traj = trajectory_from_arrays([0.0, 0.5, 1.0], np.zeros((3, 2)))
+    >>> traj.derivatives, traj.qdd.shape
+    ('cubic-spline', (3, 2))
+    """
+    if (qd is None) != (qdd is None):
+        raise InputError("give both qd and qdd, or neither (then a cubic spline through q)",
+                         ARRAYS)
+    arrays: dict[str, np.ndarray] = {}
+    for name, v in (("t", t), ("q", q), ("qd", qd), ("qdd", qdd)):
+        if v is None:
+            continue
+        try:
+            arrays[name] = np.array(real_values(name, v), dtype=float)
+        except InputError as exc:       # complex, text...: one line naming the array
+            raise InputError(exc.message, ARRAYS, column=name) from None
+        except (TypeError, ValueError) as exc:
+            raise InputError(f"not numeric arrays: {exc}", ARRAYS, column=name) from None
+    t = arrays.pop("t")
+    if t.ndim != 1 or t.size < 2:
+        raise InputError(f"t must have shape (N,) with N >= 2, got {t.shape}", ARRAYS,
+                         column="t")
+    N = t.size
+    n = arrays["q"].shape[1] if arrays["q"].ndim == 2 else -1
+    for name, x in arrays.items():
+        if x.ndim != 2 or x.shape[0] != N or x.shape[1] != n or n < 1:
+            raise InputError(f"{name} must have shape (N, n) = ({N}, n), got {x.shape}",
+                             ARRAYS, column=name)
+    if n_joints is not None and n != n_joints:
+        raise InputError(f"the arrays have {n} joints, the robot has {n_joints}", ARRAYS)
+    for name, x in (("t", t), *arrays.items()):
+        bad = first_beyond(x, LIMITS[name])
+        if bad is not None:
+            raise InputError(f"{float(x[bad]):g} at set point {bad[0]} is not finite or beyond "
+                             f"the supported magnitude {LIMITS[name]:g} of {name}", ARRAYS,
+                             column=name)
+    step = np.nonzero(np.diff(t) <= 0)[0]
+    if step.size:
+        k = int(step[0]) + 1
+        raise InputError(f"time not strictly increasing ({t[k]} at set point {k} after "
+                         f"{t[k - 1]})", ARRAYS, column="t")
+    if qd is None:
+        qd, qdd = _spline(t, arrays["q"], ARRAYS, row_of=lambda k: None)
+        how = "cubic-spline"
+    else:
+        qd, qdd, how = arrays["qd"], arrays["qdd"], "arrays"
+    return Trajectory(t=t, q=arrays["q"], qd=qd, qdd=qdd,  # type: ignore[arg-type]  # ndarrays here
+                      derivatives=how, source=ARRAYS)
+
+
+def as_trajectory(value: Trajectory | str | os.PathLike[str] | Mapping[str, Any] | Sequence[Any],
+                  n_joints: int | None = None) -> Trajectory:
+    """A trajectory from what a notebook holds: a Trajectory, a CSV file, or arrays.
+
+    Parameters
+    ----------
+    value : Trajectory, str, os.PathLike, mapping or sequence
+        A :class:`Trajectory`; a trajectory CSV file (:func:`read_trajectory`); a mapping
+        with keys ``t``, ``q`` and optionally ``qd``, ``qdd``; or a sequence ``(t, q)`` or
+        ``(t, q, qd, qdd)`` (:func:`trajectory_from_arrays`).
+    n_joints : int, optional
+        The robot's number of joints n.
+
+    Returns
+    -------
+    Trajectory
+
+    Raises
+    ------
+    InputError
+        If the value is none of these, or fails the checks of :func:`read_trajectory` or
+        :func:`trajectory_from_arrays`, or has not n_joints joints.
+
+    Examples
+    --------
+    >>> as_trajectory({"t": [0, 1], "q": [[0], [1]], "qd": [[1], [1]], "qdd": [[0], [0]]}).n_setpoints
+    2
+    """
+    from collections.abc import Mapping
+
+    if isinstance(value, Trajectory):
+        if n_joints is not None and value.q.shape[1] != n_joints:
+            raise InputError(f"the trajectory has {value.q.shape[1]} joints, the robot has "
+                             f"{n_joints}", value.source or ARRAYS)
+        return value
+    if isinstance(value, (str, os.PathLike)):
+        return read_trajectory(value, n_joints=n_joints)
+    if isinstance(value, Mapping):
+        unknown = sorted(set(map(str, value)) - {"t", "q", "qd", "qdd"})
+        if unknown or "t" not in value or "q" not in value:
+            raise InputError("a trajectory mapping has the keys t, q and optionally qd, qdd"
+                             + (f" (unknown: {', '.join(unknown)})" if unknown else ""), ARRAYS)
+        return trajectory_from_arrays(**value, n_joints=n_joints)  # type: ignore[misc]  # keys checked
+    if isinstance(value, (tuple, list)) and len(value) in (2, 4):
+        return trajectory_from_arrays(*value, n_joints=n_joints)  # type: ignore[misc]  # length checked
+    raise InputError("a trajectory is a Trajectory, a CSV file, a mapping of t, q[, qd, qdd] "
+                     f"or a sequence (t, q[, qd, qdd]), not a {type(value).__name__}", ARRAYS)
+
+
+__all__ += ["trajectory_from_arrays", "as_trajectory", "parse_number"]
+
+
+_BOM = b"\xef\xbb\xbf"
+#: The plain float grammar of a cell (after stripping spaces and tabs).
+_FLOAT = re.compile(r"[+-]?(?:[0-9]+(?:\.[0-9]*)?|\.[0-9]+)(?:[eE][+-]?[0-9]+)?")
+#: A whole number of the command line (counts, seeds).
+_INTEGER = re.compile(r"[+-]?[0-9]+")
+#: Bytes a regular file's body may hold to be parsed by pandas.
+_PLAIN_BYTES = b"0123456789.eE+-, \t\r\n"
+#: Longest cell accepted [characters].
+MAX_CELL = 1000
+
+
+def _read_bytes(path):
+    if not os.path.exists(path):
+        raise InputError("no such file", path)
+    if os.path.isdir(path):
+        raise InputError("is a folder, not a CSV file", path)
+    if not os.path.isfile(path):
+        raise InputError("not a regular file (a device, FIFO or socket?): give a CSV file",
+                         path)
+    try:
+        with open(path, "rb") as fh:
+            return fh.read()
+    except OSError as exc:
+        raise InputError(f"cannot read: {exc.strerror or exc}", path) from None
+
+
+def _check_magnitudes(values, names, path, row_of):
+    """Raise for the first value beyond LIMITS (column kind from its name)."""
+    n = (len(names) - 1) // 3 if len(names) > 2 and (len(names) - 1) % 3 == 0 and \
+        names[-1].startswith("qdd") else len(names) - 1
+    groups = [("t", slice(0, 1)), ("q", slice(1, n + 1))]
+    if len(names) > n + 1:
+        groups += [("qd", slice(n + 1, 2 * n + 1)), ("qdd", slice(2 * n + 1, 3 * n + 1))]
+    for kind, cols in groups:
+        bad = first_beyond(values[:, cols], LIMITS[kind])
+        if bad is not None:
+            j = cols.start + bad[1]
+            raise InputError(f"{exact_text(values[bad[0], j])} is beyond the supported magnitude "
+                             f"{LIMITS[kind]:g} of {kind} (see docs/limits-and-safety.md)", path,
+                             row=row_of(bad[0]), column=names[j])
+
+
+@functools.lru_cache(maxsize=1)
+def _exact_floats():
+    """read_csv options for correctly rounded floats, as Python's float() gives them: pandas
+    before 3.0 parses with its own, not always correctly rounded, routine by default."""
+    import pandas as pd
+
+    return {} if int(pd.__version__.split(".")[0]) >= 3 else {"float_precision": "round_trip"}
+
+
+def _fast_values(raw, path, n_joints):
+    """Parse a large, regular file with pandas; None if anything is off (then the cell-by-cell
+    parser gives the answer, or the exact error)."""
+    import io
+
+    import pandas as pd
+
+    head_end = raw.find(b"\n")
+    if head_end < 0 or b'"' in raw or (b"\r" in raw and
+                                       raw.count(b"\r") != raw.count(b"\r\n")):
+        return None
+    try:
+        header = raw[:head_end].decode("utf-8").rstrip("\r").split(",")
+        names, n = _parse_header(header, path)
+    except (UnicodeDecodeError, InputError):
+        return None
+    if n_joints is not None and n != n_joints:
+        return None
+    header_bytes = raw[:head_end + 1]
+    if raw.translate(None, _PLAIN_BYTES) != header_bytes.translate(None, _PLAIN_BYTES):
+        return None                               # the body holds more than plain numbers
+    # The field count of every line is checked: the commas must total the header's count per
+    # line; pandas then refuses a line with more fields than the first, the shape check a first
+    # line with more fields than the header, and the finite check (NaN fill) a line with fewer,
+    # which any surplus elsewhere implies.
+    lines = _byte_count(raw, b"\n") - 1 + (not raw.endswith(b"\n"))
+    if lines < 2 or (_byte_count(raw, b",") - header_bytes.count(b",")
+                     != (len(names) - 1) * lines):
+        return None
+    # parsed piece by piece, whole lines each, into one array: the file's bytes and the values
+    # are held once, with pandas' columns of one piece at a time (not of the whole file)
+    values = np.empty((lines, len(names)))
+    start, row = head_end + 1, 0
+    try:
+        with warnings.catch_warnings():
+            warnings.simplefilter("ignore")
+            while start < len(raw):
+                stop = _piece_end(raw, start, PARSE_PIECE)
+                frame = pd.read_csv(io.BytesIO(raw[start:stop]), header=None, names=names,
+                                    dtype=float, engine="c", skipinitialspace=True,
+                                    skip_blank_lines=False, index_col=False,
+                                    **_exact_floats())
+                piece = frame.to_numpy()
+                del frame
+                if piece.shape[1] != len(names) or row + piece.shape[0] > lines:
+                    return None
+                values[row:row + piece.shape[0]] = piece
+                row, start = row + piece.shape[0], stop
+    except (ValueError, pd.errors.ParserError):
+        return None
+    if (row != lines or not np.isfinite(values).all()
+            or not (np.diff(values[:, 0]) > 0).all()):
+        return None
+    _check_magnitudes(values, names, path, lambda k: k + 2)
+    return values, names, n
+
+
+#: Bytes of a large file that pandas parses at once (whole lines; :func:`_piece_end`).
+PARSE_PIECE = 1 << 25
+
+
+def _piece_end(raw, start, size):
+    """Where a piece of about ``size`` bytes from ``start`` ends: after the last newline
+    within it (after the first newline beyond it if a line is longer), or at the end.
+
+    Examples
+    --------
+    >>> raw = b"1,2\\n3,4\\n5,6"
+    >>> _piece_end(raw, 0, 5), _piece_end(raw, 4, 100), _piece_end(raw, 0, 2)
+    (4, 11, 4)
+    """
+    if len(raw) - start <= size:
+        return len(raw)
+    stop = raw.rfind(b"\n", start, start + size) + 1
+    if stop <= start:
+        stop = raw.find(b"\n", start + size) + 1
+    return stop if stop > start else len(raw)
+
+
+#: Bytes of a file counted at once by :func:`_byte_count` (a 16 MiB temporary).
+COUNT_BLOCK = 1 << 24
+
+
+def _byte_count(raw, byte, block=COUNT_BLOCK):
+    r"""How many times one byte occurs in ``raw``: ``raw.count(byte)``, counted by numpy block by
+    block (vectorised compares, about three times faster on a 10^6-set-point file).
+
+    Parameters
+    ----------
+    raw : bytes
+    byte : bytes, length 1
+    block : int, optional
+        Bytes compared at once.
+
+    Returns
+    -------
+    int
+
+    Examples
+    --------
+    >>> _byte_count(b"1,2\n3,4\n", b","), _byte_count(b"1,2\n3,4\n", b"\n", block=3)
+    (2, 2)
+    """
+    code = ord(byte)
+    total = 0
+    for a in range(0, len(raw), block):
+        view = np.frombuffer(raw, np.uint8, count=min(block, len(raw) - a), offset=a)
+        total += int(np.count_nonzero(view == code))
+    return total
+
+
+def _validated_values(raw, path, n_joints):
+    """Parse cell by cell; raise an InputError naming the row and column of the first fault."""
+    import io
+
+    try:
+        text = raw.decode("utf-8")
+    except UnicodeDecodeError:
+        raise InputError("not a UTF-8 text file", path) from None
+    if "\x00" in text:
+        raise InputError("not a text file (holds a NUL byte)", path)
+    try:
+        rows = list(csv.reader(io.StringIO(text, newline="")))
+    except csv.Error as exc:
+        if "field larger than field limit" in str(exc):
+            raise InputError(f"a cell longer than {csv.field_size_limit()} characters: not a "
+                             f"trajectory CSV file", path) from None
+        raise InputError(f"not a CSV file: {exc}", path) from None
+    # Blank lines (including a trailing one) are not set points.
+    numbered = [(k + 1, r) for k, r in enumerate(rows) if any(c.strip() for c in r)]
+    if not numbered:
+        raise InputError("empty file", path)
+    header_row, header = numbered[0]
+    if all(_FLOAT.fullmatch(c.strip(" \t")) for c in header):
+        raise InputError("no header (expected t,q1..qn[,qd1..qdn,qdd1..qddn])", path,
+                         row=header_row)
+    names, n = _parse_header(header, path)
+    if n_joints is not None and n != n_joints:
+        raise InputError(f"the file has {n} joints, the robot has {n_joints}", path,
+                         row=header_row)
+    data = numbered[1:]
+    if len(data) < 2:
+        raise InputError(f"fewer than 2 set points ({len(data)})", path)
+    values = np.empty((len(data), len(names)))
+    for k, (row_no, row) in enumerate(data):
+        if len(row) != len(names):
+            raise InputError(f"ragged row: {len(row)} cells, the header has {len(names)}", path,
+                             row=row_no)
+        for j, cell in enumerate(row):
+            values[k, j] = _cell_value(cell, path, row_no, names[j])
+    t = values[:, 0]
+    bad = np.nonzero(np.diff(t) <= 0)[0]
+    if bad.size:
+        k = int(bad[0]) + 1
+        raise InputError(f"time not strictly increasing ({t[k]} after {t[k - 1]})", path,
+                         row=data[k][0], column="t")
+    _check_magnitudes(values, names, path, lambda k: data[k][0])
+    return values, names, n
+
+
+def _cell_value(cell, path, row_no, column):
+    text = cell.strip(" \t")
+    if len(text) > MAX_CELL:
+        raise InputError(f"a cell of {len(text)} characters is not a number", path, row=row_no,
+                         column=column)
+    try:
+        return parse_number(text)
+    except ValueError as exc:
+        raise InputError(str(exc), path, row=row_no, column=column) from None
+
+
+def parse_number(text: str, integer: bool = False) -> float | int:
+    """A number by the rules of a trajectory cell: plain decimal, finite.
+
+    Parameters
+    ----------
+    text : str
+        E.g. ``"-1.5e-3"`` (no ``1_0``, no digits other than 0-9, no ``inf`` or ``nan``).
+    integer : bool, optional
+        Accept only ``[+-]digits``, and return an int.
+
+    Returns
+    -------
+    float or int
+
+    Raises
+    ------
+    ValueError
+        One clause naming the text and what it holds.
+
+    Examples
+    --------
+    >>> parse_number("-9.81"), parse_number("12", integer=True)
+    (-9.81, 12)
+    >>> parse_number("1_0")
+    Traceback (most recent call last):
+    ...
+    ValueError: not a number: '1_0' (it holds an underscore; write plain decimal numbers like -1.5e-3)
+    """
+    text = str(text)
+    if integer and _INTEGER.fullmatch(text):
+        return int(text)
+    if not integer and _FLOAT.fullmatch(text):
+        v = float(text)
+        if math.isfinite(v):
+            return v
+        raise ValueError(f"not a finite number: {text!r} (beyond the range of a float)")
+    try:
+        v = float(text)
+    except ValueError:
+        v = None  # type: ignore[assignment]  # not a number
+    if v is not None and not math.isfinite(v):
+        raise ValueError(f"not a finite number: {text!r}")
+    what = ("digits other than 0-9" if any(c.isdigit() and c not in "0123456789" for c in text)
+            else "an underscore" if "_" in text else None)
+    plain = "whole numbers like 12" if integer else "decimal numbers like -1.5e-3"
+    hint = f" (it holds {what}; write plain {plain})" if what else \
+        " (write a whole number)" if integer and v is not None else ""
+    raise ValueError(f"not {'a whole' if integer else 'a'} number: {text!r}{hint}")
+
+
+def check_joint_limits(robot: Robot, trajectory: Trajectory) -> list[str]:
+    """Warn for every joint whose position leaves its limits along the trajectory.
+
+    Parameters
+    ----------
+    robot : Robot
+        The arm, with n joints and limits q_min, q_max [rad].
+    trajectory : Trajectory
+        Positions q, shape (N, n) [rad].
+
+    Returns
+    -------
+    list of str
+        One message per offending joint (also issued as :class:`JointLimitWarning`).
+    """
+    messages = []
+    q = trajectory.q
+    for j in range(robot.n):
+        out = np.nonzero((q[:, j] < robot.q_min[j]) | (q[:, j] > robot.q_max[j]))[0]
+        if out.size:
+            k = int(out[0])
+            if getattr(robot, "prismatic", np.zeros(robot.n, bool))[j]:
+                where = (f"{q[k, j]:.4f} m is outside its limits "
+                         f"[{robot.q_min[j]:.4f}, {robot.q_max[j]:.4f}] m")
+            else:
+                where = (f"{math.degrees(q[k, j]):.1f} deg is outside its limits "
+                         f"[{math.degrees(robot.q_min[j]):.0f}, "
+                         f"{math.degrees(robot.q_max[j]):.0f}] deg")
+            msg = (f"{trajectory.source}: row {k + 2}, column q{j + 1}: joint {j + 1} at "
+                   f"{where} ({out.size} set points)")
+            warnings.warn(msg, JointLimitWarning, stacklevel=2)
+            messages.append(msg)
+    return messages
+
+
+def write_trajectory(trajectory: Trajectory, path: str | os.PathLike[str]) -> None:
+    """Write a trajectory CSV file atomically (temporary name, then rename).
+
+    Parameters
+    ----------
+    trajectory : Trajectory
+        The set points; t [s], q [rad], qd [rad/s], qdd [rad/s^2].
+    path : str or os.PathLike
+        Destination; ``"-"`` writes to standard output.
+
+    Raises
+    ------
+    OSError
+        If the file cannot be written.
+    """
+    write_trajectory_chunks([trajectory], trajectory.q.shape[1], path)
+
+
+#: Rows formatted into one string at a time by :func:`write_trajectory_chunks` (a few MB of
+#: text for 6 joints).
+_ROWS_FORMATTED = 2**14
+
+
+def _csv_rows(table: np.ndarray) -> str:
+    """CSV lines of a table's rows, each value as ``"%.17g"`` (17 significant digits, so that
+    it reads back bit for bit) and NaN as an empty field.
+
+    Parameters
+    ----------
+    table : ndarray, shape (rows, columns)
+        Values.
+
+    Returns
+    -------
+    str
+        ``rows`` lines, each ending in a newline: the lines pandas' ``to_csv`` writes with
+        ``float_format="%.17g"`` (its empty ``na_rep``), made by one string formatting of the
+        whole table instead of one call per value.
+    """
+    rows, cols = table.shape
+    text = (",".join(["%.17g"] * cols) + "\n") * rows % tuple(table.ravel().tolist())
+    if np.isnan(table).any():       # "%.17g" writes NaN (of either sign) as "nan"
+        text = text.replace("nan", "")
+    return text
+
+
+def write_trajectory_chunks(chunks: Iterable[Trajectory], n: int,
+                            path: str | os.PathLike[str]) -> None:
+    """Write a trajectory CSV file piece by piece, atomically (temporary name, then rename):
+    the same bytes as :func:`write_trajectory` of the pieces joined, in the memory of one piece.
+
+    Parameters
+    ----------
+    chunks : iterable of Trajectory
+        Consecutive pieces of the set points; t [s], q [rad], qd [rad/s], qdd [rad/s^2].
+    n : int
+        Number of joints.
+    path : str or os.PathLike
+        Destination; ``"-"`` writes to standard output.
+
+    Raises
+    ------
+    OSError
+        If the file cannot be written; the file is then left as it was.
+    """
+    columns = trajectory_columns(n, True)
+
+    def write(stream):
+        stream.write(",".join(columns) + "\n")
+        for piece in chunks:
+            table = np.column_stack([piece.t, piece.q, piece.qd, piece.qdd])
+            table = table + 0.0         # -0.0 (a joint at rest moving down) is written "0"
+            for start in range(0, table.shape[0], _ROWS_FORMATTED):
+                stream.write(_csv_rows(table[start:start + _ROWS_FORMATTED]))
+
+    if str(path) == "-":
+        import sys
+
+        write(sys.stdout)
+        return
+
+    with atomic_path(path) as tmp, open(tmp, "w", newline="", encoding="utf-8") as stream:
+        write(stream)

@@ -1,0 +1,315 @@
+"""The region guarantee: the stored bound holds at every sampled state of the region,
+against Pinocchio's rnea, on real arms and a mixed chain with prismatic joints."""
+import numpy as np
+import pinocchio as pin
+import pytest
+
+from gd_analyze import load_robot
+from gd_analyze.certify.certify import dropped_bound, region_bound
+from gd_analyze.certify.region import joint_region
+from gd_analyze.dynamics.base_parameters import base_parameters
+from gd_analyze.dynamics.pinocchio import pinocchio_model
+from gd_analyze.jobs.deploy import certified, region_model
+from gd_analyze.model.robot_spec import robot_from_chain
+from gd_analyze.symbolic.emit import python_function
+from gd_analyze.symbolic.pruning import pruned_program
+from gd_analyze.trajectory.planning import acceleration_limits
+
+STATES = 100_000
+
+
+def _mixed():
+    """A general chain with two prismatic joints, full inertia tensors, limits on every joint."""
+    from scipy.spatial.transform import Rotation
+
+    rng = np.random.default_rng(5)
+    joints = []
+    for i in range(5):
+        B = rng.normal(size=(3, 3)) * 0.1
+        S = B @ B.T
+        pris = i in (1, 3)
+        joints.append({
+            "type": "prismatic" if pris else "revolute",
+            "rotation": Rotation.random(random_state=500 + i).as_matrix(),
+            "translation": rng.uniform(-0.3, 0.3, 3), "mass": rng.uniform(0.3, 4.0),
+            "com": rng.uniform(-0.2, 0.2, 3), "inertia": np.trace(S) * np.eye(3) - S,
+            "q_min": -0.4 if pris else -2.5, "q_max": 0.4 if pris else 2.5,
+            "qd_max": 0.5 if pris else 2.0, "qdd_max": 1.0 if pris else 3.0})
+    return robot_from_chain("mixed", joints, [0.5, -1.0, -9.5], source="<test>")
+
+
+def _robot(name):
+    return _mixed() if name == "mixed" else load_robot(name)
+
+
+def _states(region, count, seed):
+    """Uniform states of the region, a quarter of them with qd, qdd at their limits and a
+    few joints at their position limits."""
+    rng = np.random.default_rng(seed)
+    n = region.q_min.size
+    q = rng.uniform(region.q_min, region.q_max, (count, n))
+    qd = rng.uniform(-1, 1, (count, n)) * region.qd_max
+    qdd = rng.uniform(-1, 1, (count, n)) * region.qdd_max
+    k = count // 4
+    qd[:k] = rng.choice([-1.0, 1.0], (k, n)) * region.qd_max
+    qdd[:k] = rng.choice([-1.0, 1.0], (k, n)) * region.qdd_max
+    at = rng.uniform(size=(k, n)) < 0.3
+    q[:k] = np.where(at, np.where(rng.uniform(size=(k, n)) < 0.5, region.q_min,
+                                  region.q_max), q[:k])
+    return q, qd, qdd
+
+
+def _rnea(robot, q, qd, qdd):
+    model = pinocchio_model(robot)
+    data = model.createData()
+    return np.array([pin.rnea(model, data, a, b, c) for a, b, c in zip(q, qd, qdd)])
+
+
+@pytest.mark.parametrize("name,eps", [("puma560", 0.05), ("puma560", 0.01), ("panda", 0.02),
+                                      ("ur5", 0.05), ("mixed", 0.05)])
+def test_the_region_bound_holds_at_every_sampled_state(name, eps):
+    robot = _robot(name)
+    region = joint_region(robot, acceleration_limits(robot)[0])
+    base = base_parameters(robot)
+    rec, guarantee = region_model(robot, base, region, eps)
+    assert rec.dropped.any(), "nothing dropped: the test would prove nothing"
+    assert np.all(guarantee.bound <= eps * guarantee.scale * (1 + 1e-12))
+    tau_s = python_function(pruned_program(robot, base, rec.dropped))
+    q, qd, qdd = _states(region, STATES, seed=7)
+    ref = _rnea(robot, q, qd, qdd)
+    err = np.abs(tau_s(q, qd, qdd) - ref).max(axis=0)
+    round_off = 64 * np.finfo(float).eps * max(guarantee.scale.max(), np.abs(ref).max())
+    assert np.all(np.isfinite(err))
+    assert np.all(err <= guarantee.bound + round_off), (err, guarantee.bound)
+    # the scale is attained where the model says
+    n = robot.n
+    st = guarantee.scale_state
+    at = _rnea(robot, st[:, :n], st[:, n:2 * n], st[:, 2 * n:])
+    assert np.allclose(np.abs(at[np.arange(n), np.arange(n)]), guarantee.scale, rtol=1e-9)
+    assert np.all(np.abs(ref).max(axis=0) <= guarantee.scale * 1.05)   # a found maximum
+
+
+def test_the_model_prunes_on_the_proved_bound_not_the_sampled_peak():
+    robot = load_robot("puma560")
+    region = joint_region(robot, acceleration_limits(robot)[0])
+    base = base_parameters(robot)
+    pb = certified(robot, base, region)
+    looser = pb.bound > pb.sampled * 1.01
+    assert looser.any()                     # a pair whose sampled peak is below its bound
+    assert np.all(pb.bound >= pb.sampled)
+    rec, guarantee = region_model(robot, base, region, 0.05)
+    # the stored bound is, per joint, derived from the proved enclosures (the largest over the
+    # branch and bound's final boxes of the dropped pairs' bounds there, or of their joint
+    # sum), never from their sampled peaks
+    by_bound = np.einsum("bpln,bp->ln", pb.leaves, rec.dropped.astype(float)).max(axis=0)
+    by_sample = (pb.sampled * rec.dropped[:, :, None]).sum(axis=(0, 1))
+    again = region_bound(robot, base, region, pb, rec.dropped, 0.05 * pb.scale)
+    assert np.allclose(guarantee.bound, again, rtol=1e-12, atol=1e-12 * pb.scale.max())
+    assert np.all(guarantee.bound <= by_bound * (1 + 1e-12))
+    assert np.all(by_bound <= (pb.bound * rec.dropped[:, :, None]).sum(axis=(0, 1)) * (1 + 1e-12))
+    assert np.any(by_bound > by_sample * 1.01)
+    assert np.all(guarantee.sampled_error <= guarantee.bound * (1 + 1e-12))
+
+
+def test_the_joint_sum_admits_pairs_the_pairs_bounds_do_not():
+    """At EPS 0.01 (the main job's) the PUMA 560's model drops pairs whose bounds, added on
+    each final box, exceed the budget: their joint sum, by branch and bound, fits it. The
+    bound holds at 100,000 states against Pinocchio's rnea
+    (:func:`test_the_region_bound_holds_at_every_sampled_state`)."""
+    robot = load_robot("puma560")
+    region = joint_region(robot, acceleration_limits(robot)[0])
+    base = base_parameters(robot)
+    pb = certified(robot, base, region)
+    rec, guarantee = region_model(robot, base, region, 0.01)
+    pieces = np.einsum("bpln,bp->ln", pb.leaves, rec.dropped.astype(float)).max(axis=0)
+    budget = 0.01 * pb.scale
+    assert np.any(pieces > budget) and np.all(guarantee.bound <= budget * (1 + 1e-12))
+    assert np.all(guarantee.sampled_error <= guarantee.bound * (1 + 1e-12))
+    # the branch and bound never proves less than the error found at sampled states
+    low = guarantee.sampled_error * 0.99
+    assert np.all(dropped_bound(robot, base, region, rec.dropped, low, 4096, pb.zero)
+                  >= guarantee.sampled_error * (1 - 1e-12))
+
+
+@pytest.mark.slow
+def test_prove_dropped_proves_the_bound_and_never_a_false_one():
+    """The quick proof on the dropped pairs alone: it proves the region model's own
+    bound, and never a limit that Pinocchio's rnea shows is exceeded somewhere in the region
+    (the error at sampled states, 1 % lowered)."""
+    from gd_analyze.certify.certify import prove_dropped
+
+    robot = load_robot("puma560")
+    region = joint_region(robot, acceleration_limits(robot)[0])
+    base = base_parameters(robot)
+    rec, guarantee = region_model(robot, base, region, 0.05)
+    assert rec.dropped.any()
+    slack = 1e-9 * guarantee.scale
+    pb = certified(robot, base, region)
+    pieces = np.einsum("bpln,bp->ln", pb.leaves, rec.dropped.astype(float)).max(axis=0)
+    assert prove_dropped(robot, base, region, rec.dropped, np.maximum(pieces, guarantee.bound)
+                         + slack)
+    tau_s = python_function(pruned_program(robot, base, rec.dropped))
+    q, qd, qdd = _states(region, 20_000, seed=3)
+    err = np.abs(tau_s(q, qd, qdd) - _rnea(robot, q, qd, qdd)).max(axis=0)
+    j = int(np.argmax(err / guarantee.scale))
+    assert err[j] > 1e-3 * guarantee.scale[j]
+    false = guarantee.bound + slack
+    false[j] = 0.99 * err[j]
+    assert not prove_dropped(robot, base, region, rec.dropped, false)
+    assert not prove_dropped(robot, base, region, rec.dropped, np.full(robot.n, np.nan))
+
+
+def test_the_tree_tiles_the_region_and_gives_the_same_bounds_again():
+    """The boxes rebuilt from a certification's tree cover the region once: random positions
+    lie in exactly one box's interior (volume adds up to the region's), and the bounds derived
+    on that tree without search equal the certification's."""
+    from gd_analyze.certify.certify import certify, certify_tree, tiling
+    from gd_analyze.certify.region import region_samples
+
+    robot = _mixed()
+    base = base_parameters(robot)
+    region = joint_region(robot, np.asarray(robot.qdd_max, float))
+    values = region_samples(robot, base, region, samples=100)
+    pb = certify(robot, base, region, samples=100, max_boxes=64, values=values)
+    levels = tiling(region, pb.split_joint, pb.split_at)
+    lo = np.concatenate([a[~s] for a, _, s in levels])
+    hi = np.concatenate([b[~s] for _, b, s in levels])
+    np.testing.assert_array_equal(np.stack([lo, hi], axis=1), pb.leaf_boxes)
+    q = np.random.default_rng(3).uniform(region.q_min, region.q_max, (20_000, robot.n))
+    inside = ((q[:, None] > lo[None]) & (q[:, None] < hi[None])).all(axis=2)
+    assert np.all(inside.sum(axis=1) == 1)
+    volume = np.prod(hi - lo, axis=1).sum()
+    assert abs(volume / np.prod(region.q_max - region.q_min) - 1) < 1e-12
+    again = certify_tree(robot, base, region, pb.split_joint, pb.split_at, values)
+    for f in ("bound", "leaves", "leaf_boxes", "sampled", "zero"):
+        np.testing.assert_array_equal(getattr(again, f), getattr(pb, f), err_msg=f)
+
+
+def test_the_sampled_peaks_search_every_vertex_of_the_velocity_box():
+    """Oracle: each pair's velocity peak at a position by brute force over all 2^n vertices
+    of the velocity box; the peaks over the joints each column involves must equal it."""
+    import itertools
+
+    from gd_analyze.certify.certify import pair_magnitudes_at
+    from gd_analyze.certify.region import channel_values, full_channels, sample_positions
+
+    robot = _mixed()
+    base = base_parameters(robot)
+    region = joint_region(robot, np.asarray(robot.qdd_max, float))
+    cols = np.flatnonzero(base.independent.reshape(-1))
+    V = channel_values(robot, sample_positions(region, 5), cols)
+    beta = np.asarray(base.beta, float)
+    got = pair_magnitudes_at(V, beta, region.qd_max, region.qdd_max)[:, :, 1]   # (B, b, n)
+    n = robot.n
+    verts = np.array(list(itertools.product([-1.0, 1.0], repeat=n))) * region.qd_max
+    C = full_channels(V)[:, 1 + n:].reshape(V.positions, n, n, n, -1)     # (B, j, l, i, b)
+    quad = np.einsum("kj,kl,Bjlib->Bkbi", verts, verts, C)
+    want = np.abs(quad).max(axis=1) * np.abs(beta)[None, :, None]
+    np.testing.assert_allclose(got, want, rtol=1e-12, atol=1e-12 * want.max())
+
+
+def test_pairs_proved_zero_are_zero_in_pinocchio_and_dropped_at_no_cost():
+    """The PUMA's velocity pairs of ZZ2 and ZZ3 are proved identically zero: their enclosure
+    is 0 on every final box, the same after a read-back of the tree; every inertial or
+    velocity part declared zero at a joint is zero there in Pinocchio's regressor at random
+    states (oracle), and an inertia column's part not zero in Pinocchio is never declared
+    zero; the selection drops the zero pairs without adding to its bound."""
+    from gd_analyze.certify.certify import certify, certify_tree
+    from gd_analyze.certify.region import region_samples
+    from gd_analyze.symbolic.pruning import prune_bounds, zero_parts
+
+    robot = load_robot("puma560")
+    base = base_parameters(robot)
+    region = joint_region(robot, acceleration_limits(robot)[0])
+    values = region_samples(robot, base, region, samples=100)
+    pb = certify(robot, base, region, samples=100, max_boxes=64, values=values)
+    names = base.names()
+    for zz in ("ZZ2", "ZZ3"):
+        assert pb.zero[names.index(zz), 1], zz
+    assert np.all(pb.leaves[pb.zero] == 0)
+    again = certify_tree(robot, base, region, pb.split_joint, pb.split_at, values)
+    np.testing.assert_array_equal(again.zero, pb.zero)
+    # oracle: every part declared zero at a joint vanishes there in Pinocchio's regressor
+    model = pinocchio_model(robot)
+    data = model.createData()
+    cols = np.flatnonzero(base.independent.reshape(-1))
+    order = np.array([4, 5, 7, 6, 8, 9, 1, 2, 3, 0])        # ours (XX .. ZZ, MX .. M) in pin's
+    pcols = 10 * (cols // 10) + order[cols % 10]
+    rng = np.random.default_rng(11)
+    part = np.zeros((2, robot.n, cols.size))                 # largest |part| per joint, column
+    zero = np.zeros(robot.n)
+    for _ in range(50):
+        q = rng.uniform(region.q_min, region.q_max)
+        qd = rng.uniform(-1, 1, robot.n) * region.qd_max
+        qdd = rng.uniform(-1, 1, robot.n) * region.qdd_max
+        G = pin.computeJointTorqueRegressor(model, data, q, zero, zero).copy()
+        for p, (a, b) in enumerate(((zero, qdd), (qd, zero))):
+            Y = pin.computeJointTorqueRegressor(model, data, q, a, b) - G
+            part[p] = np.maximum(part[p], np.abs(Y[:, pcols]))
+    part *= np.abs(base.beta)                                 # contributions
+    scale = part.max()
+    declared = zero_parts(robot, cols)[:, :2].transpose(1, 2, 0)      # (2, n, b)
+    assert declared.any(axis=(1, 2)).all()                   # inertial and velocity zeros
+    assert np.all(part[declared] <= 1e-12 * scale)
+    assert np.all(part[1][:, pb.zero[:, 1]] <= 1e-12 * scale)
+    # an inertia column's part declared zero only where Pinocchio's is: one not zero never is
+    inertia = (cols % 10 < 6) & (np.abs(base.beta) > 0)
+    np.testing.assert_array_equal(declared[:, :, inertia], part[:, :, inertia] <= 1e-12 * scale)
+    # dropped at no cost: a budget of 0 still drops them, with a bound of 0
+    pr = prune_bounds(robot, base, pb.scale, pb.bound, pb.leaves.sum(axis=1).max(axis=1), 0.0,
+                      pieces=pb.leaves, zero=pb.zero)
+    assert np.all(pr.dropped[pb.zero]) and np.all(pr.bound == 0)
+    with pytest.raises(ValueError, match="declared zero"):
+        wrong = pb.zero.copy()
+        wrong[names.index("ZZ2"), 0] = True                  # the inertial part is not zero
+        prune_bounds(robot, base, pb.scale, pb.bound, pb.leaves.sum(axis=1).max(axis=1), 0.0,
+                     pieces=pb.leaves, zero=wrong)
+
+
+def test_the_stored_trees_give_the_bound_again_and_it_holds_at_every_sampled_state():
+    """The trees kept with the PUMA 560's region model (EPS 0.01, whose bound comes from the
+    branch and bound on the joint sum) give its bound again without search, checked to tile
+    the region; that bound is never below the error Pinocchio's rnea shows at 100,000
+    sampled states, and a tree cut short, one with an extra box or a joint the arm does not
+    have proves nothing."""
+    from gd_analyze.certify.certify import proved_zero, tiling, tilings_bound, tree_bound
+
+    robot = load_robot("puma560")
+    region = joint_region(robot, acceleration_limits(robot)[0])
+    base = base_parameters(robot)
+    pb = certified(robot, base, region)
+    rec, guarantee = region_model(robot, base, region, 0.01)
+    assert guarantee.tilings, "no tree kept: the reader would search again"
+    pieces = np.einsum("bpln,bp->ln", pb.leaves, rec.dropped.astype(float)).max(axis=0)
+    assert np.any(guarantee.bound < 0.99 * pieces)       # the joint sum's search is needed
+    slack = 1e-9 * guarantee.scale
+    again = tilings_bound(robot, base, region, rec.dropped, guarantee.tilings)
+    assert np.all(again <= guarantee.bound + slack), (again, guarantee.bound)
+    # the pairs proved zero from the robot alone are the certification's
+    np.testing.assert_array_equal(proved_zero(robot, base, region, rec.dropped),
+                                  rec.dropped & pb.zero)
+    # soundness against the oracle
+    tau_s = python_function(pruned_program(robot, base, rec.dropped))
+    q, qd, qdd = _states(region, STATES, seed=11)
+    ref = _rnea(robot, q, qd, qdd)
+    err = np.abs(tau_s(q, qd, qdd) - ref).max(axis=0)
+    round_off = 64 * np.finfo(float).eps * max(guarantee.scale.max(), np.abs(ref).max())
+    assert np.all(err <= again + round_off), (err, again)
+    j = int(np.argmax(err / guarantee.scale))
+    assert err[j] > 0.5 * again[j]                      # not vacuous: the bound is close
+    # a coarser tree (the last box the search halved left whole) is a tiling: a sound bound
+    tree = guarantee.tilings[0]
+    last = int(np.flatnonzero(tree >= 0)[-1])               # a box of the level before last
+    width = len(tiling(region, tree)[-1][0])                # the last level: halves only
+    start = tree.size - width                               # lower halves, then upper ones
+    coarse = np.delete(tree, [start + width // 2 - 1, tree.size - 1])
+    coarse[last] = -1
+    loose = tree_bound(robot, base, region, coarse, rec.dropped)
+    assert np.all(loose >= again - slack) and np.all(err <= loose + round_off)
+    # not trees of the region: no bound from them
+    n = robot.n
+    for forged in (tree[:-1], np.concatenate([tree, [-1]]), np.where(tree >= 0, n, tree),
+                   np.where(tree == tree.max(), -2, tree)):
+        assert np.all(tilings_bound(robot, base, region, rec.dropped, (forged,)) == np.inf)
+        with pytest.raises(ValueError):
+            tiling(region, forged)

@@ -1,0 +1,80 @@
+"""Standard parameters, the numeric regressor and the base parameters against Pinocchio's
+computeJointTorqueRegressor and rnea."""
+
+import numpy as np
+import pinocchio as pin
+import pytest
+from symbolic_helpers import ROBOTS, rnea, robot, states
+
+from gd_analyze.dynamics.base_parameters import (
+    PARAMETER_NAMES,
+    base_parameters,
+    regressor,
+    standard_parameters,
+)
+from gd_analyze.dynamics.pinocchio import pinocchio_model
+
+#: Pinocchio's per-joint order (m, mc_x, mc_y, mc_z, Ixx, Ixy, Iyy, Ixz, Iyz, Izz) -> ours.
+PIN_ORDER = [4, 5, 7, 6, 8, 9, 1, 2, 3, 0]
+
+
+def pin_regressor(arm, q, qd, qdd):
+    model = pinocchio_model(arm)
+    data = model.createData()
+    return np.array([pin.computeJointTorqueRegressor(model, data, a, b, c)
+                     for a, b, c in zip(q, qd, qdd)])
+
+
+def _ours_from_pin(W):
+    n = W.shape[-1] // 10
+    return np.concatenate([W[..., 10 * j:10 * j + 10][..., PIN_ORDER] for j in range(n)], -1)
+
+
+@pytest.mark.parametrize("name", ROBOTS)
+def test_regressor_equals_pinocchio_and_standard_parameters_its_inertias(name):
+    arm = robot(name)
+    q, qd, qdd = states(arm, 30, 2)
+    W = regressor(arm, q, qd, qdd)
+    Wp = _ours_from_pin(pin_regressor(arm, q, qd, qdd))
+    assert np.abs(W - Wp).max() <= 1e-12 * np.abs(Wp).max()
+    model = pinocchio_model(arm)
+    pin_phi = np.array([model.inertias[j + 1].toDynamicParameters() for j in range(arm.n)])
+    np.testing.assert_allclose(standard_parameters(arm), pin_phi[:, PIN_ORDER],
+                               rtol=0, atol=1e-14 * np.abs(pin_phi).max())
+
+
+@pytest.mark.parametrize("name", ROBOTS)
+def test_base_parameters_rank_regrouping_and_torques(name):
+    arm = robot(name)
+    bp = base_parameters(arm)
+    q, qd, qdd = states(arm, 60, 3)
+    Wp = pin_regressor(arm, q, qd, qdd).reshape(-1, 10 * arm.n)
+    assert bp.rank == np.linalg.matrix_rank(Wp) == bp.beta.size == bp.independent.sum()
+    W = regressor(arm, q, qd, qdd).reshape(-1, 10 * arm.n)
+    B = bp.independent.reshape(-1)
+    WB, WD = W[:, B], W[:, ~B]
+    assert np.abs(WD - WB @ bp.K).max() <= 1e-9 * np.abs(W).max()
+    tau = rnea(arm, q, qd, qdd).reshape(-1)
+    for model_tau in (WB @ bp.beta, W @ bp.values.reshape(-1)):
+        assert np.abs(model_tau - tau).max() <= 1e-10 * np.abs(tau).max()
+    assert len(bp.names()) == bp.rank
+
+
+def test_revolute_joints_regroup_yy_mz_m_and_noise_is_exactly_zero():
+    """Khalil's regrouping on the PUMA: YY_j, MZ_j, M_j are never base parameters (all
+    joints revolute); link 1 keeps ZZ1 only; XX6 - YY6 = 0 of the AKB wrist is exactly 0."""
+    arm = robot("puma560")
+    bp = base_parameters(arm)
+    assert not bp.independent[:, [PARAMETER_NAMES.index(k) for k in ("YY", "MZ", "M")]].any()
+    assert bp.names()[0] == "ZZ1" and "XX2" in bp.names()
+    values = bp.values
+    assert values[5, 0] == 0.0 and values[5, 5] > 0      # XX6 - YY6 regrouped, ZZ6 kept
+    assert values[5, 1] == values[5, 2] == values[5, 4] == 0.0
+    phi = bp.standard
+    assert np.all((phi == 0.0) | (np.abs(phi) > 1e-12))
+
+
+def test_prismatic_joint_keeps_its_mass():
+    """Stanford joint 3 is prismatic: its link's mass is a base parameter (not regrouped)."""
+    bp = base_parameters(robot("stanford"))
+    assert bp.independent[2, PARAMETER_NAMES.index("M")]

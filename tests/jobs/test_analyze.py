@@ -1,0 +1,217 @@
+import numpy as np
+import pytest
+import xarray as xr
+from conftest import SHIPPED
+
+from gd_analyze.jobs.analyze import analyze, analyze_to_file, verify
+from gd_analyze.jobs.options import AnalysisOptions
+from gd_analyze.ranking.ranking import RankingAccumulator, rank_dominance
+from gd_analyze.trajectory.planning import plan_quintic
+from gd_analyze.trajectory.trajectory import read_trajectory
+
+
+@pytest.mark.slow
+def test_streamed_file_equals_the_in_memory_analysis(tmp_path, puma):
+    traj = plan_quintic(puma, np.radians([-60, 20, -150, -80, -60, -120]),
+                        np.radians([60, 110, -60, 80, 60, 120]), n_setpoints=1001)
+    whole = analyze(puma, traj, AnalysisOptions(verify=False, formulations=False)).dataset
+    path = tmp_path / "results.h5"
+    streamed = analyze_to_file(puma, traj, path, AnalysisOptions(verify=True), chunk=97)   # 11 uneven chunks
+    assert streamed.verification["passed"] == 1
+    with xr.open_dataset(path, engine="h5netcdf") as ds:
+        for name in ("t", "q", "D_tran", "D_rot", "D", "h_tran", "h_rot", "h", "c", "tau",
+                     "tau_simplified", "share_tran", "peak_total", "tau_error_rms"):
+            np.testing.assert_allclose(ds[name].values, whole[name].values, rtol=1e-12,
+                                       atol=1e-15, err_msg=name)
+            assert ds[name].attrs["units"] == whole[name].attrs["units"]
+        assert list(ds.dominance.values) == list(whole.dominance.values)
+        assert list(ds.choice.values) == list(whole.choice.values)
+        assert ds.sizes["t"] == 1001
+    assert [p.name for p in tmp_path.iterdir()] == ["results.h5"]
+
+
+def test_ranking_accumulated_in_chunks_equals_the_whole(puma):
+    from gd_analyze import gd_terms
+
+    traj = read_trajectory(SHIPPED, 6)
+    t = gd_terms(puma, traj.q, traj.qd)
+    tau = t.tau(traj.qdd)
+    whole = rank_dominance(t.D_tran, t.D_rot, t.h_tran, t.h_rot, tau)
+    acc = RankingAccumulator(6)
+    for a in range(0, 31, 4):
+        s = slice(a, a + 4)
+        acc.update(t.D_tran[s], t.D_rot[s], t.h_tran[s], t.h_rot[s], tau[s])
+    parts = acc.result()
+    np.testing.assert_allclose(parts.share_tran, whole.share_tran, rtol=1e-13)
+    assert parts.dominance == whole.dominance
+
+
+def test_verify_flags_a_wrong_term(puma):
+    """The check can fail: perturb one term and it no longer passes."""
+    from dataclasses import replace
+
+    from gd_analyze import gd_terms
+
+    traj = read_trajectory(SHIPPED, 6)
+    t = gd_terms(puma, traj.q, traj.qd)
+    assert verify(puma, traj.q, traj.qd, t)["passed"] == 1
+    bad = replace(t, h_rot=t.h_rot * (1 + 1e-6))
+    result = verify(puma, traj.q, traj.qd, bad)
+    assert result["passed"] == 0 and result["max_rel_error_h_rot"] > 1e-7
+
+
+def test_verification_stores_the_measured_differences(puma):
+    """Results.h5 stored the verification errors as exactly 0.0 (the differences
+    past the round-off floor). The stored value is the true largest difference against
+    Pinocchio's crba, relative to sqrt(D_ii D_jj); the excess past the floor is stored apart."""
+    import pinocchio as pin
+
+    from gd_analyze import gd_terms
+    from gd_analyze.dynamics.pinocchio import pinocchio_model
+
+    traj = read_trajectory(SHIPPED, 6)
+    t = gd_terms(puma, traj.q, traj.qd)
+    result = verify(puma, traj.q, traj.qd, t, qdd=traj.qdd)
+    model = pinocchio_model(puma)
+    data = model.createData()
+    crba = []
+    for q in traj.q:
+        M = pin.crba(model, data, q).copy()
+        crba.append(np.triu(M) + np.triu(M, 1).T)
+    crba = np.array(crba)
+    diag = np.abs(np.diagonal(crba, axis1=1, axis2=2))
+    scale = np.max(np.sqrt(diag[:, :, None] * diag[:, None, :]), axis=0)
+    oracle = np.max(np.max(np.abs(t.D - crba), axis=0) / scale)
+    assert 0 < result["max_rel_error_D"] < 1e-12
+    np.testing.assert_allclose(result["max_rel_error_D"], oracle, rtol=1e-6)
+    assert result["max_rel_excess_D"] == 0 and result["passed"] == 1
+
+
+def test_progress_bar_on_request_and_silent_otherwise(tmp_path, puma, capsys, monkeypatch):
+    import gd_analyze.jobs.analyze as pipeline
+
+    traj = read_trajectory(SHIPPED, 6)
+    monkeypatch.setattr(pipeline, "PROGRESS_DELAY", 0.0)
+    analyze_to_file(puma, traj, tmp_path / "a.h5", AnalysisOptions(verify=False, formulations=False), progress=True, chunk=8)
+    err = capsys.readouterr().err
+    # it counts set points, not passes: each pass restarts at 0 of the 31 set points
+    assert "set points/s" in err and "/31" in err and "/62" not in err
+    assert "G-D terms" in err and "simplified model" in err
+    analyze_to_file(puma, traj, tmp_path / "b.h5", AnalysisOptions(verify=False, formulations=False), progress=False, chunk=8)
+    assert capsys.readouterr().err == ""
+
+
+class _CountingEngine:
+    """Wraps the G-D kernel and counts the set points it is asked for; attribute access (e.g.
+    the kernel's ``py_func``) passes through."""
+
+    def __init__(self, fn, q_arg):
+        self.fn, self.q_arg, self.setpoints = fn, q_arg, 0
+
+    def __call__(self, *args, **kwargs):
+        self.setpoints += np.shape(args[self.q_arg])[0]
+        return self.fn(*args, **kwargs)
+
+    def __getattr__(self, name):
+        return getattr(self.fn, name)
+
+
+def _count_gd(monkeypatch):
+    """The G-D engine, counting its set points; the derivation cache off (its self-check
+    evaluates the engine at check states of its own, which are not the trajectory's)."""
+    from gd_analyze.dynamics import kernels
+
+    monkeypatch.setenv("GD_ANALYZE_NO_CACHE", "1")
+
+    compiled = _CountingEngine(kernels.gd_kernel, 0)            # gd_kernel(q, qd, ...)
+    monkeypatch.setattr(kernels, "gd_kernel", compiled)
+    return lambda: compiled.setpoints
+
+
+def test_the_main_job_computes_the_terms_once_per_setpoint(tmp_path, monkeypatch, capsys):
+    """Ranking, verification, simplified-model error and the formulations' agreement
+    all read the one set of G-D terms; the command computes each set point's terms once."""
+    from gd_analyze.cli import main
+
+    counted = _count_gd(monkeypatch)
+    assert main(["puma560", str(SHIPPED), "-o", str(tmp_path / "out"), "--no-report",
+                 "-q"]) == 0
+    assert counted() == read_trajectory(SHIPPED, n_joints=6).q.shape[0] == 31
+
+
+def test_streaming_in_chunks_still_computes_the_terms_once(tmp_path, monkeypatch, puma):
+    traj = read_trajectory(SHIPPED, n_joints=6)
+    counted = _count_gd(monkeypatch)
+    result = analyze_to_file(puma, traj, tmp_path / "r.h5", chunk=7)     # 5 chunks
+    assert result.verification["passed"] == 1
+    assert counted() == 31
+    counted_mem = _count_gd(monkeypatch)
+    analyze(puma, traj, AnalysisOptions(formulations=True))
+    assert counted_mem() == 31
+
+
+def test_the_count_can_fail(monkeypatch, puma):
+    traj = read_trajectory(SHIPPED, n_joints=6)
+    counted = _count_gd(monkeypatch)
+    verify(puma, traj.q, traj.qd)            # without terms, verify computes its own
+    assert counted() == 31
+
+
+@pytest.mark.slow
+def test_the_main_job_s_memory_is_flat_in_the_set_points(tmp_path, puma):
+    """analyze_to_file streams everything to the file in chunks (the G-D terms, verification,
+    ranking, the simplified model's D_s check, ladder and error, results.h5): its largest
+    allocation for 10^5 set points is less than twice that for 10^4, both beyond the chunk
+    (the D_s check and the ladder held (N, n, n) and (N, n) arrays at once)."""
+    import tracemalloc
+
+    def planned(N):
+        return plan_quintic(puma, np.radians([-60, 20, -150, -80, -60, -120]),
+                            np.radians([60, 110, -60, 80, 60, 120]), n_setpoints=N)
+
+    analyze_to_file(puma, planned(500), tmp_path / "warm.h5", chunk=4096)   # caches, imports
+    peaks = []
+    for N in (10_000, 100_000):
+        traj = planned(N)
+        tracemalloc.start()
+        analyze_to_file(puma, traj, tmp_path / f"r{N}.h5", chunk=4096)
+        peaks.append(tracemalloc.get_traced_memory()[1])
+        tracemalloc.stop()
+    assert peaks[1] < 2 * peaks[0], peaks
+    with xr.open_dataset(tmp_path / "r100000.h5", engine="h5netcdf") as ds:
+        assert ds.sizes["t"] == 100_000 and ds["D"].encoding["chunksizes"][0] == 4096
+
+
+def test_the_chapters_own_model_is_measured_on_its_puma_only(shipped_dataset, puma, shipped):
+    """The stored error of the chapter's own simplified model (its classes of Figs.
+    3.10-3.11): peak |tau_s - tau| / peak |tau| per joint, tau_s from Pinocchio's half-models
+    reduced to the chapter's parts, tau from rnea (oracle). Another arm stores none."""
+    import pinocchio as pin
+
+    from gd_analyze.dynamics.pinocchio import pinocchio_model, reference_terms
+    from gd_analyze.ranking.ranking import CHAPTER_DOMINANCE
+
+    ds = shipped_dataset("puma560")
+    ref = reference_terms(puma, shipped.q, shipped.qd)
+    keep = {"translational": (1.0, 0.0), "rotational": (0.0, 1.0), "both": (1.0, 1.0)}
+    D_s = np.zeros_like(ref.D_tran)
+    h_s = ref.c.copy()
+    for label, cls in CHAPTER_DOMINANCE.items():
+        t, r = keep[cls]
+        i = int(label[1]) - 1
+        if label[0] == "h":
+            h_s[:, i] += t * ref.h_tran[:, i] + r * ref.h_rot[:, i]
+        else:
+            j = int(label[2]) - 1
+            D_s[:, i, j] = D_s[:, j, i] = t * ref.D_tran[:, i, j] + r * ref.D_rot[:, i, j]
+    tau_s = np.einsum("kij,kj->ki", D_s, shipped.qdd) + h_s
+    model = pinocchio_model(puma)
+    data = model.createData()
+    tau = np.array([pin.rnea(model, data, a, b, c)
+                    for a, b, c in zip(shipped.q, shipped.qd, shipped.qdd)])
+    want = np.abs(tau_s - tau).max(axis=0) / np.abs(tau).max(axis=0)
+    got = ds["chapter_model_error_relative_peak"].values
+    assert np.all(np.isfinite(got))
+    np.testing.assert_allclose(got, want, rtol=1e-8, atol=1e-10)
+    assert want.max() > 0.01                  # the chapter's model does drop real parts
+    assert "chapter_model_error_relative_peak" not in shipped_dataset("ur5").variables

@@ -1,0 +1,288 @@
+"""Closed-loop use of the simplified model: forward dynamics, computed torque, evaluation cost,
+the control dataset and the control report.
+
+Run time: one closed-loop run of the three controllers along the shipped 31-set-point PUMA 560
+trajectory (4.16 s of motion, DOP853, rtol 1e-8, atol 1e-10, 2001-point grid) is shared by the
+tests; the crude-model and offset runs reuse the same settings (the offset run stops at
+0.5 s). The cost is timed on 2000 set points only. The file runs in about 20-30 s.
+"""
+
+
+import numpy as np
+import pytest
+import xarray as xr
+from conftest import SHIPPED
+from figure_checks import check_print_ready, column_twins
+
+from gd_analyze import gd_terms, load_robot
+from gd_analyze.dynamics.opcount import count_operations
+from gd_analyze.errors import InputError
+from gd_analyze.files import file_sha256
+from gd_analyze.jobs.analyze import analyze
+from gd_analyze.jobs.control import run_control
+from gd_analyze.jobs.options import AnalysisOptions
+from gd_analyze.jobs.tracking import CONTROLLERS
+from gd_analyze.ranking.ranking import element_labels
+from gd_analyze.report.control import write_control_report
+from gd_analyze.simplify.simplified import SimplifiedModel, full_choices
+from gd_analyze.store.control_dataset import control_dataset, write_control_dataset
+from gd_analyze.store.model_file import load_model, save_model
+from gd_analyze.trajectory.trajectory import read_trajectory
+
+#: Over 5 s on an idle machine (the module's fixtures): run on one interpreter in CI.
+pytestmark = pytest.mark.slow
+
+#: Bound on the tracking error of the full-model computed-torque controller started on the
+#: trajectory [rad]. With the exact model the closed loop is e'' + Kv e' + Kp e = 0 with
+#: e(0) = e'(0) = 0, so e = 0 exactly; what remains is the integrator's error. DOP853 keeps the
+#: local error per step below atol + rtol |y| = 1e-10 + 1e-8 * 2.62 ~ 3e-8 rad (|q| <= 2.62 rad,
+#: |qd| <= 1.9 rad/s on the shipped motion), and the critically damped error dynamics forget an
+#: injected error within a few 1/wn = 0.05 s, i.e. within ~10 steps of the ~290 taken, so
+#: the global error stays below ~10 * 3e-8 = 3e-7 rad. The desired motion is the piecewise
+#: quintic Hermite through (q, qd, qdd), which reproduces the shipped quintic exactly, so
+#: interpolation adds nothing at the set points. Bound: 1e-6 rad.
+FULL_MODEL_BOUND = 1e-6
+
+
+@pytest.fixture(scope="module")
+def model(puma, shipped):
+    return analyze(puma, shipped, AnalysisOptions(verify=False, formulations=False)).model
+
+
+@pytest.fixture(scope="module")
+def model_file(model, tmp_path_factory):
+    path = tmp_path_factory.mktemp("model") / "simplified_model.json"
+    save_model(model, path)
+    return path
+
+
+@pytest.fixture(scope="module")
+def result(model_file):
+    model = load_model(model_file)
+    return run_control(model, read_trajectory(SHIPPED, n_joints=6), cost=True,
+                       model_path=model_file,
+                       model_sha256=file_sha256(model_file))
+
+
+def _crude(robot):
+    """All D elements kept whole, all of h dropped."""
+    return {lab: ("both" if lab.startswith("D") else "none") for lab in element_labels(robot.n)}
+
+
+# --------------------------------------------------------------------------------------------
+# Forward dynamics
+# --------------------------------------------------------------------------------------------
+
+
+# --------------------------------------------------------------------------------------------
+# Desired motion and gains
+# --------------------------------------------------------------------------------------------
+
+
+# --------------------------------------------------------------------------------------------
+# Closed loop
+# --------------------------------------------------------------------------------------------
+
+def test_full_model_tracks_within_solver_tolerance(result):
+    assert list(result.runs) == list(CONTROLLERS)
+    assert all(r.success for r in result.runs.values())
+    assert int(result.is_setpoint.sum()) == 31
+    f = result.error_figures("full")
+    assert max(f["peak_grid"]) < FULL_MODEL_BOUND
+    assert max(f["peak_setpoints"]) < FULL_MODEL_BOUND
+    # torque of the full-model controller on the trajectory = inverse dynamics of q_d
+    tau_ff = gd_terms(result.robot, result.q_d, result.qd_d).tau(result.qdd_d)
+    assert np.abs(result.runs["full"].tau - tau_ff).max() < 1e-3
+
+
+def test_pd_gravity_tracks_worse_than_computed_torque(result):
+    full, pd = result.error_figures("full"), result.error_figures("pd_gravity")
+    assert all(p > f for p, f in zip(pd["peak_grid"], full["peak_grid"]))
+    assert max(pd["peak_grid"]) > 100 * max(full["peak_grid"]) and max(pd["peak_grid"]) > 1e-4
+
+
+def test_simplified_model_tracks_between(result):
+    full, simp = result.error_figures("full"), result.error_figures("simplified")
+    pd = result.error_figures("pd_gravity")
+    assert all(s >= f for s, f in zip(simp["peak_grid"], full["peak_grid"]))
+    assert max(simp["peak_grid"]) < max(pd["peak_grid"])
+    diff = result.summary()["tau_difference"]
+    assert len(diff["peak"]) == 6 and max(diff["peak"]) > 0
+    assert all(r <= p for r, p in zip(diff["rms"], diff["peak"]))
+
+
+def test_crude_model_without_h_tracks_worse(puma, shipped, result):
+    crude = SimplifiedModel(robot=puma, choices=_crude(puma), dominance_threshold=0.9,
+                            negligible_threshold=0.01)
+    res = run_control(crude, shipped, controllers=("simplified",), cost=False)
+    full, bad = result.error_figures("full"), res.error_figures("simplified")
+    assert all(b >= f for b, f in zip(bad["peak_grid"], full["peak_grid"]))
+    assert max(bad["peak_grid"]) > 100 * max(full["peak_grid"])
+    assert max(bad["peak_grid"]) > 10 * FULL_MODEL_BOUND
+
+
+def test_initial_offset_decays_as_critically_damped(model, shipped):
+    wn, e0 = 20.0, 0.01
+    res = run_control(model, shipped, wn=wn, zeta=1.0, q0_offset=e0, controllers=("full",),
+                      t_end=0.5, grid_points=201, cost=False)
+    t = res.t - res.t[0]
+    exact = -e0 * (1 + wn * t) * np.exp(-wn * t)        # e = q_d - q, q(0) = q_d(0) + e0
+    np.testing.assert_allclose(res.runs["full"].error, exact[:, None] * np.ones(6),
+                               rtol=0, atol=1e-7)
+
+
+def test_run_control_rejects_bad_input(model, shipped):
+    two = load_robot("two-link")
+    with pytest.raises(ValueError):
+        run_control(model, shipped, controllers=("nonsense",), cost=False)
+    with pytest.raises(ValueError):
+        run_control(SimplifiedModel(two, full_choices(2), 0.9, 0.01), shipped, cost=False)
+    with pytest.raises(ValueError):
+        run_control(model, shipped, wn=-1, cost=False)
+    with pytest.raises(InputError):
+        load_model("/nonexistent/simplified_model.json")
+
+
+# --------------------------------------------------------------------------------------------
+# The model's counted cost
+# --------------------------------------------------------------------------------------------
+
+def test_model_cost_counts_the_emitted_model_and_newton_euler(model, puma):
+    """The control dataset's cost: the model's own counts (of its emitted program), the full
+    explicit model's, and N-E's from the counting scalar; no timing."""
+    from gd_analyze.jobs.control import model_cost
+
+    cost = model_cost(model)
+    names = cost["evaluators"]
+    assert names[0] == f"simplified model ({model.form} form)"
+    assert names[-1].startswith("Newton-Euler") and "exact recursive model" in names
+    program = model.program().cost()
+    assert (cost["multiplications"][0], cost["additions"][0]) == \
+        (program["multiplications"], program["additions"])
+    ne = count_operations(puma, "newton-euler")
+    assert (cost["multiplications"][-1], cost["additions"][-1]) == (ne[0], ne[1])
+    if "full explicit model" in names:
+        k = names.index("full explicit model")
+        assert cost["multiplications"][0] + cost["additions"][0] <= \
+            cost["multiplications"][k] + cost["additions"][k]
+    if model.recursive is None:
+        dropped = sum({"both": 0, "tran": 1, "rot": 1, "none": 2}[c]
+                      for c in model.choices.values())
+        assert cost["dropped"] == dropped and cost["parts"] == 54
+    else:                   # the pairs that contribute on the model's trajectory, as stored
+        live = model.recursive.contributing()
+        assert cost["dropped"] == int((model.recursive.dropped & live).sum())
+        assert cost["parts"] == int(live.sum()) < 3 * len(model.recursive.names)
+
+
+# --------------------------------------------------------------------------------------------
+# Dataset and report
+# --------------------------------------------------------------------------------------------
+
+def test_control_dataset_round_trips_through_hdf5(result, model_file, tmp_path):
+    path = tmp_path / "control.h5"
+    ds = write_control_dataset(result, path)
+    with xr.open_dataset(path, engine="h5netcdf") as back:
+        back = back.load()
+    assert set(back.dims) >= {"controller", "time", "joint"}
+    assert back.sizes["controller"] == 3 and back.sizes["time"] == result.t.size
+    for name in list(back.data_vars) + list(back.coords):
+        assert back[name].attrs.get("units"), name
+        assert back[name].attrs.get("long_name"), name
+    for name in ("error", "tau", "q", "tau_difference", "Kp_pd", "error_peak_grid",
+                 "multiplications", "additions"):
+        np.testing.assert_array_equal(back[name].values, ds[name].values)
+    assert list(back["controller"].values) == list(CONTROLLERS)
+    np.testing.assert_allclose(back["error_peak_grid"].sel(controller="full").values,
+                               result.error_figures("full")["peak_grid"])
+    attrs = back.attrs
+    assert attrs["robot"] == "puma560" and len(attrs["robot_sha256"]) == 64
+    assert attrs["trajectory_file"] == "puma560_trajectory.csv"
+    assert attrs["trajectory_sha256"] == read_trajectory(SHIPPED).sha256
+    import hashlib
+
+    assert attrs["model_file"] == "simplified_model.json"
+    assert attrs["model_sha256"] == hashlib.sha256(model_file.read_bytes()).hexdigest()
+    assert attrs["gd_analyze_version"] and "Kp" in attrs["gains"]
+    assert attrs["trajectory_is_models"] == 1
+    np.testing.assert_allclose(attrs["wn"], 20.0)
+    assert control_dataset(result).equals(ds)
+
+
+def test_control_report_is_written(result, tmp_path):
+    path = tmp_path / "control.h5"
+    write_control_dataset(result, path)
+    written = write_control_report(path, tmp_path / "out")
+    html_path, pdf_path = written[:2]
+    assert [p.name for p in written[2:] if p.parent.name == "figures"] == [
+        f"fig_control_{name}{width}.{ext}" for width in ("", "_column")
+        for name in ("tracking_error", "torque_difference", "applied_torque")
+        for ext in ("pdf", "svg")]
+    assert not column_twins(tmp_path / "out" / "figures")        # 3.5-in MediaBox each
+    html = html_path.read_text(encoding="utf-8")
+    assert "Verdict: the simplified model" in html
+    assert html.startswith("<!DOCTYPE html>") and html.count("<svg") >= 3
+    assert "<link" not in html and " src=" not in html and "<script" not in html
+    assert "puma560_trajectory.csv" in html and "multiplications" in html
+    from gd_analyze.report.control_verdict import fmt_number
+
+    for c in CONTROLLERS:                             # the stored figures, as read back
+        peak = result.error_figures(c)["peak_grid"][5]
+        if c == "full":                               # integrator noise: no digits of it
+            assert fmt_number(peak) not in html
+        else:
+            assert fmt_number(peak) in html
+    assert pdf_path.read_bytes()[:5] == b"%PDF-"
+    from pypdf import PdfReader
+
+    reader = PdfReader(pdf_path)
+    assert len({tuple(p.mediabox) for p in reader.pages}) == 1          # one page size
+    text = "\n".join(p.extract_text() for p in reader.pages)
+    assert "Verdict: the simplified model" in text and "Figure 3." in text
+    assert [o["/Title"] for o in reader.outline if not isinstance(o, list)] == [
+        "1. Set-up and gains", "2. Tracking error", "3. Torques",
+        "4. Evaluation cost of the model", "5. Simplified model", "6. Provenance"]
+    assert not list((tmp_path / "out").glob(".*.tmp"))
+    with pytest.raises(InputError):
+        write_control_report(tmp_path / "missing.h5", tmp_path / "out")
+
+
+def test_integrator_noise_is_not_drawn_and_units_follow_joint_types(result):
+    """The full-model controller tracks its own plant: its error is integrator noise (at most
+    rtol of the joint's motion), never drawn as data in the tracking-error figure; the two
+    other controllers' errors are drawn, on axes that start at the noise floor, in the units
+    of the stored joint types (all revolute: rad, N m)."""
+    from gd_analyze.ranking.ranking import is_round_off
+    from gd_analyze.report.control import make_control_figures
+
+    ds = control_dataset(result)
+    assert list(ds["joint_type"].values) == ["revolute"] * 6
+    assert ds["error"].attrs["units"] == "rad" and ds["tau"].attrs["units"] == "N m"
+    rtol = float(ds.attrs["rtol"])
+    q_d = ds["q_d"].values
+    scale = np.maximum(np.ptp(q_d, axis=0), np.abs(q_d).max(axis=0))
+    full = np.abs(ds["error"].sel(controller="full").values).max(axis=0)
+    assert is_round_off(full, scale, rtol).all()           # the physics: noise, per joint
+    fig = make_control_figures(ds)["error"]
+    labels = {"computed torque, full model", "computed torque, simplified model",
+              "PD + gravity"}
+    for j, ax in enumerate(a for a in fig.axes if a.get_visible()):
+        drawn = {ln.get_label() for ln in ax.lines} & labels
+        assert drawn == labels - {"computed torque, full model"}
+        assert ax.get_ylim()[0] == pytest.approx(rtol * scale[j])
+        assert ax.get_ylabel().endswith("[rad]")
+    assert any("\u2261 0 on every joint (integrator noise)" in t.get_text() for t in fig.texts)
+
+
+def test_control_figures_letter_mathematics_at_print_size(result):
+    """The control figures at page and column width: q_d, tau_s, tau_f as mathematics
+    (mathtext), no label collisions or text past the edge, column type of at least 7 pt."""
+    from gd_analyze.report.control import FIGURE_RC, make_control_figures
+    from gd_analyze.report.control_figures import COLUMN_WIDTH, control_figures
+
+    ds = control_dataset(result)
+    figs = {**make_control_figures(ds),
+            **{f"{k}_column": f for k, f in control_figures(ds, COLUMN_WIDTH).items()}}
+    check_print_ready(figs, FIGURE_RC)
+    labels = [ax.get_ylabel() for ax in figs["error"].axes if ax.get_visible()]
+    assert labels and all(lab.startswith("$") for lab in labels)

@@ -1,0 +1,83 @@
+"""The control laws' pieces: the desired motion through the set points and the gains."""
+
+import numpy as np
+import pytest
+
+from gd_analyze import gd_terms
+from gd_analyze.jobs.tracking import control_gains, desired_motion
+from gd_analyze.trajectory.trajectory import Trajectory
+
+
+def test_desired_motion_interpolates_q_qd_qdd(shipped):
+    rng = np.random.default_rng(4)
+    t = np.cumsum(rng.uniform(0.1, 0.3, 12))
+    q, qd, qdd = (rng.normal(size=(12, 3)) for _ in range(3))
+    for traj in (shipped, Trajectory(t=t, q=q, qd=qd, qdd=qdd)):
+        pp = desired_motion(traj)
+        for nu, want in ((0, traj.q), (1, traj.qd), (2, traj.qdd)):
+            np.testing.assert_allclose(pp(traj.t, nu), want, rtol=1e-9, atol=1e-9)
+    # the shipped motion is one quintic: the piecewise quintic reproduces it between set points
+    pp = desired_motion(shipped)
+    T, q0, q1 = shipped.t[-1], shipped.q[0], shipped.q[-1]
+    u = np.linspace(0, 1, 101)[:, None]
+    exact = q0 + (q1 - q0) * u**3 * (10 - 15 * u + 6 * u**2)
+    np.testing.assert_allclose(pp(u[:, 0] * T), exact, rtol=0, atol=1e-12)
+
+
+def test_gains(puma, shipped):
+    g = control_gains(puma, shipped.q[0], wn=10.0, zeta=0.7)
+    np.testing.assert_allclose(g.Kp, 100.0)
+    np.testing.assert_allclose(g.Kv, 14.0)
+    D0 = np.diagonal(gd_terms(puma, shipped.q[:1], 0 * shipped.q[:1]).D[0])
+    np.testing.assert_allclose(g.Kp_pd, D0 * 100.0)
+    np.testing.assert_allclose(g.Kv_pd, D0 * 14.0)
+    g6 = control_gains(puma, shipped.q[0], wn=np.arange(1.0, 7.0))
+    np.testing.assert_allclose(g6.Kp, np.arange(1.0, 7.0) ** 2)
+    for bad in ({"wn": 0.0}, {"zeta": -1.0}, {"wn": [1.0, 2.0]}, {"wn": np.nan}):
+        with pytest.raises(ValueError):
+            control_gains(puma, shipped.q[0], **bad)
+
+
+def test_the_stacked_motion_is_exactly_the_desired_motion_and_its_derivatives():
+    """The closed loop evaluates q_d, qd_d and qdd_d as one piecewise polynomial: its values
+    are bit for bit those of the desired motion and its two derivatives (the padded leading
+    zeros add exactly), which interpolate the set points (the oracle)."""
+    from gd_analyze.jobs.tracking import _stacked
+
+    t = np.array([0.0, 0.4, 1.0, 1.7])
+    q = np.array([[0.0, 1.0], [0.3, 0.8], [0.2, 0.1], [-0.4, 0.0]])
+    qd = np.array([[0.0, 0.0], [0.5, -1.0], [-0.2, -0.6], [0.0, 0.0]])
+    qdd = np.array([[1.0, 0.0], [0.0, -2.0], [-1.0, 1.0], [0.0, 0.0]])
+    pp = desired_motion(Trajectory(t=t, q=q, qd=qd, qdd=qdd, source="test"))
+    d1, d2 = pp.derivative(1), pp.derivative(2)
+    motion = _stacked(pp, d1, d2)
+    ts = np.linspace(0.0, 1.7, 97)
+    np.testing.assert_array_equal(motion(ts), np.hstack([pp(ts), d1(ts), d2(ts)]))
+    np.testing.assert_allclose(motion(t), np.hstack([q, qd, qdd]), atol=1e-12)
+
+
+def test_the_closed_loop_on_one_state_floats_is_the_closed_loop_on_the_batch_model(puma,
+                                                                                   shipped):
+    """The simplified controller's run, its model evaluated at each right-hand-side call in
+    floats (torque_at), equals the run with the batch numpy model (an object without
+    torque_at) bit for bit: the same operations in the same order. The model is the PUMA 560's
+    pruned recursive one, with sines, cosines and products of every kind."""
+    from gd_analyze.jobs.analyze import analyze
+    from gd_analyze.jobs.options import AnalysisOptions
+    from gd_analyze.jobs.tracking import track
+
+    model = analyze(puma, shipped, AnalysisOptions(verify=False, formulations=False)).model
+
+    class BatchOnly:                       # the model without its one-state function
+        robot = model.robot
+
+        def torque(self, q, qd, qdd):
+            return model.torque(q, qd, qdd)
+
+    desired = desired_motion(shipped)
+    gains = control_gains(puma, shipped.q[0])
+    t = np.linspace(shipped.t[0], shipped.t[0] + 0.5, 21)
+    one, batch = (track(puma, "simplified", gains, desired, t, q0_offset=0.01, choices=c)
+                  for c in (model, BatchOnly()))
+    assert one.success and batch.success and one.nfev == batch.nfev > 50
+    assert np.array_equal(one.q, batch.q) and np.array_equal(one.tau, batch.tau)

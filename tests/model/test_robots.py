@@ -1,0 +1,86 @@
+"""Loading robots by name, TOML or URDF; the G-D terms of URDF robots against the URDF's own
+Pinocchio model (pin.buildModelFromUrdf), not against the converted chain."""
+
+import numpy as np
+import pinocchio as pin
+import pytest
+from urdf_oracle import STATES, TOL, UrdfOracle, random_chain_states, toy, worst_relative  # noqa: F401  (toy, random_chain_states: fixtures)
+
+from gd_analyze import gd_terms
+from gd_analyze.errors import InputError
+from gd_analyze.model.robots import builtin_robots, is_urdf, load_robot
+from gd_analyze.model.urdf import URDF_BUILTIN, builtin_urdf_path
+
+
+def test_builtins_and_dispatch():
+    names = builtin_robots()
+    assert {"puma560", "two-link", "panda", "ur5"} <= set(names)
+    assert is_urdf("panda") and is_urdf("x/arm.URDF") and not is_urdf("puma560")
+    assert load_robot("puma560").n == 6
+    with pytest.raises(InputError, match="--base and --tip apply to a URDF robot only"):
+        load_robot("puma560", tip="link3")
+
+
+def test_builtin_urdf_robots():
+    panda, ur5 = load_robot("panda"), load_robot("ur5")
+    assert (panda.n, ur5.n) == (7, 6)
+    assert panda.metadata["tip_link"] == "panda_hand"
+    assert panda.metadata["locked_joints"] == ["panda_finger_joint1", "panda_finger_joint2"]
+    assert "Simplified inertials" in ur5.description
+    assert np.isnan(panda.qdd_max).all() and np.isfinite(panda.qd_max).all()
+    assert panda.source == "panda" and len(panda.sha256) == 64
+
+
+def _half(model, part):
+    """The URDF model with every body's rotational inertia (tran) or mass (rot) set to zero."""
+    model = model.copy()
+    for j in range(1, model.njoints):
+        I = model.inertias[j]
+        model.inertias[j] = (pin.Inertia(I.mass, I.lever, np.zeros((3, 3))) if part == "tran"
+                             else pin.Inertia(0.0, I.lever, I.inertia))
+    return model
+
+
+def _terms_vs_urdf(robot, path, halves, seed):
+    oracle = UrdfOracle(path, robot.metadata["urdf_joints"])
+    joints = [{"q_min": lo, "q_max": hi} for lo, hi in zip(robot.q_min, robot.q_max)]
+    q, qd, qdd = random_chain_states(joints, STATES, seed)
+    terms = gd_terms(robot, q, qd)
+    tau_ref = np.array([oracle.rnea(*s) for s in zip(q, qd, qdd)])
+    D_ref = np.array([oracle.crba(qk) for qk in q])
+    c_ref = np.array([oracle.gravity(qk) for qk in q])
+    h_ref = np.array([oracle.nle(qk, qdk) for qk, qdk in zip(q, qd)]) - c_ref
+    scale = np.maximum(np.abs(tau_ref).max(axis=0), np.abs(c_ref).max(axis=0))
+    assert worst_relative(terms.D, D_ref, "D") < TOL
+    assert worst_relative(terms.h, h_ref, "tau", scale=scale) < TOL
+    assert worst_relative(terms.c, c_ref, "tau", scale=scale) < TOL
+    assert worst_relative(terms.tau(qdd), tau_ref, "tau", scale=scale) < TOL
+    if halves:   # the split: half-models of the URDF's own model (one body per chain joint)
+        full = oracle.model
+        for part, D_part, h_part in (("tran", terms.D_tran, terms.h_tran),
+                                     ("rot", terms.D_rot, terms.h_rot)):
+            oracle.model = _half(full, part)
+            oracle.model.gravity = pin.Motion.Zero()
+            oracle.data = oracle.model.createData()
+            Dh = np.array([oracle.crba(qk) for qk in q])
+            hh = np.array([oracle.nle(qk, qdk) for qk, qdk in zip(q, qd)])
+            assert worst_relative(D_part, Dh, "D", scale=_d_scale(D_ref)) < TOL
+            assert worst_relative(h_part, hh, "tau", scale=scale) < TOL
+        oracle.model = full
+
+
+def _d_scale(D):
+    diag = np.einsum("kii->ki", D)
+    return np.sqrt(np.abs(diag[:, :, None] * diag[:, None, :])).max(axis=0)
+
+
+@pytest.mark.parametrize("name", sorted(URDF_BUILTIN))
+def test_gd_terms_of_builtin_against_urdf_model(name):
+    # the panda's fingers are separate bodies in the URDF model: only D, h, c compare there
+    _terms_vs_urdf(load_robot(name), builtin_urdf_path(name), halves=name == "ur5", seed=7)
+
+
+def test_gd_terms_of_toy_against_urdf_model(toy):
+    """Continuous, prismatic and unaligned joints; with and without a locked side branch."""
+    _terms_vs_urdf(load_robot(toy, tip="tool"), toy, halves=False, seed=8)
+    _terms_vs_urdf(load_robot(toy, base="l1", tip="l3"), toy, halves=False, seed=9)

@@ -1,0 +1,147 @@
+"""URDF import against the URDF's own Pinocchio model (pin.buildModelFromUrdf), not the chain."""
+
+import math
+
+import numpy as np
+import pinocchio as pin
+import pytest
+from urdf_oracle import (
+    STATES,
+    TOL,
+    TOY_URDF,
+    UrdfOracle,
+    chain_model,
+    random_chain_states,  # noqa: F401 (a fixture)
+    toy,  # noqa: F401 (a fixture)
+    worst_relative,
+)
+
+from gd_analyze.errors import InputError
+from gd_analyze.model.urdf import URDF_BUILTIN, axis_rotation, builtin_urdf_path, read_urdf_chain
+
+
+def _check_against_urdf(path, chain, seed):
+    model = chain_model(chain.joints, chain.gravity)
+    data = model.createData()
+    oracle = UrdfOracle(path, chain.joint_names)
+    q, qd, qdd = random_chain_states(chain.joints, STATES, seed)
+    D, Dr, tau, taur, c, cr = [], [], [], [], [], []
+    for k in range(STATES):
+        M = pin.crba(model, data, q[k])
+        D.append(np.triu(M) + np.triu(M, 1).T)
+        Dr.append(oracle.crba(q[k]))
+        tau.append(pin.rnea(model, data, q[k], qd[k], qdd[k]))
+        taur.append(oracle.rnea(q[k], qd[k], qdd[k]))
+        c.append(pin.computeGeneralizedGravity(model, data, q[k]))
+        cr.append(oracle.gravity(q[k]))
+    assert worst_relative(D, Dr, "D") < TOL
+    assert worst_relative(tau, taur, "tau") < TOL
+    # gravity on the peak |tau_i| of the full torques: c_1 is exactly 0 about a vertical axis
+    tau_scale = np.maximum(np.abs(taur).max(axis=0), np.abs(cr).max(axis=0))
+    assert worst_relative(c, cr, "tau", scale=tau_scale) < TOL
+
+
+@pytest.mark.parametrize("name", sorted(URDF_BUILTIN))
+def test_builtin_chain_matches_urdf_model(name):
+    spec = URDF_BUILTIN[name]
+    path = builtin_urdf_path(name)
+    chain = read_urdf_chain(path, spec["base"], spec["tip"])
+    assert chain.n == {"panda": 7, "ur5": 6}[name]
+    assert all(j["type"] == "revolute" for j in chain.joints)
+    _check_against_urdf(path, chain, seed=11)
+
+
+def test_panda_fingers_and_hand_merged_into_link7():
+    chain = read_urdf_chain(builtin_urdf_path("panda"), "panda_link0", "panda_hand")
+    assert chain.locked == ("panda_finger_joint1", "panda_finger_joint2")
+    # link 7 + hand 0.73 kg + two fingers of 0.015 kg (panda_link8 is massless)
+    model = pin.buildModelFromUrdf(str(builtin_urdf_path("panda")))
+    m7 = model.inertias[model.getJointId("panda_joint7")].mass
+    assert chain.joints[6]["mass"] == pytest.approx(m7 + 0.03, rel=1e-12)
+    assert np.abs(chain.joints[6]["inertia"] - np.diag(np.diag(chain.joints[6]["inertia"]))
+                  ).max() > 1e-4      # full tensors, not diagonal
+
+
+def test_panda_needs_a_tip_and_names_the_candidates():
+    with pytest.raises(InputError, match="panda_leftfinger, panda_rightfinger"):
+        read_urdf_chain(builtin_urdf_path("panda"))
+
+
+def test_ur5_default_chain_and_axes_turned_onto_z():
+    chain = read_urdf_chain(builtin_urdf_path("ur5"))
+    assert chain.tip == "wrist_3_link" and chain.n == 6 and chain.locked == ()
+    # joints 2, 3, 4 and 6 turn about URDF y: their com stays on the link's axis
+    # (URDF y becomes local z, URDF z becomes local -y)
+    assert chain.base == "world"
+    assert chain.joints[1]["com"] == pytest.approx([0.0, -0.28, 0.0], abs=1e-12)
+    assert chain.joints[2]["com"] == pytest.approx([0.0, -0.25, 0.0], abs=1e-12)
+    assert chain.gravity == pytest.approx([0.0, 0.0, -9.81])
+
+
+def test_toy_chain_continuous_prismatic_unaligned_axes_side_branch(toy):
+    chain = read_urdf_chain(toy, tip="tool")
+    assert [j["type"] for j in chain.joints] == ["revolute", "prismatic", "revolute"]
+    assert chain.joint_names == ("j1", "j2", "j3") and chain.locked == ("jb",)
+    assert chain.joints[0]["q_min"] == -math.inf and chain.joints[0]["q_max"] == math.inf
+    assert (chain.joints[1]["q_min"], chain.joints[1]["q_max"]) == (-0.1, 0.3)
+    assert chain.joints[1]["qd_max"] == 0.5 and chain.joints[0]["qd_max"] == 2.0
+    assert all(j["qdd_max"] is None for j in chain.joints)
+    assert chain.joints[2]["mass"] == pytest.approx(0.8)       # l3 with the fixed tool
+    _check_against_urdf(toy, chain, seed=3)
+
+
+def test_toy_base_below_a_moving_joint(toy):
+    """A base link below j1: j1 is held at q = 0, gravity is turned into l1's frame."""
+    chain = read_urdf_chain(toy, base="l1", tip="l3")
+    assert chain.joint_names == ("j2", "j3") and chain.locked == ("jb",)
+    _check_against_urdf(toy, chain, seed=5)
+
+
+def test_toy_several_chains(toy):
+    with pytest.raises(InputError, match=r"2 chains below .world.: give --tip LINK \(candidate tips: l3, side\)"):
+        read_urdf_chain(toy)
+
+
+@pytest.mark.parametrize("kwargs, match", [
+    ({"tip": "nope"}, "no link 'nope'"),
+    ({"base": "nope", "tip": "l3"}, "no link 'nope'"),
+    ({"base": "l3", "tip": "l1"}, "no moving joint between"),
+    ({"base": "l3", "tip": "tool"}, "no moving joint between"),
+])
+def test_bad_links(toy, kwargs, match):
+    with pytest.raises(InputError, match=match):
+        read_urdf_chain(toy, **kwargs)
+
+
+def test_not_a_urdf(tmp_path):
+    bad = tmp_path / "bad.urdf"
+    bad.write_text("<robot name='x'><link name='a'>")
+    with pytest.raises(InputError, match="not a valid URDF"):
+        read_urdf_chain(bad)
+    with pytest.raises(InputError, match="no such file"):
+        read_urdf_chain(tmp_path / "missing.urdf")
+
+
+def test_floating_joint_refused(tmp_path):
+    path = tmp_path / "float.urdf"
+    path.write_text(TOY_URDF.replace('name="j1" type="continuous"', 'name="j1" type="floating"'))
+    with pytest.raises(InputError, match="'j1'.*not a revolute, continuous or prismatic"):
+        read_urdf_chain(path, tip="tool")
+
+
+@pytest.mark.parametrize("axis", [(0, 0, 1), (0, 0, -1), (1, 0, 0), (0, -1, 0), (0.6, 0, 0.8),
+                                  (1, 1, 1), (-1e-3, 2e-3, -1)])
+def test_axis_rotation(axis):
+    A = axis_rotation(axis)
+    a = np.asarray(axis, float) / np.linalg.norm(axis)
+    assert A @ [0, 0, 1] == pytest.approx(a, abs=1e-15)
+    assert A.T @ A == pytest.approx(np.eye(3), abs=1e-15)
+    assert np.linalg.det(A) == pytest.approx(1.0, abs=1e-15)
+
+
+def test_missing_velocity_limit_is_not_given(tmp_path):
+    """A joint without <limit velocity> is read (only planning needs the limit): NaN."""
+    path = tmp_path / "nolimit.urdf"
+    path.write_text(TOY_URDF.replace('<limit velocity="2.0" effort="5"/>', ""))
+    chain = read_urdf_chain(path, tip="tool")
+    assert math.isnan(chain.joints[0]["qd_max"]) and math.isnan(chain.joints[0]["tau_max"])

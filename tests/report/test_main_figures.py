@@ -1,0 +1,139 @@
+"""Figs. 2 and 3 for print (gd_analyze.report.main_figures): panels at least 1.1 in
+wide at page width, no panel of an element that is zero in every part, the drives' armature
+drawn above the combined curve, and column-width figures only on request."""
+
+import numpy as np
+import pytest
+from conftest import ROOT
+
+from gd_analyze import load_robot
+from gd_analyze.report import main as report
+from gd_analyze.report.main_context import zero_mask
+from gd_analyze.report.main_figures import PART_STYLE
+from gd_analyze.report.markup import label as shown
+from gd_analyze.report.plot_data import plot_data
+
+
+def _panel_sizes(fig):
+    """Width and height [in] of every plotting area, from the axes' positions."""
+    W, H = fig.get_size_inches()
+    return [(ax.get_position().width * W, ax.get_position().height * H) for ax in fig.axes]
+
+
+@pytest.mark.parametrize("name", ["puma560", "stanford", "panda"])
+def test_panels_at_least_1_1_in_wide_at_page_width(name, shipped_dataset):
+    """Every panel of Figs. 2 and 3 (all their parts) is at least 1.1 in wide on a 7.2-in
+    figure (the PUMA's were 0.57 in, the Panda's 0.45 in), and every figure part fits a
+    page."""
+    ds = shipped_dataset(name)
+    figs = report.make_figures(ds, plot_data(ds))
+    keys = [k for k in figs if k == "h" or k == "D" or k.startswith("D_")]
+    assert {"D", "h"} <= set(keys)
+    for key in keys:
+        fig = figs[key]
+        assert fig.get_size_inches()[0] == pytest.approx(7.2)
+        assert fig.get_size_inches()[1] <= 9.0, (name, key)
+        widths = [w for w, _ in _panel_sizes(fig)]
+        assert widths and min(widths) >= 1.1, (name, key, min(widths))
+
+
+def test_no_panel_of_an_element_zero_in_every_part(shipped_dataset):
+    """D45 and D56 of the PUMA 560 are ≡ 0: no panel of theirs (no empty lower-left triangle
+    either: only panels with data are laid out), a note names them; every panel draws its
+    element."""
+    ds = shipped_dataset("puma560")
+    labels, zero = zero_mask(ds)
+    zeros = [lab for lab, z in zip(labels, zero) if z]
+    assert {"D45", "D56"} <= set(zeros)
+    figs = report.make_figures(ds, plot_data(ds), keys=("D", "h"))
+    for key in ("D", "h"):
+        fig = figs[key]
+        for ax in fig.axes:
+            assert "\u2261" not in ax.get_title()
+            assert len(ax.lines) >= 3 and ax.get_title(), ax.get_title()
+        drawn = {ax.get_title().split(":")[0] for ax in fig.axes}
+        mine = [lab for lab in labels if lab.startswith(key)]
+        assert drawn == {shown(lab) for lab in mine if lab not in zeros}
+        note = " ".join(t.get_text().replace("\n", " ") for t in fig.texts)
+        for lab in (z for z in zeros if z.startswith(key)):
+            assert shown(lab) in note.split("not drawn:")[1]
+    assert len(figs["D"].axes) == 21 - len([z for z in zeros if z.startswith("D")])
+
+
+@pytest.fixture(scope="module")
+def drives(tmp_path_factory):
+    from gd_analyze.jobs.analyze import analyze_to_file
+    from gd_analyze.jobs.options import AnalysisOptions
+    from gd_analyze.store.schema import open_results
+    from gd_analyze.trajectory.trajectory import read_trajectory
+
+    robot = load_robot("puma560-drives")
+    traj = read_trajectory(ROOT / "data" / "puma560_trajectory.csv", robot.n)
+    path = tmp_path_factory.mktemp("drives") / "results.h5"
+    analyze_to_file(robot, traj, path, AnalysisOptions(formulations=False, verify=False))
+    with open_results(path, lazy=True) as ds:
+        return path, ds.load()
+
+
+def test_armature_curve_drawn_above_the_combined_one(drives):
+    """puma560-drives: on every diagonal panel D_ii with armature, the armature is a curve
+    of its own (the stored D_arm_i), drawn above every other curve of the panel, the combined
+    one included (which holds it, and hid it), with a marker at every set point."""
+    _, ds = drives
+    arm = ds["D_arm"].values
+    assert (arm > 0).any()
+    fig = report.make_figures(ds, plot_data(ds), keys=("D",))["D"]
+    by_title = {ax.get_title().split(":")[0]: ax for ax in fig.axes}
+    N = ds.sizes["t"]
+    found = 0
+    for i in np.flatnonzero(arm > 0):
+        ax = by_title[shown(f"D{i + 1}{i + 1}")]
+        lines = {line.get_label(): line for line in ax.lines}
+        armature, combined = lines[PART_STYLE["arm"]["label"]], lines[PART_STYLE["total"]["label"]]
+        np.testing.assert_allclose(armature.get_ydata(), arm[i])
+        assert armature.get_zorder() > max(line.get_zorder() for line in ax.lines
+                                           if line is not armature)
+        assert armature.get_zorder() > combined.get_zorder()
+        assert armature.get_marker() not in (None, "None", "") and armature.get_markevery() == 1
+        assert len(armature.get_xdata()) == N
+        found += 1
+    assert found == int((arm > 0).sum())
+    n = ds.sizes["joint"]
+    for lab in (f"D{i + 1}{j + 1}" for i in range(n) for j in range(i + 1, n)):
+        if shown(lab) in by_title:          # off the diagonal: no armature
+            labels = {ln.get_label() for ln in by_title[shown(lab)].lines}
+            assert PART_STYLE["arm"]["label"] not in labels
+
+
+def test_column_figures_only_on_request(drives, tmp_path):
+    """write_report writes no <name>_column file by default (latency); with
+    column_figures=True every page-width figure has its 3.5-in twin; the main job's
+    --column-figures asks for them."""
+    from gd_analyze.cli import analyze_parser
+
+    path, _ = drives
+    plain = report.write_report(path, tmp_path / "plain", formats=("html",))
+    names = [p.name for p in plain]
+    assert "fig_3_10_D.pdf" in names and not any("_column" in n for n in names)
+    both = report.write_report(path, tmp_path / "both", formats=("html",),
+                               column_figures=True)
+    stems = {p.stem for p in both if p.parent.name == "figures"}
+    page = {s for s in stems if not s.endswith("_column")}
+    assert page and {f"{s}_column" for s in page} <= stems
+    assert analyze_parser().parse_args(["puma560", "x.csv"]).column_figures is False
+    assert analyze_parser().parse_args(["puma560", "x.csv", "--column-figures"]).column_figures
+
+
+def test_make_figures_leaves_the_ticks_to_be_restyled(shipped_dataset):
+    """Figures of the public make_figures keep matplotlib's own ticks (ticks_once is applied
+    only inside write_report): a caller can still restyle them, e.g. relabel an axis."""
+    ds = shipped_dataset("puma560")
+    fig = report.make_figures(ds, plot_data(ds), keys=("torque",))["torque"]
+    from matplotlib.ticker import NullLocator
+
+    for ax in fig.axes:
+        assert not isinstance(ax.yaxis.get_major_locator(), NullLocator)
+        ticks = ax.yaxis.get_major_ticks()
+        assert ticks
+        ax.tick_params(labelsize=9)             # restyled: the Tick objects take it
+        assert all(t.label1.get_fontsize() == 9 for t in ax.yaxis.get_major_ticks())

@@ -1,0 +1,108 @@
+"""The report's sentences (gd_analyze.report.main_text): the conclusion's cost clause."""
+
+import re
+
+import numpy as np
+
+from gd_analyze.report.main_text import conclusion
+
+ARGS = (["D11", "h1"], ["translational", "rotational"], np.zeros(2, bool), ["tran", "rot"],
+        np.array([0.004]), np.array([0.02]), np.array([5.0]))
+
+
+def test_cost_against_newton_euler_both_ways_and_without():
+    cheaper = conclusion(*ARGS, cost=(348, 260, 1212))
+    assert "costs 608 operations per set point" in cheaper
+    assert "against Newton-Euler's 1,212" in cheaper and "use Newton-Euler" not in cheaper
+    dearer = conclusion(*ARGS, cost=(61149, 93750, 1452))
+    assert "costs 154,899 operations" in dearer
+    assert "more than Newton-Euler's 1,452: for speed, use Newton-Euler" in dearer
+    unknown = conclusion(*ARGS, cost=(10, 5, None))
+    assert "costs 15 operations" in unknown and "Newton-Euler" not in unknown
+    assert "costs" not in conclusion(*ARGS)
+    for text in (cheaper, dearer, unknown):
+        assert text.count(". ") == 2 and text.endswith(".")      # still three sentences
+
+
+def test_a_value_and_its_unit_are_never_split_over_two_lines():
+    """The Stanford summary's "(0.0218 N m of 4.9 N m)" broke after "4.9 N" in the PDF: in the
+    conclusion every number is joined to its unit, and a unit's words to each other, by
+    no-break spaces (Unicode line breaking never breaks at U+00A0)."""
+    text = conclusion(["D11", "h1", "h2"], ["translational"] * 3, np.zeros(3, bool),
+                      ["tran"] * 3, np.array([0.00445, 0.00239]), np.array([0.0218, 0.157]),
+                      np.array([4.9, 92.9]), units=["N m", "N"])
+    assert "4.9\u00a0N\u00a0m" in text and "0.0218\u00a0N\u00a0m" in text
+    assert not re.search(r"\d (N|m|kg|%)(\W|$)", text), text
+    assert "N m" not in text
+    small = conclusion(*ARGS[:4], np.array([0.5, 1e-4]), np.array([1e-4, 1e-3]),
+                       np.array([2e-4, 10.0]), units=["N m", "N m"])
+    assert "(10\u00a0N\u00a0m)" in small and not re.search(r"\d (N|m|%)(\W|$)", small), small
+
+
+def test_summary_letters_elements_as_mathematics_with_agreeing_verbs():
+    """Oracle: the labels and classes given. Each element is D₁₂ (subscript marked, as Table
+    4.1 and the figures letter it), never the code name D12; "1 of 6 elements is", "1 needs";
+    "≡ 0" stays on the line of its last element (the PUMA summary broke "D56 ≡" / "0")."""
+    from gd_analyze.report.markup import html, plain, unicode
+
+    labels = ["D11", "D12", "D22", "h1", "h2"]
+    text = conclusion(labels, ["translational", "negligible", "both", "rotational", "both"],
+                      np.array([False, False, True, False, False]),
+                      ["tran", "none", "none", "rot", "both"], np.array([0.01, 0.02]),
+                      np.array([0.1, 0.2]), np.array([1.0, 2.0]))
+    shown = unicode(text)
+    assert not re.search(r"\b[Dh][0-9]", shown), shown
+    for lab in ("D₁₁", "D₁₂", "D₂₂", "h₁"):
+        assert lab in shown, (lab, shown)
+    assert "D<sub>12</sub>" in str(html(text))
+    assert "1 of 3 elements is dominated" in plain(text)
+    assert "2 are negligible (D12; D22\u00a0\u2261\u00a00)" in plain(text)
+    assert "0 need both" in plain(text)
+    assert "0 of 2 elements are dominated" in plain(text) and "1 needs both" in plain(text)
+    assert "D₂₂\u00a0\u2261\u00a00" in shown
+
+
+def test_round_off_threshold_is_written_as_a_power_of_ten():
+    """Sec. 4 states the ranking's round-off threshold (core ROUND_OFF) as mathematics,
+    10⁻¹², not as the code literal 1e-12."""
+    import math
+
+    from gd_analyze.ranking.ranking import ROUND_OFF
+    from gd_analyze.report.main_outline import RANKING_TEXT
+    from gd_analyze.report.markup import unicode
+
+    k = round(math.log10(ROUND_OFF))
+    power = "10" + "".join("\u207b" if c == "-" else "\u2070\u00b9\u00b2\u00b3\u2074\u2075"
+                           "\u2076\u2077\u2078\u2079"[int(c)] for c in str(k))
+    text = unicode(RANKING_TEXT)
+    assert f"below {power} of its scale" in text, text
+    assert not re.search(r"\de-?\d", text), text
+
+
+def test_chapter_disagreement_causes_state_true_inequalities():
+    """Table 6.1's causes: every share they quote is the element's own (four decimals, as the
+    table), every inequality they state holds for it, and the PUMA 560's disagreements are put
+    down to its parameters and trajectory not being the chapter's (the old 'rotor-side
+    inertias lumped into the links' was refuted by the puma560-drives run, README)."""
+    from gd_analyze.report.main_text import disagreement_cause
+    from gd_analyze.report.numbers import share as share_text
+
+    s = 0.9
+    cases = [("D11", "both", "translational", 0.7462), ("D24", "translational", "both", 0.9709),
+             ("D46", "rotational", "both", 0.0123), ("D55", "both", "rotational", 0.1435),
+             ("h1", "both", "translational", 0.8717)]
+    ops = {">": lambda a, b: a > b, "\u2265": lambda a, b: a >= b,
+           "\u2264": lambda a, b: a <= b}
+    for label, ours, theirs, sh in cases:
+        text = disagreement_cause(label, ours, theirs, sh, False, s, "puma560")
+        m = re.match(r"(translational|rotational) share (\S+) (\S) (?:1 \u2212 )?s = (\S+);",
+                     text)
+        assert m, text
+        part, shown, op, bound = m.groups()
+        value = sh if part == "translational" else 1.0 - sh
+        assert shown == share_text(value), text
+        threshold = 1 - s if "1 \u2212 s" in text.split(";")[0] else s
+        assert abs(float(bound) - threshold) < 1e-12
+        assert ops[op](value, threshold), text
+        if label.startswith("D"):
+            assert "not the chapter's" in text and "rotor" not in text, text

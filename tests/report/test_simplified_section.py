@@ -1,0 +1,132 @@
+"""The torque-error figure of the simplified model (gd_analyze.report.simplified_section)."""
+
+import numpy as np
+import xarray as xr
+
+from gd_analyze.report.simplified_section import ROUND_OFF, error_figure
+
+
+def _ds(diff, bound, scale):
+    N, n = diff.shape
+    t = np.linspace(0.0, 2.0, N)
+    tau = np.sin(t)[:, None] * scale[None, :]
+    return xr.Dataset({"t": ("t", t), "tau": (("t", "joint"), tau),
+                       "tau_simplified": (("t", "joint"), tau + diff),
+                       "simplified_bound": ("joint", bound),
+                       "simplified_scale": ("joint", scale)})
+
+
+def _texts(ax):
+    return " ".join(t.get_text() for t in ax.texts)
+
+
+def _note(fig):
+    return " ".join(t.get_text().replace("\n", " ") for t in fig.texts)
+
+
+def test_round_off_reads_equal_and_a_real_error_is_drawn():
+    N = 31
+    rng = np.random.default_rng(1)
+    scale = np.array([10.0, 2.0, 1.2e-4, 1.0])
+    noise = rng.standard_normal(N) * 1e-17
+    diff = np.column_stack([
+        0.01 * np.sin(np.linspace(0, 3, N)),        # a kept error within its bound
+        noise,                                      # nothing dropped, round-off
+        noise,                                      # round-off of a tiny joint: still noise
+        1e-6 * np.ones(N),                          # bound 0 but a real difference: drawn
+    ])
+    fig = error_figure(_ds(diff, np.array([0.02, 0.0, 0.0, 0.0]), scale))
+    axes = fig.axes
+    # joints 2 and 3 (round-off) get no panel: no empty "nothing dropped" panels
+    assert [ax.get_title() for ax in axes] == ["joint 1", "joint 4"]
+    assert len(axes[0].lines) >= 3
+    note = _note(fig)
+    assert "Nothing dropped for joints 2, 3" in note and "round-off" in note
+    assert any(np.allclose(line.get_ydata(), 1e-6) for line in axes[1].lines)
+
+
+def test_the_threshold_is_relative_to_the_joint_scale():
+    N = 5
+    scale = np.array([1.0, 1.0])
+    at = ROUND_OFF * np.ones(N)
+    above = 2 * ROUND_OFF * np.ones(N)
+    fig = error_figure(_ds(np.column_stack([at, above]), np.zeros(2), scale))
+    assert [ax.get_title() for ax in fig.axes] == ["joint 2"]
+    assert "Nothing dropped for joint 1 " in _note(fig)
+
+
+def test_nan_is_never_round_off():
+    N = 5
+    diff = np.full((N, 1), np.nan)
+    fig = error_figure(_ds(diff, np.zeros(1), np.ones(1)))
+    assert len(fig.axes) == 1 and not _note(fig)
+
+
+def test_no_empty_panel_for_a_joint_with_nothing_dropped(shipped_dataset):
+    """A joint whose model drops nothing (bound 0, tau_s - tau round-off) gets no panel in
+    Fig. 4, a note names it (three of the PUMA's six panels were empty, reading
+    "nothing dropped"); every panel drawn draws tau_s - tau."""
+    ds = shipped_dataset("puma560")
+    fig = error_figure(ds)
+    diff = ds["tau_simplified"].values - ds["tau"].values
+    scale = ds["simplified_scale"].values
+    quiet = [i + 1 for i in range(ds.sizes["joint"])
+             if float(ds["simplified_bound"][i]) == 0.0
+             and np.abs(diff[:, i]).max() <= ROUND_OFF * scale[i]]
+    assert quiet                                    # the case exists on the shipped run
+    shown = [i + 1 for i in range(ds.sizes["joint"]) if i + 1 not in quiet]
+    assert [ax.get_title() for ax in fig.axes] == [f"joint {i}" for i in shown]
+    for ax in fig.axes:
+        assert any(len(line.get_xdata()) == ds.sizes["t"] for line in ax.lines)
+        assert not _texts(ax)
+    which = ("joint " if len(quiet) == 1 else "joints ") + ", ".join(map(str, quiet))
+    assert f"Nothing dropped for {which} " in _note(fig)
+
+
+def test_the_inertia_check_sentence_is_the_stored_check():
+    """The report says what the stored proof found, for each outcome."""
+    from gd_analyze.jobs.simplified_dataset import inertia_check_attrs
+    from gd_analyze.report.markup import plain
+    from gd_analyze.report.simplified_section import inertia_check_text
+
+    base = {"where": "region", "samples": 200, "restored": [], "method": "m",
+            "sampled_min_eigenvalue": 0.02}
+    ok = plain(inertia_check_text(inertia_check_attrs(
+        {**base, "proved": True, "lower_bound": 0.0123, "ratio": 0.25, "statement": "s"})))
+    assert "is proved positive definite over the joint-limit region" in ok
+    assert "0.0123" in ok and "0.25 of the least" in ok and "sampled" not in ok
+    bad = plain(inertia_check_text(inertia_check_attrs(
+        {**base, "where": "trajectory", "samples": 31, "proved": False,
+         "sampled_min_eigenvalue": -0.5, "statement": "not proved (why)"})))
+    assert "is not proved positive definite: not proved (why)." in bad
+    assert "the 31 sampled positions is -0.5: forward dynamics with it is not safe" in bad
+    kept = plain(inertia_check_text(inertia_check_attrs(
+        {**base, "proved": True, "lower_bound": 0.1, "ratio": 0.5, "statement": "s",
+         "restored": ["XX2", "ZZ3"]})))
+    assert kept.endswith("kept with all parts: XX2, ZZ3.")
+    assert inertia_check_text({}) == ""
+
+
+def test_region_table_and_whether_this_trajectory_lies_in_it():
+    """The report's region table: per joint the range in degrees or "any angle
+    (full turn)", qd max, qdd max and whether qdd max is assumed; a trajectory leaving the
+    region is said not covered, naming the joint and quantity."""
+    import gd_analyze as gd
+    from gd_analyze.report.simplified_section import region_table
+
+    robot = gd.load_robot("two-link")
+    t = np.linspace(0.0, 1.0, 21)
+    q = np.column_stack([np.radians(50) * t, 0.1 * t])       # joint 1 at 50 deg/s
+    region = gd.RegionLimits(q_limits=((np.radians(-30), np.radians(60)),
+                                       (-np.pi, np.pi)), qd_max=(np.radians(40),))
+    options = gd.AnalysisOptions(formulations=False, verify=False,
+                                 simplify=gd.SimplifyOptions(region=region))
+    tab, text = region_table(gd.analyze(robot, (t, q), options))
+    assert [r[2] for r in tab["rows"]] == ["[-30, 60]", "any angle (full turn)"]
+    assert [r[3] for r in tab["rows"]] == ["40", "40"]
+    assert [r[4] for r in tab["rows"]] == ["360", "360"]           # the robot's, given
+    assert [r[5] for r in tab["rows"]] == ["given", "given"]
+    assert "This trajectory leaves the region: joint 1 qd reaches" in text
+    assert "it does not cover it" in text
+    inside = gd.analyze(robot, (t, 0.1 * q), options)
+    assert "Every set point of this trajectory lies in the region." in region_table(inside)[1]

@@ -1,0 +1,294 @@
+"""The PDF reports typeset by Typst (gd_analyze.report.typeset), tested on the PDF written.
+
+- text from a file stays text: Typst markup in a name (``#panic("x")``, ``*bold*``, ``$x$``,
+  ``]``) is printed literally and runs nothing;
+- Typst numbers sections, tables and figures (the data carries no "Table 1.1"), and an outline
+  whose numbers differ from Typst's is refused;
+- sub- and superscripts are set smaller and shifted, code in monospace, no ``^`` or ``_``;
+- a heading never ends a page; the figures are embedded as vectors with their text in a
+  TrueType subset (no Type 3 font); Typst is the PDF's creator.
+"""
+
+import json
+import re
+
+import pytest
+from pdf_checks import font_types, info, text, words
+
+from gd_analyze.report import markup
+from gd_analyze.report.sections import Outline
+from gd_analyze.report.typeset import MARGINS, document_data, write_pdf
+
+#: Typst markup and code that would run, or restyle the page, if it reached the template as
+#: markup: a panic, a function call, strong and emphasis, mathematics, a closing bracket, a
+#: label and a reference, a comment, an escape.
+HOSTILE = ['#panic("x")', '*bold* $x$ ]', '#set page(fill: red)', '_em_ @ref <lab>',
+           '// not a comment', '/* nor this */', '\\u{41} #{1 + 1}', '`raw` = heading']
+
+TABLE = {"header": ["name", "value [N\u00a0m]"], "rows": [[h, "1.0"] for h in HOSTILE],
+         "align": ["left", "right"], "widths": [1, 1], "colour_cols": []}
+
+
+def _svg(w, h):
+    return (f'<svg xmlns="http://www.w3.org/2000/svg" width="{w * 72}pt" height="{h * 72}pt" '
+            f'viewBox="0 0 {w * 72} {h * 72}"><rect x="2" y="2" width="{w * 72 - 4}" '
+            f'height="{h * 72 - 4}" fill="none" stroke="black"/>'
+            f'<text x="20" y="40" style="font: 12px \'DejaVu Sans\'">axis [s]</text></svg>')
+
+
+def _write(tmp_path, outline, figures=None, footer="footer"):
+    path = tmp_path / "doc.pdf"
+    pages = write_pdf(outline, figures or {}, path, metadata={"Author": "gd-analyze test"},
+                      footer=footer)
+    return path, pages
+
+
+def test_hostile_text_is_printed_literally(tmp_path):
+    o = Outline(HOSTILE[0] + " title")
+    o.paragraph(" ".join(HOSTILE))
+    o.section("1", HOSTILE[1])
+    o.table(TABLE, HOSTILE[2])
+    path, pages = _write(tmp_path, o, footer=HOSTILE[3])
+    assert pages == 1
+    flat = re.sub(r"\s+", " ", text(path))
+    for h in HOSTILE:
+        assert h in flat, h
+    assert flat.count(HOSTILE[0]) >= 3                       # title, paragraph, table
+    assert info(path)["Title"] == HOSTILE[0] + " title"
+
+
+def test_typst_numbers_sections_tables_and_figures(tmp_path):
+    o = Outline("Report", figures={"a", "b"})
+    o.section("1", "First")
+    o.table(TABLE, "first table")
+    o.section("1.1", "Sub")
+    o.table(TABLE, "second table")
+    o.figure("a", "first figure")
+    o.section("2", "Second")
+    o.table(TABLE, "third table")
+    o.figure("b", "second figure")
+    figures = {"a": (_svg(3, 2), (3, 2)), "b": (_svg(3, 2), (3, 2))}
+    data = json.dumps(document_data(o, {k: s for k, (_, s) in figures.items()}))
+    assert "Table 1" not in data and "Figure 1" not in data         # no number typed
+    path, _ = _write(tmp_path, o, figures)
+    flat = re.sub(r"\s+", " ", text(path))
+    for s in ("1. First", "1.1 Sub", "2. Second", "Table 1.1: first table",
+              "Table 1.2: second table", "Table 2.1: third table", "Figure 1. first figure",
+              "Figure 2. second figure"):
+        assert s in flat, s
+
+
+def test_an_outline_numbered_otherwise_than_typst_is_refused(tmp_path):
+    o = Outline("Report")
+    o.section("1", "First")
+    o.section("3", "Third")                     # no section 2: the text's "Sec. 3" is wrong
+    with pytest.raises(RuntimeError, match="numbered 2 in the PDF but 3"):
+        _write(tmp_path, o)
+
+
+def _spans(path):
+    """(text, font size, baseline y) of every text run pypdf reads on page 1."""
+    from pypdf import PdfReader
+
+    out = []
+
+    def visit(t, cm, tm, font, size):
+        if t.strip():
+            out.append((t.strip(), round(size * tm[0] * cm[0], 2),
+                        round(tm[5] * cm[3] + tm[4] * cm[1] + cm[5], 2)))
+
+    PdfReader(path).pages[0].extract_text(visitor_text=visit)
+    return out
+
+
+def test_marks_are_set_as_sub_and_superscripts_and_code_in_monospace(tmp_path):
+    o = Outline("Report")
+    o.paragraph("Peak " + markup.element("D", "ij", "tran") + " and "
+                + markup.tau(simplified=True) + " \u2212 \u03c4 in "
+                + markup.code("PREFIX_tau(const double *q)") + ".")
+    path, _ = _write(tmp_path, o)
+    flat = text(path)
+    assert "^" not in flat and "PREFIX_tau(const double *q)" in flat
+    spans = _spans(path)
+    base = next(s for s in spans if s[0].endswith("Peak D") or s[0] == "D")
+    sub = next(s for s in spans if s[0] == "ij")
+    sup = next(s for s in spans if s[0] == "tran")
+    assert sub[1] < base[1] and sup[1] < base[1]                  # smaller
+    assert sub[2] < base[2] < sup[2]                              # lowered, raised
+    assert any("DejaVuSansMono" in name for name in font_types(path))
+    o = Outline("Report")
+    o.paragraph("No code here.")
+    path, _ = _write(tmp_path, o)
+    assert not any("Mono" in name for name in font_types(path))
+
+
+def _lines(page_words, height):
+    """The text lines of a page's body (the footer left out), top to bottom."""
+    lines = {}
+    for w, x0, y0, x1, y1 in page_words:
+        if y0 < height - 72 * MARGINS[2]:
+            lines.setdefault(round(y1), []).append((x0, w))
+    return [" ".join(w for _, w in sorted(v)) for _, v in sorted(lines.items())]
+
+
+@pytest.mark.parametrize("words_per_paragraph", [45, 60, 75, 90])
+def test_no_page_ends_with_a_heading(tmp_path, words_per_paragraph):
+    o = Outline("Report")
+    for k in range(1, 13):
+        o.section(str(k), f"Heading number {k}")
+        o.paragraph(" ".join(["word"] * words_per_paragraph * (1 + k % 3)))
+    path, pages = _write(tmp_path, o)
+    assert pages > 1
+    for w, h, ws in words(path)[:-1]:
+        last = _lines(ws, h)[-1]
+        assert not re.fullmatch(r"\d+ Heading number \d+", last), last
+
+
+def test_figures_are_vectors_with_their_text_in_a_truetype_subset(tmp_path):
+    o = Outline("Report", figures={"a"})
+    o.section("1", "Figures")
+    o.figure("a", "a figure")
+    path, _ = _write(tmp_path, o, {"a": (_svg(4, 3), (4, 3))})
+    fonts = font_types(path)
+    assert any("DejaVuSans" in n for n in fonts) and "Type 3" not in fonts.values(), fonts
+    assert "axis [s]" in text(path)                      # the figure's text is text
+    assert info(path)["Creator"].startswith("Typst ")
+
+
+def test_a_figure_taller_than_the_page_is_scaled_to_fit():
+    o = Outline("Report", figures={"a"})
+    o.figure("a", "tall")
+    fig = document_data(o, {"a": (7.0, 20.0)}, paper="letter")["sections"][0]["blocks"][0]
+    body = 11.0 - MARGINS[1] - MARGINS[2]
+    assert fig["width"] * 20.0 / 7.0 < body                   # its height fits the body
+    assert document_data(o, {"a": (3.0, 2.0)})["sections"][0]["blocks"][0]["width"] == 3.0
+
+
+def test_bad_paper(tmp_path):
+    with pytest.raises(ValueError, match="paper"):
+        write_pdf(Outline("R"), {}, tmp_path / "x.pdf", paper="a5")
+
+
+def test_text_layer_holds_each_dotted_symbol_once(tmp_path):
+    """q̇ (q and a combining dot) is copied and searched as written: once per occurrence, never
+    "q̇q̇" (as Typst writes a mark's cluster in Libertinus Serif)."""
+    qd, qdd = "q\u0307", "q\u0308"
+    o = Outline(f"{qd} and {qdd}")
+    o.paragraph(f"h(q, {qd}) with {qd} and {qdd}; peak |{qd}|.")
+    o.section("1", f"Velocities {qd}")
+    o.table({"header": ["joint", f"peak |{qd}| [deg/s]"], "rows": [["1", f"{qd}"]],
+             "align": ["left", "right"], "widths": [1, 1], "colour_cols": []}, f"Table of {qd}.")
+    path, _ = _write(tmp_path, o)
+    flat = text(path)
+    assert qd + qd not in flat and qdd + qdd not in flat
+    assert flat.count(qd) == 8 and flat.count(qdd) == 2, flat
+
+
+def test_every_text_is_at_least_8_pt_and_one_family(tmp_path):
+    """Text, tables, scripts, code, captions, footer and a figure's 7 pt text drawn at page
+    width: all printed at 8 pt or more (pypdf's font size times the matrices' scale), in
+    DejaVu Sans (the figures' family) and its monospace."""
+    from matplotlib.figure import Figure
+    from pdf_checks import printed_sizes
+
+    from gd_analyze.report.drawing import draw_figures
+    from gd_analyze.report.figure_style import BASE_RC
+
+    fig = Figure(figsize=(7.2, 2.0))
+    ax = fig.add_axes((0.1, 0.25, 0.85, 0.65))
+    ax.plot([0, 1], [0, 1])
+    ax.tick_params(labelsize=6)
+    ax.set_xlabel("t [s]", fontsize=7)
+    fig.text(0.01, 0.01, "a note " * 30, fontsize=7)
+    drawn = draw_figures({"f": fig}, BASE_RC, pdf=False)
+    o = Outline("Title", figures={"f"})
+    o.section("1", "One")
+    o.paragraph("D" + markup.sub("ij") + " and x" + markup.sup("2") + " with "
+                + markup.code("code") + ".", style="note")
+    o.table(TABLE, "A table.", size=7)
+    o.figure("f", "A figure.")
+    path, _ = _write(tmp_path, o, {"f": (drawn["f"][0], drawn["f"][2])})
+    sizes = printed_sizes(path)
+    small = [s for s in sizes if s[1] < 8.0 - 1e-6]
+    assert sizes and not small, small[:10]
+    assert {f for _, _, f, _ in sizes} <= {"DejaVuSans", "DejaVuSans-Bold", "DejaVuSansMono"}
+    assert "anote" in "".join(t for *_, t in sizes).replace(" ", "")    # figure text read
+
+
+def _page_of(path, marker):
+    """The 0-based page whose text holds ``marker`` (pdftotext's pages, split at form feeds)."""
+    pages = [re.sub(r"\s+", " ", p) for p in text(path).split("\f")]
+    return next(k for k, p in enumerate(pages) if marker in p)
+
+
+@pytest.mark.parametrize("kind", ["figure", "table"])
+@pytest.mark.parametrize("lines_before", range(30, 58, 3))
+def test_a_sections_lead_stays_on_the_page_of_what_it_introduces(tmp_path, kind,
+                                                                 lines_before):
+    """A heading and the short paragraph that introduces a figure or a table never stand at a
+    page's foot with the figure, or the table's first rows, on the next page: they go over
+    with it (the PUMA 560 report's Sec. 2, the control report's Secs. 3 and 4 stood so)."""
+    o = Outline("Report", figures={"a"})
+    o.section("1", "Filler")
+    for k in range(lines_before // 3):
+        o.paragraph(" ".join(["word"] * 42) + f" filler{k}.")
+    o.section("2", "Introduced")
+    o.paragraph("Lead paragraph: what the next block shows. " * 3)
+    if kind == "figure":
+        o.figure("a", "the introduced figure")
+    else:
+        o.table({"header": ["name", "value"], "rows": [[f"row{k}", str(k)] for k in range(40)],
+                 "align": ["left", "right"]}, "the introduced table")
+    path, _ = _write(tmp_path, o, {"a": (_svg(6, 4), (6, 4))})
+    lead = _page_of(path, "Lead paragraph")
+    assert _page_of(path, "2. Introduced") == lead
+    assert _page_of(path, "the introduced " + kind) == lead, lines_before
+
+
+#: Headers of wide tables: the sweep report's Table 4.1 and the main report's Table 5.3.
+WIDE = [["element", "translational", "rotational", "both", "negligible", "min share",
+         "median share", "max share", "merged choice"],
+        ["joint", "units", "scale s" + markup.sub("i"), "bound", "inertial (D)", "velocity (h)",
+         "gravity (c)", "whole parameters", "measured peak |\u03c4" + markup.sub("s")
+         + " \u2212 \u03c4|", "measured / s" + markup.sub("i")],
+        ["element", "translational", "rotational", "negligible", "(c)", "parameters",
+         "median share", "max share", "merged choice", "whole parameters", "peak |x \u2212 y|"]]
+
+
+@pytest.mark.parametrize("header", WIDE)
+def test_no_word_of_a_wide_table_runs_into_the_next_column(tmp_path, header):
+    """A table too wide for natural widths gives each column at least its longest word: the
+    words of a line stand apart (the sweep report's header printed "elementtranslational",
+    the main report's "(c)parameters")."""
+    columns = len(header)
+    o = Outline("Report")
+    o.section("1", "Wide")
+    o.table({"header": header, "rows": [["D" + markup.sub("34")] + [f"{k / 7:.3f}"]
+                                        * (columns - 2) + ["both"] for k in range(5)],
+             "align": ["left"] + ["right"] * (columns - 2) + ["left"]}, "A wide table.")
+    path, _ = _write(tmp_path, o)
+    (_, _, ws), = words(path)
+    lines = {}
+    for w, x0, y0, x1, y1 in ws:
+        lines.setdefault(round(y1), []).append((x0, x1, w))
+    for line in lines.values():
+        line.sort()
+        for (_, a1, a), (b0, _, b) in zip(line, line[1:]):
+            assert b0 - a1 >= 2.0, (a, b, b0 - a1)
+
+
+@pytest.mark.parametrize("words", [0, 400, 830, 840, 850, 870, 890])
+def test_a_long_table_leaves_no_row_alone_on_a_page(tmp_path, words):
+    """A table that breaks over pages puts at least two of its rows on each page: a single row
+    under its header and caption at a page's foot (830 and 840 words before it), or alone over
+    the next page's top (850 to 890), is split off no more."""
+    o = Outline("Report")
+    o.section("1", "Filler")
+    o.paragraph(" ".join(["word"] * words) + ".")
+    o.table({"header": ["name", "value"], "rows": [[f"row{k}x", str(k)] for k in range(60)],
+             "align": ["left", "right"]}, "A long table.")
+    path, _ = _write(tmp_path, o)
+    counts = [len(re.findall(r"\brow\d+x\b", p)) for p in text(path).split("\f")]
+    counts = [c for c in counts if c]
+    assert sum(counts) == 60
+    assert min(counts) >= 2, counts

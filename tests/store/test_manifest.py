@@ -1,0 +1,58 @@
+"""An output folder's manifests are read with bounded cost and compared by SHA-256."""
+
+import os
+
+import pytest
+
+from gd_analyze.errors import InputError
+from gd_analyze.store.manifest import folder_owners, manifest_name, walk_files
+from gd_analyze.store.staging import staged_output
+
+
+def test_a_manifest_nested_100000_deep_is_refused_in_one_line(tmp_path):
+    """json's RecursionError (exit 4) becomes the folder's refusal (exit 2)."""
+    name = manifest_name("analyze")
+    (tmp_path / name).write_text('{"tool": "gd-analyze", "files": ' + "[" * 100_000
+                                 + "]" * 100_000 + "}")
+    with pytest.raises(InputError) as err:
+        folder_owners(tmp_path, "analyze", "out")
+    assert str(err.value) == (f"out holds files gd-analyze did not write: {name}; use an empty "
+                              "or new folder")
+
+
+def test_a_deep_folder_is_walked_without_recursion(tmp_path):
+    """A folder deeper than the recursion limit is walked (RecursionError was exit 4)."""
+    import inspect
+    import sys
+
+    deep = tmp_path.joinpath(*["d"] * 200)
+    deep.mkdir(parents=True)
+    (deep / "f.txt").write_text("x")
+    limit = sys.getrecursionlimit()
+    sys.setrecursionlimit(len(inspect.stack()) + 100)     # 100 frames for a 200-deep folder
+    try:
+        found = [p for p, _ in walk_files(tmp_path)]
+    finally:
+        sys.setrecursionlimit(limit)
+    assert found == ["/".join(["d"] * 200 + ["f.txt"])]
+
+
+def test_a_manifest_that_is_a_fifo_is_not_read(tmp_path):
+    name = manifest_name("analyze")
+    os.mkfifo(tmp_path / name)
+    with pytest.raises(InputError, match=f"did not write: {name};"):
+        folder_owners(tmp_path, "analyze")
+
+
+def test_a_same_size_edit_with_its_mtime_put_back_is_the_users(tmp_path):
+    """cp -p, rsync -t, touch -r: the size and mtime are as recorded, the SHA-256 is not."""
+    target = tmp_path / "out"
+    with staged_output(target, command="analyze") as stage:
+        (stage / "a.txt").write_text("old")
+    st = os.stat(target / "a.txt")
+    (target / "a.txt").write_text("own")
+    os.utime(target / "a.txt", ns=(st.st_atime_ns, st.st_mtime_ns))
+    with pytest.raises(InputError, match="did not write: a.txt; use an empty or new folder"):
+        with staged_output(target, command="analyze"):
+            pass
+    assert (target / "a.txt").read_text() == "own"

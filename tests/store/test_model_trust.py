@@ -1,0 +1,365 @@
+"""No guarantee believed from a file. Forged model files, built from the main
+job's real PUMA 560 models, are refused by ``evaluate``, ``control`` and the API with exit 2
+and one line naming the key; the honest files are read. Oracle: Pinocchio's ``rnea`` on the
+robot's own model for the torques a claim rests on."""
+
+import json
+import math
+
+import numpy as np
+import pinocchio as pin
+import pytest
+from conftest import SHIPPED
+
+import gd_analyze
+from gd_analyze.certify.region import Region
+from gd_analyze.cli import main
+from gd_analyze.dynamics.pinocchio import pinocchio_model
+from gd_analyze.errors import InputError
+from gd_analyze.store.model_trust import reproved_bound
+from gd_analyze.trajectory.trajectory import read_trajectory
+
+pytestmark = pytest.mark.slow
+
+
+@pytest.fixture(scope="module")
+def models(tmp_path_factory, shared_main):
+    """The main job's region model and trajectory model of the PUMA 560 on its shipped
+    trajectory; the runs (with their reports) are shared (read only), linked into the
+    module's folder, where the tests write their forged files."""
+    folder = tmp_path_factory.mktemp("trust")
+    for name, extra in (("region", ()), ("trajectory", ("--guarantee", "trajectory"))):
+        (folder / name).symlink_to(shared_main("puma560", SHIPPED, *extra),
+                                   target_is_directory=True)
+    region = json.loads((folder / "region" / "simplified_model.json").read_text())
+    trajectory = json.loads((folder / "trajectory" / "simplified_model.json").read_text())
+    assert region["guarantee"]["kind"] == "region"
+    assert trajectory["guarantee"]["kind"] == "trajectory"
+    assert trajectory["recursive"]["dropped"] != region["recursive"]["dropped"]
+    return folder, region, trajectory
+
+
+def _write(folder, name, doc):
+    path = folder / f"{name}.json"
+    path.write_text(json.dumps(doc))
+    return path
+
+
+def _copy(doc):
+    return json.loads(json.dumps(doc))
+
+
+def _region_as_limits(g):
+    """The guarantee's ``region`` made to agree with its edited limits, as a forger would (so
+    that the check of the claim, not the region's consistency, must refuse it)."""
+    region = g.get("region")
+    if region is not None:
+        region["q"] = [q if isinstance(q, str) else [lo, hi]
+                       for q, lo, hi in zip(region["q"], g["q_min"], g["q_max"])]
+        region["qd_max"], region["qdd_max"] = list(g["qd_max"]), list(g["qdd_max"])
+    return g
+
+
+def _refused(capsys, args, key):
+    """Exit 2 and one error line on stderr naming ``key``, no traceback; the stdout."""
+    code = main([str(a) for a in args])
+    out, err = capsys.readouterr()
+    lines = [ln for ln in err.splitlines() if ": warning: " not in ln and ": note: " not in ln]
+    assert code == 2, err
+    assert len(lines) == 1 and lines[0].startswith("gd-analyze: error: "), err
+    assert f"key {key}:" in lines[0], lines[0]
+    assert "Traceback" not in err
+    return out, lines[0]
+
+
+def _rnea(robot, q, qd, qdd):
+    model = pinocchio_model(robot)
+    data = model.createData()
+    return np.array([pin.rnea(model, data, a, b, c) for a, b, c in zip(q, qd, qdd)])
+
+
+def test_honest_files_are_read_and_their_claims_hold(models, capsys):
+    folder, region_doc, trajectory_doc = models
+    model = gd_analyze.load_model(folder / "region" / "simplified_model.json")
+    g = model.guarantee
+    n = model.robot.n
+    state = np.asarray(g.scale_state)
+    tau = _rnea(model.robot, state[:, :n], state[:, n:2 * n], state[:, 2 * n:])
+    np.testing.assert_allclose(np.abs(tau[np.arange(n), np.arange(n)]), g.scale, rtol=1e-9)
+    region = Region(g.q_min, g.q_max, g.qd_max, g.qdd_max)
+    reproved = reproved_bound(model, region)
+    assert np.all(reproved <= np.asarray(g.bound) * (1 + 1e-12)) and reproved.max() > 0
+    for name in ("region", "trajectory"):
+        code = main(["evaluate", str(folder / name / "simplified_model.json"), str(SHIPPED)])
+        out, err = capsys.readouterr()
+        assert code == 0, err
+        assert "covers this trajectory: yes" in out
+
+
+def test_issue_trajectory_model_with_a_region_guarantee_pasted_in_x100(models, capsys):
+    """The issue's reproduction: evaluate printed "(proved)" and "covers this trajectory: yes"
+    while joint 1 erred 12.6 x its true budget; control --json repeated "proved"."""
+    folder, region_doc, trajectory_doc = models
+    forged = _copy(trajectory_doc)
+    forged["guarantee"] = _copy(region_doc["guarantee"])
+    forged["guarantee"]["scale"] = [100 * v for v in trajectory_doc["guarantee"]["scale"]]
+    forged["guarantee"]["bound"] = [100 * v for v in trajectory_doc["guarantee"]["bound"]]
+    path = _write(folder, "pasted_x100", forged)
+    out, line = _refused(capsys, ["evaluate", path, SHIPPED], "guarantee.scale")
+    assert "(proved" not in out and "covers this trajectory" not in out
+    out, line = _refused(capsys, ["control", path, SHIPPED, "-o", folder / "control_x100",
+                                  "--no-report", "--json"], "guarantee.scale")
+    assert "proved" not in out
+    assert not (folder / "control_x100").exists()
+    with pytest.raises(InputError, match="guarantee.scale"):
+        gd_analyze.load_model(path)
+    # the oracle: |tau_1| at the pasted scale state is the region model's s_1, not 100 x
+    n = 6
+    state = np.asarray(forged["guarantee"]["scale_state"])
+    tau = _rnea(gd_analyze.load_model(folder / "trajectory" / "simplified_model.json").robot,
+                state[:, :n], state[:, n:2 * n], state[:, 2 * n:])
+    assert abs(abs(tau[0, 0]) - forged["guarantee"]["scale"][0]) > 0.5 * abs(tau[0, 0])
+
+
+def test_region_guarantee_pasted_onto_other_dropped_pairs_is_refused(models, capsys):
+    """The region model's guarantee on the trajectory model's dropped pairs is judged for
+    those pairs: its bound re-proved for them, and refused where it is below that (here the
+    trajectory model's pairs are among the region model's, so the pasted bound itself holds
+    for them; halved at the joint where their re-proved bound is largest, below the error
+    that sampling finds there, it is refused)."""
+    folder, region_doc, trajectory_doc = models
+    forged = _copy(trajectory_doc)
+    forged["guarantee"] = _copy(region_doc["guarantee"])
+    path = _write(folder, "pasted", forged)
+    model = gd_analyze.load_model(path)
+    g = model.guarantee
+    reproved = reproved_bound(model, Region(g.q_min, g.q_max, g.qd_max, g.qdd_max))
+    j = int(np.argmax(reproved / np.asarray(g.scale)))
+    assert reproved[j] > 0
+    forged["guarantee"]["bound"][j] = 0.5 * reproved[j]
+    path = _write(folder, "pasted_lowered", forged)
+    out, line = _refused(capsys, ["evaluate", path, SHIPPED], "guarantee.bound")
+    assert f"joint {j + 1}" in line
+
+
+def test_bound_lowered_to_the_sampled_error_is_refused(models, capsys):
+    """A bound lowered to just above the largest sampled error holds at every sampled state,
+    so no sample can tell; the bound re-proved for the dropped pairs is above it."""
+    folder, region_doc, _ = models
+    g = region_doc["guarantee"]
+    j = int(np.argmax(np.asarray(g["bound"]) - np.asarray(g["sampled_error"])))
+    assert g["sampled_error"][j] < 0.99 * g["bound"][j]
+    forged = _copy(region_doc)
+    forged["guarantee"]["bound"][j] = g["sampled_error"][j] * 1.001
+    forged["recursive"]["bound"][j] = forged["bound"][j] = forged["guarantee"]["bound"][j]
+    path = _write(folder, "lowered", forged)
+    out, line = _refused(capsys, ["evaluate", path, SHIPPED], "guarantee.bound")
+    assert "re-proved" in line and f"joint {j + 1}:" in line
+
+
+def test_issue_region_widened_to_a_full_turn_is_refused(models, capsys):
+    """The issue's reproduction: a region widened to [-pi, pi] "covered" a trajectory 40 deg
+    outside the robot's limit."""
+    folder, region_doc, _ = models
+    robot = gd_analyze.load_model(folder / "region" / "simplified_model.json").robot
+    j = 1                                                   # joint 2: [-45, 225] deg
+    forged = _copy(region_doc)
+    forged["guarantee"]["q_min"][j], forged["guarantee"]["q_max"][j] = -math.pi, math.pi
+    _region_as_limits(forged["guarantee"])
+    path = _write(folder, "wide", forged)
+    traj = read_trajectory(SHIPPED, n_joints=6)
+    q = traj.q.copy()
+    q[:, j] += robot.q_min[j] - math.radians(40) - q[:, j].min()
+    assert q[:, j].min() == pytest.approx(robot.q_min[j] - math.radians(40))
+    csv = folder / "outside.csv"
+    header = ["t"] + [f"{k}{i + 1}" for k in ("q", "qd", "qdd") for i in range(6)]
+    rows = np.column_stack([traj.t, q, traj.qd, traj.qdd])
+    csv.write_text(",".join(header) + "\n" + "\n".join(",".join(repr(float(v)) for v in r)
+                                                       for r in rows) + "\n")
+    out, line = _refused(capsys, ["evaluate", path, csv], "guarantee.q_min")
+    assert "joint 2" in line and "robot's limit" in line
+    assert "covers this trajectory" not in out
+
+
+@pytest.mark.parametrize("edit, key", [
+    (lambda g: g["qd_max"].__setitem__(0, 2 * g["qd_max"][0]), "guarantee.qd_max"),
+    (lambda g: g["scale_state"][2].__setitem__(0, 10.0), "guarantee.scale_state"),
+    (lambda g: g.update(scale=[3 * v for v in g["scale"]],
+                        bound=[3 * v for v in g["bound"]]), "guarantee.scale"),
+])
+def test_region_claims_checked_against_the_robot(models, capsys, edit, key):
+    folder, region_doc, _ = models
+    forged = _copy(region_doc)
+    edit(forged["guarantee"])
+    _region_as_limits(forged["guarantee"])
+    path = _write(folder, key.replace(".", "_"), forged)
+    _refused(capsys, ["evaluate", path, SHIPPED], key)
+    with pytest.raises(InputError, match=key):
+        gd_analyze.load_model(path)
+
+
+def test_trajectory_bound_below_its_measured_error_is_refused(models, capsys):
+    """On its own file (by SHA-256) a trajectory model's bound is measured again: half the
+    error Pinocchio's torques give is refused; on another file it is not stated as covering."""
+    folder, _, trajectory_doc = models
+    model = gd_analyze.load_model(folder / "trajectory" / "simplified_model.json")
+    traj = read_trajectory(SHIPPED, n_joints=6)
+    err = np.abs(model.torque(traj.q, traj.qd, traj.qdd)
+                 - _rnea(model.robot, traj.q, traj.qd, traj.qdd)).max(axis=0)
+    j = int(np.argmax(err / np.asarray(model.guarantee.scale)))
+    forged = _copy(trajectory_doc)
+    forged["guarantee"]["bound"][j] = 0.5 * err[j]
+    forged["recursive"]["bound"][j] = forged["bound"][j] = 0.5 * err[j]
+    path = _write(folder, "low_trajectory", forged)
+    out, line = _refused(capsys, ["evaluate", path, SHIPPED], "guarantee.bound")
+    assert f"joint {j + 1}:" in line
+
+
+def test_the_bound_is_re_proved_with_the_main_jobs_samples():
+    """The re-proof reads the main job's certification from the cache: the same samples."""
+    from gd_analyze.jobs.region_memo import REGION_SAMPLES
+    from gd_analyze.store.model_trust import CERTIFICATION_SAMPLES
+
+    assert CERTIFICATION_SAMPLES == REGION_SAMPLES
+
+
+def test_exact_explicit_region_model_is_read_and_its_terms_checked(models, tmp_path):
+    """The exact explicit model deployed under a region guarantee (bound 0) is read; with a
+    coefficient edited it no longer is the full explicit model, and its bound 0 is refused."""
+    from gd_analyze import load_robot
+    from gd_analyze.dynamics.base_parameters import base_parameters
+    from gd_analyze.jobs.deploy import region_model, robot_region
+    from gd_analyze.jobs.deployment import exact_explicit_model
+    from gd_analyze.jobs.simplify import build_model, collect_peaks
+    from gd_analyze.store.explicit_cache import explicit_terms
+    from gd_analyze.store.model_file import save_model
+
+    puma = load_robot("puma560")
+    traj = read_trajectory(SHIPPED, n_joints=6)
+    terms, _ = explicit_terms(puma)
+    full, _ = build_model(puma, terms, collect_peaks(puma, terms, traj.q, traj.qd, traj.qdd),
+                          tolerance=0.0)
+    region, _ = robot_region(puma)
+    _, guarantee = region_model(puma, base_parameters(puma), region, 0.01)
+    save_model(exact_explicit_model(full, guarantee, 0.01), tmp_path / "exact.json")
+    model = gd_analyze.load_model(tmp_path / "exact.json")
+    assert model.guarantee.kind == "region" and model.bound == [0.0] * 6
+    doc = json.loads((tmp_path / "exact.json").read_text())
+    k = int(np.argmax(np.abs(doc["explicit_terms"]["coef"])))
+    doc["explicit_terms"]["coef"][k] *= 1 + 1e-6
+    with pytest.raises(InputError, match="guarantee.bound"):
+        gd_analyze.load_model(_write(tmp_path, "edited", doc))
+
+
+def test_a_guarantee_built_in_memory_is_checked_before_it_is_stated(models):
+    """The API's coverage (which ``evaluate`` and ``control`` print) checks a region guarantee
+    of a model that never went through a file: its scale multiplied by 100 is refused."""
+    import dataclasses
+
+    from gd_analyze.jobs.evaluate import coverage
+
+    folder, _, _ = models
+    model = gd_analyze.load_model(folder / "region" / "simplified_model.json")
+    traj = read_trajectory(SHIPPED, n_joints=6)
+    assert coverage(model, traj)["covered"]
+    g = model.guarantee
+    forged = dataclasses.replace(model, guarantee=dataclasses.replace(
+        g, scale=100 * np.asarray(g.scale), bound=100 * np.asarray(g.bound)))
+    with pytest.raises(InputError, match="guarantee.scale"):
+        coverage(forged, traj)
+
+
+def _spied(monkeypatch):
+    """The module's memo of checked claims emptied, and the calls of the re-derivation
+    counted."""
+    from gd_analyze.store import model_trust
+
+    monkeypatch.setattr(model_trust, "_PROVED_CLAIMS", set())
+    calls = []
+    real = model_trust.reproved_bound
+
+    def reproved(*args, **kwargs):
+        calls.append(1)
+        return real(*args, **kwargs)
+    monkeypatch.setattr(model_trust, "reproved_bound", reproved)
+    return calls
+
+
+def test_the_stored_trees_prove_the_bound_without_search(models, monkeypatch):
+    """The PUMA 560's region model (its bound from the joint sum's branch and bound, which
+    the quick proof does not reach) is read on the trees stored with it: neither the quick
+    proof nor the re-derivation runs."""
+    from gd_analyze.store import model_trust
+
+    folder, region_doc, _ = models
+    assert region_doc["guarantee"]["tilings"]
+    _spied(monkeypatch)
+
+    def searched(*args, **kwargs):
+        raise AssertionError("searched again")
+    monkeypatch.setattr(model_trust, "prove_dropped", searched)
+    monkeypatch.setattr(model_trust, "reproved_bound", searched)
+    model = gd_analyze.load_model(folder / "region" / "simplified_model.json")
+    assert len(model.guarantee.tilings) == len(region_doc["guarantee"]["tilings"])
+
+
+@pytest.mark.parametrize("forge", [
+    "missing_leaf", "extra_leaf", "joint_not_the_arms", "whole_region", "none_stored"])
+def test_forged_or_missing_trees_are_never_believed(models, monkeypatch, forge):
+    """Trees that do not tile the region (a final box missing, one more, a cut along a
+    joint the arm does not have), a tiling on which the bound is not reached (the region as
+    one box), or no trees at all (a file written before them): the bound is derived again
+    (the honest bound then holds, so the file is read)."""
+    folder, region_doc, _ = models
+    forged = _copy(region_doc)
+    g = forged["guarantee"]
+    code = g["tilings"][0]
+    if forge == "missing_leaf":
+        g["tilings"] = [code[:-1]]
+    elif forge == "extra_leaf":
+        g["tilings"] = [code + "."]
+    elif forge == "joint_not_the_arms":
+        g["tilings"] = [code.replace("1", "9")]
+    elif forge == "whole_region":
+        g["tilings"] = ["."]
+    else:
+        del g["tilings"]
+    calls = _spied(monkeypatch)
+    model = gd_analyze.load_model(_write(folder, f"trees_{forge}", forged))
+    assert calls == [1], "the bound was believed without being derived again"
+    assert model.guarantee.bound == pytest.approx(region_doc["guarantee"]["bound"])
+
+
+def test_trees_of_another_form_are_refused_by_the_schema(models):
+    folder, region_doc, _ = models
+    forged = _copy(region_doc)
+    forged["guarantee"]["tilings"] = ["1.0X"]
+    with pytest.raises(InputError, match="guarantee.tilings"):
+        gd_analyze.load_model(_write(folder, "trees_bad_text", forged))
+
+
+def test_honest_trees_do_not_save_a_lowered_bound(models, monkeypatch):
+    """The stored trees evaluated on a bound lowered to just above the error sampling finds
+    (so that no sample tells): they do not reach it, the re-derivation runs and refuses it;
+    lowered below that error, it is refused too."""
+    from gd_analyze.certify.certify import tilings_bound
+    from gd_analyze.dynamics.base_parameters import base_parameters
+
+    folder, region_doc, _ = models
+    honest = gd_analyze.load_model(folder / "region" / "simplified_model.json")
+    g = honest.guarantee
+    region = Region(g.q_min, g.q_max, g.qd_max, g.qdd_max)
+    tiled = tilings_bound(honest.robot, base_parameters(honest.robot), region,
+                          honest.recursive.dropped, g.tilings)
+    j = int(np.argmax(np.asarray(g.bound) - np.asarray(g.sampled_error)))
+    for share, calls_expected in ((1.001, [1]), (0.9, None)):
+        forged = _copy(region_doc)
+        low = g.sampled_error[j] * share
+        forged["guarantee"]["bound"][j] = forged["recursive"]["bound"][j] = low
+        forged["bound"][j] = low
+        assert tiled[j] > low
+        calls = _spied(monkeypatch)
+        with pytest.raises(InputError, match="guarantee.bound"):
+            gd_analyze.load_model(_write(folder, f"trees_lowered_{share}", forged))
+        if calls_expected is not None:
+            assert calls == calls_expected

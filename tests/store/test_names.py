@@ -1,0 +1,68 @@
+"""The names of results.h5 (gd_analyze.store.names): every name the main job writes is a constant,
+and each constant is spelt as the name it stands for."""
+
+import numpy as np
+import pytest
+
+from gd_analyze.store import names
+from gd_analyze.store.names import (
+    ATTRIBUTES,
+    ELEMENT_UNITS_RULE,
+    RANKING_COLUMNS,
+    VARIABLES,
+    Attr,
+    Var,
+)
+from gd_analyze.store.results_view import Results
+from gd_analyze.store.schema import MIXED_UNITS, strings
+
+
+@pytest.mark.parametrize("namespace", [Var, Attr])
+def test_each_constant_is_its_name_upper_cased(namespace):
+    constants = {k: v for k, v in vars(namespace).items() if k.isupper()}
+    assert constants
+    assert all(k == v.upper() for k, v in constants.items()), constants
+
+
+@pytest.mark.parametrize("robot", ["puma560", "stanford"])
+def test_every_stored_name_is_a_constant(shipped_dataset, robot):
+    # the main job's results.h5, read back (a writer that adds a name must add it here)
+    ds = shipped_dataset(robot)
+    assert set(map(str, ds.variables)) - VARIABLES == set()
+    assert set(ds.attrs) - ATTRIBUTES == set()
+
+
+def test_verification_attributes_are_constants(shipped_dataset):
+    ds = shipped_dataset("puma560")
+    for term in names.VERIFIED_TERMS:
+        assert names.verification_attribute(term) in ds.attrs
+        assert names.verification_attribute(term, excess=True) in ds.attrs
+
+
+def test_the_ranking_columns_are_stored_and_read_as_declared(shipped_dataset):
+    # one declaration: each ranking column is in results.h5 with its declared units and
+    # long_name, the view reads it as stored, and the CLI shows the columns it declares
+    ds = shipped_dataset("puma560")
+    table = Results.from_dataset(ds).ranking
+    for column in RANKING_COLUMNS:
+        if column.source == "armature":
+            continue
+        if column.name not in ds.variables:
+            assert not column.required and column.field not in table.columns
+            continue
+        if column.stored:
+            attrs = ds[column.name].attrs
+            assert attrs["long_name"] == column.long_name
+            assert attrs["units"] == (MIXED_UNITS if column.units == ELEMENT_UNITS_RULE
+                                      else column.units)
+        stored = ds[column.name].values
+        if column.text:
+            assert list(table.column(column.field)) == strings(stored)
+        else:
+            np.testing.assert_array_equal(table.column(column.field), stored)
+        if column.round_off is not None:
+            np.testing.assert_array_equal(table.off(column.field),
+                                          ds[column.round_off].values.astype(bool))
+    header = table.text()[0].split()
+    assert header == [c.cli.header for c in RANKING_COLUMNS if c.cli is not None]
+    assert [r.label for r in table.rows] == strings(ds[Var.ELEMENT].values)

@@ -1,0 +1,387 @@
+"""The excitation trajectory (plan --excitation): within the limits on a fine grid of its own
+formula, at rest at both ends, far better conditioned than random Fourier trajectories with
+the same harmonics and limits, and its objective's regressor spans Pinocchio's."""
+
+import json
+import math
+import pickle
+import subprocess
+import sys
+
+import numpy as np
+import pinocchio as pin
+import pytest
+from conftest import built_once
+from scipy.optimize import check_grad
+from threadpoolctl import threadpool_limits
+
+from gd_analyze.dynamics.pinocchio import pinocchio_model
+from gd_analyze.model.robots import load_robot
+from gd_analyze.symbolic.drive_regressor import identification_columns
+from gd_analyze.trajectory import excitation as ex_module
+from gd_analyze.trajectory.excitation import (
+    FourierSeries,
+    excitation_condition,
+    excitation_timing,
+    limit_bounds,
+    plan_excitation,
+    random_excitation,
+    scaled_condition,
+)
+from gd_analyze.trajectory.planning import acceleration_limits, default_motion_range
+from gd_analyze.trajectory.trajectory import read_trajectory
+
+
+def _formula(series, t):
+    """q, qd, qdd of Swevers et al. (1997), Eq. (9), written out term by term (not the
+    module's matrix form)."""
+    t = np.asarray(t, float)
+    n, K = series.a.shape
+    q = np.tile(series.q0, (t.size, 1)).astype(float)
+    qd = np.zeros((t.size, n))
+    qdd = np.zeros((t.size, n))
+    for ell in range(1, K + 1):         # each joint's terms summed in the order of ell
+        w = series.wf * ell
+        sin, cos = np.sin(w * t), np.cos(w * t)
+        for i in range(n):
+            a, b = series.a[i, ell - 1], series.b[i, ell - 1]
+            q[:, i] += a / w * sin - b / w * cos
+            qd[:, i] += a * cos + b * sin
+            qdd[:, i] += -a * w * sin + b * w * cos
+    return q, qd, qdd
+
+
+def _limits(robot):
+    lo, hi = default_motion_range(robot)
+    return lo, hi, np.asarray(robot.qd_max, float), acceleration_limits(robot)[0]
+
+
+def _assert_within(robot, series, duration, points=200_001):
+    """The formula on a fine grid and at random times stays inside every limit."""
+    lo, hi, qd_max, qdd_max = _limits(robot)
+    t = np.concatenate([np.linspace(0, duration, points),
+                        np.random.default_rng(0).uniform(0, duration, 20_000)])
+    q, qd, qdd = _formula(series, t)
+    for arr in (q, qd, qdd):
+        assert np.isfinite(arr).all()
+    assert (q >= lo).all() and (q <= hi).all()
+    assert (np.abs(qd) <= qd_max).all()
+    assert (np.abs(qdd) <= qdd_max).all()
+    return q, qd, qdd
+
+
+@pytest.fixture(scope="module")
+def planned():
+    """The default excitation of a built-in robot (the PUMA 560, the Panda and the UR5: URDFs,
+    default acceleration limits), by name: ``planned(name)`` is ``(robot, excitation)``.
+
+    Each robot's is planned once a session, by whichever xdist worker asks first, and read
+    back (pickled) by the others (:func:`conftest.built_once`: a folder of its own per robot,
+    the plan's settings the defaults). Shared: tests must not modify it.
+    """
+    stored = {}
+
+    def build(name, folder):
+        (folder / "excitation.pickle").write_bytes(pickle.dumps(plan_excitation(
+            load_robot(name))))
+
+    def get(name):
+        if name not in stored:
+            folder = built_once(f"excitation-{name}-defaults", lambda f: build(name, f))
+            stored[name] = (load_robot(name),
+                            pickle.loads((folder / "excitation.pickle").read_bytes()))
+        return stored[name]
+    return get
+
+
+def _random_conditions(robot, ex):
+    """The scaled condition numbers, on 400 samples of a period, of 8 random Fourier
+    trajectories with the excitation's harmonics and base frequency, each joint scaled to the
+    same limits (seeds other than the optimiser's starts), each checked inside the limits."""
+    cols = identification_columns(robot)
+    randoms = []
+    for seed in range(1000, 1008):
+        series = random_excitation(robot, ex.series.harmonics, ex.series.wf, seed)
+        _assert_within(robot, series, series.period, points=20_001)
+        randoms.append(excitation_condition(robot, cols, series, samples=400))
+    return np.array(randoms)
+
+
+@pytest.mark.slow
+@pytest.mark.parametrize("name", ["puma560", "panda", "ur5"])
+def test_excitation_within_the_limits_and_at_rest_at_both_ends(planned, name):
+    robot, ex = planned(name)
+    traj = ex.trajectory
+    T = traj.t[-1]
+    assert T == pytest.approx(10.0) and traj.n_setpoints == 1001
+    q, qd, qdd = _assert_within(robot, ex.series, T)
+    # at rest at both ends, and where it started
+    q_ends, qd_ends, qdd_ends = _formula(ex.series, [0.0, T])
+    assert np.abs(qd_ends).max() <= 1e-12 * robot.qd_max.max()
+    assert np.abs(qdd_ends).max() <= 1e-12 * np.abs(qdd).max()
+    assert np.abs(q_ends[0] - q_ends[1]).max() <= 1e-12
+    # the written set points are the formula's
+    written = _formula(ex.series, traj.t)
+    np.testing.assert_allclose(traj.q, written[0], rtol=0, atol=1e-12)
+    np.testing.assert_allclose(traj.qd, written[1], rtol=0, atol=1e-12)
+    np.testing.assert_allclose(traj.qdd, written[2], rtol=0, atol=1e-12)
+    # it uses its room: some limit is nearly reached on every joint
+    lo, hi, qd_max, qdd_max = _limits(robot)
+    use = np.maximum.reduce([np.abs(qd).max(0) / qd_max, np.abs(qdd).max(0) / qdd_max,
+                             (q.max(0) - q.min(0)) / (hi - lo)])
+    assert use.min() > 0.5
+
+
+@pytest.mark.slow
+@pytest.mark.parametrize("name", ["puma560", "panda"])
+def test_condition_number_at_least_3x_below_random_fourier_trajectories(planned, name):
+    """Against 8 random Fourier trajectories with the same harmonics and base frequency, each
+    joint scaled to the same limits (seeds other than the optimiser's starts). Measured
+    (analysis/excitation_conditions.py, the defaults): the PUMA's are 2.97 to 22 times worse
+    (median 12.3), the Panda's 2.8 to 4.2 times (median 3.5); the condition numbers are taken
+    on 400 samples of a period, not the objective's 100."""
+    robot, ex = planned(name)
+    ours = excitation_condition(robot, identification_columns(robot), ex.series, samples=400)
+    assert math.isfinite(ours)
+    randoms = _random_conditions(robot, ex)
+    # 3x below a typical random trajectory (the median), 2x below the best of the eight
+    assert ours * 3 <= np.median(randoms) and ours * 2 <= min(randoms), (ours, randoms)
+
+
+@pytest.mark.slow
+def test_ur5_condition_number_below_random_fourier_trajectories(planned):
+    """The UR5's random Fourier trajectories are already well conditioned (median 10.2), and
+    what bounds its optimum is each joint's viscous and Coulomb pair and the parallel axes'
+    ZZ2..ZZ4 columns: measured (analysis/excitation_conditions.py) 4.00 with the defaults,
+    2.5x below the median, where the stages at P = 16 alone reached 4.52 (2.3x); 6 starts of
+    at most 80 iterations per stage reach 4.05."""
+    robot, ex = planned("ur5")
+    ours = excitation_condition(robot, identification_columns(robot), ex.series, samples=400)
+    randoms = _random_conditions(robot, ex)
+    assert math.isfinite(ours)
+    assert ours * 2.4 <= np.median(randoms) and ours * 1.5 <= min(randoms), (ours, randoms)
+
+
+@pytest.fixture
+def one_blas_thread():
+    """numpy's LAPACK calls on one thread for the test: its SVDs are of a few hundred rows, and
+    threaded they take seconds on a busy machine."""
+    with threadpool_limits(1, "blas"):
+        yield
+
+
+@pytest.mark.slow
+@pytest.mark.parametrize("name", ["puma560", "panda"])
+def test_the_objective_is_the_scaled_condition_of_a_regressor_spanning_pinocchios(
+        name, one_blas_thread):
+    """The objective's regressor (rigid columns, drive columns) spans what Pinocchio's
+    computeJointTorqueRegressor and the drive columns span on the trajectory's samples, the
+    objective is log cond of it with unit-norm columns (numpy's SVD), and its gradient is
+    right (scipy's check_grad)."""
+    robot = load_robot(name)
+    cols = identification_columns(robot)
+    series = random_excitation(robot, 4, 2 * math.pi / 8, 5)
+    basis = ex_module._Basis(4, series.wf, ex_module._middles(series.period, 60))
+    x = ex_module._variables(series)
+    value, grad = ex_module._log_condition_and_gradient(x, robot, cols, basis)
+    q, qd, qdd = _formula(series, ex_module._middles(series.period, 60))
+    model = pinocchio_model(robot)
+    data = model.createData()
+    Wp = np.array([pin.computeJointTorqueRegressor(model, data, a, b, c)
+                   for a, b, c in zip(q, qd, qdd)])
+    n = robot.n
+    drives = np.zeros((q.shape[0], n, 4 * n))
+    for i in range(n):
+        drives[:, i, [i, n + i, 2 * n + i, 3 * n + i]] = np.stack(
+            [qdd[:, i], qd[:, i], np.sign(qd[:, i]), np.ones(q.shape[0])], -1)
+    ref = np.concatenate([Wp, drives], 2).reshape(-1, 14 * n)
+    Y = ex_module.identification_regressor(robot, q, qd, qdd, cols).reshape(-1, cols.count)
+
+    def rank(W):
+        """Rank with unit-norm columns, after dropping rounding-noise columns (a zero column
+        of Pinocchio's regressor computed as 1e-17 would otherwise be scaled up to noise)."""
+        norms = np.linalg.norm(W, axis=0)
+        W = W[:, norms > 1e-10 * norms.max()]
+        s = np.linalg.svd(W / np.linalg.norm(W, axis=0), compute_uv=False)
+        return int((s > 1e-9 * s[0]).sum())
+
+    assert rank(Y) == cols.count == rank(ref) == rank(np.hstack([Y, ref]))
+    Ws = Y / np.linalg.norm(Y, axis=0)
+    s = np.linalg.svd(Ws, compute_uv=False)
+    smooth = (math.log(((s / s[0]) ** ex_module.SMOOTH_POWER).sum()) + math.log(((s[-1] / s) ** ex_module.SMOOTH_POWER).sum())) / ex_module.SMOOTH_POWER
+    assert value == pytest.approx(math.log(s[0] / s[-1]) + smooth, rel=1e-9)
+    assert s[0] / s[-1] == pytest.approx(scaled_condition(Y), rel=1e-9)
+
+    t = ex_module._middles(series.period, 60)
+
+    def objective(z, power=ex_module.SMOOTH_POWER, v=None):
+        """The objective at z from its definition, computed afresh (the value alone, not the
+        module's gradient pass over 3 n + 1 shifted copies of the states): the smooth log
+        condition with exponent ``power`` of the unit-norm columns of the identification
+        regressor on the formula's states, the Coulomb columns tanh(qd_j / v_j) with ``v``."""
+        zq, zqd, zqdd = _formula(basis.series(z, n), t)
+        Yz = ex_module.identification_regressor(robot, zq, zqd, zqdd, cols)
+        if v is not None:
+            for j in range(n):
+                if f"coulomb_{j + 1}" in cols.names():
+                    Yz[:, j, cols.names().index(f"coulomb_{j + 1}")] = np.tanh(zqd[:, j] / v[j])
+        Wz = Yz.reshape(-1, cols.count)
+        sz = np.linalg.svd(Wz / np.linalg.norm(Wz, axis=0), compute_uv=False)
+        return math.log(sz[0] / sz[-1]) + (math.log(((sz / sz[0]) ** power).sum()) + math.log(
+            ((sz[-1] / sz) ** power).sum())) / power
+
+    def g(z):
+        return ex_module._log_condition_and_gradient(z, robot, cols, basis)[1]
+
+    assert objective(x) == pytest.approx(value, rel=1e-9)
+    err = check_grad(objective, g, x, epsilon=1e-6)
+    assert err <= 1e-3 * np.linalg.norm(grad)
+
+    # the first stages' P = 2: the A-optimality criterion, (1/2) log p + (1/2) log of the
+    # trace of the inverse information matrix of the unit-norm columns
+    value2, grad2 = ex_module._log_condition_and_gradient(x, robot, cols, basis, power=2)
+    assert value2 == pytest.approx(0.5 * math.log(cols.count) + 0.5 * math.log(
+        np.trace(np.linalg.inv(Ws.T @ Ws))), rel=1e-9)
+    assert objective(x, power=2) == pytest.approx(value2, rel=1e-9)
+    err = check_grad(lambda z: objective(z, power=2),
+                     lambda z: ex_module._log_condition_and_gradient(z, robot, cols, basis,
+                                                                      power=2)[1],
+                     x, epsilon=1e-6)
+    assert err <= 1e-3 * np.linalg.norm(grad2)
+
+    # the optimiser's stages: the Coulomb columns replaced by tanh(qd_j / v_j), whose
+    # gradient is not zero (sgn's is)
+    v = 0.1 * np.asarray(robot.qd_max, float)
+    Yt = Y.reshape(q.shape[0], n, cols.count).copy()
+    names = cols.names()
+    for j in range(n):
+        if f"coulomb_{j + 1}" in names:
+            Yt[:, j, names.index(f"coulomb_{j + 1}")] = np.tanh(qd[:, j] / v[j])
+    st = np.linalg.svd(Yt.reshape(-1, cols.count) / np.linalg.norm(
+        Yt.reshape(-1, cols.count), axis=0), compute_uv=False)
+    P = ex_module.SMOOTH_POWER
+    value_t, grad_t = ex_module._log_condition_and_gradient(x, robot, cols, basis, v)
+    assert value_t == pytest.approx(math.log(st[0] / st[-1]) + (math.log(
+        ((st / st[0]) ** P).sum()) + math.log(((st[-1] / st) ** P).sum())) / P, rel=1e-9)
+    assert value_t != pytest.approx(value, rel=1e-6)
+    assert objective(x, v=v) == pytest.approx(value_t, rel=1e-9)
+    err = check_grad(lambda z: objective(z, v=v),
+                     lambda z: ex_module._log_condition_and_gradient(z, robot, cols, basis, v)[1],
+                     x, epsilon=1e-6)
+    assert np.isfinite(grad_t).all() and err <= 1e-3 * np.linalg.norm(grad_t)
+
+
+def test_limit_bounds_bound_the_formula_and_can_be_exceeded():
+    rng = np.random.default_rng(2)
+    series = FourierSeries(q0=np.array([0.3, -1.0]), a=rng.normal(size=(2, 4)),
+                           b=rng.normal(size=(2, 4)), wf=1.3)
+    bounds = limit_bounds(series, points=64)        # coarse: the widening matters
+    q, qd, qdd = _formula(series, np.linspace(0, series.period, 100_001))
+    assert (q.min(0) >= bounds.q_low).all() and (q.max(0) <= bounds.q_high).all()
+    assert (np.abs(qd).max(0) <= bounds.qd_peak).all()
+    assert (np.abs(qdd).max(0) <= bounds.qdd_peak).all()
+    exact = (q.min(0), q.max(0), np.abs(qd).max(0), np.abs(qdd).max(0))
+    assert bounds.within(*exact) is False           # a bound is not below the true extreme
+    assert bounds.within(bounds.q_low, bounds.q_high, bounds.qd_peak, bounds.qdd_peak)
+    assert not bounds.within(bounds.q_low, bounds.q_high, bounds.qd_peak * np.nan,
+                             bounds.qdd_peak)
+
+
+def test_random_excitation_starts_at_rest_and_fits_its_limits():
+    robot = load_robot("puma560")
+    series = random_excitation(robot, 5, 2 * math.pi / 10, 7)
+    _, qd0, qdd0 = _formula(series, [0.0])
+    assert np.abs(qd0).max() <= 1e-12 and np.abs(qdd0).max() <= 1e-12
+    q, qd, qdd = _assert_within(robot, series, series.period, points=20_001)
+    lo, hi, qd_max, qdd_max = _limits(robot)
+    # scaled to touch a (margined) limit on every joint
+    use = np.maximum.reduce([np.abs(qd).max(0) / qd_max, np.abs(qdd).max(0) / qdd_max,
+                             np.maximum(q.max(0) - (lo + hi) / 2, (lo + hi) / 2 - q.min(0))
+                             / ((hi - lo) / 2)])
+    assert (use > 0.9).all() and (use < 0.98).all()
+    with pytest.raises(ValueError, match="at least 2 harmonics"):
+        random_excitation(robot, 1)
+
+
+@pytest.mark.parametrize("duration, wf, expected", [
+    (None, None, (10.0, 2 * math.pi / 10, 1)),
+    (4.0, None, (4.0, 2 * math.pi / 4, 1)),
+    (None, 2.0, (math.pi, 2.0, 1)),
+    (3 * math.pi, 2.0, (3 * math.pi, 2.0, 3)),
+])
+def test_timing(duration, wf, expected):
+    T, w, m = excitation_timing(duration, wf)
+    assert (T, m) == pytest.approx(expected[::2]) and w == pytest.approx(expected[1])
+
+
+@pytest.mark.parametrize("duration, wf, message", [
+    (5.0, 1.0, "whole number"), (-1.0, None, "positive"), (None, float("inf"), "positive"),
+    (1.0, 1.0, "whole number"),
+])
+def test_timing_refuses(duration, wf, message):
+    with pytest.raises(ValueError, match=message):
+        excitation_timing(duration, wf)
+
+
+def _cli(*args, cwd):
+    return subprocess.run([sys.executable, "-m", "gd_analyze.cli", *args], cwd=cwd,
+                          capture_output=True, text=True, timeout=600)
+
+
+#: SLSQP iterations per start and stage of the command's optimiser in
+#: :func:`test_cli_writes_the_excitation_and_its_provenance`: what the command writes does not
+#: depend on how far the optimiser got (the optimum's quality is tested above, on the defaults).
+FEW_ITERATIONS = 2
+
+
+def test_cli_writes_the_excitation_and_its_provenance(tmp_path, monkeypatch, capsys):
+    """The command's options reach the optimiser, and the file and its provenance hold the
+    series it found (its formula, the condition numbers of the optimum and of the random
+    starts, recomputed here); the optimiser stops after :data:`FEW_ITERATIONS`."""
+    from gd_analyze.cli import commands, main
+
+    def few_iterations(*args, **kwargs):
+        return plan_excitation(*args, **kwargs, maxiter=FEW_ITERATIONS)
+
+    monkeypatch.setattr(commands, "plan_excitation", few_iterations)
+    monkeypatch.chdir(tmp_path)
+    code = main(["plan", "puma560", "--excitation", "-o", "ex.csv", "--harmonics", "3",
+                 "--duration", "12", "--base-frequency", str(math.pi / 3), "--setpoints", "241"])
+    out, err = capsys.readouterr()
+    assert code == 0, err
+    assert out == ""
+    assert err.startswith("wrote ex.csv: 241 set points over 12.0000 s (excitation:")
+    traj = read_trajectory(tmp_path / "ex.csv", 6)
+    record = json.loads((tmp_path / "ex.provenance.json").read_text())
+    ex = record["excitation"]
+    assert ex["harmonics"] == 3 and ex["periods"] == 2
+    series = FourierSeries(q0=np.array(ex["q0"]), a=np.array(ex["a"]), b=np.array(ex["b"]),
+                           wf=ex["base_frequency_rad_s"])
+    robot = load_robot("puma560")
+    _assert_within(robot, series, 12.0)
+    q, qd, qdd = _formula(series, traj.t)
+    np.testing.assert_allclose(traj.q, q, rtol=0, atol=1e-12)
+    np.testing.assert_allclose(traj.qdd, qdd, rtol=0, atol=1e-12)
+    assert np.abs(traj.qd[[0, -1]]).max() <= 1e-12
+    cond = excitation_condition(robot, identification_columns(robot), series)
+    assert ex["scaled_condition_number"] == pytest.approx(cond, rel=1e-9)
+    assert ex["scaled_condition_number"] < min(ex["random_starts_scaled_condition_numbers"])
+    assert ex["drive_columns_regrouped"] == ["armature_1", "armature_2"]
+    assert record["robot_sha256"] == robot.sha256 and record["setpoints"] == 241
+
+
+@pytest.mark.parametrize("args, column", [
+    (["--excitation", "--start", "0,0,0,0,0,0"], "--start"),
+    (["--excitation", "--ignore-limits"], "--ignore-limits"),
+    (["--excitation", "--duration", "5", "--base-frequency", "1"], "--duration"),
+    (["--harmonics", "3"], "--harmonics"),
+    (["--seed", "3"], "--seed"),
+    (["--excitation", "--harmonics", "1"], "--harmonics"),
+    (["--excitation", "--qdd-max", "1,2"], "--qdd-max"),
+])
+def test_cli_refuses_bad_options_in_one_line(tmp_path, args, column):
+    run = _cli("plan", "puma560", "-o", "x.csv", *args, cwd=tmp_path)
+    assert run.returncode == 2
+    lines = run.stderr.strip().splitlines()
+    assert len(lines) == 1 and column in lines[0] and "Traceback" not in run.stderr
+    assert not (tmp_path / "x.csv").exists()

@@ -1,0 +1,187 @@
+import numpy as np
+import pandas as pd
+import pytest
+
+from gd_analyze import InputError
+from gd_analyze.trajectory.planning import (
+    DEFAULT_GOAL_DEG,
+    DEFAULT_START_DEG,
+    plan_quintic,
+    quintic_plan,
+)
+from gd_analyze.trajectory.trajectory import (
+    JointLimitWarning,
+    Trajectory,
+    check_joint_limits,
+    read_trajectory,
+    trajectory_columns,
+    write_trajectory,
+    write_trajectory_chunks,
+)
+
+
+def _default_plan(puma, n=31):
+    return plan_quintic(puma, np.radians(DEFAULT_START_DEG), np.radians(DEFAULT_GOAL_DEG), n)
+
+
+def test_write_read_round_trip(tmp_path, puma):
+    plan = _default_plan(puma)
+    path = tmp_path / "traj.csv"
+    write_trajectory(plan, path)
+    back = read_trajectory(path, 6)
+    np.testing.assert_array_equal(back.q, plan.q)
+    assert len(back.sha256) == 64
+    assert list(tmp_path.iterdir()) == [path]          # no temporary left behind
+
+
+def test_positions_only_uses_a_cubic_spline(tmp_path, puma):
+    plan = _default_plan(puma, n=201)
+    path = tmp_path / "pos.csv"
+    cols = trajectory_columns(6, derivatives=False)
+    rows = [",".join(cols)] + [",".join(f"{v:.17g}" for v in [t, *q])
+                               for t, q in zip(plan.t, plan.q)]
+    path.write_text("\n".join(rows) + "\n")
+    traj = read_trajectory(path, 6)
+    assert traj.derivatives == "cubic-spline"
+    scale_v, scale_a = np.abs(plan.qd).max(), np.abs(plan.qdd).max()
+    assert np.abs(traj.qd - plan.qd).max() < 1e-3 * scale_v
+    assert np.abs(traj.qdd[5:-5] - plan.qdd[5:-5]).max() < 1e-2 * scale_a
+
+
+HEADER = "t,q1,q2"
+
+
+@pytest.mark.parametrize("text, row, column, match", [
+    ("", None, None, "empty file"),
+    ("0,1,2\n1,2,3\n", 1, None, "no header"),
+    ("t,q1\n0,1\n1,2\n", 1, None, "has 1 joints, the robot has 2"),
+    ("t,q1,q2,q3\n0,1,2,3\n1,2,3,4\n", 1, None, "has 3 joints, the robot has 2"),
+    ("t,q1,q2,qd1,qd2\n0,1,2,3,4\n1,2,3,4,5\n", 1, "qdd1", "missing column"),
+    ("t,q1,q2,qd1,qd2,qdd1,qdd2,x\n" + "0,1,2,3,4,5,6,7\n" * 2, 1, "x", "extra column"),
+    ("t,q1,q2\n0,1,2\n1,2\n", 3, None, "ragged row"),
+    ("t,q1,q2\n0,1,2\n1,2,3,4\n", 3, None, "ragged row"),
+    ("t,q1,q2\n0,1,2\n1,abc,3\n", 3, "q1", "not a number"),
+    ("t,q1,q2\n0,1,2\n1,nan,3\n", 3, "q1", "not a finite number"),
+    ("t,q1,q2\n0,1,inf\n1,2,3\n", 2, "q2", "not a finite number"),
+    ("t,q1,q2\n0,1,2\n0,2,3\n", 3, "t", "not strictly increasing"),
+    ("t,q1,q2\n1,1,2\n0.5,2,3\n", 3, "t", "not strictly increasing"),
+    ("t,q1,q2\n0,1,2\n", None, None, "fewer than 2 set points"),
+    ("x,q1,q2\n0,1,2\n1,2,3\n", 1, "x", "must start with 't'"),
+])
+def test_bad_input_names_file_row_and_column(tmp_path, text, row, column, match):
+    path = tmp_path / "bad.csv"
+    path.write_text(text)
+    with pytest.raises(InputError, match=match) as err:
+        read_trajectory(path, n_joints=2)
+    e = err.value
+    assert e.path == str(path) and e.row == row
+    if column is not None:
+        assert column in str(e.column)
+    assert "\n" not in str(e) and str(e).startswith(str(path))
+
+
+def test_missing_file(tmp_path):
+    with pytest.raises(InputError, match="no such file"):
+        read_trajectory(tmp_path / "nope.csv")
+
+
+def test_joint_limit_warning(tmp_path, two_link):
+    path = tmp_path / "wide.csv"
+    path.write_text("t,q1,q2\n0,0,0\n1,4,0\n2,0,0\n")      # 4 rad > 180 deg on joint 1
+    traj = read_trajectory(path, 2)
+    with pytest.warns(JointLimitWarning, match="column q1"):
+        msgs = check_joint_limits(two_link, traj)
+    assert len(msgs) == 1
+
+
+@pytest.mark.parametrize("defect, row, column", [
+    (None, None, None), ("nan", 5002, "q3"), ("ragged", 7002, None), ("text", 9002, "qd2"),
+    ("time", 3002, "t")])
+def test_large_files_parse_fast_and_errors_stay_exact(tmp_path, puma, defect, row, column):
+    """Files above FAST_PARSE_BYTES go through pandas; a fault is still located exactly."""
+    from gd_analyze.trajectory.trajectory import FAST_PARSE_BYTES
+
+    plan = _default_plan(puma, n=12001)
+    path = tmp_path / "big.csv"
+    write_trajectory(plan, path)
+    lines = path.read_text().splitlines()
+    cells = {r: lines[r - 1].split(",") for r in (3002, 5002, 7002, 9002)}
+    if defect == "nan":
+        cells[5002][3] = "nan"
+    elif defect == "ragged":
+        cells[7002] = cells[7002][:-1]
+    elif defect == "text":
+        cells[9002][8] = "1.0x"
+    elif defect == "time":
+        cells[3002][0] = "0"
+    for r, c in cells.items():
+        lines[r - 1] = ",".join(c)
+    path.write_text("\n".join(lines) + "\n")
+    assert path.stat().st_size > FAST_PARSE_BYTES
+    if defect is None:
+        back = read_trajectory(path, 6)
+        np.testing.assert_array_equal(back.q, plan.q)      # round-trip float parsing
+        return
+    with pytest.raises(InputError) as err:
+        read_trajectory(path, 6)
+    assert err.value.row == row
+    if column:
+        assert err.value.column == column
+
+
+@pytest.mark.parametrize("block", [1, 7, 4096, 1 << 24])
+def test_the_block_count_of_a_byte_is_bytes_count(block):
+    """_byte_count (numpy, block by block) equals bytes.count on random bytes, every value."""
+    from gd_analyze.trajectory.trajectory import _byte_count
+
+    raw = np.random.default_rng(block).integers(0, 256, 20_011, dtype=np.uint8).tobytes()
+    for byte in (b"\n", b",", b"\r", b"\x00", b"\xff"):
+        assert _byte_count(raw, byte, block=block) == raw.count(byte)
+    assert _byte_count(b"", b",") == 0
+
+
+def test_written_in_pieces_the_file_is_the_whole_table(tmp_path, puma):
+    """Piece by piece, the same bytes as the whole table written by pandas at once (17
+    significant digits, -0.0 as 0); a write that fails halfway leaves nothing."""
+    plan = quintic_plan(puma, np.radians(DEFAULT_START_DEG), np.radians(DEFAULT_GOAL_DEG), 1001)
+    whole = plan.rows(0, 1001)
+    table = np.column_stack([whole.t, whole.q, whole.qd, whole.qdd]) + 0.0
+    oracle = tmp_path / "oracle.csv"
+    pd.DataFrame(table, columns=trajectory_columns(6, True)).to_csv(
+        oracle, index=False, float_format="%.17g")
+    path = tmp_path / "traj.csv"
+    write_trajectory_chunks(plan.chunks(64), 6, path)
+    assert path.read_bytes() == oracle.read_bytes()
+    write_trajectory(whole, tmp_path / "once.csv")
+    assert (tmp_path / "once.csv").read_bytes() == oracle.read_bytes()
+
+    def full_after_two(pieces):
+        for i, piece in enumerate(pieces):
+            if i == 2:
+                raise OSError(28, "No space left on device")
+            yield piece
+
+    with pytest.raises(OSError):
+        write_trajectory_chunks(full_after_two(plan.chunks(64)), 6, tmp_path / "full.csv")
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["once.csv", "oracle.csv", "traj.csv"]
+
+
+def test_written_values_are_pandas_to_csv_of_any_float(tmp_path):
+    """Over more rows than are formatted at once, values of every magnitude, zeros of both
+    signs, infinities and NaN of both signs are the bytes pandas writes (``%.17g``, NaN as an
+    empty field, -0.0 as 0)."""
+    rng = np.random.default_rng(3)
+    rows, n = 2**14 + 37, 2
+    table = rng.standard_normal((rows, 1 + 3 * n)) * 10.0 ** rng.integers(-320, 300,
+                                                                          (rows, 1 + 3 * n))
+    table[::5, 1] = np.round(rng.standard_normal(len(table[::5])) * 1e6)
+    table[1::7, 2] = -0.0
+    table[3, :] = [np.inf, -np.inf, np.nan, -np.nan, 5e-324, 1e16, -123456789012345678.0]
+    table[-1, :] = [np.nan, 0.1, 1 / 3, 1e-5, 1e21, 2.0**-1074, -1.7976931348623157e308]
+    oracle = tmp_path / "oracle.csv"
+    pd.DataFrame(table + 0.0, columns=trajectory_columns(n, True)).to_csv(
+        oracle, index=False, float_format="%.17g")
+    path = tmp_path / "traj.csv"
+    write_trajectory(Trajectory(t=table[:, 0], q=table[:, 1:3], qd=table[:, 3:5],
+                                qdd=table[:, 5:], derivatives="arrays", source="test"), path)
+    assert path.read_bytes() == oracle.read_bytes()
