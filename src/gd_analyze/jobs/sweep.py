@@ -39,6 +39,7 @@ from collections.abc import Callable, Mapping, Sequence
 from typing import TYPE_CHECKING, Any
 
 import numpy as np
+from tqdm.auto import tqdm
 
 from ..dynamics.base_parameters import base_parameters
 from ..dynamics.dalembert import gd_terms
@@ -241,23 +242,10 @@ def _ranking_only(dominance, negligible):
                            formulations=False, simplify=None)
 
 
-class _Silent:
-    """A progress bar that shows nothing, shared by a task's trajectories: a disabled tqdm
-    per trajectory costs more than the ranking of a short trajectory's set points."""
-
-    def reset(self, total=None):
-        """Nothing to restart."""
-
-    def set_description(self, desc=None):
-        """Nothing to name."""
-
-    def update(self, n=1):
-        """Nothing to count."""
-
-
 def _analyze_batch(robot, trajectories, dominance, negligible, base=None):
     options = _ranking_only(dominance, negligible)
-    silent = _Silent()
+    silent = tqdm(disable=True)     # one per task: a disabled bar per trajectory costs more
+    #                                 than ranking a short trajectory's set points
     out = [_summary(tr, analysis_pass(robot, tr, options, chunk=tr.q.shape[0], terms=terms,
                                       progress=silent))
            for tr, terms in _batch_terms(robot, trajectories)]
@@ -481,7 +469,6 @@ def run_sweep(robot: Robot, trajectories: Sequence[Trajectory],
     if batch is not None and int(batch) < 1:
         raise ValueError(f"batch must be >= 1, got {batch}")
     from distributed import as_completed
-    from tqdm.auto import tqdm
 
     started = datetime.datetime.now(datetime.timezone.utc).replace(microsecond=0)
     own = contextlib.ExitStack()

@@ -32,7 +32,7 @@ fields, or its tree does not tile the region, and is certified again. A failed e
 
 from __future__ import annotations
 
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
@@ -41,6 +41,10 @@ from ..certify.certify import certify, certify_tree
 from ..certify.region import channel_values, sample_positions, worst_states
 from ..dynamics.regressor_kernels import part_regressor
 from ..simplify.simplified import parameters_sha256
+
+if TYPE_CHECKING:
+    from ..certify.region import Region
+    from ..model.robot import Robot
 
 __all__ = ["certification", "certification_key", "robot_inputs", "SELF_CHECK_TOLERANCE"]
 
@@ -58,7 +62,7 @@ def _floats(a):
     return [float(x).hex() for x in np.asarray(a, float).reshape(-1)]
 
 
-def robot_inputs(robot) -> dict[str, Any]:
+def robot_inputs(robot: Robot) -> dict[str, Any]:
     """The robot's part of a cache key: its file's SHA-256, the SHA-256 of the parameters
     used (:func:`gd_analyze.simplify.simplified.parameters_sha256`), its joints.
 
@@ -77,7 +81,8 @@ def robot_inputs(robot) -> dict[str, Any]:
             "n": int(robot.n), "prismatic": [bool(p) for p in robot.prismatic]}
 
 
-def certification_key(robot, region, settings, kind="region"):
+def certification_key(robot: Robot, region: Region, settings: dict[str, Any],
+                      kind: str = "region") -> dict[str, Any]:
     """What an entry must store to be used.
 
     Parameters

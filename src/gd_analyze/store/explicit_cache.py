@@ -109,7 +109,7 @@ def _checked(robot, arrays):
     return terms
 
 
-def explicit_terms(robot):
+def explicit_terms(robot: Robot) -> tuple[Term, float]:
     """All terms of the robot's explicit G-D model, from the cache or derived afresh.
 
     Parameters
