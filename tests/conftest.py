@@ -238,9 +238,7 @@ def pytest_configure(config):
     command a test runs in a child process inherits it: the derivation cache
     (``<folder>/gd-analyze``: the explicit models, :mod:`gd_analyze.store.explicit_cache`, and the
     region certifications, :mod:`gd_analyze.store.certification_cache`, each derived once a
-    session instead of once a test) and the operation counts
-    (:mod:`gd_analyze.dynamics.opcount`) live there, never in the user's own cache,
-    and the folder is removed when the session ends. ``GD_ANALYZE_NO_CACHE`` and
+    session instead of once a test) lives there, never in the user's own cache, and the folder is removed when the session ends. ``GD_ANALYZE_NO_CACHE`` and
     ``GD_ANALYZE_CACHE_DIR`` are cleared, so a developer's settings do not change the suite.
 
     Still safe: an entry is a pure function of the robot, the settings and the source of the
@@ -250,10 +248,9 @@ def pytest_configure(config):
     against an independent computation (the explicit terms against the G-D engine at fixed
     states; a certification's boxes, bounds and scales against the torques at its sampled
     positions). Tests about a cache itself, or that need a cold one, set their own folder
-    (``tests/io/conftest.py``'s ``cache``) or ``GD_ANALYZE_NO_CACHE`` (the tests that count the
+    (``tests/conftest.py``'s ``cache``) or ``GD_ANALYZE_NO_CACHE`` (the tests that count the
     G-D engine's set points, ``tests/jobs/test_analyze.py``: a cache read adds its
-    self-check's); the operation-count tests count afresh
-    (``tests/dynamics/test_opcount.py``).
+    self-check's).
     """
     import tempfile
 

@@ -136,7 +136,7 @@ def test_the_check_can_fail(tmp_path, monkeypatch):
 #: The domain modules that touch files: the robot files' loaders and writers, and the operation
 #: counts (kept in the derivation cache).
 FILE_MODULES = {"model.robots", "model.urdf", "model.urdf_xml", "model.urdf_writer",
-                "model.robot_file", "dynamics.opcount"}
+                "model.robot_file"}
 #: Calls that read or write files; none belongs in the domain.
 FILE_CALLS = {"open", "read_text", "read_bytes", "write_text", "write_bytes", "mkdir",
               "unlink", "atomic_path"}

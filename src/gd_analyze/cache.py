@@ -73,7 +73,7 @@ def cache_key(kind: str, inputs: Mapping[str, Any]) -> dict[str, Any]:
     Parameters
     ----------
     kind : str
-        The kind of entry (``"explicit"``, ``"region"``, ``"search"``, ``"opcounts"``): the
+        The kind of entry (``"explicit"``, ``"region"``, ``"search"``): the
         first part of its file name.
     inputs : dict
         Everything else the content depends on (JSON values).

@@ -18,17 +18,15 @@ from gd_analyze.dynamics.opcount import (
     random_chain,
     table,
 )
-from gd_analyze.errors import InputWarning
 from gd_analyze.model.kinematics import body_frames
 
 
 @pytest.fixture(autouse=True)
-def counted_afresh(monkeypatch):
-    """Every test here counts the operations itself: no on-disk cache of the counts (the
-    session's shared cache, tests/conftest.py), and none kept in memory from an earlier test."""
+def counted_afresh():
+    """Every test here counts the operations itself: none kept in memory from an earlier
+    test."""
     from gd_analyze.dynamics import opcount
 
-    monkeypatch.setenv("GD_ANALYZE_NO_CACHE", "1")
     opcount._counts_for.cache_clear()
     yield
     opcount._counts_for.cache_clear()
@@ -210,31 +208,21 @@ def test_table():
         operation_counts("puma560")
 
 
-def test_disk_cache_is_keyed_by_the_counted_source(tmp_path, monkeypatch):
-    from cache_checks import forge
-
-    import gd_analyze.cache
+def test_the_kept_revolute_counts_are_the_counts_of_the_code():
+    """REVOLUTE_COUNTS is what counting the code's runs gives, for every n it holds."""
     from gd_analyze.dynamics import opcount
 
-    monkeypatch.delenv("GD_ANALYZE_NO_CACHE", raising=False)
-    monkeypatch.setenv("XDG_CACHE_HOME", str(tmp_path))
-    opcount._counts_for.cache_clear()
-    fresh = opcount._counts_for("RRR")
-    path = opcount._cache_file("RRR")
-    assert path.parent == tmp_path / "gd-analyze" and path.is_file()
-    with np.load(path, allow_pickle=False) as z:
-        assert z["counts"].tolist() == [list(fresh[m]) for m in opcount.METHODS]
-    # a planted value with its checksum is read, and not believed: the recount is used, with
-    # one warning, and stored ...
-    forge(path, ("counts",), counts=np.ones((len(opcount.METHODS), 2), np.int64))
-    opcount._counts_for.cache_clear()
-    with pytest.warns(InputWarning, match="differs from the recount"):
-        assert opcount._counts_for("RRR") == fresh
-    with np.load(path, allow_pickle=False) as z:
-        assert z["counts"].tolist() == [list(fresh[m]) for m in opcount.METHODS]
-    # ... but only under the key of the current source: other code, other file
-    monkeypatch.setattr(gd_analyze.cache, "package_sha256", lambda: "f" * 64)
-    assert opcount._cache_file("RRR") != path
-    opcount._counts_for.cache_clear()
-    assert opcount._counts_for("RRR") == fresh
-    opcount._counts_for.cache_clear()
+    assert sorted(opcount.REVOLUTE_COUNTS) == list(range(1, 11))
+    for n, kept in opcount.REVOLUTE_COUNTS.items():
+        counted = opcount.count_chain("R" * n)
+        assert tuple(counted[m] for m in opcount.METHODS) == kept, n
+
+
+def test_chains_outside_the_table_are_counted():
+    from gd_analyze.dynamics import opcount
+
+    assert opcount._counts_for("RRPR") == opcount.count_chain("RRPR")
+    assert opcount._counts_for("R" * 11)["newton-euler"][0] > \
+        opcount.REVOLUTE_COUNTS[10][1][0]
+    with pytest.raises(ValueError, match="R and P"):
+        opcount.count_chain("RXR")

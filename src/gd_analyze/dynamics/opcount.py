@@ -27,8 +27,10 @@ Counting rule
   per robot and not counted; an operation with at least one set-point-dependent operand is.
   Parameters that happen to be 0 or 1 are counted like any other value, so the counts depend on
   n and the joint types only, not on the robot's numbers: :func:`operation_counts` counts a
-  :func:`random_chain` with the arm's joint types, once per pattern of joint types (one count
-  per arm, which the main report, the control report and ``compare`` all read).
+  :func:`random_chain` with the arm's joint types, once per pattern of joint types and process
+  (one count per arm, which the main report, the control report and ``compare`` all read).
+  The revolute chains of 1 to 10 joints, whose counts every report tabulates beside Table 3.5,
+  are counted once and kept in :data:`REVOLUTE_COUNTS`, which the tests count again.
 
 Prismatic joints
 ----------------
@@ -84,7 +86,6 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 from numpy.typing import ArrayLike
 
-from ..cache import cache_key, entry_path, lookup, store
 from ..model.kinematics import as_states, transforms_core
 from ..model.robot import Robot
 from ..model.robot_spec import robot_from_dict
@@ -104,7 +105,7 @@ if TYPE_CHECKING:
     import pandas as pd
 
 __all__ = ["OpCount", "METHODS", "TABLE_3_5", "joint_types", "random_chain", "count_operations",
-           "operation_counts", "book_counts", "table"]
+           "operation_counts", "book_counts", "table", "count_chain", "REVOLUTE_COUNTS"]
 
 #: The implementations counted, in table order ("gd" is the compiled G-D engine).
 METHODS = ("lagrange-euler", "newton-euler", "gd", "gd-numpy")
@@ -396,45 +397,59 @@ def count_operations(robot: Robot, method: str, q: ArrayLike | None = None,
                    np.array([count_value(t) for t in tau]))
 
 
-def _cache_key(types):
-    """The counts' key in the derivation cache (:func:`gd_analyze.cache.cache_key`): the code
-    and the pattern of joint types (the number of joints for revolute chains)."""
-    return cache_key("opcounts", {"format": 3, "joints": str(len(types)) if "P" not in types
-                                  else types, "methods": list(METHODS)})
-
-
-def _cache_file(types):
-    """The counts' entry in the derivation cache, or None when caching is disabled."""
-    return entry_path(_cache_key(types))
-
-
-def _recounted(stored, counts):
-    """The stored counts if they equal the recount, else why not (a str)."""
-    said = stored["counts"]
-    if said.shape != (len(METHODS), 2) or said.dtype.kind != "i":
-        return "does not hold operation counts (an array of another type or shape)"
-    said = {m: tuple(int(x) for x in v) for m, v in zip(METHODS, said)}
-    method = next((m for m in METHODS if said[m] != counts[m]), None)
-    if method is None:
-        return said
-    return (f"differs from the recount ({method}: {list(said[method])} stored, "
-            f"{list(counts[method])} counted)")
+#: The counts of :func:`_count` for revolute chains of 1 to 10 joints, per method of
+#: :data:`METHODS`: (multiplications, additions). A fact of the code, counted once and kept
+#: here (Table 3.5's rows of every report); ``tests/dynamics/test_opcount.py`` counts them
+#: afresh and fails when the code's operations change without this table.
+REVOLUTE_COUNTS: dict[int, tuple[tuple[int, int], ...]] = {
+    1: ((84, 47), (38, 22), (160, 121), (151, 110)),
+    2: ((532, 361), (147, 105), (412, 343), (442, 346)),
+    3: ((1632, 1182), (281, 211), (693, 588), (801, 639)),
+    4: ((3738, 2822), (415, 317), (985, 844), (1222, 983)),
+    5: ((7276, 5665), (549, 423), (1288, 1111), (1711, 1384)),
+    6: ((12744, 10167), (683, 529), (1602, 1389), (2274, 1848)),
+    7: ((20712, 16856), (817, 635), (1927, 1678), (2917, 2381)),
+    8: ((31822, 26332), (951, 741), (2263, 1978), (3646, 2989)),
+    9: ((46788, 39267), (1085, 847), (2610, 2289), (4467, 3678)),
+    10: ((66396, 56405), (1219, 953), (2968, 2611), (5386, 4454)),
+}
 
 
 @cache
 def _counts_for(types):
-    """Counts of every method for a random chain with joint types ``types``, counted afresh
-    (a few milliseconds for six joints) and compared with the derivation cache
-    (:mod:`gd_analyze.cache`): an entry is never believed, even with its checksum recomputed;
-    one that differs from the recount gets one warning line and is replaced."""
+    """Counts of every method for a chain with joint types ``types``: from
+    :data:`REVOLUTE_COUNTS` for a revolute chain it holds, else counted on a
+    :func:`random_chain` with those types (a few milliseconds for six joints), once per
+    process."""
+    if "P" not in types and len(types) in REVOLUTE_COUNTS:
+        return dict(zip(METHODS, REVOLUTE_COUNTS[len(types)]))
+    return count_chain(types)
 
+
+def count_chain(types: str) -> dict[str, tuple[int, int]]:
+    """Count every method's operations on a random chain, afresh.
+
+    Parameters
+    ----------
+    types : str
+        The joint types, one of "R" or "P" per joint (e.g. "RRPRRR").
+
+    Returns
+    -------
+    dict
+        ``{method: (multiplications, additions)}`` for the methods in :data:`METHODS`, counted
+        by :func:`count_operations` on a :func:`random_chain` with those joint types.
+
+    Raises
+    ------
+    ValueError
+        If ``types`` is empty or holds a letter other than R and P.
+    """
+    if not types or set(types) - {"R", "P"}:
+        raise ValueError(f"joint types must be a non-empty string of R and P, got {types!r}")
     robot = random_chain(len(types), types=types)
-    counts = {m: tuple(int(x) for x in count_operations(robot, m)[:2]) for m in METHODS}
-    key = _cache_key(types)
-    if lookup(key, ("counts",), 1 << 20, lambda stored: _recounted(stored, counts),
-              "the operations are counted again") is None:
-        store(key, {"counts": np.array([counts[m] for m in METHODS], np.int64)})
-    return counts
+    counts = {m: count_operations(robot, m) for m in METHODS}
+    return {m: (int(c.multiplications), int(c.additions)) for m, c in counts.items()}
 
 
 def operation_counts(robot_or_n: Robot | int) -> dict[str, Any]:
