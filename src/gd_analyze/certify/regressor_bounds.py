@@ -23,6 +23,7 @@ from numpy.typing import ArrayLike
 
 from . import balls
 from . import intervals as iv
+from .ball_kernels import backward_kernel, forward_kernel
 
 if TYPE_CHECKING:
     from ..model.robot import Robot
@@ -269,6 +270,19 @@ def _wrench(A, c, w, wd, vd, jj, ll, vel):
     return vd, zero
 
 
+def _links(columns, top, n):
+    """Per link k < ``top`` that has columns: k, the positions in ``columns`` of its columns,
+    the joint pairs (j, l) of joints 0..k (two arrays, j major) and the link's own channels'
+    indices in :func:`channel_values`' layout of n joints (gravity, the accelerations of joints
+    0..k, the velocity pairs)."""
+    for k in range(top):
+        ms = np.flatnonzero(columns // 10 == k)
+        if ms.size:
+            kk = k + 1
+            jv, lv = np.divmod(np.arange(kk * kk), kk)
+            yield k, ms, jv, lv, np.concatenate([[0], 1 + np.arange(kk), 1 + n + jv * n + lv])
+
+
 def _column_groups(robot, q_lo, q_hi, columns, gravity, algebra=_Box):
     """Per link k and joint i <= k: (the positions in ``columns`` of the link's columns, i,
     enclosure of their torques at joint i per channel, each of shape (B, C, g)).
@@ -284,13 +298,8 @@ def _column_groups(robot, q_lo, q_hi, columns, gravity, algebra=_Box):
     columns = np.asarray(columns, int)
     top = int(columns.max()) // 10 + 1 if columns.size else 0    # the links the columns need
     links = _forward(chain, robot.gravity if gravity is None else gravity, top)
-    for k in range(top):
-        ms = np.flatnonzero(columns // 10 == k)
-        if ms.size == 0:
-            continue
+    for k, ms, jv, lv, ch in _links(columns, top, n):
         kk = k + 1
-        jv, lv = np.divmod(np.arange(kk * kk), kk)
-        ch = np.concatenate([[0], 1 + np.arange(kk), 1 + n + jv * n + lv])
         w, wd, vd = links[k]
         own = np.concatenate([[0], 1 + np.arange(kk), 1 + top + jv * top + lv])
         wd, vd = _take(wd, own), _take(vd, own)
@@ -311,6 +320,36 @@ def _column_groups(robot, q_lo, q_hi, columns, gravity, algebra=_Box):
                 break
             f = chain.rot(i, f)
             mom = A.add(chain.rot(i, mom), A.cross(chain.p(i), f))
+
+
+def _ball_links(robot, q_lo, q_hi, columns, gravity):
+    """Per link k that has columns: (k, the positions in ``columns`` of its g columns, its
+    channels' indices in :func:`channel_values`' layout (Ck), and the enclosures (lo, hi) of
+    their torques, each (B, k + 1, g, Ck): per box, joint i <= k, column and channel of the
+    link). :func:`_column_groups`' values in the ball arithmetic, by the compiled kernels of
+    :mod:`.ball_kernels`, link by link and in the link's own channels (gravity, the
+    accelerations of joints 0..k, the velocity pairs of joints 0..k), which are the only ones
+    not exactly zero at link k."""
+    n = robot.n
+    columns = np.asarray(columns, int)
+    top = int(columns.max()) // 10 + 1 if columns.size else 0
+    if top == 0:
+        return
+    mid = 0.5 * (q_lo + q_hi)
+    half = 0.5 * (q_hi - q_lo) * (1 + 1e-15) + 1e-300
+    P = np.ascontiguousarray(robot.rotation, float)
+    PT = np.ascontiguousarray(P.transpose(0, 2, 1))
+    norms = np.array([float(np.linalg.norm(M, 2)) * (1 + 1e-12) for M in P])
+    t = np.ascontiguousarray(robot.translation, float)
+    pris = np.asarray(robot.prismatic, bool)
+    g = np.ascontiguousarray(robot.gravity if gravity is None else gravity, float)
+    W, WD, VD = forward_kernel(mid, half, P, PT, norms, t, pris, g, top)
+    for k, ms, _, _, ch in _links(columns, top, n):
+        lo, hi = backward_kernel(k, np.ascontiguousarray(columns[ms] % 10),
+                                 np.ascontiguousarray(W[:, k]), np.ascontiguousarray(WD[:, k]),
+                                 np.ascontiguousarray(VD[:, k]), mid, half, P, norms, t, pris,
+                                 top)
+        yield k, ms, ch, lo, hi
 
 
 #: Most joints whose velocity vertices are run through the recursion as channels of their own
@@ -579,8 +618,8 @@ def pair_magnitudes(robot: Robot, q_lo: np.ndarray, q_hi: np.ndarray, columns: A
     gravity : array_like, shape (3,), optional
         [m/s^2]; default the robot's.
     arithmetic : {"ball", "box"}, optional
-        Midpoint-radius balls (:mod:`.balls`, default: rotations do not wrap) or interval
-        boxes (:mod:`.intervals`).
+        Midpoint-radius balls (:mod:`.balls`, default: rotations do not wrap; evaluated by the
+        compiled kernels of :mod:`.ball_kernels`) or interval boxes (:mod:`.intervals`).
     vertices : bool, optional
         Also enclose the velocity part through the recursion at each vertex of the velocity
         box (:func:`_vertex_groups`, links with at most :data:`VERTEX_JOINTS` joints up to
@@ -617,10 +656,21 @@ def pair_magnitudes(robot: Robot, q_lo: np.ndarray, q_hi: np.ndarray, columns: A
     out = np.zeros((q_lo.shape[0], 3, n, columns.size))
     algebra = {"ball": _Ball, "box": _Box}[arithmetic]
     diag = {}
-    for ms, i, (lo, hi) in _column_groups(robot, q_lo, q_hi, columns, gravity, algebra):
-        out[:, :, i, ms] = _parts(lo, hi, quad, qdd_max)
-        dj = 1 + n + np.arange(n) * (n + 1)                           # the channels C_jj
-        diag[(int(ms[0]), i)] = (lo[:, dj], hi[:, dj])
+    if algebra is _Ball:                # link by link, in the link's own channels
+        quads: dict[int, _QuadraticBound] = {}
+        for k, ms, _, lo_k, hi_k in _ball_links(robot, q_lo, q_hi, columns, gravity):
+            kk = k + 1
+            quad_k = quads.setdefault(kk, _QuadraticBound(kk, qd_max[:kk]))
+            dj = 1 + kk + np.arange(kk) * (kk + 1)                    # the channels C_jj
+            for i in range(k, -1, -1):
+                lo, hi = lo_k[:, i].transpose(0, 2, 1), hi_k[:, i].transpose(0, 2, 1)
+                out[:, :, i, ms] = _parts(lo, hi, quad_k, qdd_max[:kk])
+                diag[(int(ms[0]), i)] = (lo[:, dj], hi[:, dj])
+    else:
+        for ms, i, (lo, hi) in _column_groups(robot, q_lo, q_hi, columns, gravity, algebra):
+            out[:, :, i, ms] = _parts(lo, hi, quad, qdd_max)
+            dj = 1 + n + np.arange(n) * (n + 1)                       # the channels C_jj
+            diag[(int(ms[0]), i)] = (lo[:, dj], hi[:, dj])
     if vertices:    # the velocity terms with their dependence kept: the least of both bounds
         for ms, i, F in _vertex_groups(robot, q_lo, q_hi, columns, qd_max, algebra):
             k = F[0].shape[1].bit_length() - 1
@@ -684,7 +734,8 @@ def channel_enclosures(robot: Robot, q_lo: np.ndarray, q_hi: np.ndarray, columns
     lo, hi : ndarray, shape (B, C, n, m)
         lo <= channel <= hi for every q in each box (channels as :func:`channel_values`, C =
         :func:`channel_count`) [N m or N per unit parameter], by midpoint-radius evaluation of
-        the recursion (:func:`pair_magnitudes`'s, without its final rounding margin).
+        the recursion (:func:`pair_magnitudes`'s, without its final rounding margin), compiled
+        (:mod:`.ball_kernels`).
 
     Raises
     ------
@@ -702,9 +753,10 @@ def channel_enclosures(robot: Robot, q_lo: np.ndarray, q_hi: np.ndarray, columns
     columns = np.asarray(columns, int)
     shape = (q_lo.shape[0], channel_count(n), n, columns.size)
     lo, hi = np.zeros(shape), np.zeros(shape)
-    for ms, i, (a, b) in _column_groups(robot, q_lo, q_hi, columns, gravity, _Ball):
-        lo[:, :, i, ms] = a
-        hi[:, :, i, ms] = b
+    for k, ms, ch, lo_k, hi_k in _ball_links(robot, q_lo, q_hi, columns, gravity):
+        for i in range(k + 1):
+            lo[:, ch[:, None], i, ms[None, :]] = lo_k[:, i].transpose(0, 2, 1)
+            hi[:, ch[:, None], i, ms[None, :]] = hi_k[:, i].transpose(0, 2, 1)
     return lo, hi
 
 

@@ -1,0 +1,301 @@
+"""Compiled midpoint-radius enclosures of the regressor recursion, box by box.
+
+The enclosures of :func:`gd_analyze.certify.regressor_bounds.channel_enclosures` and
+:func:`~gd_analyze.certify.regressor_bounds.pair_magnitudes` run the Newton-Euler regressor
+recursion (Khalil & Kleinfinger 1987) in the ball arithmetic of :mod:`.balls` over every box of
+joint positions. As array code over a batch of boxes that recursion is a long sequence of small
+array operations; here it is one compiled pass per box, with the very operations of
+:mod:`.balls` (each centre operation as there, each radius with the same rounding slack), so it
+encloses what the array code encloses. The array code (``regressor_bounds._column_groups`` with
+the ball algebra) is the tests' oracle of these kernels.
+
+A ball is four numbers: a centre (3) and a radius, stored along the last axis of length 4.
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+from numba import njit
+
+from .balls import ARC_LIMIT, ROUNDING
+
+__all__ = ["forward_kernel", "backward_kernel"]
+
+_SLACK = 32 * ROUNDING
+_ROT_SLACK = 4 * _SLACK + 1e-15
+
+
+@njit(cache=True, fastmath=False, nogil=True, inline="always")
+def _norm(c0, c1, c2):
+    return math.sqrt(c0 * c0 + c1 * c1 + c2 * c2)
+
+
+@njit(cache=True, fastmath=False, nogil=True, inline="always")
+def _add(a, b):
+    """a + b (:func:`.balls.add`)."""
+    return (a[0] + b[0], a[1] + b[1], a[2] + b[2],
+            a[3] + b[3] + _SLACK * (_norm(a[0], a[1], a[2]) + _norm(b[0], b[1], b[2])))
+
+
+@njit(cache=True, fastmath=False, nogil=True, inline="always")
+def _scale(a, s):
+    """s a (:func:`.balls.scale`)."""
+    return (a[0] * s, a[1] * s, a[2] * s,
+            abs(s) * a[3] * (1 + _SLACK) + _SLACK * abs(s) * _norm(a[0], a[1], a[2]))
+
+
+@njit(cache=True, fastmath=False, nogil=True, inline="always")
+def _cross(a, b):
+    """a x b (:func:`.balls.cross`)."""
+    na, nb = _norm(a[0], a[1], a[2]), _norm(b[0], b[1], b[2])
+    r = na * b[3] + a[3] * nb + a[3] * b[3]
+    return (a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0],
+            r * (1 + _SLACK) + _SLACK * na * nb)
+
+
+@njit(cache=True, fastmath=False, nogil=True, inline="always")
+def _matvec(M, norm, a):
+    """M a for a point matrix M (3, 3) of spectral norm at most ``norm``
+    (:func:`.balls.matvec`)."""
+    return (M[0, 0] * a[0] + M[0, 1] * a[1] + M[0, 2] * a[2],
+            M[1, 0] * a[0] + M[1, 1] * a[1] + M[1, 2] * a[2],
+            M[2, 0] * a[0] + M[2, 1] * a[1] + M[2, 2] * a[2],
+            norm * a[3] * (1 + _SLACK) + _SLACK * norm * _norm(a[0], a[1], a[2]))
+
+
+@njit(cache=True, fastmath=False, nogil=True)
+def _trig(mid, half):
+    """Per joint of a box, what :func:`_rot_z` needs: cos and sin of the mid point, and the
+    arc's factors k = cos(d) and s = sin(d) of the half-width d (0 and 1 beyond
+    :data:`.balls.ARC_LIMIT`, where the centre is enclosed about the axis); shape (n, 4)."""
+    out = np.empty((mid.shape[0], 4))
+    for j in range(mid.shape[0]):
+        if half[j] <= ARC_LIMIT:
+            d = min(half[j], np.pi / 2)
+            out[j, 2], out[j, 3] = math.cos(d), math.sin(d)
+        else:
+            out[j, 2], out[j, 3] = 0.0, 1.0
+        out[j, 0], out[j, 1] = math.cos(mid[j]), math.sin(mid[j])
+    return out
+
+
+@njit(cache=True, fastmath=False, nogil=True, inline="always")
+def _rot_z(a, trig, transpose):
+    """Rz(theta) a, or Rz(theta)^T a, for every theta in [mid - half, mid + half]
+    (:func:`.balls.rot_z`; ``trig`` the joint's row of :func:`_trig`)."""
+    cm, sm, k, s = trig[0], trig[1], trig[2], trig[3]
+    if transpose:
+        sm = -sm
+    x, y = k * a[0], k * a[1]
+    rho = math.hypot(a[0], a[1])
+    return (cm * x - sm * y, sm * x + cm * y, a[2],
+            (a[3] + rho * s) * (1 + _SLACK) + _ROT_SLACK * (rho + _norm(a[0], a[1], a[2])))
+
+
+@njit(cache=True, fastmath=False, nogil=True, inline="always")
+def _get(A, index):
+    return (A[index, 0], A[index, 1], A[index, 2], A[index, 3])
+
+
+@njit(cache=True, fastmath=False, nogil=True, inline="always")
+def _set(A, index, a):
+    A[index, 0], A[index, 1], A[index, 2], A[index, 3] = a[0], a[1], a[2], a[3]
+
+
+@njit(cache=True, fastmath=False, nogil=True, inline="always")
+def _position(k, mid, half, t, P, pris):
+    """p_k as a ball: t_k, plus q_k P_k z for a prismatic joint (``_Ball.slide``)."""
+    if not pris[k]:
+        return (t[k, 0], t[k, 1], t[k, 2], 0.0)
+    dz0, dz1, dz2 = P[k, 0, 2], P[k, 1, 2], P[k, 2, 2]
+    c0, c1, c2 = t[k, 0] + mid[k] * dz0, t[k, 1] + mid[k] * dz1, t[k, 2] + mid[k] * dz2
+    r = half[k] * _norm(dz0, dz1, dz2) * (1 + 1e-15)
+    return (c0, c1, c2, r + 1e-15 * _norm(c0, c1, c2))
+
+
+@njit(cache=True, fastmath=False, nogil=True, inline="always")
+def _rot_t(k, a, trig, PT, norms, pris):
+    """R_k^T a = Rz(q_k)^T P_k^T a (revolute) or P_k^T a (prismatic)."""
+    u = _matvec(PT[k], norms[k], a)
+    return u if pris[k] else _rot_z(u, trig[k], True)
+
+
+@njit(cache=True, fastmath=False, nogil=True, inline="always")
+def _rot(k, a, trig, P, norms, pris):
+    """R_k a = P_k Rz(q_k) a (revolute) or P_k a (prismatic)."""
+    if not pris[k]:
+        a = _rot_z(a, trig[k], False)
+    return _matvec(P[k], norms[k], a)
+
+
+@njit(cache=True, fastmath=False, nogil=True)
+def forward_kernel(mid, half, P, PT, norms, t, pris, gravity, top):
+    """The forward recursion of every box, link by link.
+
+    Parameters
+    ----------
+    mid, half : ndarray, shape (B, n)
+        The boxes' mid points and half-widths [rad or m] (``_Ball``'s, widened).
+    P, PT : ndarray, shape (n, 3, 3)
+        The joints' fixed placements and their transposes.
+    norms : ndarray, shape (n,)
+        Upper bounds of their spectral norms.
+    t : ndarray, shape (n, 3)
+        The placements' translations [m].
+    pris : ndarray of bool, shape (n,)
+    gravity : ndarray, shape (3,)
+        [m/s^2].
+    top : int
+        The links run (the first ``top``).
+
+    Returns
+    -------
+    W : ndarray, shape (B, top, top, 4)
+        Per link k, the angular velocity per unit qd_j of every joint j, as balls.
+    WD, VD : ndarray, shape (B, top, C, 4)
+        Per link k and channel (C = 1 + top + top^2, ``regressor_bounds._forward``'s
+        layout), the angular and linear accelerations, as balls.
+    """
+    B = mid.shape[0]
+    C = 1 + top + top * top
+    W = np.zeros((B, top, top, 4))
+    WD = np.zeros((B, top, C, 4))
+    VD = np.zeros((B, top, C, 4))
+    w = np.zeros((top, 4))
+    wp = np.zeros((top, 4))
+    wd = np.zeros((C, 4))
+    vd = np.zeros((C, 4))
+    a = np.zeros((C, 4))
+    for b in range(B):
+        w[:] = 0.0
+        wd[:] = 0.0
+        vd[:] = 0.0
+        vd[0, 0], vd[0, 1], vd[0, 2] = -gravity[0], -gravity[1], -gravity[2]
+        m, h = mid[b], half[b]
+        trig = _trig(m, h)
+        for k in range(top):
+            p = _position(k, m, h, t, P, pris)
+            for c in range(C):
+                _set(a, c, _add(_get(vd, c), _cross(_get(wd, c), p)))
+            for j in range(top):
+                for l in range(top):
+                    v = 1 + top + j * top + l
+                    _set(a, v, _add(_get(a, v), _cross(_get(w, j), _cross(_get(w, l), p))))
+            for c in range(C):
+                _set(vd, c, _rot_t(k, _get(a, c), trig, PT, norms, pris))
+                _set(wd, c, _rot_t(k, _get(wd, c), trig, PT, norms, pris))
+            for j in range(top):
+                _set(wp, j, _rot_t(k, _get(w, j), trig, PT, norms, pris))
+            if pris[k]:
+                vd[1 + k, 2] += 1.0
+            else:
+                wd[1 + k, 2] += 1.0
+            for j in range(top):
+                u = _get(wp, j)
+                zk = _cross(u, (0.0, 0.0, 1.0, 0.0))
+                v = 1 + top + j * top + k
+                if pris[k]:
+                    _set(vd, v, _add(_get(vd, v), _scale(zk, 2.0)))
+                else:
+                    _set(wd, v, _add(_get(wd, v), zk))
+            if not pris[k]:
+                wp[k, 2] += 1.0
+            w[:] = wp
+            W[b, k] = w
+            WD[b, k] = wd
+            VD[b, k] = vd
+    return W, WD, VD
+
+
+@njit(cache=True, fastmath=False, nogil=True, inline="always")
+def _sym(a, i, j):
+    """E a for the symmetric unit matrix E of the index pair (i, j) (``_Ball.sym``)."""
+    return (a[j] if i == 0 else (a[i] if j == 0 else 0.0),
+            a[j] if i == 1 else (a[i] if j == 1 else 0.0),
+            a[j] if i == 2 else (a[i] if j == 2 else 0.0), a[3])
+
+
+@njit(cache=True, fastmath=False, nogil=True)
+def backward_kernel(k, types, W, WD, VD, mid, half, P, norms, t, pris, top):
+    """The backward recursion of link k's columns, every box: their torques' enclosures.
+
+    Parameters
+    ----------
+    k : int
+        The link.
+    types : ndarray of int, shape (g,)
+        Its columns' standard parameters (0-5 the inertia XX..ZZ, 6-8 the first moments, 9
+        the mass).
+    W, WD, VD : ndarray
+        :func:`forward_kernel`'s, at link k: shapes (B, top, 4), (B, C, 4) and (B, C, 4).
+    mid, half, P, norms, t, pris, top
+        As :func:`forward_kernel`.
+
+    Returns
+    -------
+    lo, hi : ndarray, shape (B, k + 1, g, Ck)
+        Per box, joint i <= k, column and channel of the link (Ck = 1 + (k + 1) + (k + 1)^2:
+        gravity, the accelerations of joints 0..k, the velocity pairs (j, l) of joints 0..k),
+        lo <= torque <= hi [N m or N per unit parameter].
+    """
+    B = mid.shape[0]
+    kk = k + 1
+    Ck = 1 + kk + kk * kk
+    g = types.shape[0]
+    lo = np.zeros((B, kk, g, Ck))
+    hi = np.zeros((B, kk, g, Ck))
+    own = np.empty(Ck, np.int64)
+    own[0] = 0
+    for j in range(kk):
+        own[1 + j] = 1 + j
+    for j in range(kk):
+        for l in range(kk):
+            own[1 + kk + j * kk + l] = 1 + top + j * top + l
+    pairs = ((0, 0), (0, 1), (0, 2), (1, 1), (1, 2), (2, 2))
+    f = np.zeros((g, Ck, 4))
+    mom = np.zeros((g, Ck, 4))
+    zero = (0.0, 0.0, 0.0, 0.0)
+    for b in range(B):
+        m, h = mid[b], half[b]
+        trig = _trig(m, h)
+        for q in range(g):
+            c = types[q]
+            for x in range(Ck):
+                wd = _get(WD[b], own[x])
+                vd = _get(VD[b], own[x])
+                vel = x >= 1 + kk
+                if vel:
+                    wa = _get(W[b], (x - 1 - kk) // kk)
+                    wb = _get(W[b], (x - 1 - kk) % kk)
+                else:
+                    wa, wb = zero, zero
+                if c < 6:
+                    i, j = pairs[c]
+                    _set(f[q], x, zero)
+                    _set(mom[q], x, _add(_sym(wd, i, j), _cross(wa, _sym(wb, i, j))))
+                elif c < 9:
+                    e = (1.0 if c == 6 else 0.0, 1.0 if c == 7 else 0.0,
+                         1.0 if c == 8 else 0.0, 0.0)
+                    _set(f[q], x, _add(_cross(wd, e), _cross(wa, _cross(wb, e))))
+                    _set(mom[q], x, _cross(e, vd))
+                else:
+                    _set(f[q], x, vd)
+                    _set(mom[q], x, zero)
+        for i in range(k, -1, -1):
+            src = f if pris[i] else mom
+            for q in range(g):
+                for x in range(Ck):
+                    lo[b, i, q, x] = src[q, x, 2] - src[q, x, 3]
+                    hi[b, i, q, x] = src[q, x, 2] + src[q, x, 3]
+            if i == 0:
+                break
+            p = _position(i, m, h, t, P, pris)
+            for q in range(g):
+                for x in range(Ck):
+                    fi = _rot(i, _get(f[q], x), trig, P, norms, pris)
+                    _set(f[q], x, fi)
+                    _set(mom[q], x, _add(_rot(i, _get(mom[q], x), trig, P, norms, pris),
+                                         _cross(p, fi)))
+    return lo, hi
