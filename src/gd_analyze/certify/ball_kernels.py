@@ -3,11 +3,13 @@
 The enclosures of :func:`gd_analyze.certify.regressor_bounds.channel_enclosures` and
 :func:`~gd_analyze.certify.regressor_bounds.pair_magnitudes` run the Newton-Euler regressor
 recursion (Khalil & Kleinfinger 1987) in the ball arithmetic of :mod:`.balls` over every box of
-joint positions. As array code over a batch of boxes that recursion is a long sequence of small
-array operations; here it is one compiled pass per box, with the very operations of
+joint positions. Its backward half, which runs every column of a link through every joint
+below it, is most of the work: as array code over a batch of boxes it is a long sequence of
+small array operations; here it is one compiled pass per box, with the very operations of
 :mod:`.balls` (each centre operation as there, each radius with the same rounding slack), so it
-encloses what the array code encloses. The array code (``regressor_bounds._column_groups`` with
-the ball algebra) is the tests' oracle of these kernels.
+encloses what the array code encloses. The forward half (the links' velocities and
+accelerations) stays array code. The array code of both (``regressor_bounds._column_groups``
+with the ball algebra) is the tests' oracle of this kernel.
 
 A ball is four numbers: a centre (3) and a radius, stored along the last axis of length 4.
 """
@@ -21,7 +23,7 @@ from numba import njit
 
 from .balls import ARC_LIMIT, ROUNDING
 
-__all__ = ["forward_kernel", "backward_kernel"]
+__all__ = ["backward_kernel"]
 
 _SLACK = 32 * ROUNDING
 _ROT_SLACK = 4 * _SLACK + 1e-15
@@ -130,85 +132,6 @@ def _rot(k, a, trig, P, norms, pris):
     return _matvec(P[k], norms[k], a)
 
 
-@njit(cache=True, fastmath=False, nogil=True)
-def forward_kernel(mid, half, P, PT, norms, t, pris, gravity, top):
-    """The forward recursion of every box, link by link.
-
-    Parameters
-    ----------
-    mid, half : ndarray, shape (B, n)
-        The boxes' mid points and half-widths [rad or m] (``_Ball``'s, widened).
-    P, PT : ndarray, shape (n, 3, 3)
-        The joints' fixed placements and their transposes.
-    norms : ndarray, shape (n,)
-        Upper bounds of their spectral norms.
-    t : ndarray, shape (n, 3)
-        The placements' translations [m].
-    pris : ndarray of bool, shape (n,)
-    gravity : ndarray, shape (3,)
-        [m/s^2].
-    top : int
-        The links run (the first ``top``).
-
-    Returns
-    -------
-    W : ndarray, shape (B, top, top, 4)
-        Per link k, the angular velocity per unit qd_j of every joint j, as balls.
-    WD, VD : ndarray, shape (B, top, C, 4)
-        Per link k and channel (C = 1 + top + top^2, ``regressor_bounds._forward``'s
-        layout), the angular and linear accelerations, as balls.
-    """
-    B = mid.shape[0]
-    C = 1 + top + top * top
-    W = np.zeros((B, top, top, 4))
-    WD = np.zeros((B, top, C, 4))
-    VD = np.zeros((B, top, C, 4))
-    w = np.zeros((top, 4))
-    wp = np.zeros((top, 4))
-    wd = np.zeros((C, 4))
-    vd = np.zeros((C, 4))
-    a = np.zeros((C, 4))
-    for b in range(B):
-        w[:] = 0.0
-        wd[:] = 0.0
-        vd[:] = 0.0
-        vd[0, 0], vd[0, 1], vd[0, 2] = -gravity[0], -gravity[1], -gravity[2]
-        m, h = mid[b], half[b]
-        trig = _trig(m, h)
-        for k in range(top):
-            p = _position(k, m, h, t, P, pris)
-            for c in range(C):
-                _set(a, c, _add(_get(vd, c), _cross(_get(wd, c), p)))
-            for j in range(top):
-                for l in range(top):
-                    v = 1 + top + j * top + l
-                    _set(a, v, _add(_get(a, v), _cross(_get(w, j), _cross(_get(w, l), p))))
-            for c in range(C):
-                _set(vd, c, _rot_t(k, _get(a, c), trig, PT, norms, pris))
-                _set(wd, c, _rot_t(k, _get(wd, c), trig, PT, norms, pris))
-            for j in range(top):
-                _set(wp, j, _rot_t(k, _get(w, j), trig, PT, norms, pris))
-            if pris[k]:
-                vd[1 + k, 2] += 1.0
-            else:
-                wd[1 + k, 2] += 1.0
-            for j in range(top):
-                u = _get(wp, j)
-                zk = _cross(u, (0.0, 0.0, 1.0, 0.0))
-                v = 1 + top + j * top + k
-                if pris[k]:
-                    _set(vd, v, _add(_get(vd, v), _scale(zk, 2.0)))
-                else:
-                    _set(wd, v, _add(_get(wd, v), zk))
-            if not pris[k]:
-                wp[k, 2] += 1.0
-            w[:] = wp
-            W[b, k] = w
-            WD[b, k] = wd
-            VD[b, k] = vd
-    return W, WD, VD
-
-
 @njit(cache=True, fastmath=False, nogil=True, inline="always")
 def _sym(a, i, j):
     """E a for the symmetric unit matrix E of the index pair (i, j) (``_Ball.sym``)."""
@@ -228,10 +151,23 @@ def backward_kernel(k, types, W, WD, VD, mid, half, P, norms, t, pris, top):
     types : ndarray of int, shape (g,)
         Its columns' standard parameters (0-5 the inertia XX..ZZ, 6-8 the first moments, 9
         the mass).
-    W, WD, VD : ndarray
-        :func:`forward_kernel`'s, at link k: shapes (B, top, 4), (B, C, 4) and (B, C, 4).
-    mid, half, P, norms, t, pris, top
-        As :func:`forward_kernel`.
+    W, WD, VD : ndarray, shapes (B, top, 4), (B, C, 4) and (B, C, 4)
+        The forward recursion's balls at link k (``regressor_bounds._forward``, centre and
+        radius along the last axis): per unit qd_j the angular velocity of every joint j, and
+        per channel (C = 1 + top + top^2, that function's layout) the angular and linear
+        accelerations.
+    mid, half : ndarray, shape (B, n)
+        The boxes' mid points and half-widths [rad or m] (``regressor_bounds._Ball``'s,
+        widened).
+    P : ndarray, shape (n, 3, 3)
+        The joints' fixed placements.
+    norms : ndarray, shape (n,)
+        Upper bounds of their spectral norms.
+    t : ndarray, shape (n, 3)
+        The placements' translations [m].
+    pris : ndarray of bool, shape (n,)
+    top : int
+        The links the forward recursion ran.
 
     Returns
     -------
@@ -253,11 +189,11 @@ def backward_kernel(k, types, W, WD, VD, mid, half, P, norms, t, pris, top):
     for j in range(kk):
         for l in range(kk):
             own[1 + kk + j * kk + l] = 1 + top + j * top + l
-    pairs = ((0, 0), (0, 1), (0, 2), (1, 1), (1, 2), (2, 2))
-    f = np.zeros((g, Ck, 4))
-    mom = np.zeros((g, Ck, 4))
+    pairs = np.array([[0, 0], [0, 1], [0, 2], [1, 1], [1, 2], [2, 2]])
     zero = (0.0, 0.0, 0.0, 0.0)
     for b in range(B):
+        f = np.zeros((g, Ck, 4))
+        mom = np.zeros((g, Ck, 4))
         m, h = mid[b], half[b]
         trig = _trig(m, h)
         for q in range(g):
@@ -272,7 +208,7 @@ def backward_kernel(k, types, W, WD, VD, mid, half, P, norms, t, pris, top):
                 else:
                     wa, wb = zero, zero
                 if c < 6:
-                    i, j = pairs[c]
+                    i, j = pairs[c, 0], pairs[c, 1]
                     _set(f[q], x, zero)
                     _set(mom[q], x, _add(_sym(wd, i, j), _cross(wa, _sym(wb, i, j))))
                 elif c < 9:
@@ -293,9 +229,15 @@ def backward_kernel(k, types, W, WD, VD, mid, half, P, norms, t, pris, top):
                 break
             p = _position(i, m, h, t, P, pris)
             for q in range(g):
+                # an inertia column's force is exactly the zero ball throughout: its rotation
+                # and p x f are the zero ball, and adding it only adds the slack of the sum
+                inertial = types[q] < 6
                 for x in range(Ck):
-                    fi = _rot(i, _get(f[q], x), trig, P, norms, pris)
-                    _set(f[q], x, fi)
-                    _set(mom[q], x, _add(_rot(i, _get(mom[q], x), trig, P, norms, pris),
-                                         _cross(p, fi)))
+                    moved = _rot(i, _get(mom[q], x), trig, P, norms, pris)
+                    if inertial:
+                        _set(mom[q], x, _add(moved, zero))
+                    else:
+                        fi = _rot(i, _get(f[q], x), trig, P, norms, pris)
+                        _set(f[q], x, fi)
+                        _set(mom[q], x, _add(moved, _cross(p, fi)))
     return lo, hi

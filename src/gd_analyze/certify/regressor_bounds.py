@@ -23,7 +23,7 @@ from numpy.typing import ArrayLike
 
 from . import balls
 from . import intervals as iv
-from .ball_kernels import backward_kernel, forward_kernel
+from .ball_kernels import backward_kernel
 
 if TYPE_CHECKING:
     from ..model.robot import Robot
@@ -329,26 +329,22 @@ def _ball_links(robot, q_lo, q_hi, columns, gravity):
     link). :func:`_column_groups`' values in the ball arithmetic, by the compiled kernels of
     :mod:`.ball_kernels`, link by link and in the link's own channels (gravity, the
     accelerations of joints 0..k, the velocity pairs of joints 0..k), which are the only ones
-    not exactly zero at link k."""
+    not exactly zero at link k. The forward recursion is :func:`_forward`'s."""
     n = robot.n
     columns = np.asarray(columns, int)
     top = int(columns.max()) // 10 + 1 if columns.size else 0
     if top == 0:
         return
-    mid = 0.5 * (q_lo + q_hi)
-    half = 0.5 * (q_hi - q_lo) * (1 + 1e-15) + 1e-300
+    chain = _Chain(robot, q_lo, q_hi, _Ball)
+    links = _forward(chain, robot.gravity if gravity is None else gravity, top)
     P = np.ascontiguousarray(robot.rotation, float)
-    PT = np.ascontiguousarray(P.transpose(0, 2, 1))
     norms = np.array([float(np.linalg.norm(M, 2)) * (1 + 1e-12) for M in P])
     t = np.ascontiguousarray(robot.translation, float)
     pris = np.asarray(robot.prismatic, bool)
-    g = np.ascontiguousarray(robot.gravity if gravity is None else gravity, float)
-    W, WD, VD = forward_kernel(mid, half, P, PT, norms, t, pris, g, top)
     for k, ms, _, _, ch in _links(columns, top, n):
-        lo, hi = backward_kernel(k, np.ascontiguousarray(columns[ms] % 10),
-                                 np.ascontiguousarray(W[:, k]), np.ascontiguousarray(WD[:, k]),
-                                 np.ascontiguousarray(VD[:, k]), mid, half, P, norms, t, pris,
-                                 top)
+        W, WD, VD = (np.concatenate([c, r[..., None]], axis=-1) for c, r in links[k])
+        lo, hi = backward_kernel(k, np.ascontiguousarray(columns[ms] % 10), W, WD, VD,
+                                 chain.A.mid, chain.A.half, P, norms, t, pris, top)
         yield k, ms, ch, lo, hi
 
 
