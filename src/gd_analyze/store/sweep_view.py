@@ -1,16 +1,15 @@
 """Typed views of a sweep's dataset, for the command line's summary and the report.
 
-:class:`SweepRun` reads, once, what ``gd-analyze sweep`` prints after a run: where and how the
-trajectories were spread over the dask workers, and per element the fraction of the
-trajectories in each dominance class, the spread of its translational share and the part the
-merged model keeps (:func:`gd_analyze.store.sweep_datasets.sweep_dataset`,
+:class:`StoredSweep` is the whole sweep as its report reads it and the command line prints it
+after a run (where and how the trajectories were spread over the dask workers, and per element
+the fraction of the trajectories in each dominance class, the spread of its translational share
+and the part the merged model keeps: :func:`gd_analyze.store.sweep_datasets.sweep_dataset`,
 :func:`gd_analyze.jobs.sweep.run_sweep`). :class:`MergedModel` is the merged model's
 record as the sweep report says it: its rule, form, what it keeps, its bound and guarantee,
 its costs and its error on the held-out trajectories
 (:func:`gd_analyze.jobs.sweep_merged.with_budget_model`,
-:func:`gd_analyze.jobs.sweep_merged.with_model_cost`). :class:`StoredSweep` is the whole
-sweep as its report reads it, :class:`PayloadSweep` a payload sweep (the ranking against the
-load on the last link). :func:`with_more_tasks` counts
+:func:`gd_analyze.jobs.sweep_merged.with_model_cost`). :class:`PayloadSweep` is a payload
+sweep (the ranking against the load on the last link). :func:`with_more_tasks` counts
 tasks the run added after the sweep itself (the workers' error measurement).
 """
 
@@ -31,7 +30,7 @@ from .sweep_guarantee import merged_guarantee
 if TYPE_CHECKING:                       # for the type hints only
     import xarray as xr
 
-__all__ = ["SweepRun", "MergedModel", "SweepSettings", "StoredSweep", "PayloadSweep",
+__all__ = ["MergedModel", "SweepSettings", "StoredSweep", "PayloadSweep",
            "REQUIRED", "PAYLOAD_REQUIRED", "with_more_tasks"]
 
 #: The variables of a payload sweep the report reads.
@@ -65,96 +64,6 @@ _AS_STORED = ("class_fraction", "share_tran", "duration", "tau_peak", "tau_error
               "merged_tau_error_relative_peak", "merged_error_peak", "merged_error_rms",
               "merged_error_tau_peak", "merged_error_relative_peak",
               "merged_error_relative_rms")
-#: The per-element variables of the summary, and the run's attributes.
-_VARIABLES = ("class_fraction", "share_tran_min", "share_tran_median", "share_tran_max",
-              "merged_choice")
-_ATTRIBUTES = ("elapsed_s", "n_workers", "scheduler_address", "batch_size", "n_tasks")
-
-
-@dataclass(frozen=True, eq=False)
-class SweepRun:
-    """A sweep as the command line summarises it.
-
-    Attributes
-    ----------
-    trajectories : int
-        K, the trajectories swept.
-    elapsed_s : float
-        The run's wall time [s].
-    n_workers : int
-        The dask workers.
-    scheduler_address : str
-        The dask scheduler's address.
-    batch_size : int
-        The trajectories per task.
-    n_tasks : int
-        The tasks submitted.
-    classes : tuple of str, length C
-        The dominance classes.
-    elements : tuple of str, length M
-        ``"D11"`` .. ``"hn"``.
-    class_fraction : ndarray, shape (M, C)
-        The fraction of the trajectories in which each class holds [1].
-    share_min, share_median, share_max : ndarray, shape (M,)
-        The translational share's spread over the trajectories [1].
-    merged_choice : tuple of str, length M
-        The part the merged model keeps.
-    """
-
-    trajectories: int
-    elapsed_s: float
-    n_workers: int
-    scheduler_address: str
-    batch_size: int
-    n_tasks: int
-    classes: tuple[str, ...]
-    elements: tuple[str, ...]
-    class_fraction: np.ndarray
-    share_min: np.ndarray
-    share_median: np.ndarray
-    share_max: np.ndarray
-    merged_choice: tuple[str, ...]
-
-    @classmethod
-    def from_dataset(cls, ds: xr.Dataset, source: str = "<memory>") -> SweepRun:
-        """The view of a sweep's dataset.
-
-        Parameters
-        ----------
-        ds : xarray.Dataset
-            As :func:`gd_analyze.jobs.sweep.run_sweep` returns it.
-        source : str, optional
-            The file it was read from, for the message.
-
-        Returns
-        -------
-        SweepRun
-
-        Raises
-        ------
-        InputError
-            If a variable or attribute of the summary is missing (one line naming it).
-        """
-        for name in _VARIABLES:
-            if name not in ds.variables:
-                raise InputError(f"missing variable {name!r}: not a gd-analyze sweep", source)
-        for name in _ATTRIBUTES:
-            if name not in ds.attrs:
-                raise InputError(f"missing attribute {name!r}: not a gd-analyze sweep",
-                                 source)
-        a = ds.attrs
-        return cls(trajectories=int(ds.sizes["trajectory"]), elapsed_s=float(a["elapsed_s"]),
-                   n_workers=int(a["n_workers"]), scheduler_address=str(a["scheduler_address"]),
-                   batch_size=int(a["batch_size"]), n_tasks=int(a["n_tasks"]),
-                   classes=tuple(strings(ds["class"].values)),
-                   elements=tuple(strings(ds["element"].values)),
-                   class_fraction=ds["class_fraction"].values,
-                   share_min=ds["share_tran_min"].values,
-                   share_median=ds["share_tran_median"].values,
-                   share_max=ds["share_tran_max"].values,
-                   merged_choice=tuple(strings(ds["merged_choice"].values)))
-
-
 def _require(ds: xr.Dataset, names: tuple[str, ...], what: str) -> None:
     """Raise InputError naming the variables of ``names`` that ``ds`` lacks."""
     missing = [v for v in names if v not in ds.variables]
@@ -345,6 +254,8 @@ class StoredSweep(View):
         K and n.
     elements : tuple of str, length M
         ``"D11"`` .. ``"hn"``.
+    classes : tuple of str, length C
+        The dominance classes.
     class_fraction : ndarray, shape (M, C)
         The fraction of the trajectories in each dominance class [1].
     share_tran : ndarray, shape (K, M)
@@ -379,6 +290,7 @@ class StoredSweep(View):
     trajectories: int
     joints: int
     elements: tuple[str, ...]
+    classes: tuple[str, ...]
     class_fraction: np.ndarray
     share_tran: np.ndarray
     share_min: np.ndarray
@@ -428,6 +340,7 @@ class StoredSweep(View):
         return cls(
             trajectories=int(ds.sizes["trajectory"]), joints=int(ds.sizes["joint"]),
             elements=tuple(strings(ds["element"].values)),
+            classes=tuple(strings(ds["class"].values)),
             share_min=ds["share_tran_min"].values, share_median=ds["share_tran_median"].values,
             share_max=ds["share_tran_max"].values,
             round_off=(ds["round_off"].values.astype(bool) if "round_off" in ds.variables
