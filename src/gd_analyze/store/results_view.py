@@ -81,20 +81,6 @@ class RankingRow:
             raise AttributeError(name) from None
         return value.item() if isinstance(value, np.generic) else value
 
-    def off(self, field: str) -> bool:
-        """Whether the value of a column with a round-off flag is round-off.
-
-        Parameters
-        ----------
-        field : str
-            A field whose column declares a round-off flag (``"peak_total"`` ...).
-
-        Returns
-        -------
-        bool
-        """
-        return bool(self._table.off(field)[self._k])
-
 
 class _Rows:
     """A table of frozen rows: one field of every row as an array."""
